@@ -1,0 +1,1 @@
+//! Robot descriptions (URDF, YAML) → Model. (being written)

@@ -1,0 +1,6 @@
+//! dyngen's generator side: robot descriptions → kinematic-tree [`model::Model`] →
+//! dynamics algorithms generic over a [`scalar::Scalar`] (run with `f64` as the generic
+//! reference, and with symbolic values for code generation).
+
+pub mod description;
+pub mod model;

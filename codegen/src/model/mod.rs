@@ -1,0 +1,191 @@
+//! The kinematic-tree model that every robot description becomes.
+//!
+//! Invariants (checked by [`Model::validate`], relied upon by every algorithm):
+//! - joints are in topological order: a joint's parent index is smaller than its own;
+//! - every joint moves (fixed and locked joints were merged away by the loader);
+//! - axes are unit vectors, rotations are orthonormal, inertias are physically valid;
+//! - body `i` is the rigid body carried by joint `i` (its frame is joint `i`'s frame).
+
+mod pose;
+mod validate;
+
+pub use pose::Pose;
+pub use validate::ModelError;
+
+use nalgebra::{Matrix3, Vector3};
+
+/// How a joint moves.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum JointKind {
+    /// Rotation about the axis by `q` radians (URDF `revolute` and `continuous`).
+    Revolute,
+    /// Translation along the axis by `q` metres (URDF `prismatic`).
+    Prismatic,
+}
+
+/// Joint position, velocity and effort limits, as given by the description.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Limits {
+    pub lower: f64,
+    pub upper: f64,
+    pub velocity: f64,
+    pub effort: f64,
+}
+
+/// One moving joint of the tree.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Joint {
+    /// Name from the description (URDF joint name).
+    pub name: String,
+    /// Index of the parent joint, or `None` when the joint hangs from the fixed base.
+    pub parent: Option<usize>,
+    pub kind: JointKind,
+    /// Joint frame in the parent joint's frame (or in the base frame) at `q = 0`.
+    pub origin: Pose,
+    /// Unit axis in the joint frame.
+    pub axis: Vector3<f64>,
+    /// `None` for continuous joints.
+    pub limits: Option<Limits>,
+}
+
+/// Mass properties of a rigid body, expressed in its joint frame.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Inertia {
+    pub mass: f64,
+    /// Centre of mass in the body frame.
+    pub com: Vector3<f64>,
+    /// Rotational inertia about the centre of mass, body-frame axes.
+    pub inertia_com: Matrix3<f64>,
+}
+
+/// The rigid body carried by a joint (all links welded to it are already merged in).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Body {
+    /// Name of the link that the joint moves (the child link in URDF).
+    pub name: String,
+    pub inertia: Inertia,
+}
+
+/// A named frame rigidly attached to a body, e.g. the end-effector.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Frame {
+    pub name: String,
+    /// Index of the joint (body) that carries the frame.
+    pub parent: usize,
+    /// Frame pose in the parent joint's frame.
+    pub placement: Pose,
+}
+
+/// A fixed-base kinematic tree with its inertial parameters.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Model {
+    /// Robot name from the description.
+    pub name: String,
+    /// Moving joints in topological order; `joints[i]` carries `bodies[i]`.
+    pub joints: Vec<Joint>,
+    pub bodies: Vec<Body>,
+    /// Gravity acceleration in the base frame.
+    pub gravity: Vector3<f64>,
+    /// The frame whose pose, Jacobian and its derivative are computed.
+    pub end_effector: Frame,
+}
+
+/// Number of standard inertial parameters per body.
+pub const PARAMS_PER_BODY: usize = 10;
+
+/// Names of the standard parameters of one body, in the order of [`Inertia::parameters`].
+pub const PARAM_NAMES: [&str; PARAMS_PER_BODY] =
+    ["m", "mcx", "mcy", "mcz", "Ixx", "Ixy", "Iyy", "Ixz", "Iyz", "Izz"];
+
+impl Inertia {
+    /// The ten standard parameters `[m, m·c, I_O]` with `I_O` about the body-frame origin,
+    /// in the order `[m, mcx, mcy, mcz, Ixx, Ixy, Iyy, Ixz, Iyz, Izz]`.
+    pub fn parameters(&self) -> [f64; PARAMS_PER_BODY] {
+        let m = self.mass;
+        let c = self.com;
+        let h = c * m;
+        let io = self.inertia_com + (Matrix3::identity() * c.dot(&c) - c * c.transpose()) * m;
+        [
+            m,
+            h.x,
+            h.y,
+            h.z,
+            io[(0, 0)],
+            io[(0, 1)],
+            io[(1, 1)],
+            io[(0, 2)],
+            io[(1, 2)],
+            io[(2, 2)],
+        ]
+    }
+
+    /// The same body seen from another frame: `pose` is this body's frame in the new frame.
+    pub fn transformed(&self, pose: &Pose) -> Inertia {
+        Inertia {
+            mass: self.mass,
+            com: pose.transform_point(&self.com),
+            inertia_com: pose.rotation * self.inertia_com * pose.rotation.transpose(),
+        }
+    }
+
+    /// Two bodies welded together (both expressed in the same frame).
+    pub fn merged(&self, other: &Inertia) -> Inertia {
+        let mass = self.mass + other.mass;
+        if mass == 0.0 {
+            return Inertia { mass: 0.0, com: Vector3::zeros(), inertia_com: self.inertia_com + other.inertia_com };
+        }
+        let com = (self.com * self.mass + other.com * other.mass) / mass;
+        let shift = |b: &Inertia| {
+            let d = b.com - com;
+            b.inertia_com + (Matrix3::identity() * d.dot(&d) - d * d.transpose()) * b.mass
+        };
+        Inertia { mass, com, inertia_com: shift(self) + shift(other) }
+    }
+}
+
+impl Model {
+    /// Number of degrees of freedom (moving joints).
+    pub fn dof(&self) -> usize {
+        self.joints.len()
+    }
+
+    /// The standard parameter vector θ: ten parameters per body, body after body in joint order.
+    pub fn parameters(&self) -> Vec<f64> {
+        self.bodies.iter().flat_map(|b| b.inertia.parameters()).collect()
+    }
+
+    /// Names of the entries of [`Model::parameters`], e.g. `"mcx[link3]"`.
+    pub fn parameter_names(&self) -> Vec<String> {
+        self.bodies
+            .iter()
+            .flat_map(|b| PARAM_NAMES.iter().map(move |p| format!("{p}[{}]", b.name)))
+            .collect()
+    }
+
+    /// Joints from the base down to `joint` (inclusive), base first.
+    pub fn chain_to(&self, joint: usize) -> Vec<usize> {
+        let mut chain = vec![joint];
+        let mut j = joint;
+        while let Some(p) = self.joints[j].parent {
+            chain.push(p);
+            j = p;
+        }
+        chain.reverse();
+        chain
+    }
+
+    /// Whether joint `ancestor` lies on the path from the base to `joint` (a joint is its own ancestor).
+    pub fn is_ancestor(&self, ancestor: usize, joint: usize) -> bool {
+        let mut j = Some(joint);
+        while let Some(k) = j {
+            if k == ancestor {
+                return true;
+            }
+            if k < ancestor {
+                return false;
+            }
+            j = self.joints[k].parent;
+        }
+        false
+    }
+}
