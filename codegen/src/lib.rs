@@ -3,4 +3,7 @@
 //! reference, and with symbolic values for code generation).
 
 pub mod description;
+pub mod dynamics;
 pub mod model;
+pub mod scalar;
+pub mod spatial;

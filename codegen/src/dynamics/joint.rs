@@ -1,0 +1,69 @@
+//! Joint transforms and motion subspaces: where the joint variables enter.
+
+use crate::model::{Joint, JointKind, Model, Pose};
+use crate::scalar::Scalar;
+use crate::spatial::{Force, Mat3, Motion, Transform, Vec3};
+
+pub(crate) fn pose_to_transform<S: Scalar>(p: &Pose) -> Transform<S> {
+    let r = &p.rotation;
+    Transform {
+        rot: Mat3::from_f64(std::array::from_fn(|i| std::array::from_fn(|j| r[(i, j)]))),
+        pos: Vec3::from_f64([p.translation.x, p.translation.y, p.translation.z]),
+    }
+}
+
+fn axis<S: Scalar>(joint: &Joint) -> Vec3<S> {
+    Vec3::from_f64([joint.axis.x, joint.axis.y, joint.axis.z])
+}
+
+/// Rotation by the angle with sine `s` and cosine `c` about the unit axis `a`, written as
+/// `a aᵀ + c (1 − a aᵀ) + s [a]×` so that a coordinate axis folds to the textbook
+/// elementary rotation (no `c + (1 − c)` left for the simplifier to find).
+fn axis_rotation<S: Scalar>(a: [f64; 3], s: S, c: S) -> Mat3<S> {
+    let k = |x: f64| S::from_f64(x);
+    let skew = [[0.0, -a[2], a[1]], [a[2], 0.0, -a[0]], [-a[1], a[0], 0.0]];
+    Mat3(std::array::from_fn(|i| {
+        std::array::from_fn(|j| {
+            let aa = a[i] * a[j];
+            let delta = if i == j { 1.0 } else { 0.0 };
+            k(aa) + c * k(delta - aa) + s * k(skew[i][j])
+        })
+    }))
+}
+
+/// The child frame of `joint` in its parent frame at position `q`.
+pub fn joint_transform<S: Scalar>(joint: &Joint, q: S) -> Transform<S> {
+    let origin = pose_to_transform::<S>(&joint.origin);
+    match joint.kind {
+        JointKind::Revolute => {
+            let a = [joint.axis.x, joint.axis.y, joint.axis.z];
+            Transform { rot: origin.rot * axis_rotation(a, q.sin(), q.cos()), pos: origin.pos }
+        }
+        JointKind::Prismatic => Transform {
+            rot: origin.rot,
+            pos: origin.pos + origin.rot.mul_vec(&axis::<S>(joint).scale(q)),
+        },
+    }
+}
+
+/// Every joint's transform at `q`: the only place where sines and cosines are taken.
+pub fn joint_transforms<S: Scalar>(model: &Model, q: &[S]) -> Vec<Transform<S>> {
+    model.joints.iter().zip(q).map(|(j, &qi)| joint_transform(j, qi)).collect()
+}
+
+/// `S·x`: the spatial motion of the joint's body for joint rate `x`, in the joint frame.
+pub(crate) fn joint_motion<S: Scalar>(joint: &Joint, x: S) -> Motion<S> {
+    let v = axis::<S>(joint).scale(x);
+    match joint.kind {
+        JointKind::Revolute => Motion { ang: v, lin: Vec3::zero() },
+        JointKind::Prismatic => Motion { ang: Vec3::zero(), lin: v },
+    }
+}
+
+/// `Sᵀ·f`: the generalized force on the joint from a spatial force on its body.
+pub(crate) fn joint_force<S: Scalar>(joint: &Joint, f: &Force<S>) -> S {
+    match joint.kind {
+        JointKind::Revolute => axis::<S>(joint).dot(&f.ang),
+        JointKind::Prismatic => axis::<S>(joint).dot(&f.lin),
+    }
+}

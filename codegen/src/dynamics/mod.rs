@@ -1,0 +1,43 @@
+//! Rigid-body dynamics algorithms, each written once, generic over [`Scalar`].
+//!
+//! Conventions (`/ARCHITECTURE.md`, `dynamics.md`): body `i` lives in joint `i`'s frame;
+//! spatial vectors are angular-first in body frames; Jacobians are 6×n with linear rows
+//! first, in world axes, at the end-effector frame origin; `C` is Christoffel-consistent.
+//!
+//! Every function takes the joint transforms of [`joint_transforms`], so that the joint
+//! sines and cosines are computed once and shared by all quantities of a control tick.
+
+mod crba;
+mod joint;
+mod kinematics;
+mod numeric;
+mod regressor;
+mod slotine_li;
+
+pub use crba::mass_matrix;
+pub use joint::{joint_transform, joint_transforms};
+pub use numeric::{Configuration, NumericDynamics};
+pub use kinematics::{body_poses, end_effector_pose, jacobian, jacobian_dot};
+pub use regressor::regressor;
+pub use slotine_li::{coriolis_matrix, gravity_torque, inverse_dynamics, slotine_li};
+
+use crate::model::Model;
+use crate::scalar::Scalar;
+use crate::spatial::RigidInertia;
+
+/// The bodies' inertias of `model` (its standard parameters) as scalars.
+pub fn body_inertias<S: Scalar>(model: &Model) -> Vec<RigidInertia<S>> {
+    model
+        .bodies
+        .iter()
+        .map(|b| RigidInertia::from_parameters(&b.inertia.parameters().map(S::from_f64)))
+        .collect()
+}
+
+/// Body inertias from a parameter vector θ (ten per body, as [`Model::parameters`]).
+pub fn inertias_from_parameters<S: Scalar>(theta: &[S]) -> Vec<RigidInertia<S>> {
+    theta
+        .chunks_exact(crate::model::PARAMS_PER_BODY)
+        .map(|p| RigidInertia::from_parameters(&std::array::from_fn(|k| p[k])))
+        .collect()
+}

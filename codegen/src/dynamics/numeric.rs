@@ -1,0 +1,90 @@
+//! The generic algorithms instantiated with `f64`: dyngen's reference dynamics for any model,
+//! and the baseline that generated code is benchmarked against.
+
+use super::*;
+use crate::spatial::{Transform, Vec3};
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+
+/// Numeric dynamics of one model. Holds the model's inertias so calls do not rebuild them.
+#[derive(Clone, Debug)]
+pub struct NumericDynamics<'m> {
+    pub model: &'m Model,
+    inertias: Vec<RigidInertia<f64>>,
+}
+
+/// The joint transforms of one configuration, shared by every quantity at that `q`.
+#[derive(Clone, Debug)]
+pub struct Configuration {
+    pub transforms: Vec<Transform<f64>>,
+}
+
+fn to_matrix3(t: &Transform<f64>) -> Matrix3<f64> {
+    Matrix3::from_fn(|i, j| t.rot.0[i][j])
+}
+
+impl<'m> NumericDynamics<'m> {
+    pub fn new(model: &'m Model) -> Self {
+        NumericDynamics { model, inertias: body_inertias(model) }
+    }
+
+    /// The same model with other inertial parameters θ (ten per body).
+    pub fn with_parameters(model: &'m Model, theta: &[f64]) -> Self {
+        assert_eq!(theta.len(), crate::model::PARAMS_PER_BODY * model.dof(), "θ has the wrong length");
+        NumericDynamics { model, inertias: inertias_from_parameters(theta) }
+    }
+
+    pub fn configuration(&self, q: &[f64]) -> Configuration {
+        assert_eq!(q.len(), self.model.dof(), "q has the wrong length");
+        Configuration { transforms: joint_transforms(self.model, q) }
+    }
+
+    /// Every body's pose in the base frame (rotation, translation).
+    pub fn body_poses(&self, q: &[f64]) -> Vec<(Matrix3<f64>, Vector3<f64>)> {
+        let world = body_poses(self.model, &self.configuration(q).transforms);
+        world.iter().map(|t| (to_matrix3(t), Vector3::from(t.pos.0))).collect()
+    }
+
+    /// End-effector pose in the base frame (rotation, translation).
+    pub fn end_effector_pose(&self, q: &[f64]) -> (Matrix3<f64>, Vector3<f64>) {
+        let world = body_poses(self.model, &self.configuration(q).transforms);
+        let t = end_effector_pose(self.model, &world);
+        (to_matrix3(&t), Vector3::from(t.pos.0))
+    }
+
+    pub fn jacobian(&self, q: &[f64]) -> DMatrix<f64> {
+        jacobian(self.model, &body_poses(self.model, &self.configuration(q).transforms))
+    }
+
+    pub fn jacobian_dot(&self, q: &[f64], qd: &[f64]) -> DMatrix<f64> {
+        jacobian_dot(self.model, &body_poses(self.model, &self.configuration(q).transforms), qd)
+    }
+
+    pub fn mass_matrix(&self, q: &[f64]) -> DMatrix<f64> {
+        mass_matrix(self.model, &self.configuration(q).transforms, &self.inertias)
+    }
+
+    pub fn coriolis_matrix(&self, q: &[f64], qd: &[f64]) -> DMatrix<f64> {
+        coriolis_matrix(self.model, &self.configuration(q).transforms, &self.inertias, qd)
+    }
+
+    pub fn gravity_torque(&self, q: &[f64]) -> DVector<f64> {
+        DVector::from_vec(gravity_torque(self.model, &self.configuration(q).transforms, &self.inertias))
+    }
+
+    pub fn inverse_dynamics(&self, q: &[f64], qd: &[f64], qdd: &[f64]) -> DVector<f64> {
+        let x = self.configuration(q).transforms;
+        DVector::from_vec(inverse_dynamics(self.model, &x, &self.inertias, qd, qdd))
+    }
+
+    /// `D(q) a + C(q, q̇) v + g(q)`, with gravity switched off when `with_gravity` is false.
+    pub fn slotine_li(&self, q: &[f64], qd: &[f64], v: &[f64], a: &[f64], with_gravity: bool) -> DVector<f64> {
+        let x = self.configuration(q).transforms;
+        let g = with_gravity.then(|| Vec3(self.model.gravity.into()));
+        DVector::from_vec(slotine_li(self.model, &x, &self.inertias, qd, v, a, g))
+    }
+
+    /// Slotine–Li regressor `Y(q, q̇, v, a)`, n × 10n.
+    pub fn regressor(&self, q: &[f64], qd: &[f64], v: &[f64], a: &[f64]) -> DMatrix<f64> {
+        regressor(self.model, &self.configuration(q).transforms, qd, v, a)
+    }
+}

@@ -1,0 +1,119 @@
+//! The Slotine–Li recursion (Niemeyer & Slotine 1991, with the body operator of Echeandia &
+//! Wensing 2021): `D(q) a + C(q, q̇) v + g(q)` in O(n), with the Christoffel-consistent `C`.
+//! Inverse dynamics, gravity and the Coriolis matrix are all special cases of it.
+
+use super::joint::{joint_force, joint_motion};
+use crate::model::Model;
+use crate::scalar::Scalar;
+use crate::spatial::{Force, Motion, RigidInertia, Transform, Vec3};
+use nalgebra::DMatrix;
+
+/// Per-body quantities of the forward pass that the torques are linear in.
+pub(crate) struct BodyMotion<S> {
+    /// Real body velocity (from q̇).
+    pub vel: Motion<S>,
+    /// Reference velocity (from v).
+    pub w: Motion<S>,
+    /// Reference acceleration (from a and gravity).
+    pub wdot: Motion<S>,
+}
+
+/// Forward pass: the velocities and reference accelerations of every body, in body frames.
+/// `gravity: None` leaves gravity out (for `C` and `D` alone).
+pub(crate) fn forward_pass<S: Scalar>(
+    model: &Model,
+    x: &[Transform<S>],
+    qd: &[S],
+    v: &[S],
+    a: &[S],
+    gravity: Option<Vec3<S>>,
+) -> Vec<BodyMotion<S>> {
+    // Gravity enters as an upward acceleration of the base (Featherstone's trick).
+    let base = Motion { ang: Vec3::zero(), lin: gravity.map_or(Vec3::zero(), |g| -g) };
+    let mut out: Vec<BodyMotion<S>> = Vec::with_capacity(model.dof());
+    for (i, joint) in model.joints.iter().enumerate() {
+        let (vel0, w0, wdot0) = match joint.parent {
+            Some(p) => (out[p].vel, out[p].w, out[p].wdot),
+            None => (Motion::zero(), Motion::zero(), base),
+        };
+        let vel = x[i].motion_to_child(&vel0) + joint_motion(joint, qd[i]);
+        let sv = joint_motion(joint, v[i]);
+        let w = x[i].motion_to_child(&w0) + sv;
+        // Ṡ v with Ṡ = vel × S: the derivative of the joint's motion subspace seen from the base.
+        let wdot = x[i].motion_to_child(&wdot0) + joint_motion(joint, a[i]) + vel.cross_motion(&sv);
+        out.push(BodyMotion { vel, w, wdot });
+    }
+    out
+}
+
+/// The body force `I ẇ + B(I, vel) w`, linear in the inertia.
+pub(crate) fn body_force<S: Scalar>(inertia: &RigidInertia<S>, m: &BodyMotion<S>) -> Force<S> {
+    inertia.mul_motion(&m.wdot) + inertia.body_operator(&m.vel, &m.w)
+}
+
+/// `D(q) a + C(q, q̇) v + g(q)` (gravity optional): the Slotine–Li reference torque.
+pub fn slotine_li<S: Scalar>(
+    model: &Model,
+    x: &[Transform<S>],
+    inertias: &[RigidInertia<S>],
+    qd: &[S],
+    v: &[S],
+    a: &[S],
+    gravity: Option<Vec3<S>>,
+) -> Vec<S> {
+    let motions = forward_pass(model, x, qd, v, a, gravity);
+    let mut f: Vec<Force<S>> =
+        motions.iter().zip(inertias).map(|(m, inertia)| body_force(inertia, m)).collect();
+    let mut tau = vec![S::zero(); model.dof()];
+    for (i, joint) in model.joints.iter().enumerate().rev() {
+        tau[i] = joint_force(joint, &f[i]);
+        if let Some(p) = joint.parent {
+            let up = x[i].force_to_parent(&f[i]);
+            f[p] = f[p] + up;
+        }
+    }
+    tau
+}
+
+pub(crate) fn gravity_vector<S: Scalar>(model: &Model) -> Vec3<S> {
+    Vec3::from_f64([model.gravity.x, model.gravity.y, model.gravity.z])
+}
+
+/// Inverse dynamics `τ = D q̈ + C q̇ + g` (RNEA).
+pub fn inverse_dynamics<S: Scalar>(
+    model: &Model,
+    x: &[Transform<S>],
+    inertias: &[RigidInertia<S>],
+    qd: &[S],
+    qdd: &[S],
+) -> Vec<S> {
+    slotine_li(model, x, inertias, qd, qd, qdd, Some(gravity_vector(model)))
+}
+
+/// Generalized gravity `g(q)`.
+pub fn gravity_torque<S: Scalar>(model: &Model, x: &[Transform<S>], inertias: &[RigidInertia<S>]) -> Vec<S> {
+    let zero = vec![S::zero(); model.dof()];
+    slotine_li(model, x, inertias, &zero, &zero, &zero, Some(gravity_vector(model)))
+}
+
+/// The Christoffel-consistent Coriolis matrix: column `j` is the recursion at `v = e_j`,
+/// `a = 0`, without gravity.
+pub fn coriolis_matrix<S: Scalar>(
+    model: &Model,
+    x: &[Transform<S>],
+    inertias: &[RigidInertia<S>],
+    qd: &[S],
+) -> DMatrix<S> {
+    let n = model.dof();
+    let zero = vec![S::zero(); n];
+    let mut c = DMatrix::from_element(n, n, S::zero());
+    for j in 0..n {
+        let mut e = zero.clone();
+        e[j] = S::one();
+        let col = slotine_li(model, x, inertias, qd, &e, &zero, None);
+        for (i, cij) in col.into_iter().enumerate() {
+            c[(i, j)] = cij;
+        }
+    }
+    c
+}

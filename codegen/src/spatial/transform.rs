@@ -1,0 +1,41 @@
+//! Rigid transforms between a parent frame and a child frame, acting on spatial vectors.
+
+use super::{Force, Mat3, Motion, Vec3};
+use crate::scalar::Scalar;
+
+/// The child frame placed in the parent frame: child axes `rot` (columns, parent coordinates)
+/// and child origin `pos` (parent coordinates). A point `p` of the child is `rot·p + pos`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Transform<S> {
+    pub rot: Mat3<S>,
+    pub pos: Vec3<S>,
+}
+
+impl<S: Scalar> Transform<S> {
+    pub fn identity() -> Self {
+        Transform { rot: Mat3::identity(), pos: Vec3::zero() }
+    }
+
+    /// `self ∘ child`: `child` is placed in the frame that `self` places.
+    pub fn compose(&self, child: &Transform<S>) -> Transform<S> {
+        Transform { rot: self.rot * child.rot, pos: self.rot.mul_vec(&child.pos) + self.pos }
+    }
+
+    pub fn transform_point(&self, p: &Vec3<S>) -> Vec3<S> {
+        self.rot.mul_vec(p) + self.pos
+    }
+
+    /// A motion given in the parent frame, expressed in the child frame.
+    pub fn motion_to_child(&self, m: &Motion<S>) -> Motion<S> {
+        Motion {
+            ang: self.rot.tr_mul_vec(&m.ang),
+            lin: self.rot.tr_mul_vec(&(m.lin - self.pos.cross(&m.ang))),
+        }
+    }
+
+    /// A force given in the child frame, expressed in the parent frame.
+    pub fn force_to_parent(&self, f: &Force<S>) -> Force<S> {
+        let lin = self.rot.mul_vec(&f.lin);
+        Force { ang: self.rot.mul_vec(&f.ang) + self.pos.cross(&lin), lin }
+    }
+}

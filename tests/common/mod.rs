@@ -1,0 +1,26 @@
+//! Shared helpers of the integration tests: reference fixtures and tolerant comparisons.
+#![allow(dead_code)] // each test binary uses a different subset
+
+pub mod fixture;
+
+use nalgebra::DMatrix;
+
+/// Largest entry-wise difference, relative to the largest entry of `expected` (at least 1).
+pub fn relative_error(actual: &DMatrix<f64>, expected: &DMatrix<f64>) -> f64 {
+    assert_eq!(actual.shape(), expected.shape(), "shapes differ");
+    let scale = expected.amax().max(1.0);
+    (actual - expected).amax() / scale
+}
+
+/// Asserts `actual ≈ expected` to `tol` relative, naming the quantity on failure.
+pub fn assert_close(what: &str, actual: &DMatrix<f64>, expected: &DMatrix<f64>, tol: f64) {
+    let err = relative_error(actual, expected);
+    assert!(
+        err <= tol,
+        "{what}: relative error {err:.3e} > {tol:.0e}\nactual:\n{actual:.12}\nexpected:\n{expected:.12}"
+    );
+}
+
+pub fn column(v: &[f64]) -> DMatrix<f64> {
+    DMatrix::from_column_slice(v.len(), 1, v)
+}
