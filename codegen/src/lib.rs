@@ -4,6 +4,8 @@
 
 pub mod description;
 pub mod dynamics;
+pub mod generate;
 pub mod model;
 pub mod scalar;
 pub mod spatial;
+pub mod symbolic;

@@ -2,6 +2,8 @@
 #![allow(dead_code)] // each test binary uses a different subset
 
 pub mod fixture;
+pub mod oracles;
+pub mod random_model;
 
 use nalgebra::DMatrix;
 

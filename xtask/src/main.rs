@@ -1,1 +1,120 @@
-fn main() {}
+//! `cargo xtask`: the project's developer commands. Thin: argument parsing and reporting only;
+//! the work is done by `dyngen-codegen`.
+
+use clap::{Parser, Subcommand};
+use dyngen_codegen::generate::{descriptions_in, generate_into_crate, CrateReport, Mode};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+
+#[derive(Parser)]
+#[command(name = "cargo xtask", about = "dyngen developer commands")]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand)]
+enum Command {
+    /// Generate Rust dynamics for robot descriptions into `generated/src/`.
+    Gen {
+        /// Robot descriptions (`.yaml` or `.urdf`), relative to the current directory or the
+        /// workspace root.
+        #[arg(required_unless_present = "all")]
+        descriptions: Vec<PathBuf>,
+        /// Regenerate every description in `robots/`.
+        #[arg(long, conflicts_with = "descriptions")]
+        all: bool,
+        /// Write nothing; exit non-zero if committed generated code is stale.
+        #[arg(long)]
+        check: bool,
+    },
+}
+
+fn workspace_root() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).parent().map(Path::to_path_buf).unwrap_or_default()
+}
+
+/// A path as the user typed it, else relative to the workspace root (so the command works
+/// from any directory of the repository).
+fn resolve(path: &Path, root: &Path) -> PathBuf {
+    if path.exists() {
+        path.to_owned()
+    } else {
+        root.join(path)
+    }
+}
+
+/// A path relative to the current directory when it is below it, for shorter messages.
+fn shown(path: &Path) -> String {
+    let cwd = std::env::current_dir().unwrap_or_default();
+    let abs = path.canonicalize().unwrap_or_else(|_| path.to_owned());
+    abs.strip_prefix(&cwd).unwrap_or(&abs).display().to_string()
+}
+
+fn print_summary(report: &CrateReport, check: bool) {
+    for r in &report.robots {
+        let m = &r.robot.model;
+        let state = match (r.outcome, check) {
+            (dyngen_codegen::generate::WriteOutcome::Unchanged, _) => "up to date",
+            (_, false) => "written",
+            (_, true) => "STALE",
+        };
+        println!(
+            "{} → {} ({state})\n  {} DOF, {} parameters, generated in {:.2} s",
+            shown(r.robot.sources.first().map(PathBuf::as_path).unwrap_or(Path::new(""))),
+            shown(&r.file),
+            m.dof(),
+            m.parameters().len(),
+            r.robot.elapsed.as_secs_f64()
+        );
+        for note in &r.robot.notes {
+            println!("  note: {note}");
+        }
+        for warning in &r.robot.warnings {
+            println!("  warning: {warning}");
+        }
+        println!("  {:<20} {:>7} {:>7} {:>5} {:>5}", "function", "mul", "add", "neg", "trig");
+        for (name, c) in &r.robot.op_counts {
+            println!("  {name:<20} {:>7} {:>7} {:>5} {:>5}", c.mul, c.add, c.neg, c.trig);
+        }
+    }
+}
+
+fn main() -> ExitCode {
+    let cli = Cli::parse();
+    let root = workspace_root();
+    match cli.command {
+        Command::Gen { descriptions, all, check } => {
+            let list = if all {
+                match descriptions_in(&root.join("robots")) {
+                    Ok(list) => list,
+                    Err(e) => {
+                        eprintln!("error: {e}");
+                        return ExitCode::FAILURE;
+                    }
+                }
+            } else {
+                descriptions.iter().map(|d| resolve(d, &root)).collect()
+            };
+            let mode = if check { Mode::Check } else { Mode::Write };
+            match generate_into_crate(&root, &root.join("generated/src"), &list, mode) {
+                Ok(report) => {
+                    print_summary(&report, check);
+                    let changed = report.changed();
+                    if check && !changed.is_empty() {
+                        eprintln!("error: stale generated code (run `cargo xtask gen --all`):");
+                        for f in changed {
+                            eprintln!("  {}", f.display());
+                        }
+                        return ExitCode::FAILURE;
+                    }
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::FAILURE
+                }
+            }
+        }
+    }
+}

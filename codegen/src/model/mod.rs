@@ -9,8 +9,10 @@
 mod pose;
 mod validate;
 
-pub use pose::Pose;
-pub use validate::ModelError;
+pub use pose::{exact_sin_cos, Pose};
+pub use validate::{
+    check_rotational_inertia, principal_moments, validate, ModelError, Warning, INERTIA_REL_TOL,
+};
 
 use nalgebra::{Matrix3, Vector3};
 

@@ -1,6 +1,327 @@
-//! Checks of the model invariants. (Filled in by the description loaders' work.)
+//! Checks of the model invariants, and the physical-validity test of a rigid body's inertia.
+//!
+//! Every algorithm relies on the invariants listed in the [module docs](super); the loaders
+//! guarantee them, and [`Model::validate`] re-checks them on the finished model so that a bug
+//! in a loader (or a hand-built model) is caught before it turns into wrong generated code.
+
+use super::{Inertia, Model, Pose};
+use nalgebra::{Matrix3, SymmetricEigen, Vector3};
+use std::collections::HashSet;
+use std::fmt;
 
 /// A model that breaks an invariant.
 #[derive(Debug, thiserror::Error, PartialEq)]
 #[error("{0}")]
 pub struct ModelError(pub String);
+
+/// Relative tolerance of the inertia tests (positive semi-definiteness, triangle inequality),
+/// as a fraction of the trace of the rotational inertia.
+///
+/// Published inertias are rounded to a few significant digits, so a flat plate (`I1 + I2 = I3`
+/// exactly) may come out a hair on the wrong side; one part per million of the trace forgives
+/// that rounding and nothing that matters physically.
+pub const INERTIA_REL_TOL: f64 = 1e-6;
+
+/// Tolerance on unit axes and orthonormal rotations.
+const UNIT_TOL: f64 = 1e-9;
+
+/// Something legal in a model but probably not what the author meant.
+#[derive(Clone, Debug, PartialEq)]
+pub enum Warning {
+    /// A moving body with zero mass that carries no further joints: nothing resists its joint,
+    /// so the joint-space inertia matrix is singular.
+    MasslessLeaf {
+        /// The joint that carries the body.
+        joint: String,
+        /// The body (link) name.
+        body: String,
+    },
+    /// A moving body whose total mass is zero (bodies further out may still give its joint inertia).
+    MasslessBody {
+        /// The joint that carries the body.
+        joint: String,
+        /// The body (link) name.
+        body: String,
+    },
+}
+
+impl fmt::Display for Warning {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            Warning::MasslessLeaf { joint, body } => write!(
+                f,
+                "link '{body}': zero mass and no children (joint '{joint}' moves nothing; \
+                 the inertia matrix is singular)"
+            ),
+            Warning::MasslessBody { joint, body } => {
+                write!(
+                    f,
+                    "link '{body}': the body moved by joint '{joint}' has zero total mass"
+                )
+            }
+        }
+    }
+}
+
+/// Principal moments of a symmetric rotational inertia, in ascending order.
+///
+/// The matrix must be finite (the eigen-solver iterates until convergence).
+pub fn principal_moments(inertia: &Matrix3<f64>) -> [f64; 3] {
+    let sym = (inertia + inertia.transpose()) * 0.5;
+    let eig = SymmetricEigen::new(sym).eigenvalues;
+    let mut m = [eig[0], eig[1], eig[2]];
+    m.sort_by(f64::total_cmp);
+    m
+}
+
+/// Checks that a rotational inertia about the centre of mass can belong to a real body:
+/// symmetric, positive semi-definite, and its principal moments satisfy the triangle
+/// inequality `I1 + I2 >= I3` (mass cannot lie further from every axis than the sum allows).
+///
+/// Returns the principal moments (ascending) or a sentence saying what is wrong.
+pub fn check_rotational_inertia(inertia: &Matrix3<f64>) -> Result<[f64; 3], String> {
+    if inertia.iter().any(|v| !v.is_finite()) {
+        return Err("inertia has a number that is not finite".into());
+    }
+    let asym = (inertia - inertia.transpose()).abs().max();
+    let scale = inertia.abs().max();
+    if asym > INERTIA_REL_TOL * scale {
+        return Err("inertia matrix is not symmetric".into());
+    }
+    let m = principal_moments(inertia);
+    let tol = INERTIA_REL_TOL * (m[0] + m[1] + m[2]).abs();
+    let shown = format!("[{}, {}, {}]", fmt_num(m[0]), fmt_num(m[1]), fmt_num(m[2]));
+    if m[0] < -tol {
+        return Err(format!(
+            "inertia is not positive semi-definite (principal moments {shown})"
+        ));
+    }
+    if m[0] + m[1] < m[2] - tol {
+        return Err(format!(
+            "inertia violates the triangle inequality I1 + I2 >= I3 (principal moments {shown})"
+        ));
+    }
+    Ok(m)
+}
+
+/// A number printed short (for messages): six significant digits, no trailing noise.
+fn fmt_num(v: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    let s = format!("{v:.6e}");
+    match s.parse::<f64>() {
+        Ok(r) => format!("{r}"),
+        Err(_) => s,
+    }
+}
+
+impl Model {
+    /// Checks the invariants listed in the [module docs](crate::model) and returns warnings
+    /// about legal but suspicious bodies (zero mass). See [`validate`].
+    pub fn validate(&self) -> Result<Vec<Warning>, ModelError> {
+        validate(self)
+    }
+}
+
+/// Checks the model invariants: topological order, unit axes, orthonormal rotations, finite
+/// numbers, physically valid inertias, a valid end-effector frame.
+pub fn validate(model: &Model) -> Result<Vec<Warning>, ModelError> {
+    let err = |msg: String| Err(ModelError(msg));
+    let n = model.joints.len();
+    if model.bodies.len() != n {
+        return err(format!("{} joints but {} bodies", n, model.bodies.len()));
+    }
+    if n == 0 {
+        return err("the model has no moving joints".into());
+    }
+    if !finite3(&model.gravity) {
+        return err("gravity is not finite".into());
+    }
+    let mut names = HashSet::new();
+    for (i, joint) in model.joints.iter().enumerate() {
+        let name = &joint.name;
+        if !names.insert(name.as_str()) {
+            return err(format!("joint '{name}' appears twice"));
+        }
+        if let Some(p) = joint.parent {
+            if p >= i {
+                return err(format!(
+                    "joint '{name}' (index {i}) has parent index {p}: not in topological order"
+                ));
+            }
+        }
+        check_pose(&joint.origin).map_err(|m| ModelError(format!("joint '{name}': origin {m}")))?;
+        if !finite3(&joint.axis) || (joint.axis.norm() - 1.0).abs() > UNIT_TOL {
+            return err(format!("joint '{name}': axis is not a unit vector"));
+        }
+        if let Some(l) = &joint.limits {
+            let all = [l.lower, l.upper, l.velocity, l.effort];
+            if all.iter().any(|v| !v.is_finite()) || l.lower > l.upper {
+                return err(format!("joint '{name}': invalid limits"));
+            }
+        }
+        check_inertia(&model.bodies[i].inertia)
+            .map_err(|m| ModelError(format!("body '{}': {m}", model.bodies[i].name)))?;
+    }
+    let ee = &model.end_effector;
+    if ee.parent >= n {
+        return err(format!(
+            "end-effector '{}': parent joint {} does not exist",
+            ee.name, ee.parent
+        ));
+    }
+    check_pose(&ee.placement)
+        .map_err(|m| ModelError(format!("end-effector '{}': placement {m}", ee.name)))?;
+
+    let mut has_child = vec![false; n];
+    for p in model.joints.iter().filter_map(|j| j.parent) {
+        has_child[p] = true;
+    }
+    let warnings = model
+        .bodies
+        .iter()
+        .zip(&model.joints)
+        .zip(has_child)
+        .filter(|((body, _), _)| body.inertia.mass == 0.0)
+        .map(|((body, joint), has_child)| {
+            let (joint, body) = (joint.name.clone(), body.name.clone());
+            if has_child {
+                Warning::MasslessBody { joint, body }
+            } else {
+                Warning::MasslessLeaf { joint, body }
+            }
+        })
+        .collect();
+    Ok(warnings)
+}
+
+fn finite3(v: &Vector3<f64>) -> bool {
+    v.iter().all(|x| x.is_finite())
+}
+
+fn check_pose(pose: &Pose) -> Result<(), String> {
+    let r = &pose.rotation;
+    if !finite3(&pose.translation) || r.iter().any(|v| !v.is_finite()) {
+        return Err("is not finite".into());
+    }
+    let off = (r.transpose() * r - Matrix3::identity()).abs().max();
+    if off > UNIT_TOL || r.determinant() < 0.0 {
+        return Err("rotation is not orthonormal".into());
+    }
+    Ok(())
+}
+
+fn check_inertia(inertia: &Inertia) -> Result<(), String> {
+    if !inertia.mass.is_finite() || inertia.mass < 0.0 {
+        return Err(format!(
+            "mass {} is not a finite non-negative number",
+            inertia.mass
+        ));
+    }
+    if !finite3(&inertia.com) {
+        return Err("centre of mass is not finite".into());
+    }
+    check_rotational_inertia(&inertia.inertia_com).map(|_| ())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::model::{Body, Frame, Joint, JointKind};
+
+    fn one_joint(inertia: Inertia) -> Model {
+        Model {
+            name: "m".into(),
+            joints: vec![Joint {
+                name: "j".into(),
+                parent: None,
+                kind: JointKind::Revolute,
+                origin: Pose::identity(),
+                axis: Vector3::z(),
+                limits: None,
+            }],
+            bodies: vec![Body {
+                name: "b".into(),
+                inertia,
+            }],
+            gravity: Vector3::new(0.0, 0.0, -9.81),
+            end_effector: Frame {
+                name: "ee".into(),
+                parent: 0,
+                placement: Pose::identity(),
+            },
+        }
+    }
+
+    fn inertia(mass: f64, diag: [f64; 3]) -> Inertia {
+        Inertia {
+            mass,
+            com: Vector3::zeros(),
+            inertia_com: Matrix3::from_diagonal(&diag.into()),
+        }
+    }
+
+    #[test]
+    fn valid_model_passes() {
+        assert_eq!(
+            one_joint(inertia(1.0, [1.0, 1.0, 1.0])).validate(),
+            Ok(vec![])
+        );
+    }
+
+    #[test]
+    fn triangle_inequality_is_checked() {
+        let e = one_joint(inertia(1.0, [1.0, 1.0, 2.5]))
+            .validate()
+            .unwrap_err();
+        assert!(e.0.contains("triangle"), "{e}");
+        // a flat plate is exactly on the boundary and is fine
+        assert!(one_joint(inertia(1.0, [1.0, 1.0, 2.0])).validate().is_ok());
+    }
+
+    #[test]
+    fn negative_moment_is_rejected() {
+        let e = one_joint(inertia(1.0, [-1.0, 1.0, 1.0]))
+            .validate()
+            .unwrap_err();
+        assert!(e.0.contains("semi-definite"), "{e}");
+    }
+
+    #[test]
+    fn topological_order_is_checked() {
+        let mut m = one_joint(inertia(1.0, [1.0, 1.0, 1.0]));
+        m.joints[0].parent = Some(0);
+        assert!(m.validate().unwrap_err().0.contains("topological"));
+    }
+
+    #[test]
+    fn axis_and_rotation_are_checked() {
+        let mut m = one_joint(inertia(1.0, [1.0, 1.0, 1.0]));
+        m.joints[0].axis = Vector3::new(0.0, 0.0, 2.0);
+        assert!(m.validate().unwrap_err().0.contains("unit"));
+        let mut m = one_joint(inertia(1.0, [1.0, 1.0, 1.0]));
+        m.end_effector.placement.rotation[(0, 0)] = 2.0;
+        assert!(m.validate().unwrap_err().0.contains("orthonormal"));
+    }
+
+    #[test]
+    fn massless_leaf_is_a_warning() {
+        let w = one_joint(inertia(0.0, [0.0, 0.0, 0.0])).validate().unwrap();
+        assert_eq!(
+            w,
+            vec![Warning::MasslessLeaf {
+                joint: "j".into(),
+                body: "b".into()
+            }]
+        );
+        assert!(w[0].to_string().contains("zero mass and no children"));
+    }
+
+    #[test]
+    fn nan_is_rejected() {
+        let mut m = one_joint(inertia(1.0, [1.0, 1.0, 1.0]));
+        m.bodies[0].inertia.com.x = f64::NAN;
+        assert!(m.validate().is_err());
+    }
+}

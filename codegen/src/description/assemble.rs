@@ -1,0 +1,345 @@
+//! The checked tree → [`Model`]: fixed and locked joints welded away, inertias merged into the
+//! moving body that carries them, placements composed, the end-effector frame chosen.
+//!
+//! Every link ends up on a *carrier*: the moving joint whose body it is part of (or the base),
+//! at a fixed placement in that joint's frame. A moving joint's origin is then its parent
+//! link's placement composed with its own URDF origin, which is what [`crate::model::Joint`]
+//! wants: the frame relative to the parent *moving* joint, not to the parent link.
+
+use super::error::{item, num, DescriptionError};
+use super::items::{JointShape, Motion};
+use super::options::{EndEffectorSpec, Settings};
+use super::raw::RawRobot;
+use super::source_map::{joint_path, link_path, SourceMap};
+use super::tree::Topology;
+use super::Diagnostics;
+use crate::model::{exact_sin_cos, Body, Frame, Inertia, Joint, JointKind, Model, Pose};
+use nalgebra::{Matrix3, Vector3};
+
+/// Gravity when the description gives none (z up).
+pub(crate) const DEFAULT_GRAVITY: [f64; 3] = [0.0, 0.0, -9.81];
+
+/// Everything the assembly needs, checked.
+pub(crate) struct Checked<'a> {
+    pub raw: &'a RawRobot,
+    /// Where the robot's links and joints are written.
+    pub robot_map: &'a SourceMap,
+    pub links: &'a [Inertia],
+    pub joints: &'a [JointShape],
+    pub topo: &'a Topology,
+}
+
+/// Builds the model; see the module docs.
+pub(crate) fn assemble(
+    c: &Checked<'_>,
+    settings: &Settings<'_>,
+    diags: &mut Diagnostics,
+) -> Result<Model, DescriptionError> {
+    let name = match settings.name.clone().or_else(|| c.raw.name.clone()) {
+        Some(n) => n,
+        None => {
+            return Err(DescriptionError::new(
+                &c.robot_map.file,
+                "the robot has no name",
+            ))
+        }
+    };
+    let gravity = settings.gravity.unwrap_or(DEFAULT_GRAVITY);
+    if !gravity.iter().all(|g| g.is_finite()) {
+        return Err(settings.map.error(
+            "gravity",
+            format!("gravity {} is not finite", super::error::vec3(&gravity)),
+        ));
+    }
+    let locked = locked_values(c, settings)?;
+    check_mimics(c, &locked, settings, diags)?;
+
+    // Carrier and placement of every link, moving joints in depth-first order.
+    let n_links = c.raw.links.len();
+    let mut carrier: Vec<Option<usize>> = vec![None; n_links];
+    let mut placement: Vec<Pose> = vec![Pose::identity(); n_links];
+    let mut joints = Vec::new();
+    let mut bodies: Vec<Option<Inertia>> = Vec::new();
+    let mut body_names = Vec::new();
+    for &j in &c.topo.joint_order {
+        let (p, ch) = (c.topo.parent_link[j], c.topo.child_link[j]);
+        let shape = &c.joints[j];
+        let at_joint = placement[p].compose(&shape.origin);
+        match (shape.motion, locked[j]) {
+            (Motion::Moving(kind), None) => {
+                carrier[ch] = Some(joints.len());
+                placement[ch] = Pose::identity();
+                joints.push(Joint {
+                    name: c.raw.joints[j].name.clone(),
+                    parent: carrier[p],
+                    kind,
+                    origin: at_joint,
+                    axis: shape.axis,
+                    limits: shape.limits,
+                });
+                bodies.push(None);
+                body_names.push(c.raw.links[ch].name.clone());
+            }
+            (Motion::Moving(kind), Some(q)) => {
+                carrier[ch] = carrier[p];
+                placement[ch] = at_joint.compose(&joint_motion(kind, &shape.axis, q));
+            }
+            (Motion::Fixed, _) => {
+                carrier[ch] = carrier[p];
+                placement[ch] = at_joint;
+            }
+        }
+    }
+    if joints.is_empty() {
+        return Err(DescriptionError::new(
+            &c.robot_map.file,
+            "the robot has no moving joints (all are fixed or locked)",
+        ));
+    }
+
+    // Weld every link into its carrier's body; links on the base do not move and drop out.
+    for &l in &c.topo.link_order {
+        if let Some(k) = carrier[l] {
+            let part = c.links[l].transformed(&placement[l]);
+            bodies[k] = Some(match bodies[k] {
+                None => part,
+                Some(body) => body.merged(&part),
+            });
+        }
+    }
+    let zero = Inertia {
+        mass: 0.0,
+        com: Vector3::zeros(),
+        inertia_com: Matrix3::zeros(),
+    };
+    let bodies = bodies
+        .into_iter()
+        .zip(body_names)
+        .map(|(inertia, name)| Body {
+            name,
+            inertia: inertia.unwrap_or(zero),
+        })
+        .collect();
+
+    let end_effector = end_effector(c, settings, &carrier, &placement, &joints, diags)?;
+    Ok(Model {
+        name,
+        joints,
+        bodies,
+        gravity: Vector3::from(gravity),
+        end_effector,
+    })
+}
+
+/// The pose a joint adds at position `q`: rotation about, or translation along, its axis.
+fn joint_motion(kind: JointKind, axis: &Vector3<f64>, q: f64) -> Pose {
+    match kind {
+        JointKind::Revolute => {
+            let (s, c) = exact_sin_cos(q);
+            let k = axis.cross_matrix();
+            Pose {
+                rotation: Matrix3::identity() + k * s + k * k * (1.0 - c),
+                translation: Vector3::zeros(),
+            }
+        }
+        JointKind::Prismatic => Pose {
+            rotation: Matrix3::identity(),
+            translation: axis * q,
+        },
+    }
+}
+
+/// Locked position per joint (`None`: not locked), with every entry checked.
+fn locked_values(
+    c: &Checked<'_>,
+    settings: &Settings<'_>,
+) -> Result<Vec<Option<f64>>, DescriptionError> {
+    let mut locked = vec![None; c.raw.joints.len()];
+    for (name, q) in &settings.locked_joints {
+        let path = format!("locked_joints.{name}");
+        let err = |msg: String| {
+            settings
+                .map
+                .error(&path, msg)
+                .about(format!("locked joint '{name}'"))
+        };
+        let Some(&j) = c.topo.joint_by_name.get(name) else {
+            return Err(err(
+                "unknown locked joint: the robot has no joint of that name".into(),
+            ));
+        };
+        if locked[j].is_some() {
+            return Err(err("the joint is locked twice".into()));
+        }
+        if !q.is_finite() {
+            return Err(err(format!("position {} is not finite", num(*q))));
+        }
+        if c.joints[j].motion == Motion::Fixed {
+            return Err(err(
+                "the joint is fixed; only moving joints can be locked".into()
+            ));
+        }
+        if let Some(l) = &c.joints[j].limits {
+            if *q < l.lower || *q > l.upper {
+                let msg = format!(
+                    "position {} is outside the joint limits [{}, {}]",
+                    num(*q),
+                    num(l.lower),
+                    num(l.upper)
+                );
+                return Err(err(msg));
+            }
+        }
+        locked[j] = Some(*q);
+    }
+    Ok(locked)
+}
+
+/// A mimic joint moves with another one: dyngen gives every moving joint its own coordinate,
+/// so a mimic joint is accepted only when locked (never silently made independent).
+fn check_mimics(
+    c: &Checked<'_>,
+    locked: &[Option<f64>],
+    settings: &Settings<'_>,
+    diags: &mut Diagnostics,
+) -> Result<(), DescriptionError> {
+    for (j, joint) in c.raw.joints.iter().enumerate() {
+        let Some(m) = &joint.mimic else { continue };
+        let path = format!("{}.mimic", joint_path(j));
+        let label = item("joint", &joint.name);
+        let Some(&target) = c.topo.joint_by_name.get(&m.joint) else {
+            let msg = format!("mimics joint '{}', which is not defined", m.joint);
+            return Err(c.robot_map.error(&path, msg).about(label));
+        };
+        let Some(q) = locked[j] else {
+            let msg = format!(
+                "mimics joint '{}': mimic joints are not supported; lock it (locked_joints)",
+                m.joint
+            );
+            return Err(c.robot_map.error(&path, msg).about(label));
+        };
+        let msg = match locked[target] {
+            Some(qt) if (q - (m.multiplier * qt + m.offset)).abs() > 1e-12 => format!(
+                "locked at {} but it mimics '{}' locked at {} (multiplier {}, offset {})",
+                num(q),
+                m.joint,
+                num(qt),
+                num(m.multiplier),
+                num(m.offset)
+            ),
+            Some(_) => continue,
+            None => format!(
+                "mimics '{}' but is locked on its own: it will not follow '{}'",
+                m.joint, m.joint
+            ),
+        };
+        let at = format!("locked_joints.{}", joint.name);
+        diags
+            .warnings
+            .push(settings.map.diagnostic(&at, Some(&label), &msg));
+    }
+    Ok(())
+}
+
+/// The end-effector frame: the one asked for, or the leaf link at the end of the longest chain.
+fn end_effector(
+    c: &Checked<'_>,
+    settings: &Settings<'_>,
+    carrier: &[Option<usize>],
+    placement: &[Pose],
+    joints: &[Joint],
+    diags: &mut Diagnostics,
+) -> Result<Frame, DescriptionError> {
+    let spec = match &settings.end_effector {
+        Some(spec) => spec.clone(),
+        None => {
+            let leaf = default_leaf(c, carrier, joints)?;
+            let leaves = c
+                .topo
+                .link_order
+                .iter()
+                .filter(|&&l| c.topo.children[l].is_empty())
+                .count();
+            let name = &c.raw.links[leaf].name;
+            let why = if leaves == 1 {
+                "the only leaf link".to_owned()
+            } else {
+                let depth = carrier[leaf].map_or(0, |k| chain_len(joints, k));
+                format!("the end of the longest chain, {depth} moving joints")
+            };
+            let msg = format!("no end-effector given: using leaf link '{name}' ({why})");
+            diags.notes.push(crate::description::error::render(
+                &c.robot_map.file,
+                None,
+                None,
+                &msg,
+            ));
+            EndEffectorSpec::link(name.clone())
+        }
+    };
+    let err = |msg: String| {
+        settings
+            .map
+            .error("end_effector", msg)
+            .about(format!("end-effector '{}'", spec.frame_name()))
+    };
+    let Some(&link) = c.topo.link_by_name.get(&spec.link) else {
+        return Err(err(format!("link '{}' is not defined", spec.link)));
+    };
+    if !(spec.xyz.iter().chain(&spec.rpy).all(|v| v.is_finite())) {
+        return Err(err("offset xyz/rpy is not finite".into()));
+    }
+    let Some(parent) = carrier[link] else {
+        let msg = format!(
+            "link '{}' does not move with any joint (it is fixed to the base)",
+            spec.link
+        );
+        return Err(err(msg));
+    };
+    let offset = Pose::from_xyz_rpy(spec.xyz, spec.rpy);
+    Ok(Frame {
+        name: spec.frame_name().to_owned(),
+        parent,
+        placement: placement[link].compose(&offset),
+    })
+}
+
+/// Leaf link whose chain has the most moving joints; ties go to the first in depth-first order.
+fn default_leaf(
+    c: &Checked<'_>,
+    carrier: &[Option<usize>],
+    joints: &[Joint],
+) -> Result<usize, DescriptionError> {
+    let mut best: Option<(usize, usize)> = None;
+    for &l in &c.topo.link_order {
+        if !c.topo.children[l].is_empty() {
+            continue;
+        }
+        if let Some(k) = carrier[l] {
+            let depth = chain_len(joints, k);
+            if best.is_none_or(|(_, d)| depth > d) {
+                best = Some((l, depth));
+            }
+        }
+    }
+    best.map(|(l, _)| l).ok_or_else(|| {
+        let root = &c.raw.links[c.topo.root].name;
+        c.robot_map
+            .error(
+                &link_path(c.topo.root),
+                "no end-effector given and no leaf link moves with a joint",
+            )
+            .about(item("link", root))
+    })
+}
+
+/// Number of moving joints from the base to joint `k` inclusive.
+fn chain_len(joints: &[Joint], k: usize) -> usize {
+    let mut n = 1;
+    let mut j = k;
+    while let Some(p) = joints.get(j).and_then(|jt| jt.parent) {
+        n += 1;
+        j = p;
+    }
+    n
+}

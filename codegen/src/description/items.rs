@@ -1,0 +1,288 @@
+//! Each link and joint checked on its own, and turned into model quantities.
+//!
+//! Everything that can be judged without the rest of the tree is judged here, with the place
+//! of the item: finite numbers, known joint types, a usable axis, ordered limits, a physically
+//! possible inertia. The tree rules (names, parents, cycles) are in `tree`.
+
+use super::error::{item, num, vec3, DescriptionError};
+use super::raw::{RawInertial, RawJoint, RawLink};
+use super::source_map::{joint_path, link_path, SourceMap};
+use super::Diagnostics;
+use crate::model::{check_rotational_inertia, Inertia, JointKind, Limits, Pose, INERTIA_REL_TOL};
+use nalgebra::{Matrix3, Vector3};
+
+/// How a joint moves, once its type is known to be supported.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum Motion {
+    Fixed,
+    Moving(JointKind),
+}
+
+/// A joint's own geometry and limits, checked.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct JointShape {
+    pub motion: Motion,
+    /// Joint frame in the parent link frame.
+    pub origin: Pose,
+    /// Unit axis (meaningless for fixed joints).
+    pub axis: Vector3<f64>,
+    /// `None` for continuous and fixed joints.
+    pub limits: Option<Limits>,
+}
+
+const KNOWN_TYPES: &str = "revolute, continuous, prismatic or fixed";
+
+/// Checks every joint on its own; see the module docs.
+pub(crate) fn check_joints(
+    joints: &[RawJoint],
+    map: &SourceMap,
+    diags: &mut Diagnostics,
+) -> Result<Vec<JointShape>, DescriptionError> {
+    joints
+        .iter()
+        .enumerate()
+        .map(|(i, j)| check_joint(i, j, map, diags))
+        .collect()
+}
+
+fn check_joint(
+    i: usize,
+    j: &RawJoint,
+    map: &SourceMap,
+    diags: &mut Diagnostics,
+) -> Result<JointShape, DescriptionError> {
+    let path = joint_path(i);
+    let label = item("joint", &j.name);
+    let err = |field: &str, msg: String| {
+        map.error(&format!("{path}{field}"), msg)
+            .about(label.clone())
+    };
+
+    let motion = match j.kind.as_str() {
+        "revolute" | "continuous" => Motion::Moving(JointKind::Revolute),
+        "prismatic" => Motion::Moving(JointKind::Prismatic),
+        "fixed" => Motion::Fixed,
+        "floating" | "planar" => {
+            let msg = format!(
+                "type '{}' is not supported (dyngen handles fixed-base trees)",
+                j.kind
+            );
+            return Err(err(".type", msg));
+        }
+        other => {
+            return Err(err(
+                ".type",
+                format!("unknown joint type '{other}' (expected {KNOWN_TYPES})"),
+            ));
+        }
+    };
+
+    for (what, v) in [("xyz", &j.xyz), ("rpy", &j.rpy)] {
+        if !finite(v) {
+            return Err(err(
+                ".origin",
+                format!("origin {what} {} is not finite", vec3(v)),
+            ));
+        }
+    }
+    let origin = Pose::from_xyz_rpy(j.xyz, j.rpy);
+
+    let axis = if motion == Motion::Fixed {
+        Vector3::x()
+    } else {
+        if !finite(&j.axis) {
+            return Err(err(
+                ".axis",
+                format!("axis {} is not finite", vec3(&j.axis)),
+            ));
+        }
+        let a = Vector3::from(j.axis);
+        let norm = a.norm();
+        if norm == 0.0 || !norm.is_finite() {
+            return Err(err(
+                ".axis",
+                format!("axis {} has zero length", vec3(&j.axis)),
+            ));
+        }
+        let unit = a / norm;
+        if (norm - 1.0).abs() > 1e-6 {
+            let shown = vec3(&[unit.x, unit.y, unit.z]);
+            let msg = format!("axis {} is not a unit vector: using {shown}", vec3(&j.axis));
+            diags
+                .notes
+                .push(map.diagnostic(&format!("{path}.axis"), Some(&label), &msg));
+        }
+        unit
+    };
+
+    if let Some(m) = &j.mimic {
+        if !(m.multiplier.is_finite() && m.offset.is_finite()) {
+            return Err(err(
+                ".mimic",
+                "mimic multiplier or offset is not finite".into(),
+            ));
+        }
+    }
+
+    let limits = match (&j.limit, j.kind.as_str()) {
+        (Some(l), _)
+            if ![l.lower, l.upper, l.velocity, l.effort]
+                .iter()
+                .all(|v| v.is_finite()) =>
+        {
+            let msg = format!(
+                "limit (lower {}, upper {}, velocity {}, effort {}) has a number that is not finite",
+                num(l.lower),
+                num(l.upper),
+                num(l.velocity),
+                num(l.effort)
+            );
+            return Err(err(".limit", msg));
+        }
+        (Some(l), "revolute" | "prismatic") => {
+            if l.lower > l.upper {
+                let msg = format!(
+                    "lower limit {} is greater than upper limit {}",
+                    num(l.lower),
+                    num(l.upper)
+                );
+                return Err(err(".limit", msg));
+            }
+            if l.velocity < 0.0 || l.effort < 0.0 {
+                let msg = format!(
+                    "velocity {} and effort {} limits must not be negative",
+                    num(l.velocity),
+                    num(l.effort)
+                );
+                return Err(err(".limit", msg));
+            }
+            Some(Limits {
+                lower: l.lower,
+                upper: l.upper,
+                velocity: l.velocity,
+                effort: l.effort,
+            })
+        }
+        (None, "revolute" | "prismatic") => {
+            let msg = format!(
+                "a {} joint needs a limit (lower, upper, velocity, effort)",
+                j.kind
+            );
+            return Err(err("", msg));
+        }
+        _ => None,
+    };
+
+    Ok(JointShape {
+        motion,
+        origin,
+        axis,
+        limits,
+    })
+}
+
+/// Checks every link's mass properties; returns them in the link frame.
+pub(crate) fn check_links(
+    links: &[RawLink],
+    map: &SourceMap,
+    diags: &mut Diagnostics,
+) -> Result<Vec<Inertia>, DescriptionError> {
+    links
+        .iter()
+        .enumerate()
+        .map(|(i, l)| match &l.inertial {
+            None => Ok(Inertia {
+                mass: 0.0,
+                com: Vector3::zeros(),
+                inertia_com: Matrix3::zeros(),
+            }),
+            Some(inertial) => check_inertial(i, &l.name, inertial, map, diags),
+        })
+        .collect()
+}
+
+fn check_inertial(
+    i: usize,
+    name: &str,
+    inertial: &RawInertial,
+    map: &SourceMap,
+    diags: &mut Diagnostics,
+) -> Result<Inertia, DescriptionError> {
+    let path = format!("{}.inertial", link_path(i));
+    let label = item("link", name);
+    let err = |field: &str, msg: String| {
+        map.error(&format!("{path}{field}"), msg)
+            .about(label.clone())
+    };
+    let RawInertial {
+        xyz,
+        rpy,
+        mass,
+        inertia: [ixx, ixy, ixz, iyy, iyz, izz],
+    } = *inertial;
+
+    if !mass.is_finite() {
+        return Err(err(".mass", format!("mass {} is not finite", num(mass))));
+    }
+    if mass < 0.0 {
+        return Err(err(".mass", format!("negative mass {}", num(mass))));
+    }
+    for (what, v) in [("xyz", &xyz), ("rpy", &rpy)] {
+        if !finite(v) {
+            return Err(err(
+                ".origin",
+                format!("inertial origin {what} {} is not finite", vec3(v)),
+            ));
+        }
+    }
+    let tensor = Matrix3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz);
+    if tensor.iter().any(|v| !v.is_finite()) {
+        let msg = format!(
+            "inertia (ixx {}, ixy {}, ixz {}, iyy {}, iyz {}, izz {}) has a number that is not finite",
+            num(ixx),
+            num(ixy),
+            num(ixz),
+            num(iyy),
+            num(iyz),
+            num(izz)
+        );
+        return Err(err(".inertia", msg));
+    }
+    let moments = check_rotational_inertia(&tensor).map_err(|m| err(".inertia", m))?;
+    let is_zero = tensor.iter().all(|v| *v == 0.0);
+    let trace = moments.iter().sum::<f64>();
+    if mass > 0.0 && is_zero {
+        let msg = format!(
+            "mass {} with zero inertia: treated as a point mass",
+            num(mass)
+        );
+        diags
+            .warnings
+            .push(map.diagnostic(&format!("{path}.inertia"), Some(&label), &msg));
+    } else if mass > 0.0 && moments[0] <= INERTIA_REL_TOL * trace {
+        let msg = format!(
+            "mass {} with an inertia that is not positive definite (principal moments {}); \
+             give a positive definite inertia, or all zeros for a point mass",
+            num(mass),
+            vec3(&moments)
+        );
+        return Err(err(".inertia", msg));
+    } else if mass == 0.0 && !is_zero {
+        let msg = "zero mass but a non-zero inertia";
+        diags
+            .warnings
+            .push(map.diagnostic(&format!("{path}.inertia"), Some(&label), msg));
+    }
+
+    // The tensor is given in the inertial frame; the model wants link-frame axes.
+    let rotation = Pose::from_xyz_rpy(xyz, rpy).rotation;
+    Ok(Inertia {
+        mass,
+        com: Vector3::from(xyz),
+        inertia_com: rotation * tensor * rotation.transpose(),
+    })
+}
+
+fn finite(v: &[f64; 3]) -> bool {
+    v.iter().all(|x| x.is_finite())
+}

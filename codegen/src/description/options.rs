@@ -1,0 +1,133 @@
+//! What a user chooses on top of a robot description: the end-effector, joints locked at a
+//! value, gravity. A bare URDF gets them from [`UrdfOptions`]; a YAML file from its keys.
+
+use serde::de::{self, value::MapAccessDeserializer, Deserializer, MapAccess, Visitor};
+use serde::Deserialize;
+use std::fmt;
+
+/// Options for loading a bare URDF (a YAML wrapper sets the same things with its keys).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct UrdfOptions {
+    /// The frame whose pose and Jacobian are generated. `None`: the leaf link at the end of
+    /// the longest chain (a note says which).
+    pub end_effector: Option<EndEffectorSpec>,
+    /// Joints made rigid at the given position (radians or metres), e.g. gripper fingers;
+    /// the links they carry are merged into the body that carries the joint.
+    pub locked_joints: Vec<(String, f64)>,
+    /// Gravity acceleration in the base frame; default `[0, 0, -9.81]`.
+    pub gravity: Option<[f64; 3]>,
+}
+
+/// The end-effector frame: a link, optionally moved by a fixed offset.
+///
+/// In YAML either a link name (`end_effector: tool0`) or a map
+/// (`end_effector: { name: tcp, link: link7, xyz: [0, 0, 0.1], rpy: [0, 0, 0] }`).
+#[derive(Clone, Debug, PartialEq)]
+pub struct EndEffectorSpec {
+    /// Name of the frame in the generated code; `None`: the link name.
+    pub name: Option<String>,
+    /// The link the frame is attached to.
+    pub link: String,
+    /// Offset of the frame in the link frame (metres); default zero.
+    pub xyz: [f64; 3],
+    /// Rotation of the frame in the link frame (roll, pitch, yaw about fixed axes, radians);
+    /// default zero.
+    pub rpy: [f64; 3],
+}
+
+impl EndEffectorSpec {
+    /// The frame of link `link` itself.
+    pub fn link(link: impl Into<String>) -> Self {
+        EndEffectorSpec {
+            name: None,
+            link: link.into(),
+            xyz: [0.0; 3],
+            rpy: [0.0; 3],
+        }
+    }
+
+    /// The name the frame gets: `name`, else the link name.
+    pub fn frame_name(&self) -> &str {
+        self.name.as_deref().unwrap_or(&self.link)
+    }
+}
+
+/// The map form of `end_effector` in YAML.
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct EndEffectorMap {
+    /// Name of the frame; default: the link name.
+    name: Option<String>,
+    /// The link the frame is attached to (required).
+    link: String,
+    /// Offset in the link frame, metres; default `[0, 0, 0]`.
+    #[serde(default)]
+    xyz: [f64; 3],
+    /// Rotation in the link frame (roll, pitch, yaw about fixed axes), radians; default zero.
+    #[serde(default)]
+    rpy: [f64; 3],
+}
+
+impl<'de> Deserialize<'de> for EndEffectorSpec {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct SpecVisitor;
+        impl<'de> Visitor<'de> for SpecVisitor {
+            type Value = EndEffectorSpec;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a link name, or a map with `link` and optional `name`, `xyz`, `rpy`")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Self::Value, E> {
+                Ok(EndEffectorSpec::link(v))
+            }
+            fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
+                let m = EndEffectorMap::deserialize(MapAccessDeserializer::new(map))?;
+                Ok(EndEffectorSpec {
+                    name: m.name,
+                    link: m.link,
+                    xyz: m.xyz,
+                    rpy: m.rpy,
+                })
+            }
+        }
+        deserializer.deserialize_any(SpecVisitor)
+    }
+}
+
+/// `locked_joints` in YAML: a map from joint name to position, kept in file order, with
+/// repeated names rejected (a plain map would silently keep one of them).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct LockedJoints(pub Vec<(String, f64)>);
+
+impl<'de> Deserialize<'de> for LockedJoints {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct LockedVisitor;
+        impl<'de> Visitor<'de> for LockedVisitor {
+            type Value = LockedJoints;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("a map from joint name to locked position, e.g. { finger_joint1: 0.0 }")
+            }
+            fn visit_map<A: MapAccess<'de>>(self, mut map: A) -> Result<Self::Value, A::Error> {
+                let mut out: Vec<(String, f64)> = Vec::new();
+                while let Some((name, value)) = map.next_entry::<String, f64>()? {
+                    if out.iter().any(|(n, _)| *n == name) {
+                        return Err(de::Error::custom(format!("joint '{name}' is locked twice")));
+                    }
+                    out.push((name, value));
+                }
+                Ok(LockedJoints(out))
+            }
+        }
+        deserializer.deserialize_map(LockedVisitor)
+    }
+}
+
+/// The user's choices as the loader uses them, with the file they were written in (the YAML
+/// wrapper, or the URDF itself when they came from [`UrdfOptions`]).
+pub(crate) struct Settings<'a> {
+    pub name: Option<String>,
+    pub gravity: Option<[f64; 3]>,
+    pub end_effector: Option<EndEffectorSpec>,
+    pub locked_joints: Vec<(String, f64)>,
+    /// Places of `end_effector`, `gravity`, `locked_joints.<joint>`.
+    pub map: &'a super::source_map::SourceMap,
+}

@@ -1,0 +1,335 @@
+//! dyngen's YAML robot files, in two forms.
+//!
+//! **Form (a), the robot inline** (URDF semantics, URDF names):
+//!
+//! ```yaml
+//! name: arm7
+//! gravity: [0.0, 0.0, -9.81]            # optional
+//! end_effector: { name: tool, link: link7, xyz: [0, 0, 0.1], rpy: [0, 0, 0] }   # or a link name
+//! links:
+//!   - name: base_link                   # no inertial: massless
+//!   - name: link1
+//!     inertial:
+//!       mass: 3.4525
+//!       origin: { xyz: [0, -0.03, 0.12], rpy: [0, 0, 0] }
+//!       inertia: { ixx: 0.02, ixy: 0.001, ixz: 0.0, iyy: 0.02, iyz: 0.0, izz: 0.01 }
+//! joints:
+//!   - name: joint1
+//!     type: revolute
+//!     parent: base_link
+//!     child: link1
+//!     origin: { xyz: [0, 0, 0.1575], rpy: [0, 0, 0] }
+//!     axis: [0, 0, 1]
+//!     limit: { lower: -2.96, upper: 2.96, velocity: 1.48, effort: 320 }
+//! ```
+//!
+//! **Form (b), a wrapper around a URDF file**:
+//!
+//! ```yaml
+//! urdf: urdf/panda.urdf                 # relative to this file
+//! name: panda                           # optional
+//! end_effector: panda_hand_tcp
+//! locked_joints: { panda_finger_joint1: 0.0, panda_finger_joint2: 0.0 }
+//! gravity: [0.0, 0.0, -9.81]
+//! ```
+//!
+//! Unknown keys are errors (a typo must not be ignored).
+
+use super::error::{DescriptionError, Location};
+use super::options::{EndEffectorSpec, LockedJoints, Settings};
+use super::raw::{RawInertial, RawJoint, RawLimit, RawLink, RawMimic, RawRobot};
+use super::source_map::SourceMap;
+use super::{urdf, yaml_spans};
+use serde::Deserialize;
+use std::path::{Path, PathBuf};
+
+/// A robot file: either `urdf` (form b) or `links` + `joints` (form a), never both.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RobotFile {
+    /// Robot name, used to name generated code. Required for form (a); for form (b) it
+    /// defaults to the URDF `<robot name>`.
+    name: Option<String>,
+    /// Form (b): path of the URDF file to load, relative to this YAML file.
+    urdf: Option<String>,
+    /// Gravity acceleration in the base frame, m/s². Default `[0, 0, -9.81]` (z up).
+    gravity: Option<[f64; 3]>,
+    /// The frame whose pose and Jacobian are generated: a link name, or
+    /// `{ link, name, xyz, rpy }` for a frame at a fixed offset from a link (`name` defaults
+    /// to the link name, `xyz`/`rpy` to zero). Default: the leaf link at the end of the
+    /// longest chain (the loader says which in a note).
+    end_effector: Option<EndEffectorSpec>,
+    /// Joints made rigid at a position (radians, or metres for prismatic joints), e.g.
+    /// `{ finger_joint1: 0.0 }`. Their child links are welded to the body that carries them.
+    /// The position must lie within the joint limits. Mimic joints must be locked.
+    #[serde(default)]
+    locked_joints: LockedJoints,
+    /// Form (a): the links, in any order.
+    links: Option<Vec<LinkSpec>>,
+    /// Form (a): the joints. Their order fixes the order of sibling branches.
+    joints: Option<Vec<JointSpec>>,
+}
+
+/// A link (a rigid body), as URDF `<link>`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LinkSpec {
+    /// Unique link name.
+    name: String,
+    /// Mass properties; absent: the link is massless (a pure frame).
+    inertial: Option<InertialSpec>,
+}
+
+/// Mass properties, as URDF `<inertial>`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct InertialSpec {
+    /// Mass in kg, not negative.
+    mass: f64,
+    /// The centre-of-mass frame in the link frame: `xyz` is the centre of mass, `rpy` the
+    /// orientation of the axes the inertia is given in. Default: identity.
+    origin: Option<OriginSpec>,
+    /// Rotational inertia about the centre of mass, in the `origin` axes, kg·m².
+    inertia: InertiaSpec,
+}
+
+/// The six independent entries of a symmetric inertia tensor (all required, as in URDF).
+/// Must be positive definite and satisfy the triangle inequality (or be all zero: a point mass).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct InertiaSpec {
+    ixx: f64,
+    ixy: f64,
+    ixz: f64,
+    iyy: f64,
+    iyz: f64,
+    izz: f64,
+}
+
+/// A placement, as URDF `<origin>`: translation `xyz` (m) then rotation `rpy` (rad; roll about
+/// x, pitch about y, yaw about z, fixed axes: `R = Rz(yaw) Ry(pitch) Rx(roll)`).
+#[derive(Debug, Default, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct OriginSpec {
+    /// Default `[0, 0, 0]`.
+    #[serde(default)]
+    xyz: [f64; 3],
+    /// Default `[0, 0, 0]`.
+    #[serde(default)]
+    rpy: [f64; 3],
+}
+
+/// A joint, as URDF `<joint>`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct JointSpec {
+    /// Unique joint name.
+    name: String,
+    /// `revolute`, `continuous` (revolute without limits), `prismatic` or `fixed`.
+    #[serde(rename = "type")]
+    kind: String,
+    /// The link the joint is attached to.
+    parent: String,
+    /// The link the joint moves; every link has at most one parent joint.
+    child: String,
+    /// The joint frame in the parent link frame at zero position. Default: identity.
+    origin: Option<OriginSpec>,
+    /// Rotation or translation axis in the joint frame (normalized). Default `[1, 0, 0]`.
+    axis: Option<[f64; 3]>,
+    /// Required for `revolute` and `prismatic`; ignored for `continuous`.
+    limit: Option<LimitSpec>,
+    /// This joint copies another: `q = multiplier * q_joint + offset`. Only allowed when the
+    /// joint is locked (`locked_joints`).
+    mimic: Option<MimicSpec>,
+}
+
+/// Joint limits, as URDF `<limit>` (all four required).
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct LimitSpec {
+    /// Lowest position (rad or m); not above `upper`.
+    lower: f64,
+    /// Highest position (rad or m).
+    upper: f64,
+    /// Largest speed (rad/s or m/s), not negative.
+    velocity: f64,
+    /// Largest torque or force (N·m or N), not negative.
+    effort: f64,
+}
+
+/// As URDF `<mimic>`.
+#[derive(Debug, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct MimicSpec {
+    /// The joint that is copied.
+    joint: String,
+    /// Default 1.
+    multiplier: Option<f64>,
+    /// Default 0.
+    offset: Option<f64>,
+}
+
+/// A YAML file read: the robot graph, where its items are, and the user's choices.
+pub(crate) struct Parsed {
+    pub robot: RawRobot,
+    /// Places of links and joints: this file (form a) or the URDF (form b).
+    pub robot_map: SourceMap,
+    /// Places of the YAML keys (end_effector, locked_joints, gravity).
+    pub yaml_map: SourceMap,
+    pub name: Option<String>,
+    pub gravity: Option<[f64; 3]>,
+    pub end_effector: Option<EndEffectorSpec>,
+    pub locked_joints: Vec<(String, f64)>,
+    /// Files read to get here (the URDF of form b).
+    pub read: Vec<PathBuf>,
+}
+
+impl Parsed {
+    pub fn settings(&self) -> Settings<'_> {
+        Settings {
+            name: self.name.clone(),
+            gravity: self.gravity,
+            end_effector: self.end_effector.clone(),
+            locked_joints: self.locked_joints.clone(),
+            map: &self.yaml_map,
+        }
+    }
+}
+
+/// Parses a YAML robot file; for form (b) reads the URDF it points to.
+pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError> {
+    let spec: RobotFile = serde_yaml::from_str(text).map_err(|e| serde_error(file, &e))?;
+    let yaml_map = yaml_spans::index(text, file);
+    let RobotFile {
+        name,
+        urdf,
+        gravity,
+        end_effector,
+        locked_joints,
+        links,
+        joints,
+    } = spec;
+    let mut parsed = Parsed {
+        robot: RawRobot::default(),
+        robot_map: SourceMap::new(file),
+        yaml_map,
+        name,
+        gravity,
+        end_effector,
+        locked_joints: locked_joints.0,
+        read: Vec::new(),
+    };
+    let both = |key: &str| {
+        let msg = format!(
+            "`urdf:` and `{key}:` cannot be used together: wrap a URDF file or write the robot inline, not both"
+        );
+        Err(parsed.yaml_map.error(key, msg))
+    };
+    match (urdf, links, joints) {
+        (Some(_), Some(_), _) => both("links"),
+        (Some(_), None, Some(_)) => both("joints"),
+        (Some(urdf_rel), None, None) => {
+            let urdf_path = file.parent().unwrap_or(Path::new("")).join(&urdf_rel);
+            let text = std::fs::read_to_string(&urdf_path).map_err(|e| {
+                let msg = format!("cannot read URDF file '{}': {e}", urdf_path.display());
+                parsed.yaml_map.error("urdf", msg)
+            })?;
+            parsed.read.push(urdf_path.clone());
+            let (robot, robot_map) = urdf::read(&text, &urdf_path)?;
+            parsed.robot = robot;
+            parsed.robot_map = robot_map;
+            Ok(parsed)
+        }
+        (None, Some(links), joints) => {
+            if parsed.name.is_none() {
+                return Err(DescriptionError::new(
+                    file,
+                    "`name:` is required for a robot written inline",
+                )
+                .at(Some(Location { line: 1, column: 1 })));
+            }
+            parsed.robot = RawRobot {
+                name: parsed.name.clone(),
+                links: links.into_iter().map(raw_link).collect(),
+                joints: joints
+                    .unwrap_or_default()
+                    .into_iter()
+                    .map(raw_joint)
+                    .collect(),
+            };
+            parsed.robot_map = parsed.yaml_map.clone();
+            Ok(parsed)
+        }
+        (None, None, _) => Err(DescriptionError::new(
+            file,
+            "no robot: give either `urdf:` (a URDF file to wrap) or `links:` and `joints:`",
+        )
+        .at(Some(Location { line: 1, column: 1 }))),
+    }
+}
+
+fn raw_link(l: LinkSpec) -> RawLink {
+    RawLink {
+        name: l.name,
+        inertial: l.inertial.map(|i| {
+            let origin = i.origin.unwrap_or_default();
+            let InertiaSpec {
+                ixx,
+                ixy,
+                ixz,
+                iyy,
+                iyz,
+                izz,
+            } = i.inertia;
+            RawInertial {
+                xyz: origin.xyz,
+                rpy: origin.rpy,
+                mass: i.mass,
+                inertia: [ixx, ixy, ixz, iyy, iyz, izz],
+            }
+        }),
+    }
+}
+
+fn raw_joint(j: JointSpec) -> RawJoint {
+    let origin = j.origin.unwrap_or_default();
+    RawJoint {
+        name: j.name,
+        kind: j.kind,
+        parent: j.parent,
+        child: j.child,
+        xyz: origin.xyz,
+        rpy: origin.rpy,
+        axis: j.axis.unwrap_or([1.0, 0.0, 0.0]),
+        limit: j.limit.map(|l| RawLimit {
+            lower: l.lower,
+            upper: l.upper,
+            velocity: l.velocity,
+            effort: l.effort,
+        }),
+        mimic: j.mimic.map(|m| RawMimic {
+            joint: m.joint,
+            multiplier: m.multiplier.unwrap_or(1.0),
+            offset: m.offset.unwrap_or(0.0),
+        }),
+    }
+}
+
+/// serde's message, with its " at line L column C" moved to the front as `file:L:C:`.
+fn serde_error(file: &Path, e: &serde_yaml::Error) -> DescriptionError {
+    let text = e.to_string();
+    let location = e.location().map(|l| Location {
+        line: l.line(),
+        column: l.column(),
+    });
+    let message = match &location {
+        Some(l) => {
+            let suffix = format!(" at line {} column {}", l.line, l.column);
+            text.strip_suffix(&suffix)
+                .map(str::to_owned)
+                .unwrap_or_else(|| text.clone())
+        }
+        None => text.clone(),
+    };
+    DescriptionError::new(file, message).at(location)
+}

@@ -1,0 +1,157 @@
+//! Runs the generic dynamics algorithms on symbolic inputs: one graph holds every quantity a
+//! controller needs, so shared subexpressions (joint transforms, body velocities) are one node.
+
+use crate::dynamics::{self, body_inertias};
+use crate::model::Model;
+use crate::symbolic::{record, Expr, Graph, Id};
+use nalgebra::DMatrix;
+
+/// The vectors a generated function takes besides the joint sines and cosines.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Arg {
+    Qd,
+    V,
+    A,
+}
+
+/// What a generated function returns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Shape {
+    /// A vector of `n` entries.
+    Vector(usize),
+    /// A `rows × cols` matrix (outputs column-major).
+    Matrix(usize, usize),
+    /// A rotation (3×3, column-major) followed by a translation.
+    Pose,
+}
+
+/// One quantity: a named function of the joint state.
+#[derive(Clone, Debug)]
+pub struct Quantity {
+    pub name: &'static str,
+    pub args: Vec<Arg>,
+    pub shape: Shape,
+    /// Output nodes in the order of the shape (column-major for matrices).
+    pub outputs: Vec<Id>,
+}
+
+/// Inputs of the graph, by role.
+#[derive(Clone, Debug)]
+pub struct Inputs {
+    pub q: Vec<Id>,
+    pub qd: Vec<Id>,
+    pub v: Vec<Id>,
+    pub a: Vec<Id>,
+}
+
+/// Every quantity of one model, recorded in one graph.
+#[derive(Clone, Debug)]
+pub struct SymbolicRobot {
+    pub graph: Graph,
+    pub inputs: Inputs,
+    pub quantities: Vec<Quantity>,
+}
+
+fn ids(v: &[Expr]) -> Vec<Id> {
+    v.iter().map(|e| e.id()).collect()
+}
+
+fn matrix_ids(m: &DMatrix<Expr>) -> Vec<Id> {
+    m.iter().map(|e| e.id()).collect() // nalgebra iterates column-major
+}
+
+fn inputs(prefix: &str, n: usize) -> Vec<Expr> {
+    (0..n).map(|i| Expr::input(&format!("{prefix}{i}"))).collect()
+}
+
+/// Records forward kinematics, `J`, `J̇`, `D`, `C`, `g`, `τ`, the Slotine–Li torque and the
+/// regressor of `model`, in that order.
+pub fn trace(model: &Model) -> SymbolicRobot {
+    let n = model.dof();
+    let (graph, (inputs, quantities)) = record(|| {
+        let (q, qd, v, a) = (inputs("q", n), inputs("qd", n), inputs("v", n), inputs("a", n));
+        let x = dynamics::joint_transforms(model, &q);
+        let world = dynamics::body_poses(model, &x);
+        let inertias = body_inertias::<Expr>(model);
+        let ee = dynamics::end_effector_pose(model, &world);
+        let mut pose: Vec<Id> = ee.rot.transpose().0.iter().flatten().map(|e| e.id()).collect();
+        pose.extend(ee.pos.0.iter().map(|e| e.id()));
+        let g = dynamics::gravity_torque(model, &x, &inertias);
+        let quantities = vec![
+            Quantity { name: "forward_kinematics", args: vec![], shape: Shape::Pose, outputs: pose },
+            Quantity {
+                name: "jacobian",
+                args: vec![],
+                shape: Shape::Matrix(6, n),
+                outputs: matrix_ids(&dynamics::jacobian(model, &world)),
+            },
+            Quantity {
+                name: "jacobian_dot",
+                args: vec![Arg::Qd],
+                shape: Shape::Matrix(6, n),
+                outputs: matrix_ids(&dynamics::jacobian_dot(model, &world, &qd)),
+            },
+            Quantity {
+                name: "mass_matrix",
+                args: vec![],
+                shape: Shape::Matrix(n, n),
+                outputs: matrix_ids(&dynamics::mass_matrix(model, &x, &inertias)),
+            },
+            Quantity {
+                name: "coriolis_matrix",
+                args: vec![Arg::Qd],
+                shape: Shape::Matrix(n, n),
+                outputs: matrix_ids(&dynamics::coriolis_matrix(model, &x, &inertias, &qd)),
+            },
+            Quantity { name: "gravity", args: vec![], shape: Shape::Vector(n), outputs: ids(&g) },
+            Quantity {
+                name: "inverse_dynamics",
+                args: vec![Arg::Qd, Arg::A],
+                shape: Shape::Vector(n),
+                outputs: ids(&dynamics::inverse_dynamics(model, &x, &inertias, &qd, &a)),
+            },
+            Quantity {
+                name: "slotine_li",
+                args: vec![Arg::Qd, Arg::V, Arg::A],
+                shape: Shape::Vector(n),
+                outputs: ids(&dynamics::slotine_li(
+                    model,
+                    &x,
+                    &inertias,
+                    &qd,
+                    &v,
+                    &a,
+                    Some(crate::spatial::Vec3::from_f64(model.gravity.into())),
+                )),
+            },
+            Quantity {
+                name: "regressor",
+                args: vec![Arg::Qd, Arg::V, Arg::A],
+                shape: Shape::Matrix(n, crate::model::PARAMS_PER_BODY * n),
+                outputs: matrix_ids(&dynamics::regressor(model, &x, &qd, &v, &a)),
+            },
+        ];
+        (Inputs { q: ids(&q), qd: ids(&qd), v: ids(&v), a: ids(&a) }, quantities)
+    });
+    SymbolicRobot { graph, inputs, quantities }
+}
+
+impl SymbolicRobot {
+    pub fn quantity(&self, name: &str) -> Option<&Quantity> {
+        self.quantities.iter().find(|q| q.name == name)
+    }
+
+    /// Evaluates a quantity with the interpreter (for tests on robots that are never compiled).
+    pub fn evaluate(&self, name: &str, q: &[f64], qd: &[f64], v: &[f64], a: &[f64]) -> Option<Vec<f64>> {
+        let quantity = self.quantity(name)?;
+        let mut values = vec![0.0; self.graph.input_names().len()];
+        for (ids, xs) in [(&self.inputs.q, q), (&self.inputs.qd, qd), (&self.inputs.v, v), (&self.inputs.a, a)] {
+            for (id, x) in ids.iter().zip(xs) {
+                if let crate::symbolic::Node::Input(k) = self.graph.node(*id) {
+                    values[k as usize] = *x;
+                }
+            }
+        }
+        Some(crate::symbolic::evaluate(&self.graph, &values, &quantity.outputs))
+    }
+}

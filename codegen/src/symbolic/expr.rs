@@ -1,0 +1,90 @@
+//! `Expr`: a symbolic scalar, a handle to a node of the graph recorded on this thread.
+
+use super::graph::{Graph, Id};
+use crate::scalar::Scalar;
+use std::cell::RefCell;
+use std::ops::{Add, Div, Mul, Neg, Sub};
+
+thread_local! {
+    static RECORDING: RefCell<Option<Graph>> = const { RefCell::new(None) };
+}
+
+/// A symbolic scalar. Only meaningful inside [`record`], and afterwards as an index into the
+/// graph that `record` returned.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Expr(pub Id);
+
+fn with_graph<R>(f: impl FnOnce(&mut Graph) -> R) -> R {
+    RECORDING.with(|g| {
+        let mut g = g.borrow_mut();
+        let graph = g.as_mut().expect("symbolic arithmetic outside `symbolic::record`");
+        f(graph)
+    })
+}
+
+/// Runs `f`, recording every symbolic operation it performs, and returns the graph with `f`'s
+/// result (whose `Expr`s index into that graph).
+pub fn record<R>(f: impl FnOnce() -> R) -> (Graph, R) {
+    RECORDING.with(|g| {
+        let mut g = g.borrow_mut();
+        assert!(g.is_none(), "symbolic recordings cannot be nested");
+        *g = Some(Graph::new());
+    });
+    // Leave the thread clean even if `f` panics.
+    struct Reset;
+    impl Drop for Reset {
+        fn drop(&mut self) {
+            RECORDING.with(|g| g.borrow_mut().take());
+        }
+    }
+    let reset = Reset;
+    let result = f();
+    let graph = RECORDING.with(|g| g.borrow_mut().take()).unwrap_or_default();
+    drop(reset);
+    (graph, result)
+}
+
+impl Expr {
+    /// A new named input of the graph being recorded.
+    pub fn input(name: &str) -> Expr {
+        Expr(with_graph(|g| g.input(name)))
+    }
+
+    pub fn id(self) -> Id {
+        self.0
+    }
+}
+
+macro_rules! binary {
+    ($trait:ident, $method:ident) => {
+        impl $trait for Expr {
+            type Output = Expr;
+            fn $method(self, o: Expr) -> Expr {
+                Expr(with_graph(|g| g.$method(self.0, o.0)))
+            }
+        }
+    };
+}
+binary!(Add, add);
+binary!(Sub, sub);
+binary!(Mul, mul);
+binary!(Div, div);
+
+impl Neg for Expr {
+    type Output = Expr;
+    fn neg(self) -> Expr {
+        Expr(with_graph(|g| g.neg(self.0)))
+    }
+}
+
+impl Scalar for Expr {
+    fn from_f64(x: f64) -> Self {
+        Expr(with_graph(|g| g.constant(x)))
+    }
+    fn sin(self) -> Self {
+        Expr(with_graph(|g| g.sin(self.0)))
+    }
+    fn cos(self) -> Self {
+        Expr(with_graph(|g| g.cos(self.0)))
+    }
+}

@@ -1,0 +1,289 @@
+//! The expression graph: an append-only arena of hash-consed nodes.
+//!
+//! Nodes are created after their operands, so the creation order is a topological order,
+//! and it is deterministic (the hash map is only used to find existing nodes).
+
+use std::collections::HashMap;
+
+/// Index of a node in its [`Graph`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct Id(pub u32);
+
+/// One operation. Constants are stored as bits so that nodes can be hashed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Node {
+    Const(u64),
+    /// The `k`-th input of the graph.
+    Input(u32),
+    Sin(Id),
+    Cos(Id),
+    Neg(Id),
+    Add(Id, Id),
+    Sub(Id, Id),
+    Mul(Id, Id),
+    Div(Id, Id),
+}
+
+/// Operation counts of the live part of a graph, as printed in generated headers.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct OpCounts {
+    pub mul: usize,
+    /// Additions and subtractions.
+    pub add: usize,
+    pub neg: usize,
+    pub div: usize,
+    /// Sines and cosines taken inside the function (joint angles' ones come precomputed).
+    pub trig: usize,
+}
+
+#[derive(Clone, Debug, Default)]
+pub struct Graph {
+    nodes: Vec<Node>,
+    index: HashMap<Node, Id>,
+    input_names: Vec<String>,
+}
+
+impl Graph {
+    pub fn new() -> Graph {
+        Graph::default()
+    }
+
+    pub fn node(&self, id: Id) -> Node {
+        self.nodes[id.0 as usize]
+    }
+
+    pub fn len(&self) -> usize {
+        self.nodes.len()
+    }
+
+    pub fn is_empty(&self) -> bool {
+        self.nodes.is_empty()
+    }
+
+    pub fn input_names(&self) -> &[String] {
+        &self.input_names
+    }
+
+    pub fn constant_value(&self, id: Id) -> Option<f64> {
+        match self.node(id) {
+            Node::Const(bits) => Some(f64::from_bits(bits)),
+            _ => None,
+        }
+    }
+
+    fn intern(&mut self, node: Node) -> Id {
+        if let Some(&id) = self.index.get(&node) {
+            return id;
+        }
+        let id = Id(u32::try_from(self.nodes.len()).expect("expression graph larger than 2³² nodes"));
+        self.nodes.push(node);
+        self.index.insert(node, id);
+        id
+    }
+
+    /// A new input; names are for messages and generated code.
+    pub fn input(&mut self, name: &str) -> Id {
+        let k = self.input_names.len() as u32;
+        self.input_names.push(name.to_owned());
+        self.intern(Node::Input(k))
+    }
+
+    pub fn constant(&mut self, x: f64) -> Id {
+        // One zero: −0.0 and 0.0 are the same constant for every use here.
+        let x = if x == 0.0 { 0.0 } else { x };
+        self.intern(Node::Const(x.to_bits()))
+    }
+
+    fn is_const(&self, id: Id, value: f64) -> bool {
+        self.constant_value(id) == Some(value)
+    }
+
+    pub fn neg(&mut self, a: Id) -> Id {
+        match self.node(a) {
+            Node::Const(_) => self.constant(-self.constant_value(a).unwrap_or(0.0)),
+            Node::Neg(x) => x,
+            Node::Sub(x, y) => self.sub(y, x),
+            _ => self.intern(Node::Neg(a)),
+        }
+    }
+
+    pub fn add(&mut self, a: Id, b: Id) -> Id {
+        if let (Some(x), Some(y)) = (self.constant_value(a), self.constant_value(b)) {
+            return self.constant(x + y);
+        }
+        if self.is_const(a, 0.0) {
+            return b;
+        }
+        if self.is_const(b, 0.0) {
+            return a;
+        }
+        if let Node::Neg(y) = self.node(b) {
+            return self.sub(a, y);
+        }
+        if let Node::Neg(x) = self.node(a) {
+            return self.sub(b, x);
+        }
+        if self.is_sin2_cos2(a, b) || self.is_sin2_cos2(b, a) {
+            return self.constant(1.0);
+        }
+        let (a, b) = if a <= b { (a, b) } else { (b, a) };
+        self.intern(Node::Add(a, b))
+    }
+
+    /// `a = sin(x)²` and `b = cos(x)²` for the same `x`.
+    fn is_sin2_cos2(&self, a: Id, b: Id) -> bool {
+        match (self.node(a), self.node(b)) {
+            (Node::Mul(s1, s2), Node::Mul(c1, c2)) if s1 == s2 && c1 == c2 => {
+                matches!((self.node(s1), self.node(c1)), (Node::Sin(x), Node::Cos(y)) if x == y)
+            }
+            _ => false,
+        }
+    }
+
+    pub fn sub(&mut self, a: Id, b: Id) -> Id {
+        if let (Some(x), Some(y)) = (self.constant_value(a), self.constant_value(b)) {
+            return self.constant(x - y);
+        }
+        if a == b {
+            return self.constant(0.0);
+        }
+        if self.is_const(b, 0.0) {
+            return a;
+        }
+        if self.is_const(a, 0.0) {
+            return self.neg(b);
+        }
+        if let Node::Neg(y) = self.node(b) {
+            return self.add(a, y);
+        }
+        if let Node::Neg(x) = self.node(a) {
+            let s = self.add(x, b);
+            return self.neg(s);
+        }
+        self.intern(Node::Sub(a, b))
+    }
+
+    pub fn mul(&mut self, a: Id, b: Id) -> Id {
+        // Constants first, so that `c·x` has one shape.
+        let (a, b) = match (self.constant_value(a), self.constant_value(b)) {
+            (Some(x), Some(y)) => return self.constant(x * y),
+            (None, Some(_)) => (b, a),
+            _ => (a, b),
+        };
+        if let Some(c) = self.constant_value(a) {
+            if c == 0.0 {
+                return a;
+            }
+            if c == 1.0 {
+                return b;
+            }
+            if c == -1.0 {
+                return self.neg(b);
+            }
+            // c·(d·x) = (c·d)·x
+            if let Node::Mul(d, x) = self.node(b) {
+                if let Some(d) = self.constant_value(d) {
+                    let cd = self.constant(c * d);
+                    return self.mul(cd, x);
+                }
+            }
+            if let Node::Neg(x) = self.node(b) {
+                let mc = self.constant(-c);
+                return self.mul(mc, x);
+            }
+        }
+        match (self.node(a), self.node(b)) {
+            (Node::Neg(x), Node::Neg(y)) => self.mul(x, y),
+            (Node::Neg(x), _) => {
+                let p = self.mul(x, b);
+                self.neg(p)
+            }
+            (_, Node::Neg(y)) => {
+                let p = self.mul(a, y);
+                self.neg(p)
+            }
+            _ => {
+                let (a, b) = if self.constant_value(a).is_some() || a <= b { (a, b) } else { (b, a) };
+                self.intern(Node::Mul(a, b))
+            }
+        }
+    }
+
+    pub fn div(&mut self, a: Id, b: Id) -> Id {
+        if let (Some(x), Some(y)) = (self.constant_value(a), self.constant_value(b)) {
+            if y != 0.0 {
+                return self.constant(x / y);
+            }
+        }
+        if self.is_const(a, 0.0) || self.is_const(b, 1.0) {
+            return a;
+        }
+        if let Some(y) = self.constant_value(b) {
+            if y != 0.0 {
+                let inv = self.constant(1.0 / y);
+                return self.mul(inv, a);
+            }
+        }
+        self.intern(Node::Div(a, b))
+    }
+
+    pub fn sin(&mut self, a: Id) -> Id {
+        match self.constant_value(a) {
+            Some(x) => self.constant(crate::model::exact_sin_cos(x).0),
+            None => self.intern(Node::Sin(a)),
+        }
+    }
+
+    pub fn cos(&mut self, a: Id) -> Id {
+        match self.constant_value(a) {
+            Some(x) => self.constant(crate::model::exact_sin_cos(x).1),
+            None => self.intern(Node::Cos(a)),
+        }
+    }
+
+    /// Which nodes the `outputs` depend on (dead-code elimination), indexed by node.
+    pub fn live(&self, outputs: &[Id]) -> Vec<bool> {
+        let mut live = vec![false; self.nodes.len()];
+        for o in outputs {
+            live[o.0 as usize] = true;
+        }
+        for i in (0..self.nodes.len()).rev() {
+            if !live[i] {
+                continue;
+            }
+            for operand in self.operands(Id(i as u32)) {
+                live[operand.0 as usize] = true;
+            }
+        }
+        live
+    }
+
+    pub fn operands(&self, id: Id) -> Vec<Id> {
+        match self.node(id) {
+            Node::Const(_) | Node::Input(_) => vec![],
+            Node::Sin(a) | Node::Cos(a) | Node::Neg(a) => vec![a],
+            Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => vec![a, b],
+        }
+    }
+
+    /// Operation counts of what `outputs` need; sin/cos of inputs are not counted (they are
+    /// precomputed once per control tick and shared).
+    pub fn op_counts(&self, outputs: &[Id]) -> OpCounts {
+        let live = self.live(outputs);
+        let mut c = OpCounts::default();
+        for (i, node) in self.nodes.iter().enumerate() {
+            if !live[i] {
+                continue;
+            }
+            match *node {
+                Node::Add(..) | Node::Sub(..) => c.add += 1,
+                Node::Mul(..) => c.mul += 1,
+                Node::Div(..) => c.div += 1,
+                Node::Neg(_) => c.neg += 1,
+                Node::Sin(a) | Node::Cos(a) if !matches!(self.node(a), Node::Input(_)) => c.trig += 1,
+                _ => {}
+            }
+        }
+        c
+    }
+}
