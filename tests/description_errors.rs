@@ -826,3 +826,58 @@ fn inertia_without_mass_warns() {
         ],
     );
 }
+
+// ---- robustness ---------------------------------------------------------------------------
+
+#[test]
+fn odd_inputs_give_errors_not_panics() {
+    let deep_yaml = "[".repeat(5000) + &"]".repeat(5000);
+    let deep_xml = format!(
+        "<robot name=\"r\">{}{}</robot>",
+        "<a>".repeat(5000),
+        "</a>".repeat(5000)
+    );
+    let huge = BASE_YAML
+        .replace("0.1", "1e308")
+        .replace("mass: 1.0", "mass: 1e308");
+    let yamls: Vec<String> = vec![
+        String::new(),
+        "---\n".into(),
+        "[]\n".into(),
+        "name: r\nlinks: 3\n".into(),
+        "name: r\nlinks: []\n".into(),
+        "name: r\nlinks:\n  - name: a\n".into(),
+        "urdf: ''\n".into(),
+        "a: &x [*x]\n".into(),
+        "name: r\n---\nname: s\n".into(),
+        deep_yaml,
+        huge,
+    ];
+    for text in &yamls {
+        match description::load_yaml_str(text, Path::new("odd.yaml")) {
+            Ok(_) => {}
+            Err(e) => {
+                let msg = e.to_string();
+                assert!(msg.starts_with("odd.yaml") && !msg.contains('\n'), "{msg}");
+            }
+        }
+    }
+    let urdfs: Vec<String> = vec![
+        String::new(),
+        "<robot/>".into(),
+        "<robot name=\"r\"/>".into(),
+        "<notrobot/>".into(),
+        "<robot name=\"r\"><link name=\"a\"/></robot>".into(),
+        deep_xml,
+        BASE_URDF.replace("0.1", "1e308"),
+    ];
+    for text in &urdfs {
+        match description::load_urdf_str(text, Path::new("odd.urdf"), &UrdfOptions::default()) {
+            Ok(_) => {}
+            Err(e) => {
+                let msg = e.to_string();
+                assert!(msg.starts_with("odd.urdf") && !msg.contains('\n'), "{msg}");
+            }
+        }
+    }
+}

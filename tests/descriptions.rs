@@ -534,3 +534,34 @@ fn inertial_frame_rotation_is_applied() {
     assert_eq!(body.com, Vector3::new(0.1, 0.2, 0.3));
     assert_eq!(m.joints[0].axis, Vector3::x(), "URDF default axis");
 }
+
+#[test]
+fn locked_revolute_joint_turns_its_child_by_the_locked_angle() {
+    let yaml = r#"
+name: r
+locked_joints: { wrist: 1.5707963267948966 }
+end_effector: l1
+links:
+  - name: base
+  - { name: l1, inertial: { mass: 1.0, inertia: { ixx: 0.1, ixy: 0, ixz: 0, iyy: 0.1, iyz: 0, izz: 0.1 } } }
+  - name: l2
+    inertial:
+      mass: 1.0
+      origin: { xyz: [0.5, 0, 0] }
+      inertia: { ixx: 0.1, ixy: 0, ixz: 0, iyy: 0.1, iyz: 0, izz: 0.1 }
+joints:
+  - { name: j1, type: continuous, parent: base, child: l1, axis: [0, 0, 1] }
+  - { name: wrist, type: continuous, parent: l1, child: l2, origin: { xyz: [0, 0, 0.1] }, axis: [0, 0, 1] }
+"#;
+    let m = description::load_yaml_str(yaml, Path::new("r.yaml"))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .model;
+    assert_eq!(m.dof(), 1);
+    // l2's centre of mass (0.5, 0, 0) turned +90° about z is (0, 0.5, 0), then lifted 0.1.
+    let body = &m.bodies[0].inertia;
+    assert!(
+        (body.com - Vector3::new(0.0, 0.25, 0.05)).norm() < 1e-15,
+        "{:?}",
+        body.com
+    );
+}

@@ -181,9 +181,9 @@ impl Dynamics for Perturbed<'_> {
         qd: &[f64],
         v: &[f64],
         a: &[f64],
-        with_gravity: bool,
+        gravity: bool,
     ) -> DVector<f64> {
-        self.inner.slotine_li(q, qd, v, a, with_gravity)
+        self.inner.slotine_li(q, qd, v, a, gravity)
     }
     fn regressor(&self, q: &[f64], qd: &[f64], v: &[f64], a: &[f64]) -> DMatrix<f64> {
         self.matrix(
@@ -191,16 +191,10 @@ impl Dynamics for Perturbed<'_> {
             Dynamics::regressor(self.inner, q, qd, v, a),
         )
     }
-    fn regressor_without_gravity(
-        &self,
-        q: &[f64],
-        qd: &[f64],
-        v: &[f64],
-        a: &[f64],
-    ) -> DMatrix<f64> {
+    fn weightless_regressor(&self, q: &[f64], qd: &[f64], v: &[f64], a: &[f64]) -> DMatrix<f64> {
         self.matrix(
             Quantity::Regressor,
-            self.inner.regressor_without_gravity(q, qd, v, a),
+            self.inner.weightless_regressor(q, qd, v, a),
         )
     }
 }

@@ -247,10 +247,11 @@ pub fn arb_axis() -> impl Strategy<Value = Vector3<f64>> {
 /// Rotations: identity, exact quarter turns about fixed axes (as URDFs write them), or general.
 pub fn arb_rotation() -> impl Strategy<Value = Matrix3<f64>> {
     let rpy = |rpy: [f64; 3]| Pose::from_xyz_rpy([0.0; 3], rpy).rotation;
+    let quarter_turns = |k: i32| f64::from(k) * FRAC_PI_2;
     prop_oneof![
         1 => Just(Matrix3::identity()),
         // `Pose::from_xyz_rpy` makes multiples of π/2 exact (0, ±1 entries).
-        2 => [0..4i32, 0..4i32, 0..4i32].prop_map(move |k| rpy(k.map(|k| f64::from(k) * FRAC_PI_2))),
+        2 => [0..4i32, 0..4i32, 0..4i32].prop_map(move |k| rpy(k.map(quarter_turns))),
         3 => [-PI..PI, -FRAC_PI_2..FRAC_PI_2, -PI..PI].prop_map(rpy),
     ]
 }

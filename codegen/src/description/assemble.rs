@@ -37,12 +37,7 @@ pub(crate) fn assemble(
 ) -> Result<Model, DescriptionError> {
     let name = match settings.name.clone().or_else(|| c.raw.name.clone()) {
         Some(n) => n,
-        None => {
-            return Err(DescriptionError::new(
-                &c.robot_map.file,
-                "the robot has no name",
-            ))
-        }
+        None => return Err(DescriptionError::new(&c.robot_map.file, "the robot has no name")),
     };
     let gravity = settings.gravity.unwrap_or(DEFAULT_GRAVITY);
     if !gravity.iter().all(|g| g.is_finite()) {
@@ -150,10 +145,7 @@ fn joint_motion(kind: JointKind, axis: &Vector3<f64>, q: f64) -> Pose {
 }
 
 /// Locked position per joint (`None`: not locked), with every entry checked.
-fn locked_values(
-    c: &Checked<'_>,
-    settings: &Settings<'_>,
-) -> Result<Vec<Option<f64>>, DescriptionError> {
+fn locked_values(c: &Checked<'_>, settings: &Settings<'_>) -> Result<Vec<Option<f64>>, DescriptionError> {
     let mut locked = vec![None; c.raw.joints.len()];
     for (name, q) in &settings.locked_joints {
         let path = format!("locked_joints.{name}");
@@ -165,7 +157,7 @@ fn locked_values(
         };
         let Some(&j) = c.topo.joint_by_name.get(name) else {
             return Err(err(
-                "unknown locked joint: the robot has no joint of that name".into(),
+                "unknown locked joint: the robot has no joint of that name".into()
             ));
         };
         if locked[j].is_some() {
@@ -175,9 +167,7 @@ fn locked_values(
             return Err(err(format!("position {} is not finite", num(*q))));
         }
         if c.joints[j].motion == Motion::Fixed {
-            return Err(err(
-                "the joint is fixed; only moving joints can be locked".into()
-            ));
+            return Err(err("the joint is fixed; only moving joints can be locked".into()));
         }
         if let Some(l) = &c.joints[j].limits {
             if *q < l.lower || *q > l.upper {

@@ -60,12 +60,7 @@ impl DescriptionError {
 }
 
 /// `file:line:col: item: message`, the shape compilers use, so editors can jump to it.
-pub(crate) fn render(
-    file: &Path,
-    location: Option<Location>,
-    item: Option<&str>,
-    message: &str,
-) -> String {
+pub(crate) fn render(file: &Path, location: Option<Location>, item: Option<&str>, message: &str) -> String {
     let mut s = file.display().to_string();
     if let Some(loc) = location {
         s.push_str(&format!(":{loc}"));
@@ -84,9 +79,15 @@ pub(crate) fn item(kind: &str, name: &str) -> String {
     format!("{kind} '{name}'")
 }
 
-/// A number for a message: shortest round-trip form (`0.1`, `-2.96`, `NaN`, `inf`).
+/// A number for a message: shortest round-trip form (`0.1`, `-2.96`, `NaN`, `inf`), with an
+/// exponent when very large or small (`1e308`, not 309 digits).
 pub(crate) fn num(v: f64) -> String {
-    format!("{v}")
+    let a = v.abs();
+    if v.is_finite() && v != 0.0 && !(1e-5..1e16).contains(&a) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
 }
 
 /// A vector for a message: `[0, 0, 1]`.

@@ -53,10 +53,7 @@ fn check_joint(
 ) -> Result<JointShape, DescriptionError> {
     let path = joint_path(i);
     let label = item("joint", &j.name);
-    let err = |field: &str, msg: String| {
-        map.error(&format!("{path}{field}"), msg)
-            .about(label.clone())
-    };
+    let err = |field: &str, msg: String| map.error(&format!("{path}{field}"), msg).about(label.clone());
 
     let motion = match j.kind.as_str() {
         "revolute" | "continuous" => Motion::Moving(JointKind::Revolute),
@@ -79,10 +76,7 @@ fn check_joint(
 
     for (what, v) in [("xyz", &j.xyz), ("rpy", &j.rpy)] {
         if !finite(v) {
-            return Err(err(
-                ".origin",
-                format!("origin {what} {} is not finite", vec3(v)),
-            ));
+            return Err(err(".origin", format!("origin {what} {} is not finite", vec3(v))));
         }
     }
     let origin = Pose::from_xyz_rpy(j.xyz, j.rpy);
@@ -91,20 +85,16 @@ fn check_joint(
         Vector3::x()
     } else {
         if !finite(&j.axis) {
-            return Err(err(
-                ".axis",
-                format!("axis {} is not finite", vec3(&j.axis)),
-            ));
+            return Err(err(".axis", format!("axis {} is not finite", vec3(&j.axis))));
         }
+        // Scaled first, so that huge components cannot overflow the norm.
         let a = Vector3::from(j.axis);
-        let norm = a.norm();
-        if norm == 0.0 || !norm.is_finite() {
-            return Err(err(
-                ".axis",
-                format!("axis {} has zero length", vec3(&j.axis)),
-            ));
+        let scale = a.amax();
+        if scale == 0.0 {
+            return Err(err(".axis", format!("axis {} has zero length", vec3(&j.axis))));
         }
-        let unit = a / norm;
+        let unit = (a / scale).normalize();
+        let norm = scale * (a / scale).norm();
         if (norm - 1.0).abs() > 1e-6 {
             let shown = vec3(&[unit.x, unit.y, unit.z]);
             let msg = format!("axis {} is not a unit vector: using {shown}", vec3(&j.axis));
@@ -117,10 +107,7 @@ fn check_joint(
 
     if let Some(m) = &j.mimic {
         if !(m.multiplier.is_finite() && m.offset.is_finite()) {
-            return Err(err(
-                ".mimic",
-                "mimic multiplier or offset is not finite".into(),
-            ));
+            return Err(err(".mimic", "mimic multiplier or offset is not finite".into()));
         }
     }
 
@@ -210,10 +197,7 @@ fn check_inertial(
 ) -> Result<Inertia, DescriptionError> {
     let path = format!("{}.inertial", link_path(i));
     let label = item("link", name);
-    let err = |field: &str, msg: String| {
-        map.error(&format!("{path}{field}"), msg)
-            .about(label.clone())
-    };
+    let err = |field: &str, msg: String| map.error(&format!("{path}{field}"), msg).about(label.clone());
     let RawInertial {
         xyz,
         rpy,
@@ -250,16 +234,13 @@ fn check_inertial(
     }
     let moments = check_rotational_inertia(&tensor).map_err(|m| err(".inertia", m))?;
     let is_zero = tensor.iter().all(|v| *v == 0.0);
-    let trace = moments.iter().sum::<f64>();
+    let largest = moments[0].abs().max(moments[2].abs());
     if mass > 0.0 && is_zero {
-        let msg = format!(
-            "mass {} with zero inertia: treated as a point mass",
-            num(mass)
-        );
+        let msg = format!("mass {} with zero inertia: treated as a point mass", num(mass));
         diags
             .warnings
             .push(map.diagnostic(&format!("{path}.inertia"), Some(&label), &msg));
-    } else if mass > 0.0 && moments[0] <= INERTIA_REL_TOL * trace {
+    } else if mass > 0.0 && moments[0] <= INERTIA_REL_TOL * largest {
         let msg = format!(
             "mass {} with an inertia that is not positive definite (principal moments {}); \
              give a positive definite inertia, or all zeros for a point mass",

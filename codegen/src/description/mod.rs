@@ -80,11 +80,7 @@ pub fn load(path: &Path) -> Result<Loaded, DescriptionError> {
 }
 
 /// Loads URDF text. `file` names the text in messages. `sources` is empty: nothing was read.
-pub fn load_urdf_str(
-    text: &str,
-    file: &Path,
-    options: &UrdfOptions,
-) -> Result<Loaded, DescriptionError> {
+pub fn load_urdf_str(text: &str, file: &Path, options: &UrdfOptions) -> Result<Loaded, DescriptionError> {
     let (robot, map) = urdf::read(text, file)?;
     let settings = Settings {
         name: None,

@@ -71,19 +71,10 @@ mod tests {
     fn locate_falls_back_to_enclosing_paths() {
         let mut map = SourceMap::new(Path::new("f.yaml"));
         map.insert("joints[1]".into(), Location { line: 7, column: 5 });
-        map.insert(
-            "joints[1].axis".into(),
-            Location {
-                line: 9,
-                column: 11,
-            },
-        );
+        map.insert("joints[1].axis".into(), Location { line: 9, column: 11 });
         assert_eq!(
             map.locate("joints[1].axis"),
-            Some(Location {
-                line: 9,
-                column: 11
-            })
+            Some(Location { line: 9, column: 11 })
         );
         assert_eq!(
             map.locate("joints[1].limit.lower"),

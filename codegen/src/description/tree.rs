@@ -33,12 +33,7 @@ pub(crate) fn topology(raw: &RawRobot, map: &SourceMap) -> Result<Topology, Desc
     if raw.links.is_empty() {
         return Err(DescriptionError::new(&map.file, "the robot has no links"));
     }
-    let link_by_name = unique_names(
-        raw.links.iter().map(|l| l.name.as_str()),
-        "link",
-        link_path,
-        map,
-    )?;
+    let link_by_name = unique_names(raw.links.iter().map(|l| l.name.as_str()), "link", link_path, map)?;
     let joint_by_name = unique_names(
         raw.joints.iter().map(|j| j.name.as_str()),
         "joint",
@@ -74,9 +69,7 @@ pub(crate) fn topology(raw: &RawRobot, map: &SourceMap) -> Result<Topology, Desc
                 "link '{}' already hangs from joint '{}'; a link can have only one parent joint",
                 joint.child, raw.joints[other].name
             );
-            return Err(map
-                .error(&format!("{}.child", joint_path(j)), msg)
-                .about(label));
+            return Err(map.error(&format!("{}.child", joint_path(j)), msg).about(label));
         }
         parent_joint[c] = Some(j);
         parent_link.push(p);
@@ -100,9 +93,7 @@ pub(crate) fn topology(raw: &RawRobot, map: &SourceMap) -> Result<Topology, Desc
             .about(item("joint", &raw.joints[first].name)));
     }
 
-    let roots: Vec<usize> = (0..n_links)
-        .filter(|&l| parent_joint[l].is_none())
-        .collect();
+    let roots: Vec<usize> = (0..n_links).filter(|&l| parent_joint[l].is_none()).collect();
     let (connected, isolated): (Vec<usize>, Vec<usize>) =
         roots.iter().partition(|&&l| !children[l].is_empty());
     if connected.len() > 1 {
@@ -129,12 +120,7 @@ pub(crate) fn topology(raw: &RawRobot, map: &SourceMap) -> Result<Topology, Desc
                 .about(item("link", &raw.links[*lonely].name)));
         }
         // Without cycles every link leads up to a root, so there is at least one.
-        (None, []) => {
-            return Err(DescriptionError::new(
-                &map.file,
-                "the robot has no root link",
-            ))
-        }
+        (None, []) => return Err(DescriptionError::new(&map.file, "the robot has no root link")),
     };
 
     let (joint_order, link_order) = depth_first(root, &children, &child_link);
@@ -196,10 +182,7 @@ fn find_cycle(parent_joint: &[Option<usize>], parent_link: &[usize]) -> Option<V
         if state[link] == State::OnPath && parent_joint[link].is_some() {
             if let Some(pos) = path.iter().position(|&l| l == link) {
                 // Joints from the top of the loop down: parent joint of each link, reversed.
-                let mut cycle: Vec<usize> = path[pos..]
-                    .iter()
-                    .filter_map(|&l| parent_joint[l])
-                    .collect();
+                let mut cycle: Vec<usize> = path[pos..].iter().filter_map(|&l| parent_joint[l]).collect();
                 cycle.reverse();
                 return Some(cycle);
             }
@@ -212,11 +195,7 @@ fn find_cycle(parent_joint: &[Option<usize>], parent_link: &[usize]) -> Option<V
 }
 
 /// Pre-order walk from the root (iterative: a long chain must not overflow the stack).
-fn depth_first(
-    root: usize,
-    children: &[Vec<usize>],
-    child_link: &[usize],
-) -> (Vec<usize>, Vec<usize>) {
+fn depth_first(root: usize, children: &[Vec<usize>], child_link: &[usize]) -> (Vec<usize>, Vec<usize>) {
     let mut joints = Vec::new();
     let mut links = vec![root];
     let mut stack: Vec<usize> = children[root].iter().rev().copied().collect();

@@ -51,14 +51,8 @@ impl<'d, 'input> Reader<'d, 'input> {
         }
     }
 
-    fn error(
-        &self,
-        node: Node<'_, '_>,
-        item: Option<&str>,
-        message: impl Into<String>,
-    ) -> DescriptionError {
-        let e = DescriptionError::new(&self.map.file, message)
-            .at(Some(self.location(node.range().start)));
+    fn error(&self, node: Node<'_, '_>, item: Option<&str>, message: impl Into<String>) -> DescriptionError {
+        let e = DescriptionError::new(&self.map.file, message).at(Some(self.location(node.range().start)));
         match item {
             Some(i) => e.about(i),
             None => e,
@@ -74,17 +68,9 @@ impl<'d, 'input> Reader<'d, 'input> {
         let root = self.doc.root_element();
         if root.tag_name().name() != "robot" {
             let tag = root.tag_name().name();
-            return Err(self.error(
-                root,
-                None,
-                format!("root element is <{tag}>, expected <robot>"),
-            ));
+            return Err(self.error(root, None, format!("root element is <{tag}>, expected <robot>")));
         }
-        if let Some(x) = self
-            .doc
-            .descendants()
-            .find(|n| n.is_element() && is_xacro(n))
-        {
+        if let Some(x) = self.doc.descendants().find(|n| n.is_element() && is_xacro(n)) {
             let tag = x.tag_name().name();
             return Err(self.error(
                 x,
@@ -137,10 +123,7 @@ impl<'d, 'input> Reader<'d, 'input> {
                     .ok_or_else(|| self.error(inode, it, "<inertial> has no <inertia>"))?;
                 self.record(format!("{ipath}.inertia"), inertia_node);
                 let mut inertia = [0.0; 6];
-                for (slot, attr) in inertia
-                    .iter_mut()
-                    .zip(["ixx", "ixy", "ixz", "iyy", "iyz", "izz"])
-                {
+                for (slot, attr) in inertia.iter_mut().zip(["ixx", "ixy", "ixz", "iyy", "iyz", "izz"]) {
                     *slot = self.required_number(inertia_node, attr, it)?;
                 }
                 Some(RawInertial {
@@ -226,13 +209,7 @@ impl<'d, 'input> Reader<'d, 'input> {
     }
 
     /// `<parent link="..."/>` or `<child link="..."/>`.
-    fn link_ref(
-        &mut self,
-        node: Node<'_, '_>,
-        tag: &str,
-        path: &str,
-        it: Option<&str>,
-    ) -> Result<String> {
+    fn link_ref(&mut self, node: Node<'_, '_>, tag: &str, path: &str, it: Option<&str>) -> Result<String> {
         let Some(n) = self.unique_child(node, tag, it)? else {
             return Err(self.error(node, it, format!("<joint> has no <{tag}>")));
         };
@@ -244,12 +221,7 @@ impl<'d, 'input> Reader<'d, 'input> {
     }
 
     /// The `<origin>` child of `node` (xyz, rpy), identity when absent.
-    fn origin(
-        &mut self,
-        node: Node<'_, '_>,
-        path: &str,
-        it: Option<&str>,
-    ) -> Result<([f64; 3], [f64; 3])> {
+    fn origin(&mut self, node: Node<'_, '_>, path: &str, it: Option<&str>) -> Result<([f64; 3], [f64; 3])> {
         let Some(o) = self.unique_child(node, "origin", it)? else {
             return Ok(([0.0; 3], [0.0; 3]));
         };
@@ -300,11 +272,7 @@ impl<'d, 'input> Reader<'d, 'input> {
             Ok(v) => Ok(Some(v)),
             Err(_) => {
                 let tag = node.tag_name().name();
-                let e = self.error(
-                    node,
-                    it,
-                    format!("<{tag}> {attr}=\"{text}\" is not a number"),
-                );
+                let e = self.error(node, it, format!("<{tag}> {attr}=\"{text}\" is not a number"));
                 Err(e.at(Some(self.attr_location(node, attr))))
             }
         }
@@ -322,10 +290,7 @@ impl<'d, 'input> Reader<'d, 'input> {
         let Some(text) = node.attribute(attr) else {
             return Ok(None);
         };
-        let parsed: Vec<f64> = text
-            .split_whitespace()
-            .map_while(|t| t.parse().ok())
-            .collect();
+        let parsed: Vec<f64> = text.split_whitespace().map_while(|t| t.parse().ok()).collect();
         let words = text.split_whitespace().count();
         match <[f64; 3]>::try_from(parsed) {
             Ok(v) if words == 3 => Ok(Some(v)),
@@ -345,9 +310,7 @@ impl<'d, 'input> Reader<'d, 'input> {
 /// Whether an element belongs to xacro (by namespace, or by a literal `xacro:` prefix in a
 /// document that did not declare the namespace — roxmltree rejects those, so by namespace).
 fn is_xacro(node: &Node<'_, '_>) -> bool {
-    node.tag_name()
-        .namespace()
-        .is_some_and(|ns| ns.contains("xacro"))
+    node.tag_name().namespace().is_some_and(|ns| ns.contains("xacro"))
 }
 
 #[cfg(test)]

@@ -242,20 +242,15 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         }
         (None, Some(links), joints) => {
             if parsed.name.is_none() {
-                return Err(DescriptionError::new(
-                    file,
-                    "`name:` is required for a robot written inline",
-                )
-                .at(Some(Location { line: 1, column: 1 })));
+                return Err(
+                    DescriptionError::new(file, "`name:` is required for a robot written inline")
+                        .at(Some(Location { line: 1, column: 1 })),
+                );
             }
             parsed.robot = RawRobot {
                 name: parsed.name.clone(),
                 links: links.into_iter().map(raw_link).collect(),
-                joints: joints
-                    .unwrap_or_default()
-                    .into_iter()
-                    .map(raw_joint)
-                    .collect(),
+                joints: joints.unwrap_or_default().into_iter().map(raw_joint).collect(),
             };
             parsed.robot_map = parsed.yaml_map.clone();
             Ok(parsed)

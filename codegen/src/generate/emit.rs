@@ -72,9 +72,10 @@ impl Leaves {
     }
 }
 
-/// Lints that flattened numeric code trips by design (long literals, long functions, names
-/// like `v12`/`v13`), to put on the `mod` item that holds a generated file.
-pub const MODULE_ALLOWS: &str = "#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, clippy::too_many_lines, clippy::many_single_char_names, clippy::similar_names, clippy::neg_multiply)]";
+/// Attributes for the `mod` item that holds a generated file: the lints flattened numeric code
+/// trips by design (long literals, long functions, names like `x12`/`x13`), and no rustfmt
+/// (the file is already formatted, by prettyplease, and must stay byte-identical).
+pub const MODULE_ATTRIBUTES: &str = "#[rustfmt::skip]\n#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, clippy::too_many_lines, clippy::many_single_char_names, clippy::similar_names, clippy::neg_multiply)]";
 
 fn literal(x: f64) -> TokenStream {
     let lit = Literal::f64_suffixed(x.abs());
@@ -85,91 +86,155 @@ fn literal(x: f64) -> TokenStream {
     }
 }
 
-/// The body of one generated function.
-struct Body<'a> {
+/// Statements per chunk. Every `let` opens a nested debug-info scope, and LLVM recurses once
+/// per scope: a 6000-statement function overflows rustc's stack in debug builds. Chunks also
+/// keep rustc's compile time linear. Large enough that the values passed between chunks cost
+/// little next to the arithmetic.
+const CHUNK: usize = 1024;
+
+/// The nodes a function computes, in order, and how their names are spelled.
+struct Plan<'a> {
     robot: &'a SymbolicRobot,
     leaves: &'a Leaves,
-    local: HashMap<Id, Ident>,
-    used_leaves: Vec<Id>,
+    /// Live computed nodes in topological order.
+    order: Vec<Id>,
+    names: HashMap<Id, Ident>,
 }
 
-impl<'a> Body<'a> {
-    fn atom(&mut self, id: Id) -> TokenStream {
+impl<'a> Plan<'a> {
+    fn new(robot: &'a SymbolicRobot, leaves: &'a Leaves, outputs: &[Id]) -> Plan<'a> {
+        let g = &robot.graph;
+        let live = g.live(outputs);
+        let order: Vec<Id> = (0..g.len())
+            .map(|i| Id(i as u32))
+            .filter(|&id| live[id.0 as usize] && !leaves.names.contains_key(&id))
+            .filter(|&id| !matches!(g.node(id), Node::Const(_) | Node::Input(_)))
+            .collect();
+        // `x` is a prefix no input uses (q, qd, v, a, s, c), so a temporary never shadows one.
+        let names = order.iter().enumerate().map(|(k, &id)| (id, format_ident!("x{k}"))).collect();
+        Plan { robot, leaves, order, names }
+    }
+
+    /// An operand: a literal, an input, or an earlier temporary. Records inputs it reads.
+    fn atom(&self, id: Id, used_leaves: &mut Vec<Id>) -> TokenStream {
         if let Some(x) = self.robot.graph.constant_value(id) {
             return literal(x);
         }
         if let Some(name) = self.leaves.names.get(&id) {
-            if !self.used_leaves.contains(&id) {
-                self.used_leaves.push(id);
+            if !used_leaves.contains(&id) {
+                used_leaves.push(id);
             }
             return quote!(#name);
         }
-        let name = &self.local[&id];
+        let name = &self.names[&id];
         quote!(#name)
     }
 
-    fn statements(&mut self, outputs: &[Id]) -> Vec<TokenStream> {
-        let g = &self.robot.graph;
-        let live = g.live(outputs);
-        let mut out = Vec::new();
-        for (i, &is_live) in live.iter().enumerate() {
-            let id = Id(i as u32);
-            if !is_live || self.leaves.names.contains_key(&id) {
-                continue;
+    fn statement(&self, id: Id, used_leaves: &mut Vec<Id>) -> TokenStream {
+        let mut atom = |x| self.atom(x, used_leaves);
+        let value = match self.robot.graph.node(id) {
+            Node::Sin(a) => {
+                let a = atom(a);
+                quote!(#a.sin())
             }
-            let value = match g.node(id) {
-                Node::Const(_) | Node::Input(_) => continue,
-                Node::Sin(a) => {
-                    let a = self.atom(a);
-                    quote!(#a.sin())
-                }
-                Node::Cos(a) => {
-                    let a = self.atom(a);
-                    quote!(#a.cos())
-                }
-                Node::Neg(a) => {
-                    let a = self.atom(a);
-                    quote!(-#a)
-                }
-                Node::Add(a, b) => {
-                    let (a, b) = (self.atom(a), self.atom(b));
-                    quote!(#a + #b)
-                }
-                Node::Sub(a, b) => {
-                    let (a, b) = (self.atom(a), self.atom(b));
-                    quote!(#a - #b)
-                }
-                Node::Mul(a, b) => {
-                    let (a, b) = (self.atom(a), self.atom(b));
-                    quote!(#a * #b)
-                }
-                Node::Div(a, b) => {
-                    let (a, b) = (self.atom(a), self.atom(b));
-                    quote!(#a / #b)
-                }
-            };
-            // `x` is a prefix no input uses (q, qd, v, a, s, c), so a temporary never shadows one.
-            let name = format_ident!("x{}", self.local.len());
-            out.push(quote!(let #name: f64 = #value;));
-            self.local.insert(id, name);
-        }
-        out
+            Node::Cos(a) => {
+                let a = atom(a);
+                quote!(#a.cos())
+            }
+            Node::Neg(a) => {
+                let a = atom(a);
+                quote!(-#a)
+            }
+            Node::Add(a, b) => {
+                let (a, b) = (atom(a), atom(b));
+                quote!(#a + #b)
+            }
+            Node::Sub(a, b) => {
+                let (a, b) = (atom(a), atom(b));
+                quote!(#a - #b)
+            }
+            Node::Mul(a, b) => {
+                let (a, b) = (atom(a), atom(b));
+                quote!(#a * #b)
+            }
+            Node::Div(a, b) => {
+                let (a, b) = (atom(a), atom(b));
+                quote!(#a / #b)
+            }
+            Node::Const(_) | Node::Input(_) => unreachable!("leaves are not statements"),
+        };
+        let name = &self.names[&id];
+        quote!(let #name: f64 = #value;)
     }
+}
 
-    /// `let [x0, _, x2] = <source>;` for the inputs this body reads.
-    fn destructure(&self, ids: &[Id], source: TokenStream) -> Option<TokenStream> {
-        if !ids.iter().any(|id| self.used_leaves.contains(id)) {
-            return None;
-        }
-        let pattern = ids.iter().map(|id| match self.used_leaves.contains(id) {
-            true => {
-                let name = &self.leaves.names[id];
-                quote!(#name)
-            }
-            false => quote!(_),
-        });
-        Some(quote!(let [#(#pattern),*] = #source;))
+/// The parameters of a generated function and the destructuring of the inputs it reads.
+struct Signature {
+    params: Vec<TokenStream>,
+    prelude: Vec<TokenStream>,
+}
+
+/// `let [x0, _, x2] = <source>;` for the inputs in `used`; `None` if it reads none of them.
+fn destructure(leaves: &Leaves, ids: &[Id], used: &[Id], source: TokenStream) -> Option<TokenStream> {
+    if !ids.iter().any(|id| used.contains(id)) {
+        return None;
     }
+    let pattern = ids.iter().map(|id| match used.contains(id) {
+        true => {
+            let name = &leaves.names[id];
+            quote!(#name)
+        }
+        false => quote!(_),
+    });
+    Some(quote!(let [#(#pattern),*] = #source;))
+}
+
+fn signature(robot: &SymbolicRobot, leaves: &Leaves, args: &[Arg], used: &[Id], n: &Literal) -> Signature {
+    let inputs = &robot.inputs;
+    let (sin_ids, cos_ids) = (trig_ids(robot, true), trig_ids(robot, false));
+    let mut prelude = Vec::new();
+    prelude.extend(destructure(leaves, &inputs.q, used, quote!(t.q)));
+    prelude.extend(destructure(leaves, &sin_ids, used, quote!(t.sin)));
+    prelude.extend(destructure(leaves, &cos_ids, used, quote!(t.cos)));
+    let t = if prelude.is_empty() { format_ident!("_t") } else { format_ident!("t") };
+    let mut params = vec![quote!(#t: &JointTrig<#n>)];
+    for &arg in args {
+        let (name, ids) = match arg {
+            Arg::Qd => (format_ident!("qd"), &inputs.qd),
+            Arg::V => (format_ident!("v"), &inputs.v),
+            Arg::A => (format_ident!("a"), &inputs.a),
+        };
+        match destructure(leaves, ids, used, quote!(#name.data.0[0])) {
+            Some(d) => {
+                prelude.push(d);
+                params.push(quote!(#name: &SVector<f64, #n>));
+            }
+            None => {
+                let unused = format_ident!("_{}", name);
+                params.push(quote!(#unused: &SVector<f64, #n>));
+            }
+        }
+    }
+    Signature { params, prelude }
+}
+
+fn argument_names(args: &[Arg]) -> Vec<Ident> {
+    let mut names = vec![format_ident!("t")];
+    names.extend(args.iter().map(|a| match a {
+        Arg::Qd => format_ident!("qd"),
+        Arg::V => format_ident!("v"),
+        Arg::A => format_ident!("a"),
+    }));
+    names
+}
+
+/// `t: &JointTrig<N>, qd: &SVector<f64, N>, …`: every argument, used or not.
+fn all_parameters(args: &[Arg], n: &Literal) -> Vec<TokenStream> {
+    let names = argument_names(args);
+    let (t, vectors) = names.split_first().expect("t is always an argument");
+    let mut params = vec![quote!(#t: &JointTrig<#n>)];
+    params.extend(vectors.iter().map(|v| quote!(#v: &SVector<f64, #n>)));
+    params
 }
 
 fn doc_counts(c: &OpCounts) -> String {
@@ -183,19 +248,48 @@ fn doc_counts(c: &OpCounts) -> String {
     s + " (joint sines and cosines come precomputed in `JointTrig`)."
 }
 
-fn arg_tokens(arg: Arg) -> (Ident, &'static str) {
-    match arg {
-        Arg::Qd => (format_ident!("qd"), "qd"),
-        Arg::V => (format_ident!("v"), "v"),
-        Arg::A => (format_ident!("a"), "a"),
-    }
+/// A generated function: its trait method, and the chunk functions it calls (if it is large).
+struct Emitted {
+    method: TokenStream,
+    chunks: Vec<TokenStream>,
 }
 
-fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> TokenStream {
+fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> Emitted {
     let n = Literal::usize_unsuffixed(n);
-    let mut body = Body { robot, leaves, local: HashMap::new(), used_leaves: Vec::new() };
-    let statements = body.statements(&q.outputs);
-    let atoms: Vec<TokenStream> = q.outputs.iter().map(|&o| body.atom(o)).collect();
+    let plan = Plan::new(robot, leaves, &q.outputs);
+    let position: HashMap<Id, usize> = plan.order.iter().enumerate().map(|(k, &id)| (id, k)).collect();
+    let chunk_of = |id: &Id| position.get(id).map(|k| k / CHUNK);
+    let n_chunks = plan.order.len().div_ceil(CHUNK).max(1);
+    // Values each chunk needs from earlier chunks, and values each chunk hands on.
+    let mut carried_in: Vec<Vec<Id>> = vec![Vec::new(); n_chunks];
+    let mut handed_on: Vec<Vec<Id>> = vec![Vec::new(); n_chunks];
+    let mark = |list: &mut Vec<Id>, id: Id| {
+        if !list.contains(&id) {
+            list.push(id)
+        }
+    };
+    for &id in &plan.order {
+        let here = chunk_of(&id).unwrap_or(0);
+        for operand in robot.graph.operands(id) {
+            if let Some(there) = chunk_of(&operand).filter(|&c| c < here) {
+                mark(&mut carried_in[here], operand);
+                mark(&mut handed_on[there], operand);
+            }
+        }
+    }
+    for o in &q.outputs {
+        if let Some(c) = chunk_of(o) {
+            if n_chunks > 1 {
+                mark(&mut handed_on[c], *o);
+            }
+        }
+    }
+    for list in carried_in.iter_mut().chain(handed_on.iter_mut()) {
+        list.sort();
+    }
+    let name = format_ident!("{}", q.name);
+    let mut main_used = Vec::new();
+    let atoms: Vec<TokenStream> = q.outputs.iter().map(|&o| plan.atom(o, &mut main_used)).collect();
     let result = match q.shape {
         Shape::Vector(_) => quote!(SVector::from_array_storage(ArrayStorage([[#(#atoms),*]]))),
         Shape::Matrix(rows, _) => {
@@ -211,33 +305,6 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> T
             })
         }
     };
-    let inputs = &robot.inputs;
-    let mut prelude: Vec<TokenStream> = Vec::new();
-    let sin_ids: Vec<Id> = trig_ids(robot, true);
-    let cos_ids: Vec<Id> = trig_ids(robot, false);
-    let t_used = [&inputs.q, &sin_ids, &cos_ids].iter().any(|ids| ids.iter().any(|id| body.used_leaves.contains(id)));
-    prelude.extend(body.destructure(&inputs.q, quote!(t.q)));
-    prelude.extend(body.destructure(&sin_ids, quote!(t.sin)));
-    prelude.extend(body.destructure(&cos_ids, quote!(t.cos)));
-    let mut params = vec![if t_used { quote!(t: &JointTrig<#n>) } else { quote!(_t: &JointTrig<#n>) }];
-    for &arg in &q.args {
-        let (name, _) = arg_tokens(arg);
-        let ids = match arg {
-            Arg::Qd => &inputs.qd,
-            Arg::V => &inputs.v,
-            Arg::A => &inputs.a,
-        };
-        match body.destructure(ids, quote!(#name.data.0[0])) {
-            Some(d) => {
-                prelude.push(d);
-                params.push(quote!(#name: &SVector<f64, #n>));
-            }
-            None => {
-                let unused = format_ident!("_{}", name);
-                params.push(quote!(#unused: &SVector<f64, #n>));
-            }
-        }
-    }
     let ret = match q.shape {
         Shape::Vector(len) => {
             let len = Literal::usize_unsuffixed(len);
@@ -249,17 +316,69 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> T
         }
         Shape::Pose => quote!(Pose),
     };
-    let name = format_ident!("{}", q.name);
     let doc = doc_counts(&robot.graph.op_counts(&q.outputs));
-    quote! {
+    let names_of = |ids: &[Id]| -> Vec<Ident> { ids.iter().map(|id| plan.names[id].clone()).collect() };
+
+    if n_chunks == 1 {
+        let mut used = main_used;
+        let statements: Vec<TokenStream> = plan.order.iter().map(|&id| plan.statement(id, &mut used)).collect();
+        let sig = signature(robot, leaves, &q.args, &used, &n);
+        let (params, prelude) = (sig.params, sig.prelude);
+        let method = quote! {
+            #[doc = #doc]
+            #[inline(never)]
+            fn #name(#(#params),*) -> #ret {
+                #(#prelude)*
+                #(#statements)*
+                #result
+            }
+        };
+        return Emitted { method, chunks: Vec::new() };
+    }
+
+    let args = argument_names(&q.args);
+    let mut chunks = Vec::new();
+    let mut calls = Vec::new();
+    for (k, ids) in plan.order.chunks(CHUNK).enumerate() {
+        let chunk_name = format_ident!("{}_part{}", q.name, k);
+        let mut used = Vec::new();
+        let statements: Vec<TokenStream> = ids.iter().map(|&id| plan.statement(id, &mut used)).collect();
+        let sig = signature(robot, leaves, &q.args, &used, &n);
+        let (mut params, prelude) = (sig.params, sig.prelude);
+        let (inputs, outputs) = (names_of(&carried_in[k]), names_of(&handed_on[k]));
+        let (n_in, n_out) = (Literal::usize_unsuffixed(inputs.len()), Literal::usize_unsuffixed(outputs.len()));
+        let mut call_args: Vec<TokenStream> = args.iter().map(|a| quote!(#a)).collect();
+        let unpack = if inputs.is_empty() {
+            quote!()
+        } else {
+            params.push(quote!(carried: [f64; #n_in]));
+            call_args.push(quote!([#(#inputs),*]));
+            quote!(let [#(#inputs),*] = carried;)
+        };
+        chunks.push(quote! {
+            #[inline(never)]
+            fn #chunk_name(#(#params),*) -> [f64; #n_out] {
+                #(#prelude)*
+                #unpack
+                #(#statements)*
+                [#(#outputs),*]
+            }
+        });
+        calls.push(quote!(let [#(#outputs),*] = #chunk_name(#(#call_args),*);));
+    }
+    // Chunks read the arguments; the method itself reads only what its result needs.
+    let prelude = signature(robot, leaves, &q.args, &main_used, &n).prelude;
+    let params = all_parameters(&q.args, &n);
+    let method = quote! {
         #[doc = #doc]
         #[inline(never)]
         fn #name(#(#params),*) -> #ret {
             #(#prelude)*
-            #(#statements)*
+            #(#calls)*
             #result
         }
-    }
+    };
+    Emitted { method, chunks }
 }
 
 /// Ids of `sin(q_i)` (or `cos(q_i)`) in joint order; a fresh id where the graph has none.
@@ -293,7 +412,9 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
     let joint_names = model.joints.iter().map(|j| j.name.as_str());
     let param_names = model.parameter_names();
     let theta = model.parameters().into_iter().map(literal);
-    let functions: Vec<TokenStream> = robot.quantities.iter().map(|q| function(robot, &leaves, q, n)).collect();
+    let emitted: Vec<Emitted> = robot.quantities.iter().map(|q| function(robot, &leaves, q, n)).collect();
+    let functions = emitted.iter().map(|e| &e.method);
+    let chunks = emitted.iter().flat_map(|e| &e.chunks);
     let (n, p) = (Literal::usize_unsuffixed(n), Literal::usize_unsuffixed(p));
     let header = format!(
         "// Rigid-body dynamics of `{name}` ({n} joints, {p} inertial parameters).\n\
@@ -324,6 +445,8 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
 
             #(#functions)*
         }
+
+        #(#chunks)*
     };
     match syn::parse2::<syn::File>(tokens) {
         Ok(file) => header + &prettyplease::unparse(&file),

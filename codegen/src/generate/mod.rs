@@ -8,7 +8,7 @@ mod robot_file;
 mod trace;
 
 pub use crate_dir::{descriptions_in, generate_into_crate, CrateReport, Mode, RobotReport};
-pub use emit::{emit, type_name, Provenance, MODULE_ALLOWS};
+pub use emit::{emit, type_name, Provenance, MODULE_ATTRIBUTES};
 pub use hash::fnv1a64;
 pub use output::{check_file, crate_root, module_name, write_file, WriteOutcome};
 pub use robot_file::{generate_robot, GenerateError, GeneratedRobot, GENERATED_MARKER};

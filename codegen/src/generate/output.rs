@@ -80,7 +80,7 @@ pub fn crate_root(modules: &[String], regenerate: &str) -> String {
     for m in modules {
         s += &format!(
             "\n{}\npub mod {m};\npub use {m}::{};\n",
-            super::emit::MODULE_ALLOWS,
+            super::emit::MODULE_ATTRIBUTES,
             super::emit::type_name(m)
         );
     }

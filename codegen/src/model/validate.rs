@@ -15,11 +15,11 @@ use std::fmt;
 pub struct ModelError(pub String);
 
 /// Relative tolerance of the inertia tests (positive semi-definiteness, triangle inequality),
-/// as a fraction of the trace of the rotational inertia.
+/// as a fraction of the largest principal moment.
 ///
 /// Published inertias are rounded to a few significant digits, so a flat plate (`I1 + I2 = I3`
-/// exactly) may come out a hair on the wrong side; one part per million of the trace forgives
-/// that rounding and nothing that matters physically.
+/// exactly) may come out a hair on the wrong side; one part per million forgives that
+/// rounding and nothing that matters physically.
 pub const INERTIA_REL_TOL: f64 = 1e-6;
 
 /// Tolerance on unit axes and orthonormal rotations.
@@ -65,10 +65,20 @@ impl fmt::Display for Warning {
 
 /// Principal moments of a symmetric rotational inertia, in ascending order.
 ///
-/// The matrix must be finite (the eigen-solver iterates until convergence).
+/// NaN for a matrix that is not finite (the eigen-solver would never converge on it). The
+/// solver works on the matrix scaled to entries of at most 1, so that no intermediate
+/// overflows even for absurd inputs like `1e308`.
 pub fn principal_moments(inertia: &Matrix3<f64>) -> [f64; 3] {
-    let sym = (inertia + inertia.transpose()) * 0.5;
-    let eig = SymmetricEigen::new(sym).eigenvalues;
+    if inertia.iter().any(|v| !v.is_finite()) {
+        return [f64::NAN; 3];
+    }
+    let scale = inertia.amax();
+    if scale == 0.0 {
+        return [0.0; 3];
+    }
+    let unit = inertia / scale;
+    let sym = (unit + unit.transpose()) * 0.5;
+    let eig = SymmetricEigen::new(sym).eigenvalues * scale;
     let mut m = [eig[0], eig[1], eig[2]];
     m.sort_by(f64::total_cmp);
     m
@@ -89,7 +99,7 @@ pub fn check_rotational_inertia(inertia: &Matrix3<f64>) -> Result<[f64; 3], Stri
         return Err("inertia matrix is not symmetric".into());
     }
     let m = principal_moments(inertia);
-    let tol = INERTIA_REL_TOL * (m[0] + m[1] + m[2]).abs();
+    let tol = INERTIA_REL_TOL * m[0].abs().max(m[2].abs());
     let shown = format!("[{}, {}, {}]", fmt_num(m[0]), fmt_num(m[1]), fmt_num(m[2]));
     if m[0] < -tol {
         return Err(format!(
@@ -104,15 +114,14 @@ pub fn check_rotational_inertia(inertia: &Matrix3<f64>) -> Result<[f64; 3], Stri
     Ok(m)
 }
 
-/// A number printed short (for messages): six significant digits, no trailing noise.
+/// A number printed short (for messages): six significant digits, an exponent only when
+/// very large or small.
 fn fmt_num(v: f64) -> String {
-    if v == 0.0 {
-        return "0".into();
-    }
-    let s = format!("{v:.6e}");
-    match s.parse::<f64>() {
-        Ok(r) => format!("{r}"),
-        Err(_) => s,
+    let r: f64 = format!("{v:.5e}").parse().unwrap_or(v);
+    if r != 0.0 && r.is_finite() && !(1e-5..1e16).contains(&r.abs()) {
+        format!("{r:e}")
+    } else {
+        format!("{r}")
     }
 }
 
