@@ -9,7 +9,7 @@ mod common;
 
 use common::fixture;
 use common::oracles::{assert_passed, check_all, Check, Dynamics, Summary};
-use common::random_model::{arb_model_and_state, random_state};
+use common::random_model::{arb_model, arb_model_and_state, random_state};
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::model::{JointKind, Model};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
@@ -57,7 +57,7 @@ fn arm7_oracles() {
 }
 
 /// Whether some joint does not hang from the joint before it (a branch or a second root).
-fn is_tree(model: &Model) -> bool {
+fn is_branched(model: &Model) -> bool {
     model
         .joints
         .iter()
@@ -65,31 +65,38 @@ fn is_tree(model: &Model) -> bool {
         .any(|(i, j)| j.parent != i.checked_sub(1))
 }
 
-#[test]
-fn random_tree_oracles() {
-    // Fixed seed, no failure files: every run checks the same 256 trees, so CI is reproducible.
-    let config = Config {
+/// 256 cases from a fixed seed, without failure files: every run checks the same random trees,
+/// so CI is reproducible.
+fn deterministic_runner() -> TestRunner {
+    TestRunner::new(Config {
         cases: 256,
         failure_persistence: None,
         source_file: None,
         rng_algorithm: RngAlgorithm::ChaCha,
         rng_seed: RngSeed::Fixed(0x0D1A_6E11_0AC1_E500),
         ..Config::default()
-    };
+    })
+}
+
+#[test]
+fn random_tree_oracles() {
     let summary = RefCell::new(Summary::default());
-    let coverage = RefCell::new([0usize; 4]); // models, trees, prismatic joints, joints
-    let result = TestRunner::new(config).run(&arb_model_and_state(10), |(model, state)| {
+    let coverage = RefCell::new([0usize; 4]); // models, branched models, joints, prismatic joints
+    let result = deterministic_runner().run(&arb_model_and_state(10), |(model, state)| {
         let checks = check_all(&model, &NumericDynamics::new(&model), &state);
         summary.borrow_mut().record(&checks);
-        let mut cov = coverage.borrow_mut();
-        cov[0] += 1;
-        cov[1] += usize::from(is_tree(&model));
-        cov[2] += model
+        let prismatic = model
             .joints
             .iter()
-            .filter(|j| j.kind == JointKind::Prismatic)
-            .count();
-        cov[3] += model.dof();
+            .filter(|j| j.kind == JointKind::Prismatic);
+        let counts = [
+            1,
+            usize::from(is_branched(&model)),
+            model.dof(),
+            prismatic.count(),
+        ];
+        let mut coverage = coverage.borrow_mut();
+        *coverage = std::array::from_fn(|k| coverage[k] + counts[k]);
         let failed: Vec<String> = checks
             .iter()
             .filter(|c| !c.passed())
@@ -105,11 +112,23 @@ fn random_tree_oracles() {
     if let Err(e) = result {
         panic!("{e}");
     }
-    let [models, trees, prismatic, joints] = *coverage.borrow();
-    println!(
-        "random trees: {models} models ({trees} branched), {joints} joints ({prismatic} prismatic)"
-    );
+    let [models, branched, joints, prismatic] = *coverage.borrow();
+    println!("random trees: {models} models ({branched} branched), {joints} joints ({prismatic} prismatic)");
     println!("{}", summary.borrow());
+}
+
+/// The generated trees satisfy the invariants the project relies on (`Model::validate`), so
+/// the oracles run on models the project accepts.
+#[test]
+fn random_trees_are_valid_models() {
+    let result = deterministic_runner().run(&arb_model(10), |model| {
+        let verdict = model.validate();
+        prop_assert!(verdict.is_ok(), "{verdict:?}");
+        Ok(())
+    });
+    if let Err(e) = result {
+        panic!("{e}");
+    }
 }
 
 /// Relative error injected to show that the tolerances are tight enough.

@@ -6,7 +6,7 @@
 //! link's placement composed with its own URDF origin, which is what [`crate::model::Joint`]
 //! wants: the frame relative to the parent *moving* joint, not to the parent link.
 
-use super::error::{item, num, DescriptionError};
+use super::error::{item, num, render, vec3, DescriptionError};
 use super::items::{JointShape, Motion};
 use super::options::{EndEffectorSpec, Settings};
 use super::raw::RawRobot;
@@ -41,10 +41,9 @@ pub(crate) fn assemble(
     };
     let gravity = settings.gravity.unwrap_or(DEFAULT_GRAVITY);
     if !gravity.iter().all(|g| g.is_finite()) {
-        return Err(settings.map.error(
-            "gravity",
-            format!("gravity {} is not finite", super::error::vec3(&gravity)),
-        ));
+        return Err(settings
+            .map
+            .error("gravity", format!("gravity {} is not finite", vec3(&gravity))));
     }
     let locked = locked_values(c, settings)?;
     check_mimics(c, &locked, settings, diags)?;
@@ -258,12 +257,7 @@ fn end_effector(
                 format!("the end of the longest chain, {depth} moving joints")
             };
             let msg = format!("no end-effector given: using leaf link '{name}' ({why})");
-            diags.notes.push(crate::description::error::render(
-                &c.robot_map.file,
-                None,
-                None,
-                &msg,
-            ));
+            diags.notes.push(render(&settings.map.file, None, None, &msg));
             EndEffectorSpec::link(name.clone())
         }
     };

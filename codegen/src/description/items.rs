@@ -87,14 +87,17 @@ fn check_joint(
         if !finite(&j.axis) {
             return Err(err(".axis", format!("axis {} is not finite", vec3(&j.axis))));
         }
-        // Scaled first, so that huge components cannot overflow the norm.
+        // Huge components would overflow the plain norm: then scale first.
         let a = Vector3::from(j.axis);
         let scale = a.amax();
         if scale == 0.0 {
             return Err(err(".axis", format!("axis {} has zero length", vec3(&j.axis))));
         }
-        let unit = (a / scale).normalize();
-        let norm = scale * (a / scale).norm();
+        let norm = match a.norm() {
+            n if n.is_finite() => n,
+            _ => scale * (a / scale).norm(),
+        };
+        let unit = a / norm;
         if (norm - 1.0).abs() > 1e-6 {
             let shown = vec3(&[unit.x, unit.y, unit.z]);
             let msg = format!("axis {} is not a unit vector: using {shown}", vec3(&j.axis));

@@ -7,6 +7,7 @@
 //! Every function takes the joint transforms of [`joint_transforms`], so that the joint
 //! sines and cosines are computed once and shared by all quantities of a control tick.
 
+mod coriolis;
 mod crba;
 mod joint;
 mod kinematics;
@@ -19,7 +20,8 @@ pub use joint::{joint_transform, joint_transforms};
 pub use numeric::{Configuration, NumericDynamics};
 pub use kinematics::{body_poses, end_effector_pose, jacobian, jacobian_dot};
 pub use regressor::regressor;
-pub use slotine_li::{coriolis_matrix, gravity_torque, inverse_dynamics, slotine_li};
+pub use coriolis::coriolis_matrix;
+pub use slotine_li::{gravity_torque, inverse_dynamics, slotine_li};
 
 use crate::model::Model;
 use crate::scalar::Scalar;

@@ -1,12 +1,12 @@
 //! The Slotine–Li recursion (Niemeyer & Slotine 1991, with the body operator of Echeandia &
 //! Wensing 2021): `D(q) a + C(q, q̇) v + g(q)` in O(n), with the Christoffel-consistent `C`.
-//! Inverse dynamics, gravity and the Coriolis matrix are all special cases of it.
+//! Inverse dynamics and gravity are special cases of it; its columns at `v = e_j` are those of
+//! `C` (computed faster in [`super::coriolis`]).
 
 use super::joint::{joint_force, joint_motion};
 use crate::model::Model;
 use crate::scalar::Scalar;
 use crate::spatial::{Force, Motion, RigidInertia, Transform, Vec3};
-use nalgebra::DMatrix;
 
 /// Per-body quantities of the forward pass that the torques are linear in.
 pub(crate) struct BodyMotion<S> {
@@ -96,24 +96,3 @@ pub fn gravity_torque<S: Scalar>(model: &Model, x: &[Transform<S>], inertias: &[
     slotine_li(model, x, inertias, &zero, &zero, &zero, Some(gravity_vector(model)))
 }
 
-/// The Christoffel-consistent Coriolis matrix: column `j` is the recursion at `v = e_j`,
-/// `a = 0`, without gravity.
-pub fn coriolis_matrix<S: Scalar>(
-    model: &Model,
-    x: &[Transform<S>],
-    inertias: &[RigidInertia<S>],
-    qd: &[S],
-) -> DMatrix<S> {
-    let n = model.dof();
-    let zero = vec![S::zero(); n];
-    let mut c = DMatrix::from_element(n, n, S::zero());
-    for j in 0..n {
-        let mut e = zero.clone();
-        e[j] = S::one();
-        let col = slotine_li(model, x, inertias, qd, &e, &zero, None);
-        for (i, cij) in col.into_iter().enumerate() {
-            c[(i, j)] = cij;
-        }
-    }
-    c
-}

@@ -56,6 +56,32 @@ impl<S: Scalar> RigidInertia<S> {
         Force { ang: sum.ang.scale(half), lin: sum.lin.scale(half) }
     }
 
+    /// The time derivative `İ = v ×* I − I (v ×)` of this inertia moving with velocity `v`
+    /// (angular `ω`, origin velocity `u`), itself of rigid-inertia shape:
+    /// `ṁ = 0`, `ḣ = ω × h + m u`, `İ_O = [ω×] I_O − I_O [ω×] + 2 (u·h) 1 − h uᵀ − u hᵀ`.
+    pub fn derivative(&self, v: &Motion<S>) -> RigidInertia<S> {
+        let (w, u, h) = (&v.ang, &v.lin, &self.h);
+        let [xx, xy, yy, xz, yz, zz] = self.i;
+        let full = [[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]];
+        // ([ω×] I)_ij = ω_{i+1} I_{i+2, j} − ω_{i+2} I_{i+1, j}; the commutator is its symmetric part doubled.
+        let wi = |i: usize, j: usize| w.0[(i + 1) % 3] * full[(i + 2) % 3][j] - w.0[(i + 2) % 3] * full[(i + 1) % 3][j];
+        let two_uh = S::from_f64(2.0) * u.dot(h);
+        let entry = |i: usize, j: usize| {
+            let commutator = wi(i, j) + wi(j, i);
+            let shift = h.0[i] * u.0[j] + u.0[i] * h.0[j];
+            if i == j {
+                commutator + two_uh - shift
+            } else {
+                commutator - shift
+            }
+        };
+        RigidInertia {
+            m: S::zero(),
+            h: w.cross(h) + u.scale(self.m),
+            i: [entry(0, 0), entry(0, 1), entry(1, 1), entry(0, 2), entry(1, 2), entry(2, 2)],
+        }
+    }
+
     /// The same inertia expressed in the parent frame of `x` (this inertia is in the child frame).
     pub fn to_parent(&self, x: &Transform<S>) -> RigidInertia<S> {
         let t = x.pos;

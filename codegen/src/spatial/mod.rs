@@ -57,6 +57,13 @@ impl<S: Scalar> Force<S> {
     pub fn zero() -> Self {
         Force { ang: Vec3::zero(), lin: Vec3::zero() }
     }
+    pub fn scale(&self, k: S) -> Self {
+        Force { ang: self.ang.scale(k), lin: self.lin.scale(k) }
+    }
+    /// The power `mᵀ f` of this force on a motion.
+    pub fn power(&self, m: &Motion<S>) -> S {
+        self.ang.dot(&m.ang) + self.lin.dot(&m.lin)
+    }
 }
 
 macro_rules! spatial_ops {
