@@ -27,10 +27,7 @@ fn check_robot(model: &Model) {
     for seed in 0..STATES {
         let state = random_state(model, seed);
         let checks = check_all(model, &dynamics, &state);
-        assert_passed(
-            &format!("{} at seed {seed}, {state:?}", model.name),
-            &checks,
-        );
+        assert_passed(&format!("{} at seed {seed}, {state:?}", model.name), &checks);
         summary.record(&checks);
     }
     println!("{} ({STATES} states):\n{summary}", model.name);
@@ -51,8 +48,8 @@ fn ur5_oracles() {
 #[test]
 fn arm7_oracles() {
     let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/robots/arm7.yaml"));
-    let loaded = dyngen_codegen::description::load(path)
-        .unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let loaded =
+        dyngen_codegen::description::load(path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     check_robot(&loaded.model);
 }
 
@@ -85,10 +82,7 @@ fn random_tree_oracles() {
     let result = deterministic_runner().run(&arb_model_and_state(10), |(model, state)| {
         let checks = check_all(&model, &NumericDynamics::new(&model), &state);
         summary.borrow_mut().record(&checks);
-        let prismatic = model
-            .joints
-            .iter()
-            .filter(|j| j.kind == JointKind::Prismatic);
+        let prismatic = model.joints.iter().filter(|j| j.kind == JointKind::Prismatic);
         let counts = [
             1,
             usize::from(is_branched(&model)),
@@ -102,11 +96,7 @@ fn random_tree_oracles() {
             .filter(|c| !c.passed())
             .map(|c| format!("  {c}"))
             .collect();
-        prop_assert!(
-            failed.is_empty(),
-            "oracle checks failed:\n{}",
-            failed.join("\n")
-        );
+        prop_assert!(failed.is_empty(), "oracle checks failed:\n{}", failed.join("\n"));
         Ok(())
     });
     if let Err(e) = result {
@@ -189,32 +179,16 @@ impl Dynamics for Perturbed<'_> {
         self.vector(Quantity::Gravity, self.inner.gravity_torque(q))
     }
     fn inverse_dynamics(&self, q: &[f64], qd: &[f64], qdd: &[f64]) -> DVector<f64> {
-        self.vector(
-            Quantity::InverseDynamics,
-            self.inner.inverse_dynamics(q, qd, qdd),
-        )
+        self.vector(Quantity::InverseDynamics, self.inner.inverse_dynamics(q, qd, qdd))
     }
-    fn slotine_li(
-        &self,
-        q: &[f64],
-        qd: &[f64],
-        v: &[f64],
-        a: &[f64],
-        gravity: bool,
-    ) -> DVector<f64> {
+    fn slotine_li(&self, q: &[f64], qd: &[f64], v: &[f64], a: &[f64], gravity: bool) -> DVector<f64> {
         self.inner.slotine_li(q, qd, v, a, gravity)
     }
     fn regressor(&self, q: &[f64], qd: &[f64], v: &[f64], a: &[f64]) -> DMatrix<f64> {
-        self.matrix(
-            Quantity::Regressor,
-            Dynamics::regressor(self.inner, q, qd, v, a),
-        )
+        self.matrix(Quantity::Regressor, self.inner.regressor(q, qd, v, a))
     }
     fn weightless_regressor(&self, q: &[f64], qd: &[f64], v: &[f64], a: &[f64]) -> DMatrix<f64> {
-        self.matrix(
-            Quantity::Regressor,
-            self.inner.weightless_regressor(q, qd, v, a),
-        )
+        self.matrix(Quantity::Regressor, self.inner.weightless_regressor(q, qd, v, a))
     }
 }
 
@@ -239,18 +213,12 @@ fn oracles_catch_a_1e6_relative_error() {
         for seed in 100..104 {
             let state = random_state(&model, seed);
             for (target, name) in cases {
-                let checks = check_all(
-                    &model,
-                    &Perturbed {
-                        inner: &inner,
-                        target,
-                    },
-                    &state,
-                );
-                let check: &Check = checks
-                    .iter()
-                    .find(|c| c.name == name)
-                    .expect("check exists");
+                let subject = Perturbed {
+                    inner: &inner,
+                    target,
+                };
+                let checks = check_all(&model, &subject, &state);
+                let check: &Check = checks.iter().find(|c| c.name == name).expect("check exists");
                 println!("{robot} seed {seed}: {target:?} off by {INJECTED:.0e} → {check}");
                 assert!(
                     !check.passed(),

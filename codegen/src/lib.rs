@@ -2,6 +2,7 @@
 //! dynamics algorithms generic over a [`scalar::Scalar`] (run with `f64` as the generic
 //! reference, and with symbolic values for code generation).
 
+mod build_script;
 pub mod description;
 pub mod dynamics;
 pub mod generate;
@@ -9,3 +10,5 @@ pub mod model;
 pub mod scalar;
 pub mod spatial;
 pub mod symbolic;
+
+pub use build_script::{compile_robot, Builder};

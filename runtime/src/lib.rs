@@ -8,3 +8,27 @@ mod robot;
 
 pub use robot::{JointTrig, Pose, RobotDynamics};
 pub use nalgebra;
+
+/// Includes a robot generated into `OUT_DIR` by a build script (`dyngen_codegen::compile_robot`)
+/// as module `$module`, with the attributes that flattened generated code needs (an included
+/// file cannot carry them itself).
+///
+/// `dyngen_runtime::include_robot!(panda);` makes `panda::Panda`.
+#[macro_export]
+macro_rules! include_robot {
+    ($module:ident) => {
+        #[rustfmt::skip]
+        #[allow(
+            clippy::approx_constant,
+            clippy::excessive_precision,
+            clippy::unreadable_literal,
+            clippy::too_many_lines,
+            clippy::many_single_char_names,
+            clippy::similar_names,
+            clippy::neg_multiply
+        )]
+        pub mod $module {
+            include!(concat!(env!("OUT_DIR"), "/", stringify!($module), ".rs"));
+        }
+    };
+}

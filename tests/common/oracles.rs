@@ -39,14 +39,7 @@ pub trait Dynamics {
     fn gravity_torque(&self, q: &[f64]) -> DVector<f64>;
     fn inverse_dynamics(&self, q: &[f64], qd: &[f64], qdd: &[f64]) -> DVector<f64>;
     /// `D a + C(q, q̇) v + g`, without `g` when `gravity` is false.
-    fn slotine_li(
-        &self,
-        q: &[f64],
-        qd: &[f64],
-        v: &[f64],
-        a: &[f64],
-        gravity: bool,
-    ) -> DVector<f64>;
+    fn slotine_li(&self, q: &[f64], qd: &[f64], v: &[f64], a: &[f64], gravity: bool) -> DVector<f64>;
     fn regressor(&self, q: &[f64], qd: &[f64], v: &[f64], a: &[f64]) -> DMatrix<f64>;
     /// The regressor of the same model with gravity set to zero.
     fn weightless_regressor(&self, q: &[f64], qd: &[f64], v: &[f64], a: &[f64]) -> DMatrix<f64>;
@@ -74,14 +67,7 @@ impl Dynamics for NumericDynamics<'_> {
     fn inverse_dynamics(&self, q: &[f64], qd: &[f64], qdd: &[f64]) -> DVector<f64> {
         NumericDynamics::inverse_dynamics(self, q, qd, qdd)
     }
-    fn slotine_li(
-        &self,
-        q: &[f64],
-        qd: &[f64],
-        v: &[f64],
-        a: &[f64],
-        gravity: bool,
-    ) -> DVector<f64> {
+    fn slotine_li(&self, q: &[f64], qd: &[f64], v: &[f64], a: &[f64], gravity: bool) -> DVector<f64> {
         NumericDynamics::slotine_li(self, q, qd, v, a, gravity)
     }
     fn regressor(&self, q: &[f64], qd: &[f64], v: &[f64], a: &[f64]) -> DMatrix<f64> {
@@ -115,11 +101,7 @@ pub fn extrapolate(quotient: impl Fn(f64) -> DMatrix<f64>, h: f64) -> DMatrix<f6
 /// The derivative at `x` along `dir` from a central quotient `quotient(x + t u, x − t u, t)`
 /// along the unit direction `u = dir / |dir|`, extrapolated, times `|dir|` (a derivative is
 /// linear in the direction; a unit step keeps the truncation error bounded).
-pub fn along(
-    x: &[f64],
-    dir: &[f64],
-    quotient: impl Fn(&[f64], &[f64], f64) -> DMatrix<f64>,
-) -> DMatrix<f64> {
+pub fn along(x: &[f64], dir: &[f64], quotient: impl Fn(&[f64], &[f64], f64) -> DMatrix<f64>) -> DMatrix<f64> {
     let norm = dir.iter().map(|d| d * d).sum::<f64>().sqrt();
     let u: Vec<f64> = dir
         .iter()
@@ -130,11 +112,7 @@ pub fn along(
 }
 
 /// Derivative of `f` at `x` along `dir`.
-pub fn directional_derivative(
-    f: impl Fn(&[f64]) -> DMatrix<f64>,
-    x: &[f64],
-    dir: &[f64],
-) -> DMatrix<f64> {
+pub fn directional_derivative(f: impl Fn(&[f64]) -> DMatrix<f64>, x: &[f64], dir: &[f64]) -> DMatrix<f64> {
     along(x, dir, |plus, minus, t| (f(plus) - f(minus)) / (2.0 * t))
 }
 
@@ -183,10 +161,7 @@ fn pose_quotient((r_plus, p_plus): &Pose, (r_minus, p_minus): &Pose, t: f64) -> 
 fn frame_velocities(frames: impl Fn(&[f64]) -> Vec<Pose>, q: &[f64], qd: &[f64]) -> DMatrix<f64> {
     along(q, qd, |plus, minus, t| {
         let (plus, minus) = (frames(plus), frames(minus));
-        let stacked = plus
-            .iter()
-            .zip(&minus)
-            .flat_map(|(p, m)| pose_quotient(p, m, t));
+        let stacked = plus.iter().zip(&minus).flat_map(|(p, m)| pose_quotient(p, m, t));
         DMatrix::from_iterator(6 * plus.len(), 1, stacked)
     })
 }
@@ -199,20 +174,13 @@ pub fn jacobian_from_pose(fk: impl Fn(&[f64]) -> Pose, q: &[f64]) -> DMatrix<f64
     let n = q.len();
     let mut jac = DMatrix::zeros(6, n);
     for k in 0..n {
-        jac.set_column(
-            k,
-            &frame_velocities(|x| vec![fk(x)], q, &unit(n, k)).column(0),
-        );
+        jac.set_column(k, &frame_velocities(|x| vec![fk(x)], q, &unit(n, k)).column(0));
     }
     jac
 }
 
 /// Oracle 2: `J̇ = (J(q + h q̇) − J(q − h q̇)) / 2h`, extrapolated.
-pub fn jacobian_rate(
-    jacobian: impl Fn(&[f64]) -> DMatrix<f64>,
-    q: &[f64],
-    qd: &[f64],
-) -> DMatrix<f64> {
+pub fn jacobian_rate(jacobian: impl Fn(&[f64]) -> DMatrix<f64>, q: &[f64], qd: &[f64]) -> DMatrix<f64> {
     directional_derivative(jacobian, q, qd)
 }
 
@@ -234,11 +202,7 @@ pub fn christoffel_coriolis(
 }
 
 /// Oracle 5b: `Ḋ = (D(q + h q̇) − D(q − h q̇)) / 2h`, extrapolated.
-pub fn mass_matrix_rate(
-    mass_matrix: impl Fn(&[f64]) -> DMatrix<f64>,
-    q: &[f64],
-    qd: &[f64],
-) -> DMatrix<f64> {
+pub fn mass_matrix_rate(mass_matrix: impl Fn(&[f64]) -> DMatrix<f64>, q: &[f64], qd: &[f64]) -> DMatrix<f64> {
     directional_derivative(mass_matrix, q, qd)
 }
 
@@ -410,18 +374,10 @@ struct Natural {
 }
 
 impl Natural {
-    fn new(
-        model: &Model,
-        energies: &Energies,
-        dynamics: &impl Dynamics,
-        state: &JointState,
-    ) -> Self {
+    fn new(model: &Model, energies: &Energies, dynamics: &impl Dynamics, state: &JointState) -> Self {
         let bodies = energies.centres_of_mass(&state.q);
         let ee = dynamics.end_effector_pose(&state.q).1;
-        let reach = bodies
-            .iter()
-            .map(|(_, c)| c.norm())
-            .fold(ee.norm(), f64::max);
+        let reach = bodies.iter().map(|(_, c)| c.norm()).fold(ee.norm(), f64::max);
         let largest = |vs: [&[f64]; 2]| {
             vs.iter()
                 .flat_map(|v| v.iter())
@@ -431,10 +387,7 @@ impl Natural {
             reach + 0.1,
             model.bodies.iter().map(|b| b.inertia.mass).sum::<f64>(),
         );
-        let (rate, accel) = (
-            largest([&state.qd, &state.v]),
-            largest([&state.qdd, &state.a]),
-        );
+        let (rate, accel) = (largest([&state.qd, &state.v]), largest([&state.qdd, &state.a]));
         let inertia = mass * length * length;
         let per_parameter = length * (model.gravity.norm() + length * (accel + rate * rate));
         Natural {
@@ -491,31 +444,16 @@ type M = DMatrix<f64>;
 
 impl Checks {
     fn differenced(&mut self, name: &'static str, actual: &M, expected: &M, natural: f64) {
-        self.0.push(compare(
-            name,
-            actual,
-            expected,
-            natural,
-            tolerance::DIFFERENCED,
-        ));
+        self.0
+            .push(compare(name, actual, expected, natural, tolerance::DIFFERENCED));
     }
     fn lagrangian(&mut self, name: &'static str, actual: &M, expected: &M, natural: f64) {
-        self.0.push(compare(
-            name,
-            actual,
-            expected,
-            natural,
-            tolerance::LAGRANGIAN,
-        ));
+        self.0
+            .push(compare(name, actual, expected, natural, tolerance::LAGRANGIAN));
     }
     fn identity(&mut self, name: &'static str, actual: &M, expected: &M, natural: f64) {
-        self.0.push(compare(
-            name,
-            actual,
-            expected,
-            natural,
-            tolerance::IDENTITY,
-        ));
+        self.0
+            .push(compare(name, actual, expected, natural, tolerance::IDENTITY));
     }
 }
 

@@ -94,11 +94,7 @@ pub fn random_state(model: &Model, seed: u64) -> JointState {
 pub fn arb_state(model: &Model) -> impl Strategy<Value = JointState> {
     let n = model.dof();
     let range = |(lo, hi): (f64, f64)| lo..hi;
-    let q: Vec<_> = model
-        .joints
-        .iter()
-        .map(|j| range(position_range(j)))
-        .collect();
+    let q: Vec<_> = model.joints.iter().map(|j| range(position_range(j))).collect();
     let vector = move |r| proptest::collection::vec(range(r), n);
     (
         q,

@@ -1,6 +1,8 @@
 //! `cargo xtask`: the project's developer commands. Thin: argument parsing and reporting only;
 //! the work is done by `dyngen-codegen`.
 
+mod bench_table;
+
 use clap::{Parser, Subcommand};
 use dyngen_codegen::generate::{descriptions_in, generate_into_crate, CrateReport, Mode};
 use std::path::{Path, PathBuf};
@@ -28,6 +30,8 @@ enum Command {
         #[arg(long)]
         check: bool,
     },
+    /// Print the medians of the last `cargo bench --bench dynamics` run as a Markdown table.
+    BenchTable,
 }
 
 fn workspace_root() -> PathBuf {
@@ -84,6 +88,16 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let root = workspace_root();
     match cli.command {
+        Command::BenchTable => match bench_table::table(&root.join("target/criterion")) {
+            Ok(table) => {
+                print!("{table}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("error: {e}");
+                ExitCode::FAILURE
+            }
+        },
         Command::Gen { descriptions, all, check } => {
             let list = if all {
                 match descriptions_in(&root.join("robots")) {

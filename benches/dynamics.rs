@@ -1,0 +1,131 @@
+//! Generated against generic dynamics, per quantity, on every committed robot, in one run.
+//!
+//! Each call includes the joint sines and cosines (`JointTrig::new` for generated code, the
+//! joint transforms for the generic code), as a controller pays them. Inputs cycle through 256
+//! precomputed random states, as in the Pinocchio benchmark of the reference figures.
+//! `cargo bench --bench dynamics`, then `cargo xtask bench-table` for the table.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use dyngen_codegen::description::load;
+use dyngen_codegen::dynamics::NumericDynamics;
+use dyngen_codegen::model::Model;
+use dyngen_generated::{Arm7, Panda, Ur5};
+use dyngen_runtime::nalgebra::SVector;
+use dyngen_runtime::{JointTrig, RobotDynamics};
+use std::hint::black_box;
+use std::path::Path;
+use std::time::Duration;
+
+const STATES: usize = 256;
+
+/// A deterministic random state (SplitMix64), q in ±π, velocities ±2, accelerations ±5.
+fn states(n: usize) -> Vec<[Vec<f64>; 4]> {
+    let mut s: u64 = 0x5eed;
+    let mut next = |lo: f64, hi: f64| {
+        s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = s;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        lo + (hi - lo) * ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
+    };
+    let pi = std::f64::consts::PI;
+    (0..STATES)
+        .map(|_| {
+            let q = (0..n).map(|_| next(-pi, pi)).collect();
+            let qd = (0..n).map(|_| next(-2.0, 2.0)).collect();
+            let v = (0..n).map(|_| next(-2.0, 2.0)).collect();
+            let a = (0..n).map(|_| next(-5.0, 5.0)).collect();
+            [q, qd, v, a]
+        })
+        .collect()
+}
+
+fn model(robot: &str) -> Model {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("robots/{robot}.yaml"));
+    load(&path).unwrap_or_else(|e| panic!("{e}")).model
+}
+
+/// Times `f` on each state in turn.
+fn cycle<T>(c: &mut Criterion, group: &str, id: &str, inputs: &[T], mut f: impl FnMut(&T)) {
+    let mut k = 0;
+    c.benchmark_group(group).bench_function(BenchmarkId::from_parameter(id), |b| {
+        b.iter(|| {
+            k = (k + 1) % inputs.len();
+            f(black_box(&inputs[k]))
+        })
+    });
+}
+
+fn bench_robot<R: RobotDynamics<N, P>, const N: usize, const P: usize>(c: &mut Criterion, robot: &str) {
+    let model = model(robot);
+    let generic = NumericDynamics::new(&model);
+    let raw = states(N);
+    let fixed: Vec<[SVector<f64, N>; 4]> =
+        raw.iter().map(|s| std::array::from_fn(|i| SVector::from_column_slice(&s[i]))).collect();
+    let g = |quantity: &str| format!("{robot}/{quantity}");
+
+    cycle(c, &g("fk"), "generated", &fixed, |[q, ..]| {
+        black_box(R::forward_kinematics(&JointTrig::new(q)));
+    });
+    cycle(c, &g("fk"), "generic", &raw, |[q, ..]| {
+        black_box(generic.end_effector_pose(q));
+    });
+    cycle(c, &g("jacobian"), "generated", &fixed, |[q, ..]| {
+        black_box(R::jacobian(&JointTrig::new(q)));
+    });
+    cycle(c, &g("jacobian"), "generic", &raw, |[q, ..]| {
+        black_box(generic.jacobian(q));
+    });
+    cycle(c, &g("jacobian_dot"), "generated", &fixed, |[q, qd, ..]| {
+        black_box(R::jacobian_dot(&JointTrig::new(q), qd));
+    });
+    cycle(c, &g("jacobian_dot"), "generic", &raw, |[q, qd, ..]| {
+        black_box(generic.jacobian_dot(q, qd));
+    });
+    cycle(c, &g("mass_matrix"), "generated", &fixed, |[q, ..]| {
+        black_box(R::mass_matrix(&JointTrig::new(q)));
+    });
+    cycle(c, &g("mass_matrix"), "generic", &raw, |[q, ..]| {
+        black_box(generic.mass_matrix(q));
+    });
+    cycle(c, &g("coriolis"), "generated", &fixed, |[q, qd, ..]| {
+        black_box(R::coriolis_matrix(&JointTrig::new(q), qd));
+    });
+    cycle(c, &g("coriolis"), "generic", &raw, |[q, qd, ..]| {
+        black_box(generic.coriolis_matrix(q, qd));
+    });
+    cycle(c, &g("gravity"), "generated", &fixed, |[q, ..]| {
+        black_box(R::gravity(&JointTrig::new(q)));
+    });
+    cycle(c, &g("gravity"), "generic", &raw, |[q, ..]| {
+        black_box(generic.gravity_torque(q));
+    });
+    cycle(c, &g("rnea"), "generated", &fixed, |[q, qd, _, a]| {
+        black_box(R::inverse_dynamics(&JointTrig::new(q), qd, a));
+    });
+    cycle(c, &g("rnea"), "generic", &raw, |[q, qd, _, a]| {
+        black_box(generic.inverse_dynamics(q, qd, a));
+    });
+    cycle(c, &g("regressor"), "generated", &fixed, |[q, qd, v, a]| {
+        black_box(R::regressor(&JointTrig::new(q), qd, v, a));
+    });
+    cycle(c, &g("regressor"), "generic", &raw, |[q, qd, v, a]| {
+        black_box(generic.regressor(q, qd, v, a));
+    });
+}
+
+fn dynamics(c: &mut Criterion) {
+    bench_robot::<Panda, 7, 70>(c, "panda");
+    bench_robot::<Ur5, 6, 60>(c, "ur5");
+    bench_robot::<Arm7, 7, 70>(c, "arm7");
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default()
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1))
+        .sample_size(40);
+    targets = dynamics
+}
+criterion_main!(benches);

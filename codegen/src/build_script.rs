@@ -1,0 +1,102 @@
+//! The build-script API: generate a robot into `OUT_DIR` from a downstream crate's `build.rs`,
+//! in the style of `prost-build`.
+//!
+//! In `build.rs`, `fn main() { dyngen_codegen::compile_robot("robots/panda.yaml"); }`; in
+//! `src/lib.rs`, `dyngen_runtime::include_robot!(panda);` gives `panda::Panda`.
+
+use crate::generate::{generate_robot, module_name, type_name, write_file, GenerateError};
+use std::path::{Path, PathBuf};
+
+/// Generates `description` into `$OUT_DIR/<module>.rs` with the defaults of [`Builder`]; on
+/// error, prints the message for a person and fails the build (no backtrace).
+pub fn compile_robot(description: impl AsRef<Path>) {
+    Builder::new(description).compile_or_exit();
+}
+
+/// Options for generating one robot from a build script.
+#[derive(Clone, Debug)]
+pub struct Builder {
+    description: PathBuf,
+    out_dir: Option<PathBuf>,
+    module: Option<String>,
+    type_name: Option<String>,
+    cargo_directives: bool,
+}
+
+impl Builder {
+    /// A robot description (`.yaml` or `.urdf`), relative to the crate's manifest directory.
+    pub fn new(description: impl AsRef<Path>) -> Builder {
+        Builder {
+            description: description.as_ref().to_owned(),
+            out_dir: None,
+            module: None,
+            type_name: None,
+            cargo_directives: true,
+        }
+    }
+
+    /// Where to write (default: `$OUT_DIR`).
+    pub fn out_dir(mut self, dir: impl AsRef<Path>) -> Builder {
+        self.out_dir = Some(dir.as_ref().to_owned());
+        self
+    }
+
+    /// The file and module name (default: from the description's file name, `panda.yaml` → `panda`).
+    pub fn module_name(mut self, name: impl Into<String>) -> Builder {
+        self.module = Some(name.into());
+        self
+    }
+
+    /// The generated type's name (default: the module name in CamelCase, `panda` → `Panda`).
+    pub fn type_name(mut self, name: impl Into<String>) -> Builder {
+        self.type_name = Some(name.into());
+        self
+    }
+
+    /// Whether to print `cargo:rerun-if-changed` and `cargo:warning` lines (default: yes).
+    pub fn cargo_directives(mut self, on: bool) -> Builder {
+        self.cargo_directives = on;
+        self
+    }
+
+    /// Generates the robot; returns the file written (or left as it was, if unchanged).
+    pub fn compile(self) -> Result<PathBuf, GenerateError> {
+        let out_dir = match self.out_dir {
+            Some(dir) => dir,
+            None => std::env::var_os("OUT_DIR").map(PathBuf::from).ok_or_else(|| GenerateError::Io {
+                path: PathBuf::from("$OUT_DIR"),
+                source: std::io::Error::new(std::io::ErrorKind::NotFound, "not set: call this from a build script"),
+            })?,
+        };
+        let module = self.module.unwrap_or_else(|| module_name(&self.description));
+        let ty = self.type_name.unwrap_or_else(|| type_name(&module));
+        let shown = self.description.to_string_lossy().replace('\\', "/");
+        if self.cargo_directives {
+            // Printed before generating, so a fixed description re-runs the build after an error.
+            println!("cargo:rerun-if-changed={}", self.description.display());
+        }
+        let robot = generate_robot(&self.description, &shown, &ty, "cargo build (build.rs)")?;
+        if self.cargo_directives {
+            for source in &robot.sources {
+                println!("cargo:rerun-if-changed={}", source.display());
+            }
+            for warning in &robot.warnings {
+                println!("cargo:warning={warning}");
+            }
+        }
+        let file = out_dir.join(format!("{module}.rs"));
+        write_file(&file, &robot.code)?;
+        Ok(file)
+    }
+
+    /// [`Builder::compile`], printing an error as a person reads it and exiting non-zero.
+    pub fn compile_or_exit(self) -> PathBuf {
+        match self.compile() {
+            Ok(file) => file,
+            Err(e) => {
+                eprintln!("error: dyngen could not generate the robot: {e}");
+                std::process::exit(1)
+            }
+        }
+    }
+}

@@ -1,0 +1,3 @@
+fn main() {
+    dyngen_codegen::compile_robot("../robots/panda.yaml");
+}
