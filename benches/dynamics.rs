@@ -48,20 +48,23 @@ fn model(robot: &str) -> Model {
 /// Times `f` on each state in turn.
 fn cycle<T>(c: &mut Criterion, group: &str, id: &str, inputs: &[T], mut f: impl FnMut(&T)) {
     let mut k = 0;
-    c.benchmark_group(group).bench_function(BenchmarkId::from_parameter(id), |b| {
-        b.iter(|| {
-            k = (k + 1) % inputs.len();
-            f(black_box(&inputs[k]))
-        })
-    });
+    c.benchmark_group(group)
+        .bench_function(BenchmarkId::from_parameter(id), |b| {
+            b.iter(|| {
+                k = (k + 1) % inputs.len();
+                f(black_box(&inputs[k]))
+            })
+        });
 }
 
 fn bench_robot<R: RobotDynamics<N, P>, const N: usize, const P: usize>(c: &mut Criterion, robot: &str) {
     let model = model(robot);
     let generic = NumericDynamics::new(&model);
     let raw = states(N);
-    let fixed: Vec<[SVector<f64, N>; 4]> =
-        raw.iter().map(|s| std::array::from_fn(|i| SVector::from_column_slice(&s[i]))).collect();
+    let fixed: Vec<[SVector<f64, N>; 4]> = raw
+        .iter()
+        .map(|s| std::array::from_fn(|i| SVector::from_column_slice(&s[i])))
+        .collect();
     let g = |quantity: &str| format!("{robot}/{quantity}");
 
     cycle(c, &g("fk"), "generated", &fixed, |[q, ..]| {

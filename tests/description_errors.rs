@@ -59,10 +59,7 @@ enum Src {
 fn edit(base: &str, edits: &[(&str, &str)]) -> String {
     let mut text = base.to_owned();
     for (from, to) in edits {
-        assert!(
-            text.contains(from),
-            "test bug: {from:?} is not in the base text"
-        );
+        assert!(text.contains(from), "test bug: {from:?} is not in the base text");
         text = text.replacen(from, to, 1);
     }
     text
@@ -125,9 +122,7 @@ fn check_warning(src: Src, expected: &[&str]) {
 }
 
 fn robots(file: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("robots")
-        .join(file)
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("robots").join(file)
 }
 
 fn no_options() -> UrdfOptions {
@@ -148,13 +143,7 @@ fn error_keeps_its_parts() {
     let (result, _) = run(Src::Yaml(&[("axis: [0, 0, 1]", "axis: [0, 0, 0]")], ""));
     let e = result.unwrap_err();
     assert_eq!(e.file, Path::new("bad.yaml"));
-    assert_eq!(
-        e.location,
-        Some(Location {
-            line: 13,
-            column: 11
-        })
-    );
+    assert_eq!(e.location, Some(Location { line: 13, column: 11 }));
     assert_eq!(e.item.as_deref(), Some("joint 'j1'"));
     assert_eq!(e.message, "axis [0, 0, 0] has zero length");
     assert_eq!(
@@ -205,10 +194,7 @@ fn yaml_neither_or_both_forms() {
     );
     check(
         Src::Yaml(&[("name: r\n", "name: r\nurdf: r.urdf\n")], ""),
-        &[
-            "bad.yaml:4:3",
-            "`urdf:` and `links:` cannot be used together",
-        ],
+        &["bad.yaml:4:3", "`urdf:` and `links:` cannot be used together"],
     );
 }
 
@@ -231,10 +217,7 @@ fn yaml_wrapper_with_missing_urdf_names_both_files() {
 #[test]
 fn xml_syntax_error() {
     check(
-        Src::Urdf(
-            &[("<child link=\"l1\"/>", "<child link=\"l1\">")],
-            no_options(),
-        ),
+        Src::Urdf(&[("<child link=\"l1\"/>", "<child link=\"l1\">")], no_options()),
         &["bad.urdf:9:3", "XML syntax error", "expected 'child' tag"],
     );
 }
@@ -242,15 +225,8 @@ fn xml_syntax_error() {
 #[test]
 fn urdf_malformed_number() {
     check(
-        Src::Urdf(
-            &[("<mass value=\"1\"/>", "<mass value=\"1 kg\"/>")],
-            no_options(),
-        ),
-        &[
-            "bad.urdf:4:21",
-            "link 'l1'",
-            "value=\"1 kg\" is not a number",
-        ],
+        Src::Urdf(&[("<mass value=\"1\"/>", "<mass value=\"1 kg\"/>")], no_options()),
+        &["bad.urdf:4:21", "link 'l1'", "value=\"1 kg\" is not a number"],
     );
 }
 
@@ -366,17 +342,11 @@ fn duplicate_names() {
         ],
     );
     check(
-        Src::Yaml(
-            &[],
-            "  - { name: j1, type: fixed, parent: l1, child: base }\n",
-        ),
+        Src::Yaml(&[], "  - { name: j1, type: fixed, parent: l1, child: base }\n"),
         &["bad.yaml:15:5", "joint 'j1'", "duplicate joint name"],
     );
     check(
-        Src::Urdf(
-            &[("<link name=\"l1\">", "<link name=\"base\">")],
-            no_options(),
-        ),
+        Src::Urdf(&[("<link name=\"l1\">", "<link name=\"base\">")], no_options()),
         &["bad.urdf:3:3", "link 'base'", "duplicate link name"],
     );
 }
@@ -404,11 +374,7 @@ fn dangling_link_names() {
             &[("<parent link=\"base\"/>", "<parent link=\"link9\"/>")],
             no_options(),
         ),
-        &[
-            "bad.urdf:7:5",
-            "joint 'j1'",
-            "parent link 'link9' is not defined",
-        ],
+        &["bad.urdf:7:5", "joint 'j1'", "parent link 'link9' is not defined"],
     );
 }
 
@@ -428,11 +394,7 @@ fn cycles() {
     );
     check(
         Src::Yaml(&[("child: l1", "child: base")], ""),
-        &[
-            "bad.yaml:9:5",
-            "joint 'j1'",
-            "parent and child are the same link",
-        ],
+        &["bad.yaml:9:5", "joint 'j1'", "parent and child are the same link"],
     );
 }
 
@@ -454,15 +416,8 @@ fn several_roots_and_disconnected_links() {
         ],
     );
     check(
-        Src::Yaml(
-            &[("  - name: base\n", "  - name: base\n  - name: lonely\n")],
-            "",
-        ),
-        &[
-            "bad.yaml:4:5",
-            "link 'lonely'",
-            "not connected to any joint",
-        ],
+        Src::Yaml(&[("  - name: base\n", "  - name: base\n  - name: lonely\n")], ""),
+        &["bad.yaml:4:5", "link 'lonely'", "not connected to any joint"],
     );
     check(
         Src::Urdf(
@@ -490,11 +445,7 @@ fn no_moving_joint() {
 fn nan_and_infinity_are_rejected() {
     check(
         Src::Yaml(&[("axis: [0, 0, 1]", "axis: [0, .nan, 1]")], ""),
-        &[
-            "bad.yaml:13:11",
-            "joint 'j1'",
-            "axis [0, NaN, 1] is not finite",
-        ],
+        &["bad.yaml:13:11", "joint 'j1'", "axis [0, NaN, 1] is not finite"],
     );
     check(
         Src::Yaml(&[("mass: 1.0", "mass: .inf")], ""),
@@ -543,10 +494,7 @@ fn negative_mass() {
         &["bad.yaml:6:13", "link 'l1'", "negative mass -1"],
     );
     check(
-        Src::Urdf(
-            &[("<mass value=\"1\"/>", "<mass value=\"-2\"/>")],
-            no_options(),
-        ),
+        Src::Urdf(&[("<mass value=\"1\"/>", "<mass value=\"-2\"/>")], no_options()),
         &["bad.urdf:4:15", "link 'l1'", "negative mass -2"],
     );
 }
@@ -584,11 +532,7 @@ fn mass_with_singular_inertia() {
 fn zero_length_axis() {
     check(
         Src::Yaml(&[("axis: [0, 0, 1]", "axis: [0, 0, 0]")], ""),
-        &[
-            "bad.yaml:13:11",
-            "joint 'j1'",
-            "axis [0, 0, 0] has zero length",
-        ],
+        &["bad.yaml:13:11", "joint 'j1'", "axis [0, 0, 0] has zero length"],
     );
     check(
         Src::Urdf(
@@ -666,10 +610,7 @@ fn end_effector_on_the_base() {
 #[test]
 fn unknown_locked_joint() {
     check(
-        Src::Yaml(
-            &[("name: r\n", "name: r\nlocked_joints: { j9: 0.0 }\n")],
-            "",
-        ),
+        Src::Yaml(&[("name: r\n", "name: r\nlocked_joints: { j9: 0.0 }\n")], ""),
         &["bad.yaml:2:22", "locked joint 'j9'", "unknown locked joint"],
     );
     let options = UrdfOptions {
@@ -684,7 +625,8 @@ fn unknown_locked_joint() {
 
 #[test]
 fn locked_joint_outside_its_limits() {
-    let yaml = "urdf: urdf/panda.urdf\nlocked_joints: { panda_finger_joint1: 0.05, panda_finger_joint2: 0.0 }\n";
+    let yaml =
+        "urdf: urdf/panda.urdf\nlocked_joints: { panda_finger_joint1: 0.05, panda_finger_joint2: 0.0 }\n";
     check(
         Src::YamlAt(yaml, robots("bad_panda.yaml")),
         &[
@@ -699,10 +641,7 @@ fn locked_joint_outside_its_limits() {
 fn locked_joint_twice_or_fixed() {
     check(
         Src::Yaml(
-            &[(
-                "name: r\n",
-                "name: r\nlocked_joints: { j1: 0.0, j1: 0.1 }\n",
-            )],
+            &[("name: r\n", "name: r\nlocked_joints: { j1: 0.0, j1: 0.1 }\n")],
             "",
         ),
         &["bad.yaml:2:", "joint 'j1' is locked twice"],
@@ -726,7 +665,8 @@ fn locked_joint_twice_or_fixed() {
 #[test]
 fn unlocked_mimic_joint() {
     // The error is in the URDF the wrapper points to, so the message names the URDF.
-    let yaml = "urdf: urdf/panda.urdf\nend_effector: panda_hand_tcp\nlocked_joints: { panda_finger_joint1: 0.0 }\n";
+    let yaml =
+        "urdf: urdf/panda.urdf\nend_effector: panda_hand_tcp\nlocked_joints: { panda_finger_joint1: 0.0 }\n";
     let e = description::load_yaml_str(yaml, &robots("bad_panda.yaml"))
         .unwrap_err()
         .to_string();
@@ -747,19 +687,13 @@ fn unlocked_mimic_joint() {
             ],
             "  - { name: j2, type: continuous, parent: l1, child: t, mimic: { joint: j1 } }\n",
         ),
-        &[
-            "bad.yaml:17:64",
-            "joint 'j2'",
-            "mimic joints are not supported",
-        ],
+        &["bad.yaml:17:64", "joint 'j2'", "mimic joints are not supported"],
     );
 }
 
 #[test]
 fn unknown_file_type() {
-    let e = description::load(Path::new("robot.txt"))
-        .unwrap_err()
-        .to_string();
+    let e = description::load(Path::new("robot.txt")).unwrap_err().to_string();
     assert!(e.starts_with("robot.txt: unknown file type"), "{e}");
     let e = description::load(Path::new("no/such/robot.yaml"))
         .unwrap_err()
@@ -819,11 +753,7 @@ fn point_mass_warns() {
 fn inertia_without_mass_warns() {
     check_warning(
         Src::Yaml(&[("mass: 1.0", "mass: 0.0")], ""),
-        &[
-            "bad.yaml:7:16",
-            "link 'l1'",
-            "zero mass but a non-zero inertia",
-        ],
+        &["bad.yaml:7:16", "link 'l1'", "zero mass but a non-zero inertia"],
     );
 }
 

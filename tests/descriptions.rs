@@ -21,8 +21,7 @@ fn load(rel: &str) -> Loaded {
 }
 
 fn fixture(robot: &str) -> Value {
-    let text = std::fs::read_to_string(repo(&format!("tests/fixtures/{robot}.json")))
-        .expect("fixture file");
+    let text = std::fs::read_to_string(repo(&format!("tests/fixtures/{robot}.json"))).expect("fixture file");
     serde_json::from_str(&text).expect("fixture json")
 }
 
@@ -72,18 +71,11 @@ fn assert_pose(what: &str, actual: &Pose, expected: &Pose) {
 /// Relative agreement to 1e-9 (with a floor far below any parameter of a real robot).
 fn assert_params(robot: &str, model: &Model, expected: &[f64]) {
     let actual = model.parameters();
-    assert_eq!(
-        actual.len(),
-        expected.len(),
-        "{robot}: number of parameters"
-    );
+    assert_eq!(actual.len(), expected.len(), "{robot}: number of parameters");
     let names = model.parameter_names();
     for ((a, e), name) in actual.iter().zip(expected).zip(&names) {
         let tol = 1e-9 * a.abs().max(e.abs()) + 1e-15;
-        assert!(
-            (a - e).abs() <= tol,
-            "{robot}: {name} = {a:e}, reference {e:e}"
-        );
+        assert!((a - e).abs() <= tol, "{robot}: {name} = {a:e}, reference {e:e}");
     }
 }
 
@@ -115,10 +107,7 @@ fn check_against_fixture(robot: &str, loaded: &Loaded) {
         );
         let axis = numbers(&fj["axis"]);
         assert!(
-            (joint.axis - Vector3::new(axis[0], axis[1], axis[2]))
-                .abs()
-                .max()
-                <= 1e-12,
+            (joint.axis - Vector3::new(axis[0], axis[1], axis[2])).abs().max() <= 1e-12,
             "{what}: axis"
         );
         assert_eq!(joint.kind, JointKind::Revolute, "{what}: kind");
@@ -131,11 +120,7 @@ fn check_against_fixture(robot: &str, loaded: &Loaded) {
     assert_params(robot, model, &numbers(&fx["pi"]));
 
     let ee = &model.end_effector;
-    assert_eq!(
-        ee.name,
-        fx["ee_frame"].as_str().unwrap(),
-        "{robot}: ee frame"
-    );
+    assert_eq!(ee.name, fx["ee_frame"].as_str().unwrap(), "{robot}: ee frame");
     assert_eq!(
         Some(ee.parent),
         index(fx["ee_parent_joint"].as_str().unwrap()),
@@ -201,10 +186,7 @@ fn panda_with_fingers_free_is_refused_because_of_the_mimic_joint() {
     let loaded = description::load_urdf_str(&text, file, &options).unwrap();
     assert_eq!(loaded.model.dof(), 8);
     assert!(
-        loaded
-            .warnings
-            .iter()
-            .any(|w| w.contains("will not follow")),
+        loaded.warnings.iter().any(|w| w.contains("will not follow")),
         "{:?}",
         loaded.warnings
     );
@@ -258,10 +240,7 @@ fn arm7_is_a_realistic_seven_axis_arm() {
             i[(0, 1)] != 0.0 || i[(0, 2)] != 0.0 || i[(1, 2)] != 0.0
         })
         .count();
-    assert!(
-        products >= 3,
-        "only {products} bodies have products of inertia"
-    );
+    assert!(products >= 3, "only {products} bodies have products of inertia");
     // non-zero offsets off the axis line (the iiwa links are not DH-shaped)
     assert!(m.joints.iter().any(|j| j.origin.translation.y != 0.0));
     let moving_mass: f64 = m.bodies.iter().map(|b| b.inertia.mass).sum();
@@ -317,9 +296,8 @@ const TREE_URDF: &str = r#"<?xml version="1.0"?>
 
 #[test]
 fn branching_tree_gets_depth_first_order_and_right_parents() {
-    let loaded =
-        description::load_urdf_str(TREE_URDF, Path::new("twins.urdf"), &UrdfOptions::default())
-            .unwrap_or_else(|e| panic!("{e}"));
+    let loaded = description::load_urdf_str(TREE_URDF, Path::new("twins.urdf"), &UrdfOptions::default())
+        .unwrap_or_else(|e| panic!("{e}"));
     let m = &loaded.model;
     let names: Vec<&str> = m.joints.iter().map(|j| j.name.as_str()).collect();
     // depth-first, children in file order: waist's children are left1, (sensor), (mount → right1)
@@ -364,14 +342,8 @@ fn end_effector_with_offset_and_gravity_from_options() {
         .unwrap()
         .model;
     assert_eq!(m.end_effector.name, "probe");
-    assert_eq!(
-        m.end_effector.parent, 0,
-        "the sensor rides on the waist joint"
-    );
-    assert_eq!(
-        m.end_effector.placement.translation,
-        Vector3::new(0.1, 0.0, 0.35)
-    );
+    assert_eq!(m.end_effector.parent, 0, "the sensor rides on the waist joint");
+    assert_eq!(m.end_effector.placement.translation, Vector3::new(0.1, 0.0, 0.35));
     assert_eq!(m.gravity, Vector3::new(0.0, -9.81, 0.0));
 }
 
@@ -480,10 +452,9 @@ fn same_robot_in_yaml_and_urdf_gives_the_same_model() {
         locked_joints: vec![("lock".into(), 0.25)],
         gravity: None,
     };
-    let from_urdf =
-        description::load_urdf_str(SAME_URDF, Path::new("same.urdf"), &options).unwrap();
-    let from_yaml = description::load_yaml_str(SAME_YAML, Path::new("same.yaml"))
-        .unwrap_or_else(|e| panic!("{e}"));
+    let from_urdf = description::load_urdf_str(SAME_URDF, Path::new("same.urdf"), &options).unwrap();
+    let from_yaml =
+        description::load_yaml_str(SAME_YAML, Path::new("same.yaml")).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(from_yaml.model, from_urdf.model);
     let m = &from_yaml.model;
     assert_eq!(m.dof(), 3);

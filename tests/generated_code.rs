@@ -18,7 +18,9 @@ const TOL_GENERIC: f64 = 1e-10;
 const TOL_FIXTURE: f64 = 1e-9;
 
 fn model(robot: &str) -> Model {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots").join(format!("{robot}.yaml"));
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("robots")
+        .join(format!("{robot}.yaml"));
     load(&path).unwrap_or_else(|e| panic!("{e}")).model
 }
 
@@ -45,27 +47,87 @@ fn compare<R: RobotDynamics<N, P>, const N: usize, const P: usize>(
     let pose = R::forward_kinematics(&t);
     let (rot, pos) = generic.end_effector_pose(q);
     assert_close(&format!("{at}: ee rotation"), &dm(&pose.rotation), &dm(&rot), tol);
-    assert_close(&format!("{at}: ee translation"), &dm(&pose.translation), &dm(&pos), tol);
-    assert_close(&format!("{at}: J"), &dm(&R::jacobian(&t)), &generic.jacobian(q), tol);
-    assert_close(&format!("{at}: J̇"), &dm(&R::jacobian_dot(&t, &qd_)), &generic.jacobian_dot(q, qd), tol);
-    assert_close(&format!("{at}: D"), &dm(&R::mass_matrix(&t)), &generic.mass_matrix(q), tol);
-    assert_close(&format!("{at}: C"), &dm(&R::coriolis_matrix(&t, &qd_)), &generic.coriolis_matrix(q, qd), tol);
-    assert_close(&format!("{at}: g"), &dm(&R::gravity(&t)), &column(generic.gravity_torque(q).as_slice()), tol);
+    assert_close(
+        &format!("{at}: ee translation"),
+        &dm(&pose.translation),
+        &dm(&pos),
+        tol,
+    );
+    assert_close(
+        &format!("{at}: J"),
+        &dm(&R::jacobian(&t)),
+        &generic.jacobian(q),
+        tol,
+    );
+    assert_close(
+        &format!("{at}: J̇"),
+        &dm(&R::jacobian_dot(&t, &qd_)),
+        &generic.jacobian_dot(q, qd),
+        tol,
+    );
+    assert_close(
+        &format!("{at}: D"),
+        &dm(&R::mass_matrix(&t)),
+        &generic.mass_matrix(q),
+        tol,
+    );
+    assert_close(
+        &format!("{at}: C"),
+        &dm(&R::coriolis_matrix(&t, &qd_)),
+        &generic.coriolis_matrix(q, qd),
+        tol,
+    );
+    assert_close(
+        &format!("{at}: g"),
+        &dm(&R::gravity(&t)),
+        &column(generic.gravity_torque(q).as_slice()),
+        tol,
+    );
     let tau = generic.inverse_dynamics(q, qd, a);
-    assert_close(&format!("{at}: τ"), &dm(&R::inverse_dynamics(&t, &qd_, &a_)), &column(tau.as_slice()), tol);
+    assert_close(
+        &format!("{at}: τ"),
+        &dm(&R::inverse_dynamics(&t, &qd_, &a_)),
+        &column(tau.as_slice()),
+        tol,
+    );
     let sl = generic.slotine_li(q, qd, v, a, true);
-    assert_close(&format!("{at}: Slotine–Li"), &dm(&R::slotine_li(&t, &qd_, &v_, &a_)), &column(sl.as_slice()), tol);
-    assert_close(&format!("{at}: Y"), &dm(&R::regressor(&t, &qd_, &v_, &a_)), &generic.regressor(q, qd, v, a), tol);
+    assert_close(
+        &format!("{at}: Slotine–Li"),
+        &dm(&R::slotine_li(&t, &qd_, &v_, &a_)),
+        &column(sl.as_slice()),
+        tol,
+    );
+    assert_close(
+        &format!("{at}: Y"),
+        &dm(&R::regressor(&t, &qd_, &v_, &a_)),
+        &generic.regressor(q, qd, v, a),
+        tol,
+    );
 }
 
 fn against_generic<R: RobotDynamics<N, P>, const N: usize, const P: usize>(robot: &str) {
     let model = model(robot);
-    assert_eq!(R::JOINT_NAMES.to_vec(), model.joints.iter().map(|j| j.name.as_str()).collect::<Vec<_>>());
-    assert_eq!(R::parameters().as_slice(), model.parameters().as_slice(), "{robot}: θ");
+    assert_eq!(
+        R::JOINT_NAMES.to_vec(),
+        model.joints.iter().map(|j| j.name.as_str()).collect::<Vec<_>>()
+    );
+    assert_eq!(
+        R::parameters().as_slice(),
+        model.parameters().as_slice(),
+        "{robot}: θ"
+    );
     let generic = NumericDynamics::new(&model);
     for seed in 0..STATES {
         let s = random_state(&model, seed);
-        compare::<R, N, P>(&generic, &s.q, &s.qd, &s.v, &s.a, TOL_GENERIC, &format!("{robot} seed {seed}"));
+        compare::<R, N, P>(
+            &generic,
+            &s.q,
+            &s.qd,
+            &s.v,
+            &s.a,
+            TOL_GENERIC,
+            &format!("{robot} seed {seed}"),
+        );
     }
 }
 
@@ -87,21 +149,46 @@ fn ur5_generated_matches_generic() {
 /// Generated code for the described robot against Pinocchio's values for the same URDF.
 fn against_fixture<R: RobotDynamics<N, P>, const N: usize, const P: usize>(robot: &str) {
     let fx = fixture::load(robot);
-    assert_close(&format!("{robot} θ"), &dm(&R::parameters()), &column(&fx.pi), TOL_FIXTURE);
+    assert_close(
+        &format!("{robot} θ"),
+        &dm(&R::parameters()),
+        &column(&fx.pi),
+        TOL_FIXTURE,
+    );
     for (k, s) in fx.states.iter().enumerate() {
         let at = |what: &str| format!("{robot} fixture state {k}: {what}");
         let t = JointTrig::new(&sv::<N>(&s.q));
         let (v, a, vr, ar) = (sv::<N>(&s.v), sv::<N>(&s.a), sv::<N>(&s.vr), sv::<N>(&s.ar));
         let pose = R::forward_kinematics(&t);
-        assert_close(&at("ee rotation"), &dm(&pose.rotation), &s.ee_rotation, TOL_FIXTURE);
-        assert_close(&at("ee translation"), &dm(&pose.translation), &column(&s.ee_translation), TOL_FIXTURE);
+        assert_close(
+            &at("ee rotation"),
+            &dm(&pose.rotation),
+            &s.ee_rotation,
+            TOL_FIXTURE,
+        );
+        assert_close(
+            &at("ee translation"),
+            &dm(&pose.translation),
+            &column(&s.ee_translation),
+            TOL_FIXTURE,
+        );
         assert_close(&at("J"), &dm(&R::jacobian(&t)), &s.j, TOL_FIXTURE);
         assert_close(&at("J̇"), &dm(&R::jacobian_dot(&t, &v)), &s.jdot, TOL_FIXTURE);
         assert_close(&at("D"), &dm(&R::mass_matrix(&t)), &s.d, TOL_FIXTURE);
         assert_close(&at("C"), &dm(&R::coriolis_matrix(&t, &v)), &s.c, TOL_FIXTURE);
         assert_close(&at("g"), &dm(&R::gravity(&t)), &column(&s.g), TOL_FIXTURE);
-        assert_close(&at("τ"), &dm(&R::inverse_dynamics(&t, &v, &a)), &column(&s.tau), TOL_FIXTURE);
-        assert_close(&at("Slotine–Li τ"), &dm(&R::slotine_li(&t, &v, &vr, &ar)), &column(&s.tau_ref), TOL_FIXTURE);
+        assert_close(
+            &at("τ"),
+            &dm(&R::inverse_dynamics(&t, &v, &a)),
+            &column(&s.tau),
+            TOL_FIXTURE,
+        );
+        assert_close(
+            &at("Slotine–Li τ"),
+            &dm(&R::slotine_li(&t, &v, &vr, &ar)),
+            &column(&s.tau_ref),
+            TOL_FIXTURE,
+        );
         assert_close(&at("Y"), &dm(&R::regressor(&t, &v, &v, &a)), &s.y, TOL_FIXTURE);
     }
 }

@@ -18,14 +18,19 @@ fn committed_generated_code_is_fresh() {
     let report = generate_into_crate(root(), &root().join("generated/src"), &robots(), Mode::Check)
         .unwrap_or_else(|e| panic!("{e}"));
     let stale = report.changed();
-    assert!(stale.is_empty(), "stale generated code, run `cargo xtask gen --all`: {stale:?}");
+    assert!(
+        stale.is_empty(),
+        "stale generated code, run `cargo xtask gen --all`: {stale:?}"
+    );
     assert_eq!(report.robots.len(), robots().len());
 }
 
 const CHILD: &str = "DYNGEN_DETERMINISM_CHILD";
 
 fn generate(path: &Path) -> String {
-    generate_robot(path, "robots/x", "Robot", "cargo xtask gen robots/x").unwrap_or_else(|e| panic!("{e}")).code
+    generate_robot(path, "robots/x", "Robot", "cargo xtask gen robots/x")
+        .unwrap_or_else(|e| panic!("{e}"))
+        .code
 }
 
 /// In the child process: print the generated code of the robot named by the environment.
@@ -42,9 +47,20 @@ fn generation_is_byte_identical_across_processes_and_order() {
     // Reverse order in this process: nothing may depend on what was generated before.
     let here: Vec<String> = robots.iter().rev().map(|r| generate(r)).rev().collect();
     for (robot, code) in robots.iter().zip(&here) {
-        assert_eq!(code, &generate(robot), "{}: two runs in one process differ", robot.display());
+        assert_eq!(
+            code,
+            &generate(robot),
+            "{}: two runs in one process differ",
+            robot.display()
+        );
         let out = Command::new(std::env::current_exe().expect("test binary"))
-            .args(["determinism_child", "--exact", "--nocapture", "--quiet", "--test-threads=1"])
+            .args([
+                "determinism_child",
+                "--exact",
+                "--nocapture",
+                "--quiet",
+                "--test-threads=1",
+            ])
             .env(CHILD, robot)
             .output()
             .expect("child test process runs");

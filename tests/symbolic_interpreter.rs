@@ -12,7 +12,14 @@ use nalgebra::DMatrix;
 const TOL: f64 = 1e-10;
 
 /// The interpreter's value of a quantity, in the shape the generic code returns.
-fn interpreted(robot: &SymbolicRobot, name: &str, q: &[f64], qd: &[f64], v: &[f64], a: &[f64]) -> DMatrix<f64> {
+fn interpreted(
+    robot: &SymbolicRobot,
+    name: &str,
+    q: &[f64],
+    qd: &[f64],
+    v: &[f64],
+    a: &[f64],
+) -> DMatrix<f64> {
     let values = robot.evaluate(name, q, qd, v, a).expect("quantity exists");
     match robot.quantity(name).expect("quantity").shape {
         Shape::Vector(n) => DMatrix::from_column_slice(n, 1, &values),
@@ -41,7 +48,12 @@ pub fn check_state(model: &Model, robot: &SymbolicRobot, q: &[f64], qd: &[f64], 
         ("regressor", generic.regressor(q, qd, v, a)),
     ];
     for (name, want) in expected {
-        assert_close(&format!("{} {name}", model.name), &interpreted(robot, name, q, qd, v, a), &want, TOL);
+        assert_close(
+            &format!("{} {name}", model.name),
+            &interpreted(robot, name, q, qd, v, a),
+            &want,
+            TOL,
+        );
     }
 }
 
@@ -56,7 +68,10 @@ fn fixture_robots_interpreted_graph_matches_generic_dynamics() {
         }
         for qn in &robot.quantities {
             let c = robot.graph.op_counts(&qn.outputs);
-            eprintln!("{name} {:<20} mul {:>5} add {:>5} neg {:>4} trig {}", qn.name, c.mul, c.add, c.neg, c.trig);
+            eprintln!(
+                "{name} {:<20} mul {:>5} add {:>5} neg {:>4} trig {}",
+                qn.name, c.mul, c.add, c.neg, c.trig
+            );
         }
     }
 }

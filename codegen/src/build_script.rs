@@ -63,10 +63,15 @@ impl Builder {
     pub fn compile(self) -> Result<PathBuf, GenerateError> {
         let out_dir = match self.out_dir {
             Some(dir) => dir,
-            None => std::env::var_os("OUT_DIR").map(PathBuf::from).ok_or_else(|| GenerateError::Io {
-                path: PathBuf::from("$OUT_DIR"),
-                source: std::io::Error::new(std::io::ErrorKind::NotFound, "not set: call this from a build script"),
-            })?,
+            None => std::env::var_os("OUT_DIR")
+                .map(PathBuf::from)
+                .ok_or_else(|| GenerateError::Io {
+                    path: PathBuf::from("$OUT_DIR"),
+                    source: std::io::Error::new(
+                        std::io::ErrorKind::NotFound,
+                        "not set: call this from a build script",
+                    ),
+                })?,
         };
         let module = self.module.unwrap_or_else(|| module_name(&self.description));
         let ty = self.type_name.unwrap_or_else(|| type_name(&module));

@@ -4,10 +4,12 @@
 //! Invariant: this crate never depends on the generator; generated code depends only on this
 //! crate and `nalgebra`.
 
+mod parameterization;
 mod robot;
 
-pub use robot::{JointTrig, Pose, RobotDynamics};
 pub use nalgebra;
+pub use parameterization::{Base, BaseParameters, Parameterization, Standard};
+pub use robot::{JointTrig, Pose, RobotDynamics};
 
 /// Includes a robot generated into `OUT_DIR` by a build script (`dyngen_codegen::compile_robot`)
 /// as module `$module`, with the attributes that flattened generated code needs (an included
@@ -17,7 +19,7 @@ pub use nalgebra;
 #[macro_export]
 macro_rules! include_robot {
     ($module:ident) => {
-        #[rustfmt::skip]
+#[rustfmt::skip]
         #[allow(
             clippy::approx_constant,
             clippy::excessive_precision,

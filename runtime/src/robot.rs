@@ -14,7 +14,11 @@ pub struct JointTrig<const N: usize> {
 impl<const N: usize> JointTrig<N> {
     pub fn new(q: &SVector<f64, N>) -> Self {
         let q: [f64; N] = q.data.0[0];
-        JointTrig { q, sin: q.map(f64::sin), cos: q.map(f64::cos) }
+        JointTrig {
+            q,
+            sin: q.map(f64::sin),
+            cos: q.map(f64::cos),
+        }
     }
 }
 
@@ -57,7 +61,17 @@ pub trait RobotDynamics<const N: usize, const P: usize> {
     /// Inverse dynamics `τ = D q̈ + C q̇ + g`.
     fn inverse_dynamics(t: &JointTrig<N>, qd: &SVector<f64, N>, qdd: &SVector<f64, N>) -> SVector<f64, N>;
     /// Slotine–Li torque `D a + C v + g` at the reference velocity `v` and acceleration `a`.
-    fn slotine_li(t: &JointTrig<N>, qd: &SVector<f64, N>, v: &SVector<f64, N>, a: &SVector<f64, N>) -> SVector<f64, N>;
+    fn slotine_li(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+        a: &SVector<f64, N>,
+    ) -> SVector<f64, N>;
     /// Slotine–Li regressor `Y(q, q̇, v, a)` with `Y θ = D a + C v + g`.
-    fn regressor(t: &JointTrig<N>, qd: &SVector<f64, N>, v: &SVector<f64, N>, a: &SVector<f64, N>) -> SMatrix<f64, N, P>;
+    fn regressor(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+        a: &SVector<f64, N>,
+    ) -> SMatrix<f64, N, P>;
 }

@@ -31,7 +31,11 @@ pub struct Fixture {
 }
 
 fn vector(v: &Value) -> Vec<f64> {
-    v.as_array().expect("array").iter().map(|x| x.as_f64().expect("number")).collect()
+    v.as_array()
+        .expect("array")
+        .iter()
+        .map(|x| x.as_f64().expect("number"))
+        .collect()
 }
 
 pub fn matrix(v: &Value) -> DMatrix<f64> {
@@ -41,12 +45,16 @@ pub fn matrix(v: &Value) -> DMatrix<f64> {
 
 fn pose(v: &Value) -> Pose {
     let r = matrix(&v["rotation"]);
-    Pose { rotation: Matrix3::from_fn(|i, j| r[(i, j)]), translation: Vector3::from_vec(vector(&v["translation"])) }
+    Pose {
+        rotation: Matrix3::from_fn(|i, j| r[(i, j)]),
+        translation: Vector3::from_vec(vector(&v["translation"])),
+    }
 }
 
 pub fn load(robot: &str) -> Fixture {
     let path = format!("{}/tests/fixtures/{robot}.json", env!("CARGO_MANIFEST_DIR"));
-    let json: Value = serde_json::from_str(&std::fs::read_to_string(&path).expect("fixture file")).expect("json");
+    let json: Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).expect("fixture file")).expect("json");
     let states = json["states"]
         .as_array()
         .expect("states")
@@ -69,9 +77,19 @@ pub fn load(robot: &str) -> Fixture {
             y: matrix(&s["Y"]),
         })
         .collect();
-    let joint_names = json["joint_names"].as_array().unwrap().iter().map(|n| n.as_str().unwrap().to_owned()).collect();
+    let joint_names = json["joint_names"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n.as_str().unwrap().to_owned())
+        .collect();
     let pi = vector(&json["pi"]);
-    Fixture { json, joint_names, pi, states }
+    Fixture {
+        json,
+        joint_names,
+        pi,
+        states,
+    }
 }
 
 impl Fixture {
@@ -112,7 +130,10 @@ impl Fixture {
                 },
             })
             .collect();
-        let ee_parent = names.iter().position(|n| n == j["ee_parent_joint"].as_str().unwrap()).unwrap();
+        let ee_parent = names
+            .iter()
+            .position(|n| n == j["ee_parent_joint"].as_str().unwrap())
+            .unwrap();
         Model {
             name: j["robot"].as_str().unwrap().to_owned(),
             joints,

@@ -15,11 +15,17 @@ fn median_ns(dir: &Path) -> Option<f64> {
 pub fn table(criterion: &Path) -> Result<String, String> {
     let mut rows: BTreeMap<(String, String), (Option<f64>, Option<f64>)> = BTreeMap::new();
     // Criterion names a group "robot/quantity" directory "robot_quantity".
-    let entries = std::fs::read_dir(criterion)
-        .map_err(|e| format!("{}: {e} (run `cargo bench --bench dynamics` first)", criterion.display()))?;
+    let entries = std::fs::read_dir(criterion).map_err(|e| {
+        format!(
+            "{}: {e} (run `cargo bench --bench dynamics` first)",
+            criterion.display()
+        )
+    })?;
     for entry in entries.flatten() {
         let group = entry.file_name().to_string_lossy().into_owned();
-        let Some((robot, quantity)) = group.split_once('_') else { continue };
+        let Some((robot, quantity)) = group.split_once('_') else {
+            continue;
+        };
         let generated = median_ns(&entry.path().join("generated"));
         let generic = median_ns(&entry.path().join("generic"));
         if generated.is_some() || generic.is_some() {
@@ -35,7 +41,11 @@ pub fn table(criterion: &Path) -> Result<String, String> {
             (Some(a), Some(b)) => format!("{:.1}×", b / a),
             _ => "–".to_owned(),
         };
-        out += &format!("| {robot} | {quantity} | {} | {} | {ratio} |\n", fmt(generated), fmt(generic));
+        out += &format!(
+            "| {robot} | {quantity} | {} | {} | {ratio} |\n",
+            fmt(generated),
+            fmt(generic)
+        );
     }
     Ok(out)
 }

@@ -35,7 +35,10 @@ enum Command {
 }
 
 fn workspace_root() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).parent().map(Path::to_path_buf).unwrap_or_default()
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .parent()
+        .map(Path::to_path_buf)
+        .unwrap_or_default()
 }
 
 /// A path as the user typed it, else relative to the workspace root (so the command works
@@ -65,7 +68,13 @@ fn print_summary(report: &CrateReport, check: bool) {
         };
         println!(
             "{} → {} ({state})\n  {} DOF, {} parameters, generated in {:.2} s",
-            shown(r.robot.sources.first().map(PathBuf::as_path).unwrap_or(Path::new(""))),
+            shown(
+                r.robot
+                    .sources
+                    .first()
+                    .map(PathBuf::as_path)
+                    .unwrap_or(Path::new(""))
+            ),
             shown(&r.file),
             m.dof(),
             m.parameters().len(),
@@ -77,9 +86,15 @@ fn print_summary(report: &CrateReport, check: bool) {
         for warning in &r.robot.warnings {
             println!("  warning: {warning}");
         }
-        println!("  {:<20} {:>7} {:>7} {:>5} {:>5}", "function", "mul", "add", "neg", "trig");
+        println!(
+            "  {:<20} {:>7} {:>7} {:>5} {:>5}",
+            "function", "mul", "add", "neg", "trig"
+        );
         for (name, c) in &r.robot.op_counts {
-            println!("  {name:<20} {:>7} {:>7} {:>5} {:>5}", c.mul, c.add, c.neg, c.trig);
+            println!(
+                "  {name:<20} {:>7} {:>7} {:>5} {:>5}",
+                c.mul, c.add, c.neg, c.trig
+            );
         }
     }
 }
@@ -98,7 +113,11 @@ fn main() -> ExitCode {
                 ExitCode::FAILURE
             }
         },
-        Command::Gen { descriptions, all, check } => {
+        Command::Gen {
+            descriptions,
+            all,
+            check,
+        } => {
             let list = if all {
                 match descriptions_in(&root.join("robots")) {
                     Ok(list) => list,

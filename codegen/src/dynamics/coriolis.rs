@@ -28,7 +28,9 @@ pub fn coriolis_matrix<S: Scalar>(
     let n = model.dof();
     let mut vel: Vec<Motion<S>> = Vec::with_capacity(n);
     for (i, joint) in model.joints.iter().enumerate() {
-        let from_parent = joint.parent.map_or(Motion::zero(), |p| x[i].motion_to_child(&vel[p]));
+        let from_parent = joint
+            .parent
+            .map_or(Motion::zero(), |p| x[i].motion_to_child(&vel[p]));
         vel.push(from_parent + joint_motion(joint, qd[i]));
     }
     let mut ic = inertias.to_vec();

@@ -37,7 +37,10 @@ pub fn joint_transform<S: Scalar>(joint: &Joint, q: S) -> Transform<S> {
     match joint.kind {
         JointKind::Revolute => {
             let a = [joint.axis.x, joint.axis.y, joint.axis.z];
-            Transform { rot: origin.rot * axis_rotation(a, q.sin(), q.cos()), pos: origin.pos }
+            Transform {
+                rot: origin.rot * axis_rotation(a, q.sin(), q.cos()),
+                pos: origin.pos,
+            }
         }
         JointKind::Prismatic => Transform {
             rot: origin.rot,
@@ -48,15 +51,26 @@ pub fn joint_transform<S: Scalar>(joint: &Joint, q: S) -> Transform<S> {
 
 /// Every joint's transform at `q`: the only place where sines and cosines are taken.
 pub fn joint_transforms<S: Scalar>(model: &Model, q: &[S]) -> Vec<Transform<S>> {
-    model.joints.iter().zip(q).map(|(j, &qi)| joint_transform(j, qi)).collect()
+    model
+        .joints
+        .iter()
+        .zip(q)
+        .map(|(j, &qi)| joint_transform(j, qi))
+        .collect()
 }
 
 /// `S·x`: the spatial motion of the joint's body for joint rate `x`, in the joint frame.
 pub(crate) fn joint_motion<S: Scalar>(joint: &Joint, x: S) -> Motion<S> {
     let v = axis::<S>(joint).scale(x);
     match joint.kind {
-        JointKind::Revolute => Motion { ang: v, lin: Vec3::zero() },
-        JointKind::Prismatic => Motion { ang: Vec3::zero(), lin: v },
+        JointKind::Revolute => Motion {
+            ang: v,
+            lin: Vec3::zero(),
+        },
+        JointKind::Prismatic => Motion {
+            ang: Vec3::zero(),
+            lin: v,
+        },
     }
 }
 

@@ -15,12 +15,12 @@ mod numeric;
 mod regressor;
 mod slotine_li;
 
+pub use coriolis::coriolis_matrix;
 pub use crba::mass_matrix;
 pub use joint::{joint_transform, joint_transforms};
-pub use numeric::{Configuration, NumericDynamics};
 pub use kinematics::{body_poses, end_effector_pose, jacobian, jacobian_dot};
+pub use numeric::{Configuration, NumericDynamics};
 pub use regressor::regressor;
-pub use coriolis::coriolis_matrix;
 pub use slotine_li::{gravity_torque, inverse_dynamics, slotine_li};
 
 use crate::model::Model;

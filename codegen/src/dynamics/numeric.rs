@@ -24,24 +24,39 @@ fn to_matrix3(t: &Transform<f64>) -> Matrix3<f64> {
 
 impl<'m> NumericDynamics<'m> {
     pub fn new(model: &'m Model) -> Self {
-        NumericDynamics { model, inertias: body_inertias(model) }
+        NumericDynamics {
+            model,
+            inertias: body_inertias(model),
+        }
     }
 
     /// The same model with other inertial parameters θ (ten per body).
     pub fn with_parameters(model: &'m Model, theta: &[f64]) -> Self {
-        assert_eq!(theta.len(), crate::model::PARAMS_PER_BODY * model.dof(), "θ has the wrong length");
-        NumericDynamics { model, inertias: inertias_from_parameters(theta) }
+        assert_eq!(
+            theta.len(),
+            crate::model::PARAMS_PER_BODY * model.dof(),
+            "θ has the wrong length"
+        );
+        NumericDynamics {
+            model,
+            inertias: inertias_from_parameters(theta),
+        }
     }
 
     pub fn configuration(&self, q: &[f64]) -> Configuration {
         assert_eq!(q.len(), self.model.dof(), "q has the wrong length");
-        Configuration { transforms: joint_transforms(self.model, q) }
+        Configuration {
+            transforms: joint_transforms(self.model, q),
+        }
     }
 
     /// Every body's pose in the base frame (rotation, translation).
     pub fn body_poses(&self, q: &[f64]) -> Vec<(Matrix3<f64>, Vector3<f64>)> {
         let world = body_poses(self.model, &self.configuration(q).transforms);
-        world.iter().map(|t| (to_matrix3(t), Vector3::from(t.pos.0))).collect()
+        world
+            .iter()
+            .map(|t| (to_matrix3(t), Vector3::from(t.pos.0)))
+            .collect()
     }
 
     /// End-effector pose in the base frame (rotation, translation).
@@ -52,11 +67,18 @@ impl<'m> NumericDynamics<'m> {
     }
 
     pub fn jacobian(&self, q: &[f64]) -> DMatrix<f64> {
-        jacobian(self.model, &body_poses(self.model, &self.configuration(q).transforms))
+        jacobian(
+            self.model,
+            &body_poses(self.model, &self.configuration(q).transforms),
+        )
     }
 
     pub fn jacobian_dot(&self, q: &[f64], qd: &[f64]) -> DMatrix<f64> {
-        jacobian_dot(self.model, &body_poses(self.model, &self.configuration(q).transforms), qd)
+        jacobian_dot(
+            self.model,
+            &body_poses(self.model, &self.configuration(q).transforms),
+            qd,
+        )
     }
 
     pub fn mass_matrix(&self, q: &[f64]) -> DMatrix<f64> {
@@ -68,7 +90,11 @@ impl<'m> NumericDynamics<'m> {
     }
 
     pub fn gravity_torque(&self, q: &[f64]) -> DVector<f64> {
-        DVector::from_vec(gravity_torque(self.model, &self.configuration(q).transforms, &self.inertias))
+        DVector::from_vec(gravity_torque(
+            self.model,
+            &self.configuration(q).transforms,
+            &self.inertias,
+        ))
     }
 
     pub fn inverse_dynamics(&self, q: &[f64], qd: &[f64], qdd: &[f64]) -> DVector<f64> {
@@ -77,7 +103,14 @@ impl<'m> NumericDynamics<'m> {
     }
 
     /// `D(q) a + C(q, q̇) v + g(q)`, with gravity switched off when `with_gravity` is false.
-    pub fn slotine_li(&self, q: &[f64], qd: &[f64], v: &[f64], a: &[f64], with_gravity: bool) -> DVector<f64> {
+    pub fn slotine_li(
+        &self,
+        q: &[f64],
+        qd: &[f64],
+        v: &[f64],
+        a: &[f64],
+        with_gravity: bool,
+    ) -> DVector<f64> {
         let x = self.configuration(q).transforms;
         let g = with_gravity.then(|| Vec3(self.model.gravity.into()));
         DVector::from_vec(slotine_li(self.model, &x, &self.inertias, qd, v, a, g))

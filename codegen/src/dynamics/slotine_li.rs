@@ -29,7 +29,10 @@ pub(crate) fn forward_pass<S: Scalar>(
     gravity: Option<Vec3<S>>,
 ) -> Vec<BodyMotion<S>> {
     // Gravity enters as an upward acceleration of the base (Featherstone's trick).
-    let base = Motion { ang: Vec3::zero(), lin: gravity.map_or(Vec3::zero(), |g| -g) };
+    let base = Motion {
+        ang: Vec3::zero(),
+        lin: gravity.map_or(Vec3::zero(), |g| -g),
+    };
     let mut out: Vec<BodyMotion<S>> = Vec::with_capacity(model.dof());
     for (i, joint) in model.joints.iter().enumerate() {
         let (vel0, w0, wdot0) = match joint.parent {
@@ -62,8 +65,11 @@ pub fn slotine_li<S: Scalar>(
     gravity: Option<Vec3<S>>,
 ) -> Vec<S> {
     let motions = forward_pass(model, x, qd, v, a, gravity);
-    let mut f: Vec<Force<S>> =
-        motions.iter().zip(inertias).map(|(m, inertia)| body_force(inertia, m)).collect();
+    let mut f: Vec<Force<S>> = motions
+        .iter()
+        .zip(inertias)
+        .map(|(m, inertia)| body_force(inertia, m))
+        .collect();
     let mut tau = vec![S::zero(); model.dof()];
     for (i, joint) in model.joints.iter().enumerate().rev() {
         tau[i] = joint_force(joint, &f[i]);
@@ -93,6 +99,13 @@ pub fn inverse_dynamics<S: Scalar>(
 /// Generalized gravity `g(q)`.
 pub fn gravity_torque<S: Scalar>(model: &Model, x: &[Transform<S>], inertias: &[RigidInertia<S>]) -> Vec<S> {
     let zero = vec![S::zero(); model.dof()];
-    slotine_li(model, x, inertias, &zero, &zero, &zero, Some(gravity_vector(model)))
+    slotine_li(
+        model,
+        x,
+        inertias,
+        &zero,
+        &zero,
+        &zero,
+        Some(gravity_vector(model)),
+    )
 }
-

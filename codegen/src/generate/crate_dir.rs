@@ -33,8 +33,12 @@ pub struct CrateReport {
 impl CrateReport {
     /// Files that were stale (check mode) or rewritten (write mode).
     pub fn changed(&self) -> Vec<&Path> {
-        let mut files: Vec<&Path> =
-            self.robots.iter().filter(|r| r.outcome == WriteOutcome::Written).map(|r| r.file.as_path()).collect();
+        let mut files: Vec<&Path> = self
+            .robots
+            .iter()
+            .filter(|r| r.outcome == WriteOutcome::Written)
+            .map(|r| r.file.as_path())
+            .collect();
         if self.crate_root.1 == WriteOutcome::Written {
             files.push(&self.crate_root.0);
         }
@@ -46,12 +50,18 @@ impl CrateReport {
 fn relative(root: &Path, path: &Path) -> String {
     let abs = path.canonicalize().unwrap_or_else(|_| path.to_owned());
     let root = root.canonicalize().unwrap_or_else(|_| root.to_owned());
-    abs.strip_prefix(&root).unwrap_or(&abs).to_string_lossy().replace('\\', "/")
+    abs.strip_prefix(&root)
+        .unwrap_or(&abs)
+        .to_string_lossy()
+        .replace('\\', "/")
 }
 
 /// Modules already generated in `src` (files that carry dyngen's marker), sorted.
 fn existing_modules(src: &Path) -> Result<Vec<String>, GenerateError> {
-    let io = |source| GenerateError::Io { path: src.to_owned(), source };
+    let io = |source| GenerateError::Io {
+        path: src.to_owned(),
+        source,
+    };
     let mut modules = Vec::new();
     for entry in std::fs::read_dir(src).map_err(io)? {
         let path = entry.map_err(io)?.path();
@@ -89,7 +99,12 @@ pub fn generate_into_crate(
         if !modules.contains(&module) {
             modules.push(module.clone());
         }
-        robots.push(RobotReport { module, file, robot, outcome });
+        robots.push(RobotReport {
+            module,
+            file,
+            robot,
+            outcome,
+        });
     }
     modules.sort();
     let root = crate_root(&modules, "cargo xtask gen --all");
@@ -98,12 +113,18 @@ pub fn generate_into_crate(
         Mode::Write => write_file(&lib, &root)?,
         Mode::Check => check_file(&lib, &root)?,
     };
-    Ok(CrateReport { robots, crate_root: (lib, outcome) })
+    Ok(CrateReport {
+        robots,
+        crate_root: (lib, outcome),
+    })
 }
 
 /// The robot descriptions directly in `dir` (`*.yaml`, `*.yml`, `*.urdf`), sorted.
 pub fn descriptions_in(dir: &Path) -> Result<Vec<PathBuf>, GenerateError> {
-    let io = |source| GenerateError::Io { path: dir.to_owned(), source };
+    let io = |source| GenerateError::Io {
+        path: dir.to_owned(),
+        source,
+    };
     let mut found = Vec::new();
     for entry in std::fs::read_dir(dir).map_err(io)? {
         let path = entry.map_err(io)?.path();

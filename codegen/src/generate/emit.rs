@@ -28,7 +28,10 @@ pub struct Provenance {
 /// Name of the generated robot type, e.g. `arm7` → `Arm7`, `ur5_robot` → `Ur5Robot`.
 pub fn type_name(robot: &str) -> String {
     let mut out = String::new();
-    for part in robot.split(|c: char| !c.is_ascii_alphanumeric()).filter(|p| !p.is_empty()) {
+    for part in robot
+        .split(|c: char| !c.is_ascii_alphanumeric())
+        .filter(|p| !p.is_empty())
+    {
         let mut chars = part.chars();
         if let Some(first) = chars.next() {
             out.push(first.to_ascii_uppercase());
@@ -51,7 +54,12 @@ impl Leaves {
         let g = &robot.graph;
         let mut names = HashMap::new();
         let inputs = &robot.inputs;
-        for (prefix, ids) in [("q", &inputs.q), ("qd", &inputs.qd), ("v", &inputs.v), ("a", &inputs.a)] {
+        for (prefix, ids) in [
+            ("q", &inputs.q),
+            ("qd", &inputs.qd),
+            ("v", &inputs.v),
+            ("a", &inputs.a),
+        ] {
             for (i, id) in ids.iter().enumerate() {
                 names.insert(*id, format_ident!("{prefix}{i}"));
             }
@@ -62,7 +70,11 @@ impl Leaves {
             match g.node(id) {
                 Node::Sin(a) | Node::Cos(a) if inputs.q.contains(&a) => {
                     let k = inputs.q.iter().position(|x| *x == a).unwrap_or(0);
-                    let prefix = if matches!(g.node(id), Node::Sin(_)) { "s" } else { "c" };
+                    let prefix = if matches!(g.node(id), Node::Sin(_)) {
+                        "s"
+                    } else {
+                        "c"
+                    };
                     names.insert(id, format_ident!("{prefix}{k}"));
                 }
                 _ => {}
@@ -111,8 +123,17 @@ impl<'a> Plan<'a> {
             .filter(|&id| !matches!(g.node(id), Node::Const(_) | Node::Input(_)))
             .collect();
         // `x` is a prefix no input uses (q, qd, v, a, s, c), so a temporary never shadows one.
-        let names = order.iter().enumerate().map(|(k, &id)| (id, format_ident!("x{k}"))).collect();
-        Plan { robot, leaves, order, names }
+        let names = order
+            .iter()
+            .enumerate()
+            .map(|(k, &id)| (id, format_ident!("x{k}")))
+            .collect();
+        Plan {
+            robot,
+            leaves,
+            order,
+            names,
+        }
     }
 
     /// An operand: a literal, an input, or an earlier temporary. Records inputs it reads.
@@ -196,7 +217,11 @@ fn signature(robot: &SymbolicRobot, leaves: &Leaves, args: &[Arg], used: &[Id], 
     prelude.extend(destructure(leaves, &inputs.q, used, quote!(t.q)));
     prelude.extend(destructure(leaves, &sin_ids, used, quote!(t.sin)));
     prelude.extend(destructure(leaves, &cos_ids, used, quote!(t.cos)));
-    let t = if prelude.is_empty() { format_ident!("_t") } else { format_ident!("t") };
+    let t = if prelude.is_empty() {
+        format_ident!("_t")
+    } else {
+        format_ident!("t")
+    };
     let mut params = vec![quote!(#t: &JointTrig<#n>)];
     for &arg in args {
         let (name, ids) = match arg {
@@ -321,7 +346,11 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
 
     if n_chunks == 1 {
         let mut used = main_used;
-        let statements: Vec<TokenStream> = plan.order.iter().map(|&id| plan.statement(id, &mut used)).collect();
+        let statements: Vec<TokenStream> = plan
+            .order
+            .iter()
+            .map(|&id| plan.statement(id, &mut used))
+            .collect();
         let sig = signature(robot, leaves, &q.args, &used, &n);
         let (params, prelude) = (sig.params, sig.prelude);
         let method = quote! {
@@ -333,7 +362,10 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
                 #result
             }
         };
-        return Emitted { method, chunks: Vec::new() };
+        return Emitted {
+            method,
+            chunks: Vec::new(),
+        };
     }
 
     let args = argument_names(&q.args);
@@ -346,7 +378,10 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
         let sig = signature(robot, leaves, &q.args, &used, &n);
         let (mut params, prelude) = (sig.params, sig.prelude);
         let (inputs, outputs) = (names_of(&carried_in[k]), names_of(&handed_on[k]));
-        let (n_in, n_out) = (Literal::usize_unsuffixed(inputs.len()), Literal::usize_unsuffixed(outputs.len()));
+        let (n_in, n_out) = (
+            Literal::usize_unsuffixed(inputs.len()),
+            Literal::usize_unsuffixed(outputs.len()),
+        );
         let mut call_args: Vec<TokenStream> = args.iter().map(|a| quote!(#a)).collect();
         let unpack = if inputs.is_empty() {
             quote!()
@@ -412,7 +447,11 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
     let joint_names = model.joints.iter().map(|j| j.name.as_str());
     let param_names = model.parameter_names();
     let theta = model.parameters().into_iter().map(literal);
-    let emitted: Vec<Emitted> = robot.quantities.iter().map(|q| function(robot, &leaves, q, n)).collect();
+    let emitted: Vec<Emitted> = robot
+        .quantities
+        .iter()
+        .map(|q| function(robot, &leaves, q, n))
+        .collect();
     let functions = emitted.iter().map(|e| &e.method);
     let chunks = emitted.iter().flat_map(|e| &e.chunks);
     let (n, p) = (Literal::usize_unsuffixed(n), Literal::usize_unsuffixed(p));

@@ -16,7 +16,10 @@ pub enum WriteOutcome {
 }
 
 fn io(path: &Path) -> impl FnOnce(std::io::Error) -> GenerateError + '_ {
-    move |source| GenerateError::Io { path: path.to_owned(), source }
+    move |source| GenerateError::Io {
+        path: path.to_owned(),
+        source,
+    }
 }
 
 /// Refuses to replace an existing file that does not carry dyngen's marker (an empty file has
@@ -25,7 +28,9 @@ fn ensure_ours(path: &Path, existing: &str) -> Result<(), GenerateError> {
     if existing.trim().is_empty() || existing.starts_with(GENERATED_MARKER) {
         Ok(())
     } else {
-        Err(GenerateError::NotGenerated { path: path.to_owned() })
+        Err(GenerateError::NotGenerated {
+            path: path.to_owned(),
+        })
     }
 }
 
@@ -44,8 +49,14 @@ pub fn write_file(path: &Path, contents: &str) -> Result<WriteOutcome, GenerateE
     if check_file(path, contents)? == WriteOutcome::Unchanged {
         return Ok(WriteOutcome::Unchanged);
     }
-    let dir = path.parent().filter(|d| !d.as_os_str().is_empty()).unwrap_or(Path::new("."));
-    let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
+    let dir = path
+        .parent()
+        .filter(|d| !d.as_os_str().is_empty())
+        .unwrap_or(Path::new("."));
+    let name = path
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
     let tmp = dir.join(format!(".{name}.dyngen-{}.tmp", std::process::id()));
     let result = (|| {
         let mut f = std::fs::File::create(&tmp).map_err(io(&tmp))?;
@@ -61,9 +72,20 @@ pub fn write_file(path: &Path, contents: &str) -> Result<WriteOutcome, GenerateE
 
 /// A Rust module name for a description file: `robots/UR5-e.yaml` → `ur5_e`.
 pub fn module_name(description: &Path) -> String {
-    let stem = description.file_stem().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default();
-    let mut name: String =
-        stem.chars().map(|c| if c.is_ascii_alphanumeric() { c.to_ascii_lowercase() } else { '_' }).collect();
+    let stem = description
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    let mut name: String = stem
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() {
+                c.to_ascii_lowercase()
+            } else {
+                '_'
+            }
+        })
+        .collect();
     if name.is_empty() || name.starts_with(|c: char| c.is_ascii_digit()) {
         name.insert_str(0, "robot_");
     }

@@ -78,7 +78,12 @@ pub fn trace(model: &Model) -> SymbolicRobot {
         pose.extend(ee.pos.0.iter().map(|e| e.id()));
         let g = dynamics::gravity_torque(model, &x, &inertias);
         let quantities = vec![
-            Quantity { name: "forward_kinematics", args: vec![], shape: Shape::Pose, outputs: pose },
+            Quantity {
+                name: "forward_kinematics",
+                args: vec![],
+                shape: Shape::Pose,
+                outputs: pose,
+            },
             Quantity {
                 name: "jacobian",
                 args: vec![],
@@ -103,7 +108,12 @@ pub fn trace(model: &Model) -> SymbolicRobot {
                 shape: Shape::Matrix(n, n),
                 outputs: matrix_ids(&dynamics::coriolis_matrix(model, &x, &inertias, &qd)),
             },
-            Quantity { name: "gravity", args: vec![], shape: Shape::Vector(n), outputs: ids(&g) },
+            Quantity {
+                name: "gravity",
+                args: vec![],
+                shape: Shape::Vector(n),
+                outputs: ids(&g),
+            },
             Quantity {
                 name: "inverse_dynamics",
                 args: vec![Arg::Qd, Arg::A],
@@ -131,9 +141,21 @@ pub fn trace(model: &Model) -> SymbolicRobot {
                 outputs: matrix_ids(&dynamics::regressor(model, &x, &qd, &v, &a)),
             },
         ];
-        (Inputs { q: ids(&q), qd: ids(&qd), v: ids(&v), a: ids(&a) }, quantities)
+        (
+            Inputs {
+                q: ids(&q),
+                qd: ids(&qd),
+                v: ids(&v),
+                a: ids(&a),
+            },
+            quantities,
+        )
     });
-    SymbolicRobot { graph, inputs, quantities }
+    SymbolicRobot {
+        graph,
+        inputs,
+        quantities,
+    }
 }
 
 impl SymbolicRobot {
@@ -145,7 +167,12 @@ impl SymbolicRobot {
     pub fn evaluate(&self, name: &str, q: &[f64], qd: &[f64], v: &[f64], a: &[f64]) -> Option<Vec<f64>> {
         let quantity = self.quantity(name)?;
         let mut values = vec![0.0; self.graph.input_names().len()];
-        for (ids, xs) in [(&self.inputs.q, q), (&self.inputs.qd, qd), (&self.inputs.v, v), (&self.inputs.a, a)] {
+        for (ids, xs) in [
+            (&self.inputs.q, q),
+            (&self.inputs.qd, qd),
+            (&self.inputs.v, v),
+            (&self.inputs.a, a),
+        ] {
             for (id, x) in ids.iter().zip(xs) {
                 if let crate::symbolic::Node::Input(k) = self.graph.node(*id) {
                     values[k as usize] = *x;

@@ -134,14 +134,22 @@ impl Inertia {
     pub fn merged(&self, other: &Inertia) -> Inertia {
         let mass = self.mass + other.mass;
         if mass == 0.0 {
-            return Inertia { mass: 0.0, com: Vector3::zeros(), inertia_com: self.inertia_com + other.inertia_com };
+            return Inertia {
+                mass: 0.0,
+                com: Vector3::zeros(),
+                inertia_com: self.inertia_com + other.inertia_com,
+            };
         }
         let com = (self.com * self.mass + other.com * other.mass) / mass;
         let shift = |b: &Inertia| {
             let d = b.com - com;
             b.inertia_com + (Matrix3::identity() * d.dot(&d) - d * d.transpose()) * b.mass
         };
-        Inertia { mass, com, inertia_com: shift(self) + shift(other) }
+        Inertia {
+            mass,
+            com,
+            inertia_com: shift(self) + shift(other),
+        }
     }
 }
 

@@ -38,7 +38,10 @@ pub fn exact_sin_cos(angle: f64) -> (f64, f64) {
 
 impl Pose {
     pub fn identity() -> Pose {
-        Pose { rotation: Matrix3::identity(), translation: Vector3::zeros() }
+        Pose {
+            rotation: Matrix3::identity(),
+            translation: Vector3::zeros(),
+        }
     }
 
     /// URDF origin: translation `xyz`, rotation `Rz(yaw) · Ry(pitch) · Rx(roll)` (fixed axes).
@@ -49,7 +52,10 @@ impl Pose {
         let rx = Matrix3::new(1.0, 0.0, 0.0, 0.0, cr, -sr, 0.0, sr, cr);
         let ry = Matrix3::new(cp, 0.0, sp, 0.0, 1.0, 0.0, -sp, 0.0, cp);
         let rz = Matrix3::new(cy, -sy, 0.0, sy, cy, 0.0, 0.0, 0.0, 1.0);
-        Pose { rotation: rz * ry * rx, translation: Vector3::from(xyz) }
+        Pose {
+            rotation: rz * ry * rx,
+            translation: Vector3::from(xyz),
+        }
     }
 
     /// `self ∘ other`: `other` is given in the frame that `self` places.
@@ -62,7 +68,10 @@ impl Pose {
 
     pub fn inverse(&self) -> Pose {
         let rt = self.rotation.transpose();
-        Pose { rotation: rt, translation: -(rt * self.translation) }
+        Pose {
+            rotation: rt,
+            translation: -(rt * self.translation),
+        }
     }
 
     pub fn transform_point(&self, p: &Vector3<f64>) -> Vector3<f64> {

@@ -273,17 +273,12 @@ mod tests {
 
     #[test]
     fn valid_model_passes() {
-        assert_eq!(
-            one_joint(inertia(1.0, [1.0, 1.0, 1.0])).validate(),
-            Ok(vec![])
-        );
+        assert_eq!(one_joint(inertia(1.0, [1.0, 1.0, 1.0])).validate(), Ok(vec![]));
     }
 
     #[test]
     fn triangle_inequality_is_checked() {
-        let e = one_joint(inertia(1.0, [1.0, 1.0, 2.5]))
-            .validate()
-            .unwrap_err();
+        let e = one_joint(inertia(1.0, [1.0, 1.0, 2.5])).validate().unwrap_err();
         assert!(e.0.contains("triangle"), "{e}");
         // a flat plate is exactly on the boundary and is fine
         assert!(one_joint(inertia(1.0, [1.0, 1.0, 2.0])).validate().is_ok());
@@ -291,9 +286,7 @@ mod tests {
 
     #[test]
     fn negative_moment_is_rejected() {
-        let e = one_joint(inertia(1.0, [-1.0, 1.0, 1.0]))
-            .validate()
-            .unwrap_err();
+        let e = one_joint(inertia(1.0, [-1.0, 1.0, 1.0])).validate().unwrap_err();
         assert!(e.0.contains("semi-definite"), "{e}");
     }
 

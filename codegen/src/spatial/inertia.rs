@@ -16,7 +16,11 @@ pub struct RigidInertia<S> {
 impl<S: Scalar> RigidInertia<S> {
     /// From the standard parameters `[m, mcx, mcy, mcz, Ixx, Ixy, Iyy, Ixz, Iyz, Izz]`.
     pub fn from_parameters(p: &[S; PARAMS_PER_BODY]) -> Self {
-        RigidInertia { m: p[0], h: Vec3([p[1], p[2], p[3]]), i: [p[4], p[5], p[6], p[7], p[8], p[9]] }
+        RigidInertia {
+            m: p[0],
+            h: Vec3([p[1], p[2], p[3]]),
+            i: [p[4], p[5], p[6], p[7], p[8], p[9]],
+        }
     }
 
     /// The inertia of parameter `k` set to one and the others to zero. Dynamics is linear in
@@ -35,7 +39,11 @@ impl<S: Scalar> RigidInertia<S> {
     fn rot_mul(&self, w: &Vec3<S>) -> Vec3<S> {
         let [xx, xy, yy, xz, yz, zz] = self.i;
         let [a, b, c] = w.0;
-        Vec3([xx * a + xy * b + xz * c, xy * a + yy * b + yz * c, xz * a + yz * b + zz * c])
+        Vec3([
+            xx * a + xy * b + xz * c,
+            xy * a + yy * b + yz * c,
+            xz * a + yz * b + zz * c,
+        ])
     }
 
     /// Momentum `I·m` of a motion.
@@ -53,7 +61,10 @@ impl<S: Scalar> RigidInertia<S> {
         let half = S::from_f64(0.5);
         let sum = v.cross_force(&self.mul_motion(w)) + w.cross_force(&self.mul_motion(v))
             - self.mul_motion(&v.cross_motion(w));
-        Force { ang: sum.ang.scale(half), lin: sum.lin.scale(half) }
+        Force {
+            ang: sum.ang.scale(half),
+            lin: sum.lin.scale(half),
+        }
     }
 
     /// The time derivative `İ = v ×* I − I (v ×)` of this inertia moving with velocity `v`
@@ -64,7 +75,9 @@ impl<S: Scalar> RigidInertia<S> {
         let [xx, xy, yy, xz, yz, zz] = self.i;
         let full = [[xx, xy, xz], [xy, yy, yz], [xz, yz, zz]];
         // ([ω×] I)_ij = ω_{i+1} I_{i+2, j} − ω_{i+2} I_{i+1, j}; the commutator is its symmetric part doubled.
-        let wi = |i: usize, j: usize| w.0[(i + 1) % 3] * full[(i + 2) % 3][j] - w.0[(i + 2) % 3] * full[(i + 1) % 3][j];
+        let wi = |i: usize, j: usize| {
+            w.0[(i + 1) % 3] * full[(i + 2) % 3][j] - w.0[(i + 2) % 3] * full[(i + 1) % 3][j]
+        };
         let two_uh = S::from_f64(2.0) * u.dot(h);
         let entry = |i: usize, j: usize| {
             let commutator = wi(i, j) + wi(j, i);
@@ -78,7 +91,14 @@ impl<S: Scalar> RigidInertia<S> {
         RigidInertia {
             m: S::zero(),
             h: w.cross(h) + u.scale(self.m),
-            i: [entry(0, 0), entry(0, 1), entry(1, 1), entry(0, 2), entry(1, 2), entry(2, 2)],
+            i: [
+                entry(0, 0),
+                entry(0, 1),
+                entry(1, 1),
+                entry(0, 2),
+                entry(1, 2),
+                entry(2, 2),
+            ],
         }
     }
 

@@ -32,10 +32,16 @@ pub struct Force<S> {
 
 impl<S: Scalar> Motion<S> {
     pub fn zero() -> Self {
-        Motion { ang: Vec3::zero(), lin: Vec3::zero() }
+        Motion {
+            ang: Vec3::zero(),
+            lin: Vec3::zero(),
+        }
     }
     pub fn scale(&self, k: S) -> Self {
-        Motion { ang: self.ang.scale(k), lin: self.lin.scale(k) }
+        Motion {
+            ang: self.ang.scale(k),
+            lin: self.lin.scale(k),
+        }
     }
     /// Motion cross product `self × m` (Featherstone's `crm(self) m`).
     pub fn cross_motion(&self, m: &Motion<S>) -> Motion<S> {
@@ -55,10 +61,16 @@ impl<S: Scalar> Motion<S> {
 
 impl<S: Scalar> Force<S> {
     pub fn zero() -> Self {
-        Force { ang: Vec3::zero(), lin: Vec3::zero() }
+        Force {
+            ang: Vec3::zero(),
+            lin: Vec3::zero(),
+        }
     }
     pub fn scale(&self, k: S) -> Self {
-        Force { ang: self.ang.scale(k), lin: self.lin.scale(k) }
+        Force {
+            ang: self.ang.scale(k),
+            lin: self.lin.scale(k),
+        }
     }
     /// The power `mᵀ f` of this force on a motion.
     pub fn power(&self, m: &Motion<S>) -> S {
@@ -71,19 +83,28 @@ macro_rules! spatial_ops {
         impl<S: Scalar> Add for $t<S> {
             type Output = Self;
             fn add(self, o: Self) -> Self {
-                $t { ang: self.ang + o.ang, lin: self.lin + o.lin }
+                $t {
+                    ang: self.ang + o.ang,
+                    lin: self.lin + o.lin,
+                }
             }
         }
         impl<S: Scalar> Sub for $t<S> {
             type Output = Self;
             fn sub(self, o: Self) -> Self {
-                $t { ang: self.ang - o.ang, lin: self.lin - o.lin }
+                $t {
+                    ang: self.ang - o.ang,
+                    lin: self.lin - o.lin,
+                }
             }
         }
         impl<S: Scalar> Neg for $t<S> {
             type Output = Self;
             fn neg(self) -> Self {
-                $t { ang: -self.ang, lin: -self.lin }
+                $t {
+                    ang: -self.ang,
+                    lin: -self.lin,
+                }
             }
         }
     };

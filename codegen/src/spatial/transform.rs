@@ -13,12 +13,18 @@ pub struct Transform<S> {
 
 impl<S: Scalar> Transform<S> {
     pub fn identity() -> Self {
-        Transform { rot: Mat3::identity(), pos: Vec3::zero() }
+        Transform {
+            rot: Mat3::identity(),
+            pos: Vec3::zero(),
+        }
     }
 
     /// `self ∘ child`: `child` is placed in the frame that `self` places.
     pub fn compose(&self, child: &Transform<S>) -> Transform<S> {
-        Transform { rot: self.rot * child.rot, pos: self.rot.mul_vec(&child.pos) + self.pos }
+        Transform {
+            rot: self.rot * child.rot,
+            pos: self.rot.mul_vec(&child.pos) + self.pos,
+        }
     }
 
     pub fn transform_point(&self, p: &Vec3<S>) -> Vec3<S> {
@@ -36,6 +42,9 @@ impl<S: Scalar> Transform<S> {
     /// A force given in the child frame, expressed in the parent frame.
     pub fn force_to_parent(&self, f: &Force<S>) -> Force<S> {
         let lin = self.rot.mul_vec(&f.lin);
-        Force { ang: self.rot.mul_vec(&f.ang) + self.pos.cross(&lin), lin }
+        Force {
+            ang: self.rot.mul_vec(&f.ang) + self.pos.cross(&lin),
+            lin,
+        }
     }
 }

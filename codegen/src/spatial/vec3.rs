@@ -59,7 +59,11 @@ impl<S: Scalar> Mat3<S> {
     }
     pub fn transpose(&self) -> Self {
         let m = &self.0;
-        Mat3([[m[0][0], m[1][0], m[2][0]], [m[0][1], m[1][1], m[2][1]], [m[0][2], m[1][2], m[2][2]]])
+        Mat3([
+            [m[0][0], m[1][0], m[2][0]],
+            [m[0][1], m[1][1], m[2][1]],
+            [m[0][2], m[1][2], m[2][2]],
+        ])
     }
     /// `self · v`.
     pub fn mul_vec(&self, v: &Vec3<S>) -> Vec3<S> {
@@ -68,7 +72,9 @@ impl<S: Scalar> Mat3<S> {
     /// `selfᵀ · v`.
     pub fn tr_mul_vec(&self, v: &Vec3<S>) -> Vec3<S> {
         let m = &self.0;
-        Vec3(std::array::from_fn(|j| m[0][j] * v.0[0] + m[1][j] * v.0[1] + m[2][j] * v.0[2]))
+        Vec3(std::array::from_fn(|j| {
+            m[0][j] * v.0[0] + m[1][j] * v.0[1] + m[2][j] * v.0[2]
+        }))
     }
     pub fn column(&self, j: usize) -> Vec3<S> {
         Vec3([self.0[0][j], self.0[1][j], self.0[2][j]])

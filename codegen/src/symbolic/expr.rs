@@ -17,7 +17,9 @@ pub struct Expr(pub Id);
 fn with_graph<R>(f: impl FnOnce(&mut Graph) -> R) -> R {
     RECORDING.with(|g| {
         let mut g = g.borrow_mut();
-        let graph = g.as_mut().expect("symbolic arithmetic outside `symbolic::record`");
+        let graph = g
+            .as_mut()
+            .expect("symbolic arithmetic outside `symbolic::record`");
         f(graph)
     })
 }

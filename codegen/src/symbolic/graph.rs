@@ -203,7 +203,11 @@ impl Graph {
                 self.neg(p)
             }
             _ => {
-                let (a, b) = if self.constant_value(a).is_some() || a <= b { (a, b) } else { (b, a) };
+                let (a, b) = if self.constant_value(a).is_some() || a <= b {
+                    (a, b)
+                } else {
+                    (b, a)
+                };
                 self.intern(Node::Mul(a, b))
             }
         }
