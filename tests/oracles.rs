@@ -9,12 +9,11 @@ mod common;
 
 use common::fixture;
 use common::oracles::{assert_passed, check_all, Check, Dynamics, Summary};
-use common::random_model::{arb_model, arb_model_and_state, random_state};
+use common::random_model::{arb_model, arb_model_and_state, deterministic_runner, random_state};
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::model::{JointKind, Model};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use proptest::prelude::*;
-use proptest::test_runner::{Config, RngAlgorithm, RngSeed, TestRunner};
 use std::cell::RefCell;
 use std::path::Path;
 
@@ -62,24 +61,11 @@ fn is_branched(model: &Model) -> bool {
         .any(|(i, j)| j.parent != i.checked_sub(1))
 }
 
-/// 256 cases from a fixed seed, without failure files: every run checks the same random trees,
-/// so CI is reproducible.
-fn deterministic_runner() -> TestRunner {
-    TestRunner::new(Config {
-        cases: 256,
-        failure_persistence: None,
-        source_file: None,
-        rng_algorithm: RngAlgorithm::ChaCha,
-        rng_seed: RngSeed::Fixed(0x0D1A_6E11_0AC1_E500),
-        ..Config::default()
-    })
-}
-
 #[test]
 fn random_tree_oracles() {
     let summary = RefCell::new(Summary::default());
     let coverage = RefCell::new([0usize; 4]); // models, branched models, joints, prismatic joints
-    let result = deterministic_runner().run(&arb_model_and_state(10), |(model, state)| {
+    let result = deterministic_runner(256).run(&arb_model_and_state(10), |(model, state)| {
         let checks = check_all(&model, &NumericDynamics::new(&model), &state);
         summary.borrow_mut().record(&checks);
         let prismatic = model.joints.iter().filter(|j| j.kind == JointKind::Prismatic);
@@ -111,7 +97,7 @@ fn random_tree_oracles() {
 /// the oracles run on models the project accepts.
 #[test]
 fn random_trees_are_valid_models() {
-    let result = deterministic_runner().run(&arb_model(10), |model| {
+    let result = deterministic_runner(256).run(&arb_model(10), |model| {
         let verdict = model.validate();
         prop_assert!(verdict.is_ok(), "{verdict:?}");
         Ok(())

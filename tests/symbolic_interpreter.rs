@@ -3,11 +3,13 @@
 
 mod common;
 
+use common::random_model::{arb_model_and_state, deterministic_runner};
 use common::{assert_close, fixture};
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::generate::{trace, Shape, SymbolicRobot};
 use dyngen_codegen::model::Model;
 use nalgebra::DMatrix;
+use std::cell::Cell;
 
 const TOL: f64 = 1e-10;
 
@@ -29,7 +31,7 @@ fn interpreted(
 }
 
 /// Compares every traced quantity with the generic implementation at one state.
-pub fn check_state(model: &Model, robot: &SymbolicRobot, q: &[f64], qd: &[f64], v: &[f64], a: &[f64]) {
+fn check_state(model: &Model, robot: &SymbolicRobot, q: &[f64], qd: &[f64], v: &[f64], a: &[f64]) {
     let generic = NumericDynamics::new(model);
     let n = model.dof();
     let vec = |x: nalgebra::DVector<f64>| DMatrix::from_column_slice(n, 1, x.as_slice());
@@ -74,4 +76,21 @@ fn fixture_robots_interpreted_graph_matches_generic_dynamics() {
             );
         }
     }
+}
+
+/// The whole pipeline's maths (trace, fold, share) on random trees: branches, prismatic
+/// joints, skew axes, products of inertia, gravity in any direction.
+#[test]
+fn random_trees_interpreted_graph_matches_generic_dynamics() {
+    let models = Cell::new(0);
+    let result = deterministic_runner(200).run(&arb_model_and_state(10), |(model, s)| {
+        let robot = trace(&model);
+        check_state(&model, &robot, &s.q, &s.qd, &s.v, &s.a);
+        models.set(models.get() + 1);
+        Ok(())
+    });
+    if let Err(e) = result {
+        panic!("{e}");
+    }
+    assert_eq!(models.get(), 200, "every random tree was checked");
 }

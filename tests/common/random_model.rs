@@ -12,6 +12,7 @@ use dyngen_codegen::model::{Body, Frame, Inertia, Joint, JointKind, Limits, Mode
 use nalgebra::{Matrix3, Vector3};
 use proptest::prelude::*;
 use proptest::sample::Index;
+use proptest::test_runner::{Config, RngAlgorithm, RngSeed, TestRunner};
 use std::f64::consts::{FRAC_PI_2, PI, TAU};
 
 /// Joint positions, velocities and accelerations at which a model is evaluated.
@@ -312,4 +313,17 @@ pub fn arb_inertia() -> impl Strategy<Value = Inertia> {
 pub fn arb_gravity() -> impl Strategy<Value = Vector3<f64>> {
     let tilted = (arb_axis(), 9.7..9.9f64).prop_map(|(direction, magnitude)| direction * magnitude);
     prop_oneof![3 => Just(Vector3::new(0.0, 0.0, -9.81)), 1 => tilted]
+}
+
+/// A proptest runner with a fixed seed and no failure files: every run checks the same `cases`
+/// random trees, so CI is reproducible.
+pub fn deterministic_runner(cases: u32) -> TestRunner {
+    TestRunner::new(Config {
+        cases,
+        failure_persistence: None,
+        source_file: None,
+        rng_algorithm: RngAlgorithm::ChaCha,
+        rng_seed: RngSeed::Fixed(0x0D1A_6E11_0AC1_E500),
+        ..Config::default()
+    })
 }
