@@ -67,6 +67,10 @@ fn bench_robot<R: RobotDynamics<N, P>, const N: usize, const P: usize>(c: &mut C
         .collect();
     let g = |quantity: &str| format!("{robot}/{quantity}");
 
+    // The share of every generated call below that is sines and cosines.
+    cycle(c, &g("joint_trig"), "generated", &fixed, |[q, ..]| {
+        black_box(JointTrig::new(q));
+    });
     cycle(c, &g("fk"), "generated", &fixed, |[q, ..]| {
         black_box(R::forward_kinematics(&JointTrig::new(q)));
     });

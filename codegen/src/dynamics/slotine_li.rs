@@ -51,7 +51,15 @@ pub(crate) fn forward_pass<S: Scalar>(
 
 /// The body force `I ẇ + B(I, vel) w`, linear in the inertia.
 pub(crate) fn body_force<S: Scalar>(inertia: &RigidInertia<S>, m: &BodyMotion<S>) -> Force<S> {
-    inertia.mul_motion(&m.wdot) + inertia.body_operator(&m.vel, &m.w)
+    let inertial = inertia.mul_motion(&m.wdot);
+    if m.w == m.vel {
+        // `B(I, v) v = v ×* I v` (as `crm(v) v = 0`): the classical RNEA term, about half the
+        // operations. Symbolically the two velocities are the same nodes exactly when `v = q̇`
+        // (inverse dynamics), a cancellation the simplifier cannot see on its own.
+        inertial + m.vel.cross_force(&inertia.mul_motion(&m.vel))
+    } else {
+        inertial + inertia.body_operator(&m.vel, &m.w)
+    }
 }
 
 /// `D(q) a + C(q, q̇) v + g(q)` (gravity optional): the Slotine–Li reference torque.
