@@ -174,153 +174,245 @@ impl RobotDynamics<7, 70> for Panda {
     fn forward_kinematics(t: &JointTrig<7>) -> Pose {
         let [s0, s1, s2, s3, s4, s5, s6] = t.sin;
         let [c0, c1, c2, c3, c4, c5, c6] = t.cos;
-        let x0: f64 = c0 * c1;
-        let x1: f64 = c0 * s1;
-        let x2: f64 = s0 * c1;
-        let x3: f64 = s0 * s1;
-        let x4: f64 = c2 * x0;
-        let x5: f64 = s0 * s2;
-        let x6: f64 = x4 - x5;
-        let x7: f64 = s2 * x0;
-        let x8: f64 = s0 * c2;
-        let x9: f64 = x7 + x8;
-        let x10: f64 = c2 * x2;
-        let x11: f64 = c0 * s2;
-        let x12: f64 = x10 + x11;
-        let x13: f64 = s2 * x2;
-        let x14: f64 = c0 * c2;
-        let x15: f64 = s1 * c2;
-        let x16: f64 = s1 * s2;
-        let x17: f64 = 0.316f64 * x1;
-        let x18: f64 = 0.316f64 * x3;
-        let x19: f64 = 0.316f64 * c1;
-        let x20: f64 = 0.333f64 + x19;
-        let x21: f64 = c3 * x6;
-        let x22: f64 = s3 * x1;
-        let x23: f64 = x21 + x22;
-        let x24: f64 = s3 * x6;
-        let x25: f64 = c3 * x1;
-        let x26: f64 = x25 - x24;
-        let x27: f64 = c3 * x12;
-        let x28: f64 = s3 * x3;
-        let x29: f64 = x27 + x28;
-        let x30: f64 = s3 * x12;
-        let x31: f64 = c3 * x3;
-        let x32: f64 = x31 - x30;
-        let x33: f64 = x13 - x14;
-        let x34: f64 = c3 * x15;
-        let x35: f64 = c1 * s3;
-        let x36: f64 = x35 - x34;
-        let x37: f64 = s3 * x15;
-        let x38: f64 = c1 * c3;
-        let x39: f64 = x37 + x38;
-        let x40: f64 = 0.0825f64 * x6;
-        let x41: f64 = 0.0825f64 * x12;
-        let x42: f64 = -0.0825f64 * x15;
-        let x43: f64 = x17 + x40;
-        let x44: f64 = x18 + x41;
-        let x45: f64 = x20 + x42;
-        let x46: f64 = c4 * x23;
-        let x47: f64 = s4 * x9;
-        let x48: f64 = x46 - x47;
-        let x49: f64 = s4 * x23;
-        let x50: f64 = c4 * x9;
-        let x51: f64 = x49 + x50;
-        let x52: f64 = c4 * x29;
-        let x53: f64 = s4 * x33;
-        let x54: f64 = x52 - x53;
-        let x55: f64 = s4 * x29;
-        let x56: f64 = c4 * x33;
-        let x57: f64 = x55 + x56;
-        let x58: f64 = c4 * x36;
-        let x59: f64 = s4 * x16;
-        let x60: f64 = x58 + x59;
-        let x61: f64 = s4 * x36;
-        let x62: f64 = c4 * x16;
-        let x63: f64 = -0.0825f64 * x23;
-        let x64: f64 = 0.384f64 * x26;
-        let x65: f64 = x63 + x64;
-        let x66: f64 = -0.0825f64 * x29;
-        let x67: f64 = 0.384f64 * x32;
-        let x68: f64 = x66 + x67;
-        let x69: f64 = -0.0825f64 * x36;
-        let x70: f64 = 0.384f64 * x39;
-        let x71: f64 = x69 + x70;
-        let x72: f64 = x43 + x65;
-        let x73: f64 = x44 + x68;
-        let x74: f64 = x45 + x71;
-        let x75: f64 = c5 * x48;
-        let x76: f64 = s5 * x26;
-        let x77: f64 = x75 + x76;
-        let x78: f64 = s5 * x48;
-        let x79: f64 = c5 * x26;
-        let x80: f64 = c5 * x54;
-        let x81: f64 = s5 * x32;
-        let x82: f64 = x80 + x81;
-        let x83: f64 = s5 * x54;
-        let x84: f64 = c5 * x32;
-        let x85: f64 = c5 * x60;
-        let x86: f64 = s5 * x39;
-        let x87: f64 = x85 + x86;
-        let x88: f64 = s5 * x60;
-        let x89: f64 = c5 * x39;
-        let x90: f64 = x61 - x62;
-        let x91: f64 = c6 * x77;
-        let x92: f64 = s6 * x51;
-        let x93: f64 = x91 + x92;
-        let x94: f64 = s6 * x77;
-        let x95: f64 = c6 * x51;
-        let x96: f64 = x95 - x94;
-        let x97: f64 = x78 - x79;
-        let x98: f64 = c6 * x82;
-        let x99: f64 = s6 * x57;
-        let x100: f64 = x98 + x99;
-        let x101: f64 = s6 * x82;
-        let x102: f64 = c6 * x57;
-        let x103: f64 = x102 - x101;
-        let x104: f64 = x83 - x84;
-        let x105: f64 = c6 * x87;
-        let x106: f64 = s6 * x90;
-        let x107: f64 = x105 + x106;
-        let x108: f64 = s6 * x87;
-        let x109: f64 = c6 * x90;
-        let x110: f64 = x109 - x108;
-        let x111: f64 = x88 - x89;
-        let x112: f64 = 0.088f64 * x77;
-        let x113: f64 = 0.088f64 * x82;
-        let x114: f64 = 0.088f64 * x87;
-        let x115: f64 = x72 + x112;
-        let x116: f64 = x73 + x113;
-        let x117: f64 = x74 + x114;
-        let x118: f64 = 0.7071067811865476f64 * x93;
-        let x119: f64 = -0.7071067811865475f64 * x96;
-        let x120: f64 = x118 + x119;
-        let x121: f64 = 0.7071067811865475f64 * x93;
-        let x122: f64 = 0.7071067811865476f64 * x96;
-        let x123: f64 = x121 + x122;
-        let x124: f64 = 0.7071067811865476f64 * x100;
-        let x125: f64 = -0.7071067811865475f64 * x103;
-        let x126: f64 = x124 + x125;
-        let x127: f64 = 0.7071067811865475f64 * x100;
-        let x128: f64 = 0.7071067811865476f64 * x103;
-        let x129: f64 = x127 + x128;
-        let x130: f64 = 0.7071067811865476f64 * x107;
-        let x131: f64 = -0.7071067811865475f64 * x110;
-        let x132: f64 = x130 + x131;
-        let x133: f64 = 0.7071067811865475f64 * x107;
-        let x134: f64 = 0.7071067811865476f64 * x110;
-        let x135: f64 = x133 + x134;
-        let x136: f64 = 0.2104f64 * x97;
-        let x137: f64 = 0.2104f64 * x104;
-        let x138: f64 = 0.2104f64 * x111;
-        let x139: f64 = x115 + x136;
-        let x140: f64 = x116 + x137;
-        let x141: f64 = x117 + x138;
+        let (x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12) = (
+            c0 * c1,
+            c0 * s1,
+            s0 * c1,
+            s0 * s1,
+            s0 * s2,
+            s0 * c2,
+            c0 * s2,
+            c0 * c2,
+            s1 * c2,
+            s1 * s2,
+            0.316f64 * c1,
+            c1 * s3,
+            c1 * c3,
+        );
+        let (
+            x13,
+            x14,
+            x15,
+            x16,
+            x17,
+            x18,
+            x19,
+            x20,
+            x21,
+            x22,
+            x23,
+            x24,
+            x25,
+            x26,
+            x27,
+            x28,
+        ) = (
+            c2 * x0,
+            s2 * x0,
+            c2 * x2,
+            s2 * x2,
+            0.316f64 * x1,
+            0.316f64 * x3,
+            0.333f64 + x10,
+            s3 * x1,
+            c3 * x1,
+            s3 * x3,
+            c3 * x3,
+            c3 * x8,
+            s3 * x8,
+            -0.0825f64 * x8,
+            s4 * x9,
+            c4 * x9,
+        );
+        let (x29, x30, x31, x32, x33, x34, x35) = (
+            x13 - x4,
+            x14 + x5,
+            x15 + x6,
+            x16 - x7,
+            x11 - x24,
+            x25 + x12,
+            x19 + x26,
+        );
+        let (
+            x36,
+            x37,
+            x38,
+            x39,
+            x40,
+            x41,
+            x42,
+            x43,
+            x44,
+            x45,
+            x46,
+            x47,
+            x48,
+            x49,
+            x50,
+            x51,
+        ) = (
+            c3 * x29,
+            s3 * x29,
+            c3 * x31,
+            s3 * x31,
+            0.0825f64 * x29,
+            0.0825f64 * x31,
+            s4 * x30,
+            c4 * x30,
+            s4 * x32,
+            c4 * x32,
+            c4 * x33,
+            s4 * x33,
+            -0.0825f64 * x33,
+            0.384f64 * x34,
+            s5 * x34,
+            c5 * x34,
+        );
+        let (x52, x53, x54, x55, x56, x57, x58, x59, x60) = (
+            x36 + x20,
+            x21 - x37,
+            x38 + x22,
+            x23 - x39,
+            x17 + x40,
+            x18 + x41,
+            x46 + x27,
+            x48 + x49,
+            x47 - x28,
+        );
+        let (
+            x61,
+            x62,
+            x63,
+            x64,
+            x65,
+            x66,
+            x67,
+            x68,
+            x69,
+            x70,
+            x71,
+            x72,
+            x73,
+            x74,
+            x75,
+            x76,
+            x77,
+        ) = (
+            c4 * x52,
+            s4 * x52,
+            c4 * x54,
+            s4 * x54,
+            -0.0825f64 * x52,
+            0.384f64 * x53,
+            -0.0825f64 * x54,
+            0.384f64 * x55,
+            x35 + x59,
+            s5 * x53,
+            c5 * x53,
+            s5 * x55,
+            c5 * x55,
+            c5 * x58,
+            s5 * x58,
+            s6 * x60,
+            c6 * x60,
+        );
+        let (x78, x79, x80, x81, x82, x83, x84, x85) = (
+            x61 - x42,
+            x62 + x43,
+            x63 - x44,
+            x64 + x45,
+            x65 + x66,
+            x67 + x68,
+            x74 + x50,
+            x75 - x51,
+        );
+        let (x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98, x99) = (
+            x56 + x82,
+            x57 + x83,
+            c5 * x78,
+            s5 * x78,
+            c5 * x80,
+            s5 * x80,
+            s6 * x79,
+            c6 * x79,
+            s6 * x81,
+            c6 * x81,
+            c6 * x84,
+            s6 * x84,
+            0.088f64 * x84,
+            0.2104f64 * x85,
+        );
+        let (x100, x101, x102, x103, x104, x105, x106) = (
+            x88 + x70,
+            x90 + x72,
+            x89 - x71,
+            x91 - x73,
+            x96 + x76,
+            x77 - x97,
+            x69 + x98,
+        );
+        let (
+            x107,
+            x108,
+            x109,
+            x110,
+            x111,
+            x112,
+            x113,
+            x114,
+            x115,
+            x116,
+            x117,
+            x118,
+            x119,
+        ) = (
+            c6 * x100,
+            s6 * x100,
+            c6 * x101,
+            s6 * x101,
+            0.088f64 * x100,
+            0.088f64 * x101,
+            0.7071067811865476f64 * x104,
+            -0.7071067811865475f64 * x105,
+            0.7071067811865475f64 * x104,
+            0.7071067811865476f64 * x105,
+            0.2104f64 * x102,
+            0.2104f64 * x103,
+            x106 + x99,
+        );
+        let (x120, x121, x122, x123, x124, x125, x126, x127) = (
+            x107 + x92,
+            x93 - x108,
+            x109 + x94,
+            x95 - x110,
+            x86 + x111,
+            x87 + x112,
+            x113 + x114,
+            x115 + x116,
+        );
+        let (x128, x129, x130, x131, x132, x133, x134, x135, x136, x137) = (
+            0.7071067811865476f64 * x120,
+            -0.7071067811865475f64 * x121,
+            0.7071067811865475f64 * x120,
+            0.7071067811865476f64 * x121,
+            0.7071067811865476f64 * x122,
+            -0.7071067811865475f64 * x123,
+            0.7071067811865475f64 * x122,
+            0.7071067811865476f64 * x123,
+            x124 + x117,
+            x125 + x118,
+        );
+        let (x138, x139, x140, x141) = (
+            x128 + x129,
+            x130 + x131,
+            x132 + x133,
+            x134 + x135,
+        );
         Pose {
             rotation: Matrix3::from_array_storage(
-                ArrayStorage([[x120, x126, x132], [x123, x129, x135], [x97, x104, x111]]),
+                ArrayStorage([[x138, x140, x126], [x139, x141, x127], [x102, x103, x85]]),
             ),
-            translation: Vector3::new(x139, x140, x141),
+            translation: Vector3::new(x136, x137, x119),
         }
     }
     ///Operations: 102 mul, 67 add/sub, 5 neg (joint sines and cosines come precomputed in `JointTrig`).
@@ -328,189 +420,324 @@ impl RobotDynamics<7, 70> for Panda {
     fn jacobian(t: &JointTrig<7>) -> SMatrix<f64, 6, 7> {
         let [s0, s1, s2, s3, s4, s5, _] = t.sin;
         let [c0, c1, c2, c3, c4, c5, _] = t.cos;
-        let x0: f64 = -s0;
-        let x1: f64 = c0 * c1;
-        let x2: f64 = c0 * s1;
-        let x3: f64 = s0 * c1;
-        let x4: f64 = s0 * s1;
-        let x5: f64 = c2 * x1;
-        let x6: f64 = s0 * s2;
-        let x7: f64 = x5 - x6;
-        let x8: f64 = s2 * x1;
-        let x9: f64 = s0 * c2;
-        let x10: f64 = x8 + x9;
-        let x11: f64 = c2 * x3;
-        let x12: f64 = c0 * s2;
-        let x13: f64 = x11 + x12;
-        let x14: f64 = s2 * x3;
-        let x15: f64 = c0 * c2;
-        let x16: f64 = s1 * c2;
-        let x17: f64 = s1 * s2;
-        let x18: f64 = 0.316f64 * x2;
-        let x19: f64 = 0.316f64 * x4;
-        let x20: f64 = 0.316f64 * c1;
-        let x21: f64 = 0.333f64 + x20;
-        let x22: f64 = c3 * x7;
-        let x23: f64 = s3 * x2;
-        let x24: f64 = x22 + x23;
-        let x25: f64 = s3 * x7;
-        let x26: f64 = c3 * x2;
-        let x27: f64 = x26 - x25;
-        let x28: f64 = c3 * x13;
-        let x29: f64 = s3 * x4;
-        let x30: f64 = x28 + x29;
-        let x31: f64 = s3 * x13;
-        let x32: f64 = c3 * x4;
-        let x33: f64 = x32 - x31;
-        let x34: f64 = x14 - x15;
-        let x35: f64 = c3 * x16;
-        let x36: f64 = c1 * s3;
-        let x37: f64 = x36 - x35;
-        let x38: f64 = s3 * x16;
-        let x39: f64 = c1 * c3;
-        let x40: f64 = x38 + x39;
-        let x41: f64 = -x17;
-        let x42: f64 = 0.0825f64 * x7;
-        let x43: f64 = 0.0825f64 * x13;
-        let x44: f64 = -0.0825f64 * x16;
-        let x45: f64 = x18 + x42;
-        let x46: f64 = x19 + x43;
-        let x47: f64 = x21 + x44;
-        let x48: f64 = c4 * x24;
-        let x49: f64 = s4 * x10;
-        let x50: f64 = x48 - x49;
-        let x51: f64 = s4 * x24;
-        let x52: f64 = c4 * x10;
-        let x53: f64 = x51 + x52;
-        let x54: f64 = c4 * x30;
-        let x55: f64 = s4 * x34;
-        let x56: f64 = x54 - x55;
-        let x57: f64 = s4 * x30;
-        let x58: f64 = c4 * x34;
-        let x59: f64 = x57 + x58;
-        let x60: f64 = c4 * x37;
-        let x61: f64 = s4 * x17;
-        let x62: f64 = x60 + x61;
-        let x63: f64 = s4 * x37;
-        let x64: f64 = c4 * x17;
-        let x65: f64 = -0.0825f64 * x24;
-        let x66: f64 = 0.384f64 * x27;
-        let x67: f64 = x65 + x66;
-        let x68: f64 = -0.0825f64 * x30;
-        let x69: f64 = 0.384f64 * x33;
-        let x70: f64 = x68 + x69;
-        let x71: f64 = -0.0825f64 * x37;
-        let x72: f64 = 0.384f64 * x40;
-        let x73: f64 = x71 + x72;
-        let x74: f64 = x45 + x67;
-        let x75: f64 = x46 + x70;
-        let x76: f64 = x47 + x73;
-        let x77: f64 = c5 * x50;
-        let x78: f64 = s5 * x27;
-        let x79: f64 = x77 + x78;
-        let x80: f64 = s5 * x50;
-        let x81: f64 = c5 * x27;
-        let x82: f64 = c5 * x56;
-        let x83: f64 = s5 * x33;
-        let x84: f64 = x82 + x83;
-        let x85: f64 = s5 * x56;
-        let x86: f64 = c5 * x33;
-        let x87: f64 = c5 * x62;
-        let x88: f64 = s5 * x40;
-        let x89: f64 = x87 + x88;
-        let x90: f64 = s5 * x62;
-        let x91: f64 = c5 * x40;
-        let x92: f64 = x63 - x64;
-        let x93: f64 = x80 - x81;
-        let x94: f64 = x85 - x86;
-        let x95: f64 = x90 - x91;
-        let x96: f64 = 0.088f64 * x79;
-        let x97: f64 = 0.088f64 * x84;
-        let x98: f64 = 0.088f64 * x89;
-        let x99: f64 = x74 + x96;
-        let x100: f64 = x75 + x97;
-        let x101: f64 = x76 + x98;
-        let x102: f64 = 0.2104f64 * x93;
-        let x103: f64 = 0.2104f64 * x94;
-        let x104: f64 = 0.2104f64 * x95;
-        let x105: f64 = x99 + x102;
-        let x106: f64 = x100 + x103;
-        let x107: f64 = x101 + x104;
-        let x108: f64 = x107 - 0.333f64;
-        let x109: f64 = -x106;
-        let x110: f64 = c0 * x108;
-        let x111: f64 = s0 * x108;
-        let x112: f64 = s0 * x106;
-        let x113: f64 = c0 * x105;
-        let x114: f64 = x112 + x113;
-        let x115: f64 = -x114;
-        let x116: f64 = x105 - x18;
-        let x117: f64 = x106 - x19;
-        let x118: f64 = x107 - x21;
-        let x119: f64 = x4 * x118;
-        let x120: f64 = c1 * x117;
-        let x121: f64 = x119 - x120;
-        let x122: f64 = c1 * x116;
-        let x123: f64 = x2 * x118;
-        let x124: f64 = x122 - x123;
-        let x125: f64 = x2 * x117;
-        let x126: f64 = x4 * x116;
-        let x127: f64 = x125 - x126;
-        let x128: f64 = x105 - x45;
-        let x129: f64 = x106 - x46;
-        let x130: f64 = x107 - x47;
-        let x131: f64 = x34 * x130;
-        let x132: f64 = x17 * x129;
-        let x133: f64 = x131 + x132;
-        let x134: f64 = x17 * x128;
-        let x135: f64 = x10 * x130;
-        let x136: f64 = x134 + x135;
-        let x137: f64 = -x136;
-        let x138: f64 = x10 * x129;
-        let x139: f64 = x34 * x128;
-        let x140: f64 = x138 - x139;
-        let x141: f64 = x105 - x74;
-        let x142: f64 = x106 - x75;
-        let x143: f64 = x107 - x76;
-        let x144: f64 = x33 * x143;
-        let x145: f64 = x40 * x142;
-        let x146: f64 = x144 - x145;
-        let x147: f64 = x40 * x141;
-        let x148: f64 = x27 * x143;
-        let x149: f64 = x147 - x148;
-        let x150: f64 = x27 * x142;
-        let x151: f64 = x33 * x141;
-        let x152: f64 = x150 - x151;
-        let x153: f64 = x59 * x143;
-        let x154: f64 = x92 * x142;
-        let x155: f64 = x153 - x154;
-        let x156: f64 = x92 * x141;
-        let x157: f64 = x53 * x143;
-        let x158: f64 = x156 - x157;
-        let x159: f64 = x53 * x142;
-        let x160: f64 = x59 * x141;
-        let x161: f64 = x159 - x160;
-        let x162: f64 = x105 - x99;
-        let x163: f64 = x106 - x100;
-        let x164: f64 = x107 - x101;
-        let x165: f64 = x94 * x164;
-        let x166: f64 = x95 * x163;
-        let x167: f64 = x165 - x166;
-        let x168: f64 = x95 * x162;
-        let x169: f64 = x93 * x164;
-        let x170: f64 = x168 - x169;
-        let x171: f64 = x93 * x163;
-        let x172: f64 = x94 * x162;
-        let x173: f64 = x171 - x172;
+        let (x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13) = (
+            -s0,
+            c0 * c1,
+            c0 * s1,
+            s0 * c1,
+            s0 * s1,
+            s0 * s2,
+            s0 * c2,
+            c0 * s2,
+            c0 * c2,
+            s1 * c2,
+            s1 * s2,
+            0.316f64 * c1,
+            c1 * s3,
+            c1 * c3,
+        );
+        let (
+            x14,
+            x15,
+            x16,
+            x17,
+            x18,
+            x19,
+            x20,
+            x21,
+            x22,
+            x23,
+            x24,
+            x25,
+            x26,
+            x27,
+            x28,
+            x29,
+            x30,
+        ) = (
+            c2 * x1,
+            s2 * x1,
+            c2 * x3,
+            s2 * x3,
+            0.316f64 * x2,
+            0.316f64 * x4,
+            0.333f64 + x11,
+            s3 * x2,
+            c3 * x2,
+            s3 * x4,
+            c3 * x4,
+            c3 * x9,
+            s3 * x9,
+            -x10,
+            -0.0825f64 * x9,
+            s4 * x10,
+            c4 * x10,
+        );
+        let (x31, x32, x33, x34, x35, x36, x37) = (
+            x14 - x5,
+            x15 + x6,
+            x16 + x7,
+            x17 - x8,
+            x12 - x25,
+            x26 + x13,
+            x20 + x28,
+        );
+        let (
+            x38,
+            x39,
+            x40,
+            x41,
+            x42,
+            x43,
+            x44,
+            x45,
+            x46,
+            x47,
+            x48,
+            x49,
+            x50,
+            x51,
+            x52,
+            x53,
+        ) = (
+            c3 * x31,
+            s3 * x31,
+            c3 * x33,
+            s3 * x33,
+            0.0825f64 * x31,
+            0.0825f64 * x33,
+            s4 * x32,
+            c4 * x32,
+            s4 * x34,
+            c4 * x34,
+            c4 * x35,
+            s4 * x35,
+            -0.0825f64 * x35,
+            0.384f64 * x36,
+            s5 * x36,
+            c5 * x36,
+        );
+        let (x54, x55, x56, x57, x58, x59, x60, x61, x62) = (
+            x38 + x21,
+            x22 - x39,
+            x40 + x23,
+            x24 - x41,
+            x18 + x42,
+            x19 + x43,
+            x48 + x29,
+            x50 + x51,
+            x49 - x30,
+        );
+        let (
+            x63,
+            x64,
+            x65,
+            x66,
+            x67,
+            x68,
+            x69,
+            x70,
+            x71,
+            x72,
+            x73,
+            x74,
+            x75,
+            x76,
+            x77,
+        ) = (
+            c4 * x54,
+            s4 * x54,
+            c4 * x56,
+            s4 * x56,
+            -0.0825f64 * x54,
+            0.384f64 * x55,
+            -0.0825f64 * x56,
+            0.384f64 * x57,
+            x37 + x61,
+            s5 * x55,
+            c5 * x55,
+            s5 * x57,
+            c5 * x57,
+            c5 * x60,
+            s5 * x60,
+        );
+        let (x78, x79, x80, x81, x82, x83, x84, x85) = (
+            x63 - x44,
+            x64 + x45,
+            x65 - x46,
+            x66 + x47,
+            x67 + x68,
+            x69 + x70,
+            x76 + x52,
+            x77 - x53,
+        );
+        let (x86, x87, x88, x89, x90, x91, x92, x93) = (
+            x58 + x82,
+            x59 + x83,
+            c5 * x78,
+            s5 * x78,
+            c5 * x80,
+            s5 * x80,
+            0.088f64 * x84,
+            0.2104f64 * x85,
+        );
+        let (x94, x95, x96, x97, x98) = (
+            x88 + x72,
+            x90 + x74,
+            x89 - x73,
+            x91 - x75,
+            x71 + x92,
+        );
+        let (x99, x100, x101, x102, x103) = (
+            0.088f64 * x94,
+            0.088f64 * x95,
+            0.2104f64 * x96,
+            0.2104f64 * x97,
+            x98 + x93,
+        );
+        let (x104, x105, x106, x107, x108, x109, x110) = (
+            x86 + x99,
+            x87 + x100,
+            x103 - 0.333f64,
+            x103 - x20,
+            x103 - x37,
+            x103 - x71,
+            x103 - x98,
+        );
+        let (
+            x111,
+            x112,
+            x113,
+            x114,
+            x115,
+            x116,
+            x117,
+            x118,
+            x119,
+            x120,
+            x121,
+            x122,
+            x123,
+            x124,
+        ) = (
+            x104 + x101,
+            x105 + x102,
+            c0 * x106,
+            s0 * x106,
+            x4 * x107,
+            x2 * x107,
+            x34 * x108,
+            x32 * x108,
+            x57 * x109,
+            x55 * x109,
+            x81 * x109,
+            x79 * x109,
+            x97 * x110,
+            x96 * x110,
+        );
+        let (x125, x126, x127, x128, x129, x130, x131, x132, x133, x134, x135) = (
+            -x112,
+            s0 * x112,
+            c0 * x111,
+            x111 - x18,
+            x112 - x19,
+            x111 - x58,
+            x112 - x59,
+            x111 - x86,
+            x112 - x87,
+            x111 - x104,
+            x112 - x105,
+        );
+        let (
+            x136,
+            x137,
+            x138,
+            x139,
+            x140,
+            x141,
+            x142,
+            x143,
+            x144,
+            x145,
+            x146,
+            x147,
+            x148,
+            x149,
+            x150,
+            x151,
+            x152,
+            x153,
+            x154,
+            x155,
+            x156,
+        ) = (
+            x126 + x127,
+            c1 * x129,
+            c1 * x128,
+            x2 * x129,
+            x4 * x128,
+            x10 * x131,
+            x10 * x130,
+            x32 * x131,
+            x34 * x130,
+            x36 * x133,
+            x36 * x132,
+            x55 * x133,
+            x57 * x132,
+            x62 * x133,
+            x62 * x132,
+            x79 * x133,
+            x81 * x132,
+            x85 * x135,
+            x85 * x134,
+            x96 * x135,
+            x97 * x134,
+        );
+        let (
+            x157,
+            x158,
+            x159,
+            x160,
+            x161,
+            x162,
+            x163,
+            x164,
+            x165,
+            x166,
+            x167,
+            x168,
+            x169,
+            x170,
+            x171,
+            x172,
+        ) = (
+            -x136,
+            x115 - x137,
+            x138 - x116,
+            x139 - x140,
+            x117 + x141,
+            x142 + x118,
+            x143 - x144,
+            x119 - x145,
+            x146 - x120,
+            x147 - x148,
+            x121 - x149,
+            x150 - x122,
+            x151 - x152,
+            x123 - x153,
+            x154 - x124,
+            x155 - x156,
+        );
+        let x173: f64 = -x162;
         SMatrix::from_array_storage(
             ArrayStorage([
-                [x109, x105, 0f64, 0f64, 0f64, 1f64],
-                [x110, x111, x115, x0, c0, 0f64],
-                [x121, x124, x127, x2, x4, c1],
-                [x133, x137, x140, x10, x34, x41],
-                [x146, x149, x152, x27, x33, x40],
-                [x155, x158, x161, x53, x59, x92],
-                [x167, x170, x173, x93, x94, x95],
+                [x125, x111, 0f64, 0f64, 0f64, 1f64],
+                [x113, x114, x157, x0, c0, 0f64],
+                [x158, x159, x160, x2, x4, c1],
+                [x161, x173, x163, x32, x34, x27],
+                [x164, x165, x166, x55, x57, x36],
+                [x167, x168, x169, x79, x81, x62],
+                [x170, x171, x172, x96, x97, x85],
             ]),
         )
     }
@@ -520,421 +747,879 @@ impl RobotDynamics<7, 70> for Panda {
         let [s0, s1, s2, s3, s4, s5, _] = t.sin;
         let [c0, c1, c2, c3, c4, c5, _] = t.cos;
         let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
-        let x0: f64 = c0 * c1;
-        let x1: f64 = c0 * s1;
-        let x2: f64 = s0 * c1;
-        let x3: f64 = s0 * s1;
-        let x4: f64 = c2 * x0;
-        let x5: f64 = s0 * s2;
-        let x6: f64 = x4 - x5;
-        let x7: f64 = s2 * x0;
-        let x8: f64 = s0 * c2;
-        let x9: f64 = x7 + x8;
-        let x10: f64 = c2 * x2;
-        let x11: f64 = c0 * s2;
-        let x12: f64 = x10 + x11;
-        let x13: f64 = s2 * x2;
-        let x14: f64 = c0 * c2;
-        let x15: f64 = s1 * c2;
-        let x16: f64 = s1 * s2;
-        let x17: f64 = 0.316f64 * x1;
-        let x18: f64 = 0.316f64 * x3;
-        let x19: f64 = 0.316f64 * c1;
-        let x20: f64 = 0.333f64 + x19;
-        let x21: f64 = c3 * x6;
-        let x22: f64 = s3 * x1;
-        let x23: f64 = x21 + x22;
-        let x24: f64 = s3 * x6;
-        let x25: f64 = c3 * x1;
-        let x26: f64 = x25 - x24;
-        let x27: f64 = c3 * x12;
-        let x28: f64 = s3 * x3;
-        let x29: f64 = x27 + x28;
-        let x30: f64 = s3 * x12;
-        let x31: f64 = c3 * x3;
-        let x32: f64 = x31 - x30;
-        let x33: f64 = x13 - x14;
-        let x34: f64 = c3 * x15;
-        let x35: f64 = c1 * s3;
-        let x36: f64 = x35 - x34;
-        let x37: f64 = s3 * x15;
-        let x38: f64 = c1 * c3;
-        let x39: f64 = x37 + x38;
-        let x40: f64 = 0.0825f64 * x6;
-        let x41: f64 = 0.0825f64 * x12;
-        let x42: f64 = -0.0825f64 * x15;
-        let x43: f64 = x17 + x40;
-        let x44: f64 = x18 + x41;
-        let x45: f64 = x20 + x42;
-        let x46: f64 = c4 * x23;
-        let x47: f64 = s4 * x9;
-        let x48: f64 = x46 - x47;
-        let x49: f64 = s4 * x23;
-        let x50: f64 = c4 * x9;
-        let x51: f64 = x49 + x50;
-        let x52: f64 = c4 * x29;
-        let x53: f64 = s4 * x33;
-        let x54: f64 = x52 - x53;
-        let x55: f64 = s4 * x29;
-        let x56: f64 = c4 * x33;
-        let x57: f64 = x55 + x56;
-        let x58: f64 = c4 * x36;
-        let x59: f64 = s4 * x16;
-        let x60: f64 = x58 + x59;
-        let x61: f64 = s4 * x36;
-        let x62: f64 = c4 * x16;
-        let x63: f64 = -0.0825f64 * x23;
-        let x64: f64 = 0.384f64 * x26;
-        let x65: f64 = x63 + x64;
-        let x66: f64 = -0.0825f64 * x29;
-        let x67: f64 = 0.384f64 * x32;
-        let x68: f64 = x66 + x67;
-        let x69: f64 = -0.0825f64 * x36;
-        let x70: f64 = 0.384f64 * x39;
-        let x71: f64 = x69 + x70;
-        let x72: f64 = x43 + x65;
-        let x73: f64 = x44 + x68;
-        let x74: f64 = x45 + x71;
-        let x75: f64 = c5 * x48;
-        let x76: f64 = s5 * x26;
-        let x77: f64 = x75 + x76;
-        let x78: f64 = s5 * x48;
-        let x79: f64 = c5 * x26;
-        let x80: f64 = c5 * x54;
-        let x81: f64 = s5 * x32;
-        let x82: f64 = x80 + x81;
-        let x83: f64 = s5 * x54;
-        let x84: f64 = c5 * x32;
-        let x85: f64 = c5 * x60;
-        let x86: f64 = s5 * x39;
-        let x87: f64 = x85 + x86;
-        let x88: f64 = s5 * x60;
-        let x89: f64 = c5 * x39;
-        let x90: f64 = x61 - x62;
-        let x91: f64 = x78 - x79;
-        let x92: f64 = x83 - x84;
-        let x93: f64 = x88 - x89;
-        let x94: f64 = 0.088f64 * x77;
-        let x95: f64 = 0.088f64 * x82;
-        let x96: f64 = 0.088f64 * x87;
-        let x97: f64 = x72 + x94;
-        let x98: f64 = x73 + x95;
-        let x99: f64 = x74 + x96;
-        let x100: f64 = 0.2104f64 * x91;
-        let x101: f64 = 0.2104f64 * x92;
-        let x102: f64 = 0.2104f64 * x93;
-        let x103: f64 = x97 + x100;
-        let x104: f64 = x98 + x101;
-        let x105: f64 = x99 + x102;
-        let x106: f64 = x105 - 0.333f64;
-        let x107: f64 = x103 - x17;
-        let x108: f64 = x104 - x18;
-        let x109: f64 = x105 - x20;
-        let x110: f64 = x103 - x43;
-        let x111: f64 = x104 - x44;
-        let x112: f64 = x105 - x45;
-        let x113: f64 = x103 - x72;
-        let x114: f64 = x104 - x73;
-        let x115: f64 = x105 - x74;
-        let x116: f64 = x103 - x97;
-        let x117: f64 = x104 - x98;
-        let x118: f64 = x105 - x99;
-        let x119: f64 = qd1 * s0;
-        let x120: f64 = qd1 * c0;
-        let x121: f64 = x20 - 0.333f64;
-        let x122: f64 = x120 * x121;
-        let x123: f64 = qd0 * x18;
-        let x124: f64 = x122 - x123;
-        let x125: f64 = qd0 * x17;
-        let x126: f64 = x119 * x121;
-        let x127: f64 = x125 + x126;
-        let x128: f64 = x18 * x119;
-        let x129: f64 = x17 * x120;
-        let x130: f64 = x128 + x129;
-        let x131: f64 = qd2 * x1;
-        let x132: f64 = qd2 * x3;
-        let x133: f64 = qd2 * c1;
-        let x134: f64 = x131 - x119;
-        let x135: f64 = x120 + x132;
-        let x136: f64 = qd0 + x133;
-        let x137: f64 = x43 - x17;
-        let x138: f64 = x44 - x18;
-        let x139: f64 = x45 - x20;
-        let x140: f64 = x135 * x139;
-        let x141: f64 = x136 * x138;
-        let x142: f64 = x140 - x141;
-        let x143: f64 = x136 * x137;
-        let x144: f64 = x134 * x139;
-        let x145: f64 = x143 - x144;
-        let x146: f64 = x134 * x138;
-        let x147: f64 = x135 * x137;
-        let x148: f64 = x146 - x147;
-        let x149: f64 = x124 + x142;
-        let x150: f64 = x127 + x145;
-        let x151: f64 = x148 - x130;
-        let x152: f64 = qd3 * x9;
-        let x153: f64 = qd3 * x33;
-        let x154: f64 = qd3 * x16;
-        let x155: f64 = x134 + x152;
-        let x156: f64 = x135 + x153;
-        let x157: f64 = x136 - x154;
-        let x158: f64 = x72 - x43;
-        let x159: f64 = x73 - x44;
-        let x160: f64 = x74 - x45;
-        let x161: f64 = x156 * x160;
-        let x162: f64 = x157 * x159;
-        let x163: f64 = x161 - x162;
-        let x164: f64 = x157 * x158;
-        let x165: f64 = x155 * x160;
-        let x166: f64 = x164 - x165;
-        let x167: f64 = x155 * x159;
-        let x168: f64 = x156 * x158;
-        let x169: f64 = x167 - x168;
-        let x170: f64 = x149 + x163;
-        let x171: f64 = x150 + x166;
-        let x172: f64 = x151 + x169;
-        let x173: f64 = qd4 * x26;
-        let x174: f64 = qd4 * x32;
-        let x175: f64 = qd4 * x39;
-        let x176: f64 = x155 + x173;
-        let x177: f64 = x156 + x174;
-        let x178: f64 = x157 + x175;
-        let x179: f64 = qd5 * x51;
-        let x180: f64 = qd5 * x57;
-        let x181: f64 = qd5 * x90;
-        let x182: f64 = x176 + x179;
-        let x183: f64 = x177 + x180;
-        let x184: f64 = x178 + x181;
-        let x185: f64 = x97 - x72;
-        let x186: f64 = x98 - x73;
-        let x187: f64 = x99 - x74;
-        let x188: f64 = x183 * x187;
-        let x189: f64 = x184 * x186;
-        let x190: f64 = x188 - x189;
-        let x191: f64 = x184 * x185;
-        let x192: f64 = x182 * x187;
-        let x193: f64 = x191 - x192;
-        let x194: f64 = x182 * x186;
-        let x195: f64 = x183 * x185;
-        let x196: f64 = x194 - x195;
-        let x197: f64 = x170 + x190;
-        let x198: f64 = x171 + x193;
-        let x199: f64 = x172 + x196;
-        let x200: f64 = qd6 * x91;
-        let x201: f64 = qd6 * x92;
-        let x202: f64 = qd6 * x93;
-        let x203: f64 = x182 + x200;
-        let x204: f64 = x183 + x201;
-        let x205: f64 = x184 + x202;
-        let x206: f64 = x118 * x204;
-        let x207: f64 = x117 * x205;
-        let x208: f64 = x206 - x207;
-        let x209: f64 = x116 * x205;
-        let x210: f64 = x118 * x203;
-        let x211: f64 = x209 - x210;
-        let x212: f64 = x117 * x203;
-        let x213: f64 = x116 * x204;
-        let x214: f64 = x212 - x213;
-        let x215: f64 = x197 + x208;
-        let x216: f64 = x198 + x211;
-        let x217: f64 = x199 + x214;
-        let x218: f64 = -x216;
-        let x219: f64 = qd0 * c0;
-        let x220: f64 = -x219;
-        let x221: f64 = qd0 * s0;
-        let x222: f64 = -x221;
-        let x223: f64 = c0 * x119;
-        let x224: f64 = s0 * x120;
-        let x225: f64 = x224 - x223;
-        let x226: f64 = x106 * x221;
-        let x227: f64 = x104 * x225;
-        let x228: f64 = x226 + x227;
-        let x229: f64 = x103 * x225;
-        let x230: f64 = x106 * x219;
-        let x231: f64 = x229 + x230;
-        let x232: f64 = x104 * x219;
-        let x233: f64 = x103 * x221;
-        let x234: f64 = x233 - x232;
-        let x235: f64 = c0 * x217;
-        let x236: f64 = s0 * x217;
-        let x237: f64 = s0 * x216;
-        let x238: f64 = c0 * x215;
-        let x239: f64 = x237 + x238;
-        let x240: f64 = x235 - x228;
-        let x241: f64 = x231 + x236;
-        let x242: f64 = x234 - x239;
-        let x243: f64 = c1 * x135;
-        let x244: f64 = x3 * x136;
-        let x245: f64 = x243 - x244;
-        let x246: f64 = x1 * x136;
-        let x247: f64 = c1 * x134;
-        let x248: f64 = x246 - x247;
-        let x249: f64 = x3 * x134;
-        let x250: f64 = x1 * x135;
-        let x251: f64 = x249 - x250;
-        let x252: f64 = x109 * x248;
-        let x253: f64 = x108 * x251;
-        let x254: f64 = x252 - x253;
-        let x255: f64 = x107 * x251;
-        let x256: f64 = x109 * x245;
-        let x257: f64 = x255 - x256;
-        let x258: f64 = x108 * x245;
-        let x259: f64 = x107 * x248;
-        let x260: f64 = x258 - x259;
-        let x261: f64 = x215 - x124;
-        let x262: f64 = x216 - x127;
-        let x263: f64 = x130 + x217;
-        let x264: f64 = x3 * x263;
-        let x265: f64 = c1 * x262;
-        let x266: f64 = x264 - x265;
-        let x267: f64 = c1 * x261;
-        let x268: f64 = x1 * x263;
-        let x269: f64 = x267 - x268;
-        let x270: f64 = x1 * x262;
-        let x271: f64 = x3 * x261;
-        let x272: f64 = x270 - x271;
-        let x273: f64 = x254 + x266;
-        let x274: f64 = x257 + x269;
-        let x275: f64 = x260 + x272;
-        let x276: f64 = x16 * x156;
-        let x277: f64 = x33 * x157;
-        let x278: f64 = x276 + x277;
-        let x279: f64 = -x278;
-        let x280: f64 = x9 * x157;
-        let x281: f64 = x16 * x155;
-        let x282: f64 = x280 + x281;
-        let x283: f64 = x33 * x155;
-        let x284: f64 = x9 * x156;
-        let x285: f64 = x283 - x284;
-        let x286: f64 = x112 * x282;
-        let x287: f64 = x111 * x285;
-        let x288: f64 = x286 - x287;
-        let x289: f64 = x110 * x285;
-        let x290: f64 = x112 * x278;
-        let x291: f64 = x289 + x290;
-        let x292: f64 = x111 * x278;
-        let x293: f64 = x110 * x282;
-        let x294: f64 = x292 + x293;
-        let x295: f64 = x215 - x149;
-        let x296: f64 = x216 - x150;
-        let x297: f64 = x217 - x151;
-        let x298: f64 = x33 * x297;
-        let x299: f64 = x16 * x296;
-        let x300: f64 = x298 + x299;
-        let x301: f64 = x16 * x295;
-        let x302: f64 = x9 * x297;
-        let x303: f64 = x301 + x302;
-        let x304: f64 = x9 * x296;
-        let x305: f64 = x33 * x295;
-        let x306: f64 = x304 - x305;
-        let x307: f64 = x288 + x300;
-        let x308: f64 = x291 - x303;
-        let x309: f64 = x306 - x294;
-        let x310: f64 = x39 * x177;
-        let x311: f64 = x32 * x178;
-        let x312: f64 = x310 - x311;
-        let x313: f64 = x26 * x178;
-        let x314: f64 = x39 * x176;
-        let x315: f64 = x313 - x314;
-        let x316: f64 = x32 * x176;
-        let x317: f64 = x26 * x177;
-        let x318: f64 = x316 - x317;
-        let x319: f64 = x115 * x315;
-        let x320: f64 = x114 * x318;
-        let x321: f64 = x319 - x320;
-        let x322: f64 = x113 * x318;
-        let x323: f64 = x115 * x312;
-        let x324: f64 = x322 - x323;
-        let x325: f64 = x114 * x312;
-        let x326: f64 = x113 * x315;
-        let x327: f64 = x325 - x326;
-        let x328: f64 = x215 - x170;
-        let x329: f64 = x216 - x171;
-        let x330: f64 = x217 - x172;
-        let x331: f64 = x32 * x330;
-        let x332: f64 = x39 * x329;
-        let x333: f64 = x331 - x332;
-        let x334: f64 = x39 * x328;
-        let x335: f64 = x26 * x330;
-        let x336: f64 = x334 - x335;
-        let x337: f64 = x26 * x329;
-        let x338: f64 = x32 * x328;
-        let x339: f64 = x337 - x338;
-        let x340: f64 = x321 + x333;
-        let x341: f64 = x324 + x336;
-        let x342: f64 = x327 + x339;
-        let x343: f64 = x90 * x183;
-        let x344: f64 = x57 * x184;
-        let x345: f64 = x343 - x344;
-        let x346: f64 = x51 * x184;
-        let x347: f64 = x90 * x182;
-        let x348: f64 = x346 - x347;
-        let x349: f64 = x57 * x182;
-        let x350: f64 = x51 * x183;
-        let x351: f64 = x349 - x350;
-        let x352: f64 = x115 * x348;
-        let x353: f64 = x114 * x351;
-        let x354: f64 = x352 - x353;
-        let x355: f64 = x113 * x351;
-        let x356: f64 = x115 * x345;
-        let x357: f64 = x355 - x356;
-        let x358: f64 = x114 * x345;
-        let x359: f64 = x113 * x348;
-        let x360: f64 = x358 - x359;
-        let x361: f64 = x57 * x330;
-        let x362: f64 = x90 * x329;
-        let x363: f64 = x361 - x362;
-        let x364: f64 = x90 * x328;
-        let x365: f64 = x51 * x330;
-        let x366: f64 = x364 - x365;
-        let x367: f64 = x51 * x329;
-        let x368: f64 = x57 * x328;
-        let x369: f64 = x367 - x368;
-        let x370: f64 = x354 + x363;
-        let x371: f64 = x357 + x366;
-        let x372: f64 = x360 + x369;
-        let x373: f64 = x93 * x204;
-        let x374: f64 = x92 * x205;
-        let x375: f64 = x373 - x374;
-        let x376: f64 = x91 * x205;
-        let x377: f64 = x93 * x203;
-        let x378: f64 = x376 - x377;
-        let x379: f64 = x92 * x203;
-        let x380: f64 = x91 * x204;
-        let x381: f64 = x379 - x380;
-        let x382: f64 = x118 * x378;
-        let x383: f64 = x117 * x381;
-        let x384: f64 = x382 - x383;
-        let x385: f64 = x116 * x381;
-        let x386: f64 = x118 * x375;
-        let x387: f64 = x385 - x386;
-        let x388: f64 = x117 * x375;
-        let x389: f64 = x116 * x378;
-        let x390: f64 = x388 - x389;
-        let x391: f64 = x215 - x197;
-        let x392: f64 = x216 - x198;
-        let x393: f64 = x217 - x199;
-        let x394: f64 = x92 * x393;
-        let x395: f64 = x93 * x392;
-        let x396: f64 = x394 - x395;
-        let x397: f64 = x93 * x391;
-        let x398: f64 = x91 * x393;
-        let x399: f64 = x397 - x398;
-        let x400: f64 = x91 * x392;
-        let x401: f64 = x92 * x391;
-        let x402: f64 = x400 - x401;
-        let x403: f64 = x384 + x396;
-        let x404: f64 = x387 + x399;
-        let x405: f64 = x390 + x402;
+        let (
+            x0,
+            x1,
+            x2,
+            x3,
+            x4,
+            x5,
+            x6,
+            x7,
+            x8,
+            x9,
+            x10,
+            x11,
+            x12,
+            x13,
+            x14,
+            x15,
+            x16,
+            x17,
+        ) = (
+            c0 * c1,
+            c0 * s1,
+            s0 * c1,
+            s0 * s1,
+            s0 * s2,
+            s0 * c2,
+            c0 * s2,
+            c0 * c2,
+            s1 * c2,
+            s1 * s2,
+            0.316f64 * c1,
+            c1 * s3,
+            c1 * c3,
+            qd1 * s0,
+            qd1 * c0,
+            qd2 * c1,
+            qd0 * c0,
+            qd0 * s0,
+        );
+        let (
+            x18,
+            x19,
+            x20,
+            x21,
+            x22,
+            x23,
+            x24,
+            x25,
+            x26,
+            x27,
+            x28,
+            x29,
+            x30,
+            x31,
+            x32,
+            x33,
+            x34,
+            x35,
+            x36,
+            x37,
+            x38,
+            x39,
+            x40,
+            x41,
+        ) = (
+            c2 * x0,
+            s2 * x0,
+            c2 * x2,
+            s2 * x2,
+            0.316f64 * x1,
+            0.316f64 * x3,
+            0.333f64 + x10,
+            s3 * x1,
+            c3 * x1,
+            s3 * x3,
+            c3 * x3,
+            c3 * x8,
+            s3 * x8,
+            -0.0825f64 * x8,
+            s4 * x9,
+            c4 * x9,
+            qd2 * x1,
+            qd2 * x3,
+            qd0 + x15,
+            qd3 * x9,
+            -x16,
+            -x17,
+            c0 * x13,
+            s0 * x14,
+        );
+        let (
+            x42,
+            x43,
+            x44,
+            x45,
+            x46,
+            x47,
+            x48,
+            x49,
+            x50,
+            x51,
+            x52,
+            x53,
+            x54,
+            x55,
+            x56,
+            x57,
+            x58,
+            x59,
+        ) = (
+            x18 - x4,
+            x19 + x5,
+            x20 + x6,
+            x21 - x7,
+            x11 - x29,
+            x30 + x12,
+            x24 + x31,
+            x24 - 0.333f64,
+            qd0 * x23,
+            qd0 * x22,
+            x23 * x13,
+            x22 * x14,
+            x34 - x13,
+            x14 + x35,
+            x36 - x37,
+            x41 - x40,
+            x3 * x36,
+            x1 * x36,
+        );
+        let (
+            x60,
+            x61,
+            x62,
+            x63,
+            x64,
+            x65,
+            x66,
+            x67,
+            x68,
+            x69,
+            x70,
+            x71,
+            x72,
+            x73,
+            x74,
+            x75,
+            x76,
+            x77,
+            x78,
+            x79,
+            x80,
+            x81,
+            x82,
+            x83,
+            x84,
+            x85,
+            x86,
+            x87,
+            x88,
+        ) = (
+            c3 * x42,
+            s3 * x42,
+            c3 * x44,
+            s3 * x44,
+            0.0825f64 * x42,
+            0.0825f64 * x44,
+            s4 * x43,
+            c4 * x43,
+            s4 * x45,
+            c4 * x45,
+            c4 * x46,
+            s4 * x46,
+            -0.0825f64 * x46,
+            0.384f64 * x47,
+            s5 * x47,
+            c5 * x47,
+            x14 * x49,
+            x13 * x49,
+            x52 + x53,
+            x48 - x24,
+            qd3 * x43,
+            qd3 * x45,
+            qd4 * x47,
+            c1 * x55,
+            c1 * x54,
+            x3 * x54,
+            x1 * x55,
+            x45 * x56,
+            x43 * x56,
+        );
+        let (
+            x89,
+            x90,
+            x91,
+            x92,
+            x93,
+            x94,
+            x95,
+            x96,
+            x97,
+            x98,
+            x99,
+            x100,
+            x101,
+            x102,
+            x103,
+            x104,
+            x105,
+            x106,
+            x107,
+        ) = (
+            x60 + x25,
+            x26 - x61,
+            x62 + x27,
+            x28 - x63,
+            x22 + x64,
+            x23 + x65,
+            x70 + x32,
+            x72 + x73,
+            x71 - x33,
+            x76 - x50,
+            x51 + x77,
+            x55 * x79,
+            x54 * x79,
+            x54 + x80,
+            x55 + x81,
+            x56 + x82,
+            x83 - x58,
+            x59 - x84,
+            x85 - x86,
+        );
+        let (
+            x108,
+            x109,
+            x110,
+            x111,
+            x112,
+            x113,
+            x114,
+            x115,
+            x116,
+            x117,
+            x118,
+            x119,
+            x120,
+            x121,
+            x122,
+            x123,
+            x124,
+            x125,
+            x126,
+            x127,
+            x128,
+            x129,
+            x130,
+            x131,
+            x132,
+            x133,
+        ) = (
+            c4 * x89,
+            s4 * x89,
+            c4 * x91,
+            s4 * x91,
+            -0.0825f64 * x89,
+            0.384f64 * x90,
+            -0.0825f64 * x91,
+            0.384f64 * x92,
+            x48 + x96,
+            s5 * x90,
+            c5 * x90,
+            s5 * x92,
+            c5 * x92,
+            c5 * x95,
+            s5 * x95,
+            x93 - x22,
+            x94 - x23,
+            qd4 * x90,
+            qd4 * x92,
+            qd5 * x97,
+            x9 * x103,
+            x9 * x102,
+            x45 * x102,
+            x43 * x103,
+            x92 * x104,
+            x90 * x104,
+        );
+        let (
+            x134,
+            x135,
+            x136,
+            x137,
+            x138,
+            x139,
+            x140,
+            x141,
+            x142,
+            x143,
+            x144,
+            x145,
+            x146,
+            x147,
+            x148,
+            x149,
+            x150,
+            x151,
+            x152,
+        ) = (
+            x108 - x66,
+            x109 + x67,
+            x110 - x68,
+            x111 + x69,
+            x112 + x113,
+            x114 + x115,
+            x121 + x74,
+            x122 - x75,
+            x36 * x124,
+            x36 * x123,
+            x54 * x124,
+            x55 * x123,
+            x116 - x48,
+            x102 + x125,
+            x103 + x126,
+            x104 + x127,
+            x128 + x87,
+            x88 + x129,
+            x130 - x131,
+        );
+        let (
+            x153,
+            x154,
+            x155,
+            x156,
+            x157,
+            x158,
+            x159,
+            x160,
+            x161,
+            x162,
+            x163,
+            x164,
+            x165,
+            x166,
+            x167,
+            x168,
+            x169,
+            x170,
+            x171,
+            x172,
+            x173,
+            x174,
+            x175,
+        ) = (
+            x93 + x138,
+            x94 + x139,
+            c5 * x134,
+            s5 * x134,
+            c5 * x136,
+            s5 * x136,
+            0.088f64 * x140,
+            0.2104f64 * x141,
+            x100 - x142,
+            x143 - x101,
+            x144 - x145,
+            x103 * x146,
+            x102 * x146,
+            qd5 * x135,
+            qd5 * x137,
+            qd6 * x141,
+            -x150,
+            x47 * x148,
+            x47 * x147,
+            x92 * x147,
+            x90 * x148,
+            x137 * x149,
+            x135 * x149,
+        );
+        let (
+            x176,
+            x177,
+            x178,
+            x179,
+            x180,
+            x181,
+            x182,
+            x183,
+            x184,
+            x185,
+            x186,
+            x187,
+            x188,
+            x189,
+            x190,
+            x191,
+        ) = (
+            x155 + x117,
+            x157 + x119,
+            x156 - x118,
+            x158 - x120,
+            x116 + x159,
+            x98 + x161,
+            x99 + x162,
+            x163 - x78,
+            x153 - x93,
+            x154 - x94,
+            x147 + x166,
+            x148 + x167,
+            x149 + x168,
+            x170 - x132,
+            x133 - x171,
+            x172 - x173,
+        );
+        let (
+            x192,
+            x193,
+            x194,
+            x195,
+            x196,
+            x197,
+            x198,
+            x199,
+            x200,
+            x201,
+            x202,
+            x203,
+            x204,
+            x205,
+            x206,
+            x207,
+            x208,
+            x209,
+        ) = (
+            0.088f64 * x176,
+            0.088f64 * x177,
+            0.2104f64 * x178,
+            0.2104f64 * x179,
+            x180 + x160,
+            x56 * x185,
+            x56 * x184,
+            x102 * x185,
+            x103 * x184,
+            x180 - x116,
+            qd6 * x178,
+            qd6 * x179,
+            x97 * x187,
+            x97 * x186,
+            x137 * x186,
+            x135 * x187,
+            x179 * x188,
+            x178 * x188,
+        );
+        let (
+            x210,
+            x211,
+            x212,
+            x213,
+            x214,
+            x215,
+            x216,
+            x217,
+            x218,
+            x219,
+            x220,
+            x221,
+            x222,
+            x223,
+            x224,
+            x225,
+            x226,
+        ) = (
+            x153 + x192,
+            x154 + x193,
+            x196 - 0.333f64,
+            x196 - x24,
+            x196 - x48,
+            x196 - x116,
+            x196 - x180,
+            x164 - x197,
+            x198 - x165,
+            x199 - x200,
+            x187 * x201,
+            x186 * x201,
+            x186 + x202,
+            x187 + x203,
+            x204 - x174,
+            x175 - x205,
+            x206 - x207,
+        );
+        let (
+            x227,
+            x228,
+            x229,
+            x230,
+            x231,
+            x232,
+            x233,
+            x234,
+            x235,
+            x236,
+            x237,
+            x238,
+            x239,
+            x240,
+            x241,
+            x242,
+            x243,
+            x244,
+            x245,
+            x246,
+            x247,
+            x248,
+            x249,
+        ) = (
+            x210 + x194,
+            x211 + x195,
+            x181 + x217,
+            x182 + x218,
+            x183 + x219,
+            x210 - x153,
+            x211 - x154,
+            x216 * x223,
+            x216 * x222,
+            x212 * x17,
+            x212 * x16,
+            x213 * x106,
+            x213 * x105,
+            x214 * x151,
+            x214 * x150,
+            x215 * x190,
+            x215 * x189,
+            x215 * x225,
+            x215 * x224,
+            x141 * x223,
+            x141 * x222,
+            x179 * x222,
+            x178 * x223,
+        );
+        let (
+            x250,
+            x251,
+            x252,
+            x253,
+            x254,
+            x255,
+            x256,
+            x257,
+            x258,
+            x259,
+            x260,
+            x261,
+            x262,
+            x263,
+            x264,
+            x265,
+            x266,
+            x267,
+            x268,
+        ) = (
+            x227 - x22,
+            x228 - x23,
+            x227 - x93,
+            x228 - x94,
+            x227 - x153,
+            x228 - x154,
+            x227 - x210,
+            x228 - x211,
+            x149 * x233,
+            x149 * x232,
+            x186 * x233,
+            x187 * x232,
+            x228 * x57,
+            x227 * x57,
+            x228 * x16,
+            x227 * x17,
+            x246 - x208,
+            x209 - x247,
+            x248 - x249,
+        );
+        let (
+            x269,
+            x270,
+            x271,
+            x272,
+            x273,
+            x274,
+            x275,
+            x276,
+            x277,
+            x278,
+            x279,
+            x280,
+            x281,
+            x282,
+            x283,
+            x284,
+            x285,
+            x286,
+            x287,
+            x288,
+            x289,
+            x290,
+            x291,
+            x292,
+            x293,
+            x294,
+            x295,
+            x296,
+            x297,
+            x298,
+            x299,
+            x300,
+        ) = (
+            x220 - x258,
+            x259 - x221,
+            x260 - x261,
+            x257 * x188,
+            x256 * x188,
+            x257 * x222,
+            x256 * x223,
+            x236 + x262,
+            x263 + x237,
+            x265 - x264,
+            x251 * x107,
+            x250 * x107,
+            x251 * x105,
+            x250 * x106,
+            x253 * x152,
+            x252 * x152,
+            x253 * x150,
+            x252 * x151,
+            x255 * x191,
+            x254 * x191,
+            x255 * x189,
+            x254 * x190,
+            x255 * x226,
+            x254 * x226,
+            x255 * x224,
+            x254 * x225,
+            x216 * x267,
+            x257 * x268,
+            x256 * x268,
+            x216 * x266,
+            x257 * x266,
+            x256 * x267,
+        );
+        let (
+            x301,
+            x302,
+            x303,
+            x304,
+            x305,
+            x306,
+            x307,
+            x308,
+            x309,
+            x310,
+            x311,
+            x312,
+            x313,
+            x314,
+            x315,
+            x316,
+            x317,
+            x318,
+            x319,
+            x320,
+            x321,
+        ) = (
+            x229 + x269,
+            x230 + x270,
+            x231 + x271,
+            x234 - x272,
+            x273 - x235,
+            x274 - x275,
+            x238 - x279,
+            x280 - x239,
+            x281 - x282,
+            x240 - x283,
+            x284 + x241,
+            x285 + x286,
+            x242 - x287,
+            x288 - x243,
+            x289 - x290,
+            x244 - x291,
+            x292 - x245,
+            x293 - x294,
+            x295 - x296,
+            x297 - x298,
+            x299 - x300,
+        );
+        let (x322, x323, x324) = (x301 + x304, x302 + x305, x303 + x306);
+        let (
+            x325,
+            x326,
+            x327,
+            x328,
+            x329,
+            x330,
+            x331,
+            x332,
+            x333,
+            x334,
+            x335,
+            x336,
+            x337,
+            x338,
+            x339,
+            x340,
+            x341,
+        ) = (
+            -x323,
+            c0 * x324,
+            s0 * x324,
+            s0 * x323,
+            c0 * x322,
+            x322 - x98,
+            x323 - x99,
+            x78 + x324,
+            x322 - x181,
+            x323 - x182,
+            x324 - x183,
+            x322 - x229,
+            x323 - x230,
+            x324 - x231,
+            x322 - x301,
+            x323 - x302,
+            x324 - x303,
+        );
+        let (
+            x342,
+            x343,
+            x344,
+            x345,
+            x346,
+            x347,
+            x348,
+            x349,
+            x350,
+            x351,
+            x352,
+            x353,
+            x354,
+            x355,
+            x356,
+            x357,
+            x358,
+            x359,
+            x360,
+            x361,
+            x362,
+            x363,
+            x364,
+            x365,
+            x366,
+            x367,
+            x368,
+            x369,
+            x370,
+            x371,
+            x372,
+            x373,
+            x374,
+        ) = (
+            x328 + x329,
+            x326 - x276,
+            x277 + x327,
+            x3 * x332,
+            c1 * x331,
+            c1 * x330,
+            x1 * x332,
+            x1 * x331,
+            x3 * x330,
+            x45 * x335,
+            x9 * x334,
+            x9 * x333,
+            x43 * x335,
+            x43 * x334,
+            x45 * x333,
+            x92 * x338,
+            x47 * x337,
+            x47 * x336,
+            x90 * x338,
+            x90 * x337,
+            x92 * x336,
+            x137 * x338,
+            x97 * x337,
+            x97 * x336,
+            x135 * x338,
+            x135 * x337,
+            x137 * x336,
+            x179 * x341,
+            x141 * x340,
+            x141 * x339,
+            x178 * x341,
+            x178 * x340,
+            x179 * x339,
+        );
+        let (
+            x375,
+            x376,
+            x377,
+            x378,
+            x379,
+            x380,
+            x381,
+            x382,
+            x383,
+            x384,
+            x385,
+            x386,
+            x387,
+            x388,
+            x389,
+            x390,
+        ) = (
+            x278 - x342,
+            x345 - x346,
+            x347 - x348,
+            x349 - x350,
+            x351 + x352,
+            x353 + x354,
+            x355 - x356,
+            x357 - x358,
+            x359 - x360,
+            x361 - x362,
+            x363 - x364,
+            x365 - x366,
+            x367 - x368,
+            x369 - x370,
+            x371 - x372,
+            x373 - x374,
+        );
+        let (
+            x391,
+            x392,
+            x393,
+            x394,
+            x395,
+            x396,
+            x397,
+            x398,
+            x399,
+            x400,
+            x401,
+            x402,
+            x403,
+            x404,
+            x405,
+        ) = (
+            x307 + x376,
+            x308 + x377,
+            x309 + x378,
+            x310 + x379,
+            x311 - x380,
+            x381 - x312,
+            x313 + x382,
+            x314 + x383,
+            x315 + x384,
+            x316 + x385,
+            x317 + x386,
+            x318 + x387,
+            x319 + x388,
+            x320 + x389,
+            x321 + x390,
+        );
         SMatrix::from_array_storage(
             ArrayStorage([
-                [x218, x215, 0f64, 0f64, 0f64, 0f64],
-                [x240, x241, x242, x220, x222, x225],
-                [x273, x274, x275, x245, x248, x251],
-                [x307, x308, x309, x279, x282, x285],
-                [x340, x341, x342, x312, x315, x318],
-                [x370, x371, x372, x345, x348, x351],
-                [x403, x404, x405, x375, x378, x381],
+                [x325, x322, 0f64, 0f64, 0f64, 0f64],
+                [x343, x344, x375, x38, x39, x57],
+                [x391, x392, x393, x105, x106, x107],
+                [x394, x395, x396, x169, x151, x152],
+                [x397, x398, x399, x189, x190, x191],
+                [x400, x401, x402, x224, x225, x226],
+                [x403, x404, x405, x266, x267, x268],
             ]),
         )
     }
@@ -943,758 +1628,5387 @@ impl RobotDynamics<7, 70> for Panda {
     fn mass_matrix(t: &JointTrig<7>) -> SMatrix<f64, 7, 7> {
         let [_, s1, s2, s3, s4, s5, s6] = t.sin;
         let [_, c1, c2, c3, c4, c5, c6] = t.cos;
-        let x0: f64 = 0.002573605371338202f64 * c6;
-        let x1: f64 = -0.0020344399586617965f64 * s6;
-        let x2: f64 = x0 + x1;
-        let x3: f64 = 0.002573605371338202f64 * s6;
-        let x4: f64 = 0.0020344399586617965f64 * c6;
-        let x5: f64 = x3 + x4;
-        let x6: f64 = 0.0316333431909496f64 * c6;
-        let x7: f64 = -0.0003913912816842481f64 * s6;
-        let x8: f64 = x6 + x7;
-        let x9: f64 = 0.0003913912816842481f64 * c6;
-        let x10: f64 = -0.029212399412428362f64 * s6;
-        let x11: f64 = x9 + x10;
-        let x12: f64 = -0.0009653051699191116f64 * c6;
-        let x13: f64 = 0.001255536598272898f64 * s6;
-        let x14: f64 = x12 + x13;
-        let x15: f64 = 0.0316333431909496f64 * s6;
-        let x16: f64 = x9 + x15;
-        let x17: f64 = 0.0003913912816842481f64 * s6;
-        let x18: f64 = 0.029212399412428362f64 * c6;
-        let x19: f64 = x17 + x18;
-        let x20: f64 = -0.0009653051699191116f64 * s6;
-        let x21: f64 = -0.001255536598272898f64 * c6;
-        let x22: f64 = x20 + x21;
-        let x23: f64 = c6 * x8;
-        let x24: f64 = s6 * x11;
-        let x25: f64 = x23 - x24;
-        let x26: f64 = s6 * x8;
-        let x27: f64 = c6 * x11;
-        let x28: f64 = x26 + x27;
-        let x29: f64 = 0.0009653051699191116f64 * s6;
-        let x30: f64 = 0.001255536598272898f64 * c6;
-        let x31: f64 = x29 + x30;
-        let x32: f64 = s6 * x16;
-        let x33: f64 = c6 * x19;
-        let x34: f64 = x32 + x33;
-        let x35: f64 = 0.088f64 * x2;
-        let x36: f64 = 0.176f64 * x2;
-        let x37: f64 = 0.011581322367999997f64 + x36;
-        let x38: f64 = x2 + 0.13160593599999998f64;
-        let x39: f64 = x25 + x37;
-        let x40: f64 = x35 + 0.011581322367999998f64;
-        let x41: f64 = x35 + x40;
-        let x42: f64 = x39 - x41;
-        let x43: f64 = x14 + -0.013224459479792f64;
-        let x44: f64 = 0.006684151967360945f64 + x37;
-        let x45: f64 = 0.088f64 * x5;
-        let x46: f64 = x28 - x45;
-        let x47: f64 = x34 + x37;
-        let x48: f64 = 0.10024161669500001f64 + x38;
-        let x49: f64 = -0.017527158935000002f64 + x5;
-        let x50: f64 = 0.0024804603581707893f64 + x42;
-        let x51: f64 = 0.001524110902883315f64 - x43;
-        let x52: f64 = 0.01056776613310695f64 + x44;
-        let x53: f64 = -0.00010375891721868492f64 + x46;
-        let x54: f64 = 0.000093569097314605f64 + x31;
-        let x55: f64 = 0.011794560230238949f64 + x47;
-        let x56: f64 = c5 * x48;
-        let x57: f64 = 0.17380470556900002f64 * s5;
-        let x58: f64 = x56 + x57;
-        let x59: f64 = s5 * x48;
-        let x60: f64 = -0.17380470556900002f64 * c5;
-        let x61: f64 = x59 + x60;
-        let x62: f64 = c5 * x50;
-        let x63: f64 = s5 * x51;
-        let x64: f64 = x62 - x63;
-        let x65: f64 = c5 * x51;
-        let x66: f64 = s5 * x52;
-        let x67: f64 = x65 - x66;
-        let x68: f64 = c5 * x53;
-        let x69: f64 = s5 * x54;
-        let x70: f64 = x68 - x69;
-        let x71: f64 = s5 * x50;
-        let x72: f64 = x65 + x71;
-        let x73: f64 = c5 * x52;
-        let x74: f64 = x63 + x73;
-        let x75: f64 = s5 * x53;
-        let x76: f64 = c5 * x54;
-        let x77: f64 = x75 + x76;
-        let x78: f64 = c5 * x64;
-        let x79: f64 = s5 * x67;
-        let x80: f64 = x78 - x79;
-        let x81: f64 = x69 - x68;
-        let x82: f64 = s5 * x64;
-        let x83: f64 = c5 * x67;
-        let x84: f64 = x82 + x83;
-        let x85: f64 = s5 * x72;
-        let x86: f64 = c5 * x74;
-        let x87: f64 = x85 + x86;
-        let x88: f64 = -0.014653732538f64 + x58;
-        let x89: f64 = 0.05034347249f64 - x49;
-        let x90: f64 = -0.047121686402f64 + x61;
-        let x91: f64 = 0.03942757095803552f64 + x80;
-        let x92: f64 = -0.0015152444733270301f64 + x81;
-        let x93: f64 = 0.03146037232526039f64 + x55;
-        let x94: f64 = -0.004600245517563105f64 + x84;
-        let x95: f64 = 0.0021640520520981297f64 - x77;
-        let x96: f64 = 0.010869510762828563f64 + x87;
-        let x97: f64 = c4 * x88;
-        let x98: f64 = s4 * x89;
-        let x99: f64 = x97 - x98;
-        let x100: f64 = s4 * x88;
-        let x101: f64 = c4 * x89;
-        let x102: f64 = x100 + x101;
-        let x103: f64 = c4 * x91;
-        let x104: f64 = s4 * x92;
-        let x105: f64 = x103 - x104;
-        let x106: f64 = c4 * x92;
-        let x107: f64 = s4 * x93;
-        let x108: f64 = x106 - x107;
-        let x109: f64 = c4 * x94;
-        let x110: f64 = s4 * x95;
-        let x111: f64 = x109 - x110;
-        let x112: f64 = s4 * x91;
-        let x113: f64 = x106 + x112;
-        let x114: f64 = c4 * x93;
-        let x115: f64 = x104 + x114;
-        let x116: f64 = s4 * x94;
-        let x117: f64 = c4 * x95;
-        let x118: f64 = x116 + x117;
-        let x119: f64 = c4 * x105;
-        let x120: f64 = s4 * x108;
-        let x121: f64 = x119 - x120;
-        let x122: f64 = s4 * x105;
-        let x123: f64 = c4 * x108;
-        let x124: f64 = x122 + x123;
-        let x125: f64 = s4 * x113;
-        let x126: f64 = c4 * x115;
-        let x127: f64 = x125 + x126;
-        let x128: f64 = -0.0825f64 * x99;
-        let x129: f64 = 0.384f64 * x90;
-        let x130: f64 = x128 + x129;
-        let x131: f64 = 2f64 * x130;
-        let x132: f64 = 0.6769063010317501f64 + x131;
-        let x133: f64 = x99 + -0.36201189750000007f64;
-        let x134: f64 = x90 + 1.6850008320000003f64;
-        let x135: f64 = x121 + x132;
-        let x136: f64 = x128 + 0.029865981543750007f64;
-        let x137: f64 = x128 + x136;
-        let x138: f64 = x135 - x137;
-        let x139: f64 = -0.0825f64 * x90;
-        let x140: f64 = -0.13901256864000003f64 + x139;
-        let x141: f64 = 0.384f64 * x99;
-        let x142: f64 = x140 + x141;
-        let x143: f64 = x111 - x142;
-        let x144: f64 = x96 + x132;
-        let x145: f64 = x129 + 0.6470403194880001f64;
-        let x146: f64 = x129 + x145;
-        let x147: f64 = x144 - x146;
-        let x148: f64 = 0.0825f64 * x102;
-        let x149: f64 = x124 + x148;
-        let x150: f64 = -0.384f64 * x102;
-        let x151: f64 = x118 + x150;
-        let x152: f64 = x127 + x132;
-        let x153: f64 = -0.19076837715f64 + x133;
-        let x154: f64 = 0.374644408005f64 + x134;
-        let x155: f64 = 0.06767727025085991f64 + x138;
-        let x156: f64 = 0.02771584317362585f64 + x143;
-        let x157: f64 = 0.03239943042445132f64 + x147;
-        let x158: f64 = 0.0039053550262761003f64 - x149;
-        let x159: f64 = -0.0016444875773692705f64 - x151;
-        let x160: f64 = 0.0775861490525396f64 + x152;
-        let x161: f64 = c3 * x153;
-        let x162: f64 = s3 * x154;
-        let x163: f64 = x161 - x162;
-        let x164: f64 = x102 - 0.09850206933f64;
-        let x165: f64 = s3 * x153;
-        let x166: f64 = c3 * x154;
-        let x167: f64 = x165 + x166;
-        let x168: f64 = c3 * x155;
-        let x169: f64 = s3 * x156;
-        let x170: f64 = x168 - x169;
-        let x171: f64 = c3 * x156;
-        let x172: f64 = s3 * x157;
-        let x173: f64 = x171 - x172;
-        let x174: f64 = c3 * x158;
-        let x175: f64 = s3 * x159;
-        let x176: f64 = x174 - x175;
-        let x177: f64 = x149 - 0.0039053550262761003f64;
-        let x178: f64 = x151 - -0.0016444875773692705f64;
-        let x179: f64 = s3 * x155;
-        let x180: f64 = x171 + x179;
-        let x181: f64 = c3 * x157;
-        let x182: f64 = x169 + x181;
-        let x183: f64 = s3 * x158;
-        let x184: f64 = c3 * x159;
-        let x185: f64 = x183 + x184;
-        let x186: f64 = c3 * x170;
-        let x187: f64 = s3 * x173;
-        let x188: f64 = x186 - x187;
-        let x189: f64 = x175 - x174;
-        let x190: f64 = s3 * x170;
-        let x191: f64 = c3 * x173;
-        let x192: f64 = x190 + x191;
-        let x193: f64 = s3 * x177;
-        let x194: f64 = c3 * x178;
-        let x195: f64 = x193 + x194;
-        let x196: f64 = s3 * x180;
-        let x197: f64 = c3 * x182;
-        let x198: f64 = x196 + x197;
-        let x199: f64 = 0.0825f64 * x163;
-        let x200: f64 = 0.165f64 * x163;
-        let x201: f64 = 0.054286091887500006f64 + x200;
-        let x202: f64 = x163 + 0.6580132350000001f64;
-        let x203: f64 = x188 + x201;
-        let x204: f64 = x199 + 0.05428609188750001f64;
-        let x205: f64 = x199 + x204;
-        let x206: f64 = x203 - x205;
-        let x207: f64 = 0.0825f64 * x164;
-        let x208: f64 = x189 - x207;
-        let x209: f64 = x160 + x201;
-        let x210: f64 = 0.0825f64 * x167;
-        let x211: f64 = x192 - x210;
-        let x212: f64 = x198 + x201;
-        let x213: f64 = 0.088844724872f64 + x202;
-        let x214: f64 = 0.126729164208f64 + x164;
-        let x215: f64 = -0.214708623208f64 + x167;
-        let x216: f64 = 0.05649492601407083f64 + x206;
-        let x217: f64 = -0.008248333140675744f64 + x208;
-        let x218: f64 = 0.05287838199960611f64 + x209;
-        let x219: f64 = -0.005487648106562256f64 + x211;
-        let x220: f64 = -0.004377257121839584f64 + x195;
-        let x221: f64 = 0.01824920229252011f64 + x212;
-        let x222: f64 = c2 * x213;
-        let x223: f64 = s2 * x214;
-        let x224: f64 = x222 - x223;
-        let x225: f64 = s2 * x213;
-        let x226: f64 = c2 * x214;
-        let x227: f64 = x225 + x226;
-        let x228: f64 = c2 * x216;
-        let x229: f64 = s2 * x217;
-        let x230: f64 = x228 - x229;
-        let x231: f64 = c2 * x217;
-        let x232: f64 = s2 * x218;
-        let x233: f64 = x231 - x232;
-        let x234: f64 = c2 * x219;
-        let x235: f64 = s2 * x220;
-        let x236: f64 = x234 - x235;
-        let x237: f64 = s2 * x216;
-        let x238: f64 = x231 + x237;
-        let x239: f64 = c2 * x218;
-        let x240: f64 = x229 + x239;
-        let x241: f64 = s2 * x219;
-        let x242: f64 = c2 * x220;
-        let x243: f64 = x241 + x242;
-        let x244: f64 = c2 * x230;
-        let x245: f64 = s2 * x233;
-        let x246: f64 = x244 - x245;
-        let x247: f64 = x235 - x234;
-        let x248: f64 = s2 * x230;
-        let x249: f64 = c2 * x233;
-        let x250: f64 = x248 + x249;
-        let x251: f64 = s2 * x238;
-        let x252: f64 = c2 * x240;
-        let x253: f64 = x251 + x252;
-        let x254: f64 = 0.316f64 * x215;
-        let x255: f64 = 0.632f64 * x215;
-        let x256: f64 = 1.1188387488320002f64 + x255;
-        let x257: f64 = x246 + x256;
-        let x258: f64 = -0.316f64 * x224;
-        let x259: f64 = x247 - x258;
-        let x260: f64 = x221 + x256;
-        let x261: f64 = 1.1188387488320002f64 + x254;
-        let x262: f64 = x254 + x261;
-        let x263: f64 = x260 - x262;
-        let x264: f64 = -0.316f64 * x227;
-        let x265: f64 = x243 + x264;
-        let x266: f64 = x253 + x256;
-        let x267: f64 = 0.00850351162402155f64 + x257;
-        let x268: f64 = -0.00398335888393552f64 + x259;
-        let x269: f64 = 0.028124284712194955f64 + x263;
-        let x270: f64 = 0.01026110182100817f64 + x250;
-        let x271: f64 = 0.0007689361029464f64 - x265;
-        let x272: f64 = 0.026534991901690206f64 + x266;
-        let x273: f64 = s1 * x268;
-        let x274: f64 = c1 * x268;
-        let x275: f64 = s1 * x267;
-        let x276: f64 = x274 + x275;
-        let x277: f64 = c1 * x269;
-        let x278: f64 = x273 + x277;
-        let x279: f64 = s1 * x270;
-        let x280: f64 = c1 * x271;
-        let x281: f64 = x279 + x280;
-        let x282: f64 = -x281;
-        let x283: f64 = s1 * x276;
-        let x284: f64 = c1 * x278;
-        let x285: f64 = x283 + x284;
-        let x286: f64 = 0.009213163777211224f64 + x285;
-        let x287: f64 = 0.316f64 * x227;
-        let x288: f64 = x236 + x258;
-        let x289: f64 = x243 - x287;
-        let x290: f64 = s1 * x288;
-        let x291: f64 = c1 * x221;
-        let x292: f64 = x291 - x290;
-        let x293: f64 = x160 + x199;
-        let x294: f64 = c2 * x167;
-        let x295: f64 = s2 * x167;
-        let x296: f64 = c2 * x176;
-        let x297: f64 = s2 * x293;
-        let x298: f64 = x296 + x297;
-        let x299: f64 = s2 * x176;
-        let x300: f64 = c2 * x293;
-        let x301: f64 = x299 - x300;
-        let x302: f64 = 0.316f64 * x295;
-        let x303: f64 = 0.316f64 * x294;
-        let x304: f64 = x298 + x302;
-        let x305: f64 = x301 - x303;
-        let x306: f64 = s1 * x304;
-        let x307: f64 = c1 * x185;
-        let x308: f64 = x307 - x306;
-        let x309: f64 = x49 - 0.05034347249f64;
-        let x310: f64 = c4 * x309;
-        let x311: f64 = x310 - x100;
-        let x312: f64 = s4 * x309;
-        let x313: f64 = x97 + x312;
-        let x314: f64 = -0.384f64 * x313;
-        let x315: f64 = 0.0825f64 * x313;
-        let x316: f64 = 0.384f64 * x311;
-        let x317: f64 = x111 + x314;
-        let x318: f64 = x96 - x315;
-        let x319: f64 = x118 + x316;
-        let x320: f64 = -x319;
-        let x321: f64 = c3 * x311;
-        let x322: f64 = s3 * x311;
-        let x323: f64 = c3 * x317;
-        let x324: f64 = s3 * x318;
-        let x325: f64 = x323 - x324;
-        let x326: f64 = s3 * x317;
-        let x327: f64 = c3 * x318;
-        let x328: f64 = x326 + x327;
-        let x329: f64 = 0.0825f64 * x322;
-        let x330: f64 = x319 - x329;
-        let x331: f64 = x315 + x328;
-        let x332: f64 = c2 * x321;
-        let x333: f64 = s2 * x313;
-        let x334: f64 = x332 - x333;
-        let x335: f64 = s2 * x321;
-        let x336: f64 = c2 * x313;
-        let x337: f64 = x335 + x336;
-        let x338: f64 = c2 * x325;
-        let x339: f64 = s2 * x330;
-        let x340: f64 = x338 - x339;
-        let x341: f64 = s2 * x325;
-        let x342: f64 = c2 * x330;
-        let x343: f64 = x341 + x342;
-        let x344: f64 = -0.316f64 * x337;
-        let x345: f64 = -0.316f64 * x334;
-        let x346: f64 = x340 + x344;
-        let x347: f64 = x343 - x345;
-        let x348: f64 = s1 * x346;
-        let x349: f64 = c1 * x331;
-        let x350: f64 = x349 - x348;
-        let x351: f64 = 0.17380470556900002f64 * c5;
-        let x352: f64 = x351 - x59;
-        let x353: f64 = c4 * x352;
-        let x354: f64 = s4 * x352;
-        let x355: f64 = c4 * x70;
-        let x356: f64 = s4 * x55;
-        let x357: f64 = x355 + x356;
-        let x358: f64 = s4 * x70;
-        let x359: f64 = c4 * x55;
-        let x360: f64 = x359 - x358;
-        let x361: f64 = -0.384f64 * x354;
-        let x362: f64 = 0.0825f64 * x354;
-        let x363: f64 = -0.0825f64 * x58;
-        let x364: f64 = 0.384f64 * x353;
-        let x365: f64 = x363 - x364;
-        let x366: f64 = x357 + x361;
-        let x367: f64 = x77 - x362;
-        let x368: f64 = x360 + x365;
-        let x369: f64 = c3 * x353;
-        let x370: f64 = s3 * x58;
-        let x371: f64 = x369 - x370;
-        let x372: f64 = s3 * x353;
-        let x373: f64 = c3 * x58;
-        let x374: f64 = x372 + x373;
-        let x375: f64 = c3 * x366;
-        let x376: f64 = s3 * x367;
-        let x377: f64 = x375 - x376;
-        let x378: f64 = s3 * x366;
-        let x379: f64 = c3 * x367;
-        let x380: f64 = x378 + x379;
-        let x381: f64 = 0.0825f64 * x374;
-        let x382: f64 = x368 + x381;
-        let x383: f64 = x362 + x380;
-        let x384: f64 = c2 * x371;
-        let x385: f64 = s2 * x354;
-        let x386: f64 = x384 - x385;
-        let x387: f64 = s2 * x371;
-        let x388: f64 = c2 * x354;
-        let x389: f64 = x387 + x388;
-        let x390: f64 = c2 * x377;
-        let x391: f64 = s2 * x382;
-        let x392: f64 = x390 + x391;
-        let x393: f64 = s2 * x377;
-        let x394: f64 = c2 * x382;
-        let x395: f64 = x393 - x394;
-        let x396: f64 = -0.316f64 * x389;
-        let x397: f64 = -0.316f64 * x386;
-        let x398: f64 = x392 + x396;
-        let x399: f64 = x395 - x397;
-        let x400: f64 = s1 * x398;
-        let x401: f64 = c1 * x383;
-        let x402: f64 = x401 - x400;
-        let x403: f64 = -0.0020344399586617965f64 * c6;
-        let x404: f64 = -0.002573605371338202f64 * s6;
-        let x405: f64 = x403 + x404;
-        let x406: f64 = -0.006684151967360945f64 - x35;
-        let x407: f64 = c5 * x405;
-        let x408: f64 = s5 * x405;
-        let x409: f64 = c5 * x14;
-        let x410: f64 = s5 * x406;
-        let x411: f64 = x409 - x410;
-        let x412: f64 = s5 * x14;
-        let x413: f64 = c5 * x406;
-        let x414: f64 = x412 + x413;
-        let x415: f64 = c4 * x407;
-        let x416: f64 = s4 * x2;
-        let x417: f64 = x415 + x416;
-        let x418: f64 = s4 * x407;
-        let x419: f64 = c4 * x2;
-        let x420: f64 = x419 - x418;
-        let x421: f64 = c4 * x411;
-        let x422: f64 = s4 * x22;
-        let x423: f64 = x421 + x422;
-        let x424: f64 = s4 * x411;
-        let x425: f64 = c4 * x22;
-        let x426: f64 = x425 - x424;
-        let x427: f64 = 0.384f64 * x420;
-        let x428: f64 = -0.0825f64 * x420;
-        let x429: f64 = -0.0825f64 * x408;
-        let x430: f64 = 0.384f64 * x417;
-        let x431: f64 = x429 - x430;
-        let x432: f64 = x423 + x427;
-        let x433: f64 = x414 - x428;
-        let x434: f64 = x426 + x431;
-        let x435: f64 = c3 * x417;
-        let x436: f64 = s3 * x408;
-        let x437: f64 = x435 - x436;
-        let x438: f64 = x418 - x419;
-        let x439: f64 = s3 * x417;
-        let x440: f64 = c3 * x408;
-        let x441: f64 = x439 + x440;
-        let x442: f64 = c3 * x432;
-        let x443: f64 = s3 * x433;
-        let x444: f64 = x442 - x443;
-        let x445: f64 = s3 * x432;
-        let x446: f64 = c3 * x433;
-        let x447: f64 = x445 + x446;
-        let x448: f64 = 0.0825f64 * x441;
-        let x449: f64 = 0.0825f64 * x438;
-        let x450: f64 = x434 + x448;
-        let x451: f64 = x447 + x449;
-        let x452: f64 = c2 * x437;
-        let x453: f64 = s2 * x438;
-        let x454: f64 = x452 - x453;
-        let x455: f64 = s2 * x437;
-        let x456: f64 = c2 * x438;
-        let x457: f64 = x455 + x456;
-        let x458: f64 = c2 * x444;
-        let x459: f64 = s2 * x450;
-        let x460: f64 = x458 + x459;
-        let x461: f64 = s2 * x444;
-        let x462: f64 = c2 * x450;
-        let x463: f64 = x461 - x462;
-        let x464: f64 = -0.316f64 * x457;
-        let x465: f64 = -0.316f64 * x454;
-        let x466: f64 = x460 + x464;
-        let x467: f64 = x463 - x465;
+        let (
+            x0,
+            x1,
+            x2,
+            x3,
+            x4,
+            x5,
+            x6,
+            x7,
+            x8,
+            x9,
+            x10,
+            x11,
+            x12,
+            x13,
+            x14,
+            x15,
+            x16,
+            x17,
+            x18,
+            x19,
+            x20,
+            x21,
+        ) = (
+            0.002573605371338202f64 * c6,
+            -0.0020344399586617965f64 * s6,
+            0.002573605371338202f64 * s6,
+            0.0020344399586617965f64 * c6,
+            0.0316333431909496f64 * c6,
+            -0.0003913912816842481f64 * s6,
+            0.0003913912816842481f64 * c6,
+            -0.029212399412428362f64 * s6,
+            -0.0009653051699191116f64 * c6,
+            0.001255536598272898f64 * s6,
+            0.0316333431909496f64 * s6,
+            0.0003913912816842481f64 * s6,
+            0.029212399412428362f64 * c6,
+            -0.0009653051699191116f64 * s6,
+            -0.001255536598272898f64 * c6,
+            0.0009653051699191116f64 * s6,
+            0.001255536598272898f64 * c6,
+            0.17380470556900002f64 * s5,
+            -0.17380470556900002f64 * c5,
+            0.17380470556900002f64 * c5,
+            -0.0020344399586617965f64 * c6,
+            -0.002573605371338202f64 * s6,
+        );
+        let (x22, x23, x24, x25, x26, x27, x28, x29, x30, x31) = (
+            x0 + x1,
+            x2 + x3,
+            x4 + x5,
+            x6 + x7,
+            x8 + x9,
+            x6 + x10,
+            x11 + x12,
+            x13 + x14,
+            x15 + x16,
+            x20 + x21,
+        );
+        let (
+            x32,
+            x33,
+            x34,
+            x35,
+            x36,
+            x37,
+            x38,
+            x39,
+            x40,
+            x41,
+            x42,
+            x43,
+            x44,
+            x45,
+            x46,
+            x47,
+            x48,
+            x49,
+            x50,
+            x51,
+            x52,
+        ) = (
+            c6 * x24,
+            s6 * x25,
+            s6 * x24,
+            c6 * x25,
+            s6 * x27,
+            c6 * x28,
+            0.088f64 * x22,
+            0.176f64 * x22,
+            x22 + 0.13160593599999998f64,
+            x26 + -0.013224459479792f64,
+            0.088f64 * x23,
+            -0.017527158935000002f64 + x23,
+            0.000093569097314605f64 + x30,
+            c5 * x31,
+            s5 * x31,
+            c5 * x26,
+            s5 * x26,
+            s4 * x22,
+            c4 * x22,
+            s4 * x29,
+            c4 * x29,
+        );
+        let (
+            x53,
+            x54,
+            x55,
+            x56,
+            x57,
+            x58,
+            x59,
+            x60,
+            x61,
+            x62,
+            x63,
+            x64,
+            x65,
+            x66,
+            x67,
+            x68,
+            x69,
+        ) = (
+            x32 - x33,
+            x34 + x35,
+            x36 + x37,
+            0.011581322367999997f64 + x39,
+            x38 + 0.011581322367999998f64,
+            0.10024161669500001f64 + x40,
+            0.001524110902883315f64 - x41,
+            s5 * x44,
+            c5 * x44,
+            0.05034347249f64 - x43,
+            x43 - 0.05034347249f64,
+            -0.006684151967360945f64 - x38,
+            c4 * x45,
+            s4 * x45,
+            -0.0825f64 * x46,
+            s3 * x46,
+            c3 * x46,
+        );
+        let (
+            x70,
+            x71,
+            x72,
+            x73,
+            x74,
+            x75,
+            x76,
+            x77,
+            x78,
+            x79,
+            x80,
+            x81,
+            x82,
+            x83,
+            x84,
+            x85,
+            x86,
+            x87,
+        ) = (
+            x53 + x56,
+            x38 + x57,
+            0.006684151967360945f64 + x56,
+            x54 - x42,
+            x55 + x56,
+            c5 * x58,
+            s5 * x58,
+            s5 * x59,
+            c5 * x59,
+            s4 * x62,
+            c4 * x62,
+            c4 * x63,
+            s4 * x63,
+            s5 * x64,
+            c5 * x64,
+            x65 + x49,
+            x50 - x66,
+            x66 - x50,
+        );
+        let (
+            x88,
+            x89,
+            x90,
+            x91,
+            x92,
+            x93,
+            x94,
+            x95,
+            x96,
+            x97,
+            x98,
+            x99,
+            x100,
+            x101,
+            x102,
+            x103,
+            x104,
+        ) = (
+            x70 - x71,
+            0.01056776613310695f64 + x72,
+            -0.00010375891721868492f64 + x73,
+            0.011794560230238949f64 + x74,
+            x75 + x17,
+            x76 + x18,
+            x19 - x76,
+            x47 - x83,
+            x48 + x84,
+            0.384f64 * x86,
+            -0.0825f64 * x86,
+            0.384f64 * x85,
+            c3 * x85,
+            s3 * x85,
+            0.0825f64 * x87,
+            s2 * x87,
+            c2 * x87,
+        );
+        let (
+            x105,
+            x106,
+            x107,
+            x108,
+            x109,
+            x110,
+            x111,
+            x112,
+            x113,
+            x114,
+            x115,
+            x116,
+            x117,
+            x118,
+            x119,
+            x120,
+            x121,
+            x122,
+            x123,
+            x124,
+            x125,
+        ) = (
+            0.0024804603581707893f64 + x88,
+            s5 * x89,
+            c5 * x90,
+            c5 * x89,
+            s5 * x90,
+            -0.014653732538f64 + x92,
+            -0.047121686402f64 + x93,
+            0.03146037232526039f64 + x91,
+            c4 * x94,
+            s4 * x94,
+            s4 * x91,
+            c4 * x91,
+            -0.0825f64 * x92,
+            s3 * x92,
+            c3 * x92,
+            c4 * x95,
+            s4 * x95,
+            x67 - x99,
+            x96 - x98,
+            x100 - x68,
+            x101 + x69,
+        );
+        let (
+            x126,
+            x127,
+            x128,
+            x129,
+            x130,
+            x131,
+            x132,
+            x133,
+            x134,
+            x135,
+            x136,
+            x137,
+            x138,
+            x139,
+            x140,
+            x141,
+            x142,
+            x143,
+            x144,
+            x145,
+            x146,
+            x147,
+            x148,
+            x149,
+            x150,
+            x151,
+            x152,
+            x153,
+        ) = (
+            c5 * x105,
+            x78 - x106,
+            x107 - x60,
+            s5 * x105,
+            x77 + x108,
+            x109 + x61,
+            x60 - x107,
+            c4 * x110,
+            s4 * x110,
+            s4 * x112,
+            c4 * x112,
+            0.384f64 * x111,
+            x111 + 1.6850008320000003f64,
+            -0.0825f64 * x111,
+            -0.384f64 * x114,
+            0.0825f64 * x114,
+            0.384f64 * x113,
+            c3 * x113,
+            s3 * x113,
+            s2 * x114,
+            c2 * x114,
+            x120 + x51,
+            x52 - x121,
+            s3 * x123,
+            c3 * x123,
+            0.0825f64 * x125,
+            c2 * x124,
+            s2 * x124,
+        );
+        let (
+            x154,
+            x155,
+            x156,
+            x157,
+            x158,
+            x159,
+            x160,
+            x161,
+            x162,
+            x163,
+            x164,
+            x165,
+            x166,
+            x167,
+            x168,
+            x169,
+            x170,
+            x171,
+            x172,
+            x173,
+            x174,
+            x175,
+            x176,
+            x177,
+        ) = (
+            x126 - x77,
+            x78 + x129,
+            s5 * x127,
+            c5 * x127,
+            c5 * x130,
+            -0.0015152444733270301f64 + x132,
+            0.0021640520520981297f64 - x131,
+            x133 - x79,
+            x134 + x80,
+            -0.13901256864000003f64 + x139,
+            x137 + 0.6470403194880001f64,
+            0.374644408005f64 + x138,
+            x81 - x134,
+            x133 + x82,
+            c4 * x128,
+            s4 * x128,
+            x117 - x142,
+            x131 - x141,
+            x143 - x118,
+            x144 + x119,
+            x147 + x97,
+            x148 + x122,
+            x152 - x103,
+            x153 + x104,
+        );
+        let (
+            x178,
+            x179,
+            x180,
+            x181,
+            x182,
+            x183,
+            x184,
+            x185,
+            x186,
+            x187,
+            x188,
+            x189,
+            x190,
+            x191,
+            x192,
+            x193,
+            x194,
+            x195,
+            x196,
+            x197,
+            x198,
+            x199,
+            x200,
+            x201,
+            x202,
+            x203,
+            x204,
+            x205,
+            x206,
+            x207,
+            x208,
+            x209,
+            x210,
+            x211,
+            x212,
+        ) = (
+            c5 * x154,
+            s5 * x154,
+            s5 * x155,
+            s4 * x159,
+            c4 * x159,
+            s4 * x160,
+            c4 * x160,
+            -0.0825f64 * x161,
+            x161 + -0.36201189750000007f64,
+            0.384f64 * x161,
+            x137 + x164,
+            0.0825f64 * x162,
+            -0.384f64 * x162,
+            s3 * x165,
+            x162 - 0.09850206933f64,
+            c3 * x165,
+            -0.384f64 * x167,
+            0.0825f64 * x167,
+            0.384f64 * x166,
+            c3 * x166,
+            s3 * x166,
+            s2 * x167,
+            c2 * x167,
+            x168 + x115,
+            x116 - x169,
+            s3 * x171,
+            c3 * x171,
+            0.0825f64 * x173,
+            c2 * x172,
+            s2 * x172,
+            c3 * x174,
+            s3 * x174,
+            x175 + x151,
+            -0.316f64 * x177,
+            -0.316f64 * x176,
+        );
+        let (
+            x213,
+            x214,
+            x215,
+            x216,
+            x217,
+            x218,
+            x219,
+            x220,
+            x221,
+            x222,
+            x223,
+            x224,
+            x225,
+            x226,
+            x227,
+            x228,
+            x229,
+            x230,
+            x231,
+            x232,
+            x233,
+            x234,
+        ) = (
+            x178 - x156,
+            x179 + x157,
+            x180 + x158,
+            x182 - x135,
+            x181 + x136,
+            x185 + x137,
+            x185 + 0.029865981543750007f64,
+            x163 + x187,
+            -0.19076837715f64 + x186,
+            0.0825f64 * x192,
+            0.126729164208f64 + x192,
+            0.0825f64 * x198,
+            c2 * x197,
+            s2 * x197,
+            x201 + x140,
+            x202 + x170,
+            x206 - x145,
+            x207 + x146,
+            x208 - x149,
+            x209 + x150,
+            s2 * x210,
+            c2 * x210,
+        );
+        let (
+            x235,
+            x236,
+            x237,
+            x238,
+            x239,
+            x240,
+            x241,
+            x242,
+            x243,
+            x244,
+            x245,
+            x246,
+            x247,
+            x248,
+            x249,
+            x250,
+            x251,
+            x252,
+            x253,
+            x254,
+            x255,
+            x256,
+        ) = (
+            0.03942757095803552f64 + x213,
+            -0.004600245517563105f64 + x214,
+            0.010869510762828563f64 + x215,
+            s4 * x216,
+            c4 * x216,
+            c4 * x217,
+            2f64 * x218,
+            x185 + x219,
+            c3 * x221,
+            s3 * x221,
+            s2 * x223,
+            c2 * x223,
+            x225 - x199,
+            x226 + x200,
+            c3 * x227,
+            s3 * x227,
+            x228 + x205,
+            -0.316f64 * x230,
+            -0.316f64 * x229,
+            x232 + x102,
+            c2 * x231,
+            s2 * x231,
+        );
+        let (
+            x257,
+            x258,
+            x259,
+            x260,
+            x261,
+            x262,
+            x263,
+            x264,
+            x265,
+            x266,
+            x267,
+            x268,
+            x269,
+            x270,
+            x271,
+            x272,
+            x273,
+        ) = (
+            c4 * x235,
+            c4 * x236,
+            s4 * x235,
+            s4 * x236,
+            0.6769063010317501f64 + x241,
+            x243 - x191,
+            x244 + x193,
+            x237 - x195,
+            -0.316f64 * x248,
+            -0.316f64 * x247,
+            x249 - x203,
+            x250 + x204,
+            s2 * x251,
+            c2 * x251,
+            x255 + x233,
+            x256 - x234,
+            c1 * x254,
+        );
+        let (
+            x274,
+            x275,
+            x276,
+            x277,
+            x278,
+            x279,
+            x280,
+            x281,
+            x282,
+            x283,
+            x284,
+            x285,
+            x286,
+            x287,
+            x288,
+            x289,
+            x290,
+            x291,
+            x292,
+        ) = (
+            x257 - x181,
+            x258 - x183,
+            x182 + x259,
+            x260 + x184,
+            x237 + x261,
+            0.0825f64 * x262,
+            0.165f64 * x262,
+            x262 + 0.6580132350000001f64,
+            0.0825f64 * x263,
+            -0.214708623208f64 + x263,
+            c2 * x263,
+            s2 * x263,
+            s3 * x264,
+            c3 * x264,
+            x141 + x268,
+            c2 * x267,
+            s2 * x267,
+            x271 + x211,
+            x272 - x212,
+        );
+        let (
+            x293,
+            x294,
+            x295,
+            x296,
+            x297,
+            x298,
+            x299,
+            x300,
+            x301,
+            x302,
+            x303,
+            x304,
+            x305,
+            x306,
+            x307,
+            x308,
+            x309,
+            x310,
+            x311,
+        ) = (
+            c4 * x274,
+            s4 * x274,
+            s4 * x276,
+            x275 - x220,
+            x278 - x188,
+            x277 + x190,
+            0.054286091887500006f64 + x280,
+            x279 + 0.05428609188750001f64,
+            0.088844724872f64 + x281,
+            0.316f64 * x283,
+            0.632f64 * x283,
+            0.316f64 * x285,
+            0.316f64 * x284,
+            x275 + x194,
+            x277 + x196,
+            x289 + x269,
+            x290 - x270,
+            c1 * x288,
+            s1 * x291,
+        );
+        let (
+            x312,
+            x313,
+            x314,
+            x315,
+            x316,
+            x317,
+            x318,
+            x319,
+            x320,
+            x321,
+            x322,
+            x323,
+            x324,
+            x325,
+            x326,
+            x327,
+            x328,
+            x329,
+            x330,
+        ) = (
+            x293 - x238,
+            x294 + x239,
+            x295 + x240,
+            0.02771584317362585f64 + x296,
+            0.03239943042445132f64 + x297,
+            -0.0016444875773692705f64 - x298,
+            x298 - -0.0016444875773692705f64,
+            x279 + x300,
+            c2 * x301,
+            s2 * x301,
+            1.1188387488320002f64 + x303,
+            1.1188387488320002f64 + x302,
+            -x307,
+            c3 * x306,
+            s3 * x306,
+            x307 - x224,
+            x308 + x252,
+            x309 - x253,
+            x273 - x311,
+        );
+        let (
+            x331,
+            x332,
+            x333,
+            x334,
+            x335,
+            x336,
+            x337,
+            x338,
+            x339,
+            x340,
+            x341,
+            x342,
+            x343,
+            x344,
+            x345,
+            x346,
+            x347,
+            x348,
+        ) = (
+            x312 + x261,
+            x313 + x189,
+            x314 + x261,
+            s3 * x315,
+            c3 * x315,
+            s3 * x316,
+            s3 * x317,
+            c3 * x316,
+            c3 * x317,
+            c3 * x318,
+            x320 - x245,
+            x321 + x246,
+            x302 + x323,
+            x325 - x286,
+            x326 + x287,
+            s2 * x327,
+            c2 * x327,
+            s1 * x328,
+        );
+        let (
+            x349,
+            x350,
+            x351,
+            x352,
+            x353,
+            x354,
+            x355,
+            x356,
+            x357,
+            x358,
+            x359,
+            x360,
+            x361,
+        ) = (
+            x331 - x242,
+            0.0039053550262761003f64 - x332,
+            0.0775861490525396f64 + x333,
+            x335 - x336,
+            x332 - 0.0039053550262761003f64,
+            x334 + x338,
+            -0.316f64 * x341,
+            -0.316f64 * x342,
+            0.316f64 * x342,
+            x195 + x345,
+            c2 * x344,
+            s2 * x344,
+            x310 - x348,
+        );
+        let (x362, x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373) = (
+            0.06767727025085991f64 + x349,
+            c3 * x350,
+            s3 * x350,
+            s3 * x352,
+            c3 * x352,
+            s3 * x353,
+            c3 * x354,
+            x351 + x299,
+            x351 + x279,
+            x359 - x346,
+            x360 + x347,
+            c1 * x358,
+        );
+        let (x374, x375, x376, x377, x378, x379, x380, x381, x382, x383, x384) = (
+            c3 * x362,
+            x363 - x337,
+            s3 * x362,
+            x364 + x339,
+            x337 - x363,
+            x367 + x340,
+            0.05287838199960611f64 + x369,
+            s2 * x370,
+            c2 * x370,
+            x371 + x265,
+            x372 - x266,
+        );
+        let (x385, x386, x387, x388, x389, x390, x391, x392, x393, x394) = (
+            x374 - x334,
+            x335 + x376,
+            x378 - x222,
+            -0.004377257121839584f64 + x379,
+            s2 * x380,
+            c2 * x380,
+            c2 * x375,
+            s2 * x375,
+            c1 * x377,
+            s1 * x383,
+        );
+        let (x395, x396, x397, x398, x399, x400, x401, x402, x403) = (
+            c3 * x385,
+            s3 * x385,
+            s3 * x386,
+            -0.008248333140675744f64 + x387,
+            s2 * x388,
+            c2 * x388,
+            x391 + x381,
+            x392 - x382,
+            x373 - x394,
+        );
+        let (x404, x405, x406, x407, x408, x409, x410) = (
+            x395 - x365,
+            x396 + x366,
+            x397 + x368,
+            s2 * x398,
+            c2 * x398,
+            x401 + x304,
+            x402 - x305,
+        );
+        let (x411, x412, x413, x414, x415, x416) = (
+            x404 + x299,
+            x405 - x282,
+            x406 + x299,
+            x408 - x389,
+            x407 + x390,
+            s1 * x409,
+        );
+        let (x417, x418, x419, x420, x421, x422, x423) = (
+            x411 - x319,
+            -0.005487648106562256f64 + x412,
+            0.01824920229252011f64 + x413,
+            s2 * x414,
+            c2 * x414,
+            c2 * x415,
+            x393 - x416,
+        );
+        let (x424, x425, x426, x427, x428) = (
+            0.05649492601407083f64 + x417,
+            c2 * x418,
+            s2 * x418,
+            x419 + x322,
+            c1 * x419,
+        );
+        let (x429, x430, x431, x432, x433, x434) = (
+            c2 * x424,
+            x425 - x399,
+            s2 * x424,
+            x426 + x400,
+            x399 - x425,
+            x427 - x343,
+        );
+        let (x435, x436, x437, x438, x439, x440, x441) = (
+            x429 - x407,
+            x408 + x431,
+            x433 - x355,
+            x432 + x356,
+            0.028124284712194955f64 + x434,
+            x430 + x355,
+            x432 - x357,
+        );
+        let (x442, x443, x444, x445, x446, x447, x448) = (
+            c2 * x435,
+            s2 * x435,
+            s2 * x436,
+            -0.00398335888393552f64 + x437,
+            0.0007689361029464f64 - x438,
+            c1 * x439,
+            s1 * x440,
+        );
+        let (x449, x450, x451, x452, x453, x454, x455) = (
+            x442 - x420,
+            x443 + x421,
+            x444 + x422,
+            s1 * x445,
+            c1 * x445,
+            c1 * x446,
+            x428 - x448,
+        );
+        let (x456, x457, x458, x459) = (
+            x449 + x322,
+            x451 + x322,
+            0.01026110182100817f64 + x450,
+            x452 + x447,
+        );
+        let (x460, x461, x462, x463) = (
+            0.00850351162402155f64 + x456,
+            0.026534991901690206f64 + x457,
+            s1 * x458,
+            c1 * x459,
+        );
+        let (x464, x465) = (s1 * x460, x462 + x454);
+        let (x466, x467) = (x453 + x464, -x465);
         let x468: f64 = s1 * x466;
-        let x469: f64 = c1 * x451;
-        let x470: f64 = x469 - x468;
+        let x469: f64 = x468 + x463;
+        let x470: f64 = 0.009213163777211224f64 + x469;
         SMatrix::from_array_storage(
             ArrayStorage([
-                [x286, x282, x292, x308, x350, x402, x470],
-                [x282, x272, x289, x305, x347, x399, x467],
-                [x292, x289, x221, x185, x331, x383, x451],
-                [x308, x305, x185, x160, x320, x368, x434],
-                [x350, x347, x331, x320, x96, x77, x414],
-                [x402, x399, x383, x368, x77, x55, x22],
-                [x470, x467, x451, x434, x414, x22, 0.006684151967360945f64],
+                [x470, x467, x455, x423, x403, x361, x330],
+                [x467, x461, x441, x410, x384, x329, x292],
+                [x455, x441, x419, x377, x358, x288, x254],
+                [x423, x410, x377, x351, x324, x228, x175],
+                [x403, x384, x358, x324, x237, x131, x96],
+                [x361, x329, x288, x228, x131, x91, x29],
+                [x330, x292, x254, x175, x96, x29, 0.006684151967360945f64],
             ]),
         )
     }
     ///Operations: 1108 mul, 1083 add/sub, 2 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn coriolis_matrix(t: &JointTrig<7>, qd: &SVector<f64, 7>) -> SMatrix<f64, 7, 7> {
-        let [x2, x14, x22, x48, x49, x50, x51, x52, x53, x54, x55, x58, x70, x88, x89,
-        x90, x91, x92, x93, x94, x95, x153, x154, x155, x156, x157, x158, x159, x160,
-        x168, x177, x186, x214, x215, x216, x217, x218, x219, x220, x221, x222, x260,
-        x261, x262, x263, x264, x265, x266, x272, x275, x277, x281, x282, x284, x288,
-        x293, x294, x302, x304, x305, x306, x318, x319, x323, x329, x334, x335, x343,
-        x346, x347, x348, x349, x352, x358, x373, x374, x378, x379, x385, x391, x392,
-        x400, x401, x402, x403, x404, x408, x411, x412, x416, x420, x423, x427, x428,
-        x432, x434, x435, x439, x450, x453, x457, x460, x463, x466, x471, x474, x482,
-        x490, x497, x500, x507, x514, x516, x529, x532, x533, x540, x551, x557, x566,
-        x575, x578, x597, x598, x599, x606, x617, x623, x634, x645, x650, x669, x670,
-        x671, x678, x689, x695, x706, x717, x722, x742, x789, x794, x796, x801, x811,
-        x812, x813, x814, x815, x816, x844, x850, x855, x859, x861, x866, x869, x872,
-        x883, x884, x885, x888, x889, x902, x903, x904, x908, x909, x910, x923, x924,
-        x925, x929, x930, x931, x944, x945, x946, x950, x951, x952, x965, x966, x967,
-        x969, x970, x971, x972, x1002, x1016, x1017, x1018, x1019, x1020, x1021, x1022,
-        x1023] = coriolis_matrix_part0(t, qd);
-        let [x1332, x1350, x1358, x1362, x1363, x1364, x1400, x1426, x1446, x1449, x1452,
-        x1453, x1491, x1517, x1537, x1553, x1569, x1572, x1575, x1576, x1617, x1647,
-        x1671, x1687, x1706, x1722, x1742, x1745, x1748, x1788, x1810, x1828, x1848,
-        x1872, x1889, x1912, x1928, x1948, x1951, x1954, x1986, x2002, x2012, x2018,
-        x2021, x2024, x2026, x2032, x2035, x2038, x2041, x2044, x2045, x2046, x2047] = coriolis_matrix_part1(
-            t,
-            qd,
-            [
-                x14,
-                x48,
-                x49,
-                x50,
-                x51,
-                x52,
-                x53,
-                x54,
-                x55,
-                x58,
-                x70,
-                x88,
-                x89,
-                x90,
-                x91,
-                x92,
-                x93,
-                x94,
-                x95,
-                x153,
-                x154,
-                x155,
-                x156,
-                x157,
-                x158,
-                x159,
-                x160,
-                x168,
-                x177,
-                x186,
-                x214,
-                x215,
-                x216,
-                x217,
-                x218,
-                x219,
-                x220,
-                x221,
-                x222,
-                x260,
-                x261,
-                x262,
-                x263,
-                x264,
-                x265,
-                x266,
-                x272,
-                x275,
-                x277,
-                x281,
-                x282,
-                x284,
-                x288,
-                x293,
-                x294,
-                x302,
-                x304,
-                x305,
-                x306,
-                x318,
-                x319,
-                x323,
-                x329,
-                x334,
-                x335,
-                x343,
-                x346,
-                x347,
-                x401,
-                x402,
-                x403,
-                x404,
-                x408,
-                x411,
-                x412,
-                x416,
-                x420,
-                x423,
-                x427,
-                x428,
-                x432,
-                x434,
-                x435,
-                x439,
-                x450,
-                x453,
-                x457,
-                x460,
-                x463,
-                x466,
-                x471,
-                x474,
-                x482,
-                x490,
-                x497,
-                x500,
-                x507,
-                x514,
-                x516,
-                x529,
-                x532,
-                x533,
-                x540,
-                x551,
-                x557,
-                x566,
-                x575,
-                x578,
-                x597,
-                x598,
-                x599,
-                x606,
-                x617,
-                x623,
-                x634,
-                x645,
-                x650,
-                x669,
-                x670,
-                x671,
-                x678,
-                x689,
-                x695,
-                x706,
-                x717,
-                x722,
-                x742,
-                x789,
-                x794,
-                x796,
-                x801,
-                x811,
-                x812,
-                x813,
-                x814,
-                x815,
-                x816,
-                x844,
-                x850,
-                x855,
-                x859,
-                x861,
-                x866,
-                x869,
-                x872,
-                x883,
-                x884,
-                x885,
-                x888,
-                x889,
-                x902,
-                x903,
-                x904,
-                x908,
-                x909,
-                x910,
-                x923,
-                x924,
-                x925,
-                x929,
-                x930,
-                x931,
-                x944,
-                x945,
-                x946,
-                x950,
-                x951,
-                x952,
-                x965,
-                x966,
-                x967,
-                x969,
-                x970,
-                x971,
-                x972,
-                x1002,
-                x1016,
-                x1017,
-                x1018,
-                x1019,
-                x1020,
-                x1021,
-                x1022,
-                x1023,
-            ],
+        let [_, s1, s2, s3, s4, s5, s6] = t.sin;
+        let [_, c1, c2, c3, c4, c5, c6] = t.cos;
+        let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+        let (
+            x0,
+            x1,
+            x2,
+            x3,
+            x4,
+            x5,
+            x6,
+            x7,
+            x8,
+            x9,
+            x10,
+            x11,
+            x12,
+            x13,
+            x14,
+            x15,
+            x16,
+            x17,
+            x18,
+            x19,
+            x20,
+            x21,
+            x22,
+            x23,
+            x24,
+            x25,
+            x26,
+            x27,
+            x28,
+            x29,
+            x30,
+            x31,
+        ) = (
+            0.002573605371338202f64 * c6,
+            -0.0020344399586617965f64 * s6,
+            0.002573605371338202f64 * s6,
+            0.0020344399586617965f64 * c6,
+            0.0316333431909496f64 * c6,
+            -0.0003913912816842481f64 * s6,
+            0.0003913912816842481f64 * c6,
+            -0.029212399412428362f64 * s6,
+            -0.0009653051699191116f64 * c6,
+            0.001255536598272898f64 * s6,
+            0.0316333431909496f64 * s6,
+            0.0003913912816842481f64 * s6,
+            0.029212399412428362f64 * c6,
+            -0.0009653051699191116f64 * s6,
+            -0.001255536598272898f64 * c6,
+            0.0009653051699191116f64 * s6,
+            0.001255536598272898f64 * c6,
+            0.17380470556900002f64 * s5,
+            -0.17380470556900002f64 * c5,
+            0.17380470556900002f64 * c5,
+            -0.0020344399586617965f64 * c6,
+            -0.002573605371338202f64 * s6,
+            qd0 * s1,
+            qd0 * c1,
+            qd1 * s2,
+            qd1 * c2,
+            -0.316f64 * qd1,
+            -0.00398335888393552f64 * qd1,
+            0.028124284712194955f64 * qd1,
+            0.00850351162402155f64 * qd1,
+            0.0007689361029464f64 * qd1,
+            0.01026110182100817f64 * qd1,
         );
-        let [x2060, x2080, x2108, x2125, x2150, x2166, x2186, x2189, x2192] = coriolis_matrix_part2(
-            t,
-            qd,
-            [
-                x2,
-                x22,
-                x348,
-                x349,
-                x352,
-                x358,
-                x373,
-                x374,
-                x378,
-                x379,
-                x385,
-                x391,
-                x392,
-                x400,
-                x401,
-                x402,
-                x408,
-                x416,
-                x420,
-                x423,
-                x432,
-                x439,
-                x450,
-                x453,
-                x1363,
-                x1364,
-                x1453,
-                x1576,
-                x2002,
-                x2012,
-                x2018,
-                x2021,
-                x2024,
-                x2026,
-                x2035,
-                x2038,
-                x2041,
-                x2044,
-                x2045,
-                x2046,
-                x2047,
-            ],
+        let (
+            x32,
+            x33,
+            x34,
+            x35,
+            x36,
+            x37,
+            x38,
+            x39,
+            x40,
+            x41,
+            x42,
+            x43,
+            x44,
+            x45,
+            x46,
+            x47,
+            x48,
+            x49,
+            x50,
+            x51,
+            x52,
+            x53,
+            x54,
+            x55,
+            x56,
+            x57,
+            x58,
+            x59,
+        ) = (
+            x0 + x1,
+            x2 + x3,
+            x4 + x5,
+            x6 + x7,
+            x8 + x9,
+            x6 + x10,
+            x11 + x12,
+            x13 + x14,
+            x15 + x16,
+            x20 + x21,
+            c2 * x22,
+            s2 * x22,
+            0.316f64 * x22,
+            c2 * x26,
+            s2 * x26,
+            qd2 + x23,
+            -0.01026110182100817f64 * x23,
+            -0.0007689361029464f64 * x23,
+            -0.01026110182100817f64 * x22,
+            -0.0007689361029464f64 * x22,
+            -0.026534991901690206f64 * x23,
+            0.00398335888393552f64 * x22,
+            -0.00850351162402155f64 * x23,
+            -0.026534991901690206f64 * x22,
+            -0.028124284712194955f64 * x22,
+            0.00398335888393552f64 * x23,
+            -0.00850351162402155f64 * x22,
+            -0.028124284712194955f64 * x23,
         );
+        let (
+            x60,
+            x61,
+            x62,
+            x63,
+            x64,
+            x65,
+            x66,
+            x67,
+            x68,
+            x69,
+            x70,
+            x71,
+            x72,
+            x73,
+            x74,
+            x75,
+            x76,
+            x77,
+            x78,
+            x79,
+            x80,
+            x81,
+            x82,
+            x83,
+            x84,
+            x85,
+            x86,
+            x87,
+            x88,
+            x89,
+            x90,
+            x91,
+            x92,
+            x93,
+            x94,
+            x95,
+            x96,
+            x97,
+            x98,
+            x99,
+            x100,
+            x101,
+            x102,
+            x103,
+            x104,
+            x105,
+            x106,
+            x107,
+        ) = (
+            c6 * x34,
+            s6 * x35,
+            s6 * x34,
+            c6 * x35,
+            s6 * x37,
+            c6 * x38,
+            0.088f64 * x32,
+            0.176f64 * x32,
+            x32 + 0.13160593599999998f64,
+            x36 + -0.013224459479792f64,
+            0.088f64 * x33,
+            -0.017527158935000002f64 + x33,
+            0.000093569097314605f64 + x40,
+            c5 * x41,
+            s5 * x41,
+            c5 * x36,
+            s5 * x36,
+            s4 * x32,
+            c4 * x32,
+            s4 * x39,
+            c4 * x39,
+            x24 - x42,
+            x43 + x25,
+            s2 * x44,
+            c2 * x44,
+            s3 * x47,
+            c3 * x47,
+            0.0825f64 * x47,
+            x48 - x27,
+            x49 - x28,
+            x29 - x50,
+            x27 - x51,
+            x52 - x30,
+            x53 - x54,
+            x31 - x55,
+            x56 - x57,
+            x51 - x48,
+            0.126729164208f64 * x47,
+            0.088844724872f64 * x47,
+            -0.008248333140675744f64 * x47,
+            0.05287838199960611f64 * x47,
+            0.05649492601407083f64 * x47,
+            -0.004377257121839584f64 * x47,
+            -0.005487648106562256f64 * x47,
+            x57 + x58,
+            x53 + x59,
+            0.01824920229252011f64 * x47,
+            x42 - x24,
+        );
+        let (
+            x108,
+            x109,
+            x110,
+            x111,
+            x112,
+            x113,
+            x114,
+            x115,
+            x116,
+            x117,
+            x118,
+            x119,
+            x120,
+            x121,
+            x122,
+            x123,
+            x124,
+            x125,
+            x126,
+            x127,
+            x128,
+            x129,
+            x130,
+            x131,
+            x132,
+            x133,
+            x134,
+            x135,
+            x136,
+            x137,
+            x138,
+            x139,
+            x140,
+            x141,
+            x142,
+            x143,
+            x144,
+            x145,
+            x146,
+            x147,
+            x148,
+            x149,
+            x150,
+            x151,
+            x152,
+            x153,
+            x154,
+            x155,
+        ) = (
+            x60 - x61,
+            x62 + x63,
+            x64 + x65,
+            0.011581322367999997f64 + x67,
+            x66 + 0.011581322367999998f64,
+            0.10024161669500001f64 + x68,
+            0.001524110902883315f64 - x69,
+            s5 * x72,
+            c5 * x72,
+            0.05034347249f64 - x71,
+            x71 - 0.05034347249f64,
+            -0.006684151967360945f64 - x66,
+            c4 * x73,
+            s4 * x73,
+            -0.0825f64 * x74,
+            s3 * x74,
+            c3 * x74,
+            x83 - x45,
+            x46 + x84,
+            c3 * x81,
+            s3 * x81,
+            0.0825f64 * x82,
+            qd3 - x82,
+            x88 + x88,
+            x89 + x90,
+            x91 + x91,
+            x92 + x93,
+            x94 + x95,
+            x96 + x96,
+            -0.214708623208f64 * x82,
+            -0.214708623208f64 * x81,
+            0.126729164208f64 * x81,
+            0.088844724872f64 * x82,
+            -0.005487648106562256f64 * x82,
+            -0.004377257121839584f64 * x82,
+            -0.005487648106562256f64 * x81,
+            -0.004377257121839584f64 * x81,
+            0.01824920229252011f64 * x82,
+            -0.008248333140675744f64 * x81,
+            0.05649492601407083f64 * x82,
+            0.01824920229252011f64 * x81,
+            0.05287838199960611f64 * x81,
+            -0.008248333140675744f64 * x82,
+            x31 + x104,
+            x30 + x105,
+            0.05649492601407083f64 * x81,
+            0.05287838199960611f64 * x82,
+            x45 - x83,
+        );
+        let (
+            x156,
+            x157,
+            x158,
+            x159,
+            x160,
+            x161,
+            x162,
+            x163,
+            x164,
+            x165,
+            x166,
+            x167,
+            x168,
+            x169,
+            x170,
+            x171,
+            x172,
+            x173,
+            x174,
+            x175,
+            x176,
+            x177,
+            x178,
+            x179,
+            x180,
+            x181,
+            x182,
+            x183,
+            x184,
+            x185,
+            x186,
+            x187,
+            x188,
+            x189,
+            x190,
+            x191,
+            x192,
+            x193,
+            x194,
+            x195,
+            x196,
+            x197,
+            x198,
+            x199,
+            x200,
+            x201,
+            x202,
+            x203,
+            x204,
+            x205,
+            x206,
+            x207,
+            x208,
+            x209,
+            x210,
+            x211,
+            x212,
+            x213,
+            x214,
+            x215,
+            x216,
+            x217,
+            x218,
+            x219,
+        ) = (
+            x108 + x111,
+            x66 + x112,
+            0.006684151967360945f64 + x111,
+            x109 - x70,
+            x110 + x111,
+            c5 * x113,
+            s5 * x113,
+            s5 * x114,
+            c5 * x114,
+            s4 * x117,
+            c4 * x117,
+            c4 * x118,
+            s4 * x118,
+            s5 * x119,
+            c5 * x119,
+            x120 + x77,
+            x78 - x121,
+            x121 - x78,
+            x127 + x85,
+            x86 - x128,
+            x126 + x87,
+            c3 * x125,
+            s3 * x129,
+            s3 * x125,
+            c3 * x129,
+            s4 * x130,
+            c4 * x130,
+            0.384f64 * x130,
+            -0.0825f64 * x130,
+            0.088844724872f64 * x125,
+            0.126729164208f64 * x126,
+            x137 - x97,
+            x98 - x138,
+            x139 - x140,
+            3.228604f64 * x125,
+            3.228604f64 * x126,
+            x141 - x99,
+            x142 - x100,
+            x101 - x143,
+            0.088844724872f64 * x126,
+            0.126729164208f64 * x125,
+            x99 - x144,
+            x145 - x102,
+            x146 - x147,
+            -0.214708623208f64 * x125,
+            x103 - x148,
+            x149 - x150,
+            -0.214708623208f64 * x126,
+            x144 - x141,
+            0.374644408005f64 * x130,
+            -0.19076837715f64 * x130,
+            0.02771584317362585f64 * x130,
+            0.03239943042445132f64 * x130,
+            0.06767727025085991f64 * x130,
+            -0.0016444875773692705f64 * x130,
+            0.0039053550262761003f64 * x130,
+            x150 + x153,
+            x146 + x154,
+            x142 + x143,
+            x97 - x137,
+            x138 - x98,
+            0.0775861490525396f64 * x130,
+            11.204522f64 * x126,
+            11.204522f64 * x155,
+        );
+        let (
+            x220,
+            x221,
+            x222,
+            x223,
+            x224,
+            x225,
+            x226,
+            x227,
+            x228,
+            x229,
+            x230,
+            x231,
+            x232,
+            x233,
+            x234,
+            x235,
+            x236,
+            x237,
+            x238,
+            x239,
+            x240,
+            x241,
+            x242,
+            x243,
+            x244,
+            x245,
+            x246,
+            x247,
+            x248,
+            x249,
+            x250,
+            x251,
+            x252,
+            x253,
+            x254,
+            x255,
+            x256,
+            x257,
+            x258,
+            x259,
+            x260,
+            x261,
+            x262,
+            x263,
+            x264,
+            x265,
+            x266,
+            x267,
+            x268,
+            x269,
+            x270,
+            x271,
+            x272,
+            x273,
+            x274,
+            x275,
+            x276,
+            x277,
+            x278,
+            x279,
+            x280,
+            x281,
+            x282,
+        ) = (
+            x156 - x157,
+            0.01056776613310695f64 + x158,
+            -0.00010375891721868492f64 + x159,
+            0.011794560230238949f64 + x160,
+            x161 + x17,
+            x162 + x18,
+            x19 - x162,
+            x75 - x169,
+            x76 + x170,
+            0.384f64 * x172,
+            -0.0825f64 * x172,
+            0.384f64 * x171,
+            c3 * x171,
+            s3 * x171,
+            0.0825f64 * x173,
+            c2 * x173,
+            x177 - x178,
+            x179 + x180,
+            c4 * x174,
+            s4 * x174,
+            -0.0825f64 * x175,
+            0.384f64 * x174,
+            qd4 + x175,
+            x185 + x186,
+            x187 + x190,
+            x188 + x191,
+            x192 + x192,
+            x185 + x185,
+            x193 + x194,
+            x195 + x196,
+            x197 + x197,
+            x186 + x186,
+            x198 + x199,
+            x201 + x202,
+            x204 + x204,
+            -0.09850206933f64 * x176,
+            0.09850206933f64 * x175,
+            0.09850206933f64 * x174,
+            0.374644408005f64 * x174,
+            -0.19076837715f64 * x175,
+            -3.587895f64 * x176,
+            0.0039053550262761003f64 * x175,
+            -0.0016444875773692705f64 * x175,
+            0.0039053550262761003f64 * x174,
+            -0.0016444875773692705f64 * x174,
+            0.0775861490525396f64 * x175,
+            0.02771584317362585f64 * x174,
+            0.06767727025085991f64 * x175,
+            0.19076837715f64 * x176,
+            0.0775861490525396f64 * x174,
+            0.03239943042445132f64 * x174,
+            0.02771584317362585f64 * x175,
+            -0.374644408005f64 * x176,
+            x103 + x212,
+            x102 + x213,
+            x214 + x106,
+            x195 - x196,
+            x190 - x215,
+            x191 - x216,
+            0.06767727025085991f64 * x174,
+            0.03239943042445132f64 * x175,
+            x178 - x177,
+            x173 * x155,
+        );
+        let (
+            x283,
+            x284,
+            x285,
+            x286,
+            x287,
+            x288,
+            x289,
+            x290,
+            x291,
+            x292,
+            x293,
+            x294,
+            x295,
+            x296,
+            x297,
+            x298,
+            x299,
+            x300,
+            x301,
+            x302,
+            x303,
+            x304,
+            x305,
+            x306,
+            x307,
+            x308,
+            x309,
+            x310,
+            x311,
+            x312,
+            x313,
+            x314,
+            x315,
+            x316,
+            x317,
+            x318,
+            x319,
+            x320,
+            x321,
+            x322,
+            x323,
+            x324,
+            x325,
+            x326,
+            x327,
+            x328,
+            x329,
+            x330,
+            x331,
+            x332,
+            x333,
+            x334,
+            x335,
+            x336,
+            x337,
+            x338,
+            x339,
+            x340,
+            x341,
+            x342,
+            x343,
+            x344,
+            x345,
+            x346,
+        ) = (
+            0.0024804603581707893f64 + x220,
+            s5 * x221,
+            c5 * x222,
+            c5 * x221,
+            s5 * x222,
+            -0.014653732538f64 + x224,
+            -0.047121686402f64 + x225,
+            0.03146037232526039f64 + x223,
+            c4 * x226,
+            s4 * x226,
+            s4 * x223,
+            c4 * x223,
+            -0.0825f64 * x224,
+            s3 * x224,
+            c3 * x224,
+            c4 * x227,
+            s4 * x227,
+            x122 - x231,
+            x228 - x230,
+            x232 - x123,
+            x233 + x124,
+            x238 - x181,
+            x239 + x182,
+            x240 - x241,
+            x236 - x183,
+            x184 - x237,
+            s5 * x242,
+            c5 * x242,
+            2f64 * x243,
+            x248 - x249,
+            x252 - x200,
+            x253 - x203,
+            -0.19076837715f64 * x236,
+            -0.374644408005f64 * x237,
+            x256 - x205,
+            x206 - x257,
+            x258 - x259,
+            3.587895f64 * x236,
+            -3.587895f64 * x237,
+            x261 - x207,
+            x262 - x208,
+            x209 - x263,
+            0.19076837715f64 * x237,
+            0.374644408005f64 * x236,
+            x207 - x264,
+            x265 - x210,
+            x266 - x267,
+            0.09850206933f64 * x236,
+            x211 - x269,
+            x270 - x271,
+            -0.09850206933f64 * x237,
+            x264 - x261,
+            x255 + x255,
+            0.05034347249f64 * x242,
+            -0.014653732538f64 * x242,
+            -0.0015152444733270301f64 * x242,
+            0.03146037232526039f64 * x242,
+            0.03942757095803552f64 * x242,
+            0.0021640520520981297f64 * x242,
+            -0.004600245517563105f64 * x242,
+            x273 - x203,
+            x200 + x274,
+            x275 + x276,
+            x271 + x279,
+        );
+        let (x347, x348, x349, x350, x351, x352, x353, x354, x355, x356, x357, x358) = (
+            x266 + x280,
+            x262 + x263,
+            x205 - x256,
+            x257 - x206,
+            x259 - x258,
+            0.010869510762828563f64 * x242,
+            -7.975918f64 * x237,
+            7.975918f64 * x281,
+            x181 - x238,
+            x224 * x281,
+            x171 * x237,
+            x74 * x281,
+        );
+        let (
+            x359,
+            x360,
+            x361,
+            x362,
+            x363,
+            x364,
+            x365,
+            x366,
+            x367,
+            x368,
+            x369,
+            x370,
+            x371,
+            x372,
+            x373,
+            x374,
+            x375,
+            x376,
+            x377,
+            x378,
+            x379,
+            x380,
+            x381,
+            x382,
+            x383,
+            x384,
+            x385,
+            x386,
+            x387,
+            x388,
+            x389,
+            x390,
+            x391,
+            x392,
+            x393,
+            x394,
+            x395,
+            x396,
+            x397,
+            x398,
+            x399,
+            x400,
+            x401,
+            x402,
+            x403,
+            x404,
+            x405,
+            x406,
+            x407,
+            x408,
+            x409,
+            x410,
+            x411,
+            x412,
+            x413,
+            x414,
+            x415,
+            x416,
+            x417,
+            x418,
+            x419,
+            x420,
+            x421,
+            x422,
+        ) = (
+            c5 * x283,
+            x164 - x284,
+            x285 - x115,
+            s5 * x283,
+            x163 + x286,
+            x287 + x116,
+            x115 - x285,
+            c4 * x288,
+            s4 * x288,
+            s4 * x290,
+            c4 * x290,
+            0.384f64 * x289,
+            x289 + 1.6850008320000003f64,
+            -0.0825f64 * x289,
+            -0.384f64 * x292,
+            0.0825f64 * x292,
+            0.384f64 * x291,
+            c3 * x291,
+            s3 * x291,
+            c2 * x292,
+            x298 + x79,
+            x80 - x299,
+            s3 * x301,
+            c3 * x301,
+            0.0825f64 * x303,
+            s2 * x302,
+            x176 + x306,
+            c4 * x307,
+            s4 * x307,
+            c5 * x304,
+            s5 * x304,
+            s5 * x308,
+            c5 * x308,
+            qd5 + x305,
+            x311 + x246,
+            x311 + x250,
+            x311 + x254,
+            x315 + x316,
+            x317 + x320,
+            x318 + x321,
+            x319 + x260,
+            x322 + x322,
+            x315 + x315,
+            x323 + x324,
+            x325 + x326,
+            x327 + x327,
+            x316 + x316,
+            x328 + x329,
+            x268 + x330,
+            x331 + x332,
+            x272 + x333,
+            x334 + x334,
+            -0.047121686402f64 * x308,
+            0.047121686402f64 * x305,
+            -0.047121686402f64 * x304,
+            0.05034347249f64 * x304,
+            0.014653732538f64 * x305,
+            1.225946f64 * x308,
+            0.004600245517563105f64 * x305,
+            -0.0021640520520981297f64 * x305,
+            -0.004600245517563105f64 * x304,
+            0.0021640520520981297f64 * x304,
+            -0.010869510762828563f64 * x305,
+            -0.0015152444733270301f64 * x304,
+        );
+        let (
+            x423,
+            x424,
+            x425,
+            x426,
+            x427,
+            x428,
+            x429,
+            x430,
+            x431,
+            x432,
+            x433,
+            x434,
+            x435,
+            x436,
+            x437,
+            x438,
+            x439,
+            x440,
+            x441,
+            x442,
+            x443,
+            x444,
+            x445,
+            x446,
+            x447,
+            x448,
+            x449,
+            x450,
+            x451,
+            x452,
+        ) = (
+            -0.03942757095803552f64 * x305,
+            -0.014653732538f64 * x308,
+            0.010869510762828563f64 * x304,
+            0.03146037232526039f64 * x304,
+            0.0015152444733270301f64 * x305,
+            0.05034347249f64 * x308,
+            x211 + x346,
+            x210 + x347,
+            x348 + x217,
+            x272 - x333,
+            x330 - x268,
+            x325 - x326,
+            x320 - x349,
+            x321 - x350,
+            x260 - x351,
+            0.03942757095803552f64 * x304,
+            -0.03146037232526039f64 * x305,
+            x290 * x355,
+            x289 * x355,
+            x289 * x305,
+            x288 * x355,
+            x117 * x305,
+            x223 * x355,
+            x291 * x237,
+            x292 * x155,
+            x227 * x305,
+            x39 * x355,
+            x301 * x174,
+            x358 - x357,
+            x302 * x126,
+        );
+        let (
+            x453,
+            x454,
+            x455,
+            x456,
+            x457,
+            x458,
+            x459,
+            x460,
+            x461,
+            x462,
+            x463,
+            x464,
+            x465,
+            x466,
+            x467,
+            x468,
+            x469,
+            x470,
+            x471,
+            x472,
+            x473,
+            x474,
+            x475,
+            x476,
+            x477,
+            x478,
+            x479,
+            x480,
+            x481,
+            x482,
+            x483,
+            x484,
+            x485,
+            x486,
+            x487,
+            x488,
+            x489,
+            x490,
+            x491,
+            x492,
+            x493,
+            x494,
+            x495,
+            x496,
+            x497,
+            x498,
+            x499,
+            x500,
+            x501,
+            x502,
+            x503,
+            x504,
+            x505,
+            x506,
+            x507,
+            x508,
+            x509,
+            x510,
+            x511,
+            x512,
+            x513,
+            x514,
+            x515,
+            x516,
+        ) = (
+            x359 - x163,
+            x164 + x362,
+            s5 * x360,
+            c5 * x360,
+            c5 * x363,
+            -0.0015152444733270301f64 + x365,
+            0.0021640520520981297f64 - x364,
+            x366 - x165,
+            x367 + x166,
+            -0.13901256864000003f64 + x372,
+            x370 + 0.6470403194880001f64,
+            0.374644408005f64 + x371,
+            x167 - x367,
+            x366 + x168,
+            c4 * x361,
+            s4 * x361,
+            x295 - x375,
+            x364 - x374,
+            x376 - x296,
+            x377 + x297,
+            x379 + x229,
+            x380 + x300,
+            x384 + x235,
+            s4 * x385,
+            c4 * x385,
+            x388 + x309,
+            x310 - x389,
+            s6 * x392,
+            c6 * x392,
+            x389 - x310,
+            0.088f64 * x392,
+            x393 - x247,
+            x394 - x251,
+            x396 + x255,
+            x402 - x403,
+            x406 - x407,
+            x408 - x409,
+            x412 - x336,
+            x337 - x413,
+            x414 - x415,
+            x417 - x338,
+            x418 - x339,
+            x340 - x419,
+            x338 - x420,
+            x421 - x341,
+            x422 - x423,
+            x342 - x425,
+            x426 - x427,
+            x420 - x417,
+            x411 + x411,
+            -0.023526756935f64 * x392,
+            0.10024161669500001f64 * x392,
+            0.001524110902883315f64 * x392,
+            0.01056776613310695f64 * x392,
+            0.0024804603581707893f64 * x392,
+            0.000093569097314605f64 * x392,
+            -0.00010375891721868492f64 * x392,
+            x429 + x432,
+            x430 + x433,
+            x431 + x434,
+            x427 + x438,
+            x422 + x439,
+            x418 + x419,
+            x336 - x412,
+        );
+        let (x517, x518, x519, x520, x521, x522, x523, x524) = (
+            x413 - x337,
+            x415 - x414,
+            0.011794560230238949f64 * x392,
+            x443 + x444,
+            x361 * x305,
+            x356 - x446,
+            x448 + x449,
+            x452 + x282,
+        );
+        let (
+            x525,
+            x526,
+            x527,
+            x528,
+            x529,
+            x530,
+            x531,
+            x532,
+            x533,
+            x534,
+            x535,
+            x536,
+            x537,
+            x538,
+            x539,
+            x540,
+            x541,
+            x542,
+            x543,
+            x544,
+            x545,
+            x546,
+            x547,
+            x548,
+            x549,
+            x550,
+            x551,
+            x552,
+            x553,
+            x554,
+            x555,
+            x556,
+            x557,
+            x558,
+            x559,
+            x560,
+            x561,
+            x562,
+            x563,
+            x564,
+            x565,
+            x566,
+            x567,
+            x568,
+            x569,
+            x570,
+            x571,
+            x572,
+            x573,
+            x574,
+            x575,
+            x576,
+            x577,
+            x578,
+            x579,
+            x580,
+            x581,
+            x582,
+            x583,
+            x584,
+            x585,
+            x586,
+            x587,
+            x588,
+        ) = (
+            c5 * x453,
+            s5 * x453,
+            s5 * x454,
+            s4 * x458,
+            c4 * x458,
+            s4 * x459,
+            c4 * x459,
+            -0.0825f64 * x460,
+            x460 + -0.36201189750000007f64,
+            0.384f64 * x460,
+            x370 + x463,
+            0.0825f64 * x461,
+            -0.384f64 * x461,
+            0.09850206933f64 - x461,
+            s3 * x464,
+            x461 - 0.09850206933f64,
+            c3 * x464,
+            -0.384f64 * x466,
+            0.0825f64 * x466,
+            0.384f64 * x465,
+            c3 * x465,
+            s3 * x465,
+            c2 * x466,
+            x467 + x293,
+            x294 - x468,
+            s3 * x470,
+            c3 * x470,
+            0.0825f64 * x472,
+            s2 * x471,
+            c3 * x473,
+            s3 * x473,
+            x474 + x383,
+            -0.316f64 * x475,
+            x386 + x476,
+            x477 - x387,
+            x387 - x477,
+            c6 * x478,
+            s6 * x478,
+            0.088f64 * x479,
+            qd6 + x482,
+            2f64 * x486,
+            x492 + x416,
+            x493 + x493,
+            x494 + x495,
+            x496 + x496,
+            x497 + x498,
+            x499 + x500,
+            x501 + x501,
+            -0.017527158935000002f64 * x479,
+            -0.017527158935000002f64 * x478,
+            -0.023526756935f64 * x478,
+            0.10024161669500001f64 * x479,
+            -0.00010375891721868492f64 * x479,
+            0.000093569097314605f64 * x479,
+            -0.00010375891721868492f64 * x478,
+            0.000093569097314605f64 * x478,
+            0.011794560230238949f64 * x479,
+            0.001524110902883315f64 * x478,
+            0.0024804603581707893f64 * x479,
+            0.011794560230238949f64 * x478,
+            0.01056776613310695f64 * x478,
+            0.001524110902883315f64 * x479,
+            x342 + x513,
+            x341 + x514,
+        );
+        let (
+            x589,
+            x590,
+            x591,
+            x592,
+            x593,
+            x594,
+            x595,
+            x596,
+            x597,
+            x598,
+            x599,
+            x600,
+            x601,
+            x602,
+            x603,
+            x604,
+            x605,
+            x606,
+            x607,
+            x608,
+            x609,
+            x610,
+            x611,
+            x612,
+            x613,
+            x614,
+            x615,
+            x616,
+            x617,
+            x618,
+        ) = (
+            x515 + x352,
+            x416 - x518,
+            0.0024804603581707893f64 * x478,
+            0.01056776613310695f64 * x479,
+            x464 * x237,
+            x464 * x175,
+            x458 * x355,
+            x458 * x305,
+            x459 * x355,
+            0.0825f64 * x520,
+            x465 * x237,
+            s3 * x520,
+            c3 * x520,
+            x466 * x155,
+            x283 * x479,
+            x114 * x478,
+            x114 * x479,
+            x221 * x478,
+            x222 * x479,
+            x72 * x478,
+            x71 * x478,
+            x71 * x479,
+            x113 * x478,
+            -0.17380470556900002f64 * x479,
+            x521 + x445,
+            x470 * x174,
+            x471 * x126,
+            x36 * x479,
+            x119 * x478,
+            x473 * x175,
+        );
+        let (
+            x619,
+            x620,
+            x621,
+            x622,
+            x623,
+            x624,
+            x625,
+            x626,
+            x627,
+            x628,
+            x629,
+            x630,
+            x631,
+            x632,
+            x633,
+            x634,
+            x635,
+            x636,
+            x637,
+            x638,
+            x639,
+            x640,
+            x641,
+            x642,
+            x643,
+            x644,
+            x645,
+            x646,
+            x647,
+            x648,
+            x649,
+            x650,
+            x651,
+            x652,
+            x653,
+            x654,
+            x655,
+            x656,
+            x657,
+            x658,
+            x659,
+            x660,
+            x661,
+            x662,
+            x663,
+            x664,
+            x665,
+            x666,
+            x667,
+            x668,
+            x669,
+            x670,
+            x671,
+            x672,
+            x673,
+            x674,
+            x675,
+            x676,
+            x677,
+            x678,
+            x679,
+            x680,
+            x681,
+            x682,
+        ) = (
+            x525 - x455,
+            x526 + x456,
+            x527 + x457,
+            x529 - x368,
+            x528 + x369,
+            x532 + x370,
+            x532 + 0.029865981543750007f64,
+            x462 + x534,
+            -0.19076837715f64 + x533,
+            0.0825f64 * x540,
+            0.126729164208f64 + x540,
+            0.0825f64 * x546,
+            s2 * x545,
+            x548 + x373,
+            x549 + x469,
+            x553 + x378,
+            x554 - x381,
+            x555 + x382,
+            s2 * x556,
+            c5 * x558,
+            s5 * x558,
+            x561 + x480,
+            x481 - x562,
+            x560 - x563,
+            x565 + x400,
+            x565 + x404,
+            x565 + x410,
+            -0.014653732538f64 * x558,
+            0.05034347249f64 * x559,
+            1.225946f64 * x558,
+            1.225946f64 * x559,
+            -0.014653732538f64 * x559,
+            0.05034347249f64 * x558,
+            -0.047121686402f64 * x558,
+            -0.047121686402f64 * x559,
+            -0.017527158935000002f64 * x560,
+            x573 - x503,
+            x504 - x574,
+            x575 - x576,
+            1.666555f64 * x560,
+            x577 - x505,
+            x578 - x506,
+            x507 - x579,
+            x505 - x580,
+            x581 - x508,
+            x582 - x583,
+            0.10024161669500001f64 * x560,
+            x509 - x584,
+            x585 - x586,
+            -0.023526756935f64 * x560,
+            x580 - x577,
+            0.0020344399586617965f64 * x564,
+            0.002573605371338202f64 * x564,
+            0.0003913912816842481f64 * x564,
+            0.029212399412428362f64 * x564,
+            0.0316333431909496f64 * x564,
+            -0.001255536598272898f64 * x564,
+            -0.0009653051699191116f64 * x564,
+            x586 + x591,
+            x582 + x592,
+            x578 + x579,
+            x503 - x573,
+            x574 - x504,
+            x576 - x575,
+        );
+        let (
+            x683,
+            x684,
+            x685,
+            x686,
+            x687,
+            x688,
+            x689,
+            x690,
+            x691,
+            x692,
+            x693,
+            x694,
+            x695,
+            x696,
+            x697,
+            x698,
+            x699,
+            x700,
+            x701,
+            x702,
+            x703,
+            x704,
+            x705,
+            x706,
+        ) = (
+            0.006684151967360945f64 * x564,
+            x538 * x281,
+            x538 * x237,
+            x538 * x174,
+            x538 * x175,
+            x440 - x596,
+            x289 * x558,
+            x289 * x559,
+            x288 * x558,
+            x117 * x559,
+            4.3880230000000005f64 * x559,
+            -4.3880230000000005f64 * x558,
+            x545 * x126,
+            x603 - x604,
+            x605 - x606,
+            x607 - x608,
+            x611 + x612,
+            x226 * x559,
+            x615 + x447,
+            x616 - x617,
+            x73 * x559,
+            x32 * x558,
+            x618 - x450,
+            x556 * x107,
+        );
+        let (
+            x707,
+            x708,
+            x709,
+            x710,
+            x711,
+            x712,
+            x713,
+            x714,
+            x715,
+            x716,
+            x717,
+            x718,
+            x719,
+            x720,
+            x721,
+            x722,
+            x723,
+            x724,
+            x725,
+            x726,
+            x727,
+            x728,
+            x729,
+            x730,
+            x731,
+            x732,
+            x733,
+            x734,
+            x735,
+            x736,
+            x737,
+            x738,
+            x739,
+            x740,
+            x741,
+            x742,
+            x743,
+            x744,
+            x745,
+            x746,
+            x747,
+            x748,
+            x749,
+            x750,
+            x751,
+            x752,
+            x753,
+            x754,
+            x755,
+            x756,
+            x757,
+            x758,
+            x759,
+            x760,
+            x761,
+            x762,
+            x763,
+            x764,
+            x765,
+            x766,
+            x767,
+            x768,
+            x769,
+            x770,
+        ) = (
+            0.03942757095803552f64 + x619,
+            -0.004600245517563105f64 + x620,
+            0.010869510762828563f64 + x621,
+            s4 * x622,
+            c4 * x622,
+            c4 * x623,
+            2f64 * x624,
+            x532 + x625,
+            c3 * x627,
+            s3 * x627,
+            s2 * x629,
+            c2 * x629,
+            x631 + x547,
+            c3 * x632,
+            s3 * x632,
+            x633 + x552,
+            -0.316f64 * x634,
+            x636 + x234,
+            c2 * x635,
+            x638 + x390,
+            x391 - x639,
+            s6 * x642,
+            c6 * x642,
+            x643 - x401,
+            x644 - x405,
+            x645 - x335,
+            x646 + x647,
+            x490 + x648,
+            x491 + x649,
+            x646 + x646,
+            x650 + x651,
+            x647 + x647,
+            x424 + x652,
+            x428 + x653,
+            x657 + x658,
+            x659 + x659,
+            x660 + x661,
+            x662 + x662,
+            x663 + x664,
+            x666 + x667,
+            x669 + x669,
+            x654 + x654,
+            0.150277948634f64 * x641,
+            0.150277948634f64 * x640,
+            0.0020344399586617965f64 * x640,
+            0.002573605371338202f64 * x641,
+            -0.0009653051699191116f64 * x641,
+            -0.001255536598272898f64 * x641,
+            -0.0009653051699191116f64 * x640,
+            -0.001255536598272898f64 * x640,
+            0.006684151967360945f64 * x641,
+            0.0003913912816842481f64 * x640,
+            0.0316333431909496f64 * x641,
+            0.006684151967360945f64 * x640,
+            0.029212399412428362f64 * x640,
+            0.0003913912816842481f64 * x641,
+            x428 - x653,
+            x652 - x424,
+            x650 - x651,
+            x648 - x516,
+            x649 - x517,
+            x509 + x677,
+            x508 + x678,
+            x679 + x519,
+        );
+        let (
+            x771,
+            x772,
+            x773,
+            x774,
+            x775,
+            x776,
+            x777,
+            x778,
+            x779,
+            x780,
+            x781,
+            x782,
+            x783,
+            x784,
+            x785,
+            x786,
+            x787,
+            x788,
+            x789,
+            x790,
+            x791,
+            x792,
+            x793,
+            x794,
+            x795,
+            x796,
+        ) = (
+            x658 - x682,
+            0.0316333431909496f64 * x640,
+            0.029212399412428362f64 * x641,
+            x629 * x126,
+            x627 * x281,
+            x627 * x174,
+            x353 - x686,
+            x354 - x687,
+            x691 + x692,
+            x688 + x690,
+            x693 + x441,
+            x694 + x442,
+            x695 + x602,
+            x700 - x613,
+            s4 * x699,
+            c4 * x699,
+            x632 * x175,
+            -0.0003913912816842481f64 * x640,
+            -0.029212399412428362f64 * x640,
+            0.001255536598272898f64 * x640,
+            -0.150277948634f64 * x640,
+            -0.002573605371338202f64 * x640,
+            0.0020344399586617965f64 * x641,
+            x703 + x704,
+            x705 + x451,
+            x635 * x82,
+        );
+        let (
+            x797,
+            x798,
+            x799,
+            x800,
+            x801,
+            x802,
+            x803,
+            x804,
+            x805,
+            x806,
+            x807,
+            x808,
+            x809,
+            x810,
+            x811,
+            x812,
+            x813,
+            x814,
+            x815,
+            x816,
+            x817,
+            x818,
+            x819,
+            x820,
+            x821,
+            x822,
+            x823,
+            x824,
+            x825,
+            x826,
+            x827,
+            x828,
+            x829,
+            x830,
+            x831,
+            x832,
+            x833,
+            x834,
+            x835,
+            x836,
+            x837,
+            x838,
+            x839,
+            x840,
+            x841,
+            x842,
+            x843,
+            x844,
+            x845,
+            x846,
+            x847,
+            x848,
+            x849,
+            x850,
+            x851,
+            x852,
+            x853,
+            x854,
+            x855,
+            x856,
+            x857,
+            x858,
+            x859,
+            x860,
+        ) = (
+            c4 * x707,
+            c4 * x708,
+            s4 * x707,
+            s4 * x708,
+            0.6769063010317501f64 + x713,
+            x715 - x539,
+            x716 + x541,
+            x709 - x543,
+            -0.316f64 * x719,
+            x720 - x550,
+            x721 + x551,
+            s2 * x722,
+            x725 + x637,
+            x727 + x483,
+            c6 * x726,
+            s6 * x726,
+            x733 + x411,
+            x568 - x737,
+            x570 - x739,
+            x571 - x740,
+            0.10024161669500001f64 * x726,
+            -0.023526756935f64 * x727,
+            1.666555f64 * x726,
+            1.666555f64 * x727,
+            0.10024161669500001f64 * x727,
+            -0.023526756935f64 * x726,
+            -0.017527158935000002f64 * x726,
+            -0.017527158935000002f64 * x727,
+            x749 - x670,
+            x671 - x750,
+            x751 - x752,
+            x753 - x672,
+            x754 - x673,
+            x674 - x755,
+            x672 - x756,
+            x757 - x675,
+            x758 - x759,
+            x676 - x760,
+            x761 - x762,
+            x756 - x753,
+            x587 + x763,
+            x588 + x764,
+            x589 + x765,
+            x762 + x772,
+            x758 + x773,
+            x754 + x755,
+            x670 - x749,
+            x750 - x671,
+            x752 - x751,
+            x775 + x593,
+            x776 + x594,
+            x707 * x305,
+            x708 * x305,
+            x71 * x726,
+            x71 * x727,
+            x113 * x726,
+            -0.17380470556900002f64 * x727,
+            3.162077f64 * x727,
+            -3.162077f64 * x726,
+            x787 - x614,
+            x722 * x107,
+            x759 + x788,
+            x762 + x789,
+            x753 + x790,
+        );
+        let (x861, x862, x863, x864, x865) = (
+            x792 - x793,
+            x41 * x727,
+            x794 - x523,
+            x796 - x706,
+            x724 * x22,
+        );
+        let (
+            x866,
+            x867,
+            x868,
+            x869,
+            x870,
+            x871,
+            x872,
+            x873,
+            x874,
+            x875,
+            x876,
+            x877,
+            x878,
+            x879,
+            x880,
+            x881,
+            x882,
+            x883,
+            x884,
+            x885,
+            x886,
+            x887,
+            x888,
+            x889,
+            x890,
+            x891,
+            x892,
+            x893,
+            x894,
+            x895,
+            x896,
+            x897,
+            x898,
+            x899,
+            x900,
+            x901,
+            x902,
+            x903,
+            x904,
+            x905,
+            x906,
+            x907,
+            x908,
+            x909,
+            x910,
+            x911,
+            x912,
+            x913,
+            x914,
+            x915,
+            x916,
+            x917,
+            x918,
+            x919,
+            x920,
+            x921,
+            x922,
+            x923,
+            x924,
+            x925,
+            x926,
+            x927,
+            x928,
+            x929,
+        ) = (
+            x797 - x528,
+            x798 - x530,
+            x529 + x799,
+            x800 + x531,
+            x709 + x801,
+            0.0825f64 * x802,
+            0.165f64 * x802,
+            x802 + 0.6580132350000001f64,
+            0.0825f64 * x803,
+            -0.214708623208f64 + x803,
+            s2 * x803,
+            s3 * x804,
+            c3 * x804,
+            x374 + x807,
+            c2 * x806,
+            x809 + x557,
+            x811 + x728,
+            x729 - x812,
+            2f64 * x813,
+            x817 + x818,
+            x655 + x819,
+            x656 + x820,
+            x817 + x817,
+            x821 + x822,
+            x818 + x818,
+            x665 + x823,
+            x668 + x824,
+            -0.150277948634f64 * x810,
+            -1.4955219999999998f64 * x810,
+            x828 + x828,
+            x829 + x830,
+            x831 + x831,
+            x832 + x833,
+            -0.002573605371338202f64 * x810,
+            x834 + x835,
+            -0.0020344399586617965f64 * x810,
+            x836 + x836,
+            x668 - x824,
+            x823 - x665,
+            x821 - x822,
+            x819 - x680,
+            x820 - x681,
+            x676 + x840,
+            x675 + x841,
+            x842 + x683,
+            -0.0825f64 * x847,
+            x803 * x126,
+            s2 * x847,
+            c2 * x847,
+            x595 - x848,
+            x597 - x849,
+            x804 * x174,
+            x852 + x853,
+            x696 + x850,
+            x697 + x851,
+            x854 - x609,
+            x855 - x610,
+            x856 + x522,
+            x806 * x82,
+            0.088f64 * x861,
+            x702 + x862,
+            s5 * x861,
+            c5 * x861,
+            x864 + x524,
+        );
+        let (
+            x930,
+            x931,
+            x932,
+            x933,
+            x934,
+            x935,
+            x936,
+            x937,
+            x938,
+            x939,
+            x940,
+            x941,
+            x942,
+            x943,
+            x944,
+            x945,
+            x946,
+            x947,
+            x948,
+            x949,
+            x950,
+            x951,
+            x952,
+            x953,
+            x954,
+            x955,
+            x956,
+            x957,
+            x958,
+            x959,
+            x960,
+            x961,
+            x962,
+            x963,
+            x964,
+            x965,
+            x966,
+            x967,
+            x968,
+            x969,
+            x970,
+            x971,
+            x972,
+            x973,
+            x974,
+            x975,
+            x976,
+            x977,
+            x978,
+        ) = (
+            c4 * x866,
+            s4 * x866,
+            s4 * x868,
+            x867 - x626,
+            x870 - x535,
+            x869 + x537,
+            0.054286091887500006f64 + x872,
+            x871 + 0.05428609188750001f64,
+            0.088844724872f64 + x873,
+            0.316f64 * x875,
+            0.632f64 * x875,
+            0.316f64 * x876,
+            x867 + x542,
+            x869 + x544,
+            x880 + x808,
+            x884 + x567,
+            x884 + x569,
+            x884 + x572,
+            x885 + x654,
+            x743 - x889,
+            x745 - x891,
+            x746 - x892,
+            0.002573605371338202f64 * x882,
+            0.0020344399586617965f64 * x883,
+            1.4955219999999998f64 * x882,
+            1.4955219999999998f64 * x883,
+            x827 + x894,
+            0.002573605371338202f64 * x883,
+            0.0020344399586617965f64 * x882,
+            0.150277948634f64 * x882,
+            0.150277948634f64 * x883,
+            x893 + x893,
+            x768 + x903,
+            x769 + x904,
+            x770 + x905,
+            x845 - x894,
+            x875 * x155,
+            x875 * x126,
+            x875 * x107,
+            x875 * x82,
+            x915 + x689,
+            x916 - x779,
+            x698 - x918,
+            x924 - x857,
+            x879 * x22,
+            -0.150277948634f64 * x882,
+            -0.002573605371338202f64 * x882,
+            -1.4955219999999998f64 * x882,
+            x881 * x23,
+        );
+        let (
+            x979,
+            x980,
+            x981,
+            x982,
+            x983,
+            x984,
+            x985,
+            x986,
+            x987,
+            x988,
+            x989,
+            x990,
+            x991,
+            x992,
+            x993,
+            x994,
+            x995,
+            x996,
+            x997,
+            x998,
+            x999,
+            x1000,
+            x1001,
+            x1002,
+            x1003,
+            x1004,
+            x1005,
+            x1006,
+            x1007,
+            x1008,
+            x1009,
+            x1010,
+            x1011,
+            x1012,
+            x1013,
+            x1014,
+            x1015,
+            x1016,
+            x1017,
+            x1018,
+            x1019,
+            x1020,
+            x1021,
+            x1022,
+            x1023,
+            x1024,
+            x1025,
+            x1026,
+            x1027,
+            x1028,
+        ) = (
+            x930 - x710,
+            x931 + x711,
+            x932 + x712,
+            0.02771584317362585f64 + x933,
+            0.03239943042445132f64 + x934,
+            -0.0016444875773692705f64 - x935,
+            x935 - -0.0016444875773692705f64,
+            x871 + x937,
+            c2 * x938,
+            s2 * x938,
+            1.1188387488320002f64 + x940,
+            1.1188387488320002f64 + x939,
+            c3 * x942,
+            s3 * x942,
+            x943 - x630,
+            x944 + x723,
+            x945 - x736,
+            x946 - x738,
+            x947 - x502,
+            2f64 * x948,
+            x952 + x953,
+            x825 + x954,
+            x826 + x955,
+            x952 + x952,
+            x957 + x958,
+            x953 + x953,
+            x899 + x959,
+            x901 + x960,
+            x901 - x960,
+            x959 - x899,
+            x957 - x958,
+            x954 - x843,
+            x955 - x844,
+            -0.088f64 * x956,
+            x887 - x956,
+            0.088f64 * x965,
+            x907 + x965,
+            x938 * x155,
+            x218 + x968,
+            x219 - x969,
+            x942 * x175,
+            x956 - x887,
+            x973 + x701,
+            x844 - x955,
+            x976 - x953,
+            x858 - x975,
+            x960 + x859,
+            x955 + x791,
+            x977 - x749,
+            x978 + x865,
+        );
+        let (
+            x1029,
+            x1030,
+            x1031,
+            x1032,
+            x1033,
+            x1034,
+            x1035,
+            x1036,
+            x1037,
+            x1038,
+            x1039,
+            x1040,
+            x1041,
+            x1042,
+            x1043,
+            x1044,
+            x1045,
+            x1046,
+            x1047,
+            x1048,
+            x1049,
+            x1050,
+            x1051,
+            x1052,
+            x1053,
+            x1054,
+            x1055,
+            x1056,
+            x1057,
+            x1058,
+            x1059,
+            x1060,
+            x1061,
+            x1062,
+            x1063,
+            x1064,
+            x1065,
+            x1066,
+            x1067,
+            x1068,
+            x1069,
+            x1070,
+            x1071,
+            x1072,
+            x1073,
+            x1074,
+            x1075,
+            x1076,
+            x1077,
+            x1078,
+            x1079,
+            x1080,
+            x1081,
+            x1082,
+            x1083,
+        ) = (
+            x979 + x801,
+            x980 + x536,
+            x981 + x801,
+            s3 * x982,
+            c3 * x982,
+            s3 * x983,
+            s3 * x984,
+            c3 * x983,
+            c3 * x984,
+            c3 * x985,
+            x987 - x717,
+            x988 + x718,
+            x939 + x990,
+            x991 - x877,
+            x992 + x878,
+            s2 * x993,
+            x998 + x742,
+            x998 + x744,
+            x998 + x747,
+            x999 + x893,
+            x896 - x1003,
+            x898 - x1005,
+            x900 - x1006,
+            x908 + x1007,
+            x909 + x1008,
+            x910 + x1009,
+            c6 * x1000,
+            s6 * x1001,
+            s6 * x1000,
+            c6 * x1001,
+            x1005 - x898,
+            x1006 - x900,
+            c6 * x1010,
+            s6 * x1011,
+            s6 * x1010,
+            c6 * x1011,
+            s5 * x1013,
+            c5 * x1013,
+            s5 * x1015,
+            c5 * x1015,
+            x1016 - x774,
+            x982 * x174,
+            x982 * x175,
+            x983 * x174,
+            x984 * x174,
+            x1019 - x917,
+            x993 * x107,
+            0.5f64 * x1020,
+            -0.5f64 * x1015,
+            x994 * x23,
+            -0.5f64 * x1001,
+            0.5f64 * x1000,
+            0.5f64 * x1022,
+            0.5f64 * x1010,
+            x860 + x1023,
+        );
+        let (
+            x1084,
+            x1085,
+            x1086,
+            x1087,
+            x1088,
+            x1089,
+            x1090,
+            x1091,
+            x1092,
+            x1093,
+            x1094,
+            x1095,
+            x1096,
+            x1097,
+            x1098,
+            x1099,
+            x1100,
+            x1101,
+            x1102,
+            x1103,
+            x1104,
+            x1105,
+            x1106,
+            x1107,
+            x1108,
+            x1109,
+            x1110,
+            x1111,
+            x1112,
+            x1113,
+            x1114,
+            x1115,
+            x1116,
+            x1117,
+            x1118,
+            x1119,
+            x1120,
+            x1121,
+            x1122,
+            x1123,
+            x1124,
+            x1125,
+        ) = (
+            x1029 - x714,
+            0.0039053550262761003f64 - x1030,
+            0.0775861490525396f64 + x1031,
+            x1033 - x1034,
+            x1030 - 0.0039053550262761003f64,
+            x1032 + x1036,
+            -0.316f64 * x1039,
+            -0.316f64 * x1040,
+            x543 + x1043,
+            c2 * x1042,
+            x1045 - x888,
+            x1046 - x890,
+            x1047 - x748,
+            2f64 * x1048,
+            x1055 - x1056,
+            x1057 + x1058,
+            s6 * x1049,
+            c6 * x1049,
+            c6 * x1050,
+            s6 * x1051,
+            s6 * x1059,
+            c6 * x1060,
+            x1061 - x1062,
+            x1063 + x1064,
+            c6 * x1052,
+            s6 * x1053,
+            s6 * x1052,
+            c6 * x1053,
+            x1071 - x1072,
+            x1074 - x599,
+            x1042 * x82,
+            x1076 + x921,
+            x1076 - x1077,
+            x1078 + x974,
+            0.5f64 * x1050,
+            0.5f64 * x1051,
+            -0.5f64 * x1053,
+            0.5f64 * x1052,
+            x1079 + x1026,
+            x1080 + x1027,
+            x1079 - x1081,
+            x1080 - x1082,
+        );
+        let (
+            x1126,
+            x1127,
+            x1128,
+            x1129,
+            x1130,
+            x1131,
+            x1132,
+            x1133,
+            x1134,
+            x1135,
+            x1136,
+            x1137,
+            x1138,
+            x1139,
+            x1140,
+            x1141,
+            x1142,
+            x1143,
+            x1144,
+            x1145,
+            x1146,
+            x1147,
+            x1148,
+            x1149,
+            x1150,
+            x1151,
+            x1152,
+            x1153,
+            x1154,
+            x1155,
+            x1156,
+            x1157,
+            x1158,
+            x1159,
+            x1160,
+            x1161,
+            x1162,
+            x1163,
+            x1164,
+            x1165,
+            x1166,
+            x1167,
+        ) = (
+            0.06767727025085991f64 + x1084,
+            c3 * x1085,
+            s3 * x1085,
+            s3 * x1087,
+            c3 * x1087,
+            s3 * x1088,
+            c3 * x1089,
+            x1086 + x936,
+            x1086 + x871,
+            x1093 - x1044,
+            x1097 + x895,
+            x1097 + x897,
+            x1097 + x902,
+            x1103 - x1102,
+            x1104 + x1105,
+            0.088f64 * x1098,
+            0.176f64 * x1098,
+            0.088f64 * x1099,
+            x886 + x1098,
+            x741 + x1099,
+            x1108 - x1109,
+            x1110 + x1111,
+            0.088f64 * x1107,
+            x906 + x1106,
+            x771 + x1107,
+            x1085 * x175,
+            x1112 - x685,
+            x1114 + x1075,
+            x1092 * x22,
+            x1077 + x1115,
+            c5 * x1116,
+            s5 * x1116,
+            x1118 + x1024,
+            x1119 + x1025,
+            x1081 + x1122,
+            x1082 + x1123,
+            x1118 - x1120,
+            x1119 - x1121,
+            c6 * x1124,
+            s6 * x1125,
+            s6 * x1124,
+            c6 * x1125,
+        );
+        let (
+            x1168,
+            x1169,
+            x1170,
+            x1171,
+            x1172,
+            x1173,
+            x1174,
+            x1175,
+            x1176,
+            x1177,
+            x1178,
+            x1179,
+            x1180,
+            x1181,
+            x1182,
+            x1183,
+            x1184,
+            x1185,
+            x1186,
+            x1187,
+            x1188,
+            x1189,
+            x1190,
+            x1191,
+            x1192,
+            x1193,
+            x1194,
+            x1195,
+            x1196,
+            x1197,
+            x1198,
+            x1199,
+            x1200,
+            x1201,
+            x1202,
+            x1203,
+            x1204,
+            x1205,
+            x1206,
+            x1207,
+            x1208,
+            x1209,
+            x1210,
+            x1211,
+            x1212,
+            x1213,
+        ) = (
+            c3 * x1126,
+            x1127 - x1035,
+            s3 * x1126,
+            x1128 + x1037,
+            x1035 - x1127,
+            x1131 + x1038,
+            0.05287838199960611f64 + x1133,
+            s2 * x1134,
+            x1135 + x805,
+            x1136 - x1002,
+            x1137 - x1004,
+            x1138 - x961,
+            x1141 + x1141,
+            x1139 - x1012,
+            x951 + x1140,
+            x1054 + x1148,
+            x1147 + x1014,
+            x962 + x1146,
+            c5 * x1144,
+            s5 * x1144,
+            x735 - x1145,
+            c5 * x1149,
+            s5 * x1149,
+            x767 - x1150,
+            x1126 * x175,
+            x1151 - x1073,
+            x1134 * x107,
+            x1145 - x735,
+            x1150 - x767,
+            x1153 + x783,
+            0.5f64 * x1144,
+            0.5f64 * x1149,
+            c5 * x1155,
+            s5 * x1155,
+            x1120 + x1158,
+            x1121 + x1159,
+            c6 * x1160,
+            s6 * x1161,
+            s6 * x1160,
+            c6 * x1161,
+            x1164 - x1165,
+            x1166 + x1167,
+            c6 * x1162,
+            s6 * x1163,
+            s6 * x1162,
+            c6 * x1163,
+        );
+        let (
+            x1214,
+            x1215,
+            x1216,
+            x1217,
+            x1218,
+            x1219,
+            x1220,
+            x1221,
+            x1222,
+            x1223,
+            x1224,
+            x1225,
+            x1226,
+            x1227,
+            x1228,
+            x1229,
+            x1230,
+            x1231,
+            x1232,
+            x1233,
+            x1234,
+            x1235,
+            x1236,
+            x1237,
+            x1238,
+            x1239,
+            x1240,
+            x1241,
+            x1242,
+            x1243,
+            x1244,
+            x1245,
+            x1246,
+            x1247,
+            x1248,
+            x1249,
+            x1250,
+            x1251,
+            x1252,
+            x1253,
+            x1254,
+            x1255,
+            x1256,
+            x1257,
+            x1258,
+            x1259,
+            x1260,
+            x1261,
+            x1262,
+            x1263,
+            x1264,
+            x1265,
+            x1266,
+        ) = (
+            x1168 - x1032,
+            x1033 + x1170,
+            x1172 - x628,
+            -0.004377257121839584f64 + x1173,
+            s2 * x1174,
+            c2 * x1169,
+            c6 * x1177,
+            s6 * x1178,
+            s6 * x1177,
+            c6 * x1178,
+            x1179 + x1142,
+            x949 + x1181,
+            x963 - x1183,
+            x964 + x1184,
+            x1186 - x1065,
+            x1187 + x1066,
+            s5 * x1182,
+            c5 * x1182,
+            x1189 - x1067,
+            x1190 + x1068,
+            c5 * x1185,
+            s5 * x1185,
+            s4 * x1188,
+            c4 * x1188,
+            s4 * x1191,
+            c4 * x1191,
+            x1174 * x107,
+            x1192 - x1070,
+            x1193 + x846,
+            x1169 * x82,
+            x1171 * x22,
+            0.5f64 * x1195,
+            0.5f64 * x1196,
+            x1176 * x23,
+            0.5f64 * x1182,
+            x1183 - x963,
+            0.5f64 * x1185,
+            x1198 + x922,
+            x1198 - x1199,
+            0.5f64 * x1179,
+            x1204 - x1205,
+            x1206 + x1207,
+            c6 * x1202,
+            s6 * x1203,
+            s6 * x1202,
+            c6 * x1203,
+            x1210 - x1211,
+            x1212 + x1213,
+            0.088f64 * x1209,
+            c5 * x1208,
+            s5 * x1208,
+            s4 * x1209,
+            c4 * x1209,
+        );
+        let (
+            x1267,
+            x1268,
+            x1269,
+            x1270,
+            x1271,
+            x1272,
+            x1273,
+            x1274,
+            x1275,
+            x1276,
+            x1277,
+            x1278,
+            x1279,
+            x1280,
+            x1281,
+            x1282,
+            x1283,
+            x1284,
+            x1285,
+            x1286,
+            x1287,
+            x1288,
+            x1289,
+            x1290,
+            x1291,
+            x1292,
+            x1293,
+            x1294,
+            x1295,
+            x1296,
+            x1297,
+            x1298,
+            x1299,
+            x1300,
+            x1301,
+            x1302,
+            x1303,
+            x1304,
+            x1305,
+            x1306,
+            x1307,
+            x1308,
+            x1309,
+            x1310,
+            x1311,
+            x1312,
+            x1313,
+            x1314,
+            x1315,
+            x1316,
+            x1317,
+            x1318,
+            x1319,
+        ) = (
+            c3 * x1214,
+            s3 * x1214,
+            s3 * x1215,
+            -0.008248333140675744f64 + x1216,
+            s2 * x1217,
+            c2 * x1217,
+            x1219 + x1175,
+            x1220 - x1100,
+            x1101 - x1221,
+            x1101 + x1222,
+            x1100 + x1223,
+            x1095 + x1224,
+            s5 * x1225,
+            c5 * x1225,
+            x734 + x1228,
+            x566 + x1229,
+            s5 * x1226,
+            c5 * x1226,
+            x838 - x1227,
+            x766 + x1232,
+            x590 + x1233,
+            x1217 * x107,
+            x1241 - x684,
+            x1243 - x1194,
+            x1227 - x838,
+            x1245 + x781,
+            x1245 - x1246,
+            x1247 + x1154,
+            0.5f64 * x1249,
+            x1248 + x920,
+            x1199 + x1251,
+            x1248 - x1250,
+            s5 * x1252,
+            c5 * x1252,
+            x1253 + x1083,
+            x1256 - x1257,
+            x1258 + x1259,
+            0.088f64 * x1255,
+            x1253 + x1262,
+            x1261 + x926,
+            c5 * x1254,
+            s5 * x1254,
+            c5 * x1260,
+            s5 * x1260,
+            s4 * x1255,
+            c4 * x1255,
+            c4 * x1263,
+            s4 * x1263,
+            s4 * x1261,
+            c4 * x1261,
+            -0.0825f64 * x1264,
+            s3 * x1264,
+            c3 * x1264,
+        );
+        let (
+            x1320,
+            x1321,
+            x1322,
+            x1323,
+            x1324,
+            x1325,
+            x1326,
+            x1327,
+            x1328,
+            x1329,
+            x1330,
+            x1331,
+            x1332,
+            x1333,
+            x1334,
+            x1335,
+            x1336,
+            x1337,
+            x1338,
+            x1339,
+            x1340,
+            x1341,
+            x1342,
+            x1343,
+            x1344,
+            x1345,
+            x1346,
+            x1347,
+            x1348,
+            x1349,
+            x1350,
+            x1351,
+            x1352,
+            x1353,
+            x1354,
+            x1355,
+            x1356,
+            x1357,
+            x1358,
+            x1359,
+            x1360,
+            x1361,
+            x1362,
+            x1363,
+            x1364,
+            x1365,
+            x1366,
+            x1367,
+            x1368,
+            x1369,
+            x1370,
+            x1371,
+            x1372,
+            x1373,
+        ) = (
+            x1267 - x1129,
+            x1268 + x1130,
+            x1269 + x1132,
+            s2 * x1270,
+            c2 * x1270,
+            x1273 + x941,
+            c6 * x1274,
+            s6 * x1275,
+            s6 * x1274,
+            c6 * x1275,
+            s6 * x1276,
+            c6 * x1277,
+            s5 * x1278,
+            c5 * x1278,
+            x1234 - x1283,
+            x1235 + x1284,
+            c4 * x1281,
+            s4 * x1281,
+            0.384f64 * x1282,
+            -0.0825f64 * x1282,
+            x398 + x1282,
+            c4 * x1286,
+            s4 * x1286,
+            s4 * x1285,
+            c4 * x1285,
+            -0.0825f64 * x1287,
+            x436 + x1287,
+            x1270 * x107,
+            x1270 * x82,
+            x1290 - x912,
+            0.5f64 * x1281,
+            0.5f64 * x1291,
+            0.5f64 * x1286,
+            x1246 + x1292,
+            c4 * x1293,
+            s4 * x1293,
+            x1250 + x1296,
+            s5 * x1297,
+            c5 * x1297,
+            x1156 - x1299,
+            x1157 + x1300,
+            s5 * x1298,
+            c5 * x1298,
+            x1301 + x1304,
+            x1303 + x925,
+            x1307 - x927,
+            x1308 + x928,
+            c5 * x1302,
+            s5 * x1302,
+            s5 * x1305,
+            c5 * x1305,
+            x1313 + x1265,
+            x1266 - x1314,
+            x1314 - x1266,
+        );
+        let (
+            x1374,
+            x1375,
+            x1376,
+            x1377,
+            x1378,
+            x1379,
+            x1380,
+            x1381,
+            x1382,
+            x1383,
+            x1384,
+            x1385,
+            x1386,
+            x1387,
+            x1388,
+            x1389,
+            x1390,
+            x1391,
+            x1392,
+            x1393,
+            x1394,
+            x1395,
+            x1396,
+            x1397,
+            x1398,
+            x1399,
+            x1400,
+            x1401,
+            x1402,
+            x1403,
+            x1404,
+            x1405,
+            x1406,
+            x1407,
+            x1408,
+            x1409,
+            x1410,
+            x1411,
+            x1412,
+            x1413,
+            x1414,
+            x1415,
+            x1416,
+            x1417,
+            x1418,
+            x1419,
+            x1420,
+            x1421,
+            x1422,
+            x1423,
+            x1424,
+            x1425,
+            x1426,
+            x1427,
+            x1428,
+            x1429,
+        ) = (
+            x1320 + x936,
+            x1321 - x874,
+            x1322 + x936,
+            x1324 - x1218,
+            x1326 - x1327,
+            x1328 + x1329,
+            x1330 + x1331,
+            x1280 - x1332,
+            x1279 + x1333,
+            x837 + x1334,
+            x839 + x1335,
+            x1336 - x1236,
+            x1337 + x1237,
+            x1338 + x1338,
+            x1341 - x1238,
+            x1342 + x1239,
+            s3 * x1340,
+            c3 * x1340,
+            s3 * x1346,
+            c3 * x1346,
+            x1348 + x1240,
+            -0.5f64 * x1340,
+            -0.5f64 * x1346,
+            x1325 * x23,
+            x1350 + x782,
+            x1350 - x1352,
+            c4 * x1353,
+            s4 * x1353,
+            x1200 - x1357,
+            x1201 + x1358,
+            s5 * x1356,
+            c5 * x1356,
+            c4 * x1359,
+            s4 * x1359,
+            -0.0825f64 * x1360,
+            s3 * x1360,
+            c3 * x1360,
+            s5 * x1363,
+            c5 * x1363,
+            x1309 + x1369,
+            x1310 - x1370,
+            c4 * x1365,
+            s4 * x1365,
+            s4 * x1364,
+            c4 * x1364,
+            -0.0825f64 * x1366,
+            0.384f64 * x1372,
+            -0.0825f64 * x1372,
+            0.384f64 * x1371,
+            s3 * x1366,
+            c3 * x1366,
+            c3 * x1371,
+            s3 * x1371,
+            0.0825f64 * x1373,
+            s2 * x1373,
+            c2 * x1373,
+        );
+        let (
+            x1430,
+            x1431,
+            x1432,
+            x1433,
+            x1434,
+            x1435,
+            x1436,
+            x1437,
+            x1438,
+            x1439,
+            x1440,
+            x1441,
+            x1442,
+            x1443,
+            x1444,
+            x1445,
+            x1446,
+            x1447,
+            x1448,
+            x1449,
+            x1450,
+            x1451,
+            x1452,
+            x1453,
+            x1454,
+            x1455,
+            x1456,
+            x1457,
+            x1458,
+            x1459,
+            x1460,
+            x1461,
+            x1462,
+            x1463,
+            x1464,
+            x1465,
+            x1466,
+            x1467,
+            x1468,
+            x1469,
+            x1470,
+            x1471,
+            x1472,
+            x1473,
+            x1474,
+            x1475,
+            x1476,
+            x1477,
+            x1478,
+            x1479,
+            x1480,
+            x1481,
+            x1482,
+            x1483,
+            x1484,
+            x1485,
+        ) = (
+            x1374 - x986,
+            -0.005487648106562256f64 + x1375,
+            0.01824920229252011f64 + x1376,
+            s2 * x1377,
+            c2 * x1377,
+            x1378 + x1142,
+            x1379 - x1143,
+            x1380 + x1142,
+            s5 * x1381,
+            c5 * x1381,
+            c5 * x1382,
+            -0.0825f64 * x1385,
+            0.384f64 * x1385,
+            0.0825f64 * x1386,
+            -0.384f64 * x1386,
+            x397 + x1385,
+            c4 * x1383,
+            s4 * x1383,
+            -0.384f64 * x1389,
+            0.0825f64 * x1389,
+            0.384f64 * x1388,
+            x435 + x1388,
+            x1386 - x399,
+            x1389 - x437,
+            x1394 + x967,
+            x1395 + x777,
+            x1395 - x1396,
+            x1397 + x1244,
+            0.5f64 * x1383,
+            x1352 + x1398,
+            s4 * x1399,
+            c4 * x1399,
+            c4 * x1402,
+            s4 * x1402,
+            -0.0825f64 * x1403,
+            -0.384f64 * x1407,
+            0.0825f64 * x1407,
+            0.384f64 * x1406,
+            s3 * x1403,
+            c3 * x1403,
+            c3 * x1406,
+            s3 * x1406,
+            s2 * x1407,
+            c2 * x1407,
+            x1367 + x1411,
+            x1368 - x1412,
+            x1414 + x863,
+            x1415 + x1311,
+            x1312 - x1416,
+            c4 * x1413,
+            s4 * x1413,
+            x1317 - x1422,
+            x1414 - x1421,
+            x1416 - x1312,
+            x1425 - x1318,
+            x1426 + x1319,
+        );
+        let (
+            x1486,
+            x1487,
+            x1488,
+            x1489,
+            x1490,
+            x1491,
+            x1492,
+            x1493,
+            x1494,
+            x1495,
+            x1496,
+            x1497,
+            x1498,
+            x1499,
+            x1500,
+            x1501,
+            x1502,
+            x1503,
+            x1504,
+            x1505,
+            x1506,
+            x1507,
+            x1508,
+            x1509,
+            x1510,
+            x1511,
+            x1512,
+            x1513,
+            x1514,
+            x1515,
+            x1516,
+            x1517,
+            x1518,
+            x1519,
+            x1520,
+            x1521,
+            x1522,
+            x1523,
+            x1524,
+            x1525,
+            x1526,
+            x1527,
+            x1528,
+            x1529,
+            x1530,
+            x1531,
+            x1532,
+            x1533,
+            x1534,
+            x1535,
+            x1536,
+            x1537,
+            x1538,
+            x1539,
+            x1540,
+            x1541,
+        ) = (
+            0.05649492601407083f64 + x1430,
+            c2 * x1431,
+            s2 * x1431,
+            x1432 + x989,
+            x1435 - x1180,
+            x950 + x1436,
+            x1096 + x1437,
+            x1441 + x1338,
+            x1441 + x1441,
+            x1339 + x1442,
+            x1446 - x1343,
+            x1447 + x1344,
+            x1345 - x1450,
+            x1384 - x1449,
+            c3 * x1445,
+            s3 * x1445,
+            0.0825f64 * x1452,
+            x245 + x1452,
+            c3 * x1451,
+            s3 * x1451,
+            0.0825f64 * x1453,
+            x278 + x1453,
+            x1431 * x82,
+            x1432 * x22,
+            0.5f64 * x1445,
+            0.5f64 * x1451,
+            x1396 + x1455,
+            c3 * x1456,
+            s3 * x1456,
+            s4 * x1459,
+            c4 * x1459,
+            x1354 - x1460,
+            x1355 + x1461,
+            x1462 + x785,
+            x786 - x1463,
+            x1408 - x1467,
+            x1463 - x786,
+            x1470 - x1409,
+            x1471 + x1410,
+            c4 * x1474,
+            s4 * x1474,
+            0.384f64 * x1478,
+            -0.0825f64 * x1478,
+            0.384f64 * x1477,
+            x1479 + x1315,
+            x1316 - x1480,
+            c3 * x1477,
+            s3 * x1477,
+            0.0825f64 * x1483,
+            s3 * x1482,
+            c3 * x1482,
+            0.0825f64 * x1485,
+            s2 * x1483,
+            c2 * x1483,
+            c2 * x1484,
+            s2 * x1484,
+        );
+        let (
+            x1542,
+            x1543,
+            x1544,
+            x1545,
+            x1546,
+            x1547,
+            x1548,
+            x1549,
+            x1550,
+            x1551,
+            x1552,
+            x1553,
+            x1554,
+            x1555,
+            x1556,
+            x1557,
+            x1558,
+            x1559,
+            x1560,
+            x1561,
+            x1562,
+            x1563,
+            x1564,
+            x1565,
+            x1566,
+            x1567,
+            x1568,
+            x1569,
+            x1570,
+            x1571,
+            x1572,
+            x1573,
+            x1574,
+            x1575,
+            x1576,
+            x1577,
+            x1578,
+            x1579,
+            x1580,
+            x1581,
+            x1582,
+            x1583,
+            x1584,
+            x1585,
+            x1586,
+            x1587,
+            x1588,
+            x1589,
+            x1590,
+            x1591,
+            x1592,
+            x1593,
+            x1594,
+            x1595,
+            x1596,
+            x1597,
+            x1598,
+            x1599,
+            x1600,
+            x1601,
+        ) = (
+            c2 * x1486,
+            x1487 - x1271,
+            x1488 + x1272,
+            x1271 - x1487,
+            x1489 - x1041,
+            x1094 + x1490,
+            c5 * x1491,
+            s5 * x1491,
+            x996 + x1492,
+            2f64 * x1493,
+            x1496 + x1448,
+            x1498 - x1497,
+            x511 + x1499,
+            x1500 - x1390,
+            x1501 + x1391,
+            x1504 - x1392,
+            x1505 + x1393,
+            s2 * x1503,
+            c2 * x1503,
+            c2 * x1507,
+            -0.5f64 * x1503,
+            -0.5f64 * x1507,
+            x1486 * x82,
+            x1508 + x1288,
+            x1510 + x778,
+            x1510 - x1511,
+            c3 * x1512,
+            s3 * x1512,
+            x1400 - x1515,
+            x1401 + x1516,
+            -0.384f64 * x1518,
+            0.0825f64 * x1518,
+            0.384f64 * x1517,
+            c3 * x1517,
+            s3 * x1517,
+            s2 * x1518,
+            c2 * x1518,
+            0.5f64 * x1491,
+            0.5f64 * x1492,
+            0.384f64 * x1520,
+            -0.0825f64 * x1520,
+            0.384f64 * x1519,
+            c3 * x1519,
+            s3 * x1519,
+            0.0825f64 * x1522,
+            0.0825f64 * x1524,
+            s2 * x1522,
+            c2 * x1522,
+            c2 * x1523,
+            s2 * x1523,
+            x1525 + x1417,
+            x1418 - x1526,
+            x1419 - x1529,
+            x1475 - x1528,
+            x1530 + x1420,
+            x1531 + x1481,
+            x1532 - x1423,
+            x1533 + x1424,
+            x1540 - x1428,
+            x1541 + x1429,
+        );
+        let (
+            x1602,
+            x1603,
+            x1604,
+            x1605,
+            x1606,
+            x1607,
+            x1608,
+            x1609,
+            x1610,
+            x1611,
+            x1612,
+            x1613,
+            x1614,
+            x1615,
+            x1616,
+            x1617,
+            x1618,
+            x1619,
+            x1620,
+            x1621,
+            x1622,
+            x1623,
+            x1624,
+            x1625,
+            x1626,
+            x1627,
+            x1628,
+            x1629,
+            x1630,
+            x1631,
+            x1632,
+            x1633,
+            x1634,
+            x1635,
+            x1636,
+            x1637,
+            x1638,
+            x1639,
+            x1640,
+            x1641,
+            x1642,
+            x1643,
+            x1644,
+            x1645,
+            x1646,
+            x1647,
+            x1648,
+            x1649,
+            x1650,
+            x1651,
+            x1652,
+            x1653,
+            x1654,
+            x1655,
+            x1656,
+            x1657,
+            x1658,
+            x1659,
+            x1660,
+            x1661,
+            x1662,
+            x1663,
+            x1664,
+        ) = (
+            x1542 - x1323,
+            x1545 - x1090,
+            x1544 + x1091,
+            0.028124284712194955f64 + x1546,
+            x1543 + x1090,
+            c5 * x1547,
+            s5 * x1547,
+            x1549 + x1231,
+            x1230 - x1548,
+            s4 * x1550,
+            c4 * x1550,
+            x510 + x1552,
+            x512 + x1553,
+            0.0825f64 * x1555,
+            0.165f64 * x1555,
+            0.0825f64 * x1556,
+            x244 + x1555,
+            x189 + x1556,
+            s3 * x1554,
+            c3 * x1554,
+            0.0825f64 * x1558,
+            x277 + x1557,
+            x1564 + x1347,
+            x1565 + x1069,
+            x1562 + x1017,
+            x1562 - x1563,
+            -0.5f64 * x1554,
+            x1511 + x1566,
+            s3 * x1567,
+            c3 * x1567,
+            -0.384f64 * x1571,
+            0.0825f64 * x1571,
+            0.384f64 * x1570,
+            c3 * x1570,
+            s3 * x1570,
+            0.0825f64 * x1576,
+            s2 * x1571,
+            c2 * x1571,
+            c2 * x1575,
+            s2 * x1575,
+            x1579 + x919,
+            x1580 + x972,
+            x1579 - x1295,
+            x1464 - x1583,
+            s4 * x1580,
+            c4 * x1580,
+            x1584 - x1468,
+            x1585 + x1469,
+            x1590 - x1472,
+            x1591 + x1473,
+            x1592 + x1527,
+            x1593 + x1594,
+            x1597 + x795,
+            s3 * x1595,
+            c3 * x1595,
+            0.0825f64 * x1599,
+            c3 * x1596,
+            s3 * x1596,
+            x1597 + x1537,
+            c2 * x1598,
+            s2 * x1598,
+            -0.316f64 * x1601,
+            -0.316f64 * x1600,
+        );
+        let (
+            x1665,
+            x1666,
+            x1667,
+            x1668,
+            x1669,
+            x1670,
+            x1671,
+            x1672,
+            x1673,
+            x1674,
+            x1675,
+            x1676,
+            x1677,
+            x1678,
+            x1679,
+            x1680,
+            x1681,
+            x1682,
+            x1683,
+            x1684,
+            x1685,
+            x1686,
+            x1687,
+            x1688,
+            x1689,
+            x1690,
+            x1691,
+            x1692,
+            x1693,
+            x1694,
+            x1695,
+            x1696,
+            x1697,
+            x1698,
+            x1699,
+            x1700,
+            x1701,
+            x1702,
+            x1703,
+            x1704,
+            x1705,
+            x1706,
+            x1707,
+            x1708,
+            x1709,
+            x1710,
+            x1711,
+            x1712,
+            x1713,
+            x1714,
+            x1715,
+            x1716,
+            x1717,
+            x1718,
+        ) = (
+            c2 * x1602,
+            s2 * x1602,
+            -0.00398335888393552f64 + x1603,
+            0.0007689361029464f64 - x1604,
+            x1607 - x1279,
+            x1280 + x1608,
+            x814 + x1610,
+            x816 - x1609,
+            x1615 + x1615,
+            c3 * x1613,
+            s3 * x1613,
+            x1614 + x1622,
+            c2 * x1618,
+            s2 * x1618,
+            0.316f64 * x1619,
+            0.632f64 * x1619,
+            s2 * x1623,
+            x1605 * x22,
+            0.5f64 * x1618,
+            0.5f64 * x1623,
+            x1624 - x966,
+            x1563 + x1626,
+            c2 * x1627,
+            s2 * x1627,
+            x1606 * x23,
+            0.5f64 * x1613,
+            s3 * x1629,
+            c3 * x1629,
+            x1513 - x1630,
+            x1514 + x1631,
+            x598 - x1634,
+            x1635 + x600,
+            x1636 - x601,
+            x1640 - x1577,
+            x1641 + x1578,
+            x1295 + x1642,
+            c5 * x1644,
+            s5 * x1644,
+            s4 * x1643,
+            c4 * x1643,
+            0.0825f64 * x1649,
+            c2 * x1648,
+            s2 * x1648,
+            -0.316f64 * x1651,
+            -0.316f64 * x1650,
+            c3 * x1652,
+            s3 * x1652,
+            x1653 + x1657,
+            x1658 - x1535,
+            x1659 + x1536,
+            x1661 - x1538,
+            x1662 + x1539,
+            s2 * x1660,
+            c2 * x1660,
+        );
+        let (
+            x1719,
+            x1720,
+            x1721,
+            x1722,
+            x1723,
+            x1724,
+            x1725,
+            x1726,
+            x1727,
+            x1728,
+            x1729,
+            x1730,
+            x1731,
+            x1732,
+            x1733,
+            x1734,
+            x1735,
+            x1736,
+            x1737,
+            x1738,
+            x1739,
+            x1740,
+            x1741,
+            x1742,
+            x1743,
+            x1744,
+            x1745,
+            x1746,
+            x1747,
+            x1748,
+            x1749,
+            x1750,
+            x1751,
+            x1752,
+            x1753,
+            x1754,
+            x1755,
+            x1756,
+            x1757,
+            x1758,
+            x1759,
+            x1760,
+            x1761,
+            x1762,
+            x1763,
+            x1764,
+            x1765,
+            x1766,
+            x1767,
+            x1768,
+            x1769,
+        ) = (
+            x1665 - x1433,
+            x1666 + x1434,
+            c5 * x1669,
+            s5 * x1669,
+            s5 * x1670,
+            s4 * x1671,
+            c4 * x1671,
+            s4 * x1672,
+            c4 * x1672,
+            x1674 - x1620,
+            x1675 + x1621,
+            x344 - x1676,
+            x1677 - x1559,
+            x1678 + x1560,
+            x1679 + x1679,
+            x1681 + x1561,
+            x1667 * x22,
+            x1667 * x23,
+            x1668 * x22,
+            x1676 - x344,
+            x1683 + x1018,
+            x1683 - x1684,
+            c2 * x1686,
+            s2 * x1686,
+            x1689 + x1509,
+            x1568 - x1691,
+            x1569 + x1692,
+            0.0825f64 * x1694,
+            c2 * x1693,
+            s2 * x1693,
+            0.5f64 * x1672,
+            0.0825f64 * x1697,
+            c2 * x1696,
+            s2 * x1696,
+            -0.316f64 * x1699,
+            -0.316f64 * x1698,
+            c5 * x1700,
+            s5 * x1700,
+            x1701 - x1361,
+            x1702 + x1362,
+            x1706 - x1588,
+            x1707 + x1589,
+            x1710 - x1655,
+            x1711 + x1656,
+            x1714 + x1427,
+            s2 * x1712,
+            c2 * x1712,
+            -0.316f64 * x1716,
+            -0.316f64 * x1715,
+            c2 * x1713,
+            s2 * x1713,
+        );
+        let (
+            x1770,
+            x1771,
+            x1772,
+            x1773,
+            x1774,
+            x1775,
+            x1776,
+            x1777,
+            x1778,
+            x1779,
+            x1780,
+            x1781,
+            x1782,
+            x1783,
+            x1784,
+            x1785,
+            x1786,
+            x1787,
+            x1788,
+            x1789,
+            x1790,
+            x1791,
+            x1792,
+            x1793,
+            x1794,
+            x1795,
+            x1796,
+            x1797,
+            x1798,
+            x1799,
+            x1800,
+            x1801,
+            x1802,
+            x1803,
+            x1804,
+            x1805,
+            x1806,
+            x1807,
+            x1808,
+            x1809,
+            x1810,
+            x1811,
+        ) = (
+            x1719 + x989,
+            0.01026110182100817f64 + x1720,
+            x1721 - x1438,
+            x1722 + x1439,
+            x1723 + x1440,
+            x1725 - x1611,
+            x1724 + x1612,
+            x1729 + x1506,
+            x343 + x1728,
+            -0.316f64 * x1731,
+            -0.316f64 * x1732,
+            s2 * x1730,
+            -0.316f64 * x1734,
+            x1682 - x1736,
+            0.5f64 * x1738,
+            x1684 + x1739,
+            s2 * x1740,
+            c2 * x1740,
+            0.0825f64 * x1745,
+            c2 * x1744,
+            s2 * x1744,
+            -0.316f64 * x1748,
+            -0.316f64 * x1747,
+            x1749 + x780,
+            x1749 - x1458,
+            x1751 - x1638,
+            x1752 + x1639,
+            x1755 - x1404,
+            x1756 + x1405,
+            x1758 + x784,
+            c4 * x1757,
+            s4 * x1757,
+            x1758 - x1466,
+            -0.316f64 * x1760,
+            -0.316f64 * x1759,
+            x1762 + x1534,
+            x1763 + x929,
+            c2 * x1761,
+            s2 * x1761,
+            x1768 + x1717,
+            x1769 - x1718,
+            c1 * x1763,
+        );
+        let (
+            x1812,
+            x1813,
+            x1814,
+            x1815,
+            x1816,
+            x1817,
+            x1818,
+            x1819,
+            x1820,
+            x1821,
+            x1822,
+            x1823,
+            x1824,
+            x1825,
+            x1826,
+            x1827,
+            x1828,
+            x1829,
+            x1830,
+            x1831,
+            x1832,
+            x1833,
+            x1834,
+            x1835,
+            x1836,
+            x1837,
+            x1838,
+            x1839,
+            x1840,
+            x1841,
+            x1842,
+            x1843,
+            x1844,
+            x1845,
+        ) = (
+            0.00850351162402155f64 + x1770,
+            x995 + x1772,
+            x815 + x1773,
+            x997 + x1774,
+            s4 * x1775,
+            c4 * x1775,
+            c4 * x1776,
+            x345 + x1777,
+            c2 * x1778,
+            x1771 * x23,
+            0.5f64 * x1778,
+            s2 * x1785,
+            c2 * x1785,
+            x1687 - x1786,
+            x1688 + x1787,
+            x1789 + x913,
+            x1790 - x914,
+            x1458 + x1793,
+            s4 * x1794,
+            c4 * x1794,
+            -0.316f64 * x1796,
+            -0.316f64 * x1795,
+            c4 * x1797,
+            s4 * x1797,
+            x1798 - x1582,
+            x1800 + x1646,
+            x1647 - x1801,
+            s3 * x1802,
+            c3 * x1802,
+            x1807 + x1764,
+            x1808 - x1765,
+            x1809 + x1663,
+            x1810 - x1664,
+            c1 * x1805,
+        );
+        let (
+            x1846,
+            x1847,
+            x1848,
+            x1849,
+            x1850,
+            x1851,
+            x1852,
+            x1853,
+            x1854,
+            x1855,
+            x1856,
+            x1857,
+            x1858,
+            x1859,
+            x1860,
+            x1861,
+            x1862,
+            x1863,
+            x1864,
+            x1865,
+            x1866,
+            x1867,
+            x1868,
+            x1869,
+            x1870,
+            x1871,
+            x1872,
+            x1873,
+            x1874,
+        ) = (
+            c4 * x1813,
+            c4 * x1814,
+            s4 * x1813,
+            s4 * x1814,
+            x1815 + x1551,
+            x1820 - x1781,
+            x1819 - x152,
+            x1812 * x23,
+            x1737 - x1821,
+            x1741 - x1823,
+            x1742 + x1824,
+            -0.316f64 * x1826,
+            -0.316f64 * x1825,
+            -0.316f64 * x1828,
+            -0.316f64 * x1827,
+            0.5f64 * x1814,
+            0.5f64 * x1815,
+            s4 * x1829,
+            c4 * x1829,
+            x1834 + x1703,
+            x1704 - x1835,
+            x1837 + x1465,
+            x1838 + x1521,
+            s3 * x1836,
+            c3 * x1836,
+            x1841 + x1766,
+            x1842 - x1767,
+            x1844 - x1028,
+            s1 * x1843,
+        );
+        let (
+            x1875,
+            x1876,
+            x1877,
+            x1878,
+            x1879,
+            x1880,
+            x1881,
+            x1882,
+            x1883,
+            x1884,
+            x1885,
+            x1886,
+            x1887,
+            x1888,
+            x1889,
+            x1890,
+            x1891,
+            x1892,
+            x1893,
+            x1894,
+            x1895,
+            x1896,
+        ) = (
+            x1846 - x1724,
+            x1847 - x1726,
+            x1725 + x1848,
+            x1849 + x1727,
+            x1850 - x1387,
+            x1851 + x1782,
+            0.5f64 * x1852,
+            x1735 - x1853,
+            -0.316f64 * x1856,
+            -0.316f64 * x1855,
+            x1861 + x970,
+            x1862 + x971,
+            x1861 - x1351,
+            x1862 - x1573,
+            x1865 + x1581,
+            x1866 + x1645,
+            x1868 + x923,
+            c3 * x1867,
+            s3 * x1867,
+            x1868 + x1587,
+            s1 * x1871,
+            x1811 - x1874,
+        );
+        let (
+            x1897,
+            x1898,
+            x1899,
+            x1900,
+            x1901,
+            x1902,
+            x1903,
+            x1904,
+            x1905,
+            x1906,
+            x1907,
+            x1908,
+            x1909,
+            x1910,
+            x1911,
+            x1912,
+            x1913,
+            x1914,
+            x1915,
+            x1916,
+            x1917,
+        ) = (
+            c4 * x1875,
+            s4 * x1875,
+            s4 * x1877,
+            x1876 - x1495,
+            x1878 + x1444,
+            x731 + x1879,
+            x151 + x1880,
+            x1351 + x1885,
+            x1886 - x1633,
+            c4 * x1887,
+            s4 * x1887,
+            s3 * x1888,
+            c3 * x1888,
+            c3 * x1889,
+            s3 * x1889,
+            x1890 + x1705,
+            x1892 - x1839,
+            x1893 + x1840,
+            s2 * x1894,
+            c2 * x1894,
+            x1845 - x1895,
+        );
+        let (
+            x1918,
+            x1919,
+            x1920,
+            x1921,
+            x1922,
+            x1923,
+            x1924,
+            x1925,
+            x1926,
+            x1927,
+            x1928,
+            x1929,
+            x1930,
+            x1931,
+            x1932,
+            x1933,
+            x1934,
+            x1935,
+            x1936,
+            x1937,
+            x1938,
+            x1939,
+        ) = (
+            x1897 - x1816,
+            x1898 + x1817,
+            x1899 + x1818,
+            x487 + x1900,
+            x489 - x1901,
+            s3 * x1902,
+            x1901 - x489,
+            c3 * x1902,
+            0.5f64 * x1903,
+            c4 * x1904,
+            s4 * x1904,
+            x1906 - x1830,
+            x1907 + x1831,
+            s3 * x1905,
+            c3 * x1905,
+            x1910 - x1869,
+            x1911 + x1870,
+            x1466 + x1914,
+            s2 * x1912,
+            c2 * x1912,
+            c2 * x1913,
+            s2 * x1913,
+        );
+        let (
+            x1940,
+            x1941,
+            x1942,
+            x1943,
+            x1944,
+            x1945,
+            x1946,
+            x1947,
+            x1948,
+            x1949,
+            x1950,
+            x1951,
+            x1952,
+            x1953,
+            x1954,
+            x1955,
+            x1956,
+            x1957,
+            x1958,
+        ) = (
+            x1918 + x1551,
+            x1919 + x1443,
+            x1920 + x1551,
+            s3 * x1921,
+            c3 * x1921,
+            s3 * x1922,
+            c3 * x1924,
+            0.5f64 * x1922,
+            x1927 - x1863,
+            x1928 + x1864,
+            x1929 + x1572,
+            x1930 + x1574,
+            x1934 + x1586,
+            x1935 + x1021,
+            c2 * x1933,
+            s2 * x1933,
+            x1938 + x1915,
+            x1939 - x1916,
+            c1 * x1935,
+        );
+        let (
+            x1959,
+            x1960,
+            x1961,
+            x1962,
+            x1963,
+            x1964,
+            x1965,
+            x1966,
+            x1967,
+            x1968,
+            x1969,
+            x1970,
+            x1971,
+            x1972,
+            x1973,
+            x1974,
+            x1975,
+            x1976,
+            x1977,
+            x1978,
+        ) = (
+            x1940 - x1494,
+            x488 - x1941,
+            x732 + x1942,
+            x1944 - x1923,
+            x1941 - x488,
+            x1943 + x1925,
+            x1947 + x1152,
+            x1947 - x1690,
+            x1948 + x1632,
+            x1695 - x1949,
+            x1113 - x1951,
+            x1949 - x1695,
+            c3 * x1950,
+            s3 * x1950,
+            x1951 - x1637,
+            x1954 + x1936,
+            x1955 - x1937,
+            x1956 + x1708,
+            x1957 - x1709,
+            c1 * x1952,
+        );
+        let (
+            x1979,
+            x1980,
+            x1981,
+            x1982,
+            x1983,
+            x1984,
+            x1985,
+            x1986,
+            x1987,
+            x1988,
+            x1989,
+            x1990,
+            x1991,
+            x1992,
+            x1993,
+            x1994,
+            x1995,
+            x1996,
+            x1997,
+            x1998,
+            x1999,
+            x2000,
+            x2001,
+        ) = (
+            x730 + x1959,
+            c3 * x1960,
+            s3 * x1962,
+            c3 * x1962,
+            s3 * x1963,
+            c3 * x1964,
+            x1961 + x1616,
+            0.5f64 * x1960,
+            0.5f64 * x1961,
+            x1690 + x1965,
+            s3 * x1966,
+            c3 * x1966,
+            c3 * x1967,
+            s3 * x1967,
+            x1970 - x1750,
+            x1971 - x1908,
+            x1972 + x1909,
+            s2 * x1973,
+            c2 * x1973,
+            x1974 + x1803,
+            x1975 - x1804,
+            x1977 - x1117,
+            s1 * x1976,
+        );
+        let (
+            x2002,
+            x2003,
+            x2004,
+            x2005,
+            x2006,
+            x2007,
+            x2008,
+            x2009,
+            x2010,
+            x2011,
+            x2012,
+            x2013,
+            x2014,
+            x2015,
+            x2016,
+            x2017,
+            x2018,
+            x2019,
+            x2020,
+            x2021,
+        ) = (
+            c3 * x1979,
+            s3 * x1979,
+            x1945 - x1980,
+            x1983 + x1946,
+            x485 + x1985,
+            x1986 + x1289,
+            x1987 + x1242,
+            x1986 - x1628,
+            s3 * x1988,
+            c3 * x1988,
+            x1987 + x1746,
+            x1991 - x1931,
+            x1992 + x1932,
+            x1573 + x1995,
+            s2 * x1993,
+            c2 * x1993,
+            c2 * x1994,
+            s2 * x1994,
+            s1 * x1998,
+            x1958 - x2001,
+        );
+        let (
+            x2022,
+            x2023,
+            x2024,
+            x2025,
+            x2026,
+            x2027,
+            x2028,
+            x2029,
+            x2030,
+            x2031,
+            x2032,
+            x2033,
+            x2034,
+            x2035,
+            x2036,
+            x2037,
+            x2038,
+            x2039,
+            x2040,
+            x2041,
+        ) = (
+            x2002 - x1943,
+            x1944 + x2003,
+            x2004 - x1502,
+            x314 + x2005,
+            s2 * x2006,
+            c2 * x2006,
+            x1628 + x2007,
+            x2008 + x1788,
+            c3 * x2009,
+            s3 * x2009,
+            s2 * x2012,
+            c2 * x2012,
+            x1633 + x2014,
+            x2015 + x1197,
+            c2 * x2013,
+            s2 * x2013,
+            x2018 - x1996,
+            x2019 + x1997,
+            c1 * x2015,
+            x1978 - x2020,
+        );
+        let (
+            x2042,
+            x2043,
+            x2044,
+            x2045,
+            x2046,
+            x2047,
+            x2048,
+            x2049,
+            x2050,
+            x2051,
+            x2052,
+            x2053,
+            x2054,
+            x2055,
+            x2056,
+            x2057,
+            x2058,
+            x2059,
+        ) = (
+            c3 * x2022,
+            s3 * x2022,
+            s3 * x2023,
+            x312 + x2024,
+            s2 * x2025,
+            c2 * x2025,
+            0.5f64 * x2025,
+            c3 * x2028,
+            s3 * x2028,
+            x2030 - x1989,
+            x2031 + x1990,
+            s2 * x2029,
+            c2 * x2029,
+            x2036 - x2016,
+            x2037 + x2017,
+            x2038 + x1753,
+            x2039 - x1754,
+            c1 * x2034,
+        );
+        let (
+            x2060,
+            x2061,
+            x2062,
+            x2063,
+            x2064,
+            x2065,
+            x2066,
+            x2067,
+            x2068,
+            x2069,
+            x2070,
+            x2071,
+            x2072,
+            x2073,
+            x2074,
+            x2075,
+            x2076,
+        ) = (
+            x2042 - x1981,
+            x2043 + x1982,
+            x2044 + x1984,
+            s2 * x2045,
+            c2 * x2045,
+            x2048 + x1454,
+            x2048 - x1822,
+            x2049 - x2010,
+            x2050 + x2011,
+            x2052 + x1349,
+            c2 * x2051,
+            s2 * x2051,
+            c1 * x2052,
+            x2055 + x1832,
+            x2056 - x1833,
+            x2058 - x1294,
+            s1 * x2057,
+        );
+        let (
+            x2077,
+            x2078,
+            x2079,
+            x2080,
+            x2081,
+            x2082,
+            x2083,
+            x2084,
+            x2085,
+            x2086,
+            x2087,
+            x2088,
+            x2089,
+            x2090,
+            x2091,
+        ) = (
+            x2060 + x1616,
+            x2061 - x1617,
+            x2062 + x1616,
+            x2064 - x2026,
+            x2063 + x2027,
+            x1822 + x2065,
+            s2 * x2066,
+            c2 * x2066,
+            x2068 + x911,
+            c2 * x2067,
+            s2 * x2067,
+            x2070 + x2032,
+            x2071 - x2033,
+            s1 * x2073,
+            x2040 - x2076,
+        );
+        let (
+            x2092,
+            x2093,
+            x2094,
+            x2095,
+            x2096,
+            x2097,
+            x2098,
+            x2099,
+            x2100,
+            x2101,
+            x2102,
+            x2103,
+            x2104,
+            x2105,
+        ) = (
+            x2077 - x1673,
+            x313 + x2078,
+            x395 + x2079,
+            s2 * x2080,
+            c2 * x2080,
+            c2 * x2081,
+            s2 * x2082,
+            c2 * x2082,
+            x2086 + x2053,
+            x2087 - x2054,
+            x2088 + x1791,
+            x2089 - x1792,
+            c1 * x2085,
+            x2059 - x2090,
+        );
+        let (x2106, x2107, x2108, x2109, x2110, x2111, x2112, x2113, x2114, x2115) = (
+            x484 + x2092,
+            c2 * x2093,
+            s2 * x2093,
+            x2094 + x1680,
+            0.5f64 * x2093,
+            0.5f64 * x2094,
+            x2100 + x1859,
+            x2101 - x1860,
+            x2103 - x1457,
+            s1 * x2102,
+        );
+        let (
+            x2116,
+            x2117,
+            x2118,
+            x2119,
+            x2120,
+            x2121,
+            x2122,
+            x2123,
+            x2124,
+            x2125,
+            x2126,
+        ) = (
+            c2 * x2106,
+            s2 * x2106,
+            x2108 + x2047,
+            x2046 - x2107,
+            x2109 - x1733,
+            x2110 + x1685,
+            x2111 + x1625,
+            x2110 - x1784,
+            c1 * x2111,
+            s1 * x2112,
+            x2072 - x2115,
+        );
+        let (x2127, x2128, x2129, x2130, x2131, x2132, x2133, x2134, x2135, x2136) = (
+            x2116 - x2063,
+            x2064 + x2117,
+            x2119 - x1779,
+            x2118 + x1780,
+            x133 + x2120,
+            x1784 + x2121,
+            c2 * x2123,
+            s2 * x2123,
+            c1 * x2122,
+            x2104 - x2125,
+        );
+        let (x2137, x2138, x2139, x2140, x2141, x2142, x2143, x2144, x2145, x2146) = (
+            c2 * x2127,
+            s2 * x2127,
+            s2 * x2128,
+            x132 + x2129,
+            x135 - x2130,
+            c1 * x2131,
+            c2 * x2132,
+            s2 * x2132,
+            x2133 - x2083,
+            x2134 + x2084,
+        );
+        let (x2147, x2148, x2149, x2150, x2151, x2152, x2153, x2154, x2155, x2156) = (
+            x2137 - x2095,
+            x2138 + x2096,
+            x2139 + x2097,
+            s1 * x2140,
+            c1 * x2140,
+            0.5f64 * x2141,
+            x2143 - x2098,
+            x2144 + x2099,
+            x2145 + x1857,
+            x2146 - x1858,
+        );
+        let (x2157, x2158, x2159, x2160, x2161, x2162, x2163, x2164, x2165, x2166) = (
+            x2147 + x1680,
+            x2149 + x1680,
+            x134 + x2148,
+            x2150 + x2142,
+            x2152 + x1783,
+            x2152 - x1926,
+            x2153 + x1883,
+            x2154 - x1884,
+            x2156 - x1743,
+            s1 * x2155,
+        );
+        let (x2167, x2168, x2169, x2170, x2171, x2172, x2173, x2174) = (
+            x131 + x2157,
+            x136 + x2158,
+            c1 * x2160,
+            0.5f64 * x2159,
+            x1926 + x2161,
+            c1 * x2162,
+            s1 * x2163,
+            x2124 - x2166,
+        );
+        let (x2175, x2176, x2177, x2178, x2179, x2180) = (
+            s1 * x2167,
+            0.5f64 * x2168,
+            x2170 + x1882,
+            x2170 - x1881,
+            c1 * x2171,
+            x2135 - x2173,
+        );
+        let (x2181, x2182, x2183, x2184) = (
+            x2151 + x2175,
+            x2176 + x1854,
+            x1881 + x2177,
+            s1 * x2178,
+        );
+        let (x2185, x2186, x2187) = (s1 * x2181, s1 * x2183, x2184 + x2172);
+        let (x2188, x2189, x2190) = (x2185 + x2169, x2186 + x2179, -x2187);
+        let (x2191, x2192) = (0.5f64 * x2188, -x2189);
         SMatrix::from_array_storage(
             ArrayStorage([
-                [x1332, x1362, x1452, x1575, x1748, x1954, x2192],
-                [x1358, x1350, x1446, x1569, x1742, x1948, x2186],
-                [x1449, x1426, x1400, x1537, x1706, x1912, x2150],
-                [x1572, x1553, x1517, x1491, x1671, x1872, x2108],
-                [x1745, x1722, x1687, x1647, x1617, x1828, x2060],
-                [x1951, x1928, x1889, x1848, x1810, x1788, x2032],
-                [x2189, x2166, x2125, x2080, x2044, x2012, x1986],
+                [x2191, x2190, x2174, x2126, x2091, x2021, x1896],
+                [x2192, x2182, x2165, x2114, x2075, x2000, x1873],
+                [x2180, x2164, x2122, x2069, x2035, x1953, x1806],
+                [x2136, x2113, x2085, x2008, x1969, x1891, x1654],
+                [x2105, x2074, x2034, x1968, x1886, x1799, x1476],
+                [x2041, x1999, x1952, x1890, x1798, x1643, x1306],
+                [x1917, x1872, x1805, x1653, x1475, x1364, x1301],
             ]),
         )
     }
@@ -1703,211 +7017,250 @@ impl RobotDynamics<7, 70> for Panda {
     fn gravity(t: &JointTrig<7>) -> SVector<f64, 7> {
         let [_, s1, s2, s3, s4, s5, s6] = t.sin;
         let [_, c1, c2, c3, c4, c5, c6] = t.cos;
-        let x0: f64 = -9.81f64 * s1;
-        let x1: f64 = -9.81f64 * c1;
-        let x2: f64 = c2 * x0;
-        let x3: f64 = s2 * x0;
-        let x4: f64 = c3 * x2;
-        let x5: f64 = s3 * x1;
-        let x6: f64 = x4 - x5;
-        let x7: f64 = s3 * x2;
-        let x8: f64 = c3 * x1;
-        let x9: f64 = x7 + x8;
-        let x10: f64 = c4 * x6;
-        let x11: f64 = s4 * x3;
-        let x12: f64 = x10 - x11;
-        let x13: f64 = s4 * x6;
-        let x14: f64 = c4 * x3;
-        let x15: f64 = x13 + x14;
-        let x16: f64 = c5 * x12;
-        let x17: f64 = s5 * x9;
-        let x18: f64 = x16 - x17;
-        let x19: f64 = s5 * x12;
-        let x20: f64 = c5 * x9;
-        let x21: f64 = x19 + x20;
-        let x22: f64 = c6 * x18;
-        let x23: f64 = s6 * x15;
-        let x24: f64 = x22 + x23;
-        let x25: f64 = s6 * x18;
-        let x26: f64 = c6 * x15;
-        let x27: f64 = x26 - x25;
-        let x28: f64 = -0.0221804724897f64 * c1;
-        let x29: f64 = -0.0221804724897f64 * s1;
-        let x30: f64 = 0.01993386669246f64 * c1;
-        let x31: f64 = 0.18226700140319999f64 * s1;
-        let x32: f64 = x30 - x31;
-        let x33: f64 = 1.24321310088048f64 * c1;
-        let x34: f64 = 0.214708623208f64 * x3;
-        let x35: f64 = x33 - x34;
-        let x36: f64 = -0.214708623208f64 * x2;
-        let x37: f64 = 0.87156675099432f64 * c1;
-        let x38: f64 = x36 - x37;
-        let x39: f64 = -0.088844724872f64 * x3;
-        let x40: f64 = 0.126729164208f64 * x2;
-        let x41: f64 = x39 - x40;
-        let x42: f64 = 3.228604f64 * x2;
-        let x43: f64 = -3.228604f64 * x3;
-        let x44: f64 = 0.374644408005f64 * x3;
-        let x45: f64 = -0.09850206933f64 * x9;
-        let x46: f64 = x44 - x45;
-        let x47: f64 = 0.09850206933f64 * x6;
-        let x48: f64 = -0.19076837715f64 * x3;
-        let x49: f64 = x47 - x48;
-        let x50: f64 = 0.19076837715f64 * x9;
-        let x51: f64 = 0.374644408005f64 * x6;
-        let x52: f64 = x50 - x51;
-        let x53: f64 = 3.587895f64 * x6;
-        let x54: f64 = -3.587895f64 * x9;
-        let x55: f64 = 3.587895f64 * x3;
-        let x56: f64 = -0.05034347249f64 * x9;
-        let x57: f64 = 0.047121686402f64 * x15;
-        let x58: f64 = x56 - x57;
-        let x59: f64 = -0.047121686402f64 * x12;
-        let x60: f64 = 0.014653732538f64 * x9;
-        let x61: f64 = x59 - x60;
-        let x62: f64 = 0.014653732538f64 * x15;
-        let x63: f64 = 0.05034347249f64 * x12;
-        let x64: f64 = x62 - x63;
-        let x65: f64 = 1.225946f64 * x12;
-        let x66: f64 = -1.225946f64 * x15;
-        let x67: f64 = -1.225946f64 * x9;
-        let x68: f64 = -0.023526756935f64 * x15;
-        let x69: f64 = 0.017527158935000002f64 * x21;
-        let x70: f64 = x68 - x69;
-        let x71: f64 = -0.017527158935000002f64 * x18;
-        let x72: f64 = 0.10024161669500001f64 * x15;
-        let x73: f64 = x71 - x72;
-        let x74: f64 = -0.10024161669500001f64 * x21;
-        let x75: f64 = -0.023526756935f64 * x18;
-        let x76: f64 = x74 - x75;
-        let x77: f64 = 1.666555f64 * x18;
-        let x78: f64 = -1.666555f64 * x21;
-        let x79: f64 = 1.666555f64 * x15;
-        let x80: f64 = 0.0020344399586617965f64 * x21;
-        let x81: f64 = 0.150277948634f64 * x27;
-        let x82: f64 = x80 - x81;
-        let x83: f64 = 0.150277948634f64 * x24;
-        let x84: f64 = 0.002573605371338202f64 * x21;
-        let x85: f64 = x83 - x84;
-        let x86: f64 = 0.002573605371338202f64 * x27;
-        let x87: f64 = 0.0020344399586617965f64 * x24;
-        let x88: f64 = x86 - x87;
-        let x89: f64 = 1.4955219999999998f64 * x24;
-        let x90: f64 = 1.4955219999999998f64 * x27;
-        let x91: f64 = 1.4955219999999998f64 * x21;
-        let x92: f64 = c6 * x89;
-        let x93: f64 = s6 * x90;
-        let x94: f64 = x92 - x93;
-        let x95: f64 = s6 * x89;
-        let x96: f64 = c6 * x90;
-        let x97: f64 = x95 + x96;
-        let x98: f64 = c6 * x82;
-        let x99: f64 = s6 * x85;
-        let x100: f64 = x98 - x99;
-        let x101: f64 = x87 - x86;
-        let x102: f64 = s6 * x82;
-        let x103: f64 = c6 * x85;
-        let x104: f64 = x102 + x103;
-        let x105: f64 = 0.088f64 * x97;
-        let x106: f64 = -0.13160593599999998f64 * x21;
-        let x107: f64 = x101 - x105;
-        let x108: f64 = x104 + x106;
-        let x109: f64 = x70 + x100;
-        let x110: f64 = x73 + x107;
-        let x111: f64 = x76 + x108;
-        let x112: f64 = x77 + x94;
-        let x113: f64 = x78 - x91;
-        let x114: f64 = x79 + x97;
-        let x115: f64 = c5 * x112;
-        let x116: f64 = s5 * x113;
-        let x117: f64 = x115 - x116;
-        let x118: f64 = s5 * x112;
-        let x119: f64 = c5 * x113;
-        let x120: f64 = x118 + x119;
-        let x121: f64 = c5 * x109;
-        let x122: f64 = s5 * x110;
-        let x123: f64 = x121 - x122;
-        let x124: f64 = s5 * x109;
-        let x125: f64 = c5 * x110;
-        let x126: f64 = x124 + x125;
-        let x127: f64 = x58 + x123;
-        let x128: f64 = x61 - x111;
-        let x129: f64 = x64 + x126;
-        let x130: f64 = x65 + x117;
-        let x131: f64 = x66 - x114;
-        let x132: f64 = x67 + x120;
-        let x133: f64 = c4 * x130;
-        let x134: f64 = s4 * x131;
-        let x135: f64 = x133 - x134;
-        let x136: f64 = s4 * x130;
-        let x137: f64 = c4 * x131;
-        let x138: f64 = x136 + x137;
-        let x139: f64 = c4 * x127;
-        let x140: f64 = s4 * x128;
-        let x141: f64 = x139 - x140;
-        let x142: f64 = s4 * x127;
-        let x143: f64 = c4 * x128;
-        let x144: f64 = x142 + x143;
-        let x145: f64 = -0.384f64 * x138;
-        let x146: f64 = 0.0825f64 * x138;
-        let x147: f64 = -0.0825f64 * x132;
-        let x148: f64 = 0.384f64 * x135;
-        let x149: f64 = x147 - x148;
-        let x150: f64 = x141 + x145;
-        let x151: f64 = x129 - x146;
-        let x152: f64 = x149 - x144;
-        let x153: f64 = x46 + x150;
-        let x154: f64 = x49 + x151;
-        let x155: f64 = x52 + x152;
-        let x156: f64 = x53 + x135;
-        let x157: f64 = x54 + x132;
-        let x158: f64 = c3 * x156;
-        let x159: f64 = s3 * x157;
-        let x160: f64 = x158 - x159;
-        let x161: f64 = x138 - x55;
-        let x162: f64 = s3 * x156;
-        let x163: f64 = c3 * x157;
-        let x164: f64 = x162 + x163;
-        let x165: f64 = c3 * x153;
-        let x166: f64 = s3 * x154;
-        let x167: f64 = x165 - x166;
-        let x168: f64 = s3 * x153;
-        let x169: f64 = c3 * x154;
-        let x170: f64 = x168 + x169;
-        let x171: f64 = 0.0825f64 * x164;
-        let x172: f64 = 0.0825f64 * x161;
-        let x173: f64 = x155 + x171;
-        let x174: f64 = x170 + x172;
-        let x175: f64 = x35 + x167;
-        let x176: f64 = x38 - x173;
-        let x177: f64 = x41 + x174;
-        let x178: f64 = x42 + x160;
-        let x179: f64 = x43 + x161;
-        let x180: f64 = c2 * x178;
-        let x181: f64 = s2 * x179;
-        let x182: f64 = x180 - x181;
-        let x183: f64 = s2 * x178;
-        let x184: f64 = c2 * x179;
-        let x185: f64 = x183 + x184;
-        let x186: f64 = c2 * x175;
-        let x187: f64 = s2 * x176;
-        let x188: f64 = x186 - x187;
-        let x189: f64 = s2 * x175;
-        let x190: f64 = c2 * x176;
-        let x191: f64 = x189 + x190;
-        let x192: f64 = -0.316f64 * x185;
-        let x193: f64 = -0.316f64 * x182;
-        let x194: f64 = x188 + x192;
-        let x195: f64 = x191 - x193;
-        let x196: f64 = x194 - x28;
-        let x197: f64 = x29 - x177;
-        let x198: f64 = x32 + x195;
-        let x199: f64 = s1 * x196;
-        let x200: f64 = c1 * x197;
-        let x201: f64 = x199 + x200;
+        let (x0, x1, x2, x3, x4, x5, x6, x7) = (
+            -9.81f64 * s1,
+            -9.81f64 * c1,
+            -0.0221804724897f64 * c1,
+            -0.0221804724897f64 * s1,
+            0.01993386669246f64 * c1,
+            0.18226700140319999f64 * s1,
+            1.24321310088048f64 * c1,
+            0.87156675099432f64 * c1,
+        );
+        let (x8, x9, x10, x11, x12) = (c2 * x0, s2 * x0, s3 * x1, c3 * x1, x4 - x5);
+        let (x13, x14, x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25) = (
+            c3 * x8,
+            s3 * x8,
+            s4 * x9,
+            c4 * x9,
+            0.214708623208f64 * x9,
+            -0.214708623208f64 * x8,
+            -0.088844724872f64 * x9,
+            0.126729164208f64 * x8,
+            3.228604f64 * x8,
+            -3.228604f64 * x9,
+            0.374644408005f64 * x9,
+            -0.19076837715f64 * x9,
+            3.587895f64 * x9,
+        );
+        let (x26, x27, x28, x29, x30) = (
+            x13 - x10,
+            x14 + x11,
+            x6 - x17,
+            x18 - x7,
+            x19 - x20,
+        );
+        let (x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42, x43) = (
+            c4 * x26,
+            s4 * x26,
+            s5 * x27,
+            c5 * x27,
+            -0.09850206933f64 * x27,
+            0.09850206933f64 * x26,
+            0.19076837715f64 * x27,
+            0.374644408005f64 * x26,
+            3.587895f64 * x26,
+            -3.587895f64 * x27,
+            -0.05034347249f64 * x27,
+            0.014653732538f64 * x27,
+            -1.225946f64 * x27,
+        );
+        let (x44, x45, x46, x47, x48) = (
+            x31 - x15,
+            x32 + x16,
+            x23 - x35,
+            x36 - x24,
+            x37 - x38,
+        );
+        let (x49, x50, x51, x52, x53, x54, x55, x56, x57, x58, x59, x60, x61) = (
+            c5 * x44,
+            s5 * x44,
+            s6 * x45,
+            c6 * x45,
+            0.047121686402f64 * x45,
+            -0.047121686402f64 * x44,
+            0.014653732538f64 * x45,
+            0.05034347249f64 * x44,
+            1.225946f64 * x44,
+            -1.225946f64 * x45,
+            -0.023526756935f64 * x45,
+            0.10024161669500001f64 * x45,
+            1.666555f64 * x45,
+        );
+        let (x62, x63, x64, x65, x66) = (
+            x49 - x33,
+            x50 + x34,
+            x41 - x53,
+            x54 - x42,
+            x55 - x56,
+        );
+        let (x67, x68, x69, x70, x71, x72, x73, x74, x75, x76, x77, x78) = (
+            c6 * x62,
+            s6 * x62,
+            0.017527158935000002f64 * x63,
+            -0.017527158935000002f64 * x62,
+            -0.10024161669500001f64 * x63,
+            -0.023526756935f64 * x62,
+            1.666555f64 * x62,
+            -1.666555f64 * x63,
+            0.0020344399586617965f64 * x63,
+            0.002573605371338202f64 * x63,
+            1.4955219999999998f64 * x63,
+            -0.13160593599999998f64 * x63,
+        );
+        let (x79, x80, x81, x82, x83, x84) = (
+            x67 + x51,
+            x52 - x68,
+            x59 - x69,
+            x70 - x60,
+            x71 - x72,
+            x74 - x77,
+        );
+        let (x85, x86, x87, x88, x89, x90, x91, x92) = (
+            0.150277948634f64 * x80,
+            0.150277948634f64 * x79,
+            0.002573605371338202f64 * x80,
+            0.0020344399586617965f64 * x79,
+            1.4955219999999998f64 * x79,
+            1.4955219999999998f64 * x80,
+            s5 * x84,
+            c5 * x84,
+        );
+        let (x93, x94, x95, x96, x97, x98, x99, x100) = (
+            x75 - x85,
+            x86 - x76,
+            x87 - x88,
+            c6 * x89,
+            s6 * x90,
+            s6 * x89,
+            c6 * x90,
+            x88 - x87,
+        );
+        let (x101, x102, x103, x104, x105, x106) = (
+            x96 - x97,
+            x98 + x99,
+            c6 * x93,
+            s6 * x94,
+            s6 * x93,
+            c6 * x94,
+        );
+        let (x107, x108, x109, x110, x111) = (
+            x103 - x104,
+            x105 + x106,
+            0.088f64 * x102,
+            x73 + x101,
+            x61 + x102,
+        );
+        let (x112, x113, x114, x115, x116, x117) = (
+            x100 - x109,
+            x108 + x78,
+            x81 + x107,
+            c5 * x110,
+            s5 * x110,
+            x58 - x111,
+        );
+        let (x118, x119, x120, x121, x122, x123, x124, x125) = (
+            x82 + x112,
+            x83 + x113,
+            x115 - x91,
+            x116 + x92,
+            c5 * x114,
+            s5 * x114,
+            s4 * x117,
+            c4 * x117,
+        );
+        let (x126, x127, x128, x129, x130) = (
+            s5 * x118,
+            c5 * x118,
+            x65 - x119,
+            x57 + x120,
+            x43 + x121,
+        );
+        let (x131, x132, x133, x134, x135, x136, x137, x138) = (
+            x122 - x126,
+            x123 + x127,
+            c4 * x129,
+            s4 * x129,
+            s4 * x128,
+            c4 * x128,
+            -0.0825f64 * x130,
+            x40 + x130,
+        );
+        let (x139, x140, x141, x142, x143, x144) = (
+            x64 + x131,
+            x66 + x132,
+            x133 - x124,
+            x134 + x125,
+            s3 * x138,
+            c3 * x138,
+        );
+        let (x145, x146, x147, x148, x149, x150, x151) = (
+            c4 * x139,
+            s4 * x139,
+            -0.384f64 * x142,
+            0.0825f64 * x142,
+            0.384f64 * x141,
+            x39 + x141,
+            x142 - x25,
+        );
+        let (x152, x153, x154, x155, x156, x157, x158, x159) = (
+            x145 - x135,
+            x146 + x136,
+            x137 - x149,
+            x140 - x148,
+            c3 * x150,
+            s3 * x150,
+            0.0825f64 * x151,
+            x22 + x151,
+        );
+        let (x160, x161, x162, x163, x164, x165, x166) = (
+            x152 + x147,
+            x154 - x153,
+            x47 + x155,
+            x156 - x143,
+            x157 + x144,
+            s2 * x159,
+            c2 * x159,
+        );
+        let (x167, x168, x169, x170, x171, x172) = (
+            x46 + x160,
+            x48 + x161,
+            s3 * x162,
+            c3 * x162,
+            0.0825f64 * x164,
+            x21 + x163,
+        );
+        let (x173, x174, x175, x176, x177) = (
+            c3 * x167,
+            s3 * x167,
+            x168 + x171,
+            c2 * x172,
+            s2 * x172,
+        );
+        let (x178, x179, x180, x181, x182) = (
+            x173 - x169,
+            x174 + x170,
+            x29 - x175,
+            x176 - x165,
+            x177 + x166,
+        );
+        let (x183, x184, x185, x186, x187, x188) = (
+            x179 + x158,
+            x28 + x178,
+            s2 * x180,
+            c2 * x180,
+            -0.316f64 * x182,
+            -0.316f64 * x181,
+        );
+        let (x189, x190, x191) = (x30 + x183, c2 * x184, s2 * x184);
+        let (x192, x193, x194) = (x190 - x185, x191 + x186, x3 - x189);
+        let (x195, x196, x197) = (x192 + x187, x193 - x188, c1 * x194);
+        let (x198, x199) = (x195 - x2, x12 + x196);
+        let x200: f64 = s1 * x198;
+        let x201: f64 = x200 + x197;
         let x202: f64 = -x201;
         SVector::from_array_storage(
-            ArrayStorage([[x202, x198, x177, x155, x129, x111, x88]]),
+            ArrayStorage([[x202, x199, x189, x168, x140, x119, x95]]),
         )
     }
     ///Operations: 529 mul, 435 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
@@ -1921,972 +7274,1879 @@ impl RobotDynamics<7, 70> for Panda {
         let [_, c1, c2, c3, c4, c5, c6] = t.cos;
         let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
         let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
-        let x0: f64 = -9.81f64 * s1;
-        let x1: f64 = -9.81f64 * c1;
-        let x2: f64 = -0.0221804724897f64 * c1;
-        let x3: f64 = -0.0221804724897f64 * s1;
-        let x4: f64 = 0.01993386669246f64 * c1;
-        let x5: f64 = 0.18226700140319999f64 * s1;
-        let x6: f64 = x4 - x5;
-        let x7: f64 = 1.24321310088048f64 * c1;
-        let x8: f64 = 0.87156675099432f64 * c1;
-        let x9: f64 = qd0 * s1;
-        let x10: f64 = qd0 * c1;
-        let x11: f64 = c2 * x9;
-        let x12: f64 = qd1 * s2;
-        let x13: f64 = x12 - x11;
-        let x14: f64 = s2 * x9;
-        let x15: f64 = qd1 * c2;
-        let x16: f64 = x14 + x15;
-        let x17: f64 = -0.316f64 * qd1;
-        let x18: f64 = 0.316f64 * x9;
-        let x19: f64 = c2 * x17;
-        let x20: f64 = s2 * x18;
-        let x21: f64 = x20 - x19;
-        let x22: f64 = s2 * x17;
-        let x23: f64 = c2 * x18;
-        let x24: f64 = x22 + x23;
-        let x25: f64 = qd2 + x10;
-        let x26: f64 = c3 * x13;
-        let x27: f64 = s3 * x25;
-        let x28: f64 = x26 + x27;
-        let x29: f64 = s3 * x13;
-        let x30: f64 = c3 * x25;
-        let x31: f64 = x30 - x29;
-        let x32: f64 = 0.0825f64 * x25;
-        let x33: f64 = 0.0825f64 * x16;
-        let x34: f64 = x24 + x32;
-        let x35: f64 = c3 * x21;
-        let x36: f64 = s3 * x33;
-        let x37: f64 = x35 - x36;
-        let x38: f64 = s3 * x21;
-        let x39: f64 = c3 * x33;
-        let x40: f64 = x38 + x39;
-        let x41: f64 = qd3 - x16;
-        let x42: f64 = c4 * x28;
-        let x43: f64 = s4 * x41;
-        let x44: f64 = x42 - x43;
-        let x45: f64 = s4 * x28;
-        let x46: f64 = c4 * x41;
-        let x47: f64 = x45 + x46;
-        let x48: f64 = 0.384f64 * x41;
-        let x49: f64 = -0.0825f64 * x41;
-        let x50: f64 = -0.0825f64 * x31;
-        let x51: f64 = 0.384f64 * x28;
-        let x52: f64 = x50 - x51;
-        let x53: f64 = x37 - x48;
-        let x54: f64 = x49 - x40;
-        let x55: f64 = x34 + x52;
-        let x56: f64 = c4 * x53;
-        let x57: f64 = s4 * x55;
-        let x58: f64 = x56 + x57;
-        let x59: f64 = s4 * x53;
-        let x60: f64 = c4 * x55;
-        let x61: f64 = x60 - x59;
-        let x62: f64 = qd4 + x31;
-        let x63: f64 = c5 * x44;
-        let x64: f64 = s5 * x62;
-        let x65: f64 = x63 + x64;
-        let x66: f64 = s5 * x44;
-        let x67: f64 = c5 * x62;
-        let x68: f64 = x67 - x66;
-        let x69: f64 = c5 * x58;
-        let x70: f64 = s5 * x54;
-        let x71: f64 = x69 + x70;
-        let x72: f64 = s5 * x58;
-        let x73: f64 = c5 * x54;
-        let x74: f64 = x73 - x72;
-        let x75: f64 = x59 - x60;
-        let x76: f64 = qd5 + x47;
-        let x77: f64 = c6 * x65;
-        let x78: f64 = s6 * x76;
-        let x79: f64 = x77 + x78;
-        let x80: f64 = s6 * x65;
-        let x81: f64 = c6 * x76;
-        let x82: f64 = x81 - x80;
-        let x83: f64 = x66 - x67;
-        let x84: f64 = 0.088f64 * x76;
-        let x85: f64 = 0.088f64 * x68;
-        let x86: f64 = x74 + x84;
-        let x87: f64 = x75 - x85;
-        let x88: f64 = c6 * x71;
-        let x89: f64 = s6 * x87;
-        let x90: f64 = x88 + x89;
-        let x91: f64 = s6 * x71;
-        let x92: f64 = c6 * x87;
-        let x93: f64 = x92 - x91;
-        let x94: f64 = qd6 + x83;
-        let x95: f64 = -0.0007689361029464f64 * x10;
-        let x96: f64 = -0.01026110182100817f64 * x9;
-        let x97: f64 = 0.0007689361029464f64 * qd1;
-        let x98: f64 = 0.00398335888393552f64 * x9;
-        let x99: f64 = 0.01026110182100817f64 * qd1;
-        let x100: f64 = 0.00398335888393552f64 * x10;
-        let x101: f64 = -0.214708623208f64 * x16;
-        let x102: f64 = 0.126729164208f64 * x25;
-        let x103: f64 = 0.088844724872f64 * x25;
-        let x104: f64 = -0.214708623208f64 * x13;
-        let x105: f64 = 0.126729164208f64 * x13;
-        let x106: f64 = 0.088844724872f64 * x16;
-        let x107: f64 = x105 - x106;
-        let x108: f64 = 3.228604f64 * x21;
-        let x109: f64 = 3.228604f64 * x24;
-        let x110: f64 = -0.004377257121839584f64 * x16;
-        let x111: f64 = -0.005487648106562256f64 * x13;
-        let x112: f64 = 0.088844724872f64 * x24;
-        let x113: f64 = 0.126729164208f64 * x21;
-        let x114: f64 = -0.004377257121839584f64 * x25;
-        let x115: f64 = -0.008248333140675744f64 * x13;
-        let x116: f64 = -0.214708623208f64 * x21;
-        let x117: f64 = -0.005487648106562256f64 * x25;
-        let x118: f64 = -0.008248333140675744f64 * x16;
-        let x119: f64 = -0.214708623208f64 * x24;
-        let x120: f64 = 0.09850206933f64 * x31;
-        let x121: f64 = 0.374644408005f64 * x41;
-        let x122: f64 = -0.19076837715f64 * x41;
-        let x123: f64 = 0.09850206933f64 * x28;
-        let x124: f64 = 0.374644408005f64 * x28;
-        let x125: f64 = -0.19076837715f64 * x31;
-        let x126: f64 = 3.587895f64 * x37;
-        let x127: f64 = -3.587895f64 * x40;
-        let x128: f64 = -3.587895f64 * x34;
-        let x129: f64 = -0.0016444875773692705f64 * x31;
-        let x130: f64 = 0.0039053550262761003f64 * x28;
-        let x131: f64 = 0.19076837715f64 * x40;
-        let x132: f64 = 0.374644408005f64 * x37;
-        let x133: f64 = -0.0016444875773692705f64 * x41;
-        let x134: f64 = 0.02771584317362585f64 * x28;
-        let x135: f64 = 0.19076837715f64 * x34;
-        let x136: f64 = 0.09850206933f64 * x37;
-        let x137: f64 = 0.0039053550262761003f64 * x41;
-        let x138: f64 = 0.02771584317362585f64 * x31;
-        let x139: f64 = -0.374644408005f64 * x34;
-        let x140: f64 = -0.09850206933f64 * x40;
-        let x141: f64 = 0.047121686402f64 * x47;
-        let x142: f64 = 0.05034347249f64 * x62;
-        let x143: f64 = -0.014653732538f64 * x62;
-        let x144: f64 = -0.047121686402f64 * x44;
-        let x145: f64 = 0.05034347249f64 * x44;
-        let x146: f64 = 0.014653732538f64 * x47;
-        let x147: f64 = 1.225946f64 * x58;
-        let x148: f64 = 1.225946f64 * x61;
-        let x149: f64 = 1.225946f64 * x54;
-        let x150: f64 = -0.0021640520520981297f64 * x47;
-        let x151: f64 = -0.004600245517563105f64 * x44;
-        let x152: f64 = -0.014653732538f64 * x61;
-        let x153: f64 = 0.05034347249f64 * x58;
-        let x154: f64 = 0.0021640520520981297f64 * x62;
-        let x155: f64 = -0.0015152444733270301f64 * x44;
-        let x156: f64 = -0.014653732538f64 * x54;
-        let x157: f64 = -0.047121686402f64 * x58;
-        let x158: f64 = -0.004600245517563105f64 * x62;
-        let x159: f64 = 0.0015152444733270301f64 * x47;
-        let x160: f64 = 0.05034347249f64 * x54;
-        let x161: f64 = -0.047121686402f64 * x61;
-        let x162: f64 = -0.017527158935000002f64 * x68;
-        let x163: f64 = -0.023526756935f64 * x76;
-        let x164: f64 = 0.10024161669500001f64 * x76;
-        let x165: f64 = -0.017527158935000002f64 * x65;
-        let x166: f64 = -0.023526756935f64 * x65;
-        let x167: f64 = 0.10024161669500001f64 * x68;
-        let x168: f64 = 1.666555f64 * x71;
-        let x169: f64 = 1.666555f64 * x74;
-        let x170: f64 = 1.666555f64 * x75;
-        let x171: f64 = 0.000093569097314605f64 * x68;
-        let x172: f64 = -0.00010375891721868492f64 * x65;
-        let x173: f64 = 0.10024161669500001f64 * x74;
-        let x174: f64 = -0.023526756935f64 * x71;
-        let x175: f64 = 0.000093569097314605f64 * x76;
-        let x176: f64 = 0.001524110902883315f64 * x65;
-        let x177: f64 = 0.10024161669500001f64 * x75;
-        let x178: f64 = -0.017527158935000002f64 * x71;
-        let x179: f64 = -0.00010375891721868492f64 * x76;
-        let x180: f64 = 0.001524110902883315f64 * x68;
-        let x181: f64 = -0.023526756935f64 * x75;
-        let x182: f64 = -0.017527158935000002f64 * x74;
-        let x183: f64 = 0.150277948634f64 * x82;
-        let x184: f64 = 0.0020344399586617965f64 * x94;
-        let x185: f64 = 0.002573605371338202f64 * x94;
-        let x186: f64 = 0.150277948634f64 * x79;
-        let x187: f64 = 0.0020344399586617965f64 * x79;
-        let x188: f64 = 0.002573605371338202f64 * x82;
-        let x189: f64 = 1.4955219999999998f64 * x90;
-        let x190: f64 = 1.4955219999999998f64 * x93;
-        let x191: f64 = -1.4955219999999998f64 * x86;
-        let x192: f64 = -0.001255536598272898f64 * x82;
-        let x193: f64 = -0.0009653051699191116f64 * x79;
-        let x194: f64 = 0.002573605371338202f64 * x93;
-        let x195: f64 = 0.0020344399586617965f64 * x90;
-        let x196: f64 = -0.001255536598272898f64 * x94;
-        let x197: f64 = 0.0003913912816842481f64 * x79;
-        let x198: f64 = -0.002573605371338202f64 * x86;
-        let x199: f64 = 0.150277948634f64 * x90;
-        let x200: f64 = -0.0009653051699191116f64 * x94;
-        let x201: f64 = 0.0003913912816842481f64 * x82;
-        let x202: f64 = -0.0020344399586617965f64 * x86;
-        let x203: f64 = 0.150277948634f64 * x93;
-        let x204: f64 = -0.00850351162402155f64 * x9;
-        let x205: f64 = x100 + x204;
-        let x206: f64 = x99 + x205;
-        let x207: f64 = -0.028124284712194955f64 * x10;
-        let x208: f64 = x98 + x207;
-        let x209: f64 = x97 + x208;
-        let x210: f64 = x95 + x96;
-        let x211: f64 = 0.026534991901690206f64 * qd1;
-        let x212: f64 = x210 + x211;
-        let x213: f64 = 0.05649492601407083f64 * x13;
-        let x214: f64 = x118 + x213;
-        let x215: f64 = x117 + x214;
-        let x216: f64 = 0.05287838199960611f64 * x16;
-        let x217: f64 = x115 + x216;
-        let x218: f64 = x114 + x217;
-        let x219: f64 = x110 + x111;
-        let x220: f64 = 0.01824920229252011f64 * x25;
-        let x221: f64 = x219 + x220;
-        let x222: f64 = x112 - x113;
-        let x223: f64 = x215 - x119;
-        let x224: f64 = x116 + x218;
-        let x225: f64 = x221 + x222;
-        let x226: f64 = x102 - x101;
-        let x227: f64 = x104 - x103;
-        let x228: f64 = x108 - x226;
-        let x229: f64 = x109 - x227;
-        let x230: f64 = 0.06767727025085991f64 * x28;
-        let x231: f64 = x138 + x230;
-        let x232: f64 = x137 + x231;
-        let x233: f64 = 0.03239943042445132f64 * x31;
-        let x234: f64 = x134 + x233;
-        let x235: f64 = x133 + x234;
-        let x236: f64 = x129 + x130;
-        let x237: f64 = 0.0775861490525396f64 * x41;
-        let x238: f64 = x236 + x237;
-        let x239: f64 = x139 - x140;
-        let x240: f64 = x136 - x135;
-        let x241: f64 = x131 - x132;
-        let x242: f64 = x232 + x239;
-        let x243: f64 = x235 + x240;
-        let x244: f64 = x238 + x241;
-        let x245: f64 = x121 - x120;
-        let x246: f64 = x123 - x122;
-        let x247: f64 = x125 - x124;
-        let x248: f64 = x126 - x245;
-        let x249: f64 = x127 - x246;
-        let x250: f64 = x128 - x247;
-        let x251: f64 = 0.03942757095803552f64 * x44;
-        let x252: f64 = x159 + x251;
-        let x253: f64 = x158 + x252;
-        let x254: f64 = -0.03146037232526039f64 * x47;
-        let x255: f64 = x155 + x254;
-        let x256: f64 = x154 + x255;
-        let x257: f64 = x150 + x151;
-        let x258: f64 = 0.010869510762828563f64 * x62;
-        let x259: f64 = x257 + x258;
-        let x260: f64 = x160 - x161;
-        let x261: f64 = x157 - x156;
-        let x262: f64 = x152 - x153;
-        let x263: f64 = x253 + x260;
-        let x264: f64 = x256 + x261;
-        let x265: f64 = x259 + x262;
-        let x266: f64 = x142 - x141;
-        let x267: f64 = x144 - x143;
-        let x268: f64 = x146 - x145;
-        let x269: f64 = x147 - x266;
-        let x270: f64 = x148 - x267;
-        let x271: f64 = x149 - x268;
-        let x272: f64 = 0.0024804603581707893f64 * x65;
-        let x273: f64 = x180 + x272;
-        let x274: f64 = x179 + x273;
-        let x275: f64 = 0.01056776613310695f64 * x68;
-        let x276: f64 = x176 + x275;
-        let x277: f64 = x175 + x276;
-        let x278: f64 = x171 + x172;
-        let x279: f64 = 0.011794560230238949f64 * x76;
-        let x280: f64 = x278 + x279;
-        let x281: f64 = x181 - x182;
-        let x282: f64 = x178 - x177;
-        let x283: f64 = x173 - x174;
-        let x284: f64 = x274 + x281;
-        let x285: f64 = x277 + x282;
-        let x286: f64 = x280 + x283;
-        let x287: f64 = x163 - x162;
-        let x288: f64 = x165 - x164;
-        let x289: f64 = x167 - x166;
-        let x290: f64 = x168 - x287;
-        let x291: f64 = x169 - x288;
-        let x292: f64 = x170 - x289;
-        let x293: f64 = 0.0316333431909496f64 * x79;
-        let x294: f64 = x201 + x293;
-        let x295: f64 = x200 + x294;
-        let x296: f64 = 0.029212399412428362f64 * x82;
-        let x297: f64 = x197 + x296;
-        let x298: f64 = x196 + x297;
-        let x299: f64 = x192 + x193;
-        let x300: f64 = 0.006684151967360945f64 * x94;
-        let x301: f64 = x299 + x300;
-        let x302: f64 = x202 - x203;
-        let x303: f64 = x199 - x198;
-        let x304: f64 = x194 - x195;
-        let x305: f64 = x295 + x302;
-        let x306: f64 = x298 + x303;
-        let x307: f64 = x301 + x304;
-        let x308: f64 = x184 - x183;
-        let x309: f64 = x186 - x185;
-        let x310: f64 = x188 - x187;
-        let x311: f64 = x189 - x308;
-        let x312: f64 = x190 - x309;
-        let x313: f64 = x191 - x310;
-        let x314: f64 = a0 * s1;
-        let x315: f64 = a0 * c1;
-        let x316: f64 = qd1 * x10;
-        let x317: f64 = qd1 * x9;
-        let x318: f64 = x314 + x316;
-        let x319: f64 = x317 - x315;
-        let x320: f64 = c2 * x318;
-        let x321: f64 = a1 * s2;
-        let x322: f64 = x321 - x320;
-        let x323: f64 = s2 * x318;
-        let x324: f64 = a1 * c2;
-        let x325: f64 = x323 + x324;
-        let x326: f64 = x315 - x317;
-        let x327: f64 = -0.316f64 * a1;
-        let x328: f64 = 0.316f64 * x318;
-        let x329: f64 = x0 - x327;
-        let x330: f64 = c2 * x329;
-        let x331: f64 = s2 * x328;
-        let x332: f64 = x330 + x331;
-        let x333: f64 = s2 * x329;
-        let x334: f64 = c2 * x328;
-        let x335: f64 = x334 - x333;
-        let x336: f64 = a2 + x326;
-        let x337: f64 = qd2 * x16;
-        let x338: f64 = qd2 * x13;
-        let x339: f64 = qd2 * x24;
-        let x340: f64 = qd2 * x21;
-        let x341: f64 = x322 + x337;
-        let x342: f64 = x325 - x338;
-        let x343: f64 = x332 + x339;
-        let x344: f64 = x335 - x340;
-        let x345: f64 = c3 * x341;
-        let x346: f64 = s3 * x336;
-        let x347: f64 = x345 + x346;
-        let x348: f64 = s3 * x341;
-        let x349: f64 = c3 * x336;
-        let x350: f64 = x349 - x348;
-        let x351: f64 = x338 - x325;
-        let x352: f64 = 0.0825f64 * x336;
-        let x353: f64 = 0.0825f64 * x342;
-        let x354: f64 = x344 + x352;
-        let x355: f64 = x1 + x353;
-        let x356: f64 = c3 * x343;
-        let x357: f64 = s3 * x355;
-        let x358: f64 = x356 - x357;
-        let x359: f64 = s3 * x343;
-        let x360: f64 = c3 * x355;
-        let x361: f64 = x359 + x360;
-        let x362: f64 = a3 + x351;
-        let x363: f64 = qd3 * x31;
-        let x364: f64 = qd3 * x28;
-        let x365: f64 = qd3 * x40;
-        let x366: f64 = qd3 * x37;
-        let x367: f64 = x347 + x363;
-        let x368: f64 = x350 - x364;
-        let x369: f64 = x358 - x365;
-        let x370: f64 = x361 + x366;
-        let x371: f64 = c4 * x367;
-        let x372: f64 = s4 * x362;
-        let x373: f64 = x371 - x372;
-        let x374: f64 = s4 * x367;
-        let x375: f64 = c4 * x362;
-        let x376: f64 = x374 + x375;
-        let x377: f64 = 0.384f64 * x362;
-        let x378: f64 = -0.0825f64 * x362;
-        let x379: f64 = -0.0825f64 * x368;
-        let x380: f64 = 0.384f64 * x367;
-        let x381: f64 = x379 - x380;
-        let x382: f64 = x369 - x377;
-        let x383: f64 = x378 - x370;
-        let x384: f64 = x354 + x381;
-        let x385: f64 = c4 * x382;
-        let x386: f64 = s4 * x384;
-        let x387: f64 = x385 + x386;
-        let x388: f64 = s4 * x382;
-        let x389: f64 = c4 * x384;
-        let x390: f64 = x389 - x388;
-        let x391: f64 = a4 + x368;
-        let x392: f64 = qd4 * x47;
-        let x393: f64 = qd4 * x44;
-        let x394: f64 = qd4 * x61;
-        let x395: f64 = qd4 * x58;
-        let x396: f64 = x373 - x392;
-        let x397: f64 = x376 + x393;
-        let x398: f64 = x387 + x394;
-        let x399: f64 = x390 - x395;
-        let x400: f64 = c5 * x396;
-        let x401: f64 = s5 * x391;
-        let x402: f64 = x400 + x401;
-        let x403: f64 = s5 * x396;
-        let x404: f64 = c5 * x391;
-        let x405: f64 = x404 - x403;
-        let x406: f64 = c5 * x398;
-        let x407: f64 = s5 * x383;
-        let x408: f64 = x406 + x407;
-        let x409: f64 = s5 * x398;
-        let x410: f64 = c5 * x383;
-        let x411: f64 = x410 - x409;
-        let x412: f64 = x395 - x390;
-        let x413: f64 = a5 + x397;
-        let x414: f64 = qd5 * x68;
-        let x415: f64 = qd5 * x65;
-        let x416: f64 = qd5 * x74;
-        let x417: f64 = qd5 * x71;
-        let x418: f64 = x402 + x414;
-        let x419: f64 = x405 - x415;
-        let x420: f64 = x408 + x416;
-        let x421: f64 = x411 - x417;
-        let x422: f64 = c6 * x418;
-        let x423: f64 = s6 * x413;
-        let x424: f64 = x422 + x423;
-        let x425: f64 = s6 * x418;
-        let x426: f64 = c6 * x413;
-        let x427: f64 = x426 - x425;
-        let x428: f64 = x415 - x405;
-        let x429: f64 = 0.088f64 * x413;
-        let x430: f64 = 0.088f64 * x419;
-        let x431: f64 = x421 + x429;
-        let x432: f64 = x412 - x430;
-        let x433: f64 = c6 * x420;
-        let x434: f64 = s6 * x432;
-        let x435: f64 = x433 + x434;
-        let x436: f64 = s6 * x420;
-        let x437: f64 = c6 * x432;
-        let x438: f64 = x437 - x436;
-        let x439: f64 = a6 + x428;
-        let x440: f64 = qd6 * x82;
-        let x441: f64 = qd6 * x79;
-        let x442: f64 = qd6 * x93;
-        let x443: f64 = qd6 * x90;
-        let x444: f64 = x424 + x440;
-        let x445: f64 = x427 - x441;
-        let x446: f64 = x435 + x442;
-        let x447: f64 = x438 - x443;
-        let x448: f64 = 0.009213163777211224f64 * a0;
-        let x449: f64 = -0.00850351162402155f64 * x318;
-        let x450: f64 = -0.00398335888393552f64 * x319;
-        let x451: f64 = x449 + x450;
-        let x452: f64 = 0.01026110182100817f64 * a1;
-        let x453: f64 = x451 + x452;
-        let x454: f64 = 0.00398335888393552f64 * x318;
-        let x455: f64 = 0.028124284712194955f64 * x319;
-        let x456: f64 = x454 + x455;
-        let x457: f64 = 0.0007689361029464f64 * a1;
-        let x458: f64 = x456 + x457;
-        let x459: f64 = -0.01026110182100817f64 * x318;
-        let x460: f64 = 0.0007689361029464f64 * x319;
-        let x461: f64 = x459 + x460;
-        let x462: f64 = 0.026534991901690206f64 * a1;
-        let x463: f64 = x461 + x462;
-        let x464: f64 = x453 - x2;
-        let x465: f64 = x3 + x458;
-        let x466: f64 = x6 + x463;
-        let x467: f64 = x10 * x212;
-        let x468: f64 = qd1 * x209;
-        let x469: f64 = x467 + x468;
-        let x470: f64 = qd1 * x206;
-        let x471: f64 = x9 * x212;
-        let x472: f64 = x470 + x471;
-        let x473: f64 = x9 * x209;
-        let x474: f64 = x10 * x206;
-        let x475: f64 = x474 - x473;
-        let x476: f64 = x464 - x469;
-        let x477: f64 = x465 + x472;
-        let x478: f64 = x466 + x475;
-        let x479: f64 = 0.05649492601407083f64 * x341;
-        let x480: f64 = -0.008248333140675744f64 * x342;
-        let x481: f64 = x479 + x480;
-        let x482: f64 = -0.005487648106562256f64 * x336;
-        let x483: f64 = x481 + x482;
-        let x484: f64 = -0.008248333140675744f64 * x341;
-        let x485: f64 = 0.05287838199960611f64 * x342;
-        let x486: f64 = x484 + x485;
-        let x487: f64 = -0.004377257121839584f64 * x336;
-        let x488: f64 = x486 + x487;
-        let x489: f64 = -0.005487648106562256f64 * x341;
-        let x490: f64 = -0.004377257121839584f64 * x342;
-        let x491: f64 = x489 + x490;
-        let x492: f64 = 0.01824920229252011f64 * x336;
-        let x493: f64 = x491 + x492;
-        let x494: f64 = -0.214708623208f64 * x344;
-        let x495: f64 = x7 - x494;
-        let x496: f64 = -0.214708623208f64 * x343;
-        let x497: f64 = x496 - x8;
-        let x498: f64 = 0.088844724872f64 * x344;
-        let x499: f64 = 0.126729164208f64 * x343;
-        let x500: f64 = x498 - x499;
-        let x501: f64 = x483 + x495;
-        let x502: f64 = x488 + x497;
-        let x503: f64 = x493 + x500;
-        let x504: f64 = 3.228604f64 * x343;
-        let x505: f64 = 3.228604f64 * x344;
-        let x506: f64 = 0.126729164208f64 * x336;
-        let x507: f64 = -0.214708623208f64 * x342;
-        let x508: f64 = x506 - x507;
-        let x509: f64 = -0.214708623208f64 * x341;
-        let x510: f64 = 0.088844724872f64 * x336;
-        let x511: f64 = x509 - x510;
-        let x512: f64 = x504 - x508;
-        let x513: f64 = x505 - x511;
-        let x514: f64 = x16 * x225;
-        let x515: f64 = x25 * x224;
-        let x516: f64 = x514 - x515;
-        let x517: f64 = x25 * x223;
-        let x518: f64 = x13 * x225;
-        let x519: f64 = x517 - x518;
-        let x520: f64 = x13 * x224;
-        let x521: f64 = x16 * x223;
-        let x522: f64 = x520 - x521;
-        let x523: f64 = x24 * x107;
-        let x524: f64 = x21 * x107;
-        let x525: f64 = x21 * x229;
-        let x526: f64 = x24 * x228;
-        let x527: f64 = x525 - x526;
-        let x528: f64 = x516 + x523;
-        let x529: f64 = x519 - x524;
-        let x530: f64 = x522 + x527;
-        let x531: f64 = x16 * x107;
-        let x532: f64 = x25 * x229;
-        let x533: f64 = x531 - x532;
-        let x534: f64 = x25 * x228;
-        let x535: f64 = x13 * x107;
-        let x536: f64 = x534 - x535;
-        let x537: f64 = x501 + x528;
-        let x538: f64 = x502 + x529;
-        let x539: f64 = x503 + x530;
-        let x540: f64 = x512 + x533;
-        let x541: f64 = x513 + x536;
-        let x542: f64 = 0.06767727025085991f64 * x367;
-        let x543: f64 = 0.02771584317362585f64 * x368;
-        let x544: f64 = x542 + x543;
-        let x545: f64 = 0.0039053550262761003f64 * x362;
-        let x546: f64 = x544 + x545;
-        let x547: f64 = 0.02771584317362585f64 * x367;
-        let x548: f64 = 0.03239943042445132f64 * x368;
-        let x549: f64 = x547 + x548;
-        let x550: f64 = -0.0016444875773692705f64 * x362;
-        let x551: f64 = x549 + x550;
-        let x552: f64 = 0.0039053550262761003f64 * x367;
-        let x553: f64 = -0.0016444875773692705f64 * x368;
-        let x554: f64 = x552 + x553;
-        let x555: f64 = 0.0775861490525396f64 * x362;
-        let x556: f64 = x554 + x555;
-        let x557: f64 = -0.374644408005f64 * x354;
-        let x558: f64 = -0.09850206933f64 * x370;
-        let x559: f64 = x557 - x558;
-        let x560: f64 = 0.09850206933f64 * x369;
-        let x561: f64 = 0.19076837715f64 * x354;
-        let x562: f64 = x560 - x561;
-        let x563: f64 = 0.19076837715f64 * x370;
-        let x564: f64 = 0.374644408005f64 * x369;
-        let x565: f64 = x563 - x564;
-        let x566: f64 = x546 + x559;
-        let x567: f64 = x551 + x562;
-        let x568: f64 = x556 + x565;
-        let x569: f64 = 3.587895f64 * x369;
-        let x570: f64 = -3.587895f64 * x370;
-        let x571: f64 = -3.587895f64 * x354;
-        let x572: f64 = 0.374644408005f64 * x362;
-        let x573: f64 = 0.09850206933f64 * x368;
-        let x574: f64 = x572 - x573;
-        let x575: f64 = 0.09850206933f64 * x367;
-        let x576: f64 = -0.19076837715f64 * x362;
-        let x577: f64 = x575 - x576;
-        let x578: f64 = -0.19076837715f64 * x368;
-        let x579: f64 = 0.374644408005f64 * x367;
-        let x580: f64 = x578 - x579;
-        let x581: f64 = x569 - x574;
-        let x582: f64 = x570 - x577;
-        let x583: f64 = x571 - x580;
-        let x584: f64 = x31 * x244;
-        let x585: f64 = x41 * x243;
-        let x586: f64 = x584 - x585;
-        let x587: f64 = x41 * x242;
-        let x588: f64 = x28 * x244;
-        let x589: f64 = x587 - x588;
-        let x590: f64 = x28 * x243;
-        let x591: f64 = x31 * x242;
-        let x592: f64 = x590 - x591;
-        let x593: f64 = x40 * x250;
-        let x594: f64 = x34 * x249;
-        let x595: f64 = x594 - x593;
-        let x596: f64 = x34 * x248;
-        let x597: f64 = x37 * x250;
-        let x598: f64 = x596 + x597;
-        let x599: f64 = x37 * x249;
-        let x600: f64 = x40 * x248;
-        let x601: f64 = x599 + x600;
-        let x602: f64 = x586 + x595;
-        let x603: f64 = x589 - x598;
-        let x604: f64 = x592 + x601;
-        let x605: f64 = x31 * x250;
-        let x606: f64 = x41 * x249;
-        let x607: f64 = x605 - x606;
-        let x608: f64 = x41 * x248;
-        let x609: f64 = x28 * x250;
-        let x610: f64 = x608 - x609;
-        let x611: f64 = x28 * x249;
-        let x612: f64 = x31 * x248;
-        let x613: f64 = x611 - x612;
-        let x614: f64 = x566 + x602;
-        let x615: f64 = x567 + x603;
-        let x616: f64 = x568 + x604;
-        let x617: f64 = x581 + x607;
-        let x618: f64 = x582 + x610;
-        let x619: f64 = x583 + x613;
-        let x620: f64 = 0.03942757095803552f64 * x396;
-        let x621: f64 = 0.0015152444733270301f64 * x397;
-        let x622: f64 = x620 + x621;
-        let x623: f64 = -0.004600245517563105f64 * x391;
-        let x624: f64 = x622 + x623;
-        let x625: f64 = -0.0015152444733270301f64 * x396;
-        let x626: f64 = -0.03146037232526039f64 * x397;
-        let x627: f64 = x625 + x626;
-        let x628: f64 = 0.0021640520520981297f64 * x391;
-        let x629: f64 = x627 + x628;
-        let x630: f64 = -0.004600245517563105f64 * x396;
-        let x631: f64 = -0.0021640520520981297f64 * x397;
-        let x632: f64 = x630 + x631;
-        let x633: f64 = 0.010869510762828563f64 * x391;
-        let x634: f64 = x632 + x633;
-        let x635: f64 = 0.05034347249f64 * x383;
-        let x636: f64 = -0.047121686402f64 * x399;
-        let x637: f64 = x635 - x636;
-        let x638: f64 = -0.047121686402f64 * x398;
-        let x639: f64 = -0.014653732538f64 * x383;
-        let x640: f64 = x638 - x639;
-        let x641: f64 = -0.014653732538f64 * x399;
-        let x642: f64 = 0.05034347249f64 * x398;
-        let x643: f64 = x641 - x642;
-        let x644: f64 = x624 + x637;
-        let x645: f64 = x629 + x640;
-        let x646: f64 = x634 + x643;
-        let x647: f64 = 1.225946f64 * x398;
-        let x648: f64 = 1.225946f64 * x399;
-        let x649: f64 = 1.225946f64 * x383;
-        let x650: f64 = 0.05034347249f64 * x391;
-        let x651: f64 = 0.047121686402f64 * x397;
-        let x652: f64 = x650 - x651;
-        let x653: f64 = -0.047121686402f64 * x396;
-        let x654: f64 = -0.014653732538f64 * x391;
-        let x655: f64 = x653 - x654;
-        let x656: f64 = 0.014653732538f64 * x397;
-        let x657: f64 = 0.05034347249f64 * x396;
-        let x658: f64 = x656 - x657;
-        let x659: f64 = x647 - x652;
-        let x660: f64 = x648 - x655;
-        let x661: f64 = x649 - x658;
-        let x662: f64 = x47 * x265;
-        let x663: f64 = x62 * x264;
-        let x664: f64 = x662 + x663;
-        let x665: f64 = x62 * x263;
-        let x666: f64 = x44 * x265;
-        let x667: f64 = x665 - x666;
-        let x668: f64 = x44 * x264;
-        let x669: f64 = x47 * x263;
-        let x670: f64 = x668 + x669;
-        let x671: f64 = x61 * x271;
-        let x672: f64 = x54 * x270;
-        let x673: f64 = x671 - x672;
-        let x674: f64 = x54 * x269;
-        let x675: f64 = x58 * x271;
-        let x676: f64 = x674 - x675;
-        let x677: f64 = x58 * x270;
-        let x678: f64 = x61 * x269;
-        let x679: f64 = x677 - x678;
-        let x680: f64 = x673 - x664;
-        let x681: f64 = x667 + x676;
-        let x682: f64 = x670 + x679;
-        let x683: f64 = x47 * x271;
-        let x684: f64 = x62 * x270;
-        let x685: f64 = x683 + x684;
-        let x686: f64 = x62 * x269;
-        let x687: f64 = x44 * x271;
-        let x688: f64 = x686 - x687;
-        let x689: f64 = x44 * x270;
-        let x690: f64 = x47 * x269;
-        let x691: f64 = x689 + x690;
-        let x692: f64 = x644 + x680;
-        let x693: f64 = x645 + x681;
-        let x694: f64 = x646 + x682;
-        let x695: f64 = x659 - x685;
-        let x696: f64 = x660 + x688;
-        let x697: f64 = x661 + x691;
-        let x698: f64 = 0.0024804603581707893f64 * x418;
-        let x699: f64 = 0.001524110902883315f64 * x419;
-        let x700: f64 = x698 + x699;
-        let x701: f64 = -0.00010375891721868492f64 * x413;
-        let x702: f64 = x700 + x701;
-        let x703: f64 = 0.001524110902883315f64 * x418;
-        let x704: f64 = 0.01056776613310695f64 * x419;
-        let x705: f64 = x703 + x704;
-        let x706: f64 = 0.000093569097314605f64 * x413;
-        let x707: f64 = x705 + x706;
-        let x708: f64 = -0.00010375891721868492f64 * x418;
-        let x709: f64 = 0.000093569097314605f64 * x419;
-        let x710: f64 = x708 + x709;
-        let x711: f64 = 0.011794560230238949f64 * x413;
-        let x712: f64 = x710 + x711;
-        let x713: f64 = -0.023526756935f64 * x412;
-        let x714: f64 = -0.017527158935000002f64 * x421;
-        let x715: f64 = x713 - x714;
-        let x716: f64 = -0.017527158935000002f64 * x420;
-        let x717: f64 = 0.10024161669500001f64 * x412;
-        let x718: f64 = x716 - x717;
-        let x719: f64 = 0.10024161669500001f64 * x421;
-        let x720: f64 = -0.023526756935f64 * x420;
-        let x721: f64 = x719 - x720;
-        let x722: f64 = x702 + x715;
-        let x723: f64 = x707 + x718;
-        let x724: f64 = x712 + x721;
-        let x725: f64 = 1.666555f64 * x420;
-        let x726: f64 = 1.666555f64 * x421;
-        let x727: f64 = 1.666555f64 * x412;
-        let x728: f64 = -0.023526756935f64 * x413;
-        let x729: f64 = -0.017527158935000002f64 * x419;
-        let x730: f64 = x728 - x729;
-        let x731: f64 = -0.017527158935000002f64 * x418;
-        let x732: f64 = 0.10024161669500001f64 * x413;
-        let x733: f64 = x731 - x732;
-        let x734: f64 = 0.10024161669500001f64 * x419;
-        let x735: f64 = -0.023526756935f64 * x418;
-        let x736: f64 = x734 - x735;
-        let x737: f64 = x725 - x730;
-        let x738: f64 = x726 - x733;
-        let x739: f64 = x727 - x736;
-        let x740: f64 = x68 * x286;
-        let x741: f64 = x76 * x285;
-        let x742: f64 = x740 - x741;
-        let x743: f64 = x76 * x284;
-        let x744: f64 = x65 * x286;
-        let x745: f64 = x743 - x744;
-        let x746: f64 = x65 * x285;
-        let x747: f64 = x68 * x284;
-        let x748: f64 = x746 - x747;
-        let x749: f64 = x74 * x292;
-        let x750: f64 = x75 * x291;
-        let x751: f64 = x749 - x750;
-        let x752: f64 = x75 * x290;
-        let x753: f64 = x71 * x292;
-        let x754: f64 = x752 - x753;
-        let x755: f64 = x71 * x291;
-        let x756: f64 = x74 * x290;
-        let x757: f64 = x755 - x756;
-        let x758: f64 = x742 + x751;
-        let x759: f64 = x745 + x754;
-        let x760: f64 = x748 + x757;
-        let x761: f64 = x68 * x292;
-        let x762: f64 = x76 * x291;
-        let x763: f64 = x761 - x762;
-        let x764: f64 = x76 * x290;
-        let x765: f64 = x65 * x292;
-        let x766: f64 = x764 - x765;
-        let x767: f64 = x65 * x291;
-        let x768: f64 = x68 * x290;
-        let x769: f64 = x767 - x768;
-        let x770: f64 = x722 + x758;
-        let x771: f64 = x723 + x759;
-        let x772: f64 = x724 + x760;
-        let x773: f64 = x737 + x763;
-        let x774: f64 = x738 + x766;
-        let x775: f64 = x739 + x769;
-        let x776: f64 = 0.0316333431909496f64 * x444;
-        let x777: f64 = 0.0003913912816842481f64 * x445;
-        let x778: f64 = x776 + x777;
-        let x779: f64 = -0.0009653051699191116f64 * x439;
-        let x780: f64 = x778 + x779;
-        let x781: f64 = 0.0003913912816842481f64 * x444;
-        let x782: f64 = 0.029212399412428362f64 * x445;
-        let x783: f64 = x781 + x782;
-        let x784: f64 = -0.001255536598272898f64 * x439;
-        let x785: f64 = x783 + x784;
-        let x786: f64 = -0.0009653051699191116f64 * x444;
-        let x787: f64 = -0.001255536598272898f64 * x445;
-        let x788: f64 = x786 + x787;
-        let x789: f64 = 0.006684151967360945f64 * x439;
-        let x790: f64 = x788 + x789;
-        let x791: f64 = -0.0020344399586617965f64 * x431;
-        let x792: f64 = 0.150277948634f64 * x447;
-        let x793: f64 = x791 - x792;
-        let x794: f64 = 0.150277948634f64 * x446;
-        let x795: f64 = -0.002573605371338202f64 * x431;
-        let x796: f64 = x794 - x795;
-        let x797: f64 = 0.002573605371338202f64 * x447;
-        let x798: f64 = 0.0020344399586617965f64 * x446;
-        let x799: f64 = x797 - x798;
-        let x800: f64 = x780 + x793;
-        let x801: f64 = x785 + x796;
-        let x802: f64 = x790 + x799;
-        let x803: f64 = 1.4955219999999998f64 * x446;
-        let x804: f64 = 1.4955219999999998f64 * x447;
-        let x805: f64 = -1.4955219999999998f64 * x431;
-        let x806: f64 = 0.0020344399586617965f64 * x439;
-        let x807: f64 = 0.150277948634f64 * x445;
-        let x808: f64 = x806 - x807;
-        let x809: f64 = 0.150277948634f64 * x444;
-        let x810: f64 = 0.002573605371338202f64 * x439;
-        let x811: f64 = x809 - x810;
-        let x812: f64 = 0.002573605371338202f64 * x445;
-        let x813: f64 = 0.0020344399586617965f64 * x444;
-        let x814: f64 = x812 - x813;
-        let x815: f64 = x803 - x808;
-        let x816: f64 = x804 - x811;
-        let x817: f64 = x805 - x814;
-        let x818: f64 = x82 * x307;
-        let x819: f64 = x94 * x306;
-        let x820: f64 = x818 - x819;
-        let x821: f64 = x94 * x305;
-        let x822: f64 = x79 * x307;
-        let x823: f64 = x821 - x822;
-        let x824: f64 = x79 * x306;
-        let x825: f64 = x82 * x305;
-        let x826: f64 = x824 - x825;
-        let x827: f64 = x93 * x313;
-        let x828: f64 = x86 * x312;
-        let x829: f64 = x827 + x828;
-        let x830: f64 = x86 * x311;
-        let x831: f64 = x90 * x313;
-        let x832: f64 = x830 + x831;
-        let x833: f64 = x90 * x312;
-        let x834: f64 = x93 * x311;
-        let x835: f64 = x833 - x834;
-        let x836: f64 = x820 + x829;
-        let x837: f64 = x823 - x832;
-        let x838: f64 = x826 + x835;
-        let x839: f64 = x82 * x313;
-        let x840: f64 = x94 * x312;
-        let x841: f64 = x839 - x840;
-        let x842: f64 = x94 * x311;
-        let x843: f64 = x79 * x313;
-        let x844: f64 = x842 - x843;
-        let x845: f64 = x79 * x312;
-        let x846: f64 = x82 * x311;
-        let x847: f64 = x845 - x846;
-        let x848: f64 = x800 + x836;
-        let x849: f64 = x801 + x837;
-        let x850: f64 = x802 + x838;
-        let x851: f64 = x815 + x841;
-        let x852: f64 = x816 + x844;
-        let x853: f64 = x817 + x847;
-        let x854: f64 = c6 * x851;
-        let x855: f64 = s6 * x852;
-        let x856: f64 = x854 - x855;
-        let x857: f64 = s6 * x851;
-        let x858: f64 = c6 * x852;
-        let x859: f64 = x857 + x858;
-        let x860: f64 = c6 * x848;
-        let x861: f64 = s6 * x849;
-        let x862: f64 = x860 - x861;
-        let x863: f64 = s6 * x848;
-        let x864: f64 = c6 * x849;
-        let x865: f64 = x863 + x864;
-        let x866: f64 = 0.088f64 * x859;
-        let x867: f64 = -0.088f64 * x853;
-        let x868: f64 = x850 + x866;
-        let x869: f64 = x865 + x867;
-        let x870: f64 = x770 + x862;
-        let x871: f64 = x771 - x868;
-        let x872: f64 = x772 + x869;
-        let x873: f64 = x773 + x856;
-        let x874: f64 = x774 - x853;
-        let x875: f64 = x775 + x859;
-        let x876: f64 = c5 * x873;
-        let x877: f64 = s5 * x874;
-        let x878: f64 = x876 - x877;
-        let x879: f64 = s5 * x873;
-        let x880: f64 = c5 * x874;
-        let x881: f64 = x879 + x880;
-        let x882: f64 = c5 * x870;
-        let x883: f64 = s5 * x871;
-        let x884: f64 = x882 - x883;
-        let x885: f64 = s5 * x870;
-        let x886: f64 = c5 * x871;
-        let x887: f64 = x885 + x886;
-        let x888: f64 = x692 + x884;
-        let x889: f64 = x693 - x872;
-        let x890: f64 = x694 + x887;
-        let x891: f64 = x695 + x878;
-        let x892: f64 = x696 - x875;
-        let x893: f64 = x697 + x881;
-        let x894: f64 = c4 * x891;
-        let x895: f64 = s4 * x892;
-        let x896: f64 = x894 - x895;
-        let x897: f64 = s4 * x891;
-        let x898: f64 = c4 * x892;
-        let x899: f64 = x897 + x898;
-        let x900: f64 = c4 * x888;
-        let x901: f64 = s4 * x889;
-        let x902: f64 = x900 - x901;
-        let x903: f64 = s4 * x888;
-        let x904: f64 = c4 * x889;
-        let x905: f64 = x903 + x904;
-        let x906: f64 = -0.384f64 * x899;
-        let x907: f64 = 0.0825f64 * x899;
-        let x908: f64 = -0.0825f64 * x893;
-        let x909: f64 = 0.384f64 * x896;
-        let x910: f64 = x908 - x909;
-        let x911: f64 = x902 + x906;
-        let x912: f64 = x890 - x907;
-        let x913: f64 = x910 - x905;
-        let x914: f64 = x614 + x911;
-        let x915: f64 = x615 + x912;
-        let x916: f64 = x616 + x913;
-        let x917: f64 = x617 + x896;
-        let x918: f64 = x618 + x893;
-        let x919: f64 = c3 * x917;
-        let x920: f64 = s3 * x918;
-        let x921: f64 = x919 - x920;
-        let x922: f64 = x899 - x619;
-        let x923: f64 = s3 * x917;
-        let x924: f64 = c3 * x918;
-        let x925: f64 = x923 + x924;
-        let x926: f64 = c3 * x914;
-        let x927: f64 = s3 * x915;
-        let x928: f64 = x926 - x927;
-        let x929: f64 = s3 * x914;
-        let x930: f64 = c3 * x915;
-        let x931: f64 = x929 + x930;
-        let x932: f64 = 0.0825f64 * x925;
-        let x933: f64 = 0.0825f64 * x922;
-        let x934: f64 = x916 + x932;
-        let x935: f64 = x931 + x933;
-        let x936: f64 = x537 + x928;
-        let x937: f64 = x538 - x934;
-        let x938: f64 = x539 + x935;
-        let x939: f64 = x540 + x921;
-        let x940: f64 = x541 + x922;
-        let x941: f64 = c2 * x939;
-        let x942: f64 = s2 * x940;
-        let x943: f64 = x941 - x942;
-        let x944: f64 = s2 * x939;
-        let x945: f64 = c2 * x940;
-        let x946: f64 = x944 + x945;
-        let x947: f64 = c2 * x936;
-        let x948: f64 = s2 * x937;
-        let x949: f64 = x947 - x948;
-        let x950: f64 = s2 * x936;
-        let x951: f64 = c2 * x937;
-        let x952: f64 = x950 + x951;
-        let x953: f64 = -0.316f64 * x946;
-        let x954: f64 = -0.316f64 * x943;
-        let x955: f64 = x949 + x953;
-        let x956: f64 = x952 - x954;
-        let x957: f64 = x476 + x955;
-        let x958: f64 = x477 - x938;
-        let x959: f64 = x478 + x956;
-        let x960: f64 = s1 * x957;
-        let x961: f64 = c1 * x958;
-        let x962: f64 = x960 + x961;
-        let x963: f64 = x448 - x962;
+        let (
+            x0,
+            x1,
+            x2,
+            x3,
+            x4,
+            x5,
+            x6,
+            x7,
+            x8,
+            x9,
+            x10,
+            x11,
+            x12,
+            x13,
+            x14,
+            x15,
+            x16,
+            x17,
+            x18,
+            x19,
+            x20,
+            x21,
+            x22,
+            x23,
+            x24,
+        ) = (
+            -9.81f64 * s1,
+            -9.81f64 * c1,
+            -0.0221804724897f64 * c1,
+            -0.0221804724897f64 * s1,
+            0.01993386669246f64 * c1,
+            0.18226700140319999f64 * s1,
+            1.24321310088048f64 * c1,
+            0.87156675099432f64 * c1,
+            qd0 * s1,
+            qd0 * c1,
+            qd1 * s2,
+            qd1 * c2,
+            -0.316f64 * qd1,
+            0.0007689361029464f64 * qd1,
+            0.01026110182100817f64 * qd1,
+            0.026534991901690206f64 * qd1,
+            a0 * s1,
+            a0 * c1,
+            a1 * s2,
+            a1 * c2,
+            -0.316f64 * a1,
+            0.009213163777211224f64 * a0,
+            0.01026110182100817f64 * a1,
+            0.0007689361029464f64 * a1,
+            0.026534991901690206f64 * a1,
+        );
+        let (
+            x25,
+            x26,
+            x27,
+            x28,
+            x29,
+            x30,
+            x31,
+            x32,
+            x33,
+            x34,
+            x35,
+            x36,
+            x37,
+            x38,
+            x39,
+            x40,
+        ) = (
+            x4 - x5,
+            c2 * x8,
+            s2 * x8,
+            0.316f64 * x8,
+            c2 * x12,
+            s2 * x12,
+            qd2 + x9,
+            -0.0007689361029464f64 * x9,
+            -0.01026110182100817f64 * x8,
+            0.00398335888393552f64 * x8,
+            0.00398335888393552f64 * x9,
+            -0.00850351162402155f64 * x8,
+            -0.028124284712194955f64 * x9,
+            qd1 * x9,
+            qd1 * x8,
+            x0 - x20,
+        );
+        let (
+            x41,
+            x42,
+            x43,
+            x44,
+            x45,
+            x46,
+            x47,
+            x48,
+            x49,
+            x50,
+            x51,
+            x52,
+            x53,
+            x54,
+            x55,
+            x56,
+            x57,
+            x58,
+            x59,
+            x60,
+        ) = (
+            x10 - x26,
+            x27 + x11,
+            s2 * x28,
+            c2 * x28,
+            s3 * x31,
+            c3 * x31,
+            0.0825f64 * x31,
+            0.126729164208f64 * x31,
+            0.088844724872f64 * x31,
+            -0.004377257121839584f64 * x31,
+            -0.005487648106562256f64 * x31,
+            x35 + x36,
+            x34 + x37,
+            x32 + x33,
+            0.01824920229252011f64 * x31,
+            x16 + x38,
+            x39 - x17,
+            x17 - x39,
+            c2 * x40,
+            s2 * x40,
+        );
+        let (
+            x61,
+            x62,
+            x63,
+            x64,
+            x65,
+            x66,
+            x67,
+            x68,
+            x69,
+            x70,
+            x71,
+            x72,
+            x73,
+            x74,
+            x75,
+            x76,
+            x77,
+            x78,
+            x79,
+            x80,
+            x81,
+            x82,
+            x83,
+            x84,
+            x85,
+            x86,
+            x87,
+            x88,
+            x89,
+            x90,
+            x91,
+        ) = (
+            x43 - x29,
+            x30 + x44,
+            c3 * x41,
+            s3 * x41,
+            0.0825f64 * x42,
+            qd3 - x42,
+            -0.214708623208f64 * x42,
+            -0.214708623208f64 * x41,
+            0.126729164208f64 * x41,
+            0.088844724872f64 * x42,
+            -0.004377257121839584f64 * x42,
+            -0.005487648106562256f64 * x41,
+            -0.008248333140675744f64 * x41,
+            -0.008248333140675744f64 * x42,
+            x14 + x52,
+            x13 + x53,
+            x54 + x15,
+            0.05649492601407083f64 * x41,
+            0.05287838199960611f64 * x42,
+            c2 * x56,
+            s2 * x56,
+            0.316f64 * x56,
+            a2 + x58,
+            qd2 * x42,
+            qd2 * x41,
+            -0.00850351162402155f64 * x56,
+            -0.00398335888393552f64 * x57,
+            0.00398335888393552f64 * x56,
+            0.028124284712194955f64 * x57,
+            -0.01026110182100817f64 * x56,
+            0.0007689361029464f64 * x57,
+        );
+        let (
+            x92,
+            x93,
+            x94,
+            x95,
+            x96,
+            x97,
+            x98,
+            x99,
+            x100,
+            x101,
+            x102,
+            x103,
+            x104,
+            x105,
+            x106,
+            x107,
+            x108,
+            x109,
+            x110,
+            x111,
+            x112,
+            x113,
+            x114,
+            x115,
+            x116,
+            x117,
+            x118,
+            x119,
+            x120,
+            x121,
+            x122,
+            x123,
+            x124,
+            x125,
+            x126,
+            x127,
+            x128,
+            x129,
+            x130,
+            x131,
+            x132,
+            x133,
+            x134,
+            x135,
+            x136,
+            x137,
+            x138,
+            x139,
+            x140,
+            x141,
+            x142,
+        ) = (
+            x63 + x45,
+            x46 - x64,
+            x62 + x47,
+            c3 * x61,
+            s3 * x65,
+            s3 * x61,
+            c3 * x65,
+            s4 * x66,
+            c4 * x66,
+            0.384f64 * x66,
+            -0.0825f64 * x66,
+            x69 - x70,
+            3.228604f64 * x61,
+            3.228604f64 * x62,
+            0.088844724872f64 * x62,
+            0.126729164208f64 * x61,
+            -0.214708623208f64 * x61,
+            -0.214708623208f64 * x62,
+            0.374644408005f64 * x66,
+            -0.19076837715f64 * x66,
+            -0.0016444875773692705f64 * x66,
+            0.0039053550262761003f64 * x66,
+            x74 + x78,
+            x73 + x79,
+            x71 + x72,
+            x48 - x67,
+            x68 - x49,
+            0.0775861490525396f64 * x66,
+            x18 - x80,
+            x81 + x19,
+            s2 * x82,
+            c2 * x82,
+            qd2 * x62,
+            qd2 * x61,
+            s3 * x83,
+            c3 * x83,
+            0.0825f64 * x83,
+            x86 + x87,
+            x88 + x89,
+            x90 + x91,
+            x9 * x77,
+            qd1 * x76,
+            qd1 * x75,
+            x8 * x77,
+            x8 * x76,
+            x9 * x75,
+            -0.005487648106562256f64 * x83,
+            -0.004377257121839584f64 * x83,
+            0.01824920229252011f64 * x83,
+            0.126729164208f64 * x83,
+            0.088844724872f64 * x83,
+        );
+        let (
+            x143,
+            x144,
+            x145,
+            x146,
+            x147,
+            x148,
+            x149,
+            x150,
+            x151,
+            x152,
+            x153,
+            x154,
+            x155,
+            x156,
+            x157,
+            x158,
+            x159,
+            x160,
+            x161,
+            x162,
+            x163,
+            x164,
+            x165,
+            x166,
+            x167,
+            x168,
+            x169,
+            x170,
+            x171,
+            x172,
+            x173,
+            x174,
+            x175,
+            x176,
+            x177,
+            x178,
+            x179,
+            x180,
+            x181,
+            x182,
+            x183,
+            x184,
+            x185,
+        ) = (
+            x95 - x96,
+            x97 + x98,
+            c4 * x92,
+            s4 * x92,
+            -0.0825f64 * x93,
+            0.384f64 * x92,
+            qd4 + x93,
+            0.09850206933f64 * x93,
+            0.09850206933f64 * x92,
+            0.374644408005f64 * x92,
+            -0.19076837715f64 * x93,
+            -3.587895f64 * x94,
+            -0.0016444875773692705f64 * x93,
+            0.0039053550262761003f64 * x92,
+            0.02771584317362585f64 * x92,
+            0.19076837715f64 * x94,
+            0.02771584317362585f64 * x93,
+            -0.374644408005f64 * x94,
+            x51 + x114,
+            x50 + x115,
+            x116 + x55,
+            x106 - x107,
+            x104 - x117,
+            x105 - x118,
+            0.06767727025085991f64 * x92,
+            0.03239943042445132f64 * x93,
+            x59 + x122,
+            x123 - x60,
+            x120 + x84,
+            x121 - x85,
+            x85 - x121,
+            qd3 * x93,
+            qd3 * x92,
+            x129 + x22,
+            x130 + x23,
+            x131 + x24,
+            x132 + x133,
+            x134 + x135,
+            x137 - x136,
+            x62 * x103,
+            x61 * x103,
+            x42 * x103,
+            x41 * x103,
+        );
+        let (
+            x186,
+            x187,
+            x188,
+            x189,
+            x190,
+            x191,
+            x192,
+            x193,
+            x194,
+            x195,
+            x196,
+            x197,
+            x198,
+            x199,
+            x200,
+            x201,
+            x202,
+            x203,
+            x204,
+            x205,
+            x206,
+            x207,
+            x208,
+            x209,
+            x210,
+            x211,
+            x212,
+            x213,
+            x214,
+            x215,
+            x216,
+            x217,
+            x218,
+            x219,
+            x220,
+            x221,
+            x222,
+            x223,
+            x224,
+            x225,
+            x226,
+            x227,
+            x228,
+            x229,
+            x230,
+            x231,
+            x232,
+            x233,
+            x234,
+            x235,
+        ) = (
+            x145 - x99,
+            x146 + x100,
+            x147 - x148,
+            x143 - x101,
+            x102 - x144,
+            s5 * x149,
+            c5 * x149,
+            3.587895f64 * x143,
+            -3.587895f64 * x144,
+            0.19076837715f64 * x144,
+            0.374644408005f64 * x143,
+            0.09850206933f64 * x143,
+            -0.09850206933f64 * x144,
+            0.05034347249f64 * x149,
+            -0.014653732538f64 * x149,
+            0.0021640520520981297f64 * x149,
+            -0.004600245517563105f64 * x149,
+            x161 - x109,
+            x108 + x162,
+            x163 + x164,
+            x159 + x167,
+            x157 + x168,
+            x155 + x156,
+            x110 - x150,
+            x151 - x111,
+            x153 - x152,
+            0.010869510762828563f64 * x149,
+            x169 + x124,
+            x170 - x125,
+            c3 * x171,
+            s3 * x171,
+            0.0825f64 * x172,
+            a3 + x173,
+            qd3 * x144,
+            qd3 * x143,
+            x176 - x2,
+            x3 + x177,
+            x25 + x178,
+            0.05649492601407083f64 * x171,
+            -0.008248333140675744f64 * x172,
+            -0.008248333140675744f64 * x171,
+            0.05287838199960611f64 * x172,
+            -0.005487648106562256f64 * x171,
+            -0.004377257121839584f64 * x172,
+            -0.214708623208f64 * x172,
+            -0.214708623208f64 * x171,
+            x61 * x166,
+            x62 * x165,
+            x31 * x166,
+            x31 * x165,
+        );
+        let (
+            x236,
+            x237,
+            x238,
+            x239,
+            x240,
+            x241,
+            x242,
+            x243,
+            x244,
+            x245,
+            x246,
+            x247,
+            x248,
+            x249,
+            x250,
+            x251,
+            x252,
+            x253,
+            x254,
+            x255,
+            x256,
+            x257,
+            x258,
+            x259,
+            x260,
+            x261,
+            x262,
+            x263,
+            x264,
+            x265,
+            x266,
+            x267,
+            x268,
+            x269,
+            x270,
+            x271,
+            x272,
+            x273,
+            x274,
+            x275,
+            x276,
+            x277,
+            x278,
+            x279,
+            x280,
+            x281,
+            x282,
+            x283,
+            x284,
+            x285,
+            x286,
+            x287,
+            x288,
+            x289,
+            x290,
+            x291,
+            x292,
+            x293,
+            x294,
+            x295,
+            x296,
+            x297,
+            x298,
+            x299,
+        ) = (
+            x94 + x188,
+            c4 * x189,
+            s4 * x189,
+            c5 * x186,
+            s5 * x186,
+            s5 * x190,
+            c5 * x190,
+            qd5 + x187,
+            0.047121686402f64 * x187,
+            -0.047121686402f64 * x186,
+            0.05034347249f64 * x186,
+            0.014653732538f64 * x187,
+            1.225946f64 * x190,
+            -0.0021640520520981297f64 * x187,
+            -0.004600245517563105f64 * x186,
+            -0.0015152444733270301f64 * x186,
+            -0.014653732538f64 * x190,
+            0.0015152444733270301f64 * x187,
+            0.05034347249f64 * x190,
+            x113 + x206,
+            x112 + x207,
+            x208 + x119,
+            x160 - x198,
+            x197 - x158,
+            x195 - x196,
+            x193 - x209,
+            x194 - x210,
+            x154 - x211,
+            0.03942757095803552f64 * x186,
+            -0.03146037232526039f64 * x187,
+            x215 + x126,
+            x127 - x216,
+            x214 + x128,
+            x1 + x217,
+            c3 * x213,
+            s3 * x213,
+            s4 * x218,
+            c4 * x218,
+            0.384f64 * x218,
+            -0.0825f64 * x218,
+            qd4 * x187,
+            qd4 * x186,
+            x221 - x179,
+            x222 + x180,
+            x223 + x181,
+            x224 + x225,
+            x226 + x227,
+            x228 + x229,
+            -0.214708623208f64 * x214,
+            -0.214708623208f64 * x213,
+            0.088844724872f64 * x214,
+            0.126729164208f64 * x213,
+            3.228604f64 * x213,
+            3.228604f64 * x214,
+            x141 - x230,
+            x231 - x142,
+            x42 * x205,
+            x31 * x204,
+            x31 * x203,
+            x41 * x205,
+            x41 * x204,
+            x42 * x203,
+            x232 - x233,
+            x184 - x234,
+        );
+        let (x300, x301, x302, x303, x304, x305) = (
+            x235 - x185,
+            0.0039053550262761003f64 * x218,
+            -0.0016444875773692705f64 * x218,
+            0.0775861490525396f64 * x218,
+            0.374644408005f64 * x218,
+            -0.19076837715f64 * x218,
+        );
+        let (
+            x306,
+            x307,
+            x308,
+            x309,
+            x310,
+            x311,
+            x312,
+            x313,
+            x314,
+            x315,
+            x316,
+            x317,
+            x318,
+            x319,
+            x320,
+            x321,
+            x322,
+            x323,
+            x324,
+            x325,
+            x326,
+            x327,
+            x328,
+            x329,
+            x330,
+            x331,
+            x332,
+            x333,
+            x334,
+            x335,
+            x336,
+            x337,
+            x338,
+            x339,
+            x340,
+            x341,
+            x342,
+            x343,
+            x344,
+            x345,
+            x346,
+            x347,
+            x348,
+            x349,
+            x350,
+            x351,
+            x352,
+            x353,
+            x354,
+            x355,
+            x356,
+            x357,
+        ) = (
+            s4 * x236,
+            c4 * x236,
+            x239 + x191,
+            x192 - x240,
+            s6 * x243,
+            c6 * x243,
+            x240 - x192,
+            0.088f64 * x243,
+            -0.023526756935f64 * x243,
+            0.10024161669500001f64 * x243,
+            0.000093569097314605f64 * x243,
+            -0.00010375891721868492f64 * x243,
+            x255 + x258,
+            x256 + x259,
+            x257 + x260,
+            x253 + x264,
+            x251 + x265,
+            x249 + x250,
+            x199 - x244,
+            x245 - x200,
+            x247 - x246,
+            0.011794560230238949f64 * x243,
+            s3 * x269,
+            c3 * x269,
+            x266 + x174,
+            x267 - x175,
+            x281 + x138,
+            x282 + x139,
+            x283 + x140,
+            x6 - x284,
+            x285 - x7,
+            x286 - x287,
+            x288 - x290,
+            x289 - x291,
+            x292 - x293,
+            x294 - x295,
+            x296 - x297,
+            -0.374644408005f64 * x268,
+            0.19076837715f64 * x268,
+            -3.587895f64 * x268,
+            x144 * x263,
+            x94 * x262,
+            x94 * x261,
+            x143 * x263,
+            x143 * x262,
+            x144 * x261,
+            x93 * x263,
+            x66 * x262,
+            x66 * x261,
+            x92 * x263,
+            x92 * x262,
+            x93 * x261,
+        );
+        let (
+            x358,
+            x359,
+            x360,
+            x361,
+            x362,
+            x363,
+            x364,
+            x365,
+            x366,
+            x367,
+            x368,
+            x369,
+            x370,
+            x371,
+            x372,
+            x373,
+            x374,
+            x375,
+            x376,
+            x377,
+            x378,
+            x379,
+            x380,
+            x381,
+            x382,
+            x383,
+            x384,
+            x385,
+            x386,
+            x387,
+            x388,
+            x389,
+            x390,
+            x391,
+            x392,
+            x393,
+            x394,
+            x395,
+            x396,
+            x397,
+            x398,
+            x399,
+            x400,
+            x401,
+            x402,
+            x403,
+            x404,
+            x405,
+            x406,
+            x407,
+            x408,
+            x409,
+            x410,
+            x411,
+            x412,
+            x413,
+            x414,
+            x415,
+            x416,
+            x417,
+        ) = (
+            x237 + x306,
+            x307 - x238,
+            x238 - x307,
+            c6 * x308,
+            s6 * x308,
+            0.088f64 * x309,
+            qd6 + x312,
+            -0.017527158935000002f64 * x309,
+            -0.017527158935000002f64 * x308,
+            -0.023526756935f64 * x308,
+            0.10024161669500001f64 * x309,
+            0.000093569097314605f64 * x309,
+            -0.00010375891721868492f64 * x308,
+            0.001524110902883315f64 * x308,
+            0.001524110902883315f64 * x309,
+            x202 + x321,
+            x201 + x322,
+            x323 + x212,
+            x248 - x326,
+            0.0024804603581707893f64 * x308,
+            0.01056776613310695f64 * x309,
+            x270 - x328,
+            x271 + x329,
+            c4 * x330,
+            s4 * x330,
+            -0.0825f64 * x331,
+            0.384f64 * x330,
+            a4 + x331,
+            qd5 * x309,
+            qd5 * x308,
+            x332 + x335,
+            x333 + x336,
+            x334 + x337,
+            x340 + x182,
+            x341 - x183,
+            x342 + x298,
+            x338 + x299,
+            x339 + x300,
+            0.06767727025085991f64 * x330,
+            0.02771584317362585f64 * x331,
+            0.02771584317362585f64 * x330,
+            0.03239943042445132f64 * x331,
+            0.0039053550262761003f64 * x330,
+            -0.0016444875773692705f64 * x331,
+            0.09850206933f64 * x331,
+            0.09850206933f64 * x330,
+            -0.19076837715f64 * x331,
+            0.374644408005f64 * x330,
+            x93 * x320,
+            x66 * x319,
+            x66 * x318,
+            x92 * x320,
+            x92 * x319,
+            x93 * x318,
+            x347 - x346,
+            x348 + x349,
+            x350 + x351,
+            x352 - x353,
+            x354 - x355,
+            x356 - x357,
+        );
+        let (
+            x418,
+            x419,
+            x420,
+            x421,
+            x422,
+            x423,
+            x424,
+            x425,
+            x426,
+            x427,
+            x428,
+            x429,
+            x430,
+            x431,
+            x432,
+            x433,
+            x434,
+            x435,
+            x436,
+            x437,
+            x438,
+            x439,
+            x440,
+            x441,
+            x442,
+            x443,
+            x444,
+            x445,
+            x446,
+            x447,
+            x448,
+            x449,
+            x450,
+            x451,
+            x452,
+            x453,
+            x454,
+            x455,
+            x456,
+            x457,
+            x458,
+            x459,
+            x460,
+            x461,
+            x462,
+            x463,
+            x464,
+            x465,
+            x466,
+            x467,
+            x468,
+            x469,
+            x470,
+            x471,
+            x472,
+        ) = (
+            c5 * x358,
+            s5 * x358,
+            x361 + x310,
+            x311 - x362,
+            x360 - x363,
+            1.225946f64 * x358,
+            1.225946f64 * x359,
+            -0.014653732538f64 * x359,
+            0.05034347249f64 * x358,
+            -0.047121686402f64 * x358,
+            -0.047121686402f64 * x359,
+            1.666555f64 * x360,
+            0.10024161669500001f64 * x360,
+            -0.023526756935f64 * x360,
+            0.0020344399586617965f64 * x364,
+            0.002573605371338202f64 * x364,
+            -0.001255536598272898f64 * x364,
+            -0.0009653051699191116f64 * x364,
+            x372 + x377,
+            x371 + x378,
+            x369 + x370,
+            x314 - x365,
+            x366 - x315,
+            x368 - x367,
+            0.006684151967360945f64 * x364,
+            x379 - x219,
+            x380 + x220,
+            x381 - x272,
+            x382 + x273,
+            x383 - x384,
+            qd4 * x359,
+            qd4 * x358,
+            s5 * x385,
+            c5 * x385,
+            x388 + x391,
+            x389 + x392,
+            x390 + x393,
+            x396 + x397,
+            x398 + x399,
+            x400 + x401,
+            x304 - x402,
+            x403 - x305,
+            x404 - x405,
+            x406 - x407,
+            x408 - x409,
+            x410 - x411,
+            -0.004600245517563105f64 * x385,
+            0.0021640520520981297f64 * x385,
+            0.010869510762828563f64 * x385,
+            0.05034347249f64 * x385,
+            -0.014653732538f64 * x385,
+            x359 * x376,
+            x358 * x376,
+            x187 * x376,
+            x186 * x376,
+        );
+        let (
+            x473,
+            x474,
+            x475,
+            x476,
+            x477,
+            x478,
+            x479,
+            x480,
+            x481,
+            x482,
+            x483,
+            x484,
+            x485,
+            x486,
+            x487,
+            x488,
+            x489,
+            x490,
+            x491,
+            x492,
+            x493,
+            x494,
+            x495,
+            x496,
+            x497,
+            x498,
+            x499,
+            x500,
+            x501,
+            x502,
+            x503,
+            x504,
+            x505,
+            x506,
+            x507,
+            x508,
+            x509,
+            x510,
+            x511,
+            x512,
+            x513,
+            x514,
+            x515,
+        ) = (
+            x418 + x241,
+            x242 - x419,
+            s6 * x422,
+            c6 * x422,
+            0.150277948634f64 * x421,
+            0.150277948634f64 * x420,
+            0.0020344399586617965f64 * x420,
+            0.002573605371338202f64 * x421,
+            -0.001255536598272898f64 * x421,
+            -0.0009653051699191116f64 * x420,
+            0.0003913912816842481f64 * x420,
+            0.0003913912816842481f64 * x421,
+            x254 - x428,
+            x427 - x252,
+            x425 - x426,
+            x423 - x324,
+            x424 - x325,
+            x317 + x436,
+            x316 + x437,
+            x438 + x327,
+            x429 - x441,
+            0.0316333431909496f64 * x420,
+            0.029212399412428362f64 * x421,
+            x443 - x274,
+            x275 - x444,
+            x268 + x447,
+            x445 - x276,
+            x446 + x277,
+            qd6 * x421,
+            qd6 * x420,
+            x455 + x301,
+            x456 + x302,
+            x457 + x303,
+            -0.09850206933f64 * x444,
+            0.09850206933f64 * x443,
+            0.19076837715f64 * x444,
+            0.374644408005f64 * x443,
+            3.587895f64 * x443,
+            -3.587895f64 * x444,
+            x345 - x460,
+            x461 + x412,
+            x462 - x413,
+            x463 + x414,
+        );
+        let (
+            x516,
+            x517,
+            x518,
+            x519,
+            x520,
+            x521,
+            x522,
+            x523,
+            x524,
+            x525,
+            x526,
+            x527,
+            x528,
+            x529,
+            x530,
+            x531,
+            x532,
+            x533,
+            x534,
+            x535,
+            x536,
+            x537,
+            x538,
+            x539,
+            x540,
+            x541,
+            x542,
+            x543,
+            x544,
+            x545,
+            x546,
+            x547,
+            x548,
+            x549,
+            x550,
+            x551,
+            x552,
+            x553,
+            x554,
+            x555,
+            x556,
+            x557,
+            x558,
+            x559,
+            x560,
+            x561,
+            x562,
+            x563,
+            x564,
+            x565,
+            x566,
+            x567,
+            x568,
+            x569,
+            x570,
+            x571,
+            x572,
+            x573,
+            x574,
+            x575,
+        ) = (
+            x474 + x313,
+            c6 * x473,
+            s6 * x473,
+            1.666555f64 * x473,
+            1.666555f64 * x474,
+            0.10024161669500001f64 * x474,
+            -0.023526756935f64 * x473,
+            -0.017527158935000002f64 * x473,
+            -0.017527158935000002f64 * x474,
+            x373 + x485,
+            x374 + x486,
+            x375 + x487,
+            x484 + x494,
+            x483 + x495,
+            x481 + x482,
+            x432 - x477,
+            x478 - x433,
+            x480 - x479,
+            c4 * x496,
+            s4 * x498,
+            s4 * x496,
+            c4 * x498,
+            c5 * x499,
+            s5 * x499,
+            s5 * x497,
+            c5 * x497,
+            a5 + x500,
+            qd5 * x474,
+            qd5 * x473,
+            x343 - x506,
+            x507 - x344,
+            x508 - x509,
+            x510 - x458,
+            x511 - x459,
+            x512 + x417,
+            0.03942757095803552f64 * x499,
+            0.0015152444733270301f64 * x500,
+            -0.0015152444733270301f64 * x499,
+            -0.03146037232526039f64 * x500,
+            -0.004600245517563105f64 * x499,
+            -0.0021640520520981297f64 * x500,
+            0.05034347249f64 * x497,
+            -0.014653732538f64 * x497,
+            1.225946f64 * x497,
+            0.047121686402f64 * x500,
+            -0.047121686402f64 * x499,
+            0.014653732538f64 * x500,
+            0.05034347249f64 * x499,
+            x190 * x489,
+            x190 * x488,
+            x358 * x489,
+            x359 * x488,
+            x149 * x489,
+            x149 * x488,
+            x186 * x489,
+            x187 * x488,
+            x474 * x493,
+            x473 * x493,
+            x309 * x493,
+            x308 * x493,
+        );
+        let (
+            x576,
+            x577,
+            x578,
+            x579,
+            x580,
+            x581,
+            x582,
+            x583,
+            x584,
+            x585,
+            x586,
+            x587,
+            x588,
+            x589,
+            x590,
+            x591,
+            x592,
+            x593,
+            x594,
+            x595,
+            x596,
+            x597,
+            x598,
+            x599,
+            x600,
+            x601,
+            x602,
+            x603,
+            x604,
+            x605,
+            x606,
+            x607,
+            x608,
+            x609,
+            x610,
+            x611,
+            x612,
+            x613,
+            x614,
+            x615,
+            x616,
+            x617,
+            x618,
+            x619,
+            x620,
+            x621,
+            x622,
+            x623,
+        ) = (
+            x517 + x475,
+            x476 - x518,
+            -1.4955219999999998f64 * x516,
+            -0.002573605371338202f64 * x516,
+            -0.0020344399586617965f64 * x516,
+            x431 - x524,
+            x523 - x430,
+            x521 - x522,
+            x519 - x439,
+            x520 - x440,
+            x435 + x528,
+            x434 + x529,
+            x530 + x442,
+            x534 + x535,
+            x537 - x536,
+            x538 + x450,
+            x451 - x539,
+            s6 * x542,
+            c6 * x542,
+            0.088f64 * x542,
+            x503 + x545,
+            x504 + x546,
+            x505 + x547,
+            x548 + x415,
+            x549 + x416,
+            x551 + x552,
+            x553 + x554,
+            x555 + x556,
+            x467 - x560,
+            x561 - x468,
+            x562 - x563,
+            x187 * x527,
+            x149 * x526,
+            x149 * x525,
+            x186 * x527,
+            x186 * x526,
+            x187 * x525,
+            x469 - x564,
+            x565 - x470,
+            x566 - x567,
+            x471 + x568,
+            x569 - x472,
+            x570 + x571,
+            -0.00010375891721868492f64 * x542,
+            0.000093569097314605f64 * x542,
+            0.011794560230238949f64 * x542,
+            -0.023526756935f64 * x542,
+            0.10024161669500001f64 * x542,
+        );
+        let (
+            x624,
+            x625,
+            x626,
+            x627,
+            x628,
+            x629,
+            x630,
+            x631,
+            x632,
+            x633,
+            x634,
+            x635,
+            x636,
+            x637,
+            x638,
+            x639,
+            x640,
+            x641,
+            x642,
+            x643,
+            x644,
+            x645,
+            x646,
+            x647,
+            x648,
+            x649,
+            x650,
+            x651,
+            x652,
+            x653,
+            x654,
+            x655,
+            x656,
+            x657,
+            x658,
+            x659,
+        ) = (
+            1.4955219999999998f64 * x576,
+            1.4955219999999998f64 * x577,
+            0.002573605371338202f64 * x577,
+            0.0020344399586617965f64 * x576,
+            0.150277948634f64 * x576,
+            0.150277948634f64 * x577,
+            x490 + x581,
+            x491 + x582,
+            x492 + x583,
+            x578 - x533,
+            x589 + x448,
+            x590 - x449,
+            x449 - x590,
+            x591 + x386,
+            x592 - x387,
+            x387 - x592,
+            qd6 * x577,
+            qd6 * x576,
+            x596 + x513,
+            x597 + x514,
+            x598 + x515,
+            x601 + x464,
+            x602 + x465,
+            x603 + x466,
+            x559 - x606,
+            x607 + x608,
+            x609 - x610,
+            x611 + x612,
+            x360 * x585,
+            x360 * x584,
+            x473 * x585,
+            x474 * x584,
+            x243 * x585,
+            x243 * x584,
+            x308 * x585,
+            x309 * x584,
+        );
+        let (
+            x660,
+            x661,
+            x662,
+            x663,
+            x664,
+            x665,
+            x666,
+            x667,
+            x668,
+            x669,
+            x670,
+            x671,
+            x672,
+            x673,
+            x674,
+            x675,
+            x676,
+            x677,
+            x678,
+            x679,
+            x680,
+            x681,
+            x682,
+            x683,
+            x684,
+            x685,
+            x686,
+            x687,
+            x688,
+            x689,
+            x690,
+            x691,
+            x692,
+            x693,
+            x694,
+            x695,
+            x696,
+            x697,
+            x698,
+            x699,
+            x700,
+            x701,
+            x702,
+            x703,
+            x704,
+            x705,
+            x706,
+            x707,
+            x708,
+            x709,
+        ) = (
+            x580 - x629,
+            x628 - x579,
+            x626 - x627,
+            x624 - x531,
+            x625 - x532,
+            c5 * x634,
+            s5 * x634,
+            c6 * x637,
+            s6 * x637,
+            0.088f64 * x638,
+            a6 + x639,
+            -0.047121686402f64 * x635,
+            -0.047121686402f64 * x634,
+            -0.014653732538f64 * x635,
+            0.05034347249f64 * x634,
+            1.225946f64 * x634,
+            1.225946f64 * x635,
+            x613 - x649,
+            x650 + x614,
+            x651 + x615,
+            x648 + x618,
+            0.0024804603581707893f64 * x637,
+            0.001524110902883315f64 * x638,
+            0.001524110902883315f64 * x637,
+            0.01056776613310695f64 * x638,
+            -0.00010375891721868492f64 * x637,
+            0.000093569097314605f64 * x638,
+            -0.023526756935f64 * x636,
+            0.10024161669500001f64 * x636,
+            1.666555f64 * x636,
+            -0.017527158935000002f64 * x638,
+            -0.017527158935000002f64 * x637,
+            0.10024161669500001f64 * x638,
+            -0.023526756935f64 * x637,
+            x309 * x632,
+            x243 * x631,
+            x243 * x630,
+            x308 * x632,
+            x308 * x631,
+            x309 * x630,
+            x572 - x652,
+            x653 - x573,
+            x654 - x655,
+            x574 - x656,
+            x657 - x575,
+            x658 - x659,
+            x577 * x633,
+            x576 * x633,
+            x421 * x633,
+            x420 * x633,
+        );
+        let (
+            x710,
+            x711,
+            x712,
+            x713,
+            x714,
+            x715,
+            x716,
+            x717,
+            x718,
+            x719,
+            x720,
+            x721,
+            x722,
+            x723,
+            x724,
+            x725,
+            x726,
+            x727,
+            x728,
+            x729,
+            x730,
+            x731,
+            x732,
+            x733,
+            x734,
+            x735,
+            x736,
+            x737,
+            x738,
+            x739,
+            x740,
+            x741,
+            x742,
+            x743,
+            x744,
+        ) = (
+            x586 + x660,
+            x587 + x661,
+            x588 + x662,
+            x665 + x540,
+            x541 - x666,
+            x667 + x593,
+            x594 - x668,
+            x636 - x669,
+            x557 - x671,
+            x672 - x558,
+            x673 - x674,
+            x675 - x604,
+            x676 - x605,
+            x681 + x682,
+            x683 + x684,
+            x685 + x686,
+            x622 - x690,
+            x691 - x623,
+            x692 - x693,
+            x694 - x695,
+            x696 - x697,
+            x698 - x699,
+            -0.0009653051699191116f64 * x670,
+            -0.001255536598272898f64 * x670,
+            0.006684151967360945f64 * x670,
+            0.0020344399586617965f64 * x670,
+            0.002573605371338202f64 * x670,
+            x516 * x664,
+            x516 * x663,
+            x576 * x664,
+            x577 * x663,
+            x364 * x664,
+            x364 * x663,
+            x420 * x664,
+            x421 * x663,
+        );
+        let (
+            x745,
+            x746,
+            x747,
+            x748,
+            x749,
+            x750,
+            x751,
+            x752,
+            x753,
+            x754,
+            x755,
+            x756,
+            x757,
+            x758,
+            x759,
+            x760,
+            x761,
+            x762,
+            x763,
+            x764,
+            x765,
+            x766,
+            x767,
+            x768,
+            x769,
+            x770,
+            x771,
+            x772,
+            x773,
+            x774,
+        ) = (
+            x713 + x543,
+            x714 - x544,
+            s6 * x717,
+            c6 * x717,
+            x715 + x501,
+            x716 - x502,
+            x645 + x718,
+            x646 + x719,
+            x647 + x720,
+            x721 - x616,
+            x722 + x617,
+            x723 + x619,
+            x724 + x620,
+            x725 + x621,
+            x689 - x728,
+            x729 + x700,
+            x730 + x701,
+            x731 + x702,
+            x421 * x712,
+            x364 * x711,
+            x364 * x710,
+            x420 * x712,
+            x420 * x711,
+            x421 * x710,
+            x706 + x737,
+            x738 + x707,
+            x739 - x740,
+            x708 - x741,
+            x742 - x709,
+            x743 - x744,
+        );
+        let (
+            x775,
+            x776,
+            x777,
+            x778,
+            x779,
+            x780,
+            x781,
+            x782,
+            x783,
+            x784,
+            x785,
+            x786,
+            x787,
+            x788,
+            x789,
+            x790,
+            x791,
+            x792,
+            x793,
+            x794,
+            x795,
+            x796,
+            x797,
+            x798,
+            x799,
+            x800,
+        ) = (
+            x746 + x595,
+            c6 * x745,
+            s6 * x745,
+            x751 + x677,
+            x752 + x678,
+            x753 + x679,
+            -0.017527158935000002f64 * x746,
+            -0.017527158935000002f64 * x745,
+            0.10024161669500001f64 * x746,
+            -0.023526756935f64 * x745,
+            1.666555f64 * x745,
+            1.666555f64 * x746,
+            x759 + x705,
+            0.0316333431909496f64 * x749,
+            0.0003913912816842481f64 * x750,
+            0.0003913912816842481f64 * x749,
+            0.029212399412428362f64 * x750,
+            -0.0009653051699191116f64 * x749,
+            -0.001255536598272898f64 * x750,
+            0.150277948634f64 * x750,
+            0.150277948634f64 * x749,
+            0.002573605371338202f64 * x750,
+            0.0020344399586617965f64 * x749,
+            x763 - x764,
+            x765 - x766,
+            x767 - x768,
+        );
+        let (
+            x801,
+            x802,
+            x803,
+            x804,
+            x805,
+            x806,
+            x807,
+            x808,
+            x809,
+            x810,
+            x811,
+            x812,
+            x813,
+            x814,
+            x815,
+            x816,
+            x817,
+            x818,
+            x819,
+        ) = (
+            x776 + x747,
+            x748 - x777,
+            x687 - x781,
+            x782 - x688,
+            x783 - x784,
+            x785 - x726,
+            x786 - x727,
+            x788 + x789,
+            x790 + x791,
+            x792 + x793,
+            -0.0020344399586617965f64 * x775,
+            -0.002573605371338202f64 * x775,
+            -1.4955219999999998f64 * x775,
+            x735 - x794,
+            x795 - x736,
+            x796 - x797,
+            x798 + x769,
+            x799 - x770,
+            x800 + x771,
+        );
+        let (x820, x821, x822, x823, x824, x825, x826, x827, x828, x829, x830) = (
+            x801 + x640,
+            x802 - x641,
+            x756 + x803,
+            x757 + x804,
+            x758 + x805,
+            x806 + x703,
+            x807 + x704,
+            x808 + x732,
+            x809 + x733,
+            x810 + x734,
+            x813 - x816,
+        );
+        let (x831, x832, x833, x834, x835, x836, x837, x838, x839, x840) = (
+            x822 + x760,
+            x823 + x761,
+            x824 + x762,
+            0.150277948634f64 * x821,
+            0.150277948634f64 * x820,
+            0.002573605371338202f64 * x821,
+            0.0020344399586617965f64 * x820,
+            1.4955219999999998f64 * x820,
+            1.4955219999999998f64 * x821,
+            x830 + x774,
+        );
+        let (x841, x842, x843, x844, x845, x846, x847) = (
+            x811 - x834,
+            x835 - x812,
+            x836 - x837,
+            x838 - x814,
+            x839 - x815,
+            -0.088f64 * x840,
+            x826 - x840,
+        );
+        let (x848, x849, x850, x851, x852, x853, x854) = (
+            x827 + x841,
+            x828 + x842,
+            x829 + x843,
+            x844 + x772,
+            x845 + x773,
+            s5 * x847,
+            c5 * x847,
+        );
+        let (x855, x856, x857, x858, x859, x860, x861) = (
+            x848 + x817,
+            x849 + x818,
+            x850 + x819,
+            c6 * x851,
+            s6 * x852,
+            s6 * x851,
+            c6 * x852,
+        );
+        let (x862, x863, x864, x865, x866, x867) = (
+            x858 - x859,
+            x860 + x861,
+            c6 * x855,
+            s6 * x856,
+            s6 * x855,
+            c6 * x856,
+        );
+        let (x868, x869, x870, x871, x872) = (
+            x864 - x865,
+            x866 + x867,
+            0.088f64 * x863,
+            x825 + x862,
+            x787 + x863,
+        );
+        let (x873, x874, x875, x876, x877, x878) = (
+            x857 + x870,
+            x869 + x846,
+            x831 + x868,
+            c5 * x871,
+            s5 * x871,
+            x755 - x872,
+        );
+        let (x879, x880, x881, x882, x883, x884, x885, x886) = (
+            x832 - x873,
+            x833 + x874,
+            x876 - x853,
+            x877 + x854,
+            c5 * x875,
+            s5 * x875,
+            s4 * x878,
+            c4 * x878,
+        );
+        let (x887, x888, x889, x890, x891) = (
+            s5 * x879,
+            c5 * x879,
+            x779 - x880,
+            x754 + x881,
+            x680 + x882,
+        );
+        let (x892, x893, x894, x895, x896, x897, x898, x899) = (
+            x883 - x887,
+            x884 + x888,
+            c4 * x890,
+            s4 * x890,
+            s4 * x889,
+            c4 * x889,
+            -0.0825f64 * x891,
+            x600 + x891,
+        );
+        let (x900, x901, x902, x903, x904, x905) = (
+            x778 + x892,
+            x780 + x893,
+            x894 - x885,
+            x895 + x886,
+            s3 * x899,
+            c3 * x899,
+        );
+        let (x906, x907, x908, x909, x910, x911, x912) = (
+            c4 * x900,
+            s4 * x900,
+            -0.384f64 * x903,
+            0.0825f64 * x903,
+            0.384f64 * x902,
+            x599 + x902,
+            x903 - x550,
+        );
+        let (x913, x914, x915, x916, x917, x918, x919, x920) = (
+            x906 - x896,
+            x907 + x897,
+            x898 - x910,
+            x901 - x909,
+            c3 * x911,
+            s3 * x911,
+            0.0825f64 * x912,
+            x395 + x912,
+        );
+        let (x921, x922, x923, x924, x925, x926, x927) = (
+            x913 + x908,
+            x915 - x914,
+            x643 + x916,
+            x917 - x904,
+            x918 + x905,
+            s2 * x920,
+            c2 * x920,
+        );
+        let (x928, x929, x930, x931, x932, x933) = (
+            x642 + x921,
+            x644 + x922,
+            s3 * x923,
+            c3 * x923,
+            0.0825f64 * x925,
+            x394 + x924,
+        );
+        let (x934, x935, x936, x937, x938) = (
+            c3 * x928,
+            s3 * x928,
+            x929 + x932,
+            c2 * x933,
+            s2 * x933,
+        );
+        let (x939, x940, x941, x942, x943) = (
+            x934 - x930,
+            x935 + x931,
+            x453 - x936,
+            x937 - x926,
+            x938 + x927,
+        );
+        let (x944, x945, x946, x947, x948, x949) = (
+            x940 + x919,
+            x452 + x939,
+            s2 * x941,
+            c2 * x941,
+            -0.316f64 * x943,
+            -0.316f64 * x942,
+        );
+        let (x950, x951, x952) = (x454 + x944, c2 * x945, s2 * x945);
+        let (x953, x954, x955) = (x951 - x946, x952 + x947, x279 - x950);
+        let (x956, x957, x958) = (x953 + x948, x954 - x949, c1 * x955);
+        let (x959, x960) = (x278 + x956, x280 + x957);
+        let x961: f64 = s1 * x959;
+        let x962: f64 = x961 + x958;
+        let x963: f64 = x21 - x962;
         SVector::from_array_storage(
-            ArrayStorage([[x963, x959, x938, x916, x890, x872, x850]]),
+            ArrayStorage([[x963, x960, x950, x929, x901, x880, x857]]),
         )
     }
     ///Operations: 1047 mul, 839 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
@@ -2897,131 +9157,3781 @@ impl RobotDynamics<7, 70> for Panda {
         v: &SVector<f64, 7>,
         a: &SVector<f64, 7>,
     ) -> SVector<f64, 7> {
-        let [x44, x47, x54, x58, x61, x62, x65, x68, x71, x74, x75, x76, x79, x82, x86,
-        x90, x93, x94, x263, x264, x265, x269, x270, x271, x284, x285, x286, x290, x291,
-        x292, x305, x306, x307, x311, x312, x313, x322, x410, x413, x420, x424, x427,
-        x428, x441, x449, x454, x455, x456, x457, x460, x463, x466, x469, x470, x471,
-        x484, x485, x490, x491, x492, x493, x496, x499, x503, x507, x510, x511, x521,
-        x529, x534, x535, x536, x537, x617, x618, x619, x811, x812, x813, x814, x815,
-        x840, x841, x842, x855, x856, x857, x960, x961, x962, x963, x964, x965, x968,
-        x971, x974, x994, x995, x1020, x1021, x1022, x1023] = slotine_li_part0(
-            t,
-            qd,
-            v,
-            a,
+        let [_, s1, s2, s3, s4, s5, s6] = t.sin;
+        let [_, c1, c2, c3, c4, c5, c6] = t.cos;
+        let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+        let [v0, v1, v2, v3, v4, v5, v6] = v.data.0[0];
+        let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
+        let (
+            x0,
+            x1,
+            x2,
+            x3,
+            x4,
+            x5,
+            x6,
+            x7,
+            x8,
+            x9,
+            x10,
+            x11,
+            x12,
+            x13,
+            x14,
+            x15,
+            x16,
+            x17,
+            x18,
+            x19,
+            x20,
+            x21,
+            x22,
+            x23,
+            x24,
+            x25,
+            x26,
+            x27,
+            x28,
+            x29,
+            x30,
+            x31,
+            x32,
+        ) = (
+            -9.81f64 * s1,
+            -9.81f64 * c1,
+            -0.0221804724897f64 * c1,
+            -0.0221804724897f64 * s1,
+            0.01993386669246f64 * c1,
+            0.18226700140319999f64 * s1,
+            1.24321310088048f64 * c1,
+            0.87156675099432f64 * c1,
+            qd0 * s1,
+            qd0 * c1,
+            qd1 * s2,
+            qd1 * c2,
+            -0.316f64 * qd1,
+            0.0007689361029464f64 * qd1,
+            0.01026110182100817f64 * qd1,
+            0.026534991901690206f64 * qd1,
+            a0 * s1,
+            a0 * c1,
+            a1 * s2,
+            a1 * c2,
+            -0.316f64 * a1,
+            0.009213163777211224f64 * a0,
+            0.01026110182100817f64 * a1,
+            0.0007689361029464f64 * a1,
+            0.026534991901690206f64 * a1,
+            v0 * s1,
+            v0 * c1,
+            v1 * s2,
+            v1 * c2,
+            -0.316f64 * v1,
+            0.01026110182100817f64 * v1,
+            0.0007689361029464f64 * v1,
+            0.026534991901690206f64 * v1,
         );
-        let [x1772, x1794, x1812, x1838, x1860, x1881, x1885] = slotine_li_part1(
-            t,
-            qd,
-            v,
-            a,
-            [
-                x44,
-                x47,
-                x54,
-                x58,
-                x61,
-                x62,
-                x65,
-                x68,
-                x71,
-                x74,
-                x75,
-                x76,
-                x79,
-                x82,
-                x86,
-                x90,
-                x93,
-                x94,
-                x263,
-                x264,
-                x265,
-                x269,
-                x270,
-                x271,
-                x284,
-                x285,
-                x286,
-                x290,
-                x291,
-                x292,
-                x305,
-                x306,
-                x307,
-                x311,
-                x312,
-                x313,
-                x322,
-                x410,
-                x413,
-                x420,
-                x424,
-                x427,
-                x428,
-                x441,
-                x449,
-                x454,
-                x455,
-                x456,
-                x457,
-                x460,
-                x463,
-                x466,
-                x469,
-                x470,
-                x471,
-                x484,
-                x485,
-                x490,
-                x491,
-                x492,
-                x493,
-                x496,
-                x499,
-                x503,
-                x507,
-                x510,
-                x511,
-                x521,
-                x529,
-                x534,
-                x535,
-                x536,
-                x537,
-                x617,
-                x618,
-                x619,
-                x811,
-                x812,
-                x813,
-                x814,
-                x815,
-                x840,
-                x841,
-                x842,
-                x855,
-                x856,
-                x857,
-                x960,
-                x961,
-                x962,
-                x963,
-                x964,
-                x965,
-                x968,
-                x971,
-                x974,
-                x994,
-                x995,
-                x1020,
-                x1021,
-                x1022,
-                x1023,
-            ],
+        let (
+            x33,
+            x34,
+            x35,
+            x36,
+            x37,
+            x38,
+            x39,
+            x40,
+            x41,
+            x42,
+            x43,
+            x44,
+            x45,
+            x46,
+            x47,
+            x48,
+            x49,
+            x50,
+            x51,
+            x52,
+            x53,
+            x54,
+            x55,
+            x56,
+            x57,
+            x58,
+            x59,
+            x60,
+            x61,
+            x62,
+            x63,
+            x64,
+        ) = (
+            x4 - x5,
+            c2 * x8,
+            s2 * x8,
+            0.316f64 * x8,
+            c2 * x12,
+            s2 * x12,
+            qd2 + x9,
+            -0.0007689361029464f64 * x9,
+            -0.01026110182100817f64 * x8,
+            0.00398335888393552f64 * x8,
+            0.00398335888393552f64 * x9,
+            -0.00850351162402155f64 * x8,
+            -0.028124284712194955f64 * x9,
+            x0 - x20,
+            v1 * x9,
+            v1 * x8,
+            c2 * x25,
+            s2 * x25,
+            0.316f64 * x25,
+            c2 * x29,
+            s2 * x29,
+            v2 + x26,
+            -0.00850351162402155f64 * x25,
+            0.00398335888393552f64 * x26,
+            0.00398335888393552f64 * x25,
+            -0.028124284712194955f64 * x26,
+            -0.01026110182100817f64 * x25,
+            -0.0007689361029464f64 * x26,
+            qd1 * x26,
+            qd1 * x25,
+            x8 * x26,
+            x9 * x25,
         );
+        let (
+            x65,
+            x66,
+            x67,
+            x68,
+            x69,
+            x70,
+            x71,
+            x72,
+            x73,
+            x74,
+            x75,
+            x76,
+            x77,
+            x78,
+            x79,
+            x80,
+            x81,
+            x82,
+            x83,
+            x84,
+            x85,
+            x86,
+            x87,
+            x88,
+            x89,
+            x90,
+            x91,
+            x92,
+            x93,
+            x94,
+            x95,
+            x96,
+            x97,
+            x98,
+            x99,
+            x100,
+            x101,
+            x102,
+        ) = (
+            x10 - x34,
+            x35 + x11,
+            s2 * x36,
+            c2 * x36,
+            s3 * x39,
+            c3 * x39,
+            0.0825f64 * x39,
+            0.126729164208f64 * x39,
+            0.088844724872f64 * x39,
+            -0.004377257121839584f64 * x39,
+            -0.005487648106562256f64 * x39,
+            x43 + x44,
+            x42 + x45,
+            x40 + x41,
+            0.01824920229252011f64 * x39,
+            c2 * x46,
+            s2 * x46,
+            x16 + x47,
+            x48 - x17,
+            x27 - x49,
+            x50 + x28,
+            s2 * x51,
+            c2 * x51,
+            x17 - x48,
+            s3 * x54,
+            c3 * x54,
+            0.0825f64 * x54,
+            x55 + x56,
+            x57 + x58,
+            x59 + x60,
+            x61 - x47,
+            x48 - x62,
+            x63 - x64,
+            -0.005487648106562256f64 * x54,
+            -0.004377257121839584f64 * x54,
+            0.01824920229252011f64 * x54,
+            0.126729164208f64 * x54,
+            0.088844724872f64 * x54,
+        );
+        let (
+            x103,
+            x104,
+            x105,
+            x106,
+            x107,
+            x108,
+            x109,
+            x110,
+            x111,
+            x112,
+            x113,
+            x114,
+            x115,
+            x116,
+            x117,
+            x118,
+            x119,
+            x120,
+            x121,
+            x122,
+            x123,
+            x124,
+            x125,
+            x126,
+            x127,
+            x128,
+            x129,
+            x130,
+            x131,
+            x132,
+            x133,
+            x134,
+            x135,
+            x136,
+            x137,
+            x138,
+            x139,
+            x140,
+            x141,
+            x142,
+            x143,
+            x144,
+            x145,
+            x146,
+            x147,
+            x148,
+            x149,
+            x150,
+            x151,
+            x152,
+            x153,
+            x154,
+            x155,
+            x156,
+            x157,
+            x158,
+            x159,
+            x160,
+            x161,
+            x162,
+            x163,
+            x164,
+            x165,
+            x166,
+        ) = (
+            x67 - x37,
+            x38 + x68,
+            c3 * x65,
+            s3 * x65,
+            0.0825f64 * x66,
+            qd3 - x66,
+            -0.214708623208f64 * x66,
+            -0.214708623208f64 * x65,
+            0.126729164208f64 * x65,
+            0.088844724872f64 * x66,
+            -0.004377257121839584f64 * x66,
+            -0.005487648106562256f64 * x65,
+            -0.008248333140675744f64 * x65,
+            -0.008248333140675744f64 * x66,
+            x14 + x76,
+            x13 + x77,
+            x78 + x15,
+            0.05649492601407083f64 * x65,
+            0.05287838199960611f64 * x66,
+            x86 - x52,
+            x53 + x87,
+            c2 * x82,
+            s2 * x82,
+            0.316f64 * x82,
+            a2 + x88,
+            v2 * x66,
+            v2 * x65,
+            c3 * x84,
+            s3 * x84,
+            0.0825f64 * x85,
+            v3 - x85,
+            -0.00850351162402155f64 * x82,
+            -0.00398335888393552f64 * x83,
+            0.00398335888393552f64 * x82,
+            0.028124284712194955f64 * x83,
+            -0.01026110182100817f64 * x82,
+            0.0007689361029464f64 * x83,
+            x92 + x30,
+            x93 + x31,
+            x94 + x32,
+            0.00850351162402155f64 * x95,
+            -0.00398335888393552f64 * x96,
+            0.01026110182100817f64 * x97,
+            -0.00398335888393552f64 * x95,
+            0.028124284712194955f64 * x96,
+            0.0007689361029464f64 * x97,
+            0.01026110182100817f64 * x95,
+            0.0007689361029464f64 * x96,
+            0.026534991901690206f64 * x97,
+            0.05649492601407083f64 * x84,
+            -0.008248333140675744f64 * x85,
+            -0.008248333140675744f64 * x84,
+            0.05287838199960611f64 * x85,
+            -0.005487648106562256f64 * x84,
+            -0.004377257121839584f64 * x85,
+            -0.214708623208f64 * x85,
+            -0.214708623208f64 * x84,
+            0.088844724872f64 * x85,
+            0.126729164208f64 * x84,
+            x66 * x54,
+            x39 * x85,
+            x39 * x84,
+            x65 * x54,
+            x65 * x85,
+        );
+        let x167: f64 = x66 * x84;
+        let (
+            x168,
+            x169,
+            x170,
+            x171,
+            x172,
+            x173,
+            x174,
+            x175,
+            x176,
+            x177,
+            x178,
+            x179,
+            x180,
+            x181,
+            x182,
+            x183,
+            x184,
+            x185,
+            x186,
+            x187,
+            x188,
+            x189,
+            x190,
+            x191,
+            x192,
+            x193,
+            x194,
+            x195,
+            x196,
+            x197,
+            x198,
+            x199,
+            x200,
+            x201,
+            x202,
+            x203,
+            x204,
+            x205,
+            x206,
+            x207,
+            x208,
+            x209,
+            x210,
+            x211,
+            x212,
+            x213,
+            x214,
+            x215,
+            x216,
+            x217,
+            x218,
+            x219,
+            x220,
+            x221,
+            x222,
+            x223,
+            x224,
+            x225,
+            x226,
+            x227,
+            x228,
+            x229,
+            x230,
+            x231,
+        ) = (
+            x105 + x69,
+            x70 - x106,
+            x104 + x71,
+            c3 * x103,
+            s3 * x107,
+            s3 * x103,
+            c3 * x107,
+            s4 * x108,
+            c4 * x108,
+            0.384f64 * x108,
+            -0.0825f64 * x108,
+            x111 - x112,
+            3.228604f64 * x103,
+            3.228604f64 * x104,
+            0.088844724872f64 * x104,
+            0.126729164208f64 * x103,
+            -0.214708623208f64 * x103,
+            -0.214708623208f64 * x104,
+            0.374644408005f64 * x108,
+            -0.19076837715f64 * x108,
+            -0.0016444875773692705f64 * x108,
+            0.0039053550262761003f64 * x108,
+            x116 + x120,
+            x115 + x121,
+            x113 + x114,
+            x72 - x109,
+            x110 - x73,
+            0.0775861490525396f64 * x108,
+            x18 - x124,
+            x19 + x125,
+            s2 * x126,
+            c2 * x126,
+            v2 * x104,
+            v2 * x103,
+            x130 + x89,
+            x90 - x131,
+            x123 + x91,
+            c3 * x122,
+            s3 * x132,
+            s3 * x122,
+            c3 * x132,
+            s3 * x127,
+            c3 * x127,
+            0.0825f64 * x127,
+            s4 * x133,
+            c4 * x133,
+            0.384f64 * x133,
+            -0.0825f64 * x133,
+            x134 + x135,
+            x136 + x137,
+            x138 + x139,
+            x9 * x142,
+            qd1 * x141,
+            qd1 * x140,
+            x8 * x142,
+            x8 * x141,
+            x9 * x140,
+            x119 * x26,
+            v1 * x118,
+            v1 * x117,
+            x119 * x25,
+            x118 * x25,
+            x117 * x26,
+            x143 + x144,
+        );
+        let (
+            x232,
+            x233,
+            x234,
+            x235,
+            x236,
+            x237,
+            x238,
+            x239,
+            x240,
+            x241,
+            x242,
+            x243,
+            x244,
+            x245,
+            x246,
+            x247,
+            x248,
+            x249,
+            x250,
+            x251,
+            x252,
+            x253,
+            x254,
+            x255,
+            x256,
+            x257,
+            x258,
+            x259,
+            x260,
+            x261,
+            x262,
+            x263,
+            x264,
+            x265,
+            x266,
+        ) = (
+            x146 + x147,
+            x149 + x150,
+            -0.005487648106562256f64 * x127,
+            -0.004377257121839584f64 * x127,
+            0.01824920229252011f64 * x127,
+            0.126729164208f64 * x127,
+            0.088844724872f64 * x127,
+            x152 + x153,
+            x154 + x155,
+            x156 + x157,
+            -0.214708623208f64 * x123,
+            -0.214708623208f64 * x122,
+            0.088844724872f64 * x123,
+            0.126729164208f64 * x122,
+            3.228604f64 * x122,
+            3.228604f64 * x123,
+            x101 - x158,
+            x159 - x102,
+            x161 - x160,
+            x162 - x163,
+            x164 - x165,
+            x166 - x167,
+            x39 * x123,
+            x39 * x122,
+            x65 * x123,
+            x66 * x122,
+            x104 * x54,
+            x103 * x54,
+            x103 * x85,
+            x104 * x84,
+            0.0039053550262761003f64 * x133,
+            -0.0016444875773692705f64 * x133,
+            0.0775861490525396f64 * x133,
+            0.374644408005f64 * x133,
+            -0.19076837715f64 * x133,
+        );
+        let (
+            x267,
+            x268,
+            x269,
+            x270,
+            x271,
+            x272,
+            x273,
+            x274,
+            x275,
+            x276,
+            x277,
+            x278,
+            x279,
+            x280,
+            x281,
+            x282,
+            x283,
+            x284,
+            x285,
+            x286,
+            x287,
+            x288,
+            x289,
+            x290,
+            x291,
+            x292,
+            x293,
+            x294,
+            x295,
+            x296,
+            x297,
+            x298,
+            x299,
+            x300,
+            x301,
+            x302,
+            x303,
+            x304,
+            x305,
+            x306,
+            x307,
+            x308,
+            x309,
+            x310,
+            x311,
+            x312,
+            x313,
+            x314,
+            x315,
+            x316,
+            x317,
+            x318,
+            x319,
+            x320,
+            x321,
+            x322,
+            x323,
+            x324,
+            x325,
+            x326,
+            x327,
+            x328,
+            x329,
+            x330,
+        ) = (
+            x171 - x172,
+            x173 + x174,
+            c4 * x168,
+            s4 * x168,
+            -0.0825f64 * x169,
+            0.384f64 * x168,
+            qd4 + x169,
+            0.09850206933f64 * x169,
+            0.09850206933f64 * x168,
+            0.374644408005f64 * x168,
+            -0.19076837715f64 * x169,
+            -3.587895f64 * x170,
+            -0.0016444875773692705f64 * x169,
+            0.0039053550262761003f64 * x168,
+            0.02771584317362585f64 * x168,
+            0.19076837715f64 * x170,
+            0.02771584317362585f64 * x169,
+            -0.374644408005f64 * x170,
+            x75 + x190,
+            x74 + x191,
+            x192 + x79,
+            x182 - x183,
+            x180 - x193,
+            x181 - x194,
+            0.06767727025085991f64 * x168,
+            0.03239943042445132f64 * x169,
+            x80 + x198,
+            x199 - x81,
+            x196 + x128,
+            x197 - x129,
+            x205 - x206,
+            x207 + x208,
+            x129 - x197,
+            v3 * x169,
+            v3 * x168,
+            c4 * x202,
+            s4 * x202,
+            -0.0825f64 * x203,
+            0.384f64 * x202,
+            v4 + x203,
+            x22 + x216,
+            x23 + x217,
+            x24 + x218,
+            x219 + x220,
+            x221 + x222,
+            x224 - x223,
+            x225 + x226,
+            x227 + x228,
+            x230 - x229,
+            x231 + x145,
+            x232 + x148,
+            x233 + x151,
+            x239 + x98,
+            x240 + x99,
+            x241 + x100,
+            x244 - x245,
+            x246 - x248,
+            x247 - x249,
+            x104 * x250,
+            x103 * x250,
+            x66 * x250,
+            x65 * x250,
+            x179 * x123,
+            x179 * x122,
+        );
+        let (
+            x331,
+            x332,
+            x333,
+            x334,
+            x335,
+            x336,
+            x337,
+            x338,
+            x339,
+            x340,
+            x341,
+            x342,
+            x343,
+            x344,
+            x345,
+            x346,
+            x347,
+            x348,
+            x349,
+            x350,
+            x351,
+            x352,
+            x353,
+            x354,
+            x355,
+            x356,
+            x357,
+            x358,
+            x359,
+            x360,
+            x361,
+            x362,
+            x363,
+            x364,
+            x365,
+            x366,
+            x367,
+            x368,
+            x369,
+            x370,
+            x371,
+            x372,
+        ) = (
+            x179 * x85,
+            x179 * x84,
+            x256 - x257,
+            x260 - x261,
+            x258 - x254,
+            x255 - x259,
+            0.05649492601407083f64 * x251,
+            -0.008248333140675744f64 * x252,
+            -0.005487648106562256f64 * x253,
+            -0.008248333140675744f64 * x251,
+            0.05287838199960611f64 * x252,
+            -0.004377257121839584f64 * x253,
+            -0.005487648106562256f64 * x251,
+            -0.004377257121839584f64 * x252,
+            0.01824920229252011f64 * x253,
+            0.126729164208f64 * x253,
+            -0.214708623208f64 * x252,
+            -0.214708623208f64 * x251,
+            0.088844724872f64 * x253,
+            0.06767727025085991f64 * x202,
+            0.02771584317362585f64 * x203,
+            0.02771584317362585f64 * x202,
+            0.03239943042445132f64 * x203,
+            0.0039053550262761003f64 * x202,
+            -0.0016444875773692705f64 * x203,
+            -0.374644408005f64 * x204,
+            0.19076837715f64 * x204,
+            -3.587895f64 * x204,
+            0.09850206933f64 * x203,
+            0.09850206933f64 * x202,
+            -0.19076837715f64 * x203,
+            0.374644408005f64 * x202,
+            x169 * x133,
+            x108 * x203,
+            x108 * x202,
+            x168 * x133,
+            x168 * x203,
+            x169 * x202,
+            x169 * x204,
+            x168 * x204,
+            x170 * x203,
+            x170 * x202,
+        );
+        let (
+            x373,
+            x374,
+            x375,
+            x376,
+            x377,
+            x378,
+            x379,
+            x380,
+            x381,
+            x382,
+            x383,
+            x384,
+            x385,
+            x386,
+            x387,
+            x388,
+            x389,
+            x390,
+            x391,
+            x392,
+            x393,
+            x394,
+            x395,
+            x396,
+            x397,
+            x398,
+            x399,
+            x400,
+            x401,
+            x402,
+            x403,
+            x404,
+            x405,
+            x406,
+            x407,
+            x408,
+            x409,
+            x410,
+            x411,
+            x412,
+            x413,
+            x414,
+            x415,
+            x416,
+            x417,
+            x418,
+            x419,
+            x420,
+            x421,
+            x422,
+            x423,
+            x424,
+            x425,
+            x426,
+            x427,
+            x428,
+            x429,
+            x430,
+            x431,
+            x432,
+            x433,
+            x434,
+            x435,
+            x436,
+        ) = (
+            x269 - x175,
+            x270 + x176,
+            x271 - x272,
+            x267 - x177,
+            x178 - x268,
+            s5 * x273,
+            c5 * x273,
+            3.587895f64 * x267,
+            -3.587895f64 * x268,
+            0.19076837715f64 * x268,
+            0.374644408005f64 * x267,
+            0.09850206933f64 * x267,
+            -0.09850206933f64 * x268,
+            0.05034347249f64 * x273,
+            -0.014653732538f64 * x273,
+            0.0021640520520981297f64 * x273,
+            -0.004600245517563105f64 * x273,
+            x285 - x185,
+            x184 + x286,
+            x287 + x288,
+            x283 + x291,
+            x281 + x292,
+            x279 + x280,
+            x186 - x274,
+            x275 - x187,
+            x277 - x276,
+            0.010869510762828563f64 * x273,
+            x293 + x200,
+            x294 - x201,
+            c3 * x295,
+            s3 * x295,
+            0.0825f64 * x296,
+            a3 + x299,
+            v3 * x268,
+            v3 * x267,
+            x302 - x212,
+            x303 + x213,
+            x304 - x305,
+            x297 - x214,
+            x215 - x298,
+            s5 * x306,
+            c5 * x306,
+            x307 - x2,
+            x3 + x308,
+            x33 + x309,
+            x310 + x313,
+            x311 + x314,
+            x312 + x315,
+            0.05649492601407083f64 * x295,
+            -0.008248333140675744f64 * x296,
+            -0.008248333140675744f64 * x295,
+            0.05287838199960611f64 * x296,
+            -0.005487648106562256f64 * x295,
+            -0.004377257121839584f64 * x296,
+            -0.214708623208f64 * x296,
+            -0.214708623208f64 * x295,
+            x319 - x242,
+            x320 + x243,
+            x321 + x322,
+            x103 * x324,
+            x104 * x323,
+            x39 * x324,
+            x39 * x323,
+            x290 * x122,
+        );
+        let (
+            x437,
+            x438,
+            x439,
+            x440,
+            x441,
+            x442,
+            x443,
+            x444,
+            x445,
+            x446,
+            x447,
+            x448,
+            x449,
+            x450,
+            x451,
+            x452,
+            x453,
+            x454,
+            x455,
+            x456,
+            x457,
+            x458,
+            x459,
+            x460,
+            x461,
+            x462,
+            x463,
+            x464,
+            x465,
+            x466,
+            x467,
+            x468,
+            x469,
+            x470,
+            x471,
+            x472,
+            x473,
+            x474,
+            x475,
+            x476,
+            x477,
+            x478,
+            x479,
+        ) = (
+            x289 * x123,
+            x290 * x54,
+            x289 * x54,
+            x333 + x334,
+            x337 + x338,
+            x340 + x341,
+            x343 + x344,
+            -0.214708623208f64 * x336,
+            -0.214708623208f64 * x335,
+            0.088844724872f64 * x336,
+            0.126729164208f64 * x335,
+            3.228604f64 * x335,
+            3.228604f64 * x336,
+            x346 - x347,
+            x348 - x349,
+            x350 + x351,
+            x352 + x353,
+            x354 + x355,
+            -0.09850206933f64 * x298,
+            0.09850206933f64 * x297,
+            0.19076837715f64 * x298,
+            0.374644408005f64 * x297,
+            3.587895f64 * x297,
+            -3.587895f64 * x298,
+            x265 - x359,
+            x360 - x266,
+            x361 - x362,
+            x363 - x364,
+            x365 - x366,
+            x367 - x368,
+            x108 * x298,
+            x108 * x297,
+            x168 * x298,
+            x169 * x297,
+            x268 * x133,
+            x267 * x133,
+            x267 * x203,
+            x268 * x202,
+            -0.004600245517563105f64 * x306,
+            0.0021640520520981297f64 * x306,
+            0.010869510762828563f64 * x306,
+            0.05034347249f64 * x306,
+            -0.014653732538f64 * x306,
+        );
+        let (
+            x480,
+            x481,
+            x482,
+            x483,
+            x484,
+            x485,
+            x486,
+            x487,
+            x488,
+            x489,
+            x490,
+            x491,
+            x492,
+            x493,
+            x494,
+            x495,
+            x496,
+            x497,
+            x498,
+            x499,
+            x500,
+            x501,
+            x502,
+            x503,
+            x504,
+            x505,
+            x506,
+            x507,
+            x508,
+            x509,
+            x510,
+            x511,
+            x512,
+            x513,
+            x514,
+            x515,
+            x516,
+            x517,
+            x518,
+            x519,
+            x520,
+            x521,
+            x522,
+            x523,
+            x524,
+            x525,
+            x526,
+            x527,
+            x528,
+            x529,
+            x530,
+            x531,
+            x532,
+            x533,
+            x534,
+            x535,
+            x536,
+            x537,
+            x538,
+            x539,
+            x540,
+            x541,
+            x542,
+            x543,
+        ) = (
+            x170 + x375,
+            c4 * x376,
+            s4 * x376,
+            c5 * x373,
+            s5 * x373,
+            s5 * x377,
+            c5 * x377,
+            qd5 + x374,
+            0.047121686402f64 * x374,
+            -0.047121686402f64 * x373,
+            0.05034347249f64 * x373,
+            0.014653732538f64 * x374,
+            1.225946f64 * x377,
+            -0.0021640520520981297f64 * x374,
+            -0.004600245517563105f64 * x373,
+            -0.0015152444733270301f64 * x373,
+            -0.014653732538f64 * x377,
+            0.0015152444733270301f64 * x374,
+            0.05034347249f64 * x377,
+            x189 + x393,
+            x188 + x394,
+            x395 + x195,
+            x284 - x385,
+            x384 - x282,
+            x382 - x383,
+            x380 - x396,
+            x381 - x397,
+            x278 - x398,
+            0.03942757095803552f64 * x373,
+            -0.03146037232526039f64 * x374,
+            x402 + x209,
+            x210 - x403,
+            x401 + x211,
+            x1 + x404,
+            c3 * x400,
+            s3 * x400,
+            x204 + x410,
+            c4 * x411,
+            s4 * x411,
+            s4 * x405,
+            c4 * x405,
+            0.384f64 * x405,
+            -0.0825f64 * x405,
+            v4 * x374,
+            v4 * x373,
+            c5 * x408,
+            s5 * x408,
+            s5 * x412,
+            c5 * x412,
+            v5 + x409,
+            x418 + x316,
+            x419 - x317,
+            x420 - x318,
+            x421 + x422,
+            x423 + x424,
+            x425 + x426,
+            -0.214708623208f64 * x401,
+            -0.214708623208f64 * x400,
+            0.088844724872f64 * x401,
+            0.126729164208f64 * x400,
+            3.228604f64 * x400,
+            3.228604f64 * x401,
+            x237 - x427,
+            x428 - x238,
+        );
+        let (
+            x544,
+            x545,
+            x546,
+            x547,
+            x548,
+            x549,
+            x550,
+            x551,
+            x552,
+            x553,
+            x554,
+            x555,
+            x556,
+            x557,
+            x558,
+            x559,
+            x560,
+            x561,
+            x562,
+            x563,
+            x564,
+            x565,
+            x566,
+            x567,
+            x568,
+            x569,
+            x570,
+            x571,
+            x572,
+            x573,
+            x574,
+            x575,
+            x576,
+            x577,
+            x578,
+            x579,
+            x580,
+            x581,
+            x582,
+            x583,
+            x584,
+            x585,
+            x586,
+            x587,
+            x588,
+            x589,
+            x590,
+            x591,
+            x592,
+            x593,
+            x594,
+            x595,
+            x596,
+            x597,
+            x598,
+            x599,
+            x600,
+            x601,
+            x602,
+            x603,
+            x604,
+            x605,
+            x606,
+            x607,
+        ) = (
+            x66 * x431,
+            x39 * x430,
+            x39 * x429,
+            x65 * x431,
+            x65 * x430,
+            x66 * x429,
+            x432 - x433,
+            x327 - x434,
+            x435 - x328,
+            x392 * x85,
+            x391 * x54,
+            x390 * x54,
+            x392 * x84,
+            x391 * x84,
+            x390 * x85,
+            x436 - x437,
+            x331 - x438,
+            x439 - x332,
+            x441 + x339,
+            x442 + x342,
+            x443 + x345,
+            0.126729164208f64 * x440,
+            0.088844724872f64 * x440,
+            x446 - x447,
+            x448 - x450,
+            x449 - x451,
+            0.0039053550262761003f64 * x405,
+            -0.0016444875773692705f64 * x405,
+            0.0775861490525396f64 * x405,
+            0.374644408005f64 * x405,
+            -0.19076837715f64 * x405,
+            x452 + x262,
+            x453 + x263,
+            x454 + x264,
+            x356 - x455,
+            x456 - x357,
+            x457 - x458,
+            x459 - x461,
+            x460 - x462,
+            x358 - x463,
+            x467 - x369,
+            x468 + x370,
+            x469 + x470,
+            x371 - x471,
+            x372 + x472,
+            x473 + x474,
+            0.06767727025085991f64 * x464,
+            0.02771584317362585f64 * x465,
+            0.0039053550262761003f64 * x466,
+            0.02771584317362585f64 * x464,
+            0.03239943042445132f64 * x465,
+            -0.0016444875773692705f64 * x466,
+            0.0039053550262761003f64 * x464,
+            -0.0016444875773692705f64 * x465,
+            0.0775861490525396f64 * x466,
+            0.374644408005f64 * x466,
+            0.09850206933f64 * x465,
+            0.09850206933f64 * x464,
+            -0.19076837715f64 * x466,
+            -0.19076837715f64 * x465,
+            0.374644408005f64 * x464,
+            0.03942757095803552f64 * x408,
+            0.0015152444733270301f64 * x409,
+            -0.0015152444733270301f64 * x408,
+        );
+        let (
+            x608,
+            x609,
+            x610,
+            x611,
+            x612,
+            x613,
+            x614,
+            x615,
+            x616,
+            x617,
+            x618,
+            x619,
+            x620,
+            x621,
+            x622,
+            x623,
+            x624,
+            x625,
+            x626,
+            x627,
+        ) = (
+            -0.03146037232526039f64 * x409,
+            -0.004600245517563105f64 * x408,
+            -0.0021640520520981297f64 * x409,
+            0.05034347249f64 * x412,
+            -0.014653732538f64 * x412,
+            1.225946f64 * x412,
+            0.047121686402f64 * x409,
+            -0.047121686402f64 * x408,
+            0.014653732538f64 * x409,
+            0.05034347249f64 * x408,
+            x374 * x306,
+            x273 * x409,
+            x273 * x408,
+            x373 * x306,
+            x373 * x409,
+            x374 * x408,
+            x374 * x412,
+            x373 * x412,
+            x377 * x409,
+            x377 * x408,
+        );
+        let (
+            x628,
+            x629,
+            x630,
+            x631,
+            x632,
+            x633,
+            x634,
+            x635,
+            x636,
+            x637,
+            x638,
+            x639,
+            x640,
+            x641,
+            x642,
+            x643,
+            x644,
+            x645,
+            x646,
+            x647,
+            x648,
+            x649,
+            x650,
+            x651,
+            x652,
+            x653,
+            x654,
+            x655,
+            x656,
+            x657,
+            x658,
+            x659,
+            x660,
+            x661,
+            x662,
+            x663,
+            x664,
+            x665,
+            x666,
+            x667,
+            x668,
+            x669,
+            x670,
+            x671,
+            x672,
+            x673,
+            x674,
+            x675,
+            x676,
+            x677,
+            x678,
+            x679,
+            x680,
+            x681,
+            x682,
+            x683,
+            x684,
+            x685,
+            x686,
+            x687,
+            x688,
+            x689,
+            x690,
+            x691,
+        ) = (
+            s4 * x480,
+            c4 * x480,
+            x483 + x378,
+            x379 - x484,
+            s6 * x487,
+            c6 * x487,
+            x484 - x379,
+            0.088f64 * x487,
+            -0.023526756935f64 * x487,
+            0.10024161669500001f64 * x487,
+            0.000093569097314605f64 * x487,
+            -0.00010375891721868492f64 * x487,
+            x499 + x502,
+            x500 + x503,
+            x501 + x504,
+            x497 + x508,
+            x495 + x509,
+            x493 + x494,
+            x386 - x488,
+            x489 - x387,
+            x491 - x490,
+            0.011794560230238949f64 * x487,
+            s3 * x513,
+            c3 * x513,
+            x510 + x300,
+            x511 - x301,
+            s4 * x516,
+            c4 * x516,
+            x525 + x413,
+            x414 - x526,
+            s6 * x529,
+            c6 * x529,
+            x526 - x414,
+            0.088f64 * x529,
+            -0.5f64 * x530,
+            0.5f64 * x531,
+            0.5f64 * x532,
+            x533 + x234,
+            x534 + x235,
+            x535 + x236,
+            x6 - x536,
+            x537 - x7,
+            x538 - x539,
+            x540 - x542,
+            x541 - x543,
+            x544 - x545,
+            x546 - x547,
+            x548 - x549,
+            x553 - x554,
+            x555 - x556,
+            x557 - x558,
+            x551 + x560,
+            x552 + x561,
+            x565 - x444,
+            x445 - x566,
+            x564 + x567,
+            -0.374644408005f64 * x512,
+            0.19076837715f64 * x512,
+            -3.587895f64 * x512,
+            x575 + x578,
+            x576 + x579,
+            x577 + x580,
+            x268 * x583,
+            x170 * x582,
+        );
+        let (
+            x692,
+            x693,
+            x694,
+            x695,
+            x696,
+            x697,
+            x698,
+            x699,
+            x700,
+            x701,
+            x702,
+            x703,
+            x704,
+            x705,
+            x706,
+            x707,
+            x708,
+            x709,
+            x710,
+            x711,
+            x712,
+            x713,
+            x714,
+            x715,
+            x716,
+            x717,
+            x718,
+            x719,
+            x720,
+            x721,
+            x722,
+            x723,
+            x724,
+            x725,
+            x726,
+            x727,
+            x728,
+            x729,
+            x730,
+            x731,
+            x732,
+            x733,
+            x734,
+            x735,
+            x736,
+        ) = (
+            x170 * x581,
+            x267 * x583,
+            x267 * x582,
+            x268 * x581,
+            x169 * x583,
+            x108 * x582,
+            x108 * x581,
+            x168 * x583,
+            x168 * x582,
+            x169 * x581,
+            x507 * x298,
+            x506 * x204,
+            x505 * x204,
+            x507 * x297,
+            x506 * x297,
+            x505 * x298,
+            x507 * x203,
+            x506 * x133,
+            x505 * x133,
+            x507 * x202,
+            x506 * x202,
+            x505 * x203,
+            x584 + x587,
+            x585 - x588,
+            x589 - x586,
+            x590 + x591,
+            x593 + x594,
+            x596 + x597,
+            x599 - x600,
+            x601 - x602,
+            x603 - x604,
+            x605 + x606,
+            x607 + x608,
+            x609 + x610,
+            x478 - x614,
+            x615 - x479,
+            x616 - x617,
+            x619 - x618,
+            x620 - x621,
+            x623 - x622,
+            -0.00010375891721868492f64 * x529,
+            0.000093569097314605f64 * x529,
+            0.011794560230238949f64 * x529,
+            -0.023526756935f64 * x529,
+            0.10024161669500001f64 * x529,
+        );
+        let (
+            x737,
+            x738,
+            x739,
+            x740,
+            x741,
+            x742,
+            x743,
+            x744,
+            x745,
+            x746,
+            x747,
+            x748,
+            x749,
+            x750,
+            x751,
+            x752,
+            x753,
+            x754,
+            x755,
+            x756,
+            x757,
+            x758,
+            x759,
+            x760,
+            x761,
+            x762,
+            x763,
+            x764,
+            x765,
+            x766,
+            x767,
+            x768,
+            x769,
+            x770,
+            x771,
+            x772,
+            x773,
+            x774,
+            x775,
+            x776,
+            x777,
+            x778,
+            x779,
+            x780,
+            x781,
+            x782,
+            x783,
+            x784,
+            x785,
+            x786,
+            x787,
+            x788,
+            x789,
+            x790,
+            x791,
+            x792,
+            x793,
+            x794,
+            x795,
+            x796,
+            x797,
+            x798,
+            x799,
+            x800,
+        ) = (
+            x481 + x628,
+            x629 - x482,
+            x482 - x629,
+            c6 * x630,
+            s6 * x630,
+            0.088f64 * x631,
+            qd6 + x634,
+            -0.017527158935000002f64 * x631,
+            -0.017527158935000002f64 * x630,
+            -0.023526756935f64 * x630,
+            0.10024161669500001f64 * x631,
+            0.000093569097314605f64 * x631,
+            -0.00010375891721868492f64 * x630,
+            0.001524110902883315f64 * x630,
+            0.001524110902883315f64 * x631,
+            x389 + x643,
+            x388 + x644,
+            x645 + x399,
+            x492 - x648,
+            0.0024804603581707893f64 * x630,
+            0.01056776613310695f64 * x631,
+            x514 - x650,
+            x515 + x651,
+            x517 + x654,
+            x655 - x518,
+            c4 * x652,
+            s4 * x652,
+            -0.0825f64 * x653,
+            0.384f64 * x652,
+            a4 + x653,
+            x518 - x655,
+            v5 * x631,
+            v5 * x630,
+            c6 * x656,
+            s6 * x656,
+            0.088f64 * x657,
+            v6 + x660,
+            x415 + x662,
+            x416 + x663,
+            x417 + x664,
+            x665 + x668,
+            x666 + x669,
+            x667 + x670,
+            x673 + x325,
+            x674 - x326,
+            x675 + x550,
+            x676 + x329,
+            x677 - x330,
+            x678 + x559,
+            x562 + x681,
+            x563 + x682,
+            x679 - x568,
+            x680 - x569,
+            0.06767727025085991f64 * x652,
+            0.02771584317362585f64 * x653,
+            0.02771584317362585f64 * x652,
+            0.03239943042445132f64 * x653,
+            0.0039053550262761003f64 * x652,
+            -0.0016444875773692705f64 * x653,
+            0.09850206933f64 * x653,
+            0.09850206933f64 * x652,
+            -0.19076837715f64 * x653,
+            0.374644408005f64 * x652,
+            x169 * x689,
+        );
+        let (
+            x801,
+            x802,
+            x803,
+            x804,
+            x805,
+            x806,
+            x807,
+            x808,
+            x809,
+            x810,
+            x811,
+            x812,
+            x813,
+            x814,
+            x815,
+            x816,
+            x817,
+            x818,
+            x819,
+            x820,
+            x821,
+            x822,
+            x823,
+            x824,
+            x825,
+            x826,
+            x827,
+            x828,
+            x829,
+            x830,
+            x831,
+            x832,
+            x833,
+            x834,
+            x835,
+            x836,
+            x837,
+            x838,
+            x839,
+            x840,
+            x841,
+            x842,
+            x843,
+            x844,
+            x845,
+            x846,
+            x847,
+            x848,
+            x849,
+            x850,
+            x851,
+            x852,
+            x853,
+            x854,
+            x855,
+            x856,
+            x857,
+            x858,
+            x859,
+            x860,
+            x861,
+            x862,
+            x863,
+            x864,
+        ) = (
+            x108 * x688,
+            x108 * x687,
+            x168 * x689,
+            x168 * x688,
+            x169 * x687,
+            x691 - x690,
+            x692 + x693,
+            x694 + x695,
+            x696 - x697,
+            x698 - x699,
+            x700 - x701,
+            x642 * x203,
+            x641 * x133,
+            x640 * x133,
+            x642 * x202,
+            x641 * x202,
+            x640 * x203,
+            x703 - x702,
+            x704 + x705,
+            x706 + x707,
+            x708 - x709,
+            x710 - x711,
+            x712 - x713,
+            x717 + x592,
+            x718 + x595,
+            x719 + x598,
+            0.374644408005f64 * x716,
+            0.09850206933f64 * x715,
+            0.09850206933f64 * x714,
+            -0.19076837715f64 * x716,
+            -0.19076837715f64 * x715,
+            0.374644408005f64 * x714,
+            3.587895f64 * x714,
+            3.587895f64 * x715,
+            3.587895f64 * x716,
+            x723 + x475,
+            x724 + x476,
+            x725 + x477,
+            x613 - x728,
+            0.03942757095803552f64 * x729,
+            -0.0015152444733270301f64 * x730,
+            -0.004600245517563105f64 * x731,
+            -0.0015152444733270301f64 * x729,
+            0.03146037232526039f64 * x730,
+            0.0021640520520981297f64 * x731,
+            -0.004600245517563105f64 * x729,
+            0.0021640520520981297f64 * x730,
+            0.010869510762828563f64 * x731,
+            0.05034347249f64 * x731,
+            -0.047121686402f64 * x730,
+            -0.047121686402f64 * x729,
+            -0.014653732538f64 * x731,
+            -0.014653732538f64 * x730,
+            0.05034347249f64 * x729,
+            0.0024804603581707893f64 * x656,
+            0.001524110902883315f64 * x657,
+            0.001524110902883315f64 * x656,
+            0.01056776613310695f64 * x657,
+            -0.00010375891721868492f64 * x656,
+            0.000093569097314605f64 * x657,
+            -0.017527158935000002f64 * x657,
+            -0.017527158935000002f64 * x656,
+            0.10024161669500001f64 * x657,
+            -0.023526756935f64 * x656,
+        );
+        let (x865, x866, x867, x868, x869, x870) = (
+            x631 * x529,
+            x487 * x657,
+            x487 * x656,
+            x630 * x529,
+            x630 * x657,
+            x631 * x656,
+        );
+        let (
+            x871,
+            x872,
+            x873,
+            x874,
+            x875,
+            x876,
+            x877,
+            x878,
+            x879,
+            x880,
+            x881,
+            x882,
+            x883,
+            x884,
+            x885,
+            x886,
+            x887,
+            x888,
+            x889,
+            x890,
+            x891,
+            x892,
+            x893,
+            x894,
+            x895,
+            x896,
+            x897,
+            x898,
+            x899,
+            x900,
+            x901,
+            x902,
+            x903,
+            x904,
+            x905,
+            x906,
+            x907,
+            x908,
+            x909,
+            x910,
+            x911,
+            x912,
+            x913,
+            x914,
+            x915,
+            x916,
+            x917,
+            x918,
+            x919,
+            x920,
+            x921,
+            x922,
+            x923,
+            x924,
+            x925,
+            x926,
+            x927,
+            x928,
+            x929,
+            x930,
+            x931,
+            x932,
+            x933,
+            x934,
+        ) = (
+            c5 * x737,
+            s5 * x737,
+            x740 + x632,
+            x633 - x741,
+            x739 - x742,
+            1.225946f64 * x737,
+            1.225946f64 * x738,
+            -0.014653732538f64 * x738,
+            0.05034347249f64 * x737,
+            -0.047121686402f64 * x737,
+            -0.047121686402f64 * x738,
+            1.666555f64 * x739,
+            0.10024161669500001f64 * x739,
+            -0.023526756935f64 * x739,
+            0.0020344399586617965f64 * x743,
+            0.002573605371338202f64 * x743,
+            -0.001255536598272898f64 * x743,
+            -0.0009653051699191116f64 * x743,
+            x751 + x756,
+            x750 + x757,
+            x748 + x749,
+            x636 - x744,
+            x745 - x637,
+            x747 - x746,
+            0.006684151967360945f64 * x743,
+            x758 - x406,
+            x759 + x407,
+            x762 - x519,
+            x763 + x520,
+            x764 - x765,
+            v4 * x738,
+            v4 * x737,
+            c5 * x760,
+            s5 * x760,
+            s5 * x766,
+            c5 * x766,
+            x770 + x658,
+            x659 - x771,
+            x767 - x772,
+            x780 + x783,
+            x781 + x784,
+            x782 + x785,
+            0.5f64 * x788,
+            0.5f64 * x789,
+            x790 + x791,
+            x792 + x793,
+            x794 + x795,
+            x573 - x796,
+            x797 - x574,
+            x798 - x799,
+            x800 - x801,
+            x802 - x803,
+            x804 - x805,
+            x812 - x813,
+            x814 - x815,
+            x816 - x817,
+            x809 + x821,
+            x810 + x822,
+            x811 + x823,
+            x827 - x828,
+            x829 - x830,
+            x831 - x832,
+            x833 - x720,
+            x834 - x721,
+        );
+        let (
+            x935,
+            x936,
+            x937,
+            x938,
+            x939,
+            x940,
+            x941,
+            x942,
+            x943,
+            x944,
+            x945,
+            x946,
+            x947,
+            x948,
+            x949,
+            x950,
+            x951,
+            x952,
+            x953,
+            x954,
+            x955,
+            x956,
+            x957,
+            x958,
+            x959,
+            x960,
+            x961,
+            x962,
+            x963,
+            x964,
+            x965,
+            x966,
+            x967,
+            x968,
+            x969,
+            x970,
+            x971,
+            x972,
+            x973,
+            x974,
+            x975,
+            x976,
+            x977,
+            x978,
+            x979,
+            x980,
+            x981,
+            x982,
+            x983,
+            x984,
+            x985,
+            x986,
+            x987,
+            x988,
+            x989,
+        ) = (
+            x835 - x722,
+            -0.004600245517563105f64 * x766,
+            0.0021640520520981297f64 * x766,
+            0.010869510762828563f64 * x766,
+            0.05034347249f64 * x766,
+            -0.014653732538f64 * x766,
+            -0.047121686402f64 * x761,
+            -0.047121686402f64 * x760,
+            -0.014653732538f64 * x761,
+            0.05034347249f64 * x760,
+            1.225946f64 * x760,
+            1.225946f64 * x761,
+            x738 * x839,
+            x737 * x839,
+            x374 * x839,
+            x373 * x839,
+            x755 * x761,
+            x755 * x760,
+            x755 * x409,
+            x755 * x408,
+            x273 * x761,
+            x273 * x760,
+            x373 * x761,
+            x374 * x760,
+            x738 * x306,
+            x737 * x306,
+            x737 * x409,
+            x738 * x408,
+            x840 + x841,
+            x843 + x844,
+            x846 + x847,
+            x849 - x850,
+            x851 - x852,
+            x853 - x854,
+            x855 + x856,
+            x857 + x858,
+            x859 + x860,
+            -0.023526756935f64 * x767,
+            0.10024161669500001f64 * x767,
+            1.666555f64 * x767,
+            x735 - x861,
+            x862 - x736,
+            x863 - x864,
+            x865 - x866,
+            x867 - x868,
+            x869 - x870,
+            x631 * x767,
+            x630 * x767,
+            x739 * x657,
+            x739 * x656,
+            -0.0009653051699191116f64 * x773,
+            -0.001255536598272898f64 * x773,
+            0.006684151967360945f64 * x773,
+            0.0020344399586617965f64 * x773,
+            0.002573605371338202f64 * x773,
+        );
+        let (
+            x990,
+            x991,
+            x992,
+            x993,
+            x994,
+            x995,
+            x996,
+            x997,
+            x998,
+            x999,
+            x1000,
+            x1001,
+            x1002,
+            x1003,
+            x1004,
+            x1005,
+            x1006,
+            x1007,
+            x1008,
+            x1009,
+            x1010,
+            x1011,
+            x1012,
+            x1013,
+            x1014,
+            x1015,
+            x1016,
+            x1017,
+            x1018,
+            x1019,
+            x1020,
+            x1021,
+            x1022,
+            x1023,
+            x1024,
+            x1025,
+            x1026,
+            x1027,
+            x1028,
+            x1029,
+            x1030,
+            x1031,
+            x1032,
+            x1033,
+            x1034,
+            x1035,
+            x1036,
+            x1037,
+            x1038,
+            x1039,
+            x1040,
+            x1041,
+            x1042,
+            x1043,
+            x1044,
+            x1045,
+            x1046,
+            x1047,
+            x1048,
+            x1049,
+            x1050,
+            x1051,
+            x1052,
+            x1053,
+        ) = (
+            x871 + x485,
+            x486 - x872,
+            s6 * x875,
+            c6 * x875,
+            0.150277948634f64 * x874,
+            0.150277948634f64 * x873,
+            0.0020344399586617965f64 * x873,
+            0.002573605371338202f64 * x874,
+            -0.001255536598272898f64 * x874,
+            -0.0009653051699191116f64 * x873,
+            0.0003913912816842481f64 * x873,
+            0.0003913912816842481f64 * x874,
+            x498 - x881,
+            x880 - x496,
+            x878 - x879,
+            x876 - x646,
+            x877 - x647,
+            x639 + x889,
+            x638 + x890,
+            x891 + x649,
+            x882 - x894,
+            0.0316333431909496f64 * x873,
+            0.029212399412428362f64 * x874,
+            x896 - x521,
+            x522 - x897,
+            x512 + x900,
+            x898 - x523,
+            x899 + x524,
+            x903 + x527,
+            x528 - x904,
+            s6 * x909,
+            c6 * x909,
+            v6 * x874,
+            v6 * x873,
+            x910 - x786,
+            x911 - x787,
+            x912 - x683,
+            x671 + x913,
+            x672 + x914,
+            x915 + x570,
+            x916 + x571,
+            x917 + x572,
+            -0.09850206933f64 * x897,
+            0.09850206933f64 * x896,
+            0.19076837715f64 * x897,
+            0.374644408005f64 * x896,
+            3.587895f64 * x896,
+            -3.587895f64 * x897,
+            x686 - x920,
+            x921 + x806,
+            x922 - x807,
+            x923 + x808,
+            x924 + x818,
+            x925 - x819,
+            x926 + x820,
+            x824 + x930,
+            x825 + x931,
+            x826 + x932,
+            x927 - x933,
+            x928 - x934,
+            x929 - x935,
+            x611 - x941,
+            x942 - x612,
+            x943 - x944,
+        );
+        let (
+            x1054,
+            x1055,
+            x1056,
+            x1057,
+            x1058,
+            x1059,
+            x1060,
+            x1061,
+            x1062,
+            x1063,
+            x1064,
+            x1065,
+            x1066,
+            x1067,
+            x1068,
+            x1069,
+            x1070,
+            x1071,
+            x1072,
+            x1073,
+            x1074,
+            x1075,
+            x1076,
+            x1077,
+            x1078,
+            x1079,
+            x1080,
+            x1081,
+            x1082,
+            x1083,
+            x1084,
+            x1085,
+            x1086,
+            x1087,
+            x1088,
+            x1089,
+            x1090,
+            x1091,
+            x1092,
+            x1093,
+            x1094,
+            x1095,
+            x1096,
+            x1097,
+            x1098,
+            x1099,
+        ) = (
+            x945 - x726,
+            x946 - x727,
+            x624 + x955,
+            x956 - x625,
+            x957 + x958,
+            x959 + x626,
+            x627 - x960,
+            x961 + x962,
+            x963 + x842,
+            x964 + x845,
+            x965 + x848,
+            x969 + x732,
+            x970 + x733,
+            x971 + x734,
+            x974 - x977,
+            0.0024804603581707893f64 * x978,
+            0.001524110902883315f64 * x979,
+            -0.00010375891721868492f64 * x980,
+            0.001524110902883315f64 * x978,
+            0.01056776613310695f64 * x979,
+            0.000093569097314605f64 * x980,
+            -0.00010375891721868492f64 * x978,
+            0.000093569097314605f64 * x979,
+            0.011794560230238949f64 * x980,
+            -0.023526756935f64 * x980,
+            -0.017527158935000002f64 * x979,
+            -0.017527158935000002f64 * x978,
+            0.10024161669500001f64 * x980,
+            0.10024161669500001f64 * x979,
+            -0.023526756935f64 * x978,
+            0.0316333431909496f64 * x907,
+            0.0003913912816842481f64 * x908,
+            0.0003913912816842481f64 * x907,
+            0.029212399412428362f64 * x908,
+            -0.0009653051699191116f64 * x907,
+            -0.001255536598272898f64 * x908,
+            0.150277948634f64 * x908,
+            0.150277948634f64 * x907,
+            0.002573605371338202f64 * x908,
+            0.0020344399586617965f64 * x907,
+            x874 * x773,
+            x743 * x908,
+            x743 * x907,
+            x873 * x773,
+            x873 * x908,
+            x874 * x907,
+        );
+        let (
+            x1100,
+            x1101,
+            x1102,
+            x1103,
+            x1104,
+            x1105,
+            x1106,
+            x1107,
+            x1108,
+            x1109,
+            x1110,
+            x1111,
+            x1112,
+            x1113,
+            x1114,
+            x1115,
+            x1116,
+            x1117,
+            x1118,
+            x1119,
+            x1120,
+            x1121,
+            x1122,
+            x1123,
+            x1124,
+            x1125,
+            x1126,
+            x1127,
+            x1128,
+            x1129,
+            x1130,
+            x1131,
+            x1132,
+            x1133,
+            x1134,
+            x1135,
+            x1136,
+            x1137,
+            x1138,
+            x1139,
+            x1140,
+            x1141,
+            x1142,
+            x1143,
+            x1144,
+            x1145,
+            x1146,
+            x1147,
+            x1148,
+            x1149,
+            x1150,
+            x1151,
+            x1152,
+            x1153,
+            x1154,
+            x1155,
+            x1156,
+            x1157,
+            x1158,
+            x1159,
+            x1160,
+            x1161,
+            x1162,
+            x1163,
+        ) = (
+            x991 + x635,
+            c6 * x990,
+            s6 * x990,
+            1.666555f64 * x990,
+            1.666555f64 * x991,
+            0.10024161669500001f64 * x991,
+            -0.023526756935f64 * x990,
+            -0.017527158935000002f64 * x990,
+            -0.017527158935000002f64 * x991,
+            x752 + x1002,
+            x753 + x1003,
+            x754 + x1004,
+            x1001 + x1011,
+            x1000 + x1012,
+            x998 + x999,
+            x885 - x994,
+            x995 - x886,
+            x997 - x996,
+            c4 * x1013,
+            s4 * x1015,
+            s4 * x1013,
+            c4 * x1015,
+            c5 * x1016,
+            s5 * x1016,
+            s5 * x1014,
+            c5 * x1014,
+            a5 + x1017,
+            v5 * x991,
+            v5 * x990,
+            x1019 + x661,
+            c6 * x1018,
+            s6 * x1018,
+            0.5f64 * x1024,
+            0.5f64 * x1025,
+            0.5f64 * x1026,
+            x684 - x1032,
+            x1033 - x685,
+            x1034 - x1035,
+            x1036 - x918,
+            x1037 - x919,
+            x1039 + x1042,
+            x1040 + x1043,
+            x1041 + x1044,
+            0.5f64 * x1048,
+            0.5f64 * x1049,
+            0.5f64 * x1050,
+            0.03942757095803552f64 * x1016,
+            0.0015152444733270301f64 * x1017,
+            -0.0015152444733270301f64 * x1016,
+            -0.03146037232526039f64 * x1017,
+            -0.004600245517563105f64 * x1016,
+            -0.0021640520520981297f64 * x1017,
+            0.05034347249f64 * x1014,
+            -0.014653732538f64 * x1014,
+            1.225946f64 * x1014,
+            0.047121686402f64 * x1017,
+            -0.047121686402f64 * x1016,
+            0.014653732538f64 * x1017,
+            0.05034347249f64 * x1016,
+            x836 + x1051,
+            x837 + x1052,
+            x838 + x1053,
+            x377 * x1055,
+            x377 * x1054,
+        );
+        let (
+            x1164,
+            x1165,
+            x1166,
+            x1167,
+            x1168,
+            x1169,
+            x1170,
+            x1171,
+            x1172,
+            x1173,
+            x1174,
+            x1175,
+            x1176,
+            x1177,
+            x1178,
+            x1179,
+            x1180,
+            x1181,
+            x1182,
+            x1183,
+            x1184,
+            x1185,
+            x1186,
+            x1187,
+            x1188,
+            x1189,
+            x1190,
+            x1191,
+            x1192,
+            x1193,
+            x1194,
+            x1195,
+            x1196,
+            x1197,
+            x1198,
+            x1199,
+            x1200,
+            x1201,
+            x1202,
+            x1203,
+            x1204,
+            x1205,
+            x1206,
+            x1207,
+            x1208,
+            x1209,
+            x1210,
+            x1211,
+            x1212,
+            x1213,
+            x1214,
+            x1215,
+            x1216,
+            x1217,
+        ) = (
+            x737 * x1055,
+            x738 * x1054,
+            x273 * x1055,
+            x273 * x1054,
+            x373 * x1055,
+            x374 * x1054,
+            x1006 * x412,
+            x1005 * x412,
+            x1006 * x760,
+            x1005 * x761,
+            x1006 * x306,
+            x1005 * x306,
+            x1006 * x408,
+            x1005 * x409,
+            x1059 - x1056,
+            x1057 + x1060,
+            x1058 - x1061,
+            -0.017527158935000002f64 * x1019,
+            -0.017527158935000002f64 * x1018,
+            0.10024161669500001f64 * x1019,
+            -0.023526756935f64 * x1018,
+            1.666555f64 * x1018,
+            1.666555f64 * x1019,
+            x991 * x1068,
+            x990 * x1068,
+            x631 * x1068,
+            x630 * x1068,
+            x1010 * x1019,
+            x1010 * x1018,
+            x1010 * x657,
+            x1010 * x656,
+            x487 * x1019,
+            x487 * x1018,
+            x630 * x1019,
+            x631 * x1018,
+            x991 * x529,
+            x990 * x529,
+            x990 * x657,
+            x991 * x656,
+            x1069 + x1070,
+            x1072 + x1073,
+            x1075 + x1076,
+            x1078 - x1079,
+            x1080 - x1081,
+            x1082 - x1083,
+            x1084 + x1085,
+            x1086 + x1087,
+            x1088 + x1089,
+            x988 - x1090,
+            x1091 - x989,
+            x1092 - x1093,
+            x1094 - x1095,
+            x1096 - x1097,
+            x1098 - x1099,
+        );
+        let (
+            x1218,
+            x1219,
+            x1220,
+            x1221,
+            x1222,
+            x1223,
+            x1224,
+            x1225,
+            x1226,
+            x1227,
+            x1228,
+            x1229,
+            x1230,
+            x1231,
+            x1232,
+            x1233,
+            x1234,
+            x1235,
+            x1236,
+            x1237,
+            x1238,
+            x1239,
+            x1240,
+            x1241,
+            x1242,
+            x1243,
+            x1244,
+            x1245,
+            x1246,
+            x1247,
+            x1248,
+            x1249,
+            x1250,
+            x1251,
+            x1252,
+            x1253,
+            x1254,
+            x1255,
+            x1256,
+            x1257,
+            x1258,
+            x1259,
+            x1260,
+            x1261,
+            x1262,
+            x1263,
+            x1264,
+            x1265,
+            x1266,
+            x1267,
+            x1268,
+            x1269,
+            x1270,
+            x1271,
+            x1272,
+            x1273,
+            x1274,
+            x1275,
+            x1276,
+            x1277,
+            x1278,
+            x1279,
+            x1280,
+            x1281,
+        ) = (
+            x1101 + x992,
+            x993 - x1102,
+            -1.4955219999999998f64 * x1100,
+            -0.002573605371338202f64 * x1100,
+            -0.0020344399586617965f64 * x1100,
+            x884 - x1108,
+            x1107 - x883,
+            x1105 - x1106,
+            x1103 - x892,
+            x1104 - x893,
+            x888 + x1112,
+            x887 + x1113,
+            x1114 + x895,
+            x1118 + x1119,
+            x1121 - x1120,
+            x1122 + x905,
+            x906 - x1123,
+            x1130 + x1020,
+            x1021 - x1131,
+            s6 * x1126,
+            c6 * x1126,
+            0.088f64 * x1126,
+            x777 + x1132,
+            x778 + x1133,
+            x779 + x1134,
+            x1029 + x1135,
+            x1030 + x1136,
+            x1031 + x1137,
+            x1140 - x1045,
+            x1141 - x1046,
+            x1142 - x1047,
+            x1138 + x1143,
+            x1139 + x1144,
+            x1038 + x1145,
+            x1146 + x1147,
+            x1148 + x1149,
+            x1150 + x1151,
+            x939 - x1155,
+            x1156 - x940,
+            x1157 - x1158,
+            x374 * x1161,
+            x273 * x1160,
+            x273 * x1159,
+            x373 * x1161,
+            x373 * x1160,
+            x374 * x1159,
+            x947 - x1162,
+            x1163 - x948,
+            x1164 - x1165,
+            x949 + x1166,
+            x1167 - x950,
+            x1168 + x1169,
+            x1111 * x409,
+            x1110 * x306,
+            x1109 * x306,
+            x1111 * x408,
+            x1110 * x408,
+            x1109 * x409,
+            x951 - x1170,
+            x1171 - x952,
+            x1172 - x1173,
+            x953 + x1174,
+            x1175 - x954,
+            x1176 + x1177,
+        );
+        let (
+            x1282,
+            x1283,
+            x1284,
+            x1285,
+            x1286,
+            x1287,
+            x1288,
+            x1289,
+            x1290,
+            x1291,
+            x1292,
+            x1293,
+            x1294,
+            x1295,
+            x1296,
+            x1297,
+            x1298,
+            x1299,
+            x1300,
+            x1301,
+            x1302,
+            x1303,
+            x1304,
+            x1305,
+            x1306,
+            x1307,
+            x1308,
+            x1309,
+            x1310,
+            x1311,
+            x1312,
+            x1313,
+            x1314,
+            x1315,
+            x1316,
+            x1317,
+            x1318,
+            x1319,
+            x1320,
+            x1321,
+            x1322,
+            x1323,
+            x1324,
+            x1325,
+            x1326,
+            x1327,
+            x1328,
+            x1329,
+            x1330,
+            x1331,
+            x1332,
+            x1333,
+            x1334,
+        ) = (
+            0.05034347249f64 * x1180,
+            -0.047121686402f64 * x1179,
+            -0.047121686402f64 * x1178,
+            -0.014653732538f64 * x1180,
+            -0.014653732538f64 * x1179,
+            0.05034347249f64 * x1178,
+            1.225946f64 * x1178,
+            1.225946f64 * x1179,
+            1.225946f64 * x1180,
+            -0.00010375891721868492f64 * x1126,
+            0.000093569097314605f64 * x1126,
+            0.011794560230238949f64 * x1126,
+            -0.023526756935f64 * x1126,
+            0.10024161669500001f64 * x1126,
+            x972 - x1181,
+            x1182 - x973,
+            x1183 - x1184,
+            x1185 - x975,
+            x1186 - x976,
+            x981 - x1195,
+            x1196 - x982,
+            x1197 - x1198,
+            x1199 - x983,
+            x984 - x1200,
+            x1201 - x1202,
+            x1203 + x1071,
+            x1204 + x1074,
+            x1205 + x1077,
+            x1209 + x985,
+            x1210 + x986,
+            x1211 + x987,
+            -0.0020344399586617965f64 * x1129,
+            -0.002573605371338202f64 * x1129,
+            -1.4955219999999998f64 * x1129,
+            x874 * x1129,
+            x873 * x1129,
+            x1100 * x908,
+            x1100 * x907,
+            0.0316333431909496f64 * x1215,
+            0.0003913912816842481f64 * x1216,
+            -0.0009653051699191116f64 * x1217,
+            0.0003913912816842481f64 * x1215,
+            0.029212399412428362f64 * x1216,
+            -0.001255536598272898f64 * x1217,
+            -0.0009653051699191116f64 * x1215,
+            -0.001255536598272898f64 * x1216,
+            0.006684151967360945f64 * x1217,
+            0.0020344399586617965f64 * x1217,
+            0.150277948634f64 * x1216,
+            0.150277948634f64 * x1215,
+            0.002573605371338202f64 * x1217,
+            0.002573605371338202f64 * x1216,
+            0.0020344399586617965f64 * x1215,
+        );
+        let (
+            x1335,
+            x1336,
+            x1337,
+            x1338,
+            x1339,
+            x1340,
+            x1341,
+            x1342,
+            x1343,
+            x1344,
+            x1345,
+            x1346,
+            x1347,
+            x1348,
+            x1349,
+            x1350,
+            x1351,
+            x1352,
+            x1353,
+            x1354,
+            x1355,
+            x1356,
+            x1357,
+            x1358,
+            x1359,
+            x1360,
+            x1361,
+            x1362,
+            x1363,
+            x1364,
+            x1365,
+            x1366,
+            x1367,
+            x1368,
+            x1369,
+            x1370,
+            x1371,
+            x1372,
+            x1373,
+            x1374,
+            x1375,
+            x1376,
+            x1377,
+            x1378,
+            x1379,
+            x1380,
+            x1381,
+            x1382,
+            x1383,
+            x1384,
+            x1385,
+            x1386,
+            x1387,
+            x1388,
+            x1389,
+            x1390,
+            x1391,
+            x1392,
+            x1393,
+            x1394,
+            x1395,
+            x1396,
+            x1397,
+            x1398,
+        ) = (
+            1.4955219999999998f64 * x1218,
+            1.4955219999999998f64 * x1219,
+            0.002573605371338202f64 * x1219,
+            0.0020344399586617965f64 * x1218,
+            0.150277948634f64 * x1218,
+            0.150277948634f64 * x1219,
+            x1007 + x1223,
+            x1008 + x1224,
+            x1009 + x1225,
+            x1220 - x1117,
+            x1231 + x901,
+            x1232 - x902,
+            x902 - x1232,
+            x1233 + x768,
+            x1234 - x769,
+            x769 - x1234,
+            v6 * x1219,
+            v6 * x1218,
+            0.5f64 * x1246,
+            0.5f64 * x1247,
+            0.5f64 * x1248,
+            x1252 + x936,
+            x1253 + x937,
+            x1254 + x938,
+            x1154 - x1257,
+            x1258 + x1259,
+            x1260 - x1261,
+            x1262 + x1263,
+            x1270 + x1271,
+            x1272 - x1273,
+            x1274 + x1275,
+            x1267 + x1279,
+            x1268 + x1280,
+            x1269 + x1281,
+            x1282 - x1283,
+            x1284 - x1285,
+            x1286 - x1287,
+            x1288 - x966,
+            x1289 - x967,
+            x1290 - x968,
+            x1065 + x1296,
+            x1066 + x1297,
+            x1067 + x1298,
+            x739 * x1300,
+            x739 * x1299,
+            x990 * x1300,
+            x991 * x1299,
+            x487 * x1300,
+            x487 * x1299,
+            x630 * x1300,
+            x631 * x1299,
+            x1227 * x767,
+            x1226 * x767,
+            x1227 * x1018,
+            x1226 * x1019,
+            x1227 * x529,
+            x1226 * x529,
+            x1227 * x656,
+            x1226 * x657,
+            x1301 + x1304,
+            x1302 + x1305,
+            x1303 + x1306,
+            0.150277948634f64 * x1236,
+            0.150277948634f64 * x1235,
+        );
+        let (
+            x1399,
+            x1400,
+            x1401,
+            x1402,
+            x1403,
+            x1404,
+            x1405,
+            x1406,
+            x1407,
+            x1408,
+            x1409,
+            x1410,
+            x1411,
+            x1412,
+            x1413,
+            x1414,
+            x1415,
+            x1416,
+            x1417,
+        ) = (
+            0.002573605371338202f64 * x1236,
+            0.0020344399586617965f64 * x1235,
+            1.4955219999999998f64 * x1235,
+            1.4955219999999998f64 * x1236,
+            x1315 - x1214,
+            x743 * x1236,
+            x743 * x1235,
+            x873 * x1236,
+            x874 * x1235,
+            x1219 * x773,
+            x1218 * x773,
+            x1218 * x908,
+            x1219 * x907,
+            x1320 + x1321,
+            x1323 + x1324,
+            x1326 + x1327,
+            x1329 - x1330,
+            x1331 - x1332,
+            x1333 - x1334,
+        );
+        let (
+            x1418,
+            x1419,
+            x1420,
+            x1421,
+            x1422,
+            x1423,
+            x1424,
+            x1425,
+            x1426,
+            x1427,
+            x1428,
+            x1429,
+            x1430,
+            x1431,
+            x1432,
+            x1433,
+            x1434,
+            x1435,
+            x1436,
+            x1437,
+            x1438,
+            x1439,
+            x1440,
+            x1441,
+            x1442,
+            x1443,
+            x1444,
+            x1445,
+            x1446,
+            x1447,
+            x1448,
+            x1449,
+            x1450,
+            x1451,
+            x1452,
+            x1453,
+            x1454,
+            x1455,
+            x1456,
+            x1457,
+            x1458,
+            x1459,
+            x1460,
+            x1461,
+            x1462,
+            x1463,
+            x1464,
+            x1465,
+            x1466,
+            x1467,
+            x1468,
+            x1469,
+            x1470,
+            x1471,
+            x1472,
+            x1473,
+            x1474,
+            x1475,
+            x1476,
+            x1477,
+            x1478,
+            x1479,
+            x1480,
+            x1481,
+        ) = (
+            x1222 - x1340,
+            x1339 - x1221,
+            x1337 - x1338,
+            x1335 - x1115,
+            x1336 - x1116,
+            c5 * x1345,
+            s5 * x1345,
+            c6 * x1348,
+            s6 * x1348,
+            0.088f64 * x1349,
+            a6 + x1350,
+            x1243 + x1353,
+            x1244 + x1354,
+            x1245 + x1355,
+            -0.047121686402f64 * x1346,
+            -0.047121686402f64 * x1345,
+            -0.014653732538f64 * x1346,
+            0.05034347249f64 * x1345,
+            1.225946f64 * x1345,
+            1.225946f64 * x1346,
+            x1264 - x1360,
+            x1361 + x1265,
+            x1362 + x1266,
+            x1276 - x1363,
+            x1364 + x1277,
+            x1365 + x1278,
+            x1062 + x1369,
+            x1063 + x1370,
+            x1064 + x1371,
+            x1366 + x1372,
+            x1367 - x1373,
+            x1368 - x1374,
+            0.0024804603581707893f64 * x1348,
+            0.001524110902883315f64 * x1349,
+            0.001524110902883315f64 * x1348,
+            0.01056776613310695f64 * x1349,
+            -0.00010375891721868492f64 * x1348,
+            0.000093569097314605f64 * x1349,
+            -0.023526756935f64 * x1347,
+            0.10024161669500001f64 * x1347,
+            1.666555f64 * x1347,
+            -0.017527158935000002f64 * x1349,
+            -0.017527158935000002f64 * x1348,
+            0.10024161669500001f64 * x1349,
+            -0.023526756935f64 * x1348,
+            x631 * x1377,
+            x487 * x1376,
+            x487 * x1375,
+            x630 * x1377,
+            x630 * x1376,
+            x631 * x1375,
+            x1187 - x1378,
+            x1379 - x1188,
+            x1380 - x1381,
+            x1189 - x1382,
+            x1383 - x1190,
+            x1384 - x1385,
+            x1343 * x657,
+            x1342 * x529,
+            x1341 * x529,
+            x1343 * x656,
+            x1342 * x656,
+            x1341 * x657,
+            x1191 - x1386,
+        );
+        let (
+            x1482,
+            x1483,
+            x1484,
+            x1485,
+            x1486,
+            x1487,
+            x1488,
+            x1489,
+            x1490,
+            x1491,
+            x1492,
+            x1493,
+            x1494,
+            x1495,
+            x1496,
+            x1497,
+            x1498,
+            x1499,
+            x1500,
+            x1501,
+            x1502,
+            x1503,
+            x1504,
+            x1505,
+            x1506,
+            x1507,
+            x1508,
+            x1509,
+            x1510,
+            x1511,
+            x1512,
+            x1513,
+            x1514,
+            x1515,
+            x1516,
+            x1517,
+        ) = (
+            x1387 - x1192,
+            x1388 - x1389,
+            x1193 - x1390,
+            x1391 - x1194,
+            x1392 - x1393,
+            -0.023526756935f64 * x1396,
+            -0.017527158935000002f64 * x1395,
+            -0.017527158935000002f64 * x1394,
+            0.10024161669500001f64 * x1396,
+            0.10024161669500001f64 * x1395,
+            -0.023526756935f64 * x1394,
+            1.666555f64 * x1394,
+            1.666555f64 * x1395,
+            1.666555f64 * x1396,
+            x1313 - x1397,
+            x1398 - x1314,
+            x1399 - x1400,
+            x1401 - x1212,
+            x1402 - x1213,
+            x1219 * x1403,
+            x1218 * x1403,
+            x874 * x1403,
+            x873 * x1403,
+            x1344 * x1236,
+            x1344 * x1235,
+            x1344 * x908,
+            x1344 * x907,
+            x1316 + x1404,
+            x1405 + x1317,
+            x1406 - x1407,
+            x1408 + x1318,
+            x1319 + x1409,
+            x1410 - x1411,
+            x1412 + x1322,
+            x1413 + x1325,
+            x1414 + x1328,
+        );
+        let (
+            x1518,
+            x1519,
+            x1520,
+            x1521,
+            x1522,
+            x1523,
+            x1524,
+            x1525,
+            x1526,
+            x1527,
+            x1528,
+            x1529,
+            x1530,
+            x1531,
+            x1532,
+            x1533,
+            x1534,
+            x1535,
+            x1536,
+            x1537,
+            x1538,
+            x1539,
+            x1540,
+            x1541,
+            x1542,
+            x1543,
+            x1544,
+            x1545,
+            x1546,
+            x1547,
+            x1548,
+            x1549,
+            x1550,
+            x1551,
+            x1552,
+            x1553,
+            x1554,
+            x1555,
+            x1556,
+            x1557,
+            x1558,
+            x1559,
+            x1560,
+            x1561,
+            x1562,
+            x1563,
+            x1564,
+            x1565,
+            x1566,
+            x1567,
+            x1568,
+            x1569,
+            x1570,
+            x1571,
+            x1572,
+            x1573,
+            x1574,
+            x1575,
+            x1576,
+            x1577,
+            x1578,
+            x1579,
+            x1580,
+            x1581,
+        ) = (
+            x1228 + x1418,
+            x1229 + x1419,
+            x1230 + x1420,
+            x1423 + x1124,
+            x1125 - x1424,
+            x1425 + x1237,
+            x1238 - x1426,
+            x1347 - x1427,
+            x1152 - x1432,
+            x1433 - x1153,
+            x1434 - x1435,
+            x1436 - x1255,
+            x1437 - x1256,
+            x1438 + x1441,
+            x1439 + x1442,
+            x1440 + x1443,
+            -0.5f64 * x1447,
+            0.5f64 * x1448,
+            0.5f64 * x1449,
+            x1450 + x1451,
+            x1452 + x1453,
+            x1454 + x1455,
+            x1294 - x1459,
+            x1460 - x1295,
+            x1461 - x1462,
+            x1463 - x1464,
+            x1465 - x1466,
+            x1467 - x1468,
+            x1475 - x1476,
+            x1477 - x1478,
+            x1479 - x1480,
+            x1472 + x1484,
+            x1473 + x1485,
+            x1474 + x1486,
+            x1487 - x1488,
+            x1489 - x1490,
+            x1491 - x1492,
+            x1493 - x1206,
+            x1494 - x1207,
+            x1495 - x1208,
+            -0.0009653051699191116f64 * x1428,
+            -0.001255536598272898f64 * x1428,
+            0.006684151967360945f64 * x1428,
+            0.0020344399586617965f64 * x1428,
+            0.002573605371338202f64 * x1428,
+            x1310 + x1496,
+            x1311 + x1497,
+            x1312 + x1498,
+            x1100 * x1500,
+            x1100 * x1499,
+            x1218 * x1500,
+            x1219 * x1499,
+            x743 * x1500,
+            x743 * x1499,
+            x873 * x1500,
+            x874 * x1499,
+            x1422 * x1129,
+            x1421 * x1129,
+            x1422 * x1235,
+            x1421 * x1236,
+            x1422 * x773,
+            x1421 * x773,
+            x1422 * x907,
+            x1421 * x908,
+        );
+        let (x1582, x1583, x1584) = (x1512 - x1509, x1510 - x1513, x1511 + x1514);
+        let (
+            x1585,
+            x1586,
+            x1587,
+            x1588,
+            x1589,
+            x1590,
+            x1591,
+            x1592,
+            x1593,
+            x1594,
+            x1595,
+            x1596,
+            x1597,
+            x1598,
+            x1599,
+            x1600,
+            x1601,
+            x1602,
+            x1603,
+            x1604,
+            x1605,
+            x1606,
+            x1607,
+            x1608,
+            x1609,
+            x1610,
+            x1611,
+            x1612,
+            x1613,
+            x1614,
+            x1615,
+            x1616,
+            x1617,
+            x1618,
+            x1619,
+            x1620,
+            x1621,
+            x1622,
+            x1623,
+            x1624,
+            x1625,
+            x1626,
+            x1627,
+            x1628,
+            x1629,
+            x1630,
+            x1631,
+            x1632,
+            x1633,
+            x1634,
+            x1635,
+            x1636,
+            x1637,
+            x1638,
+            x1639,
+            x1640,
+            x1641,
+            x1642,
+            x1643,
+            x1644,
+            x1645,
+            x1646,
+            x1647,
+            x1648,
+        ) = (
+            x1521 + x1127,
+            x1522 - x1128,
+            s6 * x1525,
+            c6 * x1525,
+            x1523 + x1022,
+            x1524 - x1023,
+            x1356 + x1526,
+            x1357 + x1527,
+            x1358 + x1528,
+            x1531 - x1444,
+            x1532 - x1445,
+            x1533 - x1446,
+            x1529 + x1534,
+            x1530 + x1535,
+            x1359 + x1536,
+            x1537 + x1291,
+            x1538 + x1292,
+            x1539 + x1293,
+            x1458 - x1542,
+            x1543 + x1469,
+            x1544 + x1470,
+            x1545 + x1471,
+            x1546 + x1481,
+            x1547 + x1482,
+            x1548 + x1483,
+            x1307 + x1552,
+            x1308 + x1553,
+            x1309 + x1554,
+            x1549 - x1555,
+            x1550 - x1556,
+            x1551 - x1557,
+            x874 * x1565,
+            x743 * x1564,
+            x743 * x1563,
+            x873 * x1565,
+            x873 * x1564,
+            x874 * x1563,
+            x1501 + x1566,
+            x1567 + x1502,
+            x1568 - x1569,
+            x1503 - x1570,
+            x1571 - x1504,
+            x1572 - x1573,
+            x1520 * x908,
+            x1519 * x773,
+            x1518 * x773,
+            x1520 * x907,
+            x1519 * x907,
+            x1518 * x908,
+            x1505 + x1574,
+            x1575 + x1506,
+            x1576 - x1577,
+            x1507 - x1578,
+            x1579 - x1508,
+            x1580 - x1581,
+            0.0020344399586617965f64 * x1584,
+            0.150277948634f64 * x1583,
+            0.150277948634f64 * x1582,
+            0.002573605371338202f64 * x1584,
+            0.002573605371338202f64 * x1583,
+            0.0020344399586617965f64 * x1582,
+            1.4955219999999998f64 * x1582,
+            1.4955219999999998f64 * x1583,
+            1.4955219999999998f64 * x1584,
+        );
+        let (
+            x1649,
+            x1650,
+            x1651,
+            x1652,
+            x1653,
+            x1654,
+            x1655,
+            x1656,
+            x1657,
+            x1658,
+            x1659,
+            x1660,
+            x1661,
+            x1662,
+            x1663,
+            x1664,
+            x1665,
+            x1666,
+            x1667,
+            x1668,
+            x1669,
+            x1670,
+            x1671,
+            x1672,
+            x1673,
+            x1674,
+            x1675,
+            x1676,
+            x1677,
+            x1678,
+            x1679,
+            x1680,
+            x1681,
+            x1682,
+            x1683,
+            x1684,
+            x1685,
+            x1686,
+            x1687,
+            x1688,
+            x1689,
+            x1690,
+            x1691,
+        ) = (
+            x1586 + x1239,
+            c6 * x1585,
+            s6 * x1585,
+            0.5f64 * x1594,
+            0.5f64 * x1595,
+            0.5f64 * x1596,
+            -0.017527158935000002f64 * x1586,
+            -0.017527158935000002f64 * x1585,
+            0.10024161669500001f64 * x1586,
+            -0.023526756935f64 * x1585,
+            1.666555f64 * x1585,
+            1.666555f64 * x1586,
+            x1604 + x1607,
+            x1605 + x1608,
+            x1606 + x1609,
+            0.5f64 * x1613,
+            0.5f64 * x1614,
+            0.5f64 * x1615,
+            0.0316333431909496f64 * x1589,
+            0.0003913912816842481f64 * x1590,
+            0.0003913912816842481f64 * x1589,
+            0.029212399412428362f64 * x1590,
+            -0.0009653051699191116f64 * x1589,
+            -0.001255536598272898f64 * x1590,
+            0.150277948634f64 * x1590,
+            0.150277948634f64 * x1589,
+            0.002573605371338202f64 * x1590,
+            0.0020344399586617965f64 * x1589,
+            x1616 - x1617,
+            x1618 - x1619,
+            x1620 - x1621,
+            x1628 - x1629,
+            x1630 - x1631,
+            x1632 - x1633,
+            x1625 + x1637,
+            x1626 + x1638,
+            x1627 + x1639,
+            x1640 - x1641,
+            x1642 - x1643,
+            x1644 - x1645,
+            x1646 - x1415,
+            x1647 - x1416,
+            x1648 - x1417,
+        );
+        let (
+            x1692,
+            x1693,
+            x1694,
+            x1695,
+            x1696,
+            x1697,
+            x1698,
+            x1699,
+            x1700,
+            x1701,
+            x1702,
+            x1703,
+            x1704,
+            x1705,
+            x1706,
+            x1707,
+            x1708,
+            x1709,
+            x1710,
+            x1711,
+            x1712,
+            x1713,
+            x1714,
+            x1715,
+            x1716,
+            x1717,
+            x1718,
+            x1719,
+            x1720,
+            x1721,
+            x1722,
+            x1723,
+            x1724,
+            x1725,
+            x1726,
+        ) = (
+            x1650 + x1587,
+            x1588 - x1651,
+            x1591 + x1652,
+            x1592 + x1653,
+            x1593 + x1654,
+            x1456 - x1655,
+            x1656 - x1457,
+            x1657 - x1658,
+            x1659 - x1540,
+            x1660 - x1541,
+            x1661 - x1610,
+            x1662 - x1611,
+            x1663 - x1612,
+            x1603 + x1666,
+            x1667 + x1668,
+            x1669 + x1670,
+            x1671 + x1672,
+            -0.0020344399586617965f64 * x1649,
+            -0.002573605371338202f64 * x1649,
+            -1.4955219999999998f64 * x1649,
+            x1561 - x1673,
+            x1674 - x1562,
+            x1675 - x1676,
+            x1677 + x1622,
+            x1678 - x1623,
+            x1679 + x1624,
+            x1680 + x1634,
+            x1681 - x1635,
+            x1682 + x1636,
+            x1515 + x1686,
+            x1516 + x1687,
+            x1517 + x1688,
+            x1683 - x1689,
+            x1684 - x1690,
+            x1685 - x1691,
+        );
+        let (
+            x1727,
+            x1728,
+            x1729,
+            x1730,
+            x1731,
+            x1732,
+            x1733,
+            x1734,
+            x1735,
+            x1736,
+            x1737,
+            x1738,
+            x1739,
+            x1740,
+            x1741,
+            x1742,
+            x1743,
+            x1744,
+            x1745,
+            x1746,
+        ) = (
+            x1692 + x1351,
+            x1693 - x1352,
+            x1600 + x1697,
+            x1601 + x1698,
+            x1602 + x1699,
+            0.5f64 * x1702,
+            0.5f64 * x1703,
+            0.5f64 * x1704,
+            x1700 + x1664,
+            x1701 + x1665,
+            x1706 + x1558,
+            x1707 + x1559,
+            x1708 + x1560,
+            x1711 - x1714,
+            x1715 + x1718,
+            x1716 + x1719,
+            x1717 + x1720,
+            0.5f64 * x1724,
+            0.5f64 * x1725,
+            0.5f64 * x1726,
+        );
+        let (
+            x1747,
+            x1748,
+            x1749,
+            x1750,
+            x1751,
+            x1752,
+            x1753,
+            x1754,
+            x1755,
+            x1756,
+            x1757,
+            x1758,
+            x1759,
+        ) = (
+            x1729 + x1732,
+            x1730 + x1733,
+            x1731 + x1734,
+            0.150277948634f64 * x1728,
+            0.150277948634f64 * x1727,
+            0.002573605371338202f64 * x1728,
+            0.0020344399586617965f64 * x1727,
+            1.4955219999999998f64 * x1727,
+            1.4955219999999998f64 * x1728,
+            x1741 - x1721,
+            x1742 - x1722,
+            x1743 - x1723,
+            x1740 + x1746,
+        );
+        let (x1760, x1761, x1762, x1763, x1764, x1765, x1766, x1767, x1768, x1769) = (
+            x1709 - x1750,
+            x1751 - x1710,
+            x1752 - x1753,
+            x1754 - x1712,
+            x1755 - x1713,
+            0.5f64 * x1756,
+            0.5f64 * x1757,
+            0.5f64 * x1758,
+            -0.088f64 * x1759,
+            x1736 - x1759,
+        );
+        let (x1770, x1771, x1772, x1773, x1774, x1775, x1776) = (
+            x1737 + x1760,
+            x1738 + x1761,
+            x1739 + x1762,
+            x1763 + x1744,
+            x1764 + x1745,
+            s5 * x1769,
+            c5 * x1769,
+        );
+        let (x1777, x1778, x1779, x1780, x1781, x1782, x1783) = (
+            x1770 + x1765,
+            x1771 + x1766,
+            x1772 + x1767,
+            c6 * x1773,
+            s6 * x1774,
+            s6 * x1773,
+            c6 * x1774,
+        );
+        let (x1784, x1785, x1786, x1787, x1788, x1789) = (
+            x1780 - x1781,
+            x1782 + x1783,
+            c6 * x1777,
+            s6 * x1778,
+            s6 * x1777,
+            c6 * x1778,
+        );
+        let (x1790, x1791, x1792, x1793, x1794) = (
+            x1786 - x1787,
+            x1788 + x1789,
+            0.088f64 * x1785,
+            x1735 + x1784,
+            x1705 + x1785,
+        );
+        let (x1795, x1796, x1797, x1798, x1799, x1800) = (
+            x1779 + x1792,
+            x1791 + x1768,
+            x1747 + x1790,
+            c5 * x1793,
+            s5 * x1793,
+            x1598 - x1794,
+        );
+        let (x1801, x1802, x1803, x1804, x1805, x1806, x1807, x1808) = (
+            x1748 - x1795,
+            x1749 + x1796,
+            x1798 - x1775,
+            x1799 + x1776,
+            c5 * x1797,
+            s5 * x1797,
+            s4 * x1800,
+            c4 * x1800,
+        );
+        let (x1809, x1810, x1811, x1812, x1813) = (
+            s5 * x1801,
+            c5 * x1801,
+            x1695 - x1802,
+            x1597 + x1803,
+            x1599 + x1804,
+        );
+        let (x1814, x1815, x1816, x1817, x1818, x1819, x1820, x1821) = (
+            x1805 - x1809,
+            x1806 + x1810,
+            c4 * x1812,
+            s4 * x1812,
+            s4 * x1811,
+            c4 * x1811,
+            -0.0825f64 * x1813,
+            x1250 + x1813,
+        );
+        let (x1822, x1823, x1824, x1825, x1826, x1827) = (
+            x1694 + x1814,
+            x1696 + x1815,
+            x1816 - x1807,
+            x1817 + x1808,
+            s3 * x1821,
+            c3 * x1821,
+        );
+        let (x1828, x1829, x1830, x1831, x1832, x1833, x1834) = (
+            c4 * x1822,
+            s4 * x1822,
+            -0.384f64 * x1825,
+            0.0825f64 * x1825,
+            0.384f64 * x1824,
+            x1249 + x1824,
+            x1825 - x1251,
+        );
+        let (x1835, x1836, x1837, x1838, x1839, x1840, x1841, x1842) = (
+            x1828 - x1818,
+            x1829 + x1819,
+            x1820 - x1832,
+            x1823 - x1831,
+            c3 * x1833,
+            s3 * x1833,
+            0.0825f64 * x1834,
+            x1028 + x1834,
+        );
+        let (x1843, x1844, x1845, x1846, x1847, x1848, x1849) = (
+            x1835 + x1830,
+            x1837 - x1836,
+            x1430 + x1838,
+            x1839 - x1826,
+            x1840 + x1827,
+            s2 * x1842,
+            c2 * x1842,
+        );
+        let (x1850, x1851, x1852, x1853, x1854, x1855) = (
+            x1429 + x1843,
+            x1431 + x1844,
+            s3 * x1845,
+            c3 * x1845,
+            0.0825f64 * x1847,
+            x1027 + x1846,
+        );
+        let (x1856, x1857, x1858, x1859, x1860) = (
+            c3 * x1850,
+            s3 * x1850,
+            x1851 + x1854,
+            c2 * x1855,
+            s2 * x1855,
+        );
+        let (x1861, x1862, x1863, x1864, x1865) = (
+            x1856 - x1852,
+            x1857 + x1853,
+            x1241 - x1858,
+            x1859 - x1848,
+            x1860 + x1849,
+        );
+        let (x1866, x1867, x1868, x1869, x1870, x1871) = (
+            x1862 + x1841,
+            x1240 + x1861,
+            s2 * x1863,
+            c2 * x1863,
+            -0.316f64 * x1865,
+            -0.316f64 * x1864,
+        );
+        let (x1872, x1873, x1874) = (x1242 + x1866, c2 * x1867, s2 * x1867);
+        let (x1875, x1876, x1877) = (x1873 - x1868, x1874 + x1869, x775 - x1872);
+        let (x1878, x1879, x1880) = (x1875 + x1870, x1876 - x1871, c1 * x1877);
+        let (x1881, x1882) = (x774 + x1878, x776 + x1879);
+        let x1883: f64 = s1 * x1881;
+        let x1884: f64 = x1883 + x1880;
+        let x1885: f64 = x21 - x1884;
         SVector::from_array_storage(
-            ArrayStorage([[x1885, x1881, x1860, x1838, x1812, x1794, x1772]]),
+            ArrayStorage([[x1885, x1882, x1872, x1851, x1823, x1802, x1779]]),
         )
     }
     ///Operations: 1694 mul, 1399 add/sub, 15 neg (joint sines and cosines come precomputed in `JointTrig`).
@@ -3032,310 +12942,6380 @@ impl RobotDynamics<7, 70> for Panda {
         v: &SVector<f64, 7>,
         a: &SVector<f64, 7>,
     ) -> SMatrix<f64, 7, 70> {
-        let [a0, _, _, _, _, _, _] = a.data.0[0];
-        let [x1, x24, x33, x37, x40, x42, x47, x51, x54, x55, x58, x61, x64, x65, x66,
-        x67, x68, x69, x72, x73, x74, x75, x76, x79, x83, x84, x85, x86, x87, x91, x145,
-        x154, x173, x178, x179, x180, x181, x182, x183, x184, x187, x189, x194, x198,
-        x201, x202, x205, x210, x215, x223, x224, x228, x229, x230, x231, x234, x237,
-        x240, x241, x242, x243, x244, x245, x257, x258, x259, x263, x264, x265, x266,
-        x267, x270, x271, x272, x273, x274, x277, x281, x282, x283, x284, x285, x291,
-        x292, x295, x302, x303, x305, x307, x308, x309, x310, x311, x341, x342, x343,
-        x346, x349, x350, x351, x355, x359, x360, x364, x368, x371, x372, x373, x374,
-        x375, x376, x377, x378, x379, x380, x381, x382, x383, x385, x386, x387, x388,
-        x389, x390, x391, x392, x393, x395, x396, x397, x398, x399, x400, x401, x402,
-        x403, x404, x405, x406, x407, x408, x409, x410, x411, x412, x413, x414, x415,
-        x416, x417, x418, x419, x420, x422, x423, x425, x426, x428, x429, x430, x431,
-        x432, x433, x434, x435, x436, x437, x438, x439, x440, x441, x442, x443, x444,
-        x445, x446, x447, x448, x449, x450, x451, x452, x453, x454, x455, x456, x458,
-        x459, x460, x473, x482, x483, x486, x491, x496, x501, x504, x509, x515, x518,
-        x528, x532, x536, x546, x550, x559, x562, x602, x605, x637, x656, x660, x679,
-        x698, x701, x704, x711, x714, x719, x726, x729, x732, x739, x742, x748, x752,
-        x755, x764, x770, x773, x777, x783, x786, x811, x833, x849, x852, x856, x867,
-        x872, x885, x888, x890, x891, x903, x922, x938, x941, x948, x955, x962, x974,
-        x977, x989, x1007, x1022, x1023] = regressor_part0(t, qd, v, a);
-        let [x1026, x1048, x1054, x1071, x1087, x1090, x1093, x1100, x1106, x1109, x1116,
-        x1124, x1130, x1133, x1136, x1143, x1149, x1152, x1161, x1167, x1173, x1176,
-        x1188, x1194, x1197, x1201, x1207, x1213, x1216, x1241, x1267, x1283, x1299,
-        x1302, x1347, x1369, x1385, x1401, x1404, x1434, x1456, x1472, x1488, x1491,
-        x1527, x1554, x1570, x1586, x1589, x1592, x1600, x1606, x1612, x1615, x1620,
-        x1628, x1634, x1640, x1643, x1646, x1654, x1660, x1666, x1669, x1675, x1680,
-        x1686, x1692, x1695, x1704, x1711, x1717, x1723, x1726, x1730, x1737, x1743,
-        x1749, x1752, x1779, x1797, x1817, x1834, x1850, x1853, x1854, x1866, x1869,
-        x1888, x1889, x1890, x1902, x1916, x1936, x1953, x1969, x1972, x1973, x1975,
-        x1980, x1988, x1990, x1991, x2003, x2005, x2018, x2030, x2035, x2036, x2037,
-        x2038, x2041, x2042, x2045, x2046, x2047] = regressor_part1(
-            t,
-            qd,
-            v,
-            a,
-            [
-                x24,
-                x33,
-                x37,
-                x40,
-                x42,
-                x47,
-                x51,
-                x54,
-                x55,
-                x58,
-                x61,
-                x64,
-                x67,
-                x68,
-                x69,
-                x76,
-                x91,
-                x145,
-                x154,
-                x173,
-                x178,
-                x179,
-                x180,
-                x181,
-                x182,
-                x183,
-                x184,
-                x187,
-                x189,
-                x194,
-                x198,
-                x201,
-                x202,
-                x205,
-                x210,
-                x215,
-                x223,
-                x224,
-                x228,
-                x229,
-                x230,
-                x231,
-                x234,
-                x237,
-                x240,
-                x243,
-                x244,
-                x245,
-                x258,
-                x259,
-                x264,
-                x266,
-                x267,
-                x274,
-                x292,
-                x341,
-                x342,
-                x343,
-                x346,
-                x349,
-                x350,
-                x351,
-                x355,
-                x359,
-                x360,
-                x364,
-                x368,
-                x371,
-                x372,
-                x373,
-                x374,
-                x375,
-                x376,
-                x377,
-                x378,
-                x379,
-                x380,
-                x381,
-                x382,
-                x383,
-                x385,
-                x386,
-                x387,
-                x388,
-                x389,
-                x390,
-                x391,
-                x392,
-                x393,
-                x395,
-                x396,
-                x397,
-                x398,
-                x399,
-                x400,
-                x401,
-                x402,
-                x403,
-                x404,
-                x405,
-                x407,
-                x408,
-                x409,
-                x410,
-                x411,
-                x412,
-                x413,
-                x415,
-                x416,
-                x417,
-                x418,
-                x419,
-                x420,
-                x422,
-                x423,
-                x425,
-                x426,
-                x428,
-                x429,
-                x430,
-                x856,
-                x867,
-                x872,
-                x885,
-                x888,
-                x890,
-                x891,
-                x948,
-                x955,
-                x962,
-                x974,
-                x977,
-                x1007,
-                x1022,
-            ],
+        let [_, s1, s2, s3, s4, s5, s6] = t.sin;
+        let [_, c1, c2, c3, c4, c5, c6] = t.cos;
+        let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+        let [v0, v1, v2, v3, v4, v5, v6] = v.data.0[0];
+        let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
+        let (
+            x0,
+            x1,
+            x2,
+            x3,
+            x4,
+            x5,
+            x6,
+            x7,
+            x8,
+            x9,
+            x10,
+            x11,
+            x12,
+            x13,
+            x14,
+            x15,
+            x16,
+            x17,
+        ) = (
+            -9.81f64 * s1,
+            -9.81f64 * c1,
+            qd0 * s1,
+            qd0 * c1,
+            qd1 * s2,
+            qd1 * c2,
+            -0.316f64 * qd1,
+            a0 * s1,
+            a0 * c1,
+            a1 * s2,
+            a1 * c2,
+            -0.316f64 * a1,
+            v0 * s1,
+            v0 * c1,
+            v1 * s2,
+            v1 * c2,
+            -0.316f64 * v1,
+            qd1 * v1,
         );
-        let [x2056, x2072, x2075, x2105, x2111, x2124, x2144, x2161, x2177, x2180, x2183,
-        x2190, x2196, x2203, x2209, x2212, x2217, x2224, x2230, x2237, x2243, x2246,
-        x2249, x2256, x2262, x2269, x2275, x2278, x2287, x2293, x2299, x2306, x2312,
-        x2315, x2327, x2333, x2340, x2346, x2349, x2353, x2359, x2365, x2372, x2378,
-        x2381, x2406, x2428, x2440, x2460, x2477, x2493, x2496, x2531, x2544, x2562,
-        x2574, x2594, x2611, x2627, x2630, x2664, x2683, x2695, x2715, x2732, x2748,
-        x2751, x2779, x2785, x2802, x2814, x2834, x2851, x2867, x2870, x2873, x2880,
-        x2886, x2892, x2899, x2905, x2908, x2913, x2920, x2926, x2932, x2939, x2945,
-        x2948, x2951, x2958, x2964, x2970, x2977, x2983, x2986, x2995, x3001, x3007,
-        x3013, x3020, x3026, x3029, x3041, x3047, x3053, x3060, x3066, x3069, x3070,
-        x3071] = regressor_part2(
-            t,
-            qd,
-            v,
-            a,
-            [
-                x61,
-                x65,
-                x66,
-                x69,
-                x72,
-                x73,
-                x74,
-                x75,
-                x79,
-                x83,
-                x84,
-                x85,
-                x86,
-                x87,
-                x237,
-                x241,
-                x242,
-                x245,
-                x257,
-                x259,
-                x263,
-                x264,
-                x265,
-                x266,
-                x270,
-                x271,
-                x272,
-                x273,
-                x277,
-                x281,
-                x282,
-                x283,
-                x284,
-                x285,
-                x291,
-                x295,
-                x302,
-                x303,
-                x305,
-                x307,
-                x308,
-                x309,
-                x310,
-                x311,
-                x403,
-                x406,
-                x409,
-                x410,
-                x413,
-                x414,
-                x420,
-                x422,
-                x423,
-                x428,
-                x429,
-                x431,
-                x432,
-                x433,
-                x434,
-                x435,
-                x436,
-                x437,
-                x438,
-                x439,
-                x440,
-                x441,
-                x442,
-                x443,
-                x444,
-                x445,
-                x446,
-                x447,
-                x448,
-                x449,
-                x450,
-                x451,
-                x452,
-                x453,
-                x454,
-                x455,
-                x456,
-                x458,
-                x459,
-                x460,
-                x1854,
-                x1866,
-                x1869,
-                x1888,
-                x1889,
-                x1890,
-                x1973,
-                x1975,
-                x1980,
-                x1988,
-                x1990,
-                x1991,
-                x2005,
-                x2030,
-                x2035,
-                x2036,
-                x2037,
-                x2041,
-                x2042,
-                x2045,
-                x2046,
-                x2047,
-            ],
+        let (
+            x18,
+            x19,
+            x20,
+            x21,
+            x22,
+            x23,
+            x24,
+            x25,
+            x26,
+            x27,
+            x28,
+            x29,
+            x30,
+            x31,
+            x32,
+            x33,
+            x34,
+            x35,
+            x36,
+            x37,
+            x38,
+            x39,
+            x40,
+            x41,
+        ) = (
+            c2 * x2,
+            s2 * x2,
+            0.316f64 * x2,
+            c2 * x6,
+            s2 * x6,
+            qd2 + x3,
+            x0 - x11,
+            v1 * x3,
+            v1 * x2,
+            c2 * x12,
+            s2 * x12,
+            0.316f64 * x12,
+            c2 * x16,
+            s2 * x16,
+            v2 + x13,
+            qd1 * x13,
+            qd1 * x12,
+            x2 * x13,
+            x3 * x12,
+            c1 * x0,
+            s1 * x1,
+            x3 * x13,
+            -x0,
+            x2 * x12,
         );
-        let [x3073, x3079, x3085, x3091, x3098, x3104, x3107] = regressor_part3(
-            t,
-            qd,
-            v,
-            a,
-            [x303, x2531, x3070, x3071],
+        let (
+            x42,
+            x43,
+            x44,
+            x45,
+            x46,
+            x47,
+            x48,
+            x49,
+            x50,
+            x51,
+            x52,
+            x53,
+            x54,
+            x55,
+            x56,
+            x57,
+            x58,
+            x59,
+            x60,
+            x61,
+            x62,
+            x63,
+            x64,
+            x65,
+            x66,
+            x67,
+            x68,
+            x69,
+            x70,
+            x71,
+            x72,
+            x73,
+            x74,
+            x75,
+            x76,
+        ) = (
+            x4 - x18,
+            x19 + x5,
+            s2 * x20,
+            c2 * x20,
+            s3 * x23,
+            c3 * x23,
+            0.0825f64 * x23,
+            x18 - x4,
+            c2 * x24,
+            s2 * x24,
+            x7 + x25,
+            x26 - x8,
+            x14 - x27,
+            x28 + x15,
+            s2 * x29,
+            c2 * x29,
+            x8 - x26,
+            s3 * x32,
+            c3 * x32,
+            0.0825f64 * x32,
+            x33 - x25,
+            x26 - x34,
+            x35 - x36,
+            x35 + x36,
+            x26 + x34,
+            x36 - x35,
+            x34 - x26,
+            x25 + x33,
+            x25 - x33,
+            x38 - x37,
+            x41 - x39,
+            x17 - x41,
+            x39 - x17,
+            x23 * x32,
+            x27 - x14,
         );
+        let (
+            x77,
+            x78,
+            x79,
+            x80,
+            x81,
+            x82,
+            x83,
+            x84,
+            x85,
+            x86,
+            x87,
+            x88,
+            x89,
+            x90,
+            x91,
+            x92,
+            x93,
+            x94,
+            x95,
+            x96,
+            x97,
+            x98,
+            x99,
+            x100,
+            x101,
+            x102,
+            x103,
+            x104,
+            x105,
+            x106,
+            x107,
+            x108,
+            x109,
+            x110,
+            x111,
+            x112,
+            x113,
+            x114,
+            x115,
+            x116,
+            x117,
+            x118,
+            x119,
+            x120,
+            x121,
+            x122,
+            x123,
+            x124,
+            x125,
+            x126,
+        ) = (
+            x44 - x21,
+            x22 + x45,
+            c3 * x42,
+            s3 * x42,
+            0.0825f64 * x43,
+            qd3 - x43,
+            x21 - x44,
+            x56 - x30,
+            x31 + x57,
+            c2 * x52,
+            s2 * x52,
+            0.316f64 * x52,
+            a2 + x58,
+            v2 * x43,
+            v2 * x42,
+            c3 * x54,
+            s3 * x54,
+            0.0825f64 * x55,
+            v3 - x55,
+            x43 * x32,
+            x23 * x55,
+            x23 * x54,
+            x42 * x32,
+            x42 * x55,
+            x43 * x54,
+            x65 - x64,
+            x62 + x69,
+            x63 + x66,
+            0.5f64 * x70,
+            -0.5f64 * x66,
+            -0.5f64 * x65,
+            x72 + x72,
+            x66 - x63,
+            0.5f64 * x69,
+            0.5f64 * x68,
+            0.5f64 * x65,
+            x73 + x73,
+            x69 - x62,
+            x74 + x74,
+            x64 + x65,
+            -0.5f64 * x69,
+            0.5f64 * x66,
+            0.5f64 * x67,
+            x43 * x55,
+            x30 - x56,
+            x42 * x54,
+            x23 * x76,
+            x49 * x32,
+            x55 - v3,
+            x43 - qd3,
+        );
+        let (
+            x127,
+            x128,
+            x129,
+            x130,
+            x131,
+            x132,
+            x133,
+            x134,
+            x135,
+            x136,
+            x137,
+            x138,
+            x139,
+            x140,
+            x141,
+            x142,
+            x143,
+            x144,
+            x145,
+            x146,
+            x147,
+            x148,
+            x149,
+            x150,
+            x151,
+            x152,
+            x153,
+            x154,
+            x155,
+            x156,
+            x157,
+            x158,
+            x159,
+            x160,
+            x161,
+            x162,
+            x163,
+            x164,
+            x165,
+            x166,
+            x167,
+            x168,
+            x169,
+            x170,
+            x171,
+            x172,
+            x173,
+            x174,
+            x175,
+            x176,
+            x177,
+            x178,
+            x179,
+            x180,
+            x181,
+            x182,
+            x183,
+            x184,
+            x185,
+            x186,
+            x187,
+            x188,
+            x189,
+            x190,
+        ) = (
+            x79 + x46,
+            x47 - x80,
+            x78 + x48,
+            c3 * x77,
+            s3 * x81,
+            s3 * x77,
+            c3 * x81,
+            s4 * x82,
+            c4 * x82,
+            0.384f64 * x82,
+            -0.0825f64 * x82,
+            x9 - x86,
+            x10 + x87,
+            s2 * x88,
+            c2 * x88,
+            v2 * x78,
+            v2 * x77,
+            x92 + x59,
+            x60 - x93,
+            x85 + x61,
+            c3 * x84,
+            s3 * x94,
+            s3 * x84,
+            c3 * x94,
+            s3 * x89,
+            c3 * x89,
+            0.0825f64 * x89,
+            s4 * x95,
+            c4 * x95,
+            0.384f64 * x95,
+            -0.0825f64 * x95,
+            x96 - x97,
+            x98 - x99,
+            x100 - x101,
+            x23 * x85,
+            x23 * x84,
+            x42 * x85,
+            x43 * x84,
+            x78 * x32,
+            x77 * x32,
+            x77 * x55,
+            x78 * x54,
+            0.5f64 * x102,
+            -0.5f64 * x103,
+            -0.5f64 * x104,
+            x105 - x52,
+            c1 * x106,
+            0.5f64 * x109,
+            0.5f64 * x108,
+            x53 + x111,
+            s1 * x110,
+            0.5f64 * x113,
+            0.5f64 * x114,
+            0.5f64 * x115,
+            -0.5f64 * x116,
+            a1 + x119,
+            s1 * x117,
+            c1 * x118,
+            x77 * x85,
+            x78 * x84,
+            x43 * x85,
+            x78 * x55,
+            x120 + x75,
+            x100 + x101,
+        );
+        let (
+            x191,
+            x192,
+            x193,
+            x194,
+            x195,
+            x196,
+            x197,
+            x198,
+            x199,
+            x200,
+            x201,
+            x202,
+            x203,
+            x204,
+            x205,
+            x206,
+            x207,
+            x208,
+            x209,
+            x210,
+            x211,
+            x212,
+            x213,
+        ) = (
+            x98 + x99,
+            x101 - x100,
+            x99 - x98,
+            x43 * x121,
+            x42 * x121,
+            x77 * x54,
+            x75 + x122,
+            x83 * x55,
+            x83 * x54,
+            x42 * x84,
+            x96 + x97,
+            x97 - x96,
+            x77 * x76,
+            x49 * x84,
+            x123 + x124,
+            x122 - x120,
+            x75 - x122,
+            x120 - x75,
+            x93 - x60,
+            x82 * x95,
+            x80 - x47,
+            x82 * x125,
+            x95 * x126,
+        );
+        let (
+            x214,
+            x215,
+            x216,
+            x217,
+            x218,
+            x219,
+            x220,
+            x221,
+            x222,
+            x223,
+            x224,
+            x225,
+            x226,
+            x227,
+            x228,
+            x229,
+            x230,
+            x231,
+            x232,
+            x233,
+            x234,
+            x235,
+            x236,
+            x237,
+            x238,
+            x239,
+            x240,
+            x241,
+            x242,
+            x243,
+            x244,
+            x245,
+            x246,
+            x247,
+            x248,
+            x249,
+            x250,
+            x251,
+            x252,
+            x253,
+            x254,
+            x255,
+            x256,
+            x257,
+            x258,
+            x259,
+            x260,
+            x261,
+            x262,
+            x263,
+            x264,
+            x265,
+            x266,
+            x267,
+            x268,
+            x269,
+            x270,
+            x271,
+            x272,
+            x273,
+            x274,
+            x275,
+            x276,
+            x277,
+        ) = (
+            x130 - x131,
+            x132 + x133,
+            c4 * x127,
+            s4 * x127,
+            -0.0825f64 * x128,
+            0.384f64 * x127,
+            qd4 + x128,
+            x131 - x130,
+            x50 + x140,
+            x141 - x51,
+            x138 + x90,
+            x139 - x91,
+            x147 - x148,
+            x149 + x150,
+            x91 - x139,
+            v3 * x128,
+            v3 * x127,
+            c4 * x144,
+            s4 * x144,
+            -0.0825f64 * x145,
+            0.384f64 * x144,
+            v4 + x145,
+            x163 - x164,
+            x167 - x168,
+            x165 - x161,
+            x162 - x166,
+            x128 * x95,
+            x82 * x145,
+            x82 * x144,
+            x127 * x95,
+            x127 * x145,
+            x128 * x144,
+            x128 * x146,
+            x127 * x146,
+            x129 * x145,
+            x129 * x144,
+            a1 + x169,
+            x170 - x52,
+            x53 + x171,
+            s1 * x172,
+            x53 + x174,
+            c1 * x176,
+            x179 - x52,
+            c1 * x178,
+            a1 + x181,
+            s1 * x180,
+            x183 + x184,
+            x185 - x186,
+            x186 - x185,
+            x161 + x165,
+            x162 + x166,
+            x187 - x188,
+            x167 - x163,
+            x188 - x187,
+            x164 - x168,
+            x189 + x189,
+            x190 - x160,
+            x168 + x194,
+            x195 + x196,
+            x163 + x198,
+            x199 + x200,
+            x197 + x197,
+            x161 - x165,
+            x190 - x192,
+        );
+        let (
+            x278,
+            x279,
+            x280,
+            x281,
+            x282,
+            x283,
+            x284,
+            x285,
+            x286,
+            x287,
+            x288,
+            x289,
+            x290,
+            x291,
+            x292,
+            x293,
+            x294,
+            x295,
+            x296,
+            x297,
+            x298,
+            x299,
+            x300,
+            x301,
+            x302,
+            x303,
+            x304,
+            x305,
+            x306,
+            x307,
+            x308,
+            x309,
+            x310,
+            x311,
+            x312,
+            x313,
+            x314,
+        ) = (
+            x201 - x158,
+            x187 + x200,
+            x203 - x188,
+            x188 + x196,
+            x204 - x187,
+            x166 - x162,
+            x159 + x205,
+            x201 - x202,
+            0.5f64 * x202,
+            0.5f64 * x191,
+            -0.5f64 * x190,
+            x206 + x206,
+            x159 + x191,
+            -0.5f64 * x201,
+            0.5f64 * x193,
+            0.5f64 * x190,
+            x207 + x207,
+            x158 + x201,
+            x208 + x208,
+            x160 + x190,
+            x191 - x159,
+            0.5f64 * x201,
+            -0.5f64 * x191,
+            0.5f64 * x192,
+            x82 * x146,
+            x129 * x95,
+            x128 * x209,
+            x127 * x209,
+            x145 * x211,
+            x144 * x211,
+            x148 - x147,
+            x129 * x125,
+            x127 * x144,
+            x128 * x125,
+            x146 * x126,
+            x145 * x126,
+            x128 * x145,
+        );
+        let (
+            x315,
+            x316,
+            x317,
+            x318,
+            x319,
+            x320,
+            x321,
+            x322,
+            x323,
+            x324,
+            x325,
+            x326,
+            x327,
+            x328,
+            x329,
+            x330,
+            x331,
+            x332,
+            x333,
+            x334,
+            x335,
+            x336,
+            x337,
+            x338,
+            x339,
+            x340,
+            x341,
+            x342,
+            x343,
+            x344,
+            x345,
+            x346,
+            x347,
+            x348,
+            x349,
+            x350,
+            x351,
+            x352,
+            x353,
+            x354,
+            x355,
+            x356,
+            x357,
+            x358,
+            x359,
+            x360,
+            x361,
+            x362,
+            x363,
+            x364,
+            x365,
+            x366,
+            x367,
+            x368,
+            x369,
+            x370,
+            x371,
+            x372,
+            x373,
+            x374,
+            x375,
+            x376,
+            x377,
+            x378,
+        ) = (
+            x216 - x134,
+            x217 + x135,
+            x218 - x219,
+            x214 - x136,
+            x137 - x215,
+            s5 * x220,
+            c5 * x220,
+            x134 - x216,
+            x222 + x142,
+            x223 - x143,
+            c3 * x224,
+            s3 * x224,
+            0.0825f64 * x225,
+            a3 + x228,
+            v3 * x215,
+            v3 * x214,
+            x231 - x154,
+            x232 + x155,
+            x233 - x234,
+            x226 - x156,
+            x157 - x227,
+            s5 * x235,
+            c5 * x235,
+            x236 + x237,
+            x240 - x241,
+            x242 - x243,
+            x244 - x245,
+            x82 * x227,
+            x82 * x226,
+            x127 * x227,
+            x128 * x226,
+            x215 * x95,
+            x214 * x95,
+            x214 * x145,
+            x215 * x144,
+            s1 * x250,
+            x253 + x173,
+            s1 * x254,
+            c1 * x251,
+            x177 + x255,
+            c1 * x258,
+            -x260,
+            x261 + x262,
+            x238 + x263,
+            x264 - x239,
+            x265 + x267,
+            x266 + x268,
+            -0.5f64 * x269,
+            0.5f64 * x270,
+            x271 + x273,
+            x272 + x274,
+            x263 - x276,
+            0.5f64 * x277,
+            -0.5f64 * x275,
+            0.5f64 * x278,
+            x143 - x223,
+            x279 + x280,
+            x281 + x282,
+            x264 + x283,
+            -0.5f64 * x284,
+            0.5f64 * x285,
+            x224 + x286,
+            s2 * x287,
+            c2 * x287,
+        );
+        let (
+            x379,
+            x380,
+            x381,
+            x382,
+            x383,
+            x384,
+            x385,
+            x386,
+            x387,
+            x388,
+            x389,
+            x390,
+            x391,
+            x392,
+            x393,
+            x394,
+            x395,
+            x396,
+            x397,
+            x398,
+            x399,
+            x400,
+            x401,
+            x402,
+            x403,
+            x404,
+            x405,
+            x406,
+            x407,
+            x408,
+            x409,
+            x410,
+            x411,
+            x412,
+            x413,
+            x414,
+            x415,
+            x416,
+            x417,
+            x418,
+            x419,
+            x420,
+            x421,
+            x422,
+            x423,
+            x424,
+            x425,
+            x426,
+            x427,
+            x428,
+            x429,
+            x430,
+            x431,
+            x432,
+            x433,
+            x434,
+            x435,
+        ) = (
+            c1 * x288,
+            -0.5f64 * x290,
+            0.5f64 * x289,
+            x225 + x292,
+            c2 * x291,
+            s2 * x291,
+            c1 * x293,
+            0.5f64 * x294,
+            -0.5f64 * x295,
+            0.5f64 * x296,
+            -0.5f64 * x297,
+            0.5f64 * x298,
+            x89 + x301,
+            c2 * x299,
+            s2 * x300,
+            s2 * x299,
+            c2 * x300,
+            x215 * x146,
+            x129 * x227,
+            x129 * x226,
+            x214 * x146,
+            x214 * x227,
+            x215 * x226,
+            x128 * x227,
+            x215 * x209,
+            x214 * x209,
+            x304 - x210,
+            x215 * x145,
+            x227 * x211,
+            x226 * x211,
+            x306 - x210,
+            x305 + x307,
+            x242 + x243,
+            x245 - x244,
+            x243 - x242,
+            x128 * x308,
+            x127 * x308,
+            x214 * x144,
+            x215 * x125,
+            x212 - x310,
+            x221 * x145,
+            x221 * x144,
+            x127 * x226,
+            x227 * x126,
+            x213 - x310,
+            x244 + x245,
+            x311 + x313,
+            x241 - x240,
+            x310 + x314,
+            x240 + x241,
+            x310 - x314,
+            x210 - x310,
+            x314 - x210,
+            x227 - x157,
+            x220 * x235,
+            x215 - x137,
+            x154 - x231,
+        );
+        let (
+            x436,
+            x437,
+            x438,
+            x439,
+            x440,
+            x441,
+            x442,
+            x443,
+            x444,
+            x445,
+            x446,
+            x447,
+            x448,
+            x449,
+            x450,
+            x451,
+            x452,
+            x453,
+            x454,
+            x455,
+            x456,
+            x457,
+            x458,
+            x459,
+            x460,
+            x461,
+            x462,
+            x463,
+            x464,
+            x465,
+            x466,
+            x467,
+            x468,
+            x469,
+            x470,
+            x471,
+            x472,
+            x473,
+            x474,
+            x475,
+            x476,
+            x477,
+            x478,
+            x479,
+            x480,
+            x481,
+            x482,
+            x483,
+            x484,
+            x485,
+            x486,
+            x487,
+            x488,
+            x489,
+            x490,
+            x491,
+            x492,
+            x493,
+            x494,
+            x495,
+            x496,
+            x497,
+            x498,
+            x499,
+        ) = (
+            x129 + x317,
+            c4 * x318,
+            s4 * x318,
+            c5 * x315,
+            s5 * x315,
+            s5 * x319,
+            c5 * x319,
+            qd5 + x316,
+            x325 + x151,
+            x152 - x326,
+            x324 + x153,
+            x1 + x327,
+            c3 * x323,
+            s3 * x323,
+            x146 + x333,
+            c4 * x334,
+            s4 * x334,
+            s4 * x328,
+            c4 * x328,
+            0.384f64 * x328,
+            -0.0825f64 * x328,
+            v4 * x316,
+            v4 * x315,
+            c5 * x331,
+            s5 * x331,
+            s5 * x335,
+            c5 * x335,
+            v5 + x332,
+            x342 - x246,
+            x343 + x247,
+            x344 + x345,
+            x248 - x346,
+            x249 + x347,
+            x348 + x349,
+            x316 * x235,
+            x220 * x332,
+            x220 * x331,
+            x315 * x235,
+            x315 * x332,
+            x316 * x331,
+            x316 * x335,
+            x315 * x335,
+            x319 * x332,
+            x319 * x331,
+            -x351,
+            x352 + x353,
+            -x354,
+            x350 + x257,
+            x259 + x355,
+            0.5f64 * x357,
+            -0.5f64 * x358,
+            0.5f64 * x359,
+            x338 + x361,
+            0.5f64 * x360,
+            x89 + x363,
+            c2 * x362,
+            s2 * x362,
+            x364 - x338,
+            -0.5f64 * x365,
+            0.5f64 * x366,
+            x367 - x89,
+            x224 + x369,
+            s2 * x368,
+            c2 * x368,
+        );
+        let (
+            x500,
+            x501,
+            x502,
+            x503,
+            x504,
+            x505,
+            x506,
+            x507,
+            x508,
+            x509,
+            x510,
+            x511,
+            x512,
+            x513,
+            x514,
+            x515,
+            x516,
+            x517,
+            x518,
+            x519,
+            x520,
+            x521,
+            x522,
+            x523,
+            x524,
+            x525,
+            x526,
+            x527,
+            x528,
+            x529,
+            x530,
+            x531,
+            x532,
+            x533,
+            x534,
+            x535,
+            x536,
+            x537,
+            x538,
+            x539,
+            x540,
+            x541,
+            x542,
+            x543,
+            x544,
+            x545,
+            x546,
+            x547,
+            x548,
+            x549,
+            x550,
+            x551,
+            x552,
+            x553,
+            x554,
+            x555,
+            x556,
+            x557,
+            x558,
+            x559,
+            x560,
+            x561,
+            x562,
+            x563,
+        ) = (
+            x371 + x372,
+            -0.5f64 * x373,
+            x225 + x374,
+            x375 - x224,
+            c2 * x376,
+            s2 * x376,
+            x225 + x380,
+            c1 * x381,
+            s2 * x382,
+            c2 * x382,
+            x224 + x387,
+            s2 * x386,
+            c2 * x386,
+            x89 + x389,
+            x225 + x390,
+            c2 * x388,
+            s2 * x388,
+            x392 - x393,
+            x394 + x395,
+            c1 * x391,
+            x396 - x397,
+            x399 - x398,
+            x401 - x400,
+            x397 - x396,
+            x398 - x399,
+            x400 - x401,
+            x346 - x248,
+            x402 + x302,
+            x303 - x403,
+            x344 - x404,
+            x247 + x347,
+            x303 + x406,
+            x302 - x407,
+            x349 - x408,
+            x343 + x249,
+            x405 + x409,
+            x341 + x410,
+            x411 - x413,
+            x302 + x415,
+            x309 + x416,
+            x414 - x349,
+            x246 + x417,
+            x303 + x420,
+            x312 + x421,
+            x419 - x344,
+            x248 + x422,
+            x418 + x423,
+            x424 - x412,
+            x339 + x425,
+            x421 - x402,
+            x406 - x416,
+            x342 - x248,
+            x416 - x406,
+            x402 - x421,
+            x346 - x246,
+            x427 + x427,
+            x411 - x340,
+            x428 - x426,
+            0.5f64 * x426,
+            0.5f64 * x411,
+            -0.5f64 * x424,
+            x429 + x429,
+            x340 + x411,
+            x428 - x339,
+        );
+        let (
+            x564,
+            x565,
+            x566,
+            x567,
+            x568,
+            x569,
+            x570,
+            x571,
+            x572,
+            x573,
+            x574,
+            x575,
+            x576,
+            x577,
+            x578,
+            x579,
+            x580,
+            x581,
+            x582,
+            x583,
+            x584,
+            x585,
+            x586,
+            x587,
+            x588,
+        ) = (
+            -0.5f64 * x428,
+            0.5f64 * x413,
+            0.5f64 * x424,
+            x430 + x430,
+            x424 - x341,
+            x339 + x428,
+            x431 + x431,
+            x341 + x424,
+            0.5f64 * x428,
+            -0.5f64 * x411,
+            0.5f64 * x412,
+            x220 * x432,
+            x315 * x432,
+            x319 * x235,
+            x316 * x332,
+            x235 * x434,
+            x331 * x434,
+            x220 * x335,
+            x315 * x331,
+            x319 * x435,
+            x220 * x435,
+            x315 * x435,
+            x322 * x335,
+            x322 * x235,
+            x322 * x331,
+        );
+        let (
+            x589,
+            x590,
+            x591,
+            x592,
+            x593,
+            x594,
+            x595,
+            x596,
+            x597,
+            x598,
+            x599,
+            x600,
+            x601,
+            x602,
+            x603,
+            x604,
+            x605,
+            x606,
+            x607,
+            x608,
+            x609,
+            x610,
+            x611,
+            x612,
+            x613,
+            x614,
+            x615,
+            x616,
+            x617,
+            x618,
+            x619,
+            x620,
+            x621,
+            x622,
+            x623,
+            x624,
+            x625,
+            x626,
+            x627,
+            x628,
+            x629,
+            x630,
+            x631,
+            x632,
+            x633,
+            x634,
+            x635,
+            x636,
+            x637,
+            x638,
+            x639,
+            x640,
+            x641,
+            x642,
+            x643,
+            x644,
+            x645,
+            x646,
+            x647,
+            x648,
+            x649,
+            x650,
+            x651,
+            x652,
+        ) = (
+            s4 * x436,
+            c4 * x436,
+            x439 + x320,
+            x321 - x440,
+            s6 * x443,
+            c6 * x443,
+            x440 - x321,
+            0.088f64 * x443,
+            s3 * x447,
+            c3 * x447,
+            x444 + x229,
+            x445 - x230,
+            s4 * x450,
+            c4 * x450,
+            x459 + x336,
+            x337 - x460,
+            s6 * x463,
+            c6 * x463,
+            x460 - x337,
+            0.088f64 * x463,
+            x464 + x467,
+            x465 - x468,
+            x469 - x466,
+            x471 - x470,
+            x472 - x473,
+            x475 - x474,
+            -x481,
+            -x483,
+            -x484,
+            x323 + x486,
+            x324 + x487,
+            c1 * x485,
+            0.5f64 * x488,
+            s2 * x490,
+            c2 * x490,
+            c2 * x489,
+            s2 * x489,
+            0.5f64 * x493,
+            x495 - x323,
+            c2 * x496,
+            s2 * x496,
+            s2 * x494,
+            x323 - x495,
+            c2 * x494,
+            0.5f64 * x500,
+            x370 + x501,
+            c2 * x502,
+            s2 * x503,
+            s2 * x502,
+            c2 * x503,
+            x504 - x377,
+            x505 + x378,
+            c2 * x506,
+            s2 * x497,
+            s2 * x506,
+            c2 * x497,
+            x383 - x508,
+            x384 + x509,
+            c1 * x510,
+            s2 * x513,
+            c2 * x513,
+            c1 * x514,
+            s1 * x517,
+            x520 + x523,
+        );
+        let (
+            x653,
+            x654,
+            x655,
+            x656,
+            x657,
+            x658,
+            x659,
+            x660,
+            x661,
+            x662,
+            x663,
+            x664,
+            x665,
+            x666,
+            x667,
+            x668,
+            x669,
+            x670,
+            x671,
+            x672,
+            x673,
+            x674,
+            x675,
+            x676,
+            x677,
+            x678,
+            x679,
+            x680,
+            x681,
+            x682,
+            x683,
+            x684,
+            x685,
+            x686,
+            x687,
+            x688,
+            x689,
+            x690,
+            x691,
+            x692,
+            x693,
+            x694,
+            x695,
+            x696,
+            x697,
+            x698,
+            x699,
+            x700,
+            x701,
+            x702,
+            x703,
+            x704,
+            x705,
+            x706,
+            x707,
+            x708,
+            x709,
+            x710,
+            x711,
+            x712,
+            x713,
+            x714,
+            x715,
+            x716,
+        ) = (
+            x521 + x524,
+            x522 + x525,
+            x464 + x526,
+            x465 + x468,
+            x466 + x469,
+            x230 - x445,
+            x528 - x527,
+            x532 - x531,
+            x529 + x533,
+            x530 + x534,
+            x466 - x469,
+            0.5f64 * x535,
+            -0.5f64 * x536,
+            0.5f64 * x537,
+            x538 + x539,
+            x542 + x543,
+            x540 + x544,
+            x541 + x545,
+            0.5f64 * x547,
+            0.5f64 * x546,
+            -0.5f64 * x548,
+            x549 + x550,
+            x552 + x553,
+            x551 + x554,
+            x468 - x465,
+            0.5f64 * x556,
+            0.5f64 * x557,
+            -0.5f64 * x555,
+            0.04125f64 * x555,
+            s3 * x559,
+            c3 * x559,
+            s2 * x560,
+            c2 * x560,
+            -0.5f64 * x562,
+            0.5f64 * x563,
+            0.5f64 * x561,
+            c3 * x564,
+            s3 * x564,
+            s2 * x566,
+            c2 * x566,
+            0.5f64 * x568,
+            0.5f64 * x567,
+            -0.5f64 * x569,
+            0.5f64 * x570,
+            -0.5f64 * x571,
+            x328 + x574,
+            c3 * x572,
+            s3 * x573,
+            s3 * x572,
+            c3 * x573,
+            x578 + x433,
+            x474 + x475,
+            x472 + x473,
+            x474 - x475,
+            x473 - x472,
+            x433 + x582,
+            x470 + x471,
+            x470 - x471,
+            x585 - x578,
+            x588 - x578,
+            x584 + x587,
+            x582 - x578,
+            x433 - x582,
+            x578 - x433,
+        );
+        let x717: f64 = x443 * x463;
+        let (
+            x718,
+            x719,
+            x720,
+            x721,
+            x722,
+            x723,
+            x724,
+            x725,
+            x726,
+            x727,
+            x728,
+            x729,
+            x730,
+            x731,
+            x732,
+            x733,
+            x734,
+            x735,
+            x736,
+            x737,
+            x738,
+            x739,
+            x740,
+            x741,
+            x742,
+            x743,
+            x744,
+            x745,
+            x746,
+            x747,
+            x748,
+            x749,
+            x750,
+            x751,
+            x752,
+            x753,
+            x754,
+            x755,
+            x756,
+            x757,
+            x758,
+            x759,
+            x760,
+            x761,
+            x762,
+            x763,
+            x764,
+            x765,
+            x766,
+            x767,
+            x768,
+            x769,
+            x770,
+            x771,
+            x772,
+            x773,
+            x774,
+            x775,
+            x776,
+            x777,
+            x778,
+            x779,
+            x780,
+            x781,
+        ) = (
+            x437 + x589,
+            x590 - x438,
+            x438 - x590,
+            c6 * x591,
+            s6 * x591,
+            0.088f64 * x592,
+            qd6 + x595,
+            x448 - x597,
+            x449 + x598,
+            x451 + x601,
+            x602 - x452,
+            c4 * x599,
+            s4 * x599,
+            -0.0825f64 * x600,
+            0.384f64 * x599,
+            a4 + x600,
+            x452 - x602,
+            v5 * x592,
+            v5 * x591,
+            c6 * x603,
+            s6 * x603,
+            0.088f64 * x604,
+            v6 + x607,
+            x592 * x463,
+            x443 * x604,
+            x443 * x603,
+            x591 * x463,
+            x591 * x604,
+            x592 * x603,
+            c2 * x618,
+            s2 * x619,
+            s2 * x618,
+            c2 * x619,
+            x1 + x621,
+            x491 - x622,
+            x492 + x623,
+            c1 * x619,
+            x626 - x1,
+            x628 - x498,
+            x629 + x499,
+            c1 * x631,
+            x635 - x636,
+            x637 + x638,
+            c2 * x634,
+            s2 * x634,
+            c1 * x633,
+            s1 * x639,
+            x641 - x642,
+            x643 + x644,
+            s1 * x645,
+            x623 - x511,
+            x622 + x512,
+            x515 - x648,
+            x516 + x649,
+            x519 - x651,
+            x655 - x609,
+            x656 - x610,
+            x611 + x657,
+            0.5f64 * x652,
+            0.5f64 * x653,
+            0.5f64 * x654,
+            x659 + x660,
+            x661 - x663,
+            x662 - x610,
+        );
+        let (
+            x782,
+            x783,
+            x784,
+            x785,
+            x786,
+            x787,
+            x788,
+            x789,
+            x790,
+            x791,
+            x792,
+            x793,
+            x794,
+            x795,
+            x796,
+            x797,
+            x798,
+            x799,
+            x800,
+            x801,
+            x802,
+            x803,
+            x804,
+            x805,
+            x806,
+            x807,
+            x808,
+            x809,
+            x810,
+            x811,
+            x812,
+            x813,
+            x814,
+            x815,
+            x816,
+            x817,
+            x818,
+            x819,
+            x820,
+            x821,
+            x822,
+            x823,
+            x824,
+            x825,
+            x826,
+            x827,
+            x828,
+            x829,
+            x830,
+            x831,
+            x832,
+            x833,
+            x834,
+            x835,
+            x836,
+            x837,
+            x838,
+            x839,
+            x840,
+            x841,
+            x842,
+            x843,
+            x844,
+            x845,
+        ) = (
+            x328 + x665,
+            x658 + x666,
+            c3 * x664,
+            s3 * x664,
+            x667 + x668,
+            x669 - x611,
+            x609 + x670,
+            x671 - x328,
+            x599 + x673,
+            s3 * x672,
+            c3 * x672,
+            x674 + x675,
+            x662 + x677,
+            x676 - x609,
+            x600 + x678,
+            x679 - x599,
+            s2 * x680,
+            c2 * x680,
+            x599 + x558,
+            x600 + x686,
+            x599 + x687,
+            s2 * x688,
+            c2 * x688,
+            x600 + x565,
+            x328 + x693,
+            x599 + x695,
+            s3 * x694,
+            c3 * x694,
+            x328 + x697,
+            c3 * x696,
+            s3 * x696,
+            x699 - x700,
+            x701 + x702,
+            s2 * x698,
+            c2 * x698,
+            x703 + x703,
+            x614 + x704,
+            x705 - x707,
+            x708 + x708,
+            x704 + x706,
+            x612 + x709,
+            x711 + x712,
+            x613 + x713,
+            x709 + x710,
+            0.5f64 * x710,
+            0.5f64 * x705,
+            0.5f64 * x704,
+            x714 + x714,
+            x613 + x705,
+            0.5f64 * x709,
+            0.5f64 * x707,
+            -0.5f64 * x704,
+            x715 + x715,
+            x709 - x612,
+            x716 + x716,
+            x704 - x614,
+            x705 - x613,
+            -0.5f64 * x709,
+            -0.5f64 * x705,
+            0.5f64 * x706,
+            x592 * x607,
+            x591 * x607,
+            x595 * x604,
+            x595 * x603,
+        );
+        let (x846, x847) = (x591 * x603, x592 * x604);
+        let (
+            x848,
+            x849,
+            x850,
+            x851,
+            x852,
+            x853,
+            x854,
+            x855,
+            x856,
+            x857,
+            x858,
+            x859,
+            x860,
+            x861,
+            x862,
+            x863,
+            x864,
+            x865,
+            x866,
+            x867,
+            x868,
+            x869,
+            x870,
+            x871,
+            x872,
+            x873,
+            x874,
+            x875,
+            x876,
+            x877,
+            x878,
+            x879,
+            x880,
+            x881,
+            x882,
+            x883,
+            x884,
+            x885,
+            x886,
+            x887,
+            x888,
+            x889,
+            x890,
+            x891,
+            x892,
+            x893,
+            x894,
+            x895,
+            x896,
+            x897,
+            x898,
+            x899,
+            x900,
+            x901,
+            x902,
+            x903,
+            x904,
+            x905,
+            x906,
+            x907,
+            x908,
+            x909,
+            x910,
+            x911,
+        ) = (
+            c5 * x718,
+            s5 * x718,
+            x721 + x593,
+            x594 - x722,
+            x720 - x723,
+            x725 - x329,
+            x726 + x330,
+            x729 - x453,
+            x730 + x454,
+            x731 - x732,
+            v4 * x719,
+            v4 * x718,
+            c5 * x727,
+            s5 * x727,
+            s5 * x733,
+            c5 * x733,
+            x737 + x605,
+            x606 - x738,
+            x734 - x739,
+            x220 * x728,
+            x220 * x727,
+            x315 * x728,
+            x316 * x727,
+            x719 * x235,
+            x718 * x235,
+            x718 * x332,
+            x719 * x331,
+            x741 - x742,
+            x743 - x744,
+            x745 - x746,
+            x592 * x734,
+            x591 * x734,
+            x720 * x604,
+            x720 * x603,
+            x747 - x748,
+            x749 + x750,
+            s2 * x751,
+            c2 * x751,
+            -0.316f64 * x753,
+            -0.316f64 * x752,
+            c2 * x755,
+            s2 * x755,
+            -0.316f64 * x757,
+            -0.316f64 * x756,
+            x761 - x749,
+            x747 + x762,
+            -0.316f64 * x760,
+            -0.316f64 * x759,
+            x379 - x764,
+            s1 * x765,
+            x385 - x767,
+            s1 * x768,
+            s1 * x770,
+            0.5f64 * x773,
+            0.5f64 * x774,
+            -0.5f64 * x775,
+            c3 * x776,
+            s3 * x777,
+            s3 * x776,
+            c3 * x777,
+            0.5f64 * x779,
+            0.5f64 * x780,
+            0.5f64 * x781,
+            s3 * x782,
+        );
+        let (
+            x912,
+            x913,
+            x914,
+            x915,
+            x916,
+            x917,
+            x918,
+            x919,
+            x920,
+            x921,
+            x922,
+            x923,
+            x924,
+            x925,
+            x926,
+            x927,
+            x928,
+            x929,
+            x930,
+            x931,
+            x932,
+            x933,
+            x934,
+            x935,
+            x936,
+            x937,
+            x938,
+            x939,
+            x940,
+            x941,
+            x942,
+            x943,
+            x944,
+            x945,
+            x946,
+            x947,
+            x948,
+            x949,
+            x950,
+            x951,
+            x952,
+            x953,
+            x954,
+            x955,
+            x956,
+            x957,
+            x958,
+            x959,
+            x960,
+            x961,
+            x962,
+            x963,
+            x964,
+            x965,
+            x966,
+            x967,
+            x968,
+            x969,
+            x970,
+            x971,
+            x972,
+            x973,
+            x974,
+            x975,
+        ) = (
+            c3 * x782,
+            -0.0825f64 * x783,
+            s2 * x783,
+            c2 * x783,
+            x329 - x725,
+            0.5f64 * x787,
+            -0.5f64 * x786,
+            0.5f64 * x788,
+            c3 * x789,
+            s3 * x789,
+            -0.0825f64 * x790,
+            s2 * x790,
+            c2 * x790,
+            -0.5f64 * x794,
+            0.5f64 * x795,
+            0.5f64 * x793,
+            c3 * x796,
+            s3 * x797,
+            s3 * x796,
+            c3 * x797,
+            c3 * x800,
+            s3 * x800,
+            c3 * x801,
+            s3 * x802,
+            s3 * x801,
+            c3 * x802,
+            s3 * x805,
+            c3 * x805,
+            c3 * x806,
+            s3 * x806,
+            s2 * x807,
+            c2 * x807,
+            s3 * x810,
+            c3 * x810,
+            s2 * x796,
+            c2 * x796,
+            c2 * x813,
+            s2 * x813,
+            c1 * x814,
+            x719 * x335,
+            x319 * x728,
+            x319 * x727,
+            x718 * x335,
+            x718 * x728,
+            x719 * x727,
+            x316 * x728,
+            x719 * x332,
+            -0.5f64 * x817,
+            -0.5f64 * x818,
+            0.5f64 * x819,
+            x315 * x727,
+            x718 * x331,
+            -0.5f64 * x821,
+            -0.5f64 * x820,
+            -0.5f64 * x822,
+            x220 * x734,
+            x316 * x734,
+            x718 * x435,
+            x720 * x235,
+            x720 * x332,
+            x322 * x727,
+            -0.5f64 * x824,
+            -0.5f64 * x825,
+            0.5f64 * x823,
+        );
+        let (
+            x976,
+            x977,
+            x978,
+            x979,
+            x980,
+            x981,
+            x982,
+            x983,
+            x984,
+            x985,
+            x986,
+            x987,
+            x988,
+            x989,
+            x990,
+            x991,
+            x992,
+            x993,
+            x994,
+            x995,
+            x996,
+            x997,
+            x998,
+            x999,
+            x1000,
+            x1001,
+            x1002,
+            x1003,
+            x1004,
+            x1005,
+            x1006,
+            x1007,
+            x1008,
+            x1009,
+            x1010,
+            x1011,
+            x1012,
+            x1013,
+            x1014,
+            x1015,
+            x1016,
+            x1017,
+            x1018,
+            x1019,
+        ) = (
+            -0.04125f64 * x823,
+            s4 * x827,
+            c4 * x827,
+            s3 * x828,
+            c3 * x828,
+            -0.5f64 * x830,
+            0.5f64 * x829,
+            c4 * x831,
+            s4 * x831,
+            s3 * x833,
+            c3 * x833,
+            0.5f64 * x834,
+            0.5f64 * x835,
+            0.5f64 * x836,
+            0.5f64 * x837,
+            0.5f64 * x838,
+            x733 + x841,
+            c4 * x839,
+            s4 * x840,
+            s4 * x839,
+            c4 * x840,
+            x443 * x728,
+            x591 * x728,
+            x720 * x463,
+            x842 - x717,
+            x719 * x463,
+            x719 * x603,
+            x443 * x734,
+            x844 - x717,
+            x843 + x845,
+            x743 + x744,
+            x746 - x745,
+            x744 - x743,
+            x717 + x846,
+            x745 + x746,
+            x741 + x742,
+            x742 - x741,
+            x846 + x847,
+            x846 - x847,
+            x717 - x846,
+            x847 - x717,
+            x738 - x606,
+            x724 * x740,
+            x722 - x594,
+        );
+        let (
+            x1020,
+            x1021,
+            x1022,
+            x1023,
+            x1024,
+            x1025,
+            x1026,
+            x1027,
+            x1028,
+            x1029,
+            x1030,
+            x1031,
+            x1032,
+            x1033,
+            x1034,
+            x1035,
+            x1036,
+            x1037,
+            x1038,
+            x1039,
+            x1040,
+            x1041,
+            x1042,
+            x1043,
+            x1044,
+            x1045,
+            x1046,
+            x1047,
+            x1048,
+            x1049,
+            x1050,
+            x1051,
+            x1052,
+            x1053,
+            x1054,
+            x1055,
+            x1056,
+            x1057,
+            x1058,
+            x1059,
+            x1060,
+            x1061,
+            x1062,
+            x1063,
+            x1064,
+            x1065,
+            x1066,
+            x1067,
+            x1068,
+            x1069,
+            x1070,
+            x1071,
+            x1072,
+            x1073,
+            x1074,
+            x1075,
+            x1076,
+            x1077,
+            x1078,
+            x1079,
+            x1080,
+            x1081,
+            x1082,
+            x1083,
+        ) = (
+            x848 + x441,
+            x442 - x849,
+            s6 * x852,
+            c6 * x852,
+            x853 - x455,
+            x456 - x854,
+            x446 + x857,
+            x855 - x457,
+            x856 + x458,
+            x860 + x461,
+            x462 - x861,
+            s6 * x866,
+            c6 * x866,
+            v6 * x851,
+            v6 * x850,
+            x476 + x867,
+            x868 - x477,
+            x869 + x870,
+            x871 + x478,
+            x479 - x872,
+            x873 + x874,
+            x851 * x740,
+            x724 * x865,
+            x724 * x864,
+            x850 * x740,
+            x850 * x865,
+            x851 * x864,
+            -0.316f64 * x883,
+            -0.316f64 * x882,
+            x624 - x884,
+            x625 + x885,
+            x888 - x630,
+            x889 + x632,
+            x892 + x894,
+            x893 - x895,
+            x507 - x897,
+            x647 - x899,
+            x650 - x900,
+            x853 + x901,
+            x902 - x854,
+            x446 - x903,
+            x904 - x905,
+            x906 + x907,
+            x446 + x909,
+            x910 - x854,
+            x784 - x911,
+            x785 + x912,
+            c3 * x908,
+            x854 - x910,
+            s3 * x908,
+            x917 - x446,
+            x916 + x919,
+            x920 - x791,
+            x921 + x792,
+            s3 * x918,
+            c3 * x918,
+            x854 + x925,
+            x853 + x926,
+            x928 - x929,
+            x930 + x931,
+            x932 - x682,
+            x933 + x683,
+            x934 - x935,
+            x936 + x937,
+        );
+        let (
+            x1084,
+            x1085,
+            x1086,
+            x1087,
+            x1088,
+            x1089,
+            x1090,
+            x1091,
+            x1092,
+            x1093,
+            x1094,
+            x1095,
+            x1096,
+            x1097,
+            x1098,
+            x1099,
+            x1100,
+            x1101,
+            x1102,
+            x1103,
+            x1104,
+            x1105,
+            x1106,
+            x1107,
+            x1108,
+            x1109,
+            x1110,
+            x1111,
+            x1112,
+            x1113,
+            x1114,
+            x1115,
+            x1116,
+            x1117,
+            x1118,
+            x1119,
+            x1120,
+            x1121,
+            x1122,
+            x1123,
+            x1124,
+            x1125,
+            x1126,
+            x1127,
+            x1128,
+            x1129,
+            x1130,
+            x1131,
+            x1132,
+            x1133,
+            x1134,
+            x1135,
+            x1136,
+            x1137,
+            x1138,
+            x1139,
+            x1140,
+            x1141,
+            x1142,
+            x1143,
+            x1144,
+            x1145,
+            x1146,
+            x1147,
+        ) = (
+            x689 - x938,
+            x690 + x939,
+            x940 - x808,
+            x941 + x809,
+            x811 - x944,
+            x812 + x945,
+            x948 + x815,
+            x949 - x816,
+            x951 - x952,
+            x953 - x954,
+            x955 - x956,
+            x952 - x951,
+            x954 - x953,
+            x956 - x955,
+            x872 - x479,
+            x854 - x456,
+            x957 + x575,
+            x958 - x577,
+            x869 + x873,
+            x872 + x576,
+            x958 + x579,
+            x957 - x581,
+            x870 + x874,
+            x868 + x580,
+            x733 + x960,
+            c4 * x959,
+            s4 * x959,
+            x457 - x855,
+            x581 + x962,
+            x577 + x963,
+            x476 + x871,
+            x867 + x478,
+            x964 - x733,
+            s4 * x965,
+            c4 * x965,
+            x962 + x968,
+            x958 + x969,
+            x868 + x583,
+            x967 - x478,
+            x963 + x971,
+            x957 + x972,
+            x872 + x586,
+            x970 - x476,
+            s3 * x975,
+            c3 * x975,
+            s3 * x982,
+            c3 * x982,
+            s4 * x987,
+            c4 * x987,
+            x733 + x990,
+            c4 * x989,
+            s4 * x989,
+            x993 - x994,
+            x995 + x996,
+            s3 * x992,
+            c3 * x992,
+            x1000 + x1004,
+            x877 + x1005,
+            x1006 - x1008,
+            x1009 + x1009,
+            x1010 - x1007,
+            x1011 - x875,
+            x861 - x462,
+            x849 - x442,
+        );
+        let (
+            x1148,
+            x1149,
+            x1150,
+            x1151,
+            x1152,
+            x1153,
+            x1154,
+            x1155,
+            x1156,
+            x1157,
+            x1158,
+            x1159,
+            x1160,
+            x1161,
+            x1162,
+            x1163,
+            x1164,
+            x1165,
+            x1166,
+            x1167,
+            x1168,
+            x1169,
+            x1170,
+            x1171,
+            x1172,
+        ) = (
+            x1013 + x1013,
+            x1006 - x876,
+            x1011 - x1012,
+            0.5f64 * x1012,
+            0.5f64 * x1006,
+            -0.5f64 * x1010,
+            x1014 + x1014,
+            x876 + x1006,
+            -0.5f64 * x1011,
+            0.5f64 * x1008,
+            0.5f64 * x1010,
+            x1015 + x1015,
+            x1010 - x877,
+            x875 + x1011,
+            x1016 + x1016,
+            x877 + x1010,
+            0.5f64 * x1011,
+            -0.5f64 * x1006,
+            0.5f64 * x1007,
+            x851 * x1017,
+            x850 * x1017,
+            x865 * x1019,
+            x864 * x1019,
+            x850 * x864,
+            x851 * x865,
+        );
+        let (
+            x1173,
+            x1174,
+            x1175,
+            x1176,
+            x1177,
+            x1178,
+            x1179,
+            x1180,
+            x1181,
+            x1182,
+            x1183,
+            x1184,
+            x1185,
+            x1186,
+            x1187,
+            x1188,
+            x1189,
+            x1190,
+            x1191,
+            x1192,
+            x1193,
+            x1194,
+            x1195,
+            x1196,
+            x1197,
+            x1198,
+            x1199,
+            x1200,
+            x1201,
+            x1202,
+            x1203,
+            x1204,
+            x1205,
+            x1206,
+            x1207,
+            x1208,
+            x1209,
+            x1210,
+            x1211,
+            x1212,
+            x1213,
+            x1214,
+            x1215,
+            x1216,
+            x1217,
+            x1218,
+            x1219,
+            x1220,
+            x1221,
+            x1222,
+            x1223,
+            x1224,
+            x1225,
+            x1226,
+            x1227,
+            x1228,
+            x1229,
+            x1230,
+            x1231,
+            x1232,
+            x1233,
+            x1234,
+            x1235,
+            x1236,
+        ) = (
+            x1021 + x596,
+            c6 * x1020,
+            s6 * x1020,
+            c4 * x1024,
+            s4 * x1026,
+            s4 * x1024,
+            c4 * x1026,
+            c5 * x1027,
+            s5 * x1027,
+            s5 * x1025,
+            c5 * x1025,
+            a5 + x1028,
+            v5 * x1021,
+            v5 * x1020,
+            x1030 + x608,
+            c6 * x1029,
+            s6 * x1029,
+            x1038 - x1035,
+            x1036 + x1039,
+            x1037 - x1040,
+            x443 * x1030,
+            x443 * x1029,
+            x591 * x1030,
+            x592 * x1029,
+            x1021 * x463,
+            x1020 * x463,
+            x1020 * x604,
+            x1021 * x603,
+            x1041 - x1042,
+            x1043 - x1044,
+            x1045 - x1046,
+            -x1048,
+            s1 * x1047,
+            x1049 + x886,
+            x1050 - x887,
+            x1051 + x890,
+            x1052 - x891,
+            s1 * x1053,
+            c3 * x1058,
+            s3 * x1059,
+            s3 * x1058,
+            c3 * x1059,
+            0.0825f64 * x1060,
+            s2 * x1060,
+            c2 * x1060,
+            c2 * x1061,
+            s2 * x1061,
+            s3 * x1063,
+            c3 * x1063,
+            0.0825f64 * x1066,
+            c2 * x1065,
+            s2 * x1065,
+            c3 * x1070,
+            s3 * x1070,
+            0.0825f64 * x1073,
+            c2 * x1072,
+            s2 * x1072,
+            c3 * x1076,
+            s3 * x1077,
+            s3 * x1076,
+            c3 * x1077,
+            0.0825f64 * x1079,
+            c2 * x1078,
+            s2 * x1078,
+        );
+        let (
+            x1237,
+            x1238,
+            x1239,
+            x1240,
+            x1241,
+            x1242,
+            x1243,
+            x1244,
+            x1245,
+            x1246,
+            x1247,
+            x1248,
+            x1249,
+            x1250,
+            x1251,
+            x1252,
+            x1253,
+            x1254,
+            x1255,
+            x1256,
+            x1257,
+            x1258,
+            x1259,
+            x1260,
+            x1261,
+            x1262,
+            x1263,
+            x1264,
+            x1265,
+            x1266,
+            x1267,
+            x1268,
+            x1269,
+            x1270,
+            x1271,
+            x1272,
+            x1273,
+            x1274,
+            x1275,
+            x1276,
+            x1277,
+            x1278,
+            x1279,
+            x1280,
+            x1281,
+            x1282,
+            x1283,
+            x1284,
+            x1285,
+            x1286,
+            x1287,
+            x1288,
+            x1289,
+            x1290,
+            x1291,
+            x1292,
+            x1293,
+            x1294,
+            x1295,
+            x1296,
+            x1297,
+            x1298,
+            x1299,
+            x1300,
+        ) = (
+            c2 * x1080,
+            s2 * x1080,
+            c1 * x1081,
+            c2 * x1082,
+            s2 * x1082,
+            c1 * x1083,
+            c2 * x1084,
+            s2 * x1084,
+            c1 * x1085,
+            c2 * x1086,
+            s2 * x1086,
+            c1 * x1087,
+            c2 * x1088,
+            s2 * x1088,
+            c1 * x1089,
+            s1 * x1090,
+            x1092 + x1095,
+            x1093 + x1096,
+            x1094 + x1097,
+            x1035 + x1038,
+            x1036 + x1098,
+            x1037 + x1040,
+            x1101 - x1100,
+            x1105 - x1104,
+            x1102 + x1106,
+            x1103 + x1107,
+            x1040 - x1037,
+            x1028 + x961,
+            s4 * x1108,
+            c4 * x1108,
+            x1112 - x1113,
+            x1113 - x1112,
+            x1114 + x1115,
+            x1035 - x1038,
+            x1027 + x966,
+            c4 * x1116,
+            s4 * x1116,
+            x1119 + x1120,
+            x1123 + x1124,
+            x1121 + x1125,
+            x1122 + x1126,
+            x973 - x1028,
+            x1111 + x974,
+            x1027 + x826,
+            x981 - x1028,
+            x832 - x1028,
+            x1027 + x988,
+            x991 - x1028,
+            s4 * x1133,
+            c4 * x1133,
+            -x1137,
+            c3 * x1136,
+            s3 * x1136,
+            s2 * x1137,
+            c2 * x1137,
+            x1021 * x734,
+            x720 * x1030,
+            x720 * x1029,
+            x1020 * x734,
+            x1020 * x1030,
+            x1021 * x1029,
+            x592 * x1030,
+            x1021 * x607,
+            x1020 * x607,
+        );
+        let (
+            x1301,
+            x1302,
+            x1303,
+            x1304,
+            x1305,
+            x1306,
+            x1307,
+            x1308,
+            x1309,
+            x1310,
+            x1311,
+            x1312,
+            x1313,
+            x1314,
+            x1315,
+            x1316,
+            x1317,
+            x1318,
+            x1319,
+            x1320,
+            x1321,
+            x1322,
+            x1323,
+            x1324,
+            x1325,
+            x1326,
+            x1327,
+            x1328,
+            x1329,
+            x1330,
+            x1331,
+            x1332,
+            x1333,
+            x1334,
+            x1335,
+            x1336,
+            x1337,
+            x1338,
+            x1339,
+            x1340,
+            x1341,
+            x1342,
+            x1343,
+            x1344,
+            x1345,
+            x1346,
+            x1347,
+            x1348,
+            x1349,
+            x1350,
+            x1351,
+        ) = (
+            x1021 * x604,
+            x595 * x1030,
+            x595 * x1029,
+            0.5f64 * x1140,
+            -0.5f64 * x1141,
+            0.5f64 * x1142,
+            x591 * x1029,
+            x1020 * x603,
+            0.5f64 * x1144,
+            -0.5f64 * x1143,
+            0.5f64 * x1145,
+            x443 * x1146,
+            x592 * x1146,
+            x463 * x1147,
+            x604 * x1147,
+            0.5f64 * x1149,
+            0.5f64 * x1150,
+            -0.5f64 * x1148,
+            s5 * x1152,
+            c5 * x1152,
+            s4 * x1153,
+            c4 * x1153,
+            -0.5f64 * x1155,
+            0.5f64 * x1154,
+            c5 * x1156,
+            s5 * x1156,
+            s4 * x1158,
+            c4 * x1158,
+            0.5f64 * x1160,
+            0.5f64 * x1159,
+            -0.5f64 * x1161,
+            0.5f64 * x1162,
+            -0.5f64 * x1163,
+            c5 * x1164,
+            s5 * x1165,
+            s5 * x1164,
+            c5 * x1165,
+            x1167 - x1018,
+            x1169 - x1018,
+            x1168 + x1170,
+            x1043 + x1044,
+            x1046 - x1045,
+            x1044 - x1043,
+            x1018 + x1171,
+            x1045 + x1046,
+            x1041 + x1042,
+            x1042 - x1041,
+            x1171 + x1172,
+            x1171 - x1172,
+            x1018 - x1171,
+            x1172 - x1018,
+        );
+        let (
+            x1352,
+            x1353,
+            x1354,
+            x1355,
+            x1356,
+            x1357,
+            x1358,
+            x1359,
+            x1360,
+            x1361,
+            x1362,
+            x1363,
+            x1364,
+            x1365,
+            x1366,
+            x1367,
+            x1368,
+            x1369,
+            x1370,
+            x1371,
+            x1372,
+            x1373,
+            x1374,
+            x1375,
+            x1376,
+            x1377,
+            x1378,
+            x1379,
+            x1380,
+            x1381,
+            x1382,
+            x1383,
+            x1384,
+            x1385,
+            x1386,
+            x1387,
+            x1388,
+            x1389,
+            x1390,
+            x1391,
+            x1392,
+            x1393,
+            x1394,
+            x1395,
+            x1396,
+            x1397,
+            x1398,
+            x1399,
+            x1400,
+            x1401,
+            x1402,
+            x1403,
+            x1404,
+            x1405,
+            x1406,
+            x1407,
+            x1408,
+            x1409,
+            x1410,
+            x1411,
+            x1412,
+            x1413,
+            x1414,
+            x1415,
+        ) = (
+            x1174 + x1022,
+            x1023 - x1175,
+            x1176 + x1177,
+            x1179 - x1178,
+            x1180 + x862,
+            x863 - x1181,
+            x1188 + x1031,
+            x1032 - x1189,
+            s6 * x1184,
+            c6 * x1184,
+            0.088f64 * x1184,
+            x878 - x1193,
+            x1194 - x879,
+            x1195 - x1196,
+            x1197 - x880,
+            x881 - x1198,
+            x1199 - x1200,
+            x851 * x1187,
+            x850 * x1187,
+            x1173 * x865,
+            x1173 * x864,
+            x620 - x1205,
+            s1 * x1206,
+            s1 * x1208,
+            x763 - x1210,
+            x1211 - x1212,
+            x1213 + x1214,
+            x1062 + x1215,
+            x1067 - x1220,
+            x1069 + x1221,
+            x1068 - x1222,
+            x1223 + x914,
+            x1224 - x915,
+            x1225 - x1074,
+            x1226 + x1075,
+            x1071 + x1227,
+            x1228 + x923,
+            x1229 - x924,
+            x1230 - x1231,
+            x1232 + x1233,
+            x927 + x1234,
+            x1235 + x798,
+            x1236 - x799,
+            x1237 + x684,
+            x1238 - x685,
+            x1240 + x803,
+            x1241 - x804,
+            x1243 + x691,
+            x1244 - x692,
+            x1246 + x942,
+            x1247 - x943,
+            x1249 + x946,
+            x1250 - x947,
+            x950 - x1252,
+            x1190 + x1256,
+            x1257 - x1191,
+            x1258 - x1192,
+            0.5f64 * x1253,
+            0.5f64 * x1254,
+            0.5f64 * x1255,
+            x1259 + x1260,
+            x1261 + x1263,
+            x1262 - x1191,
+            x1109 - x1265,
+        );
+        let (
+            x1416,
+            x1417,
+            x1418,
+            x1419,
+            x1420,
+            x1421,
+            x1422,
+            x1423,
+            x1424,
+            x1425,
+            x1426,
+            x1427,
+            x1428,
+            x1429,
+            x1430,
+            x1431,
+            x1432,
+            x1433,
+            x1434,
+            x1435,
+            x1436,
+            x1437,
+            x1438,
+            x1439,
+            x1440,
+            x1441,
+            x1442,
+            x1443,
+            x1444,
+            x1445,
+            x1446,
+            x1447,
+            x1448,
+            x1449,
+            x1450,
+            x1451,
+            x1452,
+            x1453,
+            x1454,
+            x1455,
+            x1456,
+            x1457,
+            x1458,
+            x1459,
+            x1460,
+            x1461,
+            x1462,
+            x1463,
+            x1464,
+            x1465,
+            x1466,
+            x1467,
+            x1468,
+            x1469,
+            x1470,
+            x1471,
+            x1472,
+            x1473,
+            x1474,
+            x1475,
+            x1476,
+            x1477,
+            x1478,
+            x1479,
+        ) = (
+            x1110 + x1266,
+            -0.0825f64 * x1264,
+            s3 * x1264,
+            c3 * x1264,
+            x1267 + x1268,
+            x1261 - x1192,
+            x1269 - x1270,
+            x1272 - x1117,
+            x1273 + x1118,
+            -0.0825f64 * x1271,
+            s3 * x1271,
+            c3 * x1271,
+            x1274 + x1275,
+            x1191 - x1276,
+            x1277 - x1190,
+            c4 * x1278,
+            s4 * x1279,
+            s4 * x1278,
+            c4 * x1279,
+            c4 * x1280,
+            s4 * x1280,
+            c4 * x1281,
+            s4 * x1271,
+            s4 * x1281,
+            c4 * x1271,
+            s4 * x1282,
+            c4 * x1282,
+            x1266 - x1131,
+            x1265 + x1132,
+            s3 * x1283,
+            c3 * x1283,
+            x1134 - x1285,
+            x1135 + x1286,
+            s3 * x1284,
+            c3 * x1284,
+            x1288 - x1138,
+            x1289 + x1139,
+            x1292 - x1293,
+            x1294 - x1295,
+            x1296 - x1297,
+            x1293 - x1292,
+            x1295 - x1294,
+            x1297 - x1296,
+            x880 - x1197,
+            x1198 - x881,
+            x1200 - x1199,
+            x1298 - x997,
+            x1299 - x999,
+            x1195 + x1300,
+            x1198 + x998,
+            x1301 - x1001,
+            x1302 - x1003,
+            x1200 + x1303,
+            x1194 + x1002,
+            x1184 + x1305,
+            c5 * x1304,
+            s5 * x1304,
+            x1003 + x1307,
+            x999 + x1308,
+            x1200 - x1196,
+            x1197 - x878,
+            x1195 - x1199,
+            x1193 - x880,
+            x1309 - x1184,
+        );
+        let (
+            x1480,
+            x1481,
+            x1482,
+            x1483,
+            x1484,
+            x1485,
+            x1486,
+            x1487,
+            x1488,
+            x1489,
+            x1490,
+            x1491,
+            x1492,
+            x1493,
+            x1494,
+            x1495,
+            x1496,
+            x1497,
+            x1498,
+            x1499,
+            x1500,
+            x1501,
+            x1502,
+            x1503,
+            x1504,
+            x1505,
+            x1506,
+            x1507,
+            x1508,
+            x1509,
+            x1510,
+            x1511,
+            x1512,
+            x1513,
+            x1514,
+            x1515,
+            x1516,
+            x1517,
+            x1518,
+            x1519,
+            x1520,
+            x1521,
+            x1522,
+            x1523,
+            x1524,
+            x1525,
+            x1526,
+            x1527,
+            x1528,
+            x1529,
+            x1530,
+            x1531,
+        ) = (
+            s5 * x1310,
+            c5 * x1310,
+            x1307 - x1313,
+            x1301 + x1308,
+            x881 - x1194,
+            x880 + x1312,
+            x1308 - x1315,
+            x1298 + x1307,
+            x879 - x1198,
+            x878 + x1314,
+            s4 * x1318,
+            c4 * x1318,
+            s4 * x1324,
+            c4 * x1324,
+            x1184 + x1329,
+            s5 * x1330,
+            c5 * x1330,
+            x1184 + x1333,
+            c5 * x1332,
+            s5 * x1332,
+            x1184 + x1166,
+            x1334 - x1335,
+            x1336 + x1337,
+            x724 * x1187,
+            x1173 * x740,
+            x1338 + x1339,
+            x1203 + x1340,
+            x1341 - x1343,
+            x1344 + x1344,
+            x1345 - x1342,
+            x1346 - x1201,
+            x1189 - x1032,
+            x1175 - x1023,
+            x1348 + x1348,
+            x1341 - x1202,
+            x1346 - x1347,
+            0.5f64 * x1347,
+            0.5f64 * x1341,
+            -0.5f64 * x1345,
+            x1349 + x1349,
+            x1202 + x1341,
+            -0.5f64 * x1346,
+            0.5f64 * x1343,
+            0.5f64 * x1345,
+            x1350 + x1350,
+            x1345 - x1203,
+            x1201 + x1346,
+            x1351 + x1351,
+            x1203 + x1345,
+            0.5f64 * x1346,
+            -0.5f64 * x1341,
+            0.5f64 * x1342,
+        );
+        let (
+            x1532,
+            x1533,
+            x1534,
+            x1535,
+            x1536,
+            x1537,
+            x1538,
+            x1539,
+            x1540,
+            x1541,
+            x1542,
+            x1543,
+            x1544,
+            x1545,
+            x1546,
+            x1547,
+            x1548,
+            x1549,
+            x1550,
+            x1551,
+            x1552,
+            x1553,
+            x1554,
+            x1555,
+            x1556,
+            x1557,
+            x1558,
+            x1559,
+            x1560,
+            x1561,
+            x1562,
+            x1563,
+            x1564,
+            x1565,
+            x1566,
+            x1567,
+            x1568,
+            x1569,
+            x1570,
+            x1571,
+            x1572,
+            x1573,
+            x1574,
+            x1575,
+            x1576,
+            x1577,
+            x1578,
+            x1579,
+            x1580,
+            x1581,
+            x1582,
+            x1583,
+            x1584,
+            x1585,
+            x1586,
+            x1587,
+            x1588,
+            x1589,
+            x1590,
+            x1591,
+            x1592,
+            x1593,
+            x1594,
+            x1595,
+        ) = (
+            x1354 + x858,
+            x1355 - x859,
+            x859 - x1355,
+            x1356 + x735,
+            x1357 - x736,
+            x736 - x1357,
+            v6 * x1353,
+            v6 * x1352,
+            x1363 + x1366,
+            x1364 + x1367,
+            x1365 + x1368,
+            x724 * x1359,
+            x724 * x1358,
+            x850 * x1359,
+            x851 * x1358,
+            x1353 * x740,
+            x1352 * x740,
+            x1352 * x865,
+            x1353 * x864,
+            x754 - x1374,
+            x1375 + x758,
+            0.0825f64 * x1378,
+            c2 * x1377,
+            s2 * x1377,
+            c1 * x1379,
+            x1381 + x913,
+            c2 * x1380,
+            s2 * x1382,
+            s2 * x1380,
+            c2 * x1382,
+            -0.316f64 * x1384,
+            -0.316f64 * x1383,
+            x1386 + x922,
+            c2 * x1385,
+            s2 * x1387,
+            s2 * x1385,
+            c2 * x1387,
+            -0.316f64 * x1389,
+            -0.316f64 * x1388,
+            x1391 + x681,
+            c2 * x1390,
+            s2 * x1392,
+            s2 * x1390,
+            c2 * x1392,
+            -0.316f64 * x1394,
+            -0.316f64 * x1393,
+            s1 * x1395,
+            s1 * x1397,
+            s1 * x1399,
+            s1 * x1401,
+            s1 * x1403,
+            -0.5f64 * x1406,
+            0.5f64 * x1407,
+            0.5f64 * x1408,
+            c4 * x1409,
+            s4 * x1410,
+            s4 * x1409,
+            c4 * x1410,
+            0.5f64 * x1412,
+            -0.5f64 * x1413,
+            0.5f64 * x1414,
+            -0.384f64 * x1416,
+            0.0825f64 * x1416,
+            0.384f64 * x1415,
+        );
+        let (
+            x1596,
+            x1597,
+            x1598,
+            x1599,
+            x1600,
+            x1601,
+            x1602,
+            x1603,
+            x1604,
+            x1605,
+            x1606,
+            x1607,
+            x1608,
+            x1609,
+            x1610,
+            x1611,
+            x1612,
+            x1613,
+            x1614,
+            x1615,
+            x1616,
+            x1617,
+            x1618,
+            x1619,
+            x1620,
+            x1621,
+            x1622,
+            x1623,
+            x1624,
+            x1625,
+            x1626,
+            x1627,
+            x1628,
+            x1629,
+            x1630,
+            x1631,
+            x1632,
+            x1633,
+            x1634,
+            x1635,
+            x1636,
+            x1637,
+            x1638,
+            x1639,
+            x1640,
+            x1641,
+            x1642,
+            x1643,
+            x1644,
+            x1645,
+            x1646,
+            x1647,
+            x1648,
+            x1649,
+            x1650,
+            x1651,
+            x1652,
+            x1653,
+            x1654,
+            x1655,
+            x1656,
+            x1657,
+            x1658,
+            x1659,
+        ) = (
+            c3 * x1415,
+            s3 * x1415,
+            s2 * x1416,
+            c2 * x1416,
+            0.5f64 * x1421,
+            0.5f64 * x1420,
+            0.5f64 * x1422,
+            -0.384f64 * x1424,
+            0.0825f64 * x1424,
+            0.384f64 * x1423,
+            c3 * x1423,
+            s3 * x1423,
+            s2 * x1424,
+            c2 * x1424,
+            0.5f64 * x1429,
+            0.5f64 * x1430,
+            0.5f64 * x1428,
+            x1431 - x1432,
+            x1433 + x1434,
+            x1435 - x977,
+            x1436 + x978,
+            x1437 - x1438,
+            x1439 + x1440,
+            x983 - x1441,
+            x984 + x1442,
+            -x1444,
+            c3 * x1443,
+            s3 * x1443,
+            s2 * x1444,
+            c2 * x1444,
+            -x1448,
+            c3 * x1447,
+            s3 * x1447,
+            s2 * x1448,
+            c2 * x1448,
+            c2 * x1451,
+            s2 * x1451,
+            c1 * x1452,
+            x1453 + x1456,
+            x1454 + x1457,
+            x1455 + x1458,
+            x1363 + x1459,
+            x1364 + x1460,
+            x1365 + x1461,
+            x1462 + x1463,
+            x1466 + x1467,
+            x1464 + x1468,
+            x1465 + x1469,
+            s5 * x1470,
+            c5 * x1470,
+            x1473 - x1474,
+            x1474 - x1473,
+            x1475 + x1477,
+            x1476 + x1478,
+            c5 * x1479,
+            s5 * x1479,
+            x1482 - x1483,
+            x1486 - x1487,
+            x1484 + x1488,
+            x1485 + x1489,
+            c5 * x1494,
+            s5 * x1494,
+            s5 * x1497,
+            c5 * x1497,
+        );
+        let (
+            x1660,
+            x1661,
+            x1662,
+            x1663,
+            x1664,
+            x1665,
+            x1666,
+            x1667,
+            x1668,
+            x1669,
+            x1670,
+            x1671,
+            x1672,
+            x1673,
+            x1674,
+            x1675,
+            x1676,
+            x1677,
+            x1678,
+            x1679,
+            x1680,
+            x1681,
+            x1682,
+            x1683,
+            x1684,
+            x1685,
+            x1686,
+            x1687,
+            x1688,
+            x1689,
+            x1690,
+            x1691,
+            x1692,
+            x1693,
+            x1694,
+            x1695,
+            x1696,
+            x1697,
+            x1698,
+            x1699,
+            x1700,
+            x1701,
+            x1702,
+            x1703,
+            x1704,
+            x1705,
+            x1706,
+            x1707,
+            x1708,
+            x1709,
+            x1710,
+            x1711,
+            x1712,
+        ) = (
+            c4 * x1501,
+            s4 * x1500,
+            s4 * x1501,
+            c4 * x1500,
+            s3 * x1502,
+            c3 * x1502,
+            x1353 * x1187,
+            x1173 * x1359,
+            x1173 * x1358,
+            x1352 * x1187,
+            x1352 * x1359,
+            x1353 * x1358,
+            x851 * x1359,
+            x1353 * x1017,
+            x1352 * x1017,
+            x1353 * x865,
+            x1359 * x1019,
+            x1358 * x1019,
+            0.5f64 * x1505,
+            -0.5f64 * x1506,
+            0.5f64 * x1507,
+            x850 * x1358,
+            x1352 * x864,
+            0.5f64 * x1509,
+            -0.5f64 * x1508,
+            0.5f64 * x1510,
+            x724 * x1511,
+            x851 * x1511,
+            x740 * x1512,
+            x865 * x1512,
+            0.5f64 * x1514,
+            0.5f64 * x1515,
+            -0.5f64 * x1513,
+            0.044f64 * x1513,
+            s6 * x1517,
+            c6 * x1517,
+            s5 * x1518,
+            c5 * x1518,
+            -0.5f64 * x1520,
+            0.5f64 * x1519,
+            c6 * x1521,
+            s6 * x1521,
+            s5 * x1523,
+            c5 * x1523,
+            0.5f64 * x1525,
+            0.5f64 * x1524,
+            -0.5f64 * x1526,
+            0.5f64 * x1527,
+            -0.5f64 * x1528,
+            c6 * x1529,
+            s6 * x1530,
+            s6 * x1529,
+            c6 * x1530,
+        );
+        let (
+            x1713,
+            x1714,
+            x1715,
+            x1716,
+            x1717,
+            x1718,
+            x1719,
+            x1720,
+            x1721,
+            x1722,
+            x1723,
+            x1724,
+            x1725,
+            x1726,
+            x1727,
+            x1728,
+            x1729,
+            x1730,
+            x1731,
+            x1732,
+            x1733,
+            x1734,
+            x1735,
+            x1736,
+            x1737,
+            x1738,
+            x1739,
+            x1740,
+            x1741,
+            x1742,
+            x1743,
+            x1744,
+            x1745,
+            x1746,
+            x1747,
+            x1748,
+            x1749,
+            x1750,
+            x1751,
+            x1752,
+            x1753,
+            x1754,
+            x1755,
+            x1756,
+            x1757,
+            x1758,
+            x1759,
+            x1760,
+            x1761,
+            x1762,
+            x1763,
+            x1764,
+            x1765,
+            x1766,
+            x1767,
+            x1768,
+            x1769,
+            x1770,
+            x1771,
+            x1772,
+            x1773,
+            x1774,
+            x1775,
+            x1776,
+        ) = (
+            c5 * x1532,
+            s5 * x1532,
+            c6 * x1535,
+            s6 * x1535,
+            0.088f64 * x1536,
+            a6 + x1537,
+            x1369 + x1543,
+            x1544 + x1370,
+            x1545 - x1546,
+            x1547 + x1371,
+            x1372 + x1548,
+            x1549 - x1550,
+            -x1552,
+            x778 + x1553,
+            x1554 - x1216,
+            x1555 + x1217,
+            x1558 - x1559,
+            x1560 + x1561,
+            c1 * x1557,
+            x1565 + x1566,
+            x1567 - x1568,
+            c1 * x1564,
+            x1572 + x1573,
+            x1574 - x1575,
+            c1 * x1571,
+            x1239 - x1578,
+            x1242 - x1579,
+            x1245 - x1580,
+            x1248 - x1581,
+            x1251 - x1582,
+            x1532 + x1583,
+            x1533 + x1584,
+            x1025 + x1585,
+            x1586 - x1587,
+            x1588 + x1589,
+            x1099 + x1591,
+            x1533 + x1592,
+            c4 * x1590,
+            s4 * x1590,
+            x1417 - x1595,
+            x1596 - x1418,
+            x1597 + x1419,
+            x1025 + x1600,
+            x1602 - x1532,
+            s4 * x1601,
+            c4 * x1601,
+            x1425 - x1605,
+            x1606 - x1426,
+            x1607 + x1427,
+            x1534 + x1610,
+            x1532 + x1611,
+            -0.384f64 * x1614,
+            0.0825f64 * x1614,
+            0.384f64 * x1613,
+            c3 * x1613,
+            s3 * x1613,
+            s2 * x1614,
+            c2 * x1614,
+            -x1616,
+            c3 * x1615,
+            s3 * x1615,
+            s2 * x1616,
+            c2 * x1616,
+            -x1618,
+        );
+        let (
+            x1777,
+            x1778,
+            x1779,
+            x1780,
+            x1781,
+            x1782,
+            x1783,
+            x1784,
+            x1785,
+            x1786,
+            x1787,
+            x1788,
+            x1789,
+            x1790,
+            x1791,
+            x1792,
+            x1793,
+            x1794,
+            x1795,
+            x1796,
+            x1797,
+            x1798,
+            x1799,
+            x1800,
+            x1801,
+            x1802,
+            x1803,
+            x1804,
+            x1805,
+            x1806,
+            x1807,
+            x1808,
+            x1809,
+            x1810,
+            x1811,
+            x1812,
+            x1813,
+            x1814,
+            x1815,
+            x1816,
+            x1817,
+            x1818,
+            x1819,
+            x1820,
+            x1821,
+            x1822,
+            x1823,
+            x1824,
+            x1825,
+            x1826,
+            x1827,
+            x1828,
+            x1829,
+            x1830,
+            x1831,
+            x1832,
+            x1833,
+            x1834,
+            x1835,
+            x1836,
+            x1837,
+            x1838,
+            x1839,
+            x1840,
+        ) = (
+            c3 * x1617,
+            s3 * x1617,
+            s2 * x1618,
+            c2 * x1618,
+            -x1620,
+            c3 * x1619,
+            s3 * x1619,
+            s2 * x1620,
+            c2 * x1620,
+            x1622 - x1445,
+            x1623 + x1446,
+            x1627 - x1449,
+            x1628 + x1450,
+            x1631 - x1290,
+            x1632 + x1291,
+            x1637 - x1540,
+            x1638 - x1541,
+            x1639 - x1542,
+            0.5f64 * x1634,
+            0.5f64 * x1635,
+            0.5f64 * x1636,
+            x1640 + x1641,
+            x1542 - x1642,
+            x1643 - x1541,
+            x1537 + x1306,
+            x1471 - x1644,
+            x1472 + x1645,
+            x1646 + x1647,
+            x1648 - x1542,
+            x1540 + x1649,
+            x1535 + x1311,
+            x1650 - x1480,
+            x1651 + x1481,
+            x1652 + x1653,
+            x1541 + x1654,
+            x1655 - x1540,
+            x1536 + x1316,
+            x1317 - x1535,
+            x1535 + x1151,
+            x1536 + x1323,
+            x1536 + x1157,
+            x1535 + x1331,
+            x1656 - x1495,
+            x1657 + x1496,
+            x1498 - x1658,
+            x1499 + x1659,
+            x1660 + x1661,
+            x1663 - x1662,
+            x1662 - x1663,
+            x1667 - x1666,
+            x1669 - x1668,
+            x1670 - x1671,
+            x1666 - x1667,
+            x1668 - x1669,
+            x1671 - x1670,
+            x1550 - x1549,
+            x1672 - x1503,
+            x1673 + x1504,
+            x1545 + x1674,
+            x1370 + x1548,
+            x1675 - x1504,
+            x1503 + x1676,
+            x1550 + x1677,
+            x1544 + x1372,
+        );
+        let (
+            x1841,
+            x1842,
+            x1843,
+            x1844,
+            x1845,
+            x1846,
+            x1847,
+            x1848,
+            x1849,
+            x1850,
+            x1851,
+            x1852,
+            x1853,
+            x1854,
+            x1855,
+            x1856,
+            x1857,
+            x1858,
+            x1859,
+            x1860,
+            x1861,
+            x1862,
+            x1863,
+            x1864,
+            x1865,
+            x1866,
+            x1867,
+            x1868,
+        ) = (
+            c6 * x1678,
+            s6 * x1678,
+            x1681 - x1503,
+            x1504 - x1682,
+            x1550 - x1546,
+            x1369 + x1547,
+            x1682 - x1504,
+            x1503 - x1681,
+            x1545 - x1549,
+            x1543 + x1371,
+            s6 * x1684,
+            c6 * x1684,
+            x1681 - x1687,
+            x1675 + x1682,
+            x1686 - x1371,
+            x1682 - x1689,
+            x1672 + x1681,
+            x1688 - x1369,
+            s5 * x1692,
+            c5 * x1692,
+            s5 * x1699,
+            c5 * x1699,
+            s6 * x1705,
+            c6 * x1705,
+            c6 * x1707,
+            s6 * x1707,
+            x1709 - x1710,
+            x1711 + x1712,
+        );
+        let (
+            x1869,
+            x1870,
+            x1871,
+            x1872,
+            x1873,
+            x1874,
+            x1875,
+            x1876,
+            x1877,
+            x1878,
+            x1879,
+            x1880,
+            x1881,
+            x1882,
+            x1883,
+            x1884,
+            x1885,
+            x1886,
+            x1887,
+            x1888,
+            x1889,
+            x1890,
+            x1891,
+            x1892,
+            x1893,
+            x1894,
+            x1895,
+            x1896,
+            x1897,
+            x1898,
+            x1899,
+            x1900,
+            x1901,
+            x1902,
+            x1903,
+            x1904,
+            x1905,
+            x1906,
+            x1907,
+            x1908,
+            x1909,
+            x1910,
+            x1911,
+            x1912,
+            x1913,
+            x1914,
+            x1915,
+            x1916,
+            x1917,
+            x1918,
+            x1919,
+            x1920,
+            x1921,
+            x1922,
+            x1923,
+            x1924,
+            x1925,
+            x1926,
+            x1927,
+            x1928,
+            x1929,
+            x1930,
+            x1931,
+            x1932,
+        ) = (
+            x1713 + x1182,
+            x1183 - x1714,
+            x1715 + x1360,
+            x1361 - x1716,
+            x1534 - x1717,
+            x1722 - x1719,
+            x1720 - x1723,
+            x1721 + x1724,
+            s2 * x1726,
+            c2 * x1726,
+            -0.316f64 * x1728,
+            -0.316f64 * x1727,
+            x1729 + x1562,
+            x1730 - x1563,
+            x1732 + x1569,
+            x1733 - x1570,
+            x1735 + x1576,
+            x1736 - x1577,
+            c4 * x1743,
+            s4 * x1744,
+            s4 * x1743,
+            c4 * x1744,
+            -0.0825f64 * x1745,
+            s3 * x1745,
+            c3 * x1745,
+            s4 * x1748,
+            c4 * x1748,
+            x1749 - x1594,
+            0.0825f64 * x1754,
+            c2 * x1753,
+            s2 * x1753,
+            c4 * x1755,
+            s4 * x1755,
+            x1756 - x1604,
+            0.0825f64 * x1761,
+            c2 * x1760,
+            s2 * x1760,
+            c4 * x1762,
+            s4 * x1763,
+            s4 * x1762,
+            c4 * x1763,
+            x976 - x1766,
+            x1612 - x1765,
+            x1767 - x1127,
+            x1768 + x1128,
+            x1772 - x979,
+            x1773 + x980,
+            x1777 - x1129,
+            x1778 + x1130,
+            x1782 - x985,
+            x1783 + x986,
+            c2 * x1786,
+            s2 * x1786,
+            c1 * x1787,
+            c2 * x1788,
+            s2 * x1788,
+            c1 * x1789,
+            s1 * x1790,
+            0.5f64 * x1792,
+            0.5f64 * x1793,
+            0.5f64 * x1794,
+            c5 * x1795,
+            s5 * x1796,
+            s5 * x1795,
+        );
+        let (
+            x1933,
+            x1934,
+            x1935,
+            x1936,
+            x1937,
+            x1938,
+            x1939,
+            x1940,
+            x1941,
+            x1942,
+            x1943,
+            x1944,
+            x1945,
+            x1946,
+            x1947,
+            x1948,
+            x1949,
+            x1950,
+            x1951,
+            x1952,
+            x1953,
+            x1954,
+            x1955,
+            x1956,
+            x1957,
+            x1958,
+            x1959,
+            x1960,
+            x1961,
+            x1962,
+            x1963,
+            x1964,
+            x1965,
+            x1966,
+            x1967,
+            x1968,
+            x1969,
+            x1970,
+            x1971,
+            x1972,
+            x1973,
+            x1974,
+            x1975,
+            x1976,
+            x1977,
+            x1978,
+            x1979,
+            x1980,
+            x1981,
+            x1982,
+            x1983,
+            x1984,
+            x1985,
+            x1986,
+            x1987,
+            x1988,
+            x1989,
+            x1990,
+            x1991,
+            x1992,
+            x1993,
+            x1994,
+            x1995,
+            x1996,
+        ) = (
+            c5 * x1796,
+            s4 * x1797,
+            c4 * x1797,
+            0.5f64 * x1798,
+            0.5f64 * x1799,
+            0.5f64 * x1800,
+            c4 * x1802,
+            s4 * x1801,
+            s4 * x1802,
+            c4 * x1801,
+            -0.0825f64 * x1803,
+            s3 * x1803,
+            c3 * x1803,
+            0.5f64 * x1805,
+            0.5f64 * x1804,
+            0.5f64 * x1806,
+            c4 * x1808,
+            s4 * x1807,
+            s4 * x1808,
+            c4 * x1807,
+            -0.0825f64 * x1809,
+            s3 * x1809,
+            c3 * x1809,
+            0.5f64 * x1811,
+            0.5f64 * x1812,
+            0.5f64 * x1810,
+            c5 * x1813,
+            s5 * x1814,
+            s5 * x1813,
+            c5 * x1814,
+            c5 * x1815,
+            s5 * x1815,
+            c5 * x1816,
+            s5 * x1807,
+            s5 * x1816,
+            c5 * x1807,
+            s5 * x1817,
+            c5 * x1817,
+            c4 * x1819,
+            s4 * x1818,
+            s4 * x1819,
+            c4 * x1818,
+            s3 * x1820,
+            c3 * x1820,
+            c4 * x1821,
+            s4 * x1813,
+            s4 * x1821,
+            c4 * x1813,
+            s3 * x1822,
+            c3 * x1822,
+            c3 * x1823,
+            s3 * x1823,
+            s2 * x1825,
+            c2 * x1825,
+            x1826 + x1829,
+            x1827 + x1830,
+            x1828 + x1831,
+            x1719 + x1722,
+            x1720 + x1723,
+            x1721 + x1832,
+            x1833 + x1834,
+            x1837 + x1838,
+            x1835 + x1839,
+            x1836 + x1840,
+        );
+        let (
+            x1997,
+            x1998,
+            x1999,
+            x2000,
+            x2001,
+            x2002,
+            x2003,
+            x2004,
+            x2005,
+            x2006,
+            x2007,
+            x2008,
+            x2009,
+            x2010,
+            x2011,
+            x2012,
+            x2013,
+            x2014,
+        ) = (
+            x1718 + x1679,
+            x1843 + x1844,
+            x1847 + x1848,
+            x1845 + x1849,
+            x1846 + x1850,
+            x1719 - x1722,
+            x1683 - x1718,
+            x1853 - x1854,
+            x1856 - x1857,
+            x1855 + x1858,
+            x1723 - x1720,
+            x1718 + x1704,
+            x1718 + x1708,
+            x1718 + x1531,
+            c5 * x1867,
+            s5 * x1867,
+            s4 * x1868,
+            c4 * x1868,
+        );
+        let (
+            x2015,
+            x2016,
+            x2017,
+            x2018,
+            x2019,
+            x2020,
+            x2021,
+            x2022,
+            x2023,
+            x2024,
+            x2025,
+            x2026,
+            x2027,
+            x2028,
+            x2029,
+            x2030,
+            x2031,
+            x2032,
+            x2033,
+            x2034,
+            x2035,
+            x2036,
+            x2037,
+            x2038,
+            x2039,
+            x2040,
+            x2041,
+            x2042,
+            x2043,
+            x2044,
+            x2045,
+            x2046,
+            x2047,
+            x2048,
+            x2049,
+            x2050,
+            x2051,
+            x2052,
+            x2053,
+            x2054,
+            x2055,
+            x2056,
+            x2057,
+            x2058,
+            x2059,
+            x2060,
+            x2061,
+            x2062,
+            x2063,
+            x2064,
+            x2065,
+            x2066,
+            x2067,
+            x2068,
+            x2069,
+            x2070,
+            x2071,
+            x2072,
+            x2073,
+            x2074,
+            x2075,
+            x2076,
+            x2077,
+            x2078,
+        ) = (
+            x1869 + x1185,
+            x1870 - x1186,
+            s6 * x1873,
+            c6 * x1873,
+            x1871 + x1033,
+            x1872 - x1034,
+            x1218 + x1877,
+            x1219 - x1878,
+            s1 * x1881,
+            s1 * x1883,
+            s1 * x1885,
+            x1887 - x1888,
+            x1889 + x1890,
+            x1750 - x1894,
+            x1751 + x1895,
+            s3 * x1896,
+            c3 * x1896,
+            x1898 - x1598,
+            x1899 + x1599,
+            x1900 - x1757,
+            x1901 + x1758,
+            s3 * x1902,
+            c3 * x1902,
+            x1904 - x1608,
+            x1905 + x1609,
+            x1906 - x1907,
+            x1908 + x1909,
+            s3 * x1911,
+            c3 * x1911,
+            0.0825f64 * x1913,
+            c2 * x1912,
+            s2 * x1912,
+            c2 * x1914,
+            s2 * x1914,
+            c1 * x1915,
+            c2 * x1916,
+            s2 * x1916,
+            c1 * x1917,
+            c2 * x1918,
+            s2 * x1918,
+            c1 * x1919,
+            x1920 - x1624,
+            x1921 + x1625,
+            x1923 - x1629,
+            x1924 + x1630,
+            x1633 - x1926,
+            x1534 + x1929,
+            x1930 - x1931,
+            x1932 + x1933,
+            x1533 + x1937,
+            c5 * x1936,
+            s5 * x1936,
+            x1939 + x1940,
+            x1942 - x1941,
+            x1941 - x1942,
+            x1534 + x1946,
+            s5 * x1947,
+            c5 * x1947,
+            x1949 + x1950,
+            x1952 - x1951,
+            x1951 - x1952,
+            x1186 - x1870,
+            x1959 - x1960,
+            x1961 + x1962,
+        );
+        let (
+            x2079,
+            x2080,
+            x2081,
+            x2082,
+            x2083,
+            x2084,
+            x2085,
+            x2086,
+            x2087,
+            x2088,
+            x2089,
+            x2090,
+            x2091,
+            x2092,
+            x2093,
+            x2094,
+            x2095,
+            x2096,
+            x2097,
+            x2098,
+            x2099,
+            x2100,
+            x2101,
+            x2102,
+            x2103,
+            x2104,
+            x2105,
+            x2106,
+            x2107,
+            x2108,
+            x2109,
+            x2110,
+            x2111,
+            x2112,
+            x2113,
+            x2114,
+            x2115,
+            x2116,
+            x2117,
+            x2118,
+            x2119,
+            x2120,
+        ) = (
+            s4 * x1958,
+            c4 * x1958,
+            x1963 - x1319,
+            x1964 + x1320,
+            x1965 - x1966,
+            x1967 + x1968,
+            x1325 - x1969,
+            x1326 + x1970,
+            x1971 + x1972,
+            x1974 - x1973,
+            x1973 - x1974,
+            x1977 + x1978,
+            x1980 - x1979,
+            x1979 - x1980,
+            x1983 - x1664,
+            x1984 + x1665,
+            x1874 + x1990,
+            x1991 - x1875,
+            x1992 - x1876,
+            0.5f64 * x1987,
+            0.5f64 * x1988,
+            0.5f64 * x1989,
+            x1034 - x1872,
+            x1993 + x1994,
+            x1876 - x1995,
+            x1996 - x1875,
+            s6 * x1997,
+            c6 * x1997,
+            x1998 + x1999,
+            x2000 - x1876,
+            x2001 - x2002,
+            c6 * x2003,
+            s6 * x2003,
+            x2004 + x2005,
+            x1996 + x2007,
+            x2006 - x1874,
+            c6 * x2008,
+            s6 * x2008,
+            s6 * x2009,
+            c6 * x2009,
+            s5 * x2010,
+            c5 * x2010,
+        );
+        let (
+            x2121,
+            x2122,
+            x2123,
+            x2124,
+            x2125,
+            x2126,
+            x2127,
+            x2128,
+            x2129,
+            x2130,
+            x2131,
+            x2132,
+            x2133,
+            x2134,
+            x2135,
+            x2136,
+            x2137,
+            x2138,
+            x2139,
+            x2140,
+            x2141,
+            x2142,
+            x2143,
+            x2144,
+            x2145,
+            x2146,
+            x2147,
+            x2148,
+            x2149,
+            x2150,
+            x2151,
+            x2152,
+            x2153,
+            x2154,
+            x2155,
+            x2156,
+            x2157,
+            x2158,
+            x2159,
+            x2160,
+            x2161,
+            x2162,
+            x2163,
+            x2164,
+            x2165,
+            x2166,
+            x2167,
+            x2168,
+            x2169,
+            x2170,
+            x2171,
+            x2172,
+            x2173,
+            x2174,
+            x2175,
+            x2176,
+            x2177,
+            x2178,
+            x2179,
+            x2180,
+            x2181,
+            x2182,
+            x2183,
+            x2184,
+        ) = (
+            x2016 + x1362,
+            c6 * x2015,
+            s6 * x2015,
+            x2021 + x1879,
+            x2022 - x1880,
+            x1731 - x2023,
+            x1734 - x2024,
+            x1737 - x2025,
+            -0.384f64 * x2027,
+            0.0825f64 * x2027,
+            0.384f64 * x2026,
+            c3 * x2026,
+            s3 * x2026,
+            s2 * x2027,
+            c2 * x2027,
+            x2028 + x1593,
+            x1752 - x2029,
+            x2029 - x1752,
+            -0.316f64 * x2033,
+            -0.316f64 * x2032,
+            x2034 + x1603,
+            x1759 - x2035,
+            x2035 - x1759,
+            -0.316f64 * x2039,
+            -0.316f64 * x2038,
+            x2040 + x1764,
+            x1910 - x2041,
+            x2041 - x1910,
+            x2045 - x1769,
+            x2046 + x1770,
+            x2047 - x1774,
+            x2048 + x1775,
+            x2050 - x1779,
+            x2051 + x1780,
+            x2053 - x1784,
+            x2054 + x1785,
+            s1 * x2056,
+            s1 * x2058,
+            x2015 + x1927,
+            x2016 + x1928,
+            s4 * x2061,
+            c4 * x2061,
+            c4 * x2062,
+            s4 * x2062,
+            x2016 + x1938,
+            s5 * x2064,
+            c5 * x2064,
+            0.384f64 * x2068,
+            -0.0825f64 * x2068,
+            0.384f64 * x2067,
+            c3 * x2067,
+            s3 * x2067,
+            0.0825f64 * x2069,
+            s2 * x2069,
+            c2 * x2069,
+            x1948 - x2015,
+            c5 * x2070,
+            x2015 - x1948,
+            s5 * x2070,
+            0.384f64 * x2074,
+            -0.0825f64 * x2074,
+            0.384f64 * x2073,
+            c3 * x2073,
+            s3 * x2073,
+        );
+        let (
+            x2185,
+            x2186,
+            x2187,
+            x2188,
+            x2189,
+            x2190,
+            x2191,
+            x2192,
+            x2193,
+            x2194,
+            x2195,
+            x2196,
+            x2197,
+            x2198,
+            x2199,
+            x2200,
+            x2201,
+            x2202,
+            x2203,
+            x2204,
+            x2205,
+            x2206,
+            x2207,
+            x2208,
+            x2209,
+            x2210,
+            x2211,
+            x2212,
+            x2213,
+            x2214,
+            x2215,
+            x2216,
+            x2217,
+            x2218,
+            x2219,
+            x2220,
+            x2221,
+            x2222,
+            x2223,
+            x2224,
+            x2225,
+            x2226,
+            x2227,
+            x2228,
+            x2229,
+            x2230,
+            x2231,
+            x2232,
+            x2233,
+            x2234,
+            x2235,
+            x2236,
+            x2237,
+            x2238,
+            x2239,
+            x2240,
+            x2241,
+            x2242,
+            x2243,
+            x2244,
+            x2245,
+            x2246,
+            x2247,
+            x2248,
+        ) = (
+            0.0825f64 * x2075,
+            s2 * x2075,
+            c2 * x2075,
+            x2076 + x1956,
+            x2015 + x1957,
+            c4 * x2077,
+            s4 * x2077,
+            -0.0825f64 * x2078,
+            s3 * x2078,
+            c3 * x2078,
+            c4 * x2081,
+            s4 * x2081,
+            s3 * x2082,
+            c3 * x2082,
+            c4 * x2083,
+            s4 * x2083,
+            s3 * x2084,
+            c3 * x2084,
+            c4 * x2085,
+            s4 * x2085,
+            s3 * x2086,
+            c3 * x2086,
+            c3 * x2087,
+            s3 * x2087,
+            s2 * x2089,
+            c2 * x2089,
+            c3 * x2090,
+            s3 * x2090,
+            s2 * x2092,
+            c2 * x2092,
+            c2 * x2093,
+            s2 * x2093,
+            c1 * x2094,
+            -0.5f64 * x2095,
+            0.5f64 * x2096,
+            0.5f64 * x2097,
+            c6 * x2098,
+            s6 * x2099,
+            s6 * x2098,
+            c6 * x2099,
+            0.5f64 * x2102,
+            0.5f64 * x2103,
+            0.5f64 * x2104,
+            x2101 + x1680,
+            x1841 - x2105,
+            x1842 + x2106,
+            0.5f64 * x2108,
+            0.5f64 * x2107,
+            0.5f64 * x2109,
+            x2019 + x1685,
+            x2110 - x1851,
+            x2111 + x1852,
+            -0.5f64 * x2113,
+            0.5f64 * x2114,
+            0.5f64 * x2112,
+            x2020 + x1690,
+            x1691 - x2019,
+            x2019 + x1516,
+            x2020 + x1698,
+            x2020 + x1522,
+            x2019 + x1706,
+            x2115 - x1863,
+            x2116 + x1864,
+            x1865 - x2117,
+        );
+        let (x2249, x2250, x2251) = (x1866 + x2118, x2011 + x2119, x2012 - x2120);
+        let (
+            x2252,
+            x2253,
+            x2254,
+            x2255,
+            x2256,
+            x2257,
+            x2258,
+            x2259,
+            x2260,
+            x2261,
+            x2262,
+            x2263,
+            x2264,
+            x2265,
+            x2266,
+            x2267,
+            x2268,
+            x2269,
+            x2270,
+            x2271,
+            x2272,
+            x2273,
+            x2274,
+            x2275,
+            x2276,
+            x2277,
+            x2278,
+            x2279,
+            x2280,
+            x2281,
+            x2282,
+            x2283,
+            x2284,
+            x2285,
+            x2286,
+            x2287,
+            x2288,
+            x2289,
+            x2290,
+            x2291,
+            x2292,
+            x2293,
+            x2294,
+            x2295,
+            x2296,
+            x2297,
+            x2298,
+            x2299,
+            x2300,
+            x2301,
+            x2302,
+            x2303,
+            x2304,
+            x2305,
+            x2306,
+            x2307,
+            x2308,
+            x2309,
+            x2310,
+            x2311,
+            x2312,
+            x2313,
+            x2314,
+            x2315,
+        ) = (
+            x2122 + x2017,
+            x2018 - x2123,
+            s1 * x2124,
+            x1891 - x2131,
+            x1746 + x2129,
+            x1411 - x2130,
+            x2132 - x1892,
+            x2133 + x1893,
+            c3 * x2136,
+            s3 * x2136,
+            x2138 - x1897,
+            c3 * x2141,
+            s3 * x2141,
+            x2143 - x1903,
+            c3 * x2146,
+            s3 * x2146,
+            x2148 - x2044,
+            -0.316f64 * x2150,
+            -0.316f64 * x2149,
+            s1 * x2151,
+            s1 * x2153,
+            s1 * x2155,
+            x1922 - x2157,
+            x1925 - x2158,
+            c5 * x2159,
+            s5 * x2160,
+            s5 * x2159,
+            c5 * x2160,
+            x2163 + x1934,
+            x1935 - x2164,
+            x2065 - x2166,
+            x2066 + x2167,
+            s4 * x2165,
+            c4 * x2165,
+            x1943 - x2170,
+            x2171 - x1944,
+            x2172 + x1945,
+            x2177 - x2071,
+            x2179 + x2072,
+            s4 * x2178,
+            c4 * x2178,
+            x1953 - x2182,
+            x2183 - x1954,
+            x2184 + x1955,
+            c5 * x2188,
+            s5 * x2189,
+            s5 * x2188,
+            c5 * x2189,
+            x2190 + x1490,
+            x1491 - x2191,
+            x2191 - x1491,
+            x2195 + x1321,
+            x1322 - x2196,
+            x2196 - x1322,
+            x2199 + x1492,
+            x1493 - x2200,
+            x2200 - x1493,
+            x2203 + x1327,
+            x1328 - x2204,
+            x2204 - x1328,
+            x2207 - x1975,
+            x2208 + x1976,
+            x2211 - x1981,
+            x2212 + x1982,
+        );
+        let (
+            x2316,
+            x2317,
+            x2318,
+            x2319,
+            x2320,
+            x2321,
+            x2322,
+            x2323,
+            x2324,
+            x2325,
+            x2326,
+            x2327,
+            x2328,
+            x2329,
+            x2330,
+            x2331,
+            x2332,
+            x2333,
+            x2334,
+            x2335,
+            x2336,
+            x2337,
+            x2338,
+            x2339,
+            x2340,
+            x2341,
+            x2342,
+            x2343,
+            x2344,
+            x2345,
+            x2346,
+            x2347,
+            x2348,
+            x2349,
+            x2350,
+            x2351,
+            x2352,
+            x2353,
+            x2354,
+            x2355,
+            x2356,
+            x2357,
+            x2358,
+            x2359,
+            x2360,
+            x2361,
+            x2362,
+            x2363,
+            x2364,
+            x2365,
+            x2366,
+            x2367,
+            x2368,
+            x2369,
+            x2370,
+        ) = (
+            x2215 - x1985,
+            x2216 + x1986,
+            x2121 - x2220,
+            x2221 - x2222,
+            x2223 + x2224,
+            x2121 + x2226,
+            c6 * x2225,
+            s6 * x2225,
+            0.088f64 * x2230,
+            -0.088f64 * x2228,
+            c5 * x2229,
+            s5 * x2228,
+            s5 * x2229,
+            c5 * x2228,
+            s4 * x2230,
+            c4 * x2230,
+            x2231 - x2121,
+            s6 * x2232,
+            c6 * x2232,
+            0.088f64 * x2236,
+            -0.088f64 * x2234,
+            c5 * x2235,
+            s5 * x2234,
+            s5 * x2235,
+            c5 * x2234,
+            s4 * x2236,
+            c4 * x2236,
+            c6 * x2240,
+            s6 * x2241,
+            s6 * x2240,
+            c6 * x2241,
+            c6 * x2242,
+            s6 * x2242,
+            c6 * x2243,
+            s6 * x2234,
+            s6 * x2243,
+            c6 * x2234,
+            s6 * x2244,
+            c6 * x2244,
+            c5 * x2246,
+            s5 * x2245,
+            s5 * x2246,
+            c5 * x2245,
+            s4 * x2247,
+            c4 * x2247,
+            c5 * x2248,
+            s5 * x2240,
+            s5 * x2248,
+            c5 * x2240,
+            s4 * x2249,
+            c4 * x2249,
+            c4 * x2250,
+            s4 * x2250,
+            s3 * x2251,
+            c3 * x2251,
+        );
+        let (
+            x2371,
+            x2372,
+            x2373,
+            x2374,
+            x2375,
+            x2376,
+            x2377,
+            x2378,
+            x2379,
+            x2380,
+            x2381,
+            x2382,
+            x2383,
+            x2384,
+            x2385,
+            x2386,
+            x2387,
+            x2388,
+            x2389,
+            x2390,
+            x2391,
+            x2392,
+            x2393,
+            x2394,
+            x2395,
+            x2396,
+            x2397,
+            x2398,
+            x2399,
+            x2400,
+            x2401,
+            x2402,
+            x2403,
+            x2404,
+            x2405,
+            x2406,
+            x2407,
+            x2408,
+            x2409,
+            x2410,
+            x2411,
+            x2412,
+            x2413,
+            x2414,
+            x2415,
+            x2416,
+            x2417,
+            x2418,
+            x2419,
+            x2420,
+            x2421,
+            x2422,
+            x2423,
+            x2424,
+            x2425,
+            x2426,
+            x2427,
+            x2428,
+            x2429,
+            x2430,
+            x2431,
+            x2432,
+            x2433,
+            x2434,
+        ) = (
+            x2252 + x1538,
+            x2253 - x1539,
+            x1556 - x2254,
+            x2255 - x1747,
+            c3 * x2256,
+            s3 * x2257,
+            x1747 - x2255,
+            s3 * x2256,
+            c3 * x2257,
+            0.0825f64 * x2259,
+            c2 * x2258,
+            s2 * x2258,
+            x2260 - x2030,
+            x2261 + x2031,
+            s2 * x2262,
+            c2 * x2262,
+            x2263 - x2036,
+            x2264 + x2037,
+            s2 * x2265,
+            c2 * x2265,
+            x2266 - x2042,
+            x2267 + x2043,
+            s2 * x2268,
+            c2 * x2268,
+            x2049 - x2271,
+            x2052 - x2272,
+            x2055 - x2273,
+            x2276 - x2277,
+            x2278 + x2279,
+            c4 * x2282,
+            s4 * x2282,
+            x2283 - x2169,
+            0.0825f64 * x2288,
+            c2 * x2287,
+            s2 * x2287,
+            c4 * x2289,
+            s4 * x2289,
+            x2290 - x2181,
+            0.0825f64 * x2295,
+            c2 * x2294,
+            s2 * x2294,
+            x2296 - x2297,
+            x2298 + x2299,
+            0.384f64 * x2301,
+            -0.0825f64 * x2301,
+            0.384f64 * x2300,
+            c3 * x2300,
+            s3 * x2300,
+            0.0825f64 * x2302,
+            s2 * x2302,
+            c2 * x2302,
+            c3 * x2303,
+            s3 * x2303,
+            s2 * x2305,
+            c2 * x2305,
+            c3 * x2306,
+            s3 * x2306,
+            s2 * x2308,
+            c2 * x2308,
+            c3 * x2309,
+            s3 * x2309,
+            s2 * x2311,
+            c2 * x2311,
+            c2 * x2312,
+        );
+        let (
+            x2435,
+            x2436,
+            x2437,
+            x2438,
+            x2439,
+            x2440,
+            x2441,
+            x2442,
+            x2443,
+            x2444,
+            x2445,
+            x2446,
+            x2447,
+            x2448,
+            x2449,
+            x2450,
+            x2451,
+            x2452,
+            x2453,
+            x2454,
+            x2455,
+            x2456,
+            x2457,
+            x2458,
+            x2459,
+            x2460,
+            x2461,
+            x2462,
+            x2463,
+            x2464,
+            x2465,
+            x2466,
+            x2467,
+            x2468,
+            x2469,
+        ) = (
+            s2 * x2312,
+            c1 * x2313,
+            c2 * x2314,
+            s2 * x2314,
+            c1 * x2315,
+            s1 * x2316,
+            0.088f64 * x2318,
+            s5 * x2318,
+            c5 * x2318,
+            c5 * x2319,
+            s5 * x2319,
+            s6 * x2321,
+            c6 * x2321,
+            x2326 + x2327,
+            x2328 - x2329,
+            c6 * x2332,
+            s6 * x2332,
+            x2337 + x2338,
+            x2339 - x2340,
+            x1539 - x2253,
+            x2343 - x2344,
+            x2345 + x2346,
+            x2347 - x1694,
+            x2348 + x1695,
+            x2349 - x2350,
+            x2351 + x2352,
+            x1700 - x2353,
+            x1701 + x2354,
+            x2355 + x2356,
+            x2357 - x2358,
+            x2361 + x2362,
+            x2363 - x2364,
+            x2367 + x2013,
+            x2014 - x2368,
+            x2368 - x2014,
+        );
+        let (
+            x2470,
+            x2471,
+            x2472,
+            x2473,
+            x2474,
+            x2475,
+            x2476,
+            x2477,
+            x2478,
+            x2479,
+            x2480,
+            x2481,
+            x2482,
+            x2483,
+            x2484,
+            x2485,
+            x2486,
+            x2487,
+            x2488,
+            x2489,
+            x2490,
+            x2491,
+            x2492,
+            x2493,
+            x2494,
+            x2495,
+            x2496,
+            x2497,
+            x2498,
+            x2499,
+            x2500,
+            x2501,
+            x2502,
+            x2503,
+            x2504,
+            x2505,
+            x2506,
+            x2507,
+            x2508,
+            x2509,
+            x2510,
+            x2511,
+            x2512,
+            x2513,
+            x2514,
+            x2515,
+            x2516,
+            x2517,
+            x2518,
+            x2519,
+            x2520,
+            x2521,
+            x2522,
+            x2523,
+            x2524,
+            x2525,
+            x2526,
+            x2527,
+            x2528,
+            x2529,
+            x2530,
+            x2531,
+            x2532,
+            x2533,
+        ) = (
+            x2375 - x2376,
+            x2378 + x2379,
+            x2377 - x2380,
+            x2381 - x2134,
+            x2382 + x2135,
+            x1594 + x2384,
+            c2 * x2383,
+            s2 * x2383,
+            x1604 + x2388,
+            c2 * x2387,
+            s2 * x2387,
+            x1765 + x2392,
+            c2 * x2391,
+            s2 * x2391,
+            c4 * x2398,
+            s4 * x2398,
+            -0.0825f64 * x2399,
+            s3 * x2399,
+            c3 * x2399,
+            x2400 + x2284,
+            x2285 - x2401,
+            s3 * x2402,
+            c3 * x2402,
+            x2404 - x2174,
+            x2405 + x2175,
+            x2406 - x2291,
+            x2407 + x2292,
+            s3 * x2408,
+            c3 * x2408,
+            x2410 - x2186,
+            x2411 + x2187,
+            c4 * x2412,
+            s4 * x2412,
+            x2192 - x2416,
+            x2413 - x2415,
+            x2417 - x2193,
+            x2418 + x2194,
+            x2422 - x2197,
+            x2423 + x2198,
+            x2426 - x2201,
+            x2427 + x2202,
+            x2430 - x2205,
+            x2431 + x2206,
+            x2434 - x2209,
+            x2435 + x2210,
+            x2437 - x2213,
+            x2438 + x2214,
+            x2217 - x2440,
+            x2371 + x2218,
+            x2372 + x2219,
+            x2320 + x2441,
+            x2372 + x2227,
+            x2322 - x2446,
+            x2323 + x2447,
+            c4 * x2448,
+            s4 * x2448,
+            -0.0825f64 * x2449,
+            s3 * x2449,
+            c3 * x2449,
+            x2233 - x2371,
+            x2450 - x2333,
+            x2371 - x2233,
+            x2451 + x2334,
+            c4 * x2452,
+        );
+        let (
+            x2534,
+            x2535,
+            x2536,
+            x2537,
+            x2538,
+            x2539,
+            x2540,
+            x2541,
+            x2542,
+            x2543,
+            x2544,
+            x2545,
+            x2546,
+            x2547,
+            x2548,
+            x2549,
+            x2550,
+            x2551,
+            x2552,
+            x2553,
+            x2554,
+            x2555,
+            x2556,
+            x2557,
+            x2558,
+            x2559,
+            x2560,
+            x2561,
+            x2562,
+            x2563,
+            x2564,
+            x2565,
+            x2566,
+            x2567,
+            x2568,
+        ) = (
+            s4 * x2452,
+            -0.0825f64 * x2453,
+            s3 * x2453,
+            c3 * x2453,
+            x2454 + x2237,
+            x2371 + x2238,
+            0.088f64 * x2456,
+            c5 * x2455,
+            s5 * x2455,
+            s4 * x2456,
+            c4 * x2456,
+            c5 * x2457,
+            s5 * x2457,
+            s4 * x2458,
+            c4 * x2458,
+            c5 * x2459,
+            s5 * x2459,
+            s4 * x2460,
+            c4 * x2460,
+            c5 * x2461,
+            s5 * x2461,
+            s4 * x2462,
+            c4 * x2462,
+            c4 * x2463,
+            s4 * x2463,
+            s3 * x2464,
+            c3 * x2464,
+            c4 * x2465,
+            s4 * x2465,
+            s3 * x2466,
+            c3 * x2466,
+            c3 * x2467,
+            s3 * x2467,
+            s2 * x2469,
+            c2 * x2469,
+        );
+        let (
+            x2569,
+            x2570,
+            x2571,
+            x2572,
+            x2573,
+            x2574,
+            x2575,
+            x2576,
+            x2577,
+            x2578,
+            x2579,
+            x2580,
+            x2581,
+            x2582,
+            x2583,
+            x2584,
+            x2585,
+            x2586,
+            x2587,
+            x2588,
+            x2589,
+            x2590,
+            x2591,
+            x2592,
+            x2593,
+            x2594,
+            x2595,
+            x2596,
+            x2597,
+            x2598,
+            x2599,
+            x2600,
+            x2601,
+            x2602,
+            x2603,
+            x2604,
+            x2605,
+            x2606,
+            x2607,
+            x2608,
+            x2609,
+            x2610,
+            x2611,
+            x2612,
+            x2613,
+            x2614,
+            x2615,
+            x2616,
+            x2617,
+            x2618,
+            x2619,
+            x2620,
+            x2621,
+            x2622,
+            x2623,
+            x2624,
+            x2625,
+            x2626,
+            x2627,
+            x2628,
+            x2629,
+            x2630,
+            x2631,
+            x2632,
+        ) = (
+            x2130 + x2471,
+            c2 * x2470,
+            s2 * x2472,
+            s2 * x2470,
+            c2 * x2472,
+            -0.316f64 * x2474,
+            -0.316f64 * x2473,
+            x2476 - x2385,
+            x2477 + x2386,
+            c1 * x2475,
+            x2479 - x2389,
+            x2480 + x2390,
+            c1 * x2478,
+            x2482 - x2393,
+            x2483 + x2394,
+            c1 * x2481,
+            x2484 + x2161,
+            x2162 - x2485,
+            x2485 - x2162,
+            x2489 + x2168,
+            x2490 + x2286,
+            -0.316f64 * x2494,
+            -0.316f64 * x2493,
+            x2495 + x2180,
+            x2293 - x2496,
+            x2496 - x2293,
+            -0.316f64 * x2500,
+            -0.316f64 * x2499,
+            x2501 + x2079,
+            x2080 - x2502,
+            s3 * x2504,
+            c3 * x2504,
+            0.0825f64 * x2506,
+            c2 * x2505,
+            s2 * x2505,
+            c2 * x2507,
+            s2 * x2507,
+            c1 * x2508,
+            c2 * x2509,
+            s2 * x2509,
+            c1 * x2510,
+            c2 * x2511,
+            s2 * x2511,
+            c1 * x2512,
+            s1 * x2513,
+            s1 * x2515,
+            c6 * x2518,
+            s6 * x2519,
+            s6 * x2518,
+            c6 * x2519,
+            s4 * x2520,
+            c4 * x2520,
+            x2521 + x2324,
+            x2523 + x2325,
+            c5 * x2522,
+            s5 * x2522,
+            x2524 + x2330,
+            x2331 - x2525,
+            x2525 - x2331,
+            x2531 - x2335,
+            x2532 + x2336,
+            c5 * x2530,
+            s5 * x2530,
+            x2533 + x2341,
+        );
+        let (
+            x2633,
+            x2634,
+            x2635,
+            x2636,
+            x2637,
+            x2638,
+            x2639,
+            x2640,
+            x2641,
+            x2642,
+            x2643,
+            x2644,
+            x2645,
+            x2646,
+            x2647,
+            x2648,
+            x2649,
+            x2650,
+            x2651,
+            x2652,
+            x2653,
+            x2654,
+            x2655,
+        ) = (
+            x2342 - x2534,
+            x2534 - x2342,
+            c6 * x2538,
+            s6 * x2539,
+            s6 * x2538,
+            c6 * x2539,
+            x2239 + x2540,
+            x2541 + x1859,
+            x2542 - x1860,
+            x2545 + x1696,
+            x2546 - x1697,
+            x2549 + x1861,
+            x2550 - x1862,
+            x2553 + x1702,
+            x2554 - x1703,
+            x2557 + x2359,
+            x2360 - x2558,
+            x2558 - x2360,
+            x2561 + x2365,
+            x2366 - x2562,
+            x2562 - x2366,
+            x2565 - x2369,
+            x2566 + x2370,
+        );
+        let (
+            x2656,
+            x2657,
+            x2658,
+            x2659,
+            x2660,
+            x2661,
+            x2662,
+            x2663,
+            x2664,
+            x2665,
+            x2666,
+            x2667,
+            x2668,
+            x2669,
+            x2670,
+            x2671,
+            x2672,
+            x2673,
+            x2674,
+            x2675,
+            x2676,
+            x2677,
+            x2678,
+            x2679,
+            x2680,
+            x2681,
+            x2682,
+            x2683,
+            x2684,
+            x2685,
+            x2686,
+            x2687,
+            x2688,
+            x2689,
+            x2690,
+            x2691,
+            x2692,
+            x2693,
+            x2694,
+            x2695,
+            x2696,
+            x2697,
+            x2698,
+            x2699,
+            x2700,
+            x2701,
+            x2702,
+            x2703,
+            x2704,
+            x2705,
+            x2706,
+            x2707,
+            x2708,
+            x2709,
+            x2710,
+            x2711,
+            x2712,
+            x2713,
+            x2714,
+            x2715,
+            x2716,
+            x2717,
+            x2718,
+            x2719,
+        ) = (
+            x2570 - x2571,
+            x2572 + x2573,
+            c1 * x2569,
+            x2576 + x2139,
+            x2577 - x2140,
+            x2579 + x2144,
+            x2580 - x2145,
+            x2582 + x2269,
+            x2583 - x2270,
+            0.384f64 * x2586,
+            -0.0825f64 * x2586,
+            0.384f64 * x2585,
+            c3 * x2585,
+            s3 * x2585,
+            0.0825f64 * x2587,
+            s2 * x2587,
+            c2 * x2587,
+            c3 * x2588,
+            s3 * x2588,
+            x2589 + x2403,
+            c3 * x2592,
+            s3 * x2592,
+            x2594 - x2409,
+            x2597 + x2414,
+            x2598 + x2503,
+            x2602 - x2420,
+            x2603 + x2421,
+            x2604 - x2424,
+            x2605 + x2425,
+            x2607 - x2428,
+            x2608 + x2429,
+            x2610 - x2432,
+            x2611 + x2433,
+            x2436 - x2613,
+            x2439 - x2614,
+            x2615 - x2616,
+            x2617 + x2618,
+            s5 * x2621,
+            c5 * x2621,
+            s4 * x2622,
+            c4 * x2622,
+            0.384f64 * x2626,
+            -0.0825f64 * x2626,
+            0.384f64 * x2625,
+            c3 * x2625,
+            s3 * x2625,
+            0.0825f64 * x2627,
+            s2 * x2627,
+            c2 * x2627,
+            s5 * x2628,
+            c5 * x2628,
+            s4 * x2629,
+            c4 * x2629,
+            0.384f64 * x2633,
+            -0.0825f64 * x2633,
+            0.384f64 * x2632,
+            c3 * x2632,
+            s3 * x2632,
+            0.0825f64 * x2634,
+            s2 * x2634,
+            c2 * x2634,
+            x2635 - x2636,
+            x2637 + x2638,
+            s5 * x2639,
+        );
+        let (
+            x2720,
+            x2721,
+            x2722,
+            x2723,
+            x2724,
+            x2725,
+            x2726,
+            x2727,
+            x2728,
+            x2729,
+            x2730,
+            x2731,
+            x2732,
+            x2733,
+            x2734,
+            x2735,
+            x2736,
+            x2737,
+            x2738,
+            x2739,
+            x2740,
+            x2741,
+            x2742,
+            x2743,
+            x2744,
+            x2745,
+            x2746,
+            x2747,
+            x2748,
+        ) = (
+            c5 * x2639,
+            c4 * x2640,
+            s4 * x2640,
+            -0.0825f64 * x2641,
+            s3 * x2641,
+            c3 * x2641,
+            c4 * x2642,
+            s4 * x2642,
+            s3 * x2643,
+            c3 * x2643,
+            c4 * x2644,
+            s4 * x2644,
+            s3 * x2645,
+            c3 * x2645,
+            c4 * x2646,
+            s4 * x2646,
+            s3 * x2647,
+            c3 * x2647,
+            c3 * x2648,
+            s3 * x2648,
+            s2 * x2650,
+            c2 * x2650,
+            c3 * x2651,
+            s3 * x2651,
+            s2 * x2653,
+            c2 * x2653,
+            c2 * x2654,
+            s2 * x2654,
+            c1 * x2655,
+        );
+        let (
+            x2749,
+            x2750,
+            x2751,
+            x2752,
+            x2753,
+            x2754,
+            x2755,
+            x2756,
+            x2757,
+            x2758,
+            x2759,
+            x2760,
+            x2761,
+            x2762,
+            x2763,
+            x2764,
+            x2765,
+            x2766,
+            x2767,
+            x2768,
+            x2769,
+            x2770,
+            x2771,
+            x2772,
+            x2773,
+            x2774,
+            x2775,
+            x2776,
+            x2777,
+            x2778,
+            x2779,
+            x2780,
+            x2781,
+            x2782,
+            x2783,
+            x2784,
+            x2785,
+            x2786,
+            x2787,
+            x2788,
+            x2789,
+            x2790,
+            x2791,
+            x2792,
+            x2793,
+            x2794,
+            x2795,
+            x2796,
+            x2797,
+            x2798,
+            x2799,
+            x2800,
+            x2801,
+            x2802,
+            x2803,
+            x2804,
+            x2805,
+            x2806,
+            x2807,
+            x2808,
+            x2809,
+            x2810,
+        ) = (
+            x2656 + x2574,
+            x2657 - x2575,
+            s1 * x2659,
+            s1 * x2661,
+            s1 * x2663,
+            x2486 - x2667,
+            x2280 + x2665,
+            x2063 - x2666,
+            x2668 - x2487,
+            x2669 + x2488,
+            x2673 - x2491,
+            x2674 + x2492,
+            s2 * x2675,
+            c2 * x2675,
+            x2676 - x2497,
+            x2677 + x2498,
+            s2 * x2678,
+            c2 * x2678,
+            c3 * x2679,
+            s3 * x2679,
+            x2680 + x2601,
+            -0.316f64 * x2682,
+            -0.316f64 * x2681,
+            s1 * x2683,
+            s1 * x2685,
+            s1 * x2687,
+            0.088f64 * x2692,
+            c5 * x2691,
+            s5 * x2691,
+            s4 * x2692,
+            c4 * x2692,
+            x2623 + x2693,
+            x2624 - x2694,
+            x2526 - x2699,
+            x2700 - x2527,
+            x2701 + x2528,
+            x2630 - x2705,
+            x2631 + x2706,
+            x2535 - x2711,
+            x2712 - x2536,
+            x2713 + x2537,
+            x2718 + x1693,
+            c5 * x2717,
+            s5 * x2717,
+            x2721 + x2543,
+            x2544 - x2722,
+            x2722 - x2544,
+            x2726 + x2547,
+            x2548 - x2727,
+            x2727 - x2548,
+            x2730 + x2551,
+            x2552 - x2731,
+            x2731 - x2552,
+            x2734 + x2555,
+            x2556 - x2735,
+            x2735 - x2556,
+            x2738 - x2559,
+            x2739 + x2560,
+            x2742 - x2563,
+            x2743 + x2564,
+            x2746 - x2567,
+            x2747 + x2568,
+        );
+        let (
+            x2811,
+            x2812,
+            x2813,
+            x2814,
+            x2815,
+            x2816,
+            x2817,
+            x2818,
+            x2819,
+            x2820,
+            x2821,
+            x2822,
+            x2823,
+            x2824,
+            x2825,
+            x2826,
+            x2827,
+            x2828,
+            x2829,
+            x2830,
+            x2831,
+            x2832,
+            x2833,
+            x2834,
+            x2835,
+            x2836,
+            x2837,
+            x2838,
+            x2839,
+            x2840,
+            x2841,
+            x2842,
+            x2843,
+            x2844,
+            x2845,
+            x2846,
+            x2847,
+            x2848,
+            x2849,
+            x2850,
+            x2851,
+            x2852,
+            x2853,
+            x2854,
+            x2855,
+            x2856,
+            x2857,
+            x2858,
+            x2859,
+            x2860,
+            x2861,
+            x2862,
+            x2863,
+            x2864,
+            x2865,
+            x2866,
+            x2867,
+            x2868,
+            x2869,
+            x2870,
+            x2871,
+            x2872,
+            x2873,
+            x2874,
+        ) = (
+            s1 * x2749,
+            x2578 - x2751,
+            x2581 - x2752,
+            x2584 - x2753,
+            x2281 + x2754,
+            c3 * x2755,
+            s3 * x2756,
+            s3 * x2755,
+            c3 * x2756,
+            0.0825f64 * x2758,
+            c2 * x2757,
+            s2 * x2757,
+            x2760 + x2173,
+            c2 * x2759,
+            s2 * x2759,
+            x2764 + x2185,
+            c2 * x2763,
+            s2 * x2763,
+            x2767 - x2599,
+            x2768 + x2600,
+            s2 * x2769,
+            c2 * x2769,
+            x2606 - x2772,
+            x2609 - x2773,
+            x2612 - x2774,
+            x2100 + x2775,
+            x2776 - x2442,
+            x2777 + x2443,
+            c4 * x2780,
+            s4 * x2780,
+            x2781 - x2698,
+            0.0825f64 * x2784,
+            c2 * x2783,
+            s2 * x2783,
+            c4 * x2785,
+            s4 * x2785,
+            x2786 - x2710,
+            0.0825f64 * x2789,
+            c2 * x2788,
+            s2 * x2788,
+            x2791 + x2719,
+            x2792 - x2720,
+            s4 * x2790,
+            c4 * x2790,
+            0.384f64 * x2794,
+            -0.0825f64 * x2794,
+            0.384f64 * x2793,
+            c3 * x2793,
+            s3 * x2793,
+            0.0825f64 * x2795,
+            s2 * x2795,
+            c2 * x2795,
+            c3 * x2796,
+            s3 * x2796,
+            s2 * x2798,
+            c2 * x2798,
+            c3 * x2799,
+            s3 * x2799,
+            s2 * x2801,
+            c2 * x2801,
+            c3 * x2802,
+            s3 * x2802,
+            s2 * x2804,
+            c2 * x2804,
+        );
+        let (x2875, x2876, x2877, x2878, x2879, x2880, x2881) = (
+            c2 * x2805,
+            s2 * x2805,
+            c1 * x2806,
+            c2 * x2807,
+            s2 * x2807,
+            c1 * x2808,
+            s1 * x2809,
+        );
+        let (
+            x2882,
+            x2883,
+            x2884,
+            x2885,
+            x2886,
+            x2887,
+            x2888,
+            x2889,
+            x2890,
+            x2891,
+            x2892,
+            x2893,
+            x2894,
+            x2895,
+            x2896,
+            x2897,
+            x2898,
+            x2899,
+            x2900,
+            x2901,
+            x2902,
+            x2903,
+            x2904,
+            x2905,
+            x2906,
+            x2907,
+            x2908,
+            x2909,
+            x2910,
+            x2911,
+            x2912,
+            x2913,
+            x2914,
+            x2915,
+            x2916,
+            x2917,
+            x2918,
+            x2919,
+            x2920,
+            x2921,
+            x2922,
+            x2923,
+            x2924,
+            x2925,
+            x2926,
+            x2927,
+            x2928,
+            x2929,
+            x2930,
+            x2931,
+            x2932,
+        ) = (
+            x2658 - x2811,
+            x2816 - x2817,
+            x2818 + x2819,
+            x2815 + x2820,
+            x2821 - x2671,
+            x2822 + x2672,
+            x2824 + x2761,
+            x2825 - x2762,
+            c1 * x2823,
+            x2827 - x2765,
+            x2828 + x2766,
+            c1 * x2826,
+            x2830 + x2419,
+            c2 * x2829,
+            s2 * x2829,
+            s5 * x2836,
+            c5 * x2836,
+            c4 * x2837,
+            s4 * x2837,
+            -0.0825f64 * x2838,
+            s3 * x2838,
+            c3 * x2838,
+            x2839 + x2695,
+            x2696 - x2840,
+            s3 * x2841,
+            c3 * x2841,
+            x2843 - x2703,
+            x2844 + x2704,
+            x2845 + x2707,
+            x2708 - x2846,
+            s3 * x2847,
+            c3 * x2847,
+            x2849 - x2715,
+            x2850 + x2716,
+            c4 * x2851,
+            s4 * x2851,
+            x2723 - x2857,
+            x2852 - x2856,
+            x2858 - x2724,
+            x2859 + x2725,
+            x2863 - x2728,
+            x2864 + x2729,
+            x2867 - x2732,
+            x2868 + x2733,
+            x2871 - x2736,
+            x2872 + x2737,
+            x2875 - x2740,
+            x2876 + x2741,
+            x2878 - x2744,
+            x2879 + x2745,
+            x2748 - x2881,
+        );
+        let (
+            x2933,
+            x2934,
+            x2935,
+            x2936,
+            x2937,
+            x2938,
+            x2939,
+            x2940,
+            x2941,
+            x2942,
+            x2943,
+            x2944,
+            x2945,
+            x2946,
+            x2947,
+            x2948,
+            x2949,
+            x2950,
+            x2951,
+            x2952,
+            x2953,
+            x2954,
+            x2955,
+            x2956,
+            x2957,
+            x2958,
+            x2959,
+            x2960,
+            x2961,
+            x2962,
+            x2963,
+            x2964,
+            x2965,
+            x2966,
+            x2967,
+            x2968,
+            x2969,
+            x2970,
+            x2971,
+            x2972,
+            x2973,
+            x2974,
+            x2975,
+            x2976,
+            x2977,
+        ) = (
+            x2884 + x2670,
+            c2 * x2883,
+            s2 * x2885,
+            s2 * x2883,
+            c2 * x2885,
+            -0.316f64 * x2887,
+            -0.316f64 * x2886,
+            x2888 + x2590,
+            x2889 - x2591,
+            x2891 + x2595,
+            x2892 - x2596,
+            x2895 + x2831,
+            x2896 - x2832,
+            c1 * x2894,
+            x2444 + x2897,
+            x2445 - x2898,
+            x2899 + x2778,
+            x2779 - x2900,
+            x2900 - x2779,
+            x2904 + x2697,
+            x2905 + x2782,
+            -0.316f64 * x2909,
+            -0.316f64 * x2908,
+            x2910 + x2709,
+            x2911 + x2787,
+            -0.316f64 * x2915,
+            -0.316f64 * x2914,
+            x2916 + x2853,
+            x2854 - x2917,
+            s3 * x2919,
+            c3 * x2919,
+            0.0825f64 * x2921,
+            c2 * x2920,
+            s2 * x2920,
+            c2 * x2922,
+            s2 * x2922,
+            c1 * x2923,
+            c2 * x2924,
+            s2 * x2924,
+            c1 * x2925,
+            c2 * x2926,
+            s2 * x2926,
+            c1 * x2927,
+            s1 * x2928,
+            s1 * x2930,
+        );
+        let (
+            x2978,
+            x2979,
+            x2980,
+            x2981,
+            x2982,
+            x2983,
+            x2984,
+            x2985,
+            x2986,
+            x2987,
+            x2988,
+            x2989,
+            x2990,
+            x2991,
+            x2992,
+            x2993,
+            x2994,
+            x2995,
+            x2996,
+            x2997,
+            x2998,
+            x2999,
+            x3000,
+            x3001,
+            x3002,
+            x3003,
+            x3004,
+            x3005,
+            x3006,
+            x3007,
+            x3008,
+            x3009,
+            x3010,
+            x3011,
+            x3012,
+        ) = (
+            x2934 + x2935,
+            x2936 - x2937,
+            c1 * x2933,
+            s1 * x2940,
+            s1 * x2942,
+            x2944 + x2770,
+            x2945 - x2771,
+            c4 * x2947,
+            s4 * x2947,
+            0.384f64 * x2950,
+            -0.0825f64 * x2950,
+            0.384f64 * x2949,
+            c3 * x2949,
+            s3 * x2949,
+            0.0825f64 * x2951,
+            s2 * x2951,
+            c2 * x2951,
+            c3 * x2952,
+            s3 * x2952,
+            x2953 + x2842,
+            c3 * x2956,
+            s3 * x2956,
+            x2957 + x2848,
+            x2960 + x2855,
+            x2961 + x2918,
+            x2965 - x2861,
+            x2966 + x2862,
+            x2967 - x2865,
+            x2968 + x2866,
+            x2970 - x2869,
+            x2971 + x2870,
+            x2973 - x2873,
+            x2974 + x2874,
+            x2877 - x2976,
+            x2880 - x2977,
+        );
+        let (
+            x3013,
+            x3014,
+            x3015,
+            x3016,
+            x3017,
+            x3018,
+            x3019,
+            x3020,
+            x3021,
+            x3022,
+            x3023,
+            x3024,
+            x3025,
+            x3026,
+            x3027,
+            x3028,
+            x3029,
+            x3030,
+            x3031,
+            x3032,
+            x3033,
+            x3034,
+            x3035,
+            x3036,
+            x3037,
+            x3038,
+            x3039,
+        ) = (
+            x2978 + x2938,
+            x2979 - x2939,
+            x2890 - x2981,
+            x2893 - x2982,
+            s1 * x2983,
+            x2985 + x2619,
+            x2620 - x2986,
+            x2901 - x2989,
+            x2948 - x2988,
+            x2990 - x2902,
+            x2991 + x2903,
+            x2995 - x2906,
+            x2996 + x2907,
+            s2 * x2997,
+            c2 * x2997,
+            x2998 - x2912,
+            x2999 + x2913,
+            s2 * x3000,
+            c2 * x3000,
+            c3 * x3001,
+            s3 * x3001,
+            x3002 + x2964,
+            -0.316f64 * x3004,
+            -0.316f64 * x3003,
+            s1 * x3005,
+            s1 * x3007,
+            s1 * x3009,
+        );
+        let (
+            x3040,
+            x3041,
+            x3042,
+            x3043,
+            x3044,
+            x3045,
+            x3046,
+            x3047,
+            x3048,
+            x3049,
+            x3050,
+            x3051,
+            x3052,
+            x3053,
+            x3054,
+            x3055,
+            x3056,
+            x3057,
+            x3058,
+            x3059,
+            x3060,
+            x3061,
+        ) = (
+            s1 * x3013,
+            x2946 - x3017,
+            x3018 + x2987,
+            x3019 + x3020,
+            s3 * x3021,
+            c3 * x3021,
+            0.0825f64 * x3023,
+            c2 * x3022,
+            s2 * x3022,
+            x3025 + x2702,
+            c2 * x3024,
+            s2 * x3024,
+            x3029 + x2714,
+            c2 * x3028,
+            s2 * x3028,
+            x3032 - x2962,
+            x3033 + x2963,
+            s2 * x3034,
+            c2 * x3034,
+            x2969 - x3037,
+            x2972 - x3038,
+            x2975 - x3039,
+        );
+        let (
+            x3062,
+            x3063,
+            x3064,
+            x3065,
+            x3066,
+            x3067,
+            x3068,
+            x3069,
+            x3070,
+            x3071,
+            x3072,
+            x3073,
+            x3074,
+            x3075,
+            x3076,
+        ) = (
+            x2980 - x3040,
+            c3 * x3042,
+            s3 * x3042,
+            x3043 + x3046,
+            x3047 - x2993,
+            x3048 + x2994,
+            x3050 + x3026,
+            x3051 - x3027,
+            c1 * x3049,
+            x3053 + x3030,
+            x3054 - x3031,
+            c1 * x3052,
+            x3056 + x2860,
+            c2 * x3055,
+            s2 * x3055,
+        );
+        let (
+            x3077,
+            x3078,
+            x3079,
+            x3080,
+            x3081,
+            x3082,
+            x3083,
+            x3084,
+            x3085,
+            x3086,
+            x3087,
+            x3088,
+            x3089,
+        ) = (
+            x3063 - x3044,
+            x3064 + x3045,
+            s2 * x3065,
+            c2 * x3065,
+            -0.316f64 * x3067,
+            -0.316f64 * x3066,
+            x3068 + x2954,
+            x3069 - x2955,
+            x3071 + x2958,
+            x3072 - x2959,
+            x3075 + x3057,
+            x3076 - x3058,
+            c1 * x3074,
+        );
+        let (x3090, x3091, x3092, x3093, x3094, x3095, x3096) = (
+            x3078 + x2992,
+            c2 * x3077,
+            s2 * x3077,
+            s1 * x3083,
+            s1 * x3085,
+            x3087 + x3035,
+            x3088 - x3036,
+        );
+        let (x3097, x3098, x3099, x3100, x3101, x3102) = (
+            x3091 + x3079,
+            x3092 - x3080,
+            c1 * x3090,
+            x3070 - x3093,
+            x3073 - x3094,
+            s1 * x3095,
+        );
+        let (x3103, x3104, x3105) = (x3097 + x3081, x3098 - x3082, x3089 - x3102);
+        let x3106: f64 = s1 * x3103;
+        let x3107: f64 = x3099 - x3106;
         SMatrix::from_array_storage(
             ArrayStorage([
                 [0f64, 0f64, 0f64, 0f64, 0f64, 0f64, 0f64],
@@ -3350,8245 +19330,65 @@ impl RobotDynamics<7, 70> for Panda {
                 [a0, 0f64, 0f64, 0f64, 0f64, 0f64, 0f64],
                 [0f64, 0f64, 0f64, 0f64, 0f64, 0f64, 0f64],
                 [0f64, x1, 0f64, 0f64, 0f64, 0f64, 0f64],
-                [0f64, x473, 0f64, 0f64, 0f64, 0f64, 0f64],
-                [x483, 0f64, 0f64, 0f64, 0f64, 0f64, 0f64],
-                [x491, x486, 0f64, 0f64, 0f64, 0f64, 0f64],
-                [x501, x496, 0f64, 0f64, 0f64, 0f64, 0f64],
-                [x509, x504, 0f64, 0f64, 0f64, 0f64, 0f64],
-                [x518, x515, 0f64, 0f64, 0f64, 0f64, 0f64],
-                [x528, x482, 0f64, 0f64, 0f64, 0f64, 0f64],
-                [x536, x532, 0f64, 0f64, 0f64, 0f64, 0f64],
-                [x562, x559, x546, 0f64, 0f64, 0f64, 0f64],
-                [x605, x602, x550, 0f64, 0f64, 0f64, 0f64],
-                [x660, x656, x637, 0f64, 0f64, 0f64, 0f64],
-                [x701, x698, x679, 0f64, 0f64, 0f64, 0f64],
-                [x714, x711, x704, 0f64, 0f64, 0f64, 0f64],
-                [x729, x726, x719, 0f64, 0f64, 0f64, 0f64],
-                [x742, x739, x732, 0f64, 0f64, 0f64, 0f64],
-                [x755, x752, x748, 0f64, 0f64, 0f64, 0f64],
-                [x773, x770, x764, 0f64, 0f64, 0f64, 0f64],
-                [x786, x783, x777, 0f64, 0f64, 0f64, 0f64],
-                [x852, x849, x833, x811, 0f64, 0f64, 0f64],
-                [x941, x938, x922, x903, 0f64, 0f64, 0f64],
-                [x1026, x1023, x1007, x989, 0f64, 0f64, 0f64],
-                [x1090, x1087, x1071, x1048, 0f64, 0f64, 0f64],
-                [x1109, x1106, x1100, x1093, 0f64, 0f64, 0f64],
-                [x1133, x1130, x1124, x1116, 0f64, 0f64, 0f64],
-                [x1152, x1149, x1143, x1136, 0f64, 0f64, 0f64],
-                [x1176, x1173, x1167, x1161, 0f64, 0f64, 0f64],
-                [x1197, x1194, x1188, x1054, 0f64, 0f64, 0f64],
-                [x1216, x1213, x1207, x1201, 0f64, 0f64, 0f64],
-                [x1302, x1299, x1283, x1267, x1241, 0f64, 0f64],
-                [x1404, x1401, x1385, x1369, x1347, 0f64, 0f64],
-                [x1491, x1488, x1472, x1456, x1434, 0f64, 0f64],
-                [x1589, x1586, x1570, x1554, x1527, 0f64, 0f64],
-                [x1615, x1612, x1606, x1600, x1592, 0f64, 0f64],
-                [x1643, x1640, x1634, x1628, x1620, 0f64, 0f64],
-                [x1669, x1666, x1660, x1654, x1646, 0f64, 0f64],
-                [x1695, x1692, x1686, x1680, x1675, 0f64, 0f64],
-                [x1726, x1723, x1717, x1711, x1704, 0f64, 0f64],
-                [x1752, x1749, x1743, x1737, x1730, 0f64, 0f64],
-                [x1853, x1850, x1834, x1817, x1797, x1779, 0f64],
-                [x1972, x1969, x1953, x1936, x1916, x1902, 0f64],
-                [x2075, x2072, x2056, x2038, x2018, x2003, 0f64],
-                [x2180, x2177, x2161, x2144, x2124, x2105, 0f64],
-                [x2212, x2209, x2203, x2196, x2190, x2183, 0f64],
-                [x2246, x2243, x2237, x2230, x2224, x2217, 0f64],
-                [x2278, x2275, x2269, x2262, x2256, x2249, 0f64],
-                [x2315, x2312, x2306, x2299, x2293, x2287, 0f64],
-                [x2349, x2346, x2340, x2333, x2327, x2111, 0f64],
-                [x2381, x2378, x2372, x2365, x2359, x2353, 0f64],
-                [x2496, x2493, x2477, x2460, x2440, x2428, x2406],
-                [x2630, x2627, x2611, x2594, x2574, x2562, x2544],
-                [x2751, x2748, x2732, x2715, x2695, x2683, x2664],
-                [x2870, x2867, x2851, x2834, x2814, x2802, x2779],
-                [x2908, x2905, x2899, x2892, x2886, x2880, x2873],
-                [x2948, x2945, x2939, x2932, x2926, x2920, x2913],
-                [x2986, x2983, x2977, x2970, x2964, x2958, x2951],
-                [x3029, x3026, x3020, x3013, x3007, x3001, x2995],
-                [x3069, x3066, x3060, x3053, x3047, x3041, x2785],
-                [x3107, x3104, x3098, x3091, x3085, x3079, x3073],
+                [0f64, x40, 0f64, 0f64, 0f64, 0f64, 0f64],
+                [x71, 0f64, 0f64, 0f64, 0f64, 0f64, 0f64],
+                [x480, x107, 0f64, 0f64, 0f64, 0f64, 0f64],
+                [x615, x175, 0f64, 0f64, 0f64, 0f64, 0f64],
+                [x482, x112, 0f64, 0f64, 0f64, 0f64, 0f64],
+                [x616, x256, 0f64, 0f64, 0f64, 0f64, 0f64],
+                [x617, x252, 0f64, 0f64, 0f64, 0f64, 0f64],
+                [x356, x182, 0f64, 0f64, 0f64, 0f64, 0f64],
+                [x1373, x1204, x485, 0f64, 0f64, 0f64, 0f64],
+                [x1551, x1207, x619, 0f64, 0f64, 0f64, 0f64],
+                [x1725, x1209, x627, 0f64, 0f64, 0f64, 0f64],
+                [x1376, x1054, x633, 0f64, 0f64, 0f64, 0f64],
+                [x896, x640, x288, 0f64, 0f64, 0f64, 0f64],
+                [x1055, x766, x381, 0f64, 0f64, 0f64, 0f64],
+                [x898, x646, x293, 0f64, 0f64, 0f64, 0f64],
+                [x1056, x769, x510, 0f64, 0f64, 0f64, 0f64],
+                [x1057, x771, x514, 0f64, 0f64, 0f64, 0f64],
+                [x772, x518, x391, 0f64, 0f64, 0f64, 0f64],
+                [x2373, x2125, x1379, x778, 0f64, 0f64, 0f64],
+                [x2126, x1882, x1557, x1064, 0f64, 0f64, 0f64],
+                [x2127, x1884, x1564, x1071, 0f64, 0f64, 0f64],
+                [x2128, x1886, x1571, x927, 0f64, 0f64, 0f64],
+                [x1738, x1396, x1081, x560, 0f64, 0f64, 0f64],
+                [x1739, x1398, x1083, x688, 0f64, 0f64, 0f64],
+                [x1740, x1400, x1085, x566, 0f64, 0f64, 0f64],
+                [x1741, x1402, x1087, x807, 0f64, 0f64, 0f64],
+                [x1742, x1404, x1089, x796, 0f64, 0f64, 0f64],
+                [x1405, x1091, x814, x698, 0f64, 0f64, 0f64],
+                [x2882, x2750, x2569, x2374, x1411, 0f64, 0f64],
+                [x2812, x2660, x2475, x2137, x1749, 0f64, 0f64],
+                [x2813, x2662, x2478, x2142, x1756, 0f64, 0f64],
+                [x2814, x2664, x2481, x2147, x1612, 0f64, 0f64],
+                [x2395, x2152, x1915, x1771, x828, 0f64, 0f64],
+                [x2396, x2154, x1917, x1776, x982, 0f64, 0f64],
+                [x2397, x2156, x1919, x1781, x833, 0f64, 0f64],
+                [x2274, x2057, x1787, x1621, x1283, 0f64, 0f64],
+                [x2275, x2059, x1789, x1626, x1284, 0f64, 0f64],
+                [x2060, x1791, x1452, x1287, x992, 0f64, 0f64],
+                [x3062, x3014, x2933, x2815, x2063, x1797, 0f64],
+                [x3015, x2941, x2823, x2589, x2283, x2165, 0f64],
+                [x3016, x2943, x2826, x2593, x2290, x2176, 0f64],
+                [x3041, x2984, x2894, x2680, x2413, x1958, 0f64],
+                [x2833, x2684, x2508, x2304, x2082, x1153, 0f64],
+                [x2834, x2686, x2510, x2307, x2084, x1324, 0f64],
+                [x2835, x2688, x2512, x2310, x2086, x1158, 0f64],
+                [x2689, x2514, x2313, x2088, x1820, x1818, 0f64],
+                [x2690, x2516, x2315, x2091, x1822, x1813, 0f64],
+                [x2517, x2317, x2094, x1824, x1502, x1500, 0f64],
+                [x3107, x3104, x3090, x3043, x2948, x2520, x2100],
+                [x3100, x3084, x3049, x2953, x2781, x2622, x2521],
+                [x3101, x3086, x3052, x2957, x2786, x2629, x2529],
+                [x3105, x3096, x3074, x3002, x2852, x2790, x2239],
+                [x3059, x3006, x2923, x2797, x2643, x2458, x1518],
+                [x3060, x3008, x2925, x2800, x2645, x2460, x1699],
+                [x3061, x3010, x2927, x2803, x2647, x2462, x1523],
+                [x3011, x2929, x2806, x2649, x2464, x2247, x2245],
+                [x3012, x2931, x2808, x2652, x2466, x2249, x2240],
+                [x2932, x2810, x2655, x2468, x2251, x1868, x2010],
             ]),
         )
     }
-}
-#[inline(never)]
-fn coriolis_matrix_part0(t: &JointTrig<7>, qd: &SVector<f64, 7>) -> [f64; 198] {
-    let [_, s1, s2, s3, s4, s5, s6] = t.sin;
-    let [_, c1, c2, c3, c4, c5, c6] = t.cos;
-    let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
-    let x0: f64 = 0.002573605371338202f64 * c6;
-    let x1: f64 = -0.0020344399586617965f64 * s6;
-    let x2: f64 = x0 + x1;
-    let x3: f64 = 0.002573605371338202f64 * s6;
-    let x4: f64 = 0.0020344399586617965f64 * c6;
-    let x5: f64 = x3 + x4;
-    let x6: f64 = 0.0316333431909496f64 * c6;
-    let x7: f64 = -0.0003913912816842481f64 * s6;
-    let x8: f64 = x6 + x7;
-    let x9: f64 = 0.0003913912816842481f64 * c6;
-    let x10: f64 = -0.029212399412428362f64 * s6;
-    let x11: f64 = x9 + x10;
-    let x12: f64 = -0.0009653051699191116f64 * c6;
-    let x13: f64 = 0.001255536598272898f64 * s6;
-    let x14: f64 = x12 + x13;
-    let x15: f64 = 0.0316333431909496f64 * s6;
-    let x16: f64 = x9 + x15;
-    let x17: f64 = 0.0003913912816842481f64 * s6;
-    let x18: f64 = 0.029212399412428362f64 * c6;
-    let x19: f64 = x17 + x18;
-    let x20: f64 = -0.0009653051699191116f64 * s6;
-    let x21: f64 = -0.001255536598272898f64 * c6;
-    let x22: f64 = x20 + x21;
-    let x23: f64 = c6 * x8;
-    let x24: f64 = s6 * x11;
-    let x25: f64 = x23 - x24;
-    let x26: f64 = s6 * x8;
-    let x27: f64 = c6 * x11;
-    let x28: f64 = x26 + x27;
-    let x29: f64 = 0.0009653051699191116f64 * s6;
-    let x30: f64 = 0.001255536598272898f64 * c6;
-    let x31: f64 = x29 + x30;
-    let x32: f64 = s6 * x16;
-    let x33: f64 = c6 * x19;
-    let x34: f64 = x32 + x33;
-    let x35: f64 = 0.088f64 * x2;
-    let x36: f64 = 0.176f64 * x2;
-    let x37: f64 = 0.011581322367999997f64 + x36;
-    let x38: f64 = x2 + 0.13160593599999998f64;
-    let x39: f64 = x25 + x37;
-    let x40: f64 = x35 + 0.011581322367999998f64;
-    let x41: f64 = x35 + x40;
-    let x42: f64 = x39 - x41;
-    let x43: f64 = x14 + -0.013224459479792f64;
-    let x44: f64 = 0.006684151967360945f64 + x37;
-    let x45: f64 = 0.088f64 * x5;
-    let x46: f64 = x28 - x45;
-    let x47: f64 = x34 + x37;
-    let x48: f64 = 0.10024161669500001f64 + x38;
-    let x49: f64 = -0.017527158935000002f64 + x5;
-    let x50: f64 = 0.0024804603581707893f64 + x42;
-    let x51: f64 = 0.001524110902883315f64 - x43;
-    let x52: f64 = 0.01056776613310695f64 + x44;
-    let x53: f64 = -0.00010375891721868492f64 + x46;
-    let x54: f64 = 0.000093569097314605f64 + x31;
-    let x55: f64 = 0.011794560230238949f64 + x47;
-    let x56: f64 = c5 * x48;
-    let x57: f64 = 0.17380470556900002f64 * s5;
-    let x58: f64 = x56 + x57;
-    let x59: f64 = s5 * x48;
-    let x60: f64 = -0.17380470556900002f64 * c5;
-    let x61: f64 = x59 + x60;
-    let x62: f64 = c5 * x50;
-    let x63: f64 = s5 * x51;
-    let x64: f64 = x62 - x63;
-    let x65: f64 = c5 * x51;
-    let x66: f64 = s5 * x52;
-    let x67: f64 = x65 - x66;
-    let x68: f64 = c5 * x53;
-    let x69: f64 = s5 * x54;
-    let x70: f64 = x68 - x69;
-    let x71: f64 = s5 * x50;
-    let x72: f64 = x65 + x71;
-    let x73: f64 = c5 * x52;
-    let x74: f64 = x63 + x73;
-    let x75: f64 = s5 * x53;
-    let x76: f64 = c5 * x54;
-    let x77: f64 = x75 + x76;
-    let x78: f64 = c5 * x64;
-    let x79: f64 = s5 * x67;
-    let x80: f64 = x78 - x79;
-    let x81: f64 = x69 - x68;
-    let x82: f64 = s5 * x64;
-    let x83: f64 = c5 * x67;
-    let x84: f64 = x82 + x83;
-    let x85: f64 = s5 * x72;
-    let x86: f64 = c5 * x74;
-    let x87: f64 = x85 + x86;
-    let x88: f64 = -0.014653732538f64 + x58;
-    let x89: f64 = 0.05034347249f64 - x49;
-    let x90: f64 = -0.047121686402f64 + x61;
-    let x91: f64 = 0.03942757095803552f64 + x80;
-    let x92: f64 = -0.0015152444733270301f64 + x81;
-    let x93: f64 = 0.03146037232526039f64 + x55;
-    let x94: f64 = -0.004600245517563105f64 + x84;
-    let x95: f64 = 0.0021640520520981297f64 - x77;
-    let x96: f64 = 0.010869510762828563f64 + x87;
-    let x97: f64 = c4 * x88;
-    let x98: f64 = s4 * x89;
-    let x99: f64 = x97 - x98;
-    let x100: f64 = s4 * x88;
-    let x101: f64 = c4 * x89;
-    let x102: f64 = x100 + x101;
-    let x103: f64 = c4 * x91;
-    let x104: f64 = s4 * x92;
-    let x105: f64 = x103 - x104;
-    let x106: f64 = c4 * x92;
-    let x107: f64 = s4 * x93;
-    let x108: f64 = x106 - x107;
-    let x109: f64 = c4 * x94;
-    let x110: f64 = s4 * x95;
-    let x111: f64 = x109 - x110;
-    let x112: f64 = s4 * x91;
-    let x113: f64 = x106 + x112;
-    let x114: f64 = c4 * x93;
-    let x115: f64 = x104 + x114;
-    let x116: f64 = s4 * x94;
-    let x117: f64 = c4 * x95;
-    let x118: f64 = x116 + x117;
-    let x119: f64 = c4 * x105;
-    let x120: f64 = s4 * x108;
-    let x121: f64 = x119 - x120;
-    let x122: f64 = s4 * x105;
-    let x123: f64 = c4 * x108;
-    let x124: f64 = x122 + x123;
-    let x125: f64 = s4 * x113;
-    let x126: f64 = c4 * x115;
-    let x127: f64 = x125 + x126;
-    let x128: f64 = -0.0825f64 * x99;
-    let x129: f64 = 0.384f64 * x90;
-    let x130: f64 = x128 + x129;
-    let x131: f64 = 2f64 * x130;
-    let x132: f64 = 0.6769063010317501f64 + x131;
-    let x133: f64 = x99 + -0.36201189750000007f64;
-    let x134: f64 = x90 + 1.6850008320000003f64;
-    let x135: f64 = x121 + x132;
-    let x136: f64 = x128 + 0.029865981543750007f64;
-    let x137: f64 = x128 + x136;
-    let x138: f64 = x135 - x137;
-    let x139: f64 = -0.0825f64 * x90;
-    let x140: f64 = -0.13901256864000003f64 + x139;
-    let x141: f64 = 0.384f64 * x99;
-    let x142: f64 = x140 + x141;
-    let x143: f64 = x111 - x142;
-    let x144: f64 = x96 + x132;
-    let x145: f64 = x129 + 0.6470403194880001f64;
-    let x146: f64 = x129 + x145;
-    let x147: f64 = x144 - x146;
-    let x148: f64 = 0.0825f64 * x102;
-    let x149: f64 = x124 + x148;
-    let x150: f64 = -0.384f64 * x102;
-    let x151: f64 = x118 + x150;
-    let x152: f64 = x127 + x132;
-    let x153: f64 = -0.19076837715f64 + x133;
-    let x154: f64 = 0.374644408005f64 + x134;
-    let x155: f64 = 0.09850206933f64 - x102;
-    let x156: f64 = 0.06767727025085991f64 + x138;
-    let x157: f64 = 0.02771584317362585f64 + x143;
-    let x158: f64 = 0.03239943042445132f64 + x147;
-    let x159: f64 = 0.0039053550262761003f64 - x149;
-    let x160: f64 = -0.0016444875773692705f64 - x151;
-    let x161: f64 = 0.0775861490525396f64 + x152;
-    let x162: f64 = c3 * x153;
-    let x163: f64 = s3 * x154;
-    let x164: f64 = x162 - x163;
-    let x165: f64 = x102 - 0.09850206933f64;
-    let x166: f64 = s3 * x153;
-    let x167: f64 = c3 * x154;
-    let x168: f64 = x166 + x167;
-    let x169: f64 = c3 * x156;
-    let x170: f64 = s3 * x157;
-    let x171: f64 = x169 - x170;
-    let x172: f64 = c3 * x157;
-    let x173: f64 = s3 * x158;
-    let x174: f64 = x172 - x173;
-    let x175: f64 = c3 * x159;
-    let x176: f64 = s3 * x160;
-    let x177: f64 = x175 - x176;
-    let x178: f64 = x149 - 0.0039053550262761003f64;
-    let x179: f64 = x151 - -0.0016444875773692705f64;
-    let x180: f64 = s3 * x156;
-    let x181: f64 = x172 + x180;
-    let x182: f64 = c3 * x158;
-    let x183: f64 = x170 + x182;
-    let x184: f64 = s3 * x159;
-    let x185: f64 = c3 * x160;
-    let x186: f64 = x184 + x185;
-    let x187: f64 = c3 * x171;
-    let x188: f64 = s3 * x174;
-    let x189: f64 = x187 - x188;
-    let x190: f64 = x176 - x175;
-    let x191: f64 = s3 * x171;
-    let x192: f64 = c3 * x174;
-    let x193: f64 = x191 + x192;
-    let x194: f64 = s3 * x178;
-    let x195: f64 = c3 * x179;
-    let x196: f64 = x194 + x195;
-    let x197: f64 = s3 * x181;
-    let x198: f64 = c3 * x183;
-    let x199: f64 = x197 + x198;
-    let x200: f64 = 0.0825f64 * x164;
-    let x201: f64 = 0.165f64 * x164;
-    let x202: f64 = 0.054286091887500006f64 + x201;
-    let x203: f64 = x164 + 0.6580132350000001f64;
-    let x204: f64 = x189 + x202;
-    let x205: f64 = x200 + 0.05428609188750001f64;
-    let x206: f64 = x200 + x205;
-    let x207: f64 = x204 - x206;
-    let x208: f64 = 0.0825f64 * x165;
-    let x209: f64 = x190 - x208;
-    let x210: f64 = x161 + x202;
-    let x211: f64 = 0.0825f64 * x168;
-    let x212: f64 = x193 - x211;
-    let x213: f64 = x199 + x202;
-    let x214: f64 = 0.088844724872f64 + x203;
-    let x215: f64 = 0.126729164208f64 + x165;
-    let x216: f64 = -0.214708623208f64 + x168;
-    let x217: f64 = 0.05649492601407083f64 + x207;
-    let x218: f64 = -0.008248333140675744f64 + x209;
-    let x219: f64 = 0.05287838199960611f64 + x210;
-    let x220: f64 = -0.005487648106562256f64 + x212;
-    let x221: f64 = -0.004377257121839584f64 + x196;
-    let x222: f64 = 0.01824920229252011f64 + x213;
-    let x223: f64 = c2 * x214;
-    let x224: f64 = s2 * x215;
-    let x225: f64 = x223 - x224;
-    let x226: f64 = s2 * x214;
-    let x227: f64 = c2 * x215;
-    let x228: f64 = x226 + x227;
-    let x229: f64 = c2 * x217;
-    let x230: f64 = s2 * x218;
-    let x231: f64 = x229 - x230;
-    let x232: f64 = c2 * x218;
-    let x233: f64 = s2 * x219;
-    let x234: f64 = x232 - x233;
-    let x235: f64 = c2 * x220;
-    let x236: f64 = s2 * x221;
-    let x237: f64 = x235 - x236;
-    let x238: f64 = s2 * x220;
-    let x239: f64 = c2 * x221;
-    let x240: f64 = x238 + x239;
-    let x241: f64 = c2 * x231;
-    let x242: f64 = s2 * x234;
-    let x243: f64 = x241 - x242;
-    let x244: f64 = x236 - x235;
-    let x245: f64 = s2 * x231;
-    let x246: f64 = c2 * x234;
-    let x247: f64 = x245 + x246;
-    let x248: f64 = 0.316f64 * x216;
-    let x249: f64 = 0.632f64 * x216;
-    let x250: f64 = 1.1188387488320002f64 + x249;
-    let x251: f64 = x243 + x250;
-    let x252: f64 = -0.316f64 * x225;
-    let x253: f64 = x244 - x252;
-    let x254: f64 = x222 + x250;
-    let x255: f64 = 1.1188387488320002f64 + x248;
-    let x256: f64 = x248 + x255;
-    let x257: f64 = x254 - x256;
-    let x258: f64 = -0.316f64 * x228;
-    let x259: f64 = x240 + x258;
-    let x260: f64 = 0.00850351162402155f64 + x251;
-    let x261: f64 = -0.00398335888393552f64 + x253;
-    let x262: f64 = 0.028124284712194955f64 + x257;
-    let x263: f64 = 0.01026110182100817f64 + x247;
-    let x264: f64 = 0.0007689361029464f64 - x259;
-    let x265: f64 = x237 + x252;
-    let x266: f64 = x161 + x200;
-    let x267: f64 = s2 * x168;
-    let x268: f64 = c2 * x177;
-    let x269: f64 = s2 * x266;
-    let x270: f64 = x268 + x269;
-    let x271: f64 = 0.316f64 * x267;
-    let x272: f64 = x270 + x271;
-    let x273: f64 = x49 - 0.05034347249f64;
-    let x274: f64 = c4 * x273;
-    let x275: f64 = x274 - x100;
-    let x276: f64 = s4 * x273;
-    let x277: f64 = x97 + x276;
-    let x278: f64 = -0.384f64 * x277;
-    let x279: f64 = 0.0825f64 * x277;
-    let x280: f64 = 0.384f64 * x275;
-    let x281: f64 = x111 + x278;
-    let x282: f64 = x96 - x279;
-    let x283: f64 = x118 + x280;
-    let x284: f64 = c3 * x275;
-    let x285: f64 = s3 * x275;
-    let x286: f64 = c3 * x281;
-    let x287: f64 = s3 * x282;
-    let x288: f64 = x286 - x287;
-    let x289: f64 = s3 * x281;
-    let x290: f64 = c3 * x282;
-    let x291: f64 = x289 + x290;
-    let x292: f64 = 0.0825f64 * x285;
-    let x293: f64 = x283 - x292;
-    let x294: f64 = x279 + x291;
-    let x295: f64 = s2 * x284;
-    let x296: f64 = c2 * x277;
-    let x297: f64 = x295 + x296;
-    let x298: f64 = c2 * x288;
-    let x299: f64 = s2 * x293;
-    let x300: f64 = x298 - x299;
-    let x301: f64 = -0.316f64 * x297;
-    let x302: f64 = x300 + x301;
-    let x303: f64 = 0.17380470556900002f64 * c5;
-    let x304: f64 = x303 - x59;
-    let x305: f64 = c4 * x304;
-    let x306: f64 = s4 * x304;
-    let x307: f64 = c4 * x70;
-    let x308: f64 = s4 * x55;
-    let x309: f64 = x307 + x308;
-    let x310: f64 = s4 * x70;
-    let x311: f64 = c4 * x55;
-    let x312: f64 = x311 - x310;
-    let x313: f64 = -0.384f64 * x306;
-    let x314: f64 = 0.0825f64 * x306;
-    let x315: f64 = -0.0825f64 * x58;
-    let x316: f64 = 0.384f64 * x305;
-    let x317: f64 = x315 - x316;
-    let x318: f64 = x309 + x313;
-    let x319: f64 = x77 - x314;
-    let x320: f64 = x312 + x317;
-    let x321: f64 = c3 * x305;
-    let x322: f64 = s3 * x58;
-    let x323: f64 = x321 - x322;
-    let x324: f64 = s3 * x305;
-    let x325: f64 = c3 * x58;
-    let x326: f64 = x324 + x325;
-    let x327: f64 = c3 * x318;
-    let x328: f64 = s3 * x319;
-    let x329: f64 = x327 - x328;
-    let x330: f64 = s3 * x318;
-    let x331: f64 = c3 * x319;
-    let x332: f64 = x330 + x331;
-    let x333: f64 = 0.0825f64 * x326;
-    let x334: f64 = x320 + x333;
-    let x335: f64 = x314 + x332;
-    let x336: f64 = s2 * x323;
-    let x337: f64 = c2 * x306;
-    let x338: f64 = x336 + x337;
-    let x339: f64 = c2 * x329;
-    let x340: f64 = s2 * x334;
-    let x341: f64 = x339 + x340;
-    let x342: f64 = -0.316f64 * x338;
-    let x343: f64 = x341 + x342;
-    let x344: f64 = -0.0020344399586617965f64 * c6;
-    let x345: f64 = -0.002573605371338202f64 * s6;
-    let x346: f64 = x344 + x345;
-    let x347: f64 = -0.006684151967360945f64 - x35;
-    let x348: f64 = c5 * x346;
-    let x349: f64 = s5 * x346;
-    let x350: f64 = c5 * x14;
-    let x351: f64 = s5 * x347;
-    let x352: f64 = x350 - x351;
-    let x353: f64 = s5 * x14;
-    let x354: f64 = c5 * x347;
-    let x355: f64 = x353 + x354;
-    let x356: f64 = c4 * x348;
-    let x357: f64 = s4 * x2;
-    let x358: f64 = x356 + x357;
-    let x359: f64 = s4 * x348;
-    let x360: f64 = c4 * x2;
-    let x361: f64 = x360 - x359;
-    let x362: f64 = c4 * x352;
-    let x363: f64 = s4 * x22;
-    let x364: f64 = x362 + x363;
-    let x365: f64 = s4 * x352;
-    let x366: f64 = c4 * x22;
-    let x367: f64 = x366 - x365;
-    let x368: f64 = 0.384f64 * x361;
-    let x369: f64 = -0.0825f64 * x361;
-    let x370: f64 = -0.0825f64 * x349;
-    let x371: f64 = 0.384f64 * x358;
-    let x372: f64 = x370 - x371;
-    let x373: f64 = x364 + x368;
-    let x374: f64 = x355 - x369;
-    let x375: f64 = x367 + x372;
-    let x376: f64 = c3 * x358;
-    let x377: f64 = s3 * x349;
-    let x378: f64 = x376 - x377;
-    let x379: f64 = x359 - x360;
-    let x380: f64 = s3 * x358;
-    let x381: f64 = c3 * x349;
-    let x382: f64 = x380 + x381;
-    let x383: f64 = c3 * x373;
-    let x384: f64 = s3 * x374;
-    let x385: f64 = x383 - x384;
-    let x386: f64 = s3 * x373;
-    let x387: f64 = c3 * x374;
-    let x388: f64 = x386 + x387;
-    let x389: f64 = 0.0825f64 * x382;
-    let x390: f64 = 0.0825f64 * x379;
-    let x391: f64 = x375 + x389;
-    let x392: f64 = x388 + x390;
-    let x393: f64 = s2 * x378;
-    let x394: f64 = c2 * x379;
-    let x395: f64 = x393 + x394;
-    let x396: f64 = c2 * x385;
-    let x397: f64 = s2 * x391;
-    let x398: f64 = x396 + x397;
-    let x399: f64 = -0.316f64 * x395;
-    let x400: f64 = x398 + x399;
-    let x401: f64 = qd0 * s1;
-    let x402: f64 = qd0 * c1;
-    let x403: f64 = c2 * x401;
-    let x404: f64 = qd1 * s2;
-    let x405: f64 = x404 - x403;
-    let x406: f64 = s2 * x401;
-    let x407: f64 = qd1 * c2;
-    let x408: f64 = x406 + x407;
-    let x409: f64 = -0.316f64 * qd1;
-    let x410: f64 = 0.316f64 * x401;
-    let x411: f64 = c2 * x409;
-    let x412: f64 = s2 * x410;
-    let x413: f64 = x412 - x411;
-    let x414: f64 = s2 * x409;
-    let x415: f64 = c2 * x410;
-    let x416: f64 = x414 + x415;
-    let x417: f64 = qd2 + x402;
-    let x418: f64 = c3 * x405;
-    let x419: f64 = s3 * x417;
-    let x420: f64 = x418 + x419;
-    let x421: f64 = s3 * x405;
-    let x422: f64 = c3 * x417;
-    let x423: f64 = x422 - x421;
-    let x424: f64 = 0.0825f64 * x417;
-    let x425: f64 = 0.0825f64 * x408;
-    let x426: f64 = x416 + x424;
-    let x427: f64 = c3 * x413;
-    let x428: f64 = s3 * x425;
-    let x429: f64 = x427 - x428;
-    let x430: f64 = s3 * x413;
-    let x431: f64 = c3 * x425;
-    let x432: f64 = x430 + x431;
-    let x433: f64 = qd3 - x408;
-    let x434: f64 = c4 * x420;
-    let x435: f64 = s4 * x433;
-    let x436: f64 = x434 - x435;
-    let x437: f64 = s4 * x420;
-    let x438: f64 = c4 * x433;
-    let x439: f64 = x437 + x438;
-    let x440: f64 = 0.384f64 * x433;
-    let x441: f64 = -0.0825f64 * x433;
-    let x442: f64 = -0.0825f64 * x423;
-    let x443: f64 = 0.384f64 * x420;
-    let x444: f64 = x442 - x443;
-    let x445: f64 = x429 - x440;
-    let x446: f64 = x441 - x432;
-    let x447: f64 = x426 + x444;
-    let x448: f64 = c4 * x445;
-    let x449: f64 = s4 * x447;
-    let x450: f64 = x448 + x449;
-    let x451: f64 = s4 * x445;
-    let x452: f64 = c4 * x447;
-    let x453: f64 = x452 - x451;
-    let x454: f64 = qd4 + x423;
-    let x455: f64 = c5 * x436;
-    let x456: f64 = s5 * x454;
-    let x457: f64 = x455 + x456;
-    let x458: f64 = s5 * x436;
-    let x459: f64 = c5 * x454;
-    let x460: f64 = x459 - x458;
-    let x461: f64 = c5 * x450;
-    let x462: f64 = s5 * x446;
-    let x463: f64 = x461 + x462;
-    let x464: f64 = s5 * x450;
-    let x465: f64 = c5 * x446;
-    let x466: f64 = x465 - x464;
-    let x467: f64 = x451 - x452;
-    let x468: f64 = qd5 + x439;
-    let x469: f64 = c6 * x457;
-    let x470: f64 = s6 * x468;
-    let x471: f64 = x469 + x470;
-    let x472: f64 = s6 * x457;
-    let x473: f64 = c6 * x468;
-    let x474: f64 = x473 - x472;
-    let x475: f64 = x458 - x459;
-    let x476: f64 = 0.088f64 * x468;
-    let x477: f64 = 0.088f64 * x460;
-    let x478: f64 = x466 + x476;
-    let x479: f64 = x467 - x477;
-    let x480: f64 = c6 * x463;
-    let x481: f64 = s6 * x479;
-    let x482: f64 = x480 + x481;
-    let x483: f64 = s6 * x463;
-    let x484: f64 = c6 * x479;
-    let x485: f64 = x484 - x483;
-    let x486: f64 = qd6 + x475;
-    let x487: f64 = -0.01026110182100817f64 * x402;
-    let x488: f64 = -0.00398335888393552f64 * qd1;
-    let x489: f64 = x487 - x488;
-    let x490: f64 = x489 + x489;
-    let x491: f64 = -0.0007689361029464f64 * x402;
-    let x492: f64 = 0.028124284712194955f64 * qd1;
-    let x493: f64 = x491 - x492;
-    let x494: f64 = 0.00850351162402155f64 * qd1;
-    let x495: f64 = -0.01026110182100817f64 * x401;
-    let x496: f64 = x494 - x495;
-    let x497: f64 = x493 + x496;
-    let x498: f64 = -0.0007689361029464f64 * x401;
-    let x499: f64 = x488 - x498;
-    let x500: f64 = x499 + x499;
-    let x501: f64 = -0.026534991901690206f64 * x402;
-    let x502: f64 = 0.0007689361029464f64 * qd1;
-    let x503: f64 = x501 - x502;
-    let x504: f64 = 0.00398335888393552f64 * x401;
-    let x505: f64 = -0.00850351162402155f64 * x402;
-    let x506: f64 = x504 - x505;
-    let x507: f64 = x503 + x506;
-    let x508: f64 = 0.01026110182100817f64 * qd1;
-    let x509: f64 = -0.026534991901690206f64 * x401;
-    let x510: f64 = x508 - x509;
-    let x511: f64 = -0.028124284712194955f64 * x401;
-    let x512: f64 = 0.00398335888393552f64 * x402;
-    let x513: f64 = x511 - x512;
-    let x514: f64 = x510 + x513;
-    let x515: f64 = x498 - x487;
-    let x516: f64 = x515 + x515;
-    let x517: f64 = 0.088844724872f64 * x413;
-    let x518: f64 = 0.126729164208f64 * x416;
-    let x519: f64 = x517 + x518;
-    let x520: f64 = 2f64 * x519;
-    let x521: f64 = -0.214708623208f64 * x408;
-    let x522: f64 = 0.126729164208f64 * x417;
-    let x523: f64 = x521 - x522;
-    let x524: f64 = 0.088844724872f64 * x417;
-    let x525: f64 = -0.214708623208f64 * x405;
-    let x526: f64 = x524 - x525;
-    let x527: f64 = 0.126729164208f64 * x405;
-    let x528: f64 = 0.088844724872f64 * x408;
-    let x529: f64 = x527 - x528;
-    let x530: f64 = 3.228604f64 * x413;
-    let x531: f64 = 3.228604f64 * x416;
-    let x532: f64 = x523 + x530;
-    let x533: f64 = x526 + x531;
-    let x534: f64 = -0.005487648106562256f64 * x408;
-    let x535: f64 = -0.008248333140675744f64 * x417;
-    let x536: f64 = x534 - x535;
-    let x537: f64 = x536 + x536;
-    let x538: f64 = x517 + x517;
-    let x539: f64 = x520 + x537;
-    let x540: f64 = x539 - x538;
-    let x541: f64 = -0.004377257121839584f64 * x408;
-    let x542: f64 = 0.05287838199960611f64 * x417;
-    let x543: f64 = x541 - x542;
-    let x544: f64 = 0.05649492601407083f64 * x417;
-    let x545: f64 = -0.005487648106562256f64 * x405;
-    let x546: f64 = x544 - x545;
-    let x547: f64 = x543 + x546;
-    let x548: f64 = 0.088844724872f64 * x416;
-    let x549: f64 = 0.126729164208f64 * x413;
-    let x550: f64 = x548 + x549;
-    let x551: f64 = x547 - x550;
-    let x552: f64 = -0.004377257121839584f64 * x405;
-    let x553: f64 = x535 - x552;
-    let x554: f64 = x553 + x553;
-    let x555: f64 = x518 + x518;
-    let x556: f64 = x520 + x554;
-    let x557: f64 = x556 - x555;
-    let x558: f64 = 0.01824920229252011f64 * x408;
-    let x559: f64 = -0.004377257121839584f64 * x417;
-    let x560: f64 = x558 - x559;
-    let x561: f64 = -0.008248333140675744f64 * x405;
-    let x562: f64 = 0.05649492601407083f64 * x408;
-    let x563: f64 = x561 - x562;
-    let x564: f64 = x560 + x563;
-    let x565: f64 = -0.214708623208f64 * x413;
-    let x566: f64 = x564 - x565;
-    let x567: f64 = -0.005487648106562256f64 * x417;
-    let x568: f64 = 0.01824920229252011f64 * x405;
-    let x569: f64 = x567 - x568;
-    let x570: f64 = 0.05287838199960611f64 * x405;
-    let x571: f64 = -0.008248333140675744f64 * x408;
-    let x572: f64 = x570 - x571;
-    let x573: f64 = x569 + x572;
-    let x574: f64 = -0.214708623208f64 * x416;
-    let x575: f64 = x573 - x574;
-    let x576: f64 = x552 - x534;
-    let x577: f64 = x576 + x576;
-    let x578: f64 = x520 + x577;
-    let x579: f64 = -0.19076837715f64 * x429;
-    let x580: f64 = -0.374644408005f64 * x432;
-    let x581: f64 = x579 + x580;
-    let x582: f64 = -0.09850206933f64 * x426;
-    let x583: f64 = x581 + x582;
-    let x584: f64 = 2f64 * x583;
-    let x585: f64 = 0.09850206933f64 * x423;
-    let x586: f64 = 0.374644408005f64 * x433;
-    let x587: f64 = x585 - x586;
-    let x588: f64 = -0.19076837715f64 * x433;
-    let x589: f64 = 0.09850206933f64 * x420;
-    let x590: f64 = x588 - x589;
-    let x591: f64 = 0.374644408005f64 * x420;
-    let x592: f64 = -0.19076837715f64 * x423;
-    let x593: f64 = x591 - x592;
-    let x594: f64 = 3.587895f64 * x429;
-    let x595: f64 = -3.587895f64 * x432;
-    let x596: f64 = -3.587895f64 * x426;
-    let x597: f64 = x587 + x594;
-    let x598: f64 = x590 + x595;
-    let x599: f64 = x593 + x596;
-    let x600: f64 = 0.0039053550262761003f64 * x423;
-    let x601: f64 = 0.02771584317362585f64 * x433;
-    let x602: f64 = x600 - x601;
-    let x603: f64 = x602 + x602;
-    let x604: f64 = x579 + x579;
-    let x605: f64 = x584 + x603;
-    let x606: f64 = x605 - x604;
-    let x607: f64 = -0.0016444875773692705f64 * x423;
-    let x608: f64 = 0.03239943042445132f64 * x433;
-    let x609: f64 = x607 - x608;
-    let x610: f64 = 0.06767727025085991f64 * x433;
-    let x611: f64 = 0.0039053550262761003f64 * x420;
-    let x612: f64 = x610 - x611;
-    let x613: f64 = x609 + x612;
-    let x614: f64 = 0.19076837715f64 * x432;
-    let x615: f64 = 0.374644408005f64 * x429;
-    let x616: f64 = x614 + x615;
-    let x617: f64 = x613 - x616;
-    let x618: f64 = -0.0016444875773692705f64 * x420;
-    let x619: f64 = x601 - x618;
-    let x620: f64 = x619 + x619;
-    let x621: f64 = x580 + x580;
-    let x622: f64 = x584 + x620;
-    let x623: f64 = x622 - x621;
-    let x624: f64 = 0.0775861490525396f64 * x423;
-    let x625: f64 = -0.0016444875773692705f64 * x433;
-    let x626: f64 = x624 - x625;
-    let x627: f64 = 0.02771584317362585f64 * x420;
-    let x628: f64 = 0.06767727025085991f64 * x423;
-    let x629: f64 = x627 - x628;
-    let x630: f64 = x626 + x629;
-    let x631: f64 = 0.19076837715f64 * x426;
-    let x632: f64 = 0.09850206933f64 * x429;
-    let x633: f64 = x631 + x632;
-    let x634: f64 = x630 - x633;
-    let x635: f64 = 0.0039053550262761003f64 * x433;
-    let x636: f64 = 0.0775861490525396f64 * x420;
-    let x637: f64 = x635 - x636;
-    let x638: f64 = 0.03239943042445132f64 * x420;
-    let x639: f64 = 0.02771584317362585f64 * x423;
-    let x640: f64 = x638 - x639;
-    let x641: f64 = x637 + x640;
-    let x642: f64 = -0.374644408005f64 * x426;
-    let x643: f64 = -0.09850206933f64 * x432;
-    let x644: f64 = x642 + x643;
-    let x645: f64 = x641 - x644;
-    let x646: f64 = x618 - x600;
-    let x647: f64 = x646 + x646;
-    let x648: f64 = x582 + x582;
-    let x649: f64 = x584 + x647;
-    let x650: f64 = x649 - x648;
-    let x651: f64 = -0.014653732538f64 * x450;
-    let x652: f64 = 0.05034347249f64 * x453;
-    let x653: f64 = x651 + x652;
-    let x654: f64 = -0.047121686402f64 * x446;
-    let x655: f64 = x653 + x654;
-    let x656: f64 = 2f64 * x655;
-    let x657: f64 = 0.047121686402f64 * x439;
-    let x658: f64 = 0.05034347249f64 * x454;
-    let x659: f64 = x657 - x658;
-    let x660: f64 = -0.014653732538f64 * x454;
-    let x661: f64 = -0.047121686402f64 * x436;
-    let x662: f64 = x660 - x661;
-    let x663: f64 = 0.05034347249f64 * x436;
-    let x664: f64 = 0.014653732538f64 * x439;
-    let x665: f64 = x663 - x664;
-    let x666: f64 = 1.225946f64 * x450;
-    let x667: f64 = 1.225946f64 * x453;
-    let x668: f64 = 1.225946f64 * x446;
-    let x669: f64 = x659 + x666;
-    let x670: f64 = x662 + x667;
-    let x671: f64 = x665 + x668;
-    let x672: f64 = 0.004600245517563105f64 * x439;
-    let x673: f64 = -0.0015152444733270301f64 * x454;
-    let x674: f64 = x672 - x673;
-    let x675: f64 = x674 + x674;
-    let x676: f64 = x651 + x651;
-    let x677: f64 = x656 + x675;
-    let x678: f64 = x677 - x676;
-    let x679: f64 = -0.0021640520520981297f64 * x439;
-    let x680: f64 = 0.03146037232526039f64 * x454;
-    let x681: f64 = x679 - x680;
-    let x682: f64 = 0.03942757095803552f64 * x454;
-    let x683: f64 = -0.004600245517563105f64 * x436;
-    let x684: f64 = x682 - x683;
-    let x685: f64 = x681 + x684;
-    let x686: f64 = -0.014653732538f64 * x453;
-    let x687: f64 = 0.05034347249f64 * x450;
-    let x688: f64 = x686 + x687;
-    let x689: f64 = x685 - x688;
-    let x690: f64 = 0.0021640520520981297f64 * x436;
-    let x691: f64 = x673 - x690;
-    let x692: f64 = x691 + x691;
-    let x693: f64 = x652 + x652;
-    let x694: f64 = x656 + x692;
-    let x695: f64 = x694 - x693;
-    let x696: f64 = -0.010869510762828563f64 * x439;
-    let x697: f64 = 0.0021640520520981297f64 * x454;
-    let x698: f64 = x696 - x697;
-    let x699: f64 = -0.0015152444733270301f64 * x436;
-    let x700: f64 = -0.03942757095803552f64 * x439;
-    let x701: f64 = x699 - x700;
-    let x702: f64 = x698 + x701;
-    let x703: f64 = -0.014653732538f64 * x446;
-    let x704: f64 = -0.047121686402f64 * x450;
-    let x705: f64 = x703 + x704;
-    let x706: f64 = x702 - x705;
-    let x707: f64 = -0.004600245517563105f64 * x454;
-    let x708: f64 = 0.010869510762828563f64 * x436;
-    let x709: f64 = x707 - x708;
-    let x710: f64 = 0.03146037232526039f64 * x436;
-    let x711: f64 = 0.0015152444733270301f64 * x439;
-    let x712: f64 = x710 - x711;
-    let x713: f64 = x709 + x712;
-    let x714: f64 = 0.05034347249f64 * x446;
-    let x715: f64 = -0.047121686402f64 * x453;
-    let x716: f64 = x714 + x715;
-    let x717: f64 = x713 - x716;
-    let x718: f64 = x690 - x672;
-    let x719: f64 = x718 + x718;
-    let x720: f64 = x654 + x654;
-    let x721: f64 = x656 + x719;
-    let x722: f64 = x721 - x720;
-    let x723: f64 = 0.10024161669500001f64 * x463;
-    let x724: f64 = -0.023526756935f64 * x466;
-    let x725: f64 = x723 + x724;
-    let x726: f64 = -0.017527158935000002f64 * x467;
-    let x727: f64 = x725 + x726;
-    let x728: f64 = 2f64 * x727;
-    let x729: f64 = -0.017527158935000002f64 * x460;
-    let x730: f64 = -0.023526756935f64 * x468;
-    let x731: f64 = x729 - x730;
-    let x732: f64 = 0.10024161669500001f64 * x468;
-    let x733: f64 = -0.017527158935000002f64 * x457;
-    let x734: f64 = x732 - x733;
-    let x735: f64 = -0.023526756935f64 * x457;
-    let x736: f64 = 0.10024161669500001f64 * x460;
-    let x737: f64 = x735 - x736;
-    let x738: f64 = 1.666555f64 * x463;
-    let x739: f64 = 1.666555f64 * x466;
-    let x740: f64 = 1.666555f64 * x467;
-    let x741: f64 = x731 + x738;
-    let x742: f64 = x734 + x739;
-    let x743: f64 = x737 + x740;
-    let x744: f64 = -0.00010375891721868492f64 * x460;
-    let x745: f64 = 0.001524110902883315f64 * x468;
-    let x746: f64 = x744 - x745;
-    let x747: f64 = x746 + x746;
-    let x748: f64 = x723 + x723;
-    let x749: f64 = x728 + x747;
-    let x750: f64 = x749 - x748;
-    let x751: f64 = 0.000093569097314605f64 * x460;
-    let x752: f64 = 0.01056776613310695f64 * x468;
-    let x753: f64 = x751 - x752;
-    let x754: f64 = 0.0024804603581707893f64 * x468;
-    let x755: f64 = -0.00010375891721868492f64 * x457;
-    let x756: f64 = x754 - x755;
-    let x757: f64 = x753 + x756;
-    let x758: f64 = 0.10024161669500001f64 * x466;
-    let x759: f64 = -0.023526756935f64 * x463;
-    let x760: f64 = x758 + x759;
-    let x761: f64 = x757 - x760;
-    let x762: f64 = 0.000093569097314605f64 * x457;
-    let x763: f64 = x745 - x762;
-    let x764: f64 = x763 + x763;
-    let x765: f64 = x724 + x724;
-    let x766: f64 = x728 + x764;
-    let x767: f64 = x766 - x765;
-    let x768: f64 = 0.011794560230238949f64 * x460;
-    let x769: f64 = 0.000093569097314605f64 * x468;
-    let x770: f64 = x768 - x769;
-    let x771: f64 = 0.001524110902883315f64 * x457;
-    let x772: f64 = 0.0024804603581707893f64 * x460;
-    let x773: f64 = x771 - x772;
-    let x774: f64 = x770 + x773;
-    let x775: f64 = 0.10024161669500001f64 * x467;
-    let x776: f64 = -0.017527158935000002f64 * x463;
-    let x777: f64 = x775 + x776;
-    let x778: f64 = x774 - x777;
-    let x779: f64 = -0.00010375891721868492f64 * x468;
-    let x780: f64 = 0.011794560230238949f64 * x457;
-    let x781: f64 = x779 - x780;
-    let x782: f64 = 0.01056776613310695f64 * x457;
-    let x783: f64 = 0.001524110902883315f64 * x460;
-    let x784: f64 = x782 - x783;
-    let x785: f64 = x781 + x784;
-    let x786: f64 = -0.023526756935f64 * x467;
-    let x787: f64 = -0.017527158935000002f64 * x466;
-    let x788: f64 = x786 + x787;
-    let x789: f64 = x785 - x788;
-    let x790: f64 = x762 - x744;
-    let x791: f64 = x790 + x790;
-    let x792: f64 = x726 + x726;
-    let x793: f64 = x728 + x791;
-    let x794: f64 = x793 - x792;
-    let x795: f64 = 0.002573605371338202f64 * x482;
-    let x796: f64 = 0.0020344399586617965f64 * x485;
-    let x797: f64 = x795 + x796;
-    let x798: f64 = -0.150277948634f64 * x478;
-    let x799: f64 = x797 + x798;
-    let x800: f64 = 2f64 * x799;
-    let x801: f64 = 0.150277948634f64 * x474;
-    let x802: f64 = 0.0020344399586617965f64 * x486;
-    let x803: f64 = x801 - x802;
-    let x804: f64 = 0.002573605371338202f64 * x486;
-    let x805: f64 = 0.150277948634f64 * x471;
-    let x806: f64 = x804 - x805;
-    let x807: f64 = 0.0020344399586617965f64 * x471;
-    let x808: f64 = 0.002573605371338202f64 * x474;
-    let x809: f64 = x807 - x808;
-    let x810: f64 = 1.4955219999999998f64 * x482;
-    let x811: f64 = 1.4955219999999998f64 * x485;
-    let x812: f64 = -1.4955219999999998f64 * x478;
-    let x813: f64 = x803 + x810;
-    let x814: f64 = x806 + x811;
-    let x815: f64 = x809 + x812;
-    let x816: f64 = -0.0009653051699191116f64 * x474;
-    let x817: f64 = 0.0003913912816842481f64 * x486;
-    let x818: f64 = x816 - x817;
-    let x819: f64 = x818 + x818;
-    let x820: f64 = x795 + x795;
-    let x821: f64 = x800 + x819;
-    let x822: f64 = x821 - x820;
-    let x823: f64 = -0.001255536598272898f64 * x474;
-    let x824: f64 = 0.029212399412428362f64 * x486;
-    let x825: f64 = x823 - x824;
-    let x826: f64 = 0.0316333431909496f64 * x486;
-    let x827: f64 = -0.0009653051699191116f64 * x471;
-    let x828: f64 = x826 - x827;
-    let x829: f64 = x825 + x828;
-    let x830: f64 = 0.002573605371338202f64 * x485;
-    let x831: f64 = 0.0020344399586617965f64 * x482;
-    let x832: f64 = x830 + x831;
-    let x833: f64 = x829 - x832;
-    let x834: f64 = -0.001255536598272898f64 * x471;
-    let x835: f64 = x817 - x834;
-    let x836: f64 = x835 + x835;
-    let x837: f64 = x796 + x796;
-    let x838: f64 = x800 + x836;
-    let x839: f64 = x838 - x837;
-    let x840: f64 = 0.006684151967360945f64 * x474;
-    let x841: f64 = -0.001255536598272898f64 * x486;
-    let x842: f64 = x840 - x841;
-    let x843: f64 = 0.0003913912816842481f64 * x471;
-    let x844: f64 = 0.0316333431909496f64 * x474;
-    let x845: f64 = x843 - x844;
-    let x846: f64 = x842 + x845;
-    let x847: f64 = -0.002573605371338202f64 * x478;
-    let x848: f64 = 0.150277948634f64 * x482;
-    let x849: f64 = x847 + x848;
-    let x850: f64 = x846 - x849;
-    let x851: f64 = -0.0009653051699191116f64 * x486;
-    let x852: f64 = 0.006684151967360945f64 * x471;
-    let x853: f64 = x851 - x852;
-    let x854: f64 = 0.029212399412428362f64 * x471;
-    let x855: f64 = 0.0003913912816842481f64 * x474;
-    let x856: f64 = x854 - x855;
-    let x857: f64 = x853 + x856;
-    let x858: f64 = -0.0020344399586617965f64 * x478;
-    let x859: f64 = 0.150277948634f64 * x485;
-    let x860: f64 = x858 + x859;
-    let x861: f64 = x857 - x860;
-    let x862: f64 = x834 - x816;
-    let x863: f64 = x862 + x862;
-    let x864: f64 = x798 + x798;
-    let x865: f64 = x800 + x863;
-    let x866: f64 = x865 - x864;
-    let x867: f64 = -0.00850351162402155f64 * x401;
-    let x868: f64 = x512 + x867;
-    let x869: f64 = x508 + x868;
-    let x870: f64 = -0.028124284712194955f64 * x402;
-    let x871: f64 = x504 + x870;
-    let x872: f64 = x502 + x871;
-    let x873: f64 = 0.05649492601407083f64 * x405;
-    let x874: f64 = x571 + x873;
-    let x875: f64 = x567 + x874;
-    let x876: f64 = 0.05287838199960611f64 * x408;
-    let x877: f64 = x561 + x876;
-    let x878: f64 = x559 + x877;
-    let x879: f64 = x541 + x545;
-    let x880: f64 = 0.01824920229252011f64 * x417;
-    let x881: f64 = x879 + x880;
-    let x882: f64 = x548 - x549;
-    let x883: f64 = x875 - x574;
-    let x884: f64 = x565 + x878;
-    let x885: f64 = x881 + x882;
-    let x886: f64 = x522 - x521;
-    let x887: f64 = x525 - x524;
-    let x888: f64 = x530 - x886;
-    let x889: f64 = x531 - x887;
-    let x890: f64 = 0.06767727025085991f64 * x420;
-    let x891: f64 = x639 + x890;
-    let x892: f64 = x635 + x891;
-    let x893: f64 = 0.03239943042445132f64 * x423;
-    let x894: f64 = x627 + x893;
-    let x895: f64 = x625 + x894;
-    let x896: f64 = x607 + x611;
-    let x897: f64 = 0.0775861490525396f64 * x433;
-    let x898: f64 = x896 + x897;
-    let x899: f64 = x642 - x643;
-    let x900: f64 = x632 - x631;
-    let x901: f64 = x614 - x615;
-    let x902: f64 = x892 + x899;
-    let x903: f64 = x895 + x900;
-    let x904: f64 = x898 + x901;
-    let x905: f64 = x586 - x585;
-    let x906: f64 = x589 - x588;
-    let x907: f64 = x592 - x591;
-    let x908: f64 = x594 - x905;
-    let x909: f64 = x595 - x906;
-    let x910: f64 = x596 - x907;
-    let x911: f64 = 0.03942757095803552f64 * x436;
-    let x912: f64 = x711 + x911;
-    let x913: f64 = x707 + x912;
-    let x914: f64 = -0.03146037232526039f64 * x439;
-    let x915: f64 = x699 + x914;
-    let x916: f64 = x697 + x915;
-    let x917: f64 = x679 + x683;
-    let x918: f64 = 0.010869510762828563f64 * x454;
-    let x919: f64 = x917 + x918;
-    let x920: f64 = x714 - x715;
-    let x921: f64 = x704 - x703;
-    let x922: f64 = x686 - x687;
-    let x923: f64 = x913 + x920;
-    let x924: f64 = x916 + x921;
-    let x925: f64 = x919 + x922;
-    let x926: f64 = x658 - x657;
-    let x927: f64 = x661 - x660;
-    let x928: f64 = x664 - x663;
-    let x929: f64 = x666 - x926;
-    let x930: f64 = x667 - x927;
-    let x931: f64 = x668 - x928;
-    let x932: f64 = 0.0024804603581707893f64 * x457;
-    let x933: f64 = x783 + x932;
-    let x934: f64 = x779 + x933;
-    let x935: f64 = 0.01056776613310695f64 * x460;
-    let x936: f64 = x771 + x935;
-    let x937: f64 = x769 + x936;
-    let x938: f64 = x751 + x755;
-    let x939: f64 = 0.011794560230238949f64 * x468;
-    let x940: f64 = x938 + x939;
-    let x941: f64 = x786 - x787;
-    let x942: f64 = x776 - x775;
-    let x943: f64 = x758 - x759;
-    let x944: f64 = x934 + x941;
-    let x945: f64 = x937 + x942;
-    let x946: f64 = x940 + x943;
-    let x947: f64 = x730 - x729;
-    let x948: f64 = x733 - x732;
-    let x949: f64 = x736 - x735;
-    let x950: f64 = x738 - x947;
-    let x951: f64 = x739 - x948;
-    let x952: f64 = x740 - x949;
-    let x953: f64 = 0.0316333431909496f64 * x471;
-    let x954: f64 = x855 + x953;
-    let x955: f64 = x851 + x954;
-    let x956: f64 = 0.029212399412428362f64 * x474;
-    let x957: f64 = x843 + x956;
-    let x958: f64 = x841 + x957;
-    let x959: f64 = x823 + x827;
-    let x960: f64 = 0.006684151967360945f64 * x486;
-    let x961: f64 = x959 + x960;
-    let x962: f64 = x858 - x859;
-    let x963: f64 = x848 - x847;
-    let x964: f64 = x830 - x831;
-    let x965: f64 = x955 + x962;
-    let x966: f64 = x958 + x963;
-    let x967: f64 = x961 + x964;
-    let x968: f64 = x802 - x801;
-    let x969: f64 = x805 - x804;
-    let x970: f64 = x808 - x807;
-    let x971: f64 = x810 - x968;
-    let x972: f64 = x811 - x969;
-    let x973: f64 = c6 * x813;
-    let x974: f64 = s6 * x814;
-    let x975: f64 = x973 - x974;
-    let x976: f64 = s6 * x813;
-    let x977: f64 = c6 * x814;
-    let x978: f64 = x976 + x977;
-    let x979: f64 = c6 * x822;
-    let x980: f64 = s6 * x833;
-    let x981: f64 = x979 - x980;
-    let x982: f64 = c6 * x833;
-    let x983: f64 = s6 * x839;
-    let x984: f64 = x982 - x983;
-    let x985: f64 = c6 * x850;
-    let x986: f64 = s6 * x861;
-    let x987: f64 = x849 - x846;
-    let x988: f64 = x860 - x857;
-    let x989: f64 = s6 * x822;
-    let x990: f64 = x982 + x989;
-    let x991: f64 = c6 * x839;
-    let x992: f64 = x980 + x991;
-    let x993: f64 = c6 * x981;
-    let x994: f64 = s6 * x984;
-    let x995: f64 = x993 - x994;
-    let x996: f64 = x986 - x985;
-    let x997: f64 = s6 * x981;
-    let x998: f64 = c6 * x984;
-    let x999: f64 = x997 + x998;
-    let x1000: f64 = s6 * x987;
-    let x1001: f64 = c6 * x988;
-    let x1002: f64 = x1000 + x1001;
-    let x1003: f64 = s6 * x990;
-    let x1004: f64 = c6 * x992;
-    let x1005: f64 = x1003 + x1004;
-    let x1006: f64 = 0.088f64 * x975;
-    let x1007: f64 = 0.176f64 * x975;
-    let x1008: f64 = x995 + x1007;
-    let x1009: f64 = x1006 + x1006;
-    let x1010: f64 = x1008 - x1009;
-    let x1011: f64 = -0.088f64 * x815;
-    let x1012: f64 = x996 - x1011;
-    let x1013: f64 = x866 + x1007;
-    let x1014: f64 = 0.088f64 * x978;
-    let x1015: f64 = x999 - x1014;
-    let x1016: f64 = x1005 + x1007;
-    let x1017: f64 = x741 + x975;
-    let x1018: f64 = x742 - x815;
-    let x1019: f64 = x743 + x978;
-    let x1020: f64 = x750 + x1010;
-    let x1021: f64 = x761 + x1012;
-    let x1022: f64 = x767 + x1013;
-    let x1023: f64 = x778 + x1015;
-    [
-        x2,
-        x14,
-        x22,
-        x48,
-        x49,
-        x50,
-        x51,
-        x52,
-        x53,
-        x54,
-        x55,
-        x58,
-        x70,
-        x88,
-        x89,
-        x90,
-        x91,
-        x92,
-        x93,
-        x94,
-        x95,
-        x153,
-        x154,
-        x155,
-        x156,
-        x157,
-        x158,
-        x159,
-        x160,
-        x168,
-        x177,
-        x186,
-        x214,
-        x215,
-        x216,
-        x217,
-        x218,
-        x219,
-        x220,
-        x221,
-        x222,
-        x260,
-        x261,
-        x262,
-        x263,
-        x264,
-        x265,
-        x266,
-        x272,
-        x275,
-        x277,
-        x281,
-        x282,
-        x284,
-        x288,
-        x293,
-        x294,
-        x302,
-        x304,
-        x305,
-        x306,
-        x318,
-        x319,
-        x323,
-        x329,
-        x334,
-        x335,
-        x343,
-        x346,
-        x347,
-        x348,
-        x349,
-        x352,
-        x358,
-        x373,
-        x374,
-        x378,
-        x379,
-        x385,
-        x391,
-        x392,
-        x400,
-        x401,
-        x402,
-        x403,
-        x404,
-        x408,
-        x411,
-        x412,
-        x416,
-        x420,
-        x423,
-        x427,
-        x428,
-        x432,
-        x434,
-        x435,
-        x439,
-        x450,
-        x453,
-        x457,
-        x460,
-        x463,
-        x466,
-        x471,
-        x474,
-        x482,
-        x490,
-        x497,
-        x500,
-        x507,
-        x514,
-        x516,
-        x529,
-        x532,
-        x533,
-        x540,
-        x551,
-        x557,
-        x566,
-        x575,
-        x578,
-        x597,
-        x598,
-        x599,
-        x606,
-        x617,
-        x623,
-        x634,
-        x645,
-        x650,
-        x669,
-        x670,
-        x671,
-        x678,
-        x689,
-        x695,
-        x706,
-        x717,
-        x722,
-        x742,
-        x789,
-        x794,
-        x796,
-        x801,
-        x811,
-        x812,
-        x813,
-        x814,
-        x815,
-        x816,
-        x844,
-        x850,
-        x855,
-        x859,
-        x861,
-        x866,
-        x869,
-        x872,
-        x883,
-        x884,
-        x885,
-        x888,
-        x889,
-        x902,
-        x903,
-        x904,
-        x908,
-        x909,
-        x910,
-        x923,
-        x924,
-        x925,
-        x929,
-        x930,
-        x931,
-        x944,
-        x945,
-        x946,
-        x950,
-        x951,
-        x952,
-        x965,
-        x966,
-        x967,
-        x969,
-        x970,
-        x971,
-        x972,
-        x1002,
-        x1016,
-        x1017,
-        x1018,
-        x1019,
-        x1020,
-        x1021,
-        x1022,
-        x1023,
-    ]
-}
-#[inline(never)]
-fn coriolis_matrix_part1(
-    t: &JointTrig<7>,
-    _qd: &SVector<f64, 7>,
-    carried: [f64; 184],
-) -> [f64; 55] {
-    let [_, s1, s2, s3, s4, s5, s6] = t.sin;
-    let [_, c1, c2, c3, c4, c5, c6] = t.cos;
-    let [x14, x48, x49, x50, x51, x52, x53, x54, x55, x58, x70, x88, x89, x90, x91, x92,
-    x93, x94, x95, x153, x154, x155, x156, x157, x158, x159, x160, x168, x177, x186,
-    x214, x215, x216, x217, x218, x219, x220, x221, x222, x260, x261, x262, x263, x264,
-    x265, x266, x272, x275, x277, x281, x282, x284, x288, x293, x294, x302, x304, x305,
-    x306, x318, x319, x323, x329, x334, x335, x343, x346, x347, x401, x402, x403, x404,
-    x408, x411, x412, x416, x420, x423, x427, x428, x432, x434, x435, x439, x450, x453,
-    x457, x460, x463, x466, x471, x474, x482, x490, x497, x500, x507, x514, x516, x529,
-    x532, x533, x540, x551, x557, x566, x575, x578, x597, x598, x599, x606, x617, x623,
-    x634, x645, x650, x669, x670, x671, x678, x689, x695, x706, x717, x722, x742, x789,
-    x794, x796, x801, x811, x812, x813, x814, x815, x816, x844, x850, x855, x859, x861,
-    x866, x869, x872, x883, x884, x885, x888, x889, x902, x903, x904, x908, x909, x910,
-    x923, x924, x925, x929, x930, x931, x944, x945, x946, x950, x951, x952, x965, x966,
-    x967, x969, x970, x971, x972, x1002, x1016, x1017, x1018, x1019, x1020, x1021, x1022,
-    x1023] = carried;
-    let x1024: f64 = x789 + x1002;
-    let x1025: f64 = x794 + x1016;
-    let x1026: f64 = c6 * x971;
-    let x1027: f64 = s6 * x972;
-    let x1028: f64 = x1026 - x1027;
-    let x1029: f64 = x970 - x812;
-    let x1030: f64 = s6 * x971;
-    let x1031: f64 = c6 * x972;
-    let x1032: f64 = x1030 + x1031;
-    let x1033: f64 = c6 * x965;
-    let x1034: f64 = s6 * x966;
-    let x1035: f64 = x1033 - x1034;
-    let x1036: f64 = s6 * x965;
-    let x1037: f64 = c6 * x966;
-    let x1038: f64 = x1036 + x1037;
-    let x1039: f64 = 0.088f64 * x1032;
-    let x1040: f64 = 0.088f64 * x1029;
-    let x1041: f64 = x967 + x1039;
-    let x1042: f64 = x1038 + x1040;
-    let x1043: f64 = x944 + x1035;
-    let x1044: f64 = x945 - x1041;
-    let x1045: f64 = x946 + x1042;
-    let x1046: f64 = x950 + x1028;
-    let x1047: f64 = x951 + x1029;
-    let x1048: f64 = x952 + x1032;
-    let x1049: f64 = c5 * x1017;
-    let x1050: f64 = s5 * x1018;
-    let x1051: f64 = x1049 - x1050;
-    let x1052: f64 = s5 * x1017;
-    let x1053: f64 = c5 * x1018;
-    let x1054: f64 = x1052 + x1053;
-    let x1055: f64 = c5 * x1020;
-    let x1056: f64 = s5 * x1021;
-    let x1057: f64 = x1055 - x1056;
-    let x1058: f64 = c5 * x1021;
-    let x1059: f64 = s5 * x1022;
-    let x1060: f64 = x1058 - x1059;
-    let x1061: f64 = c5 * x1023;
-    let x1062: f64 = s5 * x1024;
-    let x1063: f64 = s5 * x1020;
-    let x1064: f64 = x1058 + x1063;
-    let x1065: f64 = c5 * x1022;
-    let x1066: f64 = x1056 + x1065;
-    let x1067: f64 = s5 * x1023;
-    let x1068: f64 = c5 * x1024;
-    let x1069: f64 = x1067 + x1068;
-    let x1070: f64 = c5 * x1057;
-    let x1071: f64 = s5 * x1060;
-    let x1072: f64 = x1070 - x1071;
-    let x1073: f64 = x1062 - x1061;
-    let x1074: f64 = s5 * x1057;
-    let x1075: f64 = c5 * x1060;
-    let x1076: f64 = x1074 + x1075;
-    let x1077: f64 = s5 * x1064;
-    let x1078: f64 = c5 * x1066;
-    let x1079: f64 = x1077 + x1078;
-    let x1080: f64 = x669 + x1051;
-    let x1081: f64 = x670 - x1019;
-    let x1082: f64 = x671 + x1054;
-    let x1083: f64 = x678 + x1072;
-    let x1084: f64 = x689 + x1073;
-    let x1085: f64 = x695 + x1025;
-    let x1086: f64 = x706 + x1076;
-    let x1087: f64 = x717 - x1069;
-    let x1088: f64 = x722 + x1079;
-    let x1089: f64 = c5 * x1046;
-    let x1090: f64 = s5 * x1047;
-    let x1091: f64 = x1089 - x1090;
-    let x1092: f64 = s5 * x1046;
-    let x1093: f64 = c5 * x1047;
-    let x1094: f64 = x1092 + x1093;
-    let x1095: f64 = c5 * x1043;
-    let x1096: f64 = s5 * x1044;
-    let x1097: f64 = x1095 - x1096;
-    let x1098: f64 = s5 * x1043;
-    let x1099: f64 = c5 * x1044;
-    let x1100: f64 = x1098 + x1099;
-    let x1101: f64 = x923 + x1097;
-    let x1102: f64 = x924 - x1045;
-    let x1103: f64 = x925 + x1100;
-    let x1104: f64 = x929 + x1091;
-    let x1105: f64 = x930 - x1048;
-    let x1106: f64 = x931 + x1094;
-    let x1107: f64 = c4 * x1080;
-    let x1108: f64 = s4 * x1081;
-    let x1109: f64 = x1107 - x1108;
-    let x1110: f64 = s4 * x1080;
-    let x1111: f64 = c4 * x1081;
-    let x1112: f64 = x1110 + x1111;
-    let x1113: f64 = c4 * x1083;
-    let x1114: f64 = s4 * x1084;
-    let x1115: f64 = x1113 - x1114;
-    let x1116: f64 = c4 * x1084;
-    let x1117: f64 = s4 * x1085;
-    let x1118: f64 = x1116 - x1117;
-    let x1119: f64 = c4 * x1086;
-    let x1120: f64 = s4 * x1087;
-    let x1121: f64 = x1119 - x1120;
-    let x1122: f64 = s4 * x1083;
-    let x1123: f64 = x1116 + x1122;
-    let x1124: f64 = c4 * x1085;
-    let x1125: f64 = x1114 + x1124;
-    let x1126: f64 = s4 * x1086;
-    let x1127: f64 = c4 * x1087;
-    let x1128: f64 = x1126 + x1127;
-    let x1129: f64 = c4 * x1115;
-    let x1130: f64 = s4 * x1118;
-    let x1131: f64 = x1129 - x1130;
-    let x1132: f64 = s4 * x1115;
-    let x1133: f64 = c4 * x1118;
-    let x1134: f64 = x1132 + x1133;
-    let x1135: f64 = s4 * x1123;
-    let x1136: f64 = c4 * x1125;
-    let x1137: f64 = x1135 + x1136;
-    let x1138: f64 = -0.0825f64 * x1109;
-    let x1139: f64 = 0.384f64 * x1082;
-    let x1140: f64 = x1138 + x1139;
-    let x1141: f64 = 2f64 * x1140;
-    let x1142: f64 = x1131 + x1141;
-    let x1143: f64 = x1138 + x1138;
-    let x1144: f64 = x1142 - x1143;
-    let x1145: f64 = -0.0825f64 * x1082;
-    let x1146: f64 = 0.384f64 * x1109;
-    let x1147: f64 = x1145 + x1146;
-    let x1148: f64 = x1121 - x1147;
-    let x1149: f64 = x1088 + x1141;
-    let x1150: f64 = x1139 + x1139;
-    let x1151: f64 = x1149 - x1150;
-    let x1152: f64 = 0.0825f64 * x1112;
-    let x1153: f64 = x1134 + x1152;
-    let x1154: f64 = -0.384f64 * x1112;
-    let x1155: f64 = x1128 + x1154;
-    let x1156: f64 = x1137 + x1141;
-    let x1157: f64 = x597 + x1109;
-    let x1158: f64 = x598 + x1082;
-    let x1159: f64 = x606 + x1144;
-    let x1160: f64 = x617 + x1148;
-    let x1161: f64 = x623 + x1151;
-    let x1162: f64 = x634 - x1153;
-    let x1163: f64 = x645 - x1155;
-    let x1164: f64 = x650 + x1156;
-    let x1165: f64 = c4 * x1104;
-    let x1166: f64 = s4 * x1105;
-    let x1167: f64 = x1165 - x1166;
-    let x1168: f64 = s4 * x1104;
-    let x1169: f64 = c4 * x1105;
-    let x1170: f64 = x1168 + x1169;
-    let x1171: f64 = c4 * x1101;
-    let x1172: f64 = s4 * x1102;
-    let x1173: f64 = x1171 - x1172;
-    let x1174: f64 = s4 * x1101;
-    let x1175: f64 = c4 * x1102;
-    let x1176: f64 = x1174 + x1175;
-    let x1177: f64 = -0.384f64 * x1170;
-    let x1178: f64 = 0.0825f64 * x1170;
-    let x1179: f64 = -0.0825f64 * x1106;
-    let x1180: f64 = 0.384f64 * x1167;
-    let x1181: f64 = x1179 - x1180;
-    let x1182: f64 = x1173 + x1177;
-    let x1183: f64 = x1103 - x1178;
-    let x1184: f64 = x1181 - x1176;
-    let x1185: f64 = x902 + x1182;
-    let x1186: f64 = x903 + x1183;
-    let x1187: f64 = x904 + x1184;
-    let x1188: f64 = x908 + x1167;
-    let x1189: f64 = x909 + x1106;
-    let x1190: f64 = c3 * x1157;
-    let x1191: f64 = s3 * x1158;
-    let x1192: f64 = x1190 - x1191;
-    let x1193: f64 = x1112 - x599;
-    let x1194: f64 = s3 * x1157;
-    let x1195: f64 = c3 * x1158;
-    let x1196: f64 = x1194 + x1195;
-    let x1197: f64 = c3 * x1159;
-    let x1198: f64 = s3 * x1160;
-    let x1199: f64 = x1197 - x1198;
-    let x1200: f64 = c3 * x1160;
-    let x1201: f64 = s3 * x1161;
-    let x1202: f64 = x1200 - x1201;
-    let x1203: f64 = c3 * x1162;
-    let x1204: f64 = s3 * x1163;
-    let x1205: f64 = x1153 - x634;
-    let x1206: f64 = x1155 - x645;
-    let x1207: f64 = s3 * x1159;
-    let x1208: f64 = x1200 + x1207;
-    let x1209: f64 = c3 * x1161;
-    let x1210: f64 = x1198 + x1209;
-    let x1211: f64 = c3 * x1199;
-    let x1212: f64 = s3 * x1202;
-    let x1213: f64 = x1211 - x1212;
-    let x1214: f64 = x1204 - x1203;
-    let x1215: f64 = s3 * x1199;
-    let x1216: f64 = c3 * x1202;
-    let x1217: f64 = x1215 + x1216;
-    let x1218: f64 = s3 * x1205;
-    let x1219: f64 = c3 * x1206;
-    let x1220: f64 = x1218 + x1219;
-    let x1221: f64 = s3 * x1208;
-    let x1222: f64 = c3 * x1210;
-    let x1223: f64 = x1221 + x1222;
-    let x1224: f64 = 0.0825f64 * x1192;
-    let x1225: f64 = 0.165f64 * x1192;
-    let x1226: f64 = x1213 + x1225;
-    let x1227: f64 = x1224 + x1224;
-    let x1228: f64 = x1226 - x1227;
-    let x1229: f64 = 0.0825f64 * x1193;
-    let x1230: f64 = x1214 - x1229;
-    let x1231: f64 = x1164 + x1225;
-    let x1232: f64 = 0.0825f64 * x1196;
-    let x1233: f64 = x1217 - x1232;
-    let x1234: f64 = x1223 + x1225;
-    let x1235: f64 = x532 + x1192;
-    let x1236: f64 = x533 + x1193;
-    let x1237: f64 = x529 + x1196;
-    let x1238: f64 = x540 + x1228;
-    let x1239: f64 = x551 + x1230;
-    let x1240: f64 = x557 + x1231;
-    let x1241: f64 = x566 + x1233;
-    let x1242: f64 = x575 + x1220;
-    let x1243: f64 = x578 + x1234;
-    let x1244: f64 = c3 * x1188;
-    let x1245: f64 = s3 * x1189;
-    let x1246: f64 = x1244 - x1245;
-    let x1247: f64 = x1170 - x910;
-    let x1248: f64 = s3 * x1188;
-    let x1249: f64 = c3 * x1189;
-    let x1250: f64 = x1248 + x1249;
-    let x1251: f64 = c3 * x1185;
-    let x1252: f64 = s3 * x1186;
-    let x1253: f64 = x1251 - x1252;
-    let x1254: f64 = s3 * x1185;
-    let x1255: f64 = c3 * x1186;
-    let x1256: f64 = x1254 + x1255;
-    let x1257: f64 = 0.0825f64 * x1250;
-    let x1258: f64 = 0.0825f64 * x1247;
-    let x1259: f64 = x1187 + x1257;
-    let x1260: f64 = x1256 + x1258;
-    let x1261: f64 = x883 + x1253;
-    let x1262: f64 = x884 - x1259;
-    let x1263: f64 = x885 + x1260;
-    let x1264: f64 = x888 + x1246;
-    let x1265: f64 = x889 + x1247;
-    let x1266: f64 = c2 * x1235;
-    let x1267: f64 = s2 * x1236;
-    let x1268: f64 = x1266 - x1267;
-    let x1269: f64 = s2 * x1235;
-    let x1270: f64 = c2 * x1236;
-    let x1271: f64 = x1269 + x1270;
-    let x1272: f64 = c2 * x1238;
-    let x1273: f64 = s2 * x1239;
-    let x1274: f64 = x1272 - x1273;
-    let x1275: f64 = c2 * x1239;
-    let x1276: f64 = s2 * x1240;
-    let x1277: f64 = x1275 - x1276;
-    let x1278: f64 = c2 * x1241;
-    let x1279: f64 = s2 * x1242;
-    let x1280: f64 = s2 * x1238;
-    let x1281: f64 = x1275 + x1280;
-    let x1282: f64 = c2 * x1240;
-    let x1283: f64 = x1273 + x1282;
-    let x1284: f64 = s2 * x1241;
-    let x1285: f64 = c2 * x1242;
-    let x1286: f64 = x1284 + x1285;
-    let x1287: f64 = c2 * x1274;
-    let x1288: f64 = s2 * x1277;
-    let x1289: f64 = x1287 - x1288;
-    let x1290: f64 = x1279 - x1278;
-    let x1291: f64 = s2 * x1274;
-    let x1292: f64 = c2 * x1277;
-    let x1293: f64 = x1291 + x1292;
-    let x1294: f64 = s2 * x1281;
-    let x1295: f64 = c2 * x1283;
-    let x1296: f64 = x1294 + x1295;
-    let x1297: f64 = 0.316f64 * x1237;
-    let x1298: f64 = 0.632f64 * x1237;
-    let x1299: f64 = x1289 + x1298;
-    let x1300: f64 = -0.316f64 * x1268;
-    let x1301: f64 = x1290 - x1300;
-    let x1302: f64 = x1243 + x1298;
-    let x1303: f64 = x1297 + x1297;
-    let x1304: f64 = x1302 - x1303;
-    let x1305: f64 = -0.316f64 * x1271;
-    let x1306: f64 = x1286 + x1305;
-    let x1307: f64 = x1296 + x1298;
-    let x1308: f64 = x490 + x1299;
-    let x1309: f64 = x497 + x1301;
-    let x1310: f64 = x500 + x1304;
-    let x1311: f64 = x507 + x1293;
-    let x1312: f64 = x514 - x1306;
-    let x1313: f64 = x516 + x1307;
-    let x1314: f64 = s2 * x1264;
-    let x1315: f64 = c2 * x1265;
-    let x1316: f64 = x1314 + x1315;
-    let x1317: f64 = c2 * x1261;
-    let x1318: f64 = s2 * x1262;
-    let x1319: f64 = x1317 - x1318;
-    let x1320: f64 = -0.316f64 * x1316;
-    let x1321: f64 = x1319 + x1320;
-    let x1322: f64 = x869 + x1321;
-    let x1323: f64 = s1 * x1309;
-    let x1324: f64 = c1 * x1309;
-    let x1325: f64 = s1 * x1308;
-    let x1326: f64 = x1324 + x1325;
-    let x1327: f64 = c1 * x1310;
-    let x1328: f64 = x1323 + x1327;
-    let x1329: f64 = s1 * x1326;
-    let x1330: f64 = c1 * x1328;
-    let x1331: f64 = x1329 + x1330;
-    let x1332: f64 = 0.5f64 * x1331;
-    let x1333: f64 = 0.5f64 * x1311;
-    let x1334: f64 = 0.5f64 * x1312;
-    let x1335: f64 = 0.5f64 * x1313;
-    let x1336: f64 = x1263 - x872;
-    let x1337: f64 = 0.5f64 * x1336;
-    let x1338: f64 = 0.5f64 * x1322;
-    let x1339: f64 = x260 * x402;
-    let x1340: f64 = x261 * x401;
-    let x1341: f64 = x1340 - x1339;
-    let x1342: f64 = x261 * x402;
-    let x1343: f64 = x262 * x401;
-    let x1344: f64 = x1343 - x1342;
-    let x1345: f64 = x263 * x402;
-    let x1346: f64 = x264 * x401;
-    let x1347: f64 = x1346 - x1345;
-    let x1348: f64 = x1333 + x1341;
-    let x1349: f64 = x1334 + x1344;
-    let x1350: f64 = x1335 + x1347;
-    let x1351: f64 = x1337 + x1348;
-    let x1352: f64 = x1338 + x1349;
-    let x1353: f64 = x1333 - x1337;
-    let x1354: f64 = x1334 - x1338;
-    let x1355: f64 = s1 * x1351;
-    let x1356: f64 = c1 * x1352;
-    let x1357: f64 = x1355 + x1356;
-    let x1358: f64 = -x1357;
-    let x1359: f64 = s1 * x1353;
-    let x1360: f64 = c1 * x1354;
-    let x1361: f64 = x1359 + x1360;
-    let x1362: f64 = -x1361;
-    let x1363: f64 = x403 - x404;
-    let x1364: f64 = x411 - x412;
-    let x1365: f64 = 0.5f64 * x1241;
-    let x1366: f64 = 0.5f64 * x1242;
-    let x1367: f64 = 0.5f64 * x1243;
-    let x1368: f64 = -0.5f64 * x1236;
-    let x1369: f64 = 0.5f64 * x1235;
-    let x1370: f64 = x1259 - x884;
-    let x1371: f64 = 0.5f64 * x1370;
-    let x1372: f64 = 0.5f64 * x1261;
-    let x1373: f64 = -0.5f64 * x1265;
-    let x1374: f64 = 0.5f64 * x1264;
-    let x1375: f64 = x217 * x408;
-    let x1376: f64 = x218 * x1363;
-    let x1377: f64 = x1375 + x1376;
-    let x1378: f64 = x218 * x408;
-    let x1379: f64 = x219 * x1363;
-    let x1380: f64 = x1378 + x1379;
-    let x1381: f64 = x220 * x408;
-    let x1382: f64 = x221 * x1363;
-    let x1383: f64 = x1381 + x1382;
-    let x1384: f64 = x216 * x1364;
-    let x1385: f64 = x216 * x416;
-    let x1386: f64 = x214 * x1364;
-    let x1387: f64 = x215 * x416;
-    let x1388: f64 = x1386 - x1387;
-    let x1389: f64 = x1377 - x1384;
-    let x1390: f64 = x1380 + x1385;
-    let x1391: f64 = x1383 + x1388;
-    let x1392: f64 = 11.204522f64 * x416;
-    let x1393: f64 = 11.204522f64 * x1364;
-    let x1394: f64 = x216 * x1363;
-    let x1395: f64 = x216 * x408;
-    let x1396: f64 = x1392 + x1394;
-    let x1397: f64 = x1393 - x1395;
-    let x1398: f64 = x1365 + x1389;
-    let x1399: f64 = x1366 + x1390;
-    let x1400: f64 = x1367 + x1391;
-    let x1401: f64 = x1368 + x1396;
-    let x1402: f64 = x1369 + x1397;
-    let x1403: f64 = x1371 + x1398;
-    let x1404: f64 = x1372 + x1399;
-    let x1405: f64 = x1373 + x1401;
-    let x1406: f64 = x1374 + x1402;
-    let x1407: f64 = x1365 - x1371;
-    let x1408: f64 = x1366 - x1372;
-    let x1409: f64 = x1368 - x1373;
-    let x1410: f64 = x1369 - x1374;
-    let x1411: f64 = c2 * x1405;
-    let x1412: f64 = s2 * x1406;
-    let x1413: f64 = x1411 - x1412;
-    let x1414: f64 = s2 * x1405;
-    let x1415: f64 = c2 * x1406;
-    let x1416: f64 = x1414 + x1415;
-    let x1417: f64 = c2 * x1403;
-    let x1418: f64 = s2 * x1404;
-    let x1419: f64 = x1417 - x1418;
-    let x1420: f64 = s2 * x1403;
-    let x1421: f64 = c2 * x1404;
-    let x1422: f64 = x1420 + x1421;
-    let x1423: f64 = -0.316f64 * x1416;
-    let x1424: f64 = -0.316f64 * x1413;
-    let x1425: f64 = x1419 + x1423;
-    let x1426: f64 = x1422 - x1424;
-    let x1427: f64 = c2 * x1409;
-    let x1428: f64 = s2 * x1410;
-    let x1429: f64 = x1427 - x1428;
-    let x1430: f64 = s2 * x1409;
-    let x1431: f64 = c2 * x1410;
-    let x1432: f64 = x1430 + x1431;
-    let x1433: f64 = c2 * x1407;
-    let x1434: f64 = s2 * x1408;
-    let x1435: f64 = x1433 - x1434;
-    let x1436: f64 = s2 * x1407;
-    let x1437: f64 = c2 * x1408;
-    let x1438: f64 = x1436 + x1437;
-    let x1439: f64 = -0.316f64 * x1432;
-    let x1440: f64 = -0.316f64 * x1429;
-    let x1441: f64 = x1435 + x1439;
-    let x1442: f64 = x1438 - x1440;
-    let x1443: f64 = x265 * x402;
-    let x1444: f64 = x222 * x401;
-    let x1445: f64 = x1443 + x1444;
-    let x1446: f64 = x1442 - x1445;
-    let x1447: f64 = s1 * x1425;
-    let x1448: f64 = c1 * x1400;
-    let x1449: f64 = x1448 - x1447;
-    let x1450: f64 = s1 * x1441;
-    let x1451: f64 = c1 * x1367;
-    let x1452: f64 = x1451 - x1450;
-    let x1453: f64 = x428 - x427;
-    let x1454: f64 = 0.5f64 * x1162;
-    let x1455: f64 = 0.5f64 * x1163;
-    let x1456: f64 = 0.5f64 * x1164;
-    let x1457: f64 = -0.5f64 * x1158;
-    let x1458: f64 = 0.5f64 * x1157;
-    let x1459: f64 = -0.5f64 * x1186;
-    let x1460: f64 = 0.5f64 * x1185;
-    let x1461: f64 = -0.5f64 * x1189;
-    let x1462: f64 = 0.5f64 * x1188;
-    let x1463: f64 = x156 * x423;
-    let x1464: f64 = x157 * x420;
-    let x1465: f64 = x1463 - x1464;
-    let x1466: f64 = x157 * x423;
-    let x1467: f64 = x158 * x420;
-    let x1468: f64 = x1466 - x1467;
-    let x1469: f64 = x159 * x423;
-    let x1470: f64 = x160 * x420;
-    let x1471: f64 = x1469 - x1470;
-    let x1472: f64 = x155 * x1453;
-    let x1473: f64 = x155 * x432;
-    let x1474: f64 = x153 * x1453;
-    let x1475: f64 = x154 * x432;
-    let x1476: f64 = x1474 + x1475;
-    let x1477: f64 = x1465 - x1472;
-    let x1478: f64 = x1468 - x1473;
-    let x1479: f64 = x1471 + x1476;
-    let x1480: f64 = -7.975918f64 * x432;
-    let x1481: f64 = 7.975918f64 * x1453;
-    let x1482: f64 = x155 * x420;
-    let x1483: f64 = x155 * x423;
-    let x1484: f64 = x153 * x420;
-    let x1485: f64 = x154 * x423;
-    let x1486: f64 = x1484 + x1485;
-    let x1487: f64 = x1480 - x1482;
-    let x1488: f64 = x1481 - x1483;
-    let x1489: f64 = x1454 + x1477;
-    let x1490: f64 = x1455 + x1478;
-    let x1491: f64 = x1456 + x1479;
-    let x1492: f64 = x1457 + x1487;
-    let x1493: f64 = x1458 + x1488;
-    let x1494: f64 = x1459 + x1489;
-    let x1495: f64 = x1460 + x1490;
-    let x1496: f64 = x1461 + x1492;
-    let x1497: f64 = x1462 + x1493;
-    let x1498: f64 = x1454 - x1459;
-    let x1499: f64 = x1455 - x1460;
-    let x1500: f64 = x1457 - x1461;
-    let x1501: f64 = x1458 - x1462;
-    let x1502: f64 = c3 * x1496;
-    let x1503: f64 = s3 * x1497;
-    let x1504: f64 = x1502 - x1503;
-    let x1505: f64 = s3 * x1496;
-    let x1506: f64 = c3 * x1497;
-    let x1507: f64 = x1505 + x1506;
-    let x1508: f64 = c3 * x1494;
-    let x1509: f64 = s3 * x1495;
-    let x1510: f64 = x1508 - x1509;
-    let x1511: f64 = s3 * x1494;
-    let x1512: f64 = c3 * x1495;
-    let x1513: f64 = x1511 + x1512;
-    let x1514: f64 = 0.0825f64 * x1507;
-    let x1515: f64 = -0.0825f64 * x1486;
-    let x1516: f64 = x1491 + x1514;
-    let x1517: f64 = x1513 + x1515;
-    let x1518: f64 = c3 * x1500;
-    let x1519: f64 = s3 * x1501;
-    let x1520: f64 = x1518 - x1519;
-    let x1521: f64 = s3 * x1500;
-    let x1522: f64 = c3 * x1501;
-    let x1523: f64 = x1521 + x1522;
-    let x1524: f64 = c3 * x1498;
-    let x1525: f64 = s3 * x1499;
-    let x1526: f64 = x1524 - x1525;
-    let x1527: f64 = s3 * x1498;
-    let x1528: f64 = c3 * x1499;
-    let x1529: f64 = x1527 + x1528;
-    let x1530: f64 = 0.0825f64 * x1523;
-    let x1531: f64 = x1456 + x1530;
-    let x1532: f64 = x177 * x408;
-    let x1533: f64 = x266 * x1363;
-    let x1534: f64 = x1532 - x1533;
-    let x1535: f64 = x168 * x416;
-    let x1536: f64 = x1534 - x1535;
-    let x1537: f64 = x1529 + x1536;
-    let x1538: f64 = c2 * x1504;
-    let x1539: f64 = s2 * x1486;
-    let x1540: f64 = x1538 + x1539;
-    let x1541: f64 = s2 * x1504;
-    let x1542: f64 = c2 * x1486;
-    let x1543: f64 = x1541 - x1542;
-    let x1544: f64 = c2 * x1510;
-    let x1545: f64 = s2 * x1516;
-    let x1546: f64 = x1544 + x1545;
-    let x1547: f64 = s2 * x1510;
-    let x1548: f64 = c2 * x1516;
-    let x1549: f64 = x1547 - x1548;
-    let x1550: f64 = -0.316f64 * x1543;
-    let x1551: f64 = -0.316f64 * x1540;
-    let x1552: f64 = x1546 + x1550;
-    let x1553: f64 = x1549 - x1551;
-    let x1554: f64 = c2 * x1520;
-    let x1555: f64 = s2 * x1520;
-    let x1556: f64 = c2 * x1526;
-    let x1557: f64 = s2 * x1531;
-    let x1558: f64 = x1556 + x1557;
-    let x1559: f64 = s2 * x1526;
-    let x1560: f64 = c2 * x1531;
-    let x1561: f64 = x1559 - x1560;
-    let x1562: f64 = -0.316f64 * x1555;
-    let x1563: f64 = -0.316f64 * x1554;
-    let x1564: f64 = x1558 + x1562;
-    let x1565: f64 = x1561 - x1563;
-    let x1566: f64 = x272 * x402;
-    let x1567: f64 = x186 * x401;
-    let x1568: f64 = x1566 + x1567;
-    let x1569: f64 = x1565 - x1568;
-    let x1570: f64 = s1 * x1552;
-    let x1571: f64 = c1 * x1517;
-    let x1572: f64 = x1571 - x1570;
-    let x1573: f64 = s1 * x1564;
-    let x1574: f64 = c1 * x1529;
-    let x1575: f64 = x1574 - x1573;
-    let x1576: f64 = x435 - x434;
-    let x1577: f64 = x1019 - x670;
-    let x1578: f64 = 0.5f64 * x1086;
-    let x1579: f64 = 0.5f64 * x1087;
-    let x1580: f64 = 0.5f64 * x1088;
-    let x1581: f64 = 0.5f64 * x1577;
-    let x1582: f64 = 0.5f64 * x1080;
-    let x1583: f64 = x1045 - x924;
-    let x1584: f64 = x1048 - x930;
-    let x1585: f64 = 0.5f64 * x1583;
-    let x1586: f64 = 0.5f64 * x1101;
-    let x1587: f64 = 0.5f64 * x1584;
-    let x1588: f64 = 0.5f64 * x1104;
-    let x1589: f64 = x91 * x439;
-    let x1590: f64 = x92 * x1576;
-    let x1591: f64 = x1590 - x1589;
-    let x1592: f64 = x92 * x439;
-    let x1593: f64 = x93 * x1576;
-    let x1594: f64 = x1593 - x1592;
-    let x1595: f64 = x94 * x439;
-    let x1596: f64 = x95 * x1576;
-    let x1597: f64 = x1596 - x1595;
-    let x1598: f64 = x90 * x450;
-    let x1599: f64 = x90 * x453;
-    let x1600: f64 = x88 * x450;
-    let x1601: f64 = x89 * x453;
-    let x1602: f64 = x1600 + x1601;
-    let x1603: f64 = x1591 + x1598;
-    let x1604: f64 = x1594 + x1599;
-    let x1605: f64 = x1597 - x1602;
-    let x1606: f64 = 4.3880230000000005f64 * x453;
-    let x1607: f64 = -4.3880230000000005f64 * x450;
-    let x1608: f64 = x90 * x1576;
-    let x1609: f64 = x90 * x439;
-    let x1610: f64 = x88 * x1576;
-    let x1611: f64 = x89 * x439;
-    let x1612: f64 = x1610 + x1611;
-    let x1613: f64 = x1606 + x1608;
-    let x1614: f64 = x1607 + x1609;
-    let x1615: f64 = x1578 + x1603;
-    let x1616: f64 = x1579 + x1604;
-    let x1617: f64 = x1580 + x1605;
-    let x1618: f64 = x1581 + x1613;
-    let x1619: f64 = x1582 + x1614;
-    let x1620: f64 = x1585 + x1615;
-    let x1621: f64 = x1586 + x1616;
-    let x1622: f64 = x1587 + x1618;
-    let x1623: f64 = x1588 + x1619;
-    let x1624: f64 = x1578 - x1585;
-    let x1625: f64 = x1579 - x1586;
-    let x1626: f64 = x1581 - x1587;
-    let x1627: f64 = x1582 - x1588;
-    let x1628: f64 = c4 * x1622;
-    let x1629: f64 = s4 * x1623;
-    let x1630: f64 = x1628 - x1629;
-    let x1631: f64 = s4 * x1622;
-    let x1632: f64 = c4 * x1623;
-    let x1633: f64 = x1631 + x1632;
-    let x1634: f64 = c4 * x1620;
-    let x1635: f64 = s4 * x1621;
-    let x1636: f64 = x1634 - x1635;
-    let x1637: f64 = s4 * x1620;
-    let x1638: f64 = c4 * x1621;
-    let x1639: f64 = x1637 + x1638;
-    let x1640: f64 = -0.384f64 * x1633;
-    let x1641: f64 = 0.0825f64 * x1633;
-    let x1642: f64 = 0.0825f64 * x1612;
-    let x1643: f64 = 0.384f64 * x1630;
-    let x1644: f64 = x1642 - x1643;
-    let x1645: f64 = x1636 + x1640;
-    let x1646: f64 = x1617 - x1641;
-    let x1647: f64 = x1644 - x1639;
-    let x1648: f64 = c4 * x1626;
-    let x1649: f64 = s4 * x1627;
-    let x1650: f64 = x1648 - x1649;
-    let x1651: f64 = s4 * x1626;
-    let x1652: f64 = c4 * x1627;
-    let x1653: f64 = x1651 + x1652;
-    let x1654: f64 = c4 * x1624;
-    let x1655: f64 = s4 * x1625;
-    let x1656: f64 = x1654 - x1655;
-    let x1657: f64 = s4 * x1624;
-    let x1658: f64 = c4 * x1625;
-    let x1659: f64 = x1657 + x1658;
-    let x1660: f64 = -0.384f64 * x1653;
-    let x1661: f64 = 0.0825f64 * x1653;
-    let x1662: f64 = 0.384f64 * x1650;
-    let x1663: f64 = x1656 + x1660;
-    let x1664: f64 = x1580 - x1661;
-    let x1665: f64 = x1659 + x1662;
-    let x1666: f64 = x281 * x423;
-    let x1667: f64 = x282 * x420;
-    let x1668: f64 = x1666 - x1667;
-    let x1669: f64 = x275 * x432;
-    let x1670: f64 = x1668 - x1669;
-    let x1671: f64 = x1670 - x1665;
-    let x1672: f64 = c3 * x1630;
-    let x1673: f64 = s3 * x1612;
-    let x1674: f64 = x1672 + x1673;
-    let x1675: f64 = s3 * x1630;
-    let x1676: f64 = c3 * x1612;
-    let x1677: f64 = x1675 - x1676;
-    let x1678: f64 = c3 * x1645;
-    let x1679: f64 = s3 * x1646;
-    let x1680: f64 = x1678 - x1679;
-    let x1681: f64 = x1639 - x1644;
-    let x1682: f64 = s3 * x1645;
-    let x1683: f64 = c3 * x1646;
-    let x1684: f64 = x1682 + x1683;
-    let x1685: f64 = 0.0825f64 * x1677;
-    let x1686: f64 = x1681 - x1685;
-    let x1687: f64 = x1641 + x1684;
-    let x1688: f64 = c3 * x1650;
-    let x1689: f64 = s3 * x1650;
-    let x1690: f64 = c3 * x1663;
-    let x1691: f64 = s3 * x1664;
-    let x1692: f64 = x1690 - x1691;
-    let x1693: f64 = s3 * x1663;
-    let x1694: f64 = c3 * x1664;
-    let x1695: f64 = x1693 + x1694;
-    let x1696: f64 = 0.0825f64 * x1689;
-    let x1697: f64 = x1665 - x1696;
-    let x1698: f64 = x1661 + x1695;
-    let x1699: f64 = x288 * x408;
-    let x1700: f64 = x293 * x1363;
-    let x1701: f64 = x1699 + x1700;
-    let x1702: f64 = x284 * x416;
-    let x1703: f64 = x277 * x1364;
-    let x1704: f64 = x1702 + x1703;
-    let x1705: f64 = x1701 + x1704;
-    let x1706: f64 = x1698 + x1705;
-    let x1707: f64 = c2 * x1674;
-    let x1708: f64 = s2 * x1633;
-    let x1709: f64 = x1707 - x1708;
-    let x1710: f64 = s2 * x1674;
-    let x1711: f64 = c2 * x1633;
-    let x1712: f64 = x1710 + x1711;
-    let x1713: f64 = c2 * x1680;
-    let x1714: f64 = s2 * x1686;
-    let x1715: f64 = x1713 - x1714;
-    let x1716: f64 = s2 * x1680;
-    let x1717: f64 = c2 * x1686;
-    let x1718: f64 = x1716 + x1717;
-    let x1719: f64 = -0.316f64 * x1712;
-    let x1720: f64 = -0.316f64 * x1709;
-    let x1721: f64 = x1715 + x1719;
-    let x1722: f64 = x1718 - x1720;
-    let x1723: f64 = c2 * x1688;
-    let x1724: f64 = s2 * x1653;
-    let x1725: f64 = x1723 - x1724;
-    let x1726: f64 = s2 * x1688;
-    let x1727: f64 = c2 * x1653;
-    let x1728: f64 = x1726 + x1727;
-    let x1729: f64 = c2 * x1692;
-    let x1730: f64 = s2 * x1697;
-    let x1731: f64 = x1729 - x1730;
-    let x1732: f64 = s2 * x1692;
-    let x1733: f64 = c2 * x1697;
-    let x1734: f64 = x1732 + x1733;
-    let x1735: f64 = -0.316f64 * x1728;
-    let x1736: f64 = -0.316f64 * x1725;
-    let x1737: f64 = x1731 + x1735;
-    let x1738: f64 = x1734 - x1736;
-    let x1739: f64 = x302 * x402;
-    let x1740: f64 = x294 * x401;
-    let x1741: f64 = x1739 + x1740;
-    let x1742: f64 = x1738 - x1741;
-    let x1743: f64 = s1 * x1721;
-    let x1744: f64 = c1 * x1687;
-    let x1745: f64 = x1744 - x1743;
-    let x1746: f64 = s1 * x1737;
-    let x1747: f64 = c1 * x1698;
-    let x1748: f64 = x1747 - x1746;
-    let x1749: f64 = x815 - x742;
-    let x1750: f64 = 0.5f64 * x1023;
-    let x1751: f64 = 0.5f64 * x1024;
-    let x1752: f64 = 0.5f64 * x1025;
-    let x1753: f64 = 0.5f64 * x1749;
-    let x1754: f64 = 0.5f64 * x1017;
-    let x1755: f64 = x1041 - x945;
-    let x1756: f64 = 0.5f64 * x1755;
-    let x1757: f64 = 0.5f64 * x1043;
-    let x1758: f64 = -0.5f64 * x1047;
-    let x1759: f64 = 0.5f64 * x1046;
-    let x1760: f64 = x50 * x460;
-    let x1761: f64 = x51 * x457;
-    let x1762: f64 = x1760 - x1761;
-    let x1763: f64 = x51 * x460;
-    let x1764: f64 = x52 * x457;
-    let x1765: f64 = x1763 - x1764;
-    let x1766: f64 = x53 * x460;
-    let x1767: f64 = x54 * x457;
-    let x1768: f64 = x1766 - x1767;
-    let x1769: f64 = x49 * x463;
-    let x1770: f64 = x49 * x466;
-    let x1771: f64 = x48 * x463;
-    let x1772: f64 = -0.17380470556900002f64 * x466;
-    let x1773: f64 = x1771 + x1772;
-    let x1774: f64 = x1762 + x1769;
-    let x1775: f64 = x1765 + x1770;
-    let x1776: f64 = x1768 - x1773;
-    let x1777: f64 = 3.162077f64 * x466;
-    let x1778: f64 = -3.162077f64 * x463;
-    let x1779: f64 = x49 * x457;
-    let x1780: f64 = x49 * x460;
-    let x1781: f64 = x48 * x457;
-    let x1782: f64 = -0.17380470556900002f64 * x460;
-    let x1783: f64 = x1781 + x1782;
-    let x1784: f64 = x1777 - x1779;
-    let x1785: f64 = x1778 - x1780;
-    let x1786: f64 = x1750 + x1774;
-    let x1787: f64 = x1751 + x1775;
-    let x1788: f64 = x1752 + x1776;
-    let x1789: f64 = x1753 + x1784;
-    let x1790: f64 = x1754 + x1785;
-    let x1791: f64 = x1756 + x1786;
-    let x1792: f64 = x1757 + x1787;
-    let x1793: f64 = x1758 + x1789;
-    let x1794: f64 = x1759 + x1790;
-    let x1795: f64 = x1750 - x1756;
-    let x1796: f64 = x1751 - x1757;
-    let x1797: f64 = x1753 - x1758;
-    let x1798: f64 = x1754 - x1759;
-    let x1799: f64 = c5 * x1793;
-    let x1800: f64 = s5 * x1794;
-    let x1801: f64 = x1799 - x1800;
-    let x1802: f64 = s5 * x1793;
-    let x1803: f64 = c5 * x1794;
-    let x1804: f64 = x1802 + x1803;
-    let x1805: f64 = c5 * x1791;
-    let x1806: f64 = s5 * x1792;
-    let x1807: f64 = x1805 - x1806;
-    let x1808: f64 = s5 * x1791;
-    let x1809: f64 = c5 * x1792;
-    let x1810: f64 = x1808 + x1809;
-    let x1811: f64 = c5 * x1797;
-    let x1812: f64 = s5 * x1798;
-    let x1813: f64 = x1811 - x1812;
-    let x1814: f64 = s5 * x1797;
-    let x1815: f64 = c5 * x1798;
-    let x1816: f64 = x1814 + x1815;
-    let x1817: f64 = c5 * x1795;
-    let x1818: f64 = s5 * x1796;
-    let x1819: f64 = x1817 - x1818;
-    let x1820: f64 = s5 * x1795;
-    let x1821: f64 = c5 * x1796;
-    let x1822: f64 = x1820 + x1821;
-    let x1823: f64 = x70 * x439;
-    let x1824: f64 = x55 * x1576;
-    let x1825: f64 = x1823 + x1824;
-    let x1826: f64 = x304 * x453;
-    let x1827: f64 = x1826 - x1825;
-    let x1828: f64 = x1822 + x1827;
-    let x1829: f64 = c4 * x1801;
-    let x1830: f64 = s4 * x1783;
-    let x1831: f64 = x1829 + x1830;
-    let x1832: f64 = s4 * x1801;
-    let x1833: f64 = c4 * x1783;
-    let x1834: f64 = x1833 - x1832;
-    let x1835: f64 = c4 * x1807;
-    let x1836: f64 = s4 * x1788;
-    let x1837: f64 = x1835 + x1836;
-    let x1838: f64 = s4 * x1807;
-    let x1839: f64 = c4 * x1788;
-    let x1840: f64 = x1839 - x1838;
-    let x1841: f64 = 0.384f64 * x1834;
-    let x1842: f64 = -0.0825f64 * x1834;
-    let x1843: f64 = -0.0825f64 * x1804;
-    let x1844: f64 = 0.384f64 * x1831;
-    let x1845: f64 = x1843 - x1844;
-    let x1846: f64 = x1837 + x1841;
-    let x1847: f64 = x1810 - x1842;
-    let x1848: f64 = x1840 + x1845;
-    let x1849: f64 = c4 * x1813;
-    let x1850: f64 = s4 * x1813;
-    let x1851: f64 = c4 * x1819;
-    let x1852: f64 = s4 * x1752;
-    let x1853: f64 = x1851 + x1852;
-    let x1854: f64 = s4 * x1819;
-    let x1855: f64 = c4 * x1752;
-    let x1856: f64 = x1855 - x1854;
-    let x1857: f64 = -0.384f64 * x1850;
-    let x1858: f64 = 0.0825f64 * x1850;
-    let x1859: f64 = -0.0825f64 * x1816;
-    let x1860: f64 = 0.384f64 * x1849;
-    let x1861: f64 = x1859 - x1860;
-    let x1862: f64 = x1853 + x1857;
-    let x1863: f64 = x1822 - x1858;
-    let x1864: f64 = x1856 + x1861;
-    let x1865: f64 = x318 * x423;
-    let x1866: f64 = x319 * x420;
-    let x1867: f64 = x1865 - x1866;
-    let x1868: f64 = x305 * x432;
-    let x1869: f64 = x58 * x1453;
-    let x1870: f64 = x1869 - x1868;
-    let x1871: f64 = x1867 + x1870;
-    let x1872: f64 = x1864 + x1871;
-    let x1873: f64 = c3 * x1831;
-    let x1874: f64 = s3 * x1804;
-    let x1875: f64 = x1873 - x1874;
-    let x1876: f64 = x1832 - x1833;
-    let x1877: f64 = s3 * x1831;
-    let x1878: f64 = c3 * x1804;
-    let x1879: f64 = x1877 + x1878;
-    let x1880: f64 = c3 * x1846;
-    let x1881: f64 = s3 * x1847;
-    let x1882: f64 = x1880 - x1881;
-    let x1883: f64 = s3 * x1846;
-    let x1884: f64 = c3 * x1847;
-    let x1885: f64 = x1883 + x1884;
-    let x1886: f64 = 0.0825f64 * x1879;
-    let x1887: f64 = 0.0825f64 * x1876;
-    let x1888: f64 = x1848 + x1886;
-    let x1889: f64 = x1885 + x1887;
-    let x1890: f64 = c3 * x1849;
-    let x1891: f64 = s3 * x1816;
-    let x1892: f64 = x1890 - x1891;
-    let x1893: f64 = s3 * x1849;
-    let x1894: f64 = c3 * x1816;
-    let x1895: f64 = x1893 + x1894;
-    let x1896: f64 = c3 * x1862;
-    let x1897: f64 = s3 * x1863;
-    let x1898: f64 = x1896 - x1897;
-    let x1899: f64 = s3 * x1862;
-    let x1900: f64 = c3 * x1863;
-    let x1901: f64 = x1899 + x1900;
-    let x1902: f64 = 0.0825f64 * x1895;
-    let x1903: f64 = x1864 + x1902;
-    let x1904: f64 = x1858 + x1901;
-    let x1905: f64 = x329 * x408;
-    let x1906: f64 = x334 * x1363;
-    let x1907: f64 = x1905 - x1906;
-    let x1908: f64 = x323 * x416;
-    let x1909: f64 = x306 * x1364;
-    let x1910: f64 = x1908 + x1909;
-    let x1911: f64 = x1907 + x1910;
-    let x1912: f64 = x1904 + x1911;
-    let x1913: f64 = c2 * x1875;
-    let x1914: f64 = s2 * x1876;
-    let x1915: f64 = x1913 - x1914;
-    let x1916: f64 = s2 * x1875;
-    let x1917: f64 = c2 * x1876;
-    let x1918: f64 = x1916 + x1917;
-    let x1919: f64 = c2 * x1882;
-    let x1920: f64 = s2 * x1888;
-    let x1921: f64 = x1919 + x1920;
-    let x1922: f64 = s2 * x1882;
-    let x1923: f64 = c2 * x1888;
-    let x1924: f64 = x1922 - x1923;
-    let x1925: f64 = -0.316f64 * x1918;
-    let x1926: f64 = -0.316f64 * x1915;
-    let x1927: f64 = x1921 + x1925;
-    let x1928: f64 = x1924 - x1926;
-    let x1929: f64 = c2 * x1892;
-    let x1930: f64 = s2 * x1850;
-    let x1931: f64 = x1929 - x1930;
-    let x1932: f64 = s2 * x1892;
-    let x1933: f64 = c2 * x1850;
-    let x1934: f64 = x1932 + x1933;
-    let x1935: f64 = c2 * x1898;
-    let x1936: f64 = s2 * x1903;
-    let x1937: f64 = x1935 + x1936;
-    let x1938: f64 = s2 * x1898;
-    let x1939: f64 = c2 * x1903;
-    let x1940: f64 = x1938 - x1939;
-    let x1941: f64 = -0.316f64 * x1934;
-    let x1942: f64 = -0.316f64 * x1931;
-    let x1943: f64 = x1937 + x1941;
-    let x1944: f64 = x1940 - x1942;
-    let x1945: f64 = x343 * x402;
-    let x1946: f64 = x335 * x401;
-    let x1947: f64 = x1945 + x1946;
-    let x1948: f64 = x1944 - x1947;
-    let x1949: f64 = s1 * x1927;
-    let x1950: f64 = c1 * x1889;
-    let x1951: f64 = x1950 - x1949;
-    let x1952: f64 = s1 * x1943;
-    let x1953: f64 = c1 * x1904;
-    let x1954: f64 = x1953 - x1952;
-    let x1955: f64 = 0.5f64 * x850;
-    let x1956: f64 = 0.5f64 * x861;
-    let x1957: f64 = 0.5f64 * x866;
-    let x1958: f64 = -0.5f64 * x814;
-    let x1959: f64 = 0.5f64 * x813;
-    let x1960: f64 = x969 - x811;
-    let x1961: f64 = -0.5f64 * x966;
-    let x1962: f64 = 0.5f64 * x965;
-    let x1963: f64 = 0.5f64 * x1960;
-    let x1964: f64 = 0.5f64 * x971;
-    let x1965: f64 = -0.0003913912816842481f64 * x471;
-    let x1966: f64 = x844 + x1965;
-    let x1967: f64 = -0.029212399412428362f64 * x471;
-    let x1968: f64 = x855 + x1967;
-    let x1969: f64 = 0.001255536598272898f64 * x471;
-    let x1970: f64 = x816 + x1969;
-    let x1971: f64 = -0.150277948634f64 * x482;
-    let x1972: f64 = -0.002573605371338202f64 * x482;
-    let x1973: f64 = x1972 - x796;
-    let x1974: f64 = x1966 - x1971;
-    let x1975: f64 = x859 + x1968;
-    let x1976: f64 = x1970 + x1973;
-    let x1977: f64 = -1.4955219999999998f64 * x482;
-    let x1978: f64 = -0.150277948634f64 * x471;
-    let x1979: f64 = -0.002573605371338202f64 * x471;
-    let x1980: f64 = 0.0020344399586617965f64 * x474;
-    let x1981: f64 = x1979 - x1980;
-    let x1982: f64 = x811 + x1978;
-    let x1983: f64 = x1977 - x801;
-    let x1984: f64 = x1955 + x1974;
-    let x1985: f64 = x1956 + x1975;
-    let x1986: f64 = x1957 + x1976;
-    let x1987: f64 = x1958 + x1982;
-    let x1988: f64 = x1959 + x1983;
-    let x1989: f64 = x1961 + x1984;
-    let x1990: f64 = x1962 + x1985;
-    let x1991: f64 = x1963 + x1987;
-    let x1992: f64 = x1964 + x1988;
-    let x1993: f64 = x1955 - x1961;
-    let x1994: f64 = x1956 - x1962;
-    let x1995: f64 = x1958 - x1963;
-    let x1996: f64 = x1959 - x1964;
-    let x1997: f64 = c6 * x1991;
-    let x1998: f64 = s6 * x1992;
-    let x1999: f64 = x1997 - x1998;
-    let x2000: f64 = s6 * x1991;
-    let x2001: f64 = c6 * x1992;
-    let x2002: f64 = x2000 + x2001;
-    let x2003: f64 = c6 * x1989;
-    let x2004: f64 = s6 * x1990;
-    let x2005: f64 = x2003 - x2004;
-    let x2006: f64 = s6 * x1989;
-    let x2007: f64 = c6 * x1990;
-    let x2008: f64 = x2006 + x2007;
-    let x2009: f64 = 0.088f64 * x2002;
-    let x2010: f64 = 0.088f64 * x1981;
-    let x2011: f64 = x1986 + x2009;
-    let x2012: f64 = x2008 + x2010;
-    let x2013: f64 = c6 * x1995;
-    let x2014: f64 = s6 * x1996;
-    let x2015: f64 = x2013 - x2014;
-    let x2016: f64 = s6 * x1995;
-    let x2017: f64 = c6 * x1996;
-    let x2018: f64 = x2016 + x2017;
-    let x2019: f64 = c6 * x1993;
-    let x2020: f64 = s6 * x1994;
-    let x2021: f64 = x2019 - x2020;
-    let x2022: f64 = s6 * x1993;
-    let x2023: f64 = c6 * x1994;
-    let x2024: f64 = x2022 + x2023;
-    let x2025: f64 = 0.088f64 * x2018;
-    let x2026: f64 = x1957 + x2025;
-    let x2027: f64 = x14 * x460;
-    let x2028: f64 = x347 * x457;
-    let x2029: f64 = x2027 - x2028;
-    let x2030: f64 = x346 * x466;
-    let x2031: f64 = x2029 + x2030;
-    let x2032: f64 = x2024 + x2031;
-    let x2033: f64 = c5 * x1999;
-    let x2034: f64 = s5 * x1981;
-    let x2035: f64 = x2033 - x2034;
-    let x2036: f64 = s5 * x1999;
-    let x2037: f64 = c5 * x1981;
-    let x2038: f64 = x2036 + x2037;
-    let x2039: f64 = c5 * x2005;
-    let x2040: f64 = s5 * x2011;
-    let x2041: f64 = x2039 + x2040;
-    let x2042: f64 = s5 * x2005;
-    let x2043: f64 = c5 * x2011;
-    let x2044: f64 = x2042 - x2043;
-    let x2045: f64 = c5 * x2015;
-    let x2046: f64 = s5 * x2015;
-    let x2047: f64 = c5 * x2021;
-    [
-        x1332,
-        x1350,
-        x1358,
-        x1362,
-        x1363,
-        x1364,
-        x1400,
-        x1426,
-        x1446,
-        x1449,
-        x1452,
-        x1453,
-        x1491,
-        x1517,
-        x1537,
-        x1553,
-        x1569,
-        x1572,
-        x1575,
-        x1576,
-        x1617,
-        x1647,
-        x1671,
-        x1687,
-        x1706,
-        x1722,
-        x1742,
-        x1745,
-        x1748,
-        x1788,
-        x1810,
-        x1828,
-        x1848,
-        x1872,
-        x1889,
-        x1912,
-        x1928,
-        x1948,
-        x1951,
-        x1954,
-        x1986,
-        x2002,
-        x2012,
-        x2018,
-        x2021,
-        x2024,
-        x2026,
-        x2032,
-        x2035,
-        x2038,
-        x2041,
-        x2044,
-        x2045,
-        x2046,
-        x2047,
-    ]
-}
-#[inline(never)]
-fn coriolis_matrix_part2(
-    t: &JointTrig<7>,
-    _qd: &SVector<f64, 7>,
-    carried: [f64; 41],
-) -> [f64; 9] {
-    let [_, s1, s2, s3, s4, s5, _] = t.sin;
-    let [_, c1, c2, c3, c4, c5, _] = t.cos;
-    let [x2, x22, x348, x349, x352, x358, x373, x374, x378, x379, x385, x391, x392, x400,
-    x401, x402, x408, x416, x420, x423, x432, x439, x450, x453, x1363, x1364, x1453,
-    x1576, x2002, x2012, x2018, x2021, x2024, x2026, x2035, x2038, x2041, x2044, x2045,
-    x2046, x2047] = carried;
-    let x2048: f64 = s5 * x2026;
-    let x2049: f64 = x2047 + x2048;
-    let x2050: f64 = s5 * x2021;
-    let x2051: f64 = c5 * x2026;
-    let x2052: f64 = x2050 - x2051;
-    let x2053: f64 = x352 * x439;
-    let x2054: f64 = x22 * x1576;
-    let x2055: f64 = x2053 + x2054;
-    let x2056: f64 = x348 * x453;
-    let x2057: f64 = x2 * x450;
-    let x2058: f64 = x2056 + x2057;
-    let x2059: f64 = x2058 - x2055;
-    let x2060: f64 = x2052 + x2059;
-    let x2061: f64 = c4 * x2035;
-    let x2062: f64 = s4 * x2002;
-    let x2063: f64 = x2061 + x2062;
-    let x2064: f64 = s4 * x2035;
-    let x2065: f64 = c4 * x2002;
-    let x2066: f64 = x2065 - x2064;
-    let x2067: f64 = c4 * x2041;
-    let x2068: f64 = s4 * x2012;
-    let x2069: f64 = x2067 + x2068;
-    let x2070: f64 = s4 * x2041;
-    let x2071: f64 = c4 * x2012;
-    let x2072: f64 = x2071 - x2070;
-    let x2073: f64 = 0.384f64 * x2066;
-    let x2074: f64 = -0.0825f64 * x2066;
-    let x2075: f64 = -0.0825f64 * x2038;
-    let x2076: f64 = 0.384f64 * x2063;
-    let x2077: f64 = x2075 - x2076;
-    let x2078: f64 = x2069 + x2073;
-    let x2079: f64 = x2044 - x2074;
-    let x2080: f64 = x2072 + x2077;
-    let x2081: f64 = c4 * x2045;
-    let x2082: f64 = s4 * x2018;
-    let x2083: f64 = x2081 + x2082;
-    let x2084: f64 = s4 * x2045;
-    let x2085: f64 = c4 * x2018;
-    let x2086: f64 = x2085 - x2084;
-    let x2087: f64 = c4 * x2049;
-    let x2088: f64 = s4 * x2024;
-    let x2089: f64 = x2087 + x2088;
-    let x2090: f64 = s4 * x2049;
-    let x2091: f64 = c4 * x2024;
-    let x2092: f64 = x2091 - x2090;
-    let x2093: f64 = 0.384f64 * x2086;
-    let x2094: f64 = -0.0825f64 * x2086;
-    let x2095: f64 = -0.0825f64 * x2046;
-    let x2096: f64 = 0.384f64 * x2083;
-    let x2097: f64 = x2095 - x2096;
-    let x2098: f64 = x2089 + x2093;
-    let x2099: f64 = x2052 - x2094;
-    let x2100: f64 = x2092 + x2097;
-    let x2101: f64 = x373 * x423;
-    let x2102: f64 = x374 * x420;
-    let x2103: f64 = x2101 - x2102;
-    let x2104: f64 = x358 * x432;
-    let x2105: f64 = x349 * x1453;
-    let x2106: f64 = x2105 - x2104;
-    let x2107: f64 = x2103 + x2106;
-    let x2108: f64 = x2100 + x2107;
-    let x2109: f64 = c3 * x2063;
-    let x2110: f64 = s3 * x2038;
-    let x2111: f64 = x2109 - x2110;
-    let x2112: f64 = x2064 - x2065;
-    let x2113: f64 = s3 * x2063;
-    let x2114: f64 = c3 * x2038;
-    let x2115: f64 = x2113 + x2114;
-    let x2116: f64 = c3 * x2078;
-    let x2117: f64 = s3 * x2079;
-    let x2118: f64 = x2116 - x2117;
-    let x2119: f64 = s3 * x2078;
-    let x2120: f64 = c3 * x2079;
-    let x2121: f64 = x2119 + x2120;
-    let x2122: f64 = 0.0825f64 * x2115;
-    let x2123: f64 = 0.0825f64 * x2112;
-    let x2124: f64 = x2080 + x2122;
-    let x2125: f64 = x2121 + x2123;
-    let x2126: f64 = c3 * x2083;
-    let x2127: f64 = s3 * x2046;
-    let x2128: f64 = x2126 - x2127;
-    let x2129: f64 = x2084 - x2085;
-    let x2130: f64 = s3 * x2083;
-    let x2131: f64 = c3 * x2046;
-    let x2132: f64 = x2130 + x2131;
-    let x2133: f64 = c3 * x2098;
-    let x2134: f64 = s3 * x2099;
-    let x2135: f64 = x2133 - x2134;
-    let x2136: f64 = s3 * x2098;
-    let x2137: f64 = c3 * x2099;
-    let x2138: f64 = x2136 + x2137;
-    let x2139: f64 = 0.0825f64 * x2132;
-    let x2140: f64 = 0.0825f64 * x2129;
-    let x2141: f64 = x2100 + x2139;
-    let x2142: f64 = x2138 + x2140;
-    let x2143: f64 = x385 * x408;
-    let x2144: f64 = x391 * x1363;
-    let x2145: f64 = x2143 - x2144;
-    let x2146: f64 = x378 * x416;
-    let x2147: f64 = x379 * x1364;
-    let x2148: f64 = x2146 + x2147;
-    let x2149: f64 = x2145 + x2148;
-    let x2150: f64 = x2142 + x2149;
-    let x2151: f64 = c2 * x2111;
-    let x2152: f64 = s2 * x2112;
-    let x2153: f64 = x2151 - x2152;
-    let x2154: f64 = s2 * x2111;
-    let x2155: f64 = c2 * x2112;
-    let x2156: f64 = x2154 + x2155;
-    let x2157: f64 = c2 * x2118;
-    let x2158: f64 = s2 * x2124;
-    let x2159: f64 = x2157 + x2158;
-    let x2160: f64 = s2 * x2118;
-    let x2161: f64 = c2 * x2124;
-    let x2162: f64 = x2160 - x2161;
-    let x2163: f64 = -0.316f64 * x2156;
-    let x2164: f64 = -0.316f64 * x2153;
-    let x2165: f64 = x2159 + x2163;
-    let x2166: f64 = x2162 - x2164;
-    let x2167: f64 = c2 * x2128;
-    let x2168: f64 = s2 * x2129;
-    let x2169: f64 = x2167 - x2168;
-    let x2170: f64 = s2 * x2128;
-    let x2171: f64 = c2 * x2129;
-    let x2172: f64 = x2170 + x2171;
-    let x2173: f64 = c2 * x2135;
-    let x2174: f64 = s2 * x2141;
-    let x2175: f64 = x2173 + x2174;
-    let x2176: f64 = s2 * x2135;
-    let x2177: f64 = c2 * x2141;
-    let x2178: f64 = x2176 - x2177;
-    let x2179: f64 = -0.316f64 * x2172;
-    let x2180: f64 = -0.316f64 * x2169;
-    let x2181: f64 = x2175 + x2179;
-    let x2182: f64 = x2178 - x2180;
-    let x2183: f64 = x400 * x402;
-    let x2184: f64 = x392 * x401;
-    let x2185: f64 = x2183 + x2184;
-    let x2186: f64 = x2182 - x2185;
-    let x2187: f64 = s1 * x2165;
-    let x2188: f64 = c1 * x2125;
-    let x2189: f64 = x2188 - x2187;
-    let x2190: f64 = s1 * x2181;
-    let x2191: f64 = c1 * x2142;
-    let x2192: f64 = x2191 - x2190;
-    [x2060, x2080, x2108, x2125, x2150, x2166, x2186, x2189, x2192]
-}
-#[inline(never)]
-fn slotine_li_part0(
-    t: &JointTrig<7>,
-    qd: &SVector<f64, 7>,
-    v: &SVector<f64, 7>,
-    a: &SVector<f64, 7>,
-) -> [f64; 102] {
-    let [_, s1, s2, s3, s4, s5, s6] = t.sin;
-    let [_, c1, c2, c3, c4, c5, c6] = t.cos;
-    let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
-    let [v0, v1, v2, v3, v4, v5, v6] = v.data.0[0];
-    let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
-    let x0: f64 = -9.81f64 * s1;
-    let x1: f64 = -9.81f64 * c1;
-    let x2: f64 = -0.0221804724897f64 * c1;
-    let x3: f64 = -0.0221804724897f64 * s1;
-    let x4: f64 = 0.01993386669246f64 * c1;
-    let x5: f64 = 0.18226700140319999f64 * s1;
-    let x6: f64 = x4 - x5;
-    let x7: f64 = 1.24321310088048f64 * c1;
-    let x8: f64 = 0.87156675099432f64 * c1;
-    let x9: f64 = qd0 * s1;
-    let x10: f64 = qd0 * c1;
-    let x11: f64 = c2 * x9;
-    let x12: f64 = qd1 * s2;
-    let x13: f64 = x12 - x11;
-    let x14: f64 = s2 * x9;
-    let x15: f64 = qd1 * c2;
-    let x16: f64 = x14 + x15;
-    let x17: f64 = -0.316f64 * qd1;
-    let x18: f64 = 0.316f64 * x9;
-    let x19: f64 = c2 * x17;
-    let x20: f64 = s2 * x18;
-    let x21: f64 = x20 - x19;
-    let x22: f64 = s2 * x17;
-    let x23: f64 = c2 * x18;
-    let x24: f64 = x22 + x23;
-    let x25: f64 = qd2 + x10;
-    let x26: f64 = c3 * x13;
-    let x27: f64 = s3 * x25;
-    let x28: f64 = x26 + x27;
-    let x29: f64 = s3 * x13;
-    let x30: f64 = c3 * x25;
-    let x31: f64 = x30 - x29;
-    let x32: f64 = 0.0825f64 * x25;
-    let x33: f64 = 0.0825f64 * x16;
-    let x34: f64 = x24 + x32;
-    let x35: f64 = c3 * x21;
-    let x36: f64 = s3 * x33;
-    let x37: f64 = x35 - x36;
-    let x38: f64 = s3 * x21;
-    let x39: f64 = c3 * x33;
-    let x40: f64 = x38 + x39;
-    let x41: f64 = qd3 - x16;
-    let x42: f64 = c4 * x28;
-    let x43: f64 = s4 * x41;
-    let x44: f64 = x42 - x43;
-    let x45: f64 = s4 * x28;
-    let x46: f64 = c4 * x41;
-    let x47: f64 = x45 + x46;
-    let x48: f64 = 0.384f64 * x41;
-    let x49: f64 = -0.0825f64 * x41;
-    let x50: f64 = -0.0825f64 * x31;
-    let x51: f64 = 0.384f64 * x28;
-    let x52: f64 = x50 - x51;
-    let x53: f64 = x37 - x48;
-    let x54: f64 = x49 - x40;
-    let x55: f64 = x34 + x52;
-    let x56: f64 = c4 * x53;
-    let x57: f64 = s4 * x55;
-    let x58: f64 = x56 + x57;
-    let x59: f64 = s4 * x53;
-    let x60: f64 = c4 * x55;
-    let x61: f64 = x60 - x59;
-    let x62: f64 = qd4 + x31;
-    let x63: f64 = c5 * x44;
-    let x64: f64 = s5 * x62;
-    let x65: f64 = x63 + x64;
-    let x66: f64 = s5 * x44;
-    let x67: f64 = c5 * x62;
-    let x68: f64 = x67 - x66;
-    let x69: f64 = c5 * x58;
-    let x70: f64 = s5 * x54;
-    let x71: f64 = x69 + x70;
-    let x72: f64 = s5 * x58;
-    let x73: f64 = c5 * x54;
-    let x74: f64 = x73 - x72;
-    let x75: f64 = x59 - x60;
-    let x76: f64 = qd5 + x47;
-    let x77: f64 = c6 * x65;
-    let x78: f64 = s6 * x76;
-    let x79: f64 = x77 + x78;
-    let x80: f64 = s6 * x65;
-    let x81: f64 = c6 * x76;
-    let x82: f64 = x81 - x80;
-    let x83: f64 = x66 - x67;
-    let x84: f64 = 0.088f64 * x76;
-    let x85: f64 = 0.088f64 * x68;
-    let x86: f64 = x74 + x84;
-    let x87: f64 = x75 - x85;
-    let x88: f64 = c6 * x71;
-    let x89: f64 = s6 * x87;
-    let x90: f64 = x88 + x89;
-    let x91: f64 = s6 * x71;
-    let x92: f64 = c6 * x87;
-    let x93: f64 = x92 - x91;
-    let x94: f64 = qd6 + x83;
-    let x95: f64 = -0.0007689361029464f64 * x10;
-    let x96: f64 = -0.01026110182100817f64 * x9;
-    let x97: f64 = 0.0007689361029464f64 * qd1;
-    let x98: f64 = 0.00398335888393552f64 * x9;
-    let x99: f64 = 0.01026110182100817f64 * qd1;
-    let x100: f64 = 0.00398335888393552f64 * x10;
-    let x101: f64 = -0.214708623208f64 * x16;
-    let x102: f64 = 0.126729164208f64 * x25;
-    let x103: f64 = 0.088844724872f64 * x25;
-    let x104: f64 = -0.214708623208f64 * x13;
-    let x105: f64 = 0.126729164208f64 * x13;
-    let x106: f64 = 0.088844724872f64 * x16;
-    let x107: f64 = x105 - x106;
-    let x108: f64 = 3.228604f64 * x21;
-    let x109: f64 = 3.228604f64 * x24;
-    let x110: f64 = -0.004377257121839584f64 * x16;
-    let x111: f64 = -0.005487648106562256f64 * x13;
-    let x112: f64 = 0.088844724872f64 * x24;
-    let x113: f64 = 0.126729164208f64 * x21;
-    let x114: f64 = -0.004377257121839584f64 * x25;
-    let x115: f64 = -0.008248333140675744f64 * x13;
-    let x116: f64 = -0.214708623208f64 * x21;
-    let x117: f64 = -0.005487648106562256f64 * x25;
-    let x118: f64 = -0.008248333140675744f64 * x16;
-    let x119: f64 = -0.214708623208f64 * x24;
-    let x120: f64 = 0.09850206933f64 * x31;
-    let x121: f64 = 0.374644408005f64 * x41;
-    let x122: f64 = -0.19076837715f64 * x41;
-    let x123: f64 = 0.09850206933f64 * x28;
-    let x124: f64 = 0.374644408005f64 * x28;
-    let x125: f64 = -0.19076837715f64 * x31;
-    let x126: f64 = 3.587895f64 * x37;
-    let x127: f64 = -3.587895f64 * x40;
-    let x128: f64 = -3.587895f64 * x34;
-    let x129: f64 = -0.0016444875773692705f64 * x31;
-    let x130: f64 = 0.0039053550262761003f64 * x28;
-    let x131: f64 = 0.19076837715f64 * x40;
-    let x132: f64 = 0.374644408005f64 * x37;
-    let x133: f64 = -0.0016444875773692705f64 * x41;
-    let x134: f64 = 0.02771584317362585f64 * x28;
-    let x135: f64 = 0.19076837715f64 * x34;
-    let x136: f64 = 0.09850206933f64 * x37;
-    let x137: f64 = 0.0039053550262761003f64 * x41;
-    let x138: f64 = 0.02771584317362585f64 * x31;
-    let x139: f64 = -0.374644408005f64 * x34;
-    let x140: f64 = -0.09850206933f64 * x40;
-    let x141: f64 = 0.047121686402f64 * x47;
-    let x142: f64 = 0.05034347249f64 * x62;
-    let x143: f64 = -0.014653732538f64 * x62;
-    let x144: f64 = -0.047121686402f64 * x44;
-    let x145: f64 = 0.05034347249f64 * x44;
-    let x146: f64 = 0.014653732538f64 * x47;
-    let x147: f64 = 1.225946f64 * x58;
-    let x148: f64 = 1.225946f64 * x61;
-    let x149: f64 = 1.225946f64 * x54;
-    let x150: f64 = -0.0021640520520981297f64 * x47;
-    let x151: f64 = -0.004600245517563105f64 * x44;
-    let x152: f64 = -0.014653732538f64 * x61;
-    let x153: f64 = 0.05034347249f64 * x58;
-    let x154: f64 = 0.0021640520520981297f64 * x62;
-    let x155: f64 = -0.0015152444733270301f64 * x44;
-    let x156: f64 = -0.014653732538f64 * x54;
-    let x157: f64 = -0.047121686402f64 * x58;
-    let x158: f64 = -0.004600245517563105f64 * x62;
-    let x159: f64 = 0.0015152444733270301f64 * x47;
-    let x160: f64 = 0.05034347249f64 * x54;
-    let x161: f64 = -0.047121686402f64 * x61;
-    let x162: f64 = -0.017527158935000002f64 * x68;
-    let x163: f64 = -0.023526756935f64 * x76;
-    let x164: f64 = 0.10024161669500001f64 * x76;
-    let x165: f64 = -0.017527158935000002f64 * x65;
-    let x166: f64 = -0.023526756935f64 * x65;
-    let x167: f64 = 0.10024161669500001f64 * x68;
-    let x168: f64 = 1.666555f64 * x71;
-    let x169: f64 = 1.666555f64 * x74;
-    let x170: f64 = 1.666555f64 * x75;
-    let x171: f64 = 0.000093569097314605f64 * x68;
-    let x172: f64 = -0.00010375891721868492f64 * x65;
-    let x173: f64 = 0.10024161669500001f64 * x74;
-    let x174: f64 = -0.023526756935f64 * x71;
-    let x175: f64 = 0.000093569097314605f64 * x76;
-    let x176: f64 = 0.001524110902883315f64 * x65;
-    let x177: f64 = 0.10024161669500001f64 * x75;
-    let x178: f64 = -0.017527158935000002f64 * x71;
-    let x179: f64 = -0.00010375891721868492f64 * x76;
-    let x180: f64 = 0.001524110902883315f64 * x68;
-    let x181: f64 = -0.023526756935f64 * x75;
-    let x182: f64 = -0.017527158935000002f64 * x74;
-    let x183: f64 = 0.150277948634f64 * x82;
-    let x184: f64 = 0.0020344399586617965f64 * x94;
-    let x185: f64 = 0.002573605371338202f64 * x94;
-    let x186: f64 = 0.150277948634f64 * x79;
-    let x187: f64 = 0.0020344399586617965f64 * x79;
-    let x188: f64 = 0.002573605371338202f64 * x82;
-    let x189: f64 = 1.4955219999999998f64 * x90;
-    let x190: f64 = 1.4955219999999998f64 * x93;
-    let x191: f64 = -1.4955219999999998f64 * x86;
-    let x192: f64 = -0.001255536598272898f64 * x82;
-    let x193: f64 = -0.0009653051699191116f64 * x79;
-    let x194: f64 = 0.002573605371338202f64 * x93;
-    let x195: f64 = 0.0020344399586617965f64 * x90;
-    let x196: f64 = -0.001255536598272898f64 * x94;
-    let x197: f64 = 0.0003913912816842481f64 * x79;
-    let x198: f64 = -0.002573605371338202f64 * x86;
-    let x199: f64 = 0.150277948634f64 * x90;
-    let x200: f64 = -0.0009653051699191116f64 * x94;
-    let x201: f64 = 0.0003913912816842481f64 * x82;
-    let x202: f64 = -0.0020344399586617965f64 * x86;
-    let x203: f64 = 0.150277948634f64 * x93;
-    let x204: f64 = -0.00850351162402155f64 * x9;
-    let x205: f64 = x100 + x204;
-    let x206: f64 = x99 + x205;
-    let x207: f64 = -0.028124284712194955f64 * x10;
-    let x208: f64 = x98 + x207;
-    let x209: f64 = x97 + x208;
-    let x210: f64 = x95 + x96;
-    let x211: f64 = 0.026534991901690206f64 * qd1;
-    let x212: f64 = x210 + x211;
-    let x213: f64 = 0.05649492601407083f64 * x13;
-    let x214: f64 = x118 + x213;
-    let x215: f64 = x117 + x214;
-    let x216: f64 = 0.05287838199960611f64 * x16;
-    let x217: f64 = x115 + x216;
-    let x218: f64 = x114 + x217;
-    let x219: f64 = x110 + x111;
-    let x220: f64 = 0.01824920229252011f64 * x25;
-    let x221: f64 = x219 + x220;
-    let x222: f64 = x112 - x113;
-    let x223: f64 = x215 - x119;
-    let x224: f64 = x116 + x218;
-    let x225: f64 = x221 + x222;
-    let x226: f64 = x102 - x101;
-    let x227: f64 = x104 - x103;
-    let x228: f64 = x108 - x226;
-    let x229: f64 = x109 - x227;
-    let x230: f64 = 0.06767727025085991f64 * x28;
-    let x231: f64 = x138 + x230;
-    let x232: f64 = x137 + x231;
-    let x233: f64 = 0.03239943042445132f64 * x31;
-    let x234: f64 = x134 + x233;
-    let x235: f64 = x133 + x234;
-    let x236: f64 = x129 + x130;
-    let x237: f64 = 0.0775861490525396f64 * x41;
-    let x238: f64 = x236 + x237;
-    let x239: f64 = x139 - x140;
-    let x240: f64 = x136 - x135;
-    let x241: f64 = x131 - x132;
-    let x242: f64 = x232 + x239;
-    let x243: f64 = x235 + x240;
-    let x244: f64 = x238 + x241;
-    let x245: f64 = x121 - x120;
-    let x246: f64 = x123 - x122;
-    let x247: f64 = x125 - x124;
-    let x248: f64 = x126 - x245;
-    let x249: f64 = x127 - x246;
-    let x250: f64 = x128 - x247;
-    let x251: f64 = 0.03942757095803552f64 * x44;
-    let x252: f64 = x159 + x251;
-    let x253: f64 = x158 + x252;
-    let x254: f64 = -0.03146037232526039f64 * x47;
-    let x255: f64 = x155 + x254;
-    let x256: f64 = x154 + x255;
-    let x257: f64 = x150 + x151;
-    let x258: f64 = 0.010869510762828563f64 * x62;
-    let x259: f64 = x257 + x258;
-    let x260: f64 = x160 - x161;
-    let x261: f64 = x157 - x156;
-    let x262: f64 = x152 - x153;
-    let x263: f64 = x253 + x260;
-    let x264: f64 = x256 + x261;
-    let x265: f64 = x259 + x262;
-    let x266: f64 = x142 - x141;
-    let x267: f64 = x144 - x143;
-    let x268: f64 = x146 - x145;
-    let x269: f64 = x147 - x266;
-    let x270: f64 = x148 - x267;
-    let x271: f64 = x149 - x268;
-    let x272: f64 = 0.0024804603581707893f64 * x65;
-    let x273: f64 = x180 + x272;
-    let x274: f64 = x179 + x273;
-    let x275: f64 = 0.01056776613310695f64 * x68;
-    let x276: f64 = x176 + x275;
-    let x277: f64 = x175 + x276;
-    let x278: f64 = x171 + x172;
-    let x279: f64 = 0.011794560230238949f64 * x76;
-    let x280: f64 = x278 + x279;
-    let x281: f64 = x181 - x182;
-    let x282: f64 = x178 - x177;
-    let x283: f64 = x173 - x174;
-    let x284: f64 = x274 + x281;
-    let x285: f64 = x277 + x282;
-    let x286: f64 = x280 + x283;
-    let x287: f64 = x163 - x162;
-    let x288: f64 = x165 - x164;
-    let x289: f64 = x167 - x166;
-    let x290: f64 = x168 - x287;
-    let x291: f64 = x169 - x288;
-    let x292: f64 = x170 - x289;
-    let x293: f64 = 0.0316333431909496f64 * x79;
-    let x294: f64 = x201 + x293;
-    let x295: f64 = x200 + x294;
-    let x296: f64 = 0.029212399412428362f64 * x82;
-    let x297: f64 = x197 + x296;
-    let x298: f64 = x196 + x297;
-    let x299: f64 = x192 + x193;
-    let x300: f64 = 0.006684151967360945f64 * x94;
-    let x301: f64 = x299 + x300;
-    let x302: f64 = x202 - x203;
-    let x303: f64 = x199 - x198;
-    let x304: f64 = x194 - x195;
-    let x305: f64 = x295 + x302;
-    let x306: f64 = x298 + x303;
-    let x307: f64 = x301 + x304;
-    let x308: f64 = x184 - x183;
-    let x309: f64 = x186 - x185;
-    let x310: f64 = x188 - x187;
-    let x311: f64 = x189 - x308;
-    let x312: f64 = x190 - x309;
-    let x313: f64 = x191 - x310;
-    let x314: f64 = a0 * s1;
-    let x315: f64 = a0 * c1;
-    let x316: f64 = a1 * s2;
-    let x317: f64 = a1 * c2;
-    let x318: f64 = -0.316f64 * a1;
-    let x319: f64 = x0 - x318;
-    let x320: f64 = c2 * x319;
-    let x321: f64 = s2 * x319;
-    let x322: f64 = 0.009213163777211224f64 * a0;
-    let x323: f64 = 0.01026110182100817f64 * a1;
-    let x324: f64 = 0.0007689361029464f64 * a1;
-    let x325: f64 = 0.026534991901690206f64 * a1;
-    let x326: f64 = v0 * s1;
-    let x327: f64 = v0 * c1;
-    let x328: f64 = v1 * x10;
-    let x329: f64 = v1 * x9;
-    let x330: f64 = x314 + x328;
-    let x331: f64 = x329 - x315;
-    let x332: f64 = c2 * x326;
-    let x333: f64 = v1 * s2;
-    let x334: f64 = x333 - x332;
-    let x335: f64 = s2 * x326;
-    let x336: f64 = v1 * c2;
-    let x337: f64 = x335 + x336;
-    let x338: f64 = -0.316f64 * v1;
-    let x339: f64 = 0.316f64 * x326;
-    let x340: f64 = c2 * x338;
-    let x341: f64 = s2 * x339;
-    let x342: f64 = x341 - x340;
-    let x343: f64 = s2 * x338;
-    let x344: f64 = c2 * x339;
-    let x345: f64 = x343 + x344;
-    let x346: f64 = v2 + x327;
-    let x347: f64 = c2 * x330;
-    let x348: f64 = x316 - x347;
-    let x349: f64 = s2 * x330;
-    let x350: f64 = x317 + x349;
-    let x351: f64 = x315 - x329;
-    let x352: f64 = 0.316f64 * x330;
-    let x353: f64 = s2 * x352;
-    let x354: f64 = x320 + x353;
-    let x355: f64 = c2 * x352;
-    let x356: f64 = x355 - x321;
-    let x357: f64 = a2 + x351;
-    let x358: f64 = v2 * x16;
-    let x359: f64 = v2 * x13;
-    let x360: f64 = v2 * x24;
-    let x361: f64 = v2 * x21;
-    let x362: f64 = x348 + x358;
-    let x363: f64 = x350 - x359;
-    let x364: f64 = x354 + x360;
-    let x365: f64 = x356 - x361;
-    let x366: f64 = c3 * x334;
-    let x367: f64 = s3 * x346;
-    let x368: f64 = x366 + x367;
-    let x369: f64 = s3 * x334;
-    let x370: f64 = c3 * x346;
-    let x371: f64 = x370 - x369;
-    let x372: f64 = 0.0825f64 * x346;
-    let x373: f64 = 0.0825f64 * x337;
-    let x374: f64 = x345 + x372;
-    let x375: f64 = c3 * x342;
-    let x376: f64 = s3 * x373;
-    let x377: f64 = x375 - x376;
-    let x378: f64 = s3 * x342;
-    let x379: f64 = c3 * x373;
-    let x380: f64 = x378 + x379;
-    let x381: f64 = v3 - x337;
-    let x382: f64 = c3 * x362;
-    let x383: f64 = s3 * x357;
-    let x384: f64 = x382 + x383;
-    let x385: f64 = s3 * x362;
-    let x386: f64 = c3 * x357;
-    let x387: f64 = x386 - x385;
-    let x388: f64 = x359 - x350;
-    let x389: f64 = 0.0825f64 * x357;
-    let x390: f64 = 0.0825f64 * x363;
-    let x391: f64 = x365 + x389;
-    let x392: f64 = x1 + x390;
-    let x393: f64 = c3 * x364;
-    let x394: f64 = s3 * x392;
-    let x395: f64 = x393 - x394;
-    let x396: f64 = s3 * x364;
-    let x397: f64 = c3 * x392;
-    let x398: f64 = x396 + x397;
-    let x399: f64 = a3 + x388;
-    let x400: f64 = v3 * x31;
-    let x401: f64 = v3 * x28;
-    let x402: f64 = v3 * x40;
-    let x403: f64 = v3 * x37;
-    let x404: f64 = x384 + x400;
-    let x405: f64 = x387 - x401;
-    let x406: f64 = x395 - x402;
-    let x407: f64 = x398 + x403;
-    let x408: f64 = c4 * x368;
-    let x409: f64 = s4 * x381;
-    let x410: f64 = x408 - x409;
-    let x411: f64 = s4 * x368;
-    let x412: f64 = c4 * x381;
-    let x413: f64 = x411 + x412;
-    let x414: f64 = 0.384f64 * x381;
-    let x415: f64 = -0.0825f64 * x381;
-    let x416: f64 = -0.0825f64 * x371;
-    let x417: f64 = 0.384f64 * x368;
-    let x418: f64 = x416 - x417;
-    let x419: f64 = x377 - x414;
-    let x420: f64 = x415 - x380;
-    let x421: f64 = x374 + x418;
-    let x422: f64 = c4 * x419;
-    let x423: f64 = s4 * x421;
-    let x424: f64 = x422 + x423;
-    let x425: f64 = s4 * x419;
-    let x426: f64 = c4 * x421;
-    let x427: f64 = x426 - x425;
-    let x428: f64 = v4 + x371;
-    let x429: f64 = c4 * x404;
-    let x430: f64 = s4 * x399;
-    let x431: f64 = x429 - x430;
-    let x432: f64 = s4 * x404;
-    let x433: f64 = c4 * x399;
-    let x434: f64 = x432 + x433;
-    let x435: f64 = 0.384f64 * x399;
-    let x436: f64 = -0.0825f64 * x399;
-    let x437: f64 = -0.0825f64 * x405;
-    let x438: f64 = 0.384f64 * x404;
-    let x439: f64 = x437 - x438;
-    let x440: f64 = x406 - x435;
-    let x441: f64 = x436 - x407;
-    let x442: f64 = x391 + x439;
-    let x443: f64 = c4 * x440;
-    let x444: f64 = s4 * x442;
-    let x445: f64 = x443 + x444;
-    let x446: f64 = s4 * x440;
-    let x447: f64 = c4 * x442;
-    let x448: f64 = x447 - x446;
-    let x449: f64 = a4 + x405;
-    let x450: f64 = v4 * x47;
-    let x451: f64 = v4 * x44;
-    let x452: f64 = v4 * x61;
-    let x453: f64 = v4 * x58;
-    let x454: f64 = x431 - x450;
-    let x455: f64 = x434 + x451;
-    let x456: f64 = x445 + x452;
-    let x457: f64 = x448 - x453;
-    let x458: f64 = c5 * x410;
-    let x459: f64 = s5 * x428;
-    let x460: f64 = x458 + x459;
-    let x461: f64 = s5 * x410;
-    let x462: f64 = c5 * x428;
-    let x463: f64 = x462 - x461;
-    let x464: f64 = c5 * x424;
-    let x465: f64 = s5 * x420;
-    let x466: f64 = x464 + x465;
-    let x467: f64 = s5 * x424;
-    let x468: f64 = c5 * x420;
-    let x469: f64 = x468 - x467;
-    let x470: f64 = x425 - x426;
-    let x471: f64 = v5 + x413;
-    let x472: f64 = c5 * x454;
-    let x473: f64 = s5 * x449;
-    let x474: f64 = x472 + x473;
-    let x475: f64 = s5 * x454;
-    let x476: f64 = c5 * x449;
-    let x477: f64 = x476 - x475;
-    let x478: f64 = c5 * x456;
-    let x479: f64 = s5 * x441;
-    let x480: f64 = x478 + x479;
-    let x481: f64 = s5 * x456;
-    let x482: f64 = c5 * x441;
-    let x483: f64 = x482 - x481;
-    let x484: f64 = x453 - x448;
-    let x485: f64 = a5 + x455;
-    let x486: f64 = v5 * x68;
-    let x487: f64 = v5 * x65;
-    let x488: f64 = v5 * x74;
-    let x489: f64 = v5 * x71;
-    let x490: f64 = x474 + x486;
-    let x491: f64 = x477 - x487;
-    let x492: f64 = x480 + x488;
-    let x493: f64 = x483 - x489;
-    let x494: f64 = c6 * x460;
-    let x495: f64 = s6 * x471;
-    let x496: f64 = x494 + x495;
-    let x497: f64 = s6 * x460;
-    let x498: f64 = c6 * x471;
-    let x499: f64 = x498 - x497;
-    let x500: f64 = x461 - x462;
-    let x501: f64 = 0.088f64 * x471;
-    let x502: f64 = 0.088f64 * x463;
-    let x503: f64 = x469 + x501;
-    let x504: f64 = x470 - x502;
-    let x505: f64 = c6 * x466;
-    let x506: f64 = s6 * x504;
-    let x507: f64 = x505 + x506;
-    let x508: f64 = s6 * x466;
-    let x509: f64 = c6 * x504;
-    let x510: f64 = x509 - x508;
-    let x511: f64 = v6 + x500;
-    let x512: f64 = c6 * x490;
-    let x513: f64 = s6 * x485;
-    let x514: f64 = x512 + x513;
-    let x515: f64 = s6 * x490;
-    let x516: f64 = c6 * x485;
-    let x517: f64 = x516 - x515;
-    let x518: f64 = x487 - x477;
-    let x519: f64 = 0.088f64 * x485;
-    let x520: f64 = 0.088f64 * x491;
-    let x521: f64 = x493 + x519;
-    let x522: f64 = x484 - x520;
-    let x523: f64 = c6 * x492;
-    let x524: f64 = s6 * x522;
-    let x525: f64 = x523 + x524;
-    let x526: f64 = s6 * x492;
-    let x527: f64 = c6 * x522;
-    let x528: f64 = x527 - x526;
-    let x529: f64 = a6 + x518;
-    let x530: f64 = v6 * x82;
-    let x531: f64 = v6 * x79;
-    let x532: f64 = v6 * x93;
-    let x533: f64 = v6 * x90;
-    let x534: f64 = x514 + x530;
-    let x535: f64 = x517 - x531;
-    let x536: f64 = x525 + x532;
-    let x537: f64 = x528 - x533;
-    let x538: f64 = -0.00850351162402155f64 * x330;
-    let x539: f64 = -0.00398335888393552f64 * x331;
-    let x540: f64 = x538 + x539;
-    let x541: f64 = x323 + x540;
-    let x542: f64 = 0.00398335888393552f64 * x330;
-    let x543: f64 = 0.028124284712194955f64 * x331;
-    let x544: f64 = x542 + x543;
-    let x545: f64 = x324 + x544;
-    let x546: f64 = -0.01026110182100817f64 * x330;
-    let x547: f64 = 0.0007689361029464f64 * x331;
-    let x548: f64 = x546 + x547;
-    let x549: f64 = x325 + x548;
-    let x550: f64 = x541 - x2;
-    let x551: f64 = x3 + x545;
-    let x552: f64 = x6 + x549;
-    let x553: f64 = -0.00850351162402155f64 * x326;
-    let x554: f64 = 0.00398335888393552f64 * x327;
-    let x555: f64 = x553 + x554;
-    let x556: f64 = 0.01026110182100817f64 * v1;
-    let x557: f64 = x555 + x556;
-    let x558: f64 = 0.00398335888393552f64 * x326;
-    let x559: f64 = -0.028124284712194955f64 * x327;
-    let x560: f64 = x558 + x559;
-    let x561: f64 = 0.0007689361029464f64 * v1;
-    let x562: f64 = x560 + x561;
-    let x563: f64 = -0.01026110182100817f64 * x326;
-    let x564: f64 = -0.0007689361029464f64 * x327;
-    let x565: f64 = x563 + x564;
-    let x566: f64 = 0.026534991901690206f64 * v1;
-    let x567: f64 = x565 + x566;
-    let x568: f64 = x10 * x567;
-    let x569: f64 = qd1 * x562;
-    let x570: f64 = x568 + x569;
-    let x571: f64 = qd1 * x557;
-    let x572: f64 = x9 * x567;
-    let x573: f64 = x571 + x572;
-    let x574: f64 = x9 * x562;
-    let x575: f64 = x10 * x557;
-    let x576: f64 = x575 - x574;
-    let x577: f64 = x212 * x327;
-    let x578: f64 = v1 * x209;
-    let x579: f64 = x577 + x578;
-    let x580: f64 = v1 * x206;
-    let x581: f64 = x212 * x326;
-    let x582: f64 = x580 + x581;
-    let x583: f64 = x209 * x326;
-    let x584: f64 = x206 * x327;
-    let x585: f64 = x584 - x583;
-    let x586: f64 = x570 + x579;
-    let x587: f64 = x573 + x582;
-    let x588: f64 = x576 + x585;
-    let x589: f64 = qd1 * x327;
-    let x590: f64 = x589 - x328;
-    let x591: f64 = qd1 * x326;
-    let x592: f64 = x329 - x591;
-    let x593: f64 = x9 * x327;
-    let x594: f64 = x10 * x326;
-    let x595: f64 = x593 - x594;
-    let x596: f64 = 0.00850351162402155f64 * x590;
-    let x597: f64 = -0.00398335888393552f64 * x592;
-    let x598: f64 = x596 + x597;
-    let x599: f64 = 0.01026110182100817f64 * x595;
-    let x600: f64 = x598 + x599;
-    let x601: f64 = -0.00398335888393552f64 * x590;
-    let x602: f64 = 0.028124284712194955f64 * x592;
-    let x603: f64 = x601 + x602;
-    let x604: f64 = 0.0007689361029464f64 * x595;
-    let x605: f64 = x603 + x604;
-    let x606: f64 = 0.01026110182100817f64 * x590;
-    let x607: f64 = 0.0007689361029464f64 * x592;
-    let x608: f64 = x606 + x607;
-    let x609: f64 = 0.026534991901690206f64 * x595;
-    let x610: f64 = x608 + x609;
-    let x611: f64 = x586 + x600;
-    let x612: f64 = x587 - x605;
-    let x613: f64 = x588 - x610;
-    let x614: f64 = -0.5f64 * x611;
-    let x615: f64 = 0.5f64 * x612;
-    let x616: f64 = 0.5f64 * x613;
-    let x617: f64 = x550 + x614;
-    let x618: f64 = x551 + x615;
-    let x619: f64 = x552 + x616;
-    let x620: f64 = 0.05649492601407083f64 * x362;
-    let x621: f64 = -0.008248333140675744f64 * x363;
-    let x622: f64 = x620 + x621;
-    let x623: f64 = -0.005487648106562256f64 * x357;
-    let x624: f64 = x622 + x623;
-    let x625: f64 = -0.008248333140675744f64 * x362;
-    let x626: f64 = 0.05287838199960611f64 * x363;
-    let x627: f64 = x625 + x626;
-    let x628: f64 = -0.004377257121839584f64 * x357;
-    let x629: f64 = x627 + x628;
-    let x630: f64 = -0.005487648106562256f64 * x362;
-    let x631: f64 = -0.004377257121839584f64 * x363;
-    let x632: f64 = x630 + x631;
-    let x633: f64 = 0.01824920229252011f64 * x357;
-    let x634: f64 = x632 + x633;
-    let x635: f64 = -0.214708623208f64 * x365;
-    let x636: f64 = x7 - x635;
-    let x637: f64 = -0.214708623208f64 * x364;
-    let x638: f64 = x637 - x8;
-    let x639: f64 = 0.088844724872f64 * x365;
-    let x640: f64 = 0.126729164208f64 * x364;
-    let x641: f64 = x639 - x640;
-    let x642: f64 = x624 + x636;
-    let x643: f64 = x629 + x638;
-    let x644: f64 = x634 + x641;
-    let x645: f64 = 3.228604f64 * x364;
-    let x646: f64 = 3.228604f64 * x365;
-    let x647: f64 = 0.126729164208f64 * x357;
-    let x648: f64 = -0.214708623208f64 * x363;
-    let x649: f64 = x647 - x648;
-    let x650: f64 = -0.214708623208f64 * x362;
-    let x651: f64 = 0.088844724872f64 * x357;
-    let x652: f64 = x650 - x651;
-    let x653: f64 = x645 - x649;
-    let x654: f64 = x646 - x652;
-    let x655: f64 = 0.05649492601407083f64 * x334;
-    let x656: f64 = -0.008248333140675744f64 * x337;
-    let x657: f64 = x655 + x656;
-    let x658: f64 = -0.005487648106562256f64 * x346;
-    let x659: f64 = x657 + x658;
-    let x660: f64 = -0.008248333140675744f64 * x334;
-    let x661: f64 = 0.05287838199960611f64 * x337;
-    let x662: f64 = x660 + x661;
-    let x663: f64 = -0.004377257121839584f64 * x346;
-    let x664: f64 = x662 + x663;
-    let x665: f64 = -0.005487648106562256f64 * x334;
-    let x666: f64 = -0.004377257121839584f64 * x337;
-    let x667: f64 = x665 + x666;
-    let x668: f64 = 0.01824920229252011f64 * x346;
-    let x669: f64 = x667 + x668;
-    let x670: f64 = -0.214708623208f64 * x345;
-    let x671: f64 = -0.214708623208f64 * x342;
-    let x672: f64 = 0.088844724872f64 * x345;
-    let x673: f64 = 0.126729164208f64 * x342;
-    let x674: f64 = x672 - x673;
-    let x675: f64 = x659 - x670;
-    let x676: f64 = x664 + x671;
-    let x677: f64 = x669 + x674;
-    let x678: f64 = 3.228604f64 * x342;
-    let x679: f64 = 3.228604f64 * x345;
-    let x680: f64 = 0.126729164208f64 * x346;
-    let x681: f64 = -0.214708623208f64 * x337;
-    let x682: f64 = x680 - x681;
-    let x683: f64 = -0.214708623208f64 * x334;
-    let x684: f64 = 0.088844724872f64 * x346;
-    let x685: f64 = x683 - x684;
-    let x686: f64 = 0.088844724872f64 * x337;
-    let x687: f64 = 0.126729164208f64 * x334;
-    let x688: f64 = x678 - x682;
-    let x689: f64 = x679 - x685;
-    let x690: f64 = x687 - x686;
-    let x691: f64 = x16 * x677;
-    let x692: f64 = x25 * x676;
-    let x693: f64 = x691 - x692;
-    let x694: f64 = x25 * x675;
-    let x695: f64 = x13 * x677;
-    let x696: f64 = x694 - x695;
-    let x697: f64 = x13 * x676;
-    let x698: f64 = x16 * x675;
-    let x699: f64 = x697 - x698;
-    let x700: f64 = x24 * x690;
-    let x701: f64 = x21 * x690;
-    let x702: f64 = x21 * x689;
-    let x703: f64 = x24 * x688;
-    let x704: f64 = x702 - x703;
-    let x705: f64 = x693 + x700;
-    let x706: f64 = x696 - x701;
-    let x707: f64 = x699 + x704;
-    let x708: f64 = x16 * x690;
-    let x709: f64 = x25 * x689;
-    let x710: f64 = x708 - x709;
-    let x711: f64 = x25 * x688;
-    let x712: f64 = x13 * x690;
-    let x713: f64 = x711 - x712;
-    let x714: f64 = x225 * x337;
-    let x715: f64 = x224 * x346;
-    let x716: f64 = x714 - x715;
-    let x717: f64 = x223 * x346;
-    let x718: f64 = x225 * x334;
-    let x719: f64 = x717 - x718;
-    let x720: f64 = x224 * x334;
-    let x721: f64 = x223 * x337;
-    let x722: f64 = x720 - x721;
-    let x723: f64 = x107 * x345;
-    let x724: f64 = x107 * x342;
-    let x725: f64 = x229 * x342;
-    let x726: f64 = x228 * x345;
-    let x727: f64 = x725 - x726;
-    let x728: f64 = x716 + x723;
-    let x729: f64 = x719 - x724;
-    let x730: f64 = x722 + x727;
-    let x731: f64 = x107 * x337;
-    let x732: f64 = x229 * x346;
-    let x733: f64 = x731 - x732;
-    let x734: f64 = x228 * x346;
-    let x735: f64 = x107 * x334;
-    let x736: f64 = x734 - x735;
-    let x737: f64 = x705 + x728;
-    let x738: f64 = x706 + x729;
-    let x739: f64 = x707 + x730;
-    let x740: f64 = x710 + x733;
-    let x741: f64 = x713 + x736;
-    let x742: f64 = x16 * x346;
-    let x743: f64 = x25 * x337;
-    let x744: f64 = x742 - x743;
-    let x745: f64 = x25 * x334;
-    let x746: f64 = x13 * x346;
-    let x747: f64 = x745 - x746;
-    let x748: f64 = x13 * x337;
-    let x749: f64 = x16 * x334;
-    let x750: f64 = x748 - x749;
-    let x751: f64 = x25 * x345;
-    let x752: f64 = x25 * x342;
-    let x753: f64 = x13 * x345;
-    let x754: f64 = x16 * x342;
-    let x755: f64 = x753 - x754;
-    let x756: f64 = x24 * x346;
-    let x757: f64 = x21 * x346;
-    let x758: f64 = x21 * x337;
-    let x759: f64 = x24 * x334;
-    let x760: f64 = x758 - x759;
-    let x761: f64 = x756 - x751;
-    let x762: f64 = x752 - x757;
-    let x763: f64 = x755 + x760;
-    let x764: f64 = 0.05649492601407083f64 * x744;
-    let x765: f64 = -0.008248333140675744f64 * x747;
-    let x766: f64 = x764 + x765;
-    let x767: f64 = -0.005487648106562256f64 * x750;
-    let x768: f64 = x766 + x767;
-    let x769: f64 = -0.008248333140675744f64 * x744;
-    let x770: f64 = 0.05287838199960611f64 * x747;
-    let x771: f64 = x769 + x770;
-    let x772: f64 = -0.004377257121839584f64 * x750;
-    let x773: f64 = x771 + x772;
-    let x774: f64 = -0.005487648106562256f64 * x744;
-    let x775: f64 = -0.004377257121839584f64 * x747;
-    let x776: f64 = x774 + x775;
-    let x777: f64 = 0.01824920229252011f64 * x750;
-    let x778: f64 = x776 + x777;
-    let x779: f64 = 0.126729164208f64 * x763;
-    let x780: f64 = -0.214708623208f64 * x762;
-    let x781: f64 = x779 - x780;
-    let x782: f64 = -0.214708623208f64 * x761;
-    let x783: f64 = 0.088844724872f64 * x763;
-    let x784: f64 = x782 - x783;
-    let x785: f64 = 0.088844724872f64 * x762;
-    let x786: f64 = 0.126729164208f64 * x761;
-    let x787: f64 = x785 - x786;
-    let x788: f64 = x768 + x781;
-    let x789: f64 = x773 + x784;
-    let x790: f64 = x778 + x787;
-    let x791: f64 = 3.228604f64 * x761;
-    let x792: f64 = 3.228604f64 * x762;
-    let x793: f64 = 0.126729164208f64 * x750;
-    let x794: f64 = -0.214708623208f64 * x747;
-    let x795: f64 = x793 - x794;
-    let x796: f64 = -0.214708623208f64 * x744;
-    let x797: f64 = 0.088844724872f64 * x750;
-    let x798: f64 = x796 - x797;
-    let x799: f64 = x791 - x795;
-    let x800: f64 = x792 - x798;
-    let x801: f64 = x737 - x788;
-    let x802: f64 = x738 - x789;
-    let x803: f64 = x739 - x790;
-    let x804: f64 = x740 - x799;
-    let x805: f64 = x741 - x800;
-    let x806: f64 = 0.5f64 * x801;
-    let x807: f64 = 0.5f64 * x802;
-    let x808: f64 = 0.5f64 * x803;
-    let x809: f64 = 0.5f64 * x804;
-    let x810: f64 = 0.5f64 * x805;
-    let x811: f64 = x642 + x806;
-    let x812: f64 = x643 + x807;
-    let x813: f64 = x644 + x808;
-    let x814: f64 = x653 + x809;
-    let x815: f64 = x654 + x810;
-    let x816: f64 = 0.06767727025085991f64 * x404;
-    let x817: f64 = 0.02771584317362585f64 * x405;
-    let x818: f64 = x816 + x817;
-    let x819: f64 = 0.0039053550262761003f64 * x399;
-    let x820: f64 = x818 + x819;
-    let x821: f64 = 0.02771584317362585f64 * x404;
-    let x822: f64 = 0.03239943042445132f64 * x405;
-    let x823: f64 = x821 + x822;
-    let x824: f64 = -0.0016444875773692705f64 * x399;
-    let x825: f64 = x823 + x824;
-    let x826: f64 = 0.0039053550262761003f64 * x404;
-    let x827: f64 = -0.0016444875773692705f64 * x405;
-    let x828: f64 = x826 + x827;
-    let x829: f64 = 0.0775861490525396f64 * x399;
-    let x830: f64 = x828 + x829;
-    let x831: f64 = -0.374644408005f64 * x391;
-    let x832: f64 = -0.09850206933f64 * x407;
-    let x833: f64 = x831 - x832;
-    let x834: f64 = 0.09850206933f64 * x406;
-    let x835: f64 = 0.19076837715f64 * x391;
-    let x836: f64 = x834 - x835;
-    let x837: f64 = 0.19076837715f64 * x407;
-    let x838: f64 = 0.374644408005f64 * x406;
-    let x839: f64 = x837 - x838;
-    let x840: f64 = x820 + x833;
-    let x841: f64 = x825 + x836;
-    let x842: f64 = x830 + x839;
-    let x843: f64 = 3.587895f64 * x406;
-    let x844: f64 = -3.587895f64 * x407;
-    let x845: f64 = -3.587895f64 * x391;
-    let x846: f64 = 0.374644408005f64 * x399;
-    let x847: f64 = 0.09850206933f64 * x405;
-    let x848: f64 = x846 - x847;
-    let x849: f64 = 0.09850206933f64 * x404;
-    let x850: f64 = -0.19076837715f64 * x399;
-    let x851: f64 = x849 - x850;
-    let x852: f64 = -0.19076837715f64 * x405;
-    let x853: f64 = 0.374644408005f64 * x404;
-    let x854: f64 = x852 - x853;
-    let x855: f64 = x843 - x848;
-    let x856: f64 = x844 - x851;
-    let x857: f64 = x845 - x854;
-    let x858: f64 = 0.06767727025085991f64 * x368;
-    let x859: f64 = 0.02771584317362585f64 * x371;
-    let x860: f64 = x858 + x859;
-    let x861: f64 = 0.0039053550262761003f64 * x381;
-    let x862: f64 = x860 + x861;
-    let x863: f64 = 0.02771584317362585f64 * x368;
-    let x864: f64 = 0.03239943042445132f64 * x371;
-    let x865: f64 = x863 + x864;
-    let x866: f64 = -0.0016444875773692705f64 * x381;
-    let x867: f64 = x865 + x866;
-    let x868: f64 = 0.0039053550262761003f64 * x368;
-    let x869: f64 = -0.0016444875773692705f64 * x371;
-    let x870: f64 = x868 + x869;
-    let x871: f64 = 0.0775861490525396f64 * x381;
-    let x872: f64 = x870 + x871;
-    let x873: f64 = -0.374644408005f64 * x374;
-    let x874: f64 = -0.09850206933f64 * x380;
-    let x875: f64 = x873 - x874;
-    let x876: f64 = 0.09850206933f64 * x377;
-    let x877: f64 = 0.19076837715f64 * x374;
-    let x878: f64 = x876 - x877;
-    let x879: f64 = 0.19076837715f64 * x380;
-    let x880: f64 = 0.374644408005f64 * x377;
-    let x881: f64 = x879 - x880;
-    let x882: f64 = x862 + x875;
-    let x883: f64 = x867 + x878;
-    let x884: f64 = x872 + x881;
-    let x885: f64 = 3.587895f64 * x377;
-    let x886: f64 = -3.587895f64 * x380;
-    let x887: f64 = -3.587895f64 * x374;
-    let x888: f64 = 0.374644408005f64 * x381;
-    let x889: f64 = 0.09850206933f64 * x371;
-    let x890: f64 = x888 - x889;
-    let x891: f64 = 0.09850206933f64 * x368;
-    let x892: f64 = -0.19076837715f64 * x381;
-    let x893: f64 = x891 - x892;
-    let x894: f64 = -0.19076837715f64 * x371;
-    let x895: f64 = 0.374644408005f64 * x368;
-    let x896: f64 = x894 - x895;
-    let x897: f64 = x885 - x890;
-    let x898: f64 = x886 - x893;
-    let x899: f64 = x887 - x896;
-    let x900: f64 = x31 * x884;
-    let x901: f64 = x41 * x883;
-    let x902: f64 = x900 - x901;
-    let x903: f64 = x41 * x882;
-    let x904: f64 = x28 * x884;
-    let x905: f64 = x903 - x904;
-    let x906: f64 = x28 * x883;
-    let x907: f64 = x31 * x882;
-    let x908: f64 = x906 - x907;
-    let x909: f64 = x40 * x899;
-    let x910: f64 = x34 * x898;
-    let x911: f64 = x910 - x909;
-    let x912: f64 = x34 * x897;
-    let x913: f64 = x37 * x899;
-    let x914: f64 = x912 + x913;
-    let x915: f64 = x37 * x898;
-    let x916: f64 = x40 * x897;
-    let x917: f64 = x915 + x916;
-    let x918: f64 = x902 + x911;
-    let x919: f64 = x905 - x914;
-    let x920: f64 = x908 + x917;
-    let x921: f64 = x31 * x899;
-    let x922: f64 = x41 * x898;
-    let x923: f64 = x921 - x922;
-    let x924: f64 = x41 * x897;
-    let x925: f64 = x28 * x899;
-    let x926: f64 = x924 - x925;
-    let x927: f64 = x28 * x898;
-    let x928: f64 = x31 * x897;
-    let x929: f64 = x927 - x928;
-    let x930: f64 = x244 * x371;
-    let x931: f64 = x243 * x381;
-    let x932: f64 = x930 - x931;
-    let x933: f64 = x242 * x381;
-    let x934: f64 = x244 * x368;
-    let x935: f64 = x933 - x934;
-    let x936: f64 = x243 * x368;
-    let x937: f64 = x242 * x371;
-    let x938: f64 = x936 - x937;
-    let x939: f64 = x250 * x380;
-    let x940: f64 = x249 * x374;
-    let x941: f64 = x940 - x939;
-    let x942: f64 = x248 * x374;
-    let x943: f64 = x250 * x377;
-    let x944: f64 = x942 + x943;
-    let x945: f64 = x249 * x377;
-    let x946: f64 = x248 * x380;
-    let x947: f64 = x945 + x946;
-    let x948: f64 = x932 + x941;
-    let x949: f64 = x935 - x944;
-    let x950: f64 = x938 + x947;
-    let x951: f64 = x250 * x371;
-    let x952: f64 = x249 * x381;
-    let x953: f64 = x951 - x952;
-    let x954: f64 = x248 * x381;
-    let x955: f64 = x250 * x368;
-    let x956: f64 = x954 - x955;
-    let x957: f64 = x249 * x368;
-    let x958: f64 = x248 * x371;
-    let x959: f64 = x957 - x958;
-    let x960: f64 = x918 + x948;
-    let x961: f64 = x919 + x949;
-    let x962: f64 = x920 + x950;
-    let x963: f64 = x923 + x953;
-    let x964: f64 = x926 + x956;
-    let x965: f64 = x929 + x959;
-    let x966: f64 = x31 * x381;
-    let x967: f64 = x41 * x371;
-    let x968: f64 = x966 - x967;
-    let x969: f64 = x41 * x368;
-    let x970: f64 = x28 * x381;
-    let x971: f64 = x969 - x970;
-    let x972: f64 = x28 * x371;
-    let x973: f64 = x31 * x368;
-    let x974: f64 = x972 - x973;
-    let x975: f64 = x31 * x374;
-    let x976: f64 = x41 * x380;
-    let x977: f64 = x976 - x975;
-    let x978: f64 = x41 * x377;
-    let x979: f64 = x28 * x374;
-    let x980: f64 = x978 + x979;
-    let x981: f64 = x28 * x380;
-    let x982: f64 = x31 * x377;
-    let x983: f64 = x981 + x982;
-    let x984: f64 = x40 * x381;
-    let x985: f64 = x34 * x371;
-    let x986: f64 = x985 - x984;
-    let x987: f64 = x34 * x368;
-    let x988: f64 = x37 * x381;
-    let x989: f64 = x987 + x988;
-    let x990: f64 = x37 * x371;
-    let x991: f64 = x40 * x368;
-    let x992: f64 = x990 + x991;
-    let x993: f64 = x977 + x986;
-    let x994: f64 = x980 - x989;
-    let x995: f64 = x992 - x983;
-    let x996: f64 = 0.06767727025085991f64 * x968;
-    let x997: f64 = 0.02771584317362585f64 * x971;
-    let x998: f64 = x996 + x997;
-    let x999: f64 = 0.0039053550262761003f64 * x974;
-    let x1000: f64 = x998 + x999;
-    let x1001: f64 = 0.02771584317362585f64 * x968;
-    let x1002: f64 = 0.03239943042445132f64 * x971;
-    let x1003: f64 = x1001 + x1002;
-    let x1004: f64 = -0.0016444875773692705f64 * x974;
-    let x1005: f64 = x1003 + x1004;
-    let x1006: f64 = 0.0039053550262761003f64 * x968;
-    let x1007: f64 = -0.0016444875773692705f64 * x971;
-    let x1008: f64 = x1006 + x1007;
-    let x1009: f64 = 0.0775861490525396f64 * x974;
-    let x1010: f64 = x1008 + x1009;
-    let x1011: f64 = 0.374644408005f64 * x995;
-    let x1012: f64 = 0.09850206933f64 * x994;
-    let x1013: f64 = x1011 - x1012;
-    let x1014: f64 = 0.09850206933f64 * x993;
-    let x1015: f64 = -0.19076837715f64 * x995;
-    let x1016: f64 = x1014 - x1015;
-    let x1017: f64 = -0.19076837715f64 * x994;
-    let x1018: f64 = 0.374644408005f64 * x993;
-    let x1019: f64 = x1017 - x1018;
-    let x1020: f64 = x1000 + x1013;
-    let x1021: f64 = x1005 + x1016;
-    let x1022: f64 = x1010 + x1019;
-    let x1023: f64 = 3.587895f64 * x993;
-    [
-        x44,
-        x47,
-        x54,
-        x58,
-        x61,
-        x62,
-        x65,
-        x68,
-        x71,
-        x74,
-        x75,
-        x76,
-        x79,
-        x82,
-        x86,
-        x90,
-        x93,
-        x94,
-        x263,
-        x264,
-        x265,
-        x269,
-        x270,
-        x271,
-        x284,
-        x285,
-        x286,
-        x290,
-        x291,
-        x292,
-        x305,
-        x306,
-        x307,
-        x311,
-        x312,
-        x313,
-        x322,
-        x410,
-        x413,
-        x420,
-        x424,
-        x427,
-        x428,
-        x441,
-        x449,
-        x454,
-        x455,
-        x456,
-        x457,
-        x460,
-        x463,
-        x466,
-        x469,
-        x470,
-        x471,
-        x484,
-        x485,
-        x490,
-        x491,
-        x492,
-        x493,
-        x496,
-        x499,
-        x503,
-        x507,
-        x510,
-        x511,
-        x521,
-        x529,
-        x534,
-        x535,
-        x536,
-        x537,
-        x617,
-        x618,
-        x619,
-        x811,
-        x812,
-        x813,
-        x814,
-        x815,
-        x840,
-        x841,
-        x842,
-        x855,
-        x856,
-        x857,
-        x960,
-        x961,
-        x962,
-        x963,
-        x964,
-        x965,
-        x968,
-        x971,
-        x974,
-        x994,
-        x995,
-        x1020,
-        x1021,
-        x1022,
-        x1023,
-    ]
-}
-#[inline(never)]
-fn slotine_li_part1(
-    t: &JointTrig<7>,
-    _qd: &SVector<f64, 7>,
-    _v: &SVector<f64, 7>,
-    _a: &SVector<f64, 7>,
-    carried: [f64; 102],
-) -> [f64; 7] {
-    let [_, s1, s2, s3, s4, s5, s6] = t.sin;
-    let [_, c1, c2, c3, c4, c5, c6] = t.cos;
-    let [x44, x47, x54, x58, x61, x62, x65, x68, x71, x74, x75, x76, x79, x82, x86, x90,
-    x93, x94, x263, x264, x265, x269, x270, x271, x284, x285, x286, x290, x291, x292,
-    x305, x306, x307, x311, x312, x313, x322, x410, x413, x420, x424, x427, x428, x441,
-    x449, x454, x455, x456, x457, x460, x463, x466, x469, x470, x471, x484, x485, x490,
-    x491, x492, x493, x496, x499, x503, x507, x510, x511, x521, x529, x534, x535, x536,
-    x537, x617, x618, x619, x811, x812, x813, x814, x815, x840, x841, x842, x855, x856,
-    x857, x960, x961, x962, x963, x964, x965, x968, x971, x974, x994, x995, x1020, x1021,
-    x1022, x1023] = carried;
-    let x1024: f64 = 3.587895f64 * x994;
-    let x1025: f64 = 3.587895f64 * x995;
-    let x1026: f64 = 0.374644408005f64 * x974;
-    let x1027: f64 = 0.09850206933f64 * x971;
-    let x1028: f64 = x1026 - x1027;
-    let x1029: f64 = 0.09850206933f64 * x968;
-    let x1030: f64 = -0.19076837715f64 * x974;
-    let x1031: f64 = x1029 - x1030;
-    let x1032: f64 = -0.19076837715f64 * x971;
-    let x1033: f64 = 0.374644408005f64 * x968;
-    let x1034: f64 = x1032 - x1033;
-    let x1035: f64 = x1023 - x1028;
-    let x1036: f64 = x1024 - x1031;
-    let x1037: f64 = x1025 - x1034;
-    let x1038: f64 = x960 - x1020;
-    let x1039: f64 = x961 - x1021;
-    let x1040: f64 = x962 - x1022;
-    let x1041: f64 = x963 - x1035;
-    let x1042: f64 = x964 - x1036;
-    let x1043: f64 = x965 - x1037;
-    let x1044: f64 = 0.5f64 * x1038;
-    let x1045: f64 = 0.5f64 * x1039;
-    let x1046: f64 = 0.5f64 * x1040;
-    let x1047: f64 = 0.5f64 * x1041;
-    let x1048: f64 = 0.5f64 * x1042;
-    let x1049: f64 = 0.5f64 * x1043;
-    let x1050: f64 = x840 + x1044;
-    let x1051: f64 = x841 + x1045;
-    let x1052: f64 = x842 + x1046;
-    let x1053: f64 = x855 + x1047;
-    let x1054: f64 = x856 + x1048;
-    let x1055: f64 = x857 + x1049;
-    let x1056: f64 = 0.03942757095803552f64 * x454;
-    let x1057: f64 = 0.0015152444733270301f64 * x455;
-    let x1058: f64 = x1056 + x1057;
-    let x1059: f64 = -0.004600245517563105f64 * x449;
-    let x1060: f64 = x1058 + x1059;
-    let x1061: f64 = -0.0015152444733270301f64 * x454;
-    let x1062: f64 = -0.03146037232526039f64 * x455;
-    let x1063: f64 = x1061 + x1062;
-    let x1064: f64 = 0.0021640520520981297f64 * x449;
-    let x1065: f64 = x1063 + x1064;
-    let x1066: f64 = -0.004600245517563105f64 * x454;
-    let x1067: f64 = -0.0021640520520981297f64 * x455;
-    let x1068: f64 = x1066 + x1067;
-    let x1069: f64 = 0.010869510762828563f64 * x449;
-    let x1070: f64 = x1068 + x1069;
-    let x1071: f64 = 0.05034347249f64 * x441;
-    let x1072: f64 = -0.047121686402f64 * x457;
-    let x1073: f64 = x1071 - x1072;
-    let x1074: f64 = -0.047121686402f64 * x456;
-    let x1075: f64 = -0.014653732538f64 * x441;
-    let x1076: f64 = x1074 - x1075;
-    let x1077: f64 = -0.014653732538f64 * x457;
-    let x1078: f64 = 0.05034347249f64 * x456;
-    let x1079: f64 = x1077 - x1078;
-    let x1080: f64 = x1060 + x1073;
-    let x1081: f64 = x1065 + x1076;
-    let x1082: f64 = x1070 + x1079;
-    let x1083: f64 = 1.225946f64 * x456;
-    let x1084: f64 = 1.225946f64 * x457;
-    let x1085: f64 = 1.225946f64 * x441;
-    let x1086: f64 = 0.05034347249f64 * x449;
-    let x1087: f64 = 0.047121686402f64 * x455;
-    let x1088: f64 = x1086 - x1087;
-    let x1089: f64 = -0.047121686402f64 * x454;
-    let x1090: f64 = -0.014653732538f64 * x449;
-    let x1091: f64 = x1089 - x1090;
-    let x1092: f64 = 0.014653732538f64 * x455;
-    let x1093: f64 = 0.05034347249f64 * x454;
-    let x1094: f64 = x1092 - x1093;
-    let x1095: f64 = x1083 - x1088;
-    let x1096: f64 = x1084 - x1091;
-    let x1097: f64 = x1085 - x1094;
-    let x1098: f64 = 0.03942757095803552f64 * x410;
-    let x1099: f64 = 0.0015152444733270301f64 * x413;
-    let x1100: f64 = x1098 + x1099;
-    let x1101: f64 = -0.004600245517563105f64 * x428;
-    let x1102: f64 = x1100 + x1101;
-    let x1103: f64 = -0.0015152444733270301f64 * x410;
-    let x1104: f64 = -0.03146037232526039f64 * x413;
-    let x1105: f64 = x1103 + x1104;
-    let x1106: f64 = 0.0021640520520981297f64 * x428;
-    let x1107: f64 = x1105 + x1106;
-    let x1108: f64 = -0.004600245517563105f64 * x410;
-    let x1109: f64 = -0.0021640520520981297f64 * x413;
-    let x1110: f64 = x1108 + x1109;
-    let x1111: f64 = 0.010869510762828563f64 * x428;
-    let x1112: f64 = x1110 + x1111;
-    let x1113: f64 = 0.05034347249f64 * x420;
-    let x1114: f64 = -0.047121686402f64 * x427;
-    let x1115: f64 = x1113 - x1114;
-    let x1116: f64 = -0.047121686402f64 * x424;
-    let x1117: f64 = -0.014653732538f64 * x420;
-    let x1118: f64 = x1116 - x1117;
-    let x1119: f64 = -0.014653732538f64 * x427;
-    let x1120: f64 = 0.05034347249f64 * x424;
-    let x1121: f64 = x1119 - x1120;
-    let x1122: f64 = x1102 + x1115;
-    let x1123: f64 = x1107 + x1118;
-    let x1124: f64 = x1112 + x1121;
-    let x1125: f64 = 1.225946f64 * x424;
-    let x1126: f64 = 1.225946f64 * x427;
-    let x1127: f64 = 1.225946f64 * x420;
-    let x1128: f64 = 0.05034347249f64 * x428;
-    let x1129: f64 = 0.047121686402f64 * x413;
-    let x1130: f64 = x1128 - x1129;
-    let x1131: f64 = -0.047121686402f64 * x410;
-    let x1132: f64 = -0.014653732538f64 * x428;
-    let x1133: f64 = x1131 - x1132;
-    let x1134: f64 = 0.014653732538f64 * x413;
-    let x1135: f64 = 0.05034347249f64 * x410;
-    let x1136: f64 = x1134 - x1135;
-    let x1137: f64 = x1125 - x1130;
-    let x1138: f64 = x1126 - x1133;
-    let x1139: f64 = x1127 - x1136;
-    let x1140: f64 = x47 * x1124;
-    let x1141: f64 = x62 * x1123;
-    let x1142: f64 = x1140 + x1141;
-    let x1143: f64 = x62 * x1122;
-    let x1144: f64 = x44 * x1124;
-    let x1145: f64 = x1143 - x1144;
-    let x1146: f64 = x44 * x1123;
-    let x1147: f64 = x47 * x1122;
-    let x1148: f64 = x1146 + x1147;
-    let x1149: f64 = x61 * x1139;
-    let x1150: f64 = x54 * x1138;
-    let x1151: f64 = x1149 - x1150;
-    let x1152: f64 = x54 * x1137;
-    let x1153: f64 = x58 * x1139;
-    let x1154: f64 = x1152 - x1153;
-    let x1155: f64 = x58 * x1138;
-    let x1156: f64 = x61 * x1137;
-    let x1157: f64 = x1155 - x1156;
-    let x1158: f64 = x1151 - x1142;
-    let x1159: f64 = x1145 + x1154;
-    let x1160: f64 = x1148 + x1157;
-    let x1161: f64 = x47 * x1139;
-    let x1162: f64 = x62 * x1138;
-    let x1163: f64 = x1161 + x1162;
-    let x1164: f64 = x62 * x1137;
-    let x1165: f64 = x44 * x1139;
-    let x1166: f64 = x1164 - x1165;
-    let x1167: f64 = x44 * x1138;
-    let x1168: f64 = x47 * x1137;
-    let x1169: f64 = x1167 + x1168;
-    let x1170: f64 = x265 * x413;
-    let x1171: f64 = x264 * x428;
-    let x1172: f64 = x1170 + x1171;
-    let x1173: f64 = x263 * x428;
-    let x1174: f64 = x265 * x410;
-    let x1175: f64 = x1173 - x1174;
-    let x1176: f64 = x264 * x410;
-    let x1177: f64 = x263 * x413;
-    let x1178: f64 = x1176 + x1177;
-    let x1179: f64 = x271 * x427;
-    let x1180: f64 = x270 * x420;
-    let x1181: f64 = x1179 - x1180;
-    let x1182: f64 = x269 * x420;
-    let x1183: f64 = x271 * x424;
-    let x1184: f64 = x1182 - x1183;
-    let x1185: f64 = x270 * x424;
-    let x1186: f64 = x269 * x427;
-    let x1187: f64 = x1185 - x1186;
-    let x1188: f64 = x1181 - x1172;
-    let x1189: f64 = x1175 + x1184;
-    let x1190: f64 = x1178 + x1187;
-    let x1191: f64 = x271 * x413;
-    let x1192: f64 = x270 * x428;
-    let x1193: f64 = x1191 + x1192;
-    let x1194: f64 = x269 * x428;
-    let x1195: f64 = x271 * x410;
-    let x1196: f64 = x1194 - x1195;
-    let x1197: f64 = x270 * x410;
-    let x1198: f64 = x269 * x413;
-    let x1199: f64 = x1197 + x1198;
-    let x1200: f64 = x1158 + x1188;
-    let x1201: f64 = x1159 + x1189;
-    let x1202: f64 = x1160 + x1190;
-    let x1203: f64 = x1163 + x1193;
-    let x1204: f64 = x1166 + x1196;
-    let x1205: f64 = x1169 + x1199;
-    let x1206: f64 = x47 * x428;
-    let x1207: f64 = x62 * x413;
-    let x1208: f64 = x1207 - x1206;
-    let x1209: f64 = x62 * x410;
-    let x1210: f64 = x44 * x428;
-    let x1211: f64 = x1209 - x1210;
-    let x1212: f64 = x44 * x413;
-    let x1213: f64 = x47 * x410;
-    let x1214: f64 = x1213 - x1212;
-    let x1215: f64 = x47 * x420;
-    let x1216: f64 = x62 * x427;
-    let x1217: f64 = x1215 + x1216;
-    let x1218: f64 = x62 * x424;
-    let x1219: f64 = x44 * x420;
-    let x1220: f64 = x1218 - x1219;
-    let x1221: f64 = x44 * x427;
-    let x1222: f64 = x47 * x424;
-    let x1223: f64 = x1221 + x1222;
-    let x1224: f64 = x61 * x428;
-    let x1225: f64 = x54 * x413;
-    let x1226: f64 = x1224 + x1225;
-    let x1227: f64 = x54 * x410;
-    let x1228: f64 = x58 * x428;
-    let x1229: f64 = x1227 - x1228;
-    let x1230: f64 = x58 * x413;
-    let x1231: f64 = x61 * x410;
-    let x1232: f64 = x1230 + x1231;
-    let x1233: f64 = x1226 - x1217;
-    let x1234: f64 = x1220 + x1229;
-    let x1235: f64 = x1223 - x1232;
-    let x1236: f64 = 0.03942757095803552f64 * x1208;
-    let x1237: f64 = -0.0015152444733270301f64 * x1211;
-    let x1238: f64 = x1236 + x1237;
-    let x1239: f64 = -0.004600245517563105f64 * x1214;
-    let x1240: f64 = x1238 + x1239;
-    let x1241: f64 = -0.0015152444733270301f64 * x1208;
-    let x1242: f64 = 0.03146037232526039f64 * x1211;
-    let x1243: f64 = x1241 + x1242;
-    let x1244: f64 = 0.0021640520520981297f64 * x1214;
-    let x1245: f64 = x1243 + x1244;
-    let x1246: f64 = -0.004600245517563105f64 * x1208;
-    let x1247: f64 = 0.0021640520520981297f64 * x1211;
-    let x1248: f64 = x1246 + x1247;
-    let x1249: f64 = 0.010869510762828563f64 * x1214;
-    let x1250: f64 = x1248 + x1249;
-    let x1251: f64 = 0.05034347249f64 * x1235;
-    let x1252: f64 = -0.047121686402f64 * x1234;
-    let x1253: f64 = x1251 - x1252;
-    let x1254: f64 = -0.047121686402f64 * x1233;
-    let x1255: f64 = -0.014653732538f64 * x1235;
-    let x1256: f64 = x1254 - x1255;
-    let x1257: f64 = -0.014653732538f64 * x1234;
-    let x1258: f64 = 0.05034347249f64 * x1233;
-    let x1259: f64 = x1257 - x1258;
-    let x1260: f64 = x1240 + x1253;
-    let x1261: f64 = x1245 + x1256;
-    let x1262: f64 = x1250 + x1259;
-    let x1263: f64 = 1.225946f64 * x1233;
-    let x1264: f64 = 1.225946f64 * x1234;
-    let x1265: f64 = 1.225946f64 * x1235;
-    let x1266: f64 = 0.05034347249f64 * x1214;
-    let x1267: f64 = -0.047121686402f64 * x1211;
-    let x1268: f64 = x1266 - x1267;
-    let x1269: f64 = -0.047121686402f64 * x1208;
-    let x1270: f64 = -0.014653732538f64 * x1214;
-    let x1271: f64 = x1269 - x1270;
-    let x1272: f64 = -0.014653732538f64 * x1211;
-    let x1273: f64 = 0.05034347249f64 * x1208;
-    let x1274: f64 = x1272 - x1273;
-    let x1275: f64 = x1263 - x1268;
-    let x1276: f64 = x1264 - x1271;
-    let x1277: f64 = x1265 - x1274;
-    let x1278: f64 = x1200 - x1260;
-    let x1279: f64 = x1201 - x1261;
-    let x1280: f64 = x1202 - x1262;
-    let x1281: f64 = x1203 + x1275;
-    let x1282: f64 = x1204 - x1276;
-    let x1283: f64 = x1205 - x1277;
-    let x1284: f64 = 0.5f64 * x1278;
-    let x1285: f64 = 0.5f64 * x1279;
-    let x1286: f64 = 0.5f64 * x1280;
-    let x1287: f64 = -0.5f64 * x1281;
-    let x1288: f64 = 0.5f64 * x1282;
-    let x1289: f64 = 0.5f64 * x1283;
-    let x1290: f64 = x1080 + x1284;
-    let x1291: f64 = x1081 + x1285;
-    let x1292: f64 = x1082 + x1286;
-    let x1293: f64 = x1095 + x1287;
-    let x1294: f64 = x1096 + x1288;
-    let x1295: f64 = x1097 + x1289;
-    let x1296: f64 = 0.0024804603581707893f64 * x490;
-    let x1297: f64 = 0.001524110902883315f64 * x491;
-    let x1298: f64 = x1296 + x1297;
-    let x1299: f64 = -0.00010375891721868492f64 * x485;
-    let x1300: f64 = x1298 + x1299;
-    let x1301: f64 = 0.001524110902883315f64 * x490;
-    let x1302: f64 = 0.01056776613310695f64 * x491;
-    let x1303: f64 = x1301 + x1302;
-    let x1304: f64 = 0.000093569097314605f64 * x485;
-    let x1305: f64 = x1303 + x1304;
-    let x1306: f64 = -0.00010375891721868492f64 * x490;
-    let x1307: f64 = 0.000093569097314605f64 * x491;
-    let x1308: f64 = x1306 + x1307;
-    let x1309: f64 = 0.011794560230238949f64 * x485;
-    let x1310: f64 = x1308 + x1309;
-    let x1311: f64 = -0.023526756935f64 * x484;
-    let x1312: f64 = -0.017527158935000002f64 * x493;
-    let x1313: f64 = x1311 - x1312;
-    let x1314: f64 = -0.017527158935000002f64 * x492;
-    let x1315: f64 = 0.10024161669500001f64 * x484;
-    let x1316: f64 = x1314 - x1315;
-    let x1317: f64 = 0.10024161669500001f64 * x493;
-    let x1318: f64 = -0.023526756935f64 * x492;
-    let x1319: f64 = x1317 - x1318;
-    let x1320: f64 = x1300 + x1313;
-    let x1321: f64 = x1305 + x1316;
-    let x1322: f64 = x1310 + x1319;
-    let x1323: f64 = 1.666555f64 * x492;
-    let x1324: f64 = 1.666555f64 * x493;
-    let x1325: f64 = 1.666555f64 * x484;
-    let x1326: f64 = -0.023526756935f64 * x485;
-    let x1327: f64 = -0.017527158935000002f64 * x491;
-    let x1328: f64 = x1326 - x1327;
-    let x1329: f64 = -0.017527158935000002f64 * x490;
-    let x1330: f64 = 0.10024161669500001f64 * x485;
-    let x1331: f64 = x1329 - x1330;
-    let x1332: f64 = 0.10024161669500001f64 * x491;
-    let x1333: f64 = -0.023526756935f64 * x490;
-    let x1334: f64 = x1332 - x1333;
-    let x1335: f64 = x1323 - x1328;
-    let x1336: f64 = x1324 - x1331;
-    let x1337: f64 = x1325 - x1334;
-    let x1338: f64 = 0.0024804603581707893f64 * x460;
-    let x1339: f64 = 0.001524110902883315f64 * x463;
-    let x1340: f64 = x1338 + x1339;
-    let x1341: f64 = -0.00010375891721868492f64 * x471;
-    let x1342: f64 = x1340 + x1341;
-    let x1343: f64 = 0.001524110902883315f64 * x460;
-    let x1344: f64 = 0.01056776613310695f64 * x463;
-    let x1345: f64 = x1343 + x1344;
-    let x1346: f64 = 0.000093569097314605f64 * x471;
-    let x1347: f64 = x1345 + x1346;
-    let x1348: f64 = -0.00010375891721868492f64 * x460;
-    let x1349: f64 = 0.000093569097314605f64 * x463;
-    let x1350: f64 = x1348 + x1349;
-    let x1351: f64 = 0.011794560230238949f64 * x471;
-    let x1352: f64 = x1350 + x1351;
-    let x1353: f64 = -0.023526756935f64 * x470;
-    let x1354: f64 = -0.017527158935000002f64 * x469;
-    let x1355: f64 = x1353 - x1354;
-    let x1356: f64 = -0.017527158935000002f64 * x466;
-    let x1357: f64 = 0.10024161669500001f64 * x470;
-    let x1358: f64 = x1356 - x1357;
-    let x1359: f64 = 0.10024161669500001f64 * x469;
-    let x1360: f64 = -0.023526756935f64 * x466;
-    let x1361: f64 = x1359 - x1360;
-    let x1362: f64 = x1342 + x1355;
-    let x1363: f64 = x1347 + x1358;
-    let x1364: f64 = x1352 + x1361;
-    let x1365: f64 = 1.666555f64 * x466;
-    let x1366: f64 = 1.666555f64 * x469;
-    let x1367: f64 = 1.666555f64 * x470;
-    let x1368: f64 = -0.023526756935f64 * x471;
-    let x1369: f64 = -0.017527158935000002f64 * x463;
-    let x1370: f64 = x1368 - x1369;
-    let x1371: f64 = -0.017527158935000002f64 * x460;
-    let x1372: f64 = 0.10024161669500001f64 * x471;
-    let x1373: f64 = x1371 - x1372;
-    let x1374: f64 = 0.10024161669500001f64 * x463;
-    let x1375: f64 = -0.023526756935f64 * x460;
-    let x1376: f64 = x1374 - x1375;
-    let x1377: f64 = x1365 - x1370;
-    let x1378: f64 = x1366 - x1373;
-    let x1379: f64 = x1367 - x1376;
-    let x1380: f64 = x68 * x1364;
-    let x1381: f64 = x76 * x1363;
-    let x1382: f64 = x1380 - x1381;
-    let x1383: f64 = x76 * x1362;
-    let x1384: f64 = x65 * x1364;
-    let x1385: f64 = x1383 - x1384;
-    let x1386: f64 = x65 * x1363;
-    let x1387: f64 = x68 * x1362;
-    let x1388: f64 = x1386 - x1387;
-    let x1389: f64 = x74 * x1379;
-    let x1390: f64 = x75 * x1378;
-    let x1391: f64 = x1389 - x1390;
-    let x1392: f64 = x75 * x1377;
-    let x1393: f64 = x71 * x1379;
-    let x1394: f64 = x1392 - x1393;
-    let x1395: f64 = x71 * x1378;
-    let x1396: f64 = x74 * x1377;
-    let x1397: f64 = x1395 - x1396;
-    let x1398: f64 = x1382 + x1391;
-    let x1399: f64 = x1385 + x1394;
-    let x1400: f64 = x1388 + x1397;
-    let x1401: f64 = x68 * x1379;
-    let x1402: f64 = x76 * x1378;
-    let x1403: f64 = x1401 - x1402;
-    let x1404: f64 = x76 * x1377;
-    let x1405: f64 = x65 * x1379;
-    let x1406: f64 = x1404 - x1405;
-    let x1407: f64 = x65 * x1378;
-    let x1408: f64 = x68 * x1377;
-    let x1409: f64 = x1407 - x1408;
-    let x1410: f64 = x286 * x463;
-    let x1411: f64 = x285 * x471;
-    let x1412: f64 = x1410 - x1411;
-    let x1413: f64 = x284 * x471;
-    let x1414: f64 = x286 * x460;
-    let x1415: f64 = x1413 - x1414;
-    let x1416: f64 = x285 * x460;
-    let x1417: f64 = x284 * x463;
-    let x1418: f64 = x1416 - x1417;
-    let x1419: f64 = x292 * x469;
-    let x1420: f64 = x291 * x470;
-    let x1421: f64 = x1419 - x1420;
-    let x1422: f64 = x290 * x470;
-    let x1423: f64 = x292 * x466;
-    let x1424: f64 = x1422 - x1423;
-    let x1425: f64 = x291 * x466;
-    let x1426: f64 = x290 * x469;
-    let x1427: f64 = x1425 - x1426;
-    let x1428: f64 = x1412 + x1421;
-    let x1429: f64 = x1415 + x1424;
-    let x1430: f64 = x1418 + x1427;
-    let x1431: f64 = x292 * x463;
-    let x1432: f64 = x291 * x471;
-    let x1433: f64 = x1431 - x1432;
-    let x1434: f64 = x290 * x471;
-    let x1435: f64 = x292 * x460;
-    let x1436: f64 = x1434 - x1435;
-    let x1437: f64 = x291 * x460;
-    let x1438: f64 = x290 * x463;
-    let x1439: f64 = x1437 - x1438;
-    let x1440: f64 = x1398 + x1428;
-    let x1441: f64 = x1399 + x1429;
-    let x1442: f64 = x1400 + x1430;
-    let x1443: f64 = x1403 + x1433;
-    let x1444: f64 = x1406 + x1436;
-    let x1445: f64 = x1409 + x1439;
-    let x1446: f64 = x68 * x471;
-    let x1447: f64 = x76 * x463;
-    let x1448: f64 = x1446 - x1447;
-    let x1449: f64 = x76 * x460;
-    let x1450: f64 = x65 * x471;
-    let x1451: f64 = x1449 - x1450;
-    let x1452: f64 = x65 * x463;
-    let x1453: f64 = x68 * x460;
-    let x1454: f64 = x1452 - x1453;
-    let x1455: f64 = x68 * x470;
-    let x1456: f64 = x76 * x469;
-    let x1457: f64 = x1455 - x1456;
-    let x1458: f64 = x76 * x466;
-    let x1459: f64 = x65 * x470;
-    let x1460: f64 = x1458 - x1459;
-    let x1461: f64 = x65 * x469;
-    let x1462: f64 = x68 * x466;
-    let x1463: f64 = x1461 - x1462;
-    let x1464: f64 = x74 * x471;
-    let x1465: f64 = x75 * x463;
-    let x1466: f64 = x1464 - x1465;
-    let x1467: f64 = x75 * x460;
-    let x1468: f64 = x71 * x471;
-    let x1469: f64 = x1467 - x1468;
-    let x1470: f64 = x71 * x463;
-    let x1471: f64 = x74 * x460;
-    let x1472: f64 = x1470 - x1471;
-    let x1473: f64 = x1457 + x1466;
-    let x1474: f64 = x1460 + x1469;
-    let x1475: f64 = x1463 + x1472;
-    let x1476: f64 = 0.0024804603581707893f64 * x1448;
-    let x1477: f64 = 0.001524110902883315f64 * x1451;
-    let x1478: f64 = x1476 + x1477;
-    let x1479: f64 = -0.00010375891721868492f64 * x1454;
-    let x1480: f64 = x1478 + x1479;
-    let x1481: f64 = 0.001524110902883315f64 * x1448;
-    let x1482: f64 = 0.01056776613310695f64 * x1451;
-    let x1483: f64 = x1481 + x1482;
-    let x1484: f64 = 0.000093569097314605f64 * x1454;
-    let x1485: f64 = x1483 + x1484;
-    let x1486: f64 = -0.00010375891721868492f64 * x1448;
-    let x1487: f64 = 0.000093569097314605f64 * x1451;
-    let x1488: f64 = x1486 + x1487;
-    let x1489: f64 = 0.011794560230238949f64 * x1454;
-    let x1490: f64 = x1488 + x1489;
-    let x1491: f64 = -0.023526756935f64 * x1475;
-    let x1492: f64 = -0.017527158935000002f64 * x1474;
-    let x1493: f64 = x1491 - x1492;
-    let x1494: f64 = -0.017527158935000002f64 * x1473;
-    let x1495: f64 = 0.10024161669500001f64 * x1475;
-    let x1496: f64 = x1494 - x1495;
-    let x1497: f64 = 0.10024161669500001f64 * x1474;
-    let x1498: f64 = -0.023526756935f64 * x1473;
-    let x1499: f64 = x1497 - x1498;
-    let x1500: f64 = x1480 + x1493;
-    let x1501: f64 = x1485 + x1496;
-    let x1502: f64 = x1490 + x1499;
-    let x1503: f64 = 1.666555f64 * x1473;
-    let x1504: f64 = 1.666555f64 * x1474;
-    let x1505: f64 = 1.666555f64 * x1475;
-    let x1506: f64 = -0.023526756935f64 * x1454;
-    let x1507: f64 = -0.017527158935000002f64 * x1451;
-    let x1508: f64 = x1506 - x1507;
-    let x1509: f64 = -0.017527158935000002f64 * x1448;
-    let x1510: f64 = 0.10024161669500001f64 * x1454;
-    let x1511: f64 = x1509 - x1510;
-    let x1512: f64 = 0.10024161669500001f64 * x1451;
-    let x1513: f64 = -0.023526756935f64 * x1448;
-    let x1514: f64 = x1512 - x1513;
-    let x1515: f64 = x1503 - x1508;
-    let x1516: f64 = x1504 - x1511;
-    let x1517: f64 = x1505 - x1514;
-    let x1518: f64 = x1440 - x1500;
-    let x1519: f64 = x1441 - x1501;
-    let x1520: f64 = x1442 - x1502;
-    let x1521: f64 = x1443 - x1515;
-    let x1522: f64 = x1444 - x1516;
-    let x1523: f64 = x1445 - x1517;
-    let x1524: f64 = 0.5f64 * x1518;
-    let x1525: f64 = 0.5f64 * x1519;
-    let x1526: f64 = 0.5f64 * x1520;
-    let x1527: f64 = 0.5f64 * x1521;
-    let x1528: f64 = 0.5f64 * x1522;
-    let x1529: f64 = 0.5f64 * x1523;
-    let x1530: f64 = x1320 + x1524;
-    let x1531: f64 = x1321 + x1525;
-    let x1532: f64 = x1322 + x1526;
-    let x1533: f64 = x1335 + x1527;
-    let x1534: f64 = x1336 + x1528;
-    let x1535: f64 = x1337 + x1529;
-    let x1536: f64 = 0.0316333431909496f64 * x534;
-    let x1537: f64 = 0.0003913912816842481f64 * x535;
-    let x1538: f64 = x1536 + x1537;
-    let x1539: f64 = -0.0009653051699191116f64 * x529;
-    let x1540: f64 = x1538 + x1539;
-    let x1541: f64 = 0.0003913912816842481f64 * x534;
-    let x1542: f64 = 0.029212399412428362f64 * x535;
-    let x1543: f64 = x1541 + x1542;
-    let x1544: f64 = -0.001255536598272898f64 * x529;
-    let x1545: f64 = x1543 + x1544;
-    let x1546: f64 = -0.0009653051699191116f64 * x534;
-    let x1547: f64 = -0.001255536598272898f64 * x535;
-    let x1548: f64 = x1546 + x1547;
-    let x1549: f64 = 0.006684151967360945f64 * x529;
-    let x1550: f64 = x1548 + x1549;
-    let x1551: f64 = -0.0020344399586617965f64 * x521;
-    let x1552: f64 = 0.150277948634f64 * x537;
-    let x1553: f64 = x1551 - x1552;
-    let x1554: f64 = 0.150277948634f64 * x536;
-    let x1555: f64 = -0.002573605371338202f64 * x521;
-    let x1556: f64 = x1554 - x1555;
-    let x1557: f64 = 0.002573605371338202f64 * x537;
-    let x1558: f64 = 0.0020344399586617965f64 * x536;
-    let x1559: f64 = x1557 - x1558;
-    let x1560: f64 = x1540 + x1553;
-    let x1561: f64 = x1545 + x1556;
-    let x1562: f64 = x1550 + x1559;
-    let x1563: f64 = 1.4955219999999998f64 * x536;
-    let x1564: f64 = 1.4955219999999998f64 * x537;
-    let x1565: f64 = -1.4955219999999998f64 * x521;
-    let x1566: f64 = 0.0020344399586617965f64 * x529;
-    let x1567: f64 = 0.150277948634f64 * x535;
-    let x1568: f64 = x1566 - x1567;
-    let x1569: f64 = 0.150277948634f64 * x534;
-    let x1570: f64 = 0.002573605371338202f64 * x529;
-    let x1571: f64 = x1569 - x1570;
-    let x1572: f64 = 0.002573605371338202f64 * x535;
-    let x1573: f64 = 0.0020344399586617965f64 * x534;
-    let x1574: f64 = x1572 - x1573;
-    let x1575: f64 = x1563 - x1568;
-    let x1576: f64 = x1564 - x1571;
-    let x1577: f64 = x1565 - x1574;
-    let x1578: f64 = 0.0316333431909496f64 * x496;
-    let x1579: f64 = 0.0003913912816842481f64 * x499;
-    let x1580: f64 = x1578 + x1579;
-    let x1581: f64 = -0.0009653051699191116f64 * x511;
-    let x1582: f64 = x1580 + x1581;
-    let x1583: f64 = 0.0003913912816842481f64 * x496;
-    let x1584: f64 = 0.029212399412428362f64 * x499;
-    let x1585: f64 = x1583 + x1584;
-    let x1586: f64 = -0.001255536598272898f64 * x511;
-    let x1587: f64 = x1585 + x1586;
-    let x1588: f64 = -0.0009653051699191116f64 * x496;
-    let x1589: f64 = -0.001255536598272898f64 * x499;
-    let x1590: f64 = x1588 + x1589;
-    let x1591: f64 = 0.006684151967360945f64 * x511;
-    let x1592: f64 = x1590 + x1591;
-    let x1593: f64 = -0.0020344399586617965f64 * x503;
-    let x1594: f64 = 0.150277948634f64 * x510;
-    let x1595: f64 = x1593 - x1594;
-    let x1596: f64 = 0.150277948634f64 * x507;
-    let x1597: f64 = -0.002573605371338202f64 * x503;
-    let x1598: f64 = x1596 - x1597;
-    let x1599: f64 = 0.002573605371338202f64 * x510;
-    let x1600: f64 = 0.0020344399586617965f64 * x507;
-    let x1601: f64 = x1599 - x1600;
-    let x1602: f64 = x1582 + x1595;
-    let x1603: f64 = x1587 + x1598;
-    let x1604: f64 = x1592 + x1601;
-    let x1605: f64 = 1.4955219999999998f64 * x507;
-    let x1606: f64 = 1.4955219999999998f64 * x510;
-    let x1607: f64 = -1.4955219999999998f64 * x503;
-    let x1608: f64 = 0.0020344399586617965f64 * x511;
-    let x1609: f64 = 0.150277948634f64 * x499;
-    let x1610: f64 = x1608 - x1609;
-    let x1611: f64 = 0.150277948634f64 * x496;
-    let x1612: f64 = 0.002573605371338202f64 * x511;
-    let x1613: f64 = x1611 - x1612;
-    let x1614: f64 = 0.002573605371338202f64 * x499;
-    let x1615: f64 = 0.0020344399586617965f64 * x496;
-    let x1616: f64 = x1614 - x1615;
-    let x1617: f64 = x1605 - x1610;
-    let x1618: f64 = x1606 - x1613;
-    let x1619: f64 = x1607 - x1616;
-    let x1620: f64 = x82 * x1604;
-    let x1621: f64 = x94 * x1603;
-    let x1622: f64 = x1620 - x1621;
-    let x1623: f64 = x94 * x1602;
-    let x1624: f64 = x79 * x1604;
-    let x1625: f64 = x1623 - x1624;
-    let x1626: f64 = x79 * x1603;
-    let x1627: f64 = x82 * x1602;
-    let x1628: f64 = x1626 - x1627;
-    let x1629: f64 = x93 * x1619;
-    let x1630: f64 = x86 * x1618;
-    let x1631: f64 = x1629 + x1630;
-    let x1632: f64 = x86 * x1617;
-    let x1633: f64 = x90 * x1619;
-    let x1634: f64 = x1632 + x1633;
-    let x1635: f64 = x90 * x1618;
-    let x1636: f64 = x93 * x1617;
-    let x1637: f64 = x1635 - x1636;
-    let x1638: f64 = x1622 + x1631;
-    let x1639: f64 = x1625 - x1634;
-    let x1640: f64 = x1628 + x1637;
-    let x1641: f64 = x82 * x1619;
-    let x1642: f64 = x94 * x1618;
-    let x1643: f64 = x1641 - x1642;
-    let x1644: f64 = x94 * x1617;
-    let x1645: f64 = x79 * x1619;
-    let x1646: f64 = x1644 - x1645;
-    let x1647: f64 = x79 * x1618;
-    let x1648: f64 = x82 * x1617;
-    let x1649: f64 = x1647 - x1648;
-    let x1650: f64 = x307 * x499;
-    let x1651: f64 = x306 * x511;
-    let x1652: f64 = x1650 - x1651;
-    let x1653: f64 = x305 * x511;
-    let x1654: f64 = x307 * x496;
-    let x1655: f64 = x1653 - x1654;
-    let x1656: f64 = x306 * x496;
-    let x1657: f64 = x305 * x499;
-    let x1658: f64 = x1656 - x1657;
-    let x1659: f64 = x313 * x510;
-    let x1660: f64 = x312 * x503;
-    let x1661: f64 = x1659 + x1660;
-    let x1662: f64 = x311 * x503;
-    let x1663: f64 = x313 * x507;
-    let x1664: f64 = x1662 + x1663;
-    let x1665: f64 = x312 * x507;
-    let x1666: f64 = x311 * x510;
-    let x1667: f64 = x1665 - x1666;
-    let x1668: f64 = x1652 + x1661;
-    let x1669: f64 = x1655 - x1664;
-    let x1670: f64 = x1658 + x1667;
-    let x1671: f64 = x313 * x499;
-    let x1672: f64 = x312 * x511;
-    let x1673: f64 = x1671 - x1672;
-    let x1674: f64 = x311 * x511;
-    let x1675: f64 = x313 * x496;
-    let x1676: f64 = x1674 - x1675;
-    let x1677: f64 = x312 * x496;
-    let x1678: f64 = x311 * x499;
-    let x1679: f64 = x1677 - x1678;
-    let x1680: f64 = x1638 + x1668;
-    let x1681: f64 = x1639 + x1669;
-    let x1682: f64 = x1640 + x1670;
-    let x1683: f64 = x1643 + x1673;
-    let x1684: f64 = x1646 + x1676;
-    let x1685: f64 = x1649 + x1679;
-    let x1686: f64 = x82 * x511;
-    let x1687: f64 = x94 * x499;
-    let x1688: f64 = x1686 - x1687;
-    let x1689: f64 = x94 * x496;
-    let x1690: f64 = x79 * x511;
-    let x1691: f64 = x1689 - x1690;
-    let x1692: f64 = x79 * x499;
-    let x1693: f64 = x82 * x496;
-    let x1694: f64 = x1692 - x1693;
-    let x1695: f64 = x82 * x503;
-    let x1696: f64 = x94 * x510;
-    let x1697: f64 = x1695 + x1696;
-    let x1698: f64 = x94 * x507;
-    let x1699: f64 = x79 * x503;
-    let x1700: f64 = x1698 + x1699;
-    let x1701: f64 = x79 * x510;
-    let x1702: f64 = x82 * x507;
-    let x1703: f64 = x1701 - x1702;
-    let x1704: f64 = x93 * x511;
-    let x1705: f64 = x86 * x499;
-    let x1706: f64 = x1704 + x1705;
-    let x1707: f64 = x86 * x496;
-    let x1708: f64 = x90 * x511;
-    let x1709: f64 = x1707 + x1708;
-    let x1710: f64 = x90 * x499;
-    let x1711: f64 = x93 * x496;
-    let x1712: f64 = x1710 - x1711;
-    let x1713: f64 = x1706 - x1697;
-    let x1714: f64 = x1700 - x1709;
-    let x1715: f64 = x1703 + x1712;
-    let x1716: f64 = 0.0316333431909496f64 * x1688;
-    let x1717: f64 = 0.0003913912816842481f64 * x1691;
-    let x1718: f64 = x1716 + x1717;
-    let x1719: f64 = -0.0009653051699191116f64 * x1694;
-    let x1720: f64 = x1718 + x1719;
-    let x1721: f64 = 0.0003913912816842481f64 * x1688;
-    let x1722: f64 = 0.029212399412428362f64 * x1691;
-    let x1723: f64 = x1721 + x1722;
-    let x1724: f64 = -0.001255536598272898f64 * x1694;
-    let x1725: f64 = x1723 + x1724;
-    let x1726: f64 = -0.0009653051699191116f64 * x1688;
-    let x1727: f64 = -0.001255536598272898f64 * x1691;
-    let x1728: f64 = x1726 + x1727;
-    let x1729: f64 = 0.006684151967360945f64 * x1694;
-    let x1730: f64 = x1728 + x1729;
-    let x1731: f64 = 0.0020344399586617965f64 * x1715;
-    let x1732: f64 = 0.150277948634f64 * x1714;
-    let x1733: f64 = x1731 - x1732;
-    let x1734: f64 = 0.150277948634f64 * x1713;
-    let x1735: f64 = 0.002573605371338202f64 * x1715;
-    let x1736: f64 = x1734 - x1735;
-    let x1737: f64 = 0.002573605371338202f64 * x1714;
-    let x1738: f64 = 0.0020344399586617965f64 * x1713;
-    let x1739: f64 = x1737 - x1738;
-    let x1740: f64 = x1720 + x1733;
-    let x1741: f64 = x1725 + x1736;
-    let x1742: f64 = x1730 + x1739;
-    let x1743: f64 = 1.4955219999999998f64 * x1713;
-    let x1744: f64 = 1.4955219999999998f64 * x1714;
-    let x1745: f64 = 1.4955219999999998f64 * x1715;
-    let x1746: f64 = 0.0020344399586617965f64 * x1694;
-    let x1747: f64 = 0.150277948634f64 * x1691;
-    let x1748: f64 = x1746 - x1747;
-    let x1749: f64 = 0.150277948634f64 * x1688;
-    let x1750: f64 = 0.002573605371338202f64 * x1694;
-    let x1751: f64 = x1749 - x1750;
-    let x1752: f64 = 0.002573605371338202f64 * x1691;
-    let x1753: f64 = 0.0020344399586617965f64 * x1688;
-    let x1754: f64 = x1752 - x1753;
-    let x1755: f64 = x1743 - x1748;
-    let x1756: f64 = x1744 - x1751;
-    let x1757: f64 = x1745 - x1754;
-    let x1758: f64 = x1680 - x1740;
-    let x1759: f64 = x1681 - x1741;
-    let x1760: f64 = x1682 - x1742;
-    let x1761: f64 = x1683 - x1755;
-    let x1762: f64 = x1684 - x1756;
-    let x1763: f64 = x1685 - x1757;
-    let x1764: f64 = 0.5f64 * x1758;
-    let x1765: f64 = 0.5f64 * x1759;
-    let x1766: f64 = 0.5f64 * x1760;
-    let x1767: f64 = 0.5f64 * x1761;
-    let x1768: f64 = 0.5f64 * x1762;
-    let x1769: f64 = 0.5f64 * x1763;
-    let x1770: f64 = x1560 + x1764;
-    let x1771: f64 = x1561 + x1765;
-    let x1772: f64 = x1562 + x1766;
-    let x1773: f64 = x1575 + x1767;
-    let x1774: f64 = x1576 + x1768;
-    let x1775: f64 = x1577 + x1769;
-    let x1776: f64 = c6 * x1773;
-    let x1777: f64 = s6 * x1774;
-    let x1778: f64 = x1776 - x1777;
-    let x1779: f64 = s6 * x1773;
-    let x1780: f64 = c6 * x1774;
-    let x1781: f64 = x1779 + x1780;
-    let x1782: f64 = c6 * x1770;
-    let x1783: f64 = s6 * x1771;
-    let x1784: f64 = x1782 - x1783;
-    let x1785: f64 = s6 * x1770;
-    let x1786: f64 = c6 * x1771;
-    let x1787: f64 = x1785 + x1786;
-    let x1788: f64 = 0.088f64 * x1781;
-    let x1789: f64 = -0.088f64 * x1775;
-    let x1790: f64 = x1772 + x1788;
-    let x1791: f64 = x1787 + x1789;
-    let x1792: f64 = x1530 + x1784;
-    let x1793: f64 = x1531 - x1790;
-    let x1794: f64 = x1532 + x1791;
-    let x1795: f64 = x1533 + x1778;
-    let x1796: f64 = x1534 - x1775;
-    let x1797: f64 = x1535 + x1781;
-    let x1798: f64 = c5 * x1795;
-    let x1799: f64 = s5 * x1796;
-    let x1800: f64 = x1798 - x1799;
-    let x1801: f64 = s5 * x1795;
-    let x1802: f64 = c5 * x1796;
-    let x1803: f64 = x1801 + x1802;
-    let x1804: f64 = c5 * x1792;
-    let x1805: f64 = s5 * x1793;
-    let x1806: f64 = x1804 - x1805;
-    let x1807: f64 = s5 * x1792;
-    let x1808: f64 = c5 * x1793;
-    let x1809: f64 = x1807 + x1808;
-    let x1810: f64 = x1290 + x1806;
-    let x1811: f64 = x1291 - x1794;
-    let x1812: f64 = x1292 + x1809;
-    let x1813: f64 = x1293 + x1800;
-    let x1814: f64 = x1294 - x1797;
-    let x1815: f64 = x1295 + x1803;
-    let x1816: f64 = c4 * x1813;
-    let x1817: f64 = s4 * x1814;
-    let x1818: f64 = x1816 - x1817;
-    let x1819: f64 = s4 * x1813;
-    let x1820: f64 = c4 * x1814;
-    let x1821: f64 = x1819 + x1820;
-    let x1822: f64 = c4 * x1810;
-    let x1823: f64 = s4 * x1811;
-    let x1824: f64 = x1822 - x1823;
-    let x1825: f64 = s4 * x1810;
-    let x1826: f64 = c4 * x1811;
-    let x1827: f64 = x1825 + x1826;
-    let x1828: f64 = -0.384f64 * x1821;
-    let x1829: f64 = 0.0825f64 * x1821;
-    let x1830: f64 = -0.0825f64 * x1815;
-    let x1831: f64 = 0.384f64 * x1818;
-    let x1832: f64 = x1830 - x1831;
-    let x1833: f64 = x1824 + x1828;
-    let x1834: f64 = x1812 - x1829;
-    let x1835: f64 = x1832 - x1827;
-    let x1836: f64 = x1050 + x1833;
-    let x1837: f64 = x1051 + x1834;
-    let x1838: f64 = x1052 + x1835;
-    let x1839: f64 = x1053 + x1818;
-    let x1840: f64 = x1054 + x1815;
-    let x1841: f64 = c3 * x1839;
-    let x1842: f64 = s3 * x1840;
-    let x1843: f64 = x1841 - x1842;
-    let x1844: f64 = x1821 - x1055;
-    let x1845: f64 = s3 * x1839;
-    let x1846: f64 = c3 * x1840;
-    let x1847: f64 = x1845 + x1846;
-    let x1848: f64 = c3 * x1836;
-    let x1849: f64 = s3 * x1837;
-    let x1850: f64 = x1848 - x1849;
-    let x1851: f64 = s3 * x1836;
-    let x1852: f64 = c3 * x1837;
-    let x1853: f64 = x1851 + x1852;
-    let x1854: f64 = 0.0825f64 * x1847;
-    let x1855: f64 = 0.0825f64 * x1844;
-    let x1856: f64 = x1838 + x1854;
-    let x1857: f64 = x1853 + x1855;
-    let x1858: f64 = x811 + x1850;
-    let x1859: f64 = x812 - x1856;
-    let x1860: f64 = x813 + x1857;
-    let x1861: f64 = x814 + x1843;
-    let x1862: f64 = x815 + x1844;
-    let x1863: f64 = c2 * x1861;
-    let x1864: f64 = s2 * x1862;
-    let x1865: f64 = x1863 - x1864;
-    let x1866: f64 = s2 * x1861;
-    let x1867: f64 = c2 * x1862;
-    let x1868: f64 = x1866 + x1867;
-    let x1869: f64 = c2 * x1858;
-    let x1870: f64 = s2 * x1859;
-    let x1871: f64 = x1869 - x1870;
-    let x1872: f64 = s2 * x1858;
-    let x1873: f64 = c2 * x1859;
-    let x1874: f64 = x1872 + x1873;
-    let x1875: f64 = -0.316f64 * x1868;
-    let x1876: f64 = -0.316f64 * x1865;
-    let x1877: f64 = x1871 + x1875;
-    let x1878: f64 = x1874 - x1876;
-    let x1879: f64 = x617 + x1877;
-    let x1880: f64 = x618 - x1860;
-    let x1881: f64 = x619 + x1878;
-    let x1882: f64 = s1 * x1879;
-    let x1883: f64 = c1 * x1880;
-    let x1884: f64 = x1882 + x1883;
-    let x1885: f64 = x322 - x1884;
-    [x1772, x1794, x1812, x1838, x1860, x1881, x1885]
-}
-#[inline(never)]
-fn regressor_part0(
-    t: &JointTrig<7>,
-    qd: &SVector<f64, 7>,
-    v: &SVector<f64, 7>,
-    a: &SVector<f64, 7>,
-) -> [f64; 257] {
-    let [_, s1, s2, s3, s4, s5, s6] = t.sin;
-    let [_, c1, c2, c3, c4, c5, c6] = t.cos;
-    let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
-    let [v0, v1, v2, v3, v4, v5, v6] = v.data.0[0];
-    let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
-    let x0: f64 = -9.81f64 * s1;
-    let x1: f64 = -9.81f64 * c1;
-    let x2: f64 = qd0 * s1;
-    let x3: f64 = qd0 * c1;
-    let x4: f64 = c2 * x2;
-    let x5: f64 = qd1 * s2;
-    let x6: f64 = x5 - x4;
-    let x7: f64 = s2 * x2;
-    let x8: f64 = qd1 * c2;
-    let x9: f64 = x7 + x8;
-    let x10: f64 = -0.316f64 * qd1;
-    let x11: f64 = 0.316f64 * x2;
-    let x12: f64 = c2 * x10;
-    let x13: f64 = s2 * x11;
-    let x14: f64 = x13 - x12;
-    let x15: f64 = s2 * x10;
-    let x16: f64 = c2 * x11;
-    let x17: f64 = x15 + x16;
-    let x18: f64 = qd2 + x3;
-    let x19: f64 = c3 * x6;
-    let x20: f64 = s3 * x18;
-    let x21: f64 = x19 + x20;
-    let x22: f64 = s3 * x6;
-    let x23: f64 = c3 * x18;
-    let x24: f64 = x23 - x22;
-    let x25: f64 = 0.0825f64 * x18;
-    let x26: f64 = 0.0825f64 * x9;
-    let x27: f64 = x17 + x25;
-    let x28: f64 = c3 * x14;
-    let x29: f64 = s3 * x26;
-    let x30: f64 = x28 - x29;
-    let x31: f64 = s3 * x14;
-    let x32: f64 = c3 * x26;
-    let x33: f64 = x31 + x32;
-    let x34: f64 = qd3 - x9;
-    let x35: f64 = c4 * x21;
-    let x36: f64 = s4 * x34;
-    let x37: f64 = x35 - x36;
-    let x38: f64 = s4 * x21;
-    let x39: f64 = c4 * x34;
-    let x40: f64 = x38 + x39;
-    let x41: f64 = 0.384f64 * x34;
-    let x42: f64 = -0.0825f64 * x34;
-    let x43: f64 = -0.0825f64 * x24;
-    let x44: f64 = 0.384f64 * x21;
-    let x45: f64 = x43 - x44;
-    let x46: f64 = x30 - x41;
-    let x47: f64 = x42 - x33;
-    let x48: f64 = x27 + x45;
-    let x49: f64 = c4 * x46;
-    let x50: f64 = s4 * x48;
-    let x51: f64 = x49 + x50;
-    let x52: f64 = s4 * x46;
-    let x53: f64 = c4 * x48;
-    let x54: f64 = x53 - x52;
-    let x55: f64 = qd4 + x24;
-    let x56: f64 = c5 * x37;
-    let x57: f64 = s5 * x55;
-    let x58: f64 = x56 + x57;
-    let x59: f64 = s5 * x37;
-    let x60: f64 = c5 * x55;
-    let x61: f64 = x60 - x59;
-    let x62: f64 = c5 * x51;
-    let x63: f64 = s5 * x47;
-    let x64: f64 = x62 + x63;
-    let x65: f64 = s5 * x51;
-    let x66: f64 = c5 * x47;
-    let x67: f64 = x66 - x65;
-    let x68: f64 = x52 - x53;
-    let x69: f64 = qd5 + x40;
-    let x70: f64 = c6 * x58;
-    let x71: f64 = s6 * x69;
-    let x72: f64 = x70 + x71;
-    let x73: f64 = s6 * x58;
-    let x74: f64 = c6 * x69;
-    let x75: f64 = x74 - x73;
-    let x76: f64 = x59 - x60;
-    let x77: f64 = 0.088f64 * x69;
-    let x78: f64 = 0.088f64 * x61;
-    let x79: f64 = x67 + x77;
-    let x80: f64 = x68 - x78;
-    let x81: f64 = c6 * x64;
-    let x82: f64 = s6 * x80;
-    let x83: f64 = x81 + x82;
-    let x84: f64 = s6 * x64;
-    let x85: f64 = c6 * x80;
-    let x86: f64 = x85 - x84;
-    let x87: f64 = qd6 + x76;
-    let x88: f64 = x4 - x5;
-    let x89: f64 = x12 - x13;
-    let x90: f64 = x29 - x28;
-    let x91: f64 = x36 - x35;
-    let x92: f64 = a0 * s1;
-    let x93: f64 = a0 * c1;
-    let x94: f64 = a1 * s2;
-    let x95: f64 = a1 * c2;
-    let x96: f64 = -0.316f64 * a1;
-    let x97: f64 = x0 - x96;
-    let x98: f64 = c2 * x97;
-    let x99: f64 = s2 * x97;
-    let x100: f64 = v0 * s1;
-    let x101: f64 = v0 * c1;
-    let x102: f64 = v1 * x3;
-    let x103: f64 = v1 * x2;
-    let x104: f64 = x92 + x102;
-    let x105: f64 = x103 - x93;
-    let x106: f64 = c2 * x100;
-    let x107: f64 = v1 * s2;
-    let x108: f64 = x107 - x106;
-    let x109: f64 = s2 * x100;
-    let x110: f64 = v1 * c2;
-    let x111: f64 = x109 + x110;
-    let x112: f64 = -0.316f64 * v1;
-    let x113: f64 = 0.316f64 * x100;
-    let x114: f64 = c2 * x112;
-    let x115: f64 = s2 * x113;
-    let x116: f64 = x115 - x114;
-    let x117: f64 = s2 * x112;
-    let x118: f64 = c2 * x113;
-    let x119: f64 = x117 + x118;
-    let x120: f64 = v2 + x101;
-    let x121: f64 = c2 * x104;
-    let x122: f64 = x94 - x121;
-    let x123: f64 = s2 * x104;
-    let x124: f64 = x95 + x123;
-    let x125: f64 = x93 - x103;
-    let x126: f64 = 0.316f64 * x104;
-    let x127: f64 = s2 * x126;
-    let x128: f64 = x98 + x127;
-    let x129: f64 = c2 * x126;
-    let x130: f64 = x129 - x99;
-    let x131: f64 = a2 + x125;
-    let x132: f64 = v2 * x9;
-    let x133: f64 = v2 * x6;
-    let x134: f64 = v2 * x17;
-    let x135: f64 = v2 * x14;
-    let x136: f64 = x122 + x132;
-    let x137: f64 = x124 - x133;
-    let x138: f64 = x128 + x134;
-    let x139: f64 = x130 - x135;
-    let x140: f64 = c3 * x108;
-    let x141: f64 = s3 * x120;
-    let x142: f64 = x140 + x141;
-    let x143: f64 = s3 * x108;
-    let x144: f64 = c3 * x120;
-    let x145: f64 = x144 - x143;
-    let x146: f64 = 0.0825f64 * x120;
-    let x147: f64 = 0.0825f64 * x111;
-    let x148: f64 = x119 + x146;
-    let x149: f64 = c3 * x116;
-    let x150: f64 = s3 * x147;
-    let x151: f64 = x149 - x150;
-    let x152: f64 = s3 * x116;
-    let x153: f64 = c3 * x147;
-    let x154: f64 = x152 + x153;
-    let x155: f64 = v3 - x111;
-    let x156: f64 = c3 * x136;
-    let x157: f64 = s3 * x131;
-    let x158: f64 = x156 + x157;
-    let x159: f64 = s3 * x136;
-    let x160: f64 = c3 * x131;
-    let x161: f64 = x160 - x159;
-    let x162: f64 = x133 - x124;
-    let x163: f64 = 0.0825f64 * x131;
-    let x164: f64 = 0.0825f64 * x137;
-    let x165: f64 = x139 + x163;
-    let x166: f64 = x1 + x164;
-    let x167: f64 = c3 * x138;
-    let x168: f64 = s3 * x166;
-    let x169: f64 = x167 - x168;
-    let x170: f64 = s3 * x138;
-    let x171: f64 = c3 * x166;
-    let x172: f64 = x170 + x171;
-    let x173: f64 = a3 + x162;
-    let x174: f64 = v3 * x24;
-    let x175: f64 = v3 * x21;
-    let x176: f64 = v3 * x33;
-    let x177: f64 = v3 * x30;
-    let x178: f64 = x158 + x174;
-    let x179: f64 = x161 - x175;
-    let x180: f64 = x169 - x176;
-    let x181: f64 = x172 + x177;
-    let x182: f64 = c4 * x142;
-    let x183: f64 = s4 * x155;
-    let x184: f64 = x182 - x183;
-    let x185: f64 = s4 * x142;
-    let x186: f64 = c4 * x155;
-    let x187: f64 = x185 + x186;
-    let x188: f64 = 0.384f64 * x155;
-    let x189: f64 = -0.0825f64 * x155;
-    let x190: f64 = -0.0825f64 * x145;
-    let x191: f64 = 0.384f64 * x142;
-    let x192: f64 = x190 - x191;
-    let x193: f64 = x151 - x188;
-    let x194: f64 = x189 - x154;
-    let x195: f64 = x148 + x192;
-    let x196: f64 = c4 * x193;
-    let x197: f64 = s4 * x195;
-    let x198: f64 = x196 + x197;
-    let x199: f64 = s4 * x193;
-    let x200: f64 = c4 * x195;
-    let x201: f64 = x200 - x199;
-    let x202: f64 = v4 + x145;
-    let x203: f64 = c4 * x178;
-    let x204: f64 = s4 * x173;
-    let x205: f64 = x203 - x204;
-    let x206: f64 = s4 * x178;
-    let x207: f64 = c4 * x173;
-    let x208: f64 = x206 + x207;
-    let x209: f64 = 0.384f64 * x173;
-    let x210: f64 = -0.0825f64 * x173;
-    let x211: f64 = -0.0825f64 * x179;
-    let x212: f64 = 0.384f64 * x178;
-    let x213: f64 = x211 - x212;
-    let x214: f64 = x180 - x209;
-    let x215: f64 = x210 - x181;
-    let x216: f64 = x165 + x213;
-    let x217: f64 = c4 * x214;
-    let x218: f64 = s4 * x216;
-    let x219: f64 = x217 + x218;
-    let x220: f64 = s4 * x214;
-    let x221: f64 = c4 * x216;
-    let x222: f64 = x221 - x220;
-    let x223: f64 = a4 + x179;
-    let x224: f64 = v4 * x40;
-    let x225: f64 = v4 * x37;
-    let x226: f64 = v4 * x54;
-    let x227: f64 = v4 * x51;
-    let x228: f64 = x205 - x224;
-    let x229: f64 = x208 + x225;
-    let x230: f64 = x219 + x226;
-    let x231: f64 = x222 - x227;
-    let x232: f64 = c5 * x184;
-    let x233: f64 = s5 * x202;
-    let x234: f64 = x232 + x233;
-    let x235: f64 = s5 * x184;
-    let x236: f64 = c5 * x202;
-    let x237: f64 = x236 - x235;
-    let x238: f64 = c5 * x198;
-    let x239: f64 = s5 * x194;
-    let x240: f64 = x238 + x239;
-    let x241: f64 = s5 * x198;
-    let x242: f64 = c5 * x194;
-    let x243: f64 = x242 - x241;
-    let x244: f64 = x199 - x200;
-    let x245: f64 = v5 + x187;
-    let x246: f64 = c5 * x228;
-    let x247: f64 = s5 * x223;
-    let x248: f64 = x246 + x247;
-    let x249: f64 = s5 * x228;
-    let x250: f64 = c5 * x223;
-    let x251: f64 = x250 - x249;
-    let x252: f64 = c5 * x230;
-    let x253: f64 = s5 * x215;
-    let x254: f64 = x252 + x253;
-    let x255: f64 = s5 * x230;
-    let x256: f64 = c5 * x215;
-    let x257: f64 = x256 - x255;
-    let x258: f64 = x227 - x222;
-    let x259: f64 = a5 + x229;
-    let x260: f64 = v5 * x61;
-    let x261: f64 = v5 * x58;
-    let x262: f64 = v5 * x67;
-    let x263: f64 = v5 * x64;
-    let x264: f64 = x248 + x260;
-    let x265: f64 = x251 - x261;
-    let x266: f64 = x254 + x262;
-    let x267: f64 = x257 - x263;
-    let x268: f64 = c6 * x234;
-    let x269: f64 = s6 * x245;
-    let x270: f64 = x268 + x269;
-    let x271: f64 = s6 * x234;
-    let x272: f64 = c6 * x245;
-    let x273: f64 = x272 - x271;
-    let x274: f64 = x235 - x236;
-    let x275: f64 = 0.088f64 * x245;
-    let x276: f64 = 0.088f64 * x237;
-    let x277: f64 = x243 + x275;
-    let x278: f64 = x244 - x276;
-    let x279: f64 = c6 * x240;
-    let x280: f64 = s6 * x278;
-    let x281: f64 = x279 + x280;
-    let x282: f64 = s6 * x240;
-    let x283: f64 = c6 * x278;
-    let x284: f64 = x283 - x282;
-    let x285: f64 = v6 + x274;
-    let x286: f64 = c6 * x264;
-    let x287: f64 = s6 * x259;
-    let x288: f64 = x286 + x287;
-    let x289: f64 = s6 * x264;
-    let x290: f64 = c6 * x259;
-    let x291: f64 = x290 - x289;
-    let x292: f64 = x261 - x251;
-    let x293: f64 = 0.088f64 * x259;
-    let x294: f64 = 0.088f64 * x265;
-    let x295: f64 = x267 + x293;
-    let x296: f64 = x258 - x294;
-    let x297: f64 = c6 * x266;
-    let x298: f64 = s6 * x296;
-    let x299: f64 = x297 + x298;
-    let x300: f64 = s6 * x266;
-    let x301: f64 = c6 * x296;
-    let x302: f64 = x301 - x300;
-    let x303: f64 = a6 + x292;
-    let x304: f64 = v6 * x75;
-    let x305: f64 = v6 * x72;
-    let x306: f64 = v6 * x86;
-    let x307: f64 = v6 * x83;
-    let x308: f64 = x288 + x304;
-    let x309: f64 = x291 - x305;
-    let x310: f64 = x299 + x306;
-    let x311: f64 = x302 - x307;
-    let x312: f64 = qd1 * x101;
-    let x313: f64 = x312 - x102;
-    let x314: f64 = qd1 * x100;
-    let x315: f64 = x103 - x314;
-    let x316: f64 = x2 * x101;
-    let x317: f64 = x3 * x100;
-    let x318: f64 = x316 - x317;
-    let x319: f64 = x9 * x120;
-    let x320: f64 = x18 * x111;
-    let x321: f64 = x319 - x320;
-    let x322: f64 = x18 * x108;
-    let x323: f64 = x6 * x120;
-    let x324: f64 = x322 - x323;
-    let x325: f64 = x6 * x111;
-    let x326: f64 = x9 * x108;
-    let x327: f64 = x325 - x326;
-    let x328: f64 = x18 * x119;
-    let x329: f64 = x18 * x116;
-    let x330: f64 = x6 * x119;
-    let x331: f64 = x9 * x116;
-    let x332: f64 = x330 - x331;
-    let x333: f64 = x17 * x120;
-    let x334: f64 = x14 * x120;
-    let x335: f64 = x14 * x111;
-    let x336: f64 = x17 * x108;
-    let x337: f64 = x335 - x336;
-    let x338: f64 = x333 - x328;
-    let x339: f64 = x329 - x334;
-    let x340: f64 = x332 + x337;
-    let x341: f64 = x24 * x155;
-    let x342: f64 = x34 * x145;
-    let x343: f64 = x341 - x342;
-    let x344: f64 = x34 * x142;
-    let x345: f64 = x21 * x155;
-    let x346: f64 = x344 - x345;
-    let x347: f64 = x21 * x145;
-    let x348: f64 = x24 * x142;
-    let x349: f64 = x347 - x348;
-    let x350: f64 = x24 * x148;
-    let x351: f64 = x34 * x154;
-    let x352: f64 = x351 - x350;
-    let x353: f64 = x34 * x151;
-    let x354: f64 = x21 * x148;
-    let x355: f64 = x353 + x354;
-    let x356: f64 = x21 * x154;
-    let x357: f64 = x24 * x151;
-    let x358: f64 = x356 + x357;
-    let x359: f64 = x33 * x155;
-    let x360: f64 = x27 * x145;
-    let x361: f64 = x360 - x359;
-    let x362: f64 = x27 * x142;
-    let x363: f64 = x30 * x155;
-    let x364: f64 = x362 + x363;
-    let x365: f64 = x30 * x145;
-    let x366: f64 = x33 * x142;
-    let x367: f64 = x365 + x366;
-    let x368: f64 = x352 + x361;
-    let x369: f64 = x355 - x364;
-    let x370: f64 = x367 - x358;
-    let x371: f64 = x40 * x202;
-    let x372: f64 = x55 * x187;
-    let x373: f64 = x372 - x371;
-    let x374: f64 = x55 * x184;
-    let x375: f64 = x37 * x202;
-    let x376: f64 = x374 - x375;
-    let x377: f64 = x37 * x187;
-    let x378: f64 = x40 * x184;
-    let x379: f64 = x378 - x377;
-    let x380: f64 = x40 * x194;
-    let x381: f64 = x55 * x201;
-    let x382: f64 = x380 + x381;
-    let x383: f64 = x55 * x198;
-    let x384: f64 = x37 * x194;
-    let x385: f64 = x383 - x384;
-    let x386: f64 = x37 * x201;
-    let x387: f64 = x40 * x198;
-    let x388: f64 = x386 + x387;
-    let x389: f64 = x54 * x202;
-    let x390: f64 = x47 * x187;
-    let x391: f64 = x389 + x390;
-    let x392: f64 = x47 * x184;
-    let x393: f64 = x51 * x202;
-    let x394: f64 = x392 - x393;
-    let x395: f64 = x51 * x187;
-    let x396: f64 = x54 * x184;
-    let x397: f64 = x395 + x396;
-    let x398: f64 = x391 - x382;
-    let x399: f64 = x385 + x394;
-    let x400: f64 = x388 - x397;
-    let x401: f64 = x61 * x245;
-    let x402: f64 = x69 * x237;
-    let x403: f64 = x401 - x402;
-    let x404: f64 = x69 * x234;
-    let x405: f64 = x58 * x245;
-    let x406: f64 = x404 - x405;
-    let x407: f64 = x58 * x237;
-    let x408: f64 = x61 * x234;
-    let x409: f64 = x407 - x408;
-    let x410: f64 = x61 * x244;
-    let x411: f64 = x69 * x243;
-    let x412: f64 = x410 - x411;
-    let x413: f64 = x69 * x240;
-    let x414: f64 = x58 * x244;
-    let x415: f64 = x413 - x414;
-    let x416: f64 = x58 * x243;
-    let x417: f64 = x61 * x240;
-    let x418: f64 = x416 - x417;
-    let x419: f64 = x67 * x245;
-    let x420: f64 = x68 * x237;
-    let x421: f64 = x419 - x420;
-    let x422: f64 = x68 * x234;
-    let x423: f64 = x64 * x245;
-    let x424: f64 = x422 - x423;
-    let x425: f64 = x64 * x237;
-    let x426: f64 = x67 * x234;
-    let x427: f64 = x425 - x426;
-    let x428: f64 = x412 + x421;
-    let x429: f64 = x415 + x424;
-    let x430: f64 = x418 + x427;
-    let x431: f64 = x75 * x285;
-    let x432: f64 = x87 * x273;
-    let x433: f64 = x431 - x432;
-    let x434: f64 = x87 * x270;
-    let x435: f64 = x72 * x285;
-    let x436: f64 = x434 - x435;
-    let x437: f64 = x72 * x273;
-    let x438: f64 = x75 * x270;
-    let x439: f64 = x437 - x438;
-    let x440: f64 = x75 * x277;
-    let x441: f64 = x87 * x284;
-    let x442: f64 = x440 + x441;
-    let x443: f64 = x87 * x281;
-    let x444: f64 = x72 * x277;
-    let x445: f64 = x443 + x444;
-    let x446: f64 = x72 * x284;
-    let x447: f64 = x75 * x281;
-    let x448: f64 = x446 - x447;
-    let x449: f64 = x86 * x285;
-    let x450: f64 = x79 * x273;
-    let x451: f64 = x449 + x450;
-    let x452: f64 = x79 * x270;
-    let x453: f64 = x83 * x285;
-    let x454: f64 = x452 + x453;
-    let x455: f64 = x83 * x273;
-    let x456: f64 = x86 * x270;
-    let x457: f64 = x455 - x456;
-    let x458: f64 = x451 - x442;
-    let x459: f64 = x445 - x454;
-    let x460: f64 = x448 + x457;
-    let x461: f64 = c1 * x0;
-    let x462: f64 = s1 * x1;
-    let x463: f64 = x3 * x101;
-    let x464: f64 = qd1 * v1;
-    let x465: f64 = x316 + x317;
-    let x466: f64 = x103 + x314;
-    let x467: f64 = x317 - x316;
-    let x468: f64 = x314 - x103;
-    let x469: f64 = x465 - x318;
-    let x470: f64 = 0.5f64 * x469;
-    let x471: f64 = a1 + x470;
-    let x472: f64 = s1 * x471;
-    let x473: f64 = -x0;
-    let x474: f64 = x2 * x100;
-    let x475: f64 = x102 + x312;
-    let x476: f64 = x102 - x312;
-    let x477: f64 = x313 + x475;
-    let x478: f64 = -0.5f64 * x477;
-    let x479: f64 = x478 - x104;
-    let x480: f64 = x315 + x466;
-    let x481: f64 = -0.5f64 * x480;
-    let x482: f64 = x105 + x481;
-    let x483: f64 = x462 - x461;
-    let x484: f64 = 0.5f64 * x476;
-    let x485: f64 = -0.5f64 * x466;
-    let x486: f64 = -0.5f64 * x465;
-    let x487: f64 = x484 - x104;
-    let x488: f64 = s1 * x487;
-    let x489: f64 = c1 * x485;
-    let x490: f64 = x488 + x489;
-    let x491: f64 = -x490;
-    let x492: f64 = x474 - x463;
-    let x493: f64 = x492 + x492;
-    let x494: f64 = x466 - x315;
-    let x495: f64 = 0.5f64 * x494;
-    let x496: f64 = 0.5f64 * x493;
-    let x497: f64 = x105 + x495;
-    let x498: f64 = s1 * x497;
-    let x499: f64 = c1 * x479;
-    let x500: f64 = x498 + x499;
-    let x501: f64 = -x500;
-    let x502: f64 = 0.5f64 * x475;
-    let x503: f64 = 0.5f64 * x468;
-    let x504: f64 = 0.5f64 * x465;
-    let x505: f64 = x105 + x503;
-    let x506: f64 = s1 * x502;
-    let x507: f64 = c1 * x505;
-    let x508: f64 = x506 + x507;
-    let x509: f64 = -x508;
-    let x510: f64 = x464 - x474;
-    let x511: f64 = x510 + x510;
-    let x512: f64 = x475 - x313;
-    let x513: f64 = 0.5f64 * x511;
-    let x514: f64 = 0.5f64 * x512;
-    let x515: f64 = x514 - x104;
-    let x516: f64 = c1 * x513;
-    let x517: f64 = x472 + x516;
-    let x518: f64 = -x517;
-    let x519: f64 = x463 - x464;
-    let x520: f64 = x519 + x519;
-    let x521: f64 = x318 + x465;
-    let x522: f64 = 0.5f64 * x520;
-    let x523: f64 = -0.5f64 * x521;
-    let x524: f64 = a1 + x523;
-    let x525: f64 = s1 * x522;
-    let x526: f64 = c1 * x524;
-    let x527: f64 = x525 + x526;
-    let x528: f64 = -x527;
-    let x529: f64 = -0.5f64 * x475;
-    let x530: f64 = 0.5f64 * x466;
-    let x531: f64 = 0.5f64 * x467;
-    let x532: f64 = a1 + x531;
-    let x533: f64 = s1 * x529;
-    let x534: f64 = c1 * x530;
-    let x535: f64 = x533 + x534;
-    let x536: f64 = -x535;
-    let x537: f64 = x14 * x119;
-    let x538: f64 = x17 * x116;
-    let x539: f64 = x537 - x538;
-    let x540: f64 = x538 - x537;
-    let x541: f64 = x539 + x540;
-    let x542: f64 = x328 + x333;
-    let x543: f64 = x329 + x334;
-    let x544: f64 = x338 + x542;
-    let x545: f64 = x543 - x339;
-    let x546: f64 = 0.5f64 * x541;
-    let x547: f64 = -0.5f64 * x544;
-    let x548: f64 = 0.5f64 * x545;
-    let x549: f64 = x138 + x547;
-    let x550: f64 = x139 + x548;
-    let x551: f64 = c2 * x549;
-    let x552: f64 = s2 * x550;
-    let x553: f64 = x551 - x552;
-    let x554: f64 = s2 * x549;
-    let x555: f64 = c2 * x550;
-    let x556: f64 = x554 + x555;
-    let x557: f64 = -0.316f64 * x556;
-    let x558: f64 = -0.316f64 * x553;
-    let x559: f64 = -x558;
-    let x560: f64 = s1 * x557;
-    let x561: f64 = c1 * x546;
-    let x562: f64 = x561 - x560;
-    let x563: f64 = x9 * x119;
-    let x564: f64 = x17 * x111;
-    let x565: f64 = x563 - x564;
-    let x566: f64 = x335 - x330;
-    let x567: f64 = x9 * x111;
-    let x568: f64 = x18 * x120;
-    let x569: f64 = x567 + x568;
-    let x570: f64 = x564 - x563;
-    let x571: f64 = x331 - x336;
-    let x572: f64 = x565 + x570;
-    let x573: f64 = x566 + x571;
-    let x574: f64 = x569 + x569;
-    let x575: f64 = x325 + x326;
-    let x576: f64 = x322 + x323;
-    let x577: f64 = x326 - x325;
-    let x578: f64 = x323 - x322;
-    let x579: f64 = x340 + x573;
-    let x580: f64 = x575 - x327;
-    let x581: f64 = 0.5f64 * x572;
-    let x582: f64 = 0.5f64 * x579;
-    let x583: f64 = -0.5f64 * x574;
-    let x584: f64 = 0.5f64 * x580;
-    let x585: f64 = x1 + x582;
-    let x586: f64 = x131 + x584;
-    let x587: f64 = c2 * x583;
-    let x588: f64 = s2 * x586;
-    let x589: f64 = x587 - x588;
-    let x590: f64 = s2 * x583;
-    let x591: f64 = c2 * x586;
-    let x592: f64 = x590 + x591;
-    let x593: f64 = c2 * x581;
-    let x594: f64 = s2 * x585;
-    let x595: f64 = x593 - x594;
-    let x596: f64 = s2 * x581;
-    let x597: f64 = c2 * x585;
-    let x598: f64 = x596 + x597;
-    let x599: f64 = -0.316f64 * x592;
-    let x600: f64 = -0.316f64 * x589;
-    let x601: f64 = x595 + x599;
-    let x602: f64 = x598 - x600;
-    let x603: f64 = s1 * x601;
-    let x604: f64 = c1 * x550;
-    let x605: f64 = x604 - x603;
-    let x606: f64 = x114 - x115;
-    let x607: f64 = x106 - x107;
-    let x608: f64 = x9 * x606;
-    let x609: f64 = x6 * x606;
-    let x610: f64 = x14 * x108;
-    let x611: f64 = x336 + x608;
-    let x612: f64 = x609 + x610;
-    let x613: f64 = x6 * x108;
-    let x614: f64 = x568 + x613;
-    let x615: f64 = x89 * x111;
-    let x616: f64 = x89 * x108;
-    let x617: f64 = x6 * x116;
-    let x618: f64 = x330 + x615;
-    let x619: f64 = x616 + x617;
-    let x620: f64 = x611 + x618;
-    let x621: f64 = x612 + x619;
-    let x622: f64 = x614 + x614;
-    let x623: f64 = x319 + x320;
-    let x624: f64 = x328 - x333;
-    let x625: f64 = x320 - x319;
-    let x626: f64 = x620 - x340;
-    let x627: f64 = x542 - x624;
-    let x628: f64 = x575 - x577;
-    let x629: f64 = x623 - x321;
-    let x630: f64 = 0.5f64 * x626;
-    let x631: f64 = -0.5f64 * x621;
-    let x632: f64 = 0.5f64 * x627;
-    let x633: f64 = 0.5f64 * x628;
-    let x634: f64 = -0.5f64 * x622;
-    let x635: f64 = 0.5f64 * x629;
-    let x636: f64 = x630 - x1;
-    let x637: f64 = x632 - x138;
-    let x638: f64 = x633 - x131;
-    let x639: f64 = x136 + x635;
-    let x640: f64 = c2 * x638;
-    let x641: f64 = s2 * x634;
-    let x642: f64 = x640 - x641;
-    let x643: f64 = s2 * x638;
-    let x644: f64 = c2 * x634;
-    let x645: f64 = x643 + x644;
-    let x646: f64 = c2 * x636;
-    let x647: f64 = s2 * x631;
-    let x648: f64 = x646 - x647;
-    let x649: f64 = x138 - x632;
-    let x650: f64 = s2 * x636;
-    let x651: f64 = c2 * x631;
-    let x652: f64 = x650 + x651;
-    let x653: f64 = -0.316f64 * x645;
-    let x654: f64 = -0.316f64 * x642;
-    let x655: f64 = x648 + x653;
-    let x656: f64 = x652 - x654;
-    let x657: f64 = s1 * x655;
-    let x658: f64 = c1 * x649;
-    let x659: f64 = x657 + x658;
-    let x660: f64 = -x659;
-    let x661: f64 = x135 - x130;
-    let x662: f64 = x563 + x617;
-    let x663: f64 = x14 * x607;
-    let x664: f64 = x663 - x564;
-    let x665: f64 = x662 + x664;
-    let x666: f64 = x18 * x607;
-    let x667: f64 = x564 + x610;
-    let x668: f64 = x88 * x116;
-    let x669: f64 = x668 - x563;
-    let x670: f64 = x667 + x669;
-    let x671: f64 = x88 * x120;
-    let x672: f64 = x665 + x670;
-    let x673: f64 = x666 + x671;
-    let x674: f64 = x334 - x329;
-    let x675: f64 = x543 + x674;
-    let x676: f64 = x324 + x673;
-    let x677: f64 = x623 - x625;
-    let x678: f64 = -0.5f64 * x675;
-    let x679: f64 = 0.5f64 * x672;
-    let x680: f64 = -0.5f64 * x676;
-    let x681: f64 = 0.5f64 * x677;
-    let x682: f64 = x661 + x678;
-    let x683: f64 = x137 + x680;
-    let x684: f64 = x681 - x136;
-    let x685: f64 = c2 * x683;
-    let x686: f64 = s2 * x684;
-    let x687: f64 = x685 - x686;
-    let x688: f64 = s2 * x683;
-    let x689: f64 = c2 * x684;
-    let x690: f64 = x688 + x689;
-    let x691: f64 = c2 * x682;
-    let x692: f64 = x691 - x554;
-    let x693: f64 = s2 * x682;
-    let x694: f64 = x551 + x693;
-    let x695: f64 = -0.316f64 * x690;
-    let x696: f64 = -0.316f64 * x687;
-    let x697: f64 = x692 + x695;
-    let x698: f64 = x694 - x696;
-    let x699: f64 = s1 * x697;
-    let x700: f64 = c1 * x679;
-    let x701: f64 = x700 - x699;
-    let x702: f64 = 0.5f64 * x625;
-    let x703: f64 = 0.5f64 * x576;
-    let x704: f64 = -0.5f64 * x575;
-    let x705: f64 = x136 + x702;
-    let x706: f64 = c2 * x705;
-    let x707: f64 = s2 * x703;
-    let x708: f64 = x706 - x707;
-    let x709: f64 = s2 * x705;
-    let x710: f64 = c2 * x703;
-    let x711: f64 = x709 + x710;
-    let x712: f64 = s1 * x708;
-    let x713: f64 = c1 * x704;
-    let x714: f64 = x713 - x712;
-    let x715: f64 = x613 - x567;
-    let x716: f64 = x715 + x715;
-    let x717: f64 = x324 + x576;
-    let x718: f64 = -0.5f64 * x717;
-    let x719: f64 = 0.5f64 * x716;
-    let x720: f64 = x137 + x718;
-    let x721: f64 = c2 * x720;
-    let x722: f64 = s2 * x639;
-    let x723: f64 = x721 - x722;
-    let x724: f64 = s2 * x720;
-    let x725: f64 = c2 * x639;
-    let x726: f64 = x724 + x725;
-    let x727: f64 = s1 * x723;
-    let x728: f64 = c1 * x719;
-    let x729: f64 = x728 - x727;
-    let x730: f64 = -0.5f64 * x623;
-    let x731: f64 = 0.5f64 * x578;
-    let x732: f64 = 0.5f64 * x575;
-    let x733: f64 = x137 + x731;
-    let x734: f64 = c2 * x730;
-    let x735: f64 = s2 * x733;
-    let x736: f64 = x734 - x735;
-    let x737: f64 = s2 * x730;
-    let x738: f64 = c2 * x733;
-    let x739: f64 = x737 + x738;
-    let x740: f64 = s1 * x736;
-    let x741: f64 = c1 * x732;
-    let x742: f64 = x741 - x740;
-    let x743: f64 = x568 - x613;
-    let x744: f64 = x743 + x743;
-    let x745: f64 = x321 + x623;
-    let x746: f64 = 0.5f64 * x744;
-    let x747: f64 = -0.5f64 * x745;
-    let x748: f64 = x136 + x747;
-    let x749: f64 = s2 * x746;
-    let x750: f64 = x591 - x749;
-    let x751: f64 = c2 * x746;
-    let x752: f64 = x588 + x751;
-    let x753: f64 = s1 * x750;
-    let x754: f64 = c1 * x748;
-    let x755: f64 = x754 - x753;
-    let x756: f64 = x567 - x568;
-    let x757: f64 = x756 + x756;
-    let x758: f64 = x327 + x575;
-    let x759: f64 = x576 - x324;
-    let x760: f64 = 0.5f64 * x757;
-    let x761: f64 = -0.5f64 * x758;
-    let x762: f64 = 0.5f64 * x759;
-    let x763: f64 = x131 + x761;
-    let x764: f64 = x137 + x762;
-    let x765: f64 = c2 * x760;
-    let x766: f64 = s2 * x763;
-    let x767: f64 = x765 - x766;
-    let x768: f64 = s2 * x760;
-    let x769: f64 = c2 * x763;
-    let x770: f64 = x768 + x769;
-    let x771: f64 = s1 * x767;
-    let x772: f64 = c1 * x764;
-    let x773: f64 = x772 - x771;
-    let x774: f64 = 0.5f64 * x623;
-    let x775: f64 = -0.5f64 * x576;
-    let x776: f64 = 0.5f64 * x577;
-    let x777: f64 = x131 + x776;
-    let x778: f64 = c2 * x774;
-    let x779: f64 = s2 * x775;
-    let x780: f64 = x778 - x779;
-    let x781: f64 = s2 * x774;
-    let x782: f64 = c2 * x775;
-    let x783: f64 = x781 + x782;
-    let x784: f64 = s1 * x780;
-    let x785: f64 = c1 * x777;
-    let x786: f64 = x785 - x784;
-    let x787: f64 = x33 * x148;
-    let x788: f64 = x27 * x154;
-    let x789: f64 = x787 - x788;
-    let x790: f64 = x27 * x151;
-    let x791: f64 = x30 * x148;
-    let x792: f64 = x791 - x790;
-    let x793: f64 = x30 * x154;
-    let x794: f64 = x33 * x151;
-    let x795: f64 = x794 - x793;
-    let x796: f64 = x788 - x787;
-    let x797: f64 = x790 - x791;
-    let x798: f64 = x793 - x794;
-    let x799: f64 = x359 - x360;
-    let x800: f64 = x789 + x796;
-    let x801: f64 = x792 + x797;
-    let x802: f64 = x795 + x798;
-    let x803: f64 = x352 + x799;
-    let x804: f64 = x355 + x364;
-    let x805: f64 = x358 + x367;
-    let x806: f64 = x803 - x368;
-    let x807: f64 = x804 - x369;
-    let x808: f64 = x370 + x805;
-    let x809: f64 = 0.5f64 * x800;
-    let x810: f64 = 0.5f64 * x801;
-    let x811: f64 = 0.5f64 * x802;
-    let x812: f64 = 0.5f64 * x806;
-    let x813: f64 = 0.5f64 * x807;
-    let x814: f64 = -0.5f64 * x808;
-    let x815: f64 = x180 + x812;
-    let x816: f64 = x813 - x181;
-    let x817: f64 = c3 * x815;
-    let x818: f64 = s3 * x816;
-    let x819: f64 = x817 - x818;
-    let x820: f64 = x165 - x814;
-    let x821: f64 = s3 * x815;
-    let x822: f64 = c3 * x816;
-    let x823: f64 = x821 + x822;
-    let x824: f64 = c3 * x809;
-    let x825: f64 = s3 * x810;
-    let x826: f64 = x824 - x825;
-    let x827: f64 = s3 * x809;
-    let x828: f64 = c3 * x810;
-    let x829: f64 = x827 + x828;
-    let x830: f64 = 0.0825f64 * x823;
-    let x831: f64 = 0.0825f64 * x820;
-    let x832: f64 = x811 + x830;
-    let x833: f64 = x829 + x831;
-    let x834: f64 = c2 * x819;
-    let x835: f64 = s2 * x820;
-    let x836: f64 = x834 - x835;
-    let x837: f64 = s2 * x819;
-    let x838: f64 = c2 * x820;
-    let x839: f64 = x837 + x838;
-    let x840: f64 = c2 * x826;
-    let x841: f64 = s2 * x832;
-    let x842: f64 = x840 + x841;
-    let x843: f64 = s2 * x826;
-    let x844: f64 = c2 * x832;
-    let x845: f64 = x843 - x844;
-    let x846: f64 = -0.316f64 * x839;
-    let x847: f64 = -0.316f64 * x836;
-    let x848: f64 = x842 + x846;
-    let x849: f64 = x845 - x847;
-    let x850: f64 = s1 * x848;
-    let x851: f64 = c1 * x833;
-    let x852: f64 = x851 - x850;
-    let x853: f64 = x175 - x161;
-    let x854: f64 = x111 - v3;
-    let x855: f64 = x143 - x144;
-    let x856: f64 = x24 * x154;
-    let x857: f64 = x34 * x148;
-    let x858: f64 = x856 + x857;
-    let x859: f64 = x33 * x855;
-    let x860: f64 = x27 * x155;
-    let x861: f64 = x860 - x859;
-    let x862: f64 = x30 * x855;
-    let x863: f64 = x861 - x858;
-    let x864: f64 = x356 - x862;
-    let x865: f64 = x354 + x363;
-    let x866: f64 = x24 * x855;
-    let x867: f64 = x34 * x155;
-    let x868: f64 = x866 - x867;
-    let x869: f64 = x21 * x855;
-    let x870: f64 = x9 - qd3;
-    let x871: f64 = x22 - x23;
-    let x872: f64 = x33 * x145;
-    let x873: f64 = x860 + x872;
-    let x874: f64 = x154 * x871;
-    let x875: f64 = x857 - x874;
-    let x876: f64 = x151 * x871;
-    let x877: f64 = x875 - x873;
-    let x878: f64 = x366 - x876;
-    let x879: f64 = x353 + x362;
-    let x880: f64 = x145 * x871;
-    let x881: f64 = x880 - x867;
-    let x882: f64 = x142 * x871;
-    let x883: f64 = x863 + x877;
-    let x884: f64 = x864 + x878;
-    let x885: f64 = x865 + x879;
-    let x886: f64 = x868 + x881;
-    let x887: f64 = x869 + x882;
-    let x888: f64 = x344 + x345;
-    let x889: f64 = x358 - x367;
-    let x890: f64 = x348 - x347;
-    let x891: f64 = x345 - x344;
-    let x892: f64 = x884 - x889;
-    let x893: f64 = x885 - x369;
-    let x894: f64 = x349 + x887;
-    let x895: f64 = x888 - x891;
-    let x896: f64 = 0.5f64 * x883;
-    let x897: f64 = 0.5f64 * x892;
-    let x898: f64 = 0.5f64 * x893;
-    let x899: f64 = 0.5f64 * x886;
-    let x900: f64 = -0.5f64 * x894;
-    let x901: f64 = 0.5f64 * x895;
-    let x902: f64 = x165 + x897;
-    let x903: f64 = x898 - x181;
-    let x904: f64 = x173 + x900;
-    let x905: f64 = x853 + x901;
-    let x906: f64 = c3 * x899;
-    let x907: f64 = s3 * x904;
-    let x908: f64 = x906 - x907;
-    let x909: f64 = s3 * x899;
-    let x910: f64 = c3 * x904;
-    let x911: f64 = x909 + x910;
-    let x912: f64 = c3 * x896;
-    let x913: f64 = s3 * x902;
-    let x914: f64 = x912 - x913;
-    let x915: f64 = x181 - x898;
-    let x916: f64 = s3 * x896;
-    let x917: f64 = c3 * x902;
-    let x918: f64 = x916 + x917;
-    let x919: f64 = 0.0825f64 * x911;
-    let x920: f64 = -0.0825f64 * x905;
-    let x921: f64 = x915 - x919;
-    let x922: f64 = x918 + x920;
-    let x923: f64 = c2 * x908;
-    let x924: f64 = s2 * x905;
-    let x925: f64 = x923 + x924;
-    let x926: f64 = s2 * x908;
-    let x927: f64 = c2 * x905;
-    let x928: f64 = x926 - x927;
-    let x929: f64 = c2 * x914;
-    let x930: f64 = s2 * x921;
-    let x931: f64 = x929 - x930;
-    let x932: f64 = s2 * x914;
-    let x933: f64 = c2 * x921;
-    let x934: f64 = x932 + x933;
-    let x935: f64 = -0.316f64 * x928;
-    let x936: f64 = -0.316f64 * x925;
-    let x937: f64 = x931 + x935;
-    let x938: f64 = x934 - x936;
-    let x939: f64 = s1 * x937;
-    let x940: f64 = c1 * x922;
-    let x941: f64 = x940 - x939;
-    let x942: f64 = x176 - x169;
-    let x943: f64 = x150 - x149;
-    let x944: f64 = x24 * x943;
-    let x945: f64 = x21 * x943;
-    let x946: f64 = x857 + x945;
-    let x947: f64 = x27 * x854;
-    let x948: f64 = x30 * x142;
-    let x949: f64 = x947 + x948;
-    let x950: f64 = x33 * x854;
-    let x951: f64 = x944 - x366;
-    let x952: f64 = x946 + x949;
-    let x953: f64 = x350 + x950;
-    let x954: f64 = x34 * x854;
-    let x955: f64 = x21 * x142;
-    let x956: f64 = x954 - x955;
-    let x957: f64 = x24 * x854;
-    let x958: f64 = x90 * x145;
-    let x959: f64 = x90 * x142;
-    let x960: f64 = x860 + x959;
-    let x961: f64 = x148 * x870;
-    let x962: f64 = x21 * x151;
-    let x963: f64 = x961 + x962;
-    let x964: f64 = x154 * x870;
-    let x965: f64 = x958 - x356;
-    let x966: f64 = x960 + x963;
-    let x967: f64 = x360 + x964;
-    let x968: f64 = x155 * x870;
-    let x969: f64 = x968 - x955;
-    let x970: f64 = x145 * x870;
-    let x971: f64 = x951 + x965;
-    let x972: f64 = x952 + x966;
-    let x973: f64 = x953 + x967;
-    let x974: f64 = x347 + x348;
-    let x975: f64 = x956 + x969;
-    let x976: f64 = x957 + x970;
-    let x977: f64 = x342 - x341;
-    let x978: f64 = x971 - x370;
-    let x979: f64 = x368 + x973;
-    let x980: f64 = x974 - x890;
-    let x981: f64 = x343 + x976;
-    let x982: f64 = 0.5f64 * x978;
-    let x983: f64 = -0.5f64 * x972;
-    let x984: f64 = 0.5f64 * x979;
-    let x985: f64 = 0.5f64 * x980;
-    let x986: f64 = 0.5f64 * x975;
-    let x987: f64 = -0.5f64 * x981;
-    let x988: f64 = x982 - x165;
-    let x989: f64 = x942 + x984;
-    let x990: f64 = x985 - x173;
-    let x991: f64 = x178 + x987;
-    let x992: f64 = c3 * x990;
-    let x993: f64 = s3 * x986;
-    let x994: f64 = x992 - x993;
-    let x995: f64 = s3 * x990;
-    let x996: f64 = c3 * x986;
-    let x997: f64 = x995 + x996;
-    let x998: f64 = c3 * x988;
-    let x999: f64 = s3 * x983;
-    let x1000: f64 = x998 - x999;
-    let x1001: f64 = s3 * x988;
-    let x1002: f64 = c3 * x983;
-    let x1003: f64 = x1001 + x1002;
-    let x1004: f64 = 0.0825f64 * x997;
-    let x1005: f64 = -0.0825f64 * x991;
-    let x1006: f64 = x989 + x1004;
-    let x1007: f64 = x1003 + x1005;
-    let x1008: f64 = c2 * x994;
-    let x1009: f64 = s2 * x991;
-    let x1010: f64 = x1008 + x1009;
-    let x1011: f64 = s2 * x994;
-    let x1012: f64 = c2 * x991;
-    let x1013: f64 = x1011 - x1012;
-    let x1014: f64 = c2 * x1000;
-    let x1015: f64 = s2 * x1006;
-    let x1016: f64 = x1014 + x1015;
-    let x1017: f64 = s2 * x1000;
-    let x1018: f64 = c2 * x1006;
-    let x1019: f64 = x1017 - x1018;
-    let x1020: f64 = -0.316f64 * x1013;
-    let x1021: f64 = -0.316f64 * x1010;
-    let x1022: f64 = x1016 + x1020;
-    let x1023: f64 = x1019 - x1021;
-    [
-        x1,
-        x24,
-        x33,
-        x37,
-        x40,
-        x42,
-        x47,
-        x51,
-        x54,
-        x55,
-        x58,
-        x61,
-        x64,
-        x65,
-        x66,
-        x67,
-        x68,
-        x69,
-        x72,
-        x73,
-        x74,
-        x75,
-        x76,
-        x79,
-        x83,
-        x84,
-        x85,
-        x86,
-        x87,
-        x91,
-        x145,
-        x154,
-        x173,
-        x178,
-        x179,
-        x180,
-        x181,
-        x182,
-        x183,
-        x184,
-        x187,
-        x189,
-        x194,
-        x198,
-        x201,
-        x202,
-        x205,
-        x210,
-        x215,
-        x223,
-        x224,
-        x228,
-        x229,
-        x230,
-        x231,
-        x234,
-        x237,
-        x240,
-        x241,
-        x242,
-        x243,
-        x244,
-        x245,
-        x257,
-        x258,
-        x259,
-        x263,
-        x264,
-        x265,
-        x266,
-        x267,
-        x270,
-        x271,
-        x272,
-        x273,
-        x274,
-        x277,
-        x281,
-        x282,
-        x283,
-        x284,
-        x285,
-        x291,
-        x292,
-        x295,
-        x302,
-        x303,
-        x305,
-        x307,
-        x308,
-        x309,
-        x310,
-        x311,
-        x341,
-        x342,
-        x343,
-        x346,
-        x349,
-        x350,
-        x351,
-        x355,
-        x359,
-        x360,
-        x364,
-        x368,
-        x371,
-        x372,
-        x373,
-        x374,
-        x375,
-        x376,
-        x377,
-        x378,
-        x379,
-        x380,
-        x381,
-        x382,
-        x383,
-        x385,
-        x386,
-        x387,
-        x388,
-        x389,
-        x390,
-        x391,
-        x392,
-        x393,
-        x395,
-        x396,
-        x397,
-        x398,
-        x399,
-        x400,
-        x401,
-        x402,
-        x403,
-        x404,
-        x405,
-        x406,
-        x407,
-        x408,
-        x409,
-        x410,
-        x411,
-        x412,
-        x413,
-        x414,
-        x415,
-        x416,
-        x417,
-        x418,
-        x419,
-        x420,
-        x422,
-        x423,
-        x425,
-        x426,
-        x428,
-        x429,
-        x430,
-        x431,
-        x432,
-        x433,
-        x434,
-        x435,
-        x436,
-        x437,
-        x438,
-        x439,
-        x440,
-        x441,
-        x442,
-        x443,
-        x444,
-        x445,
-        x446,
-        x447,
-        x448,
-        x449,
-        x450,
-        x451,
-        x452,
-        x453,
-        x454,
-        x455,
-        x456,
-        x458,
-        x459,
-        x460,
-        x473,
-        x482,
-        x483,
-        x486,
-        x491,
-        x496,
-        x501,
-        x504,
-        x509,
-        x515,
-        x518,
-        x528,
-        x532,
-        x536,
-        x546,
-        x550,
-        x559,
-        x562,
-        x602,
-        x605,
-        x637,
-        x656,
-        x660,
-        x679,
-        x698,
-        x701,
-        x704,
-        x711,
-        x714,
-        x719,
-        x726,
-        x729,
-        x732,
-        x739,
-        x742,
-        x748,
-        x752,
-        x755,
-        x764,
-        x770,
-        x773,
-        x777,
-        x783,
-        x786,
-        x811,
-        x833,
-        x849,
-        x852,
-        x856,
-        x867,
-        x872,
-        x885,
-        x888,
-        x890,
-        x891,
-        x903,
-        x922,
-        x938,
-        x941,
-        x948,
-        x955,
-        x962,
-        x974,
-        x977,
-        x989,
-        x1007,
-        x1022,
-        x1023,
-    ]
-}
-#[inline(never)]
-fn regressor_part1(
-    t: &JointTrig<7>,
-    _qd: &SVector<f64, 7>,
-    _v: &SVector<f64, 7>,
-    _a: &SVector<f64, 7>,
-    carried: [f64; 134],
-) -> [f64; 116] {
-    let [_, s1, s2, s3, s4, s5, _] = t.sin;
-    let [_, c1, c2, c3, c4, c5, _] = t.cos;
-    let [x24, x33, x37, x40, x42, x47, x51, x54, x55, x58, x61, x64, x67, x68, x69, x76,
-    x91, x145, x154, x173, x178, x179, x180, x181, x182, x183, x184, x187, x189, x194,
-    x198, x201, x202, x205, x210, x215, x223, x224, x228, x229, x230, x231, x234, x237,
-    x240, x243, x244, x245, x258, x259, x264, x266, x267, x274, x292, x341, x342, x343,
-    x346, x349, x350, x351, x355, x359, x360, x364, x368, x371, x372, x373, x374, x375,
-    x376, x377, x378, x379, x380, x381, x382, x383, x385, x386, x387, x388, x389, x390,
-    x391, x392, x393, x395, x396, x397, x398, x399, x400, x401, x402, x403, x404, x405,
-    x407, x408, x409, x410, x411, x412, x413, x415, x416, x417, x418, x419, x420, x422,
-    x423, x425, x426, x428, x429, x430, x856, x867, x872, x885, x888, x890, x891, x948,
-    x955, x962, x974, x977, x1007, x1022] = carried;
-    let x1024: f64 = s1 * x1022;
-    let x1025: f64 = c1 * x1007;
-    let x1026: f64 = x1025 - x1024;
-    let x1027: f64 = x962 - x856;
-    let x1028: f64 = x872 - x948;
-    let x1029: f64 = x351 - x360;
-    let x1030: f64 = x1027 + x1028;
-    let x1031: f64 = x24 * x145;
-    let x1032: f64 = x955 + x1031;
-    let x1033: f64 = x948 - x872;
-    let x1034: f64 = x856 - x962;
-    let x1035: f64 = x359 - x350;
-    let x1036: f64 = x1033 + x1034;
-    let x1037: f64 = x1029 + x1035;
-    let x1038: f64 = x1030 + x1036;
-    let x1039: f64 = x341 + x342;
-    let x1040: f64 = x1032 + x1032;
-    let x1041: f64 = x364 - x355;
-    let x1042: f64 = x885 + x1041;
-    let x1043: f64 = x1037 - x368;
-    let x1044: f64 = x888 - x346;
-    let x1045: f64 = x1039 - x977;
-    let x1046: f64 = -0.5f64 * x1042;
-    let x1047: f64 = 0.5f64 * x1043;
-    let x1048: f64 = 0.5f64 * x1038;
-    let x1049: f64 = 0.5f64 * x1044;
-    let x1050: f64 = 0.5f64 * x1045;
-    let x1051: f64 = -0.5f64 * x1040;
-    let x1052: f64 = x181 + x1046;
-    let x1053: f64 = x180 + x1047;
-    let x1054: f64 = x179 + x1049;
-    let x1055: f64 = x1050 - x178;
-    let x1056: f64 = c3 * x1054;
-    let x1057: f64 = s3 * x1055;
-    let x1058: f64 = x1056 - x1057;
-    let x1059: f64 = s3 * x1054;
-    let x1060: f64 = c3 * x1055;
-    let x1061: f64 = x1059 + x1060;
-    let x1062: f64 = c3 * x1052;
-    let x1063: f64 = s3 * x1053;
-    let x1064: f64 = x1062 - x1063;
-    let x1065: f64 = s3 * x1052;
-    let x1066: f64 = c3 * x1053;
-    let x1067: f64 = x1065 + x1066;
-    let x1068: f64 = 0.0825f64 * x1061;
-    let x1069: f64 = 0.04125f64 * x1040;
-    let x1070: f64 = x1048 + x1068;
-    let x1071: f64 = x1067 + x1069;
-    let x1072: f64 = c2 * x1058;
-    let x1073: f64 = s2 * x1051;
-    let x1074: f64 = x1072 + x1073;
-    let x1075: f64 = s2 * x1058;
-    let x1076: f64 = c2 * x1051;
-    let x1077: f64 = x1075 - x1076;
-    let x1078: f64 = c2 * x1064;
-    let x1079: f64 = s2 * x1070;
-    let x1080: f64 = x1078 + x1079;
-    let x1081: f64 = s2 * x1064;
-    let x1082: f64 = c2 * x1070;
-    let x1083: f64 = x1081 - x1082;
-    let x1084: f64 = -0.316f64 * x1077;
-    let x1085: f64 = -0.316f64 * x1074;
-    let x1086: f64 = x1080 + x1084;
-    let x1087: f64 = x1083 - x1085;
-    let x1088: f64 = s1 * x1086;
-    let x1089: f64 = c1 * x1071;
-    let x1090: f64 = x1089 - x1088;
-    let x1091: f64 = 0.5f64 * x977;
-    let x1092: f64 = 0.5f64 * x888;
-    let x1093: f64 = -0.5f64 * x974;
-    let x1094: f64 = x178 + x1091;
-    let x1095: f64 = c3 * x1094;
-    let x1096: f64 = s3 * x1092;
-    let x1097: f64 = x1095 - x1096;
-    let x1098: f64 = s3 * x1094;
-    let x1099: f64 = c3 * x1092;
-    let x1100: f64 = x1098 + x1099;
-    let x1101: f64 = c2 * x1097;
-    let x1102: f64 = s2 * x1093;
-    let x1103: f64 = x1101 + x1102;
-    let x1104: f64 = s2 * x1097;
-    let x1105: f64 = c2 * x1093;
-    let x1106: f64 = x1104 - x1105;
-    let x1107: f64 = s1 * x1103;
-    let x1108: f64 = c1 * x1100;
-    let x1109: f64 = x1108 - x1107;
-    let x1110: f64 = x955 - x1031;
-    let x1111: f64 = x1110 + x1110;
-    let x1112: f64 = x346 + x888;
-    let x1113: f64 = x1039 - x343;
-    let x1114: f64 = -0.5f64 * x1112;
-    let x1115: f64 = 0.5f64 * x1113;
-    let x1116: f64 = 0.5f64 * x1111;
-    let x1117: f64 = x179 + x1114;
-    let x1118: f64 = x178 + x1115;
-    let x1119: f64 = c3 * x1117;
-    let x1120: f64 = s3 * x1118;
-    let x1121: f64 = x1119 - x1120;
-    let x1122: f64 = s3 * x1117;
-    let x1123: f64 = c3 * x1118;
-    let x1124: f64 = x1122 + x1123;
-    let x1125: f64 = c2 * x1121;
-    let x1126: f64 = s2 * x1116;
-    let x1127: f64 = x1125 + x1126;
-    let x1128: f64 = s2 * x1121;
-    let x1129: f64 = c2 * x1116;
-    let x1130: f64 = x1128 - x1129;
-    let x1131: f64 = s1 * x1127;
-    let x1132: f64 = c1 * x1124;
-    let x1133: f64 = x1132 - x1131;
-    let x1134: f64 = -0.5f64 * x1039;
-    let x1135: f64 = 0.5f64 * x891;
-    let x1136: f64 = 0.5f64 * x974;
-    let x1137: f64 = x179 + x1135;
-    let x1138: f64 = c3 * x1134;
-    let x1139: f64 = s3 * x1137;
-    let x1140: f64 = x1138 - x1139;
-    let x1141: f64 = s3 * x1134;
-    let x1142: f64 = c3 * x1137;
-    let x1143: f64 = x1141 + x1142;
-    let x1144: f64 = c2 * x1140;
-    let x1145: f64 = s2 * x1136;
-    let x1146: f64 = x1144 + x1145;
-    let x1147: f64 = s2 * x1140;
-    let x1148: f64 = c2 * x1136;
-    let x1149: f64 = x1147 - x1148;
-    let x1150: f64 = s1 * x1146;
-    let x1151: f64 = c1 * x1143;
-    let x1152: f64 = x1151 - x1150;
-    let x1153: f64 = x867 - x955;
-    let x1154: f64 = x1153 + x1153;
-    let x1155: f64 = x974 - x349;
-    let x1156: f64 = x343 + x1039;
-    let x1157: f64 = 0.5f64 * x1155;
-    let x1158: f64 = 0.5f64 * x1154;
-    let x1159: f64 = -0.5f64 * x1156;
-    let x1160: f64 = x173 + x1157;
-    let x1161: f64 = x178 + x1159;
-    let x1162: f64 = c3 * x1160;
-    let x1163: f64 = s3 * x1158;
-    let x1164: f64 = x1162 - x1163;
-    let x1165: f64 = s3 * x1160;
-    let x1166: f64 = c3 * x1158;
-    let x1167: f64 = x1165 + x1166;
-    let x1168: f64 = c2 * x1164;
-    let x1169: f64 = s2 * x1161;
-    let x1170: f64 = x1168 + x1169;
-    let x1171: f64 = s2 * x1164;
-    let x1172: f64 = c2 * x1161;
-    let x1173: f64 = x1171 - x1172;
-    let x1174: f64 = s1 * x1170;
-    let x1175: f64 = c1 * x1167;
-    let x1176: f64 = x1175 - x1174;
-    let x1177: f64 = x1031 - x867;
-    let x1178: f64 = x1177 + x1177;
-    let x1179: f64 = x349 + x974;
-    let x1180: f64 = 0.5f64 * x1178;
-    let x1181: f64 = -0.5f64 * x1179;
-    let x1182: f64 = x173 + x1181;
-    let x1183: f64 = c3 * x1180;
-    let x1184: f64 = s3 * x1182;
-    let x1185: f64 = x1183 - x1184;
-    let x1186: f64 = s3 * x1180;
-    let x1187: f64 = c3 * x1182;
-    let x1188: f64 = x1186 + x1187;
-    let x1189: f64 = c2 * x1185;
-    let x1190: f64 = s2 * x1054;
-    let x1191: f64 = x1189 + x1190;
-    let x1192: f64 = s2 * x1185;
-    let x1193: f64 = c2 * x1054;
-    let x1194: f64 = x1192 - x1193;
-    let x1195: f64 = s1 * x1191;
-    let x1196: f64 = c1 * x1188;
-    let x1197: f64 = x1196 - x1195;
-    let x1198: f64 = 0.5f64 * x1039;
-    let x1199: f64 = -0.5f64 * x888;
-    let x1200: f64 = 0.5f64 * x890;
-    let x1201: f64 = x173 + x1200;
-    let x1202: f64 = c3 * x1198;
-    let x1203: f64 = s3 * x1199;
-    let x1204: f64 = x1202 - x1203;
-    let x1205: f64 = s3 * x1198;
-    let x1206: f64 = c3 * x1199;
-    let x1207: f64 = x1205 + x1206;
-    let x1208: f64 = c2 * x1204;
-    let x1209: f64 = s2 * x1201;
-    let x1210: f64 = x1208 + x1209;
-    let x1211: f64 = s2 * x1204;
-    let x1212: f64 = c2 * x1201;
-    let x1213: f64 = x1211 - x1212;
-    let x1214: f64 = s1 * x1210;
-    let x1215: f64 = c1 * x1207;
-    let x1216: f64 = x1215 - x1214;
-    let x1217: f64 = x54 * x194;
-    let x1218: f64 = x47 * x201;
-    let x1219: f64 = x1217 - x1218;
-    let x1220: f64 = x47 * x198;
-    let x1221: f64 = x51 * x194;
-    let x1222: f64 = x1220 - x1221;
-    let x1223: f64 = x51 * x201;
-    let x1224: f64 = x54 * x198;
-    let x1225: f64 = x1223 - x1224;
-    let x1226: f64 = x1218 - x1217;
-    let x1227: f64 = x1221 - x1220;
-    let x1228: f64 = x1224 - x1223;
-    let x1229: f64 = x393 - x392;
-    let x1230: f64 = x1219 + x1226;
-    let x1231: f64 = x1222 + x1227;
-    let x1232: f64 = x1225 + x1228;
-    let x1233: f64 = x382 + x391;
-    let x1234: f64 = x385 + x1229;
-    let x1235: f64 = x388 + x397;
-    let x1236: f64 = x398 + x1233;
-    let x1237: f64 = x1234 - x399;
-    let x1238: f64 = x1235 - x400;
-    let x1239: f64 = 0.5f64 * x1230;
-    let x1240: f64 = 0.5f64 * x1231;
-    let x1241: f64 = 0.5f64 * x1232;
-    let x1242: f64 = -0.5f64 * x1236;
-    let x1243: f64 = 0.5f64 * x1237;
-    let x1244: f64 = 0.5f64 * x1238;
-    let x1245: f64 = x230 + x1242;
-    let x1246: f64 = x231 + x1243;
-    let x1247: f64 = x215 + x1244;
-    let x1248: f64 = c4 * x1245;
-    let x1249: f64 = s4 * x1246;
-    let x1250: f64 = x1248 - x1249;
-    let x1251: f64 = s4 * x1245;
-    let x1252: f64 = c4 * x1246;
-    let x1253: f64 = x1251 + x1252;
-    let x1254: f64 = c4 * x1239;
-    let x1255: f64 = s4 * x1240;
-    let x1256: f64 = x1254 - x1255;
-    let x1257: f64 = s4 * x1239;
-    let x1258: f64 = c4 * x1240;
-    let x1259: f64 = x1257 + x1258;
-    let x1260: f64 = -0.384f64 * x1253;
-    let x1261: f64 = 0.0825f64 * x1253;
-    let x1262: f64 = -0.0825f64 * x1247;
-    let x1263: f64 = 0.384f64 * x1250;
-    let x1264: f64 = x1262 - x1263;
-    let x1265: f64 = x1256 + x1260;
-    let x1266: f64 = x1241 - x1261;
-    let x1267: f64 = x1264 - x1259;
-    let x1268: f64 = c3 * x1250;
-    let x1269: f64 = s3 * x1247;
-    let x1270: f64 = x1268 - x1269;
-    let x1271: f64 = s3 * x1250;
-    let x1272: f64 = c3 * x1247;
-    let x1273: f64 = x1271 + x1272;
-    let x1274: f64 = c3 * x1265;
-    let x1275: f64 = s3 * x1266;
-    let x1276: f64 = x1274 - x1275;
-    let x1277: f64 = x1259 - x1264;
-    let x1278: f64 = s3 * x1265;
-    let x1279: f64 = c3 * x1266;
-    let x1280: f64 = x1278 + x1279;
-    let x1281: f64 = 0.0825f64 * x1273;
-    let x1282: f64 = x1277 - x1281;
-    let x1283: f64 = x1261 + x1280;
-    let x1284: f64 = c2 * x1270;
-    let x1285: f64 = s2 * x1253;
-    let x1286: f64 = x1284 - x1285;
-    let x1287: f64 = s2 * x1270;
-    let x1288: f64 = c2 * x1253;
-    let x1289: f64 = x1287 + x1288;
-    let x1290: f64 = c2 * x1276;
-    let x1291: f64 = s2 * x1282;
-    let x1292: f64 = x1290 - x1291;
-    let x1293: f64 = s2 * x1276;
-    let x1294: f64 = c2 * x1282;
-    let x1295: f64 = x1293 + x1294;
-    let x1296: f64 = -0.316f64 * x1289;
-    let x1297: f64 = -0.316f64 * x1286;
-    let x1298: f64 = x1292 + x1296;
-    let x1299: f64 = x1295 - x1297;
-    let x1300: f64 = s1 * x1298;
-    let x1301: f64 = c1 * x1283;
-    let x1302: f64 = x1301 - x1300;
-    let x1303: f64 = x181 - x210;
-    let x1304: f64 = x154 - x189;
-    let x1305: f64 = x40 * x201;
-    let x1306: f64 = x55 * x1304;
-    let x1307: f64 = x1305 + x1306;
-    let x1308: f64 = x37 * x1304;
-    let x1309: f64 = x54 * x187;
-    let x1310: f64 = x47 * x202;
-    let x1311: f64 = x1309 - x1310;
-    let x1312: f64 = x1311 - x1307;
-    let x1313: f64 = x386 + x395;
-    let x1314: f64 = x393 + x1308;
-    let x1315: f64 = x40 * x187;
-    let x1316: f64 = x55 * x202;
-    let x1317: f64 = x1315 + x1316;
-    let x1318: f64 = x33 - x42;
-    let x1319: f64 = x202 * x1318;
-    let x1320: f64 = x1309 + x1319;
-    let x1321: f64 = x184 * x1318;
-    let x1322: f64 = x55 * x194;
-    let x1323: f64 = x1305 - x1322;
-    let x1324: f64 = x1323 - x1320;
-    let x1325: f64 = x387 + x396;
-    let x1326: f64 = x383 + x1321;
-    let x1327: f64 = x1312 + x1324;
-    let x1328: f64 = x1313 + x1325;
-    let x1329: f64 = x1314 + x1326;
-    let x1330: f64 = x1317 + x1317;
-    let x1331: f64 = x377 + x378;
-    let x1332: f64 = x374 + x375;
-    let x1333: f64 = x397 - x388;
-    let x1334: f64 = x377 - x378;
-    let x1335: f64 = x375 - x374;
-    let x1336: f64 = x1328 + x1333;
-    let x1337: f64 = x1329 - x399;
-    let x1338: f64 = x379 + x1331;
-    let x1339: f64 = x1332 - x1335;
-    let x1340: f64 = 0.5f64 * x1327;
-    let x1341: f64 = -0.5f64 * x1336;
-    let x1342: f64 = 0.5f64 * x1337;
-    let x1343: f64 = -0.5f64 * x1330;
-    let x1344: f64 = -0.5f64 * x1338;
-    let x1345: f64 = 0.5f64 * x1339;
-    let x1346: f64 = x1303 + x1341;
-    let x1347: f64 = x231 + x1342;
-    let x1348: f64 = x223 + x1344;
-    let x1349: f64 = x229 + x1345;
-    let x1350: f64 = c4 * x1343;
-    let x1351: f64 = s4 * x1348;
-    let x1352: f64 = x1350 - x1351;
-    let x1353: f64 = s4 * x1343;
-    let x1354: f64 = c4 * x1348;
-    let x1355: f64 = x1353 + x1354;
-    let x1356: f64 = c4 * x1340;
-    let x1357: f64 = s4 * x1346;
-    let x1358: f64 = x1356 - x1357;
-    let x1359: f64 = s4 * x1340;
-    let x1360: f64 = c4 * x1346;
-    let x1361: f64 = x1359 + x1360;
-    let x1362: f64 = -0.384f64 * x1355;
-    let x1363: f64 = 0.0825f64 * x1355;
-    let x1364: f64 = -0.0825f64 * x1349;
-    let x1365: f64 = 0.384f64 * x1352;
-    let x1366: f64 = x1364 - x1365;
-    let x1367: f64 = x1358 + x1362;
-    let x1368: f64 = x1347 - x1363;
-    let x1369: f64 = x1366 - x1361;
-    let x1370: f64 = c3 * x1352;
-    let x1371: f64 = s3 * x1349;
-    let x1372: f64 = x1370 - x1371;
-    let x1373: f64 = s3 * x1352;
-    let x1374: f64 = c3 * x1349;
-    let x1375: f64 = x1373 + x1374;
-    let x1376: f64 = c3 * x1367;
-    let x1377: f64 = s3 * x1368;
-    let x1378: f64 = x1376 - x1377;
-    let x1379: f64 = x1361 - x1366;
-    let x1380: f64 = s3 * x1367;
-    let x1381: f64 = c3 * x1368;
-    let x1382: f64 = x1380 + x1381;
-    let x1383: f64 = 0.0825f64 * x1375;
-    let x1384: f64 = x1379 - x1383;
-    let x1385: f64 = x1363 + x1382;
-    let x1386: f64 = c2 * x1372;
-    let x1387: f64 = s2 * x1355;
-    let x1388: f64 = x1386 - x1387;
-    let x1389: f64 = s2 * x1372;
-    let x1390: f64 = c2 * x1355;
-    let x1391: f64 = x1389 + x1390;
-    let x1392: f64 = c2 * x1378;
-    let x1393: f64 = s2 * x1384;
-    let x1394: f64 = x1392 - x1393;
-    let x1395: f64 = s2 * x1378;
-    let x1396: f64 = c2 * x1384;
-    let x1397: f64 = x1395 + x1396;
-    let x1398: f64 = -0.316f64 * x1391;
-    let x1399: f64 = -0.316f64 * x1388;
-    let x1400: f64 = x1394 + x1398;
-    let x1401: f64 = x1397 - x1399;
-    let x1402: f64 = s1 * x1400;
-    let x1403: f64 = c1 * x1385;
-    let x1404: f64 = x1403 - x1402;
-    let x1405: f64 = x224 - x205;
-    let x1406: f64 = x183 - x182;
-    let x1407: f64 = x37 * x198;
-    let x1408: f64 = x1322 + x1407;
-    let x1409: f64 = x51 * x184;
-    let x1410: f64 = x1310 + x1409;
-    let x1411: f64 = x1408 - x1410;
-    let x1412: f64 = x380 + x389;
-    let x1413: f64 = x37 * x184;
-    let x1414: f64 = x1316 + x1413;
-    let x1415: f64 = x1410 - x1408;
-    let x1416: f64 = x381 + x390;
-    let x1417: f64 = x1411 + x1415;
-    let x1418: f64 = x1412 + x1416;
-    let x1419: f64 = x1414 + x1414;
-    let x1420: f64 = x371 + x372;
-    let x1421: f64 = x382 - x391;
-    let x1422: f64 = x371 - x372;
-    let x1423: f64 = x1328 - x400;
-    let x1424: f64 = x1418 - x1421;
-    let x1425: f64 = x1331 + x1334;
-    let x1426: f64 = x373 + x1420;
-    let x1427: f64 = 0.5f64 * x1423;
-    let x1428: f64 = 0.5f64 * x1417;
-    let x1429: f64 = 0.5f64 * x1424;
-    let x1430: f64 = -0.5f64 * x1425;
-    let x1431: f64 = -0.5f64 * x1419;
-    let x1432: f64 = -0.5f64 * x1426;
-    let x1433: f64 = x215 + x1427;
-    let x1434: f64 = x1429 - x230;
-    let x1435: f64 = x1430 - x223;
-    let x1436: f64 = x228 + x1432;
-    let x1437: f64 = c4 * x1435;
-    let x1438: f64 = s4 * x1431;
-    let x1439: f64 = x1437 - x1438;
-    let x1440: f64 = s4 * x1435;
-    let x1441: f64 = c4 * x1431;
-    let x1442: f64 = x1440 + x1441;
-    let x1443: f64 = c4 * x1433;
-    let x1444: f64 = s4 * x1428;
-    let x1445: f64 = x1443 - x1444;
-    let x1446: f64 = s4 * x1433;
-    let x1447: f64 = c4 * x1428;
-    let x1448: f64 = x1446 + x1447;
-    let x1449: f64 = -0.384f64 * x1442;
-    let x1450: f64 = 0.0825f64 * x1442;
-    let x1451: f64 = -0.0825f64 * x1436;
-    let x1452: f64 = 0.384f64 * x1439;
-    let x1453: f64 = x1451 - x1452;
-    let x1454: f64 = x1445 + x1449;
-    let x1455: f64 = x1434 - x1450;
-    let x1456: f64 = x1453 - x1448;
-    let x1457: f64 = c3 * x1439;
-    let x1458: f64 = s3 * x1436;
-    let x1459: f64 = x1457 - x1458;
-    let x1460: f64 = s3 * x1439;
-    let x1461: f64 = c3 * x1436;
-    let x1462: f64 = x1460 + x1461;
-    let x1463: f64 = c3 * x1454;
-    let x1464: f64 = s3 * x1455;
-    let x1465: f64 = x1463 - x1464;
-    let x1466: f64 = x1448 - x1453;
-    let x1467: f64 = s3 * x1454;
-    let x1468: f64 = c3 * x1455;
-    let x1469: f64 = x1467 + x1468;
-    let x1470: f64 = 0.0825f64 * x1462;
-    let x1471: f64 = x1466 - x1470;
-    let x1472: f64 = x1450 + x1469;
-    let x1473: f64 = c2 * x1459;
-    let x1474: f64 = s2 * x1442;
-    let x1475: f64 = x1473 - x1474;
-    let x1476: f64 = s2 * x1459;
-    let x1477: f64 = c2 * x1442;
-    let x1478: f64 = x1476 + x1477;
-    let x1479: f64 = c2 * x1465;
-    let x1480: f64 = s2 * x1471;
-    let x1481: f64 = x1479 - x1480;
-    let x1482: f64 = s2 * x1465;
-    let x1483: f64 = c2 * x1471;
-    let x1484: f64 = x1482 + x1483;
-    let x1485: f64 = -0.316f64 * x1478;
-    let x1486: f64 = -0.316f64 * x1475;
-    let x1487: f64 = x1481 + x1485;
-    let x1488: f64 = x1484 - x1486;
-    let x1489: f64 = s1 * x1487;
-    let x1490: f64 = c1 * x1472;
-    let x1491: f64 = x1490 - x1489;
-    let x1492: f64 = x55 * x244;
-    let x1493: f64 = x40 * x244;
-    let x1494: f64 = x1407 + x1493;
-    let x1495: f64 = x47 * x1406;
-    let x1496: f64 = x51 * x1406;
-    let x1497: f64 = x1309 + x1496;
-    let x1498: f64 = x383 + x1495;
-    let x1499: f64 = x1492 - x390;
-    let x1500: f64 = x1494 + x1497;
-    let x1501: f64 = x55 * x1406;
-    let x1502: f64 = x37 * x1406;
-    let x1503: f64 = x1502 - x1315;
-    let x1504: f64 = x68 * x202;
-    let x1505: f64 = x68 * x187;
-    let x1506: f64 = x1409 + x1505;
-    let x1507: f64 = x91 * x194;
-    let x1508: f64 = x91 * x198;
-    let x1509: f64 = x1305 + x1508;
-    let x1510: f64 = x393 + x1507;
-    let x1511: f64 = x1504 - x380;
-    let x1512: f64 = x1506 + x1509;
-    let x1513: f64 = x91 * x202;
-    let x1514: f64 = x91 * x184;
-    let x1515: f64 = x1514 - x1315;
-    let x1516: f64 = x1498 + x1510;
-    let x1517: f64 = x1499 + x1511;
-    let x1518: f64 = x1500 + x1512;
-    let x1519: f64 = x1501 + x1513;
-    let x1520: f64 = x1503 + x1515;
-    let x1521: f64 = x399 - x1516;
-    let x1522: f64 = x1517 - x398;
-    let x1523: f64 = x376 + x1519;
-    let x1524: f64 = x1420 + x1422;
-    let x1525: f64 = 0.5f64 * x1521;
-    let x1526: f64 = 0.5f64 * x1522;
-    let x1527: f64 = 0.5f64 * x1518;
-    let x1528: f64 = -0.5f64 * x1523;
-    let x1529: f64 = -0.5f64 * x1524;
-    let x1530: f64 = 0.5f64 * x1520;
-    let x1531: f64 = x258 + x1525;
-    let x1532: f64 = x230 + x1526;
-    let x1533: f64 = x1528 - x229;
-    let x1534: f64 = x1405 + x1529;
-    let x1535: f64 = c4 * x1533;
-    let x1536: f64 = s4 * x1534;
-    let x1537: f64 = x1535 - x1536;
-    let x1538: f64 = s4 * x1533;
-    let x1539: f64 = c4 * x1534;
-    let x1540: f64 = x1538 + x1539;
-    let x1541: f64 = c4 * x1531;
-    let x1542: f64 = s4 * x1532;
-    let x1543: f64 = x1541 - x1542;
-    let x1544: f64 = s4 * x1531;
-    let x1545: f64 = c4 * x1532;
-    let x1546: f64 = x1544 + x1545;
-    let x1547: f64 = -0.384f64 * x1540;
-    let x1548: f64 = 0.0825f64 * x1540;
-    let x1549: f64 = -0.04125f64 * x1520;
-    let x1550: f64 = 0.384f64 * x1537;
-    let x1551: f64 = x1549 - x1550;
-    let x1552: f64 = x1543 + x1547;
-    let x1553: f64 = x1527 - x1548;
-    let x1554: f64 = x1551 - x1546;
-    let x1555: f64 = c3 * x1537;
-    let x1556: f64 = s3 * x1530;
-    let x1557: f64 = x1555 - x1556;
-    let x1558: f64 = s3 * x1537;
-    let x1559: f64 = c3 * x1530;
-    let x1560: f64 = x1558 + x1559;
-    let x1561: f64 = c3 * x1552;
-    let x1562: f64 = s3 * x1553;
-    let x1563: f64 = x1561 - x1562;
-    let x1564: f64 = x1546 - x1551;
-    let x1565: f64 = s3 * x1552;
-    let x1566: f64 = c3 * x1553;
-    let x1567: f64 = x1565 + x1566;
-    let x1568: f64 = 0.0825f64 * x1560;
-    let x1569: f64 = x1564 - x1568;
-    let x1570: f64 = x1548 + x1567;
-    let x1571: f64 = c2 * x1557;
-    let x1572: f64 = s2 * x1540;
-    let x1573: f64 = x1571 - x1572;
-    let x1574: f64 = s2 * x1557;
-    let x1575: f64 = c2 * x1540;
-    let x1576: f64 = x1574 + x1575;
-    let x1577: f64 = c2 * x1563;
-    let x1578: f64 = s2 * x1569;
-    let x1579: f64 = x1577 - x1578;
-    let x1580: f64 = s2 * x1563;
-    let x1581: f64 = c2 * x1569;
-    let x1582: f64 = x1580 + x1581;
-    let x1583: f64 = -0.316f64 * x1576;
-    let x1584: f64 = -0.316f64 * x1573;
-    let x1585: f64 = x1579 + x1583;
-    let x1586: f64 = x1582 - x1584;
-    let x1587: f64 = s1 * x1585;
-    let x1588: f64 = c1 * x1570;
-    let x1589: f64 = x1588 - x1587;
-    let x1590: f64 = 0.5f64 * x1422;
-    let x1591: f64 = 0.5f64 * x1332;
-    let x1592: f64 = 0.5f64 * x1331;
-    let x1593: f64 = x228 + x1590;
-    let x1594: f64 = c4 * x1593;
-    let x1595: f64 = s4 * x1591;
-    let x1596: f64 = x1594 - x1595;
-    let x1597: f64 = s4 * x1593;
-    let x1598: f64 = c4 * x1591;
-    let x1599: f64 = x1597 + x1598;
-    let x1600: f64 = -x1599;
-    let x1601: f64 = c3 * x1596;
-    let x1602: f64 = s3 * x1592;
-    let x1603: f64 = x1601 - x1602;
-    let x1604: f64 = s3 * x1596;
-    let x1605: f64 = c3 * x1592;
-    let x1606: f64 = x1604 + x1605;
-    let x1607: f64 = c2 * x1603;
-    let x1608: f64 = s2 * x1599;
-    let x1609: f64 = x1607 - x1608;
-    let x1610: f64 = s2 * x1603;
-    let x1611: f64 = c2 * x1599;
-    let x1612: f64 = x1610 + x1611;
-    let x1613: f64 = s1 * x1609;
-    let x1614: f64 = c1 * x1606;
-    let x1615: f64 = x1614 - x1613;
-    let x1616: f64 = x1413 - x1315;
-    let x1617: f64 = x1616 + x1616;
-    let x1618: f64 = x376 + x1332;
-    let x1619: f64 = -0.5f64 * x1618;
-    let x1620: f64 = 0.5f64 * x1617;
-    let x1621: f64 = x1619 - x229;
-    let x1622: f64 = c4 * x1621;
-    let x1623: f64 = s4 * x1436;
-    let x1624: f64 = x1622 - x1623;
-    let x1625: f64 = s4 * x1621;
-    let x1626: f64 = c4 * x1436;
-    let x1627: f64 = x1625 + x1626;
-    let x1628: f64 = -x1627;
-    let x1629: f64 = c3 * x1624;
-    let x1630: f64 = s3 * x1620;
-    let x1631: f64 = x1629 - x1630;
-    let x1632: f64 = s3 * x1624;
-    let x1633: f64 = c3 * x1620;
-    let x1634: f64 = x1632 + x1633;
-    let x1635: f64 = c2 * x1631;
-    let x1636: f64 = s2 * x1627;
-    let x1637: f64 = x1635 - x1636;
-    let x1638: f64 = s2 * x1631;
-    let x1639: f64 = c2 * x1627;
-    let x1640: f64 = x1638 + x1639;
-    let x1641: f64 = s1 * x1637;
-    let x1642: f64 = c1 * x1634;
-    let x1643: f64 = x1642 - x1641;
-    let x1644: f64 = 0.5f64 * x1420;
-    let x1645: f64 = 0.5f64 * x1335;
-    let x1646: f64 = -0.5f64 * x1331;
-    let x1647: f64 = x1645 - x229;
-    let x1648: f64 = c4 * x1644;
-    let x1649: f64 = s4 * x1647;
-    let x1650: f64 = x1648 - x1649;
-    let x1651: f64 = s4 * x1644;
-    let x1652: f64 = c4 * x1647;
-    let x1653: f64 = x1651 + x1652;
-    let x1654: f64 = -x1653;
-    let x1655: f64 = c3 * x1650;
-    let x1656: f64 = s3 * x1646;
-    let x1657: f64 = x1655 - x1656;
-    let x1658: f64 = s3 * x1650;
-    let x1659: f64 = c3 * x1646;
-    let x1660: f64 = x1658 + x1659;
-    let x1661: f64 = c2 * x1657;
-    let x1662: f64 = s2 * x1653;
-    let x1663: f64 = x1661 - x1662;
-    let x1664: f64 = s2 * x1657;
-    let x1665: f64 = c2 * x1653;
-    let x1666: f64 = x1664 + x1665;
-    let x1667: f64 = s1 * x1663;
-    let x1668: f64 = c1 * x1660;
-    let x1669: f64 = x1668 - x1667;
-    let x1670: f64 = x1316 - x1413;
-    let x1671: f64 = x1670 + x1670;
-    let x1672: f64 = x1420 - x373;
-    let x1673: f64 = 0.5f64 * x1671;
-    let x1674: f64 = 0.5f64 * x1672;
-    let x1675: f64 = x228 + x1674;
-    let x1676: f64 = s4 * x1673;
-    let x1677: f64 = x1354 - x1676;
-    let x1678: f64 = c4 * x1673;
-    let x1679: f64 = x1351 + x1678;
-    let x1680: f64 = -x1679;
-    let x1681: f64 = c3 * x1677;
-    let x1682: f64 = s3 * x1675;
-    let x1683: f64 = x1681 - x1682;
-    let x1684: f64 = s3 * x1677;
-    let x1685: f64 = c3 * x1675;
-    let x1686: f64 = x1684 + x1685;
-    let x1687: f64 = c2 * x1683;
-    let x1688: f64 = s2 * x1679;
-    let x1689: f64 = x1687 - x1688;
-    let x1690: f64 = s2 * x1683;
-    let x1691: f64 = c2 * x1679;
-    let x1692: f64 = x1690 + x1691;
-    let x1693: f64 = s1 * x1689;
-    let x1694: f64 = c1 * x1686;
-    let x1695: f64 = x1694 - x1693;
-    let x1696: f64 = x1315 - x1316;
-    let x1697: f64 = x1696 + x1696;
-    let x1698: f64 = x1331 - x379;
-    let x1699: f64 = x1332 - x376;
-    let x1700: f64 = 0.5f64 * x1697;
-    let x1701: f64 = 0.5f64 * x1698;
-    let x1702: f64 = 0.5f64 * x1699;
-    let x1703: f64 = x223 + x1701;
-    let x1704: f64 = x1702 - x229;
-    let x1705: f64 = c4 * x1700;
-    let x1706: f64 = s4 * x1703;
-    let x1707: f64 = x1705 - x1706;
-    let x1708: f64 = s4 * x1700;
-    let x1709: f64 = c4 * x1703;
-    let x1710: f64 = x1708 + x1709;
-    let x1711: f64 = -x1710;
-    let x1712: f64 = c3 * x1707;
-    let x1713: f64 = s3 * x1704;
-    let x1714: f64 = x1712 - x1713;
-    let x1715: f64 = s3 * x1707;
-    let x1716: f64 = c3 * x1704;
-    let x1717: f64 = x1715 + x1716;
-    let x1718: f64 = c2 * x1714;
-    let x1719: f64 = s2 * x1710;
-    let x1720: f64 = x1718 - x1719;
-    let x1721: f64 = s2 * x1714;
-    let x1722: f64 = c2 * x1710;
-    let x1723: f64 = x1721 + x1722;
-    let x1724: f64 = s1 * x1720;
-    let x1725: f64 = c1 * x1717;
-    let x1726: f64 = x1725 - x1724;
-    let x1727: f64 = -0.5f64 * x1420;
-    let x1728: f64 = -0.5f64 * x1332;
-    let x1729: f64 = 0.5f64 * x1334;
-    let x1730: f64 = x223 + x1729;
-    let x1731: f64 = c4 * x1727;
-    let x1732: f64 = s4 * x1728;
-    let x1733: f64 = x1731 - x1732;
-    let x1734: f64 = s4 * x1727;
-    let x1735: f64 = c4 * x1728;
-    let x1736: f64 = x1734 + x1735;
-    let x1737: f64 = -x1736;
-    let x1738: f64 = c3 * x1733;
-    let x1739: f64 = s3 * x1730;
-    let x1740: f64 = x1738 - x1739;
-    let x1741: f64 = s3 * x1733;
-    let x1742: f64 = c3 * x1730;
-    let x1743: f64 = x1741 + x1742;
-    let x1744: f64 = c2 * x1740;
-    let x1745: f64 = s2 * x1736;
-    let x1746: f64 = x1744 - x1745;
-    let x1747: f64 = s2 * x1740;
-    let x1748: f64 = c2 * x1736;
-    let x1749: f64 = x1747 + x1748;
-    let x1750: f64 = s1 * x1746;
-    let x1751: f64 = c1 * x1743;
-    let x1752: f64 = x1751 - x1750;
-    let x1753: f64 = x67 * x244;
-    let x1754: f64 = x68 * x243;
-    let x1755: f64 = x1753 - x1754;
-    let x1756: f64 = x68 * x240;
-    let x1757: f64 = x64 * x244;
-    let x1758: f64 = x1756 - x1757;
-    let x1759: f64 = x64 * x243;
-    let x1760: f64 = x67 * x240;
-    let x1761: f64 = x1759 - x1760;
-    let x1762: f64 = x1754 - x1753;
-    let x1763: f64 = x1757 - x1756;
-    let x1764: f64 = x1760 - x1759;
-    let x1765: f64 = x420 - x419;
-    let x1766: f64 = x423 - x422;
-    let x1767: f64 = x426 - x425;
-    let x1768: f64 = x1755 + x1762;
-    let x1769: f64 = x1758 + x1763;
-    let x1770: f64 = x1761 + x1764;
-    let x1771: f64 = x412 + x1765;
-    let x1772: f64 = x415 + x1766;
-    let x1773: f64 = x418 + x1767;
-    let x1774: f64 = x1771 - x428;
-    let x1775: f64 = x1772 - x429;
-    let x1776: f64 = x1773 - x430;
-    let x1777: f64 = 0.5f64 * x1768;
-    let x1778: f64 = 0.5f64 * x1769;
-    let x1779: f64 = 0.5f64 * x1770;
-    let x1780: f64 = 0.5f64 * x1774;
-    let x1781: f64 = 0.5f64 * x1775;
-    let x1782: f64 = 0.5f64 * x1776;
-    let x1783: f64 = x266 + x1780;
-    let x1784: f64 = x267 + x1781;
-    let x1785: f64 = x258 + x1782;
-    let x1786: f64 = c5 * x1783;
-    let x1787: f64 = s5 * x1784;
-    let x1788: f64 = x1786 - x1787;
-    let x1789: f64 = s5 * x1783;
-    let x1790: f64 = c5 * x1784;
-    let x1791: f64 = x1789 + x1790;
-    let x1792: f64 = c5 * x1777;
-    let x1793: f64 = s5 * x1778;
-    let x1794: f64 = x1792 - x1793;
-    let x1795: f64 = s5 * x1777;
-    let x1796: f64 = c5 * x1778;
-    let x1797: f64 = x1795 + x1796;
-    let x1798: f64 = c4 * x1788;
-    let x1799: f64 = s4 * x1785;
-    let x1800: f64 = x1798 + x1799;
-    let x1801: f64 = s4 * x1788;
-    let x1802: f64 = c4 * x1785;
-    let x1803: f64 = x1802 - x1801;
-    let x1804: f64 = c4 * x1794;
-    let x1805: f64 = s4 * x1779;
-    let x1806: f64 = x1804 + x1805;
-    let x1807: f64 = s4 * x1794;
-    let x1808: f64 = c4 * x1779;
-    let x1809: f64 = x1808 - x1807;
-    let x1810: f64 = 0.384f64 * x1803;
-    let x1811: f64 = -0.0825f64 * x1803;
-    let x1812: f64 = -0.0825f64 * x1791;
-    let x1813: f64 = 0.384f64 * x1800;
-    let x1814: f64 = x1812 - x1813;
-    let x1815: f64 = x1806 + x1810;
-    let x1816: f64 = x1797 - x1811;
-    let x1817: f64 = x1809 + x1814;
-    let x1818: f64 = c3 * x1800;
-    let x1819: f64 = s3 * x1791;
-    let x1820: f64 = x1818 - x1819;
-    let x1821: f64 = x1801 - x1802;
-    let x1822: f64 = s3 * x1800;
-    let x1823: f64 = c3 * x1791;
-    let x1824: f64 = x1822 + x1823;
-    let x1825: f64 = c3 * x1815;
-    let x1826: f64 = s3 * x1816;
-    let x1827: f64 = x1825 - x1826;
-    let x1828: f64 = s3 * x1815;
-    let x1829: f64 = c3 * x1816;
-    let x1830: f64 = x1828 + x1829;
-    let x1831: f64 = 0.0825f64 * x1824;
-    let x1832: f64 = 0.0825f64 * x1821;
-    let x1833: f64 = x1817 + x1831;
-    let x1834: f64 = x1830 + x1832;
-    let x1835: f64 = c2 * x1820;
-    let x1836: f64 = s2 * x1821;
-    let x1837: f64 = x1835 - x1836;
-    let x1838: f64 = s2 * x1820;
-    let x1839: f64 = c2 * x1821;
-    let x1840: f64 = x1838 + x1839;
-    let x1841: f64 = c2 * x1827;
-    let x1842: f64 = s2 * x1833;
-    let x1843: f64 = x1841 + x1842;
-    let x1844: f64 = s2 * x1827;
-    let x1845: f64 = c2 * x1833;
-    let x1846: f64 = x1844 - x1845;
-    let x1847: f64 = -0.316f64 * x1840;
-    let x1848: f64 = -0.316f64 * x1837;
-    let x1849: f64 = x1843 + x1847;
-    let x1850: f64 = x1846 - x1848;
-    let x1851: f64 = s1 * x1849;
-    let x1852: f64 = c1 * x1834;
-    let x1853: f64 = x1852 - x1851;
-    let x1854: f64 = x61 * x243;
-    let x1855: f64 = x69 * x201;
-    let x1856: f64 = x1854 - x1855;
-    let x1857: f64 = x58 * x201;
-    let x1858: f64 = x67 * x274;
-    let x1859: f64 = x68 * x245;
-    let x1860: f64 = x1858 - x1859;
-    let x1861: f64 = x64 * x274;
-    let x1862: f64 = x1856 + x1860;
-    let x1863: f64 = x416 + x1861;
-    let x1864: f64 = x423 + x1857;
-    let x1865: f64 = x61 * x274;
-    let x1866: f64 = x69 * x245;
-    let x1867: f64 = x1865 - x1866;
-    let x1868: f64 = x58 * x274;
-    let x1869: f64 = x67 * x237;
-    let x1870: f64 = x54 * x245;
-    let x1871: f64 = x1869 - x1870;
-    let x1872: f64 = x54 * x234;
-    let x1873: f64 = x76 * x243;
-    let x1874: f64 = x69 * x244;
-    let x1875: f64 = x1873 - x1874;
-    let x1876: f64 = x76 * x240;
-    let x1877: f64 = x1871 + x1875;
-    let x1878: f64 = x426 + x1876;
-    let x1879: f64 = x413 + x1872;
-    let x1880: f64 = x76 * x237;
-    let x1881: f64 = x1880 - x1866;
-    let x1882: f64 = x76 * x234;
-    let x1883: f64 = x1862 + x1877;
-    let x1884: f64 = x1863 + x1878;
-    let x1885: f64 = x1864 + x1879;
-    let x1886: f64 = x1867 + x1881;
-    let x1887: f64 = x1868 + x1882;
-    let x1888: f64 = x404 + x405;
-    let x1889: f64 = x408 - x407;
-    let x1890: f64 = x405 - x404;
-    let x1891: f64 = x430 - x1884;
-    let x1892: f64 = x1885 - x429;
-    let x1893: f64 = x409 + x1887;
-    let x1894: f64 = x1888 - x1890;
-    let x1895: f64 = 0.5f64 * x1883;
-    let x1896: f64 = 0.5f64 * x1891;
-    let x1897: f64 = 0.5f64 * x1892;
-    let x1898: f64 = 0.5f64 * x1886;
-    let x1899: f64 = -0.5f64 * x1893;
-    let x1900: f64 = 0.5f64 * x1894;
-    let x1901: f64 = x231 + x1896;
-    let x1902: f64 = x267 + x1897;
-    let x1903: f64 = x259 + x1899;
-    let x1904: f64 = x292 + x1900;
-    let x1905: f64 = c5 * x1898;
-    let x1906: f64 = s5 * x1903;
-    let x1907: f64 = x1905 - x1906;
-    let x1908: f64 = s5 * x1898;
-    let x1909: f64 = c5 * x1903;
-    let x1910: f64 = x1908 + x1909;
-    let x1911: f64 = c5 * x1895;
-    let x1912: f64 = s5 * x1901;
-    let x1913: f64 = x1911 - x1912;
-    let x1914: f64 = s5 * x1895;
-    let x1915: f64 = c5 * x1901;
-    let x1916: f64 = x1914 + x1915;
-    let x1917: f64 = c4 * x1907;
-    let x1918: f64 = s4 * x1904;
-    let x1919: f64 = x1917 + x1918;
-    let x1920: f64 = s4 * x1907;
-    let x1921: f64 = c4 * x1904;
-    let x1922: f64 = x1921 - x1920;
-    let x1923: f64 = c4 * x1913;
-    let x1924: f64 = s4 * x1902;
-    let x1925: f64 = x1923 + x1924;
-    let x1926: f64 = s4 * x1913;
-    let x1927: f64 = c4 * x1902;
-    let x1928: f64 = x1927 - x1926;
-    let x1929: f64 = 0.384f64 * x1922;
-    let x1930: f64 = -0.0825f64 * x1922;
-    let x1931: f64 = -0.0825f64 * x1910;
-    let x1932: f64 = 0.384f64 * x1919;
-    let x1933: f64 = x1931 - x1932;
-    let x1934: f64 = x1925 + x1929;
-    let x1935: f64 = x1916 - x1930;
-    let x1936: f64 = x1928 + x1933;
-    let x1937: f64 = c3 * x1919;
-    let x1938: f64 = s3 * x1910;
-    let x1939: f64 = x1937 - x1938;
-    let x1940: f64 = x1920 - x1921;
-    let x1941: f64 = s3 * x1919;
-    let x1942: f64 = c3 * x1910;
-    let x1943: f64 = x1941 + x1942;
-    let x1944: f64 = c3 * x1934;
-    let x1945: f64 = s3 * x1935;
-    let x1946: f64 = x1944 - x1945;
-    let x1947: f64 = s3 * x1934;
-    let x1948: f64 = c3 * x1935;
-    let x1949: f64 = x1947 + x1948;
-    let x1950: f64 = 0.0825f64 * x1943;
-    let x1951: f64 = 0.0825f64 * x1940;
-    let x1952: f64 = x1936 + x1950;
-    let x1953: f64 = x1949 + x1951;
-    let x1954: f64 = c2 * x1939;
-    let x1955: f64 = s2 * x1940;
-    let x1956: f64 = x1954 - x1955;
-    let x1957: f64 = s2 * x1939;
-    let x1958: f64 = c2 * x1940;
-    let x1959: f64 = x1957 + x1958;
-    let x1960: f64 = c2 * x1946;
-    let x1961: f64 = s2 * x1952;
-    let x1962: f64 = x1960 + x1961;
-    let x1963: f64 = s2 * x1946;
-    let x1964: f64 = c2 * x1952;
-    let x1965: f64 = x1963 - x1964;
-    let x1966: f64 = -0.316f64 * x1959;
-    let x1967: f64 = -0.316f64 * x1956;
-    let x1968: f64 = x1962 + x1966;
-    let x1969: f64 = x1965 - x1967;
-    let x1970: f64 = s1 * x1968;
-    let x1971: f64 = c1 * x1953;
-    let x1972: f64 = x1971 - x1970;
-    let x1973: f64 = x58 * x240;
-    let x1974: f64 = x1874 + x1973;
-    let x1975: f64 = x64 * x234;
-    let x1976: f64 = x1859 + x1975;
-    let x1977: f64 = x426 - x417;
-    let x1978: f64 = x1974 - x1976;
-    let x1979: f64 = x419 - x410;
-    let x1980: f64 = x58 * x234;
-    let x1981: f64 = x1866 + x1980;
-    let x1982: f64 = x416 - x425;
-    let x1983: f64 = x1976 - x1974;
-    let x1984: f64 = x411 - x420;
-    let x1985: f64 = x1977 + x1982;
-    let x1986: f64 = x1978 + x1983;
-    let x1987: f64 = x1979 + x1984;
-    let x1988: f64 = x407 + x408;
-    let x1989: f64 = x1981 + x1981;
-    let x1990: f64 = x401 + x402;
-    let x1991: f64 = x402 - x401;
-    let x1992: f64 = x1985 - x430;
-    let x1993: f64 = x428 + x1987;
-    let x1994: f64 = x1988 - x1889;
-    let x1995: f64 = x1990 - x403;
-    let x1996: f64 = 0.5f64 * x1992;
-    let x1997: f64 = 0.5f64 * x1986;
-    let x1998: f64 = 0.5f64 * x1993;
-    let x1999: f64 = 0.5f64 * x1994;
-    let x2000: f64 = -0.5f64 * x1989;
-    let x2001: f64 = 0.5f64 * x1995;
-    let x2002: f64 = x258 + x1996;
-    let x2003: f64 = x1998 - x266;
-    let x2004: f64 = x1999 - x259;
-    let x2005: f64 = x264 + x2001;
-    let x2006: f64 = c5 * x2004;
-    let x2007: f64 = s5 * x2000;
-    let x2008: f64 = x2006 - x2007;
-    let x2009: f64 = s5 * x2004;
-    let x2010: f64 = c5 * x2000;
-    let x2011: f64 = x2009 + x2010;
-    let x2012: f64 = c5 * x2002;
-    let x2013: f64 = s5 * x1997;
-    let x2014: f64 = x2012 - x2013;
-    let x2015: f64 = x266 - x1998;
-    let x2016: f64 = s5 * x2002;
-    let x2017: f64 = c5 * x1997;
-    let x2018: f64 = x2016 + x2017;
-    let x2019: f64 = c4 * x2008;
-    let x2020: f64 = s4 * x2005;
-    let x2021: f64 = x2019 + x2020;
-    let x2022: f64 = s4 * x2008;
-    let x2023: f64 = c4 * x2005;
-    let x2024: f64 = x2023 - x2022;
-    let x2025: f64 = c4 * x2014;
-    let x2026: f64 = s4 * x2015;
-    let x2027: f64 = x2025 - x2026;
-    let x2028: f64 = s4 * x2014;
-    let x2029: f64 = c4 * x2015;
-    let x2030: f64 = x2028 + x2029;
-    let x2031: f64 = 0.384f64 * x2024;
-    let x2032: f64 = -0.0825f64 * x2024;
-    let x2033: f64 = -0.0825f64 * x2011;
-    let x2034: f64 = 0.384f64 * x2021;
-    let x2035: f64 = x2033 - x2034;
-    let x2036: f64 = x2027 + x2031;
-    let x2037: f64 = x2018 - x2032;
-    let x2038: f64 = x2035 - x2030;
-    let x2039: f64 = c3 * x2021;
-    let x2040: f64 = s3 * x2011;
-    let x2041: f64 = x2039 - x2040;
-    let x2042: f64 = x2022 - x2023;
-    let x2043: f64 = s3 * x2021;
-    let x2044: f64 = c3 * x2011;
-    let x2045: f64 = x2043 + x2044;
-    let x2046: f64 = c3 * x2036;
-    let x2047: f64 = s3 * x2037;
-    [
-        x1026,
-        x1048,
-        x1054,
-        x1071,
-        x1087,
-        x1090,
-        x1093,
-        x1100,
-        x1106,
-        x1109,
-        x1116,
-        x1124,
-        x1130,
-        x1133,
-        x1136,
-        x1143,
-        x1149,
-        x1152,
-        x1161,
-        x1167,
-        x1173,
-        x1176,
-        x1188,
-        x1194,
-        x1197,
-        x1201,
-        x1207,
-        x1213,
-        x1216,
-        x1241,
-        x1267,
-        x1283,
-        x1299,
-        x1302,
-        x1347,
-        x1369,
-        x1385,
-        x1401,
-        x1404,
-        x1434,
-        x1456,
-        x1472,
-        x1488,
-        x1491,
-        x1527,
-        x1554,
-        x1570,
-        x1586,
-        x1589,
-        x1592,
-        x1600,
-        x1606,
-        x1612,
-        x1615,
-        x1620,
-        x1628,
-        x1634,
-        x1640,
-        x1643,
-        x1646,
-        x1654,
-        x1660,
-        x1666,
-        x1669,
-        x1675,
-        x1680,
-        x1686,
-        x1692,
-        x1695,
-        x1704,
-        x1711,
-        x1717,
-        x1723,
-        x1726,
-        x1730,
-        x1737,
-        x1743,
-        x1749,
-        x1752,
-        x1779,
-        x1797,
-        x1817,
-        x1834,
-        x1850,
-        x1853,
-        x1854,
-        x1866,
-        x1869,
-        x1888,
-        x1889,
-        x1890,
-        x1902,
-        x1916,
-        x1936,
-        x1953,
-        x1969,
-        x1972,
-        x1973,
-        x1975,
-        x1980,
-        x1988,
-        x1990,
-        x1991,
-        x2003,
-        x2005,
-        x2018,
-        x2030,
-        x2035,
-        x2036,
-        x2037,
-        x2038,
-        x2041,
-        x2042,
-        x2045,
-        x2046,
-        x2047,
-    ]
-}
-#[inline(never)]
-fn regressor_part2(
-    t: &JointTrig<7>,
-    _qd: &SVector<f64, 7>,
-    _v: &SVector<f64, 7>,
-    _a: &SVector<f64, 7>,
-    carried: [f64; 106],
-) -> [f64; 111] {
-    let [_, s1, s2, s3, s4, s5, s6] = t.sin;
-    let [_, c1, c2, c3, c4, c5, c6] = t.cos;
-    let [x61, x65, x66, x69, x72, x73, x74, x75, x79, x83, x84, x85, x86, x87, x237,
-    x241, x242, x245, x257, x259, x263, x264, x265, x266, x270, x271, x272, x273, x277,
-    x281, x282, x283, x284, x285, x291, x295, x302, x303, x305, x307, x308, x309, x310,
-    x311, x403, x406, x409, x410, x413, x414, x420, x422, x423, x428, x429, x431, x432,
-    x433, x434, x435, x436, x437, x438, x439, x440, x441, x442, x443, x444, x445, x446,
-    x447, x448, x449, x450, x451, x452, x453, x454, x455, x456, x458, x459, x460, x1854,
-    x1866, x1869, x1888, x1889, x1890, x1973, x1975, x1980, x1988, x1990, x1991, x2005,
-    x2030, x2035, x2036, x2037, x2041, x2042, x2045, x2046, x2047] = carried;
-    let x2048: f64 = x2046 - x2047;
-    let x2049: f64 = x2030 - x2035;
-    let x2050: f64 = s3 * x2036;
-    let x2051: f64 = c3 * x2037;
-    let x2052: f64 = x2050 + x2051;
-    let x2053: f64 = 0.0825f64 * x2045;
-    let x2054: f64 = 0.0825f64 * x2042;
-    let x2055: f64 = x2049 - x2053;
-    let x2056: f64 = x2052 + x2054;
-    let x2057: f64 = c2 * x2041;
-    let x2058: f64 = s2 * x2042;
-    let x2059: f64 = x2057 - x2058;
-    let x2060: f64 = s2 * x2041;
-    let x2061: f64 = c2 * x2042;
-    let x2062: f64 = x2060 + x2061;
-    let x2063: f64 = c2 * x2048;
-    let x2064: f64 = s2 * x2055;
-    let x2065: f64 = x2063 - x2064;
-    let x2066: f64 = s2 * x2048;
-    let x2067: f64 = c2 * x2055;
-    let x2068: f64 = x2066 + x2067;
-    let x2069: f64 = -0.316f64 * x2062;
-    let x2070: f64 = -0.316f64 * x2059;
-    let x2071: f64 = x2065 + x2069;
-    let x2072: f64 = x2068 - x2070;
-    let x2073: f64 = s1 * x2071;
-    let x2074: f64 = c1 * x2056;
-    let x2075: f64 = x2074 - x2073;
-    let x2076: f64 = x263 - x257;
-    let x2077: f64 = x241 - x242;
-    let x2078: f64 = x69 * x2077;
-    let x2079: f64 = x61 * x2077;
-    let x2080: f64 = x1973 - x2079;
-    let x2081: f64 = x1869 + x1975;
-    let x2082: f64 = x422 - x413;
-    let x2083: f64 = x420 + x2078;
-    let x2084: f64 = x2080 - x2081;
-    let x2085: f64 = x61 * x237;
-    let x2086: f64 = x1980 + x2085;
-    let x2087: f64 = x65 - x66;
-    let x2088: f64 = x245 * x2087;
-    let x2089: f64 = x237 * x2087;
-    let x2090: f64 = x1975 - x2089;
-    let x2091: f64 = x1854 + x1973;
-    let x2092: f64 = x414 - x423;
-    let x2093: f64 = x410 + x2088;
-    let x2094: f64 = x2090 - x2091;
-    let x2095: f64 = x2082 + x2092;
-    let x2096: f64 = x2083 + x2093;
-    let x2097: f64 = x2084 + x2094;
-    let x2098: f64 = x2086 + x2086;
-    let x2099: f64 = x429 + x2095;
-    let x2100: f64 = x2096 - x428;
-    let x2101: f64 = x1888 - x406;
-    let x2102: f64 = x1990 - x1991;
-    let x2103: f64 = 0.5f64 * x2099;
-    let x2104: f64 = 0.5f64 * x2100;
-    let x2105: f64 = 0.5f64 * x2097;
-    let x2106: f64 = 0.5f64 * x2101;
-    let x2107: f64 = 0.5f64 * x2102;
-    let x2108: f64 = -0.5f64 * x2098;
-    let x2109: f64 = x2076 + x2103;
-    let x2110: f64 = x266 + x2104;
-    let x2111: f64 = x265 + x2106;
-    let x2112: f64 = x2107 - x264;
-    let x2113: f64 = c5 * x2111;
-    let x2114: f64 = s5 * x2112;
-    let x2115: f64 = x2113 - x2114;
-    let x2116: f64 = s5 * x2111;
-    let x2117: f64 = c5 * x2112;
-    let x2118: f64 = x2116 + x2117;
-    let x2119: f64 = c5 * x2109;
-    let x2120: f64 = s5 * x2110;
-    let x2121: f64 = x2119 - x2120;
-    let x2122: f64 = s5 * x2109;
-    let x2123: f64 = c5 * x2110;
-    let x2124: f64 = x2122 + x2123;
-    let x2125: f64 = c4 * x2115;
-    let x2126: f64 = s4 * x2108;
-    let x2127: f64 = x2125 + x2126;
-    let x2128: f64 = s4 * x2115;
-    let x2129: f64 = c4 * x2108;
-    let x2130: f64 = x2129 - x2128;
-    let x2131: f64 = c4 * x2121;
-    let x2132: f64 = s4 * x2105;
-    let x2133: f64 = x2131 + x2132;
-    let x2134: f64 = s4 * x2121;
-    let x2135: f64 = c4 * x2105;
-    let x2136: f64 = x2135 - x2134;
-    let x2137: f64 = 0.384f64 * x2130;
-    let x2138: f64 = -0.0825f64 * x2130;
-    let x2139: f64 = -0.0825f64 * x2118;
-    let x2140: f64 = 0.384f64 * x2127;
-    let x2141: f64 = x2139 - x2140;
-    let x2142: f64 = x2133 + x2137;
-    let x2143: f64 = x2124 - x2138;
-    let x2144: f64 = x2136 + x2141;
-    let x2145: f64 = c3 * x2127;
-    let x2146: f64 = s3 * x2118;
-    let x2147: f64 = x2145 - x2146;
-    let x2148: f64 = x2128 - x2129;
-    let x2149: f64 = s3 * x2127;
-    let x2150: f64 = c3 * x2118;
-    let x2151: f64 = x2149 + x2150;
-    let x2152: f64 = c3 * x2142;
-    let x2153: f64 = s3 * x2143;
-    let x2154: f64 = x2152 - x2153;
-    let x2155: f64 = s3 * x2142;
-    let x2156: f64 = c3 * x2143;
-    let x2157: f64 = x2155 + x2156;
-    let x2158: f64 = 0.0825f64 * x2151;
-    let x2159: f64 = 0.0825f64 * x2148;
-    let x2160: f64 = x2144 + x2158;
-    let x2161: f64 = x2157 + x2159;
-    let x2162: f64 = c2 * x2147;
-    let x2163: f64 = s2 * x2148;
-    let x2164: f64 = x2162 - x2163;
-    let x2165: f64 = s2 * x2147;
-    let x2166: f64 = c2 * x2148;
-    let x2167: f64 = x2165 + x2166;
-    let x2168: f64 = c2 * x2154;
-    let x2169: f64 = s2 * x2160;
-    let x2170: f64 = x2168 + x2169;
-    let x2171: f64 = s2 * x2154;
-    let x2172: f64 = c2 * x2160;
-    let x2173: f64 = x2171 - x2172;
-    let x2174: f64 = -0.316f64 * x2167;
-    let x2175: f64 = -0.316f64 * x2164;
-    let x2176: f64 = x2170 + x2174;
-    let x2177: f64 = x2173 - x2175;
-    let x2178: f64 = s1 * x2176;
-    let x2179: f64 = c1 * x2161;
-    let x2180: f64 = x2179 - x2178;
-    let x2181: f64 = 0.5f64 * x1991;
-    let x2182: f64 = 0.5f64 * x1888;
-    let x2183: f64 = -0.5f64 * x1988;
-    let x2184: f64 = x264 + x2181;
-    let x2185: f64 = c5 * x2184;
-    let x2186: f64 = s5 * x2182;
-    let x2187: f64 = x2185 - x2186;
-    let x2188: f64 = s5 * x2184;
-    let x2189: f64 = c5 * x2182;
-    let x2190: f64 = x2188 + x2189;
-    let x2191: f64 = c4 * x2187;
-    let x2192: f64 = s4 * x2183;
-    let x2193: f64 = x2191 + x2192;
-    let x2194: f64 = s4 * x2187;
-    let x2195: f64 = c4 * x2183;
-    let x2196: f64 = x2195 - x2194;
-    let x2197: f64 = c3 * x2193;
-    let x2198: f64 = s3 * x2190;
-    let x2199: f64 = x2197 - x2198;
-    let x2200: f64 = x2194 - x2195;
-    let x2201: f64 = s3 * x2193;
-    let x2202: f64 = c3 * x2190;
-    let x2203: f64 = x2201 + x2202;
-    let x2204: f64 = c2 * x2199;
-    let x2205: f64 = s2 * x2200;
-    let x2206: f64 = x2204 - x2205;
-    let x2207: f64 = s2 * x2199;
-    let x2208: f64 = c2 * x2200;
-    let x2209: f64 = x2207 + x2208;
-    let x2210: f64 = s1 * x2206;
-    let x2211: f64 = c1 * x2203;
-    let x2212: f64 = x2211 - x2210;
-    let x2213: f64 = x1980 - x2085;
-    let x2214: f64 = x2213 + x2213;
-    let x2215: f64 = x406 + x1888;
-    let x2216: f64 = -0.5f64 * x2215;
-    let x2217: f64 = 0.5f64 * x2214;
-    let x2218: f64 = x265 + x2216;
-    let x2219: f64 = c5 * x2218;
-    let x2220: f64 = s5 * x2005;
-    let x2221: f64 = x2219 - x2220;
-    let x2222: f64 = s5 * x2218;
-    let x2223: f64 = c5 * x2005;
-    let x2224: f64 = x2222 + x2223;
-    let x2225: f64 = c4 * x2221;
-    let x2226: f64 = s4 * x2217;
-    let x2227: f64 = x2225 + x2226;
-    let x2228: f64 = s4 * x2221;
-    let x2229: f64 = c4 * x2217;
-    let x2230: f64 = x2229 - x2228;
-    let x2231: f64 = c3 * x2227;
-    let x2232: f64 = s3 * x2224;
-    let x2233: f64 = x2231 - x2232;
-    let x2234: f64 = x2228 - x2229;
-    let x2235: f64 = s3 * x2227;
-    let x2236: f64 = c3 * x2224;
-    let x2237: f64 = x2235 + x2236;
-    let x2238: f64 = c2 * x2233;
-    let x2239: f64 = s2 * x2234;
-    let x2240: f64 = x2238 - x2239;
-    let x2241: f64 = s2 * x2233;
-    let x2242: f64 = c2 * x2234;
-    let x2243: f64 = x2241 + x2242;
-    let x2244: f64 = s1 * x2240;
-    let x2245: f64 = c1 * x2237;
-    let x2246: f64 = x2245 - x2244;
-    let x2247: f64 = -0.5f64 * x1990;
-    let x2248: f64 = 0.5f64 * x1890;
-    let x2249: f64 = 0.5f64 * x1988;
-    let x2250: f64 = x265 + x2248;
-    let x2251: f64 = c5 * x2247;
-    let x2252: f64 = s5 * x2250;
-    let x2253: f64 = x2251 - x2252;
-    let x2254: f64 = s5 * x2247;
-    let x2255: f64 = c5 * x2250;
-    let x2256: f64 = x2254 + x2255;
-    let x2257: f64 = c4 * x2253;
-    let x2258: f64 = s4 * x2249;
-    let x2259: f64 = x2257 + x2258;
-    let x2260: f64 = s4 * x2253;
-    let x2261: f64 = c4 * x2249;
-    let x2262: f64 = x2261 - x2260;
-    let x2263: f64 = c3 * x2259;
-    let x2264: f64 = s3 * x2256;
-    let x2265: f64 = x2263 - x2264;
-    let x2266: f64 = x2260 - x2261;
-    let x2267: f64 = s3 * x2259;
-    let x2268: f64 = c3 * x2256;
-    let x2269: f64 = x2267 + x2268;
-    let x2270: f64 = c2 * x2265;
-    let x2271: f64 = s2 * x2266;
-    let x2272: f64 = x2270 - x2271;
-    let x2273: f64 = s2 * x2265;
-    let x2274: f64 = c2 * x2266;
-    let x2275: f64 = x2273 + x2274;
-    let x2276: f64 = s1 * x2272;
-    let x2277: f64 = c1 * x2269;
-    let x2278: f64 = x2277 - x2276;
-    let x2279: f64 = x1866 - x1980;
-    let x2280: f64 = x2279 + x2279;
-    let x2281: f64 = x1988 - x409;
-    let x2282: f64 = x403 + x1990;
-    let x2283: f64 = 0.5f64 * x2281;
-    let x2284: f64 = 0.5f64 * x2280;
-    let x2285: f64 = -0.5f64 * x2282;
-    let x2286: f64 = x259 + x2283;
-    let x2287: f64 = x264 + x2285;
-    let x2288: f64 = c5 * x2286;
-    let x2289: f64 = s5 * x2284;
-    let x2290: f64 = x2288 - x2289;
-    let x2291: f64 = s5 * x2286;
-    let x2292: f64 = c5 * x2284;
-    let x2293: f64 = x2291 + x2292;
-    let x2294: f64 = c4 * x2290;
-    let x2295: f64 = s4 * x2287;
-    let x2296: f64 = x2294 + x2295;
-    let x2297: f64 = s4 * x2290;
-    let x2298: f64 = c4 * x2287;
-    let x2299: f64 = x2298 - x2297;
-    let x2300: f64 = c3 * x2296;
-    let x2301: f64 = s3 * x2293;
-    let x2302: f64 = x2300 - x2301;
-    let x2303: f64 = x2297 - x2298;
-    let x2304: f64 = s3 * x2296;
-    let x2305: f64 = c3 * x2293;
-    let x2306: f64 = x2304 + x2305;
-    let x2307: f64 = c2 * x2302;
-    let x2308: f64 = s2 * x2303;
-    let x2309: f64 = x2307 - x2308;
-    let x2310: f64 = s2 * x2302;
-    let x2311: f64 = c2 * x2303;
-    let x2312: f64 = x2310 + x2311;
-    let x2313: f64 = s1 * x2309;
-    let x2314: f64 = c1 * x2306;
-    let x2315: f64 = x2314 - x2313;
-    let x2316: f64 = x2085 - x1866;
-    let x2317: f64 = x2316 + x2316;
-    let x2318: f64 = x409 + x1988;
-    let x2319: f64 = 0.5f64 * x2317;
-    let x2320: f64 = -0.5f64 * x2318;
-    let x2321: f64 = x259 + x2320;
-    let x2322: f64 = c5 * x2319;
-    let x2323: f64 = s5 * x2321;
-    let x2324: f64 = x2322 - x2323;
-    let x2325: f64 = s5 * x2319;
-    let x2326: f64 = c5 * x2321;
-    let x2327: f64 = x2325 + x2326;
-    let x2328: f64 = c4 * x2324;
-    let x2329: f64 = s4 * x2111;
-    let x2330: f64 = x2328 + x2329;
-    let x2331: f64 = s4 * x2324;
-    let x2332: f64 = c4 * x2111;
-    let x2333: f64 = x2332 - x2331;
-    let x2334: f64 = c3 * x2330;
-    let x2335: f64 = s3 * x2327;
-    let x2336: f64 = x2334 - x2335;
-    let x2337: f64 = x2331 - x2332;
-    let x2338: f64 = s3 * x2330;
-    let x2339: f64 = c3 * x2327;
-    let x2340: f64 = x2338 + x2339;
-    let x2341: f64 = c2 * x2336;
-    let x2342: f64 = s2 * x2337;
-    let x2343: f64 = x2341 - x2342;
-    let x2344: f64 = s2 * x2336;
-    let x2345: f64 = c2 * x2337;
-    let x2346: f64 = x2344 + x2345;
-    let x2347: f64 = s1 * x2343;
-    let x2348: f64 = c1 * x2340;
-    let x2349: f64 = x2348 - x2347;
-    let x2350: f64 = 0.5f64 * x1990;
-    let x2351: f64 = -0.5f64 * x1888;
-    let x2352: f64 = 0.5f64 * x1889;
-    let x2353: f64 = x259 + x2352;
-    let x2354: f64 = c5 * x2350;
-    let x2355: f64 = s5 * x2351;
-    let x2356: f64 = x2354 - x2355;
-    let x2357: f64 = s5 * x2350;
-    let x2358: f64 = c5 * x2351;
-    let x2359: f64 = x2357 + x2358;
-    let x2360: f64 = c4 * x2356;
-    let x2361: f64 = s4 * x2353;
-    let x2362: f64 = x2360 + x2361;
-    let x2363: f64 = s4 * x2356;
-    let x2364: f64 = c4 * x2353;
-    let x2365: f64 = x2364 - x2363;
-    let x2366: f64 = c3 * x2362;
-    let x2367: f64 = s3 * x2359;
-    let x2368: f64 = x2366 - x2367;
-    let x2369: f64 = x2363 - x2364;
-    let x2370: f64 = s3 * x2362;
-    let x2371: f64 = c3 * x2359;
-    let x2372: f64 = x2370 + x2371;
-    let x2373: f64 = c2 * x2368;
-    let x2374: f64 = s2 * x2369;
-    let x2375: f64 = x2373 - x2374;
-    let x2376: f64 = s2 * x2368;
-    let x2377: f64 = c2 * x2369;
-    let x2378: f64 = x2376 + x2377;
-    let x2379: f64 = s1 * x2375;
-    let x2380: f64 = c1 * x2372;
-    let x2381: f64 = x2380 - x2379;
-    let x2382: f64 = x86 * x277;
-    let x2383: f64 = x79 * x284;
-    let x2384: f64 = x2383 - x2382;
-    let x2385: f64 = x79 * x281;
-    let x2386: f64 = x83 * x277;
-    let x2387: f64 = x2386 - x2385;
-    let x2388: f64 = x83 * x284;
-    let x2389: f64 = x86 * x281;
-    let x2390: f64 = x2388 - x2389;
-    let x2391: f64 = x2382 - x2383;
-    let x2392: f64 = x2385 - x2386;
-    let x2393: f64 = x2389 - x2388;
-    let x2394: f64 = x456 - x455;
-    let x2395: f64 = x2384 + x2391;
-    let x2396: f64 = x2387 + x2392;
-    let x2397: f64 = x2390 + x2393;
-    let x2398: f64 = x442 + x451;
-    let x2399: f64 = x445 + x454;
-    let x2400: f64 = x448 + x2394;
-    let x2401: f64 = x458 + x2398;
-    let x2402: f64 = x2399 - x459;
-    let x2403: f64 = x2400 - x460;
-    let x2404: f64 = 0.5f64 * x2395;
-    let x2405: f64 = 0.5f64 * x2396;
-    let x2406: f64 = 0.5f64 * x2397;
-    let x2407: f64 = -0.5f64 * x2401;
-    let x2408: f64 = 0.5f64 * x2402;
-    let x2409: f64 = 0.5f64 * x2403;
-    let x2410: f64 = x310 + x2407;
-    let x2411: f64 = x311 + x2408;
-    let x2412: f64 = c6 * x2410;
-    let x2413: f64 = s6 * x2411;
-    let x2414: f64 = x2412 - x2413;
-    let x2415: f64 = x295 - x2409;
-    let x2416: f64 = s6 * x2410;
-    let x2417: f64 = c6 * x2411;
-    let x2418: f64 = x2416 + x2417;
-    let x2419: f64 = c6 * x2404;
-    let x2420: f64 = s6 * x2405;
-    let x2421: f64 = x2419 - x2420;
-    let x2422: f64 = s6 * x2404;
-    let x2423: f64 = c6 * x2405;
-    let x2424: f64 = x2422 + x2423;
-    let x2425: f64 = 0.088f64 * x2418;
-    let x2426: f64 = 0.088f64 * x2415;
-    let x2427: f64 = x2406 + x2425;
-    let x2428: f64 = x2424 + x2426;
-    let x2429: f64 = c5 * x2414;
-    let x2430: f64 = s5 * x2415;
-    let x2431: f64 = x2429 - x2430;
-    let x2432: f64 = s5 * x2414;
-    let x2433: f64 = c5 * x2415;
-    let x2434: f64 = x2432 + x2433;
-    let x2435: f64 = c5 * x2421;
-    let x2436: f64 = s5 * x2427;
-    let x2437: f64 = x2435 + x2436;
-    let x2438: f64 = s5 * x2421;
-    let x2439: f64 = c5 * x2427;
-    let x2440: f64 = x2438 - x2439;
-    let x2441: f64 = c4 * x2431;
-    let x2442: f64 = s4 * x2418;
-    let x2443: f64 = x2441 + x2442;
-    let x2444: f64 = s4 * x2431;
-    let x2445: f64 = c4 * x2418;
-    let x2446: f64 = x2445 - x2444;
-    let x2447: f64 = c4 * x2437;
-    let x2448: f64 = s4 * x2428;
-    let x2449: f64 = x2447 + x2448;
-    let x2450: f64 = s4 * x2437;
-    let x2451: f64 = c4 * x2428;
-    let x2452: f64 = x2451 - x2450;
-    let x2453: f64 = 0.384f64 * x2446;
-    let x2454: f64 = -0.0825f64 * x2446;
-    let x2455: f64 = -0.0825f64 * x2434;
-    let x2456: f64 = 0.384f64 * x2443;
-    let x2457: f64 = x2455 - x2456;
-    let x2458: f64 = x2449 + x2453;
-    let x2459: f64 = x2440 - x2454;
-    let x2460: f64 = x2452 + x2457;
-    let x2461: f64 = c3 * x2443;
-    let x2462: f64 = s3 * x2434;
-    let x2463: f64 = x2461 - x2462;
-    let x2464: f64 = x2444 - x2445;
-    let x2465: f64 = s3 * x2443;
-    let x2466: f64 = c3 * x2434;
-    let x2467: f64 = x2465 + x2466;
-    let x2468: f64 = c3 * x2458;
-    let x2469: f64 = s3 * x2459;
-    let x2470: f64 = x2468 - x2469;
-    let x2471: f64 = s3 * x2458;
-    let x2472: f64 = c3 * x2459;
-    let x2473: f64 = x2471 + x2472;
-    let x2474: f64 = 0.0825f64 * x2467;
-    let x2475: f64 = 0.0825f64 * x2464;
-    let x2476: f64 = x2460 + x2474;
-    let x2477: f64 = x2473 + x2475;
-    let x2478: f64 = c2 * x2463;
-    let x2479: f64 = s2 * x2464;
-    let x2480: f64 = x2478 - x2479;
-    let x2481: f64 = s2 * x2463;
-    let x2482: f64 = c2 * x2464;
-    let x2483: f64 = x2481 + x2482;
-    let x2484: f64 = c2 * x2470;
-    let x2485: f64 = s2 * x2476;
-    let x2486: f64 = x2484 + x2485;
-    let x2487: f64 = s2 * x2470;
-    let x2488: f64 = c2 * x2476;
-    let x2489: f64 = x2487 - x2488;
-    let x2490: f64 = -0.316f64 * x2483;
-    let x2491: f64 = -0.316f64 * x2480;
-    let x2492: f64 = x2486 + x2490;
-    let x2493: f64 = x2489 - x2491;
-    let x2494: f64 = s1 * x2492;
-    let x2495: f64 = c1 * x2477;
-    let x2496: f64 = x2495 - x2494;
-    let x2497: f64 = x305 - x291;
-    let x2498: f64 = x271 - x272;
-    let x2499: f64 = x75 * x284;
-    let x2500: f64 = x87 * x277;
-    let x2501: f64 = x2499 - x2500;
-    let x2502: f64 = x86 * x2498;
-    let x2503: f64 = x79 * x285;
-    let x2504: f64 = x2502 + x2503;
-    let x2505: f64 = x83 * x2498;
-    let x2506: f64 = x2501 + x2504;
-    let x2507: f64 = x446 + x2505;
-    let x2508: f64 = x444 + x453;
-    let x2509: f64 = x75 * x2498;
-    let x2510: f64 = x87 * x285;
-    let x2511: f64 = x2509 - x2510;
-    let x2512: f64 = x72 * x2498;
-    let x2513: f64 = x73 - x74;
-    let x2514: f64 = x86 * x273;
-    let x2515: f64 = x2514 - x2503;
-    let x2516: f64 = x284 * x2513;
-    let x2517: f64 = x2500 + x2516;
-    let x2518: f64 = x281 * x2513;
-    let x2519: f64 = x2515 + x2517;
-    let x2520: f64 = x456 + x2518;
-    let x2521: f64 = x443 + x452;
-    let x2522: f64 = x273 * x2513;
-    let x2523: f64 = x2522 - x2510;
-    let x2524: f64 = x270 * x2513;
-    let x2525: f64 = x2506 + x2519;
-    let x2526: f64 = x2507 + x2520;
-    let x2527: f64 = x2508 + x2521;
-    let x2528: f64 = x2511 + x2523;
-    let x2529: f64 = x2512 + x2524;
-    let x2530: f64 = x434 + x435;
-    let x2531: f64 = x438 - x437;
-    let x2532: f64 = x435 - x434;
-    let x2533: f64 = x460 - x2526;
-    let x2534: f64 = x2527 - x459;
-    let x2535: f64 = x439 + x2529;
-    let x2536: f64 = x2530 - x2532;
-    let x2537: f64 = 0.5f64 * x2525;
-    let x2538: f64 = 0.5f64 * x2533;
-    let x2539: f64 = 0.5f64 * x2534;
-    let x2540: f64 = 0.5f64 * x2528;
-    let x2541: f64 = -0.5f64 * x2535;
-    let x2542: f64 = 0.5f64 * x2536;
-    let x2543: f64 = x295 + x2538;
-    let x2544: f64 = x311 + x2539;
-    let x2545: f64 = x303 + x2541;
-    let x2546: f64 = x2497 + x2542;
-    let x2547: f64 = c6 * x2540;
-    let x2548: f64 = s6 * x2545;
-    let x2549: f64 = x2547 - x2548;
-    let x2550: f64 = s6 * x2540;
-    let x2551: f64 = c6 * x2545;
-    let x2552: f64 = x2550 + x2551;
-    let x2553: f64 = c6 * x2537;
-    let x2554: f64 = s6 * x2543;
-    let x2555: f64 = x2553 - x2554;
-    let x2556: f64 = s6 * x2537;
-    let x2557: f64 = c6 * x2543;
-    let x2558: f64 = x2556 + x2557;
-    let x2559: f64 = 0.088f64 * x2552;
-    let x2560: f64 = -0.088f64 * x2546;
-    let x2561: f64 = x2544 + x2559;
-    let x2562: f64 = x2558 + x2560;
-    let x2563: f64 = c5 * x2549;
-    let x2564: f64 = s5 * x2546;
-    let x2565: f64 = x2563 + x2564;
-    let x2566: f64 = s5 * x2549;
-    let x2567: f64 = c5 * x2546;
-    let x2568: f64 = x2566 - x2567;
-    let x2569: f64 = c5 * x2555;
-    let x2570: f64 = s5 * x2561;
-    let x2571: f64 = x2569 + x2570;
-    let x2572: f64 = s5 * x2555;
-    let x2573: f64 = c5 * x2561;
-    let x2574: f64 = x2572 - x2573;
-    let x2575: f64 = c4 * x2565;
-    let x2576: f64 = s4 * x2552;
-    let x2577: f64 = x2575 + x2576;
-    let x2578: f64 = s4 * x2565;
-    let x2579: f64 = c4 * x2552;
-    let x2580: f64 = x2579 - x2578;
-    let x2581: f64 = c4 * x2571;
-    let x2582: f64 = s4 * x2562;
-    let x2583: f64 = x2581 + x2582;
-    let x2584: f64 = s4 * x2571;
-    let x2585: f64 = c4 * x2562;
-    let x2586: f64 = x2585 - x2584;
-    let x2587: f64 = 0.384f64 * x2580;
-    let x2588: f64 = -0.0825f64 * x2580;
-    let x2589: f64 = -0.0825f64 * x2568;
-    let x2590: f64 = 0.384f64 * x2577;
-    let x2591: f64 = x2589 - x2590;
-    let x2592: f64 = x2583 + x2587;
-    let x2593: f64 = x2574 - x2588;
-    let x2594: f64 = x2586 + x2591;
-    let x2595: f64 = c3 * x2577;
-    let x2596: f64 = s3 * x2568;
-    let x2597: f64 = x2595 - x2596;
-    let x2598: f64 = x2578 - x2579;
-    let x2599: f64 = s3 * x2577;
-    let x2600: f64 = c3 * x2568;
-    let x2601: f64 = x2599 + x2600;
-    let x2602: f64 = c3 * x2592;
-    let x2603: f64 = s3 * x2593;
-    let x2604: f64 = x2602 - x2603;
-    let x2605: f64 = s3 * x2592;
-    let x2606: f64 = c3 * x2593;
-    let x2607: f64 = x2605 + x2606;
-    let x2608: f64 = 0.0825f64 * x2601;
-    let x2609: f64 = 0.0825f64 * x2598;
-    let x2610: f64 = x2594 + x2608;
-    let x2611: f64 = x2607 + x2609;
-    let x2612: f64 = c2 * x2597;
-    let x2613: f64 = s2 * x2598;
-    let x2614: f64 = x2612 - x2613;
-    let x2615: f64 = s2 * x2597;
-    let x2616: f64 = c2 * x2598;
-    let x2617: f64 = x2615 + x2616;
-    let x2618: f64 = c2 * x2604;
-    let x2619: f64 = s2 * x2610;
-    let x2620: f64 = x2618 + x2619;
-    let x2621: f64 = s2 * x2604;
-    let x2622: f64 = c2 * x2610;
-    let x2623: f64 = x2621 - x2622;
-    let x2624: f64 = -0.316f64 * x2617;
-    let x2625: f64 = -0.316f64 * x2614;
-    let x2626: f64 = x2620 + x2624;
-    let x2627: f64 = x2623 - x2625;
-    let x2628: f64 = s1 * x2626;
-    let x2629: f64 = c1 * x2611;
-    let x2630: f64 = x2629 - x2628;
-    let x2631: f64 = x72 * x281;
-    let x2632: f64 = x2631 - x2500;
-    let x2633: f64 = x83 * x270;
-    let x2634: f64 = x2503 - x2633;
-    let x2635: f64 = x456 - x447;
-    let x2636: f64 = x2632 + x2634;
-    let x2637: f64 = x440 + x449;
-    let x2638: f64 = x72 * x270;
-    let x2639: f64 = x2510 + x2638;
-    let x2640: f64 = x2633 - x2503;
-    let x2641: f64 = x2500 - x2631;
-    let x2642: f64 = x446 - x455;
-    let x2643: f64 = x2640 + x2641;
-    let x2644: f64 = x441 + x450;
-    let x2645: f64 = x2635 + x2642;
-    let x2646: f64 = x2636 + x2643;
-    let x2647: f64 = x2637 + x2644;
-    let x2648: f64 = x437 + x438;
-    let x2649: f64 = x2639 + x2639;
-    let x2650: f64 = x431 + x432;
-    let x2651: f64 = x442 - x451;
-    let x2652: f64 = x432 - x431;
-    let x2653: f64 = x2645 - x460;
-    let x2654: f64 = x2647 - x2651;
-    let x2655: f64 = x2648 - x2531;
-    let x2656: f64 = x2650 - x433;
-    let x2657: f64 = 0.5f64 * x2653;
-    let x2658: f64 = 0.5f64 * x2646;
-    let x2659: f64 = 0.5f64 * x2654;
-    let x2660: f64 = 0.5f64 * x2655;
-    let x2661: f64 = -0.5f64 * x2649;
-    let x2662: f64 = 0.5f64 * x2656;
-    let x2663: f64 = x2657 - x295;
-    let x2664: f64 = x2659 - x310;
-    let x2665: f64 = x2660 - x303;
-    let x2666: f64 = x308 + x2662;
-    let x2667: f64 = c6 * x2665;
-    let x2668: f64 = s6 * x2661;
-    let x2669: f64 = x2667 - x2668;
-    let x2670: f64 = s6 * x2665;
-    let x2671: f64 = c6 * x2661;
-    let x2672: f64 = x2670 + x2671;
-    let x2673: f64 = c6 * x2663;
-    let x2674: f64 = s6 * x2658;
-    let x2675: f64 = x2673 - x2674;
-    let x2676: f64 = x310 - x2659;
-    let x2677: f64 = s6 * x2663;
-    let x2678: f64 = c6 * x2658;
-    let x2679: f64 = x2677 + x2678;
-    let x2680: f64 = 0.088f64 * x2672;
-    let x2681: f64 = -0.088f64 * x2666;
-    let x2682: f64 = x2676 - x2680;
-    let x2683: f64 = x2679 + x2681;
-    let x2684: f64 = c5 * x2669;
-    let x2685: f64 = s5 * x2666;
-    let x2686: f64 = x2684 + x2685;
-    let x2687: f64 = s5 * x2669;
-    let x2688: f64 = c5 * x2666;
-    let x2689: f64 = x2687 - x2688;
-    let x2690: f64 = c5 * x2675;
-    let x2691: f64 = s5 * x2682;
-    let x2692: f64 = x2690 - x2691;
-    let x2693: f64 = s5 * x2675;
-    let x2694: f64 = c5 * x2682;
-    let x2695: f64 = x2693 + x2694;
-    let x2696: f64 = c4 * x2686;
-    let x2697: f64 = s4 * x2672;
-    let x2698: f64 = x2696 + x2697;
-    let x2699: f64 = s4 * x2686;
-    let x2700: f64 = c4 * x2672;
-    let x2701: f64 = x2700 - x2699;
-    let x2702: f64 = c4 * x2692;
-    let x2703: f64 = s4 * x2683;
-    let x2704: f64 = x2702 + x2703;
-    let x2705: f64 = s4 * x2692;
-    let x2706: f64 = c4 * x2683;
-    let x2707: f64 = x2706 - x2705;
-    let x2708: f64 = 0.384f64 * x2701;
-    let x2709: f64 = -0.0825f64 * x2701;
-    let x2710: f64 = -0.0825f64 * x2689;
-    let x2711: f64 = 0.384f64 * x2698;
-    let x2712: f64 = x2710 - x2711;
-    let x2713: f64 = x2704 + x2708;
-    let x2714: f64 = x2695 - x2709;
-    let x2715: f64 = x2707 + x2712;
-    let x2716: f64 = c3 * x2698;
-    let x2717: f64 = s3 * x2689;
-    let x2718: f64 = x2716 - x2717;
-    let x2719: f64 = x2699 - x2700;
-    let x2720: f64 = s3 * x2698;
-    let x2721: f64 = c3 * x2689;
-    let x2722: f64 = x2720 + x2721;
-    let x2723: f64 = c3 * x2713;
-    let x2724: f64 = s3 * x2714;
-    let x2725: f64 = x2723 - x2724;
-    let x2726: f64 = s3 * x2713;
-    let x2727: f64 = c3 * x2714;
-    let x2728: f64 = x2726 + x2727;
-    let x2729: f64 = 0.0825f64 * x2722;
-    let x2730: f64 = 0.0825f64 * x2719;
-    let x2731: f64 = x2715 + x2729;
-    let x2732: f64 = x2728 + x2730;
-    let x2733: f64 = c2 * x2718;
-    let x2734: f64 = s2 * x2719;
-    let x2735: f64 = x2733 - x2734;
-    let x2736: f64 = s2 * x2718;
-    let x2737: f64 = c2 * x2719;
-    let x2738: f64 = x2736 + x2737;
-    let x2739: f64 = c2 * x2725;
-    let x2740: f64 = s2 * x2731;
-    let x2741: f64 = x2739 + x2740;
-    let x2742: f64 = s2 * x2725;
-    let x2743: f64 = c2 * x2731;
-    let x2744: f64 = x2742 - x2743;
-    let x2745: f64 = -0.316f64 * x2738;
-    let x2746: f64 = -0.316f64 * x2735;
-    let x2747: f64 = x2741 + x2745;
-    let x2748: f64 = x2744 - x2746;
-    let x2749: f64 = s1 * x2747;
-    let x2750: f64 = c1 * x2732;
-    let x2751: f64 = x2750 - x2749;
-    let x2752: f64 = x307 - x302;
-    let x2753: f64 = x282 - x283;
-    let x2754: f64 = x87 * x2753;
-    let x2755: f64 = x75 * x2753;
-    let x2756: f64 = x2631 - x2755;
-    let x2757: f64 = x2514 + x2633;
-    let x2758: f64 = x2754 - x450;
-    let x2759: f64 = x2756 - x2757;
-    let x2760: f64 = x75 * x273;
-    let x2761: f64 = x2638 + x2760;
-    let x2762: f64 = x84 - x85;
-    let x2763: f64 = x285 * x2762;
-    let x2764: f64 = x273 * x2762;
-    let x2765: f64 = x2633 - x2764;
-    let x2766: f64 = x2499 + x2631;
-    let x2767: f64 = x2763 - x440;
-    let x2768: f64 = x2765 - x2766;
-    let x2769: f64 = x2758 + x2767;
-    let x2770: f64 = x2759 + x2768;
-    let x2771: f64 = x2761 + x2761;
-    let x2772: f64 = x454 - x445;
-    let x2773: f64 = x2527 + x2772;
-    let x2774: f64 = x2769 - x458;
-    let x2775: f64 = x2530 - x436;
-    let x2776: f64 = x2650 - x2652;
-    let x2777: f64 = -0.5f64 * x2773;
-    let x2778: f64 = 0.5f64 * x2774;
-    let x2779: f64 = 0.5f64 * x2770;
-    let x2780: f64 = 0.5f64 * x2775;
-    let x2781: f64 = 0.5f64 * x2776;
-    let x2782: f64 = -0.5f64 * x2771;
-    let x2783: f64 = x2752 + x2777;
-    let x2784: f64 = x310 + x2778;
-    let x2785: f64 = x309 + x2780;
-    let x2786: f64 = x2781 - x308;
-    let x2787: f64 = c6 * x2785;
-    let x2788: f64 = s6 * x2786;
-    let x2789: f64 = x2787 - x2788;
-    let x2790: f64 = s6 * x2785;
-    let x2791: f64 = c6 * x2786;
-    let x2792: f64 = x2790 + x2791;
-    let x2793: f64 = c6 * x2783;
-    let x2794: f64 = s6 * x2784;
-    let x2795: f64 = x2793 - x2794;
-    let x2796: f64 = s6 * x2783;
-    let x2797: f64 = c6 * x2784;
-    let x2798: f64 = x2796 + x2797;
-    let x2799: f64 = 0.088f64 * x2792;
-    let x2800: f64 = 0.044f64 * x2771;
-    let x2801: f64 = x2779 + x2799;
-    let x2802: f64 = x2798 + x2800;
-    let x2803: f64 = c5 * x2789;
-    let x2804: f64 = s5 * x2782;
-    let x2805: f64 = x2803 + x2804;
-    let x2806: f64 = s5 * x2789;
-    let x2807: f64 = c5 * x2782;
-    let x2808: f64 = x2806 - x2807;
-    let x2809: f64 = c5 * x2795;
-    let x2810: f64 = s5 * x2801;
-    let x2811: f64 = x2809 + x2810;
-    let x2812: f64 = s5 * x2795;
-    let x2813: f64 = c5 * x2801;
-    let x2814: f64 = x2812 - x2813;
-    let x2815: f64 = c4 * x2805;
-    let x2816: f64 = s4 * x2792;
-    let x2817: f64 = x2815 + x2816;
-    let x2818: f64 = s4 * x2805;
-    let x2819: f64 = c4 * x2792;
-    let x2820: f64 = x2819 - x2818;
-    let x2821: f64 = c4 * x2811;
-    let x2822: f64 = s4 * x2802;
-    let x2823: f64 = x2821 + x2822;
-    let x2824: f64 = s4 * x2811;
-    let x2825: f64 = c4 * x2802;
-    let x2826: f64 = x2825 - x2824;
-    let x2827: f64 = 0.384f64 * x2820;
-    let x2828: f64 = -0.0825f64 * x2820;
-    let x2829: f64 = -0.0825f64 * x2808;
-    let x2830: f64 = 0.384f64 * x2817;
-    let x2831: f64 = x2829 - x2830;
-    let x2832: f64 = x2823 + x2827;
-    let x2833: f64 = x2814 - x2828;
-    let x2834: f64 = x2826 + x2831;
-    let x2835: f64 = c3 * x2817;
-    let x2836: f64 = s3 * x2808;
-    let x2837: f64 = x2835 - x2836;
-    let x2838: f64 = x2818 - x2819;
-    let x2839: f64 = s3 * x2817;
-    let x2840: f64 = c3 * x2808;
-    let x2841: f64 = x2839 + x2840;
-    let x2842: f64 = c3 * x2832;
-    let x2843: f64 = s3 * x2833;
-    let x2844: f64 = x2842 - x2843;
-    let x2845: f64 = s3 * x2832;
-    let x2846: f64 = c3 * x2833;
-    let x2847: f64 = x2845 + x2846;
-    let x2848: f64 = 0.0825f64 * x2841;
-    let x2849: f64 = 0.0825f64 * x2838;
-    let x2850: f64 = x2834 + x2848;
-    let x2851: f64 = x2847 + x2849;
-    let x2852: f64 = c2 * x2837;
-    let x2853: f64 = s2 * x2838;
-    let x2854: f64 = x2852 - x2853;
-    let x2855: f64 = s2 * x2837;
-    let x2856: f64 = c2 * x2838;
-    let x2857: f64 = x2855 + x2856;
-    let x2858: f64 = c2 * x2844;
-    let x2859: f64 = s2 * x2850;
-    let x2860: f64 = x2858 + x2859;
-    let x2861: f64 = s2 * x2844;
-    let x2862: f64 = c2 * x2850;
-    let x2863: f64 = x2861 - x2862;
-    let x2864: f64 = -0.316f64 * x2857;
-    let x2865: f64 = -0.316f64 * x2854;
-    let x2866: f64 = x2860 + x2864;
-    let x2867: f64 = x2863 - x2865;
-    let x2868: f64 = s1 * x2866;
-    let x2869: f64 = c1 * x2851;
-    let x2870: f64 = x2869 - x2868;
-    let x2871: f64 = 0.5f64 * x2652;
-    let x2872: f64 = 0.5f64 * x2530;
-    let x2873: f64 = -0.5f64 * x2648;
-    let x2874: f64 = x308 + x2871;
-    let x2875: f64 = c6 * x2874;
-    let x2876: f64 = s6 * x2872;
-    let x2877: f64 = x2875 - x2876;
-    let x2878: f64 = s6 * x2874;
-    let x2879: f64 = c6 * x2872;
-    let x2880: f64 = x2878 + x2879;
-    let x2881: f64 = c5 * x2877;
-    let x2882: f64 = s5 * x2873;
-    let x2883: f64 = x2881 + x2882;
-    let x2884: f64 = s5 * x2877;
-    let x2885: f64 = c5 * x2873;
-    let x2886: f64 = x2884 - x2885;
-    let x2887: f64 = c4 * x2883;
-    let x2888: f64 = s4 * x2880;
-    let x2889: f64 = x2887 + x2888;
-    let x2890: f64 = s4 * x2883;
-    let x2891: f64 = c4 * x2880;
-    let x2892: f64 = x2891 - x2890;
-    let x2893: f64 = c3 * x2889;
-    let x2894: f64 = s3 * x2886;
-    let x2895: f64 = x2893 - x2894;
-    let x2896: f64 = x2890 - x2891;
-    let x2897: f64 = s3 * x2889;
-    let x2898: f64 = c3 * x2886;
-    let x2899: f64 = x2897 + x2898;
-    let x2900: f64 = c2 * x2895;
-    let x2901: f64 = s2 * x2896;
-    let x2902: f64 = x2900 - x2901;
-    let x2903: f64 = s2 * x2895;
-    let x2904: f64 = c2 * x2896;
-    let x2905: f64 = x2903 + x2904;
-    let x2906: f64 = s1 * x2902;
-    let x2907: f64 = c1 * x2899;
-    let x2908: f64 = x2907 - x2906;
-    let x2909: f64 = x2638 - x2760;
-    let x2910: f64 = x2909 + x2909;
-    let x2911: f64 = x436 + x2530;
-    let x2912: f64 = -0.5f64 * x2911;
-    let x2913: f64 = 0.5f64 * x2910;
-    let x2914: f64 = x309 + x2912;
-    let x2915: f64 = c6 * x2914;
-    let x2916: f64 = s6 * x2666;
-    let x2917: f64 = x2915 - x2916;
-    let x2918: f64 = s6 * x2914;
-    let x2919: f64 = c6 * x2666;
-    let x2920: f64 = x2918 + x2919;
-    let x2921: f64 = c5 * x2917;
-    let x2922: f64 = s5 * x2913;
-    let x2923: f64 = x2921 + x2922;
-    let x2924: f64 = s5 * x2917;
-    let x2925: f64 = c5 * x2913;
-    let x2926: f64 = x2924 - x2925;
-    let x2927: f64 = c4 * x2923;
-    let x2928: f64 = s4 * x2920;
-    let x2929: f64 = x2927 + x2928;
-    let x2930: f64 = s4 * x2923;
-    let x2931: f64 = c4 * x2920;
-    let x2932: f64 = x2931 - x2930;
-    let x2933: f64 = c3 * x2929;
-    let x2934: f64 = s3 * x2926;
-    let x2935: f64 = x2933 - x2934;
-    let x2936: f64 = x2930 - x2931;
-    let x2937: f64 = s3 * x2929;
-    let x2938: f64 = c3 * x2926;
-    let x2939: f64 = x2937 + x2938;
-    let x2940: f64 = c2 * x2935;
-    let x2941: f64 = s2 * x2936;
-    let x2942: f64 = x2940 - x2941;
-    let x2943: f64 = s2 * x2935;
-    let x2944: f64 = c2 * x2936;
-    let x2945: f64 = x2943 + x2944;
-    let x2946: f64 = s1 * x2942;
-    let x2947: f64 = c1 * x2939;
-    let x2948: f64 = x2947 - x2946;
-    let x2949: f64 = -0.5f64 * x2650;
-    let x2950: f64 = 0.5f64 * x2532;
-    let x2951: f64 = 0.5f64 * x2648;
-    let x2952: f64 = x309 + x2950;
-    let x2953: f64 = c6 * x2949;
-    let x2954: f64 = s6 * x2952;
-    let x2955: f64 = x2953 - x2954;
-    let x2956: f64 = s6 * x2949;
-    let x2957: f64 = c6 * x2952;
-    let x2958: f64 = x2956 + x2957;
-    let x2959: f64 = c5 * x2955;
-    let x2960: f64 = s5 * x2951;
-    let x2961: f64 = x2959 + x2960;
-    let x2962: f64 = s5 * x2955;
-    let x2963: f64 = c5 * x2951;
-    let x2964: f64 = x2962 - x2963;
-    let x2965: f64 = c4 * x2961;
-    let x2966: f64 = s4 * x2958;
-    let x2967: f64 = x2965 + x2966;
-    let x2968: f64 = s4 * x2961;
-    let x2969: f64 = c4 * x2958;
-    let x2970: f64 = x2969 - x2968;
-    let x2971: f64 = c3 * x2967;
-    let x2972: f64 = s3 * x2964;
-    let x2973: f64 = x2971 - x2972;
-    let x2974: f64 = x2968 - x2969;
-    let x2975: f64 = s3 * x2967;
-    let x2976: f64 = c3 * x2964;
-    let x2977: f64 = x2975 + x2976;
-    let x2978: f64 = c2 * x2973;
-    let x2979: f64 = s2 * x2974;
-    let x2980: f64 = x2978 - x2979;
-    let x2981: f64 = s2 * x2973;
-    let x2982: f64 = c2 * x2974;
-    let x2983: f64 = x2981 + x2982;
-    let x2984: f64 = s1 * x2980;
-    let x2985: f64 = c1 * x2977;
-    let x2986: f64 = x2985 - x2984;
-    let x2987: f64 = x2510 - x2638;
-    let x2988: f64 = x2987 + x2987;
-    let x2989: f64 = x2648 - x439;
-    let x2990: f64 = x433 + x2650;
-    let x2991: f64 = 0.5f64 * x2989;
-    let x2992: f64 = 0.5f64 * x2988;
-    let x2993: f64 = -0.5f64 * x2990;
-    let x2994: f64 = x303 + x2991;
-    let x2995: f64 = x308 + x2993;
-    let x2996: f64 = c6 * x2994;
-    let x2997: f64 = s6 * x2992;
-    let x2998: f64 = x2996 - x2997;
-    let x2999: f64 = s6 * x2994;
-    let x3000: f64 = c6 * x2992;
-    let x3001: f64 = x2999 + x3000;
-    let x3002: f64 = c5 * x2998;
-    let x3003: f64 = s5 * x2995;
-    let x3004: f64 = x3002 + x3003;
-    let x3005: f64 = s5 * x2998;
-    let x3006: f64 = c5 * x2995;
-    let x3007: f64 = x3005 - x3006;
-    let x3008: f64 = c4 * x3004;
-    let x3009: f64 = s4 * x3001;
-    let x3010: f64 = x3008 + x3009;
-    let x3011: f64 = s4 * x3004;
-    let x3012: f64 = c4 * x3001;
-    let x3013: f64 = x3012 - x3011;
-    let x3014: f64 = c3 * x3010;
-    let x3015: f64 = s3 * x3007;
-    let x3016: f64 = x3014 - x3015;
-    let x3017: f64 = x3011 - x3012;
-    let x3018: f64 = s3 * x3010;
-    let x3019: f64 = c3 * x3007;
-    let x3020: f64 = x3018 + x3019;
-    let x3021: f64 = c2 * x3016;
-    let x3022: f64 = s2 * x3017;
-    let x3023: f64 = x3021 - x3022;
-    let x3024: f64 = s2 * x3016;
-    let x3025: f64 = c2 * x3017;
-    let x3026: f64 = x3024 + x3025;
-    let x3027: f64 = s1 * x3023;
-    let x3028: f64 = c1 * x3020;
-    let x3029: f64 = x3028 - x3027;
-    let x3030: f64 = x2760 - x2510;
-    let x3031: f64 = x3030 + x3030;
-    let x3032: f64 = x439 + x2648;
-    let x3033: f64 = 0.5f64 * x3031;
-    let x3034: f64 = -0.5f64 * x3032;
-    let x3035: f64 = x303 + x3034;
-    let x3036: f64 = c6 * x3033;
-    let x3037: f64 = s6 * x3035;
-    let x3038: f64 = x3036 - x3037;
-    let x3039: f64 = s6 * x3033;
-    let x3040: f64 = c6 * x3035;
-    let x3041: f64 = x3039 + x3040;
-    let x3042: f64 = c5 * x3038;
-    let x3043: f64 = s5 * x2785;
-    let x3044: f64 = x3042 + x3043;
-    let x3045: f64 = s5 * x3038;
-    let x3046: f64 = c5 * x2785;
-    let x3047: f64 = x3045 - x3046;
-    let x3048: f64 = c4 * x3044;
-    let x3049: f64 = s4 * x3041;
-    let x3050: f64 = x3048 + x3049;
-    let x3051: f64 = s4 * x3044;
-    let x3052: f64 = c4 * x3041;
-    let x3053: f64 = x3052 - x3051;
-    let x3054: f64 = c3 * x3050;
-    let x3055: f64 = s3 * x3047;
-    let x3056: f64 = x3054 - x3055;
-    let x3057: f64 = x3051 - x3052;
-    let x3058: f64 = s3 * x3050;
-    let x3059: f64 = c3 * x3047;
-    let x3060: f64 = x3058 + x3059;
-    let x3061: f64 = c2 * x3056;
-    let x3062: f64 = s2 * x3057;
-    let x3063: f64 = x3061 - x3062;
-    let x3064: f64 = s2 * x3056;
-    let x3065: f64 = c2 * x3057;
-    let x3066: f64 = x3064 + x3065;
-    let x3067: f64 = s1 * x3063;
-    let x3068: f64 = c1 * x3060;
-    let x3069: f64 = x3068 - x3067;
-    let x3070: f64 = 0.5f64 * x2650;
-    let x3071: f64 = -0.5f64 * x2530;
-    [
-        x2056,
-        x2072,
-        x2075,
-        x2105,
-        x2111,
-        x2124,
-        x2144,
-        x2161,
-        x2177,
-        x2180,
-        x2183,
-        x2190,
-        x2196,
-        x2203,
-        x2209,
-        x2212,
-        x2217,
-        x2224,
-        x2230,
-        x2237,
-        x2243,
-        x2246,
-        x2249,
-        x2256,
-        x2262,
-        x2269,
-        x2275,
-        x2278,
-        x2287,
-        x2293,
-        x2299,
-        x2306,
-        x2312,
-        x2315,
-        x2327,
-        x2333,
-        x2340,
-        x2346,
-        x2349,
-        x2353,
-        x2359,
-        x2365,
-        x2372,
-        x2378,
-        x2381,
-        x2406,
-        x2428,
-        x2440,
-        x2460,
-        x2477,
-        x2493,
-        x2496,
-        x2531,
-        x2544,
-        x2562,
-        x2574,
-        x2594,
-        x2611,
-        x2627,
-        x2630,
-        x2664,
-        x2683,
-        x2695,
-        x2715,
-        x2732,
-        x2748,
-        x2751,
-        x2779,
-        x2785,
-        x2802,
-        x2814,
-        x2834,
-        x2851,
-        x2867,
-        x2870,
-        x2873,
-        x2880,
-        x2886,
-        x2892,
-        x2899,
-        x2905,
-        x2908,
-        x2913,
-        x2920,
-        x2926,
-        x2932,
-        x2939,
-        x2945,
-        x2948,
-        x2951,
-        x2958,
-        x2964,
-        x2970,
-        x2977,
-        x2983,
-        x2986,
-        x2995,
-        x3001,
-        x3007,
-        x3013,
-        x3020,
-        x3026,
-        x3029,
-        x3041,
-        x3047,
-        x3053,
-        x3060,
-        x3066,
-        x3069,
-        x3070,
-        x3071,
-    ]
-}
-#[inline(never)]
-fn regressor_part3(
-    t: &JointTrig<7>,
-    _qd: &SVector<f64, 7>,
-    _v: &SVector<f64, 7>,
-    _a: &SVector<f64, 7>,
-    carried: [f64; 4],
-) -> [f64; 7] {
-    let [_, s1, s2, s3, s4, s5, s6] = t.sin;
-    let [_, c1, c2, c3, c4, c5, c6] = t.cos;
-    let [x303, x2531, x3070, x3071] = carried;
-    let x3072: f64 = 0.5f64 * x2531;
-    let x3073: f64 = x303 + x3072;
-    let x3074: f64 = c6 * x3070;
-    let x3075: f64 = s6 * x3071;
-    let x3076: f64 = x3074 - x3075;
-    let x3077: f64 = s6 * x3070;
-    let x3078: f64 = c6 * x3071;
-    let x3079: f64 = x3077 + x3078;
-    let x3080: f64 = c5 * x3076;
-    let x3081: f64 = s5 * x3073;
-    let x3082: f64 = x3080 + x3081;
-    let x3083: f64 = s5 * x3076;
-    let x3084: f64 = c5 * x3073;
-    let x3085: f64 = x3083 - x3084;
-    let x3086: f64 = c4 * x3082;
-    let x3087: f64 = s4 * x3079;
-    let x3088: f64 = x3086 + x3087;
-    let x3089: f64 = s4 * x3082;
-    let x3090: f64 = c4 * x3079;
-    let x3091: f64 = x3090 - x3089;
-    let x3092: f64 = c3 * x3088;
-    let x3093: f64 = s3 * x3085;
-    let x3094: f64 = x3092 - x3093;
-    let x3095: f64 = x3089 - x3090;
-    let x3096: f64 = s3 * x3088;
-    let x3097: f64 = c3 * x3085;
-    let x3098: f64 = x3096 + x3097;
-    let x3099: f64 = c2 * x3094;
-    let x3100: f64 = s2 * x3095;
-    let x3101: f64 = x3099 - x3100;
-    let x3102: f64 = s2 * x3094;
-    let x3103: f64 = c2 * x3095;
-    let x3104: f64 = x3102 + x3103;
-    let x3105: f64 = s1 * x3101;
-    let x3106: f64 = c1 * x3098;
-    let x3107: f64 = x3106 - x3105;
-    [x3073, x3079, x3085, x3091, x3098, x3104, x3107]
 }
