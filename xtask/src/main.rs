@@ -31,7 +31,12 @@ enum Command {
         check: bool,
     },
     /// Print the medians of the last `cargo bench --bench dynamics` run as a Markdown table.
-    BenchTable,
+    BenchTable {
+        /// Criterion's output directory (default: `target/criterion` of the workspace; set it
+        /// when the benchmarks ran with another `CARGO_TARGET_DIR`).
+        #[arg(long)]
+        criterion: Option<PathBuf>,
+    },
 }
 
 fn workspace_root() -> PathBuf {
@@ -103,16 +108,18 @@ fn main() -> ExitCode {
     let cli = Cli::parse();
     let root = workspace_root();
     match cli.command {
-        Command::BenchTable => match bench_table::table(&root.join("target/criterion")) {
-            Ok(table) => {
-                print!("{table}");
-                ExitCode::SUCCESS
+        Command::BenchTable { criterion } => {
+            match bench_table::table(&criterion.unwrap_or_else(|| root.join("target/criterion"))) {
+                Ok(table) => {
+                    print!("{table}");
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::FAILURE
+                }
             }
-            Err(e) => {
-                eprintln!("error: {e}");
-                ExitCode::FAILURE
-            }
-        },
+        }
         Command::Gen {
             descriptions,
             all,
