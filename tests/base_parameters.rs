@@ -67,7 +67,9 @@ fn fresh_stack(model: &Model, first_seed: u64, count: u64) -> DMatrix<f64> {
         })
         .collect();
     let n = model.dof();
-    DMatrix::from_fn(n * blocks.len(), blocks[0].ncols(), |i, j| blocks[i / n][(i % n, j)])
+    DMatrix::from_fn(n * blocks.len(), blocks[0].ncols(), |i, j| {
+        blocks[i / n][(i % n, j)]
+    })
 }
 
 /// Pinocchio's inverse-dynamics regressors of the fixture, stacked (20 states).
@@ -87,8 +89,16 @@ fn base_parameter_count_is_pinocchios_rank() {
         let fx = fixture::load(robot);
         let from_fixture = BaseParameterSet::compute(&fx.model());
         let from_description = BaseParameterSet::compute(&described(robot));
-        assert_eq!(from_fixture.count(), expected, "{robot}: p_b of the fixture's model");
-        assert_eq!(from_description.count(), expected, "{robot}: p_b of robots/{robot}.yaml");
+        assert_eq!(
+            from_fixture.count(),
+            expected,
+            "{robot}: p_b of the fixture's model"
+        );
+        assert_eq!(
+            from_description.count(),
+            expected,
+            "{robot}: p_b of robots/{robot}.yaml"
+        );
         assert_eq!(from_fixture.standard_count, standard);
         assert_eq!(
             from_fixture.columns, from_description.columns,
@@ -107,14 +117,23 @@ fn base_parameters_reproduce_pinocchios_torques() {
         let base = BaseParameterSet::compute(&fx.model());
         let y = pinocchio_stack(&fx);
         let y_b = base.base_regressor(&y);
-        for (k, theta) in [fx.pi.clone(), random_theta(fx.pi.len(), 7), random_theta(fx.pi.len(), 8)]
-            .iter()
-            .enumerate()
+        for (k, theta) in [
+            fx.pi.clone(),
+            random_theta(fx.pi.len(), 7),
+            random_theta(fx.pi.len(), 8),
+        ]
+        .iter()
+        .enumerate()
         {
             let tau = &y * DMatrix::from_column_slice(theta.len(), 1, theta);
             let theta_b = base.base_parameters(theta);
             let tau_b = &y_b * DMatrix::from_column_slice(theta_b.len(), 1, &theta_b);
-            assert_close(&format!("{robot} θ #{k}: Y_b θ_b vs Pinocchio's Y θ"), &tau_b, &tau, TOL);
+            assert_close(
+                &format!("{robot} θ #{k}: Y_b θ_b vs Pinocchio's Y θ"),
+                &tau_b,
+                &tau,
+                TOL,
+            );
         }
     }
 }
@@ -167,10 +186,20 @@ fn folding_coefficients_are_exact_geometry() {
             .map(|&(_, c)| c)
     };
     assert_eq!(coefficient("mcz[upper_arm_link]", "m[forearm_link]"), Some(0.425));
-    assert_eq!(coefficient("Iyy[upper_arm_link]", "m[forearm_link]"), Some(0.180625));
-    assert_eq!(coefficient("Iyy[upper_arm_link]", "m[wrist_3_link]"), Some(0.180625));
+    assert_eq!(
+        coefficient("Iyy[upper_arm_link]", "m[forearm_link]"),
+        Some(0.180625)
+    );
+    assert_eq!(
+        coefficient("Iyy[upper_arm_link]", "m[wrist_3_link]"),
+        Some(0.180625)
+    );
     // The kept parameter itself has coefficient exactly 1 and is listed first.
-    assert!(base.terms.iter().zip(&base.columns).all(|(t, &c)| t[0] == (c, 1.0)));
+    assert!(base
+        .terms
+        .iter()
+        .zip(&base.columns)
+        .all(|(t, &c)| t[0] == (c, 1.0)));
 }
 
 /// Compiled generated code: `Y_b θ_b = Y θ` for the description's θ and random θ at 300 random
@@ -210,7 +239,11 @@ where
         let via_trait = <Base<R> as Parameterization<N, P, B>>::regressor(&t, &qd, &v, &a);
         assert_eq!(y_b, via_trait);
         for (k, &c) in cols.iter().enumerate() {
-            assert_eq!(y_b.column(k), y.column(c), "{robot} seed {seed}: Y_b column {k} ≠ Y column {c}");
+            assert_eq!(
+                y_b.column(k),
+                y.column(c),
+                "{robot} seed {seed}: Y_b column {k} ≠ Y column {c}"
+            );
         }
         for (i, theta) in thetas.iter().enumerate() {
             let tau = y * theta;
@@ -334,7 +367,10 @@ fn same_robot_described_twice_has_the_same_base_parameters() {
     let urdf = described("ur5");
     let inline = load_model("tests/data/ur5_inline.yaml");
     assert_eq!(urdf.dof(), inline.dof());
-    let (a, b) = (BaseParameterSet::compute(&urdf), BaseParameterSet::compute(&inline));
+    let (a, b) = (
+        BaseParameterSet::compute(&urdf),
+        BaseParameterSet::compute(&inline),
+    );
     assert_eq!(a.count(), 36);
     assert_eq!(a.count(), b.count(), "p_b");
     assert_eq!(a.columns, b.columns, "columns");
@@ -357,7 +393,10 @@ fn same_robot_described_twice_has_the_same_base_parameters() {
 fn computation_is_deterministic() {
     for robot in ["arm7", "panda", "ur5"] {
         let model = described(robot);
-        let (a, b) = (BaseParameterSet::compute(&model), BaseParameterSet::compute(&model.clone()));
+        let (a, b) = (
+            BaseParameterSet::compute(&model),
+            BaseParameterSet::compute(&model.clone()),
+        );
         assert_eq!(a.columns, b.columns, "{robot}");
         let bits = |s: &BaseParameterSet| -> Vec<Vec<(usize, u64)>> {
             s.terms

@@ -7,7 +7,10 @@ pub const MAX_TERMS_IN_NAME: usize = 5;
 /// eight significant digits (exact geometry such as `0.0625`), else six significant digits.
 pub fn format_coefficient(c: f64) -> String {
     let shortest = format!("{c}");
-    let digits = shortest.trim_start_matches(['-', '0', '.']).replace('.', "").len();
+    let digits = shortest
+        .trim_start_matches(['-', '0', '.'])
+        .replace('.', "")
+        .len();
     if digits <= 8 && !shortest.contains('e') {
         return shortest;
     }

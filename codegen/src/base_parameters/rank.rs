@@ -148,15 +148,17 @@ pub fn numerical_rank(y: &DMatrix<f64>, tol: f64) -> usize {
 /// (`y_dep = Σ_k β_k y_kept,k`).
 pub fn folding_coefficients(y: &DMatrix<f64>, kept: &[usize], dependent: &[usize]) -> DMatrix<f64> {
     let norms = column_norms(y);
-    let pick = |cols: &[usize]| {
-        DMatrix::from_fn(y.nrows(), cols.len(), |i, k| y[(i, cols[k])] / norms[cols[k]])
-    };
+    let pick =
+        |cols: &[usize]| DMatrix::from_fn(y.nrows(), cols.len(), |i, k| y[(i, cols[k])] / norms[cols[k]]);
     let (a, b) = (pick(kept), pick(dependent));
     if kept.is_empty() || dependent.is_empty() {
         return DMatrix::zeros(kept.len(), dependent.len());
     }
     let svd = a.clone().svd(true, true);
-    let solve = |rhs: &DMatrix<f64>| svd.solve(rhs, 0.0).unwrap_or_else(|_| DMatrix::zeros(kept.len(), rhs.ncols()));
+    let solve = |rhs: &DMatrix<f64>| {
+        svd.solve(rhs, 0.0)
+            .unwrap_or_else(|_| DMatrix::zeros(kept.len(), rhs.ncols()))
+    };
     let mut beta = solve(&b);
     let residual = &b - &a * &beta;
     beta += solve(&residual);
