@@ -300,7 +300,7 @@ fn deterministic_runner(cases: u32) -> TestRunner {
 /// p_b is the rank of a fresh stack, and `Y_b θ_b = Y θ` for random θ at fresh states (numeric).
 #[test]
 fn random_trees_base_parameters() {
-    let stats = RefCell::new((0usize, 0usize, 0usize, f64::INFINITY, 0.0f64));
+    let stats = RefCell::new((0usize, 0usize, 0usize, f64::INFINITY, 0.0f64, 0usize, 0usize));
     let result = deterministic_runner(256).run(&arb_model(10), |model| {
         let base = BaseParameterSet::compute(&model);
         let n = model.dof();
@@ -325,15 +325,17 @@ fn random_trees_base_parameters() {
         st.2 += 10 * n;
         st.3 = st.3.min(base.diagnostics.smallest_kept_residual);
         st.4 = st.4.max(base.diagnostics.largest_dropped_residual);
+        st.5 += base.diagnostics.exact;
+        st.6 += base.diagnostics.inexact;
         Ok(())
     });
     if let Err(e) = result {
         panic!("{e}");
     }
-    let (trees, pb, p, kept, dropped) = *stats.borrow();
+    let (trees, pb, p, kept, dropped, exact, inexact) = *stats.borrow();
     println!(
         "{trees} random trees: {pb} base of {p} parameters; smallest kept residual {kept:.2e}, \
-         largest dropped residual {dropped:.2e}"
+         largest dropped residual {dropped:.2e}; folding coefficients {exact} exact, {inexact} inexact"
     );
 }
 

@@ -78,10 +78,14 @@ pub struct Diagnostics {
     pub largest_dropped_residual: f64,
     /// Worst relative residual of `Y₂ − Y₁ β` on the verification states, after cleaning.
     pub verification_residual: f64,
-    /// Coefficients replaced by an exact value (0, an integer, or a short decimal).
-    pub snapped: usize,
+    /// Coefficients set to exactly 0 (rounding-level values of least squares).
+    pub zeroed: usize,
+    /// Non-zero coefficients that are exact: integers or short decimals (geometry).
+    pub exact: usize,
+    /// Non-zero coefficients left as computed (no exact value reproduced the columns).
+    pub inexact: usize,
     /// Dependent columns whose cleaned coefficients failed verification (kept as computed).
-    pub unsnapped_columns: usize,
+    pub uncleaned_columns: usize,
 }
 
 /// The base parameters of one model.
@@ -130,8 +134,10 @@ impl BaseParameterSet {
             smallest_kept_residual: selection.smallest_kept_residual,
             largest_dropped_residual: selection.largest_dropped_residual,
             verification_residual: 0.0,
-            snapped: 0,
-            unsnapped_columns: 0,
+            zeroed: 0,
+            exact: 0,
+            inexact: 0,
+            uncleaned_columns: 0,
         };
         // Folding coefficients of each dependent column: (kept column, coefficient).
         let mut folded: Vec<Vec<(usize, f64)>> = Vec::with_capacity(dependent.len());
@@ -148,20 +154,19 @@ impl BaseParameterSet {
             let (terms, residual) = match chosen {
                 Some((t, r)) => (t.clone(), r),
                 None => {
-                    diagnostics.unsnapped_columns += 1;
+                    diagnostics.uncleaned_columns += 1;
                     let raw = &candidates[2];
                     (raw.clone(), relative_residual(&fresh, j, raw))
                 }
             };
             diagnostics.verification_residual = diagnostics.verification_residual.max(residual);
-            diagnostics.snapped += terms
-                .iter()
-                .filter(|&&(c, x)| {
-                    let original = beta[(kept.iter().position(|&k| k == c).unwrap_or(0), d)];
-                    x != original
-                })
-                .count()
-                + (kept.len() - terms.len());
+            diagnostics.zeroed += kept.len() - terms.len();
+            for &(_, x) in &terms {
+                match snap(x) == Some(x) {
+                    true => diagnostics.exact += 1,
+                    false => diagnostics.inexact += 1,
+                }
+            }
             folded.push(terms);
         }
         let terms: Vec<Vec<(usize, f64)>> = kept
