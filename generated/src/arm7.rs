@@ -3108,6 +3108,7 @@ impl BaseParameters<7, 70, 43> for Arm7 {
             ]),
         )
     }
+    /// `Y_b`: columns 9, 11, 13, 14, 15, 16, 17, 18, 21, 22, 24, 25, 27, 28, 29, 31, 33, 34, 35, 36, 37, 38, 41, 42, 44, 45, 47, 48, 49, 51, 53, 54, 55, 56, 57, 58, 61, 62, 64, 65, 67, 68, 69 of `Y` (the base parameters'), computed without the others.
     ///Operations: 1345 mul, 1100 add/sub, 28 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn base_regressor(

@@ -2520,6 +2520,7 @@ impl BaseParameters<7, 70, 43> for Panda {
             ]),
         )
     }
+    /// `Y_b`: columns 9, 11, 12, 14, 15, 17, 18, 19, 21, 22, 24, 25, 27, 28, 29, 31, 32, 34, 35, 37, 38, 39, 41, 42, 44, 45, 47, 48, 49, 51, 52, 54, 55, 57, 58, 59, 61, 62, 64, 65, 67, 68, 69 of `Y` (the base parameters'), computed without the others.
     ///Operations: 1185 mul, 959 add/sub, 12 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn base_regressor(

@@ -2246,6 +2246,7 @@ impl BaseParameters<6, 60, 36> for Ur5 {
             ]),
         )
     }
+    /// `Y_b`: columns 9, 11, 13, 14, 15, 16, 17, 18, 21, 23, 24, 25, 26, 27, 28, 31, 33, 34, 35, 36, 37, 38, 41, 42, 44, 45, 47, 48, 49, 51, 53, 54, 55, 56, 57, 58 of `Y` (the base parameters'), computed without the others.
     ///Operations: 971 mul, 806 add/sub, 14 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn base_regressor(

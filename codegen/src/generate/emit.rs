@@ -342,7 +342,17 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
         }
         Shape::Pose => quote!(Pose),
     };
-    let doc = doc_counts(&robot.graph.op_counts(&q.outputs));
+    let mut doc = vec![doc_counts(&robot.graph.op_counts(&q.outputs))];
+    if q.name == BASE_REGRESSOR {
+        let columns: Vec<String> = robot.base.columns.iter().map(|c| c.to_string()).collect();
+        doc.insert(
+            0,
+            format!(
+                " `Y_b`: columns {} of `Y` (the base parameters'), computed without the others.",
+                columns.join(", ")
+            ),
+        );
+    }
     let names_of = |ids: &[Id]| -> Vec<Ident> { ids.iter().map(|id| plan.names[id].clone()).collect() };
 
     if n_chunks == 1 {
@@ -355,7 +365,7 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
         let sig = signature(robot, leaves, &q.args, &used, &n);
         let (params, prelude) = (sig.params, sig.prelude);
         let method = quote! {
-            #[doc = #doc]
+            #(#[doc = #doc])*
             #[inline(never)]
             fn #name(#(#params),*) -> #ret {
                 #(#prelude)*
@@ -406,7 +416,7 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
     let prelude = signature(robot, leaves, &q.args, &main_used, &n).prelude;
     let params = all_parameters(&q.args, &n);
     let method = quote! {
-        #[doc = #doc]
+        #(#[doc = #doc])*
         #[inline(never)]
         fn #name(#(#params),*) -> #ret {
             #(#prelude)*
