@@ -6,12 +6,13 @@
 //! `cargo bench --bench dynamics`, then `cargo xtask bench-table` for the table.
 
 use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use dyngen_codegen::base_parameters::BaseParameterSet;
 use dyngen_codegen::description::load;
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::model::Model;
 use dyngen_generated::{Arm7, Panda, Ur5};
 use dyngen_runtime::nalgebra::SVector;
-use dyngen_runtime::{JointTrig, RobotDynamics};
+use dyngen_runtime::{BaseParameters, JointTrig};
 use std::hint::black_box;
 use std::path::Path;
 use std::time::Duration;
@@ -57,7 +58,10 @@ fn cycle<T>(c: &mut Criterion, group: &str, id: &str, inputs: &[T], mut f: impl 
         });
 }
 
-fn bench_robot<R: RobotDynamics<N, P>, const N: usize, const P: usize>(c: &mut Criterion, robot: &str) {
+fn bench_robot<R: BaseParameters<N, P, B>, const N: usize, const P: usize, const B: usize>(
+    c: &mut Criterion,
+    robot: &str,
+) {
     let model = model(robot);
     let generic = NumericDynamics::new(&model);
     let raw = states(N);
@@ -119,12 +123,21 @@ fn bench_robot<R: RobotDynamics<N, P>, const N: usize, const P: usize>(c: &mut C
     cycle(c, &g("regressor"), "generic", &raw, |[q, qd, v, a]| {
         black_box(generic.regressor(q, qd, v, a));
     });
+    // Y_b: the generated function computes only the base columns; the generic baseline is Y
+    // followed by a column pick.
+    let base = BaseParameterSet::compute(&model);
+    cycle(c, &g("base_regressor"), "generated", &fixed, |[q, qd, v, a]| {
+        black_box(R::base_regressor(&JointTrig::new(q), qd, v, a));
+    });
+    cycle(c, &g("base_regressor"), "generic", &raw, |[q, qd, v, a]| {
+        black_box(base.base_regressor(&generic.regressor(q, qd, v, a)));
+    });
 }
 
 fn dynamics(c: &mut Criterion) {
-    bench_robot::<Panda, 7, 70>(c, "panda");
-    bench_robot::<Ur5, 6, 60>(c, "ur5");
-    bench_robot::<Arm7, 7, 70>(c, "arm7");
+    bench_robot::<Panda, 7, 70, { dyngen_generated::panda::BASE_PARAMETER_COUNT }>(c, "panda");
+    bench_robot::<Ur5, 6, 60, { dyngen_generated::ur5::BASE_PARAMETER_COUNT }>(c, "ur5");
+    bench_robot::<Arm7, 7, 70, { dyngen_generated::arm7::BASE_PARAMETER_COUNT }>(c, "arm7");
 }
 
 criterion_group! {

@@ -48,6 +48,10 @@ fn check_state(model: &Model, robot: &SymbolicRobot, q: &[f64], qd: &[f64], v: &
         ("inverse_dynamics", vec(generic.inverse_dynamics(q, qd, a))),
         ("slotine_li", vec(generic.slotine_li(q, qd, v, a, true))),
         ("regressor", generic.regressor(q, qd, v, a)),
+        (
+            "base_regressor",
+            robot.base.base_regressor(&generic.regressor(q, qd, v, a)),
+        ),
     ];
     for (name, want) in expected {
         assert_close(

@@ -2,6 +2,7 @@
 //! dynamics algorithms generic over a [`scalar::Scalar`] (run with `f64` as the generic
 //! reference, and with symbolic values for code generation).
 
+pub mod base_parameters;
 mod build_script;
 pub mod description;
 pub mod dynamics;

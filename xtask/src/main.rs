@@ -72,7 +72,7 @@ fn print_summary(report: &CrateReport, check: bool) {
             (_, true) => "STALE",
         };
         println!(
-            "{} → {} ({state})\n  {} DOF, {} parameters, generated in {:.2} s",
+            "{} → {} ({state})\n  {} DOF, {} parameters, {} base parameters, generated in {:.2} s",
             shown(
                 r.robot
                     .sources
@@ -83,6 +83,7 @@ fn print_summary(report: &CrateReport, check: bool) {
             shown(&r.file),
             m.dof(),
             m.parameters().len(),
+            r.robot.base_parameter_count,
             r.robot.elapsed.as_secs_f64()
         );
         for note in &r.robot.notes {

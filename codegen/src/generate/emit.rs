@@ -5,7 +5,8 @@
 //! the top of a function; outputs are built with `from_array_storage`, so the generated code has
 //! no indexing, no allocation and no panic path.
 
-use super::trace::{Arg, Quantity, Shape, SymbolicRobot};
+use super::trace::{Arg, Quantity, Shape, SymbolicRobot, BASE_REGRESSOR};
+use crate::base_parameters::BaseParameterSet;
 use crate::model::Model;
 use crate::symbolic::{Graph, Id, Node, OpCounts};
 use proc_macro2::{Ident, Literal, TokenStream};
@@ -386,7 +387,17 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
         }
         Shape::Pose => quote!(Pose),
     };
-    let doc = doc_counts(&robot.graph.op_counts(&q.outputs));
+    let mut doc = vec![doc_counts(&robot.graph.op_counts(&q.outputs))];
+    if q.name == BASE_REGRESSOR {
+        let columns: Vec<String> = robot.base.columns.iter().map(|c| c.to_string()).collect();
+        doc.insert(
+            0,
+            format!(
+                " `Y_b`: columns {} of `Y` (the base parameters'), computed without the others.",
+                columns.join(", ")
+            ),
+        );
+    }
     let names_of = |ids: &[Id]| -> Vec<Ident> { ids.iter().map(|id| plan.names[id].clone()).collect() };
 
     if n_chunks == 1 {
@@ -395,7 +406,7 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
         let sig = signature(robot, leaves, &q.args, &used, &n);
         let (params, prelude) = (sig.params, sig.prelude);
         let method = quote! {
-            #[doc = #doc]
+            #(#[doc = #doc])*
             #[inline(never)]
             fn #name(#(#params),*) -> #ret {
                 #(#prelude)*
@@ -446,7 +457,7 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
     let prelude = signature(robot, leaves, &q.args, &main_used, &n).prelude;
     let params = all_parameters(&q.args, &n);
     let method = quote! {
-        #[doc = #doc]
+        #(#[doc = #doc])*
         #[inline(never)]
         fn #name(#(#params),*) -> #ret {
             #(#prelude)*
@@ -477,6 +488,61 @@ fn trig_ids(robot: &SymbolicRobot, sin: bool) -> Vec<Id> {
         .collect()
 }
 
+/// `fn base_parameters(theta) -> θ_b`: one sum per base parameter, with the cleaned folding
+/// coefficients written out (only the non-zero ones; `±1` as a plain sum or difference).
+fn base_parameters_function(base: &BaseParameterSet) -> TokenStream {
+    let p = Literal::usize_unsuffixed(base.standard_count);
+    let b = Literal::usize_unsuffixed(base.count());
+    let used: Vec<bool> = (0..base.standard_count)
+        .map(|i| base.terms.iter().flatten().any(|&(k, _)| k == i))
+        .collect();
+    let pattern = used.iter().enumerate().map(|(i, &u)| {
+        if u {
+            let name = format_ident!("p{i}");
+            quote!(#name)
+        } else {
+            quote!(_)
+        }
+    });
+    let (mut mul, mut add) = (0, 0);
+    let sums: Vec<TokenStream> = base
+        .terms
+        .iter()
+        .map(|terms| {
+            let mut sum = TokenStream::new();
+            for (k, &(i, c)) in terms.iter().enumerate() {
+                let name = format_ident!("p{i}");
+                let sign = match (k, c < 0.0) {
+                    (0, false) => quote!(),
+                    (0, true) => quote!(-),
+                    (_, false) => quote!(+),
+                    (_, true) => quote!(-),
+                };
+                add += usize::from(k > 0);
+                if c.abs() == 1.0 {
+                    sum.extend(quote!(#sign #name));
+                } else {
+                    mul += 1;
+                    let lit = Literal::f64_suffixed(c.abs());
+                    sum.extend(quote!(#sign #lit * #name));
+                }
+            }
+            sum
+        })
+        .collect();
+    let doc = format!(
+        " `θ_b = Φ θ`: each base parameter is a standard parameter plus the ones folded into it \
+         (names in `BASE_PARAMETER_NAMES`). Operations: {mul} mul, {add} add/sub."
+    );
+    quote! {
+        #[doc = #doc]
+        fn base_parameters(theta: &SVector<f64, #p>) -> SVector<f64, #b> {
+            let [#(#pattern),*] = theta.data.0[0];
+            SVector::from_array_storage(ArrayStorage([[#(#sums),*]]))
+        }
+    }
+}
+
 /// The complete generated module for `model`, formatted. The module declaration that
 /// includes it carries the lint allows of [`MODULE_ALLOWS`].
 pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> String {
@@ -488,16 +554,31 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
     let joint_names = model.joints.iter().map(|j| j.name.as_str());
     let param_names = model.parameter_names();
     let theta = model.parameters().into_iter().map(literal);
-    let emitted: Vec<Emitted> = robot
+    let emitted: Vec<(&str, Emitted)> = robot
         .quantities
         .iter()
-        .map(|q| function(robot, &leaves, q, n))
+        .map(|q| (q.name, function(robot, &leaves, q, n)))
         .collect();
-    let functions = emitted.iter().map(|e| &e.method);
-    let chunks = emitted.iter().flat_map(|e| &e.chunks);
+    let functions = emitted
+        .iter()
+        .filter(|(name, _)| *name != BASE_REGRESSOR)
+        .map(|(_, e)| &e.method);
+    let base_functions = emitted
+        .iter()
+        .filter(|(name, _)| *name == BASE_REGRESSOR)
+        .map(|(_, e)| &e.method);
+    let chunks = emitted.iter().flat_map(|(_, e)| &e.chunks);
+    let base = &robot.base;
+    let base_names = base.names.iter().map(String::as_str);
+    let base_parameters = base_parameters_function(base);
+    let b = Literal::usize_unsuffixed(base.count());
+    let count_doc = format!(
+        " Number of base parameters of `{name}` (the `B` of [`BaseParameters`]): {} of {p}.",
+        base.count()
+    );
     let (n, p) = (Literal::usize_unsuffixed(n), Literal::usize_unsuffixed(p));
     let header = format!(
-        "// Rigid-body dynamics of `{name}` ({n} joints, {p} inertial parameters).\n\
+        "// Rigid-body dynamics of `{name}` ({n} joints, {p} inertial parameters, {b} base parameters).\n\
          // Generated by dyngen {} from `{}` (fnv1a64 {}).\n\
          // Do not edit by hand: regenerate with `{}`.\n\n",
         env!("CARGO_PKG_VERSION"),
@@ -505,10 +586,13 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
         provenance.source_hash,
         provenance.regenerate
     );
-    let type_doc = format!(" `{name}`: implements [`RobotDynamics`] with flattened, allocation-free code.");
+    let type_doc = format!(" `{name}`: implements [`RobotDynamics`] and [`BaseParameters`] with flattened, allocation-free code.");
     let tokens = quote! {
         use dyngen_runtime::nalgebra::{ArrayStorage, Matrix3, SMatrix, SVector, Vector3};
-        use dyngen_runtime::{JointTrig, Pose, RobotDynamics};
+        use dyngen_runtime::{BaseParameters, JointTrig, Pose, RobotDynamics};
+
+        #[doc = #count_doc]
+        pub const BASE_PARAMETER_COUNT: usize = #b;
 
         #[doc = #type_doc]
         #[derive(Clone, Copy, Debug, Default)]
@@ -524,6 +608,14 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
             }
 
             #(#functions)*
+        }
+
+        impl BaseParameters<#n, #p, #b> for #ty {
+            const BASE_PARAMETER_NAMES: [&'static str; #b] = [#(#base_names),*];
+
+            #base_parameters
+
+            #(#base_functions)*
         }
 
         #(#chunks)*

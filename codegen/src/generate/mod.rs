@@ -12,4 +12,4 @@ pub use emit::{emit, type_name, Provenance, MODULE_ATTRIBUTES};
 pub use hash::fnv1a64;
 pub use output::{check_file, crate_root, module_name, write_file, WriteOutcome};
 pub use robot_file::{generate_robot, GenerateError, GeneratedRobot, GENERATED_MARKER};
-pub use trace::{trace, Arg, Inputs, Quantity, Shape, SymbolicRobot};
+pub use trace::{trace, trace_with_base, Arg, Inputs, Quantity, Shape, SymbolicRobot, BASE_REGRESSOR};

@@ -39,6 +39,8 @@ pub struct GeneratedRobot {
     pub notes: Vec<String>,
     /// Operation counts per generated function, in emission order.
     pub op_counts: Vec<(&'static str, OpCounts)>,
+    /// Number of base parameters `p_b` (independent combinations of the standard ones).
+    pub base_parameter_count: usize,
     pub elapsed: Duration,
 }
 
@@ -69,6 +71,18 @@ pub fn generate_robot(
         type_name: type_name.to_owned(),
     };
     let robot = trace(&loaded.model);
+    let mut warnings = loaded.warnings;
+    let base = &robot.base;
+    if base.diagnostics.svd_rank != base.count() {
+        // Never seen on a real robot: the selection and the SVD disagree only when some
+        // combination of parameters is on the edge of identifiability.
+        warnings.push(format!(
+            "{} base parameters selected, but the SVD rank of the stacked regressor is {}; \
+             the base parameters may be ill-conditioned",
+            base.count(),
+            base.diagnostics.svd_rank
+        ));
+    }
     let code = format!("{GENERATED_MARKER}\n{}", emit(&loaded.model, &robot, &provenance));
     let op_counts = robot
         .quantities
@@ -79,9 +93,10 @@ pub fn generate_robot(
         model: loaded.model,
         code,
         sources: loaded.sources,
-        warnings: loaded.warnings,
+        warnings,
         notes: loaded.notes,
         op_counts,
+        base_parameter_count: robot.base.count(),
         elapsed: start.elapsed(),
     })
 }

@@ -1,6 +1,7 @@
 //! Runs the generic dynamics algorithms on symbolic inputs: one graph holds every quantity a
 //! controller needs, so shared subexpressions (joint transforms, body velocities) are one node.
 
+use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::{self, body_inertias};
 use crate::model::Model;
 use crate::symbolic::{record, Expr, Graph, Id};
@@ -50,7 +51,13 @@ pub struct SymbolicRobot {
     pub graph: Graph,
     pub inputs: Inputs,
     pub quantities: Vec<Quantity>,
+    /// The base parameters whose regressor is the quantity [`BASE_REGRESSOR`].
+    pub base: BaseParameterSet,
 }
+
+/// Name of the base-parameter regressor `Y_b` (a method of `BaseParameters`, not of
+/// `RobotDynamics`): the kept columns of `Y`, so only their nodes are live in its function.
+pub const BASE_REGRESSOR: &str = "base_regressor";
 
 fn ids(v: &[Expr]) -> Vec<Id> {
     v.iter().map(|e| e.id()).collect()
@@ -64,9 +71,14 @@ fn inputs(prefix: &str, n: usize) -> Vec<Expr> {
     (0..n).map(|i| Expr::input(&format!("{prefix}{i}"))).collect()
 }
 
-/// Records forward kinematics, `J`, `J̇`, `D`, `C`, `g`, `τ`, the Slotine–Li torque and the
-/// regressor of `model`, in that order.
+/// Records forward kinematics, `J`, `J̇`, `D`, `C`, `g`, `τ`, the Slotine–Li torque, the
+/// regressor and the base-parameter regressor of `model`, in that order.
 pub fn trace(model: &Model) -> SymbolicRobot {
+    trace_with_base(model, BaseParameterSet::compute(model))
+}
+
+/// [`trace`] with base parameters computed beforehand.
+pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
     let n = model.dof();
     let (graph, (inputs, quantities)) = record(|| {
         let (q, qd, v, a) = (inputs("q", n), inputs("qd", n), inputs("v", n), inputs("a", n));
@@ -77,6 +89,13 @@ pub fn trace(model: &Model) -> SymbolicRobot {
         let mut pose: Vec<Id> = ee.rot.transpose().0.iter().flatten().map(|e| e.id()).collect();
         pose.extend(ee.pos.0.iter().map(|e| e.id()));
         let g = dynamics::gravity_torque(model, &x, &inertias);
+        let y = matrix_ids(&dynamics::regressor(model, &x, &qd, &v, &a));
+        // Column-major: column c of Y is y[c·n .. (c+1)·n].
+        let y_base: Vec<Id> = base
+            .columns
+            .iter()
+            .flat_map(|&c| y[c * n..(c + 1) * n].iter().copied())
+            .collect();
         let quantities = vec![
             Quantity {
                 name: "forward_kinematics",
@@ -138,7 +157,13 @@ pub fn trace(model: &Model) -> SymbolicRobot {
                 name: "regressor",
                 args: vec![Arg::Qd, Arg::V, Arg::A],
                 shape: Shape::Matrix(n, crate::model::PARAMS_PER_BODY * n),
-                outputs: matrix_ids(&dynamics::regressor(model, &x, &qd, &v, &a)),
+                outputs: y,
+            },
+            Quantity {
+                name: BASE_REGRESSOR,
+                args: vec![Arg::Qd, Arg::V, Arg::A],
+                shape: Shape::Matrix(n, base.count()),
+                outputs: y_base,
             },
         ];
         (
@@ -155,6 +180,7 @@ pub fn trace(model: &Model) -> SymbolicRobot {
         graph,
         inputs,
         quantities,
+        base,
     }
 }
 

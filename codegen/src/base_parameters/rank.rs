@@ -1,0 +1,184 @@
+//! Numerics of the base-parameter computation: the regressor stacked at random states, the
+//! forward greedy column selection, least squares for the folding coefficients, and the SVD
+//! rank that cross-checks the selection.
+
+use crate::dynamics::NumericDynamics;
+use crate::model::{JointKind, Model};
+use nalgebra::{DMatrix, DVector};
+
+/// SplitMix64 (Steele, Lea & Flood 2014): tiny and deterministic, so the base parameters of a
+/// description are the same on every machine and every run.
+struct SplitMix64(u64);
+
+impl SplitMix64 {
+    fn next_u64(&mut self) -> u64 {
+        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.0;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        z ^ (z >> 31)
+    }
+
+    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
+        lo + (hi - lo) * ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64)
+    }
+}
+
+/// The regressor `Y(q, q̇, v, a)` of `model` at `states` random states stacked vertically
+/// (`states·n × 10n`), the same for the same `seed`.
+///
+/// Revolute joints take any angle in `[−π, π)` (the dependencies between columns hold for every
+/// state, so joint limits do not matter and a full turn avoids accidental symmetries); prismatic
+/// joints move within their limits, or ±0.5 m. `q̇` and `v` are independent (`v ≠ q̇`, so the
+/// Coriolis terms of `C v` are seen separately from those of `C q̇`), in ±2; `a` in ±5. Gravity
+/// is part of every row, as in `Y`.
+pub fn stacked_regressor(model: &Model, states: usize, seed: u64) -> DMatrix<f64> {
+    let n = model.dof();
+    let p = crate::model::PARAMS_PER_BODY * n;
+    let dynamics = NumericDynamics::new(model);
+    let mut rng = SplitMix64(seed);
+    let mut stacked = DMatrix::zeros(states * n, p);
+    for k in 0..states {
+        let q: Vec<f64> = model
+            .joints
+            .iter()
+            .map(|j| match (j.kind, j.limits) {
+                (JointKind::Revolute, _) => rng.uniform(-std::f64::consts::PI, std::f64::consts::PI),
+                (JointKind::Prismatic, Some(l)) if l.lower < l.upper => rng.uniform(l.lower, l.upper),
+                (JointKind::Prismatic, _) => rng.uniform(-0.5, 0.5),
+            })
+            .collect();
+        let mut vector = |r: f64| -> Vec<f64> { (0..n).map(|_| rng.uniform(-r, r)).collect() };
+        let (qd, v, a) = (vector(2.0), vector(2.0), vector(5.0));
+        let y = dynamics.regressor(&q, &qd, &v, &a);
+        stacked.view_mut((k * n, 0), (n, p)).copy_from(&y);
+    }
+    stacked
+}
+
+/// Euclidean norms of the columns.
+pub fn column_norms(m: &DMatrix<f64>) -> Vec<f64> {
+    m.column_iter().map(|c| c.norm()).collect()
+}
+
+/// A column whose norm is at most this fraction of the largest column norm is zero: it holds
+/// only rounding errors of terms that cancel exactly (e.g. the mass of a body on a vertical
+/// axis through its own joint origin). Rounding errors are ~1e-16 relative; a real column of a
+/// robot-sized machine is within a few orders of magnitude of the largest.
+pub const ZERO_COLUMN_TOL: f64 = 1e-11;
+
+/// What the greedy selection found.
+pub struct Selection {
+    /// Kept (independent) columns, ascending.
+    pub kept: Vec<usize>,
+    /// Dropped columns that are not zero, ascending.
+    pub dependent: Vec<usize>,
+    /// Relative residual of the least independent kept column (the smallest).
+    pub smallest_kept_residual: f64,
+    /// Relative residual of the most independent dropped column (the largest).
+    pub largest_dropped_residual: f64,
+}
+
+/// Forward greedy selection in parameter order: column `j` is kept iff, scaled to unit norm, the
+/// part of it orthogonal to the columns already kept is longer than `tol`. Gram–Schmidt with one
+/// reorthogonalisation ("twice is enough", Giraud et al. 2005), so the basis stays orthonormal
+/// to rounding error however many columns are kept.
+pub fn greedy_selection(y: &DMatrix<f64>, tol: f64) -> Selection {
+    let norms = column_norms(y);
+    let largest = norms.iter().cloned().fold(0.0, f64::max);
+    let mut basis: Vec<DVector<f64>> = Vec::new();
+    let mut selection = Selection {
+        kept: Vec::new(),
+        dependent: Vec::new(),
+        smallest_kept_residual: f64::INFINITY,
+        largest_dropped_residual: 0.0,
+    };
+    for (j, &norm) in norms.iter().enumerate() {
+        if norm <= ZERO_COLUMN_TOL * largest || norm == 0.0 {
+            continue;
+        }
+        let mut r: DVector<f64> = y.column(j) / norm;
+        for _ in 0..2 {
+            for b in &basis {
+                let c = b.dot(&r);
+                r.axpy(-c, b, 1.0);
+            }
+        }
+        let residual = r.norm();
+        if residual > tol {
+            selection.kept.push(j);
+            selection.smallest_kept_residual = selection.smallest_kept_residual.min(residual);
+            basis.push(r / residual);
+        } else {
+            selection.dependent.push(j);
+            selection.largest_dropped_residual = selection.largest_dropped_residual.max(residual);
+        }
+    }
+    selection
+}
+
+/// Singular values of `y` with every non-zero column scaled to unit norm (and zero columns
+/// zeroed), largest first.
+pub fn scaled_singular_values(y: &DMatrix<f64>) -> Vec<f64> {
+    let norms = column_norms(y);
+    let largest = norms.iter().cloned().fold(0.0, f64::max);
+    let mut scaled = y.clone();
+    for (j, &norm) in norms.iter().enumerate() {
+        let mut c = scaled.column_mut(j);
+        if norm <= ZERO_COLUMN_TOL * largest || norm == 0.0 {
+            c.fill(0.0);
+        } else {
+            c /= norm;
+        }
+    }
+    let mut s: Vec<f64> = scaled.singular_values().iter().cloned().collect();
+    s.sort_by(|a, b| b.total_cmp(a));
+    s
+}
+
+/// Numerical rank: singular values (of the column-scaled matrix) above `tol · σ_max`.
+pub fn numerical_rank(y: &DMatrix<f64>, tol: f64) -> usize {
+    let s = scaled_singular_values(y);
+    let max = s.first().cloned().unwrap_or(0.0);
+    s.iter().filter(|&&x| x > tol * max).count()
+}
+
+/// Least squares `Y_kept β ≈ Y_dep` (one column of β per dependent column), on unit-norm
+/// columns, with one step of iterative refinement; returned in the units of the parameters
+/// (`y_dep = Σ_k β_k y_kept,k`).
+pub fn folding_coefficients(y: &DMatrix<f64>, kept: &[usize], dependent: &[usize]) -> DMatrix<f64> {
+    let norms = column_norms(y);
+    let pick =
+        |cols: &[usize]| DMatrix::from_fn(y.nrows(), cols.len(), |i, k| y[(i, cols[k])] / norms[cols[k]]);
+    let (a, b) = (pick(kept), pick(dependent));
+    if kept.is_empty() || dependent.is_empty() {
+        return DMatrix::zeros(kept.len(), dependent.len());
+    }
+    let svd = a.clone().svd(true, true);
+    let solve = |rhs: &DMatrix<f64>| {
+        svd.solve(rhs, 0.0)
+            .unwrap_or_else(|_| DMatrix::zeros(kept.len(), rhs.ncols()))
+    };
+    let mut beta = solve(&b);
+    let residual = &b - &a * &beta;
+    beta += solve(&residual);
+    DMatrix::from_fn(kept.len(), dependent.len(), |k, d| {
+        beta[(k, d)] * norms[dependent[d]] / norms[kept[k]]
+    })
+}
+
+/// How well `y_j ≈ Σ_k coefficients_k y_k` holds on `y`: `‖y_j − Σ c_k y_k‖` relative to
+/// `‖y_j‖ + Σ |c_k| ‖y_k‖` (the size of the terms that cancel), 0 when all are zero.
+pub fn relative_residual(y: &DMatrix<f64>, j: usize, terms: &[(usize, f64)]) -> f64 {
+    let mut r: DVector<f64> = y.column(j).into_owned();
+    let mut scale = r.norm();
+    for &(k, c) in terms {
+        r.axpy(-c, &y.column(k), 1.0);
+        scale += c.abs() * y.column(k).norm();
+    }
+    if scale == 0.0 {
+        0.0
+    } else {
+        r.norm() / scale
+    }
+}
