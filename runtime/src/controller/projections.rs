@@ -1,0 +1,98 @@
+//! `J⁺`, `J⁻` and their time derivatives, with the singularity guard.
+//!
+//! # Singularity guard
+//! `J⁺ = Jᵀ (J Jᵀ + μ² I)⁻¹` (damped least squares) where the damping is **zero** while the
+//! smallest eigenvalue `σ²_min` of `J Jᵀ` (the squared smallest singular value of the 3×N
+//! position Jacobian) stays above `σ₀²`, so the exact law of the note holds away from
+//! singularities; below it `μ² = μ²_max (1 − σ²_min/σ₀²)` grows continuously to `μ²_max`. The
+//! time derivative of `J⁺` includes the derivative of `μ²` (`dσ²_min/dt = uᵀ (J̇Jᵀ + JJ̇ᵀ) u` for
+//! the unit eigenvector `u`), so `q̈_r` stays the exact derivative of `q̇_r` and the closed loop
+//! `D ṙ + C r + G r = Y θ̃` (hence `V̇ = −rᵀ G r`) holds inside the damped region too; what is
+//! lost there is exact task tracking (`J J⁺ ≠ I`), not stability of `r`. The torque is also
+//! saturated and checked for NaN in the law (see `law.rs`).
+
+use super::error::TickError;
+use nalgebra::{Matrix3, SMatrix};
+
+/// Damped-least-squares settings (see the module documentation).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct SingularityGuard {
+    /// `σ₀`: the smallest singular value of the position Jacobian (m/rad) below which damping
+    /// starts.
+    pub sigma_threshold: f64,
+    /// `μ²_max` (m²): the damping reached at an exact singularity.
+    pub max_damping: f64,
+}
+
+impl Default for SingularityGuard {
+    fn default() -> Self {
+        SingularityGuard {
+            sigma_threshold: 0.03,
+            max_damping: 4.0e-4,
+        }
+    }
+}
+
+/// `J⁺`, `J⁻ = I − J⁺J`, `d(J⁺)/dt`, `d(J⁻)/dt` at one state.
+#[derive(Clone, Copy, Debug)]
+pub struct Projections<const N: usize> {
+    pub pinv: SMatrix<f64, N, 3>,
+    pub null: SMatrix<f64, N, N>,
+    pub pinv_dot: SMatrix<f64, N, 3>,
+    pub null_dot: SMatrix<f64, N, N>,
+    /// The damping `μ²` used (0 away from singularities).
+    pub damping: f64,
+    /// Smallest singular value of `J`.
+    pub sigma_min: f64,
+}
+
+/// Smallest singular value of a 3×N Jacobian and the unit eigenvector of `J Jᵀ` that goes with it.
+pub fn smallest_singular<const N: usize>(j: &SMatrix<f64, 3, N>) -> (f64, nalgebra::Vector3<f64>) {
+    let a = j * j.transpose();
+    let eig = a.symmetric_eigen();
+    let (mut k, mut min) = (0, f64::INFINITY);
+    for (i, &e) in eig.eigenvalues.iter().enumerate() {
+        if e < min {
+            min = e;
+            k = i;
+        }
+    }
+    (min.max(0.0).sqrt(), eig.eigenvectors.column(k).into_owned())
+}
+
+impl<const N: usize> Projections<N> {
+    pub fn new(
+        j: &SMatrix<f64, 3, N>,
+        jd: &SMatrix<f64, 3, N>,
+        guard: &SingularityGuard,
+    ) -> Result<Self, TickError> {
+        let a = j * j.transpose();
+        let a_dot = jd * j.transpose() + j * jd.transpose();
+        let (sigma_min, u) = smallest_singular(j);
+        let s0 = guard.sigma_threshold * guard.sigma_threshold;
+        let s2 = sigma_min * sigma_min;
+        let (damping, damping_dot) = if s2 < s0 {
+            let d_s2 = (u.transpose() * a_dot * u)[0];
+            (guard.max_damping * (1.0 - s2 / s0), -guard.max_damping / s0 * d_s2)
+        } else {
+            (0.0, 0.0)
+        };
+        let a_inv = (a + Matrix3::identity() * damping)
+            .try_inverse()
+            .filter(|m| m.iter().all(|x| x.is_finite()))
+            .ok_or(TickError::Singular(s2))?;
+        let pinv = j.transpose() * a_inv;
+        let null = SMatrix::<f64, N, N>::identity() - pinv * j;
+        let pinv_dot =
+            jd.transpose() * a_inv - pinv * (a_dot + Matrix3::identity() * damping_dot) * a_inv;
+        let null_dot = -(pinv_dot * j + pinv * jd);
+        Ok(Projections {
+            pinv,
+            null,
+            pinv_dot,
+            null_dot,
+            damping,
+            sigma_min,
+        })
+    }
+}
