@@ -124,12 +124,20 @@ where
         let contact = PlaneContact::table(surface, options.stiffness);
         let plant = Plant::<R, N, P>::with_payload(&options.payload, contact);
         let task = ContactTask::plane(contact.point, contact.normal, options.stiffness)?;
+        // The desired force is consistent with the controller's own contact model (eq. 39): with
+        // stiffness estimation that is the initial estimate k̂(0) (it matters in free space,
+        // where `F_d < 0` is a desired distance `−F_d / k̂`).
+        let model_k = options.stiffness * options.stiffness_estimation.map_or(1.0, |(f, _)| f);
         let scenario = {
-            let mut s = PressAndCircle::new(task.rotation * start, surface, options.stiffness, options.target_force, q0);
+            let mut s = PressAndCircle::new(task.rotation * start, surface, model_k, options.target_force, q0);
             s.circle_time = options.circle_time;
             s
         };
-        scenario.validate(&task)?;
+        let model_task = ContactTask {
+            stiffness: task.stiffness * (model_k / options.stiffness),
+            ..task
+        };
+        scenario.validate(&model_task)?;
         if !(options.kappa.is_finite() && options.kappa > 0.0) {
             return Err(ConfigError::NotPositiveDefinite {
                 name: "G",
