@@ -48,29 +48,44 @@ fn gains_that_are_not_positive_definite() {
         ..DemoOptions::default()
     })
     .err();
-    assert!(matches!(e, Some(ConfigError::NotPositiveDefinite { name: "G", .. })), "{e:?}");
+    assert!(
+        matches!(e, Some(ConfigError::NotPositiveDefinite { name: "G", .. })),
+        "{e:?}"
+    );
 
     let mut c = config::<7, 70, 1>(table());
     c.gains.g[(3, 3)] = -1.0;
     let e = HybridController::<Arm7, Standard<Arm7>, 7, 70, 70, 1>::new(c).err();
-    assert!(matches!(e, Some(ConfigError::NotPositiveDefinite { name: "G", .. })), "{e:?}");
+    assert!(
+        matches!(e, Some(ConfigError::NotPositiveDefinite { name: "G", .. })),
+        "{e:?}"
+    );
 
     let mut c = config::<7, 70, 1>(table());
     c.gains.g[(0, 1)] = 0.5; // not symmetric
     let e = HybridController::<Arm7, Standard<Arm7>, 7, 70, 70, 1>::new(c).err();
-    assert!(matches!(e, Some(ConfigError::NotPositiveDefinite { name: "G", .. })), "{e:?}");
+    assert!(
+        matches!(e, Some(ConfigError::NotPositiveDefinite { name: "G", .. })),
+        "{e:?}"
+    );
 
     let mut options = DemoOptions::default();
     options.gamma.first_moment = 0.0;
     let e = demo(options).err();
-    assert!(matches!(e, Some(ConfigError::NotPositiveDefinite { name: "Γ", .. })), "{e:?}");
+    assert!(
+        matches!(e, Some(ConfigError::NotPositiveDefinite { name: "Γ", .. })),
+        "{e:?}"
+    );
 
     let e = demo(DemoOptions {
         lambda: 0.0,
         ..DemoOptions::default()
     })
     .err();
-    assert!(matches!(e, Some(ConfigError::NotPositiveDefinite { name: "λ", .. })), "{e:?}");
+    assert!(
+        matches!(e, Some(ConfigError::NotPositiveDefinite { name: "λ", .. })),
+        "{e:?}"
+    );
     println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
 
     // Positive definite but far beyond what 1 kHz sampling allows.
@@ -87,7 +102,10 @@ fn a_stiffness_that_is_not_full_rank() {
     let mut task = table();
     task.stiffness = SMatrix::zeros();
     let e = HybridController::<Arm7, Standard<Arm7>, 7, 70, 70, 1>::new(config(task)).err();
-    assert!(matches!(e, Some(ConfigError::StiffnessRankDeficient { .. })), "{e:?}");
+    assert!(
+        matches!(e, Some(ConfigError::StiffnessRankDeficient { .. })),
+        "{e:?}"
+    );
 
     // Two parallel rows.
     let task2 = ContactTask::<2> {
@@ -97,7 +115,10 @@ fn a_stiffness_that_is_not_full_rank() {
         contact_point: Vector3::zeros(),
     };
     let e = HybridController::<Arm7, Standard<Arm7>, 7, 70, 70, 2>::new(config(task2)).err();
-    assert!(matches!(e, Some(ConfigError::StiffnessRankDeficient { rows: 2, .. })), "{e:?}");
+    assert!(
+        matches!(e, Some(ConfigError::StiffnessRankDeficient { rows: 2, .. })),
+        "{e:?}"
+    );
     println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
 }
 
@@ -135,7 +156,12 @@ impl RobotDynamics<2, 20> for TwoJoints {
     fn inverse_dynamics(_: &JointTrig<2>, _: &SVector<f64, 2>, a: &SVector<f64, 2>) -> SVector<f64, 2> {
         *a
     }
-    fn slotine_li(_: &JointTrig<2>, _: &SVector<f64, 2>, _: &SVector<f64, 2>, a: &SVector<f64, 2>) -> SVector<f64, 2> {
+    fn slotine_li(
+        _: &JointTrig<2>,
+        _: &SVector<f64, 2>,
+        _: &SVector<f64, 2>,
+        a: &SVector<f64, 2>,
+    ) -> SVector<f64, 2> {
         *a
     }
     fn regressor(
@@ -162,7 +188,10 @@ fn a_desired_force_that_contradicts_the_contact_model() {
         ..DemoOptions::default()
     })
     .err();
-    assert!(matches!(e, Some(ConfigError::ForceContradictsContact(_))), "{e:?}");
+    assert!(
+        matches!(e, Some(ConfigError::ForceContradictsContact(_))),
+        "{e:?}"
+    );
     println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
 
     // A K whose force grows when pulling away from the surface.
@@ -170,7 +199,10 @@ fn a_desired_force_that_contradicts_the_contact_model() {
     let mut task = d.task;
     task.stiffness = -task.stiffness;
     let e = d.scenario.validate(&task).err();
-    assert!(matches!(e, Some(ConfigError::ForceContradictsContact(_))), "{e:?}");
+    assert!(
+        matches!(e, Some(ConfigError::ForceContradictsContact(_))),
+        "{e:?}"
+    );
 
     // More penetration than a stiff surface allows.
     let e = demo(DemoOptions {
@@ -178,7 +210,10 @@ fn a_desired_force_that_contradicts_the_contact_model() {
         ..DemoOptions::default()
     })
     .err();
-    assert!(matches!(e, Some(ConfigError::ForceContradictsContact(_))), "{e:?}");
+    assert!(
+        matches!(e, Some(ConfigError::ForceContradictsContact(_))),
+        "{e:?}"
+    );
 }
 
 #[test]

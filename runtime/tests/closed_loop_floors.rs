@@ -8,7 +8,8 @@ use dyngen_runtime::Standard;
 
 fn run(kind: RunKind) -> Summary {
     let (q0, limits) = preset::<7>("arm7").expect("arm7 preset");
-    let demo = Demo::<Arm7, Standard<Arm7>, 7, 70, 70>::new(DemoOptions::default(), q0, limits).expect("valid demo");
+    let demo =
+        Demo::<Arm7, Standard<Arm7>, 7, 70, 70>::new(DemoOptions::default(), q0, limits).expect("valid demo");
     let res = demo.run(kind, &mut |_| {}).expect("valid controller");
     assert_eq!(res.status, RunStatus::Completed, "{kind:?}");
     assert!((res.samples.last().expect("samples").t - demo.scenario.duration()).abs() < 1e-9);
@@ -22,8 +23,16 @@ fn adaptive_meets_the_floors_and_adaptation_off_is_far_worse() {
     let adaptive = run(RunKind::Adaptive);
     let off = run(RunKind::AdaptationOff);
     let known = run(RunKind::KnownParameters);
-    assert!(adaptive.rms_force_error <= 0.02, "RMS force error {} N", adaptive.rms_force_error);
-    assert!(adaptive.rms_in_plane_error <= 1e-5, "RMS in-plane error {} m", adaptive.rms_in_plane_error);
+    assert!(
+        adaptive.rms_force_error <= 0.02,
+        "RMS force error {} N",
+        adaptive.rms_force_error
+    );
+    assert!(
+        adaptive.rms_in_plane_error <= 1e-5,
+        "RMS in-plane error {} m",
+        adaptive.rms_in_plane_error
+    );
     assert!(
         off.rms_force_error >= 100.0 * adaptive.rms_force_error,
         "adaptation off {} N vs adaptive {} N",

@@ -49,14 +49,21 @@ fn lyapunov_function_decreases_by_exactly_the_dissipation() {
         let trig = JointTrig::new(&x.q);
         let force = plant.contact_force(&trig);
         min_penetration = min_penetration.min(force.z.abs());
-        let m = Measurement { q: x.q, qd: x.qd, force };
-        let out = ctrl.evaluate(&m, &demo.scenario.desired(t), &x.theta).map_err(|e| e.to_string())?;
+        let m = Measurement {
+            q: x.q,
+            qd: x.qd,
+            force,
+        };
+        let out = ctrl
+            .evaluate(&m, &demo.scenario.desired(t), &x.theta)
+            .map_err(|e| e.to_string())?;
         assert!(!out.saturated && out.damping == 0.0);
         let r = out.reference.r;
         let st = dyngen_runtime::sim::PlantState { q: x.q, qd: x.qd };
         let (qdd, _) = plant.acceleration(&st, &out.tau).map_err(|e| e.to_string())?;
         let theta_err = x.theta - theta_true;
-        let v = 0.5 * r.dot(&(plant.mass_matrix(&trig) * r)) + 0.5 * theta_err.component_div(&gamma).dot(&theta_err);
+        let v = 0.5 * r.dot(&(plant.mass_matrix(&trig) * r))
+            + 0.5 * theta_err.component_div(&gamma).dot(&theta_err);
         Ok((
             Loop {
                 q: x.qd,
@@ -98,7 +105,17 @@ fn lyapunov_function_decreases_by_exactly_the_dissipation() {
     );
     assert!(min_penetration > 0.0, "the contact opened");
     // Not a trivial run: a substantial share of V(0) is dissipated.
-    assert!(x.dissipated > 0.1 * v0, "∫rᵀGr = {} for V(0) = {v0}", x.dissipated);
-    assert!(worst_rise <= 1e-9, "V rose by {worst_rise:.3e} relative on a step");
-    assert!(worst_drift <= 1e-6, "V + ∫rᵀGr drifted by {worst_drift:.3e} relative");
+    assert!(
+        x.dissipated > 0.1 * v0,
+        "∫rᵀGr = {} for V(0) = {v0}",
+        x.dissipated
+    );
+    assert!(
+        worst_rise <= 1e-9,
+        "V rose by {worst_rise:.3e} relative on a step"
+    );
+    assert!(
+        worst_drift <= 1e-6,
+        "V + ∫rᵀGr drifted by {worst_drift:.3e} relative"
+    );
 }

@@ -5,7 +5,7 @@
 
 use dyngen_generated::{Arm7, Panda, Ur5};
 use dyngen_runtime::nalgebra::{SVector, Vector3};
-use dyngen_runtime::sim::{Gaussian, Payload, Plant, PlaneContact};
+use dyngen_runtime::sim::{Gaussian, Payload, PlaneContact, Plant};
 use dyngen_runtime::{JointTrig, RobotDynamics};
 
 fn rel(a: f64, scale: f64) -> f64 {
@@ -21,12 +21,20 @@ fn matches_generated<R: RobotDynamics<N, P>, const N: usize, const P: usize>() {
         let v = rng.vector::<N>(1.0);
         let t = JointTrig::new(&q);
         let d = R::mass_matrix(&t);
-        assert!(rel((plant.mass_matrix(&t) - d).amax(), d.amax()) < 1e-10, "{}", R::NAME);
+        assert!(
+            rel((plant.mass_matrix(&t) - d).amax(), d.amax()) < 1e-10,
+            "{}",
+            R::NAME
+        );
         let c = R::coriolis_matrix(&t, &qd);
         let g = R::gravity(&t);
         let sl = plant.slotine_li(&t, &qd, &v);
         assert!(rel((sl - (c * v + g)).amax(), g.amax()) < 1e-10, "{}", R::NAME);
-        assert!(rel((plant.gravity(&t) - g).amax(), g.amax()) < 1e-10, "{}", R::NAME);
+        assert!(
+            rel((plant.gravity(&t) - g).amax(), g.amax()) < 1e-10,
+            "{}",
+            R::NAME
+        );
     }
 }
 

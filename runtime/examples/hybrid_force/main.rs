@@ -150,13 +150,21 @@ where
     for kind in RunKind::ALL {
         let started = Instant::now();
         let mut progress = |f: f64| {
-            eprint!("\r  {:<17} {:>3.0} %  ({:.1} s)", kind.label(), 100.0 * f, started.elapsed().as_secs_f64());
+            eprint!(
+                "\r  {:<17} {:>3.0} %  ({:.1} s)",
+                kind.label(),
+                100.0 * f,
+                started.elapsed().as_secs_f64()
+            );
             let _ = std::io::stderr().flush();
         };
         let res = demo.run(kind, &mut progress).map_err(|e| e.to_string())?;
         eprintln!();
         if let RunStatus::Diverged { time, reason } = &res.status {
-            eprintln!("  {} run diverged at t = {time:.3} s: {reason} (data so far is written)", kind.label());
+            eprintln!(
+                "  {} run diverged at t = {time:.3} s: {reason} (data so far is written)",
+                kind.label()
+            );
             all_ok = false;
         }
         let path = args.out.join(format!("{}.csv", kind.label().replace(' ', "_")));
@@ -188,7 +196,11 @@ where
     }
     let written = write_plots(&args.out, &results).map_err(|e| format!("cannot write plots: {e}"))?;
     println!();
-    println!("wrote {} and the per-run CSV files into {}", written.join(", "), args.out.display());
+    println!(
+        "wrote {} and the per-run CSV files into {}",
+        written.join(", "),
+        args.out.display()
+    );
     Ok(all_ok)
 }
 
@@ -228,10 +240,34 @@ fn write_plots(dir: &Path, results: &[(RunKind, RunResult)]) -> std::io::Result<
     type Getter = fn(&Sample) -> f64;
     let quantities: [(&str, &str, &str, bool, Getter); 5] = [
         ("force", "normal force F_t (N)", "N", false, |s| s.true_force),
-        ("position_error", "in-plane position error ‖K⁻x̃‖ (mm)", "mm", true, |s| s.in_plane_error * 1e3),
-        ("null_space_error", "null-space error ‖J⁻(q − q_ν)‖ (rad)", "rad", true, |s| s.null_error),
-        ("lyapunov", "V(t) = ½rᵀDr + ½θ̃ᵀΓ⁻¹θ̃ (adaptive), ½rᵀDr (others)", "V", true, |s| s.lyapunov),
-        ("theta_error", "parameter error ‖θ̃‖", "‖θ̃‖", true, |s| s.theta_error),
+        (
+            "position_error",
+            "in-plane position error ‖K⁻x̃‖ (mm)",
+            "mm",
+            true,
+            |s| s.in_plane_error * 1e3,
+        ),
+        (
+            "null_space_error",
+            "null-space error ‖J⁻(q − q_ν)‖ (rad)",
+            "rad",
+            true,
+            |s| s.null_error,
+        ),
+        (
+            "lyapunov",
+            "V(t) = ½rᵀDr + ½θ̃ᵀΓ⁻¹θ̃ (adaptive), ½rᵀDr (others)",
+            "V",
+            true,
+            |s| s.lyapunov,
+        ),
+        (
+            "theta_error",
+            "parameter error ‖θ̃‖",
+            "‖θ̃‖",
+            true,
+            |s| s.theta_error,
+        ),
     ];
     let mut panels = Vec::new();
     for (_, title, unit, log, get) in quantities {
@@ -272,4 +308,3 @@ fn write_plots(dir: &Path, results: &[(RunKind, RunResult)]) -> std::io::Result<
     written.insert(0, "hybrid_force.svg".into());
     Ok(written)
 }
-

@@ -27,7 +27,11 @@ fn nice_ticks(lo: f64, hi: f64, n: usize) -> Vec<f64> {
     let span = (hi - lo).max(1e-300);
     let raw = span / n as f64;
     let mag = 10f64.powf(raw.log10().floor());
-    let step = [1.0, 2.0, 5.0, 10.0].iter().map(|m| m * mag).find(|s| *s >= raw).unwrap_or(10.0 * mag);
+    let step = [1.0, 2.0, 5.0, 10.0]
+        .iter()
+        .map(|m| m * mag)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * mag);
     let mut t = (lo / step).ceil() * step;
     let mut v = Vec::new();
     while t <= hi + 1e-9 * step {
@@ -61,8 +65,13 @@ pub fn render(panels: &[Panel]) -> String {
         let y0 = k as f64 * H;
         let (pw, ph) = (W - LEFT - RIGHT, H - TOP - BOTTOM);
         let tf = |v: f64| if p.log { v.max(1e-300).log10() } else { v };
-        let pts = p.series.iter().flat_map(|s| s.points.iter()).filter(|(x, y)| x.is_finite() && y.is_finite() && (!p.log || *y > 0.0));
-        let (mut x_lo, mut x_hi, mut y_lo, mut y_hi) = (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
+        let pts = p
+            .series
+            .iter()
+            .flat_map(|s| s.points.iter())
+            .filter(|(x, y)| x.is_finite() && y.is_finite() && (!p.log || *y > 0.0));
+        let (mut x_lo, mut x_hi, mut y_lo, mut y_hi) =
+            (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
         for &(x, y) in pts {
             x_lo = x_lo.min(x);
             x_hi = x_hi.max(x);
@@ -84,7 +93,12 @@ pub fn render(panels: &[Panel]) -> String {
         let (y_lo, y_hi) = (y_lo - pad, y_hi + pad);
         let sx = |x: f64| LEFT + (x - x_lo) / (x_hi - x_lo).max(1e-12) * pw;
         let sy = |y: f64| y0 + TOP + (1.0 - (tf(y).clamp(y_lo, y_hi) - y_lo) / (y_hi - y_lo)) * ph;
-        let _ = writeln!(s, r#"<text x="{LEFT}" y="{}" font-size="13" font-weight="bold">{}</text>"#, y0 + 18.0, p.title);
+        let _ = writeln!(
+            s,
+            r#"<text x="{LEFT}" y="{}" font-size="13" font-weight="bold">{}</text>"#,
+            y0 + 18.0,
+            p.title
+        );
         let _ = writeln!(
             s,
             r##"<rect x="{LEFT}" y="{}" width="{pw}" height="{ph}" fill="none" stroke="#888"/>"##,
@@ -92,7 +106,9 @@ pub fn render(panels: &[Panel]) -> String {
         );
         // y ticks
         let ticks: Vec<f64> = if p.log {
-            (y_lo.ceil() as i64..=y_hi.floor() as i64).map(|e| e as f64).collect()
+            (y_lo.ceil() as i64..=y_hi.floor() as i64)
+                .map(|e| e as f64)
+                .collect()
         } else {
             nice_ticks(y_lo, y_hi, 4)
         };
@@ -105,7 +121,11 @@ pub fn render(panels: &[Panel]) -> String {
                 LEFT + pw,
                 LEFT - 4.0,
                 y + 4.0,
-                if p.log { format!("1e{}", t as i64) } else { fmt_tick(v) }
+                if p.log {
+                    format!("1e{}", t as i64)
+                } else {
+                    fmt_tick(v)
+                }
             );
         }
         for t in nice_ticks(x_lo, x_hi, 10) {
@@ -136,10 +156,20 @@ pub fn render(panels: &[Panel]) -> String {
                     pen_down = false;
                     continue;
                 }
-                let _ = write!(d, "{}{:.1},{:.1} ", if pen_down { "L" } else { "M" }, sx(x), sy(y));
+                let _ = write!(
+                    d,
+                    "{}{:.1},{:.1} ",
+                    if pen_down { "L" } else { "M" },
+                    sx(x),
+                    sy(y)
+                );
                 pen_down = true;
             }
-            let dash = if ser.dashed { r#" stroke-dasharray="5,4""# } else { "" };
+            let dash = if ser.dashed {
+                r#" stroke-dasharray="5,4""#
+            } else {
+                ""
+            };
             let _ = writeln!(
                 s,
                 r#"<path d="{d}" fill="none" stroke="{}" stroke-width="1.3"{dash}/>"#,

@@ -9,7 +9,11 @@ pub enum ConfigError {
         "contact stiffness K ({rows}×3) is not of full row rank: smallest singular value {sigma_min:.3e} \
          (needs > {threshold:.1e} relative to the largest)"
     )]
-    StiffnessRankDeficient { rows: usize, sigma_min: f64, threshold: f64 },
+    StiffnessRankDeficient {
+        rows: usize,
+        sigma_min: f64,
+        threshold: f64,
+    },
     #[error("task dimension {task} is larger than the robot's {dof} degrees of freedom")]
     TaskDimension { task: usize, dof: usize },
     #[error("desired force contradicts the contact model: {0}")]

@@ -30,7 +30,10 @@ impl<const N: usize, const M: usize> Gains<N, M> {
             return Err(pd("G", format!("not symmetric (‖G − Gᵀ‖ = {asym:.1e})")));
         }
         if Cholesky::new(self.g).is_none() {
-            return Err(pd("G", "the Cholesky factorisation fails: an eigenvalue is ≤ 0".into()));
+            return Err(pd(
+                "G",
+                "the Cholesky factorisation fails: an eigenvalue is ≤ 0".into(),
+            ));
         }
         if adapting {
             if let Some((i, g)) = self
@@ -39,7 +42,10 @@ impl<const N: usize, const M: usize> Gains<N, M> {
                 .enumerate()
                 .find(|(_, g)| !(g.is_finite() && **g > 0.0))
             {
-                return Err(pd("Γ", format!("entry {i} is {g}; every diagonal entry must be > 0")));
+                return Err(pd(
+                    "Γ",
+                    format!("entry {i} is {g}; every diagonal entry must be > 0"),
+                ));
             }
         }
         Ok(())

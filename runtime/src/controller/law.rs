@@ -70,7 +70,10 @@ where
     /// at most the DOF) and builds the controller.
     pub fn new(config: ControllerConfig<N, M, S>) -> Result<Self, ConfigError> {
         if TASK_DIM > N {
-            return Err(ConfigError::TaskDimension { task: TASK_DIM, dof: N });
+            return Err(ConfigError::TaskDimension {
+                task: TASK_DIM,
+                dof: N,
+            });
         }
         config.gains.validate(config.adaptation == Adaptation::On)?;
         let split = config.task.validate()?;
@@ -150,7 +153,13 @@ where
         d: &Desired<N, S>,
         theta_hat: &SVector<f64, M>,
     ) -> Result<ControlOutput<N, M, S>, TickError> {
-        if !(m.q.iter().chain(m.qd.iter()).chain(m.force.iter()).all(|x| x.is_finite())) {
+        if !(m
+            .q
+            .iter()
+            .chain(m.qd.iter())
+            .chain(m.force.iter())
+            .all(|x| x.is_finite()))
+        {
             return Err(TickError::NonFiniteMeasurement);
         }
         let trig = JointTrig::new(&m.q);

@@ -42,7 +42,7 @@ pub struct Projections<const N: usize> {
     pub null_dot: SMatrix<f64, N, N>,
     /// The damping `μ²` used (0 away from singularities).
     pub damping: f64,
-    /// Smallest singular value of `J`.
+    /// Smallest singular value of `J` (a lower bound of it when far from the threshold).
     pub sigma_min: f64,
 }
 
@@ -68,23 +68,35 @@ impl<const N: usize> Projections<N> {
     ) -> Result<Self, TickError> {
         let a = j * j.transpose();
         let a_dot = jd * j.transpose() + j * jd.transpose();
-        let (sigma_min, u) = smallest_singular(j);
         let s0 = guard.sigma_threshold * guard.sigma_threshold;
-        let s2 = sigma_min * sigma_min;
-        let (damping, damping_dot) = if s2 < s0 {
-            let d_s2 = (u.transpose() * a_dot * u)[0];
-            (guard.max_damping * (1.0 - s2 / s0), -guard.max_damping / s0 * d_s2)
+        // Cheap lower bound first: for eigenvalues l1 ≤ l2 ≤ l3 of the SPD `A`,
+        // l2·l3 ≤ (tr/2)², so l1 ≥ 4 det / tr². The eigen-decomposition is needed only when the
+        // bound does not already clear the threshold (near a singularity).
+        let tr = a.trace();
+        let bound = 4.0 * a.determinant() / (tr * tr);
+        let (sigma_min, damping, damping_dot) = if bound >= s0 {
+            (bound.sqrt(), 0.0, 0.0)
         } else {
-            (0.0, 0.0)
+            let (sigma_min, u) = smallest_singular(j);
+            let s2 = sigma_min * sigma_min;
+            if s2 < s0 {
+                let d_s2 = (u.transpose() * a_dot * u)[0];
+                (
+                    sigma_min,
+                    guard.max_damping * (1.0 - s2 / s0),
+                    -guard.max_damping / s0 * d_s2,
+                )
+            } else {
+                (sigma_min, 0.0, 0.0)
+            }
         };
         let a_inv = (a + Matrix3::identity() * damping)
             .try_inverse()
             .filter(|m| m.iter().all(|x| x.is_finite()))
-            .ok_or(TickError::Singular(s2))?;
+            .ok_or(TickError::Singular(sigma_min * sigma_min))?;
         let pinv = j.transpose() * a_inv;
         let null = SMatrix::<f64, N, N>::identity() - pinv * j;
-        let pinv_dot =
-            jd.transpose() * a_inv - pinv * (a_dot + Matrix3::identity() * damping_dot) * a_inv;
+        let pinv_dot = jd.transpose() * a_inv - pinv * (a_dot + Matrix3::identity() * damping_dot) * a_inv;
         let null_dot = -(pinv_dot * j + pinv * jd);
         Ok(Projections {
             pinv,

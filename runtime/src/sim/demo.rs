@@ -7,7 +7,7 @@ use super::plant::{Payload, Plant};
 use super::run::{simulate, RunResult, SimConfig};
 use super::scenario::PressAndCircle;
 use crate::controller::{
-    inertia_shaped_gain, Adaptation, ConfigError, ContactTask, ControllerConfig, GammaByKind, Gains,
+    inertia_shaped_gain, Adaptation, ConfigError, ContactTask, ControllerConfig, Gains, GammaByKind,
     HybridController, SingularityGuard,
 };
 use crate::parameterization::Parameterization;
@@ -26,7 +26,11 @@ pub enum RunKind {
 }
 
 impl RunKind {
-    pub const ALL: [RunKind; 3] = [RunKind::Adaptive, RunKind::AdaptationOff, RunKind::KnownParameters];
+    pub const ALL: [RunKind; 3] = [
+        RunKind::Adaptive,
+        RunKind::AdaptationOff,
+        RunKind::KnownParameters,
+    ];
     pub fn label(self) -> &'static str {
         match self {
             RunKind::Adaptive => "adaptive",
@@ -129,7 +133,8 @@ where
         // where `F_d < 0` is a desired distance `−F_d / k̂`).
         let model_k = options.stiffness * options.stiffness_estimation.map_or(1.0, |(f, _)| f);
         let scenario = {
-            let mut s = PressAndCircle::new(task.rotation * start, surface, model_k, options.target_force, q0);
+            let mut s =
+                PressAndCircle::new(task.rotation * start, surface, model_k, options.target_force, q0);
             s.circle_time = options.circle_time;
             s
         };
@@ -138,6 +143,15 @@ where
             ..task
         };
         scenario.validate(&model_task)?;
+        let penetration = options.target_force / options.stiffness;
+        if penetration > 0.05 {
+            return Err(ConfigError::ForceContradictsContact(format!(
+                "{} N on k = {} N/m needs {:.1} mm of penetration (> 50 mm)",
+                options.target_force,
+                options.stiffness,
+                penetration * 1e3
+            )));
+        }
         if !(options.kappa.is_finite() && options.kappa > 0.0) {
             return Err(ConfigError::NotPositiveDefinite {
                 name: "G",
@@ -211,7 +225,14 @@ where
     /// Runs one law over the scenario.
     pub fn run(&self, kind: RunKind, progress: &mut dyn FnMut(f64)) -> Result<RunResult, ConfigError> {
         let mut c = self.controller(kind)?;
-        Ok(simulate(&self.plant, &mut c, &self.scenario, &self.q0, &self.options.sim, progress))
+        Ok(simulate(
+            &self.plant,
+            &mut c,
+            &self.scenario,
+            &self.q0,
+            &self.options.sim,
+            progress,
+        ))
     }
 
     /// Start of the window the floors are measured over: the last 4 s.

@@ -31,7 +31,10 @@ pub struct Gaussian {
 
 impl Gaussian {
     pub fn new(seed: u64) -> Self {
-        Gaussian { state: seed, spare: None }
+        Gaussian {
+            state: seed,
+            spare: None,
+        }
     }
 
     fn uniform(&mut self) -> f64 {

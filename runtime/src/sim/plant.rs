@@ -24,7 +24,8 @@ impl Payload {
     pub fn parameters(&self) -> [f64; 10] {
         let m = self.mass;
         let (a, b, c) = (self.size.x, self.size.y, self.size.z);
-        let i_c = Matrix3::from_diagonal(&Vector3::new(b * b + c * c, a * a + c * c, a * a + b * b)) * (m / 12.0);
+        let i_c =
+            Matrix3::from_diagonal(&Vector3::new(b * b + c * c, a * a + c * c, a * a + b * b)) * (m / 12.0);
         let p = self.com;
         let i_o = i_c + (Matrix3::identity() * p.dot(&p) - p * p.transpose()) * m;
         [

@@ -102,8 +102,16 @@ impl RunResult {
         let mut ticks: Vec<f64> = self.samples.iter().map(|s| s.tick_ns).collect();
         ticks.sort_by(f64::total_cmp);
         Summary {
-            rms_force_error: if window.is_empty() { f64::NAN } else { rms(&|s| s.force_error) },
-            rms_in_plane_error: if window.is_empty() { f64::NAN } else { rms(&|s| s.in_plane_error) },
+            rms_force_error: if window.is_empty() {
+                f64::NAN
+            } else {
+                rms(&|s| s.force_error)
+            },
+            rms_in_plane_error: if window.is_empty() {
+                f64::NAN
+            } else {
+                rms(&|s| s.in_plane_error)
+            },
             final_null_error: self.samples.last().map_or(f64::NAN, |s| s.null_error),
             max_tau: self.samples.iter().map(|s| s.tau_max).fold(0.0, f64::max),
             median_tick_ns: ticks.get(ticks.len() / 2).copied().unwrap_or(f64::NAN),
@@ -129,7 +137,10 @@ where
     let h = dt / config.substeps.max(1) as f64;
     let theta_true = Z::from_standard(plant.parameters());
     let mut rng = Gaussian::new(config.seed);
-    let mut state = PlantState { q: *q0, qd: SVector::zeros() };
+    let mut state = PlantState {
+        q: *q0,
+        qd: SVector::zeros(),
+    };
     let mut samples = Vec::with_capacity(steps + 1);
     let task = controller.config().task;
     let gamma = controller.config().gains.gamma;
@@ -182,7 +193,11 @@ where
             force: out.reference.force[0],
             true_force: f_true,
             desired_force: desired.force[0],
-            force_error: if f_true > 0.0 { f_true - desired.force[0] } else { out.reference.force_error[0] },
+            force_error: if f_true > 0.0 {
+                f_true - desired.force[0]
+            } else {
+                out.reference.force_error[0]
+            },
             in_plane_error: in_plane,
             null_error: out.reference.null_error.norm(),
             lyapunov: v,
