@@ -86,10 +86,12 @@ fn main() -> ExitCode {
 }
 
 fn options(args: &Args) -> DemoOptions {
-    let mut o = DemoOptions::default();
-    o.stiffness = args.stiffness;
-    o.target_force = args.force;
-    o.circle_time = args.circle_time;
+    let mut o = DemoOptions {
+        stiffness: args.stiffness,
+        target_force: args.force,
+        circle_time: args.circle_time,
+        ..DemoOptions::default()
+    };
     if let Some(k) = args.kappa {
         o.kappa = k;
     }
