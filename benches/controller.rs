@@ -55,12 +55,35 @@ fn tick(c: &mut Criterion) {
     });
 }
 
+/// Where the time of a tick goes: the generated quantities it calls, alone.
+fn parts(c: &mut Criterion) {
+    use dyngen_runtime::{Parameterization, RobotDynamics};
+    let (q0, _) = preset::<7>("arm7").expect("arm7 preset");
+    let qd = SVector::<f64, 7>::from_element(0.2);
+    let mut g = c.benchmark_group("arm7/control_tick_parts");
+    g.bench_function("trig+fk+J+Jdot", |b| {
+        b.iter(|| {
+            let t = JointTrig::new(black_box(&q0));
+            black_box((
+                Arm7::forward_kinematics(&t),
+                Arm7::jacobian(&t),
+                Arm7::jacobian_dot(&t, black_box(&qd)),
+            ))
+        })
+    });
+    let t = JointTrig::new(&q0);
+    g.bench_function("regressor", |b| {
+        b.iter(|| black_box(Params::regressor(black_box(&t), &qd, &qd, &qd)))
+    });
+    g.finish();
+}
+
 criterion_group! {
     name = benches;
     config = Criterion::default()
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(3))
         .sample_size(60);
-    targets = tick
+    targets = tick, parts
 }
 criterion_main!(benches);

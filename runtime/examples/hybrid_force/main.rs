@@ -236,7 +236,7 @@ const COLOURS: [&str; 3] = ["#1f77b4", "#d62728", "#2ca02c"];
 
 fn write_plots(dir: &Path, results: &[(RunKind, RunResult)]) -> std::io::Result<Vec<String>> {
     let decimate = |samples: &[Sample], f: &dyn Fn(&Sample) -> f64| -> Vec<(f64, f64)> {
-        let step = (samples.len() / 1500).max(1);
+        let step = (samples.len() / 800).max(1);
         samples.iter().step_by(step).map(|s| (s.t, f(s))).collect()
     };
     type Getter = fn(&Sample) -> f64;

@@ -12,7 +12,7 @@
 //! saturated and checked for NaN in the law (see `law.rs`).
 
 use super::error::TickError;
-use nalgebra::{Matrix3, SMatrix};
+use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
 /// Damped-least-squares settings (see the module documentation).
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -33,13 +33,16 @@ impl Default for SingularityGuard {
     }
 }
 
-/// `J⁺`, `J⁻ = I − J⁺J`, `d(J⁺)/dt`, `d(J⁻)/dt` at one state.
+/// `J⁺`, `J⁻ = I − J⁺J` and their time derivatives at one state, applied to vectors (no N×N
+/// matrix is formed: `J⁻ v = v − J⁺(J v)`, `d(J⁻)/dt v = −(d(J⁺)/dt (J v) + J⁺ (J̇ v))`).
 #[derive(Clone, Copy, Debug)]
 pub struct Projections<const N: usize> {
-    pub pinv: SMatrix<f64, N, 3>,
-    pub null: SMatrix<f64, N, N>,
-    pub pinv_dot: SMatrix<f64, N, 3>,
-    pub null_dot: SMatrix<f64, N, N>,
+    j: SMatrix<f64, 3, N>,
+    jd: SMatrix<f64, 3, N>,
+    /// `(J Jᵀ + μ² I)⁻¹`
+    a_inv: Matrix3<f64>,
+    /// `dμ²/dt`
+    damping_dot: f64,
     /// The damping `μ²` used (0 away from singularities).
     pub damping: f64,
     /// Smallest singular value of `J` (a lower bound of it when far from the threshold).
@@ -94,17 +97,46 @@ impl<const N: usize> Projections<N> {
             .try_inverse()
             .filter(|m| m.iter().all(|x| x.is_finite()))
             .ok_or(TickError::Singular(sigma_min * sigma_min))?;
-        let pinv = j.transpose() * a_inv;
-        let null = SMatrix::<f64, N, N>::identity() - pinv * j;
-        let pinv_dot = jd.transpose() * a_inv - pinv * (a_dot + Matrix3::identity() * damping_dot) * a_inv;
-        let null_dot = -(pinv_dot * j + pinv * jd);
         Ok(Projections {
-            pinv,
-            null,
-            pinv_dot,
-            null_dot,
+            j: *j,
+            jd: *jd,
+            a_inv,
+            damping_dot,
             damping,
             sigma_min,
         })
+    }
+}
+
+impl<const N: usize> Projections<N> {
+    /// `J⁺ v = Jᵀ (A⁻¹ v)`.
+    #[inline]
+    pub fn pinv_mul(&self, v: &Vector3<f64>) -> SVector<f64, N> {
+        self.j.tr_mul(&(self.a_inv * v))
+    }
+
+    /// `d(J⁺)/dt v = J̇ᵀ y − J⁺ (Ȧ + dμ²/dt I) y` with `y = A⁻¹ v`, `Ȧ y = J̇ (Jᵀ y) + J (J̇ᵀ y)`.
+    #[inline]
+    pub fn pinv_dot_mul(&self, v: &Vector3<f64>) -> SVector<f64, N> {
+        let y = self.a_inv * v;
+        let a_dot_y = self.jd * self.j.tr_mul(&y) + self.j * self.jd.tr_mul(&y) + y * self.damping_dot;
+        self.jd.tr_mul(&y) - self.pinv_mul(&a_dot_y)
+    }
+
+    /// `J⁻ v = v − J⁺ (J v)`.
+    #[inline]
+    pub fn null_mul(&self, v: &SVector<f64, N>) -> SVector<f64, N> {
+        v - self.pinv_mul(&(self.j * v))
+    }
+
+    /// `J̇` (position rows).
+    #[inline]
+    pub fn jd(&self) -> &SMatrix<f64, 3, N> {
+        &self.jd
+    }
+
+    /// `J⁺` as a matrix (for inspection; the law never forms it).
+    pub fn pinv(&self) -> SMatrix<f64, N, 3> {
+        self.j.transpose() * self.a_inv
     }
 }

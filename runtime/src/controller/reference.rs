@@ -101,8 +101,11 @@ pub fn reference<const N: usize, const S: usize>(
     let qd_d = d.posture_velocity - e_null * gains.lambda_null;
     let qdd_d = d.posture_acceleration - (m.qd - d.posture_velocity) * gains.lambda_null;
 
-    let qd_r = proj.pinv * w + proj.null * qd_d;
-    let qdd_r = proj.pinv_dot * w + proj.pinv * wd + proj.null_dot * qd_d + proj.null * qdd_d;
+    // q̇_r = J⁺ w + J⁻ q̇_d = J⁺ (w − J q̇_d) + q̇_d, and its derivative
+    // q̈_r = d(J⁺)/dt (w − J q̇_d) + J⁺ (ẇ − J̇ q̇_d − J q̈_d) + q̈_d: vectors only.
+    let jd = proj.jd();
+    let qd_r = proj.pinv_mul(&(w - j * qd_d)) + qd_d;
+    let qdd_r = proj.pinv_dot_mul(&(w - j * qd_d)) + proj.pinv_mul(&(wd - jd * qd_d - j * qdd_d)) + qdd_d;
     Reference {
         qd_r,
         qdd_r,
@@ -111,6 +114,6 @@ pub fn reference<const N: usize, const S: usize>(
         force,
         position_error,
         deflection,
-        null_error: proj.null * e_null,
+        null_error: proj.null_mul(&e_null),
     }
 }
