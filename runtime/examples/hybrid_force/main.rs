@@ -182,11 +182,13 @@ where
     println!("|---|---|---|---|---|---|---|");
     for (kind, res) in &results {
         let s = res.summary(from);
+        // No sample in the window (a run that diverged before it): say so rather than NaN.
+        let sci = |v: f64| if v.is_finite() { format!("{v:.3e}") } else { "—".to_string() };
         println!(
-            "| {} | {:.3e} | {:.3e} | {:.3e} | {:.1} | {:.2} | {} |",
+            "| {} | {} | {} | {:.3e} | {:.1} | {:.2} | {} |",
             kind.label(),
-            s.rms_force_error,
-            s.rms_in_plane_error * 1e3,
+            sci(s.rms_force_error),
+            sci(s.rms_in_plane_error * 1e3),
             s.final_null_error,
             s.max_tau,
             s.median_tick_ns / 1e3,
