@@ -183,7 +183,13 @@ where
     for (kind, res) in &results {
         let s = res.summary(from);
         // No sample in the window (a run that diverged before it): say so rather than NaN.
-        let sci = |v: f64| if v.is_finite() { format!("{v:.3e}") } else { "—".to_string() };
+        let sci = |v: f64| {
+            if v.is_finite() {
+                format!("{v:.3e}")
+            } else {
+                "—".to_string()
+            }
+        };
         println!(
             "| {} | {} | {} | {:.3e} | {:.1} | {:.2} | {} |",
             kind.label(),
