@@ -246,3 +246,28 @@ fn a_diverging_run_says_when_and_why_and_keeps_its_data() {
         RunStatus::Completed => panic!("expected a divergence"),
     }
 }
+
+#[test]
+fn a_non_finite_measurement_is_an_error_not_a_torque() {
+    use dyngen_runtime::controller::{Measurement, TickError};
+    let d = demo(DemoOptions::default()).expect("default demo");
+    let mut c = d.controller(RunKind::Adaptive).expect("controller");
+    let mut m = Measurement {
+        q: d.q0,
+        qd: SVector::zeros(),
+        force: Vector3::zeros(),
+    };
+    m.qd[4] = f64::NAN;
+    assert_eq!(
+        c.tick(&m, &d.scenario.desired(0.0), 1e-3).err(),
+        Some(TickError::NonFiniteMeasurement)
+    );
+    m.qd[4] = 0.0;
+    m.force.z = f64::INFINITY;
+    assert_eq!(
+        c.tick(&m, &d.scenario.desired(0.0), 1e-3).err(),
+        Some(TickError::NonFiniteMeasurement)
+    );
+    // θ̂ untouched by the refused ticks.
+    assert_eq!(*c.theta_hat(), d.theta_hat0);
+}

@@ -48,5 +48,6 @@ pub fn parameter_rate<const N: usize, const M: usize>(
     y: &SMatrix<f64, N, M>,
     r: &SVector<f64, N>,
 ) -> SVector<f64, M> {
-    -gamma.component_mul(&y.tr_mul(r))
+    let ytr = y.tr_mul(r);
+    SVector::from_fn(|i, _| -gamma[i] * ytr[i])
 }
