@@ -4,8 +4,10 @@
 //! Invariant: this crate never depends on the generator; generated code depends only on this
 //! crate and `nalgebra`.
 
+pub mod controller;
 mod parameterization;
 mod robot;
+pub mod sim;
 
 pub use nalgebra;
 pub use parameterization::{Base, BaseParameters, Parameterization, Standard};

@@ -1,0 +1,43 @@
+//! Errors: configuration errors are found before a run starts; tick errors stop a run.
+
+/// A controller or scenario setting that cannot work, found before the first tick.
+#[derive(Debug, Clone, PartialEq, thiserror::Error)]
+pub enum ConfigError {
+    #[error("gain {name} is not positive definite: {detail}")]
+    NotPositiveDefinite { name: &'static str, detail: String },
+    #[error(
+        "contact stiffness K ({rows}×3) is not of full row rank: smallest singular value {sigma_min:.3e} \
+         (needs > {threshold:.1e} relative to the largest)"
+    )]
+    StiffnessRankDeficient {
+        rows: usize,
+        sigma_min: f64,
+        threshold: f64,
+    },
+    #[error("task dimension {task} is larger than the robot's {dof} degrees of freedom")]
+    TaskDimension { task: usize, dof: usize },
+    #[error("desired force contradicts the contact model: {0}")]
+    ForceContradictsContact(String),
+    #[error(
+        "the robot starts at a singular configuration: smallest singular value of the position \
+         Jacobian {sigma:.3e} m/rad is below {threshold:.3e}"
+    )]
+    SingularStart { sigma: f64, threshold: f64 },
+    #[error(
+        "gains too high for the sampling period: λ_max(D̂⁻¹G)·dt = {value:.2} > {limit} (lower κ or raise the rate)"
+    )]
+    SamplingLimit { value: f64, limit: f64 },
+    #[error("invalid setting `{name}`: {detail}")]
+    Invalid { name: &'static str, detail: String },
+}
+
+/// A control tick that cannot produce a usable torque.
+#[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
+pub enum TickError {
+    #[error("non-finite measurement (q, q̇ or F̄ contains NaN or infinity)")]
+    NonFiniteMeasurement,
+    #[error("non-finite torque or reference (the model produced NaN or infinity)")]
+    NonFiniteTorque,
+    #[error("task Jacobian J Jᵀ not invertible even with the damping guard (smallest eigenvalue {0:.3e})")]
+    Singular(f64),
+}

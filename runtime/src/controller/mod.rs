@@ -1,0 +1,24 @@
+//! The adaptive hybrid force/position controller of the technical note *Adaptive Hybrid
+//! Force-Position Control for Redundant Manipulators* (see `shared/design/controller.md`):
+//! task-frame contact split (`task`), projections with the singularity guard (`projections`),
+//! reference velocity and analytic reference acceleration (`reference`), the law (`law`), the
+//! adaptation (`adaptation`), gains (`gains`) and online stiffness estimation
+//! (`stiffness_estimator`).
+
+pub mod adaptation;
+pub mod error;
+pub mod gains;
+pub mod law;
+pub mod projections;
+pub mod reference;
+pub mod stiffness_estimator;
+pub mod task;
+
+pub use adaptation::GammaByKind;
+pub use error::{ConfigError, TickError};
+pub use gains::{inertia_estimate, inertia_shaped_gain, Gains};
+pub use law::{Adaptation, ControlOutput, ControllerConfig, HybridController, TASK_DIM};
+pub use projections::{Projections, SingularityGuard};
+pub use reference::{Desired, Measurement, Reference};
+pub use stiffness_estimator::StiffnessEstimator;
+pub use task::{ContactTask, Split};

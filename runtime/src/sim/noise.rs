@@ -1,0 +1,65 @@
+//! Deterministic Gaussian sensor noise (SplitMix64 + Box–Muller): same seed, same run.
+
+use nalgebra::SVector;
+
+/// Standard deviations of the noise added to each measured quantity.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct NoiseConfig {
+    /// On every joint position (rad).
+    pub q: f64,
+    /// On every joint velocity (rad/s).
+    pub qd: f64,
+    /// On every component of the measured force (N).
+    pub force: f64,
+}
+
+impl NoiseConfig {
+    /// σ = 1e-4 rad, 1e-3 rad/s, 0.05 N.
+    pub const REFERENCE: NoiseConfig = NoiseConfig {
+        q: 1e-4,
+        qd: 1e-3,
+        force: 0.05,
+    };
+}
+
+/// A small deterministic normal generator.
+#[derive(Clone, Debug)]
+pub struct Gaussian {
+    state: u64,
+    spare: Option<f64>,
+}
+
+impl Gaussian {
+    pub fn new(seed: u64) -> Self {
+        Gaussian {
+            state: seed,
+            spare: None,
+        }
+    }
+
+    fn uniform(&mut self) -> f64 {
+        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
+        let mut z = self.state;
+        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+        // (0, 1]: never 0, so the logarithm below is finite.
+        (((z ^ (z >> 31)) >> 11) as f64 + 1.0) / (1u64 << 53) as f64
+    }
+
+    /// A standard normal sample.
+    pub fn sample(&mut self) -> f64 {
+        if let Some(s) = self.spare.take() {
+            return s;
+        }
+        let (u1, u2) = (self.uniform(), self.uniform());
+        let rad = (-2.0 * u1.ln()).sqrt();
+        let (s, c) = (2.0 * std::f64::consts::PI * u2).sin_cos();
+        self.spare = Some(rad * s);
+        rad * c
+    }
+
+    /// A vector of independent samples with standard deviation `sigma`.
+    pub fn vector<const D: usize>(&mut self, sigma: f64) -> SVector<f64, D> {
+        SVector::from_fn(|_, _| sigma * self.sample())
+    }
+}

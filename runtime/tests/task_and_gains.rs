@@ -1,0 +1,57 @@
+//! The task frame of a tilted plane and the per-kind adaptation gains.
+
+use dyngen_generated::Arm7;
+use dyngen_runtime::controller::{ContactTask, GammaByKind};
+use dyngen_runtime::nalgebra::Vector3;
+use dyngen_runtime::sim::PlaneContact;
+use dyngen_runtime::{Parameterization, Standard};
+
+#[test]
+fn tilted_plane_model_force_equals_measured_force_component() {
+    let k = 2.5e4;
+    let normal = Vector3::new(0.3, -0.2, 0.9).normalize();
+    let point = Vector3::new(0.4, 0.1, 0.2);
+    let plane = PlaneContact {
+        point,
+        normal,
+        stiffness: k,
+    };
+    let task = ContactTask::plane(point, normal, k).expect("plane");
+    let split = task.validate().expect("valid task");
+    // R is a rotation taking the normal to the task z axis.
+    assert!((task.rotation * normal - Vector3::z()).norm() < 1e-12);
+    // K⁺K projects on the normal, K⁻ on the plane.
+    assert!(((split.k_plus * split.k) * Vector3::z() - Vector3::z()).norm() < 1e-12);
+    assert!((split.k_minus * Vector3::z()).norm() < 1e-12);
+    for (dx, dy, depth) in [(0.01, 0.02, 0.001), (-0.03, 0.0, 0.0005), (0.0, 0.05, 0.002)] {
+        // A point `depth` below the surface, moved in the plane.
+        let tangent = normal.cross(&Vector3::x()).normalize();
+        let x = point + tangent * dx + normal.cross(&tangent) * dy - normal * depth;
+        let measured = (task.force_selection * (task.rotation * plane.force_on_environment(&x)))[0];
+        let model = (split.k * (task.rotation * x - task.contact_point))[0];
+        assert!(
+            (measured - k * depth).abs() < 1e-9 * k,
+            "{measured} vs {}",
+            k * depth
+        );
+        assert!((model - measured).abs() < 1e-9 * k, "{model} vs {measured}");
+    }
+}
+
+#[test]
+fn gamma_by_parameter_kind() {
+    let g = GammaByKind::default().diagonal(&<Standard<Arm7> as Parameterization<7, 70, 70>>::NAMES);
+    for body in 0..7 {
+        let b = &g.as_slice()[10 * body..10 * body + 10];
+        assert_eq!(b, &[100.0, 10.0, 10.0, 10.0, 1.0, 1.0, 1.0, 1.0, 1.0, 1.0]);
+    }
+    // Base-parameter style names take the kind of their first term; unknown names the smallest.
+    let names = [
+        "mcx[link3] + m[link4]",
+        "Izz[link1] + Iyy[link2]",
+        "m[link7]",
+        "0.5·m[link2]",
+    ];
+    let g = GammaByKind::default().diagonal(&names);
+    assert_eq!(g.as_slice(), &[10.0, 1.0, 100.0, 1.0]);
+}
