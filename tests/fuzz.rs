@@ -358,3 +358,41 @@ fn random_trees_round_trip_through_yaml_and_urdf() {
         panic!("{e}");
     }
 }
+
+/// Found by the long run (seed 1): a model whose numbers are finite but so large that folding
+/// constants overflowed made the emitter panic. Huge item values are now loader errors, and
+/// what still overflows (here gravity, which no item check bounds) is a generation error.
+#[test]
+fn overflowing_models_are_errors_not_panics() {
+    let dir = std::env::temp_dir().join(format!("dyngen-overflow-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("scratch");
+    let base = "\
+name: huge
+gravity: [0.0, 0.0, -9.81]
+links:
+  - name: base
+  - name: l1
+    inertial:
+      mass: 2.0
+      inertia: { ixx: 0.1, ixy: 0.0, ixz: 0.0, iyy: 0.1, iyz: 0.0, izz: 0.1 }
+joints:
+  - { name: j1, type: continuous, parent: base, child: l1, axis: [1, 0, 0], origin: { xyz: [0, 0, 0.1] } }
+";
+    let cases = [
+        ("-9.81]", "-1e308]", "overflow"),
+        ("mass: 2.0", "mass: 1e300", "beyond ±1e12"),
+        ("ixx: 0.1, ixy: 0.0", "ixx: 1e200, ixy: 0.0", "beyond ±1e12"),
+        ("xyz: [0, 0, 0.1]", "xyz: [0, 0, 1e200]", "beyond ±1e12"),
+    ];
+    for (from, to, expected) in cases {
+        let path = dir.join("huge.yaml");
+        std::fs::write(&path, base.replacen(from, to, 1)).expect("write");
+        let result = std::panic::catch_unwind(|| {
+            dyngen_codegen::generate::generate_robot(&path, "huge.yaml", "Huge", "test").map(|_| ())
+        })
+        .unwrap_or_else(|_| panic!("{to}: generation panicked"));
+        let e = result.expect_err(to).to_string();
+        assert!(e.contains("huge.yaml") && e.contains(expected), "{to}: {e}");
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -559,6 +559,10 @@ pub fn check_input(text: &str, format: Format, file: &Path) -> Result<Option<Loa
 pub fn check_generation(model: &Model) -> Result<(), String> {
     let result = catch_unwind(AssertUnwindSafe(|| {
         let robot = trace(model);
+        if robot.non_finite_constant().is_some() {
+            // `generate_robot` refuses this model with an error; nothing to emit.
+            return "impl (refused: overflow)".to_owned();
+        }
         let provenance = Provenance {
             source: "fuzz".into(),
             source_hash: "0".into(),

@@ -79,6 +79,9 @@ fn check_joint(
             return Err(err(".origin", format!("origin {what} {} is not finite", vec3(v))));
         }
     }
+    if let Some(msg) = too_large(&j.xyz, "origin xyz") {
+        return Err(err(".origin", msg));
+    }
     let origin = Pose::from_xyz_rpy(j.xyz, j.rpy);
     let warn = |diags: &mut Diagnostics, field: &str, msg: String| {
         diags
@@ -260,6 +263,15 @@ fn check_inertial(
             ));
         }
     }
+    if let Some(msg) = too_large(&[mass], "mass") {
+        return Err(err(".mass", msg));
+    }
+    if let Some(msg) = too_large(&xyz, "inertial origin xyz") {
+        return Err(err(".origin", msg));
+    }
+    if let Some(msg) = too_large(&[ixx, ixy, ixz, iyy, iyz, izz], "inertia") {
+        return Err(err(".inertia", msg));
+    }
     let tensor = Matrix3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz);
     if tensor.iter().any(|v| !v.is_finite()) {
         let msg = format!(
@@ -328,6 +340,21 @@ pub(crate) const MAX_PLAUSIBLE_LENGTH: f64 = 100.0;
 /// The band of plausible radii of gyration (m): 0.1 mm to 10 m.
 pub(crate) const MIN_GYRATION_RADIUS: f64 = 1e-4;
 pub(crate) const MAX_GYRATION_RADIUS: f64 = 10.0;
+
+/// Numbers beyond this magnitude are errors: no robot has them, and the products the
+/// dynamics form of them would overflow `f64` (or lose every digit) in generated code.
+pub(crate) const MAX_MAGNITUDE: f64 = 1e12;
+
+/// An error message when a finite number of `values` exceeds [`MAX_MAGNITUDE`].
+fn too_large(values: &[f64], what: &str) -> Option<String> {
+    values.iter().find(|v| v.is_finite() && v.abs() > MAX_MAGNITUDE).map(|v| {
+        format!(
+            "{what} has the value {}, beyond ±{MAX_MAGNITUDE:e}: far too large for a robot (and for \
+             the arithmetic)",
+            num(*v)
+        )
+    })
+}
 
 /// A warning when `xyz` lies more than [`MAX_PLAUSIBLE_LENGTH`] from its frame.
 fn far(xyz: &[f64; 3], what: &str) -> Option<String> {

@@ -69,6 +69,13 @@ pub fn generate_robot(
         type_name: type_name.to_owned(),
     };
     let robot = trace(&loaded.model);
+    if let Some(v) = robot.non_finite_constant() {
+        let msg = format!(
+            "the dynamics of this model overflow (a constant computes to {v}): masses, lengths \
+             or inertias are far too large"
+        );
+        return Err(DescriptionError::new(path, msg).into());
+    }
     let code = format!("{GENERATED_MARKER}\n{}", emit(&loaded.model, &robot, &provenance));
     let op_counts = robot
         .quantities
