@@ -336,8 +336,10 @@ fn serde_error(file: &Path, e: &serde_yaml::Error) -> DescriptionError {
 pub(crate) const MAX_FLOW_NESTING: usize = 64;
 
 /// Rejects flow collections nested deeper than [`MAX_FLOW_NESTING`], with the place of the
-/// first bracket too deep. Brackets in quoted scalars and comments do not count; a plain
-/// scalar with brackets in it (`a[1]`) may count, which only matters beyond the limit.
+/// first bracket too deep. Brackets in quoted scalars and comments do not count (a quote
+/// opens a scalar only where a token starts); a plain scalar with brackets in it (`a[1]`) may
+/// count, which only matters beyond the limit. As a backstop against a quote this scan
+/// misreads, brackets are also counted regardless of quotes, with a limit 16 times higher.
 fn check_flow_nesting(text: &str, file: &Path) -> Result<(), DescriptionError> {
     #[derive(PartialEq)]
     enum In {
@@ -347,11 +349,19 @@ fn check_flow_nesting(text: &str, file: &Path) -> Result<(), DescriptionError> {
         Comment,
     }
     let mut state = In::Plain;
-    let (mut depth, mut line, mut column) = (0usize, 1usize, 0usize);
+    let (mut depth, mut raw_depth, mut line, mut column) = (0usize, 0usize, 1usize, 0usize);
     let mut prev = '\n';
     let mut escaped = false;
     for c in text.chars() {
         column += 1;
+        let token_start = prev.is_whitespace() || matches!(prev, '[' | '{' | ',');
+        if state != In::Comment {
+            match c {
+                '[' | '{' => raw_depth += 1,
+                ']' | '}' => raw_depth = raw_depth.saturating_sub(1),
+                _ => {}
+            }
+        }
         match (&state, c) {
             (_, '\n') => {
                 line += 1;
@@ -361,21 +371,17 @@ fn check_flow_nesting(text: &str, file: &Path) -> Result<(), DescriptionError> {
                 }
             }
             (In::Plain, '#') if prev.is_whitespace() => state = In::Comment,
-            (In::Plain, '\'') => state = In::Single,
-            (In::Plain, '"') => state = In::Double,
-            (In::Plain, '[' | '{') => {
-                depth += 1;
-                if depth > MAX_FLOW_NESTING {
-                    let msg = format!(
-                        "more than {MAX_FLOW_NESTING} nested levels of `[` and `{{`: not a robot description"
-                    );
-                    return Err(DescriptionError::new(file, msg).at(Some(Location { line, column })));
-                }
-            }
+            (In::Plain, '\'') if token_start => state = In::Single,
+            (In::Plain, '"') if token_start => state = In::Double,
+            (In::Plain, '[' | '{') => depth += 1,
             (In::Plain, ']' | '}') => depth = depth.saturating_sub(1),
             (In::Single, '\'') => state = In::Plain,
             (In::Double, '"') if !escaped => state = In::Plain,
             _ => {}
+        }
+        if depth > MAX_FLOW_NESTING || raw_depth > 16 * MAX_FLOW_NESTING {
+            let msg = format!("more than {MAX_FLOW_NESTING} nested levels of `[` and `{{`: not a robot description");
+            return Err(DescriptionError::new(file, msg).at(Some(Location { line, column })));
         }
         escaped = state == In::Double && c == '\\' && !escaped;
         prev = c;
