@@ -764,7 +764,10 @@ fn immovable_joint_warns() {
         &["bad.yaml:14:12", "joint 'j1'", "both 0.5", "cannot move"],
     );
     check_warning(
-        Src::Urdf(&[("lower=\"-1\" upper=\"1\"", "lower=\"0\" upper=\"0\"")], no_options()),
+        Src::Urdf(
+            &[("lower=\"-1\" upper=\"1\"", "lower=\"0\" upper=\"0\"")],
+            no_options(),
+        ),
         &["bad.urdf:8:5", "joint 'j1'", "both 0", "cannot move"],
     );
 }
@@ -802,15 +805,31 @@ fn huge_mass_warns() {
 #[test]
 fn far_origins_warn() {
     check_warning(
-        Src::Yaml(&[("axis: [0, 0, 1]", "axis: [0, 0, 1]\n    origin: { xyz: [0, 0, 150] }")], ""),
-        &["bad.yaml:14:13", "joint 'j1'", "origin [0, 0, 150]", "millimetres"],
+        Src::Yaml(
+            &[(
+                "axis: [0, 0, 1]",
+                "axis: [0, 0, 1]\n    origin: { xyz: [0, 0, 150] }",
+            )],
+            "",
+        ),
+        &[
+            "bad.yaml:14:13",
+            "joint 'j1'",
+            "origin [0, 0, 150]",
+            "millimetres",
+        ],
     );
     check_warning(
         Src::Urdf(
             &[("<inertial>", "<inertial><origin xyz=\"0 -250 0\"/>")],
             no_options(),
         ),
-        &["bad.urdf:4", "link 'l1'", "centre of mass [0, -250, 0]", "millimetres"],
+        &[
+            "bad.urdf:4",
+            "link 'l1'",
+            "centre of mass [0, -250, 0]",
+            "millimetres",
+        ],
     );
 }
 
@@ -825,15 +844,22 @@ fn inertia_that_does_not_fit_the_mass_warns() {
             )],
             "",
         ),
-        &["bad.yaml:7:16", "link 'l1'", "radius of gyration", "check the units"],
+        &[
+            "bad.yaml:7:16",
+            "link 'l1'",
+            "radius of gyration",
+            "check the units",
+        ],
     );
     // ... and mass in grams with inertia in kg·m²: far above ten metres.
     check_warning(
         Src::Urdf(
             &[
                 ("<mass value=\"1\"/>", "<mass value=\"0.0001\"/>"),
-                ("ixx=\"0.1\" ixy=\"0\" ixz=\"0\" iyy=\"0.1\" iyz=\"0\" izz=\"0.1\"",
-                 "ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"1\""),
+                (
+                    "ixx=\"0.1\" ixy=\"0\" ixz=\"0\" iyy=\"0.1\" iyz=\"0\" izz=\"0.1\"",
+                    "ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"1\"",
+                ),
             ],
             no_options(),
         ),
@@ -904,5 +930,34 @@ fn odd_inputs_give_errors_not_panics() {
                 assert!(msg.starts_with("odd.urdf") && !msg.contains('\n'), "{msg}");
             }
         }
+    }
+}
+
+// ---- the examples of TESTING.md -----------------------------------------------------------
+
+/// Every file in `tests/data/bad/` is rejected, and TESTING.md shows its message exactly as
+/// `cargo xtask gen` prints it (`error: ` and the message), so the document cannot go stale.
+#[test]
+fn testing_md_shows_every_bad_input_message() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let doc = std::fs::read_to_string(root.join("TESTING.md")).expect("TESTING.md");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(root.join("tests/data/bad"))
+        .expect("tests/data/bad")
+        .map(|e| e.expect("entry").path())
+        .collect();
+    files.sort();
+    assert!(files.len() >= 20, "{files:?}");
+    for file in files {
+        let name = file.file_name().expect("name").to_string_lossy().into_owned();
+        // As the user types it from the workspace root (the tests' working directory).
+        let relative = PathBuf::from("tests/data/bad").join(&name);
+        let e = description::load(&relative)
+            .err()
+            .unwrap_or_else(|| panic!("{name} is accepted"));
+        let line = format!("error: {e}");
+        assert!(
+            doc.contains(&line),
+            "TESTING.md lacks the message of {name}:\n{line}"
+        );
     }
 }

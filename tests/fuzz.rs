@@ -111,7 +111,14 @@ fn fuzz_long() {
             done as f64 / secs
         );
     };
-    let (tally, findings) = fuzz::run(&corpus, seed, cases, threads, Duration::from_secs(30), Some(&progress));
+    let (tally, findings) = fuzz::run(
+        &corpus,
+        seed,
+        cases,
+        threads,
+        Duration::from_secs(30),
+        Some(&progress),
+    );
     let secs = start.elapsed().as_secs_f64();
     eprintln!(
         "fuzz: done: {} cases in {secs:.1} s ({:.0} cases/s): {} accepted, {} rejected, {} generated, {} findings",
@@ -227,24 +234,54 @@ fn deep_inputs_do_not_overflow_the_stack() {
     on_small_stack(|| {
         let deep = 100_000;
         let cases: Vec<(&str, String, Format, Expect)> = vec![
-            ("100k [", "[".repeat(deep), Format::Yaml, Expect::Error("probe.yaml")),
+            (
+                "100k [",
+                "[".repeat(deep),
+                Format::Yaml,
+                Expect::Error("probe.yaml"),
+            ),
             (
                 "100k [ ] closed",
                 format!("name: {}{}", "[".repeat(deep), "]".repeat(deep)),
                 Format::Yaml,
                 Expect::Error("probe.yaml"),
             ),
-            ("100k {a: ", "{a: ".repeat(deep), Format::Yaml, Expect::Error("probe.yaml")),
-            ("100k - ", "- ".repeat(deep), Format::Yaml, Expect::Error("probe.yaml")),
+            (
+                "100k {a: ",
+                "{a: ".repeat(deep),
+                Format::Yaml,
+                Expect::Error("probe.yaml"),
+            ),
+            (
+                "100k - ",
+                "- ".repeat(deep),
+                Format::Yaml,
+                Expect::Error("probe.yaml"),
+            ),
             (
                 "100k nested XML",
                 format!("<robot>{}{}</robot>", "<a>".repeat(deep), "</a>".repeat(deep)),
                 Format::Urdf,
                 Expect::Error("probe.urdf"),
             ),
-            ("100k unclosed XML", "<robot>".repeat(deep), Format::Urdf, Expect::Error("probe.urdf")),
-            ("10k-link YAML chain", yaml_chain(10_000), Format::Yaml, Expect::Accepted),
-            ("10k-link URDF chain", urdf_chain(10_000), Format::Urdf, Expect::Accepted),
+            (
+                "100k unclosed XML",
+                "<robot>".repeat(deep),
+                Format::Urdf,
+                Expect::Error("probe.urdf"),
+            ),
+            (
+                "10k-link YAML chain",
+                yaml_chain(10_000),
+                Format::Yaml,
+                Expect::Accepted,
+            ),
+            (
+                "10k-link URDF chain",
+                urdf_chain(10_000),
+                Format::Urdf,
+                Expect::Accepted,
+            ),
         ];
         for (name, text, format, expect) in cases {
             check_case(name, text, format, expect);
@@ -272,7 +309,11 @@ fn fuzz_regressions() {
         on_small_stack(move || {
             let start = Instant::now();
             check_input(&text, format, Path::new("probe")).unwrap_or_else(|p| panic!("{shown}: {p}"));
-            assert!(start.elapsed() < Duration::from_secs(5), "{shown}: took {:?}", start.elapsed());
+            assert!(
+                start.elapsed() < Duration::from_secs(5),
+                "{shown}: took {:?}",
+                start.elapsed()
+            );
         });
     }
 }
@@ -310,7 +351,10 @@ fn same_model(a: &Model, b: &Model) -> Result<(), String> {
             && close_all(ja.axis.as_slice(), jb.axis.as_slice())
             && close_all(ja.origin.rotation.as_slice(), jb.origin.rotation.as_slice())
             && close_all(ja.origin.translation.as_slice(), jb.origin.translation.as_slice())
-            && close_all(&a.bodies[i].inertia.parameters(), &b.bodies[k].inertia.parameters());
+            && close_all(
+                &a.bodies[i].inertia.parameters(),
+                &b.bodies[k].inertia.parameters(),
+            );
         if !ok {
             return Err(format!("joint {} or its body differs", ja.name));
         }
@@ -318,7 +362,10 @@ fn same_model(a: &Model, b: &Model) -> Result<(), String> {
     let (ea, eb) = (&a.end_effector, &b.end_effector);
     if a.joints[ea.parent].name != b.joints[eb.parent].name
         || !close_all(ea.placement.rotation.as_slice(), eb.placement.rotation.as_slice())
-        || !close_all(ea.placement.translation.as_slice(), eb.placement.translation.as_slice())
+        || !close_all(
+            ea.placement.translation.as_slice(),
+            eb.placement.translation.as_slice(),
+        )
     {
         return Err("end-effector differs".into());
     }
@@ -333,9 +380,8 @@ fn random_trees_round_trip_through_yaml_and_urdf() {
     let result = runner(128).run(&arb_model(8), |model| {
         count.set(count.get() + 1);
         let yaml = to_yaml(&model);
-        let loaded = load_yaml_str(&yaml, Path::new("tree.yaml")).map_err(|e| {
-            proptest::test_runner::TestCaseError::fail(format!("YAML rejected: {e}\n{yaml}"))
-        })?;
+        let loaded = load_yaml_str(&yaml, Path::new("tree.yaml"))
+            .map_err(|e| proptest::test_runner::TestCaseError::fail(format!("YAML rejected: {e}\n{yaml}")))?;
         same_model(&model, &loaded.model)
             .map_err(|e| proptest::test_runner::TestCaseError::fail(format!("YAML: {e}\n{yaml}")))?;
         let urdf = to_urdf(&model);
@@ -344,9 +390,8 @@ fn random_trees_round_trip_through_yaml_and_urdf() {
             gravity: Some(model.gravity.into()),
             ..UrdfOptions::default()
         };
-        let from_urdf = load_urdf_str(&urdf, Path::new("tree.urdf"), &options).map_err(|e| {
-            proptest::test_runner::TestCaseError::fail(format!("URDF rejected: {e}\n{urdf}"))
-        })?;
+        let from_urdf = load_urdf_str(&urdf, Path::new("tree.urdf"), &options)
+            .map_err(|e| proptest::test_runner::TestCaseError::fail(format!("URDF rejected: {e}\n{urdf}")))?;
         same_model(&model, &from_urdf.model)
             .map_err(|e| proptest::test_runner::TestCaseError::fail(format!("URDF: {e}\n{urdf}")))?;
         if count.get() % 16 == 0 {

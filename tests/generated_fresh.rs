@@ -75,7 +75,10 @@ fn generation_is_byte_identical_across_processes_and_order() {
             .expect("child test process runs");
         let stdout = String::from_utf8_lossy(&out.stdout);
         // The child hashed with other keys than this process (else this proves less).
-        let order = stdout.lines().find(|l| l.starts_with("hash order:")).expect("child output");
+        let order = stdout
+            .lines()
+            .find(|l| l.starts_with("hash order:"))
+            .expect("child output");
         assert_ne!(
             format!("{order}\n"),
             hash_order(),

@@ -2,7 +2,9 @@
 //! temporary file that is renamed over the target, and the next run removes temporaries that
 //! a killed run left behind.
 
-use dyngen_codegen::generate::{generate_into_crate, generate_robot, write_file, GenerateError, Mode, GENERATED_MARKER};
+use dyngen_codegen::generate::{
+    generate_into_crate, generate_robot, write_file, GenerateError, Mode, GENERATED_MARKER,
+};
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command};
 use std::time::{Duration, Instant};
@@ -87,7 +89,11 @@ fn killed_generation_leaves_old_or_new_file() {
     // second, and around the rename; then delays from the start, which may fall anywhere.
     let after_temp = [0, 50, 100, 200, 250, 290, 310, 330];
     let from_start = [0, 20, 80, 160, 320, 640];
-    for (k, delay) in after_temp.iter().map(|d| (true, d)).chain(from_start.iter().map(|d| (false, d))) {
+    for (k, delay) in after_temp
+        .iter()
+        .map(|d| (true, d))
+        .chain(from_start.iter().map(|d| (false, d)))
+    {
         std::fs::write(&target, &old).expect("reset target");
         let mut child = spawn_writer(&target, &description, pause);
         if k {
@@ -126,7 +132,11 @@ fn killed_generation_leaves_old_or_new_file() {
     let _ = child.kill();
     let _ = child.wait();
     assert_eq!(std::fs::read_to_string(&target).expect("target"), old);
-    assert_eq!(temporaries(&dir).len(), 1, "a killed write leaves its temporary file");
+    assert_eq!(
+        temporaries(&dir).len(),
+        1,
+        "a killed write leaves its temporary file"
+    );
     let mut child = spawn_writer(&target, &description, 0);
     assert!(child.wait().expect("child").success());
     assert_eq!(std::fs::read_to_string(&target).expect("target"), new);
@@ -147,8 +157,14 @@ fn failed_generation_keeps_previous_files() {
     std::fs::write(src.join("lib.rs"), &previous).expect("write");
     let e = generate_into_crate(&dir, &src, &[description], Mode::Write).unwrap_err();
     assert!(e.to_string().contains("negative mass"), "{e}");
-    assert_eq!(std::fs::read_to_string(src.join("tiny.rs")).expect("read"), previous);
-    assert_eq!(std::fs::read_to_string(src.join("lib.rs")).expect("read"), previous);
+    assert_eq!(
+        std::fs::read_to_string(src.join("tiny.rs")).expect("read"),
+        previous
+    );
+    assert_eq!(
+        std::fs::read_to_string(src.join("lib.rs")).expect("read"),
+        previous
+    );
     assert_eq!(temporaries(&src), Vec::<String>::new());
     let _ = std::fs::remove_dir_all(&dir);
 }

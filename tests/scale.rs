@@ -114,7 +114,11 @@ fn op_counts(model: &Model) -> [usize; 4] {
     let n = model.dof();
     let ids = |v: &[Expr]| v.iter().map(|e| e.id()).collect::<Vec<Id>>();
     let (graph, outputs) = record(|| {
-        let input = |p: &str| (0..n).map(|i| Expr::input(&format!("{p}{i}"))).collect::<Vec<_>>();
+        let input = |p: &str| {
+            (0..n)
+                .map(|i| Expr::input(&format!("{p}{i}")))
+                .collect::<Vec<_>>()
+        };
         let (q, qd, a) = (input("q"), input("qd"), input("a"));
         let x = dynamics::joint_transforms(model, &q);
         let world = dynamics::body_poses(model, &x);
@@ -150,7 +154,11 @@ const NAMES: [&str; 4] = ["D", "g", "J", "τ"];
 fn exponents(build: fn(usize) -> Model, dofs: &[usize]) -> ([f64; 4], Vec<[usize; 4]>) {
     let counts: Vec<[usize; 4]> = dofs.iter().map(|&n| op_counts(&build(n))).collect();
     let fit = std::array::from_fn(|k| {
-        let points: Vec<(f64, f64)> = dofs.iter().zip(&counts).map(|(&n, c)| (n as f64, c[k] as f64)).collect();
+        let points: Vec<(f64, f64)> = dofs
+            .iter()
+            .zip(&counts)
+            .map(|(&n, c)| (n as f64, c[k] as f64))
+            .collect();
         exponent(&points)
     });
     (fit, counts)
@@ -165,7 +173,11 @@ fn exponent_fit_is_right() {
 #[test]
 fn op_counts_of_d_g_j_tau_grow_at_most_quadratically() {
     for (what, build, dofs) in [
-        ("chain", chain as fn(usize) -> Model, &[6usize, 12, 18, 24, 30][..]),
+        (
+            "chain",
+            chain as fn(usize) -> Model,
+            &[6usize, 12, 18, 24, 30][..],
+        ),
         ("tree", tree as fn(usize) -> Model, &[8usize, 12, 16, 20][..]),
     ] {
         let (fit, counts) = exponents(build, dofs);
@@ -189,11 +201,18 @@ fn scale_report() {
     let out = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("target/scale");
     std::fs::create_dir_all(&out).expect("target/scale");
     for (what, build, dofs) in [
-        ("chain", chain as fn(usize) -> Model, &[5usize, 10, 15, 20, 25, 30][..]),
+        (
+            "chain",
+            chain as fn(usize) -> Model,
+            &[5usize, 10, 15, 20, 25, 30][..],
+        ),
         ("tree", tree as fn(usize) -> Model, &[8usize, 12, 16, 20][..]),
     ] {
         let (fit, counts) = exponents(build, dofs);
-        println!("{what}: op-count exponents D {:.2}, g {:.2}, J {:.2}, τ {:.2}", fit[0], fit[1], fit[2], fit[3]);
+        println!(
+            "{what}: op-count exponents D {:.2}, g {:.2}, J {:.2}, τ {:.2}",
+            fit[0], fit[1], fit[2], fit[3]
+        );
         println!("| {what} DOF | D ops | g ops | J ops | τ ops | all functions ops | generation (s) | code (lines) | code (KiB) |");
         println!("|---|---|---|---|---|---|---|---|---|");
         for (&n, c) in dofs.iter().zip(&counts) {

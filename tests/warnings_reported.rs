@@ -22,13 +22,22 @@ fn build_script_prints_each_warning() {
     let out = std::env::temp_dir().join(format!("dyngen-warn-{}", std::process::id()));
     std::fs::create_dir_all(&out).expect("scratch");
     let run = Command::new(std::env::current_exe().expect("test binary"))
-        .args(["build_script_child", "--exact", "--nocapture", "--quiet", "--test-threads=1"])
+        .args([
+            "build_script_child",
+            "--exact",
+            "--nocapture",
+            "--quiet",
+            "--test-threads=1",
+        ])
         .env(CHILD, &out)
         .output()
         .expect("child runs");
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
     let stdout = String::from_utf8_lossy(&run.stdout);
-    let warnings: Vec<&str> = stdout.lines().filter(|l| l.starts_with("cargo:warning=")).collect();
+    let warnings: Vec<&str> = stdout
+        .lines()
+        .filter(|l| l.starts_with("cargo:warning="))
+        .collect();
     let file = "cargo:warning=tests/data/warn/warnings.yaml";
     for expected in [
         ":11:13: link 'lower': mass 20000 kg is more than 10000 kg",
@@ -38,7 +47,9 @@ fn build_script_prints_each_warning() {
         ":8:5: link 'flag': zero mass and no children",
     ] {
         assert!(
-            warnings.iter().any(|w| w.starts_with(&format!("{file}{expected}"))),
+            warnings
+                .iter()
+                .any(|w| w.starts_with(&format!("{file}{expected}"))),
             "no `{file}{expected}` in {warnings:#?}"
         );
     }

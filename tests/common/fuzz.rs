@@ -146,15 +146,68 @@ pub fn corpus(root: &Path) -> Vec<SeedFile> {
 
 /// Values that replace a number.
 const BAD_NUMBERS: &[&str] = &[
-    "NaN", "nan", ".nan", ".NaN", "inf", "-inf", ".inf", "-.inf", "infinity", "1e308", "-1e308", "1e309",
-    "-1", "-0.5", "", "0", "-0", "0.0", "1e-320", "5e-324", "1e-300", "1e300", "1e4", "1e5", "123456789",
-    "0x10", "1,5", "1_000", "+", "-", ".", "e5", "~", "null", "true", "'1'", "\"\"",
+    "NaN",
+    "nan",
+    ".nan",
+    ".NaN",
+    "inf",
+    "-inf",
+    ".inf",
+    "-.inf",
+    "infinity",
+    "1e308",
+    "-1e308",
+    "1e309",
+    "-1",
+    "-0.5",
+    "",
+    "0",
+    "-0",
+    "0.0",
+    "1e-320",
+    "5e-324",
+    "1e-300",
+    "1e300",
+    "1e4",
+    "1e5",
+    "123456789",
+    "0x10",
+    "1,5",
+    "1_000",
+    "+",
+    "-",
+    ".",
+    "e5",
+    "~",
+    "null",
+    "true",
+    "'1'",
+    "\"\"",
 ];
 
 /// Words that replace a name or keyword.
 const WORDS: &[&str] = &[
-    "floating", "planar", "fixed", "continuous", "prismatic", "revolute", "spherical", "", "base", "l1",
-    "null", "~", "[]", "{}", "&a", "*a", "!!binary", "xacro:include", "robot", "link", "joint",
+    "floating",
+    "planar",
+    "fixed",
+    "continuous",
+    "prismatic",
+    "revolute",
+    "spherical",
+    "",
+    "base",
+    "l1",
+    "null",
+    "~",
+    "[]",
+    "{}",
+    "&a",
+    "*a",
+    "!!binary",
+    "xacro:include",
+    "robot",
+    "link",
+    "joint",
 ];
 
 fn pick<'a, T>(rng: &mut SplitMix64, items: &'a [T]) -> &'a T {
@@ -361,7 +414,15 @@ pub fn mutate(which: usize, text: &str, format: Format, corpus: &[SeedFile], rng
         "insert-bytes" => {
             let at = floor_char(text, below(rng, text.len() + 1));
             let junk: String = (0..1 + below(rng, 16))
-                .map(|_| *pick(rng, &['[', ']', '{', '}', '<', '>', '/', ':', '-', '"', '\'', '&', '*', '\n', ' ', '\t', '\0', 'é', '\u{FEFF}']))
+                .map(|_| {
+                    *pick(
+                        rng,
+                        &[
+                            '[', ']', '{', '}', '<', '>', '/', ':', '-', '"', '\'', '&', '*', '\n', ' ',
+                            '\t', '\0', 'é', '\u{FEFF}',
+                        ],
+                    )
+                })
                 .collect();
             format!("{}{junk}{}", &text[..at], &text[at..])
         }
@@ -389,7 +450,8 @@ pub fn mutate(which: usize, text: &str, format: Format, corpus: &[SeedFile], rng
             }
             let mut out = text.to_owned();
             // Several at once sometimes; from the back so earlier spans stay valid.
-            let mut chosen: Vec<(usize, usize)> = (0..1 + below(rng, 3)).map(|_| *pick(rng, &spans)).collect();
+            let mut chosen: Vec<(usize, usize)> =
+                (0..1 + below(rng, 3)).map(|_| *pick(rng, &spans)).collect();
             chosen.sort();
             chosen.dedup();
             for span in chosen.into_iter().rev() {
@@ -454,7 +516,11 @@ pub fn mutate(which: usize, text: &str, format: Format, corpus: &[SeedFile], rng
         "long-token" => {
             let n = log_size(rng, 200_000);
             let token = pick(rng, &["a", "9", "-", " ", "é", "1e"]).repeat(n);
-            let spans = if below(rng, 2) == 0 { numbers(text) } else { words(text) };
+            let spans = if below(rng, 2) == 0 {
+                numbers(text)
+            } else {
+                words(text)
+            };
             match spans.is_empty() {
                 true => format!("{text}{token}"),
                 false => replace(text, *pick(rng, &spans), &token),
@@ -501,7 +567,10 @@ fn panic_message(p: &(dyn std::any::Any + Send)) -> String {
 /// Every number of a model is finite.
 pub fn model_is_finite(m: &Model) -> bool {
     let pose_ok = |p: &dyngen_codegen::model::Pose| {
-        p.rotation.iter().chain(p.translation.iter()).all(|v| v.is_finite())
+        p.rotation
+            .iter()
+            .chain(p.translation.iter())
+            .all(|v| v.is_finite())
     };
     m.gravity.iter().all(|v| v.is_finite())
         && pose_ok(&m.end_effector.placement)
@@ -509,7 +578,9 @@ pub fn model_is_finite(m: &Model) -> bool {
             pose_ok(&j.origin)
                 && j.axis.iter().all(|v| v.is_finite())
                 && j.limits.as_ref().map_or(true, |l| {
-                    [l.lower, l.upper, l.velocity, l.effort].iter().all(|v| v.is_finite())
+                    [l.lower, l.upper, l.velocity, l.effort]
+                        .iter()
+                        .all(|v| v.is_finite())
                 })
         })
         && m.bodies.iter().all(|b| {
@@ -675,8 +746,11 @@ pub fn run(
     let done = Arc::new(AtomicU64::new(0));
     // Per thread: the case being run and when it started (ms since `epoch`), 0 when idle.
     let epoch = Instant::now();
-    let busy: Arc<Vec<(AtomicU64, AtomicU64)>> =
-        Arc::new((0..threads).map(|_| (AtomicU64::new(0), AtomicU64::new(0))).collect());
+    let busy: Arc<Vec<(AtomicU64, AtomicU64)>> = Arc::new(
+        (0..threads)
+            .map(|_| (AtomicU64::new(0), AtomicU64::new(0)))
+            .collect(),
+    );
     let finished = Arc::new(std::sync::atomic::AtomicBool::new(false));
     let watchdog = {
         let (busy, finished) = (busy.clone(), finished.clone());
@@ -713,7 +787,9 @@ pub fn run(
                                 break;
                             }
                             busy[t].0.store(i, Ordering::Relaxed);
-                            busy[t].1.store(epoch.elapsed().as_millis() as u64 + 1, Ordering::Relaxed);
+                            busy[t]
+                                .1
+                                .store(epoch.elapsed().as_millis() as u64 + 1, Ordering::Relaxed);
                             match run_case(corpus, case_seed(run_seed, i)) {
                                 Ok(t) => tally.add(&t),
                                 Err(f) => {

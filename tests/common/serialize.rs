@@ -44,7 +44,11 @@ fn pose_parts(p: &Pose) -> ([f64; 3], [f64; 3]) {
 
 /// The model as inline dyngen YAML.
 pub fn to_yaml(model: &Model) -> String {
-    let mut s = format!("name: {}\ngravity: [{}]\n", model.name, list(model.gravity.as_slice()));
+    let mut s = format!(
+        "name: {}\ngravity: [{}]\n",
+        model.name,
+        list(model.gravity.as_slice())
+    );
     let ee = &model.end_effector;
     let (xyz, r) = pose_parts(&ee.placement);
     s += &format!(
@@ -97,7 +101,10 @@ pub fn to_yaml(model: &Model) -> String {
 /// The model as URDF. The end-effector frame is a fixed joint to a massless link `tool_link`
 /// named after the frame; load it with `end_effector = <frame name>`.
 pub fn to_urdf(model: &Model) -> String {
-    let mut s = format!("<?xml version=\"1.0\"?>\n<robot name=\"{}\">\n  <link name=\"base\"/>\n", model.name);
+    let mut s = format!(
+        "<?xml version=\"1.0\"?>\n<robot name=\"{}\">\n  <link name=\"base\"/>\n",
+        model.name
+    );
     for b in &model.bodies {
         let i = &b.inertia;
         let m = &i.inertia_com;

@@ -347,13 +347,16 @@ pub(crate) const MAX_MAGNITUDE: f64 = 1e12;
 
 /// An error message when a finite number of `values` exceeds [`MAX_MAGNITUDE`].
 fn too_large(values: &[f64], what: &str) -> Option<String> {
-    values.iter().find(|v| v.is_finite() && v.abs() > MAX_MAGNITUDE).map(|v| {
-        format!(
-            "{what} has the value {}, beyond ±{MAX_MAGNITUDE:e}: far too large for a robot (and for \
+    values
+        .iter()
+        .find(|v| v.is_finite() && v.abs() > MAX_MAGNITUDE)
+        .map(|v| {
+            format!(
+                "{what} has the value {}, beyond ±{MAX_MAGNITUDE:e}: far too large for a robot (and for \
              the arithmetic)",
-            num(*v)
-        )
-    })
+                num(*v)
+            )
+        })
 }
 
 /// A warning when `xyz` lies more than [`MAX_PLAUSIBLE_LENGTH`] from its frame.

@@ -380,7 +380,9 @@ fn check_flow_nesting(text: &str, file: &Path) -> Result<(), DescriptionError> {
             _ => {}
         }
         if depth > MAX_FLOW_NESTING || raw_depth > 16 * MAX_FLOW_NESTING {
-            let msg = format!("more than {MAX_FLOW_NESTING} nested levels of `[` and `{{`: not a robot description");
+            let msg = format!(
+                "more than {MAX_FLOW_NESTING} nested levels of `[` and `{{`: not a robot description"
+            );
             return Err(DescriptionError::new(file, msg).at(Some(Location { line, column })));
         }
         escaped = state == In::Double && c == '\\' && !escaped;
