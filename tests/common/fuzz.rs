@@ -455,7 +455,8 @@ pub fn mutate(which: usize, text: &str, format: Format, corpus: &[SeedFile], rng
             chosen.sort();
             chosen.dedup();
             for span in chosen.into_iter().rev() {
-                out = replace(&out, span, *pick(rng, BAD_NUMBERS));
+                let value = *pick::<&str>(rng, BAD_NUMBERS);
+                out = replace(&out, span, value);
             }
             out
         }
@@ -577,7 +578,7 @@ pub fn model_is_finite(m: &Model) -> bool {
         && m.joints.iter().all(|j| {
             pose_ok(&j.origin)
                 && j.axis.iter().all(|v| v.is_finite())
-                && j.limits.as_ref().map_or(true, |l| {
+                && j.limits.iter().all(|l| {
                     [l.lower, l.upper, l.velocity, l.effort]
                         .iter()
                         .all(|v| v.is_finite())
@@ -740,7 +741,7 @@ pub fn run(
     cases: u64,
     threads: usize,
     hang_after: Duration,
-    progress: Option<&dyn Fn(u64, &Tally)>,
+    progress: Option<&dyn Fn(u64)>,
 ) -> (Tally, Vec<Finding>) {
     let next = Arc::new(AtomicU64::new(0));
     let done = Arc::new(AtomicU64::new(0));
@@ -811,7 +812,7 @@ pub fn run(
                 std::thread::sleep(Duration::from_millis(100));
                 if last.elapsed() >= Duration::from_secs(10) {
                     last = Instant::now();
-                    report(done.load(Ordering::Relaxed), &Tally::default());
+                    report(done.load(Ordering::Relaxed));
                 }
             }
         }
