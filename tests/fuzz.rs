@@ -441,3 +441,23 @@ joints:
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// A description with thousands of joints loads (see above), but generating it would run for
+/// hours: more than `MAX_GENERATED_DOF` joints is a clear error, at once.
+#[test]
+fn too_many_joints_is_an_error_not_a_hang() {
+    use dyngen_codegen::generate::{generate_robot, MAX_GENERATED_DOF};
+    let dir = std::env::temp_dir().join(format!("dyngen-dof-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("scratch");
+    let path = dir.join("long.yaml");
+    std::fs::write(&path, yaml_chain(MAX_GENERATED_DOF + 1)).expect("write");
+    let start = Instant::now();
+    let e = generate_robot(&path, "long.yaml", "Long", "test").expect_err("too many joints");
+    assert!(start.elapsed() < Duration::from_secs(5));
+    let e = e.to_string();
+    assert!(
+        e.contains("long.yaml") && e.contains("65 moving joints") && e.contains("at most 64"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
