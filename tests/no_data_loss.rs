@@ -70,6 +70,20 @@ fn spawn_writer(target: &Path, description: &Path, pause_ms: u64) -> Child {
         .expect("child runs")
 }
 
+/// Waits until `child` has created its temporary file (named after its process id; earlier
+/// killed children may have left theirs).
+fn wait_for_temporary(dir: &Path, child: &Child) {
+    let own = format!(".tiny.rs.dyngen-{}.tmp", child.id());
+    let start = Instant::now();
+    while !temporaries(dir).contains(&own) {
+        assert!(
+            start.elapsed() < Duration::from_secs(30),
+            "the child never wrote {own}"
+        );
+        std::thread::sleep(Duration::from_millis(1));
+    }
+}
+
 /// SIGKILL at chosen moments while the child writes: the target is always the old or the new
 /// content, never a mix or a truncation; the next complete run removes the leftovers.
 #[test]
@@ -97,11 +111,7 @@ fn killed_generation_leaves_old_or_new_file() {
         std::fs::write(&target, &old).expect("reset target");
         let mut child = spawn_writer(&target, &description, pause);
         if k {
-            let start = Instant::now();
-            while temporaries(&dir).is_empty() {
-                assert!(start.elapsed() < Duration::from_secs(30), "the child never wrote");
-                std::thread::sleep(Duration::from_millis(1));
-            }
+            wait_for_temporary(&dir, &child);
             if *delay < pause {
                 killed_mid_write += 1;
             }
@@ -126,9 +136,7 @@ fn killed_generation_leaves_old_or_new_file() {
     // A kill mid-write leaves a temporary file; the next run removes it and writes the file.
     std::fs::write(&target, &old).expect("reset target");
     let mut child = spawn_writer(&target, &description, pause);
-    while temporaries(&dir).is_empty() {
-        std::thread::sleep(Duration::from_millis(1));
-    }
+    wait_for_temporary(&dir, &child);
     let _ = child.kill();
     let _ = child.wait();
     assert_eq!(std::fs::read_to_string(&target).expect("target"), old);
