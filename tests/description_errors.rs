@@ -961,3 +961,22 @@ fn testing_md_shows_every_bad_input_message() {
         );
     }
 }
+
+#[cfg(unix)]
+#[test]
+fn device_files_are_refused_not_read_forever() {
+    let e = description::load(Path::new("/dev/zero.yaml"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("/dev/zero.yaml: cannot read file"), "{e}");
+    let dir = std::env::temp_dir().join(format!("dyngen-dev-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("scratch");
+    let wrapper = dir.join("wrapper.yaml");
+    std::fs::write(&wrapper, "urdf: /dev/zero\n").expect("write");
+    let e = description::load(&wrapper).unwrap_err().to_string();
+    assert!(
+        e.contains("cannot read URDF file '/dev/zero': not a regular file"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}

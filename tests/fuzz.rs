@@ -289,7 +289,8 @@ fn deep_inputs_do_not_overflow_the_stack() {
     });
 }
 
-/// Inputs the fuzzer found (or that probe a limit), kept as regression cases.
+/// Inputs the fuzzer found (or that probe a limit), kept as regression cases: loaded, and
+/// generated when accepted.
 #[test]
 fn fuzz_regressions() {
     let dir = root().join("tests/data/fuzz");
@@ -308,12 +309,21 @@ fn fuzz_regressions() {
         let shown = path.display().to_string();
         on_small_stack(move || {
             let start = Instant::now();
-            check_input(&text, format, Path::new("probe")).unwrap_or_else(|p| panic!("{shown}: {p}"));
+            let accepted = check_input(&text, format, Path::new("probe"))
+                .unwrap_or_else(|p| panic!("{shown}: {p}"))
+                .is_some();
             assert!(
                 start.elapsed() < Duration::from_secs(5),
                 "{shown}: took {:?}",
                 start.elapsed()
             );
+            // Accepted: the whole generator must give code or an error, not panic.
+            if accepted {
+                let generated = std::panic::catch_unwind(|| {
+                    dyngen_codegen::generate::generate_robot(&path, "probe", "Probe", "test").map(|_| ())
+                });
+                assert!(generated.is_ok(), "{shown}: generation panicked");
+            }
         });
     }
 }
@@ -409,6 +419,7 @@ fn random_trees_round_trip_through_yaml_and_urdf() {
 /// what still overflows (here gravity, which no item check bounds) is a generation error.
 #[test]
 fn overflowing_models_are_errors_not_panics() {
+    // Also kept as data: tests/data/fuzz/overflow-gravity.yaml.
     let dir = std::env::temp_dir().join(format!("dyngen-overflow-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("scratch");
     let base = "\

@@ -231,7 +231,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         (Some(_), None, Some(_)) => both("joints"),
         (Some(urdf_rel), None, None) => {
             let urdf_path = file.parent().unwrap_or(Path::new("")).join(&urdf_rel);
-            let text = std::fs::read_to_string(&urdf_path).map_err(|e| {
+            let text = super::read_regular_file(&urdf_path).map_err(|e| {
                 let msg = format!("cannot read URDF file '{}': {e}", urdf_path.display());
                 parsed.yaml_map.error("urdf", msg)
             })?;
