@@ -757,6 +757,127 @@ fn inertia_without_mass_warns() {
     );
 }
 
+#[test]
+fn immovable_joint_warns() {
+    check_warning(
+        Src::Yaml(&[("lower: -1.0, upper: 1.0", "lower: 0.5, upper: 0.5")], ""),
+        &["bad.yaml:14:12", "joint 'j1'", "both 0.5", "cannot move"],
+    );
+    check_warning(
+        Src::Urdf(
+            &[("lower=\"-1\" upper=\"1\"", "lower=\"0\" upper=\"0\"")],
+            no_options(),
+        ),
+        &["bad.urdf:8:5", "joint 'j1'", "both 0", "cannot move"],
+    );
+}
+
+#[test]
+fn zero_velocity_or_effort_limit_warns() {
+    check_warning(
+        Src::Yaml(&[("velocity: 1.0", "velocity: 0.0")], ""),
+        &["bad.yaml:14:12", "joint 'j1'", "velocity limit is 0"],
+    );
+    check_warning(
+        Src::Urdf(&[("effort=\"1\"", "effort=\"0\"")], no_options()),
+        &["bad.urdf:8:5", "joint 'j1'", "effort limit is 0"],
+    );
+}
+
+#[test]
+fn huge_mass_warns() {
+    // Scaled inertia too, so that only the mass warning can match.
+    check_warning(
+        Src::Yaml(
+            &[
+                ("mass: 1.0", "mass: 20000.0"),
+                (
+                    "ixx: 0.1, ixy: 0.0, ixz: 0.0, iyy: 0.1, iyz: 0.0, izz: 0.1",
+                    "ixx: 2000, ixy: 0, ixz: 0, iyy: 2000, iyz: 0, izz: 2000",
+                ),
+            ],
+            "",
+        ),
+        &["bad.yaml:6:13", "link 'l1'", "mass 20000 kg", "grams"],
+    );
+}
+
+#[test]
+fn far_origins_warn() {
+    check_warning(
+        Src::Yaml(
+            &[(
+                "axis: [0, 0, 1]",
+                "axis: [0, 0, 1]\n    origin: { xyz: [0, 0, 150] }",
+            )],
+            "",
+        ),
+        &[
+            "bad.yaml:14:13",
+            "joint 'j1'",
+            "origin [0, 0, 150]",
+            "millimetres",
+        ],
+    );
+    check_warning(
+        Src::Urdf(
+            &[("<inertial>", "<inertial><origin xyz=\"0 -250 0\"/>")],
+            no_options(),
+        ),
+        &[
+            "bad.urdf:4",
+            "link 'l1'",
+            "centre of mass [0, -250, 0]",
+            "millimetres",
+        ],
+    );
+}
+
+#[test]
+fn inertia_that_does_not_fit_the_mass_warns() {
+    // Inertia in g·mm² with mass in kg: radius of gyration far below a millimetre ...
+    check_warning(
+        Src::Yaml(
+            &[(
+                "ixx: 0.1, ixy: 0.0, ixz: 0.0, iyy: 0.1, iyz: 0.0, izz: 0.1",
+                "ixx: 1e-9, ixy: 0, ixz: 0, iyy: 1e-9, iyz: 0, izz: 1e-9",
+            )],
+            "",
+        ),
+        &[
+            "bad.yaml:7:16",
+            "link 'l1'",
+            "radius of gyration",
+            "check the units",
+        ],
+    );
+    // ... and mass in grams with inertia in kg·m²: far above ten metres.
+    check_warning(
+        Src::Urdf(
+            &[
+                ("<mass value=\"1\"/>", "<mass value=\"0.0001\"/>"),
+                (
+                    "ixx=\"0.1\" ixy=\"0\" ixz=\"0\" iyy=\"0.1\" iyz=\"0\" izz=\"0.1\"",
+                    "ixx=\"1\" ixy=\"0\" ixz=\"0\" iyy=\"1\" iyz=\"0\" izz=\"1\"",
+                ),
+            ],
+            no_options(),
+        ),
+        &["bad.urdf:4", "link 'l1'", "radius of gyration √(I/m) = 100 m"],
+    );
+}
+
+#[test]
+fn plausible_values_do_not_warn() {
+    // The base robots (1 kg, 0.1 kg·m²: radius of gyration 0.32 m) and every committed robot.
+    let (yaml, _) = run(Src::Yaml(&[], ""));
+    assert_eq!(yaml.unwrap().warnings, Vec::<String>::new());
+    for robot in ["arm7.yaml", "panda.yaml", "ur5.yaml"] {
+        let loaded = description::load(&robots(robot)).unwrap();
+        assert_eq!(loaded.warnings, Vec::<String>::new(), "{robot}");
+    }
+}
+
 // ---- robustness ---------------------------------------------------------------------------
 
 #[test]
@@ -810,4 +931,52 @@ fn odd_inputs_give_errors_not_panics() {
             }
         }
     }
+}
+
+// ---- the examples of TESTING.md -----------------------------------------------------------
+
+/// Every file in `tests/data/bad/` is rejected, and TESTING.md shows its message exactly as
+/// `cargo xtask gen` prints it (`error: ` and the message), so the document cannot go stale.
+#[test]
+fn testing_md_shows_every_bad_input_message() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let doc = std::fs::read_to_string(root.join("TESTING.md")).expect("TESTING.md");
+    let mut files: Vec<PathBuf> = std::fs::read_dir(root.join("tests/data/bad"))
+        .expect("tests/data/bad")
+        .map(|e| e.expect("entry").path())
+        .collect();
+    files.sort();
+    assert!(files.len() >= 20, "{files:?}");
+    for file in files {
+        let name = file.file_name().expect("name").to_string_lossy().into_owned();
+        // As the user types it from the workspace root (the tests' working directory).
+        let relative = PathBuf::from("tests/data/bad").join(&name);
+        let e = description::load(&relative)
+            .err()
+            .unwrap_or_else(|| panic!("{name} is accepted"));
+        let line = format!("error: {e}");
+        assert!(
+            doc.contains(&line),
+            "TESTING.md lacks the message of {name}:\n{line}"
+        );
+    }
+}
+
+#[cfg(unix)]
+#[test]
+fn device_files_are_refused_not_read_forever() {
+    let e = description::load(Path::new("/dev/zero.yaml"))
+        .unwrap_err()
+        .to_string();
+    assert!(e.starts_with("/dev/zero.yaml: cannot read file"), "{e}");
+    let dir = std::env::temp_dir().join(format!("dyngen-dev-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("scratch");
+    let wrapper = dir.join("wrapper.yaml");
+    std::fs::write(&wrapper, "urdf: /dev/zero\n").expect("write");
+    let e = description::load(&wrapper).unwrap_err().to_string();
+    assert!(
+        e.contains("cannot read URDF file '/dev/zero': not a regular file"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -33,11 +33,20 @@ fn generate(path: &Path) -> String {
         .code
 }
 
-/// In the child process: print the generated code of the robot named by the environment.
+/// The order in which a `HashMap` with the default hasher visits `0..64`: it follows the
+/// process's random hash keys, so two processes almost surely differ.
+fn hash_order() -> String {
+    let map: std::collections::HashMap<u32, ()> = (0..64).map(|k| (k, ())).collect();
+    let order: Vec<String> = map.keys().map(u32::to_string).collect();
+    format!("hash order: {}\n", order.join(","))
+}
+
+/// In the child process: print the hash order and the generated code of the robot named by
+/// the environment.
 #[test]
 fn determinism_child() {
     if let Ok(robot) = std::env::var(CHILD) {
-        print!("{}", generate(Path::new(&robot)));
+        print!("{}{}", hash_order(), generate(Path::new(&robot)));
     }
 }
 
@@ -65,10 +74,60 @@ fn generation_is_byte_identical_across_processes_and_order() {
             .output()
             .expect("child test process runs");
         let stdout = String::from_utf8_lossy(&out.stdout);
+        // The child hashed with other keys than this process (else this proves less).
+        let order = stdout
+            .lines()
+            .find(|l| l.starts_with("hash order:"))
+            .expect("child output");
+        assert_ne!(
+            format!("{order}\n"),
+            hash_order(),
+            "the child process had the same hash keys"
+        );
         assert!(
             stdout.contains(code.as_str()),
             "{}: the generation in a separate process differs",
             robot.display()
         );
+    }
+}
+
+/// `cargo xtask gen a b` and `cargo xtask gen b a` write the same bytes (the xtask passes its
+/// arguments in order to `generate_into_crate`).
+#[test]
+fn generation_does_not_depend_on_argument_order() {
+    let robots: Vec<PathBuf> = ["arm7.yaml", "ur5.yaml"]
+        .iter()
+        .map(|r| root().join("robots").join(r))
+        .collect();
+    let reversed: Vec<PathBuf> = robots.iter().rev().cloned().collect();
+    let base = std::env::temp_dir().join(format!("dyngen-order-{}", std::process::id()));
+    let mut trees = Vec::new();
+    for (name, list) in [("forward", &robots), ("reversed", &reversed)] {
+        let src = base.join(name);
+        std::fs::create_dir_all(&src).expect("scratch dir");
+        generate_into_crate(root(), &src, list, Mode::Write).unwrap_or_else(|e| panic!("{e}"));
+        let mut files: Vec<(String, Vec<u8>)> = std::fs::read_dir(&src)
+            .expect("readable")
+            .map(|e| {
+                let p = e.expect("entry").path();
+                let name = p.file_name().expect("name").to_string_lossy().into_owned();
+                (name, std::fs::read(&p).expect("readable"))
+            })
+            .collect();
+        files.sort();
+        trees.push(files);
+    }
+    let _ = std::fs::remove_dir_all(&base);
+    let names: Vec<&str> = trees[0].iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(names, ["arm7.rs", "lib.rs", "ur5.rs"]);
+    for ((name, a), (_, b)) in trees[0].iter().zip(&trees[1]) {
+        assert!(a == b, "{name} depends on the argument order");
+    }
+    // And each is what is committed.
+    for name in ["arm7.rs", "ur5.rs"] {
+        let committed = std::fs::read(root().join("generated/src").join(name)).expect("committed");
+        let generated = &trees[0].iter().find(|(n, _)| n == name).expect("generated").1;
+        assert!(&committed == generated, "{name} differs from the committed file");
     }
 }

@@ -2,8 +2,10 @@
 #![allow(dead_code)] // each test binary uses a different subset
 
 pub mod fixture;
+pub mod fuzz;
 pub mod oracles;
 pub mod random_model;
+pub mod serialize;
 
 use nalgebra::DMatrix;
 

@@ -37,6 +37,22 @@ enum Command {
         #[arg(long)]
         criterion: Option<PathBuf>,
     },
+    /// Fuzz the description loaders: the harness of `tests/fuzz.rs`, in release, with progress.
+    Fuzz {
+        /// Number of cases.
+        #[arg(long, default_value_t = 1_000_000)]
+        cases: u64,
+        /// Run seed (each case's seed derives from it and the case number).
+        #[arg(long, default_value_t = 1)]
+        seed: u64,
+        /// Worker threads.
+        #[arg(long, default_value_t = 2)]
+        threads: usize,
+        /// Replay one case by its case seed (hex, as printed with a finding); writes its input
+        /// to `target/fuzz-case-<seed>.txt`.
+        #[arg(long)]
+        replay: Option<String>,
+    },
 }
 
 fn workspace_root() -> PathBuf {
@@ -117,6 +133,38 @@ fn main() -> ExitCode {
                 }
                 Err(e) => {
                     eprintln!("error: {e}");
+                    ExitCode::FAILURE
+                }
+            }
+        }
+        Command::Fuzz {
+            cases,
+            seed,
+            threads,
+            replay,
+        } => {
+            let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+            let mut cmd = std::process::Command::new(cargo);
+            cmd.current_dir(&root)
+                .args(["test", "--release", "--test", "fuzz", "fuzz_long", "--"])
+                .args(["--ignored", "--nocapture", "--test-threads=1"])
+                .env("DYNGEN_FUZZ_CASES", cases.to_string())
+                .env("DYNGEN_FUZZ_SEED", seed.to_string())
+                .env("DYNGEN_FUZZ_THREADS", threads.to_string());
+            if let Some(r) = replay {
+                cmd.env("DYNGEN_FUZZ_REPLAY", r);
+            }
+            match cmd.status() {
+                Ok(s) if s.success() => ExitCode::SUCCESS,
+                Ok(s) => {
+                    eprintln!(
+                        "error: fuzzing failed ({s}); an abort without a finding is a stack overflow or a \
+                         hang: rerun with --threads 1 and replay the last case seeds"
+                    );
+                    ExitCode::FAILURE
+                }
+                Err(e) => {
+                    eprintln!("error: cannot run cargo: {e}");
                     ExitCode::FAILURE
                 }
             }

@@ -79,7 +79,18 @@ fn check_joint(
             return Err(err(".origin", format!("origin {what} {} is not finite", vec3(v))));
         }
     }
+    if let Some(msg) = too_large(&j.xyz, "origin xyz") {
+        return Err(err(".origin", msg));
+    }
     let origin = Pose::from_xyz_rpy(j.xyz, j.rpy);
+    let warn = |diags: &mut Diagnostics, field: &str, msg: String| {
+        diags
+            .warnings
+            .push(map.diagnostic(&format!("{path}{field}"), Some(&label), &msg));
+    };
+    if let Some(msg) = far(&j.xyz, "origin") {
+        warn(diags, ".origin", msg);
+    }
 
     let axis = if motion == Motion::Fixed {
         Vector3::x()
@@ -145,6 +156,20 @@ fn check_joint(
                     num(l.effort)
                 );
                 return Err(err(".limit", msg));
+            }
+            if l.lower == l.upper {
+                let msg = format!(
+                    "lower and upper limits are both {}: the joint cannot move (lock it with \
+                     `locked_joints` instead)",
+                    num(l.lower)
+                );
+                warn(diags, ".limit", msg);
+            }
+            for (what, v) in [("velocity", l.velocity), ("effort", l.effort)] {
+                if v == 0.0 {
+                    let msg = format!("{what} limit is 0: the joint could not move; give the real limit");
+                    warn(diags, ".limit", msg);
+                }
             }
             Some(Limits {
                 lower: l.lower,
@@ -214,6 +239,22 @@ fn check_inertial(
     if mass < 0.0 {
         return Err(err(".mass", format!("negative mass {}", num(mass))));
     }
+    let warn = |diags: &mut Diagnostics, field: &str, msg: String| {
+        diags
+            .warnings
+            .push(map.diagnostic(&format!("{path}{field}"), Some(&label), &msg));
+    };
+    if mass > MAX_PLAUSIBLE_MASS {
+        let msg = format!(
+            "mass {} kg is more than {} kg: is it in grams?",
+            num(mass),
+            num(MAX_PLAUSIBLE_MASS)
+        );
+        warn(diags, ".mass", msg);
+    }
+    if let Some(msg) = far(&xyz, "centre of mass") {
+        warn(diags, ".origin", msg);
+    }
     for (what, v) in [("xyz", &xyz), ("rpy", &rpy)] {
         if !finite(v) {
             return Err(err(
@@ -221,6 +262,15 @@ fn check_inertial(
                 format!("inertial origin {what} {} is not finite", vec3(v)),
             ));
         }
+    }
+    if let Some(msg) = too_large(&[mass], "mass") {
+        return Err(err(".mass", msg));
+    }
+    if let Some(msg) = too_large(&xyz, "inertial origin xyz") {
+        return Err(err(".origin", msg));
+    }
+    if let Some(msg) = too_large(&[ixx, ixy, ixz, iyy, iyz, izz], "inertia") {
+        return Err(err(".inertia", msg));
     }
     let tensor = Matrix3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz);
     if tensor.iter().any(|v| !v.is_finite()) {
@@ -256,6 +306,21 @@ fn check_inertial(
         diags
             .warnings
             .push(map.diagnostic(&format!("{path}.inertia"), Some(&label), msg));
+    } else if mass > 0.0 {
+        // The radius of gyration about the principal axis of largest moment: how far from the
+        // centre of mass the mass would sit. Outside a millimetre-to-metres band, the mass and
+        // the inertia are almost surely in different units (g vs kg, mm² vs m²).
+        let radius = (moments[2] / mass).sqrt();
+        if !(MIN_GYRATION_RADIUS..=MAX_GYRATION_RADIUS).contains(&radius) {
+            let msg = format!(
+                "inertia does not fit the mass: radius of gyration √(I/m) = {} m, expected {} to \
+                 {} m; check the units (kg, m, kg·m²)",
+                num(radius),
+                num(MIN_GYRATION_RADIUS),
+                num(MAX_GYRATION_RADIUS)
+            );
+            warn(diags, ".inertia", msg);
+        }
     }
 
     // The tensor is given in the inertial frame; the model wants link-frame axes.
@@ -264,6 +329,45 @@ fn check_inertial(
         mass,
         com: Vector3::from(xyz),
         inertia_com: rotation * tensor * rotation.transpose(),
+    })
+}
+
+/// Above this mass (kg) a link gets a warning (a heavy industrial arm's links weigh tens to
+/// hundreds of kilograms; ten tonnes is a unit mistake).
+pub(crate) const MAX_PLAUSIBLE_MASS: f64 = 1e4;
+/// Above this distance (m) an origin gets a warning (millimetres written as metres).
+pub(crate) const MAX_PLAUSIBLE_LENGTH: f64 = 100.0;
+/// The band of plausible radii of gyration (m): 0.1 mm to 10 m.
+pub(crate) const MIN_GYRATION_RADIUS: f64 = 1e-4;
+pub(crate) const MAX_GYRATION_RADIUS: f64 = 10.0;
+
+/// Numbers beyond this magnitude are errors: no robot has them, and the products the
+/// dynamics form of them would overflow `f64` (or lose every digit) in generated code.
+pub(crate) const MAX_MAGNITUDE: f64 = 1e12;
+
+/// An error message when a finite number of `values` exceeds [`MAX_MAGNITUDE`].
+fn too_large(values: &[f64], what: &str) -> Option<String> {
+    values
+        .iter()
+        .find(|v| v.is_finite() && v.abs() > MAX_MAGNITUDE)
+        .map(|v| {
+            format!(
+                "{what} has the value {}, beyond ±{MAX_MAGNITUDE:e}: far too large for a robot (and for \
+             the arithmetic)",
+                num(*v)
+            )
+        })
+}
+
+/// A warning when `xyz` lies more than [`MAX_PLAUSIBLE_LENGTH`] from its frame.
+fn far(xyz: &[f64; 3], what: &str) -> Option<String> {
+    let d = xyz.iter().map(|v| v.abs()).fold(0.0, f64::max);
+    (d > MAX_PLAUSIBLE_LENGTH).then(|| {
+        format!(
+            "{what} {} is more than {} m away: are the lengths in millimetres?",
+            vec3(xyz),
+            num(MAX_PLAUSIBLE_LENGTH)
+        )
     })
 }
 

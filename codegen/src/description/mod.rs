@@ -68,8 +68,8 @@ pub fn load(path: &Path) -> Result<Loaded, DescriptionError> {
             ))
         }
     };
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| DescriptionError::new(path, format!("cannot read file: {e}")))?;
+    let text =
+        read_regular_file(path).map_err(|e| DescriptionError::new(path, format!("cannot read file: {e}")))?;
     let mut loaded = if is_yaml {
         load_yaml_str(&text, path)?
     } else {
@@ -77,6 +77,17 @@ pub fn load(path: &Path) -> Result<Loaded, DescriptionError> {
     };
     loaded.sources.insert(0, path.to_path_buf());
     Ok(loaded)
+}
+
+/// Reads a description: a regular file only (`/dev/zero` or a FIFO would never end), UTF-8.
+fn read_regular_file(path: &Path) -> std::io::Result<String> {
+    if !std::fs::metadata(path)?.is_file() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a regular file",
+        ));
+    }
+    std::fs::read_to_string(path)
 }
 
 /// Loads URDF text. `file` names the text in messages. `sources` is empty: nothing was read.

@@ -198,6 +198,7 @@ impl Parsed {
 
 /// Parses a YAML robot file; for form (b) reads the URDF it points to.
 pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError> {
+    check_flow_nesting(text, file)?;
     let spec: RobotFile = serde_yaml::from_str(text).map_err(|e| serde_error(file, &e))?;
     let yaml_map = yaml_spans::index(text, file);
     let RobotFile {
@@ -230,7 +231,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         (Some(_), None, Some(_)) => both("joints"),
         (Some(urdf_rel), None, None) => {
             let urdf_path = file.parent().unwrap_or(Path::new("")).join(&urdf_rel);
-            let text = std::fs::read_to_string(&urdf_path).map_err(|e| {
+            let text = super::read_regular_file(&urdf_path).map_err(|e| {
                 let msg = format!("cannot read URDF file '{}': {e}", urdf_path.display());
                 parsed.yaml_map.error("urdf", msg)
             })?;
@@ -327,4 +328,65 @@ fn serde_error(file: &Path, e: &serde_yaml::Error) -> DescriptionError {
         None => text.clone(),
     };
     DescriptionError::new(file, message).at(location)
+}
+
+/// Deepest `[`/`{` nesting accepted. A robot file needs three or four levels; the YAML parser
+/// takes time quadratic in the depth (a megabyte of `{a: ` takes minutes), so deeper input is
+/// rejected before parsing.
+pub(crate) const MAX_FLOW_NESTING: usize = 64;
+
+/// Rejects flow collections nested deeper than [`MAX_FLOW_NESTING`], with the place of the
+/// first bracket too deep. Brackets in quoted scalars and comments do not count (a quote
+/// opens a scalar only where a token starts); a plain scalar with brackets in it (`a[1]`) may
+/// count, which only matters beyond the limit. As a backstop against a quote this scan
+/// misreads, brackets are also counted regardless of quotes, with a limit 16 times higher.
+fn check_flow_nesting(text: &str, file: &Path) -> Result<(), DescriptionError> {
+    #[derive(PartialEq)]
+    enum In {
+        Plain,
+        Single,
+        Double,
+        Comment,
+    }
+    let mut state = In::Plain;
+    let (mut depth, mut raw_depth, mut line, mut column) = (0usize, 0usize, 1usize, 0usize);
+    let mut prev = '\n';
+    let mut escaped = false;
+    for c in text.chars() {
+        column += 1;
+        let token_start = prev.is_whitespace() || matches!(prev, '[' | '{' | ',');
+        if state != In::Comment {
+            match c {
+                '[' | '{' => raw_depth += 1,
+                ']' | '}' => raw_depth = raw_depth.saturating_sub(1),
+                _ => {}
+            }
+        }
+        match (&state, c) {
+            (_, '\n') => {
+                line += 1;
+                column = 0;
+                if state == In::Comment {
+                    state = In::Plain;
+                }
+            }
+            (In::Plain, '#') if prev.is_whitespace() => state = In::Comment,
+            (In::Plain, '\'') if token_start => state = In::Single,
+            (In::Plain, '"') if token_start => state = In::Double,
+            (In::Plain, '[' | '{') => depth += 1,
+            (In::Plain, ']' | '}') => depth = depth.saturating_sub(1),
+            (In::Single, '\'') => state = In::Plain,
+            (In::Double, '"') if !escaped => state = In::Plain,
+            _ => {}
+        }
+        if depth > MAX_FLOW_NESTING || raw_depth > 16 * MAX_FLOW_NESTING {
+            let msg = format!(
+                "more than {MAX_FLOW_NESTING} nested levels of `[` and `{{`: not a robot description"
+            );
+            return Err(DescriptionError::new(file, msg).at(Some(Location { line, column })));
+        }
+        escaped = state == In::Double && c == '\\' && !escaped;
+        prev = c;
+    }
+    Ok(())
 }

@@ -57,17 +57,59 @@ pub fn write_file(path: &Path, contents: &str) -> Result<WriteOutcome, GenerateE
         .file_name()
         .map(|n| n.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let tmp = dir.join(format!(".{name}.dyngen-{}.tmp", std::process::id()));
+    let prefix = format!(".{name}.dyngen-");
+    remove_stale_temporaries(dir, &prefix);
+    let tmp = dir.join(format!("{prefix}{}.tmp", std::process::id()));
+    let pause = test_pause();
     let result = (|| {
         let mut f = std::fs::File::create(&tmp).map_err(io(&tmp))?;
-        f.write_all(contents.as_bytes()).map_err(io(&tmp))?;
+        let (first, second) = contents.as_bytes().split_at(contents.len() / 2);
+        f.write_all(first).map_err(io(&tmp))?;
+        pause();
+        f.write_all(second).map_err(io(&tmp))?;
         f.sync_all().map_err(io(&tmp))?;
+        pause();
         std::fs::rename(&tmp, path).map_err(io(path))
     })();
     if result.is_err() {
         let _ = std::fs::remove_file(&tmp);
     }
     result.map(|_| WriteOutcome::Written)
+}
+
+/// Removes temporary files `<prefix><pid>.tmp` that an interrupted run (killed between
+/// creating and renaming its temporary file) left behind. Best effort: a failure only leaves
+/// a hidden file.
+fn remove_stale_temporaries(dir: &Path, prefix: &str) {
+    let Ok(entries) = std::fs::read_dir(dir) else {
+        return;
+    };
+    for entry in entries.flatten() {
+        let name = entry.file_name();
+        let name = name.to_string_lossy();
+        let is_ours = name
+            .strip_prefix(prefix)
+            .and_then(|rest| rest.strip_suffix(".tmp"))
+            .is_some_and(|pid| !pid.is_empty() && pid.bytes().all(|b| b.is_ascii_digit()));
+        if is_ours {
+            let _ = std::fs::remove_file(entry.path());
+        }
+    }
+}
+
+/// Test hook: `DYNGEN_TEST_WRITE_PAUSE_MS=n` makes [`write_file`] sleep `n` ms halfway through
+/// writing the temporary file and again before renaming it, so that a test can kill the
+/// process while a write is under way. Unset (always, outside that test): no pause.
+fn test_pause() -> impl Fn() {
+    let ms = std::env::var("DYNGEN_TEST_WRITE_PAUSE_MS")
+        .ok()
+        .and_then(|v| v.parse::<u64>().ok())
+        .unwrap_or(0);
+    move || {
+        if ms > 0 {
+            std::thread::sleep(std::time::Duration::from_millis(ms));
+        }
+    }
 }
 
 /// A Rust module name for a description file: `robots/UR5-e.yaml` → `ur5_e`.

@@ -185,6 +185,14 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
 }
 
 impl SymbolicRobot {
+    /// A constant of the graph that is not finite, if any: folding constants of a model with
+    /// absurd magnitudes (a mass of 1e300) overflows, and such a constant cannot be emitted.
+    pub fn non_finite_constant(&self) -> Option<f64> {
+        (0..self.graph.len())
+            .filter_map(|i| self.graph.constant_value(crate::symbolic::Id(i as u32)))
+            .find(|v| !v.is_finite())
+    }
+
     pub fn quantity(&self, name: &str) -> Option<&Quantity> {
         self.quantities.iter().find(|q| q.name == name)
     }
