@@ -4,23 +4,25 @@
 //! Inputs cycle through 256 states of the demo's closed-loop run.
 //! `cargo bench --bench controller`
 //!
-//! Standard parameters now; with base parameters it is `Base<Arm7>` and M = their count below.
+//! Measured on the base parameters (the default) and on the standard ones.
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use dyngen_generated::Arm7;
+use dyngen_generated::{arm7, Arm7};
 use dyngen_runtime::controller::{Desired, Measurement};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::sim::{preset, rk4_step, Demo, DemoOptions, PlantState, RunKind};
-use dyngen_runtime::{JointTrig, Standard};
+use dyngen_runtime::{Base, JointTrig, Parameterization, Standard};
 use std::hint::black_box;
 use std::time::Duration;
 
-type Params = Standard<Arm7>;
-const M: usize = 70;
+fn ticks(c: &mut Criterion) {
+    tick::<Base<Arm7>, { arm7::BASE_PARAMETER_COUNT }>(c, "base_parameters");
+    tick::<Standard<Arm7>, 70>(c, "standard_parameters");
+}
 
-fn tick(c: &mut Criterion) {
+fn tick<Z: Parameterization<7, 70, M>, const M: usize>(c: &mut Criterion, parameters: &str) {
     let (q0, limits) = preset::<7>("arm7").expect("arm7 preset");
-    let demo = Demo::<Arm7, Params, 7, 70, M>::new(DemoOptions::default(), q0, limits).expect("demo");
+    let demo = Demo::<Arm7, Z, 7, 70, M>::new(DemoOptions::default(), q0, limits).expect("demo");
     // 256 realistic inputs: states of the closed loop along the scenario (every 40 ms).
     let mut ctrl = demo.controller(RunKind::Adaptive).expect("controller");
     let mut state = PlantState {
@@ -45,7 +47,7 @@ fn tick(c: &mut Criterion) {
     }
     let mut ctrl = demo.controller(RunKind::Adaptive).expect("controller");
     let mut k = 0;
-    c.bench_function("arm7/control_tick/adaptive", |b| {
+    c.bench_function(&format!("arm7/control_tick/adaptive_{parameters}"), |b| {
         b.iter(|| {
             k = (k + 1) % inputs.len();
             let (m, d, theta) = &inputs[k];
@@ -57,7 +59,7 @@ fn tick(c: &mut Criterion) {
 
 /// Where the time of a tick goes: the generated quantities it calls, alone.
 fn parts(c: &mut Criterion) {
-    use dyngen_runtime::{Parameterization, RobotDynamics};
+    use dyngen_runtime::RobotDynamics;
     let (q0, _) = preset::<7>("arm7").expect("arm7 preset");
     let qd = SVector::<f64, 7>::from_element(0.2);
     let mut g = c.benchmark_group("arm7/control_tick_parts");
@@ -72,8 +74,11 @@ fn parts(c: &mut Criterion) {
         })
     });
     let t = JointTrig::new(&q0);
+    g.bench_function("base_regressor", |b| {
+        b.iter(|| black_box(Base::<Arm7>::regressor(black_box(&t), &qd, &qd, &qd)))
+    });
     g.bench_function("regressor", |b| {
-        b.iter(|| black_box(Params::regressor(black_box(&t), &qd, &qd, &qd)))
+        b.iter(|| black_box(Standard::<Arm7>::regressor(black_box(&t), &qd, &qd, &qd)))
     });
     g.finish();
 }
@@ -84,6 +89,6 @@ criterion_group! {
         .warm_up_time(Duration::from_millis(500))
         .measurement_time(Duration::from_secs(3))
         .sample_size(60);
-    targets = tick, parts
+    targets = ticks, parts
 }
 criterion_main!(benches);

@@ -1,15 +1,20 @@
 //! The floors on the demo scenario (arm7, no noise), measured over the last 4 s of the
 //! real scenario: adaptive RMS normal-force error ≤ 0.02 N and RMS in-plane error ≤ 0.01 mm;
 //! adaptation off at least 100× worse in RMS force error; the known-parameter law beside them.
+//! On the base parameters, which the demo adapts by default.
 
-use dyngen_generated::Arm7;
+use dyngen_generated::{arm7, Arm7};
 use dyngen_runtime::sim::{preset, Demo, DemoOptions, RunKind, RunStatus, Summary};
-use dyngen_runtime::Standard;
+use dyngen_runtime::Base;
 
 fn run(kind: RunKind) -> Summary {
     let (q0, limits) = preset::<7>("arm7").expect("arm7 preset");
-    let demo =
-        Demo::<Arm7, Standard<Arm7>, 7, 70, 70>::new(DemoOptions::default(), q0, limits).expect("valid demo");
+    let demo = Demo::<Arm7, Base<Arm7>, 7, 70, { arm7::BASE_PARAMETER_COUNT }>::new(
+        DemoOptions::default(),
+        q0,
+        limits,
+    )
+    .expect("valid demo");
     let res = demo.run(kind, &mut |_| {}).expect("valid controller");
     assert_eq!(res.status, RunStatus::Completed, "{kind:?}");
     assert!((res.samples.last().expect("samples").t - demo.scenario.duration()).abs() < 1e-9);

@@ -4,21 +4,21 @@
 //! `V = ½ rᵀ D r + ½ θ̃ᵀ Γ⁻¹ θ̃` never rises by more than 1e-9 (relative) on a step and
 //! `V + ∫ rᵀ G r` stays constant to 1e-6 (relative).
 
-use dyngen_generated::Arm7;
+use dyngen_generated::{arm7, Arm7};
 use dyngen_runtime::controller::Measurement;
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::sim::{preset, rk4_step, Demo, DemoOptions, RkState, RunKind};
-use dyngen_runtime::{JointTrig, Standard};
+use dyngen_runtime::{Base, JointTrig, Parameterization, Standard};
 
 #[derive(Clone, Copy)]
-struct Loop {
+struct Loop<const M: usize> {
     q: SVector<f64, 7>,
     qd: SVector<f64, 7>,
-    theta: SVector<f64, 70>,
+    theta: SVector<f64, M>,
     dissipated: f64,
 }
 
-impl RkState for Loop {
+impl<const M: usize> RkState for Loop<M> {
     fn axpy(&self, h: f64, k: &Self) -> Self {
         Loop {
             q: self.q + k.q * h,
@@ -29,15 +29,26 @@ impl RkState for Loop {
     }
 }
 
+/// The standard parameters (ten per body): `Y` and the generated `D`, `C`, `g` agree.
 #[test]
 fn lyapunov_function_decreases_by_exactly_the_dissipation() {
+    lyapunov_check::<Standard<Arm7>, 70>();
+}
+
+/// The base parameters (the default): `Y_b` and `θ_b` carry the same dynamics as `Y` and `θ`.
+#[test]
+fn lyapunov_function_decreases_by_exactly_the_dissipation_on_base_parameters() {
+    lyapunov_check::<Base<Arm7>, { arm7::BASE_PARAMETER_COUNT }>();
+}
+
+fn lyapunov_check<Z: Parameterization<7, 70, M>, const M: usize>() {
     let (q0, limits) = preset::<7>("arm7").expect("arm7 preset");
     // Start pressing (0.5 mm into the table, 5 N), so that the contact never opens.
     let options = DemoOptions {
         start_height: -0.0005,
         ..DemoOptions::default()
     };
-    let demo = Demo::<Arm7, Standard<Arm7>, 7, 70, 70>::new(options, q0, limits).expect("valid demo");
+    let demo = Demo::<Arm7, Z, 7, 70, M>::new(options, q0, limits).expect("valid demo");
     let ctrl = demo.controller(RunKind::Adaptive).expect("valid controller");
     let g = demo.g;
     let gamma = demo.gamma;
@@ -45,7 +56,7 @@ fn lyapunov_function_decreases_by_exactly_the_dissipation() {
     let plant = &demo.plant;
 
     let mut min_penetration = f64::INFINITY;
-    let mut f = |t: f64, x: &Loop| -> Result<(Loop, f64), String> {
+    let mut f = |t: f64, x: &Loop<M>| -> Result<(Loop<M>, f64), String> {
         let trig = JointTrig::new(&x.q);
         let force = plant.contact_force(&trig);
         min_penetration = min_penetration.min(force.z.abs());
@@ -98,7 +109,7 @@ fn lyapunov_function_decreases_by_exactly_the_dissipation() {
         v_prev = v;
     }
     println!(
-        "V(0) = {v0:.6e}, V(end) = {v_prev:.6e}, ∫rᵀGr = {:.6e}; V rose on {rises} of {steps} steps \
+        "{M} parameters: V(0) = {v0:.6e}, V(end) = {v_prev:.6e}, ∫rᵀGr = {:.6e}; V rose on {rises} of {steps} steps \
          (worst {worst_rise:.2e} relative); max |V + ∫rᵀGr − V(0)|/V(0) = {worst_drift:.2e}; \
          min contact force {min_penetration:.3} N",
         x.dissipated

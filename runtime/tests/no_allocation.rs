@@ -1,11 +1,11 @@
 //! A control tick allocates nothing: a counting global allocator sees no allocation while the
 //! adaptive controller (with stiffness estimation) runs many ticks.
 
-use dyngen_generated::Arm7;
+use dyngen_generated::{arm7, Arm7};
 use dyngen_runtime::controller::Measurement;
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::sim::{preset, Demo, DemoOptions, RunKind};
-use dyngen_runtime::{JointTrig, Standard};
+use dyngen_runtime::{Base, JointTrig};
 use std::alloc::{GlobalAlloc, Layout, System};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
@@ -32,7 +32,7 @@ static GLOBAL: Counting = Counting;
 #[test]
 fn a_control_tick_allocates_nothing() {
     let (q0, limits) = preset::<7>("arm7").expect("arm7 preset");
-    let d = Demo::<Arm7, Standard<Arm7>, 7, 70, 70>::new(
+    let d = Demo::<Arm7, Base<Arm7>, 7, 70, { arm7::BASE_PARAMETER_COUNT }>::new(
         DemoOptions {
             stiffness_estimation: Some((0.5, 20.0)),
             start_height: -0.001,

@@ -1,10 +1,10 @@
 //! The task frame of a tilted plane and the per-kind adaptation gains.
 
-use dyngen_generated::Arm7;
+use dyngen_generated::{ur5, Arm7, Ur5};
 use dyngen_runtime::controller::{ContactTask, GammaByKind};
 use dyngen_runtime::nalgebra::Vector3;
 use dyngen_runtime::sim::PlaneContact;
-use dyngen_runtime::{Parameterization, Standard};
+use dyngen_runtime::{Base, Parameterization, RobotDynamics, Standard};
 
 #[test]
 fn tilted_plane_model_force_equals_measured_force_component() {
@@ -54,4 +54,29 @@ fn gamma_by_parameter_kind() {
     ];
     let g = GammaByKind::default().diagonal(&names);
     assert_eq!(g.as_slice(), &[10.0, 1.0, 100.0, 1.0]);
+}
+
+/// Base parameters adapt as fast as the standard parameters they combine: `Γ_b` is the diagonal
+/// of `Φ Γ Φᵀ`. UR5's folding coefficients are exact geometry (0.39225 m is the forearm's
+/// length), so the expected gains are arithmetic on the names.
+#[test]
+fn base_parameter_gains_carry_the_gains_of_what_they_combine() {
+    const B: usize = ur5::BASE_PARAMETER_COUNT;
+    let kinds = GammaByKind::default();
+    let gamma = kinds.carried_to::<Base<Ur5>, 6, 60, B>(&Ur5::PARAMETER_NAMES);
+    let names = <Base<Ur5> as Parameterization<6, 60, B>>::NAMES;
+    let at = |name: &str| {
+        let k = names
+            .iter()
+            .position(|n| *n == name)
+            .unwrap_or_else(|| panic!("no base parameter {name}"));
+        gamma[k]
+    };
+    let forearm =
+        "mcz[forearm_link] + 0.39225·m[wrist_1_link] + 0.39225·m[wrist_2_link] + 0.39225·m[wrist_3_link]";
+    assert!((at(forearm) - (10.0 + 3.0 * 0.39225f64.powi(2) * 100.0)).abs() < 1e-9);
+    assert!((at("Ixx[wrist_2_link] − Iyy[wrist_2_link] + Izz[wrist_3_link]") - 3.0).abs() < 1e-12);
+    // The standard parameters keep the per-kind gains.
+    let standard = kinds.carried_to::<Standard<Ur5>, 6, 60, 60>(&Ur5::PARAMETER_NAMES);
+    assert_eq!(standard, kinds.diagonal(&Ur5::PARAMETER_NAMES));
 }

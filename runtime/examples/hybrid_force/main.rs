@@ -10,9 +10,9 @@
 mod svg;
 
 use clap::{Parser, ValueEnum};
-use dyngen_generated::{Arm7, Panda, Ur5};
+use dyngen_generated::{arm7, panda, ur5, Arm7, Panda, Ur5};
 use dyngen_runtime::sim::{preset, Demo, DemoOptions, NoiseConfig, RunKind, RunResult, RunStatus, Sample};
-use dyngen_runtime::{Parameterization, RobotDynamics, Standard};
+use dyngen_runtime::{Base, Parameterization, RobotDynamics, Standard};
 use std::fmt::Write as _;
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -35,6 +35,9 @@ struct Args {
     /// Directory for the CSV files and plots (created if missing).
     #[arg(long, default_value = "hybrid_force_out")]
     out: PathBuf,
+    /// Adapt the ten standard parameters per body instead of the base parameters.
+    #[arg(long)]
+    standard: bool,
     /// Add sensor noise (σ = 1e-4 rad, 1e-3 rad/s, 0.05 N).
     #[arg(long)]
     noise: bool,
@@ -69,11 +72,15 @@ struct Args {
 
 fn main() -> ExitCode {
     let args = Args::parse();
-    // Switching a robot to its base parameters is one type: `Base<Arm7>` and M = its count.
-    let result = match args.robot {
-        Robot::Arm7 => run::<Arm7, Standard<Arm7>, 7, 70, 70>(&args),
-        Robot::Panda => run::<Panda, Standard<Panda>, 7, 70, 70>(&args),
-        Robot::Ur5 => run::<Ur5, Standard<Ur5>, 6, 60, 60>(&args),
+    // The parameterisation is a type: the base parameters by default, `--standard` for all ten
+    // per body.
+    let result = match (args.robot, args.standard) {
+        (Robot::Arm7, false) => run::<Arm7, Base<Arm7>, 7, 70, { arm7::BASE_PARAMETER_COUNT }>(&args),
+        (Robot::Panda, false) => run::<Panda, Base<Panda>, 7, 70, { panda::BASE_PARAMETER_COUNT }>(&args),
+        (Robot::Ur5, false) => run::<Ur5, Base<Ur5>, 6, 60, { ur5::BASE_PARAMETER_COUNT }>(&args),
+        (Robot::Arm7, true) => run::<Arm7, Standard<Arm7>, 7, 70, 70>(&args),
+        (Robot::Panda, true) => run::<Panda, Standard<Panda>, 7, 70, 70>(&args),
+        (Robot::Ur5, true) => run::<Ur5, Standard<Ur5>, 6, 60, 60>(&args),
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,

@@ -1,5 +1,6 @@
 //! The adaptation gain `Γ` (diagonal) and the update `θ̂̇ = −Γ Yᵀ r` (Lemma 3).
 
+use crate::parameterization::Parameterization;
 use nalgebra::{SMatrix, SVector};
 
 /// Per-kind adaptation gains: mass, first moment `m·c`, second moment `I`.
@@ -38,6 +39,32 @@ impl GammaByKind {
                 self.inertia
             }
         })
+    }
+}
+
+impl GammaByKind {
+    /// The diagonal `Γ` for the parameters of `Z`, carried over from the per-kind gains of the
+    /// standard parameters (named `standard_names`): the diagonal of `Φ Γ Φᵀ`, where `θ_z = Φ θ`.
+    ///
+    /// Why: with `Y = Y_z Φ`, the standard law `θ̂̇ = −Γ Yᵀ r` moves `θ̂_z = Φ θ̂` with the gain
+    /// `Φ Γ Φᵀ`. A base parameter such as `mcz[l3] + 0.39·m[l4] + 0.39·m[l5]` absorbs masses, so
+    /// it must adapt about as fast as they would (`10 + 2·0.39²·100`), not at the first-moment gain
+    /// of its first term. Computed once at set-up (`Φ eᵢ` from [`Parameterization::from_standard`]);
+    /// for the standard parameters (`Φ = I`) it is [`GammaByKind::diagonal`].
+    pub fn carried_to<Z, const N: usize, const P: usize, const M: usize>(
+        &self,
+        standard_names: &[&str; P],
+    ) -> SVector<f64, M>
+    where
+        Z: Parameterization<N, P, M>,
+    {
+        let standard = self.diagonal(standard_names);
+        let mut gamma = SVector::<f64, M>::zeros();
+        for (i, g) in standard.iter().enumerate() {
+            let column = Z::from_standard(&SVector::<f64, P>::from_fn(|k, _| f64::from(u8::from(k == i))));
+            gamma += column.component_mul(&column) * *g;
+        }
+        gamma
     }
 }
 

@@ -87,8 +87,8 @@ impl Default for DemoOptions {
     }
 }
 
-/// The demo for robot `R` with parameterisation `Z` (`Standard<R>` now; `Base<R>` is a
-/// one-type change).
+/// The demo for robot `R` with parameterisation `Z` (`Base<R>`, the default of the example, or
+/// `Standard<R>`).
 pub struct Demo<R, Z, const N: usize, const P: usize, const M: usize> {
     pub options: DemoOptions,
     pub plant: Plant<R, N, P>,
@@ -161,7 +161,7 @@ where
         let theta_hat0 = Z::from_standard(&(R::parameters() * options.initial_estimate_scale));
         let theta_true = Z::from_standard(plant.parameters());
         let g = inertia_shaped_gain::<Z, N, P, M>(options.kappa, &q0, &theta_hat0);
-        let gamma = options.gamma.diagonal(&Z::NAMES);
+        let gamma = options.gamma.carried_to::<Z, N, P, M>(&R::PARAMETER_NAMES);
         let demo = Demo {
             options,
             plant,
