@@ -8,7 +8,7 @@
 use super::trace::{Arg, Quantity, Shape, SymbolicRobot, BASE_REGRESSOR};
 use crate::base_parameters::BaseParameterSet;
 use crate::model::Model;
-use crate::symbolic::{Graph, Id, Node, OpCounts};
+use crate::symbolic::{Id, Node, OpCounts};
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 use std::collections::HashMap;
@@ -99,34 +99,11 @@ fn literal(x: f64) -> TokenStream {
     }
 }
 
-/// Values per chunk function. Fewer, larger functions are faster (nothing is copied between
-/// chunks; the arm7 regressor runs 18% faster in one function than in four of 1024), while
-/// chunks keep rustc's time and memory linear for very large robots.
-const CHUNK: usize = 8192;
-
-/// Values bound by one `let`. Every `let` opens a debug-info scope nested in the one before,
-/// and LLVM recurses once per scope: one `let` per value overflows rustc's stack in debug
-/// builds at a few thousand values. Binding a whole level of the expression graph per `let`
-/// keeps the nesting at the graph's depth; this cap keeps each tuple readable.
-const MAX_BINDINGS: usize = 64;
-
-/// `topological` reordered level by level (stable within a level), with each node's level.
-/// Numbering temporaries in this order keeps the generated file reading top to bottom.
-fn by_level(g: &Graph, topological: &[Id]) -> (Vec<Id>, HashMap<Id, usize>) {
-    let mut level: HashMap<Id, usize> = HashMap::with_capacity(topological.len());
-    for &id in topological {
-        let deepest = g
-            .operands(id)
-            .iter()
-            .filter_map(|o| level.get(o))
-            .max()
-            .map_or(0, |l| l + 1);
-        level.insert(id, deepest);
-    }
-    let mut order = topological.to_vec();
-    order.sort_by_key(|id| level[id]); // stable: creation order within a level
-    (order, level)
-}
+/// Values per chunk function. Larger functions run faster (nothing is copied between chunks:
+/// the Panda's `C` and `Y` run 15–18% faster whole than in chunks of 1024, and every function of
+/// a 7-DOF arm fits in one chunk), while chunks bound the size of what LLVM optimises at once,
+/// whose cost grows faster than linearly, for very large robots.
+const CHUNK: usize = 4096;
 
 /// The nodes a function computes, in order, and how their names are spelled.
 struct Plan<'a> {
@@ -134,8 +111,6 @@ struct Plan<'a> {
     leaves: &'a Leaves,
     /// Live computed nodes in topological order.
     order: Vec<Id>,
-    /// Each computed node's level: one more than its deepest computed operand.
-    level: HashMap<Id, usize>,
     names: HashMap<Id, Ident>,
 }
 
@@ -148,7 +123,7 @@ impl<'a> Plan<'a> {
             .filter(|&id| live[id.0 as usize] && !leaves.names.contains_key(&id))
             .filter(|&id| !matches!(g.node(id), Node::Const(_) | Node::Input(_)))
             .collect();
-        let (order, level) = by_level(g, &topological);
+        let order = topological;
         // `x` is a prefix no input uses (q, qd, v, a, s, c), so a temporary never shadows one.
         let names = order
             .iter()
@@ -159,27 +134,38 @@ impl<'a> Plan<'a> {
             robot,
             leaves,
             order,
-            level,
             names,
         }
     }
 
-    /// The statements that compute `ids` (a run of [`Plan::order`]): one `let` per level, binding
-    /// every value of the level at once, e.g. `let (x4, x5) = (x0 * x1, x2 + x3);`.
+    /// The statements that compute `ids` (a run of [`Plan::order`]): one declaration of every
+    /// temporary, then one assignment per value, in creation order:
+    /// `let [x0, x1]: [f64; 2]; x0 = a * b; x1 = x0 + c;`.
+    ///
+    /// Why not one `let` per value: every `let` opens a debug-info scope nested in the one
+    /// before, and LLVM recurses once per scope, so a few thousand `let`s overflow rustc's stack
+    /// in debug builds. A single declaration keeps the nesting flat at any size, so chunks can
+    /// be as large as run time wants; creation order keeps values short-lived, which keeps
+    /// register allocation (and so release compile time) cheap.
     fn statements(&self, ids: &[Id], used_leaves: &mut Vec<Id>) -> Vec<TokenStream> {
-        ids.chunk_by(|a, b| self.level[a] == self.level[b])
-            .flat_map(|run| run.chunks(MAX_BINDINGS))
-            .map(|run| {
-                let names: Vec<&Ident> = run.iter().map(|id| &self.names[id]).collect();
-                let values: Vec<TokenStream> = run.iter().map(|&id| self.value(id, used_leaves)).collect();
-                match (names.as_slice(), values.as_slice()) {
-                    ([name], [value]) => quote!(let #name: f64 = #value;),
-                    // Every operand is an `f64` (literals carry the suffix), so the tuple's type is
-                    // inferred; spelling it out trips clippy's `type_complexity`.
-                    _ => quote!(let (#(#names),*) = (#(#values),*);),
+        let names: Vec<&Ident> = ids.iter().map(|id| &self.names[id]).collect();
+        let mut out = Vec::with_capacity(ids.len() + 1);
+        match names.as_slice() {
+            [] => {}
+            [name] => {
+                let value = self.value(ids[0], used_leaves);
+                out.push(quote!(let #name: f64 = #value;));
+            }
+            _ => {
+                let k = Literal::usize_unsuffixed(names.len());
+                out.push(quote!(let [#(#names),*]: [f64; #k];));
+                for (&id, name) in ids.iter().zip(&names) {
+                    let value = self.value(id, used_leaves);
+                    out.push(quote!(#name = #value;));
                 }
-            })
-            .collect()
+            }
+        }
+        out
     }
 
     /// An operand: a literal, an input, or an earlier temporary. Records inputs it reads.
