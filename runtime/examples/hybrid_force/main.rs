@@ -14,7 +14,7 @@ use dyngen_generated::{arm7, panda, ur5, Arm7, Panda, Ur5};
 use dyngen_runtime::sim::{preset, Demo, DemoOptions, NoiseConfig, RunKind, RunResult, RunStatus, Sample};
 use dyngen_runtime::{Base, Parameterization, RobotDynamics, Standard};
 use std::fmt::Write as _;
-use std::io::Write as _;
+use std::io::{IsTerminal as _, Write as _};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 use std::time::Instant;
@@ -143,22 +143,29 @@ where
         }
     );
     println!(
-        "gains: G = {}·D̂(q₀), λ = {}, λ_n = {}, Γ = [{}, {}, {}] over [m, m·c, I]; controller 1 kHz, RK4 plant {} kHz; {:.1} s simulated",
+        "gains: G = {}·D̂(q₀), λ = {}, λ_n = {}, Γ = [{}, {}, {}] over [m, m·c, I]{}; controller 1 kHz, RK4 plant {} kHz; {:.1} s simulated",
         opts.kappa,
         opts.lambda,
         opts.lambda_null,
         opts.gamma.mass,
         opts.gamma.first_moment,
         opts.gamma.inertia,
+        if M == P { "" } else { " (base parameters: diag(Φ Γ Φᵀ))" },
         opts.sim.substeps as f64 / opts.sim.control_period / 1e3,
         demo.scenario.duration()
     );
 
     let mut results: Vec<(RunKind, RunResult)> = Vec::new();
     let mut all_ok = true;
+    // A live percentage on a terminal; in a log (CI, a pipe) one line per run instead of a
+    // hundred carriage returns.
+    let live = std::io::stderr().is_terminal();
     for kind in RunKind::ALL {
         let started = Instant::now();
         let mut progress = |f: f64| {
+            if !live && f < 1.0 {
+                return;
+            }
             eprint!(
                 "\r  {:<17} {:>3.0} %  ({:.1} s)",
                 kind.label(),
