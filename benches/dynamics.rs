@@ -12,31 +12,26 @@ use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::model::Model;
 use dyngen_generated::{Arm7, Panda, Ur5};
 use dyngen_runtime::nalgebra::SVector;
-use dyngen_runtime::{BaseParameters, JointTrig};
+use dyngen_runtime::{BaseParameters, JointTrig, SplitMix64};
 use std::hint::black_box;
 use std::path::Path;
 use std::time::Duration;
 
 const STATES: usize = 256;
 
-/// A deterministic random state (SplitMix64), q in ±π, velocities ±2, accelerations ±5.
+/// Deterministic random states: q in ±π, velocities ±2, accelerations ±5.
 fn states(n: usize) -> Vec<[Vec<f64>; 4]> {
-    let mut s: u64 = 0x5eed;
-    let mut next = |lo: f64, hi: f64| {
-        s = s.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = s;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        lo + (hi - lo) * ((z ^ (z >> 31)) >> 11) as f64 / (1u64 << 53) as f64
-    };
+    let mut rng = SplitMix64::new(0x5eed);
     let pi = std::f64::consts::PI;
+    let mut draw = |range: (f64, f64)| -> Vec<f64> { (0..n).map(|_| rng.uniform(range)).collect() };
     (0..STATES)
         .map(|_| {
-            let q = (0..n).map(|_| next(-pi, pi)).collect();
-            let qd = (0..n).map(|_| next(-2.0, 2.0)).collect();
-            let v = (0..n).map(|_| next(-2.0, 2.0)).collect();
-            let a = (0..n).map(|_| next(-5.0, 5.0)).collect();
-            [q, qd, v, a]
+            [
+                draw((-pi, pi)),
+                draw((-2.0, 2.0)),
+                draw((-2.0, 2.0)),
+                draw((-5.0, 5.0)),
+            ]
         })
         .collect()
 }

@@ -6,11 +6,13 @@
 
 pub mod controller;
 mod parameterization;
+mod random;
 mod robot;
 pub mod sim;
 
 pub use nalgebra;
-pub use parameterization::{Base, BaseParameters, Parameterization, Standard};
+pub use parameterization::{mass_matrix_through_regressor, Base, BaseParameters, Parameterization, Standard};
+pub use random::SplitMix64;
 pub use robot::{JointTrig, Pose, RobotDynamics};
 
 /// Includes a robot generated into `OUT_DIR` by a build script (`dyngen_codegen::compile_robot`)

@@ -44,34 +44,11 @@ fn position_range(joint: &Joint) -> (f64, f64) {
     }
 }
 
-/// SplitMix64 (Steele, Lea & Flood 2014): a tiny, well-mixed deterministic generator, so that
-/// fixed-seed loops are reproducible without a `rand` dependency.
-#[derive(Clone, Debug)]
-pub struct SplitMix64(u64);
+pub use dyngen_runtime::SplitMix64;
 
-impl SplitMix64 {
-    pub fn new(seed: u64) -> Self {
-        SplitMix64(seed)
-    }
-
-    pub fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    /// Uniform in `[lo, hi)`.
-    pub fn uniform(&mut self, (lo, hi): (f64, f64)) -> f64 {
-        // The top 53 bits give every representable multiple of 2⁻⁵³ in [0, 1).
-        let unit = (self.next_u64() >> 11) as f64 / (1u64 << 53) as f64;
-        lo + (hi - lo) * unit
-    }
-
-    fn vector(&mut self, n: usize, range: (f64, f64)) -> Vec<f64> {
-        (0..n).map(|_| self.uniform(range)).collect()
-    }
+/// `n` draws uniform in `range`.
+fn vector(rng: &mut SplitMix64, n: usize, range: (f64, f64)) -> Vec<f64> {
+    (0..n).map(|_| rng.uniform(range)).collect()
 }
 
 /// A random state of `model`, the same for the same `seed`.
@@ -84,10 +61,10 @@ pub fn random_state(model: &Model, seed: u64) -> JointState {
             .iter()
             .map(|j| rng.uniform(position_range(j)))
             .collect(),
-        qd: rng.vector(n, VELOCITY_RANGE),
-        qdd: rng.vector(n, ACCELERATION_RANGE),
-        v: rng.vector(n, VELOCITY_RANGE),
-        a: rng.vector(n, ACCELERATION_RANGE),
+        qd: vector(&mut rng, n, VELOCITY_RANGE),
+        qdd: vector(&mut rng, n, ACCELERATION_RANGE),
+        v: vector(&mut rng, n, VELOCITY_RANGE),
+        a: vector(&mut rng, n, ACCELERATION_RANGE),
     }
 }
 

@@ -4,25 +4,8 @@
 
 use crate::dynamics::NumericDynamics;
 use crate::model::{JointKind, Model};
+use dyngen_runtime::SplitMix64;
 use nalgebra::{DMatrix, DVector};
-
-/// SplitMix64 (Steele, Lea & Flood 2014): tiny and deterministic, so the base parameters of a
-/// description are the same on every machine and every run.
-struct SplitMix64(u64);
-
-impl SplitMix64 {
-    fn next_u64(&mut self) -> u64 {
-        self.0 = self.0.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.0;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        z ^ (z >> 31)
-    }
-
-    fn uniform(&mut self, lo: f64, hi: f64) -> f64 {
-        lo + (hi - lo) * ((self.next_u64() >> 11) as f64 / (1u64 << 53) as f64)
-    }
-}
 
 /// The regressor `Y(q, q̇, v, a)` of `model` at `states` random states stacked vertically
 /// (`states·n × 10n`), the same for the same `seed`.
@@ -36,19 +19,19 @@ pub fn stacked_regressor(model: &Model, states: usize, seed: u64) -> DMatrix<f64
     let n = model.dof();
     let p = crate::model::PARAMS_PER_BODY * n;
     let dynamics = NumericDynamics::new(model);
-    let mut rng = SplitMix64(seed);
+    let mut rng = SplitMix64::new(seed);
     let mut stacked = DMatrix::zeros(states * n, p);
     for k in 0..states {
         let q: Vec<f64> = model
             .joints
             .iter()
             .map(|j| match (j.kind, j.limits) {
-                (JointKind::Revolute, _) => rng.uniform(-std::f64::consts::PI, std::f64::consts::PI),
-                (JointKind::Prismatic, Some(l)) if l.lower < l.upper => rng.uniform(l.lower, l.upper),
-                (JointKind::Prismatic, _) => rng.uniform(-0.5, 0.5),
+                (JointKind::Revolute, _) => rng.uniform((-std::f64::consts::PI, std::f64::consts::PI)),
+                (JointKind::Prismatic, Some(l)) if l.lower < l.upper => rng.uniform((l.lower, l.upper)),
+                (JointKind::Prismatic, _) => rng.uniform((-0.5, 0.5)),
             })
             .collect();
-        let mut vector = |r: f64| -> Vec<f64> { (0..n).map(|_| rng.uniform(-r, r)).collect() };
+        let mut vector = |r: f64| -> Vec<f64> { (0..n).map(|_| rng.uniform((-r, r))).collect() };
         let (qd, v, a) = (vector(2.0), vector(2.0), vector(5.0));
         let y = dynamics.regressor(&q, &qd, &v, &a);
         stacked.view_mut((k * n, 0), (n, p)).copy_from(&y);

@@ -1,7 +1,7 @@
 //! Controller gains, their checks, and the default `G = κ D̂(q₀)`.
 
 use super::error::ConfigError;
-use crate::parameterization::Parameterization;
+use crate::parameterization::{mass_matrix_through_regressor, Parameterization};
 use crate::robot::JointTrig;
 use nalgebra::{Cholesky, SMatrix, SVector};
 
@@ -75,7 +75,7 @@ impl<const N: usize, const M: usize> Gains<N, M> {
     }
 }
 
-/// The controller's own inertia estimate `D̂(q) = Σ columns Y(q, 0, 0, eᵢ) θ̂ − Y(q, 0, 0, 0) θ̂`.
+/// The controller's own inertia estimate `D̂(q)` at `θ̂`, symmetrised (rounding only).
 pub fn inertia_estimate<Z, const N: usize, const P: usize, const M: usize>(
     q: &SVector<f64, N>,
     theta_hat: &SVector<f64, M>,
@@ -83,15 +83,7 @@ pub fn inertia_estimate<Z, const N: usize, const P: usize, const M: usize>(
 where
     Z: Parameterization<N, P, M>,
 {
-    let t = JointTrig::new(q);
-    let z = SVector::<f64, N>::zeros();
-    let g = Z::regressor(&t, &z, &z, &z) * theta_hat;
-    let mut d = SMatrix::<f64, N, N>::zeros();
-    for i in 0..N {
-        let mut e = SVector::<f64, N>::zeros();
-        e[i] = 1.0;
-        d.set_column(i, &(Z::regressor(&t, &z, &z, &e) * theta_hat - g));
-    }
+    let d = mass_matrix_through_regressor::<Z, N, P, M>(&JointTrig::new(q), theta_hat);
     (d + d.transpose()) * 0.5
 }
 

@@ -1,5 +1,6 @@
 //! Deterministic Gaussian sensor noise (SplitMix64 + Box–Muller): same seed, same run.
 
+use crate::random::SplitMix64;
 use nalgebra::SVector;
 
 /// Standard deviations of the noise added to each measured quantity.
@@ -25,25 +26,16 @@ impl NoiseConfig {
 /// A small deterministic normal generator.
 #[derive(Clone, Debug)]
 pub struct Gaussian {
-    state: u64,
+    rng: SplitMix64,
     spare: Option<f64>,
 }
 
 impl Gaussian {
     pub fn new(seed: u64) -> Self {
         Gaussian {
-            state: seed,
+            rng: SplitMix64::new(seed),
             spare: None,
         }
-    }
-
-    fn uniform(&mut self) -> f64 {
-        self.state = self.state.wrapping_add(0x9E37_79B9_7F4A_7C15);
-        let mut z = self.state;
-        z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-        z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-        // (0, 1]: never 0, so the logarithm below is finite.
-        (((z ^ (z >> 31)) >> 11) as f64 + 1.0) / (1u64 << 53) as f64
     }
 
     /// A standard normal sample.
@@ -51,7 +43,9 @@ impl Gaussian {
         if let Some(s) = self.spare.take() {
             return s;
         }
-        let (u1, u2) = (self.uniform(), self.uniform());
+        // Uniform in (0, 1]: never 0, so the logarithm below is finite.
+        let mut open_unit = || ((self.rng.next_u64() >> 11) as f64 + 1.0) / (1u64 << 53) as f64;
+        let (u1, u2) = (open_unit(), open_unit());
         let rad = (-2.0 * u1.ln()).sqrt();
         let (s, c) = (2.0 * std::f64::consts::PI * u2).sin_cos();
         self.spare = Some(rad * s);

@@ -5,6 +5,7 @@
 //! Forward dynamics by a Cholesky solve of `D_true q̈ = τ − Jᵀ F̄ − (C q̇ + g)`.
 
 use super::contact::PlaneContact;
+use crate::parameterization::{mass_matrix_through_regressor, Standard};
 use crate::robot::{JointTrig, RobotDynamics};
 use nalgebra::{Cholesky, Matrix3, SMatrix, SVector, Vector3};
 use std::marker::PhantomData;
@@ -103,15 +104,7 @@ impl<R: RobotDynamics<N, P>, const N: usize, const P: usize> Plant<R, N, P> {
 
     /// `D_true(q)`.
     pub fn mass_matrix(&self, t: &JointTrig<N>) -> SMatrix<f64, N, N> {
-        let z = SVector::<f64, N>::zeros();
-        let g = R::regressor(t, &z, &z, &z) * self.theta;
-        let mut d = SMatrix::<f64, N, N>::zeros();
-        for i in 0..N {
-            let mut e = SVector::<f64, N>::zeros();
-            e[i] = 1.0;
-            d.set_column(i, &(R::regressor(t, &z, &z, &e) * self.theta - g));
-        }
-        d
+        mass_matrix_through_regressor::<Standard<R>, N, P, P>(t, &self.theta)
     }
 
     /// `C_true(q, q̇) v + g_true(q)` (Slotine–Li form) through the regressor.
