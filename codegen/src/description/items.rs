@@ -110,7 +110,13 @@ fn check_joint(
             n if n.is_finite() => n,
             _ => scale * (a / scale).norm(),
         };
-        let unit = a / norm;
+        // A unit vector to rounding is kept as written: dividing it by its norm again could
+        // move it by an ulp, and a model written out (`to_urdf_rs`) must load back unchanged.
+        let unit = if (norm - 1.0).abs() <= 4.0 * f64::EPSILON {
+            a
+        } else {
+            a / norm
+        };
         if (norm - 1.0).abs() > 1e-6 {
             let shown = vec3(&[unit.x, unit.y, unit.z]);
             let msg = format!("axis {} is not a unit vector: using {shown}", vec3(&j.axis));
