@@ -12,6 +12,9 @@
 //!   (`<frame>_joint`), unless a body already has that name (then the frame needs an
 //!   `end_effector` option naming the body and the offset).
 //!
+//! - visuals for viewers (dyngen's readers skip them): a sphere at every joint and at the
+//!   end-effector, and a rod from every link's frame to each frame it carries.
+//!
 //! Loading the URDF back with [`UrdfExport::options`] gives the same model, with bit-identical
 //! numbers when every rotation of the model is a URDF rpy rotation (as in every model a loader
 //! built from a description whose moving joints hang from moving links or the base), and to
@@ -23,7 +26,7 @@ use super::assemble::DEFAULT_GRAVITY;
 use super::error::vec3;
 use super::options::{EndEffectorSpec, UrdfOptions};
 use crate::model::{exact_sin_cos, from_xyz_rpy, Inertia, JointKind, Model, Pose};
-use nalgebra::Matrix3;
+use nalgebra::{Matrix3, Vector3};
 use std::collections::HashSet;
 
 /// A model as a URDF, with what the URDF alone cannot say.
@@ -193,6 +196,7 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
             rpy: p.rpy.0,
         }
     };
+    stick_figure(model, &mut links);
     let robot = urdf_rs::Robot {
         name: model.name.clone(),
         version: None,
@@ -228,9 +232,11 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
         && close(&plain.end_effector.placement, &ee.placement);
     if !same_frame {
         warnings.push(format!(
-            "the end-effector '{}' is not the one dyngen picks by default (leaf link '{}'): load \
-             the URDF with `end_effector: {}`",
-            ee.name, plain.end_effector.name, spec.link
+            "the end-effector '{}' is not the frame dyngen picks from the URDF alone (leaf link \
+             '{}'): load it with the `end_effector` option ({})",
+            ee.name,
+            plain.end_effector.name,
+            describe(&spec)
         ));
         options.end_effector = Some(spec);
     }
@@ -247,6 +253,18 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
         options,
         warnings,
     })
+}
+
+/// `link 'a1', xyz [0, 0, 0.1], rpy [0.3, 0, 0]`: an end-effector option in words.
+fn describe(spec: &EndEffectorSpec) -> String {
+    let mut s = format!("link '{}'", spec.link);
+    if let Some(name) = &spec.name {
+        s.push_str(&format!(", name '{name}'"));
+    }
+    if spec.xyz != [0.0; 3] || spec.rpy != [0.0; 3] {
+        s.push_str(&format!(", xyz {}, rpy {}", vec3(&spec.xyz), vec3(&spec.rpy)));
+    }
+    s
 }
 
 /// `base`, or `base_1`, `base_2`, ... : the first that is not `taken`.
@@ -292,12 +310,59 @@ fn link(name: &str, inertia: Option<&Inertia>) -> urdf_rs::Link {
     }
 }
 
+/// Something for a viewer to show (dyngen's readers skip visuals): a sphere at each joint and
+/// at the end-effector, and a rod from each link's frame to each frame it carries, all of one
+/// thickness scaled to the robot. `links` are the base, the bodies, then the end-effector's.
+fn stick_figure(model: &Model, links: &mut [urdf_rs::Link]) {
+    let ee = &model.end_effector;
+    // Per link, the points of the frames it carries, in its own frame.
+    let mut ends: Vec<Vec<Vector3<f64>>> = vec![Vec::new(); links.len()];
+    for joint in &model.joints {
+        ends[joint.parent.map_or(0, |p| p + 1)].push(joint.origin.translation);
+    }
+    ends[ee.parent + 1].push(ee.placement.translation);
+    let longest = ends.iter().flatten().map(|p| p.norm()).fold(0.0, f64::max);
+    let radius = (longest / 40.0).max(0.002);
+    let visual = |origin: urdf_rs::Pose, geometry: urdf_rs::Geometry| urdf_rs::Visual {
+        name: None,
+        origin,
+        geometry,
+        material: None,
+    };
+    let at_origin = || urdf_rs::Pose::default();
+    for (k, (link, ends)) in links.iter_mut().zip(&ends).enumerate() {
+        if k > 0 {
+            let ball = if k <= model.dof() {
+                2.0 * radius
+            } else {
+                1.5 * radius
+            };
+            link.visual
+                .push(visual(at_origin(), urdf_rs::Geometry::Sphere { radius: ball }));
+        }
+        for p in ends {
+            let length = p.norm();
+            if length < 1e-9 {
+                continue;
+            }
+            // A cylinder lies along z: turn z onto `p` (pitch from z, then yaw about z).
+            let origin = urdf_rs::Pose {
+                xyz: urdf_rs::Vec3((p / 2.0).into()),
+                rpy: urdf_rs::Vec3([0.0, p.x.hypot(p.y).atan2(p.z), p.y.atan2(p.x)]),
+            };
+            link.visual
+                .push(visual(origin, urdf_rs::Geometry::Cylinder { radius, length }));
+        }
+    }
+}
+
 /// A placement as URDF `xyz`/`rpy`.
 fn pose(p: &Pose) -> urdf_rs::Pose {
     let t = &p.translation;
     urdf_rs::Pose {
         xyz: urdf_rs::Vec3([t.x, t.y, t.z]),
-        rpy: urdf_rs::Vec3(rpy(&p.rotation)),
+        // `+ 0.0` writes `-0` as `0`; both give the same rotation (`exact_sin_cos`).
+        rpy: urdf_rs::Vec3(rpy(&p.rotation).map(|a| a + 0.0)),
     }
 }
 
@@ -371,5 +436,46 @@ fn yaml_str(s: &str) -> String {
 
 /// `[x, y, z]` with every digit (`{:?}` is the shortest form that reads back exactly).
 fn yaml_vec(v: &[f64; 3]) -> String {
+    let v = v.map(|x| x + 0.0); // `-0.0` → `0.0`
     format!("[{:?}, {:?}, {:?}]", v[0], v[1], v[2])
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn rotation(rpy: [f64; 3]) -> Matrix3<f64> {
+        from_xyz_rpy([0.0; 3], rpy).rotation
+    }
+
+    #[test]
+    fn rpy_gives_back_the_matrix_bit_for_bit() {
+        let q = std::f64::consts::FRAC_PI_2;
+        let mut angles = vec![[0.0; 3], [q, 0.0, 0.0], [0.0, -q, 0.0], [2.0 * q, q, -q]];
+        // General angles on a grid of the canonical ranges (pitch strictly inside ±π/2): outside
+        // them the analytic angles are another branch, exact to rounding only.
+        for i in 0..7 {
+            for j in 0..5 {
+                for k in 0..7 {
+                    // n of `of` steps across (-half, half), ends excluded.
+                    let f =
+                        |n: i32, of: i32, half: f64| half * 0.95 * (2.0 * f64::from(n) / f64::from(of) - 1.0);
+                    angles.push([f(i, 6, 2.0 * q), f(j, 4, q), f(k, 6, 2.0 * q) + 0.01]);
+                }
+            }
+        }
+        for a in angles {
+            let r = rotation(a);
+            assert_eq!(rotation(rpy(&r)), r, "rpy {a:?}");
+        }
+    }
+
+    #[test]
+    fn gimbal_lock_gives_the_rotation_to_rounding() {
+        // Pitch a quarter turn: only yaw - roll is defined.
+        let r = rotation([0.4, std::f64::consts::FRAC_PI_2, 1.1]);
+        let back = rpy(&r);
+        assert_eq!(back[0], 0.0);
+        assert!((rotation(back) - r).amax() < 1e-15, "{back:?}");
+    }
 }
