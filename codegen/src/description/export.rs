@@ -1,26 +1,11 @@
 //! [`Model`] → [`urdf_rs::Robot`]: any description (YAML included), after fixed and locked
 //! joints were welded away, as a URDF that urdf-viz, RViz or `k` can read.
 //!
-//! What is written:
-//! - a base link (`base_link`, the ROS name, or `base_link_1`, ... if a body has that name),
-//!   massless: what was welded to the base does not move and is not in the model;
-//! - per moving joint, the joint (revolute, continuous when it has no limits, or prismatic)
-//!   hanging from its parent joint's body link (or the base link), with its origin, axis and
-//!   limits, and its body as the child link, the body's inertia about the centre of mass in
-//!   body axes (`<inertial>` origin at the centre of mass, rpy zero);
-//! - the end-effector frame as a massless link of the frame's name on a fixed joint
-//!   (`<frame>_joint`), unless a body already has that name (then the frame needs an
-//!   `end_effector` option naming the body and the offset).
-//!
-//! - visuals for viewers (dyngen's readers skip them): a sphere at every joint and at the
-//!   end-effector, and a rod from every link's frame to each frame it carries.
-//!
-//! Loading the URDF back with [`UrdfExport::options`] gives the same model, with bit-identical
-//! numbers when every rotation of the model is a URDF rpy rotation (as in every model a loader
-//! built from a description whose moving joints hang from moving links or the base), and to
-//! rounding otherwise. The options are empty when the URDF alone suffices: default gravity, and
-//! an end-effector the loader picks by its default rule (the leaf at the end of the longest
-//! chain).
+//! What is written, and why it loads back as the same model, is in [`to_urdf_rs`]'s docs.
+//! Exactness rests on three things: rotations are written as the rpy that [`from_xyz_rpy`]
+//! turns back into the same matrix bit for bit (searched near the analytic angles), the
+//! loader keeps an axis that is a unit vector to rounding as written, and welding a massless
+//! link (the end-effector's) leaves a body's numbers unchanged.
 
 use super::assemble::DEFAULT_GRAVITY;
 use super::error::vec3;
@@ -80,10 +65,32 @@ pub struct ExportError {
     pub message: String,
 }
 
-/// Writes `model` as a URDF; see the [module docs](self) for what is written.
+/// Writes `model` as a URDF: after fixed and locked joints were welded away, for urdf-viz,
+/// RViz, `k` or any URDF reader.
+///
+/// What is written:
+/// - a base link (`base_link`, the ROS name, or `base_link_1`, ... if a body has that name),
+///   massless: what was welded to the base does not move and is not in the model;
+/// - per moving joint, the joint (revolute, continuous when it has no limits, or prismatic)
+///   hanging from its parent joint's body link (or the base link), with its origin, axis and
+///   limits, and its body as the child link: the body's inertia about the centre of mass in
+///   body axes (`<inertial>` origin at the centre of mass, rpy zero);
+/// - the end-effector frame as a massless link of the frame's name on a fixed joint
+///   (`<frame>_joint`), unless a body already has that name (then the frame needs an
+///   `end_effector` option naming the body and the offset);
+/// - visuals for viewers (dyngen's readers skip them): a sphere at every joint and at the
+///   end-effector, and a rod from every link's frame to each frame it carries.
 ///
 /// Returns the robot with the options that load it back as `model` and warnings about what
-/// the URDF alone does not say. URDF has no gravity: a model whose gravity is not
+/// the URDF alone does not say. The options are empty when the URDF alone suffices: default
+/// gravity, and an end-effector that the loader's default rule picks (the leaf at the end of
+/// the longest chain). Loaded back with them, the model is the same, with the same parameters
+/// and byte-identical generated code, whenever every rotation in it is one URDF rpy rotation
+/// (true of every model loaded from a description whose moving joints hang from moving links
+/// or the base), and equal to rounding otherwise; the inertia tensor's lower triangle is
+/// rebuilt from the upper one (the parameters use only the upper). Joints not in depth-first
+/// order come back in depth-first order (a warning lists it), as every URDF reader orders
+/// them. URDF has no gravity: a model whose gravity is not
 /// `[0, 0, -9.81]` is still written (a robot on a wall should be viewable), with a warning, and
 /// the gravity in the options. Fails when no URDF loads back as the model: an invalid model,
 /// two bodies of one name, a prismatic joint without limits (URDF requires them).
