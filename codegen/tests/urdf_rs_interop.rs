@@ -849,3 +849,55 @@ fn same_text_same_model_for_a_branching_tree() {
     assert_eq!(file.model.dof(), 2);
     assert_eq!(memory.notes.len(), file.notes.len());
 }
+
+/// The loader fuzzer's URDF mutants, where urdf-rs reads them, through `from_urdf_rs`: never a
+/// panic, a valid model or an error that names the robot, and the file loader's model whenever
+/// both accept (urdf-rs is laxer in places: `xyz="0 x 0 0"` is three numbers to it, a missing
+/// `effort` is 0, so some mutants only it accepts; and stricter in others).
+#[test]
+fn fuzzed_urdfs_through_urdf_rs() {
+    use common::fuzz::{corpus, make_input, model_is_finite, Format};
+    use std::panic::{catch_unwind, AssertUnwindSafe};
+    let corpus = corpus(&repo(""));
+    let (mut parsed, mut both) = (0, 0);
+    for seed in 0..10_000u64 {
+        let input = make_input(&corpus, seed.wrapping_mul(0x9E37_79B9_7F4A_7C15));
+        // urdf-rs parses recursively: deep nesting overflows its stack (an abort, not a panic).
+        if input.format != Format::Urdf || input.applied.contains(&"deep-nesting") {
+            continue;
+        }
+        // urdf-rs's own failures (errors or panics) are not ours to judge.
+        let Ok(Ok(robot)) = catch_unwind(|| urdf_rs::read_from_string(&input.text)) else {
+            continue;
+        };
+        parsed += 1;
+        let options = UrdfOptions::default();
+        let memory = catch_unwind(AssertUnwindSafe(|| from_urdf_rs(&robot, &options)))
+            .unwrap_or_else(|_| panic!("from_urdf_rs panicked on case {seed}:\n{}", input.text));
+        let file = load_urdf_str(&input.text, Path::new("fuzz.urdf"), &options);
+        match memory {
+            Ok(loaded) => {
+                loaded.model.validate().expect("a valid model");
+                assert!(model_is_finite(&loaded.model), "case {seed}");
+                if let Ok(from_file) = file {
+                    both += 1;
+                    assert_eq!(loaded.model, from_file.model, "case {seed}:\n{}", input.text);
+                }
+            }
+            Err(e) => {
+                assert!(
+                    e.file.to_string_lossy().starts_with("<urdf_rs::Robot"),
+                    "case {seed}: {e}"
+                );
+                assert!(
+                    !e.message.trim().is_empty() && e.location.is_none(),
+                    "case {seed}: {e}"
+                );
+            }
+        }
+    }
+    assert!(
+        parsed >= 300 && both >= 100,
+        "too few mutants exercised: {parsed} read, {both} accepted by both"
+    );
+}
