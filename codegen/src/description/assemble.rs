@@ -116,12 +116,11 @@ pub(crate) fn assemble(
         .collect();
 
     let end_effector = end_effector(c, settings, &carrier, &placement, &joints, diags)?;
-    Ok(Model {
-        name,
-        joints,
-        bodies,
-        gravity: Vector3::from(gravity),
-        end_effector,
+    Model::new(name, joints, bodies, Vector3::from(gravity), end_effector).map_err(|e| {
+        DescriptionError::new(
+            &c.robot_map.file,
+            format!("internal error: the model breaks an invariant: {e}"),
+        )
     })
 }
 

@@ -92,8 +92,8 @@ pub struct ExportError {
 /// order come back in depth-first order (a warning lists it), as every URDF reader orders
 /// them. URDF has no gravity: a model whose gravity is not
 /// `[0, 0, -9.81]` is still written (a robot on a wall should be viewable), with a warning, and
-/// the gravity in the options. Fails when no URDF loads back as the model: an invalid model,
-/// two bodies of one name, a prismatic joint without limits (URDF requires them).
+/// the gravity in the options. Fails when no URDF loads back as the model: two bodies of one
+/// name, a prismatic joint without limits (URDF requires them).
 ///
 /// ```
 /// use dyngen_codegen::description::{from_urdf_rs, load, to_urdf_rs};
@@ -106,19 +106,16 @@ pub struct ExportError {
 /// ```
 pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
     let fail = |message: String| ExportError {
-        model: model.name.clone(),
+        model: model.name().to_owned(),
         message,
     };
-    model
-        .validate()
-        .map_err(|e| fail(format!("the model is invalid: {e}")))?;
     let mut link_names = HashSet::new();
-    for body in &model.bodies {
+    for body in model.bodies() {
         if !link_names.insert(body.name.as_str()) {
             return Err(fail(format!("two bodies are named '{}'", body.name)));
         }
     }
-    for joint in &model.joints {
+    for joint in model.joints() {
         if joint.kind == JointKind::Prismatic && joint.limits.is_none() {
             let msg = format!(
                 "joint '{}' is prismatic without limits, which URDF cannot express",
@@ -128,15 +125,15 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
         }
     }
 
-    let ee = &model.end_effector;
-    let ee_body = &model.bodies[ee.parent].name;
+    let ee = &model.end_effector();
+    let ee_body = &model.bodies()[ee.parent].name;
     let ee_link = !link_names.contains(ee.name.as_str());
     let base = unique("base_link", |n| link_names.contains(n) || n == ee.name);
-    let parent_link = |parent: Option<usize>| parent.map_or(base.clone(), |p| model.bodies[p].name.clone());
+    let parent_link = |parent: Option<usize>| parent.map_or(base.clone(), |p| model.bodies()[p].name.clone());
 
     let mut links = vec![link(&base, None)];
     let mut joints = Vec::new();
-    for (joint, body) in model.joints.iter().zip(&model.bodies) {
+    for (joint, body) in model.joints().iter().zip(model.bodies()) {
         links.push(link(&body.name, Some(&body.inertia)));
         let joint_type = match (joint.kind, joint.limits) {
             (JointKind::Revolute, Some(_)) => urdf_rs::JointType::Revolute,
@@ -174,7 +171,7 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
     }
     let spec = if ee_link {
         links.push(link(&ee.name, None));
-        let joint_names: HashSet<&str> = model.joints.iter().map(|j| j.name.as_str()).collect();
+        let joint_names: HashSet<&str> = model.joints().iter().map(|j| j.name.as_str()).collect();
         let name = unique(&format!("{}_joint", ee.name), |n| joint_names.contains(n));
         joints.push(urdf_rs::Joint {
             name,
@@ -205,14 +202,14 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
     };
     stick_figure(model, &mut links);
     let robot = urdf_rs::Robot {
-        name: model.name.clone(),
+        name: model.name().to_owned(),
         version: None,
         links,
         joints,
         materials: Vec::new(),
     };
 
-    let gravity: [f64; 3] = model.gravity.into();
+    let gravity: [f64; 3] = model.gravity().into();
     let mut options = UrdfOptions {
         gravity: (gravity != DEFAULT_GRAVITY).then_some(gravity),
         ..UrdfOptions::default()
@@ -234,21 +231,21 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
             .map_err(|e| fail(format!("the URDF does not load back: {e}")))
     };
     let plain = reload(&options)?;
-    let same_frame = plain.end_effector.name == ee.name
-        && plain.joints[plain.end_effector.parent].name == model.joints[ee.parent].name
-        && close(&plain.end_effector.placement, &ee.placement);
+    let same_frame = plain.end_effector().name == ee.name
+        && plain.joints()[plain.end_effector().parent].name == model.joints()[ee.parent].name
+        && close(&plain.end_effector().placement, &ee.placement);
     if !same_frame {
         warnings.push(format!(
             "the end-effector '{}' is not the frame dyngen picks from the URDF alone (leaf link \
              '{}'): load it with the `end_effector` option ({})",
             ee.name,
-            plain.end_effector.name,
+            plain.end_effector().name,
             describe(&spec)
         ));
         options.end_effector = Some(spec);
     }
-    let order: Vec<&str> = plain.joints.iter().map(|j| j.name.as_str()).collect();
-    if order.iter().zip(&model.joints).any(|(a, j)| *a != j.name) {
+    let order: Vec<&str> = plain.joints().iter().map(|j| j.name.as_str()).collect();
+    if order.iter().zip(model.joints()).any(|(a, j)| *a != j.name) {
         warnings.push(format!(
             "the joints are not in depth-first order, which URDF readers use: read back, q is \
              ordered [{}]",
@@ -321,10 +318,10 @@ fn link(name: &str, inertia: Option<&Inertia>) -> urdf_rs::Link {
 /// at the end-effector, and a rod from each link's frame to each frame it carries, all of one
 /// thickness scaled to the robot. `links` are the base, the bodies, then the end-effector's.
 fn stick_figure(model: &Model, links: &mut [urdf_rs::Link]) {
-    let ee = &model.end_effector;
+    let ee = &model.end_effector();
     // Per link, the points of the frames it carries, in its own frame.
     let mut ends: Vec<Vec<Vector3<f64>>> = vec![Vec::new(); links.len()];
-    for joint in &model.joints {
+    for joint in model.joints() {
         ends[joint.parent.map_or(0, |p| p + 1)].push(joint.origin.translation);
     }
     ends[ee.parent + 1].push(ee.placement.translation);
