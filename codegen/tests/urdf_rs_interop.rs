@@ -97,7 +97,7 @@ fn generated(model: &Model) -> String {
         source: "round trip".into(),
         source_hash: "0".into(),
         regenerate: "none".into(),
-        type_name: type_name(&model.name()),
+        type_name: type_name(model.name()),
     };
     emit(model, &trace(model), &provenance)
 }
