@@ -598,163 +598,93 @@ const LIMIT: &str = r#"<limit lower="-1" upper="1" velocity="1" effort="10"/>"#;
 
 #[test]
 fn bad_input_gives_the_file_loaders_messages_without_the_place() {
-    let chain = |last: &str| {
-        [
+    // A chain base → a → b, then a third joint j3 from b.
+    let chain = |kind: &str, child: &str, extra: &str| {
+        let joints = [
             joint("j1", "continuous", "base", "a", ""),
             joint("j2", "continuous", "a", "b", ""),
-            last.to_owned(),
-        ]
-        .concat()
+            joint("j3", kind, "b", child, extra),
+        ];
+        robot_with(&links(), &joints.concat())
     };
-    let cases: Vec<(&str, String, UrdfOptions)> = vec![
-        (
-            "floating joint",
-            robot_with(&links(), &chain(&joint("j3", "floating", "b", "c", ""))),
-            UrdfOptions::default(),
-        ),
-        (
-            "planar joint",
-            robot_with(&links(), &chain(&joint("j3", "planar", "b", "c", ""))),
-            UrdfOptions::default(),
-        ),
-        (
-            "spherical joint",
-            robot_with(&links(), &chain(&joint("j3", "spherical", "b", "c", ""))),
-            UrdfOptions::default(),
-        ),
-        (
-            "cycle",
-            robot_with(
-                &links(),
-                &[
-                    joint("j0", "continuous", "base", "a", ""),
-                    joint("j1", "continuous", "a", "b", ""),
-                    joint("j2", "continuous", "b", "c", ""),
-                    joint("j3", "continuous", "c", "a", ""),
-                ]
-                .concat(),
-            ),
-            UrdfOptions::default(),
-        ),
-        (
-            "undefined link",
-            robot_with(&links(), &chain(&joint("j3", "continuous", "b", "nowhere", ""))),
-            UrdfOptions::default(),
-        ),
-        (
-            "zero axis",
-            robot_with(
-                &links(),
-                &chain(&joint("j3", "continuous", "b", "c", r#"<axis xyz="0 0 0"/>"#)),
-            ),
-            UrdfOptions::default(),
-        ),
+    let one_link = |inertial: &str| {
+        let links = format!(r#"<link name="base"/><link name="a"><inertial>{inertial}</inertial></link>"#);
+        robot_with(&links, &joint("j", "continuous", "base", "a", ""))
+    };
+    let joints = |list: &[(&str, &str, &str, &str)]| {
+        let text: String = list.iter().map(|(n, k, p, c)| joint(n, k, p, c, "")).collect();
+        robot_with(&links(), &text)
+    };
+    let mimic = format!(r#"{LIMIT}<mimic joint="j1"/>"#);
+    let plain: Vec<(&str, String)> = vec![
+        ("floating joint", chain("floating", "c", "")),
+        ("planar joint", chain("planar", "c", "")),
+        ("spherical joint", chain("spherical", "c", "")),
+        ("undefined link", chain("continuous", "nowhere", "")),
+        ("zero axis", chain("continuous", "c", r#"<axis xyz="0 0 0"/>"#)),
         (
             "origin not finite",
-            robot_with(
-                &links(),
-                &chain(&joint("j3", "continuous", "b", "c", r#"<origin xyz="nan 0 0"/>"#)),
-            ),
-            UrdfOptions::default(),
+            chain("continuous", "c", r#"<origin xyz="nan 0 0"/>"#),
         ),
         (
             "limits reversed",
-            robot_with(
-                &links(),
-                &chain(&joint(
-                    "j3",
-                    "revolute",
-                    "b",
-                    "c",
-                    r#"<limit lower="1" upper="-1" velocity="1" effort="1"/>"#,
-                )),
+            chain(
+                "revolute",
+                "c",
+                r#"<limit lower="1" upper="-1" velocity="1" effort="1"/>"#,
             ),
-            UrdfOptions::default(),
         ),
+        ("revolute without limit", chain("revolute", "c", "")),
+        ("unlocked mimic", chain("revolute", "c", &mimic)),
         (
-            "revolute without limit",
-            robot_with(&links(), &chain(&joint("j3", "revolute", "b", "c", ""))),
-            UrdfOptions::default(),
-        ),
-        (
-            "unlocked mimic",
-            robot_with(
-                &links(),
-                &chain(&joint(
-                    "j3",
-                    "revolute",
-                    "b",
-                    "c",
-                    &format!(r#"{LIMIT}<mimic joint="j1"/>"#),
-                )),
-            ),
-            UrdfOptions::default(),
-        ),
-        (
-            "negative mass",
-            robot_with(
-                &format!(
-                    r#"<link name="base"/><link name="a"><inertial><mass value="-1"/>{INERTIA}</inertial></link>"#
-                ),
-                &joint("j", "continuous", "base", "a", ""),
-            ),
-            UrdfOptions::default(),
-        ),
-        (
-            "inertia not positive definite",
-            robot_with(
-                r#"<link name="base"/><link name="a"><inertial><mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>"#,
-                &joint("j", "continuous", "base", "a", ""),
-            ),
-            UrdfOptions::default(),
+            "cycle",
+            joints(&[
+                ("j1", "continuous", "a", "b"),
+                ("j2", "continuous", "b", "c"),
+                ("j3", "continuous", "c", "a"),
+            ]),
         ),
         (
             "two roots",
-            robot_with(
-                &links(),
-                &[
-                    joint("j1", "continuous", "base", "a", ""),
-                    joint("j2", "continuous", "b", "c", ""),
-                ]
-                .concat(),
-            ),
-            UrdfOptions::default(),
+            joints(&[("j1", "continuous", "base", "a"), ("j2", "continuous", "b", "c")]),
         ),
         (
             "disconnected link",
-            robot_with(
-                &links(),
-                &[
-                    joint("j1", "continuous", "base", "a", ""),
-                    joint("j2", "continuous", "a", "b", ""),
-                ]
-                .concat(),
-            ),
-            UrdfOptions::default(),
+            joints(&[("j1", "continuous", "base", "a"), ("j2", "continuous", "a", "b")]),
         ),
         (
             "no moving joints",
-            robot_with(&links(), &[joint("j1", "fixed", "base", "a", "")].concat()),
-            UrdfOptions::default(),
+            robot_with(
+                r#"<link name="base"/><link name="a"/>"#,
+                &joint("j", "fixed", "base", "a", ""),
+            ),
         ),
         (
             "duplicate link",
             robot_with(
                 &format!("{}<link name=\"a\"/>", links()),
-                &chain(&joint("j3", "continuous", "b", "c", "")),
+                &joint("j", "continuous", "base", "a", ""),
             ),
-            UrdfOptions::default(),
+        ),
+        (
+            "negative mass",
+            one_link(&format!(r#"<mass value="-1"/>{INERTIA}"#)),
+        ),
+        (
+            "inertia breaks the triangle inequality",
+            one_link(r#"<mass value="1"/><inertia ixx="1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/>"#),
         ),
         (
             "no name",
-            "<robot><link name=\"a\"/><link name=\"b\"/>".to_owned()
-                + &joint("j", "continuous", "a", "b", "")
-                + "</robot>",
-            UrdfOptions::default(),
+            format!(
+                r#"<robot><link name="a"/><link name="b"/>{}</robot>"#,
+                joint("j", "continuous", "a", "b", "")
+            ),
         ),
+    ];
+    let with_options = [
         (
             "unknown locked joint",
-            robot_with(&links(), &chain(&joint("j3", "continuous", "b", "c", ""))),
             UrdfOptions {
                 locked_joints: vec![("nope".into(), 0.0)],
                 ..UrdfOptions::default()
@@ -762,13 +692,20 @@ fn bad_input_gives_the_file_loaders_messages_without_the_place() {
         ),
         (
             "unknown end-effector",
-            robot_with(&links(), &chain(&joint("j3", "continuous", "b", "c", ""))),
             UrdfOptions {
                 end_effector: Some(EndEffectorSpec::link("nope")),
                 ..UrdfOptions::default()
             },
         ),
     ];
+    let cases = plain
+        .into_iter()
+        .map(|(what, text)| (what, text, UrdfOptions::default()))
+        .chain(
+            with_options
+                .into_iter()
+                .map(|(what, options)| (what, chain("continuous", "c", ""), options)),
+        );
     for (what, text, options) in cases {
         let file: DescriptionError = load_urdf_str(&text, Path::new("bad.urdf"), &options)
             .map(|_| ())

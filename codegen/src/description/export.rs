@@ -430,7 +430,10 @@ fn yaml_str(s: &str) -> String {
     let plain = !s.is_empty()
         && s.chars()
             .all(|c| c.is_ascii_alphanumeric() || matches!(c, '_' | '-' | '.' | '/'))
-        && s.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_' || c == '.' || c == '/');
+        && s.starts_with(|c: char| c.is_ascii_alphabetic() || c == '_' || c == '.' || c == '/')
+        // Words YAML 1.1 readers take for booleans or null.
+        && !["true", "false", "yes", "no", "on", "off", "null", "y", "n"]
+            .contains(&s.to_ascii_lowercase().as_str());
     if plain {
         s.to_owned()
     } else {

@@ -100,14 +100,24 @@ fn read_regular_file(path: &Path) -> std::io::Result<String> {
 /// Loads URDF text. `file` names the text in messages. `sources` is empty: nothing was read.
 pub fn load_urdf_str(text: &str, file: &Path, options: &UrdfOptions) -> Result<Loaded, DescriptionError> {
     let (robot, map) = urdf::read(text, file)?;
+    build_bare_urdf(&robot, &map, options)
+}
+
+/// A URDF without a YAML wrapper (a file, or a `urdf_rs::Robot`): the user's choices come
+/// from `options`, and nothing else was read.
+fn build_bare_urdf(
+    robot: &RawRobot,
+    map: &SourceMap,
+    options: &UrdfOptions,
+) -> Result<Loaded, DescriptionError> {
     let settings = Settings {
         name: None,
         gravity: options.gravity,
         end_effector: options.end_effector.clone(),
         locked_joints: options.locked_joints.clone(),
-        map: &map,
+        map,
     };
-    build(&robot, &map, &settings, Vec::new())
+    build(robot, map, &settings, Vec::new())
 }
 
 /// Turns a [`urdf_rs::Robot`] (what `k`, `urdf-viz` and openrr hold) into a model, with the same
@@ -140,14 +150,7 @@ pub fn load_urdf_str(text: &str, file: &Path, options: &UrdfOptions) -> Result<L
 pub fn from_urdf_rs(robot: &urdf_rs::Robot, options: &UrdfOptions) -> Result<Loaded, DescriptionError> {
     let (raw, notes) = import::read(robot)?;
     let map = SourceMap::new(&import::place(robot));
-    let settings = Settings {
-        name: None,
-        gravity: options.gravity,
-        end_effector: options.end_effector.clone(),
-        locked_joints: options.locked_joints.clone(),
-        map: &map,
-    };
-    let mut loaded = build(&raw, &map, &settings, Vec::new())?;
+    let mut loaded = build_bare_urdf(&raw, &map, options)?;
     loaded.notes.extend(notes);
     Ok(loaded)
 }
