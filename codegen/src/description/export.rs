@@ -61,7 +61,9 @@ impl UrdfExport {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("cannot write model '{model}' as URDF: {message}")]
 pub struct ExportError {
+    /// The model's name.
     pub model: String,
+    /// What URDF cannot say, as a sentence fragment.
     pub message: String,
 }
 
@@ -125,7 +127,7 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
         }
     }
 
-    let ee = &model.end_effector();
+    let ee = model.end_effector();
     let ee_body = &model.bodies()[ee.parent].name;
     let ee_link = !link_names.contains(ee.name.as_str());
     let base = unique("base_link", |n| link_names.contains(n) || n == ee.name);
@@ -225,12 +227,9 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
     }
 
     // The loader is the judge of what its default rule picks and of the joint order.
-    let reload = |options: &UrdfOptions| {
-        super::from_urdf_rs(&robot, options)
-            .map(|l| l.model)
-            .map_err(|e| fail(format!("the URDF does not load back: {e}")))
-    };
-    let plain = reload(&options)?;
+    let plain = super::from_urdf_rs(&robot, &options)
+        .map(|l| l.model)
+        .map_err(|e| fail(format!("the URDF does not load back: {e}")))?;
     let same_frame = plain.end_effector().name == ee.name
         && plain.joints()[plain.end_effector().parent].name == model.joints()[ee.parent].name
         && close(&plain.end_effector().placement, &ee.placement);
@@ -318,7 +317,7 @@ fn link(name: &str, inertia: Option<&Inertia>) -> urdf_rs::Link {
 /// at the end-effector, and a rod from each link's frame to each frame it carries, all of one
 /// thickness scaled to the robot. `links` are the base, the bodies, then the end-effector's.
 fn stick_figure(model: &Model, links: &mut [urdf_rs::Link]) {
-    let ee = &model.end_effector();
+    let ee = model.end_effector();
     // Per link, the points of the frames it carries, in its own frame.
     let mut ends: Vec<Vec<Vector3<f64>>> = vec![Vec::new(); links.len()];
     for joint in model.joints() {
