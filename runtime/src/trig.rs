@@ -72,10 +72,10 @@ pub(crate) fn sin_cos_all<const N: usize>(q: &[f64; N]) -> ([f64; N], [f64; N]) 
         cos[i] = f64::from_bits(c ^ (((quadrant + 1) & 2) << 62));
     }
     // Out of range (or NaN, for which the comparison is false): the exact reduction.
-    let magnitude = |x: f64| f64::from_bits(x.to_bits() & !SIGN);
-    if !q.iter().all(|&x| magnitude(x) <= LIMIT) {
+    let in_range = |x: f64| f64::from_bits(x.to_bits() & !SIGN) <= LIMIT;
+    if !q.iter().all(|&x| in_range(x)) {
         for i in 0..N {
-            if !(magnitude(q[i]) <= LIMIT) {
+            if !in_range(q[i]) {
                 (sin[i], cos[i]) = libm::sincos(q[i]);
             }
         }
