@@ -10,7 +10,7 @@
 
 /// Largest `|q|` the fast reduction serves; far beyond any joint's range.
 const LIMIT: f64 = 1e5;
-const TWO_OVER_PI: f64 = 0.6366197723675814;
+const TWO_OVER_PI: f64 = core::f64::consts::FRAC_2_PI;
 /// π/2 in three parts: 33 significant bits, 33 more, and the rest.
 const P1: f64 = 1.5707963267341256;
 const P2: f64 = 6.077100506303966e-11;
