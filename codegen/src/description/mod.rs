@@ -61,6 +61,12 @@ pub fn load(path: &Path) -> Result<Loaded, DescriptionError> {
     let is_yaml = match ext.as_deref() {
         Some("yaml" | "yml") => true,
         Some("urdf" | "xml") => false,
+        Some("xacro") => {
+            return Err(DescriptionError::new(
+                path,
+                "a xacro file: expand it first (`xacro robot.urdf.xacro > robot.urdf`) and load the URDF",
+            ))
+        }
         _ => {
             return Err(DescriptionError::new(
                 path,
