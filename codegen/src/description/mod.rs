@@ -15,6 +15,7 @@
 mod assemble;
 mod error;
 mod items;
+mod near_exact;
 mod options;
 mod raw;
 mod source_map;
@@ -104,6 +105,7 @@ pub fn load_urdf_str(text: &str, file: &Path, options: &UrdfOptions) -> Result<L
         gravity: options.gravity,
         end_effector: options.end_effector.clone(),
         locked_joints: options.locked_joints.clone(),
+        snap_angles: options.snap_angles,
         map: &map,
     };
     build(&robot, &map, &settings, Vec::new())
@@ -129,8 +131,9 @@ fn build(
     sources: Vec<PathBuf>,
 ) -> Result<Loaded, DescriptionError> {
     let mut diags = Diagnostics::default();
-    let links = items::check_links(&robot.links, robot_map, &mut diags)?;
-    let joints = items::check_joints(&robot.joints, robot_map, &mut diags)?;
+    let snap = settings.snap()?;
+    let links = items::check_links(&robot.links, robot_map, snap, &mut diags)?;
+    let joints = items::check_joints(&robot.joints, robot_map, snap, &mut diags)?;
     let topo = tree::topology(robot, robot_map)?;
     let checked = assemble::Checked {
         raw: robot,
