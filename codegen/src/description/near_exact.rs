@@ -95,6 +95,8 @@ fn snap_hint(distance: f64) -> String {
 }
 
 #[cfg(test)]
+// Rounded quarter turns are the point of these tests.
+#[allow(clippy::approx_constant)]
 mod tests {
     use super::*;
 
