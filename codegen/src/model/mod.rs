@@ -137,6 +137,20 @@ impl Inertia {
                 inertia_com: self.inertia_com + other.inertia_com,
             };
         }
+        // A massless part (an end-effector link, a frame) leaves the body unchanged, bit for
+        // bit: `(c m + 0) / m` need not round back to `c`.
+        if other.mass == 0.0 || self.mass == 0.0 {
+            let (massive, massless) = if other.mass == 0.0 {
+                (self, other)
+            } else {
+                (other, self)
+            };
+            return Inertia {
+                mass,
+                com: massive.com,
+                inertia_com: massive.inertia_com + massless.inertia_com,
+            };
+        }
         let com = (self.com * self.mass + other.com * other.mass) / mass;
         let shift = |b: &Inertia| {
             let d = b.com - com;
