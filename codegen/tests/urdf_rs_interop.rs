@@ -437,7 +437,7 @@ fn committed_urdfs_through_urdf_rs_give_the_file_loaders_models() {
             ("panda_finger_joint1".into(), 0.0),
             ("panda_finger_joint2".into(), 0.0),
         ],
-        gravity: None,
+        ..UrdfOptions::default()
     };
     let ur5 = UrdfOptions {
         end_effector: Some(EndEffectorSpec::link("tool0")),

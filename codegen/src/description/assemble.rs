@@ -195,6 +195,14 @@ fn check_mimics(
         let Some(m) = &joint.mimic else { continue };
         let path = format!("{}.mimic", joint_path(j));
         let label = item("joint", &joint.name);
+        if c.joints[j].motion == Motion::Fixed {
+            // Common in URDFs expanded from xacro macros; a fixed joint has nothing to follow.
+            let msg = format!("<mimic> of '{}' on a fixed joint is ignored", m.joint);
+            diags
+                .warnings
+                .push(c.robot_map.diagnostic(&path, Some(&label), &msg));
+            continue;
+        }
         let Some(&target) = c.topo.joint_by_name.get(&m.joint) else {
             let msg = format!("mimics joint '{}', which is not defined", m.joint);
             return Err(c.robot_map.error(&path, msg).about(label));

@@ -21,6 +21,7 @@ mod error;
 mod export;
 mod import;
 mod items;
+mod near_exact;
 mod options;
 mod raw;
 mod source_map;
@@ -68,6 +69,12 @@ pub fn load(path: &Path) -> Result<Loaded, DescriptionError> {
     let is_yaml = match ext.as_deref() {
         Some("yaml" | "yml") => true,
         Some("urdf" | "xml") => false,
+        Some("xacro") => {
+            return Err(DescriptionError::new(
+                path,
+                "a xacro file: expand it first (`xacro robot.urdf.xacro > robot.urdf`) and load the URDF",
+            ))
+        }
         _ => {
             return Err(DescriptionError::new(
                 path,
@@ -115,6 +122,7 @@ fn build_bare_urdf(
         gravity: options.gravity,
         end_effector: options.end_effector.clone(),
         locked_joints: options.locked_joints.clone(),
+        snap_angles: options.snap_angles,
         map,
     };
     build(robot, map, &settings, Vec::new())
@@ -175,8 +183,9 @@ fn build(
     sources: Vec<PathBuf>,
 ) -> Result<Loaded, DescriptionError> {
     let mut diags = Diagnostics::default();
-    let links = items::check_links(&robot.links, robot_map, &mut diags)?;
-    let joints = items::check_joints(&robot.joints, robot_map, &mut diags)?;
+    let snap = settings.snap()?;
+    let links = items::check_links(&robot.links, robot_map, snap, &mut diags)?;
+    let joints = items::check_joints(&robot.joints, robot_map, snap, &mut diags)?;
     let topo = tree::topology(robot, robot_map)?;
     let checked = assemble::Checked {
         raw: robot,
