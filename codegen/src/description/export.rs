@@ -477,6 +477,16 @@ mod tests {
     }
 
     #[test]
+    fn yaml_strings_are_quoted_unless_plain_is_safe() {
+        assert_eq!(yaml_str("panda_link7"), "panda_link7");
+        assert_eq!(yaml_str("../urdf/arm.urdf"), "../urdf/arm.urdf");
+        for quoted in ["yes", "No", "null", "7dof", "my robot", "a:b", ""] {
+            assert_eq!(yaml_str(quoted), format!("{quoted:?}"));
+        }
+        assert_eq!(yaml_vec(&[-0.0, 1e-20, -9.81]), "[0.0, 1e-20, -9.81]");
+    }
+
+    #[test]
     fn gimbal_lock_gives_the_rotation_to_rounding() {
         // Pitch a quarter turn: only yaw - roll is defined.
         let r = rotation([0.4, std::f64::consts::FRAC_PI_2, 1.1]);
