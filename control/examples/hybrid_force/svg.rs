@@ -1,9 +1,10 @@
 //! The demo's plots with `plotters` (SVG backend only): stacked panels of time series, linear
 //! or logarithmic y axis, a legend to the right of each panel.
 
-use plotters::coord::ranged1d::{DefaultFormatting, Ranged, ValueFormatter};
+use plotters::coord::ranged1d::{Ranged, ValueFormatter};
 use plotters::coord::types::RangedCoordf64;
 use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
 use plotters::prelude::*;
 use std::ops::Range;
 
@@ -60,19 +61,26 @@ fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, panel: &Panel) -> DrawResul
     draw_legend(&legend, panel)
 }
 
-/// The x range of all finite points and the y range (of log10 y on a log axis) with a margin.
+/// The x range of all points (the whole run, even where nothing can be drawn) and the y range
+/// of the drawable ones (of log10 y on a log axis) with a margin.
 fn data_ranges(panel: &Panel) -> (Range<f64>, Range<f64>) {
     let (mut x_lo, mut x_hi) = (f64::INFINITY, f64::NEG_INFINITY);
     let (mut y_lo, mut y_hi) = (f64::INFINITY, f64::NEG_INFINITY);
     for &(x, y) in panel.series.iter().flat_map(|s| &s.points) {
-        if let Some(y) = plotted(panel, y).filter(|_| x.is_finite()) {
+        if !x.is_finite() {
+            continue;
+        }
+        (x_lo, x_hi) = (x_lo.min(x), x_hi.max(x));
+        if let Some(y) = plotted(panel, y) {
             let y = if panel.log { y.log10() } else { y };
-            (x_lo, x_hi) = (x_lo.min(x), x_hi.max(x));
             (y_lo, y_hi) = (y_lo.min(y), y_hi.max(y));
         }
     }
     if !x_lo.is_finite() {
-        (x_lo, x_hi, y_lo, y_hi) = (0.0, 1.0, 0.0, 1.0);
+        (x_lo, x_hi) = (0.0, 1.0);
+    }
+    if !y_lo.is_finite() {
+        (y_lo, y_hi) = (0.0, 1.0);
     }
     if x_hi - x_lo < 1e-12 {
         x_hi = x_lo + 1.0;
@@ -106,10 +114,10 @@ fn draw_chart<Y>(
     y_format: &dyn Fn(&f64) -> String,
 ) -> DrawResult
 where
-    Y: Ranged<ValueType = f64, FormatOption = DefaultFormatting> + ValueFormatter<f64>,
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
 {
     let mut chart = ChartBuilder::on(area)
-        .caption(panel.title, (FONT, 15).into_font().style(FontStyle::Bold))
+        .caption(panel.title, (FONT, 17).into_font().style(FontStyle::Bold))
         .margin_left(10)
         .margin_right(6)
         .margin_top(6)
@@ -127,15 +135,15 @@ where
         .y_labels(6)
         .x_label_formatter(&|v| tick(*v))
         .y_label_formatter(y_format)
-        .label_style((FONT, 12))
-        .axis_desc_style((FONT, 12))
+        .label_style((FONT, 14))
+        .axis_desc_style((FONT, 14))
         .draw()?;
     let (lo, hi) = {
         let range = chart.y_range();
         (range.start, range.end)
     };
     for series in &panel.series {
-        let style = colour(series.colour).stroke_width(if series.dashed { 1 } else { 2 });
+        let style = colour(series.colour).stroke_width(1);
         // One line per run of drawable points: gaps stay gaps.
         let mut segment: Vec<(f64, f64)> = Vec::new();
         let mut segments = Vec::new();
@@ -173,7 +181,7 @@ fn draw_legend(area: &DrawingArea<SVGBackend, Shift>, panel: &Panel) -> DrawResu
         area.draw(&Text::new(
             series.label,
             (36, y - 6),
-            (FONT, 12).into_font().color(&BLACK),
+            (FONT, 14).into_font().color(&BLACK),
         ))?;
     }
     Ok(())
