@@ -1,6 +1,6 @@
-//! Reference values computed by Pinocchio 4.1 (`tests/fixtures/`, made by `tools/fixtures.py`:
-//! see `tests/fixtures/README.md`), and the model they describe, built from their own joint
-//! placements.
+//! Reference values computed by Pinocchio 4.1 (`codegen/tests/fixtures/`, made by
+//! `tools/fixtures.py`: see `codegen/tests/fixtures/README.md`), and the model they describe,
+//! built from their own joint placements.
 
 use dyngen_codegen::model::{Body, Frame, Inertia, Joint, JointKind, Model, Pose};
 use nalgebra::{DMatrix, Matrix3, Vector3};
@@ -138,16 +138,17 @@ impl Fixture {
             .iter()
             .position(|n| n == j["ee_parent_joint"].as_str().unwrap())
             .unwrap();
-        Model {
-            name: j["robot"].as_str().unwrap().to_owned(),
+        Model::new(
+            j["robot"].as_str().unwrap(),
             joints,
             bodies,
-            gravity: Vector3::from_vec(vector(&j["gravity"])),
-            end_effector: Frame {
+            Vector3::from_vec(vector(&j["gravity"])),
+            Frame {
                 name: j["ee_frame"].as_str().unwrap().to_owned(),
                 parent: ee_parent,
                 placement: pose(&j["ee_placement_in_parent_joint"]),
             },
-        }
+        )
+        .expect("the fixture's model is valid")
     }
 }
