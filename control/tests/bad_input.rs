@@ -190,7 +190,8 @@ fn a_task_dimension_larger_than_the_dof() {
     assert_eq!(e, Some(ConfigError::TaskDimension { task: 3, dof: 2 }));
     println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
     // Six directions (position and orientation) on a two-joint robot.
-    let e = HybridController::<Standard<TwoJoints>, 2, 20, 1, 6>::new(config(table().with_orientation())).err();
+    let e =
+        HybridController::<Standard<TwoJoints>, 2, 20, 1, 6>::new(config(table().with_orientation())).err();
     assert_eq!(e, Some(ConfigError::TaskDimension { task: 6, dof: 2 }));
     println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
     // And through the demo: arm7 has 7 joints, so m = 6 is fine there, but the demo refuses a
@@ -238,13 +239,32 @@ fn a_contact_stiffness_inconsistent_with_the_task_dimension() {
     let mut task = table().with_orientation();
     task.orientation = Orientation::ToolAxis { axis: Vector3::z() };
     let e = HybridController::<arm7::Standard, 7, 70, 1, 6>::new(config(task)).err();
-    assert!(matches!(e, Some(ConfigError::TaskKind { task: 6, expected: 5, .. })), "{e:?}");
+    assert!(
+        matches!(
+            e,
+            Some(ConfigError::TaskKind {
+                task: 6,
+                expected: 5,
+                ..
+            })
+        ),
+        "{e:?}"
+    );
     println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
 
     // A tool axis that is not a unit vector.
     let task = table().with_tool_axis(Vector3::new(0.0, 0.0, 2.0));
     let e = HybridController::<arm7::Standard, 7, 70, 1, 5>::new(config(task)).err();
-    assert!(matches!(e, Some(ConfigError::Invalid { name: "tool axis", .. })), "{e:?}");
+    assert!(
+        matches!(
+            e,
+            Some(ConfigError::Invalid {
+                name: "tool axis",
+                ..
+            })
+        ),
+        "{e:?}"
+    );
 }
 
 #[test]
@@ -253,7 +273,8 @@ fn a_desired_orientation_too_far_from_the_start() {
     let d = Demo::<arm7::Standard, 7, 70, 6>::new(DemoOptions::default(), q0).expect("valid m = 6 demo");
     let c = d.controller(RunKind::Adaptive).expect("controller");
     let mut d0 = d.scenario.desired(0.0);
-    c.check_start(&q0, &d0).expect("the scenario starts at the start orientation");
+    c.check_start(&q0, &d0)
+        .expect("the scenario starts at the start orientation");
     // Turned by 120° about the base x axis.
     let turn = dyngen_runtime::nalgebra::Rotation3::from_axis_angle(&Vector3::x_axis(), 120f64.to_radians());
     d0.orientation = turn.into_inner() * d0.orientation;

@@ -72,7 +72,11 @@ fn in_contact_and_free_space<const T: usize>() {
             let q = q0 + rng.vector::<7>(1e-4);
             let qd = rng.vector::<7>(0.3);
             // Half of the times inside the turn of the desired orientation (ω_d, ω̇_d ≠ 0).
-            let t = if k % 2 == 0 { 0.09 * k as f64 + 0.01 } else { 0.37 * k as f64 + 0.01 };
+            let t = if k % 2 == 0 {
+                0.09 * k as f64 + 0.01
+            } else {
+                0.37 * k as f64 + 0.01
+            };
             let penetration = d.plant.contact_force(&JointTrig::new(&q)).norm();
             assert_eq!(penetration > 0.0, in_contact);
             let (err, damping, e_o) = mismatch(&d, &c, q, qd, t);
@@ -85,7 +89,10 @@ fn in_contact_and_free_space<const T: usize>() {
         }
         // With orientation rows, the states are away from the desired orientation (the error
         // and its rate enter q̈_r), not on it.
-        assert!(T == 3 || worst_orientation > 1e-2, "orientation error {worst_orientation}");
+        assert!(
+            T == 3 || worst_orientation > 1e-2,
+            "orientation error {worst_orientation}"
+        );
     }
 }
 

@@ -171,7 +171,10 @@ where
 }
 
 /// Runs the three laws; `Ok(false)` if one diverged (its data is still written).
-fn run<Z, const N: usize, const M: usize, const T: usize>(args: &Args, q0: SVector<f64, N>) -> Result<bool, String>
+fn run<Z, const N: usize, const M: usize, const T: usize>(
+    args: &Args,
+    q0: SVector<f64, N>,
+) -> Result<bool, String>
 where
     Z: Parameterization<N, M>,
 {
@@ -197,11 +200,13 @@ where
         match args.task {
             Task::Position => "position (m = 3), orientation free".to_string(),
             Task::ToolAxis => format!(
-                "position and tool axis (m = 5): tool axis turned to vertical by t = {:.1} s and held, free rotation about it",
+                "position and tool axis (m = 5): tool axis turned by {:.1}° to vertical by t = {:.1} s and held, free rotation about it",
+                demo.scenario.turn_angle.to_degrees(),
                 demo.scenario.turn_time()
             ),
             Task::Pose => format!(
-                "position and orientation (m = 6): tool turned to vertical by t = {:.1} s and held",
+                "position and orientation (m = 6): tool turned by {:.1}° to vertical by t = {:.1} s and held",
+                demo.scenario.turn_angle.to_degrees(),
                 demo.scenario.turn_time()
             ),
         }
@@ -360,7 +365,9 @@ fn write_orientation_plot(dir: &Path, results: &[(RunKind, RunResult)]) -> std::
     type Getter = fn(&Sample) -> f64;
     let quantities: [(&str, &str, bool, Getter); 3] = [
         ("normal force F_t (N)", "N", false, |s| s.true_force),
-        ("in-plane position error ‖K⁻x̃‖ (mm)", "mm", true, |s| s.in_plane_error * 1e3),
+        ("in-plane position error ‖K⁻x̃‖ (mm)", "mm", true, |s| {
+            s.in_plane_error * 1e3
+        }),
         (
             "orientation error: angle to the desired orientation (mrad)",
             "mrad",

@@ -113,7 +113,8 @@ where
     }
 
     /// Estimate the contact stiffness online (Remark 3, no stability proof) starting from
-    /// `k_hat0`, which replaces `K` in the law from the first tick on.
+    /// `k_hat0` (S×3: the position columns of `K`; the orientation columns stay zero), which
+    /// replaces `K` in the law from the first tick on.
     pub fn with_stiffness_estimation(
         mut self,
         k_hat0: &SMatrix<f64, S, 3>,

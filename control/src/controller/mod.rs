@@ -19,7 +19,9 @@ pub mod task;
 pub use adaptation::GammaByKind;
 pub use error::{ConfigError, TickError};
 pub use gains::{inertia_estimate, inertia_shaped_gain, Gains};
-pub use law::{Adaptation, ControlOutput, ControllerConfig, HybridController, MAX_START_ORIENTATION_ERROR_DEG};
+pub use law::{
+    Adaptation, ControlOutput, ControllerConfig, HybridController, MAX_START_ORIENTATION_ERROR_DEG,
+};
 pub use projections::{Projections, SingularityGuard};
 pub use reference::{Desired, Measurement, Reference};
 pub use stiffness_estimator::StiffnessEstimator;

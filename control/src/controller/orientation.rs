@@ -51,7 +51,11 @@ pub fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
 /// `½ vee(A − Aᵀ)`.
 #[inline]
 fn vee_skew(a: &Matrix3<f64>) -> Vector3<f64> {
-    Vector3::new(a[(2, 1)] - a[(1, 2)], a[(0, 2)] - a[(2, 0)], a[(1, 0)] - a[(0, 1)]) * 0.5
+    Vector3::new(
+        a[(2, 1)] - a[(1, 2)],
+        a[(0, 2)] - a[(2, 0)],
+        a[(1, 0)] - a[(0, 1)],
+    ) * 0.5
 }
 
 /// An orthonormal pair `E` (rows) perpendicular to the unit vector `a`: the first row is
@@ -140,6 +144,96 @@ pub fn orientation_angle(orientation: &Orientation, rot: &Matrix3<f64>, rot_d: &
         Orientation::ToolAxis { axis } => {
             let (a, a_d) = (rot * axis, rot_d * axis);
             a_d.cross(&a).norm().atan2(a_d.dot(&a))
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use dyngen_runtime::SplitMix64;
+    use nalgebra::Rotation3;
+
+    fn random_rotation(rng: &mut SplitMix64) -> Matrix3<f64> {
+        let v = Vector3::new(
+            rng.uniform((-2.0, 2.0)),
+            rng.uniform((-2.0, 2.0)),
+            rng.uniform((-2.0, 2.0)),
+        );
+        Rotation3::new(v).into_inner()
+    }
+
+    fn random_vector(rng: &mut SplitMix64) -> Vector3<f64> {
+        Vector3::new(
+            rng.uniform((-1.0, 1.0)),
+            rng.uniform((-1.0, 1.0)),
+            rng.uniform((-1.0, 1.0)),
+        )
+    }
+
+    /// Rotates `r` by the angular velocity `w` (base axes) for time `h`.
+    fn advance(r: &Matrix3<f64>, w: &Vector3<f64>, h: f64) -> Matrix3<f64> {
+        Rotation3::new(w * h).into_inner() * r
+    }
+
+    /// `ė` is the derivative of `e` along any motion, and the error is `sin φ` long.
+    #[test]
+    fn error_rate_is_the_derivative_of_the_error() {
+        let mut rng = SplitMix64::new(4);
+        let axis = Vector3::new(0.2, -0.3, 0.9).normalize();
+        for orientation in [Orientation::Full, Orientation::ToolAxis { axis }] {
+            for _ in 0..50 {
+                let (r, rd) = (random_rotation(&mut rng), random_rotation(&mut rng));
+                let (w, wd) = (random_vector(&mut rng), random_vector(&mut rng));
+                let at = |h: f64| {
+                    OrientationRows::<6>::new(
+                        &orientation,
+                        &advance(&r, &w, h),
+                        &w,
+                        &advance(&rd, &wd, h),
+                        &wd,
+                    )
+                };
+                let h = 1e-6;
+                let fd = (at(h).error - at(-h).error) / (2.0 * h);
+                let o = at(0.0);
+                assert!((fd - o.error_rate).amax() < 1e-8, "{orientation:?}");
+                let fd_p = (at(h).p - at(-h).p) / (2.0 * h);
+                assert!((fd_p - o.p_dot).amax() < 1e-8, "{orientation:?}");
+                let phi = orientation_angle(&orientation, &r, &rd);
+                assert!((o.error.norm() - phi.sin()).abs() < 1e-12);
+            }
+        }
+    }
+
+    /// With the orientation rows tracked (`P ω = P (ω_d − λ e)`, any rotation about the tool
+    /// axis for `T = 5`), the angle to the desired orientation obeys `φ̇ = −λ sin φ`.
+    #[test]
+    fn tracked_rows_give_the_angle_rate_minus_lambda_sin_phi() {
+        let mut rng = SplitMix64::new(8);
+        let axis = Vector3::z();
+        let lambda = 3.0;
+        for orientation in [Orientation::Full, Orientation::ToolAxis { axis }] {
+            for _ in 0..50 {
+                let (r, rd) = (random_rotation(&mut rng), random_rotation(&mut rng));
+                let wd = random_vector(&mut rng);
+                let o = OrientationRows::<6>::new(&orientation, &r, &Vector3::zeros(), &rd, &wd);
+                // A free spin about the tool axis changes nothing for T = 5.
+                let spin = match orientation {
+                    Orientation::ToolAxis { .. } => r * axis * rng.uniform((-2.0, 2.0)),
+                    _ => Vector3::zeros(),
+                };
+                let w = wd - o.error * lambda + spin;
+                let angle =
+                    |h: f64| orientation_angle(&orientation, &advance(&r, &w, h), &advance(&rd, &wd, h));
+                let h = 1e-6;
+                let rate = (angle(h) - angle(-h)) / (2.0 * h);
+                let phi = angle(0.0);
+                assert!(
+                    (rate + lambda * phi.sin()).abs() < 1e-6,
+                    "{orientation:?}: φ = {phi}, φ̇ = {rate}"
+                );
+            }
         }
     }
 }

@@ -165,7 +165,9 @@ where
         let axis0 = pose.rotation * tool_axis;
         let turn = Rotation3::rotation_between(&axis0, &tool_direction).unwrap_or_else(|| {
             // Opposite: any half turn about an axis perpendicular to the tool axis.
-            let perp = crate::controller::orientation::perpendicular_basis(&axis0).row(0).transpose();
+            let perp = crate::controller::orientation::perpendicular_basis(&axis0)
+                .row(0)
+                .transpose();
             Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(perp), std::f64::consts::PI)
         });
         let target_orientation = turn.into_inner() * pose.rotation;

@@ -24,7 +24,11 @@ pub fn start_posture_for<R: Kinematics<N>, const N: usize>(
 ) -> Result<SVector<f64, N>, String> {
     if let Some(q) = given {
         if q.len() != N {
-            return Err(format!("--start has {} values; {} has {N} joints", q.len(), R::NAME));
+            return Err(format!(
+                "--start has {} values; {} has {N} joints",
+                q.len(),
+                R::NAME
+            ));
         }
         return Ok(SVector::from_column_slice(q));
     }

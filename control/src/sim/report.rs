@@ -15,7 +15,11 @@ pub fn summary_table(results: &[(RunKind, RunResult)], from: f64, oriented: bool
         "| run | RMS force error (N) | RMS in-plane error (mm) |{} final null-space error (rad) | max abs(τ) (N·m) | control tick (µs, median) | status |",
         if oriented { " RMS orientation error (mrad) |" } else { "" }
     );
-    let _ = writeln!(out, "|---|---|---|{}---|---|---|---|", if oriented { "---|" } else { "" });
+    let _ = writeln!(
+        out,
+        "|---|---|---|{}---|---|---|---|",
+        if oriented { "---|" } else { "" }
+    );
     // No sample in the window (a run that diverged before it): say so rather than NaN.
     let sci = |v: f64| {
         if v.is_finite() {

@@ -85,9 +85,7 @@ impl<const N: usize> PressAndCircle<N> {
     pub fn with_orientation(mut self, start: Matrix3<f64>, target: Matrix3<f64>) -> Self {
         self.start_orientation = start;
         let turn = Rotation3::from_matrix(&(target * start.transpose()));
-        (self.turn_axis, self.turn_angle) = turn
-            .axis_angle()
-            .unwrap_or((Vector3::z_axis(), 0.0));
+        (self.turn_axis, self.turn_angle) = turn.axis_angle().unwrap_or((Vector3::z_axis(), 0.0));
         self
     }
 
@@ -225,7 +223,11 @@ impl<const N: usize> PressAndCircle<N> {
         // Orientation: Rot(u, φ s) R_start, ω_d = u φ ṡ, ω̇_d = u φ s̈ (a turn about a fixed axis).
         let tt = self.turn_time();
         let (s, s1, s2) = if tt > 0.0 { blend(t / tt) } else { (1.0, 0.0, 0.0) };
-        let (s1, s2) = if tt > 0.0 { (s1 / tt, s2 / (tt * tt)) } else { (0.0, 0.0) };
+        let (s1, s2) = if tt > 0.0 {
+            (s1 / tt, s2 / (tt * tt))
+        } else {
+            (0.0, 0.0)
+        };
         let phi = self.turn_angle;
         let orientation =
             Rotation3::from_axis_angle(&self.turn_axis, phi * s).into_inner() * self.start_orientation;

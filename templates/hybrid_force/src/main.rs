@@ -55,7 +55,10 @@ fn parse(mut args: impl Iterator<Item = String>) -> Result<Args, String> {
                         pending = Some(v);
                         break;
                     }
-                    q.push(v.parse::<f64>().map_err(|e| format!("--start value '{v}': {e}"))?);
+                    q.push(
+                        v.parse::<f64>()
+                            .map_err(|e| format!("--start value '{v}': {e}"))?,
+                    );
                 }
                 a.start = Some(q);
             }
