@@ -74,7 +74,7 @@ pub fn symmetric_eigen<const T: usize>(a: &SMatrix<f64, T, T>) -> (SVector<f64, 
             .map(|(p, q)| a[(p, q)] * a[(p, q)])
             .sum();
         let scale: f64 = a.diagonal().iter().map(|x| x * x).sum();
-        if !(off > 1e-32 * scale) {
+        if off.is_nan() || off <= 1e-32 * scale {
             break;
         }
         for p in 0..T {
