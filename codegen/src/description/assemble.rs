@@ -116,12 +116,11 @@ pub(crate) fn assemble(
         .collect();
 
     let end_effector = end_effector(c, settings, &carrier, &placement, &joints, diags)?;
-    Ok(Model {
-        name,
-        joints,
-        bodies,
-        gravity: Vector3::from(gravity),
-        end_effector,
+    Model::new(name, joints, bodies, Vector3::from(gravity), end_effector).map_err(|e| {
+        DescriptionError::new(
+            &c.robot_map.file,
+            format!("internal error: the model breaks an invariant: {e}"),
+        )
     })
 }
 
@@ -196,6 +195,14 @@ fn check_mimics(
         let Some(m) = &joint.mimic else { continue };
         let path = format!("{}.mimic", joint_path(j));
         let label = item("joint", &joint.name);
+        if c.joints[j].motion == Motion::Fixed {
+            // Common in URDFs expanded from xacro macros; a fixed joint has nothing to follow.
+            let msg = format!("<mimic> of '{}' on a fixed joint is ignored", m.joint);
+            diags
+                .warnings
+                .push(c.robot_map.diagnostic(&path, Some(&label), &msg));
+            continue;
+        }
         let Some(&target) = c.topo.joint_by_name.get(&m.joint) else {
             let msg = format!("mimics joint '{}', which is not defined", m.joint);
             return Err(c.robot_map.error(&path, msg).about(label));

@@ -100,17 +100,20 @@ fn check_joint(
         if !finite(&j.axis) {
             return Err(err(".axis", format!("axis {} is not finite", vec3(&j.axis))));
         }
-        // Huge components would overflow the plain norm: then scale first.
+        // Scaled first: huge components overflow the plain norm and tiny ones underflow it
+        // (its squares vanish), and either gives an axis that is not a unit vector.
         let a = Vector3::from(j.axis);
         let scale = a.amax();
         if scale == 0.0 {
             return Err(err(".axis", format!("axis {} has zero length", vec3(&j.axis))));
         }
-        let norm = match a.norm() {
-            n if n.is_finite() => n,
-            _ => scale * (a / scale).norm(),
+        let (unit, norm) = if (1e-150..1e150).contains(&scale) {
+            // Plain: bit-for-bit what an axis already given as a unit vector stays.
+            (a / a.norm(), a.norm())
+        } else {
+            let scaled = a / scale;
+            (scaled / scaled.norm(), scale * scaled.norm())
         };
-        let unit = a / norm;
         if (norm - 1.0).abs() > 1e-6 {
             let shown = vec3(&[unit.x, unit.y, unit.z]);
             let msg = format!("axis {} is not a unit vector: using {shown}", vec3(&j.axis));

@@ -545,7 +545,7 @@ fn limit(x: f64) -> TokenStream {
 
 fn joint_limits(model: &Model) -> Vec<TokenStream> {
     model
-        .joints
+        .joints()
         .iter()
         .map(|j| {
             let l = j.limits.map_or(
@@ -576,10 +576,10 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
     let p = crate::model::PARAMS_PER_BODY * n;
     let leaves = Leaves::new(robot);
     let ty = format_ident!("{}", provenance.type_name);
-    let name = &model.name;
-    let joint_names = model.joints.iter().map(|j| j.name.as_str());
+    let name = &model.name();
+    let joint_names = model.joints().iter().map(|j| j.name.as_str());
     let joint_limits = joint_limits(model);
-    let end_effector_body = Literal::usize_unsuffixed(model.end_effector.parent);
+    let end_effector_body = Literal::usize_unsuffixed(model.end_effector().parent);
     let param_names = model.parameter_names();
     let param_kinds = parameter_kinds(model);
     let theta = model.parameters().into_iter().map(literal);
