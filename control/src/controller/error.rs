@@ -20,7 +20,7 @@ pub enum ConfigError {
     #[error("task dimension {task} asks for more directions than the robot's {dof} degrees of freedom")]
     TaskDimension { task: usize, dof: usize },
     #[error(
-        "task dimension {task} does not match its orientation task {orientation:?} (which has {expected} rows); \
+        "task dimension {task} does not match its orientation task, {orientation} ({expected} rows); \
          supported: 3 (position), 5 (position + tool axis), 6 (position + orientation)"
     )]
     TaskKind {

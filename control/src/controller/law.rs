@@ -9,7 +9,7 @@ use super::orientation::{orientation_angle, OrientationRows};
 use super::projections::{smallest_singular, Projections, SingularityGuard};
 use super::reference::{reference, Desired, Measurement, Reference, ReferenceGains};
 use super::stiffness_estimator::StiffnessEstimator;
-use super::task::{ContactTask, Split};
+use super::task::{ContactTask, Orientation, Split};
 use dyngen_runtime::{JointTrig, Kinematics, Parameterization, Pose};
 use nalgebra::{SMatrix, SVector, Vector3};
 use std::marker::PhantomData;
@@ -161,8 +161,11 @@ where
         let jd6 = Z::Robot::jacobian_dot(trig, qd);
         let j_force: SMatrix<f64, 3, N> = j6.fixed_rows::<3>(0).into_owned();
         let velocity = j_force * qd;
-        let mut j = SMatrix::<f64, T, N>::from_fn(|i, c| if i < 3 { j6[(i, c)] } else { 0.0 });
-        let mut jd = SMatrix::<f64, T, N>::from_fn(|i, c| if i < 3 { jd6[(i, c)] } else { 0.0 });
+        // Full orientation: P = I, so the task Jacobian is the geometric one (no products).
+        let full = T == 6 && task.orientation == Orientation::Full;
+        let rows = if full { 6 } else { 3 };
+        let mut j = SMatrix::<f64, T, N>::from_fn(|i, c| if i < rows { j6[(i, c)] } else { 0.0 });
+        let mut jd = SMatrix::<f64, T, N>::from_fn(|i, c| if i < rows { jd6[(i, c)] } else { 0.0 });
         let orientation = if T > 3 {
             let jw = j6.fixed_rows::<3>(3);
             let omega = jw * qd;
@@ -173,8 +176,10 @@ where
                 &d.orientation,
                 &d.angular_velocity,
             );
-            j += o.p * jw;
-            jd += o.p * jd6.fixed_rows::<3>(3) + o.p_dot * jw;
+            if !full {
+                j += o.p * jw;
+                jd += o.p * jd6.fixed_rows::<3>(3) + o.p_dot * jw;
+            }
             o
         } else {
             OrientationRows {

@@ -32,6 +32,18 @@ pub enum Orientation {
     Full,
 }
 
+impl std::fmt::Display for Orientation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            Orientation::Free => write!(f, "position only"),
+            Orientation::ToolAxis { axis } => {
+                write!(f, "tool axis [{}, {}, {}]", axis.x, axis.y, axis.z)
+            }
+            Orientation::Full => write!(f, "full orientation"),
+        }
+    }
+}
+
 impl Orientation {
     /// The task dimension this orientation task gives.
     pub const fn task_dimension(&self) -> usize {
