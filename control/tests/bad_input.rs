@@ -17,9 +17,9 @@ fn demo(options: DemoOptions) -> Result<Arm7Demo, ConfigError> {
     Arm7Demo::new(options, q0)
 }
 
-fn config<const N: usize, const M: usize, const S: usize, const T: usize>(
-    task: ContactTask<S, T>,
-) -> ControllerConfig<N, M, S, T> {
+fn config<const N: usize, const M: usize, const T: usize, const S: usize>(
+    task: ContactTask<T, S>,
+) -> ControllerConfig<N, M, T, S> {
     ControllerConfig {
         gains: Gains {
             lambda: 10.0,
@@ -35,7 +35,7 @@ fn config<const N: usize, const M: usize, const S: usize, const T: usize>(
     }
 }
 
-fn table() -> ContactTask<1> {
+fn table() -> ContactTask {
     ContactTask::plane(Vector3::zeros(), Vector3::z(), 1e4).expect("plane")
 }
 
@@ -56,7 +56,7 @@ fn gains_that_are_not_positive_definite() {
         "{e:?}"
     );
 
-    let mut c = config::<7, 70, 1, 3>(table());
+    let mut c = config::<7, 70, 3, 1>(table());
     c.gains.g[(3, 3)] = -1.0;
     let e = HybridController::<arm7::Standard, 7, 70>::new(c).err();
     assert!(
@@ -64,7 +64,7 @@ fn gains_that_are_not_positive_definite() {
         "{e:?}"
     );
 
-    let mut c = config::<7, 70, 1, 3>(table());
+    let mut c = config::<7, 70, 3, 1>(table());
     c.gains.g[(0, 1)] = 0.5; // not symmetric
     let e = HybridController::<arm7::Standard, 7, 70>::new(c).err();
     assert!(
@@ -111,14 +111,14 @@ fn a_stiffness_that_is_not_full_rank() {
     );
 
     // Two parallel rows.
-    let task2 = ContactTask::<2> {
+    let task2 = ContactTask::<3, 2> {
         rotation: SMatrix::identity(),
         stiffness: SMatrix::<f64, 2, 3>::new(0.0, 0.0, -1e4, 0.0, 0.0, -2e4),
         force_selection: SMatrix::<f64, 2, 3>::new(0.0, 0.0, -1.0, 0.0, 1.0, 0.0),
         contact_point: Vector3::zeros(),
         orientation: Orientation::Free,
     };
-    let e = HybridController::<arm7::Standard, 7, 70, 2>::new(config(task2)).err();
+    let e = HybridController::<arm7::Standard, 7, 70, 3, 2>::new(config(task2)).err();
     assert!(
         matches!(e, Some(ConfigError::StiffnessRankDeficient { rows: 2, .. })),
         "{e:?}"
@@ -190,8 +190,7 @@ fn a_task_dimension_larger_than_the_dof() {
     assert_eq!(e, Some(ConfigError::TaskDimension { task: 3, dof: 2 }));
     println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
     // Six directions (position and orientation) on a two-joint robot.
-    let e =
-        HybridController::<Standard<TwoJoints>, 2, 20, 1, 6>::new(config(table().with_orientation())).err();
+    let e = HybridController::<Standard<TwoJoints>, 2, 20, 6>::new(config(table().with_orientation())).err();
     assert_eq!(e, Some(ConfigError::TaskDimension { task: 6, dof: 2 }));
     println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
     // And through the demo: arm7 has 7 joints, so m = 6 is fine there, but the demo refuses a
@@ -207,7 +206,7 @@ fn a_contact_stiffness_inconsistent_with_the_task_dimension() {
     // A force on an orientation row: contact acts on positions only.
     let mut task = table().with_orientation();
     task.stiffness[(0, 4)] = 50.0;
-    let e = HybridController::<arm7::Standard, 7, 70, 1, 6>::new(config(task)).err();
+    let e = HybridController::<arm7::Standard, 7, 70, 6>::new(config(task)).err();
     assert!(matches!(e, Some(ConfigError::StiffnessShape(_))), "{e:?}");
     let message = e.map(|e| e.to_string()).unwrap_or_default();
     assert!(message.contains("orientation row 4"), "{message}");
@@ -215,17 +214,17 @@ fn a_contact_stiffness_inconsistent_with_the_task_dimension() {
 
     // K given at run time with the wrong shape for the task: 3 entries per row for a 6-row
     // task, or two rows where the task has one force direction.
-    let e = ContactTask::<1, 6>::stiffness_from_rows(&[&[0.0, 0.0, -1e4]]).err();
+    let e = ContactTask::<6>::stiffness_from_rows(&[&[0.0, 0.0, -1e4]]).err();
     assert!(matches!(e, Some(ConfigError::StiffnessShape(_))), "{e:?}");
     println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
-    let e = ContactTask::<1, 3>::stiffness_from_rows(&[&[0.0, 0.0, -1e4], &[1e4, 0.0, 0.0]]).err();
+    let e = ContactTask::<3>::stiffness_from_rows(&[&[0.0, 0.0, -1e4], &[1e4, 0.0, 0.0]]).err();
     assert!(matches!(e, Some(ConfigError::StiffnessShape(_))), "{e:?}");
-    let k = ContactTask::<1, 5>::stiffness_from_rows(&[&[0.0, 0.0, -1e4, 0.0, 0.0]]).expect("consistent");
+    let k = ContactTask::<5>::stiffness_from_rows(&[&[0.0, 0.0, -1e4, 0.0, 0.0]]).expect("consistent");
     assert_eq!(k[(0, 2)], -1e4);
 
     // Four force directions: more than the three position rows.
     let base = table().with_orientation();
-    let task4 = ContactTask::<4, 6> {
+    let task4 = ContactTask::<6, 4> {
         rotation: base.rotation,
         stiffness: SMatrix::<f64, 4, 6>::from_fn(|i, j| if i == j { 1e4 } else { 0.0 }),
         force_selection: SMatrix::zeros(),
@@ -238,7 +237,7 @@ fn a_contact_stiffness_inconsistent_with_the_task_dimension() {
     // The orientation task does not match the task dimension.
     let mut task = table().with_orientation();
     task.orientation = Orientation::ToolAxis { axis: Vector3::z() };
-    let e = HybridController::<arm7::Standard, 7, 70, 1, 6>::new(config(task)).err();
+    let e = HybridController::<arm7::Standard, 7, 70, 6>::new(config(task)).err();
     assert!(
         matches!(
             e,
@@ -254,7 +253,7 @@ fn a_contact_stiffness_inconsistent_with_the_task_dimension() {
 
     // A tool axis that is not a unit vector.
     let task = table().with_tool_axis(Vector3::new(0.0, 0.0, 2.0));
-    let e = HybridController::<arm7::Standard, 7, 70, 1, 5>::new(config(task)).err();
+    let e = HybridController::<arm7::Standard, 7, 70, 5>::new(config(task)).err();
     assert!(
         matches!(
             e,

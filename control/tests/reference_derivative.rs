@@ -12,7 +12,7 @@ use dyngen_generated::arm7;
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{JointTrig, Kinematics};
 
-type Ctrl<const T: usize> = HybridController<arm7::Standard, 7, 70, 1, T>;
+type Ctrl<const T: usize> = HybridController<arm7::Standard, 7, 70, T>;
 type Arm7Demo<const T: usize> = Demo<arm7::Standard, 7, 70, T>;
 
 /// Largest relative mismatch between `q̈_r` and the differenced `q̇_r`, and the damping seen.

@@ -27,9 +27,9 @@ pub enum Adaptation {
 
 /// Everything the controller is configured with.
 #[derive(Clone, Copy, Debug)]
-pub struct ControllerConfig<const N: usize, const M: usize, const S: usize = 1, const T: usize = 3> {
+pub struct ControllerConfig<const N: usize, const M: usize, const T: usize = 3, const S: usize = 1> {
     pub gains: Gains<N, M>,
-    pub task: ContactTask<S, T>,
+    pub task: ContactTask<T, S>,
     pub guard: SingularityGuard,
     /// Per-joint torque limit (N·m): the torque is clamped to `±limit` (a guard, not part of
     /// the law; saturation voids the Lyapunov argument while it lasts).
@@ -53,16 +53,17 @@ pub struct ControlOutput<const N: usize, const M: usize, const S: usize> {
 
 /// The adaptive hybrid force/position controller, generic over the parameterisation `Z` of a
 /// robot's dynamics (`arm7::Base` or `arm7::Standard`: `Z` knows its robot), the robot's `N`
-/// joints, the `M` adapted parameters, the `S` force-controlled directions (one by default: a
-/// contact normal) and the task dimension `T` (3 by default: position; 5: position and tool
-/// axis; 6: position and orientation, see [`ContactTask`]). A tick allocates nothing.
+/// joints, the `M` adapted parameters, the task dimension `T` (3 by default: position; 5:
+/// position and tool axis; 6: position and orientation, see [`ContactTask`]) and the `S`
+/// force-controlled directions (one by default: a contact normal). A tick allocates nothing.
 ///
 /// `HybridController<arm7::Base, { arm7::DOF }, { arm7::BASE_PARAMETER_COUNT }>` (position),
-/// `HybridController<arm7::Base, { arm7::DOF }, { arm7::BASE_PARAMETER_COUNT }, 1, 6>` (pose).
+/// `HybridController<arm7::Base, { arm7::DOF }, { arm7::BASE_PARAMETER_COUNT }, 6>` (pose).
+/// The number of force-controlled directions comes last, as it changes least often.
 #[derive(Clone, Debug)]
-pub struct HybridController<Z, const N: usize, const M: usize, const S: usize = 1, const T: usize = 3> {
-    config: ControllerConfig<N, M, S, T>,
-    split: Split<S, T>,
+pub struct HybridController<Z, const N: usize, const M: usize, const T: usize = 3, const S: usize = 1> {
+    config: ControllerConfig<N, M, T, S>,
+    split: Split<T, S>,
     theta_hat: SVector<f64, M>,
     estimator: Option<StiffnessEstimator<S>>,
     _robot: PhantomData<fn() -> Z>,
@@ -79,13 +80,13 @@ struct TaskKinematics<const N: usize, const T: usize> {
     orientation: OrientationRows<T>,
 }
 
-impl<Z, const N: usize, const M: usize, const S: usize, const T: usize> HybridController<Z, N, M, S, T>
+impl<Z, const N: usize, const M: usize, const T: usize, const S: usize> HybridController<Z, N, M, T, S>
 where
     Z: Parameterization<N, M>,
 {
     /// Checks the configuration (gains positive definite, `K` of full row rank and consistent
     /// with the task, task dimension at most the DOF) and builds the controller.
-    pub fn new(config: ControllerConfig<N, M, S, T>) -> Result<Self, ConfigError> {
+    pub fn new(config: ControllerConfig<N, M, T, S>) -> Result<Self, ConfigError> {
         if T > N {
             return Err(ConfigError::TaskDimension { task: T, dof: N });
         }
@@ -151,7 +152,7 @@ where
     /// `J_T`, `J̇_T` and the orientation rows (see [`super::orientation`]).
     #[inline]
     fn task_kinematics(
-        task: &ContactTask<S, T>,
+        task: &ContactTask<T, S>,
         trig: &JointTrig<N>,
         qd: &SVector<f64, N>,
         d: &Desired<N, S>,
@@ -199,7 +200,7 @@ where
         }
     }
 
-    pub fn config(&self) -> &ControllerConfig<N, M, S, T> {
+    pub fn config(&self) -> &ControllerConfig<N, M, T, S> {
         &self.config
     }
     pub fn theta_hat(&self) -> &SVector<f64, M> {
@@ -209,7 +210,7 @@ where
         self.theta_hat = theta_hat;
     }
     /// `K`, `K⁺`, `K⁻` in use.
-    pub fn split(&self) -> &Split<S, T> {
+    pub fn split(&self) -> &Split<T, S> {
         &self.split
     }
     /// The `K` in use (the estimate when estimating).

@@ -83,8 +83,8 @@ pub struct ReferenceGains {
 pub fn reference<const N: usize, const S: usize, const T: usize>(
     m: &Measurement<N>,
     d: &Desired<N, S>,
-    task: &ContactTask<S, T>,
-    split: &Split<S, T>,
+    task: &ContactTask<T, S>,
+    split: &Split<T, S>,
     position: &Vector3<f64>,
     velocity: &Vector3<f64>,
     orientation: &OrientationRows<T>,

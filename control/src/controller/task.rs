@@ -78,7 +78,7 @@ impl Orientation {
 /// - `contact_point` `x_e` (task frame): the undeformed surface point.
 /// - `orientation`: what of the orientation is controlled; must match `T`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct ContactTask<const S: usize = 1, const T: usize = 3> {
+pub struct ContactTask<const T: usize = 3, const S: usize = 1> {
     pub rotation: Matrix3<f64>,
     pub stiffness: SMatrix<f64, S, T>,
     pub force_selection: SMatrix<f64, S, 3>,
@@ -86,7 +86,7 @@ pub struct ContactTask<const S: usize = 1, const T: usize = 3> {
     pub orientation: Orientation,
 }
 
-impl ContactTask<1, 3> {
+impl ContactTask<3, 1> {
     /// A plane through `point` with upward unit normal `normal` (base frame) and stiffness `k`:
     /// the task frame's z axis is the normal, `K = [0, 0, −k]`, `Σ = [0, 0, −1]`. Position
     /// only; [`ContactTask::with_orientation`] and [`ContactTask::with_tool_axis`] add
@@ -110,12 +110,12 @@ impl ContactTask<1, 3> {
     }
 }
 
-impl<const S: usize> ContactTask<S, 3> {
+impl<const S: usize> ContactTask<3, S> {
     /// The same contact with the task dimension `U` (3, 5 or 6) and the orientation task that
     /// goes with it (`axis`, end-effector frame, is the tool axis for `U = 5`): `K` gains zero
     /// orientation columns. A `U` that is none of these gives a task that
     /// [`ContactTask::validate`] refuses.
-    pub fn with_task_dimension<const U: usize>(&self, axis: Vector3<f64>) -> ContactTask<S, U> {
+    pub fn with_task_dimension<const U: usize>(&self, axis: Vector3<f64>) -> ContactTask<U, S> {
         ContactTask {
             rotation: self.rotation,
             stiffness: SMatrix::from_fn(|i, j| if j < 3 { self.stiffness[(i, j)] } else { 0.0 }),
@@ -126,18 +126,18 @@ impl<const S: usize> ContactTask<S, 3> {
     }
 
     /// Position and the full orientation (`T = 6`).
-    pub fn with_orientation(&self) -> ContactTask<S, 6> {
+    pub fn with_orientation(&self) -> ContactTask<6, S> {
         self.with_task_dimension::<6>(Vector3::z())
     }
 
     /// Position and the direction of the tool axis `axis` (end-effector frame), free rotation
     /// about it (`T = 5`).
-    pub fn with_tool_axis(&self, axis: Vector3<f64>) -> ContactTask<S, 5> {
+    pub fn with_tool_axis(&self, axis: Vector3<f64>) -> ContactTask<5, S> {
         self.with_task_dimension::<5>(axis)
     }
 }
 
-impl<const S: usize, const T: usize> ContactTask<S, T> {
+impl<const T: usize, const S: usize> ContactTask<T, S> {
     /// `K` from rows given at run time (a configuration file, a command line), checked against
     /// the task's shape: `S` rows of `T` entries.
     pub fn stiffness_from_rows(rows: &[&[f64]]) -> Result<SMatrix<f64, S, T>, ConfigError> {
@@ -158,7 +158,7 @@ impl<const S: usize, const T: usize> ContactTask<S, T> {
 
     /// Checks `R` is a rotation, the orientation task matches `T`, `K` acts on positions only
     /// and has full row rank; returns the split.
-    pub fn validate(&self) -> Result<Split<S, T>, ConfigError> {
+    pub fn validate(&self) -> Result<Split<T, S>, ConfigError> {
         let r = &self.rotation;
         let ortho = (r.transpose() * r - Matrix3::identity()).amax();
         if !ortho.is_finite() || ortho > 1e-9 || r.determinant() < 0.0 {
@@ -189,13 +189,13 @@ impl<const S: usize, const T: usize> ContactTask<S, T> {
 
 /// `K`, `K⁺ = Kᵀ(KKᵀ)⁻¹`, `K⁻ = I − K⁺K`.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Split<const S: usize = 1, const T: usize = 3> {
+pub struct Split<const T: usize = 3, const S: usize = 1> {
     pub k: SMatrix<f64, S, T>,
     pub k_plus: SMatrix<f64, T, S>,
     pub k_minus: SMatrix<f64, T, T>,
 }
 
-impl<const S: usize, const T: usize> Split<S, T> {
+impl<const T: usize, const S: usize> Split<T, S> {
     /// Smallest singular value of `K` relative to its largest below which it counts as rank deficient.
     pub const RANK_TOLERANCE: f64 = 1e-6;
 

@@ -120,7 +120,7 @@ pub struct Demo<Z, const N: usize, const M: usize, const T: usize = 3> {
     pub scenario: PressAndCircle<N>,
     pub q0: SVector<f64, N>,
     pub torque_limit: SVector<f64, N>,
-    pub task: ContactTask<1, T>,
+    pub task: ContactTask<T>,
     /// `θ̂(0)` of the adaptive run and of the run without adaptation.
     pub theta_hat0: SVector<f64, M>,
     /// `Φ(θ_true)`.
@@ -182,7 +182,7 @@ where
             s.circle_time = options.circle_time;
             s
         };
-        let model_task = ContactTask::<1, T> {
+        let model_task = ContactTask::<T> {
             stiffness: task.stiffness * (model_k / options.stiffness),
             ..task
         };
@@ -227,7 +227,7 @@ where
     }
 
     /// The controller of one run, checked (gains, `K`, start posture, sampling limit).
-    pub fn controller(&self, kind: RunKind) -> Result<HybridController<Z, N, M, 1, T>, ConfigError> {
+    pub fn controller(&self, kind: RunKind) -> Result<HybridController<Z, N, M, T>, ConfigError> {
         let (adaptation, theta) = match kind {
             RunKind::Adaptive => (Adaptation::On, self.theta_hat0),
             RunKind::AdaptationOff => (Adaptation::Off, self.theta_hat0),
@@ -239,7 +239,7 @@ where
             g: self.g,
             gamma: self.gamma,
         };
-        let mut c = HybridController::<Z, N, M, 1, T>::new(ControllerConfig {
+        let mut c = HybridController::<Z, N, M, T>::new(ControllerConfig {
             gains,
             task: self.task,
             guard: self.options.guard,

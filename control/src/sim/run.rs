@@ -132,7 +132,7 @@ impl RunResult {
 /// Runs the scenario from rest at `q0`. `progress` is called with the fraction done.
 pub fn simulate<Z, const N: usize, const M: usize, const T: usize>(
     plant: &Plant<Z, N, M>,
-    controller: &mut HybridController<Z, N, M, 1, T>,
+    controller: &mut HybridController<Z, N, M, T>,
     scenario: &PressAndCircle<N>,
     q0: &SVector<f64, N>,
     config: &SimConfig,

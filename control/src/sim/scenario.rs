@@ -100,7 +100,7 @@ impl<const N: usize> PressAndCircle<N> {
     }
 
     /// Checks the scenario against the controller's contact model.
-    pub fn validate<const T: usize>(&self, task: &ContactTask<1, T>) -> Result<(), ConfigError> {
+    pub fn validate<const T: usize>(&self, task: &ContactTask<T>) -> Result<(), ConfigError> {
         let contra = |s: String| ConfigError::ForceContradictsContact(s);
         if !(self.target_force.is_finite() && self.target_force > 0.0) {
             return Err(contra(format!(
