@@ -385,3 +385,45 @@ fn a_non_finite_measurement_is_an_error_not_a_torque() {
     // θ̂ untouched by the refused ticks.
     assert_eq!(*c.theta_hat(), d.theta_hat0);
 }
+
+/// arm7's kinematics under another name: no committed start posture.
+struct Unknown7;
+
+impl Kinematics<7> for Unknown7 {
+    const NAME: &'static str = "unknown7";
+    const JOINT_NAMES: [&'static str; 7] = arm7::JOINT_NAMES;
+    const JOINT_LIMITS: [JointLimits; 7] = arm7::JOINT_LIMITS;
+    const END_EFFECTOR_BODY: usize = <arm7::Arm7 as Kinematics<7>>::END_EFFECTOR_BODY;
+    fn forward_kinematics(t: &JointTrig<7>) -> Pose {
+        arm7::Arm7::forward_kinematics(t)
+    }
+    fn jacobian(t: &JointTrig<7>) -> SMatrix<f64, 6, 7> {
+        arm7::Arm7::jacobian(t)
+    }
+    fn jacobian_dot(t: &JointTrig<7>, qd: &SVector<f64, 7>) -> SMatrix<f64, 6, 7> {
+        arm7::Arm7::jacobian_dot(t, qd)
+    }
+}
+
+#[test]
+fn start_postures_from_a_flag_a_preset_or_the_description() {
+    use dyngen_control::sim::start_posture_for;
+    // A flag with the wrong number of values.
+    let e = start_posture_for::<arm7::Arm7, 7>(Some(&[0.0; 6]))
+        .err()
+        .unwrap_or_default();
+    assert!(e.contains("--start has 6 values; arm7 has 7 joints"), "{e}");
+    // The committed preset, by name.
+    let q = start_posture_for::<arm7::Arm7, 7>(None).expect("preset");
+    assert_eq!(Some(q), start_posture::<7>("arm7"));
+    // Another robot: the middle of its joint limits (the demo refuses it, with the reason, if it
+    // is singular: `a_robot_that_starts_singular`).
+    let q = start_posture_for::<Unknown7, 7>(None).expect("middle of the limits");
+    let mid =
+        SVector::<f64, 7>::from_fn(|i, _| 0.5 * (arm7::JOINT_LIMITS[i].lower + arm7::JOINT_LIMITS[i].upper));
+    assert_eq!(q, mid);
+    // A robot without position limits: no posture to take, say so.
+    let e = start_posture_for::<TwoJoints, 2>(None).err().unwrap_or_default();
+    assert!(e.contains("joint 'a' has no position limits"), "{e}");
+    println!("{e}");
+}
