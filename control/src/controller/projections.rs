@@ -117,7 +117,6 @@ impl<const N: usize, const T: usize> Projections<N, T> {
         guard: &SingularityGuard,
     ) -> Result<Self, TickError> {
         let a = j * j.transpose();
-        let a_dot = jd * j.transpose() + j * jd.transpose();
         let s0 = guard.sigma_threshold * guard.sigma_threshold;
         // Cheap lower bound first: for eigenvalues l1 ≤ … ≤ l_T of the SPD `A`, the product of
         // the other T − 1 is at most (tr/(T − 1))^(T−1), so l1 ≥ det / (tr/(T − 1))^(T−1)
@@ -135,7 +134,8 @@ impl<const N: usize, const T: usize> Projections<N, T> {
             let (sigma_min, u) = smallest_singular(j);
             let s2 = sigma_min * sigma_min;
             if s2 < s0 {
-                let d_s2 = (u.transpose() * a_dot * u)[0];
+                // dσ²/dt = uᵀ Ȧ u = 2 (Jᵀu)ᵀ (J̇ᵀu): Ȧ = J̇Jᵀ + JJ̇ᵀ is needed only here.
+                let d_s2 = 2.0 * j.tr_mul(&u).dot(&jd.tr_mul(&u));
                 (
                     sigma_min,
                     guard.max_damping * (1.0 - s2 / s0),
