@@ -1,6 +1,7 @@
 //! Generates the robot the demo runs on. Copy this crate and change `DESCRIPTION`, or set
-//! `DYNGEN_ROBOT=/path/to/robot.yaml` (or `.urdf`) when building. The module and type names are
-//! fixed (`robot::Robot`), so `src/main.rs` never changes.
+//! `DYNGEN_ROBOT=/path/to/robot.yaml` (or `.urdf`; absolute, or relative to this crate) when
+//! building. The module and type names are fixed (`robot::Robot`), so `src/main.rs` never
+//! changes.
 
 const DESCRIPTION: &str = "../../robots/ur5.yaml";
 
