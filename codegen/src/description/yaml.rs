@@ -31,6 +31,7 @@
 //! end_effector: panda_hand_tcp
 //! locked_joints: { panda_finger_joint1: 0.0, panda_finger_joint2: 0.0 }
 //! gravity: [0.0, 0.0, -9.81]
+//! snap_angles: 1e-4                     # optional: 1.5708 → π/2 (each change noted)
 //! ```
 //!
 //! Unknown keys are errors (a typo must not be ignored).
@@ -64,6 +65,10 @@ pub(crate) struct RobotFile {
     /// The position must lie within the joint limits. Mimic joints must be locked.
     #[serde(default)]
     locked_joints: LockedJoints,
+    /// Origin angles within this many radians of a quarter turn become exact quarter turns,
+    /// and axis components this close to 0 become 0 (at most 1e-3; each change is noted).
+    /// Default: kept as written, with a warning.
+    snap_angles: Option<f64>,
     /// Form (a): the links, in any order.
     links: Option<Vec<LinkSpec>>,
     /// Form (a): the joints. Their order fixes the order of sibling branches.
@@ -180,6 +185,7 @@ pub(crate) struct Parsed {
     pub gravity: Option<[f64; 3]>,
     pub end_effector: Option<EndEffectorSpec>,
     pub locked_joints: Vec<(String, f64)>,
+    pub snap_angles: Option<f64>,
     /// Files read to get here (the URDF of form b).
     pub read: Vec<PathBuf>,
 }
@@ -191,6 +197,7 @@ impl Parsed {
             gravity: self.gravity,
             end_effector: self.end_effector.clone(),
             locked_joints: self.locked_joints.clone(),
+            snap_angles: self.snap_angles,
             map: &self.yaml_map,
         }
     }
@@ -207,6 +214,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         gravity,
         end_effector,
         locked_joints,
+        snap_angles,
         links,
         joints,
     } = spec;
@@ -218,6 +226,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         gravity,
         end_effector,
         locked_joints: locked_joints.0,
+        snap_angles,
         read: Vec::new(),
     };
     let both = |key: &str| {
