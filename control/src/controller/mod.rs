@@ -1,7 +1,8 @@
 //! The adaptive hybrid force/position controller of the technical note *Adaptive Hybrid
-//! Force-Position Control for Redundant Manipulators*: task dimension and task-frame contact
-//! split (`task`), orientation rows by rotation error on the geometric Jacobian
-//! (`orientation`), projections with the singularity guard (`projections`),
+//! Force-Position Control for Redundant Manipulators* (`docs/controller.md` gives it equation by
+//! equation, with the deviations): task dimension and task-frame contact split (`task`),
+//! orientation rows by rotation error on the geometric Jacobian (`orientation`), projections
+//! with the singularity guard (`projections`),
 //! reference velocity and analytic reference acceleration (`reference`), the law (`law`), the
 //! adaptation (`adaptation`), gains (`gains`) and online stiffness estimation
 //! (`stiffness_estimator`).
