@@ -11,10 +11,17 @@ use dyngen_testkit::allocations::{allocations, CountingAllocator};
 #[global_allocator]
 static GLOBAL: CountingAllocator = CountingAllocator;
 
+/// Every task dimension: position (3), position and the tool axis (5), the full pose (6).
 #[test]
 fn a_control_tick_allocates_nothing() {
+    ticks_without_allocation::<3>();
+    ticks_without_allocation::<5>();
+    ticks_without_allocation::<6>();
+}
+
+fn ticks_without_allocation<const T: usize>() {
     let q0 = start_posture::<7>("arm7").expect("arm7 start posture");
-    let d = Demo::<arm7::Base, 7, { arm7::BASE_PARAMETER_COUNT }>::new(
+    let d = Demo::<arm7::Base, 7, { arm7::BASE_PARAMETER_COUNT }, T>::new(
         DemoOptions {
             stiffness_estimation: Some((0.5, 20.0)),
             start_height: -0.001,
@@ -39,7 +46,7 @@ fn a_control_tick_allocates_nothing() {
         }
     });
     assert!(acc.is_finite());
-    assert_eq!(counted, 0, "a control tick allocated");
+    assert_eq!(counted, 0, "a control tick allocated (task dimension {T})");
     // The counter sees allocations on this thread: a control case must count one.
     assert_eq!(allocations(|| drop(std::hint::black_box(vec![1u8]))), 1);
 }
