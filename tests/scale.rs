@@ -86,6 +86,7 @@ fn model(name: &str, n: usize, seed: u64, parent: impl Fn(usize) -> Option<usize
         joints,
         bodies,
         gravity: Vector3::new(0.0, 0.0, -9.81),
+        joint_terms: Default::default(),
         end_effector: Frame {
             name: "tool".into(),
             parent: n - 1,

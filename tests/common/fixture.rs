@@ -139,6 +139,7 @@ impl Fixture {
             joints,
             bodies,
             gravity: Vector3::from_vec(vector(&j["gravity"])),
+            joint_terms: Default::default(),
             end_effector: Frame {
                 name: j["ee_frame"].as_str().unwrap().to_owned(),
                 parent: ee_parent,

@@ -132,6 +132,7 @@ pub fn arb_model(max_dof: usize) -> impl Strategy<Value = Model> {
                 joints,
                 bodies,
                 gravity,
+                joint_terms: Default::default(),
                 end_effector: Frame {
                     name: "tool".into(),
                     parent: ee_body.index(n),

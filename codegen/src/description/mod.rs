@@ -15,6 +15,7 @@
 mod assemble;
 mod error;
 mod items;
+mod joint_parameters;
 mod options;
 mod raw;
 mod source_map;
@@ -98,6 +99,7 @@ pub fn load_urdf_str(text: &str, file: &Path, options: &UrdfOptions) -> Result<L
         gravity: options.gravity,
         end_effector: options.end_effector.clone(),
         locked_joints: options.locked_joints.clone(),
+        joint_parameters: None,
         map: &map,
     };
     build(&robot, &map, &settings, Vec::new())

@@ -33,11 +33,15 @@
 //! gravity: [0.0, 0.0, -9.81]
 //! ```
 //!
+//! Both forms may add `joint_parameters:` (armature, friction, offset columns and values; see
+//! the `joint_parameters` module), and form (a) joints a `dynamics:` map of their own values.
+//!
 //! Unknown keys are errors (a typo must not be ignored).
 
 use super::error::{DescriptionError, Location};
+use super::joint_parameters::{DynamicsSpec, JointParametersSpec};
 use super::options::{EndEffectorSpec, LockedJoints, Settings};
-use super::raw::{RawInertial, RawJoint, RawLimit, RawLink, RawMimic, RawRobot};
+use super::raw::{RawDynamics, RawInertial, RawJoint, RawLimit, RawLink, RawMimic, RawRobot};
 use super::source_map::SourceMap;
 use super::{urdf, yaml_spans};
 use serde::Deserialize;
@@ -64,6 +68,9 @@ pub(crate) struct RobotFile {
     /// The position must lie within the joint limits. Mimic joints must be locked.
     #[serde(default)]
     locked_joints: LockedJoints,
+    /// Joint-level parameters (armature, friction, offset): which regressor columns, and
+    /// per-joint values (`joint_parameters` module docs). Absent: none.
+    joint_parameters: Option<JointParametersSpec>,
     /// Form (a): the links, in any order.
     links: Option<Vec<LinkSpec>>,
     /// Form (a): the joints. Their order fixes the order of sibling branches.
@@ -141,6 +148,9 @@ struct JointSpec {
     /// This joint copies another: `q = multiplier * q_joint + offset`. Only allowed when the
     /// joint is locked (`locked_joints`).
     mimic: Option<MimicSpec>,
+    /// Joint-level values `{ armature, viscous, coulomb, offset }` (each optional; used for
+    /// the columns `joint_parameters.columns` chooses).
+    dynamics: Option<DynamicsSpec>,
 }
 
 /// Joint limits, as URDF `<limit>` (all four required).
@@ -180,6 +190,7 @@ pub(crate) struct Parsed {
     pub gravity: Option<[f64; 3]>,
     pub end_effector: Option<EndEffectorSpec>,
     pub locked_joints: Vec<(String, f64)>,
+    pub joint_parameters: Option<JointParametersSpec>,
     /// Files read to get here (the URDF of form b).
     pub read: Vec<PathBuf>,
 }
@@ -191,6 +202,7 @@ impl Parsed {
             gravity: self.gravity,
             end_effector: self.end_effector.clone(),
             locked_joints: self.locked_joints.clone(),
+            joint_parameters: self.joint_parameters.clone(),
             map: &self.yaml_map,
         }
     }
@@ -207,6 +219,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         gravity,
         end_effector,
         locked_joints,
+        joint_parameters,
         links,
         joints,
     } = spec;
@@ -218,6 +231,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         gravity,
         end_effector,
         locked_joints: locked_joints.0,
+        joint_parameters,
         read: Vec::new(),
     };
     let both = |key: &str| {
@@ -308,6 +322,7 @@ fn raw_joint(j: JointSpec) -> RawJoint {
             multiplier: m.multiplier.unwrap_or(1.0),
             offset: m.offset.unwrap_or(0.0),
         }),
+        dynamics: j.dynamics.map(RawDynamics::from).unwrap_or_default(),
     }
 }
 

@@ -6,8 +6,11 @@
 //! - axes are unit vectors, rotations are orthonormal, inertias are physically valid;
 //! - body `i` is the rigid body carried by joint `i` (its frame is joint `i`'s frame).
 
+mod joint_terms;
 mod pose;
 mod validate;
+
+pub use joint_terms::{JointTermKind, JointTermValues, JointTerms};
 
 pub use pose::{exact_sin_cos, Pose};
 pub use validate::{
@@ -90,6 +93,9 @@ pub struct Model {
     pub gravity: Vector3<f64>,
     /// The frame whose pose, Jacobian and its derivative are computed.
     pub end_effector: Frame,
+    /// Joint-level parameters (armature, friction, offset): which columns `Y` gets after the
+    /// inertial ones, and their values. Default: none.
+    pub joint_terms: JointTerms,
 }
 
 /// Number of standard inertial parameters per body.
@@ -159,16 +165,66 @@ impl Model {
         self.joints.len()
     }
 
-    /// The standard parameter vector θ: ten parameters per body, body after body in joint order.
-    pub fn parameters(&self) -> Vec<f64> {
-        self.bodies.iter().flat_map(|b| b.inertia.parameters()).collect()
+    /// Number of inertial parameters, `10·n` (the first entries of θ).
+    pub fn inertial_parameter_count(&self) -> usize {
+        PARAMS_PER_BODY * self.dof()
     }
 
-    /// Names of the entries of [`Model::parameters`], e.g. `"mcx[link3]"`.
+    /// Length of θ: the inertial parameters, then the joint-level ones.
+    pub fn parameter_count(&self) -> usize {
+        self.inertial_parameter_count() + self.joint_terms.per_joint() * self.dof()
+    }
+
+    /// The standard parameter vector θ: ten parameters per body, body after body in joint
+    /// order; then, joint after joint, the chosen joint-level parameters
+    /// ([`crate::model::JointTerms`]).
+    pub fn parameters(&self) -> Vec<f64> {
+        let mut theta: Vec<f64> = self.bodies.iter().flat_map(|b| b.inertia.parameters()).collect();
+        for j in 0..self.dof() {
+            let v = self.joint_terms.value(j);
+            theta.extend(self.joint_terms.kinds.iter().map(|&k| v.get(k)));
+        }
+        theta
+    }
+
+    /// Names of the entries of [`Model::parameters`], e.g. `"mcx[link3]"`, `"fv[joint3]"`.
     pub fn parameter_names(&self) -> Vec<String> {
-        self.bodies
+        let mut names: Vec<String> = self
+            .bodies
             .iter()
             .flat_map(|b| PARAM_NAMES.iter().map(move |p| format!("{p}[{}]", b.name)))
+            .collect();
+        for j in &self.joints {
+            names.extend(
+                self.joint_terms
+                    .kinds
+                    .iter()
+                    .map(|k| format!("{}[{}]", k.symbol(), j.name)),
+            );
+        }
+        names
+    }
+
+    /// Index in θ of joint `joint`'s parameter of kind `kind`, if the model has that column.
+    pub fn joint_term_index(&self, joint: usize, kind: JointTermKind) -> Option<usize> {
+        let pos = self.joint_terms.kinds.iter().position(|&k| k == kind)?;
+        Some(self.inertial_parameter_count() + joint * self.joint_terms.per_joint() + pos)
+    }
+
+    /// The same model with parameters θ (as [`Model::parameters`]): the joint-level values
+    /// of the chosen kinds are taken from θ (the inertial part is not a `Model` field that a
+    /// vector can set without a body decomposition; see `NumericDynamics::with_parameters`).
+    pub fn joint_term_values_from(&self, theta: &[f64]) -> Vec<JointTermValues> {
+        (0..self.dof())
+            .map(|j| {
+                let mut v = JointTermValues::default();
+                for &k in &self.joint_terms.kinds {
+                    if let Some(i) = self.joint_term_index(j, k) {
+                        v.set(k, theta[i]);
+                    }
+                }
+                v
+            })
             .collect()
     }
 
