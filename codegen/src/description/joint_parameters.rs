@@ -74,7 +74,13 @@ fn raw_get(d: &RawDynamics, kind: JointTermKind) -> Option<f64> {
 }
 
 /// Checks one value: finite, and not negative unless it is an offset.
-fn check_value(kind: JointTermKind, x: f64, map: &SourceMap, path: &str, joint: &str) -> Result<f64, DescriptionError> {
+fn check_value(
+    kind: JointTermKind,
+    x: f64,
+    map: &SourceMap,
+    path: &str,
+    joint: &str,
+) -> Result<f64, DescriptionError> {
     let err = |msg: String| map.error(path, msg).about(format!("joint '{joint}'"));
     if !x.is_finite() {
         return Err(err(format!("{} {} is not finite", kind.keyword(), num(x))));
@@ -128,7 +134,10 @@ pub(crate) fn joint_terms(
     }
     if let Some(eps) = spec.coulomb_smoothing {
         if !(eps.is_finite() && eps > 0.0) {
-            let msg = format!("coulomb_smoothing {} must be a positive number (rad/s or m/s)", num(eps));
+            let msg = format!(
+                "coulomb_smoothing {} must be a positive number (rad/s or m/s)",
+                num(eps)
+            );
             return Err(map.error("joint_parameters.coulomb_smoothing", msg));
         }
     }
@@ -138,7 +147,9 @@ pub(crate) fn joint_terms(
         match src.joint_by_name.get(name) {
             None => return Err(err("the robot has no joint of that name")),
             Some(&r) if !(src.moving)(r) => {
-                return Err(err("the joint is fixed or locked: it has no joint-level parameters"))
+                return Err(err(
+                    "the joint is fixed or locked: it has no joint-level parameters",
+                ))
             }
             Some(_) => {}
         }

@@ -19,7 +19,9 @@ mod slotine_li;
 pub use coriolis::coriolis_matrix;
 pub use crba::mass_matrix;
 pub use joint::{joint_transform, joint_transforms};
-pub use joint_terms::{add_armature, add_torques, coulomb_shape, fill_joint_term_columns, joint_term_torques};
+pub use joint_terms::{
+    add_armature, add_torques, coulomb_shape, fill_joint_term_columns, joint_term_torques,
+};
 pub use kinematics::{body_poses, end_effector_pose, jacobian, jacobian_dot};
 pub use numeric::{Configuration, NumericDynamics};
 pub use regressor::regressor;

@@ -229,7 +229,11 @@ fn check_joint_terms(model: &Model) -> Result<(), String> {
         for kind in crate::model::JointTermKind::ALL {
             let x = v.get(kind);
             if !x.is_finite() || (kind.is_non_negative() && x < 0.0) {
-                return Err(format!("joint '{}': {} {x} is invalid", joint.name, kind.keyword()));
+                return Err(format!(
+                    "joint '{}': {} {x} is invalid",
+                    joint.name,
+                    kind.keyword()
+                ));
             }
         }
     }
