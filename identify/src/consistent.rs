@@ -12,8 +12,9 @@
 //! consistent robot, so the constraints hold by construction, to rounding error, whatever the
 //! optimiser does. The objective is the data misfit `‖R (θ_b(θ) − θ̂_b)‖²` (`RᵀR` the
 //! information matrix of the least squares, so this is the weighted residual increase up to
-//! a constant) plus `λ ‖(θ − θ_prior)/scale‖²` with a tiny `λ`: the description's values pin
-//! the directions the data cannot see (the full θ is not identifiable), and nothing else.
+//! a constant) plus `λ (‖(θ − θ_prior)/scale‖² + ‖φ − φ_prior‖²)` with a tiny `λ` (`φ` the
+//! free numbers): the description's values pin the directions the data cannot see (the full
+//! θ is not identifiable) and keep bodies away from the singular boundary, and nothing else.
 //! Minimised by Levenberg–Marquardt with forward-difference Jacobians (a few hundred free
 //! numbers, cheap residuals: the data enters only through `R`).
 //!
@@ -54,8 +55,10 @@ pub fn pseudo_inertia(p: &[f64]) -> Matrix4<f64> {
     let sigma = Matrix3::identity() * (0.5 * inertia.trace()) - inertia;
     let mut j = Matrix4::zeros();
     j.fixed_view_mut::<3, 3>(0, 0).copy_from(&sigma);
-    j.fixed_view_mut::<3, 1>(0, 3).copy_from(&Vector3::new(p[1], p[2], p[3]));
-    j.fixed_view_mut::<1, 3>(3, 0).copy_from(&Vector3::new(p[1], p[2], p[3]).transpose());
+    j.fixed_view_mut::<3, 1>(0, 3)
+        .copy_from(&Vector3::new(p[1], p[2], p[3]));
+    j.fixed_view_mut::<1, 3>(3, 0)
+        .copy_from(&Vector3::new(p[1], p[2], p[3]).transpose());
     j[(3, 3)] = p[0];
     j
 }
@@ -81,10 +84,22 @@ fn parameters_of(j: &Matrix4<f64>) -> [f64; 10] {
 fn upper_factor(phi: &[f64]) -> Matrix4<f64> {
     let [alpha, d1, d2, d3, s12, s23, s13, t1, t2, t3] = std::array::from_fn(|k| phi[k]);
     Matrix4::new(
-        d1.exp(), s12, s13, t1, //
-        0.0, d2.exp(), s23, t2, //
-        0.0, 0.0, d3.exp(), t3, //
-        0.0, 0.0, 0.0, 1.0,
+        d1.exp(),
+        s12,
+        s13,
+        t1, //
+        0.0,
+        d2.exp(),
+        s23,
+        t2, //
+        0.0,
+        0.0,
+        d3.exp(),
+        t3, //
+        0.0,
+        0.0,
+        0.0,
+        1.0,
     ) * alpha.exp()
 }
 
@@ -135,7 +150,10 @@ impl Layout<'_> {
         }
         for j in 0..n {
             for &kind in &self.model.joint_terms.kinds {
-                let i = self.model.joint_term_index(j, kind).expect("a column of the model");
+                let i = self
+                    .model
+                    .joint_term_index(j, kind)
+                    .expect("a column of the model");
                 theta.push(match kind {
                     JointTermKind::Offset => phi[i],
                     _ => phi[i].exp(),
@@ -156,7 +174,10 @@ impl Layout<'_> {
         }
         for j in 0..n {
             for &kind in &self.model.joint_terms.kinds {
-                let i = self.model.joint_term_index(j, kind).expect("a column of the model");
+                let i = self
+                    .model
+                    .joint_term_index(j, kind)
+                    .expect("a column of the model");
                 phi.push(match kind {
                     JointTermKind::Offset => theta[i],
                     _ => theta[i].max(START_FLOOR).ln(),
@@ -188,7 +209,11 @@ fn prior_scales(model: &Model, prior: &[f64]) -> Vec<f64> {
 
 /// The consistent θ closest (in whitened data misfit) to the least-squares `estimate`, with
 /// the description's θ as the tie-breaking prior; see the module docs.
-pub fn consistent_estimate(model: &Model, base: &BaseParameterSet, estimate: &BaseEstimate) -> ConsistentEstimate {
+pub fn consistent_estimate(
+    model: &Model,
+    base: &BaseParameterSet,
+    estimate: &BaseEstimate,
+) -> ConsistentEstimate {
     let k = folding_matrix(base);
     let b = base.count();
     // R with RᵀR = information in θ_b units: information_scaled is in x = θ_b / scale.
@@ -204,14 +229,20 @@ pub fn consistent_estimate(model: &Model, base: &BaseParameterSet, estimate: &Ba
     let scales = prior_scales(model, &prior);
     let layout = Layout { model };
     let lambda = PRIOR_WEIGHT.sqrt();
+    // The prior also acts on the free numbers themselves: directions the data cannot see
+    // would otherwise let a log-Cholesky diagonal drift towards −∞ (a body that tends to a
+    // singular inertia changes θ less and less, so θ's prior alone does not stop it).
+    let phi_prior = layout.phi(&prior);
+    let p = prior.len();
     let residual = |phi: &[f64]| -> DVector<f64> {
         let theta = layout.theta(phi);
         let tb = &k * DVector::from_column_slice(&theta);
         let data = &r * (tb - &theta_hat);
-        let mut out = DVector::zeros(b + theta.len());
+        let mut out = DVector::zeros(b + 2 * p);
         out.rows_mut(0, b).copy_from(&data);
-        for i in 0..theta.len() {
+        for i in 0..p {
             out[b + i] = lambda * (theta[i] - prior[i]) / scales[i];
+            out[b + p + i] = lambda * (phi[i] - phi_prior[i]);
         }
         out
     };
@@ -272,7 +303,10 @@ pub fn consistent_estimate(model: &Model, base: &BaseParameterSet, estimate: &Ba
         }
     }
     let theta = layout.theta(&phi);
-    let theta_b = (&k * DVector::from_column_slice(&theta)).iter().copied().collect::<Vec<_>>();
+    let theta_b = (&k * DVector::from_column_slice(&theta))
+        .iter()
+        .copied()
+        .collect::<Vec<_>>();
     let misfit = r0.rows(0, b).norm_squared();
     ConsistentEstimate {
         theta,

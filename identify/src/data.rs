@@ -47,10 +47,20 @@ enum Kind {
     Tau,
 }
 
-const KINDS: [(&str, Kind); 4] = [("q", Kind::Q), ("qd", Kind::Qd), ("qdd", Kind::Qdd), ("tau", Kind::Tau)];
+const KINDS: [(&str, Kind); 4] = [
+    ("q", Kind::Q),
+    ("qd", Kind::Qd),
+    ("qdd", Kind::Qdd),
+    ("tau", Kind::Tau),
+];
 
 fn joint_list(model: &Model) -> String {
-    model.joints.iter().map(|j| j.name.as_str()).collect::<Vec<_>>().join(", ")
+    model
+        .joints
+        .iter()
+        .map(|j| j.name.as_str())
+        .collect::<Vec<_>>()
+        .join(", ")
 }
 
 /// Reads a data file for `model`; `require_torque`: `tau[...]` columns must be present.
@@ -63,16 +73,26 @@ pub fn read_csv(path: &Path, model: &Model, require_torque: bool) -> Result<Samp
 /// [`read_csv`] on text (errors carry line and column; the caller adds the file).
 pub fn parse_csv(text: &str, model: &Model, require_torque: bool) -> Result<Samples, IdentifyError> {
     let n = model.dof();
-    let mut lines = text.lines().enumerate().map(|(i, l)| (i + 1, l)).filter(|(_, l)| !l.trim().is_empty());
+    let mut lines = text
+        .lines()
+        .enumerate()
+        .map(|(i, l)| (i + 1, l))
+        .filter(|(_, l)| !l.trim().is_empty());
     let Some((header_line, header)) = lines.next() else {
-        return Err(IdentifyError::new("the file is empty: expected a header line of column names"));
+        return Err(IdentifyError::new(
+            "the file is empty: expected a header line of column names",
+        ));
     };
     let names: Vec<&str> = header.split(',').map(str::trim).collect();
     // (kind, joint) of every column; where each (kind, joint) is.
     let mut columns: Vec<(Kind, usize)> = Vec::with_capacity(names.len());
     let mut place: std::collections::HashMap<(u8, usize), usize> = std::collections::HashMap::new();
     for (c, name) in names.iter().enumerate() {
-        let err = |msg: String| IdentifyError::new(msg).at_line(header_line).at_column(c + 1, name);
+        let err = |msg: String| {
+            IdentifyError::new(msg)
+                .at_line(header_line)
+                .at_column(c + 1, name)
+        };
         let (kind, joint) = if *name == "time" {
             (Kind::Time, 0)
         } else {
@@ -82,7 +102,8 @@ pub fn parse_csv(text: &str, model: &Model, require_torque: bool) -> Result<Samp
                 .and_then(|(k, j)| KINDS.iter().find(|(p, _)| *p == k).map(|&(_, kind)| (kind, j)));
             let Some((kind, joint_name)) = parsed else {
                 return Err(err(
-                    "unknown column: expected time, q[<joint>], qd[<joint>], qdd[<joint>] or tau[<joint>]".into(),
+                    "unknown column: expected time, q[<joint>], qd[<joint>], qdd[<joint>] or tau[<joint>]"
+                        .into(),
                 ));
             };
             let Some(joint) = model.joints.iter().position(|j| j.name == joint_name) else {
@@ -108,7 +129,10 @@ pub fn parse_csv(text: &str, model: &Model, require_torque: bool) -> Result<Samp
     }
     for (kind, label, why) in required {
         if let Some(j) = (0..n).find(|&j| !has(kind, j)) {
-            let msg = format!("missing column '{label}[{}]' for joint '{}' ({why})", model.joints[j].name, model.joints[j].name);
+            let msg = format!(
+                "missing column '{label}[{}]' for joint '{}' ({why})",
+                model.joints[j].name, model.joints[j].name
+            );
             return Err(IdentifyError::new(msg).at_line(header_line));
         }
     }
@@ -133,7 +157,11 @@ pub fn parse_csv(text: &str, model: &Model, require_torque: bool) -> Result<Samp
     for (line, text) in lines {
         let fields: Vec<&str> = text.split(',').map(str::trim).collect();
         if fields.len() != names.len() {
-            let msg = format!("{} fields, but the header has {} columns", fields.len(), names.len());
+            let msg = format!(
+                "{} fields, but the header has {} columns",
+                fields.len(),
+                names.len()
+            );
             return Err(IdentifyError::new(msg).at_line(line));
         }
         let mut row = [vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]];
@@ -177,7 +205,10 @@ pub fn parse_csv(text: &str, model: &Model, require_torque: bool) -> Result<Samp
             let slack = 1e-9 * (l.upper - l.lower).abs().max(1.0);
             let q = row[0][j];
             if q < l.lower - slack || q > l.upper + slack {
-                let msg = format!("position {q} is outside the joint limits [{}, {}]", l.lower, l.upper);
+                let msg = format!(
+                    "position {q} is outside the joint limits [{}, {}]",
+                    l.lower, l.upper
+                );
                 return Err(err(Kind::Q, "q", msg));
             }
             if samples.qd.is_some() && l.velocity > 0.0 && row[1][j].abs() > l.velocity * (1.0 + 1e-9) {

@@ -18,12 +18,20 @@ pub fn with_parameters(model: &Model, theta: &[f64]) -> Model {
     for (b, body) in out.bodies.iter_mut().enumerate() {
         let p = &theta[PARAMS_PER_BODY * b..PARAMS_PER_BODY * (b + 1)];
         let m = p[0];
-        let c = if m > 0.0 { Vector3::new(p[1], p[2], p[3]) / m } else { Vector3::zeros() };
+        let c = if m > 0.0 {
+            Vector3::new(p[1], p[2], p[3]) / m
+        } else {
+            Vector3::zeros()
+        };
         let origin = Matrix3::new(p[4], p[5], p[7], p[5], p[6], p[8], p[7], p[8], p[9]);
         let shift = (Matrix3::identity() * c.dot(&c) - c * c.transpose()) * m;
         let mut inertia_com = origin - shift;
         inertia_com = (inertia_com + inertia_com.transpose()) * 0.5;
-        body.inertia = Inertia { mass: m, com: c, inertia_com };
+        body.inertia = Inertia {
+            mass: m,
+            com: c,
+            inertia_com,
+        };
     }
     out.joint_terms.values = model.joint_term_values_from(theta);
     out
@@ -46,7 +54,11 @@ fn triple(v: [f64; 3]) -> String {
 
 fn origin(p: &Pose) -> String {
     let t = p.translation;
-    format!("{{ xyz: {}, rpy: {} }}", triple([t.x, t.y, t.z]), triple(rpy(&p.rotation)))
+    format!(
+        "{{ xyz: {}, rpy: {} }}",
+        triple([t.x, t.y, t.z]),
+        triple(rpy(&p.rotation))
+    )
 }
 
 /// A name for the fixed base link that no body uses.
@@ -105,7 +117,9 @@ pub fn to_yaml(model: &Model, comment: &[String]) -> String {
     }
     let _ = writeln!(y, "joints:");
     for (j, joint) in model.joints.iter().enumerate() {
-        let parent = joint.parent.map_or(base.as_str(), |p| model.bodies[p].name.as_str());
+        let parent = joint
+            .parent
+            .map_or(base.as_str(), |p| model.bodies[p].name.as_str());
         let kind = match (joint.kind, joint.limits) {
             (JointKind::Revolute, Some(_)) => "revolute",
             (JointKind::Revolute, None) => "continuous",

@@ -31,7 +31,13 @@ fn butterworth(rate: f64, cutoff: f64) -> (f64, f64, f64, f64, f64) {
     let q = std::f64::consts::FRAC_1_SQRT_2;
     let norm = 1.0 / (1.0 + k / q + k * k);
     let b0 = k * k * norm;
-    (b0, 2.0 * b0, b0, 2.0 * (k * k - 1.0) * norm, (1.0 - k / q + k * k) * norm)
+    (
+        b0,
+        2.0 * b0,
+        b0,
+        2.0 * (k * k - 1.0) * norm,
+        (1.0 - k / q + k * k) * norm,
+    )
 }
 
 /// One pass of the filter (direct form II transposed), starting in steady state at `x[0]`.

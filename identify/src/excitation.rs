@@ -99,7 +99,10 @@ pub fn optimise(base: &BaseModel<'_>, limits: &TrajectoryLimits, options: &Excit
     };
     let mut starts = Vec::new();
     for k in 0..options.starts.max(1) {
-        let seed = options.seed.wrapping_mul(0x9E37_79B9_7F4A_7C15).wrapping_add(k as u64);
+        let seed = options
+            .seed
+            .wrapping_mul(0x9E37_79B9_7F4A_7C15)
+            .wrapping_add(k as u64);
         let mut t = FourierTrajectory::random(n, options.harmonics, options.base_frequency, seed);
         t.fit_into(limits);
         let c = evaluate(&t);

@@ -161,7 +161,10 @@ impl FourierTrajectory {
                     .min(ratio(limits.velocity[j], v))
                     .min(ratio(limits.acceleration[j], a));
             if scale.is_finite() {
-                self.a[j].iter_mut().chain(self.b[j].iter_mut()).for_each(|c| *c *= scale);
+                self.a[j]
+                    .iter_mut()
+                    .chain(self.b[j].iter_mut())
+                    .for_each(|c| *c *= scale);
             }
         }
     }
@@ -190,7 +193,11 @@ impl FourierTrajectory {
     /// A trajectory with coefficients uniform in ±1 (before scaling), the same for the same seed.
     pub fn random(dof: usize, harmonics: usize, base_frequency: f64, seed: u64) -> FourierTrajectory {
         let mut rng = dyngen_runtime::SplitMix64::new(seed);
-        let mut draw = || (0..harmonics).map(|_| rng.uniform((-1.0, 1.0))).collect::<Vec<f64>>();
+        let mut draw = || {
+            (0..harmonics)
+                .map(|_| rng.uniform((-1.0, 1.0)))
+                .collect::<Vec<f64>>()
+        };
         let (a, b): (Vec<_>, Vec<_>) = (0..dof).map(|_| (draw(), draw())).unzip();
         FourierTrajectory {
             base_frequency,
@@ -202,7 +209,11 @@ impl FourierTrajectory {
 
     /// Whether every joint stays within `limits` (exactly, no margin) at the times `times`;
     /// the first violation as (joint, what, value, limit) otherwise.
-    pub fn check_limits(&self, limits: &TrajectoryLimits, times: &[f64]) -> Result<(), (usize, &'static str, f64, f64)> {
+    pub fn check_limits(
+        &self,
+        limits: &TrajectoryLimits,
+        times: &[f64],
+    ) -> Result<(), (usize, &'static str, f64, f64)> {
         for &t in times {
             for j in 0..self.dof() {
                 let (q, qd, qdd) = self.joint_at(j, t);

@@ -56,7 +56,12 @@ const ZERO_COLUMN_TOL: f64 = 1e-12;
 /// make a weight infinite.
 const NOISE_FLOOR: f64 = 1e-12;
 
-fn solve_refined(a: &DMatrix<f64>, w: &DMatrix<f64>, tau: &DVector<f64>, weights: &DVector<f64>) -> DVector<f64> {
+fn solve_refined(
+    a: &DMatrix<f64>,
+    w: &DMatrix<f64>,
+    tau: &DVector<f64>,
+    weights: &DVector<f64>,
+) -> DVector<f64> {
     let chol = a.clone().cholesky().expect("checked positive definite");
     let ww = DMatrix::from_fn(w.nrows(), w.ncols(), |i, j| w[(i, j)] * weights[i]);
     let tw = tau.component_mul(weights);
@@ -68,7 +73,12 @@ fn solve_refined(a: &DMatrix<f64>, w: &DMatrix<f64>, tau: &DVector<f64>, weights
 
 /// Estimates `θ_b` from the stacked base regressor `w` (rows sample-major over `n` joints),
 /// torques `tau` and the base parameters' names.
-pub fn estimate(w: &DMatrix<f64>, tau: &DVector<f64>, n: usize, names: &[String]) -> Result<BaseEstimate, IdentifyError> {
+pub fn estimate(
+    w: &DMatrix<f64>,
+    tau: &DVector<f64>,
+    n: usize,
+    names: &[String],
+) -> Result<BaseEstimate, IdentifyError> {
     let (rows, b) = w.shape();
     let samples = rows / n.max(1);
     if rows < b + n {
@@ -111,7 +121,10 @@ pub fn estimate(w: &DMatrix<f64>, tau: &DVector<f64>, n: usize, names: &[String]
         let why = if others.is_empty() {
             "its regressor column is nearly zero".to_string()
         } else {
-            format!("its regressor column is a combination of those of {}", others.join(", "))
+            format!(
+                "its regressor column is a combination of those of {}",
+                others.join(", ")
+            )
         };
         return Err(IdentifyError::new(format!(
             "base parameter '{}' cannot be determined from this data: {why} (scaled condition number {:.3e}); \
@@ -133,7 +146,10 @@ pub fn estimate(w: &DMatrix<f64>, tau: &DVector<f64>, n: usize, names: &[String]
                 rr += r[k * n + j].powi(2);
                 tt += tau[k * n + j].powi(2);
             }
-            (rr / dof_per_joint).sqrt().max(NOISE_FLOOR * (tt / samples as f64).sqrt()).max(f64::MIN_POSITIVE)
+            (rr / dof_per_joint)
+                .sqrt()
+                .max(NOISE_FLOOR * (tt / samples as f64).sqrt())
+                .max(f64::MIN_POSITIVE)
         })
         .collect();
     // 2. Weighted least squares.
@@ -144,7 +160,11 @@ pub fn estimate(w: &DMatrix<f64>, tau: &DVector<f64>, n: usize, names: &[String]
     let rw = tau.component_mul(&weights) - &wws * &x;
     let s2 = rw.norm_squared() / (rows - b) as f64;
     let s2 = if s2 > 0.0 { s2 } else { 1.0 };
-    let inverse = aw.clone().cholesky().expect("checked positive definite").inverse();
+    let inverse = aw
+        .clone()
+        .cholesky()
+        .expect("checked positive definite")
+        .inverse();
     let theta_b: Vec<f64> = (0..b).map(|k| x[k] / norms[k]).collect();
     let std_dev: Vec<f64> = (0..b).map(|k| (s2 * inverse[(k, k)]).sqrt() / norms[k]).collect();
     Ok(BaseEstimate {

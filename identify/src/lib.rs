@@ -16,7 +16,8 @@
 //!    standard deviations, and the identifiability diagnosis.
 //! 5. [`consistent`]: a physically consistent full θ (every body's pseudo-inertia positive
 //!    definite, armature and friction non-negative) by a log-Cholesky parameterisation.
-//! 6. [`describe`]: the identified robot as a dyngen YAML description.
+//! 6. [`describe`]: the identified robot as a dyngen YAML description; [`pipeline`]: all of
+//!    it in one call.
 
 pub mod consistent;
 pub mod data;
@@ -27,5 +28,7 @@ pub mod excitation;
 pub mod fourier;
 pub mod least_squares;
 pub mod observation;
+pub mod pipeline;
+pub mod simulate;
 
 pub use error::IdentifyError;

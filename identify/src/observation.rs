@@ -43,11 +43,15 @@ impl<'m> BaseModel<'m> {
     }
 
     /// The base regressor stacked over `states` (q, q̇, q̈).
-    pub fn stack<'a>(&self, states: impl ExactSizeIterator<Item = (&'a [f64], &'a [f64], &'a [f64])>) -> DMatrix<f64> {
+    pub fn stack<'a>(
+        &self,
+        states: impl ExactSizeIterator<Item = (&'a [f64], &'a [f64], &'a [f64])>,
+    ) -> DMatrix<f64> {
         let (n, b) = (self.dof(), self.base_count());
         let mut w = DMatrix::zeros(states.len() * n, b);
         for (k, (q, qd, qdd)) in states.enumerate() {
-            w.view_mut((k * n, 0), (n, b)).copy_from(&self.base_regressor(q, qd, qdd));
+            w.view_mut((k * n, 0), (n, b))
+                .copy_from(&self.base_regressor(q, qd, qdd));
         }
         w
     }
@@ -71,7 +75,9 @@ pub struct Prepared {
 /// dropped. Given `q̇`/`q̈` are used as they are.
 pub fn prepare(samples: &Samples, cutoff: f64) -> Result<Prepared, IdentifyError> {
     let Some(tau) = &samples.tau else {
-        return Err(IdentifyError::new("the data has no torque columns (tau[<joint>])"));
+        return Err(IdentifyError::new(
+            "the data has no torque columns (tau[<joint>])",
+        ));
     };
     let (qd, qdd) = match (&samples.qd, &samples.qdd) {
         (Some(qd), Some(qdd)) => {
