@@ -29,6 +29,7 @@ pub mod fourier;
 pub mod least_squares;
 pub mod observation;
 pub mod pipeline;
+pub mod plot;
 pub mod simulate;
 
 pub use error::IdentifyError;
