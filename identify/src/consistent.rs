@@ -32,6 +32,10 @@ use nalgebra::{DMatrix, DVector, Matrix3, Matrix4, Vector3};
 
 /// Weight of the prior relative to one standard deviation of data misfit.
 pub const PRIOR_WEIGHT: f64 = 1e-6;
+/// Levenberg–Marquardt stops when a step lowers the cost by less than this fraction, or after
+/// [`MAX_ITERATIONS`]: the cost is in units of σ², so 1e-7 of it is far below what matters.
+const STOP_DECREASE: f64 = 1e-7;
+const MAX_ITERATIONS: usize = 500;
 /// The smallest part of a body's pseudo-inertia kept at the start (regularises massless
 /// bodies of the description: log-Cholesky needs a positive definite start).
 const START_FLOOR: f64 = 1e-6;
@@ -228,23 +232,30 @@ pub fn consistent_estimate(
     let prior = model.parameters();
     let scales = prior_scales(model, &prior);
     let layout = Layout { model };
-    let lambda = PRIOR_WEIGHT.sqrt();
     // The prior also acts on the free numbers themselves: directions the data cannot see
     // would otherwise let a log-Cholesky diagonal drift towards −∞ (a body that tends to a
     // singular inertia changes θ less and less, so θ's prior alone does not stop it).
     let phi_prior = layout.phi(&prior);
     let p = prior.len();
-    let residual = |phi: &[f64]| -> DVector<f64> {
+    // The data residual is `A θ(φ) − c` with `A = R K`; `θ(φ)` is block diagonal in φ (a
+    // body's ten numbers make its ten parameters; a joint parameter its own), so the
+    // Jacobian is `A · ∂θ/∂φ` with a block-diagonal `∂θ/∂φ` taken by differences per block.
+    let a_data = &r * &k;
+    let c_data = &r * &theta_hat;
+    let gram = a_data.tr_mul(&a_data);
+    let blocks: Vec<(usize, usize)> = (0..model.dof())
+        .map(|b| (PARAMS_PER_BODY * b, PARAMS_PER_BODY))
+        .chain((model.inertial_parameter_count()..p).map(|i| (i, 1)))
+        .collect();
+    let cost_of = |phi: &[f64]| -> (f64, Vec<f64>) {
         let theta = layout.theta(phi);
-        let tb = &k * DVector::from_column_slice(&theta);
-        let data = &r * (tb - &theta_hat);
-        let mut out = DVector::zeros(b + 2 * p);
-        out.rows_mut(0, b).copy_from(&data);
+        let data = &a_data * DVector::from_column_slice(&theta) - &c_data;
+        let mut cost = data.norm_squared();
         for i in 0..p {
-            out[b + i] = lambda * (theta[i] - prior[i]) / scales[i];
-            out[b + p + i] = lambda * (phi[i] - phi_prior[i]);
+            cost += PRIOR_WEIGHT
+                * (((theta[i] - prior[i]) / scales[i]).powi(2) + (phi[i] - phi_prior[i]).powi(2));
         }
-        out
+        (cost, theta)
     };
     // Start: the prior, with joint parameters that stand alone as base parameters taken
     // from the least squares (where they are clearly determined).
@@ -257,26 +268,41 @@ pub fn consistent_estimate(
         }
     }
     let mut phi = layout.phi(&start);
-    let mut r0 = residual(&phi);
-    let mut cost = r0.norm_squared();
+    let (mut cost, mut theta) = cost_of(&phi);
     let mut mu = 1e-3;
     let mut iterations = 0;
-    for it in 0..500 {
+    for it in 0..MAX_ITERATIONS {
         iterations = it + 1;
-        let m = phi.len();
-        let mut jac = DMatrix::zeros(r0.len(), m);
-        for i in 0..m {
-            let h = 1e-7 * (1.0 + phi[i].abs());
-            let mut p = phi.clone();
-            p[i] += h;
-            jac.set_column(i, &((residual(&p) - &r0) / h));
+        // ∂θ/∂φ, block by block.
+        let mut d = DMatrix::zeros(p, p);
+        for &(first, len) in &blocks {
+            for i in first..first + len {
+                let h = 1e-7 * (1.0 + phi[i].abs());
+                let mut q = phi.clone();
+                q[i] += h;
+                let shifted = layout.theta(&q);
+                for row in first..first + len {
+                    d[(row, i)] = (shifted[row] - theta[row]) / h;
+                }
+            }
         }
-        let jtj = jac.tr_mul(&jac);
-        let g = jac.tr_mul(&r0);
+        let data = &a_data * DVector::from_column_slice(&theta) - &c_data;
+        // Gradient and Gauss–Newton matrix of the cost (data + the two priors).
+        let mut g = d.tr_mul(&a_data.tr_mul(&data));
+        let mut jtj = d.tr_mul(&(&gram * &d));
+        for i in 0..p {
+            let w = PRIOR_WEIGHT / (scales[i] * scales[i]);
+            // θ-prior: Σ_i w (θ_i − prior_i)², gradient through column i of ∂θ/∂φ (row i).
+            let row = d.row(i).into_owned();
+            g += row.transpose() * (w * (theta[i] - prior[i]));
+            jtj += row.transpose() * row * w;
+            g[i] += PRIOR_WEIGHT * (phi[i] - phi_prior[i]);
+            jtj[(i, i)] += PRIOR_WEIGHT;
+        }
         let mut improved = false;
         for _ in 0..20 {
             let mut lhs = jtj.clone();
-            for i in 0..m {
+            for i in 0..p {
                 lhs[(i, i)] += mu * (jtj[(i, i)] + 1e-12);
             }
             let Some(chol) = lhs.cholesky() else {
@@ -285,15 +311,14 @@ pub fn consistent_estimate(
             };
             let step = chol.solve(&(-&g));
             let trial: Vec<f64> = phi.iter().zip(step.iter()).map(|(p, s)| p + s).collect();
-            let rt = residual(&trial);
-            let ct = rt.norm_squared();
+            let (ct, tt) = cost_of(&trial);
             if ct.is_finite() && ct < cost {
                 let decrease = cost - ct;
                 phi = trial;
-                r0 = rt;
+                theta = tt;
                 cost = ct;
                 mu = (mu / 3.0).max(1e-12);
-                improved = decrease > 1e-12 * (1.0 + cost);
+                improved = decrease > STOP_DECREASE * (1.0 + cost);
                 break;
             }
             mu *= 10.0;
@@ -302,12 +327,11 @@ pub fn consistent_estimate(
             break;
         }
     }
-    let theta = layout.theta(&phi);
     let theta_b = (&k * DVector::from_column_slice(&theta))
         .iter()
         .copied()
         .collect::<Vec<_>>();
-    let misfit = r0.rows(0, b).norm_squared();
+    let misfit = (&a_data * DVector::from_column_slice(&theta) - &c_data).norm_squared();
     ConsistentEstimate {
         theta,
         theta_b,

@@ -56,18 +56,24 @@ const ZERO_COLUMN_TOL: f64 = 1e-12;
 /// make a weight infinite.
 const NOISE_FLOOR: f64 = 1e-12;
 
+/// `Mᵀ M` through an explicit transpose, so the product runs as one blocked matrix
+/// multiplication (several times faster on 10⁵ rows than dot products column by column).
+fn gram(m: &DMatrix<f64>) -> DMatrix<f64> {
+    m.transpose() * m
+}
+
+/// Solves `A x = Wᵀ D² τ` (`D = diag(weights)`, `A = Wᵀ D² W`) and refines once with the
+/// true residual, which restores the accuracy the normal equations lose.
 fn solve_refined(
     a: &DMatrix<f64>,
     w: &DMatrix<f64>,
     tau: &DVector<f64>,
-    weights: &DVector<f64>,
+    weights2: &DVector<f64>,
 ) -> DVector<f64> {
     let chol = a.clone().cholesky().expect("checked positive definite");
-    let ww = DMatrix::from_fn(w.nrows(), w.ncols(), |i, j| w[(i, j)] * weights[i]);
-    let tw = tau.component_mul(weights);
-    let mut x = chol.solve(&ww.tr_mul(&tw));
-    let r = &tw - &ww * &x;
-    x += chol.solve(&ww.tr_mul(&r));
+    let mut x = chol.solve(&w.tr_mul(&tau.component_mul(weights2)));
+    let r = tau - w * &x;
+    x += chol.solve(&w.tr_mul(&r.component_mul(weights2)));
     x
 }
 
@@ -95,8 +101,19 @@ pub fn estimate(
             names[k]
         )));
     }
-    let ws = DMatrix::from_fn(rows, b, |i, j| w[(i, j)] / norms[j]);
-    let a = ws.tr_mul(&ws);
+    let mut ws = w.clone();
+    for (mut c, norm) in ws.column_iter_mut().zip(&norms) {
+        c /= *norm;
+    }
+    // Per-joint Gram matrices: the weighted normal equations are their weighted sum, so the
+    // expensive product over all rows is done once.
+    let grams: Vec<DMatrix<f64>> = (0..n)
+        .map(|j| {
+            let rows_j: Vec<usize> = (0..samples).map(|k| k * n + j).collect();
+            gram(&ws.select_rows(rows_j.iter()))
+        })
+        .collect();
+    let a = grams.iter().fold(DMatrix::zeros(b, b), |acc, g| acc + g);
     let eigen = a.clone().symmetric_eigen();
     let (mut kmin, mut kmax) = (0, 0);
     for k in 0..b {
@@ -152,13 +169,15 @@ pub fn estimate(
                 .max(f64::MIN_POSITIVE)
         })
         .collect();
-    // 2. Weighted least squares.
-    let weights = DVector::from_fn(rows, |i, _| 1.0 / joint_noise[i % n]);
-    let wws = DMatrix::from_fn(rows, b, |i, j| ws[(i, j)] * weights[i]);
-    let aw = wws.tr_mul(&wws);
-    let x = solve_refined(&aw, &ws, tau, &weights);
-    let rw = tau.component_mul(&weights) - &wws * &x;
-    let s2 = rw.norm_squared() / (rows - b) as f64;
+    // 2. Least squares weighted by 1/σ_j.
+    let weights2 = DVector::from_fn(rows, |i, _| joint_noise[i % n].powi(-2));
+    let aw = grams
+        .iter()
+        .zip(&joint_noise)
+        .fold(DMatrix::zeros(b, b), |acc, (g, s)| acc + g / (s * s));
+    let x = solve_refined(&aw, &ws, tau, &weights2);
+    let rw = tau - &ws * &x;
+    let s2 = rw.component_mul(&rw).dot(&weights2) / (rows - b) as f64;
     let s2 = if s2 > 0.0 { s2 } else { 1.0 };
     let inverse = aw
         .clone()
