@@ -8,7 +8,9 @@ use super::error::{item, num, vec3, DescriptionError};
 use super::raw::{RawInertial, RawJoint, RawLink};
 use super::source_map::{joint_path, link_path, SourceMap};
 use super::Diagnostics;
-use crate::model::{check_rotational_inertia, Inertia, JointKind, Limits, Pose, INERTIA_REL_TOL};
+use crate::model::{
+    check_rotational_inertia, from_xyz_rpy, Inertia, JointKind, Limits, Pose, INERTIA_REL_TOL,
+};
 use nalgebra::{Matrix3, Vector3};
 
 /// How a joint moves, once its type is known to be supported.
@@ -82,7 +84,7 @@ fn check_joint(
     if let Some(msg) = too_large(&j.xyz, "origin xyz") {
         return Err(err(".origin", msg));
     }
-    let origin = Pose::from_xyz_rpy(j.xyz, j.rpy);
+    let origin = from_xyz_rpy(j.xyz, j.rpy);
     let warn = |diags: &mut Diagnostics, field: &str, msg: String| {
         diags
             .warnings
@@ -324,7 +326,7 @@ fn check_inertial(
     }
 
     // The tensor is given in the inertial frame; the model wants link-frame axes.
-    let rotation = Pose::from_xyz_rpy(xyz, rpy).rotation;
+    let rotation = from_xyz_rpy(xyz, rpy).rotation;
     Ok(Inertia {
         mass,
         com: Vector3::from(xyz),

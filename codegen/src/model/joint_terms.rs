@@ -58,6 +58,16 @@ impl JointTermKind {
         }
     }
 
+    /// The runtime's kind of this parameter (what generated code's `PARAMETER_KINDS` says).
+    pub fn parameter_kind(self) -> dyngen_runtime::ParameterKind {
+        match self {
+            JointTermKind::Armature => dyngen_runtime::ParameterKind::Armature,
+            JointTermKind::Viscous => dyngen_runtime::ParameterKind::ViscousFriction,
+            JointTermKind::Coulomb => dyngen_runtime::ParameterKind::CoulombFriction,
+            JointTermKind::Offset => dyngen_runtime::ParameterKind::Offset,
+        }
+    }
+
     /// Whether a physical value must be non-negative (an offset may have either sign).
     pub fn is_non_negative(self) -> bool {
         !matches!(self, JointTermKind::Offset)

@@ -11,12 +11,12 @@ mod pose;
 mod validate;
 
 pub use joint_terms::{JointTermKind, JointTermValues, JointTerms};
-
-pub use pose::{exact_sin_cos, Pose};
+pub use pose::{exact_sin_cos, from_xyz_rpy, Pose};
 pub use validate::{
     check_rotational_inertia, principal_moments, validate, ModelError, Warning, INERTIA_REL_TOL,
 };
 
+use dyngen_runtime::ParameterKind;
 use nalgebra::{Matrix3, Vector3};
 
 /// How a joint moves.
@@ -98,8 +98,8 @@ pub struct Model {
     pub joint_terms: JointTerms,
 }
 
-/// Number of standard inertial parameters per body.
-pub const PARAMS_PER_BODY: usize = 10;
+/// Number of standard inertial parameters per body (the runtime contract's layout).
+pub const PARAMS_PER_BODY: usize = dyngen_runtime::PARAMETERS_PER_BODY;
 
 /// Names of the standard parameters of one body, in the order of [`Inertia::parameters`].
 pub const PARAM_NAMES: [&str; PARAMS_PER_BODY] =
@@ -228,6 +228,16 @@ impl Model {
             .collect()
     }
 
+    /// The kind of each entry of [`Model::parameters`].
+    pub fn parameter_kinds(&self) -> Vec<ParameterKind> {
+        let per_body = (0..PARAMS_PER_BODY).map(ParameterKind::of_body_entry);
+        let mut kinds: Vec<ParameterKind> = self.bodies.iter().flat_map(|_| per_body.clone()).collect();
+        for _ in &self.joints {
+            kinds.extend(self.joint_terms.kinds.iter().map(|k| k.parameter_kind()));
+        }
+        kinds
+    }
+
     /// Joints from the base down to `joint` (inclusive), base first.
     pub fn chain_to(&self, joint: usize) -> Vec<usize> {
         let mut chain = vec![joint];
@@ -238,20 +248,5 @@ impl Model {
         }
         chain.reverse();
         chain
-    }
-
-    /// Whether joint `ancestor` lies on the path from the base to `joint` (a joint is its own ancestor).
-    pub fn is_ancestor(&self, ancestor: usize, joint: usize) -> bool {
-        let mut j = Some(joint);
-        while let Some(k) = j {
-            if k == ancestor {
-                return true;
-            }
-            if k < ancestor {
-                return false;
-            }
-            j = self.joints[k].parent;
-        }
-        false
     }
 }
