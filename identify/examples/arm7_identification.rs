@@ -134,9 +134,9 @@ fn main() {
         "{:>12} {:>12} {:>10} {:>7}  base parameter",
         "true", "estimate", "σ", "|err|/σ"
     );
-    for k in 0..true_b.len() {
+    for (k, &truth_k) in true_b.iter().enumerate() {
         let (est, sd) = (id.base.theta_b[k], id.base.std_dev[k]);
-        let z = (est - true_b[k]).abs() / sd;
+        let z = (est - truth_k).abs() / sd;
         if id.base.relative_std_dev(k) < 0.05 {
             precise += 1;
             within += usize::from(z <= 3.0);

@@ -134,9 +134,7 @@ fn too_few_samples_is_an_error() {
     let mut samples = good_samples();
     samples.qd = Some(samples.q.clone());
     samples.qdd = Some(samples.q.clone());
-    for v in [&mut samples.time] {
-        v.truncate(5);
-    }
+    samples.time.truncate(5);
     samples.q.truncate(5);
     for v in [samples.qd.as_mut(), samples.qdd.as_mut(), samples.tau.as_mut()]
         .into_iter()

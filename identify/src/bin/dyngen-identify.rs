@@ -117,8 +117,10 @@ fn excite(mut args: Args) -> Result<(), String> {
         let s = excitation.trajectory.at(t);
         samples.time.push(t);
         samples.q.push(s.q);
-        samples.qd.as_mut().map(|v| v.push(s.qd));
-        samples.qdd.as_mut().map(|v| v.push(s.qdd));
+        if let (Some(qd), Some(qdd)) = (samples.qd.as_mut(), samples.qdd.as_mut()) {
+            qd.push(s.qd);
+            qdd.push(s.qdd);
+        }
     }
     std::fs::write(&out, to_csv(&model, &samples)).map_err(|e| format!("{}: {e}", out.display()))?;
     println!(
