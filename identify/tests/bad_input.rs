@@ -105,6 +105,12 @@ outside-limits.csv:8: column 3 (q[joint2]): joint 'joint2': position 2.5 is outs
 header-only.csv: no samples: the file has a header line only
 ";
     assert_eq!(report, expected);
+    let testing =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../TESTING.md")).expect("TESTING.md");
+    assert!(
+        testing.contains(expected),
+        "TESTING.md lists these messages as they are"
+    );
 }
 
 /// Data in which a joint never moves cannot determine its parameters: the error names one
