@@ -27,7 +27,7 @@ use dyngen_identify::data::{read_csv, to_csv};
 use dyngen_identify::describe::to_yaml;
 use dyngen_identify::excitation::{optimise, ExcitationOptions};
 use dyngen_identify::fourier::{FourierTrajectory, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
-use dyngen_identify::observation::BaseModel;
+use dyngen_identify::observation::{BaseModel, BaseRegressorSource};
 use dyngen_identify::pipeline::{identify, IdentifyOptions};
 use dyngen_identify::plot::{svg, Panel};
 use dyngen_identify::simulate::{measure, with_joint_terms, with_payload};

@@ -16,7 +16,7 @@
 //! coefficients), deterministic for a seed, and one regressor stack per iteration.
 
 use crate::fourier::{FourierTrajectory, TrajectoryLimits};
-use crate::observation::BaseModel;
+use crate::observation::{BaseModel, BaseRegressorSource};
 use dyngen_runtime::SplitMix64;
 
 /// Options of the search.

@@ -6,7 +6,7 @@ use crate::data::Samples;
 use crate::describe::{to_yaml, with_parameters};
 use crate::error::IdentifyError;
 use crate::least_squares::{estimate, BaseEstimate};
-use crate::observation::{prepare, BaseModel};
+use crate::observation::{prepare, BaseModel, BaseRegressorSource};
 use dyngen_codegen::model::Model;
 
 /// Options of [`identify`].
@@ -53,15 +53,34 @@ impl Identification {
     }
 }
 
-/// Identifies `model`'s parameters from `samples` (which must have torques).
+/// Identifies `model`'s parameters from `samples` (which must have torques), with the generic
+/// numeric regressor.
 pub fn identify(
     model: &Model,
     samples: &Samples,
     options: &IdentifyOptions,
 ) -> Result<Identification, IdentifyError> {
+    identify_with(model, &BaseModel::new(model), samples, options)
+}
+
+/// [`identify`] with the base regressor from `source`, e.g. a compiled robot
+/// ([`crate::observation::Compiled`]), which must have the description's base parameters.
+pub fn identify_with(
+    model: &Model,
+    source: &impl BaseRegressorSource,
+    samples: &Samples,
+    options: &IdentifyOptions,
+) -> Result<Identification, IdentifyError> {
     let base_model = BaseModel::new(model);
+    if source.dof() != model.dof() || source.base_names() != base_model.base.names {
+        return Err(IdentifyError::new(format!(
+            "the compiled robot's base parameters are not those of the description '{}' \
+             (regenerate it, or identify with the description alone)",
+            model.name
+        )));
+    }
     let prepared = prepare(samples, options.cutoff)?;
-    let (w, tau) = prepared.stack(&base_model);
+    let (w, tau) = prepared.stack(source);
     let base = estimate(&w, &tau, model.dof(), &base_model.base.names)?;
     let consistent = consistent_estimate(model, &base_model.base, &base);
     let identified = with_parameters(model, &consistent.theta);

@@ -100,3 +100,29 @@ fn consistent_estimate_satisfies_constraints_and_its_yaml_regenerates() {
         .code
         .contains("impl RobotDynamics<7, 98> for Arm7Identified"));
 }
+
+/// A compiled robot's generated `Y_b` gives the same identification as the generic numeric
+/// regressor (here the committed arm7, rigid-body columns only).
+#[test]
+fn compiled_robot_identifies_like_the_description() {
+    use dyngen_generated::arm7::Arm7;
+    use dyngen_identify::observation::Compiled;
+    use dyngen_identify::pipeline::identify_with;
+    let arm7 = common::arm7();
+    let truth =
+        dyngen_identify::simulate::with_payload(&arm7, 1.5, nalgebra::Vector3::new(0.0, 0.0, 0.05), 0.04);
+    let samples = measure(&truth, &trajectory(8), 5.0, 100.0, &[0.0; 7], 1, true);
+    let numeric = identify(&arm7, &samples, &IdentifyOptions::default()).expect("numeric");
+    let compiled = Compiled::<Arm7, 7, 70, 43>::default();
+    let generated = identify_with(&arm7, &compiled, &samples, &IdentifyOptions::default()).expect("compiled");
+    for (a, b) in numeric.base.theta_b.iter().zip(&generated.base.theta_b) {
+        assert!((a - b).abs() <= 1e-9 * (1.0 + a.abs()), "{a} vs {b}");
+    }
+    // A compiled robot of other kinematics is refused, not used.
+    let other = common::arm7_nominal();
+    let err = identify_with(&other, &compiled, &samples, &IdentifyOptions::default()).expect_err("mismatch");
+    assert!(
+        err.to_string().contains("are not those of the description"),
+        "{err}"
+    );
+}
