@@ -14,7 +14,7 @@ use dyngen_codegen::description::load;
 use dyngen_identify::data::{read_csv, to_csv, Samples};
 use dyngen_identify::excitation::{optimise, ExcitationOptions};
 use dyngen_identify::fourier::{TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
-use dyngen_identify::observation::{BaseModel, BaseRegressorSource};
+use dyngen_identify::observation::BaseModel;
 use dyngen_identify::pipeline::{identify, IdentifyOptions};
 use std::path::PathBuf;
 use std::process::ExitCode;
