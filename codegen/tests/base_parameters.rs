@@ -4,7 +4,7 @@
 //!
 //! `cargo test --test base_parameters -- --nocapture` prints p_b, the gaps and the names.
 
-mod common;
+use dyngen_testkit as common;
 
 use common::random_model::{arb_model, random_state, SplitMix64};
 use common::{assert_close, column, fixture};

@@ -90,11 +90,11 @@ fn check_against_fixture(robot: &str, loaded: &Loaded) {
         .iter()
         .map(|n| n.as_str().unwrap())
         .collect();
-    let ours: Vec<&str> = model.joints.iter().map(|j| j.name.as_str()).collect();
+    let ours: Vec<&str> = model.joints().iter().map(|j| j.name.as_str()).collect();
     assert_eq!(ours, names, "{robot}: joint order");
     let index = |name: &str| names.iter().position(|n| *n == name);
 
-    for (joint, fj) in model.joints.iter().zip(fx["joints"].as_array().unwrap()) {
+    for (joint, fj) in model.joints().iter().zip(fx["joints"].as_array().unwrap()) {
         let what = format!("{robot} joint '{}'", joint.name);
         assert_eq!(
             joint.parent,
@@ -120,7 +120,7 @@ fn check_against_fixture(robot: &str, loaded: &Loaded) {
     }
     assert_params(robot, model, &numbers(&fx["pi"]));
 
-    let ee = &model.end_effector;
+    let ee = &model.end_effector();
     assert_eq!(ee.name, fx["ee_frame"].as_str().unwrap(), "{robot}: ee frame");
     assert_eq!(
         Some(ee.parent),
@@ -133,7 +133,7 @@ fn check_against_fixture(robot: &str, loaded: &Loaded) {
         &pose(&fx["ee_placement_in_parent_joint"]),
     );
     assert_eq!(
-        model.gravity,
+        model.gravity(),
         Vector3::from_vec(numbers(&fx["gravity"])),
         "{robot}: gravity"
     );
@@ -147,7 +147,7 @@ fn check_against_fixture(robot: &str, loaded: &Loaded) {
 #[test]
 fn panda_matches_pinocchio() {
     let loaded = load("robots/panda.yaml");
-    assert_eq!(loaded.model.name, "panda");
+    assert_eq!(loaded.model.name(), "panda");
     assert_eq!(loaded.model.dof(), 7);
     check_against_fixture("panda", &loaded);
     assert_eq!(
@@ -159,7 +159,7 @@ fn panda_matches_pinocchio() {
 #[test]
 fn ur5_matches_pinocchio() {
     let loaded = load("robots/ur5.yaml");
-    assert_eq!(loaded.model.name, "ur5");
+    assert_eq!(loaded.model.name(), "ur5");
     assert_eq!(loaded.model.dof(), 6);
     check_against_fixture("ur5", &loaded);
     assert_eq!(
@@ -198,8 +198,8 @@ fn bare_urdf_picks_the_end_of_the_longest_chain_and_says_so() {
     let loaded = load("robots/urdf/ur5_robot.urdf");
     assert_eq!(loaded.model.dof(), 6);
     // ee_link and tool0 both end the 6-joint chain; ee_link comes first in the file.
-    assert_eq!(loaded.model.end_effector.name, "ee_link");
-    assert_eq!(loaded.model.end_effector.parent, 5);
+    assert_eq!(loaded.model.end_effector().name, "ee_link");
+    assert_eq!(loaded.model.end_effector().parent, 5);
     assert!(
         loaded
             .notes
@@ -218,23 +218,23 @@ fn arm7_is_a_realistic_seven_axis_arm() {
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
     assert_eq!(m.dof(), 7);
     assert!(m
-        .joints
+        .joints()
         .iter()
         .all(|j| j.kind == JointKind::Revolute && j.limits.is_some()));
-    let chain: Vec<Option<usize>> = m.joints.iter().map(|j| j.parent).collect();
+    let chain: Vec<Option<usize>> = m.joints().iter().map(|j| j.parent).collect();
     assert_eq!(
         chain,
         vec![None, Some(0), Some(1), Some(2), Some(3), Some(4), Some(5)]
     );
-    let z_axes = m.joints.iter().filter(|j| j.axis == Vector3::z()).count();
+    let z_axes = m.joints().iter().filter(|j| j.axis == Vector3::z()).count();
     assert!(z_axes < 7, "not every axis may be z");
     assert!(
-        m.joints.iter().any(|j| j.axis == -Vector3::y()),
+        m.joints().iter().any(|j| j.axis == -Vector3::y()),
         "iiwa axis 4 turns about -y"
     );
     // full inertia tensors: some products of inertia about the COM are non-zero
     let products = m
-        .bodies
+        .bodies()
         .iter()
         .filter(|b| {
             let i = b.inertia.inertia_com;
@@ -243,14 +243,14 @@ fn arm7_is_a_realistic_seven_axis_arm() {
         .count();
     assert!(products >= 3, "only {products} bodies have products of inertia");
     // non-zero offsets off the axis line (the iiwa links are not DH-shaped)
-    assert!(m.joints.iter().any(|j| j.origin.translation.y != 0.0));
-    let moving_mass: f64 = m.bodies.iter().map(|b| b.inertia.mass).sum();
+    assert!(m.joints().iter().any(|j| j.origin.translation.y != 0.0));
+    let moving_mass: f64 = m.bodies().iter().map(|b| b.inertia.mass).sum();
     assert!(
         (15.0..30.0).contains(&moving_mass),
         "moving mass {moving_mass} kg"
     );
-    assert_eq!(m.end_effector.parent, 6);
-    assert!(m.end_effector.placement.translation.z > 0.0);
+    assert_eq!(m.end_effector().parent, 6);
+    assert!(m.end_effector().placement.translation.z > 0.0);
 }
 
 /// A two-armed robot on a turning torso, with a fixed sensor and a fixed-mounted second arm.
@@ -300,26 +300,26 @@ fn branching_tree_gets_depth_first_order_and_right_parents() {
     let loaded = description::load_urdf_str(TREE_URDF, Path::new("twins.urdf"), &UrdfOptions::default())
         .unwrap_or_else(|e| panic!("{e}"));
     let m = &loaded.model;
-    let names: Vec<&str> = m.joints.iter().map(|j| j.name.as_str()).collect();
+    let names: Vec<&str> = m.joints().iter().map(|j| j.name.as_str()).collect();
     // depth-first, children in file order: waist's children are left1, (sensor), (mount → right1)
     assert_eq!(names, ["waist", "left1", "left2", "right1", "right2"]);
-    let parents: Vec<Option<usize>> = m.joints.iter().map(|j| j.parent).collect();
+    let parents: Vec<Option<usize>> = m.joints().iter().map(|j| j.parent).collect();
     assert_eq!(parents, [None, Some(0), Some(1), Some(0), Some(3)]);
-    assert_eq!(m.joints[0].limits, None, "continuous joints have no limits");
-    assert_eq!(m.joints[2].kind, JointKind::Prismatic);
+    assert_eq!(m.joints()[0].limits, None, "continuous joints have no limits");
+    assert_eq!(m.joints()[2].kind, JointKind::Prismatic);
 
     // right1 hangs from torso through the fixed, turned mount: its origin is composed.
     let expected = from_xyz_rpy([0.0, -0.2, 0.4], [0.0, 0.0, std::f64::consts::PI])
         .compose(&from_xyz_rpy([0.0, 0.0, 0.1], [0.0, 0.0, 0.0]));
-    assert_eq!(m.joints[3].origin, expected);
+    assert_eq!(m.joints()[3].origin, expected);
 
     // The sensor is welded to the torso body: 5 kg at z 0.2 plus 0.5 kg at (0.1, 0, 0.3).
-    let torso = &m.bodies[0].inertia;
+    let torso = &m.bodies()[0].inertia;
     assert!((torso.mass - 5.5).abs() < 1e-12);
     assert!((torso.com - Vector3::new(0.05 / 5.5, 0.0, (1.0 + 0.15) / 5.5)).norm() < 1e-12);
 
     // Two leaves end 2-joint chains (l2, r2): the first in depth-first order wins.
-    assert_eq!(m.end_effector.name, "l2");
+    assert_eq!(m.end_effector().name, "l2");
     assert!(
         loaded.notes.iter().any(|n| n.contains("'l2'")),
         "{:?}",
@@ -338,14 +338,18 @@ fn end_effector_with_offset_and_gravity_from_options() {
         }),
         locked_joints: vec![],
         gravity: Some([0.0, -9.81, 0.0]),
+        snap_angles: None,
     };
     let m = description::load_urdf_str(TREE_URDF, Path::new("twins.urdf"), &options)
         .unwrap()
         .model;
-    assert_eq!(m.end_effector.name, "probe");
-    assert_eq!(m.end_effector.parent, 0, "the sensor rides on the waist joint");
-    assert_eq!(m.end_effector.placement.translation, Vector3::new(0.1, 0.0, 0.35));
-    assert_eq!(m.gravity, Vector3::new(0.0, -9.81, 0.0));
+    assert_eq!(m.end_effector().name, "probe");
+    assert_eq!(m.end_effector().parent, 0, "the sensor rides on the waist joint");
+    assert_eq!(
+        m.end_effector().placement.translation,
+        Vector3::new(0.1, 0.0, 0.35)
+    );
+    assert_eq!(m.gravity(), Vector3::new(0.0, -9.81, 0.0));
 }
 
 #[test]
@@ -359,7 +363,7 @@ fn locked_joint_welds_its_child_at_the_locked_position() {
         .model;
     assert_eq!(m.dof(), 4);
     // l2 (1 kg at the origin of its frame) now sits 0.3 + 0.1 m along l1's x axis.
-    let l1 = &m.bodies[1].inertia;
+    let l1 = &m.bodies()[1].inertia;
     assert!((l1.mass - 2.0).abs() < 1e-12);
     assert!(
         (l1.com - Vector3::new(0.2, 0.0, 0.0)).norm() < 1e-12,
@@ -452,6 +456,7 @@ fn same_robot_in_yaml_and_urdf_gives_the_same_model() {
         }),
         locked_joints: vec![("lock".into(), 0.25)],
         gravity: None,
+        snap_angles: None,
     };
     let from_urdf = description::load_urdf_str(SAME_URDF, Path::new("same.urdf"), &options).unwrap();
     let from_yaml =
@@ -459,14 +464,14 @@ fn same_robot_in_yaml_and_urdf_gives_the_same_model() {
     assert_eq!(from_yaml.model, from_urdf.model);
     let m = &from_yaml.model;
     assert_eq!(m.dof(), 3);
-    assert_eq!(m.gravity, Vector3::new(0.0, 0.0, -9.81));
+    assert_eq!(m.gravity(), Vector3::new(0.0, 0.0, -9.81));
     // the axis (0, 0.6, 0.8) is already unit; the inertial rpy rotates the tensor
-    assert_eq!(m.joints[1].axis, Vector3::new(0.0, 0.6, 0.8));
-    assert!(m.bodies[0].inertia.inertia_com[(0, 1)] != 0.001);
+    assert_eq!(m.joints()[1].axis, Vector3::new(0.0, 0.6, 0.8));
+    assert!(m.bodies()[0].inertia.inertia_com[(0, 1)] != 0.001);
     // slide hangs from b through the fixed weld: origin = weld ∘ slide origin
     let weld = from_xyz_rpy([0.0, 0.3, 0.0], [0.1, 0.2, 0.3]);
     assert_eq!(
-        m.joints[2].origin,
+        m.joints()[2].origin,
         weld.compose(&from_xyz_rpy([0.0, 0.0, 0.1], [0.0; 3]))
     );
     assert!(from_yaml.sources.is_empty(), "nothing was read from disk");
@@ -476,7 +481,7 @@ fn same_robot_in_yaml_and_urdf_gives_the_same_model() {
 fn unit_axis_is_normalized_with_a_note() {
     let yaml = SAME_YAML.replace("axis: [1, 0, 0]", "axis: [2, 0, 0]");
     let loaded = description::load_yaml_str(&yaml, Path::new("same.yaml")).unwrap();
-    assert_eq!(loaded.model.joints[2].axis, Vector3::x());
+    assert_eq!(loaded.model.joints()[2].axis, Vector3::x());
     assert!(
         loaded
             .notes
@@ -485,6 +490,23 @@ fn unit_axis_is_normalized_with_a_note() {
         "{:?}",
         loaded.notes
     );
+}
+
+/// Fuzz finding: components so small that their squares underflow (or so large that they
+/// overflow) still give a unit axis, not a model that breaks an invariant.
+#[test]
+fn tiny_and_huge_axes_are_normalized() {
+    for (written, expected) in [
+        ("[3.0e-170, 0, 4.0e-170]", Vector3::new(0.6, 0.0, 0.8)),
+        ("[3.0e+170, 0, 4.0e+170]", Vector3::new(0.6, 0.0, 0.8)),
+        ("[0, 1.0e-310, 0]", Vector3::y()),
+    ] {
+        let yaml = SAME_YAML.replace("axis: [1, 0, 0]", &format!("axis: {written}"));
+        let loaded = description::load_yaml_str(&yaml, Path::new("same.yaml"))
+            .unwrap_or_else(|e| panic!("{written}: {e}"));
+        let axis = loaded.model.joints()[2].axis;
+        assert!((axis - expected).amax() < 1e-15, "{written}: {axis:?}");
+    }
 }
 
 #[test]
@@ -498,13 +520,13 @@ fn inertial_frame_rotation_is_applied() {
     let m = description::load_urdf_str(urdf, Path::new("r.urdf"), &UrdfOptions::default())
         .unwrap()
         .model;
-    let body = &m.bodies[0].inertia;
+    let body = &m.bodies()[0].inertia;
     assert_eq!(
         body.inertia_com,
         Matrix3::from_diagonal(&Vector3::new(2.0, 1.0, 3.0))
     );
     assert_eq!(body.com, Vector3::new(0.1, 0.2, 0.3));
-    assert_eq!(m.joints[0].axis, Vector3::x(), "URDF default axis");
+    assert_eq!(m.joints()[0].axis, Vector3::x(), "URDF default axis");
 }
 
 #[test]
@@ -530,7 +552,7 @@ joints:
         .model;
     assert_eq!(m.dof(), 1);
     // l2's centre of mass (0.5, 0, 0) turned +90° about z is (0, 0.5, 0), then lifted 0.1.
-    let body = &m.bodies[0].inertia;
+    let body = &m.bodies()[0].inertia;
     assert!(
         (body.com - Vector3::new(0.0, 0.25, 0.05)).norm() < 1e-15,
         "{:?}",

@@ -1,44 +1,25 @@
 //! Fuzzing the loaders on stable Rust: every input ends in a valid model or an error value,
-//! never a panic, an abort, a hang or a stack overflow (see `tests/common/fuzz.rs`).
+//! never a panic, an abort, a hang or a stack overflow (harness: `dyngen_testkit::fuzz`; the
+//! long run is `cargo xtask fuzz [--cases N] [--seed S]`).
 //!
 //! - `fuzz_fast_slice`: a fixed-seed slice of the mutation fuzzer in every `cargo test`.
-//! - `fuzz_long` (ignored): the long run, `cargo xtask fuzz [--cases N] [--seed S]`.
 //! - regression inputs and the stack-depth probes, data-driven.
 //! - random valid trees written as YAML and URDF load back to the same model.
 
-mod common;
-
-use common::fuzz::{self, check_generation, check_input, corpus, Format};
-use common::random_model::arb_model;
-use common::serialize::{to_urdf, to_yaml};
 use dyngen_codegen::description::{load_urdf_str, load_yaml_str, EndEffectorSpec, UrdfOptions};
 use dyngen_codegen::model::Model;
+use dyngen_testkit::fuzz::{self, check_generation, check_input, corpus, Format};
+use dyngen_testkit::random_model::arb_model;
+use dyngen_testkit::serialize::{to_urdf, to_yaml};
+use dyngen_testkit::workspace_root;
 use proptest::test_runner::{Config, RngAlgorithm, RngSeed, TestRunner};
 use std::path::Path;
 use std::time::{Duration, Instant};
 
-fn root() -> &'static Path {
-    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
-}
-
-fn report(findings: &[fuzz::Finding]) -> String {
-    findings
-        .iter()
-        .take(5)
-        .map(|f| {
-            let shown: String = f.input.chars().take(400).collect();
-            format!(
-                "case seed {:#018x} ({:?}): {}\ninput (first 400 chars):\n{shown}\n",
-                f.seed, f.mutators, f.problem
-            )
-        })
-        .collect()
-}
-
 /// A few thousand mutants from a fixed seed: the same inputs in every run.
 #[test]
 fn fuzz_fast_slice() {
-    let corpus = corpus(root());
+    let corpus = corpus(workspace_root());
     for seed in &corpus {
         let loaded = check_input(&seed.text, seed.format, &seed.file).expect("no panic");
         // panda.urdf on its own has unlocked mimic fingers; robots/panda.yaml locks them.
@@ -55,93 +36,13 @@ fn fuzz_fast_slice() {
         findings.is_empty(),
         "{} of {cases} cases broke a rule:\n{}",
         findings.len(),
-        report(&findings)
+        fuzz::report(&findings)
     );
     assert_eq!(tally.cases, cases);
     // The mutants must exercise both outcomes, or the slice tests little.
     assert!(tally.accepted >= cases / 20, "{tally:?}");
     assert!(tally.rejected >= cases / 2, "{tally:?}");
     assert!(tally.generated >= 5, "{tally:?}");
-}
-
-/// The long run; parameters from the environment (set by `cargo xtask fuzz`).
-#[test]
-#[ignore = "long: run with `cargo xtask fuzz`"]
-fn fuzz_long() {
-    let env = |k: &str, d: u64| {
-        std::env::var(k)
-            .ok()
-            .and_then(|v| {
-                let v = v.trim();
-                match v.strip_prefix("0x") {
-                    Some(h) => u64::from_str_radix(h, 16).ok(),
-                    None => v.parse().ok(),
-                }
-            })
-            .unwrap_or(d)
-    };
-    let cases = env("DYNGEN_FUZZ_CASES", 1_000_000);
-    let seed = env("DYNGEN_FUZZ_SEED", 1);
-    let threads = env("DYNGEN_FUZZ_THREADS", 2) as usize;
-    let corpus = corpus(root());
-    if let Ok(replay) = std::env::var("DYNGEN_FUZZ_REPLAY") {
-        let s = u64::from_str_radix(replay.trim().trim_start_matches("0x"), 16).expect("hex case seed");
-        let input = fuzz::make_input(&corpus, s);
-        let dump = root().join(format!("target/fuzz-case-{s:016x}.txt"));
-        let _ = std::fs::write(&dump, &input.text);
-        eprintln!(
-            "replaying case seed {s:#018x}: {:?} as {:?} ({}), input in {}",
-            input.applied,
-            input.format,
-            input.file.display(),
-            dump.display()
-        );
-        match fuzz::run_case(&corpus, s) {
-            Ok(t) => eprintln!("ok: {t:?}"),
-            Err(f) => panic!("{}", report(&[f])),
-        }
-        return;
-    }
-    eprintln!("fuzz: {cases} cases, run seed {seed}, {threads} threads");
-    let start = Instant::now();
-    let progress = |done: u64| {
-        let secs = start.elapsed().as_secs_f64();
-        eprintln!(
-            "fuzz: {done}/{cases} cases, {secs:.0} s, {:.0} cases/s",
-            done as f64 / secs
-        );
-    };
-    let (tally, findings) = fuzz::run(
-        &corpus,
-        seed,
-        cases,
-        threads,
-        Duration::from_secs(30),
-        Some(&progress),
-    );
-    let secs = start.elapsed().as_secs_f64();
-    eprintln!(
-        "fuzz: done: {} cases in {secs:.1} s ({:.0} cases/s): {} accepted, {} rejected, {} generated, {} findings",
-        tally.cases,
-        tally.cases as f64 / secs,
-        tally.accepted,
-        tally.rejected,
-        tally.generated,
-        findings.len()
-    );
-    if !findings.is_empty() {
-        let dir = root().join("target/fuzz-findings");
-        let _ = std::fs::create_dir_all(&dir);
-        for f in &findings {
-            let _ = std::fs::write(dir.join(format!("{:016x}.txt", f.seed)), &f.input);
-        }
-        panic!(
-            "{} findings (inputs in {}):\n{}",
-            findings.len(),
-            dir.display(),
-            report(&findings)
-        );
-    }
 }
 
 /// Runs `f` on a thread with a 2 MiB stack (what a spawned thread gets by default; a build
@@ -293,7 +194,7 @@ fn deep_inputs_do_not_overflow_the_stack() {
 /// generated when accepted.
 #[test]
 fn fuzz_regressions() {
-    let dir = root().join("codegen/tests/data/fuzz");
+    let dir = workspace_root().join("codegen/tests/data/fuzz");
     let mut files: Vec<_> = std::fs::read_dir(&dir)
         .map(|d| d.map(|e| e.expect("entry").path()).collect())
         .unwrap_or_default();
@@ -344,17 +245,17 @@ fn runner(cases: u32) -> TestRunner {
 fn same_model(a: &Model, b: &Model) -> Result<(), String> {
     let close = |x: f64, y: f64| (x - y).abs() <= 1e-9 * (1.0 + x.abs().max(y.abs()));
     let close_all = |x: &[f64], y: &[f64]| x.len() == y.len() && x.iter().zip(y).all(|(x, y)| close(*x, *y));
-    if a.dof() != b.dof() || !close_all(a.gravity.as_slice(), b.gravity.as_slice()) {
+    if a.dof() != b.dof() || !close_all(a.gravity().as_slice(), b.gravity().as_slice()) {
         return Err("dof or gravity".into());
     }
-    for (i, ja) in a.joints.iter().enumerate() {
+    for (i, ja) in a.joints().iter().enumerate() {
         let k = b
-            .joints
+            .joints()
             .iter()
             .position(|j| j.name == ja.name)
             .ok_or(format!("joint {} lost", ja.name))?;
-        let jb = &b.joints[k];
-        let parent = |m: &Model, p: Option<usize>| p.map(|p| m.joints[p].name.clone());
+        let jb = &b.joints()[k];
+        let parent = |m: &Model, p: Option<usize>| p.map(|p| m.joints()[p].name.clone());
         let ok = parent(a, ja.parent) == parent(b, jb.parent)
             && ja.kind == jb.kind
             && ja.limits == jb.limits
@@ -362,15 +263,15 @@ fn same_model(a: &Model, b: &Model) -> Result<(), String> {
             && close_all(ja.origin.rotation.as_slice(), jb.origin.rotation.as_slice())
             && close_all(ja.origin.translation.as_slice(), jb.origin.translation.as_slice())
             && close_all(
-                &a.bodies[i].inertia.parameters(),
-                &b.bodies[k].inertia.parameters(),
+                &a.bodies()[i].inertia.parameters(),
+                &b.bodies()[k].inertia.parameters(),
             );
         if !ok {
             return Err(format!("joint {} or its body differs", ja.name));
         }
     }
-    let (ea, eb) = (&a.end_effector, &b.end_effector);
-    if a.joints[ea.parent].name != b.joints[eb.parent].name
+    let (ea, eb) = (&a.end_effector(), &b.end_effector());
+    if a.joints()[ea.parent].name != b.joints()[eb.parent].name
         || !close_all(ea.placement.rotation.as_slice(), eb.placement.rotation.as_slice())
         || !close_all(
             ea.placement.translation.as_slice(),
@@ -396,8 +297,8 @@ fn random_trees_round_trip_through_yaml_and_urdf() {
             .map_err(|e| proptest::test_runner::TestCaseError::fail(format!("YAML: {e}\n{yaml}")))?;
         let urdf = to_urdf(&model);
         let options = UrdfOptions {
-            end_effector: Some(EndEffectorSpec::link(model.end_effector.name.clone())),
-            gravity: Some(model.gravity.into()),
+            end_effector: Some(EndEffectorSpec::link(model.end_effector().name.clone())),
+            gravity: Some(model.gravity().into()),
             ..UrdfOptions::default()
         };
         let from_urdf = load_urdf_str(&urdf, Path::new("tree.urdf"), &options)

@@ -3,7 +3,7 @@
 //! `Y θ`, the symbolic graph against the numeric dynamics, the base parameters with joint
 //! terms on the reference arms and random trees, and the descriptions that choose them.
 
-mod common;
+use dyngen_testkit as common;
 
 use common::random_model::{arb_model_and_state, deterministic_runner, random_state, SplitMix64};
 use dyngen_codegen::base_parameters::{numerical_rank, stacked_regressor, BaseParameterSet, SVD_RANK_TOL};
@@ -22,9 +22,9 @@ fn robot(name: &str) -> Model {
 }
 
 /// `model` with every kind of joint term and random (physical) values.
-fn with_joint_terms(mut model: Model, smoothing: Option<f64>, seed: u64) -> Model {
+fn with_joint_terms(model: Model, smoothing: Option<f64>, seed: u64) -> Model {
     let mut rng = SplitMix64::new(seed);
-    model.joint_terms = JointTerms {
+    let terms = JointTerms {
         kinds: JointTermKind::ALL.to_vec(),
         coulomb_smoothing: smoothing,
         values: (0..model.dof())
@@ -36,15 +36,15 @@ fn with_joint_terms(mut model: Model, smoothing: Option<f64>, seed: u64) -> Mode
             })
             .collect(),
     };
-    model
+    model.with_joint_terms(terms).expect("physical values")
 }
 
 /// The same model without joint terms.
 fn rigid(model: &Model) -> Model {
-    Model {
-        joint_terms: JointTerms::default(),
-        ..model.clone()
-    }
+    model
+        .clone()
+        .with_joint_terms(JointTerms::default())
+        .expect("valid")
 }
 
 fn sign(x: f64) -> f64 {
@@ -98,7 +98,7 @@ fn joint_columns_match_their_formulas() {
                 let tau = &y * &theta;
                 let tau_rigid = rigid_dynamics.slotine_li(&s.q, &s.qd, &s.v, &s.a, true);
                 for j in 0..n {
-                    let v = model.joint_terms.value(j);
+                    let v = model.joint_terms().value(j);
                     let sigma = match smoothing {
                         None => sign(s.qd[j]),
                         Some(eps) => (s.qd[j] / eps).tanh(),
@@ -154,7 +154,7 @@ fn torques_and_mass_matrix_include_joint_terms() {
         );
         let d_rigid = rigid_dynamics.mass_matrix(&s.q);
         for j in 0..n {
-            let armature = model.joint_terms.value(j).armature;
+            let armature = model.joint_terms().value(j).armature;
             assert!((d[(j, j)] - d_rigid[(j, j)] - armature).abs() <= 1e-12 * d.amax());
         }
         // ∂(Yθ)/∂v_k = C e_k + fv_k e_k.
@@ -167,7 +167,7 @@ fn torques_and_mass_matrix_include_joint_terms() {
                 - dynamics.slotine_li(&s.q, &s.qd, &down, &s.a, true))
                 / (2.0 * h);
             let mut want = c.column(k).into_owned();
-            want[k] += model.joint_terms.value(k).viscous;
+            want[k] += model.joint_terms().value(k).viscous;
             assert!(
                 (col - want).amax() <= 1e-8 * (1.0 + c.amax()),
                 "∂/∂v of joint {k}"
@@ -230,7 +230,7 @@ fn check_base_parameters(model: &Model) -> BaseParameterSet {
         base.count(),
         numerical_rank(&stacked, SVD_RANK_TOL),
         "{}: rank",
-        model.name
+        model.name()
     );
     let dynamics = NumericDynamics::new(model);
     let theta = model.parameters();
@@ -244,7 +244,7 @@ fn check_base_parameters(model: &Model) -> BaseParameterSet {
         assert!(
             (&full - &reduced).amax() <= 1e-9 * (1.0 + full.amax()),
             "{}: Y_b θ_b = Y θ",
-            model.name
+            model.name()
         );
     }
     base
@@ -359,7 +359,7 @@ fn yaml_chooses_columns_and_values() {
     let model = load_yaml_str(TWO_JOINTS, Path::new("two.yaml"))
         .expect("loads")
         .model;
-    let t = &model.joint_terms;
+    let t = &model.joint_terms();
     assert_eq!(
         t.kinds,
         JointTermKind::ALL.to_vec(),
@@ -427,7 +427,7 @@ fn urdf_dynamics_tags_map_to_viscous_and_coulomb_friction() {
     std::fs::remove_dir_all(&dir).ok();
     let text = std::fs::read_to_string(&urdf).expect("panda.urdf");
     let doc = roxmltree::Document::parse(&text).expect("xml");
-    for (j, joint) in model.joints.iter().enumerate() {
+    for (j, joint) in model.joints().iter().enumerate() {
         let node = doc
             .descendants()
             .find(|n| n.has_tag_name("joint") && n.attribute("name") == Some(joint.name.as_str()))
@@ -438,7 +438,7 @@ fn urdf_dynamics_tags_map_to_viscous_and_coulomb_friction() {
                 .and_then(|d| d.attribute(a))
                 .map_or(0.0, |v| v.parse().expect("number"))
         };
-        let v = model.joint_terms.value(j);
+        let v = model.joint_terms().value(j);
         if joint.name == "panda_joint7" {
             assert_eq!((v.armature, v.viscous), (0.05, 0.5), "the wrapper overrides");
         } else {
@@ -457,7 +457,7 @@ fn urdf_dynamics_tags_map_to_viscous_and_coulomb_friction() {
             joint.name
         );
     }
-    assert_eq!(model.joint_terms.per_joint(), 3);
+    assert_eq!(model.joint_terms().per_joint(), 3);
 }
 
 fn error_of(text: &str) -> String {

@@ -1,6 +1,6 @@
 //! Generic dynamics against reference values computed by an independent library (Pinocchio 4.1).
 
-mod common;
+use dyngen_testkit as common;
 
 use common::{assert_close, column, fixture};
 use dyngen_codegen::dynamics::NumericDynamics;

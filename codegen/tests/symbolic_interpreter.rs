@@ -1,7 +1,7 @@
 //! The symbolic graph, evaluated by the interpreter, against the generic f64 dynamics: the
 //! simplifier may reorder and fold, but never change a value.
 
-mod common;
+use dyngen_testkit as common;
 
 use common::random_model::{arb_model_and_state, deterministic_runner};
 use common::{assert_close, fixture};
@@ -55,7 +55,7 @@ fn check_state(model: &Model, robot: &SymbolicRobot, q: &[f64], qd: &[f64], v: &
     ];
     for (name, want) in expected {
         assert_close(
-            &format!("{} {name}", model.name),
+            &format!("{} {name}", model.name()),
             &interpreted(robot, name, q, qd, v, a),
             &want,
             TOL,

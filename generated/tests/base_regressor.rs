@@ -2,8 +2,7 @@
 //! description's θ and random θ, `Y_b` is the generator's kept columns of `Y`, and `θ_b`, the
 //! names and the count agree with the generator.
 
-#[path = "../../codegen/tests/common/mod.rs"]
-mod common;
+use dyngen_testkit as common;
 
 use common::random_model::{random_state, SplitMix64};
 use common::{assert_close, column};

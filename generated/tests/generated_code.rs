@@ -1,8 +1,7 @@
 //! Compiled generated code against the generic f64 dynamics of the same description (1000
 //! random states per robot) and against Pinocchio's reference values.
 
-#[path = "../../codegen/tests/common/mod.rs"]
-mod common;
+use dyngen_testkit as common;
 
 use common::random_model::random_state;
 use common::{assert_close, column, fixture};
@@ -110,7 +109,7 @@ fn against_generic<R: RobotDynamics<N, P>, const N: usize, const P: usize>(robot
     let model = model(robot);
     assert_eq!(
         R::JOINT_NAMES.to_vec(),
-        model.joints.iter().map(|j| j.name.as_str()).collect::<Vec<_>>()
+        model.joints().iter().map(|j| j.name.as_str()).collect::<Vec<_>>()
     );
     assert_eq!(
         R::parameters().as_slice(),

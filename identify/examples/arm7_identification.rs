@@ -86,7 +86,7 @@ fn main() {
         None,
     );
     let noise: Vec<f64> = truth
-        .joints
+        .joints()
         .iter()
         .map(|j| 0.01 * j.limits.map_or(1.0, |l| l.effort))
         .collect();
@@ -175,14 +175,17 @@ fn main() {
         rms_consistent[j] = rms(err_c[j].iter().copied()) / noise[j];
         println!(
             "  {}: σ = {:.2} N·m; least squares {:.3} σ, consistent {:.3} σ",
-            nominal.joints[j].name, noise[j], rms_ls[j], rms_consistent[j]
+            nominal.joints()[j].name,
+            noise[j],
+            rms_ls[j],
+            rms_consistent[j]
         );
         floors_met &= rms_ls[j] <= 1.2 && rms_consistent[j] <= 1.2;
     }
     let plotted = (5.0 * RATE) as usize;
     let panels: Vec<Panel> = (0..7)
         .map(|j| Panel {
-            title: format!("{} torque (N·m)", nominal.joints[j].name),
+            title: format!("{} torque (N·m)", nominal.joints()[j].name),
             series: vec![
                 (
                     "measured",

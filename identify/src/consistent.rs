@@ -153,7 +153,7 @@ impl Layout<'_> {
             theta.extend(parameters_of(&(u * u.transpose())));
         }
         for j in 0..n {
-            for &kind in &self.model.joint_terms.kinds {
+            for &kind in &self.model.joint_terms().kinds {
                 let i = self
                     .model
                     .joint_term_index(j, kind)
@@ -177,7 +177,7 @@ impl Layout<'_> {
             phi.extend(log_cholesky(&(j + Matrix4::identity() * floor)));
         }
         for j in 0..n {
-            for &kind in &self.model.joint_terms.kinds {
+            for &kind in &self.model.joint_terms().kinds {
                 let i = self
                     .model
                     .joint_term_index(j, kind)

@@ -56,7 +56,7 @@ const KINDS: [(&str, Kind); 4] = [
 
 fn joint_list(model: &Model) -> String {
     model
-        .joints
+        .joints()
         .iter()
         .map(|j| j.name.as_str())
         .collect::<Vec<_>>()
@@ -106,7 +106,7 @@ pub fn parse_csv(text: &str, model: &Model, require_torque: bool) -> Result<Samp
                         .into(),
                 ));
             };
-            let Some(joint) = model.joints.iter().position(|j| j.name == joint_name) else {
+            let Some(joint) = model.joints().iter().position(|j| j.name == joint_name) else {
                 return Err(err(format!(
                     "unknown joint '{joint_name}' (the robot's moving joints: {})",
                     joint_list(model)
@@ -131,7 +131,8 @@ pub fn parse_csv(text: &str, model: &Model, require_torque: bool) -> Result<Samp
         if let Some(j) = (0..n).find(|&j| !has(kind, j)) {
             let msg = format!(
                 "missing column '{label}[{}]' for joint '{}' ({why})",
-                model.joints[j].name, model.joints[j].name
+                model.joints()[j].name,
+                model.joints()[j].name
             );
             return Err(IdentifyError::new(msg).at_line(header_line));
         }
@@ -142,7 +143,7 @@ pub fn parse_csv(text: &str, model: &Model, require_torque: bool) -> Result<Samp
             let j = (0..n).find(|&j| !has(kind, j)).unwrap_or(0);
             let msg = format!(
                 "missing column '{label}[{}]' for joint '{}': {label} is given for some joints, so it must be given for all",
-                model.joints[j].name, model.joints[j].name
+                model.joints()[j].name, model.joints()[j].name
             );
             return Err(IdentifyError::new(msg).at_line(header_line));
         }
@@ -192,7 +193,7 @@ pub fn parse_csv(text: &str, model: &Model, require_torque: bool) -> Result<Samp
                 return Err(IdentifyError::new(msg).at_line(line).at_column(c + 1, "time"));
             }
         }
-        for (j, joint) in model.joints.iter().enumerate() {
+        for (j, joint) in model.joints().iter().enumerate() {
             let Some(l) = joint.limits else { continue };
             let err = |kind: Kind, label: &str, msg: String| {
                 let c = place[&(kind as u8, j)];
@@ -239,7 +240,7 @@ pub fn parse_csv(text: &str, model: &Model, require_torque: bool) -> Result<Samp
 /// The CSV text of `samples` (columns `time`, `q[..]`, then `qd`, `qdd`, `tau` when present).
 /// Numbers are written in Rust's shortest round-trip form, so reading gives the same values.
 pub fn to_csv(model: &Model, samples: &Samples) -> String {
-    let names: Vec<&str> = model.joints.iter().map(|j| j.name.as_str()).collect();
+    let names: Vec<&str> = model.joints().iter().map(|j| j.name.as_str()).collect();
     let mut out = String::from("time");
     let blocks: Vec<(&str, &Vec<Vec<f64>>)> = [
         ("q", Some(&samples.q)),

@@ -8,33 +8,43 @@
 //! of mass in the body frame's axes. Numbers are written in Rust's shortest round-trip form, so
 //! loading the file gives back the same parameters to rounding of the inertia shift.
 
-use dyngen_codegen::model::{Inertia, JointKind, Model, Pose, PARAMS_PER_BODY};
+use dyngen_codegen::model::{Body, Inertia, JointKind, JointTerms, Model, ModelError, Pose, PARAMS_PER_BODY};
 use nalgebra::{Matrix3, Vector3};
 use std::fmt::Write as _;
 
-/// `model` with parameters θ (as [`Model::parameters`]): bodies and joint-level values.
-pub fn with_parameters(model: &Model, theta: &[f64]) -> Model {
-    let mut out = model.clone();
-    for (b, body) in out.bodies.iter_mut().enumerate() {
-        let p = &theta[PARAMS_PER_BODY * b..PARAMS_PER_BODY * (b + 1)];
-        let m = p[0];
-        let c = if m > 0.0 {
-            Vector3::new(p[1], p[2], p[3]) / m
-        } else {
-            Vector3::zeros()
-        };
-        let origin = Matrix3::new(p[4], p[5], p[7], p[5], p[6], p[8], p[7], p[8], p[9]);
-        let shift = (Matrix3::identity() * c.dot(&c) - c * c.transpose()) * m;
-        let mut inertia_com = origin - shift;
-        inertia_com = (inertia_com + inertia_com.transpose()) * 0.5;
-        body.inertia = Inertia {
-            mass: m,
-            com: c,
-            inertia_com,
-        };
-    }
-    out.joint_terms.values = model.joint_term_values_from(theta);
-    out
+/// `model` with parameters θ (as [`Model::parameters`]): bodies and joint-level values; an
+/// error when θ is not a physically valid robot.
+pub fn with_parameters(model: &Model, theta: &[f64]) -> Result<Model, ModelError> {
+    let bodies = model
+        .bodies()
+        .iter()
+        .enumerate()
+        .map(|(b, body)| {
+            let p = &theta[PARAMS_PER_BODY * b..PARAMS_PER_BODY * (b + 1)];
+            let m = p[0];
+            let c = if m > 0.0 {
+                Vector3::new(p[1], p[2], p[3]) / m
+            } else {
+                Vector3::zeros()
+            };
+            let origin = Matrix3::new(p[4], p[5], p[7], p[5], p[6], p[8], p[7], p[8], p[9]);
+            let shift = (Matrix3::identity() * c.dot(&c) - c * c.transpose()) * m;
+            let inertia_com = origin - shift;
+            Body {
+                name: body.name.clone(),
+                inertia: Inertia {
+                    mass: m,
+                    com: c,
+                    inertia_com: (inertia_com + inertia_com.transpose()) * 0.5,
+                },
+            }
+        })
+        .collect();
+    let terms = JointTerms {
+        values: model.joint_term_values_from(theta),
+        ..model.joint_terms().clone()
+    };
+    model.clone().with_bodies(bodies)?.with_joint_terms(terms)
 }
 
 /// Roll, pitch, yaw of a rotation `R = Rz(yaw) Ry(pitch) Rx(roll)` (URDF's convention).
@@ -64,7 +74,7 @@ fn origin(p: &Pose) -> String {
 /// A name for the fixed base link that no body uses.
 fn base_link_name(model: &Model) -> String {
     let mut name = "base_link".to_string();
-    while model.bodies.iter().any(|b| b.name == name) {
+    while model.bodies().iter().any(|b| b.name == name) {
         name.push('_');
     }
     name
@@ -76,19 +86,19 @@ pub fn to_yaml(model: &Model, comment: &[String]) -> String {
     for line in comment {
         let _ = writeln!(y, "# {line}");
     }
-    let g = model.gravity;
-    let _ = writeln!(y, "name: {}", model.name);
+    let g = model.gravity();
+    let _ = writeln!(y, "name: {}", model.name());
     let _ = writeln!(y, "gravity: {}", triple([g.x, g.y, g.z]));
-    let ee = &model.end_effector;
+    let ee = &model.end_effector();
     let _ = writeln!(
         y,
         "end_effector: {{ name: {}, link: {}, xyz: {}, rpy: {} }}",
         ee.name,
-        model.bodies[ee.parent].name,
+        model.bodies()[ee.parent].name,
         triple(ee.placement.translation.into()),
         triple(rpy(&ee.placement.rotation))
     );
-    let terms = &model.joint_terms;
+    let terms = &model.joint_terms();
     if !terms.kinds.is_empty() {
         let kinds: Vec<&str> = terms.kinds.iter().map(|k| k.keyword()).collect();
         let _ = writeln!(y, "joint_parameters:\n  columns: [{}]", kinds.join(", "));
@@ -98,7 +108,7 @@ pub fn to_yaml(model: &Model, comment: &[String]) -> String {
     }
     let base = base_link_name(model);
     let _ = writeln!(y, "links:\n  - name: {base}");
-    for body in &model.bodies {
+    for body in model.bodies() {
         let i = &body.inertia;
         let t = &i.inertia_com;
         let _ = writeln!(
@@ -116,10 +126,10 @@ pub fn to_yaml(model: &Model, comment: &[String]) -> String {
         );
     }
     let _ = writeln!(y, "joints:");
-    for (j, joint) in model.joints.iter().enumerate() {
+    for (j, joint) in model.joints().iter().enumerate() {
         let parent = joint
             .parent
-            .map_or(base.as_str(), |p| model.bodies[p].name.as_str());
+            .map_or(base.as_str(), |p| model.bodies()[p].name.as_str());
         let kind = match (joint.kind, joint.limits) {
             (JointKind::Revolute, Some(_)) => "revolute",
             (JointKind::Revolute, None) => "continuous",
@@ -129,7 +139,7 @@ pub fn to_yaml(model: &Model, comment: &[String]) -> String {
             y,
             "  - name: {}\n    type: {kind}\n    parent: {parent}\n    child: {}\n    origin: {}\n    axis: {}",
             joint.name,
-            model.bodies[j].name,
+            model.bodies()[j].name,
             origin(&joint.origin),
             triple(joint.axis.into())
         );

@@ -49,7 +49,7 @@ impl TrajectoryLimits {
             velocity: Vec::new(),
             acceleration: Vec::new(),
         };
-        for joint in &model.joints {
+        for joint in model.joints() {
             let (position, velocity) = match (joint.limits, joint.kind) {
                 (Some(l), _) if l.velocity > 0.0 => ((l.lower, l.upper), l.velocity),
                 (Some(l), _) => ((l.lower, l.upper), UNLIMITED_VELOCITY),

@@ -76,14 +76,19 @@ pub fn identify_with(
         return Err(IdentifyError::new(format!(
             "the compiled robot's base parameters are not those of the description '{}' \
              (regenerate it, or identify with the description alone)",
-            model.name
+            model.name()
         )));
     }
     let prepared = prepare(samples, options.cutoff)?;
     let (w, tau) = prepared.stack(source);
     let base = estimate(&w, &tau, model.dof(), &base_model.base.names)?;
     let consistent = consistent_estimate(model, &base_model.base, &base);
-    let identified = with_parameters(model, &consistent.theta);
+    // Consistent by construction; an error here would be a bug, said as one.
+    let identified = with_parameters(model, &consistent.theta).map_err(|e| {
+        IdentifyError::new(format!(
+            "internal error: the consistent estimate is not a valid model: {e}"
+        ))
+    })?;
     Ok(Identification {
         base,
         consistent,

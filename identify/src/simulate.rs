@@ -12,28 +12,32 @@ use nalgebra::{Matrix3, Vector3};
 /// `model` with a point-like payload of `mass` kg (a solid sphere of radius `radius`) at
 /// `offset` in the end-effector frame, welded to the body that carries the end-effector.
 pub fn with_payload(model: &Model, mass: f64, offset: Vector3<f64>, radius: f64) -> Model {
-    let mut out = model.clone();
-    let ee = &model.end_effector;
+    let ee = model.end_effector();
     let payload = Inertia {
         mass,
         com: offset,
         inertia_com: Matrix3::identity() * (0.4 * mass * radius * radius),
     }
     .transformed(&ee.placement);
-    let body = &mut out.bodies[ee.parent].inertia;
-    *body = body.merged(&payload);
-    out
+    let mut bodies = model.bodies().to_vec();
+    bodies[ee.parent].inertia = bodies[ee.parent].inertia.merged(&payload);
+    model
+        .clone()
+        .with_bodies(bodies)
+        .expect("a payload keeps a model valid")
 }
 
 /// `model` with every joint-level column and the given values per joint.
 pub fn with_joint_terms(model: &Model, values: &[JointTermValues], coulomb_smoothing: Option<f64>) -> Model {
-    let mut out = model.clone();
-    out.joint_terms = JointTerms {
+    let terms = JointTerms {
         kinds: JointTermKind::ALL.to_vec(),
         coulomb_smoothing,
         values: values.to_vec(),
     };
-    out
+    model
+        .clone()
+        .with_joint_terms(terms)
+        .expect("physical joint values")
 }
 
 /// Samples of `truth` along `trajectory`: `duration` s at `rate` Hz, exact positions,

@@ -88,7 +88,7 @@ fn consistent_estimate_satisfies_constraints_and_its_yaml_regenerates() {
             "parameter {i}: {a} vs {b}"
         );
     }
-    assert_eq!(loaded.model.joints.len(), 7);
+    assert_eq!(loaded.model.joints().len(), 7);
     let dir = std::env::temp_dir().join(format!("dyngen-identified-{}", std::process::id()));
     std::fs::create_dir_all(&dir).expect("temp dir");
     let path = dir.join("arm7_identified.yaml");

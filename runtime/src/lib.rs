@@ -9,13 +9,15 @@
 //! depends on the generator or the controller; generated code depends only on this crate and
 //! `nalgebra`.
 
-#![no_std]
+// Unit tests run with the standard test harness.
+#![cfg_attr(not(test), no_std)]
 
 mod joint;
 mod parameter;
 mod parameterization;
 mod random;
 mod robot;
+mod trig;
 
 pub use joint::{JointLimits, JointTrig};
 pub use libm;

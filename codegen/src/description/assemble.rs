@@ -130,14 +130,14 @@ pub(crate) fn assemble(
     };
     let joint_terms =
         joint_parameters::joint_terms(settings.joint_parameters.as_ref(), settings, &joints, &sources)?;
-    Ok(Model {
-        joint_terms,
-        name,
-        joints,
-        bodies,
-        gravity: Vector3::from(gravity),
-        end_effector,
-    })
+    Model::new(name, joints, bodies, Vector3::from(gravity), end_effector)
+        .and_then(|m| m.with_joint_terms(joint_terms))
+        .map_err(|e| {
+            DescriptionError::new(
+                &c.robot_map.file,
+                format!("internal error: the model breaks an invariant: {e}"),
+            )
+        })
 }
 
 /// The pose a joint adds at position `q`: rotation about, or translation along, its axis.
@@ -211,6 +211,14 @@ fn check_mimics(
         let Some(m) = &joint.mimic else { continue };
         let path = format!("{}.mimic", joint_path(j));
         let label = item("joint", &joint.name);
+        if c.joints[j].motion == Motion::Fixed {
+            // Common in URDFs expanded from xacro macros; a fixed joint has nothing to follow.
+            let msg = format!("<mimic> of '{}' on a fixed joint is ignored", m.joint);
+            diags
+                .warnings
+                .push(c.robot_map.diagnostic(&path, Some(&label), &msg));
+            continue;
+        }
         let Some(&target) = c.topo.joint_by_name.get(&m.joint) else {
             let msg = format!("mimics joint '{}', which is not defined", m.joint);
             return Err(c.robot_map.error(&path, msg).about(label));

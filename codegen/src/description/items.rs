@@ -5,6 +5,7 @@
 //! possible inertia. The tree rules (names, parents, cycles) are in `tree`.
 
 use super::error::{item, num, vec3, DescriptionError};
+use super::near_exact::{Finding, Snap};
 use super::raw::{RawInertial, RawJoint, RawLink};
 use super::source_map::{joint_path, link_path, SourceMap};
 use super::Diagnostics;
@@ -38,19 +39,33 @@ const KNOWN_TYPES: &str = "revolute, continuous, prismatic or fixed";
 pub(crate) fn check_joints(
     joints: &[RawJoint],
     map: &SourceMap,
+    snap: Snap,
     diags: &mut Diagnostics,
 ) -> Result<Vec<JointShape>, DescriptionError> {
     joints
         .iter()
         .enumerate()
-        .map(|(i, j)| check_joint(i, j, map, diags))
+        .map(|(i, j)| check_joint(i, j, map, snap, diags))
         .collect()
+}
+
+/// Near-exact values go to the warnings when left as written, to the notes when snapped.
+fn report(findings: Vec<Finding>, map: &SourceMap, at: &str, label: &str, diags: &mut Diagnostics) {
+    for f in findings {
+        let line = map.diagnostic(at, Some(label), &f.message);
+        if f.snapped {
+            diags.notes.push(line);
+        } else {
+            diags.warnings.push(line);
+        }
+    }
 }
 
 fn check_joint(
     i: usize,
     j: &RawJoint,
     map: &SourceMap,
+    snap: Snap,
     diags: &mut Diagnostics,
 ) -> Result<JointShape, DescriptionError> {
     let path = joint_path(i);
@@ -84,7 +99,9 @@ fn check_joint(
     if let Some(msg) = too_large(&j.xyz, "origin xyz") {
         return Err(err(".origin", msg));
     }
-    let origin = from_xyz_rpy(j.xyz, j.rpy);
+    let (rpy, near) = snap.rpy("origin", j.rpy);
+    report(near, map, &format!("{path}.origin"), &label, diags);
+    let origin = from_xyz_rpy(j.xyz, rpy);
     let warn = |diags: &mut Diagnostics, field: &str, msg: String| {
         diags
             .warnings
@@ -100,17 +117,20 @@ fn check_joint(
         if !finite(&j.axis) {
             return Err(err(".axis", format!("axis {} is not finite", vec3(&j.axis))));
         }
-        // Huge components would overflow the plain norm: then scale first.
+        // Scaled first: huge components overflow the plain norm and tiny ones underflow it
+        // (its squares vanish), and either gives an axis that is not a unit vector.
         let a = Vector3::from(j.axis);
         let scale = a.amax();
         if scale == 0.0 {
             return Err(err(".axis", format!("axis {} has zero length", vec3(&j.axis))));
         }
-        let norm = match a.norm() {
-            n if n.is_finite() => n,
-            _ => scale * (a / scale).norm(),
+        let (unit, norm) = if (1e-150..1e150).contains(&scale) {
+            // Plain: bit-for-bit what an axis already given as a unit vector stays.
+            (a / a.norm(), a.norm())
+        } else {
+            let scaled = a / scale;
+            (scaled / scaled.norm(), scale * scaled.norm())
         };
-        let unit = a / norm;
         if (norm - 1.0).abs() > 1e-6 {
             let shown = vec3(&[unit.x, unit.y, unit.z]);
             let msg = format!("axis {} is not a unit vector: using {shown}", vec3(&j.axis));
@@ -118,7 +138,9 @@ fn check_joint(
                 .notes
                 .push(map.diagnostic(&format!("{path}.axis"), Some(&label), &msg));
         }
-        unit
+        let (unit, near) = snap.axis([unit.x, unit.y, unit.z]);
+        report(near, map, &format!("{path}.axis"), &label, diags);
+        Vector3::from(unit)
     };
 
     if let Some(m) = &j.mimic {
@@ -202,6 +224,7 @@ fn check_joint(
 pub(crate) fn check_links(
     links: &[RawLink],
     map: &SourceMap,
+    snap: Snap,
     diags: &mut Diagnostics,
 ) -> Result<Vec<Inertia>, DescriptionError> {
     links
@@ -213,7 +236,7 @@ pub(crate) fn check_links(
                 com: Vector3::zeros(),
                 inertia_com: Matrix3::zeros(),
             }),
-            Some(inertial) => check_inertial(i, &l.name, inertial, map, diags),
+            Some(inertial) => check_inertial(i, &l.name, inertial, map, snap, diags),
         })
         .collect()
 }
@@ -223,6 +246,7 @@ fn check_inertial(
     name: &str,
     inertial: &RawInertial,
     map: &SourceMap,
+    snap: Snap,
     diags: &mut Diagnostics,
 ) -> Result<Inertia, DescriptionError> {
     let path = format!("{}.inertial", link_path(i));
@@ -326,6 +350,8 @@ fn check_inertial(
     }
 
     // The tensor is given in the inertial frame; the model wants link-frame axes.
+    let (rpy, near) = snap.rpy("inertial origin", rpy);
+    report(near, map, &path, &label, diags);
     let rotation = from_xyz_rpy(xyz, rpy).rotation;
     Ok(Inertia {
         mass,

@@ -7,7 +7,7 @@
 //! 3. `tree`: names resolved, one root, no cycles, depth-first joint order;
 //! 4. `assemble`: fixed and locked joints welded away, inertias merged, frames placed,
 //!    end-effector chosen;
-//! 5. [`Model::validate`] re-checks the invariants every algorithm relies on.
+//! 5. [`Model::new`] checks the invariants every algorithm relies on.
 //!
 //! Nothing here panics on user input, and nothing is silently dropped or guessed: what
 //! cannot be modelled exactly (floating joints, unlocked mimic joints) is an error.
@@ -16,6 +16,7 @@ mod assemble;
 mod error;
 mod items;
 mod joint_parameters;
+mod near_exact;
 mod options;
 mod raw;
 mod source_map;
@@ -62,6 +63,12 @@ pub fn load(path: &Path) -> Result<Loaded, DescriptionError> {
     let is_yaml = match ext.as_deref() {
         Some("yaml" | "yml") => true,
         Some("urdf" | "xml") => false,
+        Some("xacro") => {
+            return Err(DescriptionError::new(
+                path,
+                "a xacro file: expand it first (`xacro robot.urdf.xacro > robot.urdf`) and load the URDF",
+            ))
+        }
         _ => {
             return Err(DescriptionError::new(
                 path,
@@ -100,6 +107,7 @@ pub fn load_urdf_str(text: &str, file: &Path, options: &UrdfOptions) -> Result<L
         end_effector: options.end_effector.clone(),
         locked_joints: options.locked_joints.clone(),
         joint_parameters: None,
+        snap_angles: options.snap_angles,
         map: &map,
     };
     build(&robot, &map, &settings, Vec::new())
@@ -125,8 +133,9 @@ fn build(
     sources: Vec<PathBuf>,
 ) -> Result<Loaded, DescriptionError> {
     let mut diags = Diagnostics::default();
-    let links = items::check_links(&robot.links, robot_map, &mut diags)?;
-    let joints = items::check_joints(&robot.joints, robot_map, &mut diags)?;
+    let snap = settings.snap()?;
+    let links = items::check_links(&robot.links, robot_map, snap, &mut diags)?;
+    let joints = items::check_joints(&robot.joints, robot_map, snap, &mut diags)?;
     let topo = tree::topology(robot, robot_map)?;
     let checked = assemble::Checked {
         raw: robot,
@@ -137,13 +146,7 @@ fn build(
     };
     let model = assemble::assemble(&checked, settings, &mut diags)?;
 
-    let model_warnings = model.validate().map_err(|e| {
-        DescriptionError::new(
-            &robot_map.file,
-            format!("internal error: the model breaks an invariant: {e}"),
-        )
-    })?;
-    for w in model_warnings {
+    for w in model.warnings() {
         let body = match &w {
             crate::model::Warning::MasslessLeaf { body, .. }
             | crate::model::Warning::MasslessBody { body, .. } => body,

@@ -31,6 +31,7 @@
 //! end_effector: panda_hand_tcp
 //! locked_joints: { panda_finger_joint1: 0.0, panda_finger_joint2: 0.0 }
 //! gravity: [0.0, 0.0, -9.81]
+//! snap_angles: 1e-4                     # optional: 1.5708 → π/2 (each change noted)
 //! ```
 //!
 //! Both forms may add `joint_parameters:` (armature, friction, offset columns and values; see
@@ -68,6 +69,10 @@ pub(crate) struct RobotFile {
     /// The position must lie within the joint limits. Mimic joints must be locked.
     #[serde(default)]
     locked_joints: LockedJoints,
+    /// Origin angles within this many radians of a quarter turn become exact quarter turns,
+    /// and axis components this close to 0 become 0 (at most 1e-3; each change is noted).
+    /// Default: kept as written, with a warning.
+    snap_angles: Option<f64>,
     /// Joint-level parameters (armature, friction, offset): which regressor columns, and
     /// per-joint values (`joint_parameters` module docs). Absent: none.
     joint_parameters: Option<JointParametersSpec>,
@@ -190,6 +195,7 @@ pub(crate) struct Parsed {
     pub gravity: Option<[f64; 3]>,
     pub end_effector: Option<EndEffectorSpec>,
     pub locked_joints: Vec<(String, f64)>,
+    pub snap_angles: Option<f64>,
     pub joint_parameters: Option<JointParametersSpec>,
     /// Files read to get here (the URDF of form b).
     pub read: Vec<PathBuf>,
@@ -202,6 +208,7 @@ impl Parsed {
             gravity: self.gravity,
             end_effector: self.end_effector.clone(),
             locked_joints: self.locked_joints.clone(),
+            snap_angles: self.snap_angles,
             joint_parameters: self.joint_parameters.clone(),
             map: &self.yaml_map,
         }
@@ -219,6 +226,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         gravity,
         end_effector,
         locked_joints,
+        snap_angles,
         joint_parameters,
         links,
         joints,
@@ -231,6 +239,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         gravity,
         end_effector,
         locked_joints: locked_joints.0,
+        snap_angles,
         joint_parameters,
         read: Vec::new(),
     };

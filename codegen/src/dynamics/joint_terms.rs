@@ -11,7 +11,7 @@ use nalgebra::DMatrix;
 
 /// `σ(q̇)` of Coulomb friction: `sign(q̇)`, or `tanh(q̇/ε)` with the model's smoothing `ε`.
 pub fn coulomb_shape<S: Scalar>(model: &Model, qd: S) -> S {
-    match model.joint_terms.coulomb_smoothing {
+    match model.joint_terms().coulomb_smoothing {
         None => qd.sign(),
         Some(eps) => (qd * S::from_f64(1.0 / eps)).tanh(),
     }
@@ -31,7 +31,7 @@ fn column_entry<S: Scalar>(model: &Model, kind: JointTermKind, j: usize, qd: &[S
 /// `10n + j·k + pos` is non-zero in row `j` only.
 pub fn fill_joint_term_columns<S: Scalar>(model: &Model, y: &mut DMatrix<S>, qd: &[S], v: &[S], a: &[S]) {
     for j in 0..model.dof() {
-        for &kind in &model.joint_terms.kinds {
+        for &kind in &model.joint_terms().kinds {
             if let Some(col) = model.joint_term_index(j, kind) {
                 y[(j, col)] = column_entry(model, kind, j, qd, v, a);
             }
@@ -50,7 +50,7 @@ pub fn joint_term_torques<S: Scalar>(
     (0..model.dof())
         .map(|j| {
             let value = values.get(j).copied().unwrap_or_default();
-            model.joint_terms.kinds.iter().fold(S::zero(), |acc, &kind| {
+            model.joint_terms().kinds.iter().fold(S::zero(), |acc, &kind| {
                 acc + column_entry(model, kind, j, qd, v, a) * S::from_f64(value.get(kind))
             })
         })
@@ -59,7 +59,7 @@ pub fn joint_term_torques<S: Scalar>(
 
 /// Adds the armature to the diagonal of the mass matrix `d` (when it is a chosen kind).
 pub fn add_armature<S: Scalar>(model: &Model, values: &[JointTermValues], d: &mut DMatrix<S>) {
-    if !model.joint_terms.has(JointTermKind::Armature) {
+    if !model.joint_terms().has(JointTermKind::Armature) {
         return;
     }
     for (j, value) in values.iter().enumerate().take(model.dof()) {

@@ -34,7 +34,7 @@ use crate::spatial::RigidInertia;
 /// The bodies' inertias of `model` (its standard parameters) as scalars.
 pub fn body_inertias<S: Scalar>(model: &Model) -> Vec<RigidInertia<S>> {
     model
-        .bodies
+        .bodies()
         .iter()
         .map(|b| RigidInertia::from_parameters(&b.inertia.parameters().map(S::from_f64)))
         .collect()
@@ -42,7 +42,9 @@ pub fn body_inertias<S: Scalar>(model: &Model) -> Vec<RigidInertia<S>> {
 
 /// The joint-level values that act in `model` (chosen kinds only; the others are 0).
 pub fn joint_term_values(model: &Model) -> Vec<crate::model::JointTermValues> {
-    (0..model.dof()).map(|j| model.joint_terms.effective(j)).collect()
+    (0..model.dof())
+        .map(|j| model.joint_terms().effective(j))
+        .collect()
 }
 
 /// Body inertias from the inertial parameters (ten per body, the first `10·n` entries of

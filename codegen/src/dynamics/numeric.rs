@@ -120,7 +120,7 @@ impl<'m> NumericDynamics<'m> {
         with_gravity: bool,
     ) -> DVector<f64> {
         let x = self.configuration(q).transforms;
-        let g = with_gravity.then(|| Vec3(self.model.gravity.into()));
+        let g = with_gravity.then(|| Vec3(self.model.gravity().into()));
         let rigid = slotine_li(self.model, &x, &self.inertias, qd, v, a, g);
         let joint = joint_term_torques(self.model, &self.joint_values, qd, v, a);
         DVector::from_vec(add_torques(rigid, &joint))

@@ -557,7 +557,7 @@ fn limit(x: f64) -> TokenStream {
 
 fn joint_limits(model: &Model) -> Vec<TokenStream> {
     model
-        .joints
+        .joints()
         .iter()
         .map(|j| {
             let l = j.limits.map_or(
@@ -588,10 +588,10 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
     let p = model.parameter_count();
     let leaves = Leaves::new(robot);
     let ty = format_ident!("{}", provenance.type_name);
-    let name = &model.name;
-    let joint_names = model.joints.iter().map(|j| j.name.as_str());
+    let name = &model.name();
+    let joint_names = model.joints().iter().map(|j| j.name.as_str());
     let joint_limits = joint_limits(model);
-    let end_effector_body = Literal::usize_unsuffixed(model.end_effector.parent);
+    let end_effector_body = Literal::usize_unsuffixed(model.end_effector().parent);
     let param_names = model.parameter_names();
     let param_kinds = parameter_kinds(model);
     let theta = model.parameters().into_iter().map(literal);
@@ -619,10 +619,10 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
         base.count()
     );
     // A robot without joint-level parameters keeps its header word for word.
-    let parameters = match model.joint_terms.per_joint() {
+    let parameters = match model.joint_terms().per_joint() {
         0 => format!("{p} inertial parameters"),
         k => {
-            let kinds: Vec<&str> = model.joint_terms.kinds.iter().map(|k| k.keyword()).collect();
+            let kinds: Vec<&str> = model.joint_terms().kinds.iter().map(|k| k.keyword()).collect();
             format!(
                 "{p} parameters: {} inertial, {} joint-level ({})",
                 model.inertial_parameter_count(),

@@ -92,7 +92,7 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
         // Joint-level terms (armature, friction, offset) are added only when the model has
         // them, so a model without them records exactly the graph it always did.
         let joint_values = dynamics::joint_term_values(model);
-        let has_joint_terms = !model.joint_terms.kinds.is_empty();
+        let has_joint_terms = !model.joint_terms().kinds.is_empty();
         let with_joint_terms = |rigid: Vec<Expr>, v: &[Expr], a: &[Expr]| match has_joint_terms {
             true => dynamics::add_torques(
                 rigid,
@@ -173,7 +173,7 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
                         &qd,
                         &v,
                         &a,
-                        Some(crate::spatial::Vec3::from_f64(model.gravity.into())),
+                        Some(crate::spatial::Vec3::from_f64(model.gravity().into())),
                     ),
                     &v,
                     &a,

@@ -1,6 +1,6 @@
 //! The kinematic-tree model that every robot description becomes.
 //!
-//! Invariants (checked by [`Model::validate`], relied upon by every algorithm):
+//! Invariants (checked by [`Model::new`], relied upon by every algorithm):
 //! - joints are in topological order: a joint's parent index is smaller than its own;
 //! - every joint moves (fixed and locked joints were merged away by the loader);
 //! - axes are unit vectors, rotations are orthonormal, inertias are physically valid;
@@ -12,9 +12,8 @@ mod validate;
 
 pub use joint_terms::{JointTermKind, JointTermValues, JointTerms};
 pub use pose::{exact_sin_cos, from_xyz_rpy, Pose};
-pub use validate::{
-    check_rotational_inertia, principal_moments, validate, ModelError, Warning, INERTIA_REL_TOL,
-};
+use validate::validate;
+pub use validate::{check_rotational_inertia, principal_moments, ModelError, Warning, INERTIA_REL_TOL};
 
 use dyngen_runtime::ParameterKind;
 use nalgebra::{Matrix3, Vector3};
@@ -81,21 +80,18 @@ pub struct Frame {
     pub placement: Pose,
 }
 
-/// A fixed-base kinematic tree with its inertial parameters.
+/// A fixed-base kinematic tree with its inertial parameters. It satisfies the invariants of
+/// this module or is not built: the only way to one is [`Model::new`], which checks them.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Model {
-    /// Robot name from the description.
-    pub name: String,
-    /// Moving joints in topological order; `joints[i]` carries `bodies[i]`.
-    pub joints: Vec<Joint>,
-    pub bodies: Vec<Body>,
-    /// Gravity acceleration in the base frame.
-    pub gravity: Vector3<f64>,
-    /// The frame whose pose, Jacobian and its derivative are computed.
-    pub end_effector: Frame,
+    name: String,
+    joints: Vec<Joint>,
+    bodies: Vec<Body>,
+    gravity: Vector3<f64>,
+    end_effector: Frame,
     /// Joint-level parameters (armature, friction, offset): which columns `Y` gets after the
     /// inertial ones, and their values. Default: none.
-    pub joint_terms: JointTerms,
+    joint_terms: JointTerms,
 }
 
 /// Number of standard inertial parameters per body (the runtime contract's layout).
@@ -160,6 +156,78 @@ impl Inertia {
 }
 
 impl Model {
+    /// A model of moving `joints` (topological order) carrying `bodies` (`joints[i]` carries
+    /// `bodies[i]`), with `gravity` in the base frame and the `end_effector` frame, checked.
+    pub fn new(
+        name: impl Into<String>,
+        joints: Vec<Joint>,
+        bodies: Vec<Body>,
+        gravity: Vector3<f64>,
+        end_effector: Frame,
+    ) -> Result<Model, ModelError> {
+        let model = Model {
+            name: name.into(),
+            joints,
+            bodies,
+            gravity,
+            end_effector,
+            joint_terms: JointTerms::default(),
+        };
+        validate(&model)?;
+        Ok(model)
+    }
+
+    /// The same robot with joint-level parameters (which regressor columns, and values).
+    pub fn with_joint_terms(mut self, joint_terms: JointTerms) -> Result<Model, ModelError> {
+        self.joint_terms = joint_terms;
+        validate(&self)?;
+        Ok(self)
+    }
+
+    /// The same kinematics with other bodies (e.g. identified, or carrying a payload).
+    pub fn with_bodies(mut self, bodies: Vec<Body>) -> Result<Model, ModelError> {
+        self.bodies = bodies;
+        validate(&self)?;
+        Ok(self)
+    }
+
+    /// The joint-level parameters (none unless the description chose columns).
+    pub fn joint_terms(&self) -> &JointTerms {
+        &self.joint_terms
+    }
+
+    /// The same robot under another gravity (e.g. none, for energy checks).
+    pub fn with_gravity(mut self, gravity: Vector3<f64>) -> Result<Model, ModelError> {
+        self.gravity = gravity;
+        validate(&self)?;
+        Ok(self)
+    }
+
+    /// Robot name from the description.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Moving joints in topological order; `joints()[i]` carries `bodies()[i]`.
+    pub fn joints(&self) -> &[Joint] {
+        &self.joints
+    }
+
+    /// One rigid body per moving joint, in joint order.
+    pub fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    /// Gravity acceleration in the base frame.
+    pub fn gravity(&self) -> Vector3<f64> {
+        self.gravity
+    }
+
+    /// The frame whose pose, Jacobian and its derivative are computed.
+    pub fn end_effector(&self) -> &Frame {
+        &self.end_effector
+    }
+
     /// Number of degrees of freedom (moving joints).
     pub fn dof(&self) -> usize {
         self.joints.len()

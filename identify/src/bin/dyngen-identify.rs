@@ -99,7 +99,7 @@ fn excite(mut args: Args) -> Result<(), String> {
     let excitation = optimise(&base, &limits, &options);
     println!(
         "{}: {} base parameters; condition number {:.1} (random coefficients within the same limits: {:.1}), {} evaluations in {:.1} s",
-        model.name,
+        model.name(),
         base.base_count(),
         excitation.condition_number,
         excitation.random_condition_number,
@@ -140,7 +140,7 @@ fn identify_command(mut args: Args) -> Result<(), String> {
     let cutoff = args.number("cutoff", IdentifyOptions::default().cutoff)?;
     args.finish()?;
     let model = load(&description).map_err(|e| e.to_string())?.model;
-    if model.joint_terms.kinds.is_empty() {
+    if model.joint_terms().kinds.is_empty() {
         eprintln!(
             "note: {} chooses no joint-level columns (joint_parameters.columns): friction and armature are not identified",
             description.display()
@@ -152,7 +152,7 @@ fn identify_command(mut args: Args) -> Result<(), String> {
     let elapsed = start.elapsed().as_secs_f64();
     println!(
         "{}: {} samples used{}, {} base parameters, scaled condition number {:.1}, identified in {elapsed:.2} s",
-        model.name,
+        model.name(),
         id.samples_used,
         if id.differentiated { " (q̇, q̈ by filter and differences)" } else { "" },
         id.base.theta_b.len(),
@@ -168,7 +168,7 @@ fn identify_command(mut args: Args) -> Result<(), String> {
             id.base.names[k]
         );
     }
-    for (j, joint) in model.joints.iter().enumerate() {
+    for (j, joint) in model.joints().iter().enumerate() {
         println!("torque noise of {}: {:.4}", joint.name, id.base.joint_noise[j]);
     }
     println!(

@@ -44,7 +44,7 @@ pub fn arm7_truth() -> Model {
 /// σ = 1% of each joint's rated torque (effort limit).
 pub fn arm7_noise(model: &Model) -> Vec<f64> {
     model
-        .joints
+        .joints()
         .iter()
         .map(|j| 0.01 * j.limits.map_or(1.0, |l| l.effort))
         .collect()

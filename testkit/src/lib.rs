@@ -1,10 +1,14 @@
-//! Shared helpers of the integration tests: reference fixtures and tolerant comparisons.
-#![allow(dead_code)] // each test binary uses a different subset
+//! What dyngen's tests and developer commands share: random valid trees and states
+//! (`random_model`), Pinocchio's reference values (`fixture`), oracles that use no dynamics
+//! algorithm (`oracles`), the loader fuzzer (`fuzz`), models written back as YAML/URDF
+//! (`serialize`), the scale models (`scale`), and tolerant comparisons. A library rather than
+//! a `tests/common` module, so that `cargo xtask fuzz` and `cargo xtask scale` call it directly.
 
 pub mod fixture;
 pub mod fuzz;
 pub mod oracles;
 pub mod random_model;
+pub mod scale;
 pub mod serialize;
 
 use nalgebra::DMatrix;
@@ -27,4 +31,9 @@ pub fn assert_close(what: &str, actual: &DMatrix<f64>, expected: &DMatrix<f64>, 
 
 pub fn column(v: &[f64]) -> DMatrix<f64> {
     DMatrix::from_column_slice(v.len(), 1, v)
+}
+
+/// The workspace root (this crate sits one level below it).
+pub fn workspace_root() -> &'static std::path::Path {
+    std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
 }

@@ -18,12 +18,12 @@ pub fn rpy(r: &Matrix3<f64>) -> [f64; 3] {
 fn link_of(model: &Model, joint: Option<usize>) -> String {
     match joint {
         None => "base".into(),
-        Some(j) => model.bodies[j].name.clone(),
+        Some(j) => model.bodies()[j].name.clone(),
     }
 }
 
 fn kind(model: &Model, j: usize) -> &'static str {
-    match (model.joints[j].kind, &model.joints[j].limits) {
+    match (model.joints()[j].kind, &model.joints()[j].limits) {
         (JointKind::Prismatic, _) => "prismatic",
         (JointKind::Revolute, Some(_)) => "revolute",
         (JointKind::Revolute, None) => "continuous",
@@ -46,19 +46,19 @@ fn pose_parts(p: &Pose) -> ([f64; 3], [f64; 3]) {
 pub fn to_yaml(model: &Model) -> String {
     let mut s = format!(
         "name: {}\ngravity: [{}]\n",
-        model.name,
-        list(model.gravity.as_slice())
+        model.name(),
+        list(model.gravity().as_slice())
     );
-    let ee = &model.end_effector;
+    let ee = &model.end_effector();
     let (xyz, r) = pose_parts(&ee.placement);
     s += &format!(
         "end_effector: {{ name: {}, link: {}, xyz: [{}], rpy: [{}] }}\nlinks:\n  - name: base\n",
         ee.name,
-        model.bodies[ee.parent].name,
+        model.bodies()[ee.parent].name,
         list(&xyz),
         list(&r)
     );
-    for b in &model.bodies {
+    for b in model.bodies() {
         let i = &b.inertia;
         let m = &i.inertia_com;
         s += &format!(
@@ -76,14 +76,14 @@ pub fn to_yaml(model: &Model) -> String {
         );
     }
     s += "joints:\n";
-    for (j, joint) in model.joints.iter().enumerate() {
+    for (j, joint) in model.joints().iter().enumerate() {
         let (xyz, r) = pose_parts(&joint.origin);
         s += &format!(
             "  - name: {}\n    type: {}\n    parent: {}\n    child: {}\n    origin: {{ xyz: [{}], rpy: [{}] }}\n    axis: [{}]\n",
             joint.name,
             kind(model, j),
             link_of(model, joint.parent),
-            model.bodies[j].name,
+            model.bodies()[j].name,
             list(&xyz),
             list(&r),
             list(joint.axis.as_slice())
@@ -103,9 +103,9 @@ pub fn to_yaml(model: &Model) -> String {
 pub fn to_urdf(model: &Model) -> String {
     let mut s = format!(
         "<?xml version=\"1.0\"?>\n<robot name=\"{}\">\n  <link name=\"base\"/>\n",
-        model.name
+        model.name()
     );
-    for b in &model.bodies {
+    for b in model.bodies() {
         let i = &b.inertia;
         let m = &i.inertia_com;
         s += &format!(
@@ -123,7 +123,7 @@ pub fn to_urdf(model: &Model) -> String {
             m[(2, 2)]
         );
     }
-    for (j, joint) in model.joints.iter().enumerate() {
+    for (j, joint) in model.joints().iter().enumerate() {
         let (xyz, r) = pose_parts(&joint.origin);
         s += &format!(
             "  <joint name=\"{}\" type=\"{}\">\n    <parent link=\"{}\"/>\n    <child link=\"{}\"/>\n    \
@@ -131,7 +131,7 @@ pub fn to_urdf(model: &Model) -> String {
             joint.name,
             kind(model, j),
             link_of(model, joint.parent),
-            model.bodies[j].name,
+            model.bodies()[j].name,
             spaced(&xyz),
             spaced(&r),
             spaced(joint.axis.as_slice())
@@ -144,13 +144,13 @@ pub fn to_urdf(model: &Model) -> String {
         }
         s += "  </joint>\n";
     }
-    let ee = &model.end_effector;
+    let ee = &model.end_effector();
     let (xyz, r) = pose_parts(&ee.placement);
     s += &format!(
         "  <link name=\"{0}\"/>\n  <joint name=\"{0}_fixed\" type=\"fixed\">\n    <parent link=\"{1}\"/>\n    \
          <child link=\"{0}\"/>\n    <origin xyz=\"{2}\" rpy=\"{3}\"/>\n  </joint>\n</robot>\n",
         ee.name,
-        model.bodies[ee.parent].name,
+        model.bodies()[ee.parent].name,
         spaced(&xyz),
         spaced(&r)
     );

@@ -57,7 +57,7 @@ pub fn random_state(model: &Model, seed: u64) -> JointState {
     let n = model.dof();
     JointState {
         q: model
-            .joints
+            .joints()
             .iter()
             .map(|j| rng.uniform(position_range(j)))
             .collect(),
@@ -72,7 +72,7 @@ pub fn random_state(model: &Model, seed: u64) -> JointState {
 pub fn arb_state(model: &Model) -> impl Strategy<Value = JointState> {
     let n = model.dof();
     let range = |(lo, hi): (f64, f64)| lo..hi;
-    let q: Vec<_> = model.joints.iter().map(|j| range(position_range(j))).collect();
+    let q: Vec<_> = model.joints().iter().map(|j| range(position_range(j))).collect();
     let vector = move |r| proptest::collection::vec(range(r), n);
     (
         q,
@@ -127,18 +127,19 @@ pub fn arb_model(max_dof: usize) -> impl Strategy<Value = Model> {
                     inertia,
                 })
                 .collect();
-            Model {
-                name: format!("random_tree_{n}dof"),
+            let end_effector = Frame {
+                name: "tool".into(),
+                parent: ee_body.index(n),
+                placement: ee_placement,
+            };
+            Model::new(
+                format!("random_tree_{n}dof"),
                 joints,
                 bodies,
                 gravity,
-                joint_terms: Default::default(),
-                end_effector: Frame {
-                    name: "tool".into(),
-                    parent: ee_body.index(n),
-                    placement: ee_placement,
-                },
-            }
+                end_effector,
+            )
+            .expect("random trees are valid models")
         })
 }
 

@@ -1,5 +1,5 @@
 //! Reference values computed by Pinocchio 4.1 (copied from the project's shared fixtures into
-//! `tests/fixtures/`), and the model they describe, built from their own joint placements.
+//! `codegen/tests/fixtures/`), and the model they describe, built from their own joint placements.
 
 use dyngen_codegen::model::{Body, Frame, Inertia, Joint, JointKind, Model, Pose};
 use nalgebra::{DMatrix, Matrix3, Vector3};
@@ -137,17 +137,17 @@ impl Fixture {
             .iter()
             .position(|n| n == j["ee_parent_joint"].as_str().unwrap())
             .unwrap();
-        Model {
-            name: j["robot"].as_str().unwrap().to_owned(),
+        Model::new(
+            j["robot"].as_str().unwrap(),
             joints,
             bodies,
-            gravity: Vector3::from_vec(vector(&j["gravity"])),
-            joint_terms: Default::default(),
-            end_effector: Frame {
+            Vector3::from_vec(vector(&j["gravity"])),
+            Frame {
                 name: j["ee_frame"].as_str().unwrap().to_owned(),
                 parent: ee_parent,
                 placement: pose(&j["ee_placement_in_parent_joint"]),
             },
-        }
+        )
+        .expect("the fixture's model is valid")
     }
 }

@@ -20,9 +20,9 @@
 //! for `J`, `g` and the Lagrangian `D` and `g`; 1e-11 for `J̇`, Christoffel `C`, `C + Cᵀ` and
 //! the Lagrangian `τ`; 4e-10 for the Lagrangian `C q̇`; 3e-14 for the algebraic identities. The
 //! [`tolerance`]s sit 25× (Lagrangian `C q̇`) to 100× or more above these and at least 100×
-//! below the 1e-6 relative error that the suite must catch (`tests/oracles.rs` checks both).
+//! below the 1e-6 relative error that the suite must catch (`codegen/tests/oracles.rs` checks both).
 
-use super::random_model::JointState;
+use crate::random_model::JointState;
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::model::Model;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
@@ -74,8 +74,11 @@ impl Dynamics for NumericDynamics<'_> {
         NumericDynamics::regressor(self, q, qd, v, a)
     }
     fn weightless_regressor(&self, q: &[f64], qd: &[f64], v: &[f64], a: &[f64]) -> DMatrix<f64> {
-        let mut weightless = self.model.clone();
-        weightless.gravity = Vector3::zeros();
+        let weightless = self
+            .model
+            .clone()
+            .with_gravity(Vector3::zeros())
+            .expect("a valid model");
         NumericDynamics::new(&weightless).regressor(q, qd, v, a)
     }
 }
@@ -241,16 +244,16 @@ impl<'m> Energies<'m> {
         let poses = self.kinematics.body_poses(q);
         poses
             .iter()
-            .zip(&self.model.bodies)
+            .zip(self.model.bodies())
             .map(|((r, p), b)| (*r, r * b.inertia.com + p))
             .collect()
     }
 
     /// Oracle 3: `V(q) = Σ_i −m_i gravityᵀ p_ci(q)`.
     pub fn potential(&self, q: &[f64]) -> f64 {
-        let bodies = self.centres_of_mass(q).into_iter().zip(&self.model.bodies);
+        let bodies = self.centres_of_mass(q).into_iter().zip(self.model.bodies());
         bodies
-            .map(|((_, c), b)| -b.inertia.mass * self.model.gravity.dot(&c))
+            .map(|((_, c), b)| -b.inertia.mass * self.model.gravity().dot(&c))
             .sum()
     }
 
@@ -258,7 +261,7 @@ impl<'m> Energies<'m> {
     /// angular velocities from the body poses differenced along `q̇`.
     pub fn kinetic(&self, q: &[f64], qd: &[f64]) -> f64 {
         let velocities = frame_velocities(|x| self.centres_of_mass(x), q, qd);
-        let bodies = self.centres_of_mass(q).into_iter().zip(&self.model.bodies);
+        let bodies = self.centres_of_mass(q).into_iter().zip(self.model.bodies());
         (bodies.zip(velocities.as_slice().chunks_exact(6)))
             .map(|(((r, _), b), vw)| {
                 let (v, w) = (
@@ -385,18 +388,18 @@ impl Natural {
         };
         let (length, mass) = (
             reach + 0.1,
-            model.bodies.iter().map(|b| b.inertia.mass).sum::<f64>(),
+            model.bodies().iter().map(|b| b.inertia.mass).sum::<f64>(),
         );
         let (rate, accel) = (largest([&state.qd, &state.v]), largest([&state.qdd, &state.a]));
         let inertia = mass * length * length;
-        let per_parameter = length * (model.gravity.norm() + length * (accel + rate * rate));
+        let per_parameter = length * (model.gravity().norm() + length * (accel + rate * rate));
         Natural {
             length,
             pose_rate: length * rate,
             inertia,
             coriolis: inertia * rate,
             velocity_force: inertia * rate * rate,
-            gravity_force: mass * model.gravity.norm() * length,
+            gravity_force: mass * model.gravity().norm() * length,
             force: mass * per_parameter,
             per_parameter,
         }
