@@ -41,6 +41,14 @@ pub enum ParameterKind {
     FirstMoment,
     /// A component of a body's rotational inertia about its joint frame origin (kg·m²).
     Inertia,
+    /// A joint's armature (reflected rotor inertia), kg·m² or kg.
+    Armature,
+    /// A joint's viscous friction coefficient, N·m·s/rad or N·s/m.
+    ViscousFriction,
+    /// A joint's Coulomb friction, N·m or N.
+    CoulombFriction,
+    /// A joint's constant torque offset, N·m or N.
+    Offset,
 }
 
 impl ParameterKind {
@@ -51,5 +59,16 @@ impl ParameterKind {
             1..=3 => ParameterKind::FirstMoment,
             _ => ParameterKind::Inertia,
         }
+    }
+
+    /// Whether the parameter belongs to a joint (armature, friction, offset) rather than a body.
+    pub const fn is_joint_level(self) -> bool {
+        matches!(
+            self,
+            ParameterKind::Armature
+                | ParameterKind::ViscousFriction
+                | ParameterKind::CoulombFriction
+                | ParameterKind::Offset
+        )
     }
 }

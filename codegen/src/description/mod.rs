@@ -21,6 +21,7 @@ mod error;
 mod export;
 mod import;
 mod items;
+mod joint_parameters;
 mod near_exact;
 mod options;
 mod raw;
@@ -122,6 +123,7 @@ fn build_bare_urdf(
         gravity: options.gravity,
         end_effector: options.end_effector.clone(),
         locked_joints: options.locked_joints.clone(),
+        joint_parameters: None,
         snap_angles: options.snap_angles,
         map,
     };

@@ -133,6 +133,8 @@ pub(crate) struct Settings<'a> {
     pub end_effector: Option<EndEffectorSpec>,
     pub locked_joints: Vec<(String, f64)>,
     pub snap_angles: Option<f64>,
+    /// `joint_parameters:` of a YAML file (a bare URDF has none: no joint-level columns).
+    pub joint_parameters: Option<super::joint_parameters::JointParametersSpec>,
     /// Places of `end_effector`, `gravity`, `locked_joints.<joint>`, `snap_angles`.
     pub map: &'a super::source_map::SourceMap,
 }

@@ -10,6 +10,7 @@
 mod coriolis;
 mod crba;
 mod joint;
+mod joint_terms;
 mod kinematics;
 mod numeric;
 mod regressor;
@@ -18,6 +19,9 @@ mod slotine_li;
 pub use coriolis::coriolis_matrix;
 pub use crba::mass_matrix;
 pub use joint::{joint_transform, joint_transforms};
+pub use joint_terms::{
+    add_armature, add_torques, coulomb_shape, fill_joint_term_columns, joint_term_torques,
+};
 pub use kinematics::{body_poses, end_effector_pose, jacobian, jacobian_dot};
 pub use numeric::NumericDynamics;
 pub use regressor::regressor;
@@ -36,7 +40,15 @@ pub fn body_inertias<S: Scalar>(model: &Model) -> Vec<RigidInertia<S>> {
         .collect()
 }
 
-/// Body inertias from a parameter vector θ (ten per body, as [`Model::parameters`]).
+/// The joint-level values that act in `model` (chosen kinds only; the others are 0).
+pub fn joint_term_values(model: &Model) -> Vec<crate::model::JointTermValues> {
+    (0..model.dof())
+        .map(|j| model.joint_terms().effective(j))
+        .collect()
+}
+
+/// Body inertias from the inertial parameters (ten per body, the first `10·n` entries of
+/// [`Model::parameters`]).
 pub fn inertias_from_parameters<S: Scalar>(theta: &[S]) -> Vec<RigidInertia<S>> {
     theta
         .chunks_exact(crate::model::PARAMS_PER_BODY)
