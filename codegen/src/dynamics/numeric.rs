@@ -9,7 +9,7 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 #[derive(Clone, Debug)]
 pub struct NumericDynamics<'m> {
     pub model: &'m Model,
-    inertias: Vec<RigidInertia<f64>>,
+    pub(super) inertias: Vec<RigidInertia<f64>>,
 }
 
 /// The joint transforms of one configuration, shared by every quantity at that `q`.

@@ -60,6 +60,7 @@ impl Leaves {
             ("qd", &inputs.qd),
             ("v", &inputs.v),
             ("a", &inputs.a),
+            ("tau", &inputs.tau),
         ] {
             for (i, id) in ids.iter().enumerate() {
                 names.insert(*id, format_ident!("{prefix}{i}"));
@@ -260,6 +261,7 @@ fn signature(robot: &SymbolicRobot, leaves: &Leaves, args: &[Arg], used: &[Id], 
             Arg::Qd => (format_ident!("qd"), &inputs.qd),
             Arg::V => (format_ident!("v"), &inputs.v),
             Arg::A => (format_ident!("a"), &inputs.a),
+            Arg::Tau => (format_ident!("tau"), &inputs.tau),
         };
         match destructure(leaves, ids, used, quote!(#name.data.0[0])) {
             Some(d) => {
@@ -281,6 +283,7 @@ fn argument_names(args: &[Arg]) -> Vec<Ident> {
         Arg::Qd => format_ident!("qd"),
         Arg::V => format_ident!("v"),
         Arg::A => format_ident!("a"),
+        Arg::Tau => format_ident!("tau"),
     }));
     names
 }
@@ -361,6 +364,15 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
                 translation: Vector3::new(#(#p),*),
             })
         }
+        Shape::MatrixPair(rows) => {
+            let (first, second) = atoms.split_at(rows * rows);
+            let columns = |m: &[TokenStream]| {
+                let c: Vec<TokenStream> = m.chunks(rows).map(|c| quote!([#(#c),*])).collect();
+                quote!(SMatrix::from_array_storage(ArrayStorage([#(#c),*])))
+            };
+            let (first, second) = (columns(first), columns(second));
+            quote!((#first, #second))
+        }
     };
     let ret = match q.shape {
         Shape::Vector(len) => {
@@ -372,6 +384,10 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
             quote!(SMatrix<f64, #r, #c>)
         }
         Shape::Pose => quote!(Pose),
+        Shape::MatrixPair(r) => {
+            let r = Literal::usize_unsuffixed(r);
+            quote!((SMatrix<f64, #r, #r>, SMatrix<f64, #r, #r>))
+        }
     };
     let mut doc = vec![doc_counts(&robot.graph.op_counts(&q.outputs))];
     if q.name == BASE_REGRESSOR {
