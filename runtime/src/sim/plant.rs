@@ -2,7 +2,11 @@
 //! whose dynamics are computed through the regressor (exact by linearity, since the generated
 //! `D, C, g` have the description's parameters baked in):
 //! `D_true` column i `= Y(q, 0, 0, eᵢ) θ − Y(q, 0, 0, 0) θ`, `C q̇ + g = Y(q, q̇, q̇, 0) θ`.
-//! Forward dynamics by a Cholesky solve of `D_true q̈ = τ − Jᵀ F̄ − (C q̇ + g)`.
+//! Forward dynamics: when the true robot is the description (`θ_true = θ_desc`, no payload),
+//! the generated `forward_dynamics` (CRBA + tree factorisation, flattened); otherwise a
+//! Cholesky solve of `D_true q̈ = τ − Jᵀ F̄ − (C q̇ + g)` with `D_true` through the regressor,
+//! because the generated function has the description's parameters baked in and a payload
+//! changes `D` and the bias torques.
 
 use super::contact::PlaneContact;
 use crate::parameterization::{mass_matrix_through_regressor, Standard};
@@ -73,6 +77,8 @@ impl<const N: usize> super::rk4::RkState for PlantState<N> {
 #[derive(Clone, Debug)]
 pub struct Plant<R, const N: usize, const P: usize> {
     theta: SVector<f64, P>,
+    /// `θ_true` equals the description's θ: the generated forward dynamics are exact.
+    is_description: bool,
     pub contact: PlaneContact,
     _robot: PhantomData<fn() -> R>,
 }
@@ -81,6 +87,7 @@ impl<R: RobotDynamics<N, P>, const N: usize, const P: usize> Plant<R, N, P> {
     /// A plant with parameters `theta`.
     pub fn new(theta: SVector<f64, P>, contact: PlaneContact) -> Self {
         Plant {
+            is_description: theta == R::parameters(),
             theta,
             contact,
             _robot: PhantomData,
@@ -133,10 +140,15 @@ impl<R: RobotDynamics<N, P>, const N: usize, const P: usize> Plant<R, N, P> {
         let t = JointTrig::new(&s.q);
         let force = self.contact_force(&t);
         let j: SMatrix<f64, 3, N> = R::jacobian(&t).fixed_rows::<3>(0).into_owned();
-        let rhs = tau - j.tr_mul(&force) - self.slotine_li(&t, &s.qd, &s.qd);
-        let qdd = Cholesky::new(self.mass_matrix(&t))
-            .ok_or(PlantError::MassMatrix)?
-            .solve(&rhs);
+        let applied = tau - j.tr_mul(&force);
+        let qdd = if self.is_description {
+            R::forward_dynamics(&t, &s.qd, &applied)
+        } else {
+            let rhs = applied - self.slotine_li(&t, &s.qd, &s.qd);
+            Cholesky::new(self.mass_matrix(&t))
+                .ok_or(PlantError::MassMatrix)?
+                .solve(&rhs)
+        };
         if !qdd.iter().all(|x| x.is_finite()) {
             return Err(PlantError::NonFinite);
         }
