@@ -4,7 +4,7 @@ use dyngen_codegen::description::load;
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_downstream_example::Panda;
 use dyngen_runtime::nalgebra::SVector;
-use dyngen_runtime::{JointTrig, RobotDynamics};
+use dyngen_runtime::prelude::*;
 use std::path::Path;
 
 #[test]

@@ -1,19 +1,35 @@
-//! dyngen's runtime: what generated robot code links against (the [`RobotDynamics`] trait and
-//! [`JointTrig`]), and the controllers and simulator that are generic over any such robot.
+//! The contract between generated robot code and everything that uses it: the traits a
+//! generated robot implements ([`Kinematics`], [`RobotDynamics`], [`BaseParameters`]), the
+//! parameterisations a controller is generic over ([`Parameterization`]: [`Standard`],
+//! [`Base`]), and the plain data they exchange ([`JointTrig`], [`Pose`], [`JointLimits`],
+//! [`ParameterKind`]).
 //!
-//! Invariant: this crate never depends on the generator; generated code depends only on this
-//! crate and `nalgebra`.
+//! `#![no_std]`, allocation-free, and dependent only on `nalgebra` (without default features)
+//! and `libm`, so generated code runs on embedded controllers. Invariant: this crate never
+//! depends on the generator or the controller; generated code depends only on this crate and
+//! `nalgebra`.
 
-pub mod controller;
+#![no_std]
+
+mod joint;
+mod parameter;
 mod parameterization;
 mod random;
 mod robot;
-pub mod sim;
 
+pub use joint::{JointLimits, JointTrig};
+pub use libm;
 pub use nalgebra;
-pub use parameterization::{mass_matrix_through_regressor, Base, BaseParameters, Parameterization, Standard};
+pub use parameter::{ParameterKind, PARAMETERS_PER_BODY};
+pub use parameterization::{Base, BaseParameters, Parameterization, Standard};
 pub use random::SplitMix64;
-pub use robot::{JointTrig, Pose, RobotDynamics};
+pub use robot::{Kinematics, Pose, RobotDynamics};
+
+/// The traits whose functions a user of generated code calls: `use dyngen_runtime::prelude::*;`
+/// brings `Arm7::mass_matrix(&t)` and `Arm7::jacobian(&t)` into reach.
+pub mod prelude {
+    pub use crate::{BaseParameters, JointTrig, Kinematics, Parameterization, RobotDynamics};
+}
 
 /// Includes a robot generated into `OUT_DIR` by a build script (`dyngen_codegen::compile_robot`)
 /// as module `$module`, with the attributes that flattened generated code needs (an included

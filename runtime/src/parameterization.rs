@@ -1,18 +1,39 @@
-//! Which inertial parameters a regressor multiplies: the standard ten per body, or the base
-//! (identifiable) set. An adaptive controller is generic over this choice.
+//! Which parameters a regressor multiplies: the standard ten per body, or the base
+//! (identifiable) set. An adaptive controller or a simulator is generic over this choice; the
+//! robot comes with it, so generic code names one type (`arm7::Base`) and two numbers.
 
-use crate::robot::{JointTrig, RobotDynamics};
+use crate::joint::JointTrig;
+use crate::parameter::{ParameterKind, PARAMETERS_PER_BODY};
+use crate::robot::{Kinematics, RobotDynamics};
+use core::marker::PhantomData;
 use nalgebra::{SMatrix, SVector};
-use std::marker::PhantomData;
 
-/// A linear parameterisation `φ = Φ(θ)` of a robot's dynamics with `M` parameters, such that
-/// `regressor(q, q̇, v, a) · Φ(θ) = D a + C v + g` for the standard parameters `θ` (`P` of them)
-/// of any robot with the same kinematics.
-pub trait Parameterization<const N: usize, const P: usize, const M: usize> {
+/// A linear parameterisation `φ = Φ θ` of a robot's dynamics with `M` parameters, such that
+/// `regressor(q, q̇, v, a) · Φ θ = D a + C v + g` for the standard parameters θ of any robot
+/// with the same kinematics.
+pub trait Parameterization<const N: usize, const M: usize> {
+    /// The robot whose dynamics these are.
+    type Robot: Kinematics<N>;
+    /// The robot's standard parameters θ (`SVector<f64, P>`).
+    type StandardParameters;
+
     /// Names of the `M` parameters, e.g. `"m[link3]"`.
     const NAMES: [&'static str; M];
-    /// `Φ(θ)`: the parameters this regressor multiplies, from the standard ones.
-    fn from_standard(theta: &SVector<f64, P>) -> SVector<f64, M>;
+
+    /// `Φ θ`: the parameters this regressor multiplies, from the standard ones.
+    fn from_standard(theta: &Self::StandardParameters) -> SVector<f64, M>;
+    /// `Φ θ` of the robot's description.
+    fn description() -> SVector<f64, M>;
+    /// `Φ θ` of a θ that is zero except for body `body`'s ten standard parameters `p`: what
+    /// a rigid payload on that body adds (by linearity).
+    ///
+    /// # Panics
+    /// If `body` is not a body of the robot.
+    fn body_parameters(body: usize, p: &[f64; PARAMETERS_PER_BODY]) -> SVector<f64, M>;
+    /// The diagonal of `Φ Γ Φᵀ` for the diagonal standard gain `Γ` that gives each standard
+    /// parameter `gain(kind)`: the gain with which the standard law would move each of these
+    /// parameters (a combination that absorbs masses adapts as fast as they would).
+    fn gain_by_kind(gain: impl Fn(ParameterKind) -> f64) -> SVector<f64, M>;
     /// The regressor: `N × M`, linear in `v` and `a`.
     fn regressor(
         t: &JointTrig<N>,
@@ -20,24 +41,13 @@ pub trait Parameterization<const N: usize, const P: usize, const M: usize> {
         v: &SVector<f64, N>,
         a: &SVector<f64, N>,
     ) -> SMatrix<f64, N, M>;
-}
-
-/// The standard parameters: ten per body, `Φ = identity`.
-pub struct Standard<R>(PhantomData<R>);
-
-impl<R: RobotDynamics<N, P>, const N: usize, const P: usize> Parameterization<N, P, P> for Standard<R> {
-    const NAMES: [&'static str; P] = R::PARAMETER_NAMES;
-    fn from_standard(theta: &SVector<f64, P>) -> SVector<f64, P> {
-        *theta
-    }
-    fn regressor(
+    /// Forward dynamics of the robot with the description's parameters (the generated
+    /// function): exact for a true robot whose parameters are [`Self::description`].
+    fn description_forward_dynamics(
         t: &JointTrig<N>,
         qd: &SVector<f64, N>,
-        v: &SVector<f64, N>,
-        a: &SVector<f64, N>,
-    ) -> SMatrix<f64, N, P> {
-        R::regressor(t, qd, v, a)
-    }
+        tau: &SVector<f64, N>,
+    ) -> SVector<f64, N>;
 }
 
 /// A robot whose generator also emitted its base (minimal, identifiable) parameters: `B`
@@ -56,15 +66,89 @@ pub trait BaseParameters<const N: usize, const P: usize, const B: usize>: RobotD
     ) -> SMatrix<f64, N, B>;
 }
 
-/// The base parameters of a robot that has them.
-pub struct Base<R>(PhantomData<R>);
+/// The standard parameters of robot `R`: ten per body, `Φ = I`. Generated modules name it
+/// `Standard` (`arm7::Standard`).
+pub struct Standard<R>(PhantomData<R>);
 
-impl<R: BaseParameters<N, P, B>, const N: usize, const P: usize, const B: usize> Parameterization<N, P, B>
-    for Base<R>
+/// The base parameters of robot `R` with `P` standard parameters. Generated modules name it
+/// `Base` (`arm7::Base`), so nobody has to write `P`.
+pub struct Base<R, const P: usize>(PhantomData<R>);
+
+/// θ that is zero except for body `body`'s ten entries.
+fn body_only<const P: usize>(body: usize, p: &[f64; PARAMETERS_PER_BODY]) -> SVector<f64, P> {
+    let start = body * PARAMETERS_PER_BODY;
+    assert!(
+        start + PARAMETERS_PER_BODY <= P,
+        "body {body} is not a body of this robot"
+    );
+    SVector::from_fn(|i, _| {
+        if (start..start + PARAMETERS_PER_BODY).contains(&i) {
+            p[i - start]
+        } else {
+            0.0
+        }
+    })
+}
+
+impl<R: RobotDynamics<N, P>, const N: usize, const P: usize> Parameterization<N, P> for Standard<R> {
+    type Robot = R;
+    type StandardParameters = SVector<f64, P>;
+    const NAMES: [&'static str; P] = R::PARAMETER_NAMES;
+
+    fn from_standard(theta: &SVector<f64, P>) -> SVector<f64, P> {
+        *theta
+    }
+    fn description() -> SVector<f64, P> {
+        R::parameters()
+    }
+    fn body_parameters(body: usize, p: &[f64; PARAMETERS_PER_BODY]) -> SVector<f64, P> {
+        body_only(body, p)
+    }
+    fn gain_by_kind(gain: impl Fn(ParameterKind) -> f64) -> SVector<f64, P> {
+        SVector::from_fn(|i, _| gain(R::PARAMETER_KINDS[i]))
+    }
+    fn regressor(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+        a: &SVector<f64, N>,
+    ) -> SMatrix<f64, N, P> {
+        R::regressor(t, qd, v, a)
+    }
+    fn description_forward_dynamics(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        tau: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        R::forward_dynamics(t, qd, tau)
+    }
+}
+
+impl<R: BaseParameters<N, P, B>, const N: usize, const P: usize, const B: usize> Parameterization<N, B>
+    for Base<R, P>
 {
+    type Robot = R;
+    type StandardParameters = SVector<f64, P>;
     const NAMES: [&'static str; B] = R::BASE_PARAMETER_NAMES;
+
     fn from_standard(theta: &SVector<f64, P>) -> SVector<f64, B> {
         R::base_parameters(theta)
+    }
+    fn description() -> SVector<f64, B> {
+        R::base_parameters(&R::parameters())
+    }
+    fn body_parameters(body: usize, p: &[f64; PARAMETERS_PER_BODY]) -> SVector<f64, B> {
+        R::base_parameters(&body_only(body, p))
+    }
+    fn gain_by_kind(gain: impl Fn(ParameterKind) -> f64) -> SVector<f64, B> {
+        // Γ_b = diag(Φ Γ Φᵀ) = Σᵢ Γᵢ (Φ eᵢ)², with Φ eᵢ from the generated map (computed once
+        // at set-up, so the cost of P calls does not matter).
+        let mut sum = SVector::<f64, B>::zeros();
+        for (i, kind) in R::PARAMETER_KINDS.iter().enumerate() {
+            let column = R::base_parameters(&SVector::from_fn(|k, _| f64::from(u8::from(k == i))));
+            sum += column.component_mul(&column) * gain(*kind);
+        }
+        sum
     }
     fn regressor(
         t: &JointTrig<N>,
@@ -74,25 +158,11 @@ impl<R: BaseParameters<N, P, B>, const N: usize, const P: usize, const B: usize>
     ) -> SMatrix<f64, N, B> {
         R::base_regressor(t, qd, v, a)
     }
-}
-
-/// `D(q)` of the robot whose parameters (in `Z`'s coordinates) are `phi`, through the
-/// regressor, exact by linearity: column `i` is `Y(q, 0, 0, eᵢ) φ − Y(q, 0, 0, 0) φ`. How the
-/// simulator gets the true robot's inertia (payload included) and the controller its estimate,
-/// neither of which the generated `mass_matrix` (the description's parameters) can give.
-pub fn mass_matrix_through_regressor<Z, const N: usize, const P: usize, const M: usize>(
-    t: &JointTrig<N>,
-    phi: &SVector<f64, M>,
-) -> SMatrix<f64, N, N>
-where
-    Z: Parameterization<N, P, M>,
-{
-    let z = SVector::<f64, N>::zeros();
-    let gravity = Z::regressor(t, &z, &z, &z) * phi;
-    let mut d = SMatrix::<f64, N, N>::zeros();
-    for i in 0..N {
-        let e = SVector::<f64, N>::from_fn(|k, _| f64::from(u8::from(k == i)));
-        d.set_column(i, &(Z::regressor(t, &z, &z, &e) * phi - gravity));
+    fn description_forward_dynamics(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        tau: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        R::forward_dynamics(t, qd, tau)
     }
-    d
 }

@@ -1,60 +1,81 @@
-//! The interface between generated dynamics and everything that uses them.
+//! The traits generated robots implement.
 
+use crate::joint::{JointLimits, JointTrig};
+use crate::parameter::ParameterKind;
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
-/// Joint positions with their sines and cosines, computed once per control tick and shared by
-/// every quantity (they are a large share of the cost of kinematics and gravity).
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct JointTrig<const N: usize> {
-    pub q: [f64; N],
-    pub sin: [f64; N],
-    pub cos: [f64; N],
-}
-
-impl<const N: usize> JointTrig<N> {
-    pub fn new(q: &SVector<f64, N>) -> Self {
-        let q: [f64; N] = q.data.0[0];
-        // One range reduction for both: a third cheaper than separate `sin` and `cos`, and
-        // sines and cosines are most of the cost of kinematics and gravity.
-        let both = q.map(libm::sincos);
-        JointTrig {
-            q,
-            sin: both.map(|(s, _)| s),
-            cos: both.map(|(_, c)| c),
-        }
-    }
-}
-
-/// A rigid placement in the base frame: `p_base = rotation · p + translation`.
+/// A rigid placement of a child frame in a parent frame: a point `p` of the child frame is
+/// `rotation · p + translation` in the parent (the base frame, for generated kinematics).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Pose {
     pub rotation: Matrix3<f64>,
     pub translation: Vector3<f64>,
 }
 
-/// Rigid-body dynamics of one robot with `N` joints and `P` standard inertial parameters.
+impl Default for Pose {
+    fn default() -> Self {
+        Pose::identity()
+    }
+}
+
+impl Pose {
+    pub fn identity() -> Pose {
+        Pose {
+            rotation: Matrix3::identity(),
+            translation: Vector3::zeros(),
+        }
+    }
+
+    /// `self ∘ other`: `other` is given in the frame that `self` places.
+    pub fn compose(&self, other: &Pose) -> Pose {
+        Pose {
+            rotation: self.rotation * other.rotation,
+            translation: self.rotation * other.translation + self.translation,
+        }
+    }
+
+    pub fn transform_point(&self, p: &Vector3<f64>) -> Vector3<f64> {
+        self.rotation * p + self.translation
+    }
+}
+
+/// The kinematics of one robot with `N` moving joints: what a task-space controller needs, and
+/// what does not depend on the inertial parameters.
 ///
-/// Conventions: `J` is the 6×N geometric Jacobian of the end-effector frame origin, rows
-/// `[linear; angular]` in base axes (Pinocchio's `LOCAL_WORLD_ALIGNED`); `C` is the
-/// Christoffel-consistent Coriolis matrix, so `Ḋ − 2C` is skew-symmetric; the regressor
-/// satisfies `Y(q, q̇, v, a) θ = D a + C v + g` with `θ = Self::parameters()`, ten parameters
-/// per body `[m, m·cx, m·cy, m·cz, Ixx, Ixy, Iyy, Ixz, Iyz, Izz]` about the joint frame origin.
-pub trait RobotDynamics<const N: usize, const P: usize> {
+/// `J` is the 6×N geometric Jacobian of the end-effector frame origin, rows `[linear; angular]`
+/// in base axes (Pinocchio's `LOCAL_WORLD_ALIGNED`).
+pub trait Kinematics<const N: usize> {
     /// Robot name from its description.
     const NAME: &'static str;
     /// Joint names, in the order of `q`.
     const JOINT_NAMES: [&'static str; N];
-    /// Names of the entries of θ, e.g. `"mcx[link3]"`.
-    const PARAMETER_NAMES: [&'static str; P];
+    /// Joint limits from the description, in the order of `q`.
+    const JOINT_LIMITS: [JointLimits; N];
+    /// Index of the body (= of its joint) that carries the end-effector frame.
+    const END_EFFECTOR_BODY: usize;
 
-    /// The standard inertial parameters θ of the description.
-    fn parameters() -> SVector<f64, P>;
     /// End-effector pose in the base frame.
     fn forward_kinematics(t: &JointTrig<N>) -> Pose;
     /// End-effector geometric Jacobian `J(q)`.
     fn jacobian(t: &JointTrig<N>) -> SMatrix<f64, 6, N>;
     /// Its time derivative `J̇(q, q̇)`.
     fn jacobian_dot(t: &JointTrig<N>, qd: &SVector<f64, N>) -> SMatrix<f64, 6, N>;
+}
+
+/// Rigid-body dynamics of one robot with `N` joints and `P` standard inertial parameters.
+///
+/// Conventions: `C` is the Christoffel-consistent Coriolis matrix, so `Ḋ − 2C` is
+/// skew-symmetric; the regressor satisfies `Y(q, q̇, v, a) θ = D a + C v + g` with
+/// `θ = Self::parameters()`, ten parameters per body `[m, m·cx, m·cy, m·cz, Ixx, Ixy, Iyy, Ixz,
+/// Iyz, Izz]` about the joint frame origin.
+pub trait RobotDynamics<const N: usize, const P: usize>: Kinematics<N> {
+    /// Names of the entries of θ, e.g. `"mcx[link3]"`.
+    const PARAMETER_NAMES: [&'static str; P];
+    /// The kind of each entry of θ.
+    const PARAMETER_KINDS: [ParameterKind; P];
+
+    /// The standard inertial parameters θ of the description.
+    fn parameters() -> SVector<f64, P>;
     /// Joint-space inertia matrix `D(q)`.
     fn mass_matrix(t: &JointTrig<N>) -> SMatrix<f64, N, N>;
     /// Christoffel-consistent Coriolis matrix `C(q, q̇)`.

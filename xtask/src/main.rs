@@ -37,7 +37,9 @@ enum Command {
         #[arg(long)]
         criterion: Option<PathBuf>,
     },
-    /// Fuzz the description loaders: the harness of `tests/fuzz.rs`, in release, with progress.
+    /// Fuzz the description loaders (`dyngen_testkit::fuzz`), in release, with progress. An
+    /// abort without a finding is a stack overflow or a hang: rerun with `--threads 1` and
+    /// replay the last case seeds.
     Fuzz {
         /// Number of cases.
         #[arg(long, default_value_t = 1_000_000)]
@@ -53,6 +55,31 @@ enum Command {
         #[arg(long)]
         replay: Option<String>,
     },
+    /// Print the scale table of TESTING.md (chains to 30 DOF, trees to 20: operation counts,
+    /// generation time, code size), in release; the modules go to `target/scale/`.
+    Scale,
+}
+
+/// Timings and long runs belong to optimised code: a debug `cargo xtask` runs itself again
+/// with `--release` and returns its exit code (`None`: this is the release build).
+fn rerun_in_release() -> Option<ExitCode> {
+    if !cfg!(debug_assertions) {
+        return None;
+    }
+    let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
+    let status = std::process::Command::new(cargo)
+        .current_dir(workspace_root())
+        .args(["run", "--release", "--quiet", "--package", "xtask", "--"])
+        .args(std::env::args_os().skip(1))
+        .status();
+    Some(match status {
+        Ok(s) if s.success() => ExitCode::SUCCESS,
+        Ok(_) => ExitCode::FAILURE,
+        Err(e) => {
+            eprintln!("error: cannot run cargo: {e}");
+            ExitCode::FAILURE
+        }
+    })
 }
 
 fn workspace_root() -> PathBuf {
@@ -143,31 +170,31 @@ fn main() -> ExitCode {
             threads,
             replay,
         } => {
-            let cargo = std::env::var_os("CARGO").unwrap_or_else(|| "cargo".into());
-            let mut cmd = std::process::Command::new(cargo);
-            cmd.current_dir(&root)
-                .args(["test", "--release", "--test", "fuzz", "fuzz_long", "--"])
-                .args(["--ignored", "--nocapture", "--test-threads=1"])
-                .env("DYNGEN_FUZZ_CASES", cases.to_string())
-                .env("DYNGEN_FUZZ_SEED", seed.to_string())
-                .env("DYNGEN_FUZZ_THREADS", threads.to_string());
-            if let Some(r) = replay {
-                cmd.env("DYNGEN_FUZZ_REPLAY", r);
+            if let Some(code) = rerun_in_release() {
+                return code;
             }
-            match cmd.status() {
-                Ok(s) if s.success() => ExitCode::SUCCESS,
-                Ok(s) => {
-                    eprintln!(
-                        "error: fuzzing failed ({s}); an abort without a finding is a stack overflow or a \
-                         hang: rerun with --threads 1 and replay the last case seeds"
-                    );
-                    ExitCode::FAILURE
+            let replay = match replay.map(|r| u64::from_str_radix(r.trim().trim_start_matches("0x"), 16)) {
+                None => None,
+                Some(Ok(s)) => Some(s),
+                Some(Err(e)) => {
+                    eprintln!("error: --replay takes a case seed in hex: {e}");
+                    return ExitCode::FAILURE;
                 }
-                Err(e) => {
-                    eprintln!("error: cannot run cargo: {e}");
+            };
+            match dyngen_testkit::fuzz::long_run(cases, seed, threads, replay) {
+                Ok(()) => ExitCode::SUCCESS,
+                Err(findings) => {
+                    eprintln!("error: {findings}");
                     ExitCode::FAILURE
                 }
             }
+        }
+        Command::Scale => {
+            if let Some(code) = rerun_in_release() {
+                return code;
+            }
+            print!("{}", dyngen_testkit::scale::report());
+            ExitCode::SUCCESS
         }
         Command::Gen {
             descriptions,

@@ -23,7 +23,7 @@ pub fn stacked_regressor(model: &Model, states: usize, seed: u64) -> DMatrix<f64
     let mut stacked = DMatrix::zeros(states * n, p);
     for k in 0..states {
         let q: Vec<f64> = model
-            .joints
+            .joints()
             .iter()
             .map(|j| match (j.kind, j.limits) {
                 (JointKind::Revolute, _) => rng.uniform((-std::f64::consts::PI, std::f64::consts::PI)),

@@ -13,7 +13,7 @@ use super::raw::RawRobot;
 use super::source_map::{joint_path, link_path, SourceMap};
 use super::tree::Topology;
 use super::Diagnostics;
-use crate::model::{exact_sin_cos, Body, Frame, Inertia, Joint, JointKind, Model, Pose};
+use crate::model::{exact_sin_cos, from_xyz_rpy, Body, Frame, Inertia, Joint, JointKind, Model, Pose};
 use nalgebra::{Matrix3, Vector3};
 
 /// Gravity when the description gives none (z up).
@@ -116,12 +116,11 @@ pub(crate) fn assemble(
         .collect();
 
     let end_effector = end_effector(c, settings, &carrier, &placement, &joints, diags)?;
-    Ok(Model {
-        name,
-        joints,
-        bodies,
-        gravity: Vector3::from(gravity),
-        end_effector,
+    Model::new(name, joints, bodies, Vector3::from(gravity), end_effector).map_err(|e| {
+        DescriptionError::new(
+            &c.robot_map.file,
+            format!("internal error: the model breaks an invariant: {e}"),
+        )
     })
 }
 
@@ -280,7 +279,7 @@ fn end_effector(
         );
         return Err(err(msg));
     };
-    let offset = Pose::from_xyz_rpy(spec.xyz, spec.rpy);
+    let offset = from_xyz_rpy(spec.xyz, spec.rpy);
     Ok(Frame {
         name: spec.frame_name().to_owned(),
         parent,

@@ -8,7 +8,9 @@ use super::error::{item, num, vec3, DescriptionError};
 use super::raw::{RawInertial, RawJoint, RawLink};
 use super::source_map::{joint_path, link_path, SourceMap};
 use super::Diagnostics;
-use crate::model::{check_rotational_inertia, Inertia, JointKind, Limits, Pose, INERTIA_REL_TOL};
+use crate::model::{
+    check_rotational_inertia, from_xyz_rpy, Inertia, JointKind, Limits, Pose, INERTIA_REL_TOL,
+};
 use nalgebra::{Matrix3, Vector3};
 
 /// How a joint moves, once its type is known to be supported.
@@ -82,7 +84,7 @@ fn check_joint(
     if let Some(msg) = too_large(&j.xyz, "origin xyz") {
         return Err(err(".origin", msg));
     }
-    let origin = Pose::from_xyz_rpy(j.xyz, j.rpy);
+    let origin = from_xyz_rpy(j.xyz, j.rpy);
     let warn = |diags: &mut Diagnostics, field: &str, msg: String| {
         diags
             .warnings
@@ -98,17 +100,20 @@ fn check_joint(
         if !finite(&j.axis) {
             return Err(err(".axis", format!("axis {} is not finite", vec3(&j.axis))));
         }
-        // Huge components would overflow the plain norm: then scale first.
+        // Scaled first: huge components overflow the plain norm and tiny ones underflow it
+        // (its squares vanish), and either gives an axis that is not a unit vector.
         let a = Vector3::from(j.axis);
         let scale = a.amax();
         if scale == 0.0 {
             return Err(err(".axis", format!("axis {} has zero length", vec3(&j.axis))));
         }
-        let norm = match a.norm() {
-            n if n.is_finite() => n,
-            _ => scale * (a / scale).norm(),
+        let (unit, norm) = if (1e-150..1e150).contains(&scale) {
+            // Plain: bit-for-bit what an axis already given as a unit vector stays.
+            (a / a.norm(), a.norm())
+        } else {
+            let scaled = a / scale;
+            (scaled / scaled.norm(), scale * scaled.norm())
         };
-        let unit = a / norm;
         if (norm - 1.0).abs() > 1e-6 {
             let shown = vec3(&[unit.x, unit.y, unit.z]);
             let msg = format!("axis {} is not a unit vector: using {shown}", vec3(&j.axis));
@@ -324,7 +329,7 @@ fn check_inertial(
     }
 
     // The tensor is given in the inertial frame; the model wants link-frame axes.
-    let rotation = Pose::from_xyz_rpy(xyz, rpy).rotation;
+    let rotation = from_xyz_rpy(xyz, rpy).rotation;
     Ok(Inertia {
         mass,
         com: Vector3::from(xyz),

@@ -7,7 +7,7 @@
 //! 3. `tree`: names resolved, one root, no cycles, depth-first joint order;
 //! 4. `assemble`: fixed and locked joints welded away, inertias merged, frames placed,
 //!    end-effector chosen;
-//! 5. [`Model::validate`] re-checks the invariants every algorithm relies on.
+//! 5. [`Model::new`] checks the invariants every algorithm relies on.
 //!
 //! Nothing here panics on user input, and nothing is silently dropped or guessed: what
 //! cannot be modelled exactly (floating joints, unlocked mimic joints) is an error.
@@ -135,13 +135,7 @@ fn build(
     };
     let model = assemble::assemble(&checked, settings, &mut diags)?;
 
-    let model_warnings = model.validate().map_err(|e| {
-        DescriptionError::new(
-            &robot_map.file,
-            format!("internal error: the model breaks an invariant: {e}"),
-        )
-    })?;
-    for w in model_warnings {
+    for w in model.warnings() {
         let body = match &w {
             crate::model::Warning::MasslessLeaf { body, .. }
             | crate::model::Warning::MasslessBody { body, .. } => body,

@@ -27,7 +27,7 @@ pub fn coriolis_matrix<S: Scalar>(
 ) -> DMatrix<S> {
     let n = model.dof();
     let mut vel: Vec<Motion<S>> = Vec::with_capacity(n);
-    for (i, joint) in model.joints.iter().enumerate() {
+    for (i, joint) in model.joints().iter().enumerate() {
         let from_parent = joint
             .parent
             .map_or(Motion::zero(), |p| x[i].motion_to_child(&vel[p]));
@@ -37,7 +37,7 @@ pub fn coriolis_matrix<S: Scalar>(
     let mut icdot: Vec<RigidInertia<S>> = inertias.iter().zip(&vel).map(|(i, v)| i.derivative(v)).collect();
     let mut hc: Vec<Force<S>> = inertias.iter().zip(&vel).map(|(i, v)| i.mul_motion(v)).collect();
     for i in (0..n).rev() {
-        if let Some(p) = model.joints[i].parent {
+        if let Some(p) = model.joints()[i].parent {
             ic[p] = ic[p] + ic[i].to_parent(&x[i]);
             icdot[p] = icdot[p] + icdot[i].to_parent(&x[i]);
             hc[p] = hc[p] + x[i].force_to_parent(&hc[i]);
@@ -46,21 +46,21 @@ pub fn coriolis_matrix<S: Scalar>(
     let half = S::from_f64(0.5);
     let mut c = DMatrix::from_element(n, n, S::zero());
     for d in 0..n {
-        let psi = joint_motion(&model.joints[d], S::one());
+        let psi = joint_motion(&model.joints()[d], S::one());
         let psi_dot = vel[d].cross_motion(&psi);
         let g1 = icdot[d].mul_motion(&psi).scale(half);
         let g2 = psi.cross_force(&hc[d]).scale(half);
         let mut f1 = ic[d].mul_motion(&psi_dot) + g1 + g2;
         let mut f2 = ic[d].mul_motion(&psi);
         let mut f3 = g1 - g2;
-        c[(d, d)] = joint_force(&model.joints[d], &f1);
+        c[(d, d)] = joint_force(&model.joints()[d], &f1);
         let mut a = d;
-        while let Some(p) = model.joints[a].parent {
+        while let Some(p) = model.joints()[a].parent {
             f1 = x[a].force_to_parent(&f1);
             f2 = x[a].force_to_parent(&f2);
             f3 = x[a].force_to_parent(&f3);
             a = p;
-            let joint = &model.joints[a];
+            let joint = &model.joints()[a];
             let psi_a_dot = vel[a].cross_motion(&joint_motion(joint, S::one()));
             c[(a, d)] = joint_force(joint, &f1);
             c[(d, a)] = f2.power(&psi_a_dot) + joint_force(joint, &f3);

@@ -12,20 +12,20 @@ pub fn mass_matrix<S: Scalar>(model: &Model, x: &[Transform<S>], inertias: &[Rig
     // Composite inertia of each subtree, in its root body's frame (children have larger indices).
     let mut composite = inertias.to_vec();
     for i in (0..n).rev() {
-        if let Some(p) = model.joints[i].parent {
+        if let Some(p) = model.joints()[i].parent {
             let up = composite[i].to_parent(&x[i]);
             composite[p] = composite[p] + up;
         }
     }
     let mut d = DMatrix::from_element(n, n, S::zero());
     for i in 0..n {
-        let mut f = composite[i].mul_motion(&joint_motion(&model.joints[i], S::one()));
-        d[(i, i)] = joint_force(&model.joints[i], &f);
+        let mut f = composite[i].mul_motion(&joint_motion(&model.joints()[i], S::one()));
+        d[(i, i)] = joint_force(&model.joints()[i], &f);
         let mut j = i;
-        while let Some(p) = model.joints[j].parent {
+        while let Some(p) = model.joints()[j].parent {
             f = x[j].force_to_parent(&f);
             j = p;
-            let dij = joint_force(&model.joints[j], &f);
+            let dij = joint_force(&model.joints()[j], &f);
             d[(i, j)] = dij;
             d[(j, i)] = dij;
         }

@@ -52,7 +52,7 @@ pub fn joint_transform<S: Scalar>(joint: &Joint, q: S) -> Transform<S> {
 /// Every joint's transform at `q`: the only place where sines and cosines are taken.
 pub fn joint_transforms<S: Scalar>(model: &Model, q: &[S]) -> Vec<Transform<S>> {
     model
-        .joints
+        .joints()
         .iter()
         .zip(q)
         .map(|(j, &qi)| joint_transform(j, qi))

@@ -9,7 +9,7 @@ use nalgebra::DMatrix;
 /// Each body's frame in the base frame.
 pub fn body_poses<S: Scalar>(model: &Model, x: &[Transform<S>]) -> Vec<Transform<S>> {
     let mut world: Vec<Transform<S>> = Vec::with_capacity(model.dof());
-    for (i, joint) in model.joints.iter().enumerate() {
+    for (i, joint) in model.joints().iter().enumerate() {
         let pose = match joint.parent {
             Some(p) => world[p].compose(&x[i]),
             None => x[i],
@@ -21,13 +21,13 @@ pub fn body_poses<S: Scalar>(model: &Model, x: &[Transform<S>]) -> Vec<Transform
 
 /// The end-effector frame in the base frame.
 pub fn end_effector_pose<S: Scalar>(model: &Model, world: &[Transform<S>]) -> Transform<S> {
-    let ee = &model.end_effector;
+    let ee = &model.end_effector();
     world[ee.parent].compose(&pose_to_transform(&ee.placement))
 }
 
 /// Unit axis of joint `j` in world coordinates.
 fn world_axis<S: Scalar>(model: &Model, world: &[Transform<S>], j: usize) -> Vec3<S> {
-    let a = model.joints[j].axis;
+    let a = model.joints()[j].axis;
     world[j].rot.mul_vec(&Vec3::from_f64([a.x, a.y, a.z]))
 }
 
@@ -43,9 +43,9 @@ pub fn jacobian<S: Scalar>(model: &Model, world: &[Transform<S>]) -> DMatrix<S> 
     let n = model.dof();
     let pe = end_effector_pose(model, world).pos;
     let mut jac = DMatrix::from_element(6, n, S::zero());
-    for j in model.chain_to(model.end_effector.parent) {
+    for j in model.chain_to(model.end_effector().parent) {
         let z = world_axis(model, world, j);
-        match model.joints[j].kind {
+        match model.joints()[j].kind {
             JointKind::Revolute => set_column(&mut jac, j, z.cross(&(pe - world[j].pos)), z),
             JointKind::Prismatic => set_column(&mut jac, j, z, Vec3::zero()),
         }
@@ -59,29 +59,29 @@ pub fn jacobian<S: Scalar>(model: &Model, world: &[Transform<S>]) -> DMatrix<S> 
 /// lever arm `p_e − p_j` changes at the difference of the two points' velocities.
 pub fn jacobian_dot<S: Scalar>(model: &Model, world: &[Transform<S>], qd: &[S]) -> DMatrix<S> {
     let n = model.dof();
-    let chain = model.chain_to(model.end_effector.parent);
+    let chain = model.chain_to(model.end_effector().parent);
     // World angular velocity and origin velocity of every body on the chain.
     let mut omega = vec![Vec3::zero(); n];
     let mut pdot = vec![Vec3::zero(); n];
     for &i in &chain {
-        let (w0, v0) = match model.joints[i].parent {
+        let (w0, v0) = match model.joints()[i].parent {
             Some(p) => (omega[p], pdot[p] + omega[p].cross(&(world[i].pos - world[p].pos))),
             None => (Vec3::zero(), Vec3::zero()),
         };
         let z = world_axis(model, world, i).scale(qd[i]);
-        (omega[i], pdot[i]) = match model.joints[i].kind {
+        (omega[i], pdot[i]) = match model.joints()[i].kind {
             JointKind::Revolute => (w0 + z, v0),
             JointKind::Prismatic => (w0, v0 + z),
         };
     }
-    let last = model.end_effector.parent;
+    let last = model.end_effector().parent;
     let pe = end_effector_pose(model, world).pos;
     let pe_dot = pdot[last] + omega[last].cross(&(pe - world[last].pos));
     let mut jd = DMatrix::from_element(6, n, S::zero());
     for &j in &chain {
         let z = world_axis(model, world, j);
         let zd = omega[j].cross(&z);
-        match model.joints[j].kind {
+        match model.joints()[j].kind {
             JointKind::Revolute => {
                 let lin = zd.cross(&(pe - world[j].pos)) + z.cross(&(pe_dot - pdot[j]));
                 set_column(&mut jd, j, lin, zd)

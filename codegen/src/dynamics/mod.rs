@@ -39,7 +39,7 @@ use crate::spatial::RigidInertia;
 /// The bodies' inertias of `model` (its standard parameters) as scalars.
 pub fn body_inertias<S: Scalar>(model: &Model) -> Vec<RigidInertia<S>> {
     model
-        .bodies
+        .bodies()
         .iter()
         .map(|b| RigidInertia::from_parameters(&b.inertia.parameters().map(S::from_f64)))
         .collect()

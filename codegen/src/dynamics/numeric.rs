@@ -112,7 +112,7 @@ impl<'m> NumericDynamics<'m> {
         with_gravity: bool,
     ) -> DVector<f64> {
         let x = self.configuration(q).transforms;
-        let g = with_gravity.then(|| Vec3(self.model.gravity.into()));
+        let g = with_gravity.then(|| Vec3(self.model.gravity().into()));
         DVector::from_vec(slotine_li(self.model, &x, &self.inertias, qd, v, a, g))
     }
 

@@ -20,11 +20,11 @@ pub fn regressor<S: Scalar>(model: &Model, x: &[Transform<S>], qd: &[S], v: &[S]
             let col = PARAMS_PER_BODY * i + k;
             let mut f = body_force(&RigidInertia::unit(k), m);
             let mut j = i;
-            y[(j, col)] = joint_force(&model.joints[j], &f);
-            while let Some(p) = model.joints[j].parent {
+            y[(j, col)] = joint_force(&model.joints()[j], &f);
+            while let Some(p) = model.joints()[j].parent {
                 f = x[j].force_to_parent(&f);
                 j = p;
-                y[(j, col)] = joint_force(&model.joints[j], &f);
+                y[(j, col)] = joint_force(&model.joints()[j], &f);
             }
         }
     }

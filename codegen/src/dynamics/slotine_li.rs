@@ -34,7 +34,7 @@ pub(crate) fn forward_pass<S: Scalar>(
         lin: gravity.map_or(Vec3::zero(), |g| -g),
     };
     let mut out: Vec<BodyMotion<S>> = Vec::with_capacity(model.dof());
-    for (i, joint) in model.joints.iter().enumerate() {
+    for (i, joint) in model.joints().iter().enumerate() {
         let (vel0, w0, wdot0) = match joint.parent {
             Some(p) => (out[p].vel, out[p].w, out[p].wdot),
             None => (Motion::zero(), Motion::zero(), base),
@@ -79,7 +79,7 @@ pub fn slotine_li<S: Scalar>(
         .map(|(m, inertia)| body_force(inertia, m))
         .collect();
     let mut tau = vec![S::zero(); model.dof()];
-    for (i, joint) in model.joints.iter().enumerate().rev() {
+    for (i, joint) in model.joints().iter().enumerate().rev() {
         tau[i] = joint_force(joint, &f[i]);
         if let Some(p) = joint.parent {
             let up = x[i].force_to_parent(&f[i]);
@@ -90,7 +90,7 @@ pub fn slotine_li<S: Scalar>(
 }
 
 pub(crate) fn gravity_vector<S: Scalar>(model: &Model) -> Vec3<S> {
-    Vec3::from_f64([model.gravity.x, model.gravity.y, model.gravity.z])
+    Vec3::from_f64([model.gravity().x, model.gravity().y, model.gravity().z])
 }
 
 /// Inverse dynamics `τ = D q̈ + C q̇ + g` (RNEA).

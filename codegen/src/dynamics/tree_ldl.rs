@@ -27,7 +27,7 @@ impl<S: Scalar> TreeLdl<S> {
     /// Factors `d` (the inertia matrix of `model`), reading only its lower triangle.
     pub fn factor(model: &Model, d: &DMatrix<S>) -> Self {
         let n = model.dof();
-        let parent: Vec<Option<usize>> = model.joints.iter().map(|j| j.parent).collect();
+        let parent: Vec<Option<usize>> = model.joints().iter().map(|j| j.parent).collect();
         let mut h = d.clone();
         let mut inv_pivot = vec![S::zero(); n];
         let mut pivots = vec![S::zero(); n];

@@ -190,11 +190,11 @@ impl<'a> Plan<'a> {
         let value = match self.robot.graph.node(id) {
             Node::Sin(a) => {
                 let a = atom(a);
-                quote!(#a.sin())
+                quote!(dyngen_runtime::libm::sin(#a))
             }
             Node::Cos(a) => {
                 let a = atom(a);
-                quote!(#a.cos())
+                quote!(dyngen_runtime::libm::cos(#a))
             }
             Node::Neg(a) => {
                 let a = atom(a);
@@ -545,30 +545,74 @@ fn base_parameters_function(base: &BaseParameterSet) -> TokenStream {
     }
 }
 
+/// The generated functions that belong to [`Kinematics`](dyngen_runtime::Kinematics) (the rest
+/// are [`RobotDynamics`](dyngen_runtime::RobotDynamics), and `Y_b` is
+/// [`BaseParameters`](dyngen_runtime::BaseParameters)).
+const KINEMATICS: [&str; 3] = ["forward_kinematics", "jacobian", "jacobian_dot"];
+
+/// A limit as a literal; an unset (infinite) one as `f64::INFINITY`.
+fn limit(x: f64) -> TokenStream {
+    match (x.is_finite(), x < 0.0) {
+        (true, _) => literal(x),
+        (false, false) => quote!(f64::INFINITY),
+        (false, true) => quote!(f64::NEG_INFINITY),
+    }
+}
+
+fn joint_limits(model: &Model) -> Vec<TokenStream> {
+    model
+        .joints()
+        .iter()
+        .map(|j| {
+            let l = j.limits.map_or(
+                [f64::NEG_INFINITY, f64::INFINITY, f64::INFINITY, f64::INFINITY],
+                |l| [l.lower, l.upper, l.velocity, l.effort],
+            );
+            let [lower, upper, velocity, effort] = l.map(limit);
+            quote!(JointLimits { lower: #lower, upper: #upper, velocity: #velocity, effort: #effort })
+        })
+        .collect()
+}
+
+fn parameter_kinds(model: &Model) -> Vec<TokenStream> {
+    model
+        .parameter_kinds()
+        .iter()
+        .map(|k| {
+            let k = format_ident!("{k:?}");
+            quote!(ParameterKind::#k)
+        })
+        .collect()
+}
+
 /// The complete generated module for `model`, formatted. The module declaration that
-/// includes it carries the lint allows of [`MODULE_ALLOWS`].
+/// includes it carries the lint allows of [`MODULE_ATTRIBUTES`].
 pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> String {
     let n = model.dof();
     let p = crate::model::PARAMS_PER_BODY * n;
     let leaves = Leaves::new(robot);
     let ty = format_ident!("{}", provenance.type_name);
-    let name = &model.name;
-    let joint_names = model.joints.iter().map(|j| j.name.as_str());
+    let name = &model.name();
+    let joint_names = model.joints().iter().map(|j| j.name.as_str());
+    let joint_limits = joint_limits(model);
+    let end_effector_body = Literal::usize_unsuffixed(model.end_effector().parent);
     let param_names = model.parameter_names();
+    let param_kinds = parameter_kinds(model);
     let theta = model.parameters().into_iter().map(literal);
     let emitted: Vec<(&str, Emitted)> = robot
         .quantities
         .iter()
         .map(|q| (q.name, function(robot, &leaves, q, n)))
         .collect();
-    let functions = emitted
-        .iter()
-        .filter(|(name, _)| *name != BASE_REGRESSOR)
-        .map(|(_, e)| &e.method);
-    let base_functions = emitted
-        .iter()
-        .filter(|(name, _)| *name == BASE_REGRESSOR)
-        .map(|(_, e)| &e.method);
+    let methods = |keep: fn(&str) -> bool| {
+        emitted
+            .iter()
+            .filter(move |(name, _)| keep(name))
+            .map(|(_, e)| &e.method)
+    };
+    let kinematics = methods(|name| KINEMATICS.contains(&name));
+    let functions = methods(|name| name != BASE_REGRESSOR && !KINEMATICS.contains(&name));
+    let base_functions = methods(|name| name == BASE_REGRESSOR);
     let chunks = emitted.iter().flat_map(|(_, e)| &e.chunks);
     let base = &robot.base;
     let base_names = base.names.iter().map(String::as_str);
@@ -588,22 +632,67 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
         provenance.source_hash,
         provenance.regenerate
     );
-    let type_doc = format!(" `{name}`: implements [`RobotDynamics`] and [`BaseParameters`] with flattened, allocation-free code.");
+    let type_doc = format!(
+        " `{name}`: implements [`Kinematics`], [`RobotDynamics`] and [`BaseParameters`] with flattened, allocation-free code."
+    );
     let tokens = quote! {
         use dyngen_runtime::nalgebra::{ArrayStorage, Matrix3, SMatrix, SVector, Vector3};
-        use dyngen_runtime::{BaseParameters, JointTrig, Pose, RobotDynamics};
+        use dyngen_runtime::{BaseParameters, JointLimits, JointTrig, Kinematics, ParameterKind, Pose, RobotDynamics};
 
+        /// Number of moving joints (the `N` of [`Kinematics`] and [`RobotDynamics`]).
+        pub const DOF: usize = #n;
+        /// Number of standard parameters, ten per body (the `P` of [`RobotDynamics`]).
+        pub const PARAMETER_COUNT: usize = #p;
         #[doc = #count_doc]
         pub const BASE_PARAMETER_COUNT: usize = #b;
+        /// Joint names, in the order of `q`.
+        pub const JOINT_NAMES: [&str; DOF] = [#(#joint_names),*];
+        /// Joint limits from the description (infinite where it sets none).
+        pub const JOINT_LIMITS: [JointLimits; DOF] = [#(#joint_limits),*];
+        /// Names of the standard parameters θ, e.g. `"mcx[link3]"`.
+        pub const PARAMETER_NAMES: [&str; PARAMETER_COUNT] = [#(#param_names),*];
+        /// The kind of each standard parameter.
+        pub const PARAMETER_KINDS: [ParameterKind; PARAMETER_COUNT] = [#(#param_kinds),*];
+        /// What each base parameter combines.
+        pub const BASE_PARAMETER_NAMES: [&str; BASE_PARAMETER_COUNT] = [#(#base_names),*];
+
+        /// The standard parameters, for generic code (`HybridController<Standard, DOF, PARAMETER_COUNT>`).
+        pub type Standard = dyngen_runtime::Standard<#ty>;
+        /// The base parameters, for generic code (`HybridController<Base, DOF, BASE_PARAMETER_COUNT>`).
+        pub type Base = dyngen_runtime::Base<#ty, PARAMETER_COUNT>;
+        /// Joint sines and cosines, the first argument of every function.
+        pub type Trig = JointTrig<DOF>;
+        /// A joint-space vector: `q`, `q̇`, `q̈`, `τ`.
+        pub type JointVector = SVector<f64, DOF>;
+        /// The 6 × DOF end-effector Jacobian.
+        pub type Jacobian = SMatrix<f64, 6, DOF>;
+        /// A DOF × DOF joint-space matrix: `D`, `C`.
+        pub type JointMatrix = SMatrix<f64, DOF, DOF>;
+        /// The standard parameters θ.
+        pub type Parameters = SVector<f64, PARAMETER_COUNT>;
+        /// The base parameters θ_b.
+        pub type BaseParameterVector = SVector<f64, BASE_PARAMETER_COUNT>;
+        /// The regressor `Y`.
+        pub type Regressor = SMatrix<f64, DOF, PARAMETER_COUNT>;
+        /// The base regressor `Y_b`.
+        pub type BaseRegressor = SMatrix<f64, DOF, BASE_PARAMETER_COUNT>;
 
         #[doc = #type_doc]
         #[derive(Clone, Copy, Debug, Default)]
         pub struct #ty;
 
-        impl RobotDynamics<#n, #p> for #ty {
+        impl Kinematics<#n> for #ty {
             const NAME: &'static str = #name;
-            const JOINT_NAMES: [&'static str; #n] = [#(#joint_names),*];
-            const PARAMETER_NAMES: [&'static str; #p] = [#(#param_names),*];
+            const JOINT_NAMES: [&'static str; #n] = JOINT_NAMES;
+            const JOINT_LIMITS: [JointLimits; #n] = JOINT_LIMITS;
+            const END_EFFECTOR_BODY: usize = #end_effector_body;
+
+            #(#kinematics)*
+        }
+
+        impl RobotDynamics<#n, #p> for #ty {
+            const PARAMETER_NAMES: [&'static str; #p] = PARAMETER_NAMES;
+            const PARAMETER_KINDS: [ParameterKind; #p] = PARAMETER_KINDS;
 
             fn parameters() -> SVector<f64, #p> {
                 SVector::from_array_storage(ArrayStorage([[#(#theta),*]]))
@@ -613,7 +702,7 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
         }
 
         impl BaseParameters<#n, #p, #b> for #ty {
-            const BASE_PARAMETER_NAMES: [&'static str; #b] = [#(#base_names),*];
+            const BASE_PARAMETER_NAMES: [&'static str; #b] = BASE_PARAMETER_NAMES;
 
             #base_parameters
 

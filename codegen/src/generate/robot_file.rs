@@ -125,10 +125,10 @@ pub fn generate_robot(
 /// own direction), naming the joint: forward dynamics do not exist for such a robot. A massless
 /// leaf is left to the loader's own warning, which already says that `D` is singular.
 fn singular_inertia_warnings(path: &Path, model: &Model) -> Vec<String> {
-    let has_child = |k: usize| model.joints.iter().any(|j| j.parent == Some(k));
+    let has_child = |k: usize| model.joints().iter().any(|j| j.parent == Some(k));
     crate::dynamics::singular_joints(model)
         .into_iter()
-        .filter(|&k| model.bodies[k].inertia.mass != 0.0 || has_child(k))
+        .filter(|&k| model.bodies()[k].inertia.mass != 0.0 || has_child(k))
         .map(|k| {
             format!(
                 "{}: joint '{}': moves no mass or inertia in its own direction (link '{}' and what \
@@ -136,8 +136,8 @@ fn singular_inertia_warnings(path: &Path, model: &Model) -> Vec<String> {
                  exist (forward_dynamics, mass_matrix_inverse and forward_dynamics_derivatives \
                  return non-finite values)",
                 path.display(),
-                model.joints[k].name,
-                model.bodies[k].name
+                model.joints()[k].name,
+                model.bodies()[k].name
             )
         })
         .collect()

@@ -157,7 +157,7 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
                     &qd,
                     &v,
                     &a,
-                    Some(crate::spatial::Vec3::from_f64(model.gravity.into())),
+                    Some(crate::spatial::Vec3::from_f64(model.gravity().into())),
                 )),
             },
             Quantity {

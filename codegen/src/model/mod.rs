@@ -1,6 +1,6 @@
 //! The kinematic-tree model that every robot description becomes.
 //!
-//! Invariants (checked by [`Model::validate`], relied upon by every algorithm):
+//! Invariants (checked by [`Model::new`], relied upon by every algorithm):
 //! - joints are in topological order: a joint's parent index is smaller than its own;
 //! - every joint moves (fixed and locked joints were merged away by the loader);
 //! - axes are unit vectors, rotations are orthonormal, inertias are physically valid;
@@ -9,11 +9,11 @@
 mod pose;
 mod validate;
 
-pub use pose::{exact_sin_cos, Pose};
-pub use validate::{
-    check_rotational_inertia, principal_moments, validate, ModelError, Warning, INERTIA_REL_TOL,
-};
+pub use pose::{exact_sin_cos, from_xyz_rpy, Pose};
+use validate::validate;
+pub use validate::{check_rotational_inertia, principal_moments, ModelError, Warning, INERTIA_REL_TOL};
 
+use dyngen_runtime::ParameterKind;
 use nalgebra::{Matrix3, Vector3};
 
 /// How a joint moves.
@@ -78,22 +78,19 @@ pub struct Frame {
     pub placement: Pose,
 }
 
-/// A fixed-base kinematic tree with its inertial parameters.
+/// A fixed-base kinematic tree with its inertial parameters. It satisfies the invariants of
+/// this module or is not built: the only way to one is [`Model::new`], which checks them.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Model {
-    /// Robot name from the description.
-    pub name: String,
-    /// Moving joints in topological order; `joints[i]` carries `bodies[i]`.
-    pub joints: Vec<Joint>,
-    pub bodies: Vec<Body>,
-    /// Gravity acceleration in the base frame.
-    pub gravity: Vector3<f64>,
-    /// The frame whose pose, Jacobian and its derivative are computed.
-    pub end_effector: Frame,
+    name: String,
+    joints: Vec<Joint>,
+    bodies: Vec<Body>,
+    gravity: Vector3<f64>,
+    end_effector: Frame,
 }
 
-/// Number of standard inertial parameters per body.
-pub const PARAMS_PER_BODY: usize = 10;
+/// Number of standard inertial parameters per body (the runtime contract's layout).
+pub const PARAMS_PER_BODY: usize = dyngen_runtime::PARAMETERS_PER_BODY;
 
 /// Names of the standard parameters of one body, in the order of [`Inertia::parameters`].
 pub const PARAM_NAMES: [&str; PARAMS_PER_BODY] =
@@ -154,6 +151,58 @@ impl Inertia {
 }
 
 impl Model {
+    /// A model of moving `joints` (topological order) carrying `bodies` (`joints[i]` carries
+    /// `bodies[i]`), with `gravity` in the base frame and the `end_effector` frame, checked.
+    pub fn new(
+        name: impl Into<String>,
+        joints: Vec<Joint>,
+        bodies: Vec<Body>,
+        gravity: Vector3<f64>,
+        end_effector: Frame,
+    ) -> Result<Model, ModelError> {
+        let model = Model {
+            name: name.into(),
+            joints,
+            bodies,
+            gravity,
+            end_effector,
+        };
+        validate(&model)?;
+        Ok(model)
+    }
+
+    /// The same robot under another gravity (e.g. none, for energy checks).
+    pub fn with_gravity(mut self, gravity: Vector3<f64>) -> Result<Model, ModelError> {
+        self.gravity = gravity;
+        validate(&self)?;
+        Ok(self)
+    }
+
+    /// Robot name from the description.
+    pub fn name(&self) -> &str {
+        &self.name
+    }
+
+    /// Moving joints in topological order; `joints()[i]` carries `bodies()[i]`.
+    pub fn joints(&self) -> &[Joint] {
+        &self.joints
+    }
+
+    /// One rigid body per moving joint, in joint order.
+    pub fn bodies(&self) -> &[Body] {
+        &self.bodies
+    }
+
+    /// Gravity acceleration in the base frame.
+    pub fn gravity(&self) -> Vector3<f64> {
+        self.gravity
+    }
+
+    /// The frame whose pose, Jacobian and its derivative are computed.
+    pub fn end_effector(&self) -> &Frame {
+        &self.end_effector
+    }
+
     /// Number of degrees of freedom (moving joints).
     pub fn dof(&self) -> usize {
         self.joints.len()
@@ -172,6 +221,12 @@ impl Model {
             .collect()
     }
 
+    /// The kind of each entry of [`Model::parameters`].
+    pub fn parameter_kinds(&self) -> Vec<ParameterKind> {
+        let per_body = (0..PARAMS_PER_BODY).map(ParameterKind::of_body_entry);
+        self.bodies.iter().flat_map(|_| per_body.clone()).collect()
+    }
+
     /// Joints from the base down to `joint` (inclusive), base first.
     pub fn chain_to(&self, joint: usize) -> Vec<usize> {
         let mut chain = vec![joint];
@@ -182,20 +237,5 @@ impl Model {
         }
         chain.reverse();
         chain
-    }
-
-    /// Whether joint `ancestor` lies on the path from the base to `joint` (a joint is its own ancestor).
-    pub fn is_ancestor(&self, ancestor: usize, joint: usize) -> bool {
-        let mut j = Some(joint);
-        while let Some(k) = j {
-            if k == ancestor {
-                return true;
-            }
-            if k < ancestor {
-                return false;
-            }
-            j = self.joints[k].parent;
-        }
-        false
     }
 }

@@ -1,19 +1,8 @@
-//! Rigid placements of frames, built from URDF `origin` (xyz, rpy).
+//! Rigid placements of frames ([`Pose`], shared with generated code), built from URDF
+//! `origin` (xyz, rpy).
 
+pub use dyngen_runtime::Pose;
 use nalgebra::{Matrix3, Vector3};
-
-/// A rigid placement: a point `p` in the child frame is `rotation * p + translation` in the parent.
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Pose {
-    pub rotation: Matrix3<f64>,
-    pub translation: Vector3<f64>,
-}
-
-impl Default for Pose {
-    fn default() -> Self {
-        Pose::identity()
-    }
-}
 
 /// Sine and cosine that are exact (0, ±1) at multiples of π/2.
 ///
@@ -36,45 +25,16 @@ pub fn exact_sin_cos(angle: f64) -> (f64, f64) {
     }
 }
 
-impl Pose {
-    pub fn identity() -> Pose {
-        Pose {
-            rotation: Matrix3::identity(),
-            translation: Vector3::zeros(),
-        }
-    }
-
-    /// URDF origin: translation `xyz`, rotation `Rz(yaw) · Ry(pitch) · Rx(roll)` (fixed axes).
-    pub fn from_xyz_rpy(xyz: [f64; 3], rpy: [f64; 3]) -> Pose {
-        let (sr, cr) = exact_sin_cos(rpy[0]);
-        let (sp, cp) = exact_sin_cos(rpy[1]);
-        let (sy, cy) = exact_sin_cos(rpy[2]);
-        let rx = Matrix3::new(1.0, 0.0, 0.0, 0.0, cr, -sr, 0.0, sr, cr);
-        let ry = Matrix3::new(cp, 0.0, sp, 0.0, 1.0, 0.0, -sp, 0.0, cp);
-        let rz = Matrix3::new(cy, -sy, 0.0, sy, cy, 0.0, 0.0, 0.0, 1.0);
-        Pose {
-            rotation: rz * ry * rx,
-            translation: Vector3::from(xyz),
-        }
-    }
-
-    /// `self ∘ other`: `other` is given in the frame that `self` places.
-    pub fn compose(&self, other: &Pose) -> Pose {
-        Pose {
-            rotation: self.rotation * other.rotation,
-            translation: self.rotation * other.translation + self.translation,
-        }
-    }
-
-    pub fn inverse(&self) -> Pose {
-        let rt = self.rotation.transpose();
-        Pose {
-            rotation: rt,
-            translation: -(rt * self.translation),
-        }
-    }
-
-    pub fn transform_point(&self, p: &Vector3<f64>) -> Vector3<f64> {
-        self.rotation * p + self.translation
+/// URDF origin: translation `xyz`, rotation `Rz(yaw) · Ry(pitch) · Rx(roll)` (fixed axes).
+pub fn from_xyz_rpy(xyz: [f64; 3], rpy: [f64; 3]) -> Pose {
+    let (sr, cr) = exact_sin_cos(rpy[0]);
+    let (sp, cp) = exact_sin_cos(rpy[1]);
+    let (sy, cy) = exact_sin_cos(rpy[2]);
+    let rx = Matrix3::new(1.0, 0.0, 0.0, 0.0, cr, -sr, 0.0, sr, cr);
+    let ry = Matrix3::new(cp, 0.0, sp, 0.0, 1.0, 0.0, -sp, 0.0, cp);
+    let rz = Matrix3::new(cy, -sy, 0.0, sy, cy, 0.0, 0.0, 0.0, 1.0);
+    Pose {
+        rotation: rz * ry * rx,
+        translation: Vector3::from(xyz),
     }
 }

@@ -126,16 +126,16 @@ fn fmt_num(v: f64) -> String {
 }
 
 impl Model {
-    /// Checks the invariants listed in the [module docs](crate::model) and returns warnings
-    /// about legal but suspicious bodies (zero mass). See [`validate`].
-    pub fn validate(&self) -> Result<Vec<Warning>, ModelError> {
-        validate(self)
+    /// Legal but suspicious bodies (zero mass), for the loader to report.
+    pub fn warnings(&self) -> Vec<Warning> {
+        // A `Model` is valid by construction, so only the warnings remain to be had.
+        validate(self).unwrap_or_default()
     }
 }
 
 /// Checks the model invariants: topological order, unit axes, orthonormal rotations, finite
-/// numbers, physically valid inertias, a valid end-effector frame.
-pub fn validate(model: &Model) -> Result<Vec<Warning>, ModelError> {
+/// numbers, physically valid inertias, a valid end-effector frame; returns the warnings.
+pub(super) fn validate(model: &Model) -> Result<Vec<Warning>, ModelError> {
     let err = |msg: String| Err(ModelError(msg));
     let n = model.joints.len();
     if model.bodies.len() != n {
@@ -273,20 +273,20 @@ mod tests {
 
     #[test]
     fn valid_model_passes() {
-        assert_eq!(one_joint(inertia(1.0, [1.0, 1.0, 1.0])).validate(), Ok(vec![]));
+        assert_eq!(validate(&one_joint(inertia(1.0, [1.0, 1.0, 1.0]))), Ok(vec![]));
     }
 
     #[test]
     fn triangle_inequality_is_checked() {
-        let e = one_joint(inertia(1.0, [1.0, 1.0, 2.5])).validate().unwrap_err();
+        let e = validate(&one_joint(inertia(1.0, [1.0, 1.0, 2.5]))).unwrap_err();
         assert!(e.0.contains("triangle"), "{e}");
         // a flat plate is exactly on the boundary and is fine
-        assert!(one_joint(inertia(1.0, [1.0, 1.0, 2.0])).validate().is_ok());
+        assert!(validate(&one_joint(inertia(1.0, [1.0, 1.0, 2.0]))).is_ok());
     }
 
     #[test]
     fn negative_moment_is_rejected() {
-        let e = one_joint(inertia(1.0, [-1.0, 1.0, 1.0])).validate().unwrap_err();
+        let e = validate(&one_joint(inertia(1.0, [-1.0, 1.0, 1.0]))).unwrap_err();
         assert!(e.0.contains("semi-definite"), "{e}");
     }
 
@@ -294,22 +294,22 @@ mod tests {
     fn topological_order_is_checked() {
         let mut m = one_joint(inertia(1.0, [1.0, 1.0, 1.0]));
         m.joints[0].parent = Some(0);
-        assert!(m.validate().unwrap_err().0.contains("topological"));
+        assert!(validate(&m).unwrap_err().0.contains("topological"));
     }
 
     #[test]
     fn axis_and_rotation_are_checked() {
         let mut m = one_joint(inertia(1.0, [1.0, 1.0, 1.0]));
         m.joints[0].axis = Vector3::new(0.0, 0.0, 2.0);
-        assert!(m.validate().unwrap_err().0.contains("unit"));
+        assert!(validate(&m).unwrap_err().0.contains("unit"));
         let mut m = one_joint(inertia(1.0, [1.0, 1.0, 1.0]));
         m.end_effector.placement.rotation[(0, 0)] = 2.0;
-        assert!(m.validate().unwrap_err().0.contains("orthonormal"));
+        assert!(validate(&m).unwrap_err().0.contains("orthonormal"));
     }
 
     #[test]
     fn massless_leaf_is_a_warning() {
-        let w = one_joint(inertia(0.0, [0.0, 0.0, 0.0])).validate().unwrap();
+        let w = validate(&one_joint(inertia(0.0, [0.0, 0.0, 0.0]))).unwrap();
         assert_eq!(
             w,
             vec![Warning::MasslessLeaf {
@@ -324,6 +324,6 @@ mod tests {
     fn nan_is_rejected() {
         let mut m = one_joint(inertia(1.0, [1.0, 1.0, 1.0]));
         m.bodies[0].inertia.com.x = f64::NAN;
-        assert!(m.validate().is_err());
+        assert!(validate(&m).is_err());
     }
 }

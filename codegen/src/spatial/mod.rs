@@ -1,4 +1,4 @@
-//! Minimal 3-D and spatial (6-D) algebra over any [`Scalar`](crate::scalar::Scalar).
+//! Minimal 3-D and spatial (6-D) algebra over any [`Scalar`].
 //!
 //! Hand-written rather than nalgebra so that every arithmetic operation is explicit: run on
 //! symbolic values, each one becomes a node of the expression graph, and constants that are

@@ -1,0 +1,366 @@
+//! Adaptive hybrid force/position control demo: approach a table, press with a smooth ramp to
+//! 10 N, then track a 5 cm-radius circle at 0.25 Hz for 8 s while holding the force, with the
+//! null space regulating the posture. Three runs side by side: adaptive from θ̂(0) = 0.5·θ_desc
+//! (payload unknown), the same with adaptation off, and the known-parameter law.
+//!
+//! `cargo run --release -p dyngen-control --example hybrid_force -- --out out/hybrid_force`
+//!
+//! Prints a summary table and writes one CSV per run and SVG plots into `--out`.
+
+mod svg;
+
+use clap::{Parser, ValueEnum};
+use dyngen_control::sim::{
+    start_posture, Demo, DemoOptions, NoiseConfig, RunKind, RunResult, RunStatus, Sample,
+};
+use dyngen_generated::{arm7, panda, ur5, Arm7, Panda, Ur5};
+use dyngen_runtime::nalgebra::SVector;
+use dyngen_runtime::{BaseParameters, Kinematics, Parameterization};
+use std::fmt::Write as _;
+use std::io::{IsTerminal as _, Write as _};
+use std::path::{Path, PathBuf};
+use std::process::ExitCode;
+use std::time::Instant;
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum Robot {
+    Arm7,
+    Panda,
+    Ur5,
+}
+
+#[derive(Parser, Debug)]
+#[command(about = "Adaptive hybrid force/position control on a table: three laws side by side")]
+struct Args {
+    /// Robot (a committed generated robot).
+    #[arg(long, value_enum, default_value = "arm7")]
+    robot: Robot,
+    /// Directory for the CSV files and plots (created if missing).
+    #[arg(long, default_value = "hybrid_force_out")]
+    out: PathBuf,
+    /// Adapt the ten standard parameters per body instead of the base parameters.
+    #[arg(long)]
+    standard: bool,
+    /// Add sensor noise (σ = 1e-4 rad, 1e-3 rad/s, 0.05 N).
+    #[arg(long)]
+    noise: bool,
+    /// Seed of the noise.
+    #[arg(long, default_value_t = 0x5eed)]
+    seed: u64,
+    /// Start posture (rad, one per joint); default: the demo's posture for a committed robot.
+    #[arg(long, num_args = 1.., value_name = "Q")]
+    start: Option<Vec<f64>>,
+    /// Estimate the surface stiffness online, starting from k̂(0) = FACTOR·k (no stability proof).
+    #[arg(long, value_name = "FACTOR")]
+    estimate_stiffness: Option<f64>,
+    /// Rate γ of the stiffness estimate (1/s).
+    #[arg(long, default_value_t = 20.0)]
+    estimation_rate: f64,
+    /// Duration of the circle at full speed (s).
+    #[arg(long, default_value_t = 8.0)]
+    circle_time: f64,
+    /// Surface stiffness k (N/m).
+    #[arg(long, default_value_t = 1e4)]
+    stiffness: f64,
+    /// Target normal force (N).
+    #[arg(long, default_value_t = 10.0)]
+    force: f64,
+    /// G = κ·D̂(q₀).
+    #[arg(long)]
+    kappa: Option<f64>,
+    /// λ (force and position error gain).
+    #[arg(long)]
+    lambda: Option<f64>,
+    /// Diagonal Γ by parameter kind: mass, first moment, inertia.
+    #[arg(long, num_args = 3, value_names = ["M", "MC", "I"])]
+    gamma: Option<Vec<f64>>,
+}
+
+fn main() -> ExitCode {
+    let args = Args::parse();
+    let result = match args.robot {
+        Robot::Arm7 => {
+            run_robot::<Arm7, { arm7::DOF }, { arm7::PARAMETER_COUNT }, { arm7::BASE_PARAMETER_COUNT }>(&args)
+        }
+        Robot::Panda => {
+            run_robot::<Panda, { panda::DOF }, { panda::PARAMETER_COUNT }, { panda::BASE_PARAMETER_COUNT }>(
+                &args,
+            )
+        }
+        Robot::Ur5 => {
+            run_robot::<Ur5, { ur5::DOF }, { ur5::PARAMETER_COUNT }, { ur5::BASE_PARAMETER_COUNT }>(&args)
+        }
+    };
+    match result {
+        Ok(true) => ExitCode::SUCCESS,
+        Ok(false) => ExitCode::from(2),
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn options(args: &Args) -> DemoOptions {
+    let mut o = DemoOptions {
+        stiffness: args.stiffness,
+        target_force: args.force,
+        circle_time: args.circle_time,
+        ..DemoOptions::default()
+    };
+    if let Some(k) = args.kappa {
+        o.kappa = k;
+    }
+    if let Some(l) = args.lambda {
+        o.lambda = l;
+    }
+    if let Some(g) = &args.gamma {
+        o.gamma.mass = g[0];
+        o.gamma.first_moment = g[1];
+        o.gamma.inertia = g[2];
+    }
+    if args.noise {
+        o.sim.noise = Some(NoiseConfig::REFERENCE);
+        o.sim.seed = args.seed;
+    }
+    o.stiffness_estimation = args.estimate_stiffness.map(|f| (f, args.estimation_rate));
+    o
+}
+
+/// The parameterisation is a type: the base parameters by default, `--standard` for all ten
+/// per body.
+fn run_robot<R, const N: usize, const P: usize, const B: usize>(args: &Args) -> Result<bool, String>
+where
+    R: BaseParameters<N, P, B>,
+{
+    let q0 = match &args.start {
+        Some(q) if q.len() == N => SVector::from_column_slice(q),
+        Some(q) => {
+            return Err(format!(
+                "--start has {} values; {} has {N} joints",
+                q.len(),
+                R::NAME
+            ))
+        }
+        None => start_posture::<N>(R::NAME)
+            .ok_or_else(|| format!("no start posture for robot {}: give one with --start", R::NAME))?,
+    };
+    if args.standard {
+        run::<dyngen_runtime::Standard<R>, N, P>(args, q0)
+    } else {
+        run::<dyngen_runtime::Base<R, P>, N, B>(args, q0)
+    }
+}
+
+/// Runs the three laws; `Ok(false)` if one diverged (its data is still written).
+fn run<Z, const N: usize, const M: usize>(args: &Args, q0: SVector<f64, N>) -> Result<bool, String>
+where
+    Z: Parameterization<N, M>,
+{
+    let opts = options(args);
+    let demo = Demo::<Z, N, M>::new(opts, q0).map_err(|e| e.to_string())?;
+    std::fs::create_dir_all(&args.out).map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
+
+    let from = demo.metrics_from();
+    println!(
+        "robot {} ({N} DOF, {M} adapted parameters), table k = {} N/m, target {} N, payload {} kg unknown, {}{}",
+        <Z::Robot as Kinematics<N>>::NAME,
+        opts.stiffness,
+        opts.target_force,
+        opts.payload.mass,
+        if opts.sim.noise.is_some() { "sensor noise on" } else { "no noise" },
+        match opts.stiffness_estimation {
+            Some((f, g)) => format!(", stiffness estimated online from {f}·k (γ = {g})"),
+            None => String::new(),
+        }
+    );
+    println!(
+        "gains: G = {}·D̂(q₀), λ = {}, λ_n = {}, Γ = [{}, {}, {}] over [m, m·c, I]{}; controller 1 kHz, RK4 plant {} kHz; {:.1} s simulated",
+        opts.kappa,
+        opts.lambda,
+        opts.lambda_null,
+        opts.gamma.mass,
+        opts.gamma.first_moment,
+        opts.gamma.inertia,
+        if args.standard { "" } else { " (base parameters: diag(Φ Γ Φᵀ))" },
+        opts.sim.substeps as f64 / opts.sim.control_period / 1e3,
+        demo.scenario.duration()
+    );
+
+    let mut results: Vec<(RunKind, RunResult)> = Vec::new();
+    let mut all_ok = true;
+    // A live percentage on a terminal; in a log (CI, a pipe) one line per run instead of a
+    // hundred carriage returns.
+    let live = std::io::stderr().is_terminal();
+    for kind in RunKind::ALL {
+        let started = Instant::now();
+        let mut progress = |f: f64| {
+            if !live && f < 1.0 {
+                return;
+            }
+            eprint!(
+                "\r  {:<17} {:>3.0} %  ({:.1} s)",
+                kind.label(),
+                100.0 * f,
+                started.elapsed().as_secs_f64()
+            );
+            let _ = std::io::stderr().flush();
+        };
+        let res = demo.run(kind, &mut progress).map_err(|e| e.to_string())?;
+        eprintln!();
+        if let RunStatus::Diverged { time, reason } = &res.status {
+            eprintln!(
+                "  {} run diverged at t = {time:.3} s: {reason} (data so far is written)",
+                kind.label()
+            );
+            all_ok = false;
+        }
+        let path = args.out.join(format!("{}.csv", kind.label().replace(' ', "_")));
+        write_csv(&path, &res.samples).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
+        results.push((kind, res));
+    }
+
+    println!();
+    println!("over the last 4 s (t ≥ {from:.1} s):");
+    println!(
+        "| run | RMS force error (N) | RMS in-plane error (mm) | final null-space error (rad) | max abs(τ) (N·m) | control tick (µs, median) | status |"
+    );
+    println!("|---|---|---|---|---|---|---|");
+    for (kind, res) in &results {
+        let s = res.summary(from);
+        // No sample in the window (a run that diverged before it): say so rather than NaN.
+        let sci = |v: f64| {
+            if v.is_finite() {
+                format!("{v:.3e}")
+            } else {
+                "—".to_string()
+            }
+        };
+        println!(
+            "| {} | {} | {} | {:.3e} | {:.1} | {:.2} | {} |",
+            kind.label(),
+            sci(s.rms_force_error),
+            sci(s.rms_in_plane_error * 1e3),
+            s.final_null_error,
+            s.max_tau,
+            s.median_tick_ns / 1e3,
+            match &res.status {
+                RunStatus::Completed => "completed".to_string(),
+                RunStatus::Diverged { time, .. } => format!("diverged at {time:.3} s"),
+            }
+        );
+    }
+    let written = write_plots(&args.out, &results).map_err(|e| format!("cannot write plots: {e}"))?;
+    println!();
+    println!(
+        "wrote {} and the per-run CSV files into {}",
+        written.join(", "),
+        args.out.display()
+    );
+    Ok(all_ok)
+}
+
+fn write_csv(path: &Path, samples: &[Sample]) -> std::io::Result<()> {
+    let mut s = String::from(
+        "t,force,true_force,desired_force,force_error,in_plane_error_m,null_error,lyapunov,theta_error,tau_max,tick_ns,damping,stiffness\n",
+    );
+    for x in samples {
+        let _ = writeln!(
+            s,
+            "{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            x.t,
+            x.force,
+            x.true_force,
+            x.desired_force,
+            x.force_error,
+            x.in_plane_error,
+            x.null_error,
+            x.lyapunov,
+            x.theta_error,
+            x.tau_max,
+            x.tick_ns,
+            x.damping,
+            x.stiffness
+        );
+    }
+    std::fs::write(path, s)
+}
+
+const COLOURS: [&str; 3] = ["#1f77b4", "#d62728", "#2ca02c"];
+
+fn write_plots(dir: &Path, results: &[(RunKind, RunResult)]) -> std::io::Result<Vec<String>> {
+    let decimate = |samples: &[Sample], f: &dyn Fn(&Sample) -> f64| -> Vec<(f64, f64)> {
+        let step = (samples.len() / 800).max(1);
+        samples.iter().step_by(step).map(|s| (s.t, f(s))).collect()
+    };
+    type Getter = fn(&Sample) -> f64;
+    let quantities: [(&str, &str, &str, bool, Getter); 5] = [
+        ("force", "normal force F_t (N)", "N", false, |s| s.true_force),
+        (
+            "position_error",
+            "in-plane position error ‖K⁻x̃‖ (mm)",
+            "mm",
+            true,
+            |s| s.in_plane_error * 1e3,
+        ),
+        (
+            "null_space_error",
+            "null-space error ‖J⁻(q − q_ν)‖ (rad)",
+            "rad",
+            true,
+            |s| s.null_error,
+        ),
+        (
+            "lyapunov",
+            "V(t) = ½rᵀDr + ½θ̃ᵀΓ⁻¹θ̃ (adaptive), ½rᵀDr (others)",
+            "V",
+            true,
+            |s| s.lyapunov,
+        ),
+        (
+            "theta_error",
+            "parameter error ‖θ̃‖",
+            "‖θ̃‖",
+            true,
+            |s| s.theta_error,
+        ),
+    ];
+    let mut panels = Vec::new();
+    for (_, title, unit, log, get) in quantities {
+        let mut series: Vec<svg::Series> = results
+            .iter()
+            .enumerate()
+            .map(|(i, (k, r))| svg::Series {
+                label: k.label(),
+                colour: COLOURS[i % 3],
+                dashed: false,
+                points: decimate(&r.samples, &get),
+            })
+            .collect();
+        if unit == "N" {
+            if let Some((_, r)) = results.first() {
+                series.push(svg::Series {
+                    label: "desired",
+                    colour: "#000",
+                    dashed: true,
+                    points: decimate(&r.samples, &|s| s.desired_force.max(0.0)),
+                });
+            }
+        }
+        panels.push(svg::Panel {
+            title,
+            y_label: unit,
+            log,
+            series,
+        });
+    }
+    let mut written = Vec::new();
+    for (panel, (name, ..)) in panels.iter().zip(quantities.iter()) {
+        let file = format!("{name}.svg");
+        std::fs::write(dir.join(&file), svg::render(std::slice::from_ref(panel)))?;
+        written.push(file);
+    }
+    std::fs::write(dir.join("hybrid_force.svg"), svg::render(&panels))?;
+    written.insert(0, "hybrid_force.svg".into());
+    Ok(written)
+}

@@ -1,0 +1,60 @@
+//! The adaptation gain `Γ` (diagonal) and the update `θ̂̇ = −Γ Yᵀ r` (Lemma 3).
+
+use dyngen_runtime::{ParameterKind, Parameterization};
+use nalgebra::{SMatrix, SVector};
+
+/// Per-kind adaptation gains: mass, first moment `m·c`, second moment `I`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct GammaByKind {
+    pub mass: f64,
+    pub first_moment: f64,
+    pub inertia: f64,
+}
+
+impl Default for GammaByKind {
+    /// `[100, 10, 1]` over `[m, m·c, I]`: what worked in the reference prototype at 1 kHz.
+    fn default() -> Self {
+        GammaByKind {
+            mass: 100.0,
+            first_moment: 10.0,
+            inertia: 1.0,
+        }
+    }
+}
+
+impl GammaByKind {
+    /// The gain of one standard parameter, by its kind.
+    pub fn of(&self, kind: ParameterKind) -> f64 {
+        match kind {
+            ParameterKind::Mass => self.mass,
+            ParameterKind::FirstMoment => self.first_moment,
+            ParameterKind::Inertia => self.inertia,
+        }
+    }
+
+    /// The diagonal `Γ` for the parameters of `Z`, carried over from these per-kind gains of
+    /// the standard parameters: the diagonal of `Φ Γ Φᵀ`, where `θ_z = Φ θ`.
+    ///
+    /// Why: with `Y = Y_z Φ`, the standard law `θ̂̇ = −Γ Yᵀ r` moves `θ̂_z = Φ θ̂` with the gain
+    /// `Φ Γ Φᵀ`. A base parameter such as `mcz[l3] + 0.39·m[l4] + 0.39·m[l5]` absorbs masses, so
+    /// it must adapt about as fast as they would (`10 + 2·0.39²·100`), not at the first-moment
+    /// gain of its first term. For the standard parameters (`Φ = I`) each parameter gets the
+    /// gain of its kind.
+    pub fn carried_to<Z, const N: usize, const M: usize>(&self) -> SVector<f64, M>
+    where
+        Z: Parameterization<N, M>,
+    {
+        Z::gain_by_kind(|kind| self.of(kind))
+    }
+}
+
+/// `θ̂̇ = −Γ Yᵀ r` with diagonal `Γ`.
+#[inline]
+pub fn parameter_rate<const N: usize, const M: usize>(
+    gamma: &SVector<f64, M>,
+    y: &SMatrix<f64, N, M>,
+    r: &SVector<f64, N>,
+) -> SVector<f64, M> {
+    let ytr = y.tr_mul(r);
+    SVector::from_fn(|i, _| -gamma[i] * ytr[i])
+}

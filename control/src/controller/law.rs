@@ -1,0 +1,222 @@
+//! The control law: `τ = Jᵀ F̄ + Y(q, q̇, q̇_r, q̈_r) θ̂ − G r` (eq. 42), with `θ̂̇ = −Γ Yᵀ r`
+//! (eq. 46) when adapting. With `θ̂` fixed at the true parameters this is the known-parameter
+//! law of Lemma 1 (`Y θ = D q̈_r + C q̇_r + g` by linearity).
+
+use super::adaptation::parameter_rate;
+use super::error::{ConfigError, TickError};
+use super::gains::Gains;
+use super::projections::{smallest_singular, Projections, SingularityGuard};
+use super::reference::{reference, Desired, Measurement, Reference, ReferenceGains};
+use super::stiffness_estimator::StiffnessEstimator;
+use super::task::{ContactTask, Split};
+use dyngen_runtime::{JointTrig, Kinematics, Parameterization};
+use nalgebra::{SMatrix, SVector};
+use std::marker::PhantomData;
+
+/// Task dimension: end-effector position.
+pub const TASK_DIM: usize = 3;
+
+/// Whether `θ̂` follows `θ̂̇ = −Γ Yᵀ r` or stays fixed.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Adaptation {
+    On,
+    Off,
+}
+
+/// Everything the controller is configured with.
+#[derive(Clone, Copy, Debug)]
+pub struct ControllerConfig<const N: usize, const M: usize, const S: usize> {
+    pub gains: Gains<N, M>,
+    pub task: ContactTask<S>,
+    pub guard: SingularityGuard,
+    /// Per-joint torque limit (N·m): the torque is clamped to `±limit` (a guard, not part of
+    /// the law; saturation voids the Lyapunov argument while it lasts).
+    pub torque_limit: SVector<f64, N>,
+    pub adaptation: Adaptation,
+    /// `θ̂(0)`, in the parameterisation's own coordinates.
+    pub theta_hat0: SVector<f64, M>,
+}
+
+/// Output of one evaluation of the law.
+#[derive(Clone, Copy, Debug)]
+pub struct ControlOutput<const N: usize, const M: usize, const S: usize> {
+    pub tau: SVector<f64, N>,
+    pub theta_hat_dot: SVector<f64, M>,
+    pub reference: Reference<N, S>,
+    /// `μ²` of the singularity guard (0 away from singularities).
+    pub damping: f64,
+    /// Whether any joint torque was clamped.
+    pub saturated: bool,
+}
+
+/// The adaptive hybrid force/position controller, generic over the parameterisation `Z` of a
+/// robot's dynamics (`arm7::Base` or `arm7::Standard`: `Z` knows its robot), the robot's `N`
+/// joints, the `M` adapted parameters and the `S` force-controlled directions (one by
+/// default: a contact normal). A tick allocates nothing.
+///
+/// `HybridController<arm7::Base, { arm7::DOF }, { arm7::BASE_PARAMETER_COUNT }>`.
+#[derive(Clone, Debug)]
+pub struct HybridController<Z, const N: usize, const M: usize, const S: usize = 1> {
+    config: ControllerConfig<N, M, S>,
+    split: Split<S>,
+    theta_hat: SVector<f64, M>,
+    estimator: Option<StiffnessEstimator<S>>,
+    _robot: PhantomData<fn() -> Z>,
+}
+
+impl<Z, const N: usize, const M: usize, const S: usize> HybridController<Z, N, M, S>
+where
+    Z: Parameterization<N, M>,
+{
+    /// Checks the configuration (gains positive definite, `K` of full row rank, task dimension
+    /// at most the DOF) and builds the controller.
+    pub fn new(config: ControllerConfig<N, M, S>) -> Result<Self, ConfigError> {
+        if TASK_DIM > N {
+            return Err(ConfigError::TaskDimension {
+                task: TASK_DIM,
+                dof: N,
+            });
+        }
+        config.gains.validate(config.adaptation == Adaptation::On)?;
+        let split = config.task.validate()?;
+        if !config.torque_limit.iter().all(|t| t.is_finite() && *t > 0.0) {
+            return Err(ConfigError::Invalid {
+                name: "torque limit",
+                detail: "every joint limit must be finite and > 0".into(),
+            });
+        }
+        if !config.theta_hat0.iter().all(|t| t.is_finite()) {
+            return Err(ConfigError::Invalid {
+                name: "θ̂(0)",
+                detail: "contains NaN or infinity".into(),
+            });
+        }
+        Ok(HybridController {
+            config,
+            split,
+            theta_hat: config.theta_hat0,
+            estimator: None,
+            _robot: PhantomData,
+        })
+    }
+
+    /// Estimate the contact stiffness online (Remark 3, no stability proof) starting from
+    /// `k_hat0`, which replaces `K` in the law from the first tick on.
+    pub fn with_stiffness_estimation(
+        mut self,
+        k_hat0: &SMatrix<f64, S, 3>,
+        rate: f64,
+    ) -> Result<Self, ConfigError> {
+        let est = StiffnessEstimator::new(k_hat0, rate)?;
+        self.split = Split::new(&est.stiffness())?;
+        self.estimator = Some(est);
+        Ok(self)
+    }
+
+    /// Fails if `q0` is singular for the position task (below the guard's threshold).
+    pub fn check_start(&self, q0: &SVector<f64, N>) -> Result<(), ConfigError> {
+        let j6 = Z::Robot::jacobian(&JointTrig::new(q0));
+        let j: SMatrix<f64, 3, N> = j6.fixed_rows::<3>(0).into_owned();
+        let (sigma, _) = smallest_singular(&j);
+        let threshold = self.config.guard.sigma_threshold;
+        if !(sigma.is_finite() && sigma >= threshold) {
+            return Err(ConfigError::SingularStart { sigma, threshold });
+        }
+        Ok(())
+    }
+
+    pub fn config(&self) -> &ControllerConfig<N, M, S> {
+        &self.config
+    }
+    pub fn theta_hat(&self) -> &SVector<f64, M> {
+        &self.theta_hat
+    }
+    pub fn set_theta_hat(&mut self, theta_hat: SVector<f64, M>) {
+        self.theta_hat = theta_hat;
+    }
+    /// `K`, `K⁺`, `K⁻` in use.
+    pub fn split(&self) -> &Split<S> {
+        &self.split
+    }
+    /// The `K` in use (the estimate when estimating).
+    pub fn stiffness(&self) -> SMatrix<f64, S, 3> {
+        self.split.k
+    }
+    pub fn estimator(&self) -> Option<&StiffnessEstimator<S>> {
+        self.estimator.as_ref()
+    }
+
+    /// Evaluates the law at `θ̂` without changing any state: what an integrator that treats
+    /// `θ̂` as part of the closed-loop state calls at each stage.
+    #[inline]
+    pub fn evaluate(
+        &self,
+        m: &Measurement<N>,
+        d: &Desired<N, S>,
+        theta_hat: &SVector<f64, M>,
+    ) -> Result<ControlOutput<N, M, S>, TickError> {
+        // A NaN or infinity anywhere makes the sum non-finite (cheaper than testing each entry; a
+        // sum that overflows from finite values ~1e308 is refused too, rightly).
+        if !(m.q.sum() + m.qd.sum() + m.force.sum()).is_finite() {
+            return Err(TickError::NonFiniteMeasurement);
+        }
+        let trig = JointTrig::new(&m.q);
+        let position = Z::Robot::forward_kinematics(&trig).translation;
+        let j: SMatrix<f64, 3, N> = Z::Robot::jacobian(&trig).fixed_rows::<3>(0).into_owned();
+        let jd: SMatrix<f64, 3, N> = Z::Robot::jacobian_dot(&trig, &m.qd)
+            .fixed_rows::<3>(0)
+            .into_owned();
+        let proj = Projections::new(&j, &jd, &self.config.guard)?;
+        let gains = ReferenceGains {
+            lambda: self.config.gains.lambda,
+            lambda_null: self.config.gains.lambda_null,
+        };
+        let reference = reference(m, d, &self.config.task, &self.split, &position, &j, &proj, &gains);
+        let y = Z::regressor(&trig, &m.qd, &reference.qd_r, &reference.qdd_r);
+        let mut tau = j.tr_mul(&m.force) + y * theta_hat - self.config.gains.g * reference.r;
+        let theta_hat_dot = match self.config.adaptation {
+            Adaptation::On => parameter_rate(&self.config.gains.gamma, &y, &reference.r),
+            Adaptation::Off => SVector::zeros(),
+        };
+        if !(tau.sum() + theta_hat_dot.sum()).is_finite() {
+            return Err(TickError::NonFiniteTorque);
+        }
+        let mut saturated = false;
+        for (t, l) in tau.iter_mut().zip(self.config.torque_limit.iter()) {
+            if t.abs() > *l {
+                *t = t.clamp(-l, *l);
+                saturated = true;
+            }
+        }
+        Ok(ControlOutput {
+            tau,
+            theta_hat_dot,
+            reference,
+            damping: proj.damping,
+            saturated,
+        })
+    }
+
+    /// One control tick of period `dt`: evaluates the law, then advances `θ̂` (explicit Euler,
+    /// the estimate is held between ticks) and the stiffness estimate. Allocation-free.
+    #[inline]
+    pub fn tick(
+        &mut self,
+        m: &Measurement<N>,
+        d: &Desired<N, S>,
+        dt: f64,
+    ) -> Result<ControlOutput<N, M, S>, TickError> {
+        let out = self.evaluate(m, d, &self.theta_hat)?;
+        if self.config.adaptation == Adaptation::On {
+            self.theta_hat += out.theta_hat_dot * dt;
+        }
+        if let Some(est) = self.estimator.as_mut() {
+            let f_meas = self.config.task.force_selection * (self.config.task.rotation * m.force);
+            est.update(&out.reference.deflection, &f_meas, dt);
+            if let Ok(split) = Split::new(&est.stiffness()) {
+                self.split = split;
+            }
+        }
+        Ok(out)
+    }
+}

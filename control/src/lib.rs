@@ -1,0 +1,16 @@
+//! The adaptive hybrid force/position controller for redundant manipulators
+//! ([`controller`], `docs/controller.md`) and the simulator that shows it working ([`sim`]),
+//! generic over any robot dyngen generates and over the parameterisation of its dynamics
+//! ([`dyngen_runtime::Parameterization`]: `arm7::Base` or `arm7::Standard`).
+
+pub mod controller;
+mod inertia;
+pub mod sim;
+
+pub use inertia::mass_matrix_through_regressor;
+
+/// The README's Rust examples, compiled and run as doctests of this crate (which has the
+/// committed robots as a dev-dependency), so the README cannot drift from the API.
+#[cfg(doctest)]
+#[doc = include_str!("../../README.md")]
+pub struct ReadmeDoctests;

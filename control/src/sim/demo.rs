@@ -1,0 +1,255 @@
+//! The demo set-up, shared by the example, the tests and the benchmark: the true plant with an
+//! unmodelled payload, the press-and-circle scenario above a table, and the three controllers
+//! compared (adaptive, adaptation off, known parameters).
+
+use super::contact::PlaneContact;
+use super::plant::{Payload, Plant};
+use super::run::{simulate, RunResult, SimConfig};
+use super::scenario::PressAndCircle;
+use crate::controller::{
+    inertia_shaped_gain, Adaptation, ConfigError, ContactTask, ControllerConfig, Gains, GammaByKind,
+    HybridController, SingularityGuard,
+};
+use dyngen_runtime::{JointTrig, Kinematics, Parameterization};
+use nalgebra::{SMatrix, SVector, Vector3};
+
+/// Which law a run uses.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RunKind {
+    /// Lemma 3 from `θ̂(0) = 0.5·θ_desc` (payload unknown).
+    Adaptive,
+    /// The same `θ̂(0)`, never updated.
+    AdaptationOff,
+    /// Lemma 1: the true parameters, payload included.
+    KnownParameters,
+}
+
+impl RunKind {
+    pub const ALL: [RunKind; 3] = [
+        RunKind::Adaptive,
+        RunKind::AdaptationOff,
+        RunKind::KnownParameters,
+    ];
+    pub fn label(self) -> &'static str {
+        match self {
+            RunKind::Adaptive => "adaptive",
+            RunKind::AdaptationOff => "adaptation off",
+            RunKind::KnownParameters => "known parameters",
+        }
+    }
+}
+
+/// Everything the demo can be told.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct DemoOptions {
+    /// True surface stiffness (N/m).
+    pub stiffness: f64,
+    pub target_force: f64,
+    /// `G = κ D̂(q₀)`.
+    pub kappa: f64,
+    pub lambda: f64,
+    pub lambda_null: f64,
+    pub gamma: GammaByKind,
+    /// `θ̂(0) = scale · θ_desc`.
+    pub initial_estimate_scale: f64,
+    pub payload: Payload,
+    /// Height of the start above the table (m); negative starts in contact, pressing.
+    pub start_height: f64,
+    pub circle_time: f64,
+    pub sim: SimConfig,
+    /// Online stiffness estimation: `(k̂(0)/k, rate γ)`.
+    pub stiffness_estimation: Option<(f64, f64)>,
+    pub guard: SingularityGuard,
+}
+
+impl Default for DemoOptions {
+    fn default() -> Self {
+        DemoOptions {
+            stiffness: 1e4,
+            target_force: 10.0,
+            kappa: 400.0,
+            lambda: 100.0,
+            lambda_null: 10.0,
+            gamma: GammaByKind::default(),
+            initial_estimate_scale: 0.5,
+            payload: Payload {
+                mass: 1.5,
+                com: Vector3::new(0.02, 0.0, 0.1),
+                size: Vector3::new(0.08, 0.08, 0.06),
+            },
+            start_height: 0.01,
+            circle_time: 8.0,
+            sim: SimConfig::default(),
+            stiffness_estimation: None,
+            guard: SingularityGuard::default(),
+        }
+    }
+}
+
+/// The description's effort limits (N·m or N), which the demo clamps torques to; every joint
+/// must have one.
+pub fn effort_limits<R: Kinematics<N>, const N: usize>() -> Result<SVector<f64, N>, ConfigError> {
+    for (name, limit) in R::JOINT_NAMES.iter().zip(R::JOINT_LIMITS.iter()) {
+        if !(limit.effort.is_finite() && limit.effort > 0.0) {
+            return Err(ConfigError::Invalid {
+                name: "torque limit",
+                detail: format!(
+                    "joint '{name}' of {} has no effort limit in its description (give `limit: {{ effort: … }}`)",
+                    R::NAME
+                ),
+            });
+        }
+    }
+    Ok(SVector::from_fn(|i, _| R::JOINT_LIMITS[i].effort))
+}
+
+/// The demo for the robot of parameterisation `Z` (`arm7::Base`, the default of the example,
+/// or `arm7::Standard`).
+pub struct Demo<Z, const N: usize, const M: usize> {
+    pub options: DemoOptions,
+    pub plant: Plant<Z, N, M>,
+    pub scenario: PressAndCircle<N>,
+    pub q0: SVector<f64, N>,
+    pub torque_limit: SVector<f64, N>,
+    pub task: ContactTask<1>,
+    /// `θ̂(0)` of the adaptive run and of the run without adaptation.
+    pub theta_hat0: SVector<f64, M>,
+    /// `Φ(θ_true)`.
+    pub theta_true: SVector<f64, M>,
+    pub g: SMatrix<f64, N, N>,
+    pub gamma: SVector<f64, M>,
+    _z: std::marker::PhantomData<fn() -> Z>,
+}
+
+impl<Z, const N: usize, const M: usize> Demo<Z, N, M>
+where
+    Z: Parameterization<N, M>,
+{
+    /// Builds and checks the set-up: the table is `start_height` below the end-effector at
+    /// `q0`; `G = κ D̂(q₀)` from the adaptive run's initial estimate, shared by all runs; the
+    /// torques are clamped to the description's effort limits.
+    pub fn new(options: DemoOptions, q0: SVector<f64, N>) -> Result<Self, ConfigError> {
+        let torque_limit = effort_limits::<Z::Robot, N>()?;
+        let start = Z::Robot::forward_kinematics(&JointTrig::new(&q0)).translation;
+        if !start.iter().all(|x| x.is_finite()) {
+            return Err(ConfigError::Invalid {
+                name: "q0",
+                detail: "start posture is not finite".into(),
+            });
+        }
+        let surface = start.z - options.start_height;
+        let contact = PlaneContact::table(surface, options.stiffness);
+        let plant = Plant::<Z, N, M>::with_payload(&options.payload, contact);
+        let task = ContactTask::plane(contact.point, contact.normal, options.stiffness)?;
+        // The desired force is consistent with the controller's own contact model (eq. 39): with
+        // stiffness estimation that is the initial estimate k̂(0) (it matters in free space,
+        // where `F_d < 0` is a desired distance `−F_d / k̂`).
+        let model_k = options.stiffness * options.stiffness_estimation.map_or(1.0, |(f, _)| f);
+        let scenario = {
+            let mut s =
+                PressAndCircle::new(task.rotation * start, surface, model_k, options.target_force, q0);
+            s.circle_time = options.circle_time;
+            s
+        };
+        let model_task = ContactTask {
+            stiffness: task.stiffness * (model_k / options.stiffness),
+            ..task
+        };
+        scenario.validate(&model_task)?;
+        let penetration = options.target_force / options.stiffness;
+        if penetration > 0.05 {
+            return Err(ConfigError::ForceContradictsContact(format!(
+                "{} N on k = {} N/m needs {:.1} mm of penetration (> 50 mm)",
+                options.target_force,
+                options.stiffness,
+                penetration * 1e3
+            )));
+        }
+        if !(options.kappa.is_finite() && options.kappa > 0.0) {
+            return Err(ConfigError::NotPositiveDefinite {
+                name: "G",
+                detail: format!("κ = {} must be > 0", options.kappa),
+            });
+        }
+        let theta_hat0 = Z::description() * options.initial_estimate_scale;
+        let theta_true = *plant.parameters();
+        let g = inertia_shaped_gain::<Z, N, M>(options.kappa, &q0, &theta_hat0);
+        let gamma = options.gamma.carried_to::<Z, N, M>();
+        let demo = Demo {
+            options,
+            plant,
+            scenario,
+            q0,
+            torque_limit,
+            task,
+            theta_hat0,
+            theta_true,
+            g,
+            gamma,
+            _z: std::marker::PhantomData,
+        };
+        // Every configuration error shows up here, before any run.
+        for kind in RunKind::ALL {
+            demo.controller(kind)?;
+        }
+        Ok(demo)
+    }
+
+    /// The controller of one run, checked (gains, `K`, start posture, sampling limit).
+    pub fn controller(&self, kind: RunKind) -> Result<HybridController<Z, N, M>, ConfigError> {
+        let (adaptation, theta) = match kind {
+            RunKind::Adaptive => (Adaptation::On, self.theta_hat0),
+            RunKind::AdaptationOff => (Adaptation::Off, self.theta_hat0),
+            RunKind::KnownParameters => (Adaptation::Off, self.theta_true),
+        };
+        let gains = Gains {
+            lambda: self.options.lambda,
+            lambda_null: self.options.lambda_null,
+            g: self.g,
+            gamma: self.gamma,
+        };
+        let mut c = HybridController::<Z, N, M>::new(ControllerConfig {
+            gains,
+            task: self.task,
+            guard: self.options.guard,
+            torque_limit: self.torque_limit,
+            adaptation,
+            theta_hat0: theta,
+        })?;
+        c.check_start(&self.q0)?;
+        let d_hat = crate::controller::inertia_estimate::<Z, N, M>(&self.q0, &theta);
+        let value = gains.stiffest_mode(&d_hat)? * self.options.sim.control_period;
+        let limit = 2.0;
+        if value > limit {
+            return Err(ConfigError::SamplingLimit { value, limit });
+        }
+        if let Some((factor, rate)) = self.options.stiffness_estimation {
+            if !(factor.is_finite() && factor > 0.0) {
+                return Err(ConfigError::Invalid {
+                    name: "initial stiffness estimate",
+                    detail: format!("k̂(0)/k = {factor} must be > 0"),
+                });
+            }
+            c = c.with_stiffness_estimation(&(self.task.stiffness * factor), rate)?;
+        }
+        Ok(c)
+    }
+
+    /// Runs one law over the scenario.
+    pub fn run(&self, kind: RunKind, progress: &mut dyn FnMut(f64)) -> Result<RunResult, ConfigError> {
+        let mut c = self.controller(kind)?;
+        Ok(simulate(
+            &self.plant,
+            &mut c,
+            &self.scenario,
+            &self.q0,
+            &self.options.sim,
+            progress,
+        ))
+    }
+
+    /// Start of the window the floors are measured over: the last 4 s.
+    pub fn metrics_from(&self) -> f64 {
+        self.scenario.duration() - 4.0
+    }
+}

@@ -1,0 +1,21 @@
+//! Simulation of the controller in contact: the true plant (generated dynamics with the true
+//! parameters through the regressor, plus an unmodelled payload), a compliant plane, RK4,
+//! sensor noise, the press-and-circle scenario, the closed-loop run and the demo set-up.
+
+pub mod contact;
+pub mod demo;
+pub mod noise;
+pub mod plant;
+pub mod presets;
+pub mod rk4;
+pub mod run;
+pub mod scenario;
+
+pub use contact::PlaneContact;
+pub use demo::{Demo, DemoOptions, RunKind};
+pub use noise::{Gaussian, NoiseConfig};
+pub use plant::{Payload, Plant, PlantError, PlantState};
+pub use presets::start_posture;
+pub use rk4::{rk4_step, RkState};
+pub use run::{simulate, RunResult, RunStatus, Sample, SimConfig, Summary};
+pub use scenario::PressAndCircle;

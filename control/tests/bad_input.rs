@@ -1,0 +1,310 @@
+//! Bad input gives a clear error before the run starts; a diverging run stops with the time and
+//! the reason and keeps the data logged so far.
+
+use dyngen_control::controller::{
+    Adaptation, ConfigError, ContactTask, ControllerConfig, Gains, HybridController, SingularityGuard,
+};
+use dyngen_control::sim::{start_posture, Demo, DemoOptions, RunKind, RunStatus};
+use dyngen_generated::arm7;
+use dyngen_runtime::nalgebra::{SMatrix, SVector, Vector3};
+use dyngen_runtime::{JointLimits, JointTrig, Kinematics, ParameterKind, Pose, RobotDynamics, Standard};
+
+type Arm7Demo = Demo<arm7::Standard, 7, 70>;
+
+fn demo(options: DemoOptions) -> Result<Arm7Demo, ConfigError> {
+    let q0 = start_posture::<7>("arm7").expect("arm7 start posture");
+    Arm7Demo::new(options, q0)
+}
+
+fn config<const N: usize, const M: usize, const S: usize>(task: ContactTask<S>) -> ControllerConfig<N, M, S> {
+    ControllerConfig {
+        gains: Gains {
+            lambda: 10.0,
+            lambda_null: 1.0,
+            g: SMatrix::identity(),
+            gamma: SVector::from_element(1.0),
+        },
+        task,
+        guard: SingularityGuard::default(),
+        torque_limit: SVector::from_element(100.0),
+        adaptation: Adaptation::On,
+        theta_hat0: SVector::zeros(),
+    }
+}
+
+fn table() -> ContactTask<1> {
+    ContactTask::plane(Vector3::zeros(), Vector3::z(), 1e4).expect("plane")
+}
+
+#[test]
+fn the_default_demo_is_valid() {
+    demo(DemoOptions::default()).expect("default demo");
+}
+
+#[test]
+fn gains_that_are_not_positive_definite() {
+    let e = demo(DemoOptions {
+        kappa: -5.0,
+        ..DemoOptions::default()
+    })
+    .err();
+    assert!(
+        matches!(e, Some(ConfigError::NotPositiveDefinite { name: "G", .. })),
+        "{e:?}"
+    );
+
+    let mut c = config::<7, 70, 1>(table());
+    c.gains.g[(3, 3)] = -1.0;
+    let e = HybridController::<arm7::Standard, 7, 70>::new(c).err();
+    assert!(
+        matches!(e, Some(ConfigError::NotPositiveDefinite { name: "G", .. })),
+        "{e:?}"
+    );
+
+    let mut c = config::<7, 70, 1>(table());
+    c.gains.g[(0, 1)] = 0.5; // not symmetric
+    let e = HybridController::<arm7::Standard, 7, 70>::new(c).err();
+    assert!(
+        matches!(e, Some(ConfigError::NotPositiveDefinite { name: "G", .. })),
+        "{e:?}"
+    );
+
+    let mut options = DemoOptions::default();
+    options.gamma.first_moment = 0.0;
+    let e = demo(options).err();
+    assert!(
+        matches!(e, Some(ConfigError::NotPositiveDefinite { name: "Γ", .. })),
+        "{e:?}"
+    );
+
+    let e = demo(DemoOptions {
+        lambda: 0.0,
+        ..DemoOptions::default()
+    })
+    .err();
+    assert!(
+        matches!(e, Some(ConfigError::NotPositiveDefinite { name: "λ", .. })),
+        "{e:?}"
+    );
+    println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
+
+    // Positive definite but far beyond what 1 kHz sampling allows.
+    let e = demo(DemoOptions {
+        kappa: 1e5,
+        ..DemoOptions::default()
+    })
+    .err();
+    assert!(matches!(e, Some(ConfigError::SamplingLimit { .. })), "{e:?}");
+}
+
+#[test]
+fn a_stiffness_that_is_not_full_rank() {
+    let mut task = table();
+    task.stiffness = SMatrix::zeros();
+    let e = HybridController::<arm7::Standard, 7, 70>::new(config(task)).err();
+    assert!(
+        matches!(e, Some(ConfigError::StiffnessRankDeficient { .. })),
+        "{e:?}"
+    );
+
+    // Two parallel rows.
+    let task2 = ContactTask::<2> {
+        rotation: SMatrix::identity(),
+        stiffness: SMatrix::<f64, 2, 3>::new(0.0, 0.0, -1e4, 0.0, 0.0, -2e4),
+        force_selection: SMatrix::<f64, 2, 3>::new(0.0, 0.0, -1.0, 0.0, 1.0, 0.0),
+        contact_point: Vector3::zeros(),
+    };
+    let e = HybridController::<arm7::Standard, 7, 70, 2>::new(config(task2)).err();
+    assert!(
+        matches!(e, Some(ConfigError::StiffnessRankDeficient { rows: 2, .. })),
+        "{e:?}"
+    );
+    println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
+}
+
+/// A two-joint robot: too few joints for a 3-D position task. Only its size matters here.
+struct TwoJoints;
+
+impl Kinematics<2> for TwoJoints {
+    const NAME: &'static str = "two_joints";
+    const JOINT_NAMES: [&'static str; 2] = ["a", "b"];
+    const JOINT_LIMITS: [JointLimits; 2] = [JointLimits::NONE; 2];
+    const END_EFFECTOR_BODY: usize = 1;
+    fn forward_kinematics(_: &JointTrig<2>) -> Pose {
+        Pose {
+            rotation: SMatrix::identity(),
+            translation: Vector3::zeros(),
+        }
+    }
+    fn jacobian(_: &JointTrig<2>) -> SMatrix<f64, 6, 2> {
+        SMatrix::zeros()
+    }
+    fn jacobian_dot(_: &JointTrig<2>, _: &SVector<f64, 2>) -> SMatrix<f64, 6, 2> {
+        SMatrix::zeros()
+    }
+}
+
+impl RobotDynamics<2, 20> for TwoJoints {
+    const PARAMETER_NAMES: [&'static str; 20] = [""; 20];
+    const PARAMETER_KINDS: [ParameterKind; 20] = [ParameterKind::Mass; 20];
+    fn parameters() -> SVector<f64, 20> {
+        SVector::zeros()
+    }
+    fn mass_matrix(_: &JointTrig<2>) -> SMatrix<f64, 2, 2> {
+        SMatrix::identity()
+    }
+    fn coriolis_matrix(_: &JointTrig<2>, _: &SVector<f64, 2>) -> SMatrix<f64, 2, 2> {
+        SMatrix::zeros()
+    }
+    fn gravity(_: &JointTrig<2>) -> SVector<f64, 2> {
+        SVector::zeros()
+    }
+    fn inverse_dynamics(_: &JointTrig<2>, _: &SVector<f64, 2>, a: &SVector<f64, 2>) -> SVector<f64, 2> {
+        *a
+    }
+    fn slotine_li(
+        _: &JointTrig<2>,
+        _: &SVector<f64, 2>,
+        _: &SVector<f64, 2>,
+        a: &SVector<f64, 2>,
+    ) -> SVector<f64, 2> {
+        *a
+    }
+    fn regressor(
+        _: &JointTrig<2>,
+        _: &SVector<f64, 2>,
+        _: &SVector<f64, 2>,
+        _: &SVector<f64, 2>,
+    ) -> SMatrix<f64, 2, 20> {
+        SMatrix::zeros()
+    }
+    // D = 1, no bias: q̈ = τ and no derivatives.
+    fn forward_dynamics(_: &JointTrig<2>, _: &SVector<f64, 2>, tau: &SVector<f64, 2>) -> SVector<f64, 2> {
+        *tau
+    }
+    fn mass_matrix_inverse(_: &JointTrig<2>) -> SMatrix<f64, 2, 2> {
+        SMatrix::identity()
+    }
+    fn inverse_dynamics_derivatives(
+        _: &JointTrig<2>,
+        _: &SVector<f64, 2>,
+        _: &SVector<f64, 2>,
+    ) -> (SMatrix<f64, 2, 2>, SMatrix<f64, 2, 2>) {
+        (SMatrix::zeros(), SMatrix::zeros())
+    }
+    fn forward_dynamics_derivatives(
+        _: &JointTrig<2>,
+        _: &SVector<f64, 2>,
+        _: &SVector<f64, 2>,
+    ) -> (SMatrix<f64, 2, 2>, SMatrix<f64, 2, 2>) {
+        (SMatrix::zeros(), SMatrix::zeros())
+    }
+}
+
+#[test]
+fn a_task_dimension_larger_than_the_dof() {
+    let e = HybridController::<Standard<TwoJoints>, 2, 20>::new(config(table())).err();
+    assert_eq!(e, Some(ConfigError::TaskDimension { task: 3, dof: 2 }));
+    println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
+}
+
+#[test]
+fn a_robot_without_effort_limits() {
+    let e = Demo::<Standard<TwoJoints>, 2, 20>::new(DemoOptions::default(), SVector::zeros()).err();
+    let message = e.map(|e| e.to_string()).unwrap_or_default();
+    assert!(
+        message.contains("joint 'a' of two_joints has no effort limit in its description"),
+        "{message}"
+    );
+    println!("{message}");
+}
+
+#[test]
+fn a_desired_force_that_contradicts_the_contact_model() {
+    let e = demo(DemoOptions {
+        target_force: -5.0,
+        ..DemoOptions::default()
+    })
+    .err();
+    assert!(
+        matches!(e, Some(ConfigError::ForceContradictsContact(_))),
+        "{e:?}"
+    );
+    println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
+
+    // A K whose force grows when pulling away from the surface.
+    let d = demo(DemoOptions::default()).expect("default demo");
+    let mut task = d.task;
+    task.stiffness = -task.stiffness;
+    let e = d.scenario.validate(&task).err();
+    assert!(
+        matches!(e, Some(ConfigError::ForceContradictsContact(_))),
+        "{e:?}"
+    );
+
+    // More penetration than a stiff surface allows.
+    let e = demo(DemoOptions {
+        target_force: 1e4,
+        ..DemoOptions::default()
+    })
+    .err();
+    assert!(
+        matches!(e, Some(ConfigError::ForceContradictsContact(_))),
+        "{e:?}"
+    );
+}
+
+#[test]
+fn a_robot_that_starts_singular() {
+    // Stretched straight up: every joint axis passes through the flange or is parallel.
+    let e = Arm7Demo::new(DemoOptions::default(), SVector::zeros()).err();
+    assert!(matches!(e, Some(ConfigError::SingularStart { .. })), "{e:?}");
+    println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
+}
+
+#[test]
+fn a_diverging_run_says_when_and_why_and_keeps_its_data() {
+    // Γ a million times the default: the discrete-time adaptation blows up.
+    let mut options = DemoOptions::default();
+    options.gamma.mass *= 1e6;
+    options.gamma.first_moment *= 1e6;
+    options.gamma.inertia *= 1e6;
+    let d = demo(options).expect("a valid (if unwise) configuration");
+    let res = d.run(RunKind::Adaptive, &mut |_| {}).expect("valid controller");
+    match &res.status {
+        RunStatus::Diverged { time, reason } => {
+            println!("diverged at t = {time} s: {reason}");
+            assert!(*time > 0.0 && *time < d.scenario.duration());
+            assert!(!reason.is_empty());
+            let last = res.samples.last().expect("data logged before the divergence");
+            assert!(last.t <= *time && *time - last.t <= 2.0 * d.options.sim.control_period);
+            assert!(res.samples.len() > 1);
+        }
+        RunStatus::Completed => panic!("expected a divergence"),
+    }
+}
+
+#[test]
+fn a_non_finite_measurement_is_an_error_not_a_torque() {
+    use dyngen_control::controller::{Measurement, TickError};
+    let d = demo(DemoOptions::default()).expect("default demo");
+    let mut c = d.controller(RunKind::Adaptive).expect("controller");
+    let mut m = Measurement {
+        q: d.q0,
+        qd: SVector::zeros(),
+        force: Vector3::zeros(),
+    };
+    m.qd[4] = f64::NAN;
+    assert_eq!(
+        c.tick(&m, &d.scenario.desired(0.0), 1e-3).err(),
+        Some(TickError::NonFiniteMeasurement)
+    );
+    m.qd[4] = 0.0;
+    m.force.z = f64::INFINITY;
+    assert_eq!(
+        c.tick(&m, &d.scenario.desired(0.0), 1e-3).err(),
+        Some(TickError::NonFiniteMeasurement)
+    );
+    // θ̂ untouched by the refused ticks.
+    assert_eq!(*c.theta_hat(), d.theta_hat0);
+}

@@ -1,0 +1,106 @@
+//! Generated code keeps the promises a control loop relies on: no `unsafe`, no allocation, no
+//! panic path. The allocation check runs every generated function under a counting allocator.
+
+use dyngen_generated::{Arm7, Panda, Ur5};
+use dyngen_runtime::nalgebra::SVector;
+use dyngen_runtime::{JointTrig, RobotDynamics};
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::hint::black_box;
+use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Counts allocations made by the thread that enabled counting (tests run in parallel).
+struct Counting;
+
+static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
+thread_local! {
+    static COUNTING: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
+}
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        if COUNTING.with(|c| c.get()) {
+            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
+        }
+        System.alloc(layout)
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        System.dealloc(ptr, layout)
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+/// Allocations made by `f` on this thread.
+fn allocations(f: impl FnOnce()) -> usize {
+    let before = ALLOCATIONS.load(Ordering::Relaxed);
+    COUNTING.with(|c| c.set(true));
+    f();
+    COUNTING.with(|c| c.set(false));
+    ALLOCATIONS.load(Ordering::Relaxed) - before
+}
+
+fn every_function<R: RobotDynamics<N, P>, const N: usize, const P: usize>() {
+    let q = SVector::<f64, N>::from_fn(|i, _| 0.3 * i as f64 - 1.0);
+    let (qd, v, a) = (q * 0.5, q * -0.2, q * 1.5);
+    let t = JointTrig::new(&q);
+    black_box(R::parameters());
+    black_box(R::forward_kinematics(&t));
+    black_box(R::jacobian(&t));
+    black_box(R::jacobian_dot(&t, &qd));
+    black_box(R::mass_matrix(&t));
+    black_box(R::coriolis_matrix(&t, &qd));
+    black_box(R::gravity(&t));
+    black_box(R::inverse_dynamics(&t, &qd, &a));
+    black_box(R::slotine_li(&t, &qd, &v, &a));
+    black_box(R::regressor(&t, &qd, &v, &a));
+}
+
+#[test]
+fn the_counting_allocator_sees_an_allocation() {
+    // Without this, a broken counter would make the test below pass vacuously.
+    assert!(allocations(|| drop(black_box(vec![1.0_f64; 8]))) >= 1);
+}
+
+#[test]
+fn generated_functions_do_not_allocate() {
+    assert_eq!(allocations(every_function::<Arm7, 7, 70>), 0, "arm7");
+    assert_eq!(allocations(every_function::<Panda, 7, 70>), 0, "panda");
+    assert_eq!(allocations(every_function::<Ur5, 6, 60>), 0, "ur5");
+}
+
+#[test]
+fn generated_sources_have_no_unsafe_allocation_or_panic_path() {
+    let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("generated/src");
+    // Whole tokens (identifiers and macro names), so that `SVector` is not `Vec`.
+    let forbidden = [
+        "unsafe",
+        "Vec",
+        "vec!",
+        "Box",
+        "String",
+        "format!",
+        "unwrap",
+        "expect",
+        "panic!",
+        "unreachable!",
+        "todo!",
+        "get",
+    ];
+    let mut files = 0;
+    for entry in std::fs::read_dir(&dir).expect("generated/src") {
+        let path = entry.expect("entry").path();
+        if path.extension().is_some_and(|e| e == "rs") && path.file_name() != Some("lib.rs".as_ref()) {
+            files += 1;
+            let code = std::fs::read_to_string(&path).expect("readable");
+            let tokens: std::collections::BTreeSet<&str> = code
+                .split(|c: char| !(c.is_alphanumeric() || c == '_' || c == '!'))
+                .collect();
+            for word in forbidden {
+                assert!(!tokens.contains(word), "{}: contains `{word}`", path.display());
+            }
+        }
+    }
+    assert!(files >= 3, "found the generated robots");
+}

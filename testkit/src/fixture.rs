@@ -1,0 +1,166 @@
+//! Reference values computed by Pinocchio 4.1 (copied from the project's shared fixtures into
+//! `codegen/tests/fixtures/`), and the model they describe, built from their own joint placements.
+
+use dyngen_codegen::model::{Body, Frame, Inertia, Joint, JointKind, Model, Pose};
+use nalgebra::{DMatrix, Matrix3, Vector3};
+use serde_json::Value;
+
+pub struct State {
+    pub q: Vec<f64>,
+    pub v: Vec<f64>,
+    pub a: Vec<f64>,
+    pub vr: Vec<f64>,
+    pub ar: Vec<f64>,
+    pub d: DMatrix<f64>,
+    pub c: DMatrix<f64>,
+    pub g: Vec<f64>,
+    pub tau: Vec<f64>,
+    pub tau_ref: Vec<f64>,
+    pub j: DMatrix<f64>,
+    pub jdot: DMatrix<f64>,
+    pub ee_translation: Vec<f64>,
+    pub ee_rotation: DMatrix<f64>,
+    pub y: DMatrix<f64>,
+    /// Forward dynamics at `(q, v, tau)` (equals `a`).
+    pub aba: Vec<f64>,
+    pub minv: DMatrix<f64>,
+    pub dtau_dq: DMatrix<f64>,
+    pub dtau_dv: DMatrix<f64>,
+    pub dqdd_dq: DMatrix<f64>,
+    pub dqdd_dv: DMatrix<f64>,
+}
+
+pub struct Fixture {
+    pub json: Value,
+    pub joint_names: Vec<String>,
+    pub pi: Vec<f64>,
+    pub states: Vec<State>,
+}
+
+fn vector(v: &Value) -> Vec<f64> {
+    v.as_array()
+        .expect("array")
+        .iter()
+        .map(|x| x.as_f64().expect("number"))
+        .collect()
+}
+
+pub fn matrix(v: &Value) -> DMatrix<f64> {
+    let rows: Vec<Vec<f64>> = v.as_array().expect("rows").iter().map(vector).collect();
+    DMatrix::from_fn(rows.len(), rows[0].len(), |i, j| rows[i][j])
+}
+
+fn pose(v: &Value) -> Pose {
+    let r = matrix(&v["rotation"]);
+    Pose {
+        rotation: Matrix3::from_fn(|i, j| r[(i, j)]),
+        translation: Vector3::from_vec(vector(&v["translation"])),
+    }
+}
+
+pub fn load(robot: &str) -> Fixture {
+    let path = format!(
+        "{}/../codegen/tests/fixtures/{robot}.json",
+        env!("CARGO_MANIFEST_DIR")
+    );
+    let json: Value =
+        serde_json::from_str(&std::fs::read_to_string(&path).expect("fixture file")).expect("json");
+    let states = json["states"]
+        .as_array()
+        .expect("states")
+        .iter()
+        .map(|s| State {
+            q: vector(&s["q"]),
+            v: vector(&s["v"]),
+            a: vector(&s["a"]),
+            vr: vector(&s["vr"]),
+            ar: vector(&s["ar"]),
+            d: matrix(&s["D"]),
+            c: matrix(&s["C"]),
+            g: vector(&s["g"]),
+            tau: vector(&s["tau"]),
+            tau_ref: vector(&s["tau_ref"]),
+            j: matrix(&s["J"]),
+            jdot: matrix(&s["Jdot"]),
+            ee_translation: vector(&s["ee_translation"]),
+            ee_rotation: matrix(&s["ee_rotation"]),
+            y: matrix(&s["Y"]),
+            aba: vector(&s["aba"]),
+            minv: matrix(&s["Minv"]),
+            dtau_dq: matrix(&s["dtau_dq"]),
+            dtau_dv: matrix(&s["dtau_dv"]),
+            dqdd_dq: matrix(&s["dqdd_dq"]),
+            dqdd_dv: matrix(&s["dqdd_dv"]),
+        })
+        .collect();
+    let joint_names = json["joint_names"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|n| n.as_str().unwrap().to_owned())
+        .collect();
+    let pi = vector(&json["pi"]);
+    Fixture {
+        json,
+        joint_names,
+        pi,
+        states,
+    }
+}
+
+impl Fixture {
+    /// The model exactly as the fixture states it (placements, axes, bodies), independent of
+    /// dyngen's description loaders.
+    pub fn model(&self) -> Model {
+        let j = &self.json;
+        let names = &self.joint_names;
+        let joints = j["joints"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|jt| Joint {
+                name: jt["name"].as_str().unwrap().to_owned(),
+                parent: names.iter().position(|n| n == jt["parent"].as_str().unwrap()),
+                kind: match jt["kind"].as_str().unwrap() {
+                    "prismatic" => JointKind::Prismatic,
+                    _ => JointKind::Revolute,
+                },
+                origin: pose(&jt["placement"]),
+                axis: Vector3::from_vec(vector(&jt["axis"])),
+                limits: None,
+            })
+            .collect();
+        let bodies = j["bodies"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|b| Body {
+                name: b["joint"].as_str().unwrap().to_owned(),
+                inertia: Inertia {
+                    mass: b["mass"].as_f64().unwrap(),
+                    com: Vector3::from_vec(vector(&b["com"])),
+                    inertia_com: {
+                        let m = matrix(&b["inertia_about_com"]);
+                        Matrix3::from_fn(|r, c| m[(r, c)])
+                    },
+                },
+            })
+            .collect();
+        let ee_parent = names
+            .iter()
+            .position(|n| n == j["ee_parent_joint"].as_str().unwrap())
+            .unwrap();
+        Model::new(
+            j["robot"].as_str().unwrap(),
+            joints,
+            bodies,
+            Vector3::from_vec(vector(&j["gravity"])),
+            Frame {
+                name: j["ee_frame"].as_str().unwrap().to_owned(),
+                parent: ee_parent,
+                placement: pose(&j["ee_placement_in_parent_joint"]),
+            },
+        )
+        .expect("the fixture's model is valid")
+    }
+}

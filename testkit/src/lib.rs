@@ -1,0 +1,39 @@
+//! What dyngen's tests and developer commands share: random valid trees and states
+//! (`random_model`), Pinocchio's reference values (`fixture`), oracles that use no dynamics
+//! algorithm (`oracles`), the loader fuzzer (`fuzz`), models written back as YAML/URDF
+//! (`serialize`), the scale models (`scale`), and tolerant comparisons. A library rather than
+//! a `tests/common` module, so that `cargo xtask fuzz` and `cargo xtask scale` call it directly.
+
+pub mod fixture;
+pub mod fuzz;
+pub mod oracles;
+pub mod random_model;
+pub mod scale;
+pub mod serialize;
+
+use nalgebra::DMatrix;
+
+/// Largest entry-wise difference, relative to the largest entry of `expected` (at least 1).
+pub fn relative_error(actual: &DMatrix<f64>, expected: &DMatrix<f64>) -> f64 {
+    assert_eq!(actual.shape(), expected.shape(), "shapes differ");
+    let scale = expected.amax().max(1.0);
+    (actual - expected).amax() / scale
+}
+
+/// Asserts `actual ≈ expected` to `tol` relative, naming the quantity on failure.
+pub fn assert_close(what: &str, actual: &DMatrix<f64>, expected: &DMatrix<f64>, tol: f64) {
+    let err = relative_error(actual, expected);
+    assert!(
+        err <= tol,
+        "{what}: relative error {err:.3e} > {tol:.0e}\nactual:\n{actual:.12}\nexpected:\n{expected:.12}"
+    );
+}
+
+pub fn column(v: &[f64]) -> DMatrix<f64> {
+    DMatrix::from_column_slice(v.len(), 1, v)
+}
+
+/// The workspace root (this crate sits one level below it).
+pub fn workspace_root() -> &'static std::path::Path {
+    std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
+}

@@ -1,0 +1,308 @@
+//! Random kinematic trees and joint states for property tests.
+//!
+//! The trees look like real robots often enough to hit the special cases that generated code
+//! folds (exact coordinate axes, quarter-turn origins, diagonal inertias, zero offsets) and are
+//! general often enough to catch convention errors that those cases hide (skew axes, products
+//! of inertia, branches, prismatic joints, gravity not along −z).
+//!
+//! Public API: [`arb_model`], [`arb_state`], [`arb_model_and_state`] (proptest strategies) and
+//! [`random_state`] with the tiny deterministic [`SplitMix64`] for fixed-seed loops.
+
+use dyngen_codegen::model::{from_xyz_rpy, Body, Frame, Inertia, Joint, JointKind, Limits, Model, Pose};
+use nalgebra::{Matrix3, Vector3};
+use proptest::prelude::*;
+use proptest::sample::Index;
+use proptest::test_runner::{Config, RngAlgorithm, RngSeed, TestRunner};
+use std::f64::consts::{FRAC_PI_2, PI, TAU};
+
+/// Joint positions, velocities and accelerations at which a model is evaluated.
+///
+/// `qd`, `qdd` are the actual joint velocity and acceleration; `v`, `a` the reference velocity
+/// and acceleration of the Slotine–Li quantities `Y(q, q̇, v, a)`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct JointState {
+    pub q: Vec<f64>,
+    pub qd: Vec<f64>,
+    pub qdd: Vec<f64>,
+    pub v: Vec<f64>,
+    pub a: Vec<f64>,
+}
+
+/// Range of revolute joint positions (rad): a full turn, so every quadrant is visited.
+pub const REVOLUTE_RANGE: (f64, f64) = (-PI, PI);
+/// Range of prismatic joint positions (m): about a link length, so links stay robot-sized.
+pub const PRISMATIC_RANGE: (f64, f64) = (-0.4, 0.4);
+/// Range of every velocity component (rad/s or m/s).
+pub const VELOCITY_RANGE: (f64, f64) = (-2.0, 2.0);
+/// Range of every acceleration component (rad/s² or m/s²).
+pub const ACCELERATION_RANGE: (f64, f64) = (-5.0, 5.0);
+
+fn position_range(joint: &Joint) -> (f64, f64) {
+    match joint.kind {
+        JointKind::Revolute => REVOLUTE_RANGE,
+        JointKind::Prismatic => PRISMATIC_RANGE,
+    }
+}
+
+pub use dyngen_runtime::SplitMix64;
+
+/// `n` draws uniform in `range`.
+fn vector(rng: &mut SplitMix64, n: usize, range: (f64, f64)) -> Vec<f64> {
+    (0..n).map(|_| rng.uniform(range)).collect()
+}
+
+/// A random state of `model`, the same for the same `seed`.
+pub fn random_state(model: &Model, seed: u64) -> JointState {
+    let mut rng = SplitMix64::new(seed);
+    let n = model.dof();
+    JointState {
+        q: model
+            .joints()
+            .iter()
+            .map(|j| rng.uniform(position_range(j)))
+            .collect(),
+        qd: vector(&mut rng, n, VELOCITY_RANGE),
+        qdd: vector(&mut rng, n, ACCELERATION_RANGE),
+        v: vector(&mut rng, n, VELOCITY_RANGE),
+        a: vector(&mut rng, n, ACCELERATION_RANGE),
+    }
+}
+
+/// Random states of `model`, with the ranges of [`random_state`].
+pub fn arb_state(model: &Model) -> impl Strategy<Value = JointState> {
+    let n = model.dof();
+    let range = |(lo, hi): (f64, f64)| lo..hi;
+    let q: Vec<_> = model.joints().iter().map(|j| range(position_range(j))).collect();
+    let vector = move |r| proptest::collection::vec(range(r), n);
+    (
+        q,
+        vector(VELOCITY_RANGE),
+        vector(ACCELERATION_RANGE),
+        vector(VELOCITY_RANGE),
+        vector(ACCELERATION_RANGE),
+    )
+        .prop_map(|(q, qd, qdd, v, a)| JointState { q, qd, qdd, v, a })
+}
+
+/// A random tree of 1 to `max_dof` joints together with a random state of it.
+pub fn arb_model_and_state(max_dof: usize) -> impl Strategy<Value = (Model, JointState)> {
+    arb_model(max_dof).prop_flat_map(|model| {
+        let state = arb_state(&model);
+        (Just(model), state)
+    })
+}
+
+/// A random kinematic tree with 1 to `max_dof` moving joints (see the module documentation).
+pub fn arb_model(max_dof: usize) -> impl Strategy<Value = Model> {
+    assert!(max_dof >= 1, "a model has at least one joint");
+    (1..=max_dof)
+        .prop_flat_map(|n| {
+            (
+                proptest::collection::vec(arb_joint(), n),
+                proptest::collection::vec(arb_inertia(), n),
+                arb_gravity(),
+                any::<Index>(),
+                arb_pose(),
+            )
+        })
+        .prop_map(|(joints, inertias, gravity, ee_body, ee_placement)| {
+            let n = joints.len();
+            let joints = joints
+                .into_iter()
+                .enumerate()
+                .map(|(i, spec)| Joint {
+                    name: format!("joint{i}"),
+                    parent: spec.parent.resolve(i),
+                    kind: spec.kind,
+                    origin: spec.origin,
+                    axis: spec.axis,
+                    limits: spec.limits,
+                })
+                .collect();
+            let bodies = inertias
+                .into_iter()
+                .enumerate()
+                .map(|(i, inertia)| Body {
+                    name: format!("link{i}"),
+                    inertia,
+                })
+                .collect();
+            let end_effector = Frame {
+                name: "tool".into(),
+                parent: ee_body.index(n),
+                placement: ee_placement,
+            };
+            Model::new(
+                format!("random_tree_{n}dof"),
+                joints,
+                bodies,
+                gravity,
+                end_effector,
+            )
+            .expect("random trees are valid models")
+        })
+}
+
+/// How a joint picks its parent. Mostly the previous joint (chains, as in arms), sometimes the
+/// base or any earlier joint (branches, as in hands, legs and dual arms).
+#[derive(Clone, Debug)]
+enum ParentChoice {
+    Previous,
+    Base,
+    Any(Index),
+}
+
+impl ParentChoice {
+    fn resolve(&self, joint: usize) -> Option<usize> {
+        match self {
+            _ if joint == 0 => None,
+            ParentChoice::Previous => Some(joint - 1),
+            ParentChoice::Base => None,
+            // Index over the base and the `joint` earlier joints.
+            ParentChoice::Any(ix) => ix.index(joint + 1).checked_sub(1),
+        }
+    }
+}
+
+#[derive(Clone, Debug)]
+struct JointSpec {
+    parent: ParentChoice,
+    kind: JointKind,
+    axis: Vector3<f64>,
+    origin: Pose,
+    limits: Option<Limits>,
+}
+
+fn arb_joint() -> impl Strategy<Value = JointSpec> {
+    let parent = prop_oneof![
+        4 => Just(ParentChoice::Previous),
+        1 => Just(ParentChoice::Base),
+        2 => any::<Index>().prop_map(ParentChoice::Any),
+    ];
+    let kind = prop_oneof![3 => Just(JointKind::Revolute), 1 => Just(JointKind::Prismatic)];
+    (parent, kind, arb_axis(), arb_pose(), any::<bool>()).prop_map(
+        |(parent, kind, axis, origin, continuous)| {
+            let (lower, upper) = match kind {
+                JointKind::Revolute => REVOLUTE_RANGE,
+                JointKind::Prismatic => PRISMATIC_RANGE,
+            };
+            // Continuous joints (no limits) exist only for revolute joints.
+            let limited = kind == JointKind::Prismatic || !continuous;
+            let limits = limited.then_some(Limits {
+                lower,
+                upper,
+                velocity: 2.0,
+                effort: 100.0,
+            });
+            JointSpec {
+                parent,
+                kind,
+                axis,
+                origin,
+                limits,
+            }
+        },
+    )
+}
+
+/// Unit axes: an exact ±x/±y/±z half of the time (real robots), otherwise uniform on the sphere.
+pub fn arb_axis() -> impl Strategy<Value = Vector3<f64>> {
+    let coordinate = (0..3usize, any::<bool>()).prop_map(|(k, negative)| {
+        let mut axis = Vector3::zeros();
+        axis[k] = if negative { -1.0 } else { 1.0 };
+        axis
+    });
+    // Uniform on the sphere: z uniform in [−1, 1], longitude uniform (Archimedes).
+    let general = (-1.0..=1.0f64, 0.0..TAU).prop_map(|(z, phi): (f64, f64)| {
+        let r = (1.0 - z * z).max(0.0).sqrt();
+        Vector3::new(r * phi.cos(), r * phi.sin(), z).normalize()
+    });
+    prop_oneof![coordinate, general]
+}
+
+/// Rotations: identity, exact quarter turns about fixed axes (as URDFs write them), or general.
+pub fn arb_rotation() -> impl Strategy<Value = Matrix3<f64>> {
+    let rpy = |rpy: [f64; 3]| from_xyz_rpy([0.0; 3], rpy).rotation;
+    let quarter_turns = |k: i32| f64::from(k) * FRAC_PI_2;
+    prop_oneof![
+        1 => Just(Matrix3::identity()),
+        // `from_xyz_rpy` makes multiples of π/2 exact (0, ±1 entries).
+        2 => [0..4i32, 0..4i32, 0..4i32].prop_map(move |k| rpy(k.map(quarter_turns))),
+        3 => [-PI..PI, -FRAC_PI_2..FRAC_PI_2, -PI..PI].prop_map(rpy),
+    ]
+}
+
+/// Translations up to about 0.5 m: zero, along one coordinate axis, or general.
+pub fn arb_translation() -> impl Strategy<Value = Vector3<f64>> {
+    prop_oneof![
+        1 => Just(Vector3::zeros()),
+        2 => (0..3usize, -0.5..0.5f64).prop_map(|(k, d)| {
+            let mut t = Vector3::zeros();
+            t[k] = d;
+            t
+        }),
+        3 => [-0.3..0.3f64, -0.3..0.3f64, -0.3..0.3f64].prop_map(Vector3::from),
+    ]
+}
+
+/// Joint origins and frame placements.
+pub fn arb_pose() -> impl Strategy<Value = Pose> {
+    (arb_rotation(), arb_translation()).prop_map(|(rotation, translation)| Pose {
+        rotation,
+        translation,
+    })
+}
+
+/// Physically valid rigid-body inertias.
+///
+/// Mass 0.1–10 kg, centre of mass within 0.2 m of the joint frame (inside a link of about
+/// 0.5 m). The principal moments come from radii of gyration `r_k` along the principal axes,
+/// `I_1 = m (r_2² + r_3²)` and cyclically, so they satisfy the triangle inequality by
+/// construction (equality in the limit of a rod or a plate, which small radii approach). A
+/// random principal frame gives non-zero products of inertia; sometimes the inertia stays
+/// diagonal, as URDF authors often write it.
+pub fn arb_inertia() -> impl Strategy<Value = Inertia> {
+    let com = prop_oneof![
+        1 => Just(Vector3::zeros()),
+        4 => [-0.2..0.2f64, -0.2..0.2f64, -0.2..0.2f64].prop_map(Vector3::from),
+    ];
+    let principal_frame = prop_oneof![1 => Just(Matrix3::identity()), 3 => arb_rotation()];
+    (
+        0.1..=10.0f64,
+        com,
+        [0.01..0.2f64, 0.01..0.2f64, 0.01..0.2f64],
+        principal_frame,
+    )
+        .prop_map(|(mass, com, radii, rot)| {
+            let [r1, r2, r3] = radii.map(|r| r * r);
+            let principal = Vector3::new(r2 + r3, r1 + r3, r1 + r2) * mass;
+            let inertia = rot * Matrix3::from_diagonal(&principal) * rot.transpose();
+            // Exactly symmetric, as a description file would state it.
+            let inertia_com = (inertia + inertia.transpose()) * 0.5;
+            Inertia {
+                mass,
+                com,
+                inertia_com,
+            }
+        })
+}
+
+/// Gravity of magnitude about 9.81 m/s²: mostly −z, sometimes tilted (a robot mounted on a
+/// wall or a slope), so that no code may assume it.
+pub fn arb_gravity() -> impl Strategy<Value = Vector3<f64>> {
+    let tilted = (arb_axis(), 9.7..9.9f64).prop_map(|(direction, magnitude)| direction * magnitude);
+    prop_oneof![3 => Just(Vector3::new(0.0, 0.0, -9.81)), 1 => tilted]
+}
+
+/// A proptest runner with a fixed seed and no failure files: every run checks the same `cases`
+/// random trees, so CI is reproducible.
+pub fn deterministic_runner(cases: u32) -> TestRunner {
+    TestRunner::new(Config {
+        cases,
+        failure_persistence: None,
+        source_file: None,
+        rng_algorithm: RngAlgorithm::ChaCha,
+        rng_seed: RngSeed::Fixed(0x0D1A_6E11_0AC1_E500),
+        ..Config::default()
+    })
+}
