@@ -45,12 +45,16 @@ fn check(model: &Model, robot: &SymbolicRobot, q: &[f64], qd: &[f64], qdd: &[f64
     let n = model.dof();
     let generic = NumericDynamics::new(model);
     let none: &[f64] = &[];
-    let tau_of = |q: &[f64], qd: &[f64]| {
-        matrix(robot.evaluate("inverse_dynamics", q, qd, none, qdd).unwrap(), n)
-    };
+    let tau_of =
+        |q: &[f64], qd: &[f64]| matrix(robot.evaluate("inverse_dynamics", q, qd, none, qdd).unwrap(), n);
     let tau = tau_of(q, qd);
     let fd_of = |q: &[f64], qd: &[f64]| {
-        matrix(robot.evaluate_tau("forward_dynamics", q, qd, tau.as_slice()).unwrap(), n)
+        matrix(
+            robot
+                .evaluate_tau("forward_dynamics", q, qd, tau.as_slice())
+                .unwrap(),
+            n,
+        )
     };
     let at = |what: &str| format!("{} ({n} joints): {what}", model.name());
 
@@ -58,9 +62,19 @@ fn check(model: &Model, robot: &SymbolicRobot, q: &[f64], qd: &[f64], qdd: &[f64
     let qdd_traced = fd_of(q, qd);
     let generic_fd = generic.forward_dynamics(q, qd, tau.as_slice());
     assert_close(&at("q̈"), &qdd_traced, &column(generic_fd.as_slice()), TOL_GENERIC);
-    let minv = matrix(robot.evaluate("mass_matrix_inverse", q, none, none, none).unwrap(), n);
+    let minv = matrix(
+        robot
+            .evaluate("mass_matrix_inverse", q, none, none, none)
+            .unwrap(),
+        n,
+    );
     assert_close(&at("D⁻¹"), &minv, &generic.mass_matrix_inverse(q), TOL_GENERIC);
-    let id_d = matrix(robot.evaluate("inverse_dynamics_derivatives", q, qd, none, qdd).unwrap(), n);
+    let id_d = matrix(
+        robot
+            .evaluate("inverse_dynamics_derivatives", q, qd, none, qdd)
+            .unwrap(),
+        n,
+    );
     let (gq, gv) = generic.inverse_dynamics_derivatives(q, qd, qdd);
     assert_close(&at("∂τ/∂(q, q̇)"), &id_d, &concat(&gq, &gv), TOL_GENERIC);
     let fd_d = matrix(
@@ -74,14 +88,22 @@ fn check(model: &Model, robot: &SymbolicRobot, q: &[f64], qd: &[f64], qdd: &[f64
 
     // Oracles.
     let d = matrix(robot.evaluate("mass_matrix", q, none, none, none).unwrap(), n);
-    assert_close(&at("D⁻¹ D = I"), &(&minv * d), &DMatrix::identity(n, n), TOL_IDENTITY);
+    assert_close(
+        &at("D⁻¹ D = I"),
+        &(&minv * d),
+        &DMatrix::identity(n, n),
+        TOL_IDENTITY,
+    );
     assert_close(&at("FD(ID(q̈)) = q̈"), &qdd_traced, &column(qdd), TOL_IDENTITY);
     let num = concat(
         &differenced(|x| tau_of(x, qd), q),
         &differenced(|x| tau_of(q, x), qd),
     );
     assert_close(&at("∂τ/∂(q, q̇) vs differenced τ"), &id_d, &num, TOL_DIFFERENCE);
-    let num = concat(&differenced(|x| fd_of(x, qd), q), &differenced(|x| fd_of(q, x), qd));
+    let num = concat(
+        &differenced(|x| fd_of(x, qd), q),
+        &differenced(|x| fd_of(q, x), qd),
+    );
     assert_close(&at("∂q̈/∂(q, q̇) vs differenced q̈"), &fd_d, &num, TOL_DIFFERENCE);
 }
 

@@ -28,8 +28,14 @@ fn residual_is_zero<Z: Parameterization<N, M>, const N: usize, const M: usize>(p
 #[test]
 fn plant_without_payload_solves_the_true_dynamics() {
     let contact = || PlaneContact::table(-10.0, 1e4);
-    residual_is_zero(&Plant::<arm7::Standard, 7, 70>::new(arm7::Standard::description(), contact()));
-    residual_is_zero(&Plant::<panda::Standard, 7, 70>::new(panda::Standard::description(), contact()));
+    residual_is_zero(&Plant::<arm7::Standard, 7, 70>::new(
+        arm7::Standard::description(),
+        contact(),
+    ));
+    residual_is_zero(&Plant::<panda::Standard, 7, 70>::new(
+        panda::Standard::description(),
+        contact(),
+    ));
     residual_is_zero(&Plant::<ur5::Base, 6, { ur5::BASE_PARAMETER_COUNT }>::new(
         ur5::Base::description(),
         contact(),

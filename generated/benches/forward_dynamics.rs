@@ -21,7 +21,14 @@ fn states(n: usize) -> Vec<[Vec<f64>; 4]> {
     let pi = std::f64::consts::PI;
     let mut draw = |range: (f64, f64)| -> Vec<f64> { (0..n).map(|_| rng.uniform(range)).collect() };
     (0..STATES)
-        .map(|_| [draw((-pi, pi)), draw((-2.0, 2.0)), draw((-5.0, 5.0)), draw((-10.0, 10.0))])
+        .map(|_| {
+            [
+                draw((-pi, pi)),
+                draw((-2.0, 2.0)),
+                draw((-5.0, 5.0)),
+                draw((-10.0, 10.0)),
+            ]
+        })
         .collect()
 }
 
@@ -60,9 +67,15 @@ fn bench_robot<R: RobotDynamics<N, P>, const N: usize, const P: usize>(c: &mut C
     cycle(c, &g("minv"), "generic", &raw, |[q, ..]| {
         black_box(generic.mass_matrix_inverse(q));
     });
-    cycle(c, &g("rnea_derivatives"), "generated", &fixed, |[q, qd, qdd, _]| {
-        black_box(R::inverse_dynamics_derivatives(&JointTrig::new(q), qd, qdd));
-    });
+    cycle(
+        c,
+        &g("rnea_derivatives"),
+        "generated",
+        &fixed,
+        |[q, qd, qdd, _]| {
+            black_box(R::inverse_dynamics_derivatives(&JointTrig::new(q), qd, qdd));
+        },
+    );
     cycle(c, &g("rnea_derivatives"), "generic", &raw, |[q, qd, qdd, _]| {
         black_box(generic.inverse_dynamics_derivatives(q, qd, qdd));
     });

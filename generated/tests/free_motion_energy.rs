@@ -24,7 +24,10 @@ fn rk4<R: RobotDynamics<N, P>, const N: usize, const P: usize>(x: &State<N>, h: 
     let k3 = derivative::<R, N, P>(&at(&k2, h / 2.0));
     let k4 = derivative::<R, N, P>(&at(&k3, h));
     let step = |a: SVector<f64, N>, b, c, d| (a + b * 2.0 + c * 2.0 + d) * (h / 6.0);
-    (x.0 + step(k1.0, k2.0, k3.0, k4.0), x.1 + step(k1.1, k2.1, k3.1, k4.1))
+    (
+        x.0 + step(k1.0, k2.0, k3.0, k4.0),
+        x.1 + step(k1.1, k2.1, k3.1, k4.1),
+    )
 }
 
 fn energy<R: RobotDynamics<N, P>, const N: usize, const P: usize>((q, qd): &State<N>) -> f64 {
@@ -50,9 +53,16 @@ fn fourth_order<R: RobotDynamics<N, P>, const N: usize, const P: usize>() {
     let e0 = energy::<R, N, P>(&start);
     let (coarse, fine) = (drift::<R, N, P>(&start, 0.01), drift::<R, N, P>(&start, 0.005));
     let ratio = coarse / fine;
-    eprintln!("{}: E = {e0:.4} J, drift {coarse:.3e} (h = 0.01), {fine:.3e} (h = 0.005), ratio {ratio:.1}", R::NAME);
+    eprintln!(
+        "{}: E = {e0:.4} J, drift {coarse:.3e} (h = 0.01), {fine:.3e} (h = 0.005), ratio {ratio:.1}",
+        R::NAME
+    );
     assert!(fine < 1e-6 * e0, "{}: energy drifts by {fine:e} of {e0}", R::NAME);
-    assert!((12.0..20.0).contains(&ratio), "{}: halving h divides the drift by {ratio}, not ~16", R::NAME);
+    assert!(
+        (12.0..20.0).contains(&ratio),
+        "{}: halving h divides the drift by {ratio}, not ~16",
+        R::NAME
+    );
 }
 
 #[test]

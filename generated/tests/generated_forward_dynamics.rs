@@ -44,11 +44,19 @@ fn sv<const N: usize>(x: &[f64]) -> SVector<f64, N> {
     SVector::from_column_slice(x)
 }
 
-fn fd<R: RobotDynamics<N, P>, const N: usize, const P: usize>(q: &[f64], qd: &[f64], tau: &[f64]) -> DMatrix<f64> {
+fn fd<R: RobotDynamics<N, P>, const N: usize, const P: usize>(
+    q: &[f64],
+    qd: &[f64],
+    tau: &[f64],
+) -> DMatrix<f64> {
     dm(&R::forward_dynamics(&JointTrig::new(&sv(q)), &sv(qd), &sv(tau)))
 }
 
-fn id<R: RobotDynamics<N, P>, const N: usize, const P: usize>(q: &[f64], qd: &[f64], qdd: &[f64]) -> DMatrix<f64> {
+fn id<R: RobotDynamics<N, P>, const N: usize, const P: usize>(
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+) -> DMatrix<f64> {
     dm(&R::inverse_dynamics(&JointTrig::new(&sv(q)), &sv(qd), &sv(qdd)))
 }
 

@@ -230,7 +230,9 @@ fn forward_quantities(model: &Model, q: &[Expr], qd: &[Expr], a: &[Expr], tau: &
             name: "forward_dynamics_derivatives",
             args: vec![Arg::Qd, Arg::Tau],
             shape: Shape::MatrixPair(n),
-            outputs: pair_ids(dynamics::forward_dynamics_derivatives(model, q, &inertias, qd, tau)),
+            outputs: pair_ids(dynamics::forward_dynamics_derivatives(
+                model, q, &inertias, qd, tau,
+            )),
         },
     ]
 }
