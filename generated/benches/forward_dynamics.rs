@@ -45,7 +45,7 @@ fn cycle<T>(c: &mut Criterion, group: &str, id: &str, inputs: &[T], mut f: impl 
 }
 
 fn bench_robot<R: RobotDynamics<N, P>, const N: usize, const P: usize>(c: &mut Criterion, robot: &str) {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("robots/{robot}.yaml"));
+    let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join(format!("robots/{robot}.yaml"));
     let model = load(&path).unwrap_or_else(|e| panic!("{e}")).model;
     let generic = NumericDynamics::new(&model);
     let raw = states(N);
