@@ -9,6 +9,7 @@ pub mod dynamics;
 pub mod generate;
 pub mod model;
 pub mod scalar;
+pub mod scalar_dual;
 pub mod spatial;
 pub mod symbolic;
 

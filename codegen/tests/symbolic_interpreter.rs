@@ -27,6 +27,8 @@ fn interpreted(
         Shape::Vector(n) => DMatrix::from_column_slice(n, 1, &values),
         Shape::Matrix(r, c) => DMatrix::from_column_slice(r, c, &values),
         Shape::Pose => DMatrix::from_column_slice(12, 1, &values),
+        // The two matrices side by side (both column-major, so one n × 2n matrix).
+        Shape::MatrixPair(n) => DMatrix::from_column_slice(n, 2 * n, &values),
     }
 }
 

@@ -182,6 +182,27 @@ impl RobotDynamics<2, 20> for TwoJoints {
     ) -> SMatrix<f64, 2, 20> {
         SMatrix::zeros()
     }
+    // D = 1, no bias: q̈ = τ and no derivatives.
+    fn forward_dynamics(_: &JointTrig<2>, _: &SVector<f64, 2>, tau: &SVector<f64, 2>) -> SVector<f64, 2> {
+        *tau
+    }
+    fn mass_matrix_inverse(_: &JointTrig<2>) -> SMatrix<f64, 2, 2> {
+        SMatrix::identity()
+    }
+    fn inverse_dynamics_derivatives(
+        _: &JointTrig<2>,
+        _: &SVector<f64, 2>,
+        _: &SVector<f64, 2>,
+    ) -> (SMatrix<f64, 2, 2>, SMatrix<f64, 2, 2>) {
+        (SMatrix::zeros(), SMatrix::zeros())
+    }
+    fn forward_dynamics_derivatives(
+        _: &JointTrig<2>,
+        _: &SVector<f64, 2>,
+        _: &SVector<f64, 2>,
+    ) -> (SMatrix<f64, 2, 2>, SMatrix<f64, 2, 2>) {
+        (SMatrix::zeros(), SMatrix::zeros())
+    }
 }
 
 #[test]

@@ -37,7 +37,7 @@ fn states(n: usize) -> Vec<[Vec<f64>; 4]> {
 }
 
 fn model(robot: &str) -> Model {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("robots/{robot}.yaml"));
+    let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join(format!("robots/{robot}.yaml"));
     load(&path).unwrap_or_else(|e| panic!("{e}")).model
 }
 

@@ -41,6 +41,13 @@ pub trait Parameterization<const N: usize, const M: usize> {
         v: &SVector<f64, N>,
         a: &SVector<f64, N>,
     ) -> SMatrix<f64, N, M>;
+    /// Forward dynamics of the robot with the description's parameters (the generated
+    /// function): exact for a true robot whose parameters are [`Self::description`].
+    fn description_forward_dynamics(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        tau: &SVector<f64, N>,
+    ) -> SVector<f64, N>;
 }
 
 /// A robot whose generator also emitted its base (minimal, identifiable) parameters: `B`
@@ -108,6 +115,13 @@ impl<R: RobotDynamics<N, P>, const N: usize, const P: usize> Parameterization<N,
     ) -> SMatrix<f64, N, P> {
         R::regressor(t, qd, v, a)
     }
+    fn description_forward_dynamics(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        tau: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        R::forward_dynamics(t, qd, tau)
+    }
 }
 
 impl<R: BaseParameters<N, P, B>, const N: usize, const P: usize, const B: usize> Parameterization<N, B>
@@ -143,5 +157,12 @@ impl<R: BaseParameters<N, P, B>, const N: usize, const P: usize, const B: usize>
         a: &SVector<f64, N>,
     ) -> SMatrix<f64, N, B> {
         R::base_regressor(t, qd, v, a)
+    }
+    fn description_forward_dynamics(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        tau: &SVector<f64, N>,
+    ) -> SVector<f64, N> {
+        R::forward_dynamics(t, qd, tau)
     }
 }

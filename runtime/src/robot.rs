@@ -98,4 +98,21 @@ pub trait RobotDynamics<const N: usize, const P: usize>: Kinematics<N> {
         v: &SVector<f64, N>,
         a: &SVector<f64, N>,
     ) -> SMatrix<f64, N, P>;
+    /// Forward dynamics `q̈ = D⁻¹ (τ − C q̇ − g)`.
+    fn forward_dynamics(t: &JointTrig<N>, qd: &SVector<f64, N>, tau: &SVector<f64, N>) -> SVector<f64, N>;
+    /// The inverse inertia matrix `D(q)⁻¹`.
+    fn mass_matrix_inverse(t: &JointTrig<N>) -> SMatrix<f64, N, N>;
+    /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics at `(q, q̇, q̈)`; entry `(i, j)` is `∂τ_i/∂x_j`
+    /// (`∂τ/∂q̈ = D`).
+    fn inverse_dynamics_derivatives(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        qdd: &SVector<f64, N>,
+    ) -> (SMatrix<f64, N, N>, SMatrix<f64, N, N>);
+    /// `(∂q̈/∂q, ∂q̈/∂q̇)` of forward dynamics at `(q, q̇, τ)` (`∂q̈/∂τ = D⁻¹`).
+    fn forward_dynamics_derivatives(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        tau: &SVector<f64, N>,
+    ) -> (SMatrix<f64, N, N>, SMatrix<f64, N, N>);
 }

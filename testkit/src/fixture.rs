@@ -22,6 +22,13 @@ pub struct State {
     pub ee_translation: Vec<f64>,
     pub ee_rotation: DMatrix<f64>,
     pub y: DMatrix<f64>,
+    /// Forward dynamics at `(q, v, tau)` (equals `a`).
+    pub aba: Vec<f64>,
+    pub minv: DMatrix<f64>,
+    pub dtau_dq: DMatrix<f64>,
+    pub dtau_dv: DMatrix<f64>,
+    pub dqdd_dq: DMatrix<f64>,
+    pub dqdd_dv: DMatrix<f64>,
 }
 
 pub struct Fixture {
@@ -79,6 +86,12 @@ pub fn load(robot: &str) -> Fixture {
             ee_translation: vector(&s["ee_translation"]),
             ee_rotation: matrix(&s["ee_rotation"]),
             y: matrix(&s["Y"]),
+            aba: vector(&s["aba"]),
+            minv: matrix(&s["Minv"]),
+            dtau_dq: matrix(&s["dtau_dq"]),
+            dtau_dv: matrix(&s["dtau_dv"]),
+            dqdd_dq: matrix(&s["dqdd_dq"]),
+            dqdd_dv: matrix(&s["dqdd_dv"]),
         })
         .collect();
     let joint_names = json["joint_names"]

@@ -9,15 +9,22 @@
 
 mod coriolis;
 mod crba;
+mod derivatives;
+mod forward_dynamics;
 mod joint;
 mod joint_terms;
 mod kinematics;
 mod numeric;
+mod numeric_forward;
 mod regressor;
+mod singular;
 mod slotine_li;
+mod tree_ldl;
 
 pub use coriolis::coriolis_matrix;
 pub use crba::mass_matrix;
+pub use derivatives::{forward_dynamics_derivatives, inverse_dynamics_derivatives};
+pub use forward_dynamics::{factor_mass_matrix, forward_dynamics, mass_matrix_inverse};
 pub use joint::{joint_transform, joint_transforms};
 pub use joint_terms::{
     add_armature, add_torques, coulomb_shape, fill_joint_term_columns, joint_term_torques,
@@ -25,7 +32,9 @@ pub use joint_terms::{
 pub use kinematics::{body_poses, end_effector_pose, jacobian, jacobian_dot};
 pub use numeric::NumericDynamics;
 pub use regressor::regressor;
+pub use singular::singular_joints;
 pub use slotine_li::{gravity_torque, inverse_dynamics, slotine_li};
+pub use tree_ldl::TreeLdl;
 
 use crate::model::Model;
 use crate::scalar::Scalar;

@@ -9,9 +9,9 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 #[derive(Clone, Debug)]
 pub struct NumericDynamics<'m> {
     pub model: &'m Model,
-    inertias: Vec<RigidInertia<f64>>,
+    pub(super) inertias: Vec<RigidInertia<f64>>,
     /// Joint-level values that act (chosen kinds; others 0).
-    joint_values: Vec<crate::model::JointTermValues>,
+    pub(super) joint_values: Vec<crate::model::JointTermValues>,
 }
 
 /// The joint transforms at one `q`. Each method builds its own from the `q` it is given (no

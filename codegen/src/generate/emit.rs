@@ -15,7 +15,7 @@ use crate::model::Model;
 use crate::symbolic::{Id, Node, OpCounts};
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
-use std::collections::HashMap;
+use std::collections::{BTreeSet, HashMap};
 
 /// What the header of a generated file records.
 #[derive(Clone, Debug)]
@@ -52,6 +52,10 @@ pub fn type_name(robot: &str) -> String {
 /// How inputs of the graph are spelled in a function body.
 struct Leaves {
     names: HashMap<Id, Ident>,
+    /// Ids of `sin(q_i)` and `cos(q_i)` in joint order, found once (every chunk's signature
+    /// needs them, and a scan per chunk made large robots' emission quadratic).
+    sin_ids: Vec<Id>,
+    cos_ids: Vec<Id>,
 }
 
 impl Leaves {
@@ -64,6 +68,7 @@ impl Leaves {
             ("qd", &inputs.qd),
             ("v", &inputs.v),
             ("a", &inputs.a),
+            ("tau", &inputs.tau),
         ] {
             for (i, id) in ids.iter().enumerate() {
                 names.insert(*id, format_ident!("{prefix}{i}"));
@@ -85,7 +90,11 @@ impl Leaves {
                 _ => {}
             }
         }
-        Leaves { names }
+        Leaves {
+            names,
+            sin_ids: trig_ids(robot, true),
+            cos_ids: trig_ids(robot, false),
+        }
     }
 }
 
@@ -104,10 +113,11 @@ fn literal(x: f64) -> TokenStream {
 }
 
 /// Values per chunk function. Larger functions run faster (nothing is copied between chunks:
-/// the Panda's `C` and `Y` run 15–18% faster whole than in chunks of 1024, and every function of
-/// a 7-DOF arm fits in one chunk), while chunks bound the size of what LLVM optimises at once,
-/// whose cost grows faster than linearly, for very large robots.
-const CHUNK: usize = 4096;
+/// the Panda's `C` and `Y` run 15–18% faster whole than in chunks of 1024; its derivatives of
+/// the dynamics, about 7,000 values, ran about twice as slow in chunks of 4096), and every
+/// function of a 7-DOF arm fits in one chunk, while chunks bound the size of what LLVM
+/// optimises at once, whose cost grows faster than linearly, for very large robots.
+const CHUNK: usize = 16384;
 
 /// The nodes a function computes, in order, and how their names are spelled.
 struct Plan<'a> {
@@ -257,11 +267,11 @@ fn destructure(leaves: &Leaves, ids: &[Id], used: &[Id], source: TokenStream) ->
 
 fn signature(robot: &SymbolicRobot, leaves: &Leaves, args: &[Arg], used: &[Id], n: &Literal) -> Signature {
     let inputs = &robot.inputs;
-    let (sin_ids, cos_ids) = (trig_ids(robot, true), trig_ids(robot, false));
+    let (sin_ids, cos_ids) = (&leaves.sin_ids, &leaves.cos_ids);
     let mut prelude = Vec::new();
     prelude.extend(destructure(leaves, &inputs.q, used, quote!(t.q)));
-    prelude.extend(destructure(leaves, &sin_ids, used, quote!(t.sin)));
-    prelude.extend(destructure(leaves, &cos_ids, used, quote!(t.cos)));
+    prelude.extend(destructure(leaves, sin_ids, used, quote!(t.sin)));
+    prelude.extend(destructure(leaves, cos_ids, used, quote!(t.cos)));
     let t = if prelude.is_empty() {
         format_ident!("_t")
     } else {
@@ -273,6 +283,7 @@ fn signature(robot: &SymbolicRobot, leaves: &Leaves, args: &[Arg], used: &[Id], 
             Arg::Qd => (format_ident!("qd"), &inputs.qd),
             Arg::V => (format_ident!("v"), &inputs.v),
             Arg::A => (format_ident!("a"), &inputs.a),
+            Arg::Tau => (format_ident!("tau"), &inputs.tau),
         };
         match destructure(leaves, ids, used, quote!(#name.data.0[0])) {
             Some(d) => {
@@ -294,6 +305,7 @@ fn argument_names(args: &[Arg]) -> Vec<Ident> {
         Arg::Qd => format_ident!("qd"),
         Arg::V => format_ident!("v"),
         Arg::A => format_ident!("a"),
+        Arg::Tau => format_ident!("tau"),
     }));
     names
 }
@@ -333,33 +345,31 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
     let position: HashMap<Id, usize> = plan.order.iter().enumerate().map(|(k, &id)| (id, k)).collect();
     let chunk_of = |id: &Id| position.get(id).map(|k| k / CHUNK);
     let n_chunks = plan.order.len().div_ceil(CHUNK).max(1);
-    // Values each chunk needs from earlier chunks, and values each chunk hands on.
-    let mut carried_in: Vec<Vec<Id>> = vec![Vec::new(); n_chunks];
-    let mut handed_on: Vec<Vec<Id>> = vec![Vec::new(); n_chunks];
-    let mark = |list: &mut Vec<Id>, id: Id| {
-        if !list.contains(&id) {
-            list.push(id)
-        }
-    };
+    // Values each chunk needs from earlier chunks, and values each chunk hands on; sets, because
+    // a chunk of a large function carries thousands of values (a linear `contains` per operand
+    // made emitting a 30-DOF chain's derivatives take over a minute).
+    let mut carried_in: Vec<BTreeSet<Id>> = vec![BTreeSet::new(); n_chunks];
+    let mut handed_on: Vec<BTreeSet<Id>> = vec![BTreeSet::new(); n_chunks];
     for &id in &plan.order {
         let here = chunk_of(&id).unwrap_or(0);
         for operand in robot.graph.operands(id) {
             if let Some(there) = chunk_of(&operand).filter(|&c| c < here) {
-                mark(&mut carried_in[here], operand);
-                mark(&mut handed_on[there], operand);
+                carried_in[here].insert(operand);
+                handed_on[there].insert(operand);
             }
         }
     }
     for o in &q.outputs {
         if let Some(c) = chunk_of(o) {
             if n_chunks > 1 {
-                mark(&mut handed_on[c], *o);
+                handed_on[c].insert(*o);
             }
         }
     }
-    for list in carried_in.iter_mut().chain(handed_on.iter_mut()) {
-        list.sort();
-    }
+    let sorted = |sets: Vec<BTreeSet<Id>>| -> Vec<Vec<Id>> {
+        sets.into_iter().map(|s| s.into_iter().collect()).collect()
+    };
+    let (carried_in, handed_on) = (sorted(carried_in), sorted(handed_on));
     let name = format_ident!("{}", q.name);
     let mut main_used = Vec::new();
     let atoms: Vec<TokenStream> = q.outputs.iter().map(|&o| plan.atom(o, &mut main_used)).collect();
@@ -377,6 +387,15 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
                 translation: Vector3::new(#(#p),*),
             })
         }
+        Shape::MatrixPair(rows) => {
+            let (first, second) = atoms.split_at(rows * rows);
+            let columns = |m: &[TokenStream]| {
+                let c: Vec<TokenStream> = m.chunks(rows).map(|c| quote!([#(#c),*])).collect();
+                quote!(SMatrix::from_array_storage(ArrayStorage([#(#c),*])))
+            };
+            let (first, second) = (columns(first), columns(second));
+            quote!((#first, #second))
+        }
     };
     let ret = match q.shape {
         Shape::Vector(len) => {
@@ -388,6 +407,10 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
             quote!(SMatrix<f64, #r, #c>)
         }
         Shape::Pose => quote!(Pose),
+        Shape::MatrixPair(r) => {
+            let r = Literal::usize_unsuffixed(r);
+            quote!((SMatrix<f64, #r, #r>, SMatrix<f64, #r, #r>))
+        }
     };
     let mut doc = vec![doc_counts(&robot.graph.op_counts(&q.outputs))];
     if q.name == BASE_REGRESSOR {

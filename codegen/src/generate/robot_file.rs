@@ -91,6 +91,7 @@ pub fn generate_robot(
         return Err(DescriptionError::new(path, msg).into());
     }
     let mut warnings = loaded.warnings;
+    warnings.extend(singular_inertia_warnings(path, &loaded.model));
     let base = &robot.base;
     if base.diagnostics.svd_rank != base.count() {
         // Never seen on a real robot: the selection and the SVD disagree only when some
@@ -118,4 +119,26 @@ pub fn generate_robot(
         base_parameter_count: robot.base.count(),
         elapsed: start.elapsed(),
     })
+}
+
+/// One warning per joint whose inertia-matrix pivot vanishes (it moves no mass or inertia in its
+/// own direction), naming the joint: forward dynamics do not exist for such a robot. A massless
+/// leaf is left to the loader's own warning, which already says that `D` is singular.
+fn singular_inertia_warnings(path: &Path, model: &Model) -> Vec<String> {
+    let has_child = |k: usize| model.joints().iter().any(|j| j.parent == Some(k));
+    crate::dynamics::singular_joints(model)
+        .into_iter()
+        .filter(|&k| model.bodies()[k].inertia.mass != 0.0 || has_child(k))
+        .map(|k| {
+            format!(
+                "{}: joint '{}': moves no mass or inertia in its own direction (link '{}' and what \
+                 it carries): the inertia matrix D is singular, so forward dynamics and D⁻¹ do not \
+                 exist (forward_dynamics, mass_matrix_inverse and forward_dynamics_derivatives \
+                 return non-finite values)",
+                path.display(),
+                model.joints()[k].name,
+                model.bodies()[k].name
+            )
+        })
+        .collect()
 }

@@ -13,6 +13,8 @@ pub enum Arg {
     Qd,
     V,
     A,
+    /// Joint torques (forward dynamics).
+    Tau,
 }
 
 /// What a generated function returns.
@@ -24,6 +26,8 @@ pub enum Shape {
     Matrix(usize, usize),
     /// A rotation (3×3, column-major) followed by a translation.
     Pose,
+    /// Two `n × n` matrices (derivatives with respect to `q` and `q̇`), each column-major.
+    MatrixPair(usize),
 }
 
 /// One quantity: a named function of the joint state.
@@ -43,6 +47,9 @@ pub struct Inputs {
     pub qd: Vec<Id>,
     pub v: Vec<Id>,
     pub a: Vec<Id>,
+    /// Joint torques, created after every other quantity is traced (so adding forward dynamics
+    /// left the node ids, and so the code, of the earlier functions unchanged).
+    pub tau: Vec<Id>,
 }
 
 /// Every quantity of one model, recorded in one graph.
@@ -192,12 +199,16 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
                 outputs: y_base,
             },
         ];
+        let mut quantities = quantities;
+        let tau = inputs("tau", n);
+        quantities.extend(forward_quantities(model, &q, &qd, &a, &tau));
         (
             Inputs {
                 q: ids(&q),
                 qd: ids(&qd),
                 v: ids(&v),
                 a: ids(&a),
+                tau: ids(&tau),
             },
             quantities,
         )
@@ -208,6 +219,48 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
         quantities,
         base,
     }
+}
+
+fn pair_ids((first, second): (DMatrix<Expr>, DMatrix<Expr>)) -> Vec<Id> {
+    let mut out = matrix_ids(&first);
+    out.extend(matrix_ids(&second));
+    out
+}
+
+/// Forward dynamics, `D⁻¹` and the derivatives of the dynamics, traced after the other
+/// quantities so that they reuse (never renumber) the nodes those created.
+fn forward_quantities(model: &Model, q: &[Expr], qd: &[Expr], a: &[Expr], tau: &[Expr]) -> Vec<Quantity> {
+    let n = model.dof();
+    let x = dynamics::joint_transforms(model, q);
+    let inertias = body_inertias::<Expr>(model);
+    vec![
+        Quantity {
+            name: "forward_dynamics",
+            args: vec![Arg::Qd, Arg::Tau],
+            shape: Shape::Vector(n),
+            outputs: ids(&dynamics::forward_dynamics(model, &x, &inertias, qd, tau)),
+        },
+        Quantity {
+            name: "mass_matrix_inverse",
+            args: vec![],
+            shape: Shape::Matrix(n, n),
+            outputs: matrix_ids(&dynamics::mass_matrix_inverse(model, &x, &inertias)),
+        },
+        Quantity {
+            name: "inverse_dynamics_derivatives",
+            args: vec![Arg::Qd, Arg::A],
+            shape: Shape::MatrixPair(n),
+            outputs: pair_ids(dynamics::inverse_dynamics_derivatives(model, q, &inertias, qd, a)),
+        },
+        Quantity {
+            name: "forward_dynamics_derivatives",
+            args: vec![Arg::Qd, Arg::Tau],
+            shape: Shape::MatrixPair(n),
+            outputs: pair_ids(dynamics::forward_dynamics_derivatives(
+                model, q, &inertias, qd, tau,
+            )),
+        },
+    ]
 }
 
 impl SymbolicRobot {
@@ -225,6 +278,23 @@ impl SymbolicRobot {
 
     /// Evaluates a quantity with the interpreter (for tests on robots that are never compiled).
     pub fn evaluate(&self, name: &str, q: &[f64], qd: &[f64], v: &[f64], a: &[f64]) -> Option<Vec<f64>> {
+        self.evaluate_inputs(name, q, qd, v, a, &[])
+    }
+
+    /// [`SymbolicRobot::evaluate`] of a function of the torques `tau` (forward dynamics).
+    pub fn evaluate_tau(&self, name: &str, q: &[f64], qd: &[f64], tau: &[f64]) -> Option<Vec<f64>> {
+        self.evaluate_inputs(name, q, qd, &[], &[], tau)
+    }
+
+    fn evaluate_inputs(
+        &self,
+        name: &str,
+        q: &[f64],
+        qd: &[f64],
+        v: &[f64],
+        a: &[f64],
+        tau: &[f64],
+    ) -> Option<Vec<f64>> {
         let quantity = self.quantity(name)?;
         let mut values = vec![0.0; self.graph.input_names().len()];
         for (ids, xs) in [
@@ -232,6 +302,7 @@ impl SymbolicRobot {
             (&self.inputs.qd, qd),
             (&self.inputs.v, v),
             (&self.inputs.a, a),
+            (&self.inputs.tau, tau),
         ] {
             for (id, x) in ids.iter().zip(xs) {
                 if let crate::symbolic::Node::Input(k) = self.graph.node(*id) {

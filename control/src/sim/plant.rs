@@ -2,7 +2,11 @@
 //! whose dynamics are computed through the regressor (exact by linearity, since the generated
 //! `D, C, g` have the description's parameters baked in):
 //! `D_true` column i `= Y(q, 0, 0, eᵢ) θ − Y(q, 0, 0, 0) θ`, `C q̇ + g = Y(q, q̇, q̇, 0) θ`.
-//! Forward dynamics by a Cholesky solve of `D_true q̈ = τ − Jᵀ F̄ − (C q̇ + g)`.
+//! Forward dynamics: when the true robot is the description (no payload), the generated
+//! `forward_dynamics` (CRBA + tree factorisation, flattened); otherwise a Cholesky solve of
+//! `D_true q̈ = τ − Jᵀ F̄ − (C q̇ + g)` with `D_true` through the regressor, because the
+//! generated function has the description's parameters baked in and a payload changes `D` and
+//! the bias torques.
 //!
 //! The parameters are in the coordinates of a parameterisation `Z` (standard or base): the base
 //! regressor gives exactly the torques of the standard one for every θ (`Y_b Φ θ = Y θ`), at a
@@ -64,6 +68,8 @@ impl<const N: usize> super::rk4::RkState for PlantState<N> {
 #[derive(Clone, Debug)]
 pub struct Plant<Z, const N: usize, const M: usize> {
     theta: SVector<f64, M>,
+    /// `θ_true` equals the description's: the generated forward dynamics are exact.
+    is_description: bool,
     pub contact: PlaneContact,
     _robot: PhantomData<fn() -> Z>,
 }
@@ -72,6 +78,7 @@ impl<Z: Parameterization<N, M>, const N: usize, const M: usize> Plant<Z, N, M> {
     /// A plant with parameters `theta` (in `Z`'s coordinates).
     pub fn new(theta: SVector<f64, M>, contact: PlaneContact) -> Self {
         Plant {
+            is_description: theta == Z::description(),
             theta,
             contact,
             _robot: PhantomData,
@@ -121,10 +128,15 @@ impl<Z: Parameterization<N, M>, const N: usize, const M: usize> Plant<Z, N, M> {
         let t = JointTrig::new(&s.q);
         let force = self.contact_force(&t);
         let j: SMatrix<f64, 3, N> = Z::Robot::jacobian(&t).fixed_rows::<3>(0).into_owned();
-        let rhs = tau - j.tr_mul(&force) - self.slotine_li(&t, &s.qd, &s.qd);
-        let qdd = Cholesky::new(self.mass_matrix(&t))
-            .ok_or(PlantError::MassMatrix)?
-            .solve(&rhs);
+        let applied = tau - j.tr_mul(&force);
+        let qdd = if self.is_description {
+            Z::description_forward_dynamics(&t, &s.qd, &applied)
+        } else {
+            let rhs = applied - self.slotine_li(&t, &s.qd, &s.qd);
+            Cholesky::new(self.mass_matrix(&t))
+                .ok_or(PlantError::MassMatrix)?
+                .solve(&rhs)
+        };
         if !qdd.iter().all(|x| x.is_finite()) {
             return Err(PlantError::NonFinite);
         }

@@ -1,0 +1,104 @@
+//! Forward dynamics, `D⁻¹` and the derivatives of the dynamics: generated against generic, on
+//! every committed robot. Rows are named after the Pinocchio benchmark's functions (`aba`,
+//! `minv`, `rnea_derivatives`, `aba_derivatives`) so the two join side by side; every call
+//! includes the joint sines and cosines. `cargo bench --bench forward_dynamics`.
+
+use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+use dyngen_codegen::description::load;
+use dyngen_codegen::dynamics::NumericDynamics;
+use dyngen_generated::{Arm7, Panda, Ur5};
+use dyngen_runtime::nalgebra::SVector;
+use dyngen_runtime::{JointTrig, RobotDynamics, SplitMix64};
+use std::hint::black_box;
+use std::path::Path;
+use std::time::Duration;
+
+const STATES: usize = 256;
+
+/// Deterministic random states `[q, q̇, q̈, τ]`: q in ±π, q̇ ±2, q̈ ±5, τ ±10 (Pinocchio's pool).
+fn states(n: usize) -> Vec<[Vec<f64>; 4]> {
+    let mut rng = SplitMix64::new(0xfd5eed);
+    let pi = std::f64::consts::PI;
+    let mut draw = |range: (f64, f64)| -> Vec<f64> { (0..n).map(|_| rng.uniform(range)).collect() };
+    (0..STATES)
+        .map(|_| {
+            [
+                draw((-pi, pi)),
+                draw((-2.0, 2.0)),
+                draw((-5.0, 5.0)),
+                draw((-10.0, 10.0)),
+            ]
+        })
+        .collect()
+}
+
+/// Times `f` on each state in turn.
+fn cycle<T>(c: &mut Criterion, group: &str, id: &str, inputs: &[T], mut f: impl FnMut(&T)) {
+    let mut k = 0;
+    c.benchmark_group(group)
+        .bench_function(BenchmarkId::from_parameter(id), |b| {
+            b.iter(|| {
+                k = (k + 1) % inputs.len();
+                f(black_box(&inputs[k]))
+            })
+        });
+}
+
+fn bench_robot<R: RobotDynamics<N, P>, const N: usize, const P: usize>(c: &mut Criterion, robot: &str) {
+    let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join(format!("robots/{robot}.yaml"));
+    let model = load(&path).unwrap_or_else(|e| panic!("{e}")).model;
+    let generic = NumericDynamics::new(&model);
+    let raw = states(N);
+    let fixed: Vec<[SVector<f64, N>; 4]> = raw
+        .iter()
+        .map(|s| std::array::from_fn(|i| SVector::from_column_slice(&s[i])))
+        .collect();
+    let g = |quantity: &str| format!("{robot}/{quantity}");
+
+    cycle(c, &g("aba"), "generated", &fixed, |[q, qd, _, tau]| {
+        black_box(R::forward_dynamics(&JointTrig::new(q), qd, tau));
+    });
+    cycle(c, &g("aba"), "generic", &raw, |[q, qd, _, tau]| {
+        black_box(generic.forward_dynamics(q, qd, tau));
+    });
+    cycle(c, &g("minv"), "generated", &fixed, |[q, ..]| {
+        black_box(R::mass_matrix_inverse(&JointTrig::new(q)));
+    });
+    cycle(c, &g("minv"), "generic", &raw, |[q, ..]| {
+        black_box(generic.mass_matrix_inverse(q));
+    });
+    cycle(
+        c,
+        &g("rnea_derivatives"),
+        "generated",
+        &fixed,
+        |[q, qd, qdd, _]| {
+            black_box(R::inverse_dynamics_derivatives(&JointTrig::new(q), qd, qdd));
+        },
+    );
+    cycle(c, &g("rnea_derivatives"), "generic", &raw, |[q, qd, qdd, _]| {
+        black_box(generic.inverse_dynamics_derivatives(q, qd, qdd));
+    });
+    cycle(c, &g("aba_derivatives"), "generated", &fixed, |[q, qd, _, tau]| {
+        black_box(R::forward_dynamics_derivatives(&JointTrig::new(q), qd, tau));
+    });
+    cycle(c, &g("aba_derivatives"), "generic", &raw, |[q, qd, _, tau]| {
+        black_box(generic.forward_dynamics_derivatives(q, qd, tau));
+    });
+}
+
+fn forward_dynamics(c: &mut Criterion) {
+    bench_robot::<Panda, 7, 70>(c, "panda");
+    bench_robot::<Ur5, 6, 60>(c, "ur5");
+    bench_robot::<Arm7, 7, 70>(c, "arm7");
+}
+
+criterion_group! {
+    name = benches;
+    config = Criterion::default()
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1))
+        .sample_size(40);
+    targets = forward_dynamics
+}
+criterion_main!(benches);
