@@ -1,7 +1,7 @@
 //! Robot descriptions load to the right models.
 //!
 //! Panda and UR5 are compared with the model Pinocchio 4.1 built from the same URDFs
-//! (`tests/fixtures/*.json`, copied from the project's reference data): joint order, placements,
+//! (`tests/fixtures/*.json`, made by `tools/fixtures.py`): joint order, placements,
 //! axes, the merged inertial parameters (fixed joints and locked fingers) and the end-effector
 //! frame. The rest checks the rules that those two robots do not exercise: branching trees,
 //! YAML and URDF giving the same model, composed fixed placements, defaults.

@@ -22,7 +22,7 @@ mod trig;
 pub use joint::{JointLimits, JointTrig};
 pub use libm;
 pub use nalgebra;
-pub use parameter::{ParameterKind, PARAMETERS_PER_BODY};
+pub use parameter::{body_parameters, ParameterKind, PARAMETERS_PER_BODY};
 pub use parameterization::{Base, BaseParameters, Parameterization, Standard};
 pub use random::SplitMix64;
 pub use robot::{Kinematics, Pose, RobotDynamics};

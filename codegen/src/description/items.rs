@@ -125,11 +125,18 @@ fn check_joint(
             return Err(err(".axis", format!("axis {} has zero length", vec3(&j.axis))));
         }
         let (unit, norm) = if (1e-150..1e150).contains(&scale) {
-            // Plain: bit-for-bit what an axis already given as a unit vector stays.
+            // Plain: the usual rounding for an axis that is not a unit vector.
             (a / a.norm(), a.norm())
         } else {
             let scaled = a / scale;
             (scaled / scaled.norm(), scale * scaled.norm())
+        };
+        // A unit vector to rounding is kept as written: dividing it by its norm again can
+        // move it by an ulp, and a model written out (`to_urdf_rs`) must load back unchanged.
+        let unit = if (norm - 1.0).abs() <= 4.0 * f64::EPSILON {
+            a
+        } else {
+            unit
         };
         if (norm - 1.0).abs() > 1e-6 {
             let shown = vec3(&[unit.x, unit.y, unit.z]);

@@ -1,6 +1,6 @@
 //! Rigid-body dynamics algorithms, each written once, generic over [`Scalar`].
 //!
-//! Conventions (`/ARCHITECTURE.md`, `dynamics.md`): body `i` lives in joint `i`'s frame;
+//! Conventions (`ARCHITECTURE.md`, `docs/dynamics.md`): body `i` lives in joint `i`'s frame;
 //! spatial vectors are angular-first in body frames; Jacobians are 6×n with linear rows
 //! first, in world axes, at the end-effector frame origin; `C` is Christoffel-consistent.
 //!
@@ -23,7 +23,7 @@ pub use joint_terms::{
     add_armature, add_torques, coulomb_shape, fill_joint_term_columns, joint_term_torques,
 };
 pub use kinematics::{body_poses, end_effector_pose, jacobian, jacobian_dot};
-pub use numeric::{Configuration, NumericDynamics};
+pub use numeric::NumericDynamics;
 pub use regressor::regressor;
 pub use slotine_li::{gravity_torque, inverse_dynamics, slotine_li};
 

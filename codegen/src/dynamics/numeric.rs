@@ -14,10 +14,12 @@ pub struct NumericDynamics<'m> {
     joint_values: Vec<crate::model::JointTermValues>,
 }
 
-/// The joint transforms of one configuration, shared by every quantity at that `q`.
+/// The joint transforms at one `q`. Each method builds its own from the `q` it is given (no
+/// method takes one), so it is internal: callers that need several quantities at one `q` in a
+/// control loop use generated code, where `JointTrig` is shared.
 #[derive(Clone, Debug)]
-pub struct Configuration {
-    pub transforms: Vec<Transform<f64>>,
+pub(super) struct Configuration {
+    pub(super) transforms: Vec<Transform<f64>>,
 }
 
 fn to_matrix3(t: &Transform<f64>) -> Matrix3<f64> {
@@ -44,7 +46,7 @@ impl<'m> NumericDynamics<'m> {
         }
     }
 
-    pub fn configuration(&self, q: &[f64]) -> Configuration {
+    pub(super) fn configuration(&self, q: &[f64]) -> Configuration {
         assert_eq!(q.len(), self.model.dof(), "q has the wrong length");
         Configuration {
             transforms: joint_transforms(self.model, q),

@@ -1,9 +1,13 @@
 //! Rust source from a traced robot: one flat, single-assignment function per quantity.
 //!
-//! Every live node becomes `let xK: f64 = a op b;` with atoms as operands (never nested
-//! expressions, which overflow rustc's parser on large robots). Inputs are destructured once at
-//! the top of a function; outputs are built with `from_array_storage`, so the generated code has
-//! no indexing, no allocation and no panic path.
+//! Each function declares all its temporaries once (`let [x0, x1, …]: [f64; K];`), then assigns
+//! every live node in creation order, `xK = a op b;`, with atoms (literals, inputs, earlier
+//! temporaries) as operands: never nested expressions, which overflow rustc's parser on large
+//! robots, and never one `let` per node, which nests debug-info scopes as deep as the function
+//! is long (see `Plan::statements`). Functions of more than [`CHUNK`] values are split into
+//! `<name>_partK` chunk functions that hand on the values later chunks read. Inputs are
+//! destructured once at the top of a function; outputs are built with `from_array_storage`, so
+//! the generated code has no indexing, no allocation and no panic path.
 
 use super::trace::{Arg, Quantity, Shape, SymbolicRobot, BASE_REGRESSOR};
 use crate::base_parameters::BaseParameterSet;

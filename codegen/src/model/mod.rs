@@ -105,22 +105,7 @@ impl Inertia {
     /// The ten standard parameters `[m, m·c, I_O]` with `I_O` about the body-frame origin,
     /// in the order `[m, mcx, mcy, mcz, Ixx, Ixy, Iyy, Ixz, Iyz, Izz]`.
     pub fn parameters(&self) -> [f64; PARAMS_PER_BODY] {
-        let m = self.mass;
-        let c = self.com;
-        let h = c * m;
-        let io = self.inertia_com + (Matrix3::identity() * c.dot(&c) - c * c.transpose()) * m;
-        [
-            m,
-            h.x,
-            h.y,
-            h.z,
-            io[(0, 0)],
-            io[(0, 1)],
-            io[(1, 1)],
-            io[(0, 2)],
-            io[(1, 2)],
-            io[(2, 2)],
-        ]
+        dyngen_runtime::body_parameters(self.mass, &self.com, &self.inertia_com)
     }
 
     /// The same body seen from another frame: `pose` is this body's frame in the new frame.
@@ -140,6 +125,20 @@ impl Inertia {
                 mass: 0.0,
                 com: Vector3::zeros(),
                 inertia_com: self.inertia_com + other.inertia_com,
+            };
+        }
+        // A massless part (an end-effector link, a frame) leaves the body unchanged, bit for
+        // bit: `(c m + 0) / m` need not round back to `c`.
+        if other.mass == 0.0 || self.mass == 0.0 {
+            let (massive, massless) = if other.mass == 0.0 {
+                (self, other)
+            } else {
+                (other, self)
+            };
+            return Inertia {
+                mass,
+                com: massive.com,
+                inertia_com: massive.inertia_com + massless.inertia_com,
             };
         }
         let com = (self.com * self.mass + other.com * other.mass) / mass;

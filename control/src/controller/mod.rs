@@ -1,5 +1,6 @@
 //! The adaptive hybrid force/position controller of the technical note *Adaptive Hybrid
-//! Force-Position Control for Redundant Manipulators* (see `shared/design/controller.md`):
+//! Force-Position Control for Redundant Manipulators* (`docs/controller.md` gives it equation by
+//! equation, with the deviations):
 //! task-frame contact split (`task`), projections with the singularity guard (`projections`),
 //! reference velocity and analytic reference acceleration (`reference`), the law (`law`), the
 //! adaptation (`adaptation`), gains (`gains`) and online stiffness estimation
