@@ -12,12 +12,13 @@
 //!   velocity and effort are all zero could not move anyway).
 //! - URDF 1.2's "no limit" is infinity; dyngen rejects non-finite limits as it does in a file.
 //!
-//! What dyngen does not model is reported, never dropped silently: damping and friction
-//! (`<dynamics>`) and the URDF 1.2 acceleration, deceleration and jerk limits each give a note.
+//! What dyngen does not model is reported, never dropped silently: the URDF 1.2 acceleration,
+//! deceleration and jerk limits each give a note. `<dynamics damping friction>` is read as the
+//! file reader reads it (viscous and Coulomb friction).
 //! Visuals, collisions, materials, calibration and safety controllers do not enter the dynamics
 //! and are skipped, as the file reader skips them.
 
-use super::error::{item, num, render, DescriptionError};
+use super::error::{item, render, DescriptionError};
 use super::raw::{RawDynamics, RawInertial, RawJoint, RawLimit, RawLink, RawMimic, RawRobot};
 use std::path::PathBuf;
 
@@ -76,16 +77,6 @@ pub(crate) fn read(robot: &urdf_rs::Robot) -> Result<(RawRobot, Vec<String>), De
             );
             notes.push(render(&file, None, Some(&label), &msg));
         }
-        if let Some(d) = &joint.dynamics {
-            if d.damping != 0.0 || d.friction != 0.0 {
-                let msg = format!(
-                    "dynamics (damping {}, friction {}) not used: dyngen models rigid bodies only",
-                    num(d.damping),
-                    num(d.friction)
-                );
-                notes.push(render(&file, None, Some(&label), &msg));
-            }
-        }
         joints.push(RawJoint {
             name: joint.name.clone(),
             kind: kind(&joint.joint_type).to_owned(),
@@ -101,13 +92,16 @@ pub(crate) fn read(robot: &urdf_rs::Robot) -> Result<(RawRobot, Vec<String>), De
                 multiplier: m.multiplier.unwrap_or(1.0),
                 offset: m.offset.unwrap_or(0.0),
             }),
-            // As the file reader maps `<dynamics>`; used only when a wrapper chooses
-            // joint-level columns, which an in-memory robot cannot (hence the note above).
-            dynamics: RawDynamics {
-                viscous: joint.dynamics.as_ref().map(|d| d.damping),
-                coulomb: joint.dynamics.as_ref().map(|d| d.friction),
-                ..RawDynamics::default()
-            },
+            // As the file reader reads `<dynamics damping friction>`: viscous and Coulomb
+            // friction (used when the description asks for those columns).
+            dynamics: joint
+                .dynamics
+                .as_ref()
+                .map_or(RawDynamics::default(), |d| RawDynamics {
+                    viscous: Some(d.damping),
+                    coulomb: Some(d.friction),
+                    ..RawDynamics::default()
+                }),
         });
     }
     let raw = RawRobot {
