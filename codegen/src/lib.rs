@@ -14,3 +14,6 @@ pub mod spatial;
 pub mod symbolic;
 
 pub use build_script::{compile_robot, Builder};
+/// The URDF crate that [`description::from_urdf_rs`] reads and [`description::to_urdf_rs`]
+/// writes, re-exported so that callers use the same version.
+pub use urdf_rs;

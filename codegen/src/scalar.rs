@@ -25,6 +25,10 @@ pub trait Scalar:
     fn from_f64(x: f64) -> Self;
     fn sin(self) -> Self;
     fn cos(self) -> Self;
+    /// `sign(x)`: 1, −1, or 0 at 0 (Coulomb friction is zero at rest; [`sign`]).
+    fn sign(self) -> Self;
+    /// Hyperbolic tangent (smoothed Coulomb friction).
+    fn tanh(self) -> Self;
 
     fn zero() -> Self {
         Self::from_f64(0.0)
@@ -43,5 +47,24 @@ impl Scalar for f64 {
     }
     fn cos(self) -> Self {
         f64::cos(self)
+    }
+    fn sign(self) -> Self {
+        sign(self)
+    }
+    fn tanh(self) -> Self {
+        f64::tanh(self)
+    }
+}
+
+/// `sign(x)` with `sign(0) = 0` (and 0 for NaN), unlike `f64::signum` (which gives ±1 at ±0):
+/// a joint at rest has no Coulomb friction, and the mass matrix through the regressor
+/// (`Y(q, 0, 0, eᵢ) − Y(q, 0, 0, 0)`) must not pick up a friction column.
+pub fn sign(x: f64) -> f64 {
+    if x > 0.0 {
+        1.0
+    } else if x < 0.0 {
+        -1.0
+    } else {
+        0.0
     }
 }

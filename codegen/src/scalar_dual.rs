@@ -104,6 +104,17 @@ impl<S: Scalar> Scalar for Dual<S> {
             tangent: -(self.value.sin() * self.tangent),
         }
     }
+    /// Piecewise constant: its derivative is 0 (where it has one; friction at rest is a kink).
+    fn sign(self) -> Self {
+        Dual::constant(self.value.sign())
+    }
+    fn tanh(self) -> Self {
+        let t = self.value.tanh();
+        Dual {
+            value: t,
+            tangent: (S::one() - t * t) * self.tangent,
+        }
+    }
 }
 
 #[cfg(test)]

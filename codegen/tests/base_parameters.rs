@@ -78,7 +78,7 @@ fn pinocchio_stack(fx: &fixture::Fixture) -> DMatrix<f64> {
 }
 
 /// p_b of Panda and UR5 is the rank of their regressor stacked over 200 random states, as
-/// computed with Pinocchio 4.1 (`shared/fixtures/README.md`: "Panda 43 of 70, UR5 36 of 60").
+/// computed with Pinocchio 4.1 (Panda 43 of 70, UR5 36 of 60: `codegen/tests/fixtures/README.md`).
 /// Checked on the model the fixture states (independent of dyngen's loaders), on the model
 /// dyngen loads from the URDF, and against the rank of Pinocchio's own regressors.
 #[test]

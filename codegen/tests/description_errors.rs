@@ -723,6 +723,32 @@ fn massless_leaf_warns() {
     check_warning(Src::Urdf(&[("<inertial><mass value=\"1\"/><inertia ixx=\"0.1\" ixy=\"0\" ixz=\"0\" iyy=\"0.1\" iyz=\"0\" izz=\"0.1\"/></inertial>", "")], no_options()), &["bad.urdf:3:3", "link 'l1'", "zero mass and no children"]);
 }
 
+/// A `<mimic>` on a fixed joint (xacro macros write them) loads, with a warning.
+#[test]
+fn mimic_on_a_fixed_joint_warns_and_loads() {
+    check_warning(
+        Src::Urdf(
+            &[(
+                "</robot>",
+                "  <link name=\"pad\"/>\n  <joint name=\"pad_joint\" type=\"fixed\"><parent link=\"l1\"/><child link=\"pad\"/><mimic joint=\"j1\"/></joint>\n</robot>",
+            )],
+            no_options(),
+        ),
+        &["bad.urdf:11:", "joint 'pad_joint'", "<mimic> of 'j1' on a fixed joint is ignored"],
+    );
+}
+
+#[test]
+fn a_xacro_file_says_to_expand_it() {
+    let e = description::load(Path::new("arm.urdf.xacro"))
+        .unwrap_err()
+        .to_string();
+    assert_eq!(
+        e,
+        "arm.urdf.xacro: a xacro file: expand it first (`xacro robot.urdf.xacro > robot.urdf`) and load the URDF"
+    );
+}
+
 #[test]
 fn massless_body_with_children_warns() {
     check_warning(

@@ -1,7 +1,7 @@
 //! Robot descriptions load to the right models.
 //!
 //! Panda and UR5 are compared with the model Pinocchio 4.1 built from the same URDFs
-//! (`tests/fixtures/*.json`, copied from the project's reference data): joint order, placements,
+//! (`tests/fixtures/*.json`, made by `tools/fixtures.py`): joint order, placements,
 //! axes, the merged inertial parameters (fixed joints and locked fingers) and the end-effector
 //! frame. The rest checks the rules that those two robots do not exercise: branching trees,
 //! YAML and URDF giving the same model, composed fixed placements, defaults.
@@ -338,6 +338,7 @@ fn end_effector_with_offset_and_gravity_from_options() {
         }),
         locked_joints: vec![],
         gravity: Some([0.0, -9.81, 0.0]),
+        snap_angles: None,
     };
     let m = description::load_urdf_str(TREE_URDF, Path::new("twins.urdf"), &options)
         .unwrap()
@@ -455,6 +456,7 @@ fn same_robot_in_yaml_and_urdf_gives_the_same_model() {
         }),
         locked_joints: vec![("lock".into(), 0.25)],
         gravity: None,
+        snap_angles: None,
     };
     let from_urdf = description::load_urdf_str(SAME_URDF, Path::new("same.urdf"), &options).unwrap();
     let from_yaml =

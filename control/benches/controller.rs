@@ -4,7 +4,8 @@
 //! Inputs cycle through 256 states of the demo's closed-loop run.
 //! `cargo bench --bench controller`
 //!
-//! Measured on the base parameters (the default) and on the standard ones.
+//! Measured on the base parameters (the default) and on the standard ones, and with the task
+//! dimension 6 (position and orientation) on the base parameters.
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use dyngen_control::controller::{Desired, Measurement};
@@ -16,13 +17,17 @@ use std::hint::black_box;
 use std::time::Duration;
 
 fn ticks(c: &mut Criterion) {
-    tick::<arm7::Base, { arm7::BASE_PARAMETER_COUNT }>(c, "base_parameters");
-    tick::<arm7::Standard, { arm7::PARAMETER_COUNT }>(c, "standard_parameters");
+    tick::<arm7::Base, { arm7::BASE_PARAMETER_COUNT }, 3>(c, "base_parameters");
+    tick::<arm7::Standard, { arm7::PARAMETER_COUNT }, 3>(c, "standard_parameters");
+    tick::<arm7::Base, { arm7::BASE_PARAMETER_COUNT }, 6>(c, "base_parameters_pose_task");
 }
 
-fn tick<Z: Parameterization<{ arm7::DOF }, M>, const M: usize>(c: &mut Criterion, parameters: &str) {
+fn tick<Z: Parameterization<{ arm7::DOF }, M>, const M: usize, const T: usize>(
+    c: &mut Criterion,
+    parameters: &str,
+) {
     let q0 = start_posture("arm7").expect("arm7 start posture");
-    let demo = Demo::<Z, { arm7::DOF }, M>::new(DemoOptions::default(), q0).expect("demo");
+    let demo = Demo::<Z, { arm7::DOF }, M, T>::new(DemoOptions::default(), q0).expect("demo");
     // 256 realistic inputs: states of the closed loop along the scenario (every 40 ms).
     let mut ctrl = demo.controller(RunKind::Adaptive).expect("controller");
     let mut state = PlantState {

@@ -2,7 +2,8 @@
 //! the reason and keeps the data logged so far.
 
 use dyngen_control::controller::{
-    Adaptation, ConfigError, ContactTask, ControllerConfig, Gains, HybridController, SingularityGuard,
+    Adaptation, ConfigError, ContactTask, ControllerConfig, Gains, HybridController, Orientation,
+    SingularityGuard,
 };
 use dyngen_control::sim::{start_posture, Demo, DemoOptions, RunKind, RunStatus};
 use dyngen_generated::arm7;
@@ -16,7 +17,9 @@ fn demo(options: DemoOptions) -> Result<Arm7Demo, ConfigError> {
     Arm7Demo::new(options, q0)
 }
 
-fn config<const N: usize, const M: usize, const S: usize>(task: ContactTask<S>) -> ControllerConfig<N, M, S> {
+fn config<const N: usize, const M: usize, const T: usize, const S: usize>(
+    task: ContactTask<T, S>,
+) -> ControllerConfig<N, M, T, S> {
     ControllerConfig {
         gains: Gains {
             lambda: 10.0,
@@ -32,7 +35,7 @@ fn config<const N: usize, const M: usize, const S: usize>(task: ContactTask<S>) 
     }
 }
 
-fn table() -> ContactTask<1> {
+fn table() -> ContactTask {
     ContactTask::plane(Vector3::zeros(), Vector3::z(), 1e4).expect("plane")
 }
 
@@ -53,7 +56,7 @@ fn gains_that_are_not_positive_definite() {
         "{e:?}"
     );
 
-    let mut c = config::<7, 70, 1>(table());
+    let mut c = config::<7, 70, 3, 1>(table());
     c.gains.g[(3, 3)] = -1.0;
     let e = HybridController::<arm7::Standard, 7, 70>::new(c).err();
     assert!(
@@ -61,7 +64,7 @@ fn gains_that_are_not_positive_definite() {
         "{e:?}"
     );
 
-    let mut c = config::<7, 70, 1>(table());
+    let mut c = config::<7, 70, 3, 1>(table());
     c.gains.g[(0, 1)] = 0.5; // not symmetric
     let e = HybridController::<arm7::Standard, 7, 70>::new(c).err();
     assert!(
@@ -108,13 +111,14 @@ fn a_stiffness_that_is_not_full_rank() {
     );
 
     // Two parallel rows.
-    let task2 = ContactTask::<2> {
+    let task2 = ContactTask::<3, 2> {
         rotation: SMatrix::identity(),
         stiffness: SMatrix::<f64, 2, 3>::new(0.0, 0.0, -1e4, 0.0, 0.0, -2e4),
         force_selection: SMatrix::<f64, 2, 3>::new(0.0, 0.0, -1.0, 0.0, 1.0, 0.0),
         contact_point: Vector3::zeros(),
+        orientation: Orientation::Free,
     };
-    let e = HybridController::<arm7::Standard, 7, 70, 2>::new(config(task2)).err();
+    let e = HybridController::<arm7::Standard, 7, 70, 3, 2>::new(config(task2)).err();
     assert!(
         matches!(e, Some(ConfigError::StiffnessRankDeficient { rows: 2, .. })),
         "{e:?}"
@@ -205,6 +209,100 @@ impl RobotDynamics<2, 20> for TwoJoints {
 fn a_task_dimension_larger_than_the_dof() {
     let e = HybridController::<Standard<TwoJoints>, 2, 20>::new(config(table())).err();
     assert_eq!(e, Some(ConfigError::TaskDimension { task: 3, dof: 2 }));
+    println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
+    // Six directions (position and orientation) on a two-joint robot.
+    let e = HybridController::<Standard<TwoJoints>, 2, 20, 6>::new(config(table().with_orientation())).err();
+    assert_eq!(e, Some(ConfigError::TaskDimension { task: 6, dof: 2 }));
+    println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
+    // And through the demo: arm7 has 7 joints, so m = 6 is fine there, but the demo refuses a
+    // task dimension that is neither 3, 5 nor 6.
+    let q0 = start_posture::<7>("arm7").expect("arm7 start posture");
+    let e = Demo::<arm7::Standard, 7, 70, 4>::new(DemoOptions::default(), q0).err();
+    assert!(matches!(e, Some(ConfigError::TaskKind { task: 4, .. })), "{e:?}");
+    println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
+}
+
+#[test]
+fn a_contact_stiffness_inconsistent_with_the_task_dimension() {
+    // A force on an orientation row: contact acts on positions only.
+    let mut task = table().with_orientation();
+    task.stiffness[(0, 4)] = 50.0;
+    let e = HybridController::<arm7::Standard, 7, 70, 6>::new(config(task)).err();
+    assert!(matches!(e, Some(ConfigError::StiffnessShape(_))), "{e:?}");
+    let message = e.map(|e| e.to_string()).unwrap_or_default();
+    assert!(message.contains("orientation row 4"), "{message}");
+    println!("{message}");
+
+    // K given at run time with the wrong shape for the task: 3 entries per row for a 6-row
+    // task, or two rows where the task has one force direction.
+    let e = ContactTask::<6>::stiffness_from_rows(&[&[0.0, 0.0, -1e4]]).err();
+    assert!(matches!(e, Some(ConfigError::StiffnessShape(_))), "{e:?}");
+    println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
+    let e = ContactTask::<3>::stiffness_from_rows(&[&[0.0, 0.0, -1e4], &[1e4, 0.0, 0.0]]).err();
+    assert!(matches!(e, Some(ConfigError::StiffnessShape(_))), "{e:?}");
+    let k = ContactTask::<5>::stiffness_from_rows(&[&[0.0, 0.0, -1e4, 0.0, 0.0]]).expect("consistent");
+    assert_eq!(k[(0, 2)], -1e4);
+
+    // Four force directions: more than the three position rows.
+    let base = table().with_orientation();
+    let task4 = ContactTask::<6, 4> {
+        rotation: base.rotation,
+        stiffness: SMatrix::<f64, 4, 6>::from_fn(|i, j| if i == j { 1e4 } else { 0.0 }),
+        force_selection: SMatrix::zeros(),
+        contact_point: base.contact_point,
+        orientation: Orientation::Full,
+    };
+    let e = task4.validate().err();
+    assert!(matches!(e, Some(ConfigError::StiffnessShape(_))), "{e:?}");
+
+    // The orientation task does not match the task dimension.
+    let mut task = table().with_orientation();
+    task.orientation = Orientation::ToolAxis { axis: Vector3::z() };
+    let e = HybridController::<arm7::Standard, 7, 70, 6>::new(config(task)).err();
+    assert!(
+        matches!(
+            e,
+            Some(ConfigError::TaskKind {
+                task: 6,
+                expected: 5,
+                ..
+            })
+        ),
+        "{e:?}"
+    );
+    println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
+
+    // A tool axis that is not a unit vector.
+    let task = table().with_tool_axis(Vector3::new(0.0, 0.0, 2.0));
+    let e = HybridController::<arm7::Standard, 7, 70, 5>::new(config(task)).err();
+    assert!(
+        matches!(
+            e,
+            Some(ConfigError::Invalid {
+                name: "tool axis",
+                ..
+            })
+        ),
+        "{e:?}"
+    );
+}
+
+#[test]
+fn a_desired_orientation_too_far_from_the_start() {
+    let q0 = start_posture::<7>("arm7").expect("arm7 start posture");
+    let d = Demo::<arm7::Standard, 7, 70, 6>::new(DemoOptions::default(), q0).expect("valid m = 6 demo");
+    let c = d.controller(RunKind::Adaptive).expect("controller");
+    let mut d0 = d.scenario.desired(0.0);
+    c.check_start(&q0, &d0)
+        .expect("the scenario starts at the start orientation");
+    // Turned by 120° about the base x axis.
+    let turn = dyngen_runtime::nalgebra::Rotation3::from_axis_angle(&Vector3::x_axis(), 120f64.to_radians());
+    d0.orientation = turn.into_inner() * d0.orientation;
+    let e = c.check_start(&q0, &d0).err();
+    match e {
+        Some(ConfigError::OrientationTooFar { angle_deg, .. }) => assert!((angle_deg - 120.0).abs() < 1e-6),
+        other => panic!("{other:?}"),
+    }
     println!("{}", e.map(|e| e.to_string()).unwrap_or_default());
 }
 
@@ -307,4 +405,46 @@ fn a_non_finite_measurement_is_an_error_not_a_torque() {
     );
     // θ̂ untouched by the refused ticks.
     assert_eq!(*c.theta_hat(), d.theta_hat0);
+}
+
+/// arm7's kinematics under another name: no committed start posture.
+struct Unknown7;
+
+impl Kinematics<7> for Unknown7 {
+    const NAME: &'static str = "unknown7";
+    const JOINT_NAMES: [&'static str; 7] = arm7::JOINT_NAMES;
+    const JOINT_LIMITS: [JointLimits; 7] = arm7::JOINT_LIMITS;
+    const END_EFFECTOR_BODY: usize = <arm7::Arm7 as Kinematics<7>>::END_EFFECTOR_BODY;
+    fn forward_kinematics(t: &JointTrig<7>) -> Pose {
+        arm7::Arm7::forward_kinematics(t)
+    }
+    fn jacobian(t: &JointTrig<7>) -> SMatrix<f64, 6, 7> {
+        arm7::Arm7::jacobian(t)
+    }
+    fn jacobian_dot(t: &JointTrig<7>, qd: &SVector<f64, 7>) -> SMatrix<f64, 6, 7> {
+        arm7::Arm7::jacobian_dot(t, qd)
+    }
+}
+
+#[test]
+fn start_postures_from_a_flag_a_preset_or_the_description() {
+    use dyngen_control::sim::start_posture_for;
+    // A flag with the wrong number of values.
+    let e = start_posture_for::<arm7::Arm7, 7>(Some(&[0.0; 6]))
+        .err()
+        .unwrap_or_default();
+    assert!(e.contains("--start has 6 values; arm7 has 7 joints"), "{e}");
+    // The committed preset, by name.
+    let q = start_posture_for::<arm7::Arm7, 7>(None).expect("preset");
+    assert_eq!(Some(q), start_posture::<7>("arm7"));
+    // Another robot: the middle of its joint limits (the demo refuses it, with the reason, if it
+    // is singular: `a_robot_that_starts_singular`).
+    let q = start_posture_for::<Unknown7, 7>(None).expect("middle of the limits");
+    let mid =
+        SVector::<f64, 7>::from_fn(|i, _| 0.5 * (arm7::JOINT_LIMITS[i].lower + arm7::JOINT_LIMITS[i].upper));
+    assert_eq!(q, mid);
+    // A robot without position limits: no posture to take, say so.
+    let e = start_posture_for::<TwoJoints, 2>(None).err().unwrap_or_default();
+    assert!(e.contains("joint 'a' has no position limits"), "{e}");
+    println!("{e}");
 }

@@ -2,7 +2,9 @@
 //! (plant + adaptive law, θ̂ part of the state) integrated by RK4 at the controller rate, the
 //! controller evaluated at every stage, in permanent contact and without noise,
 //! `V = ½ rᵀ D r + ½ θ̃ᵀ Γ⁻¹ θ̃` never rises by more than 1e-9 (relative) on a step and
-//! `V + ∫ rᵀ G r` stays constant to 1e-6 (relative).
+//! `V + ∫ rᵀ G r` stays constant to 1e-6 (relative). For the position task (m = 3) and for
+//! the tasks with orientation rows, m = 6 (pose) and m = 5 (tool axis), while the desired
+//! orientation turns the tool to vertical.
 
 use dyngen_control::controller::Measurement;
 use dyngen_control::sim::{rk4_step, start_posture, Demo, DemoOptions, RkState, RunKind};
@@ -32,23 +34,35 @@ impl<const M: usize> RkState for Loop<M> {
 /// The standard parameters (ten per body): `Y` and the generated `D`, `C`, `g` agree.
 #[test]
 fn lyapunov_function_decreases_by_exactly_the_dissipation() {
-    lyapunov_check::<arm7::Standard, { arm7::PARAMETER_COUNT }>();
+    lyapunov_check::<arm7::Standard, { arm7::PARAMETER_COUNT }, 3>();
 }
 
 /// The base parameters (the default), for the controller and the plant.
 #[test]
 fn lyapunov_function_decreases_by_exactly_the_dissipation_on_base_parameters() {
-    lyapunov_check::<arm7::Base, { arm7::BASE_PARAMETER_COUNT }>();
+    lyapunov_check::<arm7::Base, { arm7::BASE_PARAMETER_COUNT }, 3>();
 }
 
-fn lyapunov_check<Z: Parameterization<7, M>, const M: usize>() {
+/// Task dimension 6: position and orientation (1-D null space on arm7).
+#[test]
+fn lyapunov_with_orientation_rows() {
+    lyapunov_check::<arm7::Base, { arm7::BASE_PARAMETER_COUNT }, 6>();
+}
+
+/// Task dimension 5: position and tool axis (free rotation about it).
+#[test]
+fn lyapunov_with_tool_axis_rows() {
+    lyapunov_check::<arm7::Base, { arm7::BASE_PARAMETER_COUNT }, 5>();
+}
+
+fn lyapunov_check<Z: Parameterization<7, M>, const M: usize, const T: usize>() {
     let q0 = start_posture::<7>("arm7").expect("arm7 start posture");
     // Start pressing (0.5 mm into the table, 5 N), so that the contact never opens.
     let options = DemoOptions {
         start_height: -0.0005,
         ..DemoOptions::default()
     };
-    let demo = Demo::<Z, 7, M>::new(options, q0).expect("valid demo");
+    let demo = Demo::<Z, 7, M, T>::new(options, q0).expect("valid demo");
     let ctrl = demo.controller(RunKind::Adaptive).expect("valid controller");
     let g = demo.g;
     let gamma = demo.gamma;
@@ -109,7 +123,7 @@ fn lyapunov_check<Z: Parameterization<7, M>, const M: usize>() {
         v_prev = v;
     }
     println!(
-        "{M} parameters: V(0) = {v0:.6e}, V(end) = {v_prev:.6e}, ∫rᵀGr = {:.6e}; V rose on {rises} of {steps} steps \
+        "{M} parameters, task dimension {T}: V(0) = {v0:.6e}, V(end) = {v_prev:.6e}, ∫rᵀGr = {:.6e}; V rose on {rises} of {steps} steps \
          (worst {worst_rise:.2e} relative); max |V + ∫rᵀGr − V(0)|/V(0) = {worst_drift:.2e}; \
          min contact force {min_penetration:.3} N",
         x.dissipated

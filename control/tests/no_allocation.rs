@@ -6,33 +6,22 @@ use dyngen_control::sim::{start_posture, Demo, DemoOptions, RunKind};
 use dyngen_generated::arm7;
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::JointTrig;
-use std::alloc::{GlobalAlloc, Layout, System};
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-struct Counting;
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
-        System.alloc(layout)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        System.dealloc(ptr, layout)
-    }
-    unsafe fn realloc(&self, ptr: *mut u8, layout: Layout, new_size: usize) -> *mut u8 {
-        ALLOCATIONS.fetch_add(1, Ordering::SeqCst);
-        System.realloc(ptr, layout, new_size)
-    }
-}
+use dyngen_testkit::allocations::{allocations, CountingAllocator};
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
+static GLOBAL: CountingAllocator = CountingAllocator;
 
+/// Every task dimension: position (3), position and the tool axis (5), the full pose (6).
 #[test]
 fn a_control_tick_allocates_nothing() {
+    ticks_without_allocation::<3>();
+    ticks_without_allocation::<5>();
+    ticks_without_allocation::<6>();
+}
+
+fn ticks_without_allocation<const T: usize>() {
     let q0 = start_posture::<7>("arm7").expect("arm7 start posture");
-    let d = Demo::<arm7::Base, 7, { arm7::BASE_PARAMETER_COUNT }>::new(
+    let d = Demo::<arm7::Base, 7, { arm7::BASE_PARAMETER_COUNT }, T>::new(
         DemoOptions {
             stiffness_estimation: Some((0.5, 20.0)),
             start_height: -0.001,
@@ -44,18 +33,20 @@ fn a_control_tick_allocates_nothing() {
     let mut c = d.controller(RunKind::Adaptive).expect("valid controller");
     let desired: Vec<_> = (0..200).map(|k| d.scenario.desired(k as f64 * 0.05)).collect();
     let force = d.plant.contact_force(&JointTrig::new(&q0));
-    let before = ALLOCATIONS.load(Ordering::SeqCst);
     let mut acc = 0.0;
-    for (k, des) in desired.iter().enumerate() {
-        let m = Measurement {
-            q: q0 + SVector::from_element(1e-3 * k as f64),
-            qd: SVector::from_element(0.01),
-            force,
-        };
-        let out = c.tick(&m, des, 1e-3).expect("tick");
-        acc += out.tau.sum();
-    }
-    let after = ALLOCATIONS.load(Ordering::SeqCst);
+    let counted = allocations(|| {
+        for (k, des) in desired.iter().enumerate() {
+            let m = Measurement {
+                q: q0 + SVector::from_element(1e-3 * k as f64),
+                qd: SVector::from_element(0.01),
+                force,
+            };
+            let out = c.tick(&m, des, 1e-3).expect("tick");
+            acc += out.tau.sum();
+        }
+    });
     assert!(acc.is_finite());
-    assert_eq!(after - before, 0, "a control tick allocated");
+    assert_eq!(counted, 0, "a control tick allocated (task dimension {T})");
+    // The counter sees allocations on this thread: a control case must count one.
+    assert_eq!(allocations(|| drop(std::hint::black_box(vec![1u8]))), 1);
 }

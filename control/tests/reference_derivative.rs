@@ -1,7 +1,10 @@
 //! `q̈_r` (computed analytically from q, q̇ and F̄) is the time derivative of `q̇_r` along the
 //! motion: compared with central differences of `q̇_r` at `q ± h q̇`, `t ± h`, with the measured
 //! force from the contact model at each point. In contact, in free space, and inside the
-//! damped region of the singularity guard (where the derivative of the damping counts).
+//! damped region of the singularity guard (where the derivative of the damping counts); for
+//! every task dimension: 3 (position), 5 (position and tool axis), 6 (position and
+//! orientation), with the desired orientation turning (`ω_d ≠ 0`, `ω̇_d ≠ 0`) and away from
+//! the actual one.
 
 use dyngen_control::controller::{HybridController, Measurement};
 use dyngen_control::sim::{start_posture, Demo, DemoOptions, Gaussian, RunKind};
@@ -9,11 +12,17 @@ use dyngen_generated::arm7;
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{JointTrig, Kinematics};
 
-type Ctrl = HybridController<arm7::Standard, 7, 70>;
-type Arm7Demo = Demo<arm7::Standard, 7, 70>;
+type Ctrl<const T: usize> = HybridController<arm7::Standard, 7, 70, T>;
+type Arm7Demo<const T: usize> = Demo<arm7::Standard, 7, 70, T>;
 
 /// Largest relative mismatch between `q̈_r` and the differenced `q̇_r`, and the damping seen.
-fn mismatch(d: &Arm7Demo, c: &Ctrl, q: SVector<f64, 7>, qd: SVector<f64, 7>, t: f64) -> (f64, f64) {
+fn mismatch<const T: usize>(
+    d: &Arm7Demo<T>,
+    c: &Ctrl<T>,
+    q: SVector<f64, 7>,
+    qd: SVector<f64, 7>,
+    t: f64,
+) -> (f64, f64, f64) {
     let eval = |q: SVector<f64, 7>, t: f64| {
         let force = d.plant.contact_force(&JointTrig::new(&q));
         let m = Measurement { q, qd, force };
@@ -24,16 +33,32 @@ fn mismatch(d: &Arm7Demo, c: &Ctrl, q: SVector<f64, 7>, qd: SVector<f64, 7>, t: 
     let out = eval(q, t);
     let fd = (eval(q + qd * h, t + h).reference.qd_r - eval(q - qd * h, t - h).reference.qd_r) / (2.0 * h);
     let err = (fd - out.reference.qdd_r).amax() / out.reference.qdd_r.amax().max(1e-3);
-    (err, out.damping)
+    (err, out.damping, out.reference.orientation_error.norm())
 }
 
 #[test]
 fn reference_acceleration_is_the_derivative_of_the_reference_velocity() {
+    in_contact_and_free_space::<3>();
+}
+
+#[test]
+fn also_with_tool_axis_rows() {
+    in_contact_and_free_space::<5>();
+    damped_region::<5>();
+}
+
+#[test]
+fn also_with_orientation_rows() {
+    in_contact_and_free_space::<6>();
+    damped_region::<6>();
+}
+
+fn in_contact_and_free_space<const T: usize>() {
     let q0 = start_posture::<7>("arm7").expect("arm7 start posture");
     let mut rng = Gaussian::new(3);
     // In contact (start 3 mm into the table) and in free space (1 cm above).
     for (height, in_contact) in [(-0.003, true), (0.01, false)] {
-        let d = Arm7Demo::new(
+        let d = Arm7Demo::<T>::new(
             DemoOptions {
                 start_height: height,
                 ..DemoOptions::default()
@@ -42,26 +67,43 @@ fn reference_acceleration_is_the_derivative_of_the_reference_velocity() {
         )
         .expect("valid demo");
         let c = d.controller(RunKind::Adaptive).expect("controller");
+        let mut worst_orientation = 0.0f64;
         for k in 0..20 {
             let q = q0 + rng.vector::<7>(1e-4);
             let qd = rng.vector::<7>(0.3);
-            let t = 0.37 * k as f64 + 0.01;
+            // Half of the times inside the turn of the desired orientation (ω_d, ω̇_d ≠ 0).
+            let t = if k % 2 == 0 {
+                0.09 * k as f64 + 0.01
+            } else {
+                0.37 * k as f64 + 0.01
+            };
             let penetration = d.plant.contact_force(&JointTrig::new(&q)).norm();
             assert_eq!(penetration > 0.0, in_contact);
-            let (err, damping) = mismatch(&d, &c, q, qd, t);
+            let (err, damping, e_o) = mismatch(&d, &c, q, qd, t);
+            worst_orientation = worst_orientation.max(e_o);
             assert_eq!(damping, 0.0);
             assert!(
                 err < 1e-6,
-                "contact {in_contact}, t = {t}: relative mismatch {err:.2e}"
+                "T = {T}, contact {in_contact}, t = {t}: relative mismatch {err:.2e}"
             );
         }
+        // With orientation rows, the states are away from the desired orientation (the error
+        // and its rate enter q̈_r), not on it.
+        assert!(
+            T == 3 || worst_orientation > 1e-2,
+            "orientation error {worst_orientation}"
+        );
     }
 }
 
 #[test]
 fn also_inside_the_damped_region_near_a_singularity() {
+    damped_region::<3>();
+}
+
+fn damped_region<const T: usize>() {
     let q0 = start_posture::<7>("arm7").expect("arm7 start posture");
-    let d = Arm7Demo::new(DemoOptions::default(), q0).expect("valid demo");
+    let d = Arm7Demo::<T>::new(DemoOptions::default(), q0).expect("valid demo");
     let c = d.controller(RunKind::Adaptive).expect("controller");
     let mut rng = Gaussian::new(5);
     // Near the stretched-up posture q = 0, where the position Jacobian has rank 1.
@@ -69,11 +111,11 @@ fn also_inside_the_damped_region_near_a_singularity() {
     for k in 0..20 {
         let q = rng.vector::<7>(0.02 + 0.002 * k as f64);
         let qd = rng.vector::<7>(0.3);
-        let (err, damping) = mismatch(&d, &c, q, qd, 0.5);
+        let (err, damping, _) = mismatch(&d, &c, q, qd, 0.5);
         if damping > 0.0 {
             damped += 1;
         }
-        assert!(err < 1e-5, "q = {q:?}: relative mismatch {err:.2e}");
+        assert!(err < 1e-5, "T = {T}, q = {q:?}: relative mismatch {err:.2e}");
     }
     assert!(
         damped >= 10,
@@ -84,7 +126,7 @@ fn also_inside_the_damped_region_near_a_singularity() {
 #[test]
 fn torques_stay_finite_and_bounded_at_an_exact_singularity() {
     let q0 = start_posture::<7>("arm7").expect("arm7 start posture");
-    let d = Arm7Demo::new(DemoOptions::default(), q0).expect("valid demo");
+    let d = Arm7Demo::<3>::new(DemoOptions::default(), q0).expect("valid demo");
     let mut c = d.controller(RunKind::Adaptive).expect("controller");
     // Stretched straight up (rank 1), with and without turns about the vertical axes.
     for q in [

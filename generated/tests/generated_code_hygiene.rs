@@ -4,42 +4,12 @@
 use dyngen_generated::{Arm7, Panda, Ur5};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{JointTrig, RobotDynamics};
-use std::alloc::{GlobalAlloc, Layout, System};
+use dyngen_testkit::allocations::{allocations, CountingAllocator};
 use std::hint::black_box;
 use std::path::Path;
-use std::sync::atomic::{AtomicUsize, Ordering};
-
-/// Counts allocations made by the thread that enabled counting (tests run in parallel).
-struct Counting;
-
-static ALLOCATIONS: AtomicUsize = AtomicUsize::new(0);
-thread_local! {
-    static COUNTING: std::cell::Cell<bool> = const { std::cell::Cell::new(false) };
-}
-
-unsafe impl GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
-        if COUNTING.with(|c| c.get()) {
-            ALLOCATIONS.fetch_add(1, Ordering::Relaxed);
-        }
-        System.alloc(layout)
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
-        System.dealloc(ptr, layout)
-    }
-}
 
 #[global_allocator]
-static GLOBAL: Counting = Counting;
-
-/// Allocations made by `f` on this thread.
-fn allocations(f: impl FnOnce()) -> usize {
-    let before = ALLOCATIONS.load(Ordering::Relaxed);
-    COUNTING.with(|c| c.set(true));
-    f();
-    COUNTING.with(|c| c.set(false));
-    ALLOCATIONS.load(Ordering::Relaxed) - before
-}
+static GLOBAL: CountingAllocator = CountingAllocator;
 
 fn every_function<R: RobotDynamics<N, P>, const N: usize, const P: usize>() {
     let q = SVector::<f64, N>::from_fn(|i, _| 0.3 * i as f64 - 1.0);

@@ -12,16 +12,12 @@ pub struct JointTrig<const N: usize> {
 }
 
 impl<const N: usize> JointTrig<N> {
+    /// All sines and cosines in one pass over the joints (SIMD lanes where the target has
+    /// them): they are most of the cost of kinematics and gravity.
     pub fn new(q: &SVector<f64, N>) -> Self {
         let q: [f64; N] = q.data.0[0];
-        // One range reduction for both: a third cheaper than separate `sin` and `cos`, and
-        // sines and cosines are most of the cost of kinematics and gravity.
-        let both = q.map(libm::sincos);
-        JointTrig {
-            q,
-            sin: both.map(|(s, _)| s),
-            cos: both.map(|(_, c)| c),
-        }
+        let (sin, cos) = crate::trig::sin_cos_all(&q);
+        JointTrig { q, sin, cos }
     }
 }
 

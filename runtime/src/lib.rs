@@ -9,18 +9,20 @@
 //! depends on the generator or the controller; generated code depends only on this crate and
 //! `nalgebra`.
 
-#![no_std]
+// Unit tests run with the standard test harness.
+#![cfg_attr(not(test), no_std)]
 
 mod joint;
 mod parameter;
 mod parameterization;
 mod random;
 mod robot;
+mod trig;
 
 pub use joint::{JointLimits, JointTrig};
 pub use libm;
 pub use nalgebra;
-pub use parameter::{ParameterKind, PARAMETERS_PER_BODY};
+pub use parameter::{body_parameters, ParameterKind, PARAMETERS_PER_BODY};
 pub use parameterization::{Base, BaseParameters, Parameterization, Standard};
 pub use random::SplitMix64;
 pub use robot::{Kinematics, Pose, RobotDynamics};

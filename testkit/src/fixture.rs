@@ -1,5 +1,6 @@
-//! Reference values computed by Pinocchio 4.1 (copied from the project's shared fixtures into
-//! `codegen/tests/fixtures/`), and the model they describe, built from their own joint placements.
+//! Reference values computed by Pinocchio 4.1 (`codegen/tests/fixtures/`, made by
+//! `tools/fixtures.py`: see `codegen/tests/fixtures/README.md`), and the model they describe,
+//! built from their own joint placements.
 
 use dyngen_codegen::model::{Body, Frame, Inertia, Joint, JointKind, Model, Pose};
 use nalgebra::{DMatrix, Matrix3, Vector3};

@@ -4,6 +4,7 @@
 //! (`serialize`), the scale models (`scale`), and tolerant comparisons. A library rather than
 //! a `tests/common` module, so that `cargo xtask fuzz` and `cargo xtask scale` call it directly.
 
+pub mod allocations;
 pub mod fixture;
 pub mod fuzz;
 pub mod oracles;

@@ -35,7 +35,7 @@ pub use rank::{
     ZERO_COLUMN_TOL,
 };
 
-use crate::model::{Model, PARAMS_PER_BODY};
+use crate::model::Model;
 use nalgebra::DMatrix;
 
 /// Random states stacked per model: `STATES·n` rows for `10·n` columns.
@@ -93,7 +93,7 @@ pub struct Diagnostics {
 /// The base parameters of one model.
 #[derive(Clone, Debug, PartialEq)]
 pub struct BaseParameterSet {
-    /// Number of standard parameters (`10·n`).
+    /// Number of standard parameters (`10·n`, plus the joint-level ones).
     pub standard_count: usize,
     /// The standard parameters (regressor columns) kept, ascending: `Y_b` is these columns of `Y`.
     pub columns: Vec<usize>,
@@ -124,7 +124,7 @@ fn snap(x: f64) -> Option<f64> {
 impl BaseParameterSet {
     /// Computes the base parameters of `model` (see the module documentation).
     pub fn compute(model: &Model) -> BaseParameterSet {
-        let p = PARAMS_PER_BODY * model.dof();
+        let p = model.parameter_count();
         let y = stacked_regressor(model, STATES, SELECTION_SEED);
         let selection = rank::greedy_selection(&y, INDEPENDENCE_TOL);
         let (kept, dependent) = (&selection.kept, &selection.dependent);

@@ -8,7 +8,7 @@ use dyngen_runtime::SplitMix64;
 use nalgebra::{DMatrix, DVector};
 
 /// The regressor `Y(q, q̇, v, a)` of `model` at `states` random states stacked vertically
-/// (`states·n × 10n`), the same for the same `seed`.
+/// (`states·n × P`, joint-level columns included), the same for the same `seed`.
 ///
 /// Revolute joints take any angle in `[−π, π)` (the dependencies between columns hold for every
 /// state, so joint limits do not matter and a full turn avoids accidental symmetries); prismatic
@@ -17,7 +17,7 @@ use nalgebra::{DMatrix, DVector};
 /// is part of every row, as in `Y`.
 pub fn stacked_regressor(model: &Model, states: usize, seed: u64) -> DMatrix<f64> {
     let n = model.dof();
-    let p = crate::model::PARAMS_PER_BODY * n;
+    let p = model.parameter_count();
     let dynamics = NumericDynamics::new(model);
     let mut rng = SplitMix64::new(seed);
     let mut stacked = DMatrix::zeros(states * n, p);

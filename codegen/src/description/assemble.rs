@@ -8,6 +8,7 @@
 
 use super::error::{item, num, render, vec3, DescriptionError};
 use super::items::{JointShape, Motion};
+use super::joint_parameters;
 use super::options::{EndEffectorSpec, Settings};
 use super::raw::RawRobot;
 use super::source_map::{joint_path, link_path, SourceMap};
@@ -55,6 +56,7 @@ pub(crate) fn assemble(
     let mut joints = Vec::new();
     let mut bodies: Vec<Option<Inertia>> = Vec::new();
     let mut body_names = Vec::new();
+    let mut raw_index = Vec::new();
     for &j in &c.topo.joint_order {
         let (p, ch) = (c.topo.parent_link[j], c.topo.child_link[j]);
         let shape = &c.joints[j];
@@ -73,6 +75,7 @@ pub(crate) fn assemble(
                 });
                 bodies.push(None);
                 body_names.push(c.raw.links[ch].name.clone());
+                raw_index.push(j);
             }
             (Motion::Moving(kind), Some(q)) => {
                 carrier[ch] = carrier[p];
@@ -116,12 +119,25 @@ pub(crate) fn assemble(
         .collect();
 
     let end_effector = end_effector(c, settings, &carrier, &placement, &joints, diags)?;
-    Model::new(name, joints, bodies, Vector3::from(gravity), end_effector).map_err(|e| {
-        DescriptionError::new(
-            &c.robot_map.file,
-            format!("internal error: the model breaks an invariant: {e}"),
-        )
-    })
+    let raw_dynamics: Vec<_> = c.raw.joints.iter().map(|j| j.dynamics).collect();
+    let moving = |r: usize| joint_parameters::is_free(c.joints[r].motion, locked[r]);
+    let sources = joint_parameters::JointSources {
+        raw_index: &raw_index,
+        raw: &raw_dynamics,
+        moving: &moving,
+        joint_by_name: &c.topo.joint_by_name,
+        robot_map: c.robot_map,
+    };
+    let joint_terms =
+        joint_parameters::joint_terms(settings.joint_parameters.as_ref(), settings, &joints, &sources)?;
+    Model::new(name, joints, bodies, Vector3::from(gravity), end_effector)
+        .and_then(|m| m.with_joint_terms(joint_terms))
+        .map_err(|e| {
+            DescriptionError::new(
+                &c.robot_map.file,
+                format!("internal error: the model breaks an invariant: {e}"),
+            )
+        })
 }
 
 /// The pose a joint adds at position `q`: rotation about, or translation along, its axis.
@@ -195,6 +211,14 @@ fn check_mimics(
         let Some(m) = &joint.mimic else { continue };
         let path = format!("{}.mimic", joint_path(j));
         let label = item("joint", &joint.name);
+        if c.joints[j].motion == Motion::Fixed {
+            // Common in URDFs expanded from xacro macros; a fixed joint has nothing to follow.
+            let msg = format!("<mimic> of '{}' on a fixed joint is ignored", m.joint);
+            diags
+                .warnings
+                .push(c.robot_map.diagnostic(&path, Some(&label), &msg));
+            continue;
+        }
         let Some(&target) = c.topo.joint_by_name.get(&m.joint) else {
             let msg = format!("mimics joint '{}', which is not defined", m.joint);
             return Err(c.robot_map.error(&path, msg).about(label));

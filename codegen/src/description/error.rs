@@ -28,7 +28,8 @@ impl fmt::Display for Location {
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]
 #[error("{}", render(file, *location, item.as_deref(), message))]
 pub struct DescriptionError {
-    /// The file the problem is in (as given by the caller, or resolved from a YAML `urdf:`).
+    /// The file the problem is in (as given by the caller, or resolved from a YAML `urdf:`);
+    /// for a robot in memory, a label that names it, e.g. `<urdf_rs::Robot 'panda'>`.
     pub file: PathBuf,
     /// Where in the file, when known.
     pub location: Option<Location>,

@@ -5,6 +5,7 @@
 //! possible inertia. The tree rules (names, parents, cycles) are in `tree`.
 
 use super::error::{item, num, vec3, DescriptionError};
+use super::near_exact::{Finding, Snap};
 use super::raw::{RawInertial, RawJoint, RawLink};
 use super::source_map::{joint_path, link_path, SourceMap};
 use super::Diagnostics;
@@ -38,19 +39,33 @@ const KNOWN_TYPES: &str = "revolute, continuous, prismatic or fixed";
 pub(crate) fn check_joints(
     joints: &[RawJoint],
     map: &SourceMap,
+    snap: Snap,
     diags: &mut Diagnostics,
 ) -> Result<Vec<JointShape>, DescriptionError> {
     joints
         .iter()
         .enumerate()
-        .map(|(i, j)| check_joint(i, j, map, diags))
+        .map(|(i, j)| check_joint(i, j, map, snap, diags))
         .collect()
+}
+
+/// Near-exact values go to the warnings when left as written, to the notes when snapped.
+fn report(findings: Vec<Finding>, map: &SourceMap, at: &str, label: &str, diags: &mut Diagnostics) {
+    for f in findings {
+        let line = map.diagnostic(at, Some(label), &f.message);
+        if f.snapped {
+            diags.notes.push(line);
+        } else {
+            diags.warnings.push(line);
+        }
+    }
 }
 
 fn check_joint(
     i: usize,
     j: &RawJoint,
     map: &SourceMap,
+    snap: Snap,
     diags: &mut Diagnostics,
 ) -> Result<JointShape, DescriptionError> {
     let path = joint_path(i);
@@ -84,7 +99,9 @@ fn check_joint(
     if let Some(msg) = too_large(&j.xyz, "origin xyz") {
         return Err(err(".origin", msg));
     }
-    let origin = from_xyz_rpy(j.xyz, j.rpy);
+    let (rpy, near) = snap.rpy("origin", j.rpy);
+    report(near, map, &format!("{path}.origin"), &label, diags);
+    let origin = from_xyz_rpy(j.xyz, rpy);
     let warn = |diags: &mut Diagnostics, field: &str, msg: String| {
         diags
             .warnings
@@ -108,11 +125,18 @@ fn check_joint(
             return Err(err(".axis", format!("axis {} has zero length", vec3(&j.axis))));
         }
         let (unit, norm) = if (1e-150..1e150).contains(&scale) {
-            // Plain: bit-for-bit what an axis already given as a unit vector stays.
+            // Plain: the usual rounding for an axis that is not a unit vector.
             (a / a.norm(), a.norm())
         } else {
             let scaled = a / scale;
             (scaled / scaled.norm(), scale * scaled.norm())
+        };
+        // A unit vector to rounding is kept as written: dividing it by its norm again can
+        // move it by an ulp, and a model written out (`to_urdf_rs`) must load back unchanged.
+        let unit = if (norm - 1.0).abs() <= 4.0 * f64::EPSILON {
+            a
+        } else {
+            unit
         };
         if (norm - 1.0).abs() > 1e-6 {
             let shown = vec3(&[unit.x, unit.y, unit.z]);
@@ -121,7 +145,9 @@ fn check_joint(
                 .notes
                 .push(map.diagnostic(&format!("{path}.axis"), Some(&label), &msg));
         }
-        unit
+        let (unit, near) = snap.axis([unit.x, unit.y, unit.z]);
+        report(near, map, &format!("{path}.axis"), &label, diags);
+        Vector3::from(unit)
     };
 
     if let Some(m) = &j.mimic {
@@ -205,6 +231,7 @@ fn check_joint(
 pub(crate) fn check_links(
     links: &[RawLink],
     map: &SourceMap,
+    snap: Snap,
     diags: &mut Diagnostics,
 ) -> Result<Vec<Inertia>, DescriptionError> {
     links
@@ -216,7 +243,7 @@ pub(crate) fn check_links(
                 com: Vector3::zeros(),
                 inertia_com: Matrix3::zeros(),
             }),
-            Some(inertial) => check_inertial(i, &l.name, inertial, map, diags),
+            Some(inertial) => check_inertial(i, &l.name, inertial, map, snap, diags),
         })
         .collect()
 }
@@ -226,6 +253,7 @@ fn check_inertial(
     name: &str,
     inertial: &RawInertial,
     map: &SourceMap,
+    snap: Snap,
     diags: &mut Diagnostics,
 ) -> Result<Inertia, DescriptionError> {
     let path = format!("{}.inertial", link_path(i));
@@ -329,6 +357,8 @@ fn check_inertial(
     }
 
     // The tensor is given in the inertial frame; the model wants link-frame axes.
+    let (rpy, near) = snap.rpy("inertial origin", rpy);
+    report(near, map, &path, &label, diags);
     let rotation = from_xyz_rpy(xyz, rpy).rotation;
     Ok(Inertia {
         mass,

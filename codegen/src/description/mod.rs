@@ -1,8 +1,9 @@
 //! Robot descriptions (URDF, and dyngen's YAML) → [`Model`].
 //!
 //! The pipeline, one file per step:
-//! 1. read: `urdf` (XML) or `yaml` (both YAML forms) → a raw link/joint graph (`raw`), with
-//!    the place of every item (`source_map`, `yaml_spans`) so later checks can point at it;
+//! 1. read: `urdf` (XML), `yaml` (both YAML forms) or `import` (a [`urdf_rs::Robot`] in
+//!    memory) → a raw link/joint graph (`raw`), with the place of every item (`source_map`,
+//!    `yaml_spans`; none in memory) so later checks can point at it;
 //! 2. `items`: each link and joint checked on its own (numbers, types, axes, limits, inertias);
 //! 3. `tree`: names resolved, one root, no cycles, depth-first joint order;
 //! 4. `assemble`: fixed and locked joints welded away, inertias merged, frames placed,
@@ -11,10 +12,17 @@
 //!
 //! Nothing here panics on user input, and nothing is silently dropped or guessed: what
 //! cannot be modelled exactly (floating joints, unlocked mimic joints) is an error.
+//!
+//! The way back, [`to_urdf_rs`] (`export`), writes any [`Model`] as a URDF: to view it in
+//! urdf-viz or RViz, or to hand it to another tool.
 
 mod assemble;
 mod error;
+mod export;
+mod import;
 mod items;
+mod joint_parameters;
+mod near_exact;
 mod options;
 mod raw;
 mod source_map;
@@ -24,6 +32,7 @@ mod yaml;
 mod yaml_spans;
 
 pub use error::{DescriptionError, Location};
+pub use export::{to_urdf_rs, ExportError, UrdfExport};
 pub use options::{EndEffectorSpec, UrdfOptions};
 
 use crate::model::Model;
@@ -61,6 +70,12 @@ pub fn load(path: &Path) -> Result<Loaded, DescriptionError> {
     let is_yaml = match ext.as_deref() {
         Some("yaml" | "yml") => true,
         Some("urdf" | "xml") => false,
+        Some("xacro") => {
+            return Err(DescriptionError::new(
+                path,
+                "a xacro file: expand it first (`xacro robot.urdf.xacro > robot.urdf`) and load the URDF",
+            ))
+        }
         _ => {
             return Err(DescriptionError::new(
                 path,
@@ -93,14 +108,61 @@ fn read_regular_file(path: &Path) -> std::io::Result<String> {
 /// Loads URDF text. `file` names the text in messages. `sources` is empty: nothing was read.
 pub fn load_urdf_str(text: &str, file: &Path, options: &UrdfOptions) -> Result<Loaded, DescriptionError> {
     let (robot, map) = urdf::read(text, file)?;
+    build_bare_urdf(&robot, &map, options)
+}
+
+/// A URDF without a YAML wrapper (a file, or a `urdf_rs::Robot`): the user's choices come
+/// from `options`, and nothing else was read.
+fn build_bare_urdf(
+    robot: &RawRobot,
+    map: &SourceMap,
+    options: &UrdfOptions,
+) -> Result<Loaded, DescriptionError> {
     let settings = Settings {
         name: None,
         gravity: options.gravity,
         end_effector: options.end_effector.clone(),
         locked_joints: options.locked_joints.clone(),
-        map: &map,
+        joint_parameters: None,
+        snap_angles: options.snap_angles,
+        map,
     };
-    build(&robot, &map, &settings, Vec::new())
+    build(robot, map, &settings, Vec::new())
+}
+
+/// Turns a [`urdf_rs::Robot`] (what `k`, `urdf-viz` and openrr hold) into a model, with the same
+/// checks, rules and messages as a URDF file.
+///
+/// There is no file, so messages name the robot instead (`<urdf_rs::Robot 'panda'>: joint
+/// 'j2': ...`) and have no line and column; `sources` is empty. urdf-rs stores a missing
+/// `<inertial>` and a missing `<limit>` as zeros, so an all-zero inertial is a massless link
+/// and an all-zero limit is no limit (a revolute or prismatic joint then needs one, as in a
+/// file). URDF 1.2's infinite "no limit" is rejected like any non-finite number. What dyngen
+/// does not model (damping and friction, acceleration, deceleration and jerk limits) is
+/// reported in `notes`; visuals, collisions and the like are skipped, as in a file.
+///
+/// ```
+/// use dyngen_codegen::description::{from_urdf_rs, UrdfOptions};
+/// let robot = dyngen_codegen::urdf_rs::read_from_string(
+///     r#"<robot name="pendulum">
+///          <link name="base"/>
+///          <link name="arm"><inertial><origin xyz="0 0 -0.5"/><mass value="1"/>
+///            <inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.001"/></inertial></link>
+///          <joint name="swing" type="continuous"><parent link="base"/><child link="arm"/>
+///            <axis xyz="0 1 0"/></joint>
+///        </robot>"#,
+/// )
+/// .unwrap();
+/// let loaded = from_urdf_rs(&robot, &UrdfOptions::default()).unwrap();
+/// assert_eq!(loaded.model.dof(), 1);
+/// assert_eq!(loaded.model.end_effector().name, "arm");
+/// ```
+pub fn from_urdf_rs(robot: &urdf_rs::Robot, options: &UrdfOptions) -> Result<Loaded, DescriptionError> {
+    let (raw, notes) = import::read(robot)?;
+    let map = SourceMap::new(&import::place(robot));
+    let mut loaded = build_bare_urdf(&raw, &map, options)?;
+    loaded.notes.extend(notes);
+    Ok(loaded)
 }
 
 /// Loads dyngen YAML text (either form). `file` names the text in messages, and a `urdf:`
@@ -123,8 +185,9 @@ fn build(
     sources: Vec<PathBuf>,
 ) -> Result<Loaded, DescriptionError> {
     let mut diags = Diagnostics::default();
-    let links = items::check_links(&robot.links, robot_map, &mut diags)?;
-    let joints = items::check_joints(&robot.joints, robot_map, &mut diags)?;
+    let snap = settings.snap()?;
+    let links = items::check_links(&robot.links, robot_map, snap, &mut diags)?;
+    let joints = items::check_joints(&robot.joints, robot_map, snap, &mut diags)?;
     let topo = tree::topology(robot, robot_map)?;
     let checked = assemble::Checked {
         raw: robot,

@@ -16,6 +16,10 @@ pub struct UrdfOptions {
     pub locked_joints: Vec<(String, f64)>,
     /// Gravity acceleration in the base frame; default `[0, 0, -9.81]`.
     pub gravity: Option<[f64; 3]>,
+    /// Make origin angles within this many radians of a quarter turn exact quarter turns,
+    /// and axis components this close to 0 exactly 0 (at most 1e-3; each change is noted).
+    /// `None`: such values are kept and warned about.
+    pub snap_angles: Option<f64>,
 }
 
 /// The end-effector frame: a link, optionally moved by a fixed offset.
@@ -128,6 +132,23 @@ pub(crate) struct Settings<'a> {
     pub gravity: Option<[f64; 3]>,
     pub end_effector: Option<EndEffectorSpec>,
     pub locked_joints: Vec<(String, f64)>,
-    /// Places of `end_effector`, `gravity`, `locked_joints.<joint>`.
+    pub snap_angles: Option<f64>,
+    /// `joint_parameters:` of a YAML file (a bare URDF has none: no joint-level columns).
+    pub joint_parameters: Option<super::joint_parameters::JointParametersSpec>,
+    /// Places of `end_effector`, `gravity`, `locked_joints.<joint>`, `snap_angles`.
     pub map: &'a super::source_map::SourceMap,
+}
+
+impl Settings<'_> {
+    /// The snapping asked for, checked: a tolerance in (0, 1e-3] rad.
+    pub fn snap(&self) -> Result<super::near_exact::Snap, super::DescriptionError> {
+        use super::near_exact::{Snap, REPORTED};
+        match self.snap_angles {
+            Some(t) if !(t > 0.0 && t <= REPORTED) => Err(self.map.error(
+                "snap_angles",
+                format!("snap_angles {t} must be a tolerance in radians, above 0 and at most {REPORTED}"),
+            )),
+            t => Ok(Snap(t)),
+        }
+    }
 }

@@ -43,6 +43,18 @@ pub(crate) struct RawJoint {
     pub axis: [f64; 3],
     pub limit: Option<RawLimit>,
     pub mimic: Option<RawMimic>,
+    /// Joint-level values as written (URDF `<dynamics>`, YAML `dynamics:`); `None`: not given.
+    pub dynamics: RawDynamics,
+}
+
+/// Joint-level values of one joint, each optional: URDF `<dynamics damping friction>` gives
+/// `viscous` and `coulomb`; YAML `dynamics: { armature, viscous, coulomb, offset }` any of them.
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub(crate) struct RawDynamics {
+    pub armature: Option<f64>,
+    pub viscous: Option<f64>,
+    pub coulomb: Option<f64>,
+    pub offset: Option<f64>,
 }
 
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -236,6 +236,7 @@ mod tests {
                     axis: [0.0, 0.0, 1.0],
                     limit: None,
                     mimic: None,
+                    dynamics: Default::default(),
                 })
                 .collect(),
         }

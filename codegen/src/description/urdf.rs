@@ -8,7 +8,7 @@
 //! required, `<axis>` defaults to `1 0 0`, `<origin>` to identity.
 
 use super::error::{item, DescriptionError, Location};
-use super::raw::{RawInertial, RawJoint, RawLimit, RawLink, RawMimic, RawRobot};
+use super::raw::{RawDynamics, RawInertial, RawJoint, RawLimit, RawLink, RawMimic, RawRobot};
 use super::source_map::{joint_path, link_path, SourceMap};
 use roxmltree::{Document, Node};
 use std::path::Path;
@@ -200,6 +200,19 @@ impl<'d, 'input> Reader<'d, 'input> {
                 })
             }
         };
+        // `<dynamics damping friction>`: viscous (N·m·s/rad) and Coulomb (N·m) friction, the
+        // meaning Gazebo and ROS give them. URDF has no armature or offset.
+        let dynamics = match self.unique_child(node, "dynamics", it)? {
+            None => RawDynamics::default(),
+            Some(d) => {
+                self.record(format!("{path}.dynamics"), d);
+                RawDynamics {
+                    viscous: self.number(d, "damping", it)?,
+                    coulomb: self.number(d, "friction", it)?,
+                    ..RawDynamics::default()
+                }
+            }
+        };
         Ok(RawJoint {
             name,
             kind,
@@ -210,6 +223,7 @@ impl<'d, 'input> Reader<'d, 'input> {
             axis,
             limit,
             mimic,
+            dynamics,
         })
     }
 

@@ -31,13 +31,18 @@
 //! end_effector: panda_hand_tcp
 //! locked_joints: { panda_finger_joint1: 0.0, panda_finger_joint2: 0.0 }
 //! gravity: [0.0, 0.0, -9.81]
+//! snap_angles: 1e-4                     # optional: 1.5708 → π/2 (each change noted)
 //! ```
+//!
+//! Both forms may add `joint_parameters:` (armature, friction, offset columns and values; see
+//! the `joint_parameters` module), and form (a) joints a `dynamics:` map of their own values.
 //!
 //! Unknown keys are errors (a typo must not be ignored).
 
 use super::error::{DescriptionError, Location};
+use super::joint_parameters::{DynamicsSpec, JointParametersSpec};
 use super::options::{EndEffectorSpec, LockedJoints, Settings};
-use super::raw::{RawInertial, RawJoint, RawLimit, RawLink, RawMimic, RawRobot};
+use super::raw::{RawDynamics, RawInertial, RawJoint, RawLimit, RawLink, RawMimic, RawRobot};
 use super::source_map::SourceMap;
 use super::{urdf, yaml_spans};
 use serde::Deserialize;
@@ -64,6 +69,13 @@ pub(crate) struct RobotFile {
     /// The position must lie within the joint limits. Mimic joints must be locked.
     #[serde(default)]
     locked_joints: LockedJoints,
+    /// Origin angles within this many radians of a quarter turn become exact quarter turns,
+    /// and axis components this close to 0 become 0 (at most 1e-3; each change is noted).
+    /// Default: kept as written, with a warning.
+    snap_angles: Option<f64>,
+    /// Joint-level parameters (armature, friction, offset): which regressor columns, and
+    /// per-joint values (`joint_parameters` module docs). Absent: none.
+    joint_parameters: Option<JointParametersSpec>,
     /// Form (a): the links, in any order.
     links: Option<Vec<LinkSpec>>,
     /// Form (a): the joints. Their order fixes the order of sibling branches.
@@ -141,6 +153,9 @@ struct JointSpec {
     /// This joint copies another: `q = multiplier * q_joint + offset`. Only allowed when the
     /// joint is locked (`locked_joints`).
     mimic: Option<MimicSpec>,
+    /// Joint-level values `{ armature, viscous, coulomb, offset }` (each optional; used for
+    /// the columns `joint_parameters.columns` chooses).
+    dynamics: Option<DynamicsSpec>,
 }
 
 /// Joint limits, as URDF `<limit>` (all four required).
@@ -180,6 +195,8 @@ pub(crate) struct Parsed {
     pub gravity: Option<[f64; 3]>,
     pub end_effector: Option<EndEffectorSpec>,
     pub locked_joints: Vec<(String, f64)>,
+    pub snap_angles: Option<f64>,
+    pub joint_parameters: Option<JointParametersSpec>,
     /// Files read to get here (the URDF of form b).
     pub read: Vec<PathBuf>,
 }
@@ -191,6 +208,8 @@ impl Parsed {
             gravity: self.gravity,
             end_effector: self.end_effector.clone(),
             locked_joints: self.locked_joints.clone(),
+            snap_angles: self.snap_angles,
+            joint_parameters: self.joint_parameters.clone(),
             map: &self.yaml_map,
         }
     }
@@ -207,6 +226,8 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         gravity,
         end_effector,
         locked_joints,
+        snap_angles,
+        joint_parameters,
         links,
         joints,
     } = spec;
@@ -218,6 +239,8 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         gravity,
         end_effector,
         locked_joints: locked_joints.0,
+        snap_angles,
+        joint_parameters,
         read: Vec::new(),
     };
     let both = |key: &str| {
@@ -308,6 +331,7 @@ fn raw_joint(j: JointSpec) -> RawJoint {
             multiplier: m.multiplier.unwrap_or(1.0),
             offset: m.offset.unwrap_or(0.0),
         }),
+        dynamics: j.dynamics.map(RawDynamics::from).unwrap_or_default(),
     }
 }
 

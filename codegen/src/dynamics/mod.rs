@@ -1,6 +1,6 @@
 //! Rigid-body dynamics algorithms, each written once, generic over [`Scalar`].
 //!
-//! Conventions (`/ARCHITECTURE.md`, `dynamics.md`): body `i` lives in joint `i`'s frame;
+//! Conventions (`ARCHITECTURE.md`, `docs/dynamics.md`): body `i` lives in joint `i`'s frame;
 //! spatial vectors are angular-first in body frames; Jacobians are 6×n with linear rows
 //! first, in world axes, at the end-effector frame origin; `C` is Christoffel-consistent.
 //!
@@ -12,6 +12,7 @@ mod crba;
 mod derivatives;
 mod forward_dynamics;
 mod joint;
+mod joint_terms;
 mod kinematics;
 mod numeric;
 mod numeric_forward;
@@ -25,8 +26,11 @@ pub use crba::mass_matrix;
 pub use derivatives::{forward_dynamics_derivatives, inverse_dynamics_derivatives};
 pub use forward_dynamics::{factor_mass_matrix, forward_dynamics, mass_matrix_inverse};
 pub use joint::{joint_transform, joint_transforms};
+pub use joint_terms::{
+    add_armature, add_torques, coulomb_shape, fill_joint_term_columns, joint_term_torques,
+};
 pub use kinematics::{body_poses, end_effector_pose, jacobian, jacobian_dot};
-pub use numeric::{Configuration, NumericDynamics};
+pub use numeric::NumericDynamics;
 pub use regressor::regressor;
 pub use singular::singular_joints;
 pub use slotine_li::{gravity_torque, inverse_dynamics, slotine_li};
@@ -45,7 +49,15 @@ pub fn body_inertias<S: Scalar>(model: &Model) -> Vec<RigidInertia<S>> {
         .collect()
 }
 
-/// Body inertias from a parameter vector θ (ten per body, as [`Model::parameters`]).
+/// The joint-level values that act in `model` (chosen kinds only; the others are 0).
+pub fn joint_term_values(model: &Model) -> Vec<crate::model::JointTermValues> {
+    (0..model.dof())
+        .map(|j| model.joint_terms().effective(j))
+        .collect()
+}
+
+/// Body inertias from the inertial parameters (ten per body, the first `10·n` entries of
+/// [`Model::parameters`]).
 pub fn inertias_from_parameters<S: Scalar>(theta: &[S]) -> Vec<RigidInertia<S>> {
     theta
         .chunks_exact(crate::model::PARAMS_PER_BODY)

@@ -10,12 +10,16 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 pub struct NumericDynamics<'m> {
     pub model: &'m Model,
     pub(super) inertias: Vec<RigidInertia<f64>>,
+    /// Joint-level values that act (chosen kinds; others 0).
+    pub(super) joint_values: Vec<crate::model::JointTermValues>,
 }
 
-/// The joint transforms of one configuration, shared by every quantity at that `q`.
+/// The joint transforms at one `q`. Each method builds its own from the `q` it is given (no
+/// method takes one), so it is internal: callers that need several quantities at one `q` in a
+/// control loop use generated code, where `JointTrig` is shared.
 #[derive(Clone, Debug)]
-pub struct Configuration {
-    pub transforms: Vec<Transform<f64>>,
+pub(super) struct Configuration {
+    pub(super) transforms: Vec<Transform<f64>>,
 }
 
 fn to_matrix3(t: &Transform<f64>) -> Matrix3<f64> {
@@ -27,23 +31,22 @@ impl<'m> NumericDynamics<'m> {
         NumericDynamics {
             model,
             inertias: body_inertias(model),
+            joint_values: joint_term_values(model),
         }
     }
 
-    /// The same model with other inertial parameters θ (ten per body).
+    /// The same model with other parameters θ (as [`Model::parameters`]: ten per body, then
+    /// the joint-level ones).
     pub fn with_parameters(model: &'m Model, theta: &[f64]) -> Self {
-        assert_eq!(
-            theta.len(),
-            crate::model::PARAMS_PER_BODY * model.dof(),
-            "θ has the wrong length"
-        );
+        assert_eq!(theta.len(), model.parameter_count(), "θ has the wrong length");
         NumericDynamics {
             model,
-            inertias: inertias_from_parameters(theta),
+            inertias: inertias_from_parameters(&theta[..model.inertial_parameter_count()]),
+            joint_values: model.joint_term_values_from(theta),
         }
     }
 
-    pub fn configuration(&self, q: &[f64]) -> Configuration {
+    pub(super) fn configuration(&self, q: &[f64]) -> Configuration {
         assert_eq!(q.len(), self.model.dof(), "q has the wrong length");
         Configuration {
             transforms: joint_transforms(self.model, q),
@@ -81,8 +84,11 @@ impl<'m> NumericDynamics<'m> {
         )
     }
 
+    /// `D(q)`, with the armature on the diagonal when the model has that column.
     pub fn mass_matrix(&self, q: &[f64]) -> DMatrix<f64> {
-        mass_matrix(self.model, &self.configuration(q).transforms, &self.inertias)
+        let mut d = mass_matrix(self.model, &self.configuration(q).transforms, &self.inertias);
+        add_armature(self.model, &self.joint_values, &mut d);
+        d
     }
 
     pub fn coriolis_matrix(&self, q: &[f64], qd: &[f64]) -> DMatrix<f64> {
@@ -97,12 +103,16 @@ impl<'m> NumericDynamics<'m> {
         ))
     }
 
+    /// `τ(q, q̇, q̈)`, joint-level terms included.
     pub fn inverse_dynamics(&self, q: &[f64], qd: &[f64], qdd: &[f64]) -> DVector<f64> {
         let x = self.configuration(q).transforms;
-        DVector::from_vec(inverse_dynamics(self.model, &x, &self.inertias, qd, qdd))
+        let rigid = inverse_dynamics(self.model, &x, &self.inertias, qd, qdd);
+        let joint = joint_term_torques(self.model, &self.joint_values, qd, qd, qdd);
+        DVector::from_vec(add_torques(rigid, &joint))
     }
 
-    /// `D(q) a + C(q, q̇) v + g(q)`, with gravity switched off when `with_gravity` is false.
+    /// `D(q) a + C(q, q̇) v + g(q)` plus the joint-level terms, with gravity switched off when
+    /// `with_gravity` is false.
     pub fn slotine_li(
         &self,
         q: &[f64],
@@ -113,10 +123,12 @@ impl<'m> NumericDynamics<'m> {
     ) -> DVector<f64> {
         let x = self.configuration(q).transforms;
         let g = with_gravity.then(|| Vec3(self.model.gravity().into()));
-        DVector::from_vec(slotine_li(self.model, &x, &self.inertias, qd, v, a, g))
+        let rigid = slotine_li(self.model, &x, &self.inertias, qd, v, a, g);
+        let joint = joint_term_torques(self.model, &self.joint_values, qd, v, a);
+        DVector::from_vec(add_torques(rigid, &joint))
     }
 
-    /// Slotine–Li regressor `Y(q, q̇, v, a)`, n × 10n.
+    /// Slotine–Li regressor `Y(q, q̇, v, a)`, n × P (`10n` plus the joint-level columns).
     pub fn regressor(&self, q: &[f64], qd: &[f64], v: &[f64], a: &[f64]) -> DMatrix<f64> {
         regressor(self.model, &self.configuration(q).transforms, qd, v, a)
     }

@@ -1,20 +1,23 @@
 //! The Slotine–Li regressor `Y(q, q̇, v, a)` with `Y θ = D a + C v + g`.
 
 use super::joint::joint_force;
+use super::joint_terms::fill_joint_term_columns;
 use super::slotine_li::{body_force, forward_pass, gravity_vector};
 use crate::model::{Model, PARAMS_PER_BODY};
 use crate::scalar::Scalar;
 use crate::spatial::{RigidInertia, Transform};
 use nalgebra::DMatrix;
 
-/// `Y` (n × 10·n): column block `i` belongs to body `i`'s standard parameters.
+/// `Y` (n × P): column block `i` (ten columns) belongs to body `i`'s standard parameters; then
+/// the joint-level columns of the model's chosen kinds (none: `P = 10·n`), see
+/// [`fill_joint_term_columns`](super::fill_joint_term_columns).
 ///
 /// The body force is linear in the body's inertia, so column `k` of a body's block is the
 /// body force with unit parameter `k`, carried up the tree and projected on each ancestor joint.
 pub fn regressor<S: Scalar>(model: &Model, x: &[Transform<S>], qd: &[S], v: &[S], a: &[S]) -> DMatrix<S> {
     let n = model.dof();
     let motions = forward_pass(model, x, qd, v, a, Some(gravity_vector(model)));
-    let mut y = DMatrix::from_element(n, PARAMS_PER_BODY * n, S::zero());
+    let mut y = DMatrix::from_element(n, model.parameter_count(), S::zero());
     for (i, m) in motions.iter().enumerate() {
         for k in 0..PARAMS_PER_BODY {
             let col = PARAMS_PER_BODY * i + k;
@@ -28,5 +31,6 @@ pub fn regressor<S: Scalar>(model: &Model, x: &[Transform<S>], qd: &[S], v: &[S]
             }
         }
     }
+    fill_joint_term_columns(model, &mut y, qd, v, a);
     y
 }

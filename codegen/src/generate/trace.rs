@@ -96,6 +96,24 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
         let mut pose: Vec<Id> = ee.rot.transpose().0.iter().flatten().map(|e| e.id()).collect();
         pose.extend(ee.pos.0.iter().map(|e| e.id()));
         let g = dynamics::gravity_torque(model, &x, &inertias);
+        // Joint-level terms (armature, friction, offset) are added only when the model has
+        // them, so a model without them records exactly the graph it always did.
+        let joint_values = dynamics::joint_term_values(model);
+        let has_joint_terms = !model.joint_terms().kinds.is_empty();
+        let with_joint_terms = |rigid: Vec<Expr>, v: &[Expr], a: &[Expr]| match has_joint_terms {
+            true => dynamics::add_torques(
+                rigid,
+                &dynamics::joint_term_torques(model, &joint_values, &qd, v, a),
+            ),
+            false => rigid,
+        };
+        // Called where `D` was always recorded: node ids follow creation order, and the emitted
+        // code of a robot without joint terms must stay byte-identical.
+        let mass_matrix = || {
+            let mut d = dynamics::mass_matrix(model, &x, &inertias);
+            dynamics::add_armature(model, &joint_values, &mut d);
+            d
+        };
         let y = matrix_ids(&dynamics::regressor(model, &x, &qd, &v, &a));
         // Column-major: column c of Y is y[c·n .. (c+1)·n].
         let y_base: Vec<Id> = base
@@ -126,7 +144,7 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
                 name: "mass_matrix",
                 args: vec![],
                 shape: Shape::Matrix(n, n),
-                outputs: matrix_ids(&dynamics::mass_matrix(model, &x, &inertias)),
+                outputs: matrix_ids(&mass_matrix()),
             },
             Quantity {
                 name: "coriolis_matrix",
@@ -144,26 +162,34 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
                 name: "inverse_dynamics",
                 args: vec![Arg::Qd, Arg::A],
                 shape: Shape::Vector(n),
-                outputs: ids(&dynamics::inverse_dynamics(model, &x, &inertias, &qd, &a)),
+                outputs: ids(&with_joint_terms(
+                    dynamics::inverse_dynamics(model, &x, &inertias, &qd, &a),
+                    &qd,
+                    &a,
+                )),
             },
             Quantity {
                 name: "slotine_li",
                 args: vec![Arg::Qd, Arg::V, Arg::A],
                 shape: Shape::Vector(n),
-                outputs: ids(&dynamics::slotine_li(
-                    model,
-                    &x,
-                    &inertias,
-                    &qd,
+                outputs: ids(&with_joint_terms(
+                    dynamics::slotine_li(
+                        model,
+                        &x,
+                        &inertias,
+                        &qd,
+                        &v,
+                        &a,
+                        Some(crate::spatial::Vec3::from_f64(model.gravity().into())),
+                    ),
                     &v,
                     &a,
-                    Some(crate::spatial::Vec3::from_f64(model.gravity().into())),
                 )),
             },
             Quantity {
                 name: "regressor",
                 args: vec![Arg::Qd, Arg::V, Arg::A],
-                shape: Shape::Matrix(n, crate::model::PARAMS_PER_BODY * n),
+                shape: Shape::Matrix(n, model.parameter_count()),
                 outputs: y,
             },
             Quantity {
@@ -207,31 +233,34 @@ fn forward_quantities(model: &Model, q: &[Expr], qd: &[Expr], a: &[Expr], tau: &
     let n = model.dof();
     let x = dynamics::joint_transforms(model, q);
     let inertias = body_inertias::<Expr>(model);
+    let jv = dynamics::joint_term_values(model);
     vec![
         Quantity {
             name: "forward_dynamics",
             args: vec![Arg::Qd, Arg::Tau],
             shape: Shape::Vector(n),
-            outputs: ids(&dynamics::forward_dynamics(model, &x, &inertias, qd, tau)),
+            outputs: ids(&dynamics::forward_dynamics(model, &x, &inertias, &jv, qd, tau)),
         },
         Quantity {
             name: "mass_matrix_inverse",
             args: vec![],
             shape: Shape::Matrix(n, n),
-            outputs: matrix_ids(&dynamics::mass_matrix_inverse(model, &x, &inertias)),
+            outputs: matrix_ids(&dynamics::mass_matrix_inverse(model, &x, &inertias, &jv)),
         },
         Quantity {
             name: "inverse_dynamics_derivatives",
             args: vec![Arg::Qd, Arg::A],
             shape: Shape::MatrixPair(n),
-            outputs: pair_ids(dynamics::inverse_dynamics_derivatives(model, q, &inertias, qd, a)),
+            outputs: pair_ids(dynamics::inverse_dynamics_derivatives(
+                model, q, &inertias, &jv, qd, a,
+            )),
         },
         Quantity {
             name: "forward_dynamics_derivatives",
             args: vec![Arg::Qd, Arg::Tau],
             shape: Shape::MatrixPair(n),
             outputs: pair_ids(dynamics::forward_dynamics_derivatives(
-                model, q, &inertias, qd, tau,
+                model, q, &inertias, &jv, qd, tau,
             )),
         },
     ]

@@ -6,9 +6,11 @@
 //! - axes are unit vectors, rotations are orthonormal, inertias are physically valid;
 //! - body `i` is the rigid body carried by joint `i` (its frame is joint `i`'s frame).
 
+mod joint_terms;
 mod pose;
 mod validate;
 
+pub use joint_terms::{JointTermKind, JointTermValues, JointTerms};
 pub use pose::{exact_sin_cos, from_xyz_rpy, Pose};
 use validate::validate;
 pub use validate::{check_rotational_inertia, principal_moments, ModelError, Warning, INERTIA_REL_TOL};
@@ -87,6 +89,9 @@ pub struct Model {
     bodies: Vec<Body>,
     gravity: Vector3<f64>,
     end_effector: Frame,
+    /// Joint-level parameters (armature, friction, offset): which columns `Y` gets after the
+    /// inertial ones, and their values. Default: none.
+    joint_terms: JointTerms,
 }
 
 /// Number of standard inertial parameters per body (the runtime contract's layout).
@@ -100,22 +105,7 @@ impl Inertia {
     /// The ten standard parameters `[m, m·c, I_O]` with `I_O` about the body-frame origin,
     /// in the order `[m, mcx, mcy, mcz, Ixx, Ixy, Iyy, Ixz, Iyz, Izz]`.
     pub fn parameters(&self) -> [f64; PARAMS_PER_BODY] {
-        let m = self.mass;
-        let c = self.com;
-        let h = c * m;
-        let io = self.inertia_com + (Matrix3::identity() * c.dot(&c) - c * c.transpose()) * m;
-        [
-            m,
-            h.x,
-            h.y,
-            h.z,
-            io[(0, 0)],
-            io[(0, 1)],
-            io[(1, 1)],
-            io[(0, 2)],
-            io[(1, 2)],
-            io[(2, 2)],
-        ]
+        dyngen_runtime::body_parameters(self.mass, &self.com, &self.inertia_com)
     }
 
     /// The same body seen from another frame: `pose` is this body's frame in the new frame.
@@ -135,6 +125,20 @@ impl Inertia {
                 mass: 0.0,
                 com: Vector3::zeros(),
                 inertia_com: self.inertia_com + other.inertia_com,
+            };
+        }
+        // A massless part (an end-effector link, a frame) leaves the body unchanged, bit for
+        // bit: `(c m + 0) / m` need not round back to `c`.
+        if other.mass == 0.0 || self.mass == 0.0 {
+            let (massive, massless) = if other.mass == 0.0 {
+                (self, other)
+            } else {
+                (other, self)
+            };
+            return Inertia {
+                mass,
+                com: massive.com,
+                inertia_com: massive.inertia_com + massless.inertia_com,
             };
         }
         let com = (self.com * self.mass + other.com * other.mass) / mass;
@@ -166,9 +170,29 @@ impl Model {
             bodies,
             gravity,
             end_effector,
+            joint_terms: JointTerms::default(),
         };
         validate(&model)?;
         Ok(model)
+    }
+
+    /// The same robot with joint-level parameters (which regressor columns, and values).
+    pub fn with_joint_terms(mut self, joint_terms: JointTerms) -> Result<Model, ModelError> {
+        self.joint_terms = joint_terms;
+        validate(&self)?;
+        Ok(self)
+    }
+
+    /// The same kinematics with other bodies (e.g. identified, or carrying a payload).
+    pub fn with_bodies(mut self, bodies: Vec<Body>) -> Result<Model, ModelError> {
+        self.bodies = bodies;
+        validate(&self)?;
+        Ok(self)
+    }
+
+    /// The joint-level parameters (none unless the description chose columns).
+    pub fn joint_terms(&self) -> &JointTerms {
+        &self.joint_terms
     }
 
     /// The same robot under another gravity (e.g. none, for energy checks).
@@ -208,23 +232,77 @@ impl Model {
         self.joints.len()
     }
 
-    /// The standard parameter vector θ: ten parameters per body, body after body in joint order.
-    pub fn parameters(&self) -> Vec<f64> {
-        self.bodies.iter().flat_map(|b| b.inertia.parameters()).collect()
+    /// Number of inertial parameters, `10·n` (the first entries of θ).
+    pub fn inertial_parameter_count(&self) -> usize {
+        PARAMS_PER_BODY * self.dof()
     }
 
-    /// Names of the entries of [`Model::parameters`], e.g. `"mcx[link3]"`.
+    /// Length of θ: the inertial parameters, then the joint-level ones.
+    pub fn parameter_count(&self) -> usize {
+        self.inertial_parameter_count() + self.joint_terms.per_joint() * self.dof()
+    }
+
+    /// The standard parameter vector θ: ten parameters per body, body after body in joint
+    /// order; then, joint after joint, the chosen joint-level parameters
+    /// ([`crate::model::JointTerms`]).
+    pub fn parameters(&self) -> Vec<f64> {
+        let mut theta: Vec<f64> = self.bodies.iter().flat_map(|b| b.inertia.parameters()).collect();
+        for j in 0..self.dof() {
+            let v = self.joint_terms.value(j);
+            theta.extend(self.joint_terms.kinds.iter().map(|&k| v.get(k)));
+        }
+        theta
+    }
+
+    /// Names of the entries of [`Model::parameters`], e.g. `"mcx[link3]"`, `"fv[joint3]"`.
     pub fn parameter_names(&self) -> Vec<String> {
-        self.bodies
+        let mut names: Vec<String> = self
+            .bodies
             .iter()
             .flat_map(|b| PARAM_NAMES.iter().map(move |p| format!("{p}[{}]", b.name)))
+            .collect();
+        for j in &self.joints {
+            names.extend(
+                self.joint_terms
+                    .kinds
+                    .iter()
+                    .map(|k| format!("{}[{}]", k.symbol(), j.name)),
+            );
+        }
+        names
+    }
+
+    /// Index in θ of joint `joint`'s parameter of kind `kind`, if the model has that column.
+    pub fn joint_term_index(&self, joint: usize, kind: JointTermKind) -> Option<usize> {
+        let pos = self.joint_terms.kinds.iter().position(|&k| k == kind)?;
+        Some(self.inertial_parameter_count() + joint * self.joint_terms.per_joint() + pos)
+    }
+
+    /// The same model with parameters θ (as [`Model::parameters`]): the joint-level values
+    /// of the chosen kinds are taken from θ (the inertial part is not a `Model` field that a
+    /// vector can set without a body decomposition; see `NumericDynamics::with_parameters`).
+    pub fn joint_term_values_from(&self, theta: &[f64]) -> Vec<JointTermValues> {
+        (0..self.dof())
+            .map(|j| {
+                let mut v = JointTermValues::default();
+                for &k in &self.joint_terms.kinds {
+                    if let Some(i) = self.joint_term_index(j, k) {
+                        v.set(k, theta[i]);
+                    }
+                }
+                v
+            })
             .collect()
     }
 
     /// The kind of each entry of [`Model::parameters`].
     pub fn parameter_kinds(&self) -> Vec<ParameterKind> {
         let per_body = (0..PARAMS_PER_BODY).map(ParameterKind::of_body_entry);
-        self.bodies.iter().flat_map(|_| per_body.clone()).collect()
+        let mut kinds: Vec<ParameterKind> = self.bodies.iter().flat_map(|_| per_body.clone()).collect();
+        for _ in &self.joints {
+            kinds.extend(self.joint_terms.kinds.iter().map(|k| k.parameter_kind()));
+        }
+        kinds
     }
 
     /// Joints from the base down to `joint` (inclusive), base first.

@@ -182,6 +182,7 @@ pub(super) fn validate(model: &Model) -> Result<Vec<Warning>, ModelError> {
     }
     check_pose(&ee.placement)
         .map_err(|m| ModelError(format!("end-effector '{}': placement {m}", ee.name)))?;
+    check_joint_terms(model).map_err(ModelError)?;
 
     let mut has_child = vec![false; n];
     for p in model.joints.iter().filter_map(|j| j.parent) {
@@ -203,6 +204,40 @@ pub(super) fn validate(model: &Model) -> Result<Vec<Warning>, ModelError> {
         })
         .collect();
     Ok(warnings)
+}
+
+/// Joint-level parameters: kinds in column order without repeats, one value set per joint
+/// (or none), finite values, non-negative armature and friction, a positive smoothing.
+fn check_joint_terms(model: &Model) -> Result<(), String> {
+    let t = &model.joint_terms;
+    if crate::model::JointTerms::normalized_kinds(&t.kinds) != t.kinds {
+        return Err("joint-parameter kinds are not in column order or repeat".into());
+    }
+    if !t.values.is_empty() && t.values.len() != model.dof() {
+        return Err(format!(
+            "{} joint-parameter sets for {} joints",
+            t.values.len(),
+            model.dof()
+        ));
+    }
+    if let Some(eps) = t.coulomb_smoothing {
+        if !(eps.is_finite() && eps > 0.0) {
+            return Err(format!("Coulomb smoothing {eps} is not a positive number"));
+        }
+    }
+    for (v, joint) in t.values.iter().zip(&model.joints) {
+        for kind in crate::model::JointTermKind::ALL {
+            let x = v.get(kind);
+            if !x.is_finite() || (kind.is_non_negative() && x < 0.0) {
+                return Err(format!(
+                    "joint '{}': {} {x} is invalid",
+                    joint.name,
+                    kind.keyword()
+                ));
+            }
+        }
+    }
+    Ok(())
 }
 
 fn finite3(v: &Vector3<f64>) -> bool {
@@ -255,6 +290,7 @@ mod tests {
                 inertia,
             }],
             gravity: Vector3::new(0.0, 0.0, -9.81),
+            joint_terms: Default::default(),
             end_effector: Frame {
                 name: "ee".into(),
                 parent: 0,

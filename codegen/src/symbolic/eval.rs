@@ -15,6 +15,8 @@ pub fn evaluate(graph: &Graph, inputs: &[f64], outputs: &[Id]) -> Vec<f64> {
             Node::Input(k) => inputs[k as usize],
             Node::Sin(a) => v(a).sin(),
             Node::Cos(a) => v(a).cos(),
+            Node::Sign(a) => crate::scalar::sign(v(a)),
+            Node::Tanh(a) => v(a).tanh(),
             Node::Neg(a) => -v(a),
             Node::Add(a, b) => v(a) + v(b),
             Node::Sub(a, b) => v(a) - v(b),

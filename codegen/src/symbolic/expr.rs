@@ -89,4 +89,10 @@ impl Scalar for Expr {
     fn cos(self) -> Self {
         Expr(with_graph(|g| g.cos(self.0)))
     }
+    fn sign(self) -> Self {
+        Expr(with_graph(|g| g.sign(self.0)))
+    }
+    fn tanh(self) -> Self {
+        Expr(with_graph(|g| g.tanh(self.0)))
+    }
 }

@@ -17,6 +17,10 @@ pub enum Node {
     Input(u32),
     Sin(Id),
     Cos(Id),
+    /// `sign(a)`, 0 at 0 (Coulomb friction).
+    Sign(Id),
+    /// `tanh(a)` (smoothed Coulomb friction).
+    Tanh(Id),
     Neg(Id),
     Add(Id, Id),
     Sub(Id, Id),
@@ -34,6 +38,8 @@ pub struct OpCounts {
     pub div: usize,
     /// Sines and cosines taken inside the function (joint angles' ones come precomputed).
     pub trig: usize,
+    /// Signs and hyperbolic tangents (Coulomb friction of joint-level parameters).
+    pub friction: usize,
 }
 
 #[derive(Clone, Debug, Default)]
@@ -245,6 +251,20 @@ impl Graph {
         }
     }
 
+    pub fn sign(&mut self, a: Id) -> Id {
+        match self.constant_value(a) {
+            Some(x) => self.constant(crate::scalar::sign(x)),
+            None => self.intern(Node::Sign(a)),
+        }
+    }
+
+    pub fn tanh(&mut self, a: Id) -> Id {
+        match self.constant_value(a) {
+            Some(x) => self.constant(x.tanh()),
+            None => self.intern(Node::Tanh(a)),
+        }
+    }
+
     /// Which nodes the `outputs` depend on (dead-code elimination), indexed by node.
     pub fn live(&self, outputs: &[Id]) -> Vec<bool> {
         let mut live = vec![false; self.nodes.len()];
@@ -265,7 +285,7 @@ impl Graph {
     pub fn operands(&self, id: Id) -> Vec<Id> {
         match self.node(id) {
             Node::Const(_) | Node::Input(_) => vec![],
-            Node::Sin(a) | Node::Cos(a) | Node::Neg(a) => vec![a],
+            Node::Sin(a) | Node::Cos(a) | Node::Sign(a) | Node::Tanh(a) | Node::Neg(a) => vec![a],
             Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => vec![a, b],
         }
     }
@@ -285,6 +305,7 @@ impl Graph {
                 Node::Div(..) => c.div += 1,
                 Node::Neg(_) => c.neg += 1,
                 Node::Sin(a) | Node::Cos(a) if !matches!(self.node(a), Node::Input(_)) => c.trig += 1,
+                Node::Sign(_) | Node::Tanh(_) => c.friction += 1,
                 _ => {}
             }
         }

@@ -1,7 +1,9 @@
 //! Adaptive hybrid force/position control demo: approach a table, press with a smooth ramp to
 //! 10 N, then track a 5 cm-radius circle at 0.25 Hz for 8 s while holding the force, with the
 //! null space regulating the posture. Three runs side by side: adaptive from θ̂(0) = 0.5·θ_desc
-//! (payload unknown), the same with adaptation off, and the known-parameter law.
+//! (payload unknown), the same with adaptation off, and the known-parameter law. `--task pose`
+//! also turns the tool to vertical and holds its orientation (task dimension 6), `--task
+//! tool-axis` holds only the tool axis vertical (5).
 //!
 //! `cargo run --release -p dyngen-control --example hybrid_force -- --out out/hybrid_force`
 //!
@@ -11,12 +13,12 @@ mod svg;
 
 use clap::{Parser, ValueEnum};
 use dyngen_control::sim::{
-    start_posture, Demo, DemoOptions, NoiseConfig, RunKind, RunResult, RunStatus, Sample,
+    start_posture_for, summary_table, write_csv, Demo, DemoOptions, NoiseConfig, RunKind, RunResult,
+    RunStatus, Sample,
 };
 use dyngen_generated::{arm7, panda, ur5, Arm7, Panda, Ur5};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{BaseParameters, Kinematics, Parameterization};
-use std::fmt::Write as _;
 use std::io::{IsTerminal as _, Write as _};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -29,12 +31,27 @@ enum Robot {
     Ur5,
 }
 
+/// What of the end-effector's pose the task controls.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum Task {
+    /// Position only (task dimension 3).
+    Position,
+    /// Position and the direction of the tool axis, free rotation about it (5).
+    ToolAxis,
+    /// Position and orientation (6).
+    Pose,
+}
+
 #[derive(Parser, Debug)]
 #[command(about = "Adaptive hybrid force/position control on a table: three laws side by side")]
 struct Args {
     /// Robot (a committed generated robot).
     #[arg(long, value_enum, default_value = "arm7")]
     robot: Robot,
+    /// Task: position (m = 3), tool-axis (m = 5: position, tool axis held vertical) or pose
+    /// (m = 6: position, tool turned to vertical and its orientation held).
+    #[arg(long, value_enum, default_value = "position")]
+    task: Task,
     /// Directory for the CSV files and plots (created if missing).
     #[arg(long, default_value = "hybrid_force_out")]
     out: PathBuf,
@@ -133,32 +150,36 @@ fn run_robot<R, const N: usize, const P: usize, const B: usize>(args: &Args) -> 
 where
     R: BaseParameters<N, P, B>,
 {
-    let q0 = match &args.start {
-        Some(q) if q.len() == N => SVector::from_column_slice(q),
-        Some(q) => {
-            return Err(format!(
-                "--start has {} values; {} has {N} joints",
-                q.len(),
-                R::NAME
-            ))
-        }
-        None => start_posture::<N>(R::NAME)
-            .ok_or_else(|| format!("no start posture for robot {}: give one with --start", R::NAME))?,
-    };
+    let q0 = start_posture_for::<R, N>(args.start.as_deref())?;
     if args.standard {
-        run::<dyngen_runtime::Standard<R>, N, P>(args, q0)
+        run_task::<dyngen_runtime::Standard<R>, N, P>(args, q0)
     } else {
-        run::<dyngen_runtime::Base<R, P>, N, B>(args, q0)
+        run_task::<dyngen_runtime::Base<R, P>, N, B>(args, q0)
+    }
+}
+
+/// The task dimension is a type too: 3, 5 or 6.
+fn run_task<Z, const N: usize, const M: usize>(args: &Args, q0: SVector<f64, N>) -> Result<bool, String>
+where
+    Z: Parameterization<N, M>,
+{
+    match args.task {
+        Task::Position => run::<Z, N, M, 3>(args, q0),
+        Task::ToolAxis => run::<Z, N, M, 5>(args, q0),
+        Task::Pose => run::<Z, N, M, 6>(args, q0),
     }
 }
 
 /// Runs the three laws; `Ok(false)` if one diverged (its data is still written).
-fn run<Z, const N: usize, const M: usize>(args: &Args, q0: SVector<f64, N>) -> Result<bool, String>
+fn run<Z, const N: usize, const M: usize, const T: usize>(
+    args: &Args,
+    q0: SVector<f64, N>,
+) -> Result<bool, String>
 where
     Z: Parameterization<N, M>,
 {
     let opts = options(args);
-    let demo = Demo::<Z, N, M>::new(opts, q0).map_err(|e| e.to_string())?;
+    let demo = Demo::<Z, N, M, T>::new(opts, q0).map_err(|e| e.to_string())?;
     std::fs::create_dir_all(&args.out).map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
 
     let from = demo.metrics_from();
@@ -172,6 +193,22 @@ where
         match opts.stiffness_estimation {
             Some((f, g)) => format!(", stiffness estimated online from {f}·k (γ = {g})"),
             None => String::new(),
+        }
+    );
+    println!(
+        "task: {}",
+        match args.task {
+            Task::Position => "position (m = 3), orientation free".to_string(),
+            Task::ToolAxis => format!(
+                "position and tool axis (m = 5): tool axis turned by {:.1}° to vertical by t = {:.1} s and held, free rotation about it",
+                demo.scenario.turn_angle.to_degrees(),
+                demo.scenario.turn_time()
+            ),
+            Task::Pose => format!(
+                "position and orientation (m = 6): tool turned by {:.1}° to vertical by t = {:.1} s and held",
+                demo.scenario.turn_angle.to_degrees(),
+                demo.scenario.turn_time()
+            ),
         }
     );
     println!(
@@ -222,35 +259,14 @@ where
 
     println!();
     println!("over the last 4 s (t ≥ {from:.1} s):");
-    println!(
-        "| run | RMS force error (N) | RMS in-plane error (mm) | final null-space error (rad) | max abs(τ) (N·m) | control tick (µs, median) | status |"
-    );
-    println!("|---|---|---|---|---|---|---|");
-    for (kind, res) in &results {
-        let s = res.summary(from);
-        // No sample in the window (a run that diverged before it): say so rather than NaN.
-        let sci = |v: f64| {
-            if v.is_finite() {
-                format!("{v:.3e}")
-            } else {
-                "—".to_string()
-            }
-        };
-        println!(
-            "| {} | {} | {} | {:.3e} | {:.1} | {:.2} | {} |",
-            kind.label(),
-            sci(s.rms_force_error),
-            sci(s.rms_in_plane_error * 1e3),
-            s.final_null_error,
-            s.max_tau,
-            s.median_tick_ns / 1e3,
-            match &res.status {
-                RunStatus::Completed => "completed".to_string(),
-                RunStatus::Diverged { time, .. } => format!("diverged at {time:.3} s"),
-            }
+    let oriented = T > 3;
+    print!("{}", summary_table(&results, from, oriented));
+    let mut written = write_plots(&args.out, &results).map_err(|e| format!("cannot write plots: {e}"))?;
+    if oriented {
+        written.push(
+            write_orientation_plot(&args.out, &results).map_err(|e| format!("cannot write plots: {e}"))?,
         );
     }
-    let written = write_plots(&args.out, &results).map_err(|e| format!("cannot write plots: {e}"))?;
     println!();
     println!(
         "wrote {} and the per-run CSV files into {}",
@@ -258,32 +274,6 @@ where
         args.out.display()
     );
     Ok(all_ok)
-}
-
-fn write_csv(path: &Path, samples: &[Sample]) -> std::io::Result<()> {
-    let mut s = String::from(
-        "t,force,true_force,desired_force,force_error,in_plane_error_m,null_error,lyapunov,theta_error,tau_max,tick_ns,damping,stiffness\n",
-    );
-    for x in samples {
-        let _ = writeln!(
-            s,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{}",
-            x.t,
-            x.force,
-            x.true_force,
-            x.desired_force,
-            x.force_error,
-            x.in_plane_error,
-            x.null_error,
-            x.lyapunov,
-            x.theta_error,
-            x.tau_max,
-            x.tick_ns,
-            x.damping,
-            x.stiffness
-        );
-    }
-    std::fs::write(path, s)
 }
 
 const COLOURS: [&str; 3] = ["#1f77b4", "#d62728", "#2ca02c"];
@@ -363,4 +353,47 @@ fn write_plots(dir: &Path, results: &[(RunKind, RunResult)]) -> std::io::Result<
     std::fs::write(dir.join("hybrid_force.svg"), svg::render(&panels))?;
     written.insert(0, "hybrid_force.svg".into());
     Ok(written)
+}
+
+/// For tasks with orientation rows: force, in-plane error and orientation error of the three
+/// runs stacked in one figure, `hybrid_force_orientation.svg`.
+fn write_orientation_plot(dir: &Path, results: &[(RunKind, RunResult)]) -> std::io::Result<String> {
+    let decimate = |samples: &[Sample], f: &dyn Fn(&Sample) -> f64| -> Vec<(f64, f64)> {
+        let step = (samples.len() / 800).max(1);
+        samples.iter().step_by(step).map(|s| (s.t, f(s))).collect()
+    };
+    type Getter = fn(&Sample) -> f64;
+    let quantities: [(&str, &str, bool, Getter); 3] = [
+        ("normal force F_t (N)", "N", false, |s| s.true_force),
+        ("in-plane position error ‖K⁻x̃‖ (mm)", "mm", true, |s| {
+            s.in_plane_error * 1e3
+        }),
+        (
+            "orientation error: angle to the desired orientation (mrad)",
+            "mrad",
+            true,
+            |s| s.orientation_error * 1e3,
+        ),
+    ];
+    let panels: Vec<svg::Panel> = quantities
+        .iter()
+        .map(|(title, unit, log, get)| svg::Panel {
+            title,
+            y_label: unit,
+            log: *log,
+            series: results
+                .iter()
+                .enumerate()
+                .map(|(i, (k, r))| svg::Series {
+                    label: k.label(),
+                    colour: COLOURS[i % 3],
+                    dashed: false,
+                    points: decimate(&r.samples, get),
+                })
+                .collect(),
+        })
+        .collect();
+    let file = "hybrid_force_orientation.svg".to_string();
+    std::fs::write(dir.join(&file), svg::render(&panels))?;
+    Ok(file)
 }

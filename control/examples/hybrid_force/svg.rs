@@ -1,9 +1,16 @@
-//! A small SVG writer: stacked panels of time series (polylines), linear or log axes.
+//! The demo's plots with `plotters` (SVG backend only): stacked panels of time series, linear
+//! or logarithmic y axis, a legend to the right of each panel.
 
-use std::fmt::Write as _;
+use plotters::coord::ranged1d::{Ranged, ValueFormatter};
+use plotters::coord::types::RangedCoordf64;
+use plotters::coord::Shift;
+use plotters::element::DashedPathElement;
+use plotters::prelude::*;
+use std::ops::Range;
 
 pub struct Series<'a> {
     pub label: &'a str,
+    /// `#rrggbb` or `#rgb`.
     pub colour: &'a str,
     pub dashed: bool,
     pub points: Vec<(f64, f64)>,
@@ -16,32 +23,172 @@ pub struct Panel<'a> {
     pub series: Vec<Series<'a>>,
 }
 
-const W: f64 = 900.0;
-const H: f64 = 230.0;
-const LEFT: f64 = 80.0;
-const RIGHT: f64 = 170.0;
-const TOP: f64 = 28.0;
-const BOTTOM: f64 = 36.0;
+const WIDTH: u32 = 900;
+const PANEL_HEIGHT: u32 = 230;
+const LEGEND_WIDTH: u32 = 170;
+/// A log axis spans at most this many decades below the largest value.
+const LOG_DECADES: f64 = 14.0;
+const FONT: &str = "sans-serif";
 
-fn nice_ticks(lo: f64, hi: f64, n: usize) -> Vec<f64> {
-    let span = (hi - lo).max(1e-300);
-    let raw = span / n as f64;
-    let mag = 10f64.powf(raw.log10().floor());
-    let step = [1.0, 2.0, 5.0, 10.0]
-        .iter()
-        .map(|m| m * mag)
-        .find(|s| *s >= raw)
-        .unwrap_or(10.0 * mag);
-    let mut t = (lo / step).ceil() * step;
-    let mut v = Vec::new();
-    while t <= hi + 1e-9 * step {
-        v.push(if t.abs() < 1e-12 * step { 0.0 } else { t });
-        t += step;
+/// Renders the panels one above the other into an SVG document.
+pub fn render(panels: &[Panel]) -> String {
+    let mut svg = String::new();
+    {
+        let height = PANEL_HEIGHT * panels.len().max(1) as u32;
+        let root = SVGBackend::with_string(&mut svg, (WIDTH, height)).into_drawing_area();
+        // Drawing into a string cannot fail for I/O reasons; an error here is a bug.
+        root.fill(&WHITE).expect("SVG background");
+        for (area, panel) in root.split_evenly((panels.len().max(1), 1)).iter().zip(panels) {
+            draw_panel(area, panel).expect("SVG panel");
+        }
+        root.present().expect("SVG document");
     }
-    v
+    svg
 }
 
-fn fmt_tick(v: f64) -> String {
+type DrawResult = Result<(), DrawingAreaErrorKind<std::io::Error>>;
+
+fn draw_panel(area: &DrawingArea<SVGBackend, Shift>, panel: &Panel) -> DrawResult {
+    let (plot, legend) = area.split_horizontally(WIDTH - LEGEND_WIDTH);
+    let (x, y) = data_ranges(panel);
+    if panel.log {
+        let axis: LogCoord<f64> = (10f64.powf(y.start)..10f64.powf(y.end)).log_scale().into();
+        draw_chart(&plot, panel, x, axis, &|v: &f64| format!("{v:.0e}"))?;
+    } else {
+        let axis: RangedCoordf64 = y.into();
+        draw_chart(&plot, panel, x, axis, &|v: &f64| tick(*v))?;
+    }
+    draw_legend(&legend, panel)
+}
+
+/// The x range of all points (the whole run, even where nothing can be drawn) and the y range
+/// of the drawable ones (of log10 y on a log axis) with a margin.
+fn data_ranges(panel: &Panel) -> (Range<f64>, Range<f64>) {
+    let (mut x_lo, mut x_hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    let (mut y_lo, mut y_hi) = (f64::INFINITY, f64::NEG_INFINITY);
+    for &(x, y) in panel.series.iter().flat_map(|s| &s.points) {
+        if !x.is_finite() {
+            continue;
+        }
+        (x_lo, x_hi) = (x_lo.min(x), x_hi.max(x));
+        if let Some(y) = plotted(panel, y) {
+            let y = if panel.log { y.log10() } else { y };
+            (y_lo, y_hi) = (y_lo.min(y), y_hi.max(y));
+        }
+    }
+    if !x_lo.is_finite() {
+        (x_lo, x_hi) = (0.0, 1.0);
+    }
+    if !y_lo.is_finite() {
+        (y_lo, y_hi) = (0.0, 1.0);
+    }
+    if x_hi - x_lo < 1e-12 {
+        x_hi = x_lo + 1.0;
+    }
+    if panel.log {
+        // whole decades, and no more of them than can be read
+        (y_lo, y_hi) = (y_lo.floor().max(y_hi.ceil() - LOG_DECADES), y_hi.ceil());
+        if y_hi - y_lo < 1.0 {
+            y_lo = y_hi - 1.0;
+        }
+    } else {
+        if y_hi - y_lo < 1e-12 {
+            (y_lo, y_hi) = (y_lo - 0.5, y_hi + 0.5);
+        }
+        let pad = 0.05 * (y_hi - y_lo);
+        (y_lo, y_hi) = (y_lo - pad, y_hi + pad);
+    }
+    (x_lo..x_hi, y_lo..y_hi)
+}
+
+/// The value to draw, or `None` where the line must break (not finite, or ≤ 0 on a log axis).
+fn plotted(panel: &Panel, y: f64) -> Option<f64> {
+    (y.is_finite() && (!panel.log || y > 0.0)).then_some(y)
+}
+
+fn draw_chart<Y>(
+    area: &DrawingArea<SVGBackend, Shift>,
+    panel: &Panel,
+    x: Range<f64>,
+    y: Y,
+    y_format: &dyn Fn(&f64) -> String,
+) -> DrawResult
+where
+    Y: Ranged<ValueType = f64> + ValueFormatter<f64>,
+{
+    let mut chart = ChartBuilder::on(area)
+        .caption(panel.title, (FONT, 17).into_font().style(FontStyle::Bold))
+        .margin_left(10)
+        .margin_right(6)
+        .margin_top(6)
+        .x_label_area_size(32)
+        .y_label_area_size(64)
+        .build_cartesian_2d(x, y)?;
+    chart
+        .configure_mesh()
+        .light_line_style(WHITE.mix(0.0))
+        .bold_line_style(RGBColor(0xdd, 0xdd, 0xdd))
+        .axis_style(RGBColor(0x88, 0x88, 0x88))
+        .x_desc("t (s)")
+        .y_desc(panel.y_label)
+        .x_labels(12)
+        .y_labels(6)
+        .x_label_formatter(&|v| tick(*v))
+        .y_label_formatter(y_format)
+        .label_style((FONT, 14))
+        .axis_desc_style((FONT, 14))
+        .draw()?;
+    let (lo, hi) = {
+        let range = chart.y_range();
+        (range.start, range.end)
+    };
+    for series in &panel.series {
+        let style = colour(series.colour).stroke_width(1);
+        // One line per run of drawable points: gaps stay gaps.
+        let mut segment: Vec<(f64, f64)> = Vec::new();
+        let mut segments = Vec::new();
+        for &(t, v) in &series.points {
+            match plotted(panel, v).filter(|_| t.is_finite()) {
+                Some(v) => segment.push((t, v.clamp(lo, hi))),
+                None if !segment.is_empty() => segments.push(std::mem::take(&mut segment)),
+                None => {}
+            }
+        }
+        if !segment.is_empty() {
+            segments.push(segment);
+        }
+        for points in segments {
+            if series.dashed {
+                chart.draw_series(DashedLineSeries::new(points, 5, 4, style))?;
+            } else {
+                chart.draw_series(LineSeries::new(points, style))?;
+            }
+        }
+    }
+    Ok(())
+}
+
+fn draw_legend(area: &DrawingArea<SVGBackend, Shift>, panel: &Panel) -> DrawResult {
+    for (i, series) in panel.series.iter().enumerate() {
+        let y = 40 + 18 * i as i32;
+        let style = colour(series.colour).stroke_width(2);
+        let line = vec![(6, y), (30, y)];
+        if series.dashed {
+            area.draw(&DashedPathElement::new(line, 5, 4, style))?;
+        } else {
+            area.draw(&PathElement::new(line, style))?;
+        }
+        area.draw(&Text::new(
+            series.label,
+            (36, y - 6),
+            (FONT, 14).into_font().color(&BLACK),
+        ))?;
+    }
+    Ok(())
+}
+
+/// A tick label without trailing zeros, in exponent form for very large or small values.
+fn tick(v: f64) -> String {
     if v == 0.0 {
         "0".into()
     } else if v.abs() >= 1e4 || v.abs() < 1e-3 {
@@ -52,142 +199,19 @@ fn fmt_tick(v: f64) -> String {
     }
 }
 
-/// Renders the panels one above the other.
-pub fn render(panels: &[Panel]) -> String {
-    let total_h = H * panels.len() as f64;
-    let mut s = String::new();
-    let _ = writeln!(
-        s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{W}" height="{total_h}" viewBox="0 0 {W} {total_h}" font-family="sans-serif" font-size="11">"#
-    );
-    let _ = writeln!(s, r#"<rect width="100%" height="100%" fill="white"/>"#);
-    for (k, p) in panels.iter().enumerate() {
-        let y0 = k as f64 * H;
-        let (pw, ph) = (W - LEFT - RIGHT, H - TOP - BOTTOM);
-        let tf = |v: f64| if p.log { v.max(1e-300).log10() } else { v };
-        let pts = p
-            .series
-            .iter()
-            .flat_map(|s| s.points.iter())
-            .filter(|(x, y)| x.is_finite() && y.is_finite() && (!p.log || *y > 0.0));
-        let (mut x_lo, mut x_hi, mut y_lo, mut y_hi) =
-            (f64::INFINITY, f64::NEG_INFINITY, f64::INFINITY, f64::NEG_INFINITY);
-        for &(x, y) in pts {
-            x_lo = x_lo.min(x);
-            x_hi = x_hi.max(x);
-            y_lo = y_lo.min(tf(y));
-            y_hi = y_hi.max(tf(y));
-        }
-        if !x_lo.is_finite() {
-            (x_lo, x_hi, y_lo, y_hi) = (0.0, 1.0, 0.0, 1.0);
-        }
-        if p.log {
-            y_lo = y_lo.floor().max(y_hi - 14.0);
-            y_hi = y_hi.ceil();
-        }
-        if y_hi - y_lo < 1e-12 {
-            y_hi += 0.5;
-            y_lo -= 0.5;
-        }
-        let pad = if p.log { 0.0 } else { 0.05 * (y_hi - y_lo) };
-        let (y_lo, y_hi) = (y_lo - pad, y_hi + pad);
-        let sx = |x: f64| LEFT + (x - x_lo) / (x_hi - x_lo).max(1e-12) * pw;
-        let sy = |y: f64| y0 + TOP + (1.0 - (tf(y).clamp(y_lo, y_hi) - y_lo) / (y_hi - y_lo)) * ph;
-        let _ = writeln!(
-            s,
-            r#"<text x="{LEFT}" y="{}" font-size="13" font-weight="bold">{}</text>"#,
-            y0 + 18.0,
-            p.title
-        );
-        let _ = writeln!(
-            s,
-            r##"<rect x="{LEFT}" y="{}" width="{pw}" height="{ph}" fill="none" stroke="#888"/>"##,
-            y0 + TOP
-        );
-        // y ticks
-        let ticks: Vec<f64> = if p.log {
-            (y_lo.ceil() as i64..=y_hi.floor() as i64)
-                .map(|e| e as f64)
-                .collect()
+fn colour(hex: &str) -> RGBColor {
+    let digits = hex.trim_start_matches('#');
+    let channel = |i: usize, width: usize| {
+        let c = u8::from_str_radix(&digits[i * width..(i + 1) * width], 16).unwrap_or(0);
+        if width == 1 {
+            c * 17
         } else {
-            nice_ticks(y_lo, y_hi, 4)
-        };
-        for t in ticks {
-            let v = if p.log { 10f64.powf(t) } else { t };
-            let y = sy(v);
-            let _ = writeln!(
-                s,
-                r##"<line x1="{LEFT}" x2="{}" y1="{y:.1}" y2="{y:.1}" stroke="#ddd"/><text x="{}" y="{:.1}" text-anchor="end">{}</text>"##,
-                LEFT + pw,
-                LEFT - 4.0,
-                y + 4.0,
-                if p.log {
-                    format!("1e{}", t as i64)
-                } else {
-                    fmt_tick(v)
-                }
-            );
+            c
         }
-        for t in nice_ticks(x_lo, x_hi, 10) {
-            let x = sx(t);
-            let _ = writeln!(
-                s,
-                r##"<line x1="{x:.1}" x2="{x:.1}" y1="{}" y2="{}" stroke="#eee"/><text x="{x:.1}" y="{}" text-anchor="middle">{}</text>"##,
-                y0 + TOP,
-                y0 + TOP + ph,
-                y0 + TOP + ph + 14.0,
-                fmt_tick(t)
-            );
-        }
-        let _ = writeln!(
-            s,
-            r#"<text x="{}" y="{}" text-anchor="middle">t (s)</text><text x="14" y="{}" transform="rotate(-90 14 {})" text-anchor="middle">{}</text>"#,
-            LEFT + pw / 2.0,
-            y0 + H - 6.0,
-            y0 + TOP + ph / 2.0,
-            y0 + TOP + ph / 2.0,
-            p.y_label
-        );
-        for (i, ser) in p.series.iter().enumerate() {
-            let mut d = String::new();
-            let mut pen_down = false;
-            for &(x, y) in &ser.points {
-                if !(x.is_finite() && y.is_finite()) || (p.log && y <= 0.0) {
-                    pen_down = false;
-                    continue;
-                }
-                let _ = write!(
-                    d,
-                    "{}{:.1},{:.1} ",
-                    if pen_down { "L" } else { "M" },
-                    sx(x),
-                    sy(y)
-                );
-                pen_down = true;
-            }
-            let dash = if ser.dashed {
-                r#" stroke-dasharray="5,4""#
-            } else {
-                ""
-            };
-            let _ = writeln!(
-                s,
-                r#"<path d="{d}" fill="none" stroke="{}" stroke-width="1.3"{dash}/>"#,
-                ser.colour
-            );
-            let ly = y0 + TOP + 12.0 + 16.0 * i as f64;
-            let lx = LEFT + pw + 10.0;
-            let _ = writeln!(
-                s,
-                r#"<line x1="{lx}" x2="{}" y1="{ly}" y2="{ly}" stroke="{}" stroke-width="2"{dash}/><text x="{}" y="{}">{}</text>"#,
-                lx + 22.0,
-                ser.colour,
-                lx + 27.0,
-                ly + 4.0,
-                ser.label
-            );
-        }
+    };
+    match digits.len() {
+        3 => RGBColor(channel(0, 1), channel(1, 1), channel(2, 1)),
+        6 => RGBColor(channel(0, 2), channel(1, 2), channel(2, 2)),
+        _ => BLACK,
     }
-    s.push_str("</svg>\n");
-    s
 }

@@ -9,6 +9,9 @@ pub struct GammaByKind {
     pub mass: f64,
     pub first_moment: f64,
     pub inertia: f64,
+    /// Joint-level parameters (armature, friction, offset), for robots whose description
+    /// chooses those regressor columns.
+    pub joint: f64,
 }
 
 impl Default for GammaByKind {
@@ -18,6 +21,7 @@ impl Default for GammaByKind {
             mass: 100.0,
             first_moment: 10.0,
             inertia: 1.0,
+            joint: 1.0,
         }
     }
 }
@@ -29,6 +33,10 @@ impl GammaByKind {
             ParameterKind::Mass => self.mass,
             ParameterKind::FirstMoment => self.first_moment,
             ParameterKind::Inertia => self.inertia,
+            ParameterKind::Armature
+            | ParameterKind::ViscousFriction
+            | ParameterKind::CoulombFriction
+            | ParameterKind::Offset => self.joint,
         }
     }
 

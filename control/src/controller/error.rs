@@ -6,21 +6,38 @@ pub enum ConfigError {
     #[error("gain {name} is not positive definite: {detail}")]
     NotPositiveDefinite { name: &'static str, detail: String },
     #[error(
-        "contact stiffness K ({rows}×3) is not of full row rank: smallest singular value {sigma_min:.3e} \
+        "contact stiffness K ({rows}×{cols}) is not of full row rank: smallest singular value {sigma_min:.3e} \
          (needs > {threshold:.1e} relative to the largest)"
     )]
     StiffnessRankDeficient {
         rows: usize,
+        cols: usize,
         sigma_min: f64,
         threshold: f64,
     },
-    #[error("task dimension {task} is larger than the robot's {dof} degrees of freedom")]
+    #[error("contact stiffness K is inconsistent with the task: {0}")]
+    StiffnessShape(String),
+    #[error("task dimension {task} asks for more directions than the robot's {dof} degrees of freedom")]
     TaskDimension { task: usize, dof: usize },
+    #[error(
+        "task dimension {task} does not match its orientation task, {orientation} ({expected} rows); \
+         supported: 3 (position), 5 (position + tool axis), 6 (position + orientation)"
+    )]
+    TaskKind {
+        task: usize,
+        orientation: super::task::Orientation,
+        expected: usize,
+    },
+    #[error(
+        "the desired orientation is {angle_deg:.1}° from the start orientation (at most {limit_deg}°): the \
+         rotation error sin φ·u falls beyond 90° and vanishes at 180°; approach it in smaller steps"
+    )]
+    OrientationTooFar { angle_deg: f64, limit_deg: f64 },
     #[error("desired force contradicts the contact model: {0}")]
     ForceContradictsContact(String),
     #[error(
-        "the robot starts at a singular configuration: smallest singular value of the position \
-         Jacobian {sigma:.3e} m/rad is below {threshold:.3e}"
+        "the robot starts at a singular configuration: smallest singular value of the task \
+         Jacobian {sigma:.3e} is below {threshold:.3e}"
     )]
     SingularStart { sigma: f64, threshold: f64 },
     #[error(

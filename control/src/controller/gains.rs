@@ -51,8 +51,14 @@ impl<const N: usize, const M: usize> Gains<N, M> {
         Ok(())
     }
 
-    /// `λ_max(D̂⁻¹ G)` by power iteration on the symmetric `L⁻¹ G L⁻ᵀ` (`D̂ = L Lᵀ`). The
-    /// discrete-time limit of the notes is `λ_max(D⁻¹G)·dt ≲ 1.5`.
+    /// `λ_max(D̂⁻¹ G)`, the fastest mode of `D̂ ṙ = −G r`: 200 steps of power iteration
+    /// `x ← D̂⁻¹ G x / ‖D̂⁻¹ G x‖` from `x ∝ (1, …, 1)` (a Cholesky solve each, no convergence
+    /// test, stopping early only if the iterate vanishes or is not finite), returning the
+    /// generalised Rayleigh quotient `xᵀGx / xᵀD̂x` of the iterate the last step started from.
+    /// The eigenvalues of `D̂⁻¹G` are real and positive (those of the symmetric `L⁻¹ G L⁻ᵀ`,
+    /// `D̂ = L Lᵀ`) and that quotient lies between the smallest and the largest, so the result
+    /// never exceeds `λ_max`; when `G = κ D̂` for this very `D̂` it is exactly `κ`. The sampling
+    /// limit checked with it is `λ_max(D̂⁻¹G)·dt ≲ 1.5` (`docs/controller.md`).
     pub fn stiffest_mode(&self, d_hat: &SMatrix<f64, N, N>) -> Result<f64, ConfigError> {
         let chol = Cholesky::new(*d_hat).ok_or_else(|| ConfigError::NotPositiveDefinite {
             name: "D̂(q₀)",
@@ -87,7 +93,8 @@ where
     (d + d.transpose()) * 0.5
 }
 
-/// `G = κ D̂(q₀)`, the full SPD gain that worked at 1 kHz (controller note, practical notes).
+/// `G = κ D̂(q₀)`, the full SPD gain that is stable at 1 kHz where a diagonal one is not
+/// (`docs/controller.md`, gains).
 pub fn inertia_shaped_gain<Z, const N: usize, const M: usize>(
     kappa: f64,
     q0: &SVector<f64, N>,

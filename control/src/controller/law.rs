@@ -5,16 +5,18 @@
 use super::adaptation::parameter_rate;
 use super::error::{ConfigError, TickError};
 use super::gains::Gains;
+use super::orientation::{orientation_angle, OrientationRows};
 use super::projections::{smallest_singular, Projections, SingularityGuard};
 use super::reference::{reference, Desired, Measurement, Reference, ReferenceGains};
 use super::stiffness_estimator::StiffnessEstimator;
-use super::task::{ContactTask, Split};
-use dyngen_runtime::{JointTrig, Kinematics, Parameterization};
-use nalgebra::{SMatrix, SVector};
+use super::task::{ContactTask, Orientation, Split};
+use dyngen_runtime::{JointTrig, Kinematics, Parameterization, Pose};
+use nalgebra::{SMatrix, SVector, Vector3};
 use std::marker::PhantomData;
 
-/// Task dimension: end-effector position.
-pub const TASK_DIM: usize = 3;
+/// The largest angle (degrees) between the start orientation and the desired one that the
+/// set-up accepts (see [`super::orientation`]).
+pub const MAX_START_ORIENTATION_ERROR_DEG: f64 = 90.0;
 
 /// Whether `θ̂` follows `θ̂̇ = −Γ Yᵀ r` or stays fixed.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -25,9 +27,9 @@ pub enum Adaptation {
 
 /// Everything the controller is configured with.
 #[derive(Clone, Copy, Debug)]
-pub struct ControllerConfig<const N: usize, const M: usize, const S: usize> {
+pub struct ControllerConfig<const N: usize, const M: usize, const T: usize = 3, const S: usize = 1> {
     pub gains: Gains<N, M>,
-    pub task: ContactTask<S>,
+    pub task: ContactTask<T, S>,
     pub guard: SingularityGuard,
     /// Per-joint torque limit (N·m): the torque is clamped to `±limit` (a guard, not part of
     /// the law; saturation voids the Lyapunov argument while it lasts).
@@ -51,31 +53,42 @@ pub struct ControlOutput<const N: usize, const M: usize, const S: usize> {
 
 /// The adaptive hybrid force/position controller, generic over the parameterisation `Z` of a
 /// robot's dynamics (`arm7::Base` or `arm7::Standard`: `Z` knows its robot), the robot's `N`
-/// joints, the `M` adapted parameters and the `S` force-controlled directions (one by
-/// default: a contact normal). A tick allocates nothing.
+/// joints, the `M` adapted parameters, the task dimension `T` (3 by default: position; 5:
+/// position and tool axis; 6: position and orientation, see [`ContactTask`]) and the `S`
+/// force-controlled directions (one by default: a contact normal). A tick allocates nothing.
 ///
-/// `HybridController<arm7::Base, { arm7::DOF }, { arm7::BASE_PARAMETER_COUNT }>`.
+/// `HybridController<arm7::Base, { arm7::DOF }, { arm7::BASE_PARAMETER_COUNT }>` (position),
+/// `HybridController<arm7::Base, { arm7::DOF }, { arm7::BASE_PARAMETER_COUNT }, 6>` (pose).
+/// The number of force-controlled directions comes last, as it changes least often.
 #[derive(Clone, Debug)]
-pub struct HybridController<Z, const N: usize, const M: usize, const S: usize = 1> {
-    config: ControllerConfig<N, M, S>,
-    split: Split<S>,
+pub struct HybridController<Z, const N: usize, const M: usize, const T: usize = 3, const S: usize = 1> {
+    config: ControllerConfig<N, M, T, S>,
+    split: Split<T, S>,
     theta_hat: SVector<f64, M>,
     estimator: Option<StiffnessEstimator<S>>,
     _robot: PhantomData<fn() -> Z>,
 }
 
-impl<Z, const N: usize, const M: usize, const S: usize> HybridController<Z, N, M, S>
+/// The task rows at one state: `J_T`, `J̇_T`, the orientation rows, the pose and the
+/// end-effector's linear velocity.
+struct TaskKinematics<const N: usize, const T: usize> {
+    pose: Pose,
+    velocity: Vector3<f64>,
+    j_force: SMatrix<f64, 3, N>,
+    j: SMatrix<f64, T, N>,
+    jd: SMatrix<f64, T, N>,
+    orientation: OrientationRows<T>,
+}
+
+impl<Z, const N: usize, const M: usize, const T: usize, const S: usize> HybridController<Z, N, M, T, S>
 where
     Z: Parameterization<N, M>,
 {
-    /// Checks the configuration (gains positive definite, `K` of full row rank, task dimension
-    /// at most the DOF) and builds the controller.
-    pub fn new(config: ControllerConfig<N, M, S>) -> Result<Self, ConfigError> {
-        if TASK_DIM > N {
-            return Err(ConfigError::TaskDimension {
-                task: TASK_DIM,
-                dof: N,
-            });
+    /// Checks the configuration (gains positive definite, `K` of full row rank and consistent
+    /// with the task, task dimension at most the DOF) and builds the controller.
+    pub fn new(config: ControllerConfig<N, M, T, S>) -> Result<Self, ConfigError> {
+        if T > N {
+            return Err(ConfigError::TaskDimension { task: T, dof: N });
         }
         config.gains.validate(config.adaptation == Adaptation::On)?;
         let split = config.task.validate()?;
@@ -101,31 +114,93 @@ where
     }
 
     /// Estimate the contact stiffness online (Remark 3, no stability proof) starting from
-    /// `k_hat0`, which replaces `K` in the law from the first tick on.
+    /// `k_hat0` (S×3: the position columns of `K`; the orientation columns stay zero), which
+    /// replaces `K` in the law from the first tick on.
     pub fn with_stiffness_estimation(
         mut self,
         k_hat0: &SMatrix<f64, S, 3>,
         rate: f64,
     ) -> Result<Self, ConfigError> {
         let est = StiffnessEstimator::new(k_hat0, rate)?;
-        self.split = Split::new(&est.stiffness())?;
+        self.split = Split::new(&pad_columns(&est.stiffness()))?;
         self.estimator = Some(est);
         Ok(self)
     }
 
-    /// Fails if `q0` is singular for the position task (below the guard's threshold).
-    pub fn check_start(&self, q0: &SVector<f64, N>) -> Result<(), ConfigError> {
-        let j6 = Z::Robot::jacobian(&JointTrig::new(q0));
-        let j: SMatrix<f64, 3, N> = j6.fixed_rows::<3>(0).into_owned();
-        let (sigma, _) = smallest_singular(&j);
+    /// Fails if `q0` is singular for the task (the smallest singular value of the task
+    /// Jacobian below the guard's threshold) or, for an orientation task, if the desired
+    /// orientation at the start `d0` is more than
+    /// [`MAX_START_ORIENTATION_ERROR_DEG`] away from the robot's.
+    pub fn check_start(&self, q0: &SVector<f64, N>, d0: &Desired<N, S>) -> Result<(), ConfigError> {
+        let k = Self::task_kinematics(&self.config.task, &JointTrig::new(q0), &SVector::zeros(), d0);
+        let (sigma, _) = smallest_singular(&k.j);
         let threshold = self.config.guard.sigma_threshold;
         if !(sigma.is_finite() && sigma >= threshold) {
             return Err(ConfigError::SingularStart { sigma, threshold });
         }
+        let angle = orientation_angle(&self.config.task.orientation, &k.pose.rotation, &d0.orientation);
+        let limit = MAX_START_ORIENTATION_ERROR_DEG;
+        if angle.is_finite() && angle.to_degrees() > limit || angle.is_nan() && T > 3 {
+            return Err(ConfigError::OrientationTooFar {
+                angle_deg: angle.to_degrees(),
+                limit_deg: limit,
+            });
+        }
         Ok(())
     }
 
-    pub fn config(&self) -> &ControllerConfig<N, M, S> {
+    /// `J_T`, `J̇_T` and the orientation rows (see [`super::orientation`]).
+    #[inline]
+    fn task_kinematics(
+        task: &ContactTask<T, S>,
+        trig: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        d: &Desired<N, S>,
+    ) -> TaskKinematics<N, T> {
+        let pose = Z::Robot::forward_kinematics(trig);
+        let j6 = Z::Robot::jacobian(trig);
+        let jd6 = Z::Robot::jacobian_dot(trig, qd);
+        let j_force: SMatrix<f64, 3, N> = j6.fixed_rows::<3>(0).into_owned();
+        let velocity = j_force * qd;
+        // Full orientation: P = I, so the task Jacobian is the geometric one (no products).
+        let full = T == 6 && task.orientation == Orientation::Full;
+        let rows = if full { 6 } else { 3 };
+        let mut j = SMatrix::<f64, T, N>::from_fn(|i, c| if i < rows { j6[(i, c)] } else { 0.0 });
+        let mut jd = SMatrix::<f64, T, N>::from_fn(|i, c| if i < rows { jd6[(i, c)] } else { 0.0 });
+        let orientation = if T > 3 {
+            let jw = j6.fixed_rows::<3>(3);
+            let omega = jw * qd;
+            let o = OrientationRows::<T>::new(
+                &task.orientation,
+                &pose.rotation,
+                &omega,
+                &d.orientation,
+                &d.angular_velocity,
+            );
+            if !full {
+                j += o.p * jw;
+                jd += o.p * jd6.fixed_rows::<3>(3) + o.p_dot * jw;
+            }
+            o
+        } else {
+            OrientationRows {
+                p: SMatrix::zeros(),
+                p_dot: SMatrix::zeros(),
+                error: Vector3::zeros(),
+                error_rate: Vector3::zeros(),
+            }
+        };
+        TaskKinematics {
+            pose,
+            velocity,
+            j_force,
+            j,
+            jd,
+            orientation,
+        }
+    }
+
+    pub fn config(&self) -> &ControllerConfig<N, M, T, S> {
         &self.config
     }
     pub fn theta_hat(&self) -> &SVector<f64, M> {
@@ -135,11 +210,11 @@ where
         self.theta_hat = theta_hat;
     }
     /// `K`, `K⁺`, `K⁻` in use.
-    pub fn split(&self) -> &Split<S> {
+    pub fn split(&self) -> &Split<T, S> {
         &self.split
     }
     /// The `K` in use (the estimate when estimating).
-    pub fn stiffness(&self) -> SMatrix<f64, S, 3> {
+    pub fn stiffness(&self) -> SMatrix<f64, S, T> {
         self.split.k
     }
     pub fn estimator(&self) -> Option<&StiffnessEstimator<S>> {
@@ -161,19 +236,25 @@ where
             return Err(TickError::NonFiniteMeasurement);
         }
         let trig = JointTrig::new(&m.q);
-        let position = Z::Robot::forward_kinematics(&trig).translation;
-        let j: SMatrix<f64, 3, N> = Z::Robot::jacobian(&trig).fixed_rows::<3>(0).into_owned();
-        let jd: SMatrix<f64, 3, N> = Z::Robot::jacobian_dot(&trig, &m.qd)
-            .fixed_rows::<3>(0)
-            .into_owned();
-        let proj = Projections::new(&j, &jd, &self.config.guard)?;
+        let k = Self::task_kinematics(&self.config.task, &trig, &m.qd, d);
+        let proj = Projections::new(&k.j, &k.jd, &self.config.guard)?;
         let gains = ReferenceGains {
             lambda: self.config.gains.lambda,
             lambda_null: self.config.gains.lambda_null,
         };
-        let reference = reference(m, d, &self.config.task, &self.split, &position, &j, &proj, &gains);
+        let reference = reference(
+            m,
+            d,
+            &self.config.task,
+            &self.split,
+            &k.pose.translation,
+            &k.velocity,
+            &k.orientation,
+            &proj,
+            &gains,
+        );
         let y = Z::regressor(&trig, &m.qd, &reference.qd_r, &reference.qdd_r);
-        let mut tau = j.tr_mul(&m.force) + y * theta_hat - self.config.gains.g * reference.r;
+        let mut tau = k.j_force.tr_mul(&m.force) + y * theta_hat - self.config.gains.g * reference.r;
         let theta_hat_dot = match self.config.adaptation {
             Adaptation::On => parameter_rate(&self.config.gains.gamma, &y, &reference.r),
             Adaptation::Off => SVector::zeros(),
@@ -213,10 +294,16 @@ where
         if let Some(est) = self.estimator.as_mut() {
             let f_meas = self.config.task.force_selection * (self.config.task.rotation * m.force);
             est.update(&out.reference.deflection, &f_meas, dt);
-            if let Ok(split) = Split::new(&est.stiffness()) {
+            if let Ok(split) = Split::new(&pad_columns(&est.stiffness())) {
                 self.split = split;
             }
         }
         Ok(out)
     }
+}
+
+/// `K` (S×3, position rows) with zero orientation columns: S×T.
+#[inline]
+fn pad_columns<const S: usize, const T: usize>(k: &SMatrix<f64, S, 3>) -> SMatrix<f64, S, T> {
+    SMatrix::from_fn(|i, j| if j < 3 { k[(i, j)] } else { 0.0 })
 }

@@ -1,6 +1,8 @@
 //! The adaptive hybrid force/position controller of the technical note *Adaptive Hybrid
-//! Force-Position Control for Redundant Manipulators* (see `shared/design/controller.md`):
-//! task-frame contact split (`task`), projections with the singularity guard (`projections`),
+//! Force-Position Control for Redundant Manipulators* (`docs/controller.md` gives it equation by
+//! equation, with the deviations): task dimension and task-frame contact split (`task`),
+//! orientation rows by rotation error on the geometric Jacobian (`orientation`), projections
+//! with the singularity guard (`projections`),
 //! reference velocity and analytic reference acceleration (`reference`), the law (`law`), the
 //! adaptation (`adaptation`), gains (`gains`) and online stiffness estimation
 //! (`stiffness_estimator`).
@@ -9,6 +11,7 @@ pub mod adaptation;
 pub mod error;
 pub mod gains;
 pub mod law;
+pub mod orientation;
 pub mod projections;
 pub mod reference;
 pub mod stiffness_estimator;
@@ -17,8 +20,10 @@ pub mod task;
 pub use adaptation::GammaByKind;
 pub use error::{ConfigError, TickError};
 pub use gains::{inertia_estimate, inertia_shaped_gain, Gains};
-pub use law::{Adaptation, ControlOutput, ControllerConfig, HybridController, TASK_DIM};
+pub use law::{
+    Adaptation, ControlOutput, ControllerConfig, HybridController, MAX_START_ORIENTATION_ERROR_DEG,
+};
 pub use projections::{Projections, SingularityGuard};
 pub use reference::{Desired, Measurement, Reference};
 pub use stiffness_estimator::StiffnessEstimator;
-pub use task::{ContactTask, Split};
+pub use task::{ContactTask, Orientation, Split};

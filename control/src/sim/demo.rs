@@ -1,6 +1,8 @@
 //! The demo set-up, shared by the example, the tests and the benchmark: the true plant with an
 //! unmodelled payload, the press-and-circle scenario above a table, and the three controllers
-//! compared (adaptive, adaptation off, known parameters).
+//! compared (adaptive, adaptation off, known parameters), for a task of dimension `T`: 3
+//! (position, the default), 5 (position and the tool axis held along `tool_direction`), 6
+//! (position and the orientation whose tool axis is along `tool_direction`).
 
 use super::contact::PlaneContact;
 use super::plant::{Payload, Plant};
@@ -11,7 +13,7 @@ use crate::controller::{
     HybridController, SingularityGuard,
 };
 use dyngen_runtime::{JointTrig, Kinematics, Parameterization};
-use nalgebra::{SMatrix, SVector, Vector3};
+use nalgebra::{Rotation3, SMatrix, SVector, Vector3};
 
 /// Which law a run uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -60,6 +62,11 @@ pub struct DemoOptions {
     /// Online stiffness estimation: `(k̂(0)/k, rate γ)`.
     pub stiffness_estimation: Option<(f64, f64)>,
     pub guard: SingularityGuard,
+    /// The tool axis (end-effector frame, unit): its direction is held by tasks of dimension
+    /// 5 and 6.
+    pub tool_axis: Vector3<f64>,
+    /// Where the tool axis points once turned (base frame, unit): straight down by default.
+    pub tool_direction: Vector3<f64>,
 }
 
 impl Default for DemoOptions {
@@ -82,6 +89,8 @@ impl Default for DemoOptions {
             sim: SimConfig::default(),
             stiffness_estimation: None,
             guard: SingularityGuard::default(),
+            tool_axis: Vector3::z(),
+            tool_direction: -Vector3::z(),
         }
     }
 }
@@ -104,14 +113,14 @@ pub fn effort_limits<R: Kinematics<N>, const N: usize>() -> Result<SVector<f64, 
 }
 
 /// The demo for the robot of parameterisation `Z` (`arm7::Base`, the default of the example,
-/// or `arm7::Standard`).
-pub struct Demo<Z, const N: usize, const M: usize> {
+/// or `arm7::Standard`) and the task dimension `T` (3, 5 or 6).
+pub struct Demo<Z, const N: usize, const M: usize, const T: usize = 3> {
     pub options: DemoOptions,
     pub plant: Plant<Z, N, M>,
     pub scenario: PressAndCircle<N>,
     pub q0: SVector<f64, N>,
     pub torque_limit: SVector<f64, N>,
-    pub task: ContactTask<1>,
+    pub task: ContactTask<T>,
     /// `θ̂(0)` of the adaptive run and of the run without adaptation.
     pub theta_hat0: SVector<f64, M>,
     /// `Φ(θ_true)`.
@@ -121,16 +130,18 @@ pub struct Demo<Z, const N: usize, const M: usize> {
     _z: std::marker::PhantomData<fn() -> Z>,
 }
 
-impl<Z, const N: usize, const M: usize> Demo<Z, N, M>
+impl<Z, const N: usize, const M: usize, const T: usize> Demo<Z, N, M, T>
 where
     Z: Parameterization<N, M>,
 {
     /// Builds and checks the set-up: the table is `start_height` below the end-effector at
-    /// `q0`; `G = κ D̂(q₀)` from the adaptive run's initial estimate, shared by all runs; the
-    /// torques are clamped to the description's effort limits.
+    /// `q0`; the target orientation turns the tool axis onto `tool_direction` by the shortest
+    /// rotation; `G = κ D̂(q₀)` from the adaptive run's initial estimate, shared by all runs;
+    /// the torques are clamped to the description's effort limits.
     pub fn new(options: DemoOptions, q0: SVector<f64, N>) -> Result<Self, ConfigError> {
         let torque_limit = effort_limits::<Z::Robot, N>()?;
-        let start = Z::Robot::forward_kinematics(&JointTrig::new(&q0)).translation;
+        let pose = Z::Robot::forward_kinematics(&JointTrig::new(&q0));
+        let start = pose.translation;
         if !start.iter().all(|x| x.is_finite()) {
             return Err(ConfigError::Invalid {
                 name: "q0",
@@ -140,18 +151,38 @@ where
         let surface = start.z - options.start_height;
         let contact = PlaneContact::table(surface, options.stiffness);
         let plant = Plant::<Z, N, M>::with_payload(&options.payload, contact);
-        let task = ContactTask::plane(contact.point, contact.normal, options.stiffness)?;
+        let unit = |v: Vector3<f64>, name: &'static str| {
+            v.try_normalize(1e-9).ok_or_else(|| ConfigError::Invalid {
+                name,
+                detail: "must be a nonzero vector".into(),
+            })
+        };
+        let tool_axis = unit(options.tool_axis, "tool axis")?;
+        let tool_direction = unit(options.tool_direction, "tool direction")?;
+        let task = ContactTask::plane(contact.point, contact.normal, options.stiffness)?
+            .with_task_dimension::<T>(tool_axis);
+        task.validate()?;
+        let axis0 = pose.rotation * tool_axis;
+        let turn = Rotation3::rotation_between(&axis0, &tool_direction).unwrap_or_else(|| {
+            // Opposite: any half turn about an axis perpendicular to the tool axis.
+            let perp = crate::controller::orientation::perpendicular_basis(&axis0)
+                .row(0)
+                .transpose();
+            Rotation3::from_axis_angle(&nalgebra::Unit::new_normalize(perp), std::f64::consts::PI)
+        });
+        let target_orientation = turn.into_inner() * pose.rotation;
         // The desired force is consistent with the controller's own contact model (eq. 39): with
         // stiffness estimation that is the initial estimate k̂(0) (it matters in free space,
         // where `F_d < 0` is a desired distance `−F_d / k̂`).
         let model_k = options.stiffness * options.stiffness_estimation.map_or(1.0, |(f, _)| f);
         let scenario = {
             let mut s =
-                PressAndCircle::new(task.rotation * start, surface, model_k, options.target_force, q0);
+                PressAndCircle::new(task.rotation * start, surface, model_k, options.target_force, q0)
+                    .with_orientation(pose.rotation, target_orientation);
             s.circle_time = options.circle_time;
             s
         };
-        let model_task = ContactTask {
+        let model_task = ContactTask::<T> {
             stiffness: task.stiffness * (model_k / options.stiffness),
             ..task
         };
@@ -196,7 +227,7 @@ where
     }
 
     /// The controller of one run, checked (gains, `K`, start posture, sampling limit).
-    pub fn controller(&self, kind: RunKind) -> Result<HybridController<Z, N, M>, ConfigError> {
+    pub fn controller(&self, kind: RunKind) -> Result<HybridController<Z, N, M, T>, ConfigError> {
         let (adaptation, theta) = match kind {
             RunKind::Adaptive => (Adaptation::On, self.theta_hat0),
             RunKind::AdaptationOff => (Adaptation::Off, self.theta_hat0),
@@ -208,7 +239,7 @@ where
             g: self.g,
             gamma: self.gamma,
         };
-        let mut c = HybridController::<Z, N, M>::new(ControllerConfig {
+        let mut c = HybridController::<Z, N, M, T>::new(ControllerConfig {
             gains,
             task: self.task,
             guard: self.options.guard,
@@ -216,7 +247,7 @@ where
             adaptation,
             theta_hat0: theta,
         })?;
-        c.check_start(&self.q0)?;
+        c.check_start(&self.q0, &self.scenario.desired(0.0))?;
         let d_hat = crate::controller::inertia_estimate::<Z, N, M>(&self.q0, &theta);
         let value = gains.stiffest_mode(&d_hat)? * self.options.sim.control_period;
         let limit = 2.0;
@@ -230,7 +261,8 @@ where
                     detail: format!("k̂(0)/k = {factor} must be > 0"),
                 });
             }
-            c = c.with_stiffness_estimation(&(self.task.stiffness * factor), rate)?;
+            let k: SMatrix<f64, 1, 3> = self.task.stiffness.fixed_columns::<3>(0) * factor;
+            c = c.with_stiffness_estimation(&k, rate)?;
         }
         Ok(c)
     }

@@ -14,7 +14,7 @@
 
 use super::contact::PlaneContact;
 use crate::mass_matrix_through_regressor;
-use dyngen_runtime::{JointTrig, Kinematics, Parameterization};
+use dyngen_runtime::{body_parameters, JointTrig, Kinematics, Parameterization};
 use nalgebra::{Cholesky, Matrix3, SMatrix, SVector, Vector3};
 use std::marker::PhantomData;
 
@@ -35,20 +35,7 @@ impl Payload {
         let (a, b, c) = (self.size.x, self.size.y, self.size.z);
         let i_c =
             Matrix3::from_diagonal(&Vector3::new(b * b + c * c, a * a + c * c, a * a + b * b)) * (m / 12.0);
-        let p = self.com;
-        let i_o = i_c + (Matrix3::identity() * p.dot(&p) - p * p.transpose()) * m;
-        [
-            m,
-            m * p.x,
-            m * p.y,
-            m * p.z,
-            i_o[(0, 0)],
-            i_o[(0, 1)],
-            i_o[(1, 1)],
-            i_o[(0, 2)],
-            i_o[(1, 2)],
-            i_o[(2, 2)],
-        ]
+        body_parameters(m, &self.com, &i_c)
     }
 }
 

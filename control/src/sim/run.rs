@@ -6,6 +6,7 @@ use super::noise::{Gaussian, NoiseConfig};
 use super::plant::{Plant, PlantState};
 use super::rk4::rk4_step;
 use super::scenario::PressAndCircle;
+use crate::controller::orientation::orientation_angle;
 use crate::controller::{Adaptation, HybridController, Measurement};
 use dyngen_runtime::{JointTrig, Kinematics, Parameterization};
 use nalgebra::SVector;
@@ -52,6 +53,9 @@ pub struct Sample {
     pub force_error: f64,
     /// `‖K⁻ (x_t − x_d)‖` from the true state (m).
     pub in_plane_error: f64,
+    /// Angle between the actual and the desired orientation (or tool axis) from the true state
+    /// (rad); `NaN` for the position task, which leaves the orientation free.
+    pub orientation_error: f64,
     /// `‖J⁻ (q − q_ν)‖` (rad).
     pub null_error: f64,
     /// `V = ½ rᵀ D r + ½ θ̃ᵀ Γ⁻¹ θ̃` (the second term only when adapting).
@@ -87,6 +91,8 @@ pub struct RunResult {
 pub struct Summary {
     pub rms_force_error: f64,
     pub rms_in_plane_error: f64,
+    /// `NaN` for the position task.
+    pub rms_orientation_error: f64,
     pub final_null_error: f64,
     pub max_tau: f64,
     pub median_tick_ns: f64,
@@ -111,6 +117,11 @@ impl RunResult {
             } else {
                 rms(&|s| s.in_plane_error)
             },
+            rms_orientation_error: if window.is_empty() {
+                f64::NAN
+            } else {
+                rms(&|s| s.orientation_error)
+            },
             final_null_error: self.samples.last().map_or(f64::NAN, |s| s.null_error),
             max_tau: self.samples.iter().map(|s| s.tau_max).fold(0.0, f64::max),
             median_tick_ns: ticks.get(ticks.len() / 2).copied().unwrap_or(f64::NAN),
@@ -119,9 +130,9 @@ impl RunResult {
 }
 
 /// Runs the scenario from rest at `q0`. `progress` is called with the fraction done.
-pub fn simulate<Z, const N: usize, const M: usize>(
+pub fn simulate<Z, const N: usize, const M: usize, const T: usize>(
     plant: &Plant<Z, N, M>,
-    controller: &mut HybridController<Z, N, M>,
+    controller: &mut HybridController<Z, N, M, T>,
     scenario: &PressAndCircle<N>,
     q0: &SVector<f64, N>,
     config: &SimConfig,
@@ -175,11 +186,12 @@ where
         };
 
         // Logged errors from the true state (the controller's own are from noisy measurements).
-        let x = Z::Robot::forward_kinematics(&trig).translation;
-        let x_t = task.rotation * x;
+        let pose = Z::Robot::forward_kinematics(&trig);
+        let x_t = task.rotation * pose.translation;
         let f_true = (task.force_selection * (task.rotation * true_force))[0];
         let x_err = x_t - desired.position;
-        let in_plane = (controller.split().k_minus * x_err).norm();
+        let in_plane = (controller.split().k_minus.fixed_view::<3, 3>(0, 0) * x_err).norm();
+        let orientation_error = orientation_angle(&task.orientation, &pose.rotation, &desired.orientation);
         let r = out.reference.r;
         let theta_err = theta_before - theta_true;
         let mut v = 0.5 * r.dot(&(plant.mass_matrix(&trig) * r));
@@ -197,6 +209,7 @@ where
                 out.reference.force_error[0]
             },
             in_plane_error: in_plane,
+            orientation_error,
             null_error: out.reference.null_error.norm(),
             lyapunov: v,
             theta_error: theta_err.norm(),

@@ -1,8 +1,10 @@
 //! The demo scenario: approach a horizontal table, press with a smooth force ramp, hold, then
-//! track a circle on the surface while holding the force.
+//! track a circle on the surface while holding the force; the orientation turns smoothly from
+//! the start to the target orientation during the approach and the ramp, then is held (used
+//! by tasks with orientation rows).
 
 use crate::controller::{ConfigError, ContactTask, Desired};
-use nalgebra::{SVector, Vector3};
+use nalgebra::{Matrix3, Rotation3, SVector, Unit, Vector3};
 
 /// Quintic blend `s(u)` on `[0, 1]` with zero first and second derivatives at both ends; returns
 /// `(s, s', s'')`.
@@ -41,6 +43,12 @@ pub struct PressAndCircle<const N: usize> {
     pub target_force: f64,
     /// Null-space posture `q_ν`.
     pub posture: SVector<f64, N>,
+    /// Orientation at the start (base frame).
+    pub start_orientation: Matrix3<f64>,
+    /// The turn from the start to the target orientation, `R_target = Rot(u, φ) R_start`
+    /// (base axes), made during the approach and the ramp.
+    pub turn_axis: Unit<Vector3<f64>>,
+    pub turn_angle: f64,
 }
 
 impl<const N: usize> PressAndCircle<N> {
@@ -66,11 +74,33 @@ impl<const N: usize> PressAndCircle<N> {
             frequency: 0.25,
             target_force,
             posture,
+            start_orientation: Matrix3::identity(),
+            turn_axis: Vector3::z_axis(),
+            turn_angle: 0.0,
         }
     }
 
+    /// Turns from `start` to `target` (rotation matrices, base frame) during the approach and
+    /// the ramp (by the shortest rotation), then holds `target`.
+    pub fn with_orientation(mut self, start: Matrix3<f64>, target: Matrix3<f64>) -> Self {
+        self.start_orientation = start;
+        let turn = Rotation3::from_matrix(&(target * start.transpose()));
+        (self.turn_axis, self.turn_angle) = turn.axis_angle().unwrap_or((Vector3::z_axis(), 0.0));
+        self
+    }
+
+    /// The orientation at the end of the turn.
+    pub fn target_orientation(&self) -> Matrix3<f64> {
+        Rotation3::from_axis_angle(&self.turn_axis, self.turn_angle).into_inner() * self.start_orientation
+    }
+
+    /// Duration of the turn (s): the approach and the ramp.
+    pub fn turn_time(&self) -> f64 {
+        self.approach_time + self.ramp_time
+    }
+
     /// Checks the scenario against the controller's contact model.
-    pub fn validate(&self, task: &ContactTask<1>) -> Result<(), ConfigError> {
+    pub fn validate<const T: usize>(&self, task: &ContactTask<T>) -> Result<(), ConfigError> {
         let contra = |s: String| ConfigError::ForceContradictsContact(s);
         if !(self.target_force.is_finite() && self.target_force > 0.0) {
             return Err(contra(format!(
@@ -87,7 +117,7 @@ impl<const N: usize> PressAndCircle<N> {
         // F_t = K (x_t − x_e) must grow when pressing into the surface (−z in the task frame)
         // and must be the measured force on the surface along the same direction.
         let press = Vector3::new(0.0, 0.0, -1.0);
-        let dk = (task.stiffness * press)[0];
+        let dk = (task.stiffness.fixed_columns::<3>(0) * press)[0];
         let ds = (task.force_selection * Vector3::new(0.0, 0.0, -1.0))[0];
         if !(dk > 0.0 && ds > 0.0) {
             return Err(contra(format!(
@@ -190,6 +220,17 @@ impl<const N: usize> PressAndCircle<N> {
             -rho * sn * phid * phid + rho * cs * phidd,
             zdd,
         );
+        // Orientation: Rot(u, φ s) R_start, ω_d = u φ ṡ, ω̇_d = u φ s̈ (a turn about a fixed axis).
+        let tt = self.turn_time();
+        let (s, s1, s2) = if tt > 0.0 { blend(t / tt) } else { (1.0, 0.0, 0.0) };
+        let (s1, s2) = if tt > 0.0 {
+            (s1 / tt, s2 / (tt * tt))
+        } else {
+            (0.0, 0.0)
+        };
+        let phi = self.turn_angle;
+        let orientation =
+            Rotation3::from_axis_angle(&self.turn_axis, phi * s).into_inner() * self.start_orientation;
         Desired {
             force: SVector::<f64, 1>::new(f),
             force_dot: SVector::<f64, 1>::new(fd),
@@ -197,6 +238,9 @@ impl<const N: usize> PressAndCircle<N> {
             position,
             velocity,
             acceleration,
+            orientation,
+            angular_velocity: self.turn_axis.into_inner() * (phi * s1),
+            angular_acceleration: self.turn_axis.into_inner() * (phi * s2),
             posture: self.posture,
             posture_velocity: SVector::zeros(),
             posture_acceleration: SVector::zeros(),
@@ -212,7 +256,13 @@ mod tests {
     /// differences), in every phase.
     #[test]
     fn derivatives_are_consistent() {
-        let s = PressAndCircle::<2>::new(Vector3::new(0.5, 0.1, 0.3), 0.29, 1e4, 10.0, SVector::zeros());
+        let start = Rotation3::from_euler_angles(0.3, -0.2, 1.0).into_inner();
+        let target = Rotation3::from_euler_angles(3.0, 0.1, 0.4).into_inner();
+        let s = PressAndCircle::<2>::new(Vector3::new(0.5, 0.1, 0.3), 0.29, 1e4, 10.0, SVector::zeros())
+            .with_orientation(start, target);
+        assert!((s.desired(0.0).orientation - start).amax() < 1e-12);
+        assert!((s.desired(s.turn_time()).orientation - target).amax() < 1e-12);
+        assert!((s.target_orientation() - target).amax() < 1e-12);
         let h = 1e-6;
         let mut t = 0.013;
         while t < s.duration() {
@@ -226,6 +276,12 @@ mod tests {
             assert!((df - b.force_dot).amax() < 1e-4, "t={t}");
             assert!((dfd - b.force_ddot).amax() < 1e-3, "t={t}");
             assert!((b.force[0] - 1e4 * (0.29 - b.position.z)).abs() < 1e-9);
+            // Ṙ_d = [ω_d]× R_d, and ω̇_d is the derivative of ω_d.
+            let dr = (c.orientation - a.orientation) / (2.0 * h);
+            let w = crate::controller::orientation::skew(&b.angular_velocity) * b.orientation;
+            assert!((dr - w).amax() < 1e-6, "t={t}");
+            let dw = (c.angular_velocity - a.angular_velocity) / (2.0 * h);
+            assert!((dw - b.angular_acceleration).amax() < 1e-5, "t={t}");
             t += 0.0937;
         }
     }

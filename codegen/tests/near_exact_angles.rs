@@ -1,0 +1,128 @@
+//! Vendor URDFs round quarter turns (`1.5708`): dyngen says so with the place and the size of
+//! the change, keeps the value unless the description opts in (`snap_angles`), and with the
+//! opt-in generates code as lean as for the exact angles.
+
+use dyngen_codegen::description::{load_urdf_str, load_yaml_str, EndEffectorSpec, UrdfOptions};
+use dyngen_codegen::generate::trace;
+use dyngen_codegen::model::Model;
+use std::path::Path;
+
+fn panda_urdf() -> String {
+    std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../robots/urdf/panda.urdf"))
+        .expect("panda.urdf")
+}
+
+/// The Panda URDF with every `rpy` number rounded to 4 decimals, as vendor files write them.
+fn rounded(urdf: &str) -> String {
+    let mut out = String::new();
+    let mut rest = urdf;
+    while let Some(i) = rest.find("rpy=\"") {
+        let (head, tail) = rest.split_at(i + 5);
+        out.push_str(head);
+        let end = tail.find('"').expect("closing quote");
+        let numbers: Vec<String> = tail[..end]
+            .split_whitespace()
+            .map(|x| format!("{:.4}", x.parse::<f64>().expect("number")))
+            .collect();
+        out.push_str(&numbers.join(" "));
+        rest = &tail[end..];
+    }
+    out.push_str(rest);
+    out
+}
+
+fn options(snap: Option<f64>) -> UrdfOptions {
+    UrdfOptions {
+        end_effector: Some(EndEffectorSpec::link("panda_hand_tcp")),
+        locked_joints: vec![
+            ("panda_finger_joint1".into(), 0.0),
+            ("panda_finger_joint2".into(), 0.0),
+        ],
+        gravity: None,
+        snap_angles: snap,
+    }
+}
+
+fn operations(model: &Model) -> usize {
+    let robot = trace(model);
+    robot
+        .quantities
+        .iter()
+        .map(|q| {
+            let c = robot.graph.op_counts(&q.outputs);
+            c.mul + c.add + c.neg
+        })
+        .sum()
+}
+
+#[test]
+fn rounded_quarter_turns_warn_and_snap_only_on_request() {
+    let text = rounded(&panda_urdf());
+    assert!(text.contains("rpy=\"1.5708 0.0000 0.0000\""));
+    let file = Path::new("panda_rounded.urdf");
+    let kept = load_urdf_str(&text, file, &options(None)).unwrap_or_else(|e| panic!("{e}"));
+    let warned: Vec<&String> = kept.warnings.iter().filter(|w| w.contains("π/2")).collect();
+    // 4 × `1.5708` and 2 × `-1.5708` (and 3.1416 = 2·π/2): each named with its place.
+    assert!(warned.len() >= 6, "{warned:#?}");
+    assert!(
+        warned.iter().any(|w| w.starts_with("panda_rounded.urdf:")
+            && w.contains("origin roll 1.5708 is 3.7e-6 from 1·π/2")
+            && w.contains("`snap_angles: 1e-5`")),
+        "{warned:#?}"
+    );
+    let snapped = load_urdf_str(&text, file, &options(Some(1e-4))).unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        snapped.warnings.iter().all(|w| !w.contains("π/2")),
+        "{:#?}",
+        snapped.warnings
+    );
+    assert!(snapped
+        .notes
+        .iter()
+        .any(|n| n.contains("snapped to 1·π/2 (a change of 3.7e-6)")));
+    let exact = load_urdf_str(&panda_urdf(), Path::new("panda.urdf"), &options(None))
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(exact.warnings.is_empty(), "{:#?}", exact.warnings);
+
+    // What it is for: with the snap, the rounded file generates code as lean as the exact one
+    // (the remaining rounding, of π/6 and π/4, changes numbers but no structure).
+    let (lean, dense, reference) = (
+        operations(&snapped.model),
+        operations(&kept.model),
+        operations(&exact.model),
+    );
+    println!("operations of all functions: exact {reference}, rounded {dense}, rounded and snapped {lean}");
+    assert_eq!(lean, reference, "snapped {lean} vs exact {reference}");
+    assert!(
+        dense as f64 > 1.2 * reference as f64,
+        "rounded {dense} vs exact {reference}"
+    );
+}
+
+#[test]
+fn snap_angles_from_yaml_and_its_bad_values() {
+    let dir = std::env::temp_dir().join(format!("dyngen-snap-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("scratch");
+    std::fs::write(dir.join("panda_rounded.urdf"), rounded(&panda_urdf())).expect("write");
+    let wrapper = |snap: &str| {
+        format!(
+            "urdf: panda_rounded.urdf\nend_effector: panda_hand_tcp\nlocked_joints: {{ panda_finger_joint1: 0.0, panda_finger_joint2: 0.0 }}\n{snap}"
+        )
+    };
+    let yaml = dir.join("panda.yaml");
+    let loaded = load_yaml_str(&wrapper("snap_angles: 1e-4\n"), &yaml).unwrap_or_else(|e| panic!("{e}"));
+    assert!(loaded.notes.iter().any(|n| n.contains("snapped to")));
+    for bad in [
+        "snap_angles: 0.1\n",
+        "snap_angles: -1e-4\n",
+        "snap_angles: .nan\n",
+    ] {
+        let e = load_yaml_str(&wrapper(bad), &yaml).unwrap_err().to_string();
+        assert!(
+            e.contains("panda.yaml:4:")
+                && e.contains("must be a tolerance in radians, above 0 and at most 0.001"),
+            "{bad}: {e}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

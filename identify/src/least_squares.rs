@@ -1,0 +1,199 @@
+//! Weighted least squares on the base parameters, with standard deviations, and the
+//! diagnosis of what the data cannot determine.
+//!
+//! `W θ_b ≈ τ` (rows sample-major, [`crate::observation`]). Joints differ in noise (a wrist's
+//! torque sensor is finer than a shoulder's), so, as Gautier's method does:
+//! 1. ordinary least squares; the residuals of joint `j` give its noise `σ_j`
+//!    (`‖r_j‖² / (N − b/n)`, with `N` samples and `b/n` parameters per joint);
+//! 2. least squares weighted by `1/σ_j`; the covariance of `θ_b` is `s² (Wᵀ Σ⁻¹ W)⁻¹` with
+//!    `s²` the weighted residual variance (≈ 1 when the noise model fits).
+//!
+//! Numerics: columns are scaled to unit norm (masses, moments, inertias and friction differ
+//! by orders of magnitude), the normal equations are solved by Cholesky and refined once with
+//! the true residual, which recovers noise-free parameters to rounding error for any
+//! excitation whose scaled condition number is below ~10⁶. Below that, the data does not
+//! determine every base parameter: that is an error naming the parameter and why.
+
+use crate::error::IdentifyError;
+use nalgebra::{DMatrix, DVector};
+
+/// The least-squares estimate of the base parameters.
+#[derive(Clone, Debug)]
+pub struct BaseEstimate {
+    pub names: Vec<String>,
+    pub theta_b: Vec<f64>,
+    /// Standard deviation of each base parameter.
+    pub std_dev: Vec<f64>,
+    /// Estimated torque noise per joint (from the ordinary least-squares residuals).
+    pub joint_noise: Vec<f64>,
+    /// Weighted residual variance `s²` (≈ 1 when the per-joint noise model fits).
+    pub residual_variance: f64,
+    /// Information matrix `Wᵀ Σ⁻¹ W / s²` in column-scaled coordinates, and the scales:
+    /// `θ_b = scale ∘ x`. Its Cholesky factor turns a parameter error into a whitened
+    /// data misfit (used by the consistent estimate).
+    pub information_scaled: DMatrix<f64>,
+    pub scale: Vec<f64>,
+    /// Condition number of the column-scaled stacked regressor.
+    pub condition_number: f64,
+}
+
+impl BaseEstimate {
+    /// Relative standard deviation `σ/|θ|` of base parameter `k` (∞ for θ = 0).
+    pub fn relative_std_dev(&self, k: usize) -> f64 {
+        self.std_dev[k] / self.theta_b[k].abs()
+    }
+}
+
+/// Scaled columns whose smallest eigenvalue of `WᵀW` is below this fraction of the largest
+/// (a scaled condition number above 10⁶) do not determine every parameter: beyond it, noise
+/// is amplified a million-fold and the refined solution loses its last digits.
+pub const IDENTIFIABILITY_TOL: f64 = 1e-12;
+
+/// Zero column: a norm below this fraction of the largest.
+const ZERO_COLUMN_TOL: f64 = 1e-12;
+
+/// Floor of a joint's noise estimate, relative to its torque RMS: noise-free data must not
+/// make a weight infinite.
+const NOISE_FLOOR: f64 = 1e-12;
+
+/// `Mᵀ M` through an explicit transpose, so the product runs as one blocked matrix
+/// multiplication (several times faster on 10⁵ rows than dot products column by column).
+fn gram(m: &DMatrix<f64>) -> DMatrix<f64> {
+    m.transpose() * m
+}
+
+/// Solves `A x = Wᵀ D² τ` (`D = diag(weights)`, `A = Wᵀ D² W`) and refines once with the
+/// true residual, which restores the accuracy the normal equations lose.
+fn solve_refined(
+    a: &DMatrix<f64>,
+    w: &DMatrix<f64>,
+    tau: &DVector<f64>,
+    weights2: &DVector<f64>,
+) -> DVector<f64> {
+    let chol = a.clone().cholesky().expect("checked positive definite");
+    let mut x = chol.solve(&w.tr_mul(&tau.component_mul(weights2)));
+    let r = tau - w * &x;
+    x += chol.solve(&w.tr_mul(&r.component_mul(weights2)));
+    x
+}
+
+/// Estimates `θ_b` from the stacked base regressor `w` (rows sample-major over `n` joints),
+/// torques `tau` and the base parameters' names.
+pub fn estimate(
+    w: &DMatrix<f64>,
+    tau: &DVector<f64>,
+    n: usize,
+    names: &[String],
+) -> Result<BaseEstimate, IdentifyError> {
+    let (rows, b) = w.shape();
+    let samples = rows / n.max(1);
+    if rows < b + n {
+        return Err(IdentifyError::new(format!(
+            "{samples} samples give {rows} equations for {b} base parameters (and {n} noise levels): too few samples"
+        )));
+    }
+    let norms: Vec<f64> = w.column_iter().map(|c| c.norm()).collect();
+    let largest = norms.iter().copied().fold(0.0, f64::max);
+    if let Some(k) = (0..b).find(|&k| norms[k] <= ZERO_COLUMN_TOL * largest) {
+        return Err(IdentifyError::new(format!(
+            "base parameter '{}' cannot be determined: its regressor column is zero over all samples \
+             (the data never moves, accelerates or reverses what it multiplies); excite that joint",
+            names[k]
+        )));
+    }
+    let mut ws = w.clone();
+    for (mut c, norm) in ws.column_iter_mut().zip(&norms) {
+        c /= *norm;
+    }
+    // Per-joint Gram matrices: the weighted normal equations are their weighted sum, so the
+    // expensive product over all rows is done once.
+    let grams: Vec<DMatrix<f64>> = (0..n)
+        .map(|j| {
+            let rows_j: Vec<usize> = (0..samples).map(|k| k * n + j).collect();
+            gram(&ws.select_rows(rows_j.iter()))
+        })
+        .collect();
+    let a = grams.iter().fold(DMatrix::zeros(b, b), |acc, g| acc + g);
+    let eigen = a.clone().symmetric_eigen();
+    let (mut kmin, mut kmax) = (0, 0);
+    for k in 0..b {
+        if eigen.eigenvalues[k] < eigen.eigenvalues[kmin] {
+            kmin = k;
+        }
+        if eigen.eigenvalues[k] > eigen.eigenvalues[kmax] {
+            kmax = k;
+        }
+    }
+    let (lmin, lmax) = (eigen.eigenvalues[kmin], eigen.eigenvalues[kmax]);
+    if lmin <= IDENTIFIABILITY_TOL * lmax {
+        let v = eigen.eigenvectors.column(kmin);
+        let mut order: Vec<usize> = (0..b).collect();
+        order.sort_by(|&i, &j| v[j].abs().total_cmp(&v[i].abs()));
+        let others: Vec<String> = order[1..]
+            .iter()
+            .take_while(|&&i| v[i].abs() >= 0.1 * v[order[0]].abs())
+            .take(4)
+            .map(|&i| format!("'{}'", names[i]))
+            .collect();
+        let why = if others.is_empty() {
+            "its regressor column is nearly zero".to_string()
+        } else {
+            format!(
+                "its regressor column is a combination of those of {}",
+                others.join(", ")
+            )
+        };
+        return Err(IdentifyError::new(format!(
+            "base parameter '{}' cannot be determined from this data: {why} (scaled condition number {:.3e}); \
+             use a richer excitation",
+            names[order[0]],
+            (lmax / lmin.max(0.0)).sqrt()
+        )));
+    }
+    let condition_number = (lmax / lmin).sqrt();
+    // 1. Ordinary least squares and the noise of each joint.
+    let ones = DVector::from_element(rows, 1.0);
+    let x = solve_refined(&a, &ws, tau, &ones);
+    let r = tau - &ws * &x;
+    let dof_per_joint = samples as f64 - b as f64 / n as f64;
+    let joint_noise: Vec<f64> = (0..n)
+        .map(|j| {
+            let (mut rr, mut tt) = (0.0, 0.0);
+            for k in 0..samples {
+                rr += r[k * n + j].powi(2);
+                tt += tau[k * n + j].powi(2);
+            }
+            (rr / dof_per_joint)
+                .sqrt()
+                .max(NOISE_FLOOR * (tt / samples as f64).sqrt())
+                .max(f64::MIN_POSITIVE)
+        })
+        .collect();
+    // 2. Least squares weighted by 1/σ_j.
+    let weights2 = DVector::from_fn(rows, |i, _| joint_noise[i % n].powi(-2));
+    let aw = grams
+        .iter()
+        .zip(&joint_noise)
+        .fold(DMatrix::zeros(b, b), |acc, (g, s)| acc + g / (s * s));
+    let x = solve_refined(&aw, &ws, tau, &weights2);
+    let rw = tau - &ws * &x;
+    let s2 = rw.component_mul(&rw).dot(&weights2) / (rows - b) as f64;
+    let s2 = if s2 > 0.0 { s2 } else { 1.0 };
+    let inverse = aw
+        .clone()
+        .cholesky()
+        .expect("checked positive definite")
+        .inverse();
+    let theta_b: Vec<f64> = (0..b).map(|k| x[k] / norms[k]).collect();
+    let std_dev: Vec<f64> = (0..b).map(|k| (s2 * inverse[(k, k)]).sqrt() / norms[k]).collect();
+    Ok(BaseEstimate {
+        names: names.to_vec(),
+        theta_b,
+        std_dev,
+        joint_noise,
+        residual_variance: s2,
+        information_scaled: aw / s2,
+        scale: norms.iter().map(|s| 1.0 / s).collect(),
+        condition_number,
+    })
+}

@@ -1,0 +1,86 @@
+//! A "real" robot for experiments and tests: a description plus a payload and realistic
+//! joint friction and armature, measured along a trajectory with torque noise.
+
+use crate::data::Samples;
+use crate::excitation::normal;
+use crate::fourier::FourierTrajectory;
+use dyngen_codegen::dynamics::NumericDynamics;
+use dyngen_codegen::model::{Inertia, JointTermKind, JointTermValues, JointTerms, Model};
+use dyngen_runtime::SplitMix64;
+use nalgebra::{Matrix3, Vector3};
+
+/// `model` with a point-like payload of `mass` kg (a solid sphere of radius `radius`) at
+/// `offset` in the end-effector frame, welded to the body that carries the end-effector.
+pub fn with_payload(model: &Model, mass: f64, offset: Vector3<f64>, radius: f64) -> Model {
+    let ee = model.end_effector();
+    let payload = Inertia {
+        mass,
+        com: offset,
+        inertia_com: Matrix3::identity() * (0.4 * mass * radius * radius),
+    }
+    .transformed(&ee.placement);
+    let mut bodies = model.bodies().to_vec();
+    bodies[ee.parent].inertia = bodies[ee.parent].inertia.merged(&payload);
+    model
+        .clone()
+        .with_bodies(bodies)
+        .expect("a payload keeps a model valid")
+}
+
+/// `model` with every joint-level column and the given values per joint.
+pub fn with_joint_terms(model: &Model, values: &[JointTermValues], coulomb_smoothing: Option<f64>) -> Model {
+    let terms = JointTerms {
+        kinds: JointTermKind::ALL.to_vec(),
+        coulomb_smoothing,
+        values: values.to_vec(),
+    };
+    model
+        .clone()
+        .with_joint_terms(terms)
+        .expect("physical joint values")
+}
+
+/// Samples of `truth` along `trajectory`: `duration` s at `rate` Hz, exact positions,
+/// velocities and accelerations (`with_derivatives`; else positions only), torques from the
+/// inverse dynamics plus Gaussian noise of standard deviation `noise[j]` (seeded).
+pub fn measure(
+    truth: &Model,
+    trajectory: &FourierTrajectory,
+    duration: f64,
+    rate: f64,
+    noise: &[f64],
+    seed: u64,
+    with_derivatives: bool,
+) -> Samples {
+    let dynamics = NumericDynamics::new(truth);
+    let mut rng = SplitMix64::new(seed);
+    let count = (duration * rate).round() as usize;
+    let mut samples = Samples {
+        qd: with_derivatives.then(Vec::new),
+        qdd: with_derivatives.then(Vec::new),
+        tau: Some(Vec::new()),
+        ..Samples::default()
+    };
+    for k in 0..count {
+        let t = k as f64 / rate;
+        let s = trajectory.at(t);
+        let tau = dynamics.inverse_dynamics(&s.q, &s.qd, &s.qdd);
+        let tau: Vec<f64> = tau
+            .iter()
+            .zip(noise)
+            .map(|(x, sd)| x + sd * normal(&mut rng))
+            .collect();
+        samples.time.push(t);
+        samples.q.push(s.q);
+        if let Some(v) = samples.qd.as_mut() {
+            v.push(s.qd);
+        }
+        if let Some(v) = samples.qdd.as_mut() {
+            v.push(s.qdd);
+        }
+        if let Some(v) = samples.tau.as_mut() {
+            v.push(tau);
+        }
+    }
+    samples
+}

@@ -1,0 +1,156 @@
+//! Bad data, as a person sees it: one clear error naming the file, line and column or the
+//! joint, never a silent wrong estimate. The messages are listed in TESTING.md.
+
+mod common;
+
+use common::{arm7_nominal, arm7_truth};
+use dyngen_identify::data::{read_csv, to_csv, Samples};
+use dyngen_identify::fourier::{FourierTrajectory, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
+use dyngen_identify::pipeline::{identify, IdentifyOptions};
+use dyngen_identify::simulate::measure;
+use std::path::PathBuf;
+
+fn good_samples() -> Samples {
+    let nominal = arm7_nominal();
+    let limits = TrajectoryLimits::from_model(&nominal, DEFAULT_ACCELERATION_PER_VELOCITY);
+    let mut t = FourierTrajectory::random(7, 5, 0.1, 11);
+    t.fit_into(&limits);
+    measure(&arm7_truth(), &t, 1.0, 10.0, &[0.0; 7], 1, false)
+}
+
+/// Writes `text` to a file named `name` in a fresh directory and reads it for arm7.
+fn read_error(name: &str, text: &str) -> String {
+    let dir: PathBuf = std::env::temp_dir().join(format!("dyngen-bad-data-{}-{name}", std::process::id()));
+    std::fs::create_dir_all(&dir).expect("temp dir");
+    let path = dir.join(name);
+    std::fs::write(&path, text).expect("write");
+    let result = read_csv(&path, &arm7_nominal(), true);
+    std::fs::remove_dir_all(&dir).ok();
+    match result {
+        Ok(_) => panic!("{name} was accepted"),
+        Err(e) => e.to_string().replace(&format!("{}/", dir.display()), ""),
+    }
+}
+
+fn replace_line(text: &str, line: usize, f: impl Fn(&str) -> String) -> String {
+    text.lines()
+        .enumerate()
+        .map(|(i, l)| if i + 1 == line { f(l) } else { l.to_string() })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// Replaces field `column` (1-based) of line `line`.
+fn replace_field(text: &str, line: usize, column: usize, value: &str) -> String {
+    replace_line(text, line, |l| {
+        let mut fields: Vec<&str> = l.split(',').collect();
+        fields[column - 1] = value;
+        fields.join(",")
+    })
+}
+
+#[test]
+fn every_bad_data_file_is_one_clear_error() {
+    let good = to_csv(&arm7_nominal(), &good_samples());
+    let cases = [
+        ("missing-column.csv", good.replace(",tau[joint3]", ",torque3")),
+        ("missing-torque.csv", {
+            // Drop the tau[joint7] column everywhere.
+            let c = good
+                .lines()
+                .next()
+                .unwrap()
+                .split(',')
+                .position(|f| f == "tau[joint7]")
+                .unwrap();
+            good.lines()
+                .map(|l| {
+                    l.split(',')
+                        .enumerate()
+                        .filter(|(i, _)| *i != c)
+                        .map(|(_, f)| f)
+                        .collect::<Vec<_>>()
+                        .join(",")
+                })
+                .collect::<Vec<_>>()
+                .join("\n")
+        }),
+        ("unknown-joint.csv", good.replace("q[joint2]", "q[joint9]")),
+        ("duplicate-column.csv", good.replace("q[joint2]", "q[joint1]")),
+        ("nan.csv", replace_field(&good, 4, 3, "NaN")),
+        ("not-a-number.csv", replace_field(&good, 5, 9, "1.2.3")),
+        (
+            "short-line.csv",
+            replace_line(&good, 6, |l| l.rsplit_once(',').unwrap().0.to_string()),
+        ),
+        ("time-goes-back.csv", replace_field(&good, 7, 1, "0.1")),
+        ("outside-limits.csv", replace_field(&good, 8, 3, "2.5")),
+        ("header-only.csv", good.lines().next().unwrap().to_string()),
+    ];
+    let mut report = String::new();
+    for (name, text) in &cases {
+        report += &format!("{}\n", read_error(name, text));
+    }
+    print!("{report}");
+    let expected = "\
+missing-column.csv:1: column 11 (torque3): unknown column: expected time, q[<joint>], qd[<joint>], qdd[<joint>] or tau[<joint>]
+missing-torque.csv:1: missing column 'tau[joint7]' for joint 'joint7' (every joint needs its torque)
+unknown-joint.csv:1: column 3 (q[joint9]): unknown joint 'joint9' (the robot's moving joints: joint1, joint2, joint3, joint4, joint5, joint6, joint7)
+duplicate-column.csv:1: column 3 (q[joint1]): duplicate column (first at column 2)
+nan.csv:4: column 3 (q[joint2]): NaN is not a finite number
+not-a-number.csv:5: column 9 (tau[joint1]): '1.2.3' is not a number
+short-line.csv:6: 14 fields, but the header has 15 columns
+time-goes-back.csv:7: column 1 (time): time 0.1 does not increase (the sample before, line 6, is at 0.4)
+outside-limits.csv:8: column 3 (q[joint2]): joint 'joint2': position 2.5 is outside the joint limits [-2.0943951023931953, 2.0943951023931953]
+header-only.csv: no samples: the file has a header line only
+";
+    assert_eq!(report, expected);
+    let testing =
+        std::fs::read_to_string(concat!(env!("CARGO_MANIFEST_DIR"), "/../TESTING.md")).expect("TESTING.md");
+    assert!(
+        testing.contains(expected),
+        "TESTING.md lists these messages as they are"
+    );
+}
+
+/// Data in which a joint never moves cannot determine its parameters: the error names one
+/// and says why, instead of returning a number.
+#[test]
+fn data_that_cannot_determine_a_parameter_says_which_and_why() {
+    let nominal = arm7_nominal();
+    let limits = TrajectoryLimits::from_model(&nominal, DEFAULT_ACCELERATION_PER_VELOCITY);
+    let mut t = FourierTrajectory::random(7, 5, 0.1, 11);
+    t.fit_into(&limits);
+    // Joint 7 held still.
+    t.a[6].iter_mut().chain(t.b[6].iter_mut()).for_each(|c| *c = 0.0);
+    let samples = measure(&arm7_truth(), &t, 10.0, 50.0, &[0.0; 7], 1, true);
+    let err = identify(&nominal, &samples, &IdentifyOptions::default()).expect_err("unidentifiable");
+    let msg = err.to_string();
+    println!("{msg}");
+    assert!(msg.starts_with("base parameter '"), "{msg}");
+    assert!(msg.contains("cannot be determined"), "{msg}");
+    assert!(
+        msg.contains("joint7]") || msg.contains("link7]"),
+        "names a parameter of the still joint: {msg}"
+    );
+}
+
+#[test]
+fn too_few_samples_is_an_error() {
+    let mut samples = good_samples();
+    samples.qd = Some(samples.q.clone());
+    samples.qdd = Some(samples.q.clone());
+    samples.time.truncate(5);
+    samples.q.truncate(5);
+    for v in [samples.qd.as_mut(), samples.qdd.as_mut(), samples.tau.as_mut()]
+        .into_iter()
+        .flatten()
+    {
+        v.truncate(5);
+    }
+    let err = identify(&arm7_nominal(), &samples, &IdentifyOptions::default()).expect_err("too few");
+    assert!(
+        err.to_string().starts_with("5 samples give 35 equations for"),
+        "{err}"
+    );
+}

@@ -1,0 +1,51 @@
+//! The arm7 set-up shared by the identification tests.
+#![allow(dead_code)]
+
+use dyngen_codegen::description::load;
+use dyngen_codegen::model::{JointTermValues, Model};
+use dyngen_identify::simulate::{with_joint_terms, with_payload};
+use nalgebra::Vector3;
+use std::path::Path;
+
+pub fn arm7() -> Model {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../robots/arm7.yaml");
+    load(&path).unwrap_or_else(|e| panic!("{e}")).model
+}
+
+/// Realistic joint terms of a 7-DOF arm with harmonic drives (see the example for sources of
+/// the sizes): armature kg·m², viscous N·m·s/rad, Coulomb N·m, offset N·m.
+pub fn arm7_joint_values() -> Vec<JointTermValues> {
+    let armature = [0.5, 0.5, 0.3, 0.3, 0.15, 0.05, 0.05];
+    let viscous = [0.8, 0.8, 0.5, 0.5, 0.3, 0.1, 0.1];
+    let coulomb = [3.0, 3.0, 2.0, 2.0, 1.2, 0.5, 0.5];
+    let offset = [0.2, -0.3, 0.1, -0.1, 0.05, 0.02, -0.02];
+    (0..7)
+        .map(|j| JointTermValues {
+            armature: armature[j],
+            viscous: viscous[j],
+            coulomb: coulomb[j],
+            offset: offset[j],
+        })
+        .collect()
+}
+
+/// The description identification starts from: arm7 with every joint column, values zero.
+pub fn arm7_nominal() -> Model {
+    with_joint_terms(&arm7(), &[JointTermValues::default(); 7], None)
+}
+
+/// The "real" arm7: the description, a 1.5 kg payload 0.05 m beyond the flange, and the
+/// joint terms of [`arm7_joint_values`].
+pub fn arm7_truth() -> Model {
+    let payload = with_payload(&arm7(), 1.5, Vector3::new(0.0, 0.0, 0.05), 0.04);
+    with_joint_terms(&payload, &arm7_joint_values(), None)
+}
+
+/// σ = 1% of each joint's rated torque (effort limit).
+pub fn arm7_noise(model: &Model) -> Vec<f64> {
+    model
+        .joints()
+        .iter()
+        .map(|j| 0.01 * j.limits.map_or(1.0, |l| l.effort))
+        .collect()
+}
