@@ -13,6 +13,10 @@
 //! `∂τ/∂q̇ = 2 C(q, q̇)`, which [`coriolis_matrix`] computes in fewer operations than `n` dual
 //! runs of the recursion (Panda: 2191 against about 4900).
 //!
+//! Joint-level terms (when the model has them) depend on `q̇` and `q̈` only: their `∂/∂q̇` is
+//! diagonal and comes from one dual run of those terms per joint (Coulomb friction without
+//! smoothing, `sign(q̇)`, has derivative zero where it exists).
+//!
 //! Forward dynamics needs no differentiation of its own: with `q̈ = FD(q, q̇, τ)` fixed,
 //! `D ∂q̈/∂x = −∂τ/∂x |_{q̈}`, so `∂q̈/∂x = −D⁻¹ ∂ID/∂x` evaluated at that `q̈`, solved with the
 //! factors forward dynamics already has.
@@ -20,8 +24,9 @@
 use super::coriolis::coriolis_matrix;
 use super::forward_dynamics::{factor_mass_matrix, forward_dynamics_factored};
 use super::joint::joint_transforms;
+use super::joint_terms::joint_term_torques;
 use super::slotine_li::inverse_dynamics;
-use crate::model::Model;
+use crate::model::{JointTermValues, Model};
 use crate::scalar::Scalar;
 use crate::scalar_dual::Dual;
 use crate::spatial::{RigidInertia, Vec3};
@@ -52,6 +57,7 @@ pub fn inverse_dynamics_derivatives<S: Scalar>(
     model: &Model,
     q: &[S],
     inertias: &[RigidInertia<S>],
+    joint_values: &[JointTermValues],
     qd: &[S],
     qdd: &[S],
 ) -> (DMatrix<S>, DMatrix<S>) {
@@ -67,7 +73,14 @@ pub fn inverse_dynamics_derivatives<S: Scalar>(
         }
     }
     let two = S::from_f64(2.0);
-    let d_qd = coriolis_matrix(model, &joint_transforms(model, q), inertias, qd).map(|c| two * c);
+    let mut d_qd = coriolis_matrix(model, &joint_transforms(model, q), inertias, qd).map(|c| two * c);
+    if !model.joint_terms().kinds.is_empty() {
+        for j in 0..n {
+            let seeded_qd = seeded(qd, j);
+            let joint = joint_term_torques(model, joint_values, &seeded_qd, &seeded_qd, &qdd_const);
+            d_qd[(j, j)] = d_qd[(j, j)] + joint[j].tangent;
+        }
+    }
     (d_q, d_qd)
 }
 
@@ -76,13 +89,14 @@ pub fn forward_dynamics_derivatives<S: Scalar>(
     model: &Model,
     q: &[S],
     inertias: &[RigidInertia<S>],
+    joint_values: &[JointTermValues],
     qd: &[S],
     tau: &[S],
 ) -> (DMatrix<S>, DMatrix<S>) {
     let x = joint_transforms(model, q);
-    let factor = factor_mass_matrix(model, &x, inertias);
-    let qdd = forward_dynamics_factored(model, &x, inertias, &factor, qd, tau);
-    let (d_q, d_qd) = inverse_dynamics_derivatives(model, q, inertias, qd, &qdd);
+    let factor = factor_mass_matrix(model, &x, inertias, joint_values);
+    let qdd = forward_dynamics_factored(model, &x, inertias, joint_values, &factor, qd, tau);
+    let (d_q, d_qd) = inverse_dynamics_derivatives(model, q, inertias, joint_values, qd, &qdd);
     let minus_solve = |m: DMatrix<S>| factor.solve_matrix(&m.map(|v| -v));
     (minus_solve(d_q), minus_solve(d_qd))
 }

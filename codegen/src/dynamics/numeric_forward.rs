@@ -10,12 +10,20 @@ impl NumericDynamics<'_> {
     /// Forward dynamics `q̈ = D⁻¹ (τ − C q̇ − g)`.
     pub fn forward_dynamics(&self, q: &[f64], qd: &[f64], tau: &[f64]) -> DVector<f64> {
         let x = self.configuration(q).transforms;
-        DVector::from_vec(forward_dynamics(self.model, &x, &self.inertias, qd, tau))
+        DVector::from_vec(forward_dynamics(
+            self.model,
+            &x,
+            &self.inertias,
+            &self.joint_values,
+            qd,
+            tau,
+        ))
     }
 
     /// `D(q)⁻¹`.
     pub fn mass_matrix_inverse(&self, q: &[f64]) -> DMatrix<f64> {
-        mass_matrix_inverse(self.model, &self.configuration(q).transforms, &self.inertias)
+        let x = self.configuration(q).transforms;
+        mass_matrix_inverse(self.model, &x, &self.inertias, &self.joint_values)
     }
 
     /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics at `(q, q̇, q̈)`.
@@ -26,7 +34,7 @@ impl NumericDynamics<'_> {
         qdd: &[f64],
     ) -> (DMatrix<f64>, DMatrix<f64>) {
         assert_eq!(q.len(), self.model.dof(), "q has the wrong length");
-        inverse_dynamics_derivatives(self.model, q, &self.inertias, qd, qdd)
+        inverse_dynamics_derivatives(self.model, q, &self.inertias, &self.joint_values, qd, qdd)
     }
 
     /// `(∂q̈/∂q, ∂q̈/∂q̇)` of forward dynamics at `(q, q̇, τ)`.
@@ -37,6 +45,6 @@ impl NumericDynamics<'_> {
         tau: &[f64],
     ) -> (DMatrix<f64>, DMatrix<f64>) {
         assert_eq!(q.len(), self.model.dof(), "q has the wrong length");
-        forward_dynamics_derivatives(self.model, q, &self.inertias, qd, tau)
+        forward_dynamics_derivatives(self.model, q, &self.inertias, &self.joint_values, qd, tau)
     }
 }

@@ -5,7 +5,7 @@
 //! seen through the joint's axis, not any one body's parameters.
 
 use super::forward_dynamics::factor_mass_matrix;
-use super::{body_inertias, joint_transforms};
+use super::{body_inertias, joint_term_values, joint_transforms};
 use crate::model::Model;
 use dyngen_runtime::SplitMix64;
 
@@ -20,12 +20,14 @@ const REL_TOL: f64 = 1e-12;
 pub fn singular_joints(model: &Model) -> Vec<usize> {
     let n = model.dof();
     let inertias = body_inertias::<f64>(model);
+    // The armature alone can make a pivot non-zero.
+    let joint_values = joint_term_values(model);
     let mut rng = SplitMix64::new(0x5eed_f0d1);
     let mut singular = vec![true; n];
     for _ in 0..STATES {
         let q: Vec<f64> = (0..n).map(|_| rng.uniform((-3.0, 3.0))).collect();
         let x = joint_transforms(model, &q);
-        let factor = factor_mass_matrix(model, &x, &inertias);
+        let factor = factor_mass_matrix(model, &x, &inertias, &joint_values);
         // Below a zero pivot the elimination produces NaN or garbage: only finite pivots count,
         // so the ancestors of a singular joint are not blamed for it.
         let finite = factor.pivots.iter().filter(|p| p.is_finite());

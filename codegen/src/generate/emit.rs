@@ -113,11 +113,11 @@ fn literal(x: f64) -> TokenStream {
 }
 
 /// Values per chunk function. Larger functions run faster (nothing is copied between chunks:
-/// the Panda's `C` and `Y` run 15–18% faster whole than in chunks of 1024; its derivatives of
-/// the dynamics, about 7,000 values, ran about twice as slow in chunks of 4096), and every
-/// function of a 7-DOF arm fits in one chunk, while chunks bound the size of what LLVM
-/// optimises at once, whose cost grows faster than linearly, for very large robots.
-const CHUNK: usize = 16384;
+/// the Panda's `C` and `Y` run 15–18% faster whole than in chunks of 1024, and every function of
+/// a 7-DOF arm but the derivatives of the dynamics fits in one chunk), while chunks bound the
+/// size of what LLVM optimises at once, whose cost grows faster than linearly, for very large
+/// robots. (The Panda's derivatives, about 7,000 values, ran no faster whole, in chunks of 16384.)
+const CHUNK: usize = 4096;
 
 /// The nodes a function computes, in order, and how their names are spelled.
 struct Plan<'a> {

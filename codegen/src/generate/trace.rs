@@ -233,31 +233,34 @@ fn forward_quantities(model: &Model, q: &[Expr], qd: &[Expr], a: &[Expr], tau: &
     let n = model.dof();
     let x = dynamics::joint_transforms(model, q);
     let inertias = body_inertias::<Expr>(model);
+    let jv = dynamics::joint_term_values(model);
     vec![
         Quantity {
             name: "forward_dynamics",
             args: vec![Arg::Qd, Arg::Tau],
             shape: Shape::Vector(n),
-            outputs: ids(&dynamics::forward_dynamics(model, &x, &inertias, qd, tau)),
+            outputs: ids(&dynamics::forward_dynamics(model, &x, &inertias, &jv, qd, tau)),
         },
         Quantity {
             name: "mass_matrix_inverse",
             args: vec![],
             shape: Shape::Matrix(n, n),
-            outputs: matrix_ids(&dynamics::mass_matrix_inverse(model, &x, &inertias)),
+            outputs: matrix_ids(&dynamics::mass_matrix_inverse(model, &x, &inertias, &jv)),
         },
         Quantity {
             name: "inverse_dynamics_derivatives",
             args: vec![Arg::Qd, Arg::A],
             shape: Shape::MatrixPair(n),
-            outputs: pair_ids(dynamics::inverse_dynamics_derivatives(model, q, &inertias, qd, a)),
+            outputs: pair_ids(dynamics::inverse_dynamics_derivatives(
+                model, q, &inertias, &jv, qd, a,
+            )),
         },
         Quantity {
             name: "forward_dynamics_derivatives",
             args: vec![Arg::Qd, Arg::Tau],
             shape: Shape::MatrixPair(n),
             outputs: pair_ids(dynamics::forward_dynamics_derivatives(
-                model, q, &inertias, qd, tau,
+                model, q, &inertias, &jv, qd, tau,
             )),
         },
     ]
