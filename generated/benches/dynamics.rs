@@ -5,53 +5,16 @@
 //! precomputed random states, as in the Pinocchio benchmark of the reference figures.
 //! `cargo bench --bench dynamics`, then `cargo xtask bench-table` for the table.
 
-use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
+mod common;
+
+use common::{cycle, model, states};
+use criterion::{criterion_group, criterion_main, Criterion};
 use dyngen_codegen::base_parameters::BaseParameterSet;
-use dyngen_codegen::description::load;
 use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::model::Model;
 use dyngen_generated::{Arm7, Panda, Ur5};
-use dyngen_runtime::nalgebra::SVector;
-use dyngen_runtime::{BaseParameters, JointTrig, SplitMix64};
+use dyngen_runtime::{BaseParameters, JointTrig};
 use std::hint::black_box;
-use std::path::Path;
 use std::time::Duration;
-
-const STATES: usize = 256;
-
-/// Deterministic random states: q in ±π, velocities ±2, accelerations ±5.
-fn states(n: usize) -> Vec<[Vec<f64>; 4]> {
-    let mut rng = SplitMix64::new(0x5eed);
-    let pi = std::f64::consts::PI;
-    let mut draw = |range: (f64, f64)| -> Vec<f64> { (0..n).map(|_| rng.uniform(range)).collect() };
-    (0..STATES)
-        .map(|_| {
-            [
-                draw((-pi, pi)),
-                draw((-2.0, 2.0)),
-                draw((-2.0, 2.0)),
-                draw((-5.0, 5.0)),
-            ]
-        })
-        .collect()
-}
-
-fn model(robot: &str) -> Model {
-    let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join(format!("robots/{robot}.yaml"));
-    load(&path).unwrap_or_else(|e| panic!("{e}")).model
-}
-
-/// Times `f` on each state in turn.
-fn cycle<T>(c: &mut Criterion, group: &str, id: &str, inputs: &[T], mut f: impl FnMut(&T)) {
-    let mut k = 0;
-    c.benchmark_group(group)
-        .bench_function(BenchmarkId::from_parameter(id), |b| {
-            b.iter(|| {
-                k = (k + 1) % inputs.len();
-                f(black_box(&inputs[k]))
-            })
-        });
-}
 
 fn bench_robot<R: BaseParameters<N, P, B>, const N: usize, const P: usize, const B: usize>(
     c: &mut Criterion,
@@ -59,11 +22,8 @@ fn bench_robot<R: BaseParameters<N, P, B>, const N: usize, const P: usize, const
 ) {
     let model = model(robot);
     let generic = NumericDynamics::new(&model);
-    let raw = states(N);
-    let fixed: Vec<[SVector<f64, N>; 4]> = raw
-        .iter()
-        .map(|s| std::array::from_fn(|i| SVector::from_column_slice(&s[i])))
-        .collect();
+    // Velocities ±2, accelerations ±5.
+    let (raw, fixed) = states::<N>(0x5eed, [(-2.0, 2.0), (-2.0, 2.0), (-5.0, 5.0)]);
     let g = |quantity: &str| format!("{robot}/{quantity}");
 
     // The share of every generated call below that is sines and cosines.

@@ -3,56 +3,21 @@
 //! `minv`, `rnea_derivatives`, `aba_derivatives`) so the two join side by side; every call
 //! includes the joint sines and cosines. `cargo bench --bench forward_dynamics`.
 
-use criterion::{criterion_group, criterion_main, BenchmarkId, Criterion};
-use dyngen_codegen::description::load;
+mod common;
+
+use common::{cycle, model, states};
+use criterion::{criterion_group, criterion_main, Criterion};
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_generated::{Arm7, Panda, Ur5};
-use dyngen_runtime::nalgebra::SVector;
-use dyngen_runtime::{JointTrig, RobotDynamics, SplitMix64};
+use dyngen_runtime::{JointTrig, RobotDynamics};
 use std::hint::black_box;
-use std::path::Path;
 use std::time::Duration;
 
-const STATES: usize = 256;
-
-/// Deterministic random states `[q, q̇, q̈, τ]`: q in ±π, q̇ ±2, q̈ ±5, τ ±10 (Pinocchio's pool).
-fn states(n: usize) -> Vec<[Vec<f64>; 4]> {
-    let mut rng = SplitMix64::new(0xfd5eed);
-    let pi = std::f64::consts::PI;
-    let mut draw = |range: (f64, f64)| -> Vec<f64> { (0..n).map(|_| rng.uniform(range)).collect() };
-    (0..STATES)
-        .map(|_| {
-            [
-                draw((-pi, pi)),
-                draw((-2.0, 2.0)),
-                draw((-5.0, 5.0)),
-                draw((-10.0, 10.0)),
-            ]
-        })
-        .collect()
-}
-
-/// Times `f` on each state in turn.
-fn cycle<T>(c: &mut Criterion, group: &str, id: &str, inputs: &[T], mut f: impl FnMut(&T)) {
-    let mut k = 0;
-    c.benchmark_group(group)
-        .bench_function(BenchmarkId::from_parameter(id), |b| {
-            b.iter(|| {
-                k = (k + 1) % inputs.len();
-                f(black_box(&inputs[k]))
-            })
-        });
-}
-
 fn bench_robot<R: RobotDynamics<N, P>, const N: usize, const P: usize>(c: &mut Criterion, robot: &str) {
-    let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join(format!("robots/{robot}.yaml"));
-    let model = load(&path).unwrap_or_else(|e| panic!("{e}")).model;
+    let model = model(robot);
     let generic = NumericDynamics::new(&model);
-    let raw = states(N);
-    let fixed: Vec<[SVector<f64, N>; 4]> = raw
-        .iter()
-        .map(|s| std::array::from_fn(|i| SVector::from_column_slice(&s[i])))
-        .collect();
+    // `[q, q̇, q̈, τ]`: q̇ ±2, q̈ ±5, τ ±10 (Pinocchio's pool).
+    let (raw, fixed) = states::<N>(0xfd5eed, [(-2.0, 2.0), (-5.0, 5.0), (-10.0, 10.0)]);
     let g = |quantity: &str| format!("{robot}/{quantity}");
 
     cycle(c, &g("aba"), "generated", &fixed, |[q, qd, _, tau]| {
