@@ -5,33 +5,21 @@
 
 use dyngen_testkit as common;
 
+use common::joint_terms::with_joint_terms;
 use common::oracles::extrapolate;
-use common::random_model::{random_state, SplitMix64};
+use common::random_model::random_state;
 use common::{assert_close, column};
 use dyngen_codegen::description::load;
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::generate::trace;
-use dyngen_codegen::model::{JointTermKind, JointTermValues, JointTerms, Model};
+use dyngen_codegen::model::Model;
 use nalgebra::DMatrix;
 use std::path::Path;
 
-fn with_joint_terms(name: &str, smoothing: Option<f64>) -> Model {
+fn with_joint_terms_on(name: &str, smoothing: Option<f64>) -> Model {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(format!("../robots/{name}.yaml"));
     let model = load(&path).unwrap_or_else(|e| panic!("{e}")).model;
-    let mut rng = SplitMix64::new(7);
-    let terms = JointTerms {
-        kinds: JointTermKind::ALL.to_vec(),
-        coulomb_smoothing: smoothing,
-        values: (0..model.dof())
-            .map(|_| JointTermValues {
-                armature: rng.uniform((0.0, 0.5)),
-                viscous: rng.uniform((0.0, 2.0)),
-                coulomb: rng.uniform((0.0, 3.0)),
-                offset: rng.uniform((-1.0, 1.0)),
-            })
-            .collect(),
-    };
-    model.with_joint_terms(terms).expect("physical values")
+    with_joint_terms(model, smoothing, 7)
 }
 
 fn differenced(f: impl Fn(&[f64]) -> DMatrix<f64>, x: &[f64]) -> DMatrix<f64> {
@@ -48,7 +36,7 @@ fn differenced(f: impl Fn(&[f64]) -> DMatrix<f64>, x: &[f64]) -> DMatrix<f64> {
 }
 
 fn check(name: &str, smoothing: Option<f64>) {
-    let model = with_joint_terms(name, smoothing);
+    let model = with_joint_terms_on(name, smoothing);
     let n = model.dof();
     let dynamics = NumericDynamics::new(&model);
     let robot = trace(&model);

@@ -5,7 +5,8 @@
 
 use dyngen_testkit as common;
 
-use common::random_model::{arb_model_and_state, deterministic_runner, random_state, SplitMix64};
+use common::joint_terms::with_joint_terms;
+use common::random_model::{arb_model_and_state, deterministic_runner, random_state};
 use dyngen_codegen::base_parameters::{numerical_rank, stacked_regressor, BaseParameterSet, SVD_RANK_TOL};
 use dyngen_codegen::description::{load, load_yaml_str};
 use dyngen_codegen::dynamics::NumericDynamics;
@@ -19,24 +20,6 @@ fn robot(name: &str) -> Model {
         .join("../robots")
         .join(format!("{name}.yaml"));
     load(&path).unwrap_or_else(|e| panic!("{e}")).model
-}
-
-/// `model` with every kind of joint term and random (physical) values.
-fn with_joint_terms(model: Model, smoothing: Option<f64>, seed: u64) -> Model {
-    let mut rng = SplitMix64::new(seed);
-    let terms = JointTerms {
-        kinds: JointTermKind::ALL.to_vec(),
-        coulomb_smoothing: smoothing,
-        values: (0..model.dof())
-            .map(|_| JointTermValues {
-                armature: rng.uniform((0.0, 0.5)),
-                viscous: rng.uniform((0.0, 2.0)),
-                coulomb: rng.uniform((0.0, 3.0)),
-                offset: rng.uniform((-1.0, 1.0)),
-            })
-            .collect(),
-    };
-    model.with_joint_terms(terms).expect("physical values")
 }
 
 /// The same model without joint terms.

@@ -7,6 +7,7 @@
 pub mod allocations;
 pub mod fixture;
 pub mod fuzz;
+pub mod joint_terms;
 pub mod oracles;
 pub mod random_model;
 pub mod scale;
