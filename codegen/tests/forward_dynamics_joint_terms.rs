@@ -6,7 +6,7 @@
 use dyngen_testkit as common;
 
 use common::joint_terms::with_joint_terms;
-use common::oracles::extrapolate;
+use common::oracles::jacobian_by_differences;
 use common::random_model::random_state;
 use common::{assert_close, column};
 use dyngen_codegen::description::load;
@@ -22,17 +22,9 @@ fn with_joint_terms_on(name: &str, smoothing: Option<f64>) -> Model {
     with_joint_terms(model, smoothing, 7)
 }
 
+/// The Jacobian of `f` at `x` by extrapolated central differences.
 fn differenced(f: impl Fn(&[f64]) -> DMatrix<f64>, x: &[f64]) -> DMatrix<f64> {
-    let n = x.len();
-    let shifted = |j: usize, t: f64| -> Vec<f64> {
-        let mut y = x.to_vec();
-        y[j] += t;
-        y
-    };
-    let columns: Vec<DMatrix<f64>> = (0..n)
-        .map(|j| extrapolate(|t| (f(&shifted(j, t)) - f(&shifted(j, -t))) / (2.0 * t), 1e-3))
-        .collect();
-    DMatrix::from_fn(columns[0].nrows(), n, |i, j| columns[j][(i, 0)])
+    jacobian_by_differences(f, x, 1e-3)
 }
 
 fn check(name: &str, smoothing: Option<f64>) {

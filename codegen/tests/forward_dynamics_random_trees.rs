@@ -6,7 +6,7 @@
 
 use dyngen_testkit as common;
 
-use common::oracles::extrapolate;
+use common::oracles::jacobian_by_differences;
 use common::random_model::{arb_model_and_state, deterministic_runner};
 use common::{assert_close, column};
 use dyngen_codegen::dynamics::NumericDynamics;
@@ -27,18 +27,9 @@ fn matrix(values: Vec<f64>, rows: usize) -> DMatrix<f64> {
     DMatrix::from_column_slice(rows, cols, &values)
 }
 
-/// The Jacobian of `f` at `x`, column `j` from central differences along `e_j`.
+/// The Jacobian of `f` at `x` by extrapolated central differences.
 fn differenced(f: impl Fn(&[f64]) -> DMatrix<f64>, x: &[f64]) -> DMatrix<f64> {
-    let n = x.len();
-    let shifted = |j: usize, t: f64| -> Vec<f64> {
-        let mut y = x.to_vec();
-        y[j] += t;
-        y
-    };
-    let columns: Vec<DMatrix<f64>> = (0..n)
-        .map(|j| extrapolate(|t| (f(&shifted(j, t)) - f(&shifted(j, -t))) / (2.0 * t), STEP))
-        .collect();
-    DMatrix::from_fn(columns[0].nrows(), n, |i, j| columns[j][(i, 0)])
+    jacobian_by_differences(f, x, STEP)
 }
 
 fn check(model: &Model, robot: &SymbolicRobot, q: &[f64], qd: &[f64], qdd: &[f64]) {

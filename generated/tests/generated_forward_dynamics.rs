@@ -6,7 +6,7 @@
 
 use dyngen_testkit as common;
 
-use common::oracles::extrapolate;
+use common::oracles::jacobian_by_differences;
 use common::random_model::random_state;
 use common::{assert_close, column, fixture};
 use dyngen_codegen::description::load;
@@ -60,18 +60,9 @@ fn id<R: RobotDynamics<N, P>, const N: usize, const P: usize>(
     dm(&R::inverse_dynamics(&JointTrig::new(&sv(q)), &sv(qd), &sv(qdd)))
 }
 
-/// The Jacobian of `f` at `x`, column `j` from central differences along `e_j`.
+/// The Jacobian of `f` at `x` by extrapolated central differences.
 fn differenced(f: impl Fn(&[f64]) -> DMatrix<f64>, x: &[f64]) -> DMatrix<f64> {
-    let n = x.len();
-    let shifted = |j: usize, t: f64| -> Vec<f64> {
-        let mut y = x.to_vec();
-        y[j] += t;
-        y
-    };
-    let columns: Vec<DMatrix<f64>> = (0..n)
-        .map(|j| extrapolate(|t| (f(&shifted(j, t)) - f(&shifted(j, -t))) / (2.0 * t), STEP))
-        .collect();
-    DMatrix::from_fn(columns[0].nrows(), n, |i, j| columns[j][(i, 0)])
+    jacobian_by_differences(f, x, STEP)
 }
 
 fn against_generic<R: RobotDynamics<N, P>, const N: usize, const P: usize>(robot: &str) {

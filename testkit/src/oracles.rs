@@ -92,6 +92,20 @@ pub const STEP: f64 = 1e-2;
 /// A rotation and a translation, as `end_effector_pose` and `body_poses` return them.
 pub type Pose = (Matrix3<f64>, Vector3<f64>);
 
+/// The Jacobian of `f` at `x`: column `j` from central differences along `e_j` with steps
+/// `h`, `2h`, `4h`, extrapolated ([`extrapolate`]).
+pub fn jacobian_by_differences(f: impl Fn(&[f64]) -> DMatrix<f64>, x: &[f64], h: f64) -> DMatrix<f64> {
+    let shifted = |j: usize, t: f64| -> Vec<f64> {
+        let mut y = x.to_vec();
+        y[j] += t;
+        y
+    };
+    let columns: Vec<DMatrix<f64>> = (0..x.len())
+        .map(|j| extrapolate(|t| (f(&shifted(j, t)) - f(&shifted(j, -t))) / (2.0 * t), h))
+        .collect();
+    DMatrix::from_fn(columns[0].nrows(), x.len(), |i, j| columns[j][(i, 0)])
+}
+
 /// `lim_{t→0} quotient(t)` for a quotient whose error is even in t (`c₂t² + c₄t⁴ + …`, as for
 /// every central difference): two Richardson steps on t = h, 2h, 4h leave `O(h⁶)`.
 pub fn extrapolate(quotient: impl Fn(f64) -> DMatrix<f64>, h: f64) -> DMatrix<f64> {
