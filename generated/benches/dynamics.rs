@@ -87,6 +87,22 @@ fn bench_robot<R: BaseParameters<N, P, B>, const N: usize, const P: usize, const
     cycle(c, &g("base_regressor"), "generic", &raw, |[q, qd, v, a]| {
         black_box(base.base_regressor(&generic.regressor(q, qd, v, a)));
     });
+    // The torque form `Y(q, q̇, q̇, q̈)` (Pinocchio's `computeJointTorqueRegressor`).
+    cycle(c, &g("torque_regressor"), "generated", &fixed, |[q, qd, _, a]| {
+        black_box(R::torque_regressor(&JointTrig::new(q), qd, a));
+    });
+    cycle(c, &g("torque_regressor"), "generic", &raw, |[q, qd, _, a]| {
+        black_box(generic.regressor(q, qd, qd, a));
+    });
+    cycle(
+        c,
+        &g("base_torque_regressor"),
+        "generated",
+        &fixed,
+        |[q, qd, _, a]| {
+            black_box(R::base_torque_regressor(&JointTrig::new(q), qd, a));
+        },
+    );
 }
 
 fn dynamics(c: &mut Criterion) {

@@ -9,7 +9,7 @@
 //! destructured once at the top of a function; outputs are built with `from_array_storage`, so
 //! the generated code has no indexing, no allocation and no panic path.
 
-use super::trace::{Arg, Quantity, Shape, SymbolicRobot, BASE_REGRESSOR};
+use super::trace::{Arg, Quantity, Shape, SymbolicRobot, BASE_FUNCTIONS};
 use crate::base_parameters::BaseParameterSet;
 use crate::model::Model;
 use crate::symbolic::{Id, Node, OpCounts};
@@ -413,7 +413,7 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
         }
     };
     let mut doc = vec![doc_counts(&robot.graph.op_counts(&q.outputs))];
-    if q.name == BASE_REGRESSOR {
+    if BASE_FUNCTIONS.contains(&q.name) {
         let columns: Vec<String> = robot.base.columns.iter().map(|c| c.to_string()).collect();
         doc.insert(
             0,
@@ -634,8 +634,8 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
             .map(|(_, e)| &e.method)
     };
     let kinematics = methods(|name| KINEMATICS.contains(&name));
-    let functions = methods(|name| name != BASE_REGRESSOR && !KINEMATICS.contains(&name));
-    let base_functions = methods(|name| name == BASE_REGRESSOR);
+    let functions = methods(|name| !BASE_FUNCTIONS.contains(&name) && !KINEMATICS.contains(&name));
+    let base_functions = methods(|name| BASE_FUNCTIONS.contains(&name));
     let chunks = emitted.iter().flat_map(|(_, e)| &e.chunks);
     let base = &robot.base;
     let base_names = base.names.iter().map(String::as_str);
