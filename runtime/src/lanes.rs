@@ -2,8 +2,10 @@
 //! straight-line code as the scalar ones on a lane type `L` (`f64x4`: AVX; `f64x8`: AVX-512),
 //! so one call evaluates four or eight states for little more than the cost of one.
 //!
-//! The results equal the scalar functions' bit for bit: the same IEEE operations in the same
-//! order, lane by lane (Rust never contracts `a * b + c` into a fused multiply-add).
+//! The results equal the scalar functions' bit for bit on x86-64: the same IEEE operations in
+//! the same order, lane by lane, multiply-adds fused in both or in neither (by the build's `fma`
+//! target feature). On AArch64 the lane types fuse their multiply-adds and the scalar code does
+//! not, so the two may differ in the last bits there.
 
 use crate::robot::Kinematics;
 use core::ops::{Add, Div, Mul, Neg, Sub};
@@ -22,6 +24,9 @@ pub trait Lanes:
     fn from_fn(f: impl FnMut(usize) -> f64) -> Self;
     /// Lane `k` (`k < WIDTH`).
     fn lane(&self, k: usize) -> f64;
+    /// `self · b + c` lane by lane, as [`mul_add`](crate::mul_add) computes it for one lane
+    /// (one rounding where the target has FMA).
+    fn mul_add(self, b: Self, c: Self) -> Self;
     /// `f` applied lane by lane (the few non-arithmetic nodes: `sign`, `tanh`, the sine of a
     /// constant-shifted angle).
     #[inline]
@@ -45,6 +50,10 @@ macro_rules! lanes {
             #[inline(always)]
             fn lane(&self, k: usize) -> f64 {
                 self.as_array()[k]
+            }
+            #[inline(always)]
+            fn mul_add(self, b: Self, c: Self) -> Self {
+                <$t>::mul_add(self, b, c)
             }
         }
     };

@@ -15,6 +15,7 @@
 
 mod joint;
 mod lanes;
+mod mul_add;
 mod parameter;
 mod parameterization;
 mod random;
@@ -24,6 +25,7 @@ mod trig;
 pub use joint::{JointLimits, JointTrig};
 pub use lanes::{f64x4, f64x8, pack, sign, unpack, JointTrigLanes, LaneDynamics, Lanes};
 pub use libm;
+pub use mul_add::mul_add;
 pub use nalgebra;
 pub use parameter::{body_parameters, ParameterKind, PARAMETERS_PER_BODY};
 pub use parameterization::{Base, BaseParameters, Parameterization, Standard};

@@ -138,11 +138,24 @@ impl Form {
     }
 }
 
+/// `a·b + c` with one rounding: an addition or subtraction whose product operand is used only
+/// there. `negate_product` and `negate_addend` give `−a·b + c` and `a·b − c`.
+#[derive(Clone, Copy, Debug)]
+struct MulAdd {
+    a: Id,
+    b: Id,
+    c: Id,
+    negate_product: bool,
+    negate_addend: bool,
+}
+
 /// The nodes a function computes, in order, and how their names are spelled.
 struct Plan<'a> {
     robot: &'a SymbolicRobot,
     leaves: &'a Leaves,
     form: Form,
+    /// Additions and subtractions emitted as one multiply-add (their products are not emitted).
+    fused: HashMap<Id, MulAdd>,
     /// Live computed nodes in topological order.
     order: Vec<Id>,
     names: HashMap<Id, Ident>,
@@ -157,7 +170,11 @@ impl<'a> Plan<'a> {
             .filter(|&id| live[id.0 as usize] && !leaves.names.contains_key(&id))
             .filter(|&id| !matches!(g.node(id), Node::Const(_) | Node::Input(_)))
             .collect();
-        let order = topological;
+        let (fused, products) = fuse_multiply_adds(g, outputs, &topological);
+        let order: Vec<Id> = topological
+            .into_iter()
+            .filter(|id| !products.contains(id))
+            .collect();
         // `x` is a prefix no input uses (q, qd, v, a, s, c), so a temporary never shadows one.
         let names = order
             .iter()
@@ -168,6 +185,7 @@ impl<'a> Plan<'a> {
             robot,
             leaves,
             form,
+            fused,
             order,
             names,
         }
@@ -204,6 +222,32 @@ impl<'a> Plan<'a> {
         out
     }
 
+    /// `id` as an operand, negated if `negate`: a constant as its negated literal (never `--x`).
+    fn maybe_negated(&self, id: Id, negate: bool, used_leaves: &mut Vec<Id>) -> TokenStream {
+        match (negate, self.robot.graph.constant_value(id)) {
+            (false, _) => self.atom(id, used_leaves),
+            (true, Some(x)) => {
+                let x = literal(-x);
+                match self.form {
+                    Form::Scalar => x,
+                    Form::Lanes => quote!(L::splat(#x)),
+                }
+            }
+            (true, None) => {
+                let a = self.atom(id, used_leaves);
+                quote!(-#a)
+            }
+        }
+    }
+
+    /// What `id`'s statement reads: a fused multiply-add reads its product's factors.
+    fn operands(&self, id: Id) -> Vec<Id> {
+        match self.fused.get(&id) {
+            Some(f) => vec![f.a, f.b, f.c],
+            None => self.robot.graph.operands(id),
+        }
+    }
+
     /// An operand: a literal, an input, or an earlier temporary. Records inputs it reads.
     fn atom(&self, id: Id, used_leaves: &mut Vec<Id>) -> TokenStream {
         if let Some(x) = self.robot.graph.constant_value(id) {
@@ -226,6 +270,21 @@ impl<'a> Plan<'a> {
     /// The expression computing `id` from its operands.
     fn value(&self, id: Id, used_leaves: &mut Vec<Id>) -> TokenStream {
         let mut atom = |x| self.atom(x, used_leaves);
+        if let Some(f) = self.fused.get(&id) {
+            let b = atom(f.b);
+            let (a, c) = (
+                self.maybe_negated(f.a, f.negate_product, used_leaves),
+                self.maybe_negated(f.c, f.negate_addend, used_leaves),
+            );
+            return match self.form {
+                Form::Scalar => quote!(dyngen_runtime::mul_add(#a, #b, #c)),
+                // `(-x).mul_add(..)`: a method call binds tighter than the minus.
+                Form::Lanes => match f.negate_product && self.robot.graph.constant_value(f.a).is_none() {
+                    true => quote!((#a).mul_add(#b, #c)),
+                    false => quote!(#a.mul_add(#b, #c)),
+                },
+            };
+        }
         if self.form == Form::Lanes {
             // The non-arithmetic nodes, lane by lane, as the scalar code computes them.
             let lane_function = match self.robot.graph.node(id) {
@@ -427,7 +486,7 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
     let mut handed_on: Vec<BTreeSet<Id>> = vec![BTreeSet::new(); n_chunks];
     for &id in &plan.order {
         let here = chunk_of(&id).unwrap_or(0);
-        for operand in robot.graph.operands(id) {
+        for operand in plan.operands(id) {
             if let Some(there) = chunk_of(&operand).filter(|&c| c < here) {
                 carried_in[here].insert(operand);
                 handed_on[there].insert(operand);
@@ -593,6 +652,59 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
         }
     };
     Emitted { method, chunks }
+}
+
+/// The additions and subtractions of the computed nodes `computed` that become one
+/// multiply-add, and the products they absorb: a product used once, by that addition or
+/// subtraction, and by no output. One rounding instead of two, one instruction instead of two
+/// on targets with FMA (where `dyngen_runtime::mul_add` is the instruction).
+fn fuse_multiply_adds(
+    g: &crate::symbolic::Graph,
+    outputs: &[Id],
+    computed: &[Id],
+) -> (HashMap<Id, MulAdd>, std::collections::HashSet<Id>) {
+    let mut uses: HashMap<Id, usize> = HashMap::new();
+    for &id in computed {
+        for op in g.operands(id) {
+            *uses.entry(op).or_default() += 1;
+        }
+    }
+    for o in outputs {
+        *uses.entry(*o).or_default() += 1;
+    }
+    let mut fused = HashMap::new();
+    let mut products = std::collections::HashSet::new();
+    let product = |id: Id, products: &std::collections::HashSet<Id>| match g.node(id) {
+        Node::Mul(a, b) if uses.get(&id) == Some(&1) && !products.contains(&id) => Some((a, b)),
+        _ => None,
+    };
+    for &id in computed {
+        let (x, y, subtract) = match g.node(id) {
+            Node::Add(x, y) => (x, y, false),
+            Node::Sub(x, y) => (x, y, true),
+            _ => continue,
+        };
+        // `x·… ± y`, else `x + y·…` / `x − y·…`.
+        let choice = if let Some((a, b)) = product(x, &products) {
+            Some((x, a, b, y, false, subtract))
+        } else {
+            product(y, &products).map(|(a, b)| (y, a, b, x, subtract, false))
+        };
+        if let Some((p, a, b, c, negate_product, negate_addend)) = choice {
+            products.insert(p);
+            fused.insert(
+                id,
+                MulAdd {
+                    a,
+                    b,
+                    c,
+                    negate_product,
+                    negate_addend,
+                },
+            );
+        }
+    }
+    (fused, products)
 }
 
 /// A `Pose` from 12 atoms: the rotation column-major, then the translation.

@@ -1,0 +1,54 @@
+//! `a·b + c` as generated code writes its multiply-adds.
+//!
+//! Where the whole build targets FMA (`-C target-cpu=native` on any x86-64 of the last decade,
+//! or `-C target-feature=+fma`), one fused instruction: one rounding instead of two, and one
+//! instruction instead of two, which is most of what a C compiler's floating-point contraction
+//! gives CppADCodeGen's generated code. Rust never contracts `a * b + c` on its own. Elsewhere,
+//! `a * b + c` exactly as written (never the slow software `fma`).
+//!
+//! SIMD lanes do the same ([`Lanes::mul_add`](crate::Lanes::mul_add), FMA under the same
+//! condition), so the lane functions keep equal to the scalar ones bit for bit.
+
+/// `a·b + c`: fused where the build targets FMA, else `a * b + c`.
+#[inline(always)]
+pub fn mul_add(a: f64, b: f64, c: f64) -> f64 {
+    #[cfg(all(target_arch = "x86_64", target_feature = "fma"))]
+    {
+        use core::arch::x86_64::{_mm_cvtsd_f64, _mm_fmadd_sd, _mm_set_sd};
+        // SAFETY: the `fma` target feature is enabled for the whole build (the `cfg` above),
+        // and the intrinsic only computes on registers.
+        #[allow(unused_unsafe)]
+        unsafe {
+            _mm_cvtsd_f64(_mm_fmadd_sd(_mm_set_sd(a), _mm_set_sd(b), _mm_set_sd(c)))
+        }
+    }
+    #[cfg(not(all(target_arch = "x86_64", target_feature = "fma")))]
+    {
+        a * b + c
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::mul_add;
+
+    #[test]
+    fn is_a_times_b_plus_c() {
+        assert_eq!(mul_add(2.0, 3.0, 4.0), 10.0);
+        assert_eq!(mul_add(-2.0, 3.0, 4.0), -2.0);
+        assert_eq!(mul_add(0.5, 0.25, -0.125), 0.0);
+    }
+
+    #[test]
+    fn rounds_once_exactly_when_the_target_has_fma() {
+        // (1 + 2⁻³⁰)² − (1 + 2⁻²⁹) = 2⁻⁶⁰: lost when the product is rounded first.
+        let x = 1.0 + f64::powi(2.0, -30);
+        let fused = mul_add(x, x, -(1.0 + f64::powi(2.0, -29)));
+        let expected = if cfg!(all(target_arch = "x86_64", target_feature = "fma")) {
+            f64::powi(2.0, -60)
+        } else {
+            0.0
+        };
+        assert_eq!(fused, expected);
+    }
+}
