@@ -1,10 +1,10 @@
 #!/usr/bin/env python3
 """Regenerate the Pinocchio reference fixtures of codegen/tests/fixtures/.
 
-A developer tool, not run by CI. It reads the URDFs committed in robots/urdf/, builds
-Pinocchio's kinematic and inertial model of each robot with the conventions dyngen uses
-(fixed joints merged, panda fingers locked at 0) and writes, for a set of seeded random
-states, every quantity the tests compare against. Field meanings and the model conventions:
+A developer tool, not run by CI. It reads the URDFs committed in robots/urdf/ and
+codegen/tests/data/example-robot-data/, builds Pinocchio's kinematic and inertial model of
+each robot with the conventions dyngen uses (fixed joints merged, panda fingers locked at 0)
+and writes, for a set of seeded random states, every quantity the tests compare against. Field meanings and the model conventions:
 codegen/tests/fixtures/README.md.
 
 Set-up (once):
@@ -14,7 +14,7 @@ Set-up (once):
 
 Usage (from the repository root):
 
-    /tmp/fxenv/bin/python tools/fixtures.py                      # both robots -> codegen/tests/fixtures/
+    /tmp/fxenv/bin/python tools/fixtures.py                      # every robot -> codegen/tests/fixtures/
     /tmp/fxenv/bin/python tools/fixtures.py ur5 --out /tmp/fx    # one robot, elsewhere
     /tmp/fxenv/bin/python tools/fixtures.py --states-from codegen/tests/fixtures
         # reuse the q, v, a, vr, ar of existing fixtures instead of drawing new ones
@@ -42,10 +42,17 @@ STATE_COUNT = 20
 @dataclass(frozen=True)
 class Robot:
     name: str
-    urdf: str  # file name in robots/urdf/
+    urdf: str  # file name in `directory`
     source: str  # where the URDF comes from (provenance, written into the fixture)
     end_effector: str  # a BODY frame of the Pinocchio model
     locked: tuple  # joints welded at 0 before anything is computed
+    directory: str = "robots/urdf"  # where the committed copy is, from the repository root
+    states: int = STATE_COUNT  # fewer for large robots: a state of the 16-DOF hand is 90 kB
+
+
+# URDFs kept for CI from tools/sweep.py's robots (why each: their directory's README.md). The
+# end-effector is the link dyngen picks for the bare URDF, so the tests load them without options.
+EXAMPLE_ROBOT_DATA = "codegen/tests/data/example-robot-data"
 
 
 ROBOTS = {
@@ -65,6 +72,31 @@ ROBOTS = {
             "tool0",
             (),
         ),
+        Robot(
+            "asr_twodof",
+            "TwoDofs.urdf",
+            "example-robot-data/robots/asr_twodof_description/urdf/TwoDofs.urdf",
+            "Tip",
+            (),
+            EXAMPLE_ROBOT_DATA + "/asr_twodof_description",
+        ),
+        Robot(
+            "allegro_right_hand",
+            "allegro_right_hand.urdf",
+            "example-robot-data/robots/allegro_hand_description/urdf/allegro_right_hand.urdf",
+            "link_3.0_tip",
+            (),
+            EXAMPLE_ROBOT_DATA + "/allegro_hand_description",
+            states=5,
+        ),
+        Robot(
+            "kinova",
+            "kinova.urdf",
+            "example-robot-data/robots/kinova_description/robots/kinova.urdf",
+            "j2s6s200_end_effector",
+            (),
+            EXAMPLE_ROBOT_DATA + "/kinova_description",
+        ),
     ]
 }
 
@@ -79,7 +111,7 @@ def build_model(robot):
     `buildModelFromUrdf` already merges links joined by fixed joints into the body of the
     moving joint that carries them. Without `mimic=True` the second panda finger is an
     ordinary joint, so both fingers are locked like any other joint."""
-    model = pin.buildModelFromUrdf(os.path.join(REPO, "robots", "urdf", robot.urdf))
+    model = pin.buildModelFromUrdf(os.path.join(REPO, robot.directory, robot.urdf))
     if robot.locked:
         ids = []
         for joint in robot.locked:
@@ -101,19 +133,19 @@ def check_provenance(robot):
     which file they come from)."""
     share = os.path.join(sysconfig.get_paths()["purelib"], "cmeel.prefix", "share")
     original = os.path.join(share, robot.source)
-    committed = os.path.join(REPO, "robots", "urdf", robot.urdf)
+    committed = os.path.join(REPO, robot.directory, robot.urdf)
     if not os.path.exists(original):
         print(f"  note: {original} not found; provenance not checked")
         return
     with open(original, "rb") as a, open(committed, "rb") as b:
         if a.read() != b.read():
-            print(f"  warning: robots/urdf/{robot.urdf} differs from {robot.source}")
+            print(f"  warning: {robot.directory}/{robot.urdf} differs from {robot.source}")
 
 
 def fixture(robot, given_states=None):
     model, frame = build_model(robot)
     if given_states is None:
-        states = draw_states(model, robot.name, STATE_COUNT)
+        states = draw_states(model, robot.name, robot.states)
     else:
         keys = ("q", "v", "a", "vr", "ar")
         states = [tuple(np.array(s[k], dtype=float) for k in keys) for s in given_states]

@@ -234,10 +234,11 @@ def sweep_one(name, args):
         result.update(status="build failed", message=compiler)
         return result
     outcome = harness(args, "outcome")
+    shorten = lambda lines: [line.replace(path, name) for line in lines]  # noqa: E731
     result.update(
         dof=outcome.get("dof"),
-        warnings=outcome.get("warnings", []),
-        notes=outcome.get("notes", []),
+        warnings=shorten(outcome.get("warnings", [])),
+        notes=shorten(outcome.get("notes", [])),
         end_effector=outcome.get("end_effector"),
     )
     status = outcome.get("status", "harness error")
@@ -299,6 +300,10 @@ def markdown(results, skipped):
             row += [result + ": " + escape(r.get("message", ""))] + [""] * len(COLUMNS)
         lines.append("| " + " | ".join(row) + " |")
     out = "\n".join(lines)
+    warned = [r for r in results if r.get("warnings")]
+    if warned:
+        out += "\n\nWarnings (the model is generated all the same):\n\n"
+        out += "\n".join(f"- `{w}`" for r in warned for w in r["warnings"])
     if skipped:
         out += "\n\nSkipped (not fixed-base):\n\n| URDF | reason |\n|---|---|\n"
         out += "\n".join(f"| `{name}` | {reason} |" for name, reason in skipped)
