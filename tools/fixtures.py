@@ -47,7 +47,6 @@ class Robot:
     end_effector: str  # a BODY frame of the Pinocchio model
     locked: tuple  # joints welded at 0 before anything is computed
     directory: str = "robots/urdf"  # where the committed copy is, from the repository root
-    states: int = STATE_COUNT  # fewer for large robots: a state of the 16-DOF hand is 90 kB
 
 
 # URDFs kept for CI from tools/sweep.py's robots (why each: their directory's README.md). The
@@ -81,13 +80,12 @@ ROBOTS = {
             EXAMPLE_ROBOT_DATA + "/asr_twodof_description",
         ),
         Robot(
-            "allegro_right_hand",
-            "allegro_right_hand.urdf",
-            "example-robot-data/robots/allegro_hand_description/urdf/allegro_right_hand.urdf",
-            "link_3.0_tip",
+            "xarm7",
+            "xarm7.urdf",
+            "example-robot-data/robots/xarm_description/urdf/xarm7.urdf",
+            "link_eef",
             (),
-            EXAMPLE_ROBOT_DATA + "/allegro_hand_description",
-            states=5,
+            EXAMPLE_ROBOT_DATA + "/xarm_description",
         ),
         Robot(
             "kinova",
@@ -145,7 +143,7 @@ def check_provenance(robot):
 def fixture(robot, given_states=None):
     model, frame = build_model(robot)
     if given_states is None:
-        states = draw_states(model, robot.name, robot.states)
+        states = draw_states(model, robot.name, STATE_COUNT)
     else:
         keys = ("q", "v", "a", "vr", "ar")
         states = [tuple(np.array(s[k], dtype=float) for k in keys) for s in given_states]

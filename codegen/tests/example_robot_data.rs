@@ -1,10 +1,10 @@
-//! Three URDFs of example-robot-data that no other test has (`codegen/tests/data/example-robot-data/`,
+//! URDFs of example-robot-data that no other test has (`codegen/tests/data/example-robot-data/`,
 //! why each: its README), loaded as a user would (the bare file, no options), against
 //! Pinocchio 4.1's reference values for the same file (`codegen/tests/fixtures/`, made by
 //! `tools/fixtures.py`): the model (joints, parameters, end-effector), the generic dynamics,
 //! and the traced graph that the generated code is printed from (through the interpreter),
 //! every quantity to 1e-9 relative. `tools/sweep.py` does the same for every fixed-base robot
-//! of the package with compiled generated code; CI keeps these three.
+//! of the package with compiled generated code; CI keeps these three, and one that is refused.
 
 use dyngen_testkit as common;
 
@@ -166,21 +166,42 @@ fn asr_twodof_matches_pinocchio_and_warns_about_its_near_quarter_turn() {
     );
 }
 
-/// A hand: four 4-joint fingers on one palm, which Pinocchio numbers in another order.
+/// Another vendor's 7-DOF arm whose quarter turns are written `1.5708` (3.7e-6 rad off):
+/// one warning each, the angles kept as written, and the values agree with Pinocchio's.
 #[test]
-fn allegro_hand_tree_matches_pinocchio_in_its_own_joint_order() {
+fn xarm7_matches_pinocchio_and_warns_about_its_rounded_quarter_turns() {
     let loaded = check(
-        "allegro_right_hand",
-        "codegen/tests/data/example-robot-data/allegro_hand_description/allegro_right_hand.urdf",
+        "xarm7",
+        "codegen/tests/data/example-robot-data/xarm_description/xarm7.urdf",
     );
-    let model = &loaded.model;
-    assert_eq!(model.dof(), 16);
-    let roots = model.joints().iter().filter(|j| j.parent.is_none()).count();
-    assert_eq!(roots, 4, "four fingers start at the palm");
-    let fx = fixture::load("allegro_right_hand");
-    let ours: Vec<&str> = model.joints().iter().map(|j| j.name.as_str()).collect();
-    assert_ne!(ours, fx.joint_names, "the two libraries number the fingers differently");
-    assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
+    assert_eq!(loaded.model.dof(), 7);
+    assert_eq!(loaded.warnings.len(), 6, "{:?}", loaded.warnings);
+    assert!(
+        loaded
+            .warnings
+            .iter()
+            .all(|w| w.contains("origin roll") && w.contains("1.5708 is 3.7e-6 from")),
+        "{:?}",
+        loaded.warnings
+    );
+}
+
+/// A vendor URDF with an impossible inertia (a principal moment 20% above the sum of the other
+/// two; Pinocchio loads it as it is) is refused with one line: file, place, link and why.
+#[test]
+fn allegro_hand_with_an_impossible_inertia_is_one_clear_error() {
+    let path = "codegen/tests/data/example-robot-data/allegro_hand_description/allegro_right_hand.urdf";
+    let error = description::load(&workspace_root().join(path))
+        .expect_err("the Allegro hand's link_3.0 inertia is not physical")
+        .to_string();
+    assert!(
+        error.ends_with(
+            "allegro_right_hand.urdf:143:7: link 'link_3.0': inertia violates the triangle inequality \
+             I1 + I2 >= I3 (principal moments [2.30064e-6, 3.48527e-6, 7.2659e-6])"
+        ),
+        "{error}"
+    );
+    assert_eq!(error.lines().count(), 1, "{error}");
 }
 
 /// Continuous joints (Pinocchio stores each as (cos, sin)); meshes named by `package://` URLs

@@ -169,7 +169,8 @@ impl Fixture {
 impl Fixture {
     /// The reference values in another joint order (`names`, e.g. dyngen's), by joint name:
     /// Pinocchio and dyngen both number a tree depth-first but may visit children in another
-    /// order (the Allegro hand). Vectors, the rows and columns of joint-by-joint matrices, the
+    /// order (example-robot-data's Alex upper body: Pinocchio numbers the left arm before the
+    /// neck, dyngen after it). Vectors, the rows and columns of joint-by-joint matrices, the
     /// columns of `J` and `J̇`, the rows of `Y` and the ten-parameter blocks of `pi` and `Y`
     /// move with their joint. `json` (and so `model()`) keeps Pinocchio's order.
     pub fn reordered(&self, names: &[&str]) -> Fixture {
