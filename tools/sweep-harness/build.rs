@@ -48,7 +48,9 @@ fn generate(path: &Path, out_dir: &Path) -> Value {
         "joint_names": model.joints().iter().map(|j| j.name.as_str()).collect::<Vec<_>>(),
         "end_effector": model.end_effector().name,
     });
-    let max_dof = std::env::var("DYNGEN_SWEEP_MAX_DOF").ok().and_then(|v| v.parse::<usize>().ok());
+    let max_dof = std::env::var("DYNGEN_SWEEP_MAX_DOF")
+        .ok()
+        .and_then(|v| v.parse::<usize>().ok());
     if let Some(max) = max_dof.filter(|max| model.dof() > *max) {
         outcome["status"] = "not_generated".into();
         outcome["message"] = format!("{} DOF, above DYNGEN_SWEEP_MAX_DOF={max}", model.dof()).into();

@@ -7,8 +7,8 @@
 //! the result is its maximum over the states.
 
 use crate::robot::{self, Robot};
-use nalgebra::{DMatrix, SMatrix, SVector};
 use dyngen_runtime::{BaseParameters, JointTrig, Kinematics, RobotDynamics};
+use nalgebra::{DMatrix, SMatrix, SVector};
 use serde_json::{json, Map, Value};
 
 const N: usize = robot::DOF;
@@ -154,7 +154,11 @@ pub fn run(path: &str) -> Result<Value, String> {
             &dm(&pose.translation),
             &DMatrix::from_vec(3, 1, numbers(&s["ee_translation"], "ee_translation")?),
         );
-        worst.record("J", &dm(&Robot::jacobian(&t)), &order.columns(&matrix(&s["J"], "J")?));
+        worst.record(
+            "J",
+            &dm(&Robot::jacobian(&t)),
+            &order.columns(&matrix(&s["J"], "J")?),
+        );
         worst.record(
             "J̇",
             &dm(&Robot::jacobian_dot(&t, &v)),
@@ -181,7 +185,11 @@ pub fn run(path: &str) -> Result<Value, String> {
             &dm(&(Robot::base_regressor(&t, &v, &v, &a) * theta_b)),
             &column(tau),
         );
-        worst.record("FD", &dm(&Robot::forward_dynamics(&t, &v, &tau)), &column(vector("aba")?));
+        worst.record(
+            "FD",
+            &dm(&Robot::forward_dynamics(&t, &v, &tau)),
+            &column(vector("aba")?),
+        );
         worst.record("D⁻¹", &dm(&Robot::mass_matrix_inverse(&t)), &square("Minv")?);
         let (dq, dv) = Robot::inverse_dynamics_derivatives(&t, &v, &a);
         worst.record("∂τ/∂q", &dm(&dq), &square("dtau_dq")?);
