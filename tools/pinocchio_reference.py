@@ -8,6 +8,7 @@ Conventions (frames, parameter order, matrix layout) are described there.
 
 import json
 import math
+import re
 import zlib
 
 import numpy as np
@@ -22,6 +23,32 @@ WORLD_AXES_AT_FRAME = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
 # ---------------------------------------------------------------------------------------------
 # model
+
+
+QUARTER_TURN = math.pi / 2
+RPY = re.compile(r'(\brpy\s*=\s*)(["\'])([^"\']*)\2')
+
+
+def exact_quarter_turns(urdf):
+    """The URDF text with every `rpy` angle within 1e-9 rad of a multiple of π/2 written as
+    that multiple, which is what dyngen's loader takes it for (`exact_sin_cos` in
+    codegen/src/model/pose.rs). A URDF that writes 1.57079632679 (Kinova, UR) otherwise gives
+    Pinocchio rotations 5e-12 off dyngen's, which an ill-conditioned inertia matrix amplifies to
+    more than 1e-9 in forward dynamics. Angles farther off (1.5708) are left alone, as dyngen
+    leaves them."""
+
+    def snap(text):
+        angle = float(text)
+        k = round(angle / QUARTER_TURN)
+        if angle != k * QUARTER_TURN and abs(angle - k * QUARTER_TURN) < 1e-9:
+            return repr(k * QUARTER_TURN)
+        return text
+
+    def rewrite(m):
+        angles = " ".join(snap(t) for t in m.group(3).split())
+        return f"{m.group(1)}{m.group(2)}{angles}{m.group(2)}"
+
+    return RPY.sub(rewrite, urdf)
 
 
 def joints_in_order(model):

@@ -12,7 +12,8 @@ the pinned example-robot-data package (tools/requirements.txt):
    options: dyngen picks the end-effector) and generates it into OUT_DIR; a URDF that does not
    load is recorded with dyngen's message, its warnings are recorded too.
 3. For a robot that generated, Pinocchio builds the same URDF (`mimic=True` when the URDF has
-   mimic joints), with dyngen's end-effector link as the frame, and writes reference values at
+   mimic joints; angles within 1e-9 rad of a quarter turn made exact, as dyngen's loader takes
+   them), with dyngen's end-effector link as the frame, and writes reference values at
    seeded random states (tools/pinocchio_reference.py: the fields of the committed fixtures);
    the harness evaluates the compiled generated code at those states and reports the largest
    relative error per quantity. Everything must agree to 1e-9, as in the fixture tests.
@@ -45,7 +46,13 @@ import xml.etree.ElementTree as ET
 
 import pinocchio as pin
 
-from pinocchio_reference import describe_model, draw_states, evaluate_states, to_json
+from pinocchio_reference import (
+    describe_model,
+    draw_states,
+    evaluate_states,
+    exact_quarter_turns,
+    to_json,
+)
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 HARNESS = os.path.join(REPO, "tools", "sweep-harness")
@@ -207,7 +214,9 @@ def harness(args, *arguments):
 
 def reference(path, end_effector, name, state_count):
     """Reference values for the URDF at `path`, end-effector frame `end_effector` (a link)."""
-    model = pin.buildModelFromUrdf(path, mimic=has_mimic_joints(path))
+    with open(path) as f:
+        urdf = exact_quarter_turns(f.read())
+    model = pin.buildModelFromXML(urdf, mimic=has_mimic_joints(path))
     if not model.existBodyName(end_effector):
         raise ValueError(f"Pinocchio has no body frame {end_effector!r}")
     frame = model.getFrameId(end_effector, pin.FrameType.BODY)
