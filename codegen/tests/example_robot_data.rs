@@ -63,7 +63,12 @@ fn check_generic(robot: &str, k: usize, dynamics: &NumericDynamics, s: &State) {
     let tau = dynamics.inverse_dynamics(&s.q, &s.v, &s.a);
     assert_close(&at("τ"), &column(tau.as_slice()), &column(&s.tau), TOL);
     let tau_ref = dynamics.slotine_li(&s.q, &s.v, &s.vr, &s.ar, true);
-    assert_close(&at("Slotine–Li τ"), &column(tau_ref.as_slice()), &column(&s.tau_ref), TOL);
+    assert_close(
+        &at("Slotine–Li τ"),
+        &column(tau_ref.as_slice()),
+        &column(&s.tau_ref),
+        TOL,
+    );
     assert_close(&at("Y"), &dynamics.regressor(&s.q, &s.v, &s.v, &s.a), &s.y, TOL);
     let qdd = dynamics.forward_dynamics(&s.q, &s.v, &s.tau);
     assert_close(&at("q̈"), &column(qdd.as_slice()), &column(&s.aba), TOL);
@@ -88,9 +93,7 @@ fn check_traced(robot: &str, k: usize, traced: &SymbolicRobot, theta: &[f64], s:
     let eval = |name: &str, qd: &[f64], v: &[f64], a: &[f64], rows: usize| {
         matrix(traced.evaluate(name, &s.q, qd, v, a).expect(name), rows)
     };
-    let eval_tau = |name: &str| {
-        matrix(traced.evaluate_tau(name, &s.q, &s.v, &s.tau).expect(name), n)
-    };
+    let eval_tau = |name: &str| matrix(traced.evaluate_tau(name, &s.q, &s.v, &s.tau).expect(name), n);
     let side_by_side = |left: &DMatrix<f64>, right: &DMatrix<f64>| {
         let mut both = DMatrix::zeros(n, 2 * n);
         both.columns_mut(0, n).copy_from(left);
@@ -107,7 +110,12 @@ fn check_traced(robot: &str, k: usize, traced: &SymbolicRobot, theta: &[f64], s:
     assert_close(&at("J̇"), &eval("jacobian_dot", &s.v, none, none, 6), &s.jdot, TOL);
     assert_close(&at("D"), &eval("mass_matrix", none, none, none, n), &s.d, TOL);
     assert_close(&at("C"), &eval("coriolis_matrix", &s.v, none, none, n), &s.c, TOL);
-    assert_close(&at("g"), &eval("gravity", none, none, none, n), &column(&s.g), TOL);
+    assert_close(
+        &at("g"),
+        &eval("gravity", none, none, none, n),
+        &column(&s.g),
+        TOL,
+    );
     let tau = eval("inverse_dynamics", &s.v, none, &s.a, n);
     assert_close(&at("τ"), &tau, &column(&s.tau), TOL);
     let slotine_li = eval("slotine_li", &s.v, &s.vr, &s.ar, n);
@@ -117,7 +125,12 @@ fn check_traced(robot: &str, k: usize, traced: &SymbolicRobot, theta: &[f64], s:
     let theta_b = column(&traced.base.base_parameters(theta));
     assert_close(&at("Y_b θ_b"), &(y_b * theta_b), &column(&s.tau), TOL);
     assert_close(&at("q̈"), &eval_tau("forward_dynamics"), &column(&s.aba), TOL);
-    assert_close(&at("D⁻¹"), &eval("mass_matrix_inverse", none, none, none, n), &s.minv, TOL);
+    assert_close(
+        &at("D⁻¹"),
+        &eval("mass_matrix_inverse", none, none, none, n),
+        &s.minv,
+        TOL,
+    );
     assert_close(
         &at("∂τ/∂(q, q̇)"),
         &eval("inverse_dynamics_derivatives", &s.v, none, &s.a, n),
@@ -217,6 +230,9 @@ fn kinova_with_continuous_joints_matches_pinocchio() {
     let continuous = model.joints().iter().filter(|j| j.limits.is_none()).count();
     assert_eq!(continuous, 3);
     let fx = fixture::load("kinova");
-    assert_eq!(fx.json["nq"], 9, "Pinocchio: two coordinates per continuous joint");
+    assert_eq!(
+        fx.json["nq"], 9,
+        "Pinocchio: two coordinates per continuous joint"
+    );
     assert!(loaded.warnings.is_empty(), "{:?}", loaded.warnings);
 }
