@@ -103,6 +103,12 @@ fn compare<R: RobotDynamics<N, P>, const N: usize, const P: usize>(
         &generic.regressor(q, qd, v, a),
         tol,
     );
+    assert_close(
+        &format!("{at}: Y in torque form"),
+        &dm(&R::torque_regressor(&t, &qd_, &a_)),
+        &generic.regressor(q, qd, qd, a),
+        tol,
+    );
 }
 
 fn against_generic<R: RobotDynamics<N, P>, const N: usize, const P: usize>(robot: &str) {
@@ -190,6 +196,12 @@ fn against_fixture<R: RobotDynamics<N, P>, const N: usize, const P: usize>(robot
             TOL_FIXTURE,
         );
         assert_close(&at("Y"), &dm(&R::regressor(&t, &v, &v, &a)), &s.y, TOL_FIXTURE);
+        assert_close(
+            &at("Y in torque form"),
+            &dm(&R::torque_regressor(&t, &v, &a)),
+            &s.y,
+            TOL_FIXTURE,
+        );
     }
 }
 

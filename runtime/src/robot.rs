@@ -98,6 +98,12 @@ pub trait RobotDynamics<const N: usize, const P: usize>: Kinematics<N> {
         v: &SVector<f64, N>,
         a: &SVector<f64, N>,
     ) -> SMatrix<f64, N, P>;
+    /// The regressor in torque form, `Y(q, q̇, q̇, q̈)` with `Y θ = τ` (what identification
+    /// stacks). Generated robots emit it as its own function, smaller than [`Self::regressor`]:
+    /// at `v = q̇` each body force takes the classical `v ×* I v` form.
+    fn torque_regressor(t: &JointTrig<N>, qd: &SVector<f64, N>, qdd: &SVector<f64, N>) -> SMatrix<f64, N, P> {
+        Self::regressor(t, qd, qd, qdd)
+    }
     /// Forward dynamics `q̈ = D⁻¹ (τ − C q̇ − g)`.
     fn forward_dynamics(t: &JointTrig<N>, qd: &SVector<f64, N>, tau: &SVector<f64, N>) -> SVector<f64, N>;
     /// The inverse inertia matrix `D(q)⁻¹`.

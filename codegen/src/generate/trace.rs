@@ -66,6 +66,13 @@ pub struct SymbolicRobot {
 /// `RobotDynamics`): the kept columns of `Y`, so only their nodes are live in its function.
 pub const BASE_REGRESSOR: &str = "base_regressor";
 
+/// Name of the base-parameter regressor in torque form, `Y_b(q, q̇, q̇, q̈)`.
+pub const BASE_TORQUE_REGRESSOR: &str = "base_torque_regressor";
+
+/// The quantities that are methods of `BaseParameters` (the others are of `Kinematics` or
+/// `RobotDynamics`).
+pub const BASE_FUNCTIONS: [&str; 2] = [BASE_REGRESSOR, BASE_TORQUE_REGRESSOR];
+
 fn ids(v: &[Expr]) -> Vec<Id> {
     v.iter().map(|e| e.id()).collect()
 }
@@ -202,6 +209,7 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
         let mut quantities = quantities;
         let tau = inputs("tau", n);
         quantities.extend(forward_quantities(model, &q, &qd, &a, &tau));
+        quantities.extend(torque_regressors(model, &x, &qd, &a, &base));
         (
             Inputs {
                 q: ids(&q),
@@ -262,6 +270,39 @@ fn forward_quantities(model: &Model, q: &[Expr], qd: &[Expr], a: &[Expr], tau: &
             outputs: pair_ids(dynamics::forward_dynamics_derivatives(
                 model, q, &inertias, &jv, qd, tau,
             )),
+        },
+    ]
+}
+
+/// The regressor at `v = q̇`, `a = q̈` (identification's form, `Y θ = τ`), and its base columns:
+/// traced last, so the earlier functions keep their node ids. The body forces take the cheaper
+/// `v ×* I v` form there, so these are smaller than the Slotine–Li regressor.
+fn torque_regressors(
+    model: &Model,
+    x: &[crate::spatial::Transform<Expr>],
+    qd: &[Expr],
+    a: &[Expr],
+    base: &BaseParameterSet,
+) -> Vec<Quantity> {
+    let n = model.dof();
+    let y = matrix_ids(&dynamics::regressor(model, x, qd, qd, a));
+    let y_base = base
+        .columns
+        .iter()
+        .flat_map(|&c| y[c * n..(c + 1) * n].iter().copied())
+        .collect();
+    vec![
+        Quantity {
+            name: "torque_regressor",
+            args: vec![Arg::Qd, Arg::A],
+            shape: Shape::Matrix(n, model.parameter_count()),
+            outputs: y,
+        },
+        Quantity {
+            name: BASE_TORQUE_REGRESSOR,
+            args: vec![Arg::Qd, Arg::A],
+            shape: Shape::Matrix(n, base.count()),
+            outputs: y_base,
         },
     ]
 }
