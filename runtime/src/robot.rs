@@ -60,6 +60,15 @@ pub trait Kinematics<const N: usize> {
     fn jacobian(t: &JointTrig<N>) -> SMatrix<f64, 6, N>;
     /// Its time derivative `J̇(q, q̇)`.
     fn jacobian_dot(t: &JointTrig<N>, qd: &SVector<f64, N>) -> SMatrix<f64, 6, N>;
+    /// The three at once, `(pose, J, J̇)`, as a control tick needs them: generated robots
+    /// compute the joint transforms and body poses they share once.
+    fn kinematics(t: &JointTrig<N>, qd: &SVector<f64, N>) -> (Pose, SMatrix<f64, 6, N>, SMatrix<f64, 6, N>) {
+        (
+            Self::forward_kinematics(t),
+            Self::jacobian(t),
+            Self::jacobian_dot(t, qd),
+        )
+    }
 }
 
 /// Rigid-body dynamics of one robot with `N` joints and `P` standard inertial parameters.

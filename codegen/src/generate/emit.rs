@@ -461,13 +461,17 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
                 let columns = atoms.chunks(rows).map(|c| quote!([#(#c),*]));
                 quote!(SMatrix::from_array_storage(ArrayStorage([#(#columns),*])))
             }
-            Shape::Pose => {
-                let (r, p) = atoms.split_at(9);
-                let columns = r.chunks(3).map(|c| quote!([#(#c),*]));
-                quote!(Pose {
-                    rotation: Matrix3::from_array_storage(ArrayStorage([#(#columns),*])),
-                    translation: Vector3::new(#(#p),*),
-                })
+            Shape::Pose => pose_value(&atoms),
+            Shape::Kinematics(_) => {
+                let (pose, jacobians) = atoms.split_at(12);
+                let (j, jd) = jacobians.split_at(jacobians.len() / 2);
+                let pose = pose_value(pose);
+                let matrix = |m: &[TokenStream]| {
+                    let c: Vec<TokenStream> = m.chunks(6).map(|c| quote!([#(#c),*])).collect();
+                    quote!(SMatrix::from_array_storage(ArrayStorage([#(#c),*])))
+                };
+                let (j, jd) = (matrix(j), matrix(jd));
+                quote!((#pose, #j, #jd))
             }
             Shape::MatrixPair(rows) => {
                 let (first, second) = atoms.split_at(rows * rows);
@@ -500,6 +504,10 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
                 quote!(SMatrix<f64, #r, #c>)
             }
             Shape::Pose => quote!(Pose),
+            Shape::Kinematics(n) => {
+                let n = Literal::usize_unsuffixed(n);
+                quote!((Pose, SMatrix<f64, 6, #n>, SMatrix<f64, 6, #n>))
+            }
             Shape::MatrixPair(r) => {
                 let r = Literal::usize_unsuffixed(r);
                 quote!((SMatrix<f64, #r, #r>, SMatrix<f64, #r, #r>))
@@ -587,6 +595,16 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
     Emitted { method, chunks }
 }
 
+/// A `Pose` from 12 atoms: the rotation column-major, then the translation.
+fn pose_value(atoms: &[TokenStream]) -> TokenStream {
+    let (r, p) = atoms.split_at(9);
+    let columns = r.chunks(3).map(|c| quote!([#(#c),*]));
+    quote!(Pose {
+        rotation: Matrix3::from_array_storage(ArrayStorage([#(#columns),*])),
+        translation: Vector3::new(#(#p),*),
+    })
+}
+
 /// Ids of `sin(q_i)` (or `cos(q_i)`) in joint order; a fresh id where the graph has none.
 fn trig_ids(robot: &SymbolicRobot, sin: bool) -> Vec<Id> {
     let g = &robot.graph;
@@ -670,7 +688,7 @@ const LANE_FUNCTIONS: [&str; 2] = ["inverse_dynamics", super::trace::BASE_TORQUE
 /// The generated functions that belong to [`Kinematics`](dyngen_runtime::Kinematics) (the rest
 /// are [`RobotDynamics`](dyngen_runtime::RobotDynamics), and `Y_b` is
 /// [`BaseParameters`](dyngen_runtime::BaseParameters)).
-const KINEMATICS: [&str; 3] = ["forward_kinematics", "jacobian", "jacobian_dot"];
+const KINEMATICS: [&str; 4] = ["forward_kinematics", "jacobian", "jacobian_dot", "kinematics"];
 
 /// A limit as a literal; an unset (infinite) one as `f64::INFINITY`.
 fn limit(x: f64) -> TokenStream {

@@ -28,6 +28,8 @@ pub enum Shape {
     Pose,
     /// Two `n × n` matrices (derivatives with respect to `q` and `q̇`), each column-major.
     MatrixPair(usize),
+    /// A pose, then `J` and `J̇` (6 × n each, column-major): the kinematics of a control tick.
+    Kinematics(usize),
 }
 
 /// One quantity: a named function of the joint state.
@@ -210,6 +212,7 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
         let tau = inputs("tau", n);
         quantities.extend(forward_quantities(model, &q, &qd, &a, &tau));
         quantities.extend(torque_regressors(model, &x, &qd, &a, &base));
+        quantities.push(fused_kinematics(&quantities, n));
         (
             Inputs {
                 q: ids(&q),
@@ -305,6 +308,27 @@ fn torque_regressors(
             outputs: y_base,
         },
     ]
+}
+
+/// Forward kinematics, `J` and `J̇` in one function: the nodes the three share (joint
+/// transforms, body poses) are computed once. No new nodes, only the union of their outputs.
+fn fused_kinematics(quantities: &[Quantity], n: usize) -> Quantity {
+    let outputs_of = |name: &str| {
+        quantities
+            .iter()
+            .find(|q| q.name == name)
+            .map(|q| q.outputs.clone())
+            .unwrap_or_default()
+    };
+    let mut outputs = outputs_of("forward_kinematics");
+    outputs.extend(outputs_of("jacobian"));
+    outputs.extend(outputs_of("jacobian_dot"));
+    Quantity {
+        name: "kinematics",
+        args: vec![Arg::Qd],
+        shape: Shape::Kinematics(n),
+        outputs,
+    }
 }
 
 impl SymbolicRobot {
