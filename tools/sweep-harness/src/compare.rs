@@ -143,27 +143,22 @@ pub fn run(path: &str) -> Result<Value, String> {
         let column = |x: SVector<f64, N>| dm(&x);
         let t = JointTrig::new(&q);
 
+        let ee_rotation = matrix(&s["ee_rotation"], "ee_rotation")?;
+        let ee_translation = DMatrix::from_vec(3, 1, numbers(&s["ee_translation"], "ee_translation")?);
+        let jacobian = order.columns(&matrix(&s["J"], "J")?);
+        let jacobian_dot = order.columns(&matrix(&s["Jdot"], "Jdot")?);
         let pose = Robot::forward_kinematics(&t);
-        worst.record(
-            "ee pose",
-            &dm(&pose.rotation),
-            &matrix(&s["ee_rotation"], "ee_rotation")?,
-        );
-        worst.record(
-            "ee pose",
-            &dm(&pose.translation),
-            &DMatrix::from_vec(3, 1, numbers(&s["ee_translation"], "ee_translation")?),
-        );
-        worst.record(
-            "J",
-            &dm(&Robot::jacobian(&t)),
-            &order.columns(&matrix(&s["J"], "J")?),
-        );
-        worst.record(
-            "J̇",
-            &dm(&Robot::jacobian_dot(&t, &v)),
-            &order.columns(&matrix(&s["Jdot"], "Jdot")?),
-        );
+        worst.record("ee pose", &dm(&pose.rotation), &ee_rotation);
+        worst.record("ee pose", &dm(&pose.translation), &ee_translation);
+        worst.record("J", &dm(&Robot::jacobian(&t)), &jacobian);
+        worst.record("J̇", &dm(&Robot::jacobian_dot(&t, &v)), &jacobian_dot);
+        // The fused function a control tick calls computes the same three from shared transforms.
+        let (pose, j, jd) = Robot::kinematics(&t, &v);
+        let fused = "kinematics (pose, J, J̇)";
+        worst.record(fused, &dm(&pose.rotation), &ee_rotation);
+        worst.record(fused, &dm(&pose.translation), &ee_translation);
+        worst.record(fused, &dm(&j), &jacobian);
+        worst.record(fused, &dm(&jd), &jacobian_dot);
         worst.record("D", &dm(&Robot::mass_matrix(&t)), &square("D")?);
         worst.record("C", &dm(&Robot::coriolis_matrix(&t, &v)), &square("C")?);
         worst.record("g", &dm(&Robot::gravity(&t)), &column(vector("g")?));
@@ -183,6 +178,19 @@ pub fn run(path: &str) -> Result<Value, String> {
         worst.record(
             "Y_b θ_b",
             &dm(&(Robot::base_regressor(&t, &v, &v, &a) * theta_b)),
+            &column(tau),
+        );
+        // The torque-form regressors (identification's), emitted as functions of their own.
+        if same_layout {
+            worst.record(
+                "torque-form Y",
+                &dm(&Robot::torque_regressor(&t, &v, &a)),
+                &order.regressor(&matrix(&s["Y"], "Y")?),
+            );
+        }
+        worst.record(
+            "torque-form Y_b θ_b",
+            &dm(&(Robot::base_torque_regressor(&t, &v, &a) * theta_b)),
             &column(tau),
         );
         worst.record(
