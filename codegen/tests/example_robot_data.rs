@@ -108,6 +108,16 @@ fn check_traced(robot: &str, k: usize, traced: &SymbolicRobot, theta: &[f64], s:
     );
     assert_close(&at("J"), &eval("jacobian", none, none, none, 6), &s.j, TOL);
     assert_close(&at("J̇"), &eval("jacobian_dot", &s.v, none, none, 6), &s.jdot, TOL);
+    // The fused kinematics: pose, J and J̇ one after the other, as one column.
+    let mut fused = pose_column(&s.ee_rotation, &s.ee_translation).as_slice().to_vec();
+    fused.extend(s.j.iter().chain(s.jdot.iter()));
+    let all = fused.len();
+    assert_close(
+        &at("(pose, J, J̇)"),
+        &eval("kinematics", &s.v, none, none, all),
+        &column(&fused),
+        TOL,
+    );
     assert_close(&at("D"), &eval("mass_matrix", none, none, none, n), &s.d, TOL);
     assert_close(&at("C"), &eval("coriolis_matrix", &s.v, none, none, n), &s.c, TOL);
     assert_close(
@@ -123,7 +133,16 @@ fn check_traced(robot: &str, k: usize, traced: &SymbolicRobot, theta: &[f64], s:
     assert_close(&at("Y"), &eval("regressor", &s.v, &s.v, &s.a, n), &s.y, TOL);
     let y_b = eval("base_regressor", &s.v, &s.v, &s.a, n);
     let theta_b = column(&traced.base.base_parameters(theta));
-    assert_close(&at("Y_b θ_b"), &(y_b * theta_b), &column(&s.tau), TOL);
+    assert_close(&at("Y_b θ_b"), &(y_b * &theta_b), &column(&s.tau), TOL);
+    // The torque-form regressors (identification's), traced as quantities of their own.
+    assert_close(
+        &at("torque-form Y"),
+        &eval("torque_regressor", &s.v, none, &s.a, n),
+        &s.y,
+        TOL,
+    );
+    let y_b = eval("base_torque_regressor", &s.v, none, &s.a, n);
+    assert_close(&at("torque-form Y_b θ_b"), &(y_b * theta_b), &column(&s.tau), TOL);
     assert_close(&at("q̈"), &eval_tau("forward_dynamics"), &column(&s.aba), TOL);
     assert_close(
         &at("D⁻¹"),
