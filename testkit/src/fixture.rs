@@ -165,3 +165,63 @@ impl Fixture {
         .expect("the fixture's model is valid")
     }
 }
+
+impl Fixture {
+    /// The reference values in another joint order (`names`, e.g. dyngen's), by joint name:
+    /// Pinocchio and dyngen both number a tree depth-first but may visit children in another
+    /// order (example-robot-data's Alex upper body: Pinocchio numbers the left arm before the
+    /// neck, dyngen after it). Vectors, the rows and columns of joint-by-joint matrices, the
+    /// columns of `J` and `J̇`, the rows of `Y` and the ten-parameter blocks of `pi` and `Y`
+    /// move with their joint. `json` (and so `model()`) keeps Pinocchio's order.
+    pub fn reordered(&self, names: &[&str]) -> Fixture {
+        let n = self.joint_names.len();
+        assert_eq!(names.len(), n, "number of joints");
+        let of: Vec<usize> = names
+            .iter()
+            .map(|name| {
+                self.joint_names
+                    .iter()
+                    .position(|m| m == name)
+                    .unwrap_or_else(|| panic!("joint '{name}' is not in the fixture"))
+            })
+            .collect();
+        const BODY: usize = dyngen_runtime::PARAMETERS_PER_BODY;
+        let vector = |v: &[f64]| of.iter().map(|&k| v[k]).collect::<Vec<f64>>();
+        let square = |m: &DMatrix<f64>| DMatrix::from_fn(n, n, |i, j| m[(of[i], of[j])]);
+        let columns = |m: &DMatrix<f64>| DMatrix::from_fn(m.nrows(), n, |i, j| m[(i, of[j])]);
+        let block = |j: usize| of[j / BODY] * BODY + j % BODY;
+        let states = self
+            .states
+            .iter()
+            .map(|s| State {
+                q: vector(&s.q),
+                v: vector(&s.v),
+                a: vector(&s.a),
+                vr: vector(&s.vr),
+                ar: vector(&s.ar),
+                d: square(&s.d),
+                c: square(&s.c),
+                g: vector(&s.g),
+                tau: vector(&s.tau),
+                tau_ref: vector(&s.tau_ref),
+                j: columns(&s.j),
+                jdot: columns(&s.jdot),
+                ee_translation: s.ee_translation.clone(),
+                ee_rotation: s.ee_rotation.clone(),
+                y: DMatrix::from_fn(n, n * BODY, |i, j| s.y[(of[i], block(j))]),
+                aba: vector(&s.aba),
+                minv: square(&s.minv),
+                dtau_dq: square(&s.dtau_dq),
+                dtau_dv: square(&s.dtau_dv),
+                dqdd_dq: square(&s.dqdd_dq),
+                dqdd_dv: square(&s.dqdd_dv),
+            })
+            .collect();
+        Fixture {
+            json: self.json.clone(),
+            joint_names: names.iter().map(|s| s.to_string()).collect(),
+            pi: (0..n * BODY).map(|j| self.pi[block(j)]).collect(),
+            states,
+        }
+    }
+}
