@@ -17,8 +17,8 @@ mod svg;
 use clap::{Parser, ValueEnum};
 use dyngen_control::controller::GammaByKind;
 use dyngen_control::sim::{
-    start_posture_for, summary_table, write_csv, Demo, DemoOptions, NoiseConfig, RunKind, RunResult,
-    RunStatus, Sample,
+    start_posture_for, summary_table, write_csv, Demo, DemoOptions, JointTermFactors, NoiseConfig, RunKind,
+    RunResult, RunStatus, Sample,
 };
 use dyngen_generated::{arm7, arm7_friction, panda, ur5, Arm7, Arm7Friction, Panda, Ur5};
 use dyngen_runtime::nalgebra::SVector;
@@ -101,6 +101,14 @@ struct Args {
     /// 0 holds them at the description's nominal values (only the inertial parameters adapt).
     #[arg(long, default_value_t = GammaByKind::DEFAULT_JOINT, value_name = "GAIN")]
     joint_gain: f64,
+    /// The true robot's armature, viscous friction, Coulomb friction and offset as multiples of
+    /// the description's nominal values (default 1.25 2 2 2).
+    #[arg(long, num_args = 4, value_names = ["ARMATURE", "VISCOUS", "COULOMB", "OFFSET"])]
+    true_joint_terms: Option<Vec<f64>>,
+    /// θ̂(0) of the inertial parameters as a multiple of the description's (the payload is
+    /// unknown either way).
+    #[arg(long, default_value_t = 0.5, value_name = "SCALE")]
+    initial_estimate: f64,
 }
 
 fn main() -> ExitCode {
@@ -153,6 +161,15 @@ fn options(args: &Args) -> DemoOptions {
         o.gamma.inertia = g[2];
     }
     o.gamma.joint = args.joint_gain;
+    o.initial_estimate_scale = args.initial_estimate;
+    if let Some(f) = &args.true_joint_terms {
+        o.true_joint_terms = JointTermFactors {
+            armature: f[0],
+            viscous: f[1],
+            coulomb: f[2],
+            offset: f[3],
+        };
+    }
     if args.noise {
         o.sim.noise = Some(NoiseConfig::REFERENCE);
         o.sim.seed = args.seed;

@@ -31,7 +31,7 @@ impl Default for GammaByKind {
 
 impl GammaByKind {
     /// The default gain of the joint-level parameters (`docs/controller.md`, adaptation).
-    pub const DEFAULT_JOINT: f64 = 100.0;
+    pub const DEFAULT_JOINT: f64 = 1000.0;
 
     /// Every inertial gain finite and > 0; the joint-level gain finite and ≥ 0 (0: the joint
     /// terms keep their estimate).
