@@ -84,7 +84,11 @@ fn with_true_friction_adapting_the_joint_terms_lowers_the_tracking_errors() {
         adapted.rms_in_plane_error
     );
     for s in [&adapted, &nominal] {
-        assert!(s.rms_force_error <= 0.05, "RMS force error {} N", s.rms_force_error);
+        assert!(
+            s.rms_force_error <= 0.05,
+            "RMS force error {} N",
+            s.rms_force_error
+        );
     }
 }
 

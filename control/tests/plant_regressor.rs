@@ -149,7 +149,11 @@ fn true_friction_and_armature_land_where_they_act() {
         let dtau = friction.slotine_li(&t, &qd, &v) - rigid.slotine_li(&t, &qd, &v);
         for j in 0..7 {
             let expect = viscous[j] * v[j] + coulomb[j] * (qd[j] / 0.01).tanh() + offset[j];
-            assert!((dtau[j] - expect).abs() < 1e-9, "joint {j}: {} vs {expect}", dtau[j]);
+            assert!(
+                (dtau[j] - expect).abs() < 1e-9,
+                "joint {j}: {} vs {expect}",
+                dtau[j]
+            );
         }
         let fv = friction.viscous_friction(&t);
         assert!((fv - SVector::<f64, 7>::from(viscous)).amax() < 1e-10, "{fv}");

@@ -161,7 +161,10 @@ fn arm7_friction_generated_matches_generic() {
 fn arm7_friction_is_arm7_plus_joint_terms() {
     assert_eq!(Arm7Friction::JOINT_NAMES, Arm7::JOINT_NAMES);
     assert_eq!(Arm7Friction::JOINT_LIMITS, Arm7::JOINT_LIMITS);
-    assert_eq!(&Arm7Friction::parameters().as_slice()[..70], Arm7::parameters().as_slice());
+    assert_eq!(
+        &Arm7Friction::parameters().as_slice()[..70],
+        Arm7::parameters().as_slice()
+    );
     for seed in 0..20u64 {
         let q = SVector::<f64, 7>::from_fn(|i, _| ((seed * 7 + i as u64) as f64 * 0.37).sin() * 1.5);
         let t = JointTrig::new(&q);
@@ -169,8 +172,14 @@ fn arm7_friction_is_arm7_plus_joint_terms() {
         let (a, b) = (Arm7Friction::forward_kinematics(&t), Arm7::forward_kinematics(&t));
         assert!((a.translation - b.translation).amax() < 1e-12 && (a.rotation - b.rotation).amax() < 1e-12);
         let dd = Arm7Friction::mass_matrix(&t) - Arm7::mass_matrix(&t);
-        assert!((dd - SMatrix::from_diagonal(&dd.diagonal())).amax() < 1e-12, "off-diagonal");
-        assert!(dd.diagonal().iter().all(|x| *x > 0.0), "armature on the diagonal: {dd}");
+        assert!(
+            (dd - SMatrix::from_diagonal(&dd.diagonal())).amax() < 1e-12,
+            "off-diagonal"
+        );
+        assert!(
+            dd.diagonal().iter().all(|x| *x > 0.0),
+            "armature on the diagonal: {dd}"
+        );
     }
 }
 

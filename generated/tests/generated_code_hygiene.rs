@@ -42,7 +42,11 @@ fn the_counting_allocator_sees_an_allocation() {
 #[test]
 fn generated_functions_do_not_allocate() {
     assert_eq!(allocations(every_function::<Arm7, 7, 70>), 0, "arm7");
-    assert_eq!(allocations(every_function::<Arm7Friction, 7, 98>), 0, "arm7_friction");
+    assert_eq!(
+        allocations(every_function::<Arm7Friction, 7, 98>),
+        0,
+        "arm7_friction"
+    );
     assert_eq!(allocations(every_function::<Panda, 7, 70>), 0, "panda");
     assert_eq!(allocations(every_function::<Ur5, 6, 60>), 0, "ur5");
 }

@@ -52,7 +52,11 @@ impl GammaByKind {
             }
         }
         if !(self.joint.is_finite() && self.joint >= 0.0) {
-            return refuse("joint-term", self.joint, "≥ 0 (0 keeps the joint terms at their estimate)");
+            return refuse(
+                "joint-term",
+                self.joint,
+                "≥ 0 (0 keeps the joint terms at their estimate)",
+            );
         }
         Ok(())
     }

@@ -8,9 +8,9 @@
 
 use super::contact::PlaneContact;
 use super::plant::{Payload, Plant};
-use super::true_joint_terms::JointTermFactors;
 use super::run::{simulate, RunResult, SimConfig};
 use super::scenario::PressAndCircle;
+use super::true_joint_terms::JointTermFactors;
 use crate::controller::{
     inertia_shaped_gain, Adaptation, ConfigError, ContactTask, ControllerConfig, Gains, GammaByKind,
     HybridController, SingularityGuard,
@@ -172,8 +172,11 @@ where
         }
         let surface = start.z - options.start_height;
         let contact = PlaneContact::table(surface, options.stiffness);
-        let plant =
-            Plant::<Z, N, M>::with_payload_and_joint_terms(&options.payload, &options.true_joint_terms, contact);
+        let plant = Plant::<Z, N, M>::with_payload_and_joint_terms(
+            &options.payload,
+            &options.true_joint_terms,
+            contact,
+        );
         let unit = |v: Vector3<f64>, name: &'static str| {
             v.try_normalize(1e-9).ok_or_else(|| ConfigError::Invalid {
                 name,
