@@ -1,4 +1,4 @@
-//! The adaptive hybrid force/position demo (press on a table, circle, three laws side by side)
+//! The adaptive hybrid force/position demo (press on a table, circle, the laws side by side)
 //! on whatever robot `build.rs` generated, with no code to write:
 //!
 //! ```sh
