@@ -80,6 +80,18 @@ fn gains_that_are_not_positive_definite() {
         "{e:?}"
     );
 
+    // The joint-level gain may be 0 (joint terms held at nominal), not negative.
+    let mut options = DemoOptions::default();
+    options.gamma.joint = -1.0;
+    let e = demo(options).err();
+    assert!(
+        matches!(e, Some(ConfigError::NotPositiveDefinite { name: "Γ", .. })),
+        "{e:?}"
+    );
+    let mut options = DemoOptions::default();
+    options.gamma.joint = 0.0;
+    assert!(demo(options).is_ok());
+
     let e = demo(DemoOptions {
         lambda: 0.0,
         ..DemoOptions::default()

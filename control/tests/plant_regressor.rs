@@ -1,10 +1,13 @@
 //! The plant computes the true dynamics through the regressor. With the description's
 //! parameters it must equal the generated `D`, `C q̇ + g`, `g`; with a point payload at the
 //! end-effector it must add exactly `m Jᵀ J` to `D` and `Jᵀ (m g₀)` to `g` (an oracle that
-//! uses only the Jacobian). Both in the standard and in the base parameters.
+//! uses only the Jacobian). Both in the standard and in the base parameters. With joint
+//! friction and armature (arm7_friction, the demo's true robot), the armature lands on `D`'s
+//! diagonal and the friction is that of the actual velocity, at the identification example's
+//! values.
 
-use dyngen_control::sim::{Gaussian, Payload, PlaneContact, Plant};
-use dyngen_generated::{arm7, panda, ur5, Arm7, Panda, Ur5};
+use dyngen_control::sim::{DemoOptions, Gaussian, JointTermFactors, Payload, PlaneContact, Plant};
+use dyngen_generated::{arm7, arm7_friction, panda, ur5, Arm7, Panda, Ur5};
 use dyngen_runtime::nalgebra::{SVector, Vector3};
 use dyngen_runtime::{JointTrig, Kinematics, Parameterization, RobotDynamics};
 
@@ -107,5 +110,53 @@ fn box_payload_parameters() {
     ];
     for (a, b) in p.iter().zip(expect) {
         assert!((a - b).abs() < 1e-15, "{p:?}");
+    }
+}
+
+/// The demo's true arm7_friction against arm7 with the same payload: the difference is exactly
+/// the joint terms of the identification example's "real" arm (nominal values of
+/// `robots/arm7_friction.yaml` times [`JointTermFactors::DEMO`]): `diag(Ia)` in `D`, and
+/// `F_v v + f_c tanh(q̇/0.01) + f_o` in the Slotine–Li torque, with the actual `q̇` in the Coulomb
+/// term and `v` in the viscous one.
+#[test]
+fn true_friction_and_armature_land_where_they_act() {
+    let armature = [0.5, 0.5, 0.3, 0.3, 0.15, 0.05, 0.05];
+    let viscous = [0.8, 0.8, 0.5, 0.5, 0.3, 0.1, 0.1];
+    let coulomb = [3.0, 3.0, 2.0, 2.0, 1.2, 0.5, 0.5];
+    let offset = [0.2, -0.3, 0.1, -0.1, 0.05, 0.02, -0.02];
+    let payload = DemoOptions::default().payload;
+    let contact = PlaneContact::table(-10.0, 1e4);
+    let rigid = Plant::<arm7::Base, 7, { arm7::BASE_PARAMETER_COUNT }>::with_payload(&payload, contact);
+    let friction = Plant::<arm7_friction::Base, 7, { arm7_friction::BASE_PARAMETER_COUNT }>::with_payload_and_joint_terms(
+        &payload,
+        &JointTermFactors::DEMO,
+        contact,
+    );
+    let mut rng = Gaussian::new(13);
+    for _ in 0..50 {
+        let q: SVector<f64, 7> = rng.vector(1.5);
+        // Some joints near rest, where the smoothed Coulomb term is between −1 and 1.
+        let qd: SVector<f64, 7> = rng.vector(0.02);
+        let v: SVector<f64, 7> = rng.vector(1.0);
+        let t = JointTrig::new(&q);
+        let dd = friction.mass_matrix(&t) - rigid.mass_matrix(&t);
+        for i in 0..7 {
+            for j in 0..7 {
+                let expect = if i == j { armature[i] } else { 0.0 };
+                assert!((dd[(i, j)] - expect).abs() < 1e-10, "D[{i},{j}]: {}", dd[(i, j)]);
+            }
+        }
+        let dtau = friction.slotine_li(&t, &qd, &v) - rigid.slotine_li(&t, &qd, &v);
+        for j in 0..7 {
+            let expect = viscous[j] * v[j] + coulomb[j] * (qd[j] / 0.01).tanh() + offset[j];
+            assert!(
+                (dtau[j] - expect).abs() < 1e-9,
+                "joint {j}: {} vs {expect}",
+                dtau[j]
+            );
+        }
+        let fv = friction.viscous_friction(&t);
+        assert!((fv - SVector::<f64, 7>::from(viscous)).amax() < 1e-10, "{fv}");
+        assert!(rigid.viscous_friction(&t).amax() < 1e-10);
     }
 }

@@ -13,6 +13,11 @@ pub use arm7::Arm7;
 
 #[rustfmt::skip]
 #[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, clippy::too_many_lines, clippy::many_single_char_names, clippy::similar_names, clippy::neg_multiply)]
+pub mod arm7_friction;
+pub use arm7_friction::Arm7Friction;
+
+#[rustfmt::skip]
+#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, clippy::too_many_lines, clippy::many_single_char_names, clippy::similar_names, clippy::neg_multiply)]
 pub mod panda;
 pub use panda::Panda;
 

@@ -8,9 +8,9 @@ use common::{assert_close, column, fixture};
 use dyngen_codegen::description::load;
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::model::Model;
-use dyngen_generated::{Arm7, Panda, Ur5};
-use dyngen_runtime::nalgebra::{DMatrix, SVector};
-use dyngen_runtime::{JointTrig, RobotDynamics};
+use dyngen_generated::{Arm7, Arm7Friction, Panda, Ur5};
+use dyngen_runtime::nalgebra::{DMatrix, SMatrix, SVector};
+use dyngen_runtime::{JointTrig, Kinematics, RobotDynamics};
 use std::path::Path;
 
 const STATES: u64 = 1000;
@@ -133,6 +133,10 @@ fn compare<R: RobotDynamics<N, P>, const N: usize, const P: usize>(
 }
 
 fn against_generic<R: RobotDynamics<N, P>, const N: usize, const P: usize>(robot: &str) {
+    against_generic_at::<R, N, P>(robot, STATES);
+}
+
+fn against_generic_at<R: RobotDynamics<N, P>, const N: usize, const P: usize>(robot: &str, states: u64) {
     let model = model(robot);
     assert_eq!(
         R::JOINT_NAMES.to_vec(),
@@ -144,7 +148,7 @@ fn against_generic<R: RobotDynamics<N, P>, const N: usize, const P: usize>(robot
         "{robot}: θ"
     );
     let generic = NumericDynamics::new(&model);
-    for seed in 0..STATES {
+    for seed in 0..states {
         let s = random_state(&model, seed);
         compare::<R, N, P>(
             &generic,
@@ -154,6 +158,42 @@ fn against_generic<R: RobotDynamics<N, P>, const N: usize, const P: usize>(robot
             &s.a,
             TOL_GENERIC,
             &format!("{robot} seed {seed}"),
+        );
+    }
+}
+
+/// arm7 with joint-level columns: its joint terms (in `D`, `τ`, Slotine–Li and `Y`) against
+/// the generic code; 200 states, the rigid-body part being arm7's, tested above at 1000.
+#[test]
+fn arm7_friction_generated_matches_generic() {
+    against_generic_at::<Arm7Friction, 7, 98>("arm7_friction", 200);
+}
+
+/// `robots/arm7_friction.yaml` copies arm7's links and joints: same joints and limits, same
+/// inertial parameters (the first 70 of its 98), same kinematics, and without its joint terms
+/// the same inertia matrix.
+#[test]
+fn arm7_friction_is_arm7_plus_joint_terms() {
+    assert_eq!(Arm7Friction::JOINT_NAMES, Arm7::JOINT_NAMES);
+    assert_eq!(Arm7Friction::JOINT_LIMITS, Arm7::JOINT_LIMITS);
+    assert_eq!(
+        &Arm7Friction::parameters().as_slice()[..70],
+        Arm7::parameters().as_slice()
+    );
+    for seed in 0..20u64 {
+        let q = SVector::<f64, 7>::from_fn(|i, _| ((seed * 7 + i as u64) as f64 * 0.37).sin() * 1.5);
+        let t = JointTrig::new(&q);
+        assert!((Arm7Friction::jacobian(&t) - Arm7::jacobian(&t)).amax() < 1e-12);
+        let (a, b) = (Arm7Friction::forward_kinematics(&t), Arm7::forward_kinematics(&t));
+        assert!((a.translation - b.translation).amax() < 1e-12 && (a.rotation - b.rotation).amax() < 1e-12);
+        let dd = Arm7Friction::mass_matrix(&t) - Arm7::mass_matrix(&t);
+        assert!(
+            (dd - SMatrix::from_diagonal(&dd.diagonal())).amax() < 1e-12,
+            "off-diagonal"
+        );
+        assert!(
+            dd.diagonal().iter().all(|x| *x > 0.0),
+            "armature on the diagonal: {dd}"
         );
     }
 }

@@ -1,7 +1,7 @@
 //! Generated code keeps the promises a control loop relies on: no `unsafe`, no allocation, no
 //! panic path. The allocation check runs every generated function under a counting allocator.
 
-use dyngen_generated::{Arm7, Panda, Ur5};
+use dyngen_generated::{Arm7, Arm7Friction, Panda, Ur5};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{JointTrig, RobotDynamics};
 use dyngen_testkit::allocations::{allocations, CountingAllocator};
@@ -42,6 +42,11 @@ fn the_counting_allocator_sees_an_allocation() {
 #[test]
 fn generated_functions_do_not_allocate() {
     assert_eq!(allocations(every_function::<Arm7, 7, 70>), 0, "arm7");
+    assert_eq!(
+        allocations(every_function::<Arm7Friction, 7, 98>),
+        0,
+        "arm7_friction"
+    );
     assert_eq!(allocations(every_function::<Panda, 7, 70>), 0, "panda");
     assert_eq!(allocations(every_function::<Ur5, 6, 60>), 0, "ur5");
 }

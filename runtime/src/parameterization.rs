@@ -30,6 +30,11 @@ pub trait Parameterization<const N: usize, const M: usize> {
     /// # Panics
     /// If `body` is not a body of the robot.
     fn body_parameters(body: usize, p: &[f64; PARAMETERS_PER_BODY]) -> SVector<f64, M>;
+    /// `Φ θ'` where `θ'` is the description's θ with every standard parameter multiplied by
+    /// `scale(kind)`: an estimate that is off by kind (the demo starts the inertial parameters
+    /// at half and the joint friction at its nominal value), or a true robot whose friction and
+    /// armature differ from the nominal values of its description.
+    fn description_scaled_by_kind(scale: impl Fn(ParameterKind) -> f64) -> SVector<f64, M>;
     /// The diagonal of `Φ Γ Φᵀ` for the diagonal standard gain `Γ` that gives each standard
     /// parameter `gain(kind)`: the gain with which the standard law would move each of these
     /// parameters (a combination that absorbs masses adapts as fast as they would).
@@ -75,6 +80,14 @@ pub trait BaseParameters<const N: usize, const P: usize, const B: usize>: RobotD
     }
 }
 
+/// The description's θ of robot `R`, each entry times `scale` of its kind.
+fn scaled_by_kind<R: RobotDynamics<N, P>, const N: usize, const P: usize>(
+    scale: impl Fn(ParameterKind) -> f64,
+) -> SVector<f64, P> {
+    let theta = R::parameters();
+    SVector::from_fn(|i, _| theta[i] * scale(R::PARAMETER_KINDS[i]))
+}
+
 /// The standard parameters of robot `R`: ten per body, `Φ = I`. Generated modules name it
 /// `Standard` (`arm7::Standard`).
 pub struct Standard<R>(PhantomData<R>);
@@ -113,6 +126,9 @@ impl<R: RobotDynamics<N, P>, const N: usize, const P: usize> Parameterization<N,
     fn body_parameters(body: usize, p: &[f64; PARAMETERS_PER_BODY]) -> SVector<f64, P> {
         body_only(body, p)
     }
+    fn description_scaled_by_kind(scale: impl Fn(ParameterKind) -> f64) -> SVector<f64, P> {
+        scaled_by_kind::<R, N, P>(scale)
+    }
     fn gain_by_kind(gain: impl Fn(ParameterKind) -> f64) -> SVector<f64, P> {
         SVector::from_fn(|i, _| gain(R::PARAMETER_KINDS[i]))
     }
@@ -148,6 +164,9 @@ impl<R: BaseParameters<N, P, B>, const N: usize, const P: usize, const B: usize>
     }
     fn body_parameters(body: usize, p: &[f64; PARAMETERS_PER_BODY]) -> SVector<f64, B> {
         R::base_parameters(&body_only(body, p))
+    }
+    fn description_scaled_by_kind(scale: impl Fn(ParameterKind) -> f64) -> SVector<f64, B> {
+        R::base_parameters(&scaled_by_kind::<R, N, P>(scale))
     }
     fn gain_by_kind(gain: impl Fn(ParameterKind) -> f64) -> SVector<f64, B> {
         // Γ_b = diag(Φ Γ Φᵀ) = Σᵢ Γᵢ (Φ eᵢ)², with Φ eᵢ from the generated map (computed once

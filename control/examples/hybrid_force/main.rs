@@ -1,7 +1,10 @@
 //! Adaptive hybrid force/position control demo: approach a table, press with a smooth ramp to
 //! 10 N, then track a 5 cm-radius circle at 0.25 Hz for 8 s while holding the force, with the
 //! null space regulating the posture. Three runs side by side: adaptive from θ̂(0) = 0.5·θ_desc
-//! (payload unknown), the same with adaptation off, and the known-parameter law. `--task pose`
+//! (payload unknown), the same with adaptation off, and the known-parameter law. On a robot
+//! with joint friction and armature in its regressor (`--robot arm7-friction`) the true robot's
+//! joint terms differ from the nominal ones, the adaptive run adapts them too (`--joint-gain`)
+//! and a fourth run adapts only the inertial parameters, the joint terms held at nominal. `--task pose`
 //! also turns the tool to vertical and holds its orientation (task dimension 6), `--task
 //! tool-axis` holds only the tool axis vertical (5).
 //!
@@ -12,11 +15,12 @@
 mod svg;
 
 use clap::{Parser, ValueEnum};
+use dyngen_control::controller::GammaByKind;
 use dyngen_control::sim::{
-    start_posture_for, summary_table, write_csv, Demo, DemoOptions, NoiseConfig, RunKind, RunResult,
-    RunStatus, Sample,
+    start_posture_for, summary_table, write_csv, Demo, DemoOptions, JointTermFactors, NoiseConfig, RunKind,
+    RunResult, RunStatus, Sample,
 };
-use dyngen_generated::{arm7, panda, ur5, Arm7, Panda, Ur5};
+use dyngen_generated::{arm7, arm7_friction, panda, ur5, Arm7, Arm7Friction, Panda, Ur5};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{BaseParameters, Kinematics, Parameterization};
 use std::io::{IsTerminal as _, Write as _};
@@ -27,6 +31,8 @@ use std::time::Instant;
 #[derive(Clone, Copy, Debug, ValueEnum)]
 enum Robot {
     Arm7,
+    /// arm7 with joint friction and armature columns (`robots/arm7_friction.yaml`).
+    Arm7Friction,
     Panda,
     Ur5,
 }
@@ -91,6 +97,18 @@ struct Args {
     /// Diagonal Γ by parameter kind: mass, first moment, inertia.
     #[arg(long, num_args = 3, value_names = ["M", "MC", "I"])]
     gamma: Option<Vec<f64>>,
+    /// Γ of the joint-level parameters (armature, friction, offset) of a robot that has them;
+    /// 0 holds them at the description's nominal values (only the inertial parameters adapt).
+    #[arg(long, default_value_t = GammaByKind::DEFAULT_JOINT, value_name = "GAIN")]
+    joint_gain: f64,
+    /// The true robot's armature, viscous friction, Coulomb friction and offset as multiples of
+    /// the description's nominal values (default 1.25 2 2 2).
+    #[arg(long, num_args = 4, value_names = ["ARMATURE", "VISCOUS", "COULOMB", "OFFSET"])]
+    true_joint_terms: Option<Vec<f64>>,
+    /// θ̂(0) of the inertial parameters as a multiple of the description's (the payload is
+    /// unknown either way).
+    #[arg(long, default_value_t = 0.5, value_name = "SCALE")]
+    initial_estimate: f64,
 }
 
 fn main() -> ExitCode {
@@ -99,6 +117,12 @@ fn main() -> ExitCode {
         Robot::Arm7 => {
             run_robot::<Arm7, { arm7::DOF }, { arm7::PARAMETER_COUNT }, { arm7::BASE_PARAMETER_COUNT }>(&args)
         }
+        Robot::Arm7Friction => run_robot::<
+            Arm7Friction,
+            { arm7_friction::DOF },
+            { arm7_friction::PARAMETER_COUNT },
+            { arm7_friction::BASE_PARAMETER_COUNT },
+        >(&args),
         Robot::Panda => {
             run_robot::<Panda, { panda::DOF }, { panda::PARAMETER_COUNT }, { panda::BASE_PARAMETER_COUNT }>(
                 &args,
@@ -135,6 +159,16 @@ fn options(args: &Args) -> DemoOptions {
         o.gamma.mass = g[0];
         o.gamma.first_moment = g[1];
         o.gamma.inertia = g[2];
+    }
+    o.gamma.joint = args.joint_gain;
+    o.initial_estimate_scale = args.initial_estimate;
+    if let Some(f) = &args.true_joint_terms {
+        o.true_joint_terms = JointTermFactors {
+            armature: f[0],
+            viscous: f[1],
+            coulomb: f[2],
+            offset: f[3],
+        };
     }
     if args.noise {
         o.sim.noise = Some(NoiseConfig::REFERENCE);
@@ -223,20 +257,35 @@ where
         opts.sim.substeps as f64 / opts.sim.control_period / 1e3,
         demo.scenario.duration()
     );
+    if Demo::<Z, N, M, T>::has_joint_terms() {
+        let f = opts.true_joint_terms;
+        println!(
+            "joint terms: true = [{}, {}, {}, {}] × nominal over [armature, viscous, Coulomb, offset]; θ̂(0) nominal; {}",
+            f.armature,
+            f.viscous,
+            f.coulomb,
+            f.offset,
+            if opts.gamma.joint > 0.0 {
+                format!("adapted with Γ = {} (\"adaptive\"), held (\"joint terms nominal\")", opts.gamma.joint)
+            } else {
+                "held at nominal (--joint-gain 0)".to_string()
+            }
+        );
+    }
 
     let mut results: Vec<(RunKind, RunResult)> = Vec::new();
     let mut all_ok = true;
     // A live percentage on a terminal; in a log (CI, a pipe) one line per run instead of a
     // hundred carriage returns.
     let live = std::io::stderr().is_terminal();
-    for kind in RunKind::ALL {
+    for kind in demo.run_kinds() {
         let started = Instant::now();
         let mut progress = |f: f64| {
             if !live && f < 1.0 {
                 return;
             }
             eprint!(
-                "\r  {:<17} {:>3.0} %  ({:.1} s)",
+                "\r  {:<29} {:>3.0} %  ({:.1} s)",
                 kind.label(),
                 100.0 * f,
                 started.elapsed().as_secs_f64()
@@ -252,7 +301,7 @@ where
             );
             all_ok = false;
         }
-        let path = args.out.join(format!("{}.csv", kind.label().replace(' ', "_")));
+        let path = args.out.join(format!("{}.csv", kind.file_stem()));
         write_csv(&path, &res.samples).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         results.push((kind, res));
     }
@@ -276,7 +325,17 @@ where
     Ok(all_ok)
 }
 
-const COLOURS: [&str; 3] = ["#1f77b4", "#d62728", "#2ca02c"];
+const COLOURS: [&str; 4] = ["#1f77b4", "#ff7f0e", "#d62728", "#2ca02c"];
+
+/// The colour of a run, the same in every figure whichever runs there are.
+fn colour(kind: RunKind) -> &'static str {
+    match kind {
+        RunKind::Adaptive => COLOURS[0],
+        RunKind::AdaptiveJointTermsNominal => COLOURS[1],
+        RunKind::AdaptationOff => COLOURS[2],
+        RunKind::KnownParameters => COLOURS[3],
+    }
+}
 
 fn write_plots(dir: &Path, results: &[(RunKind, RunResult)]) -> std::io::Result<Vec<String>> {
     let decimate = |samples: &[Sample], f: &dyn Fn(&Sample) -> f64| -> Vec<(f64, f64)> {
@@ -319,10 +378,9 @@ fn write_plots(dir: &Path, results: &[(RunKind, RunResult)]) -> std::io::Result<
     for (_, title, unit, log, get) in quantities {
         let mut series: Vec<svg::Series> = results
             .iter()
-            .enumerate()
-            .map(|(i, (k, r))| svg::Series {
+            .map(|(k, r)| svg::Series {
                 label: k.label(),
-                colour: COLOURS[i % 3],
+                colour: colour(*k),
                 dashed: false,
                 points: decimate(&r.samples, &get),
             })
@@ -383,10 +441,9 @@ fn write_orientation_plot(dir: &Path, results: &[(RunKind, RunResult)]) -> std::
             log: *log,
             series: results
                 .iter()
-                .enumerate()
-                .map(|(i, (k, r))| svg::Series {
+                .map(|(k, r)| svg::Series {
                     label: k.label(),
-                    colour: COLOURS[i % 3],
+                    colour: colour(*k),
                     dashed: false,
                     points: decimate(&r.samples, get),
                 })

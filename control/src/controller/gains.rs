@@ -6,7 +6,8 @@ use dyngen_runtime::{JointTrig, Parameterization};
 use nalgebra::{Cholesky, SMatrix, SVector};
 
 /// Gains of the law: `λ` (force and position error), `λ_n` (null-space posture), `G` (sliding
-/// variable, symmetric positive definite), `Γ` (adaptation, diagonal, positive).
+/// variable, symmetric positive definite), `Γ` (adaptation, diagonal, ≥ 0: a zero entry holds
+/// that parameter at its estimate).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Gains<const N: usize, const M: usize> {
     pub lambda: f64,
@@ -16,7 +17,9 @@ pub struct Gains<const N: usize, const M: usize> {
 }
 
 impl<const N: usize, const M: usize> Gains<N, M> {
-    /// Checks every gain is positive (definite); `Γ` only when adapting.
+    /// Checks every gain is positive (definite); `Γ` only when adapting, and there entries of 0
+    /// are allowed (that parameter is not adapted: the joint terms of a robot whose
+    /// joint-level gain is 0).
     pub fn validate(&self, adapting: bool) -> Result<(), ConfigError> {
         let pd = |name: &'static str, detail: String| ConfigError::NotPositiveDefinite { name, detail };
         if !(self.lambda.is_finite() && self.lambda > 0.0) {
@@ -40,11 +43,11 @@ impl<const N: usize, const M: usize> Gains<N, M> {
                 .gamma
                 .iter()
                 .enumerate()
-                .find(|(_, g)| !(g.is_finite() && **g > 0.0))
+                .find(|(_, g)| !(g.is_finite() && **g >= 0.0))
             {
                 return Err(pd(
                     "Γ",
-                    format!("entry {i} is {g}; every diagonal entry must be > 0"),
+                    format!("entry {i} is {g}; every diagonal entry must be ≥ 0"),
                 ));
             }
         }

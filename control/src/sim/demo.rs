@@ -1,6 +1,8 @@
 //! The demo set-up, shared by the example, the tests and the benchmark: the true plant with an
-//! unmodelled payload, the press-and-circle scenario above a table, and the three controllers
-//! compared (adaptive, adaptation off, known parameters), for a task of dimension `T`: 3
+//! unmodelled payload (and, on a robot with joint-level columns, friction and armature off
+//! their nominal values), the press-and-circle scenario above a table, and the controllers
+//! compared (adaptive, adaptation off, known parameters; on a robot with joint-level columns
+//! also adaptive with the joint terms held at their nominal values), for a task of dimension `T`: 3
 //! (position, the default), 5 (position and the tool axis held along `tool_direction`), 6
 //! (position and the orientation whose tool axis is along `tool_direction`).
 
@@ -8,6 +10,7 @@ use super::contact::PlaneContact;
 use super::plant::{Payload, Plant};
 use super::run::{simulate, RunResult, SimConfig};
 use super::scenario::PressAndCircle;
+use super::true_joint_terms::JointTermFactors;
 use crate::controller::{
     inertia_shaped_gain, Adaptation, ConfigError, ContactTask, ControllerConfig, Gains, GammaByKind,
     HybridController, SingularityGuard,
@@ -18,26 +21,37 @@ use nalgebra::{Rotation3, SMatrix, SVector, Vector3};
 /// Which law a run uses.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RunKind {
-    /// Lemma 3 from `θ̂(0) = 0.5·θ_desc` (payload unknown).
+    /// Lemma 3 from `θ̂(0)`: the inertial parameters at `0.5·θ_desc` (payload unknown), the
+    /// joint-level ones at the description's nominal values; every parameter adapts (the joint
+    /// terms with the joint-level gain).
     Adaptive,
+    /// The same, with the joint terms held at their nominal values (joint-level gain 0) while
+    /// the inertial parameters adapt. Only for robots with joint-level columns.
+    AdaptiveJointTermsNominal,
     /// The same `θ̂(0)`, never updated.
     AdaptationOff,
-    /// Lemma 1: the true parameters, payload included.
+    /// Lemma 1: the true parameters, payload (and true friction and armature) included.
     KnownParameters,
 }
 
 impl RunKind {
-    pub const ALL: [RunKind; 3] = [
+    pub const ALL: [RunKind; 4] = [
         RunKind::Adaptive,
+        RunKind::AdaptiveJointTermsNominal,
         RunKind::AdaptationOff,
         RunKind::KnownParameters,
     ];
     pub fn label(self) -> &'static str {
         match self {
             RunKind::Adaptive => "adaptive",
+            RunKind::AdaptiveJointTermsNominal => "adaptive, joint terms nominal",
             RunKind::AdaptationOff => "adaptation off",
             RunKind::KnownParameters => "known parameters",
         }
+    }
+    /// A file name for the run's data (`adaptive_joint_terms_nominal`).
+    pub fn file_stem(self) -> String {
+        self.label().replace(", ", "_").replace(' ', "_")
     }
 }
 
@@ -51,10 +65,15 @@ pub struct DemoOptions {
     pub kappa: f64,
     pub lambda: f64,
     pub lambda_null: f64,
+    /// `Γ` by kind; `gamma.joint` adapts the joint-level parameters (0: held at nominal).
     pub gamma: GammaByKind,
-    /// `θ̂(0) = scale · θ_desc`.
+    /// `θ̂(0) = scale · θ_desc` for the inertial parameters; the joint-level ones start at the
+    /// description's nominal values.
     pub initial_estimate_scale: f64,
     pub payload: Payload,
+    /// The true robot's joint-level parameters relative to the description's nominal values
+    /// (only robots with joint-level columns have any).
+    pub true_joint_terms: JointTermFactors,
     /// Height of the start above the table (m); negative starts in contact, pressing.
     pub start_height: f64,
     pub circle_time: f64,
@@ -79,6 +98,7 @@ impl Default for DemoOptions {
             lambda_null: 10.0,
             gamma: GammaByKind::default(),
             initial_estimate_scale: 0.5,
+            true_joint_terms: JointTermFactors::DEMO,
             payload: Payload {
                 mass: 1.5,
                 com: Vector3::new(0.02, 0.0, 0.1),
@@ -127,6 +147,8 @@ pub struct Demo<Z, const N: usize, const M: usize, const T: usize = 3> {
     pub theta_true: SVector<f64, M>,
     pub g: SMatrix<f64, N, N>,
     pub gamma: SVector<f64, M>,
+    /// `Γ` with the joint-level gain 0: the run [`RunKind::AdaptiveJointTermsNominal`].
+    pub gamma_joint_terms_nominal: SVector<f64, M>,
     _z: std::marker::PhantomData<fn() -> Z>,
 }
 
@@ -150,7 +172,11 @@ where
         }
         let surface = start.z - options.start_height;
         let contact = PlaneContact::table(surface, options.stiffness);
-        let plant = Plant::<Z, N, M>::with_payload(&options.payload, contact);
+        let plant = Plant::<Z, N, M>::with_payload_and_joint_terms(
+            &options.payload,
+            &options.true_joint_terms,
+            contact,
+        );
         let unit = |v: Vector3<f64>, name: &'static str| {
             v.try_normalize(1e-9).ok_or_else(|| ConfigError::Invalid {
                 name,
@@ -202,10 +228,22 @@ where
                 detail: format!("κ = {} must be > 0", options.kappa),
             });
         }
-        let theta_hat0 = Z::description() * options.initial_estimate_scale;
+        options.gamma.validate()?;
+        let theta_hat0 = Z::description_scaled_by_kind(|kind| {
+            if kind.is_joint_level() {
+                1.0
+            } else {
+                options.initial_estimate_scale
+            }
+        });
         let theta_true = *plant.parameters();
         let g = inertia_shaped_gain::<Z, N, M>(options.kappa, &q0, &theta_hat0);
         let gamma = options.gamma.carried_to::<Z, N, M>();
+        let gamma_joint_terms_nominal = GammaByKind {
+            joint: 0.0,
+            ..options.gamma
+        }
+        .carried_to::<Z, N, M>();
         let demo = Demo {
             options,
             plant,
@@ -217,27 +255,47 @@ where
             theta_true,
             g,
             gamma,
+            gamma_joint_terms_nominal,
             _z: std::marker::PhantomData,
         };
         // Every configuration error shows up here, before any run.
-        for kind in RunKind::ALL {
+        for kind in demo.run_kinds() {
             demo.controller(kind)?;
         }
         Ok(demo)
     }
 
+    /// Whether the robot's regressor has joint-level columns (armature, friction, offset).
+    pub fn has_joint_terms() -> bool {
+        Z::gain_by_kind(|kind| f64::from(u8::from(kind.is_joint_level()))).amax() > 0.0
+    }
+
+    /// The runs of the comparison: adaptive, adaptation off, known parameters; on a robot with
+    /// joint-level columns whose joint-level gain is not 0, also the adaptive run with the
+    /// joint terms held at their nominal values (second).
+    pub fn run_kinds(&self) -> Vec<RunKind> {
+        let with_nominal = Self::has_joint_terms() && self.options.gamma.joint > 0.0;
+        RunKind::ALL
+            .into_iter()
+            .filter(|k| *k != RunKind::AdaptiveJointTermsNominal || with_nominal)
+            .collect()
+    }
+
     /// The controller of one run, checked (gains, `K`, start posture, sampling limit).
     pub fn controller(&self, kind: RunKind) -> Result<HybridController<Z, N, M, T>, ConfigError> {
-        let (adaptation, theta) = match kind {
-            RunKind::Adaptive => (Adaptation::On, self.theta_hat0),
-            RunKind::AdaptationOff => (Adaptation::Off, self.theta_hat0),
-            RunKind::KnownParameters => (Adaptation::Off, self.theta_true),
+        let (adaptation, theta, gamma) = match kind {
+            RunKind::Adaptive => (Adaptation::On, self.theta_hat0, self.gamma),
+            RunKind::AdaptiveJointTermsNominal => {
+                (Adaptation::On, self.theta_hat0, self.gamma_joint_terms_nominal)
+            }
+            RunKind::AdaptationOff => (Adaptation::Off, self.theta_hat0, self.gamma),
+            RunKind::KnownParameters => (Adaptation::Off, self.theta_true, self.gamma),
         };
         let gains = Gains {
             lambda: self.options.lambda,
             lambda_null: self.options.lambda_null,
             g: self.g,
-            gamma: self.gamma,
+            gamma,
         };
         let mut c = HybridController::<Z, N, M, T>::new(ControllerConfig {
             gains,

@@ -1,5 +1,6 @@
 //! Simulation of the controller in contact: the true plant (generated dynamics with the true
-//! parameters through the regressor, plus an unmodelled payload), a compliant plane, RK4,
+//! parameters through the regressor, plus an unmodelled payload and, for robots with
+//! joint-level columns, friction and armature off their nominal values), a compliant plane, RK4,
 //! sensor noise, the press-and-circle scenario, the closed-loop run and the demo set-up.
 
 pub mod contact;
@@ -11,6 +12,7 @@ pub mod report;
 pub mod rk4;
 pub mod run;
 pub mod scenario;
+pub mod true_joint_terms;
 
 pub use contact::PlaneContact;
 pub use demo::{Demo, DemoOptions, RunKind};
@@ -21,3 +23,4 @@ pub use report::{summary_table, write_csv};
 pub use rk4::{rk4_step, RkState};
 pub use run::{simulate, RunResult, RunStatus, Sample, SimConfig, Summary};
 pub use scenario::PressAndCircle;
+pub use true_joint_terms::JointTermFactors;

@@ -1,7 +1,12 @@
-//! The true robot: generated kinematics with the true parameters `θ_true = θ_desc + θ_payload`,
-//! whose dynamics are computed through the regressor (exact by linearity, since the generated
-//! `D, C, g` have the description's parameters baked in):
+//! The true robot: generated kinematics with the true parameters `θ_true = θ_desc + θ_payload`
+//! (and, for a robot with joint-level columns, its own friction and armature), whose dynamics
+//! are computed through the regressor (exact by linearity, since the generated `D, C, g` have
+//! the description's parameters baked in):
 //! `D_true` column i `= Y(q, 0, 0, eᵢ) θ − Y(q, 0, 0, 0) θ`, `C q̇ + g = Y(q, q̇, q̇, 0) θ`.
+//! The joint-level columns come along: the armature column is `a_j`, so it lands on `D`'s
+//! diagonal; the viscous column is `v_j = q̇_j` and the Coulomb column `σ(q̇_j)` of the actual
+//! velocity, so the bias torque is the friction of the actual motion (the Coulomb column is
+//! the description's: `sign`, or `tanh(q̇/ε)` when it sets `coulomb_smoothing`).
 //! Forward dynamics: when the true robot is the description (no payload), the generated
 //! `forward_dynamics` (CRBA + tree factorisation, flattened); otherwise a Cholesky solve of
 //! `D_true q̈ = τ − Jᵀ F̄ − (C q̇ + g)` with `D_true` through the regressor, because the
@@ -13,6 +18,7 @@
 //! lower cost.
 
 use super::contact::PlaneContact;
+use super::true_joint_terms::JointTermFactors;
 use crate::mass_matrix_through_regressor;
 use dyngen_runtime::{body_parameters, JointTrig, Kinematics, Parameterization};
 use nalgebra::{Cholesky, Matrix3, SMatrix, SVector, Vector3};
@@ -87,8 +93,19 @@ impl<Z: Parameterization<N, M>, const N: usize, const M: usize> Plant<Z, N, M> {
 
     /// The description's parameters plus `payload` on the end-effector's body.
     pub fn with_payload(payload: &Payload, contact: PlaneContact) -> Self {
+        Self::with_payload_and_joint_terms(payload, &JointTermFactors::NOMINAL, contact)
+    }
+
+    /// The description's parameters with its joint-level ones (armature, friction, offset)
+    /// scaled by `joint_terms`, plus `payload` on the end-effector's body.
+    pub fn with_payload_and_joint_terms(
+        payload: &Payload,
+        joint_terms: &JointTermFactors,
+        contact: PlaneContact,
+    ) -> Self {
         let body = <Z::Robot as Kinematics<N>>::END_EFFECTOR_BODY;
-        let theta = Z::description() + Z::body_parameters(body, &payload.parameters());
+        let theta = Z::description_scaled_by_kind(|kind| joint_terms.of(kind))
+            + Z::body_parameters(body, &payload.parameters());
         Self::new(theta, contact)
     }
 
@@ -111,6 +128,20 @@ impl<Z: Parameterization<N, M>, const N: usize, const M: usize> Plant<Z, N, M> {
     pub fn gravity(&self, t: &JointTrig<N>) -> SVector<f64, N> {
         let z = SVector::<f64, N>::zeros();
         Z::regressor(t, &z, &z, &z) * self.theta
+    }
+
+    /// The true viscous friction coefficient of each joint (0 for a robot without that
+    /// column): `Y(q, 0, v, 0) θ = g + F_v v + f_o`, so joint `j`'s is the `j`-th entry of
+    /// `Y(q, 0, e_j, 0) θ − Y(q, 0, 0, 0) θ` (`C(q, 0) = 0`). The closed loop dissipates
+    /// `rᵀ (G + F_v) r`, not `rᵀ G r`, when the law's viscous column uses `q̇_r`
+    /// (`docs/controller.md`).
+    pub fn viscous_friction(&self, t: &JointTrig<N>) -> SVector<f64, N> {
+        let z = SVector::<f64, N>::zeros();
+        let rest = Z::regressor(t, &z, &z, &z) * self.theta;
+        SVector::from_fn(|j, _| {
+            let e = SVector::<f64, N>::from_fn(|k, _| f64::from(u8::from(k == j)));
+            (Z::regressor(t, &z, &e, &z) * self.theta - rest)[j]
+        })
     }
 
     /// `F̄` at `q`: the force the end-effector exerts on the plane.

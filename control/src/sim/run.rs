@@ -6,6 +6,7 @@ use super::noise::{Gaussian, NoiseConfig};
 use super::plant::{Plant, PlantState};
 use super::rk4::rk4_step;
 use super::scenario::PressAndCircle;
+use crate::controller::adaptation::parameter_error_energy;
 use crate::controller::orientation::orientation_angle;
 use crate::controller::{Adaptation, HybridController, Measurement};
 use dyngen_runtime::{JointTrig, Kinematics, Parameterization};
@@ -58,7 +59,8 @@ pub struct Sample {
     pub orientation_error: f64,
     /// `‖J⁻ (q − q_ν)‖` (rad).
     pub null_error: f64,
-    /// `V = ½ rᵀ D r + ½ θ̃ᵀ Γ⁻¹ θ̃` (the second term only when adapting).
+    /// `V = ½ rᵀ D r + ½ θ̃ᵀ Γ⁻¹ θ̃` (the second term only when adapting, and over the adapted
+    /// parameters, `Γᵢ > 0`).
     pub lyapunov: f64,
     /// `‖θ̂ − θ‖` in the parameterisation's coordinates.
     pub theta_error: f64,
@@ -196,7 +198,7 @@ where
         let theta_err = theta_before - theta_true;
         let mut v = 0.5 * r.dot(&(plant.mass_matrix(&trig) * r));
         if adapting {
-            v += 0.5 * theta_err.component_div(&gamma).dot(&theta_err);
+            v += parameter_error_energy(&theta_err, &gamma);
         }
         samples.push(Sample {
             t,

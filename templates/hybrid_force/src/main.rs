@@ -1,4 +1,4 @@
-//! The adaptive hybrid force/position demo (press on a table, circle, three laws side by side)
+//! The adaptive hybrid force/position demo (press on a table, circle, the laws side by side)
 //! on whatever robot `build.rs` generated, with no code to write:
 //!
 //! ```sh
@@ -14,7 +14,7 @@
 
 dyngen_runtime::include_robot!(robot);
 
-use dyngen_control::sim::{start_posture_for, summary_table, write_csv, Demo, DemoOptions, RunKind};
+use dyngen_control::sim::{start_posture_for, summary_table, write_csv, Demo, DemoOptions};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{Base, Kinematics, Parameterization, Standard};
 use robot::{BASE_PARAMETER_COUNT as B, DOF as N, PARAMETER_COUNT as P};
@@ -93,7 +93,7 @@ fn main() -> ExitCode {
     }
 }
 
-/// The three laws on the demo scenario; `Ok(false)` if one diverged (its data is still written).
+/// The laws of the demo (three; four for a robot with joint friction) on its scenario; `Ok(false)` if one diverged (its data is still written).
 fn run<Z: Parameterization<N, M>, const M: usize, const T: usize>(
     args: &Args,
     q0: SVector<f64, N>,
@@ -107,13 +107,13 @@ fn run<Z: Parameterization<N, M>, const M: usize, const T: usize>(
     );
     let mut results = Vec::new();
     let mut ok = true;
-    for kind in RunKind::ALL {
+    for kind in demo.run_kinds() {
         let res = demo.run(kind, &mut |_| {}).map_err(|e| e.to_string())?;
         if let dyngen_control::sim::RunStatus::Diverged { time, reason } = &res.status {
             eprintln!("{} run diverged at t = {time:.3} s: {reason}", kind.label());
             ok = false;
         }
-        let path = args.out.join(format!("{}.csv", kind.label().replace(' ', "_")));
+        let path = args.out.join(format!("{}.csv", kind.file_stem()));
         write_csv(&path, &res.samples).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         results.push((kind, res));
     }
