@@ -582,10 +582,12 @@ fn limit(x: f64) -> TokenStream {
     }
 }
 
+/// Limits of the joints that are coordinates (a mimic joint's range follows its master's).
 fn joint_limits(model: &Model) -> Vec<TokenStream> {
     model
-        .joints()
-        .iter()
+        .coordinate_joints()
+        .into_iter()
+        .map(|k| &model.joints()[k])
         .map(|j| {
             let l = j.limits.map_or(
                 [f64::NEG_INFINITY, f64::INFINITY, f64::INFINITY, f64::INFINITY],
@@ -616,7 +618,8 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
     let leaves = Leaves::new(robot);
     let ty = format_ident!("{}", provenance.type_name);
     let name = &model.name();
-    let joint_names = model.joints().iter().map(|j| j.name.as_str());
+    let coordinates = model.coordinate_joints();
+    let joint_names = coordinates.iter().map(|&k| model.joints()[k].name.as_str());
     let joint_limits = joint_limits(model);
     let end_effector_body = Literal::usize_unsuffixed(model.end_effector().parent);
     let param_names = model.parameter_names();
