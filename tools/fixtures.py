@@ -3,7 +3,7 @@
 
 A developer tool, not run by CI. It reads the URDFs committed in robots/urdf/, builds
 Pinocchio's kinematic and inertial model of each robot with the conventions dyngen uses
-(fixed joints merged, panda fingers locked at 0) and writes, for a set of seeded random
+(fixed joints merged, panda fingers locked at 0, or kept as mimic joints) and writes, for a set of seeded random
 states, every quantity the tests compare against. Field meanings and the model conventions:
 codegen/tests/fixtures/README.md.
 
@@ -51,6 +51,10 @@ class Robot:
     source: str  # where the URDF comes from (provenance, written into the fixture)
     end_effector: str  # a BODY frame of the Pinocchio model
     locked: tuple  # joints welded at 0 before anything is computed
+    # URDF mimic joints as Pinocchio 4's mimic joints (`buildModelFromUrdf(..., mimic=True)`):
+    # the coordinates are the joints that mimic nothing.
+    mimic: bool = False
+    directory: str = "robots/urdf"  # where `urdf` is, relative to the repository
 
 
 ROBOTS = {
@@ -70,6 +74,25 @@ ROBOTS = {
             "tool0",
             (),
         ),
+        # The Panda with its fingers free: panda_finger_joint2 mimics panda_finger_joint1.
+        Robot(
+            "panda_mimic",
+            "panda.urdf",
+            "example-robot-data/robots/panda_description/urdf/panda.urdf",
+            "panda_hand_tcp",
+            (),
+            mimic=True,
+        ),
+        # Revolute mimic joints with multiplier 1.5 and offset 0.3, and -1 and 0.2.
+        Robot(
+            "mimic_arm",
+            "mimic_arm.urdf",
+            None,
+            "tool",
+            (),
+            mimic=True,
+            directory="codegen/tests/data/mimic",
+        ),
     ]
 }
 
@@ -84,7 +107,7 @@ def build_model(robot):
     `buildModelFromUrdf` already merges links joined by fixed joints into the body of the
     moving joint that carries them. Without `mimic=True` the second panda finger is an
     ordinary joint, so both fingers are locked like any other joint."""
-    model = pin.buildModelFromUrdf(os.path.join(REPO, "robots", "urdf", robot.urdf))
+    model = pin.buildModelFromUrdf(urdf_path(robot), mimic=robot.mimic)
     if robot.locked:
         ids = []
         for joint in robot.locked:
@@ -96,17 +119,41 @@ def build_model(robot):
         sys.exit(f"{robot.name}: no body frame {robot.end_effector!r}")
     frame = model.getFrameId(robot.end_effector, pin.FrameType.BODY)
     for j in range(1, model.njoints):
-        if model.joints[j].nv != 1:
+        if model.joints[j].nv != 1 and not is_mimic(model, j):
             sys.exit(f"{robot.name}: joint {model.names[j]} has {model.joints[j].nv} DOF")
     return model, frame
+
+
+def urdf_path(robot):
+    return os.path.join(REPO, robot.directory, robot.urdf)
+
+
+def is_mimic(model, j):
+    return model.joints[j].shortname() == "JointModelMimic"
+
+
+def coupling(model):
+    """The tree of a mimic model (every joint, one coordinate each, as Pinocchio builds the same
+    URDF without `mimic=True`) and the map from the coordinates: `q_tree = G q + o`. Pinocchio
+    numbers the joints of both models alike, so tree joint j is joint j + 1 of both."""
+    n_tree = model.njoints - 1
+    G = np.zeros((n_tree, model.nv))
+    o = np.zeros(n_tree)
+    for j in joints_in_order(model):
+        joint = model.joints[j]
+        G[j - 1, joint.idx_v] = joint.extract().scaling if is_mimic(model, j) else 1.0
+        o[j - 1] = joint.extract().offset if is_mimic(model, j) else 0.0
+    return G, o
 
 
 def check_provenance(robot):
     """Warn when the committed URDF differs from example-robot-data's copy (the fixtures say
     which file they come from)."""
+    if robot.source is None:
+        return
     share = os.path.join(sysconfig.get_paths()["purelib"], "cmeel.prefix", "share")
     original = os.path.join(share, robot.source)
-    committed = os.path.join(REPO, "robots", "urdf", robot.urdf)
+    committed = urdf_path(robot)
     if not os.path.exists(original):
         print(f"  note: {original} not found; provenance not checked")
         return
@@ -127,7 +174,15 @@ def pose(m):
     return {"translation": m.translation.tolist(), "rotation": m.rotation.tolist()}
 
 
-def describe_joint(model, j):
+def describe_joint(model, j, tree=None):
+    """A mimic joint is described by its joint of `tree` (the model without mimic joints) and
+    the joint it follows."""
+    if tree is not None and is_mimic(model, j):
+        mimic = model.joints[j].extract()
+        master = next(k for k in joints_in_order(model) if model.joints[k].idx_v == mimic.idx_v and not is_mimic(model, k))
+        described = describe_joint(tree, j)
+        described["mimic"] = {"joint": model.names[master], "multiplier": mimic.scaling, "offset": mimic.offset}
+        return described
     joint = model.joints[j]
     data = joint.createData()
     joint.calc(data, pin.neutral(model))
@@ -169,6 +224,8 @@ def draw_state(model, rng):
     q = np.empty(model.nv)
     for j in joints_in_order(model):
         joint = model.joints[j]
+        if joint.nv == 0:
+            continue  # a mimic joint: its master's coordinate
         lower, upper = -math.pi, math.pi
         if joint.nq == 1:
             lo = model.lowerPositionLimit[joint.idx_q]
@@ -193,29 +250,61 @@ def symmetric_from_upper(m):
 # quantities
 
 
-def evaluate(model, frame, pi, q, v, a, vr, ar):
+def evaluate(model, frame, pi, q, v, a, vr, ar, tree=None):
     """Every field of one state. q is one coordinate per joint (an angle for continuous
-    joints); Pinocchio's configuration stores a continuous joint as (cos, sin)."""
+    joints); Pinocchio's configuration stores a continuous joint as (cos, sin).
+
+    With mimic joints, `tree` is the same URDF without them. Pinocchio 4.1 computes D, g, tau,
+    J and the pose on the mimic model itself. It refuses the regressor, aba, Minv and the
+    derivatives on mimic models, and its Coriolis matrix and Jacobian time variation there are
+    wrong (D a + C v + g differs from its own rnea, by up to 1.7 N·m on mimic_arm, and Jdot from
+    differences of its own J by up to 3.9): those come from the tree through the coupling
+    (C = Gᵀ C_tree G, Jdot = Jdot_tree G, Y = Gᵀ Y_tree, derivatives Gᵀ ∂τ_tree G at
+    q_tree = G q + o, v_tree = G v, a_tree = G a), and from Pinocchio's own D (aba solves
+    D a = tau − rnea(q, v, 0), Minv = D⁻¹)."""
     data = model.createData()
     q_pin = pin.integrate(model, pin.neutral(model), q)
+    if tree is not None:
+        G, o = coupling(model)
+        t_data = tree.createData()
+        q_tree = pin.integrate(tree, pin.neutral(tree), G @ q + o)
 
     D = symmetric_from_upper(pin.crba(model, data, q_pin))
     C = pin.computeCoriolisMatrix(model, data, q_pin, v).copy()
     g = pin.computeGeneralizedGravity(model, data, q_pin).copy()
     tau = pin.rnea(model, data, q_pin, v, a).copy()
-    Y = pin.computeJointTorqueRegressor(model, data, q_pin, v, a).copy()
+    if tree is None:
+        Y = pin.computeJointTorqueRegressor(model, data, q_pin, v, a).copy()
 
     pin.computeJointJacobians(model, data, q_pin)
     J = pin.getFrameJacobian(model, data, frame, WORLD_AXES_AT_FRAME).copy()
     pin.computeJointJacobiansTimeVariation(model, data, q_pin, v)
     Jdot = pin.getFrameJacobianTimeVariation(model, data, frame, WORLD_AXES_AT_FRAME).copy()
+    if tree is not None:
+        t_frame = tree.getFrameId(model.frames[frame].name, pin.FrameType.BODY)
+        pin.computeJointJacobiansTimeVariation(tree, t_data, q_tree, G @ v)
+        Jdot = pin.getFrameJacobianTimeVariation(tree, t_data, t_frame, WORLD_AXES_AT_FRAME) @ G
     pin.forwardKinematics(model, data, q_pin)
     ee = pin.updateFramePlacement(model, data, frame)
 
-    aba = pin.aba(model, data, q_pin, v, tau).copy()
-    Minv = symmetric_from_upper(pin.computeMinverse(model, data, q_pin))
-    dtau_dq, dtau_dv, _ = (m.copy() for m in pin.computeRNEADerivatives(model, data, q_pin, v, a))
-    dqdd_dq, dqdd_dv, _ = (m.copy() for m in pin.computeABADerivatives(model, data, q_pin, v, tau))
+    if tree is None:
+        aba = pin.aba(model, data, q_pin, v, tau).copy()
+        Minv = symmetric_from_upper(pin.computeMinverse(model, data, q_pin))
+        dtau_dq, dtau_dv, _ = (m.copy() for m in pin.computeRNEADerivatives(model, data, q_pin, v, a))
+        dqdd_dq, dqdd_dv, _ = (m.copy() for m in pin.computeABADerivatives(model, data, q_pin, v, tau))
+    else:
+        Y = G.T @ pin.computeJointTorqueRegressor(tree, t_data, q_tree, G @ v, G @ a)
+        C = G.T @ pin.computeCoriolisMatrix(tree, t_data, q_tree, G @ v) @ G
+        # The tree through the coupling is Pinocchio's mimic model (its own check of G).
+        D_tree = symmetric_from_upper(pin.crba(tree, t_data, q_tree))
+        assert np.abs(G.T @ D_tree @ G - D).max() < 1e-12 * (1.0 + np.abs(D).max())
+        assert np.abs(G.T @ pin.rnea(tree, t_data, q_tree, G @ v, G @ a) - tau).max() < 1e-9 * (1.0 + np.abs(tau).max())
+        aba = np.linalg.solve(D, tau - pin.rnea(model, data, q_pin, v, 0 * v))
+        Minv = np.linalg.inv(D)
+        Minv = (Minv + Minv.T) / 2
+        d_q, d_v, _ = pin.computeRNEADerivatives(tree, t_data, q_tree, G @ v, G @ aba)
+        dtau_dq, dtau_dv = G.T @ d_q @ G, G.T @ d_v @ G
+        dqdd_dq, dqdd_dv = -Minv @ dtau_dq, -Minv @ dtau_dv
 
     # The identities the fixtures promise; a failure here means the model or a call is wrong.
     scale = 1.0 + np.abs(tau).max()
@@ -252,6 +341,7 @@ def evaluate(model, frame, pi, q, v, a, vr, ar):
 
 def fixture(robot, given_states=None):
     model, frame = build_model(robot)
+    tree = pin.buildModelFromUrdf(urdf_path(robot)) if robot.mimic else None
     pi = parameters(model)
     if given_states is None:
         rng = np.random.default_rng(seed_of(robot))
@@ -269,8 +359,8 @@ def fixture(robot, given_states=None):
         "locked_at": 0.0,
         "nq": model.nq,
         "nv": model.nv,
-        "joint_names": [model.names[j] for j in joints_in_order(model)],
-        "joints": [describe_joint(model, j) for j in joints_in_order(model)],
+        "joint_names": [model.names[j] for j in joints_in_order(model) if not is_mimic(model, j)],
+        "joints": [describe_joint(model, j, tree) for j in joints_in_order(model)],
         "ee_frame": robot.end_effector,
         "ee_parent_joint": model.names[ee.parentJoint],
         "ee_placement_in_parent_joint": pose(ee.placement),
@@ -278,7 +368,7 @@ def fixture(robot, given_states=None):
         "param_order": PARAMETER_ORDER,
         "pi": pi.tolist(),
         "bodies": [describe_body(model, j) for j in joints_in_order(model)],
-        "states": [evaluate(model, frame, pi, *s) for s in states],
+        "states": [evaluate(model, frame, pi, *s, tree=tree) for s in states],
     }
 
 

@@ -135,7 +135,7 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
 
     let mut links = vec![link(&base, None)];
     let mut joints = Vec::new();
-    for (joint, body) in model.joints().iter().zip(model.bodies()) {
+    for ((joint, body), mimic) in model.joints().iter().zip(model.bodies()).zip(model.mimics()) {
         links.push(link(&body.name, Some(&body.inertia)));
         let joint_type = match (joint.kind, joint.limits) {
             (JointKind::Revolute, Some(_)) => urdf_rs::JointType::Revolute,
@@ -167,7 +167,12 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
             limit,
             calibration: None,
             dynamics: None,
-            mimic: None,
+            // Mimic joints stay mimic joints (their master is never one: chains are resolved).
+            mimic: mimic.map(|m| urdf_rs::Mimic {
+                joint: model.joints()[m.master].name.clone(),
+                multiplier: Some(m.multiplier),
+                offset: Some(m.offset),
+            }),
             safety_controller: None,
         });
     }
@@ -335,7 +340,7 @@ fn stick_figure(model: &Model, links: &mut [urdf_rs::Link]) {
     let at_origin = || urdf_rs::Pose::default();
     for (k, (link, ends)) in links.iter_mut().zip(&ends).enumerate() {
         if k > 0 {
-            let ball = if k <= model.dof() {
+            let ball = if k <= model.joints().len() {
                 2.0 * radius
             } else {
                 1.5 * radius
