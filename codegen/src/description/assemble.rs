@@ -14,9 +14,7 @@ use super::raw::RawRobot;
 use super::source_map::{joint_path, link_path, SourceMap};
 use super::tree::Topology;
 use super::Diagnostics;
-use crate::model::{
-    exact_sin_cos, from_xyz_rpy, Body, Frame, Inertia, Joint, JointKind, Mimic, Model, Pose,
-};
+use crate::model::{exact_sin_cos, from_xyz_rpy, Body, Frame, Inertia, Joint, JointKind, Mimic, Model, Pose};
 use nalgebra::{Matrix3, Vector3};
 
 /// Gravity when the description gives none (z up).
@@ -157,7 +155,10 @@ fn model_mimics(follows: &[Option<Follows>], raw_index: &[usize]) -> Vec<Option<
         .map(|&r| {
             follows[r].map(|f| Mimic {
                 // The master moves and is not locked (`resolve`), so it is a model joint.
-                master: raw_index.iter().position(|&k| k == f.master).unwrap_or(usize::MAX),
+                master: raw_index
+                    .iter()
+                    .position(|&k| k == f.master)
+                    .unwrap_or(usize::MAX),
                 multiplier: f.multiplier,
                 offset: f.offset,
             })
