@@ -613,7 +613,7 @@ fn bad_input_gives_the_file_loaders_messages_without_the_place() {
         let text: String = list.iter().map(|(n, k, p, c)| joint(n, k, p, c, "")).collect();
         robot_with(&links(), &text)
     };
-    let mimic = format!(r#"{LIMIT}<mimic joint="j1"/>"#);
+    let mimic = format!(r#"{LIMIT}<mimic joint="j3"/>"#);
     let plain: Vec<(&str, String)> = vec![
         ("floating joint", chain("floating", "c", "")),
         ("planar joint", chain("planar", "c", "")),
@@ -633,7 +633,7 @@ fn bad_input_gives_the_file_loaders_messages_without_the_place() {
             ),
         ),
         ("revolute without limit", chain("revolute", "c", "")),
-        ("unlocked mimic", chain("revolute", "c", &mimic)),
+        ("mimic of itself", chain("revolute", "c", &mimic)),
         (
             "cycle",
             joints(&[
