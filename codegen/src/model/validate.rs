@@ -296,6 +296,8 @@ mod tests {
             }],
             gravity: Vector3::new(0.0, 0.0, -9.81),
             joint_terms: Default::default(),
+            mimics: vec![None],
+            coordinate_maps: super::super::coupling::coordinate_maps(&[None], 1),
             end_effector: Frame {
                 name: "ee".into(),
                 parent: 0,
