@@ -29,6 +29,8 @@ fn interpreted(
         Shape::Pose => DMatrix::from_column_slice(12, 1, &values),
         // The two matrices side by side (both column-major, so one n × 2n matrix).
         Shape::MatrixPair(n) => DMatrix::from_column_slice(n, 2 * n, &values),
+        // Pose, J and J̇ one after the other, as one column.
+        Shape::Kinematics(_) => DMatrix::from_column_slice(values.len(), 1, &values),
     }
 }
 
@@ -54,6 +56,17 @@ fn check_state(model: &Model, robot: &SymbolicRobot, q: &[f64], qd: &[f64], v: &
             "base_regressor",
             robot.base.base_regressor(&generic.regressor(q, qd, v, a)),
         ),
+        ("torque_regressor", generic.regressor(q, qd, qd, a)),
+        (
+            "base_torque_regressor",
+            robot.base.base_regressor(&generic.regressor(q, qd, qd, a)),
+        ),
+        ("kinematics", {
+            let mut all = pose.clone();
+            all.extend(generic.jacobian(q).iter());
+            all.extend(generic.jacobian_dot(q, qd).iter());
+            DMatrix::from_column_slice(all.len(), 1, &all)
+        }),
     ];
     for (name, want) in expected {
         assert_close(

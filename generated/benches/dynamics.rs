@@ -12,11 +12,17 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use dyngen_codegen::base_parameters::BaseParameterSet;
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_generated::{Arm7, Panda, Ur5};
-use dyngen_runtime::{BaseParameters, JointTrig};
+use dyngen_runtime::nalgebra::SVector;
+use dyngen_runtime::{f64x4, f64x8, pack, BaseParameters, JointTrig, JointTrigLanes, LaneDynamics, Lanes};
 use std::hint::black_box;
 use std::time::Duration;
 
-fn bench_robot<R: BaseParameters<N, P, B>, const N: usize, const P: usize, const B: usize>(
+fn bench_robot<
+    R: BaseParameters<N, P, B> + LaneDynamics<N, B>,
+    const N: usize,
+    const P: usize,
+    const B: usize,
+>(
     c: &mut Criterion,
     robot: &str,
 ) {
@@ -87,6 +93,54 @@ fn bench_robot<R: BaseParameters<N, P, B>, const N: usize, const P: usize, const
     cycle(c, &g("base_regressor"), "generic", &raw, |[q, qd, v, a]| {
         black_box(base.base_regressor(&generic.regressor(q, qd, v, a)));
     });
+    // The torque form `Y(q, q̇, q̇, q̈)` (Pinocchio's `computeJointTorqueRegressor`).
+    cycle(c, &g("torque_regressor"), "generated", &fixed, |[q, qd, _, a]| {
+        black_box(R::torque_regressor(&JointTrig::new(q), qd, a));
+    });
+    cycle(c, &g("torque_regressor"), "generic", &raw, |[q, qd, _, a]| {
+        black_box(generic.regressor(q, qd, qd, a));
+    });
+    cycle(
+        c,
+        &g("base_torque_regressor"),
+        "generated",
+        &fixed,
+        |[q, qd, _, a]| {
+            black_box(R::base_torque_regressor(&JointTrig::new(q), qd, a));
+        },
+    );
+    // Several states per call (SIMD lanes); a sample is one call, so divide by the lane count
+    // for the time per state.
+    lanes::<R, f64x4, N, P, B>(c, robot, &fixed);
+    lanes::<R, f64x8, N, P, B>(c, robot, &fixed);
+}
+
+/// `τ` and the torque-form `Y_b` of `L::WIDTH` states per call, sines and cosines included.
+fn lanes<R, L, const N: usize, const P: usize, const B: usize>(
+    c: &mut Criterion,
+    robot: &str,
+    fixed: &[[SVector<f64, N>; 4]],
+) where
+    R: BaseParameters<N, P, B> + LaneDynamics<N, B>,
+    L: Lanes,
+{
+    let batches: Vec<[[L; N]; 3]> = fixed
+        .chunks_exact(L::WIDTH)
+        .map(|states| [0, 1, 3].map(|i| pack::<L, N>(&states.iter().map(|s| s[i]).collect::<Vec<_>>())))
+        .collect();
+    let id = format!("generated_lanes{}", L::WIDTH);
+    cycle(c, &format!("{robot}/rnea"), &id, &batches, |[q, qd, a]| {
+        black_box(R::inverse_dynamics_lanes(&JointTrigLanes::new(q), qd, a));
+    });
+    cycle(
+        c,
+        &format!("{robot}/base_torque_regressor"),
+        &id,
+        &batches,
+        |[q, qd, a]| {
+            black_box(R::base_torque_regressor_lanes(&JointTrigLanes::new(q), qd, a));
+        },
+    );
 }
 
 fn dynamics(c: &mut Criterion) {

@@ -82,6 +82,28 @@ where
                 TOL,
             );
         }
+        // The torque form is the same columns of `Y` at `v = q̇`, and `Y_b θ_b = τ`.
+        let y_torque: SMatrix<f64, N, P> = R::torque_regressor(&t, &qd, &a);
+        let y_b_torque: SMatrix<f64, N, B> = R::base_torque_regressor(&t, &qd, &a);
+        assert_close(
+            &format!("{robot} seed {seed}: Y(q, q̇, q̇, q̈)"),
+            &column(y_torque.as_slice()),
+            &column(R::regressor(&t, &qd, &qd, &a).as_slice()),
+            TOL,
+        );
+        for (k, &c) in cols.iter().enumerate() {
+            assert_eq!(
+                y_b_torque.column(k),
+                y_torque.column(c),
+                "{robot} seed {seed}: torque-form Y_b column {k} ≠ Y column {c}"
+            );
+        }
+        assert_close(
+            &format!("{robot} seed {seed}: torque-form Y_b θ_b vs τ"),
+            &column((y_b_torque * R::base_parameters(&R::parameters())).as_slice()),
+            &column(R::inverse_dynamics(&t, &qd, &a).as_slice()),
+            TOL,
+        );
         if seed == 0 {
             // Y θ with the description's θ is the Slotine–Li torque.
             let sl = R::slotine_li(&t, &qd, &v, &a);

@@ -45,6 +45,12 @@ fn compare<R: RobotDynamics<N, P>, const N: usize, const P: usize>(
     let t = JointTrig::new(&sv::<N>(q));
     let (qd_, v_, a_) = (sv::<N>(qd), sv::<N>(v), sv::<N>(a));
     let pose = R::forward_kinematics(&t);
+    // The fused kinematics compute the same nodes as the three functions: equal bit for bit.
+    assert_eq!(
+        R::kinematics(&t, &qd_),
+        (pose, R::jacobian(&t), R::jacobian_dot(&t, &qd_)),
+        "{at}: fused kinematics"
+    );
     let (rot, pos) = generic.end_effector_pose(q);
     assert_close(&format!("{at}: ee rotation"), &dm(&pose.rotation), &dm(&rot), tol);
     assert_close(
@@ -101,6 +107,12 @@ fn compare<R: RobotDynamics<N, P>, const N: usize, const P: usize>(
         &format!("{at}: Y"),
         &dm(&R::regressor(&t, &qd_, &v_, &a_)),
         &generic.regressor(q, qd, v, a),
+        tol,
+    );
+    assert_close(
+        &format!("{at}: Y in torque form"),
+        &dm(&R::torque_regressor(&t, &qd_, &a_)),
+        &generic.regressor(q, qd, qd, a),
         tol,
     );
 }
@@ -190,6 +202,12 @@ fn against_fixture<R: RobotDynamics<N, P>, const N: usize, const P: usize>(robot
             TOL_FIXTURE,
         );
         assert_close(&at("Y"), &dm(&R::regressor(&t, &v, &v, &a)), &s.y, TOL_FIXTURE);
+        assert_close(
+            &at("Y in torque form"),
+            &dm(&R::torque_regressor(&t, &v, &a)),
+            &s.y,
+            TOL_FIXTURE,
+        );
     }
 }
 

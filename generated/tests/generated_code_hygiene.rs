@@ -25,6 +25,12 @@ fn every_function<R: RobotDynamics<N, P>, const N: usize, const P: usize>() {
     black_box(R::inverse_dynamics(&t, &qd, &a));
     black_box(R::slotine_li(&t, &qd, &v, &a));
     black_box(R::regressor(&t, &qd, &v, &a));
+    black_box(R::torque_regressor(&t, &qd, &a));
+    black_box(R::kinematics(&t, &qd));
+    black_box(R::forward_dynamics(&t, &qd, &a));
+    black_box(R::mass_matrix_inverse(&t));
+    black_box(R::inverse_dynamics_derivatives(&t, &qd, &a));
+    black_box(R::forward_dynamics_derivatives(&t, &qd, &a));
 }
 
 #[test]

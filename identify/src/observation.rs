@@ -67,7 +67,7 @@ impl<R: BaseParameters<N, P, B>, const N: usize, const P: usize, const B: usize>
             SVector::<f64, N>::from_column_slice(qd),
             SVector::<f64, N>::from_column_slice(qdd),
         );
-        let y = R::base_regressor(&JointTrig::new(&q), &qd, &qd, &qdd);
+        let y = R::base_torque_regressor(&JointTrig::new(&q), &qd, &qdd);
         DMatrix::from_column_slice(N, B, y.as_slice())
     }
 }

@@ -4,8 +4,9 @@
 //! [`Base`]), and the plain data they exchange ([`JointTrig`], [`Pose`], [`JointLimits`],
 //! [`ParameterKind`]).
 //!
-//! `#![no_std]`, allocation-free, and dependent only on `nalgebra` (without default features)
-//! and `libm`, so generated code runs on embedded controllers. Invariant: this crate never
+//! `#![no_std]`, allocation-free, and dependent only on `nalgebra` (without default features),
+//! `libm` and `wide` (the SIMD lane types of [`LaneDynamics`]), so generated code runs on
+//! embedded controllers. Invariant: this crate never
 //! depends on the generator or the controller; generated code depends only on this crate and
 //! `nalgebra`.
 
@@ -13,6 +14,7 @@
 #![cfg_attr(not(test), no_std)]
 
 mod joint;
+mod lanes;
 mod parameter;
 mod parameterization;
 mod random;
@@ -20,6 +22,7 @@ mod robot;
 mod trig;
 
 pub use joint::{JointLimits, JointTrig};
+pub use lanes::{f64x4, f64x8, pack, sign, unpack, JointTrigLanes, LaneDynamics, Lanes};
 pub use libm;
 pub use nalgebra;
 pub use parameter::{body_parameters, ParameterKind, PARAMETERS_PER_BODY};
@@ -30,7 +33,7 @@ pub use robot::{Kinematics, Pose, RobotDynamics};
 /// The traits whose functions a user of generated code calls: `use dyngen_runtime::prelude::*;`
 /// brings `Arm7::mass_matrix(&t)` and `Arm7::jacobian(&t)` into reach.
 pub mod prelude {
-    pub use crate::{BaseParameters, JointTrig, Kinematics, Parameterization, RobotDynamics};
+    pub use crate::{BaseParameters, JointTrig, Kinematics, LaneDynamics, Parameterization, RobotDynamics};
 }
 
 /// Includes a robot generated into `OUT_DIR` by a build script (`dyngen_codegen::compile_robot`)

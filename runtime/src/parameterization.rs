@@ -64,6 +64,15 @@ pub trait BaseParameters<const N: usize, const P: usize, const B: usize>: RobotD
         v: &SVector<f64, N>,
         a: &SVector<f64, N>,
     ) -> SMatrix<f64, N, B>;
+    /// `Y_b(q, q̇, q̇, q̈)` with `Y_b θ_b = τ`: the base regressor in torque form (see
+    /// [`RobotDynamics::torque_regressor`]).
+    fn base_torque_regressor(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        qdd: &SVector<f64, N>,
+    ) -> SMatrix<f64, N, B> {
+        Self::base_regressor(t, qd, qd, qdd)
+    }
 }
 
 /// The standard parameters of robot `R`: ten per body, `Φ = I`. Generated modules name it

@@ -60,6 +60,15 @@ pub trait Kinematics<const N: usize> {
     fn jacobian(t: &JointTrig<N>) -> SMatrix<f64, 6, N>;
     /// Its time derivative `J̇(q, q̇)`.
     fn jacobian_dot(t: &JointTrig<N>, qd: &SVector<f64, N>) -> SMatrix<f64, 6, N>;
+    /// The three at once, `(pose, J, J̇)`, as a control tick needs them: generated robots
+    /// compute the joint transforms and body poses they share once.
+    fn kinematics(t: &JointTrig<N>, qd: &SVector<f64, N>) -> (Pose, SMatrix<f64, 6, N>, SMatrix<f64, 6, N>) {
+        (
+            Self::forward_kinematics(t),
+            Self::jacobian(t),
+            Self::jacobian_dot(t, qd),
+        )
+    }
 }
 
 /// Rigid-body dynamics of one robot with `N` joints and `P` standard inertial parameters.
@@ -98,6 +107,12 @@ pub trait RobotDynamics<const N: usize, const P: usize>: Kinematics<N> {
         v: &SVector<f64, N>,
         a: &SVector<f64, N>,
     ) -> SMatrix<f64, N, P>;
+    /// The regressor in torque form, `Y(q, q̇, q̇, q̈)` with `Y θ = τ` (what identification
+    /// stacks). Generated robots emit it as its own function, smaller than [`Self::regressor`]:
+    /// at `v = q̇` each body force takes the classical `v ×* I v` form.
+    fn torque_regressor(t: &JointTrig<N>, qd: &SVector<f64, N>, qdd: &SVector<f64, N>) -> SMatrix<f64, N, P> {
+        Self::regressor(t, qd, qd, qdd)
+    }
     /// Forward dynamics `q̈ = D⁻¹ (τ − C q̇ − g)`.
     fn forward_dynamics(t: &JointTrig<N>, qd: &SVector<f64, N>, tau: &SVector<f64, N>) -> SVector<f64, N>;
     /// The inverse inertia matrix `D(q)⁻¹`.

@@ -9,7 +9,7 @@
 //! destructured once at the top of a function; outputs are built with `from_array_storage`, so
 //! the generated code has no indexing, no allocation and no panic path.
 
-use super::trace::{Arg, Quantity, Shape, SymbolicRobot, BASE_REGRESSOR};
+use super::trace::{Arg, Quantity, Shape, SymbolicRobot, BASE_FUNCTIONS};
 use crate::base_parameters::BaseParameterSet;
 use crate::model::Model;
 use crate::symbolic::{Id, Node, OpCounts};
@@ -119,17 +119,37 @@ fn literal(x: f64) -> TokenStream {
 /// robots. (The Panda's derivatives, about 7,000 values, ran no faster whole, in chunks of 16384.)
 const CHUNK: usize = 4096;
 
+/// Whether a function computes one state in `f64`, or one state per SIMD lane of a generic
+/// `L: Lanes` (the same statements; constants splatted, the few non-arithmetic nodes mapped
+/// lane by lane).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Form {
+    Scalar,
+    Lanes,
+}
+
+impl Form {
+    /// The type of every value.
+    fn value_type(self) -> TokenStream {
+        match self {
+            Form::Scalar => quote!(f64),
+            Form::Lanes => quote!(L),
+        }
+    }
+}
+
 /// The nodes a function computes, in order, and how their names are spelled.
 struct Plan<'a> {
     robot: &'a SymbolicRobot,
     leaves: &'a Leaves,
+    form: Form,
     /// Live computed nodes in topological order.
     order: Vec<Id>,
     names: HashMap<Id, Ident>,
 }
 
 impl<'a> Plan<'a> {
-    fn new(robot: &'a SymbolicRobot, leaves: &'a Leaves, outputs: &[Id]) -> Plan<'a> {
+    fn new(robot: &'a SymbolicRobot, leaves: &'a Leaves, outputs: &[Id], form: Form) -> Plan<'a> {
         let g = &robot.graph;
         let live = g.live(outputs);
         let topological: Vec<Id> = (0..g.len())
@@ -147,6 +167,7 @@ impl<'a> Plan<'a> {
         Plan {
             robot,
             leaves,
+            form,
             order,
             names,
         }
@@ -163,16 +184,17 @@ impl<'a> Plan<'a> {
     /// register allocation (and so release compile time) cheap.
     fn statements(&self, ids: &[Id], used_leaves: &mut Vec<Id>) -> Vec<TokenStream> {
         let names: Vec<&Ident> = ids.iter().map(|id| &self.names[id]).collect();
+        let ty = self.form.value_type();
         let mut out = Vec::with_capacity(ids.len() + 1);
         match names.as_slice() {
             [] => {}
             [name] => {
                 let value = self.value(ids[0], used_leaves);
-                out.push(quote!(let #name: f64 = #value;));
+                out.push(quote!(let #name: #ty = #value;));
             }
             _ => {
                 let k = Literal::usize_unsuffixed(names.len());
-                out.push(quote!(let [#(#names),*]: [f64; #k];));
+                out.push(quote!(let [#(#names),*]: [#ty; #k];));
                 for (&id, name) in ids.iter().zip(&names) {
                     let value = self.value(id, used_leaves);
                     out.push(quote!(#name = #value;));
@@ -185,7 +207,11 @@ impl<'a> Plan<'a> {
     /// An operand: a literal, an input, or an earlier temporary. Records inputs it reads.
     fn atom(&self, id: Id, used_leaves: &mut Vec<Id>) -> TokenStream {
         if let Some(x) = self.robot.graph.constant_value(id) {
-            return literal(x);
+            let x = literal(x);
+            return match self.form {
+                Form::Scalar => x,
+                Form::Lanes => quote!(L::splat(#x)),
+            };
         }
         if let Some(name) = self.leaves.names.get(&id) {
             if !used_leaves.contains(&id) {
@@ -200,6 +226,20 @@ impl<'a> Plan<'a> {
     /// The expression computing `id` from its operands.
     fn value(&self, id: Id, used_leaves: &mut Vec<Id>) -> TokenStream {
         let mut atom = |x| self.atom(x, used_leaves);
+        if self.form == Form::Lanes {
+            // The non-arithmetic nodes, lane by lane, as the scalar code computes them.
+            let lane_function = match self.robot.graph.node(id) {
+                Node::Sin(a) => Some((a, quote!(dyngen_runtime::libm::sin))),
+                Node::Cos(a) => Some((a, quote!(dyngen_runtime::libm::cos))),
+                Node::Tanh(a) => Some((a, quote!(dyngen_runtime::libm::tanh))),
+                Node::Sign(a) => Some((a, quote!(dyngen_runtime::sign))),
+                _ => None,
+            };
+            if let Some((a, f)) = lane_function {
+                let a = atom(a);
+                return quote!(#a.map(#f));
+            }
+        }
         let value = match self.robot.graph.node(id) {
             Node::Sin(a) => {
                 let a = atom(a);
@@ -216,7 +256,7 @@ impl<'a> Plan<'a> {
             }
             Node::Tanh(a) => {
                 let a = atom(a);
-                quote!(#a.tanh())
+                quote!(dyngen_runtime::libm::tanh(#a))
             }
             Node::Neg(a) => {
                 let a = atom(a);
@@ -265,7 +305,23 @@ fn destructure(leaves: &Leaves, ids: &[Id], used: &[Id], source: TokenStream) ->
     Some(quote!(let [#(#pattern),*] = #source;))
 }
 
-fn signature(robot: &SymbolicRobot, leaves: &Leaves, args: &[Arg], used: &[Id], n: &Literal) -> Signature {
+/// The type of the joint sines and cosines, and of a joint-space vector argument.
+fn argument_types(form: Form, n: &Literal) -> (TokenStream, TokenStream) {
+    match form {
+        Form::Scalar => (quote!(JointTrig<#n>), quote!(SVector<f64, #n>)),
+        Form::Lanes => (quote!(JointTrigLanes<#n, L>), quote!([L; #n])),
+    }
+}
+
+fn signature(
+    robot: &SymbolicRobot,
+    leaves: &Leaves,
+    args: &[Arg],
+    used: &[Id],
+    n: &Literal,
+    form: Form,
+) -> Signature {
+    let (trig_type, vector_type) = argument_types(form, n);
     let inputs = &robot.inputs;
     let (sin_ids, cos_ids) = (&leaves.sin_ids, &leaves.cos_ids);
     let mut prelude = Vec::new();
@@ -277,7 +333,7 @@ fn signature(robot: &SymbolicRobot, leaves: &Leaves, args: &[Arg], used: &[Id], 
     } else {
         format_ident!("t")
     };
-    let mut params = vec![quote!(#t: &JointTrig<#n>)];
+    let mut params = vec![quote!(#t: &#trig_type)];
     for &arg in args {
         let (name, ids) = match arg {
             Arg::Qd => (format_ident!("qd"), &inputs.qd),
@@ -285,14 +341,18 @@ fn signature(robot: &SymbolicRobot, leaves: &Leaves, args: &[Arg], used: &[Id], 
             Arg::A => (format_ident!("a"), &inputs.a),
             Arg::Tau => (format_ident!("tau"), &inputs.tau),
         };
-        match destructure(leaves, ids, used, quote!(#name.data.0[0])) {
+        let source = match form {
+            Form::Scalar => quote!(#name.data.0[0]),
+            Form::Lanes => quote!(*#name),
+        };
+        match destructure(leaves, ids, used, source) {
             Some(d) => {
                 prelude.push(d);
-                params.push(quote!(#name: &SVector<f64, #n>));
+                params.push(quote!(#name: &#vector_type));
             }
             None => {
                 let unused = format_ident!("_{}", name);
-                params.push(quote!(#unused: &SVector<f64, #n>));
+                params.push(quote!(#unused: &#vector_type));
             }
         }
     }
@@ -311,11 +371,12 @@ fn argument_names(args: &[Arg]) -> Vec<Ident> {
 }
 
 /// `t: &JointTrig<N>, qd: &SVector<f64, N>, …`: every argument, used or not.
-fn all_parameters(args: &[Arg], n: &Literal) -> Vec<TokenStream> {
+fn all_parameters(args: &[Arg], n: &Literal, form: Form) -> Vec<TokenStream> {
+    let (trig_type, vector_type) = argument_types(form, n);
     let names = argument_names(args);
     let (t, vectors) = names.split_first().expect("t is always an argument");
-    let mut params = vec![quote!(#t: &JointTrig<#n>)];
-    params.extend(vectors.iter().map(|v| quote!(#v: &SVector<f64, #n>)));
+    let mut params = vec![quote!(#t: &#trig_type)];
+    params.extend(vectors.iter().map(|v| quote!(#v: &#vector_type)));
     params
 }
 
@@ -339,9 +400,23 @@ struct Emitted {
     chunks: Vec<TokenStream>,
 }
 
-fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> Emitted {
+/// Suffix of the lane form of a function's name: `inverse_dynamics_lanes`.
+const LANES_SUFFIX: &str = "_lanes";
+
+fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form: Form) -> Emitted {
     let n = Literal::usize_unsuffixed(n);
-    let plan = Plan::new(robot, leaves, &q.outputs);
+    let plan = Plan::new(robot, leaves, &q.outputs, form);
+    let ty = form.value_type();
+    // Lane functions are generic over the lane type, so they cost nothing until a user calls
+    // them (then once per lane type).
+    let generics = match form {
+        Form::Scalar => quote!(),
+        Form::Lanes => quote!(<L: Lanes>),
+    };
+    let suffix = match form {
+        Form::Scalar => "",
+        Form::Lanes => LANES_SUFFIX,
+    };
     let position: HashMap<Id, usize> = plan.order.iter().enumerate().map(|(k, &id)| (id, k)).collect();
     let chunk_of = |id: &Id| position.get(id).map(|k| k / CHUNK);
     let n_chunks = plan.order.len().div_ceil(CHUNK).max(1);
@@ -370,50 +445,77 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
         sets.into_iter().map(|s| s.into_iter().collect()).collect()
     };
     let (carried_in, handed_on) = (sorted(carried_in), sorted(handed_on));
-    let name = format_ident!("{}", q.name);
+    let name = format_ident!("{}{suffix}", q.name);
     let mut main_used = Vec::new();
     let atoms: Vec<TokenStream> = q.outputs.iter().map(|&o| plan.atom(o, &mut main_used)).collect();
-    let result = match q.shape {
-        Shape::Vector(_) => quote!(SVector::from_array_storage(ArrayStorage([[#(#atoms),*]]))),
-        Shape::Matrix(rows, _) => {
+    let result = match (form, q.shape) {
+        (Form::Lanes, Shape::Vector(_)) => quote!([#(#atoms),*]),
+        (Form::Lanes, Shape::Matrix(rows, _)) => {
             let columns = atoms.chunks(rows).map(|c| quote!([#(#c),*]));
-            quote!(SMatrix::from_array_storage(ArrayStorage([#(#columns),*])))
+            quote!([#(#columns),*])
         }
-        Shape::Pose => {
-            let (r, p) = atoms.split_at(9);
-            let columns = r.chunks(3).map(|c| quote!([#(#c),*]));
-            quote!(Pose {
-                rotation: Matrix3::from_array_storage(ArrayStorage([#(#columns),*])),
-                translation: Vector3::new(#(#p),*),
-            })
-        }
-        Shape::MatrixPair(rows) => {
-            let (first, second) = atoms.split_at(rows * rows);
-            let columns = |m: &[TokenStream]| {
-                let c: Vec<TokenStream> = m.chunks(rows).map(|c| quote!([#(#c),*])).collect();
-                quote!(SMatrix::from_array_storage(ArrayStorage([#(#c),*])))
-            };
-            let (first, second) = (columns(first), columns(second));
-            quote!((#first, #second))
-        }
+        (Form::Lanes, _) => unreachable!("only vectors and matrices have a lane form"),
+        (Form::Scalar, shape) => match shape {
+            Shape::Vector(_) => quote!(SVector::from_array_storage(ArrayStorage([[#(#atoms),*]]))),
+            Shape::Matrix(rows, _) => {
+                let columns = atoms.chunks(rows).map(|c| quote!([#(#c),*]));
+                quote!(SMatrix::from_array_storage(ArrayStorage([#(#columns),*])))
+            }
+            Shape::Pose => pose_value(&atoms),
+            Shape::Kinematics(_) => {
+                let (pose, jacobians) = atoms.split_at(12);
+                let (j, jd) = jacobians.split_at(jacobians.len() / 2);
+                let pose = pose_value(pose);
+                let matrix = |m: &[TokenStream]| {
+                    let c: Vec<TokenStream> = m.chunks(6).map(|c| quote!([#(#c),*])).collect();
+                    quote!(SMatrix::from_array_storage(ArrayStorage([#(#c),*])))
+                };
+                let (j, jd) = (matrix(j), matrix(jd));
+                quote!((#pose, #j, #jd))
+            }
+            Shape::MatrixPair(rows) => {
+                let (first, second) = atoms.split_at(rows * rows);
+                let columns = |m: &[TokenStream]| {
+                    let c: Vec<TokenStream> = m.chunks(rows).map(|c| quote!([#(#c),*])).collect();
+                    quote!(SMatrix::from_array_storage(ArrayStorage([#(#c),*])))
+                };
+                let (first, second) = (columns(first), columns(second));
+                quote!((#first, #second))
+            }
+        },
     };
-    let ret = match q.shape {
-        Shape::Vector(len) => {
+    let ret = match (form, q.shape) {
+        (Form::Lanes, Shape::Vector(len)) => {
             let len = Literal::usize_unsuffixed(len);
-            quote!(SVector<f64, #len>)
+            quote!([L; #len])
         }
-        Shape::Matrix(r, c) => {
+        (Form::Lanes, Shape::Matrix(r, c)) => {
             let (r, c) = (Literal::usize_unsuffixed(r), Literal::usize_unsuffixed(c));
-            quote!(SMatrix<f64, #r, #c>)
+            quote!([[L; #r]; #c])
         }
-        Shape::Pose => quote!(Pose),
-        Shape::MatrixPair(r) => {
-            let r = Literal::usize_unsuffixed(r);
-            quote!((SMatrix<f64, #r, #r>, SMatrix<f64, #r, #r>))
-        }
+        (Form::Lanes, _) => unreachable!("only vectors and matrices have a lane form"),
+        (Form::Scalar, shape) => match shape {
+            Shape::Vector(len) => {
+                let len = Literal::usize_unsuffixed(len);
+                quote!(SVector<f64, #len>)
+            }
+            Shape::Matrix(r, c) => {
+                let (r, c) = (Literal::usize_unsuffixed(r), Literal::usize_unsuffixed(c));
+                quote!(SMatrix<f64, #r, #c>)
+            }
+            Shape::Pose => quote!(Pose),
+            Shape::Kinematics(n) => {
+                let n = Literal::usize_unsuffixed(n);
+                quote!((Pose, SMatrix<f64, 6, #n>, SMatrix<f64, 6, #n>))
+            }
+            Shape::MatrixPair(r) => {
+                let r = Literal::usize_unsuffixed(r);
+                quote!((SMatrix<f64, #r, #r>, SMatrix<f64, #r, #r>))
+            }
+        },
     };
     let mut doc = vec![doc_counts(&robot.graph.op_counts(&q.outputs))];
-    if q.name == BASE_REGRESSOR {
+    if BASE_FUNCTIONS.contains(&q.name) {
         let columns: Vec<String> = robot.base.columns.iter().map(|c| c.to_string()).collect();
         doc.insert(
             0,
@@ -428,12 +530,12 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
     if n_chunks == 1 {
         let mut used = main_used;
         let statements = plan.statements(&plan.order, &mut used);
-        let sig = signature(robot, leaves, &q.args, &used, &n);
+        let sig = signature(robot, leaves, &q.args, &used, &n, form);
         let (params, prelude) = (sig.params, sig.prelude);
         let method = quote! {
             #(#[doc = #doc])*
             #[inline(never)]
-            fn #name(#(#params),*) -> #ret {
+            fn #name #generics(#(#params),*) -> #ret {
                 #(#prelude)*
                 #(#statements)*
                 #result
@@ -449,10 +551,10 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
     let mut chunks = Vec::new();
     let mut calls = Vec::new();
     for (k, ids) in plan.order.chunks(CHUNK).enumerate() {
-        let chunk_name = format_ident!("{}_part{}", q.name, k);
+        let chunk_name = format_ident!("{}{suffix}_part{}", q.name, k);
         let mut used = Vec::new();
         let statements = plan.statements(ids, &mut used);
-        let sig = signature(robot, leaves, &q.args, &used, &n);
+        let sig = signature(robot, leaves, &q.args, &used, &n, form);
         let (mut params, prelude) = (sig.params, sig.prelude);
         let (inputs, outputs) = (names_of(&carried_in[k]), names_of(&handed_on[k]));
         let (n_in, n_out) = (
@@ -463,13 +565,13 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
         let unpack = if inputs.is_empty() {
             quote!()
         } else {
-            params.push(quote!(carried: [f64; #n_in]));
+            params.push(quote!(carried: [#ty; #n_in]));
             call_args.push(quote!([#(#inputs),*]));
             quote!(let [#(#inputs),*] = carried;)
         };
         chunks.push(quote! {
             #[inline(never)]
-            fn #chunk_name(#(#params),*) -> [f64; #n_out] {
+            fn #chunk_name #generics(#(#params),*) -> [#ty; #n_out] {
                 #(#prelude)*
                 #unpack
                 #(#statements)*
@@ -479,18 +581,28 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize) -> E
         calls.push(quote!(let [#(#outputs),*] = #chunk_name(#(#call_args),*);));
     }
     // Chunks read the arguments; the method itself reads only what its result needs.
-    let prelude = signature(robot, leaves, &q.args, &main_used, &n).prelude;
-    let params = all_parameters(&q.args, &n);
+    let prelude = signature(robot, leaves, &q.args, &main_used, &n, form).prelude;
+    let params = all_parameters(&q.args, &n, form);
     let method = quote! {
         #(#[doc = #doc])*
         #[inline(never)]
-        fn #name(#(#params),*) -> #ret {
+        fn #name #generics(#(#params),*) -> #ret {
             #(#prelude)*
             #(#calls)*
             #result
         }
     };
     Emitted { method, chunks }
+}
+
+/// A `Pose` from 12 atoms: the rotation column-major, then the translation.
+fn pose_value(atoms: &[TokenStream]) -> TokenStream {
+    let (r, p) = atoms.split_at(9);
+    let columns = r.chunks(3).map(|c| quote!([#(#c),*]));
+    quote!(Pose {
+        rotation: Matrix3::from_array_storage(ArrayStorage([#(#columns),*])),
+        translation: Vector3::new(#(#p),*),
+    })
 }
 
 /// Ids of `sin(q_i)` (or `cos(q_i)`) in joint order; a fresh id where the graph has none.
@@ -568,10 +680,15 @@ fn base_parameters_function(base: &BaseParameterSet) -> TokenStream {
     }
 }
 
+/// The functions that also have a lane form (several states per call, in
+/// [`LaneDynamics`](dyngen_runtime::LaneDynamics)): what identification and batched roll-outs
+/// evaluate in bulk.
+const LANE_FUNCTIONS: [&str; 2] = ["inverse_dynamics", super::trace::BASE_TORQUE_REGRESSOR];
+
 /// The generated functions that belong to [`Kinematics`](dyngen_runtime::Kinematics) (the rest
 /// are [`RobotDynamics`](dyngen_runtime::RobotDynamics), and `Y_b` is
 /// [`BaseParameters`](dyngen_runtime::BaseParameters)).
-const KINEMATICS: [&str; 3] = ["forward_kinematics", "jacobian", "jacobian_dot"];
+const KINEMATICS: [&str; 4] = ["forward_kinematics", "jacobian", "jacobian_dot", "kinematics"];
 
 /// A limit as a literal; an unset (infinite) one as `f64::INFINITY`.
 fn limit(x: f64) -> TokenStream {
@@ -628,8 +745,15 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
     let emitted: Vec<(&str, Emitted)> = robot
         .quantities
         .iter()
-        .map(|q| (q.name, function(robot, &leaves, q, n)))
+        .map(|q| (q.name, function(robot, &leaves, q, n, Form::Scalar)))
         .collect();
+    let lane_functions: Vec<Emitted> = robot
+        .quantities
+        .iter()
+        .filter(|q| LANE_FUNCTIONS.contains(&q.name))
+        .map(|q| function(robot, &leaves, q, n, Form::Lanes))
+        .collect();
+    let lane_methods = lane_functions.iter().map(|e| &e.method);
     let methods = |keep: fn(&str) -> bool| {
         emitted
             .iter()
@@ -637,9 +761,13 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
             .map(|(_, e)| &e.method)
     };
     let kinematics = methods(|name| KINEMATICS.contains(&name));
-    let functions = methods(|name| name != BASE_REGRESSOR && !KINEMATICS.contains(&name));
-    let base_functions = methods(|name| name == BASE_REGRESSOR);
-    let chunks = emitted.iter().flat_map(|(_, e)| &e.chunks);
+    let functions = methods(|name| !BASE_FUNCTIONS.contains(&name) && !KINEMATICS.contains(&name));
+    let base_functions = methods(|name| BASE_FUNCTIONS.contains(&name));
+    let chunks = emitted
+        .iter()
+        .map(|(_, e)| e)
+        .chain(&lane_functions)
+        .flat_map(|e| &e.chunks);
     let base = &robot.base;
     let base_names = base.names.iter().map(String::as_str);
     let base_parameters = base_parameters_function(base);
@@ -681,7 +809,10 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
     );
     let tokens = quote! {
         use dyngen_runtime::nalgebra::{ArrayStorage, Matrix3, SMatrix, SVector, Vector3};
-        use dyngen_runtime::{BaseParameters, JointLimits, JointTrig, Kinematics, ParameterKind, Pose, RobotDynamics};
+        use dyngen_runtime::{
+            BaseParameters, JointLimits, JointTrig, JointTrigLanes, Kinematics, LaneDynamics, Lanes, ParameterKind,
+            Pose, RobotDynamics,
+        };
 
         /// Number of moving joints (the `N` of [`Kinematics`] and [`RobotDynamics`]).
         pub const DOF: usize = #n;
@@ -751,6 +882,10 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
             #base_parameters
 
             #(#base_functions)*
+        }
+
+        impl LaneDynamics<#n, #b> for #ty {
+            #(#lane_methods)*
         }
 
         #(#chunks)*

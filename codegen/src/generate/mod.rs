@@ -12,4 +12,7 @@ pub use emit::{emit, type_name, Provenance, MODULE_ATTRIBUTES};
 pub use hash::fnv1a64;
 pub use output::{check_file, crate_root, module_name, write_file, WriteOutcome};
 pub use robot_file::{generate_robot, GenerateError, GeneratedRobot, GENERATED_MARKER, MAX_GENERATED_DOF};
-pub use trace::{trace, trace_with_base, Arg, Inputs, Quantity, Shape, SymbolicRobot, BASE_REGRESSOR};
+pub use trace::{
+    trace, trace_with_base, Arg, Inputs, Quantity, Shape, SymbolicRobot, BASE_FUNCTIONS, BASE_REGRESSOR,
+    BASE_TORQUE_REGRESSOR,
+};

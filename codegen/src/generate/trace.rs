@@ -28,6 +28,8 @@ pub enum Shape {
     Pose,
     /// Two `n × n` matrices (derivatives with respect to `q` and `q̇`), each column-major.
     MatrixPair(usize),
+    /// A pose, then `J` and `J̇` (6 × n each, column-major): the kinematics of a control tick.
+    Kinematics(usize),
 }
 
 /// One quantity: a named function of the joint state.
@@ -65,6 +67,13 @@ pub struct SymbolicRobot {
 /// Name of the base-parameter regressor `Y_b` (a method of `BaseParameters`, not of
 /// `RobotDynamics`): the kept columns of `Y`, so only their nodes are live in its function.
 pub const BASE_REGRESSOR: &str = "base_regressor";
+
+/// Name of the base-parameter regressor in torque form, `Y_b(q, q̇, q̇, q̈)`.
+pub const BASE_TORQUE_REGRESSOR: &str = "base_torque_regressor";
+
+/// The quantities that are methods of `BaseParameters` (the others are of `Kinematics` or
+/// `RobotDynamics`).
+pub const BASE_FUNCTIONS: [&str; 2] = [BASE_REGRESSOR, BASE_TORQUE_REGRESSOR];
 
 fn ids(v: &[Expr]) -> Vec<Id> {
     v.iter().map(|e| e.id()).collect()
@@ -202,6 +211,8 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
         let mut quantities = quantities;
         let tau = inputs("tau", n);
         quantities.extend(forward_quantities(model, &q, &qd, &a, &tau));
+        quantities.extend(torque_regressors(model, &x, &qd, &a, &base));
+        quantities.push(fused_kinematics(&quantities, n));
         (
             Inputs {
                 q: ids(&q),
@@ -264,6 +275,60 @@ fn forward_quantities(model: &Model, q: &[Expr], qd: &[Expr], a: &[Expr], tau: &
             )),
         },
     ]
+}
+
+/// The regressor at `v = q̇`, `a = q̈` (identification's form, `Y θ = τ`), and its base columns:
+/// traced last, so the earlier functions keep their node ids. The body forces take the cheaper
+/// `v ×* I v` form there, so these are smaller than the Slotine–Li regressor.
+fn torque_regressors(
+    model: &Model,
+    x: &[crate::spatial::Transform<Expr>],
+    qd: &[Expr],
+    a: &[Expr],
+    base: &BaseParameterSet,
+) -> Vec<Quantity> {
+    let n = model.dof();
+    let y = matrix_ids(&dynamics::regressor(model, x, qd, qd, a));
+    let y_base = base
+        .columns
+        .iter()
+        .flat_map(|&c| y[c * n..(c + 1) * n].iter().copied())
+        .collect();
+    vec![
+        Quantity {
+            name: "torque_regressor",
+            args: vec![Arg::Qd, Arg::A],
+            shape: Shape::Matrix(n, model.parameter_count()),
+            outputs: y,
+        },
+        Quantity {
+            name: BASE_TORQUE_REGRESSOR,
+            args: vec![Arg::Qd, Arg::A],
+            shape: Shape::Matrix(n, base.count()),
+            outputs: y_base,
+        },
+    ]
+}
+
+/// Forward kinematics, `J` and `J̇` in one function: the nodes the three share (joint
+/// transforms, body poses) are computed once. No new nodes, only the union of their outputs.
+fn fused_kinematics(quantities: &[Quantity], n: usize) -> Quantity {
+    let outputs_of = |name: &str| {
+        quantities
+            .iter()
+            .find(|q| q.name == name)
+            .map(|q| q.outputs.clone())
+            .unwrap_or_default()
+    };
+    let mut outputs = outputs_of("forward_kinematics");
+    outputs.extend(outputs_of("jacobian"));
+    outputs.extend(outputs_of("jacobian_dot"));
+    Quantity {
+        name: "kinematics",
+        args: vec![Arg::Qd],
+        shape: Shape::Kinematics(n),
+        outputs,
+    }
 }
 
 impl SymbolicRobot {

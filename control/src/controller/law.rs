@@ -157,9 +157,7 @@ where
         qd: &SVector<f64, N>,
         d: &Desired<N, S>,
     ) -> TaskKinematics<N, T> {
-        let pose = Z::Robot::forward_kinematics(trig);
-        let j6 = Z::Robot::jacobian(trig);
-        let jd6 = Z::Robot::jacobian_dot(trig, qd);
+        let (pose, j6, jd6) = Z::Robot::kinematics(trig, qd);
         let j_force: SMatrix<f64, 3, N> = j6.fixed_rows::<3>(0).into_owned();
         let velocity = j_force * qd;
         // Full orientation: P = I, so the task Jacobian is the geometric one (no products).

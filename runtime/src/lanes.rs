@@ -1,0 +1,118 @@
+//! Several states per call, one per SIMD lane: the generated `*_lanes` functions run the same
+//! straight-line code as the scalar ones on a lane type `L` (`f64x4`: AVX; `f64x8`: AVX-512),
+//! so one call evaluates four or eight states for little more than the cost of one.
+//!
+//! The results equal the scalar functions' bit for bit: the same IEEE operations in the same
+//! order, lane by lane (Rust never contracts `a * b + c` into a fused multiply-add).
+
+use crate::robot::Kinematics;
+use core::ops::{Add, Div, Mul, Neg, Sub};
+use nalgebra::SVector;
+pub use wide::{f64x4, f64x8};
+
+/// A vector of `WIDTH` `f64`s with lane-wise arithmetic: what the `*_lanes` functions compute in.
+pub trait Lanes:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
+{
+    /// States per call.
+    const WIDTH: usize;
+    /// Every lane `x`.
+    fn splat(x: f64) -> Self;
+    /// Lane `k` is `f(k)`.
+    fn from_fn(f: impl FnMut(usize) -> f64) -> Self;
+    /// Lane `k` (`k < WIDTH`).
+    fn lane(&self, k: usize) -> f64;
+    /// `f` applied lane by lane (the few non-arithmetic nodes: `sign`, `tanh`, the sine of a
+    /// constant-shifted angle).
+    #[inline]
+    fn map(self, f: impl Fn(f64) -> f64) -> Self {
+        Self::from_fn(|k| f(self.lane(k)))
+    }
+}
+
+macro_rules! lanes {
+    ($t:ty, $w:literal) => {
+        impl Lanes for $t {
+            const WIDTH: usize = $w;
+            #[inline(always)]
+            fn splat(x: f64) -> Self {
+                <$t>::splat(x)
+            }
+            #[inline(always)]
+            fn from_fn(f: impl FnMut(usize) -> f64) -> Self {
+                <$t>::new(core::array::from_fn(f))
+            }
+            #[inline(always)]
+            fn lane(&self, k: usize) -> f64 {
+                self.as_array()[k]
+            }
+        }
+    };
+}
+lanes!(f64x4, 4);
+lanes!(f64x8, 8);
+
+/// `sign(x)` with 0 at 0 and for NaN: Coulomb friction's `sign(q̇)`, as the scalar code has it.
+#[inline]
+pub fn sign(x: f64) -> f64 {
+    if x > 0.0 {
+        1.0
+    } else if x < 0.0 {
+        -1.0
+    } else {
+        0.0
+    }
+}
+
+/// The joint angles, sines and cosines of `L::WIDTH` states (lane `k` is state `k`).
+#[derive(Clone, Copy, Debug)]
+pub struct JointTrigLanes<const N: usize, L> {
+    pub q: [L; N],
+    pub sin: [L; N],
+    pub cos: [L; N],
+}
+
+impl<const N: usize, L: Lanes> JointTrigLanes<N, L> {
+    /// From the joint angles of each lane; the sines and cosines as [`JointTrig::new`]
+    /// (crate::JointTrig::new) computes them, so lane `k` matches the scalar functions exactly.
+    pub fn new(q: &[L; N]) -> Self {
+        let mut sin = [L::splat(0.0); N];
+        let mut cos = [L::splat(0.0); N];
+        // One joint at a time, all lanes through the element-wise kernel at once (eight wide,
+        // the most lanes a type has): the same values as the scalar path, in SIMD.
+        for i in 0..N {
+            let angles: [f64; 8] = core::array::from_fn(|k| q[i].lane(k % L::WIDTH));
+            let (s, c) = crate::trig::sin_cos_all(&angles);
+            sin[i] = L::from_fn(|k| s[k]);
+            cos[i] = L::from_fn(|k| c[k]);
+        }
+        JointTrigLanes { q: *q, sin, cos }
+    }
+}
+
+/// Lane `k` holds `vectors[k]`; lanes beyond `vectors.len()` repeat the last one (zeros if
+/// there is none), so a short final batch computes valid states whose results are ignored.
+pub fn pack<L: Lanes, const N: usize>(vectors: &[SVector<f64, N>]) -> [L; N] {
+    let pick = |k: usize| vectors.get(k).or(vectors.last());
+    core::array::from_fn(|i| L::from_fn(|k| pick(k).map_or(0.0, |v| v[i])))
+}
+
+/// Lane `k` of a joint-space vector.
+pub fn unpack<L: Lanes, const N: usize>(x: &[L; N], k: usize) -> SVector<f64, N> {
+    SVector::from_fn(|i, _| x[i].lane(k))
+}
+
+/// The functions a generated robot also emits in lane form: several states per call.
+///
+/// `B` is the number of base parameters (of [`BaseParameters`](crate::BaseParameters)).
+pub trait LaneDynamics<const N: usize, const B: usize>: Kinematics<N> {
+    /// Inverse dynamics `τ = D q̈ + C q̇ + g`, one state per lane.
+    fn inverse_dynamics_lanes<L: Lanes>(t: &JointTrigLanes<N, L>, qd: &[L; N], qdd: &[L; N]) -> [L; N];
+    /// The base regressor in torque form `Y_b(q, q̇, q̇, q̈)`, one state per lane, column-major
+    /// (`[column][row]`).
+    fn base_torque_regressor_lanes<L: Lanes>(
+        t: &JointTrigLanes<N, L>,
+        qd: &[L; N],
+        qdd: &[L; N],
+    ) -> [[L; N]; B];
+}

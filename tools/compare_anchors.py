@@ -1,0 +1,182 @@
+#!/usr/bin/env python3
+"""Side by side: dyngen's generated code, numeric Pinocchio 4.1 and Pinocchio's algorithms
+generated to C by CppADCodeGen, interleaved, pinned to one core; prints a Markdown table.
+
+For developers (not CI). The two Pinocchio programs are C++ benchmarks kept outside this
+repository (built with their own notes: a pip venv with pin 4.1.0 and example-robot-data
+6.0.0, then g++ -O3 -march=native); point at their directories:
+
+    tools/compare_anchors.py --pinocchio ANCHORS/pinocchio --cppadcg ANCHORS/pinocchio-cg
+
+Both print `robot nq nv function median_ns min_ns` rows, timing each call over 256
+precomputed random states, as `cargo bench -p dyngen-generated` does. Each round runs the
+three programs one after the other on the same core; ratios are medians of per-round ratios.
+Run it on an otherwise idle machine: the two vCPUs of our machines behave like SMT siblings, so
+a compile on the other one slows a benchmark 1.3-2x.
+
+Standard library only (no pip).
+"""
+
+import argparse
+import json
+import os
+import statistics
+import subprocess
+import sys
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parent.parent
+ROBOTS = ("panda", "ur5")
+# Anchor function -> dyngen criterion group, in table order.
+FUNCTIONS = [
+    ("fk", "fk"),
+    ("jacobian", "jacobian"),
+    ("jacobian_dot", "jacobian_dot"),
+    ("crba", "mass_matrix"),
+    ("coriolis", "coriolis"),
+    ("gravity", "gravity"),
+    ("rnea", "rnea"),
+    ("regressor", "torque_regressor"),
+    ("aba", "aba"),
+    ("minv", "minv"),
+    ("rnea_derivatives", "rnea_derivatives"),
+    ("aba_derivatives", "aba_derivatives"),
+]
+# Several states per call: (criterion group, lane ids), per state against the single call.
+BATCHES = [("rnea", ("generated_lanes4", "generated_lanes8")),
+           ("base_torque_regressor", ("generated_lanes4", "generated_lanes8"))]
+FLOOR_PINOCCHIO, FLOOR_CG, FLOOR_DEFAULT = 5.0, 1.5, 1.3
+
+
+def run(cmd, cwd=None, env=None):
+    out = subprocess.run(cmd, cwd=cwd, env=env, check=True, capture_output=True, text=True)
+    return out.stdout
+
+
+def anchor_rows(text):
+    """{(robot, function): median_ns} from an anchor's output."""
+    rows = {}
+    for line in text.splitlines():
+        parts = line.split()
+        if len(parts) == 6 and parts[0] in ROBOTS and not line.startswith("#"):
+            rows[(parts[0], parts[3])] = float(parts[4])
+    return rows
+
+
+def cargo_env(target_dir, native):
+    env = dict(os.environ)
+    env["CARGO_TARGET_DIR"] = str(target_dir)
+    env["RUSTFLAGS"] = "-C target-cpu=native" if native else ""
+    return env
+
+
+def dyngen_build(env):
+    cmd = ["cargo", "bench", "-p", "dyngen-generated", "--bench", "dynamics",
+           "--bench", "forward_dynamics", "--no-run"]
+    subprocess.run(cmd, cwd=ROOT, env=env, check=True)
+
+
+def dyngen_round(env, core, target_dir):
+    """{(robot, group, id): median_ns} of one run of both benches."""
+    for bench in ("dynamics", "forward_dynamics"):
+        cmd = ["taskset", "-c", str(core), "cargo", "bench", "-q", "-p", "dyngen-generated",
+               "--bench", bench, "--", "^(panda|ur5)/.*/generated"]
+        run(cmd, cwd=ROOT, env=env)
+    rows = {}
+    criterion = Path(target_dir) / "criterion"
+    for group in criterion.iterdir():
+        robot, _, quantity = group.name.partition("_")
+        if robot not in ROBOTS:
+            continue
+        for bench in group.iterdir():
+            estimates = bench / "new" / "estimates.json"
+            if estimates.is_file():
+                median = json.loads(estimates.read_text())["median"]["point_estimate"]
+                rows[(robot, quantity, bench.name)] = median
+    return rows
+
+
+def med(xs):
+    xs = [x for x in xs if x is not None]
+    return statistics.median(xs) if xs else None
+
+
+def fmt(x, digits=0, suffix=""):
+    return "–" if x is None else f"{x:.{digits}f}{suffix}"
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--pinocchio", type=Path, required=True, help="numeric Pinocchio anchor directory")
+    ap.add_argument("--cppadcg", type=Path, required=True, help="Pinocchio + CppADCodeGen anchor directory")
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--core", type=int, default=1)
+    ap.add_argument("--default-build", action="store_true",
+                    help="also time dyngen built without target-cpu (the default build)")
+    args = ap.parse_args()
+
+    native_dir = ROOT / "target" / "bench-native"
+    default_dir = ROOT / "target" / "bench-default"
+    builds = [("native", native_dir, cargo_env(native_dir, True))]
+    if args.default_build:
+        builds.append(("default", default_dir, cargo_env(default_dir, False)))
+    for _, _, env in builds:
+        dyngen_build(env)
+
+    pin_cmd = ["taskset", "-c", str(args.core), str(args.pinocchio / "build" / "bench_native"),
+               "robots.txt", "build/models"]
+    cg_cmd = ["taskset", "-c", str(args.core), str(args.cppadcg / "build" / "bench_cg_native")]
+    rounds = []
+    for r in range(args.rounds):
+        print(f"round {r + 1}/{args.rounds}", file=sys.stderr)
+        pin = anchor_rows(run(pin_cmd, cwd=args.pinocchio))
+        cg = anchor_rows(run(cg_cmd, cwd=args.cppadcg))
+        ours = {name: dyngen_round(env, args.core, d) for name, d, env in builds}
+        rounds.append((pin, cg, ours))
+
+    load = os.getloadavg()
+    print(f"Load average at the end: {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}; "
+          f"{args.rounds} interleaved rounds on core {args.core}; medians in ns; ratios are medians "
+          f"of per-round ratios.\n")
+    header = "| robot | function | Pinocchio | CppADCodeGen | dyngen native |"
+    rule = "|---|---|---:|---:|---:|"
+    if args.default_build:
+        header += " dyngen default | default / native |"
+        rule += "---:|---:|"
+    header += f" Pinocchio / dyngen (≥ {FLOOR_PINOCCHIO:g}) | CppADCodeGen / dyngen (≥ {FLOOR_CG:g}) |"
+    rule += "---:|---:|"
+    print(header)
+    print(rule)
+    for robot in ROBOTS:
+        for fn, group in FUNCTIONS:
+            key = (robot, group, "generated")
+            native = [o["native"].get(key) for _, _, o in rounds]
+            pin = [p.get((robot, fn)) for p, _, _ in rounds]
+            cg = [c.get((robot, fn)) for _, c, _ in rounds]
+            ratio = lambda a, b: med([x / y for x, y in zip(a, b) if x and y])
+            rp, rc = ratio(pin, native), ratio(cg, native)
+            mark = lambda r, floor: fmt(r, 2, "×") + ("" if r is None or r >= floor else " **missed**")
+            row = f"| {robot} | {fn} / `{group}` | {fmt(med(pin))} | {fmt(med(cg))} | {fmt(med(native))} |"
+            if args.default_build:
+                default = [o["default"].get(key) for _, _, o in rounds]
+                rd = ratio(default, native)
+                row += f" {fmt(med(default))} | {fmt(rd, 2, '×')}{'' if rd is None or rd <= FLOOR_DEFAULT else ' **missed**'} |"
+            row += f" {mark(rp, FLOOR_PINOCCHIO)} | {mark(rc, FLOOR_CG)} |"
+            print(row)
+    print("\nSeveral states per call (dyngen native, ns per state; throughput against one state per call):\n")
+    print("| robot | function | one per call | lanes | per state | throughput ratio |")
+    print("|---|---|---:|---:|---:|---:|")
+    for robot in ROBOTS:
+        for group, ids in BATCHES:
+            single = [o["native"].get((robot, group, "generated")) for _, _, o in rounds]
+            for lane_id in ids:
+                width = int(lane_id.removeprefix("generated_lanes"))
+                batch = [o["native"].get((robot, group, lane_id)) for _, _, o in rounds]
+                per_state = [b / width if b else None for b in batch]
+                ratio = med([s / p for s, p in zip(single, per_state) if s and p])
+                print(f"| {robot} | {group} | {fmt(med(single))} | {width} | {fmt(med(per_state))} | "
+                      f"{fmt(ratio, 2, '×')} |")
+
+
+if __name__ == "__main__":
+    main()
