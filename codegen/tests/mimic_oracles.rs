@@ -111,6 +111,8 @@ fn interpreted(robot: &SymbolicRobot, name: &str, values: Vec<f64>) -> DMatrix<f
         Shape::Matrix(r, c) => DMatrix::from_column_slice(r, c, &values),
         Shape::Pose => DMatrix::from_column_slice(12, 1, &values),
         Shape::MatrixPair(n) => DMatrix::from_column_slice(n, 2 * n, &values),
+        // Pose, J and J̇ one after the other.
+        Shape::Kinematics(_) => DMatrix::from_column_slice(values.len(), 1, &values),
     }
 }
 
@@ -147,6 +149,17 @@ fn check_traced(model: &Model, robot: &SymbolicRobot, s: &JointState) {
         (
             "inverse_dynamics_derivatives",
             pair(generic.inverse_dynamics_derivatives(q, qd, a)),
+        ),
+        ("kinematics", {
+            let mut all = pose.clone();
+            all.extend(generic.jacobian(q).iter());
+            all.extend(generic.jacobian_dot(q, qd).iter());
+            DMatrix::from_column_slice(all.len(), 1, &all)
+        }),
+        ("torque_regressor", generic.regressor(q, qd, qd, a)),
+        (
+            "base_torque_regressor",
+            robot.base.base_regressor(&generic.regressor(q, qd, qd, a)),
         ),
     ];
     for (name, want) in expected {
