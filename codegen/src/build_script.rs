@@ -4,7 +4,8 @@
 //! In `build.rs`, `fn main() { dyngen_codegen::compile_robot("robots/panda.yaml"); }`; in
 //! `src/lib.rs`, `dyngen_runtime::include_robot!(panda);` gives `panda::Panda`.
 
-use crate::generate::{generate_robot, module_name, type_name, write_file, GenerateError};
+use crate::description::UrdfOptions;
+use crate::generate::{generate_robot_with, module_name, type_name, write_file, GenerateError};
 use std::path::{Path, PathBuf};
 
 /// Generates `description` into `$OUT_DIR/<module>.rs` with the defaults of [`Builder`]; on
@@ -21,6 +22,7 @@ pub struct Builder {
     module: Option<String>,
     type_name: Option<String>,
     cargo_directives: bool,
+    urdf: UrdfOptions,
 }
 
 impl Builder {
@@ -32,7 +34,25 @@ impl Builder {
             module: None,
             type_name: None,
             cargo_directives: true,
+            urdf: UrdfOptions::default(),
         }
+    }
+
+    /// For a bare URDF file: make origin angles within `tolerance` radians of a quarter turn
+    /// exact quarter turns, and axis components that close to 0 exactly 0 (at most 1e-3; each
+    /// change is reported as a warning). Vendor files often write `1.5708` for π/2, which leaves
+    /// every rotation dense and the generated code slower. A YAML description sets
+    /// `snap_angles:` itself (giving this option with one is an error).
+    pub fn snap_angles(mut self, tolerance: f64) -> Builder {
+        self.urdf.snap_angles = Some(tolerance);
+        self
+    }
+
+    /// For a bare URDF file: all the choices a YAML wrapper would make (end-effector frame,
+    /// locked joints, gravity, snapping). A YAML description makes them itself.
+    pub fn urdf_options(mut self, options: UrdfOptions) -> Builder {
+        self.urdf = options;
+        self
     }
 
     /// Where to write (default: `$OUT_DIR`).
@@ -80,7 +100,13 @@ impl Builder {
             // Printed before generating, so a fixed description re-runs the build after an error.
             println!("cargo:rerun-if-changed={}", self.description.display());
         }
-        let robot = generate_robot(&self.description, &shown, &ty, "cargo build (build.rs)")?;
+        let robot = generate_robot_with(
+            &self.description,
+            &shown,
+            &ty,
+            "cargo build (build.rs)",
+            &self.urdf,
+        )?;
         if self.cargo_directives {
             for source in &robot.sources {
                 println!("cargo:rerun-if-changed={}", source.display());

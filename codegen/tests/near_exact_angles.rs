@@ -126,3 +126,44 @@ fn snap_angles_from_yaml_and_its_bad_values() {
     }
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The build-script API snaps a bare URDF on request: the rounded Panda then generates code as
+/// lean as the exact one (the same operation count in every function; the rounded π/4 and π/6
+/// change numbers, not structure), and without the option keeps the dense rotations.
+#[test]
+fn builder_snaps_a_bare_urdf_and_refuses_urdf_options_for_yaml() {
+    let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("near_exact_builder");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).expect("scratch directory");
+    let exact = dir.join("exact.urdf");
+    let vendor = dir.join("vendor.urdf");
+    std::fs::write(&exact, panda_urdf()).expect("write");
+    std::fs::write(&vendor, rounded(&panda_urdf())).expect("write");
+    // The operation counts each generated function states in its documentation.
+    let counts = |urdf: &Path, snap: Option<f64>| -> Vec<String> {
+        let file = dyngen_codegen::Builder::new(urdf)
+            .out_dir(&dir)
+            .module_name("panda")
+            .cargo_directives(false)
+            .urdf_options(options(snap))
+            .compile()
+            .unwrap_or_else(|e| panic!("{e}"));
+        let code = std::fs::read_to_string(file).expect("generated");
+        code.lines()
+            .filter(|l| l.contains("Operations:"))
+            .map(str::to_owned)
+            .collect()
+    };
+    let from_exact = counts(&exact, None);
+    assert!(from_exact.len() > 10, "{from_exact:#?}");
+    assert_eq!(counts(&vendor, Some(1e-4)), from_exact, "snapped vs exact");
+    assert_ne!(counts(&vendor, None), from_exact, "unsnapped should stay dense");
+
+    let err = dyngen_codegen::Builder::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../robots/panda.yaml"))
+        .out_dir(&dir)
+        .cargo_directives(false)
+        .snap_angles(1e-4)
+        .compile()
+        .expect_err("URDF options with a YAML description");
+    assert!(err.to_string().contains("set them in the YAML"), "{err}");
+}

@@ -122,7 +122,7 @@ fn reload_both_ways(export: &UrdfExport, dir: &Path) -> [Model; 2] {
 
     let urdf_path = dir.join(format!("{}.urdf", export.robot.name));
     std::fs::write(&urdf_path, &text).expect("write URDF");
-    let from_file = if export.options == UrdfOptions::default() {
+    let from_file = if !export.needs_wrapper() {
         load(&urdf_path)
     } else {
         let wrapper = dir.join(format!("{}.yaml", export.robot.name));
@@ -159,6 +159,38 @@ fn assert_round_trip(model: &Model, dir: &Path, compare_code: bool) -> UrdfExpor
         }
     }
     export
+}
+
+/// Joint friction goes into `<dynamics damping friction>`; the columns, the Coulomb smoothing,
+/// armature and offset (which URDF cannot say) into the YAML wrapper: through the wrapper the
+/// model, its joint terms and its code come back exactly.
+#[test]
+fn joint_friction_and_armature_round_trip_through_dynamics_tags_and_the_wrapper() {
+    let dir = scratch("joint_terms");
+    let arm7 = load(&repo("robots/arm7.yaml")).model;
+    let model = dyngen_testkit::joint_terms::with_joint_terms(arm7, Some(0.02), 11);
+    let export = to_urdf_rs(&model).unwrap_or_else(|e| panic!("{e}"));
+    assert!(export.needs_wrapper());
+    for (joint, j) in export.robot.joints.iter().zip(0..model.dof()) {
+        let v = model.joint_terms().value(j);
+        let dynamics = joint.dynamics.as_ref().expect("<dynamics>");
+        assert_eq!(
+            (dynamics.damping, dynamics.friction),
+            (v.viscous, v.coulomb),
+            "{}",
+            joint.name
+        );
+    }
+    // Through `from_urdf_rs` alone (no wrapper) the rigid body comes back; the wrapper's
+    // `joint_parameters` choose the columns.
+    let [rigid, from_file] = reload_both_ways(&export, &dir);
+    assert_same_model(&rigid, &model);
+    assert_same_model(&from_file, &model);
+    assert_eq!(from_file.joint_terms(), model.joint_terms());
+    assert!(
+        generated(&from_file) == generated(&model),
+        "generated code differs"
+    );
 }
 
 #[test]

@@ -73,8 +73,8 @@ pub struct JointTrigLanes<const N: usize, L> {
 }
 
 impl<const N: usize, L: Lanes> JointTrigLanes<N, L> {
-    /// From the joint angles of each lane; the sines and cosines as [`JointTrig::new`]
-    /// (crate::JointTrig::new) computes them, so lane `k` matches the scalar functions exactly.
+    /// From the joint angles of each lane; the sines and cosines as
+    /// [`JointTrig::new`](crate::JointTrig::new) computes them, so lane `k` matches the scalar functions exactly.
     pub fn new(q: &[L; N]) -> Self {
         let mut sin = [L::splat(0.0); N];
         let mut cos = [L::splat(0.0); N];

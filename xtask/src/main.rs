@@ -4,7 +4,7 @@
 mod bench_table;
 
 use clap::{Parser, Subcommand};
-use dyngen_codegen::description::{load, to_urdf_rs, UrdfOptions};
+use dyngen_codegen::description::{load, to_urdf_rs};
 use dyngen_codegen::generate::{descriptions_in, generate_into_crate, CrateReport, Mode};
 use dyngen_codegen::urdf_rs;
 use std::path::{Path, PathBuf};
@@ -190,7 +190,7 @@ fn urdf(description: &Path, output: Option<&Path>) -> Result<(), String> {
     for warning in &export.warnings {
         eprintln!("warning: {warning}");
     }
-    if export.options != UrdfOptions::default() {
+    if export.needs_wrapper() {
         let file = output
             .and_then(|p| p.file_name())
             .map_or_else(|| "robot.urdf".to_owned(), |f| f.to_string_lossy().into_owned());

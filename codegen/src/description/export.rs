@@ -10,7 +10,9 @@
 use super::assemble::DEFAULT_GRAVITY;
 use super::error::vec3;
 use super::options::{EndEffectorSpec, UrdfOptions};
-use crate::model::{exact_sin_cos, from_xyz_rpy, Inertia, JointKind, Model, Pose};
+use crate::model::{
+    exact_sin_cos, from_xyz_rpy, Inertia, JointKind, JointTermValues, JointTerms, Model, Pose,
+};
 use nalgebra::{Matrix3, Vector3};
 use std::collections::HashSet;
 
@@ -25,6 +27,10 @@ pub struct UrdfExport {
     /// What differs when the URDF is read without [`UrdfExport::options`], or by tools other
     /// than dyngen (gravity, the order of the joints), one line each.
     pub warnings: Vec<String>,
+    /// The model's joint-level parameters: viscous and Coulomb friction are in the URDF
+    /// (`<dynamics damping friction>`); the chosen columns, the Coulomb smoothing, armature and
+    /// offset have no URDF element and go into the YAML wrapper's `joint_parameters`.
+    pub joint_terms: JointTerms,
 }
 
 impl UrdfExport {
@@ -53,8 +59,61 @@ impl UrdfExport {
         if let Some(g) = &self.options.gravity {
             s.push_str(&format!("gravity: {}\n", yaml_vec(g)));
         }
+        s.push_str(&self.joint_parameters_yaml());
         s
     }
+
+    /// Whether loading the URDF alone gives a different model: a YAML wrapper is needed.
+    pub fn needs_wrapper(&self) -> bool {
+        self.options != UrdfOptions::default() || !self.joint_terms.kinds.is_empty()
+    }
+
+    /// `joint_parameters:` with what URDF cannot say (empty without joint-level columns).
+    fn joint_parameters_yaml(&self) -> String {
+        let terms = &self.joint_terms;
+        if terms.kinds.is_empty() {
+            return String::new();
+        }
+        let kinds: Vec<&str> = terms.kinds.iter().map(|k| k.keyword()).collect();
+        let mut s = format!("joint_parameters:\n  columns: [{}]\n", kinds.join(", "));
+        if let Some(eps) = terms.coulomb_smoothing {
+            s.push_str(&format!("  coulomb_smoothing: {eps:?}\n"));
+        }
+        let names = self
+            .robot
+            .joints
+            .iter()
+            .filter(|j| j.joint_type != urdf_rs::JointType::Fixed);
+        let rows: Vec<String> = names
+            .zip(0..terms.values.len())
+            .filter_map(|(joint, j)| {
+                let v = terms.value(j);
+                let mut fields = Vec::new();
+                if v.armature != 0.0 {
+                    fields.push(format!("armature: {:?}", v.armature));
+                }
+                if v.offset != 0.0 {
+                    fields.push(format!("offset: {:?}", v.offset));
+                }
+                (!fields.is_empty())
+                    .then(|| format!("    {}: {{ {} }}\n", yaml_str(&joint.name), fields.join(", ")))
+            })
+            .collect();
+        if !rows.is_empty() {
+            s.push_str("  joints:\n");
+            s.extend(rows);
+        }
+        s
+    }
+}
+
+/// `<dynamics damping friction>`: viscous and Coulomb friction, as URDF readers (Gazebo) take
+/// them; `None` when both are 0.
+fn urdf_dynamics(v: &JointTermValues) -> Option<urdf_rs::Dynamics> {
+    (v.viscous != 0.0 || v.coulomb != 0.0).then_some(urdf_rs::Dynamics {
+        damping: v.viscous,
+        friction: v.coulomb,
+    })
 }
 
 /// A model that cannot be written as a URDF that loads back as the same model.
@@ -135,7 +194,7 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
 
     let mut links = vec![link(&base, None)];
     let mut joints = Vec::new();
-    for ((joint, body), mimic) in model.joints().iter().zip(model.bodies()).zip(model.mimics()) {
+    for (j, (joint, body)) in model.joints().iter().zip(model.bodies()).enumerate() {
         links.push(link(&body.name, Some(&body.inertia)));
         let joint_type = match (joint.kind, joint.limits) {
             (JointKind::Revolute, Some(_)) => urdf_rs::JointType::Revolute,
@@ -166,9 +225,9 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
             },
             limit,
             calibration: None,
-            dynamics: None,
+            dynamics: urdf_dynamics(&model.joint_terms().value(j)),
             // Mimic joints stay mimic joints (their master is never one: chains are resolved).
-            mimic: mimic.map(|m| urdf_rs::Mimic {
+            mimic: model.mimics()[j].map(|m| urdf_rs::Mimic {
                 joint: model.joints()[m.master].name.clone(),
                 multiplier: Some(m.multiplier),
                 offset: Some(m.offset),
@@ -260,6 +319,7 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
         robot,
         options,
         warnings,
+        joint_terms: model.joint_terms().clone(),
     })
 }
 

@@ -64,6 +64,12 @@ pub(crate) struct Diagnostics {
 /// Loads a description file, by extension: `.yaml`/`.yml` (dyngen YAML) or `.urdf`/`.xml`
 /// (URDF with default [`UrdfOptions`]).
 pub fn load(path: &Path) -> Result<Loaded, DescriptionError> {
+    load_with(path, &UrdfOptions::default())
+}
+
+/// [`load`], with `urdf` the choices for a bare URDF file. A YAML description states its own
+/// choices, so non-default `urdf` options with a YAML file are an error (never ignored).
+pub fn load_with(path: &Path, urdf: &UrdfOptions) -> Result<Loaded, DescriptionError> {
     let ext = path
         .extension()
         .and_then(|e| e.to_str())
@@ -87,9 +93,16 @@ pub fn load(path: &Path) -> Result<Loaded, DescriptionError> {
     let text =
         read_regular_file(path).map_err(|e| DescriptionError::new(path, format!("cannot read file: {e}")))?;
     let mut loaded = if is_yaml {
+        if *urdf != UrdfOptions::default() {
+            return Err(DescriptionError::new(
+                path,
+                "URDF options were given for a YAML description: set them in the YAML \
+                 (`snap_angles:`, `end_effector:`, `locked_joints:`, `gravity:`)",
+            ));
+        }
         load_yaml_str(&text, path)?
     } else {
-        load_urdf_str(&text, path, &UrdfOptions::default())?
+        load_urdf_str(&text, path, urdf)?
     };
     loaded.sources.insert(0, path.to_path_buf());
     Ok(loaded)

@@ -4,7 +4,7 @@
 use super::emit::{emit, Provenance};
 use super::hash::fnv1a64;
 use super::trace::trace;
-use crate::description::{load, DescriptionError};
+use crate::description::{load_with, DescriptionError, UrdfOptions};
 use crate::model::Model;
 use crate::symbolic::OpCounts;
 use std::path::{Path, PathBuf};
@@ -57,8 +57,20 @@ pub fn generate_robot(
     type_name: &str,
     regenerate: &str,
 ) -> Result<GeneratedRobot, GenerateError> {
+    generate_robot_with(path, shown_as, type_name, regenerate, &UrdfOptions::default())
+}
+
+/// [`generate_robot`] with the choices for a bare URDF file (see
+/// [`load_with`](crate::description::load_with)).
+pub fn generate_robot_with(
+    path: &Path,
+    shown_as: &str,
+    type_name: &str,
+    regenerate: &str,
+    urdf: &UrdfOptions,
+) -> Result<GeneratedRobot, GenerateError> {
     let start = Instant::now();
-    let loaded = load(path)?;
+    let loaded = load_with(path, urdf)?;
     let mut contents = Vec::new();
     for source in &loaded.sources {
         let bytes = std::fs::read(source).map_err(|e| GenerateError::Io {
