@@ -664,32 +664,81 @@ fn locked_joint_twice_or_fixed() {
     );
 }
 
+/// A mimic joint follows its master: chains of mimic joints are resolved to the joint at their
+/// end, multipliers and offsets composed.
 #[test]
-fn unlocked_mimic_joint() {
-    // The error is in the URDF the wrapper points to, so the message names the URDF.
-    let yaml =
-        "urdf: urdf/panda.urdf\nend_effector: panda_hand_tcp\nlocked_joints: { panda_finger_joint1: 0.0 }\n";
-    let e = description::load_yaml_str(yaml, &robots("bad_panda.yaml"))
-        .unwrap_err()
-        .to_string();
-    let urdf = robots("urdf/panda.urdf").display().to_string();
-    assert!(e.starts_with(&format!("{urdf}:")), "{e}");
-    for piece in [
-        "joint 'panda_finger_joint2'",
-        "mimics joint 'panda_finger_joint1'",
-        "mimic joints are not supported; lock",
-    ] {
-        assert!(e.contains(piece), "lacks {piece:?}: {e}");
-    }
+fn unlocked_mimic_joints_follow_their_master() {
+    let (loaded, _) = run(Src::Yaml(
+        &[
+            ("name: r\n", "name: r\nend_effector: l1\n"),
+            ("  - name: base\n", "  - name: base\n  - name: t\n  - name: u\n"),
+        ],
+        "  - { name: j2, type: continuous, parent: l1, child: t, mimic: { joint: j3, multiplier: 2.0, offset: 0.1 } }\n\
+         \x20 - { name: j3, type: continuous, parent: l1, child: u, mimic: { joint: j1, multiplier: -0.5, offset: 0.3 } }\n",
+    ));
+    let model = loaded.unwrap_or_else(|e| panic!("{e}")).model;
+    assert_eq!((model.dof(), model.joints().len()), (1, 3));
+    let names: Vec<&str> = model.joints().iter().map(|j| j.name.as_str()).collect();
+    let j2 = names.iter().position(|n| *n == "j2").unwrap();
+    let m = model.mimics()[j2].expect("j2 is a mimic joint");
+    assert_eq!(names[m.master], "j1");
+    // q2 = 2 (−0.5 q1 + 0.3) + 0.1
+    assert_eq!((m.multiplier, m.offset), (-1.0, 2.0 * 0.3 + 0.1));
+}
+
+#[test]
+fn mimic_of_itself_or_in_a_cycle() {
+    let two = |j2: &'static str| Src::Yaml(&[("  - name: base\n", "  - name: base\n  - name: t\n")], j2);
+    check(
+        two("  - { name: j2, type: continuous, parent: l1, child: t, mimic: { joint: j2 } }\n"),
+        &["bad.yaml:16:64", "joint 'j2'", "mimics itself"],
+    );
+    check(
+        Src::Urdf(
+            &[("<limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/>", "<limit lower=\"-1\" upper=\"1\" effort=\"1\" velocity=\"1\"/><mimic joint=\"j2\"/>"), ("</robot>", "<link name=\"t\"/><joint name=\"j2\" type=\"continuous\"><parent link=\"l1\"/><child link=\"t\"/><mimic joint=\"j1\"/></joint></robot>")],
+            no_options(),
+        ),
+        &["bad.urdf:8:", "joint 'j1'", "mimic joints 'j1' → 'j2' → 'j1' form a cycle"],
+    );
+}
+
+#[test]
+fn mimic_of_a_fixed_or_locked_joint() {
+    check(
+        Src::Yaml(
+            &[("  - name: base\n", "  - name: base\n  - name: t\n  - name: u\n")],
+            "  - { name: jf, type: fixed, parent: l1, child: t }\n  - { name: j2, type: continuous, parent: l1, child: u, mimic: { joint: jf } }\n",
+        ),
+        &["bad.yaml:18:64", "joint 'j2'", "mimics joint 'jf', which is fixed"],
+    );
     check(
         Src::Yaml(
             &[
-                ("name: r\n", "name: r\nend_effector: l1\n"),
+                ("name: r\n", "name: r\nlocked_joints: { j1: 0.5 }\n"),
+                ("  - name: base\n", "  - name: base\n  - name: t\n"),
+            ],
+            "  - { name: j2, type: continuous, parent: l1, child: t, mimic: { joint: j1, multiplier: 2.0, offset: 0.1 } }\n",
+        ),
+        &["bad.yaml:17:64", "joint 'j2'", "mimics joint 'j1', which is locked at 0.5: lock 'j2' too, at 1.1"],
+    );
+}
+
+#[test]
+fn mimic_with_zero_multiplier_or_joint_parameters() {
+    let mimic = |m: &'static str| Src::Yaml(&[("  - name: base\n", "  - name: base\n  - name: t\n")], m);
+    check(
+        mimic("  - { name: j2, type: continuous, parent: l1, child: t, mimic: { joint: j1, multiplier: 0.0 } }\n"),
+        &["bad.yaml:16:64", "joint 'j2'", "with multiplier 0: the joint would never move"],
+    );
+    check(
+        Src::Yaml(
+            &[
+                ("name: r\n", "name: r\njoint_parameters: { columns: [armature] }\n"),
                 ("  - name: base\n", "  - name: base\n  - name: t\n"),
             ],
             "  - { name: j2, type: continuous, parent: l1, child: t, mimic: { joint: j1 } }\n",
         ),
-        &["bad.yaml:17:64", "joint 'j2'", "mimic joints are not supported"],
+        &["bad.yaml:2:", "joint-level parameters (armature, friction, offset) are not supported on a robot with mimic joints"],
     );
 }
 

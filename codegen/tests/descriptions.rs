@@ -169,16 +169,24 @@ fn ur5_matches_pinocchio() {
 }
 
 #[test]
-fn panda_with_fingers_free_is_refused_because_of_the_mimic_joint() {
+fn panda_with_fingers_free_has_the_second_finger_mimic_the_first() {
     let text = std::fs::read_to_string(repo("robots/urdf/panda.urdf")).unwrap();
     let file = Path::new("robots/urdf/panda.urdf");
-    let e = description::load_urdf_str(&text, file, &UrdfOptions::default())
-        .unwrap_err()
-        .to_string();
-    assert!(
-        e.contains("joint 'panda_finger_joint2'") && e.contains("mimic joints are not supported"),
-        "{e}"
-    );
+    let free = description::load_urdf_str(&text, file, &UrdfOptions::default()).unwrap();
+    let m = &free.model;
+    assert_eq!((m.dof(), m.joints().len(), m.parameter_count()), (8, 9, 90));
+    let coordinates: Vec<&str> = (m.coordinate_joints().into_iter())
+        .map(|k| m.joints()[k].name.as_str())
+        .collect();
+    assert_eq!(coordinates.last(), Some(&"panda_finger_joint1"));
+    let finger2 = m
+        .joints()
+        .iter()
+        .position(|j| j.name == "panda_finger_joint2")
+        .unwrap();
+    let mimic = m.mimics()[finger2].expect("finger 2 mimics finger 1");
+    assert_eq!(m.joints()[mimic.master].name, "panda_finger_joint1");
+    assert_eq!((mimic.multiplier, mimic.offset), (1.0, 0.0));
     // Locking only the mimic joint is accepted (finger 1 stays a ninth... eighth joint).
     let options = UrdfOptions {
         locked_joints: vec![("panda_finger_joint2".into(), 0.0)],

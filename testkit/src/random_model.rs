@@ -55,11 +55,12 @@ fn vector(rng: &mut SplitMix64, n: usize, range: (f64, f64)) -> Vec<f64> {
 pub fn random_state(model: &Model, seed: u64) -> JointState {
     let mut rng = SplitMix64::new(seed);
     let n = model.dof();
+    // One position per coordinate, within its joint's range (mimic joints follow).
+    let coordinates = model.coordinate_joints();
     JointState {
-        q: model
-            .joints()
+        q: coordinates
             .iter()
-            .map(|j| rng.uniform(position_range(j)))
+            .map(|&k| rng.uniform(position_range(&model.joints()[k])))
             .collect(),
         qd: vector(&mut rng, n, VELOCITY_RANGE),
         qdd: vector(&mut rng, n, ACCELERATION_RANGE),
@@ -72,7 +73,9 @@ pub fn random_state(model: &Model, seed: u64) -> JointState {
 pub fn arb_state(model: &Model) -> impl Strategy<Value = JointState> {
     let n = model.dof();
     let range = |(lo, hi): (f64, f64)| lo..hi;
-    let q: Vec<_> = model.joints().iter().map(|j| range(position_range(j))).collect();
+    let q: Vec<_> = (model.coordinate_joints().into_iter())
+        .map(|k| range(position_range(&model.joints()[k])))
+        .collect();
     let vector = move |r| proptest::collection::vec(range(r), n);
     (
         q,

@@ -22,9 +22,9 @@ pub fn stacked_regressor(model: &Model, states: usize, seed: u64) -> DMatrix<f64
     let mut rng = SplitMix64::new(seed);
     let mut stacked = DMatrix::zeros(states * n, p);
     for k in 0..states {
-        let q: Vec<f64> = model
-            .joints()
-            .iter()
+        // One position per coordinate (mimic joints follow their master).
+        let q: Vec<f64> = (model.coordinate_joints().iter())
+            .map(|&k| &model.joints()[k])
             .map(|j| match (j.kind, j.limits) {
                 (JointKind::Revolute, _) => rng.uniform((-std::f64::consts::PI, std::f64::consts::PI)),
                 (JointKind::Prismatic, Some(l)) if l.lower < l.upper => rng.uniform((l.lower, l.upper)),

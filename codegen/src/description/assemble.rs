@@ -14,7 +14,7 @@ use super::raw::RawRobot;
 use super::source_map::{joint_path, link_path, SourceMap};
 use super::tree::Topology;
 use super::Diagnostics;
-use crate::model::{exact_sin_cos, from_xyz_rpy, Body, Frame, Inertia, Joint, JointKind, Model, Pose};
+use crate::model::{exact_sin_cos, from_xyz_rpy, Body, Frame, Inertia, Joint, JointKind, Mimic, Model, Pose};
 use nalgebra::{Matrix3, Vector3};
 
 /// Gravity when the description gives none (z up).
@@ -47,7 +47,7 @@ pub(crate) fn assemble(
             .error("gravity", format!("gravity {} is not finite", vec3(&gravity))));
     }
     let locked = locked_values(c, settings)?;
-    check_mimics(c, &locked, settings, diags)?;
+    let follows = check_mimics(c, &locked, settings, diags)?;
 
     // Carrier and placement of every link, moving joints in depth-first order.
     let n_links = c.raw.links.len();
@@ -130,14 +130,40 @@ pub(crate) fn assemble(
     };
     let joint_terms =
         joint_parameters::joint_terms(settings.joint_parameters.as_ref(), settings, &joints, &sources)?;
+    let mimics = model_mimics(&follows, &raw_index);
+    if !joint_terms.kinds.is_empty() && mimics.iter().any(Option::is_some) {
+        let msg = "joint-level parameters (armature, friction, offset) are not supported on a \
+                   robot with mimic joints; lock the mimic joints or leave out \
+                   `joint_parameters.columns`";
+        return Err(settings.map.error("joint_parameters.columns", msg));
+    }
     Model::new(name, joints, bodies, Vector3::from(gravity), end_effector)
         .and_then(|m| m.with_joint_terms(joint_terms))
+        .and_then(|m| m.with_mimics(mimics))
         .map_err(|e| {
             DescriptionError::new(
                 &c.robot_map.file,
                 format!("internal error: the model breaks an invariant: {e}"),
             )
         })
+}
+
+/// Per model joint (`raw_index[i]` is its raw joint), the model joint it follows.
+fn model_mimics(follows: &[Option<Follows>], raw_index: &[usize]) -> Vec<Option<Mimic>> {
+    raw_index
+        .iter()
+        .map(|&r| {
+            follows[r].map(|f| Mimic {
+                // The master moves and is not locked (`resolve`), so it is a model joint.
+                master: raw_index
+                    .iter()
+                    .position(|&k| k == f.master)
+                    .unwrap_or(usize::MAX),
+                multiplier: f.multiplier,
+                offset: f.offset,
+            })
+        })
+        .collect()
 }
 
 /// The pose a joint adds at position `q`: rotation about, or translation along, its axis.
@@ -199,14 +225,26 @@ fn locked_values(c: &Checked<'_>, settings: &Settings<'_>) -> Result<Vec<Option<
     Ok(locked)
 }
 
-/// A mimic joint moves with another one: dyngen gives every moving joint its own coordinate,
-/// so a mimic joint is accepted only when locked (never silently made independent).
+/// A moving mimic joint resolved to the joint that is its coordinate: `q = multiplier·q_master
+/// + offset`, `master` a raw joint index.
+#[derive(Clone, Copy)]
+struct Follows {
+    master: usize,
+    multiplier: f64,
+    offset: f64,
+}
+
+/// Mimic joints: a moving, unlocked mimic joint follows its master (chains of mimic joints are
+/// resolved to the first joint that mimics nothing, as Pinocchio does); a locked one stays
+/// locked, with a warning when it then does not follow its master. Per raw joint, whom it
+/// follows.
 fn check_mimics(
     c: &Checked<'_>,
     locked: &[Option<f64>],
     settings: &Settings<'_>,
     diags: &mut Diagnostics,
-) -> Result<(), DescriptionError> {
+) -> Result<Vec<Option<Follows>>, DescriptionError> {
+    let mut follows = vec![None; c.raw.joints.len()];
     for (j, joint) in c.raw.joints.iter().enumerate() {
         let Some(m) = &joint.mimic else { continue };
         let path = format!("{}.mimic", joint_path(j));
@@ -224,11 +262,9 @@ fn check_mimics(
             return Err(c.robot_map.error(&path, msg).about(label));
         };
         let Some(q) = locked[j] else {
-            let msg = format!(
-                "mimics joint '{}': mimic joints are not supported; lock it (locked_joints)",
-                m.joint
-            );
-            return Err(c.robot_map.error(&path, msg).about(label));
+            let err = |msg: String| c.robot_map.error(&path, msg).about(label.clone());
+            follows[j] = Some(resolve(c, locked, j, target, m.multiplier, m.offset).map_err(err)?);
+            continue;
         };
         let msg = match locked[target] {
             Some(qt) if (q - (m.multiplier * qt + m.offset)).abs() > 1e-12 => format!(
@@ -250,7 +286,77 @@ fn check_mimics(
             .warnings
             .push(settings.map.diagnostic(&at, Some(&label), &msg));
     }
-    Ok(())
+    Ok(follows)
+}
+
+/// The joint that unlocked mimic joint `j` finally follows, from its `<mimic>` of `target`
+/// with `multiplier` and `offset`: through mimic joints that mimic further, composing
+/// `q = m₁ (m₂ q_k + o₂) + o₁`. An error message when it cannot be followed.
+fn resolve(
+    c: &Checked<'_>,
+    locked: &[Option<f64>],
+    j: usize,
+    target: usize,
+    multiplier: f64,
+    offset: f64,
+) -> Result<Follows, String> {
+    let name = |k: usize| c.raw.joints[k].name.as_str();
+    if multiplier == 0.0 {
+        return Err(format!(
+            "mimics joint '{}' with multiplier 0: the joint would never move; lock it \
+             (locked_joints) instead",
+            name(target)
+        ));
+    }
+    let mut chain = vec![j];
+    let (mut k, mut m, mut o) = (target, multiplier, offset);
+    loop {
+        if chain.contains(&k) {
+            chain.push(k);
+            let names: Vec<String> = chain.iter().map(|&i| format!("'{}'", name(i))).collect();
+            return Err(match chain.len() {
+                2 => "mimics itself".to_owned(),
+                _ => format!("mimic joints {} form a cycle", names.join(" → ")),
+            });
+        }
+        if c.joints[k].motion == Motion::Fixed {
+            return Err(format!("mimics joint '{}', which is fixed", name(k)));
+        }
+        if let Some(qk) = locked[k] {
+            return Err(format!(
+                "mimics joint '{}', which is locked at {}: lock '{}' too, at {} (multiplier·{} + \
+                 offset)",
+                name(k),
+                num(qk),
+                name(j),
+                num(m * qk + o),
+                num(qk)
+            ));
+        }
+        let Some(next) = &c.raw.joints[k].mimic else {
+            return Ok(Follows {
+                master: k,
+                multiplier: m,
+                offset: o,
+            });
+        };
+        let Some(&after) = c.topo.joint_by_name.get(&next.joint) else {
+            return Err(format!(
+                "mimics joint '{}', which mimics '{}', which is not defined",
+                name(k),
+                next.joint
+            ));
+        };
+        if next.multiplier == 0.0 {
+            return Err(format!(
+                "mimics joint '{}', which mimics '{}' with multiplier 0",
+                name(k),
+                next.joint
+            ));
+        }
+        chain.push(k);
+        (k, m, o) = (after, m * next.multiplier, m * next.offset + o);
+    }
 }
 
 /// The end-effector frame: the one asked for, or the leaf link at the end of the longest chain.

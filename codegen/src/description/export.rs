@@ -226,7 +226,12 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
             limit,
             calibration: None,
             dynamics: urdf_dynamics(&model.joint_terms().value(j)),
-            mimic: None,
+            // Mimic joints stay mimic joints (their master is never one: chains are resolved).
+            mimic: model.mimics()[j].map(|m| urdf_rs::Mimic {
+                joint: model.joints()[m.master].name.clone(),
+                multiplier: Some(m.multiplier),
+                offset: Some(m.offset),
+            }),
             safety_controller: None,
         });
     }
@@ -395,7 +400,7 @@ fn stick_figure(model: &Model, links: &mut [urdf_rs::Link]) {
     let at_origin = || urdf_rs::Pose::default();
     for (k, (link, ends)) in links.iter_mut().zip(&ends).enumerate() {
         if k > 0 {
-            let ball = if k <= model.dof() {
+            let ball = if k <= model.joints().len() {
                 2.0 * radius
             } else {
                 1.5 * radius

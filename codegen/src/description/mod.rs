@@ -11,7 +11,8 @@
 //! 5. [`Model::new`] checks the invariants every algorithm relies on.
 //!
 //! Nothing here panics on user input, and nothing is silently dropped or guessed: what
-//! cannot be modelled exactly (floating joints, unlocked mimic joints) is an error.
+//! cannot be modelled exactly (floating joints, a mimic joint whose master is fixed or locked)
+//! is an error. Unlocked mimic joints follow their master (`model::Mimic`).
 //!
 //! The way back, [`to_urdf_rs`] (`export`), writes any [`Model`] as a URDF: to view it in
 //! urdf-viz or RViz, or to hand it to another tool.

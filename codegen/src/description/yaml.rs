@@ -66,7 +66,8 @@ pub(crate) struct RobotFile {
     end_effector: Option<EndEffectorSpec>,
     /// Joints made rigid at a position (radians, or metres for prismatic joints), e.g.
     /// `{ finger_joint1: 0.0 }`. Their child links are welded to the body that carries them.
-    /// The position must lie within the joint limits. Mimic joints must be locked.
+    /// The position must lie within the joint limits. A locked mimic joint stays where it is
+    /// locked; the master of an unlocked mimic joint cannot be locked.
     #[serde(default)]
     locked_joints: LockedJoints,
     /// Origin angles within this many radians of a quarter turn become exact quarter turns,
@@ -150,8 +151,8 @@ struct JointSpec {
     axis: Option<[f64; 3]>,
     /// Required for `revolute` and `prismatic`; ignored for `continuous`.
     limit: Option<LimitSpec>,
-    /// This joint copies another: `q = multiplier * q_joint + offset`. Only allowed when the
-    /// joint is locked (`locked_joints`).
+    /// This joint copies another: `q = multiplier * q_joint + offset` (it then has no
+    /// coordinate of its own; chains are resolved), or stays locked if `locked_joints` says so.
     mimic: Option<MimicSpec>,
     /// Joint-level values `{ armature, viscous, coulomb, offset }` (each optional; used for
     /// the columns `joint_parameters.columns` chooses).

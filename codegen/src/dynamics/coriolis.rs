@@ -13,19 +13,35 @@
 //!
 //! the three forces carried from `d` up to `a`.
 
+use super::coupling::{expand, project_both};
 use super::joint::{joint_force, joint_motion};
 use crate::model::Model;
 use crate::scalar::Scalar;
 use crate::spatial::{Force, Motion, RigidInertia, Transform};
 use nalgebra::DMatrix;
 
+/// `C(q, q̇)` on the coordinates: `Gᵀ C_tree(q, G q̇) G` with mimic joints, which is the
+/// Christoffel matrix of `Gᵀ D_tree G` because `G` is constant.
 pub fn coriolis_matrix<S: Scalar>(
     model: &Model,
     x: &[Transform<S>],
     inertias: &[RigidInertia<S>],
     qd: &[S],
 ) -> DMatrix<S> {
-    let n = model.dof();
+    project_both(
+        model,
+        tree_coriolis_matrix(model, x, inertias, &expand(model, qd)),
+    )
+}
+
+/// The Coriolis matrix of the tree, `qd` one rate per moving joint.
+fn tree_coriolis_matrix<S: Scalar>(
+    model: &Model,
+    x: &[Transform<S>],
+    inertias: &[RigidInertia<S>],
+    qd: &[S],
+) -> DMatrix<S> {
+    let n = model.joints().len();
     let mut vel: Vec<Motion<S>> = Vec::with_capacity(n);
     for (i, joint) in model.joints().iter().enumerate() {
         let from_parent = joint

@@ -1,14 +1,24 @@
 //! The joint-space inertia matrix `D(q)` by the composite-rigid-body algorithm.
 
+use super::coupling::project_both;
 use super::joint::{joint_force, joint_motion};
 use crate::model::Model;
 use crate::scalar::Scalar;
 use crate::spatial::{RigidInertia, Transform};
 use nalgebra::DMatrix;
 
-/// `D(q)`, full and symmetric.
+/// `D(q)`, full and symmetric, on the coordinates (`Gᵀ D_tree G` with mimic joints).
 pub fn mass_matrix<S: Scalar>(model: &Model, x: &[Transform<S>], inertias: &[RigidInertia<S>]) -> DMatrix<S> {
-    let n = model.dof();
+    project_both(model, tree_mass_matrix(model, x, inertias))
+}
+
+/// The inertia matrix of the tree, one row per moving joint.
+fn tree_mass_matrix<S: Scalar>(
+    model: &Model,
+    x: &[Transform<S>],
+    inertias: &[RigidInertia<S>],
+) -> DMatrix<S> {
+    let n = model.joints().len();
     // Composite inertia of each subtree, in its root body's frame (children have larger indices).
     let mut composite = inertias.to_vec();
     for i in (0..n).rev() {

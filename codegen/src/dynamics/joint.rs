@@ -1,6 +1,6 @@
 //! Joint transforms and motion subspaces: where the joint variables enter.
 
-use crate::model::{Joint, JointKind, Model, Pose};
+use crate::model::{exact_sin_cos, CoordinateMap, Joint, JointKind, Model, Pose};
 use crate::scalar::Scalar;
 use crate::spatial::{Force, Mat3, Motion, Transform, Vec3};
 
@@ -49,13 +49,40 @@ pub fn joint_transform<S: Scalar>(joint: &Joint, q: S) -> Transform<S> {
     }
 }
 
-/// Every joint's transform at `q`: the only place where sines and cosines are taken.
+/// A mimic joint's transform from its master's position `q`: `q_j = m·q + o`.
+///
+/// With `m = ±1` a revolute joint's sine and cosine come from those of `q` by the angle-sum
+/// identities (`sin(±q + o) = ±sin q cos o + cos q sin o`, `cos(±q + o) = cos q cos o ∓ sin q sin o`),
+/// so generated code reuses the master's precomputed `JointTrig` entries and takes no new
+/// sine; any other multiplier takes `sin(m·q + o)` and `cos(m·q + o)` of its own.
+fn mimic_transform<S: Scalar>(joint: &Joint, q: S, map: &CoordinateMap) -> Transform<S> {
+    let (m, o) = (map.multiplier, map.offset);
+    let k = |x: f64| S::from_f64(x);
+    if joint.kind == JointKind::Revolute && m.abs() == 1.0 {
+        let (so, co) = exact_sin_cos(o);
+        let (s, c) = (k(m) * q.sin(), q.cos());
+        let origin = pose_to_transform::<S>(&joint.origin);
+        let a = [joint.axis.x, joint.axis.y, joint.axis.z];
+        return Transform {
+            rot: origin.rot * axis_rotation(a, s * k(co) + c * k(so), c * k(co) - s * k(so)),
+            pos: origin.pos,
+        };
+    }
+    joint_transform(joint, k(m) * q + k(o))
+}
+
+/// Every joint's transform at the coordinates `q` (mimic joints from their master's
+/// coordinate): the only place where sines and cosines are taken.
 pub fn joint_transforms<S: Scalar>(model: &Model, q: &[S]) -> Vec<Transform<S>> {
     model
         .joints()
         .iter()
-        .zip(q)
-        .map(|(j, &qi)| joint_transform(j, qi))
+        .zip(model.coordinate_maps())
+        .zip(model.mimics())
+        .map(|((j, map), mimic)| match mimic {
+            None => joint_transform(j, q[map.coordinate]),
+            Some(_) => mimic_transform(j, q[map.coordinate], map),
+        })
         .collect()
 }
 

@@ -4,6 +4,9 @@
 //! They act at each joint on its own, so they are added to the rigid-body quantities rather
 //! than threaded through the recursions: `Y` gets `k·n` columns after the inertial ones,
 //! `D` gets the armature on its diagonal, `τ` and the Slotine–Li torque get `Σ column·value`.
+//!
+//! A model has them only without mimic joints (`Model` refuses both together), so a joint here
+//! is a coordinate.
 
 use crate::model::{JointTermKind, JointTermValues, Model};
 use crate::scalar::Scalar;
@@ -30,7 +33,7 @@ fn column_entry<S: Scalar>(model: &Model, kind: JointTermKind, j: usize, qd: &[S
 /// Writes the joint-level columns into `y` (n × P), after the inertial ones: column
 /// `10n + j·k + pos` is non-zero in row `j` only.
 pub fn fill_joint_term_columns<S: Scalar>(model: &Model, y: &mut DMatrix<S>, qd: &[S], v: &[S], a: &[S]) {
-    for j in 0..model.dof() {
+    for j in 0..model.joints().len() {
         for &kind in &model.joint_terms().kinds {
             if let Some(col) = model.joint_term_index(j, kind) {
                 y[(j, col)] = column_entry(model, kind, j, qd, v, a);

@@ -1,5 +1,6 @@
 //! World poses of the bodies and the end-effector, its geometric Jacobian and its derivative.
 
+use super::coupling::{expand, project_columns};
 use super::joint::pose_to_transform;
 use crate::model::{JointKind, Model};
 use crate::scalar::Scalar;
@@ -8,7 +9,7 @@ use nalgebra::DMatrix;
 
 /// Each body's frame in the base frame.
 pub fn body_poses<S: Scalar>(model: &Model, x: &[Transform<S>]) -> Vec<Transform<S>> {
-    let mut world: Vec<Transform<S>> = Vec::with_capacity(model.dof());
+    let mut world: Vec<Transform<S>> = Vec::with_capacity(model.joints().len());
     for (i, joint) in model.joints().iter().enumerate() {
         let pose = match joint.parent {
             Some(p) => world[p].compose(&x[i]),
@@ -38,9 +39,15 @@ fn set_column<S: Scalar>(m: &mut DMatrix<S>, j: usize, lin: Vec3<S>, ang: Vec3<S
     }
 }
 
-/// Geometric Jacobian (6×n) of the end-effector frame origin: rows `[v; ω]` in world axes.
+/// Geometric Jacobian (6×n) of the end-effector frame origin: rows `[v; ω]` in world axes;
+/// `J_tree G` with mimic joints.
 pub fn jacobian<S: Scalar>(model: &Model, world: &[Transform<S>]) -> DMatrix<S> {
-    let n = model.dof();
+    project_columns(model, tree_jacobian(model, world))
+}
+
+/// The Jacobian with one column per moving joint of the tree.
+fn tree_jacobian<S: Scalar>(model: &Model, world: &[Transform<S>]) -> DMatrix<S> {
+    let n = model.joints().len();
     let pe = end_effector_pose(model, world).pos;
     let mut jac = DMatrix::from_element(6, n, S::zero());
     for j in model.chain_to(model.end_effector().parent) {
@@ -57,8 +64,15 @@ pub fn jacobian<S: Scalar>(model: &Model, world: &[Transform<S>]) -> DMatrix<S> 
 ///
 /// A joint axis fixed in body `j` turns at that body's angular velocity: `ż = ω_j × z`; the
 /// lever arm `p_e − p_j` changes at the difference of the two points' velocities.
+///
+/// With mimic joints, `J̇_tree(G q̇) G` (`G` is constant).
 pub fn jacobian_dot<S: Scalar>(model: &Model, world: &[Transform<S>], qd: &[S]) -> DMatrix<S> {
-    let n = model.dof();
+    project_columns(model, tree_jacobian_dot(model, world, &expand(model, qd)))
+}
+
+/// `J̇` with one column per moving joint of the tree, `qd` one rate per moving joint.
+fn tree_jacobian_dot<S: Scalar>(model: &Model, world: &[Transform<S>], qd: &[S]) -> DMatrix<S> {
+    let n = model.joints().len();
     let chain = model.chain_to(model.end_effector().parent);
     // World angular velocity and origin velocity of every body on the chain.
     let mut omega = vec![Vec3::zero(); n];

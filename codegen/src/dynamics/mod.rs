@@ -8,6 +8,7 @@
 //! sines and cosines are computed once and shared by all quantities of a control tick.
 
 mod coriolis;
+mod coupling;
 mod crba;
 mod derivatives;
 mod forward_dynamics;
@@ -22,6 +23,7 @@ mod slotine_li;
 mod tree_ldl;
 
 pub use coriolis::coriolis_matrix;
+pub use coupling::{expand, project, project_both, project_columns, project_rows};
 pub use crba::mass_matrix;
 pub use derivatives::{forward_dynamics_derivatives, inverse_dynamics_derivatives};
 pub use forward_dynamics::{factor_mass_matrix, forward_dynamics, mass_matrix_inverse};

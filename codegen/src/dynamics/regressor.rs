@@ -1,5 +1,6 @@
 //! The Slotine–Li regressor `Y(q, q̇, v, a)` with `Y θ = D a + C v + g`.
 
+use super::coupling::{expand, project_rows};
 use super::joint::joint_force;
 use super::joint_terms::fill_joint_term_columns;
 use super::slotine_li::{body_force, forward_pass, gravity_vector};
@@ -14,8 +15,17 @@ use nalgebra::DMatrix;
 ///
 /// The body force is linear in the body's inertia, so column `k` of a body's block is the
 /// body force with unit parameter `k`, carried up the tree and projected on each ancestor joint.
+///
+/// With mimic joints, `Gᵀ` of the tree's regressor at `G q̇, G v, G a`: θ keeps every body's
+/// ten parameters, a mimic joint's body included.
 pub fn regressor<S: Scalar>(model: &Model, x: &[Transform<S>], qd: &[S], v: &[S], a: &[S]) -> DMatrix<S> {
-    let n = model.dof();
+    let (qd, v, a) = (expand(model, qd), expand(model, v), expand(model, a));
+    project_rows(model, tree_regressor(model, x, &qd, &v, &a))
+}
+
+/// The regressor of the tree, one row per moving joint.
+fn tree_regressor<S: Scalar>(model: &Model, x: &[Transform<S>], qd: &[S], v: &[S], a: &[S]) -> DMatrix<S> {
+    let n = model.joints().len();
     let motions = forward_pass(model, x, qd, v, a, Some(gravity_vector(model)));
     let mut y = DMatrix::from_element(n, model.parameter_count(), S::zero());
     for (i, m) in motions.iter().enumerate() {

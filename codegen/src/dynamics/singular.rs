@@ -16,7 +16,9 @@ const STATES: usize = 8;
 /// an exact zero is ~1e-16 of it; real small links are far above).
 const REL_TOL: f64 = 1e-12;
 
-/// Indices of the joints whose pivot vanishes at every tried configuration.
+/// Indices (in [`Model::joints`]) of the joints whose pivot vanishes at every tried
+/// configuration; with mimic joints, the joints whose coordinate's pivot does (the pivots of
+/// the dense factorisation of the coupled `D`, coordinates in order).
 pub fn singular_joints(model: &Model) -> Vec<usize> {
     let n = model.dof();
     let inertias = body_inertias::<f64>(model);
@@ -36,5 +38,6 @@ pub fn singular_joints(model: &Model) -> Vec<usize> {
             *s &= p.is_finite() && p.abs() <= REL_TOL * scale;
         }
     }
-    (0..n).filter(|&k| singular[k]).collect()
+    let joints = model.coordinate_joints();
+    (0..n).filter(|&k| singular[k]).map(|k| joints[k]).collect()
 }

@@ -3,6 +3,7 @@
 //! Inverse dynamics and gravity are special cases of it; its columns at `v = e_j` are those of
 //! `C` (computed faster in [`super::coriolis`]).
 
+use super::coupling::{expand, project};
 use super::joint::{joint_force, joint_motion};
 use crate::model::Model;
 use crate::scalar::Scalar;
@@ -33,7 +34,7 @@ pub(crate) fn forward_pass<S: Scalar>(
         ang: Vec3::zero(),
         lin: gravity.map_or(Vec3::zero(), |g| -g),
     };
-    let mut out: Vec<BodyMotion<S>> = Vec::with_capacity(model.dof());
+    let mut out: Vec<BodyMotion<S>> = Vec::with_capacity(model.joints().len());
     for (i, joint) in model.joints().iter().enumerate() {
         let (vel0, w0, wdot0) = match joint.parent {
             Some(p) => (out[p].vel, out[p].w, out[p].wdot),
@@ -62,8 +63,23 @@ pub(crate) fn body_force<S: Scalar>(inertia: &RigidInertia<S>, m: &BodyMotion<S>
     }
 }
 
-/// `D(q) a + C(q, q̇) v + g(q)` (gravity optional): the Slotine–Li reference torque.
+/// `D(q) a + C(q, q̇) v + g(q)` (gravity optional): the Slotine–Li reference torque, on the
+/// coordinates (`Gᵀ` of the tree's at `G q̇, G v, G a` with mimic joints).
 pub fn slotine_li<S: Scalar>(
+    model: &Model,
+    x: &[Transform<S>],
+    inertias: &[RigidInertia<S>],
+    qd: &[S],
+    v: &[S],
+    a: &[S],
+    gravity: Option<Vec3<S>>,
+) -> Vec<S> {
+    let (qd, v, a) = (expand(model, qd), expand(model, v), expand(model, a));
+    project(model, tree_slotine_li(model, x, inertias, &qd, &v, &a, gravity))
+}
+
+/// The Slotine–Li torque of every moving joint of the tree, rates per moving joint.
+fn tree_slotine_li<S: Scalar>(
     model: &Model,
     x: &[Transform<S>],
     inertias: &[RigidInertia<S>],
@@ -78,7 +94,7 @@ pub fn slotine_li<S: Scalar>(
         .zip(inertias)
         .map(|(m, inertia)| body_force(inertia, m))
         .collect();
-    let mut tau = vec![S::zero(); model.dof()];
+    let mut tau = vec![S::zero(); model.joints().len()];
     for (i, joint) in model.joints().iter().enumerate().rev() {
         tau[i] = joint_force(joint, &f[i]);
         if let Some(p) = joint.parent {

@@ -4,6 +4,10 @@
 //! on branched trees (and equals a dense `LDLᵀ` on a chain). Eliminating from the leaves up keeps
 //! it inside that pattern.
 //!
+//! With mimic joints `D = Gᵀ D_tree G` couples the branches a mimic joint and its master sit
+//! on, so it has no tree pattern: it is factored as a chain (every coordinate the "parent" of
+//! the next), which is the dense `LDLᵀ` (`n³/6`; mimic robots have few coordinates).
+//!
 //! The pivots `Δ_k` are the inertia joint `k` feels with every joint below it free; a zero pivot
 //! is a joint that moves nothing (see [`singular_joints`]). Each pivot is inverted once, so
 //! flattened code has exactly `n` divisions.
@@ -27,7 +31,10 @@ impl<S: Scalar> TreeLdl<S> {
     /// Factors `d` (the inertia matrix of `model`), reading only its lower triangle.
     pub fn factor(model: &Model, d: &DMatrix<S>) -> Self {
         let n = model.dof();
-        let parent: Vec<Option<usize>> = model.joints().iter().map(|j| j.parent).collect();
+        let parent: Vec<Option<usize>> = match model.has_mimics() {
+            false => model.joints().iter().map(|j| j.parent).collect(),
+            true => (0..n).map(|k| k.checked_sub(1)).collect(),
+        };
         let mut h = d.clone();
         let mut inv_pivot = vec![S::zero(); n];
         let mut pivots = vec![S::zero(); n];

@@ -86,11 +86,12 @@ pub fn generate_robot_with(
         regenerate: regenerate.to_owned(),
         type_name: type_name.to_owned(),
     };
-    if loaded.model.dof() > MAX_GENERATED_DOF {
+    // The code grows with the tree (mimic joints included), not with the coordinates.
+    if loaded.model.joints().len() > MAX_GENERATED_DOF {
         let msg = format!(
             "{} moving joints: dyngen generates at most {MAX_GENERATED_DOF} (generated code grows \
              quadratically; 30 joints already give 15 MB of Rust); lock joints you do not need",
-            loaded.model.dof()
+            loaded.model.joints().len()
         );
         return Err(DescriptionError::new(path, msg).into());
     }

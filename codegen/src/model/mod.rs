@@ -4,12 +4,16 @@
 //! - joints are in topological order: a joint's parent index is smaller than its own;
 //! - every joint moves (fixed and locked joints were merged away by the loader);
 //! - axes are unit vectors, rotations are orthonormal, inertias are physically valid;
-//! - body `i` is the rigid body carried by joint `i` (its frame is joint `i`'s frame).
+//! - body `i` is the rigid body carried by joint `i` (its frame is joint `i`'s frame);
+//! - a mimic joint follows a joint that is not one ([`Mimic`]); the coordinates `q` are the
+//!   joints that mimic nothing, in joint order.
 
+mod coupling;
 mod joint_terms;
 mod pose;
 mod validate;
 
+pub use coupling::{CoordinateMap, Mimic};
 pub use joint_terms::{JointTermKind, JointTermValues, JointTerms};
 pub use pose::{exact_sin_cos, from_xyz_rpy, Pose};
 use validate::validate;
@@ -92,6 +96,10 @@ pub struct Model {
     /// Joint-level parameters (armature, friction, offset): which columns `Y` gets after the
     /// inertial ones, and their values. Default: none.
     joint_terms: JointTerms,
+    /// Per joint, the joint it mimics (`None`: the joint is a coordinate). Default: none.
+    mimics: Vec<Option<Mimic>>,
+    /// Per joint, where its position comes from (derived from `mimics`).
+    coordinate_maps: Vec<CoordinateMap>,
 }
 
 /// Number of standard inertial parameters per body (the runtime contract's layout).
@@ -164,6 +172,7 @@ impl Model {
         gravity: Vector3<f64>,
         end_effector: Frame,
     ) -> Result<Model, ModelError> {
+        let n = joints.len();
         let model = Model {
             name: name.into(),
             joints,
@@ -171,6 +180,8 @@ impl Model {
             gravity,
             end_effector,
             joint_terms: JointTerms::default(),
+            mimics: vec![None; n],
+            coordinate_maps: coupling::coordinate_maps(&[], n),
         };
         validate(&model)?;
         Ok(model)
@@ -181,6 +192,37 @@ impl Model {
         self.joint_terms = joint_terms;
         validate(&self)?;
         Ok(self)
+    }
+
+    /// The same robot with mimic joints: `mimics[j]` is the joint that joint `j` follows.
+    pub fn with_mimics(mut self, mimics: Vec<Option<Mimic>>) -> Result<Model, ModelError> {
+        self.coordinate_maps = coupling::coordinate_maps(&mimics, self.joints.len());
+        self.mimics = mimics;
+        validate(&self)?;
+        Ok(self)
+    }
+
+    /// Per joint, the joint it follows (`None` for the joints that are coordinates).
+    pub fn mimics(&self) -> &[Option<Mimic>] {
+        &self.mimics
+    }
+
+    /// Whether some joint mimics another (then `dof() < joints().len()`).
+    pub fn has_mimics(&self) -> bool {
+        self.mimics.iter().any(Option::is_some)
+    }
+
+    /// Per joint, the coordinate of `q` its position comes from, with multiplier and offset.
+    pub fn coordinate_maps(&self) -> &[CoordinateMap] {
+        &self.coordinate_maps
+    }
+
+    /// The joints that are coordinates (mimic nothing), in joint order: `q_k` is the position
+    /// of joint `coordinate_joints()[k]`.
+    pub fn coordinate_joints(&self) -> Vec<usize> {
+        (0..self.joints.len())
+            .filter(|&j| self.mimics[j].is_none())
+            .collect()
     }
 
     /// The same kinematics with other bodies (e.g. identified, or carrying a payload).
@@ -227,19 +269,20 @@ impl Model {
         &self.end_effector
     }
 
-    /// Number of degrees of freedom (moving joints).
+    /// Number of degrees of freedom: the moving joints that mimic no other (the length of `q`).
     pub fn dof(&self) -> usize {
-        self.joints.len()
+        self.coordinate_maps.len() - self.mimics.iter().flatten().count()
     }
 
-    /// Number of inertial parameters, `10·n` (the first entries of θ).
+    /// Number of inertial parameters, ten per body (the first entries of θ); a mimic joint's
+    /// body has its ten like any other.
     pub fn inertial_parameter_count(&self) -> usize {
-        PARAMS_PER_BODY * self.dof()
+        PARAMS_PER_BODY * self.joints.len()
     }
 
     /// Length of θ: the inertial parameters, then the joint-level ones.
     pub fn parameter_count(&self) -> usize {
-        self.inertial_parameter_count() + self.joint_terms.per_joint() * self.dof()
+        self.inertial_parameter_count() + self.joint_terms.per_joint() * self.joints.len()
     }
 
     /// The standard parameter vector θ: ten parameters per body, body after body in joint
@@ -247,7 +290,7 @@ impl Model {
     /// ([`crate::model::JointTerms`]).
     pub fn parameters(&self) -> Vec<f64> {
         let mut theta: Vec<f64> = self.bodies.iter().flat_map(|b| b.inertia.parameters()).collect();
-        for j in 0..self.dof() {
+        for j in 0..self.joints.len() {
             let v = self.joint_terms.value(j);
             theta.extend(self.joint_terms.kinds.iter().map(|&k| v.get(k)));
         }
@@ -282,7 +325,7 @@ impl Model {
     /// of the chosen kinds are taken from θ (the inertial part is not a `Model` field that a
     /// vector can set without a body decomposition; see `NumericDynamics::with_parameters`).
     pub fn joint_term_values_from(&self, theta: &[f64]) -> Vec<JointTermValues> {
-        (0..self.dof())
+        (0..self.joints.len())
             .map(|j| {
                 let mut v = JointTermValues::default();
                 for &k in &self.joint_terms.kinds {

@@ -182,6 +182,8 @@ pub(super) fn validate(model: &Model) -> Result<Vec<Warning>, ModelError> {
     }
     check_pose(&ee.placement)
         .map_err(|m| ModelError(format!("end-effector '{}': placement {m}", ee.name)))?;
+    let names: Vec<&str> = model.joints.iter().map(|j| j.name.as_str()).collect();
+    super::coupling::check_mimics(&model.mimics, &names).map_err(ModelError)?;
     check_joint_terms(model).map_err(ModelError)?;
 
     let mut has_child = vec![false; n];
@@ -213,12 +215,15 @@ fn check_joint_terms(model: &Model) -> Result<(), String> {
     if crate::model::JointTerms::normalized_kinds(&t.kinds) != t.kinds {
         return Err("joint-parameter kinds are not in column order or repeat".into());
     }
-    if !t.values.is_empty() && t.values.len() != model.dof() {
+    if !t.values.is_empty() && t.values.len() != model.joints.len() {
         return Err(format!(
             "{} joint-parameter sets for {} joints",
             t.values.len(),
-            model.dof()
+            model.joints.len()
         ));
+    }
+    if !t.kinds.is_empty() && model.has_mimics() {
+        return Err("joint-level parameters on a robot with mimic joints are not supported".into());
     }
     if let Some(eps) = t.coulomb_smoothing {
         if !(eps.is_finite() && eps > 0.0) {
@@ -291,6 +296,8 @@ mod tests {
             }],
             gravity: Vector3::new(0.0, 0.0, -9.81),
             joint_terms: Default::default(),
+            mimics: vec![None],
+            coordinate_maps: super::super::coupling::coordinate_maps(&[None], 1),
             end_effector: Frame {
                 name: "ee".into(),
                 parent: 0,

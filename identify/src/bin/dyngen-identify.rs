@@ -92,7 +92,7 @@ fn excite(mut args: Args) -> Result<(), String> {
     if !(duration > 0.0 && rate > 0.0 && options.base_frequency > 0.0 && options.harmonics > 0) {
         return Err("--duration, --rate, --frequency and --harmonics must be positive".into());
     }
-    let model = load(&description).map_err(|e| e.to_string())?.model;
+    let model = load_without_mimics(&description)?;
     let base = BaseModel::new(&model);
     let limits = TrajectoryLimits::from_model(&model, per_velocity);
     let start = Instant::now();
@@ -139,7 +139,7 @@ fn identify_command(mut args: Args) -> Result<(), String> {
     let out = args.text("out").map(PathBuf::from);
     let cutoff = args.number("cutoff", IdentifyOptions::default().cutoff)?;
     args.finish()?;
-    let model = load(&description).map_err(|e| e.to_string())?.model;
+    let model = load_without_mimics(&description)?;
     if model.joint_terms().kinds.is_empty() {
         eprintln!(
             "note: {} chooses no joint-level columns (joint_parameters.columns): friction and armature are not identified",
@@ -183,6 +183,19 @@ fn identify_command(mut args: Args) -> Result<(), String> {
         println!("wrote {}", out.display());
     }
     Ok(())
+}
+
+/// The description's model; identification reads and writes one column per moving joint, so a
+/// robot with unlocked mimic joints is refused (lock them, or identify the robot without them).
+fn load_without_mimics(description: &std::path::Path) -> Result<dyngen_codegen::model::Model, String> {
+    let model = load(description).map_err(|e| e.to_string())?.model;
+    if model.has_mimics() {
+        return Err(format!(
+            "{}: identification of robots with mimic joints is not supported; lock them (locked_joints)",
+            description.display()
+        ));
+    }
+    Ok(model)
 }
 
 fn main() -> ExitCode {
