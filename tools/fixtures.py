@@ -1,11 +1,14 @@
 #!/usr/bin/env python3
 """Regenerate the Pinocchio reference fixtures of codegen/tests/fixtures/.
 
-A developer tool, not run by CI. It reads the URDFs committed in robots/urdf/, builds
-Pinocchio's kinematic and inertial model of each robot with the conventions dyngen uses
-(fixed joints merged, panda fingers locked at 0, or kept as mimic joints) and writes, for a set of seeded random
-states, every quantity the tests compare against. Field meanings and the model conventions:
-codegen/tests/fixtures/README.md.
+A developer tool, not run by CI. It reads the URDFs committed in robots/urdf/,
+codegen/tests/data/mimic/ and codegen/tests/data/example-robot-data/, builds Pinocchio's
+kinematic and inertial model of each robot with the conventions dyngen uses (fixed joints
+merged, panda fingers locked at 0, or kept as mimic joints) and writes, for a set of seeded
+random states, every quantity the tests compare against. Field meanings and the model
+conventions: codegen/tests/fixtures/README.md. The model-level code (states, quantities, mimic
+joints through their tree, JSON layout) is tools/pinocchio_reference.py, shared with
+tools/sweep.py.
 
 Set-up (once):
 
@@ -14,7 +17,7 @@ Set-up (once):
 
 Usage (from the repository root):
 
-    /tmp/fxenv/bin/python tools/fixtures.py                      # both robots -> codegen/tests/fixtures/
+    /tmp/fxenv/bin/python tools/fixtures.py                      # every robot -> codegen/tests/fixtures/
     /tmp/fxenv/bin/python tools/fixtures.py ur5 --out /tmp/fx    # one robot, elsewhere
     /tmp/fxenv/bin/python tools/fixtures.py --states-from codegen/tests/fixtures
         # reuse the q, v, a, vr, ar of existing fixtures instead of drawing new ones
@@ -28,33 +31,46 @@ import math
 import os
 import sys
 import sysconfig
-import zlib
 from dataclasses import dataclass
 
 import numpy as np
 import pinocchio as pin
 
+from pinocchio_reference import (
+    build_models,
+    describe_model,
+    draw_states,
+    evaluate_states,
+    exact_quarter_turns,
+    is_mimic,
+    to_json,
+)
+
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 STATE_COUNT = 20
-
-# Pinocchio's order of a body's ten dynamic parameters (Inertia.toDynamicParameters); the
-# same order as dyngen's parameter layout.
-PARAMETER_ORDER = ["m", "mc_x", "mc_y", "mc_z", "Ixx", "Ixy", "Iyy", "Ixz", "Iyz", "Izz"]
-
-WORLD_AXES_AT_FRAME = pin.ReferenceFrame.LOCAL_WORLD_ALIGNED
 
 
 @dataclass(frozen=True)
 class Robot:
     name: str
-    urdf: str  # file name in robots/urdf/
+    urdf: str  # file name in `directory`
     source: str  # where the URDF comes from (provenance, written into the fixture)
     end_effector: str  # a BODY frame of the Pinocchio model
     locked: tuple  # joints welded at 0 before anything is computed
-    # URDF mimic joints as Pinocchio 4's mimic joints (`buildModelFromUrdf(..., mimic=True)`):
-    # the coordinates are the joints that mimic nothing.
+    directory: str = "robots/urdf"  # where the committed copy is, from the repository root
+    # URDF mimic joints as Pinocchio 4's mimic joints (`mimic=True`, with the tree:
+    # pinocchio_reference.build_models): the coordinates are the joints that mimic nothing.
     mimic: bool = False
-    directory: str = "robots/urdf"  # where `urdf` is, relative to the repository
+    # Angles within 1e-9 rad of a quarter turn made exact, as dyngen's loader takes them
+    # (pinocchio_reference.exact_quarter_turns). Off for the robots whose files predate it and
+    # stay as they are (panda, ur5, panda_mimic, mimic_arm; only the UR5's URDF has an angle it
+    # would change, and its conditioning keeps the 5e-12 difference below 1e-9).
+    exact_quarter_turns: bool = True
+
+
+# URDFs kept for CI from tools/sweep.py's robots (why each: their directory's README.md). The
+# end-effector is the link dyngen picks for the bare URDF, so the tests load them without options.
+EXAMPLE_ROBOT_DATA = "codegen/tests/data/example-robot-data"
 
 
 ROBOTS = {
@@ -66,6 +82,7 @@ ROBOTS = {
             "example-robot-data/robots/panda_description/urdf/panda.urdf",
             "panda_hand_tcp",
             ("panda_finger_joint1", "panda_finger_joint2"),
+            exact_quarter_turns=False,
         ),
         Robot(
             "ur5",
@@ -73,6 +90,7 @@ ROBOTS = {
             "example-robot-data/robots/ur_description/urdf/ur5_robot.urdf",
             "tool0",
             (),
+            exact_quarter_turns=False,
         ),
         # The Panda with its fingers free: panda_finger_joint2 mimics panda_finger_joint1.
         Robot(
@@ -82,6 +100,7 @@ ROBOTS = {
             "panda_hand_tcp",
             (),
             mimic=True,
+            exact_quarter_turns=False,
         ),
         # Revolute mimic joints with multiplier 1.5 and offset 0.3, and -1 and 0.2.
         Robot(
@@ -90,8 +109,33 @@ ROBOTS = {
             None,
             "tool",
             (),
+            "codegen/tests/data/mimic",
             mimic=True,
-            directory="codegen/tests/data/mimic",
+            exact_quarter_turns=False,
+        ),
+        Robot(
+            "asr_twodof",
+            "TwoDofs.urdf",
+            "example-robot-data/robots/asr_twodof_description/urdf/TwoDofs.urdf",
+            "Tip",
+            (),
+            EXAMPLE_ROBOT_DATA + "/asr_twodof_description",
+        ),
+        Robot(
+            "xarm7",
+            "xarm7.urdf",
+            "example-robot-data/robots/xarm_description/urdf/xarm7.urdf",
+            "link_eef",
+            (),
+            EXAMPLE_ROBOT_DATA + "/xarm_description",
+        ),
+        Robot(
+            "kinova",
+            "kinova.urdf",
+            "example-robot-data/robots/kinova_description/robots/kinova.urdf",
+            "j2s6s200_end_effector",
+            (),
+            EXAMPLE_ROBOT_DATA + "/kinova_description",
         ),
     ]
 }
@@ -102,12 +146,18 @@ ROBOTS = {
 
 
 def build_model(robot):
-    """Pinocchio model without geometry; locked joints welded at q = 0.
+    """Pinocchio model without geometry (pinocchio_reference.build_models), locked joints welded
+    at q = 0, and the tree of a mimic model (None without mimic joints).
 
-    `buildModelFromUrdf` already merges links joined by fixed joints into the body of the
-    moving joint that carries them. Without `mimic=True` the second panda finger is an
-    ordinary joint, so both fingers are locked like any other joint."""
-    model = pin.buildModelFromUrdf(urdf_path(robot), mimic=robot.mimic)
+    Without `mimic=True` the second panda finger is an ordinary joint, so both fingers are
+    locked like any other joint."""
+    with open(urdf_path(robot)) as f:
+        urdf = f.read()
+    if robot.exact_quarter_turns:
+        urdf = exact_quarter_turns(urdf)
+    model, tree = build_models(urdf, robot.mimic)
+    if robot.locked and robot.mimic:
+        sys.exit(f"{robot.name}: locked joints on a mimic model are not supported")
     if robot.locked:
         ids = []
         for joint in robot.locked:
@@ -121,34 +171,16 @@ def build_model(robot):
     for j in range(1, model.njoints):
         if model.joints[j].nv != 1 and not is_mimic(model, j):
             sys.exit(f"{robot.name}: joint {model.names[j]} has {model.joints[j].nv} DOF")
-    return model, frame
+    return model, frame, tree
 
 
 def urdf_path(robot):
     return os.path.join(REPO, robot.directory, robot.urdf)
 
 
-def is_mimic(model, j):
-    return model.joints[j].shortname() == "JointModelMimic"
-
-
-def coupling(model):
-    """The tree of a mimic model (every joint, one coordinate each, as Pinocchio builds the same
-    URDF without `mimic=True`) and the map from the coordinates: `q_tree = G q + o`. Pinocchio
-    numbers the joints of both models alike, so tree joint j is joint j + 1 of both."""
-    n_tree = model.njoints - 1
-    G = np.zeros((n_tree, model.nv))
-    o = np.zeros(n_tree)
-    for j in joints_in_order(model):
-        joint = model.joints[j]
-        G[j - 1, joint.idx_v] = joint.extract().scaling if is_mimic(model, j) else 1.0
-        o[j - 1] = joint.extract().offset if is_mimic(model, j) else 0.0
-    return G, o
-
-
 def check_provenance(robot):
     """Warn when the committed URDF differs from example-robot-data's copy (the fixtures say
-    which file they come from)."""
+    which file they come from); a URDF written for the tests has no source."""
     if robot.source is None:
         return
     share = os.path.join(sysconfig.get_paths()["purelib"], "cmeel.prefix", "share")
@@ -159,201 +191,16 @@ def check_provenance(robot):
         return
     with open(original, "rb") as a, open(committed, "rb") as b:
         if a.read() != b.read():
-            print(f"  warning: robots/urdf/{robot.urdf} differs from {robot.source}")
-
-
-def joints_in_order(model):
-    return range(1, model.njoints)  # 0 is the universe
-
-
-def parameters(model):
-    return np.concatenate([model.inertias[j].toDynamicParameters() for j in joints_in_order(model)])
-
-
-def pose(m):
-    return {"translation": m.translation.tolist(), "rotation": m.rotation.tolist()}
-
-
-def describe_joint(model, j, tree=None):
-    """A mimic joint is described by its joint of `tree` (the model without mimic joints) and
-    the joint it follows."""
-    if tree is not None and is_mimic(model, j):
-        mimic = model.joints[j].extract()
-        master = next(k for k in joints_in_order(model) if model.joints[k].idx_v == mimic.idx_v and not is_mimic(model, k))
-        described = describe_joint(tree, j)
-        described["mimic"] = {"joint": model.names[master], "multiplier": mimic.scaling, "offset": mimic.offset}
-        return described
-    joint = model.joints[j]
-    data = joint.createData()
-    joint.calc(data, pin.neutral(model))
-    subspace = np.asarray(data.S).reshape(6)  # [linear; angular] in the joint frame
-    revolute = bool(np.any(subspace[3:]))
-    return {
-        "name": model.names[j],
-        "type": joint.shortname(),
-        "parent": model.names[model.parents[j]],
-        "placement": pose(model.jointPlacements[j]),
-        "axis": (subspace[3:] if revolute else subspace[:3]).tolist(),
-        "kind": "revolute" if revolute else "prismatic",
-        "continuous": joint.nq == 2,
-    }
-
-
-def describe_body(model, j):
-    inertia = model.inertias[j]
-    return {
-        "joint": model.names[j],
-        "mass": inertia.mass,
-        "com": inertia.lever.tolist(),
-        "inertia_about_com": inertia.inertia.tolist(),
-    }
-
-
-# ---------------------------------------------------------------------------------------------
-# states
-
-
-def seed_of(robot):
-    """One seed per robot, from its name: regenerating one robot does not move the other."""
-    return zlib.crc32(robot.name.encode())
-
-
-def draw_state(model, rng):
-    """q uniform within the joint limits (within [-π, π] for continuous joints and ranges wider
-    than a turn), v and vr uniform in [-2, 2], a and ar in [-5, 5]; drawn in this order."""
-    q = np.empty(model.nv)
-    for j in joints_in_order(model):
-        joint = model.joints[j]
-        if joint.nv == 0:
-            continue  # a mimic joint: its master's coordinate
-        lower, upper = -math.pi, math.pi
-        if joint.nq == 1:
-            lo = model.lowerPositionLimit[joint.idx_q]
-            hi = model.upperPositionLimit[joint.idx_q]
-            if hi - lo <= 2 * math.pi:
-                lower, upper = lo, hi
-        q[joint.idx_v] = rng.uniform(lower, upper)
-    v = rng.uniform(-2, 2, model.nv)
-    a = rng.uniform(-5, 5, model.nv)
-    vr = rng.uniform(-2, 2, model.nv)
-    ar = rng.uniform(-5, 5, model.nv)
-    return q, v, a, vr, ar
-
-
-def symmetric_from_upper(m):
-    """Pinocchio's crba and computeMinverse fill the upper triangle only."""
-    upper = np.triu(m)
-    return upper + np.triu(upper, 1).T
-
-
-# ---------------------------------------------------------------------------------------------
-# quantities
-
-
-def evaluate(model, frame, pi, q, v, a, vr, ar, tree=None):
-    """Every field of one state. q is one coordinate per joint (an angle for continuous
-    joints); Pinocchio's configuration stores a continuous joint as (cos, sin).
-
-    With mimic joints, `tree` is the same URDF without them. Pinocchio 4.1 computes D, g, tau,
-    J and the pose on the mimic model itself. It refuses the regressor, aba, Minv and the
-    derivatives on mimic models, and its Coriolis matrix and Jacobian time variation there are
-    wrong (D a + C v + g differs from its own rnea, by up to 1.7 N·m on mimic_arm, and Jdot from
-    differences of its own J by up to 3.9): those come from the tree through the coupling
-    (C = Gᵀ C_tree G, Jdot = Jdot_tree G, Y = Gᵀ Y_tree, derivatives Gᵀ ∂τ_tree G at
-    q_tree = G q + o, v_tree = G v, a_tree = G a), and from Pinocchio's own D (aba solves
-    D a = tau − rnea(q, v, 0), Minv = D⁻¹)."""
-    data = model.createData()
-    q_pin = pin.integrate(model, pin.neutral(model), q)
-    if tree is not None:
-        G, o = coupling(model)
-        t_data = tree.createData()
-        q_tree = pin.integrate(tree, pin.neutral(tree), G @ q + o)
-
-    D = symmetric_from_upper(pin.crba(model, data, q_pin))
-    C = pin.computeCoriolisMatrix(model, data, q_pin, v).copy()
-    g = pin.computeGeneralizedGravity(model, data, q_pin).copy()
-    tau = pin.rnea(model, data, q_pin, v, a).copy()
-    if tree is None:
-        Y = pin.computeJointTorqueRegressor(model, data, q_pin, v, a).copy()
-
-    pin.computeJointJacobians(model, data, q_pin)
-    J = pin.getFrameJacobian(model, data, frame, WORLD_AXES_AT_FRAME).copy()
-    pin.computeJointJacobiansTimeVariation(model, data, q_pin, v)
-    Jdot = pin.getFrameJacobianTimeVariation(model, data, frame, WORLD_AXES_AT_FRAME).copy()
-    if tree is not None:
-        t_frame = tree.getFrameId(model.frames[frame].name, pin.FrameType.BODY)
-        pin.computeJointJacobiansTimeVariation(tree, t_data, q_tree, G @ v)
-        Jdot = pin.getFrameJacobianTimeVariation(tree, t_data, t_frame, WORLD_AXES_AT_FRAME) @ G
-    pin.forwardKinematics(model, data, q_pin)
-    ee = pin.updateFramePlacement(model, data, frame)
-
-    if tree is None:
-        aba = pin.aba(model, data, q_pin, v, tau).copy()
-        Minv = symmetric_from_upper(pin.computeMinverse(model, data, q_pin))
-        dtau_dq, dtau_dv, _ = (m.copy() for m in pin.computeRNEADerivatives(model, data, q_pin, v, a))
-        dqdd_dq, dqdd_dv, _ = (m.copy() for m in pin.computeABADerivatives(model, data, q_pin, v, tau))
-    else:
-        Y = G.T @ pin.computeJointTorqueRegressor(tree, t_data, q_tree, G @ v, G @ a)
-        C = G.T @ pin.computeCoriolisMatrix(tree, t_data, q_tree, G @ v) @ G
-        # The tree through the coupling is Pinocchio's mimic model (its own check of G).
-        D_tree = symmetric_from_upper(pin.crba(tree, t_data, q_tree))
-        assert np.abs(G.T @ D_tree @ G - D).max() < 1e-12 * (1.0 + np.abs(D).max())
-        assert np.abs(G.T @ pin.rnea(tree, t_data, q_tree, G @ v, G @ a) - tau).max() < 1e-9 * (1.0 + np.abs(tau).max())
-        aba = np.linalg.solve(D, tau - pin.rnea(model, data, q_pin, v, 0 * v))
-        Minv = np.linalg.inv(D)
-        Minv = (Minv + Minv.T) / 2
-        def coupled_rnea_derivatives(acceleration):
-            d_q, d_v, _ = pin.computeRNEADerivatives(tree, t_data, q_tree, G @ v, G @ acceleration)
-            return G.T @ d_q @ G, G.T @ d_v @ G
-
-        dtau_dq, dtau_dv = coupled_rnea_derivatives(a)
-        at_aba_dq, at_aba_dv = coupled_rnea_derivatives(aba)
-        dqdd_dq, dqdd_dv = -Minv @ at_aba_dq, -Minv @ at_aba_dv
-
-    # The identities the fixtures promise; a failure here means the model or a call is wrong.
-    scale = 1.0 + np.abs(tau).max()
-    assert np.abs(D @ a + C @ v + g - tau).max() < 1e-9 * scale
-    assert np.abs(Y @ pi - tau).max() < 1e-9 * scale
-    assert np.abs(aba - a).max() < 1e-8 * (1.0 + np.abs(a).max())
-    assert np.abs(Minv @ D - np.eye(model.nv)).max() < 1e-8
-
-    return {
-        "q": q.tolist(),
-        "q_pinocchio": q_pin.tolist(),
-        "v": v.tolist(),
-        "a": a.tolist(),
-        "vr": vr.tolist(),
-        "ar": ar.tolist(),
-        "D": D.tolist(),
-        "C": C.tolist(),
-        "g": g.tolist(),
-        "tau": tau.tolist(),
-        "tau_ref": (D @ ar + C @ vr + g).tolist(),
-        "J": J.tolist(),
-        "Jdot": Jdot.tolist(),
-        "ee_translation": ee.translation.tolist(),
-        "ee_rotation": ee.rotation.tolist(),
-        "Y": Y.tolist(),
-        "aba": aba.tolist(),
-        "Minv": Minv.tolist(),
-        "dtau_dq": dtau_dq.tolist(),
-        "dtau_dv": dtau_dv.tolist(),
-        "dqdd_dq": dqdd_dq.tolist(),
-        "dqdd_dv": dqdd_dv.tolist(),
-    }
+            print(f"  warning: {robot.directory}/{robot.urdf} differs from {robot.source}")
 
 
 def fixture(robot, given_states=None):
-    model, frame = build_model(robot)
-    tree = pin.buildModelFromUrdf(urdf_path(robot)) if robot.mimic else None
-    pi = parameters(model)
+    model, frame, tree = build_model(robot)
     if given_states is None:
-        rng = np.random.default_rng(seed_of(robot))
-        states = [draw_state(model, rng) for _ in range(STATE_COUNT)]
+        states = draw_states(model, robot.name, STATE_COUNT)
     else:
         keys = ("q", "v", "a", "vr", "ar")
         states = [tuple(np.array(s[k], dtype=float) for k in keys) for s in given_states]
-    ee = model.frames[frame]
     return {
         "robot": robot.name,
         "urdf": robot.urdf,
@@ -361,40 +208,13 @@ def fixture(robot, given_states=None):
         "pinocchio_version": pin.__version__,
         "locked_joints": list(robot.locked),
         "locked_at": 0.0,
-        "nq": model.nq,
-        "nv": model.nv,
-        "joint_names": [model.names[j] for j in joints_in_order(model) if not is_mimic(model, j)],
-        "joints": [describe_joint(model, j, tree) for j in joints_in_order(model)],
-        "ee_frame": robot.end_effector,
-        "ee_parent_joint": model.names[ee.parentJoint],
-        "ee_placement_in_parent_joint": pose(ee.placement),
-        "gravity": model.gravity.linear.tolist(),
-        "param_order": PARAMETER_ORDER,
-        "pi": pi.tolist(),
-        "bodies": [describe_body(model, j) for j in joints_in_order(model)],
-        "states": [evaluate(model, frame, pi, *s, tree=tree) for s in states],
+        **describe_model(model, frame, tree),
+        "states": evaluate_states(model, frame, states, tree),
     }
 
 
 # ---------------------------------------------------------------------------------------------
-# output
-
-
-def to_json(value, depth=0):
-    """Indented JSON (one space per level) with every list of numbers on one line, so a matrix
-    reads as one row per line. Floats are written in Python's shortest round-trip form."""
-    pad = " " * (depth + 1)
-    if isinstance(value, dict):
-        if not value:
-            return "{}"
-        items = [f"{pad}{json.dumps(k)}: {to_json(v, depth + 1)}" for k, v in value.items()]
-        return "{\n" + ",\n".join(items) + "\n" + " " * depth + "}"
-    if isinstance(value, list):
-        if all(not isinstance(v, (dict, list)) for v in value):
-            return "[" + ", ".join(json.dumps(v) for v in value) + "]"
-        items = [pad + to_json(v, depth + 1) for v in value]
-        return "[\n" + ",\n".join(items) + "\n" + " " * depth + "]"
-    return json.dumps(value)
+# comparison with existing files
 
 
 def split_leaves(value, numbers, words):

@@ -3,9 +3,11 @@ and tools/sweep.py (every fixed-base URDF of example-robot-data) both write.
 
 Given a Pinocchio model and an end-effector frame, it draws seeded random states and computes
 every quantity the tests compare against, in the fields of codegen/tests/fixtures/README.md.
-Conventions (frames, parameter order, matrix layout) are described there.
+Conventions (frames, parameter order, matrix layout) are described there. A model with mimic
+joints (Pinocchio 4's `mimic=True`) comes with its tree, the same URDF loaded without them
+(`build_models`): the fields Pinocchio does not compute, or computes wrong, on a mimic model
+come from the tree through the coupling (`evaluate`).
 """
-
 import json
 import math
 import re
@@ -51,15 +53,46 @@ def exact_quarter_turns(urdf):
     return RPY.sub(rewrite, urdf)
 
 
+def build_models(urdf, mimic=False):
+    """Pinocchio's model of the URDF text `urdf` (no geometry) and, with `mimic=True`, the
+    mimic model (Pinocchio 4's mimic joints: the coordinates are the joints that mimic nothing)
+    and its tree, the same URDF without mimic support (every joint a coordinate); without
+    mimic support the tree is None.
+
+    `buildModelFromXML` already merges links joined by fixed joints into the body of the moving
+    joint that carries them."""
+    model = pin.buildModelFromXML(urdf, mimic=mimic)
+    tree = pin.buildModelFromXML(urdf) if mimic else None
+    return model, tree
+
+
 def joints_in_order(model):
     """Every joint but the universe (0): one body each, mimic joints included."""
     return range(1, model.njoints)
 
 
+def is_mimic(model, j):
+    return model.joints[j].shortname() == "JointModelMimic"
+
+
 def moving_joints(model):
     """The joints that have a coordinate: all of them, except mimic joints (nv = 0), which
     follow another joint."""
-    return [j for j in joints_in_order(model) if model.joints[j].nv > 0]
+    return [j for j in joints_in_order(model) if not is_mimic(model, j)]
+
+
+def coupling(model):
+    """The tree of a mimic model (every joint, one coordinate each, as Pinocchio builds the same
+    URDF without `mimic=True`) and the map from the coordinates: `q_tree = G q + o`. Pinocchio
+    numbers the joints of both models alike, so tree joint j is joint j + 1 of both."""
+    n_tree = model.njoints - 1
+    G = np.zeros((n_tree, model.nv))
+    o = np.zeros(n_tree)
+    for j in joints_in_order(model):
+        joint = model.joints[j]
+        G[j - 1, joint.idx_v] = joint.extract().scaling if is_mimic(model, j) else 1.0
+        o[j - 1] = joint.extract().offset if is_mimic(model, j) else 0.0
+    return G, o
 
 
 def parameters(model):
@@ -70,15 +103,18 @@ def pose(m):
     return {"translation": m.translation.tolist(), "rotation": m.rotation.tolist()}
 
 
-def describe_joint(model, j):
+def describe_joint(model, j, tree=None):
+    """A mimic joint is described by its joint of `tree` (the model without mimic joints) and
+    the joint it follows."""
+    if is_mimic(model, j):
+        if tree is None:
+            raise ValueError(f"mimic joint {model.names[j]}: describing it needs the tree (build_models)")
+        mimic = model.joints[j].extract()
+        master = next(k for k in moving_joints(model) if model.joints[k].idx_v == mimic.idx_v)
+        described = describe_joint(tree, j)
+        described["mimic"] = {"joint": model.names[master], "multiplier": mimic.scaling, "offset": mimic.offset}
+        return described
     joint = model.joints[j]
-    if joint.nv == 0:  # a mimic joint: placement only, its motion is its leader's
-        return {
-            "name": model.names[j],
-            "type": joint.shortname(),
-            "parent": model.names[model.parents[j]],
-            "placement": pose(model.jointPlacements[j]),
-        }
     data = joint.createData()
     joint.calc(data, pin.neutral(model))
     subspace = np.asarray(data.S).reshape(6)  # [linear; angular] in the joint frame
@@ -104,14 +140,15 @@ def describe_body(model, j):
     }
 
 
-def describe_model(model, frame):
-    """The model's fields of a reference file, from `nq` to `bodies`, in the file's order."""
+def describe_model(model, frame, tree=None):
+    """The model's fields of a reference file, from `nq` to `bodies`, in the file's order;
+    `tree` as `build_models` gives it."""
     ee = model.frames[frame]
     return {
         "nq": model.nq,
         "nv": model.nv,
         "joint_names": [model.names[j] for j in moving_joints(model)],
-        "joints": [describe_joint(model, j) for j in joints_in_order(model)],
+        "joints": [describe_joint(model, j, tree) for j in joints_in_order(model)],
         "ee_frame": ee.name,
         "ee_parent_joint": model.names[ee.parentJoint],
         "ee_placement_in_parent_joint": pose(ee.placement),
@@ -166,29 +203,66 @@ def symmetric_from_upper(m):
 # quantities
 
 
-def evaluate(model, frame, pi, q, v, a, vr, ar):
+def evaluate(model, frame, pi, q, v, a, vr, ar, tree=None):
     """Every field of one state. q is one coordinate per joint (an angle for continuous
-    joints); Pinocchio's configuration stores a continuous joint as (cos, sin)."""
+    joints); Pinocchio's configuration stores a continuous joint as (cos, sin).
+
+    With mimic joints, `tree` is the same URDF without them. Pinocchio 4.1 computes D, g, tau,
+    J and the pose on the mimic model itself. It refuses the regressor, aba, Minv and the
+    derivatives on mimic models, and its Coriolis matrix and Jacobian time variation there are
+    wrong (D a + C v + g differs from its own rnea, by up to 1.7 N·m on mimic_arm, and Jdot from
+    differences of its own J by up to 3.9): those come from the tree through the coupling
+    (C = Gᵀ C_tree G, Jdot = Jdot_tree G, Y = Gᵀ Y_tree, derivatives Gᵀ ∂τ_tree G at
+    q_tree = G q + o, v_tree = G v, a_tree = G a), and from Pinocchio's own D (aba solves
+    D a = tau − rnea(q, v, 0), Minv = D⁻¹)."""
     data = model.createData()
     q_pin = pin.integrate(model, pin.neutral(model), q)
+    if tree is not None:
+        G, o = coupling(model)
+        t_data = tree.createData()
+        q_tree = pin.integrate(tree, pin.neutral(tree), G @ q + o)
 
     D = symmetric_from_upper(pin.crba(model, data, q_pin))
     C = pin.computeCoriolisMatrix(model, data, q_pin, v).copy()
     g = pin.computeGeneralizedGravity(model, data, q_pin).copy()
     tau = pin.rnea(model, data, q_pin, v, a).copy()
-    Y = pin.computeJointTorqueRegressor(model, data, q_pin, v, a).copy()
+    if tree is None:
+        Y = pin.computeJointTorqueRegressor(model, data, q_pin, v, a).copy()
 
     pin.computeJointJacobians(model, data, q_pin)
     J = pin.getFrameJacobian(model, data, frame, WORLD_AXES_AT_FRAME).copy()
     pin.computeJointJacobiansTimeVariation(model, data, q_pin, v)
     Jdot = pin.getFrameJacobianTimeVariation(model, data, frame, WORLD_AXES_AT_FRAME).copy()
+    if tree is not None:
+        t_frame = tree.getFrameId(model.frames[frame].name, pin.FrameType.BODY)
+        pin.computeJointJacobiansTimeVariation(tree, t_data, q_tree, G @ v)
+        Jdot = pin.getFrameJacobianTimeVariation(tree, t_data, t_frame, WORLD_AXES_AT_FRAME) @ G
     pin.forwardKinematics(model, data, q_pin)
     ee = pin.updateFramePlacement(model, data, frame)
 
-    aba = pin.aba(model, data, q_pin, v, tau).copy()
-    Minv = symmetric_from_upper(pin.computeMinverse(model, data, q_pin))
-    dtau_dq, dtau_dv, _ = (m.copy() for m in pin.computeRNEADerivatives(model, data, q_pin, v, a))
-    dqdd_dq, dqdd_dv, _ = (m.copy() for m in pin.computeABADerivatives(model, data, q_pin, v, tau))
+    if tree is None:
+        aba = pin.aba(model, data, q_pin, v, tau).copy()
+        Minv = symmetric_from_upper(pin.computeMinverse(model, data, q_pin))
+        dtau_dq, dtau_dv, _ = (m.copy() for m in pin.computeRNEADerivatives(model, data, q_pin, v, a))
+        dqdd_dq, dqdd_dv, _ = (m.copy() for m in pin.computeABADerivatives(model, data, q_pin, v, tau))
+    else:
+        Y = G.T @ pin.computeJointTorqueRegressor(tree, t_data, q_tree, G @ v, G @ a)
+        C = G.T @ pin.computeCoriolisMatrix(tree, t_data, q_tree, G @ v) @ G
+        # The tree through the coupling is Pinocchio's mimic model (its own check of G).
+        D_tree = symmetric_from_upper(pin.crba(tree, t_data, q_tree))
+        assert np.abs(G.T @ D_tree @ G - D).max() < 1e-12 * (1.0 + np.abs(D).max())
+        assert np.abs(G.T @ pin.rnea(tree, t_data, q_tree, G @ v, G @ a) - tau).max() < 1e-9 * (1.0 + np.abs(tau).max())
+        aba = np.linalg.solve(D, tau - pin.rnea(model, data, q_pin, v, 0 * v))
+        Minv = np.linalg.inv(D)
+        Minv = (Minv + Minv.T) / 2
+
+        def coupled_rnea_derivatives(acceleration):
+            d_q, d_v, _ = pin.computeRNEADerivatives(tree, t_data, q_tree, G @ v, G @ acceleration)
+            return G.T @ d_q @ G, G.T @ d_v @ G
+
+        dtau_dq, dtau_dv = coupled_rnea_derivatives(a)
+        at_aba_dq, at_aba_dv = coupled_rnea_derivatives(aba)
+        dqdd_dq, dqdd_dv = -Minv @ at_aba_dq, -Minv @ at_aba_dv
 
     # The identities the reference values promise; a failure here means the model or a call
     # is wrong.
@@ -224,9 +298,9 @@ def evaluate(model, frame, pi, q, v, a, vr, ar):
     }
 
 
-def evaluate_states(model, frame, states):
+def evaluate_states(model, frame, states, tree=None):
     pi = parameters(model)
-    return [evaluate(model, frame, pi, *s) for s in states]
+    return [evaluate(model, frame, pi, *s, tree=tree) for s in states]
 
 
 # ---------------------------------------------------------------------------------------------

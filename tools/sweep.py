@@ -12,9 +12,11 @@ the pinned example-robot-data package (tools/requirements.txt):
    options: dyngen picks the end-effector) and generates it into OUT_DIR; a URDF that does not
    load is recorded with dyngen's message, its warnings are recorded too.
 3. For a robot that generated, Pinocchio builds the same URDF (`mimic=True` when the URDF has
-   mimic joints; angles within 1e-9 rad of a quarter turn made exact, as dyngen's loader takes
-   them), with dyngen's end-effector link as the frame, and writes reference values at
-   seeded random states (tools/pinocchio_reference.py: the fields of the committed fixtures);
+   mimic joints, with the fields Pinocchio gets wrong or refuses on a mimic model taken from
+   the same URDF without them through the coupling, as for the committed mimic fixtures;
+   angles within 1e-9 rad of a quarter turn made exact, as dyngen's loader takes them), with
+   dyngen's end-effector link as the frame, and writes reference values at seeded random
+   states (tools/pinocchio_reference.py: the fields of the committed fixtures);
    the harness evaluates the compiled generated code at those states and reports the largest
    relative error per quantity. Everything must agree to 1e-9, as in the fixture tests.
 4. It prints a Markdown table (the one in TESTING.md).
@@ -47,6 +49,7 @@ import xml.etree.ElementTree as ET
 import pinocchio as pin
 
 from pinocchio_reference import (
+    build_models,
     describe_model,
     draw_states,
     evaluate_states,
@@ -218,7 +221,7 @@ def reference(path, end_effector, name, state_count):
     """Reference values for the URDF at `path`, end-effector frame `end_effector` (a link)."""
     with open(path) as f:
         urdf = exact_quarter_turns(f.read())
-    model = pin.buildModelFromXML(urdf, mimic=has_mimic_joints(path))
+    model, tree = build_models(urdf, mimic=has_mimic_joints(path))
     if not model.existBodyName(end_effector):
         raise ValueError(f"Pinocchio has no body frame {end_effector!r}")
     frame = model.getFrameId(end_effector, pin.FrameType.BODY)
@@ -227,8 +230,8 @@ def reference(path, end_effector, name, state_count):
         "robot": name,
         "urdf_path": "example-robot-data/robots/" + name,
         "pinocchio_version": pin.__version__,
-        **describe_model(model, frame),
-        "states": evaluate_states(model, frame, states),
+        **describe_model(model, frame, tree),
+        "states": evaluate_states(model, frame, states, tree),
     }
 
 
