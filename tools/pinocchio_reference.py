@@ -40,7 +40,12 @@ def exact_quarter_turns(urdf):
     leaves them."""
 
     def snap(text):
-        angle = float(text)
+        try:
+            angle = float(text)
+        except ValueError:
+            # Not a number: an unexpanded xacro expression, e.g. in a comment (TIAGo Pro);
+            # left for the URDF reader to judge.
+            return text
         k = round(angle / QUARTER_TURN)
         if angle != k * QUARTER_TURN and abs(angle - k * QUARTER_TURN) < 1e-9:
             return repr(k * QUARTER_TURN)
