@@ -47,38 +47,9 @@ fn pose_column(rotation: &DMatrix<f64>, translation: &[f64]) -> DMatrix<f64> {
 /// Generic dynamics of the loaded model against every field of one state.
 fn check_generic(robot: &str, k: usize, dynamics: &NumericDynamics, s: &State) {
     let at = |what: &str| format!("{robot} state {k}, generic: {what}");
-    let (rot, pos) = dynamics.end_effector_pose(&s.q);
-    assert_close(
-        &at("ee pose"),
-        &pose_column(&DMatrix::from_column_slice(3, 3, rot.as_slice()), pos.as_slice()),
-        &pose_column(&s.ee_rotation, &s.ee_translation),
-        TOL,
-    );
-    assert_close(&at("J"), &dynamics.jacobian(&s.q), &s.j, TOL);
-    assert_close(&at("J̇"), &dynamics.jacobian_dot(&s.q, &s.v), &s.jdot, TOL);
-    assert_close(&at("D"), &dynamics.mass_matrix(&s.q), &s.d, TOL);
-    assert_close(&at("C"), &dynamics.coriolis_matrix(&s.q, &s.v), &s.c, TOL);
-    let g = dynamics.gravity_torque(&s.q);
-    assert_close(&at("g"), &column(g.as_slice()), &column(&s.g), TOL);
-    let tau = dynamics.inverse_dynamics(&s.q, &s.v, &s.a);
-    assert_close(&at("τ"), &column(tau.as_slice()), &column(&s.tau), TOL);
-    let tau_ref = dynamics.slotine_li(&s.q, &s.v, &s.vr, &s.ar, true);
-    assert_close(
-        &at("Slotine–Li τ"),
-        &column(tau_ref.as_slice()),
-        &column(&s.tau_ref),
-        TOL,
-    );
+    fixture::assert_rigid_body_fields(dynamics, s, &at, TOL);
     assert_close(&at("Y"), &dynamics.regressor(&s.q, &s.v, &s.v, &s.a), &s.y, TOL);
-    let qdd = dynamics.forward_dynamics(&s.q, &s.v, &s.tau);
-    assert_close(&at("q̈"), &column(qdd.as_slice()), &column(&s.aba), TOL);
-    assert_close(&at("D⁻¹"), &dynamics.mass_matrix_inverse(&s.q), &s.minv, TOL);
-    let (dq, dv) = dynamics.inverse_dynamics_derivatives(&s.q, &s.v, &s.a);
-    assert_close(&at("∂τ/∂q"), &dq, &s.dtau_dq, TOL);
-    assert_close(&at("∂τ/∂q̇"), &dv, &s.dtau_dv, TOL);
-    let (dq, dv) = dynamics.forward_dynamics_derivatives(&s.q, &s.v, &s.tau);
-    assert_close(&at("∂q̈/∂q"), &dq, &s.dqdd_dq, TOL);
-    assert_close(&at("∂q̈/∂q̇"), &dv, &s.dqdd_dv, TOL);
+    fixture::assert_forward_dynamics_fields(dynamics, s, &at, TOL);
 }
 
 /// The traced graph (what the generated functions compute) against every field of one state.

@@ -79,38 +79,7 @@ fn check_against_pinocchio(robot: &str, model: &Model) {
     let dynamics = NumericDynamics::new(model);
     for (k, s) in fx.states.iter().enumerate() {
         let at = |what: &str| format!("{robot} state {k}: {what}");
-        let (rot, pos) = dynamics.end_effector_pose(&s.q);
-        assert_close(
-            &at("ee translation"),
-            &column(pos.as_slice()),
-            &column(&s.ee_translation),
-            TOL,
-        );
-        assert_close(
-            &at("ee rotation"),
-            &DMatrix::from_column_slice(3, 3, rot.as_slice()),
-            &s.ee_rotation,
-            TOL,
-        );
-        assert_close(&at("J"), &dynamics.jacobian(&s.q), &s.j, TOL);
-        assert_close(&at("J̇"), &dynamics.jacobian_dot(&s.q, &s.v), &s.jdot, TOL);
-        assert_close(&at("D"), &dynamics.mass_matrix(&s.q), &s.d, TOL);
-        assert_close(&at("C"), &dynamics.coriolis_matrix(&s.q, &s.v), &s.c, TOL);
-        assert_close(
-            &at("g"),
-            &column(dynamics.gravity_torque(&s.q).as_slice()),
-            &column(&s.g),
-            TOL,
-        );
-        let tau = dynamics.inverse_dynamics(&s.q, &s.v, &s.a);
-        assert_close(&at("τ"), &column(tau.as_slice()), &column(&s.tau), TOL);
-        let tau_ref = dynamics.slotine_li(&s.q, &s.v, &s.vr, &s.ar, true);
-        assert_close(
-            &at("Slotine–Li τ"),
-            &column(tau_ref.as_slice()),
-            &column(&s.tau_ref),
-            TOL,
-        );
+        fixture::assert_rigid_body_fields(&dynamics, s, &at, TOL);
         let y = dynamics.regressor(&s.q, &s.v, &s.v, &s.a);
         assert_close(&at("Y"), &in_fixture_order(&y, &order), &s.y, TOL);
         let y_ref = dynamics.regressor(&s.q, &s.v, &s.vr, &s.ar);
@@ -120,15 +89,7 @@ fn check_against_pinocchio(robot: &str, model: &Model) {
             &column(&s.tau_ref),
             TOL,
         );
-        let fd = dynamics.forward_dynamics(&s.q, &s.v, &s.tau);
-        assert_close(&at("q̈"), &column(fd.as_slice()), &column(&s.aba), TOL);
-        assert_close(&at("D⁻¹"), &dynamics.mass_matrix_inverse(&s.q), &s.minv, TOL);
-        let (dq, dv) = dynamics.inverse_dynamics_derivatives(&s.q, &s.v, &s.a);
-        assert_close(&at("∂τ/∂q"), &dq, &s.dtau_dq, TOL);
-        assert_close(&at("∂τ/∂q̇"), &dv, &s.dtau_dv, TOL);
-        let (dq, dv) = dynamics.forward_dynamics_derivatives(&s.q, &s.v, &s.tau);
-        assert_close(&at("∂q̈/∂q"), &dq, &s.dqdd_dq, TOL);
-        assert_close(&at("∂q̈/∂q̇"), &dv, &s.dqdd_dv, TOL);
+        fixture::assert_forward_dynamics_fields(&dynamics, s, &at, TOL);
     }
 }
 

@@ -81,6 +81,13 @@ fn parts(c: &mut Criterion) {
             ))
         })
     });
+    // What the tick calls: the three in one generated function sharing their transforms.
+    g.bench_function("trig+kinematics (fused)", |b| {
+        b.iter(|| {
+            let t = JointTrig::new(black_box(&q0));
+            black_box(Arm7::kinematics(&t, black_box(&qd)))
+        })
+    });
     let t = JointTrig::new(&q0);
     g.bench_function("base_regressor", |b| {
         b.iter(|| black_box(arm7::Base::regressor(black_box(&t), &qd, &qd, &qd)))

@@ -225,3 +225,63 @@ impl Fixture {
         }
     }
 }
+
+/// The generic dynamics against the rigid-body fields of one Pinocchio state: end-effector pose,
+/// `J`, `J̇`, `D`, `C`, `g`, `τ` and the Slotine–Li torque, each to `tol` relative. `at` names
+/// a field in a failure message.
+pub fn assert_rigid_body_fields(
+    dynamics: &dyngen_codegen::dynamics::NumericDynamics,
+    s: &State,
+    at: &dyn Fn(&str) -> String,
+    tol: f64,
+) {
+    use crate::{assert_close, column};
+    let (rot, pos) = dynamics.end_effector_pose(&s.q);
+    assert_close(
+        &at("ee translation"),
+        &column(pos.as_slice()),
+        &column(&s.ee_translation),
+        tol,
+    );
+    assert_close(
+        &at("ee rotation"),
+        &DMatrix::from_column_slice(3, 3, rot.as_slice()),
+        &s.ee_rotation,
+        tol,
+    );
+    assert_close(&at("J"), &dynamics.jacobian(&s.q), &s.j, tol);
+    assert_close(&at("J̇"), &dynamics.jacobian_dot(&s.q, &s.v), &s.jdot, tol);
+    assert_close(&at("D"), &dynamics.mass_matrix(&s.q), &s.d, tol);
+    assert_close(&at("C"), &dynamics.coriolis_matrix(&s.q, &s.v), &s.c, tol);
+    let g = dynamics.gravity_torque(&s.q);
+    assert_close(&at("g"), &column(g.as_slice()), &column(&s.g), tol);
+    let tau = dynamics.inverse_dynamics(&s.q, &s.v, &s.a);
+    assert_close(&at("τ"), &column(tau.as_slice()), &column(&s.tau), tol);
+    let tau_ref = dynamics.slotine_li(&s.q, &s.v, &s.vr, &s.ar, true);
+    assert_close(
+        &at("Slotine–Li τ"),
+        &column(tau_ref.as_slice()),
+        &column(&s.tau_ref),
+        tol,
+    );
+}
+
+/// The generic dynamics against the forward-dynamics fields of one Pinocchio state: `q̈`,
+/// `D⁻¹`, `(∂τ/∂q, ∂τ/∂q̇)` and `(∂q̈/∂q, ∂q̈/∂q̇)`, each to `tol` relative.
+pub fn assert_forward_dynamics_fields(
+    dynamics: &dyngen_codegen::dynamics::NumericDynamics,
+    s: &State,
+    at: &dyn Fn(&str) -> String,
+    tol: f64,
+) {
+    use crate::{assert_close, column};
+    let qdd = dynamics.forward_dynamics(&s.q, &s.v, &s.tau);
+    assert_close(&at("q̈"), &column(qdd.as_slice()), &column(&s.aba), tol);
+    assert_close(&at("D⁻¹"), &dynamics.mass_matrix_inverse(&s.q), &s.minv, tol);
+    let (dq, dv) = dynamics.inverse_dynamics_derivatives(&s.q, &s.v, &s.a);
+    assert_close(&at("∂τ/∂q"), &dq, &s.dtau_dq, tol);
+    assert_close(&at("∂τ/∂q̇"), &dv, &s.dtau_dv, tol);
+    let (dq, dv) = dynamics.forward_dynamics_derivatives(&s.q, &s.v, &s.tau);
+    assert_close(&at("∂q̈/∂q"), &dq, &s.dqdd_dq, tol);
+    assert_close(&at("∂q̈/∂q̇"), &dv, &s.dqdd_dv, tol);
+}
