@@ -56,15 +56,5 @@ impl Scalar for f64 {
     }
 }
 
-/// `sign(x)` with `sign(0) = 0` (and 0 for NaN), unlike `f64::signum` (which gives ±1 at ±0):
-/// a joint at rest has no Coulomb friction, and the mass matrix through the regressor
-/// (`Y(q, 0, 0, eᵢ) − Y(q, 0, 0, 0)`) must not pick up a friction column.
-pub fn sign(x: f64) -> f64 {
-    if x > 0.0 {
-        1.0
-    } else if x < 0.0 {
-        -1.0
-    } else {
-        0.0
-    }
-}
+/// `sign(x)` with `sign(0) = 0` (and 0 for NaN): the runtime's, which generated code calls.
+pub use dyngen_runtime::sign;

@@ -61,7 +61,9 @@ macro_rules! lanes {
 lanes!(f64x4, 4);
 lanes!(f64x8, 8);
 
-/// `sign(x)` with 0 at 0 and for NaN: Coulomb friction's `sign(q̇)`, as the scalar code has it.
+/// `sign(x)` with `sign(0) = 0` (and 0 for NaN), unlike `f64::signum` (which gives ±1 at ±0):
+/// a joint at rest has no Coulomb friction, and the mass matrix through the regressor
+/// (`Y(q, 0, 0, eᵢ) − Y(q, 0, 0, 0)`) must not pick up a friction column.
 #[inline]
 pub fn sign(x: f64) -> f64 {
     if x > 0.0 {
