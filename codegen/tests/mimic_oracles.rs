@@ -8,9 +8,9 @@ use dyngen_testkit as common;
 
 use common::oracles::{assert_passed, check_all};
 use common::random_model::{arb_model, deterministic_runner, random_state, JointState};
-use common::{assert_close, column};
+use common::{assert_close, column, traced};
 use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::generate::{trace, Shape, SymbolicRobot};
+use dyngen_codegen::generate::{trace, SymbolicRobot};
 use dyngen_codegen::model::{Mimic, Model};
 use dyngen_runtime::SplitMix64;
 use nalgebra::{DMatrix, DVector};
@@ -104,18 +104,6 @@ fn check_against_tree(model: &Model, s: &JointState) {
     assert_close(&at("FD(τ)"), &column(qdd.as_slice()), &column(&s.qdd), 1e-9);
 }
 
-/// The interpreter's value of a traced quantity, in the shape the generic code returns.
-fn interpreted(robot: &SymbolicRobot, name: &str, values: Vec<f64>) -> DMatrix<f64> {
-    match robot.quantity(name).expect("quantity").shape {
-        Shape::Vector(n) => DMatrix::from_column_slice(n, 1, &values),
-        Shape::Matrix(r, c) => DMatrix::from_column_slice(r, c, &values),
-        Shape::Pose => DMatrix::from_column_slice(12, 1, &values),
-        Shape::MatrixPair(n) => DMatrix::from_column_slice(n, 2 * n, &values),
-        // Pose, J and J̇ one after the other.
-        Shape::Kinematics(_) => DMatrix::from_column_slice(values.len(), 1, &values),
-    }
-}
-
 /// The traced graph of every quantity, evaluated, against the generic code.
 fn check_traced(model: &Model, robot: &SymbolicRobot, s: &JointState) {
     let generic = NumericDynamics::new(model);
@@ -129,41 +117,13 @@ fn check_traced(model: &Model, robot: &SymbolicRobot, s: &JointState) {
     };
     let (q, qd, v, a) = (&s.q[..], &s.qd[..], &s.v[..], &s.a[..]);
     let tau = generic.inverse_dynamics(q, qd, a);
-    let (rot, pos) = generic.end_effector_pose(q);
-    let mut pose = rot.as_slice().to_vec();
-    pose.extend(pos.iter());
-    let expected = [
-        ("forward_kinematics", DMatrix::from_column_slice(12, 1, &pose)),
-        ("jacobian", generic.jacobian(q)),
-        ("jacobian_dot", generic.jacobian_dot(q, qd)),
-        ("mass_matrix", generic.mass_matrix(q)),
-        ("coriolis_matrix", generic.coriolis_matrix(q, qd)),
-        ("gravity", col(generic.gravity_torque(q))),
-        ("inverse_dynamics", col(tau.clone())),
-        ("slotine_li", col(generic.slotine_li(q, qd, v, a, true))),
-        ("regressor", generic.regressor(q, qd, v, a)),
-        (
-            "base_regressor",
-            robot.base.base_regressor(&generic.regressor(q, qd, v, a)),
-        ),
-        (
-            "inverse_dynamics_derivatives",
-            pair(generic.inverse_dynamics_derivatives(q, qd, a)),
-        ),
-        ("kinematics", {
-            let mut all = pose.clone();
-            all.extend(generic.jacobian(q).iter());
-            all.extend(generic.jacobian_dot(q, qd).iter());
-            DMatrix::from_column_slice(all.len(), 1, &all)
-        }),
-        ("torque_regressor", generic.regressor(q, qd, qd, a)),
-        (
-            "base_torque_regressor",
-            robot.base.base_regressor(&generic.regressor(q, qd, qd, a)),
-        ),
-    ];
+    let mut expected = traced::generic_values(robot, &generic, [q, qd, v, a]);
+    expected.push((
+        "inverse_dynamics_derivatives",
+        pair(generic.inverse_dynamics_derivatives(q, qd, a)),
+    ));
     for (name, want) in expected {
-        let got = interpreted(robot, name, robot.evaluate(name, q, qd, v, a).unwrap());
+        let got = traced::shaped(robot, name, robot.evaluate(name, q, qd, v, a).unwrap());
         assert_close(&format!("{} traced {name}", model.name()), &got, &want, 1e-10);
     }
     let forward = [
@@ -178,7 +138,7 @@ fn check_traced(model: &Model, robot: &SymbolicRobot, s: &JointState) {
         ),
     ];
     for (name, want) in forward {
-        let got = interpreted(
+        let got = traced::shaped(
             robot,
             name,
             robot.evaluate_tau(name, q, qd, tau.as_slice()).unwrap(),

@@ -15,7 +15,6 @@ use dyngen_generated::{Arm7, Panda, Ur5};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{f64x4, f64x8, pack, BaseParameters, JointTrig, JointTrigLanes, LaneDynamics, Lanes};
 use std::hint::black_box;
-use std::time::Duration;
 
 fn bench_robot<
     R: BaseParameters<N, P, B> + LaneDynamics<N, B>,
@@ -151,10 +150,7 @@ fn dynamics(c: &mut Criterion) {
 
 criterion_group! {
     name = benches;
-    config = Criterion::default()
-        .warm_up_time(Duration::from_millis(300))
-        .measurement_time(Duration::from_secs(1))
-        .sample_size(40);
+    config = common::config();
     targets = dynamics
 }
 criterion_main!(benches);

@@ -11,7 +11,6 @@ use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_generated::{Arm7, Panda, Ur5};
 use dyngen_runtime::{JointTrig, RobotDynamics};
 use std::hint::black_box;
-use std::time::Duration;
 
 fn bench_robot<R: RobotDynamics<N, P>, const N: usize, const P: usize>(c: &mut Criterion, robot: &str) {
     let model = model(robot);
@@ -60,10 +59,7 @@ fn forward_dynamics(c: &mut Criterion) {
 
 criterion_group! {
     name = benches;
-    config = Criterion::default()
-        .warm_up_time(Duration::from_millis(300))
-        .measurement_time(Duration::from_secs(1))
-        .sample_size(40);
+    config = common::config();
     targets = forward_dynamics
 }
 criterion_main!(benches);

@@ -12,6 +12,7 @@ pub mod oracles;
 pub mod random_model;
 pub mod scale;
 pub mod serialize;
+pub mod traced;
 
 use nalgebra::DMatrix;
 

@@ -9,6 +9,7 @@ use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::SplitMix64;
 use std::hint::black_box;
 use std::path::Path;
+use std::time::Duration;
 
 /// States per robot, as in the Pinocchio benchmark of the reference figures.
 pub const STATES: usize = 256;
@@ -49,4 +50,13 @@ pub fn cycle<T>(c: &mut Criterion, group: &str, id: &str, inputs: &[T], mut f: i
                 f(black_box(&inputs[k]))
             })
         });
+}
+
+/// Criterion settings of the generated-code benches: short warm-up and measurement (each call
+/// is nanoseconds), 40 samples.
+pub fn config() -> Criterion {
+    Criterion::default()
+        .warm_up_time(Duration::from_millis(300))
+        .measurement_time(Duration::from_secs(1))
+        .sample_size(40)
 }
