@@ -92,6 +92,20 @@ fn gains_that_are_not_positive_definite() {
     options.gamma.joint = 0.0;
     assert!(demo(options).is_ok());
 
+    // θ̂(0) scales: a multiple of the description's values, never negative or NaN.
+    for (scale, joint) in [(-0.5, 1.0), (0.5, -1.0), (f64::NAN, 1.0), (0.5, f64::INFINITY)] {
+        let e = demo(DemoOptions {
+            initial_estimate_scale: scale,
+            joint_estimate_scale: joint,
+            ..DemoOptions::default()
+        })
+        .err();
+        assert!(
+            matches!(e, Some(ConfigError::Invalid { .. })),
+            "{scale} {joint}: {e:?}"
+        );
+    }
+
     let e = demo(DemoOptions {
         lambda: 0.0,
         ..DemoOptions::default()

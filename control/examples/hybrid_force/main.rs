@@ -109,6 +109,10 @@ struct Args {
     /// unknown either way).
     #[arg(long, default_value_t = 0.5, value_name = "SCALE")]
     initial_estimate: f64,
+    /// θ̂(0) of the joint-level parameters (armature, friction, offset) as a multiple of the
+    /// description's nominal values; 0 starts from no friction model at all.
+    #[arg(long, default_value_t = 1.0, value_name = "SCALE")]
+    joint_estimate: f64,
 }
 
 fn main() -> ExitCode {
@@ -162,6 +166,7 @@ fn options(args: &Args) -> DemoOptions {
     }
     o.gamma.joint = args.joint_gain;
     o.initial_estimate_scale = args.initial_estimate;
+    o.joint_estimate_scale = args.joint_estimate;
     if let Some(f) = &args.true_joint_terms {
         o.true_joint_terms = JointTermFactors {
             armature: f[0],
@@ -260,15 +265,17 @@ where
     if Demo::<Z, N, M, T>::has_joint_terms() {
         let f = opts.true_joint_terms;
         println!(
-            "joint terms: true = [{}, {}, {}, {}] × nominal over [armature, viscous, Coulomb, offset]; θ̂(0) nominal; {}",
+            "joint terms: true = [{}, {}, {}, {}] × nominal over [armature, viscous, Coulomb, offset]; θ̂(0) = {} × nominal{}; {}",
             f.armature,
             f.viscous,
             f.coulomb,
             f.offset,
+            opts.joint_estimate_scale,
+            if opts.joint_estimate_scale == 0.0 { " (no joint friction or armature modelled)" } else { "" },
             if opts.gamma.joint > 0.0 {
-                format!("adapted with Γ = {} (\"adaptive\"), held (\"joint terms nominal\")", opts.gamma.joint)
+                format!("adapted with Γ = {} (\"adaptive\"), held at θ̂(0) (\"joint terms held\")", opts.gamma.joint)
             } else {
-                "held at nominal (--joint-gain 0)".to_string()
+                "held at θ̂(0) (--joint-gain 0)".to_string()
             }
         );
     }
@@ -331,7 +338,7 @@ const COLOURS: [&str; 4] = ["#1f77b4", "#ff7f0e", "#d62728", "#2ca02c"];
 fn colour(kind: RunKind) -> &'static str {
     match kind {
         RunKind::Adaptive => COLOURS[0],
-        RunKind::AdaptiveJointTermsNominal => COLOURS[1],
+        RunKind::AdaptiveJointTermsHeld => COLOURS[1],
         RunKind::AdaptationOff => COLOURS[2],
         RunKind::KnownParameters => COLOURS[3],
     }

@@ -22,12 +22,13 @@ use nalgebra::{Rotation3, SMatrix, SVector, Vector3};
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum RunKind {
     /// Lemma 3 from `θ̂(0)`: the inertial parameters at `0.5·θ_desc` (payload unknown), the
-    /// joint-level ones at the description's nominal values; every parameter adapts (the joint
-    /// terms with the joint-level gain).
+    /// joint-level ones at [`DemoOptions::joint_estimate_scale`] times the description's
+    /// nominal values; every parameter adapts (the joint terms with the joint-level gain).
     Adaptive,
-    /// The same, with the joint terms held at their nominal values (joint-level gain 0) while
-    /// the inertial parameters adapt. Only for robots with joint-level columns.
-    AdaptiveJointTermsNominal,
+    /// The same, with the joint terms held at their `θ̂(0)` (joint-level gain 0) while the
+    /// inertial parameters adapt: with `joint_estimate_scale = 0` the controller models no
+    /// joint friction or armature at all. Only for robots with joint-level columns.
+    AdaptiveJointTermsHeld,
     /// The same `θ̂(0)`, never updated.
     AdaptationOff,
     /// Lemma 1: the true parameters, payload (and true friction and armature) included.
@@ -37,19 +38,19 @@ pub enum RunKind {
 impl RunKind {
     pub const ALL: [RunKind; 4] = [
         RunKind::Adaptive,
-        RunKind::AdaptiveJointTermsNominal,
+        RunKind::AdaptiveJointTermsHeld,
         RunKind::AdaptationOff,
         RunKind::KnownParameters,
     ];
     pub fn label(self) -> &'static str {
         match self {
             RunKind::Adaptive => "adaptive",
-            RunKind::AdaptiveJointTermsNominal => "adaptive, joint terms nominal",
+            RunKind::AdaptiveJointTermsHeld => "adaptive, joint terms held",
             RunKind::AdaptationOff => "adaptation off",
             RunKind::KnownParameters => "known parameters",
         }
     }
-    /// A file name for the run's data (`adaptive_joint_terms_nominal`).
+    /// A file name for the run's data (`adaptive_joint_terms_held`).
     pub fn file_stem(self) -> String {
         self.label().replace(", ", "_").replace(' ', "_")
     }
@@ -67,9 +68,11 @@ pub struct DemoOptions {
     pub lambda_null: f64,
     /// `Γ` by kind; `gamma.joint` adapts the joint-level parameters (0: held at nominal).
     pub gamma: GammaByKind,
-    /// `θ̂(0) = scale · θ_desc` for the inertial parameters; the joint-level ones start at the
-    /// description's nominal values.
+    /// `θ̂(0) = scale · θ_desc` for the inertial parameters.
     pub initial_estimate_scale: f64,
+    /// `θ̂(0) = scale · θ_desc` for the joint-level parameters (armature, friction, offset): 1
+    /// starts at the description's nominal values, 0 at no joint friction or armature at all.
+    pub joint_estimate_scale: f64,
     pub payload: Payload,
     /// The true robot's joint-level parameters relative to the description's nominal values
     /// (only robots with joint-level columns have any).
@@ -98,6 +101,7 @@ impl Default for DemoOptions {
             lambda_null: 10.0,
             gamma: GammaByKind::default(),
             initial_estimate_scale: 0.5,
+            joint_estimate_scale: 1.0,
             true_joint_terms: JointTermFactors::DEMO,
             payload: Payload {
                 mass: 1.5,
@@ -147,8 +151,8 @@ pub struct Demo<Z, const N: usize, const M: usize, const T: usize = 3> {
     pub theta_true: SVector<f64, M>,
     pub g: SMatrix<f64, N, N>,
     pub gamma: SVector<f64, M>,
-    /// `Γ` with the joint-level gain 0: the run [`RunKind::AdaptiveJointTermsNominal`].
-    pub gamma_joint_terms_nominal: SVector<f64, M>,
+    /// `Γ` with the joint-level gain 0: the run [`RunKind::AdaptiveJointTermsHeld`].
+    pub gamma_joint_terms_held: SVector<f64, M>,
     _z: std::marker::PhantomData<fn() -> Z>,
 }
 
@@ -229,9 +233,23 @@ where
             });
         }
         options.gamma.validate()?;
+        for (name, scale) in [
+            ("initial_estimate_scale", options.initial_estimate_scale),
+            ("joint_estimate_scale", options.joint_estimate_scale),
+        ] {
+            // A negative scale makes masses, inertias and friction negative: no physical robot.
+            if !(scale.is_finite() && scale >= 0.0) {
+                return Err(ConfigError::Invalid {
+                    name,
+                    detail: format!(
+                        "{scale} must be finite and ≥ 0 (a multiple of the description's values)"
+                    ),
+                });
+            }
+        }
         let theta_hat0 = Z::description_scaled_by_kind(|kind| {
             if kind.is_joint_level() {
-                1.0
+                options.joint_estimate_scale
             } else {
                 options.initial_estimate_scale
             }
@@ -239,7 +257,7 @@ where
         let theta_true = *plant.parameters();
         let g = inertia_shaped_gain::<Z, N, M>(options.kappa, &q0, &theta_hat0);
         let gamma = options.gamma.carried_to::<Z, N, M>();
-        let gamma_joint_terms_nominal = GammaByKind {
+        let gamma_joint_terms_held = GammaByKind {
             joint: 0.0,
             ..options.gamma
         }
@@ -255,7 +273,7 @@ where
             theta_true,
             g,
             gamma,
-            gamma_joint_terms_nominal,
+            gamma_joint_terms_held,
             _z: std::marker::PhantomData,
         };
         // Every configuration error shows up here, before any run.
@@ -274,10 +292,10 @@ where
     /// joint-level columns whose joint-level gain is not 0, also the adaptive run with the
     /// joint terms held at their nominal values (second).
     pub fn run_kinds(&self) -> Vec<RunKind> {
-        let with_nominal = Self::has_joint_terms() && self.options.gamma.joint > 0.0;
+        let with_held = Self::has_joint_terms() && self.options.gamma.joint > 0.0;
         RunKind::ALL
             .into_iter()
-            .filter(|k| *k != RunKind::AdaptiveJointTermsNominal || with_nominal)
+            .filter(|k| *k != RunKind::AdaptiveJointTermsHeld || with_held)
             .collect()
     }
 
@@ -285,9 +303,7 @@ where
     pub fn controller(&self, kind: RunKind) -> Result<HybridController<Z, N, M, T>, ConfigError> {
         let (adaptation, theta, gamma) = match kind {
             RunKind::Adaptive => (Adaptation::On, self.theta_hat0, self.gamma),
-            RunKind::AdaptiveJointTermsNominal => {
-                (Adaptation::On, self.theta_hat0, self.gamma_joint_terms_nominal)
-            }
+            RunKind::AdaptiveJointTermsHeld => (Adaptation::On, self.theta_hat0, self.gamma_joint_terms_held),
             RunKind::AdaptationOff => (Adaptation::Off, self.theta_hat0, self.gamma),
             RunKind::KnownParameters => (Adaptation::Off, self.theta_true, self.gamma),
         };
