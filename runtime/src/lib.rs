@@ -13,6 +13,11 @@
 // Unit tests run with the standard test harness.
 #![cfg_attr(not(test), no_std)]
 
+#[cfg(all(
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma"))
+))]
+mod cpu;
 mod joint;
 mod lanes;
 mod mul_add;
@@ -21,6 +26,11 @@ mod parameterization;
 mod random;
 mod robot;
 mod trig;
+#[cfg(all(
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma"))
+))]
+mod trig_fused;
 
 pub use joint::{JointLimits, JointTrig};
 pub use lanes::{f64x4, f64x8, pack, sign, unpack, JointTrigLanes, LaneDynamics, Lanes};

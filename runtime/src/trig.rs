@@ -16,16 +16,16 @@ use wide::f64x8;
 
 /// Largest `|q|` the fast reduction serves; far beyond any joint's range.
 const LIMIT: f64 = 1e5;
-const TWO_OVER_PI: f64 = core::f64::consts::FRAC_2_PI;
+pub(crate) const TWO_OVER_PI: f64 = core::f64::consts::FRAC_2_PI;
 /// π/2 in three parts: 33 significant bits, 33 more, and the rest.
-const P1: f64 = 1.5707963267341256;
-const P2: f64 = 6.077100506303966e-11;
-const P3: f64 = 2.0222662487959506e-21;
+pub(crate) const P1: f64 = 1.5707963267341256;
+pub(crate) const P2: f64 = 6.077100506303966e-11;
+pub(crate) const P3: f64 = 2.0222662487959506e-21;
 /// Adding `1.5·2⁵²` rounds to an integer (ties to even), exactly, for `|x| < 2⁵¹`.
-const ROUND: f64 = 6755399441055744.0;
+pub(crate) const ROUND: f64 = 6755399441055744.0;
 
 /// `1/n!` for the odd (sine) and even (cosine) Taylor terms, alternating signs applied below.
-const SIN: [f64; 8] = [
+pub(crate) const SIN: [f64; 8] = [
     0.16666666666666666,
     0.008333333333333333,
     0.0001984126984126984,
@@ -35,7 +35,7 @@ const SIN: [f64; 8] = [
     7.647163731819816e-13,
     2.8114572543455206e-15,
 ];
-const COS: [f64; 8] = [
+pub(crate) const COS: [f64; 8] = [
     0.5,
     0.041666666666666664,
     0.001388888888888889,
@@ -46,18 +46,40 @@ const COS: [f64; 8] = [
     4.779477332387385e-14,
 ];
 
-/// Sines and cosines of every entry of `q`.
+/// Sines and cosines of every entry of `q`: fused where the build targets FMA or the processor
+/// has it.
 #[inline]
 pub(crate) fn sin_cos_all<const N: usize>(q: &[f64; N]) -> ([f64; N], [f64; N]) {
+    #[cfg(all(
+        target_arch = "x86_64",
+        not(all(target_feature = "avx2", target_feature = "fma"))
+    ))]
+    if crate::cpu::has_avx2_fma() {
+        // SAFETY: the processor has AVX, AVX2 and FMA (just checked).
+        return unsafe { crate::trig_fused::sin_cos_all(q) };
+    }
+    sin_cos_all_with(q, sin_cos_8)
+}
+
+/// `kernel` over `q` eight entries at a time (the last group padded with zeros), and the exact
+/// reduction for entries out of its range. Inlined into its caller, so that the fused form runs
+/// all of it with the processor's features: a kernel behind a call boundary would load its
+/// eight angles in one 256-bit read of values just stored in smaller pieces, which the
+/// processor cannot forward (that stall cost more than the kernel itself).
+#[inline(always)]
+pub(crate) fn sin_cos_all_with<const N: usize>(
+    q: &[f64; N],
+    kernel: impl Fn(&[f64; 8]) -> ([f64; 8], [f64; 8]),
+) -> ([f64; N], [f64; N]) {
     let mut sin = [0.0; N];
     let mut cos = [0.0; N];
     let mut start = 0;
     while start < N {
-        let x = f64x8::new(core::array::from_fn(|k| q.get(start + k).copied().unwrap_or(0.0)));
-        let (s, c) = sin_cos_lanes(x);
+        let x: [f64; 8] = core::array::from_fn(|k| q.get(start + k).copied().unwrap_or(0.0));
+        let (s, c) = kernel(&x);
         let count = (N - start).min(8);
-        sin[start..start + count].copy_from_slice(&s.as_array()[..count]);
-        cos[start..start + count].copy_from_slice(&c.as_array()[..count]);
+        sin[start..start + count].copy_from_slice(&s[..count]);
+        cos[start..start + count].copy_from_slice(&c[..count]);
         start += 8;
     }
     // Out of range (or NaN, for which the comparison is false): the exact reduction.
@@ -70,6 +92,13 @@ pub(crate) fn sin_cos_all<const N: usize>(q: &[f64; N]) -> ([f64; N], [f64; N]) 
         }
     }
     (sin, cos)
+}
+
+/// Sines and cosines of eight angles, each within `LIMIT`, in `f64x8` lanes.
+#[inline(always)]
+fn sin_cos_8(x: &[f64; 8]) -> ([f64; 8], [f64; 8]) {
+    let (s, c) = sin_cos_lanes(f64x8::new(*x));
+    (s.to_array(), c.to_array())
 }
 
 /// Sines and cosines of eight angles, each within `LIMIT`.
@@ -148,6 +177,56 @@ mod tests {
             }
         }
         assert!(worst < 5e-16, "{worst:e}");
+    }
+
+    type Kernel = fn(&[f64; 8]) -> ([f64; 8], [f64; 8]);
+
+    /// Every form of the kernel this processor runs: the lanes, and the AVX2/FMA intrinsics of
+    /// a build that does not target them when the processor has them (so a default build's
+    /// tests check both).
+    fn kernels() -> Vec<(&'static str, Kernel)> {
+        #[allow(unused_mut)]
+        let mut forms: Vec<(&'static str, Kernel)> = vec![("lanes", sin_cos_8)];
+        #[cfg(all(
+            target_arch = "x86_64",
+            not(all(target_feature = "avx2", target_feature = "fma"))
+        ))]
+        if crate::cpu::has_avx2_fma() {
+            fn fused(q: &[f64; 8]) -> ([f64; 8], [f64; 8]) {
+                // SAFETY: only listed when the processor has AVX2 and FMA.
+                unsafe { crate::trig_fused::sin_cos_all(q) }
+            }
+            forms.push(("fused", fused));
+        }
+        forms
+    }
+
+    #[test]
+    fn every_form_of_the_kernel_matches_libm() {
+        let mut rng = crate::SplitMix64::new(11);
+        for (name, kernel) in kernels() {
+            for k in 0..20_000 {
+                let scale = [1.0, 4.0, 7.0, 100.0, 3.0e4, 1.0e5][k % 6];
+                let q: [f64; 8] = core::array::from_fn(|_| rng.uniform((-scale, scale)));
+                let (s, c) = kernel(&q);
+                for i in 0..8 {
+                    let (ls, lc) = libm::sincos(q[i]);
+                    let ulps = if scale <= 7.0 { 2.0 } else { 4.0 };
+                    assert!(
+                        within(s[i], ls, ulps) && within(c[i], lc, ulps),
+                        "{name}, q = {:e}: ({}, {}) vs ({ls}, {lc})",
+                        q[i],
+                        s[i],
+                        c[i]
+                    );
+                }
+            }
+            let q = [0.0, -0.0, 1e-300, -1e-300, core::f64::consts::PI, -2.5, 7.0, -7.0];
+            let (s, c) = kernel(&q);
+            assert_eq!((s[0].to_bits(), c[0]), (0.0f64.to_bits(), 1.0), "{name}");
+            assert_eq!((s[1].to_bits(), c[1]), ((-0.0f64).to_bits(), 1.0), "{name}");
+            assert_eq!((s[2], s[3]), (1e-300, -1e-300), "{name}");
+        }
     }
 
     #[test]

@@ -1,0 +1,51 @@
+//! Whether the processor running this program has AVX2 and FMA, asked once, for builds that do
+//! not target them (the default `x86-64` target): the joint sines and cosines then take their
+//! fused form anyway ([`crate::trig`]), as they would in a `-C target-cpu=native` build.
+//! `no_std`, so CPUID directly rather than `std::is_x86_feature_detected!`.
+
+use core::sync::atomic::{AtomicU8, Ordering};
+
+const UNKNOWN: u8 = 0;
+const ABSENT: u8 = 1;
+const PRESENT: u8 = 2;
+
+static AVX2_FMA: AtomicU8 = AtomicU8::new(UNKNOWN);
+
+/// AVX2 and FMA both present, and the operating system saves the AVX registers.
+#[inline]
+pub(crate) fn has_avx2_fma() -> bool {
+    match AVX2_FMA.load(Ordering::Relaxed) {
+        UNKNOWN => {
+            let present = detect();
+            AVX2_FMA.store(if present { PRESENT } else { ABSENT }, Ordering::Relaxed);
+            present
+        }
+        state => state == PRESENT,
+    }
+}
+
+#[cold]
+fn detect() -> bool {
+    use core::arch::x86_64::{__cpuid, __cpuid_count, _xgetbv};
+    // SAFETY (all three blocks): CPUID exists on every x86-64 processor; XGETBV is executed
+    // only once CPUID has reported OSXSAVE, which is when the instruction is enabled.
+    #[allow(unused_unsafe)]
+    let leaf1 = unsafe { __cpuid(1) };
+    let fma = leaf1.ecx & (1 << 12) != 0;
+    let osxsave = leaf1.ecx & (1 << 27) != 0;
+    let avx = leaf1.ecx & (1 << 28) != 0;
+    if !(fma && osxsave && avx) {
+        return false;
+    }
+    // XCR0 bits 1 and 2: the OS saves the SSE and AVX register state on a context switch.
+    #[allow(unused_unsafe)]
+    let xcr0 = unsafe { _xgetbv(0) };
+    if xcr0 & 0b110 != 0b110 {
+        return false;
+    }
+    #[allow(unused_unsafe)]
+    let max_leaf = unsafe { __cpuid(0) }.eax;
+    #[allow(unused_unsafe)]
+    let avx2 = max_leaf >= 7 && unsafe { __cpuid_count(7, 0) }.ebx & (1 << 5) != 0;
+    avx2
+}
