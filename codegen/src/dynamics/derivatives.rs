@@ -11,13 +11,14 @@
 //! meet (a body's motion depends on every joint above it, a joint's torque on every body below),
 //! so one vector operation does the work of up to eight scalar ones. Running the directions one
 //! at a time instead gives the sparsest scalar program (the flattened cost of the analytical
-//! derivatives of Carpentier & Mansard, 2018), but a long and irregular one: in lanes, the Panda
-//! takes about a third of the instructions.
+//! derivatives of Carpentier & Mansard, 2018), but a long and irregular one: the Panda's runs
+//! about 1.7× faster in lanes (`BENCHMARKS.md`), the UR5's, already sparse, slower.
 //!
 //! The velocity derivative is taken the same way (lanes over `q̇_j`, with the joint-level
 //! terms of the model, whose Coulomb friction without smoothing, `sign(q̇)`, has derivative zero
 //! where it exists). It could also be `2 C(q, q̇)` (`τ = D q̈ + C q̇ + g` with the
-//! Christoffel-consistent `C`, `Γ_ijk = Γ_ikj`), but in lanes the run costs fewer instructions.
+//! Christoffel-consistent `C`, `Γ_ijk = Γ_ikj`); next to lanes over `q`, lanes over `q̇`
+//! measured a little faster than `2C` on the Panda.
 //!
 //! Forward dynamics needs no differentiation of its own: with `q̈ = FD(q, q̇, τ)` fixed,
 //! `D ∂q̈/∂x = −∂τ/∂x |_{q̈}`, so `∂q̈/∂x = −D⁻¹ ∂ID/∂x` evaluated at that `q̈`, solved with the
