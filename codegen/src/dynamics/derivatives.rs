@@ -14,16 +14,20 @@
 //! derivatives of Carpentier & Mansard, 2018), but a long and irregular one: the Panda's runs
 //! about 1.7× faster in lanes (`BENCHMARKS.md`), the UR5's, already sparse, slower.
 //!
+//! Which of the two pays depends on the robot ([`Directions`]): the generator traces both and
+//! keeps the cheaper (`generate::trace`); the generic `f64` dynamics use the lanes.
+//!
 //! The velocity derivative is taken the same way (lanes over `q̇_j`, with the joint-level
 //! terms of the model, whose Coulomb friction without smoothing, `sign(q̇)`, has derivative zero
 //! where it exists). It could also be `2 C(q, q̇)` (`τ = D q̈ + C q̇ + g` with the
-//! Christoffel-consistent `C`, `Γ_ijk = Γ_ikj`); next to lanes over `q`, lanes over `q̇`
-//! measured a little faster than `2C` on the Panda.
+//! Christoffel-consistent `C`, `Γ_ijk = Γ_ikj`), which [`Directions::OneByOne`] uses; next to
+//! lanes over `q`, lanes over `q̇` measured a little faster than `2C` on the Panda.
 //!
 //! Forward dynamics needs no differentiation of its own: with `q̈ = FD(q, q̇, τ)` fixed,
 //! `D ∂q̈/∂x = −∂τ/∂x |_{q̈}`, so `∂q̈/∂x = −D⁻¹ ∂ID/∂x` evaluated at that `q̈`, solved with the
 //! factors forward dynamics already has, on the lane tangents (all columns of a group at once).
 
+use super::coriolis::coriolis_matrix;
 use super::forward_dynamics::{factor_mass_matrix, forward_dynamics_factored};
 use super::joint::joint_transforms;
 use super::joint_terms::joint_term_torques;
@@ -33,6 +37,18 @@ use crate::scalar::Scalar;
 use crate::scalar_dual::{Dual, LaneScalar, LaneTangent, Tangent, LANES};
 use crate::spatial::{RigidInertia, Vec3};
 use nalgebra::DMatrix;
+
+/// How the derivatives carry their directions through the recursion.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Directions {
+    /// One scalar run per `q_j`, and `∂τ/∂q̇ = 2 C(q, q̇)` (with the joint-level terms'
+    /// diagonal from one scalar run each): the sparsest scalar program, best where every
+    /// direction's tangents are few (the UR5).
+    OneByOne,
+    /// [`LANES`] directions per run, one per lane, for `q` and for `q̇`: fewer, wider
+    /// operations, best where the directions' tangents overlap (the Panda).
+    Lanes,
+}
 
 /// A dual number whose tangent holds [`LANES`] directions.
 type Lanes<S> = Dual<S, <S as LaneScalar>::Lanes>;
@@ -133,9 +149,71 @@ pub fn inverse_dynamics_derivatives<S: LaneScalar>(
     qd: &[S],
     qdd: &[S],
 ) -> (DMatrix<S>, DMatrix<S>) {
+    inverse_dynamics_derivatives_by(Directions::Lanes, model, q, inertias, joint_values, qd, qdd)
+}
+
+/// [`inverse_dynamics_derivatives`] with the directions carried as `directions` says.
+pub fn inverse_dynamics_derivatives_by<S: LaneScalar>(
+    directions: Directions,
+    model: &Model,
+    q: &[S],
+    inertias: &[RigidInertia<S>],
+    joint_values: &[JointTermValues],
+    qd: &[S],
+    qdd: &[S],
+) -> (DMatrix<S>, DMatrix<S>) {
     let n = model.dof();
-    let groups = tangent_groups(model, q, inertias, joint_values, qd, qdd);
-    (columns(n, &groups, |g| &g.d_q), columns(n, &groups, |g| &g.d_qd))
+    match directions {
+        Directions::OneByOne => one_by_one(model, q, inertias, joint_values, qd, qdd),
+        Directions::Lanes => {
+            let groups = tangent_groups(model, q, inertias, joint_values, qd, qdd);
+            (columns(n, &groups, |g| &g.d_q), columns(n, &groups, |g| &g.d_qd))
+        }
+    }
+}
+
+/// `v` with the derivative taken along its entry `j` (one direction).
+fn seeded_one<S: Scalar>(v: &[S], j: usize) -> Vec<Dual<S>> {
+    v.iter()
+        .enumerate()
+        .map(|(i, &x)| match i == j {
+            true => Dual::variable(x),
+            false => Dual::constant(x),
+        })
+        .collect()
+}
+
+/// [`Directions::OneByOne`].
+fn one_by_one<S: Scalar>(
+    model: &Model,
+    q: &[S],
+    inertias: &[RigidInertia<S>],
+    joint_values: &[JointTermValues],
+    qd: &[S],
+    qdd: &[S],
+) -> (DMatrix<S>, DMatrix<S>) {
+    let n = model.dof();
+    let dual_inertias: Vec<RigidInertia<Dual<S>>> = inertias.iter().map(lift_inertia).collect();
+    let constant = |v: &[S]| -> Vec<Dual<S>> { v.iter().map(|&x| Dual::constant(x)).collect() };
+    let (qd_const, qdd_const) = (constant(qd), constant(qdd));
+    let mut d_q = DMatrix::from_element(n, n, S::zero());
+    for j in 0..n {
+        let x = joint_transforms(model, &seeded_one(q, j));
+        let tau = inverse_dynamics(model, &x, &dual_inertias, &qd_const, &qdd_const);
+        for (i, t) in tau.iter().enumerate() {
+            d_q[(i, j)] = t.tangent;
+        }
+    }
+    let two = S::from_f64(2.0);
+    let mut d_qd = coriolis_matrix(model, &joint_transforms(model, q), inertias, qd).map(|c| two * c);
+    if !model.joint_terms().kinds.is_empty() {
+        for j in 0..n {
+            let seeded_qd = seeded_one(qd, j);
+            let joint = joint_term_torques(model, joint_values, &seeded_qd, &seeded_qd, &qdd_const);
+            d_qd[(j, j)] = d_qd[(j, j)] + joint[j].tangent;
+        }
+    }
+    (d_q, d_qd)
 }
 
 /// `(∂q̈/∂q, ∂q̈/∂q̇)` of forward dynamics `q̈(q, q̇, τ)`. (`∂q̈/∂τ = D⁻¹`.)
@@ -147,10 +225,28 @@ pub fn forward_dynamics_derivatives<S: LaneScalar>(
     qd: &[S],
     tau: &[S],
 ) -> (DMatrix<S>, DMatrix<S>) {
+    forward_dynamics_derivatives_by(Directions::Lanes, model, q, inertias, joint_values, qd, tau)
+}
+
+/// [`forward_dynamics_derivatives`] with the directions carried as `directions` says.
+pub fn forward_dynamics_derivatives_by<S: LaneScalar>(
+    directions: Directions,
+    model: &Model,
+    q: &[S],
+    inertias: &[RigidInertia<S>],
+    joint_values: &[JointTermValues],
+    qd: &[S],
+    tau: &[S],
+) -> (DMatrix<S>, DMatrix<S>) {
     let n = model.dof();
     let x = joint_transforms(model, q);
     let factor = factor_mass_matrix(model, &x, inertias, joint_values);
     let qdd = forward_dynamics_factored(model, &x, inertias, joint_values, &factor, qd, tau);
+    if directions == Directions::OneByOne {
+        let (d_q, d_qd) = one_by_one(model, q, inertias, joint_values, qd, &qdd);
+        let minus_solve = |m: DMatrix<S>| factor.solve_matrix(&m.map(|v| -v));
+        return (minus_solve(d_q), minus_solve(d_qd));
+    }
     // `D y = −t` for every lane at once: the solve on duals of value zero, whose tangents are
     // the right-hand sides (the values fold away symbolically).
     let lifted = factor.map(Dual::<S, S::Lanes>::constant);
