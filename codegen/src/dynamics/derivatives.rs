@@ -12,7 +12,7 @@
 //! so one vector operation does the work of up to eight scalar ones. Running the directions one
 //! at a time instead gives the sparsest scalar program (the flattened cost of the analytical
 //! derivatives of Carpentier & Mansard, 2018), but a long and irregular one: the Panda's runs
-//! about 1.7× faster in lanes (`BENCHMARKS.md`), the UR5's, already sparse, slower.
+//! 1.5–2.2× faster in lanes (`BENCHMARKS.md`), the UR5's, already sparse, no faster.
 //!
 //! Which of the two pays depends on the robot ([`Directions`]): the generator traces both and
 //! keeps the cheaper (`generate::trace`); the generic `f64` dynamics use the lanes.

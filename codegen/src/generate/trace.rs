@@ -250,8 +250,8 @@ fn pair_ids((first, second): (DMatrix<Expr>, DMatrix<Expr>)) -> Vec<Id> {
 
 /// A lane operation (`f64x8`) weighed as this many scalar ones when the derivatives choose how
 /// to carry their directions ([`Directions`]). Measured (`BENCHMARKS.md`, AVX-512): the Panda's
-/// derivatives ran 1.7× faster in lanes (6,850 scalar operations against 1,151 + 2,675 lane
-/// ones), the UR5's slower (3,050 against 808 + 1,587), which this weight reproduces.
+/// derivatives ran 1.5–2.2× faster in lanes (6,850 scalar operations against 1,151 + 2,675
+/// lane ones), the UR5's no faster (3,050 against 808 + 1,587), as this weight predicts.
 const LANE_OP_COST: usize = 2;
 
 /// What a function costs by [`LANE_OP_COST`].
