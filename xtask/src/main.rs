@@ -149,13 +149,13 @@ fn print_summary(report: &CrateReport, check: bool) {
             println!("  warning: {warning}");
         }
         println!(
-            "  {:<28} {:>7} {:>7} {:>5} {:>5} {:>5}",
-            "function", "mul", "add", "neg", "div", "trig"
+            "  {:<28} {:>7} {:>7} {:>5} {:>5} {:>5} {:>7}",
+            "function", "mul", "add", "neg", "div", "trig", "lanes"
         );
         for (name, c) in &r.robot.op_counts {
             println!(
-                "  {name:<28} {:>7} {:>7} {:>5} {:>5} {:>5}",
-                c.mul, c.add, c.neg, c.div, c.trig
+                "  {name:<28} {:>7} {:>7} {:>5} {:>5} {:>5} {:>7}",
+                c.mul, c.add, c.neg, c.div, c.trig, c.lanes
             );
         }
     }

@@ -1,25 +1,31 @@
 //! Derivatives of inverse and forward dynamics with respect to `q` and `q̇`, by forward-mode
-//! differentiation of the inverse-dynamics recursion itself: it is run on [`Dual`] numbers once
-//! per direction (`q_j`, then `q̇_j`), so the derivatives are the same algorithm, written once.
+//! differentiation of the inverse-dynamics recursion itself: it is run on [`Dual`] numbers whose
+//! tangents hold [`LANES`] directions at once, one per lane (`q_0 … q_7` in one run, `q̇_0 … q̇_7`
+//! in another; more joints take more groups of eight), so the derivatives are the same
+//! algorithm, written once.
 //!
-//! Symbolically (with `S = Expr`) every run's values are the nodes of the plain recursion and
-//! every tangent that the tree makes zero folds away as it is built (joint `j`'s angle moves only
-//! the bodies below it; its force reaches only `j`'s ancestors), so the flattened cost is that of
-//! the analytical derivatives of Carpentier & Mansard (2018) without a second algorithm to own.
-//! Operation counts are compared in `BENCHMARKS.md`.
+//! Symbolically (with `S = Expr`) every run's values are the nodes of the plain recursion, and
+//! each tangent is one lane-vector node (`f64x8` in generated code). Tangents that the tree makes
+//! zero fold away as they are built, and a tangent along a single direction stays a scalar in
+//! its lane (joint `j`'s transform moves only with `q_j`); the vectors fill where directions
+//! meet (a body's motion depends on every joint above it, a joint's torque on every body below),
+//! so one vector operation does the work of up to eight scalar ones. Running the directions one
+//! at a time instead gives the sparsest scalar program (the flattened cost of the analytical
+//! derivatives of Carpentier & Mansard, 2018), but a long and irregular one: the Panda's runs
+//! 1.5–2.2× faster in lanes (`BENCHMARKS.md`), the UR5's, already sparse, no faster.
 //!
-//! The velocity derivative needs no differentiation either: `τ = D q̈ + C q̇ + g` with `C` the
-//! Christoffel-consistent matrix, `(C q̇)_i = Σ_jk Γ_ijk q̇_j q̇_k` with `Γ_ijk = Γ_ikj`, so
-//! `∂τ/∂q̇ = 2 C(q, q̇)`, which [`coriolis_matrix`] computes in fewer operations than `n` dual
-//! runs of the recursion (Panda: 2191 against about 4900).
+//! Which of the two pays depends on the robot ([`Directions`]): the generator traces both and
+//! keeps the cheaper (`generate::trace`); the generic `f64` dynamics use the lanes.
 //!
-//! Joint-level terms (when the model has them) depend on `q̇` and `q̈` only: their `∂/∂q̇` is
-//! diagonal and comes from one dual run of those terms per joint (Coulomb friction without
-//! smoothing, `sign(q̇)`, has derivative zero where it exists).
+//! The velocity derivative is taken the same way (lanes over `q̇_j`, with the joint-level
+//! terms of the model, whose Coulomb friction without smoothing, `sign(q̇)`, has derivative zero
+//! where it exists). It could also be `2 C(q, q̇)` (`τ = D q̈ + C q̇ + g` with the
+//! Christoffel-consistent `C`, `Γ_ijk = Γ_ikj`), which [`Directions::OneByOne`] uses; next to
+//! lanes over `q`, lanes over `q̇` measured a little faster than `2C` on the Panda.
 //!
 //! Forward dynamics needs no differentiation of its own: with `q̈ = FD(q, q̇, τ)` fixed,
 //! `D ∂q̈/∂x = −∂τ/∂x |_{q̈}`, so `∂q̈/∂x = −D⁻¹ ∂ID/∂x` evaluated at that `q̈`, solved with the
-//! factors forward dynamics already has.
+//! factors forward dynamics already has, on the lane tangents (all columns of a group at once).
 
 use super::coriolis::coriolis_matrix;
 use super::forward_dynamics::{factor_mass_matrix, forward_dynamics_factored};
@@ -28,22 +34,42 @@ use super::joint_terms::joint_term_torques;
 use super::slotine_li::inverse_dynamics;
 use crate::model::{JointTermValues, Model};
 use crate::scalar::Scalar;
-use crate::scalar_dual::Dual;
+use crate::scalar_dual::{Dual, LaneScalar, LaneTangent, Tangent, LANES};
 use crate::spatial::{RigidInertia, Vec3};
 use nalgebra::DMatrix;
 
-fn constant<S: Scalar>(v: &[S]) -> Vec<Dual<S>> {
+/// How the derivatives carry their directions through the recursion.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Directions {
+    /// One scalar run per `q_j`, and `∂τ/∂q̇ = 2 C(q, q̇)` (with the joint-level terms'
+    /// diagonal from one scalar run each): the sparsest scalar program, best where every
+    /// direction's tangents are few (the UR5).
+    OneByOne,
+    /// [`LANES`] directions per run, one per lane, for `q` and for `q̇`: fewer, wider
+    /// operations, best where the directions' tangents overlap (the Panda).
+    Lanes,
+}
+
+/// A dual number whose tangent holds [`LANES`] directions.
+type Lanes<S> = Dual<S, <S as LaneScalar>::Lanes>;
+
+fn constant<S: LaneScalar>(v: &[S]) -> Vec<Lanes<S>> {
     v.iter().map(|&x| Dual::constant(x)).collect()
 }
 
-/// `v` with the derivative taken along its entry `j`.
-fn seeded<S: Scalar>(v: &[S], j: usize) -> Vec<Dual<S>> {
-    let mut out = constant(v);
-    out[j] = Dual::variable(v[j]);
-    out
+/// `v` with the derivative taken along its entries `first .. first + LANES` (entry `first + k`
+/// in lane `k`).
+fn seeded<S: LaneScalar>(v: &[S], first: usize) -> Vec<Lanes<S>> {
+    v.iter()
+        .enumerate()
+        .map(|(j, &x)| match j.checked_sub(first).filter(|&k| k < LANES) {
+            Some(k) => Dual::lane_variable(x, k),
+            None => Dual::constant(x),
+        })
+        .collect()
 }
 
-fn lift_inertia<S: Scalar>(i: &RigidInertia<S>) -> RigidInertia<Dual<S>> {
+fn lift_inertia<S: Scalar, T: Tangent<S>>(i: &RigidInertia<S>) -> RigidInertia<Dual<S, T>> {
     RigidInertia {
         m: Dual::constant(i.m),
         h: Vec3(i.h.0.map(Dual::constant)),
@@ -51,9 +77,114 @@ fn lift_inertia<S: Scalar>(i: &RigidInertia<S>) -> RigidInertia<Dual<S>> {
     }
 }
 
+/// The tangents of `τ` along `q_j` and along `q̇_j`, for the group of directions starting at
+/// joint `first` (direction `first + k` in lane `k`).
+struct Group<T> {
+    first: usize,
+    d_q: Vec<T>,
+    d_qd: Vec<T>,
+}
+
+/// Inverse dynamics (with the model's joint-level terms) on lane duals, one group of
+/// [`LANES`] directions at a time.
+fn tangent_groups<S: LaneScalar>(
+    model: &Model,
+    q: &[S],
+    inertias: &[RigidInertia<S>],
+    joint_values: &[JointTermValues],
+    qd: &[S],
+    qdd: &[S],
+) -> Vec<Group<S::Lanes>> {
+    let n = model.dof();
+    let dual_inertias: Vec<RigidInertia<Lanes<S>>> = inertias.iter().map(lift_inertia).collect();
+    let (q_const, qd_const, qdd_const) = (constant(q), constant(qd), constant(qdd));
+    let x_const = joint_transforms(model, &q_const);
+    let has_joint_terms = !model.joint_terms().kinds.is_empty();
+    (0..n)
+        .step_by(LANES)
+        .map(|first| {
+            // Joint-level terms depend on q̇ and q̈ only.
+            let x = joint_transforms(model, &seeded(q, first));
+            let d_q = inverse_dynamics(model, &x, &dual_inertias, &qd_const, &qdd_const);
+            let qd_seeded = seeded(qd, first);
+            let mut d_qd = inverse_dynamics(model, &x_const, &dual_inertias, &qd_seeded, &qdd_const);
+            if has_joint_terms {
+                let joint = joint_term_torques(model, joint_values, &qd_seeded, &qd_seeded, &qdd_const);
+                d_qd = d_qd.into_iter().zip(joint).map(|(r, j)| r + j).collect();
+            }
+            let tangents = |tau: Vec<Lanes<S>>| tau.into_iter().map(|t| t.tangent).collect();
+            Group {
+                first,
+                d_q: tangents(d_q),
+                d_qd: tangents(d_qd),
+            }
+        })
+        .collect()
+}
+
+/// The `n × n` matrix whose column `first + k` is lane `k` of the groups' tangents.
+fn columns<S: LaneScalar>(
+    n: usize,
+    groups: &[Group<S::Lanes>],
+    pick: impl Fn(&Group<S::Lanes>) -> &Vec<S::Lanes>,
+) -> DMatrix<S> {
+    let mut m = DMatrix::from_element(n, n, S::zero());
+    for g in groups {
+        for (i, t) in pick(g).iter().enumerate() {
+            for j in g.first..n.min(g.first + LANES) {
+                m[(i, j)] = t.lane(j - g.first);
+            }
+        }
+    }
+    m
+}
+
 /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics `τ(q, q̇, q̈)`; entry `(i, j)` is `∂τ_i/∂x_j`.
 /// (`∂τ/∂q̈ = D`.)
-pub fn inverse_dynamics_derivatives<S: Scalar>(
+pub fn inverse_dynamics_derivatives<S: LaneScalar>(
+    model: &Model,
+    q: &[S],
+    inertias: &[RigidInertia<S>],
+    joint_values: &[JointTermValues],
+    qd: &[S],
+    qdd: &[S],
+) -> (DMatrix<S>, DMatrix<S>) {
+    inverse_dynamics_derivatives_by(Directions::Lanes, model, q, inertias, joint_values, qd, qdd)
+}
+
+/// [`inverse_dynamics_derivatives`] with the directions carried as `directions` says.
+pub fn inverse_dynamics_derivatives_by<S: LaneScalar>(
+    directions: Directions,
+    model: &Model,
+    q: &[S],
+    inertias: &[RigidInertia<S>],
+    joint_values: &[JointTermValues],
+    qd: &[S],
+    qdd: &[S],
+) -> (DMatrix<S>, DMatrix<S>) {
+    let n = model.dof();
+    match directions {
+        Directions::OneByOne => one_by_one(model, q, inertias, joint_values, qd, qdd),
+        Directions::Lanes => {
+            let groups = tangent_groups(model, q, inertias, joint_values, qd, qdd);
+            (columns(n, &groups, |g| &g.d_q), columns(n, &groups, |g| &g.d_qd))
+        }
+    }
+}
+
+/// `v` with the derivative taken along its entry `j` (one direction).
+fn seeded_one<S: Scalar>(v: &[S], j: usize) -> Vec<Dual<S>> {
+    v.iter()
+        .enumerate()
+        .map(|(i, &x)| match i == j {
+            true => Dual::variable(x),
+            false => Dual::constant(x),
+        })
+        .collect()
+}
+
+/// [`Directions::OneByOne`].
+fn one_by_one<S: Scalar>(
     model: &Model,
     q: &[S],
     inertias: &[RigidInertia<S>],
@@ -63,10 +194,11 @@ pub fn inverse_dynamics_derivatives<S: Scalar>(
 ) -> (DMatrix<S>, DMatrix<S>) {
     let n = model.dof();
     let dual_inertias: Vec<RigidInertia<Dual<S>>> = inertias.iter().map(lift_inertia).collect();
+    let constant = |v: &[S]| -> Vec<Dual<S>> { v.iter().map(|&x| Dual::constant(x)).collect() };
     let (qd_const, qdd_const) = (constant(qd), constant(qdd));
     let mut d_q = DMatrix::from_element(n, n, S::zero());
     for j in 0..n {
-        let x = joint_transforms(model, &seeded(q, j));
+        let x = joint_transforms(model, &seeded_one(q, j));
         let tau = inverse_dynamics(model, &x, &dual_inertias, &qd_const, &qdd_const);
         for (i, t) in tau.iter().enumerate() {
             d_q[(i, j)] = t.tangent;
@@ -76,7 +208,7 @@ pub fn inverse_dynamics_derivatives<S: Scalar>(
     let mut d_qd = coriolis_matrix(model, &joint_transforms(model, q), inertias, qd).map(|c| two * c);
     if !model.joint_terms().kinds.is_empty() {
         for j in 0..n {
-            let seeded_qd = seeded(qd, j);
+            let seeded_qd = seeded_one(qd, j);
             let joint = joint_term_torques(model, joint_values, &seeded_qd, &seeded_qd, &qdd_const);
             d_qd[(j, j)] = d_qd[(j, j)] + joint[j].tangent;
         }
@@ -85,7 +217,7 @@ pub fn inverse_dynamics_derivatives<S: Scalar>(
 }
 
 /// `(∂q̈/∂q, ∂q̈/∂q̇)` of forward dynamics `q̈(q, q̇, τ)`. (`∂q̈/∂τ = D⁻¹`.)
-pub fn forward_dynamics_derivatives<S: Scalar>(
+pub fn forward_dynamics_derivatives<S: LaneScalar>(
     model: &Model,
     q: &[S],
     inertias: &[RigidInertia<S>],
@@ -93,10 +225,48 @@ pub fn forward_dynamics_derivatives<S: Scalar>(
     qd: &[S],
     tau: &[S],
 ) -> (DMatrix<S>, DMatrix<S>) {
+    forward_dynamics_derivatives_by(Directions::Lanes, model, q, inertias, joint_values, qd, tau)
+}
+
+/// [`forward_dynamics_derivatives`] with the directions carried as `directions` says.
+pub fn forward_dynamics_derivatives_by<S: LaneScalar>(
+    directions: Directions,
+    model: &Model,
+    q: &[S],
+    inertias: &[RigidInertia<S>],
+    joint_values: &[JointTermValues],
+    qd: &[S],
+    tau: &[S],
+) -> (DMatrix<S>, DMatrix<S>) {
+    let n = model.dof();
     let x = joint_transforms(model, q);
     let factor = factor_mass_matrix(model, &x, inertias, joint_values);
     let qdd = forward_dynamics_factored(model, &x, inertias, joint_values, &factor, qd, tau);
-    let (d_q, d_qd) = inverse_dynamics_derivatives(model, q, inertias, joint_values, qd, &qdd);
-    let minus_solve = |m: DMatrix<S>| factor.solve_matrix(&m.map(|v| -v));
-    (minus_solve(d_q), minus_solve(d_qd))
+    if directions == Directions::OneByOne {
+        let (d_q, d_qd) = one_by_one(model, q, inertias, joint_values, qd, &qdd);
+        let minus_solve = |m: DMatrix<S>| factor.solve_matrix(&m.map(|v| -v));
+        return (minus_solve(d_q), minus_solve(d_qd));
+    }
+    // `D y = −t` for every lane at once: the solve on duals of value zero, whose tangents are
+    // the right-hand sides (the values fold away symbolically).
+    let lifted = factor.map(Dual::<S, S::Lanes>::constant);
+    let minus_solve = |t: &Vec<S::Lanes>| -> Vec<S::Lanes> {
+        let b: Vec<Lanes<S>> = t
+            .iter()
+            .map(|&t| Dual {
+                value: S::zero(),
+                tangent: -t,
+            })
+            .collect();
+        lifted.solve(&b).into_iter().map(|y| y.tangent).collect()
+    };
+    let groups: Vec<Group<S::Lanes>> = tangent_groups(model, q, inertias, joint_values, qd, &qdd)
+        .into_iter()
+        .map(|g| Group {
+            first: g.first,
+            d_q: minus_solve(&g.d_q),
+            d_qd: minus_solve(&g.d_qd),
+        })
+        .collect();
+    (columns(n, &groups, |g| &g.d_q), columns(n, &groups, |g| &g.d_qd))
 }

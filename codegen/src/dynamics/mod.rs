@@ -25,7 +25,10 @@ mod tree_ldl;
 pub use coriolis::coriolis_matrix;
 pub use coupling::{expand, project, project_both, project_columns, project_rows};
 pub use crba::mass_matrix;
-pub use derivatives::{forward_dynamics_derivatives, inverse_dynamics_derivatives};
+pub use derivatives::{
+    forward_dynamics_derivatives, forward_dynamics_derivatives_by, inverse_dynamics_derivatives,
+    inverse_dynamics_derivatives_by, Directions,
+};
 pub use forward_dynamics::{factor_mass_matrix, forward_dynamics, mass_matrix_inverse};
 pub use joint::{joint_transform, joint_transforms};
 pub use joint_terms::{

@@ -63,6 +63,17 @@ impl<S: Scalar> TreeLdl<S> {
         }
     }
 
+    /// The same factors in another scalar type (e.g. as constants of a dual number, to solve for
+    /// tangents).
+    pub fn map<U: Scalar>(&self, f: impl Fn(S) -> U) -> TreeLdl<U> {
+        TreeLdl {
+            l: self.l.map(&f),
+            inv_pivot: self.inv_pivot.iter().map(|&x| f(x)).collect(),
+            pivots: self.pivots.iter().map(|&x| f(x)).collect(),
+            parent: self.parent.clone(),
+        }
+    }
+
     /// `x` with `D x = b`: `Lᵀ y = b` from the leaves up, `Δ⁻¹`, then `L x = z` from the root down.
     pub fn solve(&self, b: &[S]) -> Vec<S> {
         let n = self.inv_pivot.len();

@@ -12,7 +12,7 @@
 use super::trace::{Arg, Quantity, Shape, SymbolicRobot, BASE_FUNCTIONS};
 use crate::base_parameters::BaseParameterSet;
 use crate::model::Model;
-use crate::symbolic::{Id, Node, OpCounts};
+use crate::symbolic::{Id, Node, OpCounts, LANES};
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 use std::collections::{BTreeSet, HashMap};
@@ -138,6 +138,11 @@ impl Form {
     }
 }
 
+/// The type of lane-vector values (the tangents of eight directions at once).
+fn lane_type() -> TokenStream {
+    quote!(dyngen_runtime::f64x8)
+}
+
 /// `a·b + c` with one rounding: an addition or subtraction whose product operand is used only
 /// there. `negate_product` and `negate_addend` give `−a·b + c` and `a·b − c`.
 #[derive(Clone, Copy, Debug)]
@@ -168,8 +173,12 @@ impl<'a> Plan<'a> {
         let topological: Vec<Id> = (0..g.len())
             .map(|i| Id(i as u32))
             .filter(|&id| live[id.0 as usize] && !leaves.names.contains_key(&id))
-            .filter(|&id| !matches!(g.node(id), Node::Const(_) | Node::Input(_)))
+            .filter(|&id| !matches!(g.node(id), Node::Const(_) | Node::Input(_) | Node::LaneZero))
             .collect();
+        assert!(
+            form == Form::Scalar || topological.iter().all(|&id| !g.node(id).is_lanes()),
+            "lane-vector nodes in a function generic over its lane type"
+        );
         let (fused, products) = fuse_multiply_adds(g, outputs, &topological);
         let order: Vec<Id> = topological
             .into_iter()
@@ -201,23 +210,38 @@ impl<'a> Plan<'a> {
     /// be as large as run time wants; creation order keeps values short-lived, which keeps
     /// register allocation (and so release compile time) cheap.
     fn statements(&self, ids: &[Id], used_leaves: &mut Vec<Id>) -> Vec<TokenStream> {
-        let names: Vec<&Ident> = ids.iter().map(|id| &self.names[id]).collect();
+        let g = &self.robot.graph;
         let ty = self.form.value_type();
-        let mut out = Vec::with_capacity(ids.len() + 1);
-        match names.as_slice() {
-            [] => {}
-            [name] => {
-                let value = self.value(ids[0], used_leaves);
-                out.push(quote!(let #name: #ty = #value;));
-            }
-            _ => {
-                let k = Literal::usize_unsuffixed(names.len());
+        let mut out = Vec::with_capacity(ids.len() + 2);
+        // Lane vectors (`f64x8`) get a declaration of their own.
+        let (lanes, scalars): (Vec<Id>, Vec<Id>) = ids.iter().partition(|&&id| g.node(id).is_lanes());
+        if scalars.len() == 1 && lanes.is_empty() && !matches!(g.node(ids[0]), Node::Extract(..)) {
+            let name = &self.names[&ids[0]];
+            let value = self.value(ids[0], used_leaves);
+            out.push(quote!(let #name: #ty = #value;));
+            return out;
+        }
+        for (sort, ty) in [(&scalars, ty), (&lanes, lane_type())] {
+            if !sort.is_empty() {
+                let names = sort.iter().map(|id| &self.names[id]);
+                let k = Literal::usize_unsuffixed(sort.len());
                 out.push(quote!(let [#(#names),*]: [#ty; #k];));
-                for (&id, name) in ids.iter().zip(&names) {
-                    let value = self.value(id, used_leaves);
-                    out.push(quote!(#name = #value;));
-                }
             }
+        }
+        for &id in ids {
+            let name = &self.names[&id];
+            if let Node::Extract(v, k) = g.node(id) {
+                // A lane of a vector, by destructuring (no indexing).
+                let v = self.atom(v, used_leaves);
+                let pattern = (0..LANES).map(|j| match j == k as usize {
+                    true => quote!(#name),
+                    false => quote!(_),
+                });
+                out.push(quote!([#(#pattern),*] = #v.to_array();));
+                continue;
+            }
+            let value = self.value(id, used_leaves);
+            out.push(quote!(#name = #value;));
         }
         out
     }
@@ -250,6 +274,10 @@ impl<'a> Plan<'a> {
 
     /// An operand: a literal, an input, or an earlier temporary. Records inputs it reads.
     fn atom(&self, id: Id, used_leaves: &mut Vec<Id>) -> TokenStream {
+        if self.robot.graph.node(id) == Node::LaneZero {
+            let ty = lane_type();
+            return quote!(#ty::splat(0.0));
+        }
         if let Some(x) = self.robot.graph.constant_value(id) {
             let x = literal(x);
             return match self.form {
@@ -269,6 +297,24 @@ impl<'a> Plan<'a> {
 
     /// The expression computing `id` from its operands.
     fn value(&self, id: Id, used_leaves: &mut Vec<Id>) -> TokenStream {
+        if let Some(f) = self
+            .fused
+            .get(&id)
+            .filter(|_| self.robot.graph.node(id).is_lanes())
+        {
+            // `c ± a·b` on lane vectors: the lane types' multiply-adds, which negate for free.
+            let (a, b, c) = (
+                self.atom(f.a, used_leaves),
+                self.atom(f.b, used_leaves),
+                self.atom(f.c, used_leaves),
+            );
+            return match (f.negate_product, f.negate_addend) {
+                (false, false) => quote!(#a.mul_add(#b, #c)),
+                (true, false) => quote!(#a.mul_neg_add(#b, #c)),
+                (false, true) => quote!(#a.mul_sub(#b, #c)),
+                (true, true) => quote!(#a.mul_neg_sub(#b, #c)),
+            };
+        }
         let mut atom = |x| self.atom(x, used_leaves);
         if let Some(f) = self.fused.get(&id) {
             let b = atom(f.b);
@@ -317,27 +363,40 @@ impl<'a> Plan<'a> {
                 let a = atom(a);
                 quote!(dyngen_runtime::libm::tanh(#a))
             }
-            Node::Neg(a) => {
+            Node::Neg(a) | Node::LaneNeg(a) => {
                 let a = atom(a);
                 quote!(-#a)
             }
-            Node::Add(a, b) => {
+            Node::Add(a, b) | Node::LaneAdd(a, b) => {
                 let (a, b) = (atom(a), atom(b));
                 quote!(#a + #b)
             }
-            Node::Sub(a, b) => {
+            Node::Sub(a, b) | Node::LaneSub(a, b) => {
                 let (a, b) = (atom(a), atom(b));
                 quote!(#a - #b)
             }
-            Node::Mul(a, b) => {
+            Node::Mul(a, b) | Node::LaneMul(a, b) => {
                 let (a, b) = (atom(a), atom(b));
                 quote!(#a * #b)
             }
-            Node::Div(a, b) => {
+            Node::Div(a, b) | Node::LaneDiv(a, b) => {
                 let (a, b) = (atom(a), atom(b));
                 quote!(#a / #b)
             }
-            Node::Const(_) | Node::Input(_) => unreachable!("leaves are not statements"),
+            Node::Splat(a) => {
+                let (ty, a) = (lane_type(), atom(a));
+                quote!(#ty::splat(#a))
+            }
+            Node::LaneUnit(k, a) => {
+                let (ty, a) = (lane_type(), atom(a));
+                let lanes = (0..LANES).map(|j| match j == k as usize {
+                    true => a.clone(),
+                    false => quote!(0.0),
+                });
+                quote!(#ty::new([#(#lanes),*]))
+            }
+            Node::Const(_) | Node::Input(_) | Node::LaneZero => unreachable!("leaves are not statements"),
+            Node::Extract(..) => unreachable!("lane extractions are destructuring statements"),
         };
         value
     }
@@ -449,6 +508,13 @@ fn doc_counts(c: &OpCounts) -> String {
     }
     if c.friction > 0 {
         s += &format!(", {} sign/tanh", c.friction);
+    }
+    if c.lanes > 0 {
+        s += &format!(
+            ", and {} lane ops (f64x8: each on eight lanes at once; splats, seeds and lane \
+             extractions included)",
+            c.lanes
+        );
     }
     s + " (joint sines and cosines come precomputed in `JointTrig`)."
 }
@@ -615,29 +681,54 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
         let statements = plan.statements(ids, &mut used);
         let sig = signature(robot, leaves, &q.args, &used, &n, form);
         let (mut params, prelude) = (sig.params, sig.prelude);
-        let (inputs, outputs) = (names_of(&carried_in[k]), names_of(&handed_on[k]));
-        let (n_in, n_out) = (
+        // Values carried between chunks, scalars and lane vectors apart (each an array).
+        let split = |ids: &[Id]| -> (Vec<Ident>, Vec<Ident>) {
+            let (lanes, scalars): (Vec<Id>, Vec<Id>) =
+                ids.iter().partition(|&&id| plan.robot.graph.node(id).is_lanes());
+            (names_of(&scalars), names_of(&lanes))
+        };
+        let ((inputs, lane_inputs), (outputs, lane_outputs)) = (split(&carried_in[k]), split(&handed_on[k]));
+        let lane_ty = lane_type();
+        let (n_in, n_out, n_lane_in, n_lane_out) = (
             Literal::usize_unsuffixed(inputs.len()),
             Literal::usize_unsuffixed(outputs.len()),
+            Literal::usize_unsuffixed(lane_inputs.len()),
+            Literal::usize_unsuffixed(lane_outputs.len()),
         );
         let mut call_args: Vec<TokenStream> = args.iter().map(|a| quote!(#a)).collect();
-        let unpack = if inputs.is_empty() {
-            quote!()
-        } else {
+        let mut unpack = Vec::new();
+        if !inputs.is_empty() {
             params.push(quote!(carried: [#ty; #n_in]));
             call_args.push(quote!([#(#inputs),*]));
-            quote!(let [#(#inputs),*] = carried;)
+            unpack.push(quote!(let [#(#inputs),*] = carried;));
+        }
+        if !lane_inputs.is_empty() {
+            params.push(quote!(carried_lanes: [#lane_ty; #n_lane_in]));
+            call_args.push(quote!([#(#lane_inputs),*]));
+            unpack.push(quote!(let [#(#lane_inputs),*] = carried_lanes;));
+        }
+        let (ret, returned, bound) = match lane_outputs.is_empty() {
+            true => (
+                quote!([#ty; #n_out]),
+                quote!([#(#outputs),*]),
+                quote!([#(#outputs),*]),
+            ),
+            false => (
+                quote!(([#ty; #n_out], [#lane_ty; #n_lane_out])),
+                quote!(([#(#outputs),*], [#(#lane_outputs),*])),
+                quote!(([#(#outputs),*], [#(#lane_outputs),*])),
+            ),
         };
         chunks.push(quote! {
             #[inline(never)]
-            fn #chunk_name #generics(#(#params),*) -> [#ty; #n_out] {
+            fn #chunk_name #generics(#(#params),*) -> #ret {
                 #(#prelude)*
-                #unpack
+                #(#unpack)*
                 #(#statements)*
-                [#(#outputs),*]
+                #returned
             }
         });
-        calls.push(quote!(let [#(#outputs),*] = #chunk_name(#(#call_args),*);));
+        calls.push(quote!(let #bound = #chunk_name(#(#call_args),*);));
     }
     // Chunks read the arguments; the method itself reads only what its result needs.
     let prelude = signature(robot, leaves, &q.args, &main_used, &n, form).prelude;
@@ -674,16 +765,23 @@ fn fuse_multiply_adds(
     }
     let mut fused = HashMap::new();
     let mut products = std::collections::HashSet::new();
-    let product = |id: Id, products: &std::collections::HashSet<Id>| match g.node(id) {
-        Node::Mul(a, b) if uses.get(&id) == Some(&1) && !products.contains(&id) => Some((a, b)),
+    // Scalar products into scalar sums, lane products into lane sums.
+    let product = |id: Id, lanes: bool, products: &std::collections::HashSet<Id>| match g.node(id) {
+        Node::Mul(a, b) | Node::LaneMul(a, b)
+            if g.node(id).is_lanes() == lanes && uses.get(&id) == Some(&1) && !products.contains(&id) =>
+        {
+            Some((a, b))
+        }
         _ => None,
     };
     for &id in computed {
         let (x, y, subtract) = match g.node(id) {
-            Node::Add(x, y) => (x, y, false),
-            Node::Sub(x, y) => (x, y, true),
+            Node::Add(x, y) | Node::LaneAdd(x, y) => (x, y, false),
+            Node::Sub(x, y) | Node::LaneSub(x, y) => (x, y, true),
             _ => continue,
         };
+        let lanes = g.node(id).is_lanes();
+        let product = |id: Id, products: &std::collections::HashSet<Id>| product(id, lanes, products);
         // `x·… ± y`, else `x + y·…` / `x − y·…`.
         let choice = if let Some((a, b)) = product(x, &products) {
             Some((x, a, b, y, false, subtract))

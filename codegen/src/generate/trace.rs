@@ -2,7 +2,7 @@
 //! controller needs, so shared subexpressions (joint transforms, body velocities) are one node.
 
 use crate::base_parameters::BaseParameterSet;
-use crate::dynamics::{self, body_inertias};
+use crate::dynamics::{self, body_inertias, Directions};
 use crate::model::Model;
 use crate::symbolic::{record, Expr, Graph, Id};
 use nalgebra::DMatrix;
@@ -96,7 +96,7 @@ pub fn trace(model: &Model) -> SymbolicRobot {
 /// [`trace`] with base parameters computed beforehand.
 pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
     let n = model.dof();
-    let (graph, (inputs, quantities)) = record(|| {
+    let (graph, (inputs, mut quantities, lane_forms)) = record(|| {
         let (q, qd, v, a) = (inputs("q", n), inputs("qd", n), inputs("v", n), inputs("a", n));
         let x = dynamics::joint_transforms(model, &q);
         let world = dynamics::body_poses(model, &x);
@@ -210,7 +210,8 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
         ];
         let mut quantities = quantities;
         let tau = inputs("tau", n);
-        quantities.extend(forward_quantities(model, &q, &qd, &a, &tau));
+        let (forward, lane_forms) = forward_quantities(model, &q, &qd, &a, &tau);
+        quantities.extend(forward);
         quantities.extend(torque_regressors(model, &x, &qd, &a, &base));
         quantities.push(fused_kinematics(&quantities, n));
         (
@@ -222,8 +223,17 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
                 tau: ids(&tau),
             },
             quantities,
+            lane_forms,
         )
     });
+    // The derivatives in lanes where they cost less than one direction at a time.
+    for (name, outputs) in lane_forms {
+        if let Some(q) = quantities.iter_mut().find(|q| q.name == name) {
+            if cost(&graph, &outputs) < cost(&graph, &q.outputs) {
+                q.outputs = outputs;
+            }
+        }
+    }
     SymbolicRobot {
         graph,
         inputs,
@@ -238,43 +248,78 @@ fn pair_ids((first, second): (DMatrix<Expr>, DMatrix<Expr>)) -> Vec<Id> {
     out
 }
 
+/// A lane operation (`f64x8`) weighed as this many scalar ones when the derivatives choose how
+/// to carry their directions ([`Directions`]). Measured (`BENCHMARKS.md`, AVX-512): the Panda's
+/// derivatives ran 1.5–2.2× faster in lanes (6,850 scalar operations against 1,151 + 2,675
+/// lane ones), the UR5's no faster (3,050 against 808 + 1,587), as this weight predicts.
+const LANE_OP_COST: usize = 2;
+
+/// What a function costs by [`LANE_OP_COST`].
+fn cost(graph: &Graph, outputs: &[Id]) -> usize {
+    let c = graph.op_counts(outputs);
+    c.mul + c.add + c.neg + c.div + LANE_OP_COST * c.lanes
+}
+
 /// Forward dynamics, `D⁻¹` and the derivatives of the dynamics, traced after the other
-/// quantities so that they reuse (never renumber) the nodes those created.
-fn forward_quantities(model: &Model, q: &[Expr], qd: &[Expr], a: &[Expr], tau: &[Expr]) -> Vec<Quantity> {
+/// quantities so that they reuse (never renumber) the nodes those created. The derivatives are
+/// traced with their directions one by one (first, so their code is what it was before lanes
+/// existed), and in lanes: the second list holds the lane form's outputs, which
+/// [`trace_with_base`] keeps where they cost less.
+fn forward_quantities(
+    model: &Model,
+    q: &[Expr],
+    qd: &[Expr],
+    a: &[Expr],
+    tau: &[Expr],
+) -> (Vec<Quantity>, Vec<(&'static str, Vec<Id>)>) {
     let n = model.dof();
     let x = dynamics::joint_transforms(model, q);
     let inertias = body_inertias::<Expr>(model);
     let jv = dynamics::joint_term_values(model);
-    vec![
+    let forward = ids(&dynamics::forward_dynamics(model, &x, &inertias, &jv, qd, tau));
+    let inverse_mass = matrix_ids(&dynamics::mass_matrix_inverse(model, &x, &inertias, &jv));
+    let derivatives = |directions| {
+        let inverse = pair_ids(dynamics::inverse_dynamics_derivatives_by(
+            directions, model, q, &inertias, &jv, qd, a,
+        ));
+        let forward = pair_ids(dynamics::forward_dynamics_derivatives_by(
+            directions, model, q, &inertias, &jv, qd, tau,
+        ));
+        (inverse, forward)
+    };
+    let (inverse_derivatives, forward_derivatives) = derivatives(Directions::OneByOne);
+    let (inverse_lanes, forward_lanes) = derivatives(Directions::Lanes);
+    let quantities = vec![
         Quantity {
             name: "forward_dynamics",
             args: vec![Arg::Qd, Arg::Tau],
             shape: Shape::Vector(n),
-            outputs: ids(&dynamics::forward_dynamics(model, &x, &inertias, &jv, qd, tau)),
+            outputs: forward,
         },
         Quantity {
             name: "mass_matrix_inverse",
             args: vec![],
             shape: Shape::Matrix(n, n),
-            outputs: matrix_ids(&dynamics::mass_matrix_inverse(model, &x, &inertias, &jv)),
+            outputs: inverse_mass,
         },
         Quantity {
             name: "inverse_dynamics_derivatives",
             args: vec![Arg::Qd, Arg::A],
             shape: Shape::MatrixPair(n),
-            outputs: pair_ids(dynamics::inverse_dynamics_derivatives(
-                model, q, &inertias, &jv, qd, a,
-            )),
+            outputs: inverse_derivatives,
         },
         Quantity {
             name: "forward_dynamics_derivatives",
             args: vec![Arg::Qd, Arg::Tau],
             shape: Shape::MatrixPair(n),
-            outputs: pair_ids(dynamics::forward_dynamics_derivatives(
-                model, q, &inertias, &jv, qd, tau,
-            )),
+            outputs: forward_derivatives,
         },
-    ]
+    ];
+    let lanes = vec![
+        ("inverse_dynamics_derivatives", inverse_lanes),
+        ("forward_dynamics_derivatives", forward_lanes),
+    ];
+    (quantities, lanes)
 }
 
 /// The regressor at `v = q̇`, `a = q̈` (identification's form, `Y θ = τ`), and its base columns:

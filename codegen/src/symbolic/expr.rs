@@ -2,6 +2,7 @@
 
 use super::graph::{Graph, Id};
 use crate::scalar::Scalar;
+use crate::scalar_dual::{LaneScalar, LaneTangent, Tangent};
 use std::cell::RefCell;
 use std::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -95,4 +96,61 @@ impl Scalar for Expr {
     fn tanh(self) -> Self {
         Expr(with_graph(|g| g.tanh(self.0)))
     }
+}
+
+/// A symbolic lane vector (`f64x8` in generated code): the tangents of up to
+/// [`LANES`](super::LANES) directions of a [`Dual`](crate::scalar_dual::Dual) at once.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
+pub struct LaneExpr(pub Id);
+
+impl LaneExpr {
+    pub fn id(self) -> Id {
+        self.0
+    }
+}
+
+impl Add for LaneExpr {
+    type Output = LaneExpr;
+    fn add(self, o: LaneExpr) -> LaneExpr {
+        LaneExpr(with_graph(|g| g.lane_add(self.0, o.0)))
+    }
+}
+
+impl Sub for LaneExpr {
+    type Output = LaneExpr;
+    fn sub(self, o: LaneExpr) -> LaneExpr {
+        LaneExpr(with_graph(|g| g.lane_sub(self.0, o.0)))
+    }
+}
+
+impl Neg for LaneExpr {
+    type Output = LaneExpr;
+    fn neg(self) -> LaneExpr {
+        LaneExpr(with_graph(|g| g.lane_neg(self.0)))
+    }
+}
+
+impl Tangent<Expr> for LaneExpr {
+    fn zero() -> Self {
+        LaneExpr(with_graph(|g| g.lane_zero()))
+    }
+    fn scale(self, s: Expr) -> Self {
+        LaneExpr(with_graph(|g| g.lane_scale(s.0, self.0)))
+    }
+    fn divide(self, s: Expr) -> Self {
+        LaneExpr(with_graph(|g| g.lane_div(self.0, s.0)))
+    }
+}
+
+impl LaneTangent<Expr> for LaneExpr {
+    fn unit(k: usize, s: Expr) -> Self {
+        LaneExpr(with_graph(|g| g.lane_unit(k, s.0)))
+    }
+    fn lane(self, k: usize) -> Expr {
+        Expr(with_graph(|g| g.extract(self.0, k)))
+    }
+}
+
+impl LaneScalar for Expr {
+    type Lanes = LaneExpr;
 }

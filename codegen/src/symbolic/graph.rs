@@ -26,6 +26,42 @@ pub enum Node {
     Sub(Id, Id),
     Mul(Id, Id),
     Div(Id, Id),
+    // Lane vectors (`f64x8` in generated code): eight tangents at once, one per lane (the
+    // directions of a derivative). The scalar nodes above never take one as an operand, except
+    // `Extract`.
+    /// The zero vector.
+    LaneZero,
+    /// Scalar `a` in lane `k`, zero in the others (a seed, or a tangent along one direction).
+    LaneUnit(u32, Id),
+    /// Scalar `a` in every lane.
+    Splat(Id),
+    LaneNeg(Id),
+    LaneAdd(Id, Id),
+    LaneSub(Id, Id),
+    LaneMul(Id, Id),
+    LaneDiv(Id, Id),
+    /// Lane `k` of vector `a`: a scalar.
+    Extract(Id, u32),
+}
+
+/// Lanes of a lane vector node.
+pub const LANES: usize = 8;
+
+impl Node {
+    /// Whether the node's value is a lane vector (else a scalar).
+    pub fn is_lanes(self) -> bool {
+        matches!(
+            self,
+            Node::LaneZero
+                | Node::LaneUnit(..)
+                | Node::Splat(_)
+                | Node::LaneNeg(_)
+                | Node::LaneAdd(..)
+                | Node::LaneSub(..)
+                | Node::LaneMul(..)
+                | Node::LaneDiv(..)
+        )
+    }
 }
 
 /// Operation counts of the live part of a graph, as printed in generated headers.
@@ -40,6 +76,9 @@ pub struct OpCounts {
     pub trig: usize,
     /// Signs and hyperbolic tangents (Coulomb friction of joint-level parameters).
     pub friction: usize,
+    /// Operations on lane vectors (`f64x8`; splats, seeds and lane extractions included): one
+    /// vector instruction each where the target has 512-bit vectors.
+    pub lanes: usize,
 }
 
 #[derive(Clone, Debug, Default)]
@@ -265,6 +304,158 @@ impl Graph {
         }
     }
 
+    pub fn lane_zero(&mut self) -> Id {
+        self.intern(Node::LaneZero)
+    }
+
+    fn is_lane_zero(&self, v: Id) -> bool {
+        self.node(v) == Node::LaneZero
+    }
+
+    /// `a` in lane `k`, zero elsewhere.
+    pub fn lane_unit(&mut self, k: usize, a: Id) -> Id {
+        assert!(k < LANES, "lane {k} of {LANES}");
+        if self.is_const(a, 0.0) {
+            return self.lane_zero();
+        }
+        self.intern(Node::LaneUnit(k as u32, a))
+    }
+
+    /// `a` in every lane.
+    pub fn splat(&mut self, a: Id) -> Id {
+        self.intern(Node::Splat(a))
+    }
+
+    /// Scalar `s` times vector `v`; a vector with one non-zero lane stays a scalar product.
+    pub fn lane_scale(&mut self, s: Id, v: Id) -> Id {
+        if self.is_lane_zero(v) || self.is_const(s, 0.0) {
+            return self.lane_zero();
+        }
+        if self.is_const(s, 1.0) {
+            return v;
+        }
+        if self.is_const(s, -1.0) {
+            return self.lane_neg(v);
+        }
+        match self.node(v) {
+            Node::LaneUnit(k, a) => {
+                let p = self.mul(s, a);
+                return self.lane_unit(k as usize, p);
+            }
+            Node::LaneNeg(x) => {
+                let p = self.lane_scale(s, x);
+                return self.lane_neg(p);
+            }
+            Node::LaneMul(d, x) => {
+                if let (Some(c), Node::Splat(d)) = (self.constant_value(s), self.node(d)) {
+                    if let Some(d) = self.constant_value(d) {
+                        let cd = self.constant(c * d);
+                        return self.lane_scale(cd, x);
+                    }
+                }
+            }
+            _ => {}
+        }
+        if let Node::Neg(x) = self.node(s) {
+            let p = self.lane_scale(x, v);
+            return self.lane_neg(p);
+        }
+        let s = self.splat(s);
+        self.intern(Node::LaneMul(s, v))
+    }
+
+    pub fn lane_neg(&mut self, v: Id) -> Id {
+        match self.node(v) {
+            Node::LaneZero => v,
+            Node::LaneNeg(x) => x,
+            Node::LaneUnit(k, a) => {
+                let m = self.neg(a);
+                self.lane_unit(k as usize, m)
+            }
+            Node::LaneSub(x, y) => self.lane_sub(y, x),
+            _ => self.intern(Node::LaneNeg(v)),
+        }
+    }
+
+    pub fn lane_add(&mut self, a: Id, b: Id) -> Id {
+        if self.is_lane_zero(a) {
+            return b;
+        }
+        if self.is_lane_zero(b) {
+            return a;
+        }
+        if let (Node::LaneUnit(j, x), Node::LaneUnit(k, y)) = (self.node(a), self.node(b)) {
+            if j == k {
+                let s = self.add(x, y);
+                return self.lane_unit(k as usize, s);
+            }
+        }
+        if let Node::LaneNeg(y) = self.node(b) {
+            return self.lane_sub(a, y);
+        }
+        if let Node::LaneNeg(x) = self.node(a) {
+            return self.lane_sub(b, x);
+        }
+        let (a, b) = if a <= b { (a, b) } else { (b, a) };
+        self.intern(Node::LaneAdd(a, b))
+    }
+
+    pub fn lane_sub(&mut self, a: Id, b: Id) -> Id {
+        if a == b {
+            return self.lane_zero();
+        }
+        if self.is_lane_zero(b) {
+            return a;
+        }
+        if self.is_lane_zero(a) {
+            return self.lane_neg(b);
+        }
+        if let (Node::LaneUnit(j, x), Node::LaneUnit(k, y)) = (self.node(a), self.node(b)) {
+            if j == k {
+                let s = self.sub(x, y);
+                return self.lane_unit(k as usize, s);
+            }
+        }
+        if let Node::LaneNeg(y) = self.node(b) {
+            return self.lane_add(a, y);
+        }
+        if let Node::LaneNeg(x) = self.node(a) {
+            let s = self.lane_add(x, b);
+            return self.lane_neg(s);
+        }
+        self.intern(Node::LaneSub(a, b))
+    }
+
+    /// Vector `v` divided by scalar `s`.
+    pub fn lane_div(&mut self, v: Id, s: Id) -> Id {
+        if self.is_lane_zero(v) || self.is_const(s, 1.0) {
+            return v;
+        }
+        if let Some(y) = self.constant_value(s) {
+            if y != 0.0 {
+                let inv = self.constant(1.0 / y);
+                return self.lane_scale(inv, v);
+            }
+        }
+        if let Node::LaneUnit(k, a) = self.node(v) {
+            let q = self.div(a, s);
+            return self.lane_unit(k as usize, q);
+        }
+        let s = self.splat(s);
+        self.intern(Node::LaneDiv(v, s))
+    }
+
+    /// Lane `k` of `v`.
+    pub fn extract(&mut self, v: Id, k: usize) -> Id {
+        match self.node(v) {
+            Node::LaneZero => self.constant(0.0),
+            Node::LaneUnit(j, a) if j as usize == k => a,
+            Node::LaneUnit(..) => self.constant(0.0),
+            Node::Splat(a) => a,
+            _ => self.intern(Node::Extract(v, k as u32)),
+        }
+    }
+
     /// Which nodes the `outputs` depend on (dead-code elimination), indexed by node.
     pub fn live(&self, outputs: &[Id]) -> Vec<bool> {
         let mut live = vec![false; self.nodes.len()];
@@ -284,9 +475,13 @@ impl Graph {
 
     pub fn operands(&self, id: Id) -> Vec<Id> {
         match self.node(id) {
-            Node::Const(_) | Node::Input(_) => vec![],
+            Node::Const(_) | Node::Input(_) | Node::LaneZero => vec![],
             Node::Sin(a) | Node::Cos(a) | Node::Sign(a) | Node::Tanh(a) | Node::Neg(a) => vec![a],
+            Node::LaneUnit(_, a) | Node::Splat(a) | Node::LaneNeg(a) | Node::Extract(a, _) => vec![a],
             Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => vec![a, b],
+            Node::LaneAdd(a, b) | Node::LaneSub(a, b) | Node::LaneMul(a, b) | Node::LaneDiv(a, b) => {
+                vec![a, b]
+            }
         }
     }
 
@@ -306,6 +501,8 @@ impl Graph {
                 Node::Neg(_) => c.neg += 1,
                 Node::Sin(a) | Node::Cos(a) if !matches!(self.node(a), Node::Input(_)) => c.trig += 1,
                 Node::Sign(_) | Node::Tanh(_) => c.friction += 1,
+                Node::LaneZero => {}
+                n if n.is_lanes() || matches!(n, Node::Extract(..)) => c.lanes += 1,
                 _ => {}
             }
         }

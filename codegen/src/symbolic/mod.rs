@@ -13,5 +13,5 @@ mod expr;
 mod graph;
 
 pub use eval::evaluate;
-pub use expr::{record, Expr};
-pub use graph::{Graph, Id, Node, OpCounts};
+pub use expr::{record, Expr, LaneExpr};
+pub use graph::{Graph, Id, Node, OpCounts, LANES};
