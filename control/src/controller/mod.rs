@@ -14,6 +14,7 @@ pub mod law;
 pub mod orientation;
 pub mod projections;
 pub mod reference;
+pub mod regressor_products;
 pub mod spd;
 pub mod stiffness_estimator;
 pub mod task;
