@@ -11,6 +11,7 @@ pub mod adaptation;
 pub mod error;
 pub mod gains;
 pub mod law;
+pub mod matvec;
 pub mod orientation;
 pub mod projections;
 pub mod reference;

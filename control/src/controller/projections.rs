@@ -12,6 +12,7 @@
 //! saturated and checked for NaN in the law (see `law.rs`).
 
 use super::error::TickError;
+use super::matvec;
 use super::spd::SpdFactor;
 use nalgebra::{SMatrix, SVector};
 
@@ -185,7 +186,7 @@ impl<const N: usize, const T: usize> Projections<N, T> {
     /// `J⁺ v = Jᵀ (A⁻¹ v)`.
     #[inline]
     pub fn pinv_mul(&self, v: &SVector<f64, T>) -> SVector<f64, N> {
-        self.j.tr_mul(&self.a.solve(v))
+        matvec::tr_mul(&self.j, &self.a.solve(v))
     }
 
     /// `d(J⁺)/dt v = J̇ᵀ y − J⁺ (Ȧ + dμ²/dt I) y` with `y = A⁻¹ v`, `Ȧ y = J̇ (Jᵀ y) + J (J̇ᵀ y)`.
@@ -199,7 +200,7 @@ impl<const N: usize, const T: usize> Projections<N, T> {
     /// `J⁻ v = v − J⁺ (J v)`.
     #[inline]
     pub fn null_mul(&self, v: &SVector<f64, N>) -> SVector<f64, N> {
-        v - self.pinv_mul(&(self.j * v))
+        v - self.pinv_mul(&matvec::mul(&self.j, v))
     }
 
     /// `v = J⁺ w + J⁻ x` and its time derivative `v̇ = d(J⁺)/dt w + J⁺ ẇ + d(J⁻)/dt x + J⁻ ẋ`
@@ -226,12 +227,12 @@ impl<const N: usize, const T: usize> Projections<N, T> {
         x_dot: &SVector<f64, N>,
     ) -> (SVector<f64, N>, SVector<f64, N>) {
         let (j, jd) = (&self.j, &self.jd);
-        let y = self.a.solve(&(w - j * x));
-        let p = j.tr_mul(&y);
-        let s = jd.tr_mul(&y);
+        let y = self.a.solve(&(w - matvec::mul(j, x)));
+        let p = matvec::tr_mul(j, &y);
+        let s = matvec::tr_mul(jd, &y);
         let v = p + x;
-        let z = w_dot - jd * v - j * (x_dot + s) - y * self.damping_dot;
-        let v_dot = s + j.tr_mul(&self.a.solve(&z)) + x_dot;
+        let z = w_dot - matvec::mul(jd, &v) - matvec::mul(j, &(x_dot + s)) - y * self.damping_dot;
+        let v_dot = s + matvec::tr_mul(j, &self.a.solve(&z)) + x_dot;
         (v, v_dot)
     }
 
