@@ -5,6 +5,7 @@
 use super::adaptation::rate_from_regressor_product;
 use super::error::{ConfigError, TickError};
 use super::gains::Gains;
+use super::matvec;
 use super::orientation::{orientation_angle, OrientationRows};
 use super::projections::{smallest_singular, Projections, SingularityGuard};
 use super::reference::{reference, Desired, Measurement, Reference, ReferenceGains};
@@ -160,7 +161,7 @@ where
     ) -> TaskKinematics<N, T> {
         let (pose, j6, jd6) = Z::Robot::kinematics(trig, qd);
         let j_force: SMatrix<f64, 3, N> = j6.fixed_rows::<3>(0).into_owned();
-        let velocity = j_force * qd;
+        let velocity = matvec::mul(&j_force, qd);
         // Full orientation: P = I, so the task Jacobian is the geometric one (no products).
         let full = T == 6 && task.orientation == Orientation::Full;
         let rows = if full { 6 } else { 3 };
@@ -265,7 +266,8 @@ where
             }
             Adaptation::Off => (y * theta_hat, SVector::zeros()),
         };
-        let mut tau = k.j_force.tr_mul(&m.force) + y_theta - self.config.gains.g * reference.r;
+        let mut tau =
+            matvec::tr_mul(&k.j_force, &m.force) + y_theta - matvec::mul(&self.config.gains.g, &reference.r);
         if !(plain_sum(tau.as_slice()) + plain_sum(theta_hat_dot.as_slice())).is_finite() {
             return Err(TickError::NonFiniteTorque);
         }

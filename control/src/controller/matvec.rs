@@ -1,4 +1,5 @@
-//! `A x` and `Aᵀ y` for the small task matrices (`J`, `J̇`: T×N), with fused multiply-adds.
+//! `A x` and `Aᵀ y` for the small matrices of a tick (`J`, `J̇`: T×N; `G`: N×N), with fused
+//! multiply-adds.
 //!
 //! Why: nalgebra's products multiply and add separately (Rust never contracts `a * b + c`),
 //! and the reference velocity and acceleration are mostly such products. Here each term is
