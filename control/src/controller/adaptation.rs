@@ -109,6 +109,21 @@ pub fn parameter_rate<const N: usize, const M: usize>(
     y: &SMatrix<f64, N, M>,
     r: &SVector<f64, N>,
 ) -> SVector<f64, M> {
-    let ytr = y.tr_mul(r);
-    SVector::from_fn(|i, _| -gamma[i] * ytr[i])
+    rate_from_regressor_product(gamma, &y.tr_mul(r))
+}
+
+/// `θ̂̇ = −Γ (Yᵀ r)` from `Yᵀ r` already computed (the law gets it with `Y θ̂` in one pass, see
+/// [`super::regressor_products`]).
+#[inline]
+pub fn rate_from_regressor_product<const M: usize>(
+    gamma: &SVector<f64, M>,
+    y_tr_r: &SVector<f64, M>,
+) -> SVector<f64, M> {
+    // Arrays, not `component_mul`: nalgebra's zipped iterators do not unroll or vectorise.
+    let (gamma, y_tr_r) = (&gamma.data.0[0], &y_tr_r.data.0[0]);
+    let mut rate = [0.0; M];
+    for i in 0..M {
+        rate[i] = -gamma[i] * y_tr_r[i];
+    }
+    SVector::from(rate)
 }

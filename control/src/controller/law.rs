@@ -2,12 +2,14 @@
 //! (eq. 46) when adapting. With `θ̂` fixed at the true parameters this is the known-parameter
 //! law of Lemma 1 (`Y θ = D q̈_r + C q̇_r + g` by linearity).
 
-use super::adaptation::parameter_rate;
+use super::adaptation::rate_from_regressor_product;
 use super::error::{ConfigError, TickError};
 use super::gains::Gains;
+use super::matvec;
 use super::orientation::{orientation_angle, OrientationRows};
 use super::projections::{smallest_singular, Projections, SingularityGuard};
 use super::reference::{reference, Desired, Measurement, Reference, ReferenceGains};
+use super::regressor_products::regressor_products;
 use super::stiffness_estimator::StiffnessEstimator;
 use super::task::{ContactTask, Orientation, Split};
 use dyngen_runtime::{JointTrig, Kinematics, Parameterization, Pose};
@@ -159,7 +161,7 @@ where
     ) -> TaskKinematics<N, T> {
         let (pose, j6, jd6) = Z::Robot::kinematics(trig, qd);
         let j_force: SMatrix<f64, 3, N> = j6.fixed_rows::<3>(0).into_owned();
-        let velocity = j_force * qd;
+        let velocity = matvec::mul(&j_force, qd);
         // Full orientation: P = I, so the task Jacobian is the geometric one (no products).
         let full = T == 6 && task.orientation == Orientation::Full;
         let rows = if full { 6 } else { 3 };
@@ -230,7 +232,9 @@ where
     ) -> Result<ControlOutput<N, M, S>, TickError> {
         // A NaN or infinity anywhere makes the sum non-finite (cheaper than testing each entry; a
         // sum that overflows from finite values ~1e308 is refused too, rightly).
-        if !(m.q.sum() + m.qd.sum() + m.force.sum()).is_finite() {
+        if !(plain_sum(m.q.as_slice()) + plain_sum(m.qd.as_slice()) + plain_sum(m.force.as_slice()))
+            .is_finite()
+        {
             return Err(TickError::NonFiniteMeasurement);
         }
         let trig = JointTrig::new(&m.q);
@@ -252,12 +256,19 @@ where
             &gains,
         );
         let y = Z::regressor(&trig, &m.qd, &reference.qd_r, &reference.qdd_r);
-        let mut tau = k.j_force.tr_mul(&m.force) + y * theta_hat - self.config.gains.g * reference.r;
-        let theta_hat_dot = match self.config.adaptation {
-            Adaptation::On => parameter_rate(&self.config.gains.gamma, &y, &reference.r),
-            Adaptation::Off => SVector::zeros(),
+        let (y_theta, theta_hat_dot) = match self.config.adaptation {
+            Adaptation::On => {
+                let (y_theta, y_tr_r) = regressor_products(&y, theta_hat, &reference.r);
+                (
+                    y_theta,
+                    rate_from_regressor_product(&self.config.gains.gamma, &y_tr_r),
+                )
+            }
+            Adaptation::Off => (y * theta_hat, SVector::zeros()),
         };
-        if !(tau.sum() + theta_hat_dot.sum()).is_finite() {
+        let mut tau =
+            matvec::tr_mul(&k.j_force, &m.force) + y_theta - matvec::mul(&self.config.gains.g, &reference.r);
+        if !(plain_sum(tau.as_slice()) + plain_sum(theta_hat_dot.as_slice())).is_finite() {
             return Err(TickError::NonFiniteTorque);
         }
         let mut saturated = false;
@@ -298,6 +309,13 @@ where
         }
         Ok(out)
     }
+}
+
+/// `Σ xᵢ` over a slice: what nalgebra's `sum` computes, without its general strided iterator
+/// (which does not unroll; over the 43 entries of `θ̂̇` it cost more than the sum).
+#[inline]
+fn plain_sum(x: &[f64]) -> f64 {
+    x.iter().sum()
 }
 
 /// `K` (S×3, position rows) with zero orientation columns: S×T.

@@ -2,8 +2,9 @@
 //! Force-Position Control for Redundant Manipulators* (`docs/controller.md` gives it equation by
 //! equation, with the deviations): task dimension and task-frame contact split (`task`),
 //! orientation rows by rotation error on the geometric Jacobian (`orientation`), projections
-//! with the singularity guard (`projections`),
-//! reference velocity and analytic reference acceleration (`reference`), the law (`law`), the
+//! with the singularity guard (`projections`, solving with the small Cholesky factor of `spd`
+//! and the fused products of `matvec`), reference velocity and analytic reference acceleration
+//! (`reference`), the law (`law`; `Y θ̂` and `Yᵀ r` in one pass: `regressor_products`), the
 //! adaptation (`adaptation`), gains (`gains`) and online stiffness estimation
 //! (`stiffness_estimator`).
 
@@ -11,9 +12,12 @@ pub mod adaptation;
 pub mod error;
 pub mod gains;
 pub mod law;
+pub mod matvec;
 pub mod orientation;
 pub mod projections;
 pub mod reference;
+pub mod regressor_products;
+pub mod spd;
 pub mod stiffness_estimator;
 pub mod task;
 

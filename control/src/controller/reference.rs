@@ -129,11 +129,8 @@ pub fn reference<const N: usize, const S: usize, const T: usize>(
     let qd_d = d.posture_velocity - e_null * gains.lambda_null;
     let qdd_d = d.posture_acceleration - (m.qd - d.posture_velocity) * gains.lambda_null;
 
-    // q̇_r = J⁺ w + J⁻ q̇_d = J⁺ (w − J q̇_d) + q̇_d, and its derivative
-    // q̈_r = d(J⁺)/dt (w − J q̇_d) + J⁺ (ẇ − J̇ q̇_d − J q̈_d) + q̈_d: vectors only.
-    let (j, jd) = (proj.j(), proj.jd());
-    let qd_r = proj.pinv_mul(&(w - j * qd_d)) + qd_d;
-    let qdd_r = proj.pinv_dot_mul(&(w - j * qd_d)) + proj.pinv_mul(&(wd - jd * qd_d - j * qdd_d)) + qdd_d;
+    // q̇_r = J⁺ w + J⁻ q̇_d and its derivative q̈_r: vectors only.
+    let (qd_r, qdd_r) = proj.range_and_null_with_rate(&w, &wd, &qd_d, &qdd_d);
     Reference {
         qd_r,
         qdd_r,
