@@ -1,18 +1,23 @@
 //! Sines and cosines of all joint angles at once.
 //!
 //! `libm::sincos` is one call per joint with a branchy range reduction, and seven of them are
-//! most of the cost of forward kinematics. Here the joints go eight at a time through `f64x8`
-//! lanes (one AVX-512 register, two AVX ones), every step straight-line: a Cody–Waite reduction
-//! by π/2 (three parts, so `k·P1` and `k·P2` are exact for `|k| < 2²⁰`), Taylor polynomials on
-//! `[−π/4, π/4]` by Estrin's scheme with multiply-adds (the first omitted terms are below 1e-17,
-//! a tenth of an ulp), and the quadrant applied by selects. Angles beyond `LIMIT` (and NaN or
-//! infinity) take `libm::sincos`, which reduces exactly for any argument.
+//! most of the cost of forward kinematics. Here the joints go through `f64x4` lanes, eight at a
+//! time as two vectors, every step straight-line: a Cody–Waite reduction by π/2 (three parts, so
+//! `k·P1` and `k·P2` are exact for `|k| < 2²⁰`), Taylor polynomials on `[−π/4, π/4]` by
+//! Estrin's scheme with multiply-adds (the first omitted terms are below 1e-17, a tenth of an
+//! ulp), and the quadrant applied by selects. Angles beyond `LIMIT` (and NaN or infinity) take
+//! `libm::sincos`, which reduces exactly for any argument.
+//!
+//! Four lanes, not eight, even where the target has AVX-512: one `f64x8` kernel is faster alone
+//! (Panda 28 against 37 ns), but the 512-bit instructions slow the scalar code that follows
+//! them: most generated functions were slower with it (`rnea` 1.25×, `gravity` 1.7× on the
+//! Panda, measured side by side).
 //!
 //! Written on the lane type rather than as loops over arrays: the compiler vectorised those
 //! loops as 4 + 2 + 1 lanes for seven joints, kept the quadrant's bit operations scalar and
 //! used no FMA, 2.5 times the instructions of this form.
 
-use wide::f64x8;
+use wide::f64x4;
 
 /// Largest `|q|` the fast reduction serves; far beyond any joint's range.
 const LIMIT: f64 = 1e5;
@@ -94,17 +99,22 @@ pub(crate) fn sin_cos_all_with<const N: usize>(
     (sin, cos)
 }
 
-/// Sines and cosines of eight angles, each within `LIMIT`, in `f64x8` lanes.
+/// Sines and cosines of eight angles, each within `LIMIT`, as two `f64x4` vectors.
 #[inline(always)]
 fn sin_cos_8(x: &[f64; 8]) -> ([f64; 8], [f64; 8]) {
-    let (s, c) = sin_cos_lanes(f64x8::new(*x));
-    (s.to_array(), c.to_array())
+    let (s0, c0) = sin_cos_lanes(f64x4::new([x[0], x[1], x[2], x[3]]));
+    let (s1, c1) = sin_cos_lanes(f64x4::new([x[4], x[5], x[6], x[7]]));
+    let (s0, c0, s1, c1) = (s0.to_array(), c0.to_array(), s1.to_array(), c1.to_array());
+    (
+        [s0[0], s0[1], s0[2], s0[3], s1[0], s1[1], s1[2], s1[3]],
+        [c0[0], c0[1], c0[2], c0[3], c1[0], c1[1], c1[2], c1[3]],
+    )
 }
 
-/// Sines and cosines of eight angles, each within `LIMIT`.
+/// Sines and cosines of four angles, each within `LIMIT`.
 #[inline(always)]
-fn sin_cos_lanes(q: f64x8) -> (f64x8, f64x8) {
-    let splat = f64x8::splat;
+fn sin_cos_lanes(q: f64x4) -> (f64x4, f64x4) {
+    let splat = f64x4::splat;
     // k = round(q·2/π), exactly, and r = q − k·π/2 in [−π/4, π/4].
     let k = q.mul_add(splat(TWO_OVER_PI), splat(ROUND)) - splat(ROUND);
     let r = (-k).mul_add(splat(P3), (-k).mul_add(splat(P2), (-k).mul_add(splat(P1), q)));
