@@ -2,10 +2,13 @@
 //! straight-line code as the scalar ones on a lane type `L` (`f64x4`: AVX; `f64x8`: AVX-512),
 //! so one call evaluates four or eight states for little more than the cost of one.
 //!
-//! The results equal the scalar functions' bit for bit on x86-64: the same IEEE operations in
-//! the same order, lane by lane, multiply-adds fused in both or in neither (by the build's `fma`
-//! target feature). On AArch64 the lane types fuse their multiply-adds and the scalar code does
-//! not, so the two may differ in the last bits there.
+//! The results equal the scalar functions' bit for bit on x86-64 where both fuse their
+//! multiply-adds or neither does: the same IEEE operations in the same order, lane by lane. The
+//! lane types fuse by the build's `fma` target feature; the scalar functions also where the
+//! processor has FMA ([`dispatch`](crate::dispatch)), so a build that does not target FMA
+//! matches them after [`set_fused_multiply_adds(false)`](crate::set_fused_multiply_adds). On
+//! AArch64 the lane types fuse their multiply-adds and the scalar code does not, so the two may
+//! differ in the last bits there.
 
 use crate::robot::Kinematics;
 use core::ops::{Add, Div, Mul, Neg, Sub};

@@ -18,6 +18,7 @@
     not(all(target_feature = "avx2", target_feature = "fma"))
 ))]
 mod cpu;
+mod dispatch;
 mod joint;
 mod lanes;
 mod mul_add;
@@ -32,6 +33,9 @@ mod trig;
 ))]
 mod trig_fused;
 
+#[cfg(target_arch = "x86_64")]
+pub use dispatch::Fused;
+pub use dispatch::{dispatch, fused_multiply_adds, set_fused_multiply_adds, Kernel, MulAdd, Unfused};
 pub use joint::{JointLimits, JointTrig};
 pub use lanes::{f64x4, f64x8, pack, sign, unpack, JointTrigLanes, LaneDynamics, Lanes};
 pub use libm;

@@ -246,6 +246,12 @@ impl<'a> Plan<'a> {
         out
     }
 
+    /// Whether computing `ids` takes a scalar multiply-add (`arith.mul_add`).
+    fn uses_arith(&self, ids: &[Id]) -> bool {
+        ids.iter()
+            .any(|id| self.fused.contains_key(id) && !self.robot.graph.node(*id).is_lanes())
+    }
+
     /// `id` as an operand, negated if `negate`: a constant as its negated literal (never `--x`).
     fn maybe_negated(&self, id: Id, negate: bool, used_leaves: &mut Vec<Id>) -> TokenStream {
         match (negate, self.robot.graph.constant_value(id)) {
@@ -323,7 +329,7 @@ impl<'a> Plan<'a> {
                 self.maybe_negated(f.c, f.negate_addend, used_leaves),
             );
             return match self.form {
-                Form::Scalar => quote!(dyngen_runtime::mul_add(#a, #b, #c)),
+                Form::Scalar => quote!(arith.mul_add(#a, #b, #c)),
                 // `(-x).mul_add(..)`: a method call binds tighter than the minus.
                 Form::Lanes => match f.negate_product && self.robot.graph.constant_value(f.a).is_none() {
                     true => quote!((#a).mul_add(#b, #c)),
@@ -404,8 +410,72 @@ impl<'a> Plan<'a> {
 
 /// The parameters of a generated function and the destructuring of the inputs it reads.
 struct Signature {
-    params: Vec<TokenStream>,
+    params: Vec<Param>,
     prelude: Vec<TokenStream>,
+}
+
+/// One parameter of a generated function; an unused one is spelled `_name` where it is bound.
+struct Param {
+    name: Ident,
+    ty: TokenStream,
+    used: bool,
+}
+
+impl Param {
+    fn used(name: Ident, ty: TokenStream) -> Param {
+        Param { name, ty, used: true }
+    }
+
+    fn binding(&self) -> Ident {
+        match self.used {
+            true => self.name.clone(),
+            false => format_ident!("_{}", self.name),
+        }
+    }
+
+    /// `name: Type` as the function declares it.
+    fn declared(&self) -> TokenStream {
+        let (name, ty) = (self.binding(), &self.ty);
+        quote!(#name: #ty)
+    }
+}
+
+/// A scalar function whose body runs as a `dyngen_runtime::Kernel` through
+/// `dyngen_runtime::dispatch`: with the processor's fused multiply-adds even in a build that
+/// does not target them (the body names its multiply-adds `arith.mul_add`).
+fn dispatched(
+    attributes: TokenStream,
+    name: &Ident,
+    params: &[Param],
+    ret: &TokenStream,
+    uses_arith: bool,
+    body: TokenStream,
+) -> TokenStream {
+    let outer = params.iter().map(|p| {
+        let (name, ty) = (&p.name, &p.ty);
+        quote!(#name: #ty)
+    });
+    let names = params.iter().map(|p| &p.name);
+    let bindings = params.iter().map(Param::binding);
+    let types: Vec<&TokenStream> = params.iter().map(|p| &p.ty).collect();
+    let arith = match uses_arith {
+        true => format_ident!("arith"),
+        false => format_ident!("_arith"),
+    };
+    quote! {
+        #attributes
+        fn #name(#(#outer),*) -> #ret {
+            struct Body;
+            impl dyngen_runtime::Kernel<(#(#types,)*)> for Body {
+                type Output = #ret;
+                #[inline(always)]
+                fn run<M: dyngen_runtime::MulAdd>(#arith: M, (#(#bindings,)*): (#(#types,)*)) -> #ret {
+                    #body
+                }
+            }
+            dyngen_runtime::dispatch::<Body, _>((#(#names,)*))
+        }
+    }
 }
 
 /// `let [x0, _, x2] = <source>;` for the inputs in `used`; `None` if it reads none of them.
@@ -446,12 +516,11 @@ fn signature(
     prelude.extend(destructure(leaves, &inputs.q, used, quote!(t.q)));
     prelude.extend(destructure(leaves, sin_ids, used, quote!(t.sin)));
     prelude.extend(destructure(leaves, cos_ids, used, quote!(t.cos)));
-    let t = if prelude.is_empty() {
-        format_ident!("_t")
-    } else {
-        format_ident!("t")
-    };
-    let mut params = vec![quote!(#t: &#trig_type)];
+    let mut params = vec![Param {
+        name: format_ident!("t"),
+        ty: quote!(&#trig_type),
+        used: !prelude.is_empty(),
+    }];
     for &arg in args {
         let (name, ids) = match arg {
             Arg::Qd => (format_ident!("qd"), &inputs.qd),
@@ -463,16 +532,13 @@ fn signature(
             Form::Scalar => quote!(#name.data.0[0]),
             Form::Lanes => quote!(*#name),
         };
-        match destructure(leaves, ids, used, source) {
-            Some(d) => {
-                prelude.push(d);
-                params.push(quote!(#name: &#vector_type));
-            }
-            None => {
-                let unused = format_ident!("_{}", name);
-                params.push(quote!(#unused: &#vector_type));
-            }
-        }
+        let destructured = destructure(leaves, ids, used, source);
+        params.push(Param {
+            name,
+            ty: quote!(&#vector_type),
+            used: destructured.is_some(),
+        });
+        prelude.extend(destructured);
     }
     Signature { params, prelude }
 }
@@ -496,6 +562,31 @@ fn all_parameters(args: &[Arg], n: &Literal, form: Form) -> Vec<TokenStream> {
     let mut params = vec![quote!(#t: &#trig_type)];
     params.extend(vectors.iter().map(|v| quote!(#v: &#vector_type)));
     params
+}
+
+/// The function's statements, wrapped for [`dispatched`] where they are scalar; a lane function
+/// is generic over its lane type instead.
+fn body_of(
+    form: Form,
+    attributes: TokenStream,
+    name: &Ident,
+    params: &[Param],
+    ret: &TokenStream,
+    uses_arith: bool,
+    body: TokenStream,
+) -> TokenStream {
+    match form {
+        Form::Scalar => dispatched(attributes, name, params, ret, uses_arith, body),
+        Form::Lanes => {
+            let params = params.iter().map(Param::declared);
+            quote! {
+                #attributes
+                fn #name<L: Lanes>(#(#params),*) -> #ret {
+                    #body
+                }
+            }
+        }
+    }
 }
 
 fn doc_counts(c: &OpCounts) -> String {
@@ -657,15 +748,15 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
         let statements = plan.statements(&plan.order, &mut used);
         let sig = signature(robot, leaves, &q.args, &used, &n, form);
         let (params, prelude) = (sig.params, sig.prelude);
-        let method = quote! {
-            #(#[doc = #doc])*
-            #[inline(never)]
-            fn #name #generics(#(#params),*) -> #ret {
-                #(#prelude)*
-                #(#statements)*
-                #result
-            }
-        };
+        let method = body_of(
+            form,
+            quote!(#(#[doc = #doc])* #[inline(never)]),
+            &name,
+            &params,
+            &ret,
+            plan.uses_arith(&plan.order),
+            quote!(#(#prelude)* #(#statements)* #result),
+        );
         return Emitted {
             method,
             chunks: Vec::new(),
@@ -698,12 +789,15 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
         let mut call_args: Vec<TokenStream> = args.iter().map(|a| quote!(#a)).collect();
         let mut unpack = Vec::new();
         if !inputs.is_empty() {
-            params.push(quote!(carried: [#ty; #n_in]));
+            params.push(Param::used(format_ident!("carried"), quote!([#ty; #n_in])));
             call_args.push(quote!([#(#inputs),*]));
             unpack.push(quote!(let [#(#inputs),*] = carried;));
         }
         if !lane_inputs.is_empty() {
-            params.push(quote!(carried_lanes: [#lane_ty; #n_lane_in]));
+            params.push(Param::used(
+                format_ident!("carried_lanes"),
+                quote!([#lane_ty; #n_lane_in]),
+            ));
             call_args.push(quote!([#(#lane_inputs),*]));
             unpack.push(quote!(let [#(#lane_inputs),*] = carried_lanes;));
         }
@@ -719,15 +813,15 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
                 quote!(([#(#outputs),*], [#(#lane_outputs),*])),
             ),
         };
-        chunks.push(quote! {
-            #[inline(never)]
-            fn #chunk_name #generics(#(#params),*) -> #ret {
-                #(#prelude)*
-                #(#unpack)*
-                #(#statements)*
-                #returned
-            }
-        });
+        chunks.push(body_of(
+            form,
+            quote!(#[inline(never)]),
+            &chunk_name,
+            &params,
+            &ret,
+            plan.uses_arith(ids),
+            quote!(#(#prelude)* #(#unpack)* #(#statements)* #returned),
+        ));
         calls.push(quote!(let #bound = #chunk_name(#(#call_args),*);));
     }
     // Chunks read the arguments; the method itself reads only what its result needs.
@@ -748,7 +842,7 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
 /// The additions and subtractions of the computed nodes `computed` that become one
 /// multiply-add, and the products they absorb: a product used once, by that addition or
 /// subtraction, and by no output. One rounding instead of two, one instruction instead of two
-/// on targets with FMA (where `dyngen_runtime::mul_add` is the instruction).
+/// on processors with FMA (`dyngen_runtime::dispatch` runs `arith.mul_add` as that instruction).
 fn fuse_multiply_adds(
     g: &crate::symbolic::Graph,
     outputs: &[Id],

@@ -1,0 +1,95 @@
+//! Every generated function runs its multiply-adds fused where the processor has FMA, even in a
+//! build that does not target it (`dyngen_runtime::dispatch`), and unfused elsewhere. Both
+//! forms agree to rounding, and in a build that chooses at run time both really run: on an FMA
+//! processor the fused results differ from the unfused ones in their last bits.
+//!
+//! Its own test binary: the choice is process-wide.
+
+use dyngen_generated::{arm7, arm7_friction, panda, ur5, Arm7, Arm7Friction, Panda, Ur5};
+use dyngen_runtime::nalgebra::SVector;
+use dyngen_runtime::{fused_multiply_adds, set_fused_multiply_adds, BaseParameters, JointTrig, SplitMix64};
+
+/// Every output of every scalar generated function at one state, one after the other.
+fn outputs<R, const N: usize, const P: usize, const B: usize>(x: &[SVector<f64, N>; 4]) -> Vec<f64>
+where
+    R: BaseParameters<N, P, B>,
+{
+    let [q, qd, v, a] = x;
+    let t = JointTrig::new(q);
+    let pose = R::forward_kinematics(&t);
+    let (fused_pose, j, jd) = R::kinematics(&t, qd);
+    let mut out: Vec<f64> = Vec::new();
+    for p in [pose, fused_pose] {
+        out.extend(p.rotation.iter().chain(p.translation.iter()));
+    }
+    out.extend(j.iter().chain(jd.iter()));
+    out.extend(R::jacobian(&t).iter().chain(R::jacobian_dot(&t, qd).iter()));
+    out.extend(R::mass_matrix(&t).iter().chain(R::coriolis_matrix(&t, qd).iter()));
+    out.extend(R::gravity(&t).iter().chain(R::inverse_dynamics(&t, qd, a).iter()));
+    out.extend(R::slotine_li(&t, qd, v, a).iter());
+    out.extend(R::regressor(&t, qd, v, a).iter());
+    out.extend(R::torque_regressor(&t, qd, a).iter());
+    out.extend(R::base_regressor(&t, qd, v, a).iter());
+    out.extend(R::base_torque_regressor(&t, qd, a).iter());
+    out.extend(R::forward_dynamics(&t, qd, a).iter());
+    out.extend(R::mass_matrix_inverse(&t).iter());
+    let (dq, dv) = R::inverse_dynamics_derivatives(&t, qd, a);
+    out.extend(dq.iter().chain(dv.iter()));
+    let (dq, dv) = R::forward_dynamics_derivatives(&t, qd, a);
+    out.extend(dq.iter().chain(dv.iter()));
+    out
+}
+
+/// Fused against unfused at 20 random states: equal to rounding (relative to the largest
+/// entry of each state's outputs); returns how many outputs differed at all.
+fn check<R, const N: usize, const P: usize, const B: usize>(robot: &str) -> usize
+where
+    R: BaseParameters<N, P, B>,
+{
+    let mut rng = SplitMix64::new(11);
+    let mut differing = 0;
+    for k in 0..20 {
+        let x = [(-3.0, 3.0), (-2.0, 2.0), (-2.0, 2.0), (-5.0, 5.0)]
+            .map(|r| SVector::from_fn(|_, _| rng.uniform(r)));
+        set_fused_multiply_adds(true);
+        let fused = outputs::<R, N, P, B>(&x);
+        set_fused_multiply_adds(false);
+        let unfused = outputs::<R, N, P, B>(&x);
+        set_fused_multiply_adds(true);
+        let scale = unfused.iter().fold(1.0_f64, |m, y| m.max(y.abs()));
+        for (i, (f, u)) in fused.iter().zip(&unfused).enumerate() {
+            assert!(
+                (f - u).abs() <= 1e-11 * scale,
+                "{robot}, state {k}, output {i}: fused {f} against unfused {u}"
+            );
+            differing += usize::from(f.to_bits() != u.to_bits());
+        }
+    }
+    differing
+}
+
+#[test]
+fn fused_and_unfused_multiply_adds_agree_and_both_run_where_the_build_chooses() {
+    let differing = [
+        check::<Arm7, 7, { arm7::PARAMETER_COUNT }, { arm7::BASE_PARAMETER_COUNT }>("arm7"),
+        check::<Arm7Friction, 7, { arm7_friction::PARAMETER_COUNT }, { arm7_friction::BASE_PARAMETER_COUNT }>(
+            "arm7_friction",
+        ),
+        check::<Panda, 7, { panda::PARAMETER_COUNT }, { panda::BASE_PARAMETER_COUNT }>("panda"),
+        check::<Ur5, 6, { ur5::PARAMETER_COUNT }, { ur5::BASE_PARAMETER_COUNT }>("ur5"),
+    ];
+    // Turning the fused form off takes effect only where it is chosen at run time, and there
+    // (on a processor with FMA) the two forms must round differently somewhere.
+    let chooses_at_run_time = !set_fused_multiply_adds(false);
+    set_fused_multiply_adds(true);
+    if chooses_at_run_time && fused_multiply_adds() {
+        for (robot, d) in ["arm7", "arm7_friction", "panda", "ur5"].iter().zip(differing) {
+            assert!(
+                d > 100,
+                "{robot}: only {d} outputs differ between the fused and unfused forms"
+            );
+        }
+    } else {
+        assert_eq!(differing, [0; 4], "one form only, yet results differ");
+    }
+}

@@ -1,0 +1,184 @@
+//! Run-time choice of the processor's fused multiply-add for generated functions.
+//!
+//! Rust never contracts `a * b + c`, so a build that does not target FMA (the default
+//! `x86-64`, without `-C target-cpu`) runs every multiply-add of the generated code as two
+//! instructions with two roundings, and without the three-operand AVX encodings: generated
+//! functions ran 1.3–2× slower there than in a `target-cpu=native` build. Each generated
+//! function is therefore written once as a [`Kernel`], generic over how it multiplies and adds
+//! ([`MulAdd`]), and called through [`dispatch`]:
+//! - in a build that targets AVX2 and FMA, the kernel runs [`Fused`] directly (nothing is
+//!   checked at run time, nothing is compiled twice);
+//! - in any other x86-64 build, a processor that has AVX2 and FMA (asked once, cached) runs
+//!   the kernel [`Fused`] inside a function compiled for those features, and any other runs it
+//!   [`Unfused`], exactly as written;
+//! - on other architectures, [`Unfused`].
+//!
+//! The `unsafe` this takes lives here, not in generated code: a [`Fused`] value exists only
+//! where the processor has FMA, because only this module creates one.
+//!
+//! [`set_fused_multiply_adds`] makes a run-time choosing build run everything unfused, as on a
+//! processor without FMA: tests compare the two forms with it, and a program can use it to get
+//! results equal bit for bit to such a processor's.
+
+#[cfg(all(
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma"))
+))]
+use core::sync::atomic::{AtomicBool, Ordering};
+
+/// Whether [`set_fused_multiply_adds`] turned the fused form off.
+#[cfg(all(
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma"))
+))]
+static UNFUSED_REQUESTED: AtomicBool = AtomicBool::new(false);
+
+/// Whether generated functions run [`Fused`] here: always in a build that targets AVX2 and FMA,
+/// never on other architectures, and otherwise where the processor has both (unless
+/// [`set_fused_multiply_adds`] turned it off).
+#[inline]
+pub fn fused_multiply_adds() -> bool {
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx2", target_feature = "fma"))]
+    return true;
+    #[cfg(all(
+        target_arch = "x86_64",
+        not(all(target_feature = "avx2", target_feature = "fma"))
+    ))]
+    return crate::cpu::has_avx2_fma() && !UNFUSED_REQUESTED.load(Ordering::Relaxed);
+    #[cfg(not(target_arch = "x86_64"))]
+    return false;
+}
+
+/// Lets a build that chooses at run time (x86-64 without `target-cpu` FMA) run every generated
+/// function unfused (`false`) or, where the processor has FMA, fused again (`true`, the
+/// default), for the whole program. No effect elsewhere: a build that targets FMA compiles only
+/// the fused form. Returns [`fused_multiply_adds`] after the change.
+pub fn set_fused_multiply_adds(enabled: bool) -> bool {
+    #[cfg(all(
+        target_arch = "x86_64",
+        not(all(target_feature = "avx2", target_feature = "fma"))
+    ))]
+    UNFUSED_REQUESTED.store(!enabled, Ordering::Relaxed);
+    let _ = enabled;
+    fused_multiply_adds()
+}
+
+/// How a kernel computes `a·b + c`.
+pub trait MulAdd: Copy {
+    fn mul_add(self, a: f64, b: f64, c: f64) -> f64;
+}
+
+/// `a·b + c` as written: two roundings, on any processor.
+#[derive(Clone, Copy, Debug)]
+pub struct Unfused;
+
+impl MulAdd for Unfused {
+    #[inline(always)]
+    fn mul_add(self, a: f64, b: f64, c: f64) -> f64 {
+        a * b + c
+    }
+}
+
+/// `a·b + c` in one instruction with one rounding. Only [`dispatch`] creates one, and only
+/// where the processor has FMA: that is what makes [`MulAdd::mul_add`] sound on it.
+#[cfg(target_arch = "x86_64")]
+#[derive(Clone, Copy, Debug)]
+pub struct Fused(());
+
+#[cfg(target_arch = "x86_64")]
+impl MulAdd for Fused {
+    #[inline(always)]
+    fn mul_add(self, a: f64, b: f64, c: f64) -> f64 {
+        use core::arch::x86_64::{_mm_cvtsd_f64, _mm_fmadd_sd, _mm_set_sd};
+        // SAFETY: a `Fused` exists only where the processor has FMA (see the type). Inlined into
+        // a kernel that `dispatch` compiled with FMA enabled, this is one `vfmadd`.
+        #[allow(unused_unsafe)]
+        unsafe {
+            _mm_cvtsd_f64(_mm_fmadd_sd(_mm_set_sd(a), _mm_set_sd(b), _mm_set_sd(c)))
+        }
+    }
+}
+
+/// A generated function's body, written once for both ways of multiplying and adding.
+/// `Args` are its arguments (a tuple); implementations mark [`Kernel::run`]
+/// `#[inline(always)]`, so that [`dispatch`] compiles the whole body with the processor
+/// features it enables.
+pub trait Kernel<Args> {
+    type Output;
+    fn run<M: MulAdd>(arith: M, args: Args) -> Self::Output;
+}
+
+/// Runs kernel `K` on `args` with the processor's fused multiply-add where it has one.
+#[inline(always)]
+pub fn dispatch<K: Kernel<Args>, Args>(args: Args) -> K::Output {
+    #[cfg(all(target_arch = "x86_64", target_feature = "avx2", target_feature = "fma"))]
+    {
+        K::run(Fused(()), args)
+    }
+    #[cfg(all(
+        target_arch = "x86_64",
+        not(all(target_feature = "avx2", target_feature = "fma"))
+    ))]
+    {
+        if fused_multiply_adds() {
+            // SAFETY: the processor has AVX2 and FMA (checked by `fused_multiply_adds`).
+            unsafe { run_fused::<K, Args>(args) }
+        } else {
+            K::run(Unfused, args)
+        }
+    }
+    #[cfg(not(target_arch = "x86_64"))]
+    {
+        K::run(Unfused, args)
+    }
+}
+
+/// `K` compiled for AVX2 and FMA: its `#[inline(always)]` body, and the [`Fused`]
+/// multiply-adds in it, become part of this function.
+///
+/// # Safety
+/// The processor must have AVX2 and FMA.
+#[cfg(all(
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma"))
+))]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn run_fused<K: Kernel<Args>, Args>(args: Args) -> K::Output {
+    K::run(Fused(()), args)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{dispatch, Kernel, MulAdd};
+
+    /// `(1 + 2⁻³⁰)² − (1 + 2⁻²⁹)`, which is 2⁻⁶⁰ with one rounding and 0 with two.
+    struct SquareMinus;
+    impl Kernel<(f64, f64)> for SquareMinus {
+        type Output = f64;
+        #[inline(always)]
+        fn run<M: MulAdd>(arith: M, (x, c): (f64, f64)) -> f64 {
+            arith.mul_add(x, x, -c)
+        }
+    }
+
+    /// The one test of this crate that changes the process-wide choice, so no other test here
+    /// can see it change.
+    #[test]
+    fn rounds_once_exactly_where_the_processor_has_fma_unless_told_not_to() {
+        let x = 1.0 + f64::powi(2.0, -30);
+        let c = 1.0 + f64::powi(2.0, -29);
+        let fused = f64::powi(2.0, -60);
+        assert_eq!(super::Unfused.mul_add(x, x, -c), 0.0);
+        let expected = |on: bool| if on { fused } else { 0.0 };
+        assert_eq!(
+            dispatch::<SquareMinus, _>((x, c)),
+            expected(super::fused_multiply_adds())
+        );
+        let off = super::set_fused_multiply_adds(false);
+        assert_eq!(dispatch::<SquareMinus, _>((x, c)), expected(off));
+        let on = super::set_fused_multiply_adds(true);
+        assert_eq!(dispatch::<SquareMinus, _>((x, c)), expected(on));
+        // Only a build that targets FMA can fail to turn it off.
+        assert!(!off || cfg!(all(target_arch = "x86_64", target_feature = "fma")));
+    }
+}
