@@ -3,7 +3,8 @@
 //! forms agree to rounding, and in a build that chooses at run time both really run: on an FMA
 //! processor the fused results differ from the unfused ones in their last bits.
 //!
-//! Its own test binary: the choice is process-wide.
+//! Its own test binary: the choice is process-wide. Optimised builds only (debug builds compile
+//! one form): `cargo test --release -p dyngen-generated --test fused_and_unfused`.
 
 use dyngen_generated::{arm7, arm7_friction, panda, ur5, Arm7, Arm7Friction, Panda, Ur5};
 use dyngen_runtime::nalgebra::SVector;
@@ -69,6 +70,10 @@ where
 }
 
 #[test]
+#[cfg_attr(
+    debug_assertions,
+    ignore = "debug builds compile the unfused form only: cargo test --release -p dyngen-generated --test fused_and_unfused"
+)]
 fn fused_and_unfused_multiply_adds_agree_and_both_run_where_the_build_chooses() {
     let differing = [
         check::<Arm7, 7, { arm7::PARAMETER_COUNT }, { arm7::BASE_PARAMETER_COUNT }>("arm7"),

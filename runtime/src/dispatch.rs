@@ -8,10 +8,10 @@
 //! ([`MulAdd`]), and called through [`dispatch`]:
 //! - in a build that targets AVX2 and FMA, the kernel runs [`Fused`] directly (nothing is
 //!   checked at run time, nothing is compiled twice);
-//! - in any other x86-64 build, a processor that has AVX2 and FMA (asked once, cached) runs
-//!   the kernel [`Fused`] inside a function compiled for those features, and any other runs it
-//!   [`Unfused`], exactly as written;
-//! - on other architectures, [`Unfused`].
+//! - in any other optimised x86-64 build, a processor that has AVX2 and FMA (asked once,
+//!   cached) runs the kernel [`Fused`] inside a function compiled for those features, and any
+//!   other runs it [`Unfused`], exactly as written;
+//! - in debug builds (`debug_assertions`) and on other architectures, [`Unfused`].
 //!
 //! The `unsafe` this takes lives here, not in generated code: a [`Fused`] value exists only
 //! where the processor has FMA, because only this module creates one.
@@ -19,49 +19,6 @@
 //! [`set_fused_multiply_adds`] makes a run-time choosing build run everything unfused, as on a
 //! processor without FMA: tests compare the two forms with it, and a program can use it to get
 //! results equal bit for bit to such a processor's.
-
-#[cfg(all(
-    target_arch = "x86_64",
-    not(all(target_feature = "avx2", target_feature = "fma"))
-))]
-use core::sync::atomic::{AtomicBool, Ordering};
-
-/// Whether [`set_fused_multiply_adds`] turned the fused form off.
-#[cfg(all(
-    target_arch = "x86_64",
-    not(all(target_feature = "avx2", target_feature = "fma"))
-))]
-static UNFUSED_REQUESTED: AtomicBool = AtomicBool::new(false);
-
-/// Whether generated functions run [`Fused`] here: always in a build that targets AVX2 and FMA,
-/// never on other architectures, and otherwise where the processor has both (unless
-/// [`set_fused_multiply_adds`] turned it off).
-#[inline]
-pub fn fused_multiply_adds() -> bool {
-    #[cfg(all(target_arch = "x86_64", target_feature = "avx2", target_feature = "fma"))]
-    return true;
-    #[cfg(all(
-        target_arch = "x86_64",
-        not(all(target_feature = "avx2", target_feature = "fma"))
-    ))]
-    return crate::cpu::has_avx2_fma() && !UNFUSED_REQUESTED.load(Ordering::Relaxed);
-    #[cfg(not(target_arch = "x86_64"))]
-    return false;
-}
-
-/// Lets a build that chooses at run time (x86-64 without `target-cpu` FMA) run every generated
-/// function unfused (`false`) or, where the processor has FMA, fused again (`true`, the
-/// default), for the whole program. No effect elsewhere: a build that targets FMA compiles only
-/// the fused form. Returns [`fused_multiply_adds`] after the change.
-pub fn set_fused_multiply_adds(enabled: bool) -> bool {
-    #[cfg(all(
-        target_arch = "x86_64",
-        not(all(target_feature = "avx2", target_feature = "fma"))
-    ))]
-    UNFUSED_REQUESTED.store(!enabled, Ordering::Relaxed);
-    let _ = enabled;
-    fused_multiply_adds()
-}
 
 /// How a kernel computes `a·b + c`.
 pub trait MulAdd: Copy {
@@ -111,40 +68,111 @@ pub trait Kernel<Args> {
 /// Runs kernel `K` on `args` with the processor's fused multiply-add where it has one.
 #[inline(always)]
 pub fn dispatch<K: Kernel<Args>, Args>(args: Args) -> K::Output {
-    #[cfg(all(target_arch = "x86_64", target_feature = "avx2", target_feature = "fma"))]
-    {
+    choice::dispatch::<K, Args>(args)
+}
+
+/// Whether generated functions run [`Fused`] here: always in a build that targets AVX2 and FMA;
+/// in an optimised x86-64 build that does not, where the processor has both (unless
+/// [`set_fused_multiply_adds`] turned it off); never elsewhere.
+#[inline]
+pub fn fused_multiply_adds() -> bool {
+    choice::fused()
+}
+
+/// Lets a build that chooses at run time (optimised, x86-64, not targeting FMA) run every
+/// generated function unfused (`false`) or, where the processor has FMA, fused again (`true`,
+/// the default), for the whole program. No effect elsewhere. Returns [`fused_multiply_adds`]
+/// after the change.
+pub fn set_fused_multiply_adds(enabled: bool) -> bool {
+    choice::set(enabled);
+    fused_multiply_adds()
+}
+
+/// A build that targets AVX2 and FMA: the fused form only, nothing checked at run time.
+#[cfg(all(target_arch = "x86_64", target_feature = "avx2", target_feature = "fma"))]
+mod choice {
+    use super::{Fused, Kernel};
+
+    #[inline(always)]
+    pub fn dispatch<K: Kernel<Args>, Args>(args: Args) -> K::Output {
         K::run(Fused(()), args)
     }
-    #[cfg(all(
-        target_arch = "x86_64",
-        not(all(target_feature = "avx2", target_feature = "fma"))
-    ))]
-    {
-        if fused_multiply_adds() {
-            // SAFETY: the processor has AVX2 and FMA (checked by `fused_multiply_adds`).
+
+    pub fn fused() -> bool {
+        true
+    }
+
+    pub fn set(_: bool) {}
+}
+
+/// An optimised x86-64 build that does not target AVX2 and FMA: both forms, chosen by the
+/// processor (asked once, cached).
+#[cfg(all(
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma")),
+    not(debug_assertions)
+))]
+mod choice {
+    use super::{Fused, Kernel, Unfused};
+    use core::sync::atomic::{AtomicBool, Ordering};
+
+    /// Whether [`super::set_fused_multiply_adds`] turned the fused form off.
+    static UNFUSED_REQUESTED: AtomicBool = AtomicBool::new(false);
+
+    #[inline(always)]
+    pub fn dispatch<K: Kernel<Args>, Args>(args: Args) -> K::Output {
+        if fused() {
+            // SAFETY: the processor has AVX2 and FMA (checked by `fused`).
             unsafe { run_fused::<K, Args>(args) }
         } else {
             K::run(Unfused, args)
         }
     }
-    #[cfg(not(target_arch = "x86_64"))]
-    {
-        K::run(Unfused, args)
+
+    #[inline]
+    pub fn fused() -> bool {
+        crate::cpu::has_avx2_fma() && !UNFUSED_REQUESTED.load(Ordering::Relaxed)
+    }
+
+    pub fn set(enabled: bool) {
+        UNFUSED_REQUESTED.store(!enabled, Ordering::Relaxed);
+    }
+
+    /// `K` compiled for AVX2 and FMA: its `#[inline(always)]` body, and the [`Fused`]
+    /// multiply-adds in it, become part of this function.
+    ///
+    /// # Safety
+    /// The processor must have AVX2 and FMA.
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn run_fused<K: Kernel<Args>, Args>(args: Args) -> K::Output {
+        K::run(Fused(()), args)
     }
 }
 
-/// `K` compiled for AVX2 and FMA: its `#[inline(always)]` body, and the [`Fused`]
-/// multiply-adds in it, become part of this function.
-///
-/// # Safety
-/// The processor must have AVX2 and FMA.
-#[cfg(all(
-    target_arch = "x86_64",
-    not(all(target_feature = "avx2", target_feature = "fma"))
-))]
-#[target_feature(enable = "avx2,fma")]
-unsafe fn run_fused<K: Kernel<Args>, Args>(args: Args) -> K::Output {
-    K::run(Fused(()), args)
+/// Any other build: the unfused form only. Debug builds are among them, because compiling every
+/// generated function twice, once inlined into an AVX2/FMA function, made the test build of
+/// the generated robots several times slower (minutes) for no use there.
+#[cfg(not(any(
+    all(target_arch = "x86_64", target_feature = "avx2", target_feature = "fma"),
+    all(
+        target_arch = "x86_64",
+        not(all(target_feature = "avx2", target_feature = "fma")),
+        not(debug_assertions)
+    )
+)))]
+mod choice {
+    use super::{Kernel, Unfused};
+
+    #[inline(always)]
+    pub fn dispatch<K: Kernel<Args>, Args>(args: Args) -> K::Output {
+        K::run(Unfused, args)
+    }
+
+    pub fn fused() -> bool {
+        false
+    }
+
+    pub fn set(_: bool) {}
 }
 
 #[cfg(test)]
@@ -180,5 +208,21 @@ mod tests {
         assert_eq!(dispatch::<SquareMinus, _>((x, c)), expected(on));
         // Only a build that targets FMA can fail to turn it off.
         assert!(!off || cfg!(all(target_arch = "x86_64", target_feature = "fma")));
+    }
+
+    /// The fused form itself, on a processor with FMA, in any build (debug builds never choose
+    /// it, so the test above sees it only in optimised ones).
+    #[cfg(target_arch = "x86_64")]
+    #[test]
+    fn fused_rounds_once() {
+        #[cfg(all(target_feature = "avx2", target_feature = "fma"))]
+        let has_fma = true;
+        #[cfg(not(all(target_feature = "avx2", target_feature = "fma")))]
+        let has_fma = crate::cpu::has_avx2_fma();
+        if has_fma {
+            let x = 1.0 + f64::powi(2.0, -30);
+            let c = 1.0 + f64::powi(2.0, -29);
+            assert_eq!(super::Fused(()).mul_add(x, x, -c), f64::powi(2.0, -60));
+        }
     }
 }
