@@ -7,6 +7,13 @@ repository (built with their own notes: a pip venv with pin 4.1.0 and example-ro
 6.0.0, then g++ -O3 -march=native); point at their directories:
 
     tools/compare_anchors.py --pinocchio ANCHORS/pinocchio --cppadcg ANCHORS/pinocchio-cg
+    tools/compare_anchors.py ... --robots panda ur5 panda_rounded
+
+`--robots` picks the committed robots (default: panda ur5); each needs a row of that name in
+the numeric anchor's robots.txt and in the CppADCodeGen anchor's build (`ROBOTS="panda ur5
+panda_rounded" ./build.sh`). panda_rounded is the Panda with every `rpy` rounded to 4 decimals:
+dyngen generates it with `snap_angles: 1e-4`, the anchors read the rounded URDF as written
+(BENCHMARKS.md, "How to reproduce").
 
 Both print `robot nq nv function median_ns min_ns` rows, timing each call over 256
 precomputed random states, as `cargo bench -p dyngen-generated` does. Each round runs the
@@ -20,13 +27,14 @@ Standard library only (no pip).
 import argparse
 import json
 import os
+import re
 import statistics
 import subprocess
 import sys
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
-ROBOTS = ("panda", "ur5")
+DEFAULT_ROBOTS = ("panda", "ur5")
 # Anchor function -> dyngen criterion group, in table order.
 FUNCTIONS = [
     ("fk", "fk"),
@@ -53,12 +61,12 @@ def run(cmd, cwd=None, env=None):
     return out.stdout
 
 
-def anchor_rows(text):
+def anchor_rows(text, robots):
     """{(robot, function): median_ns} from an anchor's output."""
     rows = {}
     for line in text.splitlines():
         parts = line.split()
-        if len(parts) == 6 and parts[0] in ROBOTS and not line.startswith("#"):
+        if len(parts) == 6 and parts[0] in robots and not line.startswith("#"):
             rows[(parts[0], parts[3])] = float(parts[4])
     return rows
 
@@ -76,19 +84,44 @@ def dyngen_build(env):
     subprocess.run(cmd, cwd=ROOT, env=env, check=True)
 
 
-def dyngen_round(env, core, target_dir):
+def bench_filter(robots):
+    """Criterion's filter (a regex) for the generated code of these robots: `^(panda)/` does not
+    match `panda_rounded/...`."""
+    return "^(" + "|".join(re.escape(r) for r in robots) + ")/.*/generated"
+
+
+def split_group(directory, bench_dirs, robots):
+    """(robot, quantity) of a criterion group directory: from the group id criterion records
+    ("panda_rounded/fk"), since the directory name ("panda_rounded_fk") is ambiguous; else the
+    longest robot name the directory starts with."""
+    for bench in bench_dirs:
+        info = bench / "new" / "benchmark.json"
+        if info.is_file():
+            robot, sep, quantity = json.loads(info.read_text()).get("group_id", "").partition("/")
+            if sep:
+                return robot, quantity
+    for robot in sorted(robots, key=len, reverse=True):
+        if directory.name.startswith(robot + "_"):
+            return robot, directory.name[len(robot) + 1:]
+    return None, None
+
+
+def dyngen_round(env, core, target_dir, robots):
     """{(robot, group, id): median_ns} of one run of both benches."""
     for bench in ("dynamics", "forward_dynamics"):
         cmd = ["taskset", "-c", str(core), "cargo", "bench", "-q", "-p", "dyngen-generated",
-               "--bench", bench, "--", "^(panda|ur5)/.*/generated"]
+               "--bench", bench, "--", bench_filter(robots)]
         run(cmd, cwd=ROOT, env=env)
     rows = {}
     criterion = Path(target_dir) / "criterion"
     for group in criterion.iterdir():
-        robot, _, quantity = group.name.partition("_")
-        if robot not in ROBOTS:
+        if not group.is_dir():
             continue
-        for bench in group.iterdir():
+        bench_dirs = [b for b in group.iterdir() if b.is_dir()]
+        robot, quantity = split_group(group, bench_dirs, robots)
+        if robot not in robots:
+            continue
+        for bench in bench_dirs:
             estimates = bench / "new" / "estimates.json"
             if estimates.is_file():
                 median = json.loads(estimates.read_text())["median"]["point_estimate"]
@@ -109,11 +142,18 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--pinocchio", type=Path, required=True, help="numeric Pinocchio anchor directory")
     ap.add_argument("--cppadcg", type=Path, required=True, help="Pinocchio + CppADCodeGen anchor directory")
+    ap.add_argument("--robots", nargs="+", default=list(DEFAULT_ROBOTS), metavar="ROBOT",
+                    help="committed robots to compare, e.g. panda ur5 panda_rounded "
+                         f"(default: {' '.join(DEFAULT_ROBOTS)})")
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--core", type=int, default=1)
     ap.add_argument("--default-build", action="store_true",
                     help="also time dyngen built without target-cpu (the default build)")
     args = ap.parse_args()
+    robots = list(dict.fromkeys(args.robots))
+    unknown = [r for r in robots if not (ROOT / "robots" / f"{r}.yaml").is_file()]
+    if unknown:
+        ap.error(f"not a committed robot (robots/<name>.yaml): {', '.join(unknown)}")
 
     native_dir = ROOT / "target" / "bench-native"
     default_dir = ROOT / "target" / "bench-default"
@@ -124,15 +164,22 @@ def main():
         dyngen_build(env)
 
     pin_cmd = ["taskset", "-c", str(args.core), str(args.pinocchio / "build" / "bench_native"),
-               "robots.txt", "build/models"]
-    cg_cmd = ["taskset", "-c", str(args.core), str(args.cppadcg / "build" / "bench_cg_native")]
+               "robots.txt", "build/models", *robots]
+    cg_cmd = ["taskset", "-c", str(args.core), str(args.cppadcg / "build" / "bench_cg_native"), *robots]
     rounds = []
     for r in range(args.rounds):
         print(f"round {r + 1}/{args.rounds}", file=sys.stderr)
-        pin = anchor_rows(run(pin_cmd, cwd=args.pinocchio))
-        cg = anchor_rows(run(cg_cmd, cwd=args.cppadcg))
-        ours = {name: dyngen_round(env, args.core, d) for name, d, env in builds}
+        pin = anchor_rows(run(pin_cmd, cwd=args.pinocchio), robots)
+        cg = anchor_rows(run(cg_cmd, cwd=args.cppadcg), robots)
+        ours = {name: dyngen_round(env, args.core, d, robots) for name, d, env in builds}
         rounds.append((pin, cg, ours))
+        if r == 0:
+            for robot in robots:
+                for anchor, rows, fix in (
+                        ("numeric Pinocchio", pin, "a row in robots.txt and build/models/<robot>.txt"),
+                        ("CppADCodeGen", cg, "ROBOTS=\"... <robot>\" ./build.sh")):
+                    if not any(k[0] == robot for k in rows):
+                        print(f"warning: {anchor} printed no row for {robot} ({fix})", file=sys.stderr)
 
     load = os.getloadavg()
     print(f"Load average at the end: {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}; "
@@ -147,7 +194,7 @@ def main():
     rule += "---:|---:|"
     print(header)
     print(rule)
-    for robot in ROBOTS:
+    for robot in robots:
         for fn, group in FUNCTIONS:
             key = (robot, group, "generated")
             native = [o["native"].get(key) for _, _, o in rounds]
@@ -166,7 +213,7 @@ def main():
     print("\nSeveral states per call (dyngen native, ns per state; throughput against one state per call):\n")
     print("| robot | function | one per call | lanes | per state | throughput ratio |")
     print("|---|---|---:|---:|---:|---:|")
-    for robot in ROBOTS:
+    for robot in robots:
         for group, ids in BATCHES:
             single = [o["native"].get((robot, group, "generated")) for _, _, o in rounds]
             for lane_id in ids:

@@ -29,6 +29,7 @@ import argparse
 import json
 import math
 import os
+import re
 import sys
 import sysconfig
 from dataclasses import dataclass
@@ -66,6 +67,13 @@ class Robot:
     # stay as they are (panda, ur5, panda_mimic, mimic_arm; only the UR5's URDF has an angle it
     # would change, and its conditioning keeps the 5e-12 difference below 1e-9).
     exact_quarter_turns: bool = True
+    # dyngen's `snap_angles: <tolerance>`: `rpy` angles within it of a multiple of π/2 made
+    # exact before Pinocchio reads the URDF, so that Pinocchio sees the snapped model dyngen
+    # generates (panda_rounded). None: only exact_quarter_turns above.
+    snap_angles: float = None
+    # The committed URDF is `source` with every `rpy` number rounded to 4 decimals and a
+    # leading comment (panda_rounded.urdf): check_provenance compares it as such.
+    rounded: bool = False
 
 
 # URDFs kept for CI from tools/sweep.py's robots (why each: their directory's README.md). The
@@ -91,6 +99,19 @@ ROBOTS = {
             "tool0",
             (),
             exact_quarter_turns=False,
+        ),
+        # The Panda URDF with every `rpy` rounded to 4 decimals (1.5708), loaded as
+        # robots/panda_rounded.yaml does (snap_angles: 1e-4): the quarter turns exact again,
+        # the hand's yaw -0.7854 (π/4 rounded) kept.
+        Robot(
+            "panda_rounded",
+            "panda_rounded.urdf",
+            "example-robot-data/robots/panda_description/urdf/panda.urdf",
+            "panda_hand_tcp",
+            ("panda_finger_joint1", "panda_finger_joint2"),
+            exact_quarter_turns=False,
+            snap_angles=1e-4,
+            rounded=True,
         ),
         # The Panda with its fingers free: panda_finger_joint2 mimics panda_finger_joint1.
         Robot(
@@ -153,7 +174,9 @@ def build_model(robot):
     locked like any other joint."""
     with open(urdf_path(robot)) as f:
         urdf = f.read()
-    if robot.exact_quarter_turns:
+    if robot.snap_angles is not None:
+        urdf = exact_quarter_turns(urdf, robot.snap_angles)
+    elif robot.exact_quarter_turns:
         urdf = exact_quarter_turns(urdf)
     model, tree = build_models(urdf, robot.mimic)
     if robot.locked and robot.mimic:
@@ -190,8 +213,29 @@ def check_provenance(robot):
         print(f"  note: {original} not found; provenance not checked")
         return
     with open(original, "rb") as a, open(committed, "rb") as b:
-        if a.read() != b.read():
-            print(f"  warning: {robot.directory}/{robot.urdf} differs from {robot.source}")
+        expected, actual = a.read(), b.read()
+    if robot.rounded:
+        expected, actual = rounded_rpy(expected.decode()), without_first_comment(actual.decode())
+    if expected != actual:
+        kind = "rounded " if robot.rounded else ""
+        print(f"  warning: {robot.directory}/{robot.urdf} differs from {kind}{robot.source}")
+
+
+def rounded_rpy(urdf):
+    """Every number of every `rpy` attribute with 4 decimals, as `rounded()` in
+    codegen/tests/near_exact_angles.rs writes them (Rust's `{:.4}`)."""
+
+    def rewrite(m):
+        return f'rpy="{" ".join(f"{float(x):.4f}" for x in m.group(1).split())}"'
+
+    return re.sub(r'rpy="([^"]*)"', rewrite, urdf)
+
+
+def without_first_comment(urdf):
+    """The URDF text without its first XML comment (the one saying how a derived file was made)."""
+    start = urdf.index("<!--")
+    end = urdf.index("-->", start) + 3
+    return urdf[:start] + urdf[end:].removeprefix("\n")
 
 
 def fixture(robot, given_states=None):

@@ -949,7 +949,7 @@ fn plausible_values_do_not_warn() {
     // The base robots (1 kg, 0.1 kg·m²: radius of gyration 0.32 m) and every committed robot.
     let (yaml, _) = run(Src::Yaml(&[], ""));
     assert_eq!(yaml.unwrap().warnings, Vec::<String>::new());
-    for robot in ["arm7.yaml", "panda.yaml", "ur5.yaml"] {
+    for robot in ["arm7.yaml", "panda.yaml", "panda_rounded.yaml", "ur5.yaml"] {
         let loaded = description::load(&robots(robot)).unwrap();
         assert_eq!(loaded.warnings, Vec::<String>::new(), "{robot}");
     }

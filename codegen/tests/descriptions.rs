@@ -156,6 +156,35 @@ fn panda_matches_pinocchio() {
     );
 }
 
+/// The Panda with its `rpy` rounded to 4 decimals, loaded with `snap_angles: 1e-4`, against
+/// Pinocchio's model of the same file with the same angles snapped (`panda_rounded.json`): the
+/// quarter turns are exact again (notes, no warnings), the hand's yaw stays `-0.7854`.
+#[test]
+fn panda_rounded_snapped_matches_pinocchio() {
+    let loaded = load("robots/panda_rounded.yaml");
+    assert_eq!(loaded.model.name(), "panda_rounded");
+    assert_eq!(loaded.model.dof(), 7);
+    check_against_fixture("panda_rounded", &loaded);
+    let snapped = loaded.notes.iter().filter(|n| n.contains("snapped to")).count();
+    assert_eq!(snapped, 6, "{:#?}", loaded.notes);
+    assert_eq!(
+        loaded.sources,
+        vec![
+            repo("robots/panda_rounded.yaml"),
+            repo("robots/urdf/panda_rounded.urdf")
+        ]
+    );
+    // Same joint frames as the Panda (bit for bit), another end-effector placement.
+    let panda = load("robots/panda.yaml").model;
+    for (a, b) in loaded.model.joints().iter().zip(panda.joints()) {
+        assert_eq!(a.origin.rotation, b.origin.rotation, "joint '{}'", a.name);
+    }
+    assert_ne!(
+        loaded.model.end_effector().placement.rotation,
+        panda.end_effector().placement.rotation
+    );
+}
+
 #[test]
 fn ur5_matches_pinocchio() {
     let loaded = load("robots/ur5.yaml");

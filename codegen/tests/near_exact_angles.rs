@@ -99,6 +99,30 @@ fn rounded_quarter_turns_warn_and_snap_only_on_request() {
     );
 }
 
+/// `robots/urdf/panda_rounded.urdf` (a committed robot, `robots/panda_rounded.yaml`) is
+/// exactly `rounded(panda.urdf)` with a comment after the XML declaration saying so.
+#[test]
+fn committed_panda_rounded_is_the_rounded_panda() {
+    let committed = std::fs::read_to_string(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/../robots/urdf/panda_rounded.urdf"
+    ))
+    .expect("panda_rounded.urdf");
+    let start = committed
+        .find("\n<!-- panda_rounded.urdf:")
+        .expect("leading comment");
+    let end = start + committed[start..].find("-->").expect("end of comment") + 3;
+    assert!(
+        committed[..start].starts_with("<?xml"),
+        "comment after the declaration"
+    );
+    let without_comment = format!("{}{}", &committed[..start], &committed[end..]);
+    assert!(
+        without_comment == rounded(&panda_urdf()),
+        "panda_rounded.urdf is not rounded(panda.urdf)"
+    );
+}
+
 #[test]
 fn snap_angles_from_yaml_and_its_bad_values() {
     let dir = std::env::temp_dir().join(format!("dyngen-snap-{}", std::process::id()));

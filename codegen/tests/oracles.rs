@@ -38,6 +38,11 @@ fn panda_oracles() {
 }
 
 #[test]
+fn panda_rounded_oracles() {
+    check_robot(&fixture::load("panda_rounded").model());
+}
+
+#[test]
 fn ur5_oracles() {
     check_robot(&fixture::load("ur5").model());
 }

@@ -37,6 +37,14 @@ fn panda_model_from_fixture_matches_pinocchio() {
     check_all("panda", &fx.model());
 }
 
+/// The rounded Panda as dyngen snaps it (`robots/panda_rounded.yaml`), Pinocchio's model of the
+/// same snapped angles.
+#[test]
+fn panda_rounded_model_from_fixture_matches_pinocchio() {
+    let fx = fixture::load("panda_rounded");
+    check_all("panda_rounded", &fx.model());
+}
+
 #[test]
 fn ur5_model_from_fixture_matches_pinocchio() {
     let fx = fixture::load("ur5");

@@ -24,6 +24,11 @@ fn panda_forward_dynamics_and_derivatives_match_pinocchio() {
 }
 
 #[test]
+fn panda_rounded_forward_dynamics_and_derivatives_match_pinocchio() {
+    check("panda_rounded");
+}
+
+#[test]
 fn ur5_forward_dynamics_and_derivatives_match_pinocchio() {
     check("ur5");
 }

@@ -30,7 +30,7 @@ fn point_mass_on_its_own_axis_warns_with_the_joint_named() {
 
 #[test]
 fn committed_robots_have_no_singular_joint() {
-    for robot in ["arm7", "panda", "ur5"] {
+    for robot in ["arm7", "panda", "panda_rounded", "ur5"] {
         let model = load(&path(&format!("../robots/{robot}.yaml")))
             .expect("loads")
             .model;

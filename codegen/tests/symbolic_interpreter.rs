@@ -28,7 +28,7 @@ fn check_state(model: &Model, robot: &SymbolicRobot, q: &[f64], qd: &[f64], v: &
 
 #[test]
 fn fixture_robots_interpreted_graph_matches_generic_dynamics() {
-    for name in ["panda", "ur5"] {
+    for name in ["panda", "panda_rounded", "ur5"] {
         let fx = fixture::load(name);
         let model = fx.model();
         let robot = trace(&model);

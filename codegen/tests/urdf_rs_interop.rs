@@ -196,7 +196,7 @@ fn joint_friction_and_armature_round_trip_through_dynamics_tags_and_the_wrapper(
 #[test]
 fn committed_robots_round_trip_to_identical_code() {
     let dir = scratch("robots");
-    for robot in ["arm7", "panda", "ur5"] {
+    for robot in ["arm7", "panda", "panda_rounded", "ur5"] {
         let loaded = load(&repo(&format!("robots/{robot}.yaml")));
         let export = assert_round_trip(&loaded.model, &dir, true);
         // Default gravity, and the end-effector is the loader's default pick: a bare URDF says it all.

@@ -7,7 +7,7 @@
 //! values.
 
 use dyngen_control::sim::{DemoOptions, Gaussian, JointTermFactors, Payload, PlaneContact, Plant};
-use dyngen_generated::{arm7, arm7_friction, panda, ur5, Arm7, Panda, Ur5};
+use dyngen_generated::{arm7, arm7_friction, panda, panda_rounded, ur5, Arm7, Panda, PandaRounded, Ur5};
 use dyngen_runtime::nalgebra::{SVector, Vector3};
 use dyngen_runtime::{JointTrig, Kinematics, Parameterization, RobotDynamics};
 
@@ -49,9 +49,11 @@ where
 fn plant_through_the_regressor_equals_generated_at_description_parameters() {
     matches_generated::<Arm7, arm7::Standard, 7, 70, 70>();
     matches_generated::<Panda, panda::Standard, 7, 70, 70>();
+    matches_generated::<PandaRounded, panda_rounded::Standard, 7, 70, 70>();
     matches_generated::<Ur5, ur5::Standard, 6, 60, 60>();
     matches_generated::<Arm7, arm7::Base, 7, 70, { arm7::BASE_PARAMETER_COUNT }>();
     matches_generated::<Panda, panda::Base, 7, 70, { panda::BASE_PARAMETER_COUNT }>();
+    matches_generated::<PandaRounded, panda_rounded::Base, 7, 70, { panda_rounded::BASE_PARAMETER_COUNT }>();
     matches_generated::<Ur5, ur5::Base, 6, 60, { ur5::BASE_PARAMETER_COUNT }>();
 }
 

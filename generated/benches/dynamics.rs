@@ -11,7 +11,7 @@ use common::{cycle, model, states};
 use criterion::{criterion_group, criterion_main, Criterion};
 use dyngen_codegen::base_parameters::BaseParameterSet;
 use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_generated::{Arm7, Panda, Ur5};
+use dyngen_generated::{Arm7, Panda, PandaRounded, Ur5};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{f64x4, f64x8, pack, BaseParameters, JointTrig, JointTrigLanes, LaneDynamics, Lanes};
 use std::hint::black_box;
@@ -144,6 +144,10 @@ fn lanes<R, L, const N: usize, const P: usize, const B: usize>(
 
 fn dynamics(c: &mut Criterion) {
     bench_robot::<Panda, 7, 70, { dyngen_generated::panda::BASE_PARAMETER_COUNT }>(c, "panda");
+    bench_robot::<PandaRounded, 7, 70, { dyngen_generated::panda_rounded::BASE_PARAMETER_COUNT }>(
+        c,
+        "panda_rounded",
+    );
     bench_robot::<Ur5, 6, 60, { dyngen_generated::ur5::BASE_PARAMETER_COUNT }>(c, "ur5");
     bench_robot::<Arm7, 7, 70, { dyngen_generated::arm7::BASE_PARAMETER_COUNT }>(c, "arm7");
 }

@@ -8,7 +8,7 @@ mod common;
 use common::{cycle, model, states};
 use criterion::{criterion_group, criterion_main, Criterion};
 use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_generated::{Arm7, Panda, Ur5};
+use dyngen_generated::{Arm7, Panda, PandaRounded, Ur5};
 use dyngen_runtime::{JointTrig, RobotDynamics};
 use std::hint::black_box;
 
@@ -53,6 +53,7 @@ fn bench_robot<R: RobotDynamics<N, P>, const N: usize, const P: usize>(c: &mut C
 
 fn forward_dynamics(c: &mut Criterion) {
     bench_robot::<Panda, 7, 70>(c, "panda");
+    bench_robot::<PandaRounded, 7, 70>(c, "panda_rounded");
     bench_robot::<Ur5, 6, 60>(c, "ur5");
     bench_robot::<Arm7, 7, 70>(c, "arm7");
 }

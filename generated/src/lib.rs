@@ -23,5 +23,10 @@ pub use panda::Panda;
 
 #[rustfmt::skip]
 #[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, clippy::too_many_lines, clippy::many_single_char_names, clippy::similar_names, clippy::neg_multiply)]
+pub mod panda_rounded;
+pub use panda_rounded::PandaRounded;
+
+#[rustfmt::skip]
+#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, clippy::too_many_lines, clippy::many_single_char_names, clippy::similar_names, clippy::neg_multiply)]
 pub mod ur5;
 pub use ur5::Ur5;

@@ -9,7 +9,7 @@ use common::{assert_close, column};
 use dyngen_codegen::base_parameters::BaseParameterSet;
 use dyngen_codegen::description::load;
 use dyngen_codegen::model::Model;
-use dyngen_generated::{arm7, panda, ur5, Arm7, Panda, Ur5};
+use dyngen_generated::{arm7, panda, panda_rounded, ur5, Arm7, Panda, PandaRounded, Ur5};
 use dyngen_runtime::nalgebra::{SMatrix, SVector};
 use dyngen_runtime::{Base, BaseParameters, JointTrig, Parameterization};
 use std::path::Path;
@@ -128,6 +128,16 @@ fn generated_panda_base_regressor() {
     check_generated::<Panda, { panda::DOF }, { panda::PARAMETER_COUNT }, { panda::BASE_PARAMETER_COUNT }>(
         "panda",
     );
+}
+
+#[test]
+fn generated_panda_rounded_base_regressor() {
+    check_generated::<
+        PandaRounded,
+        { panda_rounded::DOF },
+        { panda_rounded::PARAMETER_COUNT },
+        { panda_rounded::BASE_PARAMETER_COUNT },
+    >("panda_rounded");
 }
 
 #[test]

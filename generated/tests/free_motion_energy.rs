@@ -5,7 +5,7 @@
 //!
 //! Gravity is removed by applying `τ = g(q)` (the generated `g`), so `q̈ = −D⁻¹ C q̇`.
 
-use dyngen_generated::{Arm7, Panda, Ur5};
+use dyngen_generated::{Arm7, Panda, PandaRounded, Ur5};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{JointTrig, RobotDynamics};
 
@@ -73,6 +73,11 @@ fn arm7_free_motion_conserves_energy_to_fourth_order() {
 #[test]
 fn panda_free_motion_conserves_energy_to_fourth_order() {
     fourth_order::<Panda, 7, 70>();
+}
+
+#[test]
+fn panda_rounded_free_motion_conserves_energy_to_fourth_order() {
+    fourth_order::<PandaRounded, 7, 70>();
 }
 
 #[test]

@@ -8,7 +8,7 @@ use common::{assert_close, column, fixture};
 use dyngen_codegen::description::load;
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::model::Model;
-use dyngen_generated::{Arm7, Arm7Friction, Panda, Ur5};
+use dyngen_generated::{Arm7, Arm7Friction, Panda, PandaRounded, Ur5};
 use dyngen_runtime::nalgebra::{DMatrix, SMatrix, SVector};
 use dyngen_runtime::{JointTrig, Kinematics, RobotDynamics};
 use std::path::Path;
@@ -209,6 +209,11 @@ fn panda_generated_matches_generic() {
 }
 
 #[test]
+fn panda_rounded_generated_matches_generic() {
+    against_generic::<PandaRounded, 7, 70>("panda_rounded");
+}
+
+#[test]
 fn ur5_generated_matches_generic() {
     against_generic::<Ur5, 6, 60>("ur5");
 }
@@ -269,6 +274,13 @@ fn against_fixture<R: RobotDynamics<N, P>, const N: usize, const P: usize>(robot
 #[test]
 fn panda_generated_matches_pinocchio() {
     against_fixture::<Panda, 7, 70>("panda");
+}
+
+/// The rounded Panda as generated with `snap_angles: 1e-4`, against Pinocchio's values for the
+/// same URDF with the same angles snapped.
+#[test]
+fn panda_rounded_generated_matches_pinocchio() {
+    against_fixture::<PandaRounded, 7, 70>("panda_rounded");
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! Generated code keeps the promises a control loop relies on: no `unsafe`, no allocation, no
 //! panic path. The allocation check runs every generated function under a counting allocator.
 
-use dyngen_generated::{Arm7, Arm7Friction, Panda, Ur5};
+use dyngen_generated::{Arm7, Arm7Friction, Panda, PandaRounded, Ur5};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{JointTrig, RobotDynamics};
 use dyngen_testkit::allocations::{allocations, CountingAllocator};
@@ -48,6 +48,11 @@ fn generated_functions_do_not_allocate() {
         "arm7_friction"
     );
     assert_eq!(allocations(every_function::<Panda, 7, 70>), 0, "panda");
+    assert_eq!(
+        allocations(every_function::<PandaRounded, 7, 70>),
+        0,
+        "panda_rounded"
+    );
     assert_eq!(allocations(every_function::<Ur5, 6, 60>), 0, "ur5");
 }
 

@@ -12,7 +12,7 @@ use common::{assert_close, column, fixture};
 use dyngen_codegen::description::load;
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::model::Model;
-use dyngen_generated::{Arm7, Panda, Ur5};
+use dyngen_generated::{Arm7, Panda, PandaRounded, Ur5};
 use dyngen_runtime::nalgebra::{DMatrix, SMatrix, SVector};
 use dyngen_runtime::{JointTrig, RobotDynamics};
 use std::path::Path;
@@ -107,6 +107,11 @@ fn panda_generated_forward_dynamics_matches_generic() {
 }
 
 #[test]
+fn panda_rounded_generated_forward_dynamics_matches_generic() {
+    against_generic::<PandaRounded, 7, 70>("panda_rounded");
+}
+
+#[test]
 fn ur5_generated_forward_dynamics_matches_generic() {
     against_generic::<Ur5, 6, 60>("ur5");
 }
@@ -132,6 +137,11 @@ fn against_fixture<R: RobotDynamics<N, P>, const N: usize, const P: usize>(robot
 #[test]
 fn panda_generated_forward_dynamics_matches_pinocchio() {
     against_fixture::<Panda, 7, 70>("panda");
+}
+
+#[test]
+fn panda_rounded_generated_forward_dynamics_matches_pinocchio() {
+    against_fixture::<PandaRounded, 7, 70>("panda_rounded");
 }
 
 #[test]
@@ -174,6 +184,11 @@ fn arm7_forward_dynamics_oracles() {
 #[test]
 fn panda_forward_dynamics_oracles() {
     oracles::<Panda, 7, 70>("panda", 50);
+}
+
+#[test]
+fn panda_rounded_forward_dynamics_oracles() {
+    oracles::<PandaRounded, 7, 70>("panda_rounded", 50);
 }
 
 #[test]

@@ -1,7 +1,7 @@
 //! The lane forms (`*_lanes`, several states per call) equal the scalar functions bit for bit,
 //! lane by lane, for 4- and 8-lane types, including a final batch shorter than the lane count.
 
-use dyngen_generated::{arm7, panda, ur5, Arm7, Panda, Ur5};
+use dyngen_generated::{arm7, panda, panda_rounded, ur5, Arm7, Panda, PandaRounded, Ur5};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{
     f64x4, f64x8, pack, unpack, BaseParameters, JointTrig, JointTrigLanes, LaneDynamics, Lanes, SplitMix64,
@@ -55,6 +55,20 @@ fn lanes_equal_scalar_functions_bit_for_bit() {
     check::<Arm7, f64x4, 7, { arm7::PARAMETER_COUNT }, { arm7::BASE_PARAMETER_COUNT }>("arm7");
     check::<Panda, f64x4, 7, { panda::PARAMETER_COUNT }, { panda::BASE_PARAMETER_COUNT }>("panda");
     check::<Panda, f64x8, 7, { panda::PARAMETER_COUNT }, { panda::BASE_PARAMETER_COUNT }>("panda");
+    check::<
+        PandaRounded,
+        f64x4,
+        7,
+        { panda_rounded::PARAMETER_COUNT },
+        { panda_rounded::BASE_PARAMETER_COUNT },
+    >("panda_rounded");
+    check::<
+        PandaRounded,
+        f64x8,
+        7,
+        { panda_rounded::PARAMETER_COUNT },
+        { panda_rounded::BASE_PARAMETER_COUNT },
+    >("panda_rounded");
     check::<Ur5, f64x4, 6, { ur5::PARAMETER_COUNT }, { ur5::BASE_PARAMETER_COUNT }>("ur5");
     check::<Ur5, f64x8, 6, { ur5::PARAMETER_COUNT }, { ur5::BASE_PARAMETER_COUNT }>("ur5");
 }

@@ -11,10 +11,18 @@ fn median_ns(dir: &Path) -> Option<f64> {
     json["median"]["point_estimate"].as_f64()
 }
 
+/// Criterion's `group_id` of one benchmark ("robot/quantity"), if it ran.
+fn group_id(dir: &Path) -> Option<String> {
+    let text = std::fs::read_to_string(dir.join("new/benchmark.json")).ok()?;
+    let json: serde_json::Value = serde_json::from_str(&text).ok()?;
+    json["group_id"].as_str().map(str::to_owned)
+}
+
 /// Rows `robot → quantity → (generated, generic)` from `target/criterion`.
 pub fn table(criterion: &Path) -> Result<String, String> {
     let mut rows: BTreeMap<(String, String), (Option<f64>, Option<f64>)> = BTreeMap::new();
-    // Criterion names a group "robot/quantity" directory "robot_quantity".
+    // Criterion names a group "robot/quantity" directory "robot_quantity"; robot names have
+    // underscores too (panda_rounded), so the split comes from the group id it records.
     let entries = std::fs::read_dir(criterion).map_err(|e| {
         format!(
             "{}: {e} (run `cargo bench --bench dynamics` first)",
@@ -23,11 +31,17 @@ pub fn table(criterion: &Path) -> Result<String, String> {
     })?;
     for entry in entries.flatten() {
         let group = entry.file_name().to_string_lossy().into_owned();
-        let Some((robot, quantity)) = group.split_once('_') else {
+        let (generated_dir, generic_dir) = (entry.path().join("generated"), entry.path().join("generic"));
+        let id = group_id(&generated_dir).or_else(|| group_id(&generic_dir));
+        let Some((robot, quantity)) = id
+            .as_deref()
+            .and_then(|id| id.split_once('/'))
+            .or_else(|| group.split_once('_'))
+        else {
             continue;
         };
-        let generated = median_ns(&entry.path().join("generated"));
-        let generic = median_ns(&entry.path().join("generic"));
+        let generated = median_ns(&generated_dir);
+        let generic = median_ns(&generic_dir);
         if generated.is_some() || generic.is_some() {
             rows.insert((robot.to_owned(), quantity.to_owned()), (generated, generic));
         }

@@ -20,7 +20,9 @@ use dyngen_control::sim::{
     start_posture_for, summary_table, write_csv, Demo, DemoOptions, JointTermFactors, NoiseConfig, RunKind,
     RunResult, RunStatus, Sample,
 };
-use dyngen_generated::{arm7, arm7_friction, panda, ur5, Arm7, Arm7Friction, Panda, Ur5};
+use dyngen_generated::{
+    arm7, arm7_friction, panda, panda_rounded, ur5, Arm7, Arm7Friction, Panda, PandaRounded, Ur5,
+};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{BaseParameters, Kinematics, Parameterization};
 use std::io::{IsTerminal as _, Write as _};
@@ -34,6 +36,9 @@ enum Robot {
     /// arm7 with joint friction and armature columns (`robots/arm7_friction.yaml`).
     Arm7Friction,
     Panda,
+    /// The Panda with its `rpy` rounded to 4 decimals, loaded with `snap_angles: 1e-4`
+    /// (`robots/panda_rounded.yaml`).
+    PandaRounded,
     Ur5,
 }
 
@@ -132,6 +137,12 @@ fn main() -> ExitCode {
                 &args,
             )
         }
+        Robot::PandaRounded => run_robot::<
+            PandaRounded,
+            { panda_rounded::DOF },
+            { panda_rounded::PARAMETER_COUNT },
+            { panda_rounded::BASE_PARAMETER_COUNT },
+        >(&args),
         Robot::Ur5 => {
             run_robot::<Ur5, { ur5::DOF }, { ur5::PARAMETER_COUNT }, { ur5::BASE_PARAMETER_COUNT }>(&args)
         }

@@ -9,7 +9,7 @@ use nalgebra::SVector;
 pub fn start_posture<const N: usize>(robot: &str) -> Option<SVector<f64, N>> {
     let q: &[f64] = match robot {
         "arm7" | "arm7_friction" => &[0.0, 0.6, 0.0, -1.3, 0.0, 1.0, 0.0],
-        "panda" => &[0.0, -0.1, 0.0, -2.0, 0.0, 1.9, 0.785],
+        "panda" | "panda_rounded" => &[0.0, -0.1, 0.0, -2.0, 0.0, 1.9, 0.785],
         "ur5" => &[0.0, -1.3, 1.6, -1.87, -1.57, 0.0],
         _ => return None,
     };
