@@ -6,7 +6,9 @@
 //! Its own test binary: the choice is process-wide. Optimised builds only (debug builds compile
 //! one form): `cargo test --release -p dyngen-generated --test fused_and_unfused`.
 
-use dyngen_generated::{arm7, arm7_friction, panda, ur5, Arm7, Arm7Friction, Panda, Ur5};
+use dyngen_generated::{
+    arm7, arm7_friction, panda, panda_rounded, ur5, Arm7, Arm7Friction, Panda, PandaRounded, Ur5,
+};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{fused_multiply_adds, set_fused_multiply_adds, BaseParameters, JointTrig, SplitMix64};
 
@@ -81,6 +83,9 @@ fn fused_and_unfused_multiply_adds_agree_and_both_run_where_the_build_chooses() 
             "arm7_friction",
         ),
         check::<Panda, 7, { panda::PARAMETER_COUNT }, { panda::BASE_PARAMETER_COUNT }>("panda"),
+        check::<PandaRounded, 7, { panda_rounded::PARAMETER_COUNT }, { panda_rounded::BASE_PARAMETER_COUNT }>(
+            "panda_rounded",
+        ),
         check::<Ur5, 6, { ur5::PARAMETER_COUNT }, { ur5::BASE_PARAMETER_COUNT }>("ur5"),
     ];
     // Turning the fused form off takes effect only where it is chosen at run time, and there
@@ -88,13 +93,16 @@ fn fused_and_unfused_multiply_adds_agree_and_both_run_where_the_build_chooses() 
     let chooses_at_run_time = !set_fused_multiply_adds(false);
     set_fused_multiply_adds(true);
     if chooses_at_run_time && fused_multiply_adds() {
-        for (robot, d) in ["arm7", "arm7_friction", "panda", "ur5"].iter().zip(differing) {
+        for (robot, d) in ["arm7", "arm7_friction", "panda", "panda_rounded", "ur5"]
+            .iter()
+            .zip(differing)
+        {
             assert!(
                 d > 100,
                 "{robot}: only {d} outputs differ between the fused and unfused forms"
             );
         }
     } else {
-        assert_eq!(differing, [0; 4], "one form only, yet results differ");
+        assert_eq!(differing, [0; 5], "one form only, yet results differ");
     }
 }
