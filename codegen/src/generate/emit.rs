@@ -440,10 +440,22 @@ impl Param {
     }
 }
 
-/// A scalar function whose body runs as a `dyngen_runtime::Kernel` through
+/// `t: &JointTrig<N>, qd: &SVector<f64, N>, …`: every argument, used or not.
+fn all_parameters(args: &[Arg], n: &Literal, form: Form) -> Vec<TokenStream> {
+    let (trig_type, vector_type) = argument_types(form, n);
+    let names = argument_names(args);
+    let (t, vectors) = names.split_first().expect("t is always an argument");
+    let mut params = vec![quote!(#t: &#trig_type)];
+    params.extend(vectors.iter().map(|v| quote!(#v: &#vector_type)));
+    params
+}
+
+/// A generated function. A scalar one runs its body as a `dyngen_runtime::Kernel` through
 /// `dyngen_runtime::dispatch`: with the processor's fused multiply-adds even in a build that
-/// does not target them (the body names its multiply-adds `arith.mul_add`).
-fn dispatched(
+/// does not target them (the body names its multiply-adds `arith.mul_add`). A lane function is
+/// generic over its lane type instead.
+fn function_item(
+    form: Form,
     attributes: TokenStream,
     name: &Ident,
     params: &[Param],
@@ -451,6 +463,15 @@ fn dispatched(
     uses_arith: bool,
     body: TokenStream,
 ) -> TokenStream {
+    if form == Form::Lanes {
+        let params = params.iter().map(Param::declared);
+        return quote! {
+            #attributes
+            fn #name<L: Lanes>(#(#params),*) -> #ret {
+                #body
+            }
+        };
+    }
     let outer = params.iter().map(|p| {
         let (name, ty) = (&p.name, &p.ty);
         quote!(#name: #ty)
@@ -552,41 +573,6 @@ fn argument_names(args: &[Arg]) -> Vec<Ident> {
         Arg::Tau => format_ident!("tau"),
     }));
     names
-}
-
-/// `t: &JointTrig<N>, qd: &SVector<f64, N>, …`: every argument, used or not.
-fn all_parameters(args: &[Arg], n: &Literal, form: Form) -> Vec<TokenStream> {
-    let (trig_type, vector_type) = argument_types(form, n);
-    let names = argument_names(args);
-    let (t, vectors) = names.split_first().expect("t is always an argument");
-    let mut params = vec![quote!(#t: &#trig_type)];
-    params.extend(vectors.iter().map(|v| quote!(#v: &#vector_type)));
-    params
-}
-
-/// The function's statements, wrapped for [`dispatched`] where they are scalar; a lane function
-/// is generic over its lane type instead.
-fn body_of(
-    form: Form,
-    attributes: TokenStream,
-    name: &Ident,
-    params: &[Param],
-    ret: &TokenStream,
-    uses_arith: bool,
-    body: TokenStream,
-) -> TokenStream {
-    match form {
-        Form::Scalar => dispatched(attributes, name, params, ret, uses_arith, body),
-        Form::Lanes => {
-            let params = params.iter().map(Param::declared);
-            quote! {
-                #attributes
-                fn #name<L: Lanes>(#(#params),*) -> #ret {
-                    #body
-                }
-            }
-        }
-    }
 }
 
 fn doc_counts(c: &OpCounts) -> String {
@@ -748,7 +734,7 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
         let statements = plan.statements(&plan.order, &mut used);
         let sig = signature(robot, leaves, &q.args, &used, &n, form);
         let (params, prelude) = (sig.params, sig.prelude);
-        let method = body_of(
+        let method = function_item(
             form,
             quote!(#(#[doc = #doc])* #[inline(never)]),
             &name,
@@ -813,7 +799,7 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
                 quote!(([#(#outputs),*], [#(#lane_outputs),*])),
             ),
         };
-        chunks.push(body_of(
+        chunks.push(function_item(
             form,
             quote!(#[inline(never)]),
             &chunk_name,
