@@ -1,4 +1,6 @@
-//! `a·b + c` as generated code writes its multiply-adds.
+//! `a·b + c`, fused or not by the build's target alone: for hand-written code beside the
+//! generated functions (the controller's products). Generated scalar functions choose at run
+//! time instead ([`dispatch`](crate::dispatch)).
 //!
 //! Where the whole build targets FMA (`-C target-cpu=native` on any x86-64 of the last decade,
 //! or `-C target-feature=+fma`), one fused instruction: one rounding instead of two, and one
@@ -7,7 +9,7 @@
 //! `a * b + c` exactly as written (never the slow software `fma`).
 //!
 //! SIMD lanes do the same ([`Lanes::mul_add`](crate::Lanes::mul_add), FMA under the same
-//! condition), so the lane functions keep equal to the scalar ones bit for bit.
+//! condition).
 
 /// `a·b + c`: fused where the build targets FMA, else `a * b + c`.
 #[inline(always)]

@@ -440,16 +440,6 @@ impl Param {
     }
 }
 
-/// `t: &JointTrig<N>, qd: &SVector<f64, N>, …`: every argument, used or not.
-fn all_parameters(args: &[Arg], n: &Literal, form: Form) -> Vec<TokenStream> {
-    let (trig_type, vector_type) = argument_types(form, n);
-    let names = argument_names(args);
-    let (t, vectors) = names.split_first().expect("t is always an argument");
-    let mut params = vec![quote!(#t: &#trig_type)];
-    params.extend(vectors.iter().map(|v| quote!(#v: &#vector_type)));
-    params
-}
-
 /// A generated function. A scalar one runs its body as a `dyngen_runtime::Kernel` through
 /// `dyngen_runtime::dispatch`: with the processor's fused multiply-adds even in a build that
 /// does not target them (the body names its multiply-adds `arith.mul_add`). A lane function is
@@ -573,6 +563,16 @@ fn argument_names(args: &[Arg]) -> Vec<Ident> {
         Arg::Tau => format_ident!("tau"),
     }));
     names
+}
+
+/// `t: &JointTrig<N>, qd: &SVector<f64, N>, …`: every argument, used or not.
+fn all_parameters(args: &[Arg], n: &Literal, form: Form) -> Vec<TokenStream> {
+    let (trig_type, vector_type) = argument_types(form, n);
+    let names = argument_names(args);
+    let (t, vectors) = names.split_first().expect("t is always an argument");
+    let mut params = vec![quote!(#t: &#trig_type)];
+    params.extend(vectors.iter().map(|v| quote!(#v: &#vector_type)));
+    params
 }
 
 fn doc_counts(c: &OpCounts) -> String {
