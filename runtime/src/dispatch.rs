@@ -46,13 +46,9 @@ pub struct Fused(());
 impl MulAdd for Fused {
     #[inline(always)]
     fn mul_add(self, a: f64, b: f64, c: f64) -> f64 {
-        use core::arch::x86_64::{_mm_cvtsd_f64, _mm_fmadd_sd, _mm_set_sd};
         // SAFETY: a `Fused` exists only where the processor has FMA (see the type). Inlined into
         // a kernel that `dispatch` compiled with FMA enabled, this is one `vfmadd`.
-        #[allow(unused_unsafe)]
-        unsafe {
-            _mm_cvtsd_f64(_mm_fmadd_sd(_mm_set_sd(a), _mm_set_sd(b), _mm_set_sd(c)))
-        }
+        unsafe { crate::mul_add::fused_instruction(a, b, c) }
     }
 }
 

@@ -16,17 +16,36 @@
 pub fn mul_add(a: f64, b: f64, c: f64) -> f64 {
     #[cfg(all(target_arch = "x86_64", target_feature = "fma"))]
     {
-        use core::arch::x86_64::{_mm_cvtsd_f64, _mm_fmadd_sd, _mm_set_sd};
-        // SAFETY: the `fma` target feature is enabled for the whole build (the `cfg` above),
-        // and the intrinsic only computes on registers.
+        // SAFETY: the `fma` target feature is enabled for the whole build (the `cfg` above).
         #[allow(unused_unsafe)]
         unsafe {
-            _mm_cvtsd_f64(_mm_fmadd_sd(_mm_set_sd(a), _mm_set_sd(b), _mm_set_sd(c)))
+            fused_instruction(a, b, c)
         }
     }
     #[cfg(not(all(target_arch = "x86_64", target_feature = "fma")))]
     {
         a * b + c
+    }
+}
+
+/// `a·b + c` as one `vfmadd` in code compiled with FMA enabled.
+///
+/// Written with one intrinsic and bit casts rather than `_mm_set_sd`/`_mm_cvtsd_f64`: those are
+/// functions too, and a generated function inlines this thousands of times. With them, a
+/// release build of the Panda's module took 3.3× (default target) and 3.6× (`target-cpu=native`)
+/// as long, for the same machine code.
+///
+/// # Safety
+/// The processor must have FMA.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+pub(crate) unsafe fn fused_instruction(a: f64, b: f64, c: f64) -> f64 {
+    use core::arch::x86_64::{__m128d, _mm_fmadd_sd};
+    use core::mem::transmute;
+    // SAFETY: `[f64; 2]` and `__m128d` are both 16 bytes of two `f64`s; the caller promises FMA.
+    unsafe {
+        let low = |x: f64| transmute::<[f64; 2], __m128d>([x, 0.0]);
+        transmute::<__m128d, [f64; 2]>(_mm_fmadd_sd(low(a), low(b), low(c)))[0]
     }
 }
 
