@@ -213,7 +213,8 @@ fn deterministic_runner(cases: u32) -> TestRunner {
 }
 
 /// 256 random trees (up to 10 joints, branches, prismatic joints, skew axes, tilted gravity):
-/// p_b is the rank of a fresh stack, and `Y_b θ_b = Y θ` for random θ at fresh states (numeric).
+/// p_b is the rank of a fresh stack, and `Y_b θ_b = Y θ` for random θ at fresh states (numeric),
+/// as is `Y θ'` for the representative θ' (θ_b on the kept columns, exactly 0 on the others).
 #[test]
 fn random_trees_base_parameters() {
     let stats = RefCell::new((0usize, 0usize, 0usize, f64::INFINITY, 0.0f64, 0usize, 0usize));
@@ -234,7 +235,16 @@ fn random_trees_base_parameters() {
             let tau_b = base.base_regressor(&y) * DMatrix::from_column_slice(theta_b.len(), 1, &theta_b);
             let err = common::relative_error(&tau_b, &tau);
             proptest::prop_assert!(err <= TOL, "Y_b θ_b vs Y θ: {err:.3e}, {:?}", base.diagnostics);
+            // What generated code computes its dynamics from: θ_b on the kept columns, zeros.
+            let representative = base.representative(&theta);
+            let tau_r = &y * DMatrix::from_column_slice(representative.len(), 1, &representative);
+            let err = common::relative_error(&tau_r, &tau);
+            proptest::prop_assert!(err <= TOL, "Y θ' vs Y θ: {err:.3e}");
         }
+        let representative = base.representative(&theta);
+        let off_base = (0..theta.len()).filter(|i| !base.columns.contains(i));
+        proptest::prop_assert!(off_base.clone().all(|i| representative[i] == 0.0));
+        proptest::prop_assert!(off_base.count() + base.count() == theta.len());
         let mut st = stats.borrow_mut();
         st.0 += 1;
         st.1 += base.count();

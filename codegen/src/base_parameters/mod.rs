@@ -211,6 +211,19 @@ impl BaseParameterSet {
             .collect()
     }
 
+    /// The standard parameter vector that holds `θ_b` on the kept columns and 0 on every folded
+    /// one. It has the same dynamics as θ (`Y θ' = Y_b θ_b = Y θ` at every state), so every
+    /// quantity computed from it equals the one from θ; with the folded parameters at exactly 0,
+    /// whole terms of the algorithms vanish (the customised models of Khalil and Kleinfinger).
+    /// Its "bodies" need not be physical (a body may have zero mass and a first moment).
+    pub fn representative(&self, theta: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; self.standard_count];
+        for (&c, value) in self.columns.iter().zip(self.base_parameters(theta)) {
+            out[c] = value;
+        }
+        out
+    }
+
     /// `Y_b` from `Y` (its kept columns), for the numeric path.
     pub fn base_regressor(&self, y: &DMatrix<f64>) -> DMatrix<f64> {
         y.select_columns(self.columns.iter())

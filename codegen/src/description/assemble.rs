@@ -7,7 +7,7 @@
 //! wants: the frame relative to the parent *moving* joint, not to the parent link.
 
 use super::error::{item, num, render, vec3, DescriptionError};
-use super::items::{JointShape, Motion};
+use super::items::{too_large, JointShape, Motion};
 use super::joint_parameters;
 use super::options::{EndEffectorSpec, Settings};
 use super::raw::RawRobot;
@@ -45,6 +45,9 @@ pub(crate) fn assemble(
         return Err(settings
             .map
             .error("gravity", format!("gravity {} is not finite", vec3(&gravity))));
+    }
+    if let Some(msg) = too_large(&gravity, "gravity") {
+        return Err(settings.map.error("gravity", msg));
     }
     let locked = locked_values(c, settings)?;
     let follows = check_mimics(c, &locked, settings, diags)?;

@@ -381,7 +381,7 @@ pub(crate) const MAX_GYRATION_RADIUS: f64 = 10.0;
 pub(crate) const MAX_MAGNITUDE: f64 = 1e12;
 
 /// An error message when a finite number of `values` exceeds [`MAX_MAGNITUDE`].
-fn too_large(values: &[f64], what: &str) -> Option<String> {
+pub(crate) fn too_large(values: &[f64], what: &str) -> Option<String> {
     values
         .iter()
         .find(|v| v.is_finite() && v.abs() > MAX_MAGNITUDE)

@@ -2,7 +2,7 @@
 //! controller needs, so shared subexpressions (joint transforms, body velocities) are one node.
 
 use crate::base_parameters::BaseParameterSet;
-use crate::dynamics::{self, body_inertias, Directions};
+use crate::dynamics::{self, Directions};
 use crate::model::Model;
 use crate::symbolic::{record, Expr, Graph, Id};
 use nalgebra::DMatrix;
@@ -100,14 +100,15 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
         let (q, qd, v, a) = (inputs("q", n), inputs("qd", n), inputs("v", n), inputs("a", n));
         let x = dynamics::joint_transforms(model, &q);
         let world = dynamics::body_poses(model, &x);
-        let inertias = body_inertias::<Expr>(model);
+        let theta = base.representative(&model.parameters());
+        let inertias = representative_inertias(model, &theta);
         let ee = dynamics::end_effector_pose(model, &world);
         let mut pose: Vec<Id> = ee.rot.transpose().0.iter().flatten().map(|e| e.id()).collect();
         pose.extend(ee.pos.0.iter().map(|e| e.id()));
         let g = dynamics::gravity_torque(model, &x, &inertias);
         // Joint-level terms (armature, friction, offset) are added only when the model has
         // them, so a model without them records exactly the graph it always did.
-        let joint_values = dynamics::joint_term_values(model);
+        let joint_values = model.joint_term_values_from(&theta);
         let has_joint_terms = !model.joint_terms().kinds.is_empty();
         let with_joint_terms = |rigid: Vec<Expr>, v: &[Expr], a: &[Expr]| match has_joint_terms {
             true => dynamics::add_torques(
@@ -210,7 +211,7 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
         ];
         let mut quantities = quantities;
         let tau = inputs("tau", n);
-        let (forward, lane_forms) = forward_quantities(model, &q, &qd, &a, &tau);
+        let (forward, lane_forms) = forward_quantities(model, &theta, &q, &qd, &a, &tau);
         quantities.extend(forward);
         quantities.extend(torque_regressors(model, &x, &qd, &a, &base));
         quantities.push(fused_kinematics(&quantities, n));
@@ -242,6 +243,15 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
     }
 }
 
+/// The bodies' inertias of the parameter vector `theta` (ten per body, then joint terms).
+fn representative_inertias(model: &Model, theta: &[f64]) -> Vec<crate::spatial::RigidInertia<Expr>> {
+    let inertial: Vec<Expr> = theta[..model.inertial_parameter_count()]
+        .iter()
+        .map(|&x| <Expr as crate::scalar::Scalar>::from_f64(x))
+        .collect();
+    dynamics::inertias_from_parameters(&inertial)
+}
+
 fn pair_ids((first, second): (DMatrix<Expr>, DMatrix<Expr>)) -> Vec<Id> {
     let mut out = matrix_ids(&first);
     out.extend(matrix_ids(&second));
@@ -267,6 +277,7 @@ fn cost(graph: &Graph, outputs: &[Id]) -> usize {
 /// [`trace_with_base`] keeps where they cost less.
 fn forward_quantities(
     model: &Model,
+    theta: &[f64],
     q: &[Expr],
     qd: &[Expr],
     a: &[Expr],
@@ -274,8 +285,8 @@ fn forward_quantities(
 ) -> (Vec<Quantity>, Vec<(&'static str, Vec<Id>)>) {
     let n = model.dof();
     let x = dynamics::joint_transforms(model, q);
-    let inertias = body_inertias::<Expr>(model);
-    let jv = dynamics::joint_term_values(model);
+    let inertias = representative_inertias(model, theta);
+    let jv = model.joint_term_values_from(theta);
     let forward = ids(&dynamics::forward_dynamics(model, &x, &inertias, &jv, qd, tau));
     let inverse_mass = matrix_ids(&dynamics::mass_matrix_inverse(model, &x, &inertias, &jv));
     let derivatives = |directions| {
