@@ -30,6 +30,9 @@ pub trait Lanes:
     /// `self · b + c` lane by lane, as [`mul_add`](crate::mul_add) computes it for one lane
     /// (one rounding where the target has FMA).
     fn mul_add(self, b: Self, c: Self) -> Self;
+    /// The sine and cosine of every lane, each exactly as [`JointTrig::new`](crate::JointTrig::new)
+    /// computes it.
+    fn sin_cos(self) -> (Self, Self);
     /// `f` applied lane by lane (the few non-arithmetic nodes: `sign`, `tanh`, the sine of a
     /// constant-shifted angle).
     #[inline]
@@ -39,7 +42,7 @@ pub trait Lanes:
 }
 
 macro_rules! lanes {
-    ($t:ty, $w:literal) => {
+    ($t:ty, $w:literal, $sin_cos:path) => {
         impl Lanes for $t {
             const WIDTH: usize = $w;
             #[inline(always)]
@@ -58,11 +61,15 @@ macro_rules! lanes {
             fn mul_add(self, b: Self, c: Self) -> Self {
                 <$t>::mul_add(self, b, c)
             }
+            #[inline(always)]
+            fn sin_cos(self) -> (Self, Self) {
+                $sin_cos(self)
+            }
         }
     };
 }
-lanes!(f64x4, 4);
-lanes!(f64x8, 8);
+lanes!(f64x4, 4, crate::trig::sin_cos_f64x4);
+lanes!(f64x8, 8, crate::trig::sin_cos_f64x8);
 
 /// `sign(x)` with `sign(0) = 0` (and 0 for NaN), unlike `f64::signum` (which gives ±1 at ±0):
 /// a joint at rest has no Coulomb friction, and the mass matrix through the regressor
@@ -93,13 +100,8 @@ impl<const N: usize, L: Lanes> JointTrigLanes<N, L> {
     pub fn new(q: &[L; N]) -> Self {
         let mut sin = [L::splat(0.0); N];
         let mut cos = [L::splat(0.0); N];
-        // One joint at a time, all lanes through the element-wise kernel at once (eight wide,
-        // the most lanes a type has): the same values as the scalar path, in SIMD.
         for i in 0..N {
-            let angles: [f64; 8] = core::array::from_fn(|k| q[i].lane(k % L::WIDTH));
-            let (s, c) = crate::trig::sin_cos_all(&angles);
-            sin[i] = L::from_fn(|k| s[k]);
-            cos[i] = L::from_fn(|k| c[k]);
+            (sin[i], cos[i]) = q[i].sin_cos();
         }
         JointTrigLanes { q: *q, sin, cos }
     }
@@ -130,4 +132,58 @@ pub trait LaneDynamics<const N: usize, const B: usize>: Kinematics<N> {
         qd: &[L; N],
         qdd: &[L; N],
     ) -> [[L; N]; B];
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{f64x4, f64x8, Lanes};
+
+    /// Every lane's sine and cosine are bit for bit those of the scalar path
+    /// (`JointTrig::new`), inside the kernel's range, beyond it, and at the special values.
+    fn lanes_match_the_scalar_path<L: Lanes>() {
+        let mut rng = crate::SplitMix64::new(11);
+        let special = [
+            0.0,
+            -0.0,
+            f64::NAN,
+            f64::INFINITY,
+            -f64::INFINITY,
+            1e5,
+            -1e5,
+            1.5e5,
+            1e300,
+        ];
+        for round in 0..2_000 {
+            let q = L::from_fn(|k| match (round + k) % 5 {
+                0 => special[(round + k) % special.len()],
+                1 => rng.uniform((-2e5, 2e5)),
+                _ => rng.uniform((-7.0, 7.0)),
+            });
+            let (sin, cos) = q.sin_cos();
+            let angles: [f64; 8] = core::array::from_fn(|k| q.lane(k % L::WIDTH));
+            let (s, c) = crate::trig::sin_cos_all(&angles);
+            for k in 0..L::WIDTH {
+                let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+                assert!(
+                    same(sin.lane(k), s[k]) && same(cos.lane(k), c[k]),
+                    "q = {:e}: lanes ({}, {}), scalar ({}, {})",
+                    q.lane(k),
+                    sin.lane(k),
+                    cos.lane(k),
+                    s[k],
+                    c[k]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn four_lanes_match_the_scalar_path() {
+        lanes_match_the_scalar_path::<f64x4>();
+    }
+
+    #[test]
+    fn eight_lanes_match_the_scalar_path() {
+        lanes_match_the_scalar_path::<f64x8>();
+    }
 }

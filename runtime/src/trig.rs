@@ -87,7 +87,14 @@ pub(crate) fn sin_cos_all_with<const N: usize>(
         cos[start..start + count].copy_from_slice(&c[..count]);
         start += 8;
     }
-    // Out of range (or NaN, for which the comparison is false): the exact reduction.
+    exact_beyond_limit(q, &mut sin, &mut cos);
+    (sin, cos)
+}
+
+/// The entries of `q` out of the kernel's range (or NaN, for which the comparison is false) by
+/// the exact reduction.
+#[inline(always)]
+fn exact_beyond_limit<const N: usize>(q: &[f64; N], sin: &mut [f64; N], cos: &mut [f64; N]) {
     let in_range = |x: f64| f64::from_bits(x.to_bits() & !(1 << 63)) <= LIMIT;
     if !q.iter().all(|&x| in_range(x)) {
         for i in 0..N {
@@ -96,7 +103,46 @@ pub(crate) fn sin_cos_all_with<const N: usize>(
             }
         }
     }
-    (sin, cos)
+}
+
+/// The sines and cosines of one lane vector's four angles, each exactly as [`sin_cos_all`]
+/// computes it (so lane functions match scalar ones bit for bit), straight from the vector.
+/// Going through [`sin_cos_all`] instead meant an eight-angle array per joint, built from lanes
+/// and read back in one wide load the processor cannot forward.
+#[inline]
+pub(crate) fn sin_cos_f64x4(q: f64x4) -> (f64x4, f64x4) {
+    #[cfg(all(
+        target_arch = "x86_64",
+        not(all(target_feature = "avx2", target_feature = "fma"))
+    ))]
+    if crate::cpu::has_avx2_fma() {
+        let angles = q.to_array();
+        // SAFETY: the processor has AVX, AVX2 and FMA (just checked).
+        let (mut sin, mut cos) = unsafe { crate::trig_fused::sin_cos_four(&angles) };
+        exact_beyond_limit(&angles, &mut sin, &mut cos);
+        return (f64x4::new(sin), f64x4::new(cos));
+    }
+    let (sin, cos) = sin_cos_lanes(q);
+    if q.abs().simd_le(f64x4::splat(LIMIT)).all() {
+        return (sin, cos);
+    }
+    let angles = q.to_array();
+    let (mut sin, mut cos) = (sin.to_array(), cos.to_array());
+    exact_beyond_limit(&angles, &mut sin, &mut cos);
+    (f64x4::new(sin), f64x4::new(cos))
+}
+
+/// [`sin_cos_f64x4`] on each half of eight lanes.
+#[inline]
+pub(crate) fn sin_cos_f64x8(q: wide::f64x8) -> (wide::f64x8, wide::f64x8) {
+    let a = q.to_array();
+    let (s0, c0) = sin_cos_f64x4(f64x4::new([a[0], a[1], a[2], a[3]]));
+    let (s1, c1) = sin_cos_f64x4(f64x4::new([a[4], a[5], a[6], a[7]]));
+    let join = |lo: f64x4, hi: f64x4| {
+        let (lo, hi) = (lo.to_array(), hi.to_array());
+        wide::f64x8::new([lo[0], lo[1], lo[2], lo[3], hi[0], hi[1], hi[2], hi[3]])
+    };
+    (join(s0, s1), join(c0, c1))
 }
 
 /// Sines and cosines of eight angles, each within `LIMIT`, as two `f64x4` vectors.

@@ -27,6 +27,22 @@ pub(crate) unsafe fn sin_cos_all<const N: usize>(q: &[f64; N]) -> ([f64; N], [f6
     })
 }
 
+/// The kernel on four angles (one lane vector of `JointTrigLanes`), compiled for AVX2 and FMA.
+///
+/// # Safety
+/// The processor must have AVX, AVX2 and FMA.
+#[target_feature(enable = "avx,avx2,fma")]
+pub(crate) unsafe fn sin_cos_four(q: &[f64; 4]) -> ([f64; 4], [f64; 4]) {
+    let (mut sin, mut cos) = ([0.0; 4], [0.0; 4]);
+    // SAFETY: the enclosing function's features; reads and writes stay in the arrays.
+    unsafe {
+        let (s, c) = sin_cos_4(_mm256_loadu_pd(q.as_ptr()));
+        _mm256_storeu_pd(sin.as_mut_ptr(), s);
+        _mm256_storeu_pd(cos.as_mut_ptr(), c);
+    }
+    (sin, cos)
+}
+
 #[target_feature(enable = "avx,avx2,fma")]
 #[inline]
 unsafe fn sin_cos_4(q: __m256d) -> (__m256d, __m256d) {
