@@ -210,8 +210,25 @@ impl<'a> Plan<'a> {
     /// be as large as run time wants; creation order keeps values short-lived, which keeps
     /// register allocation (and so release compile time) cheap.
     fn statements(&self, ids: &[Id], used_leaves: &mut Vec<Id>) -> Vec<TokenStream> {
+        self.statements_writing(ids, used_leaves, &HashMap::new())
+    }
+
+    /// [`Plan::statements`], each value followed by its writes to the output slots `slots`
+    /// (`*o3 = x17;`): an output stored as soon as it is computed is not held in a register, or
+    /// spilled and reloaded, until the function returns.
+    fn statements_writing(
+        &self,
+        ids: &[Id],
+        used_leaves: &mut Vec<Id>,
+        slots: &HashMap<Id, Vec<Ident>>,
+    ) -> Vec<TokenStream> {
         let g = &self.robot.graph;
         let ty = self.form.value_type();
+        let writes = |id: Id| {
+            let name = &self.names[&id];
+            let slots = slots.get(&id).map(Vec::as_slice).unwrap_or_default();
+            quote!(#(*#slots = #name;)*)
+        };
         let mut out = Vec::with_capacity(ids.len() + 2);
         // Lane vectors (`f64x8`) get a declaration of their own.
         let (lanes, scalars): (Vec<Id>, Vec<Id>) = ids.iter().partition(|&&id| g.node(id).is_lanes());
@@ -219,6 +236,7 @@ impl<'a> Plan<'a> {
             let name = &self.names[&ids[0]];
             let value = self.value(ids[0], used_leaves);
             out.push(quote!(let #name: #ty = #value;));
+            out.push(writes(ids[0]));
             return out;
         }
         for (sort, ty) in [(&scalars, ty), (&lanes, lane_type())] {
@@ -238,10 +256,12 @@ impl<'a> Plan<'a> {
                     false => quote!(_),
                 });
                 out.push(quote!([#(#pattern),*] = #v.to_array();));
+                out.push(writes(id));
                 continue;
             }
             let value = self.value(id, used_leaves);
             out.push(quote!(#name = #value;));
+            out.push(writes(id));
         }
         out
     }
@@ -729,6 +749,25 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
     }
     let names_of = |ids: &[Id]| -> Vec<Ident> { ids.iter().map(|id| plan.names[id].clone()).collect() };
 
+    if n_chunks == 1 && matches!(q.shape, Shape::Vector(_) | Shape::Matrix(..)) {
+        let mut used = main_used;
+        let body = written_in_place(&plan, q, form, &ret, &atoms, &mut used);
+        let sig = signature(robot, leaves, &q.args, &used, &n, form);
+        let (params, prelude) = (sig.params, sig.prelude);
+        let method = function_item(
+            form,
+            quote!(#(#[doc = #doc])* #[inline(never)]),
+            &name,
+            &params,
+            &ret,
+            plan.uses_arith(&plan.order),
+            quote!(#(#prelude)* #body),
+        );
+        return Emitted {
+            method,
+            chunks: Vec::new(),
+        };
+    }
     if n_chunks == 1 {
         let mut used = main_used;
         let statements = plan.statements(&plan.order, &mut used);
@@ -823,6 +862,74 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
         }
     };
     Emitted { method, chunks }
+}
+
+/// The body of a one-chunk vector or matrix function that writes each output into the result
+/// as soon as it is computed: `let mut out: R = zeros; { let [[o0, _, o2]] = &mut out…;
+/// x0 = …; *o0 = x0; … } out`. Returning them all at the end kept every output alive across the
+/// whole function (the regressor's peak of live values was 260 instead of 103), so the
+/// register allocator spilled them and reloaded them to store them.
+fn written_in_place(
+    plan: &Plan,
+    q: &Quantity,
+    form: Form,
+    ret: &TokenStream,
+    atoms: &[TokenStream],
+    used: &mut Vec<Id>,
+) -> TokenStream {
+    let g = &plan.robot.graph;
+    let mut slots: HashMap<Id, Vec<Ident>> = HashMap::new();
+    let mut immediate = Vec::new();
+    let pattern: Vec<TokenStream> = q
+        .outputs
+        .iter()
+        .zip(atoms)
+        .enumerate()
+        .map(|(k, (&id, atom))| {
+            let slot = format_ident!("o{k}");
+            if g.constant_value(id) == Some(0.0) || g.node(id) == Node::LaneZero {
+                return quote!(_);
+            }
+            match plan.names.contains_key(&id) {
+                true => slots.entry(id).or_default().push(slot.clone()),
+                false => immediate.push(quote!(*#slot = #atom;)),
+            }
+            quote!(#slot)
+        })
+        .collect();
+    let statements = plan.statements_writing(&plan.order, used, &slots);
+    let (rows, target, zero) = match (form, q.shape) {
+        (Form::Scalar, Shape::Vector(len)) => (len, quote!(out.data.0), quote!(SMatrix::zeros())),
+        (Form::Scalar, Shape::Matrix(rows, _)) => (rows, quote!(out.data.0), quote!(SMatrix::zeros())),
+        (Form::Lanes, Shape::Vector(len)) => {
+            let len = Literal::usize_unsuffixed(len);
+            let pattern = &pattern;
+            return quote! {
+                let mut out: #ret = [L::splat(0.0); #len];
+                {
+                    let [#(#pattern),*] = &mut out;
+                    #(#immediate)*
+                    #(#statements)*
+                }
+                out
+            };
+        }
+        (Form::Lanes, Shape::Matrix(rows, cols)) => {
+            let (r, c) = (Literal::usize_unsuffixed(rows), Literal::usize_unsuffixed(cols));
+            (rows, quote!(out), quote!([[L::splat(0.0); #r]; #c]))
+        }
+        _ => unreachable!("only vectors and matrices are written in place"),
+    };
+    let columns = pattern.chunks(rows).map(|c| quote!([#(#c),*]));
+    quote! {
+        let mut out: #ret = #zero;
+        {
+            let [#(#columns),*] = &mut #target;
+            #(#immediate)*
+            #(#statements)*
+        }
+        out
+    }
 }
 
 /// The additions and subtractions of the computed nodes `computed` that become one
