@@ -749,9 +749,15 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
     }
     let names_of = |ids: &[Id]| -> Vec<Ident> { ids.iter().map(|id| plan.names[id].clone()).collect() };
 
-    if n_chunks == 1 && matches!(q.shape, Shape::Vector(_) | Shape::Matrix(..)) {
+    if n_chunks == 1 {
         let mut used = main_used;
-        let body = written_in_place(&plan, q, form, &ret, &atoms, &mut used);
+        let body = match q.shape {
+            Shape::Vector(_) | Shape::Matrix(..) => written_in_place(&plan, q, form, &ret, &atoms, &mut used),
+            _ => {
+                let statements = plan.statements(&plan.order, &mut used);
+                quote!(#(#statements)* #result)
+            }
+        };
         let sig = signature(robot, leaves, &q.args, &used, &n, form);
         let (params, prelude) = (sig.params, sig.prelude);
         let method = function_item(
@@ -762,25 +768,6 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
             &ret,
             plan.uses_arith(&plan.order),
             quote!(#(#prelude)* #body),
-        );
-        return Emitted {
-            method,
-            chunks: Vec::new(),
-        };
-    }
-    if n_chunks == 1 {
-        let mut used = main_used;
-        let statements = plan.statements(&plan.order, &mut used);
-        let sig = signature(robot, leaves, &q.args, &used, &n, form);
-        let (params, prelude) = (sig.params, sig.prelude);
-        let method = function_item(
-            form,
-            quote!(#(#[doc = #doc])* #[inline(never)]),
-            &name,
-            &params,
-            &ret,
-            plan.uses_arith(&plan.order),
-            quote!(#(#prelude)* #(#statements)* #result),
         );
         return Emitted {
             method,
