@@ -227,6 +227,8 @@ fn random_trees_base_parameters() {
         proptest::prop_assert_eq!(base.diagnostics.svd_rank, base.count());
         let theta = random_theta(10 * n, n as u64);
         let theta_b = base.base_parameters(&theta);
+        // What generated code computes its dynamics from: θ_b on the kept columns, zeros.
+        let representative = base.representative(&theta);
         let dynamics = NumericDynamics::new(&model);
         for seed in 0..3 {
             let s = random_state(&model, 900 + seed);
@@ -235,13 +237,10 @@ fn random_trees_base_parameters() {
             let tau_b = base.base_regressor(&y) * DMatrix::from_column_slice(theta_b.len(), 1, &theta_b);
             let err = common::relative_error(&tau_b, &tau);
             proptest::prop_assert!(err <= TOL, "Y_b θ_b vs Y θ: {err:.3e}, {:?}", base.diagnostics);
-            // What generated code computes its dynamics from: θ_b on the kept columns, zeros.
-            let representative = base.representative(&theta);
             let tau_r = &y * DMatrix::from_column_slice(representative.len(), 1, &representative);
             let err = common::relative_error(&tau_r, &tau);
             proptest::prop_assert!(err <= TOL, "Y θ' vs Y θ: {err:.3e}");
         }
-        let representative = base.representative(&theta);
         let off_base = (0..theta.len()).filter(|i| !base.columns.contains(i));
         proptest::prop_assert!(off_base.clone().all(|i| representative[i] == 0.0));
         proptest::prop_assert!(off_base.count() + base.count() == theta.len());

@@ -111,18 +111,7 @@ fn exact_beyond_limit<const N: usize>(q: &[f64; N], sin: &mut [f64; N], cos: &mu
 /// and read back in one wide load the processor cannot forward.
 #[inline]
 pub(crate) fn sin_cos_f64x4(q: f64x4) -> (f64x4, f64x4) {
-    #[cfg(all(
-        target_arch = "x86_64",
-        not(all(target_feature = "avx2", target_feature = "fma"))
-    ))]
-    if crate::cpu::has_avx2_fma() {
-        let angles = q.to_array();
-        // SAFETY: the processor has AVX, AVX2 and FMA (just checked).
-        let (mut sin, mut cos) = unsafe { crate::trig_fused::sin_cos_four(&angles) };
-        exact_beyond_limit(&angles, &mut sin, &mut cos);
-        return (f64x4::new(sin), f64x4::new(cos));
-    }
-    let (sin, cos) = sin_cos_lanes(q);
+    let (sin, cos) = sin_cos_four_in_range(q);
     if q.abs().simd_le(f64x4::splat(LIMIT)).all() {
         return (sin, cos);
     }
@@ -130,6 +119,21 @@ pub(crate) fn sin_cos_f64x4(q: f64x4) -> (f64x4, f64x4) {
     let (mut sin, mut cos) = (sin.to_array(), cos.to_array());
     exact_beyond_limit(&angles, &mut sin, &mut cos);
     (f64x4::new(sin), f64x4::new(cos))
+}
+
+/// The kernel on four angles: fused where the build targets FMA or the processor has it.
+#[inline(always)]
+fn sin_cos_four_in_range(q: f64x4) -> (f64x4, f64x4) {
+    #[cfg(all(
+        target_arch = "x86_64",
+        not(all(target_feature = "avx2", target_feature = "fma"))
+    ))]
+    if crate::cpu::has_avx2_fma() {
+        // SAFETY: the processor has AVX, AVX2 and FMA (just checked).
+        let (sin, cos) = unsafe { crate::trig_fused::sin_cos_four(&q.to_array()) };
+        return (f64x4::new(sin), f64x4::new(cos));
+    }
+    sin_cos_lanes(q)
 }
 
 /// [`sin_cos_f64x4`] on each half of eight lanes.

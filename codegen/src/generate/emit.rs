@@ -885,33 +885,33 @@ fn written_in_place(
         })
         .collect();
     let statements = plan.statements_writing(&plan.order, used, &slots);
-    let (rows, target, zero) = match (form, q.shape) {
-        (Form::Scalar, Shape::Vector(len)) => (len, quote!(out.data.0), quote!(SMatrix::zeros())),
-        (Form::Scalar, Shape::Matrix(rows, _)) => (rows, quote!(out.data.0), quote!(SMatrix::zeros())),
+    let nested = |rows: usize| {
+        let columns = pattern.chunks(rows).map(|c| quote!([#(#c),*]));
+        quote!([#(#columns),*])
+    };
+    let (slots_pattern, target, zero) = match (form, q.shape) {
+        (Form::Scalar, Shape::Vector(len)) => (nested(len), quote!(out.data.0), quote!(SMatrix::zeros())),
+        (Form::Scalar, Shape::Matrix(rows, _)) => {
+            (nested(rows), quote!(out.data.0), quote!(SMatrix::zeros()))
+        }
         (Form::Lanes, Shape::Vector(len)) => {
             let len = Literal::usize_unsuffixed(len);
-            let pattern = &pattern;
-            return quote! {
-                let mut out: #ret = [L::splat(0.0); #len];
-                {
-                    let [#(#pattern),*] = &mut out;
-                    #(#immediate)*
-                    #(#statements)*
-                }
-                out
-            };
+            (
+                quote!([#(#pattern),*]),
+                quote!(out),
+                quote!([L::splat(0.0); #len]),
+            )
         }
         (Form::Lanes, Shape::Matrix(rows, cols)) => {
             let (r, c) = (Literal::usize_unsuffixed(rows), Literal::usize_unsuffixed(cols));
-            (rows, quote!(out), quote!([[L::splat(0.0); #r]; #c]))
+            (nested(rows), quote!(out), quote!([[L::splat(0.0); #r]; #c]))
         }
         _ => unreachable!("only vectors and matrices are written in place"),
     };
-    let columns = pattern.chunks(rows).map(|c| quote!([#(#c),*]));
     quote! {
         let mut out: #ret = #zero;
         {
-            let [#(#columns),*] = &mut #target;
+            let #slots_pattern = &mut #target;
             #(#immediate)*
             #(#statements)*
         }

@@ -211,7 +211,7 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
         ];
         let mut quantities = quantities;
         let tau = inputs("tau", n);
-        let (forward, lane_forms) = forward_quantities(model, &theta, &q, &qd, &a, &tau);
+        let (forward, lane_forms) = forward_quantities(model, &inertias, &joint_values, &q, &qd, &a, &tau);
         quantities.extend(forward);
         quantities.extend(torque_regressors(model, &x, &qd, &a, &base));
         quantities.push(fused_kinematics(&quantities, n));
@@ -277,7 +277,8 @@ fn cost(graph: &Graph, outputs: &[Id]) -> usize {
 /// [`trace_with_base`] keeps where they cost less.
 fn forward_quantities(
     model: &Model,
-    theta: &[f64],
+    inertias: &[crate::spatial::RigidInertia<Expr>],
+    jv: &[crate::model::JointTermValues],
     q: &[Expr],
     qd: &[Expr],
     a: &[Expr],
@@ -285,16 +286,14 @@ fn forward_quantities(
 ) -> (Vec<Quantity>, Vec<(&'static str, Vec<Id>)>) {
     let n = model.dof();
     let x = dynamics::joint_transforms(model, q);
-    let inertias = representative_inertias(model, theta);
-    let jv = model.joint_term_values_from(theta);
-    let forward = ids(&dynamics::forward_dynamics(model, &x, &inertias, &jv, qd, tau));
-    let inverse_mass = matrix_ids(&dynamics::mass_matrix_inverse(model, &x, &inertias, &jv));
+    let forward = ids(&dynamics::forward_dynamics(model, &x, inertias, jv, qd, tau));
+    let inverse_mass = matrix_ids(&dynamics::mass_matrix_inverse(model, &x, inertias, jv));
     let derivatives = |directions| {
         let inverse = pair_ids(dynamics::inverse_dynamics_derivatives_by(
-            directions, model, q, &inertias, &jv, qd, a,
+            directions, model, q, inertias, jv, qd, a,
         ));
         let forward = pair_ids(dynamics::forward_dynamics_derivatives_by(
-            directions, model, q, &inertias, &jv, qd, tau,
+            directions, model, q, inertias, jv, qd, tau,
         ));
         (inverse, forward)
     };
