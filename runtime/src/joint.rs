@@ -14,12 +14,11 @@ pub struct JointTrig<const N: usize> {
 impl<const N: usize> JointTrig<N> {
     /// All sines and cosines in one pass over the joints (SIMD lanes where the target has
     /// them): they are most of the cost of kinematics and gravity.
+    #[inline(always)]
     pub fn new(q: &SVector<f64, N>) -> Self {
         // The caller's array itself, not a fresh copy: a copy just stored in smaller pieces
         // cannot be forwarded to the kernel's wide loads.
-        let angles: &[f64; N] = &q.data.0[0];
-        let (sin, cos) = crate::trig::sin_cos_all(angles);
-        JointTrig { q: *angles, sin, cos }
+        crate::trig::joint_trig(&q.data.0[0])
     }
 }
 

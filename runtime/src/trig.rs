@@ -17,6 +17,7 @@
 //! loops as 4 + 2 + 1 lanes for seven joints, kept the quadrant's bit operations scalar and
 //! used no FMA, 2.5 times the instructions of this form.
 
+use crate::JointTrig;
 use wide::f64x4;
 
 /// Largest `|q|` the fast reduction serves; far beyond any joint's range.
@@ -51,28 +52,56 @@ pub(crate) const COS: [f64; 8] = [
     4.779477332387385e-14,
 ];
 
-/// Sines and cosines of every entry of `q`: fused where the build targets FMA or the processor
-/// has it.
-#[inline]
-pub(crate) fn sin_cos_all<const N: usize>(q: &[f64; N]) -> ([f64; N], [f64; N]) {
+/// The joint positions `q` with their sines and cosines: fused where the build targets FMA or
+/// the processor has it. Inlined into the caller, so that the kernel's result lands in the
+/// caller's value: built in a temporary and copied, it was read back in pieces of another width
+/// than they were stored in, which the processor cannot forward (a default build took 25 or
+/// 42 ns for the UR5's sines and cosines from one run to the next, against 25 ns native).
+#[inline(always)]
+pub(crate) fn joint_trig<const N: usize>(q: &[f64; N]) -> JointTrig<N> {
     #[cfg(all(
         target_arch = "x86_64",
         not(all(target_feature = "avx2", target_feature = "fma"))
     ))]
     if crate::cpu::has_avx2_fma() {
         // SAFETY: the processor has AVX, AVX2 and FMA (just checked).
-        return unsafe { crate::trig_fused::sin_cos_all(q) };
+        return unsafe { crate::trig_fused::joint_trig(q) };
     }
-    sin_cos_all_with(q, sin_cos_8)
+    lane_joint_trig(q)
+}
+
+/// [`joint_trig`] by the lane form: out of line where a build chooses at run time (it is the
+/// path of processors without FMA there), inlined where it is the build's only form.
+#[cfg_attr(
+    all(
+        target_arch = "x86_64",
+        not(all(target_feature = "avx2", target_feature = "fma"))
+    ),
+    inline(never)
+)]
+#[cfg_attr(
+    not(all(
+        target_arch = "x86_64",
+        not(all(target_feature = "avx2", target_feature = "fma"))
+    )),
+    inline(always)
+)]
+fn lane_joint_trig<const N: usize>(q: &[f64; N]) -> JointTrig<N> {
+    let (sin, cos) = sin_cos_all_with(q, sin_cos_8);
+    JointTrig { q: *q, sin, cos }
+}
+
+/// The sines and cosines of [`joint_trig`].
+#[cfg(test)]
+pub(crate) fn sin_cos_all<const N: usize>(q: &[f64; N]) -> ([f64; N], [f64; N]) {
+    let trig = joint_trig(q);
+    (trig.sin, trig.cos)
 }
 
 /// `kernel` over `q` eight entries at a time (the last group padded with zeros), and the exact
-/// reduction for entries out of its range. Inlined into its caller, so that the fused form runs
-/// all of it with the processor's features: a kernel behind a call boundary would load its
-/// eight angles in one 256-bit read of values just stored in smaller pieces, which the
-/// processor cannot forward (that stall cost more than the kernel itself).
+/// reduction for entries out of its range.
 #[inline(always)]
-pub(crate) fn sin_cos_all_with<const N: usize>(
+fn sin_cos_all_with<const N: usize>(
     q: &[f64; N],
     kernel: impl Fn(&[f64; 8]) -> ([f64; 8], [f64; 8]),
 ) -> ([f64; N], [f64; N]) {
@@ -94,7 +123,7 @@ pub(crate) fn sin_cos_all_with<const N: usize>(
 /// The entries of `q` out of the kernel's range (or NaN, for which the comparison is false) by
 /// the exact reduction.
 #[inline(always)]
-fn exact_beyond_limit<const N: usize>(q: &[f64; N], sin: &mut [f64; N], cos: &mut [f64; N]) {
+pub(crate) fn exact_beyond_limit<const N: usize>(q: &[f64; N], sin: &mut [f64; N], cos: &mut [f64; N]) {
     let in_range = |x: f64| f64::from_bits(x.to_bits() & !(1 << 63)) <= LIMIT;
     if !q.iter().all(|&x| in_range(x)) {
         for i in 0..N {
@@ -254,7 +283,8 @@ mod tests {
         if crate::cpu::has_avx2_fma() {
             fn fused(q: &[f64; 8]) -> ([f64; 8], [f64; 8]) {
                 // SAFETY: only listed when the processor has AVX2 and FMA.
-                unsafe { crate::trig_fused::sin_cos_all(q) }
+                let trig = unsafe { crate::trig_fused::joint_trig(q) };
+                (trig.sin, trig.cos)
             }
             forms.push(("fused", fused));
         }

@@ -4,27 +4,57 @@
 //! values where that form is fused (a `-C target-cpu=native` build).
 
 use crate::trig::{COS, P1, P2, P3, ROUND, SIN, TWO_OVER_PI};
+use crate::JointTrig;
 use core::arch::x86_64::*;
 
-/// [`crate::trig::sin_cos_all`] with every step compiled for AVX2 and FMA.
+/// [`crate::trig::joint_trig`] with every step compiled for AVX2 and FMA: the angles read from
+/// `q`, four joints per vector, and each result stored once, into the value returned.
 ///
 /// # Safety
 /// The processor must have AVX, AVX2 and FMA.
 #[target_feature(enable = "avx,avx2,fma")]
-pub(crate) unsafe fn sin_cos_all<const N: usize>(q: &[f64; N]) -> ([f64; N], [f64; N]) {
-    crate::trig::sin_cos_all_with(q, |x| {
-        let mut sin = [0.0; 8];
-        let mut cos = [0.0; 8];
-        for half in 0..2 {
-            // SAFETY: the enclosing function's features; reads and writes stay in the arrays.
-            unsafe {
-                let (s, c) = sin_cos_4(_mm256_loadu_pd(x[4 * half..].as_ptr()));
-                _mm256_storeu_pd(sin[4 * half..].as_mut_ptr(), s);
-                _mm256_storeu_pd(cos[4 * half..].as_mut_ptr(), c);
+pub(crate) unsafe fn joint_trig<const N: usize>(q: &[f64; N]) -> JointTrig<N> {
+    let (mut sin, mut cos) = ([0.0; N], [0.0; N]);
+    let mut start = 0;
+    while start < N {
+        let count = (N - start).min(4);
+        let angle = |k: usize| if k < count { q[start + k] } else { 0.0 };
+        // SAFETY: the enclosing function's features; every read and write is within the
+        // arrays (a full vector only where four entries remain, single lanes otherwise).
+        unsafe {
+            let x = if count == 4 {
+                _mm256_loadu_pd(q[start..].as_ptr())
+            } else {
+                _mm256_setr_pd(angle(0), angle(1), angle(2), 0.0)
+            };
+            let (s, c) = sin_cos_4(x);
+            store(&mut sin[start..start + count], s);
+            store(&mut cos[start..start + count], c);
+        }
+        start += 4;
+    }
+    crate::trig::exact_beyond_limit(q, &mut sin, &mut cos);
+    JointTrig { q: *q, sin, cos }
+}
+
+/// The first `out.len()` (one to four) lanes of `v` into `out`.
+#[target_feature(enable = "avx,avx2,fma")]
+#[inline]
+unsafe fn store(out: &mut [f64], v: __m256d) {
+    // SAFETY: the enclosing function's features; each store covers entries of `out` only.
+    unsafe {
+        let low = _mm256_castpd256_pd128(v);
+        match out.len() {
+            4 => _mm256_storeu_pd(out.as_mut_ptr(), v),
+            1 => _mm_store_sd(out.as_mut_ptr(), low),
+            count => {
+                _mm_storeu_pd(out.as_mut_ptr(), low);
+                if count == 3 {
+                    _mm_store_sd(out[2..].as_mut_ptr(), _mm256_extractf128_pd::<1>(v));
+                }
             }
         }
-        (sin, cos)
-    })
+    }
 }
 
 /// The kernel on four angles (one lane vector of `JointTrigLanes`), compiled for AVX2 and FMA.
