@@ -10,18 +10,47 @@ const ABSENT: u8 = 1;
 const PRESENT: u8 = 2;
 
 static AVX2_FMA: AtomicU8 = AtomicU8::new(UNKNOWN);
+// Read by the dispatch of optimised builds and by tests, not by other debug builds.
+#[cfg_attr(all(debug_assertions, not(test)), allow(dead_code))]
+static AVX512: AtomicU8 = AtomicU8::new(UNKNOWN);
 
 /// AVX2 and FMA both present, and the operating system saves the AVX registers.
 #[inline]
 pub(crate) fn has_avx2_fma() -> bool {
-    match AVX2_FMA.load(Ordering::Relaxed) {
+    cached(&AVX2_FMA, detect)
+}
+
+/// [`has_avx2_fma`], AVX-512F too, and the operating system saves the AVX-512 registers.
+#[cfg_attr(all(debug_assertions, not(test)), allow(dead_code))]
+#[inline]
+pub(crate) fn has_avx512() -> bool {
+    cached(&AVX512, || has_avx2_fma() && detect_avx512())
+}
+
+#[inline(always)]
+fn cached(state: &AtomicU8, detect: impl FnOnce() -> bool) -> bool {
+    match state.load(Ordering::Relaxed) {
         UNKNOWN => {
             let present = detect();
-            AVX2_FMA.store(if present { PRESENT } else { ABSENT }, Ordering::Relaxed);
+            state.store(if present { PRESENT } else { ABSENT }, Ordering::Relaxed);
             present
         }
         state => state == PRESENT,
     }
+}
+
+/// Asked only once AVX is known to be enabled (so XGETBV is).
+#[cfg_attr(all(debug_assertions, not(test)), allow(dead_code))]
+#[cold]
+fn detect_avx512() -> bool {
+    use core::arch::x86_64::{__cpuid_count, _xgetbv};
+    // SAFETY: CPUID leaf 7 exists (`detect` read it); XGETBV is enabled (OSXSAVE, in `detect`).
+    #[allow(unused_unsafe)]
+    let avx512f = unsafe { __cpuid_count(7, 0) }.ebx & (1 << 16) != 0;
+    // XCR0 bits 5–7: the opmask registers and both halves of the 512-bit state are saved.
+    #[allow(unused_unsafe)]
+    let xcr0 = unsafe { _xgetbv(0) };
+    avx512f && xcr0 & 0b1110_0000 == 0b1110_0000
 }
 
 #[cold]

@@ -20,19 +20,35 @@
 //! processor without FMA: tests compare the two forms with it, and a program can use it to get
 //! results equal bit for bit to such a processor's.
 
-/// How a kernel computes `a·b + c`.
+/// How a kernel computes `a·b + c`, and in which registers it holds eight lanes.
 pub trait MulAdd: Copy {
+    /// The eight-lane vector of a kernel that carries tangents in lanes ([`dispatch_eight`]).
+    type Eight: EightLanes;
     fn mul_add(self, a: f64, b: f64, c: f64) -> f64;
+    /// The lane vector of `lanes`.
+    fn eight(self, lanes: [f64; 8]) -> Self::Eight;
+    /// Every lane `x`.
+    #[inline(always)]
+    fn splat_eight(self, x: f64) -> Self::Eight {
+        self.eight([x; 8])
+    }
 }
+
+use crate::EightLanes;
 
 /// `a·b + c` as written: two roundings, on any processor.
 #[derive(Clone, Copy, Debug)]
 pub struct Unfused;
 
 impl MulAdd for Unfused {
+    type Eight = wide::f64x8;
     #[inline(always)]
     fn mul_add(self, a: f64, b: f64, c: f64) -> f64 {
         a * b + c
+    }
+    #[inline(always)]
+    fn eight(self, lanes: [f64; 8]) -> wide::f64x8 {
+        wide::f64x8::new(lanes)
     }
 }
 
@@ -44,11 +60,53 @@ pub struct Fused(());
 
 #[cfg(target_arch = "x86_64")]
 impl MulAdd for Fused {
+    /// `wide`'s where the build targets AVX2 and FMA (its instructions are the build's, 512-bit
+    /// ones where it targets AVX-512); two AVX registers where the build chooses at run time.
+    #[cfg(all(target_feature = "avx2", target_feature = "fma"))]
+    type Eight = wide::f64x8;
+    #[cfg(not(all(target_feature = "avx2", target_feature = "fma")))]
+    type Eight = crate::eight_lanes_x86::Avx2Eight;
     #[inline(always)]
     fn mul_add(self, a: f64, b: f64, c: f64) -> f64 {
         // SAFETY: a `Fused` exists only where the processor has FMA (see the type). Inlined into
         // a kernel that `dispatch` compiled with FMA enabled, this is one `vfmadd`.
         unsafe { crate::mul_add::fused_instruction(a, b, c) }
+    }
+    #[inline(always)]
+    fn eight(self, lanes: [f64; 8]) -> Self::Eight {
+        #[cfg(all(target_feature = "avx2", target_feature = "fma"))]
+        return wide::f64x8::new(lanes);
+        // SAFETY: a `Fused` exists only where the processor has AVX2 and FMA (see the type).
+        #[cfg(not(all(target_feature = "avx2", target_feature = "fma")))]
+        return unsafe { crate::eight_lanes_x86::Avx2Eight::new(lanes) };
+    }
+}
+
+/// [`Fused`] with eight lanes in one AVX-512 register, for kernels of [`dispatch_eight`] in a
+/// build that chooses at run time. Only `dispatch_eight` creates one, and only where the
+/// processor has AVX-512F, AVX2 and FMA.
+#[cfg(all(
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma"))
+))]
+#[derive(Clone, Copy, Debug)]
+pub struct Fused512(());
+
+#[cfg(all(
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma"))
+))]
+impl MulAdd for Fused512 {
+    type Eight = crate::eight_lanes_x86::Avx512Eight;
+    #[inline(always)]
+    fn mul_add(self, a: f64, b: f64, c: f64) -> f64 {
+        // SAFETY: a `Fused512` exists only where the processor has FMA (see the type).
+        unsafe { crate::mul_add::fused_instruction(a, b, c) }
+    }
+    #[inline(always)]
+    fn eight(self, lanes: [f64; 8]) -> Self::Eight {
+        // SAFETY: a `Fused512` exists only where the processor has AVX-512F (see the type).
+        unsafe { crate::eight_lanes_x86::Avx512Eight::new(lanes) }
     }
 }
 
@@ -65,6 +123,16 @@ pub trait Kernel<Args> {
 #[inline(always)]
 pub fn dispatch<K: Kernel<Args>, Args>(args: Args) -> K::Output {
     choice::dispatch::<K, Args>(args)
+}
+
+/// [`dispatch`] for a kernel that carries eight lanes (`M::Eight`): in a build that chooses at
+/// run time, a processor with AVX-512F runs it with [`Fused512`] inside a function compiled for
+/// AVX-512 (one register per lane vector, as a `-C target-cpu=native` build on it), one without
+/// with [`Fused`] (two AVX registers). Only the kernels that use lanes are compiled a third
+/// time.
+#[inline(always)]
+pub fn dispatch_eight<K: Kernel<Args>, Args>(args: Args) -> K::Output {
+    choice::dispatch_eight::<K, Args>(args)
 }
 
 /// Whether generated functions run [`Fused`] here: always in a build that targets AVX2 and FMA;
@@ -94,6 +162,11 @@ mod choice {
         K::run(Fused(()), args)
     }
 
+    #[inline(always)]
+    pub fn dispatch_eight<K: Kernel<Args>, Args>(args: Args) -> K::Output {
+        K::run(Fused(()), args)
+    }
+
     pub fn fused() -> bool {
         true
     }
@@ -109,7 +182,7 @@ mod choice {
     not(debug_assertions)
 ))]
 mod choice {
-    use super::{Fused, Kernel, Unfused};
+    use super::{Fused, Fused512, Kernel, Unfused};
     use core::sync::atomic::{AtomicBool, Ordering};
 
     /// Whether [`super::set_fused_multiply_adds`] turned the fused form off.
@@ -122,6 +195,19 @@ mod choice {
             unsafe { run_fused::<K, Args>(args) }
         } else {
             K::run(Unfused, args)
+        }
+    }
+
+    #[inline(always)]
+    pub fn dispatch_eight<K: Kernel<Args>, Args>(args: Args) -> K::Output {
+        if !fused() {
+            K::run(Unfused, args)
+        } else if crate::cpu::has_avx512() {
+            // SAFETY: the processor has AVX-512F, AVX2 and FMA (checked by `has_avx512`).
+            unsafe { run_fused512::<K, Args>(args) }
+        } else {
+            // SAFETY: the processor has AVX2 and FMA (checked by `fused`).
+            unsafe { run_fused::<K, Args>(args) }
         }
     }
 
@@ -143,6 +229,15 @@ mod choice {
     unsafe fn run_fused<K: Kernel<Args>, Args>(args: Args) -> K::Output {
         K::run(Fused(()), args)
     }
+
+    /// `K` compiled for AVX-512F, AVX2 and FMA, its lane vectors in 512-bit registers.
+    ///
+    /// # Safety
+    /// The processor must have AVX-512F, AVX2 and FMA.
+    #[target_feature(enable = "avx512f,avx2,fma")]
+    unsafe fn run_fused512<K: Kernel<Args>, Args>(args: Args) -> K::Output {
+        K::run(Fused512(()), args)
+    }
 }
 
 /// Any other build: the unfused form only. Debug builds are among them, because compiling every
@@ -161,6 +256,11 @@ mod choice {
 
     #[inline(always)]
     pub fn dispatch<K: Kernel<Args>, Args>(args: Args) -> K::Output {
+        K::run(Unfused, args)
+    }
+
+    #[inline(always)]
+    pub fn dispatch_eight<K: Kernel<Args>, Args>(args: Args) -> K::Output {
         K::run(Unfused, args)
     }
 

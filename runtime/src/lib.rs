@@ -19,6 +19,12 @@
 ))]
 mod cpu;
 mod dispatch;
+mod eight_lanes;
+#[cfg(all(
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma"))
+))]
+mod eight_lanes_x86;
 mod joint;
 mod lanes;
 mod mul_add;
@@ -35,7 +41,20 @@ mod trig_fused;
 
 #[cfg(target_arch = "x86_64")]
 pub use dispatch::Fused;
-pub use dispatch::{dispatch, fused_multiply_adds, set_fused_multiply_adds, Kernel, MulAdd, Unfused};
+#[cfg(all(
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma"))
+))]
+pub use dispatch::Fused512;
+pub use dispatch::{
+    dispatch, dispatch_eight, fused_multiply_adds, set_fused_multiply_adds, Kernel, MulAdd, Unfused,
+};
+pub use eight_lanes::EightLanes;
+#[cfg(all(
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma"))
+))]
+pub use eight_lanes_x86::{Avx2Eight, Avx512Eight};
 pub use joint::{JointLimits, JointTrig};
 pub use lanes::{f64x4, f64x8, pack, sign, unpack, JointTrigLanes, LaneDynamics, Lanes};
 pub use libm;

@@ -138,9 +138,11 @@ impl Form {
     }
 }
 
-/// The type of lane-vector values (the tangents of eight directions at once).
+/// The type of lane-vector values (the tangents of eight directions at once): the kernel's
+/// own (`dyngen_runtime::MulAdd::Eight`), so that `dyngen_runtime::dispatch_eight` chooses its
+/// registers; vectors are made through `arith` (`arith.eight([..])`, `arith.splat_eight(x)`).
 fn lane_type() -> TokenStream {
-    quote!(dyngen_runtime::f64x8)
+    quote!(M::Eight)
 }
 
 /// `a·b + c` with one rounding: an addition or subtraction whose product operand is used only
@@ -270,6 +272,13 @@ impl<'a> Plan<'a> {
     fn uses_arith(&self, ids: &[Id]) -> bool {
         ids.iter()
             .any(|id| self.fused.contains_key(id) && !self.robot.graph.node(*id).is_lanes())
+            || self.uses_lanes(ids)
+    }
+
+    /// Whether any of `ids` is a lane vector: the function then makes its vectors through
+    /// `arith` and runs through `dyngen_runtime::dispatch_eight`.
+    fn uses_lanes(&self, ids: &[Id]) -> bool {
+        ids.iter().any(|id| self.robot.graph.node(*id).is_lanes())
     }
 
     /// `id` as an operand, negated if `negate`: a constant as its negated literal (never `--x`).
@@ -301,8 +310,7 @@ impl<'a> Plan<'a> {
     /// An operand: a literal, an input, or an earlier temporary. Records inputs it reads.
     fn atom(&self, id: Id, used_leaves: &mut Vec<Id>) -> TokenStream {
         if self.robot.graph.node(id) == Node::LaneZero {
-            let ty = lane_type();
-            return quote!(#ty::splat(0.0));
+            return quote!(arith.splat_eight(0.0));
         }
         if let Some(x) = self.robot.graph.constant_value(id) {
             let x = literal(x);
@@ -410,16 +418,16 @@ impl<'a> Plan<'a> {
                 quote!(#a / #b)
             }
             Node::Splat(a) => {
-                let (ty, a) = (lane_type(), atom(a));
-                quote!(#ty::splat(#a))
+                let a = atom(a);
+                quote!(arith.splat_eight(#a))
             }
             Node::LaneUnit(k, a) => {
-                let (ty, a) = (lane_type(), atom(a));
+                let a = atom(a);
                 let lanes = (0..LANES).map(|j| match j == k as usize {
                     true => a.clone(),
                     false => quote!(0.0),
                 });
-                quote!(#ty::new([#(#lanes),*]))
+                quote!(arith.eight([#(#lanes),*]))
             }
             Node::Const(_) | Node::Input(_) | Node::LaneZero => unreachable!("leaves are not statements"),
             Node::Extract(..) => unreachable!("lane extractions are destructuring statements"),
@@ -462,8 +470,10 @@ impl Param {
 
 /// A generated function. A scalar one runs its body as a `dyngen_runtime::Kernel` through
 /// `dyngen_runtime::dispatch`: with the processor's fused multiply-adds even in a build that
-/// does not target them (the body names its multiply-adds `arith.mul_add`). A lane function is
-/// generic over its lane type instead.
+/// does not target them (the body names its multiply-adds `arith.mul_add`), and through
+/// `dyngen_runtime::dispatch_eight` where it carries lane vectors (`uses_lanes`). A lane
+/// function is generic over its lane type instead.
+#[allow(clippy::too_many_arguments)]
 fn function_item(
     form: Form,
     attributes: TokenStream,
@@ -471,6 +481,7 @@ fn function_item(
     params: &[Param],
     ret: &TokenStream,
     uses_arith: bool,
+    uses_lanes: bool,
     body: TokenStream,
 ) -> TokenStream {
     if form == Form::Lanes {
@@ -493,6 +504,16 @@ fn function_item(
         true => format_ident!("arith"),
         false => format_ident!("_arith"),
     };
+    // A kernel with lane vectors calls their multiply-adds as methods of `M::Eight`.
+    let (dispatch, lane_methods) = match uses_lanes {
+        true => (
+            quote!(dyngen_runtime::dispatch_eight),
+            quote!(
+                use dyngen_runtime::EightLanes as _;
+            ),
+        ),
+        false => (quote!(dyngen_runtime::dispatch), quote!()),
+    };
     quote! {
         #attributes
         fn #name(#(#outer),*) -> #ret {
@@ -501,10 +522,11 @@ fn function_item(
                 type Output = #ret;
                 #[inline(always)]
                 fn run<M: dyngen_runtime::MulAdd>(#arith: M, (#(#bindings,)*): (#(#types,)*)) -> #ret {
+                    #lane_methods
                     #body
                 }
             }
-            dyngen_runtime::dispatch::<Body, _>((#(#names,)*))
+            #dispatch::<Body, _>((#(#names,)*))
         }
     }
 }
@@ -767,6 +789,7 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
             &params,
             &ret,
             plan.uses_arith(&plan.order),
+            plan.uses_lanes(&plan.order),
             quote!(#(#prelude)* #body),
         );
         return Emitted {
@@ -791,7 +814,9 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
             (names_of(&scalars), names_of(&lanes))
         };
         let ((inputs, lane_inputs), (outputs, lane_outputs)) = (split(&carried_in[k]), split(&handed_on[k]));
-        let lane_ty = lane_type();
+        // Lane vectors cross chunks as plain arrays: each chunk is a kernel of its own, whose
+        // lane type its own dispatch chooses.
+        let lane_ty = quote!([f64; 8]);
         let (n_in, n_out, n_lane_in, n_lane_out) = (
             Literal::usize_unsuffixed(inputs.len()),
             Literal::usize_unsuffixed(outputs.len()),
@@ -811,7 +836,7 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
                 quote!([#lane_ty; #n_lane_in]),
             ));
             call_args.push(quote!([#(#lane_inputs),*]));
-            unpack.push(quote!(let [#(#lane_inputs),*] = carried_lanes;));
+            unpack.push(quote!(let [#(#lane_inputs),*] = carried_lanes.map(|lanes| arith.eight(lanes));));
         }
         let (ret, returned, bound) = match lane_outputs.is_empty() {
             true => (
@@ -821,7 +846,7 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
             ),
             false => (
                 quote!(([#ty; #n_out], [#lane_ty; #n_lane_out])),
-                quote!(([#(#outputs),*], [#(#lane_outputs),*])),
+                quote!(([#(#outputs),*], [#(#lane_outputs.to_array()),*])),
                 quote!(([#(#outputs),*], [#(#lane_outputs),*])),
             ),
         };
@@ -831,7 +856,8 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
             &chunk_name,
             &params,
             &ret,
-            plan.uses_arith(ids),
+            plan.uses_arith(ids) || !lane_inputs.is_empty(),
+            plan.uses_lanes(ids) || !lane_inputs.is_empty(),
             quote!(#(#prelude)* #(#unpack)* #(#statements)* #returned),
         ));
         calls.push(quote!(let #bound = #chunk_name(#(#call_args),*);));

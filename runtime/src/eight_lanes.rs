@@ -1,0 +1,48 @@
+//! The lane vector of generated functions that carry eight tangent directions at once (the
+//! derivatives of the dynamics). Such a function names it through its multiply-add strategy,
+//! `M::Eight` of [`MulAdd`](crate::MulAdd), and creates its vectors through it
+//! (`arith.eight([..])`), so [`dispatch_eight`](crate::dispatch_eight) can give it the widest
+//! registers the processor has even in a build that does not target them: `wide::f64x8`
+//! compiles to the build's target alone, four SSE2 instructions per operation in a default
+//! build, which made the Panda's derivatives 2.7–4× slower there than in a native one.
+
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+/// Eight `f64` lanes with lane-wise arithmetic and the four signed multiply-adds.
+pub trait EightLanes:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
+{
+    /// `self · m + a`.
+    fn mul_add(self, m: Self, a: Self) -> Self;
+    /// `self · m − s`.
+    fn mul_sub(self, m: Self, s: Self) -> Self;
+    /// `a − self · m`.
+    fn mul_neg_add(self, m: Self, a: Self) -> Self;
+    /// `−(self · m) − s`.
+    fn mul_neg_sub(self, m: Self, s: Self) -> Self;
+    /// The eight lanes.
+    fn to_array(self) -> [f64; 8];
+}
+
+impl EightLanes for wide::f64x8 {
+    #[inline(always)]
+    fn mul_add(self, m: Self, a: Self) -> Self {
+        wide::f64x8::mul_add(self, m, a)
+    }
+    #[inline(always)]
+    fn mul_sub(self, m: Self, s: Self) -> Self {
+        wide::f64x8::mul_sub(self, m, s)
+    }
+    #[inline(always)]
+    fn mul_neg_add(self, m: Self, a: Self) -> Self {
+        wide::f64x8::mul_neg_add(self, m, a)
+    }
+    #[inline(always)]
+    fn mul_neg_sub(self, m: Self, s: Self) -> Self {
+        wide::f64x8::mul_neg_sub(self, m, s)
+    }
+    #[inline(always)]
+    fn to_array(self) -> [f64; 8] {
+        wide::f64x8::to_array(self)
+    }
+}

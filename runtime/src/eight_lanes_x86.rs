@@ -1,0 +1,247 @@
+//! [`EightLanes`] in AVX2 (two 256-bit registers) and AVX-512 (one 512-bit register), for builds
+//! that choose the processor's features at run time. Only [`dispatch_eight`] creates a value of
+//! either type (through the multiply-add strategies [`Fused`] and [`Fused512`], which it creates
+//! after checking the processor), and no other way to make one exists: so every operation below
+//! runs on a processor that has its instructions. Each operation is one intrinsic per register,
+//! inlined into the kernel that `dispatch_eight` compiles with those features.
+//!
+//! [`dispatch_eight`]: crate::dispatch_eight
+//! [`Fused`]: crate::Fused
+//! [`Fused512`]: crate::dispatch::Fused512
+
+use crate::EightLanes;
+use core::arch::x86_64::*;
+use core::mem::transmute;
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+/// Eight lanes as two AVX registers.
+#[derive(Clone, Copy, Debug)]
+pub struct Avx2Eight([__m256d; 2]);
+
+/// Eight lanes as one AVX-512 register.
+#[derive(Clone, Copy, Debug)]
+pub struct Avx512Eight(__m512d);
+
+impl Avx2Eight {
+    /// # Safety
+    /// The processor must have AVX2 and FMA.
+    #[inline(always)]
+    pub(crate) unsafe fn new(lanes: [f64; 8]) -> Self {
+        // SAFETY: `[f64; 8]` and `[__m256d; 2]` are both 64 bytes of eight `f64`s.
+        Avx2Eight(unsafe { transmute::<[f64; 8], [__m256d; 2]>(lanes) })
+    }
+}
+
+impl Avx512Eight {
+    /// # Safety
+    /// The processor must have AVX-512F.
+    #[inline(always)]
+    pub(crate) unsafe fn new(lanes: [f64; 8]) -> Self {
+        // SAFETY: `[f64; 8]` and `__m512d` are both 64 bytes of eight `f64`s.
+        Avx512Eight(unsafe { transmute::<[f64; 8], __m512d>(lanes) })
+    }
+}
+
+/// The operators and multiply-adds of `$t`, each one intrinsic per register written out in place
+/// (no closure or helper between them and the intrinsic: a kernel inlines thousands of these, and
+/// every extra layer of functions costs compile time). `$on` spells the call on every register.
+/// SAFETY of every `unsafe` block: a value of the type exists only where the processor has its
+/// instructions (see the module).
+macro_rules! eight_lanes {
+    ($t:ident, $on:ident, $neg:expr,
+     add $add:ident, sub $sub:ident, mul $mul:ident, div $div:ident,
+     fmadd $fmadd:ident, fmsub $fmsub:ident, fnmadd $fnmadd:ident, fnmsub $fnmsub:ident) => {
+        impl Add for $t {
+            type Output = Self;
+            #[inline(always)]
+            fn add(self, b: Self) -> Self {
+                unsafe { $on!($t, $add, self, b) }
+            }
+        }
+        impl Sub for $t {
+            type Output = Self;
+            #[inline(always)]
+            fn sub(self, b: Self) -> Self {
+                unsafe { $on!($t, $sub, self, b) }
+            }
+        }
+        impl Mul for $t {
+            type Output = Self;
+            #[inline(always)]
+            fn mul(self, b: Self) -> Self {
+                unsafe { $on!($t, $mul, self, b) }
+            }
+        }
+        impl Div for $t {
+            type Output = Self;
+            #[inline(always)]
+            fn div(self, b: Self) -> Self {
+                unsafe { $on!($t, $div, self, b) }
+            }
+        }
+        impl Neg for $t {
+            type Output = Self;
+            #[inline(always)]
+            fn neg(self) -> Self {
+                // The sign bit flipped, as `wide` negates (−0 for +0).
+                unsafe { $neg(self) }
+            }
+        }
+        impl EightLanes for $t {
+            #[inline(always)]
+            fn mul_add(self, m: Self, a: Self) -> Self {
+                unsafe { $on!($t, $fmadd, self, m, a) }
+            }
+            #[inline(always)]
+            fn mul_sub(self, m: Self, s: Self) -> Self {
+                unsafe { $on!($t, $fmsub, self, m, s) }
+            }
+            #[inline(always)]
+            fn mul_neg_add(self, m: Self, a: Self) -> Self {
+                unsafe { $on!($t, $fnmadd, self, m, a) }
+            }
+            #[inline(always)]
+            fn mul_neg_sub(self, m: Self, s: Self) -> Self {
+                unsafe { $on!($t, $fnmsub, self, m, s) }
+            }
+            #[inline(always)]
+            fn to_array(self) -> [f64; 8] {
+                // SAFETY: both are 64 bytes of eight `f64`s.
+                unsafe { transmute::<$t, [f64; 8]>(self) }
+            }
+        }
+    };
+}
+
+/// `f` on both registers of two-register values.
+macro_rules! on_two {
+    ($t:ident, $f:ident, $a:expr, $($x:expr),+) => {
+        $t([$f($a.0[0], $($x.0[0]),+), $f($a.0[1], $($x.0[1]),+)])
+    };
+}
+
+/// `f` on the register of one-register values.
+macro_rules! on_one {
+    ($t:ident, $f:ident, $a:expr, $($x:expr),+) => {
+        $t($f($a.0, $($x.0),+))
+    };
+}
+
+eight_lanes!(Avx2Eight, on_two, neg_two,
+    add _mm256_add_pd, sub _mm256_sub_pd, mul _mm256_mul_pd, div _mm256_div_pd,
+    fmadd _mm256_fmadd_pd, fmsub _mm256_fmsub_pd, fnmadd _mm256_fnmadd_pd, fnmsub _mm256_fnmsub_pd);
+eight_lanes!(Avx512Eight, on_one, neg_one,
+    add _mm512_add_pd, sub _mm512_sub_pd, mul _mm512_mul_pd, div _mm512_div_pd,
+    fmadd _mm512_fmadd_pd, fmsub _mm512_fmsub_pd, fnmadd _mm512_fnmadd_pd, fnmsub _mm512_fnmsub_pd);
+
+/// # Safety
+/// The processor must have AVX.
+#[inline(always)]
+unsafe fn neg_two(a: Avx2Eight) -> Avx2Eight {
+    // SAFETY: the caller's promise.
+    unsafe {
+        let sign = _mm256_set1_pd(-0.0);
+        Avx2Eight([_mm256_xor_pd(a.0[0], sign), _mm256_xor_pd(a.0[1], sign)])
+    }
+}
+
+/// The sign-bit flip on 512 bits, on the integer view (a floating-point `xor` is AVX-512DQ).
+///
+/// # Safety
+/// The processor must have AVX-512F.
+#[inline(always)]
+unsafe fn neg_one(a: Avx512Eight) -> Avx512Eight {
+    // SAFETY: the caller's promise; the casts only reinterpret the bits.
+    unsafe {
+        let bits = _mm512_xor_si512(_mm512_castpd_si512(a.0), _mm512_set1_epi64(i64::MIN));
+        Avx512Eight(_mm512_castsi512_pd(bits))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Avx2Eight, Avx512Eight};
+    use crate::EightLanes;
+
+    /// Every operation of `T` against the same one lane by lane: exact for `+ − · / −x`, one
+    /// rounding (`f64::mul_add`) for the multiply-adds, bit for bit (signed zeros, infinities and
+    /// NaN included).
+    fn matches_lane_by_lane<T: EightLanes>(new: impl Fn([f64; 8]) -> T) {
+        let mut rng = crate::SplitMix64::new(5);
+        let special = [
+            0.0,
+            -0.0,
+            1.0,
+            -1.5,
+            f64::INFINITY,
+            f64::NEG_INFINITY,
+            f64::NAN,
+            1e-310,
+        ];
+        for round in 0..500 {
+            let draw = |rng: &mut crate::SplitMix64| -> [f64; 8] {
+                core::array::from_fn(|k| match (round + k) % 4 {
+                    0 => special[(round * 3 + k) % special.len()],
+                    _ => rng.uniform((-1e3, 1e3)),
+                })
+            };
+            let (a, b, c) = (draw(&mut rng), draw(&mut rng), draw(&mut rng));
+            let (x, y, z) = (new(a), new(b), new(c));
+            let lanes =
+                |f: fn(f64, f64, f64) -> f64| -> [f64; 8] { core::array::from_fn(|k| f(a[k], b[k], c[k])) };
+            let cases: [(&str, [f64; 8], [f64; 8]); 9] = [
+                ("add", (x + y).to_array(), lanes(|a, b, _| a + b)),
+                ("sub", (x - y).to_array(), lanes(|a, b, _| a - b)),
+                ("mul", (x * y).to_array(), lanes(|a, b, _| a * b)),
+                ("div", (x / y).to_array(), lanes(|a, b, _| a / b)),
+                ("neg", (-x).to_array(), lanes(|a, _, _| -a)),
+                (
+                    "mul_add",
+                    x.mul_add(y, z).to_array(),
+                    lanes(|a, b, c| a.mul_add(b, c)),
+                ),
+                (
+                    "mul_sub",
+                    x.mul_sub(y, z).to_array(),
+                    lanes(|a, b, c| a.mul_add(b, -c)),
+                ),
+                (
+                    "mul_neg_add",
+                    x.mul_neg_add(y, z).to_array(),
+                    lanes(|a, b, c| (-a).mul_add(b, c)),
+                ),
+                (
+                    "mul_neg_sub",
+                    x.mul_neg_sub(y, z).to_array(),
+                    lanes(|a, b, c| (-a).mul_add(b, -c)),
+                ),
+            ];
+            for (name, got, want) in cases {
+                for k in 0..8 {
+                    let same = got[k].to_bits() == want[k].to_bits() || got[k].is_nan() && want[k].is_nan();
+                    assert!(
+                        same,
+                        "{name} lane {k}: {} vs {} ({}, {}, {})",
+                        got[k], want[k], a[k], b[k], c[k]
+                    );
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn two_avx_registers_compute_lane_by_lane() {
+        if crate::cpu::has_avx2_fma() {
+            // SAFETY: the processor has AVX2 and FMA (just checked).
+            matches_lane_by_lane(|lanes| unsafe { Avx2Eight::new(lanes) });
+        }
+    }
+
+    #[test]
+    fn one_avx512_register_computes_lane_by_lane() {
+        if crate::cpu::has_avx512() {
+            // SAFETY: the processor has AVX-512F (just checked).
+            matches_lane_by_lane(|lanes| unsafe { Avx512Eight::new(lanes) });
+        }
+    }
+}
