@@ -88,11 +88,19 @@ impl<S: Scalar> TreeLdl<S> {
         for (xk, inv) in x.iter_mut().zip(&self.inv_pivot) {
             *xk = *xk * *inv;
         }
+        // Root first: the parent's `x` is the last to be ready, so its term comes last and each
+        // row adds one multiply-add to the chain of dependent operations instead of its depth
+        // (the Panda's forward dynamics: 21 dependent multiply-adds in this sweep → 7).
+        let mut ancestors = Vec::with_capacity(n);
         for k in 0..n {
+            ancestors.clear();
             let mut i = self.parent[k];
             while let Some(ii) = i {
-                x[k] = x[k] - self.l[(k, ii)] * x[ii];
+                ancestors.push(ii);
                 i = self.parent[ii];
+            }
+            for &ii in ancestors.iter().rev() {
+                x[k] = x[k] - self.l[(k, ii)] * x[ii];
             }
         }
         x
