@@ -3,6 +3,9 @@
 //! forms agree to rounding, and in a build that chooses at run time both really run: on an FMA
 //! processor the fused results differ from the unfused ones in their last bits.
 //!
+//! On a processor with AVX-512, the lane kernels (the derivatives) give the same bits in one
+//! 512-bit register as in two AVX ones (`set_avx512_lanes`).
+//!
 //! Its own test binary: the choice is process-wide. Optimised builds only (debug builds compile
 //! one form): `cargo test --release -p dyngen-generated --test fused_and_unfused`.
 
@@ -10,7 +13,10 @@ use dyngen_generated::{
     arm7, arm7_friction, panda, panda_rounded, ur5, Arm7, Arm7Friction, Panda, PandaRounded, Ur5,
 };
 use dyngen_runtime::nalgebra::SVector;
-use dyngen_runtime::{fused_multiply_adds, set_fused_multiply_adds, BaseParameters, JointTrig, SplitMix64};
+use dyngen_runtime::{
+    avx512_lanes, fused_multiply_adds, set_avx512_lanes, set_fused_multiply_adds, BaseParameters, JointTrig,
+    SplitMix64,
+};
 
 /// Every output of every scalar generated function at one state, one after the other.
 fn outputs<R, const N: usize, const P: usize, const B: usize>(x: &[SVector<f64, N>; 4]) -> Vec<f64>
@@ -56,6 +62,17 @@ where
             .map(|r| SVector::from_fn(|_, _| rng.uniform(r)));
         set_fused_multiply_adds(true);
         let fused = outputs::<R, N, P, B>(&x);
+        // The lane kernels (the derivatives) in two AVX registers instead of one AVX-512
+        // register where the processor has it: the same fused operations lane by lane.
+        set_avx512_lanes(false);
+        let two_registers = outputs::<R, N, P, B>(&x);
+        set_avx512_lanes(true);
+        for (i, (a, b)) in fused.iter().zip(&two_registers).enumerate() {
+            assert!(
+                a.to_bits() == b.to_bits() || a.is_nan() && b.is_nan(),
+                "{robot}, state {k}, output {i}: {a} in AVX-512 lanes, {b} in AVX2 ones"
+            );
+        }
         set_fused_multiply_adds(false);
         let unfused = outputs::<R, N, P, B>(&x);
         set_fused_multiply_adds(true);
@@ -92,6 +109,11 @@ fn fused_and_unfused_multiply_adds_agree_and_both_run_where_the_build_chooses() 
     // (on a processor with FMA) the two forms must round differently somewhere.
     let chooses_at_run_time = !set_fused_multiply_adds(false);
     set_fused_multiply_adds(true);
+    // Where the lanes can be 512 bits wide and that is chosen at run time, both widths ran.
+    if chooses_at_run_time && avx512_lanes() {
+        assert!(!set_avx512_lanes(false), "the 512-bit lanes do not turn off");
+        set_avx512_lanes(true);
+    }
     if chooses_at_run_time && fused_multiply_adds() {
         for (robot, d) in ["arm7", "arm7_friction", "panda", "panda_rounded", "ur5"]
             .iter()

@@ -135,6 +135,26 @@ pub fn dispatch_eight<K: Kernel<Args>, Args>(args: Args) -> K::Output {
     choice::dispatch_eight::<K, Args>(args)
 }
 
+/// Whether lane kernels ([`dispatch_eight`]) hold their eight lanes in one AVX-512 register:
+/// in a build that targets AVX-512F, always (the lane type's instructions are the build's); in
+/// an optimised x86-64 build that chooses at run time, where the processor has AVX-512F and runs
+/// [`Fused`] (unless [`set_avx512_lanes`] turned it off); never elsewhere.
+#[inline]
+pub fn avx512_lanes() -> bool {
+    choice::avx512_lanes()
+}
+
+/// Lets a build that chooses at run time hold lane kernels' vectors in two AVX registers even
+/// on a processor with AVX-512 (`false`), as on one without, or in one AVX-512 register again
+/// (`true`, the default), for the whole program; the results are the same bit for bit (the
+/// same fused operations lane by lane), only the speed differs. For tests and for measuring an
+/// AVX2 processor's speed on an AVX-512 one. No effect elsewhere. Returns [`avx512_lanes`] after
+/// the change.
+pub fn set_avx512_lanes(enabled: bool) -> bool {
+    choice::set_avx512_lanes(enabled);
+    avx512_lanes()
+}
+
 /// Whether generated functions run [`Fused`] here: always in a build that targets AVX2 and FMA;
 /// in an optimised x86-64 build that does not, where the processor has both (unless
 /// [`set_fused_multiply_adds`] turned it off); never elsewhere.
@@ -172,6 +192,12 @@ mod choice {
     }
 
     pub fn set(_: bool) {}
+
+    pub fn avx512_lanes() -> bool {
+        cfg!(target_feature = "avx512f")
+    }
+
+    pub fn set_avx512_lanes(_: bool) {}
 }
 
 /// An optimised x86-64 build that does not target AVX2 and FMA: both forms, chosen by the
@@ -187,6 +213,8 @@ mod choice {
 
     /// Whether [`super::set_fused_multiply_adds`] turned the fused form off.
     static UNFUSED_REQUESTED: AtomicBool = AtomicBool::new(false);
+    /// Whether [`super::set_avx512_lanes`] turned the 512-bit lanes off.
+    static AVX512_DECLINED: AtomicBool = AtomicBool::new(false);
 
     #[inline(always)]
     pub fn dispatch<K: Kernel<Args>, Args>(args: Args) -> K::Output {
@@ -202,8 +230,8 @@ mod choice {
     pub fn dispatch_eight<K: Kernel<Args>, Args>(args: Args) -> K::Output {
         if !fused() {
             K::run(Unfused, args)
-        } else if crate::cpu::has_avx512() {
-            // SAFETY: the processor has AVX-512F, AVX2 and FMA (checked by `has_avx512`).
+        } else if avx512_lanes() {
+            // SAFETY: the processor has AVX-512F, AVX2 and FMA (checked by `avx512_lanes`).
             unsafe { run_fused512::<K, Args>(args) }
         } else {
             // SAFETY: the processor has AVX2 and FMA (checked by `fused`).
@@ -218,6 +246,15 @@ mod choice {
 
     pub fn set(enabled: bool) {
         UNFUSED_REQUESTED.store(!enabled, Ordering::Relaxed);
+    }
+
+    #[inline]
+    pub fn avx512_lanes() -> bool {
+        fused() && crate::cpu::has_avx512() && !AVX512_DECLINED.load(Ordering::Relaxed)
+    }
+
+    pub fn set_avx512_lanes(enabled: bool) {
+        AVX512_DECLINED.store(!enabled, Ordering::Relaxed);
     }
 
     /// `K` compiled for AVX2 and FMA: its `#[inline(always)]` body, and the [`Fused`]
@@ -269,6 +306,12 @@ mod choice {
     }
 
     pub fn set(_: bool) {}
+
+    pub fn avx512_lanes() -> bool {
+        false
+    }
+
+    pub fn set_avx512_lanes(_: bool) {}
 }
 
 #[cfg(test)]

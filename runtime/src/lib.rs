@@ -47,7 +47,8 @@ pub use dispatch::Fused;
 ))]
 pub use dispatch::Fused512;
 pub use dispatch::{
-    dispatch, dispatch_eight, fused_multiply_adds, set_fused_multiply_adds, Kernel, MulAdd, Unfused,
+    avx512_lanes, dispatch, dispatch_eight, fused_multiply_adds, set_avx512_lanes, set_fused_multiply_adds,
+    Kernel, MulAdd, Unfused,
 };
 pub use eight_lanes::EightLanes;
 #[cfg(all(
