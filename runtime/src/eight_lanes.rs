@@ -24,23 +24,21 @@ pub trait EightLanes:
     fn to_array(self) -> [f64; 8];
 }
 
+/// A multiply-add method of `EightLanes` as `wide`'s method of the same name.
+macro_rules! forward {
+    ($method:ident) => {
+        #[inline(always)]
+        fn $method(self, m: Self, c: Self) -> Self {
+            wide::f64x8::$method(self, m, c)
+        }
+    };
+}
+
 impl EightLanes for wide::f64x8 {
-    #[inline(always)]
-    fn mul_add(self, m: Self, a: Self) -> Self {
-        wide::f64x8::mul_add(self, m, a)
-    }
-    #[inline(always)]
-    fn mul_sub(self, m: Self, s: Self) -> Self {
-        wide::f64x8::mul_sub(self, m, s)
-    }
-    #[inline(always)]
-    fn mul_neg_add(self, m: Self, a: Self) -> Self {
-        wide::f64x8::mul_neg_add(self, m, a)
-    }
-    #[inline(always)]
-    fn mul_neg_sub(self, m: Self, s: Self) -> Self {
-        wide::f64x8::mul_neg_sub(self, m, s)
-    }
+    forward!(mul_add);
+    forward!(mul_sub);
+    forward!(mul_neg_add);
+    forward!(mul_neg_sub);
     #[inline(always)]
     fn to_array(self) -> [f64; 8] {
         wide::f64x8::to_array(self)

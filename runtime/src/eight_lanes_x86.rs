@@ -51,34 +51,10 @@ macro_rules! eight_lanes {
     ($t:ident, $on:ident, $neg:expr,
      add $add:ident, sub $sub:ident, mul $mul:ident, div $div:ident,
      fmadd $fmadd:ident, fmsub $fmsub:ident, fnmadd $fnmadd:ident, fnmsub $fnmsub:ident) => {
-        impl Add for $t {
-            type Output = Self;
-            #[inline(always)]
-            fn add(self, b: Self) -> Self {
-                unsafe { $on!($t, $add, self, b) }
-            }
-        }
-        impl Sub for $t {
-            type Output = Self;
-            #[inline(always)]
-            fn sub(self, b: Self) -> Self {
-                unsafe { $on!($t, $sub, self, b) }
-            }
-        }
-        impl Mul for $t {
-            type Output = Self;
-            #[inline(always)]
-            fn mul(self, b: Self) -> Self {
-                unsafe { $on!($t, $mul, self, b) }
-            }
-        }
-        impl Div for $t {
-            type Output = Self;
-            #[inline(always)]
-            fn div(self, b: Self) -> Self {
-                unsafe { $on!($t, $div, self, b) }
-            }
-        }
+        binary_operator!($t, $on, Add, add, $add);
+        binary_operator!($t, $on, Sub, sub, $sub);
+        binary_operator!($t, $on, Mul, mul, $mul);
+        binary_operator!($t, $on, Div, div, $div);
         impl Neg for $t {
             type Output = Self;
             #[inline(always)]
@@ -88,27 +64,39 @@ macro_rules! eight_lanes {
             }
         }
         impl EightLanes for $t {
-            #[inline(always)]
-            fn mul_add(self, m: Self, a: Self) -> Self {
-                unsafe { $on!($t, $fmadd, self, m, a) }
-            }
-            #[inline(always)]
-            fn mul_sub(self, m: Self, s: Self) -> Self {
-                unsafe { $on!($t, $fmsub, self, m, s) }
-            }
-            #[inline(always)]
-            fn mul_neg_add(self, m: Self, a: Self) -> Self {
-                unsafe { $on!($t, $fnmadd, self, m, a) }
-            }
-            #[inline(always)]
-            fn mul_neg_sub(self, m: Self, s: Self) -> Self {
-                unsafe { $on!($t, $fnmsub, self, m, s) }
-            }
+            multiply_add!($t, $on, mul_add, $fmadd);
+            multiply_add!($t, $on, mul_sub, $fmsub);
+            multiply_add!($t, $on, mul_neg_add, $fnmadd);
+            multiply_add!($t, $on, mul_neg_sub, $fnmsub);
             #[inline(always)]
             fn to_array(self) -> [f64; 8] {
                 // SAFETY: both are 64 bytes of eight `f64`s.
                 unsafe { transmute::<$t, [f64; 8]>(self) }
             }
+        }
+    };
+}
+
+/// `impl $op for $t` by the intrinsic `$f` on every register (SAFETY as in `eight_lanes!`).
+macro_rules! binary_operator {
+    ($t:ident, $on:ident, $op:ident, $method:ident, $f:ident) => {
+        impl $op for $t {
+            type Output = Self;
+            #[inline(always)]
+            fn $method(self, b: Self) -> Self {
+                unsafe { $on!($t, $f, self, b) }
+            }
+        }
+    };
+}
+
+/// A multiply-add method of `EightLanes` by the intrinsic `$f` on every register (SAFETY as in
+/// `eight_lanes!`).
+macro_rules! multiply_add {
+    ($t:ident, $on:ident, $method:ident, $f:ident) => {
+        #[inline(always)]
+        fn $method(self, m: Self, c: Self) -> Self {
+            unsafe { $on!($t, $f, self, m, c) }
         }
     };
 }
