@@ -125,7 +125,10 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
             dynamics::add_armature(model, &joint_values, &mut d);
             d
         };
-        let y = matrix_ids(&full_from_base(&dynamics::regressor(model, &x, &qd, &v, &a), &base));
+        let y = matrix_ids(&full_from_base(
+            &dynamics::regressor(model, &x, &qd, &v, &a),
+            &base,
+        ));
         // Column-major: column c of Y is y[c·n .. (c+1)·n].
         let y_base: Vec<Id> = base
             .columns
@@ -368,8 +371,9 @@ fn torque_regressors(
 
 /// `Y` rebuilt from its base columns. `θ_b = K θ` for every `θ` (exact folding), so `Y = Y_b K`:
 /// a folded column is the few base columns its parameter folds into, scaled, instead of a
-/// regressor column traced on its own (torque-form `Y`: UR5 1,732 → 1,321 operations, Panda 2,178 → 1,761; Slotine–Li `Y`: Panda 3,108 → 2,397). A
-/// parameter that folds into nothing has a zero column.
+/// regressor column traced on its own (torque-form `Y`: UR5 1,732 → 1,321 operations, Panda
+/// 2,178 → 1,761; Slotine–Li `Y`: Panda 3,108 → 2,397). A parameter that folds into nothing has
+/// a zero column.
 fn full_from_base(y: &DMatrix<Expr>, base: &BaseParameterSet) -> DMatrix<Expr> {
     let mut full = DMatrix::from_element(y.nrows(), y.ncols(), Expr::zero());
     for (k, terms) in base.terms.iter().enumerate() {
