@@ -381,10 +381,10 @@ fn full_from_base(y: &DMatrix<Expr>, base: &BaseParameterSet) -> DMatrix<Expr> {
         for &(j, c) in terms {
             for r in 0..y.nrows() {
                 let scaled = match c == 1.0 {
-                    true => y[(r, kept)].clone(),
-                    false => Expr::from_f64(c) * y[(r, kept)].clone(),
+                    true => y[(r, kept)],
+                    false => Expr::from_f64(c) * y[(r, kept)],
                 };
-                full[(r, j)] = full[(r, j)].clone() + scaled;
+                full[(r, j)] = full[(r, j)] + scaled;
             }
         }
     }
