@@ -21242,6 +21242,7 @@ impl LaneDynamics<7, 43> for Panda {
         qd: &[L; 7],
         a: &[L; 7],
     ) -> [L; 7] {
+        dyngen_runtime::align_stack_frame();
         let [_, s1, s2, s3, s4, s5, s6] = t.sin;
         let [_, c1, c2, c3, c4, c5, c6] = t.cos;
         let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = *qd;
@@ -21852,6 +21853,7 @@ impl LaneDynamics<7, 43> for Panda {
         qd: &[L; 7],
         a: &[L; 7],
     ) -> [[L; 7]; 43] {
+        dyngen_runtime::align_stack_frame();
         let [_, s1, s2, s3, s4, s5, s6] = t.sin;
         let [_, c1, c2, c3, c4, c5, c6] = t.cos;
         let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = *qd;

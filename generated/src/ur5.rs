@@ -13303,6 +13303,7 @@ impl LaneDynamics<6, 36> for Ur5 {
         qd: &[L; 6],
         a: &[L; 6],
     ) -> [L; 6] {
+        dyngen_runtime::align_stack_frame();
         let [_, s1, s2, s3, s4, s5] = t.sin;
         let [_, c1, c2, c3, c4, c5] = t.cos;
         let [qd0, qd1, qd2, qd3, qd4, qd5] = *qd;
@@ -13600,6 +13601,7 @@ impl LaneDynamics<6, 36> for Ur5 {
         qd: &[L; 6],
         a: &[L; 6],
     ) -> [[L; 6]; 36] {
+        dyngen_runtime::align_stack_frame();
         let [_, s1, s2, s3, s4, s5] = t.sin;
         let [_, c1, c2, c3, c4, c5] = t.cos;
         let [qd0, qd1, qd2, qd3, qd4, qd5] = *qd;

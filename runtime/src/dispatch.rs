@@ -184,6 +184,7 @@ mod choice {
 
     #[inline(always)]
     pub fn dispatch_eight<K: Kernel<Args>, Args>(args: Args) -> K::Output {
+        crate::frame::align_stack_frame();
         K::run(Fused(()), args)
     }
 
@@ -264,6 +265,7 @@ mod choice {
     /// The processor must have AVX2 and FMA.
     #[target_feature(enable = "avx2,fma")]
     unsafe fn run_fused<K: Kernel<Args>, Args>(args: Args) -> K::Output {
+        crate::frame::align_stack_frame();
         K::run(Fused(()), args)
     }
 
@@ -273,6 +275,7 @@ mod choice {
     /// The processor must have AVX-512F, AVX2 and FMA.
     #[target_feature(enable = "avx512f,avx2,fma")]
     unsafe fn run_fused512<K: Kernel<Args>, Args>(args: Args) -> K::Output {
+        crate::frame::align_stack_frame();
         K::run(Fused512(()), args)
     }
 }

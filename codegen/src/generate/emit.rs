@@ -472,7 +472,8 @@ impl Param {
 /// `dyngen_runtime::dispatch`: with the processor's fused multiply-adds even in a build that
 /// does not target them (the body names its multiply-adds `arith.mul_add`), and through
 /// `dyngen_runtime::dispatch_eight` where it carries lane vectors (`uses_lanes`). A lane
-/// function is generic over its lane type instead.
+/// function is generic over its lane type instead, and aligns its stack frame for its spills
+/// (`dyngen_runtime::align_stack_frame`).
 #[allow(clippy::too_many_arguments)]
 fn function_item(
     form: Form,
@@ -486,9 +487,11 @@ fn function_item(
 ) -> TokenStream {
     if form == Form::Lanes {
         let params = params.iter().map(Param::declared);
+        // Its lane vectors spill whole to 64-byte-aligned slots (see the function's docs).
         return quote! {
             #attributes
             fn #name<L: Lanes>(#(#params),*) -> #ret {
+                dyngen_runtime::align_stack_frame();
                 #body
             }
         };
