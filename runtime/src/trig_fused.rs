@@ -14,6 +14,8 @@ use core::arch::x86_64::*;
 /// The processor must have AVX, AVX2 and FMA.
 #[target_feature(enable = "avx,avx2,fma")]
 pub(crate) unsafe fn joint_trig<const N: usize>(q: &[f64; N]) -> JointTrig<N> {
+    // Its constant vectors spill (more than sixteen registers' worth): whole, into aligned slots.
+    crate::frame::align_stack_frame();
     let (mut sin, mut cos) = ([0.0; N], [0.0; N]);
     let mut start = 0;
     while start < N {
