@@ -106,11 +106,13 @@ def split_group(directory, bench_dirs, robots):
     return None, None
 
 
-def dyngen_round(env, core, target_dir, robots):
-    """{(robot, group, id): median_ns} of one run of both benches."""
+def dyngen_round(env, core, target_dir, robots, seconds):
+    """{(robot, group, id): median_ns} of one run of both benches (each function measured for
+    `seconds`, or criterion's own time when None)."""
+    timing = [] if seconds is None else ["--warm-up-time", f"{seconds / 3:g}", "--measurement-time", f"{seconds:g}"]
     for bench in ("dynamics", "forward_dynamics"):
         cmd = ["taskset", "-c", str(core), "cargo", "bench", "-q", "-p", "dyngen-generated",
-               "--bench", bench, "--", bench_filter(robots)]
+               "--bench", bench, "--", bench_filter(robots), *timing]
         run(cmd, cwd=ROOT, env=env)
     rows = {}
     criterion = Path(target_dir) / "criterion"
@@ -147,6 +149,10 @@ def main():
                          f"(default: {' '.join(DEFAULT_ROBOTS)})")
     ap.add_argument("--rounds", type=int, default=3)
     ap.add_argument("--core", type=int, default=1)
+    ap.add_argument("--measurement-time", type=float, metavar="SECONDS",
+                    help="criterion's measurement time per dyngen function (warm-up a third of it): "
+                         "shorter rounds, so more of them fit; every round is a new process, whose "
+                         "stack placement and host noise differ (default: the benches' own)")
     ap.add_argument("--default-build", action="store_true",
                     help="also time dyngen built without target-cpu (the default build)")
     args = ap.parse_args()
@@ -171,7 +177,7 @@ def main():
         print(f"round {r + 1}/{args.rounds}", file=sys.stderr)
         pin = anchor_rows(run(pin_cmd, cwd=args.pinocchio), robots)
         cg = anchor_rows(run(cg_cmd, cwd=args.cppadcg), robots)
-        ours = {name: dyngen_round(env, args.core, d, robots) for name, d, env in builds}
+        ours = {name: dyngen_round(env, args.core, d, robots, args.measurement_time) for name, d, env in builds}
         rounds.append((pin, cg, ours))
         if r == 0:
             for robot in robots:
