@@ -109,7 +109,9 @@ def split_group(directory, bench_dirs, robots):
 def dyngen_round(env, core, target_dir, robots, seconds):
     """{(robot, group, id): median_ns} of one run of both benches (each function measured for
     `seconds`, or criterion's own time when None)."""
-    timing = [] if seconds is None else ["--warm-up-time", f"{seconds / 3:g}", "--measurement-time", f"{seconds:g}"]
+    timing = []
+    if seconds is not None:
+        timing = ["--warm-up-time", f"{seconds / 3:g}", "--measurement-time", f"{seconds:g}"]
     for bench in ("dynamics", "forward_dynamics"):
         cmd = ["taskset", "-c", str(core), "cargo", "bench", "-q", "-p", "dyngen-generated",
                "--bench", bench, "--", bench_filter(robots), *timing]

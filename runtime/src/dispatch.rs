@@ -236,7 +236,7 @@ mod choice {
             unsafe { run_fused512::<K, Args>(args) }
         } else {
             // SAFETY: the processor has AVX2 and FMA (checked by `fused`).
-            unsafe { run_fused::<K, Args>(args) }
+            unsafe { run_fused_eight::<K, Args>(args) }
         }
     }
 
@@ -265,6 +265,16 @@ mod choice {
     /// The processor must have AVX2 and FMA.
     #[target_feature(enable = "avx2,fma")]
     unsafe fn run_fused<K: Kernel<Args>, Args>(args: Args) -> K::Output {
+        K::run(Fused(()), args)
+    }
+
+    /// [`run_fused`] for a lane kernel, whose many spilled vectors want an aligned frame (a
+    /// scalar kernel spills few, and does not pay for the realignment).
+    ///
+    /// # Safety
+    /// The processor must have AVX2 and FMA.
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn run_fused_eight<K: Kernel<Args>, Args>(args: Args) -> K::Output {
         crate::frame::align_stack_frame();
         K::run(Fused(()), args)
     }

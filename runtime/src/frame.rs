@@ -14,7 +14,8 @@
 /// is the realignment and one byte stored.
 ///
 /// Generated lane functions call it first; [`crate::dispatch_eight`] calls it in the function
-/// that runs the kernel.
+/// that runs the kernel, and a default build's joint sines and cosines in theirs. Scalar kernels
+/// ([`crate::dispatch`]) spill few vectors and do without it.
 #[inline(always)]
 pub fn align_stack_frame() {
     #[repr(align(64))]
