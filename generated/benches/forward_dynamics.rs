@@ -81,9 +81,29 @@ fn forward_dynamics(c: &mut Criterion) {
     bench_robot::<Arm7, 7, 70>(c, "arm7");
 }
 
+/// Instruction-cache footprint. Each call above runs one function in a loop, and a function of
+/// up to about 30 KB of code then stays in the 32 KB level-1 instruction cache. Here the
+/// Panda's `∂τ/∂x` (about 30 KB) runs twice per state: twice the same code, then once the
+/// Panda's and once the rounded Panda's (the same operations, a second copy: 60 KB between
+/// them), whose code has to come from the level-2 cache on every call (`BENCHMARKS.md`).
+fn code_footprint(c: &mut Criterion) {
+    let (_, fixed) = states::<7>(0xfd5eed, [(-2.0, 2.0), (-5.0, 5.0), (-10.0, 10.0)]);
+    let group = "footprint/rnea_derivatives_twice";
+    cycle(c, group, "same_function", &fixed, |[q, qd, qdd, _]| {
+        let t = JointTrig::new(q);
+        black_box(Panda::inverse_dynamics_derivatives(&t, qd, qdd));
+        black_box(Panda::inverse_dynamics_derivatives(&t, qd, qdd));
+    });
+    cycle(c, group, "two_copies", &fixed, |[q, qd, qdd, _]| {
+        let t = JointTrig::new(q);
+        black_box(Panda::inverse_dynamics_derivatives(&t, qd, qdd));
+        black_box(PandaRounded::inverse_dynamics_derivatives(&t, qd, qdd));
+    });
+}
+
 criterion_group! {
     name = benches;
     config = common::config();
-    targets = forward_dynamics
+    targets = forward_dynamics, code_footprint
 }
 criterion_main!(benches);
