@@ -50,6 +50,14 @@ FUNCTIONS = [
     ("rnea_derivatives", "rnea_derivatives"),
     ("aba_derivatives", "aba_derivatives"),
 ]
+# dyngen criterion group -> the generated function it times (its code size is reported).
+GENERATED_FUNCTIONS = {
+    "fk": "forward_kinematics", "jacobian": "jacobian", "jacobian_dot": "jacobian_dot",
+    "mass_matrix": "mass_matrix", "coriolis": "coriolis_matrix", "gravity": "gravity",
+    "rnea": "inverse_dynamics", "torque_regressor": "torque_regressor", "aba": "forward_dynamics",
+    "minv": "mass_matrix_inverse", "rnea_derivatives": "inverse_dynamics_derivatives",
+    "aba_derivatives": "forward_dynamics_derivatives",
+}
 # Several states per call: (criterion group, lane ids), per state against the single call.
 BATCHES = [("rnea", ("generated_lanes4", "generated_lanes8")),
            ("base_torque_regressor", ("generated_lanes4", "generated_lanes8"))]
@@ -79,9 +87,51 @@ def cargo_env(target_dir, native):
 
 
 def dyngen_build(env):
+    """Builds both benches; returns their executables."""
     cmd = ["cargo", "bench", "-p", "dyngen-generated", "--bench", "dynamics",
-           "--bench", "forward_dynamics", "--no-run"]
-    subprocess.run(cmd, cwd=ROOT, env=env, check=True)
+           "--bench", "forward_dynamics", "--no-run", "--message-format=json-render-diagnostics"]
+    out = subprocess.run(cmd, cwd=ROOT, env=env, check=True, stdout=subprocess.PIPE, text=True).stdout
+    executables = []
+    for line in out.splitlines():
+        message = json.loads(line) if line.startswith("{") else {}
+        if message.get("reason") == "compiler-artifact" and message.get("executable"):
+            executables.append(message["executable"])
+    return executables
+
+
+def code_sizes(executables, robots):
+    """{(robot, group): bytes} of machine code of each timed generated function (its chunk
+    functions included), from `nm -S`: a function larger than the level-1 instruction cache is
+    fetched from the level-2 cache on every call of a loop that runs only it (BENCHMARKS.md)."""
+    sizes = {}
+    for exe in executables:
+        try:
+            table = run(["nm", "-S", "--demangle", exe])
+        except (OSError, subprocess.CalledProcessError):
+            return {}
+        for line in table.splitlines():
+            parts = line.split(None, 3)
+            if len(parts) < 4:
+                continue
+            for robot in robots:
+                for group, function in GENERATED_FUNCTIONS.items():
+                    method = re.search(rf"^<dyngen_generated::{robot}::\w+ as .*>::{function}$", parts[3])
+                    chunk = re.search(rf"^dyngen_generated::{robot}::{function}_part\d+$", parts[3])
+                    if method or chunk:
+                        sizes[(robot, group)] = sizes.get((robot, group), 0) + int(parts[1], 16)
+    return sizes
+
+
+def instruction_cache_bytes():
+    """The level-1 instruction cache of CPU 0 (Linux sysfs), or None."""
+    for index in Path("/sys/devices/system/cpu/cpu0/cache").glob("index*"):
+        try:
+            if (index / "level").read_text().strip() == "1" and (index / "type").read_text().strip() == "Instruction":
+                size = (index / "size").read_text().strip()
+                return int(size.rstrip("K")) * 1024 if size.endswith("K") else int(size)
+        except OSError:
+            continue
+    return None
 
 
 def bench_filter(robots):
@@ -168,8 +218,9 @@ def main():
     builds = [("native", native_dir, cargo_env(native_dir, True))]
     if args.default_build:
         builds.append(("default", default_dir, cargo_env(default_dir, False)))
-    for _, _, env in builds:
-        dyngen_build(env)
+    executables = {name: dyngen_build(env) for name, _, env in builds}
+    sizes = code_sizes(executables["native"], robots)
+    l1i = instruction_cache_bytes()
 
     pin_cmd = ["taskset", "-c", str(args.core), str(args.pinocchio / "build" / "bench_native"),
                "robots.txt", "build/models", *robots]
@@ -190,9 +241,10 @@ def main():
                         print(f"warning: {anchor} printed no row for {robot} ({fix})", file=sys.stderr)
 
     load = os.getloadavg()
+    cache = f"; level-1 instruction cache {l1i // 1024} KiB" if l1i else ""
     print(f"Load average at the end: {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}; "
           f"{args.rounds} interleaved rounds on core {args.core}; medians in ns; ratios are medians "
-          f"of per-round ratios.\n")
+          f"of per-round ratios{cache}.\n")
     header = "| robot | function | Pinocchio | CppADCodeGen | dyngen native |"
     rule = "|---|---|---:|---:|---:|"
     if args.default_build:
@@ -200,6 +252,9 @@ def main():
         rule += "---:|---:|"
     header += f" Pinocchio / dyngen (≥ {FLOOR_PINOCCHIO:g}) | CppADCodeGen / dyngen (≥ {FLOOR_CG:g}) |"
     rule += "---:|---:|"
+    if sizes:
+        header += " native code (KB) |"
+        rule += "---:|"
     print(header)
     print(rule)
     for robot in robots:
@@ -217,6 +272,10 @@ def main():
                 rd = ratio(default, native)
                 row += f" {fmt(med(default))} | {fmt(rd, 2, '×')}{'' if rd is None or rd <= FLOOR_DEFAULT else ' **missed**'} |"
             row += f" {mark(rp, FLOOR_PINOCCHIO)} | {mark(rc, FLOOR_CG)} |"
+            if sizes:
+                size = sizes.get((robot, group))
+                over = size is not None and l1i is not None and size > l1i
+                row += f" {fmt(size / 1000 if size else None, 1)}{' (over L1i)' if over else ''} |"
             print(row)
     print("\nSeveral states per call (dyngen native, ns per state; throughput against one state per call):\n")
     print("| robot | function | one per call | lanes | per state | throughput ratio |")
