@@ -35,29 +35,22 @@ from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
 DEFAULT_ROBOTS = ("panda", "ur5")
-# Anchor function -> dyngen criterion group, in table order.
+# Anchor function -> dyngen criterion group -> the generated function that group times (whose
+# code size is reported), in table order.
 FUNCTIONS = [
-    ("fk", "fk"),
-    ("jacobian", "jacobian"),
-    ("jacobian_dot", "jacobian_dot"),
-    ("crba", "mass_matrix"),
-    ("coriolis", "coriolis"),
-    ("gravity", "gravity"),
-    ("rnea", "rnea"),
-    ("regressor", "torque_regressor"),
-    ("aba", "aba"),
-    ("minv", "minv"),
-    ("rnea_derivatives", "rnea_derivatives"),
-    ("aba_derivatives", "aba_derivatives"),
+    ("fk", "fk", "forward_kinematics"),
+    ("jacobian", "jacobian", "jacobian"),
+    ("jacobian_dot", "jacobian_dot", "jacobian_dot"),
+    ("crba", "mass_matrix", "mass_matrix"),
+    ("coriolis", "coriolis", "coriolis_matrix"),
+    ("gravity", "gravity", "gravity"),
+    ("rnea", "rnea", "inverse_dynamics"),
+    ("regressor", "torque_regressor", "torque_regressor"),
+    ("aba", "aba", "forward_dynamics"),
+    ("minv", "minv", "mass_matrix_inverse"),
+    ("rnea_derivatives", "rnea_derivatives", "inverse_dynamics_derivatives"),
+    ("aba_derivatives", "aba_derivatives", "forward_dynamics_derivatives"),
 ]
-# dyngen criterion group -> the generated function it times (its code size is reported).
-GENERATED_FUNCTIONS = {
-    "fk": "forward_kinematics", "jacobian": "jacobian", "jacobian_dot": "jacobian_dot",
-    "mass_matrix": "mass_matrix", "coriolis": "coriolis_matrix", "gravity": "gravity",
-    "rnea": "inverse_dynamics", "torque_regressor": "torque_regressor", "aba": "forward_dynamics",
-    "minv": "mass_matrix_inverse", "rnea_derivatives": "inverse_dynamics_derivatives",
-    "aba_derivatives": "forward_dynamics_derivatives",
-}
 # Several states per call: (criterion group, lane ids), per state against the single call.
 BATCHES = [("rnea", ("generated_lanes4", "generated_lanes8")),
            ("base_torque_regressor", ("generated_lanes4", "generated_lanes8"))]
@@ -103,6 +96,11 @@ def code_sizes(executables, robots):
     """{(robot, group): bytes} of machine code of each timed generated function (its chunk
     functions included), from `nm -S`: a function larger than the level-1 instruction cache is
     fetched from the level-2 cache on every call of a loop that runs only it (BENCHMARKS.md)."""
+    group_of = {function: group for _, group, function in FUNCTIONS}
+    # The trait method `<dyngen_generated::panda::Panda as …>::f`, or a chunk of it
+    # `dyngen_generated::panda::f_part0`.
+    symbol = re.compile(r"^(?:<dyngen_generated::(\w+)::\w+ as .*>::(\w+)"
+                        r"|dyngen_generated::(\w+)::(\w+?)_part\d+)$")
     sizes = {}
     for exe in executables:
         try:
@@ -111,14 +109,13 @@ def code_sizes(executables, robots):
             return {}
         for line in table.splitlines():
             parts = line.split(None, 3)
-            if len(parts) < 4:
+            match = symbol.match(parts[3]) if len(parts) == 4 else None
+            if not match:
                 continue
-            for robot in robots:
-                for group, function in GENERATED_FUNCTIONS.items():
-                    method = re.search(rf"^<dyngen_generated::{robot}::\w+ as .*>::{function}$", parts[3])
-                    chunk = re.search(rf"^dyngen_generated::{robot}::{function}_part\d+$", parts[3])
-                    if method or chunk:
-                        sizes[(robot, group)] = sizes.get((robot, group), 0) + int(parts[1], 16)
+            robot, function = (match.group(1), match.group(2)) if match.group(1) else (match.group(3), match.group(4))
+            if robot in robots and function in group_of:
+                key = (robot, group_of[function])
+                sizes[key] = sizes.get(key, 0) + int(parts[1], 16)
     return sizes
 
 
@@ -258,7 +255,7 @@ def main():
     print(header)
     print(rule)
     for robot in robots:
-        for fn, group in FUNCTIONS:
+        for fn, group, _ in FUNCTIONS:
             key = (robot, group, "generated")
             native = [o["native"].get(key) for _, _, o in rounds]
             pin = [p.get((robot, fn)) for p, _, _ in rounds]
