@@ -21,7 +21,14 @@ pub fn coulomb_shape<S: Scalar>(model: &Model, qd: S) -> S {
 }
 
 /// The entry of joint `j`'s row for its parameter of kind `kind`.
-fn column_entry<S: Scalar>(model: &Model, kind: JointTermKind, j: usize, qd: &[S], v: &[S], a: &[S]) -> S {
+pub(crate) fn column_entry<S: Scalar>(
+    model: &Model,
+    kind: JointTermKind,
+    j: usize,
+    qd: &[S],
+    v: &[S],
+    a: &[S],
+) -> S {
     match kind {
         JointTermKind::Armature => a[j],
         JointTermKind::Viscous => v[j],

@@ -18,6 +18,7 @@ mod kinematics;
 mod numeric;
 mod numeric_forward;
 mod regressor;
+mod regressor_products;
 mod singular;
 mod slotine_li;
 mod tree_ldl;
@@ -37,6 +38,7 @@ pub use joint_terms::{
 pub use kinematics::{body_poses, end_effector_pose, jacobian, jacobian_dot};
 pub use numeric::NumericDynamics;
 pub use regressor::regressor;
+pub use regressor_products::regressor_products;
 pub use singular::singular_joints;
 pub use slotine_li::{gravity_torque, inverse_dynamics, slotine_li};
 pub use tree_ldl::TreeLdl;

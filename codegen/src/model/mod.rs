@@ -321,6 +321,14 @@ impl Model {
         Some(self.inertial_parameter_count() + joint * self.joint_terms.per_joint() + pos)
     }
 
+    /// The joint and kind of joint-level parameter column `column` (the inverse of
+    /// [`Model::joint_term_index`]; `column` at or after the inertial ones).
+    pub fn joint_term_of_column(&self, column: usize) -> (usize, JointTermKind) {
+        let k = column - self.inertial_parameter_count();
+        let per_joint = self.joint_terms.per_joint();
+        (k / per_joint, self.joint_terms.kinds[k % per_joint])
+    }
+
     /// The same model with parameters θ (as [`Model::parameters`]): the joint-level values
     /// of the chosen kinds are taken from θ (the inertial part is not a `Model` field that a
     /// vector can set without a body decomposition; see `NumericDynamics::with_parameters`).
