@@ -6,8 +6,9 @@ use dyngen_testkit as common;
 use common::random_model::{arb_model_and_state, deterministic_runner};
 use common::{assert_close, fixture, traced};
 use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::generate::{trace, SymbolicRobot};
+use dyngen_codegen::generate::{trace, Arguments, SymbolicRobot, BASE_REGRESSOR_PRODUCTS};
 use dyngen_codegen::model::Model;
+use nalgebra::{DMatrix, DVector};
 use std::cell::Cell;
 
 const TOL: f64 = 1e-10;
@@ -21,6 +22,38 @@ fn check_state(model: &Model, robot: &SymbolicRobot, q: &[f64], qd: &[f64], v: &
             &format!("{} {name}", model.name()),
             &traced::shaped(robot, name, values),
             &want,
+            TOL,
+        );
+    }
+    // The regressor products (inputs θ and r of their own) against the products of `Y`.
+    let y = generic.regressor(q, qd, v, a);
+    let all: Vec<usize> = (0..y.ncols()).collect();
+    for (name, cols) in [
+        ("regressor_products", &all),
+        (BASE_REGRESSOR_PRODUCTS, &robot.base.columns),
+    ] {
+        let theta: Vec<f64> = (0..cols.len())
+            .map(|k| ((k * 7 % 11) as f64 - 5.0) / 5.0)
+            .collect();
+        let r: Vec<f64> = (0..qd.len()).map(|k| ((k * 3 % 5) as f64 - 2.0) / 2.0).collect();
+        let args = Arguments {
+            q,
+            qd,
+            v,
+            a,
+            theta: &theta,
+            r: &r,
+            ..Arguments::default()
+        };
+        let values = robot.evaluate_with(name, &args).expect("quantity exists");
+        let y_cols = y.select_columns(cols);
+        let mut want = (&y_cols * DVector::from_column_slice(&theta)).as_slice().to_vec();
+        want.extend(y_cols.tr_mul(&DVector::from_column_slice(&r)).iter());
+        let column = |x: &[f64]| DMatrix::from_column_slice(x.len(), 1, x);
+        assert_close(
+            &format!("{} {name}", model.name()),
+            &column(&values),
+            &column(&want),
             TOL,
         );
     }

@@ -92,6 +92,19 @@ fn parts(c: &mut Criterion) {
     g.bench_function("base_regressor", |b| {
         b.iter(|| black_box(arm7::Base::regressor(black_box(&t), &qd, &qd, &qd)))
     });
+    let (theta, r) = (arm7::Base::description(), SVector::<f64, 7>::from_element(0.1));
+    g.bench_function("base_regressor_products", |b| {
+        b.iter(|| {
+            black_box(arm7::Base::regressor_products(
+                black_box(&t),
+                &qd,
+                &qd,
+                &qd,
+                &theta,
+                &r,
+            ))
+        })
+    });
     g.bench_function("regressor", |b| {
         b.iter(|| black_box(arm7::Standard::regressor(black_box(&t), &qd, &qd, &qd)))
     });

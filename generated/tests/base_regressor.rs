@@ -1,6 +1,7 @@
 //! The committed generated base regressors: `Y_b θ_b = Y θ = D a + C v + g` for the
-//! description's θ and random θ, `Y_b` is the generator's kept columns of `Y`, and `θ_b`, the
-//! names and the count agree with the generator.
+//! description's θ and random θ, `Y_b` is the generator's kept columns of `Y`, `θ_b`, the
+//! names and the count agree with the generator, and the products an adaptive law takes
+//! (`Y θ`, `Yᵀ r` and their base forms, computed without the regressor) equal the regressor's.
 
 use dyngen_testkit as common;
 
@@ -104,6 +105,36 @@ where
             &column(R::inverse_dynamics(&t, &qd, &a).as_slice()),
             TOL,
         );
+        // The products an adaptive law takes, computed without forming either regressor.
+        let mut rng = SplitMix64::new(seed);
+        let r = SVector::<f64, N>::from_fn(|_, _| rng.uniform((-1.0, 1.0)));
+        let (theta, theta_b) = (&thetas[1], R::base_parameters(&thetas[1]));
+        let (y_theta, y_tr_r) = R::regressor_products(&t, &qd, &v, &a, theta, &r);
+        let (y_b_theta, y_b_tr_r) = R::base_regressor_products(&t, &qd, &v, &a, &theta_b, &r);
+        for (what, fast, slow) in [
+            ("Y θ", y_theta.as_slice(), (y * theta).as_slice().to_vec()),
+            ("Yᵀ r", y_tr_r.as_slice(), (y.tr_mul(&r)).as_slice().to_vec()),
+            (
+                "Y_b θ_b",
+                y_b_theta.as_slice(),
+                (y_b * theta_b).as_slice().to_vec(),
+            ),
+            (
+                "Y_bᵀ r",
+                y_b_tr_r.as_slice(),
+                (y_b.tr_mul(&r)).as_slice().to_vec(),
+            ),
+        ] {
+            assert_close(
+                &format!("{robot} seed {seed}: {what} without the regressor vs with it"),
+                &column(fast),
+                &column(&slow),
+                TOL,
+            );
+        }
+        let via_trait =
+            <Base<R, P> as Parameterization<N, B>>::regressor_products(&t, &qd, &v, &a, &theta_b, &r);
+        assert_eq!(via_trait, (y_b_theta, y_b_tr_r));
         if seed == 0 {
             // Y θ with the description's θ is the Slotine–Li torque.
             let sl = R::slotine_li(&t, &qd, &v, &a);

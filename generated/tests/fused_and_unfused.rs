@@ -40,6 +40,11 @@ where
     out.extend(R::torque_regressor(&t, qd, a).iter());
     out.extend(R::base_regressor(&t, qd, v, a).iter());
     out.extend(R::base_torque_regressor(&t, qd, a).iter());
+    let (theta, theta_b) = (R::parameters(), R::base_parameters(&R::parameters()));
+    let (y_theta, y_tr_r) = R::regressor_products(&t, qd, v, a, &theta, q);
+    let (y_b_theta, y_b_tr_r) = R::base_regressor_products(&t, qd, v, a, &theta_b, q);
+    out.extend(y_theta.iter().chain(y_tr_r.iter()));
+    out.extend(y_b_theta.iter().chain(y_b_tr_r.iter()));
     out.extend(R::forward_dynamics(&t, qd, a).iter());
     out.extend(R::mass_matrix_inverse(&t).iter());
     let (dq, dv) = R::inverse_dynamics_derivatives(&t, qd, a);

@@ -46,6 +46,17 @@ pub trait Parameterization<const N: usize, const M: usize> {
         v: &SVector<f64, N>,
         a: &SVector<f64, N>,
     ) -> SMatrix<f64, N, M>;
+    /// `(Y θ, Yᵀ r)` of [`Self::regressor`], without forming it where the robot's generated
+    /// code can (what an adaptive law needs each tick: the torque `Y θ̂`, the adaptation's
+    /// `Yᵀ r`).
+    fn regressor_products(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+        a: &SVector<f64, N>,
+        theta: &SVector<f64, M>,
+        r: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, SVector<f64, M>);
     /// Forward dynamics of the robot with the description's parameters (the generated
     /// function): exact for a true robot whose parameters are [`Self::description`].
     fn description_forward_dynamics(
@@ -69,6 +80,19 @@ pub trait BaseParameters<const N: usize, const P: usize, const B: usize>: RobotD
         v: &SVector<f64, N>,
         a: &SVector<f64, N>,
     ) -> SMatrix<f64, N, B>;
+    /// `(Y_b θ_b, Y_bᵀ r)` with `Y_b = Y_b(q, q̇, v, a)` (see
+    /// [`RobotDynamics::regressor_products`]).
+    fn base_regressor_products(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+        a: &SVector<f64, N>,
+        theta_b: &SVector<f64, B>,
+        r: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, SVector<f64, B>) {
+        let y = Self::base_regressor(t, qd, v, a);
+        (y * theta_b, y.tr_mul(r))
+    }
     /// `Y_b(q, q̇, q̇, q̈)` with `Y_b θ_b = τ`: the base regressor in torque form (see
     /// [`RobotDynamics::torque_regressor`]).
     fn base_torque_regressor(
@@ -140,6 +164,16 @@ impl<R: RobotDynamics<N, P>, const N: usize, const P: usize> Parameterization<N,
     ) -> SMatrix<f64, N, P> {
         R::regressor(t, qd, v, a)
     }
+    fn regressor_products(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+        a: &SVector<f64, N>,
+        theta: &SVector<f64, P>,
+        r: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, SVector<f64, P>) {
+        R::regressor_products(t, qd, v, a, theta, r)
+    }
     fn description_forward_dynamics(
         t: &JointTrig<N>,
         qd: &SVector<f64, N>,
@@ -185,6 +219,16 @@ impl<R: BaseParameters<N, P, B>, const N: usize, const P: usize, const B: usize>
         a: &SVector<f64, N>,
     ) -> SMatrix<f64, N, B> {
         R::base_regressor(t, qd, v, a)
+    }
+    fn regressor_products(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+        a: &SVector<f64, N>,
+        theta_b: &SVector<f64, B>,
+        r: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, SVector<f64, B>) {
+        R::base_regressor_products(t, qd, v, a, theta_b, r)
     }
     fn description_forward_dynamics(
         t: &JointTrig<N>,

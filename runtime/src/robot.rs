@@ -107,6 +107,20 @@ pub trait RobotDynamics<const N: usize, const P: usize>: Kinematics<N> {
         v: &SVector<f64, N>,
         a: &SVector<f64, N>,
     ) -> SMatrix<f64, N, P>;
+    /// `(Y θ, Yᵀ r)` with `Y = Y(q, q̇, v, a)`: what an adaptive law needs each tick (the
+    /// torque `Y θ̂` and the adaptation's `Yᵀ r`). Generated robots compute both without
+    /// forming `Y`: one force per column and no carrying of it up the tree.
+    fn regressor_products(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+        a: &SVector<f64, N>,
+        theta: &SVector<f64, P>,
+        r: &SVector<f64, N>,
+    ) -> (SVector<f64, N>, SVector<f64, P>) {
+        let y = Self::regressor(t, qd, v, a);
+        (y * theta, y.tr_mul(r))
+    }
     /// The regressor in torque form, `Y(q, q̇, q̇, q̈)` with `Y θ = τ` (what identification
     /// stacks). Generated robots emit it as its own function, smaller than [`Self::regressor`]:
     /// at `v = q̇` each body force takes the classical `v ×* I v` form.

@@ -6,13 +6,15 @@ use dyngen_codegen::generate::{Shape, SymbolicRobot};
 use nalgebra::DMatrix;
 
 /// A quantity's interpreted `values` in the shape the generic code returns: a matrix pair side
-/// by side (`n × 2n`), a pose (and the fused kinematics) as one column.
+/// by side (`n × 2n`), a pose (and the fused kinematics, and a vector pair) as one column.
 pub fn shaped(robot: &SymbolicRobot, name: &str, values: Vec<f64>) -> DMatrix<f64> {
     match robot.quantity(name).expect("quantity").shape {
         Shape::Vector(n) => DMatrix::from_column_slice(n, 1, &values),
         Shape::Matrix(r, c) => DMatrix::from_column_slice(r, c, &values),
         Shape::MatrixPair(n) => DMatrix::from_column_slice(n, 2 * n, &values),
-        Shape::Pose | Shape::Kinematics(_) => DMatrix::from_column_slice(values.len(), 1, &values),
+        Shape::Pose | Shape::Kinematics(_) | Shape::VectorPair(..) => {
+            DMatrix::from_column_slice(values.len(), 1, &values)
+        }
     }
 }
 

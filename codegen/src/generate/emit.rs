@@ -69,6 +69,8 @@ impl Leaves {
             ("v", &inputs.v),
             ("a", &inputs.a),
             ("tau", &inputs.tau),
+            ("theta", &inputs.theta),
+            ("r", &inputs.r),
         ] {
             for (i, id) in ids.iter().enumerate() {
                 names.insert(*id, format_ident!("{prefix}{i}"));
@@ -189,7 +191,7 @@ impl<'a> Plan<'a> {
             .into_iter()
             .filter(|id| !products.contains(id))
             .collect();
-        // `x` is a prefix no input uses (q, qd, v, a, s, c), so a temporary never shadows one.
+        // `x` is a prefix no input uses (q, qd, v, a, tau, theta, r, s, c), so a temporary never shadows one.
         let names = order
             .iter()
             .enumerate()
@@ -582,11 +584,14 @@ fn signature(
     }];
     for &arg in args {
         let (name, ids) = match arg {
-            Arg::Qd => (format_ident!("qd"), &inputs.qd),
-            Arg::V => (format_ident!("v"), &inputs.v),
-            Arg::A => (format_ident!("a"), &inputs.a),
-            Arg::Tau => (format_ident!("tau"), &inputs.tau),
+            Arg::Qd => (format_ident!("qd"), &inputs.qd[..]),
+            Arg::V => (format_ident!("v"), &inputs.v[..]),
+            Arg::A => (format_ident!("a"), &inputs.a[..]),
+            Arg::Tau => (format_ident!("tau"), &inputs.tau[..]),
+            Arg::Theta(len) => (format_ident!("theta"), &inputs.theta[..len]),
+            Arg::R => (format_ident!("r"), &inputs.r[..]),
         };
+        let ty = argument_type(arg, &vector_type);
         let source = match form {
             Form::Scalar => quote!(#name.data.0[0]),
             Form::Lanes => quote!(*#name),
@@ -594,7 +599,7 @@ fn signature(
         let destructured = destructure(leaves, ids, used, source);
         params.push(Param {
             name,
-            ty: quote!(&#vector_type),
+            ty: quote!(&#ty),
             used: destructured.is_some(),
         });
         prelude.extend(destructured);
@@ -609,8 +614,21 @@ fn argument_names(args: &[Arg]) -> Vec<Ident> {
         Arg::V => format_ident!("v"),
         Arg::A => format_ident!("a"),
         Arg::Tau => format_ident!("tau"),
+        Arg::Theta(_) => format_ident!("theta"),
+        Arg::R => format_ident!("r"),
     }));
     names
+}
+
+/// The type of a vector argument: a joint-space vector, or a parameter vector of its own length.
+fn argument_type(arg: Arg, joint_vector: &TokenStream) -> TokenStream {
+    match arg {
+        Arg::Theta(len) => {
+            let len = Literal::usize_unsuffixed(len);
+            quote!(SVector<f64, #len>)
+        }
+        _ => joint_vector.clone(),
+    }
 }
 
 /// `t: &JointTrig<N>, qd: &SVector<f64, N>, …`: every argument, used or not.
@@ -619,7 +637,10 @@ fn all_parameters(args: &[Arg], n: &Literal, form: Form) -> Vec<TokenStream> {
     let names = argument_names(args);
     let (t, vectors) = names.split_first().expect("t is always an argument");
     let mut params = vec![quote!(#t: &#trig_type)];
-    params.extend(vectors.iter().map(|v| quote!(#v: &#vector_type)));
+    params.extend(vectors.iter().zip(args).map(|(v, &arg)| {
+        let ty = argument_type(arg, &vector_type);
+        quote!(#v: &#ty)
+    }));
     params
 }
 
@@ -723,6 +744,13 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
                 let (j, jd) = (matrix(j), matrix(jd));
                 quote!((#pose, #j, #jd))
             }
+            Shape::VectorPair(n, _) => {
+                let (first, second) = atoms.split_at(n);
+                quote!((
+                    SVector::from_array_storage(ArrayStorage([[#(#first),*]])),
+                    SVector::from_array_storage(ArrayStorage([[#(#second),*]])),
+                ))
+            }
             Shape::MatrixPair(rows) => {
                 let (first, second) = atoms.split_at(rows * rows);
                 let columns = |m: &[TokenStream]| {
@@ -762,6 +790,10 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
                 let r = Literal::usize_unsuffixed(r);
                 quote!((SMatrix<f64, #r, #r>, SMatrix<f64, #r, #r>))
             }
+            Shape::VectorPair(n, m) => {
+                let (n, m) = (Literal::usize_unsuffixed(n), Literal::usize_unsuffixed(m));
+                quote!((SVector<f64, #n>, SVector<f64, #m>))
+            }
         },
     };
     let mut doc = vec![doc_counts(&robot.graph.op_counts(&q.outputs))];
@@ -780,7 +812,9 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
     if n_chunks == 1 {
         let mut used = main_used;
         let body = match q.shape {
-            Shape::Vector(_) | Shape::Matrix(..) => written_in_place(&plan, q, form, &ret, &atoms, &mut used),
+            Shape::Vector(_) | Shape::Matrix(..) | Shape::VectorPair(..) => {
+                written_in_place(&plan, q, form, &ret, &atoms, &mut used)
+            }
             _ => {
                 let statements = plan.statements(&plan.order, &mut used);
                 quote!(#(#statements)* #result)
@@ -922,28 +956,38 @@ fn written_in_place(
         quote!([#(#columns),*])
     };
     let (slots_pattern, target, zero) = match (form, q.shape) {
-        (Form::Scalar, Shape::Vector(len)) => (nested(len), quote!(out.data.0), quote!(SMatrix::zeros())),
+        (Form::Scalar, Shape::Vector(len)) => {
+            (nested(len), quote!(&mut out.data.0), quote!(SMatrix::zeros()))
+        }
         (Form::Scalar, Shape::Matrix(rows, _)) => {
-            (nested(rows), quote!(out.data.0), quote!(SMatrix::zeros()))
+            (nested(rows), quote!(&mut out.data.0), quote!(SMatrix::zeros()))
+        }
+        (Form::Scalar, Shape::VectorPair(n, _)) => {
+            let (first, second) = pattern.split_at(n);
+            (
+                quote!(([#(#first),*], [#(#second),*])),
+                quote!((&mut out.0.data.0[0], &mut out.1.data.0[0])),
+                quote!((SMatrix::zeros(), SMatrix::zeros())),
+            )
         }
         (Form::Lanes, Shape::Vector(len)) => {
             let len = Literal::usize_unsuffixed(len);
             (
                 quote!([#(#pattern),*]),
-                quote!(out),
+                quote!(&mut out),
                 quote!([L::splat(0.0); #len]),
             )
         }
         (Form::Lanes, Shape::Matrix(rows, cols)) => {
             let (r, c) = (Literal::usize_unsuffixed(rows), Literal::usize_unsuffixed(cols));
-            (nested(rows), quote!(out), quote!([[L::splat(0.0); #r]; #c]))
+            (nested(rows), quote!(&mut out), quote!([[L::splat(0.0); #r]; #c]))
         }
-        _ => unreachable!("only vectors and matrices are written in place"),
+        _ => unreachable!("only vectors, matrices and vector pairs are written in place"),
     };
     quote! {
         let mut out: #ret = #zero;
         {
-            let #slots_pattern = &mut #target;
+            let #slots_pattern = #target;
             #(#immediate)*
             #(#statements)*
         }

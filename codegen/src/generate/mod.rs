@@ -15,6 +15,6 @@ pub use robot_file::{
     generate_robot, generate_robot_with, GenerateError, GeneratedRobot, GENERATED_MARKER, MAX_GENERATED_DOF,
 };
 pub use trace::{
-    trace, trace_with_base, Arg, Inputs, Quantity, Shape, SymbolicRobot, BASE_FUNCTIONS, BASE_REGRESSOR,
-    BASE_TORQUE_REGRESSOR,
+    trace, trace_with_base, Arg, Arguments, Inputs, Quantity, Shape, SymbolicRobot, BASE_FUNCTIONS,
+    BASE_REGRESSOR, BASE_REGRESSOR_PRODUCTS, BASE_TORQUE_REGRESSOR,
 };

@@ -16,6 +16,11 @@ pub enum Arg {
     A,
     /// Joint torques (forward dynamics).
     Tau,
+    /// The first `len` parameters `θ` (a parameter vector of that length: all of them, or the
+    /// base parameters).
+    Theta(usize),
+    /// The vector `r` an adaptation law multiplies `Yᵀ` with.
+    R,
 }
 
 /// What a generated function returns.
@@ -31,6 +36,8 @@ pub enum Shape {
     MatrixPair(usize),
     /// A pose, then `J` and `J̇` (6 × n each, column-major): the kinematics of a control tick.
     Kinematics(usize),
+    /// Two vectors, of `n` and of `m` entries (`Y θ` and `Yᵀ r`).
+    VectorPair(usize, usize),
 }
 
 /// One quantity: a named function of the joint state.
@@ -53,6 +60,11 @@ pub struct Inputs {
     /// Joint torques, created after every other quantity is traced (so adding forward dynamics
     /// left the node ids, and so the code, of the earlier functions unchanged).
     pub tau: Vec<Id>,
+    /// The parameters `θ` of the regressor products (as many as there are standard
+    /// parameters; the base form takes the first `B`), created after `tau`.
+    pub theta: Vec<Id>,
+    /// The vector `r` of `Yᵀ r`.
+    pub r: Vec<Id>,
 }
 
 /// Every quantity of one model, recorded in one graph.
@@ -72,9 +84,12 @@ pub const BASE_REGRESSOR: &str = "base_regressor";
 /// Name of the base-parameter regressor in torque form, `Y_b(q, q̇, q̇, q̈)`.
 pub const BASE_TORQUE_REGRESSOR: &str = "base_torque_regressor";
 
+/// Name of `(Y_b θ_b, Y_bᵀ r)`, the base regressor's products an adaptive law needs.
+pub const BASE_REGRESSOR_PRODUCTS: &str = "base_regressor_products";
+
 /// The quantities that are methods of `BaseParameters` (the others are of `Kinematics` or
 /// `RobotDynamics`).
-pub const BASE_FUNCTIONS: [&str; 2] = [BASE_REGRESSOR, BASE_TORQUE_REGRESSOR];
+pub const BASE_FUNCTIONS: [&str; 3] = [BASE_REGRESSOR, BASE_TORQUE_REGRESSOR, BASE_REGRESSOR_PRODUCTS];
 
 fn ids(v: &[Expr]) -> Vec<Id> {
     v.iter().map(|e| e.id()).collect()
@@ -219,6 +234,8 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
         quantities.extend(forward);
         quantities.extend(torque_regressors(model, &x, &qd, &a, &base));
         quantities.push(fused_kinematics(&quantities, n));
+        let (theta, r) = (inputs("theta", model.parameter_count()), inputs("r", n));
+        quantities.extend(regressor_products(model, &x, [&qd, &v, &a], &theta, &r, &base));
         (
             Inputs {
                 q: ids(&q),
@@ -226,6 +243,8 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
                 v: ids(&v),
                 a: ids(&a),
                 tau: ids(&tau),
+                theta: ids(&theta),
+                r: ids(&r),
             },
             quantities,
             lane_forms,
@@ -391,6 +410,37 @@ fn full_from_base(y: &DMatrix<Expr>, base: &BaseParameterSet) -> DMatrix<Expr> {
     full
 }
 
+/// `(Y θ, Yᵀ r)` of the Slotine–Li regressor and `(Y_b θ_b, Y_bᵀ r)` of its base columns,
+/// without forming either regressor (`dynamics::regressor_products`): what an adaptive law
+/// needs each tick. Traced last, on inputs of their own, so the earlier functions keep their
+/// node ids.
+fn regressor_products(
+    model: &Model,
+    x: &[crate::spatial::Transform<Expr>],
+    [qd, v, a]: [&[Expr]; 3],
+    theta: &[Expr],
+    r: &[Expr],
+    base: &BaseParameterSet,
+) -> Vec<Quantity> {
+    let (n, p, b) = (model.dof(), model.parameter_count(), base.count());
+    let all: Vec<usize> = (0..p).collect();
+    [
+        ("regressor_products", all.as_slice(), p),
+        (BASE_REGRESSOR_PRODUCTS, &base.columns, b),
+    ]
+    .into_iter()
+    .map(|(name, columns, len)| {
+        let (y_theta, y_tr_r) = dynamics::regressor_products(model, x, qd, v, a, columns, &theta[..len], r);
+        Quantity {
+            name,
+            args: vec![Arg::Qd, Arg::V, Arg::A, Arg::Theta(len), Arg::R],
+            shape: Shape::VectorPair(n, len),
+            outputs: ids(&y_theta).into_iter().chain(ids(&y_tr_r)).collect(),
+        }
+    })
+    .collect()
+}
+
 /// Forward kinematics, `J` and `J̇` in one function: the nodes the three share (joint
 /// transforms, body poses) are computed once. No new nodes, only the union of their outputs.
 fn fused_kinematics(quantities: &[Quantity], n: usize) -> Quantity {
@@ -412,6 +462,18 @@ fn fused_kinematics(quantities: &[Quantity], n: usize) -> Quantity {
     }
 }
 
+/// The arguments of [`SymbolicRobot::evaluate_with`], by role (empty: not given).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Arguments<'a> {
+    pub q: &'a [f64],
+    pub qd: &'a [f64],
+    pub v: &'a [f64],
+    pub a: &'a [f64],
+    pub tau: &'a [f64],
+    pub theta: &'a [f64],
+    pub r: &'a [f64],
+}
+
 impl SymbolicRobot {
     /// A constant of the graph that is not finite, if any: folding constants of a model with
     /// absurd magnitudes (a mass of 1e300) overflows, and such a constant cannot be emitted.
@@ -427,31 +489,44 @@ impl SymbolicRobot {
 
     /// Evaluates a quantity with the interpreter (for tests on robots that are never compiled).
     pub fn evaluate(&self, name: &str, q: &[f64], qd: &[f64], v: &[f64], a: &[f64]) -> Option<Vec<f64>> {
-        self.evaluate_inputs(name, q, qd, v, a, &[])
+        self.evaluate_with(
+            name,
+            &Arguments {
+                q,
+                qd,
+                v,
+                a,
+                ..Arguments::default()
+            },
+        )
     }
 
     /// [`SymbolicRobot::evaluate`] of a function of the torques `tau` (forward dynamics).
     pub fn evaluate_tau(&self, name: &str, q: &[f64], qd: &[f64], tau: &[f64]) -> Option<Vec<f64>> {
-        self.evaluate_inputs(name, q, qd, &[], &[], tau)
+        self.evaluate_with(
+            name,
+            &Arguments {
+                q,
+                qd,
+                tau,
+                ..Arguments::default()
+            },
+        )
     }
 
-    fn evaluate_inputs(
-        &self,
-        name: &str,
-        q: &[f64],
-        qd: &[f64],
-        v: &[f64],
-        a: &[f64],
-        tau: &[f64],
-    ) -> Option<Vec<f64>> {
+    /// [`SymbolicRobot::evaluate`] with every kind of argument (those a function does not take
+    /// are ignored).
+    pub fn evaluate_with(&self, name: &str, args: &Arguments) -> Option<Vec<f64>> {
         let quantity = self.quantity(name)?;
         let mut values = vec![0.0; self.graph.input_names().len()];
         for (ids, xs) in [
-            (&self.inputs.q, q),
-            (&self.inputs.qd, qd),
-            (&self.inputs.v, v),
-            (&self.inputs.a, a),
-            (&self.inputs.tau, tau),
+            (&self.inputs.q, args.q),
+            (&self.inputs.qd, args.qd),
+            (&self.inputs.v, args.v),
+            (&self.inputs.a, args.a),
+            (&self.inputs.tau, args.tau),
+            (&self.inputs.theta, args.theta),
+            (&self.inputs.r, args.r),
         ] {
             for (id, x) in ids.iter().zip(xs) {
                 if let crate::symbolic::Node::Input(k) = self.graph.node(*id) {

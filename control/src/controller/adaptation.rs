@@ -112,8 +112,8 @@ pub fn parameter_rate<const N: usize, const M: usize>(
     rate_from_regressor_product(gamma, &y.tr_mul(r))
 }
 
-/// `θ̂̇ = −Γ (Yᵀ r)` from `Yᵀ r` already computed (the law gets it with `Y θ̂` in one pass, see
-/// [`super::regressor_products`]).
+/// `θ̂̇ = −Γ (Yᵀ r)` from `Yᵀ r` already computed (the law gets it with `Y θ̂` from
+/// [`Parameterization::regressor_products`]).
 #[inline]
 pub fn rate_from_regressor_product<const M: usize>(
     gamma: &SVector<f64, M>,

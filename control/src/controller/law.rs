@@ -9,7 +9,6 @@ use super::matvec;
 use super::orientation::{orientation_angle, OrientationRows};
 use super::projections::{smallest_singular, Projections, SingularityGuard};
 use super::reference::{reference, Desired, Measurement, Reference, ReferenceGains};
-use super::regressor_products::regressor_products;
 use super::stiffness_estimator::StiffnessEstimator;
 use super::task::{ContactTask, Orientation, Split};
 use dyngen_runtime::{JointTrig, Kinematics, Parameterization, Pose};
@@ -255,16 +254,19 @@ where
             &proj,
             &gains,
         );
-        let y = Z::regressor(&trig, &m.qd, &reference.qd_r, &reference.qdd_r);
-        let (y_theta, theta_hat_dot) = match self.config.adaptation {
-            Adaptation::On => {
-                let (y_theta, y_tr_r) = regressor_products(&y, theta_hat, &reference.r);
-                (
-                    y_theta,
-                    rate_from_regressor_product(&self.config.gains.gamma, &y_tr_r),
-                )
-            }
-            Adaptation::Off => (y * theta_hat, SVector::zeros()),
+        // `Y θ̂` and `Yᵀ r` without forming `Y` (generated robots: one force per column, none
+        // carried up the tree); with the adaptation off, `Yᵀ r` is not used.
+        let (y_theta, y_tr_r) = Z::regressor_products(
+            &trig,
+            &m.qd,
+            &reference.qd_r,
+            &reference.qdd_r,
+            theta_hat,
+            &reference.r,
+        );
+        let theta_hat_dot = match self.config.adaptation {
+            Adaptation::On => rate_from_regressor_product(&self.config.gains.gamma, &y_tr_r),
+            Adaptation::Off => SVector::zeros(),
         };
         let mut tau =
             matvec::tr_mul(&k.j_force, &m.force) + y_theta - matvec::mul(&self.config.gains.g, &reference.r);

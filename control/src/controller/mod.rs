@@ -4,7 +4,8 @@
 //! orientation rows by rotation error on the geometric Jacobian (`orientation`), projections
 //! with the singularity guard (`projections`, solving with the small Cholesky factor of `spd`
 //! and the fused products of `matvec`), reference velocity and analytic reference acceleration
-//! (`reference`), the law (`law`; `Y θ̂` and `Yᵀ r` in one pass: `regressor_products`), the
+//! (`reference`), the law (`law`; `Y θ̂` and `Yᵀ r` from the robot's generated
+//! `regressor_products`, without forming `Y`), the
 //! adaptation (`adaptation`), gains (`gains`) and online stiffness estimation
 //! (`stiffness_estimator`).
 
@@ -16,7 +17,6 @@ pub mod matvec;
 pub mod orientation;
 pub mod projections;
 pub mod reference;
-pub mod regressor_products;
 pub mod spd;
 pub mod stiffness_estimator;
 pub mod task;
