@@ -92,6 +92,35 @@ fn bench_robot<
     cycle(c, &g("base_regressor"), "generic", &raw, |[q, qd, v, a]| {
         black_box(base.base_regressor(&generic.regressor(q, qd, v, a)));
     });
+    // What an adaptive law takes each tick, `Y_b θ_b` and `Y_bᵀ r` (here `r = a`): generated
+    // without forming `Y_b`, against forming it and multiplying.
+    let theta_b = R::base_parameters(&R::parameters());
+    cycle(
+        c,
+        &g("base_regressor_products"),
+        "generated",
+        &fixed,
+        |[q, qd, v, a]| {
+            black_box(R::base_regressor_products(
+                &JointTrig::new(q),
+                qd,
+                v,
+                a,
+                &theta_b,
+                a,
+            ));
+        },
+    );
+    cycle(
+        c,
+        &g("base_regressor_products"),
+        "through_base_regressor",
+        &fixed,
+        |[q, qd, v, a]| {
+            let y = R::base_regressor(&JointTrig::new(q), qd, v, a);
+            black_box((y * theta_b, y.tr_mul(a)));
+        },
+    );
     // The torque form `Y(q, q̇, q̇, q̈)` (Pinocchio's `computeJointTorqueRegressor`).
     cycle(c, &g("torque_regressor"), "generated", &fixed, |[q, qd, _, a]| {
         black_box(R::torque_regressor(&JointTrig::new(q), qd, a));
