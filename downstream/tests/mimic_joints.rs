@@ -84,6 +84,17 @@ fn generated_mimic_arm_matches_generic_dynamics() {
         let y_b =
             MimicArm::base_regressor(&t, &qd, &v, &a) * MimicArm::base_parameters(&MimicArm::parameters());
         assert_close("Y_b θ_b", y_b.as_slice(), sl.as_slice());
+        // The adaptive law's products without the regressor (with r = a).
+        let theta = MimicArm::parameters();
+        let (y_theta, y_tr_r) = MimicArm::regressor_products(&t, &qd, &v, &a, &theta, &a);
+        assert_close("Y θ", y_theta.as_slice(), sl.as_slice());
+        let y_tr_a: Vec<f64> = (0..y.ncols())
+            .map(|c| (0..y.nrows()).map(|i| y[(i, c)] * a_s[i]).sum())
+            .collect();
+        assert_close("Yᵀ r", y_tr_r.as_slice(), &y_tr_a);
+        let theta_b = MimicArm::base_parameters(&theta);
+        let (y_b_theta, _) = MimicArm::base_regressor_products(&t, &qd, &v, &a, &theta_b, &a);
+        assert_close("Y_b θ_b without Y_b", y_b_theta.as_slice(), sl.as_slice());
         let tau_v = SVector::<f64, 3>::from_column_slice(tau.as_slice());
         assert_close("FD", MimicArm::forward_dynamics(&t, &qd, &tau_v).as_slice(), a_s);
         let minv = generic.mass_matrix_inverse(q);
