@@ -9,7 +9,9 @@
 //! zero fold away as they are built, and a tangent along a single direction stays a scalar in
 //! its lane (joint `j`'s transform moves only with `q_j`); the vectors fill where directions
 //! meet (a body's motion depends on every joint above it, a joint's torque on every body below),
-//! so one vector operation does the work of up to eight scalar ones. Running the directions one
+//! so one vector operation does the work of up to eight scalar ones. A joint's transform is
+//! differentiated along its own coordinate through its motion subspace
+//! ([`super::seeded_frame`]: `d(X m)/dq = −S × X m`), not through its sines and cosines. Running the directions one
 //! at a time instead gives the sparsest scalar program (the flattened cost of the analytical
 //! derivatives of Carpentier & Mansard, 2018), but a long and irregular one: the Panda's runs
 //! 1.5–2.2× faster in lanes (`BENCHMARKS.md`), the UR5's, already sparse, no faster.
@@ -31,6 +33,7 @@ use super::coriolis::coriolis_matrix;
 use super::forward_dynamics::{factor_mass_matrix, forward_dynamics_factored};
 use super::joint::joint_transforms;
 use super::joint_terms::joint_term_torques;
+use super::seeded_frame::seeded_frames;
 use super::slotine_li::inverse_dynamics;
 use crate::model::{JointTermValues, Model};
 use crate::scalar::Scalar;
@@ -104,7 +107,11 @@ fn tangent_groups<S: LaneScalar>(
         .step_by(LANES)
         .map(|first| {
             // Joint-level terms depend on q̇ and q̈ only.
-            let x = joint_transforms(model, &seeded(q, first));
+            let x = seeded_frames(model, q, |c| {
+                (first..first + LANES)
+                    .contains(&c)
+                    .then(|| S::Lanes::unit(c - first, S::one()))
+            });
             let d_q = inverse_dynamics(model, &x, &dual_inertias, &qd_const, &qdd_const);
             let qd_seeded = seeded(qd, first);
             let mut d_qd = inverse_dynamics(model, &x_const, &dual_inertias, &qd_seeded, &qdd_const);
@@ -198,7 +205,7 @@ fn one_by_one<S: Scalar>(
     let (qd_const, qdd_const) = (constant(qd), constant(qdd));
     let mut d_q = DMatrix::from_element(n, n, S::zero());
     for j in 0..n {
-        let x = joint_transforms(model, &seeded_one(q, j));
+        let x = seeded_frames(model, q, |c| (c == j).then(S::one));
         let tau = inverse_dynamics(model, &x, &dual_inertias, &qd_const, &qdd_const);
         for (i, t) in tau.iter().enumerate() {
             d_q[(i, j)] = t.tangent;

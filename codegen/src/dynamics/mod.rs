@@ -19,6 +19,7 @@ mod numeric;
 mod numeric_forward;
 mod regressor;
 mod regressor_products;
+mod seeded_frame;
 mod singular;
 mod slotine_li;
 mod tree_ldl;

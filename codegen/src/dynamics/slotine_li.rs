@@ -7,7 +7,7 @@ use super::coupling::{expand, project};
 use super::joint::{joint_force, joint_motion};
 use crate::model::Model;
 use crate::scalar::Scalar;
-use crate::spatial::{Force, Motion, RigidInertia, Transform, Vec3};
+use crate::spatial::{Force, JointFrame, Motion, RigidInertia, Transform, Vec3};
 
 /// Per-body quantities of the forward pass that the torques are linear in.
 pub(crate) struct BodyMotion<S> {
@@ -21,9 +21,9 @@ pub(crate) struct BodyMotion<S> {
 
 /// Forward pass: the velocities and reference accelerations of every body, in body frames.
 /// `gravity: None` leaves gravity out (for `C` and `D` alone).
-pub(crate) fn forward_pass<S: Scalar>(
+pub(crate) fn forward_pass<S: Scalar, X: JointFrame<S>>(
     model: &Model,
-    x: &[Transform<S>],
+    x: &[X],
     qd: &[S],
     v: &[S],
     a: &[S],
@@ -65,9 +65,9 @@ pub(crate) fn body_force<S: Scalar>(inertia: &RigidInertia<S>, m: &BodyMotion<S>
 
 /// `D(q) a + C(q, q̇) v + g(q)` (gravity optional): the Slotine–Li reference torque, on the
 /// coordinates (`Gᵀ` of the tree's at `G q̇, G v, G a` with mimic joints).
-pub fn slotine_li<S: Scalar>(
+pub fn slotine_li<S: Scalar, X: JointFrame<S>>(
     model: &Model,
-    x: &[Transform<S>],
+    x: &[X],
     inertias: &[RigidInertia<S>],
     qd: &[S],
     v: &[S],
@@ -79,9 +79,9 @@ pub fn slotine_li<S: Scalar>(
 }
 
 /// The Slotine–Li torque of every moving joint of the tree, rates per moving joint.
-fn tree_slotine_li<S: Scalar>(
+fn tree_slotine_li<S: Scalar, X: JointFrame<S>>(
     model: &Model,
-    x: &[Transform<S>],
+    x: &[X],
     inertias: &[RigidInertia<S>],
     qd: &[S],
     v: &[S],
@@ -110,9 +110,9 @@ pub(crate) fn gravity_vector<S: Scalar>(model: &Model) -> Vec3<S> {
 }
 
 /// Inverse dynamics `τ = D q̈ + C q̇ + g` (RNEA).
-pub fn inverse_dynamics<S: Scalar>(
+pub fn inverse_dynamics<S: Scalar, X: JointFrame<S>>(
     model: &Model,
-    x: &[Transform<S>],
+    x: &[X],
     inertias: &[RigidInertia<S>],
     qd: &[S],
     qdd: &[S],
