@@ -90,8 +90,7 @@ pub trait BaseParameters<const N: usize, const P: usize, const B: usize>: RobotD
         theta_b: &SVector<f64, B>,
         r: &SVector<f64, N>,
     ) -> (SVector<f64, N>, SVector<f64, B>) {
-        let y = Self::base_regressor(t, qd, v, a);
-        (y * theta_b, y.tr_mul(r))
+        crate::robot::products_of(&Self::base_regressor(t, qd, v, a), theta_b, r)
     }
     /// `Y_b(q, q̇, q̇, q̈)` with `Y_b θ_b = τ`: the base regressor in torque form (see
     /// [`RobotDynamics::torque_regressor`]).

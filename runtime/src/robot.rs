@@ -118,8 +118,7 @@ pub trait RobotDynamics<const N: usize, const P: usize>: Kinematics<N> {
         theta: &SVector<f64, P>,
         r: &SVector<f64, N>,
     ) -> (SVector<f64, N>, SVector<f64, P>) {
-        let y = Self::regressor(t, qd, v, a);
-        (y * theta, y.tr_mul(r))
+        products_of(&Self::regressor(t, qd, v, a), theta, r)
     }
     /// The regressor in torque form, `Y(q, q̇, q̇, q̈)` with `Y θ = τ` (what identification
     /// stacks). Generated robots emit it as its own function, smaller than [`Self::regressor`]:
@@ -144,4 +143,14 @@ pub trait RobotDynamics<const N: usize, const P: usize>: Kinematics<N> {
         qd: &SVector<f64, N>,
         tau: &SVector<f64, N>,
     ) -> (SMatrix<f64, N, N>, SMatrix<f64, N, N>);
+}
+
+/// `(Y θ, Yᵀ r)` of a regressor already formed: what the products default to where a robot's
+/// code does not compute them without `Y`.
+pub(crate) fn products_of<const N: usize, const M: usize>(
+    y: &SMatrix<f64, N, M>,
+    theta: &SVector<f64, M>,
+    r: &SVector<f64, N>,
+) -> (SVector<f64, N>, SVector<f64, M>) {
+    (y * theta, y.tr_mul(r))
 }
