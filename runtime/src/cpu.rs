@@ -20,7 +20,8 @@ pub(crate) fn has_avx2_fma() -> bool {
     cached(&AVX2_FMA, detect)
 }
 
-/// [`has_avx2_fma`], AVX-512F too, and the operating system saves the AVX-512 registers.
+/// [`has_avx2_fma`], AVX-512 F, DQ, BW and VL too, and the operating system saves the AVX-512
+/// registers.
 #[cfg_attr(all(debug_assertions, not(test)), allow(dead_code))]
 #[inline]
 pub(crate) fn has_avx512() -> bool {
@@ -46,11 +47,15 @@ fn detect_avx512() -> bool {
     use core::arch::x86_64::{__cpuid_count, _xgetbv};
     // SAFETY: CPUID leaf 7 exists (`detect` read it); XGETBV is enabled (OSXSAVE, in `detect`).
     #[allow(unused_unsafe)]
-    let avx512f = unsafe { __cpuid_count(7, 0) }.ebx & (1 << 16) != 0;
+    let ebx = unsafe { __cpuid_count(7, 0) }.ebx;
+    // F (bit 16), DQ (17), BW (30), VL (31): what every AVX-512 processor since Skylake-SP has,
+    // and what the lane kernels are compiled for.
+    let subsets = 1 << 16 | 1 << 17 | 1 << 30 | 1 << 31;
+    let avx512 = ebx & subsets == subsets;
     // XCR0 bits 5–7: the opmask registers and both halves of the 512-bit state are saved.
     #[allow(unused_unsafe)]
     let xcr0 = unsafe { _xgetbv(0) };
-    avx512f && xcr0 & 0b1110_0000 == 0b1110_0000
+    avx512 && xcr0 & 0b1110_0000 == 0b1110_0000
 }
 
 #[cold]
