@@ -126,10 +126,10 @@ pub fn dispatch<K: Kernel<Args>, Args>(args: Args) -> K::Output {
 }
 
 /// [`dispatch`] for a kernel that carries eight lanes (`M::Eight`): in a build that chooses at
-/// run time, a processor with AVX-512 (F, DQ, BW, VL) runs it with [`Fused512`] inside a function compiled for
-/// AVX-512 (one register per lane vector, as a `-C target-cpu=native` build on it), one without
-/// with [`Fused`] (two AVX registers). Only the kernels that use lanes are compiled a third
-/// time.
+/// run time, a processor with AVX-512 (F, DQ, BW, VL) runs it with [`Fused512`] inside a
+/// function compiled for AVX-512 (one register per lane vector, as a `-C target-cpu=native`
+/// build on it), one without with [`Fused`] (two AVX registers). Only the kernels that use
+/// lanes are compiled a third time.
 #[inline(always)]
 pub fn dispatch_eight<K: Kernel<Args>, Args>(args: Args) -> K::Output {
     choice::dispatch_eight::<K, Args>(args)
@@ -138,8 +138,7 @@ pub fn dispatch_eight<K: Kernel<Args>, Args>(args: Args) -> K::Output {
 /// Whether lane kernels ([`dispatch_eight`]) hold their eight lanes in one AVX-512 register:
 /// in a build that targets AVX-512F, always (the lane type's instructions are the build's); in
 /// an optimised x86-64 build that chooses at run time, where the processor has AVX-512 (F, DQ,
-/// BW, VL) and runs
-/// [`Fused`] (unless [`set_avx512_lanes`] turned it off); never elsewhere.
+/// BW, VL) and runs [`Fused`] (unless [`set_avx512_lanes`] turned it off); never elsewhere.
 #[inline]
 pub fn avx512_lanes() -> bool {
     choice::avx512_lanes()

@@ -16,7 +16,7 @@ use super::joint::{joint_motion, joint_transforms};
 use crate::model::Model;
 use crate::scalar::Scalar;
 use crate::scalar_dual::{Dual, Tangent};
-use crate::spatial::{Force, JointFrame, Mat3, Motion, Transform, Vec3};
+use crate::spatial::{Force, JointFrame, Motion, Transform, Vec3};
 
 /// One joint's transform on [`Dual`] numbers, with the tangent `seed` of its own coordinate
 /// (the unit direction, times the mimic multiplier), or none if the derivative is not taken
@@ -35,18 +35,15 @@ pub(crate) fn seeded_frames<S: Scalar, T: Tangent<S>>(
     q: &[S],
     seed: impl Fn(usize) -> Option<T>,
 ) -> Vec<SeededFrame<S, T>> {
-    let lift = |v: &Vec3<S>| Vec3(v.0.map(Dual::constant));
-    joint_transforms(model, q)
-        .iter()
+    let constant: Vec<Dual<S, T>> = q.iter().map(|&x| Dual::constant(x)).collect();
+    joint_transforms(model, &constant)
+        .into_iter()
         .zip(model.joints())
         .zip(model.coordinate_maps().iter().zip(model.mimics()))
         .map(|((x, joint), (map, mimic))| {
             let multiplier = if mimic.is_some() { map.multiplier } else { 1.0 };
             SeededFrame {
-                x: Transform {
-                    rot: Mat3(x.rot.0.map(|row| row.map(Dual::constant))),
-                    pos: lift(&x.pos),
-                },
+                x,
                 axis: joint_motion(joint, S::one()),
                 seed: seed(map.coordinate).map(|t| t.scale(S::from_f64(multiplier))),
             }

@@ -191,7 +191,8 @@ impl<'a> Plan<'a> {
             .into_iter()
             .filter(|id| !products.contains(id))
             .collect();
-        // `x` is a prefix no input uses (q, qd, v, a, tau, theta, r, s, c), so a temporary never shadows one.
+        // `x` is a prefix no input uses (q, qd, v, a, tau, theta, r, s, c), so a temporary never
+        // shadows one.
         let names = order
             .iter()
             .enumerate()

@@ -51,7 +51,7 @@ impl<S: Scalar> Transform<S> {
 
 /// What a recursion over the tree does with a joint's transform: carry a motion to the child
 /// and a force to the parent. [`Transform`] is the plain one; the derivatives of the dynamics
-/// use one that also knows its derivative along its own joint (`dynamics::derivatives`).
+/// use one that also knows its derivative along its own joint (`dynamics::seeded_frame`).
 pub trait JointFrame<S> {
     fn motion_to_child(&self, m: &Motion<S>) -> Motion<S>;
     fn force_to_parent(&self, f: &Force<S>) -> Force<S>;
