@@ -6378,7 +6378,9 @@ impl RobotDynamics<7, 98> for Arm7Friction {
                 let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
                 let [v0, v1, v2, v3, v4, v5, v6] = v.data.0[0];
                 let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
-                let mut out: SMatrix<f64, 7, 98> = SMatrix::zeros();
+                let mut out: SMatrix<f64, 7, 98> = SMatrix::from_element(
+                    dyngen_runtime::fill_zero(),
+                );
                 {
                     let [[_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
                     _], [_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
@@ -18162,7 +18164,9 @@ impl RobotDynamics<7, 98> for Arm7Friction {
                 let [_, c1, c2, c3, c4, c5, c6] = t.cos;
                 let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
                 let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
-                let mut out: SMatrix<f64, 7, 98> = SMatrix::zeros();
+                let mut out: SMatrix<f64, 7, 98> = SMatrix::from_element(
+                    dyngen_runtime::fill_zero(),
+                );
                 {
                     let [[_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
                     _], [_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
@@ -20162,8 +20166,8 @@ impl RobotDynamics<7, 98> for Arm7Friction {
                 theta93, theta94, theta95, theta96, theta97] = theta.data.0[0];
                 let [r0, r1, r2, r3, r4, r5, r6] = r.data.0[0];
                 let mut out: (SVector<f64, 7>, SVector<f64, 98>) = (
-                    SMatrix::zeros(),
-                    SMatrix::zeros(),
+                    SMatrix::from_element(dyngen_runtime::fill_zero()),
+                    SMatrix::from_element(dyngen_runtime::fill_zero()),
                 );
                 {
                     let (
@@ -22797,7 +22801,9 @@ impl BaseParameters<7, 98, 69> for Arm7Friction {
                 let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
                 let [v0, v1, v2, v3, v4, v5, v6] = v.data.0[0];
                 let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
-                let mut out: SMatrix<f64, 7, 69> = SMatrix::zeros();
+                let mut out: SMatrix<f64, 7, 69> = SMatrix::from_element(
+                    dyngen_runtime::fill_zero(),
+                );
                 {
                     let [[o0, _, _, _, _, _, _], [o7, o8, _, _, _, _, _], [o14, o15, _,
                     _, _, _, _], [o21, o22, _, _, _, _, _], [o28, o29, _, _, _, _, _],
@@ -25057,7 +25063,9 @@ impl BaseParameters<7, 98, 69> for Arm7Friction {
                 let [_, c1, c2, c3, c4, c5, c6] = t.cos;
                 let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
                 let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
-                let mut out: SMatrix<f64, 7, 69> = SMatrix::zeros();
+                let mut out: SMatrix<f64, 7, 69> = SMatrix::from_element(
+                    dyngen_runtime::fill_zero(),
+                );
                 {
                     let [[o0, _, _, _, _, _, _], [o7, o8, _, _, _, _, _], [o14, o15, _,
                     _, _, _, _], [o21, o22, _, _, _, _, _], [o28, o29, _, _, _, _, _],
@@ -26728,8 +26736,8 @@ impl BaseParameters<7, 98, 69> for Arm7Friction {
                 theta64, theta65, theta66, theta67, theta68] = theta.data.0[0];
                 let [r0, r1, r2, r3, r4, r5, r6] = r.data.0[0];
                 let mut out: (SVector<f64, 7>, SVector<f64, 69>) = (
-                    SMatrix::zeros(),
-                    SMatrix::zeros(),
+                    SMatrix::from_element(dyngen_runtime::fill_zero()),
+                    SMatrix::from_element(dyngen_runtime::fill_zero()),
                 );
                 {
                     let (
@@ -29330,7 +29338,7 @@ impl LaneDynamics<7, 69> for Arm7Friction {
         let [_, c1, c2, c3, c4, c5, c6] = t.cos;
         let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = *qd;
         let [a0, a1, a2, a3, a4, a5, a6] = *a;
-        let mut out: [[L; 7]; 69] = [[L::splat(0.0); 7]; 69];
+        let mut out: [[L; 7]; 69] = [[L::splat(dyngen_runtime::fill_zero()); 7]; 69];
         {
             let [[o0, _, _, _, _, _, _], [o7, o8, _, _, _, _, _], [o14, o15, _, _, _, _,
             _], [o21, o22, _, _, _, _, _], [o28, o29, _, _, _, _, _], [o35, o36, _, _, _,

@@ -5444,7 +5444,9 @@ impl RobotDynamics<7, 70> for PandaRounded {
                 let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
                 let [v0, v1, v2, v3, v4, v5, v6] = v.data.0[0];
                 let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
-                let mut out: SMatrix<f64, 7, 70> = SMatrix::zeros();
+                let mut out: SMatrix<f64, 7, 70> = SMatrix::from_element(
+                    dyngen_runtime::fill_zero(),
+                );
                 {
                     let [[_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
                     _], [_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
@@ -15668,7 +15670,9 @@ impl RobotDynamics<7, 70> for PandaRounded {
                 let [_, c1, c2, c3, c4, c5, c6] = t.cos;
                 let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
                 let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
-                let mut out: SMatrix<f64, 7, 70> = SMatrix::zeros();
+                let mut out: SMatrix<f64, 7, 70> = SMatrix::from_element(
+                    dyngen_runtime::fill_zero(),
+                );
                 {
                     let [[_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
                     _], [_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
@@ -17379,8 +17383,8 @@ impl RobotDynamics<7, 70> for PandaRounded {
                 ] = theta.data.0[0];
                 let [r0, r1, r2, r3, r4, r5, r6] = r.data.0[0];
                 let mut out: (SVector<f64, 7>, SVector<f64, 70>) = (
-                    SMatrix::zeros(),
-                    SMatrix::zeros(),
+                    SMatrix::from_element(dyngen_runtime::fill_zero()),
+                    SMatrix::from_element(dyngen_runtime::fill_zero()),
                 );
                 {
                     let (
@@ -19558,7 +19562,9 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                 let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
                 let [v0, v1, v2, v3, v4, v5, v6] = v.data.0[0];
                 let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
-                let mut out: SMatrix<f64, 7, 43> = SMatrix::zeros();
+                let mut out: SMatrix<f64, 7, 43> = SMatrix::from_element(
+                    dyngen_runtime::fill_zero(),
+                );
                 {
                     let [[o0, _, _, _, _, _, _], [_, o8, _, _, _, _, _], [_, o15, _, _,
                     _, _, _], [o21, o22, _, _, _, _, _], [o28, o29, _, _, _, _, _], [o35,
@@ -21535,7 +21541,9 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                 let [_, c1, c2, c3, c4, c5, c6] = t.cos;
                 let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
                 let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
-                let mut out: SMatrix<f64, 7, 43> = SMatrix::zeros();
+                let mut out: SMatrix<f64, 7, 43> = SMatrix::from_element(
+                    dyngen_runtime::fill_zero(),
+                );
                 {
                     let [[o0, _, _, _, _, _, _], [_, o8, _, _, _, _, _], [_, o15, _, _,
                     _, _, _], [o21, o22, _, _, _, _, _], [o28, o29, _, _, _, _, _], [o35,
@@ -25163,7 +25171,7 @@ impl LaneDynamics<7, 43> for PandaRounded {
         let [_, c1, c2, c3, c4, c5, c6] = t.cos;
         let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = *qd;
         let [a0, a1, a2, a3, a4, a5, a6] = *a;
-        let mut out: [[L; 7]; 43] = [[L::splat(0.0); 7]; 43];
+        let mut out: [[L; 7]; 43] = [[L::splat(dyngen_runtime::fill_zero()); 7]; 43];
         {
             let [[o0, _, _, _, _, _, _], [_, o8, _, _, _, _, _], [_, o15, _, _, _, _, _],
             [o21, o22, _, _, _, _, _], [o28, o29, _, _, _, _, _], [o35, o36, _, _, _, _,

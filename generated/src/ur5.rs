@@ -3124,7 +3124,9 @@ impl RobotDynamics<6, 60> for Ur5 {
                 let [qd0, qd1, qd2, qd3, qd4, qd5] = qd.data.0[0];
                 let [v0, v1, v2, v3, v4, v5] = v.data.0[0];
                 let [a0, a1, a2, a3, a4, a5] = a.data.0[0];
-                let mut out: SMatrix<f64, 6, 60> = SMatrix::zeros();
+                let mut out: SMatrix<f64, 6, 60> = SMatrix::from_element(
+                    dyngen_runtime::fill_zero(),
+                );
                 {
                     let [[_, _, _, _, _, _], [_, _, _, _, _, _], [_, _, _, _, _, _], [_,
                     _, _, _, _, _], [_, _, _, _, _, _], [_, _, _, _, _, _], [_, _, _, _,
@@ -9237,7 +9239,9 @@ impl RobotDynamics<6, 60> for Ur5 {
                 let [_, c1, c2, c3, c4, c5] = t.cos;
                 let [qd0, qd1, qd2, qd3, qd4, qd5] = qd.data.0[0];
                 let [a0, a1, a2, a3, a4, a5] = a.data.0[0];
-                let mut out: SMatrix<f64, 6, 60> = SMatrix::zeros();
+                let mut out: SMatrix<f64, 6, 60> = SMatrix::from_element(
+                    dyngen_runtime::fill_zero(),
+                );
                 {
                     let [[_, _, _, _, _, _], [_, _, _, _, _, _], [_, _, _, _, _, _], [_,
                     _, _, _, _, _], [_, _, _, _, _, _], [_, _, _, _, _, _], [_, _, _, _,
@@ -10532,8 +10536,8 @@ impl RobotDynamics<6, 60> for Ur5 {
                     .0[0];
                 let [r0, r1, r2, r3, r4, r5] = r.data.0[0];
                 let mut out: (SVector<f64, 6>, SVector<f64, 60>) = (
-                    SMatrix::zeros(),
-                    SMatrix::zeros(),
+                    SMatrix::from_element(dyngen_runtime::fill_zero()),
+                    SMatrix::from_element(dyngen_runtime::fill_zero()),
                 );
                 {
                     let (
@@ -12507,7 +12511,9 @@ impl BaseParameters<6, 60, 36> for Ur5 {
                 let [qd0, qd1, qd2, qd3, qd4, qd5] = qd.data.0[0];
                 let [v0, v1, v2, v3, v4, v5] = v.data.0[0];
                 let [a0, a1, a2, a3, a4, a5] = a.data.0[0];
-                let mut out: SMatrix<f64, 6, 36> = SMatrix::zeros();
+                let mut out: SMatrix<f64, 6, 36> = SMatrix::from_element(
+                    dyngen_runtime::fill_zero(),
+                );
                 {
                     let [[o0, _, _, _, _, _], [o6, o7, _, _, _, _], [o12, o13, _, _, _, _,
                     ], [o18, o19, _, _, _, _], [o24, o25, _, _, _, _], [o30, o31, _, _,
@@ -14125,7 +14131,9 @@ impl BaseParameters<6, 60, 36> for Ur5 {
                 let [_, c1, c2, c3, c4, c5] = t.cos;
                 let [qd0, qd1, qd2, qd3, qd4, qd5] = qd.data.0[0];
                 let [a0, a1, a2, a3, a4, a5] = a.data.0[0];
-                let mut out: SMatrix<f64, 6, 36> = SMatrix::zeros();
+                let mut out: SMatrix<f64, 6, 36> = SMatrix::from_element(
+                    dyngen_runtime::fill_zero(),
+                );
                 {
                     let [[o0, _, _, _, _, _], [o6, o7, _, _, _, _], [o12, o13, _, _, _, _,
                     ], [o18, o19, _, _, _, _], [o24, o25, _, _, _, _], [o30, o31, _, _,
@@ -16948,7 +16956,7 @@ impl LaneDynamics<6, 36> for Ur5 {
         let [_, c1, c2, c3, c4, c5] = t.cos;
         let [qd0, qd1, qd2, qd3, qd4, qd5] = *qd;
         let [a0, a1, a2, a3, a4, a5] = *a;
-        let mut out: [[L; 6]; 36] = [[L::splat(0.0); 6]; 36];
+        let mut out: [[L; 6]; 36] = [[L::splat(dyngen_runtime::fill_zero()); 6]; 36];
         {
             let [[o0, _, _, _, _, _], [o6, o7, _, _, _, _], [o12, o13, _, _, _, _], [o18,
             o19, _, _, _, _], [o24, o25, _, _, _, _], [o30, o31, _, _, _, _], [o36, o37,

@@ -25,6 +25,7 @@ mod eight_lanes;
     not(all(target_feature = "avx2", target_feature = "fma"))
 ))]
 mod eight_lanes_x86;
+mod fill;
 mod frame;
 mod joint;
 mod lanes;
@@ -57,6 +58,7 @@ pub use eight_lanes::EightLanes;
     not(all(target_feature = "avx2", target_feature = "fma"))
 ))]
 pub use eight_lanes_x86::{Avx2Eight, Avx512Eight};
+pub use fill::fill_zero;
 pub use frame::align_stack_frame;
 pub use joint::{JointLimits, JointTrig};
 pub use lanes::{f64x4, f64x8, pack, sign, unpack, JointTrigLanes, LaneDynamics, Lanes};

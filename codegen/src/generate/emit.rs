@@ -918,6 +918,12 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
     Emitted { method, chunks }
 }
 
+/// Results larger than this start from `dyngen_runtime::fill_zero()` rather than a constant
+/// zero, whose fill the compiler would make a call to `memset` (see that function). Smaller
+/// ones keep the constant: the compiler fills them with at most sixteen inline stores (AVX2),
+/// or drops the fill when every entry is written.
+const LIBRARY_FILL_BYTES: usize = 512;
+
 /// The body of a one-chunk vector or matrix function that writes each output into the result
 /// as soon as it is computed: `let mut out: R = zeros; { let [[o0, _, o2]] = &mut out…;
 /// x0 = …; *o0 = x0; … } out`. Returning them all at the end kept every output alive across the
@@ -956,19 +962,25 @@ fn written_in_place(
         let columns = pattern.chunks(rows).map(|c| quote!([#(#c),*]));
         quote!([#(#columns),*])
     };
+    // Bytes of the result: `f64`s, or lane vectors of at least four.
+    let bytes = q.outputs.len() * if form == Form::Lanes { 32 } else { 8 };
+    let (matrix, zero) = match bytes > LIBRARY_FILL_BYTES {
+        true => (
+            quote!(SMatrix::from_element(dyngen_runtime::fill_zero())),
+            quote!(dyngen_runtime::fill_zero()),
+        ),
+        false => (quote!(SMatrix::zeros()), quote!(0.0)),
+    };
     let (slots_pattern, target, zero) = match (form, q.shape) {
-        (Form::Scalar, Shape::Vector(len)) => {
-            (nested(len), quote!(&mut out.data.0), quote!(SMatrix::zeros()))
-        }
-        (Form::Scalar, Shape::Matrix(rows, _)) => {
-            (nested(rows), quote!(&mut out.data.0), quote!(SMatrix::zeros()))
+        (Form::Scalar, Shape::Vector(rows) | Shape::Matrix(rows, _)) => {
+            (nested(rows), quote!(&mut out.data.0), matrix)
         }
         (Form::Scalar, Shape::VectorPair(n, _)) => {
             let (first, second) = pattern.split_at(n);
             (
                 quote!(([#(#first),*], [#(#second),*])),
                 quote!((&mut out.0.data.0[0], &mut out.1.data.0[0])),
-                quote!((SMatrix::zeros(), SMatrix::zeros())),
+                quote!((#matrix, #matrix)),
             )
         }
         (Form::Lanes, Shape::Vector(len)) => {
@@ -976,12 +988,12 @@ fn written_in_place(
             (
                 quote!([#(#pattern),*]),
                 quote!(&mut out),
-                quote!([L::splat(0.0); #len]),
+                quote!([L::splat(#zero); #len]),
             )
         }
         (Form::Lanes, Shape::Matrix(rows, cols)) => {
             let (r, c) = (Literal::usize_unsuffixed(rows), Literal::usize_unsuffixed(cols));
-            (nested(rows), quote!(&mut out), quote!([[L::splat(0.0); #r]; #c]))
+            (nested(rows), quote!(&mut out), quote!([[L::splat(#zero); #r]; #c]))
         }
         _ => unreachable!("only vectors, matrices and vector pairs are written in place"),
     };

@@ -1,0 +1,16 @@
+//! The zero that large results start from.
+
+/// `0.0`, hidden from the optimiser, for generated functions to fill a large result with
+/// before they write its entries in place.
+///
+/// From a constant zero the compiler fills the result with one `memset`, and above a few hundred
+/// bytes that is a call into the C library: mid-kernel, so every vector register live across
+/// it is spilled and reloaded, and glibc serves sizes from 2 KiB with `rep stosb`, which is slow
+/// to start on AMD Zen. The UR5's torque-form regressor (2,880 bytes) ran 1.27× faster
+/// filled from this zero, which is no byte pattern to the compiler, so the fill stays a run of
+/// vector stores inside the kernel. Only speed depends on it: a build that sees through
+/// [`core::hint::black_box`] fills with the same zeros.
+#[inline(always)]
+pub fn fill_zero() -> f64 {
+    core::hint::black_box(0.0)
+}
