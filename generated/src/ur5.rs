@@ -7174,7 +7174,7 @@ impl RobotDynamics<6, 60> for Ur5 {
                 )
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, a))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, a))
     }
     ///Operations: 1423 mul, 1218 add/sub, 1 neg, 5 div (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -9217,7 +9217,7 @@ impl RobotDynamics<6, 60> for Ur5 {
                 )
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, tau))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, tau))
     }
     ///Operations: 739 mul, 562 add/sub, 20 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]

@@ -477,7 +477,9 @@ impl Param {
 /// A generated function. A scalar one runs its body as a `dyngen_runtime::Kernel` through
 /// `dyngen_runtime::dispatch`: with the processor's fused multiply-adds even in a build that
 /// does not target them (the body names its multiply-adds `arith.mul_add`), and through
-/// `dyngen_runtime::dispatch_eight` where it carries lane vectors (`uses_lanes`). A lane
+/// `dyngen_runtime::dispatch_eight` where it carries lane vectors (`uses_lanes`) or holds more
+/// values than sixteen registers do (`many_registers`: a default build then runs it compiled
+/// for AVX-512 where the processor has it, with the 32 registers of a native build). A lane
 /// function is generic over its lane type instead, and aligns its stack frame for its spills
 /// (`dyngen_runtime::align_stack_frame`).
 #[allow(clippy::too_many_arguments)]
@@ -489,6 +491,7 @@ fn function_item(
     ret: &TokenStream,
     uses_arith: bool,
     uses_lanes: bool,
+    many_registers: bool,
     body: TokenStream,
 ) -> TokenStream {
     if form == Form::Lanes {
@@ -513,15 +516,16 @@ fn function_item(
         true => format_ident!("arith"),
         false => format_ident!("_arith"),
     };
+    let dispatch = match uses_lanes || many_registers {
+        true => quote!(dyngen_runtime::dispatch_eight),
+        false => quote!(dyngen_runtime::dispatch),
+    };
     // A kernel with lane vectors calls their multiply-adds as methods of `M::Eight`.
-    let (dispatch, lane_methods) = match uses_lanes {
-        true => (
-            quote!(dyngen_runtime::dispatch_eight),
-            quote!(
-                use dyngen_runtime::EightLanes as _;
-            ),
+    let lane_methods = match uses_lanes {
+        true => quote!(
+            use dyngen_runtime::EightLanes as _;
         ),
-        false => (quote!(dyngen_runtime::dispatch), quote!()),
+        false => quote!(),
     };
     quote! {
         #attributes
@@ -810,6 +814,9 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
     }
     let names_of = |ids: &[Id]| -> Vec<Ident> { ids.iter().map(|id| plan.names[id].clone()).collect() };
 
+    // The derivatives of the dynamics: thousands of operations whose values outnumber sixteen
+    // registers many times over (spills bound them).
+    let many_registers = matches!(q.shape, Shape::MatrixPair(_));
     if n_chunks == 1 {
         let mut used = main_used;
         let body = match q.shape {
@@ -831,6 +838,7 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
             &ret,
             plan.uses_arith(&plan.order),
             plan.uses_lanes(&plan.order),
+            many_registers,
             quote!(#(#prelude)* #body),
         );
         return Emitted {
@@ -899,6 +907,7 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
             &ret,
             plan.uses_arith(ids) || !lane_inputs.is_empty(),
             plan.uses_lanes(ids) || !lane_inputs.is_empty(),
+            many_registers,
             quote!(#(#prelude)* #(#unpack)* #(#statements)* #returned),
         ));
         calls.push(quote!(let #bound = #chunk_name(#(#call_args),*);));
@@ -993,7 +1002,11 @@ fn written_in_place(
         }
         (Form::Lanes, Shape::Matrix(rows, cols)) => {
             let (r, c) = (Literal::usize_unsuffixed(rows), Literal::usize_unsuffixed(cols));
-            (nested(rows), quote!(&mut out), quote!([[L::splat(#zero); #r]; #c]))
+            (
+                nested(rows),
+                quote!(&mut out),
+                quote!([[L::splat(#zero); #r]; #c]),
+            )
         }
         _ => unreachable!("only vectors, matrices and vector pairs are written in place"),
     };
