@@ -3,8 +3,8 @@
 //! forms agree to rounding, and in a build that chooses at run time both really run: on an FMA
 //! processor the fused results differ from the unfused ones in their last bits.
 //!
-//! On a processor with AVX-512, the lane kernels (the derivatives) give the same bits in one
-//! 512-bit register as in two AVX ones (`set_avx512_lanes`).
+//! On a processor with AVX-512, the derivatives give the same bits in an AVX-512 function (their
+//! lanes in one 512-bit register) as in an AVX2 one (two AVX registers; `set_avx512_lanes`).
 //!
 //! Its own test binary: the choice is process-wide. Optimised builds only (debug builds compile
 //! one form): `cargo test --release -p dyngen-generated --test fused_and_unfused`.
@@ -67,7 +67,7 @@ where
             .map(|r| SVector::from_fn(|_, _| rng.uniform(r)));
         set_fused_multiply_adds(true);
         let fused = outputs::<R, N, P, B>(&x);
-        // The lane kernels (the derivatives) in two AVX registers instead of one AVX-512
+        // The derivatives (their lanes) in two AVX registers instead of one AVX-512
         // register where the processor has it: the same fused operations lane by lane.
         set_avx512_lanes(false);
         let two_registers = outputs::<R, N, P, B>(&x);

@@ -125,11 +125,12 @@ pub fn dispatch<K: Kernel<Args>, Args>(args: Args) -> K::Output {
     choice::dispatch::<K, Args>(args)
 }
 
-/// [`dispatch`] for a kernel that carries eight lanes (`M::Eight`): in a build that chooses at
-/// run time, a processor with AVX-512 (F, DQ, BW, VL) runs it with [`Fused512`] inside a
-/// function compiled for AVX-512 (one register per lane vector, as a `-C target-cpu=native`
-/// build on it), one without with [`Fused`] (two AVX registers). Only the kernels that use
-/// lanes are compiled a third time.
+/// [`dispatch`] for a kernel that carries eight lanes (`M::Eight`), or that holds far more values
+/// than sixteen registers (the derivatives of the dynamics, with or without lanes): in a build
+/// that chooses at run time, a processor with AVX-512 (F, DQ, BW, VL) runs it with [`Fused512`]
+/// inside a function compiled for AVX-512 (one register per lane vector and 32 registers, as a
+/// `-C target-cpu=native` build on it), one without with [`Fused`] (two AVX registers per lane
+/// vector). Only these kernels are compiled a third time.
 #[inline(always)]
 pub fn dispatch_eight<K: Kernel<Args>, Args>(args: Args) -> K::Output {
     choice::dispatch_eight::<K, Args>(args)
