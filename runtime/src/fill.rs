@@ -14,3 +14,13 @@
 pub fn fill_zero() -> f64 {
     core::hint::black_box(0.0)
 }
+
+#[cfg(test)]
+mod tests {
+    /// The fill is positive zero, bit for bit, as `SMatrix::zeros()` was: a structural zero of a
+    /// regressor prints as `0`, and `1/x` of it is `+∞`.
+    #[test]
+    fn fill_zero_is_positive_zero() {
+        assert_eq!(super::fill_zero().to_bits(), 0.0_f64.to_bits());
+    }
+}
