@@ -3959,7 +3959,7 @@ impl RobotDynamics<7, 70> for Arm7 {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd))
     }
     ///Operations: 64 mul, 38 add/sub, 1 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -6133,7 +6133,7 @@ impl RobotDynamics<7, 70> for Arm7 {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, v, a))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, v, a))
     }
     ///Operations: 1511 mul, 1301 add/sub, 33 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -8682,7 +8682,7 @@ impl RobotDynamics<7, 70> for Arm7 {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, v, a))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, v, a))
     }
     ///Operations: 916 mul, 748 add/sub, 0 neg, 6 div (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -9945,7 +9945,7 @@ impl RobotDynamics<7, 70> for Arm7 {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, tau))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, tau))
     }
     ///Operations: 571 mul, 472 add/sub, 1 neg, 6 div (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -19601,7 +19601,7 @@ impl RobotDynamics<7, 70> for Arm7 {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, a))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, a))
     }
     ///Operations: 1342 mul, 1422 add/sub, 1 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -22036,7 +22036,7 @@ impl RobotDynamics<7, 70> for Arm7 {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, v, a, theta, r))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, v, a, theta, r))
     }
 }
 impl BaseParameters<7, 70, 43> for Arm7 {
@@ -24322,7 +24322,7 @@ impl BaseParameters<7, 70, 43> for Arm7 {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, v, a))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, v, a))
     }
     /// `Y_b`: columns 9, 11, 13, 14, 15, 16, 17, 18, 21, 22, 24, 25, 27, 28, 29, 31, 33, 34, 35, 36, 37, 38, 41, 42, 44, 45, 47, 48, 49, 51, 53, 54, 55, 56, 57, 58, 61, 62, 64, 65, 67, 68, 69 of `Y` (the base parameters'), computed without the others.
     ///Operations: 1005 mul, 724 add/sub, 33 neg (joint sines and cosines come precomputed in `JointTrig`).
@@ -25906,7 +25906,7 @@ impl BaseParameters<7, 70, 43> for Arm7 {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, a))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, a))
     }
     /// `Y_b`: columns 9, 11, 13, 14, 15, 16, 17, 18, 21, 22, 24, 25, 27, 28, 29, 31, 33, 34, 35, 36, 37, 38, 41, 42, 44, 45, 47, 48, 49, 51, 53, 54, 55, 56, 57, 58, 61, 62, 64, 65, 67, 68, 69 of `Y` (the base parameters'), computed without the others.
     ///Operations: 1022 mul, 1004 add/sub, 1 neg (joint sines and cosines come precomputed in `JointTrig`).
@@ -27685,7 +27685,7 @@ impl BaseParameters<7, 70, 43> for Arm7 {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, v, a, theta, r))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, v, a, theta, r))
     }
 }
 impl LaneDynamics<7, 43> for Arm7 {

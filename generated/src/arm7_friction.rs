@@ -4074,7 +4074,7 @@ impl RobotDynamics<7, 98> for Arm7Friction {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd))
     }
     ///Operations: 64 mul, 38 add/sub, 1 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -6348,7 +6348,7 @@ impl RobotDynamics<7, 98> for Arm7Friction {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, v, a))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, v, a))
     }
     ///Operations: 1518 mul, 1301 add/sub, 33 neg, 7 sign/tanh (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -8952,7 +8952,7 @@ impl RobotDynamics<7, 98> for Arm7Friction {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, v, a))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, v, a))
     }
     ///Operations: 935 mul, 773 add/sub, 0 neg, 6 div, 7 sign/tanh (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -10263,7 +10263,7 @@ impl RobotDynamics<7, 98> for Arm7Friction {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, tau))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, tau))
     }
     ///Operations: 571 mul, 476 add/sub, 1 neg, 6 div (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -20104,7 +20104,7 @@ impl RobotDynamics<7, 98> for Arm7Friction {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, a))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, a))
     }
     ///Operations: 1390 mul, 1450 add/sub, 0 neg, 7 sign/tanh (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -22673,7 +22673,7 @@ impl RobotDynamics<7, 98> for Arm7Friction {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, v, a, theta, r))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, v, a, theta, r))
     }
 }
 impl BaseParameters<7, 98, 69> for Arm7Friction {
@@ -25040,7 +25040,7 @@ impl BaseParameters<7, 98, 69> for Arm7Friction {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, v, a))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, v, a))
     }
     /// `Y_b`: columns 9, 11, 13, 14, 15, 16, 17, 18, 21, 22, 24, 25, 27, 28, 29, 31, 33, 34, 35, 36, 37, 38, 41, 42, 44, 45, 47, 48, 49, 51, 53, 54, 55, 56, 57, 58, 61, 62, 64, 65, 67, 68, 69, 71, 72, 73, 75, 76, 77, 78, 79, 80, 81, 82, 83, 84, 85, 86, 87, 88, 89, 90, 91, 92, 93, 94, 95, 96, 97 of `Y` (the base parameters'), computed without the others.
     ///Operations: 1012 mul, 724 add/sub, 33 neg, 7 sign/tanh (joint sines and cosines come precomputed in `JointTrig`).
@@ -26676,7 +26676,7 @@ impl BaseParameters<7, 98, 69> for Arm7Friction {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, a))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, a))
     }
     /// `Y_b`: columns 9, 11, 13, 14, 15, 16, 17, 18, 21, 22, 24, 25, 27, 28, 29, 31, 33, 34, 35, 36, 37, 38, 41, 42, 44, 45, 47, 48, 49, 51, 53, 54, 55, 56, 57, 58, 61, 62, 64, 65, 67, 68, 69, 71, 72, 73, 75, 76, 77, 78, 79, 80, 81, 82, 83, 84, 85, 86, 87, 88, 89, 90, 91, 92, 93, 94, 95, 96, 97 of `Y` (the base parameters'), computed without the others.
     ///Operations: 1067 mul, 1030 add/sub, 0 neg, 7 sign/tanh (joint sines and cosines come precomputed in `JointTrig`).
@@ -28581,7 +28581,7 @@ impl BaseParameters<7, 98, 69> for Arm7Friction {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, v, a, theta, r))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, v, a, theta, r))
     }
 }
 impl LaneDynamics<7, 69> for Arm7Friction {

@@ -3480,7 +3480,7 @@ impl RobotDynamics<7, 70> for Panda {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd))
     }
     ///Operations: 64 mul, 39 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -5414,7 +5414,7 @@ impl RobotDynamics<7, 70> for Panda {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, v, a))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, v, a))
     }
     ///Operations: 1279 mul, 1099 add/sub, 19 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -7663,7 +7663,7 @@ impl RobotDynamics<7, 70> for Panda {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, v, a))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, v, a))
     }
     ///Operations: 801 mul, 643 add/sub, 0 neg, 6 div (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -17324,7 +17324,7 @@ impl RobotDynamics<7, 70> for Panda {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, a))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, a))
     }
     ///Operations: 1184 mul, 1222 add/sub, 1 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -19461,7 +19461,7 @@ impl RobotDynamics<7, 70> for Panda {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, v, a, theta, r))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, v, a, theta, r))
     }
 }
 impl BaseParameters<7, 70, 43> for Panda {
@@ -21518,7 +21518,7 @@ impl BaseParameters<7, 70, 43> for Panda {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, v, a))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, v, a))
     }
     /// `Y_b`: columns 9, 11, 12, 14, 15, 17, 18, 19, 21, 22, 24, 25, 27, 28, 29, 31, 32, 34, 35, 37, 38, 39, 41, 42, 44, 45, 47, 48, 49, 51, 52, 54, 55, 57, 58, 59, 61, 62, 64, 65, 67, 68, 69 of `Y` (the base parameters'), computed without the others.
     ///Operations: 880 mul, 633 add/sub, 20 neg (joint sines and cosines come precomputed in `JointTrig`).
@@ -22951,7 +22951,7 @@ impl BaseParameters<7, 70, 43> for Panda {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, a))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, a))
     }
     /// `Y_b`: columns 9, 11, 12, 14, 15, 17, 18, 19, 21, 22, 24, 25, 27, 28, 29, 31, 32, 34, 35, 37, 38, 39, 41, 42, 44, 45, 47, 48, 49, 51, 52, 54, 55, 57, 58, 59, 61, 62, 64, 65, 67, 68, 69 of `Y` (the base parameters'), computed without the others.
     ///Operations: 913 mul, 882 add/sub, 1 neg (joint sines and cosines come precomputed in `JointTrig`).
@@ -24544,7 +24544,7 @@ impl BaseParameters<7, 70, 43> for Panda {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, v, a, theta, r))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, v, a, theta, r))
     }
 }
 impl LaneDynamics<7, 43> for Panda {

@@ -4893,7 +4893,7 @@ impl RobotDynamics<6, 60> for Ur5 {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, v, a))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, v, a))
     }
     ///Operations: 362 mul, 275 add/sub, 0 neg, 5 div (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -12419,7 +12419,7 @@ impl RobotDynamics<6, 60> for Ur5 {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, v, a, theta, r))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, v, a, theta, r))
     }
 }
 impl BaseParameters<6, 60, 36> for Ur5 {
@@ -14108,7 +14108,7 @@ impl BaseParameters<6, 60, 36> for Ur5 {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, v, a))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, v, a))
     }
     /// `Y_b`: columns 9, 11, 13, 14, 15, 16, 17, 18, 21, 23, 24, 25, 26, 27, 28, 31, 33, 34, 35, 36, 37, 38, 41, 42, 44, 45, 47, 48, 49, 51, 53, 54, 55, 56, 57, 58 of `Y` (the base parameters'), computed without the others.
     ///Operations: 696 mul, 494 add/sub, 17 neg (joint sines and cosines come precomputed in `JointTrig`).
@@ -16642,7 +16642,7 @@ impl BaseParameters<6, 60, 36> for Ur5 {
                 out
             }
         }
-        dyngen_runtime::dispatch::<Body, _>((t, qd, v, a, theta, r))
+        dyngen_runtime::dispatch_eight::<Body, _>((t, qd, v, a, theta, r))
     }
 }
 impl LaneDynamics<6, 36> for Ur5 {

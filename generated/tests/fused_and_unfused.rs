@@ -3,8 +3,9 @@
 //! forms agree to rounding, and in a build that chooses at run time both really run: on an FMA
 //! processor the fused results differ from the unfused ones in their last bits.
 //!
-//! On a processor with AVX-512, the derivatives give the same bits in an AVX-512 function (their
-//! lanes in one 512-bit register) as in an AVX2 one (two AVX registers; `set_avx512_lanes`).
+//! On a processor with AVX-512, the functions that run through `dispatch_eight` (the derivatives,
+//! with their lanes in one 512-bit register; `C`, the regressors) give the same bits in an
+//! AVX-512 function as in an AVX2 one (`set_avx512_lanes`).
 //!
 //! Its own test binary: the choice is process-wide. Optimised builds only (debug builds compile
 //! one form): `cargo test --release -p dyngen-generated --test fused_and_unfused`.
@@ -67,8 +68,8 @@ where
             .map(|r| SVector::from_fn(|_, _| rng.uniform(r)));
         set_fused_multiply_adds(true);
         let fused = outputs::<R, N, P, B>(&x);
-        // The derivatives (their lanes) in two AVX registers instead of one AVX-512
-        // register where the processor has it: the same fused operations lane by lane.
+        // The `dispatch_eight` kernels in an AVX2 function instead of an AVX-512 one where the
+        // processor has it (the derivatives' lanes in two registers): the same fused operations.
         set_avx512_lanes(false);
         let two_registers = outputs::<R, N, P, B>(&x);
         set_avx512_lanes(true);

@@ -126,7 +126,7 @@ pub fn dispatch<K: Kernel<Args>, Args>(args: Args) -> K::Output {
 }
 
 /// [`dispatch`] for a kernel that carries eight lanes (`M::Eight`), or that holds far more values
-/// than sixteen registers (the derivatives of the dynamics, with or without lanes): in a build
+/// than sixteen registers (the derivatives of the dynamics, `C`, the regressors): in a build
 /// that chooses at run time, a processor with AVX-512 (F, DQ, BW, VL) runs it with [`Fused512`]
 /// inside a function compiled for AVX-512 (one register per lane vector and 32 registers, as a
 /// `-C target-cpu=native` build on it), one without with [`Fused`] (two AVX registers per lane

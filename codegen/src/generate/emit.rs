@@ -477,9 +477,10 @@ impl Param {
 /// A generated function. A scalar one runs its body as a `dyngen_runtime::Kernel` through
 /// `dyngen_runtime::dispatch`: with the processor's fused multiply-adds even in a build that
 /// does not target them (the body names its multiply-adds `arith.mul_add`), and through
-/// `dyngen_runtime::dispatch_eight` where it carries lane vectors (`uses_lanes`) or holds more
-/// values than sixteen registers do (`many_registers`: a default build then runs it compiled
-/// for AVX-512 where the processor has it, with the 32 registers of a native build). A lane
+/// `dyngen_runtime::dispatch_eight` where it carries lane vectors (`uses_lanes`) or holds far
+/// more values than sixteen registers (`many_registers`, see [`MANY_VALUES`]: a default build
+/// then runs it compiled for AVX-512 where the processor has it, with the 32 registers of a
+/// native build). A lane
 /// function is generic over its lane type instead, and aligns its stack frame for its spills
 /// (`dyngen_runtime::align_stack_frame`).
 #[allow(clippy::too_many_arguments)]
@@ -814,9 +815,7 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
     }
     let names_of = |ids: &[Id]| -> Vec<Ident> { ids.iter().map(|id| plan.names[id].clone()).collect() };
 
-    // The derivatives of the dynamics: thousands of operations whose values outnumber sixteen
-    // registers many times over (spills bound them).
-    let many_registers = matches!(q.shape, Shape::MatrixPair(_));
+    let many_registers = matches!(q.shape, Shape::MatrixPair(_)) || plan.order.len() > MANY_VALUES;
     if n_chunks == 1 {
         let mut used = main_used;
         let body = match q.shape {
@@ -933,6 +932,20 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
 /// or drops the fill when every entry is written.
 const LIBRARY_FILL_BYTES: usize = 512;
 
+/// Functions that compute more values than this, and the derivatives of the dynamics, run
+/// through `dyngen_runtime::dispatch_eight`: their values outnumber sixteen registers many times
+/// over, and in a default build that function gives them the 32 of AVX-512 where the processor
+/// has it, as a native build does. Measured on `C`, the regressors and their products (arm7,
+/// Panda, UR5): as fast as native or within a few percent, where the AVX2 function was up to
+/// 1.3× slower (`BENCHMARKS.md`). Small kernels stay in the AVX2 function (`fk` was 20% slower in
+/// an AVX-512 one, in an earlier experiment).
+const MANY_VALUES: usize = 1000;
+
+/// Bytes of `q`'s result: `f64`s, or lane vectors of at least four.
+fn result_bytes(q: &Quantity, form: Form) -> usize {
+    q.outputs.len() * if form == Form::Lanes { 32 } else { 8 }
+}
+
 /// The body of a one-chunk vector or matrix function that writes each output into the result
 /// as soon as it is computed: `let mut out: R = zeros; { let [[o0, _, o2]] = &mut out…;
 /// x0 = …; *o0 = x0; … } out`. Returning them all at the end kept every output alive across the
@@ -971,9 +984,7 @@ fn written_in_place(
         let columns = pattern.chunks(rows).map(|c| quote!([#(#c),*]));
         quote!([#(#columns),*])
     };
-    // Bytes of the result: `f64`s, or lane vectors of at least four.
-    let bytes = q.outputs.len() * if form == Form::Lanes { 32 } else { 8 };
-    let (matrix, zero) = match bytes > LIBRARY_FILL_BYTES {
+    let (matrix, zero) = match result_bytes(q, form) > LIBRARY_FILL_BYTES {
         true => (
             quote!(SMatrix::from_element(dyngen_runtime::fill_zero())),
             quote!(dyngen_runtime::fill_zero()),
