@@ -6,8 +6,8 @@
 /// From a constant zero the compiler fills the result with one `memset`, and above a few hundred
 /// bytes that is a call into the C library: mid-kernel, so every vector register live across
 /// it is spilled and reloaded, and glibc serves sizes from 2 KiB with `rep stosb`, which is slow
-/// to start on AMD Zen. The UR5's torque-form regressor (2,880 bytes) ran 1.27× faster
-/// filled from this zero, which is no byte pattern to the compiler, so the fill stays a run of
+/// to start on AMD Zen. The UR5's torque-form regressor (2,880 bytes) ran 1.36× faster
+/// filled from this zero (`BENCHMARKS.md`), which is no byte pattern to the compiler, so the fill stays a run of
 /// vector stores inside the kernel. Only speed depends on it: a build that sees through
 /// [`core::hint::black_box`] fills with the same zeros.
 #[inline(always)]

@@ -984,7 +984,7 @@ fn written_in_place(
         let columns = pattern.chunks(rows).map(|c| quote!([#(#c),*]));
         quote!([#(#columns),*])
     };
-    let (matrix, zero) = match result_bytes(q, form) > LIBRARY_FILL_BYTES {
+    let (matrix, fill) = match result_bytes(q, form) > LIBRARY_FILL_BYTES {
         true => (
             quote!(SMatrix::from_element(dyngen_runtime::fill_zero())),
             quote!(dyngen_runtime::fill_zero()),
@@ -1008,7 +1008,7 @@ fn written_in_place(
             (
                 quote!([#(#pattern),*]),
                 quote!(&mut out),
-                quote!([L::splat(#zero); #len]),
+                quote!([L::splat(#fill); #len]),
             )
         }
         (Form::Lanes, Shape::Matrix(rows, cols)) => {
@@ -1016,7 +1016,7 @@ fn written_in_place(
             (
                 nested(rows),
                 quote!(&mut out),
-                quote!([[L::splat(#zero); #r]; #c]),
+                quote!([[L::splat(#fill); #r]; #c]),
             )
         }
         _ => unreachable!("only vectors, matrices and vector pairs are written in place"),
