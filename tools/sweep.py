@@ -7,7 +7,7 @@ the pinned example-robot-data package (tools/requirements.txt):
 
 1. It decides whether the robot is fixed-base (the rule is `CLASSIFICATION` below); floating-
    base robots (legged, humanoid, aerial, PR2) are listed as skipped with the reason.
-2. It builds tools/sweep-harness/ with DYNGEN_SWEEP_DESCRIPTION=<the URDF>: the harness's
+2. It builds tests/sweep-harness/ with DYNGEN_SWEEP_DESCRIPTION=<the URDF>: the harness's
    build script loads the URDF with dyngen's loader exactly as a user's `build.rs` would (no
    options: dyngen picks the end-effector) and generates it into OUT_DIR; a URDF that does not
    load is recorded with dyngen's message, its warnings are recorded too.
@@ -58,7 +58,7 @@ from pinocchio_reference import (
 )
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
-HARNESS = os.path.join(REPO, "tools", "sweep-harness")
+HARNESS = os.path.join(REPO, "tests", "sweep-harness")
 ROBOTS = os.path.join(
     sysconfig.get_paths()["purelib"], "cmeel.prefix", "share", "example-robot-data", "robots"
 )

@@ -1,4 +1,4 @@
-//! Mimic joints against what uses no coupled algorithm: the oracles of `testkit/src/oracles.rs`
+//! Mimic joints against what uses no coupled algorithm: the oracles of `tests/testkit/src/oracles.rs`
 //! (finite differences, the Lagrangian from differenced link poses, Christoffel symbols of
 //! differenced `D`, `C + Cᵀ = Ḋ`), the same tree without coupling carried through a `G` built
 //! here (`D = Gᵀ D_tree G`, …), and the traced graph (interpreted) against the generic code; on

@@ -36,7 +36,7 @@ pub fn column(v: &[f64]) -> DMatrix<f64> {
     DMatrix::from_column_slice(v.len(), 1, v)
 }
 
-/// The workspace root (this crate sits one level below it).
+/// The workspace root (this crate sits two levels below it, in `tests/testkit`).
 pub fn workspace_root() -> &'static std::path::Path {
-    std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/.."))
+    std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
 }

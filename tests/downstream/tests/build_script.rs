@@ -9,7 +9,7 @@ use std::path::Path;
 
 #[test]
 fn build_script_panda_matches_generic_dynamics() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../robots/panda.yaml");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../robots/panda.yaml");
     let model = load(&path).unwrap_or_else(|e| panic!("{e}")).model;
     let generic = NumericDynamics::new(&model);
     let q = [0.1, -0.4, 0.3, -1.9, 0.2, 1.4, 0.6];

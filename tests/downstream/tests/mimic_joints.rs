@@ -23,7 +23,7 @@ fn assert_close(what: &str, generated: &[f64], generic: &[f64]) {
 
 #[test]
 fn generated_mimic_arm_matches_generic_dynamics() {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../codegen/tests/data/mimic/mimic_arm.yaml");
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../codegen/tests/data/mimic/mimic_arm.yaml");
     let model = load(&path).unwrap_or_else(|e| panic!("{e}")).model;
     let generic = NumericDynamics::new(&model);
     assert_eq!(mimic_arm::DOF, 3);

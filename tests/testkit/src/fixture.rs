@@ -61,7 +61,7 @@ fn pose(v: &Value) -> Pose {
 
 pub fn load(robot: &str) -> Fixture {
     let path = format!(
-        "{}/../codegen/tests/fixtures/{robot}.json",
+        "{}/../../codegen/tests/fixtures/{robot}.json",
         env!("CARGO_MANIFEST_DIR")
     );
     let json: Value =

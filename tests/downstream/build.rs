@@ -1,6 +1,6 @@
 fn main() {
-    dyngen_codegen::compile_robot("../robots/panda.yaml");
+    dyngen_codegen::compile_robot("../../robots/panda.yaml");
     // A robot with mimic joints (revolute, multipliers 1.5 and −1 with offsets): its generated
     // code compiles with `#![deny(warnings)]` and is tested against the generic dynamics.
-    dyngen_codegen::compile_robot("../codegen/tests/data/mimic/mimic_arm.yaml");
+    dyngen_codegen::compile_robot("../../codegen/tests/data/mimic/mimic_arm.yaml");
 }

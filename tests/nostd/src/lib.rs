@@ -2,7 +2,7 @@
 
 #![no_std]
 
-#[path = "../../generated/src/arm7.rs"]
+#[path = "../../../generated/src/arm7.rs"]
 #[rustfmt::skip]
 #[allow(clippy::all)]
 pub mod arm7;
