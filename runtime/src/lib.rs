@@ -71,8 +71,9 @@ pub use robot::{Kinematics, Pose, RobotDynamics};
 /// helpers its bodies call, and the switches tests use to compare the fused and unfused forms.
 ///
 /// Not part of the API: nothing here follows semver, and anything may change or disappear in
-/// any release. Generated code may use it because the generator and this crate are released
-/// together, and every generated module checks that they match (`__require_version!`).
+/// any release. Generated code (and the generator, for the same `sign`) may use it because the
+/// generator and this crate are released together, and every generated module checks that they
+/// match (`__require_version!`).
 #[doc(hidden)]
 pub mod __private {
     #[cfg(target_arch = "x86_64")]
