@@ -57,4 +57,4 @@ impl Scalar for f64 {
 }
 
 /// `sign(x)` with `sign(0) = 0` (and 0 for NaN): the runtime's, which generated code calls.
-pub use dyngen_runtime::sign;
+pub use dyngen_runtime::__private::sign;

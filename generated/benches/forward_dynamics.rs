@@ -51,7 +51,7 @@ fn bench_robot<R: RobotDynamics<N, P>, const N: usize, const P: usize>(c: &mut C
     });
     // A default build on an AVX-512 processor: the derivatives' lanes also in two AVX registers,
     // the speed an AVX2 processor would get from the same binary.
-    if dyngen_runtime::avx512_lanes() && !dyngen_runtime::set_avx512_lanes(false) {
+    if dyngen_runtime::__private::avx512_lanes() && !dyngen_runtime::__private::set_avx512_lanes(false) {
         cycle(
             c,
             &g("rnea_derivatives"),
@@ -70,7 +70,7 @@ fn bench_robot<R: RobotDynamics<N, P>, const N: usize, const P: usize>(c: &mut C
                 black_box(R::forward_dynamics_derivatives(&JointTrig::new(q), qd, tau));
             },
         );
-        dyngen_runtime::set_avx512_lanes(true);
+        dyngen_runtime::__private::set_avx512_lanes(true);
     }
 }
 

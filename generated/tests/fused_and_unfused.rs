@@ -1,5 +1,5 @@
 //! Every generated function runs its multiply-adds fused where the processor has FMA, even in a
-//! build that does not target it (`dyngen_runtime::dispatch`), and unfused elsewhere. Both
+//! build that does not target it (`dyngen_runtime::__private::dispatch`), and unfused elsewhere. Both
 //! forms agree to rounding, and in a build that chooses at run time both really run: on an FMA
 //! processor the fused results differ from the unfused ones in their last bits.
 //!
@@ -13,11 +13,11 @@
 use dyngen_generated::{
     arm7, arm7_friction, panda, panda_rounded, ur5, Arm7, Arm7Friction, Panda, PandaRounded, Ur5,
 };
-use dyngen_runtime::nalgebra::SVector;
-use dyngen_runtime::{
-    avx512_lanes, fused_multiply_adds, set_avx512_lanes, set_fused_multiply_adds, BaseParameters, JointTrig,
-    SplitMix64,
+use dyngen_runtime::__private::{
+    avx512_lanes, fused_multiply_adds, set_avx512_lanes, set_fused_multiply_adds,
 };
+use dyngen_runtime::nalgebra::SVector;
+use dyngen_runtime::{BaseParameters, JointTrig, SplitMix64};
 
 /// Every output of every scalar generated function at one state, one after the other.
 fn outputs<R, const N: usize, const P: usize, const B: usize>(x: &[SVector<f64, N>; 4]) -> Vec<f64>

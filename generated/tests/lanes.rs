@@ -51,7 +51,7 @@ fn lanes_equal_scalar_functions_bit_for_bit() {
     // The lane types fuse their multiply-adds only where the build targets FMA; the scalar
     // functions also where the processor has it. Unfused scalar functions in a build that does
     // not (the only test of this binary that depends on the choice).
-    dyngen_runtime::set_fused_multiply_adds(false);
+    dyngen_runtime::__private::set_fused_multiply_adds(false);
     check::<Arm7, f64x4, 7, { arm7::PARAMETER_COUNT }, { arm7::BASE_PARAMETER_COUNT }>("arm7");
     check::<Panda, f64x4, 7, { panda::PARAMETER_COUNT }, { panda::BASE_PARAMETER_COUNT }>("panda");
     check::<Panda, f64x8, 7, { panda::PARAMETER_COUNT }, { panda::BASE_PARAMETER_COUNT }>("panda");

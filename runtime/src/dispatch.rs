@@ -17,8 +17,8 @@
 //! where the processor has FMA, because only this module creates one.
 //!
 //! [`set_fused_multiply_adds`] makes a run-time choosing build run everything unfused, as on a
-//! processor without FMA: tests compare the two forms with it, and a program can use it to get
-//! results equal bit for bit to such a processor's.
+//! processor without FMA: tests compare the two forms with it (it is reached through the hidden
+//! `__private`, like everything here, and is not part of the API).
 
 /// How a kernel computes `a·b + c`, and in which registers it holds eight lanes.
 pub trait MulAdd: Copy {
@@ -34,7 +34,7 @@ pub trait MulAdd: Copy {
     }
 }
 
-use crate::EightLanes;
+use crate::eight_lanes::EightLanes;
 
 /// `a·b + c` as written: two roundings, on any processor.
 #[derive(Clone, Copy, Debug)]

@@ -1,8 +1,8 @@
 //! The lane vector of generated functions that carry eight tangent directions at once (the
 //! derivatives of the dynamics). Such a function names it through its multiply-add strategy,
-//! `M::Eight` of [`MulAdd`](crate::MulAdd), and creates its vectors through it
-//! (`arith.eight([..])`), so [`dispatch_eight`](crate::dispatch_eight) can give it the widest
-//! registers the processor has even in a build that does not target them: `wide::f64x8`
+//! `M::Eight` of [`MulAdd`](crate::dispatch::MulAdd), and creates its vectors through it
+//! (`arith.eight([..])`), so [`dispatch_eight`](crate::dispatch::dispatch_eight) can give it the
+//! widest registers the processor has even in a build that does not target them: `wide::f64x8`
 //! compiles to the build's target alone, four SSE2 instructions per operation in a default
 //! build, which made the Panda's derivatives 2.7–4× slower there than in a native one.
 

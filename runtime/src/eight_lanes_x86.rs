@@ -5,11 +5,11 @@
 //! runs on a processor that has its instructions. Each operation is one intrinsic per register,
 //! inlined into the kernel that `dispatch_eight` compiles with those features.
 //!
-//! [`dispatch_eight`]: crate::dispatch_eight
-//! [`Fused`]: crate::Fused
+//! [`dispatch_eight`]: crate::dispatch::dispatch_eight
+//! [`Fused`]: crate::dispatch::Fused
 //! [`Fused512`]: crate::dispatch::Fused512
 
-use crate::EightLanes;
+use crate::eight_lanes::EightLanes;
 use core::arch::x86_64::*;
 use core::mem::transmute;
 use core::ops::{Add, Div, Mul, Neg, Sub};
@@ -149,7 +149,7 @@ unsafe fn neg_one(a: Avx512Eight) -> Avx512Eight {
 #[cfg(test)]
 mod tests {
     use super::{Avx2Eight, Avx512Eight};
-    use crate::EightLanes;
+    use crate::eight_lanes::EightLanes;
 
     /// Every operation of `T` against the same one lane by lane: exact for `+ − · / −x`, one
     /// rounding (`f64::mul_add`) for the multiply-adds, bit for bit (signed zeros, infinities and

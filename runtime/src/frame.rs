@@ -13,9 +13,10 @@
 /// 64-byte-aligned local whose address escapes makes the function realign its frame; the cost
 /// is the realignment and one byte stored.
 ///
-/// Generated lane functions call it first; [`crate::dispatch_eight`] calls it in the function
-/// that runs the kernel, and a default build's joint sines and cosines in theirs. Scalar kernels
-/// ([`crate::dispatch`]) spill few vectors and do without it.
+/// Generated lane functions call it first; [`dispatch_eight`](crate::dispatch::dispatch_eight)
+/// calls it in the function that runs the kernel, and a default build's joint sines and cosines
+/// in theirs. Scalar kernels ([`dispatch`](crate::dispatch::dispatch)) spill few vectors and do
+/// without it.
 #[inline(always)]
 pub fn align_stack_frame() {
     #[repr(align(64))]

@@ -5,10 +5,11 @@
 //! The results equal the scalar functions' bit for bit on x86-64 where both fuse their
 //! multiply-adds or neither does: the same IEEE operations in the same order, lane by lane. The
 //! lane types fuse by the build's `fma` target feature; the scalar functions also where the
-//! processor has FMA ([`dispatch`](crate::dispatch)), so a build that does not target FMA
-//! matches them after [`set_fused_multiply_adds(false)`](crate::set_fused_multiply_adds). On
-//! AArch64 the lane types fuse their multiply-adds and the scalar code does not, so the two may
-//! differ in the last bits there.
+//! processor has FMA ([`dispatch`](crate::dispatch::dispatch)), so a build that does not target
+//! FMA matches them after
+//! [`set_fused_multiply_adds(false)`](crate::dispatch::set_fused_multiply_adds). On AArch64
+//! the lane types fuse their multiply-adds and the scalar code does not, so the two may differ
+//! in the last bits there.
 
 use crate::robot::Kinematics;
 use core::ops::{Add, Div, Mul, Neg, Sub};

@@ -1,14 +1,28 @@
-//! The contract between generated robot code and everything that uses it: the traits a
-//! generated robot implements ([`Kinematics`], [`RobotDynamics`], [`BaseParameters`]), the
-//! parameterisations a controller is generic over ([`Parameterization`]: [`Standard`],
-//! [`Base`]), and the plain data they exchange ([`JointTrig`], [`Pose`], [`JointLimits`],
-//! [`ParameterKind`]).
+//! The contract between generated robot code and everything that uses it. A controller, a
+//! simulator or an identification tool is written against what this crate's root exports:
+//! - the traits a generated robot implements: [`Kinematics`], [`RobotDynamics`],
+//!   [`BaseParameters`], and [`LaneDynamics`] (several states per call, in the lane types
+//!   [`f64x4`] and [`f64x8`], any [`Lanes`]);
+//! - the parameterisations generic code is written against: [`Parameterization`], with
+//!   [`Standard`] and [`Base`];
+//! - the plain data they exchange: [`JointTrig`] and [`JointTrigLanes`] (with [`pack`] and
+//!   [`unpack`] between vectors and lanes), [`Pose`], [`JointLimits`], [`ParameterKind`], and
+//!   the ten standard parameters per body ([`PARAMETERS_PER_BODY`], [`body_parameters`]);
+//! - helpers for hand-written code beside the generated functions: [`mul_add`] (fused exactly
+//!   where the build targets FMA) and [`SplitMix64`] (small, seeded, reproducible);
+//! - [`prelude`], [`include_robot!`], and the [`nalgebra`] that every signature uses.
+//!
+//! Generated code also calls `dyngen_runtime::__private`: how a generated function runs (fused
+//! multiply-adds chosen by the processor, lane registers, aligned stack frames) and the
+//! switches tests use to compare those forms. It is hidden and not part of the API: it changes
+//! in any release, which is why every generated module checks that it is compiled against the
+//! runtime of the release that generated it (`__require_version!`, also hidden), and stops the
+//! build with a message naming both versions if not.
 //!
 //! `#![no_std]`, allocation-free, and dependent only on `nalgebra` (without default features),
 //! `libm` and `wide` (the SIMD lane types of [`LaneDynamics`]), so generated code runs on
-//! embedded controllers. Invariant: this crate never
-//! depends on the generator or the controller; generated code depends only on this crate and
-//! `nalgebra`.
+//! embedded controllers. Invariant: this crate never depends on the generator or the
+//! controller; generated code depends only on this crate and `nalgebra`.
 
 // Unit tests run with the standard test harness.
 #![cfg_attr(not(test), no_std)]
@@ -40,35 +54,51 @@ mod trig;
     not(all(target_feature = "avx2", target_feature = "fma"))
 ))]
 mod trig_fused;
+mod version;
 
-#[cfg(target_arch = "x86_64")]
-pub use dispatch::Fused;
-#[cfg(all(
-    target_arch = "x86_64",
-    not(all(target_feature = "avx2", target_feature = "fma"))
-))]
-pub use dispatch::Fused512;
-pub use dispatch::{
-    avx512_lanes, dispatch, dispatch_eight, fused_multiply_adds, set_avx512_lanes, set_fused_multiply_adds,
-    Kernel, MulAdd, Unfused,
-};
-pub use eight_lanes::EightLanes;
-#[cfg(all(
-    target_arch = "x86_64",
-    not(all(target_feature = "avx2", target_feature = "fma"))
-))]
-pub use eight_lanes_x86::{Avx2Eight, Avx512Eight};
-pub use fill::fill_zero;
-pub use frame::align_stack_frame;
 pub use joint::{JointLimits, JointTrig};
-pub use lanes::{f64x4, f64x8, pack, sign, unpack, JointTrigLanes, LaneDynamics, Lanes};
-pub use libm;
+pub use lanes::{f64x4, f64x8, pack, unpack, JointTrigLanes, LaneDynamics, Lanes};
 pub use mul_add::mul_add;
 pub use nalgebra;
 pub use parameter::{body_parameters, ParameterKind, PARAMETERS_PER_BODY};
 pub use parameterization::{Base, BaseParameters, Parameterization, Standard};
 pub use random::SplitMix64;
 pub use robot::{Kinematics, Pose, RobotDynamics};
+
+/// What generated code calls and no one else should: how a generated function runs (its body a
+/// [`Kernel`](__private::Kernel) generic over [`MulAdd`](__private::MulAdd), run by
+/// [`dispatch`](__private::dispatch) or [`dispatch_eight`](__private::dispatch_eight)), the
+/// helpers its bodies call, and the switches tests use to compare the fused and unfused forms.
+///
+/// Not part of the API: nothing here follows semver, and anything may change or disappear in
+/// any release. Generated code (and the generator, for the same `sign`) may use it because the
+/// generator and this crate are released together, and every generated module checks that they
+/// match (`__require_version!`).
+#[doc(hidden)]
+pub mod __private {
+    #[cfg(target_arch = "x86_64")]
+    pub use crate::dispatch::Fused;
+    #[cfg(all(
+        target_arch = "x86_64",
+        not(all(target_feature = "avx2", target_feature = "fma"))
+    ))]
+    pub use crate::dispatch::Fused512;
+    pub use crate::dispatch::{dispatch, dispatch_eight, Kernel, MulAdd, Unfused};
+    pub use crate::eight_lanes::EightLanes;
+    #[cfg(all(
+        target_arch = "x86_64",
+        not(all(target_feature = "avx2", target_feature = "fma"))
+    ))]
+    pub use crate::eight_lanes_x86::{Avx2Eight, Avx512Eight};
+    pub use crate::fill::fill_zero;
+    pub use crate::frame::align_stack_frame;
+    pub use crate::lanes::sign;
+    pub use libm;
+
+    // The switches between the fused and unfused forms, for tests and measurements: a program
+    // that set them would change every generated function's results process-wide.
+    pub use crate::dispatch::{avx512_lanes, fused_multiply_adds, set_avx512_lanes, set_fused_multiply_adds};
+}
 
 /// The traits whose functions a user of generated code calls: `use dyngen_runtime::prelude::*;`
 /// brings `Arm7::mass_matrix(&t)` and `Arm7::jacobian(&t)` into reach.

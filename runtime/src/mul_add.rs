@@ -1,6 +1,6 @@
 //! `a·b + c`, fused or not by the build's target alone: for hand-written code beside the
 //! generated functions (the controller's products). Generated scalar functions choose at run
-//! time instead ([`dispatch`](crate::dispatch)).
+//! time instead ([`dispatch`](crate::dispatch::dispatch)).
 //!
 //! Where the whole build targets FMA (`-C target-cpu=native` on any x86-64 of the last decade,
 //! or `-C target-feature=+fma`), one fused instruction: one rounding instead of two, and one

@@ -143,9 +143,10 @@ impl Form {
     }
 }
 
-/// The type of lane-vector values (the tangents of eight directions at once): the kernel's
-/// own (`dyngen_runtime::MulAdd::Eight`), so that `dyngen_runtime::dispatch_eight` chooses its
-/// registers; vectors are made through `arith` (`arith.eight([..])`, `arith.splat_eight(x)`).
+/// The type of lane-vector values (the tangents of eight directions at once): the kernel's own
+/// (`dyngen_runtime::__private::MulAdd::Eight`), so that
+/// `dyngen_runtime::__private::dispatch_eight` chooses its registers; vectors are made through
+/// `arith` (`arith.eight([..])`, `arith.splat_eight(x)`).
 fn lane_type() -> TokenStream {
     quote!(M::Eight)
 }
@@ -282,7 +283,7 @@ impl<'a> Plan<'a> {
     }
 
     /// Whether any of `ids` is a lane vector: the function then makes its vectors through
-    /// `arith` and runs through `dyngen_runtime::dispatch_eight`.
+    /// `arith` and runs through `dyngen_runtime::__private::dispatch_eight`.
     fn uses_lanes(&self, ids: &[Id]) -> bool {
         ids.iter().any(|id| self.robot.graph.node(*id).is_lanes())
     }
@@ -374,10 +375,10 @@ impl<'a> Plan<'a> {
         if self.form == Form::Lanes {
             // The non-arithmetic nodes, lane by lane, as the scalar code computes them.
             let lane_function = match self.robot.graph.node(id) {
-                Node::Sin(a) => Some((a, quote!(dyngen_runtime::libm::sin))),
-                Node::Cos(a) => Some((a, quote!(dyngen_runtime::libm::cos))),
-                Node::Tanh(a) => Some((a, quote!(dyngen_runtime::libm::tanh))),
-                Node::Sign(a) => Some((a, quote!(dyngen_runtime::sign))),
+                Node::Sin(a) => Some((a, quote!(dyngen_runtime::__private::libm::sin))),
+                Node::Cos(a) => Some((a, quote!(dyngen_runtime::__private::libm::cos))),
+                Node::Tanh(a) => Some((a, quote!(dyngen_runtime::__private::libm::tanh))),
+                Node::Sign(a) => Some((a, quote!(dyngen_runtime::__private::sign))),
                 _ => None,
             };
             if let Some((a, f)) = lane_function {
@@ -388,11 +389,11 @@ impl<'a> Plan<'a> {
         let value = match self.robot.graph.node(id) {
             Node::Sin(a) => {
                 let a = atom(a);
-                quote!(dyngen_runtime::libm::sin(#a))
+                quote!(dyngen_runtime::__private::libm::sin(#a))
             }
             Node::Cos(a) => {
                 let a = atom(a);
-                quote!(dyngen_runtime::libm::cos(#a))
+                quote!(dyngen_runtime::__private::libm::cos(#a))
             }
             Node::Sign(a) => {
                 // sign with 0 at 0 (and for NaN), without a panic path or a call.
@@ -401,7 +402,7 @@ impl<'a> Plan<'a> {
             }
             Node::Tanh(a) => {
                 let a = atom(a);
-                quote!(dyngen_runtime::libm::tanh(#a))
+                quote!(dyngen_runtime::__private::libm::tanh(#a))
             }
             Node::Neg(a) | Node::LaneNeg(a) => {
                 let a = atom(a);
@@ -474,15 +475,14 @@ impl Param {
     }
 }
 
-/// A generated function. A scalar one runs its body as a `dyngen_runtime::Kernel` through
-/// `dyngen_runtime::dispatch`: with the processor's fused multiply-adds even in a build that
-/// does not target them (the body names its multiply-adds `arith.mul_add`), and through
-/// `dyngen_runtime::dispatch_eight` where it carries lane vectors (`uses_lanes`) or holds far
-/// more values than sixteen registers (`many_registers`, see [`MANY_VALUES`]: a default build
-/// then runs it compiled for AVX-512 where the processor has it, with the 32 registers of a
-/// native build). A lane
-/// function is generic over its lane type instead, and aligns its stack frame for its spills
-/// (`dyngen_runtime::align_stack_frame`).
+/// A generated function. A scalar one runs its body as a `dyngen_runtime::__private::Kernel`
+/// through `dyngen_runtime::__private::dispatch`: with the processor's fused multiply-adds even in
+/// a build that does not target them (the body names its multiply-adds `arith.mul_add`), and
+/// through `dyngen_runtime::__private::dispatch_eight` where it carries lane vectors (`uses_lanes`)
+/// or holds far more values than sixteen registers (`many_registers`, see [`MANY_VALUES`]: a
+/// default build then runs it compiled for AVX-512 where the processor has it, with the 32
+/// registers of a native build). A lane function is generic over its lane type instead, and aligns
+/// its stack frame for its spills (`dyngen_runtime::__private::align_stack_frame`).
 #[allow(clippy::too_many_arguments)]
 fn function_item(
     form: Form,
@@ -501,7 +501,7 @@ fn function_item(
         return quote! {
             #attributes
             fn #name<L: Lanes>(#(#params),*) -> #ret {
-                dyngen_runtime::align_stack_frame();
+                dyngen_runtime::__private::align_stack_frame();
                 #body
             }
         };
@@ -518,13 +518,13 @@ fn function_item(
         false => format_ident!("_arith"),
     };
     let dispatch = match uses_lanes || many_registers {
-        true => quote!(dyngen_runtime::dispatch_eight),
-        false => quote!(dyngen_runtime::dispatch),
+        true => quote!(dyngen_runtime::__private::dispatch_eight),
+        false => quote!(dyngen_runtime::__private::dispatch),
     };
     // A kernel with lane vectors calls their multiply-adds as methods of `M::Eight`.
     let lane_methods = match uses_lanes {
         true => quote!(
-            use dyngen_runtime::EightLanes as _;
+            use dyngen_runtime::__private::EightLanes as _;
         ),
         false => quote!(),
     };
@@ -532,10 +532,10 @@ fn function_item(
         #attributes
         fn #name(#(#outer),*) -> #ret {
             struct Body;
-            impl dyngen_runtime::Kernel<(#(#types,)*)> for Body {
+            impl dyngen_runtime::__private::Kernel<(#(#types,)*)> for Body {
                 type Output = #ret;
                 #[inline(always)]
-                fn run<M: dyngen_runtime::MulAdd>(#arith: M, (#(#bindings,)*): (#(#types,)*)) -> #ret {
+                fn run<M: dyngen_runtime::__private::MulAdd>(#arith: M, (#(#bindings,)*): (#(#types,)*)) -> #ret {
                     #lane_methods
                     #body
                 }
@@ -926,19 +926,19 @@ fn function(robot: &SymbolicRobot, leaves: &Leaves, q: &Quantity, n: usize, form
     Emitted { method, chunks }
 }
 
-/// Results larger than this start from `dyngen_runtime::fill_zero()` rather than a constant
-/// zero, whose fill the compiler would make a call to `memset` (see that function). Smaller
-/// ones keep the constant: the compiler fills them with at most sixteen inline stores (AVX2),
-/// or drops the fill when every entry is written.
+/// Results larger than this start from `dyngen_runtime::__private::fill_zero()` rather than a
+/// constant zero, whose fill the compiler would make a call to `memset` (see that function).
+/// Smaller ones keep the constant: the compiler fills them with at most sixteen inline stores
+/// (AVX2), or drops the fill when every entry is written.
 const LIBRARY_FILL_BYTES: usize = 512;
 
-/// Functions that compute more values than this, and the derivatives of the dynamics, run
-/// through `dyngen_runtime::dispatch_eight`: their values outnumber sixteen registers many times
-/// over, and in a default build that function gives them the 32 of AVX-512 where the processor
-/// has it, as a native build does. Measured on `C`, the regressors and their products (arm7,
-/// Panda, UR5): as fast as native or within a few percent, where the AVX2 function was up to
-/// 1.3× slower (`BENCHMARKS.md`). Small kernels stay in the AVX2 function (`fk` was 20% slower in
-/// an AVX-512 one, in an earlier experiment).
+/// Functions that compute more values than this, and the derivatives of the dynamics, run through
+/// `dyngen_runtime::__private::dispatch_eight`: their values outnumber sixteen registers many times
+/// over, and in a default build that function gives them the 32 of AVX-512 where the processor has
+/// it, as a native build does. Measured on `C`, the regressors and their products (arm7, Panda,
+/// UR5): as fast as native or within a few percent, where the AVX2 function was up to 1.3× slower
+/// (`BENCHMARKS.md`). Small kernels stay in the AVX2 function (`fk` was 20% slower in an AVX-512
+/// one, in an earlier experiment).
 const MANY_VALUES: usize = 1000;
 
 /// Bytes of `q`'s result: `f64`s, or lane vectors of at least four.
@@ -986,8 +986,8 @@ fn written_in_place(
     };
     let (matrix, fill) = match result_bytes(q, form) > LIBRARY_FILL_BYTES {
         true => (
-            quote!(SMatrix::from_element(dyngen_runtime::fill_zero())),
-            quote!(dyngen_runtime::fill_zero()),
+            quote!(SMatrix::from_element(dyngen_runtime::__private::fill_zero())),
+            quote!(dyngen_runtime::__private::fill_zero()),
         ),
         false => (quote!(SMatrix::zeros()), quote!(0.0)),
     };
@@ -1032,10 +1032,10 @@ fn written_in_place(
     }
 }
 
-/// The additions and subtractions of the computed nodes `computed` that become one
-/// multiply-add, and the products they absorb: a product used once, by that addition or
-/// subtraction, and by no output. One rounding instead of two, one instruction instead of two
-/// on processors with FMA (`dyngen_runtime::dispatch` runs `arith.mul_add` as that instruction).
+/// The additions and subtractions of the computed nodes `computed` that become one multiply-add,
+/// and the products they absorb: a product used once, by that addition or subtraction, and by no
+/// output. One rounding instead of two, one instruction instead of two on processors with FMA
+/// (`dyngen_runtime::__private::dispatch` runs `arith.mul_add` as that instruction).
 fn fuse_multiply_adds(
     g: &crate::symbolic::Graph,
     outputs: &[Id],
@@ -1304,7 +1304,12 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
     let type_doc = format!(
         " `{name}`: implements [`Kinematics`], [`RobotDynamics`] and [`BaseParameters`] with flattened, allocation-free code."
     );
+    // The generator's version: the runtime accepts it only if it is its own (`__private`, which
+    // generated code calls, changes in any release).
+    let generated_by = env!("CARGO_PKG_VERSION");
     let tokens = quote! {
+        dyngen_runtime::__require_version!(#generated_by);
+
         use dyngen_runtime::nalgebra::{ArrayStorage, Matrix3, SMatrix, SVector, Vector3};
         use dyngen_runtime::{
             BaseParameters, JointLimits, JointTrig, JointTrigLanes, Kinematics, LaneDynamics, Lanes, ParameterKind,
