@@ -1,17 +1,21 @@
-//! dyngen's generator side: robot descriptions → kinematic-tree [`model::Model`] →
-//! dynamics algorithms generic over a [`scalar::Scalar`] (run with `f64` as the generic
-//! reference, and with symbolic values for code generation).
+//! dyngen's generator side: a robot description ([`description`]) becomes a kinematic-tree
+//! [`model::Model`]; the dynamics algorithms, written once generic over the scalar type, run on
+//! it with `f64` ([`dynamics::NumericDynamics`], the reference values) and with symbols, from
+//! which [`generate`] writes flattened Rust. Build scripts call [`compile_robot`] or
+//! [`Builder`]; [`base_parameters`] gives the identifiable combinations of the parameters.
 
 pub mod base_parameters;
 mod build_script;
 pub mod description;
 pub mod dynamics;
 pub mod generate;
+#[doc(hidden)]
+pub mod internals;
 pub mod model;
-pub mod scalar;
-pub mod scalar_dual;
-pub mod spatial;
-pub mod symbolic;
+mod scalar;
+mod scalar_dual;
+mod spatial;
+mod symbolic;
 
 pub use build_script::{compile_robot, Builder};
 /// The URDF crate that [`description::from_urdf_rs`] reads and [`description::to_urdf_rs`]

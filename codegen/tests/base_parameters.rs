@@ -11,7 +11,7 @@ use common::{assert_close, column, fixture};
 use dyngen_codegen::base_parameters::BaseParameterSet;
 use dyngen_codegen::description::load;
 use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::generate::{trace_with_base, BASE_REGRESSOR};
+use dyngen_codegen::internals::generate::{trace_with_base, BASE_REGRESSOR};
 use dyngen_codegen::model::Model;
 use nalgebra::DMatrix;
 use proptest::test_runner::{Config, RngAlgorithm, RngSeed, TestRunner};

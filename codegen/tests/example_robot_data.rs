@@ -12,7 +12,7 @@ use common::fixture::{self, Fixture, State};
 use common::{assert_close, column, workspace_root};
 use dyngen_codegen::description::{self, Loaded};
 use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::generate::{trace, SymbolicRobot};
+use dyngen_codegen::internals::generate::{trace, SymbolicRobot};
 use nalgebra::DMatrix;
 
 const TOL: f64 = 1e-9;

@@ -11,7 +11,7 @@ use common::random_model::random_state;
 use common::{assert_close, column};
 use dyngen_codegen::description::load;
 use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::generate::trace;
+use dyngen_codegen::internals::generate::trace;
 use dyngen_codegen::model::Model;
 use nalgebra::DMatrix;
 use std::path::Path;

@@ -10,7 +10,7 @@ use common::oracles::jacobian_by_differences;
 use common::random_model::{arb_model_and_state, deterministic_runner};
 use common::{assert_close, column};
 use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::generate::{trace, SymbolicRobot};
+use dyngen_codegen::internals::generate::{trace, SymbolicRobot};
 use dyngen_codegen::model::Model;
 use nalgebra::DMatrix;
 use std::cell::Cell;

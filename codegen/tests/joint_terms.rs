@@ -7,10 +7,11 @@ use dyngen_testkit as common;
 
 use common::joint_terms::with_joint_terms;
 use common::random_model::{arb_model_and_state, deterministic_runner, random_state};
-use dyngen_codegen::base_parameters::{numerical_rank, stacked_regressor, BaseParameterSet, SVD_RANK_TOL};
+use dyngen_codegen::base_parameters::{BaseParameterSet, SVD_RANK_TOL};
 use dyngen_codegen::description::{load, load_yaml_str};
 use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::generate::trace;
+use dyngen_codegen::internals::base_parameters::{numerical_rank, stacked_regressor};
+use dyngen_codegen::internals::generate::trace;
 use dyngen_codegen::model::{JointTermKind, JointTermValues, JointTerms, Model};
 use nalgebra::{DMatrix, DVector};
 use std::path::Path;

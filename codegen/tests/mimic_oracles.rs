@@ -10,7 +10,7 @@ use common::oracles::{assert_passed, check_all};
 use common::random_model::{arb_model, deterministic_runner, random_state, JointState};
 use common::{assert_close, column, traced};
 use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::generate::{trace, SymbolicRobot};
+use dyngen_codegen::internals::generate::{trace, SymbolicRobot};
 use dyngen_codegen::model::{Mimic, Model};
 use dyngen_runtime::SplitMix64;
 use nalgebra::{DMatrix, DVector};

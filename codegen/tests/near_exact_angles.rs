@@ -3,7 +3,7 @@
 //! opt-in generates code as lean as for the exact angles.
 
 use dyngen_codegen::description::{load_urdf_str, load_yaml_str, EndEffectorSpec, UrdfOptions};
-use dyngen_codegen::generate::trace;
+use dyngen_codegen::internals::generate::trace;
 use dyngen_codegen::model::Model;
 use std::path::Path;
 

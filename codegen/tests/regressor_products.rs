@@ -9,7 +9,7 @@ use common::joint_terms::with_joint_terms;
 use common::random_model::{arb_model_and_state, deterministic_runner, random_state, SplitMix64};
 use dyngen_codegen::base_parameters::BaseParameterSet;
 use dyngen_codegen::description::load;
-use dyngen_codegen::dynamics::{joint_transforms, regressor, regressor_products};
+use dyngen_codegen::internals::dynamics::{joint_transforms, regressor, regressor_products};
 use dyngen_codegen::model::Model;
 use nalgebra::{DMatrix, DVector};
 use std::path::Path;

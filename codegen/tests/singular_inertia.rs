@@ -2,8 +2,9 @@
 //! direction) is generated with a warning that names the joint: its forward dynamics do not exist.
 
 use dyngen_codegen::description::load;
-use dyngen_codegen::dynamics::{singular_joints, NumericDynamics};
+use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::generate::generate_robot;
+use dyngen_codegen::internals::dynamics::singular_joints;
 use std::path::Path;
 
 fn path(rel: &str) -> std::path::PathBuf {

@@ -6,7 +6,7 @@ use dyngen_testkit as common;
 use common::random_model::{arb_model_and_state, deterministic_runner};
 use common::{assert_close, fixture, traced};
 use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::generate::{trace, Arguments, SymbolicRobot, BASE_REGRESSOR_PRODUCTS};
+use dyngen_codegen::internals::generate::{trace, Arguments, SymbolicRobot, BASE_REGRESSOR_PRODUCTS};
 use dyngen_codegen::model::Model;
 use nalgebra::{DMatrix, DVector};
 use std::cell::Cell;

@@ -10,7 +10,7 @@ use dyngen_codegen::description::{
     self, from_urdf_rs, load_urdf_str, to_urdf_rs, DescriptionError, EndEffectorSpec, Loaded, UrdfExport,
     UrdfOptions,
 };
-use dyngen_codegen::generate::{emit, trace, type_name, Provenance};
+use dyngen_codegen::internals::generate::{emit, trace, type_name, Provenance};
 use dyngen_codegen::model::{Body, Frame, Joint, JointKind, Limits, Model, Pose};
 use dyngen_codegen::urdf_rs;
 use dyngen_testkit::random_model::{arb_model, deterministic_runner};

@@ -13,8 +13,7 @@
 //! constant on `D`'s diagonal and keeps `Ḋ − 2C` skew). So there `V + ∫ rᵀ G r` falls, by
 //! exactly `∫ rᵀ F_v r`.
 
-use dyngen_control::controller::adaptation::parameter_error_energy;
-use dyngen_control::controller::Measurement;
+use dyngen_control::controller::{parameter_error_energy, Measurement};
 use dyngen_control::sim::{rk4_step, start_posture_for, Demo, DemoOptions, RkState, RunKind};
 use dyngen_generated::{arm7, arm7_friction};
 use dyngen_runtime::nalgebra::SVector;

@@ -27,13 +27,11 @@
 //!    ([`SVD_RANK_TOL`]); [`Diagnostics`] records both and the gap between kept and dropped.
 
 mod names;
-mod rank;
+pub(crate) mod rank;
 
-pub use names::{base_parameter_name, format_coefficient, MAX_TERMS_IN_NAME};
-pub use rank::{
-    column_norms, numerical_rank, relative_residual, scaled_singular_values, stacked_regressor,
-    ZERO_COLUMN_TOL,
-};
+use names::base_parameter_name;
+pub use rank::ZERO_COLUMN_TOL;
+use rank::{column_norms, numerical_rank, relative_residual, stacked_regressor};
 
 use crate::model::Model;
 use nalgebra::DMatrix;

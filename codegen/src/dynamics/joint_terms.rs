@@ -81,3 +81,10 @@ pub fn add_armature<S: Scalar>(model: &Model, values: &[JointTermValues], d: &mu
 pub fn add_torques<S: Scalar>(base: Vec<S>, extra: &[S]) -> Vec<S> {
     base.into_iter().zip(extra).map(|(x, &e)| x + e).collect()
 }
+
+/// The joint-level values that act in `model` (chosen kinds only; the others are 0).
+pub fn joint_term_values(model: &Model) -> Vec<JointTermValues> {
+    (0..model.dof())
+        .map(|j| model.joint_terms().effective(j))
+        .collect()
+}

@@ -2,7 +2,8 @@
 //! and the baseline that generated code is benchmarked against.
 
 use super::*;
-use crate::spatial::{Transform, Vec3};
+use crate::model::Model;
+use crate::spatial::{RigidInertia, Transform, Vec3};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 
 /// Numeric dynamics of one model. Holds the model's inertias so calls do not rebuild them.

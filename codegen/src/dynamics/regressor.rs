@@ -11,7 +11,7 @@ use nalgebra::DMatrix;
 
 /// `Y` (n × P): column block `i` (ten columns) belongs to body `i`'s standard parameters; then
 /// the joint-level columns of the model's chosen kinds (none: `P = 10·n`), see
-/// [`fill_joint_term_columns`](super::fill_joint_term_columns).
+/// `fill_joint_term_columns`.
 ///
 /// The body force is linear in the body's inertia, so column `k` of a body's block is the
 /// body force with unit parameter `k`, carried up the tree and projected on each ancestor joint.

@@ -15,9 +15,11 @@ mod validate;
 
 pub use coupling::{CoordinateMap, Mimic};
 pub use joint_terms::{JointTermKind, JointTermValues, JointTerms};
-pub use pose::{exact_sin_cos, from_xyz_rpy, Pose};
+pub(crate) use pose::exact_sin_cos;
+pub use pose::{from_xyz_rpy, Pose};
 use validate::validate;
-pub use validate::{check_rotational_inertia, principal_moments, ModelError, Warning, INERTIA_REL_TOL};
+pub(crate) use validate::{check_rotational_inertia, INERTIA_REL_TOL};
+pub use validate::{ModelError, Warning};
 
 use dyngen_runtime::ParameterKind;
 use nalgebra::{Matrix3, Vector3};
@@ -106,7 +108,7 @@ pub struct Model {
 pub const PARAMS_PER_BODY: usize = dyngen_runtime::PARAMETERS_PER_BODY;
 
 /// Names of the standard parameters of one body, in the order of [`Inertia::parameters`].
-pub const PARAM_NAMES: [&str; PARAMS_PER_BODY] =
+pub(crate) const PARAM_NAMES: [&str; PARAMS_PER_BODY] =
     ["m", "mcx", "mcy", "mcz", "Ixx", "Ixy", "Iyy", "Ixz", "Iyz", "Izz"];
 
 impl Inertia {

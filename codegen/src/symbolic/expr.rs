@@ -99,7 +99,7 @@ impl Scalar for Expr {
 }
 
 /// A symbolic lane vector (`f64x8` in generated code): the tangents of up to
-/// [`LANES`](super::LANES) directions of a [`Dual`](crate::scalar_dual::Dual) at once.
+/// `LANES` directions of a dual number (`scalar_dual`) at once.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct LaneExpr(pub Id);
 

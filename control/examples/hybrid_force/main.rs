@@ -8,9 +8,10 @@
 //! also turns the tool to vertical and holds its orientation (task dimension 6), `--task
 //! tool-axis` holds only the tool axis vertical (5).
 //!
-//! `cargo run --release -p dyngen-control --example hybrid_force -- --out out/hybrid_force`
+//! `cargo run --release -p dyngen-control --example hybrid_force -- -o out/hybrid_force`
 //!
-//! Prints a summary table and writes one CSV per run and SVG plots into `--out`.
+//! Prints a summary table and writes one CSV per run and SVG plots into `-o/--output`.
+//! Exits with 1 if a run diverged (its data is still written), 2 on a usage error.
 
 mod svg;
 
@@ -64,8 +65,8 @@ struct Args {
     #[arg(long, value_enum, default_value = "position")]
     task: Task,
     /// Directory for the CSV files and plots (created if missing).
-    #[arg(long, default_value = "hybrid_force_out")]
-    out: PathBuf,
+    #[arg(short, long, default_value = "hybrid_force_out")]
+    output: PathBuf,
     /// Adapt the ten standard parameters per body instead of the base parameters.
     #[arg(long)]
     standard: bool,
@@ -149,7 +150,8 @@ fn main() -> ExitCode {
     };
     match result {
         Ok(true) => ExitCode::SUCCESS,
-        Ok(false) => ExitCode::from(2),
+        // A diverged run is a failed run; 2 stays clap's code for a usage error.
+        Ok(false) => ExitCode::FAILURE,
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::FAILURE
@@ -230,7 +232,8 @@ where
 {
     let opts = options(args);
     let demo = Demo::<Z, N, M, T>::new(opts, q0).map_err(|e| e.to_string())?;
-    std::fs::create_dir_all(&args.out).map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
+    std::fs::create_dir_all(&args.output)
+        .map_err(|e| format!("cannot create {}: {e}", args.output.display()))?;
 
     let from = demo.metrics_from();
     println!(
@@ -319,7 +322,7 @@ where
             );
             all_ok = false;
         }
-        let path = args.out.join(format!("{}.csv", kind.file_stem()));
+        let path = args.output.join(format!("{}.csv", kind.file_stem()));
         write_csv(&path, &res.samples).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         results.push((kind, res));
     }
@@ -328,17 +331,17 @@ where
     println!("over the last 4 s (t ≥ {from:.1} s):");
     let oriented = T > 3;
     print!("{}", summary_table(&results, from, oriented));
-    let mut written = write_plots(&args.out, &results).map_err(|e| format!("cannot write plots: {e}"))?;
+    let mut written = write_plots(&args.output, &results).map_err(|e| format!("cannot write plots: {e}"))?;
     if oriented {
         written.push(
-            write_orientation_plot(&args.out, &results).map_err(|e| format!("cannot write plots: {e}"))?,
+            write_orientation_plot(&args.output, &results).map_err(|e| format!("cannot write plots: {e}"))?,
         );
     }
     println!();
     println!(
         "wrote {} and the per-run CSV files into {}",
         written.join(", "),
-        args.out.display()
+        args.output.display()
     );
     Ok(all_ok)
 }

@@ -2,7 +2,7 @@
 
 use super::error::ConfigError;
 use dyngen_runtime::{ParameterKind, Parameterization};
-use nalgebra::{SMatrix, SVector};
+use nalgebra::SVector;
 
 /// Per-kind adaptation gains: mass, first moment `m·c`, second moment `I`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -102,20 +102,10 @@ pub fn parameter_error_energy<const M: usize>(theta_error: &SVector<f64, M>, gam
         .sum::<f64>()
 }
 
-/// `θ̂̇ = −Γ Yᵀ r` with diagonal `Γ`.
-#[inline]
-pub fn parameter_rate<const N: usize, const M: usize>(
-    gamma: &SVector<f64, M>,
-    y: &SMatrix<f64, N, M>,
-    r: &SVector<f64, N>,
-) -> SVector<f64, M> {
-    rate_from_regressor_product(gamma, &y.tr_mul(r))
-}
-
 /// `θ̂̇ = −Γ (Yᵀ r)` from `Yᵀ r` already computed (the law gets it with `Y θ̂` from
 /// [`Parameterization::regressor_products`]).
 #[inline]
-pub fn rate_from_regressor_product<const M: usize>(
+pub(crate) fn rate_from_regressor_product<const M: usize>(
     gamma: &SVector<f64, M>,
     y_tr_r: &SVector<f64, M>,
 ) -> SVector<f64, M> {

@@ -16,7 +16,7 @@ use nalgebra::{SMatrix, SVector, Vector3};
 use std::marker::PhantomData;
 
 /// The largest angle (degrees) between the start orientation and the desired one that the
-/// set-up accepts (see [`super::orientation`]).
+/// set-up accepts (the rotation error of the orientation rows of an [`Orientation`] task).
 pub const MAX_START_ORIENTATION_ERROR_DEG: f64 = 90.0;
 
 /// Whether `θ̂` follows `θ̂̇ = −Γ Yᵀ r` or stays fixed.

@@ -11,7 +11,10 @@ use nalgebra::{SMatrix, SVector};
 
 /// `A x`.
 #[inline]
-pub fn mul<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, x: &SVector<f64, C>) -> SVector<f64, R> {
+pub(crate) fn mul<const R: usize, const C: usize>(
+    a: &SMatrix<f64, R, C>,
+    x: &SVector<f64, C>,
+) -> SVector<f64, R> {
     let (a, x) = (&a.data.0, &x.data.0[0]);
     let mut out = [0.0; R];
     for c in 0..C {
@@ -24,7 +27,7 @@ pub fn mul<const R: usize, const C: usize>(a: &SMatrix<f64, R, C>, x: &SVector<f
 
 /// `Aᵀ y`.
 #[inline]
-pub fn tr_mul<const R: usize, const C: usize>(
+pub(crate) fn tr_mul<const R: usize, const C: usize>(
     a: &SMatrix<f64, R, C>,
     y: &SVector<f64, R>,
 ) -> SVector<f64, C> {

@@ -9,19 +9,19 @@
 //! adaptation (`adaptation`), gains (`gains`) and online stiffness estimation
 //! (`stiffness_estimator`).
 
-pub mod adaptation;
-pub mod error;
-pub mod gains;
-pub mod law;
-pub mod matvec;
-pub mod orientation;
-pub mod projections;
-pub mod reference;
-pub mod spd;
-pub mod stiffness_estimator;
-pub mod task;
+mod adaptation;
+mod error;
+mod gains;
+mod law;
+mod matvec;
+pub(crate) mod orientation;
+mod projections;
+mod reference;
+mod spd;
+mod stiffness_estimator;
+mod task;
 
-pub use adaptation::GammaByKind;
+pub use adaptation::{parameter_error_energy, GammaByKind};
 pub use error::{ConfigError, TickError};
 pub use gains::{inertia_estimate, inertia_shaped_gain, Gains};
 pub use law::{

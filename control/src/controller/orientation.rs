@@ -44,7 +44,7 @@ use nalgebra::{Matrix3, SMatrix, Vector3};
 
 /// `[v]×`, so that `[v]× w = v × w`.
 #[inline]
-pub fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
+pub(crate) fn skew(v: &Vector3<f64>) -> Matrix3<f64> {
     Matrix3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
 }
 
@@ -61,7 +61,7 @@ fn vee_skew(a: &Matrix3<f64>) -> Vector3<f64> {
 /// An orthonormal pair `E` (rows) perpendicular to the unit vector `a`: the first row is
 /// `a × c` normalised, `c` the base vector least aligned with `a`; the second `a × E₀`.
 #[inline]
-pub fn perpendicular_basis(a: &Vector3<f64>) -> SMatrix<f64, 2, 3> {
+pub(crate) fn perpendicular_basis(a: &Vector3<f64>) -> SMatrix<f64, 2, 3> {
     let c = if a.x.abs() <= a.y.abs() && a.x.abs() <= a.z.abs() {
         Vector3::x()
     } else if a.y.abs() <= a.z.abs() {
@@ -78,7 +78,7 @@ pub fn perpendicular_basis(a: &Vector3<f64>) -> SMatrix<f64, 2, 3> {
 /// `T×3` matrices (rows `0..3` are zero), the error `e`, its rate `ė` (base axes), and the
 /// angle `φ` between actual and desired orientation (or tool axis).
 #[derive(Clone, Copy, Debug)]
-pub struct OrientationRows<const T: usize> {
+pub(crate) struct OrientationRows<const T: usize> {
     pub p: SMatrix<f64, T, 3>,
     pub p_dot: SMatrix<f64, T, 3>,
     pub error: Vector3<f64>,
@@ -134,7 +134,7 @@ impl<const T: usize> OrientationRows<T> {
 
 /// The angle (rad) between the actual and the desired orientation (`Full`) or tool axis
 /// (`ToolAxis`); `NaN` when the orientation is free (not controlled).
-pub fn orientation_angle(orientation: &Orientation, rot: &Matrix3<f64>, rot_d: &Matrix3<f64>) -> f64 {
+pub(crate) fn orientation_angle(orientation: &Orientation, rot: &Matrix3<f64>, rot_d: &Matrix3<f64>) -> f64 {
     match orientation {
         Orientation::Free => f64::NAN,
         Orientation::Full => {

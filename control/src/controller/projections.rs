@@ -52,7 +52,9 @@ pub struct Projections<const N: usize, const T: usize = 3> {
 }
 
 /// Smallest singular value of a T×N Jacobian and the unit eigenvector of `J Jᵀ` that goes with it.
-pub fn smallest_singular<const N: usize, const T: usize>(j: &SMatrix<f64, T, N>) -> (f64, SVector<f64, T>) {
+pub(crate) fn smallest_singular<const N: usize, const T: usize>(
+    j: &SMatrix<f64, T, N>,
+) -> (f64, SVector<f64, T>) {
     let (values, vectors) = symmetric_eigen(&(j * j.transpose()));
     let (mut k, mut min) = (0, f64::INFINITY);
     for (i, &e) in values.iter().enumerate() {
@@ -67,7 +69,9 @@ pub fn smallest_singular<const N: usize, const T: usize>(j: &SMatrix<f64, T, N>)
 /// Eigenvalues and eigenvectors (columns) of a small symmetric matrix by cyclic Jacobi
 /// rotations: for any `T` on stable Rust (nalgebra's `symmetric_eigen` needs a type-level
 /// dimension), allocation-free, accurate to rounding. Called only near singularities.
-pub fn symmetric_eigen<const T: usize>(a: &SMatrix<f64, T, T>) -> (SVector<f64, T>, SMatrix<f64, T, T>) {
+pub(crate) fn symmetric_eigen<const T: usize>(
+    a: &SMatrix<f64, T, T>,
+) -> (SVector<f64, T>, SMatrix<f64, T, T>) {
     let mut a = (a + a.transpose()) * 0.5;
     let mut v = SMatrix::<f64, T, T>::identity();
     for _sweep in 0..50 {

@@ -60,7 +60,7 @@ pub struct Reference<const N: usize, const S: usize> {
 
 /// Gains the reference needs.
 #[derive(Clone, Copy, Debug)]
-pub struct ReferenceGains {
+pub(crate) struct ReferenceGains {
     pub lambda: f64,
     pub lambda_null: f64,
 }
@@ -80,7 +80,7 @@ pub struct ReferenceGains {
 /// orientation rows at this state (see [`super::orientation`]); `proj` the task Jacobian.
 #[allow(clippy::too_many_arguments)]
 #[inline]
-pub fn reference<const N: usize, const S: usize, const T: usize>(
+pub(crate) fn reference<const N: usize, const S: usize, const T: usize>(
     m: &Measurement<N>,
     d: &Desired<N, S>,
     task: &ContactTask<T, S>,

@@ -12,7 +12,7 @@ use nalgebra::{SMatrix, SVector};
 
 /// `L` (lower triangle used) and `1/Lᵢᵢ`.
 #[derive(Clone, Copy, Debug)]
-pub struct SpdFactor<const T: usize> {
+pub(crate) struct SpdFactor<const T: usize> {
     l: SMatrix<f64, T, T>,
     inv_pivot: SVector<f64, T>,
 }

@@ -121,7 +121,7 @@ impl Default for DemoOptions {
 
 /// The description's effort limits (N·m or N), which the demo clamps torques to; every joint
 /// must have one.
-pub fn effort_limits<R: Kinematics<N>, const N: usize>() -> Result<SVector<f64, N>, ConfigError> {
+pub(crate) fn effort_limits<R: Kinematics<N>, const N: usize>() -> Result<SVector<f64, N>, ConfigError> {
     for (name, limit) in R::JOINT_NAMES.iter().zip(R::JOINT_LIMITS.iter()) {
         if !(limit.effort.is_finite() && limit.effort > 0.0) {
             return Err(ConfigError::Invalid {

@@ -3,16 +3,16 @@
 //! joint-level columns, friction and armature off their nominal values), a compliant plane, RK4,
 //! sensor noise, the press-and-circle scenario, the closed-loop run and the demo set-up.
 
-pub mod contact;
-pub mod demo;
-pub mod noise;
-pub mod plant;
-pub mod presets;
-pub mod report;
-pub mod rk4;
-pub mod run;
-pub mod scenario;
-pub mod true_joint_terms;
+mod contact;
+mod demo;
+mod noise;
+mod plant;
+mod presets;
+mod report;
+mod rk4;
+mod run;
+mod scenario;
+mod true_joint_terms;
 
 pub use contact::PlaneContact;
 pub use demo::{Demo, DemoOptions, RunKind};

@@ -3,13 +3,14 @@
 //!
 //! ```sh
 //! DYNGEN_ROBOT=/path/to/myrobot.yaml cargo run --release -p dyngen-hybrid-force-template -- \
-//!     --task pose --start 0 0.6 0 -1.3 0 1 0 --out target/myrobot
+//!     --task pose --start 0 0.6 0 -1.3 0 1 0 -o target/myrobot
 //! ```
 //!
 //! `--start Q1 … QN` (rad; default: the middle of the description's joint limits),
 //! `--task position|tool-axis|pose` (m = 3, 5, 6), `--standard` (all ten parameters per body
-//! instead of the base parameters), `--out DIR` (CSV per run). Torques are clamped to the
-//! description's effort limits. For plots, noise and the other options, see the `hybrid_force`
+//! instead of the base parameters), `-o/--output DIR` (CSV per run). Torques are clamped to the
+//! description's effort limits. Exits with 1 if a run diverged (its data is still written) or
+//! failed, 2 on a usage error. For plots, noise and the other options, see the `hybrid_force`
 //! example of `dyngen-control`.
 
 dyngen_runtime::include_robot!(robot);
@@ -25,7 +26,7 @@ struct Args {
     start: Option<Vec<f64>>,
     task: usize,
     standard: bool,
-    out: PathBuf,
+    output: PathBuf,
 }
 
 fn parse(mut args: impl Iterator<Item = String>) -> Result<Args, String> {
@@ -33,13 +34,13 @@ fn parse(mut args: impl Iterator<Item = String>) -> Result<Args, String> {
         start: None,
         task: 3,
         standard: false,
-        out: PathBuf::from("hybrid_force_out"),
+        output: PathBuf::from("hybrid_force_out"),
     };
     let mut pending: Option<String> = args.next();
     while let Some(flag) = pending.take() {
         match flag.as_str() {
             "--standard" => a.standard = true,
-            "--out" => a.out = args.next().ok_or("--out needs a directory")?.into(),
+            "-o" | "--output" => a.output = args.next().ok_or(format!("{flag} needs a directory"))?.into(),
             "--task" => {
                 a.task = match args.next().as_deref() {
                     Some("position") => 3,
@@ -72,24 +73,34 @@ fn parse(mut args: impl Iterator<Item = String>) -> Result<Args, String> {
 }
 
 fn main() -> ExitCode {
-    let result = parse(std::env::args().skip(1)).and_then(|args| {
-        let q0 = start_posture_for::<robot::Robot, N>(args.start.as_deref())?;
-        match (args.standard, args.task) {
-            (false, 3) => run::<Base<robot::Robot, P>, B, 3>(&args, q0),
-            (false, 5) => run::<Base<robot::Robot, P>, B, 5>(&args, q0),
-            (false, _) => run::<Base<robot::Robot, P>, B, 6>(&args, q0),
-            (true, 3) => run::<Standard<robot::Robot>, P, 3>(&args, q0),
-            (true, 5) => run::<Standard<robot::Robot>, P, 5>(&args, q0),
-            (true, _) => run::<Standard<robot::Robot>, P, 6>(&args, q0),
+    let args = match parse(std::env::args().skip(1)) {
+        Ok(args) => args,
+        Err(e) => {
+            eprintln!("error: {e}");
+            // 2 for a usage error, as clap-based tools report it; 1 stays for a failed run.
+            return ExitCode::from(2);
         }
-    });
-    match result {
+    };
+    match run_laws(&args) {
         Ok(true) => ExitCode::SUCCESS,
-        Ok(false) => ExitCode::from(2),
+        Ok(false) => ExitCode::FAILURE,
         Err(e) => {
             eprintln!("error: {e}");
             ExitCode::FAILURE
         }
+    }
+}
+
+/// The demo's laws with the parameterisation and task dimension the flags chose.
+fn run_laws(args: &Args) -> Result<bool, String> {
+    let q0 = start_posture_for::<robot::Robot, N>(args.start.as_deref())?;
+    match (args.standard, args.task) {
+        (false, 3) => run::<Base<robot::Robot, P>, B, 3>(args, q0),
+        (false, 5) => run::<Base<robot::Robot, P>, B, 5>(args, q0),
+        (false, _) => run::<Base<robot::Robot, P>, B, 6>(args, q0),
+        (true, 3) => run::<Standard<robot::Robot>, P, 3>(args, q0),
+        (true, 5) => run::<Standard<robot::Robot>, P, 5>(args, q0),
+        (true, _) => run::<Standard<robot::Robot>, P, 6>(args, q0),
     }
 }
 
@@ -99,7 +110,8 @@ fn run<Z: Parameterization<N, M>, const M: usize, const T: usize>(
     q0: SVector<f64, N>,
 ) -> Result<bool, String> {
     let demo = Demo::<Z, N, M, T>::new(DemoOptions::default(), q0).map_err(|e| e.to_string())?;
-    std::fs::create_dir_all(&args.out).map_err(|e| format!("cannot create {}: {e}", args.out.display()))?;
+    std::fs::create_dir_all(&args.output)
+        .map_err(|e| format!("cannot create {}: {e}", args.output.display()))?;
     println!(
         "robot {} ({N} DOF, {M} adapted parameters), task dimension {T}, start {:?}",
         <Z::Robot as Kinematics<N>>::NAME,
@@ -113,12 +125,12 @@ fn run<Z: Parameterization<N, M>, const M: usize, const T: usize>(
             eprintln!("{} run diverged at t = {time:.3} s: {reason}", kind.label());
             ok = false;
         }
-        let path = args.out.join(format!("{}.csv", kind.file_stem()));
+        let path = args.output.join(format!("{}.csv", kind.file_stem()));
         write_csv(&path, &res.samples).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
         results.push((kind, res));
     }
     println!("over the last 4 s (t ≥ {:.1} s):", demo.metrics_from());
     print!("{}", summary_table(&results, demo.metrics_from(), T > 3));
-    println!("CSV files in {}", args.out.display());
+    println!("CSV files in {}", args.output.display());
     Ok(ok)
 }

@@ -14,7 +14,7 @@
 
 use crate::random_model::SplitMix64;
 use dyngen_codegen::description::{load_urdf_str, load_yaml_str, Loaded, UrdfOptions};
-use dyngen_codegen::generate::{emit, trace, Provenance};
+use dyngen_codegen::internals::generate::{emit, trace, Provenance};
 use dyngen_codegen::model::Model;
 use std::panic::{catch_unwind, AssertUnwindSafe};
 use std::path::{Path, PathBuf};

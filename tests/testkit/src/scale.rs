@@ -3,10 +3,10 @@
 //! model gives the same graph), so their growth exponent is a legitimate test, unlike a timing.
 
 use crate::random_model::SplitMix64;
-use dyngen_codegen::dynamics;
-use dyngen_codegen::generate::{emit, trace, Provenance};
+use dyngen_codegen::internals::dynamics;
+use dyngen_codegen::internals::generate::{emit, trace, Provenance};
+use dyngen_codegen::internals::symbolic::{record, Expr, Id};
 use dyngen_codegen::model::{from_xyz_rpy, Body, Frame, Inertia, Joint, JointKind, Limits, Model, Pose};
-use dyngen_codegen::symbolic::{record, Expr, Id};
 use nalgebra::{Matrix3, Vector3};
 
 fn unit(rng: &mut SplitMix64) -> Vector3<f64> {

@@ -2,7 +2,7 @@
 //! shapes the generic dynamics return, and what the generic dynamics say each quantity is.
 
 use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::generate::{Shape, SymbolicRobot};
+use dyngen_codegen::internals::generate::{Shape, SymbolicRobot};
 use nalgebra::DMatrix;
 
 /// A quantity's interpreted `values` in the shape the generic code returns: a matrix pair side

@@ -1,0 +1,45 @@
+//! The generator's machinery that dyngen's own tests, `dyngen-testkit` and developer tools
+//! reach into: the generic algorithms, the symbolic graph, the tracer and the emitter. Not
+//! part of the documented API and free to change with any release; every item here has this
+//! one public path.
+
+/// The dynamics algorithms generic over the scalar type (`f64`, symbols, dual numbers).
+pub mod dynamics {
+    pub use crate::dynamics::crba::mass_matrix;
+    pub use crate::dynamics::inertias::body_inertias;
+    pub use crate::dynamics::joint::joint_transforms;
+    pub use crate::dynamics::kinematics::{body_poses, jacobian};
+    pub use crate::dynamics::regressor::regressor;
+    pub use crate::dynamics::regressor_products::regressor_products;
+    pub use crate::dynamics::singular::singular_joints;
+    pub use crate::dynamics::slotine_li::{gravity_torque, inverse_dynamics};
+}
+
+/// The scalar type the generic algorithms are written against.
+pub mod scalar {
+    pub use crate::scalar::Scalar;
+}
+
+/// The spatial algebra of the generic algorithms, written out so every operation is traced.
+pub mod spatial {
+    pub use crate::spatial::{Force, JointFrame, Mat3, Motion, RigidInertia, Transform, Vec3};
+}
+
+/// The numerical rank tools the base-parameter selection is built on.
+pub mod base_parameters {
+    pub use crate::base_parameters::rank::{numerical_rank, stacked_regressor};
+}
+
+/// The expression graph the algorithms are traced into.
+pub mod symbolic {
+    pub use crate::symbolic::{record, Expr, Graph, Id, LaneExpr, Node};
+}
+
+/// Tracing a model into one graph, and emitting a traced robot as a Rust module.
+pub mod generate {
+    pub use crate::generate::emit::{emit, type_name, Provenance, MODULE_ATTRIBUTES};
+    pub use crate::generate::trace::{
+        trace, trace_with_base, Arg, Arguments, Inputs, Quantity, Shape, SymbolicRobot, BASE_REGRESSOR,
+        BASE_REGRESSOR_PRODUCTS,
+    };
+}
