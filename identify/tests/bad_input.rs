@@ -4,10 +4,10 @@
 mod common;
 
 use common::{arm7_nominal, arm7_truth};
-use dyngen_identify::data::{read_csv, to_csv, Samples};
-use dyngen_identify::fourier::{FourierTrajectory, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
-use dyngen_identify::pipeline::{identify, IdentifyOptions};
-use dyngen_identify::simulate::measure;
+use dyngen_identify::measure;
+use dyngen_identify::{identify, IdentifyOptions};
+use dyngen_identify::{read_csv, to_csv, Samples};
+use dyngen_identify::{FourierTrajectory, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
 use std::path::PathBuf;
 
 fn good_samples() -> Samples {
