@@ -66,7 +66,11 @@ fn usage_errors_exit_2() {
         let run = dyngen(args);
         assert_eq!(run.code, Some(2), "{args:?}: {}", run.output());
         // Without a command clap prints the help; otherwise it says what is wrong.
-        let said = if args.is_empty() { "Usage: dyngen" } else { "error:" };
+        let said = if args.is_empty() {
+            "Usage: dyngen"
+        } else {
+            "error:"
+        };
         assert!(run.stderr.contains(said), "{args:?}: {}", run.output());
     }
     let not_a_number = dyngen(&["excite", arm7, "-o", "x.csv", "--duration", "long"]);

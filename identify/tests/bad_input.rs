@@ -170,7 +170,9 @@ fn errors_from_below_keep_their_source() {
     assert_eq!(path, &missing);
     assert_eq!(source.kind(), std::io::ErrorKind::NotFound);
     assert!(err.source().is_some());
-    assert!(err.to_string().starts_with(&format!("{}: cannot read the data file: ", missing.display())));
+    assert!(err
+        .to_string()
+        .starts_with(&format!("{}: cannot read the data file: ", missing.display())));
 
     let good = to_csv(&arm7_nominal(), &good_samples());
     let mut bytes = good.into_bytes();
@@ -188,7 +190,8 @@ fn errors_from_below_keep_their_source() {
     assert!(matches!(err, IdentifyError::Csv { .. }), "{err:?}");
     assert!(err.source().is_some());
     assert!(
-        err.to_string().starts_with(&format!("{}:3: not valid CSV", not_utf8.display())),
+        err.to_string()
+            .starts_with(&format!("{}:3: not valid CSV", not_utf8.display())),
         "{err}"
     );
 }
