@@ -14,8 +14,8 @@ use std::time::Instant;
 pub struct IdentifyArgs {
     /// The robot description identification starts from (`.yaml` or `.urdf`).
     description: PathBuf,
-    /// The measured data (CSV with columns time, q[<joint>], tau[<joint>], optionally
-    /// qd[<joint>] and qdd[<joint>]).
+    /// The measured data (CSV with columns `time`, `q[<joint>]`, `tau[<joint>]`, optionally
+    /// `qd[<joint>]` and `qdd[<joint>]`).
     data: PathBuf,
     /// The identified description to write (dyngen YAML).
     #[arg(short, long, value_name = "identified.yaml")]
