@@ -149,7 +149,7 @@ impl FourierTrajectory {
     }
 
     /// Centres every joint in its position range and scales its coefficients so that its
-    /// binding limit (position, velocity or acceleration) is reached at [`LIMIT_MARGIN`].
+    /// binding limit (position, velocity or acceleration) is reached at 95% of it.
     pub fn fit_into(&mut self, limits: &TrajectoryLimits) {
         for j in 0..self.dof() {
             let (lo, hi) = limits.position[j];
