@@ -5,7 +5,7 @@
 //! `src/lib.rs`, `dyngen_runtime::include_robot!(panda);` gives `panda::Panda`.
 
 use crate::description::UrdfOptions;
-use crate::generate::{generate_robot_with, module_name, type_name, write_file, GenerateError};
+use crate::generate::{generate_robot_with, module_name, type_name, write_file, GenerateError, RobotReport};
 use std::path::{Path, PathBuf};
 
 /// Generates `description` into `$OUT_DIR/<module>.rs` with the defaults of [`Builder`]; on
@@ -19,7 +19,9 @@ pub fn compile_robot(description: impl AsRef<Path>) {
 pub struct Builder {
     description: PathBuf,
     out_dir: Option<PathBuf>,
+    output_file: Option<PathBuf>,
     module: Option<String>,
+    regenerate: Option<String>,
     type_name: Option<String>,
     cargo_directives: bool,
     urdf: UrdfOptions,
@@ -31,7 +33,9 @@ impl Builder {
         Builder {
             description: description.as_ref().to_owned(),
             out_dir: None,
+            output_file: None,
             module: None,
+            regenerate: None,
             type_name: None,
             cargo_directives: true,
             urdf: UrdfOptions::default(),
@@ -55,9 +59,24 @@ impl Builder {
         self
     }
 
-    /// Where to write (default: `$OUT_DIR`).
+    /// The directory to write `<module>.rs` into (default: `$OUT_DIR`).
     pub fn out_dir(mut self, dir: impl AsRef<Path>) -> Builder {
         self.out_dir = Some(dir.as_ref().to_owned());
+        self
+    }
+
+    /// Write exactly this file instead of `<out_dir>/<module>.rs` (a command-line tool's
+    /// `-o`); the module name then defaults to the file's stem. The write is the same: atomic,
+    /// and never over a file dyngen did not write.
+    pub fn output_file(mut self, file: impl AsRef<Path>) -> Builder {
+        self.output_file = Some(file.as_ref().to_owned());
+        self
+    }
+
+    /// The command the generated file's header says reproduces it (default: `cargo build
+    /// (build.rs)`).
+    pub fn regenerate_command(mut self, command: impl Into<String>) -> Builder {
+        self.regenerate = Some(command.into());
         self
     }
 
@@ -81,10 +100,22 @@ impl Builder {
 
     /// Generates the robot; returns the file written (or left as it was, if unchanged).
     pub fn compile(self) -> Result<PathBuf, GenerateError> {
-        let out_dir = match self.out_dir {
-            Some(dir) => dir,
-            None => std::env::var_os("OUT_DIR")
-                .map(PathBuf::from)
+        self.compile_report().map(|report| report.file)
+    }
+
+    /// [`Builder::compile`], returning everything a tool reports: the file, whether it was
+    /// rewritten, and the generated robot (model, warnings, notes, operation counts, time).
+    pub fn compile_report(self) -> Result<RobotReport, GenerateError> {
+        let module = match (&self.module, &self.output_file) {
+            (Some(module), _) => module.clone(),
+            (None, Some(file)) => module_name(file),
+            (None, None) => module_name(&self.description),
+        };
+        let file = match (&self.output_file, &self.out_dir) {
+            (Some(file), _) => file.clone(),
+            (None, Some(dir)) => dir.join(format!("{module}.rs")),
+            (None, None) => std::env::var_os("OUT_DIR")
+                .map(|dir| PathBuf::from(dir).join(format!("{module}.rs")))
                 .ok_or_else(|| GenerateError::Io {
                     path: PathBuf::from("$OUT_DIR"),
                     source: std::io::Error::new(
@@ -93,20 +124,16 @@ impl Builder {
                     ),
                 })?,
         };
-        let module = self.module.unwrap_or_else(|| module_name(&self.description));
         let ty = self.type_name.unwrap_or_else(|| type_name(&module));
         let shown = self.description.to_string_lossy().replace('\\', "/");
         if self.cargo_directives {
             // Printed before generating, so a fixed description re-runs the build after an error.
             println!("cargo:rerun-if-changed={}", self.description.display());
         }
-        let robot = generate_robot_with(
-            &self.description,
-            &shown,
-            &ty,
-            "cargo build (build.rs)",
-            &self.urdf,
-        )?;
+        let regenerate = self
+            .regenerate
+            .unwrap_or_else(|| "cargo build (build.rs)".to_owned());
+        let robot = generate_robot_with(&self.description, &shown, &ty, &regenerate, &self.urdf)?;
         if self.cargo_directives {
             for source in &robot.sources {
                 println!("cargo:rerun-if-changed={}", source.display());
@@ -115,9 +142,13 @@ impl Builder {
                 println!("cargo:warning={warning}");
             }
         }
-        let file = out_dir.join(format!("{module}.rs"));
-        write_file(&file, &robot.code)?;
-        Ok(file)
+        let outcome = write_file(&file, &robot.code)?;
+        Ok(RobotReport {
+            module,
+            file,
+            robot,
+            outcome,
+        })
     }
 
     /// [`Builder::compile`], printing an error as a person reads it and exiting non-zero.

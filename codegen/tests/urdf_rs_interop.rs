@@ -889,14 +889,14 @@ fn fuzzed_urdfs_through_urdf_rs() {
     );
 }
 
-/// `cargo xtask urdf` puts an XML declaration and a comment before the robot: both readers
+/// `dyngen urdf` puts an XML declaration and a comment before the robot: both readers
 /// (urdf-rs, so urdf-viz; and dyngen's) take the text as it is.
 #[test]
 fn a_declaration_and_a_comment_before_the_robot_are_read() {
     let model = load(&repo("robots/ur5.yaml")).model;
     let export = to_urdf_rs(&model).unwrap();
     let text = format!(
-        "<?xml version=\"1.0\"?>\n<!-- Written by `cargo xtask urdf` from ur5.yaml -->\n{}\n",
+        "<?xml version=\"1.0\"?>\n<!-- Written by `dyngen urdf` from ur5.yaml -->\n{}\n",
         urdf_rs::write_to_string(&export.robot).unwrap()
     );
     let parsed = urdf_rs::read_from_string(&text).unwrap();

@@ -31,7 +31,7 @@ use dyngen_codegen::model::{JointTermKind, Model, PARAMS_PER_BODY};
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix4, Vector3};
 
 /// Weight of the prior relative to one standard deviation of data misfit.
-pub const PRIOR_WEIGHT: f64 = 1e-6;
+pub(crate) const PRIOR_WEIGHT: f64 = 1e-6;
 /// Levenberg–Marquardt stops when a step lowers the cost by less than this fraction, or after
 /// [`MAX_ITERATIONS`]: the cost is in units of σ², so 1e-7 of it is far below what matters.
 const STOP_DECREASE: f64 = 1e-7;
@@ -54,7 +54,7 @@ pub struct ConsistentEstimate {
 }
 
 /// The pseudo-inertia of one body's ten parameters `[m, mc, Ixx, Ixy, Iyy, Ixz, Iyz, Izz]`.
-pub fn pseudo_inertia(p: &[f64]) -> Matrix4<f64> {
+pub(crate) fn pseudo_inertia(p: &[f64]) -> Matrix4<f64> {
     let inertia = Matrix3::new(p[4], p[5], p[7], p[5], p[6], p[8], p[7], p[8], p[9]);
     let sigma = Matrix3::identity() * (0.5 * inertia.trace()) - inertia;
     let mut j = Matrix4::zeros();
@@ -129,7 +129,7 @@ fn log_cholesky(j: &Matrix4<f64>) -> [f64; 10] {
 }
 
 /// The folding matrix `K` (`θ_b = K θ`), b × P.
-pub fn folding_matrix(base: &BaseParameterSet) -> DMatrix<f64> {
+pub(crate) fn folding_matrix(base: &BaseParameterSet) -> DMatrix<f64> {
     let mut k = DMatrix::zeros(base.count(), base.standard_count);
     for (row, terms) in base.terms.iter().enumerate() {
         for &(i, c) in terms {
@@ -213,7 +213,7 @@ fn prior_scales(model: &Model, prior: &[f64]) -> Vec<f64> {
 
 /// The consistent θ closest (in whitened data misfit) to the least-squares `estimate`, with
 /// the description's θ as the tie-breaking prior; see the module docs.
-pub fn consistent_estimate(
+pub(crate) fn consistent_estimate(
     model: &Model,
     base: &BaseParameterSet,
     estimate: &BaseEstimate,

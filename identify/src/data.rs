@@ -2,14 +2,15 @@
 //!
 //! Columns (any order): `time` (s, strictly increasing); per joint, by the description's joint
 //! name, `q[<joint>]` (rad or m) and `tau[<joint>]` (N·m or N), required; `qd[<joint>]` and
-//! `qdd[<joint>]`, optional but all-or-none per kind (when missing, [`crate::differentiate`]
-//! computes them). Fields are plain numbers separated by commas (no quoting: joint names with
-//! commas cannot be columns); blank lines are skipped. Every problem is an error naming the
+//! `qdd[<joint>]`, optional but all-or-none per kind (when missing, identification computes
+//! them with a zero-phase filter). Fields are numbers separated by commas (read with the `csv`
+//! crate, so a quoted field may hold a comma), surrounding spaces ignored; blank lines are
+//! skipped. Every problem is an error naming the
 //! file, line and column (or the joint): unknown or missing columns, a field that is not a
 //! finite number, time that does not increase, a position or velocity outside the joint
 //! limits. Nothing is guessed or dropped.
 
-use crate::error::IdentifyError;
+use crate::error::{IdentifyError, Place};
 use dyngen_codegen::model::Model;
 use std::fmt::Write as _;
 use std::path::Path;
@@ -65,31 +66,59 @@ fn joint_list(model: &Model) -> String {
 
 /// Reads a data file for `model`; `require_torque`: `tau[...]` columns must be present.
 pub fn read_csv(path: &Path, model: &Model, require_torque: bool) -> Result<Samples, IdentifyError> {
-    let text = std::fs::read_to_string(path)
-        .map_err(|e| IdentifyError::new(format!("cannot read the data file: {e}")).in_file(path))?;
-    parse_csv(&text, model, require_torque).map_err(|e| e.in_file(path))
+    let file = std::fs::File::open(path).map_err(|source| IdentifyError::Read {
+        path: path.to_owned(),
+        source,
+    })?;
+    read_samples(file, model, require_torque).map_err(|e| e.in_file(path))
 }
 
-/// [`read_csv`] on text (errors carry line and column; the caller adds the file).
-pub fn parse_csv(text: &str, model: &Model, require_torque: bool) -> Result<Samples, IdentifyError> {
+/// The non-blank records of `reader` with their line numbers. Every record may have its own
+/// number of fields, so that a short line is reported naming both counts.
+fn records(
+    reader: impl std::io::Read,
+) -> impl Iterator<Item = Result<(usize, csv::StringRecord), IdentifyError>> {
+    csv::ReaderBuilder::new()
+        .has_headers(false)
+        .flexible(true)
+        .trim(csv::Trim::All)
+        .from_reader(reader)
+        .into_records()
+        .filter_map(|record| match record {
+            Ok(r) if r.len() == 1 && r[0].is_empty() => None,
+            Ok(r) => Some(Ok((r.position().map_or(0, |p| p.line() as usize), r))),
+            Err(source) => {
+                let line = source.position().map(|p| p.line() as usize);
+                let place = Place {
+                    line,
+                    ..Place::default()
+                };
+                Some(Err(IdentifyError::Csv { place, source }))
+            }
+        })
+}
+
+/// [`read_csv`] on any reader (errors carry line and column; the caller adds the file).
+fn read_samples(
+    reader: impl std::io::Read,
+    model: &Model,
+    require_torque: bool,
+) -> Result<Samples, IdentifyError> {
     let n = model.dof();
-    let mut lines = text
-        .lines()
-        .enumerate()
-        .map(|(i, l)| (i + 1, l))
-        .filter(|(_, l)| !l.trim().is_empty());
-    let Some((header_line, header)) = lines.next() else {
-        return Err(IdentifyError::new(
+    let mut lines = records(reader);
+    let Some(first) = lines.next() else {
+        return Err(IdentifyError::data(
             "the file is empty: expected a header line of column names",
         ));
     };
-    let names: Vec<&str> = header.split(',').map(str::trim).collect();
+    let (header_line, header) = first?;
+    let names: Vec<&str> = header.iter().collect();
     // (kind, joint) of every column; where each (kind, joint) is.
     let mut columns: Vec<(Kind, usize)> = Vec::with_capacity(names.len());
     let mut place: std::collections::HashMap<(u8, usize), usize> = std::collections::HashMap::new();
     for (c, name) in names.iter().enumerate() {
         let err = |msg: String| {
-            IdentifyError::new(msg)
+            IdentifyError::data(msg)
                 .at_line(header_line)
                 .at_column(c + 1, name)
         };
@@ -121,7 +150,7 @@ pub fn parse_csv(text: &str, model: &Model, require_torque: bool) -> Result<Samp
     }
     let has = |kind: Kind, j: usize| place.contains_key(&(kind as u8, j));
     if !has(Kind::Time, 0) {
-        return Err(IdentifyError::new("missing column 'time'").at_line(header_line));
+        return Err(IdentifyError::data("missing column 'time'").at_line(header_line));
     }
     let mut required = vec![(Kind::Q, "q", "every joint needs its position")];
     if require_torque {
@@ -134,7 +163,7 @@ pub fn parse_csv(text: &str, model: &Model, require_torque: bool) -> Result<Samp
                 model.joints()[j].name,
                 model.joints()[j].name
             );
-            return Err(IdentifyError::new(msg).at_line(header_line));
+            return Err(IdentifyError::data(msg).at_line(header_line));
         }
     }
     for (kind, label) in [(Kind::Qd, "qd"), (Kind::Qdd, "qdd"), (Kind::Tau, "tau")] {
@@ -145,7 +174,7 @@ pub fn parse_csv(text: &str, model: &Model, require_torque: bool) -> Result<Samp
                 "missing column '{label}[{}]' for joint '{}': {label} is given for some joints, so it must be given for all",
                 model.joints()[j].name, model.joints()[j].name
             );
-            return Err(IdentifyError::new(msg).at_line(header_line));
+            return Err(IdentifyError::data(msg).at_line(header_line));
         }
     }
     let with = |kind: Kind| has(kind, 0).then(Vec::new);
@@ -155,20 +184,20 @@ pub fn parse_csv(text: &str, model: &Model, require_torque: bool) -> Result<Samp
         tau: with(Kind::Tau),
         ..Samples::default()
     };
-    for (line, text) in lines {
-        let fields: Vec<&str> = text.split(',').map(str::trim).collect();
+    for record in lines {
+        let (line, fields) = record?;
         if fields.len() != names.len() {
             let msg = format!(
                 "{} fields, but the header has {} columns",
                 fields.len(),
                 names.len()
             );
-            return Err(IdentifyError::new(msg).at_line(line));
+            return Err(IdentifyError::data(msg).at_line(line));
         }
         let mut row = [vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]];
         let mut time = 0.0;
         for (c, (field, &(kind, j))) in fields.iter().zip(&columns).enumerate() {
-            let err = |msg: String| IdentifyError::new(msg).at_line(line).at_column(c + 1, names[c]);
+            let err = |msg: String| IdentifyError::data(msg).at_line(line).at_column(c + 1, names[c]);
             let value: f64 = field
                 .parse()
                 .map_err(|_| err(format!("'{field}' is not a number")))?;
@@ -190,14 +219,14 @@ pub fn parse_csv(text: &str, model: &Model, require_torque: bool) -> Result<Samp
                     "time {time} does not increase (the sample before, line {}, is at {previous})",
                     samples.lines.last().copied().unwrap_or(0)
                 );
-                return Err(IdentifyError::new(msg).at_line(line).at_column(c + 1, "time"));
+                return Err(IdentifyError::data(msg).at_line(line).at_column(c + 1, "time"));
             }
         }
         for (j, joint) in model.joints().iter().enumerate() {
             let Some(l) = joint.limits else { continue };
             let err = |kind: Kind, label: &str, msg: String| {
                 let c = place[&(kind as u8, j)];
-                IdentifyError::new(format!("joint '{}': {msg}", joint.name))
+                IdentifyError::data(format!("joint '{}': {msg}", joint.name))
                     .at_line(line)
                     .at_column(c + 1, &format!("{label}[{}]", joint.name))
             };
@@ -232,7 +261,7 @@ pub fn parse_csv(text: &str, model: &Model, require_torque: bool) -> Result<Samp
         samples.lines.push(line);
     }
     if samples.is_empty() {
-        return Err(IdentifyError::new("no samples: the file has a header line only"));
+        return Err(IdentifyError::data("no samples: the file has a header line only"));
     }
     Ok(samples)
 }

@@ -14,7 +14,7 @@ use std::fmt::Write as _;
 
 /// `model` with parameters θ (as [`Model::parameters`]): bodies and joint-level values; an
 /// error when θ is not a physically valid robot.
-pub fn with_parameters(model: &Model, theta: &[f64]) -> Result<Model, ModelError> {
+pub(crate) fn with_parameters(model: &Model, theta: &[f64]) -> Result<Model, ModelError> {
     let bodies = model
         .bodies()
         .iter()
@@ -48,7 +48,7 @@ pub fn with_parameters(model: &Model, theta: &[f64]) -> Result<Model, ModelError
 }
 
 /// Roll, pitch, yaw of a rotation `R = Rz(yaw) Ry(pitch) Rx(roll)` (URDF's convention).
-pub fn rpy(r: &Matrix3<f64>) -> [f64; 3] {
+pub(crate) fn rpy(r: &Matrix3<f64>) -> [f64; 3] {
     let sp = (-r[(2, 0)]).clamp(-1.0, 1.0);
     if sp.abs() < 1.0 - 1e-12 {
         [r[(2, 1)].atan2(r[(2, 2)]), sp.asin(), r[(1, 0)].atan2(r[(0, 0)])]

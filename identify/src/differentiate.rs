@@ -17,11 +17,11 @@
 use crate::error::IdentifyError;
 
 /// Default cutoff of the low-pass filter (Hz).
-pub const DEFAULT_CUTOFF_HZ: f64 = 20.0;
+pub(crate) const DEFAULT_CUTOFF_HZ: f64 = 20.0;
 
 /// Samples at each end that the filter's transient may affect: three time constants of the
 /// cutoff, at least 3.
-pub fn padding(rate: f64, cutoff: f64) -> usize {
+pub(crate) fn padding(rate: f64, cutoff: f64) -> usize {
     ((3.0 * rate / cutoff).ceil() as usize).max(3)
 }
 
@@ -57,7 +57,7 @@ fn pass(x: &[f64], c: (f64, f64, f64, f64, f64)) -> Vec<f64> {
 }
 
 /// Zero-phase low-pass of one signal sampled at `rate` Hz.
-pub fn filtfilt(x: &[f64], rate: f64, cutoff: f64) -> Vec<f64> {
+pub(crate) fn filtfilt(x: &[f64], rate: f64, cutoff: f64) -> Vec<f64> {
     let n = x.len();
     if n < 3 {
         return x.to_vec();
@@ -76,9 +76,9 @@ pub fn filtfilt(x: &[f64], rate: f64, cutoff: f64) -> Vec<f64> {
 }
 
 /// Sampling rate of `time` (Hz), which must be uniform to 1%.
-pub fn uniform_rate(time: &[f64], lines: &[usize]) -> Result<f64, IdentifyError> {
+pub(crate) fn uniform_rate(time: &[f64], lines: &[usize]) -> Result<f64, IdentifyError> {
     if time.len() < 3 {
-        return Err(IdentifyError::new(format!(
+        return Err(IdentifyError::data(format!(
             "{} samples: at least 3 are needed to compute velocities and accelerations",
             time.len()
         )));
@@ -91,7 +91,7 @@ pub fn uniform_rate(time: &[f64], lines: &[usize]) -> Result<f64, IdentifyError>
                 "time step {step} s differs from the mean step {h} s by more than 1%: the filter \
                  that computes velocities and accelerations needs uniform sampling (or give qd and qdd columns)"
             );
-            let e = IdentifyError::new(msg);
+            let e = IdentifyError::data(msg);
             return Err(match lines.get(k + 1) {
                 Some(&l) => e.at_line(l).at_column(1, "time"),
                 None => e,
@@ -102,7 +102,7 @@ pub fn uniform_rate(time: &[f64], lines: &[usize]) -> Result<f64, IdentifyError>
 }
 
 /// First and second derivatives of `x(t)` by three-point differences (any spacing).
-pub fn differences(time: &[f64], x: &[f64]) -> (Vec<f64>, Vec<f64>) {
+pub(crate) fn differences(time: &[f64], x: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let n = x.len();
     let mut d1 = vec![0.0; n];
     let mut d2 = vec![0.0; n];

@@ -1,46 +1,45 @@
 //! Errors of identification: every one names what is wrong and where (file, line, column,
-//! joint or parameter), so a bad input never turns into a silent wrong estimate.
+//! joint or parameter), so a bad input never turns into a silent wrong estimate. An error that
+//! comes from below (reading the file, the CSV reader, the model) keeps it as its source.
 
+use dyngen_codegen::model::ModelError;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
-/// An identification error, formatted like the description loader's: `file:line:column: message`.
-#[derive(Clone, Debug, PartialEq)]
-pub struct IdentifyError {
+/// Why identification (or reading its data) failed. Formatted like the description loader's
+/// errors: `file:line: column c (name): message`.
+#[derive(Debug, thiserror::Error)]
+pub enum IdentifyError {
+    /// The data file could not be opened or read.
+    #[error("{}: cannot read the data file: {source}", path.display())]
+    Read { path: PathBuf, source: std::io::Error },
+    /// The CSV reader failed (a line that is not UTF-8, an unterminated quote).
+    #[error("{place}not valid CSV: {source}")]
+    Csv { place: Place, source: csv::Error },
+    /// The data is wrong: a column, a field, the time, a limit, too few samples to filter.
+    #[error("{place}{message}")]
+    Data { place: Place, message: String },
+    /// The data cannot determine the parameters (too few samples, a parameter not excited).
+    #[error("{0}")]
+    Unidentifiable(String),
+    /// A compiled robot given as the regressor source is not the description's robot.
+    #[error("{0}")]
+    WrongRobot(String),
+    /// The consistent estimate did not make a valid model: a bug, said as one.
+    #[error("internal error: the consistent estimate is not a valid model: {0}")]
+    InvalidEstimate(#[source] ModelError),
+}
+
+/// Where in the data an error is: file, line, and the CSV field (1-based column, not character)
+/// with its header name. Each part is optional; it prints as the message's prefix.
+#[derive(Clone, Debug, Default, PartialEq, Eq)]
+pub struct Place {
     pub file: Option<PathBuf>,
     pub line: Option<usize>,
-    /// 1-based column of the CSV field (not of the character), with its header name.
     pub column: Option<(usize, String)>,
-    pub message: String,
 }
 
-impl IdentifyError {
-    pub fn new(message: impl Into<String>) -> Self {
-        IdentifyError {
-            file: None,
-            line: None,
-            column: None,
-            message: message.into(),
-        }
-    }
-
-    pub fn in_file(mut self, file: &Path) -> Self {
-        self.file = Some(file.to_path_buf());
-        self
-    }
-
-    pub fn at_line(mut self, line: usize) -> Self {
-        self.line = Some(line);
-        self
-    }
-
-    pub fn at_column(mut self, column: usize, name: &str) -> Self {
-        self.column = Some((column, name.to_owned()));
-        self
-    }
-}
-
-impl fmt::Display for IdentifyError {
+impl fmt::Display for Place {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         if let Some(file) = &self.file {
             write!(f, "{}", file.display())?;
@@ -54,8 +53,44 @@ impl fmt::Display for IdentifyError {
         if let Some((column, name)) = &self.column {
             write!(f, "column {column} ({name}): ")?;
         }
-        write!(f, "{}", self.message)
+        Ok(())
     }
 }
 
-impl std::error::Error for IdentifyError {}
+impl IdentifyError {
+    /// A data error without a place yet (the reader adds line, column and file as it knows them).
+    pub(crate) fn data(message: impl Into<String>) -> Self {
+        IdentifyError::Data {
+            place: Place::default(),
+            message: message.into(),
+        }
+    }
+
+    fn place_mut(&mut self) -> Option<&mut Place> {
+        match self {
+            IdentifyError::Data { place, .. } | IdentifyError::Csv { place, .. } => Some(place),
+            _ => None,
+        }
+    }
+
+    pub(crate) fn in_file(mut self, file: &Path) -> Self {
+        if let Some(place) = self.place_mut() {
+            place.file = Some(file.to_path_buf());
+        }
+        self
+    }
+
+    pub(crate) fn at_line(mut self, line: usize) -> Self {
+        if let Some(place) = self.place_mut() {
+            place.line = Some(line);
+        }
+        self
+    }
+
+    pub(crate) fn at_column(mut self, column: usize, name: &str) -> Self {
+        if let Some(place) = self.place_mut() {
+            place.column = Some((column, name.to_owned()));
+        }
+        self
+    }
+}

@@ -81,7 +81,7 @@ pub fn condition_number(base: &BaseModel<'_>, trajectory: &FourierTrajectory, sa
 }
 
 /// A standard normal draw (Box–Muller).
-pub fn normal(rng: &mut SplitMix64) -> f64 {
+pub(crate) fn normal(rng: &mut SplitMix64) -> f64 {
     let u1 = rng.uniform((f64::MIN_POSITIVE, 1.0));
     let u2 = rng.uniform((0.0, 1.0));
     (-2.0 * u1.ln()).sqrt() * (2.0 * std::f64::consts::PI * u2).cos()

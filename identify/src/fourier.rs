@@ -85,7 +85,7 @@ pub struct JointSample {
 }
 
 /// Fraction of each limit a scaled trajectory uses (the dense grid may miss a peak slightly).
-pub const LIMIT_MARGIN: f64 = 0.95;
+pub(crate) const LIMIT_MARGIN: f64 = 0.95;
 /// Grid points per period and harmonic when scaling into the limits: the highest harmonic is
 /// sampled 64 times per its period, so a peak between points is missed by at most
 /// `1 − cos(π/64) ≈ 0.1%`, well inside [`LIMIT_MARGIN`].
@@ -149,7 +149,7 @@ impl FourierTrajectory {
     }
 
     /// Centres every joint in its position range and scales its coefficients so that its
-    /// binding limit (position, velocity or acceleration) is reached at [`LIMIT_MARGIN`].
+    /// binding limit (position, velocity or acceleration) is reached at 95% of it.
     pub fn fit_into(&mut self, limits: &TrajectoryLimits) {
         for j in 0..self.dof() {
             let (lo, hi) = limits.position[j];

@@ -1,7 +1,7 @@
 //! Weighted least squares on the base parameters, with standard deviations, and the
 //! diagnosis of what the data cannot determine.
 //!
-//! `W θ_b ≈ τ` (rows sample-major, [`crate::observation`]). Joints differ in noise (a wrist's
+//! `W θ_b ≈ τ` (rows sample-major, the stacked observation). Joints differ in noise (a wrist's
 //! torque sensor is finer than a shoulder's), so, as Gautier's method does:
 //! 1. ordinary least squares; the residuals of joint `j` give its noise `σ_j`
 //!    (`‖r_j‖² / (N − b/n)`, with `N` samples and `b/n` parameters per joint);
@@ -47,7 +47,7 @@ impl BaseEstimate {
 /// Scaled columns whose smallest eigenvalue of `WᵀW` is below this fraction of the largest
 /// (a scaled condition number above 10⁶) do not determine every parameter: beyond it, noise
 /// is amplified a million-fold and the refined solution loses its last digits.
-pub const IDENTIFIABILITY_TOL: f64 = 1e-12;
+pub(crate) const IDENTIFIABILITY_TOL: f64 = 1e-12;
 
 /// Zero column: a norm below this fraction of the largest.
 const ZERO_COLUMN_TOL: f64 = 1e-12;
@@ -79,7 +79,7 @@ fn solve_refined(
 
 /// Estimates `θ_b` from the stacked base regressor `w` (rows sample-major over `n` joints),
 /// torques `tau` and the base parameters' names.
-pub fn estimate(
+pub(crate) fn estimate(
     w: &DMatrix<f64>,
     tau: &DVector<f64>,
     n: usize,
@@ -88,14 +88,14 @@ pub fn estimate(
     let (rows, b) = w.shape();
     let samples = rows / n.max(1);
     if rows < b + n {
-        return Err(IdentifyError::new(format!(
+        return Err(IdentifyError::Unidentifiable(format!(
             "{samples} samples give {rows} equations for {b} base parameters (and {n} noise levels): too few samples"
         )));
     }
     let norms: Vec<f64> = w.column_iter().map(|c| c.norm()).collect();
     let largest = norms.iter().copied().fold(0.0, f64::max);
     if let Some(k) = (0..b).find(|&k| norms[k] <= ZERO_COLUMN_TOL * largest) {
-        return Err(IdentifyError::new(format!(
+        return Err(IdentifyError::Unidentifiable(format!(
             "base parameter '{}' cannot be determined: its regressor column is zero over all samples \
              (the data never moves, accelerates or reverses what it multiplies); excite that joint",
             names[k]
@@ -143,7 +143,7 @@ pub fn estimate(
                 others.join(", ")
             )
         };
-        return Err(IdentifyError::new(format!(
+        return Err(IdentifyError::Unidentifiable(format!(
             "base parameter '{}' cannot be determined from this data: {why} (scaled condition number {:.3e}); \
              use a richer excitation",
             names[order[0]],

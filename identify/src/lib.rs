@@ -2,34 +2,47 @@
 //! excitation trajectory, from measured data to base parameters with uncertainties, a
 //! physically consistent full parameter vector, and an identified description.
 //!
-//! The pipeline, one file per step:
-//! 1. [`fourier`]: periodic finite-Fourier-series joint trajectories, scaled into the joint
-//!    limits; [`excitation`]: their coefficients optimised for a well-conditioned stacked base
-//!    regressor.
-//! 2. [`data`]: the data CSV (time, joint positions and torques by joint name; velocities and
-//!    accelerations optional), read with errors that name file, line and column;
-//!    [`differentiate`]: zero-phase low-pass filter and central differences for the missing
-//!    derivatives.
-//! 3. [`observation`]: the base regressor stacked over the samples, in torque form
-//!    (`v = q̇`, `a = q̈`), from the generic numeric dynamics of any description.
-//! 4. [`least_squares`]: weighted least squares on the base parameters with per-parameter
-//!    standard deviations, and the identifiability diagnosis.
-//! 5. [`consistent`]: a physically consistent full θ (every body's pseudo-inertia positive
-//!    definite, armature and friction non-negative) by a log-Cholesky parameterisation.
-//! 6. [`describe`]: the identified robot as a dyngen YAML description; [`pipeline`]: all of
-//!    it in one call.
+//! Every item is at the crate root; the pipeline, one private module per step:
+//! 1. Excitation: [`FourierTrajectory`] (periodic finite Fourier series, scaled into
+//!    [`TrajectoryLimits`]), its coefficients optimised by [`optimise`] for a well-conditioned
+//!    stacked base regressor ([`condition_number`]).
+//! 2. Data: [`read_csv`] reads the data CSV into [`Samples`] (time, joint positions and
+//!    torques by joint name; velocities and accelerations optional), with errors that name
+//!    file, line and column; [`to_csv`] writes one. [`prepare`] computes missing velocities and
+//!    accelerations (zero-phase low-pass filter, central differences).
+//! 3. Observation: the base regressor of a [`BaseRegressorSource`] (the generic numeric
+//!    dynamics of any description, [`BaseModel`], or a compiled robot, [`Compiled`]), in
+//!    torque form, stacked over the samples.
+//! 4. Estimation: weighted least squares on the base parameters with per-parameter standard
+//!    deviations ([`BaseEstimate`]), or an [`IdentifyError::Unidentifiable`] that names the
+//!    parameter the data cannot determine; then a physically consistent full θ
+//!    ([`ConsistentEstimate`]: every body's pseudo-inertia positive definite, armature and
+//!    friction non-negative, by a log-Cholesky parameterisation).
+//! 5. The identified robot as a dyngen YAML description ([`to_yaml`],
+//!    [`Identification::yaml`]); [`identify`] runs all of it in one call.
+//!
+//! [`measure`], [`with_payload`] and [`with_joint_terms`] simulate measurements of a "true"
+//! robot, for tests and studies.
 
-pub mod consistent;
-pub mod data;
-pub mod describe;
-pub mod differentiate;
-pub mod error;
-pub mod excitation;
-pub mod fourier;
-pub mod least_squares;
-pub mod observation;
-pub mod pipeline;
-pub mod plot;
-pub mod simulate;
+mod consistent;
+mod data;
+mod describe;
+mod differentiate;
+mod error;
+mod excitation;
+mod fourier;
+mod least_squares;
+mod observation;
+mod pipeline;
+mod simulate;
 
-pub use error::IdentifyError;
+pub use consistent::{pseudo_inertia_margins, ConsistentEstimate};
+pub use data::{read_csv, to_csv, Samples};
+pub use describe::to_yaml;
+pub use error::{IdentifyError, Place};
+pub use excitation::{condition_number, optimise, Excitation, ExcitationOptions};
+pub use fourier::{FourierTrajectory, JointSample, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
+pub use least_squares::BaseEstimate;
+pub use observation::{prepare, BaseModel, BaseRegressorSource, Compiled, Prepared};
+pub use pipeline::{identify, identify_with, Identification, IdentifyOptions};
+pub use simulate::{measure, with_joint_terms, with_payload};

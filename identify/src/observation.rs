@@ -122,11 +122,11 @@ pub struct Prepared {
 }
 
 /// Completes `samples` (which must have torques): missing `q̇`/`q̈` are computed
-/// ([`crate::differentiate`], cutoff `cutoff` Hz), and then the filter's end transients are
+/// (zero-phase low-pass filter and central differences, cutoff `cutoff` Hz), and then the filter's end transients are
 /// dropped. Given `q̇`/`q̈` are used as they are.
 pub fn prepare(samples: &Samples, cutoff: f64) -> Result<Prepared, IdentifyError> {
     let Some(tau) = &samples.tau else {
-        return Err(IdentifyError::new(
+        return Err(IdentifyError::data(
             "the data has no torque columns (tau[<joint>])",
         ));
     };
@@ -144,7 +144,7 @@ pub fn prepare(samples: &Samples, cutoff: f64) -> Result<Prepared, IdentifyError
         (given_qd, _) => {
             let rate = uniform_rate(&samples.time, &samples.lines)?;
             if !(cutoff > 0.0 && cutoff < 0.5 * rate) {
-                return Err(IdentifyError::new(format!(
+                return Err(IdentifyError::data(format!(
                     "filter cutoff {cutoff} Hz must lie between 0 and half the sampling rate ({} Hz)",
                     0.5 * rate
                 )));
@@ -165,7 +165,7 @@ pub fn prepare(samples: &Samples, cutoff: f64) -> Result<Prepared, IdentifyError
             }
             let pad = padding(rate, cutoff);
             if samples.len() <= 2 * pad {
-                return Err(IdentifyError::new(format!(
+                return Err(IdentifyError::data(format!(
                     "{} samples: the filter's transients take {pad} at each end; give more samples or q̇ and q̈",
                     samples.len()
                 )));

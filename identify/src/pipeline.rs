@@ -43,7 +43,7 @@ impl Identification {
     pub fn yaml(&self, source: &str) -> String {
         let comment = vec![
             format!(
-                "Identified by dyngen-identify from {source}: {} samples.",
+                "Identified by `dyngen identify` from {source}: {} samples.",
                 self.samples_used
             ),
             "Inertial parameters: the physically consistent estimate (log-Cholesky); the directions".into(),
@@ -64,7 +64,7 @@ pub fn identify(
 }
 
 /// [`identify`] with the base regressor from `source`, e.g. a compiled robot
-/// ([`crate::observation::Compiled`]), which must have the description's base parameters.
+/// ([`Compiled`](crate::Compiled)), which must have the description's base parameters.
 pub fn identify_with(
     model: &Model,
     source: &impl BaseRegressorSource,
@@ -73,7 +73,7 @@ pub fn identify_with(
 ) -> Result<Identification, IdentifyError> {
     let base_model = BaseModel::new(model);
     if source.dof() != model.dof() || source.base_names() != base_model.base.names {
-        return Err(IdentifyError::new(format!(
+        return Err(IdentifyError::WrongRobot(format!(
             "the compiled robot's base parameters are not those of the description '{}' \
              (regenerate it, or identify with the description alone)",
             model.name()
@@ -84,11 +84,7 @@ pub fn identify_with(
     let base = estimate(&w, &tau, model.dof(), &base_model.base.names)?;
     let consistent = consistent_estimate(model, &base_model.base, &base);
     // Consistent by construction; an error here would be a bug, said as one.
-    let identified = with_parameters(model, &consistent.theta).map_err(|e| {
-        IdentifyError::new(format!(
-            "internal error: the consistent estimate is not a valid model: {e}"
-        ))
-    })?;
+    let identified = with_parameters(model, &consistent.theta).map_err(IdentifyError::InvalidEstimate)?;
     Ok(Identification {
         base,
         consistent,

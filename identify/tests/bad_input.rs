@@ -4,10 +4,10 @@
 mod common;
 
 use common::{arm7_nominal, arm7_truth};
-use dyngen_identify::data::{read_csv, to_csv, Samples};
-use dyngen_identify::fourier::{FourierTrajectory, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
-use dyngen_identify::pipeline::{identify, IdentifyOptions};
-use dyngen_identify::simulate::measure;
+use dyngen_identify::measure;
+use dyngen_identify::{identify, IdentifyOptions};
+use dyngen_identify::{read_csv, to_csv, Samples};
+use dyngen_identify::{FourierTrajectory, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
 use std::path::PathBuf;
 
 fn good_samples() -> Samples {
@@ -151,6 +151,47 @@ fn too_few_samples_is_an_error() {
     let err = identify(&arm7_nominal(), &samples, &IdentifyOptions::default()).expect_err("too few");
     assert!(
         err.to_string().starts_with("5 samples give 35 equations for"),
+        "{err}"
+    );
+}
+
+/// An error from below keeps it as its source: the I/O error of a file that is not there, the
+/// CSV reader's of a line that is not UTF-8 (with the line it is on).
+#[test]
+fn errors_from_below_keep_their_source() {
+    use dyngen_identify::IdentifyError;
+    use std::error::Error as _;
+    let dir = tempfile::tempdir().expect("temp dir");
+    let missing = dir.path().join("missing.csv");
+    let err = read_csv(&missing, &arm7_nominal(), true).expect_err("no file");
+    let IdentifyError::Read { path, source } = &err else {
+        panic!("not a read error: {err:?}")
+    };
+    assert_eq!(path, &missing);
+    assert_eq!(source.kind(), std::io::ErrorKind::NotFound);
+    assert!(err.source().is_some());
+    assert!(err
+        .to_string()
+        .starts_with(&format!("{}: cannot read the data file: ", missing.display())));
+
+    let good = to_csv(&arm7_nominal(), &good_samples());
+    let mut bytes = good.into_bytes();
+    let third_line = bytes
+        .iter()
+        .enumerate()
+        .filter(|(_, &b)| b == b'\n')
+        .nth(1)
+        .map(|(i, _)| i + 1)
+        .expect("three lines");
+    bytes[third_line] = 0xff;
+    let not_utf8 = dir.path().join("not-utf8.csv");
+    std::fs::write(&not_utf8, bytes).expect("write");
+    let err = read_csv(&not_utf8, &arm7_nominal(), true).expect_err("not UTF-8");
+    assert!(matches!(err, IdentifyError::Csv { .. }), "{err:?}");
+    assert!(err.source().is_some());
+    assert!(
+        err.to_string()
+            .starts_with(&format!("{}:3: not valid CSV", not_utf8.display())),
         "{err}"
     );
 }

@@ -7,10 +7,10 @@ use dyngen_codegen::base_parameters::BaseParameterSet;
 use dyngen_codegen::description::load_yaml_str;
 use dyngen_codegen::generate::generate_robot;
 use dyngen_codegen::model::JointTermKind;
-use dyngen_identify::consistent::pseudo_inertia_margins;
-use dyngen_identify::fourier::{FourierTrajectory, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
-use dyngen_identify::pipeline::{identify, IdentifyOptions};
-use dyngen_identify::simulate::measure;
+use dyngen_identify::measure;
+use dyngen_identify::pseudo_inertia_margins;
+use dyngen_identify::{identify, IdentifyOptions};
+use dyngen_identify::{FourierTrajectory, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
 
 fn trajectory(seed: u64) -> FourierTrajectory {
     let nominal = arm7_nominal();
@@ -106,11 +106,10 @@ fn consistent_estimate_satisfies_constraints_and_its_yaml_regenerates() {
 #[test]
 fn compiled_robot_identifies_like_the_description() {
     use dyngen_generated::arm7::Arm7;
-    use dyngen_identify::observation::Compiled;
-    use dyngen_identify::pipeline::identify_with;
+    use dyngen_identify::identify_with;
+    use dyngen_identify::Compiled;
     let arm7 = common::arm7();
-    let truth =
-        dyngen_identify::simulate::with_payload(&arm7, 1.5, nalgebra::Vector3::new(0.0, 0.0, 0.05), 0.04);
+    let truth = dyngen_identify::with_payload(&arm7, 1.5, nalgebra::Vector3::new(0.0, 0.0, 0.05), 0.04);
     let samples = measure(&truth, &trajectory(8), 5.0, 100.0, &[0.0; 7], 1, true);
     let numeric = identify(&arm7, &samples, &IdentifyOptions::default()).expect("numeric");
     let compiled = Compiled::<Arm7, 7, 70, 43>::default();

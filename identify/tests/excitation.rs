@@ -4,10 +4,10 @@
 mod common;
 
 use common::arm7_nominal;
-use dyngen_identify::data::Samples;
-use dyngen_identify::excitation::{condition_number, optimise, ExcitationOptions};
-use dyngen_identify::fourier::{FourierTrajectory, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
-use dyngen_identify::observation::{prepare, BaseModel};
+use dyngen_identify::Samples;
+use dyngen_identify::{condition_number, optimise, ExcitationOptions};
+use dyngen_identify::{prepare, BaseModel};
+use dyngen_identify::{FourierTrajectory, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
 
 fn limits() -> TrajectoryLimits {
     TrajectoryLimits::from_model(&arm7_nominal(), DEFAULT_ACCELERATION_PER_VELOCITY)

@@ -4,9 +4,7 @@
 mod bench_table;
 
 use clap::{Parser, Subcommand};
-use dyngen_codegen::description::{load, to_urdf_rs};
 use dyngen_codegen::generate::{descriptions_in, generate_into_crate, CrateReport, Mode};
-use dyngen_codegen::urdf_rs;
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
 
@@ -38,17 +36,6 @@ enum Command {
         /// when the benchmarks ran with another `CARGO_TARGET_DIR`).
         #[arg(long)]
         criterion: Option<PathBuf>,
-    },
-    /// Write a description (`.yaml` or `.urdf`) as the URDF of its model, after fixed and
-    /// locked joints were welded away, to view it in urdf-viz or RViz. Prints to stdout; what
-    /// the URDF cannot say (gravity, a non-default end-effector) goes to stderr, with the YAML
-    /// wrapper that loads it back as the same model.
-    Urdf {
-        /// The robot description.
-        description: PathBuf,
-        /// Write the URDF to this file instead of stdout.
-        #[arg(short, long)]
-        output: Option<PathBuf>,
     },
     /// Fuzz the description loaders (`dyngen_testkit::fuzz`), in release, with progress. An
     /// abort without a finding is a stack overflow or a hang: rerun with `--threads 1` and
@@ -148,58 +135,8 @@ fn print_summary(report: &CrateReport, check: bool) {
         for warning in &r.robot.warnings {
             println!("  warning: {warning}");
         }
-        println!(
-            "  {:<28} {:>7} {:>7} {:>5} {:>5} {:>5} {:>7}",
-            "function", "mul", "add", "neg", "div", "trig", "lanes"
-        );
-        for (name, c) in &r.robot.op_counts {
-            println!(
-                "  {name:<28} {:>7} {:>7} {:>5} {:>5} {:>5} {:>7}",
-                c.mul, c.add, c.neg, c.div, c.trig, c.lanes
-            );
-        }
+        print!("{}", r.robot.op_count_table("  "));
     }
-}
-
-/// `cargo xtask urdf`: load, export, write; notes and warnings to stderr.
-fn urdf(description: &Path, output: Option<&Path>) -> Result<(), String> {
-    let loaded = load(description).map_err(|e| e.to_string())?;
-    for warning in &loaded.warnings {
-        eprintln!("warning: {warning}");
-    }
-    let export = to_urdf_rs(&loaded.model).map_err(|e| e.to_string())?;
-    let text = urdf_rs::write_to_string(&export.robot).map_err(|e| format!("cannot write the URDF: {e}"))?;
-    let text = format!(
-        "<?xml version=\"1.0\"?>\n<!-- Written by `cargo xtask urdf` from {}: the model dyngen generates code for \
-         (fixed and locked joints welded away). -->\n{text}\n",
-        description.file_name().map(|f| f.to_string_lossy()).unwrap_or_default()
-    );
-    match output {
-        None => print!("{text}"),
-        Some(path) => {
-            std::fs::write(path, &text).map_err(|e| format!("cannot write {}: {e}", path.display()))?;
-            eprintln!(
-                "{} → {} ({} DOF, end-effector '{}')",
-                shown(description),
-                shown(path),
-                loaded.model.dof(),
-                loaded.model.end_effector().name
-            );
-        }
-    }
-    for warning in &export.warnings {
-        eprintln!("warning: {warning}");
-    }
-    if export.needs_wrapper() {
-        let file = output
-            .and_then(|p| p.file_name())
-            .map_or_else(|| "robot.urdf".to_owned(), |f| f.to_string_lossy().into_owned());
-        eprintln!(
-            "to load it as the same model, use this YAML wrapper beside it:\n{}",
-            export.yaml_wrapper(&file)
-        );
-    }
-    Ok(())
 }
 
 fn main() -> ExitCode {
@@ -243,14 +180,6 @@ fn main() -> ExitCode {
                 }
             }
         }
-        Command::Urdf { description, output } => match urdf(&resolve(&description, &root), output.as_deref())
-        {
-            Ok(()) => ExitCode::SUCCESS,
-            Err(e) => {
-                eprintln!("error: {e}");
-                ExitCode::FAILURE
-            }
-        },
         Command::Scale => {
             if let Some(code) = rerun_in_release() {
                 return code;

@@ -14,6 +14,7 @@ pub use robot_file::{
     generate_robot, generate_robot_with, GenerateError, GeneratedRobot, GENERATED_MARKER, MAX_GENERATED_DOF,
 };
 
-// The build-script API names its module and type the way `cargo xtask gen` does.
-pub(crate) use emit::type_name;
-pub(crate) use output::module_name;
+// The naming rule every front end shares (the build-script API, `dyngen gen`, `dyngen info`,
+// `cargo xtask gen`): a description's file stem gives the module, the module the type.
+pub use emit::type_name;
+pub use output::module_name;

@@ -45,6 +45,8 @@ pub struct GeneratedRobot {
     pub op_counts: Vec<(&'static str, OpCounts)>,
     /// Number of base parameters `p_b` (independent combinations of the standard ones).
     pub base_parameter_count: usize,
+    /// The base parameters' readable names (`BASE_PARAMETER_NAMES` of the generated module).
+    pub base_parameter_names: Vec<String>,
     pub elapsed: Duration,
 }
 
@@ -130,8 +132,27 @@ pub fn generate_robot_with(
         notes: loaded.notes,
         op_counts,
         base_parameter_count: robot.base.count(),
+        base_parameter_names: robot.base.names.clone(),
         elapsed: start.elapsed(),
     })
+}
+
+impl GeneratedRobot {
+    /// The operations of each generated function as a table, one line per function (each
+    /// line starts with `indent`), as `cargo xtask gen` and `dyngen info` print it.
+    pub fn op_count_table(&self, indent: &str) -> String {
+        let mut table = format!(
+            "{indent}{:<28} {:>7} {:>7} {:>5} {:>5} {:>5} {:>7}\n",
+            "function", "mul", "add", "neg", "div", "trig", "lanes"
+        );
+        for (name, c) in &self.op_counts {
+            table += &format!(
+                "{indent}{name:<28} {:>7} {:>7} {:>5} {:>5} {:>5} {:>7}\n",
+                c.mul, c.add, c.neg, c.div, c.trig, c.lanes
+            );
+        }
+        table
+    }
 }
 
 /// One warning per joint whose inertia-matrix pivot vanishes (it moves no mass or inertia in its

@@ -3,7 +3,7 @@
 
 use dyngen_codegen::description::load;
 use dyngen_codegen::model::{JointTermValues, Model};
-use dyngen_identify::simulate::{with_joint_terms, with_payload};
+use dyngen_identify::{with_joint_terms, with_payload};
 use nalgebra::Vector3;
 use std::path::Path;
 

@@ -19,19 +19,20 @@
 //! joint; every base parameter with relative σ below 5% within 3σ of its true value; the
 //! optimised excitation's condition number at most half the random coefficients'.
 
+mod plot;
+
 use dyngen_codegen::base_parameters::BaseParameterSet;
 use dyngen_codegen::description::{load, load_yaml_str};
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::model::{JointTermValues, Model};
-use dyngen_identify::data::{read_csv, to_csv};
-use dyngen_identify::describe::to_yaml;
-use dyngen_identify::excitation::{optimise, ExcitationOptions};
-use dyngen_identify::fourier::{FourierTrajectory, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
-use dyngen_identify::observation::{BaseModel, BaseRegressorSource};
-use dyngen_identify::pipeline::{identify, IdentifyOptions};
-use dyngen_identify::plot::{svg, Panel};
-use dyngen_identify::simulate::{measure, with_joint_terms, with_payload};
+use dyngen_identify::{
+    identify, measure, optimise, read_csv, to_csv, to_yaml, with_joint_terms, with_payload, BaseModel,
+    BaseRegressorSource, ExcitationOptions, FourierTrajectory, IdentifyOptions, TrajectoryLimits,
+    DEFAULT_ACCELERATION_PER_VELOCITY,
+};
 use nalgebra::{DVector, Vector3};
+use plot::{svg, Panel};
+use plotters::style::RGBColor;
 use std::path::Path;
 use std::time::Instant;
 
@@ -189,10 +190,14 @@ fn main() {
             series: vec![
                 (
                     "measured",
-                    "#999999",
+                    RGBColor(0x99, 0x99, 0x99),
                     measured[..plotted].iter().map(|r| r[j]).collect(),
                 ),
-                ("predicted", "#c0392b", predicted[j][..plotted].to_vec()),
+                (
+                    "predicted",
+                    RGBColor(0xc0, 0x39, 0x2b),
+                    predicted[j][..plotted].to_vec(),
+                ),
             ],
         })
         .collect();

@@ -1,0 +1,72 @@
+//! `dyngen identify`: base parameters with uncertainties, a physically consistent full
+//! parameter vector and an identified description, from measured data.
+
+use crate::failure::Failure;
+use crate::identifiable::load_identifiable;
+use clap::Args;
+use dyngen_identify::{identify, read_csv, IdentifyOptions};
+use std::path::PathBuf;
+use std::time::Instant;
+
+/// Identify a robot's parameters from a data CSV (time, q and tau per joint; qd and qdd
+/// optional) and write the identified description.
+#[derive(Args, Debug)]
+pub struct IdentifyArgs {
+    /// The robot description identification starts from (`.yaml` or `.urdf`).
+    description: PathBuf,
+    /// The measured data (CSV with columns `time`, `q[<joint>]`, `tau[<joint>]`, optionally
+    /// `qd[<joint>]` and `qdd[<joint>]`).
+    data: PathBuf,
+    /// The identified description to write (dyngen YAML).
+    #[arg(short, long, value_name = "identified.yaml")]
+    output: PathBuf,
+    /// Cutoff of the low-pass filter used when velocities or accelerations are missing, in Hz.
+    #[arg(long, value_name = "HZ", default_value_t = IdentifyOptions::default().cutoff)]
+    cutoff: f64,
+}
+
+pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
+    let model = load_identifiable(&args.description)?;
+    if model.joint_terms().kinds.is_empty() {
+        eprintln!(
+            "note: {} chooses no joint-level columns (joint_parameters.columns): friction and armature are not identified",
+            args.description.display()
+        );
+    }
+    let samples = read_csv(&args.data, &model, true)?;
+    let start = Instant::now();
+    let id = identify(&model, &samples, &IdentifyOptions { cutoff: args.cutoff })?;
+    let elapsed = start.elapsed().as_secs_f64();
+    println!(
+        "{}: {} samples used{}, {} base parameters, scaled condition number {:.1}, identified in {elapsed:.2} s",
+        model.name(),
+        id.samples_used,
+        if id.differentiated { " (q̇, q̈ by filter and differences)" } else { "" },
+        id.base.theta_b.len(),
+        id.base.condition_number
+    );
+    println!("{:>14} {:>14} {:>9}  base parameter", "θ_b", "σ", "σ/|θ_b|");
+    for k in 0..id.base.theta_b.len() {
+        println!(
+            "{:>14.6e} {:>14.3e} {:>8.2}%  {}",
+            id.base.theta_b[k],
+            id.base.std_dev[k],
+            100.0 * id.base.relative_std_dev(k),
+            id.base.names[k]
+        );
+    }
+    for (j, joint) in model.joints().iter().enumerate() {
+        println!("torque noise of {}: {:.4}", joint.name, id.base.joint_noise[j]);
+    }
+    println!(
+        "consistent estimate: whitened misfit {:.2} for {} base parameters ({} iterations)",
+        id.consistent.misfit,
+        id.base.theta_b.len(),
+        id.consistent.iterations
+    );
+    let yaml = id.yaml(&args.data.display().to_string());
+    std::fs::write(&args.output, yaml)
+        .map_err(|e| Failure::from(format!("{}: cannot write: {e}", args.output.display())))?;
+    println!("wrote {}", args.output.display());
+    Ok(())
+}

@@ -1,0 +1,33 @@
+//! The options every command that reads a description shares: the choices a YAML wrapper
+//! would make for a bare URDF file.
+
+use clap::Args;
+use dyngen_codegen::description::{EndEffectorSpec, UrdfOptions};
+
+#[derive(Args, Clone, Debug, Default)]
+pub struct LoadingArgs {
+    /// For a bare URDF: make origin angles within TOL radians of a quarter turn exact quarter
+    /// turns, and axis components that close to 0 exactly 0 (at most 1e-3; each change is a
+    /// warning). A YAML description sets `snap_angles:` itself.
+    #[arg(long, value_name = "TOL")]
+    pub snap_angles: Option<f64>,
+    /// For a bare URDF: the link whose pose and Jacobian are generated (default: the leaf at
+    /// the end of the longest chain). A YAML description sets `end_effector:` itself.
+    #[arg(long, value_name = "LINK")]
+    pub end_effector: Option<String>,
+}
+
+impl LoadingArgs {
+    pub fn urdf_options(&self) -> UrdfOptions {
+        UrdfOptions {
+            snap_angles: self.snap_angles,
+            end_effector: self.end_effector.as_ref().map(|link| EndEffectorSpec {
+                name: None,
+                link: link.clone(),
+                xyz: [0.0; 3],
+                rpy: [0.0; 3],
+            }),
+            ..UrdfOptions::default()
+        }
+    }
+}

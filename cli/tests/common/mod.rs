@@ -1,0 +1,65 @@
+//! Running the installed-to-be `dyngen` binary and the files the tests give it.
+#![allow(dead_code)]
+
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+/// What a run of `dyngen` gave.
+pub struct Run {
+    /// The exit code (`None`: killed by a signal, which a test treats as a failure).
+    pub code: Option<i32>,
+    pub stdout: String,
+    pub stderr: String,
+}
+
+impl Run {
+    /// Both streams, for assertion messages.
+    pub fn output(&self) -> String {
+        format!(
+            "exit {:?}\nstdout:\n{}\nstderr:\n{}",
+            self.code, self.stdout, self.stderr
+        )
+    }
+}
+
+/// Runs `dyngen` with `args` in `dir`.
+pub fn dyngen_in(dir: &Path, args: &[&str]) -> Run {
+    let out = Command::new(env!("CARGO_BIN_EXE_dyngen"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .expect("dyngen runs");
+    Run {
+        code: out.status.code(),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+    }
+}
+
+/// Runs `dyngen` with `args` in the current directory.
+pub fn dyngen(args: &[&str]) -> Run {
+    dyngen_in(Path::new("."), args)
+}
+
+/// A file of the repository, by its path from the workspace root.
+pub fn repository_file(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(path)
+}
+
+/// `path` as an argument.
+pub fn arg(path: &Path) -> &str {
+    path.to_str().expect("test paths are UTF-8")
+}
+
+/// arm7 with a mass that is not a number, written into `dir`: a description that must fail
+/// at a known place.
+pub fn broken_arm7(dir: &Path) -> PathBuf {
+    let text = std::fs::read_to_string(repository_file("robots/arm7.yaml")).expect("arm7.yaml");
+    assert!(
+        text.contains("mass: 7.039242"),
+        "the line the test breaks is still there"
+    );
+    let path = dir.join("broken.yaml");
+    std::fs::write(&path, text.replacen("mass: 7.039242", "mass: heavy", 1)).expect("write");
+    path
+}

@@ -1,0 +1,122 @@
+//! `dyngen excite` then `dyngen identify`, end to end: the trajectory is within the limits,
+//! identification writes a description that loads, bad data is one error line naming file,
+//! line and column.
+
+mod common;
+
+use common::{arg, dyngen, repository_file};
+use dyngen_codegen::description::load;
+use dyngen_codegen::dynamics::NumericDynamics;
+use dyngen_codegen::model::JointTermValues;
+use dyngen_identify::{read_csv, to_csv, with_joint_terms, with_payload};
+use dyngen_runtime::SplitMix64;
+use nalgebra::Vector3;
+
+/// A standard normal sample (Box–Muller).
+fn normal(rng: &mut SplitMix64) -> f64 {
+    let u1 = rng.unit().max(f64::MIN_POSITIVE);
+    let u2 = rng.unit();
+    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+}
+
+#[test]
+fn excite_then_identify_then_load() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let description = dir.path().join("arm7_joint.yaml");
+    let text = std::fs::read_to_string(repository_file("robots/arm7.yaml")).expect("arm7.yaml")
+        + "joint_parameters:\n  columns: [armature, viscous, coulomb, offset]\n";
+    std::fs::write(&description, text).expect("write");
+    let nominal = load(&description).unwrap_or_else(|e| panic!("{e}")).model;
+
+    let trajectory = dir.path().join("excitation.csv");
+    let run = dyngen(&[
+        "excite",
+        arg(&description),
+        "-o",
+        arg(&trajectory),
+        "--duration",
+        "10",
+        "--rate=100",
+        "--iterations",
+        "20",
+    ]);
+    assert_eq!(run.code, Some(0), "{}", run.output());
+    assert!(run.stdout.contains("condition number"), "{}", run.output());
+    // The written trajectory passes the reader's limit checks (positions and velocities).
+    let excitation = read_csv(&trajectory, &nominal, false).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(excitation.len(), 1000);
+
+    // Measure a "real" robot along it (a payload, joint friction and armature; exact
+    // derivatives from the file, torques with noise of 1% of the rated torque).
+    let values = vec![
+        JointTermValues {
+            armature: 0.2,
+            viscous: 0.5,
+            coulomb: 1.0,
+            offset: 0.1,
+        };
+        7
+    ];
+    let payload = with_payload(&nominal, 1.5, Vector3::new(0.0, 0.0, 0.05), 0.04);
+    let truth = with_joint_terms(&payload, &values, None);
+    let noise: Vec<f64> = truth
+        .joints()
+        .iter()
+        .map(|j| 0.01 * j.limits.map_or(1.0, |l| l.effort))
+        .collect();
+    let dynamics = NumericDynamics::new(&truth);
+    let (qd, qdd) = (
+        excitation.qd.as_ref().expect("qd"),
+        excitation.qdd.as_ref().expect("qdd"),
+    );
+    let mut rng = SplitMix64::new(9);
+    let mut data = excitation.clone();
+    data.tau = Some(
+        (0..excitation.len())
+            .map(|k| {
+                let tau = dynamics.inverse_dynamics(&excitation.q[k], &qd[k], &qdd[k]);
+                tau.iter()
+                    .zip(&noise)
+                    .map(|(t, s)| t + s * normal(&mut rng))
+                    .collect()
+            })
+            .collect(),
+    );
+    let data_path = dir.path().join("data.csv");
+    std::fs::write(&data_path, to_csv(&nominal, &data)).expect("write data");
+
+    let identified = dir.path().join("identified.yaml");
+    let run = dyngen(&[
+        "identify",
+        arg(&description),
+        arg(&data_path),
+        "--output",
+        arg(&identified),
+    ]);
+    assert_eq!(run.code, Some(0), "{}", run.output());
+    assert!(
+        run.stdout.contains("Ia[joint7]"),
+        "prints the base parameters: {}",
+        run.output()
+    );
+    let model = load(&identified).unwrap_or_else(|e| panic!("{e}")).model;
+    assert_eq!(model.parameter_count(), 98);
+
+    // Bad data: one error line naming file, line and column, a failure, nothing written.
+    let bad = dir.path().join("bad.csv");
+    let text = std::fs::read_to_string(&data_path).expect("data");
+    std::fs::write(&bad, text.replacen("q[joint3]", "q[joint33]", 1)).expect("write");
+    let not_written = dir.path().join("not-written.yaml");
+    let run = dyngen(&["identify", arg(&description), arg(&bad), "-o", arg(&not_written)]);
+    assert_eq!(run.code, Some(1), "{}", run.output());
+    assert!(
+        run.stderr.starts_with(&format!(
+            "error: {}:1: column 4 (q[joint33]): unknown joint 'joint33'",
+            bad.display()
+        )),
+        "{}",
+        run.output()
+    );
+    assert_eq!(run.stderr.lines().count(), 1, "{}", run.output());
+    assert!(!not_written.exists());
+}

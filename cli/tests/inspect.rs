@@ -1,0 +1,120 @@
+//! `dyngen check`, `dyngen info` and `dyngen urdf`: loading, reporting and exporting without
+//! generating a file.
+
+mod common;
+
+use common::{arg, broken_arm7, dyngen, repository_file};
+use dyngen_codegen::description::load;
+
+#[test]
+fn check_exit_codes() {
+    let arm7 = repository_file("robots/arm7.yaml");
+    let ok = dyngen(&["check", arg(&arm7)]);
+    assert_eq!(ok.code, Some(0), "{}", ok.output());
+    assert!(ok.stderr.contains("7 DOF"), "{}", ok.output());
+    // arm7 loads without warnings, so denying them changes nothing.
+    let strict = dyngen(&["check", arg(&arm7), "--deny-warnings"]);
+    assert_eq!(strict.code, Some(0), "{}", strict.output());
+
+    let dir = tempfile::tempdir().expect("temp dir");
+    let broken = broken_arm7(dir.path());
+    let bad = dyngen(&["check", arg(&broken)]);
+    assert_eq!(bad.code, Some(1), "{}", bad.output());
+    assert!(
+        bad.stderr.starts_with(&format!("error: {}:", broken.display())),
+        "{}",
+        bad.output()
+    );
+
+    // Vendor URDF files write 1.5708 for a quarter turn: a warning, which --deny-warnings
+    // turns into a failure.
+    let xarm = repository_file("codegen/tests/data/example-robot-data/xarm_description/xarm7.urdf");
+    let warned = dyngen(&["check", arg(&xarm)]);
+    assert_eq!(warned.code, Some(0), "{}", warned.output());
+    assert!(
+        warned.stderr.contains("warning:"),
+        "xarm7 has near-quarter turns: {}",
+        warned.output()
+    );
+    let denied = dyngen(&["check", arg(&xarm), "--deny-warnings"]);
+    assert_eq!(denied.code, Some(1), "{}", denied.output());
+    // Snapping them away leaves nothing to deny... except what snapping itself reports.
+    let snapped = dyngen(&["check", arg(&xarm), "--snap-angles=1e-4"]);
+    assert_eq!(snapped.code, Some(0), "{}", snapped.output());
+    // URDF options with a YAML description are an error, never ignored.
+    let mixed = dyngen(&["check", arg(&arm7), "--snap-angles", "1e-4"]);
+    assert_eq!(mixed.code, Some(1), "{}", mixed.output());
+}
+
+#[test]
+fn info_names_joints_parameters_and_base_parameters() {
+    let twodof = repository_file("codegen/tests/data/example-robot-data/asr_twodof_description/TwoDofs.urdf");
+    let run = dyngen(&["info", arg(&twodof)]);
+    assert_eq!(run.code, Some(0), "{}", run.output());
+    let model = load(&twodof).expect("loads").model;
+    assert!(
+        run.stdout.contains(&format!("DOF: {}", model.dof())),
+        "{}",
+        run.stdout
+    );
+    for joint in model.joints() {
+        assert!(
+            run.stdout.contains(&joint.name),
+            "names joint {}: {}",
+            joint.name,
+            run.stdout
+        );
+    }
+    // The base parameters as the generated module names them.
+    let base = dyngen_codegen::base_parameters::BaseParameterSet::compute(&model);
+    assert!(!base.names.is_empty());
+    assert!(
+        run.stdout
+            .contains(&format!("base parameters ({}):", base.names.len())),
+        "{}",
+        run.stdout
+    );
+    for name in &base.names {
+        assert!(
+            run.stdout.contains(&format!("  {name}\n")),
+            "lists {name}: {}",
+            run.stdout
+        );
+    }
+    for function in ["inverse_dynamics", "mass_matrix", "base_regressor"] {
+        assert!(
+            run.stdout.contains(function),
+            "operations of {function}: {}",
+            run.stdout
+        );
+    }
+}
+
+#[test]
+fn urdf_export_loads_back_as_the_same_model() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let arm7 = repository_file("robots/arm7.yaml");
+    let exported = dir.path().join("arm7.urdf");
+    let run = dyngen(&["urdf", arg(&arm7), "-o", arg(&exported)]);
+    assert_eq!(run.code, Some(0), "{}", run.output());
+    assert!(run.stderr.contains("7 DOF"), "{}", run.output());
+    let original = load(&arm7).expect("arm7").model;
+    let back = load(&exported).unwrap_or_else(|e| panic!("{e}")).model;
+    assert_eq!(back.dof(), original.dof());
+    assert_eq!(back.end_effector().name, original.end_effector().name);
+    let names =
+        |m: &dyngen_codegen::model::Model| m.joints().iter().map(|j| j.name.clone()).collect::<Vec<_>>();
+    assert_eq!(names(&back), names(&original));
+    let (a, b) = (back.parameters(), original.parameters());
+    assert_eq!(a.len(), b.len());
+    for (x, y) in a.iter().zip(&b) {
+        assert!(
+            (x - y).abs() <= 1e-9 * (1.0 + y.abs()),
+            "inertial parameters survive: {x} vs {y}"
+        );
+    }
+    // Without -o, the URDF goes to stdout.
+    let stdout = dyngen(&["urdf", arg(&arm7)]);
+    assert_eq!(stdout.code, Some(0), "{}", stdout.output());
+    assert!(stdout.stdout.starts_with("<?xml"), "{}", stdout.output());
+}

@@ -1,0 +1,146 @@
+//! Through the library, as a user's tool would: `Builder` writes the 2-DOF vendor URDF into a
+//! fresh crate of its own (`src/robot.rs`, depending on nothing but `dyngen-runtime`), whose
+//! test compares the compiled functions with values computed here by `NumericDynamics`; then
+//! `cargo test --offline` runs that crate.
+
+use dyngen_codegen::description::load;
+use dyngen_codegen::dynamics::NumericDynamics;
+use dyngen_codegen::Builder;
+use std::fmt::Write as _;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn workspace_root() -> PathBuf {
+    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
+        .canonicalize()
+        .expect("workspace root")
+}
+
+/// A Rust array literal whose numbers read back as the same `f64`s.
+fn array(values: impl IntoIterator<Item = f64>) -> String {
+    let items: Vec<String> = values.into_iter().map(|v| format!("{v:?}")).collect();
+    format!("[{}]", items.join(", "))
+}
+
+/// States away from any symmetry: every term of the dynamics is non-zero.
+const STATES: [([f64; 2], [f64; 2], [f64; 2]); 3] = [
+    ([0.3, -0.7], [0.5, 1.1], [-0.4, 0.9]),
+    ([1.2, 0.4], [-1.3, 0.2], [0.8, -0.6]),
+    ([-0.9, 2.1], [0.7, -0.9], [1.5, 0.3]),
+];
+
+/// The test of the temporary crate: the generated functions against the expected values.
+fn comparison_test(model: &dyngen_codegen::model::Model) -> String {
+    let dynamics = NumericDynamics::new(model);
+    let mut cases = String::new();
+    for (q, qd, qdd) in STATES {
+        let tau = dynamics.inverse_dynamics(&q, &qd, &qdd);
+        let g = dynamics.gravity_torque(&q);
+        let d = dynamics.mass_matrix(&q);
+        let (_, position) = dynamics.end_effector_pose(&q);
+        let _ = writeln!(
+            cases,
+            "    check({}, {}, {}, {}, {}, {}, {});",
+            array(q),
+            array(qd),
+            array(qdd),
+            array(tau.iter().copied()),
+            array(g.iter().copied()),
+            // Row by row: `D[i][j]`.
+            array(
+                (0..2)
+                    .flat_map(|i| (0..2).map(move |j| (i, j)))
+                    .map(|(i, j)| d[(i, j)])
+            ),
+            array(position.iter().copied()),
+        );
+    }
+    format!(
+        r#"//! Written by `generated_crate.rs` of dyngen's downstream tests: the generated robot
+//! against `NumericDynamics`' values for the same description.
+
+use dyngen_runtime::nalgebra::SVector;
+use dyngen_runtime::prelude::*;
+use generated_two_dof::robot::Robot;
+
+fn close(what: &str, got: f64, want: f64) {{
+    assert!((got - want).abs() <= 1e-9 * (1.0 + want.abs()), "{{what}}: generated {{got}}, expected {{want}}");
+}}
+
+#[allow(clippy::too_many_arguments)]
+fn check(q: [f64; 2], qd: [f64; 2], qdd: [f64; 2], tau: [f64; 2], g: [f64; 2], d: [f64; 4], p: [f64; 3]) {{
+    let t = JointTrig::new(&SVector::from(q));
+    let got = Robot::inverse_dynamics(&t, &SVector::from(qd), &SVector::from(qdd));
+    let gravity = Robot::gravity(&t);
+    let mass = Robot::mass_matrix(&t);
+    let pose = Robot::forward_kinematics(&t);
+    for i in 0..2 {{
+        close("tau", got[i], tau[i]);
+        close("g", gravity[i], g[i]);
+        for j in 0..2 {{
+            close("D", mass[(i, j)], d[2 * i + j]);
+        }}
+    }}
+    for i in 0..3 {{
+        close("end-effector position", pose.translation[i], p[i]);
+    }}
+}}
+
+#[test]
+fn generated_functions_match_the_generic_dynamics() {{
+{cases}}}
+"#
+    )
+}
+
+#[test]
+fn a_crate_generated_through_the_builder_compiles_and_matches() {
+    let root = workspace_root();
+    let description = root.join("codegen/tests/data/example-robot-data/asr_twodof_description/TwoDofs.urdf");
+    let model = load(&description).unwrap_or_else(|e| panic!("{e}")).model;
+    assert_eq!(model.dof(), 2);
+
+    let dir = tempfile::tempdir().expect("temp dir");
+    let krate = dir.path();
+    std::fs::create_dir_all(krate.join("src")).expect("src");
+    std::fs::create_dir_all(krate.join("tests")).expect("tests");
+    let written = Builder::new(&description)
+        .output_file(krate.join("src/robot.rs"))
+        .cargo_directives(false)
+        .compile()
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(written, krate.join("src/robot.rs"));
+
+    let runtime = root.join("runtime");
+    let manifest = format!(
+        "[package]\nname = \"generated-two-dof\"\nversion = \"0.0.0\"\nedition = \"2021\"\npublish = false\n\n\
+         [dependencies]\ndyngen-runtime = {{ path = {:?} }}\n\n\
+         # Not a member of any workspace above the temporary directory.\n[workspace]\n",
+        runtime.display().to_string()
+    );
+    std::fs::write(krate.join("Cargo.toml"), manifest).expect("Cargo.toml");
+    // The workspace's versions of nalgebra and the rest, already in the local registry cache:
+    // an offline build needs nothing new.
+    std::fs::copy(root.join("Cargo.lock"), krate.join("Cargo.lock")).expect("Cargo.lock");
+    std::fs::write(krate.join("src/lib.rs"), "#![deny(warnings)]\n\npub mod robot;\n").expect("lib.rs");
+    std::fs::write(krate.join("tests/values.rs"), comparison_test(&model)).expect("test");
+
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let out = Command::new(cargo)
+        .args(["test", "--offline", "--manifest-path"])
+        .arg(krate.join("Cargo.toml"))
+        .arg("--target-dir")
+        .arg(root.join("target/generated-crate"))
+        .output()
+        .expect("cargo runs");
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(
+        out.status.success(),
+        "the generated crate's test fails:\n{stdout}\n{stderr}"
+    );
+    assert!(
+        stdout.contains("test generated_functions_match_the_generic_dynamics ... ok"),
+        "the comparison ran:\n{stdout}"
+    );
+}
