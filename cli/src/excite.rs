@@ -3,6 +3,7 @@
 
 use crate::failure::Failure;
 use crate::identifiable::load_identifiable;
+use crate::loading::LoadingArgs;
 use clap::Args;
 use dyngen_identify::{
     optimise, to_csv, BaseModel, ExcitationOptions, Samples, TrajectoryLimits,
@@ -41,6 +42,8 @@ pub struct ExciteArgs {
     /// Acceleration limit of each joint as a multiple of its velocity limit (per second).
     #[arg(long, value_name = "K", default_value_t = DEFAULT_ACCELERATION_PER_VELOCITY)]
     acceleration_per_velocity: f64,
+    #[command(flatten)]
+    loading: LoadingArgs,
 }
 
 pub fn run(args: ExciteArgs) -> Result<(), Failure> {
@@ -50,7 +53,7 @@ pub fn run(args: ExciteArgs) -> Result<(), Failure> {
             "--duration, --rate, --frequency and --harmonics must be positive",
         ));
     }
-    let model = load_identifiable(&args.description)?;
+    let model = load_identifiable(&args.description, &args.loading)?;
     let base = BaseModel::new(&model);
     let limits = TrajectoryLimits::from_model(&model, args.acceleration_per_velocity);
     let options = ExcitationOptions {

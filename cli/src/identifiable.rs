@@ -2,12 +2,19 @@
 //! joints (identification reads and writes one column per moving joint).
 
 use crate::failure::Failure;
-use dyngen_codegen::description::load;
+use crate::loading::LoadingArgs;
+use dyngen_codegen::description::load_with;
 use dyngen_codegen::model::Model;
 use std::path::Path;
 
-pub fn load_identifiable(description: &Path) -> Result<Model, Failure> {
-    let model = load(description)?.model;
+/// The description's model; its warnings go to stderr (a non-physical inertia among them:
+/// identification then starts from the nearest physical one, and says so).
+pub fn load_identifiable(description: &Path, loading: &LoadingArgs) -> Result<Model, Failure> {
+    let loaded = load_with(description, &loading.urdf_options())?;
+    for warning in &loaded.warnings {
+        eprintln!("warning: {warning}");
+    }
+    let model = loaded.model;
     if model.has_mimics() {
         return Err(Failure::from(format!(
             "{}: identification of robots with mimic joints is not supported; lock them (locked_joints)",

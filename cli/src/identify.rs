@@ -3,6 +3,7 @@
 
 use crate::failure::Failure;
 use crate::identifiable::load_identifiable;
+use crate::loading::LoadingArgs;
 use clap::Args;
 use dyngen_identify::{identify, read_csv, IdentifyOptions};
 use std::path::PathBuf;
@@ -23,10 +24,12 @@ pub struct IdentifyArgs {
     /// Cutoff of the low-pass filter used when velocities or accelerations are missing, in Hz.
     #[arg(long, value_name = "HZ", default_value_t = IdentifyOptions::default().cutoff)]
     cutoff: f64,
+    #[command(flatten)]
+    loading: LoadingArgs,
 }
 
 pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
-    let model = load_identifiable(&args.description)?;
+    let model = load_identifiable(&args.description, &args.loading)?;
     if model.joint_terms().kinds.is_empty() {
         eprintln!(
             "note: {} chooses no joint-level columns (joint_parameters.columns): friction and armature are not identified",
@@ -37,6 +40,9 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
     let start = Instant::now();
     let id = identify(&model, &samples, &IdentifyOptions { cutoff: args.cutoff })?;
     let elapsed = start.elapsed().as_secs_f64();
+    for note in &id.notes {
+        eprintln!("note: {note}");
+    }
     println!(
         "{}: {} samples used{}, {} base parameters, scaled condition number {:.1}, identified in {elapsed:.2} s",
         model.name(),

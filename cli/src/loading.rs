@@ -1,8 +1,8 @@
 //! The options every command that reads a description shares: the choices a YAML wrapper
 //! would make for a bare URDF file.
 
-use clap::Args;
-use dyngen_codegen::description::{EndEffectorSpec, UrdfOptions};
+use clap::{Args, ValueEnum};
+use dyngen_codegen::description::{EndEffectorSpec, NonPhysicalInertia, UrdfOptions};
 
 #[derive(Args, Clone, Debug, Default)]
 pub struct LoadingArgs {
@@ -15,6 +15,31 @@ pub struct LoadingArgs {
     /// the end of the longest chain). A YAML description sets `end_effector:` itself.
     #[arg(long, value_name = "LINK")]
     pub end_effector: Option<String>,
+    /// For a bare URDF: what to do with a link whose inertia no real body can have (a negative
+    /// principal moment, a broken triangle inequality, mass without extent about an axis):
+    /// load it as written with a warning, repair it to the nearest physical inertia (each
+    /// change a note), or refuse it. A YAML description sets `inertia:` itself.
+    #[arg(long, value_enum, value_name = "CHOICE", default_value_t = InertiaArg::AsWritten)]
+    pub inertia: InertiaArg,
+}
+
+/// `--inertia`: [`NonPhysicalInertia`] as the command line spells it.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, ValueEnum)]
+pub enum InertiaArg {
+    #[default]
+    AsWritten,
+    Repair,
+    Strict,
+}
+
+impl From<InertiaArg> for NonPhysicalInertia {
+    fn from(arg: InertiaArg) -> Self {
+        match arg {
+            InertiaArg::AsWritten => NonPhysicalInertia::AsWritten,
+            InertiaArg::Repair => NonPhysicalInertia::Repair,
+            InertiaArg::Strict => NonPhysicalInertia::Strict,
+        }
+    }
 }
 
 impl LoadingArgs {
@@ -27,6 +52,7 @@ impl LoadingArgs {
                 xyz: [0.0; 3],
                 rpy: [0.0; 3],
             }),
+            inertia: self.inertia.into(),
             ..UrdfOptions::default()
         }
     }

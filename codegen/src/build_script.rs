@@ -4,7 +4,7 @@
 //! In `build.rs`, `fn main() { dyngen_codegen::compile_robot("robots/panda.yaml"); }`; in
 //! `src/lib.rs`, `dyngen_runtime::include_robot!(panda);` gives `panda::Panda`.
 
-use crate::description::UrdfOptions;
+use crate::description::{NonPhysicalInertia, UrdfOptions};
 use crate::generate::{generate_robot_with, module_name, type_name, write_file, GenerateError, RobotReport};
 use std::path::{Path, PathBuf};
 
@@ -52,8 +52,18 @@ impl Builder {
         self
     }
 
+    /// For a bare URDF file: what to do with a link whose inertia no real body can have
+    /// (default [`NonPhysicalInertia::AsWritten`]: load it as written, with a warning;
+    /// `Repair`: the nearest physical inertia, each change a note; `Strict`: an error). A YAML
+    /// description sets `inertia:` itself (giving this option with one is an error).
+    pub fn inertia(mut self, choice: NonPhysicalInertia) -> Builder {
+        self.urdf.inertia = choice;
+        self
+    }
+
     /// For a bare URDF file: all the choices a YAML wrapper would make (end-effector frame,
-    /// locked joints, gravity, snapping). A YAML description makes them itself.
+    /// locked joints, gravity, snapping, non-physical inertias). A YAML description makes them
+    /// itself.
     pub fn urdf_options(mut self, options: UrdfOptions) -> Builder {
         self.urdf = options;
         self

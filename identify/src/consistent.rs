@@ -23,7 +23,8 @@
 //! boundary to solver tolerance, which the loader may then reject (a singular inertia with
 //! mass). Log-Cholesky needs no dependency and returns strictly consistent bodies; its
 //! non-convexity is benign here because it starts at the description's consistent values and
-//! the data term is a positive definite quadratic in the identifiable directions.
+//! the data term is a positive definite quadratic in the identifiable directions. (A
+//! description that is not physical is repaired before it gets here: `physical_start`.)
 
 use crate::least_squares::BaseEstimate;
 use dyngen_codegen::base_parameters::BaseParameterSet;
@@ -212,7 +213,9 @@ fn prior_scales(model: &Model, prior: &[f64]) -> Vec<f64> {
 }
 
 /// The consistent θ closest (in whitened data misfit) to the least-squares `estimate`, with
-/// the description's θ as the tie-breaking prior; see the module docs.
+/// `model`'s θ as the start and tie-breaking prior; see the module docs. `model`'s bodies must
+/// be physical (a pseudo-inertia that is not positive semi-definite has no log-Cholesky
+/// coordinates).
 pub(crate) fn consistent_estimate(
     model: &Model,
     base: &BaseParameterSet,

@@ -17,7 +17,9 @@
 //!    deviations ([`BaseEstimate`]), or an [`IdentifyError::Unidentifiable`] that names the
 //!    parameter the data cannot determine; then a physically consistent full θ
 //!    ([`ConsistentEstimate`]: every body's pseudo-inertia positive definite, armature and
-//!    friction non-negative, by a log-Cholesky parameterisation).
+//!    friction non-negative, by a log-Cholesky parameterisation), started from the
+//!    description's values, or from their nearest physical inertia where a body of the
+//!    description is not physical ([`Identification::notes`] says which).
 //! 5. The identified robot as a dyngen YAML description ([`to_yaml`],
 //!    [`Identification::yaml`]); [`identify`] runs all of it in one call.
 //!
@@ -33,6 +35,7 @@ mod excitation;
 mod fourier;
 mod least_squares;
 mod observation;
+mod physical_start;
 mod pipeline;
 mod simulate;
 

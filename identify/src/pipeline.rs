@@ -7,6 +7,7 @@ use crate::describe::{to_yaml, with_parameters};
 use crate::error::IdentifyError;
 use crate::least_squares::{estimate, BaseEstimate};
 use crate::observation::{prepare, BaseModel, BaseRegressorSource};
+use crate::physical_start::physical_start;
 use dyngen_codegen::model::Model;
 
 /// Options of [`identify`].
@@ -36,12 +37,16 @@ pub struct Identification {
     /// Samples used (after the filter's end transients, when derivatives were computed).
     pub samples_used: usize,
     pub differentiated: bool,
+    /// What a person should know about how the estimate was made, e.g. that a body of the
+    /// description was not physical and the consistent estimate started from its nearest
+    /// physical inertia.
+    pub notes: Vec<String>,
 }
 
 impl Identification {
     /// The identified robot as dyngen YAML.
     pub fn yaml(&self, source: &str) -> String {
-        let comment = vec![
+        let mut comment = vec![
             format!(
                 "Identified by `dyngen identify` from {source}: {} samples.",
                 self.samples_used
@@ -49,6 +54,7 @@ impl Identification {
             "Inertial parameters: the physically consistent estimate (log-Cholesky); the directions".into(),
             "the data cannot see keep the values of the description identification started from.".into(),
         ];
+        comment.extend(self.notes.iter().map(|note| format!("Note: {note}")));
         to_yaml(&self.model, &comment)
     }
 }
@@ -82,7 +88,9 @@ pub fn identify_with(
     let prepared = prepare(samples, options.cutoff)?;
     let (w, tau) = prepared.stack(source);
     let base = estimate(&w, &tau, model.dof(), &base_model.base.names)?;
-    let consistent = consistent_estimate(model, &base_model.base, &base);
+    // The consistent estimate needs a physical start; the least squares above do not.
+    let (start, notes) = physical_start(model);
+    let consistent = consistent_estimate(&start, &base_model.base, &base);
     // Consistent by construction; an error here would be a bug, said as one.
     let identified = with_parameters(model, &consistent.theta).map_err(IdentifyError::InvalidEstimate)?;
     Ok(Identification {
@@ -91,5 +99,6 @@ pub fn identify_with(
         model: identified,
         samples_used: prepared.q.len(),
         differentiated: prepared.differentiated,
+        notes,
     })
 }

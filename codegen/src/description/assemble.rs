@@ -9,6 +9,7 @@
 use super::error::{item, num, render, vec3, DescriptionError};
 use super::items::{too_large, JointShape, Motion};
 use super::joint_parameters;
+use super::non_physical::{self, NonPhysicalLink};
 use super::options::{EndEffectorSpec, Settings};
 use super::raw::RawRobot;
 use super::source_map::{joint_path, link_path, SourceMap};
@@ -26,6 +27,8 @@ pub(crate) struct Checked<'a> {
     /// Where the robot's links and joints are written.
     pub robot_map: &'a SourceMap,
     pub links: &'a [Inertia],
+    /// Links whose inertia is not physical, to report once their carriers are known.
+    pub non_physical: &'a [NonPhysicalLink],
     pub joints: &'a [JointShape],
     pub topo: &'a Topology,
 }
@@ -96,6 +99,9 @@ pub(crate) fn assemble(
             "the robot has no moving joints (all are fixed or locked)",
         ));
     }
+
+    // A link on the base never enters the dynamics, so its inertia's defects are only said.
+    non_physical::report(c.non_physical, |l| carrier[l].is_none(), c.robot_map, diags)?;
 
     // Weld every link into its carrier's body; links on the base do not move and drop out.
     for &l in &c.topo.link_order {

@@ -1,17 +1,18 @@
 //! Each link and joint checked on its own, and turned into model quantities.
 //!
 //! Everything that can be judged without the rest of the tree is judged here, with the place
-//! of the item: finite numbers, known joint types, a usable axis, ordered limits, a physically
-//! possible inertia. The tree rules (names, parents, cycles) are in `tree`.
+//! of the item: finite numbers, known joint types, a usable axis, ordered limits, whether an
+//! inertia is physical (what is then done about it: `non_physical`). The tree rules (names,
+//! parents, cycles) are in `tree`.
 
 use super::error::{item, num, vec3, DescriptionError};
 use super::near_exact::{Finding, Snap};
+use super::non_physical::{self, NonPhysicalLink};
+use super::options::NonPhysicalInertia;
 use super::raw::{RawInertial, RawJoint, RawLink};
 use super::source_map::{joint_path, link_path, SourceMap};
 use super::Diagnostics;
-use crate::model::{
-    check_rotational_inertia, from_xyz_rpy, Inertia, JointKind, Limits, Pose, INERTIA_REL_TOL,
-};
+use crate::model::{from_xyz_rpy, principal_moments, Inertia, JointKind, Limits, Pose};
 use nalgebra::{Matrix3, Vector3};
 
 /// How a joint moves, once its type is known to be supported.
@@ -227,25 +228,42 @@ fn check_joint(
     })
 }
 
-/// Checks every link's mass properties; returns them in the link frame.
+/// Every link's mass properties, in the link frame, and the links whose inertia is not
+/// physical (reported once the tree is known: `non_physical::report`).
+pub(crate) struct CheckedLinks {
+    pub inertias: Vec<Inertia>,
+    pub non_physical: Vec<NonPhysicalLink>,
+}
+
+/// Checks every link's mass properties; an inertia that is not physical is kept, repaired or
+/// refused as `inertia` says.
 pub(crate) fn check_links(
     links: &[RawLink],
     map: &SourceMap,
     snap: Snap,
+    inertia: NonPhysicalInertia,
     diags: &mut Diagnostics,
-) -> Result<Vec<Inertia>, DescriptionError> {
-    links
-        .iter()
-        .enumerate()
-        .map(|(i, l)| match &l.inertial {
-            None => Ok(Inertia {
+) -> Result<CheckedLinks, DescriptionError> {
+    let mut checked = CheckedLinks {
+        inertias: Vec::with_capacity(links.len()),
+        non_physical: Vec::new(),
+    };
+    for (i, l) in links.iter().enumerate() {
+        let link = match &l.inertial {
+            None => Inertia {
                 mass: 0.0,
                 com: Vector3::zeros(),
                 inertia_com: Matrix3::zeros(),
-            }),
-            Some(inertial) => check_inertial(i, &l.name, inertial, map, snap, diags),
-        })
-        .collect()
+            },
+            Some(inertial) => {
+                let (link, found) = check_inertial(i, &l.name, inertial, map, snap, inertia, diags)?;
+                checked.non_physical.extend(found);
+                link
+            }
+        };
+        checked.inertias.push(link);
+    }
+    Ok(checked)
 }
 
 fn check_inertial(
@@ -254,8 +272,9 @@ fn check_inertial(
     inertial: &RawInertial,
     map: &SourceMap,
     snap: Snap,
+    choice: NonPhysicalInertia,
     diags: &mut Diagnostics,
-) -> Result<Inertia, DescriptionError> {
+) -> Result<(Inertia, Option<NonPhysicalLink>), DescriptionError> {
     let path = format!("{}.inertial", link_path(i));
     let label = item("link", name);
     let err = |field: &str, msg: String| map.error(&format!("{path}{field}"), msg).about(label.clone());
@@ -318,28 +337,21 @@ fn check_inertial(
         );
         return Err(err(".inertia", msg));
     }
-    let moments = check_rotational_inertia(&tensor).map_err(|m| err(".inertia", m))?;
+    let (tensor, non_physical) =
+        non_physical::examine(i, name, mass, &tensor, choice).map_err(|m| err(".inertia", m))?;
+    let moments = principal_moments(&tensor);
     let is_zero = tensor.iter().all(|v| *v == 0.0);
-    let largest = moments[0].abs().max(moments[2].abs());
     if mass > 0.0 && is_zero {
         let msg = format!("mass {} with zero inertia: treated as a point mass", num(mass));
         diags
             .warnings
             .push(map.diagnostic(&format!("{path}.inertia"), Some(&label), &msg));
-    } else if mass > 0.0 && moments[0] <= INERTIA_REL_TOL * largest {
-        let msg = format!(
-            "mass {} with an inertia that is not positive definite (principal moments {}); \
-             give a positive definite inertia, or all zeros for a point mass",
-            num(mass),
-            vec3(&moments)
-        );
-        return Err(err(".inertia", msg));
     } else if mass == 0.0 && !is_zero {
         let msg = "zero mass but a non-zero inertia";
         diags
             .warnings
             .push(map.diagnostic(&format!("{path}.inertia"), Some(&label), msg));
-    } else if mass > 0.0 {
+    } else if mass > 0.0 && moments[2] > 0.0 {
         // The radius of gyration about the principal axis of largest moment: how far from the
         // centre of mass the mass would sit. Outside a millimetre-to-metres band, the mass and
         // the inertia are almost surely in different units (g vs kg, mm² vs m²).
@@ -360,11 +372,12 @@ fn check_inertial(
     let (rpy, near) = snap.rpy("inertial origin", rpy);
     report(near, map, &path, &label, diags);
     let rotation = from_xyz_rpy(xyz, rpy).rotation;
-    Ok(Inertia {
+    let link = Inertia {
         mass,
         com: Vector3::from(xyz),
         inertia_com: rotation * tensor * rotation.transpose(),
-    })
+    };
+    Ok((link, non_physical))
 }
 
 /// Above this mass (kg) a link gets a warning (a heavy industrial arm's links weigh tens to

@@ -4,7 +4,8 @@
 //! 1. read: `urdf` (XML), `yaml` (both YAML forms) or `import` (a [`urdf_rs::Robot`] in
 //!    memory) → a raw link/joint graph (`raw`), with the place of every item (`source_map`,
 //!    `yaml_spans`; none in memory) so later checks can point at it;
-//! 2. `items`: each link and joint checked on its own (numbers, types, axes, limits, inertias);
+//! 2. `items`: each link and joint checked on its own (numbers, types, axes, limits, inertias;
+//!    `non_physical`: inertias no real body can have, kept, repaired or refused as asked);
 //! 3. `tree`: names resolved, one root, no cycles, depth-first joint order;
 //! 4. `assemble`: fixed and locked joints welded away, inertias merged, frames placed,
 //!    end-effector chosen;
@@ -24,6 +25,7 @@ mod import;
 mod items;
 mod joint_parameters;
 mod near_exact;
+mod non_physical;
 mod options;
 mod raw;
 mod source_map;
@@ -34,7 +36,7 @@ mod yaml_spans;
 
 pub use error::{DescriptionError, Location};
 pub use export::{to_urdf_rs, ExportError, UrdfExport};
-pub use options::{EndEffectorSpec, UrdfOptions};
+pub use options::{EndEffectorSpec, NonPhysicalInertia, UrdfOptions};
 
 use crate::model::Model;
 use options::Settings;
@@ -97,7 +99,7 @@ pub fn load_with(path: &Path, urdf: &UrdfOptions) -> Result<Loaded, DescriptionE
             return Err(DescriptionError::new(
                 path,
                 "URDF options were given for a YAML description: set them in the YAML \
-                 (`snap_angles:`, `end_effector:`, `locked_joints:`, `gravity:`)",
+                 (`snap_angles:`, `inertia:`, `end_effector:`, `locked_joints:`, `gravity:`)",
             ));
         }
         load_yaml_str(&text, path)?
@@ -139,6 +141,7 @@ fn build_bare_urdf(
         locked_joints: options.locked_joints.clone(),
         joint_parameters: None,
         snap_angles: options.snap_angles,
+        inertia: options.inertia,
         map,
     };
     build(robot, map, &settings, Vec::new())
@@ -200,13 +203,14 @@ fn build(
 ) -> Result<Loaded, DescriptionError> {
     let mut diags = Diagnostics::default();
     let snap = settings.snap()?;
-    let links = items::check_links(&robot.links, robot_map, snap, &mut diags)?;
+    let links = items::check_links(&robot.links, robot_map, snap, settings.inertia, &mut diags)?;
     let joints = items::check_joints(&robot.joints, robot_map, snap, &mut diags)?;
     let topo = tree::topology(robot, robot_map)?;
     let checked = assemble::Checked {
         raw: robot,
         robot_map,
-        links: &links,
+        links: &links.inertias,
+        non_physical: &links.non_physical,
         joints: &joints,
         topo: &topo,
     };

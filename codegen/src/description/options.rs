@@ -1,5 +1,6 @@
 //! What a user chooses on top of a robot description: the end-effector, joints locked at a
-//! value, gravity. A bare URDF gets them from [`UrdfOptions`]; a YAML file from its keys.
+//! value, gravity, what to do with near-exact angles and non-physical inertias. A bare URDF
+//! gets them from [`UrdfOptions`]; a YAML file from its keys.
 
 use serde::de::{self, value::MapAccessDeserializer, Deserializer, MapAccess, Visitor};
 use serde::Deserialize;
@@ -20,6 +21,45 @@ pub struct UrdfOptions {
     /// and axis components this close to 0 exactly 0 (at most 1e-3; each change is noted).
     /// `None`: such values are kept and warned about.
     pub snap_angles: Option<f64>,
+    /// What to do with a link whose inertia no real body can have (a negative principal
+    /// moment, a broken triangle inequality, mass without extent about an axis). Default:
+    /// load it as written, with a warning.
+    pub inertia: NonPhysicalInertia,
+}
+
+/// What the loader does with a link whose inertia no real body can have: YAML
+/// `inertia: as_written | repair | strict`, [`UrdfOptions::inertia`],
+/// [`Builder::inertia`](crate::Builder::inertia), `dyngen --inertia`.
+///
+/// The dynamics (`D`, `g`, `J`, `τ`) are well defined either way; physical consistency
+/// matters to identification, which starts from the nearest physical inertia of a
+/// description that is not physical. A defect beyond
+/// [`GROSS_DEFECT`](crate::model::physical_inertia::GROSS_DEFECT) (a triangle excess
+/// `I3 − I1 − I2` above half the largest moment) is wrong numbers rather than rounded ones:
+/// refused unless repaired, or unless the link is welded to the fixed base (it then never
+/// enters the dynamics).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum NonPhysicalInertia {
+    /// Keep the inertia as written; one warning per link says how far from physical it is.
+    #[default]
+    AsWritten,
+    /// Replace it by the nearest physical inertia (same principal axes, each moment moved no
+    /// further than the defect); one note per link gives the values before and after.
+    Repair,
+    /// Refuse it, as an error with the link's place.
+    Strict,
+}
+
+impl NonPhysicalInertia {
+    /// The value as YAML writes it (`as_written`, `repair`, `strict`).
+    pub fn keyword(self) -> &'static str {
+        match self {
+            NonPhysicalInertia::AsWritten => "as_written",
+            NonPhysicalInertia::Repair => "repair",
+            NonPhysicalInertia::Strict => "strict",
+        }
+    }
 }
 
 /// The end-effector frame: a link, optionally moved by a fixed offset.
@@ -133,9 +173,10 @@ pub(crate) struct Settings<'a> {
     pub end_effector: Option<EndEffectorSpec>,
     pub locked_joints: Vec<(String, f64)>,
     pub snap_angles: Option<f64>,
+    pub inertia: NonPhysicalInertia,
     /// `joint_parameters:` of a YAML file (a bare URDF has none: no joint-level columns).
     pub joint_parameters: Option<super::joint_parameters::JointParametersSpec>,
-    /// Places of `end_effector`, `gravity`, `locked_joints.<joint>`, `snap_angles`.
+    /// Places of `end_effector`, `gravity`, `locked_joints.<joint>`, `snap_angles`, `inertia`.
     pub map: &'a super::source_map::SourceMap,
 }
 

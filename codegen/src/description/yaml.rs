@@ -32,6 +32,7 @@
 //! locked_joints: { panda_finger_joint1: 0.0, panda_finger_joint2: 0.0 }
 //! gravity: [0.0, 0.0, -9.81]
 //! snap_angles: 1e-4                     # optional: 1.5708 → π/2 (each change noted)
+//! inertia: repair                       # optional: as_written (default) | repair | strict
 //! ```
 //!
 //! Both forms may add `joint_parameters:` (armature, friction, offset columns and values; see
@@ -41,7 +42,7 @@
 
 use super::error::{DescriptionError, Location};
 use super::joint_parameters::{DynamicsSpec, JointParametersSpec};
-use super::options::{EndEffectorSpec, LockedJoints, Settings};
+use super::options::{EndEffectorSpec, LockedJoints, NonPhysicalInertia, Settings};
 use super::raw::{RawDynamics, RawInertial, RawJoint, RawLimit, RawLink, RawMimic, RawRobot};
 use super::source_map::SourceMap;
 use super::{urdf, yaml_spans};
@@ -74,6 +75,10 @@ pub(crate) struct RobotFile {
     /// and axis components this close to 0 become 0 (at most 1e-3; each change is noted).
     /// Default: kept as written, with a warning.
     snap_angles: Option<f64>,
+    /// What to do with a link whose inertia no real body can have: `as_written` (default: a
+    /// warning), `repair` (the nearest physical inertia, noted) or `strict` (an error).
+    #[serde(default)]
+    inertia: NonPhysicalInertia,
     /// Joint-level parameters (armature, friction, offset): which regressor columns, and
     /// per-joint values (`joint_parameters` module docs). Absent: none.
     joint_parameters: Option<JointParametersSpec>,
@@ -107,7 +112,8 @@ struct InertialSpec {
 }
 
 /// The six independent entries of a symmetric inertia tensor (all required, as in URDF).
-/// Must be positive definite and satisfy the triangle inequality (or be all zero: a point mass).
+/// Should be positive definite and satisfy the triangle inequality (or be all zero: a point
+/// mass); what happens when it does not is the file's `inertia:` choice.
 #[derive(Debug, Deserialize)]
 #[serde(deny_unknown_fields)]
 struct InertiaSpec {
@@ -197,6 +203,7 @@ pub(crate) struct Parsed {
     pub end_effector: Option<EndEffectorSpec>,
     pub locked_joints: Vec<(String, f64)>,
     pub snap_angles: Option<f64>,
+    pub inertia: NonPhysicalInertia,
     pub joint_parameters: Option<JointParametersSpec>,
     /// Files read to get here (the URDF of form b).
     pub read: Vec<PathBuf>,
@@ -210,6 +217,7 @@ impl Parsed {
             end_effector: self.end_effector.clone(),
             locked_joints: self.locked_joints.clone(),
             snap_angles: self.snap_angles,
+            inertia: self.inertia,
             joint_parameters: self.joint_parameters.clone(),
             map: &self.yaml_map,
         }
@@ -228,6 +236,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         end_effector,
         locked_joints,
         snap_angles,
+        inertia,
         joint_parameters,
         links,
         joints,
@@ -241,6 +250,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         end_effector,
         locked_joints: locked_joints.0,
         snap_angles,
+        inertia,
         joint_parameters,
         read: Vec::new(),
     };

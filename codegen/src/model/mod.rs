@@ -3,22 +3,26 @@
 //! Invariants (checked by [`Model::new`], relied upon by every algorithm):
 //! - joints are in topological order: a joint's parent index is smaller than its own;
 //! - every joint moves (fixed and locked joints were merged away by the loader);
-//! - axes are unit vectors, rotations are orthonormal, inertias are physically valid;
+//! - axes are unit vectors, rotations are orthonormal; inertias are finite, symmetric and at
+//!   most slightly non-physical ([`physical_inertia`]: the loader warns about, repairs or
+//!   refuses the rest, as the description asks);
 //! - body `i` is the rigid body carried by joint `i` (its frame is joint `i`'s frame);
 //! - a mimic joint follows a joint that is not one ([`Mimic`]); the coordinates `q` are the
 //!   joints that mimic nothing, in joint order.
 
 mod coupling;
 mod joint_terms;
+pub mod physical_inertia;
 mod pose;
 mod validate;
 
 pub use coupling::{CoordinateMap, Mimic};
 pub use joint_terms::{JointTermKind, JointTermValues, JointTerms};
+pub use physical_inertia::{inertia_defect, nearest_physical, InertiaDefect, InertiaDefectKind};
 pub(crate) use pose::exact_sin_cos;
 pub use pose::{from_xyz_rpy, Pose};
 use validate::validate;
-pub(crate) use validate::{check_rotational_inertia, INERTIA_REL_TOL};
+pub(crate) use validate::{fmt_num, principal_moments};
 pub use validate::{ModelError, Warning};
 
 use dyngen_runtime::ParameterKind;
