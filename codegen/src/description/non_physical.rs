@@ -13,8 +13,8 @@ use super::error::{item, DescriptionError};
 use super::options::NonPhysicalInertia;
 use super::source_map::{link_path, SourceMap};
 use super::Diagnostics;
-use crate::model::physical_inertia::{nearest_physical, percent, GROSS_DEFECT};
-use crate::model::{fmt_num, inertia_defect, InertiaDefect, InertiaDefectKind};
+use crate::model::physical_inertia::{listed, nearest_physical, percent, short, GROSS_DEFECT};
+use crate::model::{inertia_defect, InertiaDefect, InertiaDefectKind};
 use nalgebra::Matrix3;
 
 /// A link whose inertia is not physical, found while its inertial was read.
@@ -40,12 +40,7 @@ pub(crate) fn examine(
         return Ok((*tensor, None));
     };
     let (used, repair) = match choice {
-        NonPhysicalInertia::Strict => {
-            return Err(format!(
-                "inertia is not physical: {}; `inertia: strict` refuses it",
-                described(&defect)
-            ))
-        }
+        NonPhysicalInertia::Strict => return Err(format!("{defect}; `inertia: strict` refuses it")),
         NonPhysicalInertia::AsWritten => (*tensor, None),
         NonPhysicalInertia::Repair => {
             let repaired = nearest_physical(mass, tensor);
@@ -72,12 +67,12 @@ pub(crate) fn report(
     for f in found {
         let path = format!("{}.inertial.inertia", link_path(f.link));
         let label = item("link", &f.name);
-        let described = described(&f.defect);
+        let defect = &f.defect;
         match &f.repair {
             Some((before, after)) => {
                 let msg = format!(
-                    "inertia repaired to the nearest physical one: {described}; principal moments {} → {} \
-                     kg·m²; ({}) → ({})",
+                    "{defect}; repaired to the nearest physical inertia: principal moments {} → {} \
+                     kg·m², ({}) → ({})",
                     moments(before),
                     moments(after),
                     entries(before),
@@ -87,39 +82,28 @@ pub(crate) fn report(
             }
             None if welded_to_base(f.link) => {
                 let msg = format!(
-                    "inertia is not physical: {described}; loaded as written: the link is welded to the \
-                     fixed base and never enters the dynamics"
+                    "{defect}; loaded as written: the link is welded to the fixed base and never enters \
+                     the dynamics"
                 );
                 diags.warnings.push(map.diagnostic(&path, Some(&label), &msg));
             }
             None if f.defect.is_gross() => {
                 let msg = format!(
-                    "inertia is not physical: {described}{}: check the values (kg·m², about the centre \
-                     of mass), or give `inertia: repair` for the nearest physical inertia",
-                    beyond(&f.defect)
+                    "{defect}{}: check the values (kg·m², about the centre of mass), or give \
+                     `inertia: repair` for the nearest physical inertia",
+                    beyond(defect)
                 );
                 return Err(map.error(&path, msg).about(label));
             }
             None => {
                 let msg = format!(
-                    "inertia is not physical: {described}; loaded as written (`inertia: repair` makes \
-                     it physical)"
+                    "{defect}; loaded as written (`inertia: repair` gives the nearest physical inertia)"
                 );
                 diags.warnings.push(map.diagnostic(&path, Some(&label), &msg));
             }
         }
     }
     Ok(())
-}
-
-/// The defect with the principal moments, when the defect itself does not list them.
-fn described(defect: &InertiaDefect) -> String {
-    match defect.kind {
-        InertiaDefectKind::NegativeMoment => {
-            format!("{defect}, principal moments {}", listed(&defect.moments))
-        }
-        _ => defect.to_string(),
-    }
 }
 
 /// Why a gross defect is refused: how far beyond the bound it is.
@@ -133,13 +117,9 @@ fn beyond(defect: &InertiaDefect) -> String {
             ", which breaks the triangle inequality by {} (I3 − I1 − I2 = {} kg·m²), more than the \
              {bound} loaded as written",
             percent(defect.relative_excess()),
-            fmt_num(defect.excess())
+            short(defect.excess())
         ),
     }
-}
-
-fn listed(m: &[f64; 3]) -> String {
-    format!("[{}, {}, {}]", fmt_num(m[0]), fmt_num(m[1]), fmt_num(m[2]))
 }
 
 fn moments(tensor: &Matrix3<f64>) -> String {
@@ -150,11 +130,11 @@ fn moments(tensor: &Matrix3<f64>) -> String {
 fn entries(t: &Matrix3<f64>) -> String {
     format!(
         "ixx {}, ixy {}, ixz {}, iyy {}, iyz {}, izz {}",
-        fmt_num(t[(0, 0)]),
-        fmt_num(t[(0, 1)]),
-        fmt_num(t[(0, 2)]),
-        fmt_num(t[(1, 1)]),
-        fmt_num(t[(1, 2)]),
-        fmt_num(t[(2, 2)])
+        short(t[(0, 0)]),
+        short(t[(0, 1)]),
+        short(t[(0, 2)]),
+        short(t[(1, 1)]),
+        short(t[(1, 2)]),
+        short(t[(2, 2)])
     )
 }

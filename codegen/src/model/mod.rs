@@ -21,8 +21,8 @@ pub use joint_terms::{JointTermKind, JointTermValues, JointTerms};
 pub use physical_inertia::{inertia_defect, nearest_physical, InertiaDefect, InertiaDefectKind};
 pub(crate) use pose::exact_sin_cos;
 pub use pose::{from_xyz_rpy, Pose};
+pub(crate) use validate::principal_moments;
 use validate::validate;
-pub(crate) use validate::{fmt_num, principal_moments};
 pub use validate::{ModelError, Warning};
 
 use dyngen_runtime::ParameterKind;

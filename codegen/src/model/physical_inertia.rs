@@ -22,7 +22,7 @@
 //! changes by more than the defect. A body with mass but no extent about one axis (a rod) gets
 //! the smallest moment [`SMALLEST_MOMENT`] allows.
 
-use super::validate::{fmt_num as short, principal_moments, INERTIA_REL_TOL};
+use super::validate::{principal_moments, INERTIA_REL_TOL};
 use super::Inertia;
 use nalgebra::{Matrix2, Matrix3, SymmetricEigen, Vector2, Vector3};
 use std::fmt;
@@ -106,28 +106,28 @@ impl InertiaDefect {
 }
 
 impl fmt::Display for InertiaDefect {
-    /// The defect in units a person can judge, e.g. `principal moment -3.5e-8 kg·m² is
-    /// negative (the largest is 9.1e-8 kg·m²)`.
+    /// The defect in units a person can judge, e.g. `inertia is not physical: triangle
+    /// inequality broken by 20%: I1 + I2 = 5.78591e-6 < I3 = 7.2659e-6 kg·m²`.
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let [i1, i2, i3] = self.moments;
         match self.kind {
             InertiaDefectKind::NegativeMoment => write!(
                 f,
-                "principal moment {} kg·m² is negative (the largest is {} kg·m²)",
+                "inertia is not physical: principal moment {} kg·m² is negative (principal moments {} kg·m²)",
                 short(i1),
-                short(i3)
+                listed(&self.moments)
             ),
             InertiaDefectKind::TriangleInequality => write!(
                 f,
-                "triangle inequality broken by {}: I1 + I2 = {} < I3 = {} kg·m²",
+                "inertia is not physical: triangle inequality broken by {}: I1 + I2 = {} < I3 = {} kg·m²",
                 percent(self.relative_excess()),
                 short(i1 + i2),
                 short(i3)
             ),
             InertiaDefectKind::NoExtent => write!(
                 f,
-                "mass {} kg with a principal moment of {} kg·m² (the others {} and {}): no \
-                 extent about one axis, a singular inertia",
+                "inertia is singular: mass {} kg with a principal moment of {} kg·m² (the others {} \
+                 and {} kg·m²): no extent about one axis, like a rod of no thickness",
                 short(self.mass),
                 short(i1),
                 short(i2),
@@ -237,6 +237,22 @@ impl Inertia {
     }
 }
 
+/// A number for a message: six significant digits, with an exponent when below 1e-3 or
+/// above 1e6 (moments of small links are 1e-6 kg·m² and less).
+pub(crate) fn short(v: f64) -> String {
+    let r: f64 = format!("{v:.5e}").parse().unwrap_or(v);
+    if r != 0.0 && r.is_finite() && !(1e-3..1e6).contains(&r.abs()) {
+        format!("{r:e}")
+    } else {
+        format!("{r}")
+    }
+}
+
+/// Principal moments for a message: `[2.30064e-6, 3.48527e-6, 7.2659e-6]`.
+pub(crate) fn listed(m: &[f64; 3]) -> String {
+    format!("[{}, {}, {}]", short(m[0]), short(m[1]), short(m[2]))
+}
+
 /// A fraction as a percentage a person reads at a glance: `20%`, `0.3%`, `0.004%`.
 pub(crate) fn percent(fraction: f64) -> String {
     let p = 100.0 * fraction;
@@ -292,7 +308,8 @@ mod tests {
         assert_eq!(d.kind, InertiaDefectKind::TriangleInequality);
         assert_eq!(
             d.to_string(),
-            "triangle inequality broken by 20%: I1 + I2 = 5.78591e-6 < I3 = 7.2659e-6 kg·m²"
+            "inertia is not physical: triangle inequality broken by 20%: I1 + I2 = 5.78591e-6 < \
+             I3 = 7.2659e-6 kg·m²"
         );
         assert!(!d.is_gross());
         let d = inertia_defect(0.0307, &diag([0.0, 0.00012, 0.00012])).unwrap();

@@ -4,7 +4,7 @@
 //! guarantee them, and [`Model::validate`] re-checks them on the finished model so that a bug
 //! in a loader (or a hand-built model) is caught before it turns into wrong generated code.
 
-use super::physical_inertia::GROSS_DEFECT;
+use super::physical_inertia::{percent, GROSS_DEFECT};
 use super::{Inertia, Model, Pose};
 use nalgebra::{Matrix3, SymmetricEigen, Vector3};
 use std::collections::HashSet;
@@ -83,17 +83,6 @@ pub fn principal_moments(inertia: &Matrix3<f64>) -> [f64; 3] {
     let mut m = [eig[0], eig[1], eig[2]];
     m.sort_by(f64::total_cmp);
     m
-}
-
-/// A number printed short (for messages): six significant digits, an exponent only when
-/// very large or small.
-pub(crate) fn fmt_num(v: f64) -> String {
-    let r: f64 = format!("{v:.5e}").parse().unwrap_or(v);
-    if r != 0.0 && r.is_finite() && !(1e-5..1e16).contains(&r.abs()) {
-        format!("{r:e}")
-    } else {
-        format!("{r}")
-    }
 }
 
 impl Model {
@@ -253,10 +242,9 @@ fn check_inertia(inertia: &Inertia) -> Result<(), String> {
     }
     match inertia.defect() {
         Some(defect) if defect.exceeds(MODEL_GROSS_DEFECT) => Err(format!(
-            "inertia is far from physical: {defect} (principal moments [{}, {}, {}])",
-            fmt_num(defect.moments[0]),
-            fmt_num(defect.moments[1]),
-            fmt_num(defect.moments[2])
+            "{defect}, by more than a model allows (a triangle excess I3 − I1 − I2 of {} of the \
+             largest moment)",
+            percent(GROSS_DEFECT)
         )),
         _ => Ok(()),
     }
