@@ -501,32 +501,77 @@ fn negative_mass() {
     );
 }
 
+/// A negative principal moment far beyond rounding (the triangle excess it makes is above half
+/// the largest moment) is refused by default, with the repair named.
 #[test]
-fn inertia_not_positive_semi_definite() {
+fn inertia_with_a_gross_negative_moment() {
     check(
         Src::Yaml(&[("ixy: 0.0", "ixy: 0.2")], ""),
-        &["bad.yaml:7:16", "link 'l1'", "not positive semi-definite"],
+        &[
+            "bad.yaml:7:16",
+            "link 'l1'",
+            "inertia is not physical: principal moment -0.1 kg·m² is negative",
+            "which breaks the triangle inequality by 100%",
+            "`inertia: repair`",
+        ],
     );
     check(
         Src::Urdf(&[("ixx=\"0.1\"", "ixx=\"-0.1\"")], no_options()),
-        &["bad.urdf:4:32", "link 'l1'", "not positive semi-definite"],
+        &[
+            "bad.urdf:4:32",
+            "link 'l1'",
+            "principal moment -0.1 kg·m² is negative",
+        ],
     );
 }
 
 #[test]
-fn inertia_violates_triangle_inequality() {
+fn inertia_grossly_violating_the_triangle_inequality() {
     check(
-        Src::Yaml(&[("izz: 0.1", "izz: 0.3")], ""),
-        &["bad.yaml:7:16", "link 'l1'", "triangle inequality"],
+        Src::Yaml(&[("izz: 0.1", "izz: 0.5")], ""),
+        &[
+            "bad.yaml:7:16",
+            "link 'l1'",
+            "triangle inequality broken by 60%: I1 + I2 = 0.2 < I3 = 0.5 kg·m², more than the 50% loaded as written",
+        ],
     );
 }
 
+/// `inertia: strict` refuses what the default loads with a warning: slight defects of each
+/// kind (the warnings themselves: `codegen/tests/non_physical_inertia.rs`).
 #[test]
-fn mass_with_singular_inertia() {
-    // a thin rod along z: positive semi-definite, on the triangle boundary, but singular
+fn strict_inertia_refuses_slight_defects() {
+    let strict = || UrdfOptions {
+        inertia: description::NonPhysicalInertia::Strict,
+        ..UrdfOptions::default()
+    };
     check(
-        Src::Yaml(&[("izz: 0.1", "izz: 0.0")], ""),
-        &["bad.yaml:7:16", "link 'l1'", "not positive definite"],
+        Src::Urdf(&[("ixx=\"0.1\"", "ixx=\"-0.001\"")], strict()),
+        &[
+            "bad.urdf:4:32",
+            "link 'l1'",
+            "principal moment -0.001 kg·m² is negative",
+            "`inertia: strict` refuses it",
+        ],
+    );
+    check(
+        Src::Yaml(&[("izz: 0.1", "izz: 0.3")], "inertia: strict\n"),
+        &[
+            "bad.yaml:7:16",
+            "link 'l1'",
+            "triangle inequality broken by 33%",
+            "`inertia: strict` refuses it",
+        ],
+    );
+    // a thin rod along z: on the triangle boundary, but mass without extent about its axis
+    check(
+        Src::Yaml(&[("izz: 0.1", "izz: 0.0")], "inertia: strict\n"),
+        &[
+            "bad.yaml:7:16",
+            "link 'l1'",
+            "inertia is singular: mass 1 kg with a principal moment of 0",
+            "`inertia: strict` refuses it",
+        ],
     );
 }
 
@@ -823,6 +868,38 @@ fn point_mass_warns() {
             "",
         ),
         &["bad.yaml:7:16", "link 'l1'", "point mass"],
+    );
+}
+
+/// Slightly non-physical inertias load as written, one warning each (default `inertia: as_written`).
+#[test]
+fn slightly_non_physical_inertia_warns() {
+    check_warning(
+        Src::Yaml(&[("izz: 0.1", "izz: 0.3")], ""),
+        &[
+            "bad.yaml:7:16",
+            "link 'l1'",
+            "triangle inequality broken by 33%",
+            "loaded as written",
+        ],
+    );
+    check_warning(
+        Src::Urdf(&[("ixx=\"0.1\"", "ixx=\"-0.001\"")], no_options()),
+        &[
+            "bad.urdf:4:32",
+            "link 'l1'",
+            "principal moment -0.001 kg·m² is negative",
+            "`inertia: repair`",
+        ],
+    );
+    check_warning(
+        Src::Yaml(&[("izz: 0.1", "izz: 0.0")], ""),
+        &[
+            "bad.yaml:7:16",
+            "link 'l1'",
+            "inertia is singular",
+            "no extent about one axis",
+        ],
     );
 }
 

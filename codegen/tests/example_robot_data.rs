@@ -4,13 +4,14 @@
 //! `tools/fixtures.py`): the model (joints, parameters, end-effector), the generic dynamics,
 //! and the traced graph that the generated code is printed from (through the interpreter),
 //! every quantity to 1e-9 relative. `tools/sweep.py` does the same for every fixed-base robot
-//! of the package with compiled generated code; CI keeps these three, and one that is refused.
+//! of the package with compiled generated code; CI keeps these four, one of them with inertias
+//! that are not physical.
 
 use dyngen_testkit as common;
 
 use common::fixture::{self, Fixture, State};
 use common::{assert_close, column, workspace_root};
-use dyngen_codegen::description::{self, Loaded};
+use dyngen_codegen::description::{self, Loaded, NonPhysicalInertia, UrdfOptions};
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::internals::generate::{trace, SymbolicRobot};
 use nalgebra::DMatrix;
@@ -189,22 +190,69 @@ fn xarm7_matches_pinocchio_and_warns_about_its_rounded_quarter_turns() {
     );
 }
 
-/// A vendor URDF with an impossible inertia (a principal moment 20% above the sum of the other
-/// two; Pinocchio loads it as it is) is refused with one line: file, place, link and why.
+/// A vendor URDF with inertias no real body has (four links break the triangle inequality by
+/// 19-20%; Pinocchio loads them as written): loaded as written, one warning per link with its
+/// place, and the dynamics agree with Pinocchio's; `inertia: strict` refuses it with one line,
+/// `inertia: repair` makes every body physical.
 #[test]
-fn allegro_hand_with_an_impossible_inertia_is_one_clear_error() {
+fn allegro_hand_with_non_physical_inertias_matches_pinocchio_as_written() {
     let path = "codegen/tests/data/example-robot-data/allegro_hand_description/allegro_right_hand.urdf";
-    let error = description::load(&workspace_root().join(path))
-        .expect_err("the Allegro hand's link_3.0 inertia is not physical")
+    let loaded = check("allegro_right_hand", path);
+    assert_eq!(loaded.model.dof(), 16);
+    let places = [
+        "143:7: link 'link_3.0'",
+        "281:7: link 'link_7.0'",
+        "419:7: link 'link_11.0'",
+        "565:7: link 'link_15.0'",
+    ];
+    assert_eq!(loaded.warnings.len(), places.len(), "{:#?}", loaded.warnings);
+    for (warning, place) in loaded.warnings.iter().zip(places) {
+        assert!(
+            warning.contains(&format!(
+                "allegro_right_hand.urdf:{place}: inertia is not physical: triangle inequality broken by"
+            )),
+            "{warning}"
+        );
+    }
+    assert!(loaded.warnings[0].contains("broken by 20%: I1 + I2 = 5.78591e-6 < I3 = 7.2659e-6 kg·m²"));
+
+    let options = |inertia| UrdfOptions {
+        inertia,
+        ..UrdfOptions::default()
+    };
+    let file = workspace_root().join(path);
+    let error = description::load_with(&file, &options(NonPhysicalInertia::Strict))
+        .expect_err("strict refuses link_3.0")
         .to_string();
     assert!(
         error.ends_with(
-            "allegro_right_hand.urdf:143:7: link 'link_3.0': inertia violates the triangle inequality \
-             I1 + I2 >= I3 (principal moments [2.30064e-6, 3.48527e-6, 7.2659e-6])"
+            "allegro_right_hand.urdf:143:7: link 'link_3.0': inertia is not physical: triangle inequality \
+             broken by 20%: I1 + I2 = 5.78591e-6 < I3 = 7.2659e-6 kg·m²; `inertia: strict` refuses it"
         ),
         "{error}"
     );
     assert_eq!(error.lines().count(), 1, "{error}");
+    let repaired =
+        description::load_with(&file, &options(NonPhysicalInertia::Repair)).unwrap_or_else(|e| panic!("{e}"));
+    assert!(repaired.warnings.is_empty(), "{:#?}", repaired.warnings);
+    assert_eq!(
+        repaired
+            .notes
+            .iter()
+            .filter(|n| n.contains("repaired to the nearest physical inertia"))
+            .count(),
+        4
+    );
+    assert!(repaired
+        .model
+        .bodies()
+        .iter()
+        .all(|b| b.inertia.defect().is_none()));
+    // Each defective link carries a fingertip (a fixed joint) that makes its body physical, so
+    // only the values say the links were kept as written: they differ from the repaired ones.
+    let theta = (loaded.model.parameters(), repaired.model.parameters());
+    let differ = (0..theta.0.len()).filter(|&i| theta.0[i] != theta.1[i]).count();
+    assert!(differ > 0 && differ <= 4 * 6, "{differ} parameters differ");
 }
 
 /// Continuous joints (Pinocchio stores each as (cos, sin)); meshes named by `package://` URLs
