@@ -180,7 +180,7 @@ pub fn nearest_physical(mass: f64, inertia: &Matrix3<f64>) -> Matrix3<f64> {
         after[smallest] = after[smallest].max(SMALLEST_MOMENT * largest);
     }
     // Only the change is rotated back, so entries the repair does not need stay as written.
-    let change = &eig.eigenvectors * Matrix3::from_diagonal(&(after - before)) * eig.eigenvectors.transpose();
+    let change = eig.eigenvectors * Matrix3::from_diagonal(&(after - before)) * eig.eigenvectors.transpose();
     let repaired = inertia + change * scale;
     (repaired + repaired.transpose()) * 0.5
 }
@@ -277,6 +277,17 @@ pub(crate) fn percent(fraction: f64) -> String {
 mod tests {
     use super::*;
 
+    /// Uniform numbers in [0, 1) from a seed (xorshift: the tests need no quality, only repeats).
+    fn uniform(seed: u64) -> impl FnMut() -> f64 {
+        let mut state = seed;
+        move || {
+            state ^= state << 13;
+            state ^= state >> 7;
+            state ^= state << 17;
+            (state >> 11) as f64 / (1u64 << 53) as f64
+        }
+    }
+
     fn diag(m: [f64; 3]) -> Matrix3<f64> {
         Matrix3::from_diagonal(&m.into())
     }
@@ -338,13 +349,7 @@ mod tests {
 
     #[test]
     fn repairs_are_physical_and_move_no_moment_further_than_the_defect() {
-        let mut rng = 0x1234_5678_9abc_def0_u64;
-        let mut next = || {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            (rng >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = uniform(0x1234_5678_9abc_def0_u64);
         for _ in 0..2000 {
             let moments = [next() * 2.0 - 0.5, next(), next() * 3.0];
             let (a, b, c) = (next() * 6.0, next() * 6.0, next() * 6.0);
@@ -376,13 +381,7 @@ mod tests {
     /// drawn around it) is nearer.
     #[test]
     fn the_projection_is_nearer_than_any_physical_point() {
-        let mut rng = 0x5eed_0f_7e57_u64;
-        let mut next = || {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            (rng >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = uniform(0x5eed_0f7e_57ab_cdef_u64);
         for _ in 0..300 {
             let x = Vector3::new(next() * 2.0 - 1.0, next() * 2.0 - 0.5, next() * 3.0);
             let p = project_onto_physical(&x);
@@ -402,13 +401,7 @@ mod tests {
     /// moment, turned, moved and merged in twos and threes, give bodies within it.
     #[test]
     fn bodies_welded_from_links_within_the_bound_stay_within_it() {
-        let mut rng = 0x0ddb_a11c_afe5_eed5_u64;
-        let mut next = || {
-            rng ^= rng << 13;
-            rng ^= rng >> 7;
-            rng ^= rng << 17;
-            (rng >> 11) as f64 / (1u64 << 53) as f64
-        };
+        let mut next = uniform(0x0ddb_a11c_afe5_eed5_u64);
         let mut largest_seen: f64 = 0.0;
         for _ in 0..3000 {
             let parts = 2 + (next() * 2.0) as usize;
