@@ -7,6 +7,7 @@
 //! inertia (`Inertia::repaired`, the loader's `inertia: repair`) for the start, and a note says
 //! which and by how much.
 
+use dyngen_codegen::model::physical_inertia::moments_text;
 use dyngen_codegen::model::{Body, Model};
 
 /// The model identification starts from: `model`, or a copy with every non-physical body
@@ -21,9 +22,8 @@ pub(crate) fn physical_start(model: &Model) -> (Model, Vec<String>) {
             Some(defect) => {
                 let repaired = body.inertia.repaired();
                 notes.push(format!(
-                    "body '{}': the description's inertia is not physical ({defect}); the consistent \
-                     estimate starts from the nearest physical inertia (principal moments {} → {} \
-                     kg·m²)",
+                    "body '{}' of the description: {defect}; the consistent estimate starts from the \
+                     nearest physical inertia (principal moments {} → {} kg·m²)",
                     body.name,
                     moments_text(&defect.moments),
                     moments_text(&principal_moments(&repaired.inertia_com))
@@ -56,8 +56,4 @@ fn principal_moments(inertia: &nalgebra::Matrix3<f64>) -> [f64; 3] {
     let mut m = [e[0], e[1], e[2]];
     m.sort_by(f64::total_cmp);
     m
-}
-
-fn moments_text(m: &[f64; 3]) -> String {
-    format!("[{:.5e}, {:.5e}, {:.5e}]", m[0], m[1], m[2])
 }

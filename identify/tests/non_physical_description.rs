@@ -46,8 +46,8 @@ fn the_consistent_estimate_starts_from_the_nearest_physical_inertia_and_says_so(
     let note = &id.notes[0];
     assert!(
         note.starts_with(
-            "body 'lower': the description's inertia is not physical (inertia is not physical: principal \
-             moment -1e-4 kg·m² is negative"
+            "body 'lower' of the description: inertia is not physical: principal moment -1e-4 kg·m² \
+             is negative"
         ) && note.contains("the consistent estimate starts from the nearest physical inertia"),
         "{note}"
     );
@@ -76,7 +76,7 @@ fn the_consistent_estimate_starts_from_the_nearest_physical_inertia_and_says_so(
     // warning, and says where its start came from.
     let yaml = id.yaml("test data");
     assert!(
-        yaml.contains("# Note: body 'lower': the description's inertia is not physical"),
+        yaml.contains("# Note: body 'lower' of the description: inertia is not physical"),
         "{yaml}"
     );
     let loaded = load_yaml_str(&yaml, Path::new("identified.yaml")).unwrap_or_else(|e| panic!("{e}\n{yaml}"));

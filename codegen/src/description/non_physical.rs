@@ -13,7 +13,7 @@ use super::error::{item, DescriptionError};
 use super::options::NonPhysicalInertia;
 use super::source_map::{link_path, SourceMap};
 use super::Diagnostics;
-use crate::model::physical_inertia::{listed, nearest_physical, percent, short, GROSS_DEFECT};
+use crate::model::physical_inertia::{moments_text, nearest_physical, percent, short, GROSS_DEFECT};
 use crate::model::{inertia_defect, InertiaDefect, InertiaDefectKind};
 use nalgebra::Matrix3;
 
@@ -123,7 +123,7 @@ fn beyond(defect: &InertiaDefect) -> String {
 }
 
 fn moments(tensor: &Matrix3<f64>) -> String {
-    listed(&crate::model::principal_moments(tensor))
+    moments_text(&crate::model::principal_moments(tensor))
 }
 
 /// The six entries as a description writes them.

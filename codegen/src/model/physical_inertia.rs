@@ -115,7 +115,7 @@ impl fmt::Display for InertiaDefect {
                 f,
                 "inertia is not physical: principal moment {} kg·m² is negative (principal moments {} kg·m²)",
                 short(i1),
-                listed(&self.moments)
+                moments_text(&self.moments)
             ),
             InertiaDefectKind::TriangleInequality => write!(
                 f,
@@ -252,8 +252,9 @@ pub(crate) fn short(v: f64) -> String {
     }
 }
 
-/// Principal moments for a message: `[2.30064e-6, 3.48527e-6, 7.2659e-6]`.
-pub(crate) fn listed(m: &[f64; 3]) -> String {
+/// Principal moments as the messages about inertias write them, six significant digits:
+/// `[2.30064e-6, 3.48527e-6, 7.2659e-6]`.
+pub fn moments_text(m: &[f64; 3]) -> String {
     format!("[{}, {}, {}]", short(m[0]), short(m[1]), short(m[2]))
 }
 
