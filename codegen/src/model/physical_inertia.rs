@@ -33,7 +33,7 @@ use std::fmt;
 pub const GROSS_DEFECT: f64 = 0.5;
 
 /// The smallest principal moment a repair gives a body with mass, as a fraction of its
-/// largest: ten times the rounding [`INERTIA_REL_TOL`] forgives, so the repaired body is
+/// largest: ten times the rounding `INERTIA_REL_TOL` (1e-6) forgives, so the repaired body is
 /// positive definite beyond doubt (a rod of length `L` that thin has a radius of `L/800`).
 pub const SMALLEST_MOMENT: f64 = 10.0 * INERTIA_REL_TOL;
 
@@ -86,7 +86,7 @@ impl InertiaDefect {
     }
 
     /// Whether the triangle excess is beyond `fraction` of the largest moment (with the
-    /// rounding [`INERTIA_REL_TOL`] forgives).
+    /// rounding `INERTIA_REL_TOL` (1e-6) forgives).
     pub(crate) fn exceeds(&self, fraction: f64) -> bool {
         let [i1, _, i3] = self.moments;
         self.excess() > fraction * i3.max(0.0) + INERTIA_REL_TOL * i1.abs().max(i3.abs())
@@ -139,7 +139,7 @@ impl fmt::Display for InertiaDefect {
 
 /// What is wrong with the rotational inertia `inertia` (about the centre of mass, finite and
 /// symmetric) of a body of `mass`, if anything. The tests and their rounding tolerance are the
-/// loader's: [`INERTIA_REL_TOL`] of the largest moment is forgiven.
+/// loader's: `INERTIA_REL_TOL` (1e-6) of the largest moment is forgiven.
 pub fn inertia_defect(mass: f64, inertia: &Matrix3<f64>) -> Option<InertiaDefect> {
     let moments = principal_moments(inertia);
     let [i1, i2, i3] = moments;
