@@ -1,0 +1,252 @@
+//! Rust source from a traced robot: one flat, single-assignment function per quantity.
+//!
+//! By concern: `leaves` (how inputs are spelled), `plan` (what a function computes, in what
+//! order, with which multiply-adds), `signature` (parameters and the inputs' destructuring),
+//! `function` (one quantity as a function, in chunks if large), `constants` (constant items and
+//! `θ_b`), and this file, which assembles the module.
+//!
+//! Each function declares all its temporaries once (`let [x0, x1, …]: [f64; K];`), then assigns
+//! every live node in creation order, `xK = a op b;`, with atoms (literals, inputs, earlier
+//! temporaries) as operands: never nested expressions, which overflow rustc's parser on large
+//! robots, and never one `let` per node, which nests debug-info scopes as deep as the function
+//! is long (see `Plan::statements`). Functions of more than `CHUNK` values are split into
+//! `<name>_partK` chunk functions that hand on the values later chunks read. Inputs are
+//! destructured once at the top of a function; outputs are built with `from_array_storage`, so
+//! the generated code has no indexing, no allocation and no panic path.
+
+mod constants;
+mod function;
+mod leaves;
+mod plan;
+mod signature;
+
+use super::trace::{SymbolicRobot, BASE_FUNCTIONS};
+use crate::model::Model;
+use constants::{base_parameters_function, joint_limits, literal, parameter_kinds};
+use function::{function, Emitted};
+use leaves::Leaves;
+use plan::Form;
+use proc_macro2::Literal;
+use quote::{format_ident, quote};
+
+/// What the header of a generated file records.
+#[derive(Clone, Debug)]
+pub struct Provenance {
+    /// The description as the user named it, e.g. `robots/arm7.yaml`.
+    pub source: String,
+    /// Content hash of every file the description read.
+    pub source_hash: String,
+    /// The command that regenerates the file.
+    pub regenerate: String,
+    /// Name of the generated robot type, e.g. `Arm7`.
+    pub type_name: String,
+}
+
+/// Name of the generated robot type, e.g. `arm7` → `Arm7`, `ur5_robot` → `Ur5Robot`.
+pub fn type_name(robot: &str) -> String {
+    let mut out = String::new();
+    for part in robot
+        .split(|c: char| !c.is_ascii_alphanumeric())
+        .filter(|p| !p.is_empty())
+    {
+        let mut chars = part.chars();
+        if let Some(first) = chars.next() {
+            out.push(first.to_ascii_uppercase());
+            out.extend(chars);
+        }
+    }
+    if out.is_empty() || out.starts_with(|c: char| c.is_ascii_digit()) {
+        out.insert_str(0, "Robot");
+    }
+    out
+}
+
+/// Attributes for the `mod` item that holds a generated file: the lints flattened numeric code
+/// trips by design (long literals, long functions, names like `x12`/`x13`), and no rustfmt
+/// (the file is already formatted, by prettyplease, and must stay byte-identical).
+pub const MODULE_ATTRIBUTES: &str = "#[rustfmt::skip]\n#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, clippy::too_many_lines, clippy::many_single_char_names, clippy::similar_names, clippy::neg_multiply)]";
+
+/// The functions that also have a lane form (several states per call, in
+/// [`LaneDynamics`](dyngen_runtime::LaneDynamics)): what identification and batched roll-outs
+/// evaluate in bulk.
+const LANE_FUNCTIONS: [&str; 2] = ["inverse_dynamics", super::trace::BASE_TORQUE_REGRESSOR];
+
+/// The generated functions that belong to [`Kinematics`](dyngen_runtime::Kinematics) (the rest
+/// are [`RobotDynamics`](dyngen_runtime::RobotDynamics), and `Y_b` is
+/// [`BaseParameters`](dyngen_runtime::BaseParameters)).
+const KINEMATICS: [&str; 4] = ["forward_kinematics", "jacobian", "jacobian_dot", "kinematics"];
+
+/// The complete generated module for `model`, formatted. The module declaration that
+/// includes it carries the lint allows of [`MODULE_ATTRIBUTES`].
+pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> String {
+    let n = model.dof();
+    let p = model.parameter_count();
+    let leaves = Leaves::new(robot);
+    let ty = format_ident!("{}", provenance.type_name);
+    let name = &model.name();
+    let coordinates = model.coordinate_joints();
+    let joint_names = coordinates.iter().map(|&k| model.joints()[k].name.as_str());
+    let joint_limits = joint_limits(model);
+    let end_effector_body = Literal::usize_unsuffixed(model.end_effector().parent);
+    let param_names = model.parameter_names();
+    let param_kinds = parameter_kinds(model);
+    let theta = model.parameters().into_iter().map(literal);
+    let emitted: Vec<(&str, Emitted)> = robot
+        .quantities
+        .iter()
+        .map(|q| (q.name, function(robot, &leaves, q, n, Form::Scalar)))
+        .collect();
+    let lane_functions: Vec<Emitted> = robot
+        .quantities
+        .iter()
+        .filter(|q| LANE_FUNCTIONS.contains(&q.name))
+        .map(|q| function(robot, &leaves, q, n, Form::Lanes))
+        .collect();
+    let lane_methods = lane_functions.iter().map(|e| &e.method);
+    let methods = |keep: fn(&str) -> bool| {
+        emitted
+            .iter()
+            .filter(move |(name, _)| keep(name))
+            .map(|(_, e)| &e.method)
+    };
+    let kinematics = methods(|name| KINEMATICS.contains(&name));
+    let functions = methods(|name| !BASE_FUNCTIONS.contains(&name) && !KINEMATICS.contains(&name));
+    let base_functions = methods(|name| BASE_FUNCTIONS.contains(&name));
+    let chunks = emitted
+        .iter()
+        .map(|(_, e)| e)
+        .chain(&lane_functions)
+        .flat_map(|e| &e.chunks);
+    let base = &robot.base;
+    let base_names = base.names.iter().map(String::as_str);
+    let base_parameters = base_parameters_function(base);
+    let b = Literal::usize_unsuffixed(base.count());
+    let count_doc = format!(
+        " Number of base parameters of `{name}` (the `B` of [`BaseParameters`]): {} of {p}.",
+        base.count()
+    );
+    // A robot without joint-level parameters keeps its header word for word.
+    let parameters = match model.joint_terms().per_joint() {
+        0 => format!("{p} inertial parameters"),
+        k => {
+            let kinds: Vec<&str> = model.joint_terms().kinds.iter().map(|k| k.keyword()).collect();
+            format!(
+                "{p} parameters: {} inertial, {} joint-level ({})",
+                model.inertial_parameter_count(),
+                k * n,
+                kinds.join(", ")
+            )
+        }
+    };
+    // Mimic joints have bodies but no coordinate: say how many the robot has besides its `n`.
+    let joints = match model.joints().len() - n {
+        0 => format!("{n} joints"),
+        m => format!("{n} joints and {m} mimic joints"),
+    };
+    let (n, p) = (Literal::usize_unsuffixed(n), Literal::usize_unsuffixed(p));
+    let header = format!(
+        "// Rigid-body dynamics of `{name}` ({joints}, {parameters}, {b} base parameters).\n\
+         // Generated by dyngen {} from `{}` (fnv1a64 {}).\n\
+         // Do not edit by hand: regenerate with `{}`.\n\n",
+        env!("CARGO_PKG_VERSION"),
+        provenance.source,
+        provenance.source_hash,
+        provenance.regenerate
+    );
+    let type_doc = format!(
+        " `{name}`: implements [`Kinematics`], [`RobotDynamics`] and [`BaseParameters`] with flattened, allocation-free code."
+    );
+    // The generator's version: the runtime accepts it only if it is its own (`__private`, which
+    // generated code calls, changes in any release).
+    let generated_by = env!("CARGO_PKG_VERSION");
+    let tokens = quote! {
+        dyngen_runtime::__require_version!(#generated_by);
+
+        use dyngen_runtime::nalgebra::{ArrayStorage, Matrix3, SMatrix, SVector, Vector3};
+        use dyngen_runtime::{
+            BaseParameters, JointLimits, JointTrig, JointTrigLanes, Kinematics, LaneDynamics, Lanes, ParameterKind,
+            Pose, RobotDynamics,
+        };
+
+        /// Number of moving joints (the `N` of [`Kinematics`] and [`RobotDynamics`]).
+        pub const DOF: usize = #n;
+        /// Number of standard parameters, ten per body (the `P` of [`RobotDynamics`]).
+        pub const PARAMETER_COUNT: usize = #p;
+        #[doc = #count_doc]
+        pub const BASE_PARAMETER_COUNT: usize = #b;
+        /// Joint names, in the order of `q`.
+        pub const JOINT_NAMES: [&str; DOF] = [#(#joint_names),*];
+        /// Joint limits from the description (infinite where it sets none).
+        pub const JOINT_LIMITS: [JointLimits; DOF] = [#(#joint_limits),*];
+        /// Names of the standard parameters θ, e.g. `"mcx[link3]"`.
+        pub const PARAMETER_NAMES: [&str; PARAMETER_COUNT] = [#(#param_names),*];
+        /// The kind of each standard parameter.
+        pub const PARAMETER_KINDS: [ParameterKind; PARAMETER_COUNT] = [#(#param_kinds),*];
+        /// What each base parameter combines.
+        pub const BASE_PARAMETER_NAMES: [&str; BASE_PARAMETER_COUNT] = [#(#base_names),*];
+
+        /// The standard parameters, for generic code (`HybridController<Standard, DOF, PARAMETER_COUNT>`).
+        pub type Standard = dyngen_runtime::Standard<#ty>;
+        /// The base parameters, for generic code (`HybridController<Base, DOF, BASE_PARAMETER_COUNT>`).
+        pub type Base = dyngen_runtime::Base<#ty, PARAMETER_COUNT>;
+        /// Joint sines and cosines, the first argument of every function.
+        pub type Trig = JointTrig<DOF>;
+        /// A joint-space vector: `q`, `q̇`, `q̈`, `τ`.
+        pub type JointVector = SVector<f64, DOF>;
+        /// The 6 × DOF end-effector Jacobian.
+        pub type Jacobian = SMatrix<f64, 6, DOF>;
+        /// A DOF × DOF joint-space matrix: `D`, `C`.
+        pub type JointMatrix = SMatrix<f64, DOF, DOF>;
+        /// The standard parameters θ.
+        pub type Parameters = SVector<f64, PARAMETER_COUNT>;
+        /// The base parameters θ_b.
+        pub type BaseParameterVector = SVector<f64, BASE_PARAMETER_COUNT>;
+        /// The regressor `Y`.
+        pub type Regressor = SMatrix<f64, DOF, PARAMETER_COUNT>;
+        /// The base regressor `Y_b`.
+        pub type BaseRegressor = SMatrix<f64, DOF, BASE_PARAMETER_COUNT>;
+
+        #[doc = #type_doc]
+        #[derive(Clone, Copy, Debug, Default)]
+        pub struct #ty;
+
+        impl Kinematics<#n> for #ty {
+            const NAME: &'static str = #name;
+            const JOINT_NAMES: [&'static str; #n] = JOINT_NAMES;
+            const JOINT_LIMITS: [JointLimits; #n] = JOINT_LIMITS;
+            const END_EFFECTOR_BODY: usize = #end_effector_body;
+
+            #(#kinematics)*
+        }
+
+        impl RobotDynamics<#n, #p> for #ty {
+            const PARAMETER_NAMES: [&'static str; #p] = PARAMETER_NAMES;
+            const PARAMETER_KINDS: [ParameterKind; #p] = PARAMETER_KINDS;
+
+            fn parameters() -> SVector<f64, #p> {
+                SVector::from_array_storage(ArrayStorage([[#(#theta),*]]))
+            }
+
+            #(#functions)*
+        }
+
+        impl BaseParameters<#n, #p, #b> for #ty {
+            const BASE_PARAMETER_NAMES: [&'static str; #b] = BASE_PARAMETER_NAMES;
+
+            #base_parameters
+
+            #(#base_functions)*
+        }
+
+        impl LaneDynamics<#n, #b> for #ty {
+            #(#lane_methods)*
+        }
+
+        #(#chunks)*
+    };
+    match syn::parse2::<syn::File>(tokens) {
+        Ok(file) => header + &prettyplease::unparse(&file),
+        // Only a bug in this emitter can get here; show the tokens so it can be found.
+        Err(e) => panic!("dyngen emitted invalid Rust ({e}); this is a bug in dyngen"),
+    }
+}
