@@ -122,7 +122,7 @@ pub fn generate_robot_with(
     let op_counts = robot
         .quantities
         .iter()
-        .map(|q| (q.name, robot.graph.op_counts(&q.outputs)))
+        .map(|q| (q.name(), robot.graph.op_counts(&q.outputs)))
         .collect();
     Ok(GeneratedRobot {
         model: loaded.model,

@@ -1,6 +1,7 @@
 //! Runs the generic dynamics algorithms on symbolic inputs: one graph holds every quantity a
 //! controller needs, so shared subexpressions (joint transforms, body velocities) are one node.
 
+use super::quantities::QuantityKind;
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::{self, Directions};
 use crate::model::Model;
@@ -43,11 +44,18 @@ pub enum Shape {
 /// One quantity: a named function of the joint state.
 #[derive(Clone, Debug)]
 pub struct Quantity {
-    pub name: &'static str,
+    pub kind: QuantityKind,
     pub args: Vec<Arg>,
     pub shape: Shape,
     /// Output nodes in the order of the shape (column-major for matrices).
     pub outputs: Vec<Id>,
+}
+
+impl Quantity {
+    /// The generated function's name.
+    pub fn name(&self) -> &'static str {
+        self.kind.name()
+    }
 }
 
 /// Inputs of the graph, by role.
@@ -73,23 +81,9 @@ pub struct SymbolicRobot {
     pub graph: Graph,
     pub inputs: Inputs,
     pub quantities: Vec<Quantity>,
-    /// The base parameters whose regressor is the quantity [`BASE_REGRESSOR`].
+    /// The base parameters whose regressor is the quantity [`QuantityKind::BaseRegressor`].
     pub base: BaseParameterSet,
 }
-
-/// Name of the base-parameter regressor `Y_b` (a method of `BaseParameters`, not of
-/// `RobotDynamics`): the kept columns of `Y`, so only their nodes are live in its function.
-pub const BASE_REGRESSOR: &str = "base_regressor";
-
-/// Name of the base-parameter regressor in torque form, `Y_b(q, q̇, q̇, q̈)`.
-pub const BASE_TORQUE_REGRESSOR: &str = "base_torque_regressor";
-
-/// Name of `(Y_b θ_b, Y_bᵀ r)`, the base regressor's products an adaptive law needs.
-pub const BASE_REGRESSOR_PRODUCTS: &str = "base_regressor_products";
-
-/// The quantities that are methods of `BaseParameters` (the others are of `Kinematics` or
-/// `RobotDynamics`).
-pub const BASE_FUNCTIONS: [&str; 3] = [BASE_REGRESSOR, BASE_TORQUE_REGRESSOR, BASE_REGRESSOR_PRODUCTS];
 
 fn ids(v: &[Expr]) -> Vec<Id> {
     v.iter().map(|e| e.id()).collect()
@@ -152,43 +146,43 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
             .collect();
         let quantities = vec![
             Quantity {
-                name: "forward_kinematics",
+                kind: QuantityKind::ForwardKinematics,
                 args: vec![],
                 shape: Shape::Pose,
                 outputs: pose,
             },
             Quantity {
-                name: "jacobian",
+                kind: QuantityKind::Jacobian,
                 args: vec![],
                 shape: Shape::Matrix(6, n),
                 outputs: matrix_ids(&dynamics::jacobian(model, &world)),
             },
             Quantity {
-                name: "jacobian_dot",
+                kind: QuantityKind::JacobianDot,
                 args: vec![Arg::Qd],
                 shape: Shape::Matrix(6, n),
                 outputs: matrix_ids(&dynamics::jacobian_dot(model, &world, &qd)),
             },
             Quantity {
-                name: "mass_matrix",
+                kind: QuantityKind::MassMatrix,
                 args: vec![],
                 shape: Shape::Matrix(n, n),
                 outputs: matrix_ids(&mass_matrix()),
             },
             Quantity {
-                name: "coriolis_matrix",
+                kind: QuantityKind::CoriolisMatrix,
                 args: vec![Arg::Qd],
                 shape: Shape::Matrix(n, n),
                 outputs: matrix_ids(&dynamics::coriolis_matrix(model, &x, &inertias, &qd)),
             },
             Quantity {
-                name: "gravity",
+                kind: QuantityKind::Gravity,
                 args: vec![],
                 shape: Shape::Vector(n),
                 outputs: ids(&g),
             },
             Quantity {
-                name: "inverse_dynamics",
+                kind: QuantityKind::InverseDynamics,
                 args: vec![Arg::Qd, Arg::A],
                 shape: Shape::Vector(n),
                 outputs: ids(&with_joint_terms(
@@ -198,7 +192,7 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
                 )),
             },
             Quantity {
-                name: "slotine_li",
+                kind: QuantityKind::SlotineLi,
                 args: vec![Arg::Qd, Arg::V, Arg::A],
                 shape: Shape::Vector(n),
                 outputs: ids(&with_joint_terms(
@@ -216,13 +210,13 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
                 )),
             },
             Quantity {
-                name: "regressor",
+                kind: QuantityKind::Regressor,
                 args: vec![Arg::Qd, Arg::V, Arg::A],
                 shape: Shape::Matrix(n, model.parameter_count()),
                 outputs: y,
             },
             Quantity {
-                name: BASE_REGRESSOR,
+                kind: QuantityKind::BaseRegressor,
                 args: vec![Arg::Qd, Arg::V, Arg::A],
                 shape: Shape::Matrix(n, base.count()),
                 outputs: y_base,
@@ -251,8 +245,8 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
         )
     });
     // The derivatives in lanes where they cost less than one direction at a time.
-    for (name, outputs) in lane_forms {
-        if let Some(q) = quantities.iter_mut().find(|q| q.name == name) {
+    for (kind, outputs) in lane_forms {
+        if let Some(q) = quantities.iter_mut().find(|q| q.kind == kind) {
             if cost(&graph, &outputs) < cost(&graph, &q.outputs) {
                 q.outputs = outputs;
             }
@@ -306,7 +300,7 @@ fn forward_quantities(
     qd: &[Expr],
     a: &[Expr],
     tau: &[Expr],
-) -> (Vec<Quantity>, Vec<(&'static str, Vec<Id>)>) {
+) -> (Vec<Quantity>, Vec<(QuantityKind, Vec<Id>)>) {
     let n = model.dof();
     let x = dynamics::joint_transforms(model, q);
     let forward = ids(&dynamics::forward_dynamics(model, &x, inertias, jv, qd, tau));
@@ -324,33 +318,33 @@ fn forward_quantities(
     let (inverse_lanes, forward_lanes) = derivatives(Directions::Lanes);
     let quantities = vec![
         Quantity {
-            name: "forward_dynamics",
+            kind: QuantityKind::ForwardDynamics,
             args: vec![Arg::Qd, Arg::Tau],
             shape: Shape::Vector(n),
             outputs: forward,
         },
         Quantity {
-            name: "mass_matrix_inverse",
+            kind: QuantityKind::MassMatrixInverse,
             args: vec![],
             shape: Shape::Matrix(n, n),
             outputs: inverse_mass,
         },
         Quantity {
-            name: "inverse_dynamics_derivatives",
+            kind: QuantityKind::InverseDynamicsDerivatives,
             args: vec![Arg::Qd, Arg::A],
             shape: Shape::MatrixPair(n),
             outputs: inverse_derivatives,
         },
         Quantity {
-            name: "forward_dynamics_derivatives",
+            kind: QuantityKind::ForwardDynamicsDerivatives,
             args: vec![Arg::Qd, Arg::Tau],
             shape: Shape::MatrixPair(n),
             outputs: forward_derivatives,
         },
     ];
     let lanes = vec![
-        ("inverse_dynamics_derivatives", inverse_lanes),
-        ("forward_dynamics_derivatives", forward_lanes),
+        (QuantityKind::InverseDynamicsDerivatives, inverse_lanes),
+        (QuantityKind::ForwardDynamicsDerivatives, forward_lanes),
     ];
     (quantities, lanes)
 }
@@ -374,13 +368,13 @@ fn torque_regressors(
         .collect();
     vec![
         Quantity {
-            name: "torque_regressor",
+            kind: QuantityKind::TorqueRegressor,
             args: vec![Arg::Qd, Arg::A],
             shape: Shape::Matrix(n, model.parameter_count()),
             outputs: y,
         },
         Quantity {
-            name: BASE_TORQUE_REGRESSOR,
+            kind: QuantityKind::BaseTorqueRegressor,
             args: vec![Arg::Qd, Arg::A],
             shape: Shape::Matrix(n, base.count()),
             outputs: y_base,
@@ -425,14 +419,14 @@ fn regressor_products(
     let (n, p, b) = (model.dof(), model.parameter_count(), base.count());
     let all: Vec<usize> = (0..p).collect();
     [
-        ("regressor_products", all.as_slice(), p),
-        (BASE_REGRESSOR_PRODUCTS, &base.columns, b),
+        (QuantityKind::RegressorProducts, all.as_slice(), p),
+        (QuantityKind::BaseRegressorProducts, &base.columns, b),
     ]
     .into_iter()
-    .map(|(name, columns, len)| {
+    .map(|(kind, columns, len)| {
         let (y_theta, y_tr_r) = dynamics::regressor_products(model, x, qd, v, a, columns, &theta[..len], r);
         Quantity {
-            name,
+            kind,
             args: vec![Arg::Qd, Arg::V, Arg::A, Arg::Theta(len), Arg::R],
             shape: Shape::VectorPair(n, len),
             outputs: ids(&y_theta).into_iter().chain(ids(&y_tr_r)).collect(),
@@ -444,18 +438,18 @@ fn regressor_products(
 /// Forward kinematics, `J` and `J̇` in one function: the nodes the three share (joint
 /// transforms, body poses) are computed once. No new nodes, only the union of their outputs.
 fn fused_kinematics(quantities: &[Quantity], n: usize) -> Quantity {
-    let outputs_of = |name: &str| {
+    let outputs_of = |kind: QuantityKind| {
         quantities
             .iter()
-            .find(|q| q.name == name)
+            .find(|q| q.kind == kind)
             .map(|q| q.outputs.clone())
             .unwrap_or_default()
     };
-    let mut outputs = outputs_of("forward_kinematics");
-    outputs.extend(outputs_of("jacobian"));
-    outputs.extend(outputs_of("jacobian_dot"));
+    let mut outputs = outputs_of(QuantityKind::ForwardKinematics);
+    outputs.extend(outputs_of(QuantityKind::Jacobian));
+    outputs.extend(outputs_of(QuantityKind::JacobianDot));
     Quantity {
-        name: "kinematics",
+        kind: QuantityKind::Kinematics,
         args: vec![Arg::Qd],
         shape: Shape::Kinematics(n),
         outputs,
@@ -484,7 +478,7 @@ impl SymbolicRobot {
     }
 
     pub fn quantity(&self, name: &str) -> Option<&Quantity> {
-        self.quantities.iter().find(|q| q.name == name)
+        self.quantities.iter().find(|q| q.name() == name)
     }
 
     /// Evaluates a quantity with the interpreter (for tests on robots that are never compiled).

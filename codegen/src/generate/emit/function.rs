@@ -4,7 +4,7 @@
 use super::leaves::Leaves;
 use super::plan::{Form, Plan};
 use super::signature::{all_parameters, argument_names, signature, Param};
-use crate::generate::trace::{Quantity, Shape, SymbolicRobot, BASE_FUNCTIONS};
+use crate::generate::trace::{Quantity, Shape, SymbolicRobot};
 use crate::symbolic::{Id, Node, OpCounts};
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
@@ -168,7 +168,7 @@ pub(super) fn function(
         sets.into_iter().map(|s| s.into_iter().collect()).collect()
     };
     let (carried_in, handed_on) = (sorted(carried_in), sorted(handed_on));
-    let name = format_ident!("{}{suffix}", q.name);
+    let name = format_ident!("{}{suffix}", q.name());
     let mut main_used = Vec::new();
     let atoms: Vec<TokenStream> = q.outputs.iter().map(|&o| plan.atom(o, &mut main_used)).collect();
     let result = match (form, q.shape) {
@@ -249,7 +249,7 @@ pub(super) fn function(
         },
     };
     let mut doc = vec![doc_counts(&robot.graph.op_counts(&q.outputs))];
-    if BASE_FUNCTIONS.contains(&q.name) {
+    if q.kind.uses_base_columns() {
         let columns: Vec<String> = robot.base.columns.iter().map(|c| c.to_string()).collect();
         doc.insert(
             0,
@@ -296,7 +296,7 @@ pub(super) fn function(
     let mut chunks = Vec::new();
     let mut calls = Vec::new();
     for (k, ids) in plan.order.chunks(CHUNK).enumerate() {
-        let chunk_name = format_ident!("{}{suffix}_part{}", q.name, k);
+        let chunk_name = format_ident!("{}{suffix}_part{}", q.name(), k);
         let mut used = Vec::new();
         let statements = plan.statements(ids, &mut used);
         let sig = signature(robot, leaves, &q.args, &used, &n, form);

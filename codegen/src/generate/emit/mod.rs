@@ -20,7 +20,8 @@ mod leaves;
 mod plan;
 mod signature;
 
-use super::trace::{SymbolicRobot, BASE_FUNCTIONS};
+use super::quantities::Home;
+use super::trace::SymbolicRobot;
 use crate::model::Model;
 use constants::{base_parameters_function, joint_limits, literal, parameter_kinds};
 use function::{function, Emitted};
@@ -66,16 +67,6 @@ pub fn type_name(robot: &str) -> String {
 /// (the file is already formatted, by prettyplease, and must stay byte-identical).
 pub const MODULE_ATTRIBUTES: &str = "#[rustfmt::skip]\n#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, clippy::too_many_lines, clippy::many_single_char_names, clippy::similar_names, clippy::neg_multiply)]";
 
-/// The functions that also have a lane form (several states per call, in
-/// [`LaneDynamics`](dyngen_runtime::LaneDynamics)): what identification and batched roll-outs
-/// evaluate in bulk.
-const LANE_FUNCTIONS: [&str; 2] = ["inverse_dynamics", super::trace::BASE_TORQUE_REGRESSOR];
-
-/// The generated functions that belong to [`Kinematics`](dyngen_runtime::Kinematics) (the rest
-/// are [`RobotDynamics`](dyngen_runtime::RobotDynamics), and `Y_b` is
-/// [`BaseParameters`](dyngen_runtime::BaseParameters)).
-const KINEMATICS: [&str; 4] = ["forward_kinematics", "jacobian", "jacobian_dot", "kinematics"];
-
 /// The complete generated module for `model`, formatted. The module declaration that
 /// includes it carries the lint allows of [`MODULE_ATTRIBUTES`].
 pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> String {
@@ -91,27 +82,27 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
     let param_names = model.parameter_names();
     let param_kinds = parameter_kinds(model);
     let theta = model.parameters().into_iter().map(literal);
-    let emitted: Vec<(&str, Emitted)> = robot
+    let emitted: Vec<(Home, Emitted)> = robot
         .quantities
         .iter()
-        .map(|q| (q.name, function(robot, &leaves, q, n, Form::Scalar)))
+        .map(|q| (q.kind.home(), function(robot, &leaves, q, n, Form::Scalar)))
         .collect();
     let lane_functions: Vec<Emitted> = robot
         .quantities
         .iter()
-        .filter(|q| LANE_FUNCTIONS.contains(&q.name))
+        .filter(|q| q.kind.has_lane_form())
         .map(|q| function(robot, &leaves, q, n, Form::Lanes))
         .collect();
     let lane_methods = lane_functions.iter().map(|e| &e.method);
-    let methods = |keep: fn(&str) -> bool| {
+    let methods = |home: Home| {
         emitted
             .iter()
-            .filter(move |(name, _)| keep(name))
+            .filter(move |(h, _)| *h == home)
             .map(|(_, e)| &e.method)
     };
-    let kinematics = methods(|name| KINEMATICS.contains(&name));
-    let functions = methods(|name| !BASE_FUNCTIONS.contains(&name) && !KINEMATICS.contains(&name));
-    let base_functions = methods(|name| BASE_FUNCTIONS.contains(&name));
+    let kinematics = methods(Home::Kinematics);
+    let functions = methods(Home::RobotDynamics);
+    let base_functions = methods(Home::BaseParameters);
     let chunks = emitted
         .iter()
         .map(|(_, e)| e)

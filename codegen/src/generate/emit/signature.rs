@@ -40,12 +40,7 @@ impl Param {
 }
 
 /// `let [x0, _, x2] = <source>;` for the inputs in `used`; `None` if it reads none of them.
-fn destructure(
-    leaves: &Leaves,
-    ids: &[Id],
-    used: &[Id],
-    source: TokenStream,
-) -> Option<TokenStream> {
+fn destructure(leaves: &Leaves, ids: &[Id], used: &[Id], source: TokenStream) -> Option<TokenStream> {
     if !ids.iter().any(|id| used.contains(id)) {
         return None;
     }
