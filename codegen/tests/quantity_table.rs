@@ -1,10 +1,11 @@
 //! The table of generated functions (`QuantityKind`) against what it describes: the tracer records
-//! exactly its kinds in its order, the traits of `dyngen-runtime` declare each function where the
-//! table puts it (and nothing generated that the table misses), the lane forms exist, and the
+//! exactly its kinds in its order, the traits of `dyngen-runtime` declare each function in the
+//! trait of its group (and nothing generated that the table misses), the lane forms exist, and the
 //! reference in `docs/dynamics.md` names every function.
 
 use dyngen_codegen::description::load;
-use dyngen_codegen::internals::generate::{trace, Home, QuantityKind};
+use dyngen_codegen::internals::generate::{trace, QuantityKind};
+use dyngen_codegen::FunctionGroup;
 use dyngen_testkit::workspace_root;
 use std::collections::BTreeSet;
 
@@ -40,34 +41,35 @@ fn the_tracer_records_the_table_in_its_order() {
 }
 
 #[test]
-fn each_function_is_declared_by_the_trait_the_table_names() {
-    let traits = [
-        (Home::Kinematics, trait_methods("robot.rs", "Kinematics")),
-        (Home::RobotDynamics, trait_methods("robot.rs", "RobotDynamics")),
-        (
-            Home::BaseParameters,
-            trait_methods("parameterization.rs", "BaseParameters"),
-        ),
-    ];
+fn each_function_is_declared_by_the_trait_of_its_group() {
+    let file = |group: FunctionGroup| match group {
+        FunctionGroup::BaseParameters => "parameterization.rs",
+        _ => "robot.rs",
+    };
+    let traits: Vec<(FunctionGroup, BTreeSet<String>)> = FunctionGroup::ALL
+        .into_iter()
+        .map(|g| (g, trait_methods(file(g), g.trait_name())))
+        .collect();
     for kind in QuantityKind::ALL {
-        for (home, methods) in &traits {
+        for (group, methods) in &traits {
             assert_eq!(
                 methods.contains(kind.name()),
-                kind.home() == *home,
-                "{}: the table says {:?}",
+                kind.group() == *group,
+                "{}: the table puts it in {:?}",
                 kind.name(),
-                kind.home()
+                kind.group()
             );
         }
     }
     // What the traits declare beyond the table is written by the emitter from the model's
     // numbers, not traced: the parameter vectors.
     let from_numbers = ["parameters", "base_parameters"];
-    for (home, methods) in &traits {
+    for (group, methods) in &traits {
         for method in methods {
             assert!(
                 QuantityKind::from_name(method).is_some() || from_numbers.contains(&method.as_str()),
-                "{home:?} declares {method}, which the table of generated functions lacks"
+                "{} declares {method}, which the table of generated functions lacks",
+                group.trait_name()
             );
         }
     }

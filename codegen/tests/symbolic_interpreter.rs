@@ -72,7 +72,11 @@ fn fixture_robots_interpreted_graph_matches_generic_dynamics() {
             let c = robot.graph.op_counts(&qn.outputs);
             eprintln!(
                 "{name} {:<20} mul {:>5} add {:>5} neg {:>4} trig {}",
-                qn.name(), c.mul, c.add, c.neg, c.trig
+                qn.name(),
+                c.mul,
+                c.add,
+                c.neg,
+                c.trig
             );
         }
     }

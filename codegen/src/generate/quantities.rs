@@ -1,7 +1,10 @@
-//! The one table of generated functions: each quantity's name, the runtime trait it is a method
-//! of, whether it also has a lane form, and the group a user would choose it by. The tracer
-//! records quantities by these kinds, the emitter places each method by its trait, and a test
-//! holds the table to the traits of `dyngen-runtime` and to the reference in `docs/dynamics.md`.
+//! The one table of generated functions: each quantity's name, its group (which a user chooses
+//! it by, and whose `dyngen-runtime` trait it is a method of), and whether it also has a lane
+//! form. The tracer records quantities by these kinds, the emitter places each method by its
+//! group, and a test holds the table to the traits of `dyngen-runtime` and to the reference in
+//! `docs/dynamics.md`.
+
+use crate::functions::FunctionGroup;
 
 /// One generated function. The order of [`QuantityKind::ALL`] is the order the tracer records
 /// them in, which is append-only: node ids follow creation order, so a quantity added at the end
@@ -29,40 +32,11 @@ pub enum QuantityKind {
     BaseRegressorProducts,
 }
 
-/// The runtime trait a generated function is a method of.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Home {
-    /// `dyngen_runtime::Kinematics`: functions of the joint angles (and rates) alone.
-    Kinematics,
-    /// `dyngen_runtime::RobotDynamics`: the dynamics with the standard parameters.
-    RobotDynamics,
-    /// `dyngen_runtime::BaseParameters`: what uses only the base parameters' columns.
-    BaseParameters,
-}
-
-/// The groups of functions a user thinks in when choosing what to generate.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Group {
-    /// Pose, `J`, `J̇`.
-    Kinematics,
-    /// `D`, `C`, `g`, `τ`, the Slotine–Li torque.
-    Dynamics,
-    /// The regressors and their products, standard parameters.
-    Regressors,
-    /// The same with the base parameters.
-    BaseParameters,
-    /// `q̈ = D⁻¹ (τ − C q̇ − g)` and `D⁻¹`.
-    ForwardDynamics,
-    /// `∂τ/∂(q, q̇)` and `∂q̈/∂(q, τ)`.
-    Derivatives,
-}
-
 /// A row of the table.
 #[derive(Clone, Copy, Debug)]
 struct Row {
     name: &'static str,
-    home: Home,
-    group: Group,
+    group: FunctionGroup,
     lane_form: bool,
 }
 
@@ -91,60 +65,36 @@ impl QuantityKind {
     ];
 
     fn row(self) -> Row {
-        use Group as G;
-        use Home as H;
-        let row = |name, home, group, lane_form| Row {
+        use FunctionGroup as G;
+        let row = |name, group, lane_form| Row {
             name,
-            home,
             group,
             lane_form,
         };
         match self {
-            QuantityKind::ForwardKinematics => row("forward_kinematics", H::Kinematics, G::Kinematics, false),
-            QuantityKind::Jacobian => row("jacobian", H::Kinematics, G::Kinematics, false),
-            QuantityKind::JacobianDot => row("jacobian_dot", H::Kinematics, G::Kinematics, false),
-            QuantityKind::MassMatrix => row("mass_matrix", H::RobotDynamics, G::Dynamics, false),
-            QuantityKind::CoriolisMatrix => row("coriolis_matrix", H::RobotDynamics, G::Dynamics, false),
-            QuantityKind::Gravity => row("gravity", H::RobotDynamics, G::Dynamics, false),
-            QuantityKind::InverseDynamics => row("inverse_dynamics", H::RobotDynamics, G::Dynamics, true),
-            QuantityKind::SlotineLi => row("slotine_li", H::RobotDynamics, G::Dynamics, false),
-            QuantityKind::Regressor => row("regressor", H::RobotDynamics, G::Regressors, false),
-            QuantityKind::BaseRegressor => row("base_regressor", H::BaseParameters, G::BaseParameters, false),
-            QuantityKind::ForwardDynamics => {
-                row("forward_dynamics", H::RobotDynamics, G::ForwardDynamics, false)
+            QuantityKind::ForwardKinematics => row("forward_kinematics", G::Kinematics, false),
+            QuantityKind::Jacobian => row("jacobian", G::Kinematics, false),
+            QuantityKind::JacobianDot => row("jacobian_dot", G::Kinematics, false),
+            QuantityKind::MassMatrix => row("mass_matrix", G::Dynamics, false),
+            QuantityKind::CoriolisMatrix => row("coriolis_matrix", G::Dynamics, false),
+            QuantityKind::Gravity => row("gravity", G::Dynamics, false),
+            QuantityKind::InverseDynamics => row("inverse_dynamics", G::Dynamics, true),
+            QuantityKind::SlotineLi => row("slotine_li", G::Dynamics, false),
+            QuantityKind::Regressor => row("regressor", G::Regressors, false),
+            QuantityKind::BaseRegressor => row("base_regressor", G::BaseParameters, false),
+            QuantityKind::ForwardDynamics => row("forward_dynamics", G::ForwardDynamics, false),
+            QuantityKind::MassMatrixInverse => row("mass_matrix_inverse", G::ForwardDynamics, false),
+            QuantityKind::InverseDynamicsDerivatives => {
+                row("inverse_dynamics_derivatives", G::Derivatives, false)
             }
-            QuantityKind::MassMatrixInverse => {
-                row("mass_matrix_inverse", H::RobotDynamics, G::ForwardDynamics, false)
+            QuantityKind::ForwardDynamicsDerivatives => {
+                row("forward_dynamics_derivatives", G::Derivatives, false)
             }
-            QuantityKind::InverseDynamicsDerivatives => row(
-                "inverse_dynamics_derivatives",
-                H::RobotDynamics,
-                G::Derivatives,
-                false,
-            ),
-            QuantityKind::ForwardDynamicsDerivatives => row(
-                "forward_dynamics_derivatives",
-                H::RobotDynamics,
-                G::Derivatives,
-                false,
-            ),
-            QuantityKind::TorqueRegressor => row("torque_regressor", H::RobotDynamics, G::Regressors, false),
-            QuantityKind::BaseTorqueRegressor => row(
-                "base_torque_regressor",
-                H::BaseParameters,
-                G::BaseParameters,
-                true,
-            ),
-            QuantityKind::Kinematics => row("kinematics", H::Kinematics, G::Kinematics, false),
-            QuantityKind::RegressorProducts => {
-                row("regressor_products", H::RobotDynamics, G::Regressors, false)
-            }
-            QuantityKind::BaseRegressorProducts => row(
-                "base_regressor_products",
-                H::BaseParameters,
-                G::BaseParameters,
-                false,
-            ),
+            QuantityKind::TorqueRegressor => row("torque_regressor", G::Regressors, false),
+            QuantityKind::BaseTorqueRegressor => row("base_torque_regressor", G::BaseParameters, true),
+            QuantityKind::Kinematics => row("kinematics", G::Kinematics, false),
+            QuantityKind::RegressorProducts => row("regressor_products", G::Regressors, false),
+            QuantityKind::BaseRegressorProducts => row("base_regressor_products", G::BaseParameters, false),
         }
     }
 
@@ -158,13 +108,8 @@ impl QuantityKind {
         QuantityKind::ALL.into_iter().find(|k| k.name() == name)
     }
 
-    /// The runtime trait the function is a method of.
-    pub fn home(self) -> Home {
-        self.row().home
-    }
-
-    /// The group a user chooses it by.
-    pub fn group(self) -> Group {
+    /// The group a user chooses it by; its trait is the group's.
+    pub fn group(self) -> FunctionGroup {
         self.row().group
     }
 
@@ -177,7 +122,7 @@ impl QuantityKind {
 
     /// Whether it is one of the base-parameter columns of a regressor (its doc names them).
     pub fn uses_base_columns(self) -> bool {
-        self.home() == Home::BaseParameters
+        self.group() == FunctionGroup::BaseParameters
     }
 }
 
@@ -202,33 +147,11 @@ mod tests {
     }
 
     #[test]
-    fn every_group_and_home_has_a_function() {
-        use Group as G;
-        for group in [
-            G::Kinematics,
-            G::Dynamics,
-            G::Regressors,
-            G::BaseParameters,
-            G::ForwardDynamics,
-            G::Derivatives,
-        ] {
+    fn every_group_has_a_function() {
+        for group in FunctionGroup::ALL {
             assert!(
                 QuantityKind::ALL.iter().any(|k| k.group() == group),
                 "{group:?} empty"
-            );
-        }
-        for home in [Home::Kinematics, Home::RobotDynamics, Home::BaseParameters] {
-            assert!(
-                QuantityKind::ALL.iter().any(|k| k.home() == home),
-                "{home:?} empty"
-            );
-        }
-        // Kinematics methods need no parameters: nothing of a dynamics group may live there.
-        for kind in QuantityKind::ALL {
-            assert_eq!(
-                kind.home() == Home::Kinematics,
-                kind.group() == Group::Kinematics,
-                "{kind:?}"
             );
         }
     }

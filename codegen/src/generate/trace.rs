@@ -4,6 +4,7 @@
 use super::quantities::QuantityKind;
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::{self, Directions};
+use crate::functions::{FunctionGroup, Functions};
 use crate::model::Model;
 use crate::scalar::Scalar;
 use crate::symbolic::{record, Expr, Graph, Id};
@@ -83,6 +84,8 @@ pub struct SymbolicRobot {
     pub quantities: Vec<Quantity>,
     /// The base parameters whose regressor is the quantity [`QuantityKind::BaseRegressor`].
     pub base: BaseParameterSet,
+    /// The groups traced.
+    pub functions: Functions,
 }
 
 fn ids(v: &[Expr]) -> Vec<Id> {
@@ -105,7 +108,14 @@ pub fn trace(model: &Model) -> SymbolicRobot {
 
 /// [`trace`] with base parameters computed beforehand.
 pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
+    trace_functions(model, base, Functions::all())
+}
+
+/// [`trace_with_base`] of the groups `functions` only: the others are not traced at all (what
+/// is traced keeps the order of the full trace, so with every group the graph is the same).
+pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functions) -> SymbolicRobot {
     let n = model.dof();
+    let regressors = functions.contains(FunctionGroup::Regressors);
     let (graph, (inputs, mut quantities, lane_forms)) = record(|| {
         let (q, qd, v, a) = (inputs("q", n), inputs("qd", n), inputs("v", n), inputs("a", n));
         let x = dynamics::joint_transforms(model, &q);
@@ -134,15 +144,18 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
             dynamics::add_armature(model, &joint_values, &mut d);
             d
         };
-        let y = matrix_ids(&full_from_base(
-            &dynamics::regressor(model, &x, &qd, &v, &a),
-            &base,
-        ));
+        let y = match regressors {
+            true => matrix_ids(&full_from_base(
+                &dynamics::regressor(model, &x, &qd, &v, &a),
+                &base,
+            )),
+            false => Vec::new(),
+        };
         // Column-major: column c of Y is y[c·n .. (c+1)·n].
         let y_base: Vec<Id> = base
             .columns
             .iter()
-            .flat_map(|&c| y[c * n..(c + 1) * n].iter().copied())
+            .flat_map(|&c| y.get(c * n..(c + 1) * n).unwrap_or_default().iter().copied())
             .collect();
         let quantities = vec![
             Quantity {
@@ -224,12 +237,18 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
         ];
         let mut quantities = quantities;
         let tau = inputs("tau", n);
-        let (forward, lane_forms) = forward_quantities(model, &inertias, &joint_values, &q, &qd, &a, &tau);
+        let (forward, lane_forms) =
+            forward_quantities(model, &inertias, &joint_values, &q, &qd, &a, &tau, functions);
         quantities.extend(forward);
-        quantities.extend(torque_regressors(model, &x, &qd, &a, &base));
+        if regressors {
+            quantities.extend(torque_regressors(model, &x, &qd, &a, &base));
+        }
         quantities.push(fused_kinematics(&quantities, n));
         let (theta, r) = (inputs("theta", model.parameter_count()), inputs("r", n));
-        quantities.extend(regressor_products(model, &x, [&qd, &v, &a], &theta, &r, &base));
+        if regressors {
+            quantities.extend(regressor_products(model, &x, [&qd, &v, &a], &theta, &r, &base));
+        }
+        quantities.retain(|q| functions.contains(q.kind.group()));
         (
             Inputs {
                 q: ids(&q),
@@ -257,6 +276,7 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
         inputs,
         quantities,
         base,
+        functions,
     }
 }
 
@@ -300,11 +320,30 @@ fn forward_quantities(
     qd: &[Expr],
     a: &[Expr],
     tau: &[Expr],
+    functions: Functions,
 ) -> (Vec<Quantity>, Vec<(QuantityKind, Vec<Id>)>) {
     let n = model.dof();
     let x = dynamics::joint_transforms(model, q);
-    let forward = ids(&dynamics::forward_dynamics(model, &x, inertias, jv, qd, tau));
-    let inverse_mass = matrix_ids(&dynamics::mass_matrix_inverse(model, &x, inertias, jv));
+    let mut quantities = Vec::new();
+    if functions.contains(FunctionGroup::ForwardDynamics) {
+        let forward = ids(&dynamics::forward_dynamics(model, &x, inertias, jv, qd, tau));
+        let inverse_mass = matrix_ids(&dynamics::mass_matrix_inverse(model, &x, inertias, jv));
+        quantities.push(Quantity {
+            kind: QuantityKind::ForwardDynamics,
+            args: vec![Arg::Qd, Arg::Tau],
+            shape: Shape::Vector(n),
+            outputs: forward,
+        });
+        quantities.push(Quantity {
+            kind: QuantityKind::MassMatrixInverse,
+            args: vec![],
+            shape: Shape::Matrix(n, n),
+            outputs: inverse_mass,
+        });
+    }
+    if !functions.contains(FunctionGroup::Derivatives) {
+        return (quantities, Vec::new());
+    }
     let derivatives = |directions| {
         let inverse = pair_ids(dynamics::inverse_dynamics_derivatives_by(
             directions, model, q, inertias, jv, qd, a,
@@ -316,19 +355,7 @@ fn forward_quantities(
     };
     let (inverse_derivatives, forward_derivatives) = derivatives(Directions::OneByOne);
     let (inverse_lanes, forward_lanes) = derivatives(Directions::Lanes);
-    let quantities = vec![
-        Quantity {
-            kind: QuantityKind::ForwardDynamics,
-            args: vec![Arg::Qd, Arg::Tau],
-            shape: Shape::Vector(n),
-            outputs: forward,
-        },
-        Quantity {
-            kind: QuantityKind::MassMatrixInverse,
-            args: vec![],
-            shape: Shape::Matrix(n, n),
-            outputs: inverse_mass,
-        },
+    quantities.extend([
         Quantity {
             kind: QuantityKind::InverseDynamicsDerivatives,
             args: vec![Arg::Qd, Arg::A],
@@ -341,7 +368,7 @@ fn forward_quantities(
             shape: Shape::MatrixPair(n),
             outputs: forward_derivatives,
         },
-    ];
+    ]);
     let lanes = vec![
         (QuantityKind::InverseDynamicsDerivatives, inverse_lanes),
         (QuantityKind::ForwardDynamicsDerivatives, forward_lanes),

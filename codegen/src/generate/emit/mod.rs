@@ -20,14 +20,14 @@ mod leaves;
 mod plan;
 mod signature;
 
-use super::quantities::Home;
 use super::trace::SymbolicRobot;
+use crate::functions::{FunctionGroup, Functions};
 use crate::model::Model;
 use constants::{base_parameters_function, joint_limits, literal, parameter_kinds};
 use function::{function, Emitted};
 use leaves::Leaves;
 use plan::Form;
-use proc_macro2::Literal;
+use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
 
 /// What the header of a generated file records.
@@ -67,6 +67,34 @@ pub fn type_name(robot: &str) -> String {
 /// (the file is already formatted, by prettyplease, and must stay byte-identical).
 pub const MODULE_ATTRIBUTES: &str = "#[rustfmt::skip]\n#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, clippy::too_many_lines, clippy::many_single_char_names, clippy::similar_names, clippy::neg_multiply)]";
 
+/// What the module imports from `dyngen-runtime`: the data types, and the traits of its groups.
+fn runtime_items(functions: &Functions) -> Vec<&'static str> {
+    let mut items = vec!["JointLimits", "JointTrig", "ParameterKind", "Pose"];
+    items.extend(functions.groups().map(FunctionGroup::trait_name));
+    if functions.contains(FunctionGroup::BaseParameters) {
+        items.extend(["JointTrigLanes", "LaneDynamics", "Lanes"]);
+    }
+    items.sort_unstable();
+    items
+}
+
+/// The robot type's doc: which traits it implements.
+fn type_doc(name: &str, functions: &Functions) -> String {
+    let mut traits: Vec<String> = functions
+        .groups()
+        .map(|g| format!("[`{}`]", g.trait_name()))
+        .collect();
+    if functions.contains(FunctionGroup::BaseParameters) {
+        traits.push("[`LaneDynamics`]".to_owned());
+    }
+    let listed = match traits.split_last() {
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
+        None => String::new(),
+    };
+    format!(" `{name}`: implements {listed} with flattened, allocation-free code.")
+}
+
 /// The complete generated module for `model`, formatted. The module declaration that
 /// includes it carries the lint allows of [`MODULE_ATTRIBUTES`].
 pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> String {
@@ -81,28 +109,27 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
     let end_effector_body = Literal::usize_unsuffixed(model.end_effector().parent);
     let param_names = model.parameter_names();
     let param_kinds = parameter_kinds(model);
-    let theta = model.parameters().into_iter().map(literal);
-    let emitted: Vec<(Home, Emitted)> = robot
+    let theta: Vec<TokenStream> = model.parameters().into_iter().map(literal).collect();
+    let functions = robot.functions;
+    let emitted: Vec<(FunctionGroup, Emitted)> = robot
         .quantities
         .iter()
-        .map(|q| (q.kind.home(), function(robot, &leaves, q, n, Form::Scalar)))
+        .map(|q| (q.kind.group(), function(robot, &leaves, q, n, Form::Scalar)))
         .collect();
+    // The lane functions come with the base parameters (their trait is bounded by `B`).
+    let has_lanes = functions.contains(FunctionGroup::BaseParameters);
     let lane_functions: Vec<Emitted> = robot
         .quantities
         .iter()
-        .filter(|q| q.kind.has_lane_form())
+        .filter(|q| has_lanes && q.kind.has_lane_form())
         .map(|q| function(robot, &leaves, q, n, Form::Lanes))
         .collect();
-    let lane_methods = lane_functions.iter().map(|e| &e.method);
-    let methods = |home: Home| {
+    let methods = |group: FunctionGroup| {
         emitted
             .iter()
-            .filter(move |(h, _)| *h == home)
+            .filter(move |(g, _)| *g == group)
             .map(|(_, e)| &e.method)
     };
-    let kinematics = methods(Home::Kinematics);
-    let functions = methods(Home::RobotDynamics);
-    let base_functions = methods(Home::BaseParameters);
     let chunks = emitted
         .iter()
         .map(|(_, e)| e)
@@ -112,8 +139,14 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
     let base_names = base.names.iter().map(String::as_str);
     let base_parameters = base_parameters_function(base);
     let b = Literal::usize_unsuffixed(base.count());
+    // Doc links only to the traits the module implements (and so imports).
+    let link = |group: FunctionGroup| match functions.contains(group) {
+        true => format!("[`{}`]", group.trait_name()),
+        false => format!("`{}`", group.trait_name()),
+    };
     let count_doc = format!(
-        " Number of base parameters of `{name}` (the `B` of [`BaseParameters`]): {} of {p}.",
+        " Number of base parameters of `{name}` (the `B` of {}): {} of {p}.",
+        link(FunctionGroup::BaseParameters),
         base.count()
     );
     // A robot without joint-level parameters keeps its header word for word.
@@ -144,20 +177,75 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
         provenance.source_hash,
         provenance.regenerate
     );
-    let type_doc = format!(
-        " `{name}`: implements [`Kinematics`], [`RobotDynamics`] and [`BaseParameters`] with flattened, allocation-free code."
-    );
+    let type_doc = type_doc(name, &functions);
     // The generator's version: the runtime accepts it only if it is its own (`__private`, which
     // generated code calls, changes in any release).
     let generated_by = env!("CARGO_PKG_VERSION");
+    let runtime_items = runtime_items(&functions)
+        .into_iter()
+        .map(|item| format_ident!("{item}"));
+    let implementations: Vec<TokenStream> = functions
+        .groups()
+        .map(|group| {
+            let methods = methods(group);
+            match group {
+                FunctionGroup::Kinematics => quote! {
+                    impl Kinematics<#n> for #ty {
+                        const NAME: &'static str = #name;
+                        const JOINT_NAMES: [&'static str; #n] = JOINT_NAMES;
+                        const JOINT_LIMITS: [JointLimits; #n] = JOINT_LIMITS;
+                        const END_EFFECTOR_BODY: usize = #end_effector_body;
+
+                        #(#methods)*
+                    }
+                },
+                FunctionGroup::Dynamics => {
+                    let theta = &theta;
+                    quote! {
+                        impl RobotDynamics<#n, #p> for #ty {
+                            const PARAMETER_NAMES: [&'static str; #p] = PARAMETER_NAMES;
+                            const PARAMETER_KINDS: [ParameterKind; #p] = PARAMETER_KINDS;
+
+                            fn parameters() -> SVector<f64, #p> {
+                                SVector::from_array_storage(ArrayStorage([[#(#theta),*]]))
+                            }
+
+                            #(#methods)*
+                        }
+                    }
+                }
+                FunctionGroup::BaseParameters => {
+                    let lane_methods = lane_functions.iter().map(|e| &e.method);
+                    quote! {
+                        impl BaseParameters<#n, #p, #b> for #ty {
+                            const BASE_PARAMETER_NAMES: [&'static str; #b] = BASE_PARAMETER_NAMES;
+
+                            #base_parameters
+
+                            #(#methods)*
+                        }
+
+                        impl LaneDynamics<#n, #b> for #ty {
+                            #(#lane_methods)*
+                        }
+                    }
+                }
+                other => {
+                    let name = format_ident!("{}", other.trait_name());
+                    quote! {
+                        impl #name<#n, #p> for #ty {
+                            #(#methods)*
+                        }
+                    }
+                }
+            }
+        })
+        .collect();
     let tokens = quote! {
         dyngen_runtime::__require_version!(#generated_by);
 
         use dyngen_runtime::nalgebra::{ArrayStorage, Matrix3, SMatrix, SVector, Vector3};
-        use dyngen_runtime::{
-            BaseParameters, JointLimits, JointTrig, JointTrigLanes, Kinematics, LaneDynamics, Lanes, ParameterKind,
-            Pose, RobotDynamics,
-        };
+        use dyngen_runtime::{#(#runtime_items),*};
 
         /// Number of moving joints (the `N` of [`Kinematics`] and [`RobotDynamics`]).
         pub const DOF: usize = #n;
@@ -201,37 +289,7 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
         #[derive(Clone, Copy, Debug, Default)]
         pub struct #ty;
 
-        impl Kinematics<#n> for #ty {
-            const NAME: &'static str = #name;
-            const JOINT_NAMES: [&'static str; #n] = JOINT_NAMES;
-            const JOINT_LIMITS: [JointLimits; #n] = JOINT_LIMITS;
-            const END_EFFECTOR_BODY: usize = #end_effector_body;
-
-            #(#kinematics)*
-        }
-
-        impl RobotDynamics<#n, #p> for #ty {
-            const PARAMETER_NAMES: [&'static str; #p] = PARAMETER_NAMES;
-            const PARAMETER_KINDS: [ParameterKind; #p] = PARAMETER_KINDS;
-
-            fn parameters() -> SVector<f64, #p> {
-                SVector::from_array_storage(ArrayStorage([[#(#theta),*]]))
-            }
-
-            #(#functions)*
-        }
-
-        impl BaseParameters<#n, #p, #b> for #ty {
-            const BASE_PARAMETER_NAMES: [&'static str; #b] = BASE_PARAMETER_NAMES;
-
-            #base_parameters
-
-            #(#base_functions)*
-        }
-
-        impl LaneDynamics<#n, #b> for #ty {
-            #(#lane_methods)*
-        }
+        #(#implementations)*
 
         #(#chunks)*
     };
