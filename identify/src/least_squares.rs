@@ -55,22 +55,6 @@ pub struct BaseEstimate {
 }
 
 impl BaseEstimate {
-    /// No parameters: a base for struct update.
-    pub(crate) fn empty() -> BaseEstimate {
-        BaseEstimate {
-            names: Vec::new(),
-            theta_b: Vec::new(),
-            std_dev: Vec::new(),
-            joint_noise: Vec::new(),
-            noise_iterations: 0,
-            noise_settled: true,
-            residual_variance: 1.0,
-            information_scaled: DMatrix::zeros(0, 0),
-            scale: Vec::new(),
-            condition_number: 1.0,
-        }
-    }
-
     /// Relative standard deviation `σ/|θ|` of base parameter `k` (∞ for θ = 0).
     pub fn relative_std_dev(&self, k: usize) -> f64 {
         self.std_dev[k] / self.theta_b[k].abs()

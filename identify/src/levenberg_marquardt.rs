@@ -84,7 +84,7 @@ pub(crate) fn minimise(
             .filter(|&i| sigma[i] > resolved)
             .map(|i| ut_r[i] * ut_r[i])
             .sum();
-        if !(gauss_newton_gain > STOP_DECREASE * cost + STOP_ABSOLUTE) {
+        if gauss_newton_gain.is_nan() || gauss_newton_gain <= STOP_DECREASE * cost + STOP_ABSOLUTE {
             break;
         }
         iterations += 1;
@@ -108,8 +108,11 @@ pub(crate) fn minimise(
             // The least damping whose step stays within the trust radius (the step's length
             // falls as the damping grows: bisection on its logarithm).
             let (mut step, mut coefficients, mut length) = step_for(resolved * resolved);
-            if !(length <= radius) {
-                let (mut lo, mut hi) = ((resolved * resolved).max(f64::MIN_POSITIVE).ln(), (1e30 * largest * largest).ln());
+            if length.is_nan() || length > radius {
+                let (mut lo, mut hi) = (
+                    (resolved * resolved).max(f64::MIN_POSITIVE).ln(),
+                    (1e30 * largest * largest).ln(),
+                );
                 for _ in 0..64 {
                     let mid = 0.5 * (lo + hi);
                     let candidate = step_for(mid.exp());
@@ -123,7 +126,7 @@ pub(crate) fn minimise(
                         break;
                     }
                 }
-                if !(length <= radius) {
+                if length.is_nan() || length > radius {
                     break;
                 }
             }
@@ -133,7 +136,7 @@ pub(crate) fn minimise(
             let rt = residual(&trial);
             let ct = rt.norm_squared();
             let ratio = (cost - ct) / predicted;
-            if !(ratio >= 0.25) {
+            if ratio.is_nan() || ratio < 0.25 {
                 radius = 0.25 * length.min(radius);
             } else if ratio > 0.75 && length >= 0.5 * radius {
                 radius = (2.0 * radius).min(MAX_RADIUS);
@@ -171,7 +174,11 @@ mod tests {
         let residual = |x: &[f64]| DVector::from_vec(vec![1e6 * (x[0] + x[1] - 2.0), 1e-3 * (x[0] - x[1])]);
         let jacobian = |_: &[f64]| DMatrix::from_row_slice(2, 2, &[1e6, 1e6, 1e-3, -1e-3]);
         let m = minimise(residual, jacobian, vec![5.0, -7.0], 0.0);
-        assert!((m.x[0] - 1.0).abs() < 1e-8 && (m.x[1] - 1.0).abs() < 1e-8, "{:?}", m.x);
+        assert!(
+            (m.x[0] - 1.0).abs() < 1e-8 && (m.x[1] - 1.0).abs() < 1e-8,
+            "{:?}",
+            m.x
+        );
     }
 
     /// Rosenbrock's valley as a least squares: the minimum (1, 1) from the classic start.
@@ -180,6 +187,11 @@ mod tests {
         let residual = |x: &[f64]| DVector::from_vec(vec![10.0 * (x[1] - x[0] * x[0]), 1.0 - x[0]]);
         let jacobian = |x: &[f64]| DMatrix::from_row_slice(2, 2, &[-20.0 * x[0], 10.0, -1.0, 0.0]);
         let m = minimise(residual, jacobian, vec![-1.2, 1.0], 0.0);
-        assert!((m.x[0] - 1.0).abs() < 1e-8 && (m.x[1] - 1.0).abs() < 1e-8, "{:?} after {}", m.x, m.iterations);
+        assert!(
+            (m.x[0] - 1.0).abs() < 1e-8 && (m.x[1] - 1.0).abs() < 1e-8,
+            "{:?} after {}",
+            m.x,
+            m.iterations
+        );
     }
 }

@@ -35,6 +35,7 @@ mod least_squares;
 mod levenberg_marquardt;
 mod loadable;
 mod log_cholesky;
+mod objective;
 mod observation;
 mod pipeline;
 mod simulate;

@@ -17,7 +17,7 @@ pub(crate) fn loadable(model: &Model, theta: &[f64]) -> Result<(Model, Vec<Strin
         return Err(format!("parameter {} is not finite", model.parameter_names()[i]));
     }
     for (b, margin) in body_margins(model, theta).iter().enumerate() {
-        if !(*margin >= 0.5 * MARGIN) {
+        if margin.is_nan() || *margin < 0.5 * MARGIN {
             return Err(format!(
                 "link '{}': its inertia is within {margin:.1e} of the physically valid limit (at least {:.0e} is kept)",
                 model.bodies()[b].name,

@@ -119,12 +119,14 @@ impl BodyMap {
         let mut jac = SMatrix::<f64, 10, 10>::zeros();
         let column = |dj: Matrix4<f64>| SMatrix::<f64, 10, 1>::from(parameters_of(&dj));
         // Every parameter is proportional to m = e^{2α}.
-        jac.set_column(0, &(column(assemble(m, &c, &Self::sigma_c(m, &(d * d.transpose())))) * 2.0));
+        jac.set_column(
+            0,
+            &(column(assemble(m, &c, &Self::sigma_c(m, &(d * d.transpose())))) * 2.0),
+        );
         let through_d = |dd: Matrix3<f64>| {
             let ds = dd * d.transpose() + d * dd.transpose();
             let mut dj = Matrix4::zeros();
-            dj.fixed_view_mut::<3, 3>(0, 0)
-                .copy_from(&Self::sigma_c(m, &ds));
+            dj.fixed_view_mut::<3, 3>(0, 0).copy_from(&Self::sigma_c(m, &ds));
             column(dj)
         };
         for p in 0..3 {
@@ -143,8 +145,7 @@ impl BodyMap {
             dj.fixed_view_mut::<3, 3>(0, 0)
                 .copy_from(&((dc * c.transpose() + c * dc.transpose()) * m));
             dj.fixed_view_mut::<3, 1>(0, 3).copy_from(&(dc * m));
-            dj.fixed_view_mut::<1, 3>(3, 0)
-                .copy_from(&(dc * m).transpose());
+            dj.fixed_view_mut::<1, 3>(3, 0).copy_from(&(dc * m).transpose());
             jac.set_column(7 + i, &column(dj));
         }
         jac
@@ -202,7 +203,7 @@ impl BodyMap {
 pub(crate) fn relative_margin(p: &[f64]) -> f64 {
     let j = pseudo_inertia(p);
     let m = j[(3, 3)];
-    if !(m > 0.0) {
+    if m.is_nan() || m <= 0.0 {
         return if m == 0.0 { 0.0 } else { -1.0 };
     }
     let h = Vector3::new(j[(0, 3)], j[(1, 3)], j[(2, 3)]);

@@ -1,12 +1,13 @@
 //! The whole identification in one call: data → base parameters with uncertainties → a
 //! consistent full θ → an identified description that loads.
 
-use crate::consistent::{consistent_estimate, misfit_bound, ConsistentEstimate, Problem};
+use crate::consistent::{consistent_estimate, misfit_bound, ConsistentEstimate};
 use crate::data::Samples;
 use crate::describe::to_yaml;
 use crate::error::IdentifyError;
 use crate::least_squares::{estimate, BaseEstimate};
 use crate::loadable::loadable;
+use crate::objective::Problem;
 use crate::observation::{prepare, BaseModel, BaseRegressorSource};
 use crate::starts::{description_start, least_squares_start};
 use dyngen_codegen::model::Model;
@@ -67,7 +68,8 @@ impl Identification {
         )];
         match self.written {
             WrittenEstimate::Consistent => comment.extend([
-                "Inertial parameters: the physically consistent estimate (log-Cholesky); the directions".into(),
+                "Inertial parameters: the physically consistent estimate (log-Cholesky); the directions"
+                    .into(),
                 "the data cannot see keep the values of the description identification started from.".into(),
             ]),
             WrittenEstimate::LeastSquares => comment.extend([

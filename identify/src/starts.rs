@@ -13,8 +13,8 @@
 //!   parameters free, fitted to the data: a few numbers, so well determined even when the
 //!   least squares' full θ is not near any consistent one.
 
-use crate::consistent::Problem;
 use crate::least_squares::BaseEstimate;
+use crate::objective::Problem;
 use dyngen_codegen::model::PARAMS_PER_BODY;
 use nalgebra::{DMatrix, DVector};
 use std::fmt;
@@ -74,7 +74,11 @@ pub(crate) fn least_squares_start(problem: &Problem<'_>) -> Option<Vec<f64>> {
     let prior = DVector::from_column_slice(&problem.prior);
     let scaled_a = DMatrix::from_fn(problem.a.nrows(), p, |i, j| problem.a[(i, j)] * problem.scales[j]);
     let y = nearest_fit(&scaled_a, &(&problem.c - &problem.a * &prior), &DVector::zeros(p))?;
-    Some((0..p).map(|i| problem.prior[i] + problem.scales[i] * y[i]).collect())
+    Some(
+        (0..p)
+            .map(|i| problem.prior[i] + problem.scales[i] * y[i])
+            .collect(),
+    )
 }
 
 /// The description scaled body by body, the end effector's body and the joint-level

@@ -10,8 +10,9 @@ use dyngen_codegen::description::{load, load_yaml_str};
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::model::{JointTermValues, Model};
 use dyngen_identify::{
-    identify, measure, optimise, with_joint_terms, with_payload, BaseModel, ExcitationOptions, FourierTrajectory,
-    Identification, IdentifyOptions, TrajectoryLimits, WrittenEstimate, DEFAULT_ACCELERATION_PER_VELOCITY,
+    identify, measure, optimise, with_joint_terms, with_payload, BaseModel, ExcitationOptions,
+    FourierTrajectory, Identification, IdentifyOptions, TrajectoryLimits, WrittenEstimate,
+    DEFAULT_ACCELERATION_PER_VELOCITY,
 };
 use nalgebra::Vector3;
 use std::path::Path;
@@ -43,7 +44,10 @@ fn truth(nominal: &Model) -> Model {
             body
         })
         .collect();
-    let cad = nominal.clone().with_bodies(bodies).expect("scaled bodies are valid");
+    let cad = nominal
+        .clone()
+        .with_bodies(bodies)
+        .expect("scaled bodies are valid");
     let tool = with_payload(&cad, 25.0, Vector3::new(0.0015, -0.001, 0.12), 0.08);
     let armature = [15.0, 15.0, 6.0, 1.0, 0.8, 0.03];
     let viscous = [80.0, 80.0, 40.0, 8.0, 5.0, 0.04];
@@ -93,7 +97,10 @@ fn setup() -> Setup {
         largest.iter().copied().fold(0.0, f64::max),
         largest.iter().copied().fold(f64::INFINITY, f64::min),
     );
-    assert!(hi > 1000.0 && lo < 5.0 && hi / lo > 1000.0, "largest torques {largest:?}");
+    assert!(
+        hi > 1000.0 && lo < 5.0 && hi / lo > 1000.0,
+        "largest torques {largest:?}"
+    );
     Setup {
         nominal,
         truth,
@@ -141,7 +148,15 @@ fn validation(s: &Setup, model: &Model) -> Vec<f64> {
 /// that loads.
 fn check_noisy(with_derivatives: bool) {
     let s = setup();
-    let samples = measure(&s.truth, &s.excitation, DURATION, RATE, &s.noise, 42, with_derivatives);
+    let samples = measure(
+        &s.truth,
+        &s.excitation,
+        DURATION,
+        RATE,
+        &s.noise,
+        42,
+        with_derivatives,
+    );
     let id = identify(&s.nominal, &samples, &IdentifyOptions::default()).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(id.differentiated, !with_derivatives);
     let b = id.base.theta_b.len();
@@ -204,7 +219,10 @@ fn noise_free_data_recovers_the_true_base_parameters() {
     let expected = BaseParameterSet::compute(&s.nominal).base_parameters(&s.truth.parameters());
     let largest = expected.iter().map(|x| x.abs()).fold(0.0, f64::max);
     let mut worst = (0.0f64, 0);
-    for (estimate, name) in [(&id.base.theta_b, "least squares"), (&id.consistent.theta_b, "consistent")] {
+    for (estimate, name) in [
+        (&id.base.theta_b, "least squares"),
+        (&id.consistent.theta_b, "consistent"),
+    ] {
         for (k, (got, want)) in estimate.iter().zip(&expected).enumerate() {
             let error = (got - want).abs() / want.abs().max(1e-9 * largest);
             assert!(
@@ -243,6 +261,8 @@ fn data_no_consistent_robot_fits_is_a_warning_not_a_failure() {
         "{:?}",
         id.warnings
     );
-    assert!(id.yaml("data").contains("# warning: no physically consistent parameters"));
+    assert!(id
+        .yaml("data")
+        .contains("# warning: no physically consistent parameters"));
     written(&id);
 }
