@@ -13,13 +13,18 @@
 //! 3. Observation: the base regressor of a [`BaseRegressorSource`] (the generic numeric
 //!    dynamics of any description, [`BaseModel`], or a compiled robot, [`Compiled`]), in
 //!    torque form, stacked over the samples.
-//! 4. Estimation: weighted least squares on the base parameters with per-parameter standard
-//!    deviations ([`BaseEstimate`]), or an [`IdentifyError::Unidentifiable`] that names the
-//!    parameter the data cannot determine; then a physically consistent full θ
-//!    ([`ConsistentEstimate`]: every body's pseudo-inertia positive definite, armature and
-//!    friction non-negative, by a log-Cholesky parameterisation).
+//! 4. Estimation: least squares on the base parameters weighted by each joint's noise, the
+//!    noise re-estimated from the weighted residuals until it settles, with per-parameter
+//!    standard deviations ([`BaseEstimate`]), or an [`IdentifyError::Unidentifiable`] that
+//!    names the parameter the data cannot determine; then a physically consistent full θ as
+//!    compatible with the data as the least squares allow ([`ConsistentEstimate`]: every
+//!    body's pseudo-inertia positive definite with a margin, armature and friction positive,
+//!    by a log-Cholesky parameterisation, from the best of several starts
+//!    ([`ConsistentStart`])).
 //! 5. The identified robot as a dyngen YAML description ([`to_yaml`],
-//!    [`Identification::yaml`]); [`identify`] runs all of it in one call.
+//!    [`Identification::yaml`]), checked by loading it back: always one the loader accepts
+//!    ([`WrittenEstimate`]), with warnings ([`Identification::warnings`]) when no consistent
+//!    robot fits the data; [`identify`] runs all of it in one call.
 //!
 //! [`measure`], [`with_payload`] and [`with_joint_terms`] simulate measurements of a "true"
 //! robot, for tests and studies.

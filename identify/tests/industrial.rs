@@ -253,6 +253,7 @@ fn data_no_consistent_robot_fits_is_a_warning_not_a_failure() {
         tau[5] = -tau[5];
     }
     let id = identify(&s.nominal, &samples, &IdentifyOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    println!("warnings: {:#?}", id.warnings);
     assert!(!id.consistent.compatible);
     assert!(
         id.warnings
