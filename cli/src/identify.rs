@@ -79,8 +79,8 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
         id.consistent.start,
         id.consistent.iterations
     );
-    if id.written == WrittenEstimate::LeastSquares {
-        println!("the description written holds the least squares, each body made physically valid");
+    if id.written != WrittenEstimate::Consistent {
+        println!("the description written holds {}", id.written);
     }
     for warning in &id.warnings {
         eprintln!("warning: {warning}");

@@ -11,6 +11,7 @@ use crate::objective::Problem;
 use crate::observation::{prepare, BaseModel, BaseRegressorSource};
 use crate::starts::{description_start, least_squares_start};
 use dyngen_codegen::model::Model;
+use std::fmt;
 
 /// Options of [`identify`].
 #[derive(Clone, Debug, PartialEq)]
@@ -30,11 +31,25 @@ impl Default for IdentifyOptions {
 /// Which estimate the identified description holds.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum WrittenEstimate {
-    /// The consistent estimate: compatible with the data and physically valid.
+    /// The consistent estimate: physically valid, and the closest to the data such a robot
+    /// can be.
     Consistent,
-    /// No consistent estimate fits the data: the least squares, each body brought to the
-    /// nearest physically valid one, or the consistent estimate where that fits better.
+    /// The least squares, each body brought to the nearest physically valid one: written when
+    /// no consistent estimate fits the data and this fits it better.
     LeastSquares,
+    /// The description identification started from, with the joint terms the least squares
+    /// determine alone: written only if neither estimate would load (a bug).
+    Description,
+}
+
+impl fmt::Display for WrittenEstimate {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            WrittenEstimate::Consistent => "the consistent estimate",
+            WrittenEstimate::LeastSquares => "the least squares made physically valid",
+            WrittenEstimate::Description => "the description with the least squares' joint terms",
+        })
+    }
 }
 
 /// What an identification produces.
@@ -75,6 +90,10 @@ impl Identification {
             WrittenEstimate::LeastSquares => comment.extend([
                 "Inertial parameters: the least-squares estimate, each body brought to the nearest".into(),
                 "physically valid one: no physically consistent estimate fits the data.".into(),
+            ]),
+            WrittenEstimate::Description => comment.extend([
+                "Inertial parameters: the description's; joint terms: the least squares' where they".into(),
+                "are determined alone (neither estimate would load).".into(),
             ]),
         }
         comment.extend(self.warnings.iter().map(|w| format!("warning: {w}")));
@@ -122,9 +141,9 @@ pub fn identify_with(
     let problem = Problem::new(model, &base_model.base, &base);
     let consistent = consistent_estimate(&problem, &base);
     let b = base.theta_b.len();
-    // The description written: the consistent estimate when it fits the data; else the least
-    // squares made physically valid body by body, or the consistent estimate if that fits
-    // better; the description itself (with the least squares' joint terms) when neither loads.
+    // The description written: the consistent estimate when it fits the data; else whichever
+    // fits better of it and the least squares made physically valid body by body; the
+    // description (with the least squares' joint terms) if neither loads.
     let mut candidates = vec![(WrittenEstimate::Consistent, consistent.theta.clone())];
     if !consistent.compatible {
         warnings.push(format!(
@@ -145,16 +164,14 @@ pub fn identify_with(
         }
     }
     let description = problem.consistent_point(&description_start(&problem, &base));
-    candidates.push((WrittenEstimate::LeastSquares, description));
+    candidates.push((WrittenEstimate::Description, description));
     let mut refused = Vec::new();
     for (written, theta) in candidates {
         match loadable(model, &theta) {
             Ok((identified, loader_warnings)) => {
-                if let Some(why) = refused.first() {
-                    warnings.push(format!(
-                        "the consistent estimate would not load ({why}): the description written holds the least squares"
-                    ));
-                }
+                warnings.extend(refused.iter().map(|(what, why)| {
+                    format!("{what} would not load ({why}): the description written holds {written}")
+                }));
                 warnings.extend(
                     loader_warnings
                         .into_iter()
@@ -170,8 +187,12 @@ pub fn identify_with(
                     warnings,
                 });
             }
-            Err(why) => refused.push(why),
+            Err(why) => refused.push((written, why)),
         }
     }
-    Err(IdentifyError::InvalidEstimate(refused.join("; ")))
+    let reasons: Vec<String> = refused
+        .iter()
+        .map(|(what, why)| format!("{what}: {why}"))
+        .collect();
+    Err(IdentifyError::InvalidEstimate(reasons.join("; ")))
 }

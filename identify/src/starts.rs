@@ -19,11 +19,16 @@ use dyngen_codegen::model::PARAMS_PER_BODY;
 use nalgebra::{DMatrix, DVector};
 use std::fmt;
 
-/// A start of the consistent estimate (see the module docs of `starts.rs`).
+/// Where the consistent estimate started from (it tries each and keeps the best end).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum ConsistentStart {
+    /// The description, with the joint-level parameters the least squares determine alone.
     Description,
+    /// The full θ nearest the description whose base parameters are the least squares',
+    /// brought to physical validity body by body.
     LeastSquares,
+    /// The description with each body scaled by one factor, the end effector's body (a
+    /// payload) and the joint-level parameters fitted to the data.
     ScaledDescription,
 }
 
