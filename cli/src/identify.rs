@@ -5,7 +5,7 @@ use crate::failure::Failure;
 use crate::identifiable::load_identifiable;
 use crate::loading::LoadingArgs;
 use clap::Args;
-use dyngen_identify::{identify, read_csv, IdentifyOptions};
+use dyngen_identify::{identify, read_csv, IdentifyOptions, WrittenEstimate};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -61,15 +61,36 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
             id.base.names[k]
         );
     }
+    println!(
+        "torque noise per joint (σ, from the weighted residuals; re-estimated {} times{}):",
+        id.base.noise_iterations,
+        if id.base.noise_settled {
+            ", settled"
+        } else {
+            ", NOT settled"
+        }
+    );
     for (j, joint) in model.joints().iter().enumerate() {
-        println!("torque noise of {}: {:.4}", joint.name, id.base.joint_noise[j]);
+        println!("  {}: σ = {:.4}", joint.name, id.base.joint_noise[j]);
     }
     println!(
-        "consistent estimate: whitened misfit {:.2} for {} base parameters ({} iterations)",
+        "consistent estimate: whitened misfit {:.2} for {} base parameters ({}), from {} ({} steps)",
         id.consistent.misfit,
         id.base.theta_b.len(),
+        if id.consistent.compatible {
+            "compatible with the data"
+        } else {
+            "NOT compatible with the data"
+        },
+        id.consistent.start,
         id.consistent.iterations
     );
+    if id.written != WrittenEstimate::Consistent {
+        println!("the description written holds {}", id.written);
+    }
+    for warning in &id.warnings {
+        eprintln!("warning: {warning}");
+    }
     let yaml = id.yaml(&args.data.display().to_string());
     std::fs::write(&args.output, yaml)
         .map_err(|e| Failure::from(format!("{}: cannot write: {e}", args.output.display())))?;

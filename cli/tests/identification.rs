@@ -99,8 +99,43 @@ fn excite_then_identify_then_load() {
         "prints the base parameters: {}",
         run.output()
     );
+    assert!(
+        run.stdout
+            .contains("torque noise per joint (σ, from the weighted residuals; re-estimated")
+            && run.stdout.contains("  joint7: σ = ")
+            && run.stdout.contains("(compatible with the data)"),
+        "prints the noise of every joint and the consistent estimate: {}",
+        run.output()
+    );
+    assert!(!run.stderr.contains("warning"), "{}", run.output());
     let model = load(&identified).unwrap_or_else(|e| panic!("{e}")).model;
     assert_eq!(model.parameter_count(), 98);
+
+    // Data no physically consistent robot explains (joint 7's torque with the wrong sign): a
+    // warning, success, and a description that loads.
+    let mut flipped = data.clone();
+    for tau in flipped.tau.as_mut().expect("torques") {
+        tau[6] = -tau[6];
+    }
+    let flipped_path = dir.path().join("flipped.csv");
+    std::fs::write(&flipped_path, to_csv(&nominal, &flipped)).expect("write data");
+    let warned = dir.path().join("warned.yaml");
+    let run = dyngen(&[
+        "identify",
+        arg(&description),
+        arg(&flipped_path),
+        "-o",
+        arg(&warned),
+    ]);
+    assert_eq!(run.code, Some(0), "{}", run.output());
+    assert!(
+        run.stderr
+            .contains("warning: no physically consistent parameters fit the data")
+            && run.stdout.contains("(NOT compatible with the data)"),
+        "{}",
+        run.output()
+    );
+    load(&warned).unwrap_or_else(|e| panic!("{e}"));
 
     // Bad data: one error line naming file, line and column, a failure, nothing written.
     let bad = dir.path().join("bad.csv");

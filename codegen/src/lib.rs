@@ -8,6 +8,7 @@ pub mod base_parameters;
 mod build_script;
 pub mod description;
 pub mod dynamics;
+mod functions;
 pub mod generate;
 #[doc(hidden)]
 pub mod internals;
@@ -18,6 +19,7 @@ mod spatial;
 mod symbolic;
 
 pub use build_script::{compile_robot, Builder};
+pub use functions::{FunctionGroup, Functions, DERIVATIVES_BY_DEFAULT_UP_TO_DOF};
 /// The URDF crate that [`description::from_urdf_rs`] reads and [`description::to_urdf_rs`]
 /// writes, re-exported so that callers use the same version.
 pub use urdf_rs;

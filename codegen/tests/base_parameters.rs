@@ -11,7 +11,7 @@ use common::{assert_close, column, fixture};
 use dyngen_codegen::base_parameters::BaseParameterSet;
 use dyngen_codegen::description::load;
 use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::internals::generate::{trace_with_base, BASE_REGRESSOR};
+use dyngen_codegen::internals::generate::{trace_with_base, QuantityKind};
 use dyngen_codegen::model::Model;
 use nalgebra::DMatrix;
 use proptest::test_runner::{Config, RngAlgorithm, RngSeed, TestRunner};
@@ -274,7 +274,7 @@ fn random_trees_interpreted_base_regressor() {
         let dynamics = NumericDynamics::new(&model);
         let s = random_state(&model, 31);
         let values = robot
-            .evaluate(BASE_REGRESSOR, &s.q, &s.qd, &s.v, &s.a)
+            .evaluate(QuantityKind::BaseRegressor.name(), &s.q, &s.qd, &s.v, &s.a)
             .expect("base regressor traced");
         let interpreted = DMatrix::from_column_slice(model.dof(), base.count(), &values);
         let numeric = base.base_regressor(&dynamics.regressor(&s.q, &s.qd, &s.v, &s.a));

@@ -6,7 +6,7 @@ use dyngen_testkit as common;
 use common::random_model::{arb_model_and_state, deterministic_runner};
 use common::{assert_close, fixture, traced};
 use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::internals::generate::{trace, Arguments, SymbolicRobot, BASE_REGRESSOR_PRODUCTS};
+use dyngen_codegen::internals::generate::{trace, Arguments, QuantityKind, SymbolicRobot};
 use dyngen_codegen::model::Model;
 use nalgebra::{DMatrix, DVector};
 use std::cell::Cell;
@@ -30,7 +30,7 @@ fn check_state(model: &Model, robot: &SymbolicRobot, q: &[f64], qd: &[f64], v: &
     let all: Vec<usize> = (0..y.ncols()).collect();
     for (name, cols) in [
         ("regressor_products", &all),
-        (BASE_REGRESSOR_PRODUCTS, &robot.base.columns),
+        (QuantityKind::BaseRegressorProducts.name(), &robot.base.columns),
     ] {
         let theta: Vec<f64> = (0..cols.len())
             .map(|k| ((k * 7 % 11) as f64 - 5.0) / 5.0)
@@ -72,7 +72,11 @@ fn fixture_robots_interpreted_graph_matches_generic_dynamics() {
             let c = robot.graph.op_counts(&qn.outputs);
             eprintln!(
                 "{name} {:<20} mul {:>5} add {:>5} neg {:>4} trig {}",
-                qn.name, c.mul, c.add, c.neg, c.trig
+                qn.name(),
+                c.mul,
+                c.add,
+                c.neg,
+                c.trig
             );
         }
     }

@@ -8,7 +8,10 @@ use dyngen_control::controller::{
 use dyngen_control::sim::{start_posture, Demo, DemoOptions, RunKind, RunStatus};
 use dyngen_generated::arm7;
 use dyngen_runtime::nalgebra::{SMatrix, SVector, Vector3};
-use dyngen_runtime::{JointLimits, JointTrig, Kinematics, ParameterKind, Pose, RobotDynamics, Standard};
+use dyngen_runtime::{
+    ForwardDynamics, JointLimits, JointTrig, Kinematics, ParameterKind, Pose, Regressors, RobotDynamics,
+    Standard,
+};
 
 type Arm7Demo = Demo<arm7::Standard, 7, 70>;
 
@@ -200,6 +203,9 @@ impl RobotDynamics<2, 20> for TwoJoints {
     ) -> SVector<f64, 2> {
         *a
     }
+}
+
+impl Regressors<2, 20> for TwoJoints {
     fn regressor(
         _: &JointTrig<2>,
         _: &SVector<f64, 2>,
@@ -208,26 +214,15 @@ impl RobotDynamics<2, 20> for TwoJoints {
     ) -> SMatrix<f64, 2, 20> {
         SMatrix::zeros()
     }
-    // D = 1, no bias: q̈ = τ and no derivatives.
+}
+
+// D = 1, no bias: q̈ = τ. The controller needs neither its derivatives nor the base parameters.
+impl ForwardDynamics<2, 20> for TwoJoints {
     fn forward_dynamics(_: &JointTrig<2>, _: &SVector<f64, 2>, tau: &SVector<f64, 2>) -> SVector<f64, 2> {
         *tau
     }
     fn mass_matrix_inverse(_: &JointTrig<2>) -> SMatrix<f64, 2, 2> {
         SMatrix::identity()
-    }
-    fn inverse_dynamics_derivatives(
-        _: &JointTrig<2>,
-        _: &SVector<f64, 2>,
-        _: &SVector<f64, 2>,
-    ) -> (SMatrix<f64, 2, 2>, SMatrix<f64, 2, 2>) {
-        (SMatrix::zeros(), SMatrix::zeros())
-    }
-    fn forward_dynamics_derivatives(
-        _: &JointTrig<2>,
-        _: &SVector<f64, 2>,
-        _: &SVector<f64, 2>,
-    ) -> (SMatrix<f64, 2, 2>, SMatrix<f64, 2, 2>) {
-        (SMatrix::zeros(), SMatrix::zeros())
     }
 }
 

@@ -9,10 +9,13 @@ use common::{cycle, model, states};
 use criterion::{criterion_group, criterion_main, Criterion};
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_generated::{Arm7, Panda, PandaRounded, Ur5};
-use dyngen_runtime::{JointTrig, RobotDynamics};
+use dyngen_runtime::{DynamicsDerivatives, ForwardDynamics, JointTrig};
 use std::hint::black_box;
 
-fn bench_robot<R: RobotDynamics<N, P>, const N: usize, const P: usize>(c: &mut Criterion, robot: &str) {
+fn bench_robot<R: ForwardDynamics<N, P> + DynamicsDerivatives<N, P>, const N: usize, const P: usize>(
+    c: &mut Criterion,
+    robot: &str,
+) {
     let model = model(robot);
     let generic = NumericDynamics::new(&model);
     // `[q, q̇, q̈, τ]`: q̇ ±2, q̈ ±5, τ ±10 (Pinocchio's pool).

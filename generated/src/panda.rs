@@ -6,8 +6,9 @@
 dyngen_runtime::__require_version!("0.1.0");
 use dyngen_runtime::nalgebra::{ArrayStorage, Matrix3, SMatrix, SVector, Vector3};
 use dyngen_runtime::{
-    BaseParameters, JointLimits, JointTrig, JointTrigLanes, Kinematics, LaneDynamics,
-    Lanes, ParameterKind, Pose, RobotDynamics,
+    BaseParameters, DynamicsDerivatives, ForwardDynamics, JointLimits, JointTrig,
+    JointTrigLanes, Kinematics, LaneDynamics, Lanes, ParameterKind, Pose, Regressors,
+    RobotDynamics,
 };
 /// Number of moving joints (the `N` of [`Kinematics`] and [`RobotDynamics`]).
 pub const DOF: usize = 7;
@@ -282,7 +283,7 @@ pub type BaseParameterVector = SVector<f64, BASE_PARAMETER_COUNT>;
 pub type Regressor = SMatrix<f64, DOF, PARAMETER_COUNT>;
 /// The base regressor `Y_b`.
 pub type BaseRegressor = SMatrix<f64, DOF, BASE_PARAMETER_COUNT>;
-/// `panda`: implements [`Kinematics`], [`RobotDynamics`] and [`BaseParameters`] with flattened, allocation-free code.
+/// `panda`: implements [`Kinematics`], [`RobotDynamics`], [`Regressors`], [`BaseParameters`], [`ForwardDynamics`], [`DynamicsDerivatives`] and [`LaneDynamics`] with flattened, allocation-free code.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Panda;
 impl Kinematics<7> for Panda {
@@ -5424,6 +5425,8 @@ impl RobotDynamics<7, 70> for Panda {
         }
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a))
     }
+}
+impl Regressors<7, 70> for Panda {
     ///Operations: 1279 mul, 1099 add/sub, 19 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn regressor(
@@ -7672,7994 +7675,6 @@ impl RobotDynamics<7, 70> for Panda {
             }
         }
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a))
-    }
-    ///Operations: 801 mul, 643 add/sub, 0 neg, 6 div (joint sines and cosines come precomputed in `JointTrig`).
-    #[inline(never)]
-    fn forward_dynamics(
-        t: &JointTrig<7>,
-        qd: &SVector<f64, 7>,
-        tau: &SVector<f64, 7>,
-    ) -> SVector<f64, 7> {
-        struct Body;
-        impl dyngen_runtime::__private::Kernel<
-            (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
-        > for Body {
-            type Output = SVector<f64, 7>;
-            #[inline(always)]
-            fn run<M: dyngen_runtime::__private::MulAdd>(
-                arith: M,
-                (t, qd, tau): (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
-            ) -> SVector<f64, 7> {
-                let [_, s1, s2, s3, s4, s5, s6] = t.sin;
-                let [_, c1, c2, c3, c4, c5, c6] = t.cos;
-                let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
-                let [tau0, tau1, tau2, tau3, tau4, tau5, tau6] = tau.data.0[0];
-                let mut out: SVector<f64, 7> = SMatrix::zeros();
-                {
-                    let [[o0, o1, o2, o3, o4, o5, o6]] = &mut out.data.0;
-                    let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
-                    x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
-                    x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
-                    x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
-                    x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
-                    x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
-                    x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
-                    x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109,
-                    x110, x111, x112, x113, x114, x115, x116, x117, x118, x119, x120,
-                    x121, x122, x123, x124, x125, x126, x127, x128, x129, x130, x131,
-                    x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142,
-                    x143, x144, x145, x146, x147, x148, x149, x150, x151, x152, x153,
-                    x154, x155, x156, x157, x158, x159, x160, x161, x162, x163, x164,
-                    x165, x166, x167, x168, x169, x170, x171, x172, x173, x174, x175,
-                    x176, x177, x178, x179, x180, x181, x182, x183, x184, x185, x186,
-                    x187, x188, x189, x190, x191, x192, x193, x194, x195, x196, x197,
-                    x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
-                    x209, x210, x211, x212, x213, x214, x215, x216, x217, x218, x219,
-                    x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
-                    x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241,
-                    x242, x243, x244, x245, x246, x247, x248, x249, x250, x251, x252,
-                    x253, x254, x255, x256, x257, x258, x259, x260, x261, x262, x263,
-                    x264, x265, x266, x267, x268, x269, x270, x271, x272, x273, x274,
-                    x275, x276, x277, x278, x279, x280, x281, x282, x283, x284, x285,
-                    x286, x287, x288, x289, x290, x291, x292, x293, x294, x295, x296,
-                    x297, x298, x299, x300, x301, x302, x303, x304, x305, x306, x307,
-                    x308, x309, x310, x311, x312, x313, x314, x315, x316, x317, x318,
-                    x319, x320, x321, x322, x323, x324, x325, x326, x327, x328, x329,
-                    x330, x331, x332, x333, x334, x335, x336, x337, x338, x339, x340,
-                    x341, x342, x343, x344, x345, x346, x347, x348, x349, x350, x351,
-                    x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
-                    x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373,
-                    x374, x375, x376, x377, x378, x379, x380, x381, x382, x383, x384,
-                    x385, x386, x387, x388, x389, x390, x391, x392, x393, x394, x395,
-                    x396, x397, x398, x399, x400, x401, x402, x403, x404, x405, x406,
-                    x407, x408, x409, x410, x411, x412, x413, x414, x415, x416, x417,
-                    x418, x419, x420, x421, x422, x423, x424, x425, x426, x427, x428,
-                    x429, x430, x431, x432, x433, x434, x435, x436, x437, x438, x439,
-                    x440, x441, x442, x443, x444, x445, x446, x447, x448, x449, x450,
-                    x451, x452, x453, x454, x455, x456, x457, x458, x459, x460, x461,
-                    x462, x463, x464, x465, x466, x467, x468, x469, x470, x471, x472,
-                    x473, x474, x475, x476, x477, x478, x479, x480, x481, x482, x483,
-                    x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
-                    x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505,
-                    x506, x507, x508, x509, x510, x511, x512, x513, x514, x515, x516,
-                    x517, x518, x519, x520, x521, x522, x523, x524, x525, x526, x527,
-                    x528, x529, x530, x531, x532, x533, x534, x535, x536, x537, x538,
-                    x539, x540, x541, x542, x543, x544, x545, x546, x547, x548, x549,
-                    x550, x551, x552, x553, x554, x555, x556, x557, x558, x559, x560,
-                    x561, x562, x563, x564, x565, x566, x567, x568, x569, x570, x571,
-                    x572, x573, x574, x575, x576, x577, x578, x579, x580, x581, x582,
-                    x583, x584, x585, x586, x587, x588, x589, x590, x591, x592, x593,
-                    x594, x595, x596, x597, x598, x599, x600, x601, x602, x603, x604,
-                    x605, x606, x607, x608, x609, x610, x611, x612, x613, x614, x615,
-                    x616, x617, x618, x619, x620, x621, x622, x623, x624, x625, x626,
-                    x627, x628, x629, x630, x631, x632, x633, x634, x635, x636, x637,
-                    x638, x639, x640, x641, x642, x643, x644, x645, x646, x647, x648,
-                    x649, x650, x651, x652, x653, x654, x655, x656, x657, x658, x659,
-                    x660, x661, x662, x663, x664, x665, x666, x667, x668, x669, x670,
-                    x671, x672, x673, x674, x675, x676, x677, x678, x679, x680, x681,
-                    x682, x683, x684, x685, x686, x687, x688, x689, x690, x691, x692,
-                    x693, x694, x695, x696, x697, x698, x699, x700, x701, x702, x703,
-                    x704, x705, x706, x707, x708, x709, x710, x711, x712, x713, x714,
-                    x715, x716, x717, x718, x719, x720, x721, x722, x723, x724, x725,
-                    x726, x727, x728, x729, x730, x731, x732, x733, x734, x735, x736,
-                    x737, x738, x739, x740, x741, x742, x743, x744, x745, x746, x747,
-                    x748, x749, x750, x751, x752, x753, x754, x755, x756, x757, x758,
-                    x759, x760, x761, x762, x763, x764, x765, x766, x767, x768, x769,
-                    x770, x771, x772, x773, x774, x775, x776, x777, x778, x779, x780,
-                    x781, x782, x783, x784, x785, x786, x787, x788, x789, x790, x791,
-                    x792, x793, x794, x795, x796, x797, x798, x799, x800, x801, x802,
-                    x803, x804, x805, x806, x807, x808, x809, x810, x811, x812, x813,
-                    x814, x815, x816, x817, x818, x819, x820, x821, x822, x823, x824,
-                    x825, x826, x827, x828, x829, x830, x831, x832, x833, x834, x835,
-                    x836, x837, x838, x839, x840, x841, x842, x843, x844, x845, x846,
-                    x847, x848, x849, x850, x851, x852, x853, x854, x855, x856, x857,
-                    x858, x859, x860, x861, x862, x863, x864, x865, x866, x867, x868,
-                    x869, x870, x871, x872, x873, x874, x875, x876, x877, x878, x879,
-                    x880, x881, x882, x883, x884, x885, x886, x887, x888, x889, x890,
-                    x891, x892, x893, x894, x895, x896, x897, x898, x899, x900, x901,
-                    x902, x903, x904, x905, x906, x907, x908, x909, x910, x911, x912,
-                    x913, x914, x915, x916, x917, x918, x919, x920, x921, x922, x923,
-                    x924, x925, x926, x927, x928, x929, x930, x931, x932, x933, x934,
-                    x935, x936, x937, x938, x939, x940, x941, x942, x943, x944, x945,
-                    x946, x947, x948, x949, x950, x951, x952, x953, x954, x955, x956,
-                    x957, x958, x959, x960, x961, x962, x963, x964, x965, x966, x967,
-                    x968, x969, x970, x971, x972, x973, x974, x975, x976, x977, x978,
-                    x979, x980, x981, x982]: [f64; 983];
-                    x0 = -9.81f64 * s1;
-                    x1 = s2 * x0;
-                    x2 = 32.80954542685272f64 * s1;
-                    x3 = arith.mul_add(0.01993386669246f64, c1, -x2);
-                    x4 = qd0 * s1;
-                    x5 = qd0 * c1;
-                    x6 = c2 * x4;
-                    x7 = arith.mul_add(qd1, s2, -x6);
-                    x8 = qd1 * c2;
-                    x9 = arith.mul_add(s2, x4, x8);
-                    x10 = -0.316f64 * qd1;
-                    x11 = 0.316f64 * x4;
-                    x12 = c2 * x10;
-                    x13 = arith.mul_add(s2, x11, -x12);
-                    x14 = c2 * x11;
-                    x15 = arith.mul_add(s2, x10, x14);
-                    x16 = qd2 + x5;
-                    x17 = s3 * x16;
-                    x18 = arith.mul_add(c3, x7, x17);
-                    x19 = s3 * x7;
-                    x20 = arith.mul_add(c3, x16, -x19);
-                    x21 = 0.0825f64 * x9;
-                    x22 = arith.mul_add(0.0825f64, x16, x15);
-                    x23 = s3 * x21;
-                    x24 = arith.mul_add(c3, x13, -x23);
-                    x25 = c3 * x21;
-                    x26 = arith.mul_add(s3, x13, x25);
-                    x27 = qd3 - x9;
-                    x28 = s4 * x27;
-                    x29 = arith.mul_add(c4, x18, -x28);
-                    x30 = c4 * x27;
-                    x31 = arith.mul_add(s4, x18, x30);
-                    x32 = 0.384f64 * x18;
-                    x33 = arith.mul_add(-0.0825f64, x20, -x32);
-                    x34 = arith.mul_add(-0.384f64, x27, x24);
-                    x35 = arith.mul_add(-0.0825f64, x27, -x26);
-                    x36 = x22 + x33;
-                    x37 = s4 * x36;
-                    x38 = arith.mul_add(c4, x34, x37);
-                    x39 = s4 * x34;
-                    x40 = c4 * x36;
-                    x41 = x40 - x39;
-                    x42 = qd4 + x20;
-                    x43 = s5 * x42;
-                    x44 = arith.mul_add(c5, x29, x43);
-                    x45 = s5 * x29;
-                    x46 = c5 * x42;
-                    x47 = x46 - x45;
-                    x48 = s5 * x35;
-                    x49 = arith.mul_add(c5, x38, x48);
-                    x50 = s5 * x38;
-                    x51 = arith.mul_add(c5, x35, -x50);
-                    x52 = x39 - x40;
-                    x53 = qd5 + x31;
-                    x54 = s6 * x53;
-                    x55 = arith.mul_add(c6, x44, x54);
-                    x56 = s6 * x44;
-                    x57 = arith.mul_add(c6, x53, -x56);
-                    x58 = x45 - x46;
-                    x59 = arith.mul_add(0.088f64, x53, x51);
-                    x60 = arith.mul_add(-0.088f64, x47, x52);
-                    x61 = s6 * x60;
-                    x62 = arith.mul_add(c6, x49, x61);
-                    x63 = s6 * x49;
-                    x64 = arith.mul_add(c6, x60, -x63);
-                    x65 = qd6 + x58;
-                    x66 = -0.0020344399586617965f64 * s6;
-                    x67 = arith.mul_add(0.002573605371338202f64, c6, x66);
-                    x68 = 0.0020344399586617965f64 * c6;
-                    x69 = arith.mul_add(0.002573605371338202f64, s6, x68);
-                    x70 = -0.0003913912816842481f64 * s6;
-                    x71 = arith.mul_add(0.0024209437785212354f64, c6, x70);
-                    x72 = 0.0003913912816842481f64 * c6;
-                    x73 = 0.001255536598272898f64 * s6;
-                    x74 = arith.mul_add(-0.0009653051699191116f64, c6, x73);
-                    x75 = arith.mul_add(0.0024209437785212354f64, s6, x72);
-                    x76 = 0.0003913912816842481f64 * s6;
-                    x77 = -0.001255536598272898f64 * c6;
-                    x78 = arith.mul_add(-0.0009653051699191116f64, s6, x77);
-                    x79 = s6 * x72;
-                    x80 = arith.mul_add(c6, x71, -x79);
-                    x81 = c6 * x72;
-                    x82 = arith.mul_add(s6, x71, x81);
-                    x83 = 0.001255536598272898f64 * c6;
-                    x84 = arith.mul_add(0.0009653051699191116f64, s6, x83);
-                    x85 = c6 * x76;
-                    x86 = arith.mul_add(s6, x75, x85);
-                    x87 = 0.088f64 * x67;
-                    x88 = 0.176f64 * x67;
-                    x89 = x80 + x88;
-                    x90 = x87 + x87;
-                    x91 = x89 - x90;
-                    x92 = 0.006684151967360945f64 + x88;
-                    x93 = arith.mul_add(-0.088f64, x69, x82);
-                    x94 = x86 + x88;
-                    x95 = 0.231847552695f64 + x67;
-                    x96 = 0.009543771269492206f64 + x91;
-                    x97 = 0.014748570382675316f64 - x74;
-                    x98 = -0.00010375891721868492f64 + x93;
-                    x99 = 0.000093569097314605f64 + x84;
-                    x100 = 0.05258828201066731f64 + x94;
-                    x101 = 0.17380470556900002f64 * s5;
-                    x102 = arith.mul_add(c5, x95, x101);
-                    x103 = s5 * x95;
-                    x104 = arith.mul_add(-0.17380470556900002f64, c5, x103);
-                    x105 = s5 * x97;
-                    x106 = arith.mul_add(c5, x96, -x105);
-                    x107 = c5 * x97;
-                    x108 = arith.mul_add(-s5, x92, x107);
-                    x109 = c5 * x98;
-                    x110 = s5 * x99;
-                    x111 = x109 - x110;
-                    x112 = arith.mul_add(s5, x96, x107);
-                    x113 = arith.mul_add(c5, x92, x105);
-                    x114 = c5 * x99;
-                    x115 = arith.mul_add(s5, x98, x114);
-                    x116 = s5 * x108;
-                    x117 = arith.mul_add(c5, x106, -x116);
-                    x118 = x110 - x109;
-                    x119 = c5 * x108;
-                    x120 = arith.mul_add(s5, x106, x119);
-                    x121 = c5 * x113;
-                    x122 = arith.mul_add(s5, x112, x121);
-                    x123 = -0.014653732538f64 + x102;
-                    x124 = 0.067870631425f64 - x69;
-                    x125 = 0.030116287133882078f64 + x117;
-                    x126 = -0.0015152444733270301f64 + x118;
-                    x127 = -0.004600245517563105f64 + x120;
-                    x128 = 0.0021640520520981297f64 - x115;
-                    x129 = 0.03301859926393551f64 + x122;
-                    x130 = c4 * x123;
-                    x131 = arith.mul_add(-s4, x124, x130);
-                    x132 = s4 * x123;
-                    x133 = arith.mul_add(c4, x124, x132);
-                    x134 = s4 * x126;
-                    x135 = arith.mul_add(c4, x125, -x134);
-                    x136 = c4 * x126;
-                    x137 = s4 * x100;
-                    x138 = x136 - x137;
-                    x139 = s4 * x128;
-                    x140 = arith.mul_add(c4, x127, -x139);
-                    x141 = arith.mul_add(s4, x125, x136);
-                    x142 = c4 * x100;
-                    x143 = x134 + x142;
-                    x144 = c4 * x128;
-                    x145 = arith.mul_add(s4, x127, x144);
-                    x146 = s4 * x138;
-                    x147 = arith.mul_add(c4, x135, -x146);
-                    x148 = c4 * x138;
-                    x149 = arith.mul_add(s4, x135, x148);
-                    x150 = c4 * x143;
-                    x151 = arith.mul_add(s4, x141, x150);
-                    x152 = -0.0825f64 * x131;
-                    x153 = 0.384f64 * x104;
-                    x154 = x152 + x153;
-                    x155 = 2f64 * x154;
-                    x156 = x147 + x155;
-                    x157 = x152 + x152;
-                    x158 = x156 - x157;
-                    x159 = 0.384f64 * x131;
-                    x160 = arith.mul_add(-0.0825f64, x104, x159);
-                    x161 = x140 - x160;
-                    x162 = x129 + x155;
-                    x163 = x153 + x153;
-                    x164 = x162 - x163;
-                    x165 = 0.0825f64 * x133;
-                    x166 = x149 + x165;
-                    x167 = arith.mul_add(-0.384f64, x133, x145);
-                    x168 = x151 + x155;
-                    x169 = -0.5527802746499999f64 + x131;
-                    x170 = 2.0125235536029997f64 + x104;
-                    x171 = 0.647723094939183f64 + x158;
-                    x172 = 0.16284087268546082f64 + x161;
-                    x173 = 0.0039053550262761003f64 - x166;
-                    x174 = -0.0016444875773692705f64 - x167;
-                    x175 = 0.7497633672528139f64 + x168;
-                    x176 = s3 * x170;
-                    x177 = arith.mul_add(c3, x169, -x176);
-                    x178 = c3 * x170;
-                    x179 = arith.mul_add(s3, x169, x178);
-                    x180 = s3 * x172;
-                    x181 = arith.mul_add(c3, x171, -x180);
-                    x182 = c3 * x172;
-                    x183 = arith.mul_add(-s3, x164, x182);
-                    x184 = c3 * x173;
-                    x185 = s3 * x174;
-                    x186 = x184 - x185;
-                    x187 = x166 - 0.0039053550262761003f64;
-                    x188 = x167 - -0.0016444875773692705f64;
-                    x189 = arith.mul_add(s3, x171, x182);
-                    x190 = arith.mul_add(c3, x164, x180);
-                    x191 = c3 * x174;
-                    x192 = arith.mul_add(s3, x173, x191);
-                    x193 = s3 * x183;
-                    x194 = arith.mul_add(c3, x181, -x193);
-                    x195 = x185 - x184;
-                    x196 = c3 * x183;
-                    x197 = arith.mul_add(s3, x181, x196);
-                    x198 = c3 * x188;
-                    x199 = arith.mul_add(s3, x187, x198);
-                    x200 = c3 * x190;
-                    x201 = arith.mul_add(s3, x189, x200);
-                    x202 = 0.0825f64 * x177;
-                    x203 = 0.165f64 * x177;
-                    x204 = x194 + x203;
-                    x205 = x202 + x202;
-                    x206 = x204 - x205;
-                    x207 = x195 - x165;
-                    x208 = x175 + x203;
-                    x209 = arith.mul_add(-0.0825f64, x179, x197);
-                    x210 = x201 + x203;
-                    x211 = 0.746857959872f64 + x177;
-                    x212 = 0.028227094878000014f64 + x133;
-                    x213 = 0.011595864095166043f64 + x206;
-                    x214 = -0.00012191242095074308f64 + x207;
-                    x215 = -0.005487648106562256f64 + x209;
-                    x216 = -0.004377257121839584f64 + x199;
-                    x217 = 0.13480070614822143f64 + x210;
-                    x218 = s2 * x212;
-                    x219 = arith.mul_add(c2, x211, -x218);
-                    x220 = c2 * x212;
-                    x221 = arith.mul_add(s2, x211, x220);
-                    x222 = s2 * x214;
-                    x223 = arith.mul_add(c2, x213, -x222);
-                    x224 = c2 * x214;
-                    x225 = arith.mul_add(-s2, x208, x224);
-                    x226 = c2 * x215;
-                    x227 = s2 * x216;
-                    x228 = x226 - x227;
-                    x229 = arith.mul_add(s2, x213, x224);
-                    x230 = arith.mul_add(c2, x208, x222);
-                    x231 = c2 * x216;
-                    x232 = arith.mul_add(s2, x215, x231);
-                    x233 = s2 * x225;
-                    x234 = arith.mul_add(c2, x223, -x233);
-                    x235 = x227 - x226;
-                    x236 = c2 * x225;
-                    x237 = arith.mul_add(s2, x223, x236);
-                    x238 = c2 * x230;
-                    x239 = arith.mul_add(s2, x229, x238);
-                    x240 = 0.316f64 * x179;
-                    x241 = 0.632f64 * x179;
-                    x242 = x234 + x241;
-                    x243 = -0.316f64 * x219;
-                    x244 = x235 - x243;
-                    x245 = x217 + x241;
-                    x246 = x240 + x240;
-                    x247 = x245 - x246;
-                    x248 = arith.mul_add(-0.316f64, x221, x232);
-                    x249 = x239 + x241;
-                    x250 = 1.0706865997634767f64 + x242;
-                    x251 = -0.00398335888393552f64 + x244;
-                    x252 = 0.01026110182100817f64 + x237;
-                    x253 = 0.0007689361029464f64 - x248;
-                    x254 = 1.1168423647533403f64 + x249;
-                    x255 = s1 * x250;
-                    x256 = arith.mul_add(c1, x251, x255);
-                    x257 = c1 * x247;
-                    x258 = arith.mul_add(s1, x251, x257);
-                    x259 = c1 * x253;
-                    x260 = arith.mul_add(s1, x252, x259);
-                    x261 = c1 * x258;
-                    x262 = arith.mul_add(s1, x256, x261);
-                    x263 = 0.03733744848940618f64 + x262;
-                    x264 = x228 + x243;
-                    x265 = arith.mul_add(-0.316f64, x221, x232);
-                    x266 = s1 * x264;
-                    x267 = arith.mul_add(c1, x217, -x266);
-                    x268 = x175 + x202;
-                    x269 = c2 * x179;
-                    x270 = s2 * x179;
-                    x271 = s2 * x268;
-                    x272 = arith.mul_add(c2, x186, x271);
-                    x273 = c2 * x268;
-                    x274 = arith.mul_add(s2, x186, -x273);
-                    x275 = arith.mul_add(0.316f64, x270, x272);
-                    x276 = arith.mul_add(-0.316f64, x269, x274);
-                    x277 = s1 * x275;
-                    x278 = arith.mul_add(c1, x192, -x277);
-                    x279 = x69 - 0.067870631425f64;
-                    x280 = arith.mul_add(c4, x279, -x132);
-                    x281 = arith.mul_add(s4, x279, x130);
-                    x282 = 0.0825f64 * x281;
-                    x283 = arith.mul_add(-0.384f64, x281, x140);
-                    x284 = x129 - x282;
-                    x285 = arith.mul_add(0.384f64, x280, x145);
-                    x286 = c3 * x280;
-                    x287 = s3 * x280;
-                    x288 = s3 * x284;
-                    x289 = arith.mul_add(c3, x283, -x288);
-                    x290 = c3 * x284;
-                    x291 = arith.mul_add(s3, x283, x290);
-                    x292 = arith.mul_add(-0.0825f64, x287, x285);
-                    x293 = x282 + x291;
-                    x294 = s2 * x281;
-                    x295 = arith.mul_add(c2, x286, -x294);
-                    x296 = c2 * x281;
-                    x297 = arith.mul_add(s2, x286, x296);
-                    x298 = s2 * x292;
-                    x299 = arith.mul_add(c2, x289, -x298);
-                    x300 = c2 * x292;
-                    x301 = arith.mul_add(s2, x289, x300);
-                    x302 = arith.mul_add(-0.316f64, x297, x299);
-                    x303 = arith.mul_add(0.316f64, x295, x301);
-                    x304 = s1 * x302;
-                    x305 = arith.mul_add(c1, x293, -x304);
-                    x306 = arith.mul_add(0.17380470556900002f64, c5, -x103);
-                    x307 = c4 * x306;
-                    x308 = s4 * x306;
-                    x309 = arith.mul_add(c4, x111, x137);
-                    x310 = arith.mul_add(-s4, x111, x142);
-                    x311 = 0.0825f64 * x308;
-                    x312 = 0.384f64 * x307;
-                    x313 = arith.mul_add(-0.0825f64, x102, -x312);
-                    x314 = arith.mul_add(-0.384f64, x308, x309);
-                    x315 = x115 - x311;
-                    x316 = x310 + x313;
-                    x317 = s3 * x102;
-                    x318 = arith.mul_add(c3, x307, -x317);
-                    x319 = c3 * x102;
-                    x320 = arith.mul_add(s3, x307, x319);
-                    x321 = s3 * x315;
-                    x322 = arith.mul_add(c3, x314, -x321);
-                    x323 = c3 * x315;
-                    x324 = arith.mul_add(s3, x314, x323);
-                    x325 = arith.mul_add(0.0825f64, x320, x316);
-                    x326 = x311 + x324;
-                    x327 = s2 * x308;
-                    x328 = arith.mul_add(c2, x318, -x327);
-                    x329 = c2 * x308;
-                    x330 = arith.mul_add(s2, x318, x329);
-                    x331 = s2 * x325;
-                    x332 = arith.mul_add(c2, x322, x331);
-                    x333 = c2 * x325;
-                    x334 = arith.mul_add(s2, x322, -x333);
-                    x335 = arith.mul_add(-0.316f64, x330, x332);
-                    x336 = arith.mul_add(0.316f64, x328, x334);
-                    x337 = s1 * x335;
-                    x338 = arith.mul_add(c1, x326, -x337);
-                    x339 = -0.002573605371338202f64 * s6;
-                    x340 = arith.mul_add(-0.0020344399586617965f64, c6, x339);
-                    x341 = -0.006684151967360945f64 - x87;
-                    x342 = c5 * x340;
-                    x343 = s5 * x340;
-                    x344 = s5 * x341;
-                    x345 = arith.mul_add(c5, x74, -x344);
-                    x346 = c5 * x341;
-                    x347 = arith.mul_add(s5, x74, x346);
-                    x348 = s4 * x67;
-                    x349 = arith.mul_add(c4, x342, x348);
-                    x350 = s4 * x342;
-                    x351 = c4 * x67;
-                    x352 = x351 - x350;
-                    x353 = s4 * x78;
-                    x354 = arith.mul_add(c4, x345, x353);
-                    x355 = s4 * x345;
-                    x356 = arith.mul_add(c4, x78, -x355);
-                    x357 = 0.384f64 * x349;
-                    x358 = arith.mul_add(-0.0825f64, x343, -x357);
-                    x359 = arith.mul_add(0.384f64, x352, x354);
-                    x360 = arith.mul_add(0.0825f64, x352, x347);
-                    x361 = x356 + x358;
-                    x362 = s3 * x343;
-                    x363 = arith.mul_add(c3, x349, -x362);
-                    x364 = x350 - x351;
-                    x365 = c3 * x343;
-                    x366 = arith.mul_add(s3, x349, x365);
-                    x367 = s3 * x360;
-                    x368 = arith.mul_add(c3, x359, -x367);
-                    x369 = c3 * x360;
-                    x370 = arith.mul_add(s3, x359, x369);
-                    x371 = arith.mul_add(0.0825f64, x366, x361);
-                    x372 = arith.mul_add(0.0825f64, x364, x370);
-                    x373 = s2 * x364;
-                    x374 = arith.mul_add(c2, x363, -x373);
-                    x375 = c2 * x364;
-                    x376 = arith.mul_add(s2, x363, x375);
-                    x377 = s2 * x371;
-                    x378 = arith.mul_add(c2, x368, x377);
-                    x379 = c2 * x371;
-                    x380 = arith.mul_add(s2, x368, -x379);
-                    x381 = arith.mul_add(-0.316f64, x376, x378);
-                    x382 = arith.mul_add(0.316f64, x374, x380);
-                    x383 = s1 * x381;
-                    x384 = arith.mul_add(c1, x372, -x383);
-                    x385 = -0.01026110182100817f64 * x4;
-                    x386 = 0.00398335888393552f64 * x4;
-                    x387 = 0.028227094878000014f64 * x16;
-                    x388 = 0.746857959872f64 * x16;
-                    x389 = 0.746857959872f64 * x9;
-                    x390 = arith.mul_add(0.028227094878000014f64, x7, -x389);
-                    x391 = -0.005487648106562256f64 * x7;
-                    x392 = 0.028227094878000014f64 * x13;
-                    x393 = -0.00012191242095074308f64 * x7;
-                    x394 = 2.0125235536029997f64 * x27;
-                    x395 = -0.5527802746499999f64 * x27;
-                    x396 = -0.5527802746499999f64 * x20;
-                    x397 = arith.mul_add(2.0125235536029997f64, x18, -x396);
-                    x398 = 0.0039053550262761003f64 * x18;
-                    x399 = 2.0125235536029997f64 * x24;
-                    x400 = 0.16284087268546082f64 * x18;
-                    x401 = 0.067870631425f64 * x42;
-                    x402 = -0.014653732538f64 * x42;
-                    x403 = 0.014653732538f64 * x31;
-                    x404 = arith.mul_add(0.067870631425f64, x29, -x403);
-                    x405 = -0.004600245517563105f64 * x29;
-                    x406 = 0.067870631425f64 * x38;
-                    x407 = -0.0015152444733270301f64 * x29;
-                    x408 = -0.17380470556900002f64 * x53;
-                    x409 = 0.231847552695f64 * x53;
-                    x410 = 0.231847552695f64 * x47;
-                    x411 = arith.mul_add(-0.17380470556900002f64, x44, -x410);
-                    x412 = -0.00010375891721868492f64 * x44;
-                    x413 = -0.17380470556900002f64 * x49;
-                    x414 = 0.014748570382675316f64 * x44;
-                    x415 = 0.0020344399586617965f64 * x65;
-                    x416 = 0.002573605371338202f64 * x65;
-                    x417 = 0.002573605371338202f64 * x57;
-                    x418 = arith.mul_add(0.0020344399586617965f64, x55, -x417);
-                    x419 = -0.0009653051699191116f64 * x55;
-                    x420 = 0.0020344399586617965f64 * x62;
-                    x421 = 0.0003913912816842481f64 * x55;
-                    x422 = -1.0706865997634767f64 * x4;
-                    x423 = arith.mul_add(0.00398335888393552f64, x5, x422);
-                    x424 = arith.mul_add(0.01026110182100817f64, qd1, x423);
-                    x425 = arith.mul_add(0.0007689361029464f64, qd1, x386);
-                    x426 = arith.mul_add(-0.0007689361029464f64, x5, x385);
-                    x427 = arith.mul_add(1.1168423647533403f64, qd1, x426);
-                    x428 = 0.011595864095166043f64 * x7;
-                    x429 = arith.mul_add(-0.00012191242095074308f64, x9, x428);
-                    x430 = arith.mul_add(-0.005487648106562256f64, x16, x429);
-                    x431 = arith.mul_add(-0.004377257121839584f64, x16, x393);
-                    x432 = arith.mul_add(-0.004377257121839584f64, x9, x391);
-                    x433 = arith.mul_add(0.13480070614822143f64, x16, x432);
-                    x434 = arith.mul_add(0.746857959872f64, x15, -x392);
-                    x435 = x433 + x434;
-                    x436 = 0.647723094939183f64 * x18;
-                    x437 = arith.mul_add(0.16284087268546082f64, x20, x436);
-                    x438 = arith.mul_add(0.0039053550262761003f64, x27, x437);
-                    x439 = arith.mul_add(-0.0016444875773692705f64, x27, x400);
-                    x440 = arith.mul_add(-0.0016444875773692705f64, x20, x398);
-                    x441 = arith.mul_add(0.7497633672528139f64, x27, x440);
-                    x442 = arith.mul_add(0.5527802746499999f64, x26, -x399);
-                    x443 = arith.mul_add(-2.0125235536029997f64, x22, x438);
-                    x444 = arith.mul_add(-0.5527802746499999f64, x22, x439);
-                    x445 = x441 + x442;
-                    x446 = 0.030116287133882078f64 * x29;
-                    x447 = arith.mul_add(0.0015152444733270301f64, x31, x446);
-                    x448 = arith.mul_add(-0.004600245517563105f64, x42, x447);
-                    x449 = arith.mul_add(0.0021640520520981297f64, x42, x407);
-                    x450 = arith.mul_add(-0.0021640520520981297f64, x31, x405);
-                    x451 = arith.mul_add(0.03301859926393551f64, x42, x450);
-                    x452 = arith.mul_add(-0.014653732538f64, x41, -x406);
-                    x453 = arith.mul_add(0.067870631425f64, x35, x448);
-                    x454 = arith.mul_add(0.014653732538f64, x35, x449);
-                    x455 = x451 + x452;
-                    x456 = 0.009543771269492206f64 * x44;
-                    x457 = arith.mul_add(0.014748570382675316f64, x47, x456);
-                    x458 = arith.mul_add(-0.00010375891721868492f64, x53, x457);
-                    x459 = arith.mul_add(0.000093569097314605f64, x53, x414);
-                    x460 = arith.mul_add(0.000093569097314605f64, x47, x412);
-                    x461 = arith.mul_add(0.05258828201066731f64, x53, x460);
-                    x462 = arith.mul_add(0.231847552695f64, x51, -x413);
-                    x463 = arith.mul_add(-0.17380470556900002f64, x52, x458);
-                    x464 = arith.mul_add(-0.231847552695f64, x52, x459);
-                    x465 = x461 + x462;
-                    x466 = 0.0024209437785212354f64 * x55;
-                    x467 = arith.mul_add(0.0003913912816842481f64, x57, x466);
-                    x468 = arith.mul_add(-0.0009653051699191116f64, x65, x467);
-                    x469 = arith.mul_add(-0.001255536598272898f64, x65, x421);
-                    x470 = arith.mul_add(-0.001255536598272898f64, x57, x419);
-                    x471 = arith.mul_add(0.006684151967360945f64, x65, x470);
-                    x472 = arith.mul_add(0.002573605371338202f64, x64, -x420);
-                    x473 = arith.mul_add(-0.0020344399586617965f64, x59, x468);
-                    x474 = arith.mul_add(0.002573605371338202f64, x59, x469);
-                    x475 = x471 + x472;
-                    x476 = qd1 * x5;
-                    x477 = qd1 * x4;
-                    x478 = qd2 * x7;
-                    x479 = qd4 * x38;
-                    x480 = qd1 * x425;
-                    x481 = arith.mul_add(x5, x427, x480);
-                    x482 = x4 * x427;
-                    x483 = arith.mul_add(qd1, x424, x482);
-                    x484 = x4 * x425;
-                    x485 = arith.mul_add(x5, x424, -x484);
-                    x486 = x16 * x431;
-                    x487 = arith.mul_add(x9, x435, -x486);
-                    x488 = x7 * x435;
-                    x489 = arith.mul_add(x16, x430, -x488);
-                    x490 = x9 * x430;
-                    x491 = arith.mul_add(x7, x431, -x490);
-                    x492 = x15 * x387;
-                    x493 = arith.mul_add(x13, x388, x492);
-                    x494 = arith.mul_add(x15, x390, x487);
-                    x495 = arith.mul_add(-x13, x390, x489);
-                    x496 = x491 + x493;
-                    x497 = x16 * x388;
-                    x498 = arith.mul_add(x9, x390, -x497);
-                    x499 = x7 * x390;
-                    x500 = arith.mul_add(x16, x387, x499);
-                    x501 = x27 * x444;
-                    x502 = arith.mul_add(x20, x445, -x501);
-                    x503 = x18 * x445;
-                    x504 = arith.mul_add(x27, x443, -x503);
-                    x505 = x20 * x443;
-                    x506 = arith.mul_add(x18, x444, -x505);
-                    x507 = x26 * x397;
-                    x508 = arith.mul_add(x22, x395, -x507);
-                    x509 = x24 * x397;
-                    x510 = arith.mul_add(x22, x394, -x509);
-                    x511 = x26 * x394;
-                    x512 = arith.mul_add(x24, x395, -x511);
-                    x513 = x502 + x508;
-                    x514 = x504 + x510;
-                    x515 = x506 + x512;
-                    x516 = x27 * x395;
-                    x517 = arith.mul_add(x20, x397, -x516);
-                    x518 = x18 * x397;
-                    x519 = arith.mul_add(x27, x394, x518);
-                    x520 = x20 * x394;
-                    x521 = arith.mul_add(x18, x395, x520);
-                    x522 = x42 * x454;
-                    x523 = arith.mul_add(x31, x455, x522);
-                    x524 = x29 * x455;
-                    x525 = arith.mul_add(x42, x453, -x524);
-                    x526 = x31 * x453;
-                    x527 = arith.mul_add(x29, x454, x526);
-                    x528 = x35 * x402;
-                    x529 = arith.mul_add(x41, x404, -x528);
-                    x530 = x38 * x404;
-                    x531 = arith.mul_add(x35, x401, x530);
-                    x532 = x41 * x401;
-                    x533 = arith.mul_add(x38, x402, x532);
-                    x534 = x529 - x523;
-                    x535 = x525 - x531;
-                    x536 = x527 + x533;
-                    x537 = x42 * x402;
-                    x538 = arith.mul_add(x31, x404, x537);
-                    x539 = x29 * x404;
-                    x540 = arith.mul_add(x42, x401, x539);
-                    x541 = x31 * x401;
-                    x542 = arith.mul_add(x29, x402, -x541);
-                    x543 = x53 * x464;
-                    x544 = arith.mul_add(x47, x465, -x543);
-                    x545 = x44 * x465;
-                    x546 = arith.mul_add(x53, x463, -x545);
-                    x547 = x47 * x463;
-                    x548 = arith.mul_add(x44, x464, -x547);
-                    x549 = x52 * x409;
-                    x550 = arith.mul_add(x51, x411, -x549);
-                    x551 = x49 * x411;
-                    x552 = arith.mul_add(x52, x408, x551);
-                    x553 = x51 * x408;
-                    x554 = arith.mul_add(x49, x409, x553);
-                    x555 = x544 + x550;
-                    x556 = x546 - x552;
-                    x557 = x548 + x554;
-                    x558 = x53 * x409;
-                    x559 = arith.mul_add(x47, x411, -x558);
-                    x560 = x44 * x411;
-                    x561 = arith.mul_add(x53, x408, x560);
-                    x562 = x47 * x408;
-                    x563 = arith.mul_add(x44, x409, x562);
-                    x564 = x65 * x474;
-                    x565 = arith.mul_add(x57, x475, -x564);
-                    x566 = x55 * x475;
-                    x567 = arith.mul_add(x65, x473, -x566);
-                    x568 = x57 * x473;
-                    x569 = arith.mul_add(x55, x474, -x568);
-                    x570 = x59 * x416;
-                    x571 = arith.mul_add(x64, x418, x570);
-                    x572 = x62 * x418;
-                    x573 = arith.mul_add(x59, x415, -x572);
-                    x574 = x64 * x415;
-                    x575 = arith.mul_add(x62, x416, x574);
-                    x576 = x565 + x571;
-                    x577 = x567 + x573;
-                    x578 = x569 + x575;
-                    x579 = x65 * x416;
-                    x580 = arith.mul_add(x57, x418, -x579);
-                    x581 = x55 * x418;
-                    x582 = arith.mul_add(x65, x415, x581);
-                    x583 = x57 * x415;
-                    x584 = arith.mul_add(x55, x416, x583);
-                    x585 = 149.6076098932297f64 * x78;
-                    x586 = arith.mul_add(-x78, x585, x100);
-                    x587 = arith.mul_add(-x347, x585, x115);
-                    x588 = arith.mul_add(-x361, x585, x316);
-                    x589 = arith.mul_add(-x372, x585, x326);
-                    x590 = arith.mul_add(-x382, x585, x336);
-                    x591 = arith.mul_add(-x384, x585, x338);
-                    x592 = 149.6076098932297f64 * x347;
-                    x593 = arith.mul_add(-x347, x592, x129);
-                    x594 = arith.mul_add(x361, x592, x285);
-                    x595 = arith.mul_add(-x372, x592, x293);
-                    x596 = arith.mul_add(-x382, x592, x303);
-                    x597 = arith.mul_add(-x384, x592, x305);
-                    x598 = 149.6076098932297f64 * x361;
-                    x599 = arith.mul_add(-x361, x598, x175);
-                    x600 = arith.mul_add(-x372, x598, x192);
-                    x601 = arith.mul_add(-x382, x598, x276);
-                    x602 = arith.mul_add(-x384, x598, x278);
-                    x603 = 149.6076098932297f64 * x372;
-                    x604 = arith.mul_add(-x372, x603, x217);
-                    x605 = arith.mul_add(-x382, x603, x265);
-                    x606 = arith.mul_add(-x384, x603, x267);
-                    x607 = 149.6076098932297f64 * x382;
-                    x608 = arith.mul_add(-x382, x607, x254);
-                    x609 = arith.mul_add(x384, x607, x260);
-                    x610 = 149.6076098932297f64 * x384;
-                    x611 = arith.mul_add(-x384, x610, x263);
-                    x612 = 1f64 / x586;
-                    x613 = x587 * x612;
-                    x614 = arith.mul_add(-x587, x613, x593);
-                    x615 = arith.mul_add(x588, x613, x594);
-                    x616 = arith.mul_add(-x589, x613, x595);
-                    x617 = arith.mul_add(-x590, x613, x596);
-                    x618 = arith.mul_add(-x591, x613, x597);
-                    x619 = x588 * x612;
-                    x620 = arith.mul_add(-x588, x619, x599);
-                    x621 = arith.mul_add(-x589, x619, x600);
-                    x622 = arith.mul_add(-x590, x619, x601);
-                    x623 = arith.mul_add(-x591, x619, x602);
-                    x624 = x589 * x612;
-                    x625 = arith.mul_add(-x589, x624, x604);
-                    x626 = arith.mul_add(-x590, x624, x605);
-                    x627 = arith.mul_add(-x591, x624, x606);
-                    x628 = x590 * x612;
-                    x629 = arith.mul_add(-x590, x628, x608);
-                    x630 = arith.mul_add(x591, x628, x609);
-                    x631 = x591 * x612;
-                    x632 = arith.mul_add(-x591, x631, x611);
-                    x633 = 1f64 / x614;
-                    x634 = x615 * x633;
-                    x635 = arith.mul_add(-x615, x634, x620);
-                    x636 = arith.mul_add(x616, x634, x621);
-                    x637 = arith.mul_add(x617, x634, x622);
-                    x638 = arith.mul_add(x618, x634, x623);
-                    x639 = x616 * x633;
-                    x640 = arith.mul_add(-x616, x639, x625);
-                    x641 = arith.mul_add(-x617, x639, x626);
-                    x642 = arith.mul_add(-x618, x639, x627);
-                    x643 = x617 * x633;
-                    x644 = arith.mul_add(-x617, x643, x629);
-                    x645 = arith.mul_add(x618, x643, x630);
-                    x646 = x618 * x633;
-                    x647 = arith.mul_add(-x618, x646, x632);
-                    x648 = 1f64 / x635;
-                    x649 = x636 * x648;
-                    x650 = arith.mul_add(-x636, x649, x640);
-                    x651 = arith.mul_add(-x637, x649, x641);
-                    x652 = arith.mul_add(-x638, x649, x642);
-                    x653 = x637 * x648;
-                    x654 = arith.mul_add(-x637, x653, x644);
-                    x655 = arith.mul_add(x638, x653, x645);
-                    x656 = x638 * x648;
-                    x657 = arith.mul_add(-x638, x656, x647);
-                    x658 = 1f64 / x650;
-                    x659 = x651 * x658;
-                    x660 = arith.mul_add(-x651, x659, x654);
-                    x661 = arith.mul_add(x652, x659, x655);
-                    x662 = x652 * x658;
-                    x663 = arith.mul_add(-x652, x662, x657);
-                    x664 = 1f64 / x660;
-                    x665 = x661 * x664;
-                    x666 = arith.mul_add(-x661, x665, x663);
-                    x667 = 1f64 / x666;
-                    x668 = c2 * x476;
-                    x669 = s2 * x476;
-                    x670 = 0.316f64 * x476;
-                    x671 = s2 * x670;
-                    x672 = arith.mul_add(c2, x0, x671);
-                    x673 = arith.mul_add(c2, x670, -x1);
-                    x674 = arith.mul_add(qd2, x9, -x668);
-                    x675 = x669 - x478;
-                    x676 = arith.mul_add(qd2, x15, x672);
-                    x677 = arith.mul_add(-qd2, x13, x673);
-                    x678 = s3 * x477;
-                    x679 = arith.mul_add(c3, x674, -x678);
-                    x680 = c3 * x477;
-                    x681 = arith.mul_add(s3, x674, x680);
-                    x682 = x478 - x669;
-                    x683 = 0.0825f64 * x675;
-                    x684 = arith.mul_add(-0.0825f64, x477, x677);
-                    x685 = arith.mul_add(-9.81f64, c1, x683);
-                    x686 = s3 * x685;
-                    x687 = arith.mul_add(c3, x676, -x686);
-                    x688 = c3 * x685;
-                    x689 = arith.mul_add(s3, x676, x688);
-                    x690 = arith.mul_add(qd3, x20, x679);
-                    x691 = arith.mul_add(qd3, x18, x681);
-                    x692 = arith.mul_add(-qd3, x26, x687);
-                    x693 = arith.mul_add(qd3, x24, x689);
-                    x694 = s4 * x682;
-                    x695 = arith.mul_add(c4, x690, -x694);
-                    x696 = c4 * x682;
-                    x697 = arith.mul_add(s4, x690, x696);
-                    x698 = 0.384f64 * x690;
-                    x699 = arith.mul_add(0.0825f64, x691, -x698);
-                    x700 = arith.mul_add(-0.384f64, x682, x692);
-                    x701 = arith.mul_add(-0.0825f64, x682, -x693);
-                    x702 = x684 + x699;
-                    x703 = s4 * x702;
-                    x704 = arith.mul_add(c4, x700, x703);
-                    x705 = s4 * x700;
-                    x706 = arith.mul_add(c4, x702, -x705);
-                    x707 = arith.mul_add(-qd4, x31, x695);
-                    x708 = arith.mul_add(qd4, x29, x697);
-                    x709 = arith.mul_add(qd4, x41, x704);
-                    x710 = x706 - x479;
-                    x711 = s5 * x691;
-                    x712 = arith.mul_add(c5, x707, -x711);
-                    x713 = c5 * x691;
-                    x714 = arith.mul_add(s5, x707, x713);
-                    x715 = s5 * x701;
-                    x716 = arith.mul_add(c5, x709, x715);
-                    x717 = s5 * x709;
-                    x718 = arith.mul_add(c5, x701, -x717);
-                    x719 = x479 - x706;
-                    x720 = arith.mul_add(qd5, x47, x712);
-                    x721 = arith.mul_add(qd5, x44, x714);
-                    x722 = arith.mul_add(qd5, x51, x716);
-                    x723 = arith.mul_add(-qd5, x49, x718);
-                    x724 = s6 * x708;
-                    x725 = arith.mul_add(c6, x720, x724);
-                    x726 = s6 * x720;
-                    x727 = arith.mul_add(c6, x708, -x726);
-                    x728 = arith.mul_add(0.088f64, x708, x723);
-                    x729 = arith.mul_add(0.088f64, x721, x719);
-                    x730 = s6 * x729;
-                    x731 = arith.mul_add(c6, x722, x730);
-                    x732 = s6 * x722;
-                    x733 = arith.mul_add(c6, x729, -x732);
-                    x734 = arith.mul_add(qd6, x57, x725);
-                    x735 = arith.mul_add(-qd6, x55, x727);
-                    x736 = arith.mul_add(qd6, x64, x731);
-                    x737 = arith.mul_add(-qd6, x62, x733);
-                    x738 = -0.00398335888393552f64 * x477;
-                    x739 = arith.mul_add(-1.0706865997634767f64, x476, x738);
-                    x740 = 0.0007689361029464f64 * x477;
-                    x741 = arith.mul_add(-0.01026110182100817f64, x476, x740);
-                    x742 = x3 + x741;
-                    x743 = x739 - x481;
-                    x744 = arith.mul_add(0.00398335888393552f64, x476, x483);
-                    x745 = x485 + x742;
-                    x746 = -0.00012191242095074308f64 * x675;
-                    x747 = arith.mul_add(0.011595864095166043f64, x674, x746);
-                    x748 = arith.mul_add(0.005487648106562256f64, x477, x747);
-                    x749 = 0.004377257121839584f64 * x477;
-                    x750 = arith.mul_add(-0.00012191242095074308f64, x674, x749);
-                    x751 = -0.004377257121839584f64 * x675;
-                    x752 = arith.mul_add(-0.005487648106562256f64, x674, x751);
-                    x753 = arith.mul_add(-0.13480070614822143f64, x477, x752);
-                    x754 = 0.028227094878000014f64 * x676;
-                    x755 = arith.mul_add(0.746857959872f64, x677, -x754);
-                    x756 = arith.mul_add(0.27690780075318017f64, c1, x748);
-                    x757 = arith.mul_add(-7.326676586344321f64, c1, x750);
-                    x758 = x753 + x755;
-                    x759 = x494 + x756;
-                    x760 = x495 + x757;
-                    x761 = x496 + x758;
-                    x762 = arith.mul_add(0.028227094878000014f64, x477, x498);
-                    x763 = arith.mul_add(-0.746857959872f64, x477, -x500);
-                    x764 = -0.16284087268546082f64 * x691;
-                    x765 = arith.mul_add(0.647723094939183f64, x690, x764);
-                    x766 = arith.mul_add(0.0039053550262761003f64, x682, x765);
-                    x767 = -0.0016444875773692705f64 * x682;
-                    x768 = arith.mul_add(0.16284087268546082f64, x690, x767);
-                    x769 = 0.0016444875773692705f64 * x691;
-                    x770 = arith.mul_add(0.0039053550262761003f64, x690, x769);
-                    x771 = arith.mul_add(0.7497633672528139f64, x682, x770);
-                    x772 = 2.0125235536029997f64 * x692;
-                    x773 = arith.mul_add(0.5527802746499999f64, x693, -x772);
-                    x774 = arith.mul_add(-2.0125235536029997f64, x684, x766);
-                    x775 = arith.mul_add(-0.5527802746499999f64, x684, x768);
-                    x776 = x771 + x773;
-                    x777 = 0.5527802746499999f64 * x691;
-                    x778 = arith.mul_add(2.0125235536029997f64, x690, -x777);
-                    x779 = x513 + x774;
-                    x780 = x514 + x775;
-                    x781 = x515 + x776;
-                    x782 = arith.mul_add(-2.0125235536029997f64, x682, x517);
-                    x783 = arith.mul_add(-0.5527802746499999f64, x682, -x519);
-                    x784 = x521 + x778;
-                    x785 = 0.0015152444733270301f64 * x708;
-                    x786 = arith.mul_add(0.030116287133882078f64, x707, x785);
-                    x787 = arith.mul_add(0.004600245517563105f64, x691, x786);
-                    x788 = -0.0021640520520981297f64 * x691;
-                    x789 = arith.mul_add(-0.0015152444733270301f64, x707, x788);
-                    x790 = -0.0021640520520981297f64 * x708;
-                    x791 = arith.mul_add(-0.004600245517563105f64, x707, x790);
-                    x792 = arith.mul_add(-0.03301859926393551f64, x691, x791);
-                    x793 = 0.067870631425f64 * x709;
-                    x794 = arith.mul_add(-0.014653732538f64, x710, -x793);
-                    x795 = arith.mul_add(0.067870631425f64, x701, x787);
-                    x796 = arith.mul_add(0.014653732538f64, x701, x789);
-                    x797 = x792 + x794;
-                    x798 = 0.014653732538f64 * x708;
-                    x799 = arith.mul_add(0.067870631425f64, x707, -x798);
-                    x800 = x534 + x795;
-                    x801 = x535 + x796;
-                    x802 = x536 + x797;
-                    x803 = arith.mul_add(-0.067870631425f64, x691, x538);
-                    x804 = arith.mul_add(0.014653732538f64, x691, -x540);
-                    x805 = x542 + x799;
-                    x806 = -0.014748570382675316f64 * x721;
-                    x807 = arith.mul_add(0.009543771269492206f64, x720, x806);
-                    x808 = arith.mul_add(-0.00010375891721868492f64, x708, x807);
-                    x809 = 0.000093569097314605f64 * x708;
-                    x810 = arith.mul_add(0.014748570382675316f64, x720, x809);
-                    x811 = -0.000093569097314605f64 * x721;
-                    x812 = arith.mul_add(-0.00010375891721868492f64, x720, x811);
-                    x813 = arith.mul_add(0.05258828201066731f64, x708, x812);
-                    x814 = -0.17380470556900002f64 * x722;
-                    x815 = arith.mul_add(0.231847552695f64, x723, -x814);
-                    x816 = arith.mul_add(-0.17380470556900002f64, x719, x808);
-                    x817 = arith.mul_add(-0.231847552695f64, x719, x810);
-                    x818 = x813 + x815;
-                    x819 = -0.231847552695f64 * x721;
-                    x820 = arith.mul_add(-0.17380470556900002f64, x720, -x819);
-                    x821 = x555 + x816;
-                    x822 = x556 + x817;
-                    x823 = x557 + x818;
-                    x824 = arith.mul_add(0.17380470556900002f64, x708, x559);
-                    x825 = arith.mul_add(0.231847552695f64, x708, -x561);
-                    x826 = x563 + x820;
-                    x827 = 0.0003913912816842481f64 * x735;
-                    x828 = arith.mul_add(0.0024209437785212354f64, x734, x827);
-                    x829 = arith.mul_add(-0.0009653051699191116f64, x721, x828);
-                    x830 = -0.001255536598272898f64 * x721;
-                    x831 = arith.mul_add(0.0003913912816842481f64, x734, x830);
-                    x832 = -0.001255536598272898f64 * x735;
-                    x833 = arith.mul_add(-0.0009653051699191116f64, x734, x832);
-                    x834 = arith.mul_add(0.006684151967360945f64, x721, x833);
-                    x835 = 0.0020344399586617965f64 * x736;
-                    x836 = arith.mul_add(0.002573605371338202f64, x737, -x835);
-                    x837 = arith.mul_add(-0.0020344399586617965f64, x728, x829);
-                    x838 = arith.mul_add(0.002573605371338202f64, x728, x831);
-                    x839 = x834 + x836;
-                    x840 = 0.002573605371338202f64 * x735;
-                    x841 = arith.mul_add(0.0020344399586617965f64, x734, -x840);
-                    x842 = x576 + x837;
-                    x843 = x577 + x838;
-                    x844 = x578 + x839;
-                    x845 = arith.mul_add(-0.0020344399586617965f64, x721, x580);
-                    x846 = arith.mul_add(0.002573605371338202f64, x721, -x582);
-                    x847 = x584 + x841;
-                    x848 = s6 * x846;
-                    x849 = arith.mul_add(c6, x845, -x848);
-                    x850 = c6 * x846;
-                    x851 = arith.mul_add(s6, x845, x850);
-                    x852 = s6 * x843;
-                    x853 = arith.mul_add(c6, x842, -x852);
-                    x854 = c6 * x843;
-                    x855 = arith.mul_add(s6, x842, x854);
-                    x856 = arith.mul_add(0.088f64, x851, x844);
-                    x857 = arith.mul_add(-0.088f64, x847, x855);
-                    x858 = x821 + x853;
-                    x859 = x822 - x856;
-                    x860 = x823 + x857;
-                    x861 = x824 + x849;
-                    x862 = x825 - x847;
-                    x863 = x826 + x851;
-                    x864 = s5 * x862;
-                    x865 = arith.mul_add(c5, x861, -x864);
-                    x866 = c5 * x862;
-                    x867 = arith.mul_add(s5, x861, x866);
-                    x868 = s5 * x859;
-                    x869 = arith.mul_add(c5, x858, -x868);
-                    x870 = c5 * x859;
-                    x871 = arith.mul_add(s5, x858, x870);
-                    x872 = x800 + x869;
-                    x873 = x801 - x860;
-                    x874 = x802 + x871;
-                    x875 = x865 - x803;
-                    x876 = x804 - x863;
-                    x877 = x805 + x867;
-                    x878 = s4 * x876;
-                    x879 = arith.mul_add(c4, x875, -x878);
-                    x880 = c4 * x876;
-                    x881 = arith.mul_add(s4, x875, x880);
-                    x882 = s4 * x873;
-                    x883 = arith.mul_add(c4, x872, -x882);
-                    x884 = c4 * x873;
-                    x885 = arith.mul_add(s4, x872, x884);
-                    x886 = 0.384f64 * x879;
-                    x887 = arith.mul_add(-0.0825f64, x877, -x886);
-                    x888 = arith.mul_add(-0.384f64, x881, x883);
-                    x889 = arith.mul_add(-0.0825f64, x881, x874);
-                    x890 = x887 - x885;
-                    x891 = x779 + x888;
-                    x892 = x780 + x889;
-                    x893 = x781 + x890;
-                    x894 = x782 + x879;
-                    x895 = x783 + x877;
-                    x896 = s3 * x895;
-                    x897 = arith.mul_add(c3, x894, -x896);
-                    x898 = x881 - x784;
-                    x899 = c3 * x895;
-                    x900 = arith.mul_add(s3, x894, x899);
-                    x901 = s3 * x892;
-                    x902 = arith.mul_add(c3, x891, -x901);
-                    x903 = c3 * x892;
-                    x904 = arith.mul_add(s3, x891, x903);
-                    x905 = arith.mul_add(0.0825f64, x900, x893);
-                    x906 = arith.mul_add(0.0825f64, x898, x904);
-                    x907 = x759 + x902;
-                    x908 = x760 - x905;
-                    x909 = x761 + x906;
-                    x910 = x762 + x897;
-                    x911 = x763 + x898;
-                    x912 = s2 * x911;
-                    x913 = arith.mul_add(c2, x910, -x912);
-                    x914 = c2 * x911;
-                    x915 = arith.mul_add(s2, x910, x914);
-                    x916 = s2 * x908;
-                    x917 = arith.mul_add(c2, x907, -x916);
-                    x918 = c2 * x908;
-                    x919 = arith.mul_add(s2, x907, x918);
-                    x920 = arith.mul_add(-0.316f64, x915, x917);
-                    x921 = arith.mul_add(0.316f64, x913, x919);
-                    x922 = x743 + x920;
-                    x923 = x744 - x909;
-                    x924 = x745 + x921;
-                    x925 = c1 * x923;
-                    x926 = arith.mul_add(s1, x922, x925);
-                    x927 = tau0 + x926;
-                    x928 = tau1 - x924;
-                    x929 = tau2 - x909;
-                    x930 = tau3 - x893;
-                    x931 = tau4 - x874;
-                    x932 = tau5 - x860;
-                    x933 = tau6 - x844;
-                    x934 = arith.mul_add(-x585, x933, x932);
-                    x935 = arith.mul_add(-x592, x933, x931);
-                    x936 = arith.mul_add(-x598, x933, x930);
-                    x937 = arith.mul_add(-x603, x933, x929);
-                    x938 = arith.mul_add(-x607, x933, x928);
-                    x939 = arith.mul_add(-x610, x933, x927);
-                    x940 = arith.mul_add(-x613, x934, x935);
-                    x941 = arith.mul_add(-x619, x934, x936);
-                    x942 = arith.mul_add(-x624, x934, x937);
-                    x943 = arith.mul_add(-x628, x934, x938);
-                    x944 = arith.mul_add(-x631, x934, x939);
-                    x945 = arith.mul_add(x634, x940, x941);
-                    x946 = arith.mul_add(-x639, x940, x942);
-                    x947 = arith.mul_add(-x643, x940, x943);
-                    x948 = arith.mul_add(-x646, x940, x944);
-                    x949 = arith.mul_add(-x649, x945, x946);
-                    x950 = arith.mul_add(-x653, x945, x947);
-                    x951 = arith.mul_add(-x656, x945, x948);
-                    x952 = arith.mul_add(-x659, x949, x950);
-                    x953 = arith.mul_add(-x662, x949, x951);
-                    x954 = arith.mul_add(x665, x952, x953);
-                    x955 = x667 * x954;
-                    *o0 = x955;
-                    x956 = x665 * x955;
-                    x957 = arith.mul_add(x664, x952, x956);
-                    *o1 = x957;
-                    x958 = x662 * x955;
-                    x959 = arith.mul_add(x658, x949, -x958);
-                    x960 = arith.mul_add(-x659, x957, x959);
-                    *o2 = x960;
-                    x961 = x656 * x955;
-                    x962 = arith.mul_add(x648, x945, -x961);
-                    x963 = arith.mul_add(-x653, x957, x962);
-                    x964 = arith.mul_add(-x649, x960, x963);
-                    *o3 = x964;
-                    x965 = x646 * x955;
-                    x966 = arith.mul_add(x633, x940, -x965);
-                    x967 = arith.mul_add(-x643, x957, x966);
-                    x968 = arith.mul_add(-x639, x960, x967);
-                    x969 = arith.mul_add(x634, x964, x968);
-                    *o4 = x969;
-                    x970 = x631 * x955;
-                    x971 = arith.mul_add(x612, x934, -x970);
-                    x972 = arith.mul_add(-x628, x957, x971);
-                    x973 = arith.mul_add(-x624, x960, x972);
-                    x974 = arith.mul_add(-x619, x964, x973);
-                    x975 = arith.mul_add(-x613, x969, x974);
-                    *o5 = x975;
-                    x976 = x610 * x955;
-                    x977 = arith.mul_add(149.6076098932297f64, x933, -x976);
-                    x978 = arith.mul_add(-x607, x957, x977);
-                    x979 = arith.mul_add(-x603, x960, x978);
-                    x980 = arith.mul_add(-x598, x964, x979);
-                    x981 = arith.mul_add(-x592, x969, x980);
-                    x982 = arith.mul_add(-x585, x975, x981);
-                    *o6 = x982;
-                }
-                out
-            }
-        }
-        dyngen_runtime::__private::dispatch::<Body, _>((t, qd, tau))
-    }
-    ///Operations: 516 mul, 418 add/sub, 2 neg, 6 div (joint sines and cosines come precomputed in `JointTrig`).
-    #[inline(never)]
-    fn mass_matrix_inverse(t: &JointTrig<7>) -> SMatrix<f64, 7, 7> {
-        struct Body;
-        impl dyngen_runtime::__private::Kernel<(&JointTrig<7>,)> for Body {
-            type Output = SMatrix<f64, 7, 7>;
-            #[inline(always)]
-            fn run<M: dyngen_runtime::__private::MulAdd>(
-                arith: M,
-                (t,): (&JointTrig<7>,),
-            ) -> SMatrix<f64, 7, 7> {
-                let [_, s1, s2, s3, s4, s5, s6] = t.sin;
-                let [_, c1, c2, c3, c4, c5, c6] = t.cos;
-                let mut out: SMatrix<f64, 7, 7> = SMatrix::zeros();
-                {
-                    let [[o0, o1, o2, o3, o4, o5, o6], [o7, o8, o9, o10, o11, o12, o13],
-                    [o14, o15, o16, o17, o18, o19, o20], [o21, o22, o23, o24, o25, o26,
-                    o27], [o28, o29, o30, o31, o32, o33, o34], [o35, o36, o37, o38, o39,
-                    o40, o41], [o42, o43, o44, o45, o46, o47, o48]] = &mut out.data.0;
-                    let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
-                    x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
-                    x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
-                    x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
-                    x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
-                    x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
-                    x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
-                    x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109,
-                    x110, x111, x112, x113, x114, x115, x116, x117, x118, x119, x120,
-                    x121, x122, x123, x124, x125, x126, x127, x128, x129, x130, x131,
-                    x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142,
-                    x143, x144, x145, x146, x147, x148, x149, x150, x151, x152, x153,
-                    x154, x155, x156, x157, x158, x159, x160, x161, x162, x163, x164,
-                    x165, x166, x167, x168, x169, x170, x171, x172, x173, x174, x175,
-                    x176, x177, x178, x179, x180, x181, x182, x183, x184, x185, x186,
-                    x187, x188, x189, x190, x191, x192, x193, x194, x195, x196, x197,
-                    x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
-                    x209, x210, x211, x212, x213, x214, x215, x216, x217, x218, x219,
-                    x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
-                    x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241,
-                    x242, x243, x244, x245, x246, x247, x248, x249, x250, x251, x252,
-                    x253, x254, x255, x256, x257, x258, x259, x260, x261, x262, x263,
-                    x264, x265, x266, x267, x268, x269, x270, x271, x272, x273, x274,
-                    x275, x276, x277, x278, x279, x280, x281, x282, x283, x284, x285,
-                    x286, x287, x288, x289, x290, x291, x292, x293, x294, x295, x296,
-                    x297, x298, x299, x300, x301, x302, x303, x304, x305, x306, x307,
-                    x308, x309, x310, x311, x312, x313, x314, x315, x316, x317, x318,
-                    x319, x320, x321, x322, x323, x324, x325, x326, x327, x328, x329,
-                    x330, x331, x332, x333, x334, x335, x336, x337, x338, x339, x340,
-                    x341, x342, x343, x344, x345, x346, x347, x348, x349, x350, x351,
-                    x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
-                    x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373,
-                    x374, x375, x376, x377, x378, x379, x380, x381, x382, x383, x384,
-                    x385, x386, x387, x388, x389, x390, x391, x392, x393, x394, x395,
-                    x396, x397, x398, x399, x400, x401, x402, x403, x404, x405, x406,
-                    x407, x408, x409, x410, x411, x412, x413, x414, x415, x416, x417,
-                    x418, x419, x420, x421, x422, x423, x424, x425, x426, x427, x428,
-                    x429, x430, x431, x432, x433, x434, x435, x436, x437, x438, x439,
-                    x440, x441, x442, x443, x444, x445, x446, x447, x448, x449, x450,
-                    x451, x452, x453, x454, x455, x456, x457, x458, x459, x460, x461,
-                    x462, x463, x464, x465, x466, x467, x468, x469, x470, x471, x472,
-                    x473, x474, x475, x476, x477, x478, x479, x480, x481, x482, x483,
-                    x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
-                    x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505,
-                    x506, x507, x508, x509, x510, x511, x512, x513, x514, x515, x516,
-                    x517, x518, x519, x520, x521, x522, x523, x524, x525, x526, x527,
-                    x528, x529, x530, x531, x532, x533, x534, x535, x536, x537, x538,
-                    x539, x540, x541, x542, x543, x544, x545, x546, x547, x548, x549,
-                    x550, x551, x552, x553, x554, x555, x556, x557, x558, x559, x560,
-                    x561, x562, x563, x564, x565, x566, x567, x568, x569, x570, x571,
-                    x572, x573, x574, x575, x576, x577, x578, x579, x580, x581, x582,
-                    x583, x584, x585, x586, x587, x588, x589, x590, x591, x592, x593,
-                    x594, x595, x596, x597, x598, x599, x600, x601, x602, x603, x604,
-                    x605]: [f64; 606];
-                    x0 = -0.0020344399586617965f64 * s6;
-                    x1 = arith.mul_add(0.002573605371338202f64, c6, x0);
-                    x2 = 0.0020344399586617965f64 * c6;
-                    x3 = arith.mul_add(0.002573605371338202f64, s6, x2);
-                    x4 = -0.0003913912816842481f64 * s6;
-                    x5 = arith.mul_add(0.0024209437785212354f64, c6, x4);
-                    x6 = 0.0003913912816842481f64 * c6;
-                    x7 = 0.001255536598272898f64 * s6;
-                    x8 = arith.mul_add(-0.0009653051699191116f64, c6, x7);
-                    x9 = arith.mul_add(0.0024209437785212354f64, s6, x6);
-                    x10 = 0.0003913912816842481f64 * s6;
-                    x11 = -0.001255536598272898f64 * c6;
-                    x12 = arith.mul_add(-0.0009653051699191116f64, s6, x11);
-                    x13 = s6 * x6;
-                    x14 = arith.mul_add(c6, x5, -x13);
-                    x15 = c6 * x6;
-                    x16 = arith.mul_add(s6, x5, x15);
-                    x17 = 0.001255536598272898f64 * c6;
-                    x18 = arith.mul_add(0.0009653051699191116f64, s6, x17);
-                    x19 = c6 * x10;
-                    x20 = arith.mul_add(s6, x9, x19);
-                    x21 = 0.088f64 * x1;
-                    x22 = 0.176f64 * x1;
-                    x23 = x14 + x22;
-                    x24 = x21 + x21;
-                    x25 = x23 - x24;
-                    x26 = 0.006684151967360945f64 + x22;
-                    x27 = arith.mul_add(-0.088f64, x3, x16);
-                    x28 = x20 + x22;
-                    x29 = 0.231847552695f64 + x1;
-                    x30 = 0.009543771269492206f64 + x25;
-                    x31 = 0.014748570382675316f64 - x8;
-                    x32 = -0.00010375891721868492f64 + x27;
-                    x33 = 0.000093569097314605f64 + x18;
-                    x34 = 0.05258828201066731f64 + x28;
-                    x35 = 0.17380470556900002f64 * s5;
-                    x36 = arith.mul_add(c5, x29, x35);
-                    x37 = s5 * x29;
-                    x38 = arith.mul_add(-0.17380470556900002f64, c5, x37);
-                    x39 = s5 * x31;
-                    x40 = arith.mul_add(c5, x30, -x39);
-                    x41 = c5 * x31;
-                    x42 = arith.mul_add(-s5, x26, x41);
-                    x43 = c5 * x32;
-                    x44 = s5 * x33;
-                    x45 = x43 - x44;
-                    x46 = arith.mul_add(s5, x30, x41);
-                    x47 = arith.mul_add(c5, x26, x39);
-                    x48 = c5 * x33;
-                    x49 = arith.mul_add(s5, x32, x48);
-                    x50 = s5 * x42;
-                    x51 = arith.mul_add(c5, x40, -x50);
-                    x52 = x44 - x43;
-                    x53 = c5 * x42;
-                    x54 = arith.mul_add(s5, x40, x53);
-                    x55 = c5 * x47;
-                    x56 = arith.mul_add(s5, x46, x55);
-                    x57 = -0.014653732538f64 + x36;
-                    x58 = 0.067870631425f64 - x3;
-                    x59 = 0.030116287133882078f64 + x51;
-                    x60 = -0.0015152444733270301f64 + x52;
-                    x61 = -0.004600245517563105f64 + x54;
-                    x62 = 0.0021640520520981297f64 - x49;
-                    x63 = 0.03301859926393551f64 + x56;
-                    x64 = c4 * x57;
-                    x65 = arith.mul_add(-s4, x58, x64);
-                    x66 = s4 * x57;
-                    x67 = arith.mul_add(c4, x58, x66);
-                    x68 = s4 * x60;
-                    x69 = arith.mul_add(c4, x59, -x68);
-                    x70 = c4 * x60;
-                    x71 = s4 * x34;
-                    x72 = x70 - x71;
-                    x73 = s4 * x62;
-                    x74 = arith.mul_add(c4, x61, -x73);
-                    x75 = arith.mul_add(s4, x59, x70);
-                    x76 = c4 * x34;
-                    x77 = x68 + x76;
-                    x78 = c4 * x62;
-                    x79 = arith.mul_add(s4, x61, x78);
-                    x80 = s4 * x72;
-                    x81 = arith.mul_add(c4, x69, -x80);
-                    x82 = c4 * x72;
-                    x83 = arith.mul_add(s4, x69, x82);
-                    x84 = c4 * x77;
-                    x85 = arith.mul_add(s4, x75, x84);
-                    x86 = -0.0825f64 * x65;
-                    x87 = 0.384f64 * x38;
-                    x88 = x86 + x87;
-                    x89 = 2f64 * x88;
-                    x90 = x81 + x89;
-                    x91 = x86 + x86;
-                    x92 = x90 - x91;
-                    x93 = 0.384f64 * x65;
-                    x94 = arith.mul_add(-0.0825f64, x38, x93);
-                    x95 = x74 - x94;
-                    x96 = x63 + x89;
-                    x97 = x87 + x87;
-                    x98 = x96 - x97;
-                    x99 = 0.0825f64 * x67;
-                    x100 = x83 + x99;
-                    x101 = arith.mul_add(-0.384f64, x67, x79);
-                    x102 = x85 + x89;
-                    x103 = -0.5527802746499999f64 + x65;
-                    x104 = 2.0125235536029997f64 + x38;
-                    x105 = 0.647723094939183f64 + x92;
-                    x106 = 0.16284087268546082f64 + x95;
-                    x107 = 0.0039053550262761003f64 - x100;
-                    x108 = -0.0016444875773692705f64 - x101;
-                    x109 = 0.7497633672528139f64 + x102;
-                    x110 = s3 * x104;
-                    x111 = arith.mul_add(c3, x103, -x110);
-                    x112 = c3 * x104;
-                    x113 = arith.mul_add(s3, x103, x112);
-                    x114 = s3 * x106;
-                    x115 = arith.mul_add(c3, x105, -x114);
-                    x116 = c3 * x106;
-                    x117 = arith.mul_add(-s3, x98, x116);
-                    x118 = c3 * x107;
-                    x119 = s3 * x108;
-                    x120 = x118 - x119;
-                    x121 = x100 - 0.0039053550262761003f64;
-                    x122 = x101 - -0.0016444875773692705f64;
-                    x123 = arith.mul_add(s3, x105, x116);
-                    x124 = arith.mul_add(c3, x98, x114);
-                    x125 = c3 * x108;
-                    x126 = arith.mul_add(s3, x107, x125);
-                    x127 = s3 * x117;
-                    x128 = arith.mul_add(c3, x115, -x127);
-                    x129 = x119 - x118;
-                    x130 = c3 * x117;
-                    x131 = arith.mul_add(s3, x115, x130);
-                    x132 = c3 * x122;
-                    x133 = arith.mul_add(s3, x121, x132);
-                    x134 = c3 * x124;
-                    x135 = arith.mul_add(s3, x123, x134);
-                    x136 = 0.0825f64 * x111;
-                    x137 = 0.165f64 * x111;
-                    x138 = x128 + x137;
-                    x139 = x136 + x136;
-                    x140 = x138 - x139;
-                    x141 = x129 - x99;
-                    x142 = x109 + x137;
-                    x143 = arith.mul_add(-0.0825f64, x113, x131);
-                    x144 = x135 + x137;
-                    x145 = 0.746857959872f64 + x111;
-                    x146 = 0.028227094878000014f64 + x67;
-                    x147 = 0.011595864095166043f64 + x140;
-                    x148 = -0.00012191242095074308f64 + x141;
-                    x149 = -0.005487648106562256f64 + x143;
-                    x150 = -0.004377257121839584f64 + x133;
-                    x151 = 0.13480070614822143f64 + x144;
-                    x152 = s2 * x146;
-                    x153 = arith.mul_add(c2, x145, -x152);
-                    x154 = c2 * x146;
-                    x155 = arith.mul_add(s2, x145, x154);
-                    x156 = s2 * x148;
-                    x157 = arith.mul_add(c2, x147, -x156);
-                    x158 = c2 * x148;
-                    x159 = arith.mul_add(-s2, x142, x158);
-                    x160 = c2 * x149;
-                    x161 = s2 * x150;
-                    x162 = x160 - x161;
-                    x163 = arith.mul_add(s2, x147, x158);
-                    x164 = arith.mul_add(c2, x142, x156);
-                    x165 = c2 * x150;
-                    x166 = arith.mul_add(s2, x149, x165);
-                    x167 = s2 * x159;
-                    x168 = arith.mul_add(c2, x157, -x167);
-                    x169 = x161 - x160;
-                    x170 = c2 * x159;
-                    x171 = arith.mul_add(s2, x157, x170);
-                    x172 = c2 * x164;
-                    x173 = arith.mul_add(s2, x163, x172);
-                    x174 = 0.316f64 * x113;
-                    x175 = 0.632f64 * x113;
-                    x176 = x168 + x175;
-                    x177 = -0.316f64 * x153;
-                    x178 = x169 - x177;
-                    x179 = x151 + x175;
-                    x180 = x174 + x174;
-                    x181 = x179 - x180;
-                    x182 = arith.mul_add(-0.316f64, x155, x166);
-                    x183 = x173 + x175;
-                    x184 = 1.0706865997634767f64 + x176;
-                    x185 = -0.00398335888393552f64 + x178;
-                    x186 = 0.01026110182100817f64 + x171;
-                    x187 = 0.0007689361029464f64 - x182;
-                    x188 = 1.1168423647533403f64 + x183;
-                    x189 = s1 * x184;
-                    x190 = arith.mul_add(c1, x185, x189);
-                    x191 = c1 * x181;
-                    x192 = arith.mul_add(s1, x185, x191);
-                    x193 = c1 * x187;
-                    x194 = arith.mul_add(s1, x186, x193);
-                    x195 = c1 * x192;
-                    x196 = arith.mul_add(s1, x190, x195);
-                    x197 = 0.03733744848940618f64 + x196;
-                    x198 = x162 + x177;
-                    x199 = arith.mul_add(-0.316f64, x155, x166);
-                    x200 = s1 * x198;
-                    x201 = arith.mul_add(c1, x151, -x200);
-                    x202 = x109 + x136;
-                    x203 = c2 * x113;
-                    x204 = s2 * x113;
-                    x205 = s2 * x202;
-                    x206 = arith.mul_add(c2, x120, x205);
-                    x207 = c2 * x202;
-                    x208 = arith.mul_add(s2, x120, -x207);
-                    x209 = arith.mul_add(0.316f64, x204, x206);
-                    x210 = arith.mul_add(-0.316f64, x203, x208);
-                    x211 = s1 * x209;
-                    x212 = arith.mul_add(c1, x126, -x211);
-                    x213 = x3 - 0.067870631425f64;
-                    x214 = arith.mul_add(c4, x213, -x66);
-                    x215 = arith.mul_add(s4, x213, x64);
-                    x216 = 0.0825f64 * x215;
-                    x217 = arith.mul_add(-0.384f64, x215, x74);
-                    x218 = x63 - x216;
-                    x219 = arith.mul_add(0.384f64, x214, x79);
-                    x220 = c3 * x214;
-                    x221 = s3 * x214;
-                    x222 = s3 * x218;
-                    x223 = arith.mul_add(c3, x217, -x222);
-                    x224 = c3 * x218;
-                    x225 = arith.mul_add(s3, x217, x224);
-                    x226 = arith.mul_add(-0.0825f64, x221, x219);
-                    x227 = x216 + x225;
-                    x228 = s2 * x215;
-                    x229 = arith.mul_add(c2, x220, -x228);
-                    x230 = c2 * x215;
-                    x231 = arith.mul_add(s2, x220, x230);
-                    x232 = s2 * x226;
-                    x233 = arith.mul_add(c2, x223, -x232);
-                    x234 = c2 * x226;
-                    x235 = arith.mul_add(s2, x223, x234);
-                    x236 = arith.mul_add(-0.316f64, x231, x233);
-                    x237 = arith.mul_add(0.316f64, x229, x235);
-                    x238 = s1 * x236;
-                    x239 = arith.mul_add(c1, x227, -x238);
-                    x240 = arith.mul_add(0.17380470556900002f64, c5, -x37);
-                    x241 = c4 * x240;
-                    x242 = s4 * x240;
-                    x243 = arith.mul_add(c4, x45, x71);
-                    x244 = arith.mul_add(-s4, x45, x76);
-                    x245 = 0.0825f64 * x242;
-                    x246 = 0.384f64 * x241;
-                    x247 = arith.mul_add(-0.0825f64, x36, -x246);
-                    x248 = arith.mul_add(-0.384f64, x242, x243);
-                    x249 = x49 - x245;
-                    x250 = x244 + x247;
-                    x251 = s3 * x36;
-                    x252 = arith.mul_add(c3, x241, -x251);
-                    x253 = c3 * x36;
-                    x254 = arith.mul_add(s3, x241, x253);
-                    x255 = s3 * x249;
-                    x256 = arith.mul_add(c3, x248, -x255);
-                    x257 = c3 * x249;
-                    x258 = arith.mul_add(s3, x248, x257);
-                    x259 = arith.mul_add(0.0825f64, x254, x250);
-                    x260 = x245 + x258;
-                    x261 = s2 * x242;
-                    x262 = arith.mul_add(c2, x252, -x261);
-                    x263 = c2 * x242;
-                    x264 = arith.mul_add(s2, x252, x263);
-                    x265 = s2 * x259;
-                    x266 = arith.mul_add(c2, x256, x265);
-                    x267 = c2 * x259;
-                    x268 = arith.mul_add(s2, x256, -x267);
-                    x269 = arith.mul_add(-0.316f64, x264, x266);
-                    x270 = arith.mul_add(0.316f64, x262, x268);
-                    x271 = s1 * x269;
-                    x272 = arith.mul_add(c1, x260, -x271);
-                    x273 = -0.002573605371338202f64 * s6;
-                    x274 = arith.mul_add(-0.0020344399586617965f64, c6, x273);
-                    x275 = -0.006684151967360945f64 - x21;
-                    x276 = c5 * x274;
-                    x277 = s5 * x274;
-                    x278 = s5 * x275;
-                    x279 = arith.mul_add(c5, x8, -x278);
-                    x280 = c5 * x275;
-                    x281 = arith.mul_add(s5, x8, x280);
-                    x282 = s4 * x1;
-                    x283 = arith.mul_add(c4, x276, x282);
-                    x284 = s4 * x276;
-                    x285 = c4 * x1;
-                    x286 = x285 - x284;
-                    x287 = s4 * x12;
-                    x288 = arith.mul_add(c4, x279, x287);
-                    x289 = s4 * x279;
-                    x290 = arith.mul_add(c4, x12, -x289);
-                    x291 = 0.384f64 * x283;
-                    x292 = arith.mul_add(-0.0825f64, x277, -x291);
-                    x293 = arith.mul_add(0.384f64, x286, x288);
-                    x294 = arith.mul_add(0.0825f64, x286, x281);
-                    x295 = x290 + x292;
-                    x296 = s3 * x277;
-                    x297 = arith.mul_add(c3, x283, -x296);
-                    x298 = x284 - x285;
-                    x299 = c3 * x277;
-                    x300 = arith.mul_add(s3, x283, x299);
-                    x301 = s3 * x294;
-                    x302 = arith.mul_add(c3, x293, -x301);
-                    x303 = c3 * x294;
-                    x304 = arith.mul_add(s3, x293, x303);
-                    x305 = arith.mul_add(0.0825f64, x300, x295);
-                    x306 = arith.mul_add(0.0825f64, x298, x304);
-                    x307 = s2 * x298;
-                    x308 = arith.mul_add(c2, x297, -x307);
-                    x309 = c2 * x298;
-                    x310 = arith.mul_add(s2, x297, x309);
-                    x311 = s2 * x305;
-                    x312 = arith.mul_add(c2, x302, x311);
-                    x313 = c2 * x305;
-                    x314 = arith.mul_add(s2, x302, -x313);
-                    x315 = arith.mul_add(-0.316f64, x310, x312);
-                    x316 = arith.mul_add(0.316f64, x308, x314);
-                    x317 = s1 * x315;
-                    x318 = arith.mul_add(c1, x306, -x317);
-                    x319 = 149.6076098932297f64 * x12;
-                    x320 = arith.mul_add(-x12, x319, x34);
-                    x321 = arith.mul_add(-x281, x319, x49);
-                    x322 = arith.mul_add(-x295, x319, x250);
-                    x323 = arith.mul_add(-x306, x319, x260);
-                    x324 = arith.mul_add(-x316, x319, x270);
-                    x325 = arith.mul_add(-x318, x319, x272);
-                    x326 = 149.6076098932297f64 * x281;
-                    x327 = arith.mul_add(-x281, x326, x63);
-                    x328 = arith.mul_add(x295, x326, x219);
-                    x329 = arith.mul_add(-x306, x326, x227);
-                    x330 = arith.mul_add(-x316, x326, x237);
-                    x331 = arith.mul_add(-x318, x326, x239);
-                    x332 = 149.6076098932297f64 * x295;
-                    x333 = arith.mul_add(-x295, x332, x109);
-                    x334 = arith.mul_add(-x306, x332, x126);
-                    x335 = arith.mul_add(-x316, x332, x210);
-                    x336 = arith.mul_add(-x318, x332, x212);
-                    x337 = 149.6076098932297f64 * x306;
-                    x338 = arith.mul_add(-x306, x337, x151);
-                    x339 = arith.mul_add(-x316, x337, x199);
-                    x340 = arith.mul_add(-x318, x337, x201);
-                    x341 = 149.6076098932297f64 * x316;
-                    x342 = arith.mul_add(-x316, x341, x188);
-                    x343 = arith.mul_add(x318, x341, x194);
-                    x344 = 149.6076098932297f64 * x318;
-                    x345 = arith.mul_add(-x318, x344, x197);
-                    x346 = 1f64 / x320;
-                    x347 = x321 * x346;
-                    x348 = arith.mul_add(-x321, x347, x327);
-                    x349 = arith.mul_add(x322, x347, x328);
-                    x350 = arith.mul_add(-x323, x347, x329);
-                    x351 = arith.mul_add(-x324, x347, x330);
-                    x352 = arith.mul_add(-x325, x347, x331);
-                    x353 = x322 * x346;
-                    x354 = arith.mul_add(-x322, x353, x333);
-                    x355 = arith.mul_add(-x323, x353, x334);
-                    x356 = arith.mul_add(-x324, x353, x335);
-                    x357 = arith.mul_add(-x325, x353, x336);
-                    x358 = x323 * x346;
-                    x359 = arith.mul_add(-x323, x358, x338);
-                    x360 = arith.mul_add(-x324, x358, x339);
-                    x361 = arith.mul_add(-x325, x358, x340);
-                    x362 = x324 * x346;
-                    x363 = arith.mul_add(-x324, x362, x342);
-                    x364 = arith.mul_add(x325, x362, x343);
-                    x365 = x325 * x346;
-                    x366 = arith.mul_add(-x325, x365, x345);
-                    x367 = 1f64 / x348;
-                    x368 = x349 * x367;
-                    x369 = arith.mul_add(-x349, x368, x354);
-                    x370 = arith.mul_add(x350, x368, x355);
-                    x371 = arith.mul_add(x351, x368, x356);
-                    x372 = arith.mul_add(x352, x368, x357);
-                    x373 = x350 * x367;
-                    x374 = arith.mul_add(-x350, x373, x359);
-                    x375 = arith.mul_add(-x351, x373, x360);
-                    x376 = arith.mul_add(-x352, x373, x361);
-                    x377 = x351 * x367;
-                    x378 = arith.mul_add(-x351, x377, x363);
-                    x379 = arith.mul_add(x352, x377, x364);
-                    x380 = x352 * x367;
-                    x381 = arith.mul_add(-x352, x380, x366);
-                    x382 = 1f64 / x369;
-                    x383 = x370 * x382;
-                    x384 = arith.mul_add(-x370, x383, x374);
-                    x385 = arith.mul_add(-x371, x383, x375);
-                    x386 = arith.mul_add(-x372, x383, x376);
-                    x387 = x371 * x382;
-                    x388 = arith.mul_add(-x371, x387, x378);
-                    x389 = arith.mul_add(x372, x387, x379);
-                    x390 = x372 * x382;
-                    x391 = arith.mul_add(-x372, x390, x381);
-                    x392 = 1f64 / x384;
-                    x393 = x385 * x392;
-                    x394 = arith.mul_add(-x385, x393, x388);
-                    x395 = arith.mul_add(x386, x393, x389);
-                    x396 = x386 * x392;
-                    x397 = arith.mul_add(-x386, x396, x391);
-                    x398 = 1f64 / x394;
-                    x399 = x395 * x398;
-                    x400 = arith.mul_add(-x395, x399, x397);
-                    x401 = 1f64 / x400;
-                    *o0 = x401;
-                    x402 = x399 * x401;
-                    *o1 = x402;
-                    *o7 = x402;
-                    x403 = x393 * x402;
-                    x404 = arith.mul_add(x396, x401, x403);
-                    x405 = -x404;
-                    *o2 = x405;
-                    *o14 = x405;
-                    x406 = x387 * x402;
-                    x407 = arith.mul_add(x390, x401, x406);
-                    x408 = arith.mul_add(x383, x404, -x407);
-                    *o3 = x408;
-                    *o21 = x408;
-                    x409 = x377 * x402;
-                    x410 = arith.mul_add(x380, x401, x409);
-                    x411 = arith.mul_add(x373, x404, -x410);
-                    x412 = arith.mul_add(x368, x408, x411);
-                    *o4 = x412;
-                    *o28 = x412;
-                    x413 = x362 * x402;
-                    x414 = arith.mul_add(x365, x401, x413);
-                    x415 = arith.mul_add(x358, x404, -x414);
-                    x416 = arith.mul_add(-x353, x408, x415);
-                    x417 = arith.mul_add(-x347, x412, x416);
-                    *o5 = x417;
-                    *o35 = x417;
-                    x418 = x341 * x402;
-                    x419 = arith.mul_add(x344, x401, x418);
-                    x420 = arith.mul_add(x337, x404, -x419);
-                    x421 = arith.mul_add(-x332, x408, x420);
-                    x422 = arith.mul_add(-x326, x412, x421);
-                    x423 = arith.mul_add(-x319, x417, x422);
-                    *o6 = x423;
-                    *o42 = x423;
-                    x424 = arith.mul_add(x399, x402, x398);
-                    *o8 = x424;
-                    x425 = x393 * x424;
-                    x426 = arith.mul_add(x396, x402, x425);
-                    x427 = -x426;
-                    *o9 = x427;
-                    *o15 = x427;
-                    x428 = x387 * x424;
-                    x429 = arith.mul_add(x390, x402, x428);
-                    x430 = arith.mul_add(x383, x426, -x429);
-                    *o10 = x430;
-                    *o22 = x430;
-                    x431 = x377 * x424;
-                    x432 = arith.mul_add(x380, x402, x431);
-                    x433 = arith.mul_add(x373, x426, -x432);
-                    x434 = arith.mul_add(x368, x430, x433);
-                    *o11 = x434;
-                    *o29 = x434;
-                    x435 = x362 * x424;
-                    x436 = arith.mul_add(x365, x402, x435);
-                    x437 = arith.mul_add(x358, x426, -x436);
-                    x438 = arith.mul_add(-x353, x430, x437);
-                    x439 = arith.mul_add(-x347, x434, x438);
-                    *o12 = x439;
-                    *o36 = x439;
-                    x440 = x341 * x424;
-                    x441 = arith.mul_add(x344, x402, x440);
-                    x442 = arith.mul_add(x337, x426, -x441);
-                    x443 = arith.mul_add(-x332, x430, x442);
-                    x444 = arith.mul_add(-x326, x434, x443);
-                    x445 = arith.mul_add(-x319, x439, x444);
-                    *o13 = x445;
-                    *o43 = x445;
-                    x446 = arith.mul_add(x393, x399, x396);
-                    x447 = x401 * x446;
-                    x448 = x399 * x447;
-                    x449 = arith.mul_add(x393, x398, x448);
-                    x450 = arith.mul_add(x396, x447, x392);
-                    x451 = arith.mul_add(x393, x449, x450);
-                    *o16 = x451;
-                    x452 = x387 * x449;
-                    x453 = arith.mul_add(x390, x447, x452);
-                    x454 = arith.mul_add(-x383, x451, x453);
-                    *o17 = x454;
-                    *o23 = x454;
-                    x455 = x377 * x449;
-                    x456 = arith.mul_add(x380, x447, x455);
-                    x457 = arith.mul_add(-x373, x451, x456);
-                    x458 = arith.mul_add(x368, x454, x457);
-                    *o18 = x458;
-                    *o30 = x458;
-                    x459 = x362 * x449;
-                    x460 = arith.mul_add(x365, x447, x459);
-                    x461 = arith.mul_add(-x358, x451, x460);
-                    x462 = arith.mul_add(-x353, x454, x461);
-                    x463 = arith.mul_add(-x347, x458, x462);
-                    *o19 = x463;
-                    *o37 = x463;
-                    x464 = x341 * x449;
-                    x465 = arith.mul_add(x344, x447, x464);
-                    x466 = arith.mul_add(-x337, x451, x465);
-                    x467 = arith.mul_add(-x332, x454, x466);
-                    x468 = arith.mul_add(-x326, x458, x467);
-                    x469 = arith.mul_add(-x319, x463, x468);
-                    *o20 = x469;
-                    *o44 = x469;
-                    x470 = arith.mul_add(x383, x393, -x387);
-                    x471 = arith.mul_add(x383, x396, -x390);
-                    x472 = arith.mul_add(x399, x470, x471);
-                    x473 = x401 * x472;
-                    x474 = x399 * x473;
-                    x475 = arith.mul_add(x398, x470, x474);
-                    x476 = x396 * x473;
-                    x477 = arith.mul_add(x383, x392, x476);
-                    x478 = arith.mul_add(x393, x475, x477);
-                    x479 = arith.mul_add(-x390, x473, x382);
-                    x480 = arith.mul_add(-x387, x475, x479);
-                    x481 = arith.mul_add(x383, x478, x480);
-                    *o24 = x481;
-                    x482 = x377 * x475;
-                    x483 = arith.mul_add(x380, x473, x482);
-                    x484 = arith.mul_add(x373, x478, -x483);
-                    x485 = arith.mul_add(x368, x481, x484);
-                    *o25 = x485;
-                    *o31 = x485;
-                    x486 = x362 * x475;
-                    x487 = arith.mul_add(x365, x473, x486);
-                    x488 = arith.mul_add(x358, x478, -x487);
-                    x489 = arith.mul_add(-x353, x481, x488);
-                    x490 = arith.mul_add(-x347, x485, x489);
-                    *o26 = x490;
-                    *o38 = x490;
-                    x491 = x341 * x475;
-                    x492 = arith.mul_add(x344, x473, x491);
-                    x493 = arith.mul_add(x337, x478, -x492);
-                    x494 = arith.mul_add(-x332, x481, x493);
-                    x495 = arith.mul_add(-x326, x485, x494);
-                    x496 = arith.mul_add(-x319, x490, x495);
-                    *o27 = x496;
-                    *o45 = x496;
-                    x497 = arith.mul_add(x368, x383, x373);
-                    x498 = arith.mul_add(x368, x387, x377);
-                    x499 = arith.mul_add(x368, x390, x380);
-                    x500 = arith.mul_add(x393, x497, -x498);
-                    x501 = arith.mul_add(x396, x497, -x499);
-                    x502 = arith.mul_add(x399, x500, x501);
-                    x503 = x401 * x502;
-                    x504 = x399 * x503;
-                    x505 = arith.mul_add(x398, x500, x504);
-                    x506 = x396 * x503;
-                    x507 = arith.mul_add(x392, x497, x506);
-                    x508 = arith.mul_add(x393, x505, x507);
-                    x509 = x390 * x503;
-                    x510 = arith.mul_add(x368, x382, -x509);
-                    x511 = arith.mul_add(-x387, x505, x510);
-                    x512 = arith.mul_add(x383, x508, x511);
-                    x513 = arith.mul_add(-x380, x503, x367);
-                    x514 = arith.mul_add(-x377, x505, x513);
-                    x515 = arith.mul_add(x373, x508, x514);
-                    x516 = arith.mul_add(x368, x512, x515);
-                    *o32 = x516;
-                    x517 = x362 * x505;
-                    x518 = arith.mul_add(x365, x503, x517);
-                    x519 = arith.mul_add(x358, x508, -x518);
-                    x520 = arith.mul_add(-x353, x512, x519);
-                    x521 = arith.mul_add(-x347, x516, x520);
-                    *o33 = x521;
-                    *o39 = x521;
-                    x522 = x341 * x505;
-                    x523 = arith.mul_add(x344, x503, x522);
-                    x524 = arith.mul_add(x337, x508, -x523);
-                    x525 = arith.mul_add(-x332, x512, x524);
-                    x526 = arith.mul_add(-x326, x516, x525);
-                    x527 = arith.mul_add(-x319, x521, x526);
-                    *o34 = x527;
-                    *o46 = x527;
-                    x528 = arith.mul_add(x347, x368, x353);
-                    x529 = arith.mul_add(x347, x373, -x358);
-                    x530 = arith.mul_add(x347, x377, -x362);
-                    x531 = arith.mul_add(x347, x380, -x365);
-                    x532 = arith.mul_add(x383, x528, x529);
-                    x533 = arith.mul_add(x387, x528, x530);
-                    x534 = arith.mul_add(x390, x528, x531);
-                    x535 = arith.mul_add(-x393, x532, x533);
-                    x536 = arith.mul_add(-x396, x532, x534);
-                    x537 = arith.mul_add(x399, x535, x536);
-                    x538 = x401 * x537;
-                    x539 = x399 * x538;
-                    x540 = arith.mul_add(x398, x535, x539);
-                    x541 = x396 * x538;
-                    x542 = arith.mul_add(x392, x532, -x541);
-                    x543 = arith.mul_add(-x393, x540, x542);
-                    x544 = x390 * x538;
-                    x545 = arith.mul_add(x382, x528, x544);
-                    x546 = arith.mul_add(x387, x540, x545);
-                    x547 = arith.mul_add(x383, x543, x546);
-                    x548 = x380 * x538;
-                    x549 = arith.mul_add(x347, x367, x548);
-                    x550 = arith.mul_add(x377, x540, x549);
-                    x551 = arith.mul_add(x373, x543, x550);
-                    x552 = arith.mul_add(x368, x547, x551);
-                    x553 = arith.mul_add(-x365, x538, x346);
-                    x554 = arith.mul_add(-x362, x540, x553);
-                    x555 = arith.mul_add(-x358, x543, x554);
-                    x556 = arith.mul_add(x353, x547, x555);
-                    x557 = arith.mul_add(x347, x552, x556);
-                    *o40 = x557;
-                    x558 = x341 * x540;
-                    x559 = arith.mul_add(x344, x538, x558);
-                    x560 = arith.mul_add(x337, x543, x559);
-                    x561 = arith.mul_add(x332, x547, -x560);
-                    x562 = arith.mul_add(x326, x552, x561);
-                    x563 = arith.mul_add(-x319, x557, x562);
-                    *o41 = x563;
-                    *o47 = x563;
-                    x564 = arith.mul_add(x319, x347, -x326);
-                    x565 = arith.mul_add(x319, x353, -x332);
-                    x566 = arith.mul_add(x319, x358, -x337);
-                    x567 = arith.mul_add(x319, x362, -x341);
-                    x568 = arith.mul_add(x319, x365, -x344);
-                    x569 = arith.mul_add(x368, x564, x565);
-                    x570 = arith.mul_add(-x373, x564, x566);
-                    x571 = arith.mul_add(-x377, x564, x567);
-                    x572 = arith.mul_add(-x380, x564, x568);
-                    x573 = arith.mul_add(-x383, x569, x570);
-                    x574 = arith.mul_add(-x387, x569, x571);
-                    x575 = arith.mul_add(-x390, x569, x572);
-                    x576 = arith.mul_add(-x393, x573, x574);
-                    x577 = arith.mul_add(-x396, x573, x575);
-                    x578 = arith.mul_add(x399, x576, x577);
-                    x579 = x401 * x578;
-                    x580 = x399 * x579;
-                    x581 = arith.mul_add(x398, x576, x580);
-                    x582 = x396 * x579;
-                    x583 = arith.mul_add(x392, x573, -x582);
-                    x584 = arith.mul_add(-x393, x581, x583);
-                    x585 = x390 * x579;
-                    x586 = arith.mul_add(x382, x569, -x585);
-                    x587 = arith.mul_add(-x387, x581, x586);
-                    x588 = arith.mul_add(-x383, x584, x587);
-                    x589 = x380 * x579;
-                    x590 = arith.mul_add(x367, x564, -x589);
-                    x591 = arith.mul_add(-x377, x581, x590);
-                    x592 = arith.mul_add(-x373, x584, x591);
-                    x593 = arith.mul_add(x368, x588, x592);
-                    x594 = x365 * x579;
-                    x595 = arith.mul_add(x319, x346, x594);
-                    x596 = arith.mul_add(x362, x581, x595);
-                    x597 = arith.mul_add(x358, x584, x596);
-                    x598 = arith.mul_add(x353, x588, x597);
-                    x599 = arith.mul_add(x347, x593, x598);
-                    x600 = arith.mul_add(-x344, x579, 149.6076098932297f64);
-                    x601 = arith.mul_add(-x341, x581, x600);
-                    x602 = arith.mul_add(-x337, x584, x601);
-                    x603 = arith.mul_add(-x332, x588, x602);
-                    x604 = arith.mul_add(-x326, x593, x603);
-                    x605 = arith.mul_add(x319, x599, x604);
-                    *o48 = x605;
-                }
-                out
-            }
-        }
-        dyngen_runtime::__private::dispatch::<Body, _>((t,))
-    }
-    ///Operations: 506 mul, 376 add/sub, 43 neg, and 2207 lane ops (f64x8: each on eight lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
-    #[inline(never)]
-    fn inverse_dynamics_derivatives(
-        t: &JointTrig<7>,
-        qd: &SVector<f64, 7>,
-        a: &SVector<f64, 7>,
-    ) -> (SMatrix<f64, 7, 7>, SMatrix<f64, 7, 7>) {
-        struct Body;
-        impl dyngen_runtime::__private::Kernel<
-            (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
-        > for Body {
-            type Output = (SMatrix<f64, 7, 7>, SMatrix<f64, 7, 7>);
-            #[inline(always)]
-            fn run<M: dyngen_runtime::__private::MulAdd>(
-                arith: M,
-                (t, qd, a): (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
-            ) -> (SMatrix<f64, 7, 7>, SMatrix<f64, 7, 7>) {
-                use dyngen_runtime::__private::EightLanes as _;
-                let [_, s1, s2, s3, s4, s5, s6] = t.sin;
-                let [_, c1, c2, c3, c4, c5, c6] = t.cos;
-                let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
-                let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
-                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
-                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
-                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
-                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
-                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
-                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
-                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
-                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
-                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
-                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
-                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
-                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
-                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
-                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
-                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
-                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
-                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
-                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
-                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
-                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
-                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
-                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
-                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
-                x291, x292, x293, x294, x295, x296, x297, x298, x299, x300, x301, x302,
-                x303, x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
-                x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325, x326,
-                x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337, x338,
-                x339, x340, x341, x342, x343, x344, x345, x346, x347, x348, x349, x350,
-                x351, x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
-                x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373, x374,
-                x375, x376, x377, x378, x379, x380, x381, x382, x383, x384, x385, x386,
-                x387, x388, x389, x390, x391, x392, x393, x394, x395, x396, x397, x398,
-                x399, x400, x401, x402, x403, x404, x405, x406, x407, x408, x409, x410,
-                x411, x412, x413, x414, x415, x416, x417, x418, x419, x420, x421, x422,
-                x423, x424, x425, x426, x427, x428, x429, x430, x431, x432, x433, x434,
-                x435, x436, x437, x438, x439, x440, x441, x442, x443, x444, x445, x446,
-                x447, x448, x449, x450, x451, x452, x453, x454, x455, x456, x457, x458,
-                x459, x460, x461, x462, x463, x464, x465, x466, x467, x468, x469, x470,
-                x471, x472, x473, x474, x475, x476, x477, x478, x479, x480, x481, x482,
-                x483, x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
-                x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505, x506,
-                x507, x508, x509, x510, x511, x512, x513, x514, x515, x516, x517, x518,
-                x519, x520, x521, x522, x523, x524, x525, x526, x527, x528, x529, x530,
-                x531, x532, x533, x534, x535, x536, x537, x538, x539, x540, x541, x542,
-                x543, x544, x545, x546, x547, x548, x549, x550, x551, x552, x553, x554,
-                x555, x556, x557, x558, x559, x560, x561, x562, x563, x564, x565, x566,
-                x567, x568, x569, x570, x571, x572, x573, x574, x575, x576, x577, x578,
-                x579, x580, x581, x582, x583, x584, x585, x586, x587, x588, x589, x590,
-                x591, x592, x593, x594, x595, x596, x597, x598, x599, x600, x601, x602,
-                x603, x604, x605, x606, x607, x608, x609, x610, x611, x612, x613, x614,
-                x615, x616, x617, x618, x619, x620, x621, x622, x623, x624, x625, x626,
-                x627, x628, x629, x630, x631, x632, x633, x634, x635, x636, x637, x638,
-                x639, x640, x641, x642, x643, x644, x645, x646, x1516, x1517, x1520,
-                x1521, x1531, x1532, x1534, x1537, x1539, x1694, x1695, x1699, x1703,
-                x1704, x1709, x1710, x1720, x1721, x1725, x1726, x1729, x1730, x2230,
-                x2231, x2232, x2233, x2234, x2235, x2236, x2237, x2238, x2239, x2240,
-                x2241, x2242, x2243, x2244, x2245, x2246, x2247, x2248, x2249, x2250,
-                x2251, x2252, x2253, x2254, x2255, x2256, x2257, x2258, x2259, x2260,
-                x2261, x2262, x2263, x2264, x2265, x2266, x2267, x2268, x2269, x2270,
-                x2271, x2272, x2273, x2274, x2275, x2276, x2277, x2278, x2279, x2280,
-                x2281, x2282, x2283, x2284, x2285, x2286, x2287, x2288, x2289, x2290,
-                x2291, x2292, x2293, x2294, x2295, x2296, x2297, x2298, x2299, x2300,
-                x2301, x2302, x2303, x2304, x2305, x2306, x2307, x2308, x2309, x2310,
-                x2311, x2312, x2313, x2314, x2315, x2316, x2317, x2318, x2319, x2320,
-                x2321, x2322, x2323, x2324, x2325, x2326, x2327]: [f64; 767];
-                let [x647, x648, x649, x650, x651, x652, x653, x654, x655, x656, x657,
-                x658, x659, x660, x661, x662, x663, x664, x665, x666, x667, x668, x669,
-                x670, x671, x672, x673, x674, x675, x676, x677, x678, x679, x680, x681,
-                x682, x683, x684, x685, x686, x687, x688, x689, x690, x691, x692, x693,
-                x694, x695, x696, x697, x698, x699, x700, x701, x702, x703, x704, x705,
-                x706, x707, x708, x709, x710, x711, x712, x713, x714, x715, x716, x717,
-                x718, x719, x720, x721, x722, x723, x724, x725, x726, x727, x728, x729,
-                x730, x731, x732, x733, x734, x735, x736, x737, x738, x739, x740, x741,
-                x742, x743, x744, x745, x746, x747, x748, x749, x750, x751, x752, x753,
-                x754, x755, x756, x757, x758, x759, x760, x761, x762, x763, x764, x765,
-                x766, x767, x768, x769, x770, x771, x772, x773, x774, x775, x776, x777,
-                x778, x779, x780, x781, x782, x783, x784, x785, x786, x787, x788, x789,
-                x790, x791, x792, x793, x794, x795, x796, x797, x798, x799, x800, x801,
-                x802, x803, x804, x805, x806, x807, x808, x809, x810, x811, x812, x813,
-                x814, x815, x816, x817, x818, x819, x820, x821, x822, x823, x824, x825,
-                x826, x827, x828, x829, x830, x831, x832, x833, x834, x835, x836, x837,
-                x838, x839, x840, x841, x842, x843, x844, x845, x846, x847, x848, x849,
-                x850, x851, x852, x853, x854, x855, x856, x857, x858, x859, x860, x861,
-                x862, x863, x864, x865, x866, x867, x868, x869, x870, x871, x872, x873,
-                x874, x875, x876, x877, x878, x879, x880, x881, x882, x883, x884, x885,
-                x886, x887, x888, x889, x890, x891, x892, x893, x894, x895, x896, x897,
-                x898, x899, x900, x901, x902, x903, x904, x905, x906, x907, x908, x909,
-                x910, x911, x912, x913, x914, x915, x916, x917, x918, x919, x920, x921,
-                x922, x923, x924, x925, x926, x927, x928, x929, x930, x931, x932, x933,
-                x934, x935, x936, x937, x938, x939, x940, x941, x942, x943, x944, x945,
-                x946, x947, x948, x949, x950, x951, x952, x953, x954, x955, x956, x957,
-                x958, x959, x960, x961, x962, x963, x964, x965, x966, x967, x968, x969,
-                x970, x971, x972, x973, x974, x975, x976, x977, x978, x979, x980, x981,
-                x982, x983, x984, x985, x986, x987, x988, x989, x990, x991, x992, x993,
-                x994, x995, x996, x997, x998, x999, x1000, x1001, x1002, x1003, x1004,
-                x1005, x1006, x1007, x1008, x1009, x1010, x1011, x1012, x1013, x1014,
-                x1015, x1016, x1017, x1018, x1019, x1020, x1021, x1022, x1023, x1024,
-                x1025, x1026, x1027, x1028, x1029, x1030, x1031, x1032, x1033, x1034,
-                x1035, x1036, x1037, x1038, x1039, x1040, x1041, x1042, x1043, x1044,
-                x1045, x1046, x1047, x1048, x1049, x1050, x1051, x1052, x1053, x1054,
-                x1055, x1056, x1057, x1058, x1059, x1060, x1061, x1062, x1063, x1064,
-                x1065, x1066, x1067, x1068, x1069, x1070, x1071, x1072, x1073, x1074,
-                x1075, x1076, x1077, x1078, x1079, x1080, x1081, x1082, x1083, x1084,
-                x1085, x1086, x1087, x1088, x1089, x1090, x1091, x1092, x1093, x1094,
-                x1095, x1096, x1097, x1098, x1099, x1100, x1101, x1102, x1103, x1104,
-                x1105, x1106, x1107, x1108, x1109, x1110, x1111, x1112, x1113, x1114,
-                x1115, x1116, x1117, x1118, x1119, x1120, x1121, x1122, x1123, x1124,
-                x1125, x1126, x1127, x1128, x1129, x1130, x1131, x1132, x1133, x1134,
-                x1135, x1136, x1137, x1138, x1139, x1140, x1141, x1142, x1143, x1144,
-                x1145, x1146, x1147, x1148, x1149, x1150, x1151, x1152, x1153, x1154,
-                x1155, x1156, x1157, x1158, x1159, x1160, x1161, x1162, x1163, x1164,
-                x1165, x1166, x1167, x1168, x1169, x1170, x1171, x1172, x1173, x1174,
-                x1175, x1176, x1177, x1178, x1179, x1180, x1181, x1182, x1183, x1184,
-                x1185, x1186, x1187, x1188, x1189, x1190, x1191, x1192, x1193, x1194,
-                x1195, x1196, x1197, x1198, x1199, x1200, x1201, x1202, x1203, x1204,
-                x1205, x1206, x1207, x1208, x1209, x1210, x1211, x1212, x1213, x1214,
-                x1215, x1216, x1217, x1218, x1219, x1220, x1221, x1222, x1223, x1224,
-                x1225, x1226, x1227, x1228, x1229, x1230, x1231, x1232, x1233, x1234,
-                x1235, x1236, x1237, x1238, x1239, x1240, x1241, x1242, x1243, x1244,
-                x1245, x1246, x1247, x1248, x1249, x1250, x1251, x1252, x1253, x1254,
-                x1255, x1256, x1257, x1258, x1259, x1260, x1261, x1262, x1263, x1264,
-                x1265, x1266, x1267, x1268, x1269, x1270, x1271, x1272, x1273, x1274,
-                x1275, x1276, x1277, x1278, x1279, x1280, x1281, x1282, x1283, x1284,
-                x1285, x1286, x1287, x1288, x1289, x1290, x1291, x1292, x1293, x1294,
-                x1295, x1296, x1297, x1298, x1299, x1300, x1301, x1302, x1303, x1304,
-                x1305, x1306, x1307, x1308, x1309, x1310, x1311, x1312, x1313, x1314,
-                x1315, x1316, x1317, x1318, x1319, x1320, x1321, x1322, x1323, x1324,
-                x1325, x1326, x1327, x1328, x1329, x1330, x1331, x1332, x1333, x1334,
-                x1335, x1336, x1337, x1338, x1339, x1340, x1341, x1342, x1343, x1344,
-                x1345, x1346, x1347, x1348, x1349, x1350, x1351, x1352, x1353, x1354,
-                x1355, x1356, x1357, x1358, x1359, x1360, x1361, x1362, x1363, x1364,
-                x1365, x1366, x1367, x1368, x1369, x1370, x1371, x1372, x1373, x1374,
-                x1375, x1376, x1377, x1378, x1379, x1380, x1381, x1382, x1383, x1384,
-                x1385, x1386, x1387, x1388, x1389, x1390, x1391, x1392, x1393, x1394,
-                x1395, x1396, x1397, x1398, x1399, x1400, x1401, x1402, x1403, x1404,
-                x1405, x1406, x1407, x1408, x1409, x1410, x1411, x1412, x1413, x1414,
-                x1415, x1416, x1417, x1418, x1419, x1420, x1421, x1422, x1423, x1424,
-                x1425, x1426, x1427, x1428, x1429, x1430, x1431, x1432, x1433, x1434,
-                x1435, x1436, x1437, x1438, x1439, x1440, x1441, x1442, x1443, x1444,
-                x1445, x1446, x1447, x1448, x1449, x1450, x1451, x1452, x1453, x1454,
-                x1455, x1456, x1457, x1458, x1459, x1460, x1461, x1462, x1463, x1464,
-                x1465, x1466, x1467, x1468, x1469, x1470, x1471, x1472, x1473, x1474,
-                x1475, x1476, x1477, x1478, x1479, x1480, x1481, x1482, x1483, x1484,
-                x1485, x1486, x1487, x1488, x1489, x1490, x1491, x1492, x1493, x1494,
-                x1495, x1496, x1497, x1498, x1499, x1500, x1501, x1502, x1503, x1504,
-                x1505, x1506, x1507, x1508, x1509, x1510, x1511, x1512, x1513, x1514,
-                x1515, x1518, x1519, x1522, x1523, x1524, x1525, x1526, x1527, x1528,
-                x1529, x1530, x1533, x1535, x1536, x1538, x1540, x1541, x1542, x1543,
-                x1544, x1545, x1546, x1547, x1548, x1549, x1550, x1551, x1552, x1553,
-                x1554, x1555, x1556, x1557, x1558, x1559, x1560, x1561, x1562, x1563,
-                x1564, x1565, x1566, x1567, x1568, x1569, x1570, x1571, x1572, x1573,
-                x1574, x1575, x1576, x1577, x1578, x1579, x1580, x1581, x1582, x1583,
-                x1584, x1585, x1586, x1587, x1588, x1589, x1590, x1591, x1592, x1593,
-                x1594, x1595, x1596, x1597, x1598, x1599, x1600, x1601, x1602, x1603,
-                x1604, x1605, x1606, x1607, x1608, x1609, x1610, x1611, x1612, x1613,
-                x1614, x1615, x1616, x1617, x1618, x1619, x1620, x1621, x1622, x1623,
-                x1624, x1625, x1626, x1627, x1628, x1629, x1630, x1631, x1632, x1633,
-                x1634, x1635, x1636, x1637, x1638, x1639, x1640, x1641, x1642, x1643,
-                x1644, x1645, x1646, x1647, x1648, x1649, x1650, x1651, x1652, x1653,
-                x1654, x1655, x1656, x1657, x1658, x1659, x1660, x1661, x1662, x1663,
-                x1664, x1665, x1666, x1667, x1668, x1669, x1670, x1671, x1672, x1673,
-                x1674, x1675, x1676, x1677, x1678, x1679, x1680, x1681, x1682, x1683,
-                x1684, x1685, x1686, x1687, x1688, x1689, x1690, x1691, x1692, x1693,
-                x1696, x1697, x1698, x1700, x1701, x1702, x1705, x1706, x1707, x1708,
-                x1711, x1712, x1713, x1714, x1715, x1716, x1717, x1718, x1719, x1722,
-                x1723, x1724, x1727, x1728, x1731, x1732, x1733, x1734, x1735, x1736,
-                x1737, x1738, x1739, x1740, x1741, x1742, x1743, x1744, x1745, x1746,
-                x1747, x1748, x1749, x1750, x1751, x1752, x1753, x1754, x1755, x1756,
-                x1757, x1758, x1759, x1760, x1761, x1762, x1763, x1764, x1765, x1766,
-                x1767, x1768, x1769, x1770, x1771, x1772, x1773, x1774, x1775, x1776,
-                x1777, x1778, x1779, x1780, x1781, x1782, x1783, x1784, x1785, x1786,
-                x1787, x1788, x1789, x1790, x1791, x1792, x1793, x1794, x1795, x1796,
-                x1797, x1798, x1799, x1800, x1801, x1802, x1803, x1804, x1805, x1806,
-                x1807, x1808, x1809, x1810, x1811, x1812, x1813, x1814, x1815, x1816,
-                x1817, x1818, x1819, x1820, x1821, x1822, x1823, x1824, x1825, x1826,
-                x1827, x1828, x1829, x1830, x1831, x1832, x1833, x1834, x1835, x1836,
-                x1837, x1838, x1839, x1840, x1841, x1842, x1843, x1844, x1845, x1846,
-                x1847, x1848, x1849, x1850, x1851, x1852, x1853, x1854, x1855, x1856,
-                x1857, x1858, x1859, x1860, x1861, x1862, x1863, x1864, x1865, x1866,
-                x1867, x1868, x1869, x1870, x1871, x1872, x1873, x1874, x1875, x1876,
-                x1877, x1878, x1879, x1880, x1881, x1882, x1883, x1884, x1885, x1886,
-                x1887, x1888, x1889, x1890, x1891, x1892, x1893, x1894, x1895, x1896,
-                x1897, x1898, x1899, x1900, x1901, x1902, x1903, x1904, x1905, x1906,
-                x1907, x1908, x1909, x1910, x1911, x1912, x1913, x1914, x1915, x1916,
-                x1917, x1918, x1919, x1920, x1921, x1922, x1923, x1924, x1925, x1926,
-                x1927, x1928, x1929, x1930, x1931, x1932, x1933, x1934, x1935, x1936,
-                x1937, x1938, x1939, x1940, x1941, x1942, x1943, x1944, x1945, x1946,
-                x1947, x1948, x1949, x1950, x1951, x1952, x1953, x1954, x1955, x1956,
-                x1957, x1958, x1959, x1960, x1961, x1962, x1963, x1964, x1965, x1966,
-                x1967, x1968, x1969, x1970, x1971, x1972, x1973, x1974, x1975, x1976,
-                x1977, x1978, x1979, x1980, x1981, x1982, x1983, x1984, x1985, x1986,
-                x1987, x1988, x1989, x1990, x1991, x1992, x1993, x1994, x1995, x1996,
-                x1997, x1998, x1999, x2000, x2001, x2002, x2003, x2004, x2005, x2006,
-                x2007, x2008, x2009, x2010, x2011, x2012, x2013, x2014, x2015, x2016,
-                x2017, x2018, x2019, x2020, x2021, x2022, x2023, x2024, x2025, x2026,
-                x2027, x2028, x2029, x2030, x2031, x2032, x2033, x2034, x2035, x2036,
-                x2037, x2038, x2039, x2040, x2041, x2042, x2043, x2044, x2045, x2046,
-                x2047, x2048, x2049, x2050, x2051, x2052, x2053, x2054, x2055, x2056,
-                x2057, x2058, x2059, x2060, x2061, x2062, x2063, x2064, x2065, x2066,
-                x2067, x2068, x2069, x2070, x2071, x2072, x2073, x2074, x2075, x2076,
-                x2077, x2078, x2079, x2080, x2081, x2082, x2083, x2084, x2085, x2086,
-                x2087, x2088, x2089, x2090, x2091, x2092, x2093, x2094, x2095, x2096,
-                x2097, x2098, x2099, x2100, x2101, x2102, x2103, x2104, x2105, x2106,
-                x2107, x2108, x2109, x2110, x2111, x2112, x2113, x2114, x2115, x2116,
-                x2117, x2118, x2119, x2120, x2121, x2122, x2123, x2124, x2125, x2126,
-                x2127, x2128, x2129, x2130, x2131, x2132, x2133, x2134, x2135, x2136,
-                x2137, x2138, x2139, x2140, x2141, x2142, x2143, x2144, x2145, x2146,
-                x2147, x2148, x2149, x2150, x2151, x2152, x2153, x2154, x2155, x2156,
-                x2157, x2158, x2159, x2160, x2161, x2162, x2163, x2164, x2165, x2166,
-                x2167, x2168, x2169, x2170, x2171, x2172, x2173, x2174, x2175, x2176,
-                x2177, x2178, x2179, x2180, x2181, x2182, x2183, x2184, x2185, x2186,
-                x2187, x2188, x2189, x2190, x2191, x2192, x2193, x2194, x2195, x2196,
-                x2197, x2198, x2199, x2200, x2201, x2202, x2203, x2204, x2205, x2206,
-                x2207, x2208, x2209, x2210, x2211, x2212, x2213, x2214, x2215, x2216,
-                x2217, x2218, x2219, x2220, x2221, x2222, x2223, x2224, x2225, x2226,
-                x2227, x2228, x2229]: [M::Eight; 1561];
-                x0 = s1 * c2;
-                x1 = -x0;
-                x2 = s1 * s2;
-                x3 = -9.81f64 * s1;
-                x4 = -9.81f64 * c1;
-                x5 = qd0 * s1;
-                x6 = -x5;
-                x7 = qd0 * c1;
-                x8 = -x7;
-                x9 = a0 * c1;
-                x10 = c2 * x5;
-                x11 = qd1 * s2;
-                x12 = x11 - x10;
-                x13 = qd1 * c2;
-                x14 = arith.mul_add(s2, x5, x13);
-                x15 = -0.316f64 * qd1;
-                x16 = 0.316f64 * x5;
-                x17 = c2 * x15;
-                x18 = s2 * x16;
-                x19 = x18 - x17;
-                x20 = c2 * x16;
-                x21 = arith.mul_add(s2, x15, x20);
-                x22 = qd2 + x7;
-                x23 = a1 * s2;
-                x24 = arith.mul_add(0.316f64, a1, x3);
-                x25 = s2 * x24;
-                x26 = s3 * x22;
-                x27 = arith.mul_add(c3, x12, x26);
-                x28 = s3 * x12;
-                x29 = arith.mul_add(c3, x22, -x28);
-                x30 = 0.0825f64 * x14;
-                x31 = arith.mul_add(0.0825f64, x22, x21);
-                x32 = c3 * x19;
-                x33 = s3 * x30;
-                x34 = x32 - x33;
-                x35 = c3 * x30;
-                x36 = arith.mul_add(s3, x19, x35);
-                x37 = -x36;
-                x38 = qd3 - x14;
-                x39 = c4 * x27;
-                x40 = s4 * x38;
-                x41 = x39 - x40;
-                x42 = c4 * x38;
-                x43 = arith.mul_add(s4, x27, x42);
-                x44 = -x43;
-                x45 = 0.384f64 * x27;
-                x46 = arith.mul_add(-0.0825f64, x29, -x45);
-                x47 = arith.mul_add(-0.384f64, x38, x34);
-                x48 = arith.mul_add(-0.0825f64, x38, -x36);
-                x49 = x31 + x46;
-                x50 = s4 * x49;
-                x51 = arith.mul_add(c4, x47, x50);
-                x52 = s4 * x47;
-                x53 = c4 * x49;
-                x54 = x53 - x52;
-                x55 = qd4 + x29;
-                x56 = s5 * x55;
-                x57 = arith.mul_add(c5, x41, x56);
-                x58 = s5 * x41;
-                x59 = c5 * x55;
-                x60 = x59 - x58;
-                x61 = s5 * x48;
-                x62 = arith.mul_add(c5, x51, x61);
-                x63 = s5 * x51;
-                x64 = arith.mul_add(c5, x48, -x63);
-                x65 = x52 - x53;
-                x66 = qd5 + x43;
-                x67 = s6 * x66;
-                x68 = arith.mul_add(c6, x57, x67);
-                x69 = s6 * x57;
-                x70 = arith.mul_add(c6, x66, -x69);
-                x71 = x58 - x59;
-                x72 = arith.mul_add(0.088f64, x66, x64);
-                x73 = arith.mul_add(-0.088f64, x60, x65);
-                x74 = s6 * x73;
-                x75 = arith.mul_add(c6, x62, x74);
-                x76 = s6 * x62;
-                x77 = arith.mul_add(c6, x73, -x76);
-                x78 = qd6 + x71;
-                x79 = x17 - x18;
-                x80 = x10 - x11;
-                x81 = x33 - x32;
-                x82 = -x27;
-                x83 = -x51;
-                x84 = x40 - x39;
-                x85 = -x62;
-                x86 = -x57;
-                x87 = -x75;
-                x88 = -x68;
-                x89 = -0.01026110182100817f64 * x5;
-                x90 = 0.00398335888393552f64 * x5;
-                x91 = 0.00398335888393552f64 * x7;
-                x92 = 0.028227094878000014f64 * x22;
-                x93 = 0.746857959872f64 * x22;
-                x94 = 0.746857959872f64 * x14;
-                x95 = arith.mul_add(0.028227094878000014f64, x12, -x94);
-                x96 = -0.005487648106562256f64 * x12;
-                x97 = 0.028227094878000014f64 * x19;
-                x98 = -0.00012191242095074308f64 * x12;
-                x99 = 2.0125235536029997f64 * x38;
-                x100 = -0.5527802746499999f64 * x38;
-                x101 = -0.5527802746499999f64 * x29;
-                x102 = arith.mul_add(2.0125235536029997f64, x27, -x101);
-                x103 = 0.0039053550262761003f64 * x27;
-                x104 = 2.0125235536029997f64 * x34;
-                x105 = 0.16284087268546082f64 * x27;
-                x106 = 0.067870631425f64 * x55;
-                x107 = -0.014653732538f64 * x55;
-                x108 = 0.014653732538f64 * x43;
-                x109 = arith.mul_add(0.067870631425f64, x41, -x108);
-                x110 = -0.004600245517563105f64 * x41;
-                x111 = 0.067870631425f64 * x51;
-                x112 = -0.0015152444733270301f64 * x41;
-                x113 = -0.17380470556900002f64 * x66;
-                x114 = 0.231847552695f64 * x66;
-                x115 = 0.231847552695f64 * x60;
-                x116 = arith.mul_add(-0.17380470556900002f64, x57, -x115);
-                x117 = -0.00010375891721868492f64 * x57;
-                x118 = -0.17380470556900002f64 * x62;
-                x119 = 0.014748570382675316f64 * x57;
-                x120 = 0.0020344399586617965f64 * x78;
-                x121 = 0.002573605371338202f64 * x78;
-                x122 = 0.002573605371338202f64 * x70;
-                x123 = arith.mul_add(0.0020344399586617965f64, x68, -x122);
-                x124 = -0.0009653051699191116f64 * x68;
-                x125 = 0.0020344399586617965f64 * x75;
-                x126 = 0.0003913912816842481f64 * x68;
-                x127 = arith.mul_add(-1.0706865997634767f64, x5, x91);
-                x128 = arith.mul_add(0.01026110182100817f64, qd1, x127);
-                x129 = arith.mul_add(0.0007689361029464f64, qd1, x90);
-                x130 = arith.mul_add(-0.0007689361029464f64, x7, x89);
-                x131 = arith.mul_add(1.1168423647533403f64, qd1, x130);
-                x132 = 0.011595864095166043f64 * x12;
-                x133 = arith.mul_add(-0.00012191242095074308f64, x14, x132);
-                x134 = arith.mul_add(-0.005487648106562256f64, x22, x133);
-                x135 = arith.mul_add(-0.004377257121839584f64, x22, x98);
-                x136 = arith.mul_add(-0.004377257121839584f64, x14, x96);
-                x137 = arith.mul_add(0.13480070614822143f64, x22, x136);
-                x138 = arith.mul_add(0.746857959872f64, x21, -x97);
-                x139 = x137 + x138;
-                x140 = 0.647723094939183f64 * x27;
-                x141 = arith.mul_add(0.16284087268546082f64, x29, x140);
-                x142 = arith.mul_add(0.0039053550262761003f64, x38, x141);
-                x143 = arith.mul_add(-0.0016444875773692705f64, x38, x105);
-                x144 = arith.mul_add(-0.0016444875773692705f64, x29, x103);
-                x145 = arith.mul_add(0.7497633672528139f64, x38, x144);
-                x146 = arith.mul_add(0.5527802746499999f64, x36, -x104);
-                x147 = arith.mul_add(-2.0125235536029997f64, x31, x142);
-                x148 = arith.mul_add(-0.5527802746499999f64, x31, x143);
-                x149 = x145 + x146;
-                x150 = 0.030116287133882078f64 * x41;
-                x151 = arith.mul_add(0.0015152444733270301f64, x43, x150);
-                x152 = arith.mul_add(-0.004600245517563105f64, x55, x151);
-                x153 = arith.mul_add(0.0021640520520981297f64, x55, x112);
-                x154 = arith.mul_add(-0.0021640520520981297f64, x43, x110);
-                x155 = arith.mul_add(0.03301859926393551f64, x55, x154);
-                x156 = arith.mul_add(-0.014653732538f64, x54, -x111);
-                x157 = arith.mul_add(0.067870631425f64, x48, x152);
-                x158 = arith.mul_add(0.014653732538f64, x48, x153);
-                x159 = x155 + x156;
-                x160 = 0.009543771269492206f64 * x57;
-                x161 = arith.mul_add(0.014748570382675316f64, x60, x160);
-                x162 = arith.mul_add(-0.00010375891721868492f64, x66, x161);
-                x163 = arith.mul_add(0.000093569097314605f64, x66, x119);
-                x164 = arith.mul_add(0.000093569097314605f64, x60, x117);
-                x165 = arith.mul_add(0.05258828201066731f64, x66, x164);
-                x166 = arith.mul_add(0.231847552695f64, x64, -x118);
-                x167 = arith.mul_add(-0.17380470556900002f64, x65, x162);
-                x168 = arith.mul_add(-0.231847552695f64, x65, x163);
-                x169 = x165 + x166;
-                x170 = 0.0024209437785212354f64 * x68;
-                x171 = arith.mul_add(0.0003913912816842481f64, x70, x170);
-                x172 = arith.mul_add(-0.0009653051699191116f64, x78, x171);
-                x173 = arith.mul_add(-0.001255536598272898f64, x78, x126);
-                x174 = arith.mul_add(-0.001255536598272898f64, x70, x124);
-                x175 = arith.mul_add(0.006684151967360945f64, x78, x174);
-                x176 = arith.mul_add(0.002573605371338202f64, x77, -x125);
-                x177 = arith.mul_add(-0.0020344399586617965f64, x72, x172);
-                x178 = arith.mul_add(0.002573605371338202f64, x72, x173);
-                x179 = x175 + x176;
-                x180 = qd1 * x7;
-                x181 = qd1 * x5;
-                x182 = arith.mul_add(a0, s1, x180);
-                x183 = x181 - x9;
-                x184 = c2 * x182;
-                x185 = x23 - x184;
-                x186 = s2 * x182;
-                x187 = arith.mul_add(a1, c2, x186);
-                x188 = x9 - x181;
-                x189 = 0.316f64 * x182;
-                x190 = s2 * x189;
-                x191 = arith.mul_add(c2, x24, x190);
-                x192 = arith.mul_add(c2, x189, -x25);
-                x193 = a2 + x188;
-                x194 = qd2 * x12;
-                x195 = arith.mul_add(qd2, x14, x185);
-                x196 = x187 - x194;
-                x197 = arith.mul_add(qd2, x21, x191);
-                x198 = arith.mul_add(-qd2, x19, x192);
-                x199 = s3 * x193;
-                x200 = arith.mul_add(c3, x195, x199);
-                x201 = s3 * x195;
-                x202 = arith.mul_add(c3, x193, -x201);
-                x203 = x194 - x187;
-                x204 = arith.mul_add(0.0825f64, x193, x198);
-                x205 = arith.mul_add(0.0825f64, x196, x4);
-                x206 = c3 * x197;
-                x207 = s3 * x205;
-                x208 = x206 - x207;
-                x209 = c3 * x205;
-                x210 = arith.mul_add(s3, x197, x209);
-                x211 = -x210;
-                x212 = a3 + x203;
-                x213 = arith.mul_add(qd3, x29, x200);
-                x214 = arith.mul_add(-qd3, x27, x202);
-                x215 = arith.mul_add(-qd3, x36, x208);
-                x216 = arith.mul_add(qd3, x34, x210);
-                x217 = c4 * x213;
-                x218 = s4 * x212;
-                x219 = x217 - x218;
-                x220 = c4 * x212;
-                x221 = arith.mul_add(s4, x213, x220);
-                x222 = -x221;
-                x223 = 0.384f64 * x213;
-                x224 = arith.mul_add(-0.0825f64, x214, -x223);
-                x225 = arith.mul_add(-0.384f64, x212, x215);
-                x226 = arith.mul_add(-0.0825f64, x212, -x216);
-                x227 = x204 + x224;
-                x228 = s4 * x227;
-                x229 = arith.mul_add(c4, x225, x228);
-                x230 = s4 * x225;
-                x231 = arith.mul_add(c4, x227, -x230);
-                x232 = a4 + x214;
-                x233 = qd4 * x51;
-                x234 = arith.mul_add(-qd4, x43, x219);
-                x235 = arith.mul_add(qd4, x41, x221);
-                x236 = arith.mul_add(qd4, x54, x229);
-                x237 = x231 - x233;
-                x238 = s5 * x232;
-                x239 = arith.mul_add(c5, x234, x238);
-                x240 = s5 * x234;
-                x241 = arith.mul_add(c5, x232, -x240);
-                x242 = s5 * x226;
-                x243 = arith.mul_add(c5, x236, x242);
-                x244 = s5 * x236;
-                x245 = arith.mul_add(c5, x226, -x244);
-                x246 = x233 - x231;
-                x247 = a5 + x235;
-                x248 = qd5 * x57;
-                x249 = arith.mul_add(qd5, x60, x239);
-                x250 = x241 - x248;
-                x251 = arith.mul_add(qd5, x64, x243);
-                x252 = arith.mul_add(-qd5, x62, x245);
-                x253 = s6 * x247;
-                x254 = arith.mul_add(c6, x249, x253);
-                x255 = s6 * x249;
-                x256 = arith.mul_add(c6, x247, -x255);
-                x257 = x248 - x241;
-                x258 = arith.mul_add(0.088f64, x247, x252);
-                x259 = arith.mul_add(-0.088f64, x250, x246);
-                x260 = s6 * x259;
-                x261 = arith.mul_add(c6, x251, x260);
-                x262 = s6 * x251;
-                x263 = arith.mul_add(c6, x259, -x262);
-                x264 = a6 + x257;
-                x265 = arith.mul_add(qd6, x70, x254);
-                x266 = arith.mul_add(-qd6, x68, x256);
-                x267 = arith.mul_add(qd6, x77, x261);
-                x268 = arith.mul_add(-qd6, x75, x263);
-                x269 = -0.00398335888393552f64 * x183;
-                x270 = arith.mul_add(-1.0706865997634767f64, x182, x269);
-                x271 = arith.mul_add(0.01026110182100817f64, a1, x270);
-                x272 = 0.0007689361029464f64 * a1;
-                x273 = arith.mul_add(0.00398335888393552f64, x182, x272);
-                x274 = x7 * x131;
-                x275 = arith.mul_add(qd1, x129, x274);
-                x276 = x5 * x131;
-                x277 = arith.mul_add(qd1, x128, x276);
-                x278 = x271 - x275;
-                x279 = x273 + x277;
-                x280 = -0.00012191242095074308f64 * x196;
-                x281 = arith.mul_add(0.011595864095166043f64, x195, x280);
-                x282 = arith.mul_add(-0.005487648106562256f64, x193, x281);
-                x283 = -0.004377257121839584f64 * x193;
-                x284 = arith.mul_add(-0.00012191242095074308f64, x195, x283);
-                x285 = -0.004377257121839584f64 * x196;
-                x286 = arith.mul_add(-0.005487648106562256f64, x195, x285);
-                x287 = arith.mul_add(0.13480070614822143f64, x193, x286);
-                x288 = 0.028227094878000014f64 * x197;
-                x289 = arith.mul_add(0.746857959872f64, x198, -x288);
-                x290 = arith.mul_add(0.27690780075318017f64, c1, x282);
-                x291 = arith.mul_add(-7.326676586344321f64, c1, x284);
-                x292 = x287 + x289;
-                x293 = x22 * x135;
-                x294 = arith.mul_add(x14, x139, -x293);
-                x295 = x12 * x139;
-                x296 = arith.mul_add(x22, x134, -x295);
-                x297 = x14 * x134;
-                x298 = arith.mul_add(x12, x135, -x297);
-                x299 = x21 * x92;
-                x300 = arith.mul_add(x19, x93, x299);
-                x301 = arith.mul_add(x21, x95, x294);
-                x302 = arith.mul_add(-x19, x95, x296);
-                x303 = x298 + x300;
-                x304 = x22 * x93;
-                x305 = arith.mul_add(x14, x95, -x304);
-                x306 = x12 * x95;
-                x307 = arith.mul_add(x22, x92, x306);
-                x308 = x290 + x301;
-                x309 = x291 + x302;
-                x310 = x292 + x303;
-                x311 = arith.mul_add(-0.028227094878000014f64, x193, x305);
-                x312 = arith.mul_add(0.746857959872f64, x193, -x307);
-                x313 = 0.16284087268546082f64 * x214;
-                x314 = arith.mul_add(0.647723094939183f64, x213, x313);
-                x315 = arith.mul_add(0.0039053550262761003f64, x212, x314);
-                x316 = -0.0016444875773692705f64 * x212;
-                x317 = arith.mul_add(0.16284087268546082f64, x213, x316);
-                x318 = -0.0016444875773692705f64 * x214;
-                x319 = arith.mul_add(0.0039053550262761003f64, x213, x318);
-                x320 = arith.mul_add(0.7497633672528139f64, x212, x319);
-                x321 = 2.0125235536029997f64 * x215;
-                x322 = arith.mul_add(0.5527802746499999f64, x216, -x321);
-                x323 = arith.mul_add(-2.0125235536029997f64, x204, x315);
-                x324 = arith.mul_add(-0.5527802746499999f64, x204, x317);
-                x325 = x320 + x322;
-                x326 = -0.5527802746499999f64 * x214;
-                x327 = arith.mul_add(2.0125235536029997f64, x213, -x326);
-                x328 = x38 * x148;
-                x329 = arith.mul_add(x29, x149, -x328);
-                x330 = x27 * x149;
-                x331 = arith.mul_add(x38, x147, -x330);
-                x332 = x29 * x147;
-                x333 = arith.mul_add(x27, x148, -x332);
-                x334 = x36 * x102;
-                x335 = arith.mul_add(x31, x100, -x334);
-                x336 = x34 * x102;
-                x337 = arith.mul_add(x31, x99, -x336);
-                x338 = x36 * x99;
-                x339 = arith.mul_add(x34, x100, -x338);
-                x340 = x329 + x335;
-                x341 = x331 + x337;
-                x342 = x333 + x339;
-                x343 = x38 * x100;
-                x344 = arith.mul_add(x29, x102, -x343);
-                x345 = x27 * x102;
-                x346 = arith.mul_add(x38, x99, x345);
-                x347 = x29 * x99;
-                x348 = arith.mul_add(x27, x100, x347);
-                x349 = x323 + x340;
-                x350 = x324 + x341;
-                x351 = x325 + x342;
-                x352 = arith.mul_add(-2.0125235536029997f64, x212, x344);
-                x353 = arith.mul_add(-0.5527802746499999f64, x212, -x346);
-                x354 = x327 + x348;
-                x355 = 0.0015152444733270301f64 * x235;
-                x356 = arith.mul_add(0.030116287133882078f64, x234, x355);
-                x357 = arith.mul_add(-0.004600245517563105f64, x232, x356);
-                x358 = 0.0021640520520981297f64 * x232;
-                x359 = arith.mul_add(-0.0015152444733270301f64, x234, x358);
-                x360 = -0.0021640520520981297f64 * x235;
-                x361 = arith.mul_add(-0.004600245517563105f64, x234, x360);
-                x362 = arith.mul_add(0.03301859926393551f64, x232, x361);
-                x363 = 0.067870631425f64 * x236;
-                x364 = arith.mul_add(-0.014653732538f64, x237, -x363);
-                x365 = arith.mul_add(0.067870631425f64, x226, x357);
-                x366 = arith.mul_add(0.014653732538f64, x226, x359);
-                x367 = x362 + x364;
-                x368 = 0.014653732538f64 * x235;
-                x369 = arith.mul_add(0.067870631425f64, x234, -x368);
-                x370 = x55 * x158;
-                x371 = arith.mul_add(x43, x159, x370);
-                x372 = x41 * x159;
-                x373 = arith.mul_add(x55, x157, -x372);
-                x374 = x43 * x157;
-                x375 = arith.mul_add(x41, x158, x374);
-                x376 = x48 * x107;
-                x377 = arith.mul_add(x54, x109, -x376);
-                x378 = x51 * x109;
-                x379 = arith.mul_add(x48, x106, x378);
-                x380 = x54 * x106;
-                x381 = arith.mul_add(x51, x107, x380);
-                x382 = x377 - x371;
-                x383 = x373 - x379;
-                x384 = x375 + x381;
-                x385 = x55 * x107;
-                x386 = arith.mul_add(x43, x109, x385);
-                x387 = x41 * x109;
-                x388 = arith.mul_add(x55, x106, x387);
-                x389 = x43 * x106;
-                x390 = arith.mul_add(x41, x107, -x389);
-                x391 = x365 + x382;
-                x392 = x366 + x383;
-                x393 = x367 + x384;
-                x394 = arith.mul_add(0.067870631425f64, x232, x386);
-                x395 = arith.mul_add(-0.014653732538f64, x232, -x388);
-                x396 = x369 + x390;
-                x397 = 0.014748570382675316f64 * x250;
-                x398 = arith.mul_add(0.009543771269492206f64, x249, x397);
-                x399 = arith.mul_add(-0.00010375891721868492f64, x247, x398);
-                x400 = 0.000093569097314605f64 * x247;
-                x401 = arith.mul_add(0.014748570382675316f64, x249, x400);
-                x402 = 0.000093569097314605f64 * x250;
-                x403 = arith.mul_add(-0.00010375891721868492f64, x249, x402);
-                x404 = arith.mul_add(0.05258828201066731f64, x247, x403);
-                x405 = -0.17380470556900002f64 * x251;
-                x406 = arith.mul_add(0.231847552695f64, x252, -x405);
-                x407 = arith.mul_add(-0.17380470556900002f64, x246, x399);
-                x408 = arith.mul_add(-0.231847552695f64, x246, x401);
-                x409 = x404 + x406;
-                x410 = 0.231847552695f64 * x250;
-                x411 = arith.mul_add(-0.17380470556900002f64, x249, -x410);
-                x412 = x66 * x168;
-                x413 = arith.mul_add(x60, x169, -x412);
-                x414 = x57 * x169;
-                x415 = arith.mul_add(x66, x167, -x414);
-                x416 = x60 * x167;
-                x417 = arith.mul_add(x57, x168, -x416);
-                x418 = x65 * x114;
-                x419 = arith.mul_add(x64, x116, -x418);
-                x420 = x62 * x116;
-                x421 = arith.mul_add(x65, x113, x420);
-                x422 = x64 * x113;
-                x423 = arith.mul_add(x62, x114, x422);
-                x424 = x413 + x419;
-                x425 = x415 - x421;
-                x426 = x417 + x423;
-                x427 = x66 * x114;
-                x428 = arith.mul_add(x60, x116, -x427);
-                x429 = x57 * x116;
-                x430 = arith.mul_add(x66, x113, x429);
-                x431 = x60 * x113;
-                x432 = arith.mul_add(x57, x114, x431);
-                x433 = x407 + x424;
-                x434 = x408 + x425;
-                x435 = x409 + x426;
-                x436 = arith.mul_add(0.17380470556900002f64, x247, x428);
-                x437 = arith.mul_add(0.231847552695f64, x247, -x430);
-                x438 = x411 + x432;
-                x439 = 0.0003913912816842481f64 * x266;
-                x440 = arith.mul_add(0.0024209437785212354f64, x265, x439);
-                x441 = arith.mul_add(-0.0009653051699191116f64, x264, x440);
-                x442 = -0.001255536598272898f64 * x264;
-                x443 = arith.mul_add(0.0003913912816842481f64, x265, x442);
-                x444 = -0.001255536598272898f64 * x266;
-                x445 = arith.mul_add(-0.0009653051699191116f64, x265, x444);
-                x446 = arith.mul_add(0.006684151967360945f64, x264, x445);
-                x447 = 0.0020344399586617965f64 * x267;
-                x448 = arith.mul_add(0.002573605371338202f64, x268, -x447);
-                x449 = arith.mul_add(-0.0020344399586617965f64, x258, x441);
-                x450 = arith.mul_add(0.002573605371338202f64, x258, x443);
-                x451 = x446 + x448;
-                x452 = 0.002573605371338202f64 * x264;
-                x453 = 0.002573605371338202f64 * x266;
-                x454 = arith.mul_add(0.0020344399586617965f64, x265, -x453);
-                x455 = x78 * x178;
-                x456 = arith.mul_add(x70, x179, -x455);
-                x457 = x68 * x179;
-                x458 = arith.mul_add(x78, x177, -x457);
-                x459 = x70 * x177;
-                x460 = arith.mul_add(x68, x178, -x459);
-                x461 = x72 * x121;
-                x462 = arith.mul_add(x77, x123, x461);
-                x463 = x75 * x123;
-                x464 = arith.mul_add(x72, x120, -x463);
-                x465 = x77 * x120;
-                x466 = arith.mul_add(x75, x121, x465);
-                x467 = x456 + x462;
-                x468 = x458 + x464;
-                x469 = x460 + x466;
-                x470 = x78 * x121;
-                x471 = arith.mul_add(x70, x123, -x470);
-                x472 = x68 * x123;
-                x473 = arith.mul_add(x78, x120, x472);
-                x474 = x70 * x120;
-                x475 = arith.mul_add(x68, x121, x474);
-                x476 = x449 + x467;
-                x477 = x450 + x468;
-                x478 = x451 + x469;
-                x479 = arith.mul_add(-0.0020344399586617965f64, x264, x471);
-                x480 = x452 - x473;
-                x481 = x454 + x475;
-                x482 = s6 * x480;
-                x483 = arith.mul_add(c6, x479, -x482);
-                x484 = c6 * x480;
-                x485 = arith.mul_add(s6, x479, x484);
-                x486 = s6 * x477;
-                x487 = arith.mul_add(c6, x476, -x486);
-                x488 = c6 * x477;
-                x489 = arith.mul_add(s6, x476, x488);
-                x490 = arith.mul_add(0.088f64, x485, x478);
-                x491 = arith.mul_add(-0.088f64, x481, x489);
-                x492 = x433 + x487;
-                x493 = x434 - x490;
-                x494 = x435 + x491;
-                x495 = x436 + x483;
-                x496 = x437 - x481;
-                x497 = x438 + x485;
-                x498 = s5 * x496;
-                x499 = arith.mul_add(c5, x495, -x498);
-                x500 = c5 * x496;
-                x501 = arith.mul_add(s5, x495, x500);
-                x502 = s5 * x493;
-                x503 = arith.mul_add(c5, x492, -x502);
-                x504 = c5 * x493;
-                x505 = arith.mul_add(s5, x492, x504);
-                x506 = x391 + x503;
-                x507 = x392 - x494;
-                x508 = x393 + x505;
-                x509 = x499 - x394;
-                x510 = x395 - x497;
-                x511 = x396 + x501;
-                x512 = s4 * x510;
-                x513 = arith.mul_add(c4, x509, -x512);
-                x514 = c4 * x510;
-                x515 = arith.mul_add(s4, x509, x514);
-                x516 = s4 * x507;
-                x517 = arith.mul_add(c4, x506, -x516);
-                x518 = c4 * x507;
-                x519 = arith.mul_add(s4, x506, x518);
-                x520 = 0.384f64 * x513;
-                x521 = arith.mul_add(-0.0825f64, x511, -x520);
-                x522 = arith.mul_add(-0.384f64, x515, x517);
-                x523 = arith.mul_add(-0.0825f64, x515, x508);
-                x524 = x521 - x519;
-                x525 = x349 + x522;
-                x526 = x350 + x523;
-                x527 = x351 + x524;
-                x528 = x352 + x513;
-                x529 = x353 + x511;
-                x530 = s3 * x529;
-                x531 = arith.mul_add(c3, x528, -x530);
-                x532 = x515 - x354;
-                x533 = c3 * x529;
-                x534 = arith.mul_add(s3, x528, x533);
-                x535 = s3 * x526;
-                x536 = arith.mul_add(c3, x525, -x535);
-                x537 = c3 * x526;
-                x538 = arith.mul_add(s3, x525, x537);
-                x539 = arith.mul_add(0.0825f64, x534, x527);
-                x540 = arith.mul_add(0.0825f64, x532, x538);
-                x541 = x308 + x536;
-                x542 = x309 - x539;
-                x543 = x310 + x540;
-                x544 = x311 + x531;
-                x545 = x312 + x532;
-                x546 = c2 * x545;
-                x547 = arith.mul_add(s2, x544, x546);
-                x548 = s2 * x542;
-                x549 = arith.mul_add(c2, x541, -x548);
-                x550 = arith.mul_add(-0.316f64, x547, x549);
-                x551 = x278 + x550;
-                x552 = c2 * x7;
-                x553 = -x552;
-                x554 = s2 * x7;
-                x555 = 0.316f64 * x7;
-                x556 = s2 * x555;
-                x557 = c2 * x555;
-                x558 = c2 * x183;
-                x559 = s2 * x183;
-                x560 = -x559;
-                x561 = -0.316f64 * x183;
-                x562 = s2 * x561;
-                x563 = arith.mul_add(c2, x4, x562);
-                x564 = s2 * x4;
-                x565 = arith.mul_add(c2, x561, -x564);
-                x566 = s3 * x5;
-                x567 = -x566;
-                x568 = c3 * x5;
-                x569 = -x568;
-                x570 = -0.0825f64 * x5;
-                x571 = -x570;
-                x572 = s3 * x182;
-                x573 = -x572;
-                x574 = c3 * x182;
-                x575 = -x574;
-                x576 = -0.0825f64 * x182;
-                x577 = -x576;
-                x578 = -0.00398335888393552f64 * x182;
-                x579 = arith.mul_add(1.0706865997634767f64, x183, x578);
-                x580 = 0.0007689361029464f64 * x182;
-                x581 = arith.mul_add(0.01026110182100817f64, x183, x580);
-                x582 = 32.80954542685272f64 * c1;
-                x583 = arith.mul_add(-0.01993386669246f64, s1, -x582);
-                x584 = x581 + x583;
-                x585 = -0.00398335888393552f64 * x5;
-                x586 = arith.mul_add(-1.0706865997634767f64, x7, x585);
-                x587 = 0.0007689361029464f64 * x5;
-                x588 = arith.mul_add(-0.01026110182100817f64, x7, x587);
-                x589 = arith.mul_add(-x7, x588, x276);
-                x590 = arith.mul_add(-qd1, x91, x589);
-                x591 = arith.mul_add(x5, x588, x274);
-                x592 = arith.mul_add(qd1, x586, x591);
-                x593 = x7 * x129;
-                x594 = arith.mul_add(x5, x91, x593);
-                x595 = x7 * x586;
-                x596 = arith.mul_add(x5, x128, -x595);
-                x597 = x594 + x596;
-                x598 = x579 + x590;
-                x599 = x269 + x592;
-                x600 = x584 - x597;
-                x601 = 0.005487648106562256f64 * x182;
-                x602 = 0.004377257121839584f64 * x182;
-                x603 = -0.13480070614822143f64 * x182;
-                x604 = -0.27690780075318017f64 * s1;
-                x605 = -7.326676586344321f64 * s1;
-                x606 = -x605;
-                x607 = -0.028227094878000014f64 * x182;
-                x608 = -0.746857959872f64 * x182;
-                x609 = -x607;
-                x610 = 0.005487648106562256f64 * x5;
-                x611 = 0.004377257121839584f64 * x5;
-                x612 = -0.13480070614822143f64 * x5;
-                x613 = -0.028227094878000014f64 * x5;
-                x614 = -0.746857959872f64 * x5;
-                x615 = x5 * x135;
-                x616 = -x615;
-                x617 = x5 * x134;
-                x618 = -x617;
-                x619 = x19 * x614;
-                x620 = x21 * x613;
-                x621 = -x620;
-                x622 = x5 * x93;
-                x623 = arith.mul_add(x22, x614, -x622);
-                x624 = x22 * x613;
-                x625 = arith.mul_add(x5, x92, -x624);
-                x626 = x543 - x279;
-                x627 = x184 - x23;
-                x628 = -x191;
-                x629 = x539 - x309;
-                x630 = -x545;
-                x631 = -x200;
-                x632 = x207 - x206;
-                x633 = -x526;
-                x634 = -x529;
-                x635 = x218 - x217;
-                x636 = -x229;
-                x637 = x494 - x392;
-                x638 = x497 - x395;
-                x639 = -x239;
-                x640 = -x243;
-                x641 = x490 - x434;
-                x642 = x481 - x437;
-                x643 = -x254;
-                x644 = -x261;
-                x645 = -x477;
-                x646 = x473 - x452;
-                x647 = arith.eight([0.0, 0.0, 1f64, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x648 = arith.eight([0.0, 0.0, 0.0, 1f64, 0.0, 0.0, 0.0, 0.0]);
-                x649 = arith.eight([0.0, 0.0, 0.0, 0.0, 1f64, 0.0, 0.0, 0.0]);
-                x650 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 1f64, 0.0, 0.0]);
-                x651 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1f64, 0.0]);
-                x652 = arith.eight([0.0, x8, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x653 = arith.eight([0.0, x553, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x654 = arith.eight([0.0, x554, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x655 = arith.eight([0.0, x6, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x656 = arith.eight([0.0, x556, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x657 = arith.eight([0.0, x557, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x658 = arith.eight([0.0, 0.0, x14, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x659 = x653 + x658;
-                x660 = arith.eight([0.0, 0.0, x80, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x661 = x654 + x660;
-                x662 = arith.eight([0.0, 0.0, x21, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x663 = x656 + x662;
-                x664 = arith.eight([0.0, 0.0, x79, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x665 = x657 + x664;
-                x666 = arith.eight([0.0, x558, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x667 = arith.eight([0.0, x560, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x668 = arith.eight([0.0, x563, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x669 = arith.eight([0.0, x565, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x670 = arith.eight([0.0, x3, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x671 = arith.eight([0.0, 0.0, x187, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x672 = x666 + x671;
-                x673 = arith.eight([0.0, 0.0, x627, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x674 = x667 + x673;
-                x675 = arith.eight([0.0, 0.0, x192, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x676 = x668 + x675;
-                x677 = arith.eight([0.0, 0.0, x628, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x678 = x669 + x677;
-                x679 = arith.splat_eight(qd2);
-                x680 = x679 * x659;
-                x681 = x679.mul_add(x661, x672);
-                x682 = x674 - x680;
-                x683 = x679.mul_add(x665, x676);
-                x684 = x679.mul_neg_add(x663, x678);
-                x685 = arith.splat_eight(c3);
-                x686 = arith.eight([0.0, x567, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x687 = x685.mul_add(x659, x686);
-                x688 = arith.splat_eight(s3);
-                x689 = arith.eight([0.0, x569, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x690 = x688.mul_neg_add(x659, x689);
-                x691 = arith.eight([0.0, x571, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x692 = arith.splat_eight(0.0825f64);
-                x693 = x692 * x661;
-                x694 = x688 * x693;
-                x695 = x685.mul_sub(x663, x694);
-                x696 = x685 * x693;
-                x697 = x688.mul_add(x663, x696);
-                x698 = x691 - x665;
-                x699 = arith.eight([0.0, 0.0, 0.0, x29, 0.0, 0.0, 0.0, 0.0]);
-                x700 = x687 + x699;
-                x701 = arith.eight([0.0, 0.0, 0.0, x82, 0.0, 0.0, 0.0, 0.0]);
-                x702 = x690 + x701;
-                x703 = arith.eight([0.0, 0.0, 0.0, x37, 0.0, 0.0, 0.0, 0.0]);
-                x704 = x695 + x703;
-                x705 = arith.eight([0.0, 0.0, 0.0, x81, 0.0, 0.0, 0.0, 0.0]);
-                x706 = x705 - x697;
-                x707 = arith.eight([0.0, x573, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x708 = x685.mul_add(x681, x707);
-                x709 = arith.eight([0.0, x575, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x710 = x688.mul_neg_add(x681, x709);
-                x711 = x680 - x674;
-                x712 = arith.eight([0.0, x577, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x713 = x692.mul_neg_add(x682, x670);
-                x714 = x688 * x713;
-                x715 = x685.mul_add(x683, x714);
-                x716 = x688 * x683;
-                x717 = x685.mul_sub(x713, x716);
-                x718 = x712 - x684;
-                x719 = arith.eight([0.0, 0.0, 0.0, x202, 0.0, 0.0, 0.0, 0.0]);
-                x720 = x708 + x719;
-                x721 = arith.eight([0.0, 0.0, 0.0, x631, 0.0, 0.0, 0.0, 0.0]);
-                x722 = x710 + x721;
-                x723 = arith.eight([0.0, 0.0, 0.0, x211, 0.0, 0.0, 0.0, 0.0]);
-                x724 = x715 + x723;
-                x725 = arith.eight([0.0, 0.0, 0.0, x632, 0.0, 0.0, 0.0, 0.0]);
-                x726 = x717 + x725;
-                x727 = arith.splat_eight(qd3);
-                x728 = x727.mul_add(x702, x720);
-                x729 = x727.mul_neg_add(x700, x722);
-                x730 = x727.mul_add(x706, x724);
-                x731 = x727.mul_neg_add(x704, x726);
-                x732 = arith.splat_eight(c4);
-                x733 = arith.splat_eight(s4);
-                x734 = x733 * x661;
-                x735 = x732.mul_add(x700, x734);
-                x736 = x733 * x700;
-                x737 = x732.mul_sub(x661, x736);
-                x738 = arith.splat_eight(0.384f64);
-                x739 = arith.splat_eight(-0.0825f64);
-                x740 = x738 * x700;
-                x741 = x739.mul_sub(x702, x740);
-                x742 = x738.mul_add(x661, x704);
-                x743 = x739.mul_neg_add(x661, x706);
-                x744 = x698 - x741;
-                x745 = x733 * x744;
-                x746 = x732.mul_sub(x742, x745);
-                x747 = x732 * x744;
-                x748 = x733.mul_add(x742, x747);
-                x749 = arith.eight([0.0, 0.0, 0.0, 0.0, x44, 0.0, 0.0, 0.0]);
-                x750 = x735 + x749;
-                x751 = arith.eight([0.0, 0.0, 0.0, 0.0, x84, 0.0, 0.0, 0.0]);
-                x752 = x737 + x751;
-                x753 = arith.eight([0.0, 0.0, 0.0, 0.0, x54, 0.0, 0.0, 0.0]);
-                x754 = x746 + x753;
-                x755 = arith.eight([0.0, 0.0, 0.0, 0.0, x83, 0.0, 0.0, 0.0]);
-                x756 = x755 - x748;
-                x757 = x733 * x711;
-                x758 = x732.mul_sub(x728, x757);
-                x759 = x732 * x711;
-                x760 = x733.mul_add(x728, x759);
-                x761 = x738 * x728;
-                x762 = x739.mul_sub(x729, x761);
-                x763 = x738.mul_neg_add(x711, x730);
-                x764 = x739.mul_add(x711, x731);
-                x765 = x718 - x762;
-                x766 = x733 * x765;
-                x767 = x732.mul_sub(x763, x766);
-                x768 = x732 * x765;
-                x769 = x733.mul_add(x763, x768);
-                x770 = arith.eight([0.0, 0.0, 0.0, 0.0, x222, 0.0, 0.0, 0.0]);
-                x771 = x758 + x770;
-                x772 = arith.eight([0.0, 0.0, 0.0, 0.0, x635, 0.0, 0.0, 0.0]);
-                x773 = x772 - x760;
-                x774 = arith.eight([0.0, 0.0, 0.0, 0.0, x231, 0.0, 0.0, 0.0]);
-                x775 = x767 + x774;
-                x776 = arith.eight([0.0, 0.0, 0.0, 0.0, x636, 0.0, 0.0, 0.0]);
-                x777 = x776 - x769;
-                x778 = arith.splat_eight(qd4);
-                x779 = x778 * x750;
-                x780 = x778 * x754;
-                x781 = x778.mul_add(x752, x771);
-                x782 = x773 - x779;
-                x783 = x778.mul_add(x756, x775);
-                x784 = x777 - x780;
-                x785 = arith.splat_eight(c5);
-                x786 = arith.splat_eight(s5);
-                x787 = x786 * x702;
-                x788 = x785.mul_add(x750, x787);
-                x789 = x786 * x750;
-                x790 = x785.mul_sub(x702, x789);
-                x791 = x786 * x743;
-                x792 = x785.mul_add(x754, x791);
-                x793 = x786 * x754;
-                x794 = x785.mul_sub(x743, x793);
-                x795 = x748 - x755;
-                x796 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x60, 0.0, 0.0]);
-                x797 = x788 + x796;
-                x798 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x86, 0.0, 0.0]);
-                x799 = x790 + x798;
-                x800 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x64, 0.0, 0.0]);
-                x801 = x792 + x800;
-                x802 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x85, 0.0, 0.0]);
-                x803 = x794 + x802;
-                x804 = x786 * x729;
-                x805 = x785.mul_add(x781, x804);
-                x806 = x786 * x781;
-                x807 = x785.mul_sub(x729, x806);
-                x808 = x779 - x773;
-                x809 = x786 * x764;
-                x810 = x785.mul_add(x783, x809);
-                x811 = x786 * x783;
-                x812 = x785.mul_sub(x764, x811);
-                x813 = x780 - x777;
-                x814 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x241, 0.0, 0.0]);
-                x815 = x805 + x814;
-                x816 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x639, 0.0, 0.0]);
-                x817 = x807 + x816;
-                x818 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x245, 0.0, 0.0]);
-                x819 = x810 + x818;
-                x820 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x640, 0.0, 0.0]);
-                x821 = x812 + x820;
-                x822 = arith.splat_eight(qd5);
-                x823 = x822 * x797;
-                x824 = x822.mul_add(x799, x815);
-                x825 = x817 - x823;
-                x826 = x822.mul_add(x803, x819);
-                x827 = x822.mul_neg_add(x801, x821);
-                x828 = arith.splat_eight(c6);
-                x829 = arith.splat_eight(s6);
-                x830 = x829 * x752;
-                x831 = x828.mul_sub(x797, x830);
-                x832 = x828 * x752;
-                x833 = x829.mul_add(x797, x832);
-                x834 = arith.splat_eight(0.088f64);
-                x835 = x834.mul_neg_add(x799, x795);
-                x836 = x829 * x835;
-                x837 = x828.mul_add(x801, x836);
-                x838 = x829 * x801;
-                x839 = x828.mul_sub(x835, x838);
-                x840 = x834.mul_sub(x752, x803);
-                x841 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x70, 0.0]);
-                x842 = x831 + x841;
-                x843 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x88, 0.0]);
-                x844 = x843 - x833;
-                x845 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x77, 0.0]);
-                x846 = x837 + x845;
-                x847 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x87, 0.0]);
-                x848 = x839 + x847;
-                x849 = x829 * x808;
-                x850 = x828.mul_add(x824, x849);
-                x851 = x829 * x824;
-                x852 = x828.mul_sub(x808, x851);
-                x853 = x823 - x817;
-                x854 = x834.mul_add(x808, x827);
-                x855 = x834.mul_neg_add(x825, x813);
-                x856 = x829 * x855;
-                x857 = x828.mul_add(x826, x856);
-                x858 = x829 * x826;
-                x859 = x828.mul_sub(x855, x858);
-                x860 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x256, 0.0]);
-                x861 = x850 + x860;
-                x862 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x643, 0.0]);
-                x863 = x852 + x862;
-                x864 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x263, 0.0]);
-                x865 = x857 + x864;
-                x866 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x644, 0.0]);
-                x867 = x859 + x866;
-                x868 = arith.splat_eight(qd6);
-                x869 = x868.mul_add(x844, x861);
-                x870 = x868.mul_neg_add(x842, x863);
-                x871 = x868.mul_add(x848, x865);
-                x872 = x868.mul_neg_add(x846, x867);
-                x873 = arith.eight([0.0, x598, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x874 = arith.eight([0.0, x599, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x875 = arith.eight([0.0, x600, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x876 = arith.splat_eight(0.011595864095166043f64);
-                x877 = arith.splat_eight(-0.00012191242095074308f64);
-                x878 = x877 * x682;
-                x879 = x876.mul_add(x681, x878);
-                x880 = arith.eight([0.0, x601, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x881 = x879 + x880;
-                x882 = arith.eight([0.0, x602, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x883 = x877.mul_add(x681, x882);
-                x884 = arith.splat_eight(-0.005487648106562256f64);
-                x885 = arith.splat_eight(-0.004377257121839584f64);
-                x886 = x885 * x682;
-                x887 = x884.mul_add(x681, x886);
-                x888 = arith.eight([0.0, x603, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x889 = x887 + x888;
-                x890 = arith.eight([0.0, x604, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x891 = arith.eight([0.0, x606, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x892 = arith.splat_eight(0.746857959872f64);
-                x893 = arith.splat_eight(0.028227094878000014f64);
-                x894 = x893 * x683;
-                x895 = x892.mul_sub(x684, x894);
-                x896 = x881 + x890;
-                x897 = x883 + x891;
-                x898 = x889 + x895;
-                x899 = arith.eight([0.0, x608, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x900 = arith.eight([0.0, x609, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x901 = x877 * x661;
-                x902 = x876.mul_add(x659, x901);
-                x903 = arith.eight([0.0, x610, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x904 = x902 + x903;
-                x905 = arith.eight([0.0, x611, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x906 = x877.mul_add(x659, x905);
-                x907 = x885 * x661;
-                x908 = x884.mul_add(x659, x907);
-                x909 = arith.eight([0.0, x612, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x910 = x908 + x909;
-                x911 = x893 * x663;
-                x912 = x892.mul_sub(x665, x911);
-                x913 = x910 + x912;
-                x914 = x892 * x661;
-                x915 = x893.mul_sub(x659, x914);
-                x916 = arith.splat_eight(x14);
-                x917 = arith.splat_eight(x139);
-                x918 = x917 * x661;
-                x919 = x916.mul_add(x913, x918);
-                x920 = arith.splat_eight(x22);
-                x921 = arith.eight([0.0, x616, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x922 = x920.mul_add(x906, x921);
-                x923 = x919 - x922;
-                x924 = arith.eight([0.0, x618, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x925 = x920.mul_add(x904, x924);
-                x926 = arith.splat_eight(x12);
-                x927 = x917 * x659;
-                x928 = x926.mul_add(x913, x927);
-                x929 = x925 - x928;
-                x930 = arith.splat_eight(x135);
-                x931 = x930 * x659;
-                x932 = x926.mul_add(x906, x931);
-                x933 = arith.splat_eight(x134);
-                x934 = x933 * x661;
-                x935 = x916.mul_add(x904, x934);
-                x936 = x932 - x935;
-                x937 = arith.splat_eight(x21);
-                x938 = arith.splat_eight(x95);
-                x939 = x938 * x665;
-                x940 = x937.mul_add(x915, x939);
-                x941 = arith.splat_eight(x19);
-                x942 = x938 * x663;
-                x943 = x941.mul_add(x915, x942);
-                x944 = arith.eight([0.0, x619, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x945 = arith.splat_eight(x93);
-                x946 = x945.mul_add(x663, x944);
-                x947 = arith.eight([0.0, x621, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x948 = arith.splat_eight(x92);
-                x949 = x948.mul_neg_add(x665, x947);
-                x950 = x946 - x949;
-                x951 = x923 + x940;
-                x952 = x929 - x943;
-                x953 = x936 + x950;
-                x954 = x938 * x661;
-                x955 = x916.mul_add(x915, x954);
-                x956 = arith.eight([0.0, x623, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x957 = x955 - x956;
-                x958 = arith.eight([0.0, x625, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x959 = x938 * x659;
-                x960 = x926.mul_add(x915, x959);
-                x961 = x958 - x960;
-                x962 = x896 + x951;
-                x963 = x897 + x952;
-                x964 = x898 + x953;
-                x965 = x900 + x957;
-                x966 = x899 + x961;
-                x967 = arith.splat_eight(0.647723094939183f64);
-                x968 = arith.splat_eight(0.16284087268546082f64);
-                x969 = x968 * x729;
-                x970 = x967.mul_add(x728, x969);
-                x971 = arith.splat_eight(0.0039053550262761003f64);
-                x972 = x971.mul_add(x711, x970);
-                x973 = arith.splat_eight(-0.0016444875773692705f64);
-                x974 = x973 * x711;
-                x975 = x968.mul_add(x728, x974);
-                x976 = x973 * x729;
-                x977 = x971.mul_add(x728, x976);
-                x978 = arith.splat_eight(0.7497633672528139f64);
-                x979 = x978.mul_add(x711, x977);
-                x980 = arith.splat_eight(2.0125235536029997f64);
-                x981 = arith.splat_eight(-0.5527802746499999f64);
-                x982 = x980 * x730;
-                x983 = x981.mul_sub(x731, x982);
-                x984 = x980.mul_add(x718, x972);
-                x985 = x981.mul_neg_add(x718, x975);
-                x986 = x979 + x983;
-                x987 = x981 * x729;
-                x988 = x980.mul_sub(x728, x987);
-                x989 = x968 * x702;
-                x990 = x967.mul_add(x700, x989);
-                x991 = x971.mul_neg_add(x661, x990);
-                x992 = x973 * x661;
-                x993 = x968.mul_sub(x700, x992);
-                x994 = x973 * x702;
-                x995 = x971.mul_add(x700, x994);
-                x996 = x978.mul_neg_add(x661, x995);
-                x997 = x980 * x704;
-                x998 = x981.mul_sub(x706, x997);
-                x999 = x980.mul_add(x698, x991);
-                x1000 = x981.mul_neg_add(x698, x993);
-                x1001 = x996 + x998;
-                x1002 = x980 * x661;
-                x1003 = x981 * x661;
-                x1004 = x981 * x702;
-                x1005 = x980.mul_sub(x700, x1004);
-                x1006 = arith.splat_eight(x29);
-                x1007 = arith.splat_eight(x149);
-                x1008 = x1007 * x702;
-                x1009 = x1006.mul_add(x1001, x1008);
-                x1010 = arith.splat_eight(x38);
-                x1011 = arith.splat_eight(x148);
-                x1012 = x1011 * x661;
-                x1013 = x1010.mul_sub(x1000, x1012);
-                x1014 = x1009 - x1013;
-                x1015 = arith.splat_eight(x147);
-                x1016 = x1015 * x661;
-                x1017 = x1010.mul_sub(x999, x1016);
-                x1018 = arith.splat_eight(x27);
-                x1019 = x1007 * x700;
-                x1020 = x1018.mul_add(x1001, x1019);
-                x1021 = x1017 - x1020;
-                x1022 = x1011 * x700;
-                x1023 = x1018.mul_add(x1000, x1022);
-                x1024 = x1015 * x702;
-                x1025 = x1006.mul_add(x999, x1024);
-                x1026 = x1023 - x1025;
-                x1027 = arith.splat_eight(x36);
-                x1028 = x1027 * x1005;
-                x1029 = arith.splat_eight(x102);
-                x1030 = x1029.mul_sub(x706, x1028);
-                x1031 = arith.splat_eight(x31);
-                x1032 = arith.splat_eight(x100);
-                x1033 = x1032 * x698;
-                x1034 = x1031.mul_add(x1003, x1033);
-                x1035 = x1030 - x1034;
-                x1036 = arith.splat_eight(x99);
-                x1037 = x1036 * x698;
-                x1038 = x1031.mul_add(x1002, x1037);
-                x1039 = arith.splat_eight(x34);
-                x1040 = x1029 * x704;
-                x1041 = x1039.mul_add(x1005, x1040);
-                x1042 = x1038 + x1041;
-                x1043 = x1039 * x1003;
-                x1044 = x1032.mul_sub(x704, x1043);
-                x1045 = x1036 * x706;
-                x1046 = x1027.mul_add(x1002, x1045);
-                x1047 = x1044 + x1046;
-                x1048 = x1014 + x1035;
-                x1049 = x1021 - x1042;
-                x1050 = x1026 + x1047;
-                x1051 = x1029 * x702;
-                x1052 = x1006.mul_add(x1005, x1051);
-                x1053 = x1032 * x661;
-                x1054 = x1010.mul_add(x1003, x1053);
-                x1055 = x1052 + x1054;
-                x1056 = x1036 * x661;
-                x1057 = x1010.mul_add(x1002, x1056);
-                x1058 = x1029 * x700;
-                x1059 = x1018.mul_add(x1005, x1058);
-                x1060 = x1057 - x1059;
-                x1061 = x1018 * x1003;
-                x1062 = x1032.mul_sub(x700, x1061);
-                x1063 = x1036 * x702;
-                x1064 = x1006.mul_sub(x1002, x1063);
-                x1065 = x1062 - x1064;
-                x1066 = x984 + x1048;
-                x1067 = x985 + x1049;
-                x1068 = x986 + x1050;
-                x1069 = x980.mul_neg_add(x711, x1055);
-                x1070 = x981.mul_add(x711, x1060);
-                x1071 = x988 + x1065;
-                x1072 = arith.splat_eight(0.030116287133882078f64);
-                x1073 = arith.splat_eight(-0.0015152444733270301f64);
-                x1074 = x1073 * x782;
-                x1075 = x1072.mul_add(x781, x1074);
-                x1076 = arith.splat_eight(-0.004600245517563105f64);
-                x1077 = x1076.mul_add(x729, x1075);
-                x1078 = arith.splat_eight(0.0021640520520981297f64);
-                x1079 = x1078 * x729;
-                x1080 = x1073.mul_add(x781, x1079);
-                x1081 = x1078 * x782;
-                x1082 = x1076.mul_add(x781, x1081);
-                x1083 = arith.splat_eight(0.03301859926393551f64);
-                x1084 = x1083.mul_add(x729, x1082);
-                x1085 = arith.splat_eight(0.067870631425f64);
-                x1086 = arith.splat_eight(-0.014653732538f64);
-                x1087 = x1085 * x783;
-                x1088 = x1086.mul_sub(x784, x1087);
-                x1089 = x1085.mul_add(x764, x1077);
-                x1090 = x1086.mul_neg_add(x764, x1080);
-                x1091 = x1084 + x1088;
-                x1092 = x1086 * x782;
-                x1093 = x1085.mul_sub(x781, x1092);
-                x1094 = x1073 * x752;
-                x1095 = x1072.mul_add(x750, x1094);
-                x1096 = x1076.mul_add(x702, x1095);
-                x1097 = x1078 * x702;
-                x1098 = x1073.mul_add(x750, x1097);
-                x1099 = x1078 * x752;
-                x1100 = x1076.mul_add(x750, x1099);
-                x1101 = x1083.mul_add(x702, x1100);
-                x1102 = x1085 * x754;
-                x1103 = x1086.mul_sub(x756, x1102);
-                x1104 = x1085.mul_add(x743, x1096);
-                x1105 = x1086.mul_neg_add(x743, x1098);
-                x1106 = x1101 + x1103;
-                x1107 = x1085 * x702;
-                x1108 = x1086 * x702;
-                x1109 = x1086 * x752;
-                x1110 = x1085.mul_sub(x750, x1109);
-                x1111 = arith.splat_eight(x43);
-                x1112 = x1111 * x1106;
-                x1113 = arith.splat_eight(x159);
-                x1114 = x1113.mul_sub(x752, x1112);
-                x1115 = arith.splat_eight(x55);
-                x1116 = arith.splat_eight(x158);
-                x1117 = x1116 * x702;
-                x1118 = x1115.mul_add(x1105, x1117);
-                x1119 = x1114 - x1118;
-                x1120 = arith.splat_eight(x157);
-                x1121 = x1120 * x702;
-                x1122 = x1115.mul_add(x1104, x1121);
-                x1123 = arith.splat_eight(x41);
-                x1124 = x1113 * x750;
-                x1125 = x1123.mul_add(x1106, x1124);
-                x1126 = x1122 - x1125;
-                x1127 = x1116 * x750;
-                x1128 = x1123.mul_add(x1105, x1127);
-                x1129 = x1111 * x1104;
-                x1130 = x1120.mul_sub(x752, x1129);
-                x1131 = x1128 - x1130;
-                x1132 = arith.splat_eight(x54);
-                x1133 = arith.splat_eight(x109);
-                x1134 = x1133 * x756;
-                x1135 = x1132.mul_add(x1110, x1134);
-                x1136 = arith.splat_eight(x48);
-                x1137 = arith.splat_eight(x107);
-                x1138 = x1137 * x743;
-                x1139 = x1136.mul_add(x1108, x1138);
-                x1140 = x1135 - x1139;
-                x1141 = arith.splat_eight(x106);
-                x1142 = x1141 * x743;
-                x1143 = x1136.mul_add(x1107, x1142);
-                x1144 = arith.splat_eight(x51);
-                x1145 = x1133 * x754;
-                x1146 = x1144.mul_add(x1110, x1145);
-                x1147 = x1143 + x1146;
-                x1148 = x1137 * x754;
-                x1149 = x1144.mul_add(x1108, x1148);
-                x1150 = x1141 * x756;
-                x1151 = x1132.mul_add(x1107, x1150);
-                x1152 = x1149 + x1151;
-                x1153 = x1119 + x1140;
-                x1154 = x1126 - x1147;
-                x1155 = x1131 + x1152;
-                x1156 = x1111 * x1110;
-                x1157 = x1133.mul_sub(x752, x1156);
-                x1158 = x1137 * x702;
-                x1159 = x1115.mul_add(x1108, x1158);
-                x1160 = x1157 - x1159;
-                x1161 = x1141 * x702;
-                x1162 = x1115.mul_add(x1107, x1161);
-                x1163 = x1133 * x750;
-                x1164 = x1123.mul_add(x1110, x1163);
-                x1165 = x1162 + x1164;
-                x1166 = x1137 * x750;
-                x1167 = x1123.mul_add(x1108, x1166);
-                x1168 = x1141 * x752;
-                x1169 = x1111.mul_sub(x1107, x1168);
-                x1170 = x1167 - x1169;
-                x1171 = x1089 + x1153;
-                x1172 = x1090 + x1154;
-                x1173 = x1091 + x1155;
-                x1174 = x1085.mul_neg_add(x729, x1160);
-                x1175 = x1086.mul_sub(x729, x1165);
-                x1176 = x1093 + x1170;
-                x1177 = arith.splat_eight(0.009543771269492206f64);
-                x1178 = arith.splat_eight(0.014748570382675316f64);
-                x1179 = x1178 * x825;
-                x1180 = x1177.mul_add(x824, x1179);
-                x1181 = arith.splat_eight(-0.00010375891721868492f64);
-                x1182 = x1181.mul_add(x808, x1180);
-                x1183 = arith.splat_eight(0.000093569097314605f64);
-                x1184 = x1183 * x808;
-                x1185 = x1178.mul_add(x824, x1184);
-                x1186 = x1183 * x825;
-                x1187 = x1181.mul_add(x824, x1186);
-                x1188 = arith.splat_eight(0.05258828201066731f64);
-                x1189 = x1188.mul_add(x808, x1187);
-                x1190 = arith.splat_eight(-0.17380470556900002f64);
-                x1191 = arith.splat_eight(0.231847552695f64);
-                x1192 = x1190 * x826;
-                x1193 = x1191.mul_sub(x827, x1192);
-                x1194 = x1190.mul_add(x813, x1182);
-                x1195 = x1191.mul_neg_add(x813, x1185);
-                x1196 = x1189 + x1193;
-                x1197 = x1191 * x825;
-                x1198 = x1190.mul_sub(x824, x1197);
-                x1199 = x1178 * x799;
-                x1200 = x1177.mul_add(x797, x1199);
-                x1201 = x1181.mul_neg_add(x752, x1200);
-                x1202 = x1183 * x752;
-                x1203 = x1178.mul_sub(x797, x1202);
-                x1204 = x1183 * x799;
-                x1205 = x1181.mul_add(x797, x1204);
-                x1206 = x1188.mul_neg_add(x752, x1205);
-                x1207 = x1190 * x801;
-                x1208 = x1191.mul_sub(x803, x1207);
-                x1209 = x1190.mul_add(x795, x1201);
-                x1210 = x1191.mul_neg_add(x795, x1203);
-                x1211 = x1206 + x1208;
-                x1212 = x1190 * x752;
-                x1213 = x1191 * x752;
-                x1214 = x1191 * x799;
-                x1215 = x1190.mul_sub(x797, x1214);
-                x1216 = arith.splat_eight(x60);
-                x1217 = arith.splat_eight(x169);
-                x1218 = x1217 * x799;
-                x1219 = x1216.mul_add(x1211, x1218);
-                x1220 = arith.splat_eight(x66);
-                x1221 = arith.splat_eight(x168);
-                x1222 = x1221 * x752;
-                x1223 = x1220.mul_sub(x1210, x1222);
-                x1224 = x1219 - x1223;
-                x1225 = arith.splat_eight(x167);
-                x1226 = x1225 * x752;
-                x1227 = x1220.mul_sub(x1209, x1226);
-                x1228 = arith.splat_eight(x57);
-                x1229 = x1217 * x797;
-                x1230 = x1228.mul_add(x1211, x1229);
-                x1231 = x1227 - x1230;
-                x1232 = x1221 * x797;
-                x1233 = x1228.mul_add(x1210, x1232);
-                x1234 = x1225 * x799;
-                x1235 = x1216.mul_add(x1209, x1234);
-                x1236 = x1233 - x1235;
-                x1237 = arith.splat_eight(x64);
-                x1238 = arith.splat_eight(x116);
-                x1239 = x1238 * x803;
-                x1240 = x1237.mul_add(x1215, x1239);
-                x1241 = arith.splat_eight(x65);
-                x1242 = x1241 * x1213;
-                x1243 = arith.splat_eight(x114);
-                x1244 = x1243.mul_sub(x795, x1242);
-                x1245 = x1240 - x1244;
-                x1246 = arith.splat_eight(x113);
-                x1247 = x1246 * x795;
-                x1248 = x1241.mul_sub(x1212, x1247);
-                x1249 = arith.splat_eight(x62);
-                x1250 = x1238 * x801;
-                x1251 = x1249.mul_add(x1215, x1250);
-                x1252 = x1248 - x1251;
-                x1253 = x1249 * x1213;
-                x1254 = x1243.mul_sub(x801, x1253);
-                x1255 = x1246 * x803;
-                x1256 = x1237.mul_sub(x1212, x1255);
-                x1257 = x1254 - x1256;
-                x1258 = x1224 + x1245;
-                x1259 = x1231 + x1252;
-                x1260 = x1236 + x1257;
-                x1261 = x1238 * x799;
-                x1262 = x1216.mul_add(x1215, x1261);
-                x1263 = x1243 * x752;
-                x1264 = x1220.mul_add(x1213, x1263);
-                x1265 = x1262 + x1264;
-                x1266 = x1246 * x752;
-                x1267 = x1220.mul_add(x1212, x1266);
-                x1268 = x1238 * x797;
-                x1269 = x1228.mul_add(x1215, x1268);
-                x1270 = x1267 - x1269;
-                x1271 = x1228 * x1213;
-                x1272 = x1243.mul_sub(x797, x1271);
-                x1273 = x1246 * x799;
-                x1274 = x1216.mul_sub(x1212, x1273);
-                x1275 = x1272 - x1274;
-                x1276 = x1194 + x1258;
-                x1277 = x1195 + x1259;
-                x1278 = x1196 + x1260;
-                x1279 = x1190.mul_neg_add(x808, x1265);
-                x1280 = x1191.mul_add(x808, x1270);
-                x1281 = x1198 + x1275;
-                x1282 = arith.splat_eight(0.0024209437785212354f64);
-                x1283 = arith.splat_eight(0.0003913912816842481f64);
-                x1284 = x1283 * x870;
-                x1285 = x1282.mul_add(x869, x1284);
-                x1286 = arith.splat_eight(-0.0009653051699191116f64);
-                x1287 = x1286.mul_add(x853, x1285);
-                x1288 = arith.splat_eight(-0.001255536598272898f64);
-                x1289 = x1288 * x853;
-                x1290 = x1283.mul_add(x869, x1289);
-                x1291 = x1288 * x870;
-                x1292 = x1286.mul_add(x869, x1291);
-                x1293 = arith.splat_eight(0.006684151967360945f64);
-                x1294 = x1293.mul_add(x853, x1292);
-                x1295 = arith.splat_eight(0.0020344399586617965f64);
-                x1296 = arith.splat_eight(0.002573605371338202f64);
-                x1297 = x1295 * x871;
-                x1298 = x1296.mul_sub(x872, x1297);
-                x1299 = x1295.mul_neg_add(x854, x1287);
-                x1300 = x1296.mul_add(x854, x1290);
-                x1301 = x1294 + x1298;
-                x1302 = x1296 * x870;
-                x1303 = x1295.mul_sub(x869, x1302);
-                x1304 = x1283 * x844;
-                x1305 = x1282.mul_add(x842, x1304);
-                x1306 = x1286.mul_neg_add(x799, x1305);
-                x1307 = x1288 * x799;
-                x1308 = x1283.mul_sub(x842, x1307);
-                x1309 = x1288 * x844;
-                x1310 = x1286.mul_add(x842, x1309);
-                x1311 = x1293.mul_neg_add(x799, x1310);
-                x1312 = x1295 * x846;
-                x1313 = x1296.mul_sub(x848, x1312);
-                x1314 = x1295.mul_add(x840, x1306);
-                x1315 = x1296.mul_neg_add(x840, x1308);
-                x1316 = x1311 + x1313;
-                x1317 = x1295 * x799;
-                x1318 = x1296 * x799;
-                x1319 = x1296 * x844;
-                x1320 = x1295.mul_sub(x842, x1319);
-                x1321 = arith.splat_eight(x70);
-                x1322 = arith.splat_eight(x179);
-                x1323 = x1322 * x844;
-                x1324 = x1321.mul_add(x1316, x1323);
-                x1325 = arith.splat_eight(x78);
-                x1326 = arith.splat_eight(x178);
-                x1327 = x1326 * x799;
-                x1328 = x1325.mul_sub(x1315, x1327);
-                x1329 = x1324 - x1328;
-                x1330 = arith.splat_eight(x177);
-                x1331 = x1330 * x799;
-                x1332 = x1325.mul_sub(x1314, x1331);
-                x1333 = arith.splat_eight(x68);
-                x1334 = x1322 * x842;
-                x1335 = x1333.mul_add(x1316, x1334);
-                x1336 = x1332 - x1335;
-                x1337 = x1326 * x842;
-                x1338 = x1333.mul_add(x1315, x1337);
-                x1339 = x1330 * x844;
-                x1340 = x1321.mul_add(x1314, x1339);
-                x1341 = x1338 - x1340;
-                x1342 = arith.splat_eight(x77);
-                x1343 = arith.splat_eight(x123);
-                x1344 = x1343 * x848;
-                x1345 = x1342.mul_add(x1320, x1344);
-                x1346 = arith.splat_eight(x72);
-                x1347 = arith.splat_eight(x121);
-                x1348 = x1347 * x840;
-                x1349 = x1346.mul_add(x1318, x1348);
-                x1350 = x1345 - x1349;
-                x1351 = arith.splat_eight(x120);
-                x1352 = x1351 * x840;
-                x1353 = x1346.mul_add(x1317, x1352);
-                x1354 = arith.splat_eight(x75);
-                x1355 = x1343 * x846;
-                x1356 = x1354.mul_add(x1320, x1355);
-                x1357 = x1353 + x1356;
-                x1358 = x1354 * x1318;
-                x1359 = x1347.mul_sub(x846, x1358);
-                x1360 = x1351 * x848;
-                x1361 = x1342.mul_sub(x1317, x1360);
-                x1362 = x1359 - x1361;
-                x1363 = x1329 + x1350;
-                x1364 = x1336 - x1357;
-                x1365 = x1341 + x1362;
-                x1366 = x1343 * x844;
-                x1367 = x1321.mul_add(x1320, x1366);
-                x1368 = x1347 * x799;
-                x1369 = x1325.mul_add(x1318, x1368);
-                x1370 = x1367 + x1369;
-                x1371 = x1351 * x799;
-                x1372 = x1325.mul_add(x1317, x1371);
-                x1373 = x1343 * x842;
-                x1374 = x1333.mul_add(x1320, x1373);
-                x1375 = x1372 - x1374;
-                x1376 = x1333 * x1318;
-                x1377 = x1347.mul_sub(x842, x1376);
-                x1378 = x1351 * x844;
-                x1379 = x1321.mul_sub(x1317, x1378);
-                x1380 = x1377 - x1379;
-                x1381 = x1299 + x1363;
-                x1382 = x1300 + x1364;
-                x1383 = x1301 + x1365;
-                x1384 = x1295.mul_neg_add(x853, x1370);
-                x1385 = x1296.mul_add(x853, x1375);
-                x1386 = x1303 + x1380;
-                x1387 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x645, 0.0]);
-                x1388 = x1381 + x1387;
-                x1389 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x476, 0.0]);
-                x1390 = x1382 + x1389;
-                x1391 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x646, 0.0]);
-                x1392 = x1384 + x1391;
-                x1393 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x479, 0.0]);
-                x1394 = x1385 + x1393;
-                x1395 = x829 * x1394;
-                x1396 = x828.mul_sub(x1392, x1395);
-                x1397 = x828 * x1394;
-                x1398 = x829.mul_add(x1392, x1397);
-                x1399 = x829 * x1390;
-                x1400 = x828.mul_sub(x1388, x1399);
-                x1401 = x828 * x1390;
-                x1402 = x829.mul_add(x1388, x1401);
-                x1403 = x834.mul_add(x1398, x1383);
-                x1404 = x834.mul_neg_add(x1386, x1402);
-                x1405 = x1276 + x1400;
-                x1406 = x1277 - x1403;
-                x1407 = x1278 + x1404;
-                x1408 = x1279 + x1396;
-                x1409 = x1280 - x1386;
-                x1410 = x1281 + x1398;
-                x1411 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x641, 0.0, 0.0]);
-                x1412 = x1405 + x1411;
-                x1413 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x492, 0.0, 0.0]);
-                x1414 = x1406 + x1413;
-                x1415 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x642, 0.0, 0.0]);
-                x1416 = x1408 + x1415;
-                x1417 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x495, 0.0, 0.0]);
-                x1418 = x1409 + x1417;
-                x1419 = x786 * x1418;
-                x1420 = x785.mul_sub(x1416, x1419);
-                x1421 = x785 * x1418;
-                x1422 = x786.mul_add(x1416, x1421);
-                x1423 = x786 * x1414;
-                x1424 = x785.mul_sub(x1412, x1423);
-                x1425 = x785 * x1414;
-                x1426 = x786.mul_add(x1412, x1425);
-                x1427 = x1171 + x1424;
-                x1428 = x1172 - x1407;
-                x1429 = x1173 + x1426;
-                x1430 = x1174 + x1420;
-                x1431 = x1175 - x1410;
-                x1432 = x1176 + x1422;
-                x1433 = arith.eight([0.0, 0.0, 0.0, 0.0, x637, 0.0, 0.0, 0.0]);
-                x1434 = x1427 + x1433;
-                x1435 = arith.eight([0.0, 0.0, 0.0, 0.0, x506, 0.0, 0.0, 0.0]);
-                x1436 = x1428 + x1435;
-                x1437 = arith.eight([0.0, 0.0, 0.0, 0.0, x638, 0.0, 0.0, 0.0]);
-                x1438 = x1430 + x1437;
-                x1439 = arith.eight([0.0, 0.0, 0.0, 0.0, x509, 0.0, 0.0, 0.0]);
-                x1440 = x1431 + x1439;
-                x1441 = x733 * x1440;
-                x1442 = x732.mul_sub(x1438, x1441);
-                x1443 = x732 * x1440;
-                x1444 = x733.mul_add(x1438, x1443);
-                x1445 = x733 * x1436;
-                x1446 = x732.mul_sub(x1434, x1445);
-                x1447 = x732 * x1436;
-                x1448 = x733.mul_add(x1434, x1447);
-                x1449 = x738 * x1442;
-                x1450 = x739.mul_sub(x1432, x1449);
-                x1451 = x738.mul_neg_add(x1444, x1446);
-                x1452 = x739.mul_add(x1444, x1429);
-                x1453 = x1450 - x1448;
-                x1454 = x1066 + x1451;
-                x1455 = x1067 + x1452;
-                x1456 = x1068 + x1453;
-                x1457 = x1069 + x1442;
-                x1458 = x1070 + x1432;
-                x1459 = arith.eight([0.0, 0.0, 0.0, x633, 0.0, 0.0, 0.0, 0.0]);
-                x1460 = x1454 + x1459;
-                x1461 = arith.eight([0.0, 0.0, 0.0, x525, 0.0, 0.0, 0.0, 0.0]);
-                x1462 = x1455 + x1461;
-                x1463 = arith.eight([0.0, 0.0, 0.0, x634, 0.0, 0.0, 0.0, 0.0]);
-                x1464 = x1457 + x1463;
-                x1465 = arith.eight([0.0, 0.0, 0.0, x528, 0.0, 0.0, 0.0, 0.0]);
-                x1466 = x1458 + x1465;
-                x1467 = x688 * x1466;
-                x1468 = x685.mul_sub(x1464, x1467);
-                x1469 = x1444 - x1071;
-                x1470 = x685 * x1466;
-                x1471 = x688.mul_add(x1464, x1470);
-                x1472 = x688 * x1462;
-                x1473 = x685.mul_sub(x1460, x1472);
-                x1474 = x685 * x1462;
-                x1475 = x688.mul_add(x1460, x1474);
-                x1476 = x692.mul_add(x1471, x1456);
-                x1477 = x692.mul_add(x1469, x1475);
-                x1478 = x962 + x1473;
-                x1479 = x963 - x1476;
-                x1480 = x964 + x1477;
-                x1481 = x965 + x1468;
-                x1482 = x966 + x1469;
-                x1483 = arith.eight([0.0, 0.0, x629, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1484 = x1478 + x1483;
-                x1485 = arith.eight([0.0, 0.0, x541, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1486 = x1479 + x1485;
-                x1487 = arith.eight([0.0, 0.0, x630, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1488 = x1481 + x1487;
-                x1489 = arith.eight([0.0, 0.0, x544, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1490 = x1482 + x1489;
-                x1491 = arith.splat_eight(c2);
-                x1492 = arith.splat_eight(s2);
-                x1493 = x1492 * x1490;
-                x1494 = x1491.mul_sub(x1488, x1493);
-                x1495 = x1491 * x1490;
-                x1496 = x1492.mul_add(x1488, x1495);
-                x1497 = x1492 * x1486;
-                x1498 = x1491.mul_sub(x1484, x1497);
-                x1499 = x1491 * x1486;
-                x1500 = x1492.mul_add(x1484, x1499);
-                x1501 = arith.splat_eight(-0.316f64);
-                x1502 = x1501.mul_add(x1496, x1498);
-                x1503 = x1501.mul_neg_add(x1494, x1500);
-                x1504 = x873 + x1502;
-                x1505 = x874 - x1480;
-                x1506 = x875 + x1503;
-                x1507 = arith.eight([0.0, x626, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1508 = x1504 + x1507;
-                x1509 = arith.eight([0.0, x551, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1510 = x1505 + x1509;
-                x1511 = arith.splat_eight(c1);
-                x1512 = arith.splat_eight(s1);
-                x1513 = x1511 * x1510;
-                x1514 = x1512.mul_add(x1508, x1513);
-                x1515 = -x1514;
-                x1516 = qd1 * c1;
-                x1517 = -x1516;
-                x1518 = arith.eight([x1517, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1519 = x652 + x1518;
-                x1520 = qd1 * s1;
-                x1521 = -x1520;
-                x1522 = arith.eight([x1521, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1523 = x655 + x1522;
-                x1524 = arith.eight([x1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1525 = arith.eight([0.0, s2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1526 = x1524 + x1525;
-                x1527 = arith.eight([x2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1528 = arith.eight([0.0, c2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1529 = x1527 + x1528;
-                x1530 = arith.eight([c1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1531 = 0.316f64 * s1;
-                x1532 = 0.316f64 * c2;
-                x1533 = arith.eight([0.0, x1532, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1534 = s2 * x1531;
-                x1535 = arith.eight([x1534, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1536 = x1533 + x1535;
-                x1537 = -0.316f64 * s2;
-                x1538 = arith.eight([0.0, x1537, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1539 = c2 * x1531;
-                x1540 = arith.eight([x1539, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1541 = x1538 + x1540;
-                x1542 = x647 + x1530;
-                x1543 = x1501 * x1519;
-                x1544 = x679.mul_add(x1529, x658);
-                x1545 = arith.eight([0.0, 0.0, x12, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1546 = x679.mul_add(x1526, x1545);
-                x1547 = x679.mul_add(x1541, x662);
-                x1548 = arith.eight([0.0, 0.0, x19, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1549 = x679.mul_add(x1536, x1548);
-                x1550 = x1491.mul_add(x1519, x1544);
-                x1551 = x1492.mul_add(x1519, x1546);
-                x1552 = x1492.mul_add(x1543, x1547);
-                x1553 = x1491.mul_sub(x1543, x1549);
-                x1554 = x688 * x1542;
-                x1555 = x685.mul_add(x1526, x1554);
-                x1556 = x688 * x1526;
-                x1557 = x685.mul_sub(x1542, x1556);
-                x1558 = x692 * x1529;
-                x1559 = x692.mul_add(x1542, x1541);
-                x1560 = x688 * x1558;
-                x1561 = x685.mul_sub(x1536, x1560);
-                x1562 = x685 * x1558;
-                x1563 = x688.mul_add(x1536, x1562);
-                x1564 = x648 - x1529;
-                x1565 = x688 * x1523;
-                x1566 = x685.mul_add(x1550, x1565);
-                x1567 = x688 * x1550;
-                x1568 = x685.mul_sub(x1523, x1567);
-                x1569 = x692 * x1551;
-                x1570 = x692.mul_add(x1523, x1553);
-                x1571 = x688 * x1569;
-                x1572 = x685.mul_add(x1552, x1571);
-                x1573 = x688 * x1552;
-                x1574 = x685.mul_sub(x1569, x1573);
-                x1575 = x727.mul_add(x1557, x699);
-                x1576 = arith.eight([0.0, 0.0, 0.0, x27, 0.0, 0.0, 0.0, 0.0]);
-                x1577 = x727.mul_add(x1555, x1576);
-                x1578 = x727.mul_neg_add(x1563, x703);
-                x1579 = arith.eight([0.0, 0.0, 0.0, x34, 0.0, 0.0, 0.0, 0.0]);
-                x1580 = x727.mul_add(x1561, x1579);
-                x1581 = x1566 + x1575;
-                x1582 = x1568 - x1577;
-                x1583 = x1572 + x1578;
-                x1584 = x1574 - x1580;
-                x1585 = x733 * x1564;
-                x1586 = x732.mul_sub(x1555, x1585);
-                x1587 = x732 * x1564;
-                x1588 = x733.mul_add(x1555, x1587);
-                x1589 = x738 * x1555;
-                x1590 = x739.mul_sub(x1557, x1589);
-                x1591 = x738.mul_neg_add(x1564, x1561);
-                x1592 = x739.mul_sub(x1564, x1563);
-                x1593 = x1559 + x1590;
-                x1594 = x733 * x1593;
-                x1595 = x732.mul_add(x1591, x1594);
-                x1596 = x733 * x1591;
-                x1597 = x732 * x1593;
-                x1598 = x1597 - x1596;
-                x1599 = x649 + x1557;
-                x1600 = x733 * x1551;
-                x1601 = x732.mul_sub(x1581, x1600);
-                x1602 = x732 * x1551;
-                x1603 = x733.mul_add(x1581, x1602);
-                x1604 = x738 * x1581;
-                x1605 = x739.mul_sub(x1582, x1604);
-                x1606 = x738.mul_neg_add(x1551, x1583);
-                x1607 = x739.mul_add(x1551, x1584);
-                x1608 = x1570 + x1605;
-                x1609 = x733 * x1608;
-                x1610 = x732.mul_add(x1606, x1609);
-                x1611 = x733 * x1606;
-                x1612 = x732.mul_sub(x1608, x1611);
-                x1613 = x778.mul_neg_add(x1588, x749);
-                x1614 = arith.eight([0.0, 0.0, 0.0, 0.0, x41, 0.0, 0.0, 0.0]);
-                x1615 = x778.mul_add(x1586, x1614);
-                x1616 = x778.mul_add(x1598, x753);
-                x1617 = arith.eight([0.0, 0.0, 0.0, 0.0, x51, 0.0, 0.0, 0.0]);
-                x1618 = x778.mul_add(x1595, x1617);
-                x1619 = x1601 + x1613;
-                x1620 = x1603 + x1615;
-                x1621 = x1610 + x1616;
-                x1622 = x1612 - x1618;
-                x1623 = x786 * x1599;
-                x1624 = x785.mul_add(x1586, x1623);
-                x1625 = x786 * x1586;
-                x1626 = x785 * x1599;
-                x1627 = x1626 - x1625;
-                x1628 = x786 * x1592;
-                x1629 = x785.mul_add(x1595, x1628);
-                x1630 = x786 * x1595;
-                x1631 = x785.mul_sub(x1592, x1630);
-                x1632 = x1596 - x1597;
-                x1633 = x650 + x1588;
-                x1634 = x786 * x1582;
-                x1635 = x785.mul_add(x1619, x1634);
-                x1636 = x786 * x1619;
-                x1637 = x785.mul_sub(x1582, x1636);
-                x1638 = x786 * x1607;
-                x1639 = x785.mul_add(x1621, x1638);
-                x1640 = x786 * x1621;
-                x1641 = x785.mul_sub(x1607, x1640);
-                x1642 = x1618 - x1612;
-                x1643 = x822.mul_add(x1627, x796);
-                x1644 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x57, 0.0, 0.0]);
-                x1645 = x822.mul_add(x1624, x1644);
-                x1646 = x822.mul_add(x1631, x800);
-                x1647 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x62, 0.0, 0.0]);
-                x1648 = x822.mul_add(x1629, x1647);
-                x1649 = x1635 + x1643;
-                x1650 = x1637 - x1645;
-                x1651 = x1639 + x1646;
-                x1652 = x1641 - x1648;
-                x1653 = x829 * x1633;
-                x1654 = x828.mul_add(x1624, x1653);
-                x1655 = x829 * x1624;
-                x1656 = x828.mul_sub(x1633, x1655);
-                x1657 = x1625 - x1626;
-                x1658 = x834.mul_add(x1633, x1631);
-                x1659 = x834.mul_neg_add(x1627, x1632);
-                x1660 = x829 * x1659;
-                x1661 = x828.mul_add(x1629, x1660);
-                x1662 = x829 * x1629;
-                x1663 = x828.mul_sub(x1659, x1662);
-                x1664 = x651 + x1657;
-                x1665 = x829 * x1620;
-                x1666 = x828.mul_add(x1649, x1665);
-                x1667 = x829 * x1649;
-                x1668 = x828.mul_sub(x1620, x1667);
-                x1669 = x1645 - x1637;
-                x1670 = x834.mul_add(x1620, x1652);
-                x1671 = x834.mul_neg_add(x1650, x1642);
-                x1672 = x829 * x1671;
-                x1673 = x828.mul_add(x1651, x1672);
-                x1674 = x829 * x1651;
-                x1675 = x828.mul_sub(x1671, x1674);
-                x1676 = x868.mul_add(x1656, x841);
-                x1677 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x68, 0.0]);
-                x1678 = x868.mul_add(x1654, x1677);
-                x1679 = x868.mul_add(x1663, x845);
-                x1680 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x75, 0.0]);
-                x1681 = x868.mul_add(x1661, x1680);
-                x1682 = x1666 + x1676;
-                x1683 = x1668 - x1678;
-                x1684 = x1673 + x1679;
-                x1685 = x1675 - x1681;
-                x1686 = arith.splat_eight(1.0706865997634767f64);
-                x1687 = arith.splat_eight(-0.00398335888393552f64);
-                x1688 = x1687 * x1523;
-                x1689 = x1686.mul_sub(x1519, x1688);
-                x1690 = arith.splat_eight(0.01026110182100817f64);
-                x1691 = arith.splat_eight(0.0007689361029464f64);
-                x1692 = x1691 * x1523;
-                x1693 = x1690.mul_sub(x1519, x1692);
-                x1694 = 0.00398335888393552f64 * c1;
-                x1695 = arith.mul_add(-1.0706865997634767f64, s1, x1694);
-                x1696 = arith.eight([x1695, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1697 = arith
-                    .eight([0.0, 0.01026110182100817f64, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1698 = x1696 + x1697;
-                x1699 = 0.00398335888393552f64 * s1;
-                x1700 = arith.eight([x1699, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1701 = arith
-                    .eight([0.0, 0.0007689361029464f64, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1702 = x1700 + x1701;
-                x1703 = -0.0007689361029464f64 * c1;
-                x1704 = arith.mul_add(-0.01026110182100817f64, s1, x1703);
-                x1705 = arith.eight([x1704, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1706 = arith
-                    .eight([0.0, 1.1168423647533403f64, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1707 = x1705 + x1706;
-                x1708 = arith.splat_eight(x7);
-                x1709 = c1 * x131;
-                x1710 = -x1709;
-                x1711 = arith.eight([x1710, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1712 = x1708.mul_neg_add(x1707, x1711);
-                x1713 = arith.splat_eight(qd1);
-                x1714 = arith.eight([0.0, x129, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1715 = x1713.mul_add(x1702, x1714);
-                x1716 = x1712 - x1715;
-                x1717 = arith.eight([0.0, x128, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1718 = x1713.mul_add(x1698, x1717);
-                x1719 = arith.splat_eight(x5);
-                x1720 = s1 * x131;
-                x1721 = -x1720;
-                x1722 = arith.eight([x1721, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1723 = x1719.mul_neg_add(x1707, x1722);
-                x1724 = x1718 - x1723;
-                x1725 = s1 * x129;
-                x1726 = -x1725;
-                x1727 = arith.eight([x1726, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1728 = x1719.mul_neg_add(x1702, x1727);
-                x1729 = c1 * x128;
-                x1730 = -x1729;
-                x1731 = arith.eight([x1730, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1732 = x1708.mul_neg_add(x1698, x1731);
-                x1733 = x1728 - x1732;
-                x1734 = x1689 + x1716;
-                x1735 = x1687.mul_add(x1519, x1724);
-                x1736 = x1693 + x1733;
-                x1737 = x877 * x1551;
-                x1738 = x876.mul_sub(x1550, x1737);
-                x1739 = x884.mul_add(x1523, x1738);
-                x1740 = x885 * x1523;
-                x1741 = x877.mul_add(x1550, x1740);
-                x1742 = x885 * x1551;
-                x1743 = x884.mul_sub(x1550, x1742);
-                x1744 = arith.splat_eight(0.13480070614822143f64);
-                x1745 = x1744.mul_add(x1523, x1743);
-                x1746 = x893 * x1552;
-                x1747 = x892.mul_sub(x1553, x1746);
-                x1748 = x1745 + x1747;
-                x1749 = x877 * x1529;
-                x1750 = x876.mul_add(x1526, x1749);
-                x1751 = x884.mul_add(x1542, x1750);
-                x1752 = x885 * x1542;
-                x1753 = x877.mul_add(x1526, x1752);
-                x1754 = x885 * x1529;
-                x1755 = x884.mul_add(x1526, x1754);
-                x1756 = x1744.mul_add(x1542, x1755);
-                x1757 = x893 * x1536;
-                x1758 = x892.mul_sub(x1541, x1757);
-                x1759 = x1756 + x1758;
-                x1760 = x893 * x1542;
-                x1761 = x892 * x1542;
-                x1762 = x892 * x1529;
-                x1763 = x893.mul_sub(x1526, x1762);
-                x1764 = x917 * x1529;
-                x1765 = x916.mul_add(x1759, x1764);
-                x1766 = x930 * x1542;
-                x1767 = x920.mul_add(x1753, x1766);
-                x1768 = x1765 - x1767;
-                x1769 = x933 * x1542;
-                x1770 = x920.mul_add(x1751, x1769);
-                x1771 = x917 * x1526;
-                x1772 = x926.mul_add(x1759, x1771);
-                x1773 = x1770 - x1772;
-                x1774 = x930 * x1526;
-                x1775 = x926.mul_add(x1753, x1774);
-                x1776 = x933 * x1529;
-                x1777 = x916.mul_add(x1751, x1776);
-                x1778 = x1775 - x1777;
-                x1779 = x938 * x1541;
-                x1780 = x937.mul_add(x1763, x1779);
-                x1781 = x938 * x1536;
-                x1782 = x941.mul_add(x1763, x1781);
-                x1783 = x945 * x1536;
-                x1784 = x941.mul_add(x1761, x1783);
-                x1785 = x948 * x1541;
-                x1786 = x937.mul_add(x1760, x1785);
-                x1787 = x1784 + x1786;
-                x1788 = x1768 + x1780;
-                x1789 = x1773 - x1782;
-                x1790 = x1778 + x1787;
-                x1791 = x938 * x1529;
-                x1792 = x916.mul_add(x1763, x1791);
-                x1793 = x945 * x1542;
-                x1794 = x920.mul_add(x1761, x1793);
-                x1795 = x1792 - x1794;
-                x1796 = x948 * x1542;
-                x1797 = x920.mul_add(x1760, x1796);
-                x1798 = x938 * x1526;
-                x1799 = x926.mul_add(x1763, x1798);
-                x1800 = x1797 + x1799;
-                x1801 = x1739 + x1788;
-                x1802 = x1741 + x1789;
-                x1803 = x1748 + x1790;
-                x1804 = x893.mul_neg_add(x1523, x1795);
-                x1805 = x892.mul_sub(x1523, x1800);
-                x1806 = x968 * x1582;
-                x1807 = x967.mul_add(x1581, x1806);
-                x1808 = x971.mul_add(x1551, x1807);
-                x1809 = x973 * x1551;
-                x1810 = x968.mul_add(x1581, x1809);
-                x1811 = x973 * x1582;
-                x1812 = x971.mul_add(x1581, x1811);
-                x1813 = x978.mul_add(x1551, x1812);
-                x1814 = x980 * x1583;
-                x1815 = x981.mul_sub(x1584, x1814);
-                x1816 = x980.mul_neg_add(x1570, x1808);
-                x1817 = x981.mul_add(x1570, x1810);
-                x1818 = x1813 + x1815;
-                x1819 = x981 * x1582;
-                x1820 = x980.mul_sub(x1581, x1819);
-                x1821 = x968 * x1557;
-                x1822 = x967.mul_add(x1555, x1821);
-                x1823 = x971.mul_add(x1564, x1822);
-                x1824 = x973 * x1564;
-                x1825 = x968.mul_add(x1555, x1824);
-                x1826 = x973 * x1557;
-                x1827 = x971.mul_add(x1555, x1826);
-                x1828 = x978.mul_add(x1564, x1827);
-                x1829 = x980 * x1561;
-                x1830 = x981.mul_add(x1563, x1829);
-                x1831 = x980.mul_neg_add(x1559, x1823);
-                x1832 = x981.mul_add(x1559, x1825);
-                x1833 = x1828 - x1830;
-                x1834 = x980 * x1564;
-                x1835 = x981 * x1564;
-                x1836 = x981 * x1557;
-                x1837 = x980.mul_sub(x1555, x1836);
-                x1838 = x1007 * x1557;
-                x1839 = x1006.mul_add(x1833, x1838);
-                x1840 = x1011 * x1564;
-                x1841 = x1010.mul_add(x1832, x1840);
-                x1842 = x1839 - x1841;
-                x1843 = x1015 * x1564;
-                x1844 = x1010.mul_add(x1831, x1843);
-                x1845 = x1007 * x1555;
-                x1846 = x1018.mul_add(x1833, x1845);
-                x1847 = x1844 - x1846;
-                x1848 = x1011 * x1555;
-                x1849 = x1018.mul_add(x1832, x1848);
-                x1850 = x1015 * x1557;
-                x1851 = x1006.mul_add(x1831, x1850);
-                x1852 = x1849 - x1851;
-                x1853 = x1029 * x1563;
-                x1854 = x1027.mul_add(x1837, x1853);
-                x1855 = x1032 * x1559;
-                x1856 = x1031.mul_add(x1835, x1855);
-                x1857 = x1856 - x1854;
-                x1858 = x1036 * x1559;
-                x1859 = x1031.mul_add(x1834, x1858);
-                x1860 = x1029 * x1561;
-                x1861 = x1039.mul_add(x1837, x1860);
-                x1862 = x1859 - x1861;
-                x1863 = x1032 * x1561;
-                x1864 = x1039.mul_add(x1835, x1863);
-                x1865 = x1036 * x1563;
-                x1866 = x1027.mul_add(x1834, x1865);
-                x1867 = x1864 - x1866;
-                x1868 = x1842 + x1857;
-                x1869 = x1847 + x1862;
-                x1870 = x1852 + x1867;
-                x1871 = x1029 * x1557;
-                x1872 = x1006.mul_add(x1837, x1871);
-                x1873 = x1032 * x1564;
-                x1874 = x1010.mul_add(x1835, x1873);
-                x1875 = x1872 - x1874;
-                x1876 = x1036 * x1564;
-                x1877 = x1010.mul_add(x1834, x1876);
-                x1878 = x1029 * x1555;
-                x1879 = x1018.mul_add(x1837, x1878);
-                x1880 = x1877 + x1879;
-                x1881 = x1032 * x1555;
-                x1882 = x1018.mul_add(x1835, x1881);
-                x1883 = x1036 * x1557;
-                x1884 = x1006.mul_add(x1834, x1883);
-                x1885 = x1882 + x1884;
-                x1886 = x1816 + x1868;
-                x1887 = x1817 + x1869;
-                x1888 = x1818 + x1870;
-                x1889 = x980.mul_neg_add(x1551, x1875);
-                x1890 = x981.mul_sub(x1551, x1880);
-                x1891 = x1820 + x1885;
-                x1892 = x1073 * x1620;
-                x1893 = x1072.mul_sub(x1619, x1892);
-                x1894 = x1076.mul_add(x1582, x1893);
-                x1895 = x1078 * x1582;
-                x1896 = x1073.mul_add(x1619, x1895);
-                x1897 = x1078 * x1620;
-                x1898 = x1076.mul_sub(x1619, x1897);
-                x1899 = x1083.mul_add(x1582, x1898);
-                x1900 = x1085 * x1621;
-                x1901 = x1086.mul_sub(x1622, x1900);
-                x1902 = x1085.mul_add(x1607, x1894);
-                x1903 = x1086.mul_neg_add(x1607, x1896);
-                x1904 = x1899 + x1901;
-                x1905 = x1085 * x1619;
-                x1906 = x1086.mul_add(x1620, x1905);
-                x1907 = x1073 * x1588;
-                x1908 = x1072.mul_sub(x1586, x1907);
-                x1909 = x1076.mul_add(x1599, x1908);
-                x1910 = x1078 * x1599;
-                x1911 = x1073.mul_add(x1586, x1910);
-                x1912 = x1078 * x1588;
-                x1913 = x1076.mul_sub(x1586, x1912);
-                x1914 = x1083.mul_add(x1599, x1913);
-                x1915 = x1085 * x1595;
-                x1916 = x1086.mul_sub(x1598, x1915);
-                x1917 = x1085.mul_add(x1592, x1909);
-                x1918 = x1086.mul_neg_add(x1592, x1911);
-                x1919 = x1914 + x1916;
-                x1920 = x1085 * x1599;
-                x1921 = x1086 * x1599;
-                x1922 = x1085 * x1586;
-                x1923 = x1086.mul_add(x1588, x1922);
-                x1924 = x1113 * x1588;
-                x1925 = x1111.mul_add(x1919, x1924);
-                x1926 = x1116 * x1599;
-                x1927 = x1115.mul_add(x1918, x1926);
-                x1928 = x1925 + x1927;
-                x1929 = x1120 * x1599;
-                x1930 = x1115.mul_add(x1917, x1929);
-                x1931 = x1113 * x1586;
-                x1932 = x1123.mul_add(x1919, x1931);
-                x1933 = x1930 - x1932;
-                x1934 = x1116 * x1586;
-                x1935 = x1123.mul_add(x1918, x1934);
-                x1936 = x1120 * x1588;
-                x1937 = x1111.mul_add(x1917, x1936);
-                x1938 = x1935 + x1937;
-                x1939 = x1133 * x1598;
-                x1940 = x1132.mul_add(x1923, x1939);
-                x1941 = x1137 * x1592;
-                x1942 = x1136.mul_add(x1921, x1941);
-                x1943 = x1940 - x1942;
-                x1944 = x1141 * x1592;
-                x1945 = x1136.mul_add(x1920, x1944);
-                x1946 = x1133 * x1595;
-                x1947 = x1144.mul_add(x1923, x1946);
-                x1948 = x1945 + x1947;
-                x1949 = x1137 * x1595;
-                x1950 = x1144.mul_add(x1921, x1949);
-                x1951 = x1141 * x1598;
-                x1952 = x1132.mul_add(x1920, x1951);
-                x1953 = x1950 + x1952;
-                x1954 = x1943 - x1928;
-                x1955 = x1933 - x1948;
-                x1956 = x1938 + x1953;
-                x1957 = x1133 * x1588;
-                x1958 = x1111.mul_add(x1923, x1957);
-                x1959 = x1137 * x1599;
-                x1960 = x1115.mul_add(x1921, x1959);
-                x1961 = x1958 + x1960;
-                x1962 = x1141 * x1599;
-                x1963 = x1115.mul_add(x1920, x1962);
-                x1964 = x1133 * x1586;
-                x1965 = x1123.mul_add(x1923, x1964);
-                x1966 = x1963 + x1965;
-                x1967 = x1137 * x1586;
-                x1968 = x1123.mul_add(x1921, x1967);
-                x1969 = x1141 * x1588;
-                x1970 = x1111.mul_add(x1920, x1969);
-                x1971 = x1968 - x1970;
-                x1972 = x1902 + x1954;
-                x1973 = x1903 + x1955;
-                x1974 = x1904 + x1956;
-                x1975 = x1085.mul_add(x1582, x1961);
-                x1976 = x1086.mul_sub(x1582, x1966);
-                x1977 = x1906 + x1971;
-                x1978 = x1178 * x1650;
-                x1979 = x1177.mul_add(x1649, x1978);
-                x1980 = x1181.mul_add(x1620, x1979);
-                x1981 = x1183 * x1620;
-                x1982 = x1178.mul_add(x1649, x1981);
-                x1983 = x1183 * x1650;
-                x1984 = x1181.mul_add(x1649, x1983);
-                x1985 = x1188.mul_add(x1620, x1984);
-                x1986 = x1190 * x1651;
-                x1987 = x1191.mul_sub(x1652, x1986);
-                x1988 = x1190.mul_add(x1642, x1980);
-                x1989 = x1191.mul_neg_add(x1642, x1982);
-                x1990 = x1985 + x1987;
-                x1991 = x1191 * x1650;
-                x1992 = x1190.mul_sub(x1649, x1991);
-                x1993 = x1178 * x1627;
-                x1994 = x1177.mul_add(x1624, x1993);
-                x1995 = x1181.mul_add(x1633, x1994);
-                x1996 = x1183 * x1633;
-                x1997 = x1178.mul_add(x1624, x1996);
-                x1998 = x1183 * x1627;
-                x1999 = x1181.mul_add(x1624, x1998);
-                x2000 = x1188.mul_add(x1633, x1999);
-                x2001 = x1190 * x1629;
-                x2002 = x1191.mul_sub(x1631, x2001);
-                x2003 = x1190.mul_add(x1632, x1995);
-                x2004 = x1191.mul_neg_add(x1632, x1997);
-                x2005 = x2000 + x2002;
-                x2006 = x1190 * x1633;
-                x2007 = x1191 * x1633;
-                x2008 = x1191 * x1627;
-                x2009 = x1190.mul_sub(x1624, x2008);
-                x2010 = x1217 * x1627;
-                x2011 = x1216.mul_add(x2005, x2010);
-                x2012 = x1221 * x1633;
-                x2013 = x1220.mul_add(x2004, x2012);
-                x2014 = x2011 - x2013;
-                x2015 = x1225 * x1633;
-                x2016 = x1220.mul_add(x2003, x2015);
-                x2017 = x1217 * x1624;
-                x2018 = x1228.mul_add(x2005, x2017);
-                x2019 = x2016 - x2018;
-                x2020 = x1221 * x1624;
-                x2021 = x1228.mul_add(x2004, x2020);
-                x2022 = x1225 * x1627;
-                x2023 = x1216.mul_add(x2003, x2022);
-                x2024 = x2021 - x2023;
-                x2025 = x1238 * x1631;
-                x2026 = x1237.mul_add(x2009, x2025);
-                x2027 = x1243 * x1632;
-                x2028 = x1241.mul_add(x2007, x2027);
-                x2029 = x2026 - x2028;
-                x2030 = x1246 * x1632;
-                x2031 = x1241.mul_add(x2006, x2030);
-                x2032 = x1238 * x1629;
-                x2033 = x1249.mul_add(x2009, x2032);
-                x2034 = x2031 + x2033;
-                x2035 = x1243 * x1629;
-                x2036 = x1249.mul_add(x2007, x2035);
-                x2037 = x1246 * x1631;
-                x2038 = x1237.mul_add(x2006, x2037);
-                x2039 = x2036 + x2038;
-                x2040 = x2014 + x2029;
-                x2041 = x2019 - x2034;
-                x2042 = x2024 + x2039;
-                x2043 = x1238 * x1627;
-                x2044 = x1216.mul_add(x2009, x2043);
-                x2045 = x1243 * x1633;
-                x2046 = x1220.mul_add(x2007, x2045);
-                x2047 = x2044 - x2046;
-                x2048 = x1246 * x1633;
-                x2049 = x1220.mul_add(x2006, x2048);
-                x2050 = x1238 * x1624;
-                x2051 = x1228.mul_add(x2009, x2050);
-                x2052 = x2049 + x2051;
-                x2053 = x1243 * x1624;
-                x2054 = x1228.mul_add(x2007, x2053);
-                x2055 = x1246 * x1627;
-                x2056 = x1216.mul_add(x2006, x2055);
-                x2057 = x2054 + x2056;
-                x2058 = x1988 + x2040;
-                x2059 = x1989 + x2041;
-                x2060 = x1990 + x2042;
-                x2061 = x1190.mul_neg_add(x1620, x2047);
-                x2062 = x1191.mul_sub(x1620, x2052);
-                x2063 = x1992 + x2057;
-                x2064 = x1283 * x1683;
-                x2065 = x1282.mul_add(x1682, x2064);
-                x2066 = x1286.mul_add(x1669, x2065);
-                x2067 = x1288 * x1669;
-                x2068 = x1283.mul_add(x1682, x2067);
-                x2069 = x1288 * x1683;
-                x2070 = x1286.mul_add(x1682, x2069);
-                x2071 = x1293.mul_add(x1669, x2070);
-                x2072 = x1295 * x1684;
-                x2073 = x1296.mul_sub(x1685, x2072);
-                x2074 = x1295.mul_neg_add(x1670, x2066);
-                x2075 = x1296.mul_add(x1670, x2068);
-                x2076 = x2071 + x2073;
-                x2077 = x1296 * x1683;
-                x2078 = x1295.mul_sub(x1682, x2077);
-                x2079 = x1283 * x1656;
-                x2080 = x1282.mul_add(x1654, x2079);
-                x2081 = x1286.mul_add(x1664, x2080);
-                x2082 = x1288 * x1664;
-                x2083 = x1283.mul_add(x1654, x2082);
-                x2084 = x1288 * x1656;
-                x2085 = x1286.mul_add(x1654, x2084);
-                x2086 = x1293.mul_add(x1664, x2085);
-                x2087 = x1295 * x1661;
-                x2088 = x1296.mul_sub(x1663, x2087);
-                x2089 = x1295.mul_neg_add(x1658, x2081);
-                x2090 = x1296.mul_add(x1658, x2083);
-                x2091 = x2086 + x2088;
-                x2092 = x1295 * x1664;
-                x2093 = x1296 * x1664;
-                x2094 = x1296 * x1656;
-                x2095 = x1295.mul_sub(x1654, x2094);
-                x2096 = x1322 * x1656;
-                x2097 = x1321.mul_add(x2091, x2096);
-                x2098 = x1326 * x1664;
-                x2099 = x1325.mul_add(x2090, x2098);
-                x2100 = x2097 - x2099;
-                x2101 = x1330 * x1664;
-                x2102 = x1325.mul_add(x2089, x2101);
-                x2103 = x1322 * x1654;
-                x2104 = x1333.mul_add(x2091, x2103);
-                x2105 = x2102 - x2104;
-                x2106 = x1326 * x1654;
-                x2107 = x1333.mul_add(x2090, x2106);
-                x2108 = x1330 * x1656;
-                x2109 = x1321.mul_add(x2089, x2108);
-                x2110 = x2107 - x2109;
-                x2111 = x1343 * x1663;
-                x2112 = x1342.mul_add(x2095, x2111);
-                x2113 = x1347 * x1658;
-                x2114 = x1346.mul_add(x2093, x2113);
-                x2115 = x2112 + x2114;
-                x2116 = x1351 * x1658;
-                x2117 = x1346.mul_add(x2092, x2116);
-                x2118 = x1343 * x1661;
-                x2119 = x1354.mul_add(x2095, x2118);
-                x2120 = x2117 - x2119;
-                x2121 = x1347 * x1661;
-                x2122 = x1354.mul_add(x2093, x2121);
-                x2123 = x1351 * x1663;
-                x2124 = x1342.mul_add(x2092, x2123);
-                x2125 = x2122 + x2124;
-                x2126 = x2100 + x2115;
-                x2127 = x2105 + x2120;
-                x2128 = x2110 + x2125;
-                x2129 = x1343 * x1656;
-                x2130 = x1321.mul_add(x2095, x2129);
-                x2131 = x1347 * x1664;
-                x2132 = x1325.mul_add(x2093, x2131);
-                x2133 = x2130 - x2132;
-                x2134 = x1351 * x1664;
-                x2135 = x1325.mul_add(x2092, x2134);
-                x2136 = x1343 * x1654;
-                x2137 = x1333.mul_add(x2095, x2136);
-                x2138 = x2135 + x2137;
-                x2139 = x1347 * x1654;
-                x2140 = x1333.mul_add(x2093, x2139);
-                x2141 = x1351 * x1656;
-                x2142 = x1321.mul_add(x2092, x2141);
-                x2143 = x2140 + x2142;
-                x2144 = x2074 + x2126;
-                x2145 = x2075 + x2127;
-                x2146 = x2076 + x2128;
-                x2147 = x1295.mul_neg_add(x1669, x2133);
-                x2148 = x1296.mul_sub(x1669, x2138);
-                x2149 = x2078 + x2143;
-                x2150 = x829 * x2148;
-                x2151 = x828.mul_sub(x2147, x2150);
-                x2152 = x828 * x2148;
-                x2153 = x829.mul_add(x2147, x2152);
-                x2154 = x829 * x2145;
-                x2155 = x828.mul_sub(x2144, x2154);
-                x2156 = x828 * x2145;
-                x2157 = x829.mul_add(x2144, x2156);
-                x2158 = x834.mul_add(x2153, x2146);
-                x2159 = x834.mul_neg_add(x2149, x2157);
-                x2160 = x2058 + x2155;
-                x2161 = x2059 - x2158;
-                x2162 = x2060 + x2159;
-                x2163 = x2061 + x2151;
-                x2164 = x2062 - x2149;
-                x2165 = x2063 + x2153;
-                x2166 = x786 * x2164;
-                x2167 = x785.mul_sub(x2163, x2166);
-                x2168 = x785 * x2164;
-                x2169 = x786.mul_add(x2163, x2168);
-                x2170 = x786 * x2161;
-                x2171 = x785.mul_sub(x2160, x2170);
-                x2172 = x785 * x2161;
-                x2173 = x786.mul_add(x2160, x2172);
-                x2174 = x1972 + x2171;
-                x2175 = x1973 - x2162;
-                x2176 = x1974 + x2173;
-                x2177 = x2167 - x1975;
-                x2178 = x1976 - x2165;
-                x2179 = x1977 + x2169;
-                x2180 = x733 * x2178;
-                x2181 = x732.mul_sub(x2177, x2180);
-                x2182 = x732 * x2178;
-                x2183 = x733.mul_add(x2177, x2182);
-                x2184 = x733 * x2175;
-                x2185 = x732.mul_sub(x2174, x2184);
-                x2186 = x732 * x2175;
-                x2187 = x733.mul_add(x2174, x2186);
-                x2188 = x738 * x2181;
-                x2189 = x739.mul_sub(x2179, x2188);
-                x2190 = x738.mul_neg_add(x2183, x2185);
-                x2191 = x739.mul_add(x2183, x2176);
-                x2192 = x2189 - x2187;
-                x2193 = x1886 + x2190;
-                x2194 = x1887 + x2191;
-                x2195 = x1888 + x2192;
-                x2196 = x1889 + x2181;
-                x2197 = x1890 + x2179;
-                x2198 = x688 * x2197;
-                x2199 = x685.mul_sub(x2196, x2198);
-                x2200 = x2183 - x1891;
-                x2201 = x685 * x2197;
-                x2202 = x688.mul_add(x2196, x2201);
-                x2203 = x688 * x2194;
-                x2204 = x685.mul_sub(x2193, x2203);
-                x2205 = x685 * x2194;
-                x2206 = x688.mul_add(x2193, x2205);
-                x2207 = x692.mul_add(x2202, x2195);
-                x2208 = x692.mul_add(x2200, x2206);
-                x2209 = x1801 + x2204;
-                x2210 = x1802 - x2207;
-                x2211 = x1803 + x2208;
-                x2212 = x1804 + x2199;
-                x2213 = x1805 + x2200;
-                x2214 = x1492 * x2213;
-                x2215 = x1491.mul_sub(x2212, x2214);
-                x2216 = x1491 * x2213;
-                x2217 = x1492.mul_add(x2212, x2216);
-                x2218 = x1492 * x2210;
-                x2219 = x1491.mul_sub(x2209, x2218);
-                x2220 = x1491 * x2210;
-                x2221 = x1492.mul_add(x2209, x2220);
-                x2222 = x1501.mul_add(x2217, x2219);
-                x2223 = x1501.mul_neg_add(x2215, x2221);
-                x2224 = x1734 + x2222;
-                x2225 = x1735 - x2211;
-                x2226 = x1736 + x2223;
-                x2227 = x1511 * x2225;
-                x2228 = x1512.mul_add(x2224, x2227);
-                x2229 = -x2228;
-                [x2230, _, _, _, _, _, _, _] = x1515.to_array();
-                [_, x2231, _, _, _, _, _, _] = x1515.to_array();
-                [_, _, x2232, _, _, _, _, _] = x1515.to_array();
-                [_, _, _, x2233, _, _, _, _] = x1515.to_array();
-                [_, _, _, _, x2234, _, _, _] = x1515.to_array();
-                [_, _, _, _, _, x2235, _, _] = x1515.to_array();
-                [_, _, _, _, _, _, x2236, _] = x1515.to_array();
-                [x2237, _, _, _, _, _, _, _] = x1506.to_array();
-                [_, x2238, _, _, _, _, _, _] = x1506.to_array();
-                [_, _, x2239, _, _, _, _, _] = x1506.to_array();
-                [_, _, _, x2240, _, _, _, _] = x1506.to_array();
-                [_, _, _, _, x2241, _, _, _] = x1506.to_array();
-                [_, _, _, _, _, x2242, _, _] = x1506.to_array();
-                [_, _, _, _, _, _, x2243, _] = x1506.to_array();
-                [x2244, _, _, _, _, _, _, _] = x1480.to_array();
-                [_, x2245, _, _, _, _, _, _] = x1480.to_array();
-                [_, _, x2246, _, _, _, _, _] = x1480.to_array();
-                [_, _, _, x2247, _, _, _, _] = x1480.to_array();
-                [_, _, _, _, x2248, _, _, _] = x1480.to_array();
-                [_, _, _, _, _, x2249, _, _] = x1480.to_array();
-                [_, _, _, _, _, _, x2250, _] = x1480.to_array();
-                [x2251, _, _, _, _, _, _, _] = x1456.to_array();
-                [_, x2252, _, _, _, _, _, _] = x1456.to_array();
-                [_, _, x2253, _, _, _, _, _] = x1456.to_array();
-                [_, _, _, x2254, _, _, _, _] = x1456.to_array();
-                [_, _, _, _, x2255, _, _, _] = x1456.to_array();
-                [_, _, _, _, _, x2256, _, _] = x1456.to_array();
-                [_, _, _, _, _, _, x2257, _] = x1456.to_array();
-                [x2258, _, _, _, _, _, _, _] = x1429.to_array();
-                [_, x2259, _, _, _, _, _, _] = x1429.to_array();
-                [_, _, x2260, _, _, _, _, _] = x1429.to_array();
-                [_, _, _, x2261, _, _, _, _] = x1429.to_array();
-                [_, _, _, _, x2262, _, _, _] = x1429.to_array();
-                [_, _, _, _, _, x2263, _, _] = x1429.to_array();
-                [_, _, _, _, _, _, x2264, _] = x1429.to_array();
-                [x2265, _, _, _, _, _, _, _] = x1407.to_array();
-                [_, x2266, _, _, _, _, _, _] = x1407.to_array();
-                [_, _, x2267, _, _, _, _, _] = x1407.to_array();
-                [_, _, _, x2268, _, _, _, _] = x1407.to_array();
-                [_, _, _, _, x2269, _, _, _] = x1407.to_array();
-                [_, _, _, _, _, x2270, _, _] = x1407.to_array();
-                [_, _, _, _, _, _, x2271, _] = x1407.to_array();
-                [x2272, _, _, _, _, _, _, _] = x1383.to_array();
-                [_, x2273, _, _, _, _, _, _] = x1383.to_array();
-                [_, _, x2274, _, _, _, _, _] = x1383.to_array();
-                [_, _, _, x2275, _, _, _, _] = x1383.to_array();
-                [_, _, _, _, x2276, _, _, _] = x1383.to_array();
-                [_, _, _, _, _, x2277, _, _] = x1383.to_array();
-                [_, _, _, _, _, _, x2278, _] = x1383.to_array();
-                [x2279, _, _, _, _, _, _, _] = x2229.to_array();
-                [_, x2280, _, _, _, _, _, _] = x2229.to_array();
-                [_, _, x2281, _, _, _, _, _] = x2229.to_array();
-                [_, _, _, x2282, _, _, _, _] = x2229.to_array();
-                [_, _, _, _, x2283, _, _, _] = x2229.to_array();
-                [_, _, _, _, _, x2284, _, _] = x2229.to_array();
-                [_, _, _, _, _, _, x2285, _] = x2229.to_array();
-                [x2286, _, _, _, _, _, _, _] = x2226.to_array();
-                [_, x2287, _, _, _, _, _, _] = x2226.to_array();
-                [_, _, x2288, _, _, _, _, _] = x2226.to_array();
-                [_, _, _, x2289, _, _, _, _] = x2226.to_array();
-                [_, _, _, _, x2290, _, _, _] = x2226.to_array();
-                [_, _, _, _, _, x2291, _, _] = x2226.to_array();
-                [_, _, _, _, _, _, x2292, _] = x2226.to_array();
-                [x2293, _, _, _, _, _, _, _] = x2211.to_array();
-                [_, x2294, _, _, _, _, _, _] = x2211.to_array();
-                [_, _, x2295, _, _, _, _, _] = x2211.to_array();
-                [_, _, _, x2296, _, _, _, _] = x2211.to_array();
-                [_, _, _, _, x2297, _, _, _] = x2211.to_array();
-                [_, _, _, _, _, x2298, _, _] = x2211.to_array();
-                [_, _, _, _, _, _, x2299, _] = x2211.to_array();
-                [x2300, _, _, _, _, _, _, _] = x2195.to_array();
-                [_, x2301, _, _, _, _, _, _] = x2195.to_array();
-                [_, _, x2302, _, _, _, _, _] = x2195.to_array();
-                [_, _, _, x2303, _, _, _, _] = x2195.to_array();
-                [_, _, _, _, x2304, _, _, _] = x2195.to_array();
-                [_, _, _, _, _, x2305, _, _] = x2195.to_array();
-                [_, _, _, _, _, _, x2306, _] = x2195.to_array();
-                [x2307, _, _, _, _, _, _, _] = x2176.to_array();
-                [_, x2308, _, _, _, _, _, _] = x2176.to_array();
-                [_, _, x2309, _, _, _, _, _] = x2176.to_array();
-                [_, _, _, x2310, _, _, _, _] = x2176.to_array();
-                [_, _, _, _, x2311, _, _, _] = x2176.to_array();
-                [_, _, _, _, _, x2312, _, _] = x2176.to_array();
-                [_, _, _, _, _, _, x2313, _] = x2176.to_array();
-                [x2314, _, _, _, _, _, _, _] = x2162.to_array();
-                [_, x2315, _, _, _, _, _, _] = x2162.to_array();
-                [_, _, x2316, _, _, _, _, _] = x2162.to_array();
-                [_, _, _, x2317, _, _, _, _] = x2162.to_array();
-                [_, _, _, _, x2318, _, _, _] = x2162.to_array();
-                [_, _, _, _, _, x2319, _, _] = x2162.to_array();
-                [_, _, _, _, _, _, x2320, _] = x2162.to_array();
-                [x2321, _, _, _, _, _, _, _] = x2146.to_array();
-                [_, x2322, _, _, _, _, _, _] = x2146.to_array();
-                [_, _, x2323, _, _, _, _, _] = x2146.to_array();
-                [_, _, _, x2324, _, _, _, _] = x2146.to_array();
-                [_, _, _, _, x2325, _, _, _] = x2146.to_array();
-                [_, _, _, _, _, x2326, _, _] = x2146.to_array();
-                [_, _, _, _, _, _, x2327, _] = x2146.to_array();
-                (
-                    SMatrix::from_array_storage(
-                        ArrayStorage([
-                            [x2230, x2237, x2244, x2251, x2258, x2265, x2272],
-                            [x2231, x2238, x2245, x2252, x2259, x2266, x2273],
-                            [x2232, x2239, x2246, x2253, x2260, x2267, x2274],
-                            [x2233, x2240, x2247, x2254, x2261, x2268, x2275],
-                            [x2234, x2241, x2248, x2255, x2262, x2269, x2276],
-                            [x2235, x2242, x2249, x2256, x2263, x2270, x2277],
-                            [x2236, x2243, x2250, x2257, x2264, x2271, x2278],
-                        ]),
-                    ),
-                    SMatrix::from_array_storage(
-                        ArrayStorage([
-                            [x2279, x2286, x2293, x2300, x2307, x2314, x2321],
-                            [x2280, x2287, x2294, x2301, x2308, x2315, x2322],
-                            [x2281, x2288, x2295, x2302, x2309, x2316, x2323],
-                            [x2282, x2289, x2296, x2303, x2310, x2317, x2324],
-                            [x2283, x2290, x2297, x2304, x2311, x2318, x2325],
-                            [x2284, x2291, x2298, x2305, x2312, x2319, x2326],
-                            [x2285, x2292, x2299, x2306, x2313, x2320, x2327],
-                        ]),
-                    ),
-                )
-            }
-        }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, a))
-    }
-    ///Operations: 1053 mul, 873 add/sub, 43 neg, 6 div, and 2417 lane ops (f64x8: each on eight lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
-    #[inline(never)]
-    fn forward_dynamics_derivatives(
-        t: &JointTrig<7>,
-        qd: &SVector<f64, 7>,
-        tau: &SVector<f64, 7>,
-    ) -> (SMatrix<f64, 7, 7>, SMatrix<f64, 7, 7>) {
-        struct Body;
-        impl dyngen_runtime::__private::Kernel<
-            (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
-        > for Body {
-            type Output = (SMatrix<f64, 7, 7>, SMatrix<f64, 7, 7>);
-            #[inline(always)]
-            fn run<M: dyngen_runtime::__private::MulAdd>(
-                arith: M,
-                (t, qd, tau): (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
-            ) -> (SMatrix<f64, 7, 7>, SMatrix<f64, 7, 7>) {
-                use dyngen_runtime::__private::EightLanes as _;
-                let [_, s1, s2, s3, s4, s5, s6] = t.sin;
-                let [_, c1, c2, c3, c4, c5, c6] = t.cos;
-                let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
-                let [tau0, tau1, tau2, tau3, tau4, tau5, tau6] = tau.data.0[0];
-                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
-                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
-                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
-                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
-                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
-                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
-                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
-                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
-                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
-                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
-                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
-                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
-                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
-                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
-                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
-                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
-                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
-                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
-                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
-                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
-                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
-                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
-                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
-                x291, x292, x293, x294, x295, x296, x297, x298, x299, x300, x301, x302,
-                x303, x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
-                x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325, x326,
-                x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337, x338,
-                x339, x340, x341, x342, x343, x344, x345, x346, x347, x348, x349, x350,
-                x351, x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
-                x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373, x374,
-                x375, x376, x377, x378, x379, x380, x381, x382, x383, x384, x385, x386,
-                x387, x388, x389, x390, x391, x392, x393, x394, x395, x396, x397, x398,
-                x399, x400, x401, x402, x403, x404, x405, x406, x407, x408, x409, x410,
-                x411, x412, x413, x414, x415, x416, x417, x418, x419, x420, x421, x422,
-                x423, x424, x425, x426, x427, x428, x429, x430, x431, x432, x433, x434,
-                x435, x436, x437, x438, x439, x440, x441, x442, x443, x444, x445, x446,
-                x447, x448, x449, x450, x451, x452, x453, x454, x455, x456, x457, x458,
-                x459, x460, x461, x462, x463, x464, x465, x466, x467, x468, x469, x470,
-                x471, x472, x473, x474, x475, x476, x477, x478, x479, x480, x481, x482,
-                x483, x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
-                x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505, x506,
-                x507, x508, x509, x510, x511, x512, x513, x514, x515, x516, x517, x518,
-                x519, x520, x521, x522, x523, x524, x525, x526, x527, x528, x529, x530,
-                x531, x532, x533, x534, x535, x536, x537, x538, x539, x540, x541, x542,
-                x543, x544, x545, x546, x547, x548, x549, x550, x551, x552, x553, x554,
-                x555, x556, x557, x558, x559, x560, x561, x562, x563, x564, x565, x566,
-                x567, x568, x569, x570, x571, x572, x573, x574, x575, x576, x577, x578,
-                x579, x580, x581, x582, x583, x584, x585, x586, x587, x588, x589, x590,
-                x591, x592, x593, x594, x595, x596, x597, x598, x599, x600, x601, x602,
-                x603, x604, x605, x606, x607, x608, x609, x610, x611, x612, x613, x614,
-                x615, x616, x617, x618, x619, x620, x621, x622, x623, x624, x625, x626,
-                x627, x628, x629, x630, x631, x632, x633, x634, x635, x636, x637, x638,
-                x639, x640, x641, x642, x643, x644, x645, x646, x647, x648, x649, x650,
-                x651, x652, x653, x654, x655, x656, x657, x658, x659, x660, x661, x662,
-                x663, x664, x665, x666, x667, x668, x669, x670, x671, x672, x673, x674,
-                x675, x676, x677, x678, x679, x680, x681, x682, x683, x684, x685, x686,
-                x687, x688, x689, x690, x691, x692, x693, x694, x695, x696, x697, x698,
-                x699, x700, x701, x702, x703, x704, x705, x706, x707, x708, x709, x710,
-                x711, x712, x713, x714, x715, x716, x717, x718, x719, x720, x721, x722,
-                x723, x724, x725, x726, x727, x728, x729, x730, x731, x732, x733, x734,
-                x735, x736, x737, x738, x739, x740, x741, x742, x743, x744, x745, x746,
-                x747, x748, x749, x750, x751, x752, x753, x754, x755, x756, x757, x758,
-                x759, x760, x761, x762, x763, x764, x765, x766, x767, x768, x769, x770,
-                x771, x772, x773, x774, x775, x776, x777, x778, x779, x780, x781, x782,
-                x783, x784, x785, x786, x787, x788, x789, x790, x791, x792, x793, x794,
-                x795, x796, x797, x798, x799, x800, x801, x802, x803, x804, x805, x806,
-                x807, x808, x809, x810, x811, x812, x813, x814, x815, x816, x817, x818,
-                x819, x820, x821, x822, x823, x824, x825, x826, x827, x828, x829, x830,
-                x831, x832, x833, x834, x835, x836, x837, x838, x839, x840, x841, x842,
-                x843, x844, x845, x846, x847, x848, x849, x850, x851, x852, x853, x854,
-                x855, x856, x857, x858, x859, x860, x861, x862, x863, x864, x865, x866,
-                x867, x868, x869, x870, x871, x872, x873, x874, x875, x876, x877, x878,
-                x879, x880, x881, x882, x883, x884, x885, x886, x887, x888, x889, x890,
-                x891, x892, x893, x894, x895, x896, x897, x898, x899, x900, x901, x902,
-                x903, x904, x905, x906, x907, x908, x909, x910, x911, x912, x913, x914,
-                x915, x916, x917, x918, x919, x920, x921, x922, x923, x924, x925, x926,
-                x927, x928, x929, x930, x931, x932, x933, x934, x935, x936, x937, x938,
-                x939, x940, x941, x942, x943, x944, x945, x946, x947, x948, x949, x950,
-                x951, x952, x953, x954, x955, x956, x957, x958, x959, x960, x961, x962,
-                x963, x964, x965, x966, x967, x968, x969, x970, x971, x972, x973, x974,
-                x975, x976, x977, x978, x979, x980, x981, x982, x983, x984, x985, x986,
-                x987, x988, x989, x990, x991, x992, x993, x994, x995, x996, x997, x998,
-                x999, x1000, x1001, x1002, x1003, x1004, x1005, x1006, x1007, x1008,
-                x1009, x1010, x1011, x1012, x1013, x1014, x1015, x1016, x1017, x1018,
-                x1019, x1020, x1021, x1022, x1023, x1024, x1025, x1026, x1027, x1028,
-                x1029, x1030, x1031, x1032, x1033, x1034, x1035, x1036, x1037, x1038,
-                x1039, x1040, x1041, x1042, x1043, x1044, x1045, x1046, x1047, x1048,
-                x1049, x1050, x1051, x1052, x1053, x1054, x1055, x1056, x1057, x1058,
-                x1059, x1060, x1061, x1062, x1063, x1064, x1065, x1066, x1067, x1068,
-                x1069, x1070, x1071, x1072, x1073, x1074, x1075, x1076, x1077, x1078,
-                x1079, x1080, x1081, x1082, x1083, x1084, x1085, x1086, x1087, x1088,
-                x1089, x1090, x1091, x1092, x1093, x1094, x1095, x1096, x1097, x1098,
-                x1099, x1100, x1101, x1102, x1103, x1104, x1105, x1106, x1107, x1108,
-                x1109, x1110, x1111, x1112, x1113, x1114, x1115, x1116, x1117, x1118,
-                x1119, x1120, x1121, x1122, x1123, x1124, x1125, x1126, x1127, x1128,
-                x1129, x1130, x1131, x1132, x1133, x1134, x1135, x1136, x1137, x1138,
-                x1139, x1140, x1141, x1142, x1143, x1144, x1145, x1146, x1147, x1148,
-                x1149, x1150, x1151, x1152, x1153, x1154, x1155, x1156, x1157, x1158,
-                x1159, x1160, x1161, x1162, x1163, x1164, x1165, x1166, x1167, x1168,
-                x1169, x1170, x1171, x1172, x1173, x1174, x1175, x1176, x1177, x1178,
-                x1179, x1180, x1181, x1182, x1183, x1184, x1185, x1186, x1187, x1188,
-                x1189, x1190, x1191, x1192, x1193, x1194, x1195, x1196, x1197, x1198,
-                x1199, x1200, x1201, x1202, x1203, x1204, x1205, x1206, x1207, x1208,
-                x1209, x1210, x1211, x1212, x1213, x1214, x1215, x1216, x1217, x1218,
-                x1219, x1220, x1221, x1222, x1223, x1224, x1225, x1226, x1227, x1228,
-                x1229, x1230, x1231, x1232, x1233, x1234, x1235, x1236, x1237, x1238,
-                x1239, x1240, x1241, x1242, x1243, x1244, x1245, x1246, x1247, x1248,
-                x1249, x1250, x1251, x1252, x1253, x1254, x1255, x1256, x1257, x1258,
-                x1259, x1260, x1261, x1262, x1263, x1264, x1265, x1266, x1267, x1268,
-                x1269, x1270, x1271, x1272, x1273, x1274, x1275, x1276, x1277, x1278,
-                x1279, x1280, x1281, x1282, x1283, x1284, x1285, x1286, x1287, x1288,
-                x1289, x1290, x1291, x1292, x1293, x1294, x1295, x1296, x1297, x1298,
-                x1299, x1300, x1301, x1302, x1303, x1304, x1305, x1306, x1307, x1308,
-                x1309, x1310, x1311, x1312, x1313, x1314, x1315, x1316, x1317, x1318,
-                x1319, x1320, x1321, x1322, x1323, x1324, x1325, x1326, x1327, x1328,
-                x1329, x1330, x1331, x1332, x1333, x1334, x1335, x1336, x1337, x1338,
-                x1339, x1340, x1341, x1342, x1343, x1344, x1345, x1346, x1347, x1348,
-                x1349, x1350, x1351, x1352, x1353, x1354, x1355, x1356, x1357, x1358,
-                x1359, x1360, x1361, x1362, x1363, x1364, x1365, x1366, x1367, x1368,
-                x1369, x1370, x1371, x1372, x1373, x1374, x1375, x1376, x1377, x1378,
-                x1379, x1380, x1381, x1382, x1383, x1384, x1385, x1912, x1913, x1916,
-                x1917, x1927, x1928, x1930, x1933, x1935, x2090, x2091, x2095, x2099,
-                x2100, x2105, x2106, x2116, x2117, x2121, x2122, x2125, x2126, x3095,
-                x3096, x3097, x3098, x3099, x3100, x3101, x3102, x3103, x3104, x3105,
-                x3106, x3107, x3108, x3109, x3110, x3111, x3112, x3113, x3114, x3115,
-                x3116, x3117, x3118, x3119, x3120, x3121, x3122, x3123, x3124, x3125,
-                x3126, x3127, x3128, x3129, x3130, x3131, x3132, x3133, x3134, x3135,
-                x3136, x3137, x3138, x3139, x3140, x3141, x3142, x3143, x3144, x3145,
-                x3146, x3147, x3148, x3149, x3150, x3151, x3152, x3153, x3154, x3155,
-                x3156, x3157, x3158, x3159, x3160, x3161, x3162, x3163, x3164, x3165,
-                x3166, x3167, x3168, x3169, x3170, x3171, x3172, x3173, x3174, x3175,
-                x3176, x3177, x3178, x3179, x3180, x3181, x3182, x3183, x3184, x3185,
-                x3186, x3187, x3188, x3189, x3190, x3191, x3192]: [f64; 1506];
-                let [x1386, x1387, x1388, x1389, x1390, x1391, x1392, x1393, x1394,
-                x1395, x1396, x1397, x1398, x1399, x1400, x1401, x1402, x1403, x1404,
-                x1405, x1406, x1407, x1408, x1409, x1410, x1411, x1412, x1413, x1414,
-                x1415, x1416, x1417, x1418, x1419, x1420, x1421, x1422, x1423, x1424,
-                x1425, x1426, x1427, x1428, x1429, x1430, x1431, x1432, x1433, x1434,
-                x1435, x1436, x1437, x1438, x1439, x1440, x1441, x1442, x1443, x1444,
-                x1445, x1446, x1447, x1448, x1449, x1450, x1451, x1452, x1453, x1454,
-                x1455, x1456, x1457, x1458, x1459, x1460, x1461, x1462, x1463, x1464,
-                x1465, x1466, x1467, x1468, x1469, x1470, x1471, x1472, x1473, x1474,
-                x1475, x1476, x1477, x1478, x1479, x1480, x1481, x1482, x1483, x1484,
-                x1485, x1486, x1487, x1488, x1489, x1490, x1491, x1492, x1493, x1494,
-                x1495, x1496, x1497, x1498, x1499, x1500, x1501, x1502, x1503, x1504,
-                x1505, x1506, x1507, x1508, x1509, x1510, x1511, x1512, x1513, x1514,
-                x1515, x1516, x1517, x1518, x1519, x1520, x1521, x1522, x1523, x1524,
-                x1525, x1526, x1527, x1528, x1529, x1530, x1531, x1532, x1533, x1534,
-                x1535, x1536, x1537, x1538, x1539, x1540, x1541, x1542, x1543, x1544,
-                x1545, x1546, x1547, x1548, x1549, x1550, x1551, x1552, x1553, x1554,
-                x1555, x1556, x1557, x1558, x1559, x1560, x1561, x1562, x1563, x1564,
-                x1565, x1566, x1567, x1568, x1569, x1570, x1571, x1572, x1573, x1574,
-                x1575, x1576, x1577, x1578, x1579, x1580, x1581, x1582, x1583, x1584,
-                x1585, x1586, x1587, x1588, x1589, x1590, x1591, x1592, x1593, x1594,
-                x1595, x1596, x1597, x1598, x1599, x1600, x1601, x1602, x1603, x1604,
-                x1605, x1606, x1607, x1608, x1609, x1610, x1611, x1612, x1613, x1614,
-                x1615, x1616, x1617, x1618, x1619, x1620, x1621, x1622, x1623, x1624,
-                x1625, x1626, x1627, x1628, x1629, x1630, x1631, x1632, x1633, x1634,
-                x1635, x1636, x1637, x1638, x1639, x1640, x1641, x1642, x1643, x1644,
-                x1645, x1646, x1647, x1648, x1649, x1650, x1651, x1652, x1653, x1654,
-                x1655, x1656, x1657, x1658, x1659, x1660, x1661, x1662, x1663, x1664,
-                x1665, x1666, x1667, x1668, x1669, x1670, x1671, x1672, x1673, x1674,
-                x1675, x1676, x1677, x1678, x1679, x1680, x1681, x1682, x1683, x1684,
-                x1685, x1686, x1687, x1688, x1689, x1690, x1691, x1692, x1693, x1694,
-                x1695, x1696, x1697, x1698, x1699, x1700, x1701, x1702, x1703, x1704,
-                x1705, x1706, x1707, x1708, x1709, x1710, x1711, x1712, x1713, x1714,
-                x1715, x1716, x1717, x1718, x1719, x1720, x1721, x1722, x1723, x1724,
-                x1725, x1726, x1727, x1728, x1729, x1730, x1731, x1732, x1733, x1734,
-                x1735, x1736, x1737, x1738, x1739, x1740, x1741, x1742, x1743, x1744,
-                x1745, x1746, x1747, x1748, x1749, x1750, x1751, x1752, x1753, x1754,
-                x1755, x1756, x1757, x1758, x1759, x1760, x1761, x1762, x1763, x1764,
-                x1765, x1766, x1767, x1768, x1769, x1770, x1771, x1772, x1773, x1774,
-                x1775, x1776, x1777, x1778, x1779, x1780, x1781, x1782, x1783, x1784,
-                x1785, x1786, x1787, x1788, x1789, x1790, x1791, x1792, x1793, x1794,
-                x1795, x1796, x1797, x1798, x1799, x1800, x1801, x1802, x1803, x1804,
-                x1805, x1806, x1807, x1808, x1809, x1810, x1811, x1812, x1813, x1814,
-                x1815, x1816, x1817, x1818, x1819, x1820, x1821, x1822, x1823, x1824,
-                x1825, x1826, x1827, x1828, x1829, x1830, x1831, x1832, x1833, x1834,
-                x1835, x1836, x1837, x1838, x1839, x1840, x1841, x1842, x1843, x1844,
-                x1845, x1846, x1847, x1848, x1849, x1850, x1851, x1852, x1853, x1854,
-                x1855, x1856, x1857, x1858, x1859, x1860, x1861, x1862, x1863, x1864,
-                x1865, x1866, x1867, x1868, x1869, x1870, x1871, x1872, x1873, x1874,
-                x1875, x1876, x1877, x1878, x1879, x1880, x1881, x1882, x1883, x1884,
-                x1885, x1886, x1887, x1888, x1889, x1890, x1891, x1892, x1893, x1894,
-                x1895, x1896, x1897, x1898, x1899, x1900, x1901, x1902, x1903, x1904,
-                x1905, x1906, x1907, x1908, x1909, x1910, x1911, x1914, x1915, x1918,
-                x1919, x1920, x1921, x1922, x1923, x1924, x1925, x1926, x1929, x1931,
-                x1932, x1934, x1936, x1937, x1938, x1939, x1940, x1941, x1942, x1943,
-                x1944, x1945, x1946, x1947, x1948, x1949, x1950, x1951, x1952, x1953,
-                x1954, x1955, x1956, x1957, x1958, x1959, x1960, x1961, x1962, x1963,
-                x1964, x1965, x1966, x1967, x1968, x1969, x1970, x1971, x1972, x1973,
-                x1974, x1975, x1976, x1977, x1978, x1979, x1980, x1981, x1982, x1983,
-                x1984, x1985, x1986, x1987, x1988, x1989, x1990, x1991, x1992, x1993,
-                x1994, x1995, x1996, x1997, x1998, x1999, x2000, x2001, x2002, x2003,
-                x2004, x2005, x2006, x2007, x2008, x2009, x2010, x2011, x2012, x2013,
-                x2014, x2015, x2016, x2017, x2018, x2019, x2020, x2021, x2022, x2023,
-                x2024, x2025, x2026, x2027, x2028, x2029, x2030, x2031, x2032, x2033,
-                x2034, x2035, x2036, x2037, x2038, x2039, x2040, x2041, x2042, x2043,
-                x2044, x2045, x2046, x2047, x2048, x2049, x2050, x2051, x2052, x2053,
-                x2054, x2055, x2056, x2057, x2058, x2059, x2060, x2061, x2062, x2063,
-                x2064, x2065, x2066, x2067, x2068, x2069, x2070, x2071, x2072, x2073,
-                x2074, x2075, x2076, x2077, x2078, x2079, x2080, x2081, x2082, x2083,
-                x2084, x2085, x2086, x2087, x2088, x2089, x2092, x2093, x2094, x2096,
-                x2097, x2098, x2101, x2102, x2103, x2104, x2107, x2108, x2109, x2110,
-                x2111, x2112, x2113, x2114, x2115, x2118, x2119, x2120, x2123, x2124,
-                x2127, x2128, x2129, x2130, x2131, x2132, x2133, x2134, x2135, x2136,
-                x2137, x2138, x2139, x2140, x2141, x2142, x2143, x2144, x2145, x2146,
-                x2147, x2148, x2149, x2150, x2151, x2152, x2153, x2154, x2155, x2156,
-                x2157, x2158, x2159, x2160, x2161, x2162, x2163, x2164, x2165, x2166,
-                x2167, x2168, x2169, x2170, x2171, x2172, x2173, x2174, x2175, x2176,
-                x2177, x2178, x2179, x2180, x2181, x2182, x2183, x2184, x2185, x2186,
-                x2187, x2188, x2189, x2190, x2191, x2192, x2193, x2194, x2195, x2196,
-                x2197, x2198, x2199, x2200, x2201, x2202, x2203, x2204, x2205, x2206,
-                x2207, x2208, x2209, x2210, x2211, x2212, x2213, x2214, x2215, x2216,
-                x2217, x2218, x2219, x2220, x2221, x2222, x2223, x2224, x2225, x2226,
-                x2227, x2228, x2229, x2230, x2231, x2232, x2233, x2234, x2235, x2236,
-                x2237, x2238, x2239, x2240, x2241, x2242, x2243, x2244, x2245, x2246,
-                x2247, x2248, x2249, x2250, x2251, x2252, x2253, x2254, x2255, x2256,
-                x2257, x2258, x2259, x2260, x2261, x2262, x2263, x2264, x2265, x2266,
-                x2267, x2268, x2269, x2270, x2271, x2272, x2273, x2274, x2275, x2276,
-                x2277, x2278, x2279, x2280, x2281, x2282, x2283, x2284, x2285, x2286,
-                x2287, x2288, x2289, x2290, x2291, x2292, x2293, x2294, x2295, x2296,
-                x2297, x2298, x2299, x2300, x2301, x2302, x2303, x2304, x2305, x2306,
-                x2307, x2308, x2309, x2310, x2311, x2312, x2313, x2314, x2315, x2316,
-                x2317, x2318, x2319, x2320, x2321, x2322, x2323, x2324, x2325, x2326,
-                x2327, x2328, x2329, x2330, x2331, x2332, x2333, x2334, x2335, x2336,
-                x2337, x2338, x2339, x2340, x2341, x2342, x2343, x2344, x2345, x2346,
-                x2347, x2348, x2349, x2350, x2351, x2352, x2353, x2354, x2355, x2356,
-                x2357, x2358, x2359, x2360, x2361, x2362, x2363, x2364, x2365, x2366,
-                x2367, x2368, x2369, x2370, x2371, x2372, x2373, x2374, x2375, x2376,
-                x2377, x2378, x2379, x2380, x2381, x2382, x2383, x2384, x2385, x2386,
-                x2387, x2388, x2389, x2390, x2391, x2392, x2393, x2394, x2395, x2396,
-                x2397, x2398, x2399, x2400, x2401, x2402, x2403, x2404, x2405, x2406,
-                x2407, x2408, x2409, x2410, x2411, x2412, x2413, x2414, x2415, x2416,
-                x2417, x2418, x2419, x2420, x2421, x2422, x2423, x2424, x2425, x2426,
-                x2427, x2428, x2429, x2430, x2431, x2432, x2433, x2434, x2435, x2436,
-                x2437, x2438, x2439, x2440, x2441, x2442, x2443, x2444, x2445, x2446,
-                x2447, x2448, x2449, x2450, x2451, x2452, x2453, x2454, x2455, x2456,
-                x2457, x2458, x2459, x2460, x2461, x2462, x2463, x2464, x2465, x2466,
-                x2467, x2468, x2469, x2470, x2471, x2472, x2473, x2474, x2475, x2476,
-                x2477, x2478, x2479, x2480, x2481, x2482, x2483, x2484, x2485, x2486,
-                x2487, x2488, x2489, x2490, x2491, x2492, x2493, x2494, x2495, x2496,
-                x2497, x2498, x2499, x2500, x2501, x2502, x2503, x2504, x2505, x2506,
-                x2507, x2508, x2509, x2510, x2511, x2512, x2513, x2514, x2515, x2516,
-                x2517, x2518, x2519, x2520, x2521, x2522, x2523, x2524, x2525, x2526,
-                x2527, x2528, x2529, x2530, x2531, x2532, x2533, x2534, x2535, x2536,
-                x2537, x2538, x2539, x2540, x2541, x2542, x2543, x2544, x2545, x2546,
-                x2547, x2548, x2549, x2550, x2551, x2552, x2553, x2554, x2555, x2556,
-                x2557, x2558, x2559, x2560, x2561, x2562, x2563, x2564, x2565, x2566,
-                x2567, x2568, x2569, x2570, x2571, x2572, x2573, x2574, x2575, x2576,
-                x2577, x2578, x2579, x2580, x2581, x2582, x2583, x2584, x2585, x2586,
-                x2587, x2588, x2589, x2590, x2591, x2592, x2593, x2594, x2595, x2596,
-                x2597, x2598, x2599, x2600, x2601, x2602, x2603, x2604, x2605, x2606,
-                x2607, x2608, x2609, x2610, x2611, x2612, x2613, x2614, x2615, x2616,
-                x2617, x2618, x2619, x2620, x2621, x2622, x2623, x2624, x2625, x2626,
-                x2627, x2628, x2629, x2630, x2631, x2632, x2633, x2634, x2635, x2636,
-                x2637, x2638, x2639, x2640, x2641, x2642, x2643, x2644, x2645, x2646,
-                x2647, x2648, x2649, x2650, x2651, x2652, x2653, x2654, x2655, x2656,
-                x2657, x2658, x2659, x2660, x2661, x2662, x2663, x2664, x2665, x2666,
-                x2667, x2668, x2669, x2670, x2671, x2672, x2673, x2674, x2675, x2676,
-                x2677, x2678, x2679, x2680, x2681, x2682, x2683, x2684, x2685, x2686,
-                x2687, x2688, x2689, x2690, x2691, x2692, x2693, x2694, x2695, x2696,
-                x2697, x2698, x2699, x2700, x2701, x2702, x2703, x2704, x2705, x2706,
-                x2707, x2708, x2709, x2710, x2711, x2712, x2713, x2714, x2715, x2716,
-                x2717, x2718, x2719, x2720, x2721, x2722, x2723, x2724, x2725, x2726,
-                x2727, x2728, x2729, x2730, x2731, x2732, x2733, x2734, x2735, x2736,
-                x2737, x2738, x2739, x2740, x2741, x2742, x2743, x2744, x2745, x2746,
-                x2747, x2748, x2749, x2750, x2751, x2752, x2753, x2754, x2755, x2756,
-                x2757, x2758, x2759, x2760, x2761, x2762, x2763, x2764, x2765, x2766,
-                x2767, x2768, x2769, x2770, x2771, x2772, x2773, x2774, x2775, x2776,
-                x2777, x2778, x2779, x2780, x2781, x2782, x2783, x2784, x2785, x2786,
-                x2787, x2788, x2789, x2790, x2791, x2792, x2793, x2794, x2795, x2796,
-                x2797, x2798, x2799, x2800, x2801, x2802, x2803, x2804, x2805, x2806,
-                x2807, x2808, x2809, x2810, x2811, x2812, x2813, x2814, x2815, x2816,
-                x2817, x2818, x2819, x2820, x2821, x2822, x2823, x2824, x2825, x2826,
-                x2827, x2828, x2829, x2830, x2831, x2832, x2833, x2834, x2835, x2836,
-                x2837, x2838, x2839, x2840, x2841, x2842, x2843, x2844, x2845, x2846,
-                x2847, x2848, x2849, x2850, x2851, x2852, x2853, x2854, x2855, x2856,
-                x2857, x2858, x2859, x2860, x2861, x2862, x2863, x2864, x2865, x2866,
-                x2867, x2868, x2869, x2870, x2871, x2872, x2873, x2874, x2875, x2876,
-                x2877, x2878, x2879, x2880, x2881, x2882, x2883, x2884, x2885, x2886,
-                x2887, x2888, x2889, x2890, x2891, x2892, x2893, x2894, x2895, x2896,
-                x2897, x2898, x2899, x2900, x2901, x2902, x2903, x2904, x2905, x2906,
-                x2907, x2908, x2909, x2910, x2911, x2912, x2913, x2914, x2915, x2916,
-                x2917, x2918, x2919, x2920, x2921, x2922, x2923, x2924, x2925, x2926,
-                x2927, x2928, x2929, x2930, x2931, x2932, x2933, x2934, x2935, x2936,
-                x2937, x2938, x2939, x2940, x2941, x2942, x2943, x2944, x2945, x2946,
-                x2947, x2948, x2949, x2950, x2951, x2952, x2953, x2954, x2955, x2956,
-                x2957, x2958, x2959, x2960, x2961, x2962, x2963, x2964, x2965, x2966,
-                x2967, x2968, x2969, x2970, x2971, x2972, x2973, x2974, x2975, x2976,
-                x2977, x2978, x2979, x2980, x2981, x2982, x2983, x2984, x2985, x2986,
-                x2987, x2988, x2989, x2990, x2991, x2992, x2993, x2994, x2995, x2996,
-                x2997, x2998, x2999, x3000, x3001, x3002, x3003, x3004, x3005, x3006,
-                x3007, x3008, x3009, x3010, x3011, x3012, x3013, x3014, x3015, x3016,
-                x3017, x3018, x3019, x3020, x3021, x3022, x3023, x3024, x3025, x3026,
-                x3027, x3028, x3029, x3030, x3031, x3032, x3033, x3034, x3035, x3036,
-                x3037, x3038, x3039, x3040, x3041, x3042, x3043, x3044, x3045, x3046,
-                x3047, x3048, x3049, x3050, x3051, x3052, x3053, x3054, x3055, x3056,
-                x3057, x3058, x3059, x3060, x3061, x3062, x3063, x3064, x3065, x3066,
-                x3067, x3068, x3069, x3070, x3071, x3072, x3073, x3074, x3075, x3076,
-                x3077, x3078, x3079, x3080, x3081, x3082, x3083, x3084, x3085, x3086,
-                x3087, x3088, x3089, x3090, x3091, x3092, x3093, x3094,
-                ]: [M::Eight; 1687];
-                x0 = s1 * c2;
-                x1 = -x0;
-                x2 = s1 * s2;
-                x3 = -9.81f64 * s1;
-                x4 = -9.81f64 * c1;
-                x5 = s2 * x3;
-                x6 = 32.80954542685272f64 * s1;
-                x7 = arith.mul_add(0.01993386669246f64, c1, -x6);
-                x8 = 0.27690780075318017f64 * c1;
-                x9 = 7.326676586344321f64 * c1;
-                x10 = qd0 * s1;
-                x11 = -x10;
-                x12 = qd0 * c1;
-                x13 = -x12;
-                x14 = c2 * x10;
-                x15 = qd1 * s2;
-                x16 = x15 - x14;
-                x17 = qd1 * c2;
-                x18 = arith.mul_add(s2, x10, x17);
-                x19 = -0.316f64 * qd1;
-                x20 = 0.316f64 * x10;
-                x21 = c2 * x19;
-                x22 = s2 * x20;
-                x23 = x22 - x21;
-                x24 = c2 * x20;
-                x25 = arith.mul_add(s2, x19, x24);
-                x26 = qd2 + x12;
-                x27 = s3 * x26;
-                x28 = arith.mul_add(c3, x16, x27);
-                x29 = s3 * x16;
-                x30 = arith.mul_add(c3, x26, -x29);
-                x31 = 0.0825f64 * x18;
-                x32 = arith.mul_add(0.0825f64, x26, x25);
-                x33 = c3 * x23;
-                x34 = s3 * x31;
-                x35 = x33 - x34;
-                x36 = c3 * x31;
-                x37 = arith.mul_add(s3, x23, x36);
-                x38 = -x37;
-                x39 = qd3 - x18;
-                x40 = c4 * x28;
-                x41 = s4 * x39;
-                x42 = x40 - x41;
-                x43 = c4 * x39;
-                x44 = arith.mul_add(s4, x28, x43);
-                x45 = -x44;
-                x46 = 0.384f64 * x28;
-                x47 = arith.mul_add(-0.0825f64, x30, -x46);
-                x48 = arith.mul_add(-0.384f64, x39, x35);
-                x49 = arith.mul_add(-0.0825f64, x39, -x37);
-                x50 = x32 + x47;
-                x51 = s4 * x50;
-                x52 = arith.mul_add(c4, x48, x51);
-                x53 = s4 * x48;
-                x54 = c4 * x50;
-                x55 = x54 - x53;
-                x56 = qd4 + x30;
-                x57 = s5 * x56;
-                x58 = arith.mul_add(c5, x42, x57);
-                x59 = s5 * x42;
-                x60 = c5 * x56;
-                x61 = x60 - x59;
-                x62 = s5 * x49;
-                x63 = arith.mul_add(c5, x52, x62);
-                x64 = s5 * x52;
-                x65 = arith.mul_add(c5, x49, -x64);
-                x66 = x53 - x54;
-                x67 = qd5 + x44;
-                x68 = s6 * x67;
-                x69 = arith.mul_add(c6, x58, x68);
-                x70 = s6 * x58;
-                x71 = arith.mul_add(c6, x67, -x70);
-                x72 = x59 - x60;
-                x73 = arith.mul_add(0.088f64, x67, x65);
-                x74 = arith.mul_add(-0.088f64, x61, x66);
-                x75 = s6 * x74;
-                x76 = arith.mul_add(c6, x63, x75);
-                x77 = s6 * x63;
-                x78 = arith.mul_add(c6, x74, -x77);
-                x79 = qd6 + x72;
-                x80 = x21 - x22;
-                x81 = x14 - x15;
-                x82 = x34 - x33;
-                x83 = -x28;
-                x84 = -x52;
-                x85 = x41 - x40;
-                x86 = -x63;
-                x87 = -x58;
-                x88 = -x76;
-                x89 = -x69;
-                x90 = -0.0020344399586617965f64 * s6;
-                x91 = arith.mul_add(0.002573605371338202f64, c6, x90);
-                x92 = 0.0020344399586617965f64 * c6;
-                x93 = arith.mul_add(0.002573605371338202f64, s6, x92);
-                x94 = -0.0003913912816842481f64 * s6;
-                x95 = arith.mul_add(0.0024209437785212354f64, c6, x94);
-                x96 = 0.0003913912816842481f64 * c6;
-                x97 = 0.001255536598272898f64 * s6;
-                x98 = arith.mul_add(-0.0009653051699191116f64, c6, x97);
-                x99 = arith.mul_add(0.0024209437785212354f64, s6, x96);
-                x100 = 0.0003913912816842481f64 * s6;
-                x101 = -0.001255536598272898f64 * c6;
-                x102 = arith.mul_add(-0.0009653051699191116f64, s6, x101);
-                x103 = s6 * x96;
-                x104 = arith.mul_add(c6, x95, -x103);
-                x105 = c6 * x96;
-                x106 = arith.mul_add(s6, x95, x105);
-                x107 = 0.001255536598272898f64 * c6;
-                x108 = arith.mul_add(0.0009653051699191116f64, s6, x107);
-                x109 = c6 * x100;
-                x110 = arith.mul_add(s6, x99, x109);
-                x111 = 0.088f64 * x91;
-                x112 = 0.176f64 * x91;
-                x113 = x104 + x112;
-                x114 = x111 + x111;
-                x115 = x113 - x114;
-                x116 = 0.006684151967360945f64 + x112;
-                x117 = arith.mul_add(-0.088f64, x93, x106);
-                x118 = x110 + x112;
-                x119 = 0.231847552695f64 + x91;
-                x120 = 0.009543771269492206f64 + x115;
-                x121 = 0.014748570382675316f64 - x98;
-                x122 = -0.00010375891721868492f64 + x117;
-                x123 = 0.000093569097314605f64 + x108;
-                x124 = 0.05258828201066731f64 + x118;
-                x125 = 0.17380470556900002f64 * s5;
-                x126 = arith.mul_add(c5, x119, x125);
-                x127 = s5 * x119;
-                x128 = arith.mul_add(-0.17380470556900002f64, c5, x127);
-                x129 = s5 * x121;
-                x130 = arith.mul_add(c5, x120, -x129);
-                x131 = c5 * x121;
-                x132 = arith.mul_add(-s5, x116, x131);
-                x133 = c5 * x122;
-                x134 = s5 * x123;
-                x135 = x133 - x134;
-                x136 = arith.mul_add(s5, x120, x131);
-                x137 = arith.mul_add(c5, x116, x129);
-                x138 = c5 * x123;
-                x139 = arith.mul_add(s5, x122, x138);
-                x140 = s5 * x132;
-                x141 = arith.mul_add(c5, x130, -x140);
-                x142 = x134 - x133;
-                x143 = c5 * x132;
-                x144 = arith.mul_add(s5, x130, x143);
-                x145 = c5 * x137;
-                x146 = arith.mul_add(s5, x136, x145);
-                x147 = -0.014653732538f64 + x126;
-                x148 = 0.067870631425f64 - x93;
-                x149 = 0.030116287133882078f64 + x141;
-                x150 = -0.0015152444733270301f64 + x142;
-                x151 = -0.004600245517563105f64 + x144;
-                x152 = 0.0021640520520981297f64 - x139;
-                x153 = 0.03301859926393551f64 + x146;
-                x154 = c4 * x147;
-                x155 = arith.mul_add(-s4, x148, x154);
-                x156 = s4 * x147;
-                x157 = arith.mul_add(c4, x148, x156);
-                x158 = s4 * x150;
-                x159 = arith.mul_add(c4, x149, -x158);
-                x160 = c4 * x150;
-                x161 = s4 * x124;
-                x162 = x160 - x161;
-                x163 = s4 * x152;
-                x164 = arith.mul_add(c4, x151, -x163);
-                x165 = arith.mul_add(s4, x149, x160);
-                x166 = c4 * x124;
-                x167 = x158 + x166;
-                x168 = c4 * x152;
-                x169 = arith.mul_add(s4, x151, x168);
-                x170 = s4 * x162;
-                x171 = arith.mul_add(c4, x159, -x170);
-                x172 = c4 * x162;
-                x173 = arith.mul_add(s4, x159, x172);
-                x174 = c4 * x167;
-                x175 = arith.mul_add(s4, x165, x174);
-                x176 = -0.0825f64 * x155;
-                x177 = 0.384f64 * x128;
-                x178 = x176 + x177;
-                x179 = 2f64 * x178;
-                x180 = x171 + x179;
-                x181 = x176 + x176;
-                x182 = x180 - x181;
-                x183 = 0.384f64 * x155;
-                x184 = arith.mul_add(-0.0825f64, x128, x183);
-                x185 = x164 - x184;
-                x186 = x153 + x179;
-                x187 = x177 + x177;
-                x188 = x186 - x187;
-                x189 = 0.0825f64 * x157;
-                x190 = x173 + x189;
-                x191 = arith.mul_add(-0.384f64, x157, x169);
-                x192 = x175 + x179;
-                x193 = -0.5527802746499999f64 + x155;
-                x194 = 2.0125235536029997f64 + x128;
-                x195 = 0.647723094939183f64 + x182;
-                x196 = 0.16284087268546082f64 + x185;
-                x197 = 0.0039053550262761003f64 - x190;
-                x198 = -0.0016444875773692705f64 - x191;
-                x199 = 0.7497633672528139f64 + x192;
-                x200 = s3 * x194;
-                x201 = arith.mul_add(c3, x193, -x200);
-                x202 = c3 * x194;
-                x203 = arith.mul_add(s3, x193, x202);
-                x204 = s3 * x196;
-                x205 = arith.mul_add(c3, x195, -x204);
-                x206 = c3 * x196;
-                x207 = arith.mul_add(-s3, x188, x206);
-                x208 = c3 * x197;
-                x209 = s3 * x198;
-                x210 = x208 - x209;
-                x211 = x190 - 0.0039053550262761003f64;
-                x212 = x191 - -0.0016444875773692705f64;
-                x213 = arith.mul_add(s3, x195, x206);
-                x214 = arith.mul_add(c3, x188, x204);
-                x215 = c3 * x198;
-                x216 = arith.mul_add(s3, x197, x215);
-                x217 = s3 * x207;
-                x218 = arith.mul_add(c3, x205, -x217);
-                x219 = x209 - x208;
-                x220 = c3 * x207;
-                x221 = arith.mul_add(s3, x205, x220);
-                x222 = c3 * x212;
-                x223 = arith.mul_add(s3, x211, x222);
-                x224 = c3 * x214;
-                x225 = arith.mul_add(s3, x213, x224);
-                x226 = 0.0825f64 * x201;
-                x227 = 0.165f64 * x201;
-                x228 = x218 + x227;
-                x229 = x226 + x226;
-                x230 = x228 - x229;
-                x231 = x219 - x189;
-                x232 = x199 + x227;
-                x233 = arith.mul_add(-0.0825f64, x203, x221);
-                x234 = x225 + x227;
-                x235 = 0.746857959872f64 + x201;
-                x236 = 0.028227094878000014f64 + x157;
-                x237 = 0.011595864095166043f64 + x230;
-                x238 = -0.00012191242095074308f64 + x231;
-                x239 = -0.005487648106562256f64 + x233;
-                x240 = -0.004377257121839584f64 + x223;
-                x241 = 0.13480070614822143f64 + x234;
-                x242 = s2 * x236;
-                x243 = arith.mul_add(c2, x235, -x242);
-                x244 = c2 * x236;
-                x245 = arith.mul_add(s2, x235, x244);
-                x246 = s2 * x238;
-                x247 = arith.mul_add(c2, x237, -x246);
-                x248 = c2 * x238;
-                x249 = arith.mul_add(-s2, x232, x248);
-                x250 = c2 * x239;
-                x251 = s2 * x240;
-                x252 = x250 - x251;
-                x253 = arith.mul_add(s2, x237, x248);
-                x254 = arith.mul_add(c2, x232, x246);
-                x255 = c2 * x240;
-                x256 = arith.mul_add(s2, x239, x255);
-                x257 = s2 * x249;
-                x258 = arith.mul_add(c2, x247, -x257);
-                x259 = x251 - x250;
-                x260 = c2 * x249;
-                x261 = arith.mul_add(s2, x247, x260);
-                x262 = c2 * x254;
-                x263 = arith.mul_add(s2, x253, x262);
-                x264 = 0.316f64 * x203;
-                x265 = 0.632f64 * x203;
-                x266 = x258 + x265;
-                x267 = -0.316f64 * x243;
-                x268 = x259 - x267;
-                x269 = x241 + x265;
-                x270 = x264 + x264;
-                x271 = x269 - x270;
-                x272 = arith.mul_add(-0.316f64, x245, x256);
-                x273 = x263 + x265;
-                x274 = 1.0706865997634767f64 + x266;
-                x275 = -0.00398335888393552f64 + x268;
-                x276 = 0.01026110182100817f64 + x261;
-                x277 = 0.0007689361029464f64 - x272;
-                x278 = 1.1168423647533403f64 + x273;
-                x279 = s1 * x274;
-                x280 = arith.mul_add(c1, x275, x279);
-                x281 = c1 * x271;
-                x282 = arith.mul_add(s1, x275, x281);
-                x283 = c1 * x277;
-                x284 = arith.mul_add(s1, x276, x283);
-                x285 = c1 * x282;
-                x286 = arith.mul_add(s1, x280, x285);
-                x287 = 0.03733744848940618f64 + x286;
-                x288 = x252 + x267;
-                x289 = arith.mul_add(-0.316f64, x245, x256);
-                x290 = s1 * x288;
-                x291 = arith.mul_add(c1, x241, -x290);
-                x292 = x199 + x226;
-                x293 = c2 * x203;
-                x294 = s2 * x203;
-                x295 = s2 * x292;
-                x296 = arith.mul_add(c2, x210, x295);
-                x297 = c2 * x292;
-                x298 = arith.mul_add(s2, x210, -x297);
-                x299 = arith.mul_add(0.316f64, x294, x296);
-                x300 = arith.mul_add(-0.316f64, x293, x298);
-                x301 = s1 * x299;
-                x302 = arith.mul_add(c1, x216, -x301);
-                x303 = x93 - 0.067870631425f64;
-                x304 = arith.mul_add(c4, x303, -x156);
-                x305 = arith.mul_add(s4, x303, x154);
-                x306 = 0.0825f64 * x305;
-                x307 = arith.mul_add(-0.384f64, x305, x164);
-                x308 = x153 - x306;
-                x309 = arith.mul_add(0.384f64, x304, x169);
-                x310 = c3 * x304;
-                x311 = s3 * x304;
-                x312 = s3 * x308;
-                x313 = arith.mul_add(c3, x307, -x312);
-                x314 = c3 * x308;
-                x315 = arith.mul_add(s3, x307, x314);
-                x316 = arith.mul_add(-0.0825f64, x311, x309);
-                x317 = x306 + x315;
-                x318 = s2 * x305;
-                x319 = arith.mul_add(c2, x310, -x318);
-                x320 = c2 * x305;
-                x321 = arith.mul_add(s2, x310, x320);
-                x322 = s2 * x316;
-                x323 = arith.mul_add(c2, x313, -x322);
-                x324 = c2 * x316;
-                x325 = arith.mul_add(s2, x313, x324);
-                x326 = arith.mul_add(-0.316f64, x321, x323);
-                x327 = arith.mul_add(0.316f64, x319, x325);
-                x328 = s1 * x326;
-                x329 = arith.mul_add(c1, x317, -x328);
-                x330 = arith.mul_add(0.17380470556900002f64, c5, -x127);
-                x331 = c4 * x330;
-                x332 = s4 * x330;
-                x333 = arith.mul_add(c4, x135, x161);
-                x334 = arith.mul_add(-s4, x135, x166);
-                x335 = 0.0825f64 * x332;
-                x336 = 0.384f64 * x331;
-                x337 = arith.mul_add(-0.0825f64, x126, -x336);
-                x338 = arith.mul_add(-0.384f64, x332, x333);
-                x339 = x139 - x335;
-                x340 = x334 + x337;
-                x341 = s3 * x126;
-                x342 = arith.mul_add(c3, x331, -x341);
-                x343 = c3 * x126;
-                x344 = arith.mul_add(s3, x331, x343);
-                x345 = s3 * x339;
-                x346 = arith.mul_add(c3, x338, -x345);
-                x347 = c3 * x339;
-                x348 = arith.mul_add(s3, x338, x347);
-                x349 = arith.mul_add(0.0825f64, x344, x340);
-                x350 = x335 + x348;
-                x351 = s2 * x332;
-                x352 = arith.mul_add(c2, x342, -x351);
-                x353 = c2 * x332;
-                x354 = arith.mul_add(s2, x342, x353);
-                x355 = s2 * x349;
-                x356 = arith.mul_add(c2, x346, x355);
-                x357 = c2 * x349;
-                x358 = arith.mul_add(s2, x346, -x357);
-                x359 = arith.mul_add(-0.316f64, x354, x356);
-                x360 = arith.mul_add(0.316f64, x352, x358);
-                x361 = s1 * x359;
-                x362 = arith.mul_add(c1, x350, -x361);
-                x363 = -0.002573605371338202f64 * s6;
-                x364 = arith.mul_add(-0.0020344399586617965f64, c6, x363);
-                x365 = -0.006684151967360945f64 - x111;
-                x366 = c5 * x364;
-                x367 = s5 * x364;
-                x368 = s5 * x365;
-                x369 = arith.mul_add(c5, x98, -x368);
-                x370 = c5 * x365;
-                x371 = arith.mul_add(s5, x98, x370);
-                x372 = s4 * x91;
-                x373 = arith.mul_add(c4, x366, x372);
-                x374 = s4 * x366;
-                x375 = c4 * x91;
-                x376 = x375 - x374;
-                x377 = s4 * x102;
-                x378 = arith.mul_add(c4, x369, x377);
-                x379 = s4 * x369;
-                x380 = arith.mul_add(c4, x102, -x379);
-                x381 = 0.384f64 * x373;
-                x382 = arith.mul_add(-0.0825f64, x367, -x381);
-                x383 = arith.mul_add(0.384f64, x376, x378);
-                x384 = arith.mul_add(0.0825f64, x376, x371);
-                x385 = x380 + x382;
-                x386 = s3 * x367;
-                x387 = arith.mul_add(c3, x373, -x386);
-                x388 = x374 - x375;
-                x389 = c3 * x367;
-                x390 = arith.mul_add(s3, x373, x389);
-                x391 = s3 * x384;
-                x392 = arith.mul_add(c3, x383, -x391);
-                x393 = c3 * x384;
-                x394 = arith.mul_add(s3, x383, x393);
-                x395 = arith.mul_add(0.0825f64, x390, x385);
-                x396 = arith.mul_add(0.0825f64, x388, x394);
-                x397 = s2 * x388;
-                x398 = arith.mul_add(c2, x387, -x397);
-                x399 = c2 * x388;
-                x400 = arith.mul_add(s2, x387, x399);
-                x401 = s2 * x395;
-                x402 = arith.mul_add(c2, x392, x401);
-                x403 = c2 * x395;
-                x404 = arith.mul_add(s2, x392, -x403);
-                x405 = arith.mul_add(-0.316f64, x400, x402);
-                x406 = arith.mul_add(0.316f64, x398, x404);
-                x407 = s1 * x405;
-                x408 = arith.mul_add(c1, x396, -x407);
-                x409 = -0.01026110182100817f64 * x10;
-                x410 = 0.00398335888393552f64 * x10;
-                x411 = 0.00398335888393552f64 * x12;
-                x412 = 0.028227094878000014f64 * x26;
-                x413 = 0.746857959872f64 * x26;
-                x414 = 0.746857959872f64 * x18;
-                x415 = arith.mul_add(0.028227094878000014f64, x16, -x414);
-                x416 = -0.005487648106562256f64 * x16;
-                x417 = 0.028227094878000014f64 * x23;
-                x418 = -0.00012191242095074308f64 * x16;
-                x419 = 2.0125235536029997f64 * x39;
-                x420 = -0.5527802746499999f64 * x39;
-                x421 = -0.5527802746499999f64 * x30;
-                x422 = arith.mul_add(2.0125235536029997f64, x28, -x421);
-                x423 = 0.0039053550262761003f64 * x28;
-                x424 = 2.0125235536029997f64 * x35;
-                x425 = 0.16284087268546082f64 * x28;
-                x426 = 0.067870631425f64 * x56;
-                x427 = -0.014653732538f64 * x56;
-                x428 = 0.014653732538f64 * x44;
-                x429 = arith.mul_add(0.067870631425f64, x42, -x428);
-                x430 = -0.004600245517563105f64 * x42;
-                x431 = 0.067870631425f64 * x52;
-                x432 = -0.0015152444733270301f64 * x42;
-                x433 = -0.17380470556900002f64 * x67;
-                x434 = 0.231847552695f64 * x67;
-                x435 = 0.231847552695f64 * x61;
-                x436 = arith.mul_add(-0.17380470556900002f64, x58, -x435);
-                x437 = -0.00010375891721868492f64 * x58;
-                x438 = -0.17380470556900002f64 * x63;
-                x439 = 0.014748570382675316f64 * x58;
-                x440 = 0.0020344399586617965f64 * x79;
-                x441 = 0.002573605371338202f64 * x79;
-                x442 = 0.002573605371338202f64 * x71;
-                x443 = arith.mul_add(0.0020344399586617965f64, x69, -x442);
-                x444 = -0.0009653051699191116f64 * x69;
-                x445 = 0.0020344399586617965f64 * x76;
-                x446 = 0.0003913912816842481f64 * x69;
-                x447 = arith.mul_add(-1.0706865997634767f64, x10, x411);
-                x448 = arith.mul_add(0.01026110182100817f64, qd1, x447);
-                x449 = arith.mul_add(0.0007689361029464f64, qd1, x410);
-                x450 = arith.mul_add(-0.0007689361029464f64, x12, x409);
-                x451 = arith.mul_add(1.1168423647533403f64, qd1, x450);
-                x452 = 0.011595864095166043f64 * x16;
-                x453 = arith.mul_add(-0.00012191242095074308f64, x18, x452);
-                x454 = arith.mul_add(-0.005487648106562256f64, x26, x453);
-                x455 = arith.mul_add(-0.004377257121839584f64, x26, x418);
-                x456 = arith.mul_add(-0.004377257121839584f64, x18, x416);
-                x457 = arith.mul_add(0.13480070614822143f64, x26, x456);
-                x458 = arith.mul_add(0.746857959872f64, x25, -x417);
-                x459 = x457 + x458;
-                x460 = 0.647723094939183f64 * x28;
-                x461 = arith.mul_add(0.16284087268546082f64, x30, x460);
-                x462 = arith.mul_add(0.0039053550262761003f64, x39, x461);
-                x463 = arith.mul_add(-0.0016444875773692705f64, x39, x425);
-                x464 = arith.mul_add(-0.0016444875773692705f64, x30, x423);
-                x465 = arith.mul_add(0.7497633672528139f64, x39, x464);
-                x466 = arith.mul_add(0.5527802746499999f64, x37, -x424);
-                x467 = arith.mul_add(-2.0125235536029997f64, x32, x462);
-                x468 = arith.mul_add(-0.5527802746499999f64, x32, x463);
-                x469 = x465 + x466;
-                x470 = 0.030116287133882078f64 * x42;
-                x471 = arith.mul_add(0.0015152444733270301f64, x44, x470);
-                x472 = arith.mul_add(-0.004600245517563105f64, x56, x471);
-                x473 = arith.mul_add(0.0021640520520981297f64, x56, x432);
-                x474 = arith.mul_add(-0.0021640520520981297f64, x44, x430);
-                x475 = arith.mul_add(0.03301859926393551f64, x56, x474);
-                x476 = arith.mul_add(-0.014653732538f64, x55, -x431);
-                x477 = arith.mul_add(0.067870631425f64, x49, x472);
-                x478 = arith.mul_add(0.014653732538f64, x49, x473);
-                x479 = x475 + x476;
-                x480 = 0.009543771269492206f64 * x58;
-                x481 = arith.mul_add(0.014748570382675316f64, x61, x480);
-                x482 = arith.mul_add(-0.00010375891721868492f64, x67, x481);
-                x483 = arith.mul_add(0.000093569097314605f64, x67, x439);
-                x484 = arith.mul_add(0.000093569097314605f64, x61, x437);
-                x485 = arith.mul_add(0.05258828201066731f64, x67, x484);
-                x486 = arith.mul_add(0.231847552695f64, x65, -x438);
-                x487 = arith.mul_add(-0.17380470556900002f64, x66, x482);
-                x488 = arith.mul_add(-0.231847552695f64, x66, x483);
-                x489 = x485 + x486;
-                x490 = 0.0024209437785212354f64 * x69;
-                x491 = arith.mul_add(0.0003913912816842481f64, x71, x490);
-                x492 = arith.mul_add(-0.0009653051699191116f64, x79, x491);
-                x493 = arith.mul_add(-0.001255536598272898f64, x79, x446);
-                x494 = arith.mul_add(-0.001255536598272898f64, x71, x444);
-                x495 = arith.mul_add(0.006684151967360945f64, x79, x494);
-                x496 = arith.mul_add(0.002573605371338202f64, x78, -x445);
-                x497 = arith.mul_add(-0.0020344399586617965f64, x73, x492);
-                x498 = arith.mul_add(0.002573605371338202f64, x73, x493);
-                x499 = x495 + x496;
-                x500 = qd1 * x12;
-                x501 = qd1 * x10;
-                x502 = qd2 * x18;
-                x503 = qd2 * x16;
-                x504 = qd2 * x25;
-                x505 = qd2 * x23;
-                x506 = qd3 * x30;
-                x507 = qd3 * x28;
-                x508 = qd3 * x37;
-                x509 = qd3 * x35;
-                x510 = qd4 * x44;
-                x511 = qd4 * x42;
-                x512 = qd4 * x55;
-                x513 = qd4 * x52;
-                x514 = qd5 * x61;
-                x515 = qd5 * x58;
-                x516 = qd5 * x65;
-                x517 = qd5 * x63;
-                x518 = qd6 * x71;
-                x519 = qd6 * x69;
-                x520 = qd6 * x78;
-                x521 = qd6 * x76;
-                x522 = x12 * x451;
-                x523 = arith.mul_add(qd1, x449, x522);
-                x524 = x10 * x451;
-                x525 = arith.mul_add(qd1, x448, x524);
-                x526 = x10 * x449;
-                x527 = arith.mul_add(x12, x448, -x526);
-                x528 = x26 * x455;
-                x529 = arith.mul_add(x18, x459, -x528);
-                x530 = x16 * x459;
-                x531 = arith.mul_add(x26, x454, -x530);
-                x532 = x18 * x454;
-                x533 = arith.mul_add(x16, x455, -x532);
-                x534 = x25 * x412;
-                x535 = arith.mul_add(x23, x413, x534);
-                x536 = arith.mul_add(x25, x415, x529);
-                x537 = arith.mul_add(-x23, x415, x531);
-                x538 = x533 + x535;
-                x539 = x26 * x413;
-                x540 = arith.mul_add(x18, x415, -x539);
-                x541 = x16 * x415;
-                x542 = arith.mul_add(x26, x412, x541);
-                x543 = x39 * x468;
-                x544 = arith.mul_add(x30, x469, -x543);
-                x545 = x28 * x469;
-                x546 = arith.mul_add(x39, x467, -x545);
-                x547 = x30 * x467;
-                x548 = arith.mul_add(x28, x468, -x547);
-                x549 = x37 * x422;
-                x550 = arith.mul_add(x32, x420, -x549);
-                x551 = x35 * x422;
-                x552 = arith.mul_add(x32, x419, -x551);
-                x553 = x37 * x419;
-                x554 = arith.mul_add(x35, x420, -x553);
-                x555 = x544 + x550;
-                x556 = x546 + x552;
-                x557 = x548 + x554;
-                x558 = x39 * x420;
-                x559 = arith.mul_add(x30, x422, -x558);
-                x560 = x28 * x422;
-                x561 = arith.mul_add(x39, x419, x560);
-                x562 = x30 * x419;
-                x563 = arith.mul_add(x28, x420, x562);
-                x564 = x56 * x478;
-                x565 = arith.mul_add(x44, x479, x564);
-                x566 = x42 * x479;
-                x567 = arith.mul_add(x56, x477, -x566);
-                x568 = x44 * x477;
-                x569 = arith.mul_add(x42, x478, x568);
-                x570 = x49 * x427;
-                x571 = arith.mul_add(x55, x429, -x570);
-                x572 = x52 * x429;
-                x573 = arith.mul_add(x49, x426, x572);
-                x574 = x55 * x426;
-                x575 = arith.mul_add(x52, x427, x574);
-                x576 = x571 - x565;
-                x577 = x567 - x573;
-                x578 = x569 + x575;
-                x579 = x56 * x427;
-                x580 = arith.mul_add(x44, x429, x579);
-                x581 = x42 * x429;
-                x582 = arith.mul_add(x56, x426, x581);
-                x583 = x44 * x426;
-                x584 = arith.mul_add(x42, x427, -x583);
-                x585 = x67 * x488;
-                x586 = arith.mul_add(x61, x489, -x585);
-                x587 = x58 * x489;
-                x588 = arith.mul_add(x67, x487, -x587);
-                x589 = x61 * x487;
-                x590 = arith.mul_add(x58, x488, -x589);
-                x591 = x66 * x434;
-                x592 = arith.mul_add(x65, x436, -x591);
-                x593 = x63 * x436;
-                x594 = arith.mul_add(x66, x433, x593);
-                x595 = x65 * x433;
-                x596 = arith.mul_add(x63, x434, x595);
-                x597 = x586 + x592;
-                x598 = x588 - x594;
-                x599 = x590 + x596;
-                x600 = x67 * x434;
-                x601 = arith.mul_add(x61, x436, -x600);
-                x602 = x58 * x436;
-                x603 = arith.mul_add(x67, x433, x602);
-                x604 = x61 * x433;
-                x605 = arith.mul_add(x58, x434, x604);
-                x606 = x79 * x498;
-                x607 = arith.mul_add(x71, x499, -x606);
-                x608 = x69 * x499;
-                x609 = arith.mul_add(x79, x497, -x608);
-                x610 = x71 * x497;
-                x611 = arith.mul_add(x69, x498, -x610);
-                x612 = x73 * x441;
-                x613 = arith.mul_add(x78, x443, x612);
-                x614 = x76 * x443;
-                x615 = arith.mul_add(x73, x440, -x614);
-                x616 = x78 * x440;
-                x617 = arith.mul_add(x76, x441, x616);
-                x618 = x607 + x613;
-                x619 = x609 + x615;
-                x620 = x611 + x617;
-                x621 = x79 * x441;
-                x622 = arith.mul_add(x71, x443, -x621);
-                x623 = x69 * x443;
-                x624 = arith.mul_add(x79, x440, x623);
-                x625 = x71 * x440;
-                x626 = arith.mul_add(x69, x441, x625);
-                x627 = 149.6076098932297f64 * x102;
-                x628 = arith.mul_add(-x102, x627, x124);
-                x629 = arith.mul_add(-x371, x627, x139);
-                x630 = arith.mul_add(-x385, x627, x340);
-                x631 = arith.mul_add(-x396, x627, x350);
-                x632 = arith.mul_add(-x406, x627, x360);
-                x633 = arith.mul_add(-x408, x627, x362);
-                x634 = 149.6076098932297f64 * x371;
-                x635 = arith.mul_add(-x371, x634, x153);
-                x636 = arith.mul_add(x385, x634, x309);
-                x637 = arith.mul_add(-x396, x634, x317);
-                x638 = arith.mul_add(-x406, x634, x327);
-                x639 = arith.mul_add(-x408, x634, x329);
-                x640 = 149.6076098932297f64 * x385;
-                x641 = arith.mul_add(-x385, x640, x199);
-                x642 = arith.mul_add(-x396, x640, x216);
-                x643 = arith.mul_add(-x406, x640, x300);
-                x644 = arith.mul_add(-x408, x640, x302);
-                x645 = 149.6076098932297f64 * x396;
-                x646 = arith.mul_add(-x396, x645, x241);
-                x647 = arith.mul_add(-x406, x645, x289);
-                x648 = arith.mul_add(-x408, x645, x291);
-                x649 = 149.6076098932297f64 * x406;
-                x650 = arith.mul_add(-x406, x649, x278);
-                x651 = arith.mul_add(x408, x649, x284);
-                x652 = 149.6076098932297f64 * x408;
-                x653 = arith.mul_add(-x408, x652, x287);
-                x654 = 1f64 / x628;
-                x655 = x629 * x654;
-                x656 = arith.mul_add(-x629, x655, x635);
-                x657 = arith.mul_add(x630, x655, x636);
-                x658 = arith.mul_add(-x631, x655, x637);
-                x659 = arith.mul_add(-x632, x655, x638);
-                x660 = arith.mul_add(-x633, x655, x639);
-                x661 = x630 * x654;
-                x662 = arith.mul_add(-x630, x661, x641);
-                x663 = arith.mul_add(-x631, x661, x642);
-                x664 = arith.mul_add(-x632, x661, x643);
-                x665 = arith.mul_add(-x633, x661, x644);
-                x666 = x631 * x654;
-                x667 = arith.mul_add(-x631, x666, x646);
-                x668 = arith.mul_add(-x632, x666, x647);
-                x669 = arith.mul_add(-x633, x666, x648);
-                x670 = x632 * x654;
-                x671 = arith.mul_add(-x632, x670, x650);
-                x672 = arith.mul_add(x633, x670, x651);
-                x673 = x633 * x654;
-                x674 = arith.mul_add(-x633, x673, x653);
-                x675 = 1f64 / x656;
-                x676 = x657 * x675;
-                x677 = arith.mul_add(-x657, x676, x662);
-                x678 = arith.mul_add(x658, x676, x663);
-                x679 = arith.mul_add(x659, x676, x664);
-                x680 = arith.mul_add(x660, x676, x665);
-                x681 = x658 * x675;
-                x682 = arith.mul_add(-x658, x681, x667);
-                x683 = arith.mul_add(-x659, x681, x668);
-                x684 = arith.mul_add(-x660, x681, x669);
-                x685 = x659 * x675;
-                x686 = arith.mul_add(-x659, x685, x671);
-                x687 = arith.mul_add(x660, x685, x672);
-                x688 = x660 * x675;
-                x689 = arith.mul_add(-x660, x688, x674);
-                x690 = 1f64 / x677;
-                x691 = x678 * x690;
-                x692 = arith.mul_add(-x678, x691, x682);
-                x693 = arith.mul_add(-x679, x691, x683);
-                x694 = arith.mul_add(-x680, x691, x684);
-                x695 = x679 * x690;
-                x696 = arith.mul_add(-x679, x695, x686);
-                x697 = arith.mul_add(x680, x695, x687);
-                x698 = x680 * x690;
-                x699 = arith.mul_add(-x680, x698, x689);
-                x700 = 1f64 / x692;
-                x701 = x693 * x700;
-                x702 = arith.mul_add(-x693, x701, x696);
-                x703 = arith.mul_add(x694, x701, x697);
-                x704 = x694 * x700;
-                x705 = arith.mul_add(-x694, x704, x699);
-                x706 = 1f64 / x702;
-                x707 = x703 * x706;
-                x708 = arith.mul_add(-x703, x707, x705);
-                x709 = 1f64 / x708;
-                x710 = s2 * x500;
-                x711 = 0.316f64 * x500;
-                x712 = s2 * x711;
-                x713 = arith.mul_add(c2, x3, x712);
-                x714 = arith.mul_add(c2, x711, -x5);
-                x715 = arith.mul_add(-c2, x500, x502);
-                x716 = x710 - x503;
-                x717 = x504 + x713;
-                x718 = x714 - x505;
-                x719 = s3 * x501;
-                x720 = arith.mul_add(c3, x715, -x719);
-                x721 = c3 * x501;
-                x722 = arith.mul_add(s3, x715, x721);
-                x723 = x503 - x710;
-                x724 = arith.mul_add(-0.0825f64, x501, x718);
-                x725 = arith.mul_add(0.0825f64, x716, x4);
-                x726 = s3 * x725;
-                x727 = arith.mul_add(c3, x717, -x726);
-                x728 = c3 * x725;
-                x729 = arith.mul_add(s3, x717, x728);
-                x730 = x506 + x720;
-                x731 = x507 + x722;
-                x732 = x727 - x508;
-                x733 = x509 + x729;
-                x734 = s4 * x723;
-                x735 = arith.mul_add(c4, x730, -x734);
-                x736 = c4 * x723;
-                x737 = arith.mul_add(s4, x730, x736);
-                x738 = 0.384f64 * x730;
-                x739 = arith.mul_add(0.0825f64, x731, -x738);
-                x740 = arith.mul_add(-0.384f64, x723, x732);
-                x741 = arith.mul_add(-0.0825f64, x723, -x733);
-                x742 = x724 + x739;
-                x743 = s4 * x742;
-                x744 = arith.mul_add(c4, x740, x743);
-                x745 = s4 * x740;
-                x746 = arith.mul_add(c4, x742, -x745);
-                x747 = x735 - x510;
-                x748 = x511 + x737;
-                x749 = x512 + x744;
-                x750 = x746 - x513;
-                x751 = s5 * x731;
-                x752 = arith.mul_add(c5, x747, -x751);
-                x753 = c5 * x731;
-                x754 = arith.mul_add(s5, x747, x753);
-                x755 = s5 * x741;
-                x756 = arith.mul_add(c5, x749, x755);
-                x757 = s5 * x749;
-                x758 = arith.mul_add(c5, x741, -x757);
-                x759 = x513 - x746;
-                x760 = x514 + x752;
-                x761 = x515 + x754;
-                x762 = x516 + x756;
-                x763 = x758 - x517;
-                x764 = s6 * x748;
-                x765 = arith.mul_add(c6, x760, x764);
-                x766 = s6 * x760;
-                x767 = arith.mul_add(c6, x748, -x766);
-                x768 = arith.mul_add(0.088f64, x748, x763);
-                x769 = arith.mul_add(0.088f64, x761, x759);
-                x770 = s6 * x769;
-                x771 = arith.mul_add(c6, x762, x770);
-                x772 = s6 * x762;
-                x773 = arith.mul_add(c6, x769, -x772);
-                x774 = x518 + x765;
-                x775 = x767 - x519;
-                x776 = x520 + x771;
-                x777 = x773 - x521;
-                x778 = -0.00398335888393552f64 * x501;
-                x779 = arith.mul_add(-1.0706865997634767f64, x500, x778);
-                x780 = 0.0007689361029464f64 * x501;
-                x781 = arith.mul_add(-0.01026110182100817f64, x500, x780);
-                x782 = x7 + x781;
-                x783 = x779 - x523;
-                x784 = arith.mul_add(0.00398335888393552f64, x500, x525);
-                x785 = x527 + x782;
-                x786 = -0.00012191242095074308f64 * x716;
-                x787 = arith.mul_add(0.011595864095166043f64, x715, x786);
-                x788 = arith.mul_add(0.005487648106562256f64, x501, x787);
-                x789 = 0.004377257121839584f64 * x501;
-                x790 = arith.mul_add(-0.00012191242095074308f64, x715, x789);
-                x791 = -0.004377257121839584f64 * x716;
-                x792 = arith.mul_add(-0.005487648106562256f64, x715, x791);
-                x793 = arith.mul_add(-0.13480070614822143f64, x501, x792);
-                x794 = 0.028227094878000014f64 * x717;
-                x795 = arith.mul_add(0.746857959872f64, x718, -x794);
-                x796 = x8 + x788;
-                x797 = x790 - x9;
-                x798 = x793 + x795;
-                x799 = x536 + x796;
-                x800 = x537 + x797;
-                x801 = x538 + x798;
-                x802 = arith.mul_add(0.028227094878000014f64, x501, x540);
-                x803 = arith.mul_add(-0.746857959872f64, x501, -x542);
-                x804 = -0.16284087268546082f64 * x731;
-                x805 = arith.mul_add(0.647723094939183f64, x730, x804);
-                x806 = arith.mul_add(0.0039053550262761003f64, x723, x805);
-                x807 = -0.0016444875773692705f64 * x723;
-                x808 = arith.mul_add(0.16284087268546082f64, x730, x807);
-                x809 = 0.0016444875773692705f64 * x731;
-                x810 = arith.mul_add(0.0039053550262761003f64, x730, x809);
-                x811 = arith.mul_add(0.7497633672528139f64, x723, x810);
-                x812 = 2.0125235536029997f64 * x732;
-                x813 = arith.mul_add(0.5527802746499999f64, x733, -x812);
-                x814 = arith.mul_add(-2.0125235536029997f64, x724, x806);
-                x815 = arith.mul_add(-0.5527802746499999f64, x724, x808);
-                x816 = x811 + x813;
-                x817 = 0.5527802746499999f64 * x731;
-                x818 = arith.mul_add(2.0125235536029997f64, x730, -x817);
-                x819 = x555 + x814;
-                x820 = x556 + x815;
-                x821 = x557 + x816;
-                x822 = arith.mul_add(-2.0125235536029997f64, x723, x559);
-                x823 = arith.mul_add(-0.5527802746499999f64, x723, -x561);
-                x824 = x563 + x818;
-                x825 = 0.0015152444733270301f64 * x748;
-                x826 = arith.mul_add(0.030116287133882078f64, x747, x825);
-                x827 = arith.mul_add(0.004600245517563105f64, x731, x826);
-                x828 = -0.0021640520520981297f64 * x731;
-                x829 = arith.mul_add(-0.0015152444733270301f64, x747, x828);
-                x830 = -0.0021640520520981297f64 * x748;
-                x831 = arith.mul_add(-0.004600245517563105f64, x747, x830);
-                x832 = arith.mul_add(-0.03301859926393551f64, x731, x831);
-                x833 = 0.067870631425f64 * x749;
-                x834 = arith.mul_add(-0.014653732538f64, x750, -x833);
-                x835 = arith.mul_add(0.067870631425f64, x741, x827);
-                x836 = arith.mul_add(0.014653732538f64, x741, x829);
-                x837 = x832 + x834;
-                x838 = 0.014653732538f64 * x748;
-                x839 = arith.mul_add(0.067870631425f64, x747, -x838);
-                x840 = x576 + x835;
-                x841 = x577 + x836;
-                x842 = x578 + x837;
-                x843 = arith.mul_add(-0.067870631425f64, x731, x580);
-                x844 = arith.mul_add(0.014653732538f64, x731, -x582);
-                x845 = x584 + x839;
-                x846 = -0.014748570382675316f64 * x761;
-                x847 = arith.mul_add(0.009543771269492206f64, x760, x846);
-                x848 = arith.mul_add(-0.00010375891721868492f64, x748, x847);
-                x849 = 0.000093569097314605f64 * x748;
-                x850 = arith.mul_add(0.014748570382675316f64, x760, x849);
-                x851 = -0.000093569097314605f64 * x761;
-                x852 = arith.mul_add(-0.00010375891721868492f64, x760, x851);
-                x853 = arith.mul_add(0.05258828201066731f64, x748, x852);
-                x854 = -0.17380470556900002f64 * x762;
-                x855 = arith.mul_add(0.231847552695f64, x763, -x854);
-                x856 = arith.mul_add(-0.17380470556900002f64, x759, x848);
-                x857 = arith.mul_add(-0.231847552695f64, x759, x850);
-                x858 = x853 + x855;
-                x859 = -0.231847552695f64 * x761;
-                x860 = arith.mul_add(-0.17380470556900002f64, x760, -x859);
-                x861 = x597 + x856;
-                x862 = x598 + x857;
-                x863 = x599 + x858;
-                x864 = arith.mul_add(0.17380470556900002f64, x748, x601);
-                x865 = arith.mul_add(0.231847552695f64, x748, -x603);
-                x866 = x605 + x860;
-                x867 = 0.0003913912816842481f64 * x775;
-                x868 = arith.mul_add(0.0024209437785212354f64, x774, x867);
-                x869 = arith.mul_add(-0.0009653051699191116f64, x761, x868);
-                x870 = -0.001255536598272898f64 * x761;
-                x871 = arith.mul_add(0.0003913912816842481f64, x774, x870);
-                x872 = -0.001255536598272898f64 * x775;
-                x873 = arith.mul_add(-0.0009653051699191116f64, x774, x872);
-                x874 = arith.mul_add(0.006684151967360945f64, x761, x873);
-                x875 = 0.0020344399586617965f64 * x776;
-                x876 = arith.mul_add(0.002573605371338202f64, x777, -x875);
-                x877 = arith.mul_add(-0.0020344399586617965f64, x768, x869);
-                x878 = arith.mul_add(0.002573605371338202f64, x768, x871);
-                x879 = x874 + x876;
-                x880 = 0.002573605371338202f64 * x775;
-                x881 = arith.mul_add(0.0020344399586617965f64, x774, -x880);
-                x882 = x618 + x877;
-                x883 = x619 + x878;
-                x884 = x620 + x879;
-                x885 = arith.mul_add(-0.0020344399586617965f64, x761, x622);
-                x886 = arith.mul_add(0.002573605371338202f64, x761, -x624);
-                x887 = x626 + x881;
-                x888 = s6 * x886;
-                x889 = arith.mul_add(c6, x885, -x888);
-                x890 = c6 * x886;
-                x891 = arith.mul_add(s6, x885, x890);
-                x892 = s6 * x883;
-                x893 = arith.mul_add(c6, x882, -x892);
-                x894 = c6 * x883;
-                x895 = arith.mul_add(s6, x882, x894);
-                x896 = arith.mul_add(0.088f64, x891, x884);
-                x897 = arith.mul_add(-0.088f64, x887, x895);
-                x898 = x861 + x893;
-                x899 = x862 - x896;
-                x900 = x863 + x897;
-                x901 = x864 + x889;
-                x902 = x865 - x887;
-                x903 = x866 + x891;
-                x904 = s5 * x902;
-                x905 = arith.mul_add(c5, x901, -x904);
-                x906 = c5 * x902;
-                x907 = arith.mul_add(s5, x901, x906);
-                x908 = s5 * x899;
-                x909 = arith.mul_add(c5, x898, -x908);
-                x910 = c5 * x899;
-                x911 = arith.mul_add(s5, x898, x910);
-                x912 = x840 + x909;
-                x913 = x841 - x900;
-                x914 = x842 + x911;
-                x915 = x905 - x843;
-                x916 = x844 - x903;
-                x917 = x845 + x907;
-                x918 = s4 * x916;
-                x919 = arith.mul_add(c4, x915, -x918);
-                x920 = c4 * x916;
-                x921 = arith.mul_add(s4, x915, x920);
-                x922 = s4 * x913;
-                x923 = arith.mul_add(c4, x912, -x922);
-                x924 = c4 * x913;
-                x925 = arith.mul_add(s4, x912, x924);
-                x926 = 0.384f64 * x919;
-                x927 = arith.mul_add(-0.0825f64, x917, -x926);
-                x928 = arith.mul_add(-0.384f64, x921, x923);
-                x929 = arith.mul_add(-0.0825f64, x921, x914);
-                x930 = x927 - x925;
-                x931 = x819 + x928;
-                x932 = x820 + x929;
-                x933 = x821 + x930;
-                x934 = x822 + x919;
-                x935 = x823 + x917;
-                x936 = s3 * x935;
-                x937 = arith.mul_add(c3, x934, -x936);
-                x938 = x921 - x824;
-                x939 = c3 * x935;
-                x940 = arith.mul_add(s3, x934, x939);
-                x941 = s3 * x932;
-                x942 = arith.mul_add(c3, x931, -x941);
-                x943 = c3 * x932;
-                x944 = arith.mul_add(s3, x931, x943);
-                x945 = arith.mul_add(0.0825f64, x940, x933);
-                x946 = arith.mul_add(0.0825f64, x938, x944);
-                x947 = x799 + x942;
-                x948 = x800 - x945;
-                x949 = x801 + x946;
-                x950 = x802 + x937;
-                x951 = x803 + x938;
-                x952 = s2 * x951;
-                x953 = arith.mul_add(c2, x950, -x952);
-                x954 = c2 * x951;
-                x955 = arith.mul_add(s2, x950, x954);
-                x956 = s2 * x948;
-                x957 = arith.mul_add(c2, x947, -x956);
-                x958 = c2 * x948;
-                x959 = arith.mul_add(s2, x947, x958);
-                x960 = arith.mul_add(-0.316f64, x955, x957);
-                x961 = arith.mul_add(0.316f64, x953, x959);
-                x962 = x783 + x960;
-                x963 = x784 - x949;
-                x964 = x785 + x961;
-                x965 = c1 * x963;
-                x966 = arith.mul_add(s1, x962, x965);
-                x967 = tau0 + x966;
-                x968 = tau1 - x964;
-                x969 = tau2 - x949;
-                x970 = tau3 - x933;
-                x971 = tau4 - x914;
-                x972 = tau5 - x900;
-                x973 = tau6 - x884;
-                x974 = arith.mul_add(-x627, x973, x972);
-                x975 = arith.mul_add(-x634, x973, x971);
-                x976 = arith.mul_add(-x640, x973, x970);
-                x977 = arith.mul_add(-x645, x973, x969);
-                x978 = arith.mul_add(-x649, x973, x968);
-                x979 = arith.mul_add(-x652, x973, x967);
-                x980 = arith.mul_add(-x655, x974, x975);
-                x981 = arith.mul_add(-x661, x974, x976);
-                x982 = arith.mul_add(-x666, x974, x977);
-                x983 = arith.mul_add(-x670, x974, x978);
-                x984 = arith.mul_add(-x673, x974, x979);
-                x985 = arith.mul_add(x676, x980, x981);
-                x986 = arith.mul_add(-x681, x980, x982);
-                x987 = arith.mul_add(-x685, x980, x983);
-                x988 = arith.mul_add(-x688, x980, x984);
-                x989 = arith.mul_add(-x691, x985, x986);
-                x990 = arith.mul_add(-x695, x985, x987);
-                x991 = arith.mul_add(-x698, x985, x988);
-                x992 = arith.mul_add(-x701, x989, x990);
-                x993 = arith.mul_add(-x704, x989, x991);
-                x994 = arith.mul_add(x707, x992, x993);
-                x995 = x709 * x994;
-                x996 = x707 * x995;
-                x997 = arith.mul_add(x706, x992, x996);
-                x998 = x704 * x995;
-                x999 = arith.mul_add(x700, x989, -x998);
-                x1000 = arith.mul_add(-x701, x997, x999);
-                x1001 = x698 * x995;
-                x1002 = arith.mul_add(x690, x985, -x1001);
-                x1003 = arith.mul_add(-x695, x997, x1002);
-                x1004 = arith.mul_add(-x691, x1000, x1003);
-                x1005 = x688 * x995;
-                x1006 = arith.mul_add(x675, x980, -x1005);
-                x1007 = arith.mul_add(-x685, x997, x1006);
-                x1008 = arith.mul_add(-x681, x1000, x1007);
-                x1009 = arith.mul_add(x676, x1004, x1008);
-                x1010 = x673 * x995;
-                x1011 = arith.mul_add(x654, x974, -x1010);
-                x1012 = arith.mul_add(-x670, x997, x1011);
-                x1013 = arith.mul_add(-x666, x1000, x1012);
-                x1014 = arith.mul_add(-x661, x1004, x1013);
-                x1015 = arith.mul_add(-x655, x1009, x1014);
-                x1016 = x652 * x995;
-                x1017 = arith.mul_add(149.6076098932297f64, x973, -x1016);
-                x1018 = arith.mul_add(-x649, x997, x1017);
-                x1019 = arith.mul_add(-x645, x1000, x1018);
-                x1020 = arith.mul_add(-x640, x1004, x1019);
-                x1021 = arith.mul_add(-x634, x1009, x1020);
-                x1022 = arith.mul_add(-x627, x1015, x1021);
-                x1023 = c2 * x12;
-                x1024 = -x1023;
-                x1025 = s2 * x12;
-                x1026 = 0.316f64 * x12;
-                x1027 = s2 * x1026;
-                x1028 = c2 * x1026;
-                x1029 = s2 * x4;
-                x1030 = s3 * x10;
-                x1031 = -x1030;
-                x1032 = c3 * x10;
-                x1033 = -x1032;
-                x1034 = -0.0825f64 * x10;
-                x1035 = -x1034;
-                x1036 = 32.80954542685272f64 * c1;
-                x1037 = arith.mul_add(-0.01993386669246f64, s1, -x1036);
-                x1038 = -0.00398335888393552f64 * x10;
-                x1039 = arith.mul_add(-1.0706865997634767f64, x12, x1038);
-                x1040 = 0.0007689361029464f64 * x10;
-                x1041 = arith.mul_add(-0.01026110182100817f64, x12, x1040);
-                x1042 = arith.mul_add(-x12, x1041, x524);
-                x1043 = arith.mul_add(-qd1, x411, x1042);
-                x1044 = arith.mul_add(x10, x1041, x522);
-                x1045 = arith.mul_add(qd1, x1039, x1044);
-                x1046 = x12 * x449;
-                x1047 = arith.mul_add(x10, x411, x1046);
-                x1048 = x12 * x1039;
-                x1049 = arith.mul_add(x10, x448, -x1048);
-                x1050 = x1047 + x1049;
-                x1051 = -0.27690780075318017f64 * s1;
-                x1052 = -7.326676586344321f64 * s1;
-                x1053 = -x1052;
-                x1054 = 0.005487648106562256f64 * x10;
-                x1055 = 0.004377257121839584f64 * x10;
-                x1056 = -0.13480070614822143f64 * x10;
-                x1057 = -0.028227094878000014f64 * x10;
-                x1058 = -0.746857959872f64 * x10;
-                x1059 = x10 * x455;
-                x1060 = -x1059;
-                x1061 = x10 * x454;
-                x1062 = -x1061;
-                x1063 = x23 * x1058;
-                x1064 = x25 * x1057;
-                x1065 = -x1064;
-                x1066 = x10 * x413;
-                x1067 = arith.mul_add(x26, x1058, -x1066);
-                x1068 = x26 * x1057;
-                x1069 = arith.mul_add(x10, x412, -x1068);
-                x1070 = c1 * x995;
-                x1071 = arith.mul_add(s1, x995, x500);
-                x1072 = x501 - x1070;
-                x1073 = c2 * x1071;
-                x1074 = s2 * x997;
-                x1075 = x1074 - x1073;
-                x1076 = c2 * x997;
-                x1077 = arith.mul_add(s2, x1071, x1076);
-                x1078 = x1070 - x501;
-                x1079 = 0.316f64 * x1071;
-                x1080 = arith.mul_add(0.316f64, x997, x3);
-                x1081 = s2 * x1079;
-                x1082 = arith.mul_add(c2, x1080, x1081);
-                x1083 = s2 * x1080;
-                x1084 = arith.mul_add(c2, x1079, -x1083);
-                x1085 = x1000 + x1078;
-                x1086 = x502 + x1075;
-                x1087 = x1077 - x503;
-                x1088 = x504 + x1082;
-                x1089 = x1084 - x505;
-                x1090 = s3 * x1085;
-                x1091 = arith.mul_add(c3, x1086, x1090);
-                x1092 = s3 * x1086;
-                x1093 = arith.mul_add(c3, x1085, -x1092);
-                x1094 = x503 - x1077;
-                x1095 = arith.mul_add(0.0825f64, x1085, x1089);
-                x1096 = arith.mul_add(0.0825f64, x1087, x4);
-                x1097 = c3 * x1088;
-                x1098 = s3 * x1096;
-                x1099 = x1097 - x1098;
-                x1100 = c3 * x1096;
-                x1101 = arith.mul_add(s3, x1088, x1100);
-                x1102 = -x1101;
-                x1103 = x1004 + x1094;
-                x1104 = x506 + x1091;
-                x1105 = x1093 - x507;
-                x1106 = x1099 - x508;
-                x1107 = x509 + x1101;
-                x1108 = c4 * x1104;
-                x1109 = s4 * x1103;
-                x1110 = x1108 - x1109;
-                x1111 = c4 * x1103;
-                x1112 = arith.mul_add(s4, x1104, x1111);
-                x1113 = -x1112;
-                x1114 = 0.384f64 * x1104;
-                x1115 = arith.mul_add(-0.0825f64, x1105, -x1114);
-                x1116 = arith.mul_add(-0.384f64, x1103, x1106);
-                x1117 = arith.mul_add(-0.0825f64, x1103, -x1107);
-                x1118 = x1095 + x1115;
-                x1119 = s4 * x1118;
-                x1120 = arith.mul_add(c4, x1116, x1119);
-                x1121 = s4 * x1116;
-                x1122 = arith.mul_add(c4, x1118, -x1121);
-                x1123 = x1009 + x1105;
-                x1124 = x1110 - x510;
-                x1125 = x511 + x1112;
-                x1126 = x512 + x1120;
-                x1127 = x1122 - x513;
-                x1128 = s5 * x1123;
-                x1129 = arith.mul_add(c5, x1124, x1128);
-                x1130 = s5 * x1124;
-                x1131 = arith.mul_add(c5, x1123, -x1130);
-                x1132 = s5 * x1117;
-                x1133 = arith.mul_add(c5, x1126, x1132);
-                x1134 = s5 * x1126;
-                x1135 = arith.mul_add(c5, x1117, -x1134);
-                x1136 = x513 - x1122;
-                x1137 = x1015 + x1125;
-                x1138 = x514 + x1129;
-                x1139 = x1131 - x515;
-                x1140 = x516 + x1133;
-                x1141 = x1135 - x517;
-                x1142 = s6 * x1137;
-                x1143 = arith.mul_add(c6, x1138, x1142);
-                x1144 = s6 * x1138;
-                x1145 = arith.mul_add(c6, x1137, -x1144);
-                x1146 = x515 - x1131;
-                x1147 = arith.mul_add(0.088f64, x1137, x1141);
-                x1148 = arith.mul_add(-0.088f64, x1139, x1136);
-                x1149 = s6 * x1148;
-                x1150 = arith.mul_add(c6, x1140, x1149);
-                x1151 = s6 * x1140;
-                x1152 = arith.mul_add(c6, x1148, -x1151);
-                x1153 = x1022 + x1146;
-                x1154 = x518 + x1143;
-                x1155 = x1145 - x519;
-                x1156 = x520 + x1150;
-                x1157 = x1152 - x521;
-                x1158 = -0.00398335888393552f64 * x1072;
-                x1159 = arith.mul_add(-1.0706865997634767f64, x1071, x1158);
-                x1160 = arith.mul_add(0.01026110182100817f64, x997, x1159);
-                x1161 = 0.0007689361029464f64 * x997;
-                x1162 = arith.mul_add(0.00398335888393552f64, x1071, x1161);
-                x1163 = x1160 - x523;
-                x1164 = x525 + x1162;
-                x1165 = -0.00012191242095074308f64 * x1087;
-                x1166 = arith.mul_add(0.011595864095166043f64, x1086, x1165);
-                x1167 = arith.mul_add(-0.005487648106562256f64, x1085, x1166);
-                x1168 = -0.004377257121839584f64 * x1085;
-                x1169 = arith.mul_add(-0.00012191242095074308f64, x1086, x1168);
-                x1170 = -0.004377257121839584f64 * x1087;
-                x1171 = arith.mul_add(-0.005487648106562256f64, x1086, x1170);
-                x1172 = arith.mul_add(0.13480070614822143f64, x1085, x1171);
-                x1173 = 0.028227094878000014f64 * x1088;
-                x1174 = arith.mul_add(0.746857959872f64, x1089, -x1173);
-                x1175 = x8 + x1167;
-                x1176 = x1169 - x9;
-                x1177 = x1172 + x1174;
-                x1178 = x536 + x1175;
-                x1179 = x537 + x1176;
-                x1180 = x538 + x1177;
-                x1181 = arith.mul_add(-0.028227094878000014f64, x1085, x540);
-                x1182 = arith.mul_add(0.746857959872f64, x1085, -x542);
-                x1183 = 0.16284087268546082f64 * x1105;
-                x1184 = arith.mul_add(0.647723094939183f64, x1104, x1183);
-                x1185 = arith.mul_add(0.0039053550262761003f64, x1103, x1184);
-                x1186 = -0.0016444875773692705f64 * x1103;
-                x1187 = arith.mul_add(0.16284087268546082f64, x1104, x1186);
-                x1188 = -0.0016444875773692705f64 * x1105;
-                x1189 = arith.mul_add(0.0039053550262761003f64, x1104, x1188);
-                x1190 = arith.mul_add(0.7497633672528139f64, x1103, x1189);
-                x1191 = 2.0125235536029997f64 * x1106;
-                x1192 = arith.mul_add(0.5527802746499999f64, x1107, -x1191);
-                x1193 = arith.mul_add(-2.0125235536029997f64, x1095, x1185);
-                x1194 = arith.mul_add(-0.5527802746499999f64, x1095, x1187);
-                x1195 = x1190 + x1192;
-                x1196 = -0.5527802746499999f64 * x1105;
-                x1197 = arith.mul_add(2.0125235536029997f64, x1104, -x1196);
-                x1198 = x555 + x1193;
-                x1199 = x556 + x1194;
-                x1200 = x557 + x1195;
-                x1201 = arith.mul_add(-2.0125235536029997f64, x1103, x559);
-                x1202 = arith.mul_add(-0.5527802746499999f64, x1103, -x561);
-                x1203 = x563 + x1197;
-                x1204 = 0.0015152444733270301f64 * x1125;
-                x1205 = arith.mul_add(0.030116287133882078f64, x1124, x1204);
-                x1206 = arith.mul_add(-0.004600245517563105f64, x1123, x1205);
-                x1207 = 0.0021640520520981297f64 * x1123;
-                x1208 = arith.mul_add(-0.0015152444733270301f64, x1124, x1207);
-                x1209 = -0.0021640520520981297f64 * x1125;
-                x1210 = arith.mul_add(-0.004600245517563105f64, x1124, x1209);
-                x1211 = arith.mul_add(0.03301859926393551f64, x1123, x1210);
-                x1212 = 0.067870631425f64 * x1126;
-                x1213 = arith.mul_add(-0.014653732538f64, x1127, -x1212);
-                x1214 = arith.mul_add(0.067870631425f64, x1117, x1206);
-                x1215 = arith.mul_add(0.014653732538f64, x1117, x1208);
-                x1216 = x1211 + x1213;
-                x1217 = 0.014653732538f64 * x1125;
-                x1218 = arith.mul_add(0.067870631425f64, x1124, -x1217);
-                x1219 = x576 + x1214;
-                x1220 = x577 + x1215;
-                x1221 = x578 + x1216;
-                x1222 = arith.mul_add(0.067870631425f64, x1123, x580);
-                x1223 = arith.mul_add(-0.014653732538f64, x1123, -x582);
-                x1224 = x584 + x1218;
-                x1225 = 0.014748570382675316f64 * x1139;
-                x1226 = arith.mul_add(0.009543771269492206f64, x1138, x1225);
-                x1227 = arith.mul_add(-0.00010375891721868492f64, x1137, x1226);
-                x1228 = 0.000093569097314605f64 * x1137;
-                x1229 = arith.mul_add(0.014748570382675316f64, x1138, x1228);
-                x1230 = 0.000093569097314605f64 * x1139;
-                x1231 = arith.mul_add(-0.00010375891721868492f64, x1138, x1230);
-                x1232 = arith.mul_add(0.05258828201066731f64, x1137, x1231);
-                x1233 = -0.17380470556900002f64 * x1140;
-                x1234 = arith.mul_add(0.231847552695f64, x1141, -x1233);
-                x1235 = arith.mul_add(-0.17380470556900002f64, x1136, x1227);
-                x1236 = arith.mul_add(-0.231847552695f64, x1136, x1229);
-                x1237 = x1232 + x1234;
-                x1238 = 0.231847552695f64 * x1139;
-                x1239 = arith.mul_add(-0.17380470556900002f64, x1138, -x1238);
-                x1240 = x597 + x1235;
-                x1241 = x598 + x1236;
-                x1242 = x599 + x1237;
-                x1243 = arith.mul_add(0.17380470556900002f64, x1137, x601);
-                x1244 = arith.mul_add(0.231847552695f64, x1137, -x603);
-                x1245 = x605 + x1239;
-                x1246 = 0.0003913912816842481f64 * x1155;
-                x1247 = arith.mul_add(0.0024209437785212354f64, x1154, x1246);
-                x1248 = arith.mul_add(-0.0009653051699191116f64, x1153, x1247);
-                x1249 = -0.001255536598272898f64 * x1153;
-                x1250 = arith.mul_add(0.0003913912816842481f64, x1154, x1249);
-                x1251 = -0.001255536598272898f64 * x1155;
-                x1252 = arith.mul_add(-0.0009653051699191116f64, x1154, x1251);
-                x1253 = arith.mul_add(0.006684151967360945f64, x1153, x1252);
-                x1254 = 0.0020344399586617965f64 * x1156;
-                x1255 = arith.mul_add(0.002573605371338202f64, x1157, -x1254);
-                x1256 = arith.mul_add(-0.0020344399586617965f64, x1147, x1248);
-                x1257 = arith.mul_add(0.002573605371338202f64, x1147, x1250);
-                x1258 = x1253 + x1255;
-                x1259 = 0.002573605371338202f64 * x1153;
-                x1260 = 0.002573605371338202f64 * x1155;
-                x1261 = arith.mul_add(0.0020344399586617965f64, x1154, -x1260);
-                x1262 = x618 + x1256;
-                x1263 = x619 + x1257;
-                x1264 = x620 + x1258;
-                x1265 = arith.mul_add(-0.0020344399586617965f64, x1153, x622);
-                x1266 = x1259 - x624;
-                x1267 = x626 + x1261;
-                x1268 = s6 * x1266;
-                x1269 = arith.mul_add(c6, x1265, -x1268);
-                x1270 = c6 * x1266;
-                x1271 = arith.mul_add(s6, x1265, x1270);
-                x1272 = s6 * x1263;
-                x1273 = arith.mul_add(c6, x1262, -x1272);
-                x1274 = c6 * x1263;
-                x1275 = arith.mul_add(s6, x1262, x1274);
-                x1276 = arith.mul_add(0.088f64, x1271, x1264);
-                x1277 = arith.mul_add(-0.088f64, x1267, x1275);
-                x1278 = x1240 + x1273;
-                x1279 = x1241 - x1276;
-                x1280 = x1242 + x1277;
-                x1281 = x1243 + x1269;
-                x1282 = x1244 - x1267;
-                x1283 = x1245 + x1271;
-                x1284 = s5 * x1282;
-                x1285 = arith.mul_add(c5, x1281, -x1284);
-                x1286 = c5 * x1282;
-                x1287 = arith.mul_add(s5, x1281, x1286);
-                x1288 = s5 * x1279;
-                x1289 = arith.mul_add(c5, x1278, -x1288);
-                x1290 = c5 * x1279;
-                x1291 = arith.mul_add(s5, x1278, x1290);
-                x1292 = x1219 + x1289;
-                x1293 = x1220 - x1280;
-                x1294 = x1221 + x1291;
-                x1295 = x1285 - x1222;
-                x1296 = x1223 - x1283;
-                x1297 = x1224 + x1287;
-                x1298 = s4 * x1296;
-                x1299 = arith.mul_add(c4, x1295, -x1298);
-                x1300 = c4 * x1296;
-                x1301 = arith.mul_add(s4, x1295, x1300);
-                x1302 = s4 * x1293;
-                x1303 = arith.mul_add(c4, x1292, -x1302);
-                x1304 = c4 * x1293;
-                x1305 = arith.mul_add(s4, x1292, x1304);
-                x1306 = 0.384f64 * x1299;
-                x1307 = arith.mul_add(-0.0825f64, x1297, -x1306);
-                x1308 = arith.mul_add(-0.384f64, x1301, x1303);
-                x1309 = arith.mul_add(-0.0825f64, x1301, x1294);
-                x1310 = x1307 - x1305;
-                x1311 = x1198 + x1308;
-                x1312 = x1199 + x1309;
-                x1313 = x1200 + x1310;
-                x1314 = x1201 + x1299;
-                x1315 = x1202 + x1297;
-                x1316 = s3 * x1315;
-                x1317 = arith.mul_add(c3, x1314, -x1316);
-                x1318 = x1301 - x1203;
-                x1319 = c3 * x1315;
-                x1320 = arith.mul_add(s3, x1314, x1319);
-                x1321 = s3 * x1312;
-                x1322 = arith.mul_add(c3, x1311, -x1321);
-                x1323 = c3 * x1312;
-                x1324 = arith.mul_add(s3, x1311, x1323);
-                x1325 = arith.mul_add(0.0825f64, x1320, x1313);
-                x1326 = arith.mul_add(0.0825f64, x1318, x1324);
-                x1327 = x1178 + x1322;
-                x1328 = x1179 - x1325;
-                x1329 = x1180 + x1326;
-                x1330 = x1181 + x1317;
-                x1331 = x1182 + x1318;
-                x1332 = c2 * x1331;
-                x1333 = arith.mul_add(s2, x1330, x1332);
-                x1334 = s2 * x1328;
-                x1335 = arith.mul_add(c2, x1327, -x1334);
-                x1336 = arith.mul_add(-0.316f64, x1333, x1335);
-                x1337 = x1163 + x1336;
-                x1338 = c2 * x1072;
-                x1339 = s2 * x1072;
-                x1340 = -x1339;
-                x1341 = -0.316f64 * x1072;
-                x1342 = s2 * x1341;
-                x1343 = arith.mul_add(c2, x4, x1342);
-                x1344 = arith.mul_add(c2, x1341, -x1029);
-                x1345 = s3 * x1071;
-                x1346 = -x1345;
-                x1347 = c3 * x1071;
-                x1348 = -x1347;
-                x1349 = -0.0825f64 * x1071;
-                x1350 = -x1349;
-                x1351 = -0.00398335888393552f64 * x1071;
-                x1352 = arith.mul_add(1.0706865997634767f64, x1072, x1351);
-                x1353 = 0.0007689361029464f64 * x1071;
-                x1354 = arith.mul_add(0.01026110182100817f64, x1072, x1353);
-                x1355 = x1037 + x1354;
-                x1356 = x1043 + x1352;
-                x1357 = x1045 + x1158;
-                x1358 = x1355 - x1050;
-                x1359 = 0.005487648106562256f64 * x1071;
-                x1360 = 0.004377257121839584f64 * x1071;
-                x1361 = -0.13480070614822143f64 * x1071;
-                x1362 = -0.028227094878000014f64 * x1071;
-                x1363 = -0.746857959872f64 * x1071;
-                x1364 = -x1362;
-                x1365 = x1329 - x1164;
-                x1366 = x1073 - x1074;
-                x1367 = -x1082;
-                x1368 = x1325 - x1179;
-                x1369 = -x1331;
-                x1370 = -x1091;
-                x1371 = x1098 - x1097;
-                x1372 = -x1312;
-                x1373 = -x1315;
-                x1374 = x1109 - x1108;
-                x1375 = -x1120;
-                x1376 = x1280 - x1220;
-                x1377 = x1283 - x1223;
-                x1378 = -x1129;
-                x1379 = -x1133;
-                x1380 = x1276 - x1241;
-                x1381 = x1267 - x1244;
-                x1382 = -x1143;
-                x1383 = -x1150;
-                x1384 = -x1263;
-                x1385 = x624 - x1259;
-                x1386 = arith.eight([0.0, 0.0, 1f64, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1387 = arith.eight([0.0, 0.0, 0.0, 1f64, 0.0, 0.0, 0.0, 0.0]);
-                x1388 = arith.eight([0.0, 0.0, 0.0, 0.0, 1f64, 0.0, 0.0, 0.0]);
-                x1389 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 1f64, 0.0, 0.0]);
-                x1390 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1f64, 0.0]);
-                x1391 = arith.eight([0.0, x13, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1392 = arith.eight([0.0, x1024, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1393 = arith.eight([0.0, x1025, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1394 = arith.eight([0.0, x11, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1395 = arith.eight([0.0, x1027, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1396 = arith.eight([0.0, x1028, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1397 = arith.eight([0.0, 0.0, x18, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1398 = x1392 + x1397;
-                x1399 = arith.eight([0.0, 0.0, x81, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1400 = x1393 + x1399;
-                x1401 = arith.eight([0.0, 0.0, x25, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1402 = x1395 + x1401;
-                x1403 = arith.eight([0.0, 0.0, x80, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1404 = x1396 + x1403;
-                x1405 = arith.eight([0.0, x3, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1406 = arith.splat_eight(qd2);
-                x1407 = x1406 * x1398;
-                x1408 = arith.splat_eight(c3);
-                x1409 = arith.eight([0.0, x1031, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1410 = x1408.mul_add(x1398, x1409);
-                x1411 = arith.splat_eight(s3);
-                x1412 = arith.eight([0.0, x1033, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1413 = x1411.mul_neg_add(x1398, x1412);
-                x1414 = arith.eight([0.0, x1035, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1415 = arith.splat_eight(0.0825f64);
-                x1416 = x1415 * x1400;
-                x1417 = x1411 * x1416;
-                x1418 = x1408.mul_sub(x1402, x1417);
-                x1419 = x1408 * x1416;
-                x1420 = x1411.mul_add(x1402, x1419);
-                x1421 = x1414 - x1404;
-                x1422 = arith.eight([0.0, 0.0, 0.0, x30, 0.0, 0.0, 0.0, 0.0]);
-                x1423 = x1410 + x1422;
-                x1424 = arith.eight([0.0, 0.0, 0.0, x83, 0.0, 0.0, 0.0, 0.0]);
-                x1425 = x1413 + x1424;
-                x1426 = arith.eight([0.0, 0.0, 0.0, x38, 0.0, 0.0, 0.0, 0.0]);
-                x1427 = x1418 + x1426;
-                x1428 = arith.eight([0.0, 0.0, 0.0, x82, 0.0, 0.0, 0.0, 0.0]);
-                x1429 = x1428 - x1420;
-                x1430 = arith.splat_eight(qd3);
-                x1431 = arith.splat_eight(c4);
-                x1432 = arith.splat_eight(s4);
-                x1433 = x1432 * x1400;
-                x1434 = x1431.mul_add(x1423, x1433);
-                x1435 = x1432 * x1423;
-                x1436 = x1431.mul_sub(x1400, x1435);
-                x1437 = arith.splat_eight(0.384f64);
-                x1438 = arith.splat_eight(-0.0825f64);
-                x1439 = x1437 * x1423;
-                x1440 = x1438.mul_sub(x1425, x1439);
-                x1441 = x1437.mul_add(x1400, x1427);
-                x1442 = x1438.mul_neg_add(x1400, x1429);
-                x1443 = x1421 - x1440;
-                x1444 = x1432 * x1443;
-                x1445 = x1431.mul_sub(x1441, x1444);
-                x1446 = x1431 * x1443;
-                x1447 = x1432.mul_add(x1441, x1446);
-                x1448 = arith.eight([0.0, 0.0, 0.0, 0.0, x45, 0.0, 0.0, 0.0]);
-                x1449 = x1434 + x1448;
-                x1450 = arith.eight([0.0, 0.0, 0.0, 0.0, x85, 0.0, 0.0, 0.0]);
-                x1451 = x1436 + x1450;
-                x1452 = arith.eight([0.0, 0.0, 0.0, 0.0, x55, 0.0, 0.0, 0.0]);
-                x1453 = x1445 + x1452;
-                x1454 = arith.eight([0.0, 0.0, 0.0, 0.0, x84, 0.0, 0.0, 0.0]);
-                x1455 = x1454 - x1447;
-                x1456 = arith.splat_eight(qd4);
-                x1457 = x1456 * x1449;
-                x1458 = x1456 * x1453;
-                x1459 = arith.splat_eight(c5);
-                x1460 = arith.splat_eight(s5);
-                x1461 = x1460 * x1425;
-                x1462 = x1459.mul_add(x1449, x1461);
-                x1463 = x1460 * x1449;
-                x1464 = x1459.mul_sub(x1425, x1463);
-                x1465 = x1460 * x1442;
-                x1466 = x1459.mul_add(x1453, x1465);
-                x1467 = x1460 * x1453;
-                x1468 = x1459.mul_sub(x1442, x1467);
-                x1469 = x1447 - x1454;
-                x1470 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x61, 0.0, 0.0]);
-                x1471 = x1462 + x1470;
-                x1472 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x87, 0.0, 0.0]);
-                x1473 = x1464 + x1472;
-                x1474 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x65, 0.0, 0.0]);
-                x1475 = x1466 + x1474;
-                x1476 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x86, 0.0, 0.0]);
-                x1477 = x1468 + x1476;
-                x1478 = arith.splat_eight(qd5);
-                x1479 = x1478 * x1471;
-                x1480 = arith.splat_eight(c6);
-                x1481 = arith.splat_eight(s6);
-                x1482 = x1481 * x1451;
-                x1483 = x1480.mul_sub(x1471, x1482);
-                x1484 = x1480 * x1451;
-                x1485 = x1481.mul_add(x1471, x1484);
-                x1486 = arith.splat_eight(0.088f64);
-                x1487 = x1486.mul_neg_add(x1473, x1469);
-                x1488 = x1481 * x1487;
-                x1489 = x1480.mul_add(x1475, x1488);
-                x1490 = x1481 * x1475;
-                x1491 = x1480.mul_sub(x1487, x1490);
-                x1492 = x1486.mul_sub(x1451, x1477);
-                x1493 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x71, 0.0]);
-                x1494 = x1483 + x1493;
-                x1495 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x89, 0.0]);
-                x1496 = x1495 - x1485;
-                x1497 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x78, 0.0]);
-                x1498 = x1489 + x1497;
-                x1499 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x88, 0.0]);
-                x1500 = x1491 + x1499;
-                x1501 = arith.splat_eight(qd6);
-                x1502 = arith.splat_eight(0.011595864095166043f64);
-                x1503 = arith.splat_eight(-0.00012191242095074308f64);
-                x1504 = arith.splat_eight(-0.005487648106562256f64);
-                x1505 = arith.splat_eight(-0.004377257121839584f64);
-                x1506 = arith.eight([0.0, x1051, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1507 = arith.eight([0.0, x1053, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1508 = arith.splat_eight(0.746857959872f64);
-                x1509 = arith.splat_eight(0.028227094878000014f64);
-                x1510 = x1503 * x1400;
-                x1511 = x1502.mul_add(x1398, x1510);
-                x1512 = arith.eight([0.0, x1054, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1513 = x1511 + x1512;
-                x1514 = arith.eight([0.0, x1055, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1515 = x1503.mul_add(x1398, x1514);
-                x1516 = x1505 * x1400;
-                x1517 = x1504.mul_add(x1398, x1516);
-                x1518 = arith.eight([0.0, x1056, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1519 = x1517 + x1518;
-                x1520 = x1509 * x1402;
-                x1521 = x1508.mul_sub(x1404, x1520);
-                x1522 = x1519 + x1521;
-                x1523 = x1508 * x1400;
-                x1524 = x1509.mul_sub(x1398, x1523);
-                x1525 = arith.splat_eight(x18);
-                x1526 = arith.splat_eight(x459);
-                x1527 = x1526 * x1400;
-                x1528 = x1525.mul_add(x1522, x1527);
-                x1529 = arith.splat_eight(x26);
-                x1530 = arith.eight([0.0, x1060, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1531 = x1529.mul_add(x1515, x1530);
-                x1532 = x1528 - x1531;
-                x1533 = arith.eight([0.0, x1062, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1534 = x1529.mul_add(x1513, x1533);
-                x1535 = arith.splat_eight(x16);
-                x1536 = x1526 * x1398;
-                x1537 = x1535.mul_add(x1522, x1536);
-                x1538 = x1534 - x1537;
-                x1539 = arith.splat_eight(x455);
-                x1540 = x1539 * x1398;
-                x1541 = x1535.mul_add(x1515, x1540);
-                x1542 = arith.splat_eight(x454);
-                x1543 = x1542 * x1400;
-                x1544 = x1525.mul_add(x1513, x1543);
-                x1545 = x1541 - x1544;
-                x1546 = arith.splat_eight(x25);
-                x1547 = arith.splat_eight(x415);
-                x1548 = x1547 * x1404;
-                x1549 = x1546.mul_add(x1524, x1548);
-                x1550 = arith.splat_eight(x23);
-                x1551 = x1547 * x1402;
-                x1552 = x1550.mul_add(x1524, x1551);
-                x1553 = arith.eight([0.0, x1063, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1554 = arith.splat_eight(x413);
-                x1555 = x1554.mul_add(x1402, x1553);
-                x1556 = arith.eight([0.0, x1065, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1557 = arith.splat_eight(x412);
-                x1558 = x1557.mul_neg_add(x1404, x1556);
-                x1559 = x1555 - x1558;
-                x1560 = x1532 + x1549;
-                x1561 = x1538 - x1552;
-                x1562 = x1545 + x1559;
-                x1563 = x1547 * x1400;
-                x1564 = x1525.mul_add(x1524, x1563);
-                x1565 = arith.eight([0.0, x1067, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1566 = x1564 - x1565;
-                x1567 = arith.eight([0.0, x1069, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1568 = x1547 * x1398;
-                x1569 = x1535.mul_add(x1524, x1568);
-                x1570 = x1567 - x1569;
-                x1571 = arith.splat_eight(0.647723094939183f64);
-                x1572 = arith.splat_eight(0.16284087268546082f64);
-                x1573 = arith.splat_eight(0.0039053550262761003f64);
-                x1574 = arith.splat_eight(-0.0016444875773692705f64);
-                x1575 = arith.splat_eight(0.7497633672528139f64);
-                x1576 = arith.splat_eight(2.0125235536029997f64);
-                x1577 = arith.splat_eight(-0.5527802746499999f64);
-                x1578 = x1572 * x1425;
-                x1579 = x1571.mul_add(x1423, x1578);
-                x1580 = x1573.mul_neg_add(x1400, x1579);
-                x1581 = x1574 * x1400;
-                x1582 = x1572.mul_sub(x1423, x1581);
-                x1583 = x1574 * x1425;
-                x1584 = x1573.mul_add(x1423, x1583);
-                x1585 = x1575.mul_neg_add(x1400, x1584);
-                x1586 = x1576 * x1427;
-                x1587 = x1577.mul_sub(x1429, x1586);
-                x1588 = x1576.mul_add(x1421, x1580);
-                x1589 = x1577.mul_neg_add(x1421, x1582);
-                x1590 = x1585 + x1587;
-                x1591 = x1576 * x1400;
-                x1592 = x1577 * x1400;
-                x1593 = x1577 * x1425;
-                x1594 = x1576.mul_sub(x1423, x1593);
-                x1595 = arith.splat_eight(x30);
-                x1596 = arith.splat_eight(x469);
-                x1597 = x1596 * x1425;
-                x1598 = x1595.mul_add(x1590, x1597);
-                x1599 = arith.splat_eight(x39);
-                x1600 = arith.splat_eight(x468);
-                x1601 = x1600 * x1400;
-                x1602 = x1599.mul_sub(x1589, x1601);
-                x1603 = x1598 - x1602;
-                x1604 = arith.splat_eight(x467);
-                x1605 = x1604 * x1400;
-                x1606 = x1599.mul_sub(x1588, x1605);
-                x1607 = arith.splat_eight(x28);
-                x1608 = x1596 * x1423;
-                x1609 = x1607.mul_add(x1590, x1608);
-                x1610 = x1606 - x1609;
-                x1611 = x1600 * x1423;
-                x1612 = x1607.mul_add(x1589, x1611);
-                x1613 = x1604 * x1425;
-                x1614 = x1595.mul_add(x1588, x1613);
-                x1615 = x1612 - x1614;
-                x1616 = arith.splat_eight(x37);
-                x1617 = x1616 * x1594;
-                x1618 = arith.splat_eight(x422);
-                x1619 = x1618.mul_sub(x1429, x1617);
-                x1620 = arith.splat_eight(x32);
-                x1621 = arith.splat_eight(x420);
-                x1622 = x1621 * x1421;
-                x1623 = x1620.mul_add(x1592, x1622);
-                x1624 = x1619 - x1623;
-                x1625 = arith.splat_eight(x419);
-                x1626 = x1625 * x1421;
-                x1627 = x1620.mul_add(x1591, x1626);
-                x1628 = arith.splat_eight(x35);
-                x1629 = x1618 * x1427;
-                x1630 = x1628.mul_add(x1594, x1629);
-                x1631 = x1627 + x1630;
-                x1632 = x1628 * x1592;
-                x1633 = x1621.mul_sub(x1427, x1632);
-                x1634 = x1625 * x1429;
-                x1635 = x1616.mul_add(x1591, x1634);
-                x1636 = x1633 + x1635;
-                x1637 = x1603 + x1624;
-                x1638 = x1610 - x1631;
-                x1639 = x1615 + x1636;
-                x1640 = x1618 * x1425;
-                x1641 = x1595.mul_add(x1594, x1640);
-                x1642 = x1621 * x1400;
-                x1643 = x1599.mul_add(x1592, x1642);
-                x1644 = x1641 + x1643;
-                x1645 = x1625 * x1400;
-                x1646 = x1599.mul_add(x1591, x1645);
-                x1647 = x1618 * x1423;
-                x1648 = x1607.mul_add(x1594, x1647);
-                x1649 = x1646 - x1648;
-                x1650 = x1607 * x1592;
-                x1651 = x1621.mul_sub(x1423, x1650);
-                x1652 = x1625 * x1425;
-                x1653 = x1595.mul_sub(x1591, x1652);
-                x1654 = x1651 - x1653;
-                x1655 = arith.splat_eight(0.030116287133882078f64);
-                x1656 = arith.splat_eight(-0.0015152444733270301f64);
-                x1657 = arith.splat_eight(-0.004600245517563105f64);
-                x1658 = arith.splat_eight(0.0021640520520981297f64);
-                x1659 = arith.splat_eight(0.03301859926393551f64);
-                x1660 = arith.splat_eight(0.067870631425f64);
-                x1661 = arith.splat_eight(-0.014653732538f64);
-                x1662 = x1656 * x1451;
-                x1663 = x1655.mul_add(x1449, x1662);
-                x1664 = x1657.mul_add(x1425, x1663);
-                x1665 = x1658 * x1425;
-                x1666 = x1656.mul_add(x1449, x1665);
-                x1667 = x1658 * x1451;
-                x1668 = x1657.mul_add(x1449, x1667);
-                x1669 = x1659.mul_add(x1425, x1668);
-                x1670 = x1660 * x1453;
-                x1671 = x1661.mul_sub(x1455, x1670);
-                x1672 = x1660.mul_add(x1442, x1664);
-                x1673 = x1661.mul_neg_add(x1442, x1666);
-                x1674 = x1669 + x1671;
-                x1675 = x1660 * x1425;
-                x1676 = x1661 * x1425;
-                x1677 = x1661 * x1451;
-                x1678 = x1660.mul_sub(x1449, x1677);
-                x1679 = arith.splat_eight(x44);
-                x1680 = x1679 * x1674;
-                x1681 = arith.splat_eight(x479);
-                x1682 = x1681.mul_sub(x1451, x1680);
-                x1683 = arith.splat_eight(x56);
-                x1684 = arith.splat_eight(x478);
-                x1685 = x1684 * x1425;
-                x1686 = x1683.mul_add(x1673, x1685);
-                x1687 = x1682 - x1686;
-                x1688 = arith.splat_eight(x477);
-                x1689 = x1688 * x1425;
-                x1690 = x1683.mul_add(x1672, x1689);
-                x1691 = arith.splat_eight(x42);
-                x1692 = x1681 * x1449;
-                x1693 = x1691.mul_add(x1674, x1692);
-                x1694 = x1690 - x1693;
-                x1695 = x1684 * x1449;
-                x1696 = x1691.mul_add(x1673, x1695);
-                x1697 = x1679 * x1672;
-                x1698 = x1688.mul_sub(x1451, x1697);
-                x1699 = x1696 - x1698;
-                x1700 = arith.splat_eight(x55);
-                x1701 = arith.splat_eight(x429);
-                x1702 = x1701 * x1455;
-                x1703 = x1700.mul_add(x1678, x1702);
-                x1704 = arith.splat_eight(x49);
-                x1705 = arith.splat_eight(x427);
-                x1706 = x1705 * x1442;
-                x1707 = x1704.mul_add(x1676, x1706);
-                x1708 = x1703 - x1707;
-                x1709 = arith.splat_eight(x426);
-                x1710 = x1709 * x1442;
-                x1711 = x1704.mul_add(x1675, x1710);
-                x1712 = arith.splat_eight(x52);
-                x1713 = x1701 * x1453;
-                x1714 = x1712.mul_add(x1678, x1713);
-                x1715 = x1711 + x1714;
-                x1716 = x1705 * x1453;
-                x1717 = x1712.mul_add(x1676, x1716);
-                x1718 = x1709 * x1455;
-                x1719 = x1700.mul_add(x1675, x1718);
-                x1720 = x1717 + x1719;
-                x1721 = x1687 + x1708;
-                x1722 = x1694 - x1715;
-                x1723 = x1699 + x1720;
-                x1724 = x1679 * x1678;
-                x1725 = x1701.mul_sub(x1451, x1724);
-                x1726 = x1705 * x1425;
-                x1727 = x1683.mul_add(x1676, x1726);
-                x1728 = x1725 - x1727;
-                x1729 = x1709 * x1425;
-                x1730 = x1683.mul_add(x1675, x1729);
-                x1731 = x1701 * x1449;
-                x1732 = x1691.mul_add(x1678, x1731);
-                x1733 = x1730 + x1732;
-                x1734 = x1705 * x1449;
-                x1735 = x1691.mul_add(x1676, x1734);
-                x1736 = x1709 * x1451;
-                x1737 = x1679.mul_sub(x1675, x1736);
-                x1738 = x1735 - x1737;
-                x1739 = arith.splat_eight(0.009543771269492206f64);
-                x1740 = arith.splat_eight(0.014748570382675316f64);
-                x1741 = arith.splat_eight(-0.00010375891721868492f64);
-                x1742 = arith.splat_eight(0.000093569097314605f64);
-                x1743 = arith.splat_eight(0.05258828201066731f64);
-                x1744 = arith.splat_eight(-0.17380470556900002f64);
-                x1745 = arith.splat_eight(0.231847552695f64);
-                x1746 = x1740 * x1473;
-                x1747 = x1739.mul_add(x1471, x1746);
-                x1748 = x1741.mul_neg_add(x1451, x1747);
-                x1749 = x1742 * x1451;
-                x1750 = x1740.mul_sub(x1471, x1749);
-                x1751 = x1742 * x1473;
-                x1752 = x1741.mul_add(x1471, x1751);
-                x1753 = x1743.mul_neg_add(x1451, x1752);
-                x1754 = x1744 * x1475;
-                x1755 = x1745.mul_sub(x1477, x1754);
-                x1756 = x1744.mul_add(x1469, x1748);
-                x1757 = x1745.mul_neg_add(x1469, x1750);
-                x1758 = x1753 + x1755;
-                x1759 = x1744 * x1451;
-                x1760 = x1745 * x1451;
-                x1761 = x1745 * x1473;
-                x1762 = x1744.mul_sub(x1471, x1761);
-                x1763 = arith.splat_eight(x61);
-                x1764 = arith.splat_eight(x489);
-                x1765 = x1764 * x1473;
-                x1766 = x1763.mul_add(x1758, x1765);
-                x1767 = arith.splat_eight(x67);
-                x1768 = arith.splat_eight(x488);
-                x1769 = x1768 * x1451;
-                x1770 = x1767.mul_sub(x1757, x1769);
-                x1771 = x1766 - x1770;
-                x1772 = arith.splat_eight(x487);
-                x1773 = x1772 * x1451;
-                x1774 = x1767.mul_sub(x1756, x1773);
-                x1775 = arith.splat_eight(x58);
-                x1776 = x1764 * x1471;
-                x1777 = x1775.mul_add(x1758, x1776);
-                x1778 = x1774 - x1777;
-                x1779 = x1768 * x1471;
-                x1780 = x1775.mul_add(x1757, x1779);
-                x1781 = x1772 * x1473;
-                x1782 = x1763.mul_add(x1756, x1781);
-                x1783 = x1780 - x1782;
-                x1784 = arith.splat_eight(x65);
-                x1785 = arith.splat_eight(x436);
-                x1786 = x1785 * x1477;
-                x1787 = x1784.mul_add(x1762, x1786);
-                x1788 = arith.splat_eight(x66);
-                x1789 = x1788 * x1760;
-                x1790 = arith.splat_eight(x434);
-                x1791 = x1790.mul_sub(x1469, x1789);
-                x1792 = x1787 - x1791;
-                x1793 = arith.splat_eight(x433);
-                x1794 = x1793 * x1469;
-                x1795 = x1788.mul_sub(x1759, x1794);
-                x1796 = arith.splat_eight(x63);
-                x1797 = x1785 * x1475;
-                x1798 = x1796.mul_add(x1762, x1797);
-                x1799 = x1795 - x1798;
-                x1800 = x1796 * x1760;
-                x1801 = x1790.mul_sub(x1475, x1800);
-                x1802 = x1793 * x1477;
-                x1803 = x1784.mul_sub(x1759, x1802);
-                x1804 = x1801 - x1803;
-                x1805 = x1771 + x1792;
-                x1806 = x1778 + x1799;
-                x1807 = x1783 + x1804;
-                x1808 = x1785 * x1473;
-                x1809 = x1763.mul_add(x1762, x1808);
-                x1810 = x1790 * x1451;
-                x1811 = x1767.mul_add(x1760, x1810);
-                x1812 = x1809 + x1811;
-                x1813 = x1793 * x1451;
-                x1814 = x1767.mul_add(x1759, x1813);
-                x1815 = x1785 * x1471;
-                x1816 = x1775.mul_add(x1762, x1815);
-                x1817 = x1814 - x1816;
-                x1818 = x1775 * x1760;
-                x1819 = x1790.mul_sub(x1471, x1818);
-                x1820 = x1793 * x1473;
-                x1821 = x1763.mul_sub(x1759, x1820);
-                x1822 = x1819 - x1821;
-                x1823 = arith.splat_eight(0.0024209437785212354f64);
-                x1824 = arith.splat_eight(0.0003913912816842481f64);
-                x1825 = arith.splat_eight(-0.0009653051699191116f64);
-                x1826 = arith.splat_eight(-0.001255536598272898f64);
-                x1827 = arith.splat_eight(0.006684151967360945f64);
-                x1828 = arith.splat_eight(0.0020344399586617965f64);
-                x1829 = arith.splat_eight(0.002573605371338202f64);
-                x1830 = x1824 * x1496;
-                x1831 = x1823.mul_add(x1494, x1830);
-                x1832 = x1825.mul_neg_add(x1473, x1831);
-                x1833 = x1826 * x1473;
-                x1834 = x1824.mul_sub(x1494, x1833);
-                x1835 = x1826 * x1496;
-                x1836 = x1825.mul_add(x1494, x1835);
-                x1837 = x1827.mul_neg_add(x1473, x1836);
-                x1838 = x1828 * x1498;
-                x1839 = x1829.mul_sub(x1500, x1838);
-                x1840 = x1828.mul_add(x1492, x1832);
-                x1841 = x1829.mul_neg_add(x1492, x1834);
-                x1842 = x1837 + x1839;
-                x1843 = x1828 * x1473;
-                x1844 = x1829 * x1473;
-                x1845 = x1829 * x1496;
-                x1846 = x1828.mul_sub(x1494, x1845);
-                x1847 = arith.splat_eight(x71);
-                x1848 = arith.splat_eight(x499);
-                x1849 = x1848 * x1496;
-                x1850 = x1847.mul_add(x1842, x1849);
-                x1851 = arith.splat_eight(x79);
-                x1852 = arith.splat_eight(x498);
-                x1853 = x1852 * x1473;
-                x1854 = x1851.mul_sub(x1841, x1853);
-                x1855 = x1850 - x1854;
-                x1856 = arith.splat_eight(x497);
-                x1857 = x1856 * x1473;
-                x1858 = x1851.mul_sub(x1840, x1857);
-                x1859 = arith.splat_eight(x69);
-                x1860 = x1848 * x1494;
-                x1861 = x1859.mul_add(x1842, x1860);
-                x1862 = x1858 - x1861;
-                x1863 = x1852 * x1494;
-                x1864 = x1859.mul_add(x1841, x1863);
-                x1865 = x1856 * x1496;
-                x1866 = x1847.mul_add(x1840, x1865);
-                x1867 = x1864 - x1866;
-                x1868 = arith.splat_eight(x78);
-                x1869 = arith.splat_eight(x443);
-                x1870 = x1869 * x1500;
-                x1871 = x1868.mul_add(x1846, x1870);
-                x1872 = arith.splat_eight(x73);
-                x1873 = arith.splat_eight(x441);
-                x1874 = x1873 * x1492;
-                x1875 = x1872.mul_add(x1844, x1874);
-                x1876 = x1871 - x1875;
-                x1877 = arith.splat_eight(x440);
-                x1878 = x1877 * x1492;
-                x1879 = x1872.mul_add(x1843, x1878);
-                x1880 = arith.splat_eight(x76);
-                x1881 = x1869 * x1498;
-                x1882 = x1880.mul_add(x1846, x1881);
-                x1883 = x1879 + x1882;
-                x1884 = x1880 * x1844;
-                x1885 = x1873.mul_sub(x1498, x1884);
-                x1886 = x1877 * x1500;
-                x1887 = x1868.mul_sub(x1843, x1886);
-                x1888 = x1885 - x1887;
-                x1889 = x1855 + x1876;
-                x1890 = x1862 - x1883;
-                x1891 = x1867 + x1888;
-                x1892 = x1869 * x1496;
-                x1893 = x1847.mul_add(x1846, x1892);
-                x1894 = x1873 * x1473;
-                x1895 = x1851.mul_add(x1844, x1894);
-                x1896 = x1893 + x1895;
-                x1897 = x1877 * x1473;
-                x1898 = x1851.mul_add(x1843, x1897);
-                x1899 = x1869 * x1494;
-                x1900 = x1859.mul_add(x1846, x1899);
-                x1901 = x1898 - x1900;
-                x1902 = x1859 * x1844;
-                x1903 = x1873.mul_sub(x1494, x1902);
-                x1904 = x1877 * x1496;
-                x1905 = x1847.mul_sub(x1843, x1904);
-                x1906 = x1903 - x1905;
-                x1907 = arith.splat_eight(c2);
-                x1908 = arith.splat_eight(s2);
-                x1909 = arith.splat_eight(-0.316f64);
-                x1910 = arith.splat_eight(c1);
-                x1911 = arith.splat_eight(s1);
-                x1912 = qd1 * c1;
-                x1913 = -x1912;
-                x1914 = arith.eight([x1913, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1915 = x1391 + x1914;
-                x1916 = qd1 * s1;
-                x1917 = -x1916;
-                x1918 = arith.eight([x1917, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1919 = x1394 + x1918;
-                x1920 = arith.eight([x1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1921 = arith.eight([0.0, s2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1922 = x1920 + x1921;
-                x1923 = arith.eight([x2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1924 = arith.eight([0.0, c2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1925 = x1923 + x1924;
-                x1926 = arith.eight([c1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1927 = 0.316f64 * s1;
-                x1928 = 0.316f64 * c2;
-                x1929 = arith.eight([0.0, x1928, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1930 = s2 * x1927;
-                x1931 = arith.eight([x1930, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1932 = x1929 + x1931;
-                x1933 = -0.316f64 * s2;
-                x1934 = arith.eight([0.0, x1933, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1935 = c2 * x1927;
-                x1936 = arith.eight([x1935, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1937 = x1934 + x1936;
-                x1938 = x1386 + x1926;
-                x1939 = x1909 * x1915;
-                x1940 = x1406.mul_add(x1925, x1397);
-                x1941 = arith.eight([0.0, 0.0, x16, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1942 = x1406.mul_add(x1922, x1941);
-                x1943 = x1406.mul_add(x1937, x1401);
-                x1944 = arith.eight([0.0, 0.0, x23, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x1945 = x1406.mul_add(x1932, x1944);
-                x1946 = x1907.mul_add(x1915, x1940);
-                x1947 = x1908.mul_add(x1915, x1942);
-                x1948 = x1908.mul_add(x1939, x1943);
-                x1949 = x1907.mul_sub(x1939, x1945);
-                x1950 = x1411 * x1938;
-                x1951 = x1408.mul_add(x1922, x1950);
-                x1952 = x1411 * x1922;
-                x1953 = x1408.mul_sub(x1938, x1952);
-                x1954 = x1415 * x1925;
-                x1955 = x1415.mul_add(x1938, x1937);
-                x1956 = x1411 * x1954;
-                x1957 = x1408.mul_sub(x1932, x1956);
-                x1958 = x1408 * x1954;
-                x1959 = x1411.mul_add(x1932, x1958);
-                x1960 = x1387 - x1925;
-                x1961 = x1411 * x1919;
-                x1962 = x1408.mul_add(x1946, x1961);
-                x1963 = x1411 * x1946;
-                x1964 = x1408.mul_sub(x1919, x1963);
-                x1965 = x1415 * x1947;
-                x1966 = x1415.mul_add(x1919, x1949);
-                x1967 = x1411 * x1965;
-                x1968 = x1408.mul_add(x1948, x1967);
-                x1969 = x1411 * x1948;
-                x1970 = x1408.mul_sub(x1965, x1969);
-                x1971 = x1430.mul_add(x1953, x1422);
-                x1972 = arith.eight([0.0, 0.0, 0.0, x28, 0.0, 0.0, 0.0, 0.0]);
-                x1973 = x1430.mul_add(x1951, x1972);
-                x1974 = x1430.mul_neg_add(x1959, x1426);
-                x1975 = arith.eight([0.0, 0.0, 0.0, x35, 0.0, 0.0, 0.0, 0.0]);
-                x1976 = x1430.mul_add(x1957, x1975);
-                x1977 = x1962 + x1971;
-                x1978 = x1964 - x1973;
-                x1979 = x1968 + x1974;
-                x1980 = x1970 - x1976;
-                x1981 = x1432 * x1960;
-                x1982 = x1431.mul_sub(x1951, x1981);
-                x1983 = x1431 * x1960;
-                x1984 = x1432.mul_add(x1951, x1983);
-                x1985 = x1437 * x1951;
-                x1986 = x1438.mul_sub(x1953, x1985);
-                x1987 = x1437.mul_neg_add(x1960, x1957);
-                x1988 = x1438.mul_sub(x1960, x1959);
-                x1989 = x1955 + x1986;
-                x1990 = x1432 * x1989;
-                x1991 = x1431.mul_add(x1987, x1990);
-                x1992 = x1432 * x1987;
-                x1993 = x1431 * x1989;
-                x1994 = x1993 - x1992;
-                x1995 = x1388 + x1953;
-                x1996 = x1432 * x1947;
-                x1997 = x1431.mul_sub(x1977, x1996);
-                x1998 = x1431 * x1947;
-                x1999 = x1432.mul_add(x1977, x1998);
-                x2000 = x1437 * x1977;
-                x2001 = x1438.mul_sub(x1978, x2000);
-                x2002 = x1437.mul_neg_add(x1947, x1979);
-                x2003 = x1438.mul_add(x1947, x1980);
-                x2004 = x1966 + x2001;
-                x2005 = x1432 * x2004;
-                x2006 = x1431.mul_add(x2002, x2005);
-                x2007 = x1432 * x2002;
-                x2008 = x1431.mul_sub(x2004, x2007);
-                x2009 = x1456.mul_neg_add(x1984, x1448);
-                x2010 = arith.eight([0.0, 0.0, 0.0, 0.0, x42, 0.0, 0.0, 0.0]);
-                x2011 = x1456.mul_add(x1982, x2010);
-                x2012 = x1456.mul_add(x1994, x1452);
-                x2013 = arith.eight([0.0, 0.0, 0.0, 0.0, x52, 0.0, 0.0, 0.0]);
-                x2014 = x1456.mul_add(x1991, x2013);
-                x2015 = x1997 + x2009;
-                x2016 = x1999 + x2011;
-                x2017 = x2006 + x2012;
-                x2018 = x2008 - x2014;
-                x2019 = x1460 * x1995;
-                x2020 = x1459.mul_add(x1982, x2019);
-                x2021 = x1460 * x1982;
-                x2022 = x1459 * x1995;
-                x2023 = x2022 - x2021;
-                x2024 = x1460 * x1988;
-                x2025 = x1459.mul_add(x1991, x2024);
-                x2026 = x1460 * x1991;
-                x2027 = x1459.mul_sub(x1988, x2026);
-                x2028 = x1992 - x1993;
-                x2029 = x1389 + x1984;
-                x2030 = x1460 * x1978;
-                x2031 = x1459.mul_add(x2015, x2030);
-                x2032 = x1460 * x2015;
-                x2033 = x1459.mul_sub(x1978, x2032);
-                x2034 = x1460 * x2003;
-                x2035 = x1459.mul_add(x2017, x2034);
-                x2036 = x1460 * x2017;
-                x2037 = x1459.mul_sub(x2003, x2036);
-                x2038 = x2014 - x2008;
-                x2039 = x1478.mul_add(x2023, x1470);
-                x2040 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x58, 0.0, 0.0]);
-                x2041 = x1478.mul_add(x2020, x2040);
-                x2042 = x1478.mul_add(x2027, x1474);
-                x2043 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x63, 0.0, 0.0]);
-                x2044 = x1478.mul_add(x2025, x2043);
-                x2045 = x2031 + x2039;
-                x2046 = x2033 - x2041;
-                x2047 = x2035 + x2042;
-                x2048 = x2037 - x2044;
-                x2049 = x1481 * x2029;
-                x2050 = x1480.mul_add(x2020, x2049);
-                x2051 = x1481 * x2020;
-                x2052 = x1480.mul_sub(x2029, x2051);
-                x2053 = x2021 - x2022;
-                x2054 = x1486.mul_add(x2029, x2027);
-                x2055 = x1486.mul_neg_add(x2023, x2028);
-                x2056 = x1481 * x2055;
-                x2057 = x1480.mul_add(x2025, x2056);
-                x2058 = x1481 * x2025;
-                x2059 = x1480.mul_sub(x2055, x2058);
-                x2060 = x1390 + x2053;
-                x2061 = x1481 * x2016;
-                x2062 = x1480.mul_add(x2045, x2061);
-                x2063 = x1481 * x2045;
-                x2064 = x1480.mul_sub(x2016, x2063);
-                x2065 = x2041 - x2033;
-                x2066 = x1486.mul_add(x2016, x2048);
-                x2067 = x1486.mul_neg_add(x2046, x2038);
-                x2068 = x1481 * x2067;
-                x2069 = x1480.mul_add(x2047, x2068);
-                x2070 = x1481 * x2047;
-                x2071 = x1480.mul_sub(x2067, x2070);
-                x2072 = x1501.mul_add(x2052, x1493);
-                x2073 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x69, 0.0]);
-                x2074 = x1501.mul_add(x2050, x2073);
-                x2075 = x1501.mul_add(x2059, x1497);
-                x2076 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x76, 0.0]);
-                x2077 = x1501.mul_add(x2057, x2076);
-                x2078 = x2062 + x2072;
-                x2079 = x2064 - x2074;
-                x2080 = x2069 + x2075;
-                x2081 = x2071 - x2077;
-                x2082 = arith.splat_eight(1.0706865997634767f64);
-                x2083 = arith.splat_eight(-0.00398335888393552f64);
-                x2084 = x2083 * x1919;
-                x2085 = x2082.mul_sub(x1915, x2084);
-                x2086 = arith.splat_eight(0.01026110182100817f64);
-                x2087 = arith.splat_eight(0.0007689361029464f64);
-                x2088 = x2087 * x1919;
-                x2089 = x2086.mul_sub(x1915, x2088);
-                x2090 = 0.00398335888393552f64 * c1;
-                x2091 = arith.mul_add(-1.0706865997634767f64, s1, x2090);
-                x2092 = arith.eight([x2091, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2093 = arith
-                    .eight([0.0, 0.01026110182100817f64, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2094 = x2092 + x2093;
-                x2095 = 0.00398335888393552f64 * s1;
-                x2096 = arith.eight([x2095, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2097 = arith
-                    .eight([0.0, 0.0007689361029464f64, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2098 = x2096 + x2097;
-                x2099 = -0.0007689361029464f64 * c1;
-                x2100 = arith.mul_add(-0.01026110182100817f64, s1, x2099);
-                x2101 = arith.eight([x2100, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2102 = arith
-                    .eight([0.0, 1.1168423647533403f64, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2103 = x2101 + x2102;
-                x2104 = arith.splat_eight(x12);
-                x2105 = c1 * x451;
-                x2106 = -x2105;
-                x2107 = arith.eight([x2106, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2108 = x2104.mul_neg_add(x2103, x2107);
-                x2109 = arith.splat_eight(qd1);
-                x2110 = arith.eight([0.0, x449, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2111 = x2109.mul_add(x2098, x2110);
-                x2112 = x2108 - x2111;
-                x2113 = arith.eight([0.0, x448, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2114 = x2109.mul_add(x2094, x2113);
-                x2115 = arith.splat_eight(x10);
-                x2116 = s1 * x451;
-                x2117 = -x2116;
-                x2118 = arith.eight([x2117, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2119 = x2115.mul_neg_add(x2103, x2118);
-                x2120 = x2114 - x2119;
-                x2121 = s1 * x449;
-                x2122 = -x2121;
-                x2123 = arith.eight([x2122, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2124 = x2115.mul_neg_add(x2098, x2123);
-                x2125 = c1 * x448;
-                x2126 = -x2125;
-                x2127 = arith.eight([x2126, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2128 = x2104.mul_neg_add(x2094, x2127);
-                x2129 = x2124 - x2128;
-                x2130 = x2085 + x2112;
-                x2131 = x2083.mul_add(x1915, x2120);
-                x2132 = x2089 + x2129;
-                x2133 = x1503 * x1947;
-                x2134 = x1502.mul_sub(x1946, x2133);
-                x2135 = x1504.mul_add(x1919, x2134);
-                x2136 = x1505 * x1919;
-                x2137 = x1503.mul_add(x1946, x2136);
-                x2138 = x1505 * x1947;
-                x2139 = x1504.mul_sub(x1946, x2138);
-                x2140 = arith.splat_eight(0.13480070614822143f64);
-                x2141 = x2140.mul_add(x1919, x2139);
-                x2142 = x1509 * x1948;
-                x2143 = x1508.mul_sub(x1949, x2142);
-                x2144 = x2141 + x2143;
-                x2145 = x1503 * x1925;
-                x2146 = x1502.mul_add(x1922, x2145);
-                x2147 = x1504.mul_add(x1938, x2146);
-                x2148 = x1505 * x1938;
-                x2149 = x1503.mul_add(x1922, x2148);
-                x2150 = x1505 * x1925;
-                x2151 = x1504.mul_add(x1922, x2150);
-                x2152 = x2140.mul_add(x1938, x2151);
-                x2153 = x1509 * x1932;
-                x2154 = x1508.mul_sub(x1937, x2153);
-                x2155 = x2152 + x2154;
-                x2156 = x1509 * x1938;
-                x2157 = x1508 * x1938;
-                x2158 = x1508 * x1925;
-                x2159 = x1509.mul_sub(x1922, x2158);
-                x2160 = x1526 * x1925;
-                x2161 = x1525.mul_add(x2155, x2160);
-                x2162 = x1539 * x1938;
-                x2163 = x1529.mul_add(x2149, x2162);
-                x2164 = x2161 - x2163;
-                x2165 = x1542 * x1938;
-                x2166 = x1529.mul_add(x2147, x2165);
-                x2167 = x1526 * x1922;
-                x2168 = x1535.mul_add(x2155, x2167);
-                x2169 = x2166 - x2168;
-                x2170 = x1539 * x1922;
-                x2171 = x1535.mul_add(x2149, x2170);
-                x2172 = x1542 * x1925;
-                x2173 = x1525.mul_add(x2147, x2172);
-                x2174 = x2171 - x2173;
-                x2175 = x1547 * x1937;
-                x2176 = x1546.mul_add(x2159, x2175);
-                x2177 = x1547 * x1932;
-                x2178 = x1550.mul_add(x2159, x2177);
-                x2179 = x1554 * x1932;
-                x2180 = x1550.mul_add(x2157, x2179);
-                x2181 = x1557 * x1937;
-                x2182 = x1546.mul_add(x2156, x2181);
-                x2183 = x2180 + x2182;
-                x2184 = x2164 + x2176;
-                x2185 = x2169 - x2178;
-                x2186 = x2174 + x2183;
-                x2187 = x1547 * x1925;
-                x2188 = x1525.mul_add(x2159, x2187);
-                x2189 = x1554 * x1938;
-                x2190 = x1529.mul_add(x2157, x2189);
-                x2191 = x2188 - x2190;
-                x2192 = x1557 * x1938;
-                x2193 = x1529.mul_add(x2156, x2192);
-                x2194 = x1547 * x1922;
-                x2195 = x1535.mul_add(x2159, x2194);
-                x2196 = x2193 + x2195;
-                x2197 = x2135 + x2184;
-                x2198 = x2137 + x2185;
-                x2199 = x2144 + x2186;
-                x2200 = x1509.mul_neg_add(x1919, x2191);
-                x2201 = x1508.mul_sub(x1919, x2196);
-                x2202 = x1572 * x1978;
-                x2203 = x1571.mul_add(x1977, x2202);
-                x2204 = x1573.mul_add(x1947, x2203);
-                x2205 = x1574 * x1947;
-                x2206 = x1572.mul_add(x1977, x2205);
-                x2207 = x1574 * x1978;
-                x2208 = x1573.mul_add(x1977, x2207);
-                x2209 = x1575.mul_add(x1947, x2208);
-                x2210 = x1576 * x1979;
-                x2211 = x1577.mul_sub(x1980, x2210);
-                x2212 = x1576.mul_neg_add(x1966, x2204);
-                x2213 = x1577.mul_add(x1966, x2206);
-                x2214 = x2209 + x2211;
-                x2215 = x1577 * x1978;
-                x2216 = x1576.mul_sub(x1977, x2215);
-                x2217 = x1572 * x1953;
-                x2218 = x1571.mul_add(x1951, x2217);
-                x2219 = x1573.mul_add(x1960, x2218);
-                x2220 = x1574 * x1960;
-                x2221 = x1572.mul_add(x1951, x2220);
-                x2222 = x1574 * x1953;
-                x2223 = x1573.mul_add(x1951, x2222);
-                x2224 = x1575.mul_add(x1960, x2223);
-                x2225 = x1576 * x1957;
-                x2226 = x1577.mul_add(x1959, x2225);
-                x2227 = x1576.mul_neg_add(x1955, x2219);
-                x2228 = x1577.mul_add(x1955, x2221);
-                x2229 = x2224 - x2226;
-                x2230 = x1576 * x1960;
-                x2231 = x1577 * x1960;
-                x2232 = x1577 * x1953;
-                x2233 = x1576.mul_sub(x1951, x2232);
-                x2234 = x1596 * x1953;
-                x2235 = x1595.mul_add(x2229, x2234);
-                x2236 = x1600 * x1960;
-                x2237 = x1599.mul_add(x2228, x2236);
-                x2238 = x2235 - x2237;
-                x2239 = x1604 * x1960;
-                x2240 = x1599.mul_add(x2227, x2239);
-                x2241 = x1596 * x1951;
-                x2242 = x1607.mul_add(x2229, x2241);
-                x2243 = x2240 - x2242;
-                x2244 = x1600 * x1951;
-                x2245 = x1607.mul_add(x2228, x2244);
-                x2246 = x1604 * x1953;
-                x2247 = x1595.mul_add(x2227, x2246);
-                x2248 = x2245 - x2247;
-                x2249 = x1618 * x1959;
-                x2250 = x1616.mul_add(x2233, x2249);
-                x2251 = x1621 * x1955;
-                x2252 = x1620.mul_add(x2231, x2251);
-                x2253 = x2252 - x2250;
-                x2254 = x1625 * x1955;
-                x2255 = x1620.mul_add(x2230, x2254);
-                x2256 = x1618 * x1957;
-                x2257 = x1628.mul_add(x2233, x2256);
-                x2258 = x2255 - x2257;
-                x2259 = x1621 * x1957;
-                x2260 = x1628.mul_add(x2231, x2259);
-                x2261 = x1625 * x1959;
-                x2262 = x1616.mul_add(x2230, x2261);
-                x2263 = x2260 - x2262;
-                x2264 = x2238 + x2253;
-                x2265 = x2243 + x2258;
-                x2266 = x2248 + x2263;
-                x2267 = x1618 * x1953;
-                x2268 = x1595.mul_add(x2233, x2267);
-                x2269 = x1621 * x1960;
-                x2270 = x1599.mul_add(x2231, x2269);
-                x2271 = x2268 - x2270;
-                x2272 = x1625 * x1960;
-                x2273 = x1599.mul_add(x2230, x2272);
-                x2274 = x1618 * x1951;
-                x2275 = x1607.mul_add(x2233, x2274);
-                x2276 = x2273 + x2275;
-                x2277 = x1621 * x1951;
-                x2278 = x1607.mul_add(x2231, x2277);
-                x2279 = x1625 * x1953;
-                x2280 = x1595.mul_add(x2230, x2279);
-                x2281 = x2278 + x2280;
-                x2282 = x2212 + x2264;
-                x2283 = x2213 + x2265;
-                x2284 = x2214 + x2266;
-                x2285 = x1576.mul_neg_add(x1947, x2271);
-                x2286 = x1577.mul_sub(x1947, x2276);
-                x2287 = x2216 + x2281;
-                x2288 = x1656 * x2016;
-                x2289 = x1655.mul_sub(x2015, x2288);
-                x2290 = x1657.mul_add(x1978, x2289);
-                x2291 = x1658 * x1978;
-                x2292 = x1656.mul_add(x2015, x2291);
-                x2293 = x1658 * x2016;
-                x2294 = x1657.mul_sub(x2015, x2293);
-                x2295 = x1659.mul_add(x1978, x2294);
-                x2296 = x1660 * x2017;
-                x2297 = x1661.mul_sub(x2018, x2296);
-                x2298 = x1660.mul_add(x2003, x2290);
-                x2299 = x1661.mul_neg_add(x2003, x2292);
-                x2300 = x2295 + x2297;
-                x2301 = x1660 * x2015;
-                x2302 = x1661.mul_add(x2016, x2301);
-                x2303 = x1656 * x1984;
-                x2304 = x1655.mul_sub(x1982, x2303);
-                x2305 = x1657.mul_add(x1995, x2304);
-                x2306 = x1658 * x1995;
-                x2307 = x1656.mul_add(x1982, x2306);
-                x2308 = x1658 * x1984;
-                x2309 = x1657.mul_sub(x1982, x2308);
-                x2310 = x1659.mul_add(x1995, x2309);
-                x2311 = x1660 * x1991;
-                x2312 = x1661.mul_sub(x1994, x2311);
-                x2313 = x1660.mul_add(x1988, x2305);
-                x2314 = x1661.mul_neg_add(x1988, x2307);
-                x2315 = x2310 + x2312;
-                x2316 = x1660 * x1995;
-                x2317 = x1661 * x1995;
-                x2318 = x1660 * x1982;
-                x2319 = x1661.mul_add(x1984, x2318);
-                x2320 = x1681 * x1984;
-                x2321 = x1679.mul_add(x2315, x2320);
-                x2322 = x1684 * x1995;
-                x2323 = x1683.mul_add(x2314, x2322);
-                x2324 = x2321 + x2323;
-                x2325 = x1688 * x1995;
-                x2326 = x1683.mul_add(x2313, x2325);
-                x2327 = x1681 * x1982;
-                x2328 = x1691.mul_add(x2315, x2327);
-                x2329 = x2326 - x2328;
-                x2330 = x1684 * x1982;
-                x2331 = x1691.mul_add(x2314, x2330);
-                x2332 = x1688 * x1984;
-                x2333 = x1679.mul_add(x2313, x2332);
-                x2334 = x2331 + x2333;
-                x2335 = x1701 * x1994;
-                x2336 = x1700.mul_add(x2319, x2335);
-                x2337 = x1705 * x1988;
-                x2338 = x1704.mul_add(x2317, x2337);
-                x2339 = x2336 - x2338;
-                x2340 = x1709 * x1988;
-                x2341 = x1704.mul_add(x2316, x2340);
-                x2342 = x1701 * x1991;
-                x2343 = x1712.mul_add(x2319, x2342);
-                x2344 = x2341 + x2343;
-                x2345 = x1705 * x1991;
-                x2346 = x1712.mul_add(x2317, x2345);
-                x2347 = x1709 * x1994;
-                x2348 = x1700.mul_add(x2316, x2347);
-                x2349 = x2346 + x2348;
-                x2350 = x2339 - x2324;
-                x2351 = x2329 - x2344;
-                x2352 = x2334 + x2349;
-                x2353 = x1701 * x1984;
-                x2354 = x1679.mul_add(x2319, x2353);
-                x2355 = x1705 * x1995;
-                x2356 = x1683.mul_add(x2317, x2355);
-                x2357 = x2354 + x2356;
-                x2358 = x1709 * x1995;
-                x2359 = x1683.mul_add(x2316, x2358);
-                x2360 = x1701 * x1982;
-                x2361 = x1691.mul_add(x2319, x2360);
-                x2362 = x2359 + x2361;
-                x2363 = x1705 * x1982;
-                x2364 = x1691.mul_add(x2317, x2363);
-                x2365 = x1709 * x1984;
-                x2366 = x1679.mul_add(x2316, x2365);
-                x2367 = x2364 - x2366;
-                x2368 = x2298 + x2350;
-                x2369 = x2299 + x2351;
-                x2370 = x2300 + x2352;
-                x2371 = x1660.mul_add(x1978, x2357);
-                x2372 = x1661.mul_sub(x1978, x2362);
-                x2373 = x2302 + x2367;
-                x2374 = x1740 * x2046;
-                x2375 = x1739.mul_add(x2045, x2374);
-                x2376 = x1741.mul_add(x2016, x2375);
-                x2377 = x1742 * x2016;
-                x2378 = x1740.mul_add(x2045, x2377);
-                x2379 = x1742 * x2046;
-                x2380 = x1741.mul_add(x2045, x2379);
-                x2381 = x1743.mul_add(x2016, x2380);
-                x2382 = x1744 * x2047;
-                x2383 = x1745.mul_sub(x2048, x2382);
-                x2384 = x1744.mul_add(x2038, x2376);
-                x2385 = x1745.mul_neg_add(x2038, x2378);
-                x2386 = x2381 + x2383;
-                x2387 = x1745 * x2046;
-                x2388 = x1744.mul_sub(x2045, x2387);
-                x2389 = x1740 * x2023;
-                x2390 = x1739.mul_add(x2020, x2389);
-                x2391 = x1741.mul_add(x2029, x2390);
-                x2392 = x1742 * x2029;
-                x2393 = x1740.mul_add(x2020, x2392);
-                x2394 = x1742 * x2023;
-                x2395 = x1741.mul_add(x2020, x2394);
-                x2396 = x1743.mul_add(x2029, x2395);
-                x2397 = x1744 * x2025;
-                x2398 = x1745.mul_sub(x2027, x2397);
-                x2399 = x1744.mul_add(x2028, x2391);
-                x2400 = x1745.mul_neg_add(x2028, x2393);
-                x2401 = x2396 + x2398;
-                x2402 = x1744 * x2029;
-                x2403 = x1745 * x2029;
-                x2404 = x1745 * x2023;
-                x2405 = x1744.mul_sub(x2020, x2404);
-                x2406 = x1764 * x2023;
-                x2407 = x1763.mul_add(x2401, x2406);
-                x2408 = x1768 * x2029;
-                x2409 = x1767.mul_add(x2400, x2408);
-                x2410 = x2407 - x2409;
-                x2411 = x1772 * x2029;
-                x2412 = x1767.mul_add(x2399, x2411);
-                x2413 = x1764 * x2020;
-                x2414 = x1775.mul_add(x2401, x2413);
-                x2415 = x2412 - x2414;
-                x2416 = x1768 * x2020;
-                x2417 = x1775.mul_add(x2400, x2416);
-                x2418 = x1772 * x2023;
-                x2419 = x1763.mul_add(x2399, x2418);
-                x2420 = x2417 - x2419;
-                x2421 = x1785 * x2027;
-                x2422 = x1784.mul_add(x2405, x2421);
-                x2423 = x1790 * x2028;
-                x2424 = x1788.mul_add(x2403, x2423);
-                x2425 = x2422 - x2424;
-                x2426 = x1793 * x2028;
-                x2427 = x1788.mul_add(x2402, x2426);
-                x2428 = x1785 * x2025;
-                x2429 = x1796.mul_add(x2405, x2428);
-                x2430 = x2427 + x2429;
-                x2431 = x1790 * x2025;
-                x2432 = x1796.mul_add(x2403, x2431);
-                x2433 = x1793 * x2027;
-                x2434 = x1784.mul_add(x2402, x2433);
-                x2435 = x2432 + x2434;
-                x2436 = x2410 + x2425;
-                x2437 = x2415 - x2430;
-                x2438 = x2420 + x2435;
-                x2439 = x1785 * x2023;
-                x2440 = x1763.mul_add(x2405, x2439);
-                x2441 = x1790 * x2029;
-                x2442 = x1767.mul_add(x2403, x2441);
-                x2443 = x2440 - x2442;
-                x2444 = x1793 * x2029;
-                x2445 = x1767.mul_add(x2402, x2444);
-                x2446 = x1785 * x2020;
-                x2447 = x1775.mul_add(x2405, x2446);
-                x2448 = x2445 + x2447;
-                x2449 = x1790 * x2020;
-                x2450 = x1775.mul_add(x2403, x2449);
-                x2451 = x1793 * x2023;
-                x2452 = x1763.mul_add(x2402, x2451);
-                x2453 = x2450 + x2452;
-                x2454 = x2384 + x2436;
-                x2455 = x2385 + x2437;
-                x2456 = x2386 + x2438;
-                x2457 = x1744.mul_neg_add(x2016, x2443);
-                x2458 = x1745.mul_sub(x2016, x2448);
-                x2459 = x2388 + x2453;
-                x2460 = x1824 * x2079;
-                x2461 = x1823.mul_add(x2078, x2460);
-                x2462 = x1825.mul_add(x2065, x2461);
-                x2463 = x1826 * x2065;
-                x2464 = x1824.mul_add(x2078, x2463);
-                x2465 = x1826 * x2079;
-                x2466 = x1825.mul_add(x2078, x2465);
-                x2467 = x1827.mul_add(x2065, x2466);
-                x2468 = x1828 * x2080;
-                x2469 = x1829.mul_sub(x2081, x2468);
-                x2470 = x1828.mul_neg_add(x2066, x2462);
-                x2471 = x1829.mul_add(x2066, x2464);
-                x2472 = x2467 + x2469;
-                x2473 = x1829 * x2079;
-                x2474 = x1828.mul_sub(x2078, x2473);
-                x2475 = x1824 * x2052;
-                x2476 = x1823.mul_add(x2050, x2475);
-                x2477 = x1825.mul_add(x2060, x2476);
-                x2478 = x1826 * x2060;
-                x2479 = x1824.mul_add(x2050, x2478);
-                x2480 = x1826 * x2052;
-                x2481 = x1825.mul_add(x2050, x2480);
-                x2482 = x1827.mul_add(x2060, x2481);
-                x2483 = x1828 * x2057;
-                x2484 = x1829.mul_sub(x2059, x2483);
-                x2485 = x1828.mul_neg_add(x2054, x2477);
-                x2486 = x1829.mul_add(x2054, x2479);
-                x2487 = x2482 + x2484;
-                x2488 = x1828 * x2060;
-                x2489 = x1829 * x2060;
-                x2490 = x1829 * x2052;
-                x2491 = x1828.mul_sub(x2050, x2490);
-                x2492 = x1848 * x2052;
-                x2493 = x1847.mul_add(x2487, x2492);
-                x2494 = x1852 * x2060;
-                x2495 = x1851.mul_add(x2486, x2494);
-                x2496 = x2493 - x2495;
-                x2497 = x1856 * x2060;
-                x2498 = x1851.mul_add(x2485, x2497);
-                x2499 = x1848 * x2050;
-                x2500 = x1859.mul_add(x2487, x2499);
-                x2501 = x2498 - x2500;
-                x2502 = x1852 * x2050;
-                x2503 = x1859.mul_add(x2486, x2502);
-                x2504 = x1856 * x2052;
-                x2505 = x1847.mul_add(x2485, x2504);
-                x2506 = x2503 - x2505;
-                x2507 = x1869 * x2059;
-                x2508 = x1868.mul_add(x2491, x2507);
-                x2509 = x1873 * x2054;
-                x2510 = x1872.mul_add(x2489, x2509);
-                x2511 = x2508 + x2510;
-                x2512 = x1877 * x2054;
-                x2513 = x1872.mul_add(x2488, x2512);
-                x2514 = x1869 * x2057;
-                x2515 = x1880.mul_add(x2491, x2514);
-                x2516 = x2513 - x2515;
-                x2517 = x1873 * x2057;
-                x2518 = x1880.mul_add(x2489, x2517);
-                x2519 = x1877 * x2059;
-                x2520 = x1868.mul_add(x2488, x2519);
-                x2521 = x2518 + x2520;
-                x2522 = x2496 + x2511;
-                x2523 = x2501 + x2516;
-                x2524 = x2506 + x2521;
-                x2525 = x1869 * x2052;
-                x2526 = x1847.mul_add(x2491, x2525);
-                x2527 = x1873 * x2060;
-                x2528 = x1851.mul_add(x2489, x2527);
-                x2529 = x2526 - x2528;
-                x2530 = x1877 * x2060;
-                x2531 = x1851.mul_add(x2488, x2530);
-                x2532 = x1869 * x2050;
-                x2533 = x1859.mul_add(x2491, x2532);
-                x2534 = x2531 + x2533;
-                x2535 = x1873 * x2050;
-                x2536 = x1859.mul_add(x2489, x2535);
-                x2537 = x1877 * x2052;
-                x2538 = x1847.mul_add(x2488, x2537);
-                x2539 = x2536 + x2538;
-                x2540 = x2470 + x2522;
-                x2541 = x2471 + x2523;
-                x2542 = x2472 + x2524;
-                x2543 = x1828.mul_neg_add(x2065, x2529);
-                x2544 = x1829.mul_sub(x2065, x2534);
-                x2545 = x2474 + x2539;
-                x2546 = x1481 * x2544;
-                x2547 = x1480.mul_sub(x2543, x2546);
-                x2548 = x1480 * x2544;
-                x2549 = x1481.mul_add(x2543, x2548);
-                x2550 = x1481 * x2541;
-                x2551 = x1480.mul_sub(x2540, x2550);
-                x2552 = x1480 * x2541;
-                x2553 = x1481.mul_add(x2540, x2552);
-                x2554 = x1486.mul_add(x2549, x2542);
-                x2555 = x1486.mul_neg_add(x2545, x2553);
-                x2556 = x2454 + x2551;
-                x2557 = x2455 - x2554;
-                x2558 = x2456 + x2555;
-                x2559 = x2457 + x2547;
-                x2560 = x2458 - x2545;
-                x2561 = x2459 + x2549;
-                x2562 = x1460 * x2560;
-                x2563 = x1459.mul_sub(x2559, x2562);
-                x2564 = x1459 * x2560;
-                x2565 = x1460.mul_add(x2559, x2564);
-                x2566 = x1460 * x2557;
-                x2567 = x1459.mul_sub(x2556, x2566);
-                x2568 = x1459 * x2557;
-                x2569 = x1460.mul_add(x2556, x2568);
-                x2570 = x2368 + x2567;
-                x2571 = x2369 - x2558;
-                x2572 = x2370 + x2569;
-                x2573 = x2563 - x2371;
-                x2574 = x2372 - x2561;
-                x2575 = x2373 + x2565;
-                x2576 = x1432 * x2574;
-                x2577 = x1431.mul_sub(x2573, x2576);
-                x2578 = x1431 * x2574;
-                x2579 = x1432.mul_add(x2573, x2578);
-                x2580 = x1432 * x2571;
-                x2581 = x1431.mul_sub(x2570, x2580);
-                x2582 = x1431 * x2571;
-                x2583 = x1432.mul_add(x2570, x2582);
-                x2584 = x1437 * x2577;
-                x2585 = x1438.mul_sub(x2575, x2584);
-                x2586 = x1437.mul_neg_add(x2579, x2581);
-                x2587 = x1438.mul_add(x2579, x2572);
-                x2588 = x2585 - x2583;
-                x2589 = x2282 + x2586;
-                x2590 = x2283 + x2587;
-                x2591 = x2284 + x2588;
-                x2592 = x2285 + x2577;
-                x2593 = x2286 + x2575;
-                x2594 = x1411 * x2593;
-                x2595 = x1408.mul_sub(x2592, x2594);
-                x2596 = x2579 - x2287;
-                x2597 = x1408 * x2593;
-                x2598 = x1411.mul_add(x2592, x2597);
-                x2599 = x1411 * x2590;
-                x2600 = x1408.mul_sub(x2589, x2599);
-                x2601 = x1408 * x2590;
-                x2602 = x1411.mul_add(x2589, x2601);
-                x2603 = x1415.mul_add(x2598, x2591);
-                x2604 = x1415.mul_add(x2596, x2602);
-                x2605 = x2197 + x2600;
-                x2606 = x2198 - x2603;
-                x2607 = x2199 + x2604;
-                x2608 = x2200 + x2595;
-                x2609 = x2201 + x2596;
-                x2610 = x1908 * x2609;
-                x2611 = x1907.mul_sub(x2608, x2610);
-                x2612 = x1907 * x2609;
-                x2613 = x1908.mul_add(x2608, x2612);
-                x2614 = x1908 * x2606;
-                x2615 = x1907.mul_sub(x2605, x2614);
-                x2616 = x1907 * x2606;
-                x2617 = x1908.mul_add(x2605, x2616);
-                x2618 = x1909.mul_add(x2613, x2615);
-                x2619 = x1909.mul_neg_add(x2611, x2617);
-                x2620 = x2130 + x2618;
-                x2621 = x2131 - x2607;
-                x2622 = x2132 + x2619;
-                x2623 = x1910 * x2621;
-                x2624 = x1911.mul_add(x2620, x2623);
-                x2625 = arith.eight([0.0, x1338, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2626 = arith.eight([0.0, x1340, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2627 = arith.eight([0.0, x1343, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2628 = arith.eight([0.0, x1344, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2629 = arith.eight([0.0, 0.0, x1077, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2630 = x2625 + x2629;
-                x2631 = arith.eight([0.0, 0.0, x1366, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2632 = x2626 + x2631;
-                x2633 = arith.eight([0.0, 0.0, x1084, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2634 = x2627 + x2633;
-                x2635 = arith.eight([0.0, 0.0, x1367, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2636 = x2628 + x2635;
-                x2637 = x1406.mul_add(x1400, x2630);
-                x2638 = x2632 - x1407;
-                x2639 = x1406.mul_add(x1404, x2634);
-                x2640 = x1406.mul_neg_add(x1402, x2636);
-                x2641 = arith.eight([0.0, x1346, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2642 = x1408.mul_add(x2637, x2641);
-                x2643 = arith.eight([0.0, x1348, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2644 = x1411.mul_neg_add(x2637, x2643);
-                x2645 = x1407 - x2632;
-                x2646 = arith.eight([0.0, x1350, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2647 = x1415.mul_neg_add(x2638, x1405);
-                x2648 = x1411 * x2647;
-                x2649 = x1408.mul_add(x2639, x2648);
-                x2650 = x1411 * x2639;
-                x2651 = x1408.mul_sub(x2647, x2650);
-                x2652 = x2646 - x2640;
-                x2653 = arith.eight([0.0, 0.0, 0.0, x1093, 0.0, 0.0, 0.0, 0.0]);
-                x2654 = x2642 + x2653;
-                x2655 = arith.eight([0.0, 0.0, 0.0, x1370, 0.0, 0.0, 0.0, 0.0]);
-                x2656 = x2644 + x2655;
-                x2657 = arith.eight([0.0, 0.0, 0.0, x1102, 0.0, 0.0, 0.0, 0.0]);
-                x2658 = x2649 + x2657;
-                x2659 = arith.eight([0.0, 0.0, 0.0, x1371, 0.0, 0.0, 0.0, 0.0]);
-                x2660 = x2651 + x2659;
-                x2661 = x1430.mul_add(x1425, x2654);
-                x2662 = x1430.mul_neg_add(x1423, x2656);
-                x2663 = x1430.mul_add(x1429, x2658);
-                x2664 = x1430.mul_neg_add(x1427, x2660);
-                x2665 = x1432 * x2645;
-                x2666 = x1431.mul_sub(x2661, x2665);
-                x2667 = x1431 * x2645;
-                x2668 = x1432.mul_add(x2661, x2667);
-                x2669 = x1437 * x2661;
-                x2670 = x1438.mul_sub(x2662, x2669);
-                x2671 = x1437.mul_neg_add(x2645, x2663);
-                x2672 = x1438.mul_add(x2645, x2664);
-                x2673 = x2652 - x2670;
-                x2674 = x1432 * x2673;
-                x2675 = x1431.mul_sub(x2671, x2674);
-                x2676 = x1431 * x2673;
-                x2677 = x1432.mul_add(x2671, x2676);
-                x2678 = arith.eight([0.0, 0.0, 0.0, 0.0, x1113, 0.0, 0.0, 0.0]);
-                x2679 = x2666 + x2678;
-                x2680 = arith.eight([0.0, 0.0, 0.0, 0.0, x1374, 0.0, 0.0, 0.0]);
-                x2681 = x2680 - x2668;
-                x2682 = arith.eight([0.0, 0.0, 0.0, 0.0, x1122, 0.0, 0.0, 0.0]);
-                x2683 = x2675 + x2682;
-                x2684 = arith.eight([0.0, 0.0, 0.0, 0.0, x1375, 0.0, 0.0, 0.0]);
-                x2685 = x2684 - x2677;
-                x2686 = x1456.mul_add(x1451, x2679);
-                x2687 = x2681 - x1457;
-                x2688 = x1456.mul_add(x1455, x2683);
-                x2689 = x2685 - x1458;
-                x2690 = x1460 * x2662;
-                x2691 = x1459.mul_add(x2686, x2690);
-                x2692 = x1460 * x2686;
-                x2693 = x1459.mul_sub(x2662, x2692);
-                x2694 = x1457 - x2681;
-                x2695 = x1460 * x2672;
-                x2696 = x1459.mul_add(x2688, x2695);
-                x2697 = x1460 * x2688;
-                x2698 = x1459.mul_sub(x2672, x2697);
-                x2699 = x1458 - x2685;
-                x2700 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x1131, 0.0, 0.0]);
-                x2701 = x2691 + x2700;
-                x2702 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x1378, 0.0, 0.0]);
-                x2703 = x2693 + x2702;
-                x2704 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x1135, 0.0, 0.0]);
-                x2705 = x2696 + x2704;
-                x2706 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x1379, 0.0, 0.0]);
-                x2707 = x2698 + x2706;
-                x2708 = x1478.mul_add(x1473, x2701);
-                x2709 = x2703 - x1479;
-                x2710 = x1478.mul_add(x1477, x2705);
-                x2711 = x1478.mul_neg_add(x1475, x2707);
-                x2712 = x1481 * x2694;
-                x2713 = x1480.mul_add(x2708, x2712);
-                x2714 = x1481 * x2708;
-                x2715 = x1480.mul_sub(x2694, x2714);
-                x2716 = x1479 - x2703;
-                x2717 = x1486.mul_add(x2694, x2711);
-                x2718 = x1486.mul_neg_add(x2709, x2699);
-                x2719 = x1481 * x2718;
-                x2720 = x1480.mul_add(x2710, x2719);
-                x2721 = x1481 * x2710;
-                x2722 = x1480.mul_sub(x2718, x2721);
-                x2723 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x1145, 0.0]);
-                x2724 = x2713 + x2723;
-                x2725 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x1382, 0.0]);
-                x2726 = x2715 + x2725;
-                x2727 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x1152, 0.0]);
-                x2728 = x2720 + x2727;
-                x2729 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x1383, 0.0]);
-                x2730 = x2722 + x2729;
-                x2731 = x1501.mul_add(x1496, x2724);
-                x2732 = x1501.mul_neg_add(x1494, x2726);
-                x2733 = x1501.mul_add(x1500, x2728);
-                x2734 = x1501.mul_neg_add(x1498, x2730);
-                x2735 = arith.eight([0.0, x1356, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2736 = arith.eight([0.0, x1357, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2737 = arith.eight([0.0, x1358, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2738 = x1503 * x2638;
-                x2739 = x1502.mul_add(x2637, x2738);
-                x2740 = arith.eight([0.0, x1359, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2741 = x2739 + x2740;
-                x2742 = arith.eight([0.0, x1360, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2743 = x1503.mul_add(x2637, x2742);
-                x2744 = x1505 * x2638;
-                x2745 = x1504.mul_add(x2637, x2744);
-                x2746 = arith.eight([0.0, x1361, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2747 = x2745 + x2746;
-                x2748 = x1509 * x2639;
-                x2749 = x1508.mul_sub(x2640, x2748);
-                x2750 = x1506 + x2741;
-                x2751 = x1507 + x2743;
-                x2752 = x2747 + x2749;
-                x2753 = arith.eight([0.0, x1363, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2754 = arith.eight([0.0, x1364, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2755 = x1560 + x2750;
-                x2756 = x1561 + x2751;
-                x2757 = x1562 + x2752;
-                x2758 = x1566 + x2754;
-                x2759 = x1570 + x2753;
-                x2760 = x1572 * x2662;
-                x2761 = x1571.mul_add(x2661, x2760);
-                x2762 = x1573.mul_add(x2645, x2761);
-                x2763 = x1574 * x2645;
-                x2764 = x1572.mul_add(x2661, x2763);
-                x2765 = x1574 * x2662;
-                x2766 = x1573.mul_add(x2661, x2765);
-                x2767 = x1575.mul_add(x2645, x2766);
-                x2768 = x1576 * x2663;
-                x2769 = x1577.mul_sub(x2664, x2768);
-                x2770 = x1576.mul_add(x2652, x2762);
-                x2771 = x1577.mul_neg_add(x2652, x2764);
-                x2772 = x2767 + x2769;
-                x2773 = x1577 * x2662;
-                x2774 = x1576.mul_sub(x2661, x2773);
-                x2775 = x1637 + x2770;
-                x2776 = x1638 + x2771;
-                x2777 = x1639 + x2772;
-                x2778 = x1576.mul_neg_add(x2645, x1644);
-                x2779 = x1577.mul_add(x2645, x1649);
-                x2780 = x1654 + x2774;
-                x2781 = x1656 * x2687;
-                x2782 = x1655.mul_add(x2686, x2781);
-                x2783 = x1657.mul_add(x2662, x2782);
-                x2784 = x1658 * x2662;
-                x2785 = x1656.mul_add(x2686, x2784);
-                x2786 = x1658 * x2687;
-                x2787 = x1657.mul_add(x2686, x2786);
-                x2788 = x1659.mul_add(x2662, x2787);
-                x2789 = x1660 * x2688;
-                x2790 = x1661.mul_sub(x2689, x2789);
-                x2791 = x1660.mul_add(x2672, x2783);
-                x2792 = x1661.mul_neg_add(x2672, x2785);
-                x2793 = x2788 + x2790;
-                x2794 = x1661 * x2687;
-                x2795 = x1660.mul_sub(x2686, x2794);
-                x2796 = x1721 + x2791;
-                x2797 = x1722 + x2792;
-                x2798 = x1723 + x2793;
-                x2799 = x1660.mul_neg_add(x2662, x1728);
-                x2800 = x1661.mul_sub(x2662, x1733);
-                x2801 = x1738 + x2795;
-                x2802 = x1740 * x2709;
-                x2803 = x1739.mul_add(x2708, x2802);
-                x2804 = x1741.mul_add(x2694, x2803);
-                x2805 = x1742 * x2694;
-                x2806 = x1740.mul_add(x2708, x2805);
-                x2807 = x1742 * x2709;
-                x2808 = x1741.mul_add(x2708, x2807);
-                x2809 = x1743.mul_add(x2694, x2808);
-                x2810 = x1744 * x2710;
-                x2811 = x1745.mul_sub(x2711, x2810);
-                x2812 = x1744.mul_add(x2699, x2804);
-                x2813 = x1745.mul_neg_add(x2699, x2806);
-                x2814 = x2809 + x2811;
-                x2815 = x1745 * x2709;
-                x2816 = x1744.mul_sub(x2708, x2815);
-                x2817 = x1805 + x2812;
-                x2818 = x1806 + x2813;
-                x2819 = x1807 + x2814;
-                x2820 = x1744.mul_neg_add(x2694, x1812);
-                x2821 = x1745.mul_add(x2694, x1817);
-                x2822 = x1822 + x2816;
-                x2823 = x1824 * x2732;
-                x2824 = x1823.mul_add(x2731, x2823);
-                x2825 = x1825.mul_add(x2716, x2824);
-                x2826 = x1826 * x2716;
-                x2827 = x1824.mul_add(x2731, x2826);
-                x2828 = x1826 * x2732;
-                x2829 = x1825.mul_add(x2731, x2828);
-                x2830 = x1827.mul_add(x2716, x2829);
-                x2831 = x1828 * x2733;
-                x2832 = x1829.mul_sub(x2734, x2831);
-                x2833 = x1828.mul_neg_add(x2717, x2825);
-                x2834 = x1829.mul_add(x2717, x2827);
-                x2835 = x2830 + x2832;
-                x2836 = x1829 * x2732;
-                x2837 = x1828.mul_sub(x2731, x2836);
-                x2838 = x1889 + x2833;
-                x2839 = x1890 + x2834;
-                x2840 = x1891 + x2835;
-                x2841 = x1828.mul_neg_add(x2716, x1896);
-                x2842 = x1829.mul_add(x2716, x1901);
-                x2843 = x1906 + x2837;
-                x2844 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x1384, 0.0]);
-                x2845 = x2838 + x2844;
-                x2846 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x1262, 0.0]);
-                x2847 = x2839 + x2846;
-                x2848 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x1385, 0.0]);
-                x2849 = x2841 + x2848;
-                x2850 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x1265, 0.0]);
-                x2851 = x2842 + x2850;
-                x2852 = x1481 * x2851;
-                x2853 = x1480.mul_sub(x2849, x2852);
-                x2854 = x1480 * x2851;
-                x2855 = x1481.mul_add(x2849, x2854);
-                x2856 = x1481 * x2847;
-                x2857 = x1480.mul_sub(x2845, x2856);
-                x2858 = x1480 * x2847;
-                x2859 = x1481.mul_add(x2845, x2858);
-                x2860 = x1486.mul_add(x2855, x2840);
-                x2861 = x1486.mul_neg_add(x2843, x2859);
-                x2862 = x2817 + x2857;
-                x2863 = x2818 - x2860;
-                x2864 = x2819 + x2861;
-                x2865 = x2820 + x2853;
-                x2866 = x2821 - x2843;
-                x2867 = x2822 + x2855;
-                x2868 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x1380, 0.0, 0.0]);
-                x2869 = x2862 + x2868;
-                x2870 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x1278, 0.0, 0.0]);
-                x2871 = x2863 + x2870;
-                x2872 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x1381, 0.0, 0.0]);
-                x2873 = x2865 + x2872;
-                x2874 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x1281, 0.0, 0.0]);
-                x2875 = x2866 + x2874;
-                x2876 = x1460 * x2875;
-                x2877 = x1459.mul_sub(x2873, x2876);
-                x2878 = x1459 * x2875;
-                x2879 = x1460.mul_add(x2873, x2878);
-                x2880 = x1460 * x2871;
-                x2881 = x1459.mul_sub(x2869, x2880);
-                x2882 = x1459 * x2871;
-                x2883 = x1460.mul_add(x2869, x2882);
-                x2884 = x2796 + x2881;
-                x2885 = x2797 - x2864;
-                x2886 = x2798 + x2883;
-                x2887 = x2799 + x2877;
-                x2888 = x2800 - x2867;
-                x2889 = x2801 + x2879;
-                x2890 = arith.eight([0.0, 0.0, 0.0, 0.0, x1376, 0.0, 0.0, 0.0]);
-                x2891 = x2884 + x2890;
-                x2892 = arith.eight([0.0, 0.0, 0.0, 0.0, x1292, 0.0, 0.0, 0.0]);
-                x2893 = x2885 + x2892;
-                x2894 = arith.eight([0.0, 0.0, 0.0, 0.0, x1377, 0.0, 0.0, 0.0]);
-                x2895 = x2887 + x2894;
-                x2896 = arith.eight([0.0, 0.0, 0.0, 0.0, x1295, 0.0, 0.0, 0.0]);
-                x2897 = x2888 + x2896;
-                x2898 = x1432 * x2897;
-                x2899 = x1431.mul_sub(x2895, x2898);
-                x2900 = x1431 * x2897;
-                x2901 = x1432.mul_add(x2895, x2900);
-                x2902 = x1432 * x2893;
-                x2903 = x1431.mul_sub(x2891, x2902);
-                x2904 = x1431 * x2893;
-                x2905 = x1432.mul_add(x2891, x2904);
-                x2906 = x1437 * x2899;
-                x2907 = x1438.mul_sub(x2889, x2906);
-                x2908 = x1437.mul_neg_add(x2901, x2903);
-                x2909 = x1438.mul_add(x2901, x2886);
-                x2910 = x2907 - x2905;
-                x2911 = x2775 + x2908;
-                x2912 = x2776 + x2909;
-                x2913 = x2777 + x2910;
-                x2914 = x2778 + x2899;
-                x2915 = x2779 + x2889;
-                x2916 = arith.eight([0.0, 0.0, 0.0, x1372, 0.0, 0.0, 0.0, 0.0]);
-                x2917 = x2911 + x2916;
-                x2918 = arith.eight([0.0, 0.0, 0.0, x1311, 0.0, 0.0, 0.0, 0.0]);
-                x2919 = x2912 + x2918;
-                x2920 = arith.eight([0.0, 0.0, 0.0, x1373, 0.0, 0.0, 0.0, 0.0]);
-                x2921 = x2914 + x2920;
-                x2922 = arith.eight([0.0, 0.0, 0.0, x1314, 0.0, 0.0, 0.0, 0.0]);
-                x2923 = x2915 + x2922;
-                x2924 = x1411 * x2923;
-                x2925 = x1408.mul_sub(x2921, x2924);
-                x2926 = x2901 - x2780;
-                x2927 = x1408 * x2923;
-                x2928 = x1411.mul_add(x2921, x2927);
-                x2929 = x1411 * x2919;
-                x2930 = x1408.mul_sub(x2917, x2929);
-                x2931 = x1408 * x2919;
-                x2932 = x1411.mul_add(x2917, x2931);
-                x2933 = x1415.mul_add(x2928, x2913);
-                x2934 = x1415.mul_add(x2926, x2932);
-                x2935 = x2755 + x2930;
-                x2936 = x2756 - x2933;
-                x2937 = x2757 + x2934;
-                x2938 = x2758 + x2925;
-                x2939 = x2759 + x2926;
-                x2940 = arith.eight([0.0, 0.0, x1368, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2941 = x2935 + x2940;
-                x2942 = arith.eight([0.0, 0.0, x1327, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2943 = x2936 + x2942;
-                x2944 = arith.eight([0.0, 0.0, x1369, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2945 = x2938 + x2944;
-                x2946 = arith.eight([0.0, 0.0, x1330, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2947 = x2939 + x2946;
-                x2948 = x1908 * x2947;
-                x2949 = x1907.mul_sub(x2945, x2948);
-                x2950 = x1907 * x2947;
-                x2951 = x1908.mul_add(x2945, x2950);
-                x2952 = x1908 * x2943;
-                x2953 = x1907.mul_sub(x2941, x2952);
-                x2954 = x1907 * x2943;
-                x2955 = x1908.mul_add(x2941, x2954);
-                x2956 = x1909.mul_add(x2951, x2953);
-                x2957 = x1909.mul_neg_add(x2949, x2955);
-                x2958 = x2735 + x2956;
-                x2959 = x2736 - x2937;
-                x2960 = x2737 + x2957;
-                x2961 = arith.eight([0.0, x1365, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2962 = x2958 + x2961;
-                x2963 = arith.eight([0.0, x1337, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
-                x2964 = x2959 + x2963;
-                x2965 = x1910 * x2964;
-                x2966 = x1911.mul_add(x2962, x2965);
-                x2967 = arith.splat_eight(x627);
-                x2968 = x2967.mul_sub(x2840, x2864);
-                x2969 = arith.splat_eight(x634);
-                x2970 = x2969.mul_sub(x2840, x2886);
-                x2971 = arith.splat_eight(x640);
-                x2972 = x2971.mul_sub(x2840, x2913);
-                x2973 = arith.splat_eight(x645);
-                x2974 = x2973.mul_sub(x2840, x2937);
-                x2975 = arith.splat_eight(x649);
-                x2976 = x2975.mul_sub(x2840, x2960);
-                x2977 = arith.splat_eight(x652);
-                x2978 = x2977.mul_add(x2840, x2966);
-                x2979 = arith.splat_eight(x655);
-                x2980 = x2979.mul_neg_add(x2968, x2970);
-                x2981 = arith.splat_eight(x661);
-                x2982 = x2981.mul_neg_add(x2968, x2972);
-                x2983 = arith.splat_eight(x666);
-                x2984 = x2983.mul_neg_add(x2968, x2974);
-                x2985 = arith.splat_eight(x670);
-                x2986 = x2985.mul_neg_add(x2968, x2976);
-                x2987 = arith.splat_eight(x673);
-                x2988 = x2987.mul_neg_add(x2968, x2978);
-                x2989 = arith.splat_eight(x676);
-                x2990 = x2989.mul_add(x2980, x2982);
-                x2991 = arith.splat_eight(x681);
-                x2992 = x2991.mul_neg_add(x2980, x2984);
-                x2993 = arith.splat_eight(x685);
-                x2994 = x2993.mul_neg_add(x2980, x2986);
-                x2995 = arith.splat_eight(x688);
-                x2996 = x2995.mul_neg_add(x2980, x2988);
-                x2997 = arith.splat_eight(x691);
-                x2998 = x2997.mul_neg_add(x2990, x2992);
-                x2999 = arith.splat_eight(x695);
-                x3000 = x2999.mul_neg_add(x2990, x2994);
-                x3001 = arith.splat_eight(x698);
-                x3002 = x3001.mul_neg_add(x2990, x2996);
-                x3003 = arith.splat_eight(x701);
-                x3004 = x3003.mul_neg_add(x2998, x3000);
-                x3005 = arith.splat_eight(x704);
-                x3006 = x3005.mul_neg_add(x2998, x3002);
-                x3007 = arith.splat_eight(x707);
-                x3008 = x3007.mul_add(x3004, x3006);
-                x3009 = arith.splat_eight(x709);
-                x3010 = x3009 * x3008;
-                x3011 = arith.splat_eight(x706);
-                x3012 = arith.splat_eight(x700);
-                x3013 = arith.splat_eight(x690);
-                x3014 = arith.splat_eight(x675);
-                x3015 = arith.splat_eight(x654);
-                x3016 = arith.splat_eight(149.6076098932297f64);
-                x3017 = x3007 * x3010;
-                x3018 = x3011.mul_add(x3004, x3017);
-                x3019 = x3005 * x3010;
-                x3020 = x3012.mul_sub(x2998, x3019);
-                x3021 = x3003.mul_neg_add(x3018, x3020);
-                x3022 = x3001 * x3010;
-                x3023 = x3013.mul_sub(x2990, x3022);
-                x3024 = x2999.mul_neg_add(x3018, x3023);
-                x3025 = x2997.mul_neg_add(x3021, x3024);
-                x3026 = x2995 * x3010;
-                x3027 = x3014.mul_sub(x2980, x3026);
-                x3028 = x2993.mul_neg_add(x3018, x3027);
-                x3029 = x2991.mul_neg_add(x3021, x3028);
-                x3030 = x2989.mul_add(x3025, x3029);
-                x3031 = x2987 * x3010;
-                x3032 = x3015.mul_sub(x2968, x3031);
-                x3033 = x2985.mul_neg_add(x3018, x3032);
-                x3034 = x2983.mul_neg_add(x3021, x3033);
-                x3035 = x2981.mul_neg_add(x3025, x3034);
-                x3036 = x2979.mul_neg_add(x3030, x3035);
-                x3037 = x2977 * x3010;
-                x3038 = x3016.mul_add(x2840, x3037);
-                x3039 = x2975.mul_add(x3018, x3038);
-                x3040 = x2973.mul_add(x3021, x3039);
-                x3041 = x2971.mul_add(x3025, x3040);
-                x3042 = x2969.mul_add(x3030, x3041);
-                x3043 = x2967.mul_add(x3036, x3042);
-                x3044 = -x3043;
-                x3045 = x2967.mul_sub(x2542, x2558);
-                x3046 = x2969.mul_sub(x2542, x2572);
-                x3047 = x2971.mul_sub(x2542, x2591);
-                x3048 = x2973.mul_sub(x2542, x2607);
-                x3049 = x2975.mul_sub(x2542, x2622);
-                x3050 = x2977.mul_add(x2542, x2624);
-                x3051 = x2979.mul_neg_add(x3045, x3046);
-                x3052 = x2981.mul_neg_add(x3045, x3047);
-                x3053 = x2983.mul_neg_add(x3045, x3048);
-                x3054 = x2985.mul_neg_add(x3045, x3049);
-                x3055 = x2987.mul_neg_add(x3045, x3050);
-                x3056 = x2989.mul_add(x3051, x3052);
-                x3057 = x2991.mul_neg_add(x3051, x3053);
-                x3058 = x2993.mul_neg_add(x3051, x3054);
-                x3059 = x2995.mul_neg_add(x3051, x3055);
-                x3060 = x2997.mul_neg_add(x3056, x3057);
-                x3061 = x2999.mul_neg_add(x3056, x3058);
-                x3062 = x3001.mul_neg_add(x3056, x3059);
-                x3063 = x3003.mul_neg_add(x3060, x3061);
-                x3064 = x3005.mul_neg_add(x3060, x3062);
-                x3065 = x3007.mul_add(x3063, x3064);
-                x3066 = x3009 * x3065;
-                x3067 = x3007 * x3066;
-                x3068 = x3011.mul_add(x3063, x3067);
-                x3069 = x3005 * x3066;
-                x3070 = x3012.mul_sub(x3060, x3069);
-                x3071 = x3003.mul_neg_add(x3068, x3070);
-                x3072 = x3001 * x3066;
-                x3073 = x3013.mul_sub(x3056, x3072);
-                x3074 = x2999.mul_neg_add(x3068, x3073);
-                x3075 = x2997.mul_neg_add(x3071, x3074);
-                x3076 = x2995 * x3066;
-                x3077 = x3014.mul_sub(x3051, x3076);
-                x3078 = x2993.mul_neg_add(x3068, x3077);
-                x3079 = x2991.mul_neg_add(x3071, x3078);
-                x3080 = x2989.mul_add(x3075, x3079);
-                x3081 = x2987 * x3066;
-                x3082 = x3015.mul_sub(x3045, x3081);
-                x3083 = x2985.mul_neg_add(x3068, x3082);
-                x3084 = x2983.mul_neg_add(x3071, x3083);
-                x3085 = x2981.mul_neg_add(x3075, x3084);
-                x3086 = x2979.mul_neg_add(x3080, x3085);
-                x3087 = x2977 * x3066;
-                x3088 = x3016.mul_add(x2542, x3087);
-                x3089 = x2975.mul_add(x3068, x3088);
-                x3090 = x2973.mul_add(x3071, x3089);
-                x3091 = x2971.mul_add(x3075, x3090);
-                x3092 = x2969.mul_add(x3080, x3091);
-                x3093 = x2967.mul_add(x3086, x3092);
-                x3094 = -x3093;
-                [x3095, _, _, _, _, _, _, _] = x3010.to_array();
-                [_, x3096, _, _, _, _, _, _] = x3010.to_array();
-                [_, _, x3097, _, _, _, _, _] = x3010.to_array();
-                [_, _, _, x3098, _, _, _, _] = x3010.to_array();
-                [_, _, _, _, x3099, _, _, _] = x3010.to_array();
-                [_, _, _, _, _, x3100, _, _] = x3010.to_array();
-                [_, _, _, _, _, _, x3101, _] = x3010.to_array();
-                [x3102, _, _, _, _, _, _, _] = x3018.to_array();
-                [_, x3103, _, _, _, _, _, _] = x3018.to_array();
-                [_, _, x3104, _, _, _, _, _] = x3018.to_array();
-                [_, _, _, x3105, _, _, _, _] = x3018.to_array();
-                [_, _, _, _, x3106, _, _, _] = x3018.to_array();
-                [_, _, _, _, _, x3107, _, _] = x3018.to_array();
-                [_, _, _, _, _, _, x3108, _] = x3018.to_array();
-                [x3109, _, _, _, _, _, _, _] = x3021.to_array();
-                [_, x3110, _, _, _, _, _, _] = x3021.to_array();
-                [_, _, x3111, _, _, _, _, _] = x3021.to_array();
-                [_, _, _, x3112, _, _, _, _] = x3021.to_array();
-                [_, _, _, _, x3113, _, _, _] = x3021.to_array();
-                [_, _, _, _, _, x3114, _, _] = x3021.to_array();
-                [_, _, _, _, _, _, x3115, _] = x3021.to_array();
-                [x3116, _, _, _, _, _, _, _] = x3025.to_array();
-                [_, x3117, _, _, _, _, _, _] = x3025.to_array();
-                [_, _, x3118, _, _, _, _, _] = x3025.to_array();
-                [_, _, _, x3119, _, _, _, _] = x3025.to_array();
-                [_, _, _, _, x3120, _, _, _] = x3025.to_array();
-                [_, _, _, _, _, x3121, _, _] = x3025.to_array();
-                [_, _, _, _, _, _, x3122, _] = x3025.to_array();
-                [x3123, _, _, _, _, _, _, _] = x3030.to_array();
-                [_, x3124, _, _, _, _, _, _] = x3030.to_array();
-                [_, _, x3125, _, _, _, _, _] = x3030.to_array();
-                [_, _, _, x3126, _, _, _, _] = x3030.to_array();
-                [_, _, _, _, x3127, _, _, _] = x3030.to_array();
-                [_, _, _, _, _, x3128, _, _] = x3030.to_array();
-                [_, _, _, _, _, _, x3129, _] = x3030.to_array();
-                [x3130, _, _, _, _, _, _, _] = x3036.to_array();
-                [_, x3131, _, _, _, _, _, _] = x3036.to_array();
-                [_, _, x3132, _, _, _, _, _] = x3036.to_array();
-                [_, _, _, x3133, _, _, _, _] = x3036.to_array();
-                [_, _, _, _, x3134, _, _, _] = x3036.to_array();
-                [_, _, _, _, _, x3135, _, _] = x3036.to_array();
-                [_, _, _, _, _, _, x3136, _] = x3036.to_array();
-                [x3137, _, _, _, _, _, _, _] = x3044.to_array();
-                [_, x3138, _, _, _, _, _, _] = x3044.to_array();
-                [_, _, x3139, _, _, _, _, _] = x3044.to_array();
-                [_, _, _, x3140, _, _, _, _] = x3044.to_array();
-                [_, _, _, _, x3141, _, _, _] = x3044.to_array();
-                [_, _, _, _, _, x3142, _, _] = x3044.to_array();
-                [_, _, _, _, _, _, x3143, _] = x3044.to_array();
-                [x3144, _, _, _, _, _, _, _] = x3066.to_array();
-                [_, x3145, _, _, _, _, _, _] = x3066.to_array();
-                [_, _, x3146, _, _, _, _, _] = x3066.to_array();
-                [_, _, _, x3147, _, _, _, _] = x3066.to_array();
-                [_, _, _, _, x3148, _, _, _] = x3066.to_array();
-                [_, _, _, _, _, x3149, _, _] = x3066.to_array();
-                [_, _, _, _, _, _, x3150, _] = x3066.to_array();
-                [x3151, _, _, _, _, _, _, _] = x3068.to_array();
-                [_, x3152, _, _, _, _, _, _] = x3068.to_array();
-                [_, _, x3153, _, _, _, _, _] = x3068.to_array();
-                [_, _, _, x3154, _, _, _, _] = x3068.to_array();
-                [_, _, _, _, x3155, _, _, _] = x3068.to_array();
-                [_, _, _, _, _, x3156, _, _] = x3068.to_array();
-                [_, _, _, _, _, _, x3157, _] = x3068.to_array();
-                [x3158, _, _, _, _, _, _, _] = x3071.to_array();
-                [_, x3159, _, _, _, _, _, _] = x3071.to_array();
-                [_, _, x3160, _, _, _, _, _] = x3071.to_array();
-                [_, _, _, x3161, _, _, _, _] = x3071.to_array();
-                [_, _, _, _, x3162, _, _, _] = x3071.to_array();
-                [_, _, _, _, _, x3163, _, _] = x3071.to_array();
-                [_, _, _, _, _, _, x3164, _] = x3071.to_array();
-                [x3165, _, _, _, _, _, _, _] = x3075.to_array();
-                [_, x3166, _, _, _, _, _, _] = x3075.to_array();
-                [_, _, x3167, _, _, _, _, _] = x3075.to_array();
-                [_, _, _, x3168, _, _, _, _] = x3075.to_array();
-                [_, _, _, _, x3169, _, _, _] = x3075.to_array();
-                [_, _, _, _, _, x3170, _, _] = x3075.to_array();
-                [_, _, _, _, _, _, x3171, _] = x3075.to_array();
-                [x3172, _, _, _, _, _, _, _] = x3080.to_array();
-                [_, x3173, _, _, _, _, _, _] = x3080.to_array();
-                [_, _, x3174, _, _, _, _, _] = x3080.to_array();
-                [_, _, _, x3175, _, _, _, _] = x3080.to_array();
-                [_, _, _, _, x3176, _, _, _] = x3080.to_array();
-                [_, _, _, _, _, x3177, _, _] = x3080.to_array();
-                [_, _, _, _, _, _, x3178, _] = x3080.to_array();
-                [x3179, _, _, _, _, _, _, _] = x3086.to_array();
-                [_, x3180, _, _, _, _, _, _] = x3086.to_array();
-                [_, _, x3181, _, _, _, _, _] = x3086.to_array();
-                [_, _, _, x3182, _, _, _, _] = x3086.to_array();
-                [_, _, _, _, x3183, _, _, _] = x3086.to_array();
-                [_, _, _, _, _, x3184, _, _] = x3086.to_array();
-                [_, _, _, _, _, _, x3185, _] = x3086.to_array();
-                [x3186, _, _, _, _, _, _, _] = x3094.to_array();
-                [_, x3187, _, _, _, _, _, _] = x3094.to_array();
-                [_, _, x3188, _, _, _, _, _] = x3094.to_array();
-                [_, _, _, x3189, _, _, _, _] = x3094.to_array();
-                [_, _, _, _, x3190, _, _, _] = x3094.to_array();
-                [_, _, _, _, _, x3191, _, _] = x3094.to_array();
-                [_, _, _, _, _, _, x3192, _] = x3094.to_array();
-                (
-                    SMatrix::from_array_storage(
-                        ArrayStorage([
-                            [x3095, x3102, x3109, x3116, x3123, x3130, x3137],
-                            [x3096, x3103, x3110, x3117, x3124, x3131, x3138],
-                            [x3097, x3104, x3111, x3118, x3125, x3132, x3139],
-                            [x3098, x3105, x3112, x3119, x3126, x3133, x3140],
-                            [x3099, x3106, x3113, x3120, x3127, x3134, x3141],
-                            [x3100, x3107, x3114, x3121, x3128, x3135, x3142],
-                            [x3101, x3108, x3115, x3122, x3129, x3136, x3143],
-                        ]),
-                    ),
-                    SMatrix::from_array_storage(
-                        ArrayStorage([
-                            [x3144, x3151, x3158, x3165, x3172, x3179, x3186],
-                            [x3145, x3152, x3159, x3166, x3173, x3180, x3187],
-                            [x3146, x3153, x3160, x3167, x3174, x3181, x3188],
-                            [x3147, x3154, x3161, x3168, x3175, x3182, x3189],
-                            [x3148, x3155, x3162, x3169, x3176, x3183, x3190],
-                            [x3149, x3156, x3163, x3170, x3177, x3184, x3191],
-                            [x3150, x3157, x3164, x3171, x3178, x3185, x3192],
-                        ]),
-                    ),
-                )
-            }
-        }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, tau))
     }
     ///Operations: 974 mul, 765 add/sub, 22 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -26576,5 +18591,7997 @@ impl LaneDynamics<7, 43> for Panda {
             *o294 = x1091;
         }
         out
+    }
+}
+impl ForwardDynamics<7, 70> for Panda {
+    ///Operations: 801 mul, 643 add/sub, 0 neg, 6 div (joint sines and cosines come precomputed in `JointTrig`).
+    #[inline(never)]
+    fn forward_dynamics(
+        t: &JointTrig<7>,
+        qd: &SVector<f64, 7>,
+        tau: &SVector<f64, 7>,
+    ) -> SVector<f64, 7> {
+        struct Body;
+        impl dyngen_runtime::__private::Kernel<
+            (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
+        > for Body {
+            type Output = SVector<f64, 7>;
+            #[inline(always)]
+            fn run<M: dyngen_runtime::__private::MulAdd>(
+                arith: M,
+                (t, qd, tau): (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
+            ) -> SVector<f64, 7> {
+                let [_, s1, s2, s3, s4, s5, s6] = t.sin;
+                let [_, c1, c2, c3, c4, c5, c6] = t.cos;
+                let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+                let [tau0, tau1, tau2, tau3, tau4, tau5, tau6] = tau.data.0[0];
+                let mut out: SVector<f64, 7> = SMatrix::zeros();
+                {
+                    let [[o0, o1, o2, o3, o4, o5, o6]] = &mut out.data.0;
+                    let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                    x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                    x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                    x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                    x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                    x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                    x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                    x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109,
+                    x110, x111, x112, x113, x114, x115, x116, x117, x118, x119, x120,
+                    x121, x122, x123, x124, x125, x126, x127, x128, x129, x130, x131,
+                    x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142,
+                    x143, x144, x145, x146, x147, x148, x149, x150, x151, x152, x153,
+                    x154, x155, x156, x157, x158, x159, x160, x161, x162, x163, x164,
+                    x165, x166, x167, x168, x169, x170, x171, x172, x173, x174, x175,
+                    x176, x177, x178, x179, x180, x181, x182, x183, x184, x185, x186,
+                    x187, x188, x189, x190, x191, x192, x193, x194, x195, x196, x197,
+                    x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
+                    x209, x210, x211, x212, x213, x214, x215, x216, x217, x218, x219,
+                    x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                    x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241,
+                    x242, x243, x244, x245, x246, x247, x248, x249, x250, x251, x252,
+                    x253, x254, x255, x256, x257, x258, x259, x260, x261, x262, x263,
+                    x264, x265, x266, x267, x268, x269, x270, x271, x272, x273, x274,
+                    x275, x276, x277, x278, x279, x280, x281, x282, x283, x284, x285,
+                    x286, x287, x288, x289, x290, x291, x292, x293, x294, x295, x296,
+                    x297, x298, x299, x300, x301, x302, x303, x304, x305, x306, x307,
+                    x308, x309, x310, x311, x312, x313, x314, x315, x316, x317, x318,
+                    x319, x320, x321, x322, x323, x324, x325, x326, x327, x328, x329,
+                    x330, x331, x332, x333, x334, x335, x336, x337, x338, x339, x340,
+                    x341, x342, x343, x344, x345, x346, x347, x348, x349, x350, x351,
+                    x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                    x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373,
+                    x374, x375, x376, x377, x378, x379, x380, x381, x382, x383, x384,
+                    x385, x386, x387, x388, x389, x390, x391, x392, x393, x394, x395,
+                    x396, x397, x398, x399, x400, x401, x402, x403, x404, x405, x406,
+                    x407, x408, x409, x410, x411, x412, x413, x414, x415, x416, x417,
+                    x418, x419, x420, x421, x422, x423, x424, x425, x426, x427, x428,
+                    x429, x430, x431, x432, x433, x434, x435, x436, x437, x438, x439,
+                    x440, x441, x442, x443, x444, x445, x446, x447, x448, x449, x450,
+                    x451, x452, x453, x454, x455, x456, x457, x458, x459, x460, x461,
+                    x462, x463, x464, x465, x466, x467, x468, x469, x470, x471, x472,
+                    x473, x474, x475, x476, x477, x478, x479, x480, x481, x482, x483,
+                    x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
+                    x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505,
+                    x506, x507, x508, x509, x510, x511, x512, x513, x514, x515, x516,
+                    x517, x518, x519, x520, x521, x522, x523, x524, x525, x526, x527,
+                    x528, x529, x530, x531, x532, x533, x534, x535, x536, x537, x538,
+                    x539, x540, x541, x542, x543, x544, x545, x546, x547, x548, x549,
+                    x550, x551, x552, x553, x554, x555, x556, x557, x558, x559, x560,
+                    x561, x562, x563, x564, x565, x566, x567, x568, x569, x570, x571,
+                    x572, x573, x574, x575, x576, x577, x578, x579, x580, x581, x582,
+                    x583, x584, x585, x586, x587, x588, x589, x590, x591, x592, x593,
+                    x594, x595, x596, x597, x598, x599, x600, x601, x602, x603, x604,
+                    x605, x606, x607, x608, x609, x610, x611, x612, x613, x614, x615,
+                    x616, x617, x618, x619, x620, x621, x622, x623, x624, x625, x626,
+                    x627, x628, x629, x630, x631, x632, x633, x634, x635, x636, x637,
+                    x638, x639, x640, x641, x642, x643, x644, x645, x646, x647, x648,
+                    x649, x650, x651, x652, x653, x654, x655, x656, x657, x658, x659,
+                    x660, x661, x662, x663, x664, x665, x666, x667, x668, x669, x670,
+                    x671, x672, x673, x674, x675, x676, x677, x678, x679, x680, x681,
+                    x682, x683, x684, x685, x686, x687, x688, x689, x690, x691, x692,
+                    x693, x694, x695, x696, x697, x698, x699, x700, x701, x702, x703,
+                    x704, x705, x706, x707, x708, x709, x710, x711, x712, x713, x714,
+                    x715, x716, x717, x718, x719, x720, x721, x722, x723, x724, x725,
+                    x726, x727, x728, x729, x730, x731, x732, x733, x734, x735, x736,
+                    x737, x738, x739, x740, x741, x742, x743, x744, x745, x746, x747,
+                    x748, x749, x750, x751, x752, x753, x754, x755, x756, x757, x758,
+                    x759, x760, x761, x762, x763, x764, x765, x766, x767, x768, x769,
+                    x770, x771, x772, x773, x774, x775, x776, x777, x778, x779, x780,
+                    x781, x782, x783, x784, x785, x786, x787, x788, x789, x790, x791,
+                    x792, x793, x794, x795, x796, x797, x798, x799, x800, x801, x802,
+                    x803, x804, x805, x806, x807, x808, x809, x810, x811, x812, x813,
+                    x814, x815, x816, x817, x818, x819, x820, x821, x822, x823, x824,
+                    x825, x826, x827, x828, x829, x830, x831, x832, x833, x834, x835,
+                    x836, x837, x838, x839, x840, x841, x842, x843, x844, x845, x846,
+                    x847, x848, x849, x850, x851, x852, x853, x854, x855, x856, x857,
+                    x858, x859, x860, x861, x862, x863, x864, x865, x866, x867, x868,
+                    x869, x870, x871, x872, x873, x874, x875, x876, x877, x878, x879,
+                    x880, x881, x882, x883, x884, x885, x886, x887, x888, x889, x890,
+                    x891, x892, x893, x894, x895, x896, x897, x898, x899, x900, x901,
+                    x902, x903, x904, x905, x906, x907, x908, x909, x910, x911, x912,
+                    x913, x914, x915, x916, x917, x918, x919, x920, x921, x922, x923,
+                    x924, x925, x926, x927, x928, x929, x930, x931, x932, x933, x934,
+                    x935, x936, x937, x938, x939, x940, x941, x942, x943, x944, x945,
+                    x946, x947, x948, x949, x950, x951, x952, x953, x954, x955, x956,
+                    x957, x958, x959, x960, x961, x962, x963, x964, x965, x966, x967,
+                    x968, x969, x970, x971, x972, x973, x974, x975, x976, x977, x978,
+                    x979, x980, x981, x982]: [f64; 983];
+                    x0 = -9.81f64 * s1;
+                    x1 = s2 * x0;
+                    x2 = 32.80954542685272f64 * s1;
+                    x3 = arith.mul_add(0.01993386669246f64, c1, -x2);
+                    x4 = qd0 * s1;
+                    x5 = qd0 * c1;
+                    x6 = c2 * x4;
+                    x7 = arith.mul_add(qd1, s2, -x6);
+                    x8 = qd1 * c2;
+                    x9 = arith.mul_add(s2, x4, x8);
+                    x10 = -0.316f64 * qd1;
+                    x11 = 0.316f64 * x4;
+                    x12 = c2 * x10;
+                    x13 = arith.mul_add(s2, x11, -x12);
+                    x14 = c2 * x11;
+                    x15 = arith.mul_add(s2, x10, x14);
+                    x16 = qd2 + x5;
+                    x17 = s3 * x16;
+                    x18 = arith.mul_add(c3, x7, x17);
+                    x19 = s3 * x7;
+                    x20 = arith.mul_add(c3, x16, -x19);
+                    x21 = 0.0825f64 * x9;
+                    x22 = arith.mul_add(0.0825f64, x16, x15);
+                    x23 = s3 * x21;
+                    x24 = arith.mul_add(c3, x13, -x23);
+                    x25 = c3 * x21;
+                    x26 = arith.mul_add(s3, x13, x25);
+                    x27 = qd3 - x9;
+                    x28 = s4 * x27;
+                    x29 = arith.mul_add(c4, x18, -x28);
+                    x30 = c4 * x27;
+                    x31 = arith.mul_add(s4, x18, x30);
+                    x32 = 0.384f64 * x18;
+                    x33 = arith.mul_add(-0.0825f64, x20, -x32);
+                    x34 = arith.mul_add(-0.384f64, x27, x24);
+                    x35 = arith.mul_add(-0.0825f64, x27, -x26);
+                    x36 = x22 + x33;
+                    x37 = s4 * x36;
+                    x38 = arith.mul_add(c4, x34, x37);
+                    x39 = s4 * x34;
+                    x40 = c4 * x36;
+                    x41 = x40 - x39;
+                    x42 = qd4 + x20;
+                    x43 = s5 * x42;
+                    x44 = arith.mul_add(c5, x29, x43);
+                    x45 = s5 * x29;
+                    x46 = c5 * x42;
+                    x47 = x46 - x45;
+                    x48 = s5 * x35;
+                    x49 = arith.mul_add(c5, x38, x48);
+                    x50 = s5 * x38;
+                    x51 = arith.mul_add(c5, x35, -x50);
+                    x52 = x39 - x40;
+                    x53 = qd5 + x31;
+                    x54 = s6 * x53;
+                    x55 = arith.mul_add(c6, x44, x54);
+                    x56 = s6 * x44;
+                    x57 = arith.mul_add(c6, x53, -x56);
+                    x58 = x45 - x46;
+                    x59 = arith.mul_add(0.088f64, x53, x51);
+                    x60 = arith.mul_add(-0.088f64, x47, x52);
+                    x61 = s6 * x60;
+                    x62 = arith.mul_add(c6, x49, x61);
+                    x63 = s6 * x49;
+                    x64 = arith.mul_add(c6, x60, -x63);
+                    x65 = qd6 + x58;
+                    x66 = -0.0020344399586617965f64 * s6;
+                    x67 = arith.mul_add(0.002573605371338202f64, c6, x66);
+                    x68 = 0.0020344399586617965f64 * c6;
+                    x69 = arith.mul_add(0.002573605371338202f64, s6, x68);
+                    x70 = -0.0003913912816842481f64 * s6;
+                    x71 = arith.mul_add(0.0024209437785212354f64, c6, x70);
+                    x72 = 0.0003913912816842481f64 * c6;
+                    x73 = 0.001255536598272898f64 * s6;
+                    x74 = arith.mul_add(-0.0009653051699191116f64, c6, x73);
+                    x75 = arith.mul_add(0.0024209437785212354f64, s6, x72);
+                    x76 = 0.0003913912816842481f64 * s6;
+                    x77 = -0.001255536598272898f64 * c6;
+                    x78 = arith.mul_add(-0.0009653051699191116f64, s6, x77);
+                    x79 = s6 * x72;
+                    x80 = arith.mul_add(c6, x71, -x79);
+                    x81 = c6 * x72;
+                    x82 = arith.mul_add(s6, x71, x81);
+                    x83 = 0.001255536598272898f64 * c6;
+                    x84 = arith.mul_add(0.0009653051699191116f64, s6, x83);
+                    x85 = c6 * x76;
+                    x86 = arith.mul_add(s6, x75, x85);
+                    x87 = 0.088f64 * x67;
+                    x88 = 0.176f64 * x67;
+                    x89 = x80 + x88;
+                    x90 = x87 + x87;
+                    x91 = x89 - x90;
+                    x92 = 0.006684151967360945f64 + x88;
+                    x93 = arith.mul_add(-0.088f64, x69, x82);
+                    x94 = x86 + x88;
+                    x95 = 0.231847552695f64 + x67;
+                    x96 = 0.009543771269492206f64 + x91;
+                    x97 = 0.014748570382675316f64 - x74;
+                    x98 = -0.00010375891721868492f64 + x93;
+                    x99 = 0.000093569097314605f64 + x84;
+                    x100 = 0.05258828201066731f64 + x94;
+                    x101 = 0.17380470556900002f64 * s5;
+                    x102 = arith.mul_add(c5, x95, x101);
+                    x103 = s5 * x95;
+                    x104 = arith.mul_add(-0.17380470556900002f64, c5, x103);
+                    x105 = s5 * x97;
+                    x106 = arith.mul_add(c5, x96, -x105);
+                    x107 = c5 * x97;
+                    x108 = arith.mul_add(-s5, x92, x107);
+                    x109 = c5 * x98;
+                    x110 = s5 * x99;
+                    x111 = x109 - x110;
+                    x112 = arith.mul_add(s5, x96, x107);
+                    x113 = arith.mul_add(c5, x92, x105);
+                    x114 = c5 * x99;
+                    x115 = arith.mul_add(s5, x98, x114);
+                    x116 = s5 * x108;
+                    x117 = arith.mul_add(c5, x106, -x116);
+                    x118 = x110 - x109;
+                    x119 = c5 * x108;
+                    x120 = arith.mul_add(s5, x106, x119);
+                    x121 = c5 * x113;
+                    x122 = arith.mul_add(s5, x112, x121);
+                    x123 = -0.014653732538f64 + x102;
+                    x124 = 0.067870631425f64 - x69;
+                    x125 = 0.030116287133882078f64 + x117;
+                    x126 = -0.0015152444733270301f64 + x118;
+                    x127 = -0.004600245517563105f64 + x120;
+                    x128 = 0.0021640520520981297f64 - x115;
+                    x129 = 0.03301859926393551f64 + x122;
+                    x130 = c4 * x123;
+                    x131 = arith.mul_add(-s4, x124, x130);
+                    x132 = s4 * x123;
+                    x133 = arith.mul_add(c4, x124, x132);
+                    x134 = s4 * x126;
+                    x135 = arith.mul_add(c4, x125, -x134);
+                    x136 = c4 * x126;
+                    x137 = s4 * x100;
+                    x138 = x136 - x137;
+                    x139 = s4 * x128;
+                    x140 = arith.mul_add(c4, x127, -x139);
+                    x141 = arith.mul_add(s4, x125, x136);
+                    x142 = c4 * x100;
+                    x143 = x134 + x142;
+                    x144 = c4 * x128;
+                    x145 = arith.mul_add(s4, x127, x144);
+                    x146 = s4 * x138;
+                    x147 = arith.mul_add(c4, x135, -x146);
+                    x148 = c4 * x138;
+                    x149 = arith.mul_add(s4, x135, x148);
+                    x150 = c4 * x143;
+                    x151 = arith.mul_add(s4, x141, x150);
+                    x152 = -0.0825f64 * x131;
+                    x153 = 0.384f64 * x104;
+                    x154 = x152 + x153;
+                    x155 = 2f64 * x154;
+                    x156 = x147 + x155;
+                    x157 = x152 + x152;
+                    x158 = x156 - x157;
+                    x159 = 0.384f64 * x131;
+                    x160 = arith.mul_add(-0.0825f64, x104, x159);
+                    x161 = x140 - x160;
+                    x162 = x129 + x155;
+                    x163 = x153 + x153;
+                    x164 = x162 - x163;
+                    x165 = 0.0825f64 * x133;
+                    x166 = x149 + x165;
+                    x167 = arith.mul_add(-0.384f64, x133, x145);
+                    x168 = x151 + x155;
+                    x169 = -0.5527802746499999f64 + x131;
+                    x170 = 2.0125235536029997f64 + x104;
+                    x171 = 0.647723094939183f64 + x158;
+                    x172 = 0.16284087268546082f64 + x161;
+                    x173 = 0.0039053550262761003f64 - x166;
+                    x174 = -0.0016444875773692705f64 - x167;
+                    x175 = 0.7497633672528139f64 + x168;
+                    x176 = s3 * x170;
+                    x177 = arith.mul_add(c3, x169, -x176);
+                    x178 = c3 * x170;
+                    x179 = arith.mul_add(s3, x169, x178);
+                    x180 = s3 * x172;
+                    x181 = arith.mul_add(c3, x171, -x180);
+                    x182 = c3 * x172;
+                    x183 = arith.mul_add(-s3, x164, x182);
+                    x184 = c3 * x173;
+                    x185 = s3 * x174;
+                    x186 = x184 - x185;
+                    x187 = x166 - 0.0039053550262761003f64;
+                    x188 = x167 - -0.0016444875773692705f64;
+                    x189 = arith.mul_add(s3, x171, x182);
+                    x190 = arith.mul_add(c3, x164, x180);
+                    x191 = c3 * x174;
+                    x192 = arith.mul_add(s3, x173, x191);
+                    x193 = s3 * x183;
+                    x194 = arith.mul_add(c3, x181, -x193);
+                    x195 = x185 - x184;
+                    x196 = c3 * x183;
+                    x197 = arith.mul_add(s3, x181, x196);
+                    x198 = c3 * x188;
+                    x199 = arith.mul_add(s3, x187, x198);
+                    x200 = c3 * x190;
+                    x201 = arith.mul_add(s3, x189, x200);
+                    x202 = 0.0825f64 * x177;
+                    x203 = 0.165f64 * x177;
+                    x204 = x194 + x203;
+                    x205 = x202 + x202;
+                    x206 = x204 - x205;
+                    x207 = x195 - x165;
+                    x208 = x175 + x203;
+                    x209 = arith.mul_add(-0.0825f64, x179, x197);
+                    x210 = x201 + x203;
+                    x211 = 0.746857959872f64 + x177;
+                    x212 = 0.028227094878000014f64 + x133;
+                    x213 = 0.011595864095166043f64 + x206;
+                    x214 = -0.00012191242095074308f64 + x207;
+                    x215 = -0.005487648106562256f64 + x209;
+                    x216 = -0.004377257121839584f64 + x199;
+                    x217 = 0.13480070614822143f64 + x210;
+                    x218 = s2 * x212;
+                    x219 = arith.mul_add(c2, x211, -x218);
+                    x220 = c2 * x212;
+                    x221 = arith.mul_add(s2, x211, x220);
+                    x222 = s2 * x214;
+                    x223 = arith.mul_add(c2, x213, -x222);
+                    x224 = c2 * x214;
+                    x225 = arith.mul_add(-s2, x208, x224);
+                    x226 = c2 * x215;
+                    x227 = s2 * x216;
+                    x228 = x226 - x227;
+                    x229 = arith.mul_add(s2, x213, x224);
+                    x230 = arith.mul_add(c2, x208, x222);
+                    x231 = c2 * x216;
+                    x232 = arith.mul_add(s2, x215, x231);
+                    x233 = s2 * x225;
+                    x234 = arith.mul_add(c2, x223, -x233);
+                    x235 = x227 - x226;
+                    x236 = c2 * x225;
+                    x237 = arith.mul_add(s2, x223, x236);
+                    x238 = c2 * x230;
+                    x239 = arith.mul_add(s2, x229, x238);
+                    x240 = 0.316f64 * x179;
+                    x241 = 0.632f64 * x179;
+                    x242 = x234 + x241;
+                    x243 = -0.316f64 * x219;
+                    x244 = x235 - x243;
+                    x245 = x217 + x241;
+                    x246 = x240 + x240;
+                    x247 = x245 - x246;
+                    x248 = arith.mul_add(-0.316f64, x221, x232);
+                    x249 = x239 + x241;
+                    x250 = 1.0706865997634767f64 + x242;
+                    x251 = -0.00398335888393552f64 + x244;
+                    x252 = 0.01026110182100817f64 + x237;
+                    x253 = 0.0007689361029464f64 - x248;
+                    x254 = 1.1168423647533403f64 + x249;
+                    x255 = s1 * x250;
+                    x256 = arith.mul_add(c1, x251, x255);
+                    x257 = c1 * x247;
+                    x258 = arith.mul_add(s1, x251, x257);
+                    x259 = c1 * x253;
+                    x260 = arith.mul_add(s1, x252, x259);
+                    x261 = c1 * x258;
+                    x262 = arith.mul_add(s1, x256, x261);
+                    x263 = 0.03733744848940618f64 + x262;
+                    x264 = x228 + x243;
+                    x265 = arith.mul_add(-0.316f64, x221, x232);
+                    x266 = s1 * x264;
+                    x267 = arith.mul_add(c1, x217, -x266);
+                    x268 = x175 + x202;
+                    x269 = c2 * x179;
+                    x270 = s2 * x179;
+                    x271 = s2 * x268;
+                    x272 = arith.mul_add(c2, x186, x271);
+                    x273 = c2 * x268;
+                    x274 = arith.mul_add(s2, x186, -x273);
+                    x275 = arith.mul_add(0.316f64, x270, x272);
+                    x276 = arith.mul_add(-0.316f64, x269, x274);
+                    x277 = s1 * x275;
+                    x278 = arith.mul_add(c1, x192, -x277);
+                    x279 = x69 - 0.067870631425f64;
+                    x280 = arith.mul_add(c4, x279, -x132);
+                    x281 = arith.mul_add(s4, x279, x130);
+                    x282 = 0.0825f64 * x281;
+                    x283 = arith.mul_add(-0.384f64, x281, x140);
+                    x284 = x129 - x282;
+                    x285 = arith.mul_add(0.384f64, x280, x145);
+                    x286 = c3 * x280;
+                    x287 = s3 * x280;
+                    x288 = s3 * x284;
+                    x289 = arith.mul_add(c3, x283, -x288);
+                    x290 = c3 * x284;
+                    x291 = arith.mul_add(s3, x283, x290);
+                    x292 = arith.mul_add(-0.0825f64, x287, x285);
+                    x293 = x282 + x291;
+                    x294 = s2 * x281;
+                    x295 = arith.mul_add(c2, x286, -x294);
+                    x296 = c2 * x281;
+                    x297 = arith.mul_add(s2, x286, x296);
+                    x298 = s2 * x292;
+                    x299 = arith.mul_add(c2, x289, -x298);
+                    x300 = c2 * x292;
+                    x301 = arith.mul_add(s2, x289, x300);
+                    x302 = arith.mul_add(-0.316f64, x297, x299);
+                    x303 = arith.mul_add(0.316f64, x295, x301);
+                    x304 = s1 * x302;
+                    x305 = arith.mul_add(c1, x293, -x304);
+                    x306 = arith.mul_add(0.17380470556900002f64, c5, -x103);
+                    x307 = c4 * x306;
+                    x308 = s4 * x306;
+                    x309 = arith.mul_add(c4, x111, x137);
+                    x310 = arith.mul_add(-s4, x111, x142);
+                    x311 = 0.0825f64 * x308;
+                    x312 = 0.384f64 * x307;
+                    x313 = arith.mul_add(-0.0825f64, x102, -x312);
+                    x314 = arith.mul_add(-0.384f64, x308, x309);
+                    x315 = x115 - x311;
+                    x316 = x310 + x313;
+                    x317 = s3 * x102;
+                    x318 = arith.mul_add(c3, x307, -x317);
+                    x319 = c3 * x102;
+                    x320 = arith.mul_add(s3, x307, x319);
+                    x321 = s3 * x315;
+                    x322 = arith.mul_add(c3, x314, -x321);
+                    x323 = c3 * x315;
+                    x324 = arith.mul_add(s3, x314, x323);
+                    x325 = arith.mul_add(0.0825f64, x320, x316);
+                    x326 = x311 + x324;
+                    x327 = s2 * x308;
+                    x328 = arith.mul_add(c2, x318, -x327);
+                    x329 = c2 * x308;
+                    x330 = arith.mul_add(s2, x318, x329);
+                    x331 = s2 * x325;
+                    x332 = arith.mul_add(c2, x322, x331);
+                    x333 = c2 * x325;
+                    x334 = arith.mul_add(s2, x322, -x333);
+                    x335 = arith.mul_add(-0.316f64, x330, x332);
+                    x336 = arith.mul_add(0.316f64, x328, x334);
+                    x337 = s1 * x335;
+                    x338 = arith.mul_add(c1, x326, -x337);
+                    x339 = -0.002573605371338202f64 * s6;
+                    x340 = arith.mul_add(-0.0020344399586617965f64, c6, x339);
+                    x341 = -0.006684151967360945f64 - x87;
+                    x342 = c5 * x340;
+                    x343 = s5 * x340;
+                    x344 = s5 * x341;
+                    x345 = arith.mul_add(c5, x74, -x344);
+                    x346 = c5 * x341;
+                    x347 = arith.mul_add(s5, x74, x346);
+                    x348 = s4 * x67;
+                    x349 = arith.mul_add(c4, x342, x348);
+                    x350 = s4 * x342;
+                    x351 = c4 * x67;
+                    x352 = x351 - x350;
+                    x353 = s4 * x78;
+                    x354 = arith.mul_add(c4, x345, x353);
+                    x355 = s4 * x345;
+                    x356 = arith.mul_add(c4, x78, -x355);
+                    x357 = 0.384f64 * x349;
+                    x358 = arith.mul_add(-0.0825f64, x343, -x357);
+                    x359 = arith.mul_add(0.384f64, x352, x354);
+                    x360 = arith.mul_add(0.0825f64, x352, x347);
+                    x361 = x356 + x358;
+                    x362 = s3 * x343;
+                    x363 = arith.mul_add(c3, x349, -x362);
+                    x364 = x350 - x351;
+                    x365 = c3 * x343;
+                    x366 = arith.mul_add(s3, x349, x365);
+                    x367 = s3 * x360;
+                    x368 = arith.mul_add(c3, x359, -x367);
+                    x369 = c3 * x360;
+                    x370 = arith.mul_add(s3, x359, x369);
+                    x371 = arith.mul_add(0.0825f64, x366, x361);
+                    x372 = arith.mul_add(0.0825f64, x364, x370);
+                    x373 = s2 * x364;
+                    x374 = arith.mul_add(c2, x363, -x373);
+                    x375 = c2 * x364;
+                    x376 = arith.mul_add(s2, x363, x375);
+                    x377 = s2 * x371;
+                    x378 = arith.mul_add(c2, x368, x377);
+                    x379 = c2 * x371;
+                    x380 = arith.mul_add(s2, x368, -x379);
+                    x381 = arith.mul_add(-0.316f64, x376, x378);
+                    x382 = arith.mul_add(0.316f64, x374, x380);
+                    x383 = s1 * x381;
+                    x384 = arith.mul_add(c1, x372, -x383);
+                    x385 = -0.01026110182100817f64 * x4;
+                    x386 = 0.00398335888393552f64 * x4;
+                    x387 = 0.028227094878000014f64 * x16;
+                    x388 = 0.746857959872f64 * x16;
+                    x389 = 0.746857959872f64 * x9;
+                    x390 = arith.mul_add(0.028227094878000014f64, x7, -x389);
+                    x391 = -0.005487648106562256f64 * x7;
+                    x392 = 0.028227094878000014f64 * x13;
+                    x393 = -0.00012191242095074308f64 * x7;
+                    x394 = 2.0125235536029997f64 * x27;
+                    x395 = -0.5527802746499999f64 * x27;
+                    x396 = -0.5527802746499999f64 * x20;
+                    x397 = arith.mul_add(2.0125235536029997f64, x18, -x396);
+                    x398 = 0.0039053550262761003f64 * x18;
+                    x399 = 2.0125235536029997f64 * x24;
+                    x400 = 0.16284087268546082f64 * x18;
+                    x401 = 0.067870631425f64 * x42;
+                    x402 = -0.014653732538f64 * x42;
+                    x403 = 0.014653732538f64 * x31;
+                    x404 = arith.mul_add(0.067870631425f64, x29, -x403);
+                    x405 = -0.004600245517563105f64 * x29;
+                    x406 = 0.067870631425f64 * x38;
+                    x407 = -0.0015152444733270301f64 * x29;
+                    x408 = -0.17380470556900002f64 * x53;
+                    x409 = 0.231847552695f64 * x53;
+                    x410 = 0.231847552695f64 * x47;
+                    x411 = arith.mul_add(-0.17380470556900002f64, x44, -x410);
+                    x412 = -0.00010375891721868492f64 * x44;
+                    x413 = -0.17380470556900002f64 * x49;
+                    x414 = 0.014748570382675316f64 * x44;
+                    x415 = 0.0020344399586617965f64 * x65;
+                    x416 = 0.002573605371338202f64 * x65;
+                    x417 = 0.002573605371338202f64 * x57;
+                    x418 = arith.mul_add(0.0020344399586617965f64, x55, -x417);
+                    x419 = -0.0009653051699191116f64 * x55;
+                    x420 = 0.0020344399586617965f64 * x62;
+                    x421 = 0.0003913912816842481f64 * x55;
+                    x422 = -1.0706865997634767f64 * x4;
+                    x423 = arith.mul_add(0.00398335888393552f64, x5, x422);
+                    x424 = arith.mul_add(0.01026110182100817f64, qd1, x423);
+                    x425 = arith.mul_add(0.0007689361029464f64, qd1, x386);
+                    x426 = arith.mul_add(-0.0007689361029464f64, x5, x385);
+                    x427 = arith.mul_add(1.1168423647533403f64, qd1, x426);
+                    x428 = 0.011595864095166043f64 * x7;
+                    x429 = arith.mul_add(-0.00012191242095074308f64, x9, x428);
+                    x430 = arith.mul_add(-0.005487648106562256f64, x16, x429);
+                    x431 = arith.mul_add(-0.004377257121839584f64, x16, x393);
+                    x432 = arith.mul_add(-0.004377257121839584f64, x9, x391);
+                    x433 = arith.mul_add(0.13480070614822143f64, x16, x432);
+                    x434 = arith.mul_add(0.746857959872f64, x15, -x392);
+                    x435 = x433 + x434;
+                    x436 = 0.647723094939183f64 * x18;
+                    x437 = arith.mul_add(0.16284087268546082f64, x20, x436);
+                    x438 = arith.mul_add(0.0039053550262761003f64, x27, x437);
+                    x439 = arith.mul_add(-0.0016444875773692705f64, x27, x400);
+                    x440 = arith.mul_add(-0.0016444875773692705f64, x20, x398);
+                    x441 = arith.mul_add(0.7497633672528139f64, x27, x440);
+                    x442 = arith.mul_add(0.5527802746499999f64, x26, -x399);
+                    x443 = arith.mul_add(-2.0125235536029997f64, x22, x438);
+                    x444 = arith.mul_add(-0.5527802746499999f64, x22, x439);
+                    x445 = x441 + x442;
+                    x446 = 0.030116287133882078f64 * x29;
+                    x447 = arith.mul_add(0.0015152444733270301f64, x31, x446);
+                    x448 = arith.mul_add(-0.004600245517563105f64, x42, x447);
+                    x449 = arith.mul_add(0.0021640520520981297f64, x42, x407);
+                    x450 = arith.mul_add(-0.0021640520520981297f64, x31, x405);
+                    x451 = arith.mul_add(0.03301859926393551f64, x42, x450);
+                    x452 = arith.mul_add(-0.014653732538f64, x41, -x406);
+                    x453 = arith.mul_add(0.067870631425f64, x35, x448);
+                    x454 = arith.mul_add(0.014653732538f64, x35, x449);
+                    x455 = x451 + x452;
+                    x456 = 0.009543771269492206f64 * x44;
+                    x457 = arith.mul_add(0.014748570382675316f64, x47, x456);
+                    x458 = arith.mul_add(-0.00010375891721868492f64, x53, x457);
+                    x459 = arith.mul_add(0.000093569097314605f64, x53, x414);
+                    x460 = arith.mul_add(0.000093569097314605f64, x47, x412);
+                    x461 = arith.mul_add(0.05258828201066731f64, x53, x460);
+                    x462 = arith.mul_add(0.231847552695f64, x51, -x413);
+                    x463 = arith.mul_add(-0.17380470556900002f64, x52, x458);
+                    x464 = arith.mul_add(-0.231847552695f64, x52, x459);
+                    x465 = x461 + x462;
+                    x466 = 0.0024209437785212354f64 * x55;
+                    x467 = arith.mul_add(0.0003913912816842481f64, x57, x466);
+                    x468 = arith.mul_add(-0.0009653051699191116f64, x65, x467);
+                    x469 = arith.mul_add(-0.001255536598272898f64, x65, x421);
+                    x470 = arith.mul_add(-0.001255536598272898f64, x57, x419);
+                    x471 = arith.mul_add(0.006684151967360945f64, x65, x470);
+                    x472 = arith.mul_add(0.002573605371338202f64, x64, -x420);
+                    x473 = arith.mul_add(-0.0020344399586617965f64, x59, x468);
+                    x474 = arith.mul_add(0.002573605371338202f64, x59, x469);
+                    x475 = x471 + x472;
+                    x476 = qd1 * x5;
+                    x477 = qd1 * x4;
+                    x478 = qd2 * x7;
+                    x479 = qd4 * x38;
+                    x480 = qd1 * x425;
+                    x481 = arith.mul_add(x5, x427, x480);
+                    x482 = x4 * x427;
+                    x483 = arith.mul_add(qd1, x424, x482);
+                    x484 = x4 * x425;
+                    x485 = arith.mul_add(x5, x424, -x484);
+                    x486 = x16 * x431;
+                    x487 = arith.mul_add(x9, x435, -x486);
+                    x488 = x7 * x435;
+                    x489 = arith.mul_add(x16, x430, -x488);
+                    x490 = x9 * x430;
+                    x491 = arith.mul_add(x7, x431, -x490);
+                    x492 = x15 * x387;
+                    x493 = arith.mul_add(x13, x388, x492);
+                    x494 = arith.mul_add(x15, x390, x487);
+                    x495 = arith.mul_add(-x13, x390, x489);
+                    x496 = x491 + x493;
+                    x497 = x16 * x388;
+                    x498 = arith.mul_add(x9, x390, -x497);
+                    x499 = x7 * x390;
+                    x500 = arith.mul_add(x16, x387, x499);
+                    x501 = x27 * x444;
+                    x502 = arith.mul_add(x20, x445, -x501);
+                    x503 = x18 * x445;
+                    x504 = arith.mul_add(x27, x443, -x503);
+                    x505 = x20 * x443;
+                    x506 = arith.mul_add(x18, x444, -x505);
+                    x507 = x26 * x397;
+                    x508 = arith.mul_add(x22, x395, -x507);
+                    x509 = x24 * x397;
+                    x510 = arith.mul_add(x22, x394, -x509);
+                    x511 = x26 * x394;
+                    x512 = arith.mul_add(x24, x395, -x511);
+                    x513 = x502 + x508;
+                    x514 = x504 + x510;
+                    x515 = x506 + x512;
+                    x516 = x27 * x395;
+                    x517 = arith.mul_add(x20, x397, -x516);
+                    x518 = x18 * x397;
+                    x519 = arith.mul_add(x27, x394, x518);
+                    x520 = x20 * x394;
+                    x521 = arith.mul_add(x18, x395, x520);
+                    x522 = x42 * x454;
+                    x523 = arith.mul_add(x31, x455, x522);
+                    x524 = x29 * x455;
+                    x525 = arith.mul_add(x42, x453, -x524);
+                    x526 = x31 * x453;
+                    x527 = arith.mul_add(x29, x454, x526);
+                    x528 = x35 * x402;
+                    x529 = arith.mul_add(x41, x404, -x528);
+                    x530 = x38 * x404;
+                    x531 = arith.mul_add(x35, x401, x530);
+                    x532 = x41 * x401;
+                    x533 = arith.mul_add(x38, x402, x532);
+                    x534 = x529 - x523;
+                    x535 = x525 - x531;
+                    x536 = x527 + x533;
+                    x537 = x42 * x402;
+                    x538 = arith.mul_add(x31, x404, x537);
+                    x539 = x29 * x404;
+                    x540 = arith.mul_add(x42, x401, x539);
+                    x541 = x31 * x401;
+                    x542 = arith.mul_add(x29, x402, -x541);
+                    x543 = x53 * x464;
+                    x544 = arith.mul_add(x47, x465, -x543);
+                    x545 = x44 * x465;
+                    x546 = arith.mul_add(x53, x463, -x545);
+                    x547 = x47 * x463;
+                    x548 = arith.mul_add(x44, x464, -x547);
+                    x549 = x52 * x409;
+                    x550 = arith.mul_add(x51, x411, -x549);
+                    x551 = x49 * x411;
+                    x552 = arith.mul_add(x52, x408, x551);
+                    x553 = x51 * x408;
+                    x554 = arith.mul_add(x49, x409, x553);
+                    x555 = x544 + x550;
+                    x556 = x546 - x552;
+                    x557 = x548 + x554;
+                    x558 = x53 * x409;
+                    x559 = arith.mul_add(x47, x411, -x558);
+                    x560 = x44 * x411;
+                    x561 = arith.mul_add(x53, x408, x560);
+                    x562 = x47 * x408;
+                    x563 = arith.mul_add(x44, x409, x562);
+                    x564 = x65 * x474;
+                    x565 = arith.mul_add(x57, x475, -x564);
+                    x566 = x55 * x475;
+                    x567 = arith.mul_add(x65, x473, -x566);
+                    x568 = x57 * x473;
+                    x569 = arith.mul_add(x55, x474, -x568);
+                    x570 = x59 * x416;
+                    x571 = arith.mul_add(x64, x418, x570);
+                    x572 = x62 * x418;
+                    x573 = arith.mul_add(x59, x415, -x572);
+                    x574 = x64 * x415;
+                    x575 = arith.mul_add(x62, x416, x574);
+                    x576 = x565 + x571;
+                    x577 = x567 + x573;
+                    x578 = x569 + x575;
+                    x579 = x65 * x416;
+                    x580 = arith.mul_add(x57, x418, -x579);
+                    x581 = x55 * x418;
+                    x582 = arith.mul_add(x65, x415, x581);
+                    x583 = x57 * x415;
+                    x584 = arith.mul_add(x55, x416, x583);
+                    x585 = 149.6076098932297f64 * x78;
+                    x586 = arith.mul_add(-x78, x585, x100);
+                    x587 = arith.mul_add(-x347, x585, x115);
+                    x588 = arith.mul_add(-x361, x585, x316);
+                    x589 = arith.mul_add(-x372, x585, x326);
+                    x590 = arith.mul_add(-x382, x585, x336);
+                    x591 = arith.mul_add(-x384, x585, x338);
+                    x592 = 149.6076098932297f64 * x347;
+                    x593 = arith.mul_add(-x347, x592, x129);
+                    x594 = arith.mul_add(x361, x592, x285);
+                    x595 = arith.mul_add(-x372, x592, x293);
+                    x596 = arith.mul_add(-x382, x592, x303);
+                    x597 = arith.mul_add(-x384, x592, x305);
+                    x598 = 149.6076098932297f64 * x361;
+                    x599 = arith.mul_add(-x361, x598, x175);
+                    x600 = arith.mul_add(-x372, x598, x192);
+                    x601 = arith.mul_add(-x382, x598, x276);
+                    x602 = arith.mul_add(-x384, x598, x278);
+                    x603 = 149.6076098932297f64 * x372;
+                    x604 = arith.mul_add(-x372, x603, x217);
+                    x605 = arith.mul_add(-x382, x603, x265);
+                    x606 = arith.mul_add(-x384, x603, x267);
+                    x607 = 149.6076098932297f64 * x382;
+                    x608 = arith.mul_add(-x382, x607, x254);
+                    x609 = arith.mul_add(x384, x607, x260);
+                    x610 = 149.6076098932297f64 * x384;
+                    x611 = arith.mul_add(-x384, x610, x263);
+                    x612 = 1f64 / x586;
+                    x613 = x587 * x612;
+                    x614 = arith.mul_add(-x587, x613, x593);
+                    x615 = arith.mul_add(x588, x613, x594);
+                    x616 = arith.mul_add(-x589, x613, x595);
+                    x617 = arith.mul_add(-x590, x613, x596);
+                    x618 = arith.mul_add(-x591, x613, x597);
+                    x619 = x588 * x612;
+                    x620 = arith.mul_add(-x588, x619, x599);
+                    x621 = arith.mul_add(-x589, x619, x600);
+                    x622 = arith.mul_add(-x590, x619, x601);
+                    x623 = arith.mul_add(-x591, x619, x602);
+                    x624 = x589 * x612;
+                    x625 = arith.mul_add(-x589, x624, x604);
+                    x626 = arith.mul_add(-x590, x624, x605);
+                    x627 = arith.mul_add(-x591, x624, x606);
+                    x628 = x590 * x612;
+                    x629 = arith.mul_add(-x590, x628, x608);
+                    x630 = arith.mul_add(x591, x628, x609);
+                    x631 = x591 * x612;
+                    x632 = arith.mul_add(-x591, x631, x611);
+                    x633 = 1f64 / x614;
+                    x634 = x615 * x633;
+                    x635 = arith.mul_add(-x615, x634, x620);
+                    x636 = arith.mul_add(x616, x634, x621);
+                    x637 = arith.mul_add(x617, x634, x622);
+                    x638 = arith.mul_add(x618, x634, x623);
+                    x639 = x616 * x633;
+                    x640 = arith.mul_add(-x616, x639, x625);
+                    x641 = arith.mul_add(-x617, x639, x626);
+                    x642 = arith.mul_add(-x618, x639, x627);
+                    x643 = x617 * x633;
+                    x644 = arith.mul_add(-x617, x643, x629);
+                    x645 = arith.mul_add(x618, x643, x630);
+                    x646 = x618 * x633;
+                    x647 = arith.mul_add(-x618, x646, x632);
+                    x648 = 1f64 / x635;
+                    x649 = x636 * x648;
+                    x650 = arith.mul_add(-x636, x649, x640);
+                    x651 = arith.mul_add(-x637, x649, x641);
+                    x652 = arith.mul_add(-x638, x649, x642);
+                    x653 = x637 * x648;
+                    x654 = arith.mul_add(-x637, x653, x644);
+                    x655 = arith.mul_add(x638, x653, x645);
+                    x656 = x638 * x648;
+                    x657 = arith.mul_add(-x638, x656, x647);
+                    x658 = 1f64 / x650;
+                    x659 = x651 * x658;
+                    x660 = arith.mul_add(-x651, x659, x654);
+                    x661 = arith.mul_add(x652, x659, x655);
+                    x662 = x652 * x658;
+                    x663 = arith.mul_add(-x652, x662, x657);
+                    x664 = 1f64 / x660;
+                    x665 = x661 * x664;
+                    x666 = arith.mul_add(-x661, x665, x663);
+                    x667 = 1f64 / x666;
+                    x668 = c2 * x476;
+                    x669 = s2 * x476;
+                    x670 = 0.316f64 * x476;
+                    x671 = s2 * x670;
+                    x672 = arith.mul_add(c2, x0, x671);
+                    x673 = arith.mul_add(c2, x670, -x1);
+                    x674 = arith.mul_add(qd2, x9, -x668);
+                    x675 = x669 - x478;
+                    x676 = arith.mul_add(qd2, x15, x672);
+                    x677 = arith.mul_add(-qd2, x13, x673);
+                    x678 = s3 * x477;
+                    x679 = arith.mul_add(c3, x674, -x678);
+                    x680 = c3 * x477;
+                    x681 = arith.mul_add(s3, x674, x680);
+                    x682 = x478 - x669;
+                    x683 = 0.0825f64 * x675;
+                    x684 = arith.mul_add(-0.0825f64, x477, x677);
+                    x685 = arith.mul_add(-9.81f64, c1, x683);
+                    x686 = s3 * x685;
+                    x687 = arith.mul_add(c3, x676, -x686);
+                    x688 = c3 * x685;
+                    x689 = arith.mul_add(s3, x676, x688);
+                    x690 = arith.mul_add(qd3, x20, x679);
+                    x691 = arith.mul_add(qd3, x18, x681);
+                    x692 = arith.mul_add(-qd3, x26, x687);
+                    x693 = arith.mul_add(qd3, x24, x689);
+                    x694 = s4 * x682;
+                    x695 = arith.mul_add(c4, x690, -x694);
+                    x696 = c4 * x682;
+                    x697 = arith.mul_add(s4, x690, x696);
+                    x698 = 0.384f64 * x690;
+                    x699 = arith.mul_add(0.0825f64, x691, -x698);
+                    x700 = arith.mul_add(-0.384f64, x682, x692);
+                    x701 = arith.mul_add(-0.0825f64, x682, -x693);
+                    x702 = x684 + x699;
+                    x703 = s4 * x702;
+                    x704 = arith.mul_add(c4, x700, x703);
+                    x705 = s4 * x700;
+                    x706 = arith.mul_add(c4, x702, -x705);
+                    x707 = arith.mul_add(-qd4, x31, x695);
+                    x708 = arith.mul_add(qd4, x29, x697);
+                    x709 = arith.mul_add(qd4, x41, x704);
+                    x710 = x706 - x479;
+                    x711 = s5 * x691;
+                    x712 = arith.mul_add(c5, x707, -x711);
+                    x713 = c5 * x691;
+                    x714 = arith.mul_add(s5, x707, x713);
+                    x715 = s5 * x701;
+                    x716 = arith.mul_add(c5, x709, x715);
+                    x717 = s5 * x709;
+                    x718 = arith.mul_add(c5, x701, -x717);
+                    x719 = x479 - x706;
+                    x720 = arith.mul_add(qd5, x47, x712);
+                    x721 = arith.mul_add(qd5, x44, x714);
+                    x722 = arith.mul_add(qd5, x51, x716);
+                    x723 = arith.mul_add(-qd5, x49, x718);
+                    x724 = s6 * x708;
+                    x725 = arith.mul_add(c6, x720, x724);
+                    x726 = s6 * x720;
+                    x727 = arith.mul_add(c6, x708, -x726);
+                    x728 = arith.mul_add(0.088f64, x708, x723);
+                    x729 = arith.mul_add(0.088f64, x721, x719);
+                    x730 = s6 * x729;
+                    x731 = arith.mul_add(c6, x722, x730);
+                    x732 = s6 * x722;
+                    x733 = arith.mul_add(c6, x729, -x732);
+                    x734 = arith.mul_add(qd6, x57, x725);
+                    x735 = arith.mul_add(-qd6, x55, x727);
+                    x736 = arith.mul_add(qd6, x64, x731);
+                    x737 = arith.mul_add(-qd6, x62, x733);
+                    x738 = -0.00398335888393552f64 * x477;
+                    x739 = arith.mul_add(-1.0706865997634767f64, x476, x738);
+                    x740 = 0.0007689361029464f64 * x477;
+                    x741 = arith.mul_add(-0.01026110182100817f64, x476, x740);
+                    x742 = x3 + x741;
+                    x743 = x739 - x481;
+                    x744 = arith.mul_add(0.00398335888393552f64, x476, x483);
+                    x745 = x485 + x742;
+                    x746 = -0.00012191242095074308f64 * x675;
+                    x747 = arith.mul_add(0.011595864095166043f64, x674, x746);
+                    x748 = arith.mul_add(0.005487648106562256f64, x477, x747);
+                    x749 = 0.004377257121839584f64 * x477;
+                    x750 = arith.mul_add(-0.00012191242095074308f64, x674, x749);
+                    x751 = -0.004377257121839584f64 * x675;
+                    x752 = arith.mul_add(-0.005487648106562256f64, x674, x751);
+                    x753 = arith.mul_add(-0.13480070614822143f64, x477, x752);
+                    x754 = 0.028227094878000014f64 * x676;
+                    x755 = arith.mul_add(0.746857959872f64, x677, -x754);
+                    x756 = arith.mul_add(0.27690780075318017f64, c1, x748);
+                    x757 = arith.mul_add(-7.326676586344321f64, c1, x750);
+                    x758 = x753 + x755;
+                    x759 = x494 + x756;
+                    x760 = x495 + x757;
+                    x761 = x496 + x758;
+                    x762 = arith.mul_add(0.028227094878000014f64, x477, x498);
+                    x763 = arith.mul_add(-0.746857959872f64, x477, -x500);
+                    x764 = -0.16284087268546082f64 * x691;
+                    x765 = arith.mul_add(0.647723094939183f64, x690, x764);
+                    x766 = arith.mul_add(0.0039053550262761003f64, x682, x765);
+                    x767 = -0.0016444875773692705f64 * x682;
+                    x768 = arith.mul_add(0.16284087268546082f64, x690, x767);
+                    x769 = 0.0016444875773692705f64 * x691;
+                    x770 = arith.mul_add(0.0039053550262761003f64, x690, x769);
+                    x771 = arith.mul_add(0.7497633672528139f64, x682, x770);
+                    x772 = 2.0125235536029997f64 * x692;
+                    x773 = arith.mul_add(0.5527802746499999f64, x693, -x772);
+                    x774 = arith.mul_add(-2.0125235536029997f64, x684, x766);
+                    x775 = arith.mul_add(-0.5527802746499999f64, x684, x768);
+                    x776 = x771 + x773;
+                    x777 = 0.5527802746499999f64 * x691;
+                    x778 = arith.mul_add(2.0125235536029997f64, x690, -x777);
+                    x779 = x513 + x774;
+                    x780 = x514 + x775;
+                    x781 = x515 + x776;
+                    x782 = arith.mul_add(-2.0125235536029997f64, x682, x517);
+                    x783 = arith.mul_add(-0.5527802746499999f64, x682, -x519);
+                    x784 = x521 + x778;
+                    x785 = 0.0015152444733270301f64 * x708;
+                    x786 = arith.mul_add(0.030116287133882078f64, x707, x785);
+                    x787 = arith.mul_add(0.004600245517563105f64, x691, x786);
+                    x788 = -0.0021640520520981297f64 * x691;
+                    x789 = arith.mul_add(-0.0015152444733270301f64, x707, x788);
+                    x790 = -0.0021640520520981297f64 * x708;
+                    x791 = arith.mul_add(-0.004600245517563105f64, x707, x790);
+                    x792 = arith.mul_add(-0.03301859926393551f64, x691, x791);
+                    x793 = 0.067870631425f64 * x709;
+                    x794 = arith.mul_add(-0.014653732538f64, x710, -x793);
+                    x795 = arith.mul_add(0.067870631425f64, x701, x787);
+                    x796 = arith.mul_add(0.014653732538f64, x701, x789);
+                    x797 = x792 + x794;
+                    x798 = 0.014653732538f64 * x708;
+                    x799 = arith.mul_add(0.067870631425f64, x707, -x798);
+                    x800 = x534 + x795;
+                    x801 = x535 + x796;
+                    x802 = x536 + x797;
+                    x803 = arith.mul_add(-0.067870631425f64, x691, x538);
+                    x804 = arith.mul_add(0.014653732538f64, x691, -x540);
+                    x805 = x542 + x799;
+                    x806 = -0.014748570382675316f64 * x721;
+                    x807 = arith.mul_add(0.009543771269492206f64, x720, x806);
+                    x808 = arith.mul_add(-0.00010375891721868492f64, x708, x807);
+                    x809 = 0.000093569097314605f64 * x708;
+                    x810 = arith.mul_add(0.014748570382675316f64, x720, x809);
+                    x811 = -0.000093569097314605f64 * x721;
+                    x812 = arith.mul_add(-0.00010375891721868492f64, x720, x811);
+                    x813 = arith.mul_add(0.05258828201066731f64, x708, x812);
+                    x814 = -0.17380470556900002f64 * x722;
+                    x815 = arith.mul_add(0.231847552695f64, x723, -x814);
+                    x816 = arith.mul_add(-0.17380470556900002f64, x719, x808);
+                    x817 = arith.mul_add(-0.231847552695f64, x719, x810);
+                    x818 = x813 + x815;
+                    x819 = -0.231847552695f64 * x721;
+                    x820 = arith.mul_add(-0.17380470556900002f64, x720, -x819);
+                    x821 = x555 + x816;
+                    x822 = x556 + x817;
+                    x823 = x557 + x818;
+                    x824 = arith.mul_add(0.17380470556900002f64, x708, x559);
+                    x825 = arith.mul_add(0.231847552695f64, x708, -x561);
+                    x826 = x563 + x820;
+                    x827 = 0.0003913912816842481f64 * x735;
+                    x828 = arith.mul_add(0.0024209437785212354f64, x734, x827);
+                    x829 = arith.mul_add(-0.0009653051699191116f64, x721, x828);
+                    x830 = -0.001255536598272898f64 * x721;
+                    x831 = arith.mul_add(0.0003913912816842481f64, x734, x830);
+                    x832 = -0.001255536598272898f64 * x735;
+                    x833 = arith.mul_add(-0.0009653051699191116f64, x734, x832);
+                    x834 = arith.mul_add(0.006684151967360945f64, x721, x833);
+                    x835 = 0.0020344399586617965f64 * x736;
+                    x836 = arith.mul_add(0.002573605371338202f64, x737, -x835);
+                    x837 = arith.mul_add(-0.0020344399586617965f64, x728, x829);
+                    x838 = arith.mul_add(0.002573605371338202f64, x728, x831);
+                    x839 = x834 + x836;
+                    x840 = 0.002573605371338202f64 * x735;
+                    x841 = arith.mul_add(0.0020344399586617965f64, x734, -x840);
+                    x842 = x576 + x837;
+                    x843 = x577 + x838;
+                    x844 = x578 + x839;
+                    x845 = arith.mul_add(-0.0020344399586617965f64, x721, x580);
+                    x846 = arith.mul_add(0.002573605371338202f64, x721, -x582);
+                    x847 = x584 + x841;
+                    x848 = s6 * x846;
+                    x849 = arith.mul_add(c6, x845, -x848);
+                    x850 = c6 * x846;
+                    x851 = arith.mul_add(s6, x845, x850);
+                    x852 = s6 * x843;
+                    x853 = arith.mul_add(c6, x842, -x852);
+                    x854 = c6 * x843;
+                    x855 = arith.mul_add(s6, x842, x854);
+                    x856 = arith.mul_add(0.088f64, x851, x844);
+                    x857 = arith.mul_add(-0.088f64, x847, x855);
+                    x858 = x821 + x853;
+                    x859 = x822 - x856;
+                    x860 = x823 + x857;
+                    x861 = x824 + x849;
+                    x862 = x825 - x847;
+                    x863 = x826 + x851;
+                    x864 = s5 * x862;
+                    x865 = arith.mul_add(c5, x861, -x864);
+                    x866 = c5 * x862;
+                    x867 = arith.mul_add(s5, x861, x866);
+                    x868 = s5 * x859;
+                    x869 = arith.mul_add(c5, x858, -x868);
+                    x870 = c5 * x859;
+                    x871 = arith.mul_add(s5, x858, x870);
+                    x872 = x800 + x869;
+                    x873 = x801 - x860;
+                    x874 = x802 + x871;
+                    x875 = x865 - x803;
+                    x876 = x804 - x863;
+                    x877 = x805 + x867;
+                    x878 = s4 * x876;
+                    x879 = arith.mul_add(c4, x875, -x878);
+                    x880 = c4 * x876;
+                    x881 = arith.mul_add(s4, x875, x880);
+                    x882 = s4 * x873;
+                    x883 = arith.mul_add(c4, x872, -x882);
+                    x884 = c4 * x873;
+                    x885 = arith.mul_add(s4, x872, x884);
+                    x886 = 0.384f64 * x879;
+                    x887 = arith.mul_add(-0.0825f64, x877, -x886);
+                    x888 = arith.mul_add(-0.384f64, x881, x883);
+                    x889 = arith.mul_add(-0.0825f64, x881, x874);
+                    x890 = x887 - x885;
+                    x891 = x779 + x888;
+                    x892 = x780 + x889;
+                    x893 = x781 + x890;
+                    x894 = x782 + x879;
+                    x895 = x783 + x877;
+                    x896 = s3 * x895;
+                    x897 = arith.mul_add(c3, x894, -x896);
+                    x898 = x881 - x784;
+                    x899 = c3 * x895;
+                    x900 = arith.mul_add(s3, x894, x899);
+                    x901 = s3 * x892;
+                    x902 = arith.mul_add(c3, x891, -x901);
+                    x903 = c3 * x892;
+                    x904 = arith.mul_add(s3, x891, x903);
+                    x905 = arith.mul_add(0.0825f64, x900, x893);
+                    x906 = arith.mul_add(0.0825f64, x898, x904);
+                    x907 = x759 + x902;
+                    x908 = x760 - x905;
+                    x909 = x761 + x906;
+                    x910 = x762 + x897;
+                    x911 = x763 + x898;
+                    x912 = s2 * x911;
+                    x913 = arith.mul_add(c2, x910, -x912);
+                    x914 = c2 * x911;
+                    x915 = arith.mul_add(s2, x910, x914);
+                    x916 = s2 * x908;
+                    x917 = arith.mul_add(c2, x907, -x916);
+                    x918 = c2 * x908;
+                    x919 = arith.mul_add(s2, x907, x918);
+                    x920 = arith.mul_add(-0.316f64, x915, x917);
+                    x921 = arith.mul_add(0.316f64, x913, x919);
+                    x922 = x743 + x920;
+                    x923 = x744 - x909;
+                    x924 = x745 + x921;
+                    x925 = c1 * x923;
+                    x926 = arith.mul_add(s1, x922, x925);
+                    x927 = tau0 + x926;
+                    x928 = tau1 - x924;
+                    x929 = tau2 - x909;
+                    x930 = tau3 - x893;
+                    x931 = tau4 - x874;
+                    x932 = tau5 - x860;
+                    x933 = tau6 - x844;
+                    x934 = arith.mul_add(-x585, x933, x932);
+                    x935 = arith.mul_add(-x592, x933, x931);
+                    x936 = arith.mul_add(-x598, x933, x930);
+                    x937 = arith.mul_add(-x603, x933, x929);
+                    x938 = arith.mul_add(-x607, x933, x928);
+                    x939 = arith.mul_add(-x610, x933, x927);
+                    x940 = arith.mul_add(-x613, x934, x935);
+                    x941 = arith.mul_add(-x619, x934, x936);
+                    x942 = arith.mul_add(-x624, x934, x937);
+                    x943 = arith.mul_add(-x628, x934, x938);
+                    x944 = arith.mul_add(-x631, x934, x939);
+                    x945 = arith.mul_add(x634, x940, x941);
+                    x946 = arith.mul_add(-x639, x940, x942);
+                    x947 = arith.mul_add(-x643, x940, x943);
+                    x948 = arith.mul_add(-x646, x940, x944);
+                    x949 = arith.mul_add(-x649, x945, x946);
+                    x950 = arith.mul_add(-x653, x945, x947);
+                    x951 = arith.mul_add(-x656, x945, x948);
+                    x952 = arith.mul_add(-x659, x949, x950);
+                    x953 = arith.mul_add(-x662, x949, x951);
+                    x954 = arith.mul_add(x665, x952, x953);
+                    x955 = x667 * x954;
+                    *o0 = x955;
+                    x956 = x665 * x955;
+                    x957 = arith.mul_add(x664, x952, x956);
+                    *o1 = x957;
+                    x958 = x662 * x955;
+                    x959 = arith.mul_add(x658, x949, -x958);
+                    x960 = arith.mul_add(-x659, x957, x959);
+                    *o2 = x960;
+                    x961 = x656 * x955;
+                    x962 = arith.mul_add(x648, x945, -x961);
+                    x963 = arith.mul_add(-x653, x957, x962);
+                    x964 = arith.mul_add(-x649, x960, x963);
+                    *o3 = x964;
+                    x965 = x646 * x955;
+                    x966 = arith.mul_add(x633, x940, -x965);
+                    x967 = arith.mul_add(-x643, x957, x966);
+                    x968 = arith.mul_add(-x639, x960, x967);
+                    x969 = arith.mul_add(x634, x964, x968);
+                    *o4 = x969;
+                    x970 = x631 * x955;
+                    x971 = arith.mul_add(x612, x934, -x970);
+                    x972 = arith.mul_add(-x628, x957, x971);
+                    x973 = arith.mul_add(-x624, x960, x972);
+                    x974 = arith.mul_add(-x619, x964, x973);
+                    x975 = arith.mul_add(-x613, x969, x974);
+                    *o5 = x975;
+                    x976 = x610 * x955;
+                    x977 = arith.mul_add(149.6076098932297f64, x933, -x976);
+                    x978 = arith.mul_add(-x607, x957, x977);
+                    x979 = arith.mul_add(-x603, x960, x978);
+                    x980 = arith.mul_add(-x598, x964, x979);
+                    x981 = arith.mul_add(-x592, x969, x980);
+                    x982 = arith.mul_add(-x585, x975, x981);
+                    *o6 = x982;
+                }
+                out
+            }
+        }
+        dyngen_runtime::__private::dispatch::<Body, _>((t, qd, tau))
+    }
+    ///Operations: 516 mul, 418 add/sub, 2 neg, 6 div (joint sines and cosines come precomputed in `JointTrig`).
+    #[inline(never)]
+    fn mass_matrix_inverse(t: &JointTrig<7>) -> SMatrix<f64, 7, 7> {
+        struct Body;
+        impl dyngen_runtime::__private::Kernel<(&JointTrig<7>,)> for Body {
+            type Output = SMatrix<f64, 7, 7>;
+            #[inline(always)]
+            fn run<M: dyngen_runtime::__private::MulAdd>(
+                arith: M,
+                (t,): (&JointTrig<7>,),
+            ) -> SMatrix<f64, 7, 7> {
+                let [_, s1, s2, s3, s4, s5, s6] = t.sin;
+                let [_, c1, c2, c3, c4, c5, c6] = t.cos;
+                let mut out: SMatrix<f64, 7, 7> = SMatrix::zeros();
+                {
+                    let [[o0, o1, o2, o3, o4, o5, o6], [o7, o8, o9, o10, o11, o12, o13],
+                    [o14, o15, o16, o17, o18, o19, o20], [o21, o22, o23, o24, o25, o26,
+                    o27], [o28, o29, o30, o31, o32, o33, o34], [o35, o36, o37, o38, o39,
+                    o40, o41], [o42, o43, o44, o45, o46, o47, o48]] = &mut out.data.0;
+                    let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                    x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                    x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                    x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                    x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                    x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                    x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                    x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109,
+                    x110, x111, x112, x113, x114, x115, x116, x117, x118, x119, x120,
+                    x121, x122, x123, x124, x125, x126, x127, x128, x129, x130, x131,
+                    x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142,
+                    x143, x144, x145, x146, x147, x148, x149, x150, x151, x152, x153,
+                    x154, x155, x156, x157, x158, x159, x160, x161, x162, x163, x164,
+                    x165, x166, x167, x168, x169, x170, x171, x172, x173, x174, x175,
+                    x176, x177, x178, x179, x180, x181, x182, x183, x184, x185, x186,
+                    x187, x188, x189, x190, x191, x192, x193, x194, x195, x196, x197,
+                    x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
+                    x209, x210, x211, x212, x213, x214, x215, x216, x217, x218, x219,
+                    x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                    x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241,
+                    x242, x243, x244, x245, x246, x247, x248, x249, x250, x251, x252,
+                    x253, x254, x255, x256, x257, x258, x259, x260, x261, x262, x263,
+                    x264, x265, x266, x267, x268, x269, x270, x271, x272, x273, x274,
+                    x275, x276, x277, x278, x279, x280, x281, x282, x283, x284, x285,
+                    x286, x287, x288, x289, x290, x291, x292, x293, x294, x295, x296,
+                    x297, x298, x299, x300, x301, x302, x303, x304, x305, x306, x307,
+                    x308, x309, x310, x311, x312, x313, x314, x315, x316, x317, x318,
+                    x319, x320, x321, x322, x323, x324, x325, x326, x327, x328, x329,
+                    x330, x331, x332, x333, x334, x335, x336, x337, x338, x339, x340,
+                    x341, x342, x343, x344, x345, x346, x347, x348, x349, x350, x351,
+                    x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                    x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373,
+                    x374, x375, x376, x377, x378, x379, x380, x381, x382, x383, x384,
+                    x385, x386, x387, x388, x389, x390, x391, x392, x393, x394, x395,
+                    x396, x397, x398, x399, x400, x401, x402, x403, x404, x405, x406,
+                    x407, x408, x409, x410, x411, x412, x413, x414, x415, x416, x417,
+                    x418, x419, x420, x421, x422, x423, x424, x425, x426, x427, x428,
+                    x429, x430, x431, x432, x433, x434, x435, x436, x437, x438, x439,
+                    x440, x441, x442, x443, x444, x445, x446, x447, x448, x449, x450,
+                    x451, x452, x453, x454, x455, x456, x457, x458, x459, x460, x461,
+                    x462, x463, x464, x465, x466, x467, x468, x469, x470, x471, x472,
+                    x473, x474, x475, x476, x477, x478, x479, x480, x481, x482, x483,
+                    x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
+                    x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505,
+                    x506, x507, x508, x509, x510, x511, x512, x513, x514, x515, x516,
+                    x517, x518, x519, x520, x521, x522, x523, x524, x525, x526, x527,
+                    x528, x529, x530, x531, x532, x533, x534, x535, x536, x537, x538,
+                    x539, x540, x541, x542, x543, x544, x545, x546, x547, x548, x549,
+                    x550, x551, x552, x553, x554, x555, x556, x557, x558, x559, x560,
+                    x561, x562, x563, x564, x565, x566, x567, x568, x569, x570, x571,
+                    x572, x573, x574, x575, x576, x577, x578, x579, x580, x581, x582,
+                    x583, x584, x585, x586, x587, x588, x589, x590, x591, x592, x593,
+                    x594, x595, x596, x597, x598, x599, x600, x601, x602, x603, x604,
+                    x605]: [f64; 606];
+                    x0 = -0.0020344399586617965f64 * s6;
+                    x1 = arith.mul_add(0.002573605371338202f64, c6, x0);
+                    x2 = 0.0020344399586617965f64 * c6;
+                    x3 = arith.mul_add(0.002573605371338202f64, s6, x2);
+                    x4 = -0.0003913912816842481f64 * s6;
+                    x5 = arith.mul_add(0.0024209437785212354f64, c6, x4);
+                    x6 = 0.0003913912816842481f64 * c6;
+                    x7 = 0.001255536598272898f64 * s6;
+                    x8 = arith.mul_add(-0.0009653051699191116f64, c6, x7);
+                    x9 = arith.mul_add(0.0024209437785212354f64, s6, x6);
+                    x10 = 0.0003913912816842481f64 * s6;
+                    x11 = -0.001255536598272898f64 * c6;
+                    x12 = arith.mul_add(-0.0009653051699191116f64, s6, x11);
+                    x13 = s6 * x6;
+                    x14 = arith.mul_add(c6, x5, -x13);
+                    x15 = c6 * x6;
+                    x16 = arith.mul_add(s6, x5, x15);
+                    x17 = 0.001255536598272898f64 * c6;
+                    x18 = arith.mul_add(0.0009653051699191116f64, s6, x17);
+                    x19 = c6 * x10;
+                    x20 = arith.mul_add(s6, x9, x19);
+                    x21 = 0.088f64 * x1;
+                    x22 = 0.176f64 * x1;
+                    x23 = x14 + x22;
+                    x24 = x21 + x21;
+                    x25 = x23 - x24;
+                    x26 = 0.006684151967360945f64 + x22;
+                    x27 = arith.mul_add(-0.088f64, x3, x16);
+                    x28 = x20 + x22;
+                    x29 = 0.231847552695f64 + x1;
+                    x30 = 0.009543771269492206f64 + x25;
+                    x31 = 0.014748570382675316f64 - x8;
+                    x32 = -0.00010375891721868492f64 + x27;
+                    x33 = 0.000093569097314605f64 + x18;
+                    x34 = 0.05258828201066731f64 + x28;
+                    x35 = 0.17380470556900002f64 * s5;
+                    x36 = arith.mul_add(c5, x29, x35);
+                    x37 = s5 * x29;
+                    x38 = arith.mul_add(-0.17380470556900002f64, c5, x37);
+                    x39 = s5 * x31;
+                    x40 = arith.mul_add(c5, x30, -x39);
+                    x41 = c5 * x31;
+                    x42 = arith.mul_add(-s5, x26, x41);
+                    x43 = c5 * x32;
+                    x44 = s5 * x33;
+                    x45 = x43 - x44;
+                    x46 = arith.mul_add(s5, x30, x41);
+                    x47 = arith.mul_add(c5, x26, x39);
+                    x48 = c5 * x33;
+                    x49 = arith.mul_add(s5, x32, x48);
+                    x50 = s5 * x42;
+                    x51 = arith.mul_add(c5, x40, -x50);
+                    x52 = x44 - x43;
+                    x53 = c5 * x42;
+                    x54 = arith.mul_add(s5, x40, x53);
+                    x55 = c5 * x47;
+                    x56 = arith.mul_add(s5, x46, x55);
+                    x57 = -0.014653732538f64 + x36;
+                    x58 = 0.067870631425f64 - x3;
+                    x59 = 0.030116287133882078f64 + x51;
+                    x60 = -0.0015152444733270301f64 + x52;
+                    x61 = -0.004600245517563105f64 + x54;
+                    x62 = 0.0021640520520981297f64 - x49;
+                    x63 = 0.03301859926393551f64 + x56;
+                    x64 = c4 * x57;
+                    x65 = arith.mul_add(-s4, x58, x64);
+                    x66 = s4 * x57;
+                    x67 = arith.mul_add(c4, x58, x66);
+                    x68 = s4 * x60;
+                    x69 = arith.mul_add(c4, x59, -x68);
+                    x70 = c4 * x60;
+                    x71 = s4 * x34;
+                    x72 = x70 - x71;
+                    x73 = s4 * x62;
+                    x74 = arith.mul_add(c4, x61, -x73);
+                    x75 = arith.mul_add(s4, x59, x70);
+                    x76 = c4 * x34;
+                    x77 = x68 + x76;
+                    x78 = c4 * x62;
+                    x79 = arith.mul_add(s4, x61, x78);
+                    x80 = s4 * x72;
+                    x81 = arith.mul_add(c4, x69, -x80);
+                    x82 = c4 * x72;
+                    x83 = arith.mul_add(s4, x69, x82);
+                    x84 = c4 * x77;
+                    x85 = arith.mul_add(s4, x75, x84);
+                    x86 = -0.0825f64 * x65;
+                    x87 = 0.384f64 * x38;
+                    x88 = x86 + x87;
+                    x89 = 2f64 * x88;
+                    x90 = x81 + x89;
+                    x91 = x86 + x86;
+                    x92 = x90 - x91;
+                    x93 = 0.384f64 * x65;
+                    x94 = arith.mul_add(-0.0825f64, x38, x93);
+                    x95 = x74 - x94;
+                    x96 = x63 + x89;
+                    x97 = x87 + x87;
+                    x98 = x96 - x97;
+                    x99 = 0.0825f64 * x67;
+                    x100 = x83 + x99;
+                    x101 = arith.mul_add(-0.384f64, x67, x79);
+                    x102 = x85 + x89;
+                    x103 = -0.5527802746499999f64 + x65;
+                    x104 = 2.0125235536029997f64 + x38;
+                    x105 = 0.647723094939183f64 + x92;
+                    x106 = 0.16284087268546082f64 + x95;
+                    x107 = 0.0039053550262761003f64 - x100;
+                    x108 = -0.0016444875773692705f64 - x101;
+                    x109 = 0.7497633672528139f64 + x102;
+                    x110 = s3 * x104;
+                    x111 = arith.mul_add(c3, x103, -x110);
+                    x112 = c3 * x104;
+                    x113 = arith.mul_add(s3, x103, x112);
+                    x114 = s3 * x106;
+                    x115 = arith.mul_add(c3, x105, -x114);
+                    x116 = c3 * x106;
+                    x117 = arith.mul_add(-s3, x98, x116);
+                    x118 = c3 * x107;
+                    x119 = s3 * x108;
+                    x120 = x118 - x119;
+                    x121 = x100 - 0.0039053550262761003f64;
+                    x122 = x101 - -0.0016444875773692705f64;
+                    x123 = arith.mul_add(s3, x105, x116);
+                    x124 = arith.mul_add(c3, x98, x114);
+                    x125 = c3 * x108;
+                    x126 = arith.mul_add(s3, x107, x125);
+                    x127 = s3 * x117;
+                    x128 = arith.mul_add(c3, x115, -x127);
+                    x129 = x119 - x118;
+                    x130 = c3 * x117;
+                    x131 = arith.mul_add(s3, x115, x130);
+                    x132 = c3 * x122;
+                    x133 = arith.mul_add(s3, x121, x132);
+                    x134 = c3 * x124;
+                    x135 = arith.mul_add(s3, x123, x134);
+                    x136 = 0.0825f64 * x111;
+                    x137 = 0.165f64 * x111;
+                    x138 = x128 + x137;
+                    x139 = x136 + x136;
+                    x140 = x138 - x139;
+                    x141 = x129 - x99;
+                    x142 = x109 + x137;
+                    x143 = arith.mul_add(-0.0825f64, x113, x131);
+                    x144 = x135 + x137;
+                    x145 = 0.746857959872f64 + x111;
+                    x146 = 0.028227094878000014f64 + x67;
+                    x147 = 0.011595864095166043f64 + x140;
+                    x148 = -0.00012191242095074308f64 + x141;
+                    x149 = -0.005487648106562256f64 + x143;
+                    x150 = -0.004377257121839584f64 + x133;
+                    x151 = 0.13480070614822143f64 + x144;
+                    x152 = s2 * x146;
+                    x153 = arith.mul_add(c2, x145, -x152);
+                    x154 = c2 * x146;
+                    x155 = arith.mul_add(s2, x145, x154);
+                    x156 = s2 * x148;
+                    x157 = arith.mul_add(c2, x147, -x156);
+                    x158 = c2 * x148;
+                    x159 = arith.mul_add(-s2, x142, x158);
+                    x160 = c2 * x149;
+                    x161 = s2 * x150;
+                    x162 = x160 - x161;
+                    x163 = arith.mul_add(s2, x147, x158);
+                    x164 = arith.mul_add(c2, x142, x156);
+                    x165 = c2 * x150;
+                    x166 = arith.mul_add(s2, x149, x165);
+                    x167 = s2 * x159;
+                    x168 = arith.mul_add(c2, x157, -x167);
+                    x169 = x161 - x160;
+                    x170 = c2 * x159;
+                    x171 = arith.mul_add(s2, x157, x170);
+                    x172 = c2 * x164;
+                    x173 = arith.mul_add(s2, x163, x172);
+                    x174 = 0.316f64 * x113;
+                    x175 = 0.632f64 * x113;
+                    x176 = x168 + x175;
+                    x177 = -0.316f64 * x153;
+                    x178 = x169 - x177;
+                    x179 = x151 + x175;
+                    x180 = x174 + x174;
+                    x181 = x179 - x180;
+                    x182 = arith.mul_add(-0.316f64, x155, x166);
+                    x183 = x173 + x175;
+                    x184 = 1.0706865997634767f64 + x176;
+                    x185 = -0.00398335888393552f64 + x178;
+                    x186 = 0.01026110182100817f64 + x171;
+                    x187 = 0.0007689361029464f64 - x182;
+                    x188 = 1.1168423647533403f64 + x183;
+                    x189 = s1 * x184;
+                    x190 = arith.mul_add(c1, x185, x189);
+                    x191 = c1 * x181;
+                    x192 = arith.mul_add(s1, x185, x191);
+                    x193 = c1 * x187;
+                    x194 = arith.mul_add(s1, x186, x193);
+                    x195 = c1 * x192;
+                    x196 = arith.mul_add(s1, x190, x195);
+                    x197 = 0.03733744848940618f64 + x196;
+                    x198 = x162 + x177;
+                    x199 = arith.mul_add(-0.316f64, x155, x166);
+                    x200 = s1 * x198;
+                    x201 = arith.mul_add(c1, x151, -x200);
+                    x202 = x109 + x136;
+                    x203 = c2 * x113;
+                    x204 = s2 * x113;
+                    x205 = s2 * x202;
+                    x206 = arith.mul_add(c2, x120, x205);
+                    x207 = c2 * x202;
+                    x208 = arith.mul_add(s2, x120, -x207);
+                    x209 = arith.mul_add(0.316f64, x204, x206);
+                    x210 = arith.mul_add(-0.316f64, x203, x208);
+                    x211 = s1 * x209;
+                    x212 = arith.mul_add(c1, x126, -x211);
+                    x213 = x3 - 0.067870631425f64;
+                    x214 = arith.mul_add(c4, x213, -x66);
+                    x215 = arith.mul_add(s4, x213, x64);
+                    x216 = 0.0825f64 * x215;
+                    x217 = arith.mul_add(-0.384f64, x215, x74);
+                    x218 = x63 - x216;
+                    x219 = arith.mul_add(0.384f64, x214, x79);
+                    x220 = c3 * x214;
+                    x221 = s3 * x214;
+                    x222 = s3 * x218;
+                    x223 = arith.mul_add(c3, x217, -x222);
+                    x224 = c3 * x218;
+                    x225 = arith.mul_add(s3, x217, x224);
+                    x226 = arith.mul_add(-0.0825f64, x221, x219);
+                    x227 = x216 + x225;
+                    x228 = s2 * x215;
+                    x229 = arith.mul_add(c2, x220, -x228);
+                    x230 = c2 * x215;
+                    x231 = arith.mul_add(s2, x220, x230);
+                    x232 = s2 * x226;
+                    x233 = arith.mul_add(c2, x223, -x232);
+                    x234 = c2 * x226;
+                    x235 = arith.mul_add(s2, x223, x234);
+                    x236 = arith.mul_add(-0.316f64, x231, x233);
+                    x237 = arith.mul_add(0.316f64, x229, x235);
+                    x238 = s1 * x236;
+                    x239 = arith.mul_add(c1, x227, -x238);
+                    x240 = arith.mul_add(0.17380470556900002f64, c5, -x37);
+                    x241 = c4 * x240;
+                    x242 = s4 * x240;
+                    x243 = arith.mul_add(c4, x45, x71);
+                    x244 = arith.mul_add(-s4, x45, x76);
+                    x245 = 0.0825f64 * x242;
+                    x246 = 0.384f64 * x241;
+                    x247 = arith.mul_add(-0.0825f64, x36, -x246);
+                    x248 = arith.mul_add(-0.384f64, x242, x243);
+                    x249 = x49 - x245;
+                    x250 = x244 + x247;
+                    x251 = s3 * x36;
+                    x252 = arith.mul_add(c3, x241, -x251);
+                    x253 = c3 * x36;
+                    x254 = arith.mul_add(s3, x241, x253);
+                    x255 = s3 * x249;
+                    x256 = arith.mul_add(c3, x248, -x255);
+                    x257 = c3 * x249;
+                    x258 = arith.mul_add(s3, x248, x257);
+                    x259 = arith.mul_add(0.0825f64, x254, x250);
+                    x260 = x245 + x258;
+                    x261 = s2 * x242;
+                    x262 = arith.mul_add(c2, x252, -x261);
+                    x263 = c2 * x242;
+                    x264 = arith.mul_add(s2, x252, x263);
+                    x265 = s2 * x259;
+                    x266 = arith.mul_add(c2, x256, x265);
+                    x267 = c2 * x259;
+                    x268 = arith.mul_add(s2, x256, -x267);
+                    x269 = arith.mul_add(-0.316f64, x264, x266);
+                    x270 = arith.mul_add(0.316f64, x262, x268);
+                    x271 = s1 * x269;
+                    x272 = arith.mul_add(c1, x260, -x271);
+                    x273 = -0.002573605371338202f64 * s6;
+                    x274 = arith.mul_add(-0.0020344399586617965f64, c6, x273);
+                    x275 = -0.006684151967360945f64 - x21;
+                    x276 = c5 * x274;
+                    x277 = s5 * x274;
+                    x278 = s5 * x275;
+                    x279 = arith.mul_add(c5, x8, -x278);
+                    x280 = c5 * x275;
+                    x281 = arith.mul_add(s5, x8, x280);
+                    x282 = s4 * x1;
+                    x283 = arith.mul_add(c4, x276, x282);
+                    x284 = s4 * x276;
+                    x285 = c4 * x1;
+                    x286 = x285 - x284;
+                    x287 = s4 * x12;
+                    x288 = arith.mul_add(c4, x279, x287);
+                    x289 = s4 * x279;
+                    x290 = arith.mul_add(c4, x12, -x289);
+                    x291 = 0.384f64 * x283;
+                    x292 = arith.mul_add(-0.0825f64, x277, -x291);
+                    x293 = arith.mul_add(0.384f64, x286, x288);
+                    x294 = arith.mul_add(0.0825f64, x286, x281);
+                    x295 = x290 + x292;
+                    x296 = s3 * x277;
+                    x297 = arith.mul_add(c3, x283, -x296);
+                    x298 = x284 - x285;
+                    x299 = c3 * x277;
+                    x300 = arith.mul_add(s3, x283, x299);
+                    x301 = s3 * x294;
+                    x302 = arith.mul_add(c3, x293, -x301);
+                    x303 = c3 * x294;
+                    x304 = arith.mul_add(s3, x293, x303);
+                    x305 = arith.mul_add(0.0825f64, x300, x295);
+                    x306 = arith.mul_add(0.0825f64, x298, x304);
+                    x307 = s2 * x298;
+                    x308 = arith.mul_add(c2, x297, -x307);
+                    x309 = c2 * x298;
+                    x310 = arith.mul_add(s2, x297, x309);
+                    x311 = s2 * x305;
+                    x312 = arith.mul_add(c2, x302, x311);
+                    x313 = c2 * x305;
+                    x314 = arith.mul_add(s2, x302, -x313);
+                    x315 = arith.mul_add(-0.316f64, x310, x312);
+                    x316 = arith.mul_add(0.316f64, x308, x314);
+                    x317 = s1 * x315;
+                    x318 = arith.mul_add(c1, x306, -x317);
+                    x319 = 149.6076098932297f64 * x12;
+                    x320 = arith.mul_add(-x12, x319, x34);
+                    x321 = arith.mul_add(-x281, x319, x49);
+                    x322 = arith.mul_add(-x295, x319, x250);
+                    x323 = arith.mul_add(-x306, x319, x260);
+                    x324 = arith.mul_add(-x316, x319, x270);
+                    x325 = arith.mul_add(-x318, x319, x272);
+                    x326 = 149.6076098932297f64 * x281;
+                    x327 = arith.mul_add(-x281, x326, x63);
+                    x328 = arith.mul_add(x295, x326, x219);
+                    x329 = arith.mul_add(-x306, x326, x227);
+                    x330 = arith.mul_add(-x316, x326, x237);
+                    x331 = arith.mul_add(-x318, x326, x239);
+                    x332 = 149.6076098932297f64 * x295;
+                    x333 = arith.mul_add(-x295, x332, x109);
+                    x334 = arith.mul_add(-x306, x332, x126);
+                    x335 = arith.mul_add(-x316, x332, x210);
+                    x336 = arith.mul_add(-x318, x332, x212);
+                    x337 = 149.6076098932297f64 * x306;
+                    x338 = arith.mul_add(-x306, x337, x151);
+                    x339 = arith.mul_add(-x316, x337, x199);
+                    x340 = arith.mul_add(-x318, x337, x201);
+                    x341 = 149.6076098932297f64 * x316;
+                    x342 = arith.mul_add(-x316, x341, x188);
+                    x343 = arith.mul_add(x318, x341, x194);
+                    x344 = 149.6076098932297f64 * x318;
+                    x345 = arith.mul_add(-x318, x344, x197);
+                    x346 = 1f64 / x320;
+                    x347 = x321 * x346;
+                    x348 = arith.mul_add(-x321, x347, x327);
+                    x349 = arith.mul_add(x322, x347, x328);
+                    x350 = arith.mul_add(-x323, x347, x329);
+                    x351 = arith.mul_add(-x324, x347, x330);
+                    x352 = arith.mul_add(-x325, x347, x331);
+                    x353 = x322 * x346;
+                    x354 = arith.mul_add(-x322, x353, x333);
+                    x355 = arith.mul_add(-x323, x353, x334);
+                    x356 = arith.mul_add(-x324, x353, x335);
+                    x357 = arith.mul_add(-x325, x353, x336);
+                    x358 = x323 * x346;
+                    x359 = arith.mul_add(-x323, x358, x338);
+                    x360 = arith.mul_add(-x324, x358, x339);
+                    x361 = arith.mul_add(-x325, x358, x340);
+                    x362 = x324 * x346;
+                    x363 = arith.mul_add(-x324, x362, x342);
+                    x364 = arith.mul_add(x325, x362, x343);
+                    x365 = x325 * x346;
+                    x366 = arith.mul_add(-x325, x365, x345);
+                    x367 = 1f64 / x348;
+                    x368 = x349 * x367;
+                    x369 = arith.mul_add(-x349, x368, x354);
+                    x370 = arith.mul_add(x350, x368, x355);
+                    x371 = arith.mul_add(x351, x368, x356);
+                    x372 = arith.mul_add(x352, x368, x357);
+                    x373 = x350 * x367;
+                    x374 = arith.mul_add(-x350, x373, x359);
+                    x375 = arith.mul_add(-x351, x373, x360);
+                    x376 = arith.mul_add(-x352, x373, x361);
+                    x377 = x351 * x367;
+                    x378 = arith.mul_add(-x351, x377, x363);
+                    x379 = arith.mul_add(x352, x377, x364);
+                    x380 = x352 * x367;
+                    x381 = arith.mul_add(-x352, x380, x366);
+                    x382 = 1f64 / x369;
+                    x383 = x370 * x382;
+                    x384 = arith.mul_add(-x370, x383, x374);
+                    x385 = arith.mul_add(-x371, x383, x375);
+                    x386 = arith.mul_add(-x372, x383, x376);
+                    x387 = x371 * x382;
+                    x388 = arith.mul_add(-x371, x387, x378);
+                    x389 = arith.mul_add(x372, x387, x379);
+                    x390 = x372 * x382;
+                    x391 = arith.mul_add(-x372, x390, x381);
+                    x392 = 1f64 / x384;
+                    x393 = x385 * x392;
+                    x394 = arith.mul_add(-x385, x393, x388);
+                    x395 = arith.mul_add(x386, x393, x389);
+                    x396 = x386 * x392;
+                    x397 = arith.mul_add(-x386, x396, x391);
+                    x398 = 1f64 / x394;
+                    x399 = x395 * x398;
+                    x400 = arith.mul_add(-x395, x399, x397);
+                    x401 = 1f64 / x400;
+                    *o0 = x401;
+                    x402 = x399 * x401;
+                    *o1 = x402;
+                    *o7 = x402;
+                    x403 = x393 * x402;
+                    x404 = arith.mul_add(x396, x401, x403);
+                    x405 = -x404;
+                    *o2 = x405;
+                    *o14 = x405;
+                    x406 = x387 * x402;
+                    x407 = arith.mul_add(x390, x401, x406);
+                    x408 = arith.mul_add(x383, x404, -x407);
+                    *o3 = x408;
+                    *o21 = x408;
+                    x409 = x377 * x402;
+                    x410 = arith.mul_add(x380, x401, x409);
+                    x411 = arith.mul_add(x373, x404, -x410);
+                    x412 = arith.mul_add(x368, x408, x411);
+                    *o4 = x412;
+                    *o28 = x412;
+                    x413 = x362 * x402;
+                    x414 = arith.mul_add(x365, x401, x413);
+                    x415 = arith.mul_add(x358, x404, -x414);
+                    x416 = arith.mul_add(-x353, x408, x415);
+                    x417 = arith.mul_add(-x347, x412, x416);
+                    *o5 = x417;
+                    *o35 = x417;
+                    x418 = x341 * x402;
+                    x419 = arith.mul_add(x344, x401, x418);
+                    x420 = arith.mul_add(x337, x404, -x419);
+                    x421 = arith.mul_add(-x332, x408, x420);
+                    x422 = arith.mul_add(-x326, x412, x421);
+                    x423 = arith.mul_add(-x319, x417, x422);
+                    *o6 = x423;
+                    *o42 = x423;
+                    x424 = arith.mul_add(x399, x402, x398);
+                    *o8 = x424;
+                    x425 = x393 * x424;
+                    x426 = arith.mul_add(x396, x402, x425);
+                    x427 = -x426;
+                    *o9 = x427;
+                    *o15 = x427;
+                    x428 = x387 * x424;
+                    x429 = arith.mul_add(x390, x402, x428);
+                    x430 = arith.mul_add(x383, x426, -x429);
+                    *o10 = x430;
+                    *o22 = x430;
+                    x431 = x377 * x424;
+                    x432 = arith.mul_add(x380, x402, x431);
+                    x433 = arith.mul_add(x373, x426, -x432);
+                    x434 = arith.mul_add(x368, x430, x433);
+                    *o11 = x434;
+                    *o29 = x434;
+                    x435 = x362 * x424;
+                    x436 = arith.mul_add(x365, x402, x435);
+                    x437 = arith.mul_add(x358, x426, -x436);
+                    x438 = arith.mul_add(-x353, x430, x437);
+                    x439 = arith.mul_add(-x347, x434, x438);
+                    *o12 = x439;
+                    *o36 = x439;
+                    x440 = x341 * x424;
+                    x441 = arith.mul_add(x344, x402, x440);
+                    x442 = arith.mul_add(x337, x426, -x441);
+                    x443 = arith.mul_add(-x332, x430, x442);
+                    x444 = arith.mul_add(-x326, x434, x443);
+                    x445 = arith.mul_add(-x319, x439, x444);
+                    *o13 = x445;
+                    *o43 = x445;
+                    x446 = arith.mul_add(x393, x399, x396);
+                    x447 = x401 * x446;
+                    x448 = x399 * x447;
+                    x449 = arith.mul_add(x393, x398, x448);
+                    x450 = arith.mul_add(x396, x447, x392);
+                    x451 = arith.mul_add(x393, x449, x450);
+                    *o16 = x451;
+                    x452 = x387 * x449;
+                    x453 = arith.mul_add(x390, x447, x452);
+                    x454 = arith.mul_add(-x383, x451, x453);
+                    *o17 = x454;
+                    *o23 = x454;
+                    x455 = x377 * x449;
+                    x456 = arith.mul_add(x380, x447, x455);
+                    x457 = arith.mul_add(-x373, x451, x456);
+                    x458 = arith.mul_add(x368, x454, x457);
+                    *o18 = x458;
+                    *o30 = x458;
+                    x459 = x362 * x449;
+                    x460 = arith.mul_add(x365, x447, x459);
+                    x461 = arith.mul_add(-x358, x451, x460);
+                    x462 = arith.mul_add(-x353, x454, x461);
+                    x463 = arith.mul_add(-x347, x458, x462);
+                    *o19 = x463;
+                    *o37 = x463;
+                    x464 = x341 * x449;
+                    x465 = arith.mul_add(x344, x447, x464);
+                    x466 = arith.mul_add(-x337, x451, x465);
+                    x467 = arith.mul_add(-x332, x454, x466);
+                    x468 = arith.mul_add(-x326, x458, x467);
+                    x469 = arith.mul_add(-x319, x463, x468);
+                    *o20 = x469;
+                    *o44 = x469;
+                    x470 = arith.mul_add(x383, x393, -x387);
+                    x471 = arith.mul_add(x383, x396, -x390);
+                    x472 = arith.mul_add(x399, x470, x471);
+                    x473 = x401 * x472;
+                    x474 = x399 * x473;
+                    x475 = arith.mul_add(x398, x470, x474);
+                    x476 = x396 * x473;
+                    x477 = arith.mul_add(x383, x392, x476);
+                    x478 = arith.mul_add(x393, x475, x477);
+                    x479 = arith.mul_add(-x390, x473, x382);
+                    x480 = arith.mul_add(-x387, x475, x479);
+                    x481 = arith.mul_add(x383, x478, x480);
+                    *o24 = x481;
+                    x482 = x377 * x475;
+                    x483 = arith.mul_add(x380, x473, x482);
+                    x484 = arith.mul_add(x373, x478, -x483);
+                    x485 = arith.mul_add(x368, x481, x484);
+                    *o25 = x485;
+                    *o31 = x485;
+                    x486 = x362 * x475;
+                    x487 = arith.mul_add(x365, x473, x486);
+                    x488 = arith.mul_add(x358, x478, -x487);
+                    x489 = arith.mul_add(-x353, x481, x488);
+                    x490 = arith.mul_add(-x347, x485, x489);
+                    *o26 = x490;
+                    *o38 = x490;
+                    x491 = x341 * x475;
+                    x492 = arith.mul_add(x344, x473, x491);
+                    x493 = arith.mul_add(x337, x478, -x492);
+                    x494 = arith.mul_add(-x332, x481, x493);
+                    x495 = arith.mul_add(-x326, x485, x494);
+                    x496 = arith.mul_add(-x319, x490, x495);
+                    *o27 = x496;
+                    *o45 = x496;
+                    x497 = arith.mul_add(x368, x383, x373);
+                    x498 = arith.mul_add(x368, x387, x377);
+                    x499 = arith.mul_add(x368, x390, x380);
+                    x500 = arith.mul_add(x393, x497, -x498);
+                    x501 = arith.mul_add(x396, x497, -x499);
+                    x502 = arith.mul_add(x399, x500, x501);
+                    x503 = x401 * x502;
+                    x504 = x399 * x503;
+                    x505 = arith.mul_add(x398, x500, x504);
+                    x506 = x396 * x503;
+                    x507 = arith.mul_add(x392, x497, x506);
+                    x508 = arith.mul_add(x393, x505, x507);
+                    x509 = x390 * x503;
+                    x510 = arith.mul_add(x368, x382, -x509);
+                    x511 = arith.mul_add(-x387, x505, x510);
+                    x512 = arith.mul_add(x383, x508, x511);
+                    x513 = arith.mul_add(-x380, x503, x367);
+                    x514 = arith.mul_add(-x377, x505, x513);
+                    x515 = arith.mul_add(x373, x508, x514);
+                    x516 = arith.mul_add(x368, x512, x515);
+                    *o32 = x516;
+                    x517 = x362 * x505;
+                    x518 = arith.mul_add(x365, x503, x517);
+                    x519 = arith.mul_add(x358, x508, -x518);
+                    x520 = arith.mul_add(-x353, x512, x519);
+                    x521 = arith.mul_add(-x347, x516, x520);
+                    *o33 = x521;
+                    *o39 = x521;
+                    x522 = x341 * x505;
+                    x523 = arith.mul_add(x344, x503, x522);
+                    x524 = arith.mul_add(x337, x508, -x523);
+                    x525 = arith.mul_add(-x332, x512, x524);
+                    x526 = arith.mul_add(-x326, x516, x525);
+                    x527 = arith.mul_add(-x319, x521, x526);
+                    *o34 = x527;
+                    *o46 = x527;
+                    x528 = arith.mul_add(x347, x368, x353);
+                    x529 = arith.mul_add(x347, x373, -x358);
+                    x530 = arith.mul_add(x347, x377, -x362);
+                    x531 = arith.mul_add(x347, x380, -x365);
+                    x532 = arith.mul_add(x383, x528, x529);
+                    x533 = arith.mul_add(x387, x528, x530);
+                    x534 = arith.mul_add(x390, x528, x531);
+                    x535 = arith.mul_add(-x393, x532, x533);
+                    x536 = arith.mul_add(-x396, x532, x534);
+                    x537 = arith.mul_add(x399, x535, x536);
+                    x538 = x401 * x537;
+                    x539 = x399 * x538;
+                    x540 = arith.mul_add(x398, x535, x539);
+                    x541 = x396 * x538;
+                    x542 = arith.mul_add(x392, x532, -x541);
+                    x543 = arith.mul_add(-x393, x540, x542);
+                    x544 = x390 * x538;
+                    x545 = arith.mul_add(x382, x528, x544);
+                    x546 = arith.mul_add(x387, x540, x545);
+                    x547 = arith.mul_add(x383, x543, x546);
+                    x548 = x380 * x538;
+                    x549 = arith.mul_add(x347, x367, x548);
+                    x550 = arith.mul_add(x377, x540, x549);
+                    x551 = arith.mul_add(x373, x543, x550);
+                    x552 = arith.mul_add(x368, x547, x551);
+                    x553 = arith.mul_add(-x365, x538, x346);
+                    x554 = arith.mul_add(-x362, x540, x553);
+                    x555 = arith.mul_add(-x358, x543, x554);
+                    x556 = arith.mul_add(x353, x547, x555);
+                    x557 = arith.mul_add(x347, x552, x556);
+                    *o40 = x557;
+                    x558 = x341 * x540;
+                    x559 = arith.mul_add(x344, x538, x558);
+                    x560 = arith.mul_add(x337, x543, x559);
+                    x561 = arith.mul_add(x332, x547, -x560);
+                    x562 = arith.mul_add(x326, x552, x561);
+                    x563 = arith.mul_add(-x319, x557, x562);
+                    *o41 = x563;
+                    *o47 = x563;
+                    x564 = arith.mul_add(x319, x347, -x326);
+                    x565 = arith.mul_add(x319, x353, -x332);
+                    x566 = arith.mul_add(x319, x358, -x337);
+                    x567 = arith.mul_add(x319, x362, -x341);
+                    x568 = arith.mul_add(x319, x365, -x344);
+                    x569 = arith.mul_add(x368, x564, x565);
+                    x570 = arith.mul_add(-x373, x564, x566);
+                    x571 = arith.mul_add(-x377, x564, x567);
+                    x572 = arith.mul_add(-x380, x564, x568);
+                    x573 = arith.mul_add(-x383, x569, x570);
+                    x574 = arith.mul_add(-x387, x569, x571);
+                    x575 = arith.mul_add(-x390, x569, x572);
+                    x576 = arith.mul_add(-x393, x573, x574);
+                    x577 = arith.mul_add(-x396, x573, x575);
+                    x578 = arith.mul_add(x399, x576, x577);
+                    x579 = x401 * x578;
+                    x580 = x399 * x579;
+                    x581 = arith.mul_add(x398, x576, x580);
+                    x582 = x396 * x579;
+                    x583 = arith.mul_add(x392, x573, -x582);
+                    x584 = arith.mul_add(-x393, x581, x583);
+                    x585 = x390 * x579;
+                    x586 = arith.mul_add(x382, x569, -x585);
+                    x587 = arith.mul_add(-x387, x581, x586);
+                    x588 = arith.mul_add(-x383, x584, x587);
+                    x589 = x380 * x579;
+                    x590 = arith.mul_add(x367, x564, -x589);
+                    x591 = arith.mul_add(-x377, x581, x590);
+                    x592 = arith.mul_add(-x373, x584, x591);
+                    x593 = arith.mul_add(x368, x588, x592);
+                    x594 = x365 * x579;
+                    x595 = arith.mul_add(x319, x346, x594);
+                    x596 = arith.mul_add(x362, x581, x595);
+                    x597 = arith.mul_add(x358, x584, x596);
+                    x598 = arith.mul_add(x353, x588, x597);
+                    x599 = arith.mul_add(x347, x593, x598);
+                    x600 = arith.mul_add(-x344, x579, 149.6076098932297f64);
+                    x601 = arith.mul_add(-x341, x581, x600);
+                    x602 = arith.mul_add(-x337, x584, x601);
+                    x603 = arith.mul_add(-x332, x588, x602);
+                    x604 = arith.mul_add(-x326, x593, x603);
+                    x605 = arith.mul_add(x319, x599, x604);
+                    *o48 = x605;
+                }
+                out
+            }
+        }
+        dyngen_runtime::__private::dispatch::<Body, _>((t,))
+    }
+}
+impl DynamicsDerivatives<7, 70> for Panda {
+    ///Operations: 506 mul, 376 add/sub, 43 neg, and 2207 lane ops (f64x8: each on eight lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    #[inline(never)]
+    fn inverse_dynamics_derivatives(
+        t: &JointTrig<7>,
+        qd: &SVector<f64, 7>,
+        a: &SVector<f64, 7>,
+    ) -> (SMatrix<f64, 7, 7>, SMatrix<f64, 7, 7>) {
+        struct Body;
+        impl dyngen_runtime::__private::Kernel<
+            (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
+        > for Body {
+            type Output = (SMatrix<f64, 7, 7>, SMatrix<f64, 7, 7>);
+            #[inline(always)]
+            fn run<M: dyngen_runtime::__private::MulAdd>(
+                arith: M,
+                (t, qd, a): (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
+            ) -> (SMatrix<f64, 7, 7>, SMatrix<f64, 7, 7>) {
+                use dyngen_runtime::__private::EightLanes as _;
+                let [_, s1, s2, s3, s4, s5, s6] = t.sin;
+                let [_, c1, c2, c3, c4, c5, c6] = t.cos;
+                let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+                let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
+                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
+                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
+                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
+                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
+                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
+                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
+                x291, x292, x293, x294, x295, x296, x297, x298, x299, x300, x301, x302,
+                x303, x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
+                x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325, x326,
+                x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337, x338,
+                x339, x340, x341, x342, x343, x344, x345, x346, x347, x348, x349, x350,
+                x351, x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373, x374,
+                x375, x376, x377, x378, x379, x380, x381, x382, x383, x384, x385, x386,
+                x387, x388, x389, x390, x391, x392, x393, x394, x395, x396, x397, x398,
+                x399, x400, x401, x402, x403, x404, x405, x406, x407, x408, x409, x410,
+                x411, x412, x413, x414, x415, x416, x417, x418, x419, x420, x421, x422,
+                x423, x424, x425, x426, x427, x428, x429, x430, x431, x432, x433, x434,
+                x435, x436, x437, x438, x439, x440, x441, x442, x443, x444, x445, x446,
+                x447, x448, x449, x450, x451, x452, x453, x454, x455, x456, x457, x458,
+                x459, x460, x461, x462, x463, x464, x465, x466, x467, x468, x469, x470,
+                x471, x472, x473, x474, x475, x476, x477, x478, x479, x480, x481, x482,
+                x483, x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
+                x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505, x506,
+                x507, x508, x509, x510, x511, x512, x513, x514, x515, x516, x517, x518,
+                x519, x520, x521, x522, x523, x524, x525, x526, x527, x528, x529, x530,
+                x531, x532, x533, x534, x535, x536, x537, x538, x539, x540, x541, x542,
+                x543, x544, x545, x546, x547, x548, x549, x550, x551, x552, x553, x554,
+                x555, x556, x557, x558, x559, x560, x561, x562, x563, x564, x565, x566,
+                x567, x568, x569, x570, x571, x572, x573, x574, x575, x576, x577, x578,
+                x579, x580, x581, x582, x583, x584, x585, x586, x587, x588, x589, x590,
+                x591, x592, x593, x594, x595, x596, x597, x598, x599, x600, x601, x602,
+                x603, x604, x605, x606, x607, x608, x609, x610, x611, x612, x613, x614,
+                x615, x616, x617, x618, x619, x620, x621, x622, x623, x624, x625, x626,
+                x627, x628, x629, x630, x631, x632, x633, x634, x635, x636, x637, x638,
+                x639, x640, x641, x642, x643, x644, x645, x646, x1516, x1517, x1520,
+                x1521, x1531, x1532, x1534, x1537, x1539, x1694, x1695, x1699, x1703,
+                x1704, x1709, x1710, x1720, x1721, x1725, x1726, x1729, x1730, x2230,
+                x2231, x2232, x2233, x2234, x2235, x2236, x2237, x2238, x2239, x2240,
+                x2241, x2242, x2243, x2244, x2245, x2246, x2247, x2248, x2249, x2250,
+                x2251, x2252, x2253, x2254, x2255, x2256, x2257, x2258, x2259, x2260,
+                x2261, x2262, x2263, x2264, x2265, x2266, x2267, x2268, x2269, x2270,
+                x2271, x2272, x2273, x2274, x2275, x2276, x2277, x2278, x2279, x2280,
+                x2281, x2282, x2283, x2284, x2285, x2286, x2287, x2288, x2289, x2290,
+                x2291, x2292, x2293, x2294, x2295, x2296, x2297, x2298, x2299, x2300,
+                x2301, x2302, x2303, x2304, x2305, x2306, x2307, x2308, x2309, x2310,
+                x2311, x2312, x2313, x2314, x2315, x2316, x2317, x2318, x2319, x2320,
+                x2321, x2322, x2323, x2324, x2325, x2326, x2327]: [f64; 767];
+                let [x647, x648, x649, x650, x651, x652, x653, x654, x655, x656, x657,
+                x658, x659, x660, x661, x662, x663, x664, x665, x666, x667, x668, x669,
+                x670, x671, x672, x673, x674, x675, x676, x677, x678, x679, x680, x681,
+                x682, x683, x684, x685, x686, x687, x688, x689, x690, x691, x692, x693,
+                x694, x695, x696, x697, x698, x699, x700, x701, x702, x703, x704, x705,
+                x706, x707, x708, x709, x710, x711, x712, x713, x714, x715, x716, x717,
+                x718, x719, x720, x721, x722, x723, x724, x725, x726, x727, x728, x729,
+                x730, x731, x732, x733, x734, x735, x736, x737, x738, x739, x740, x741,
+                x742, x743, x744, x745, x746, x747, x748, x749, x750, x751, x752, x753,
+                x754, x755, x756, x757, x758, x759, x760, x761, x762, x763, x764, x765,
+                x766, x767, x768, x769, x770, x771, x772, x773, x774, x775, x776, x777,
+                x778, x779, x780, x781, x782, x783, x784, x785, x786, x787, x788, x789,
+                x790, x791, x792, x793, x794, x795, x796, x797, x798, x799, x800, x801,
+                x802, x803, x804, x805, x806, x807, x808, x809, x810, x811, x812, x813,
+                x814, x815, x816, x817, x818, x819, x820, x821, x822, x823, x824, x825,
+                x826, x827, x828, x829, x830, x831, x832, x833, x834, x835, x836, x837,
+                x838, x839, x840, x841, x842, x843, x844, x845, x846, x847, x848, x849,
+                x850, x851, x852, x853, x854, x855, x856, x857, x858, x859, x860, x861,
+                x862, x863, x864, x865, x866, x867, x868, x869, x870, x871, x872, x873,
+                x874, x875, x876, x877, x878, x879, x880, x881, x882, x883, x884, x885,
+                x886, x887, x888, x889, x890, x891, x892, x893, x894, x895, x896, x897,
+                x898, x899, x900, x901, x902, x903, x904, x905, x906, x907, x908, x909,
+                x910, x911, x912, x913, x914, x915, x916, x917, x918, x919, x920, x921,
+                x922, x923, x924, x925, x926, x927, x928, x929, x930, x931, x932, x933,
+                x934, x935, x936, x937, x938, x939, x940, x941, x942, x943, x944, x945,
+                x946, x947, x948, x949, x950, x951, x952, x953, x954, x955, x956, x957,
+                x958, x959, x960, x961, x962, x963, x964, x965, x966, x967, x968, x969,
+                x970, x971, x972, x973, x974, x975, x976, x977, x978, x979, x980, x981,
+                x982, x983, x984, x985, x986, x987, x988, x989, x990, x991, x992, x993,
+                x994, x995, x996, x997, x998, x999, x1000, x1001, x1002, x1003, x1004,
+                x1005, x1006, x1007, x1008, x1009, x1010, x1011, x1012, x1013, x1014,
+                x1015, x1016, x1017, x1018, x1019, x1020, x1021, x1022, x1023, x1024,
+                x1025, x1026, x1027, x1028, x1029, x1030, x1031, x1032, x1033, x1034,
+                x1035, x1036, x1037, x1038, x1039, x1040, x1041, x1042, x1043, x1044,
+                x1045, x1046, x1047, x1048, x1049, x1050, x1051, x1052, x1053, x1054,
+                x1055, x1056, x1057, x1058, x1059, x1060, x1061, x1062, x1063, x1064,
+                x1065, x1066, x1067, x1068, x1069, x1070, x1071, x1072, x1073, x1074,
+                x1075, x1076, x1077, x1078, x1079, x1080, x1081, x1082, x1083, x1084,
+                x1085, x1086, x1087, x1088, x1089, x1090, x1091, x1092, x1093, x1094,
+                x1095, x1096, x1097, x1098, x1099, x1100, x1101, x1102, x1103, x1104,
+                x1105, x1106, x1107, x1108, x1109, x1110, x1111, x1112, x1113, x1114,
+                x1115, x1116, x1117, x1118, x1119, x1120, x1121, x1122, x1123, x1124,
+                x1125, x1126, x1127, x1128, x1129, x1130, x1131, x1132, x1133, x1134,
+                x1135, x1136, x1137, x1138, x1139, x1140, x1141, x1142, x1143, x1144,
+                x1145, x1146, x1147, x1148, x1149, x1150, x1151, x1152, x1153, x1154,
+                x1155, x1156, x1157, x1158, x1159, x1160, x1161, x1162, x1163, x1164,
+                x1165, x1166, x1167, x1168, x1169, x1170, x1171, x1172, x1173, x1174,
+                x1175, x1176, x1177, x1178, x1179, x1180, x1181, x1182, x1183, x1184,
+                x1185, x1186, x1187, x1188, x1189, x1190, x1191, x1192, x1193, x1194,
+                x1195, x1196, x1197, x1198, x1199, x1200, x1201, x1202, x1203, x1204,
+                x1205, x1206, x1207, x1208, x1209, x1210, x1211, x1212, x1213, x1214,
+                x1215, x1216, x1217, x1218, x1219, x1220, x1221, x1222, x1223, x1224,
+                x1225, x1226, x1227, x1228, x1229, x1230, x1231, x1232, x1233, x1234,
+                x1235, x1236, x1237, x1238, x1239, x1240, x1241, x1242, x1243, x1244,
+                x1245, x1246, x1247, x1248, x1249, x1250, x1251, x1252, x1253, x1254,
+                x1255, x1256, x1257, x1258, x1259, x1260, x1261, x1262, x1263, x1264,
+                x1265, x1266, x1267, x1268, x1269, x1270, x1271, x1272, x1273, x1274,
+                x1275, x1276, x1277, x1278, x1279, x1280, x1281, x1282, x1283, x1284,
+                x1285, x1286, x1287, x1288, x1289, x1290, x1291, x1292, x1293, x1294,
+                x1295, x1296, x1297, x1298, x1299, x1300, x1301, x1302, x1303, x1304,
+                x1305, x1306, x1307, x1308, x1309, x1310, x1311, x1312, x1313, x1314,
+                x1315, x1316, x1317, x1318, x1319, x1320, x1321, x1322, x1323, x1324,
+                x1325, x1326, x1327, x1328, x1329, x1330, x1331, x1332, x1333, x1334,
+                x1335, x1336, x1337, x1338, x1339, x1340, x1341, x1342, x1343, x1344,
+                x1345, x1346, x1347, x1348, x1349, x1350, x1351, x1352, x1353, x1354,
+                x1355, x1356, x1357, x1358, x1359, x1360, x1361, x1362, x1363, x1364,
+                x1365, x1366, x1367, x1368, x1369, x1370, x1371, x1372, x1373, x1374,
+                x1375, x1376, x1377, x1378, x1379, x1380, x1381, x1382, x1383, x1384,
+                x1385, x1386, x1387, x1388, x1389, x1390, x1391, x1392, x1393, x1394,
+                x1395, x1396, x1397, x1398, x1399, x1400, x1401, x1402, x1403, x1404,
+                x1405, x1406, x1407, x1408, x1409, x1410, x1411, x1412, x1413, x1414,
+                x1415, x1416, x1417, x1418, x1419, x1420, x1421, x1422, x1423, x1424,
+                x1425, x1426, x1427, x1428, x1429, x1430, x1431, x1432, x1433, x1434,
+                x1435, x1436, x1437, x1438, x1439, x1440, x1441, x1442, x1443, x1444,
+                x1445, x1446, x1447, x1448, x1449, x1450, x1451, x1452, x1453, x1454,
+                x1455, x1456, x1457, x1458, x1459, x1460, x1461, x1462, x1463, x1464,
+                x1465, x1466, x1467, x1468, x1469, x1470, x1471, x1472, x1473, x1474,
+                x1475, x1476, x1477, x1478, x1479, x1480, x1481, x1482, x1483, x1484,
+                x1485, x1486, x1487, x1488, x1489, x1490, x1491, x1492, x1493, x1494,
+                x1495, x1496, x1497, x1498, x1499, x1500, x1501, x1502, x1503, x1504,
+                x1505, x1506, x1507, x1508, x1509, x1510, x1511, x1512, x1513, x1514,
+                x1515, x1518, x1519, x1522, x1523, x1524, x1525, x1526, x1527, x1528,
+                x1529, x1530, x1533, x1535, x1536, x1538, x1540, x1541, x1542, x1543,
+                x1544, x1545, x1546, x1547, x1548, x1549, x1550, x1551, x1552, x1553,
+                x1554, x1555, x1556, x1557, x1558, x1559, x1560, x1561, x1562, x1563,
+                x1564, x1565, x1566, x1567, x1568, x1569, x1570, x1571, x1572, x1573,
+                x1574, x1575, x1576, x1577, x1578, x1579, x1580, x1581, x1582, x1583,
+                x1584, x1585, x1586, x1587, x1588, x1589, x1590, x1591, x1592, x1593,
+                x1594, x1595, x1596, x1597, x1598, x1599, x1600, x1601, x1602, x1603,
+                x1604, x1605, x1606, x1607, x1608, x1609, x1610, x1611, x1612, x1613,
+                x1614, x1615, x1616, x1617, x1618, x1619, x1620, x1621, x1622, x1623,
+                x1624, x1625, x1626, x1627, x1628, x1629, x1630, x1631, x1632, x1633,
+                x1634, x1635, x1636, x1637, x1638, x1639, x1640, x1641, x1642, x1643,
+                x1644, x1645, x1646, x1647, x1648, x1649, x1650, x1651, x1652, x1653,
+                x1654, x1655, x1656, x1657, x1658, x1659, x1660, x1661, x1662, x1663,
+                x1664, x1665, x1666, x1667, x1668, x1669, x1670, x1671, x1672, x1673,
+                x1674, x1675, x1676, x1677, x1678, x1679, x1680, x1681, x1682, x1683,
+                x1684, x1685, x1686, x1687, x1688, x1689, x1690, x1691, x1692, x1693,
+                x1696, x1697, x1698, x1700, x1701, x1702, x1705, x1706, x1707, x1708,
+                x1711, x1712, x1713, x1714, x1715, x1716, x1717, x1718, x1719, x1722,
+                x1723, x1724, x1727, x1728, x1731, x1732, x1733, x1734, x1735, x1736,
+                x1737, x1738, x1739, x1740, x1741, x1742, x1743, x1744, x1745, x1746,
+                x1747, x1748, x1749, x1750, x1751, x1752, x1753, x1754, x1755, x1756,
+                x1757, x1758, x1759, x1760, x1761, x1762, x1763, x1764, x1765, x1766,
+                x1767, x1768, x1769, x1770, x1771, x1772, x1773, x1774, x1775, x1776,
+                x1777, x1778, x1779, x1780, x1781, x1782, x1783, x1784, x1785, x1786,
+                x1787, x1788, x1789, x1790, x1791, x1792, x1793, x1794, x1795, x1796,
+                x1797, x1798, x1799, x1800, x1801, x1802, x1803, x1804, x1805, x1806,
+                x1807, x1808, x1809, x1810, x1811, x1812, x1813, x1814, x1815, x1816,
+                x1817, x1818, x1819, x1820, x1821, x1822, x1823, x1824, x1825, x1826,
+                x1827, x1828, x1829, x1830, x1831, x1832, x1833, x1834, x1835, x1836,
+                x1837, x1838, x1839, x1840, x1841, x1842, x1843, x1844, x1845, x1846,
+                x1847, x1848, x1849, x1850, x1851, x1852, x1853, x1854, x1855, x1856,
+                x1857, x1858, x1859, x1860, x1861, x1862, x1863, x1864, x1865, x1866,
+                x1867, x1868, x1869, x1870, x1871, x1872, x1873, x1874, x1875, x1876,
+                x1877, x1878, x1879, x1880, x1881, x1882, x1883, x1884, x1885, x1886,
+                x1887, x1888, x1889, x1890, x1891, x1892, x1893, x1894, x1895, x1896,
+                x1897, x1898, x1899, x1900, x1901, x1902, x1903, x1904, x1905, x1906,
+                x1907, x1908, x1909, x1910, x1911, x1912, x1913, x1914, x1915, x1916,
+                x1917, x1918, x1919, x1920, x1921, x1922, x1923, x1924, x1925, x1926,
+                x1927, x1928, x1929, x1930, x1931, x1932, x1933, x1934, x1935, x1936,
+                x1937, x1938, x1939, x1940, x1941, x1942, x1943, x1944, x1945, x1946,
+                x1947, x1948, x1949, x1950, x1951, x1952, x1953, x1954, x1955, x1956,
+                x1957, x1958, x1959, x1960, x1961, x1962, x1963, x1964, x1965, x1966,
+                x1967, x1968, x1969, x1970, x1971, x1972, x1973, x1974, x1975, x1976,
+                x1977, x1978, x1979, x1980, x1981, x1982, x1983, x1984, x1985, x1986,
+                x1987, x1988, x1989, x1990, x1991, x1992, x1993, x1994, x1995, x1996,
+                x1997, x1998, x1999, x2000, x2001, x2002, x2003, x2004, x2005, x2006,
+                x2007, x2008, x2009, x2010, x2011, x2012, x2013, x2014, x2015, x2016,
+                x2017, x2018, x2019, x2020, x2021, x2022, x2023, x2024, x2025, x2026,
+                x2027, x2028, x2029, x2030, x2031, x2032, x2033, x2034, x2035, x2036,
+                x2037, x2038, x2039, x2040, x2041, x2042, x2043, x2044, x2045, x2046,
+                x2047, x2048, x2049, x2050, x2051, x2052, x2053, x2054, x2055, x2056,
+                x2057, x2058, x2059, x2060, x2061, x2062, x2063, x2064, x2065, x2066,
+                x2067, x2068, x2069, x2070, x2071, x2072, x2073, x2074, x2075, x2076,
+                x2077, x2078, x2079, x2080, x2081, x2082, x2083, x2084, x2085, x2086,
+                x2087, x2088, x2089, x2090, x2091, x2092, x2093, x2094, x2095, x2096,
+                x2097, x2098, x2099, x2100, x2101, x2102, x2103, x2104, x2105, x2106,
+                x2107, x2108, x2109, x2110, x2111, x2112, x2113, x2114, x2115, x2116,
+                x2117, x2118, x2119, x2120, x2121, x2122, x2123, x2124, x2125, x2126,
+                x2127, x2128, x2129, x2130, x2131, x2132, x2133, x2134, x2135, x2136,
+                x2137, x2138, x2139, x2140, x2141, x2142, x2143, x2144, x2145, x2146,
+                x2147, x2148, x2149, x2150, x2151, x2152, x2153, x2154, x2155, x2156,
+                x2157, x2158, x2159, x2160, x2161, x2162, x2163, x2164, x2165, x2166,
+                x2167, x2168, x2169, x2170, x2171, x2172, x2173, x2174, x2175, x2176,
+                x2177, x2178, x2179, x2180, x2181, x2182, x2183, x2184, x2185, x2186,
+                x2187, x2188, x2189, x2190, x2191, x2192, x2193, x2194, x2195, x2196,
+                x2197, x2198, x2199, x2200, x2201, x2202, x2203, x2204, x2205, x2206,
+                x2207, x2208, x2209, x2210, x2211, x2212, x2213, x2214, x2215, x2216,
+                x2217, x2218, x2219, x2220, x2221, x2222, x2223, x2224, x2225, x2226,
+                x2227, x2228, x2229]: [M::Eight; 1561];
+                x0 = s1 * c2;
+                x1 = -x0;
+                x2 = s1 * s2;
+                x3 = -9.81f64 * s1;
+                x4 = -9.81f64 * c1;
+                x5 = qd0 * s1;
+                x6 = -x5;
+                x7 = qd0 * c1;
+                x8 = -x7;
+                x9 = a0 * c1;
+                x10 = c2 * x5;
+                x11 = qd1 * s2;
+                x12 = x11 - x10;
+                x13 = qd1 * c2;
+                x14 = arith.mul_add(s2, x5, x13);
+                x15 = -0.316f64 * qd1;
+                x16 = 0.316f64 * x5;
+                x17 = c2 * x15;
+                x18 = s2 * x16;
+                x19 = x18 - x17;
+                x20 = c2 * x16;
+                x21 = arith.mul_add(s2, x15, x20);
+                x22 = qd2 + x7;
+                x23 = a1 * s2;
+                x24 = arith.mul_add(0.316f64, a1, x3);
+                x25 = s2 * x24;
+                x26 = s3 * x22;
+                x27 = arith.mul_add(c3, x12, x26);
+                x28 = s3 * x12;
+                x29 = arith.mul_add(c3, x22, -x28);
+                x30 = 0.0825f64 * x14;
+                x31 = arith.mul_add(0.0825f64, x22, x21);
+                x32 = c3 * x19;
+                x33 = s3 * x30;
+                x34 = x32 - x33;
+                x35 = c3 * x30;
+                x36 = arith.mul_add(s3, x19, x35);
+                x37 = -x36;
+                x38 = qd3 - x14;
+                x39 = c4 * x27;
+                x40 = s4 * x38;
+                x41 = x39 - x40;
+                x42 = c4 * x38;
+                x43 = arith.mul_add(s4, x27, x42);
+                x44 = -x43;
+                x45 = 0.384f64 * x27;
+                x46 = arith.mul_add(-0.0825f64, x29, -x45);
+                x47 = arith.mul_add(-0.384f64, x38, x34);
+                x48 = arith.mul_add(-0.0825f64, x38, -x36);
+                x49 = x31 + x46;
+                x50 = s4 * x49;
+                x51 = arith.mul_add(c4, x47, x50);
+                x52 = s4 * x47;
+                x53 = c4 * x49;
+                x54 = x53 - x52;
+                x55 = qd4 + x29;
+                x56 = s5 * x55;
+                x57 = arith.mul_add(c5, x41, x56);
+                x58 = s5 * x41;
+                x59 = c5 * x55;
+                x60 = x59 - x58;
+                x61 = s5 * x48;
+                x62 = arith.mul_add(c5, x51, x61);
+                x63 = s5 * x51;
+                x64 = arith.mul_add(c5, x48, -x63);
+                x65 = x52 - x53;
+                x66 = qd5 + x43;
+                x67 = s6 * x66;
+                x68 = arith.mul_add(c6, x57, x67);
+                x69 = s6 * x57;
+                x70 = arith.mul_add(c6, x66, -x69);
+                x71 = x58 - x59;
+                x72 = arith.mul_add(0.088f64, x66, x64);
+                x73 = arith.mul_add(-0.088f64, x60, x65);
+                x74 = s6 * x73;
+                x75 = arith.mul_add(c6, x62, x74);
+                x76 = s6 * x62;
+                x77 = arith.mul_add(c6, x73, -x76);
+                x78 = qd6 + x71;
+                x79 = x17 - x18;
+                x80 = x10 - x11;
+                x81 = x33 - x32;
+                x82 = -x27;
+                x83 = -x51;
+                x84 = x40 - x39;
+                x85 = -x62;
+                x86 = -x57;
+                x87 = -x75;
+                x88 = -x68;
+                x89 = -0.01026110182100817f64 * x5;
+                x90 = 0.00398335888393552f64 * x5;
+                x91 = 0.00398335888393552f64 * x7;
+                x92 = 0.028227094878000014f64 * x22;
+                x93 = 0.746857959872f64 * x22;
+                x94 = 0.746857959872f64 * x14;
+                x95 = arith.mul_add(0.028227094878000014f64, x12, -x94);
+                x96 = -0.005487648106562256f64 * x12;
+                x97 = 0.028227094878000014f64 * x19;
+                x98 = -0.00012191242095074308f64 * x12;
+                x99 = 2.0125235536029997f64 * x38;
+                x100 = -0.5527802746499999f64 * x38;
+                x101 = -0.5527802746499999f64 * x29;
+                x102 = arith.mul_add(2.0125235536029997f64, x27, -x101);
+                x103 = 0.0039053550262761003f64 * x27;
+                x104 = 2.0125235536029997f64 * x34;
+                x105 = 0.16284087268546082f64 * x27;
+                x106 = 0.067870631425f64 * x55;
+                x107 = -0.014653732538f64 * x55;
+                x108 = 0.014653732538f64 * x43;
+                x109 = arith.mul_add(0.067870631425f64, x41, -x108);
+                x110 = -0.004600245517563105f64 * x41;
+                x111 = 0.067870631425f64 * x51;
+                x112 = -0.0015152444733270301f64 * x41;
+                x113 = -0.17380470556900002f64 * x66;
+                x114 = 0.231847552695f64 * x66;
+                x115 = 0.231847552695f64 * x60;
+                x116 = arith.mul_add(-0.17380470556900002f64, x57, -x115);
+                x117 = -0.00010375891721868492f64 * x57;
+                x118 = -0.17380470556900002f64 * x62;
+                x119 = 0.014748570382675316f64 * x57;
+                x120 = 0.0020344399586617965f64 * x78;
+                x121 = 0.002573605371338202f64 * x78;
+                x122 = 0.002573605371338202f64 * x70;
+                x123 = arith.mul_add(0.0020344399586617965f64, x68, -x122);
+                x124 = -0.0009653051699191116f64 * x68;
+                x125 = 0.0020344399586617965f64 * x75;
+                x126 = 0.0003913912816842481f64 * x68;
+                x127 = arith.mul_add(-1.0706865997634767f64, x5, x91);
+                x128 = arith.mul_add(0.01026110182100817f64, qd1, x127);
+                x129 = arith.mul_add(0.0007689361029464f64, qd1, x90);
+                x130 = arith.mul_add(-0.0007689361029464f64, x7, x89);
+                x131 = arith.mul_add(1.1168423647533403f64, qd1, x130);
+                x132 = 0.011595864095166043f64 * x12;
+                x133 = arith.mul_add(-0.00012191242095074308f64, x14, x132);
+                x134 = arith.mul_add(-0.005487648106562256f64, x22, x133);
+                x135 = arith.mul_add(-0.004377257121839584f64, x22, x98);
+                x136 = arith.mul_add(-0.004377257121839584f64, x14, x96);
+                x137 = arith.mul_add(0.13480070614822143f64, x22, x136);
+                x138 = arith.mul_add(0.746857959872f64, x21, -x97);
+                x139 = x137 + x138;
+                x140 = 0.647723094939183f64 * x27;
+                x141 = arith.mul_add(0.16284087268546082f64, x29, x140);
+                x142 = arith.mul_add(0.0039053550262761003f64, x38, x141);
+                x143 = arith.mul_add(-0.0016444875773692705f64, x38, x105);
+                x144 = arith.mul_add(-0.0016444875773692705f64, x29, x103);
+                x145 = arith.mul_add(0.7497633672528139f64, x38, x144);
+                x146 = arith.mul_add(0.5527802746499999f64, x36, -x104);
+                x147 = arith.mul_add(-2.0125235536029997f64, x31, x142);
+                x148 = arith.mul_add(-0.5527802746499999f64, x31, x143);
+                x149 = x145 + x146;
+                x150 = 0.030116287133882078f64 * x41;
+                x151 = arith.mul_add(0.0015152444733270301f64, x43, x150);
+                x152 = arith.mul_add(-0.004600245517563105f64, x55, x151);
+                x153 = arith.mul_add(0.0021640520520981297f64, x55, x112);
+                x154 = arith.mul_add(-0.0021640520520981297f64, x43, x110);
+                x155 = arith.mul_add(0.03301859926393551f64, x55, x154);
+                x156 = arith.mul_add(-0.014653732538f64, x54, -x111);
+                x157 = arith.mul_add(0.067870631425f64, x48, x152);
+                x158 = arith.mul_add(0.014653732538f64, x48, x153);
+                x159 = x155 + x156;
+                x160 = 0.009543771269492206f64 * x57;
+                x161 = arith.mul_add(0.014748570382675316f64, x60, x160);
+                x162 = arith.mul_add(-0.00010375891721868492f64, x66, x161);
+                x163 = arith.mul_add(0.000093569097314605f64, x66, x119);
+                x164 = arith.mul_add(0.000093569097314605f64, x60, x117);
+                x165 = arith.mul_add(0.05258828201066731f64, x66, x164);
+                x166 = arith.mul_add(0.231847552695f64, x64, -x118);
+                x167 = arith.mul_add(-0.17380470556900002f64, x65, x162);
+                x168 = arith.mul_add(-0.231847552695f64, x65, x163);
+                x169 = x165 + x166;
+                x170 = 0.0024209437785212354f64 * x68;
+                x171 = arith.mul_add(0.0003913912816842481f64, x70, x170);
+                x172 = arith.mul_add(-0.0009653051699191116f64, x78, x171);
+                x173 = arith.mul_add(-0.001255536598272898f64, x78, x126);
+                x174 = arith.mul_add(-0.001255536598272898f64, x70, x124);
+                x175 = arith.mul_add(0.006684151967360945f64, x78, x174);
+                x176 = arith.mul_add(0.002573605371338202f64, x77, -x125);
+                x177 = arith.mul_add(-0.0020344399586617965f64, x72, x172);
+                x178 = arith.mul_add(0.002573605371338202f64, x72, x173);
+                x179 = x175 + x176;
+                x180 = qd1 * x7;
+                x181 = qd1 * x5;
+                x182 = arith.mul_add(a0, s1, x180);
+                x183 = x181 - x9;
+                x184 = c2 * x182;
+                x185 = x23 - x184;
+                x186 = s2 * x182;
+                x187 = arith.mul_add(a1, c2, x186);
+                x188 = x9 - x181;
+                x189 = 0.316f64 * x182;
+                x190 = s2 * x189;
+                x191 = arith.mul_add(c2, x24, x190);
+                x192 = arith.mul_add(c2, x189, -x25);
+                x193 = a2 + x188;
+                x194 = qd2 * x12;
+                x195 = arith.mul_add(qd2, x14, x185);
+                x196 = x187 - x194;
+                x197 = arith.mul_add(qd2, x21, x191);
+                x198 = arith.mul_add(-qd2, x19, x192);
+                x199 = s3 * x193;
+                x200 = arith.mul_add(c3, x195, x199);
+                x201 = s3 * x195;
+                x202 = arith.mul_add(c3, x193, -x201);
+                x203 = x194 - x187;
+                x204 = arith.mul_add(0.0825f64, x193, x198);
+                x205 = arith.mul_add(0.0825f64, x196, x4);
+                x206 = c3 * x197;
+                x207 = s3 * x205;
+                x208 = x206 - x207;
+                x209 = c3 * x205;
+                x210 = arith.mul_add(s3, x197, x209);
+                x211 = -x210;
+                x212 = a3 + x203;
+                x213 = arith.mul_add(qd3, x29, x200);
+                x214 = arith.mul_add(-qd3, x27, x202);
+                x215 = arith.mul_add(-qd3, x36, x208);
+                x216 = arith.mul_add(qd3, x34, x210);
+                x217 = c4 * x213;
+                x218 = s4 * x212;
+                x219 = x217 - x218;
+                x220 = c4 * x212;
+                x221 = arith.mul_add(s4, x213, x220);
+                x222 = -x221;
+                x223 = 0.384f64 * x213;
+                x224 = arith.mul_add(-0.0825f64, x214, -x223);
+                x225 = arith.mul_add(-0.384f64, x212, x215);
+                x226 = arith.mul_add(-0.0825f64, x212, -x216);
+                x227 = x204 + x224;
+                x228 = s4 * x227;
+                x229 = arith.mul_add(c4, x225, x228);
+                x230 = s4 * x225;
+                x231 = arith.mul_add(c4, x227, -x230);
+                x232 = a4 + x214;
+                x233 = qd4 * x51;
+                x234 = arith.mul_add(-qd4, x43, x219);
+                x235 = arith.mul_add(qd4, x41, x221);
+                x236 = arith.mul_add(qd4, x54, x229);
+                x237 = x231 - x233;
+                x238 = s5 * x232;
+                x239 = arith.mul_add(c5, x234, x238);
+                x240 = s5 * x234;
+                x241 = arith.mul_add(c5, x232, -x240);
+                x242 = s5 * x226;
+                x243 = arith.mul_add(c5, x236, x242);
+                x244 = s5 * x236;
+                x245 = arith.mul_add(c5, x226, -x244);
+                x246 = x233 - x231;
+                x247 = a5 + x235;
+                x248 = qd5 * x57;
+                x249 = arith.mul_add(qd5, x60, x239);
+                x250 = x241 - x248;
+                x251 = arith.mul_add(qd5, x64, x243);
+                x252 = arith.mul_add(-qd5, x62, x245);
+                x253 = s6 * x247;
+                x254 = arith.mul_add(c6, x249, x253);
+                x255 = s6 * x249;
+                x256 = arith.mul_add(c6, x247, -x255);
+                x257 = x248 - x241;
+                x258 = arith.mul_add(0.088f64, x247, x252);
+                x259 = arith.mul_add(-0.088f64, x250, x246);
+                x260 = s6 * x259;
+                x261 = arith.mul_add(c6, x251, x260);
+                x262 = s6 * x251;
+                x263 = arith.mul_add(c6, x259, -x262);
+                x264 = a6 + x257;
+                x265 = arith.mul_add(qd6, x70, x254);
+                x266 = arith.mul_add(-qd6, x68, x256);
+                x267 = arith.mul_add(qd6, x77, x261);
+                x268 = arith.mul_add(-qd6, x75, x263);
+                x269 = -0.00398335888393552f64 * x183;
+                x270 = arith.mul_add(-1.0706865997634767f64, x182, x269);
+                x271 = arith.mul_add(0.01026110182100817f64, a1, x270);
+                x272 = 0.0007689361029464f64 * a1;
+                x273 = arith.mul_add(0.00398335888393552f64, x182, x272);
+                x274 = x7 * x131;
+                x275 = arith.mul_add(qd1, x129, x274);
+                x276 = x5 * x131;
+                x277 = arith.mul_add(qd1, x128, x276);
+                x278 = x271 - x275;
+                x279 = x273 + x277;
+                x280 = -0.00012191242095074308f64 * x196;
+                x281 = arith.mul_add(0.011595864095166043f64, x195, x280);
+                x282 = arith.mul_add(-0.005487648106562256f64, x193, x281);
+                x283 = -0.004377257121839584f64 * x193;
+                x284 = arith.mul_add(-0.00012191242095074308f64, x195, x283);
+                x285 = -0.004377257121839584f64 * x196;
+                x286 = arith.mul_add(-0.005487648106562256f64, x195, x285);
+                x287 = arith.mul_add(0.13480070614822143f64, x193, x286);
+                x288 = 0.028227094878000014f64 * x197;
+                x289 = arith.mul_add(0.746857959872f64, x198, -x288);
+                x290 = arith.mul_add(0.27690780075318017f64, c1, x282);
+                x291 = arith.mul_add(-7.326676586344321f64, c1, x284);
+                x292 = x287 + x289;
+                x293 = x22 * x135;
+                x294 = arith.mul_add(x14, x139, -x293);
+                x295 = x12 * x139;
+                x296 = arith.mul_add(x22, x134, -x295);
+                x297 = x14 * x134;
+                x298 = arith.mul_add(x12, x135, -x297);
+                x299 = x21 * x92;
+                x300 = arith.mul_add(x19, x93, x299);
+                x301 = arith.mul_add(x21, x95, x294);
+                x302 = arith.mul_add(-x19, x95, x296);
+                x303 = x298 + x300;
+                x304 = x22 * x93;
+                x305 = arith.mul_add(x14, x95, -x304);
+                x306 = x12 * x95;
+                x307 = arith.mul_add(x22, x92, x306);
+                x308 = x290 + x301;
+                x309 = x291 + x302;
+                x310 = x292 + x303;
+                x311 = arith.mul_add(-0.028227094878000014f64, x193, x305);
+                x312 = arith.mul_add(0.746857959872f64, x193, -x307);
+                x313 = 0.16284087268546082f64 * x214;
+                x314 = arith.mul_add(0.647723094939183f64, x213, x313);
+                x315 = arith.mul_add(0.0039053550262761003f64, x212, x314);
+                x316 = -0.0016444875773692705f64 * x212;
+                x317 = arith.mul_add(0.16284087268546082f64, x213, x316);
+                x318 = -0.0016444875773692705f64 * x214;
+                x319 = arith.mul_add(0.0039053550262761003f64, x213, x318);
+                x320 = arith.mul_add(0.7497633672528139f64, x212, x319);
+                x321 = 2.0125235536029997f64 * x215;
+                x322 = arith.mul_add(0.5527802746499999f64, x216, -x321);
+                x323 = arith.mul_add(-2.0125235536029997f64, x204, x315);
+                x324 = arith.mul_add(-0.5527802746499999f64, x204, x317);
+                x325 = x320 + x322;
+                x326 = -0.5527802746499999f64 * x214;
+                x327 = arith.mul_add(2.0125235536029997f64, x213, -x326);
+                x328 = x38 * x148;
+                x329 = arith.mul_add(x29, x149, -x328);
+                x330 = x27 * x149;
+                x331 = arith.mul_add(x38, x147, -x330);
+                x332 = x29 * x147;
+                x333 = arith.mul_add(x27, x148, -x332);
+                x334 = x36 * x102;
+                x335 = arith.mul_add(x31, x100, -x334);
+                x336 = x34 * x102;
+                x337 = arith.mul_add(x31, x99, -x336);
+                x338 = x36 * x99;
+                x339 = arith.mul_add(x34, x100, -x338);
+                x340 = x329 + x335;
+                x341 = x331 + x337;
+                x342 = x333 + x339;
+                x343 = x38 * x100;
+                x344 = arith.mul_add(x29, x102, -x343);
+                x345 = x27 * x102;
+                x346 = arith.mul_add(x38, x99, x345);
+                x347 = x29 * x99;
+                x348 = arith.mul_add(x27, x100, x347);
+                x349 = x323 + x340;
+                x350 = x324 + x341;
+                x351 = x325 + x342;
+                x352 = arith.mul_add(-2.0125235536029997f64, x212, x344);
+                x353 = arith.mul_add(-0.5527802746499999f64, x212, -x346);
+                x354 = x327 + x348;
+                x355 = 0.0015152444733270301f64 * x235;
+                x356 = arith.mul_add(0.030116287133882078f64, x234, x355);
+                x357 = arith.mul_add(-0.004600245517563105f64, x232, x356);
+                x358 = 0.0021640520520981297f64 * x232;
+                x359 = arith.mul_add(-0.0015152444733270301f64, x234, x358);
+                x360 = -0.0021640520520981297f64 * x235;
+                x361 = arith.mul_add(-0.004600245517563105f64, x234, x360);
+                x362 = arith.mul_add(0.03301859926393551f64, x232, x361);
+                x363 = 0.067870631425f64 * x236;
+                x364 = arith.mul_add(-0.014653732538f64, x237, -x363);
+                x365 = arith.mul_add(0.067870631425f64, x226, x357);
+                x366 = arith.mul_add(0.014653732538f64, x226, x359);
+                x367 = x362 + x364;
+                x368 = 0.014653732538f64 * x235;
+                x369 = arith.mul_add(0.067870631425f64, x234, -x368);
+                x370 = x55 * x158;
+                x371 = arith.mul_add(x43, x159, x370);
+                x372 = x41 * x159;
+                x373 = arith.mul_add(x55, x157, -x372);
+                x374 = x43 * x157;
+                x375 = arith.mul_add(x41, x158, x374);
+                x376 = x48 * x107;
+                x377 = arith.mul_add(x54, x109, -x376);
+                x378 = x51 * x109;
+                x379 = arith.mul_add(x48, x106, x378);
+                x380 = x54 * x106;
+                x381 = arith.mul_add(x51, x107, x380);
+                x382 = x377 - x371;
+                x383 = x373 - x379;
+                x384 = x375 + x381;
+                x385 = x55 * x107;
+                x386 = arith.mul_add(x43, x109, x385);
+                x387 = x41 * x109;
+                x388 = arith.mul_add(x55, x106, x387);
+                x389 = x43 * x106;
+                x390 = arith.mul_add(x41, x107, -x389);
+                x391 = x365 + x382;
+                x392 = x366 + x383;
+                x393 = x367 + x384;
+                x394 = arith.mul_add(0.067870631425f64, x232, x386);
+                x395 = arith.mul_add(-0.014653732538f64, x232, -x388);
+                x396 = x369 + x390;
+                x397 = 0.014748570382675316f64 * x250;
+                x398 = arith.mul_add(0.009543771269492206f64, x249, x397);
+                x399 = arith.mul_add(-0.00010375891721868492f64, x247, x398);
+                x400 = 0.000093569097314605f64 * x247;
+                x401 = arith.mul_add(0.014748570382675316f64, x249, x400);
+                x402 = 0.000093569097314605f64 * x250;
+                x403 = arith.mul_add(-0.00010375891721868492f64, x249, x402);
+                x404 = arith.mul_add(0.05258828201066731f64, x247, x403);
+                x405 = -0.17380470556900002f64 * x251;
+                x406 = arith.mul_add(0.231847552695f64, x252, -x405);
+                x407 = arith.mul_add(-0.17380470556900002f64, x246, x399);
+                x408 = arith.mul_add(-0.231847552695f64, x246, x401);
+                x409 = x404 + x406;
+                x410 = 0.231847552695f64 * x250;
+                x411 = arith.mul_add(-0.17380470556900002f64, x249, -x410);
+                x412 = x66 * x168;
+                x413 = arith.mul_add(x60, x169, -x412);
+                x414 = x57 * x169;
+                x415 = arith.mul_add(x66, x167, -x414);
+                x416 = x60 * x167;
+                x417 = arith.mul_add(x57, x168, -x416);
+                x418 = x65 * x114;
+                x419 = arith.mul_add(x64, x116, -x418);
+                x420 = x62 * x116;
+                x421 = arith.mul_add(x65, x113, x420);
+                x422 = x64 * x113;
+                x423 = arith.mul_add(x62, x114, x422);
+                x424 = x413 + x419;
+                x425 = x415 - x421;
+                x426 = x417 + x423;
+                x427 = x66 * x114;
+                x428 = arith.mul_add(x60, x116, -x427);
+                x429 = x57 * x116;
+                x430 = arith.mul_add(x66, x113, x429);
+                x431 = x60 * x113;
+                x432 = arith.mul_add(x57, x114, x431);
+                x433 = x407 + x424;
+                x434 = x408 + x425;
+                x435 = x409 + x426;
+                x436 = arith.mul_add(0.17380470556900002f64, x247, x428);
+                x437 = arith.mul_add(0.231847552695f64, x247, -x430);
+                x438 = x411 + x432;
+                x439 = 0.0003913912816842481f64 * x266;
+                x440 = arith.mul_add(0.0024209437785212354f64, x265, x439);
+                x441 = arith.mul_add(-0.0009653051699191116f64, x264, x440);
+                x442 = -0.001255536598272898f64 * x264;
+                x443 = arith.mul_add(0.0003913912816842481f64, x265, x442);
+                x444 = -0.001255536598272898f64 * x266;
+                x445 = arith.mul_add(-0.0009653051699191116f64, x265, x444);
+                x446 = arith.mul_add(0.006684151967360945f64, x264, x445);
+                x447 = 0.0020344399586617965f64 * x267;
+                x448 = arith.mul_add(0.002573605371338202f64, x268, -x447);
+                x449 = arith.mul_add(-0.0020344399586617965f64, x258, x441);
+                x450 = arith.mul_add(0.002573605371338202f64, x258, x443);
+                x451 = x446 + x448;
+                x452 = 0.002573605371338202f64 * x264;
+                x453 = 0.002573605371338202f64 * x266;
+                x454 = arith.mul_add(0.0020344399586617965f64, x265, -x453);
+                x455 = x78 * x178;
+                x456 = arith.mul_add(x70, x179, -x455);
+                x457 = x68 * x179;
+                x458 = arith.mul_add(x78, x177, -x457);
+                x459 = x70 * x177;
+                x460 = arith.mul_add(x68, x178, -x459);
+                x461 = x72 * x121;
+                x462 = arith.mul_add(x77, x123, x461);
+                x463 = x75 * x123;
+                x464 = arith.mul_add(x72, x120, -x463);
+                x465 = x77 * x120;
+                x466 = arith.mul_add(x75, x121, x465);
+                x467 = x456 + x462;
+                x468 = x458 + x464;
+                x469 = x460 + x466;
+                x470 = x78 * x121;
+                x471 = arith.mul_add(x70, x123, -x470);
+                x472 = x68 * x123;
+                x473 = arith.mul_add(x78, x120, x472);
+                x474 = x70 * x120;
+                x475 = arith.mul_add(x68, x121, x474);
+                x476 = x449 + x467;
+                x477 = x450 + x468;
+                x478 = x451 + x469;
+                x479 = arith.mul_add(-0.0020344399586617965f64, x264, x471);
+                x480 = x452 - x473;
+                x481 = x454 + x475;
+                x482 = s6 * x480;
+                x483 = arith.mul_add(c6, x479, -x482);
+                x484 = c6 * x480;
+                x485 = arith.mul_add(s6, x479, x484);
+                x486 = s6 * x477;
+                x487 = arith.mul_add(c6, x476, -x486);
+                x488 = c6 * x477;
+                x489 = arith.mul_add(s6, x476, x488);
+                x490 = arith.mul_add(0.088f64, x485, x478);
+                x491 = arith.mul_add(-0.088f64, x481, x489);
+                x492 = x433 + x487;
+                x493 = x434 - x490;
+                x494 = x435 + x491;
+                x495 = x436 + x483;
+                x496 = x437 - x481;
+                x497 = x438 + x485;
+                x498 = s5 * x496;
+                x499 = arith.mul_add(c5, x495, -x498);
+                x500 = c5 * x496;
+                x501 = arith.mul_add(s5, x495, x500);
+                x502 = s5 * x493;
+                x503 = arith.mul_add(c5, x492, -x502);
+                x504 = c5 * x493;
+                x505 = arith.mul_add(s5, x492, x504);
+                x506 = x391 + x503;
+                x507 = x392 - x494;
+                x508 = x393 + x505;
+                x509 = x499 - x394;
+                x510 = x395 - x497;
+                x511 = x396 + x501;
+                x512 = s4 * x510;
+                x513 = arith.mul_add(c4, x509, -x512);
+                x514 = c4 * x510;
+                x515 = arith.mul_add(s4, x509, x514);
+                x516 = s4 * x507;
+                x517 = arith.mul_add(c4, x506, -x516);
+                x518 = c4 * x507;
+                x519 = arith.mul_add(s4, x506, x518);
+                x520 = 0.384f64 * x513;
+                x521 = arith.mul_add(-0.0825f64, x511, -x520);
+                x522 = arith.mul_add(-0.384f64, x515, x517);
+                x523 = arith.mul_add(-0.0825f64, x515, x508);
+                x524 = x521 - x519;
+                x525 = x349 + x522;
+                x526 = x350 + x523;
+                x527 = x351 + x524;
+                x528 = x352 + x513;
+                x529 = x353 + x511;
+                x530 = s3 * x529;
+                x531 = arith.mul_add(c3, x528, -x530);
+                x532 = x515 - x354;
+                x533 = c3 * x529;
+                x534 = arith.mul_add(s3, x528, x533);
+                x535 = s3 * x526;
+                x536 = arith.mul_add(c3, x525, -x535);
+                x537 = c3 * x526;
+                x538 = arith.mul_add(s3, x525, x537);
+                x539 = arith.mul_add(0.0825f64, x534, x527);
+                x540 = arith.mul_add(0.0825f64, x532, x538);
+                x541 = x308 + x536;
+                x542 = x309 - x539;
+                x543 = x310 + x540;
+                x544 = x311 + x531;
+                x545 = x312 + x532;
+                x546 = c2 * x545;
+                x547 = arith.mul_add(s2, x544, x546);
+                x548 = s2 * x542;
+                x549 = arith.mul_add(c2, x541, -x548);
+                x550 = arith.mul_add(-0.316f64, x547, x549);
+                x551 = x278 + x550;
+                x552 = c2 * x7;
+                x553 = -x552;
+                x554 = s2 * x7;
+                x555 = 0.316f64 * x7;
+                x556 = s2 * x555;
+                x557 = c2 * x555;
+                x558 = c2 * x183;
+                x559 = s2 * x183;
+                x560 = -x559;
+                x561 = -0.316f64 * x183;
+                x562 = s2 * x561;
+                x563 = arith.mul_add(c2, x4, x562);
+                x564 = s2 * x4;
+                x565 = arith.mul_add(c2, x561, -x564);
+                x566 = s3 * x5;
+                x567 = -x566;
+                x568 = c3 * x5;
+                x569 = -x568;
+                x570 = -0.0825f64 * x5;
+                x571 = -x570;
+                x572 = s3 * x182;
+                x573 = -x572;
+                x574 = c3 * x182;
+                x575 = -x574;
+                x576 = -0.0825f64 * x182;
+                x577 = -x576;
+                x578 = -0.00398335888393552f64 * x182;
+                x579 = arith.mul_add(1.0706865997634767f64, x183, x578);
+                x580 = 0.0007689361029464f64 * x182;
+                x581 = arith.mul_add(0.01026110182100817f64, x183, x580);
+                x582 = 32.80954542685272f64 * c1;
+                x583 = arith.mul_add(-0.01993386669246f64, s1, -x582);
+                x584 = x581 + x583;
+                x585 = -0.00398335888393552f64 * x5;
+                x586 = arith.mul_add(-1.0706865997634767f64, x7, x585);
+                x587 = 0.0007689361029464f64 * x5;
+                x588 = arith.mul_add(-0.01026110182100817f64, x7, x587);
+                x589 = arith.mul_add(-x7, x588, x276);
+                x590 = arith.mul_add(-qd1, x91, x589);
+                x591 = arith.mul_add(x5, x588, x274);
+                x592 = arith.mul_add(qd1, x586, x591);
+                x593 = x7 * x129;
+                x594 = arith.mul_add(x5, x91, x593);
+                x595 = x7 * x586;
+                x596 = arith.mul_add(x5, x128, -x595);
+                x597 = x594 + x596;
+                x598 = x579 + x590;
+                x599 = x269 + x592;
+                x600 = x584 - x597;
+                x601 = 0.005487648106562256f64 * x182;
+                x602 = 0.004377257121839584f64 * x182;
+                x603 = -0.13480070614822143f64 * x182;
+                x604 = -0.27690780075318017f64 * s1;
+                x605 = -7.326676586344321f64 * s1;
+                x606 = -x605;
+                x607 = -0.028227094878000014f64 * x182;
+                x608 = -0.746857959872f64 * x182;
+                x609 = -x607;
+                x610 = 0.005487648106562256f64 * x5;
+                x611 = 0.004377257121839584f64 * x5;
+                x612 = -0.13480070614822143f64 * x5;
+                x613 = -0.028227094878000014f64 * x5;
+                x614 = -0.746857959872f64 * x5;
+                x615 = x5 * x135;
+                x616 = -x615;
+                x617 = x5 * x134;
+                x618 = -x617;
+                x619 = x19 * x614;
+                x620 = x21 * x613;
+                x621 = -x620;
+                x622 = x5 * x93;
+                x623 = arith.mul_add(x22, x614, -x622);
+                x624 = x22 * x613;
+                x625 = arith.mul_add(x5, x92, -x624);
+                x626 = x543 - x279;
+                x627 = x184 - x23;
+                x628 = -x191;
+                x629 = x539 - x309;
+                x630 = -x545;
+                x631 = -x200;
+                x632 = x207 - x206;
+                x633 = -x526;
+                x634 = -x529;
+                x635 = x218 - x217;
+                x636 = -x229;
+                x637 = x494 - x392;
+                x638 = x497 - x395;
+                x639 = -x239;
+                x640 = -x243;
+                x641 = x490 - x434;
+                x642 = x481 - x437;
+                x643 = -x254;
+                x644 = -x261;
+                x645 = -x477;
+                x646 = x473 - x452;
+                x647 = arith.eight([0.0, 0.0, 1f64, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x648 = arith.eight([0.0, 0.0, 0.0, 1f64, 0.0, 0.0, 0.0, 0.0]);
+                x649 = arith.eight([0.0, 0.0, 0.0, 0.0, 1f64, 0.0, 0.0, 0.0]);
+                x650 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 1f64, 0.0, 0.0]);
+                x651 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1f64, 0.0]);
+                x652 = arith.eight([0.0, x8, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x653 = arith.eight([0.0, x553, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x654 = arith.eight([0.0, x554, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x655 = arith.eight([0.0, x6, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x656 = arith.eight([0.0, x556, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x657 = arith.eight([0.0, x557, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x658 = arith.eight([0.0, 0.0, x14, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x659 = x653 + x658;
+                x660 = arith.eight([0.0, 0.0, x80, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x661 = x654 + x660;
+                x662 = arith.eight([0.0, 0.0, x21, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x663 = x656 + x662;
+                x664 = arith.eight([0.0, 0.0, x79, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x665 = x657 + x664;
+                x666 = arith.eight([0.0, x558, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x667 = arith.eight([0.0, x560, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x668 = arith.eight([0.0, x563, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x669 = arith.eight([0.0, x565, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x670 = arith.eight([0.0, x3, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x671 = arith.eight([0.0, 0.0, x187, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x672 = x666 + x671;
+                x673 = arith.eight([0.0, 0.0, x627, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x674 = x667 + x673;
+                x675 = arith.eight([0.0, 0.0, x192, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x676 = x668 + x675;
+                x677 = arith.eight([0.0, 0.0, x628, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x678 = x669 + x677;
+                x679 = arith.splat_eight(qd2);
+                x680 = x679 * x659;
+                x681 = x679.mul_add(x661, x672);
+                x682 = x674 - x680;
+                x683 = x679.mul_add(x665, x676);
+                x684 = x679.mul_neg_add(x663, x678);
+                x685 = arith.splat_eight(c3);
+                x686 = arith.eight([0.0, x567, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x687 = x685.mul_add(x659, x686);
+                x688 = arith.splat_eight(s3);
+                x689 = arith.eight([0.0, x569, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x690 = x688.mul_neg_add(x659, x689);
+                x691 = arith.eight([0.0, x571, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x692 = arith.splat_eight(0.0825f64);
+                x693 = x692 * x661;
+                x694 = x688 * x693;
+                x695 = x685.mul_sub(x663, x694);
+                x696 = x685 * x693;
+                x697 = x688.mul_add(x663, x696);
+                x698 = x691 - x665;
+                x699 = arith.eight([0.0, 0.0, 0.0, x29, 0.0, 0.0, 0.0, 0.0]);
+                x700 = x687 + x699;
+                x701 = arith.eight([0.0, 0.0, 0.0, x82, 0.0, 0.0, 0.0, 0.0]);
+                x702 = x690 + x701;
+                x703 = arith.eight([0.0, 0.0, 0.0, x37, 0.0, 0.0, 0.0, 0.0]);
+                x704 = x695 + x703;
+                x705 = arith.eight([0.0, 0.0, 0.0, x81, 0.0, 0.0, 0.0, 0.0]);
+                x706 = x705 - x697;
+                x707 = arith.eight([0.0, x573, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x708 = x685.mul_add(x681, x707);
+                x709 = arith.eight([0.0, x575, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x710 = x688.mul_neg_add(x681, x709);
+                x711 = x680 - x674;
+                x712 = arith.eight([0.0, x577, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x713 = x692.mul_neg_add(x682, x670);
+                x714 = x688 * x713;
+                x715 = x685.mul_add(x683, x714);
+                x716 = x688 * x683;
+                x717 = x685.mul_sub(x713, x716);
+                x718 = x712 - x684;
+                x719 = arith.eight([0.0, 0.0, 0.0, x202, 0.0, 0.0, 0.0, 0.0]);
+                x720 = x708 + x719;
+                x721 = arith.eight([0.0, 0.0, 0.0, x631, 0.0, 0.0, 0.0, 0.0]);
+                x722 = x710 + x721;
+                x723 = arith.eight([0.0, 0.0, 0.0, x211, 0.0, 0.0, 0.0, 0.0]);
+                x724 = x715 + x723;
+                x725 = arith.eight([0.0, 0.0, 0.0, x632, 0.0, 0.0, 0.0, 0.0]);
+                x726 = x717 + x725;
+                x727 = arith.splat_eight(qd3);
+                x728 = x727.mul_add(x702, x720);
+                x729 = x727.mul_neg_add(x700, x722);
+                x730 = x727.mul_add(x706, x724);
+                x731 = x727.mul_neg_add(x704, x726);
+                x732 = arith.splat_eight(c4);
+                x733 = arith.splat_eight(s4);
+                x734 = x733 * x661;
+                x735 = x732.mul_add(x700, x734);
+                x736 = x733 * x700;
+                x737 = x732.mul_sub(x661, x736);
+                x738 = arith.splat_eight(0.384f64);
+                x739 = arith.splat_eight(-0.0825f64);
+                x740 = x738 * x700;
+                x741 = x739.mul_sub(x702, x740);
+                x742 = x738.mul_add(x661, x704);
+                x743 = x739.mul_neg_add(x661, x706);
+                x744 = x698 - x741;
+                x745 = x733 * x744;
+                x746 = x732.mul_sub(x742, x745);
+                x747 = x732 * x744;
+                x748 = x733.mul_add(x742, x747);
+                x749 = arith.eight([0.0, 0.0, 0.0, 0.0, x44, 0.0, 0.0, 0.0]);
+                x750 = x735 + x749;
+                x751 = arith.eight([0.0, 0.0, 0.0, 0.0, x84, 0.0, 0.0, 0.0]);
+                x752 = x737 + x751;
+                x753 = arith.eight([0.0, 0.0, 0.0, 0.0, x54, 0.0, 0.0, 0.0]);
+                x754 = x746 + x753;
+                x755 = arith.eight([0.0, 0.0, 0.0, 0.0, x83, 0.0, 0.0, 0.0]);
+                x756 = x755 - x748;
+                x757 = x733 * x711;
+                x758 = x732.mul_sub(x728, x757);
+                x759 = x732 * x711;
+                x760 = x733.mul_add(x728, x759);
+                x761 = x738 * x728;
+                x762 = x739.mul_sub(x729, x761);
+                x763 = x738.mul_neg_add(x711, x730);
+                x764 = x739.mul_add(x711, x731);
+                x765 = x718 - x762;
+                x766 = x733 * x765;
+                x767 = x732.mul_sub(x763, x766);
+                x768 = x732 * x765;
+                x769 = x733.mul_add(x763, x768);
+                x770 = arith.eight([0.0, 0.0, 0.0, 0.0, x222, 0.0, 0.0, 0.0]);
+                x771 = x758 + x770;
+                x772 = arith.eight([0.0, 0.0, 0.0, 0.0, x635, 0.0, 0.0, 0.0]);
+                x773 = x772 - x760;
+                x774 = arith.eight([0.0, 0.0, 0.0, 0.0, x231, 0.0, 0.0, 0.0]);
+                x775 = x767 + x774;
+                x776 = arith.eight([0.0, 0.0, 0.0, 0.0, x636, 0.0, 0.0, 0.0]);
+                x777 = x776 - x769;
+                x778 = arith.splat_eight(qd4);
+                x779 = x778 * x750;
+                x780 = x778 * x754;
+                x781 = x778.mul_add(x752, x771);
+                x782 = x773 - x779;
+                x783 = x778.mul_add(x756, x775);
+                x784 = x777 - x780;
+                x785 = arith.splat_eight(c5);
+                x786 = arith.splat_eight(s5);
+                x787 = x786 * x702;
+                x788 = x785.mul_add(x750, x787);
+                x789 = x786 * x750;
+                x790 = x785.mul_sub(x702, x789);
+                x791 = x786 * x743;
+                x792 = x785.mul_add(x754, x791);
+                x793 = x786 * x754;
+                x794 = x785.mul_sub(x743, x793);
+                x795 = x748 - x755;
+                x796 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x60, 0.0, 0.0]);
+                x797 = x788 + x796;
+                x798 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x86, 0.0, 0.0]);
+                x799 = x790 + x798;
+                x800 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x64, 0.0, 0.0]);
+                x801 = x792 + x800;
+                x802 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x85, 0.0, 0.0]);
+                x803 = x794 + x802;
+                x804 = x786 * x729;
+                x805 = x785.mul_add(x781, x804);
+                x806 = x786 * x781;
+                x807 = x785.mul_sub(x729, x806);
+                x808 = x779 - x773;
+                x809 = x786 * x764;
+                x810 = x785.mul_add(x783, x809);
+                x811 = x786 * x783;
+                x812 = x785.mul_sub(x764, x811);
+                x813 = x780 - x777;
+                x814 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x241, 0.0, 0.0]);
+                x815 = x805 + x814;
+                x816 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x639, 0.0, 0.0]);
+                x817 = x807 + x816;
+                x818 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x245, 0.0, 0.0]);
+                x819 = x810 + x818;
+                x820 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x640, 0.0, 0.0]);
+                x821 = x812 + x820;
+                x822 = arith.splat_eight(qd5);
+                x823 = x822 * x797;
+                x824 = x822.mul_add(x799, x815);
+                x825 = x817 - x823;
+                x826 = x822.mul_add(x803, x819);
+                x827 = x822.mul_neg_add(x801, x821);
+                x828 = arith.splat_eight(c6);
+                x829 = arith.splat_eight(s6);
+                x830 = x829 * x752;
+                x831 = x828.mul_sub(x797, x830);
+                x832 = x828 * x752;
+                x833 = x829.mul_add(x797, x832);
+                x834 = arith.splat_eight(0.088f64);
+                x835 = x834.mul_neg_add(x799, x795);
+                x836 = x829 * x835;
+                x837 = x828.mul_add(x801, x836);
+                x838 = x829 * x801;
+                x839 = x828.mul_sub(x835, x838);
+                x840 = x834.mul_sub(x752, x803);
+                x841 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x70, 0.0]);
+                x842 = x831 + x841;
+                x843 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x88, 0.0]);
+                x844 = x843 - x833;
+                x845 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x77, 0.0]);
+                x846 = x837 + x845;
+                x847 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x87, 0.0]);
+                x848 = x839 + x847;
+                x849 = x829 * x808;
+                x850 = x828.mul_add(x824, x849);
+                x851 = x829 * x824;
+                x852 = x828.mul_sub(x808, x851);
+                x853 = x823 - x817;
+                x854 = x834.mul_add(x808, x827);
+                x855 = x834.mul_neg_add(x825, x813);
+                x856 = x829 * x855;
+                x857 = x828.mul_add(x826, x856);
+                x858 = x829 * x826;
+                x859 = x828.mul_sub(x855, x858);
+                x860 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x256, 0.0]);
+                x861 = x850 + x860;
+                x862 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x643, 0.0]);
+                x863 = x852 + x862;
+                x864 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x263, 0.0]);
+                x865 = x857 + x864;
+                x866 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x644, 0.0]);
+                x867 = x859 + x866;
+                x868 = arith.splat_eight(qd6);
+                x869 = x868.mul_add(x844, x861);
+                x870 = x868.mul_neg_add(x842, x863);
+                x871 = x868.mul_add(x848, x865);
+                x872 = x868.mul_neg_add(x846, x867);
+                x873 = arith.eight([0.0, x598, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x874 = arith.eight([0.0, x599, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x875 = arith.eight([0.0, x600, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x876 = arith.splat_eight(0.011595864095166043f64);
+                x877 = arith.splat_eight(-0.00012191242095074308f64);
+                x878 = x877 * x682;
+                x879 = x876.mul_add(x681, x878);
+                x880 = arith.eight([0.0, x601, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x881 = x879 + x880;
+                x882 = arith.eight([0.0, x602, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x883 = x877.mul_add(x681, x882);
+                x884 = arith.splat_eight(-0.005487648106562256f64);
+                x885 = arith.splat_eight(-0.004377257121839584f64);
+                x886 = x885 * x682;
+                x887 = x884.mul_add(x681, x886);
+                x888 = arith.eight([0.0, x603, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x889 = x887 + x888;
+                x890 = arith.eight([0.0, x604, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x891 = arith.eight([0.0, x606, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x892 = arith.splat_eight(0.746857959872f64);
+                x893 = arith.splat_eight(0.028227094878000014f64);
+                x894 = x893 * x683;
+                x895 = x892.mul_sub(x684, x894);
+                x896 = x881 + x890;
+                x897 = x883 + x891;
+                x898 = x889 + x895;
+                x899 = arith.eight([0.0, x608, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x900 = arith.eight([0.0, x609, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x901 = x877 * x661;
+                x902 = x876.mul_add(x659, x901);
+                x903 = arith.eight([0.0, x610, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x904 = x902 + x903;
+                x905 = arith.eight([0.0, x611, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x906 = x877.mul_add(x659, x905);
+                x907 = x885 * x661;
+                x908 = x884.mul_add(x659, x907);
+                x909 = arith.eight([0.0, x612, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x910 = x908 + x909;
+                x911 = x893 * x663;
+                x912 = x892.mul_sub(x665, x911);
+                x913 = x910 + x912;
+                x914 = x892 * x661;
+                x915 = x893.mul_sub(x659, x914);
+                x916 = arith.splat_eight(x14);
+                x917 = arith.splat_eight(x139);
+                x918 = x917 * x661;
+                x919 = x916.mul_add(x913, x918);
+                x920 = arith.splat_eight(x22);
+                x921 = arith.eight([0.0, x616, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x922 = x920.mul_add(x906, x921);
+                x923 = x919 - x922;
+                x924 = arith.eight([0.0, x618, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x925 = x920.mul_add(x904, x924);
+                x926 = arith.splat_eight(x12);
+                x927 = x917 * x659;
+                x928 = x926.mul_add(x913, x927);
+                x929 = x925 - x928;
+                x930 = arith.splat_eight(x135);
+                x931 = x930 * x659;
+                x932 = x926.mul_add(x906, x931);
+                x933 = arith.splat_eight(x134);
+                x934 = x933 * x661;
+                x935 = x916.mul_add(x904, x934);
+                x936 = x932 - x935;
+                x937 = arith.splat_eight(x21);
+                x938 = arith.splat_eight(x95);
+                x939 = x938 * x665;
+                x940 = x937.mul_add(x915, x939);
+                x941 = arith.splat_eight(x19);
+                x942 = x938 * x663;
+                x943 = x941.mul_add(x915, x942);
+                x944 = arith.eight([0.0, x619, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x945 = arith.splat_eight(x93);
+                x946 = x945.mul_add(x663, x944);
+                x947 = arith.eight([0.0, x621, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x948 = arith.splat_eight(x92);
+                x949 = x948.mul_neg_add(x665, x947);
+                x950 = x946 - x949;
+                x951 = x923 + x940;
+                x952 = x929 - x943;
+                x953 = x936 + x950;
+                x954 = x938 * x661;
+                x955 = x916.mul_add(x915, x954);
+                x956 = arith.eight([0.0, x623, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x957 = x955 - x956;
+                x958 = arith.eight([0.0, x625, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x959 = x938 * x659;
+                x960 = x926.mul_add(x915, x959);
+                x961 = x958 - x960;
+                x962 = x896 + x951;
+                x963 = x897 + x952;
+                x964 = x898 + x953;
+                x965 = x900 + x957;
+                x966 = x899 + x961;
+                x967 = arith.splat_eight(0.647723094939183f64);
+                x968 = arith.splat_eight(0.16284087268546082f64);
+                x969 = x968 * x729;
+                x970 = x967.mul_add(x728, x969);
+                x971 = arith.splat_eight(0.0039053550262761003f64);
+                x972 = x971.mul_add(x711, x970);
+                x973 = arith.splat_eight(-0.0016444875773692705f64);
+                x974 = x973 * x711;
+                x975 = x968.mul_add(x728, x974);
+                x976 = x973 * x729;
+                x977 = x971.mul_add(x728, x976);
+                x978 = arith.splat_eight(0.7497633672528139f64);
+                x979 = x978.mul_add(x711, x977);
+                x980 = arith.splat_eight(2.0125235536029997f64);
+                x981 = arith.splat_eight(-0.5527802746499999f64);
+                x982 = x980 * x730;
+                x983 = x981.mul_sub(x731, x982);
+                x984 = x980.mul_add(x718, x972);
+                x985 = x981.mul_neg_add(x718, x975);
+                x986 = x979 + x983;
+                x987 = x981 * x729;
+                x988 = x980.mul_sub(x728, x987);
+                x989 = x968 * x702;
+                x990 = x967.mul_add(x700, x989);
+                x991 = x971.mul_neg_add(x661, x990);
+                x992 = x973 * x661;
+                x993 = x968.mul_sub(x700, x992);
+                x994 = x973 * x702;
+                x995 = x971.mul_add(x700, x994);
+                x996 = x978.mul_neg_add(x661, x995);
+                x997 = x980 * x704;
+                x998 = x981.mul_sub(x706, x997);
+                x999 = x980.mul_add(x698, x991);
+                x1000 = x981.mul_neg_add(x698, x993);
+                x1001 = x996 + x998;
+                x1002 = x980 * x661;
+                x1003 = x981 * x661;
+                x1004 = x981 * x702;
+                x1005 = x980.mul_sub(x700, x1004);
+                x1006 = arith.splat_eight(x29);
+                x1007 = arith.splat_eight(x149);
+                x1008 = x1007 * x702;
+                x1009 = x1006.mul_add(x1001, x1008);
+                x1010 = arith.splat_eight(x38);
+                x1011 = arith.splat_eight(x148);
+                x1012 = x1011 * x661;
+                x1013 = x1010.mul_sub(x1000, x1012);
+                x1014 = x1009 - x1013;
+                x1015 = arith.splat_eight(x147);
+                x1016 = x1015 * x661;
+                x1017 = x1010.mul_sub(x999, x1016);
+                x1018 = arith.splat_eight(x27);
+                x1019 = x1007 * x700;
+                x1020 = x1018.mul_add(x1001, x1019);
+                x1021 = x1017 - x1020;
+                x1022 = x1011 * x700;
+                x1023 = x1018.mul_add(x1000, x1022);
+                x1024 = x1015 * x702;
+                x1025 = x1006.mul_add(x999, x1024);
+                x1026 = x1023 - x1025;
+                x1027 = arith.splat_eight(x36);
+                x1028 = x1027 * x1005;
+                x1029 = arith.splat_eight(x102);
+                x1030 = x1029.mul_sub(x706, x1028);
+                x1031 = arith.splat_eight(x31);
+                x1032 = arith.splat_eight(x100);
+                x1033 = x1032 * x698;
+                x1034 = x1031.mul_add(x1003, x1033);
+                x1035 = x1030 - x1034;
+                x1036 = arith.splat_eight(x99);
+                x1037 = x1036 * x698;
+                x1038 = x1031.mul_add(x1002, x1037);
+                x1039 = arith.splat_eight(x34);
+                x1040 = x1029 * x704;
+                x1041 = x1039.mul_add(x1005, x1040);
+                x1042 = x1038 + x1041;
+                x1043 = x1039 * x1003;
+                x1044 = x1032.mul_sub(x704, x1043);
+                x1045 = x1036 * x706;
+                x1046 = x1027.mul_add(x1002, x1045);
+                x1047 = x1044 + x1046;
+                x1048 = x1014 + x1035;
+                x1049 = x1021 - x1042;
+                x1050 = x1026 + x1047;
+                x1051 = x1029 * x702;
+                x1052 = x1006.mul_add(x1005, x1051);
+                x1053 = x1032 * x661;
+                x1054 = x1010.mul_add(x1003, x1053);
+                x1055 = x1052 + x1054;
+                x1056 = x1036 * x661;
+                x1057 = x1010.mul_add(x1002, x1056);
+                x1058 = x1029 * x700;
+                x1059 = x1018.mul_add(x1005, x1058);
+                x1060 = x1057 - x1059;
+                x1061 = x1018 * x1003;
+                x1062 = x1032.mul_sub(x700, x1061);
+                x1063 = x1036 * x702;
+                x1064 = x1006.mul_sub(x1002, x1063);
+                x1065 = x1062 - x1064;
+                x1066 = x984 + x1048;
+                x1067 = x985 + x1049;
+                x1068 = x986 + x1050;
+                x1069 = x980.mul_neg_add(x711, x1055);
+                x1070 = x981.mul_add(x711, x1060);
+                x1071 = x988 + x1065;
+                x1072 = arith.splat_eight(0.030116287133882078f64);
+                x1073 = arith.splat_eight(-0.0015152444733270301f64);
+                x1074 = x1073 * x782;
+                x1075 = x1072.mul_add(x781, x1074);
+                x1076 = arith.splat_eight(-0.004600245517563105f64);
+                x1077 = x1076.mul_add(x729, x1075);
+                x1078 = arith.splat_eight(0.0021640520520981297f64);
+                x1079 = x1078 * x729;
+                x1080 = x1073.mul_add(x781, x1079);
+                x1081 = x1078 * x782;
+                x1082 = x1076.mul_add(x781, x1081);
+                x1083 = arith.splat_eight(0.03301859926393551f64);
+                x1084 = x1083.mul_add(x729, x1082);
+                x1085 = arith.splat_eight(0.067870631425f64);
+                x1086 = arith.splat_eight(-0.014653732538f64);
+                x1087 = x1085 * x783;
+                x1088 = x1086.mul_sub(x784, x1087);
+                x1089 = x1085.mul_add(x764, x1077);
+                x1090 = x1086.mul_neg_add(x764, x1080);
+                x1091 = x1084 + x1088;
+                x1092 = x1086 * x782;
+                x1093 = x1085.mul_sub(x781, x1092);
+                x1094 = x1073 * x752;
+                x1095 = x1072.mul_add(x750, x1094);
+                x1096 = x1076.mul_add(x702, x1095);
+                x1097 = x1078 * x702;
+                x1098 = x1073.mul_add(x750, x1097);
+                x1099 = x1078 * x752;
+                x1100 = x1076.mul_add(x750, x1099);
+                x1101 = x1083.mul_add(x702, x1100);
+                x1102 = x1085 * x754;
+                x1103 = x1086.mul_sub(x756, x1102);
+                x1104 = x1085.mul_add(x743, x1096);
+                x1105 = x1086.mul_neg_add(x743, x1098);
+                x1106 = x1101 + x1103;
+                x1107 = x1085 * x702;
+                x1108 = x1086 * x702;
+                x1109 = x1086 * x752;
+                x1110 = x1085.mul_sub(x750, x1109);
+                x1111 = arith.splat_eight(x43);
+                x1112 = x1111 * x1106;
+                x1113 = arith.splat_eight(x159);
+                x1114 = x1113.mul_sub(x752, x1112);
+                x1115 = arith.splat_eight(x55);
+                x1116 = arith.splat_eight(x158);
+                x1117 = x1116 * x702;
+                x1118 = x1115.mul_add(x1105, x1117);
+                x1119 = x1114 - x1118;
+                x1120 = arith.splat_eight(x157);
+                x1121 = x1120 * x702;
+                x1122 = x1115.mul_add(x1104, x1121);
+                x1123 = arith.splat_eight(x41);
+                x1124 = x1113 * x750;
+                x1125 = x1123.mul_add(x1106, x1124);
+                x1126 = x1122 - x1125;
+                x1127 = x1116 * x750;
+                x1128 = x1123.mul_add(x1105, x1127);
+                x1129 = x1111 * x1104;
+                x1130 = x1120.mul_sub(x752, x1129);
+                x1131 = x1128 - x1130;
+                x1132 = arith.splat_eight(x54);
+                x1133 = arith.splat_eight(x109);
+                x1134 = x1133 * x756;
+                x1135 = x1132.mul_add(x1110, x1134);
+                x1136 = arith.splat_eight(x48);
+                x1137 = arith.splat_eight(x107);
+                x1138 = x1137 * x743;
+                x1139 = x1136.mul_add(x1108, x1138);
+                x1140 = x1135 - x1139;
+                x1141 = arith.splat_eight(x106);
+                x1142 = x1141 * x743;
+                x1143 = x1136.mul_add(x1107, x1142);
+                x1144 = arith.splat_eight(x51);
+                x1145 = x1133 * x754;
+                x1146 = x1144.mul_add(x1110, x1145);
+                x1147 = x1143 + x1146;
+                x1148 = x1137 * x754;
+                x1149 = x1144.mul_add(x1108, x1148);
+                x1150 = x1141 * x756;
+                x1151 = x1132.mul_add(x1107, x1150);
+                x1152 = x1149 + x1151;
+                x1153 = x1119 + x1140;
+                x1154 = x1126 - x1147;
+                x1155 = x1131 + x1152;
+                x1156 = x1111 * x1110;
+                x1157 = x1133.mul_sub(x752, x1156);
+                x1158 = x1137 * x702;
+                x1159 = x1115.mul_add(x1108, x1158);
+                x1160 = x1157 - x1159;
+                x1161 = x1141 * x702;
+                x1162 = x1115.mul_add(x1107, x1161);
+                x1163 = x1133 * x750;
+                x1164 = x1123.mul_add(x1110, x1163);
+                x1165 = x1162 + x1164;
+                x1166 = x1137 * x750;
+                x1167 = x1123.mul_add(x1108, x1166);
+                x1168 = x1141 * x752;
+                x1169 = x1111.mul_sub(x1107, x1168);
+                x1170 = x1167 - x1169;
+                x1171 = x1089 + x1153;
+                x1172 = x1090 + x1154;
+                x1173 = x1091 + x1155;
+                x1174 = x1085.mul_neg_add(x729, x1160);
+                x1175 = x1086.mul_sub(x729, x1165);
+                x1176 = x1093 + x1170;
+                x1177 = arith.splat_eight(0.009543771269492206f64);
+                x1178 = arith.splat_eight(0.014748570382675316f64);
+                x1179 = x1178 * x825;
+                x1180 = x1177.mul_add(x824, x1179);
+                x1181 = arith.splat_eight(-0.00010375891721868492f64);
+                x1182 = x1181.mul_add(x808, x1180);
+                x1183 = arith.splat_eight(0.000093569097314605f64);
+                x1184 = x1183 * x808;
+                x1185 = x1178.mul_add(x824, x1184);
+                x1186 = x1183 * x825;
+                x1187 = x1181.mul_add(x824, x1186);
+                x1188 = arith.splat_eight(0.05258828201066731f64);
+                x1189 = x1188.mul_add(x808, x1187);
+                x1190 = arith.splat_eight(-0.17380470556900002f64);
+                x1191 = arith.splat_eight(0.231847552695f64);
+                x1192 = x1190 * x826;
+                x1193 = x1191.mul_sub(x827, x1192);
+                x1194 = x1190.mul_add(x813, x1182);
+                x1195 = x1191.mul_neg_add(x813, x1185);
+                x1196 = x1189 + x1193;
+                x1197 = x1191 * x825;
+                x1198 = x1190.mul_sub(x824, x1197);
+                x1199 = x1178 * x799;
+                x1200 = x1177.mul_add(x797, x1199);
+                x1201 = x1181.mul_neg_add(x752, x1200);
+                x1202 = x1183 * x752;
+                x1203 = x1178.mul_sub(x797, x1202);
+                x1204 = x1183 * x799;
+                x1205 = x1181.mul_add(x797, x1204);
+                x1206 = x1188.mul_neg_add(x752, x1205);
+                x1207 = x1190 * x801;
+                x1208 = x1191.mul_sub(x803, x1207);
+                x1209 = x1190.mul_add(x795, x1201);
+                x1210 = x1191.mul_neg_add(x795, x1203);
+                x1211 = x1206 + x1208;
+                x1212 = x1190 * x752;
+                x1213 = x1191 * x752;
+                x1214 = x1191 * x799;
+                x1215 = x1190.mul_sub(x797, x1214);
+                x1216 = arith.splat_eight(x60);
+                x1217 = arith.splat_eight(x169);
+                x1218 = x1217 * x799;
+                x1219 = x1216.mul_add(x1211, x1218);
+                x1220 = arith.splat_eight(x66);
+                x1221 = arith.splat_eight(x168);
+                x1222 = x1221 * x752;
+                x1223 = x1220.mul_sub(x1210, x1222);
+                x1224 = x1219 - x1223;
+                x1225 = arith.splat_eight(x167);
+                x1226 = x1225 * x752;
+                x1227 = x1220.mul_sub(x1209, x1226);
+                x1228 = arith.splat_eight(x57);
+                x1229 = x1217 * x797;
+                x1230 = x1228.mul_add(x1211, x1229);
+                x1231 = x1227 - x1230;
+                x1232 = x1221 * x797;
+                x1233 = x1228.mul_add(x1210, x1232);
+                x1234 = x1225 * x799;
+                x1235 = x1216.mul_add(x1209, x1234);
+                x1236 = x1233 - x1235;
+                x1237 = arith.splat_eight(x64);
+                x1238 = arith.splat_eight(x116);
+                x1239 = x1238 * x803;
+                x1240 = x1237.mul_add(x1215, x1239);
+                x1241 = arith.splat_eight(x65);
+                x1242 = x1241 * x1213;
+                x1243 = arith.splat_eight(x114);
+                x1244 = x1243.mul_sub(x795, x1242);
+                x1245 = x1240 - x1244;
+                x1246 = arith.splat_eight(x113);
+                x1247 = x1246 * x795;
+                x1248 = x1241.mul_sub(x1212, x1247);
+                x1249 = arith.splat_eight(x62);
+                x1250 = x1238 * x801;
+                x1251 = x1249.mul_add(x1215, x1250);
+                x1252 = x1248 - x1251;
+                x1253 = x1249 * x1213;
+                x1254 = x1243.mul_sub(x801, x1253);
+                x1255 = x1246 * x803;
+                x1256 = x1237.mul_sub(x1212, x1255);
+                x1257 = x1254 - x1256;
+                x1258 = x1224 + x1245;
+                x1259 = x1231 + x1252;
+                x1260 = x1236 + x1257;
+                x1261 = x1238 * x799;
+                x1262 = x1216.mul_add(x1215, x1261);
+                x1263 = x1243 * x752;
+                x1264 = x1220.mul_add(x1213, x1263);
+                x1265 = x1262 + x1264;
+                x1266 = x1246 * x752;
+                x1267 = x1220.mul_add(x1212, x1266);
+                x1268 = x1238 * x797;
+                x1269 = x1228.mul_add(x1215, x1268);
+                x1270 = x1267 - x1269;
+                x1271 = x1228 * x1213;
+                x1272 = x1243.mul_sub(x797, x1271);
+                x1273 = x1246 * x799;
+                x1274 = x1216.mul_sub(x1212, x1273);
+                x1275 = x1272 - x1274;
+                x1276 = x1194 + x1258;
+                x1277 = x1195 + x1259;
+                x1278 = x1196 + x1260;
+                x1279 = x1190.mul_neg_add(x808, x1265);
+                x1280 = x1191.mul_add(x808, x1270);
+                x1281 = x1198 + x1275;
+                x1282 = arith.splat_eight(0.0024209437785212354f64);
+                x1283 = arith.splat_eight(0.0003913912816842481f64);
+                x1284 = x1283 * x870;
+                x1285 = x1282.mul_add(x869, x1284);
+                x1286 = arith.splat_eight(-0.0009653051699191116f64);
+                x1287 = x1286.mul_add(x853, x1285);
+                x1288 = arith.splat_eight(-0.001255536598272898f64);
+                x1289 = x1288 * x853;
+                x1290 = x1283.mul_add(x869, x1289);
+                x1291 = x1288 * x870;
+                x1292 = x1286.mul_add(x869, x1291);
+                x1293 = arith.splat_eight(0.006684151967360945f64);
+                x1294 = x1293.mul_add(x853, x1292);
+                x1295 = arith.splat_eight(0.0020344399586617965f64);
+                x1296 = arith.splat_eight(0.002573605371338202f64);
+                x1297 = x1295 * x871;
+                x1298 = x1296.mul_sub(x872, x1297);
+                x1299 = x1295.mul_neg_add(x854, x1287);
+                x1300 = x1296.mul_add(x854, x1290);
+                x1301 = x1294 + x1298;
+                x1302 = x1296 * x870;
+                x1303 = x1295.mul_sub(x869, x1302);
+                x1304 = x1283 * x844;
+                x1305 = x1282.mul_add(x842, x1304);
+                x1306 = x1286.mul_neg_add(x799, x1305);
+                x1307 = x1288 * x799;
+                x1308 = x1283.mul_sub(x842, x1307);
+                x1309 = x1288 * x844;
+                x1310 = x1286.mul_add(x842, x1309);
+                x1311 = x1293.mul_neg_add(x799, x1310);
+                x1312 = x1295 * x846;
+                x1313 = x1296.mul_sub(x848, x1312);
+                x1314 = x1295.mul_add(x840, x1306);
+                x1315 = x1296.mul_neg_add(x840, x1308);
+                x1316 = x1311 + x1313;
+                x1317 = x1295 * x799;
+                x1318 = x1296 * x799;
+                x1319 = x1296 * x844;
+                x1320 = x1295.mul_sub(x842, x1319);
+                x1321 = arith.splat_eight(x70);
+                x1322 = arith.splat_eight(x179);
+                x1323 = x1322 * x844;
+                x1324 = x1321.mul_add(x1316, x1323);
+                x1325 = arith.splat_eight(x78);
+                x1326 = arith.splat_eight(x178);
+                x1327 = x1326 * x799;
+                x1328 = x1325.mul_sub(x1315, x1327);
+                x1329 = x1324 - x1328;
+                x1330 = arith.splat_eight(x177);
+                x1331 = x1330 * x799;
+                x1332 = x1325.mul_sub(x1314, x1331);
+                x1333 = arith.splat_eight(x68);
+                x1334 = x1322 * x842;
+                x1335 = x1333.mul_add(x1316, x1334);
+                x1336 = x1332 - x1335;
+                x1337 = x1326 * x842;
+                x1338 = x1333.mul_add(x1315, x1337);
+                x1339 = x1330 * x844;
+                x1340 = x1321.mul_add(x1314, x1339);
+                x1341 = x1338 - x1340;
+                x1342 = arith.splat_eight(x77);
+                x1343 = arith.splat_eight(x123);
+                x1344 = x1343 * x848;
+                x1345 = x1342.mul_add(x1320, x1344);
+                x1346 = arith.splat_eight(x72);
+                x1347 = arith.splat_eight(x121);
+                x1348 = x1347 * x840;
+                x1349 = x1346.mul_add(x1318, x1348);
+                x1350 = x1345 - x1349;
+                x1351 = arith.splat_eight(x120);
+                x1352 = x1351 * x840;
+                x1353 = x1346.mul_add(x1317, x1352);
+                x1354 = arith.splat_eight(x75);
+                x1355 = x1343 * x846;
+                x1356 = x1354.mul_add(x1320, x1355);
+                x1357 = x1353 + x1356;
+                x1358 = x1354 * x1318;
+                x1359 = x1347.mul_sub(x846, x1358);
+                x1360 = x1351 * x848;
+                x1361 = x1342.mul_sub(x1317, x1360);
+                x1362 = x1359 - x1361;
+                x1363 = x1329 + x1350;
+                x1364 = x1336 - x1357;
+                x1365 = x1341 + x1362;
+                x1366 = x1343 * x844;
+                x1367 = x1321.mul_add(x1320, x1366);
+                x1368 = x1347 * x799;
+                x1369 = x1325.mul_add(x1318, x1368);
+                x1370 = x1367 + x1369;
+                x1371 = x1351 * x799;
+                x1372 = x1325.mul_add(x1317, x1371);
+                x1373 = x1343 * x842;
+                x1374 = x1333.mul_add(x1320, x1373);
+                x1375 = x1372 - x1374;
+                x1376 = x1333 * x1318;
+                x1377 = x1347.mul_sub(x842, x1376);
+                x1378 = x1351 * x844;
+                x1379 = x1321.mul_sub(x1317, x1378);
+                x1380 = x1377 - x1379;
+                x1381 = x1299 + x1363;
+                x1382 = x1300 + x1364;
+                x1383 = x1301 + x1365;
+                x1384 = x1295.mul_neg_add(x853, x1370);
+                x1385 = x1296.mul_add(x853, x1375);
+                x1386 = x1303 + x1380;
+                x1387 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x645, 0.0]);
+                x1388 = x1381 + x1387;
+                x1389 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x476, 0.0]);
+                x1390 = x1382 + x1389;
+                x1391 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x646, 0.0]);
+                x1392 = x1384 + x1391;
+                x1393 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x479, 0.0]);
+                x1394 = x1385 + x1393;
+                x1395 = x829 * x1394;
+                x1396 = x828.mul_sub(x1392, x1395);
+                x1397 = x828 * x1394;
+                x1398 = x829.mul_add(x1392, x1397);
+                x1399 = x829 * x1390;
+                x1400 = x828.mul_sub(x1388, x1399);
+                x1401 = x828 * x1390;
+                x1402 = x829.mul_add(x1388, x1401);
+                x1403 = x834.mul_add(x1398, x1383);
+                x1404 = x834.mul_neg_add(x1386, x1402);
+                x1405 = x1276 + x1400;
+                x1406 = x1277 - x1403;
+                x1407 = x1278 + x1404;
+                x1408 = x1279 + x1396;
+                x1409 = x1280 - x1386;
+                x1410 = x1281 + x1398;
+                x1411 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x641, 0.0, 0.0]);
+                x1412 = x1405 + x1411;
+                x1413 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x492, 0.0, 0.0]);
+                x1414 = x1406 + x1413;
+                x1415 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x642, 0.0, 0.0]);
+                x1416 = x1408 + x1415;
+                x1417 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x495, 0.0, 0.0]);
+                x1418 = x1409 + x1417;
+                x1419 = x786 * x1418;
+                x1420 = x785.mul_sub(x1416, x1419);
+                x1421 = x785 * x1418;
+                x1422 = x786.mul_add(x1416, x1421);
+                x1423 = x786 * x1414;
+                x1424 = x785.mul_sub(x1412, x1423);
+                x1425 = x785 * x1414;
+                x1426 = x786.mul_add(x1412, x1425);
+                x1427 = x1171 + x1424;
+                x1428 = x1172 - x1407;
+                x1429 = x1173 + x1426;
+                x1430 = x1174 + x1420;
+                x1431 = x1175 - x1410;
+                x1432 = x1176 + x1422;
+                x1433 = arith.eight([0.0, 0.0, 0.0, 0.0, x637, 0.0, 0.0, 0.0]);
+                x1434 = x1427 + x1433;
+                x1435 = arith.eight([0.0, 0.0, 0.0, 0.0, x506, 0.0, 0.0, 0.0]);
+                x1436 = x1428 + x1435;
+                x1437 = arith.eight([0.0, 0.0, 0.0, 0.0, x638, 0.0, 0.0, 0.0]);
+                x1438 = x1430 + x1437;
+                x1439 = arith.eight([0.0, 0.0, 0.0, 0.0, x509, 0.0, 0.0, 0.0]);
+                x1440 = x1431 + x1439;
+                x1441 = x733 * x1440;
+                x1442 = x732.mul_sub(x1438, x1441);
+                x1443 = x732 * x1440;
+                x1444 = x733.mul_add(x1438, x1443);
+                x1445 = x733 * x1436;
+                x1446 = x732.mul_sub(x1434, x1445);
+                x1447 = x732 * x1436;
+                x1448 = x733.mul_add(x1434, x1447);
+                x1449 = x738 * x1442;
+                x1450 = x739.mul_sub(x1432, x1449);
+                x1451 = x738.mul_neg_add(x1444, x1446);
+                x1452 = x739.mul_add(x1444, x1429);
+                x1453 = x1450 - x1448;
+                x1454 = x1066 + x1451;
+                x1455 = x1067 + x1452;
+                x1456 = x1068 + x1453;
+                x1457 = x1069 + x1442;
+                x1458 = x1070 + x1432;
+                x1459 = arith.eight([0.0, 0.0, 0.0, x633, 0.0, 0.0, 0.0, 0.0]);
+                x1460 = x1454 + x1459;
+                x1461 = arith.eight([0.0, 0.0, 0.0, x525, 0.0, 0.0, 0.0, 0.0]);
+                x1462 = x1455 + x1461;
+                x1463 = arith.eight([0.0, 0.0, 0.0, x634, 0.0, 0.0, 0.0, 0.0]);
+                x1464 = x1457 + x1463;
+                x1465 = arith.eight([0.0, 0.0, 0.0, x528, 0.0, 0.0, 0.0, 0.0]);
+                x1466 = x1458 + x1465;
+                x1467 = x688 * x1466;
+                x1468 = x685.mul_sub(x1464, x1467);
+                x1469 = x1444 - x1071;
+                x1470 = x685 * x1466;
+                x1471 = x688.mul_add(x1464, x1470);
+                x1472 = x688 * x1462;
+                x1473 = x685.mul_sub(x1460, x1472);
+                x1474 = x685 * x1462;
+                x1475 = x688.mul_add(x1460, x1474);
+                x1476 = x692.mul_add(x1471, x1456);
+                x1477 = x692.mul_add(x1469, x1475);
+                x1478 = x962 + x1473;
+                x1479 = x963 - x1476;
+                x1480 = x964 + x1477;
+                x1481 = x965 + x1468;
+                x1482 = x966 + x1469;
+                x1483 = arith.eight([0.0, 0.0, x629, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1484 = x1478 + x1483;
+                x1485 = arith.eight([0.0, 0.0, x541, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1486 = x1479 + x1485;
+                x1487 = arith.eight([0.0, 0.0, x630, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1488 = x1481 + x1487;
+                x1489 = arith.eight([0.0, 0.0, x544, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1490 = x1482 + x1489;
+                x1491 = arith.splat_eight(c2);
+                x1492 = arith.splat_eight(s2);
+                x1493 = x1492 * x1490;
+                x1494 = x1491.mul_sub(x1488, x1493);
+                x1495 = x1491 * x1490;
+                x1496 = x1492.mul_add(x1488, x1495);
+                x1497 = x1492 * x1486;
+                x1498 = x1491.mul_sub(x1484, x1497);
+                x1499 = x1491 * x1486;
+                x1500 = x1492.mul_add(x1484, x1499);
+                x1501 = arith.splat_eight(-0.316f64);
+                x1502 = x1501.mul_add(x1496, x1498);
+                x1503 = x1501.mul_neg_add(x1494, x1500);
+                x1504 = x873 + x1502;
+                x1505 = x874 - x1480;
+                x1506 = x875 + x1503;
+                x1507 = arith.eight([0.0, x626, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1508 = x1504 + x1507;
+                x1509 = arith.eight([0.0, x551, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1510 = x1505 + x1509;
+                x1511 = arith.splat_eight(c1);
+                x1512 = arith.splat_eight(s1);
+                x1513 = x1511 * x1510;
+                x1514 = x1512.mul_add(x1508, x1513);
+                x1515 = -x1514;
+                x1516 = qd1 * c1;
+                x1517 = -x1516;
+                x1518 = arith.eight([x1517, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1519 = x652 + x1518;
+                x1520 = qd1 * s1;
+                x1521 = -x1520;
+                x1522 = arith.eight([x1521, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1523 = x655 + x1522;
+                x1524 = arith.eight([x1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1525 = arith.eight([0.0, s2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1526 = x1524 + x1525;
+                x1527 = arith.eight([x2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1528 = arith.eight([0.0, c2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1529 = x1527 + x1528;
+                x1530 = arith.eight([c1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1531 = 0.316f64 * s1;
+                x1532 = 0.316f64 * c2;
+                x1533 = arith.eight([0.0, x1532, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1534 = s2 * x1531;
+                x1535 = arith.eight([x1534, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1536 = x1533 + x1535;
+                x1537 = -0.316f64 * s2;
+                x1538 = arith.eight([0.0, x1537, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1539 = c2 * x1531;
+                x1540 = arith.eight([x1539, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1541 = x1538 + x1540;
+                x1542 = x647 + x1530;
+                x1543 = x1501 * x1519;
+                x1544 = x679.mul_add(x1529, x658);
+                x1545 = arith.eight([0.0, 0.0, x12, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1546 = x679.mul_add(x1526, x1545);
+                x1547 = x679.mul_add(x1541, x662);
+                x1548 = arith.eight([0.0, 0.0, x19, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1549 = x679.mul_add(x1536, x1548);
+                x1550 = x1491.mul_add(x1519, x1544);
+                x1551 = x1492.mul_add(x1519, x1546);
+                x1552 = x1492.mul_add(x1543, x1547);
+                x1553 = x1491.mul_sub(x1543, x1549);
+                x1554 = x688 * x1542;
+                x1555 = x685.mul_add(x1526, x1554);
+                x1556 = x688 * x1526;
+                x1557 = x685.mul_sub(x1542, x1556);
+                x1558 = x692 * x1529;
+                x1559 = x692.mul_add(x1542, x1541);
+                x1560 = x688 * x1558;
+                x1561 = x685.mul_sub(x1536, x1560);
+                x1562 = x685 * x1558;
+                x1563 = x688.mul_add(x1536, x1562);
+                x1564 = x648 - x1529;
+                x1565 = x688 * x1523;
+                x1566 = x685.mul_add(x1550, x1565);
+                x1567 = x688 * x1550;
+                x1568 = x685.mul_sub(x1523, x1567);
+                x1569 = x692 * x1551;
+                x1570 = x692.mul_add(x1523, x1553);
+                x1571 = x688 * x1569;
+                x1572 = x685.mul_add(x1552, x1571);
+                x1573 = x688 * x1552;
+                x1574 = x685.mul_sub(x1569, x1573);
+                x1575 = x727.mul_add(x1557, x699);
+                x1576 = arith.eight([0.0, 0.0, 0.0, x27, 0.0, 0.0, 0.0, 0.0]);
+                x1577 = x727.mul_add(x1555, x1576);
+                x1578 = x727.mul_neg_add(x1563, x703);
+                x1579 = arith.eight([0.0, 0.0, 0.0, x34, 0.0, 0.0, 0.0, 0.0]);
+                x1580 = x727.mul_add(x1561, x1579);
+                x1581 = x1566 + x1575;
+                x1582 = x1568 - x1577;
+                x1583 = x1572 + x1578;
+                x1584 = x1574 - x1580;
+                x1585 = x733 * x1564;
+                x1586 = x732.mul_sub(x1555, x1585);
+                x1587 = x732 * x1564;
+                x1588 = x733.mul_add(x1555, x1587);
+                x1589 = x738 * x1555;
+                x1590 = x739.mul_sub(x1557, x1589);
+                x1591 = x738.mul_neg_add(x1564, x1561);
+                x1592 = x739.mul_sub(x1564, x1563);
+                x1593 = x1559 + x1590;
+                x1594 = x733 * x1593;
+                x1595 = x732.mul_add(x1591, x1594);
+                x1596 = x733 * x1591;
+                x1597 = x732 * x1593;
+                x1598 = x1597 - x1596;
+                x1599 = x649 + x1557;
+                x1600 = x733 * x1551;
+                x1601 = x732.mul_sub(x1581, x1600);
+                x1602 = x732 * x1551;
+                x1603 = x733.mul_add(x1581, x1602);
+                x1604 = x738 * x1581;
+                x1605 = x739.mul_sub(x1582, x1604);
+                x1606 = x738.mul_neg_add(x1551, x1583);
+                x1607 = x739.mul_add(x1551, x1584);
+                x1608 = x1570 + x1605;
+                x1609 = x733 * x1608;
+                x1610 = x732.mul_add(x1606, x1609);
+                x1611 = x733 * x1606;
+                x1612 = x732.mul_sub(x1608, x1611);
+                x1613 = x778.mul_neg_add(x1588, x749);
+                x1614 = arith.eight([0.0, 0.0, 0.0, 0.0, x41, 0.0, 0.0, 0.0]);
+                x1615 = x778.mul_add(x1586, x1614);
+                x1616 = x778.mul_add(x1598, x753);
+                x1617 = arith.eight([0.0, 0.0, 0.0, 0.0, x51, 0.0, 0.0, 0.0]);
+                x1618 = x778.mul_add(x1595, x1617);
+                x1619 = x1601 + x1613;
+                x1620 = x1603 + x1615;
+                x1621 = x1610 + x1616;
+                x1622 = x1612 - x1618;
+                x1623 = x786 * x1599;
+                x1624 = x785.mul_add(x1586, x1623);
+                x1625 = x786 * x1586;
+                x1626 = x785 * x1599;
+                x1627 = x1626 - x1625;
+                x1628 = x786 * x1592;
+                x1629 = x785.mul_add(x1595, x1628);
+                x1630 = x786 * x1595;
+                x1631 = x785.mul_sub(x1592, x1630);
+                x1632 = x1596 - x1597;
+                x1633 = x650 + x1588;
+                x1634 = x786 * x1582;
+                x1635 = x785.mul_add(x1619, x1634);
+                x1636 = x786 * x1619;
+                x1637 = x785.mul_sub(x1582, x1636);
+                x1638 = x786 * x1607;
+                x1639 = x785.mul_add(x1621, x1638);
+                x1640 = x786 * x1621;
+                x1641 = x785.mul_sub(x1607, x1640);
+                x1642 = x1618 - x1612;
+                x1643 = x822.mul_add(x1627, x796);
+                x1644 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x57, 0.0, 0.0]);
+                x1645 = x822.mul_add(x1624, x1644);
+                x1646 = x822.mul_add(x1631, x800);
+                x1647 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x62, 0.0, 0.0]);
+                x1648 = x822.mul_add(x1629, x1647);
+                x1649 = x1635 + x1643;
+                x1650 = x1637 - x1645;
+                x1651 = x1639 + x1646;
+                x1652 = x1641 - x1648;
+                x1653 = x829 * x1633;
+                x1654 = x828.mul_add(x1624, x1653);
+                x1655 = x829 * x1624;
+                x1656 = x828.mul_sub(x1633, x1655);
+                x1657 = x1625 - x1626;
+                x1658 = x834.mul_add(x1633, x1631);
+                x1659 = x834.mul_neg_add(x1627, x1632);
+                x1660 = x829 * x1659;
+                x1661 = x828.mul_add(x1629, x1660);
+                x1662 = x829 * x1629;
+                x1663 = x828.mul_sub(x1659, x1662);
+                x1664 = x651 + x1657;
+                x1665 = x829 * x1620;
+                x1666 = x828.mul_add(x1649, x1665);
+                x1667 = x829 * x1649;
+                x1668 = x828.mul_sub(x1620, x1667);
+                x1669 = x1645 - x1637;
+                x1670 = x834.mul_add(x1620, x1652);
+                x1671 = x834.mul_neg_add(x1650, x1642);
+                x1672 = x829 * x1671;
+                x1673 = x828.mul_add(x1651, x1672);
+                x1674 = x829 * x1651;
+                x1675 = x828.mul_sub(x1671, x1674);
+                x1676 = x868.mul_add(x1656, x841);
+                x1677 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x68, 0.0]);
+                x1678 = x868.mul_add(x1654, x1677);
+                x1679 = x868.mul_add(x1663, x845);
+                x1680 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x75, 0.0]);
+                x1681 = x868.mul_add(x1661, x1680);
+                x1682 = x1666 + x1676;
+                x1683 = x1668 - x1678;
+                x1684 = x1673 + x1679;
+                x1685 = x1675 - x1681;
+                x1686 = arith.splat_eight(1.0706865997634767f64);
+                x1687 = arith.splat_eight(-0.00398335888393552f64);
+                x1688 = x1687 * x1523;
+                x1689 = x1686.mul_sub(x1519, x1688);
+                x1690 = arith.splat_eight(0.01026110182100817f64);
+                x1691 = arith.splat_eight(0.0007689361029464f64);
+                x1692 = x1691 * x1523;
+                x1693 = x1690.mul_sub(x1519, x1692);
+                x1694 = 0.00398335888393552f64 * c1;
+                x1695 = arith.mul_add(-1.0706865997634767f64, s1, x1694);
+                x1696 = arith.eight([x1695, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1697 = arith
+                    .eight([0.0, 0.01026110182100817f64, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1698 = x1696 + x1697;
+                x1699 = 0.00398335888393552f64 * s1;
+                x1700 = arith.eight([x1699, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1701 = arith
+                    .eight([0.0, 0.0007689361029464f64, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1702 = x1700 + x1701;
+                x1703 = -0.0007689361029464f64 * c1;
+                x1704 = arith.mul_add(-0.01026110182100817f64, s1, x1703);
+                x1705 = arith.eight([x1704, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1706 = arith
+                    .eight([0.0, 1.1168423647533403f64, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1707 = x1705 + x1706;
+                x1708 = arith.splat_eight(x7);
+                x1709 = c1 * x131;
+                x1710 = -x1709;
+                x1711 = arith.eight([x1710, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1712 = x1708.mul_neg_add(x1707, x1711);
+                x1713 = arith.splat_eight(qd1);
+                x1714 = arith.eight([0.0, x129, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1715 = x1713.mul_add(x1702, x1714);
+                x1716 = x1712 - x1715;
+                x1717 = arith.eight([0.0, x128, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1718 = x1713.mul_add(x1698, x1717);
+                x1719 = arith.splat_eight(x5);
+                x1720 = s1 * x131;
+                x1721 = -x1720;
+                x1722 = arith.eight([x1721, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1723 = x1719.mul_neg_add(x1707, x1722);
+                x1724 = x1718 - x1723;
+                x1725 = s1 * x129;
+                x1726 = -x1725;
+                x1727 = arith.eight([x1726, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1728 = x1719.mul_neg_add(x1702, x1727);
+                x1729 = c1 * x128;
+                x1730 = -x1729;
+                x1731 = arith.eight([x1730, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1732 = x1708.mul_neg_add(x1698, x1731);
+                x1733 = x1728 - x1732;
+                x1734 = x1689 + x1716;
+                x1735 = x1687.mul_add(x1519, x1724);
+                x1736 = x1693 + x1733;
+                x1737 = x877 * x1551;
+                x1738 = x876.mul_sub(x1550, x1737);
+                x1739 = x884.mul_add(x1523, x1738);
+                x1740 = x885 * x1523;
+                x1741 = x877.mul_add(x1550, x1740);
+                x1742 = x885 * x1551;
+                x1743 = x884.mul_sub(x1550, x1742);
+                x1744 = arith.splat_eight(0.13480070614822143f64);
+                x1745 = x1744.mul_add(x1523, x1743);
+                x1746 = x893 * x1552;
+                x1747 = x892.mul_sub(x1553, x1746);
+                x1748 = x1745 + x1747;
+                x1749 = x877 * x1529;
+                x1750 = x876.mul_add(x1526, x1749);
+                x1751 = x884.mul_add(x1542, x1750);
+                x1752 = x885 * x1542;
+                x1753 = x877.mul_add(x1526, x1752);
+                x1754 = x885 * x1529;
+                x1755 = x884.mul_add(x1526, x1754);
+                x1756 = x1744.mul_add(x1542, x1755);
+                x1757 = x893 * x1536;
+                x1758 = x892.mul_sub(x1541, x1757);
+                x1759 = x1756 + x1758;
+                x1760 = x893 * x1542;
+                x1761 = x892 * x1542;
+                x1762 = x892 * x1529;
+                x1763 = x893.mul_sub(x1526, x1762);
+                x1764 = x917 * x1529;
+                x1765 = x916.mul_add(x1759, x1764);
+                x1766 = x930 * x1542;
+                x1767 = x920.mul_add(x1753, x1766);
+                x1768 = x1765 - x1767;
+                x1769 = x933 * x1542;
+                x1770 = x920.mul_add(x1751, x1769);
+                x1771 = x917 * x1526;
+                x1772 = x926.mul_add(x1759, x1771);
+                x1773 = x1770 - x1772;
+                x1774 = x930 * x1526;
+                x1775 = x926.mul_add(x1753, x1774);
+                x1776 = x933 * x1529;
+                x1777 = x916.mul_add(x1751, x1776);
+                x1778 = x1775 - x1777;
+                x1779 = x938 * x1541;
+                x1780 = x937.mul_add(x1763, x1779);
+                x1781 = x938 * x1536;
+                x1782 = x941.mul_add(x1763, x1781);
+                x1783 = x945 * x1536;
+                x1784 = x941.mul_add(x1761, x1783);
+                x1785 = x948 * x1541;
+                x1786 = x937.mul_add(x1760, x1785);
+                x1787 = x1784 + x1786;
+                x1788 = x1768 + x1780;
+                x1789 = x1773 - x1782;
+                x1790 = x1778 + x1787;
+                x1791 = x938 * x1529;
+                x1792 = x916.mul_add(x1763, x1791);
+                x1793 = x945 * x1542;
+                x1794 = x920.mul_add(x1761, x1793);
+                x1795 = x1792 - x1794;
+                x1796 = x948 * x1542;
+                x1797 = x920.mul_add(x1760, x1796);
+                x1798 = x938 * x1526;
+                x1799 = x926.mul_add(x1763, x1798);
+                x1800 = x1797 + x1799;
+                x1801 = x1739 + x1788;
+                x1802 = x1741 + x1789;
+                x1803 = x1748 + x1790;
+                x1804 = x893.mul_neg_add(x1523, x1795);
+                x1805 = x892.mul_sub(x1523, x1800);
+                x1806 = x968 * x1582;
+                x1807 = x967.mul_add(x1581, x1806);
+                x1808 = x971.mul_add(x1551, x1807);
+                x1809 = x973 * x1551;
+                x1810 = x968.mul_add(x1581, x1809);
+                x1811 = x973 * x1582;
+                x1812 = x971.mul_add(x1581, x1811);
+                x1813 = x978.mul_add(x1551, x1812);
+                x1814 = x980 * x1583;
+                x1815 = x981.mul_sub(x1584, x1814);
+                x1816 = x980.mul_neg_add(x1570, x1808);
+                x1817 = x981.mul_add(x1570, x1810);
+                x1818 = x1813 + x1815;
+                x1819 = x981 * x1582;
+                x1820 = x980.mul_sub(x1581, x1819);
+                x1821 = x968 * x1557;
+                x1822 = x967.mul_add(x1555, x1821);
+                x1823 = x971.mul_add(x1564, x1822);
+                x1824 = x973 * x1564;
+                x1825 = x968.mul_add(x1555, x1824);
+                x1826 = x973 * x1557;
+                x1827 = x971.mul_add(x1555, x1826);
+                x1828 = x978.mul_add(x1564, x1827);
+                x1829 = x980 * x1561;
+                x1830 = x981.mul_add(x1563, x1829);
+                x1831 = x980.mul_neg_add(x1559, x1823);
+                x1832 = x981.mul_add(x1559, x1825);
+                x1833 = x1828 - x1830;
+                x1834 = x980 * x1564;
+                x1835 = x981 * x1564;
+                x1836 = x981 * x1557;
+                x1837 = x980.mul_sub(x1555, x1836);
+                x1838 = x1007 * x1557;
+                x1839 = x1006.mul_add(x1833, x1838);
+                x1840 = x1011 * x1564;
+                x1841 = x1010.mul_add(x1832, x1840);
+                x1842 = x1839 - x1841;
+                x1843 = x1015 * x1564;
+                x1844 = x1010.mul_add(x1831, x1843);
+                x1845 = x1007 * x1555;
+                x1846 = x1018.mul_add(x1833, x1845);
+                x1847 = x1844 - x1846;
+                x1848 = x1011 * x1555;
+                x1849 = x1018.mul_add(x1832, x1848);
+                x1850 = x1015 * x1557;
+                x1851 = x1006.mul_add(x1831, x1850);
+                x1852 = x1849 - x1851;
+                x1853 = x1029 * x1563;
+                x1854 = x1027.mul_add(x1837, x1853);
+                x1855 = x1032 * x1559;
+                x1856 = x1031.mul_add(x1835, x1855);
+                x1857 = x1856 - x1854;
+                x1858 = x1036 * x1559;
+                x1859 = x1031.mul_add(x1834, x1858);
+                x1860 = x1029 * x1561;
+                x1861 = x1039.mul_add(x1837, x1860);
+                x1862 = x1859 - x1861;
+                x1863 = x1032 * x1561;
+                x1864 = x1039.mul_add(x1835, x1863);
+                x1865 = x1036 * x1563;
+                x1866 = x1027.mul_add(x1834, x1865);
+                x1867 = x1864 - x1866;
+                x1868 = x1842 + x1857;
+                x1869 = x1847 + x1862;
+                x1870 = x1852 + x1867;
+                x1871 = x1029 * x1557;
+                x1872 = x1006.mul_add(x1837, x1871);
+                x1873 = x1032 * x1564;
+                x1874 = x1010.mul_add(x1835, x1873);
+                x1875 = x1872 - x1874;
+                x1876 = x1036 * x1564;
+                x1877 = x1010.mul_add(x1834, x1876);
+                x1878 = x1029 * x1555;
+                x1879 = x1018.mul_add(x1837, x1878);
+                x1880 = x1877 + x1879;
+                x1881 = x1032 * x1555;
+                x1882 = x1018.mul_add(x1835, x1881);
+                x1883 = x1036 * x1557;
+                x1884 = x1006.mul_add(x1834, x1883);
+                x1885 = x1882 + x1884;
+                x1886 = x1816 + x1868;
+                x1887 = x1817 + x1869;
+                x1888 = x1818 + x1870;
+                x1889 = x980.mul_neg_add(x1551, x1875);
+                x1890 = x981.mul_sub(x1551, x1880);
+                x1891 = x1820 + x1885;
+                x1892 = x1073 * x1620;
+                x1893 = x1072.mul_sub(x1619, x1892);
+                x1894 = x1076.mul_add(x1582, x1893);
+                x1895 = x1078 * x1582;
+                x1896 = x1073.mul_add(x1619, x1895);
+                x1897 = x1078 * x1620;
+                x1898 = x1076.mul_sub(x1619, x1897);
+                x1899 = x1083.mul_add(x1582, x1898);
+                x1900 = x1085 * x1621;
+                x1901 = x1086.mul_sub(x1622, x1900);
+                x1902 = x1085.mul_add(x1607, x1894);
+                x1903 = x1086.mul_neg_add(x1607, x1896);
+                x1904 = x1899 + x1901;
+                x1905 = x1085 * x1619;
+                x1906 = x1086.mul_add(x1620, x1905);
+                x1907 = x1073 * x1588;
+                x1908 = x1072.mul_sub(x1586, x1907);
+                x1909 = x1076.mul_add(x1599, x1908);
+                x1910 = x1078 * x1599;
+                x1911 = x1073.mul_add(x1586, x1910);
+                x1912 = x1078 * x1588;
+                x1913 = x1076.mul_sub(x1586, x1912);
+                x1914 = x1083.mul_add(x1599, x1913);
+                x1915 = x1085 * x1595;
+                x1916 = x1086.mul_sub(x1598, x1915);
+                x1917 = x1085.mul_add(x1592, x1909);
+                x1918 = x1086.mul_neg_add(x1592, x1911);
+                x1919 = x1914 + x1916;
+                x1920 = x1085 * x1599;
+                x1921 = x1086 * x1599;
+                x1922 = x1085 * x1586;
+                x1923 = x1086.mul_add(x1588, x1922);
+                x1924 = x1113 * x1588;
+                x1925 = x1111.mul_add(x1919, x1924);
+                x1926 = x1116 * x1599;
+                x1927 = x1115.mul_add(x1918, x1926);
+                x1928 = x1925 + x1927;
+                x1929 = x1120 * x1599;
+                x1930 = x1115.mul_add(x1917, x1929);
+                x1931 = x1113 * x1586;
+                x1932 = x1123.mul_add(x1919, x1931);
+                x1933 = x1930 - x1932;
+                x1934 = x1116 * x1586;
+                x1935 = x1123.mul_add(x1918, x1934);
+                x1936 = x1120 * x1588;
+                x1937 = x1111.mul_add(x1917, x1936);
+                x1938 = x1935 + x1937;
+                x1939 = x1133 * x1598;
+                x1940 = x1132.mul_add(x1923, x1939);
+                x1941 = x1137 * x1592;
+                x1942 = x1136.mul_add(x1921, x1941);
+                x1943 = x1940 - x1942;
+                x1944 = x1141 * x1592;
+                x1945 = x1136.mul_add(x1920, x1944);
+                x1946 = x1133 * x1595;
+                x1947 = x1144.mul_add(x1923, x1946);
+                x1948 = x1945 + x1947;
+                x1949 = x1137 * x1595;
+                x1950 = x1144.mul_add(x1921, x1949);
+                x1951 = x1141 * x1598;
+                x1952 = x1132.mul_add(x1920, x1951);
+                x1953 = x1950 + x1952;
+                x1954 = x1943 - x1928;
+                x1955 = x1933 - x1948;
+                x1956 = x1938 + x1953;
+                x1957 = x1133 * x1588;
+                x1958 = x1111.mul_add(x1923, x1957);
+                x1959 = x1137 * x1599;
+                x1960 = x1115.mul_add(x1921, x1959);
+                x1961 = x1958 + x1960;
+                x1962 = x1141 * x1599;
+                x1963 = x1115.mul_add(x1920, x1962);
+                x1964 = x1133 * x1586;
+                x1965 = x1123.mul_add(x1923, x1964);
+                x1966 = x1963 + x1965;
+                x1967 = x1137 * x1586;
+                x1968 = x1123.mul_add(x1921, x1967);
+                x1969 = x1141 * x1588;
+                x1970 = x1111.mul_add(x1920, x1969);
+                x1971 = x1968 - x1970;
+                x1972 = x1902 + x1954;
+                x1973 = x1903 + x1955;
+                x1974 = x1904 + x1956;
+                x1975 = x1085.mul_add(x1582, x1961);
+                x1976 = x1086.mul_sub(x1582, x1966);
+                x1977 = x1906 + x1971;
+                x1978 = x1178 * x1650;
+                x1979 = x1177.mul_add(x1649, x1978);
+                x1980 = x1181.mul_add(x1620, x1979);
+                x1981 = x1183 * x1620;
+                x1982 = x1178.mul_add(x1649, x1981);
+                x1983 = x1183 * x1650;
+                x1984 = x1181.mul_add(x1649, x1983);
+                x1985 = x1188.mul_add(x1620, x1984);
+                x1986 = x1190 * x1651;
+                x1987 = x1191.mul_sub(x1652, x1986);
+                x1988 = x1190.mul_add(x1642, x1980);
+                x1989 = x1191.mul_neg_add(x1642, x1982);
+                x1990 = x1985 + x1987;
+                x1991 = x1191 * x1650;
+                x1992 = x1190.mul_sub(x1649, x1991);
+                x1993 = x1178 * x1627;
+                x1994 = x1177.mul_add(x1624, x1993);
+                x1995 = x1181.mul_add(x1633, x1994);
+                x1996 = x1183 * x1633;
+                x1997 = x1178.mul_add(x1624, x1996);
+                x1998 = x1183 * x1627;
+                x1999 = x1181.mul_add(x1624, x1998);
+                x2000 = x1188.mul_add(x1633, x1999);
+                x2001 = x1190 * x1629;
+                x2002 = x1191.mul_sub(x1631, x2001);
+                x2003 = x1190.mul_add(x1632, x1995);
+                x2004 = x1191.mul_neg_add(x1632, x1997);
+                x2005 = x2000 + x2002;
+                x2006 = x1190 * x1633;
+                x2007 = x1191 * x1633;
+                x2008 = x1191 * x1627;
+                x2009 = x1190.mul_sub(x1624, x2008);
+                x2010 = x1217 * x1627;
+                x2011 = x1216.mul_add(x2005, x2010);
+                x2012 = x1221 * x1633;
+                x2013 = x1220.mul_add(x2004, x2012);
+                x2014 = x2011 - x2013;
+                x2015 = x1225 * x1633;
+                x2016 = x1220.mul_add(x2003, x2015);
+                x2017 = x1217 * x1624;
+                x2018 = x1228.mul_add(x2005, x2017);
+                x2019 = x2016 - x2018;
+                x2020 = x1221 * x1624;
+                x2021 = x1228.mul_add(x2004, x2020);
+                x2022 = x1225 * x1627;
+                x2023 = x1216.mul_add(x2003, x2022);
+                x2024 = x2021 - x2023;
+                x2025 = x1238 * x1631;
+                x2026 = x1237.mul_add(x2009, x2025);
+                x2027 = x1243 * x1632;
+                x2028 = x1241.mul_add(x2007, x2027);
+                x2029 = x2026 - x2028;
+                x2030 = x1246 * x1632;
+                x2031 = x1241.mul_add(x2006, x2030);
+                x2032 = x1238 * x1629;
+                x2033 = x1249.mul_add(x2009, x2032);
+                x2034 = x2031 + x2033;
+                x2035 = x1243 * x1629;
+                x2036 = x1249.mul_add(x2007, x2035);
+                x2037 = x1246 * x1631;
+                x2038 = x1237.mul_add(x2006, x2037);
+                x2039 = x2036 + x2038;
+                x2040 = x2014 + x2029;
+                x2041 = x2019 - x2034;
+                x2042 = x2024 + x2039;
+                x2043 = x1238 * x1627;
+                x2044 = x1216.mul_add(x2009, x2043);
+                x2045 = x1243 * x1633;
+                x2046 = x1220.mul_add(x2007, x2045);
+                x2047 = x2044 - x2046;
+                x2048 = x1246 * x1633;
+                x2049 = x1220.mul_add(x2006, x2048);
+                x2050 = x1238 * x1624;
+                x2051 = x1228.mul_add(x2009, x2050);
+                x2052 = x2049 + x2051;
+                x2053 = x1243 * x1624;
+                x2054 = x1228.mul_add(x2007, x2053);
+                x2055 = x1246 * x1627;
+                x2056 = x1216.mul_add(x2006, x2055);
+                x2057 = x2054 + x2056;
+                x2058 = x1988 + x2040;
+                x2059 = x1989 + x2041;
+                x2060 = x1990 + x2042;
+                x2061 = x1190.mul_neg_add(x1620, x2047);
+                x2062 = x1191.mul_sub(x1620, x2052);
+                x2063 = x1992 + x2057;
+                x2064 = x1283 * x1683;
+                x2065 = x1282.mul_add(x1682, x2064);
+                x2066 = x1286.mul_add(x1669, x2065);
+                x2067 = x1288 * x1669;
+                x2068 = x1283.mul_add(x1682, x2067);
+                x2069 = x1288 * x1683;
+                x2070 = x1286.mul_add(x1682, x2069);
+                x2071 = x1293.mul_add(x1669, x2070);
+                x2072 = x1295 * x1684;
+                x2073 = x1296.mul_sub(x1685, x2072);
+                x2074 = x1295.mul_neg_add(x1670, x2066);
+                x2075 = x1296.mul_add(x1670, x2068);
+                x2076 = x2071 + x2073;
+                x2077 = x1296 * x1683;
+                x2078 = x1295.mul_sub(x1682, x2077);
+                x2079 = x1283 * x1656;
+                x2080 = x1282.mul_add(x1654, x2079);
+                x2081 = x1286.mul_add(x1664, x2080);
+                x2082 = x1288 * x1664;
+                x2083 = x1283.mul_add(x1654, x2082);
+                x2084 = x1288 * x1656;
+                x2085 = x1286.mul_add(x1654, x2084);
+                x2086 = x1293.mul_add(x1664, x2085);
+                x2087 = x1295 * x1661;
+                x2088 = x1296.mul_sub(x1663, x2087);
+                x2089 = x1295.mul_neg_add(x1658, x2081);
+                x2090 = x1296.mul_add(x1658, x2083);
+                x2091 = x2086 + x2088;
+                x2092 = x1295 * x1664;
+                x2093 = x1296 * x1664;
+                x2094 = x1296 * x1656;
+                x2095 = x1295.mul_sub(x1654, x2094);
+                x2096 = x1322 * x1656;
+                x2097 = x1321.mul_add(x2091, x2096);
+                x2098 = x1326 * x1664;
+                x2099 = x1325.mul_add(x2090, x2098);
+                x2100 = x2097 - x2099;
+                x2101 = x1330 * x1664;
+                x2102 = x1325.mul_add(x2089, x2101);
+                x2103 = x1322 * x1654;
+                x2104 = x1333.mul_add(x2091, x2103);
+                x2105 = x2102 - x2104;
+                x2106 = x1326 * x1654;
+                x2107 = x1333.mul_add(x2090, x2106);
+                x2108 = x1330 * x1656;
+                x2109 = x1321.mul_add(x2089, x2108);
+                x2110 = x2107 - x2109;
+                x2111 = x1343 * x1663;
+                x2112 = x1342.mul_add(x2095, x2111);
+                x2113 = x1347 * x1658;
+                x2114 = x1346.mul_add(x2093, x2113);
+                x2115 = x2112 + x2114;
+                x2116 = x1351 * x1658;
+                x2117 = x1346.mul_add(x2092, x2116);
+                x2118 = x1343 * x1661;
+                x2119 = x1354.mul_add(x2095, x2118);
+                x2120 = x2117 - x2119;
+                x2121 = x1347 * x1661;
+                x2122 = x1354.mul_add(x2093, x2121);
+                x2123 = x1351 * x1663;
+                x2124 = x1342.mul_add(x2092, x2123);
+                x2125 = x2122 + x2124;
+                x2126 = x2100 + x2115;
+                x2127 = x2105 + x2120;
+                x2128 = x2110 + x2125;
+                x2129 = x1343 * x1656;
+                x2130 = x1321.mul_add(x2095, x2129);
+                x2131 = x1347 * x1664;
+                x2132 = x1325.mul_add(x2093, x2131);
+                x2133 = x2130 - x2132;
+                x2134 = x1351 * x1664;
+                x2135 = x1325.mul_add(x2092, x2134);
+                x2136 = x1343 * x1654;
+                x2137 = x1333.mul_add(x2095, x2136);
+                x2138 = x2135 + x2137;
+                x2139 = x1347 * x1654;
+                x2140 = x1333.mul_add(x2093, x2139);
+                x2141 = x1351 * x1656;
+                x2142 = x1321.mul_add(x2092, x2141);
+                x2143 = x2140 + x2142;
+                x2144 = x2074 + x2126;
+                x2145 = x2075 + x2127;
+                x2146 = x2076 + x2128;
+                x2147 = x1295.mul_neg_add(x1669, x2133);
+                x2148 = x1296.mul_sub(x1669, x2138);
+                x2149 = x2078 + x2143;
+                x2150 = x829 * x2148;
+                x2151 = x828.mul_sub(x2147, x2150);
+                x2152 = x828 * x2148;
+                x2153 = x829.mul_add(x2147, x2152);
+                x2154 = x829 * x2145;
+                x2155 = x828.mul_sub(x2144, x2154);
+                x2156 = x828 * x2145;
+                x2157 = x829.mul_add(x2144, x2156);
+                x2158 = x834.mul_add(x2153, x2146);
+                x2159 = x834.mul_neg_add(x2149, x2157);
+                x2160 = x2058 + x2155;
+                x2161 = x2059 - x2158;
+                x2162 = x2060 + x2159;
+                x2163 = x2061 + x2151;
+                x2164 = x2062 - x2149;
+                x2165 = x2063 + x2153;
+                x2166 = x786 * x2164;
+                x2167 = x785.mul_sub(x2163, x2166);
+                x2168 = x785 * x2164;
+                x2169 = x786.mul_add(x2163, x2168);
+                x2170 = x786 * x2161;
+                x2171 = x785.mul_sub(x2160, x2170);
+                x2172 = x785 * x2161;
+                x2173 = x786.mul_add(x2160, x2172);
+                x2174 = x1972 + x2171;
+                x2175 = x1973 - x2162;
+                x2176 = x1974 + x2173;
+                x2177 = x2167 - x1975;
+                x2178 = x1976 - x2165;
+                x2179 = x1977 + x2169;
+                x2180 = x733 * x2178;
+                x2181 = x732.mul_sub(x2177, x2180);
+                x2182 = x732 * x2178;
+                x2183 = x733.mul_add(x2177, x2182);
+                x2184 = x733 * x2175;
+                x2185 = x732.mul_sub(x2174, x2184);
+                x2186 = x732 * x2175;
+                x2187 = x733.mul_add(x2174, x2186);
+                x2188 = x738 * x2181;
+                x2189 = x739.mul_sub(x2179, x2188);
+                x2190 = x738.mul_neg_add(x2183, x2185);
+                x2191 = x739.mul_add(x2183, x2176);
+                x2192 = x2189 - x2187;
+                x2193 = x1886 + x2190;
+                x2194 = x1887 + x2191;
+                x2195 = x1888 + x2192;
+                x2196 = x1889 + x2181;
+                x2197 = x1890 + x2179;
+                x2198 = x688 * x2197;
+                x2199 = x685.mul_sub(x2196, x2198);
+                x2200 = x2183 - x1891;
+                x2201 = x685 * x2197;
+                x2202 = x688.mul_add(x2196, x2201);
+                x2203 = x688 * x2194;
+                x2204 = x685.mul_sub(x2193, x2203);
+                x2205 = x685 * x2194;
+                x2206 = x688.mul_add(x2193, x2205);
+                x2207 = x692.mul_add(x2202, x2195);
+                x2208 = x692.mul_add(x2200, x2206);
+                x2209 = x1801 + x2204;
+                x2210 = x1802 - x2207;
+                x2211 = x1803 + x2208;
+                x2212 = x1804 + x2199;
+                x2213 = x1805 + x2200;
+                x2214 = x1492 * x2213;
+                x2215 = x1491.mul_sub(x2212, x2214);
+                x2216 = x1491 * x2213;
+                x2217 = x1492.mul_add(x2212, x2216);
+                x2218 = x1492 * x2210;
+                x2219 = x1491.mul_sub(x2209, x2218);
+                x2220 = x1491 * x2210;
+                x2221 = x1492.mul_add(x2209, x2220);
+                x2222 = x1501.mul_add(x2217, x2219);
+                x2223 = x1501.mul_neg_add(x2215, x2221);
+                x2224 = x1734 + x2222;
+                x2225 = x1735 - x2211;
+                x2226 = x1736 + x2223;
+                x2227 = x1511 * x2225;
+                x2228 = x1512.mul_add(x2224, x2227);
+                x2229 = -x2228;
+                [x2230, _, _, _, _, _, _, _] = x1515.to_array();
+                [_, x2231, _, _, _, _, _, _] = x1515.to_array();
+                [_, _, x2232, _, _, _, _, _] = x1515.to_array();
+                [_, _, _, x2233, _, _, _, _] = x1515.to_array();
+                [_, _, _, _, x2234, _, _, _] = x1515.to_array();
+                [_, _, _, _, _, x2235, _, _] = x1515.to_array();
+                [_, _, _, _, _, _, x2236, _] = x1515.to_array();
+                [x2237, _, _, _, _, _, _, _] = x1506.to_array();
+                [_, x2238, _, _, _, _, _, _] = x1506.to_array();
+                [_, _, x2239, _, _, _, _, _] = x1506.to_array();
+                [_, _, _, x2240, _, _, _, _] = x1506.to_array();
+                [_, _, _, _, x2241, _, _, _] = x1506.to_array();
+                [_, _, _, _, _, x2242, _, _] = x1506.to_array();
+                [_, _, _, _, _, _, x2243, _] = x1506.to_array();
+                [x2244, _, _, _, _, _, _, _] = x1480.to_array();
+                [_, x2245, _, _, _, _, _, _] = x1480.to_array();
+                [_, _, x2246, _, _, _, _, _] = x1480.to_array();
+                [_, _, _, x2247, _, _, _, _] = x1480.to_array();
+                [_, _, _, _, x2248, _, _, _] = x1480.to_array();
+                [_, _, _, _, _, x2249, _, _] = x1480.to_array();
+                [_, _, _, _, _, _, x2250, _] = x1480.to_array();
+                [x2251, _, _, _, _, _, _, _] = x1456.to_array();
+                [_, x2252, _, _, _, _, _, _] = x1456.to_array();
+                [_, _, x2253, _, _, _, _, _] = x1456.to_array();
+                [_, _, _, x2254, _, _, _, _] = x1456.to_array();
+                [_, _, _, _, x2255, _, _, _] = x1456.to_array();
+                [_, _, _, _, _, x2256, _, _] = x1456.to_array();
+                [_, _, _, _, _, _, x2257, _] = x1456.to_array();
+                [x2258, _, _, _, _, _, _, _] = x1429.to_array();
+                [_, x2259, _, _, _, _, _, _] = x1429.to_array();
+                [_, _, x2260, _, _, _, _, _] = x1429.to_array();
+                [_, _, _, x2261, _, _, _, _] = x1429.to_array();
+                [_, _, _, _, x2262, _, _, _] = x1429.to_array();
+                [_, _, _, _, _, x2263, _, _] = x1429.to_array();
+                [_, _, _, _, _, _, x2264, _] = x1429.to_array();
+                [x2265, _, _, _, _, _, _, _] = x1407.to_array();
+                [_, x2266, _, _, _, _, _, _] = x1407.to_array();
+                [_, _, x2267, _, _, _, _, _] = x1407.to_array();
+                [_, _, _, x2268, _, _, _, _] = x1407.to_array();
+                [_, _, _, _, x2269, _, _, _] = x1407.to_array();
+                [_, _, _, _, _, x2270, _, _] = x1407.to_array();
+                [_, _, _, _, _, _, x2271, _] = x1407.to_array();
+                [x2272, _, _, _, _, _, _, _] = x1383.to_array();
+                [_, x2273, _, _, _, _, _, _] = x1383.to_array();
+                [_, _, x2274, _, _, _, _, _] = x1383.to_array();
+                [_, _, _, x2275, _, _, _, _] = x1383.to_array();
+                [_, _, _, _, x2276, _, _, _] = x1383.to_array();
+                [_, _, _, _, _, x2277, _, _] = x1383.to_array();
+                [_, _, _, _, _, _, x2278, _] = x1383.to_array();
+                [x2279, _, _, _, _, _, _, _] = x2229.to_array();
+                [_, x2280, _, _, _, _, _, _] = x2229.to_array();
+                [_, _, x2281, _, _, _, _, _] = x2229.to_array();
+                [_, _, _, x2282, _, _, _, _] = x2229.to_array();
+                [_, _, _, _, x2283, _, _, _] = x2229.to_array();
+                [_, _, _, _, _, x2284, _, _] = x2229.to_array();
+                [_, _, _, _, _, _, x2285, _] = x2229.to_array();
+                [x2286, _, _, _, _, _, _, _] = x2226.to_array();
+                [_, x2287, _, _, _, _, _, _] = x2226.to_array();
+                [_, _, x2288, _, _, _, _, _] = x2226.to_array();
+                [_, _, _, x2289, _, _, _, _] = x2226.to_array();
+                [_, _, _, _, x2290, _, _, _] = x2226.to_array();
+                [_, _, _, _, _, x2291, _, _] = x2226.to_array();
+                [_, _, _, _, _, _, x2292, _] = x2226.to_array();
+                [x2293, _, _, _, _, _, _, _] = x2211.to_array();
+                [_, x2294, _, _, _, _, _, _] = x2211.to_array();
+                [_, _, x2295, _, _, _, _, _] = x2211.to_array();
+                [_, _, _, x2296, _, _, _, _] = x2211.to_array();
+                [_, _, _, _, x2297, _, _, _] = x2211.to_array();
+                [_, _, _, _, _, x2298, _, _] = x2211.to_array();
+                [_, _, _, _, _, _, x2299, _] = x2211.to_array();
+                [x2300, _, _, _, _, _, _, _] = x2195.to_array();
+                [_, x2301, _, _, _, _, _, _] = x2195.to_array();
+                [_, _, x2302, _, _, _, _, _] = x2195.to_array();
+                [_, _, _, x2303, _, _, _, _] = x2195.to_array();
+                [_, _, _, _, x2304, _, _, _] = x2195.to_array();
+                [_, _, _, _, _, x2305, _, _] = x2195.to_array();
+                [_, _, _, _, _, _, x2306, _] = x2195.to_array();
+                [x2307, _, _, _, _, _, _, _] = x2176.to_array();
+                [_, x2308, _, _, _, _, _, _] = x2176.to_array();
+                [_, _, x2309, _, _, _, _, _] = x2176.to_array();
+                [_, _, _, x2310, _, _, _, _] = x2176.to_array();
+                [_, _, _, _, x2311, _, _, _] = x2176.to_array();
+                [_, _, _, _, _, x2312, _, _] = x2176.to_array();
+                [_, _, _, _, _, _, x2313, _] = x2176.to_array();
+                [x2314, _, _, _, _, _, _, _] = x2162.to_array();
+                [_, x2315, _, _, _, _, _, _] = x2162.to_array();
+                [_, _, x2316, _, _, _, _, _] = x2162.to_array();
+                [_, _, _, x2317, _, _, _, _] = x2162.to_array();
+                [_, _, _, _, x2318, _, _, _] = x2162.to_array();
+                [_, _, _, _, _, x2319, _, _] = x2162.to_array();
+                [_, _, _, _, _, _, x2320, _] = x2162.to_array();
+                [x2321, _, _, _, _, _, _, _] = x2146.to_array();
+                [_, x2322, _, _, _, _, _, _] = x2146.to_array();
+                [_, _, x2323, _, _, _, _, _] = x2146.to_array();
+                [_, _, _, x2324, _, _, _, _] = x2146.to_array();
+                [_, _, _, _, x2325, _, _, _] = x2146.to_array();
+                [_, _, _, _, _, x2326, _, _] = x2146.to_array();
+                [_, _, _, _, _, _, x2327, _] = x2146.to_array();
+                (
+                    SMatrix::from_array_storage(
+                        ArrayStorage([
+                            [x2230, x2237, x2244, x2251, x2258, x2265, x2272],
+                            [x2231, x2238, x2245, x2252, x2259, x2266, x2273],
+                            [x2232, x2239, x2246, x2253, x2260, x2267, x2274],
+                            [x2233, x2240, x2247, x2254, x2261, x2268, x2275],
+                            [x2234, x2241, x2248, x2255, x2262, x2269, x2276],
+                            [x2235, x2242, x2249, x2256, x2263, x2270, x2277],
+                            [x2236, x2243, x2250, x2257, x2264, x2271, x2278],
+                        ]),
+                    ),
+                    SMatrix::from_array_storage(
+                        ArrayStorage([
+                            [x2279, x2286, x2293, x2300, x2307, x2314, x2321],
+                            [x2280, x2287, x2294, x2301, x2308, x2315, x2322],
+                            [x2281, x2288, x2295, x2302, x2309, x2316, x2323],
+                            [x2282, x2289, x2296, x2303, x2310, x2317, x2324],
+                            [x2283, x2290, x2297, x2304, x2311, x2318, x2325],
+                            [x2284, x2291, x2298, x2305, x2312, x2319, x2326],
+                            [x2285, x2292, x2299, x2306, x2313, x2320, x2327],
+                        ]),
+                    ),
+                )
+            }
+        }
+        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, a))
+    }
+    ///Operations: 1053 mul, 873 add/sub, 43 neg, 6 div, and 2417 lane ops (f64x8: each on eight lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    #[inline(never)]
+    fn forward_dynamics_derivatives(
+        t: &JointTrig<7>,
+        qd: &SVector<f64, 7>,
+        tau: &SVector<f64, 7>,
+    ) -> (SMatrix<f64, 7, 7>, SMatrix<f64, 7, 7>) {
+        struct Body;
+        impl dyngen_runtime::__private::Kernel<
+            (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
+        > for Body {
+            type Output = (SMatrix<f64, 7, 7>, SMatrix<f64, 7, 7>);
+            #[inline(always)]
+            fn run<M: dyngen_runtime::__private::MulAdd>(
+                arith: M,
+                (t, qd, tau): (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
+            ) -> (SMatrix<f64, 7, 7>, SMatrix<f64, 7, 7>) {
+                use dyngen_runtime::__private::EightLanes as _;
+                let [_, s1, s2, s3, s4, s5, s6] = t.sin;
+                let [_, c1, c2, c3, c4, c5, c6] = t.cos;
+                let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+                let [tau0, tau1, tau2, tau3, tau4, tau5, tau6] = tau.data.0[0];
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
+                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
+                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
+                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
+                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
+                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
+                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
+                x291, x292, x293, x294, x295, x296, x297, x298, x299, x300, x301, x302,
+                x303, x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
+                x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325, x326,
+                x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337, x338,
+                x339, x340, x341, x342, x343, x344, x345, x346, x347, x348, x349, x350,
+                x351, x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373, x374,
+                x375, x376, x377, x378, x379, x380, x381, x382, x383, x384, x385, x386,
+                x387, x388, x389, x390, x391, x392, x393, x394, x395, x396, x397, x398,
+                x399, x400, x401, x402, x403, x404, x405, x406, x407, x408, x409, x410,
+                x411, x412, x413, x414, x415, x416, x417, x418, x419, x420, x421, x422,
+                x423, x424, x425, x426, x427, x428, x429, x430, x431, x432, x433, x434,
+                x435, x436, x437, x438, x439, x440, x441, x442, x443, x444, x445, x446,
+                x447, x448, x449, x450, x451, x452, x453, x454, x455, x456, x457, x458,
+                x459, x460, x461, x462, x463, x464, x465, x466, x467, x468, x469, x470,
+                x471, x472, x473, x474, x475, x476, x477, x478, x479, x480, x481, x482,
+                x483, x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
+                x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505, x506,
+                x507, x508, x509, x510, x511, x512, x513, x514, x515, x516, x517, x518,
+                x519, x520, x521, x522, x523, x524, x525, x526, x527, x528, x529, x530,
+                x531, x532, x533, x534, x535, x536, x537, x538, x539, x540, x541, x542,
+                x543, x544, x545, x546, x547, x548, x549, x550, x551, x552, x553, x554,
+                x555, x556, x557, x558, x559, x560, x561, x562, x563, x564, x565, x566,
+                x567, x568, x569, x570, x571, x572, x573, x574, x575, x576, x577, x578,
+                x579, x580, x581, x582, x583, x584, x585, x586, x587, x588, x589, x590,
+                x591, x592, x593, x594, x595, x596, x597, x598, x599, x600, x601, x602,
+                x603, x604, x605, x606, x607, x608, x609, x610, x611, x612, x613, x614,
+                x615, x616, x617, x618, x619, x620, x621, x622, x623, x624, x625, x626,
+                x627, x628, x629, x630, x631, x632, x633, x634, x635, x636, x637, x638,
+                x639, x640, x641, x642, x643, x644, x645, x646, x647, x648, x649, x650,
+                x651, x652, x653, x654, x655, x656, x657, x658, x659, x660, x661, x662,
+                x663, x664, x665, x666, x667, x668, x669, x670, x671, x672, x673, x674,
+                x675, x676, x677, x678, x679, x680, x681, x682, x683, x684, x685, x686,
+                x687, x688, x689, x690, x691, x692, x693, x694, x695, x696, x697, x698,
+                x699, x700, x701, x702, x703, x704, x705, x706, x707, x708, x709, x710,
+                x711, x712, x713, x714, x715, x716, x717, x718, x719, x720, x721, x722,
+                x723, x724, x725, x726, x727, x728, x729, x730, x731, x732, x733, x734,
+                x735, x736, x737, x738, x739, x740, x741, x742, x743, x744, x745, x746,
+                x747, x748, x749, x750, x751, x752, x753, x754, x755, x756, x757, x758,
+                x759, x760, x761, x762, x763, x764, x765, x766, x767, x768, x769, x770,
+                x771, x772, x773, x774, x775, x776, x777, x778, x779, x780, x781, x782,
+                x783, x784, x785, x786, x787, x788, x789, x790, x791, x792, x793, x794,
+                x795, x796, x797, x798, x799, x800, x801, x802, x803, x804, x805, x806,
+                x807, x808, x809, x810, x811, x812, x813, x814, x815, x816, x817, x818,
+                x819, x820, x821, x822, x823, x824, x825, x826, x827, x828, x829, x830,
+                x831, x832, x833, x834, x835, x836, x837, x838, x839, x840, x841, x842,
+                x843, x844, x845, x846, x847, x848, x849, x850, x851, x852, x853, x854,
+                x855, x856, x857, x858, x859, x860, x861, x862, x863, x864, x865, x866,
+                x867, x868, x869, x870, x871, x872, x873, x874, x875, x876, x877, x878,
+                x879, x880, x881, x882, x883, x884, x885, x886, x887, x888, x889, x890,
+                x891, x892, x893, x894, x895, x896, x897, x898, x899, x900, x901, x902,
+                x903, x904, x905, x906, x907, x908, x909, x910, x911, x912, x913, x914,
+                x915, x916, x917, x918, x919, x920, x921, x922, x923, x924, x925, x926,
+                x927, x928, x929, x930, x931, x932, x933, x934, x935, x936, x937, x938,
+                x939, x940, x941, x942, x943, x944, x945, x946, x947, x948, x949, x950,
+                x951, x952, x953, x954, x955, x956, x957, x958, x959, x960, x961, x962,
+                x963, x964, x965, x966, x967, x968, x969, x970, x971, x972, x973, x974,
+                x975, x976, x977, x978, x979, x980, x981, x982, x983, x984, x985, x986,
+                x987, x988, x989, x990, x991, x992, x993, x994, x995, x996, x997, x998,
+                x999, x1000, x1001, x1002, x1003, x1004, x1005, x1006, x1007, x1008,
+                x1009, x1010, x1011, x1012, x1013, x1014, x1015, x1016, x1017, x1018,
+                x1019, x1020, x1021, x1022, x1023, x1024, x1025, x1026, x1027, x1028,
+                x1029, x1030, x1031, x1032, x1033, x1034, x1035, x1036, x1037, x1038,
+                x1039, x1040, x1041, x1042, x1043, x1044, x1045, x1046, x1047, x1048,
+                x1049, x1050, x1051, x1052, x1053, x1054, x1055, x1056, x1057, x1058,
+                x1059, x1060, x1061, x1062, x1063, x1064, x1065, x1066, x1067, x1068,
+                x1069, x1070, x1071, x1072, x1073, x1074, x1075, x1076, x1077, x1078,
+                x1079, x1080, x1081, x1082, x1083, x1084, x1085, x1086, x1087, x1088,
+                x1089, x1090, x1091, x1092, x1093, x1094, x1095, x1096, x1097, x1098,
+                x1099, x1100, x1101, x1102, x1103, x1104, x1105, x1106, x1107, x1108,
+                x1109, x1110, x1111, x1112, x1113, x1114, x1115, x1116, x1117, x1118,
+                x1119, x1120, x1121, x1122, x1123, x1124, x1125, x1126, x1127, x1128,
+                x1129, x1130, x1131, x1132, x1133, x1134, x1135, x1136, x1137, x1138,
+                x1139, x1140, x1141, x1142, x1143, x1144, x1145, x1146, x1147, x1148,
+                x1149, x1150, x1151, x1152, x1153, x1154, x1155, x1156, x1157, x1158,
+                x1159, x1160, x1161, x1162, x1163, x1164, x1165, x1166, x1167, x1168,
+                x1169, x1170, x1171, x1172, x1173, x1174, x1175, x1176, x1177, x1178,
+                x1179, x1180, x1181, x1182, x1183, x1184, x1185, x1186, x1187, x1188,
+                x1189, x1190, x1191, x1192, x1193, x1194, x1195, x1196, x1197, x1198,
+                x1199, x1200, x1201, x1202, x1203, x1204, x1205, x1206, x1207, x1208,
+                x1209, x1210, x1211, x1212, x1213, x1214, x1215, x1216, x1217, x1218,
+                x1219, x1220, x1221, x1222, x1223, x1224, x1225, x1226, x1227, x1228,
+                x1229, x1230, x1231, x1232, x1233, x1234, x1235, x1236, x1237, x1238,
+                x1239, x1240, x1241, x1242, x1243, x1244, x1245, x1246, x1247, x1248,
+                x1249, x1250, x1251, x1252, x1253, x1254, x1255, x1256, x1257, x1258,
+                x1259, x1260, x1261, x1262, x1263, x1264, x1265, x1266, x1267, x1268,
+                x1269, x1270, x1271, x1272, x1273, x1274, x1275, x1276, x1277, x1278,
+                x1279, x1280, x1281, x1282, x1283, x1284, x1285, x1286, x1287, x1288,
+                x1289, x1290, x1291, x1292, x1293, x1294, x1295, x1296, x1297, x1298,
+                x1299, x1300, x1301, x1302, x1303, x1304, x1305, x1306, x1307, x1308,
+                x1309, x1310, x1311, x1312, x1313, x1314, x1315, x1316, x1317, x1318,
+                x1319, x1320, x1321, x1322, x1323, x1324, x1325, x1326, x1327, x1328,
+                x1329, x1330, x1331, x1332, x1333, x1334, x1335, x1336, x1337, x1338,
+                x1339, x1340, x1341, x1342, x1343, x1344, x1345, x1346, x1347, x1348,
+                x1349, x1350, x1351, x1352, x1353, x1354, x1355, x1356, x1357, x1358,
+                x1359, x1360, x1361, x1362, x1363, x1364, x1365, x1366, x1367, x1368,
+                x1369, x1370, x1371, x1372, x1373, x1374, x1375, x1376, x1377, x1378,
+                x1379, x1380, x1381, x1382, x1383, x1384, x1385, x1912, x1913, x1916,
+                x1917, x1927, x1928, x1930, x1933, x1935, x2090, x2091, x2095, x2099,
+                x2100, x2105, x2106, x2116, x2117, x2121, x2122, x2125, x2126, x3095,
+                x3096, x3097, x3098, x3099, x3100, x3101, x3102, x3103, x3104, x3105,
+                x3106, x3107, x3108, x3109, x3110, x3111, x3112, x3113, x3114, x3115,
+                x3116, x3117, x3118, x3119, x3120, x3121, x3122, x3123, x3124, x3125,
+                x3126, x3127, x3128, x3129, x3130, x3131, x3132, x3133, x3134, x3135,
+                x3136, x3137, x3138, x3139, x3140, x3141, x3142, x3143, x3144, x3145,
+                x3146, x3147, x3148, x3149, x3150, x3151, x3152, x3153, x3154, x3155,
+                x3156, x3157, x3158, x3159, x3160, x3161, x3162, x3163, x3164, x3165,
+                x3166, x3167, x3168, x3169, x3170, x3171, x3172, x3173, x3174, x3175,
+                x3176, x3177, x3178, x3179, x3180, x3181, x3182, x3183, x3184, x3185,
+                x3186, x3187, x3188, x3189, x3190, x3191, x3192]: [f64; 1506];
+                let [x1386, x1387, x1388, x1389, x1390, x1391, x1392, x1393, x1394,
+                x1395, x1396, x1397, x1398, x1399, x1400, x1401, x1402, x1403, x1404,
+                x1405, x1406, x1407, x1408, x1409, x1410, x1411, x1412, x1413, x1414,
+                x1415, x1416, x1417, x1418, x1419, x1420, x1421, x1422, x1423, x1424,
+                x1425, x1426, x1427, x1428, x1429, x1430, x1431, x1432, x1433, x1434,
+                x1435, x1436, x1437, x1438, x1439, x1440, x1441, x1442, x1443, x1444,
+                x1445, x1446, x1447, x1448, x1449, x1450, x1451, x1452, x1453, x1454,
+                x1455, x1456, x1457, x1458, x1459, x1460, x1461, x1462, x1463, x1464,
+                x1465, x1466, x1467, x1468, x1469, x1470, x1471, x1472, x1473, x1474,
+                x1475, x1476, x1477, x1478, x1479, x1480, x1481, x1482, x1483, x1484,
+                x1485, x1486, x1487, x1488, x1489, x1490, x1491, x1492, x1493, x1494,
+                x1495, x1496, x1497, x1498, x1499, x1500, x1501, x1502, x1503, x1504,
+                x1505, x1506, x1507, x1508, x1509, x1510, x1511, x1512, x1513, x1514,
+                x1515, x1516, x1517, x1518, x1519, x1520, x1521, x1522, x1523, x1524,
+                x1525, x1526, x1527, x1528, x1529, x1530, x1531, x1532, x1533, x1534,
+                x1535, x1536, x1537, x1538, x1539, x1540, x1541, x1542, x1543, x1544,
+                x1545, x1546, x1547, x1548, x1549, x1550, x1551, x1552, x1553, x1554,
+                x1555, x1556, x1557, x1558, x1559, x1560, x1561, x1562, x1563, x1564,
+                x1565, x1566, x1567, x1568, x1569, x1570, x1571, x1572, x1573, x1574,
+                x1575, x1576, x1577, x1578, x1579, x1580, x1581, x1582, x1583, x1584,
+                x1585, x1586, x1587, x1588, x1589, x1590, x1591, x1592, x1593, x1594,
+                x1595, x1596, x1597, x1598, x1599, x1600, x1601, x1602, x1603, x1604,
+                x1605, x1606, x1607, x1608, x1609, x1610, x1611, x1612, x1613, x1614,
+                x1615, x1616, x1617, x1618, x1619, x1620, x1621, x1622, x1623, x1624,
+                x1625, x1626, x1627, x1628, x1629, x1630, x1631, x1632, x1633, x1634,
+                x1635, x1636, x1637, x1638, x1639, x1640, x1641, x1642, x1643, x1644,
+                x1645, x1646, x1647, x1648, x1649, x1650, x1651, x1652, x1653, x1654,
+                x1655, x1656, x1657, x1658, x1659, x1660, x1661, x1662, x1663, x1664,
+                x1665, x1666, x1667, x1668, x1669, x1670, x1671, x1672, x1673, x1674,
+                x1675, x1676, x1677, x1678, x1679, x1680, x1681, x1682, x1683, x1684,
+                x1685, x1686, x1687, x1688, x1689, x1690, x1691, x1692, x1693, x1694,
+                x1695, x1696, x1697, x1698, x1699, x1700, x1701, x1702, x1703, x1704,
+                x1705, x1706, x1707, x1708, x1709, x1710, x1711, x1712, x1713, x1714,
+                x1715, x1716, x1717, x1718, x1719, x1720, x1721, x1722, x1723, x1724,
+                x1725, x1726, x1727, x1728, x1729, x1730, x1731, x1732, x1733, x1734,
+                x1735, x1736, x1737, x1738, x1739, x1740, x1741, x1742, x1743, x1744,
+                x1745, x1746, x1747, x1748, x1749, x1750, x1751, x1752, x1753, x1754,
+                x1755, x1756, x1757, x1758, x1759, x1760, x1761, x1762, x1763, x1764,
+                x1765, x1766, x1767, x1768, x1769, x1770, x1771, x1772, x1773, x1774,
+                x1775, x1776, x1777, x1778, x1779, x1780, x1781, x1782, x1783, x1784,
+                x1785, x1786, x1787, x1788, x1789, x1790, x1791, x1792, x1793, x1794,
+                x1795, x1796, x1797, x1798, x1799, x1800, x1801, x1802, x1803, x1804,
+                x1805, x1806, x1807, x1808, x1809, x1810, x1811, x1812, x1813, x1814,
+                x1815, x1816, x1817, x1818, x1819, x1820, x1821, x1822, x1823, x1824,
+                x1825, x1826, x1827, x1828, x1829, x1830, x1831, x1832, x1833, x1834,
+                x1835, x1836, x1837, x1838, x1839, x1840, x1841, x1842, x1843, x1844,
+                x1845, x1846, x1847, x1848, x1849, x1850, x1851, x1852, x1853, x1854,
+                x1855, x1856, x1857, x1858, x1859, x1860, x1861, x1862, x1863, x1864,
+                x1865, x1866, x1867, x1868, x1869, x1870, x1871, x1872, x1873, x1874,
+                x1875, x1876, x1877, x1878, x1879, x1880, x1881, x1882, x1883, x1884,
+                x1885, x1886, x1887, x1888, x1889, x1890, x1891, x1892, x1893, x1894,
+                x1895, x1896, x1897, x1898, x1899, x1900, x1901, x1902, x1903, x1904,
+                x1905, x1906, x1907, x1908, x1909, x1910, x1911, x1914, x1915, x1918,
+                x1919, x1920, x1921, x1922, x1923, x1924, x1925, x1926, x1929, x1931,
+                x1932, x1934, x1936, x1937, x1938, x1939, x1940, x1941, x1942, x1943,
+                x1944, x1945, x1946, x1947, x1948, x1949, x1950, x1951, x1952, x1953,
+                x1954, x1955, x1956, x1957, x1958, x1959, x1960, x1961, x1962, x1963,
+                x1964, x1965, x1966, x1967, x1968, x1969, x1970, x1971, x1972, x1973,
+                x1974, x1975, x1976, x1977, x1978, x1979, x1980, x1981, x1982, x1983,
+                x1984, x1985, x1986, x1987, x1988, x1989, x1990, x1991, x1992, x1993,
+                x1994, x1995, x1996, x1997, x1998, x1999, x2000, x2001, x2002, x2003,
+                x2004, x2005, x2006, x2007, x2008, x2009, x2010, x2011, x2012, x2013,
+                x2014, x2015, x2016, x2017, x2018, x2019, x2020, x2021, x2022, x2023,
+                x2024, x2025, x2026, x2027, x2028, x2029, x2030, x2031, x2032, x2033,
+                x2034, x2035, x2036, x2037, x2038, x2039, x2040, x2041, x2042, x2043,
+                x2044, x2045, x2046, x2047, x2048, x2049, x2050, x2051, x2052, x2053,
+                x2054, x2055, x2056, x2057, x2058, x2059, x2060, x2061, x2062, x2063,
+                x2064, x2065, x2066, x2067, x2068, x2069, x2070, x2071, x2072, x2073,
+                x2074, x2075, x2076, x2077, x2078, x2079, x2080, x2081, x2082, x2083,
+                x2084, x2085, x2086, x2087, x2088, x2089, x2092, x2093, x2094, x2096,
+                x2097, x2098, x2101, x2102, x2103, x2104, x2107, x2108, x2109, x2110,
+                x2111, x2112, x2113, x2114, x2115, x2118, x2119, x2120, x2123, x2124,
+                x2127, x2128, x2129, x2130, x2131, x2132, x2133, x2134, x2135, x2136,
+                x2137, x2138, x2139, x2140, x2141, x2142, x2143, x2144, x2145, x2146,
+                x2147, x2148, x2149, x2150, x2151, x2152, x2153, x2154, x2155, x2156,
+                x2157, x2158, x2159, x2160, x2161, x2162, x2163, x2164, x2165, x2166,
+                x2167, x2168, x2169, x2170, x2171, x2172, x2173, x2174, x2175, x2176,
+                x2177, x2178, x2179, x2180, x2181, x2182, x2183, x2184, x2185, x2186,
+                x2187, x2188, x2189, x2190, x2191, x2192, x2193, x2194, x2195, x2196,
+                x2197, x2198, x2199, x2200, x2201, x2202, x2203, x2204, x2205, x2206,
+                x2207, x2208, x2209, x2210, x2211, x2212, x2213, x2214, x2215, x2216,
+                x2217, x2218, x2219, x2220, x2221, x2222, x2223, x2224, x2225, x2226,
+                x2227, x2228, x2229, x2230, x2231, x2232, x2233, x2234, x2235, x2236,
+                x2237, x2238, x2239, x2240, x2241, x2242, x2243, x2244, x2245, x2246,
+                x2247, x2248, x2249, x2250, x2251, x2252, x2253, x2254, x2255, x2256,
+                x2257, x2258, x2259, x2260, x2261, x2262, x2263, x2264, x2265, x2266,
+                x2267, x2268, x2269, x2270, x2271, x2272, x2273, x2274, x2275, x2276,
+                x2277, x2278, x2279, x2280, x2281, x2282, x2283, x2284, x2285, x2286,
+                x2287, x2288, x2289, x2290, x2291, x2292, x2293, x2294, x2295, x2296,
+                x2297, x2298, x2299, x2300, x2301, x2302, x2303, x2304, x2305, x2306,
+                x2307, x2308, x2309, x2310, x2311, x2312, x2313, x2314, x2315, x2316,
+                x2317, x2318, x2319, x2320, x2321, x2322, x2323, x2324, x2325, x2326,
+                x2327, x2328, x2329, x2330, x2331, x2332, x2333, x2334, x2335, x2336,
+                x2337, x2338, x2339, x2340, x2341, x2342, x2343, x2344, x2345, x2346,
+                x2347, x2348, x2349, x2350, x2351, x2352, x2353, x2354, x2355, x2356,
+                x2357, x2358, x2359, x2360, x2361, x2362, x2363, x2364, x2365, x2366,
+                x2367, x2368, x2369, x2370, x2371, x2372, x2373, x2374, x2375, x2376,
+                x2377, x2378, x2379, x2380, x2381, x2382, x2383, x2384, x2385, x2386,
+                x2387, x2388, x2389, x2390, x2391, x2392, x2393, x2394, x2395, x2396,
+                x2397, x2398, x2399, x2400, x2401, x2402, x2403, x2404, x2405, x2406,
+                x2407, x2408, x2409, x2410, x2411, x2412, x2413, x2414, x2415, x2416,
+                x2417, x2418, x2419, x2420, x2421, x2422, x2423, x2424, x2425, x2426,
+                x2427, x2428, x2429, x2430, x2431, x2432, x2433, x2434, x2435, x2436,
+                x2437, x2438, x2439, x2440, x2441, x2442, x2443, x2444, x2445, x2446,
+                x2447, x2448, x2449, x2450, x2451, x2452, x2453, x2454, x2455, x2456,
+                x2457, x2458, x2459, x2460, x2461, x2462, x2463, x2464, x2465, x2466,
+                x2467, x2468, x2469, x2470, x2471, x2472, x2473, x2474, x2475, x2476,
+                x2477, x2478, x2479, x2480, x2481, x2482, x2483, x2484, x2485, x2486,
+                x2487, x2488, x2489, x2490, x2491, x2492, x2493, x2494, x2495, x2496,
+                x2497, x2498, x2499, x2500, x2501, x2502, x2503, x2504, x2505, x2506,
+                x2507, x2508, x2509, x2510, x2511, x2512, x2513, x2514, x2515, x2516,
+                x2517, x2518, x2519, x2520, x2521, x2522, x2523, x2524, x2525, x2526,
+                x2527, x2528, x2529, x2530, x2531, x2532, x2533, x2534, x2535, x2536,
+                x2537, x2538, x2539, x2540, x2541, x2542, x2543, x2544, x2545, x2546,
+                x2547, x2548, x2549, x2550, x2551, x2552, x2553, x2554, x2555, x2556,
+                x2557, x2558, x2559, x2560, x2561, x2562, x2563, x2564, x2565, x2566,
+                x2567, x2568, x2569, x2570, x2571, x2572, x2573, x2574, x2575, x2576,
+                x2577, x2578, x2579, x2580, x2581, x2582, x2583, x2584, x2585, x2586,
+                x2587, x2588, x2589, x2590, x2591, x2592, x2593, x2594, x2595, x2596,
+                x2597, x2598, x2599, x2600, x2601, x2602, x2603, x2604, x2605, x2606,
+                x2607, x2608, x2609, x2610, x2611, x2612, x2613, x2614, x2615, x2616,
+                x2617, x2618, x2619, x2620, x2621, x2622, x2623, x2624, x2625, x2626,
+                x2627, x2628, x2629, x2630, x2631, x2632, x2633, x2634, x2635, x2636,
+                x2637, x2638, x2639, x2640, x2641, x2642, x2643, x2644, x2645, x2646,
+                x2647, x2648, x2649, x2650, x2651, x2652, x2653, x2654, x2655, x2656,
+                x2657, x2658, x2659, x2660, x2661, x2662, x2663, x2664, x2665, x2666,
+                x2667, x2668, x2669, x2670, x2671, x2672, x2673, x2674, x2675, x2676,
+                x2677, x2678, x2679, x2680, x2681, x2682, x2683, x2684, x2685, x2686,
+                x2687, x2688, x2689, x2690, x2691, x2692, x2693, x2694, x2695, x2696,
+                x2697, x2698, x2699, x2700, x2701, x2702, x2703, x2704, x2705, x2706,
+                x2707, x2708, x2709, x2710, x2711, x2712, x2713, x2714, x2715, x2716,
+                x2717, x2718, x2719, x2720, x2721, x2722, x2723, x2724, x2725, x2726,
+                x2727, x2728, x2729, x2730, x2731, x2732, x2733, x2734, x2735, x2736,
+                x2737, x2738, x2739, x2740, x2741, x2742, x2743, x2744, x2745, x2746,
+                x2747, x2748, x2749, x2750, x2751, x2752, x2753, x2754, x2755, x2756,
+                x2757, x2758, x2759, x2760, x2761, x2762, x2763, x2764, x2765, x2766,
+                x2767, x2768, x2769, x2770, x2771, x2772, x2773, x2774, x2775, x2776,
+                x2777, x2778, x2779, x2780, x2781, x2782, x2783, x2784, x2785, x2786,
+                x2787, x2788, x2789, x2790, x2791, x2792, x2793, x2794, x2795, x2796,
+                x2797, x2798, x2799, x2800, x2801, x2802, x2803, x2804, x2805, x2806,
+                x2807, x2808, x2809, x2810, x2811, x2812, x2813, x2814, x2815, x2816,
+                x2817, x2818, x2819, x2820, x2821, x2822, x2823, x2824, x2825, x2826,
+                x2827, x2828, x2829, x2830, x2831, x2832, x2833, x2834, x2835, x2836,
+                x2837, x2838, x2839, x2840, x2841, x2842, x2843, x2844, x2845, x2846,
+                x2847, x2848, x2849, x2850, x2851, x2852, x2853, x2854, x2855, x2856,
+                x2857, x2858, x2859, x2860, x2861, x2862, x2863, x2864, x2865, x2866,
+                x2867, x2868, x2869, x2870, x2871, x2872, x2873, x2874, x2875, x2876,
+                x2877, x2878, x2879, x2880, x2881, x2882, x2883, x2884, x2885, x2886,
+                x2887, x2888, x2889, x2890, x2891, x2892, x2893, x2894, x2895, x2896,
+                x2897, x2898, x2899, x2900, x2901, x2902, x2903, x2904, x2905, x2906,
+                x2907, x2908, x2909, x2910, x2911, x2912, x2913, x2914, x2915, x2916,
+                x2917, x2918, x2919, x2920, x2921, x2922, x2923, x2924, x2925, x2926,
+                x2927, x2928, x2929, x2930, x2931, x2932, x2933, x2934, x2935, x2936,
+                x2937, x2938, x2939, x2940, x2941, x2942, x2943, x2944, x2945, x2946,
+                x2947, x2948, x2949, x2950, x2951, x2952, x2953, x2954, x2955, x2956,
+                x2957, x2958, x2959, x2960, x2961, x2962, x2963, x2964, x2965, x2966,
+                x2967, x2968, x2969, x2970, x2971, x2972, x2973, x2974, x2975, x2976,
+                x2977, x2978, x2979, x2980, x2981, x2982, x2983, x2984, x2985, x2986,
+                x2987, x2988, x2989, x2990, x2991, x2992, x2993, x2994, x2995, x2996,
+                x2997, x2998, x2999, x3000, x3001, x3002, x3003, x3004, x3005, x3006,
+                x3007, x3008, x3009, x3010, x3011, x3012, x3013, x3014, x3015, x3016,
+                x3017, x3018, x3019, x3020, x3021, x3022, x3023, x3024, x3025, x3026,
+                x3027, x3028, x3029, x3030, x3031, x3032, x3033, x3034, x3035, x3036,
+                x3037, x3038, x3039, x3040, x3041, x3042, x3043, x3044, x3045, x3046,
+                x3047, x3048, x3049, x3050, x3051, x3052, x3053, x3054, x3055, x3056,
+                x3057, x3058, x3059, x3060, x3061, x3062, x3063, x3064, x3065, x3066,
+                x3067, x3068, x3069, x3070, x3071, x3072, x3073, x3074, x3075, x3076,
+                x3077, x3078, x3079, x3080, x3081, x3082, x3083, x3084, x3085, x3086,
+                x3087, x3088, x3089, x3090, x3091, x3092, x3093, x3094,
+                ]: [M::Eight; 1687];
+                x0 = s1 * c2;
+                x1 = -x0;
+                x2 = s1 * s2;
+                x3 = -9.81f64 * s1;
+                x4 = -9.81f64 * c1;
+                x5 = s2 * x3;
+                x6 = 32.80954542685272f64 * s1;
+                x7 = arith.mul_add(0.01993386669246f64, c1, -x6);
+                x8 = 0.27690780075318017f64 * c1;
+                x9 = 7.326676586344321f64 * c1;
+                x10 = qd0 * s1;
+                x11 = -x10;
+                x12 = qd0 * c1;
+                x13 = -x12;
+                x14 = c2 * x10;
+                x15 = qd1 * s2;
+                x16 = x15 - x14;
+                x17 = qd1 * c2;
+                x18 = arith.mul_add(s2, x10, x17);
+                x19 = -0.316f64 * qd1;
+                x20 = 0.316f64 * x10;
+                x21 = c2 * x19;
+                x22 = s2 * x20;
+                x23 = x22 - x21;
+                x24 = c2 * x20;
+                x25 = arith.mul_add(s2, x19, x24);
+                x26 = qd2 + x12;
+                x27 = s3 * x26;
+                x28 = arith.mul_add(c3, x16, x27);
+                x29 = s3 * x16;
+                x30 = arith.mul_add(c3, x26, -x29);
+                x31 = 0.0825f64 * x18;
+                x32 = arith.mul_add(0.0825f64, x26, x25);
+                x33 = c3 * x23;
+                x34 = s3 * x31;
+                x35 = x33 - x34;
+                x36 = c3 * x31;
+                x37 = arith.mul_add(s3, x23, x36);
+                x38 = -x37;
+                x39 = qd3 - x18;
+                x40 = c4 * x28;
+                x41 = s4 * x39;
+                x42 = x40 - x41;
+                x43 = c4 * x39;
+                x44 = arith.mul_add(s4, x28, x43);
+                x45 = -x44;
+                x46 = 0.384f64 * x28;
+                x47 = arith.mul_add(-0.0825f64, x30, -x46);
+                x48 = arith.mul_add(-0.384f64, x39, x35);
+                x49 = arith.mul_add(-0.0825f64, x39, -x37);
+                x50 = x32 + x47;
+                x51 = s4 * x50;
+                x52 = arith.mul_add(c4, x48, x51);
+                x53 = s4 * x48;
+                x54 = c4 * x50;
+                x55 = x54 - x53;
+                x56 = qd4 + x30;
+                x57 = s5 * x56;
+                x58 = arith.mul_add(c5, x42, x57);
+                x59 = s5 * x42;
+                x60 = c5 * x56;
+                x61 = x60 - x59;
+                x62 = s5 * x49;
+                x63 = arith.mul_add(c5, x52, x62);
+                x64 = s5 * x52;
+                x65 = arith.mul_add(c5, x49, -x64);
+                x66 = x53 - x54;
+                x67 = qd5 + x44;
+                x68 = s6 * x67;
+                x69 = arith.mul_add(c6, x58, x68);
+                x70 = s6 * x58;
+                x71 = arith.mul_add(c6, x67, -x70);
+                x72 = x59 - x60;
+                x73 = arith.mul_add(0.088f64, x67, x65);
+                x74 = arith.mul_add(-0.088f64, x61, x66);
+                x75 = s6 * x74;
+                x76 = arith.mul_add(c6, x63, x75);
+                x77 = s6 * x63;
+                x78 = arith.mul_add(c6, x74, -x77);
+                x79 = qd6 + x72;
+                x80 = x21 - x22;
+                x81 = x14 - x15;
+                x82 = x34 - x33;
+                x83 = -x28;
+                x84 = -x52;
+                x85 = x41 - x40;
+                x86 = -x63;
+                x87 = -x58;
+                x88 = -x76;
+                x89 = -x69;
+                x90 = -0.0020344399586617965f64 * s6;
+                x91 = arith.mul_add(0.002573605371338202f64, c6, x90);
+                x92 = 0.0020344399586617965f64 * c6;
+                x93 = arith.mul_add(0.002573605371338202f64, s6, x92);
+                x94 = -0.0003913912816842481f64 * s6;
+                x95 = arith.mul_add(0.0024209437785212354f64, c6, x94);
+                x96 = 0.0003913912816842481f64 * c6;
+                x97 = 0.001255536598272898f64 * s6;
+                x98 = arith.mul_add(-0.0009653051699191116f64, c6, x97);
+                x99 = arith.mul_add(0.0024209437785212354f64, s6, x96);
+                x100 = 0.0003913912816842481f64 * s6;
+                x101 = -0.001255536598272898f64 * c6;
+                x102 = arith.mul_add(-0.0009653051699191116f64, s6, x101);
+                x103 = s6 * x96;
+                x104 = arith.mul_add(c6, x95, -x103);
+                x105 = c6 * x96;
+                x106 = arith.mul_add(s6, x95, x105);
+                x107 = 0.001255536598272898f64 * c6;
+                x108 = arith.mul_add(0.0009653051699191116f64, s6, x107);
+                x109 = c6 * x100;
+                x110 = arith.mul_add(s6, x99, x109);
+                x111 = 0.088f64 * x91;
+                x112 = 0.176f64 * x91;
+                x113 = x104 + x112;
+                x114 = x111 + x111;
+                x115 = x113 - x114;
+                x116 = 0.006684151967360945f64 + x112;
+                x117 = arith.mul_add(-0.088f64, x93, x106);
+                x118 = x110 + x112;
+                x119 = 0.231847552695f64 + x91;
+                x120 = 0.009543771269492206f64 + x115;
+                x121 = 0.014748570382675316f64 - x98;
+                x122 = -0.00010375891721868492f64 + x117;
+                x123 = 0.000093569097314605f64 + x108;
+                x124 = 0.05258828201066731f64 + x118;
+                x125 = 0.17380470556900002f64 * s5;
+                x126 = arith.mul_add(c5, x119, x125);
+                x127 = s5 * x119;
+                x128 = arith.mul_add(-0.17380470556900002f64, c5, x127);
+                x129 = s5 * x121;
+                x130 = arith.mul_add(c5, x120, -x129);
+                x131 = c5 * x121;
+                x132 = arith.mul_add(-s5, x116, x131);
+                x133 = c5 * x122;
+                x134 = s5 * x123;
+                x135 = x133 - x134;
+                x136 = arith.mul_add(s5, x120, x131);
+                x137 = arith.mul_add(c5, x116, x129);
+                x138 = c5 * x123;
+                x139 = arith.mul_add(s5, x122, x138);
+                x140 = s5 * x132;
+                x141 = arith.mul_add(c5, x130, -x140);
+                x142 = x134 - x133;
+                x143 = c5 * x132;
+                x144 = arith.mul_add(s5, x130, x143);
+                x145 = c5 * x137;
+                x146 = arith.mul_add(s5, x136, x145);
+                x147 = -0.014653732538f64 + x126;
+                x148 = 0.067870631425f64 - x93;
+                x149 = 0.030116287133882078f64 + x141;
+                x150 = -0.0015152444733270301f64 + x142;
+                x151 = -0.004600245517563105f64 + x144;
+                x152 = 0.0021640520520981297f64 - x139;
+                x153 = 0.03301859926393551f64 + x146;
+                x154 = c4 * x147;
+                x155 = arith.mul_add(-s4, x148, x154);
+                x156 = s4 * x147;
+                x157 = arith.mul_add(c4, x148, x156);
+                x158 = s4 * x150;
+                x159 = arith.mul_add(c4, x149, -x158);
+                x160 = c4 * x150;
+                x161 = s4 * x124;
+                x162 = x160 - x161;
+                x163 = s4 * x152;
+                x164 = arith.mul_add(c4, x151, -x163);
+                x165 = arith.mul_add(s4, x149, x160);
+                x166 = c4 * x124;
+                x167 = x158 + x166;
+                x168 = c4 * x152;
+                x169 = arith.mul_add(s4, x151, x168);
+                x170 = s4 * x162;
+                x171 = arith.mul_add(c4, x159, -x170);
+                x172 = c4 * x162;
+                x173 = arith.mul_add(s4, x159, x172);
+                x174 = c4 * x167;
+                x175 = arith.mul_add(s4, x165, x174);
+                x176 = -0.0825f64 * x155;
+                x177 = 0.384f64 * x128;
+                x178 = x176 + x177;
+                x179 = 2f64 * x178;
+                x180 = x171 + x179;
+                x181 = x176 + x176;
+                x182 = x180 - x181;
+                x183 = 0.384f64 * x155;
+                x184 = arith.mul_add(-0.0825f64, x128, x183);
+                x185 = x164 - x184;
+                x186 = x153 + x179;
+                x187 = x177 + x177;
+                x188 = x186 - x187;
+                x189 = 0.0825f64 * x157;
+                x190 = x173 + x189;
+                x191 = arith.mul_add(-0.384f64, x157, x169);
+                x192 = x175 + x179;
+                x193 = -0.5527802746499999f64 + x155;
+                x194 = 2.0125235536029997f64 + x128;
+                x195 = 0.647723094939183f64 + x182;
+                x196 = 0.16284087268546082f64 + x185;
+                x197 = 0.0039053550262761003f64 - x190;
+                x198 = -0.0016444875773692705f64 - x191;
+                x199 = 0.7497633672528139f64 + x192;
+                x200 = s3 * x194;
+                x201 = arith.mul_add(c3, x193, -x200);
+                x202 = c3 * x194;
+                x203 = arith.mul_add(s3, x193, x202);
+                x204 = s3 * x196;
+                x205 = arith.mul_add(c3, x195, -x204);
+                x206 = c3 * x196;
+                x207 = arith.mul_add(-s3, x188, x206);
+                x208 = c3 * x197;
+                x209 = s3 * x198;
+                x210 = x208 - x209;
+                x211 = x190 - 0.0039053550262761003f64;
+                x212 = x191 - -0.0016444875773692705f64;
+                x213 = arith.mul_add(s3, x195, x206);
+                x214 = arith.mul_add(c3, x188, x204);
+                x215 = c3 * x198;
+                x216 = arith.mul_add(s3, x197, x215);
+                x217 = s3 * x207;
+                x218 = arith.mul_add(c3, x205, -x217);
+                x219 = x209 - x208;
+                x220 = c3 * x207;
+                x221 = arith.mul_add(s3, x205, x220);
+                x222 = c3 * x212;
+                x223 = arith.mul_add(s3, x211, x222);
+                x224 = c3 * x214;
+                x225 = arith.mul_add(s3, x213, x224);
+                x226 = 0.0825f64 * x201;
+                x227 = 0.165f64 * x201;
+                x228 = x218 + x227;
+                x229 = x226 + x226;
+                x230 = x228 - x229;
+                x231 = x219 - x189;
+                x232 = x199 + x227;
+                x233 = arith.mul_add(-0.0825f64, x203, x221);
+                x234 = x225 + x227;
+                x235 = 0.746857959872f64 + x201;
+                x236 = 0.028227094878000014f64 + x157;
+                x237 = 0.011595864095166043f64 + x230;
+                x238 = -0.00012191242095074308f64 + x231;
+                x239 = -0.005487648106562256f64 + x233;
+                x240 = -0.004377257121839584f64 + x223;
+                x241 = 0.13480070614822143f64 + x234;
+                x242 = s2 * x236;
+                x243 = arith.mul_add(c2, x235, -x242);
+                x244 = c2 * x236;
+                x245 = arith.mul_add(s2, x235, x244);
+                x246 = s2 * x238;
+                x247 = arith.mul_add(c2, x237, -x246);
+                x248 = c2 * x238;
+                x249 = arith.mul_add(-s2, x232, x248);
+                x250 = c2 * x239;
+                x251 = s2 * x240;
+                x252 = x250 - x251;
+                x253 = arith.mul_add(s2, x237, x248);
+                x254 = arith.mul_add(c2, x232, x246);
+                x255 = c2 * x240;
+                x256 = arith.mul_add(s2, x239, x255);
+                x257 = s2 * x249;
+                x258 = arith.mul_add(c2, x247, -x257);
+                x259 = x251 - x250;
+                x260 = c2 * x249;
+                x261 = arith.mul_add(s2, x247, x260);
+                x262 = c2 * x254;
+                x263 = arith.mul_add(s2, x253, x262);
+                x264 = 0.316f64 * x203;
+                x265 = 0.632f64 * x203;
+                x266 = x258 + x265;
+                x267 = -0.316f64 * x243;
+                x268 = x259 - x267;
+                x269 = x241 + x265;
+                x270 = x264 + x264;
+                x271 = x269 - x270;
+                x272 = arith.mul_add(-0.316f64, x245, x256);
+                x273 = x263 + x265;
+                x274 = 1.0706865997634767f64 + x266;
+                x275 = -0.00398335888393552f64 + x268;
+                x276 = 0.01026110182100817f64 + x261;
+                x277 = 0.0007689361029464f64 - x272;
+                x278 = 1.1168423647533403f64 + x273;
+                x279 = s1 * x274;
+                x280 = arith.mul_add(c1, x275, x279);
+                x281 = c1 * x271;
+                x282 = arith.mul_add(s1, x275, x281);
+                x283 = c1 * x277;
+                x284 = arith.mul_add(s1, x276, x283);
+                x285 = c1 * x282;
+                x286 = arith.mul_add(s1, x280, x285);
+                x287 = 0.03733744848940618f64 + x286;
+                x288 = x252 + x267;
+                x289 = arith.mul_add(-0.316f64, x245, x256);
+                x290 = s1 * x288;
+                x291 = arith.mul_add(c1, x241, -x290);
+                x292 = x199 + x226;
+                x293 = c2 * x203;
+                x294 = s2 * x203;
+                x295 = s2 * x292;
+                x296 = arith.mul_add(c2, x210, x295);
+                x297 = c2 * x292;
+                x298 = arith.mul_add(s2, x210, -x297);
+                x299 = arith.mul_add(0.316f64, x294, x296);
+                x300 = arith.mul_add(-0.316f64, x293, x298);
+                x301 = s1 * x299;
+                x302 = arith.mul_add(c1, x216, -x301);
+                x303 = x93 - 0.067870631425f64;
+                x304 = arith.mul_add(c4, x303, -x156);
+                x305 = arith.mul_add(s4, x303, x154);
+                x306 = 0.0825f64 * x305;
+                x307 = arith.mul_add(-0.384f64, x305, x164);
+                x308 = x153 - x306;
+                x309 = arith.mul_add(0.384f64, x304, x169);
+                x310 = c3 * x304;
+                x311 = s3 * x304;
+                x312 = s3 * x308;
+                x313 = arith.mul_add(c3, x307, -x312);
+                x314 = c3 * x308;
+                x315 = arith.mul_add(s3, x307, x314);
+                x316 = arith.mul_add(-0.0825f64, x311, x309);
+                x317 = x306 + x315;
+                x318 = s2 * x305;
+                x319 = arith.mul_add(c2, x310, -x318);
+                x320 = c2 * x305;
+                x321 = arith.mul_add(s2, x310, x320);
+                x322 = s2 * x316;
+                x323 = arith.mul_add(c2, x313, -x322);
+                x324 = c2 * x316;
+                x325 = arith.mul_add(s2, x313, x324);
+                x326 = arith.mul_add(-0.316f64, x321, x323);
+                x327 = arith.mul_add(0.316f64, x319, x325);
+                x328 = s1 * x326;
+                x329 = arith.mul_add(c1, x317, -x328);
+                x330 = arith.mul_add(0.17380470556900002f64, c5, -x127);
+                x331 = c4 * x330;
+                x332 = s4 * x330;
+                x333 = arith.mul_add(c4, x135, x161);
+                x334 = arith.mul_add(-s4, x135, x166);
+                x335 = 0.0825f64 * x332;
+                x336 = 0.384f64 * x331;
+                x337 = arith.mul_add(-0.0825f64, x126, -x336);
+                x338 = arith.mul_add(-0.384f64, x332, x333);
+                x339 = x139 - x335;
+                x340 = x334 + x337;
+                x341 = s3 * x126;
+                x342 = arith.mul_add(c3, x331, -x341);
+                x343 = c3 * x126;
+                x344 = arith.mul_add(s3, x331, x343);
+                x345 = s3 * x339;
+                x346 = arith.mul_add(c3, x338, -x345);
+                x347 = c3 * x339;
+                x348 = arith.mul_add(s3, x338, x347);
+                x349 = arith.mul_add(0.0825f64, x344, x340);
+                x350 = x335 + x348;
+                x351 = s2 * x332;
+                x352 = arith.mul_add(c2, x342, -x351);
+                x353 = c2 * x332;
+                x354 = arith.mul_add(s2, x342, x353);
+                x355 = s2 * x349;
+                x356 = arith.mul_add(c2, x346, x355);
+                x357 = c2 * x349;
+                x358 = arith.mul_add(s2, x346, -x357);
+                x359 = arith.mul_add(-0.316f64, x354, x356);
+                x360 = arith.mul_add(0.316f64, x352, x358);
+                x361 = s1 * x359;
+                x362 = arith.mul_add(c1, x350, -x361);
+                x363 = -0.002573605371338202f64 * s6;
+                x364 = arith.mul_add(-0.0020344399586617965f64, c6, x363);
+                x365 = -0.006684151967360945f64 - x111;
+                x366 = c5 * x364;
+                x367 = s5 * x364;
+                x368 = s5 * x365;
+                x369 = arith.mul_add(c5, x98, -x368);
+                x370 = c5 * x365;
+                x371 = arith.mul_add(s5, x98, x370);
+                x372 = s4 * x91;
+                x373 = arith.mul_add(c4, x366, x372);
+                x374 = s4 * x366;
+                x375 = c4 * x91;
+                x376 = x375 - x374;
+                x377 = s4 * x102;
+                x378 = arith.mul_add(c4, x369, x377);
+                x379 = s4 * x369;
+                x380 = arith.mul_add(c4, x102, -x379);
+                x381 = 0.384f64 * x373;
+                x382 = arith.mul_add(-0.0825f64, x367, -x381);
+                x383 = arith.mul_add(0.384f64, x376, x378);
+                x384 = arith.mul_add(0.0825f64, x376, x371);
+                x385 = x380 + x382;
+                x386 = s3 * x367;
+                x387 = arith.mul_add(c3, x373, -x386);
+                x388 = x374 - x375;
+                x389 = c3 * x367;
+                x390 = arith.mul_add(s3, x373, x389);
+                x391 = s3 * x384;
+                x392 = arith.mul_add(c3, x383, -x391);
+                x393 = c3 * x384;
+                x394 = arith.mul_add(s3, x383, x393);
+                x395 = arith.mul_add(0.0825f64, x390, x385);
+                x396 = arith.mul_add(0.0825f64, x388, x394);
+                x397 = s2 * x388;
+                x398 = arith.mul_add(c2, x387, -x397);
+                x399 = c2 * x388;
+                x400 = arith.mul_add(s2, x387, x399);
+                x401 = s2 * x395;
+                x402 = arith.mul_add(c2, x392, x401);
+                x403 = c2 * x395;
+                x404 = arith.mul_add(s2, x392, -x403);
+                x405 = arith.mul_add(-0.316f64, x400, x402);
+                x406 = arith.mul_add(0.316f64, x398, x404);
+                x407 = s1 * x405;
+                x408 = arith.mul_add(c1, x396, -x407);
+                x409 = -0.01026110182100817f64 * x10;
+                x410 = 0.00398335888393552f64 * x10;
+                x411 = 0.00398335888393552f64 * x12;
+                x412 = 0.028227094878000014f64 * x26;
+                x413 = 0.746857959872f64 * x26;
+                x414 = 0.746857959872f64 * x18;
+                x415 = arith.mul_add(0.028227094878000014f64, x16, -x414);
+                x416 = -0.005487648106562256f64 * x16;
+                x417 = 0.028227094878000014f64 * x23;
+                x418 = -0.00012191242095074308f64 * x16;
+                x419 = 2.0125235536029997f64 * x39;
+                x420 = -0.5527802746499999f64 * x39;
+                x421 = -0.5527802746499999f64 * x30;
+                x422 = arith.mul_add(2.0125235536029997f64, x28, -x421);
+                x423 = 0.0039053550262761003f64 * x28;
+                x424 = 2.0125235536029997f64 * x35;
+                x425 = 0.16284087268546082f64 * x28;
+                x426 = 0.067870631425f64 * x56;
+                x427 = -0.014653732538f64 * x56;
+                x428 = 0.014653732538f64 * x44;
+                x429 = arith.mul_add(0.067870631425f64, x42, -x428);
+                x430 = -0.004600245517563105f64 * x42;
+                x431 = 0.067870631425f64 * x52;
+                x432 = -0.0015152444733270301f64 * x42;
+                x433 = -0.17380470556900002f64 * x67;
+                x434 = 0.231847552695f64 * x67;
+                x435 = 0.231847552695f64 * x61;
+                x436 = arith.mul_add(-0.17380470556900002f64, x58, -x435);
+                x437 = -0.00010375891721868492f64 * x58;
+                x438 = -0.17380470556900002f64 * x63;
+                x439 = 0.014748570382675316f64 * x58;
+                x440 = 0.0020344399586617965f64 * x79;
+                x441 = 0.002573605371338202f64 * x79;
+                x442 = 0.002573605371338202f64 * x71;
+                x443 = arith.mul_add(0.0020344399586617965f64, x69, -x442);
+                x444 = -0.0009653051699191116f64 * x69;
+                x445 = 0.0020344399586617965f64 * x76;
+                x446 = 0.0003913912816842481f64 * x69;
+                x447 = arith.mul_add(-1.0706865997634767f64, x10, x411);
+                x448 = arith.mul_add(0.01026110182100817f64, qd1, x447);
+                x449 = arith.mul_add(0.0007689361029464f64, qd1, x410);
+                x450 = arith.mul_add(-0.0007689361029464f64, x12, x409);
+                x451 = arith.mul_add(1.1168423647533403f64, qd1, x450);
+                x452 = 0.011595864095166043f64 * x16;
+                x453 = arith.mul_add(-0.00012191242095074308f64, x18, x452);
+                x454 = arith.mul_add(-0.005487648106562256f64, x26, x453);
+                x455 = arith.mul_add(-0.004377257121839584f64, x26, x418);
+                x456 = arith.mul_add(-0.004377257121839584f64, x18, x416);
+                x457 = arith.mul_add(0.13480070614822143f64, x26, x456);
+                x458 = arith.mul_add(0.746857959872f64, x25, -x417);
+                x459 = x457 + x458;
+                x460 = 0.647723094939183f64 * x28;
+                x461 = arith.mul_add(0.16284087268546082f64, x30, x460);
+                x462 = arith.mul_add(0.0039053550262761003f64, x39, x461);
+                x463 = arith.mul_add(-0.0016444875773692705f64, x39, x425);
+                x464 = arith.mul_add(-0.0016444875773692705f64, x30, x423);
+                x465 = arith.mul_add(0.7497633672528139f64, x39, x464);
+                x466 = arith.mul_add(0.5527802746499999f64, x37, -x424);
+                x467 = arith.mul_add(-2.0125235536029997f64, x32, x462);
+                x468 = arith.mul_add(-0.5527802746499999f64, x32, x463);
+                x469 = x465 + x466;
+                x470 = 0.030116287133882078f64 * x42;
+                x471 = arith.mul_add(0.0015152444733270301f64, x44, x470);
+                x472 = arith.mul_add(-0.004600245517563105f64, x56, x471);
+                x473 = arith.mul_add(0.0021640520520981297f64, x56, x432);
+                x474 = arith.mul_add(-0.0021640520520981297f64, x44, x430);
+                x475 = arith.mul_add(0.03301859926393551f64, x56, x474);
+                x476 = arith.mul_add(-0.014653732538f64, x55, -x431);
+                x477 = arith.mul_add(0.067870631425f64, x49, x472);
+                x478 = arith.mul_add(0.014653732538f64, x49, x473);
+                x479 = x475 + x476;
+                x480 = 0.009543771269492206f64 * x58;
+                x481 = arith.mul_add(0.014748570382675316f64, x61, x480);
+                x482 = arith.mul_add(-0.00010375891721868492f64, x67, x481);
+                x483 = arith.mul_add(0.000093569097314605f64, x67, x439);
+                x484 = arith.mul_add(0.000093569097314605f64, x61, x437);
+                x485 = arith.mul_add(0.05258828201066731f64, x67, x484);
+                x486 = arith.mul_add(0.231847552695f64, x65, -x438);
+                x487 = arith.mul_add(-0.17380470556900002f64, x66, x482);
+                x488 = arith.mul_add(-0.231847552695f64, x66, x483);
+                x489 = x485 + x486;
+                x490 = 0.0024209437785212354f64 * x69;
+                x491 = arith.mul_add(0.0003913912816842481f64, x71, x490);
+                x492 = arith.mul_add(-0.0009653051699191116f64, x79, x491);
+                x493 = arith.mul_add(-0.001255536598272898f64, x79, x446);
+                x494 = arith.mul_add(-0.001255536598272898f64, x71, x444);
+                x495 = arith.mul_add(0.006684151967360945f64, x79, x494);
+                x496 = arith.mul_add(0.002573605371338202f64, x78, -x445);
+                x497 = arith.mul_add(-0.0020344399586617965f64, x73, x492);
+                x498 = arith.mul_add(0.002573605371338202f64, x73, x493);
+                x499 = x495 + x496;
+                x500 = qd1 * x12;
+                x501 = qd1 * x10;
+                x502 = qd2 * x18;
+                x503 = qd2 * x16;
+                x504 = qd2 * x25;
+                x505 = qd2 * x23;
+                x506 = qd3 * x30;
+                x507 = qd3 * x28;
+                x508 = qd3 * x37;
+                x509 = qd3 * x35;
+                x510 = qd4 * x44;
+                x511 = qd4 * x42;
+                x512 = qd4 * x55;
+                x513 = qd4 * x52;
+                x514 = qd5 * x61;
+                x515 = qd5 * x58;
+                x516 = qd5 * x65;
+                x517 = qd5 * x63;
+                x518 = qd6 * x71;
+                x519 = qd6 * x69;
+                x520 = qd6 * x78;
+                x521 = qd6 * x76;
+                x522 = x12 * x451;
+                x523 = arith.mul_add(qd1, x449, x522);
+                x524 = x10 * x451;
+                x525 = arith.mul_add(qd1, x448, x524);
+                x526 = x10 * x449;
+                x527 = arith.mul_add(x12, x448, -x526);
+                x528 = x26 * x455;
+                x529 = arith.mul_add(x18, x459, -x528);
+                x530 = x16 * x459;
+                x531 = arith.mul_add(x26, x454, -x530);
+                x532 = x18 * x454;
+                x533 = arith.mul_add(x16, x455, -x532);
+                x534 = x25 * x412;
+                x535 = arith.mul_add(x23, x413, x534);
+                x536 = arith.mul_add(x25, x415, x529);
+                x537 = arith.mul_add(-x23, x415, x531);
+                x538 = x533 + x535;
+                x539 = x26 * x413;
+                x540 = arith.mul_add(x18, x415, -x539);
+                x541 = x16 * x415;
+                x542 = arith.mul_add(x26, x412, x541);
+                x543 = x39 * x468;
+                x544 = arith.mul_add(x30, x469, -x543);
+                x545 = x28 * x469;
+                x546 = arith.mul_add(x39, x467, -x545);
+                x547 = x30 * x467;
+                x548 = arith.mul_add(x28, x468, -x547);
+                x549 = x37 * x422;
+                x550 = arith.mul_add(x32, x420, -x549);
+                x551 = x35 * x422;
+                x552 = arith.mul_add(x32, x419, -x551);
+                x553 = x37 * x419;
+                x554 = arith.mul_add(x35, x420, -x553);
+                x555 = x544 + x550;
+                x556 = x546 + x552;
+                x557 = x548 + x554;
+                x558 = x39 * x420;
+                x559 = arith.mul_add(x30, x422, -x558);
+                x560 = x28 * x422;
+                x561 = arith.mul_add(x39, x419, x560);
+                x562 = x30 * x419;
+                x563 = arith.mul_add(x28, x420, x562);
+                x564 = x56 * x478;
+                x565 = arith.mul_add(x44, x479, x564);
+                x566 = x42 * x479;
+                x567 = arith.mul_add(x56, x477, -x566);
+                x568 = x44 * x477;
+                x569 = arith.mul_add(x42, x478, x568);
+                x570 = x49 * x427;
+                x571 = arith.mul_add(x55, x429, -x570);
+                x572 = x52 * x429;
+                x573 = arith.mul_add(x49, x426, x572);
+                x574 = x55 * x426;
+                x575 = arith.mul_add(x52, x427, x574);
+                x576 = x571 - x565;
+                x577 = x567 - x573;
+                x578 = x569 + x575;
+                x579 = x56 * x427;
+                x580 = arith.mul_add(x44, x429, x579);
+                x581 = x42 * x429;
+                x582 = arith.mul_add(x56, x426, x581);
+                x583 = x44 * x426;
+                x584 = arith.mul_add(x42, x427, -x583);
+                x585 = x67 * x488;
+                x586 = arith.mul_add(x61, x489, -x585);
+                x587 = x58 * x489;
+                x588 = arith.mul_add(x67, x487, -x587);
+                x589 = x61 * x487;
+                x590 = arith.mul_add(x58, x488, -x589);
+                x591 = x66 * x434;
+                x592 = arith.mul_add(x65, x436, -x591);
+                x593 = x63 * x436;
+                x594 = arith.mul_add(x66, x433, x593);
+                x595 = x65 * x433;
+                x596 = arith.mul_add(x63, x434, x595);
+                x597 = x586 + x592;
+                x598 = x588 - x594;
+                x599 = x590 + x596;
+                x600 = x67 * x434;
+                x601 = arith.mul_add(x61, x436, -x600);
+                x602 = x58 * x436;
+                x603 = arith.mul_add(x67, x433, x602);
+                x604 = x61 * x433;
+                x605 = arith.mul_add(x58, x434, x604);
+                x606 = x79 * x498;
+                x607 = arith.mul_add(x71, x499, -x606);
+                x608 = x69 * x499;
+                x609 = arith.mul_add(x79, x497, -x608);
+                x610 = x71 * x497;
+                x611 = arith.mul_add(x69, x498, -x610);
+                x612 = x73 * x441;
+                x613 = arith.mul_add(x78, x443, x612);
+                x614 = x76 * x443;
+                x615 = arith.mul_add(x73, x440, -x614);
+                x616 = x78 * x440;
+                x617 = arith.mul_add(x76, x441, x616);
+                x618 = x607 + x613;
+                x619 = x609 + x615;
+                x620 = x611 + x617;
+                x621 = x79 * x441;
+                x622 = arith.mul_add(x71, x443, -x621);
+                x623 = x69 * x443;
+                x624 = arith.mul_add(x79, x440, x623);
+                x625 = x71 * x440;
+                x626 = arith.mul_add(x69, x441, x625);
+                x627 = 149.6076098932297f64 * x102;
+                x628 = arith.mul_add(-x102, x627, x124);
+                x629 = arith.mul_add(-x371, x627, x139);
+                x630 = arith.mul_add(-x385, x627, x340);
+                x631 = arith.mul_add(-x396, x627, x350);
+                x632 = arith.mul_add(-x406, x627, x360);
+                x633 = arith.mul_add(-x408, x627, x362);
+                x634 = 149.6076098932297f64 * x371;
+                x635 = arith.mul_add(-x371, x634, x153);
+                x636 = arith.mul_add(x385, x634, x309);
+                x637 = arith.mul_add(-x396, x634, x317);
+                x638 = arith.mul_add(-x406, x634, x327);
+                x639 = arith.mul_add(-x408, x634, x329);
+                x640 = 149.6076098932297f64 * x385;
+                x641 = arith.mul_add(-x385, x640, x199);
+                x642 = arith.mul_add(-x396, x640, x216);
+                x643 = arith.mul_add(-x406, x640, x300);
+                x644 = arith.mul_add(-x408, x640, x302);
+                x645 = 149.6076098932297f64 * x396;
+                x646 = arith.mul_add(-x396, x645, x241);
+                x647 = arith.mul_add(-x406, x645, x289);
+                x648 = arith.mul_add(-x408, x645, x291);
+                x649 = 149.6076098932297f64 * x406;
+                x650 = arith.mul_add(-x406, x649, x278);
+                x651 = arith.mul_add(x408, x649, x284);
+                x652 = 149.6076098932297f64 * x408;
+                x653 = arith.mul_add(-x408, x652, x287);
+                x654 = 1f64 / x628;
+                x655 = x629 * x654;
+                x656 = arith.mul_add(-x629, x655, x635);
+                x657 = arith.mul_add(x630, x655, x636);
+                x658 = arith.mul_add(-x631, x655, x637);
+                x659 = arith.mul_add(-x632, x655, x638);
+                x660 = arith.mul_add(-x633, x655, x639);
+                x661 = x630 * x654;
+                x662 = arith.mul_add(-x630, x661, x641);
+                x663 = arith.mul_add(-x631, x661, x642);
+                x664 = arith.mul_add(-x632, x661, x643);
+                x665 = arith.mul_add(-x633, x661, x644);
+                x666 = x631 * x654;
+                x667 = arith.mul_add(-x631, x666, x646);
+                x668 = arith.mul_add(-x632, x666, x647);
+                x669 = arith.mul_add(-x633, x666, x648);
+                x670 = x632 * x654;
+                x671 = arith.mul_add(-x632, x670, x650);
+                x672 = arith.mul_add(x633, x670, x651);
+                x673 = x633 * x654;
+                x674 = arith.mul_add(-x633, x673, x653);
+                x675 = 1f64 / x656;
+                x676 = x657 * x675;
+                x677 = arith.mul_add(-x657, x676, x662);
+                x678 = arith.mul_add(x658, x676, x663);
+                x679 = arith.mul_add(x659, x676, x664);
+                x680 = arith.mul_add(x660, x676, x665);
+                x681 = x658 * x675;
+                x682 = arith.mul_add(-x658, x681, x667);
+                x683 = arith.mul_add(-x659, x681, x668);
+                x684 = arith.mul_add(-x660, x681, x669);
+                x685 = x659 * x675;
+                x686 = arith.mul_add(-x659, x685, x671);
+                x687 = arith.mul_add(x660, x685, x672);
+                x688 = x660 * x675;
+                x689 = arith.mul_add(-x660, x688, x674);
+                x690 = 1f64 / x677;
+                x691 = x678 * x690;
+                x692 = arith.mul_add(-x678, x691, x682);
+                x693 = arith.mul_add(-x679, x691, x683);
+                x694 = arith.mul_add(-x680, x691, x684);
+                x695 = x679 * x690;
+                x696 = arith.mul_add(-x679, x695, x686);
+                x697 = arith.mul_add(x680, x695, x687);
+                x698 = x680 * x690;
+                x699 = arith.mul_add(-x680, x698, x689);
+                x700 = 1f64 / x692;
+                x701 = x693 * x700;
+                x702 = arith.mul_add(-x693, x701, x696);
+                x703 = arith.mul_add(x694, x701, x697);
+                x704 = x694 * x700;
+                x705 = arith.mul_add(-x694, x704, x699);
+                x706 = 1f64 / x702;
+                x707 = x703 * x706;
+                x708 = arith.mul_add(-x703, x707, x705);
+                x709 = 1f64 / x708;
+                x710 = s2 * x500;
+                x711 = 0.316f64 * x500;
+                x712 = s2 * x711;
+                x713 = arith.mul_add(c2, x3, x712);
+                x714 = arith.mul_add(c2, x711, -x5);
+                x715 = arith.mul_add(-c2, x500, x502);
+                x716 = x710 - x503;
+                x717 = x504 + x713;
+                x718 = x714 - x505;
+                x719 = s3 * x501;
+                x720 = arith.mul_add(c3, x715, -x719);
+                x721 = c3 * x501;
+                x722 = arith.mul_add(s3, x715, x721);
+                x723 = x503 - x710;
+                x724 = arith.mul_add(-0.0825f64, x501, x718);
+                x725 = arith.mul_add(0.0825f64, x716, x4);
+                x726 = s3 * x725;
+                x727 = arith.mul_add(c3, x717, -x726);
+                x728 = c3 * x725;
+                x729 = arith.mul_add(s3, x717, x728);
+                x730 = x506 + x720;
+                x731 = x507 + x722;
+                x732 = x727 - x508;
+                x733 = x509 + x729;
+                x734 = s4 * x723;
+                x735 = arith.mul_add(c4, x730, -x734);
+                x736 = c4 * x723;
+                x737 = arith.mul_add(s4, x730, x736);
+                x738 = 0.384f64 * x730;
+                x739 = arith.mul_add(0.0825f64, x731, -x738);
+                x740 = arith.mul_add(-0.384f64, x723, x732);
+                x741 = arith.mul_add(-0.0825f64, x723, -x733);
+                x742 = x724 + x739;
+                x743 = s4 * x742;
+                x744 = arith.mul_add(c4, x740, x743);
+                x745 = s4 * x740;
+                x746 = arith.mul_add(c4, x742, -x745);
+                x747 = x735 - x510;
+                x748 = x511 + x737;
+                x749 = x512 + x744;
+                x750 = x746 - x513;
+                x751 = s5 * x731;
+                x752 = arith.mul_add(c5, x747, -x751);
+                x753 = c5 * x731;
+                x754 = arith.mul_add(s5, x747, x753);
+                x755 = s5 * x741;
+                x756 = arith.mul_add(c5, x749, x755);
+                x757 = s5 * x749;
+                x758 = arith.mul_add(c5, x741, -x757);
+                x759 = x513 - x746;
+                x760 = x514 + x752;
+                x761 = x515 + x754;
+                x762 = x516 + x756;
+                x763 = x758 - x517;
+                x764 = s6 * x748;
+                x765 = arith.mul_add(c6, x760, x764);
+                x766 = s6 * x760;
+                x767 = arith.mul_add(c6, x748, -x766);
+                x768 = arith.mul_add(0.088f64, x748, x763);
+                x769 = arith.mul_add(0.088f64, x761, x759);
+                x770 = s6 * x769;
+                x771 = arith.mul_add(c6, x762, x770);
+                x772 = s6 * x762;
+                x773 = arith.mul_add(c6, x769, -x772);
+                x774 = x518 + x765;
+                x775 = x767 - x519;
+                x776 = x520 + x771;
+                x777 = x773 - x521;
+                x778 = -0.00398335888393552f64 * x501;
+                x779 = arith.mul_add(-1.0706865997634767f64, x500, x778);
+                x780 = 0.0007689361029464f64 * x501;
+                x781 = arith.mul_add(-0.01026110182100817f64, x500, x780);
+                x782 = x7 + x781;
+                x783 = x779 - x523;
+                x784 = arith.mul_add(0.00398335888393552f64, x500, x525);
+                x785 = x527 + x782;
+                x786 = -0.00012191242095074308f64 * x716;
+                x787 = arith.mul_add(0.011595864095166043f64, x715, x786);
+                x788 = arith.mul_add(0.005487648106562256f64, x501, x787);
+                x789 = 0.004377257121839584f64 * x501;
+                x790 = arith.mul_add(-0.00012191242095074308f64, x715, x789);
+                x791 = -0.004377257121839584f64 * x716;
+                x792 = arith.mul_add(-0.005487648106562256f64, x715, x791);
+                x793 = arith.mul_add(-0.13480070614822143f64, x501, x792);
+                x794 = 0.028227094878000014f64 * x717;
+                x795 = arith.mul_add(0.746857959872f64, x718, -x794);
+                x796 = x8 + x788;
+                x797 = x790 - x9;
+                x798 = x793 + x795;
+                x799 = x536 + x796;
+                x800 = x537 + x797;
+                x801 = x538 + x798;
+                x802 = arith.mul_add(0.028227094878000014f64, x501, x540);
+                x803 = arith.mul_add(-0.746857959872f64, x501, -x542);
+                x804 = -0.16284087268546082f64 * x731;
+                x805 = arith.mul_add(0.647723094939183f64, x730, x804);
+                x806 = arith.mul_add(0.0039053550262761003f64, x723, x805);
+                x807 = -0.0016444875773692705f64 * x723;
+                x808 = arith.mul_add(0.16284087268546082f64, x730, x807);
+                x809 = 0.0016444875773692705f64 * x731;
+                x810 = arith.mul_add(0.0039053550262761003f64, x730, x809);
+                x811 = arith.mul_add(0.7497633672528139f64, x723, x810);
+                x812 = 2.0125235536029997f64 * x732;
+                x813 = arith.mul_add(0.5527802746499999f64, x733, -x812);
+                x814 = arith.mul_add(-2.0125235536029997f64, x724, x806);
+                x815 = arith.mul_add(-0.5527802746499999f64, x724, x808);
+                x816 = x811 + x813;
+                x817 = 0.5527802746499999f64 * x731;
+                x818 = arith.mul_add(2.0125235536029997f64, x730, -x817);
+                x819 = x555 + x814;
+                x820 = x556 + x815;
+                x821 = x557 + x816;
+                x822 = arith.mul_add(-2.0125235536029997f64, x723, x559);
+                x823 = arith.mul_add(-0.5527802746499999f64, x723, -x561);
+                x824 = x563 + x818;
+                x825 = 0.0015152444733270301f64 * x748;
+                x826 = arith.mul_add(0.030116287133882078f64, x747, x825);
+                x827 = arith.mul_add(0.004600245517563105f64, x731, x826);
+                x828 = -0.0021640520520981297f64 * x731;
+                x829 = arith.mul_add(-0.0015152444733270301f64, x747, x828);
+                x830 = -0.0021640520520981297f64 * x748;
+                x831 = arith.mul_add(-0.004600245517563105f64, x747, x830);
+                x832 = arith.mul_add(-0.03301859926393551f64, x731, x831);
+                x833 = 0.067870631425f64 * x749;
+                x834 = arith.mul_add(-0.014653732538f64, x750, -x833);
+                x835 = arith.mul_add(0.067870631425f64, x741, x827);
+                x836 = arith.mul_add(0.014653732538f64, x741, x829);
+                x837 = x832 + x834;
+                x838 = 0.014653732538f64 * x748;
+                x839 = arith.mul_add(0.067870631425f64, x747, -x838);
+                x840 = x576 + x835;
+                x841 = x577 + x836;
+                x842 = x578 + x837;
+                x843 = arith.mul_add(-0.067870631425f64, x731, x580);
+                x844 = arith.mul_add(0.014653732538f64, x731, -x582);
+                x845 = x584 + x839;
+                x846 = -0.014748570382675316f64 * x761;
+                x847 = arith.mul_add(0.009543771269492206f64, x760, x846);
+                x848 = arith.mul_add(-0.00010375891721868492f64, x748, x847);
+                x849 = 0.000093569097314605f64 * x748;
+                x850 = arith.mul_add(0.014748570382675316f64, x760, x849);
+                x851 = -0.000093569097314605f64 * x761;
+                x852 = arith.mul_add(-0.00010375891721868492f64, x760, x851);
+                x853 = arith.mul_add(0.05258828201066731f64, x748, x852);
+                x854 = -0.17380470556900002f64 * x762;
+                x855 = arith.mul_add(0.231847552695f64, x763, -x854);
+                x856 = arith.mul_add(-0.17380470556900002f64, x759, x848);
+                x857 = arith.mul_add(-0.231847552695f64, x759, x850);
+                x858 = x853 + x855;
+                x859 = -0.231847552695f64 * x761;
+                x860 = arith.mul_add(-0.17380470556900002f64, x760, -x859);
+                x861 = x597 + x856;
+                x862 = x598 + x857;
+                x863 = x599 + x858;
+                x864 = arith.mul_add(0.17380470556900002f64, x748, x601);
+                x865 = arith.mul_add(0.231847552695f64, x748, -x603);
+                x866 = x605 + x860;
+                x867 = 0.0003913912816842481f64 * x775;
+                x868 = arith.mul_add(0.0024209437785212354f64, x774, x867);
+                x869 = arith.mul_add(-0.0009653051699191116f64, x761, x868);
+                x870 = -0.001255536598272898f64 * x761;
+                x871 = arith.mul_add(0.0003913912816842481f64, x774, x870);
+                x872 = -0.001255536598272898f64 * x775;
+                x873 = arith.mul_add(-0.0009653051699191116f64, x774, x872);
+                x874 = arith.mul_add(0.006684151967360945f64, x761, x873);
+                x875 = 0.0020344399586617965f64 * x776;
+                x876 = arith.mul_add(0.002573605371338202f64, x777, -x875);
+                x877 = arith.mul_add(-0.0020344399586617965f64, x768, x869);
+                x878 = arith.mul_add(0.002573605371338202f64, x768, x871);
+                x879 = x874 + x876;
+                x880 = 0.002573605371338202f64 * x775;
+                x881 = arith.mul_add(0.0020344399586617965f64, x774, -x880);
+                x882 = x618 + x877;
+                x883 = x619 + x878;
+                x884 = x620 + x879;
+                x885 = arith.mul_add(-0.0020344399586617965f64, x761, x622);
+                x886 = arith.mul_add(0.002573605371338202f64, x761, -x624);
+                x887 = x626 + x881;
+                x888 = s6 * x886;
+                x889 = arith.mul_add(c6, x885, -x888);
+                x890 = c6 * x886;
+                x891 = arith.mul_add(s6, x885, x890);
+                x892 = s6 * x883;
+                x893 = arith.mul_add(c6, x882, -x892);
+                x894 = c6 * x883;
+                x895 = arith.mul_add(s6, x882, x894);
+                x896 = arith.mul_add(0.088f64, x891, x884);
+                x897 = arith.mul_add(-0.088f64, x887, x895);
+                x898 = x861 + x893;
+                x899 = x862 - x896;
+                x900 = x863 + x897;
+                x901 = x864 + x889;
+                x902 = x865 - x887;
+                x903 = x866 + x891;
+                x904 = s5 * x902;
+                x905 = arith.mul_add(c5, x901, -x904);
+                x906 = c5 * x902;
+                x907 = arith.mul_add(s5, x901, x906);
+                x908 = s5 * x899;
+                x909 = arith.mul_add(c5, x898, -x908);
+                x910 = c5 * x899;
+                x911 = arith.mul_add(s5, x898, x910);
+                x912 = x840 + x909;
+                x913 = x841 - x900;
+                x914 = x842 + x911;
+                x915 = x905 - x843;
+                x916 = x844 - x903;
+                x917 = x845 + x907;
+                x918 = s4 * x916;
+                x919 = arith.mul_add(c4, x915, -x918);
+                x920 = c4 * x916;
+                x921 = arith.mul_add(s4, x915, x920);
+                x922 = s4 * x913;
+                x923 = arith.mul_add(c4, x912, -x922);
+                x924 = c4 * x913;
+                x925 = arith.mul_add(s4, x912, x924);
+                x926 = 0.384f64 * x919;
+                x927 = arith.mul_add(-0.0825f64, x917, -x926);
+                x928 = arith.mul_add(-0.384f64, x921, x923);
+                x929 = arith.mul_add(-0.0825f64, x921, x914);
+                x930 = x927 - x925;
+                x931 = x819 + x928;
+                x932 = x820 + x929;
+                x933 = x821 + x930;
+                x934 = x822 + x919;
+                x935 = x823 + x917;
+                x936 = s3 * x935;
+                x937 = arith.mul_add(c3, x934, -x936);
+                x938 = x921 - x824;
+                x939 = c3 * x935;
+                x940 = arith.mul_add(s3, x934, x939);
+                x941 = s3 * x932;
+                x942 = arith.mul_add(c3, x931, -x941);
+                x943 = c3 * x932;
+                x944 = arith.mul_add(s3, x931, x943);
+                x945 = arith.mul_add(0.0825f64, x940, x933);
+                x946 = arith.mul_add(0.0825f64, x938, x944);
+                x947 = x799 + x942;
+                x948 = x800 - x945;
+                x949 = x801 + x946;
+                x950 = x802 + x937;
+                x951 = x803 + x938;
+                x952 = s2 * x951;
+                x953 = arith.mul_add(c2, x950, -x952);
+                x954 = c2 * x951;
+                x955 = arith.mul_add(s2, x950, x954);
+                x956 = s2 * x948;
+                x957 = arith.mul_add(c2, x947, -x956);
+                x958 = c2 * x948;
+                x959 = arith.mul_add(s2, x947, x958);
+                x960 = arith.mul_add(-0.316f64, x955, x957);
+                x961 = arith.mul_add(0.316f64, x953, x959);
+                x962 = x783 + x960;
+                x963 = x784 - x949;
+                x964 = x785 + x961;
+                x965 = c1 * x963;
+                x966 = arith.mul_add(s1, x962, x965);
+                x967 = tau0 + x966;
+                x968 = tau1 - x964;
+                x969 = tau2 - x949;
+                x970 = tau3 - x933;
+                x971 = tau4 - x914;
+                x972 = tau5 - x900;
+                x973 = tau6 - x884;
+                x974 = arith.mul_add(-x627, x973, x972);
+                x975 = arith.mul_add(-x634, x973, x971);
+                x976 = arith.mul_add(-x640, x973, x970);
+                x977 = arith.mul_add(-x645, x973, x969);
+                x978 = arith.mul_add(-x649, x973, x968);
+                x979 = arith.mul_add(-x652, x973, x967);
+                x980 = arith.mul_add(-x655, x974, x975);
+                x981 = arith.mul_add(-x661, x974, x976);
+                x982 = arith.mul_add(-x666, x974, x977);
+                x983 = arith.mul_add(-x670, x974, x978);
+                x984 = arith.mul_add(-x673, x974, x979);
+                x985 = arith.mul_add(x676, x980, x981);
+                x986 = arith.mul_add(-x681, x980, x982);
+                x987 = arith.mul_add(-x685, x980, x983);
+                x988 = arith.mul_add(-x688, x980, x984);
+                x989 = arith.mul_add(-x691, x985, x986);
+                x990 = arith.mul_add(-x695, x985, x987);
+                x991 = arith.mul_add(-x698, x985, x988);
+                x992 = arith.mul_add(-x701, x989, x990);
+                x993 = arith.mul_add(-x704, x989, x991);
+                x994 = arith.mul_add(x707, x992, x993);
+                x995 = x709 * x994;
+                x996 = x707 * x995;
+                x997 = arith.mul_add(x706, x992, x996);
+                x998 = x704 * x995;
+                x999 = arith.mul_add(x700, x989, -x998);
+                x1000 = arith.mul_add(-x701, x997, x999);
+                x1001 = x698 * x995;
+                x1002 = arith.mul_add(x690, x985, -x1001);
+                x1003 = arith.mul_add(-x695, x997, x1002);
+                x1004 = arith.mul_add(-x691, x1000, x1003);
+                x1005 = x688 * x995;
+                x1006 = arith.mul_add(x675, x980, -x1005);
+                x1007 = arith.mul_add(-x685, x997, x1006);
+                x1008 = arith.mul_add(-x681, x1000, x1007);
+                x1009 = arith.mul_add(x676, x1004, x1008);
+                x1010 = x673 * x995;
+                x1011 = arith.mul_add(x654, x974, -x1010);
+                x1012 = arith.mul_add(-x670, x997, x1011);
+                x1013 = arith.mul_add(-x666, x1000, x1012);
+                x1014 = arith.mul_add(-x661, x1004, x1013);
+                x1015 = arith.mul_add(-x655, x1009, x1014);
+                x1016 = x652 * x995;
+                x1017 = arith.mul_add(149.6076098932297f64, x973, -x1016);
+                x1018 = arith.mul_add(-x649, x997, x1017);
+                x1019 = arith.mul_add(-x645, x1000, x1018);
+                x1020 = arith.mul_add(-x640, x1004, x1019);
+                x1021 = arith.mul_add(-x634, x1009, x1020);
+                x1022 = arith.mul_add(-x627, x1015, x1021);
+                x1023 = c2 * x12;
+                x1024 = -x1023;
+                x1025 = s2 * x12;
+                x1026 = 0.316f64 * x12;
+                x1027 = s2 * x1026;
+                x1028 = c2 * x1026;
+                x1029 = s2 * x4;
+                x1030 = s3 * x10;
+                x1031 = -x1030;
+                x1032 = c3 * x10;
+                x1033 = -x1032;
+                x1034 = -0.0825f64 * x10;
+                x1035 = -x1034;
+                x1036 = 32.80954542685272f64 * c1;
+                x1037 = arith.mul_add(-0.01993386669246f64, s1, -x1036);
+                x1038 = -0.00398335888393552f64 * x10;
+                x1039 = arith.mul_add(-1.0706865997634767f64, x12, x1038);
+                x1040 = 0.0007689361029464f64 * x10;
+                x1041 = arith.mul_add(-0.01026110182100817f64, x12, x1040);
+                x1042 = arith.mul_add(-x12, x1041, x524);
+                x1043 = arith.mul_add(-qd1, x411, x1042);
+                x1044 = arith.mul_add(x10, x1041, x522);
+                x1045 = arith.mul_add(qd1, x1039, x1044);
+                x1046 = x12 * x449;
+                x1047 = arith.mul_add(x10, x411, x1046);
+                x1048 = x12 * x1039;
+                x1049 = arith.mul_add(x10, x448, -x1048);
+                x1050 = x1047 + x1049;
+                x1051 = -0.27690780075318017f64 * s1;
+                x1052 = -7.326676586344321f64 * s1;
+                x1053 = -x1052;
+                x1054 = 0.005487648106562256f64 * x10;
+                x1055 = 0.004377257121839584f64 * x10;
+                x1056 = -0.13480070614822143f64 * x10;
+                x1057 = -0.028227094878000014f64 * x10;
+                x1058 = -0.746857959872f64 * x10;
+                x1059 = x10 * x455;
+                x1060 = -x1059;
+                x1061 = x10 * x454;
+                x1062 = -x1061;
+                x1063 = x23 * x1058;
+                x1064 = x25 * x1057;
+                x1065 = -x1064;
+                x1066 = x10 * x413;
+                x1067 = arith.mul_add(x26, x1058, -x1066);
+                x1068 = x26 * x1057;
+                x1069 = arith.mul_add(x10, x412, -x1068);
+                x1070 = c1 * x995;
+                x1071 = arith.mul_add(s1, x995, x500);
+                x1072 = x501 - x1070;
+                x1073 = c2 * x1071;
+                x1074 = s2 * x997;
+                x1075 = x1074 - x1073;
+                x1076 = c2 * x997;
+                x1077 = arith.mul_add(s2, x1071, x1076);
+                x1078 = x1070 - x501;
+                x1079 = 0.316f64 * x1071;
+                x1080 = arith.mul_add(0.316f64, x997, x3);
+                x1081 = s2 * x1079;
+                x1082 = arith.mul_add(c2, x1080, x1081);
+                x1083 = s2 * x1080;
+                x1084 = arith.mul_add(c2, x1079, -x1083);
+                x1085 = x1000 + x1078;
+                x1086 = x502 + x1075;
+                x1087 = x1077 - x503;
+                x1088 = x504 + x1082;
+                x1089 = x1084 - x505;
+                x1090 = s3 * x1085;
+                x1091 = arith.mul_add(c3, x1086, x1090);
+                x1092 = s3 * x1086;
+                x1093 = arith.mul_add(c3, x1085, -x1092);
+                x1094 = x503 - x1077;
+                x1095 = arith.mul_add(0.0825f64, x1085, x1089);
+                x1096 = arith.mul_add(0.0825f64, x1087, x4);
+                x1097 = c3 * x1088;
+                x1098 = s3 * x1096;
+                x1099 = x1097 - x1098;
+                x1100 = c3 * x1096;
+                x1101 = arith.mul_add(s3, x1088, x1100);
+                x1102 = -x1101;
+                x1103 = x1004 + x1094;
+                x1104 = x506 + x1091;
+                x1105 = x1093 - x507;
+                x1106 = x1099 - x508;
+                x1107 = x509 + x1101;
+                x1108 = c4 * x1104;
+                x1109 = s4 * x1103;
+                x1110 = x1108 - x1109;
+                x1111 = c4 * x1103;
+                x1112 = arith.mul_add(s4, x1104, x1111);
+                x1113 = -x1112;
+                x1114 = 0.384f64 * x1104;
+                x1115 = arith.mul_add(-0.0825f64, x1105, -x1114);
+                x1116 = arith.mul_add(-0.384f64, x1103, x1106);
+                x1117 = arith.mul_add(-0.0825f64, x1103, -x1107);
+                x1118 = x1095 + x1115;
+                x1119 = s4 * x1118;
+                x1120 = arith.mul_add(c4, x1116, x1119);
+                x1121 = s4 * x1116;
+                x1122 = arith.mul_add(c4, x1118, -x1121);
+                x1123 = x1009 + x1105;
+                x1124 = x1110 - x510;
+                x1125 = x511 + x1112;
+                x1126 = x512 + x1120;
+                x1127 = x1122 - x513;
+                x1128 = s5 * x1123;
+                x1129 = arith.mul_add(c5, x1124, x1128);
+                x1130 = s5 * x1124;
+                x1131 = arith.mul_add(c5, x1123, -x1130);
+                x1132 = s5 * x1117;
+                x1133 = arith.mul_add(c5, x1126, x1132);
+                x1134 = s5 * x1126;
+                x1135 = arith.mul_add(c5, x1117, -x1134);
+                x1136 = x513 - x1122;
+                x1137 = x1015 + x1125;
+                x1138 = x514 + x1129;
+                x1139 = x1131 - x515;
+                x1140 = x516 + x1133;
+                x1141 = x1135 - x517;
+                x1142 = s6 * x1137;
+                x1143 = arith.mul_add(c6, x1138, x1142);
+                x1144 = s6 * x1138;
+                x1145 = arith.mul_add(c6, x1137, -x1144);
+                x1146 = x515 - x1131;
+                x1147 = arith.mul_add(0.088f64, x1137, x1141);
+                x1148 = arith.mul_add(-0.088f64, x1139, x1136);
+                x1149 = s6 * x1148;
+                x1150 = arith.mul_add(c6, x1140, x1149);
+                x1151 = s6 * x1140;
+                x1152 = arith.mul_add(c6, x1148, -x1151);
+                x1153 = x1022 + x1146;
+                x1154 = x518 + x1143;
+                x1155 = x1145 - x519;
+                x1156 = x520 + x1150;
+                x1157 = x1152 - x521;
+                x1158 = -0.00398335888393552f64 * x1072;
+                x1159 = arith.mul_add(-1.0706865997634767f64, x1071, x1158);
+                x1160 = arith.mul_add(0.01026110182100817f64, x997, x1159);
+                x1161 = 0.0007689361029464f64 * x997;
+                x1162 = arith.mul_add(0.00398335888393552f64, x1071, x1161);
+                x1163 = x1160 - x523;
+                x1164 = x525 + x1162;
+                x1165 = -0.00012191242095074308f64 * x1087;
+                x1166 = arith.mul_add(0.011595864095166043f64, x1086, x1165);
+                x1167 = arith.mul_add(-0.005487648106562256f64, x1085, x1166);
+                x1168 = -0.004377257121839584f64 * x1085;
+                x1169 = arith.mul_add(-0.00012191242095074308f64, x1086, x1168);
+                x1170 = -0.004377257121839584f64 * x1087;
+                x1171 = arith.mul_add(-0.005487648106562256f64, x1086, x1170);
+                x1172 = arith.mul_add(0.13480070614822143f64, x1085, x1171);
+                x1173 = 0.028227094878000014f64 * x1088;
+                x1174 = arith.mul_add(0.746857959872f64, x1089, -x1173);
+                x1175 = x8 + x1167;
+                x1176 = x1169 - x9;
+                x1177 = x1172 + x1174;
+                x1178 = x536 + x1175;
+                x1179 = x537 + x1176;
+                x1180 = x538 + x1177;
+                x1181 = arith.mul_add(-0.028227094878000014f64, x1085, x540);
+                x1182 = arith.mul_add(0.746857959872f64, x1085, -x542);
+                x1183 = 0.16284087268546082f64 * x1105;
+                x1184 = arith.mul_add(0.647723094939183f64, x1104, x1183);
+                x1185 = arith.mul_add(0.0039053550262761003f64, x1103, x1184);
+                x1186 = -0.0016444875773692705f64 * x1103;
+                x1187 = arith.mul_add(0.16284087268546082f64, x1104, x1186);
+                x1188 = -0.0016444875773692705f64 * x1105;
+                x1189 = arith.mul_add(0.0039053550262761003f64, x1104, x1188);
+                x1190 = arith.mul_add(0.7497633672528139f64, x1103, x1189);
+                x1191 = 2.0125235536029997f64 * x1106;
+                x1192 = arith.mul_add(0.5527802746499999f64, x1107, -x1191);
+                x1193 = arith.mul_add(-2.0125235536029997f64, x1095, x1185);
+                x1194 = arith.mul_add(-0.5527802746499999f64, x1095, x1187);
+                x1195 = x1190 + x1192;
+                x1196 = -0.5527802746499999f64 * x1105;
+                x1197 = arith.mul_add(2.0125235536029997f64, x1104, -x1196);
+                x1198 = x555 + x1193;
+                x1199 = x556 + x1194;
+                x1200 = x557 + x1195;
+                x1201 = arith.mul_add(-2.0125235536029997f64, x1103, x559);
+                x1202 = arith.mul_add(-0.5527802746499999f64, x1103, -x561);
+                x1203 = x563 + x1197;
+                x1204 = 0.0015152444733270301f64 * x1125;
+                x1205 = arith.mul_add(0.030116287133882078f64, x1124, x1204);
+                x1206 = arith.mul_add(-0.004600245517563105f64, x1123, x1205);
+                x1207 = 0.0021640520520981297f64 * x1123;
+                x1208 = arith.mul_add(-0.0015152444733270301f64, x1124, x1207);
+                x1209 = -0.0021640520520981297f64 * x1125;
+                x1210 = arith.mul_add(-0.004600245517563105f64, x1124, x1209);
+                x1211 = arith.mul_add(0.03301859926393551f64, x1123, x1210);
+                x1212 = 0.067870631425f64 * x1126;
+                x1213 = arith.mul_add(-0.014653732538f64, x1127, -x1212);
+                x1214 = arith.mul_add(0.067870631425f64, x1117, x1206);
+                x1215 = arith.mul_add(0.014653732538f64, x1117, x1208);
+                x1216 = x1211 + x1213;
+                x1217 = 0.014653732538f64 * x1125;
+                x1218 = arith.mul_add(0.067870631425f64, x1124, -x1217);
+                x1219 = x576 + x1214;
+                x1220 = x577 + x1215;
+                x1221 = x578 + x1216;
+                x1222 = arith.mul_add(0.067870631425f64, x1123, x580);
+                x1223 = arith.mul_add(-0.014653732538f64, x1123, -x582);
+                x1224 = x584 + x1218;
+                x1225 = 0.014748570382675316f64 * x1139;
+                x1226 = arith.mul_add(0.009543771269492206f64, x1138, x1225);
+                x1227 = arith.mul_add(-0.00010375891721868492f64, x1137, x1226);
+                x1228 = 0.000093569097314605f64 * x1137;
+                x1229 = arith.mul_add(0.014748570382675316f64, x1138, x1228);
+                x1230 = 0.000093569097314605f64 * x1139;
+                x1231 = arith.mul_add(-0.00010375891721868492f64, x1138, x1230);
+                x1232 = arith.mul_add(0.05258828201066731f64, x1137, x1231);
+                x1233 = -0.17380470556900002f64 * x1140;
+                x1234 = arith.mul_add(0.231847552695f64, x1141, -x1233);
+                x1235 = arith.mul_add(-0.17380470556900002f64, x1136, x1227);
+                x1236 = arith.mul_add(-0.231847552695f64, x1136, x1229);
+                x1237 = x1232 + x1234;
+                x1238 = 0.231847552695f64 * x1139;
+                x1239 = arith.mul_add(-0.17380470556900002f64, x1138, -x1238);
+                x1240 = x597 + x1235;
+                x1241 = x598 + x1236;
+                x1242 = x599 + x1237;
+                x1243 = arith.mul_add(0.17380470556900002f64, x1137, x601);
+                x1244 = arith.mul_add(0.231847552695f64, x1137, -x603);
+                x1245 = x605 + x1239;
+                x1246 = 0.0003913912816842481f64 * x1155;
+                x1247 = arith.mul_add(0.0024209437785212354f64, x1154, x1246);
+                x1248 = arith.mul_add(-0.0009653051699191116f64, x1153, x1247);
+                x1249 = -0.001255536598272898f64 * x1153;
+                x1250 = arith.mul_add(0.0003913912816842481f64, x1154, x1249);
+                x1251 = -0.001255536598272898f64 * x1155;
+                x1252 = arith.mul_add(-0.0009653051699191116f64, x1154, x1251);
+                x1253 = arith.mul_add(0.006684151967360945f64, x1153, x1252);
+                x1254 = 0.0020344399586617965f64 * x1156;
+                x1255 = arith.mul_add(0.002573605371338202f64, x1157, -x1254);
+                x1256 = arith.mul_add(-0.0020344399586617965f64, x1147, x1248);
+                x1257 = arith.mul_add(0.002573605371338202f64, x1147, x1250);
+                x1258 = x1253 + x1255;
+                x1259 = 0.002573605371338202f64 * x1153;
+                x1260 = 0.002573605371338202f64 * x1155;
+                x1261 = arith.mul_add(0.0020344399586617965f64, x1154, -x1260);
+                x1262 = x618 + x1256;
+                x1263 = x619 + x1257;
+                x1264 = x620 + x1258;
+                x1265 = arith.mul_add(-0.0020344399586617965f64, x1153, x622);
+                x1266 = x1259 - x624;
+                x1267 = x626 + x1261;
+                x1268 = s6 * x1266;
+                x1269 = arith.mul_add(c6, x1265, -x1268);
+                x1270 = c6 * x1266;
+                x1271 = arith.mul_add(s6, x1265, x1270);
+                x1272 = s6 * x1263;
+                x1273 = arith.mul_add(c6, x1262, -x1272);
+                x1274 = c6 * x1263;
+                x1275 = arith.mul_add(s6, x1262, x1274);
+                x1276 = arith.mul_add(0.088f64, x1271, x1264);
+                x1277 = arith.mul_add(-0.088f64, x1267, x1275);
+                x1278 = x1240 + x1273;
+                x1279 = x1241 - x1276;
+                x1280 = x1242 + x1277;
+                x1281 = x1243 + x1269;
+                x1282 = x1244 - x1267;
+                x1283 = x1245 + x1271;
+                x1284 = s5 * x1282;
+                x1285 = arith.mul_add(c5, x1281, -x1284);
+                x1286 = c5 * x1282;
+                x1287 = arith.mul_add(s5, x1281, x1286);
+                x1288 = s5 * x1279;
+                x1289 = arith.mul_add(c5, x1278, -x1288);
+                x1290 = c5 * x1279;
+                x1291 = arith.mul_add(s5, x1278, x1290);
+                x1292 = x1219 + x1289;
+                x1293 = x1220 - x1280;
+                x1294 = x1221 + x1291;
+                x1295 = x1285 - x1222;
+                x1296 = x1223 - x1283;
+                x1297 = x1224 + x1287;
+                x1298 = s4 * x1296;
+                x1299 = arith.mul_add(c4, x1295, -x1298);
+                x1300 = c4 * x1296;
+                x1301 = arith.mul_add(s4, x1295, x1300);
+                x1302 = s4 * x1293;
+                x1303 = arith.mul_add(c4, x1292, -x1302);
+                x1304 = c4 * x1293;
+                x1305 = arith.mul_add(s4, x1292, x1304);
+                x1306 = 0.384f64 * x1299;
+                x1307 = arith.mul_add(-0.0825f64, x1297, -x1306);
+                x1308 = arith.mul_add(-0.384f64, x1301, x1303);
+                x1309 = arith.mul_add(-0.0825f64, x1301, x1294);
+                x1310 = x1307 - x1305;
+                x1311 = x1198 + x1308;
+                x1312 = x1199 + x1309;
+                x1313 = x1200 + x1310;
+                x1314 = x1201 + x1299;
+                x1315 = x1202 + x1297;
+                x1316 = s3 * x1315;
+                x1317 = arith.mul_add(c3, x1314, -x1316);
+                x1318 = x1301 - x1203;
+                x1319 = c3 * x1315;
+                x1320 = arith.mul_add(s3, x1314, x1319);
+                x1321 = s3 * x1312;
+                x1322 = arith.mul_add(c3, x1311, -x1321);
+                x1323 = c3 * x1312;
+                x1324 = arith.mul_add(s3, x1311, x1323);
+                x1325 = arith.mul_add(0.0825f64, x1320, x1313);
+                x1326 = arith.mul_add(0.0825f64, x1318, x1324);
+                x1327 = x1178 + x1322;
+                x1328 = x1179 - x1325;
+                x1329 = x1180 + x1326;
+                x1330 = x1181 + x1317;
+                x1331 = x1182 + x1318;
+                x1332 = c2 * x1331;
+                x1333 = arith.mul_add(s2, x1330, x1332);
+                x1334 = s2 * x1328;
+                x1335 = arith.mul_add(c2, x1327, -x1334);
+                x1336 = arith.mul_add(-0.316f64, x1333, x1335);
+                x1337 = x1163 + x1336;
+                x1338 = c2 * x1072;
+                x1339 = s2 * x1072;
+                x1340 = -x1339;
+                x1341 = -0.316f64 * x1072;
+                x1342 = s2 * x1341;
+                x1343 = arith.mul_add(c2, x4, x1342);
+                x1344 = arith.mul_add(c2, x1341, -x1029);
+                x1345 = s3 * x1071;
+                x1346 = -x1345;
+                x1347 = c3 * x1071;
+                x1348 = -x1347;
+                x1349 = -0.0825f64 * x1071;
+                x1350 = -x1349;
+                x1351 = -0.00398335888393552f64 * x1071;
+                x1352 = arith.mul_add(1.0706865997634767f64, x1072, x1351);
+                x1353 = 0.0007689361029464f64 * x1071;
+                x1354 = arith.mul_add(0.01026110182100817f64, x1072, x1353);
+                x1355 = x1037 + x1354;
+                x1356 = x1043 + x1352;
+                x1357 = x1045 + x1158;
+                x1358 = x1355 - x1050;
+                x1359 = 0.005487648106562256f64 * x1071;
+                x1360 = 0.004377257121839584f64 * x1071;
+                x1361 = -0.13480070614822143f64 * x1071;
+                x1362 = -0.028227094878000014f64 * x1071;
+                x1363 = -0.746857959872f64 * x1071;
+                x1364 = -x1362;
+                x1365 = x1329 - x1164;
+                x1366 = x1073 - x1074;
+                x1367 = -x1082;
+                x1368 = x1325 - x1179;
+                x1369 = -x1331;
+                x1370 = -x1091;
+                x1371 = x1098 - x1097;
+                x1372 = -x1312;
+                x1373 = -x1315;
+                x1374 = x1109 - x1108;
+                x1375 = -x1120;
+                x1376 = x1280 - x1220;
+                x1377 = x1283 - x1223;
+                x1378 = -x1129;
+                x1379 = -x1133;
+                x1380 = x1276 - x1241;
+                x1381 = x1267 - x1244;
+                x1382 = -x1143;
+                x1383 = -x1150;
+                x1384 = -x1263;
+                x1385 = x624 - x1259;
+                x1386 = arith.eight([0.0, 0.0, 1f64, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1387 = arith.eight([0.0, 0.0, 0.0, 1f64, 0.0, 0.0, 0.0, 0.0]);
+                x1388 = arith.eight([0.0, 0.0, 0.0, 0.0, 1f64, 0.0, 0.0, 0.0]);
+                x1389 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 1f64, 0.0, 0.0]);
+                x1390 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1f64, 0.0]);
+                x1391 = arith.eight([0.0, x13, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1392 = arith.eight([0.0, x1024, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1393 = arith.eight([0.0, x1025, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1394 = arith.eight([0.0, x11, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1395 = arith.eight([0.0, x1027, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1396 = arith.eight([0.0, x1028, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1397 = arith.eight([0.0, 0.0, x18, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1398 = x1392 + x1397;
+                x1399 = arith.eight([0.0, 0.0, x81, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1400 = x1393 + x1399;
+                x1401 = arith.eight([0.0, 0.0, x25, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1402 = x1395 + x1401;
+                x1403 = arith.eight([0.0, 0.0, x80, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1404 = x1396 + x1403;
+                x1405 = arith.eight([0.0, x3, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1406 = arith.splat_eight(qd2);
+                x1407 = x1406 * x1398;
+                x1408 = arith.splat_eight(c3);
+                x1409 = arith.eight([0.0, x1031, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1410 = x1408.mul_add(x1398, x1409);
+                x1411 = arith.splat_eight(s3);
+                x1412 = arith.eight([0.0, x1033, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1413 = x1411.mul_neg_add(x1398, x1412);
+                x1414 = arith.eight([0.0, x1035, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1415 = arith.splat_eight(0.0825f64);
+                x1416 = x1415 * x1400;
+                x1417 = x1411 * x1416;
+                x1418 = x1408.mul_sub(x1402, x1417);
+                x1419 = x1408 * x1416;
+                x1420 = x1411.mul_add(x1402, x1419);
+                x1421 = x1414 - x1404;
+                x1422 = arith.eight([0.0, 0.0, 0.0, x30, 0.0, 0.0, 0.0, 0.0]);
+                x1423 = x1410 + x1422;
+                x1424 = arith.eight([0.0, 0.0, 0.0, x83, 0.0, 0.0, 0.0, 0.0]);
+                x1425 = x1413 + x1424;
+                x1426 = arith.eight([0.0, 0.0, 0.0, x38, 0.0, 0.0, 0.0, 0.0]);
+                x1427 = x1418 + x1426;
+                x1428 = arith.eight([0.0, 0.0, 0.0, x82, 0.0, 0.0, 0.0, 0.0]);
+                x1429 = x1428 - x1420;
+                x1430 = arith.splat_eight(qd3);
+                x1431 = arith.splat_eight(c4);
+                x1432 = arith.splat_eight(s4);
+                x1433 = x1432 * x1400;
+                x1434 = x1431.mul_add(x1423, x1433);
+                x1435 = x1432 * x1423;
+                x1436 = x1431.mul_sub(x1400, x1435);
+                x1437 = arith.splat_eight(0.384f64);
+                x1438 = arith.splat_eight(-0.0825f64);
+                x1439 = x1437 * x1423;
+                x1440 = x1438.mul_sub(x1425, x1439);
+                x1441 = x1437.mul_add(x1400, x1427);
+                x1442 = x1438.mul_neg_add(x1400, x1429);
+                x1443 = x1421 - x1440;
+                x1444 = x1432 * x1443;
+                x1445 = x1431.mul_sub(x1441, x1444);
+                x1446 = x1431 * x1443;
+                x1447 = x1432.mul_add(x1441, x1446);
+                x1448 = arith.eight([0.0, 0.0, 0.0, 0.0, x45, 0.0, 0.0, 0.0]);
+                x1449 = x1434 + x1448;
+                x1450 = arith.eight([0.0, 0.0, 0.0, 0.0, x85, 0.0, 0.0, 0.0]);
+                x1451 = x1436 + x1450;
+                x1452 = arith.eight([0.0, 0.0, 0.0, 0.0, x55, 0.0, 0.0, 0.0]);
+                x1453 = x1445 + x1452;
+                x1454 = arith.eight([0.0, 0.0, 0.0, 0.0, x84, 0.0, 0.0, 0.0]);
+                x1455 = x1454 - x1447;
+                x1456 = arith.splat_eight(qd4);
+                x1457 = x1456 * x1449;
+                x1458 = x1456 * x1453;
+                x1459 = arith.splat_eight(c5);
+                x1460 = arith.splat_eight(s5);
+                x1461 = x1460 * x1425;
+                x1462 = x1459.mul_add(x1449, x1461);
+                x1463 = x1460 * x1449;
+                x1464 = x1459.mul_sub(x1425, x1463);
+                x1465 = x1460 * x1442;
+                x1466 = x1459.mul_add(x1453, x1465);
+                x1467 = x1460 * x1453;
+                x1468 = x1459.mul_sub(x1442, x1467);
+                x1469 = x1447 - x1454;
+                x1470 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x61, 0.0, 0.0]);
+                x1471 = x1462 + x1470;
+                x1472 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x87, 0.0, 0.0]);
+                x1473 = x1464 + x1472;
+                x1474 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x65, 0.0, 0.0]);
+                x1475 = x1466 + x1474;
+                x1476 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x86, 0.0, 0.0]);
+                x1477 = x1468 + x1476;
+                x1478 = arith.splat_eight(qd5);
+                x1479 = x1478 * x1471;
+                x1480 = arith.splat_eight(c6);
+                x1481 = arith.splat_eight(s6);
+                x1482 = x1481 * x1451;
+                x1483 = x1480.mul_sub(x1471, x1482);
+                x1484 = x1480 * x1451;
+                x1485 = x1481.mul_add(x1471, x1484);
+                x1486 = arith.splat_eight(0.088f64);
+                x1487 = x1486.mul_neg_add(x1473, x1469);
+                x1488 = x1481 * x1487;
+                x1489 = x1480.mul_add(x1475, x1488);
+                x1490 = x1481 * x1475;
+                x1491 = x1480.mul_sub(x1487, x1490);
+                x1492 = x1486.mul_sub(x1451, x1477);
+                x1493 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x71, 0.0]);
+                x1494 = x1483 + x1493;
+                x1495 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x89, 0.0]);
+                x1496 = x1495 - x1485;
+                x1497 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x78, 0.0]);
+                x1498 = x1489 + x1497;
+                x1499 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x88, 0.0]);
+                x1500 = x1491 + x1499;
+                x1501 = arith.splat_eight(qd6);
+                x1502 = arith.splat_eight(0.011595864095166043f64);
+                x1503 = arith.splat_eight(-0.00012191242095074308f64);
+                x1504 = arith.splat_eight(-0.005487648106562256f64);
+                x1505 = arith.splat_eight(-0.004377257121839584f64);
+                x1506 = arith.eight([0.0, x1051, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1507 = arith.eight([0.0, x1053, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1508 = arith.splat_eight(0.746857959872f64);
+                x1509 = arith.splat_eight(0.028227094878000014f64);
+                x1510 = x1503 * x1400;
+                x1511 = x1502.mul_add(x1398, x1510);
+                x1512 = arith.eight([0.0, x1054, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1513 = x1511 + x1512;
+                x1514 = arith.eight([0.0, x1055, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1515 = x1503.mul_add(x1398, x1514);
+                x1516 = x1505 * x1400;
+                x1517 = x1504.mul_add(x1398, x1516);
+                x1518 = arith.eight([0.0, x1056, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1519 = x1517 + x1518;
+                x1520 = x1509 * x1402;
+                x1521 = x1508.mul_sub(x1404, x1520);
+                x1522 = x1519 + x1521;
+                x1523 = x1508 * x1400;
+                x1524 = x1509.mul_sub(x1398, x1523);
+                x1525 = arith.splat_eight(x18);
+                x1526 = arith.splat_eight(x459);
+                x1527 = x1526 * x1400;
+                x1528 = x1525.mul_add(x1522, x1527);
+                x1529 = arith.splat_eight(x26);
+                x1530 = arith.eight([0.0, x1060, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1531 = x1529.mul_add(x1515, x1530);
+                x1532 = x1528 - x1531;
+                x1533 = arith.eight([0.0, x1062, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1534 = x1529.mul_add(x1513, x1533);
+                x1535 = arith.splat_eight(x16);
+                x1536 = x1526 * x1398;
+                x1537 = x1535.mul_add(x1522, x1536);
+                x1538 = x1534 - x1537;
+                x1539 = arith.splat_eight(x455);
+                x1540 = x1539 * x1398;
+                x1541 = x1535.mul_add(x1515, x1540);
+                x1542 = arith.splat_eight(x454);
+                x1543 = x1542 * x1400;
+                x1544 = x1525.mul_add(x1513, x1543);
+                x1545 = x1541 - x1544;
+                x1546 = arith.splat_eight(x25);
+                x1547 = arith.splat_eight(x415);
+                x1548 = x1547 * x1404;
+                x1549 = x1546.mul_add(x1524, x1548);
+                x1550 = arith.splat_eight(x23);
+                x1551 = x1547 * x1402;
+                x1552 = x1550.mul_add(x1524, x1551);
+                x1553 = arith.eight([0.0, x1063, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1554 = arith.splat_eight(x413);
+                x1555 = x1554.mul_add(x1402, x1553);
+                x1556 = arith.eight([0.0, x1065, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1557 = arith.splat_eight(x412);
+                x1558 = x1557.mul_neg_add(x1404, x1556);
+                x1559 = x1555 - x1558;
+                x1560 = x1532 + x1549;
+                x1561 = x1538 - x1552;
+                x1562 = x1545 + x1559;
+                x1563 = x1547 * x1400;
+                x1564 = x1525.mul_add(x1524, x1563);
+                x1565 = arith.eight([0.0, x1067, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1566 = x1564 - x1565;
+                x1567 = arith.eight([0.0, x1069, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1568 = x1547 * x1398;
+                x1569 = x1535.mul_add(x1524, x1568);
+                x1570 = x1567 - x1569;
+                x1571 = arith.splat_eight(0.647723094939183f64);
+                x1572 = arith.splat_eight(0.16284087268546082f64);
+                x1573 = arith.splat_eight(0.0039053550262761003f64);
+                x1574 = arith.splat_eight(-0.0016444875773692705f64);
+                x1575 = arith.splat_eight(0.7497633672528139f64);
+                x1576 = arith.splat_eight(2.0125235536029997f64);
+                x1577 = arith.splat_eight(-0.5527802746499999f64);
+                x1578 = x1572 * x1425;
+                x1579 = x1571.mul_add(x1423, x1578);
+                x1580 = x1573.mul_neg_add(x1400, x1579);
+                x1581 = x1574 * x1400;
+                x1582 = x1572.mul_sub(x1423, x1581);
+                x1583 = x1574 * x1425;
+                x1584 = x1573.mul_add(x1423, x1583);
+                x1585 = x1575.mul_neg_add(x1400, x1584);
+                x1586 = x1576 * x1427;
+                x1587 = x1577.mul_sub(x1429, x1586);
+                x1588 = x1576.mul_add(x1421, x1580);
+                x1589 = x1577.mul_neg_add(x1421, x1582);
+                x1590 = x1585 + x1587;
+                x1591 = x1576 * x1400;
+                x1592 = x1577 * x1400;
+                x1593 = x1577 * x1425;
+                x1594 = x1576.mul_sub(x1423, x1593);
+                x1595 = arith.splat_eight(x30);
+                x1596 = arith.splat_eight(x469);
+                x1597 = x1596 * x1425;
+                x1598 = x1595.mul_add(x1590, x1597);
+                x1599 = arith.splat_eight(x39);
+                x1600 = arith.splat_eight(x468);
+                x1601 = x1600 * x1400;
+                x1602 = x1599.mul_sub(x1589, x1601);
+                x1603 = x1598 - x1602;
+                x1604 = arith.splat_eight(x467);
+                x1605 = x1604 * x1400;
+                x1606 = x1599.mul_sub(x1588, x1605);
+                x1607 = arith.splat_eight(x28);
+                x1608 = x1596 * x1423;
+                x1609 = x1607.mul_add(x1590, x1608);
+                x1610 = x1606 - x1609;
+                x1611 = x1600 * x1423;
+                x1612 = x1607.mul_add(x1589, x1611);
+                x1613 = x1604 * x1425;
+                x1614 = x1595.mul_add(x1588, x1613);
+                x1615 = x1612 - x1614;
+                x1616 = arith.splat_eight(x37);
+                x1617 = x1616 * x1594;
+                x1618 = arith.splat_eight(x422);
+                x1619 = x1618.mul_sub(x1429, x1617);
+                x1620 = arith.splat_eight(x32);
+                x1621 = arith.splat_eight(x420);
+                x1622 = x1621 * x1421;
+                x1623 = x1620.mul_add(x1592, x1622);
+                x1624 = x1619 - x1623;
+                x1625 = arith.splat_eight(x419);
+                x1626 = x1625 * x1421;
+                x1627 = x1620.mul_add(x1591, x1626);
+                x1628 = arith.splat_eight(x35);
+                x1629 = x1618 * x1427;
+                x1630 = x1628.mul_add(x1594, x1629);
+                x1631 = x1627 + x1630;
+                x1632 = x1628 * x1592;
+                x1633 = x1621.mul_sub(x1427, x1632);
+                x1634 = x1625 * x1429;
+                x1635 = x1616.mul_add(x1591, x1634);
+                x1636 = x1633 + x1635;
+                x1637 = x1603 + x1624;
+                x1638 = x1610 - x1631;
+                x1639 = x1615 + x1636;
+                x1640 = x1618 * x1425;
+                x1641 = x1595.mul_add(x1594, x1640);
+                x1642 = x1621 * x1400;
+                x1643 = x1599.mul_add(x1592, x1642);
+                x1644 = x1641 + x1643;
+                x1645 = x1625 * x1400;
+                x1646 = x1599.mul_add(x1591, x1645);
+                x1647 = x1618 * x1423;
+                x1648 = x1607.mul_add(x1594, x1647);
+                x1649 = x1646 - x1648;
+                x1650 = x1607 * x1592;
+                x1651 = x1621.mul_sub(x1423, x1650);
+                x1652 = x1625 * x1425;
+                x1653 = x1595.mul_sub(x1591, x1652);
+                x1654 = x1651 - x1653;
+                x1655 = arith.splat_eight(0.030116287133882078f64);
+                x1656 = arith.splat_eight(-0.0015152444733270301f64);
+                x1657 = arith.splat_eight(-0.004600245517563105f64);
+                x1658 = arith.splat_eight(0.0021640520520981297f64);
+                x1659 = arith.splat_eight(0.03301859926393551f64);
+                x1660 = arith.splat_eight(0.067870631425f64);
+                x1661 = arith.splat_eight(-0.014653732538f64);
+                x1662 = x1656 * x1451;
+                x1663 = x1655.mul_add(x1449, x1662);
+                x1664 = x1657.mul_add(x1425, x1663);
+                x1665 = x1658 * x1425;
+                x1666 = x1656.mul_add(x1449, x1665);
+                x1667 = x1658 * x1451;
+                x1668 = x1657.mul_add(x1449, x1667);
+                x1669 = x1659.mul_add(x1425, x1668);
+                x1670 = x1660 * x1453;
+                x1671 = x1661.mul_sub(x1455, x1670);
+                x1672 = x1660.mul_add(x1442, x1664);
+                x1673 = x1661.mul_neg_add(x1442, x1666);
+                x1674 = x1669 + x1671;
+                x1675 = x1660 * x1425;
+                x1676 = x1661 * x1425;
+                x1677 = x1661 * x1451;
+                x1678 = x1660.mul_sub(x1449, x1677);
+                x1679 = arith.splat_eight(x44);
+                x1680 = x1679 * x1674;
+                x1681 = arith.splat_eight(x479);
+                x1682 = x1681.mul_sub(x1451, x1680);
+                x1683 = arith.splat_eight(x56);
+                x1684 = arith.splat_eight(x478);
+                x1685 = x1684 * x1425;
+                x1686 = x1683.mul_add(x1673, x1685);
+                x1687 = x1682 - x1686;
+                x1688 = arith.splat_eight(x477);
+                x1689 = x1688 * x1425;
+                x1690 = x1683.mul_add(x1672, x1689);
+                x1691 = arith.splat_eight(x42);
+                x1692 = x1681 * x1449;
+                x1693 = x1691.mul_add(x1674, x1692);
+                x1694 = x1690 - x1693;
+                x1695 = x1684 * x1449;
+                x1696 = x1691.mul_add(x1673, x1695);
+                x1697 = x1679 * x1672;
+                x1698 = x1688.mul_sub(x1451, x1697);
+                x1699 = x1696 - x1698;
+                x1700 = arith.splat_eight(x55);
+                x1701 = arith.splat_eight(x429);
+                x1702 = x1701 * x1455;
+                x1703 = x1700.mul_add(x1678, x1702);
+                x1704 = arith.splat_eight(x49);
+                x1705 = arith.splat_eight(x427);
+                x1706 = x1705 * x1442;
+                x1707 = x1704.mul_add(x1676, x1706);
+                x1708 = x1703 - x1707;
+                x1709 = arith.splat_eight(x426);
+                x1710 = x1709 * x1442;
+                x1711 = x1704.mul_add(x1675, x1710);
+                x1712 = arith.splat_eight(x52);
+                x1713 = x1701 * x1453;
+                x1714 = x1712.mul_add(x1678, x1713);
+                x1715 = x1711 + x1714;
+                x1716 = x1705 * x1453;
+                x1717 = x1712.mul_add(x1676, x1716);
+                x1718 = x1709 * x1455;
+                x1719 = x1700.mul_add(x1675, x1718);
+                x1720 = x1717 + x1719;
+                x1721 = x1687 + x1708;
+                x1722 = x1694 - x1715;
+                x1723 = x1699 + x1720;
+                x1724 = x1679 * x1678;
+                x1725 = x1701.mul_sub(x1451, x1724);
+                x1726 = x1705 * x1425;
+                x1727 = x1683.mul_add(x1676, x1726);
+                x1728 = x1725 - x1727;
+                x1729 = x1709 * x1425;
+                x1730 = x1683.mul_add(x1675, x1729);
+                x1731 = x1701 * x1449;
+                x1732 = x1691.mul_add(x1678, x1731);
+                x1733 = x1730 + x1732;
+                x1734 = x1705 * x1449;
+                x1735 = x1691.mul_add(x1676, x1734);
+                x1736 = x1709 * x1451;
+                x1737 = x1679.mul_sub(x1675, x1736);
+                x1738 = x1735 - x1737;
+                x1739 = arith.splat_eight(0.009543771269492206f64);
+                x1740 = arith.splat_eight(0.014748570382675316f64);
+                x1741 = arith.splat_eight(-0.00010375891721868492f64);
+                x1742 = arith.splat_eight(0.000093569097314605f64);
+                x1743 = arith.splat_eight(0.05258828201066731f64);
+                x1744 = arith.splat_eight(-0.17380470556900002f64);
+                x1745 = arith.splat_eight(0.231847552695f64);
+                x1746 = x1740 * x1473;
+                x1747 = x1739.mul_add(x1471, x1746);
+                x1748 = x1741.mul_neg_add(x1451, x1747);
+                x1749 = x1742 * x1451;
+                x1750 = x1740.mul_sub(x1471, x1749);
+                x1751 = x1742 * x1473;
+                x1752 = x1741.mul_add(x1471, x1751);
+                x1753 = x1743.mul_neg_add(x1451, x1752);
+                x1754 = x1744 * x1475;
+                x1755 = x1745.mul_sub(x1477, x1754);
+                x1756 = x1744.mul_add(x1469, x1748);
+                x1757 = x1745.mul_neg_add(x1469, x1750);
+                x1758 = x1753 + x1755;
+                x1759 = x1744 * x1451;
+                x1760 = x1745 * x1451;
+                x1761 = x1745 * x1473;
+                x1762 = x1744.mul_sub(x1471, x1761);
+                x1763 = arith.splat_eight(x61);
+                x1764 = arith.splat_eight(x489);
+                x1765 = x1764 * x1473;
+                x1766 = x1763.mul_add(x1758, x1765);
+                x1767 = arith.splat_eight(x67);
+                x1768 = arith.splat_eight(x488);
+                x1769 = x1768 * x1451;
+                x1770 = x1767.mul_sub(x1757, x1769);
+                x1771 = x1766 - x1770;
+                x1772 = arith.splat_eight(x487);
+                x1773 = x1772 * x1451;
+                x1774 = x1767.mul_sub(x1756, x1773);
+                x1775 = arith.splat_eight(x58);
+                x1776 = x1764 * x1471;
+                x1777 = x1775.mul_add(x1758, x1776);
+                x1778 = x1774 - x1777;
+                x1779 = x1768 * x1471;
+                x1780 = x1775.mul_add(x1757, x1779);
+                x1781 = x1772 * x1473;
+                x1782 = x1763.mul_add(x1756, x1781);
+                x1783 = x1780 - x1782;
+                x1784 = arith.splat_eight(x65);
+                x1785 = arith.splat_eight(x436);
+                x1786 = x1785 * x1477;
+                x1787 = x1784.mul_add(x1762, x1786);
+                x1788 = arith.splat_eight(x66);
+                x1789 = x1788 * x1760;
+                x1790 = arith.splat_eight(x434);
+                x1791 = x1790.mul_sub(x1469, x1789);
+                x1792 = x1787 - x1791;
+                x1793 = arith.splat_eight(x433);
+                x1794 = x1793 * x1469;
+                x1795 = x1788.mul_sub(x1759, x1794);
+                x1796 = arith.splat_eight(x63);
+                x1797 = x1785 * x1475;
+                x1798 = x1796.mul_add(x1762, x1797);
+                x1799 = x1795 - x1798;
+                x1800 = x1796 * x1760;
+                x1801 = x1790.mul_sub(x1475, x1800);
+                x1802 = x1793 * x1477;
+                x1803 = x1784.mul_sub(x1759, x1802);
+                x1804 = x1801 - x1803;
+                x1805 = x1771 + x1792;
+                x1806 = x1778 + x1799;
+                x1807 = x1783 + x1804;
+                x1808 = x1785 * x1473;
+                x1809 = x1763.mul_add(x1762, x1808);
+                x1810 = x1790 * x1451;
+                x1811 = x1767.mul_add(x1760, x1810);
+                x1812 = x1809 + x1811;
+                x1813 = x1793 * x1451;
+                x1814 = x1767.mul_add(x1759, x1813);
+                x1815 = x1785 * x1471;
+                x1816 = x1775.mul_add(x1762, x1815);
+                x1817 = x1814 - x1816;
+                x1818 = x1775 * x1760;
+                x1819 = x1790.mul_sub(x1471, x1818);
+                x1820 = x1793 * x1473;
+                x1821 = x1763.mul_sub(x1759, x1820);
+                x1822 = x1819 - x1821;
+                x1823 = arith.splat_eight(0.0024209437785212354f64);
+                x1824 = arith.splat_eight(0.0003913912816842481f64);
+                x1825 = arith.splat_eight(-0.0009653051699191116f64);
+                x1826 = arith.splat_eight(-0.001255536598272898f64);
+                x1827 = arith.splat_eight(0.006684151967360945f64);
+                x1828 = arith.splat_eight(0.0020344399586617965f64);
+                x1829 = arith.splat_eight(0.002573605371338202f64);
+                x1830 = x1824 * x1496;
+                x1831 = x1823.mul_add(x1494, x1830);
+                x1832 = x1825.mul_neg_add(x1473, x1831);
+                x1833 = x1826 * x1473;
+                x1834 = x1824.mul_sub(x1494, x1833);
+                x1835 = x1826 * x1496;
+                x1836 = x1825.mul_add(x1494, x1835);
+                x1837 = x1827.mul_neg_add(x1473, x1836);
+                x1838 = x1828 * x1498;
+                x1839 = x1829.mul_sub(x1500, x1838);
+                x1840 = x1828.mul_add(x1492, x1832);
+                x1841 = x1829.mul_neg_add(x1492, x1834);
+                x1842 = x1837 + x1839;
+                x1843 = x1828 * x1473;
+                x1844 = x1829 * x1473;
+                x1845 = x1829 * x1496;
+                x1846 = x1828.mul_sub(x1494, x1845);
+                x1847 = arith.splat_eight(x71);
+                x1848 = arith.splat_eight(x499);
+                x1849 = x1848 * x1496;
+                x1850 = x1847.mul_add(x1842, x1849);
+                x1851 = arith.splat_eight(x79);
+                x1852 = arith.splat_eight(x498);
+                x1853 = x1852 * x1473;
+                x1854 = x1851.mul_sub(x1841, x1853);
+                x1855 = x1850 - x1854;
+                x1856 = arith.splat_eight(x497);
+                x1857 = x1856 * x1473;
+                x1858 = x1851.mul_sub(x1840, x1857);
+                x1859 = arith.splat_eight(x69);
+                x1860 = x1848 * x1494;
+                x1861 = x1859.mul_add(x1842, x1860);
+                x1862 = x1858 - x1861;
+                x1863 = x1852 * x1494;
+                x1864 = x1859.mul_add(x1841, x1863);
+                x1865 = x1856 * x1496;
+                x1866 = x1847.mul_add(x1840, x1865);
+                x1867 = x1864 - x1866;
+                x1868 = arith.splat_eight(x78);
+                x1869 = arith.splat_eight(x443);
+                x1870 = x1869 * x1500;
+                x1871 = x1868.mul_add(x1846, x1870);
+                x1872 = arith.splat_eight(x73);
+                x1873 = arith.splat_eight(x441);
+                x1874 = x1873 * x1492;
+                x1875 = x1872.mul_add(x1844, x1874);
+                x1876 = x1871 - x1875;
+                x1877 = arith.splat_eight(x440);
+                x1878 = x1877 * x1492;
+                x1879 = x1872.mul_add(x1843, x1878);
+                x1880 = arith.splat_eight(x76);
+                x1881 = x1869 * x1498;
+                x1882 = x1880.mul_add(x1846, x1881);
+                x1883 = x1879 + x1882;
+                x1884 = x1880 * x1844;
+                x1885 = x1873.mul_sub(x1498, x1884);
+                x1886 = x1877 * x1500;
+                x1887 = x1868.mul_sub(x1843, x1886);
+                x1888 = x1885 - x1887;
+                x1889 = x1855 + x1876;
+                x1890 = x1862 - x1883;
+                x1891 = x1867 + x1888;
+                x1892 = x1869 * x1496;
+                x1893 = x1847.mul_add(x1846, x1892);
+                x1894 = x1873 * x1473;
+                x1895 = x1851.mul_add(x1844, x1894);
+                x1896 = x1893 + x1895;
+                x1897 = x1877 * x1473;
+                x1898 = x1851.mul_add(x1843, x1897);
+                x1899 = x1869 * x1494;
+                x1900 = x1859.mul_add(x1846, x1899);
+                x1901 = x1898 - x1900;
+                x1902 = x1859 * x1844;
+                x1903 = x1873.mul_sub(x1494, x1902);
+                x1904 = x1877 * x1496;
+                x1905 = x1847.mul_sub(x1843, x1904);
+                x1906 = x1903 - x1905;
+                x1907 = arith.splat_eight(c2);
+                x1908 = arith.splat_eight(s2);
+                x1909 = arith.splat_eight(-0.316f64);
+                x1910 = arith.splat_eight(c1);
+                x1911 = arith.splat_eight(s1);
+                x1912 = qd1 * c1;
+                x1913 = -x1912;
+                x1914 = arith.eight([x1913, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1915 = x1391 + x1914;
+                x1916 = qd1 * s1;
+                x1917 = -x1916;
+                x1918 = arith.eight([x1917, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1919 = x1394 + x1918;
+                x1920 = arith.eight([x1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1921 = arith.eight([0.0, s2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1922 = x1920 + x1921;
+                x1923 = arith.eight([x2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1924 = arith.eight([0.0, c2, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1925 = x1923 + x1924;
+                x1926 = arith.eight([c1, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1927 = 0.316f64 * s1;
+                x1928 = 0.316f64 * c2;
+                x1929 = arith.eight([0.0, x1928, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1930 = s2 * x1927;
+                x1931 = arith.eight([x1930, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1932 = x1929 + x1931;
+                x1933 = -0.316f64 * s2;
+                x1934 = arith.eight([0.0, x1933, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1935 = c2 * x1927;
+                x1936 = arith.eight([x1935, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1937 = x1934 + x1936;
+                x1938 = x1386 + x1926;
+                x1939 = x1909 * x1915;
+                x1940 = x1406.mul_add(x1925, x1397);
+                x1941 = arith.eight([0.0, 0.0, x16, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1942 = x1406.mul_add(x1922, x1941);
+                x1943 = x1406.mul_add(x1937, x1401);
+                x1944 = arith.eight([0.0, 0.0, x23, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x1945 = x1406.mul_add(x1932, x1944);
+                x1946 = x1907.mul_add(x1915, x1940);
+                x1947 = x1908.mul_add(x1915, x1942);
+                x1948 = x1908.mul_add(x1939, x1943);
+                x1949 = x1907.mul_sub(x1939, x1945);
+                x1950 = x1411 * x1938;
+                x1951 = x1408.mul_add(x1922, x1950);
+                x1952 = x1411 * x1922;
+                x1953 = x1408.mul_sub(x1938, x1952);
+                x1954 = x1415 * x1925;
+                x1955 = x1415.mul_add(x1938, x1937);
+                x1956 = x1411 * x1954;
+                x1957 = x1408.mul_sub(x1932, x1956);
+                x1958 = x1408 * x1954;
+                x1959 = x1411.mul_add(x1932, x1958);
+                x1960 = x1387 - x1925;
+                x1961 = x1411 * x1919;
+                x1962 = x1408.mul_add(x1946, x1961);
+                x1963 = x1411 * x1946;
+                x1964 = x1408.mul_sub(x1919, x1963);
+                x1965 = x1415 * x1947;
+                x1966 = x1415.mul_add(x1919, x1949);
+                x1967 = x1411 * x1965;
+                x1968 = x1408.mul_add(x1948, x1967);
+                x1969 = x1411 * x1948;
+                x1970 = x1408.mul_sub(x1965, x1969);
+                x1971 = x1430.mul_add(x1953, x1422);
+                x1972 = arith.eight([0.0, 0.0, 0.0, x28, 0.0, 0.0, 0.0, 0.0]);
+                x1973 = x1430.mul_add(x1951, x1972);
+                x1974 = x1430.mul_neg_add(x1959, x1426);
+                x1975 = arith.eight([0.0, 0.0, 0.0, x35, 0.0, 0.0, 0.0, 0.0]);
+                x1976 = x1430.mul_add(x1957, x1975);
+                x1977 = x1962 + x1971;
+                x1978 = x1964 - x1973;
+                x1979 = x1968 + x1974;
+                x1980 = x1970 - x1976;
+                x1981 = x1432 * x1960;
+                x1982 = x1431.mul_sub(x1951, x1981);
+                x1983 = x1431 * x1960;
+                x1984 = x1432.mul_add(x1951, x1983);
+                x1985 = x1437 * x1951;
+                x1986 = x1438.mul_sub(x1953, x1985);
+                x1987 = x1437.mul_neg_add(x1960, x1957);
+                x1988 = x1438.mul_sub(x1960, x1959);
+                x1989 = x1955 + x1986;
+                x1990 = x1432 * x1989;
+                x1991 = x1431.mul_add(x1987, x1990);
+                x1992 = x1432 * x1987;
+                x1993 = x1431 * x1989;
+                x1994 = x1993 - x1992;
+                x1995 = x1388 + x1953;
+                x1996 = x1432 * x1947;
+                x1997 = x1431.mul_sub(x1977, x1996);
+                x1998 = x1431 * x1947;
+                x1999 = x1432.mul_add(x1977, x1998);
+                x2000 = x1437 * x1977;
+                x2001 = x1438.mul_sub(x1978, x2000);
+                x2002 = x1437.mul_neg_add(x1947, x1979);
+                x2003 = x1438.mul_add(x1947, x1980);
+                x2004 = x1966 + x2001;
+                x2005 = x1432 * x2004;
+                x2006 = x1431.mul_add(x2002, x2005);
+                x2007 = x1432 * x2002;
+                x2008 = x1431.mul_sub(x2004, x2007);
+                x2009 = x1456.mul_neg_add(x1984, x1448);
+                x2010 = arith.eight([0.0, 0.0, 0.0, 0.0, x42, 0.0, 0.0, 0.0]);
+                x2011 = x1456.mul_add(x1982, x2010);
+                x2012 = x1456.mul_add(x1994, x1452);
+                x2013 = arith.eight([0.0, 0.0, 0.0, 0.0, x52, 0.0, 0.0, 0.0]);
+                x2014 = x1456.mul_add(x1991, x2013);
+                x2015 = x1997 + x2009;
+                x2016 = x1999 + x2011;
+                x2017 = x2006 + x2012;
+                x2018 = x2008 - x2014;
+                x2019 = x1460 * x1995;
+                x2020 = x1459.mul_add(x1982, x2019);
+                x2021 = x1460 * x1982;
+                x2022 = x1459 * x1995;
+                x2023 = x2022 - x2021;
+                x2024 = x1460 * x1988;
+                x2025 = x1459.mul_add(x1991, x2024);
+                x2026 = x1460 * x1991;
+                x2027 = x1459.mul_sub(x1988, x2026);
+                x2028 = x1992 - x1993;
+                x2029 = x1389 + x1984;
+                x2030 = x1460 * x1978;
+                x2031 = x1459.mul_add(x2015, x2030);
+                x2032 = x1460 * x2015;
+                x2033 = x1459.mul_sub(x1978, x2032);
+                x2034 = x1460 * x2003;
+                x2035 = x1459.mul_add(x2017, x2034);
+                x2036 = x1460 * x2017;
+                x2037 = x1459.mul_sub(x2003, x2036);
+                x2038 = x2014 - x2008;
+                x2039 = x1478.mul_add(x2023, x1470);
+                x2040 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x58, 0.0, 0.0]);
+                x2041 = x1478.mul_add(x2020, x2040);
+                x2042 = x1478.mul_add(x2027, x1474);
+                x2043 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x63, 0.0, 0.0]);
+                x2044 = x1478.mul_add(x2025, x2043);
+                x2045 = x2031 + x2039;
+                x2046 = x2033 - x2041;
+                x2047 = x2035 + x2042;
+                x2048 = x2037 - x2044;
+                x2049 = x1481 * x2029;
+                x2050 = x1480.mul_add(x2020, x2049);
+                x2051 = x1481 * x2020;
+                x2052 = x1480.mul_sub(x2029, x2051);
+                x2053 = x2021 - x2022;
+                x2054 = x1486.mul_add(x2029, x2027);
+                x2055 = x1486.mul_neg_add(x2023, x2028);
+                x2056 = x1481 * x2055;
+                x2057 = x1480.mul_add(x2025, x2056);
+                x2058 = x1481 * x2025;
+                x2059 = x1480.mul_sub(x2055, x2058);
+                x2060 = x1390 + x2053;
+                x2061 = x1481 * x2016;
+                x2062 = x1480.mul_add(x2045, x2061);
+                x2063 = x1481 * x2045;
+                x2064 = x1480.mul_sub(x2016, x2063);
+                x2065 = x2041 - x2033;
+                x2066 = x1486.mul_add(x2016, x2048);
+                x2067 = x1486.mul_neg_add(x2046, x2038);
+                x2068 = x1481 * x2067;
+                x2069 = x1480.mul_add(x2047, x2068);
+                x2070 = x1481 * x2047;
+                x2071 = x1480.mul_sub(x2067, x2070);
+                x2072 = x1501.mul_add(x2052, x1493);
+                x2073 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x69, 0.0]);
+                x2074 = x1501.mul_add(x2050, x2073);
+                x2075 = x1501.mul_add(x2059, x1497);
+                x2076 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x76, 0.0]);
+                x2077 = x1501.mul_add(x2057, x2076);
+                x2078 = x2062 + x2072;
+                x2079 = x2064 - x2074;
+                x2080 = x2069 + x2075;
+                x2081 = x2071 - x2077;
+                x2082 = arith.splat_eight(1.0706865997634767f64);
+                x2083 = arith.splat_eight(-0.00398335888393552f64);
+                x2084 = x2083 * x1919;
+                x2085 = x2082.mul_sub(x1915, x2084);
+                x2086 = arith.splat_eight(0.01026110182100817f64);
+                x2087 = arith.splat_eight(0.0007689361029464f64);
+                x2088 = x2087 * x1919;
+                x2089 = x2086.mul_sub(x1915, x2088);
+                x2090 = 0.00398335888393552f64 * c1;
+                x2091 = arith.mul_add(-1.0706865997634767f64, s1, x2090);
+                x2092 = arith.eight([x2091, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2093 = arith
+                    .eight([0.0, 0.01026110182100817f64, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2094 = x2092 + x2093;
+                x2095 = 0.00398335888393552f64 * s1;
+                x2096 = arith.eight([x2095, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2097 = arith
+                    .eight([0.0, 0.0007689361029464f64, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2098 = x2096 + x2097;
+                x2099 = -0.0007689361029464f64 * c1;
+                x2100 = arith.mul_add(-0.01026110182100817f64, s1, x2099);
+                x2101 = arith.eight([x2100, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2102 = arith
+                    .eight([0.0, 1.1168423647533403f64, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2103 = x2101 + x2102;
+                x2104 = arith.splat_eight(x12);
+                x2105 = c1 * x451;
+                x2106 = -x2105;
+                x2107 = arith.eight([x2106, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2108 = x2104.mul_neg_add(x2103, x2107);
+                x2109 = arith.splat_eight(qd1);
+                x2110 = arith.eight([0.0, x449, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2111 = x2109.mul_add(x2098, x2110);
+                x2112 = x2108 - x2111;
+                x2113 = arith.eight([0.0, x448, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2114 = x2109.mul_add(x2094, x2113);
+                x2115 = arith.splat_eight(x10);
+                x2116 = s1 * x451;
+                x2117 = -x2116;
+                x2118 = arith.eight([x2117, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2119 = x2115.mul_neg_add(x2103, x2118);
+                x2120 = x2114 - x2119;
+                x2121 = s1 * x449;
+                x2122 = -x2121;
+                x2123 = arith.eight([x2122, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2124 = x2115.mul_neg_add(x2098, x2123);
+                x2125 = c1 * x448;
+                x2126 = -x2125;
+                x2127 = arith.eight([x2126, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2128 = x2104.mul_neg_add(x2094, x2127);
+                x2129 = x2124 - x2128;
+                x2130 = x2085 + x2112;
+                x2131 = x2083.mul_add(x1915, x2120);
+                x2132 = x2089 + x2129;
+                x2133 = x1503 * x1947;
+                x2134 = x1502.mul_sub(x1946, x2133);
+                x2135 = x1504.mul_add(x1919, x2134);
+                x2136 = x1505 * x1919;
+                x2137 = x1503.mul_add(x1946, x2136);
+                x2138 = x1505 * x1947;
+                x2139 = x1504.mul_sub(x1946, x2138);
+                x2140 = arith.splat_eight(0.13480070614822143f64);
+                x2141 = x2140.mul_add(x1919, x2139);
+                x2142 = x1509 * x1948;
+                x2143 = x1508.mul_sub(x1949, x2142);
+                x2144 = x2141 + x2143;
+                x2145 = x1503 * x1925;
+                x2146 = x1502.mul_add(x1922, x2145);
+                x2147 = x1504.mul_add(x1938, x2146);
+                x2148 = x1505 * x1938;
+                x2149 = x1503.mul_add(x1922, x2148);
+                x2150 = x1505 * x1925;
+                x2151 = x1504.mul_add(x1922, x2150);
+                x2152 = x2140.mul_add(x1938, x2151);
+                x2153 = x1509 * x1932;
+                x2154 = x1508.mul_sub(x1937, x2153);
+                x2155 = x2152 + x2154;
+                x2156 = x1509 * x1938;
+                x2157 = x1508 * x1938;
+                x2158 = x1508 * x1925;
+                x2159 = x1509.mul_sub(x1922, x2158);
+                x2160 = x1526 * x1925;
+                x2161 = x1525.mul_add(x2155, x2160);
+                x2162 = x1539 * x1938;
+                x2163 = x1529.mul_add(x2149, x2162);
+                x2164 = x2161 - x2163;
+                x2165 = x1542 * x1938;
+                x2166 = x1529.mul_add(x2147, x2165);
+                x2167 = x1526 * x1922;
+                x2168 = x1535.mul_add(x2155, x2167);
+                x2169 = x2166 - x2168;
+                x2170 = x1539 * x1922;
+                x2171 = x1535.mul_add(x2149, x2170);
+                x2172 = x1542 * x1925;
+                x2173 = x1525.mul_add(x2147, x2172);
+                x2174 = x2171 - x2173;
+                x2175 = x1547 * x1937;
+                x2176 = x1546.mul_add(x2159, x2175);
+                x2177 = x1547 * x1932;
+                x2178 = x1550.mul_add(x2159, x2177);
+                x2179 = x1554 * x1932;
+                x2180 = x1550.mul_add(x2157, x2179);
+                x2181 = x1557 * x1937;
+                x2182 = x1546.mul_add(x2156, x2181);
+                x2183 = x2180 + x2182;
+                x2184 = x2164 + x2176;
+                x2185 = x2169 - x2178;
+                x2186 = x2174 + x2183;
+                x2187 = x1547 * x1925;
+                x2188 = x1525.mul_add(x2159, x2187);
+                x2189 = x1554 * x1938;
+                x2190 = x1529.mul_add(x2157, x2189);
+                x2191 = x2188 - x2190;
+                x2192 = x1557 * x1938;
+                x2193 = x1529.mul_add(x2156, x2192);
+                x2194 = x1547 * x1922;
+                x2195 = x1535.mul_add(x2159, x2194);
+                x2196 = x2193 + x2195;
+                x2197 = x2135 + x2184;
+                x2198 = x2137 + x2185;
+                x2199 = x2144 + x2186;
+                x2200 = x1509.mul_neg_add(x1919, x2191);
+                x2201 = x1508.mul_sub(x1919, x2196);
+                x2202 = x1572 * x1978;
+                x2203 = x1571.mul_add(x1977, x2202);
+                x2204 = x1573.mul_add(x1947, x2203);
+                x2205 = x1574 * x1947;
+                x2206 = x1572.mul_add(x1977, x2205);
+                x2207 = x1574 * x1978;
+                x2208 = x1573.mul_add(x1977, x2207);
+                x2209 = x1575.mul_add(x1947, x2208);
+                x2210 = x1576 * x1979;
+                x2211 = x1577.mul_sub(x1980, x2210);
+                x2212 = x1576.mul_neg_add(x1966, x2204);
+                x2213 = x1577.mul_add(x1966, x2206);
+                x2214 = x2209 + x2211;
+                x2215 = x1577 * x1978;
+                x2216 = x1576.mul_sub(x1977, x2215);
+                x2217 = x1572 * x1953;
+                x2218 = x1571.mul_add(x1951, x2217);
+                x2219 = x1573.mul_add(x1960, x2218);
+                x2220 = x1574 * x1960;
+                x2221 = x1572.mul_add(x1951, x2220);
+                x2222 = x1574 * x1953;
+                x2223 = x1573.mul_add(x1951, x2222);
+                x2224 = x1575.mul_add(x1960, x2223);
+                x2225 = x1576 * x1957;
+                x2226 = x1577.mul_add(x1959, x2225);
+                x2227 = x1576.mul_neg_add(x1955, x2219);
+                x2228 = x1577.mul_add(x1955, x2221);
+                x2229 = x2224 - x2226;
+                x2230 = x1576 * x1960;
+                x2231 = x1577 * x1960;
+                x2232 = x1577 * x1953;
+                x2233 = x1576.mul_sub(x1951, x2232);
+                x2234 = x1596 * x1953;
+                x2235 = x1595.mul_add(x2229, x2234);
+                x2236 = x1600 * x1960;
+                x2237 = x1599.mul_add(x2228, x2236);
+                x2238 = x2235 - x2237;
+                x2239 = x1604 * x1960;
+                x2240 = x1599.mul_add(x2227, x2239);
+                x2241 = x1596 * x1951;
+                x2242 = x1607.mul_add(x2229, x2241);
+                x2243 = x2240 - x2242;
+                x2244 = x1600 * x1951;
+                x2245 = x1607.mul_add(x2228, x2244);
+                x2246 = x1604 * x1953;
+                x2247 = x1595.mul_add(x2227, x2246);
+                x2248 = x2245 - x2247;
+                x2249 = x1618 * x1959;
+                x2250 = x1616.mul_add(x2233, x2249);
+                x2251 = x1621 * x1955;
+                x2252 = x1620.mul_add(x2231, x2251);
+                x2253 = x2252 - x2250;
+                x2254 = x1625 * x1955;
+                x2255 = x1620.mul_add(x2230, x2254);
+                x2256 = x1618 * x1957;
+                x2257 = x1628.mul_add(x2233, x2256);
+                x2258 = x2255 - x2257;
+                x2259 = x1621 * x1957;
+                x2260 = x1628.mul_add(x2231, x2259);
+                x2261 = x1625 * x1959;
+                x2262 = x1616.mul_add(x2230, x2261);
+                x2263 = x2260 - x2262;
+                x2264 = x2238 + x2253;
+                x2265 = x2243 + x2258;
+                x2266 = x2248 + x2263;
+                x2267 = x1618 * x1953;
+                x2268 = x1595.mul_add(x2233, x2267);
+                x2269 = x1621 * x1960;
+                x2270 = x1599.mul_add(x2231, x2269);
+                x2271 = x2268 - x2270;
+                x2272 = x1625 * x1960;
+                x2273 = x1599.mul_add(x2230, x2272);
+                x2274 = x1618 * x1951;
+                x2275 = x1607.mul_add(x2233, x2274);
+                x2276 = x2273 + x2275;
+                x2277 = x1621 * x1951;
+                x2278 = x1607.mul_add(x2231, x2277);
+                x2279 = x1625 * x1953;
+                x2280 = x1595.mul_add(x2230, x2279);
+                x2281 = x2278 + x2280;
+                x2282 = x2212 + x2264;
+                x2283 = x2213 + x2265;
+                x2284 = x2214 + x2266;
+                x2285 = x1576.mul_neg_add(x1947, x2271);
+                x2286 = x1577.mul_sub(x1947, x2276);
+                x2287 = x2216 + x2281;
+                x2288 = x1656 * x2016;
+                x2289 = x1655.mul_sub(x2015, x2288);
+                x2290 = x1657.mul_add(x1978, x2289);
+                x2291 = x1658 * x1978;
+                x2292 = x1656.mul_add(x2015, x2291);
+                x2293 = x1658 * x2016;
+                x2294 = x1657.mul_sub(x2015, x2293);
+                x2295 = x1659.mul_add(x1978, x2294);
+                x2296 = x1660 * x2017;
+                x2297 = x1661.mul_sub(x2018, x2296);
+                x2298 = x1660.mul_add(x2003, x2290);
+                x2299 = x1661.mul_neg_add(x2003, x2292);
+                x2300 = x2295 + x2297;
+                x2301 = x1660 * x2015;
+                x2302 = x1661.mul_add(x2016, x2301);
+                x2303 = x1656 * x1984;
+                x2304 = x1655.mul_sub(x1982, x2303);
+                x2305 = x1657.mul_add(x1995, x2304);
+                x2306 = x1658 * x1995;
+                x2307 = x1656.mul_add(x1982, x2306);
+                x2308 = x1658 * x1984;
+                x2309 = x1657.mul_sub(x1982, x2308);
+                x2310 = x1659.mul_add(x1995, x2309);
+                x2311 = x1660 * x1991;
+                x2312 = x1661.mul_sub(x1994, x2311);
+                x2313 = x1660.mul_add(x1988, x2305);
+                x2314 = x1661.mul_neg_add(x1988, x2307);
+                x2315 = x2310 + x2312;
+                x2316 = x1660 * x1995;
+                x2317 = x1661 * x1995;
+                x2318 = x1660 * x1982;
+                x2319 = x1661.mul_add(x1984, x2318);
+                x2320 = x1681 * x1984;
+                x2321 = x1679.mul_add(x2315, x2320);
+                x2322 = x1684 * x1995;
+                x2323 = x1683.mul_add(x2314, x2322);
+                x2324 = x2321 + x2323;
+                x2325 = x1688 * x1995;
+                x2326 = x1683.mul_add(x2313, x2325);
+                x2327 = x1681 * x1982;
+                x2328 = x1691.mul_add(x2315, x2327);
+                x2329 = x2326 - x2328;
+                x2330 = x1684 * x1982;
+                x2331 = x1691.mul_add(x2314, x2330);
+                x2332 = x1688 * x1984;
+                x2333 = x1679.mul_add(x2313, x2332);
+                x2334 = x2331 + x2333;
+                x2335 = x1701 * x1994;
+                x2336 = x1700.mul_add(x2319, x2335);
+                x2337 = x1705 * x1988;
+                x2338 = x1704.mul_add(x2317, x2337);
+                x2339 = x2336 - x2338;
+                x2340 = x1709 * x1988;
+                x2341 = x1704.mul_add(x2316, x2340);
+                x2342 = x1701 * x1991;
+                x2343 = x1712.mul_add(x2319, x2342);
+                x2344 = x2341 + x2343;
+                x2345 = x1705 * x1991;
+                x2346 = x1712.mul_add(x2317, x2345);
+                x2347 = x1709 * x1994;
+                x2348 = x1700.mul_add(x2316, x2347);
+                x2349 = x2346 + x2348;
+                x2350 = x2339 - x2324;
+                x2351 = x2329 - x2344;
+                x2352 = x2334 + x2349;
+                x2353 = x1701 * x1984;
+                x2354 = x1679.mul_add(x2319, x2353);
+                x2355 = x1705 * x1995;
+                x2356 = x1683.mul_add(x2317, x2355);
+                x2357 = x2354 + x2356;
+                x2358 = x1709 * x1995;
+                x2359 = x1683.mul_add(x2316, x2358);
+                x2360 = x1701 * x1982;
+                x2361 = x1691.mul_add(x2319, x2360);
+                x2362 = x2359 + x2361;
+                x2363 = x1705 * x1982;
+                x2364 = x1691.mul_add(x2317, x2363);
+                x2365 = x1709 * x1984;
+                x2366 = x1679.mul_add(x2316, x2365);
+                x2367 = x2364 - x2366;
+                x2368 = x2298 + x2350;
+                x2369 = x2299 + x2351;
+                x2370 = x2300 + x2352;
+                x2371 = x1660.mul_add(x1978, x2357);
+                x2372 = x1661.mul_sub(x1978, x2362);
+                x2373 = x2302 + x2367;
+                x2374 = x1740 * x2046;
+                x2375 = x1739.mul_add(x2045, x2374);
+                x2376 = x1741.mul_add(x2016, x2375);
+                x2377 = x1742 * x2016;
+                x2378 = x1740.mul_add(x2045, x2377);
+                x2379 = x1742 * x2046;
+                x2380 = x1741.mul_add(x2045, x2379);
+                x2381 = x1743.mul_add(x2016, x2380);
+                x2382 = x1744 * x2047;
+                x2383 = x1745.mul_sub(x2048, x2382);
+                x2384 = x1744.mul_add(x2038, x2376);
+                x2385 = x1745.mul_neg_add(x2038, x2378);
+                x2386 = x2381 + x2383;
+                x2387 = x1745 * x2046;
+                x2388 = x1744.mul_sub(x2045, x2387);
+                x2389 = x1740 * x2023;
+                x2390 = x1739.mul_add(x2020, x2389);
+                x2391 = x1741.mul_add(x2029, x2390);
+                x2392 = x1742 * x2029;
+                x2393 = x1740.mul_add(x2020, x2392);
+                x2394 = x1742 * x2023;
+                x2395 = x1741.mul_add(x2020, x2394);
+                x2396 = x1743.mul_add(x2029, x2395);
+                x2397 = x1744 * x2025;
+                x2398 = x1745.mul_sub(x2027, x2397);
+                x2399 = x1744.mul_add(x2028, x2391);
+                x2400 = x1745.mul_neg_add(x2028, x2393);
+                x2401 = x2396 + x2398;
+                x2402 = x1744 * x2029;
+                x2403 = x1745 * x2029;
+                x2404 = x1745 * x2023;
+                x2405 = x1744.mul_sub(x2020, x2404);
+                x2406 = x1764 * x2023;
+                x2407 = x1763.mul_add(x2401, x2406);
+                x2408 = x1768 * x2029;
+                x2409 = x1767.mul_add(x2400, x2408);
+                x2410 = x2407 - x2409;
+                x2411 = x1772 * x2029;
+                x2412 = x1767.mul_add(x2399, x2411);
+                x2413 = x1764 * x2020;
+                x2414 = x1775.mul_add(x2401, x2413);
+                x2415 = x2412 - x2414;
+                x2416 = x1768 * x2020;
+                x2417 = x1775.mul_add(x2400, x2416);
+                x2418 = x1772 * x2023;
+                x2419 = x1763.mul_add(x2399, x2418);
+                x2420 = x2417 - x2419;
+                x2421 = x1785 * x2027;
+                x2422 = x1784.mul_add(x2405, x2421);
+                x2423 = x1790 * x2028;
+                x2424 = x1788.mul_add(x2403, x2423);
+                x2425 = x2422 - x2424;
+                x2426 = x1793 * x2028;
+                x2427 = x1788.mul_add(x2402, x2426);
+                x2428 = x1785 * x2025;
+                x2429 = x1796.mul_add(x2405, x2428);
+                x2430 = x2427 + x2429;
+                x2431 = x1790 * x2025;
+                x2432 = x1796.mul_add(x2403, x2431);
+                x2433 = x1793 * x2027;
+                x2434 = x1784.mul_add(x2402, x2433);
+                x2435 = x2432 + x2434;
+                x2436 = x2410 + x2425;
+                x2437 = x2415 - x2430;
+                x2438 = x2420 + x2435;
+                x2439 = x1785 * x2023;
+                x2440 = x1763.mul_add(x2405, x2439);
+                x2441 = x1790 * x2029;
+                x2442 = x1767.mul_add(x2403, x2441);
+                x2443 = x2440 - x2442;
+                x2444 = x1793 * x2029;
+                x2445 = x1767.mul_add(x2402, x2444);
+                x2446 = x1785 * x2020;
+                x2447 = x1775.mul_add(x2405, x2446);
+                x2448 = x2445 + x2447;
+                x2449 = x1790 * x2020;
+                x2450 = x1775.mul_add(x2403, x2449);
+                x2451 = x1793 * x2023;
+                x2452 = x1763.mul_add(x2402, x2451);
+                x2453 = x2450 + x2452;
+                x2454 = x2384 + x2436;
+                x2455 = x2385 + x2437;
+                x2456 = x2386 + x2438;
+                x2457 = x1744.mul_neg_add(x2016, x2443);
+                x2458 = x1745.mul_sub(x2016, x2448);
+                x2459 = x2388 + x2453;
+                x2460 = x1824 * x2079;
+                x2461 = x1823.mul_add(x2078, x2460);
+                x2462 = x1825.mul_add(x2065, x2461);
+                x2463 = x1826 * x2065;
+                x2464 = x1824.mul_add(x2078, x2463);
+                x2465 = x1826 * x2079;
+                x2466 = x1825.mul_add(x2078, x2465);
+                x2467 = x1827.mul_add(x2065, x2466);
+                x2468 = x1828 * x2080;
+                x2469 = x1829.mul_sub(x2081, x2468);
+                x2470 = x1828.mul_neg_add(x2066, x2462);
+                x2471 = x1829.mul_add(x2066, x2464);
+                x2472 = x2467 + x2469;
+                x2473 = x1829 * x2079;
+                x2474 = x1828.mul_sub(x2078, x2473);
+                x2475 = x1824 * x2052;
+                x2476 = x1823.mul_add(x2050, x2475);
+                x2477 = x1825.mul_add(x2060, x2476);
+                x2478 = x1826 * x2060;
+                x2479 = x1824.mul_add(x2050, x2478);
+                x2480 = x1826 * x2052;
+                x2481 = x1825.mul_add(x2050, x2480);
+                x2482 = x1827.mul_add(x2060, x2481);
+                x2483 = x1828 * x2057;
+                x2484 = x1829.mul_sub(x2059, x2483);
+                x2485 = x1828.mul_neg_add(x2054, x2477);
+                x2486 = x1829.mul_add(x2054, x2479);
+                x2487 = x2482 + x2484;
+                x2488 = x1828 * x2060;
+                x2489 = x1829 * x2060;
+                x2490 = x1829 * x2052;
+                x2491 = x1828.mul_sub(x2050, x2490);
+                x2492 = x1848 * x2052;
+                x2493 = x1847.mul_add(x2487, x2492);
+                x2494 = x1852 * x2060;
+                x2495 = x1851.mul_add(x2486, x2494);
+                x2496 = x2493 - x2495;
+                x2497 = x1856 * x2060;
+                x2498 = x1851.mul_add(x2485, x2497);
+                x2499 = x1848 * x2050;
+                x2500 = x1859.mul_add(x2487, x2499);
+                x2501 = x2498 - x2500;
+                x2502 = x1852 * x2050;
+                x2503 = x1859.mul_add(x2486, x2502);
+                x2504 = x1856 * x2052;
+                x2505 = x1847.mul_add(x2485, x2504);
+                x2506 = x2503 - x2505;
+                x2507 = x1869 * x2059;
+                x2508 = x1868.mul_add(x2491, x2507);
+                x2509 = x1873 * x2054;
+                x2510 = x1872.mul_add(x2489, x2509);
+                x2511 = x2508 + x2510;
+                x2512 = x1877 * x2054;
+                x2513 = x1872.mul_add(x2488, x2512);
+                x2514 = x1869 * x2057;
+                x2515 = x1880.mul_add(x2491, x2514);
+                x2516 = x2513 - x2515;
+                x2517 = x1873 * x2057;
+                x2518 = x1880.mul_add(x2489, x2517);
+                x2519 = x1877 * x2059;
+                x2520 = x1868.mul_add(x2488, x2519);
+                x2521 = x2518 + x2520;
+                x2522 = x2496 + x2511;
+                x2523 = x2501 + x2516;
+                x2524 = x2506 + x2521;
+                x2525 = x1869 * x2052;
+                x2526 = x1847.mul_add(x2491, x2525);
+                x2527 = x1873 * x2060;
+                x2528 = x1851.mul_add(x2489, x2527);
+                x2529 = x2526 - x2528;
+                x2530 = x1877 * x2060;
+                x2531 = x1851.mul_add(x2488, x2530);
+                x2532 = x1869 * x2050;
+                x2533 = x1859.mul_add(x2491, x2532);
+                x2534 = x2531 + x2533;
+                x2535 = x1873 * x2050;
+                x2536 = x1859.mul_add(x2489, x2535);
+                x2537 = x1877 * x2052;
+                x2538 = x1847.mul_add(x2488, x2537);
+                x2539 = x2536 + x2538;
+                x2540 = x2470 + x2522;
+                x2541 = x2471 + x2523;
+                x2542 = x2472 + x2524;
+                x2543 = x1828.mul_neg_add(x2065, x2529);
+                x2544 = x1829.mul_sub(x2065, x2534);
+                x2545 = x2474 + x2539;
+                x2546 = x1481 * x2544;
+                x2547 = x1480.mul_sub(x2543, x2546);
+                x2548 = x1480 * x2544;
+                x2549 = x1481.mul_add(x2543, x2548);
+                x2550 = x1481 * x2541;
+                x2551 = x1480.mul_sub(x2540, x2550);
+                x2552 = x1480 * x2541;
+                x2553 = x1481.mul_add(x2540, x2552);
+                x2554 = x1486.mul_add(x2549, x2542);
+                x2555 = x1486.mul_neg_add(x2545, x2553);
+                x2556 = x2454 + x2551;
+                x2557 = x2455 - x2554;
+                x2558 = x2456 + x2555;
+                x2559 = x2457 + x2547;
+                x2560 = x2458 - x2545;
+                x2561 = x2459 + x2549;
+                x2562 = x1460 * x2560;
+                x2563 = x1459.mul_sub(x2559, x2562);
+                x2564 = x1459 * x2560;
+                x2565 = x1460.mul_add(x2559, x2564);
+                x2566 = x1460 * x2557;
+                x2567 = x1459.mul_sub(x2556, x2566);
+                x2568 = x1459 * x2557;
+                x2569 = x1460.mul_add(x2556, x2568);
+                x2570 = x2368 + x2567;
+                x2571 = x2369 - x2558;
+                x2572 = x2370 + x2569;
+                x2573 = x2563 - x2371;
+                x2574 = x2372 - x2561;
+                x2575 = x2373 + x2565;
+                x2576 = x1432 * x2574;
+                x2577 = x1431.mul_sub(x2573, x2576);
+                x2578 = x1431 * x2574;
+                x2579 = x1432.mul_add(x2573, x2578);
+                x2580 = x1432 * x2571;
+                x2581 = x1431.mul_sub(x2570, x2580);
+                x2582 = x1431 * x2571;
+                x2583 = x1432.mul_add(x2570, x2582);
+                x2584 = x1437 * x2577;
+                x2585 = x1438.mul_sub(x2575, x2584);
+                x2586 = x1437.mul_neg_add(x2579, x2581);
+                x2587 = x1438.mul_add(x2579, x2572);
+                x2588 = x2585 - x2583;
+                x2589 = x2282 + x2586;
+                x2590 = x2283 + x2587;
+                x2591 = x2284 + x2588;
+                x2592 = x2285 + x2577;
+                x2593 = x2286 + x2575;
+                x2594 = x1411 * x2593;
+                x2595 = x1408.mul_sub(x2592, x2594);
+                x2596 = x2579 - x2287;
+                x2597 = x1408 * x2593;
+                x2598 = x1411.mul_add(x2592, x2597);
+                x2599 = x1411 * x2590;
+                x2600 = x1408.mul_sub(x2589, x2599);
+                x2601 = x1408 * x2590;
+                x2602 = x1411.mul_add(x2589, x2601);
+                x2603 = x1415.mul_add(x2598, x2591);
+                x2604 = x1415.mul_add(x2596, x2602);
+                x2605 = x2197 + x2600;
+                x2606 = x2198 - x2603;
+                x2607 = x2199 + x2604;
+                x2608 = x2200 + x2595;
+                x2609 = x2201 + x2596;
+                x2610 = x1908 * x2609;
+                x2611 = x1907.mul_sub(x2608, x2610);
+                x2612 = x1907 * x2609;
+                x2613 = x1908.mul_add(x2608, x2612);
+                x2614 = x1908 * x2606;
+                x2615 = x1907.mul_sub(x2605, x2614);
+                x2616 = x1907 * x2606;
+                x2617 = x1908.mul_add(x2605, x2616);
+                x2618 = x1909.mul_add(x2613, x2615);
+                x2619 = x1909.mul_neg_add(x2611, x2617);
+                x2620 = x2130 + x2618;
+                x2621 = x2131 - x2607;
+                x2622 = x2132 + x2619;
+                x2623 = x1910 * x2621;
+                x2624 = x1911.mul_add(x2620, x2623);
+                x2625 = arith.eight([0.0, x1338, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2626 = arith.eight([0.0, x1340, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2627 = arith.eight([0.0, x1343, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2628 = arith.eight([0.0, x1344, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2629 = arith.eight([0.0, 0.0, x1077, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2630 = x2625 + x2629;
+                x2631 = arith.eight([0.0, 0.0, x1366, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2632 = x2626 + x2631;
+                x2633 = arith.eight([0.0, 0.0, x1084, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2634 = x2627 + x2633;
+                x2635 = arith.eight([0.0, 0.0, x1367, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2636 = x2628 + x2635;
+                x2637 = x1406.mul_add(x1400, x2630);
+                x2638 = x2632 - x1407;
+                x2639 = x1406.mul_add(x1404, x2634);
+                x2640 = x1406.mul_neg_add(x1402, x2636);
+                x2641 = arith.eight([0.0, x1346, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2642 = x1408.mul_add(x2637, x2641);
+                x2643 = arith.eight([0.0, x1348, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2644 = x1411.mul_neg_add(x2637, x2643);
+                x2645 = x1407 - x2632;
+                x2646 = arith.eight([0.0, x1350, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2647 = x1415.mul_neg_add(x2638, x1405);
+                x2648 = x1411 * x2647;
+                x2649 = x1408.mul_add(x2639, x2648);
+                x2650 = x1411 * x2639;
+                x2651 = x1408.mul_sub(x2647, x2650);
+                x2652 = x2646 - x2640;
+                x2653 = arith.eight([0.0, 0.0, 0.0, x1093, 0.0, 0.0, 0.0, 0.0]);
+                x2654 = x2642 + x2653;
+                x2655 = arith.eight([0.0, 0.0, 0.0, x1370, 0.0, 0.0, 0.0, 0.0]);
+                x2656 = x2644 + x2655;
+                x2657 = arith.eight([0.0, 0.0, 0.0, x1102, 0.0, 0.0, 0.0, 0.0]);
+                x2658 = x2649 + x2657;
+                x2659 = arith.eight([0.0, 0.0, 0.0, x1371, 0.0, 0.0, 0.0, 0.0]);
+                x2660 = x2651 + x2659;
+                x2661 = x1430.mul_add(x1425, x2654);
+                x2662 = x1430.mul_neg_add(x1423, x2656);
+                x2663 = x1430.mul_add(x1429, x2658);
+                x2664 = x1430.mul_neg_add(x1427, x2660);
+                x2665 = x1432 * x2645;
+                x2666 = x1431.mul_sub(x2661, x2665);
+                x2667 = x1431 * x2645;
+                x2668 = x1432.mul_add(x2661, x2667);
+                x2669 = x1437 * x2661;
+                x2670 = x1438.mul_sub(x2662, x2669);
+                x2671 = x1437.mul_neg_add(x2645, x2663);
+                x2672 = x1438.mul_add(x2645, x2664);
+                x2673 = x2652 - x2670;
+                x2674 = x1432 * x2673;
+                x2675 = x1431.mul_sub(x2671, x2674);
+                x2676 = x1431 * x2673;
+                x2677 = x1432.mul_add(x2671, x2676);
+                x2678 = arith.eight([0.0, 0.0, 0.0, 0.0, x1113, 0.0, 0.0, 0.0]);
+                x2679 = x2666 + x2678;
+                x2680 = arith.eight([0.0, 0.0, 0.0, 0.0, x1374, 0.0, 0.0, 0.0]);
+                x2681 = x2680 - x2668;
+                x2682 = arith.eight([0.0, 0.0, 0.0, 0.0, x1122, 0.0, 0.0, 0.0]);
+                x2683 = x2675 + x2682;
+                x2684 = arith.eight([0.0, 0.0, 0.0, 0.0, x1375, 0.0, 0.0, 0.0]);
+                x2685 = x2684 - x2677;
+                x2686 = x1456.mul_add(x1451, x2679);
+                x2687 = x2681 - x1457;
+                x2688 = x1456.mul_add(x1455, x2683);
+                x2689 = x2685 - x1458;
+                x2690 = x1460 * x2662;
+                x2691 = x1459.mul_add(x2686, x2690);
+                x2692 = x1460 * x2686;
+                x2693 = x1459.mul_sub(x2662, x2692);
+                x2694 = x1457 - x2681;
+                x2695 = x1460 * x2672;
+                x2696 = x1459.mul_add(x2688, x2695);
+                x2697 = x1460 * x2688;
+                x2698 = x1459.mul_sub(x2672, x2697);
+                x2699 = x1458 - x2685;
+                x2700 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x1131, 0.0, 0.0]);
+                x2701 = x2691 + x2700;
+                x2702 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x1378, 0.0, 0.0]);
+                x2703 = x2693 + x2702;
+                x2704 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x1135, 0.0, 0.0]);
+                x2705 = x2696 + x2704;
+                x2706 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x1379, 0.0, 0.0]);
+                x2707 = x2698 + x2706;
+                x2708 = x1478.mul_add(x1473, x2701);
+                x2709 = x2703 - x1479;
+                x2710 = x1478.mul_add(x1477, x2705);
+                x2711 = x1478.mul_neg_add(x1475, x2707);
+                x2712 = x1481 * x2694;
+                x2713 = x1480.mul_add(x2708, x2712);
+                x2714 = x1481 * x2708;
+                x2715 = x1480.mul_sub(x2694, x2714);
+                x2716 = x1479 - x2703;
+                x2717 = x1486.mul_add(x2694, x2711);
+                x2718 = x1486.mul_neg_add(x2709, x2699);
+                x2719 = x1481 * x2718;
+                x2720 = x1480.mul_add(x2710, x2719);
+                x2721 = x1481 * x2710;
+                x2722 = x1480.mul_sub(x2718, x2721);
+                x2723 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x1145, 0.0]);
+                x2724 = x2713 + x2723;
+                x2725 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x1382, 0.0]);
+                x2726 = x2715 + x2725;
+                x2727 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x1152, 0.0]);
+                x2728 = x2720 + x2727;
+                x2729 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x1383, 0.0]);
+                x2730 = x2722 + x2729;
+                x2731 = x1501.mul_add(x1496, x2724);
+                x2732 = x1501.mul_neg_add(x1494, x2726);
+                x2733 = x1501.mul_add(x1500, x2728);
+                x2734 = x1501.mul_neg_add(x1498, x2730);
+                x2735 = arith.eight([0.0, x1356, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2736 = arith.eight([0.0, x1357, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2737 = arith.eight([0.0, x1358, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2738 = x1503 * x2638;
+                x2739 = x1502.mul_add(x2637, x2738);
+                x2740 = arith.eight([0.0, x1359, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2741 = x2739 + x2740;
+                x2742 = arith.eight([0.0, x1360, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2743 = x1503.mul_add(x2637, x2742);
+                x2744 = x1505 * x2638;
+                x2745 = x1504.mul_add(x2637, x2744);
+                x2746 = arith.eight([0.0, x1361, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2747 = x2745 + x2746;
+                x2748 = x1509 * x2639;
+                x2749 = x1508.mul_sub(x2640, x2748);
+                x2750 = x1506 + x2741;
+                x2751 = x1507 + x2743;
+                x2752 = x2747 + x2749;
+                x2753 = arith.eight([0.0, x1363, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2754 = arith.eight([0.0, x1364, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2755 = x1560 + x2750;
+                x2756 = x1561 + x2751;
+                x2757 = x1562 + x2752;
+                x2758 = x1566 + x2754;
+                x2759 = x1570 + x2753;
+                x2760 = x1572 * x2662;
+                x2761 = x1571.mul_add(x2661, x2760);
+                x2762 = x1573.mul_add(x2645, x2761);
+                x2763 = x1574 * x2645;
+                x2764 = x1572.mul_add(x2661, x2763);
+                x2765 = x1574 * x2662;
+                x2766 = x1573.mul_add(x2661, x2765);
+                x2767 = x1575.mul_add(x2645, x2766);
+                x2768 = x1576 * x2663;
+                x2769 = x1577.mul_sub(x2664, x2768);
+                x2770 = x1576.mul_add(x2652, x2762);
+                x2771 = x1577.mul_neg_add(x2652, x2764);
+                x2772 = x2767 + x2769;
+                x2773 = x1577 * x2662;
+                x2774 = x1576.mul_sub(x2661, x2773);
+                x2775 = x1637 + x2770;
+                x2776 = x1638 + x2771;
+                x2777 = x1639 + x2772;
+                x2778 = x1576.mul_neg_add(x2645, x1644);
+                x2779 = x1577.mul_add(x2645, x1649);
+                x2780 = x1654 + x2774;
+                x2781 = x1656 * x2687;
+                x2782 = x1655.mul_add(x2686, x2781);
+                x2783 = x1657.mul_add(x2662, x2782);
+                x2784 = x1658 * x2662;
+                x2785 = x1656.mul_add(x2686, x2784);
+                x2786 = x1658 * x2687;
+                x2787 = x1657.mul_add(x2686, x2786);
+                x2788 = x1659.mul_add(x2662, x2787);
+                x2789 = x1660 * x2688;
+                x2790 = x1661.mul_sub(x2689, x2789);
+                x2791 = x1660.mul_add(x2672, x2783);
+                x2792 = x1661.mul_neg_add(x2672, x2785);
+                x2793 = x2788 + x2790;
+                x2794 = x1661 * x2687;
+                x2795 = x1660.mul_sub(x2686, x2794);
+                x2796 = x1721 + x2791;
+                x2797 = x1722 + x2792;
+                x2798 = x1723 + x2793;
+                x2799 = x1660.mul_neg_add(x2662, x1728);
+                x2800 = x1661.mul_sub(x2662, x1733);
+                x2801 = x1738 + x2795;
+                x2802 = x1740 * x2709;
+                x2803 = x1739.mul_add(x2708, x2802);
+                x2804 = x1741.mul_add(x2694, x2803);
+                x2805 = x1742 * x2694;
+                x2806 = x1740.mul_add(x2708, x2805);
+                x2807 = x1742 * x2709;
+                x2808 = x1741.mul_add(x2708, x2807);
+                x2809 = x1743.mul_add(x2694, x2808);
+                x2810 = x1744 * x2710;
+                x2811 = x1745.mul_sub(x2711, x2810);
+                x2812 = x1744.mul_add(x2699, x2804);
+                x2813 = x1745.mul_neg_add(x2699, x2806);
+                x2814 = x2809 + x2811;
+                x2815 = x1745 * x2709;
+                x2816 = x1744.mul_sub(x2708, x2815);
+                x2817 = x1805 + x2812;
+                x2818 = x1806 + x2813;
+                x2819 = x1807 + x2814;
+                x2820 = x1744.mul_neg_add(x2694, x1812);
+                x2821 = x1745.mul_add(x2694, x1817);
+                x2822 = x1822 + x2816;
+                x2823 = x1824 * x2732;
+                x2824 = x1823.mul_add(x2731, x2823);
+                x2825 = x1825.mul_add(x2716, x2824);
+                x2826 = x1826 * x2716;
+                x2827 = x1824.mul_add(x2731, x2826);
+                x2828 = x1826 * x2732;
+                x2829 = x1825.mul_add(x2731, x2828);
+                x2830 = x1827.mul_add(x2716, x2829);
+                x2831 = x1828 * x2733;
+                x2832 = x1829.mul_sub(x2734, x2831);
+                x2833 = x1828.mul_neg_add(x2717, x2825);
+                x2834 = x1829.mul_add(x2717, x2827);
+                x2835 = x2830 + x2832;
+                x2836 = x1829 * x2732;
+                x2837 = x1828.mul_sub(x2731, x2836);
+                x2838 = x1889 + x2833;
+                x2839 = x1890 + x2834;
+                x2840 = x1891 + x2835;
+                x2841 = x1828.mul_neg_add(x2716, x1896);
+                x2842 = x1829.mul_add(x2716, x1901);
+                x2843 = x1906 + x2837;
+                x2844 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x1384, 0.0]);
+                x2845 = x2838 + x2844;
+                x2846 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x1262, 0.0]);
+                x2847 = x2839 + x2846;
+                x2848 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x1385, 0.0]);
+                x2849 = x2841 + x2848;
+                x2850 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, 0.0, x1265, 0.0]);
+                x2851 = x2842 + x2850;
+                x2852 = x1481 * x2851;
+                x2853 = x1480.mul_sub(x2849, x2852);
+                x2854 = x1480 * x2851;
+                x2855 = x1481.mul_add(x2849, x2854);
+                x2856 = x1481 * x2847;
+                x2857 = x1480.mul_sub(x2845, x2856);
+                x2858 = x1480 * x2847;
+                x2859 = x1481.mul_add(x2845, x2858);
+                x2860 = x1486.mul_add(x2855, x2840);
+                x2861 = x1486.mul_neg_add(x2843, x2859);
+                x2862 = x2817 + x2857;
+                x2863 = x2818 - x2860;
+                x2864 = x2819 + x2861;
+                x2865 = x2820 + x2853;
+                x2866 = x2821 - x2843;
+                x2867 = x2822 + x2855;
+                x2868 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x1380, 0.0, 0.0]);
+                x2869 = x2862 + x2868;
+                x2870 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x1278, 0.0, 0.0]);
+                x2871 = x2863 + x2870;
+                x2872 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x1381, 0.0, 0.0]);
+                x2873 = x2865 + x2872;
+                x2874 = arith.eight([0.0, 0.0, 0.0, 0.0, 0.0, x1281, 0.0, 0.0]);
+                x2875 = x2866 + x2874;
+                x2876 = x1460 * x2875;
+                x2877 = x1459.mul_sub(x2873, x2876);
+                x2878 = x1459 * x2875;
+                x2879 = x1460.mul_add(x2873, x2878);
+                x2880 = x1460 * x2871;
+                x2881 = x1459.mul_sub(x2869, x2880);
+                x2882 = x1459 * x2871;
+                x2883 = x1460.mul_add(x2869, x2882);
+                x2884 = x2796 + x2881;
+                x2885 = x2797 - x2864;
+                x2886 = x2798 + x2883;
+                x2887 = x2799 + x2877;
+                x2888 = x2800 - x2867;
+                x2889 = x2801 + x2879;
+                x2890 = arith.eight([0.0, 0.0, 0.0, 0.0, x1376, 0.0, 0.0, 0.0]);
+                x2891 = x2884 + x2890;
+                x2892 = arith.eight([0.0, 0.0, 0.0, 0.0, x1292, 0.0, 0.0, 0.0]);
+                x2893 = x2885 + x2892;
+                x2894 = arith.eight([0.0, 0.0, 0.0, 0.0, x1377, 0.0, 0.0, 0.0]);
+                x2895 = x2887 + x2894;
+                x2896 = arith.eight([0.0, 0.0, 0.0, 0.0, x1295, 0.0, 0.0, 0.0]);
+                x2897 = x2888 + x2896;
+                x2898 = x1432 * x2897;
+                x2899 = x1431.mul_sub(x2895, x2898);
+                x2900 = x1431 * x2897;
+                x2901 = x1432.mul_add(x2895, x2900);
+                x2902 = x1432 * x2893;
+                x2903 = x1431.mul_sub(x2891, x2902);
+                x2904 = x1431 * x2893;
+                x2905 = x1432.mul_add(x2891, x2904);
+                x2906 = x1437 * x2899;
+                x2907 = x1438.mul_sub(x2889, x2906);
+                x2908 = x1437.mul_neg_add(x2901, x2903);
+                x2909 = x1438.mul_add(x2901, x2886);
+                x2910 = x2907 - x2905;
+                x2911 = x2775 + x2908;
+                x2912 = x2776 + x2909;
+                x2913 = x2777 + x2910;
+                x2914 = x2778 + x2899;
+                x2915 = x2779 + x2889;
+                x2916 = arith.eight([0.0, 0.0, 0.0, x1372, 0.0, 0.0, 0.0, 0.0]);
+                x2917 = x2911 + x2916;
+                x2918 = arith.eight([0.0, 0.0, 0.0, x1311, 0.0, 0.0, 0.0, 0.0]);
+                x2919 = x2912 + x2918;
+                x2920 = arith.eight([0.0, 0.0, 0.0, x1373, 0.0, 0.0, 0.0, 0.0]);
+                x2921 = x2914 + x2920;
+                x2922 = arith.eight([0.0, 0.0, 0.0, x1314, 0.0, 0.0, 0.0, 0.0]);
+                x2923 = x2915 + x2922;
+                x2924 = x1411 * x2923;
+                x2925 = x1408.mul_sub(x2921, x2924);
+                x2926 = x2901 - x2780;
+                x2927 = x1408 * x2923;
+                x2928 = x1411.mul_add(x2921, x2927);
+                x2929 = x1411 * x2919;
+                x2930 = x1408.mul_sub(x2917, x2929);
+                x2931 = x1408 * x2919;
+                x2932 = x1411.mul_add(x2917, x2931);
+                x2933 = x1415.mul_add(x2928, x2913);
+                x2934 = x1415.mul_add(x2926, x2932);
+                x2935 = x2755 + x2930;
+                x2936 = x2756 - x2933;
+                x2937 = x2757 + x2934;
+                x2938 = x2758 + x2925;
+                x2939 = x2759 + x2926;
+                x2940 = arith.eight([0.0, 0.0, x1368, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2941 = x2935 + x2940;
+                x2942 = arith.eight([0.0, 0.0, x1327, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2943 = x2936 + x2942;
+                x2944 = arith.eight([0.0, 0.0, x1369, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2945 = x2938 + x2944;
+                x2946 = arith.eight([0.0, 0.0, x1330, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2947 = x2939 + x2946;
+                x2948 = x1908 * x2947;
+                x2949 = x1907.mul_sub(x2945, x2948);
+                x2950 = x1907 * x2947;
+                x2951 = x1908.mul_add(x2945, x2950);
+                x2952 = x1908 * x2943;
+                x2953 = x1907.mul_sub(x2941, x2952);
+                x2954 = x1907 * x2943;
+                x2955 = x1908.mul_add(x2941, x2954);
+                x2956 = x1909.mul_add(x2951, x2953);
+                x2957 = x1909.mul_neg_add(x2949, x2955);
+                x2958 = x2735 + x2956;
+                x2959 = x2736 - x2937;
+                x2960 = x2737 + x2957;
+                x2961 = arith.eight([0.0, x1365, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2962 = x2958 + x2961;
+                x2963 = arith.eight([0.0, x1337, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0]);
+                x2964 = x2959 + x2963;
+                x2965 = x1910 * x2964;
+                x2966 = x1911.mul_add(x2962, x2965);
+                x2967 = arith.splat_eight(x627);
+                x2968 = x2967.mul_sub(x2840, x2864);
+                x2969 = arith.splat_eight(x634);
+                x2970 = x2969.mul_sub(x2840, x2886);
+                x2971 = arith.splat_eight(x640);
+                x2972 = x2971.mul_sub(x2840, x2913);
+                x2973 = arith.splat_eight(x645);
+                x2974 = x2973.mul_sub(x2840, x2937);
+                x2975 = arith.splat_eight(x649);
+                x2976 = x2975.mul_sub(x2840, x2960);
+                x2977 = arith.splat_eight(x652);
+                x2978 = x2977.mul_add(x2840, x2966);
+                x2979 = arith.splat_eight(x655);
+                x2980 = x2979.mul_neg_add(x2968, x2970);
+                x2981 = arith.splat_eight(x661);
+                x2982 = x2981.mul_neg_add(x2968, x2972);
+                x2983 = arith.splat_eight(x666);
+                x2984 = x2983.mul_neg_add(x2968, x2974);
+                x2985 = arith.splat_eight(x670);
+                x2986 = x2985.mul_neg_add(x2968, x2976);
+                x2987 = arith.splat_eight(x673);
+                x2988 = x2987.mul_neg_add(x2968, x2978);
+                x2989 = arith.splat_eight(x676);
+                x2990 = x2989.mul_add(x2980, x2982);
+                x2991 = arith.splat_eight(x681);
+                x2992 = x2991.mul_neg_add(x2980, x2984);
+                x2993 = arith.splat_eight(x685);
+                x2994 = x2993.mul_neg_add(x2980, x2986);
+                x2995 = arith.splat_eight(x688);
+                x2996 = x2995.mul_neg_add(x2980, x2988);
+                x2997 = arith.splat_eight(x691);
+                x2998 = x2997.mul_neg_add(x2990, x2992);
+                x2999 = arith.splat_eight(x695);
+                x3000 = x2999.mul_neg_add(x2990, x2994);
+                x3001 = arith.splat_eight(x698);
+                x3002 = x3001.mul_neg_add(x2990, x2996);
+                x3003 = arith.splat_eight(x701);
+                x3004 = x3003.mul_neg_add(x2998, x3000);
+                x3005 = arith.splat_eight(x704);
+                x3006 = x3005.mul_neg_add(x2998, x3002);
+                x3007 = arith.splat_eight(x707);
+                x3008 = x3007.mul_add(x3004, x3006);
+                x3009 = arith.splat_eight(x709);
+                x3010 = x3009 * x3008;
+                x3011 = arith.splat_eight(x706);
+                x3012 = arith.splat_eight(x700);
+                x3013 = arith.splat_eight(x690);
+                x3014 = arith.splat_eight(x675);
+                x3015 = arith.splat_eight(x654);
+                x3016 = arith.splat_eight(149.6076098932297f64);
+                x3017 = x3007 * x3010;
+                x3018 = x3011.mul_add(x3004, x3017);
+                x3019 = x3005 * x3010;
+                x3020 = x3012.mul_sub(x2998, x3019);
+                x3021 = x3003.mul_neg_add(x3018, x3020);
+                x3022 = x3001 * x3010;
+                x3023 = x3013.mul_sub(x2990, x3022);
+                x3024 = x2999.mul_neg_add(x3018, x3023);
+                x3025 = x2997.mul_neg_add(x3021, x3024);
+                x3026 = x2995 * x3010;
+                x3027 = x3014.mul_sub(x2980, x3026);
+                x3028 = x2993.mul_neg_add(x3018, x3027);
+                x3029 = x2991.mul_neg_add(x3021, x3028);
+                x3030 = x2989.mul_add(x3025, x3029);
+                x3031 = x2987 * x3010;
+                x3032 = x3015.mul_sub(x2968, x3031);
+                x3033 = x2985.mul_neg_add(x3018, x3032);
+                x3034 = x2983.mul_neg_add(x3021, x3033);
+                x3035 = x2981.mul_neg_add(x3025, x3034);
+                x3036 = x2979.mul_neg_add(x3030, x3035);
+                x3037 = x2977 * x3010;
+                x3038 = x3016.mul_add(x2840, x3037);
+                x3039 = x2975.mul_add(x3018, x3038);
+                x3040 = x2973.mul_add(x3021, x3039);
+                x3041 = x2971.mul_add(x3025, x3040);
+                x3042 = x2969.mul_add(x3030, x3041);
+                x3043 = x2967.mul_add(x3036, x3042);
+                x3044 = -x3043;
+                x3045 = x2967.mul_sub(x2542, x2558);
+                x3046 = x2969.mul_sub(x2542, x2572);
+                x3047 = x2971.mul_sub(x2542, x2591);
+                x3048 = x2973.mul_sub(x2542, x2607);
+                x3049 = x2975.mul_sub(x2542, x2622);
+                x3050 = x2977.mul_add(x2542, x2624);
+                x3051 = x2979.mul_neg_add(x3045, x3046);
+                x3052 = x2981.mul_neg_add(x3045, x3047);
+                x3053 = x2983.mul_neg_add(x3045, x3048);
+                x3054 = x2985.mul_neg_add(x3045, x3049);
+                x3055 = x2987.mul_neg_add(x3045, x3050);
+                x3056 = x2989.mul_add(x3051, x3052);
+                x3057 = x2991.mul_neg_add(x3051, x3053);
+                x3058 = x2993.mul_neg_add(x3051, x3054);
+                x3059 = x2995.mul_neg_add(x3051, x3055);
+                x3060 = x2997.mul_neg_add(x3056, x3057);
+                x3061 = x2999.mul_neg_add(x3056, x3058);
+                x3062 = x3001.mul_neg_add(x3056, x3059);
+                x3063 = x3003.mul_neg_add(x3060, x3061);
+                x3064 = x3005.mul_neg_add(x3060, x3062);
+                x3065 = x3007.mul_add(x3063, x3064);
+                x3066 = x3009 * x3065;
+                x3067 = x3007 * x3066;
+                x3068 = x3011.mul_add(x3063, x3067);
+                x3069 = x3005 * x3066;
+                x3070 = x3012.mul_sub(x3060, x3069);
+                x3071 = x3003.mul_neg_add(x3068, x3070);
+                x3072 = x3001 * x3066;
+                x3073 = x3013.mul_sub(x3056, x3072);
+                x3074 = x2999.mul_neg_add(x3068, x3073);
+                x3075 = x2997.mul_neg_add(x3071, x3074);
+                x3076 = x2995 * x3066;
+                x3077 = x3014.mul_sub(x3051, x3076);
+                x3078 = x2993.mul_neg_add(x3068, x3077);
+                x3079 = x2991.mul_neg_add(x3071, x3078);
+                x3080 = x2989.mul_add(x3075, x3079);
+                x3081 = x2987 * x3066;
+                x3082 = x3015.mul_sub(x3045, x3081);
+                x3083 = x2985.mul_neg_add(x3068, x3082);
+                x3084 = x2983.mul_neg_add(x3071, x3083);
+                x3085 = x2981.mul_neg_add(x3075, x3084);
+                x3086 = x2979.mul_neg_add(x3080, x3085);
+                x3087 = x2977 * x3066;
+                x3088 = x3016.mul_add(x2542, x3087);
+                x3089 = x2975.mul_add(x3068, x3088);
+                x3090 = x2973.mul_add(x3071, x3089);
+                x3091 = x2971.mul_add(x3075, x3090);
+                x3092 = x2969.mul_add(x3080, x3091);
+                x3093 = x2967.mul_add(x3086, x3092);
+                x3094 = -x3093;
+                [x3095, _, _, _, _, _, _, _] = x3010.to_array();
+                [_, x3096, _, _, _, _, _, _] = x3010.to_array();
+                [_, _, x3097, _, _, _, _, _] = x3010.to_array();
+                [_, _, _, x3098, _, _, _, _] = x3010.to_array();
+                [_, _, _, _, x3099, _, _, _] = x3010.to_array();
+                [_, _, _, _, _, x3100, _, _] = x3010.to_array();
+                [_, _, _, _, _, _, x3101, _] = x3010.to_array();
+                [x3102, _, _, _, _, _, _, _] = x3018.to_array();
+                [_, x3103, _, _, _, _, _, _] = x3018.to_array();
+                [_, _, x3104, _, _, _, _, _] = x3018.to_array();
+                [_, _, _, x3105, _, _, _, _] = x3018.to_array();
+                [_, _, _, _, x3106, _, _, _] = x3018.to_array();
+                [_, _, _, _, _, x3107, _, _] = x3018.to_array();
+                [_, _, _, _, _, _, x3108, _] = x3018.to_array();
+                [x3109, _, _, _, _, _, _, _] = x3021.to_array();
+                [_, x3110, _, _, _, _, _, _] = x3021.to_array();
+                [_, _, x3111, _, _, _, _, _] = x3021.to_array();
+                [_, _, _, x3112, _, _, _, _] = x3021.to_array();
+                [_, _, _, _, x3113, _, _, _] = x3021.to_array();
+                [_, _, _, _, _, x3114, _, _] = x3021.to_array();
+                [_, _, _, _, _, _, x3115, _] = x3021.to_array();
+                [x3116, _, _, _, _, _, _, _] = x3025.to_array();
+                [_, x3117, _, _, _, _, _, _] = x3025.to_array();
+                [_, _, x3118, _, _, _, _, _] = x3025.to_array();
+                [_, _, _, x3119, _, _, _, _] = x3025.to_array();
+                [_, _, _, _, x3120, _, _, _] = x3025.to_array();
+                [_, _, _, _, _, x3121, _, _] = x3025.to_array();
+                [_, _, _, _, _, _, x3122, _] = x3025.to_array();
+                [x3123, _, _, _, _, _, _, _] = x3030.to_array();
+                [_, x3124, _, _, _, _, _, _] = x3030.to_array();
+                [_, _, x3125, _, _, _, _, _] = x3030.to_array();
+                [_, _, _, x3126, _, _, _, _] = x3030.to_array();
+                [_, _, _, _, x3127, _, _, _] = x3030.to_array();
+                [_, _, _, _, _, x3128, _, _] = x3030.to_array();
+                [_, _, _, _, _, _, x3129, _] = x3030.to_array();
+                [x3130, _, _, _, _, _, _, _] = x3036.to_array();
+                [_, x3131, _, _, _, _, _, _] = x3036.to_array();
+                [_, _, x3132, _, _, _, _, _] = x3036.to_array();
+                [_, _, _, x3133, _, _, _, _] = x3036.to_array();
+                [_, _, _, _, x3134, _, _, _] = x3036.to_array();
+                [_, _, _, _, _, x3135, _, _] = x3036.to_array();
+                [_, _, _, _, _, _, x3136, _] = x3036.to_array();
+                [x3137, _, _, _, _, _, _, _] = x3044.to_array();
+                [_, x3138, _, _, _, _, _, _] = x3044.to_array();
+                [_, _, x3139, _, _, _, _, _] = x3044.to_array();
+                [_, _, _, x3140, _, _, _, _] = x3044.to_array();
+                [_, _, _, _, x3141, _, _, _] = x3044.to_array();
+                [_, _, _, _, _, x3142, _, _] = x3044.to_array();
+                [_, _, _, _, _, _, x3143, _] = x3044.to_array();
+                [x3144, _, _, _, _, _, _, _] = x3066.to_array();
+                [_, x3145, _, _, _, _, _, _] = x3066.to_array();
+                [_, _, x3146, _, _, _, _, _] = x3066.to_array();
+                [_, _, _, x3147, _, _, _, _] = x3066.to_array();
+                [_, _, _, _, x3148, _, _, _] = x3066.to_array();
+                [_, _, _, _, _, x3149, _, _] = x3066.to_array();
+                [_, _, _, _, _, _, x3150, _] = x3066.to_array();
+                [x3151, _, _, _, _, _, _, _] = x3068.to_array();
+                [_, x3152, _, _, _, _, _, _] = x3068.to_array();
+                [_, _, x3153, _, _, _, _, _] = x3068.to_array();
+                [_, _, _, x3154, _, _, _, _] = x3068.to_array();
+                [_, _, _, _, x3155, _, _, _] = x3068.to_array();
+                [_, _, _, _, _, x3156, _, _] = x3068.to_array();
+                [_, _, _, _, _, _, x3157, _] = x3068.to_array();
+                [x3158, _, _, _, _, _, _, _] = x3071.to_array();
+                [_, x3159, _, _, _, _, _, _] = x3071.to_array();
+                [_, _, x3160, _, _, _, _, _] = x3071.to_array();
+                [_, _, _, x3161, _, _, _, _] = x3071.to_array();
+                [_, _, _, _, x3162, _, _, _] = x3071.to_array();
+                [_, _, _, _, _, x3163, _, _] = x3071.to_array();
+                [_, _, _, _, _, _, x3164, _] = x3071.to_array();
+                [x3165, _, _, _, _, _, _, _] = x3075.to_array();
+                [_, x3166, _, _, _, _, _, _] = x3075.to_array();
+                [_, _, x3167, _, _, _, _, _] = x3075.to_array();
+                [_, _, _, x3168, _, _, _, _] = x3075.to_array();
+                [_, _, _, _, x3169, _, _, _] = x3075.to_array();
+                [_, _, _, _, _, x3170, _, _] = x3075.to_array();
+                [_, _, _, _, _, _, x3171, _] = x3075.to_array();
+                [x3172, _, _, _, _, _, _, _] = x3080.to_array();
+                [_, x3173, _, _, _, _, _, _] = x3080.to_array();
+                [_, _, x3174, _, _, _, _, _] = x3080.to_array();
+                [_, _, _, x3175, _, _, _, _] = x3080.to_array();
+                [_, _, _, _, x3176, _, _, _] = x3080.to_array();
+                [_, _, _, _, _, x3177, _, _] = x3080.to_array();
+                [_, _, _, _, _, _, x3178, _] = x3080.to_array();
+                [x3179, _, _, _, _, _, _, _] = x3086.to_array();
+                [_, x3180, _, _, _, _, _, _] = x3086.to_array();
+                [_, _, x3181, _, _, _, _, _] = x3086.to_array();
+                [_, _, _, x3182, _, _, _, _] = x3086.to_array();
+                [_, _, _, _, x3183, _, _, _] = x3086.to_array();
+                [_, _, _, _, _, x3184, _, _] = x3086.to_array();
+                [_, _, _, _, _, _, x3185, _] = x3086.to_array();
+                [x3186, _, _, _, _, _, _, _] = x3094.to_array();
+                [_, x3187, _, _, _, _, _, _] = x3094.to_array();
+                [_, _, x3188, _, _, _, _, _] = x3094.to_array();
+                [_, _, _, x3189, _, _, _, _] = x3094.to_array();
+                [_, _, _, _, x3190, _, _, _] = x3094.to_array();
+                [_, _, _, _, _, x3191, _, _] = x3094.to_array();
+                [_, _, _, _, _, _, x3192, _] = x3094.to_array();
+                (
+                    SMatrix::from_array_storage(
+                        ArrayStorage([
+                            [x3095, x3102, x3109, x3116, x3123, x3130, x3137],
+                            [x3096, x3103, x3110, x3117, x3124, x3131, x3138],
+                            [x3097, x3104, x3111, x3118, x3125, x3132, x3139],
+                            [x3098, x3105, x3112, x3119, x3126, x3133, x3140],
+                            [x3099, x3106, x3113, x3120, x3127, x3134, x3141],
+                            [x3100, x3107, x3114, x3121, x3128, x3135, x3142],
+                            [x3101, x3108, x3115, x3122, x3129, x3136, x3143],
+                        ]),
+                    ),
+                    SMatrix::from_array_storage(
+                        ArrayStorage([
+                            [x3144, x3151, x3158, x3165, x3172, x3179, x3186],
+                            [x3145, x3152, x3159, x3166, x3173, x3180, x3187],
+                            [x3146, x3153, x3160, x3167, x3174, x3181, x3188],
+                            [x3147, x3154, x3161, x3168, x3175, x3182, x3189],
+                            [x3148, x3155, x3162, x3169, x3176, x3183, x3190],
+                            [x3149, x3156, x3163, x3170, x3177, x3184, x3191],
+                            [x3150, x3157, x3164, x3171, x3178, x3185, x3192],
+                        ]),
+                    ),
+                )
+            }
+        }
+        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, tau))
     }
 }

@@ -6,8 +6,9 @@
 dyngen_runtime::__require_version!("0.1.0");
 use dyngen_runtime::nalgebra::{ArrayStorage, Matrix3, SMatrix, SVector, Vector3};
 use dyngen_runtime::{
-    BaseParameters, JointLimits, JointTrig, JointTrigLanes, Kinematics, LaneDynamics,
-    Lanes, ParameterKind, Pose, RobotDynamics,
+    BaseParameters, DynamicsDerivatives, ForwardDynamics, JointLimits, JointTrig,
+    JointTrigLanes, Kinematics, LaneDynamics, Lanes, ParameterKind, Pose, Regressors,
+    RobotDynamics,
 };
 /// Number of moving joints (the `N` of [`Kinematics`] and [`RobotDynamics`]).
 pub const DOF: usize = 6;
@@ -248,7 +249,7 @@ pub type BaseParameterVector = SVector<f64, BASE_PARAMETER_COUNT>;
 pub type Regressor = SMatrix<f64, DOF, PARAMETER_COUNT>;
 /// The base regressor `Y_b`.
 pub type BaseRegressor = SMatrix<f64, DOF, BASE_PARAMETER_COUNT>;
-/// `ur5`: implements [`Kinematics`], [`RobotDynamics`] and [`BaseParameters`] with flattened, allocation-free code.
+/// `ur5`: implements [`Kinematics`], [`RobotDynamics`], [`Regressors`], [`BaseParameters`], [`ForwardDynamics`], [`DynamicsDerivatives`] and [`LaneDynamics`] with flattened, allocation-free code.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Ur5;
 impl Kinematics<6> for Ur5 {
@@ -3104,6 +3105,8 @@ impl RobotDynamics<6, 60> for Ur5 {
         }
         dyngen_runtime::__private::dispatch::<Body, _>((t, qd, v, a))
     }
+}
+impl Regressors<6, 60> for Ur5 {
     ///Operations: 1014 mul, 879 add/sub, 19 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn regressor(
@@ -4902,4333 +4905,6 @@ impl RobotDynamics<6, 60> for Ur5 {
             }
         }
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a))
-    }
-    ///Operations: 362 mul, 275 add/sub, 0 neg, 5 div (joint sines and cosines come precomputed in `JointTrig`).
-    #[inline(never)]
-    fn forward_dynamics(
-        t: &JointTrig<6>,
-        qd: &SVector<f64, 6>,
-        tau: &SVector<f64, 6>,
-    ) -> SVector<f64, 6> {
-        struct Body;
-        impl dyngen_runtime::__private::Kernel<
-            (&JointTrig<6>, &SVector<f64, 6>, &SVector<f64, 6>),
-        > for Body {
-            type Output = SVector<f64, 6>;
-            #[inline(always)]
-            fn run<M: dyngen_runtime::__private::MulAdd>(
-                arith: M,
-                (t, qd, tau): (&JointTrig<6>, &SVector<f64, 6>, &SVector<f64, 6>),
-            ) -> SVector<f64, 6> {
-                let [_, s1, s2, s3, s4, s5] = t.sin;
-                let [_, c1, c2, c3, c4, c5] = t.cos;
-                let [qd0, qd1, qd2, qd3, qd4, qd5] = qd.data.0[0];
-                let [tau0, tau1, tau2, tau3, tau4, tau5] = tau.data.0[0];
-                let mut out: SVector<f64, 6> = SMatrix::zeros();
-                {
-                    let [[o0, o1, o2, o3, o4, o5]] = &mut out.data.0;
-                    let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
-                    x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
-                    x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
-                    x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
-                    x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
-                    x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
-                    x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
-                    x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109,
-                    x110, x111, x112, x113, x114, x115, x116, x117, x118, x119, x120,
-                    x121, x122, x123, x124, x125, x126, x127, x128, x129, x130, x131,
-                    x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142,
-                    x143, x144, x145, x146, x147, x148, x149, x150, x151, x152, x153,
-                    x154, x155, x156, x157, x158, x159, x160, x161, x162, x163, x164,
-                    x165, x166, x167, x168, x169, x170, x171, x172, x173, x174, x175,
-                    x176, x177, x178, x179, x180, x181, x182, x183, x184, x185, x186,
-                    x187, x188, x189, x190, x191, x192, x193, x194, x195, x196, x197,
-                    x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
-                    x209, x210, x211, x212, x213, x214, x215, x216, x217, x218, x219,
-                    x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
-                    x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241,
-                    x242, x243, x244, x245, x246, x247, x248, x249, x250, x251, x252,
-                    x253, x254, x255, x256, x257, x258, x259, x260, x261, x262, x263,
-                    x264, x265, x266, x267, x268, x269, x270, x271, x272, x273, x274,
-                    x275, x276, x277, x278, x279, x280, x281, x282, x283, x284, x285,
-                    x286, x287, x288, x289, x290, x291, x292, x293, x294, x295, x296,
-                    x297, x298, x299, x300, x301, x302, x303, x304, x305, x306, x307,
-                    x308, x309, x310, x311, x312, x313, x314, x315, x316, x317, x318,
-                    x319, x320, x321, x322, x323, x324, x325, x326, x327, x328, x329,
-                    x330, x331, x332, x333, x334, x335, x336, x337, x338, x339, x340,
-                    x341, x342, x343, x344, x345, x346, x347, x348, x349, x350, x351,
-                    x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
-                    x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373,
-                    x374, x375, x376, x377, x378, x379, x380, x381, x382, x383, x384,
-                    x385, x386, x387, x388, x389, x390, x391, x392, x393, x394, x395,
-                    x396, x397, x398, x399, x400, x401, x402, x403, x404, x405, x406,
-                    x407, x408, x409, x410, x411, x412, x413, x414, x415, x416, x417,
-                    x418, x419, x420, x421, x422, x423, x424, x425, x426, x427, x428,
-                    x429, x430, x431, x432, x433, x434, x435, x436, x437, x438, x439,
-                    x440, x441, x442, x443, x444, x445, x446, x447, x448]: [f64; 449];
-                    x0 = qd0 * c1;
-                    x1 = qd0 * s1;
-                    x2 = 0.13585f64 * qd0;
-                    x3 = s1 * x2;
-                    x4 = c1 * x2;
-                    x5 = c2 * x0;
-                    x6 = arith.mul_add(s2, x1, -x5);
-                    x7 = c2 * x1;
-                    x8 = arith.mul_add(s2, x0, x7);
-                    x9 = 0.425f64 * qd1;
-                    x10 = arith.mul_add(0.1197f64, x1, -x9);
-                    x11 = -0.425f64 * x0;
-                    x12 = x3 - x10;
-                    x13 = arith.mul_add(0.1197f64, x0, -x4);
-                    x14 = s2 * x13;
-                    x15 = arith.mul_add(c2, x12, -x14);
-                    x16 = c2 * x13;
-                    x17 = arith.mul_add(s2, x12, x16);
-                    x18 = qd1 + qd2;
-                    x19 = s3 * x6;
-                    x20 = arith.mul_add(c3, x8, -x19);
-                    x21 = s3 * x8;
-                    x22 = arith.mul_add(c3, x6, x21);
-                    x23 = arith.mul_add(0.39225f64, x18, x15);
-                    x24 = arith.mul_add(0.39225f64, x6, x11);
-                    x25 = c3 * x17;
-                    x26 = arith.mul_add(s3, x23, x25);
-                    x27 = s3 * x17;
-                    x28 = arith.mul_add(c3, x23, -x27);
-                    x29 = qd3 + x18;
-                    x30 = s4 * x29;
-                    x31 = arith.mul_add(c4, x20, x30);
-                    x32 = s4 * x20;
-                    x33 = arith.mul_add(c4, x29, -x32);
-                    x34 = qd4 + x22;
-                    x35 = s5 * x34;
-                    x36 = arith.mul_add(c5, x31, -x35);
-                    x37 = c5 * x34;
-                    x38 = arith.mul_add(s5, x31, x37);
-                    x39 = qd5 + x33;
-                    x40 = -0.016685526854599998f64 * c5;
-                    x41 = 0.016685526854599998f64 * s5;
-                    x42 = s5 * x40;
-                    x43 = arith.mul_add(c5, x40, 0.033822f64);
-                    x44 = arith.mul_add(-s5, x41, 0.253242f64);
-                    x45 = c4 * x43;
-                    x46 = -0.0171364731454f64 * s4;
-                    x47 = c4 * x42;
-                    x48 = s4 * x43;
-                    x49 = 0.0171364731454f64 * c4;
-                    x50 = s4 * x42;
-                    x51 = s4 * x46;
-                    x52 = arith.mul_add(c4, x45, -x51);
-                    x53 = c4 * x46;
-                    x54 = arith.mul_add(s4, x45, x53);
-                    x55 = c4 * x49;
-                    x56 = arith.mul_add(s4, x48, x55);
-                    x57 = 0.004608836229750008f64 + x52;
-                    x58 = 0.22402883622975f64 + x56;
-                    x59 = -0.001653980355f64 - x50;
-                    x60 = 0.017784735f64 * c3;
-                    x61 = -0.017784735f64 * s3;
-                    x62 = c3 * x47;
-                    x63 = arith.mul_add(s3, x57, x62);
-                    x64 = s3 * x54;
-                    x65 = arith.mul_add(c3, x59, -x64);
-                    x66 = s3 * x47;
-                    x67 = arith.mul_add(c3, x44, x66);
-                    x68 = arith.mul_add(-c3, x57, x66);
-                    x69 = s3 * x59;
-                    x70 = arith.mul_add(c3, x54, x69);
-                    x71 = arith.mul_add(-s3, x44, x62);
-                    x72 = c3 * x67;
-                    x73 = arith.mul_add(s3, x63, x72);
-                    x74 = s3 * x67;
-                    x75 = arith.mul_add(c3, x63, -x74);
-                    x76 = s3 * x71;
-                    x77 = arith.mul_add(c3, x68, x76);
-                    x78 = -0.00697606230375f64 * s3;
-                    x79 = -0.0139521246075f64 * s3;
-                    x80 = x73 + x79;
-                    x81 = x58 + x79;
-                    x82 = arith.mul_add(-0.00697606230375f64, c3, x75);
-                    x83 = x79 - x77;
-                    x84 = x78 + x78;
-                    x85 = x83 - x84;
-                    x86 = 1.5987592750000001f64 + x61;
-                    x87 = 0.59155695167475f64 + x80;
-                    x88 = 0.59565195167475f64 + x81;
-                    x89 = -0.05132265682500001f64 - x70;
-                    x90 = s2 * x86;
-                    x91 = arith.mul_add(c2, x60, x90);
-                    x92 = s2 * x60;
-                    x93 = arith.mul_add(c2, x86, -x92);
-                    x94 = s2 * x82;
-                    x95 = arith.mul_add(c2, x87, x94);
-                    x96 = c2 * x65;
-                    x97 = arith.mul_add(s2, x89, x96);
-                    x98 = c2 * x82;
-                    x99 = arith.mul_add(s2, x85, x98);
-                    x100 = arith.mul_add(-s2, x87, x98);
-                    x101 = s2 * x65;
-                    x102 = arith.mul_add(c2, x89, -x101);
-                    x103 = arith.mul_add(c2, x85, -x94);
-                    x104 = s2 * x99;
-                    x105 = arith.mul_add(c2, x95, x104);
-                    x106 = s2 * x95;
-                    x107 = arith.mul_add(c2, x99, -x106);
-                    x108 = s2 * x100;
-                    x109 = arith.mul_add(c2, x103, -x108);
-                    x110 = 0.425f64 * x93;
-                    x111 = 0.85f64 * x93;
-                    x112 = x105 + x111;
-                    x113 = arith.mul_add(0.1197f64, x91, x97);
-                    x114 = x88 + x111;
-                    x115 = arith.mul_add(-0.425f64, x91, x107);
-                    x116 = arith.mul_add(0.1197f64, x93, x102);
-                    x117 = x109 + x111;
-                    x118 = x110 + x110;
-                    x119 = x117 - x118;
-                    x120 = 4.432922500000001f64 + x93;
-                    x121 = 1.75501953841f64 + x112;
-                    x122 = 1.77012693841f64 + x114;
-                    x123 = 0.19371331275f64 + x116;
-                    x124 = c1 * x91;
-                    x125 = arith.mul_add(s1, x120, x124);
-                    x126 = c1 * x121;
-                    x127 = arith.mul_add(s1, x115, x126);
-                    x128 = s1 * x123;
-                    x129 = arith.mul_add(c1, x113, x128);
-                    x130 = s1 * x119;
-                    x131 = arith.mul_add(c1, x115, x130);
-                    x132 = s1 * x131;
-                    x133 = arith.mul_add(c1, x127, x132);
-                    x134 = arith.mul_add(-0.13585f64, x125, x129);
-                    x135 = 0.41784981244275005f64 + x133;
-                    x136 = arith.mul_add(0.1197f64, x91, x97);
-                    x137 = x88 + x110;
-                    x138 = arith.mul_add(s1, x93, x124);
-                    x139 = s1 * x116;
-                    x140 = arith.mul_add(c1, x136, x139);
-                    x141 = arith.mul_add(-0.13585f64, x138, x140);
-                    x142 = -0.017784735f64 * c3;
-                    x143 = x58 + x78;
-                    x144 = s2 * x142;
-                    x145 = arith.mul_add(c2, x61, x144);
-                    x146 = s2 * x61;
-                    x147 = arith.mul_add(c2, x142, -x146);
-                    x148 = arith.mul_add(-s2, x70, x96);
-                    x149 = arith.mul_add(c2, x70, x101);
-                    x150 = arith.mul_add(-0.1197f64, x147, x148);
-                    x151 = arith.mul_add(0.425f64, x145, x143);
-                    x152 = arith.mul_add(-0.1197f64, x145, x149);
-                    x153 = s1 * x145;
-                    x154 = arith.mul_add(c1, x147, -x153);
-                    x155 = c1 * x150;
-                    x156 = arith.mul_add(s1, x152, -x155);
-                    x157 = arith.mul_add(-0.13585f64, x154, x156);
-                    x158 = s2 * x71;
-                    x159 = arith.mul_add(c2, x67, x158);
-                    x160 = s2 * x67;
-                    x161 = arith.mul_add(c2, x71, -x160);
-                    x162 = s1 * x161;
-                    x163 = arith.mul_add(c1, x159, x162);
-                    x164 = s3 * x46;
-                    x165 = c3 * x46;
-                    x166 = s2 * x165;
-                    x167 = arith.mul_add(c2, x164, x166);
-                    x168 = c2 * x165;
-                    x169 = arith.mul_add(s2, x164, -x168);
-                    x170 = s1 * x169;
-                    x171 = arith.mul_add(c1, x167, -x170);
-                    x172 = 4.432922500000001f64 * qd1;
-                    x173 = -4.432922500000001f64 * x0;
-                    x174 = 0.19371331275f64 * qd1;
-                    x175 = 1.5987592750000001f64 * x18;
-                    x176 = 1.5987592750000001f64 * x6;
-                    x177 = -0.05132265682500001f64 * x18;
-                    x178 = 0.679472691875f64 * x0;
-                    x179 = 0.017784735f64 * x29;
-                    x180 = 0.017784735f64 * x20;
-                    x181 = -0.001653980355f64 * x29;
-                    x182 = -0.017784735f64 * x24;
-                    x183 = -1.75501953841f64 * x0;
-                    x184 = 1.77012693841f64 * qd1;
-                    x185 = arith.mul_add(-0.19371331275f64, x1, x184);
-                    x186 = arith.mul_add(4.432922500000001f64, x3, x185);
-                    x187 = 0.59565195167475f64 * x18;
-                    x188 = arith.mul_add(0.05132265682500001f64, x8, x187);
-                    x189 = arith.mul_add(0.59155695167475f64, x6, -x178);
-                    x190 = arith.mul_add(1.5987592750000001f64, x15, x188);
-                    x191 = 0.22402883622975f64 * x29;
-                    x192 = arith.mul_add(-0.001653980355f64, x22, x191);
-                    x193 = arith.mul_add(0.004608836229750008f64, x20, -x182);
-                    x194 = arith.mul_add(-0.017784735f64, x26, x192);
-                    x195 = 0.033822f64 * x31;
-                    x196 = 0.253242f64 * x34;
-                    x197 = -0.016685526854599998f64 * x36;
-                    x198 = 0.0171364731454f64 * x39;
-                    x199 = qd1 * x1;
-                    x200 = qd1 * x0;
-                    x201 = qd1 * x4;
-                    x202 = qd1 * x3;
-                    x203 = qd4 * x31;
-                    x204 = x1 * x186;
-                    x205 = arith.mul_add(qd1, x174, x204);
-                    x206 = x1 * x183;
-                    x207 = arith.mul_add(x0, x174, -x206);
-                    x208 = qd1 * x183;
-                    x209 = arith.mul_add(x0, x186, x208);
-                    x210 = arith.mul_add(-x4, x173, x205);
-                    x211 = arith.mul_add(-x4, x172, x207);
-                    x212 = arith.mul_add(x3, x173, x209);
-                    x213 = qd1 * x172;
-                    x214 = arith.mul_add(x0, x173, -x213);
-                    x215 = x8 * x190;
-                    x216 = arith.mul_add(x18, x177, x215);
-                    x217 = x6 * x177;
-                    x218 = arith.mul_add(x8, x189, x217);
-                    x219 = x18 * x189;
-                    x220 = arith.mul_add(x6, x190, -x219);
-                    x221 = x15 * x176;
-                    x222 = arith.mul_add(x11, x175, -x221);
-                    x223 = arith.mul_add(x17, x176, x216);
-                    x224 = arith.mul_add(x17, x175, -x218);
-                    x225 = x220 + x222;
-                    x226 = x18 * x175;
-                    x227 = arith.mul_add(x6, x176, x226);
-                    x228 = x22 * x194;
-                    x229 = arith.mul_add(x29, x181, -x228);
-                    x230 = x20 * x181;
-                    x231 = arith.mul_add(x22, x193, -x230);
-                    x232 = x29 * x193;
-                    x233 = arith.mul_add(x20, x194, -x232);
-                    x234 = x24 * x179;
-                    x235 = arith.mul_add(x26, x180, x234);
-                    x236 = arith.mul_add(x28, x180, x229);
-                    x237 = arith.mul_add(x28, x179, x231);
-                    x238 = x233 + x235;
-                    x239 = x22 * x180;
-                    x240 = x29 * x179;
-                    x241 = arith.mul_add(x20, x180, x240);
-                    x242 = x31 * x196;
-                    x243 = arith.mul_add(x34, x195, -x242);
-                    x244 = x33 * x195;
-                    x245 = x38 * x198;
-                    x246 = x39 * x197;
-                    x247 = arith.mul_add(x36, x198, -x246);
-                    x248 = x58 - x55;
-                    x249 = x143 - x55;
-                    x250 = x151 - x55;
-                    x251 = c4 * x171;
-                    x252 = x157 - x251;
-                    x253 = x88 - x55;
-                    x254 = x137 - x55;
-                    x255 = x141 + x251;
-                    x256 = x122 - x55;
-                    x257 = x134 + x251;
-                    x258 = 58.355064750790525f64 * x171;
-                    x259 = arith.mul_add(-x171, x258, x135);
-                    x260 = 1f64 / x44;
-                    x261 = x50 * x260;
-                    x262 = x50 * x261;
-                    x263 = x248 - x262;
-                    x264 = x249 - x262;
-                    x265 = x250 - x262;
-                    x266 = x163 * x261;
-                    x267 = x252 - x266;
-                    x268 = x253 - x262;
-                    x269 = x254 - x262;
-                    x270 = x255 + x266;
-                    x271 = x256 - x262;
-                    x272 = x257 + x266;
-                    x273 = x163 * x260;
-                    x274 = arith.mul_add(-x163, x273, x259);
-                    x275 = 1f64 / x263;
-                    x276 = x264 * x275;
-                    x277 = arith.mul_add(-x264, x276, x268);
-                    x278 = arith.mul_add(-x265, x276, x269);
-                    x279 = arith.mul_add(x267, x276, x270);
-                    x280 = x265 * x275;
-                    x281 = arith.mul_add(-x265, x280, x271);
-                    x282 = arith.mul_add(x267, x280, x272);
-                    x283 = x267 * x275;
-                    x284 = arith.mul_add(-x267, x283, x274);
-                    x285 = 1f64 / x277;
-                    x286 = x278 * x285;
-                    x287 = arith.mul_add(-x278, x286, x281);
-                    x288 = arith.mul_add(x279, x286, -x282);
-                    x289 = x279 * x285;
-                    x290 = arith.mul_add(-x279, x289, x284);
-                    x291 = 1f64 / x287;
-                    x292 = x288 * x291;
-                    x293 = arith.mul_add(-x288, x292, x290);
-                    x294 = 1f64 / x293;
-                    x295 = arith.mul_add(-9.81f64, c1, x201);
-                    x296 = arith.mul_add(-9.81f64, s1, x202);
-                    x297 = s2 * x200;
-                    x298 = arith.mul_add(c2, x199, x297);
-                    x299 = c2 * x200;
-                    x300 = arith.mul_add(s2, x199, -x299);
-                    x301 = arith.mul_add(-0.1197f64, x200, x295);
-                    x302 = arith.mul_add(-0.1197f64, x199, x296);
-                    x303 = s2 * x302;
-                    x304 = arith.mul_add(c2, x301, -x303);
-                    x305 = c2 * x302;
-                    x306 = arith.mul_add(s2, x301, x305);
-                    x307 = arith.mul_add(qd2, x8, x298);
-                    x308 = arith.mul_add(qd2, x6, x300);
-                    x309 = arith.mul_add(-qd2, x17, x304);
-                    x310 = arith.mul_add(qd2, x15, x306);
-                    x311 = c3 * x308;
-                    x312 = arith.mul_add(s3, x307, x311);
-                    x313 = s3 * x308;
-                    x314 = arith.mul_add(c3, x307, -x313);
-                    x315 = 0.39225f64 * x307;
-                    x316 = arith.mul_add(0.425f64, x199, x315);
-                    x317 = c3 * x310;
-                    x318 = arith.mul_add(s3, x309, x317);
-                    x319 = arith.mul_add(qd3, x22, x312);
-                    x320 = arith.mul_add(qd3, x20, x314);
-                    x321 = arith.mul_add(qd3, x28, x318);
-                    x322 = c4 * x319;
-                    x323 = arith.mul_add(qd4, x33, -x322);
-                    x324 = arith.mul_add(s4, x319, -x203);
-                    x325 = s5 * x320;
-                    x326 = arith.mul_add(c5, x323, -x325);
-                    x327 = arith.mul_add(-qd5, x38, x326);
-                    x328 = 4.432922500000001f64 * x295;
-                    x329 = arith.mul_add(-0.19371331275f64, x200, x328);
-                    x330 = arith.mul_add(1.75501953841f64, x199, x210);
-                    x331 = x211 + x329;
-                    x332 = -0.679472691875f64 * x199;
-                    x333 = 1.5987592750000001f64 * x309;
-                    x334 = arith.mul_add(0.59155695167475f64, x307, -x332);
-                    x335 = arith.mul_add(-0.05132265682500001f64, x308, x333);
-                    x336 = 1.5987592750000001f64 * x307;
-                    x337 = x223 + x334;
-                    x338 = x224 + x335;
-                    x339 = arith.mul_add(x8, x175, x336);
-                    x340 = -0.017784735f64 * x316;
-                    x341 = -0.017784735f64 * x321;
-                    x342 = arith.mul_add(-0.004608836229750008f64, x319, -x340);
-                    x343 = arith.mul_add(-0.001653980355f64, x320, x341);
-                    x344 = -0.017784735f64 * x319;
-                    x345 = x236 + x342;
-                    x346 = x237 + x343;
-                    x347 = arith.mul_add(x22, x179, -x344);
-                    x348 = 0.033822f64 * x323;
-                    x349 = arith.mul_add(x33, x196, x348);
-                    x350 = arith.mul_add(0.253242f64, x320, -x244);
-                    x351 = 0.0171364731454f64 * x324;
-                    x352 = arith.mul_add(-0.016685526854599998f64, x327, -x245);
-                    x353 = arith.mul_add(x38, x197, x351);
-                    x354 = c5 * x352;
-                    x355 = arith.mul_add(s5, x247, x354);
-                    x356 = s5 * x352;
-                    x357 = arith.mul_add(c5, x247, -x356);
-                    x358 = x349 + x355;
-                    x359 = x243 + x353;
-                    x360 = x350 + x357;
-                    x361 = s4 * x359;
-                    x362 = arith.mul_add(c4, x358, -x361);
-                    x363 = c4 * x359;
-                    x364 = arith.mul_add(s4, x358, x363);
-                    x365 = x345 + x362;
-                    x366 = x346 + x364;
-                    x367 = x238 + x360;
-                    x368 = s3 * x239;
-                    x369 = arith.mul_add(c3, x241, x368);
-                    x370 = c3 * x239;
-                    x371 = arith.mul_add(s3, x241, -x370);
-                    x372 = s3 * x365;
-                    x373 = arith.mul_add(c3, x367, -x372);
-                    x374 = s3 * x367;
-                    x375 = arith.mul_add(c3, x365, x374);
-                    x376 = arith.mul_add(-0.39225f64, x347, x373);
-                    x377 = arith.mul_add(-0.39225f64, x369, x366);
-                    x378 = x337 + x376;
-                    x379 = x338 + x377;
-                    x380 = x225 - x375;
-                    x381 = arith.mul_add(x8, x176, x369);
-                    x382 = x347 - x339;
-                    x383 = x371 - x227;
-                    x384 = c2 * x381;
-                    x385 = arith.mul_add(s2, x383, -x384);
-                    x386 = c2 * x383;
-                    x387 = arith.mul_add(s2, x381, x386);
-                    x388 = s2 * x380;
-                    x389 = arith.mul_add(c2, x378, x388);
-                    x390 = s2 * x378;
-                    x391 = arith.mul_add(c2, x380, -x390);
-                    x392 = 0.425f64 * x382;
-                    x393 = arith.mul_add(-0.1197f64, x387, -x392);
-                    x394 = x389 + x393;
-                    x395 = arith.mul_add(0.425f64, x385, x379);
-                    x396 = arith.mul_add(0.1197f64, x385, x391);
-                    x397 = x330 + x394;
-                    x398 = x331 + x395;
-                    x399 = x396 - x212;
-                    x400 = arith.mul_add(-x1, x173, x385);
-                    x401 = x214 + x387;
-                    x402 = s1 * x400;
-                    x403 = arith.mul_add(c1, x401, -x402);
-                    x404 = s1 * x399;
-                    x405 = arith.mul_add(c1, x397, x404);
-                    x406 = arith.mul_add(0.13585f64, x403, x405);
-                    x407 = tau0 + x406;
-                    x408 = tau1 - x398;
-                    x409 = tau2 - x379;
-                    x410 = tau3 - x366;
-                    x411 = tau4 - x360;
-                    x412 = tau5 - x353;
-                    x413 = c4 * x412;
-                    x414 = x410 - x413;
-                    x415 = x409 - x413;
-                    x416 = x408 - x413;
-                    x417 = arith.mul_add(-x258, x412, x407);
-                    x418 = x261 * x411;
-                    x419 = x414 + x418;
-                    x420 = x415 + x418;
-                    x421 = x416 + x418;
-                    x422 = arith.mul_add(x273, x411, x417);
-                    x423 = arith.mul_add(-x276, x419, x420);
-                    x424 = arith.mul_add(-x280, x419, x421);
-                    x425 = arith.mul_add(-x283, x419, x422);
-                    x426 = arith.mul_add(-x286, x423, x424);
-                    x427 = arith.mul_add(x289, x423, x425);
-                    x428 = arith.mul_add(-x292, x426, x427);
-                    x429 = x294 * x428;
-                    *o0 = x429;
-                    x430 = x292 * x429;
-                    x431 = arith.mul_add(x291, x426, -x430);
-                    *o1 = x431;
-                    x432 = x289 * x429;
-                    x433 = arith.mul_add(x285, x423, x432);
-                    x434 = arith.mul_add(-x286, x431, x433);
-                    *o2 = x434;
-                    x435 = x283 * x429;
-                    x436 = arith.mul_add(x275, x419, -x435);
-                    x437 = arith.mul_add(-x280, x431, x436);
-                    x438 = arith.mul_add(-x276, x434, x437);
-                    *o3 = x438;
-                    x439 = x273 * x429;
-                    x440 = arith.mul_add(x260, x411, x439);
-                    x441 = arith.mul_add(x261, x431, x440);
-                    x442 = arith.mul_add(x261, x434, x441);
-                    x443 = arith.mul_add(x261, x438, x442);
-                    *o4 = x443;
-                    x444 = x258 * x429;
-                    x445 = arith.mul_add(58.355064750790525f64, x412, -x444);
-                    x446 = arith.mul_add(-c4, x431, x445);
-                    x447 = arith.mul_add(-c4, x434, x446);
-                    x448 = arith.mul_add(-c4, x438, x447);
-                    *o5 = x448;
-                }
-                out
-            }
-        }
-        dyngen_runtime::__private::dispatch::<Body, _>((t, qd, tau))
-    }
-    ///Operations: 241 mul, 190 add/sub, 3 neg, 5 div (joint sines and cosines come precomputed in `JointTrig`).
-    #[inline(never)]
-    fn mass_matrix_inverse(t: &JointTrig<6>) -> SMatrix<f64, 6, 6> {
-        struct Body;
-        impl dyngen_runtime::__private::Kernel<(&JointTrig<6>,)> for Body {
-            type Output = SMatrix<f64, 6, 6>;
-            #[inline(always)]
-            fn run<M: dyngen_runtime::__private::MulAdd>(
-                arith: M,
-                (t,): (&JointTrig<6>,),
-            ) -> SMatrix<f64, 6, 6> {
-                let [_, s1, s2, s3, s4, s5] = t.sin;
-                let [_, c1, c2, c3, c4, c5] = t.cos;
-                let mut out: SMatrix<f64, 6, 6> = SMatrix::zeros();
-                {
-                    let [[o0, o1, o2, o3, o4, o5], [o6, o7, o8, o9, o10, o11], [o12, o13,
-                    o14, o15, o16, o17], [o18, o19, o20, o21, o22, o23], [o24, o25, o26,
-                    o27, o28, o29], [o30, o31, o32, o33, o34, o35]] = &mut out.data.0;
-                    let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
-                    x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
-                    x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
-                    x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
-                    x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
-                    x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
-                    x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
-                    x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109,
-                    x110, x111, x112, x113, x114, x115, x116, x117, x118, x119, x120,
-                    x121, x122, x123, x124, x125, x126, x127, x128, x129, x130, x131,
-                    x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142,
-                    x143, x144, x145, x146, x147, x148, x149, x150, x151, x152, x153,
-                    x154, x155, x156, x157, x158, x159, x160, x161, x162, x163, x164,
-                    x165, x166, x167, x168, x169, x170, x171, x172, x173, x174, x175,
-                    x176, x177, x178, x179, x180, x181, x182, x183, x184, x185, x186,
-                    x187, x188, x189, x190, x191, x192, x193, x194, x195, x196, x197,
-                    x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
-                    x209, x210, x211, x212, x213, x214, x215, x216, x217, x218, x219,
-                    x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
-                    x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241,
-                    x242, x243, x244, x245, x246, x247, x248, x249, x250, x251, x252,
-                    x253, x254, x255, x256, x257, x258, x259, x260, x261, x262, x263,
-                    x264, x265, x266, x267, x268, x269, x270, x271, x272, x273, x274,
-                    x275, x276, x277, x278, x279, x280, x281, x282, x283, x284, x285,
-                    x286, x287, x288, x289, x290]: [f64; 291];
-                    x0 = -0.016685526854599998f64 * c5;
-                    x1 = 0.016685526854599998f64 * s5;
-                    x2 = s5 * x0;
-                    x3 = arith.mul_add(c5, x0, 0.033822f64);
-                    x4 = arith.mul_add(-s5, x1, 0.253242f64);
-                    x5 = c4 * x3;
-                    x6 = -0.0171364731454f64 * s4;
-                    x7 = c4 * x2;
-                    x8 = s4 * x3;
-                    x9 = 0.0171364731454f64 * c4;
-                    x10 = s4 * x2;
-                    x11 = s4 * x6;
-                    x12 = arith.mul_add(c4, x5, -x11);
-                    x13 = c4 * x6;
-                    x14 = arith.mul_add(s4, x5, x13);
-                    x15 = c4 * x9;
-                    x16 = arith.mul_add(s4, x8, x15);
-                    x17 = 0.004608836229750008f64 + x12;
-                    x18 = 0.22402883622975f64 + x16;
-                    x19 = -0.001653980355f64 - x10;
-                    x20 = 0.017784735f64 * c3;
-                    x21 = -0.017784735f64 * s3;
-                    x22 = c3 * x7;
-                    x23 = arith.mul_add(s3, x17, x22);
-                    x24 = s3 * x14;
-                    x25 = arith.mul_add(c3, x19, -x24);
-                    x26 = s3 * x7;
-                    x27 = arith.mul_add(c3, x4, x26);
-                    x28 = arith.mul_add(-c3, x17, x26);
-                    x29 = s3 * x19;
-                    x30 = arith.mul_add(c3, x14, x29);
-                    x31 = arith.mul_add(-s3, x4, x22);
-                    x32 = c3 * x27;
-                    x33 = arith.mul_add(s3, x23, x32);
-                    x34 = s3 * x27;
-                    x35 = arith.mul_add(c3, x23, -x34);
-                    x36 = s3 * x31;
-                    x37 = arith.mul_add(c3, x28, x36);
-                    x38 = -0.00697606230375f64 * s3;
-                    x39 = -0.0139521246075f64 * s3;
-                    x40 = x33 + x39;
-                    x41 = x18 + x39;
-                    x42 = arith.mul_add(-0.00697606230375f64, c3, x35);
-                    x43 = x39 - x37;
-                    x44 = x38 + x38;
-                    x45 = x43 - x44;
-                    x46 = 1.5987592750000001f64 + x21;
-                    x47 = 0.59155695167475f64 + x40;
-                    x48 = 0.59565195167475f64 + x41;
-                    x49 = -0.05132265682500001f64 - x30;
-                    x50 = s2 * x46;
-                    x51 = arith.mul_add(c2, x20, x50);
-                    x52 = s2 * x20;
-                    x53 = arith.mul_add(c2, x46, -x52);
-                    x54 = s2 * x42;
-                    x55 = arith.mul_add(c2, x47, x54);
-                    x56 = c2 * x25;
-                    x57 = arith.mul_add(s2, x49, x56);
-                    x58 = c2 * x42;
-                    x59 = arith.mul_add(s2, x45, x58);
-                    x60 = arith.mul_add(-s2, x47, x58);
-                    x61 = s2 * x25;
-                    x62 = arith.mul_add(c2, x49, -x61);
-                    x63 = arith.mul_add(c2, x45, -x54);
-                    x64 = s2 * x59;
-                    x65 = arith.mul_add(c2, x55, x64);
-                    x66 = s2 * x55;
-                    x67 = arith.mul_add(c2, x59, -x66);
-                    x68 = s2 * x60;
-                    x69 = arith.mul_add(c2, x63, -x68);
-                    x70 = 0.425f64 * x53;
-                    x71 = 0.85f64 * x53;
-                    x72 = x65 + x71;
-                    x73 = arith.mul_add(0.1197f64, x51, x57);
-                    x74 = x48 + x71;
-                    x75 = arith.mul_add(-0.425f64, x51, x67);
-                    x76 = arith.mul_add(0.1197f64, x53, x62);
-                    x77 = x69 + x71;
-                    x78 = x70 + x70;
-                    x79 = x77 - x78;
-                    x80 = 4.432922500000001f64 + x53;
-                    x81 = 1.75501953841f64 + x72;
-                    x82 = 1.77012693841f64 + x74;
-                    x83 = 0.19371331275f64 + x76;
-                    x84 = c1 * x51;
-                    x85 = arith.mul_add(s1, x80, x84);
-                    x86 = c1 * x81;
-                    x87 = arith.mul_add(s1, x75, x86);
-                    x88 = s1 * x83;
-                    x89 = arith.mul_add(c1, x73, x88);
-                    x90 = s1 * x79;
-                    x91 = arith.mul_add(c1, x75, x90);
-                    x92 = s1 * x91;
-                    x93 = arith.mul_add(c1, x87, x92);
-                    x94 = arith.mul_add(-0.13585f64, x85, x89);
-                    x95 = 0.41784981244275005f64 + x93;
-                    x96 = arith.mul_add(0.1197f64, x51, x57);
-                    x97 = x48 + x70;
-                    x98 = arith.mul_add(s1, x53, x84);
-                    x99 = s1 * x76;
-                    x100 = arith.mul_add(c1, x96, x99);
-                    x101 = arith.mul_add(-0.13585f64, x98, x100);
-                    x102 = -0.017784735f64 * c3;
-                    x103 = x18 + x38;
-                    x104 = s2 * x102;
-                    x105 = arith.mul_add(c2, x21, x104);
-                    x106 = s2 * x21;
-                    x107 = arith.mul_add(c2, x102, -x106);
-                    x108 = arith.mul_add(-s2, x30, x56);
-                    x109 = arith.mul_add(c2, x30, x61);
-                    x110 = arith.mul_add(-0.1197f64, x107, x108);
-                    x111 = arith.mul_add(0.425f64, x105, x103);
-                    x112 = arith.mul_add(-0.1197f64, x105, x109);
-                    x113 = s1 * x105;
-                    x114 = arith.mul_add(c1, x107, -x113);
-                    x115 = c1 * x110;
-                    x116 = arith.mul_add(s1, x112, -x115);
-                    x117 = arith.mul_add(-0.13585f64, x114, x116);
-                    x118 = s2 * x31;
-                    x119 = arith.mul_add(c2, x27, x118);
-                    x120 = s2 * x27;
-                    x121 = arith.mul_add(c2, x31, -x120);
-                    x122 = s1 * x121;
-                    x123 = arith.mul_add(c1, x119, x122);
-                    x124 = s3 * x6;
-                    x125 = c3 * x6;
-                    x126 = s2 * x125;
-                    x127 = arith.mul_add(c2, x124, x126);
-                    x128 = c2 * x125;
-                    x129 = arith.mul_add(s2, x124, -x128);
-                    x130 = s1 * x129;
-                    x131 = arith.mul_add(c1, x127, -x130);
-                    x132 = x18 - x15;
-                    x133 = x103 - x15;
-                    x134 = x111 - x15;
-                    x135 = c4 * x131;
-                    x136 = x117 - x135;
-                    x137 = x48 - x15;
-                    x138 = x97 - x15;
-                    x139 = x101 + x135;
-                    x140 = x82 - x15;
-                    x141 = x94 + x135;
-                    x142 = 58.355064750790525f64 * x131;
-                    x143 = arith.mul_add(-x131, x142, x95);
-                    x144 = 1f64 / x4;
-                    x145 = x10 * x144;
-                    x146 = x10 * x145;
-                    x147 = x132 - x146;
-                    x148 = x133 - x146;
-                    x149 = x134 - x146;
-                    x150 = x123 * x145;
-                    x151 = x136 - x150;
-                    x152 = x137 - x146;
-                    x153 = x138 - x146;
-                    x154 = x139 + x150;
-                    x155 = x140 - x146;
-                    x156 = x141 + x150;
-                    x157 = x123 * x144;
-                    x158 = arith.mul_add(-x123, x157, x143);
-                    x159 = 1f64 / x147;
-                    x160 = x148 * x159;
-                    x161 = arith.mul_add(-x148, x160, x152);
-                    x162 = arith.mul_add(-x149, x160, x153);
-                    x163 = arith.mul_add(x151, x160, x154);
-                    x164 = x149 * x159;
-                    x165 = arith.mul_add(-x149, x164, x155);
-                    x166 = arith.mul_add(x151, x164, x156);
-                    x167 = x151 * x159;
-                    x168 = arith.mul_add(-x151, x167, x158);
-                    x169 = 1f64 / x161;
-                    x170 = x162 * x169;
-                    x171 = arith.mul_add(-x162, x170, x165);
-                    x172 = arith.mul_add(x163, x170, -x166);
-                    x173 = x163 * x169;
-                    x174 = arith.mul_add(-x163, x173, x168);
-                    x175 = 1f64 / x171;
-                    x176 = x172 * x175;
-                    x177 = arith.mul_add(-x172, x176, x174);
-                    x178 = 1f64 / x177;
-                    *o0 = x178;
-                    x179 = x176 * x178;
-                    x180 = -x179;
-                    *o1 = x180;
-                    *o6 = x180;
-                    x181 = x170 * x179;
-                    x182 = arith.mul_add(x173, x178, x181);
-                    *o2 = x182;
-                    *o12 = x182;
-                    x183 = x167 * x178;
-                    x184 = arith.mul_add(x164, x179, -x183);
-                    x185 = arith.mul_add(-x160, x182, x184);
-                    *o3 = x185;
-                    *o18 = x185;
-                    x186 = x145 * x179;
-                    x187 = arith.mul_add(x157, x178, -x186);
-                    x188 = arith.mul_add(x145, x182, x187);
-                    x189 = arith.mul_add(x145, x185, x188);
-                    *o4 = x189;
-                    *o24 = x189;
-                    x190 = x142 * x178;
-                    x191 = arith.mul_add(c4, x179, -x190);
-                    x192 = arith.mul_add(-c4, x182, x191);
-                    x193 = arith.mul_add(-c4, x185, x192);
-                    *o5 = x193;
-                    *o30 = x193;
-                    x194 = arith.mul_add(x176, x179, x175);
-                    *o7 = x194;
-                    x195 = x170 * x194;
-                    x196 = arith.mul_add(x173, x179, x195);
-                    x197 = -x196;
-                    *o8 = x197;
-                    *o13 = x197;
-                    x198 = x164 * x194;
-                    x199 = arith.mul_add(x167, x179, -x198);
-                    x200 = arith.mul_add(x160, x196, x199);
-                    *o9 = x200;
-                    *o19 = x200;
-                    x201 = x157 * x179;
-                    x202 = arith.mul_add(x145, x194, -x201);
-                    x203 = arith.mul_add(-x145, x196, x202);
-                    x204 = arith.mul_add(x145, x200, x203);
-                    *o10 = x204;
-                    *o25 = x204;
-                    x205 = c4 * x194;
-                    x206 = arith.mul_add(x142, x179, -x205);
-                    x207 = arith.mul_add(c4, x196, x206);
-                    x208 = arith.mul_add(-c4, x200, x207);
-                    *o11 = x208;
-                    *o31 = x208;
-                    x209 = arith.mul_add(x170, x176, x173);
-                    x210 = x178 * x209;
-                    x211 = x176 * x210;
-                    x212 = arith.mul_add(x170, x175, x211);
-                    x213 = arith.mul_add(x173, x210, x169);
-                    x214 = arith.mul_add(x170, x212, x213);
-                    *o14 = x214;
-                    x215 = x167 * x210;
-                    x216 = arith.mul_add(x164, x212, -x215);
-                    x217 = arith.mul_add(-x160, x214, x216);
-                    *o15 = x217;
-                    *o20 = x217;
-                    x218 = x145 * x212;
-                    x219 = arith.mul_add(x157, x210, -x218);
-                    x220 = arith.mul_add(x145, x214, x219);
-                    x221 = arith.mul_add(x145, x217, x220);
-                    *o16 = x221;
-                    *o26 = x221;
-                    x222 = x142 * x210;
-                    x223 = arith.mul_add(c4, x212, -x222);
-                    x224 = arith.mul_add(-c4, x214, x223);
-                    x225 = arith.mul_add(-c4, x217, x224);
-                    *o17 = x225;
-                    *o32 = x225;
-                    x226 = arith.mul_add(x160, x170, -x164);
-                    x227 = arith.mul_add(x160, x173, x167);
-                    x228 = arith.mul_add(x176, x226, x227);
-                    x229 = x178 * x228;
-                    x230 = x176 * x229;
-                    x231 = arith.mul_add(x175, x226, x230);
-                    x232 = x173 * x229;
-                    x233 = arith.mul_add(x160, x169, x232);
-                    x234 = arith.mul_add(x170, x231, x233);
-                    x235 = arith.mul_add(x167, x229, x159);
-                    x236 = arith.mul_add(-x164, x231, x235);
-                    x237 = arith.mul_add(x160, x234, x236);
-                    *o21 = x237;
-                    x238 = x157 * x229;
-                    x239 = arith.mul_add(x145, x231, -x238);
-                    x240 = arith.mul_add(-x145, x234, x239);
-                    x241 = arith.mul_add(x145, x237, x240);
-                    *o22 = x241;
-                    *o27 = x241;
-                    x242 = c4 * x231;
-                    x243 = arith.mul_add(x142, x229, -x242);
-                    x244 = arith.mul_add(c4, x234, x243);
-                    x245 = arith.mul_add(-c4, x237, x244);
-                    *o23 = x245;
-                    *o33 = x245;
-                    x246 = arith.mul_add(-x145, x160, x145);
-                    x247 = arith.mul_add(-x145, x164, x145);
-                    x248 = arith.mul_add(-x145, x167, x157);
-                    x249 = arith.mul_add(-x170, x246, x247);
-                    x250 = arith.mul_add(x173, x246, x248);
-                    x251 = arith.mul_add(-x176, x249, x250);
-                    x252 = x178 * x251;
-                    x253 = x176 * x252;
-                    x254 = arith.mul_add(x175, x249, -x253);
-                    x255 = x173 * x252;
-                    x256 = arith.mul_add(x169, x246, x255);
-                    x257 = arith.mul_add(-x170, x254, x256);
-                    x258 = x167 * x252;
-                    x259 = arith.mul_add(x145, x159, -x258);
-                    x260 = arith.mul_add(-x164, x254, x259);
-                    x261 = arith.mul_add(-x160, x257, x260);
-                    x262 = arith.mul_add(x157, x252, x144);
-                    x263 = arith.mul_add(x145, x254, x262);
-                    x264 = arith.mul_add(x145, x257, x263);
-                    x265 = arith.mul_add(x145, x261, x264);
-                    *o28 = x265;
-                    x266 = c4 * x254;
-                    x267 = arith.mul_add(x142, x252, x266);
-                    x268 = arith.mul_add(c4, x257, x267);
-                    x269 = arith.mul_add(c4, x261, x268);
-                    x270 = -x269;
-                    *o29 = x270;
-                    *o34 = x270;
-                    x271 = arith.mul_add(c4, x160, -c4);
-                    x272 = arith.mul_add(c4, x164, -c4);
-                    x273 = arith.mul_add(c4, x167, -x142);
-                    x274 = arith.mul_add(-x170, x271, x272);
-                    x275 = arith.mul_add(x173, x271, x273);
-                    x276 = arith.mul_add(-x176, x274, x275);
-                    x277 = x178 * x276;
-                    x278 = x176 * x277;
-                    x279 = arith.mul_add(x175, x274, -x278);
-                    x280 = x173 * x277;
-                    x281 = arith.mul_add(x169, x271, x280);
-                    x282 = arith.mul_add(-x170, x279, x281);
-                    x283 = x167 * x277;
-                    x284 = arith.mul_add(c4, x159, x283);
-                    x285 = arith.mul_add(x164, x279, x284);
-                    x286 = arith.mul_add(x160, x282, x285);
-                    x287 = arith.mul_add(-x142, x277, 58.355064750790525f64);
-                    x288 = arith.mul_add(-c4, x279, x287);
-                    x289 = arith.mul_add(-c4, x282, x288);
-                    x290 = arith.mul_add(c4, x286, x289);
-                    *o35 = x290;
-                }
-                out
-            }
-        }
-        dyngen_runtime::__private::dispatch::<Body, _>((t,))
-    }
-    ///Operations: 940 mul, 756 add/sub, 2 neg (joint sines and cosines come precomputed in `JointTrig`).
-    #[inline(never)]
-    fn inverse_dynamics_derivatives(
-        t: &JointTrig<6>,
-        qd: &SVector<f64, 6>,
-        a: &SVector<f64, 6>,
-    ) -> (SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>) {
-        struct Body;
-        impl dyngen_runtime::__private::Kernel<
-            (&JointTrig<6>, &SVector<f64, 6>, &SVector<f64, 6>),
-        > for Body {
-            type Output = (SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>);
-            #[inline(always)]
-            fn run<M: dyngen_runtime::__private::MulAdd>(
-                arith: M,
-                (t, qd, a): (&JointTrig<6>, &SVector<f64, 6>, &SVector<f64, 6>),
-            ) -> (SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>) {
-                let [_, s1, s2, s3, s4, s5] = t.sin;
-                let [_, c1, c2, c3, c4, c5] = t.cos;
-                let [qd0, qd1, qd2, qd3, qd4, qd5] = qd.data.0[0];
-                let [a0, a1, a2, a3, a4, a5] = a.data.0[0];
-                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
-                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
-                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
-                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
-                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
-                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
-                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
-                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
-                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
-                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
-                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
-                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
-                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
-                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
-                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
-                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
-                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
-                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
-                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
-                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
-                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
-                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
-                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
-                x291, x292, x293, x294, x295, x296, x297, x298, x299, x300, x301, x302,
-                x303, x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
-                x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325, x326,
-                x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337, x338,
-                x339, x340, x341, x342, x343, x344, x345, x346, x347, x348, x349, x350,
-                x351, x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
-                x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373, x374,
-                x375, x376, x377, x378, x379, x380, x381, x382, x383, x384, x385, x386,
-                x387, x388, x389, x390, x391, x392, x393, x394, x395, x396, x397, x398,
-                x399, x400, x401, x402, x403, x404, x405, x406, x407, x408, x409, x410,
-                x411, x412, x413, x414, x415, x416, x417, x418, x419, x420, x421, x422,
-                x423, x424, x425, x426, x427, x428, x429, x430, x431, x432, x433, x434,
-                x435, x436, x437, x438, x439, x440, x441, x442, x443, x444, x445, x446,
-                x447, x448, x449, x450, x451, x452, x453, x454, x455, x456, x457, x458,
-                x459, x460, x461, x462, x463, x464, x465, x466, x467, x468, x469, x470,
-                x471, x472, x473, x474, x475, x476, x477, x478, x479, x480, x481, x482,
-                x483, x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
-                x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505, x506,
-                x507, x508, x509, x510, x511, x512, x513, x514, x515, x516, x517, x518,
-                x519, x520, x521, x522, x523, x524, x525, x526, x527, x528, x529, x530,
-                x531, x532, x533, x534, x535, x536, x537, x538, x539, x540, x541, x542,
-                x543, x544, x545, x546, x547, x548, x549, x550, x551, x552, x553, x554,
-                x555, x556, x557, x558, x559, x560, x561, x562, x563, x564, x565, x566,
-                x567, x568, x569, x570, x571, x572, x573, x574, x575, x576, x577, x578,
-                x579, x580, x581, x582, x583, x584, x585, x586, x587, x588, x589, x590,
-                x591, x592, x593, x594, x595, x596, x597, x598, x599, x600, x601, x602,
-                x603, x604, x605, x606, x607, x608, x609, x610, x611, x612, x613, x614,
-                x615, x616, x617, x618, x619, x620, x621, x622, x623, x624, x625, x626,
-                x627, x628, x629, x630, x631, x632, x633, x634, x635, x636, x637, x638,
-                x639, x640, x641, x642, x643, x644, x645, x646, x647, x648, x649, x650,
-                x651, x652, x653, x654, x655, x656, x657, x658, x659, x660, x661, x662,
-                x663, x664, x665, x666, x667, x668, x669, x670, x671, x672, x673, x674,
-                x675, x676, x677, x678, x679, x680, x681, x682, x683, x684, x685, x686,
-                x687, x688, x689, x690, x691, x692, x693, x694, x695, x696, x697, x698,
-                x699, x700, x701, x702, x703, x704, x705, x706, x707, x708, x709, x710,
-                x711, x712, x713, x714, x715, x716, x717, x718, x719, x720, x721, x722,
-                x723, x724, x725, x726, x727, x728, x729, x730, x731, x732, x733, x734,
-                x735, x736, x737, x738, x739, x740, x741, x742, x743, x744, x745, x746,
-                x747, x748, x749, x750, x751, x752, x753, x754, x755, x756, x757, x758,
-                x759, x760, x761, x762, x763, x764, x765, x766, x767, x768, x769, x770,
-                x771, x772, x773, x774, x775, x776, x777, x778, x779, x780, x781, x782,
-                x783, x784, x785, x786, x787, x788, x789, x790, x791, x792, x793, x794,
-                x795, x796, x797, x798, x799, x800, x801, x802, x803, x804, x805, x806,
-                x807, x808, x809, x810, x811, x812, x813, x814, x815, x816, x817, x818,
-                x819, x820, x821, x822, x823, x824, x825, x826, x827, x828, x829, x830,
-                x831, x832, x833, x834, x835, x836, x837, x838, x839, x840, x841, x842,
-                x843, x844, x845, x846, x847, x848, x849, x850, x851, x852, x853, x854,
-                x855, x856, x857, x858, x859, x860, x861, x862, x863, x864, x865, x866,
-                x867, x868, x869, x870, x871, x872, x873, x874, x875, x876, x877, x878,
-                x879, x880, x881, x882, x883, x884, x885, x886, x887, x888, x889, x890,
-                x891, x892, x893, x894, x895, x896, x897, x898, x899, x900, x901, x902,
-                x903, x904, x905, x906, x907, x908, x909, x910, x911, x912, x913, x914,
-                x915, x916, x917, x918, x919, x920, x921, x922, x923, x924, x925, x926,
-                x927, x928, x929, x930, x931, x932, x933, x934, x935, x936, x937, x938,
-                x939, x940, x941, x942, x943, x944, x945, x946, x947, x948, x949, x950,
-                x951, x952, x953, x954, x955, x956, x957, x958, x959, x960, x961, x962,
-                x963, x964, x965, x966, x967, x968, x969, x970, x971, x972, x973, x974,
-                x975, x976, x977, x978, x979, x980, x981, x982, x983, x984, x985, x986,
-                x987, x988, x989, x990, x991, x992, x993, x994, x995, x996, x997, x998,
-                x999, x1000, x1001, x1002, x1003, x1004, x1005, x1006, x1007, x1008,
-                x1009, x1010, x1011, x1012, x1013, x1014, x1015, x1016, x1017, x1018,
-                x1019, x1020, x1021, x1022, x1023, x1024, x1025, x1026, x1027, x1028,
-                x1029, x1030, x1031, x1032, x1033, x1034, x1035, x1036, x1037, x1038,
-                x1039, x1040, x1041, x1042, x1043, x1044, x1045, x1046, x1047, x1048,
-                x1049, x1050, x1051, x1052, x1053, x1054, x1055, x1056, x1057, x1058,
-                x1059, x1060, x1061, x1062, x1063, x1064, x1065, x1066, x1067, x1068,
-                x1069, x1070, x1071, x1072, x1073, x1074, x1075, x1076, x1077, x1078,
-                x1079, x1080, x1081, x1082, x1083, x1084, x1085, x1086, x1087, x1088,
-                x1089, x1090, x1091, x1092, x1093, x1094, x1095, x1096, x1097, x1098,
-                x1099, x1100, x1101, x1102, x1103, x1104, x1105, x1106, x1107, x1108,
-                x1109, x1110, x1111, x1112, x1113, x1114, x1115, x1116, x1117, x1118,
-                x1119, x1120, x1121, x1122, x1123, x1124, x1125, x1126, x1127, x1128,
-                x1129, x1130, x1131, x1132, x1133, x1134, x1135, x1136, x1137, x1138,
-                x1139, x1140, x1141, x1142, x1143, x1144, x1145, x1146, x1147, x1148,
-                x1149, x1150, x1151, x1152, x1153, x1154, x1155, x1156, x1157, x1158,
-                x1159, x1160, x1161, x1162, x1163, x1164, x1165, x1166, x1167, x1168,
-                x1169, x1170, x1171, x1172, x1173, x1174, x1175, x1176, x1177, x1178,
-                x1179, x1180, x1181, x1182, x1183, x1184, x1185, x1186, x1187, x1188,
-                x1189, x1190, x1191, x1192, x1193, x1194, x1195, x1196, x1197, x1198,
-                x1199, x1200, x1201, x1202, x1203, x1204, x1205, x1206, x1207, x1208,
-                x1209, x1210, x1211, x1212, x1213, x1214, x1215, x1216, x1217, x1218,
-                x1219, x1220, x1221, x1222, x1223, x1224, x1225, x1226, x1227, x1228,
-                x1229]: [f64; 1230];
-                x0 = -9.81f64 * s1;
-                x1 = qd0 * c1;
-                x2 = qd0 * s1;
-                x3 = 0.13585f64 * qd0;
-                x4 = s1 * x3;
-                x5 = c1 * x3;
-                x6 = a0 * c1;
-                x7 = 0.13585f64 * a0;
-                x8 = s1 * x7;
-                x9 = arith.mul_add(-9.81f64, c1, x8);
-                x10 = c1 * x7;
-                x11 = x0 - x10;
-                x12 = c2 * x1;
-                x13 = arith.mul_add(s2, x2, -x12);
-                x14 = c2 * x2;
-                x15 = arith.mul_add(s2, x1, x14);
-                x16 = 0.425f64 * qd1;
-                x17 = arith.mul_add(0.1197f64, x2, -x16);
-                x18 = -0.425f64 * x1;
-                x19 = 0.1197f64 * x1;
-                x20 = x4 - x17;
-                x21 = x19 - x5;
-                x22 = s2 * x21;
-                x23 = arith.mul_add(c2, x20, -x22);
-                x24 = c2 * x21;
-                x25 = arith.mul_add(s2, x20, x24);
-                x26 = qd1 + qd2;
-                x27 = 0.425f64 * a1;
-                x28 = a1 + a2;
-                x29 = s3 * x13;
-                x30 = arith.mul_add(c3, x15, -x29);
-                x31 = s3 * x15;
-                x32 = arith.mul_add(c3, x13, x31);
-                x33 = arith.mul_add(0.39225f64, x26, x23);
-                x34 = arith.mul_add(0.39225f64, x13, x18);
-                x35 = c3 * x25;
-                x36 = arith.mul_add(s3, x33, x35);
-                x37 = c3 * x33;
-                x38 = s3 * x25;
-                x39 = x37 - x38;
-                x40 = qd3 + x26;
-                x41 = a3 + x28;
-                x42 = s4 * x40;
-                x43 = arith.mul_add(c4, x30, x42);
-                x44 = s4 * x30;
-                x45 = arith.mul_add(c4, x40, -x44);
-                x46 = qd4 + x32;
-                x47 = s4 * x41;
-                x48 = s5 * x46;
-                x49 = arith.mul_add(c5, x43, -x48);
-                x50 = c5 * x46;
-                x51 = arith.mul_add(s5, x43, x50);
-                x52 = qd5 + x45;
-                x53 = x38 - x37;
-                x54 = -0.016685526854599998f64 * c5;
-                x55 = 0.016685526854599998f64 * s5;
-                x56 = s5 * x54;
-                x57 = arith.mul_add(c5, x54, 0.033822f64);
-                x58 = arith.mul_add(-s5, x55, 0.253242f64);
-                x59 = c4 * x57;
-                x60 = -0.0171364731454f64 * s4;
-                x61 = c4 * x56;
-                x62 = s4 * x60;
-                x63 = arith.mul_add(c4, x59, -x62);
-                x64 = c4 * x60;
-                x65 = arith.mul_add(s4, x59, x64);
-                x66 = 0.004608836229750008f64 + x63;
-                x67 = arith.mul_add(-s4, x56, -0.001653980355f64);
-                x68 = 0.017784735f64 * c3;
-                x69 = -0.017784735f64 * s3;
-                x70 = c3 * x61;
-                x71 = arith.mul_add(s3, x66, x70);
-                x72 = s3 * x65;
-                x73 = arith.mul_add(c3, x67, -x72);
-                x74 = s3 * x61;
-                x75 = arith.mul_add(c3, x58, x74);
-                x76 = arith.mul_add(-c3, x66, x74);
-                x77 = s3 * x67;
-                x78 = arith.mul_add(c3, x65, x77);
-                x79 = arith.mul_add(-s3, x58, x70);
-                x80 = c3 * x75;
-                x81 = arith.mul_add(s3, x71, x80);
-                x82 = s3 * x75;
-                x83 = arith.mul_add(c3, x71, -x82);
-                x84 = s3 * x79;
-                x85 = arith.mul_add(c3, x76, x84);
-                x86 = -0.00697606230375f64 * s3;
-                x87 = -0.0139521246075f64 * s3;
-                x88 = x81 + x87;
-                x89 = arith.mul_add(-0.00697606230375f64, c3, x83);
-                x90 = x87 - x85;
-                x91 = x86 + x86;
-                x92 = x90 - x91;
-                x93 = 1.5987592750000001f64 + x69;
-                x94 = 0.59155695167475f64 + x88;
-                x95 = -0.05132265682500001f64 - x78;
-                x96 = s2 * x93;
-                x97 = arith.mul_add(c2, x68, x96);
-                x98 = s2 * x68;
-                x99 = arith.mul_add(c2, x93, -x98);
-                x100 = s2 * x89;
-                x101 = arith.mul_add(c2, x94, x100);
-                x102 = c2 * x73;
-                x103 = arith.mul_add(s2, x95, x102);
-                x104 = c2 * x89;
-                x105 = arith.mul_add(s2, x92, x104);
-                x106 = arith.mul_add(-s2, x94, x104);
-                x107 = s2 * x73;
-                x108 = arith.mul_add(c2, x95, -x107);
-                x109 = arith.mul_add(c2, x92, -x100);
-                x110 = s2 * x105;
-                x111 = arith.mul_add(c2, x101, x110);
-                x112 = s2 * x101;
-                x113 = arith.mul_add(c2, x105, -x112);
-                x114 = s2 * x106;
-                x115 = arith.mul_add(c2, x109, -x114);
-                x116 = 0.425f64 * x99;
-                x117 = 0.85f64 * x99;
-                x118 = x111 + x117;
-                x119 = arith.mul_add(0.1197f64, x97, x103);
-                x120 = arith.mul_add(-0.425f64, x97, x113);
-                x121 = arith.mul_add(0.1197f64, x99, x108);
-                x122 = x115 + x117;
-                x123 = x116 + x116;
-                x124 = x122 - x123;
-                x125 = 4.432922500000001f64 + x99;
-                x126 = 1.75501953841f64 + x118;
-                x127 = 0.19371331275f64 + x121;
-                x128 = arith.mul_add(0.1197f64, x97, x103);
-                x129 = -0.017784735f64 * c3;
-                x130 = s2 * x129;
-                x131 = arith.mul_add(c2, x69, x130);
-                x132 = s2 * x69;
-                x133 = arith.mul_add(c2, x129, -x132);
-                x134 = arith.mul_add(-s2, x78, x102);
-                x135 = arith.mul_add(c2, x78, x107);
-                x136 = arith.mul_add(-0.1197f64, x133, x134);
-                x137 = arith.mul_add(-0.1197f64, x131, x135);
-                x138 = s2 * x79;
-                x139 = arith.mul_add(c2, x75, x138);
-                x140 = s2 * x75;
-                x141 = arith.mul_add(c2, x79, -x140);
-                x142 = s3 * x60;
-                x143 = c3 * x60;
-                x144 = s2 * x143;
-                x145 = arith.mul_add(c2, x142, x144);
-                x146 = c2 * x143;
-                x147 = arith.mul_add(s2, x142, -x146);
-                x148 = -4.432922500000001f64 * x5;
-                x149 = -8.865845000000002f64 * x5;
-                x150 = 4.432922500000001f64 * qd1;
-                x151 = -4.432922500000001f64 * x1;
-                x152 = 0.19371331275f64 * qd1;
-                x153 = arith.mul_add(1.77012693841f64, x2, x152);
-                x154 = arith.mul_add(-1.75501953841f64, x2, x153);
-                x155 = -0.19371331275f64 * x1;
-                x156 = x155 + x155;
-                x157 = x149 - x156;
-                x158 = -0.19371331275f64 * x2;
-                x159 = arith.mul_add(1.75501953841f64, qd1, x158);
-                x160 = 4.432922500000001f64 * x4;
-                x161 = x159 + x160;
-                x162 = x148 + x148;
-                x163 = x149 + x156;
-                x164 = x163 - x162;
-                x165 = 1.5987592750000001f64 * x25;
-                x166 = 3.1975185500000003f64 * x25;
-                x167 = 1.5987592750000001f64 * x26;
-                x168 = 1.5987592750000001f64 * x13;
-                x169 = -0.05132265682500001f64 * x26;
-                x170 = arith.mul_add(0.59565195167475f64, x15, x169);
-                x171 = arith.mul_add(-0.59155695167475f64, x15, x170);
-                x172 = -0.05132265682500001f64 * x13;
-                x173 = x172 + x172;
-                x174 = x166 - x173;
-                x175 = 0.05132265682500001f64 * x15;
-                x176 = arith.mul_add(0.59155695167475f64, x26, x175);
-                x177 = 1.5987592750000001f64 * x23;
-                x178 = x176 + x177;
-                x179 = 0.679472691875f64 * x1;
-                x180 = arith.mul_add(0.59565195167475f64, x13, -x179);
-                x181 = x165 + x165;
-                x182 = x166 + x173;
-                x183 = x182 - x181;
-                x184 = 0.017784735f64 * x39;
-                x185 = 0.03556947f64 * x39;
-                x186 = 0.017784735f64 * x40;
-                x187 = 0.017784735f64 * x30;
-                x188 = -0.001653980355f64 * x40;
-                x189 = arith.mul_add(-0.22402883622975f64, x32, x188);
-                x190 = arith.mul_add(0.004608836229750008f64, x32, x189);
-                x191 = -0.001653980355f64 * x30;
-                x192 = x191 + x191;
-                x193 = x185 - x192;
-                x194 = -0.001653980355f64 * x32;
-                x195 = arith.mul_add(0.004608836229750008f64, x40, x194);
-                x196 = -0.017784735f64 * x36;
-                x197 = x195 + x196;
-                x198 = -0.017784735f64 * x34;
-                x199 = arith.mul_add(0.22402883622975f64, x30, -x198);
-                x200 = x184 + x184;
-                x201 = x185 + x192;
-                x202 = x201 - x200;
-                x203 = 0.033822f64 * x45;
-                x204 = arith.mul_add(0.253242f64, x45, -x203);
-                x205 = 0.0171364731454f64 * x51;
-                x206 = arith.mul_add(-0.016685526854599998f64, x51, -x205);
-                x207 = -0.016685526854599998f64 * x52;
-                x208 = 0.0171364731454f64 * x49;
-                x209 = -1.75501953841f64 * x1;
-                x210 = arith.mul_add(1.77012693841f64, qd1, x158);
-                x211 = x160 + x210;
-                x212 = arith.mul_add(0.59565195167475f64, x26, x175);
-                x213 = arith.mul_add(0.59155695167475f64, x13, -x179);
-                x214 = x177 + x212;
-                x215 = arith.mul_add(0.22402883622975f64, x40, x194);
-                x216 = arith.mul_add(0.004608836229750008f64, x30, -x198);
-                x217 = x196 + x215;
-                x218 = 0.033822f64 * x43;
-                x219 = 0.253242f64 * x46;
-                x220 = -0.016685526854599998f64 * x49;
-                x221 = 0.0171364731454f64 * x52;
-                x222 = s5 * x207;
-                x223 = s5 * x208;
-                x224 = arith.mul_add(c5, x206, x223);
-                x225 = c5 * x207;
-                x226 = s5 * x206;
-                x227 = arith.mul_add(c5, x208, -x226);
-                x228 = s5 * x225;
-                x229 = arith.mul_add(c5, x222, x228);
-                x230 = c5 * x225;
-                x231 = arith.mul_add(s5, x222, -x230);
-                x232 = arith.mul_add(0.033822f64, x46, x224);
-                x233 = x204 + x231;
-                x234 = arith.mul_add(-0.253242f64, x43, x227);
-                x235 = arith.mul_add(c5, x220, x218);
-                x236 = arith.mul_add(-s5, x220, x219);
-                x237 = s4 * x232;
-                x238 = arith.mul_add(c4, x229, x237);
-                x239 = c4 * x232;
-                x240 = s4 * x234;
-                x241 = arith.mul_add(c4, x233, -x240);
-                x242 = arith.mul_add(-s4, x229, x239);
-                x243 = c4 * x234;
-                x244 = arith.mul_add(s4, x233, x243);
-                x245 = s4 * x239;
-                x246 = arith.mul_add(c4, x238, x245);
-                x247 = s4 * x238;
-                x248 = arith.mul_add(c4, x239, -x247);
-                x249 = c4 * x237;
-                x250 = arith.mul_add(s4, x242, x249);
-                x251 = x185 - x246;
-                x252 = x190 + x248;
-                x253 = x193 + x250;
-                x254 = x241 - x197;
-                x255 = x199 + x244;
-                x256 = x202 + x229;
-                x257 = s4 * x221;
-                x258 = arith.mul_add(c4, x235, -x257);
-                x259 = x216 + x258;
-                x260 = x188 + x236;
-                x261 = s3 * x186;
-                x262 = c3 * x186;
-                x263 = c3 * x254;
-                x264 = arith.mul_add(-s3, x251, x263);
-                x265 = s3 * x252;
-                x266 = arith.mul_add(c3, x255, -x265);
-                x267 = s3 * x254;
-                x268 = arith.mul_add(c3, x256, -x267);
-                x269 = arith.mul_add(c3, x251, x267);
-                x270 = s3 * x255;
-                x271 = arith.mul_add(c3, x252, x270);
-                x272 = arith.mul_add(s3, x256, x263);
-                x273 = s3 * x264;
-                x274 = arith.mul_add(c3, x268, -x273);
-                x275 = s3 * x268;
-                x276 = arith.mul_add(c3, x264, x275);
-                x277 = s3 * x272;
-                x278 = arith.mul_add(c3, x269, x277);
-                x279 = -0.39225f64 * x262;
-                x280 = -0.7845f64 * x262;
-                x281 = x274 + x280;
-                x282 = x253 + x280;
-                x283 = arith.mul_add(-0.39225f64, x261, x276);
-                x284 = -0.00697606230375f64 * x30;
-                x285 = x271 + x284;
-                x286 = x278 + x280;
-                x287 = x279 + x279;
-                x288 = x286 - x287;
-                x289 = x167 - x261;
-                x290 = x168 + x187;
-                x291 = x166 + x281;
-                x292 = x171 + x266;
-                x293 = x174 + x282;
-                x294 = x178 + x283;
-                x295 = x180 - x285;
-                x296 = x183 + x288;
-                x297 = s3 * x259;
-                x298 = arith.mul_add(c3, x260, -x297);
-                x299 = s3 * x260;
-                x300 = arith.mul_add(c3, x259, x299);
-                x301 = x298 - x284;
-                x302 = x213 + x301;
-                x303 = x169 - x300;
-                x304 = s2 * x262;
-                x305 = arith.mul_add(c2, x289, -x304);
-                x306 = c2 * x262;
-                x307 = arith.mul_add(s2, x289, x306);
-                x308 = s2 * x294;
-                x309 = arith.mul_add(c2, x291, -x308);
-                x310 = s2 * x295;
-                x311 = arith.mul_add(c2, x292, x310);
-                x312 = c2 * x294;
-                x313 = arith.mul_add(s2, x296, -x312);
-                x314 = arith.mul_add(s2, x291, x312);
-                x315 = s2 * x292;
-                x316 = arith.mul_add(c2, x295, -x315);
-                x317 = arith.mul_add(c2, x296, x308);
-                x318 = s2 * x313;
-                x319 = arith.mul_add(c2, x309, x318);
-                x320 = s2 * x309;
-                x321 = arith.mul_add(c2, x313, -x320);
-                x322 = c2 * x317;
-                x323 = arith.mul_add(s2, x314, x322);
-                x324 = 0.1197f64 * x290;
-                x325 = -0.425f64 * x307;
-                x326 = x324 + x325;
-                x327 = 2f64 * x326;
-                x328 = x319 + x327;
-                x329 = -0.1197f64 * x305;
-                x330 = x311 - x329;
-                x331 = x293 + x327;
-                x332 = x324 + x324;
-                x333 = x331 - x332;
-                x334 = arith.mul_add(-0.425f64, x305, x321);
-                x335 = 0.1197f64 * x307;
-                x336 = -0.425f64 * x290;
-                x337 = x335 + x336;
-                x338 = x316 - x337;
-                x339 = x323 + x327;
-                x340 = x325 + x325;
-                x341 = x339 - x340;
-                x342 = x150 + x305;
-                x343 = x151 + x290;
-                x344 = x149 + x328;
-                x345 = x154 + x330;
-                x346 = x157 + x333;
-                x347 = x334 - x161;
-                x348 = arith.mul_add(-1.77012693841f64, x1, x338);
-                x349 = x164 + x341;
-                x350 = s2 * x303;
-                x351 = arith.mul_add(c2, x302, x350);
-                x352 = s2 * x302;
-                x353 = arith.mul_add(c2, x303, -x352);
-                x354 = x335 - x336;
-                x355 = x351 + x354;
-                x356 = x353 - x329;
-                x357 = x209 + x355;
-                x358 = x152 + x356;
-                x359 = c1 * x344;
-                x360 = arith.mul_add(s1, x347, x359);
-                x361 = s1 * x349;
-                x362 = arith.mul_add(c1, x347, x361);
-                x363 = s1 * x362;
-                x364 = arith.mul_add(c1, x360, x363);
-                x365 = arith.mul_add(-0.2717f64, x343, x364);
-                x366 = 0.5f64 * x345;
-                x367 = 0.5f64 * x348;
-                x368 = -0.5f64 * x307;
-                x369 = -0.5f64 * x342;
-                x370 = 0.5f64 * x358;
-                x371 = -0.5f64 * x357;
-                x372 = x1 * x120;
-                x373 = arith.mul_add(x2, x126, -x372);
-                x374 = x1 * x127;
-                x375 = arith.mul_add(x2, x119, -x374);
-                x376 = x1 * x124;
-                x377 = arith.mul_add(x2, x120, -x376);
-                x378 = x4 * x97;
-                x379 = arith.mul_add(x5, x125, -x378);
-                x380 = x375 + x379;
-                x381 = x366 + x373;
-                x382 = arith.mul_add(0.5f64, x346, x380);
-                x383 = x367 + x377;
-                x384 = x370 + x381;
-                x385 = x371 + x383;
-                x386 = x368 + x368;
-                x387 = x369 + x369;
-                x388 = x366 - x370;
-                x389 = x367 - x371;
-                x390 = s1 * x386;
-                x391 = arith.mul_add(c1, x387, -x390);
-                x392 = s1 * x385;
-                x393 = arith.mul_add(c1, x384, x392);
-                x394 = arith.mul_add(0.13585f64, x391, x393);
-                x395 = s1 * x389;
-                x396 = arith.mul_add(c1, x388, x395);
-                x397 = x261 - x167;
-                x398 = 0.5f64 * x292;
-                x399 = 0.5f64 * x293;
-                x400 = 0.5f64 * x295;
-                x401 = -0.5f64 * x262;
-                x402 = 0.5f64 * x397;
-                x403 = 0.5f64 * x303;
-                x404 = -0.5f64 * x302;
-                x405 = x13 * x89;
-                x406 = arith.mul_add(x15, x94, x405);
-                x407 = x15 * x73;
-                x408 = arith.mul_add(x13, x95, x407);
-                x409 = x13 * x92;
-                x410 = arith.mul_add(x15, x89, x409);
-                x411 = x23 * x68;
-                x412 = arith.mul_add(x25, x93, x411);
-                x413 = x408 - x412;
-                x414 = x15 * x93;
-                x415 = arith.mul_add(x13, x68, -x414);
-                x416 = x398 + x406;
-                x417 = x399 + x413;
-                x418 = x400 + x410;
-                x419 = x403 + x416;
-                x420 = x404 + x418;
-                x421 = x401 + x401;
-                x422 = x402 + x402;
-                x423 = x398 - x403;
-                x424 = x400 - x404;
-                x425 = s2 * x422;
-                x426 = arith.mul_add(c2, x421, x425);
-                x427 = s2 * x421;
-                x428 = arith.mul_add(c2, x422, -x427);
-                x429 = s2 * x420;
-                x430 = arith.mul_add(c2, x419, x429);
-                x431 = s2 * x419;
-                x432 = arith.mul_add(c2, x420, -x431);
-                x433 = 0.425f64 * x415;
-                x434 = arith.mul_add(-0.1197f64, x428, -x433);
-                x435 = x430 + x434;
-                x436 = arith.mul_add(0.425f64, x426, x417);
-                x437 = arith.mul_add(0.1197f64, x426, x432);
-                x438 = s2 * x424;
-                x439 = arith.mul_add(c2, x423, x438);
-                x440 = s2 * x423;
-                x441 = arith.mul_add(c2, x424, -x440);
-                x442 = x1 * x121;
-                x443 = arith.mul_add(x2, x128, -x442);
-                x444 = arith.mul_add(x5, x99, -x378);
-                x445 = x443 + x444;
-                x446 = x399 + x445;
-                x447 = s1 * x426;
-                x448 = arith.mul_add(c1, x428, -x447);
-                x449 = s1 * x437;
-                x450 = arith.mul_add(c1, x435, x449);
-                x451 = arith.mul_add(0.13585f64, x448, x450);
-                x452 = s1 * x441;
-                x453 = arith.mul_add(c1, x439, x452);
-                x454 = 0.5f64 * x252;
-                x455 = 0.5f64 * x253;
-                x456 = 0.5f64 * x255;
-                x457 = -0.0088923675f64 * x40;
-                x458 = 0.5f64 * x260;
-                x459 = -0.5f64 * x259;
-                x460 = x30 * x61;
-                x461 = arith.mul_add(x32, x66, x460);
-                x462 = x32 * x65;
-                x463 = arith.mul_add(x30, x67, -x462);
-                x464 = x30 * x58;
-                x465 = arith.mul_add(x32, x61, x464);
-                x466 = 0.017784735f64 * x53;
-                x467 = x463 + x466;
-                x468 = -0.017784735f64 * x32;
-                x469 = x454 - x461;
-                x470 = x455 + x467;
-                x471 = x456 + x465;
-                x472 = x458 + x469;
-                x473 = x459 + x471;
-                x474 = x457 + x457;
-                x475 = x454 - x458;
-                x476 = x456 - x459;
-                x477 = c3 * x474;
-                x478 = s3 * x474;
-                x479 = s3 * x472;
-                x480 = arith.mul_add(c3, x473, -x479);
-                x481 = s3 * x473;
-                x482 = arith.mul_add(c3, x472, x481);
-                x483 = arith.mul_add(-0.00697606230375f64, x32, x480);
-                x484 = arith.mul_add(0.39225f64, x477, x470);
-                x485 = s3 * x475;
-                x486 = arith.mul_add(c3, x476, -x485);
-                x487 = s3 * x476;
-                x488 = arith.mul_add(c3, x475, x487);
-                x489 = arith.mul_add(-x13, x78, x407);
-                x490 = x25 * x69;
-                x491 = arith.mul_add(x23, x129, -x490);
-                x492 = x489 + x491;
-                x493 = x455 + x492;
-                x494 = s2 * x478;
-                x495 = arith.mul_add(c2, x477, -x494);
-                x496 = c2 * x478;
-                x497 = arith.mul_add(s2, x477, x496);
-                x498 = s2 * x482;
-                x499 = arith.mul_add(c2, x483, -x498);
-                x500 = c2 * x482;
-                x501 = arith.mul_add(s2, x483, x500);
-                x502 = 0.007558512375f64 * x32;
-                x503 = arith.mul_add(0.1197f64, x497, -x502);
-                x504 = x499 + x503;
-                x505 = arith.mul_add(0.425f64, x495, x484);
-                x506 = arith.mul_add(-0.1197f64, x495, x501);
-                x507 = s2 * x488;
-                x508 = arith.mul_add(c2, x486, -x507);
-                x509 = c2 * x488;
-                x510 = arith.mul_add(s2, x486, x509);
-                x511 = x1 * x137;
-                x512 = arith.mul_add(x2, x136, x511);
-                x513 = x4 * x133;
-                x514 = arith.mul_add(x5, x131, x513);
-                x515 = x512 + x514;
-                x516 = x455 + x515;
-                x517 = c1 * x497;
-                x518 = arith.mul_add(s1, x495, x517);
-                x519 = c1 * x504;
-                x520 = arith.mul_add(s1, x506, -x519);
-                x521 = arith.mul_add(0.13585f64, x518, x520);
-                x522 = c1 * x508;
-                x523 = arith.mul_add(s1, x510, -x522);
-                x524 = 0.5f64 * x233;
-                x525 = 0.5f64 * x234;
-                x526 = 0.5f64 * x229;
-                x527 = -0.0085682365727f64 * x52;
-                x528 = 0.5f64 * x235;
-                x529 = -0.0171364731454f64 * x43;
-                x530 = arith.mul_add(x45, x57, x524);
-                x531 = x525 + x529;
-                x532 = arith.mul_add(-x45, x56, x526);
-                x533 = x527 + x530;
-                x534 = x528 + x531;
-                x535 = x524 - x527;
-                x536 = x525 - x528;
-                x537 = s4 * x534;
-                x538 = arith.mul_add(c4, x533, -x537);
-                x539 = c4 * x534;
-                x540 = arith.mul_add(s4, x533, x539);
-                x541 = s4 * x536;
-                x542 = arith.mul_add(c4, x535, -x541);
-                x543 = c4 * x536;
-                x544 = arith.mul_add(s4, x535, x543);
-                x545 = x465 + x544;
-                x546 = s3 * x538;
-                x547 = arith.mul_add(c3, x532, -x546);
-                x548 = s3 * x532;
-                x549 = arith.mul_add(c3, x538, x548);
-                x550 = s3 * x542;
-                x551 = arith.mul_add(c3, x526, -x550);
-                x552 = s3 * x526;
-                x553 = arith.mul_add(c3, x542, x552);
-                x554 = x13 * x79;
-                x555 = arith.mul_add(x15, x75, x554);
-                x556 = x544 + x555;
-                x557 = s2 * x549;
-                x558 = arith.mul_add(c2, x547, -x557);
-                x559 = c2 * x549;
-                x560 = arith.mul_add(s2, x547, x559);
-                x561 = s2 * x553;
-                x562 = arith.mul_add(c2, x551, -x561);
-                x563 = c2 * x553;
-                x564 = arith.mul_add(s2, x551, x563);
-                x565 = x1 * x141;
-                x566 = arith.mul_add(x2, x139, -x565);
-                x567 = x544 + x566;
-                x568 = c1 * x558;
-                x569 = arith.mul_add(s1, x560, -x568);
-                x570 = c1 * x562;
-                x571 = arith.mul_add(s1, x564, -x570);
-                x572 = 0.5f64 * x206;
-                x573 = 0.0085682365727f64 * x49;
-                x574 = 0.008342763427299999f64 * x49;
-                x575 = 0.016685526854599998f64 * x51;
-                x576 = x572 + x575;
-                x577 = x573 + x574;
-                x578 = x573 - x574;
-                x579 = s5 * x577;
-                x580 = arith.mul_add(c5, x576, x579);
-                x581 = s5 * x576;
-                x582 = arith.mul_add(c5, x577, -x581);
-                x583 = s5 * x578;
-                x584 = arith.mul_add(c5, x572, x583);
-                x585 = s5 * x572;
-                x586 = arith.mul_add(c5, x578, -x585);
-                x587 = x529 + x586;
-                x588 = c4 * x580;
-                x589 = s4 * x580;
-                x590 = c4 * x584;
-                x591 = s4 * x584;
-                x592 = arith.mul_add(-x32, x60, x591);
-                x593 = s3 * x588;
-                x594 = arith.mul_add(c3, x582, -x593);
-                x595 = s3 * x582;
-                x596 = arith.mul_add(c3, x588, x595);
-                x597 = s3 * x590;
-                x598 = arith.mul_add(c3, x586, -x597);
-                x599 = s3 * x586;
-                x600 = arith.mul_add(c3, x590, x599);
-                x601 = x13 * x143;
-                x602 = arith.mul_add(x15, x142, x601);
-                x603 = x591 - x602;
-                x604 = s2 * x596;
-                x605 = arith.mul_add(c2, x594, -x604);
-                x606 = c2 * x596;
-                x607 = arith.mul_add(s2, x594, x606);
-                x608 = s2 * x600;
-                x609 = arith.mul_add(c2, x598, -x608);
-                x610 = c2 * x600;
-                x611 = arith.mul_add(s2, x598, x610);
-                x612 = x1 * x147;
-                x613 = arith.mul_add(x2, x145, x612);
-                x614 = x591 - x613;
-                x615 = c1 * x605;
-                x616 = arith.mul_add(s1, x607, -x615);
-                x617 = c1 * x609;
-                x618 = arith.mul_add(s1, x611, -x617);
-                x619 = qd1 * x1;
-                x620 = qd1 * x4;
-                x621 = arith.mul_add(qd1, x2, -x6);
-                x622 = arith.mul_add(a0, s1, x619);
-                x623 = arith.mul_add(qd1, x5, x9);
-                x624 = x11 + x620;
-                x625 = s2 * x622;
-                x626 = arith.mul_add(c2, x621, x625);
-                x627 = s2 * x621;
-                x628 = c2 * x622;
-                x629 = x627 - x628;
-                x630 = arith.mul_add(0.1197f64, x622, -x27);
-                x631 = -0.1197f64 * x621;
-                x632 = x623 - x630;
-                x633 = x624 + x631;
-                x634 = s2 * x633;
-                x635 = arith.mul_add(c2, x632, -x634);
-                x636 = c2 * x633;
-                x637 = arith.mul_add(s2, x632, x636);
-                x638 = qd2 * x13;
-                x639 = arith.mul_add(qd2, x15, x626);
-                x640 = x629 + x638;
-                x641 = arith.mul_add(-qd2, x25, x635);
-                x642 = arith.mul_add(qd2, x23, x637);
-                x643 = s3 * x639;
-                x644 = arith.mul_add(c3, x640, x643);
-                x645 = c3 * x639;
-                x646 = s3 * x640;
-                x647 = x645 - x646;
-                x648 = 0.39225f64 * x639;
-                x649 = arith.mul_add(0.39225f64, x28, x641);
-                x650 = arith.mul_add(0.425f64, x621, x648);
-                x651 = s3 * x642;
-                x652 = qd3 * x32;
-                x653 = qd3 * x30;
-                x654 = x644 + x652;
-                x655 = x647 + x653;
-                x656 = c4 * x654;
-                x657 = x47 - x656;
-                x658 = s4 * x654;
-                x659 = arith.mul_add(c4, x41, x658);
-                x660 = a4 + x655;
-                x661 = qd4 * x45;
-                x662 = x657 + x661;
-                x663 = arith.mul_add(-qd4, x43, x659);
-                x664 = s5 * x660;
-                x665 = arith.mul_add(c5, x662, -x664);
-                x666 = c5 * x660;
-                x667 = arith.mul_add(s5, x662, x666);
-                x668 = a5 + x663;
-                x669 = arith.mul_add(-qd5, x51, x665);
-                x670 = arith.mul_add(qd5, x49, x667);
-                x671 = x2 * x211;
-                x672 = arith.mul_add(qd1, x152, x671);
-                x673 = x1 * x211;
-                x674 = arith.mul_add(qd1, x209, x673);
-                x675 = x5 * x151;
-                x676 = x4 * x151;
-                x677 = x672 - x675;
-                x678 = x674 + x676;
-                x679 = x2 * x151;
-                x680 = x1 * x151;
-                x681 = arith.mul_add(-qd1, x150, x680);
-                x682 = arith.mul_add(1.75501953841f64, x621, x677);
-                x683 = arith.mul_add(0.19371331275f64, a1, -x678);
-                x684 = arith.mul_add(4.432922500000001f64, a1, -x679);
-                x685 = -0.679472691875f64 * x621;
-                x686 = arith.mul_add(0.59155695167475f64, x639, -x685);
-                x687 = x15 * x214;
-                x688 = arith.mul_add(x26, x169, x687);
-                x689 = x13 * x214;
-                x690 = arith.mul_add(-x26, x213, x689);
-                x691 = x25 * x168;
-                x692 = x23 * x168;
-                x693 = arith.mul_add(x18, x167, -x692);
-                x694 = x688 + x691;
-                x695 = x690 + x693;
-                x696 = x15 * x168;
-                x697 = x15 * x167;
-                x698 = x13 * x168;
-                x699 = arith.mul_add(x26, x167, x698);
-                x700 = x686 + x694;
-                x701 = arith.mul_add(-0.05132265682500001f64, x28, x695);
-                x702 = arith.mul_add(1.5987592750000001f64, x28, -x696);
-                x703 = arith.mul_add(1.5987592750000001f64, x639, x697);
-                x704 = -0.017784735f64 * x650;
-                x705 = arith.mul_add(-0.004608836229750008f64, x654, -x704);
-                x706 = -0.017784735f64 * x654;
-                x707 = x32 * x217;
-                x708 = arith.mul_add(x40, x188, -x707);
-                x709 = x30 * x217;
-                x710 = arith.mul_add(-x40, x216, x709);
-                x711 = x36 * x187;
-                x712 = arith.mul_add(x34, x186, x711);
-                x713 = arith.mul_add(x39, x187, x708);
-                x714 = x710 + x712;
-                x715 = x32 * x187;
-                x716 = x30 * x187;
-                x717 = arith.mul_add(x40, x186, x716);
-                x718 = x705 + x713;
-                x719 = arith.mul_add(-0.001653980355f64, x41, x714);
-                x720 = arith.mul_add(0.017784735f64, x41, x715);
-                x721 = arith.mul_add(x32, x186, -x706);
-                x722 = x45 * x219;
-                x723 = x43 * x219;
-                x724 = arith.mul_add(x46, x218, -x723);
-                x725 = x45 * x218;
-                x726 = arith.mul_add(0.033822f64, x662, x722);
-                x727 = arith.mul_add(0.253242f64, x660, -x725);
-                x728 = -0.016685526854599998f64 * x669;
-                x729 = x51 * x221;
-                x730 = x51 * x220;
-                x731 = x49 * x221;
-                x732 = arith.mul_add(-x52, x220, x731);
-                x733 = x728 - x729;
-                x734 = arith.mul_add(0.0171364731454f64, x668, x730);
-                x735 = s5 * x732;
-                x736 = arith.mul_add(c5, x733, x735);
-                x737 = s5 * x733;
-                x738 = arith.mul_add(c5, x732, -x737);
-                x739 = x726 + x736;
-                x740 = x724 + x734;
-                x741 = x727 + x738;
-                x742 = s4 * x740;
-                x743 = arith.mul_add(c4, x739, -x742);
-                x744 = x718 + x743;
-                x745 = x719 + x741;
-                x746 = c3 * x717;
-                x747 = arith.mul_add(s3, x720, x746);
-                x748 = c3 * x720;
-                x749 = arith.mul_add(s3, x717, -x748);
-                x750 = s3 * x744;
-                x751 = arith.mul_add(c3, x745, -x750);
-                x752 = s3 * x745;
-                x753 = arith.mul_add(c3, x744, x752);
-                x754 = arith.mul_add(-0.39225f64, x721, x751);
-                x755 = x700 + x754;
-                x756 = x701 - x753;
-                x757 = x702 - x747;
-                x758 = x721 - x703;
-                x759 = x749 - x699;
-                x760 = s2 * x759;
-                x761 = arith.mul_add(c2, x757, x760);
-                x762 = s2 * x757;
-                x763 = arith.mul_add(c2, x759, -x762);
-                x764 = s2 * x756;
-                x765 = arith.mul_add(c2, x755, x764);
-                x766 = s2 * x755;
-                x767 = arith.mul_add(c2, x756, -x766);
-                x768 = 0.425f64 * x758;
-                x769 = arith.mul_add(-0.1197f64, x763, -x768);
-                x770 = x765 + x769;
-                x771 = arith.mul_add(0.1197f64, x761, x767);
-                x772 = x682 + x770;
-                x773 = x683 + x771;
-                x774 = x684 + x761;
-                x775 = x681 + x763;
-                x776 = x10 - x0;
-                x777 = x776 - x620;
-                x778 = 0.425f64 * x2;
-                x779 = x5 - x19;
-                x780 = arith.mul_add(-0.1197f64, x2, x4);
-                x781 = s2 * x780;
-                x782 = arith.mul_add(c2, x779, -x781);
-                x783 = c2 * x780;
-                x784 = arith.mul_add(s2, x779, x783);
-                x785 = x628 - x627;
-                x786 = x777 - x631;
-                x787 = arith.mul_add(-0.1197f64, x622, x623);
-                x788 = s2 * x787;
-                x789 = arith.mul_add(c2, x786, -x788);
-                x790 = c2 * x787;
-                x791 = arith.mul_add(s2, x786, x790);
-                x792 = x785 - x638;
-                x793 = arith.mul_add(-qd2, x784, x789);
-                x794 = arith.mul_add(qd2, x782, x791);
-                x795 = 0.39225f64 * x15;
-                x796 = x778 + x795;
-                x797 = c3 * x784;
-                x798 = arith.mul_add(s3, x782, x797);
-                x799 = s3 * x784;
-                x800 = arith.mul_add(c3, x782, -x799);
-                x801 = arith.mul_add(s3, x792, x645);
-                x802 = arith.mul_add(c3, x792, -x643);
-                x803 = 0.39225f64 * x792;
-                x804 = arith.mul_add(0.425f64, x622, x803);
-                x805 = c3 * x794;
-                x806 = arith.mul_add(s3, x793, x805);
-                x807 = x653 + x801;
-                x808 = x802 - x652;
-                x809 = arith.mul_add(qd3, x800, x806);
-                x810 = c4 * x32;
-                x811 = s4 * x32;
-                x812 = qd4 * x811;
-                x813 = qd4 * x810;
-                x814 = arith.mul_add(-c4, x807, x812);
-                x815 = arith.mul_add(s4, x807, x813);
-                x816 = s5 * x30;
-                x817 = arith.mul_add(c5, x810, x816);
-                x818 = s5 * x810;
-                x819 = arith.mul_add(c5, x30, -x818);
-                x820 = s5 * x808;
-                x821 = arith.mul_add(c5, x814, -x820);
-                x822 = qd5 * x819;
-                x823 = x821 - x822;
-                x824 = 4.432922500000001f64 * x777;
-                x825 = arith.mul_add(0.19371331275f64, x621, x824);
-                x826 = 1.75501953841f64 * x2;
-                x827 = arith.mul_add(4.432922500000001f64, x5, x155);
-                x828 = 4.432922500000001f64 * x2;
-                x829 = arith.mul_add(x2, x827, x673);
-                x830 = x1 * x209;
-                x831 = arith.mul_add(x2, x826, x830);
-                x832 = arith.mul_add(x2, x152, x831);
-                x833 = arith.mul_add(-x1, x827, x671);
-                x834 = arith.mul_add(-qd1, x826, x833);
-                x835 = arith.mul_add(-x5, x828, x676);
-                x836 = arith.mul_add(x4, x828, x675);
-                x837 = x829 + x835;
-                x838 = arith.mul_add(x4, x150, -x832);
-                x839 = x834 - x836;
-                x840 = arith.mul_add(x2, x828, x680);
-                x841 = arith.mul_add(x1, x828, -x679);
-                x842 = arith.mul_add(1.75501953841f64, x622, x837);
-                x843 = x825 + x838;
-                x844 = 0.59155695167475f64 * x792;
-                x845 = -0.05132265682500001f64 * x639;
-                x846 = arith.mul_add(0.679472691875f64, x622, x844);
-                x847 = arith.mul_add(1.5987592750000001f64, x793, x845);
-                x848 = 1.5987592750000001f64 * x792;
-                x849 = 0.59155695167475f64 * x15;
-                x850 = arith.mul_add(0.679472691875f64, x2, x849);
-                x851 = arith.mul_add(1.5987592750000001f64, x782, x172);
-                x852 = 1.5987592750000001f64 * x15;
-                x853 = arith.mul_add(x15, x851, -x689);
-                x854 = x13 * x213;
-                x855 = arith.mul_add(-x15, x850, x854);
-                x856 = x15 * x169;
-                x857 = x855 - x856;
-                x858 = arith.mul_add(x13, x851, x687);
-                x859 = arith.mul_add(-x26, x850, x858);
-                x860 = x25 * x852;
-                x861 = arith.mul_add(x168, x784, x860);
-                x862 = x23 * x852;
-                x863 = arith.mul_add(x168, x782, x862);
-                x864 = arith.mul_add(x167, x778, -x863);
-                x865 = x853 + x861;
-                x866 = arith.mul_add(x167, x784, x857);
-                x867 = x859 + x864;
-                x868 = arith.mul_add(-x15, x852, x698);
-                x869 = arith.mul_add(x13, x852, x696);
-                x870 = x846 + x865;
-                x871 = x847 + x866;
-                x872 = arith.mul_add(x13, x167, -x848);
-                x873 = -0.004608836229750008f64 * x807;
-                x874 = -0.001653980355f64 * x808;
-                x875 = arith.mul_add(0.017784735f64, x804, x873);
-                x876 = arith.mul_add(-0.017784735f64, x809, x874);
-                x877 = -0.004608836229750008f64 * x32;
-                x878 = arith.mul_add(0.017784735f64, x796, x877);
-                x879 = arith.mul_add(-0.017784735f64, x798, x191);
-                x880 = arith.mul_add(x32, x879, x709);
-                x881 = x30 * x216;
-                x882 = arith.mul_add(x32, x878, x881);
-                x883 = x32 * x188;
-                x884 = x882 + x883;
-                x885 = arith.mul_add(x30, x879, -x707);
-                x886 = arith.mul_add(-x40, x878, x885);
-                x887 = x39 * x468;
-                x888 = arith.mul_add(x187, x800, x887);
-                x889 = x36 * x468;
-                x890 = arith.mul_add(x187, x798, x889);
-                x891 = arith.mul_add(x186, x796, x890);
-                x892 = x888 - x880;
-                x893 = arith.mul_add(x186, x800, x884);
-                x894 = x886 + x891;
-                x895 = arith.mul_add(x32, x468, x716);
-                x896 = x30 * x186;
-                x897 = arith.mul_add(-x30, x468, x715);
-                x898 = x875 + x892;
-                x899 = x876 + x893;
-                x900 = arith.mul_add(0.017784735f64, x807, x896);
-                x901 = -0.033822f64 * x810;
-                x902 = 0.253242f64 * x30;
-                x903 = x219 * x811;
-                x904 = arith.mul_add(x45, x902, x903);
-                x905 = x30 * x218;
-                x906 = arith.mul_add(x46, x901, x905);
-                x907 = x219 * x810;
-                x908 = arith.mul_add(x43, x902, -x907);
-                x909 = x906 - x908;
-                x910 = x218 * x811;
-                x911 = arith.mul_add(x45, x901, x910);
-                x912 = arith.mul_add(0.033822f64, x814, x904);
-                x913 = arith.mul_add(0.253242f64, x808, -x911);
-                x914 = 0.016685526854599998f64 * x817;
-                x915 = 0.0171364731454f64 * x811;
-                x916 = x221 * x819;
-                x917 = arith.mul_add(x51, x915, x916);
-                x918 = x220 * x819;
-                x919 = arith.mul_add(x51, x914, x918);
-                x920 = x221 * x817;
-                x921 = arith.mul_add(x49, x915, -x920);
-                x922 = x220 * x811;
-                x923 = arith.mul_add(x52, x914, x922);
-                x924 = x921 - x923;
-                x925 = arith.mul_add(-0.016685526854599998f64, x823, -x917);
-                x926 = arith.mul_add(0.0171364731454f64, x815, x919);
-                x927 = s5 * x924;
-                x928 = arith.mul_add(c5, x925, x927);
-                x929 = c5 * x924;
-                x930 = arith.mul_add(-s5, x925, x929);
-                x931 = x912 + x928;
-                x932 = x909 + x926;
-                x933 = x913 + x930;
-                x934 = s4 * x932;
-                x935 = arith.mul_add(c4, x931, -x934);
-                x936 = c4 * x932;
-                x937 = arith.mul_add(s4, x931, x936);
-                x938 = x898 + x935;
-                x939 = x899 + x937;
-                x940 = x894 + x933;
-                x941 = s3 * x895;
-                x942 = arith.mul_add(c3, x897, -x941);
-                x943 = s3 * x897;
-                x944 = arith.mul_add(c3, x895, x943);
-                x945 = s3 * x938;
-                x946 = arith.mul_add(c3, x940, -x945);
-                x947 = s3 * x940;
-                x948 = arith.mul_add(c3, x938, x947);
-                x949 = 0.39225f64 * x900;
-                x950 = 0.39225f64 * x942;
-                x951 = x946 - x949;
-                x952 = x939 + x950;
-                x953 = x870 + x951;
-                x954 = x871 + x952;
-                x955 = x867 - x948;
-                x956 = x868 + x942;
-                x957 = x872 + x900;
-                x958 = x869 + x944;
-                x959 = s2 * x958;
-                x960 = arith.mul_add(c2, x956, -x959);
-                x961 = c2 * x958;
-                x962 = arith.mul_add(s2, x956, x961);
-                x963 = s2 * x955;
-                x964 = arith.mul_add(c2, x953, x963);
-                x965 = s2 * x953;
-                x966 = arith.mul_add(c2, x955, -x965);
-                x967 = 0.425f64 * x957;
-                x968 = arith.mul_add(0.1197f64, x962, -x967);
-                x969 = x964 + x968;
-                x970 = arith.mul_add(0.425f64, x960, x954);
-                x971 = arith.mul_add(0.1197f64, x960, x966);
-                x972 = x842 + x969;
-                x973 = x843 + x970;
-                x974 = x839 + x971;
-                x975 = x960 - x840;
-                x976 = x841 - x962;
-                x977 = x773 + x972;
-                x978 = x974 - x772;
-                x979 = x775 + x975;
-                x980 = x976 - x774;
-                x981 = s1 * x979;
-                x982 = arith.mul_add(c1, x980, -x981);
-                x983 = s1 * x978;
-                x984 = arith.mul_add(c1, x977, x983);
-                x985 = arith.mul_add(0.13585f64, x982, x984);
-                x986 = -x985;
-                x987 = arith.mul_add(-c3, x23, x38);
-                x988 = arith.mul_add(s3, x23, x35);
-                x989 = arith.mul_add(-c3, x641, x651);
-                x990 = arith.mul_add(qd3, x988, x989);
-                x991 = arith.mul_add(-1.5987592750000001f64, x642, x845);
-                x992 = arith.mul_add(-1.5987592750000001f64, x25, x172);
-                x993 = arith.mul_add(x15, x992, -x689);
-                x994 = arith.mul_add(-x15, x849, x854);
-                x995 = x994 - x856;
-                x996 = arith.mul_add(x13, x992, x687);
-                x997 = arith.mul_add(-x26, x849, x996);
-                x998 = x692 + x860;
-                x999 = x691 - x862;
-                x1000 = x993 + x998;
-                x1001 = arith.mul_add(x23, x167, x995);
-                x1002 = x997 + x999;
-                x1003 = x844 + x1000;
-                x1004 = x991 + x1001;
-                x1005 = arith.mul_add(0.00697606230375f64, x792, x873);
-                x1006 = arith.mul_add(0.017784735f64, x990, x874);
-                x1007 = arith.mul_add(0.00697606230375f64, x15, x877);
-                x1008 = arith.mul_add(0.017784735f64, x987, x191);
-                x1009 = arith.mul_add(x32, x1008, x709);
-                x1010 = arith.mul_add(x32, x1007, x881);
-                x1011 = x883 + x1010;
-                x1012 = arith.mul_add(x30, x1008, -x707);
-                x1013 = arith.mul_add(-x40, x1007, x1012);
-                x1014 = arith.mul_add(-x187, x988, x887);
-                x1015 = arith.mul_add(-x187, x987, x889);
-                x1016 = arith.mul_add(x186, x795, x1015);
-                x1017 = x1014 - x1009;
-                x1018 = arith.mul_add(-x186, x988, x1011);
-                x1019 = x1013 + x1016;
-                x1020 = x1005 + x1017;
-                x1021 = x1006 + x1018;
-                x1022 = x935 + x1020;
-                x1023 = x937 + x1021;
-                x1024 = x933 + x1019;
-                x1025 = s3 * x1022;
-                x1026 = arith.mul_add(c3, x1024, -x1025);
-                x1027 = s3 * x1024;
-                x1028 = arith.mul_add(c3, x1022, x1027);
-                x1029 = x1026 - x949;
-                x1030 = x950 + x1023;
-                x1031 = x1003 + x1029;
-                x1032 = x1004 + x1030;
-                x1033 = x1002 - x1028;
-                x1034 = x747 - x702;
-                x1035 = x756 + x1031;
-                x1036 = x1033 - x755;
-                x1037 = x759 + x956;
-                x1038 = x1034 - x958;
-                x1039 = s2 * x1038;
-                x1040 = arith.mul_add(c2, x1037, x1039);
-                x1041 = s2 * x1037;
-                x1042 = arith.mul_add(c2, x1038, -x1041);
-                x1043 = s2 * x1036;
-                x1044 = arith.mul_add(c2, x1035, x1043);
-                x1045 = s2 * x1035;
-                x1046 = arith.mul_add(c2, x1036, -x1045);
-                x1047 = arith.mul_add(-0.1197f64, x1042, -x967);
-                x1048 = x1044 + x1047;
-                x1049 = arith.mul_add(0.425f64, x1040, x1032);
-                x1050 = arith.mul_add(0.1197f64, x1040, x1046);
-                x1051 = s1 * x1040;
-                x1052 = arith.mul_add(c1, x1042, -x1051);
-                x1053 = s1 * x1050;
-                x1054 = arith.mul_add(c1, x1048, x1053);
-                x1055 = arith.mul_add(0.13585f64, x1052, x1054);
-                x1056 = -x1055;
-                x1057 = x646 - x645;
-                x1058 = arith.mul_add(-c3, x649, x651);
-                x1059 = x1057 - x653;
-                x1060 = arith.mul_add(qd3, x36, x1058);
-                x1061 = arith.mul_add(c4, x1059, x812);
-                x1062 = arith.mul_add(-s4, x1059, x813);
-                x1063 = s5 * x654;
-                x1064 = arith.mul_add(c5, x1061, x1063);
-                x1065 = x1064 - x822;
-                x1066 = 0.017784735f64 * x1060;
-                x1067 = arith.mul_add(0.001653980355f64, x654, x1066);
-                x1068 = x191 + x466;
-                x1069 = arith.mul_add(x32, x1068, x709);
-                x1070 = arith.mul_add(x32, x877, x881);
-                x1071 = x883 + x1070;
-                x1072 = arith.mul_add(x30, x1068, -x707);
-                x1073 = arith.mul_add(-x40, x877, x1072);
-                x1074 = x887 - x711;
-                x1075 = arith.mul_add(-x53, x187, x889);
-                x1076 = x1074 - x1069;
-                x1077 = arith.mul_add(-x36, x186, x1071);
-                x1078 = x1073 + x1075;
-                x1079 = arith.mul_add(0.004608836229750008f64, x1059, x1076);
-                x1080 = x1067 + x1077;
-                x1081 = arith.mul_add(-0.017784735f64, x1059, x896);
-                x1082 = arith.mul_add(0.033822f64, x1061, x904);
-                x1083 = arith.mul_add(-0.253242f64, x654, -x911);
-                x1084 = arith.mul_add(-0.016685526854599998f64, x1065, -x917);
-                x1085 = arith.mul_add(0.0171364731454f64, x1062, x919);
-                x1086 = arith.mul_add(c5, x1084, x927);
-                x1087 = arith.mul_add(-s5, x1084, x929);
-                x1088 = x1082 + x1086;
-                x1089 = x909 + x1085;
-                x1090 = x1083 + x1087;
-                x1091 = s4 * x1089;
-                x1092 = arith.mul_add(c4, x1088, -x1091);
-                x1093 = c4 * x1089;
-                x1094 = arith.mul_add(s4, x1088, x1093);
-                x1095 = x1079 + x1092;
-                x1096 = x1080 + x1094;
-                x1097 = x1078 + x1090;
-                x1098 = x745 + x1095;
-                x1099 = x1097 - x744;
-                x1100 = x895 - x717;
-                x1101 = x897 - x720;
-                x1102 = s3 * x1100;
-                x1103 = arith.mul_add(c3, x1101, -x1102);
-                x1104 = s3 * x1101;
-                x1105 = arith.mul_add(c3, x1100, x1104);
-                x1106 = s3 * x1098;
-                x1107 = arith.mul_add(c3, x1099, -x1106);
-                x1108 = s3 * x1099;
-                x1109 = arith.mul_add(c3, x1098, x1108);
-                x1110 = arith.mul_add(-0.39225f64, x1081, x1107);
-                x1111 = arith.mul_add(0.39225f64, x1103, x1096);
-                x1112 = s2 * x1105;
-                x1113 = arith.mul_add(c2, x1103, -x1112);
-                x1114 = c2 * x1105;
-                x1115 = arith.mul_add(s2, x1103, x1114);
-                x1116 = s2 * x1109;
-                x1117 = arith.mul_add(c2, x1110, -x1116);
-                x1118 = c2 * x1109;
-                x1119 = arith.mul_add(s2, x1110, x1118);
-                x1120 = 0.425f64 * x1081;
-                x1121 = arith.mul_add(0.1197f64, x1115, -x1120);
-                x1122 = x1117 + x1121;
-                x1123 = arith.mul_add(0.425f64, x1113, x1111);
-                x1124 = arith.mul_add(-0.1197f64, x1113, x1119);
-                x1125 = c1 * x1115;
-                x1126 = arith.mul_add(s1, x1113, x1125);
-                x1127 = c1 * x1122;
-                x1128 = arith.mul_add(s1, x1124, -x1127);
-                x1129 = arith.mul_add(0.13585f64, x1126, x1128);
-                x1130 = x656 - x47;
-                x1131 = x1130 - x661;
-                x1132 = c5 * x45;
-                x1133 = s5 * x45;
-                x1134 = qd5 * x1133;
-                x1135 = arith.mul_add(c5, x663, -x1134);
-                x1136 = arith.mul_add(x46, x203, -x722);
-                x1137 = x45 * x203;
-                x1138 = arith.mul_add(x43, x218, -x1137);
-                x1139 = arith.mul_add(0.033822f64, x663, -x723);
-                x1140 = -0.016685526854599998f64 * x1132;
-                x1141 = x221 * x1133;
-                x1142 = arith.mul_add(x51, x529, x1141);
-                x1143 = x220 * x1133;
-                x1144 = arith.mul_add(x51, x1140, x1143);
-                x1145 = x221 * x1132;
-                x1146 = arith.mul_add(x49, x529, x1145);
-                x1147 = x43 * x220;
-                x1148 = arith.mul_add(x52, x1140, -x1147);
-                x1149 = x1146 - x1148;
-                x1150 = arith.mul_add(-0.016685526854599998f64, x1135, -x1142);
-                x1151 = arith.mul_add(0.0171364731454f64, x1131, x1144);
-                x1152 = s5 * x1149;
-                x1153 = arith.mul_add(c5, x1150, x1152);
-                x1154 = s5 * x1150;
-                x1155 = arith.mul_add(c5, x1149, -x1154);
-                x1156 = x1139 + x1153;
-                x1157 = x1136 + x1151;
-                x1158 = x1138 + x1155;
-                x1159 = x1156 - x740;
-                x1160 = x739 + x1157;
-                x1161 = s4 * x1160;
-                x1162 = arith.mul_add(c4, x1159, -x1161);
-                x1163 = c4 * x1160;
-                x1164 = arith.mul_add(s4, x1159, x1163);
-                x1165 = s3 * x1162;
-                x1166 = arith.mul_add(c3, x1158, -x1165);
-                x1167 = s3 * x1158;
-                x1168 = arith.mul_add(c3, x1162, x1167);
-                x1169 = s2 * x1168;
-                x1170 = arith.mul_add(c2, x1166, -x1169);
-                x1171 = c2 * x1168;
-                x1172 = arith.mul_add(s2, x1166, x1171);
-                x1173 = c1 * x1170;
-                x1174 = arith.mul_add(s1, x1172, -x1173);
-                x1175 = x49 * x220;
-                x1176 = arith.mul_add(x51, x575, x1175);
-                x1177 = arith.mul_add(x52, x575, x729);
-                x1178 = arith.mul_add(0.016685526854599998f64, x670, -x731);
-                x1179 = x729 - x728;
-                x1180 = x732 + x1178;
-                x1181 = x1179 - x1177;
-                x1182 = s5 * x1181;
-                x1183 = arith.mul_add(c5, x1180, x1182);
-                x1184 = s5 * x1180;
-                x1185 = arith.mul_add(c5, x1181, -x1184);
-                x1186 = s4 * x1176;
-                x1187 = arith.mul_add(c4, x1183, -x1186);
-                x1188 = c4 * x1176;
-                x1189 = arith.mul_add(s4, x1183, x1188);
-                x1190 = s3 * x1187;
-                x1191 = arith.mul_add(c3, x1185, -x1190);
-                x1192 = s3 * x1185;
-                x1193 = arith.mul_add(c3, x1187, x1192);
-                x1194 = s2 * x1193;
-                x1195 = arith.mul_add(c2, x1191, -x1194);
-                x1196 = c2 * x1193;
-                x1197 = arith.mul_add(s2, x1191, x1196);
-                x1198 = c1 * x1195;
-                x1199 = arith.mul_add(s1, x1197, -x1198);
-                x1200 = -2f64 * x396;
-                x1201 = -2f64 * x453;
-                x1202 = 2f64 * x523;
-                x1203 = 2f64 * x571;
-                x1204 = 2f64 * x618;
-                x1205 = -2f64 * x394;
-                x1206 = 2f64 * x382;
-                x1207 = 2f64 * x446;
-                x1208 = 2f64 * x516;
-                x1209 = 2f64 * x567;
-                x1210 = 2f64 * x614;
-                x1211 = -2f64 * x451;
-                x1212 = 2f64 * x436;
-                x1213 = 2f64 * x417;
-                x1214 = 2f64 * x493;
-                x1215 = 2f64 * x556;
-                x1216 = 2f64 * x603;
-                x1217 = 2f64 * x521;
-                x1218 = 2f64 * x505;
-                x1219 = 2f64 * x484;
-                x1220 = 2f64 * x470;
-                x1221 = 2f64 * x545;
-                x1222 = 2f64 * x592;
-                x1223 = 2f64 * x569;
-                x1224 = 2f64 * x540;
-                x1225 = 2f64 * x532;
-                x1226 = 2f64 * x587;
-                x1227 = 2f64 * x616;
-                x1228 = 2f64 * x589;
-                x1229 = 2f64 * x582;
-                (
-                    SMatrix::from_array_storage(
-                        ArrayStorage([
-                            [0f64, 0f64, 0f64, 0f64, 0f64, 0f64],
-                            [x986, x973, x954, x939, x933, x926],
-                            [x1056, x1049, x1032, x1023, x933, x926],
-                            [x1129, x1123, x1111, x1096, x1090, x1085],
-                            [x1174, x1164, x1164, x1164, x1158, x1151],
-                            [x1199, x1189, x1189, x1189, x1185, x1176],
-                        ]),
-                    ),
-                    SMatrix::from_array_storage(
-                        ArrayStorage([
-                            [x365, x1200, x1201, x1202, x1203, x1204],
-                            [x1205, x1206, x1207, x1208, x1209, x1210],
-                            [x1211, x1212, x1213, x1214, x1215, x1216],
-                            [x1217, x1218, x1219, x1220, x1221, x1222],
-                            [x1223, x1224, x1224, x1224, x1225, x1226],
-                            [x1227, x1228, x1228, x1228, x1229, 0f64],
-                        ]),
-                    ),
-                )
-            }
-        }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, a))
-    }
-    ///Operations: 1423 mul, 1218 add/sub, 1 neg, 5 div (joint sines and cosines come precomputed in `JointTrig`).
-    #[inline(never)]
-    fn forward_dynamics_derivatives(
-        t: &JointTrig<6>,
-        qd: &SVector<f64, 6>,
-        tau: &SVector<f64, 6>,
-    ) -> (SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>) {
-        struct Body;
-        impl dyngen_runtime::__private::Kernel<
-            (&JointTrig<6>, &SVector<f64, 6>, &SVector<f64, 6>),
-        > for Body {
-            type Output = (SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>);
-            #[inline(always)]
-            fn run<M: dyngen_runtime::__private::MulAdd>(
-                arith: M,
-                (t, qd, tau): (&JointTrig<6>, &SVector<f64, 6>, &SVector<f64, 6>),
-            ) -> (SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>) {
-                let [_, s1, s2, s3, s4, s5] = t.sin;
-                let [_, c1, c2, c3, c4, c5] = t.cos;
-                let [qd0, qd1, qd2, qd3, qd4, qd5] = qd.data.0[0];
-                let [tau0, tau1, tau2, tau3, tau4, tau5] = tau.data.0[0];
-                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
-                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
-                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
-                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
-                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
-                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
-                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
-                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
-                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
-                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
-                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
-                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
-                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
-                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
-                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
-                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
-                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
-                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
-                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
-                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
-                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
-                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
-                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
-                x291, x292, x293, x294, x295, x296, x297, x298, x299, x300, x301, x302,
-                x303, x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
-                x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325, x326,
-                x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337, x338,
-                x339, x340, x341, x342, x343, x344, x345, x346, x347, x348, x349, x350,
-                x351, x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
-                x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373, x374,
-                x375, x376, x377, x378, x379, x380, x381, x382, x383, x384, x385, x386,
-                x387, x388, x389, x390, x391, x392, x393, x394, x395, x396, x397, x398,
-                x399, x400, x401, x402, x403, x404, x405, x406, x407, x408, x409, x410,
-                x411, x412, x413, x414, x415, x416, x417, x418, x419, x420, x421, x422,
-                x423, x424, x425, x426, x427, x428, x429, x430, x431, x432, x433, x434,
-                x435, x436, x437, x438, x439, x440, x441, x442, x443, x444, x445, x446,
-                x447, x448, x449, x450, x451, x452, x453, x454, x455, x456, x457, x458,
-                x459, x460, x461, x462, x463, x464, x465, x466, x467, x468, x469, x470,
-                x471, x472, x473, x474, x475, x476, x477, x478, x479, x480, x481, x482,
-                x483, x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
-                x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505, x506,
-                x507, x508, x509, x510, x511, x512, x513, x514, x515, x516, x517, x518,
-                x519, x520, x521, x522, x523, x524, x525, x526, x527, x528, x529, x530,
-                x531, x532, x533, x534, x535, x536, x537, x538, x539, x540, x541, x542,
-                x543, x544, x545, x546, x547, x548, x549, x550, x551, x552, x553, x554,
-                x555, x556, x557, x558, x559, x560, x561, x562, x563, x564, x565, x566,
-                x567, x568, x569, x570, x571, x572, x573, x574, x575, x576, x577, x578,
-                x579, x580, x581, x582, x583, x584, x585, x586, x587, x588, x589, x590,
-                x591, x592, x593, x594, x595, x596, x597, x598, x599, x600, x601, x602,
-                x603, x604, x605, x606, x607, x608, x609, x610, x611, x612, x613, x614,
-                x615, x616, x617, x618, x619, x620, x621, x622, x623, x624, x625, x626,
-                x627, x628, x629, x630, x631, x632, x633, x634, x635, x636, x637, x638,
-                x639, x640, x641, x642, x643, x644, x645, x646, x647, x648, x649, x650,
-                x651, x652, x653, x654, x655, x656, x657, x658, x659, x660, x661, x662,
-                x663, x664, x665, x666, x667, x668, x669, x670, x671, x672, x673, x674,
-                x675, x676, x677, x678, x679, x680, x681, x682, x683, x684, x685, x686,
-                x687, x688, x689, x690, x691, x692, x693, x694, x695, x696, x697, x698,
-                x699, x700, x701, x702, x703, x704, x705, x706, x707, x708, x709, x710,
-                x711, x712, x713, x714, x715, x716, x717, x718, x719, x720, x721, x722,
-                x723, x724, x725, x726, x727, x728, x729, x730, x731, x732, x733, x734,
-                x735, x736, x737, x738, x739, x740, x741, x742, x743, x744, x745, x746,
-                x747, x748, x749, x750, x751, x752, x753, x754, x755, x756, x757, x758,
-                x759, x760, x761, x762, x763, x764, x765, x766, x767, x768, x769, x770,
-                x771, x772, x773, x774, x775, x776, x777, x778, x779, x780, x781, x782,
-                x783, x784, x785, x786, x787, x788, x789, x790, x791, x792, x793, x794,
-                x795, x796, x797, x798, x799, x800, x801, x802, x803, x804, x805, x806,
-                x807, x808, x809, x810, x811, x812, x813, x814, x815, x816, x817, x818,
-                x819, x820, x821, x822, x823, x824, x825, x826, x827, x828, x829, x830,
-                x831, x832, x833, x834, x835, x836, x837, x838, x839, x840, x841, x842,
-                x843, x844, x845, x846, x847, x848, x849, x850, x851, x852, x853, x854,
-                x855, x856, x857, x858, x859, x860, x861, x862, x863, x864, x865, x866,
-                x867, x868, x869, x870, x871, x872, x873, x874, x875, x876, x877, x878,
-                x879, x880, x881, x882, x883, x884, x885, x886, x887, x888, x889, x890,
-                x891, x892, x893, x894, x895, x896, x897, x898, x899, x900, x901, x902,
-                x903, x904, x905, x906, x907, x908, x909, x910, x911, x912, x913, x914,
-                x915, x916, x917, x918, x919, x920, x921, x922, x923, x924, x925, x926,
-                x927, x928, x929, x930, x931, x932, x933, x934, x935, x936, x937, x938,
-                x939, x940, x941, x942, x943, x944, x945, x946, x947, x948, x949, x950,
-                x951, x952, x953, x954, x955, x956, x957, x958, x959, x960, x961, x962,
-                x963, x964, x965, x966, x967, x968, x969, x970, x971, x972, x973, x974,
-                x975, x976, x977, x978, x979, x980, x981, x982, x983, x984, x985, x986,
-                x987, x988, x989, x990, x991, x992, x993, x994, x995, x996, x997, x998,
-                x999, x1000, x1001, x1002, x1003, x1004, x1005, x1006, x1007, x1008,
-                x1009, x1010, x1011, x1012, x1013, x1014, x1015, x1016, x1017, x1018,
-                x1019, x1020, x1021, x1022, x1023, x1024, x1025, x1026, x1027, x1028,
-                x1029, x1030, x1031, x1032, x1033, x1034, x1035, x1036, x1037, x1038,
-                x1039, x1040, x1041, x1042, x1043, x1044, x1045, x1046, x1047, x1048,
-                x1049, x1050, x1051, x1052, x1053, x1054, x1055, x1056, x1057, x1058,
-                x1059, x1060, x1061, x1062, x1063, x1064, x1065, x1066, x1067, x1068,
-                x1069, x1070, x1071, x1072, x1073, x1074, x1075, x1076, x1077, x1078,
-                x1079, x1080, x1081, x1082, x1083, x1084, x1085, x1086, x1087, x1088,
-                x1089, x1090, x1091, x1092, x1093, x1094, x1095, x1096, x1097, x1098,
-                x1099, x1100, x1101, x1102, x1103, x1104, x1105, x1106, x1107, x1108,
-                x1109, x1110, x1111, x1112, x1113, x1114, x1115, x1116, x1117, x1118,
-                x1119, x1120, x1121, x1122, x1123, x1124, x1125, x1126, x1127, x1128,
-                x1129, x1130, x1131, x1132, x1133, x1134, x1135, x1136, x1137, x1138,
-                x1139, x1140, x1141, x1142, x1143, x1144, x1145, x1146, x1147, x1148,
-                x1149, x1150, x1151, x1152, x1153, x1154, x1155, x1156, x1157, x1158,
-                x1159, x1160, x1161, x1162, x1163, x1164, x1165, x1166, x1167, x1168,
-                x1169, x1170, x1171, x1172, x1173, x1174, x1175, x1176, x1177, x1178,
-                x1179, x1180, x1181, x1182, x1183, x1184, x1185, x1186, x1187, x1188,
-                x1189, x1190, x1191, x1192, x1193, x1194, x1195, x1196, x1197, x1198,
-                x1199, x1200, x1201, x1202, x1203, x1204, x1205, x1206, x1207, x1208,
-                x1209, x1210, x1211, x1212, x1213, x1214, x1215, x1216, x1217, x1218,
-                x1219, x1220, x1221, x1222, x1223, x1224, x1225, x1226, x1227, x1228,
-                x1229, x1230, x1231, x1232, x1233, x1234, x1235, x1236, x1237, x1238,
-                x1239, x1240, x1241, x1242, x1243, x1244, x1245, x1246, x1247, x1248,
-                x1249, x1250, x1251, x1252, x1253, x1254, x1255, x1256, x1257, x1258,
-                x1259, x1260, x1261, x1262, x1263, x1264, x1265, x1266, x1267, x1268,
-                x1269, x1270, x1271, x1272, x1273, x1274, x1275, x1276, x1277, x1278,
-                x1279, x1280, x1281, x1282, x1283, x1284, x1285, x1286, x1287, x1288,
-                x1289, x1290, x1291, x1292, x1293, x1294, x1295, x1296, x1297, x1298,
-                x1299, x1300, x1301, x1302, x1303, x1304, x1305, x1306, x1307, x1308,
-                x1309, x1310, x1311, x1312, x1313, x1314, x1315, x1316, x1317, x1318,
-                x1319, x1320, x1321, x1322, x1323, x1324, x1325, x1326, x1327, x1328,
-                x1329, x1330, x1331, x1332, x1333, x1334, x1335, x1336, x1337, x1338,
-                x1339, x1340, x1341, x1342, x1343, x1344, x1345, x1346, x1347, x1348,
-                x1349, x1350, x1351, x1352, x1353, x1354, x1355, x1356, x1357, x1358,
-                x1359, x1360, x1361, x1362, x1363, x1364, x1365, x1366, x1367, x1368,
-                x1369, x1370, x1371, x1372, x1373, x1374, x1375, x1376, x1377, x1378,
-                x1379, x1380, x1381, x1382, x1383, x1384, x1385, x1386, x1387, x1388,
-                x1389, x1390, x1391, x1392, x1393, x1394, x1395, x1396, x1397, x1398,
-                x1399, x1400, x1401, x1402, x1403, x1404, x1405, x1406, x1407, x1408,
-                x1409, x1410, x1411, x1412, x1413, x1414, x1415, x1416, x1417, x1418,
-                x1419, x1420, x1421, x1422, x1423, x1424, x1425, x1426, x1427, x1428,
-                x1429, x1430, x1431, x1432, x1433, x1434, x1435, x1436, x1437, x1438,
-                x1439, x1440, x1441, x1442, x1443, x1444, x1445, x1446, x1447, x1448,
-                x1449, x1450, x1451, x1452, x1453, x1454, x1455, x1456, x1457, x1458,
-                x1459, x1460, x1461, x1462, x1463, x1464, x1465, x1466, x1467, x1468,
-                x1469, x1470, x1471, x1472, x1473, x1474, x1475, x1476, x1477, x1478,
-                x1479, x1480, x1481, x1482, x1483, x1484, x1485, x1486, x1487, x1488,
-                x1489, x1490, x1491, x1492, x1493, x1494, x1495, x1496, x1497, x1498,
-                x1499, x1500, x1501, x1502, x1503, x1504, x1505, x1506, x1507, x1508,
-                x1509, x1510, x1511, x1512, x1513, x1514, x1515, x1516, x1517, x1518,
-                x1519, x1520, x1521, x1522, x1523, x1524, x1525, x1526, x1527, x1528,
-                x1529, x1530, x1531, x1532, x1533, x1534, x1535, x1536, x1537, x1538,
-                x1539, x1540, x1541, x1542, x1543, x1544, x1545, x1546, x1547, x1548,
-                x1549, x1550, x1551, x1552, x1553, x1554, x1555, x1556, x1557, x1558,
-                x1559, x1560, x1561, x1562, x1563, x1564, x1565, x1566, x1567, x1568,
-                x1569, x1570, x1571, x1572, x1573, x1574, x1575, x1576, x1577, x1578,
-                x1579, x1580, x1581, x1582, x1583, x1584, x1585, x1586, x1587, x1588,
-                x1589, x1590, x1591, x1592, x1593, x1594, x1595, x1596, x1597, x1598,
-                x1599, x1600, x1601, x1602, x1603, x1604, x1605, x1606, x1607, x1608,
-                x1609, x1610, x1611, x1612, x1613, x1614, x1615, x1616, x1617, x1618,
-                x1619, x1620, x1621, x1622, x1623, x1624, x1625, x1626, x1627, x1628,
-                x1629, x1630, x1631, x1632, x1633, x1634, x1635, x1636, x1637, x1638,
-                x1639, x1640, x1641, x1642, x1643, x1644, x1645, x1646, x1647, x1648,
-                x1649, x1650, x1651, x1652, x1653, x1654, x1655, x1656, x1657, x1658,
-                x1659, x1660, x1661, x1662, x1663, x1664, x1665, x1666, x1667, x1668,
-                x1669, x1670, x1671, x1672, x1673, x1674, x1675, x1676, x1677, x1678,
-                x1679, x1680, x1681, x1682, x1683, x1684, x1685, x1686, x1687, x1688,
-                x1689, x1690, x1691, x1692, x1693, x1694, x1695, x1696, x1697, x1698,
-                x1699, x1700, x1701, x1702, x1703, x1704, x1705, x1706, x1707, x1708,
-                x1709, x1710, x1711, x1712, x1713, x1714, x1715, x1716, x1717, x1718,
-                x1719, x1720, x1721, x1722, x1723, x1724, x1725, x1726, x1727, x1728,
-                x1729, x1730, x1731, x1732, x1733, x1734, x1735, x1736, x1737, x1738,
-                x1739, x1740, x1741, x1742, x1743, x1744, x1745, x1746, x1747, x1748,
-                x1749, x1750, x1751, x1752, x1753, x1754, x1755, x1756, x1757, x1758,
-                x1759, x1760, x1761, x1762, x1763, x1764, x1765, x1766, x1767, x1768,
-                x1769, x1770, x1771, x1772, x1773, x1774, x1775, x1776, x1777, x1778,
-                x1779, x1780, x1781, x1782, x1783, x1784, x1785, x1786, x1787, x1788,
-                x1789, x1790, x1791, x1792, x1793, x1794, x1795, x1796, x1797, x1798,
-                x1799, x1800, x1801, x1802, x1803, x1804, x1805, x1806, x1807, x1808,
-                x1809, x1810, x1811, x1812, x1813, x1814, x1815, x1816, x1817, x1818,
-                x1819, x1820, x1821, x1822, x1823, x1824, x1825, x1826, x1827, x1828,
-                x1829, x1830]: [f64; 1831];
-                x0 = -9.81f64 * c1;
-                x1 = -9.81f64 * s1;
-                x2 = qd0 * c1;
-                x3 = qd0 * s1;
-                x4 = 0.13585f64 * qd0;
-                x5 = s1 * x4;
-                x6 = c1 * x4;
-                x7 = c2 * x2;
-                x8 = arith.mul_add(s2, x3, -x7);
-                x9 = c2 * x3;
-                x10 = arith.mul_add(s2, x2, x9);
-                x11 = 0.425f64 * qd1;
-                x12 = arith.mul_add(0.1197f64, x3, -x11);
-                x13 = -0.425f64 * x2;
-                x14 = 0.1197f64 * x2;
-                x15 = x5 - x12;
-                x16 = x14 - x6;
-                x17 = s2 * x16;
-                x18 = arith.mul_add(c2, x15, -x17);
-                x19 = c2 * x16;
-                x20 = arith.mul_add(s2, x15, x19);
-                x21 = qd1 + qd2;
-                x22 = s3 * x8;
-                x23 = arith.mul_add(c3, x10, -x22);
-                x24 = s3 * x10;
-                x25 = arith.mul_add(c3, x8, x24);
-                x26 = arith.mul_add(0.39225f64, x21, x18);
-                x27 = arith.mul_add(0.39225f64, x8, x13);
-                x28 = c3 * x20;
-                x29 = arith.mul_add(s3, x26, x28);
-                x30 = c3 * x26;
-                x31 = s3 * x20;
-                x32 = x30 - x31;
-                x33 = qd3 + x21;
-                x34 = s4 * x33;
-                x35 = arith.mul_add(c4, x23, x34);
-                x36 = s4 * x23;
-                x37 = arith.mul_add(c4, x33, -x36);
-                x38 = qd4 + x25;
-                x39 = s5 * x38;
-                x40 = arith.mul_add(c5, x35, -x39);
-                x41 = c5 * x38;
-                x42 = arith.mul_add(s5, x35, x41);
-                x43 = qd5 + x37;
-                x44 = x31 - x30;
-                x45 = -0.016685526854599998f64 * c5;
-                x46 = 0.016685526854599998f64 * s5;
-                x47 = s5 * x45;
-                x48 = arith.mul_add(c5, x45, 0.033822f64);
-                x49 = arith.mul_add(-s5, x46, 0.253242f64);
-                x50 = c4 * x48;
-                x51 = -0.0171364731454f64 * s4;
-                x52 = c4 * x47;
-                x53 = s4 * x48;
-                x54 = 0.0171364731454f64 * c4;
-                x55 = s4 * x47;
-                x56 = s4 * x51;
-                x57 = arith.mul_add(c4, x50, -x56);
-                x58 = c4 * x51;
-                x59 = arith.mul_add(s4, x50, x58);
-                x60 = c4 * x54;
-                x61 = arith.mul_add(s4, x53, x60);
-                x62 = 0.004608836229750008f64 + x57;
-                x63 = 0.22402883622975f64 + x61;
-                x64 = -0.001653980355f64 - x55;
-                x65 = 0.017784735f64 * c3;
-                x66 = -0.017784735f64 * s3;
-                x67 = c3 * x52;
-                x68 = arith.mul_add(s3, x62, x67);
-                x69 = s3 * x59;
-                x70 = arith.mul_add(c3, x64, -x69);
-                x71 = s3 * x52;
-                x72 = arith.mul_add(c3, x49, x71);
-                x73 = arith.mul_add(-c3, x62, x71);
-                x74 = s3 * x64;
-                x75 = arith.mul_add(c3, x59, x74);
-                x76 = arith.mul_add(-s3, x49, x67);
-                x77 = c3 * x72;
-                x78 = arith.mul_add(s3, x68, x77);
-                x79 = s3 * x72;
-                x80 = arith.mul_add(c3, x68, -x79);
-                x81 = s3 * x76;
-                x82 = arith.mul_add(c3, x73, x81);
-                x83 = -0.00697606230375f64 * s3;
-                x84 = -0.0139521246075f64 * s3;
-                x85 = x78 + x84;
-                x86 = x63 + x84;
-                x87 = arith.mul_add(-0.00697606230375f64, c3, x80);
-                x88 = x84 - x82;
-                x89 = x83 + x83;
-                x90 = x88 - x89;
-                x91 = 1.5987592750000001f64 + x66;
-                x92 = 0.59155695167475f64 + x85;
-                x93 = 0.59565195167475f64 + x86;
-                x94 = -0.05132265682500001f64 - x75;
-                x95 = s2 * x91;
-                x96 = arith.mul_add(c2, x65, x95);
-                x97 = s2 * x65;
-                x98 = arith.mul_add(c2, x91, -x97);
-                x99 = s2 * x87;
-                x100 = arith.mul_add(c2, x92, x99);
-                x101 = c2 * x70;
-                x102 = arith.mul_add(s2, x94, x101);
-                x103 = c2 * x87;
-                x104 = arith.mul_add(s2, x90, x103);
-                x105 = arith.mul_add(-s2, x92, x103);
-                x106 = s2 * x70;
-                x107 = arith.mul_add(c2, x94, -x106);
-                x108 = arith.mul_add(c2, x90, -x99);
-                x109 = s2 * x104;
-                x110 = arith.mul_add(c2, x100, x109);
-                x111 = s2 * x100;
-                x112 = arith.mul_add(c2, x104, -x111);
-                x113 = s2 * x105;
-                x114 = arith.mul_add(c2, x108, -x113);
-                x115 = 0.425f64 * x98;
-                x116 = 0.85f64 * x98;
-                x117 = x110 + x116;
-                x118 = arith.mul_add(0.1197f64, x96, x102);
-                x119 = x93 + x116;
-                x120 = arith.mul_add(-0.425f64, x96, x112);
-                x121 = arith.mul_add(0.1197f64, x98, x107);
-                x122 = x114 + x116;
-                x123 = x115 + x115;
-                x124 = x122 - x123;
-                x125 = 4.432922500000001f64 + x98;
-                x126 = 1.75501953841f64 + x117;
-                x127 = 1.77012693841f64 + x119;
-                x128 = 0.19371331275f64 + x121;
-                x129 = c1 * x96;
-                x130 = arith.mul_add(s1, x125, x129);
-                x131 = c1 * x126;
-                x132 = arith.mul_add(s1, x120, x131);
-                x133 = s1 * x128;
-                x134 = arith.mul_add(c1, x118, x133);
-                x135 = s1 * x124;
-                x136 = arith.mul_add(c1, x120, x135);
-                x137 = s1 * x136;
-                x138 = arith.mul_add(c1, x132, x137);
-                x139 = arith.mul_add(-0.13585f64, x130, x134);
-                x140 = 0.41784981244275005f64 + x138;
-                x141 = arith.mul_add(0.1197f64, x96, x102);
-                x142 = x93 + x115;
-                x143 = arith.mul_add(s1, x98, x129);
-                x144 = s1 * x121;
-                x145 = arith.mul_add(c1, x141, x144);
-                x146 = arith.mul_add(-0.13585f64, x143, x145);
-                x147 = -0.017784735f64 * c3;
-                x148 = x63 + x83;
-                x149 = s2 * x147;
-                x150 = arith.mul_add(c2, x66, x149);
-                x151 = s2 * x66;
-                x152 = arith.mul_add(c2, x147, -x151);
-                x153 = arith.mul_add(-s2, x75, x101);
-                x154 = arith.mul_add(c2, x75, x106);
-                x155 = arith.mul_add(-0.1197f64, x152, x153);
-                x156 = arith.mul_add(0.425f64, x150, x148);
-                x157 = arith.mul_add(-0.1197f64, x150, x154);
-                x158 = s1 * x150;
-                x159 = arith.mul_add(c1, x152, -x158);
-                x160 = c1 * x155;
-                x161 = arith.mul_add(s1, x157, -x160);
-                x162 = arith.mul_add(-0.13585f64, x159, x161);
-                x163 = s2 * x76;
-                x164 = arith.mul_add(c2, x72, x163);
-                x165 = s2 * x72;
-                x166 = arith.mul_add(c2, x76, -x165);
-                x167 = s1 * x166;
-                x168 = arith.mul_add(c1, x164, x167);
-                x169 = s3 * x51;
-                x170 = c3 * x51;
-                x171 = s2 * x170;
-                x172 = arith.mul_add(c2, x169, x171);
-                x173 = c2 * x170;
-                x174 = arith.mul_add(s2, x169, -x173);
-                x175 = s1 * x174;
-                x176 = arith.mul_add(c1, x172, -x175);
-                x177 = -4.432922500000001f64 * x6;
-                x178 = -8.865845000000002f64 * x6;
-                x179 = 4.432922500000001f64 * qd1;
-                x180 = -4.432922500000001f64 * x2;
-                x181 = 0.19371331275f64 * qd1;
-                x182 = arith.mul_add(1.77012693841f64, x3, x181);
-                x183 = arith.mul_add(-1.75501953841f64, x3, x182);
-                x184 = -0.19371331275f64 * x2;
-                x185 = x184 + x184;
-                x186 = x178 - x185;
-                x187 = -0.19371331275f64 * x3;
-                x188 = arith.mul_add(1.75501953841f64, qd1, x187);
-                x189 = 4.432922500000001f64 * x5;
-                x190 = x188 + x189;
-                x191 = x177 + x177;
-                x192 = x178 + x185;
-                x193 = x192 - x191;
-                x194 = 1.5987592750000001f64 * x20;
-                x195 = 3.1975185500000003f64 * x20;
-                x196 = 1.5987592750000001f64 * x21;
-                x197 = 1.5987592750000001f64 * x8;
-                x198 = -0.05132265682500001f64 * x21;
-                x199 = arith.mul_add(0.59565195167475f64, x10, x198);
-                x200 = arith.mul_add(-0.59155695167475f64, x10, x199);
-                x201 = -0.05132265682500001f64 * x8;
-                x202 = x201 + x201;
-                x203 = x195 - x202;
-                x204 = 0.05132265682500001f64 * x10;
-                x205 = arith.mul_add(0.59155695167475f64, x21, x204);
-                x206 = 1.5987592750000001f64 * x18;
-                x207 = x205 + x206;
-                x208 = 0.679472691875f64 * x2;
-                x209 = arith.mul_add(0.59565195167475f64, x8, -x208);
-                x210 = x194 + x194;
-                x211 = x195 + x202;
-                x212 = x211 - x210;
-                x213 = 0.017784735f64 * x32;
-                x214 = 0.03556947f64 * x32;
-                x215 = 0.017784735f64 * x33;
-                x216 = 0.017784735f64 * x23;
-                x217 = -0.001653980355f64 * x33;
-                x218 = arith.mul_add(-0.22402883622975f64, x25, x217);
-                x219 = arith.mul_add(0.004608836229750008f64, x25, x218);
-                x220 = -0.001653980355f64 * x23;
-                x221 = x220 + x220;
-                x222 = x214 - x221;
-                x223 = -0.001653980355f64 * x25;
-                x224 = arith.mul_add(0.004608836229750008f64, x33, x223);
-                x225 = -0.017784735f64 * x29;
-                x226 = x224 + x225;
-                x227 = -0.017784735f64 * x27;
-                x228 = arith.mul_add(0.22402883622975f64, x23, -x227);
-                x229 = x213 + x213;
-                x230 = x214 + x221;
-                x231 = x230 - x229;
-                x232 = 0.033822f64 * x37;
-                x233 = arith.mul_add(0.253242f64, x37, -x232);
-                x234 = 0.0171364731454f64 * x42;
-                x235 = arith.mul_add(-0.016685526854599998f64, x42, -x234);
-                x236 = -0.016685526854599998f64 * x43;
-                x237 = 0.0171364731454f64 * x40;
-                x238 = -1.75501953841f64 * x2;
-                x239 = arith.mul_add(1.77012693841f64, qd1, x187);
-                x240 = x189 + x239;
-                x241 = arith.mul_add(0.59565195167475f64, x21, x204);
-                x242 = arith.mul_add(0.59155695167475f64, x8, -x208);
-                x243 = x206 + x241;
-                x244 = arith.mul_add(0.22402883622975f64, x33, x223);
-                x245 = arith.mul_add(0.004608836229750008f64, x23, -x227);
-                x246 = x225 + x244;
-                x247 = 0.033822f64 * x35;
-                x248 = 0.253242f64 * x38;
-                x249 = -0.016685526854599998f64 * x40;
-                x250 = 0.0171364731454f64 * x43;
-                x251 = s5 * x236;
-                x252 = s5 * x237;
-                x253 = arith.mul_add(c5, x235, x252);
-                x254 = c5 * x236;
-                x255 = s5 * x235;
-                x256 = arith.mul_add(c5, x237, -x255);
-                x257 = s5 * x254;
-                x258 = arith.mul_add(c5, x251, x257);
-                x259 = c5 * x254;
-                x260 = arith.mul_add(s5, x251, -x259);
-                x261 = arith.mul_add(0.033822f64, x38, x253);
-                x262 = x233 + x260;
-                x263 = arith.mul_add(-0.253242f64, x35, x256);
-                x264 = arith.mul_add(c5, x249, x247);
-                x265 = arith.mul_add(-s5, x249, x248);
-                x266 = s4 * x261;
-                x267 = arith.mul_add(c4, x258, x266);
-                x268 = c4 * x261;
-                x269 = s4 * x263;
-                x270 = arith.mul_add(c4, x262, -x269);
-                x271 = arith.mul_add(-s4, x258, x268);
-                x272 = c4 * x263;
-                x273 = arith.mul_add(s4, x262, x272);
-                x274 = s4 * x268;
-                x275 = arith.mul_add(c4, x267, x274);
-                x276 = s4 * x267;
-                x277 = arith.mul_add(c4, x268, -x276);
-                x278 = c4 * x266;
-                x279 = arith.mul_add(s4, x271, x278);
-                x280 = x214 - x275;
-                x281 = x219 + x277;
-                x282 = x222 + x279;
-                x283 = x270 - x226;
-                x284 = x228 + x273;
-                x285 = x231 + x258;
-                x286 = s4 * x250;
-                x287 = arith.mul_add(c4, x264, -x286);
-                x288 = x245 + x287;
-                x289 = x217 + x265;
-                x290 = s3 * x215;
-                x291 = c3 * x215;
-                x292 = c3 * x283;
-                x293 = arith.mul_add(-s3, x280, x292);
-                x294 = s3 * x281;
-                x295 = arith.mul_add(c3, x284, -x294);
-                x296 = s3 * x283;
-                x297 = arith.mul_add(c3, x285, -x296);
-                x298 = arith.mul_add(c3, x280, x296);
-                x299 = s3 * x284;
-                x300 = arith.mul_add(c3, x281, x299);
-                x301 = arith.mul_add(s3, x285, x292);
-                x302 = s3 * x293;
-                x303 = arith.mul_add(c3, x297, -x302);
-                x304 = s3 * x297;
-                x305 = arith.mul_add(c3, x293, x304);
-                x306 = s3 * x301;
-                x307 = arith.mul_add(c3, x298, x306);
-                x308 = -0.39225f64 * x291;
-                x309 = -0.7845f64 * x291;
-                x310 = x303 + x309;
-                x311 = x282 + x309;
-                x312 = arith.mul_add(-0.39225f64, x290, x305);
-                x313 = -0.00697606230375f64 * x23;
-                x314 = x300 + x313;
-                x315 = x307 + x309;
-                x316 = x308 + x308;
-                x317 = x315 - x316;
-                x318 = x196 - x290;
-                x319 = x197 + x216;
-                x320 = x195 + x310;
-                x321 = x200 + x295;
-                x322 = x203 + x311;
-                x323 = x207 + x312;
-                x324 = x209 - x314;
-                x325 = x212 + x317;
-                x326 = s3 * x288;
-                x327 = arith.mul_add(c3, x289, -x326);
-                x328 = s3 * x289;
-                x329 = arith.mul_add(c3, x288, x328);
-                x330 = x327 - x313;
-                x331 = x242 + x330;
-                x332 = x198 - x329;
-                x333 = s2 * x291;
-                x334 = arith.mul_add(c2, x318, -x333);
-                x335 = c2 * x291;
-                x336 = arith.mul_add(s2, x318, x335);
-                x337 = s2 * x323;
-                x338 = arith.mul_add(c2, x320, -x337);
-                x339 = s2 * x324;
-                x340 = arith.mul_add(c2, x321, x339);
-                x341 = c2 * x323;
-                x342 = arith.mul_add(s2, x325, -x341);
-                x343 = arith.mul_add(s2, x320, x341);
-                x344 = s2 * x321;
-                x345 = arith.mul_add(c2, x324, -x344);
-                x346 = arith.mul_add(c2, x325, x337);
-                x347 = s2 * x342;
-                x348 = arith.mul_add(c2, x338, x347);
-                x349 = s2 * x338;
-                x350 = arith.mul_add(c2, x342, -x349);
-                x351 = c2 * x346;
-                x352 = arith.mul_add(s2, x343, x351);
-                x353 = 0.1197f64 * x319;
-                x354 = -0.425f64 * x336;
-                x355 = x353 + x354;
-                x356 = 2f64 * x355;
-                x357 = x348 + x356;
-                x358 = -0.1197f64 * x334;
-                x359 = x340 - x358;
-                x360 = x322 + x356;
-                x361 = x353 + x353;
-                x362 = x360 - x361;
-                x363 = arith.mul_add(-0.425f64, x334, x350);
-                x364 = 0.1197f64 * x336;
-                x365 = -0.425f64 * x319;
-                x366 = x364 + x365;
-                x367 = x345 - x366;
-                x368 = x352 + x356;
-                x369 = x354 + x354;
-                x370 = x368 - x369;
-                x371 = x179 + x334;
-                x372 = x180 + x319;
-                x373 = x178 + x357;
-                x374 = x183 + x359;
-                x375 = x186 + x362;
-                x376 = x363 - x190;
-                x377 = arith.mul_add(-1.77012693841f64, x2, x367);
-                x378 = x193 + x370;
-                x379 = s2 * x332;
-                x380 = arith.mul_add(c2, x331, x379);
-                x381 = s2 * x331;
-                x382 = arith.mul_add(c2, x332, -x381);
-                x383 = x364 - x365;
-                x384 = x380 + x383;
-                x385 = x382 - x358;
-                x386 = x238 + x384;
-                x387 = x181 + x385;
-                x388 = c1 * x373;
-                x389 = arith.mul_add(s1, x376, x388);
-                x390 = s1 * x378;
-                x391 = arith.mul_add(c1, x376, x390);
-                x392 = s1 * x391;
-                x393 = arith.mul_add(c1, x389, x392);
-                x394 = arith.mul_add(-0.2717f64, x372, x393);
-                x395 = 0.5f64 * x374;
-                x396 = 0.5f64 * x377;
-                x397 = -0.5f64 * x336;
-                x398 = -0.5f64 * x371;
-                x399 = 0.5f64 * x387;
-                x400 = -0.5f64 * x386;
-                x401 = x2 * x120;
-                x402 = arith.mul_add(x3, x126, -x401);
-                x403 = x2 * x128;
-                x404 = arith.mul_add(x3, x118, -x403);
-                x405 = x2 * x124;
-                x406 = arith.mul_add(x3, x120, -x405);
-                x407 = x5 * x96;
-                x408 = arith.mul_add(x6, x125, -x407);
-                x409 = x404 + x408;
-                x410 = x395 + x402;
-                x411 = arith.mul_add(0.5f64, x375, x409);
-                x412 = x396 + x406;
-                x413 = x399 + x410;
-                x414 = x400 + x412;
-                x415 = x397 + x397;
-                x416 = x398 + x398;
-                x417 = x395 - x399;
-                x418 = x396 - x400;
-                x419 = s1 * x415;
-                x420 = arith.mul_add(c1, x416, -x419);
-                x421 = s1 * x414;
-                x422 = arith.mul_add(c1, x413, x421);
-                x423 = arith.mul_add(0.13585f64, x420, x422);
-                x424 = s1 * x418;
-                x425 = arith.mul_add(c1, x417, x424);
-                x426 = x290 - x196;
-                x427 = 0.5f64 * x321;
-                x428 = 0.5f64 * x322;
-                x429 = 0.5f64 * x324;
-                x430 = -0.5f64 * x291;
-                x431 = 0.5f64 * x426;
-                x432 = 0.5f64 * x332;
-                x433 = -0.5f64 * x331;
-                x434 = x8 * x87;
-                x435 = arith.mul_add(x10, x92, x434);
-                x436 = x10 * x70;
-                x437 = arith.mul_add(x8, x94, x436);
-                x438 = x8 * x90;
-                x439 = arith.mul_add(x10, x87, x438);
-                x440 = x18 * x65;
-                x441 = arith.mul_add(x20, x91, x440);
-                x442 = x437 - x441;
-                x443 = x10 * x91;
-                x444 = arith.mul_add(x8, x65, -x443);
-                x445 = x427 + x435;
-                x446 = x428 + x442;
-                x447 = x429 + x439;
-                x448 = x432 + x445;
-                x449 = x433 + x447;
-                x450 = x430 + x430;
-                x451 = x431 + x431;
-                x452 = x427 - x432;
-                x453 = x429 - x433;
-                x454 = s2 * x451;
-                x455 = arith.mul_add(c2, x450, x454);
-                x456 = s2 * x450;
-                x457 = arith.mul_add(c2, x451, -x456);
-                x458 = s2 * x449;
-                x459 = arith.mul_add(c2, x448, x458);
-                x460 = s2 * x448;
-                x461 = arith.mul_add(c2, x449, -x460);
-                x462 = 0.425f64 * x444;
-                x463 = arith.mul_add(-0.1197f64, x457, -x462);
-                x464 = x459 + x463;
-                x465 = arith.mul_add(0.425f64, x455, x446);
-                x466 = arith.mul_add(0.1197f64, x455, x461);
-                x467 = s2 * x453;
-                x468 = arith.mul_add(c2, x452, x467);
-                x469 = s2 * x452;
-                x470 = arith.mul_add(c2, x453, -x469);
-                x471 = x2 * x121;
-                x472 = arith.mul_add(x3, x141, -x471);
-                x473 = arith.mul_add(x6, x98, -x407);
-                x474 = x472 + x473;
-                x475 = x428 + x474;
-                x476 = s1 * x455;
-                x477 = arith.mul_add(c1, x457, -x476);
-                x478 = s1 * x466;
-                x479 = arith.mul_add(c1, x464, x478);
-                x480 = arith.mul_add(0.13585f64, x477, x479);
-                x481 = s1 * x470;
-                x482 = arith.mul_add(c1, x468, x481);
-                x483 = 0.5f64 * x281;
-                x484 = 0.5f64 * x282;
-                x485 = 0.5f64 * x284;
-                x486 = -0.0088923675f64 * x33;
-                x487 = 0.5f64 * x289;
-                x488 = -0.5f64 * x288;
-                x489 = x23 * x52;
-                x490 = arith.mul_add(x25, x62, x489);
-                x491 = x25 * x59;
-                x492 = arith.mul_add(x23, x64, -x491);
-                x493 = x23 * x49;
-                x494 = arith.mul_add(x25, x52, x493);
-                x495 = 0.017784735f64 * x44;
-                x496 = x492 + x495;
-                x497 = -0.017784735f64 * x25;
-                x498 = x483 - x490;
-                x499 = x484 + x496;
-                x500 = x485 + x494;
-                x501 = x487 + x498;
-                x502 = x488 + x500;
-                x503 = x486 + x486;
-                x504 = x483 - x487;
-                x505 = x485 - x488;
-                x506 = c3 * x503;
-                x507 = s3 * x503;
-                x508 = s3 * x501;
-                x509 = arith.mul_add(c3, x502, -x508);
-                x510 = s3 * x502;
-                x511 = arith.mul_add(c3, x501, x510);
-                x512 = arith.mul_add(-0.00697606230375f64, x25, x509);
-                x513 = arith.mul_add(0.39225f64, x506, x499);
-                x514 = s3 * x504;
-                x515 = arith.mul_add(c3, x505, -x514);
-                x516 = s3 * x505;
-                x517 = arith.mul_add(c3, x504, x516);
-                x518 = arith.mul_add(-x8, x75, x436);
-                x519 = x20 * x66;
-                x520 = arith.mul_add(x18, x147, -x519);
-                x521 = x518 + x520;
-                x522 = x484 + x521;
-                x523 = s2 * x507;
-                x524 = arith.mul_add(c2, x506, -x523);
-                x525 = c2 * x507;
-                x526 = arith.mul_add(s2, x506, x525);
-                x527 = s2 * x511;
-                x528 = arith.mul_add(c2, x512, -x527);
-                x529 = c2 * x511;
-                x530 = arith.mul_add(s2, x512, x529);
-                x531 = 0.007558512375f64 * x25;
-                x532 = arith.mul_add(0.1197f64, x526, -x531);
-                x533 = x528 + x532;
-                x534 = arith.mul_add(0.425f64, x524, x513);
-                x535 = arith.mul_add(-0.1197f64, x524, x530);
-                x536 = s2 * x517;
-                x537 = arith.mul_add(c2, x515, -x536);
-                x538 = c2 * x517;
-                x539 = arith.mul_add(s2, x515, x538);
-                x540 = x2 * x157;
-                x541 = arith.mul_add(x3, x155, x540);
-                x542 = x5 * x152;
-                x543 = arith.mul_add(x6, x150, x542);
-                x544 = x541 + x543;
-                x545 = x484 + x544;
-                x546 = c1 * x526;
-                x547 = arith.mul_add(s1, x524, x546);
-                x548 = c1 * x533;
-                x549 = arith.mul_add(s1, x535, -x548);
-                x550 = arith.mul_add(0.13585f64, x547, x549);
-                x551 = c1 * x537;
-                x552 = arith.mul_add(s1, x539, -x551);
-                x553 = 0.5f64 * x262;
-                x554 = 0.5f64 * x263;
-                x555 = 0.5f64 * x258;
-                x556 = -0.0085682365727f64 * x43;
-                x557 = 0.5f64 * x264;
-                x558 = -0.0171364731454f64 * x35;
-                x559 = arith.mul_add(x37, x48, x553);
-                x560 = x554 + x558;
-                x561 = arith.mul_add(-x37, x47, x555);
-                x562 = x556 + x559;
-                x563 = x557 + x560;
-                x564 = x553 - x556;
-                x565 = x554 - x557;
-                x566 = s4 * x563;
-                x567 = arith.mul_add(c4, x562, -x566);
-                x568 = c4 * x563;
-                x569 = arith.mul_add(s4, x562, x568);
-                x570 = s4 * x565;
-                x571 = arith.mul_add(c4, x564, -x570);
-                x572 = c4 * x565;
-                x573 = arith.mul_add(s4, x564, x572);
-                x574 = x494 + x573;
-                x575 = s3 * x567;
-                x576 = arith.mul_add(c3, x561, -x575);
-                x577 = s3 * x561;
-                x578 = arith.mul_add(c3, x567, x577);
-                x579 = s3 * x571;
-                x580 = arith.mul_add(c3, x555, -x579);
-                x581 = s3 * x555;
-                x582 = arith.mul_add(c3, x571, x581);
-                x583 = x8 * x76;
-                x584 = arith.mul_add(x10, x72, x583);
-                x585 = x573 + x584;
-                x586 = s2 * x578;
-                x587 = arith.mul_add(c2, x576, -x586);
-                x588 = c2 * x578;
-                x589 = arith.mul_add(s2, x576, x588);
-                x590 = s2 * x582;
-                x591 = arith.mul_add(c2, x580, -x590);
-                x592 = c2 * x582;
-                x593 = arith.mul_add(s2, x580, x592);
-                x594 = x2 * x166;
-                x595 = arith.mul_add(x3, x164, -x594);
-                x596 = x573 + x595;
-                x597 = c1 * x587;
-                x598 = arith.mul_add(s1, x589, -x597);
-                x599 = c1 * x591;
-                x600 = arith.mul_add(s1, x593, -x599);
-                x601 = 0.5f64 * x235;
-                x602 = 0.0085682365727f64 * x40;
-                x603 = 0.008342763427299999f64 * x40;
-                x604 = 0.016685526854599998f64 * x42;
-                x605 = x601 + x604;
-                x606 = x602 + x603;
-                x607 = x602 - x603;
-                x608 = s5 * x606;
-                x609 = arith.mul_add(c5, x605, x608);
-                x610 = s5 * x605;
-                x611 = arith.mul_add(c5, x606, -x610);
-                x612 = s5 * x607;
-                x613 = arith.mul_add(c5, x601, x612);
-                x614 = s5 * x601;
-                x615 = arith.mul_add(c5, x607, -x614);
-                x616 = x558 + x615;
-                x617 = c4 * x609;
-                x618 = s4 * x609;
-                x619 = c4 * x613;
-                x620 = s4 * x613;
-                x621 = arith.mul_add(-x25, x51, x620);
-                x622 = s3 * x617;
-                x623 = arith.mul_add(c3, x611, -x622);
-                x624 = s3 * x611;
-                x625 = arith.mul_add(c3, x617, x624);
-                x626 = s3 * x619;
-                x627 = arith.mul_add(c3, x615, -x626);
-                x628 = s3 * x615;
-                x629 = arith.mul_add(c3, x619, x628);
-                x630 = x8 * x170;
-                x631 = arith.mul_add(x10, x169, x630);
-                x632 = x620 - x631;
-                x633 = s2 * x625;
-                x634 = arith.mul_add(c2, x623, -x633);
-                x635 = c2 * x625;
-                x636 = arith.mul_add(s2, x623, x635);
-                x637 = s2 * x629;
-                x638 = arith.mul_add(c2, x627, -x637);
-                x639 = c2 * x629;
-                x640 = arith.mul_add(s2, x627, x639);
-                x641 = x2 * x174;
-                x642 = arith.mul_add(x3, x172, x641);
-                x643 = x620 - x642;
-                x644 = c1 * x634;
-                x645 = arith.mul_add(s1, x636, -x644);
-                x646 = c1 * x638;
-                x647 = arith.mul_add(s1, x640, -x646);
-                x648 = qd1 * x3;
-                x649 = qd1 * x2;
-                x650 = qd1 * x6;
-                x651 = qd1 * x5;
-                x652 = qd2 * x10;
-                x653 = qd2 * x8;
-                x654 = qd2 * x20;
-                x655 = qd2 * x18;
-                x656 = qd3 * x25;
-                x657 = qd3 * x23;
-                x658 = qd4 * x37;
-                x659 = qd4 * x35;
-                x660 = qd5 * x42;
-                x661 = x3 * x240;
-                x662 = arith.mul_add(qd1, x181, x661);
-                x663 = x3 * x238;
-                x664 = arith.mul_add(x2, x181, -x663);
-                x665 = x2 * x240;
-                x666 = arith.mul_add(qd1, x238, x665);
-                x667 = x6 * x180;
-                x668 = x5 * x180;
-                x669 = x662 - x667;
-                x670 = arith.mul_add(-x6, x179, x664);
-                x671 = x666 + x668;
-                x672 = x3 * x180;
-                x673 = x2 * x180;
-                x674 = arith.mul_add(-qd1, x179, x673);
-                x675 = x10 * x243;
-                x676 = arith.mul_add(x21, x198, x675);
-                x677 = x8 * x198;
-                x678 = arith.mul_add(x10, x242, x677);
-                x679 = x8 * x243;
-                x680 = arith.mul_add(-x21, x242, x679);
-                x681 = x20 * x197;
-                x682 = x18 * x197;
-                x683 = arith.mul_add(x13, x196, -x682);
-                x684 = x676 + x681;
-                x685 = arith.mul_add(x20, x196, -x678);
-                x686 = x680 + x683;
-                x687 = x10 * x197;
-                x688 = x10 * x196;
-                x689 = x8 * x197;
-                x690 = arith.mul_add(x21, x196, x689);
-                x691 = x25 * x246;
-                x692 = arith.mul_add(x33, x217, -x691);
-                x693 = x23 * x217;
-                x694 = arith.mul_add(x25, x245, -x693);
-                x695 = x23 * x246;
-                x696 = arith.mul_add(-x33, x245, x695);
-                x697 = x29 * x216;
-                x698 = arith.mul_add(x27, x215, x697);
-                x699 = arith.mul_add(x32, x216, x692);
-                x700 = arith.mul_add(x32, x215, x694);
-                x701 = x696 + x698;
-                x702 = x25 * x216;
-                x703 = x25 * x215;
-                x704 = x23 * x216;
-                x705 = arith.mul_add(x33, x215, x704);
-                x706 = x37 * x248;
-                x707 = x35 * x248;
-                x708 = arith.mul_add(x38, x247, -x707);
-                x709 = x37 * x247;
-                x710 = x42 * x250;
-                x711 = x42 * x249;
-                x712 = x40 * x250;
-                x713 = arith.mul_add(-x43, x249, x712);
-                x714 = s5 * x713;
-                x715 = c5 * x713;
-                x716 = c3 * x705;
-                x717 = s3 * x705;
-                x718 = x63 - x60;
-                x719 = x148 - x60;
-                x720 = x156 - x60;
-                x721 = c4 * x176;
-                x722 = x162 - x721;
-                x723 = x93 - x60;
-                x724 = x142 - x60;
-                x725 = x146 + x721;
-                x726 = x127 - x60;
-                x727 = x139 + x721;
-                x728 = 58.355064750790525f64 * x176;
-                x729 = arith.mul_add(-x176, x728, x140);
-                x730 = 1f64 / x49;
-                x731 = x55 * x730;
-                x732 = x55 * x731;
-                x733 = x718 - x732;
-                x734 = x719 - x732;
-                x735 = x720 - x732;
-                x736 = x168 * x731;
-                x737 = x722 - x736;
-                x738 = x723 - x732;
-                x739 = x724 - x732;
-                x740 = x725 + x736;
-                x741 = x726 - x732;
-                x742 = x727 + x736;
-                x743 = x168 * x730;
-                x744 = arith.mul_add(-x168, x743, x729);
-                x745 = 1f64 / x733;
-                x746 = x734 * x745;
-                x747 = arith.mul_add(-x734, x746, x738);
-                x748 = arith.mul_add(-x735, x746, x739);
-                x749 = arith.mul_add(x737, x746, x740);
-                x750 = x735 * x745;
-                x751 = arith.mul_add(-x735, x750, x741);
-                x752 = arith.mul_add(x737, x750, x742);
-                x753 = x737 * x745;
-                x754 = arith.mul_add(-x737, x753, x744);
-                x755 = 1f64 / x747;
-                x756 = x748 * x755;
-                x757 = arith.mul_add(-x748, x756, x751);
-                x758 = arith.mul_add(x749, x756, -x752);
-                x759 = x749 * x755;
-                x760 = arith.mul_add(-x749, x759, x754);
-                x761 = 1f64 / x757;
-                x762 = x758 * x761;
-                x763 = arith.mul_add(-x758, x762, x760);
-                x764 = 1f64 / x763;
-                x765 = x0 + x650;
-                x766 = x1 + x651;
-                x767 = s2 * x649;
-                x768 = arith.mul_add(c2, x648, x767);
-                x769 = c2 * x649;
-                x770 = arith.mul_add(s2, x648, -x769);
-                x771 = arith.mul_add(-0.1197f64, x649, x765);
-                x772 = arith.mul_add(-0.1197f64, x648, x766);
-                x773 = s2 * x772;
-                x774 = arith.mul_add(c2, x771, -x773);
-                x775 = c2 * x772;
-                x776 = arith.mul_add(s2, x771, x775);
-                x777 = x652 + x768;
-                x778 = x653 + x770;
-                x779 = x774 - x654;
-                x780 = x655 + x776;
-                x781 = c3 * x778;
-                x782 = arith.mul_add(s3, x777, x781);
-                x783 = s3 * x778;
-                x784 = arith.mul_add(c3, x777, -x783);
-                x785 = 0.39225f64 * x777;
-                x786 = arith.mul_add(0.425f64, x648, x785);
-                x787 = c3 * x780;
-                x788 = arith.mul_add(s3, x779, x787);
-                x789 = x656 + x782;
-                x790 = x657 + x784;
-                x791 = arith.mul_add(qd3, x32, x788);
-                x792 = arith.mul_add(-c4, x789, x658);
-                x793 = arith.mul_add(s4, x789, -x659);
-                x794 = s5 * x790;
-                x795 = arith.mul_add(c5, x792, -x794);
-                x796 = x795 - x660;
-                x797 = 4.432922500000001f64 * x765;
-                x798 = arith.mul_add(-0.19371331275f64, x649, x797);
-                x799 = arith.mul_add(1.75501953841f64, x648, x669);
-                x800 = x670 + x798;
-                x801 = -0.679472691875f64 * x648;
-                x802 = 1.5987592750000001f64 * x779;
-                x803 = arith.mul_add(0.59155695167475f64, x777, -x801);
-                x804 = arith.mul_add(-0.05132265682500001f64, x778, x802);
-                x805 = x684 + x803;
-                x806 = x685 + x804;
-                x807 = arith.mul_add(1.5987592750000001f64, x777, x688);
-                x808 = -0.017784735f64 * x786;
-                x809 = -0.017784735f64 * x791;
-                x810 = arith.mul_add(-0.004608836229750008f64, x789, -x808);
-                x811 = arith.mul_add(-0.001653980355f64, x790, x809);
-                x812 = x699 + x810;
-                x813 = x700 + x811;
-                x814 = arith.mul_add(0.017784735f64, x789, x703);
-                x815 = arith.mul_add(0.033822f64, x792, x706);
-                x816 = arith.mul_add(0.253242f64, x790, -x709);
-                x817 = arith.mul_add(-0.016685526854599998f64, x796, -x710);
-                x818 = arith.mul_add(0.0171364731454f64, x793, x711);
-                x819 = arith.mul_add(c5, x817, x714);
-                x820 = arith.mul_add(-s5, x817, x715);
-                x821 = x815 + x819;
-                x822 = x708 + x818;
-                x823 = x816 + x820;
-                x824 = s4 * x822;
-                x825 = arith.mul_add(c4, x821, -x824);
-                x826 = c4 * x822;
-                x827 = arith.mul_add(s4, x821, x826);
-                x828 = x812 + x825;
-                x829 = x813 + x827;
-                x830 = x701 + x823;
-                x831 = arith.mul_add(s3, x702, x716);
-                x832 = arith.mul_add(-c3, x702, x717);
-                x833 = s3 * x828;
-                x834 = arith.mul_add(c3, x830, -x833);
-                x835 = s3 * x830;
-                x836 = arith.mul_add(c3, x828, x835);
-                x837 = arith.mul_add(-0.39225f64, x814, x834);
-                x838 = arith.mul_add(-0.39225f64, x831, x829);
-                x839 = x805 + x837;
-                x840 = x806 + x838;
-                x841 = x686 - x836;
-                x842 = x687 + x831;
-                x843 = x814 - x807;
-                x844 = x832 - x690;
-                x845 = c2 * x842;
-                x846 = arith.mul_add(s2, x844, -x845);
-                x847 = c2 * x844;
-                x848 = arith.mul_add(s2, x842, x847);
-                x849 = s2 * x841;
-                x850 = arith.mul_add(c2, x839, x849);
-                x851 = s2 * x839;
-                x852 = arith.mul_add(c2, x841, -x851);
-                x853 = 0.425f64 * x843;
-                x854 = arith.mul_add(-0.1197f64, x848, -x853);
-                x855 = x850 + x854;
-                x856 = arith.mul_add(0.425f64, x846, x840);
-                x857 = arith.mul_add(0.1197f64, x846, x852);
-                x858 = x799 + x855;
-                x859 = x800 + x856;
-                x860 = x857 - x671;
-                x861 = x846 - x672;
-                x862 = x674 + x848;
-                x863 = s1 * x861;
-                x864 = arith.mul_add(c1, x862, -x863);
-                x865 = s1 * x860;
-                x866 = arith.mul_add(c1, x858, x865);
-                x867 = arith.mul_add(0.13585f64, x864, x866);
-                x868 = tau0 + x867;
-                x869 = tau1 - x859;
-                x870 = tau2 - x840;
-                x871 = tau3 - x829;
-                x872 = tau4 - x823;
-                x873 = tau5 - x818;
-                x874 = c4 * x873;
-                x875 = x871 - x874;
-                x876 = x870 - x874;
-                x877 = x869 - x874;
-                x878 = arith.mul_add(-x728, x873, x868);
-                x879 = x731 * x872;
-                x880 = x875 + x879;
-                x881 = x876 + x879;
-                x882 = x877 + x879;
-                x883 = arith.mul_add(x743, x872, x878);
-                x884 = arith.mul_add(-x746, x880, x881);
-                x885 = arith.mul_add(-x750, x880, x882);
-                x886 = arith.mul_add(-x753, x880, x883);
-                x887 = arith.mul_add(-x756, x884, x885);
-                x888 = arith.mul_add(x759, x884, x886);
-                x889 = arith.mul_add(-x762, x887, x888);
-                x890 = x764 * x889;
-                x891 = x762 * x890;
-                x892 = arith.mul_add(x761, x887, -x891);
-                x893 = x759 * x890;
-                x894 = arith.mul_add(x755, x884, x893);
-                x895 = arith.mul_add(-x756, x892, x894);
-                x896 = x753 * x890;
-                x897 = arith.mul_add(x745, x880, -x896);
-                x898 = arith.mul_add(-x750, x892, x897);
-                x899 = arith.mul_add(-x746, x895, x898);
-                x900 = x743 * x890;
-                x901 = arith.mul_add(x730, x872, x900);
-                x902 = arith.mul_add(x731, x892, x901);
-                x903 = arith.mul_add(x731, x895, x902);
-                x904 = arith.mul_add(x731, x899, x903);
-                x905 = x728 * x890;
-                x906 = arith.mul_add(58.355064750790525f64, x873, -x905);
-                x907 = arith.mul_add(-c4, x892, x906);
-                x908 = arith.mul_add(-c4, x895, x907);
-                x909 = arith.mul_add(-c4, x899, x908);
-                x910 = 0.425f64 * x3;
-                x911 = x6 - x14;
-                x912 = arith.mul_add(-0.1197f64, x3, x5);
-                x913 = s2 * x912;
-                x914 = arith.mul_add(c2, x911, -x913);
-                x915 = c2 * x912;
-                x916 = arith.mul_add(s2, x911, x915);
-                x917 = 0.39225f64 * x10;
-                x918 = x910 + x917;
-                x919 = c3 * x916;
-                x920 = arith.mul_add(s3, x914, x919);
-                x921 = s3 * x916;
-                x922 = arith.mul_add(c3, x914, -x921);
-                x923 = c4 * x25;
-                x924 = s4 * x25;
-                x925 = qd4 * x924;
-                x926 = qd4 * x923;
-                x927 = s5 * x23;
-                x928 = arith.mul_add(c5, x923, x927);
-                x929 = s5 * x923;
-                x930 = arith.mul_add(c5, x23, -x929);
-                x931 = qd5 * x930;
-                x932 = 1.75501953841f64 * x3;
-                x933 = arith.mul_add(4.432922500000001f64, x6, x184);
-                x934 = 4.432922500000001f64 * x3;
-                x935 = arith.mul_add(x3, x933, x665);
-                x936 = x2 * x238;
-                x937 = arith.mul_add(x3, x932, x936);
-                x938 = arith.mul_add(x3, x181, x937);
-                x939 = arith.mul_add(-x2, x933, x661);
-                x940 = arith.mul_add(-qd1, x932, x939);
-                x941 = arith.mul_add(-x6, x934, x668);
-                x942 = arith.mul_add(x5, x934, x667);
-                x943 = x935 + x941;
-                x944 = arith.mul_add(x5, x179, -x938);
-                x945 = x940 - x942;
-                x946 = arith.mul_add(x3, x934, x673);
-                x947 = arith.mul_add(x2, x934, -x672);
-                x948 = 0.59155695167475f64 * x10;
-                x949 = arith.mul_add(0.679472691875f64, x3, x948);
-                x950 = arith.mul_add(1.5987592750000001f64, x914, x201);
-                x951 = 1.5987592750000001f64 * x10;
-                x952 = arith.mul_add(x10, x950, -x679);
-                x953 = x8 * x242;
-                x954 = arith.mul_add(-x10, x949, x953);
-                x955 = x10 * x198;
-                x956 = x954 - x955;
-                x957 = arith.mul_add(x8, x950, x675);
-                x958 = arith.mul_add(-x21, x949, x957);
-                x959 = x20 * x951;
-                x960 = arith.mul_add(x197, x916, x959);
-                x961 = x18 * x951;
-                x962 = arith.mul_add(x197, x914, x961);
-                x963 = arith.mul_add(x196, x910, -x962);
-                x964 = x952 + x960;
-                x965 = arith.mul_add(x196, x916, x956);
-                x966 = x958 + x963;
-                x967 = arith.mul_add(-x10, x951, x689);
-                x968 = arith.mul_add(x8, x951, x687);
-                x969 = -0.004608836229750008f64 * x25;
-                x970 = arith.mul_add(0.017784735f64, x918, x969);
-                x971 = arith.mul_add(-0.017784735f64, x920, x220);
-                x972 = arith.mul_add(x25, x971, x695);
-                x973 = x23 * x245;
-                x974 = arith.mul_add(x25, x970, x973);
-                x975 = x25 * x217;
-                x976 = x974 + x975;
-                x977 = arith.mul_add(x23, x971, -x691);
-                x978 = arith.mul_add(-x33, x970, x977);
-                x979 = x32 * x497;
-                x980 = arith.mul_add(x216, x922, x979);
-                x981 = x29 * x497;
-                x982 = arith.mul_add(x216, x920, x981);
-                x983 = arith.mul_add(x215, x918, x982);
-                x984 = x980 - x972;
-                x985 = arith.mul_add(x215, x922, x976);
-                x986 = x978 + x983;
-                x987 = arith.mul_add(x25, x497, x704);
-                x988 = x23 * x215;
-                x989 = arith.mul_add(-x23, x497, x702);
-                x990 = -0.033822f64 * x923;
-                x991 = 0.253242f64 * x23;
-                x992 = x248 * x924;
-                x993 = arith.mul_add(x37, x991, x992);
-                x994 = x23 * x247;
-                x995 = arith.mul_add(x38, x990, x994);
-                x996 = x248 * x923;
-                x997 = arith.mul_add(x35, x991, -x996);
-                x998 = x995 - x997;
-                x999 = x247 * x924;
-                x1000 = arith.mul_add(x37, x990, x999);
-                x1001 = 0.016685526854599998f64 * x928;
-                x1002 = 0.0171364731454f64 * x924;
-                x1003 = x250 * x930;
-                x1004 = arith.mul_add(x42, x1002, x1003);
-                x1005 = x249 * x930;
-                x1006 = arith.mul_add(x42, x1001, x1005);
-                x1007 = x250 * x928;
-                x1008 = arith.mul_add(x40, x1002, -x1007);
-                x1009 = x249 * x924;
-                x1010 = arith.mul_add(x43, x1001, x1009);
-                x1011 = x1008 - x1010;
-                x1012 = s5 * x1011;
-                x1013 = c5 * x1011;
-                x1014 = s3 * x987;
-                x1015 = arith.mul_add(c3, x989, -x1014);
-                x1016 = s3 * x989;
-                x1017 = arith.mul_add(c3, x987, x1016);
-                x1018 = 0.39225f64 * x1015;
-                x1019 = x967 + x1015;
-                x1020 = x968 + x1017;
-                x1021 = s2 * x1020;
-                x1022 = arith.mul_add(c2, x1019, -x1021);
-                x1023 = c2 * x1020;
-                x1024 = arith.mul_add(s2, x1019, x1023);
-                x1025 = x1022 - x946;
-                x1026 = x947 - x1024;
-                x1027 = arith.mul_add(-c3, x18, x31);
-                x1028 = arith.mul_add(s3, x18, x28);
-                x1029 = arith.mul_add(-1.5987592750000001f64, x20, x201);
-                x1030 = arith.mul_add(x10, x1029, -x679);
-                x1031 = arith.mul_add(-x10, x948, x953);
-                x1032 = x1031 - x955;
-                x1033 = arith.mul_add(x8, x1029, x675);
-                x1034 = arith.mul_add(-x21, x948, x1033);
-                x1035 = x682 + x959;
-                x1036 = x681 - x961;
-                x1037 = x1030 + x1035;
-                x1038 = arith.mul_add(x18, x196, x1032);
-                x1039 = x1034 + x1036;
-                x1040 = arith.mul_add(0.00697606230375f64, x10, x969);
-                x1041 = arith.mul_add(0.017784735f64, x1027, x220);
-                x1042 = arith.mul_add(x25, x1041, x695);
-                x1043 = arith.mul_add(x25, x1040, x973);
-                x1044 = x975 + x1043;
-                x1045 = arith.mul_add(x23, x1041, -x691);
-                x1046 = arith.mul_add(-x33, x1040, x1045);
-                x1047 = arith.mul_add(-x216, x1028, x979);
-                x1048 = arith.mul_add(-x216, x1027, x981);
-                x1049 = arith.mul_add(x215, x917, x1048);
-                x1050 = x1047 - x1042;
-                x1051 = arith.mul_add(-x215, x1028, x1044);
-                x1052 = x1046 + x1049;
-                x1053 = x220 + x495;
-                x1054 = arith.mul_add(x25, x1053, x695);
-                x1055 = arith.mul_add(x25, x969, x973);
-                x1056 = x975 + x1055;
-                x1057 = arith.mul_add(x23, x1053, -x691);
-                x1058 = arith.mul_add(-x33, x969, x1057);
-                x1059 = x979 - x697;
-                x1060 = arith.mul_add(-x44, x216, x981);
-                x1061 = x1059 - x1054;
-                x1062 = arith.mul_add(-x29, x215, x1056);
-                x1063 = x1058 + x1060;
-                x1064 = x987 - x705;
-                x1065 = s3 * x1064;
-                x1066 = c5 * x37;
-                x1067 = s5 * x37;
-                x1068 = qd5 * x1067;
-                x1069 = arith.mul_add(x38, x232, -x706);
-                x1070 = x37 * x232;
-                x1071 = arith.mul_add(x35, x247, -x1070);
-                x1072 = -0.016685526854599998f64 * x1066;
-                x1073 = x250 * x1067;
-                x1074 = arith.mul_add(x42, x558, x1073);
-                x1075 = x249 * x1067;
-                x1076 = arith.mul_add(x42, x1072, x1075);
-                x1077 = x250 * x1066;
-                x1078 = arith.mul_add(x40, x558, x1077);
-                x1079 = x35 * x249;
-                x1080 = arith.mul_add(x43, x1072, -x1079);
-                x1081 = x1078 - x1080;
-                x1082 = x40 * x249;
-                x1083 = arith.mul_add(x42, x604, x1082);
-                x1084 = arith.mul_add(x43, x604, x710);
-                x1085 = s4 * x1083;
-                x1086 = c4 * x1083;
-                x1087 = 2f64 * x600;
-                x1088 = 2f64 * x647;
-                x1089 = -2f64 * x423;
-                x1090 = 2f64 * x596;
-                x1091 = 2f64 * x643;
-                x1092 = -2f64 * x480;
-                x1093 = 2f64 * x585;
-                x1094 = 2f64 * x632;
-                x1095 = 2f64 * x550;
-                x1096 = 2f64 * x574;
-                x1097 = 2f64 * x621;
-                x1098 = 2f64 * x598;
-                x1099 = 2f64 * x569;
-                x1100 = 2f64 * x561;
-                x1101 = 2f64 * x616;
-                x1102 = 2f64 * x611;
-                x1103 = 0.13585f64 * x890;
-                x1104 = arith.mul_add(s1, x1103, x0);
-                x1105 = c1 * x1103;
-                x1106 = x1 - x1105;
-                x1107 = arith.mul_add(-c1, x890, x648);
-                x1108 = arith.mul_add(s1, x890, x649);
-                x1109 = x650 + x1104;
-                x1110 = x651 + x1106;
-                x1111 = s2 * x1108;
-                x1112 = arith.mul_add(c2, x1107, x1111);
-                x1113 = s2 * x1107;
-                x1114 = c2 * x1108;
-                x1115 = x1113 - x1114;
-                x1116 = 0.425f64 * x892;
-                x1117 = arith.mul_add(0.1197f64, x1108, -x1116);
-                x1118 = -0.1197f64 * x1107;
-                x1119 = x1109 - x1117;
-                x1120 = x1110 + x1118;
-                x1121 = s2 * x1120;
-                x1122 = arith.mul_add(c2, x1119, -x1121);
-                x1123 = c2 * x1120;
-                x1124 = arith.mul_add(s2, x1119, x1123);
-                x1125 = x892 + x895;
-                x1126 = x652 + x1112;
-                x1127 = x653 + x1115;
-                x1128 = x1122 - x654;
-                x1129 = x655 + x1124;
-                x1130 = s3 * x1126;
-                x1131 = arith.mul_add(c3, x1127, x1130);
-                x1132 = c3 * x1126;
-                x1133 = s3 * x1127;
-                x1134 = x1132 - x1133;
-                x1135 = 0.39225f64 * x1126;
-                x1136 = arith.mul_add(0.39225f64, x1125, x1128);
-                x1137 = arith.mul_add(0.425f64, x1107, x1135);
-                x1138 = s3 * x1129;
-                x1139 = x899 + x1125;
-                x1140 = x656 + x1131;
-                x1141 = x657 + x1134;
-                x1142 = c4 * x1140;
-                x1143 = s4 * x1139;
-                x1144 = x1143 - x1142;
-                x1145 = c4 * x1139;
-                x1146 = arith.mul_add(s4, x1140, x1145);
-                x1147 = x904 + x1141;
-                x1148 = x658 + x1144;
-                x1149 = x1146 - x659;
-                x1150 = s5 * x1147;
-                x1151 = arith.mul_add(c5, x1148, -x1150);
-                x1152 = c5 * x1147;
-                x1153 = arith.mul_add(s5, x1148, x1152);
-                x1154 = x909 + x1149;
-                x1155 = x1151 - x660;
-                x1156 = arith.mul_add(qd5, x40, x1153);
-                x1157 = arith.mul_add(1.75501953841f64, x1107, x669);
-                x1158 = arith.mul_add(0.19371331275f64, x892, -x671);
-                x1159 = arith.mul_add(4.432922500000001f64, x892, -x672);
-                x1160 = -0.679472691875f64 * x1107;
-                x1161 = arith.mul_add(0.59155695167475f64, x1126, -x1160);
-                x1162 = x684 + x1161;
-                x1163 = arith.mul_add(-0.05132265682500001f64, x1125, x686);
-                x1164 = arith.mul_add(1.5987592750000001f64, x1125, -x687);
-                x1165 = arith.mul_add(1.5987592750000001f64, x1126, x688);
-                x1166 = -0.017784735f64 * x1137;
-                x1167 = arith.mul_add(-0.004608836229750008f64, x1140, -x1166);
-                x1168 = x699 + x1167;
-                x1169 = arith.mul_add(-0.001653980355f64, x1139, x701);
-                x1170 = arith.mul_add(0.017784735f64, x1139, x702);
-                x1171 = arith.mul_add(0.017784735f64, x1140, x703);
-                x1172 = arith.mul_add(0.033822f64, x1148, x706);
-                x1173 = arith.mul_add(0.253242f64, x1147, -x709);
-                x1174 = -0.016685526854599998f64 * x1155;
-                x1175 = x1174 - x710;
-                x1176 = arith.mul_add(0.0171364731454f64, x1154, x711);
-                x1177 = arith.mul_add(c5, x1175, x714);
-                x1178 = arith.mul_add(-s5, x1175, x715);
-                x1179 = x1172 + x1177;
-                x1180 = x708 + x1176;
-                x1181 = x1173 + x1178;
-                x1182 = s4 * x1180;
-                x1183 = arith.mul_add(c4, x1179, -x1182);
-                x1184 = x1168 + x1183;
-                x1185 = x1169 + x1181;
-                x1186 = arith.mul_add(s3, x1170, x716);
-                x1187 = arith.mul_add(-c3, x1170, x717);
-                x1188 = s3 * x1184;
-                x1189 = arith.mul_add(c3, x1185, -x1188);
-                x1190 = s3 * x1185;
-                x1191 = arith.mul_add(c3, x1184, x1190);
-                x1192 = arith.mul_add(-0.39225f64, x1171, x1189);
-                x1193 = x1162 + x1192;
-                x1194 = x1163 - x1191;
-                x1195 = x1164 - x1186;
-                x1196 = x1171 - x1165;
-                x1197 = x1187 - x690;
-                x1198 = s2 * x1197;
-                x1199 = arith.mul_add(c2, x1195, x1198);
-                x1200 = s2 * x1195;
-                x1201 = arith.mul_add(c2, x1197, -x1200);
-                x1202 = s2 * x1194;
-                x1203 = arith.mul_add(c2, x1193, x1202);
-                x1204 = s2 * x1193;
-                x1205 = arith.mul_add(c2, x1194, -x1204);
-                x1206 = 0.425f64 * x1196;
-                x1207 = arith.mul_add(-0.1197f64, x1201, -x1206);
-                x1208 = x1203 + x1207;
-                x1209 = arith.mul_add(0.1197f64, x1199, x1205);
-                x1210 = x1157 + x1208;
-                x1211 = x1158 + x1209;
-                x1212 = x1159 + x1199;
-                x1213 = x674 + x1201;
-                x1214 = x1105 - x1;
-                x1215 = x1214 - x651;
-                x1216 = x1114 - x1113;
-                x1217 = x1215 - x1118;
-                x1218 = arith.mul_add(-0.1197f64, x1108, x1109);
-                x1219 = s2 * x1218;
-                x1220 = arith.mul_add(c2, x1217, -x1219);
-                x1221 = c2 * x1218;
-                x1222 = arith.mul_add(s2, x1217, x1221);
-                x1223 = x1216 - x653;
-                x1224 = arith.mul_add(-qd2, x916, x1220);
-                x1225 = arith.mul_add(qd2, x914, x1222);
-                x1226 = arith.mul_add(s3, x1223, x1132);
-                x1227 = arith.mul_add(c3, x1223, -x1130);
-                x1228 = 0.39225f64 * x1223;
-                x1229 = arith.mul_add(0.425f64, x1108, x1228);
-                x1230 = c3 * x1225;
-                x1231 = arith.mul_add(s3, x1224, x1230);
-                x1232 = x657 + x1226;
-                x1233 = x1227 - x656;
-                x1234 = arith.mul_add(qd3, x922, x1231);
-                x1235 = arith.mul_add(-c4, x1232, x925);
-                x1236 = arith.mul_add(s4, x1232, x926);
-                x1237 = s5 * x1233;
-                x1238 = arith.mul_add(c5, x1235, -x1237);
-                x1239 = x1238 - x931;
-                x1240 = 4.432922500000001f64 * x1215;
-                x1241 = arith.mul_add(0.19371331275f64, x1107, x1240);
-                x1242 = arith.mul_add(1.75501953841f64, x1108, x943);
-                x1243 = x944 + x1241;
-                x1244 = 0.59155695167475f64 * x1223;
-                x1245 = -0.05132265682500001f64 * x1126;
-                x1246 = arith.mul_add(0.679472691875f64, x1108, x1244);
-                x1247 = arith.mul_add(1.5987592750000001f64, x1224, x1245);
-                x1248 = 1.5987592750000001f64 * x1223;
-                x1249 = x964 + x1246;
-                x1250 = x965 + x1247;
-                x1251 = arith.mul_add(x8, x196, -x1248);
-                x1252 = -0.004608836229750008f64 * x1232;
-                x1253 = -0.001653980355f64 * x1233;
-                x1254 = arith.mul_add(0.017784735f64, x1229, x1252);
-                x1255 = arith.mul_add(-0.017784735f64, x1234, x1253);
-                x1256 = x984 + x1254;
-                x1257 = x985 + x1255;
-                x1258 = arith.mul_add(0.017784735f64, x1232, x988);
-                x1259 = arith.mul_add(0.033822f64, x1235, x993);
-                x1260 = arith.mul_add(0.253242f64, x1233, -x1000);
-                x1261 = arith.mul_add(-0.016685526854599998f64, x1239, -x1004);
-                x1262 = arith.mul_add(0.0171364731454f64, x1236, x1006);
-                x1263 = arith.mul_add(c5, x1261, x1012);
-                x1264 = arith.mul_add(-s5, x1261, x1013);
-                x1265 = x1259 + x1263;
-                x1266 = x998 + x1262;
-                x1267 = x1260 + x1264;
-                x1268 = s4 * x1266;
-                x1269 = arith.mul_add(c4, x1265, -x1268);
-                x1270 = c4 * x1266;
-                x1271 = arith.mul_add(s4, x1265, x1270);
-                x1272 = x1256 + x1269;
-                x1273 = x1257 + x1271;
-                x1274 = x986 + x1267;
-                x1275 = s3 * x1272;
-                x1276 = arith.mul_add(c3, x1274, -x1275);
-                x1277 = s3 * x1274;
-                x1278 = arith.mul_add(c3, x1272, x1277);
-                x1279 = 0.39225f64 * x1258;
-                x1280 = x1276 - x1279;
-                x1281 = x1018 + x1273;
-                x1282 = x1249 + x1280;
-                x1283 = x1250 + x1281;
-                x1284 = x966 - x1278;
-                x1285 = x1251 + x1258;
-                x1286 = s2 * x1284;
-                x1287 = arith.mul_add(c2, x1282, x1286);
-                x1288 = s2 * x1282;
-                x1289 = arith.mul_add(c2, x1284, -x1288);
-                x1290 = 0.425f64 * x1285;
-                x1291 = arith.mul_add(0.1197f64, x1024, -x1290);
-                x1292 = x1287 + x1291;
-                x1293 = arith.mul_add(0.425f64, x1022, x1283);
-                x1294 = arith.mul_add(0.1197f64, x1022, x1289);
-                x1295 = x1242 + x1292;
-                x1296 = x1243 + x1293;
-                x1297 = x945 + x1294;
-                x1298 = x1211 + x1295;
-                x1299 = x1297 - x1210;
-                x1300 = x1025 + x1213;
-                x1301 = x1026 - x1212;
-                x1302 = s1 * x1300;
-                x1303 = arith.mul_add(c1, x1301, -x1302);
-                x1304 = s1 * x1299;
-                x1305 = arith.mul_add(c1, x1298, x1304);
-                x1306 = arith.mul_add(0.13585f64, x1303, x1305);
-                x1307 = arith.mul_add(-c3, x1128, x1138);
-                x1308 = arith.mul_add(qd3, x1028, x1307);
-                x1309 = arith.mul_add(-1.5987592750000001f64, x1129, x1245);
-                x1310 = x1037 + x1244;
-                x1311 = x1038 + x1309;
-                x1312 = arith.mul_add(0.00697606230375f64, x1223, x1252);
-                x1313 = arith.mul_add(0.017784735f64, x1308, x1253);
-                x1314 = x1050 + x1312;
-                x1315 = x1051 + x1313;
-                x1316 = x1269 + x1314;
-                x1317 = x1271 + x1315;
-                x1318 = x1052 + x1267;
-                x1319 = s3 * x1316;
-                x1320 = arith.mul_add(c3, x1318, -x1319);
-                x1321 = s3 * x1318;
-                x1322 = arith.mul_add(c3, x1316, x1321);
-                x1323 = x1320 - x1279;
-                x1324 = x1018 + x1317;
-                x1325 = x1310 + x1323;
-                x1326 = x1311 + x1324;
-                x1327 = x1039 - x1322;
-                x1328 = x1186 - x1164;
-                x1329 = x1194 + x1325;
-                x1330 = x1327 - x1193;
-                x1331 = x1019 + x1197;
-                x1332 = x1328 - x1020;
-                x1333 = s2 * x1332;
-                x1334 = arith.mul_add(c2, x1331, x1333);
-                x1335 = s2 * x1331;
-                x1336 = arith.mul_add(c2, x1332, -x1335);
-                x1337 = s2 * x1330;
-                x1338 = arith.mul_add(c2, x1329, x1337);
-                x1339 = s2 * x1329;
-                x1340 = arith.mul_add(c2, x1330, -x1339);
-                x1341 = arith.mul_add(-0.1197f64, x1336, -x1290);
-                x1342 = x1338 + x1341;
-                x1343 = arith.mul_add(0.425f64, x1334, x1326);
-                x1344 = arith.mul_add(0.1197f64, x1334, x1340);
-                x1345 = s1 * x1334;
-                x1346 = arith.mul_add(c1, x1336, -x1345);
-                x1347 = s1 * x1344;
-                x1348 = arith.mul_add(c1, x1342, x1347);
-                x1349 = arith.mul_add(0.13585f64, x1346, x1348);
-                x1350 = x1133 - x1132;
-                x1351 = arith.mul_add(-c3, x1136, x1138);
-                x1352 = x1350 - x657;
-                x1353 = arith.mul_add(qd3, x29, x1351);
-                x1354 = arith.mul_add(c4, x1352, x925);
-                x1355 = arith.mul_add(-s4, x1352, x926);
-                x1356 = s5 * x1140;
-                x1357 = arith.mul_add(c5, x1354, x1356);
-                x1358 = x1357 - x931;
-                x1359 = 0.017784735f64 * x1353;
-                x1360 = arith.mul_add(0.001653980355f64, x1140, x1359);
-                x1361 = arith.mul_add(0.004608836229750008f64, x1352, x1061);
-                x1362 = x1062 + x1360;
-                x1363 = arith.mul_add(-0.017784735f64, x1352, x988);
-                x1364 = arith.mul_add(0.033822f64, x1354, x993);
-                x1365 = arith.mul_add(-0.253242f64, x1140, -x1000);
-                x1366 = arith.mul_add(-0.016685526854599998f64, x1358, -x1004);
-                x1367 = arith.mul_add(0.0171364731454f64, x1355, x1006);
-                x1368 = arith.mul_add(c5, x1366, x1012);
-                x1369 = arith.mul_add(-s5, x1366, x1013);
-                x1370 = x1364 + x1368;
-                x1371 = x998 + x1367;
-                x1372 = x1365 + x1369;
-                x1373 = s4 * x1371;
-                x1374 = arith.mul_add(c4, x1370, -x1373);
-                x1375 = c4 * x1371;
-                x1376 = arith.mul_add(s4, x1370, x1375);
-                x1377 = x1361 + x1374;
-                x1378 = x1362 + x1376;
-                x1379 = x1063 + x1372;
-                x1380 = x1185 + x1377;
-                x1381 = x1379 - x1184;
-                x1382 = x989 - x1170;
-                x1383 = arith.mul_add(c3, x1382, -x1065);
-                x1384 = s3 * x1382;
-                x1385 = arith.mul_add(c3, x1064, x1384);
-                x1386 = s3 * x1380;
-                x1387 = arith.mul_add(c3, x1381, -x1386);
-                x1388 = s3 * x1381;
-                x1389 = arith.mul_add(c3, x1380, x1388);
-                x1390 = arith.mul_add(-0.39225f64, x1363, x1387);
-                x1391 = arith.mul_add(0.39225f64, x1383, x1378);
-                x1392 = s2 * x1385;
-                x1393 = arith.mul_add(c2, x1383, -x1392);
-                x1394 = c2 * x1385;
-                x1395 = arith.mul_add(s2, x1383, x1394);
-                x1396 = s2 * x1389;
-                x1397 = arith.mul_add(c2, x1390, -x1396);
-                x1398 = c2 * x1389;
-                x1399 = arith.mul_add(s2, x1390, x1398);
-                x1400 = 0.425f64 * x1363;
-                x1401 = arith.mul_add(0.1197f64, x1395, -x1400);
-                x1402 = x1397 + x1401;
-                x1403 = arith.mul_add(0.425f64, x1393, x1391);
-                x1404 = arith.mul_add(-0.1197f64, x1393, x1399);
-                x1405 = c1 * x1395;
-                x1406 = arith.mul_add(s1, x1393, x1405);
-                x1407 = c1 * x1402;
-                x1408 = arith.mul_add(s1, x1404, -x1407);
-                x1409 = x1142 - x1143;
-                x1410 = x1409 - x658;
-                x1411 = arith.mul_add(c5, x1149, -x1068);
-                x1412 = arith.mul_add(0.033822f64, x1149, -x707);
-                x1413 = arith.mul_add(-0.016685526854599998f64, x1411, -x1074);
-                x1414 = arith.mul_add(0.0171364731454f64, x1410, x1076);
-                x1415 = c5 * x1413;
-                x1416 = arith.mul_add(s5, x1081, x1415);
-                x1417 = s5 * x1413;
-                x1418 = arith.mul_add(c5, x1081, -x1417);
-                x1419 = x1412 + x1416;
-                x1420 = x1069 + x1414;
-                x1421 = x1071 + x1418;
-                x1422 = x1419 - x1180;
-                x1423 = x1179 + x1420;
-                x1424 = s4 * x1423;
-                x1425 = arith.mul_add(c4, x1422, -x1424);
-                x1426 = c4 * x1423;
-                x1427 = arith.mul_add(s4, x1422, x1426);
-                x1428 = s3 * x1425;
-                x1429 = arith.mul_add(c3, x1421, -x1428);
-                x1430 = s3 * x1421;
-                x1431 = arith.mul_add(c3, x1425, x1430);
-                x1432 = s2 * x1431;
-                x1433 = arith.mul_add(c2, x1429, -x1432);
-                x1434 = c2 * x1431;
-                x1435 = arith.mul_add(s2, x1429, x1434);
-                x1436 = s1 * x1435;
-                x1437 = arith.mul_add(0.016685526854599998f64, x1156, -x712);
-                x1438 = x710 - x1174;
-                x1439 = x713 + x1437;
-                x1440 = x1438 - x1084;
-                x1441 = s5 * x1440;
-                x1442 = arith.mul_add(c5, x1439, x1441);
-                x1443 = s5 * x1439;
-                x1444 = c5 * x1440;
-                x1445 = x1444 - x1443;
-                x1446 = arith.mul_add(c4, x1442, -x1085);
-                x1447 = arith.mul_add(s4, x1442, x1086);
-                x1448 = s3 * x1446;
-                x1449 = arith.mul_add(c3, x1445, -x1448);
-                x1450 = s3 * x1445;
-                x1451 = arith.mul_add(c3, x1446, x1450);
-                x1452 = s2 * x1451;
-                x1453 = arith.mul_add(c2, x1449, -x1452);
-                x1454 = c2 * x1451;
-                x1455 = arith.mul_add(s2, x1449, x1454);
-                x1456 = s1 * x1455;
-                x1457 = arith.mul_add(-0.13585f64, x1406, -x1408);
-                x1458 = arith.mul_add(c1, x1433, -x1436);
-                x1459 = arith.mul_add(c1, x1453, -x1456);
-                x1460 = x1443 - x1444;
-                x1461 = c4 * x1262;
-                x1462 = x1461 - x1273;
-                x1463 = x1461 - x1283;
-                x1464 = x1461 - x1296;
-                x1465 = x728 * x1262;
-                x1466 = x1306 + x1465;
-                x1467 = x731 * x1267;
-                x1468 = x1462 - x1467;
-                x1469 = x1463 - x1467;
-                x1470 = x1464 - x1467;
-                x1471 = x743 * x1267;
-                x1472 = x1466 - x1471;
-                x1473 = arith.mul_add(-x746, x1468, x1469);
-                x1474 = arith.mul_add(-x750, x1468, x1470);
-                x1475 = arith.mul_add(-x753, x1468, x1472);
-                x1476 = arith.mul_add(-x756, x1473, x1474);
-                x1477 = arith.mul_add(x759, x1473, x1475);
-                x1478 = arith.mul_add(-x762, x1476, x1477);
-                x1479 = x764 * x1478;
-                x1480 = x730 * x1267;
-                x1481 = -58.355064750790525f64 * x1262;
-                x1482 = x762 * x1479;
-                x1483 = arith.mul_add(x761, x1476, -x1482);
-                x1484 = x759 * x1479;
-                x1485 = arith.mul_add(x755, x1473, x1484);
-                x1486 = arith.mul_add(-x756, x1483, x1485);
-                x1487 = x753 * x1479;
-                x1488 = arith.mul_add(x745, x1468, -x1487);
-                x1489 = arith.mul_add(-x750, x1483, x1488);
-                x1490 = arith.mul_add(-x746, x1486, x1489);
-                x1491 = arith.mul_add(x743, x1479, -x1480);
-                x1492 = arith.mul_add(x731, x1483, x1491);
-                x1493 = arith.mul_add(x731, x1486, x1492);
-                x1494 = arith.mul_add(x731, x1490, x1493);
-                x1495 = arith.mul_add(-x728, x1479, x1481);
-                x1496 = arith.mul_add(-c4, x1483, x1495);
-                x1497 = arith.mul_add(-c4, x1486, x1496);
-                x1498 = arith.mul_add(-c4, x1490, x1497);
-                x1499 = x1461 - x1317;
-                x1500 = x1461 - x1326;
-                x1501 = x1461 - x1343;
-                x1502 = x1349 + x1465;
-                x1503 = x1499 - x1467;
-                x1504 = x1500 - x1467;
-                x1505 = x1501 - x1467;
-                x1506 = x1502 - x1471;
-                x1507 = arith.mul_add(-x746, x1503, x1504);
-                x1508 = arith.mul_add(-x750, x1503, x1505);
-                x1509 = arith.mul_add(-x753, x1503, x1506);
-                x1510 = arith.mul_add(-x756, x1507, x1508);
-                x1511 = arith.mul_add(x759, x1507, x1509);
-                x1512 = arith.mul_add(-x762, x1510, x1511);
-                x1513 = x764 * x1512;
-                x1514 = x762 * x1513;
-                x1515 = arith.mul_add(x761, x1510, -x1514);
-                x1516 = x759 * x1513;
-                x1517 = arith.mul_add(x755, x1507, x1516);
-                x1518 = arith.mul_add(-x756, x1515, x1517);
-                x1519 = x753 * x1513;
-                x1520 = arith.mul_add(x745, x1503, -x1519);
-                x1521 = arith.mul_add(-x750, x1515, x1520);
-                x1522 = arith.mul_add(-x746, x1518, x1521);
-                x1523 = arith.mul_add(x743, x1513, -x1480);
-                x1524 = arith.mul_add(x731, x1515, x1523);
-                x1525 = arith.mul_add(x731, x1518, x1524);
-                x1526 = arith.mul_add(x731, x1522, x1525);
-                x1527 = arith.mul_add(-x728, x1513, x1481);
-                x1528 = arith.mul_add(-c4, x1515, x1527);
-                x1529 = arith.mul_add(-c4, x1518, x1528);
-                x1530 = arith.mul_add(-c4, x1522, x1529);
-                x1531 = c4 * x1367;
-                x1532 = x1531 - x1378;
-                x1533 = x1531 - x1391;
-                x1534 = x1531 - x1403;
-                x1535 = arith.mul_add(x728, x1367, x1457);
-                x1536 = x731 * x1372;
-                x1537 = x1532 - x1536;
-                x1538 = x1533 - x1536;
-                x1539 = x1534 - x1536;
-                x1540 = arith.mul_add(-x743, x1372, x1535);
-                x1541 = arith.mul_add(-x746, x1537, x1538);
-                x1542 = arith.mul_add(-x750, x1537, x1539);
-                x1543 = arith.mul_add(-x753, x1537, x1540);
-                x1544 = arith.mul_add(-x756, x1541, x1542);
-                x1545 = arith.mul_add(x759, x1541, x1543);
-                x1546 = arith.mul_add(-x762, x1544, x1545);
-                x1547 = x764 * x1546;
-                x1548 = x730 * x1372;
-                x1549 = x762 * x1547;
-                x1550 = arith.mul_add(x761, x1544, -x1549);
-                x1551 = x759 * x1547;
-                x1552 = arith.mul_add(x755, x1541, x1551);
-                x1553 = arith.mul_add(-x756, x1550, x1552);
-                x1554 = x753 * x1547;
-                x1555 = arith.mul_add(x745, x1537, -x1554);
-                x1556 = arith.mul_add(-x750, x1550, x1555);
-                x1557 = arith.mul_add(-x746, x1553, x1556);
-                x1558 = arith.mul_add(x743, x1547, -x1548);
-                x1559 = arith.mul_add(x731, x1550, x1558);
-                x1560 = arith.mul_add(x731, x1553, x1559);
-                x1561 = arith.mul_add(x731, x1557, x1560);
-                x1562 = x728 * x1547;
-                x1563 = arith.mul_add(-58.355064750790525f64, x1367, -x1562);
-                x1564 = arith.mul_add(-c4, x1550, x1563);
-                x1565 = arith.mul_add(-c4, x1553, x1564);
-                x1566 = arith.mul_add(-c4, x1557, x1565);
-                x1567 = arith.mul_add(c4, x1414, -x1427);
-                x1568 = arith.mul_add(x728, x1414, x1458);
-                x1569 = arith.mul_add(-x731, x1421, x1567);
-                x1570 = arith.mul_add(-x743, x1421, x1568);
-                x1571 = arith.mul_add(-x746, x1569, x1569);
-                x1572 = arith.mul_add(-x750, x1569, x1569);
-                x1573 = arith.mul_add(-x753, x1569, x1570);
-                x1574 = arith.mul_add(-x756, x1571, x1572);
-                x1575 = arith.mul_add(x759, x1571, x1573);
-                x1576 = arith.mul_add(-x762, x1574, x1575);
-                x1577 = x764 * x1576;
-                x1578 = x730 * x1421;
-                x1579 = x762 * x1577;
-                x1580 = arith.mul_add(x761, x1574, -x1579);
-                x1581 = x759 * x1577;
-                x1582 = arith.mul_add(x755, x1571, x1581);
-                x1583 = arith.mul_add(-x756, x1580, x1582);
-                x1584 = x753 * x1577;
-                x1585 = arith.mul_add(x745, x1569, -x1584);
-                x1586 = arith.mul_add(-x750, x1580, x1585);
-                x1587 = arith.mul_add(-x746, x1583, x1586);
-                x1588 = arith.mul_add(x743, x1577, -x1578);
-                x1589 = arith.mul_add(x731, x1580, x1588);
-                x1590 = arith.mul_add(x731, x1583, x1589);
-                x1591 = arith.mul_add(x731, x1587, x1590);
-                x1592 = x728 * x1577;
-                x1593 = arith.mul_add(-58.355064750790525f64, x1414, -x1592);
-                x1594 = arith.mul_add(-c4, x1580, x1593);
-                x1595 = arith.mul_add(-c4, x1583, x1594);
-                x1596 = arith.mul_add(-c4, x1587, x1595);
-                x1597 = x1086 - x1447;
-                x1598 = arith.mul_add(x728, x1083, x1459);
-                x1599 = arith.mul_add(x731, x1460, x1597);
-                x1600 = arith.mul_add(x743, x1460, x1598);
-                x1601 = arith.mul_add(-x746, x1599, x1599);
-                x1602 = arith.mul_add(-x750, x1599, x1599);
-                x1603 = arith.mul_add(-x753, x1599, x1600);
-                x1604 = arith.mul_add(-x756, x1601, x1602);
-                x1605 = arith.mul_add(x759, x1601, x1603);
-                x1606 = arith.mul_add(-x762, x1604, x1605);
-                x1607 = x764 * x1606;
-                x1608 = x762 * x1607;
-                x1609 = arith.mul_add(x761, x1604, -x1608);
-                x1610 = x759 * x1607;
-                x1611 = arith.mul_add(x755, x1601, x1610);
-                x1612 = arith.mul_add(-x756, x1609, x1611);
-                x1613 = x753 * x1607;
-                x1614 = arith.mul_add(x745, x1599, -x1613);
-                x1615 = arith.mul_add(-x750, x1609, x1614);
-                x1616 = arith.mul_add(-x746, x1612, x1615);
-                x1617 = x743 * x1607;
-                x1618 = arith.mul_add(x730, x1460, x1617);
-                x1619 = arith.mul_add(x731, x1609, x1618);
-                x1620 = arith.mul_add(x731, x1612, x1619);
-                x1621 = arith.mul_add(x731, x1616, x1620);
-                x1622 = x728 * x1607;
-                x1623 = arith.mul_add(-58.355064750790525f64, x1083, -x1622);
-                x1624 = arith.mul_add(-c4, x1609, x1623);
-                x1625 = arith.mul_add(-c4, x1612, x1624);
-                x1626 = arith.mul_add(-c4, x1616, x1625);
-                x1627 = c4 * x1088;
-                x1628 = arith.mul_add(-2f64, x552, x1627);
-                x1629 = arith.mul_add(2f64, x482, x1627);
-                x1630 = arith.mul_add(2f64, x425, x1627);
-                x1631 = arith.mul_add(x728, x1088, -x394);
-                x1632 = x731 * x1087;
-                x1633 = x1628 - x1632;
-                x1634 = x1629 - x1632;
-                x1635 = x1630 - x1632;
-                x1636 = arith.mul_add(-x743, x1087, x1631);
-                x1637 = arith.mul_add(-x746, x1633, x1634);
-                x1638 = arith.mul_add(-x750, x1633, x1635);
-                x1639 = arith.mul_add(-x753, x1633, x1636);
-                x1640 = arith.mul_add(-x756, x1637, x1638);
-                x1641 = arith.mul_add(x759, x1637, x1639);
-                x1642 = arith.mul_add(-x762, x1640, x1641);
-                x1643 = x764 * x1642;
-                x1644 = x730 * x1087;
-                x1645 = x762 * x1643;
-                x1646 = arith.mul_add(x761, x1640, -x1645);
-                x1647 = x759 * x1643;
-                x1648 = arith.mul_add(x755, x1637, x1647);
-                x1649 = arith.mul_add(-x756, x1646, x1648);
-                x1650 = x753 * x1643;
-                x1651 = arith.mul_add(x745, x1633, -x1650);
-                x1652 = arith.mul_add(-x750, x1646, x1651);
-                x1653 = arith.mul_add(-x746, x1649, x1652);
-                x1654 = arith.mul_add(x743, x1643, -x1644);
-                x1655 = arith.mul_add(x731, x1646, x1654);
-                x1656 = arith.mul_add(x731, x1649, x1655);
-                x1657 = arith.mul_add(x731, x1653, x1656);
-                x1658 = x728 * x1643;
-                x1659 = arith.mul_add(-116.71012950158105f64, x647, -x1658);
-                x1660 = arith.mul_add(-c4, x1646, x1659);
-                x1661 = arith.mul_add(-c4, x1649, x1660);
-                x1662 = arith.mul_add(-c4, x1653, x1661);
-                x1663 = c4 * x1091;
-                x1664 = arith.mul_add(-2f64, x545, x1663);
-                x1665 = arith.mul_add(-2f64, x475, x1663);
-                x1666 = arith.mul_add(-2f64, x411, x1663);
-                x1667 = arith.mul_add(x728, x1091, -x1089);
-                x1668 = x731 * x1090;
-                x1669 = x1664 - x1668;
-                x1670 = x1665 - x1668;
-                x1671 = x1666 - x1668;
-                x1672 = arith.mul_add(-x743, x1090, x1667);
-                x1673 = arith.mul_add(-x746, x1669, x1670);
-                x1674 = arith.mul_add(-x750, x1669, x1671);
-                x1675 = arith.mul_add(-x753, x1669, x1672);
-                x1676 = arith.mul_add(-x756, x1673, x1674);
-                x1677 = arith.mul_add(x759, x1673, x1675);
-                x1678 = arith.mul_add(-x762, x1676, x1677);
-                x1679 = x764 * x1678;
-                x1680 = x730 * x1090;
-                x1681 = x762 * x1679;
-                x1682 = arith.mul_add(x761, x1676, -x1681);
-                x1683 = x759 * x1679;
-                x1684 = arith.mul_add(x755, x1673, x1683);
-                x1685 = arith.mul_add(-x756, x1682, x1684);
-                x1686 = x753 * x1679;
-                x1687 = arith.mul_add(x745, x1669, -x1686);
-                x1688 = arith.mul_add(-x750, x1682, x1687);
-                x1689 = arith.mul_add(-x746, x1685, x1688);
-                x1690 = arith.mul_add(x743, x1679, -x1680);
-                x1691 = arith.mul_add(x731, x1682, x1690);
-                x1692 = arith.mul_add(x731, x1685, x1691);
-                x1693 = arith.mul_add(x731, x1689, x1692);
-                x1694 = x728 * x1679;
-                x1695 = arith.mul_add(-116.71012950158105f64, x643, -x1694);
-                x1696 = arith.mul_add(-c4, x1682, x1695);
-                x1697 = arith.mul_add(-c4, x1685, x1696);
-                x1698 = arith.mul_add(-c4, x1689, x1697);
-                x1699 = c4 * x1094;
-                x1700 = arith.mul_add(-2f64, x522, x1699);
-                x1701 = arith.mul_add(-2f64, x446, x1699);
-                x1702 = arith.mul_add(-2f64, x465, x1699);
-                x1703 = arith.mul_add(x728, x1094, -x1092);
-                x1704 = x731 * x1093;
-                x1705 = x1700 - x1704;
-                x1706 = x1701 - x1704;
-                x1707 = x1702 - x1704;
-                x1708 = arith.mul_add(-x743, x1093, x1703);
-                x1709 = arith.mul_add(-x746, x1705, x1706);
-                x1710 = arith.mul_add(-x750, x1705, x1707);
-                x1711 = arith.mul_add(-x753, x1705, x1708);
-                x1712 = arith.mul_add(-x756, x1709, x1710);
-                x1713 = arith.mul_add(x759, x1709, x1711);
-                x1714 = arith.mul_add(-x762, x1712, x1713);
-                x1715 = x764 * x1714;
-                x1716 = x730 * x1093;
-                x1717 = x762 * x1715;
-                x1718 = arith.mul_add(x761, x1712, -x1717);
-                x1719 = x759 * x1715;
-                x1720 = arith.mul_add(x755, x1709, x1719);
-                x1721 = arith.mul_add(-x756, x1718, x1720);
-                x1722 = x753 * x1715;
-                x1723 = arith.mul_add(x745, x1705, -x1722);
-                x1724 = arith.mul_add(-x750, x1718, x1723);
-                x1725 = arith.mul_add(-x746, x1721, x1724);
-                x1726 = arith.mul_add(x743, x1715, -x1716);
-                x1727 = arith.mul_add(x731, x1718, x1726);
-                x1728 = arith.mul_add(x731, x1721, x1727);
-                x1729 = arith.mul_add(x731, x1725, x1728);
-                x1730 = x728 * x1715;
-                x1731 = arith.mul_add(-116.71012950158105f64, x632, -x1730);
-                x1732 = arith.mul_add(-c4, x1718, x1731);
-                x1733 = arith.mul_add(-c4, x1721, x1732);
-                x1734 = arith.mul_add(-c4, x1725, x1733);
-                x1735 = c4 * x1097;
-                x1736 = arith.mul_add(-2f64, x499, x1735);
-                x1737 = arith.mul_add(-2f64, x513, x1735);
-                x1738 = arith.mul_add(-2f64, x534, x1735);
-                x1739 = arith.mul_add(x728, x1097, -x1095);
-                x1740 = x731 * x1096;
-                x1741 = x1736 - x1740;
-                x1742 = x1737 - x1740;
-                x1743 = x1738 - x1740;
-                x1744 = arith.mul_add(-x743, x1096, x1739);
-                x1745 = arith.mul_add(-x746, x1741, x1742);
-                x1746 = arith.mul_add(-x750, x1741, x1743);
-                x1747 = arith.mul_add(-x753, x1741, x1744);
-                x1748 = arith.mul_add(-x756, x1745, x1746);
-                x1749 = arith.mul_add(x759, x1745, x1747);
-                x1750 = arith.mul_add(-x762, x1748, x1749);
-                x1751 = x764 * x1750;
-                x1752 = x730 * x1096;
-                x1753 = x762 * x1751;
-                x1754 = arith.mul_add(x761, x1748, -x1753);
-                x1755 = x759 * x1751;
-                x1756 = arith.mul_add(x755, x1745, x1755);
-                x1757 = arith.mul_add(-x756, x1754, x1756);
-                x1758 = x753 * x1751;
-                x1759 = arith.mul_add(x745, x1741, -x1758);
-                x1760 = arith.mul_add(-x750, x1754, x1759);
-                x1761 = arith.mul_add(-x746, x1757, x1760);
-                x1762 = arith.mul_add(x743, x1751, -x1752);
-                x1763 = arith.mul_add(x731, x1754, x1762);
-                x1764 = arith.mul_add(x731, x1757, x1763);
-                x1765 = arith.mul_add(x731, x1761, x1764);
-                x1766 = x728 * x1751;
-                x1767 = arith.mul_add(-116.71012950158105f64, x621, -x1766);
-                x1768 = arith.mul_add(-c4, x1754, x1767);
-                x1769 = arith.mul_add(-c4, x1757, x1768);
-                x1770 = arith.mul_add(-c4, x1761, x1769);
-                x1771 = arith.mul_add(c4, x1101, -x1099);
-                x1772 = arith.mul_add(x728, x1101, -x1098);
-                x1773 = arith.mul_add(-x731, x1100, x1771);
-                x1774 = arith.mul_add(-x743, x1100, x1772);
-                x1775 = arith.mul_add(-x746, x1773, x1773);
-                x1776 = arith.mul_add(-x750, x1773, x1773);
-                x1777 = arith.mul_add(-x753, x1773, x1774);
-                x1778 = arith.mul_add(-x756, x1775, x1776);
-                x1779 = arith.mul_add(x759, x1775, x1777);
-                x1780 = arith.mul_add(-x762, x1778, x1779);
-                x1781 = x764 * x1780;
-                x1782 = x730 * x1100;
-                x1783 = x762 * x1781;
-                x1784 = arith.mul_add(x761, x1778, -x1783);
-                x1785 = x759 * x1781;
-                x1786 = arith.mul_add(x755, x1775, x1785);
-                x1787 = arith.mul_add(-x756, x1784, x1786);
-                x1788 = x753 * x1781;
-                x1789 = arith.mul_add(x745, x1773, -x1788);
-                x1790 = arith.mul_add(-x750, x1784, x1789);
-                x1791 = arith.mul_add(-x746, x1787, x1790);
-                x1792 = arith.mul_add(x743, x1781, -x1782);
-                x1793 = arith.mul_add(x731, x1784, x1792);
-                x1794 = arith.mul_add(x731, x1787, x1793);
-                x1795 = arith.mul_add(x731, x1791, x1794);
-                x1796 = x728 * x1781;
-                x1797 = arith.mul_add(-116.71012950158105f64, x616, -x1796);
-                x1798 = arith.mul_add(-c4, x1784, x1797);
-                x1799 = arith.mul_add(-c4, x1787, x1798);
-                x1800 = arith.mul_add(-c4, x1791, x1799);
-                x1801 = x731 * x1102;
-                x1802 = arith.mul_add(2f64, x618, x1801);
-                x1803 = x743 * x1102;
-                x1804 = arith.mul_add(2f64, x645, x1803);
-                x1805 = arith.mul_add(x746, x1802, -x1802);
-                x1806 = arith.mul_add(x750, x1802, -x1802);
-                x1807 = arith.mul_add(x753, x1802, -x1804);
-                x1808 = arith.mul_add(-x756, x1805, x1806);
-                x1809 = arith.mul_add(x759, x1805, x1807);
-                x1810 = arith.mul_add(-x762, x1808, x1809);
-                x1811 = x764 * x1810;
-                x1812 = x730 * x1102;
-                x1813 = x762 * x1811;
-                x1814 = arith.mul_add(x761, x1808, -x1813);
-                x1815 = x759 * x1811;
-                x1816 = arith.mul_add(x755, x1805, x1815);
-                x1817 = arith.mul_add(-x756, x1814, x1816);
-                x1818 = x753 * x1811;
-                x1819 = arith.mul_add(x745, x1802, x1818);
-                x1820 = arith.mul_add(x750, x1814, x1819);
-                x1821 = arith.mul_add(x746, x1817, x1820);
-                x1822 = -x1821;
-                x1823 = arith.mul_add(x743, x1811, -x1812);
-                x1824 = arith.mul_add(x731, x1814, x1823);
-                x1825 = arith.mul_add(x731, x1817, x1824);
-                x1826 = arith.mul_add(-x731, x1821, x1825);
-                x1827 = c4 * x1814;
-                x1828 = arith.mul_add(x728, x1811, x1827);
-                x1829 = arith.mul_add(c4, x1817, x1828);
-                x1830 = arith.mul_add(c4, x1821, -x1829);
-                (
-                    SMatrix::from_array_storage(
-                        ArrayStorage([
-                            [0f64, 0f64, 0f64, 0f64, 0f64, 0f64],
-                            [x1479, x1483, x1486, x1490, x1494, x1498],
-                            [x1513, x1515, x1518, x1522, x1526, x1530],
-                            [x1547, x1550, x1553, x1557, x1561, x1566],
-                            [x1577, x1580, x1583, x1587, x1591, x1596],
-                            [x1607, x1609, x1612, x1616, x1621, x1626],
-                        ]),
-                    ),
-                    SMatrix::from_array_storage(
-                        ArrayStorage([
-                            [x1643, x1646, x1649, x1653, x1657, x1662],
-                            [x1679, x1682, x1685, x1689, x1693, x1698],
-                            [x1715, x1718, x1721, x1725, x1729, x1734],
-                            [x1751, x1754, x1757, x1761, x1765, x1770],
-                            [x1781, x1784, x1787, x1791, x1795, x1800],
-                            [x1811, x1814, x1817, x1822, x1826, x1830],
-                        ]),
-                    ),
-                )
-            }
-        }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, tau))
     }
     ///Operations: 739 mul, 562 add/sub, 20 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -18032,5 +13708,4336 @@ impl LaneDynamics<6, 36> for Ur5 {
             *o210 = x836;
         }
         out
+    }
+}
+impl ForwardDynamics<6, 60> for Ur5 {
+    ///Operations: 362 mul, 275 add/sub, 0 neg, 5 div (joint sines and cosines come precomputed in `JointTrig`).
+    #[inline(never)]
+    fn forward_dynamics(
+        t: &JointTrig<6>,
+        qd: &SVector<f64, 6>,
+        tau: &SVector<f64, 6>,
+    ) -> SVector<f64, 6> {
+        struct Body;
+        impl dyngen_runtime::__private::Kernel<
+            (&JointTrig<6>, &SVector<f64, 6>, &SVector<f64, 6>),
+        > for Body {
+            type Output = SVector<f64, 6>;
+            #[inline(always)]
+            fn run<M: dyngen_runtime::__private::MulAdd>(
+                arith: M,
+                (t, qd, tau): (&JointTrig<6>, &SVector<f64, 6>, &SVector<f64, 6>),
+            ) -> SVector<f64, 6> {
+                let [_, s1, s2, s3, s4, s5] = t.sin;
+                let [_, c1, c2, c3, c4, c5] = t.cos;
+                let [qd0, qd1, qd2, qd3, qd4, qd5] = qd.data.0[0];
+                let [tau0, tau1, tau2, tau3, tau4, tau5] = tau.data.0[0];
+                let mut out: SVector<f64, 6> = SMatrix::zeros();
+                {
+                    let [[o0, o1, o2, o3, o4, o5]] = &mut out.data.0;
+                    let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                    x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                    x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                    x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                    x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                    x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                    x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                    x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109,
+                    x110, x111, x112, x113, x114, x115, x116, x117, x118, x119, x120,
+                    x121, x122, x123, x124, x125, x126, x127, x128, x129, x130, x131,
+                    x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142,
+                    x143, x144, x145, x146, x147, x148, x149, x150, x151, x152, x153,
+                    x154, x155, x156, x157, x158, x159, x160, x161, x162, x163, x164,
+                    x165, x166, x167, x168, x169, x170, x171, x172, x173, x174, x175,
+                    x176, x177, x178, x179, x180, x181, x182, x183, x184, x185, x186,
+                    x187, x188, x189, x190, x191, x192, x193, x194, x195, x196, x197,
+                    x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
+                    x209, x210, x211, x212, x213, x214, x215, x216, x217, x218, x219,
+                    x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                    x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241,
+                    x242, x243, x244, x245, x246, x247, x248, x249, x250, x251, x252,
+                    x253, x254, x255, x256, x257, x258, x259, x260, x261, x262, x263,
+                    x264, x265, x266, x267, x268, x269, x270, x271, x272, x273, x274,
+                    x275, x276, x277, x278, x279, x280, x281, x282, x283, x284, x285,
+                    x286, x287, x288, x289, x290, x291, x292, x293, x294, x295, x296,
+                    x297, x298, x299, x300, x301, x302, x303, x304, x305, x306, x307,
+                    x308, x309, x310, x311, x312, x313, x314, x315, x316, x317, x318,
+                    x319, x320, x321, x322, x323, x324, x325, x326, x327, x328, x329,
+                    x330, x331, x332, x333, x334, x335, x336, x337, x338, x339, x340,
+                    x341, x342, x343, x344, x345, x346, x347, x348, x349, x350, x351,
+                    x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                    x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373,
+                    x374, x375, x376, x377, x378, x379, x380, x381, x382, x383, x384,
+                    x385, x386, x387, x388, x389, x390, x391, x392, x393, x394, x395,
+                    x396, x397, x398, x399, x400, x401, x402, x403, x404, x405, x406,
+                    x407, x408, x409, x410, x411, x412, x413, x414, x415, x416, x417,
+                    x418, x419, x420, x421, x422, x423, x424, x425, x426, x427, x428,
+                    x429, x430, x431, x432, x433, x434, x435, x436, x437, x438, x439,
+                    x440, x441, x442, x443, x444, x445, x446, x447, x448]: [f64; 449];
+                    x0 = qd0 * c1;
+                    x1 = qd0 * s1;
+                    x2 = 0.13585f64 * qd0;
+                    x3 = s1 * x2;
+                    x4 = c1 * x2;
+                    x5 = c2 * x0;
+                    x6 = arith.mul_add(s2, x1, -x5);
+                    x7 = c2 * x1;
+                    x8 = arith.mul_add(s2, x0, x7);
+                    x9 = 0.425f64 * qd1;
+                    x10 = arith.mul_add(0.1197f64, x1, -x9);
+                    x11 = -0.425f64 * x0;
+                    x12 = x3 - x10;
+                    x13 = arith.mul_add(0.1197f64, x0, -x4);
+                    x14 = s2 * x13;
+                    x15 = arith.mul_add(c2, x12, -x14);
+                    x16 = c2 * x13;
+                    x17 = arith.mul_add(s2, x12, x16);
+                    x18 = qd1 + qd2;
+                    x19 = s3 * x6;
+                    x20 = arith.mul_add(c3, x8, -x19);
+                    x21 = s3 * x8;
+                    x22 = arith.mul_add(c3, x6, x21);
+                    x23 = arith.mul_add(0.39225f64, x18, x15);
+                    x24 = arith.mul_add(0.39225f64, x6, x11);
+                    x25 = c3 * x17;
+                    x26 = arith.mul_add(s3, x23, x25);
+                    x27 = s3 * x17;
+                    x28 = arith.mul_add(c3, x23, -x27);
+                    x29 = qd3 + x18;
+                    x30 = s4 * x29;
+                    x31 = arith.mul_add(c4, x20, x30);
+                    x32 = s4 * x20;
+                    x33 = arith.mul_add(c4, x29, -x32);
+                    x34 = qd4 + x22;
+                    x35 = s5 * x34;
+                    x36 = arith.mul_add(c5, x31, -x35);
+                    x37 = c5 * x34;
+                    x38 = arith.mul_add(s5, x31, x37);
+                    x39 = qd5 + x33;
+                    x40 = -0.016685526854599998f64 * c5;
+                    x41 = 0.016685526854599998f64 * s5;
+                    x42 = s5 * x40;
+                    x43 = arith.mul_add(c5, x40, 0.033822f64);
+                    x44 = arith.mul_add(-s5, x41, 0.253242f64);
+                    x45 = c4 * x43;
+                    x46 = -0.0171364731454f64 * s4;
+                    x47 = c4 * x42;
+                    x48 = s4 * x43;
+                    x49 = 0.0171364731454f64 * c4;
+                    x50 = s4 * x42;
+                    x51 = s4 * x46;
+                    x52 = arith.mul_add(c4, x45, -x51);
+                    x53 = c4 * x46;
+                    x54 = arith.mul_add(s4, x45, x53);
+                    x55 = c4 * x49;
+                    x56 = arith.mul_add(s4, x48, x55);
+                    x57 = 0.004608836229750008f64 + x52;
+                    x58 = 0.22402883622975f64 + x56;
+                    x59 = -0.001653980355f64 - x50;
+                    x60 = 0.017784735f64 * c3;
+                    x61 = -0.017784735f64 * s3;
+                    x62 = c3 * x47;
+                    x63 = arith.mul_add(s3, x57, x62);
+                    x64 = s3 * x54;
+                    x65 = arith.mul_add(c3, x59, -x64);
+                    x66 = s3 * x47;
+                    x67 = arith.mul_add(c3, x44, x66);
+                    x68 = arith.mul_add(-c3, x57, x66);
+                    x69 = s3 * x59;
+                    x70 = arith.mul_add(c3, x54, x69);
+                    x71 = arith.mul_add(-s3, x44, x62);
+                    x72 = c3 * x67;
+                    x73 = arith.mul_add(s3, x63, x72);
+                    x74 = s3 * x67;
+                    x75 = arith.mul_add(c3, x63, -x74);
+                    x76 = s3 * x71;
+                    x77 = arith.mul_add(c3, x68, x76);
+                    x78 = -0.00697606230375f64 * s3;
+                    x79 = -0.0139521246075f64 * s3;
+                    x80 = x73 + x79;
+                    x81 = x58 + x79;
+                    x82 = arith.mul_add(-0.00697606230375f64, c3, x75);
+                    x83 = x79 - x77;
+                    x84 = x78 + x78;
+                    x85 = x83 - x84;
+                    x86 = 1.5987592750000001f64 + x61;
+                    x87 = 0.59155695167475f64 + x80;
+                    x88 = 0.59565195167475f64 + x81;
+                    x89 = -0.05132265682500001f64 - x70;
+                    x90 = s2 * x86;
+                    x91 = arith.mul_add(c2, x60, x90);
+                    x92 = s2 * x60;
+                    x93 = arith.mul_add(c2, x86, -x92);
+                    x94 = s2 * x82;
+                    x95 = arith.mul_add(c2, x87, x94);
+                    x96 = c2 * x65;
+                    x97 = arith.mul_add(s2, x89, x96);
+                    x98 = c2 * x82;
+                    x99 = arith.mul_add(s2, x85, x98);
+                    x100 = arith.mul_add(-s2, x87, x98);
+                    x101 = s2 * x65;
+                    x102 = arith.mul_add(c2, x89, -x101);
+                    x103 = arith.mul_add(c2, x85, -x94);
+                    x104 = s2 * x99;
+                    x105 = arith.mul_add(c2, x95, x104);
+                    x106 = s2 * x95;
+                    x107 = arith.mul_add(c2, x99, -x106);
+                    x108 = s2 * x100;
+                    x109 = arith.mul_add(c2, x103, -x108);
+                    x110 = 0.425f64 * x93;
+                    x111 = 0.85f64 * x93;
+                    x112 = x105 + x111;
+                    x113 = arith.mul_add(0.1197f64, x91, x97);
+                    x114 = x88 + x111;
+                    x115 = arith.mul_add(-0.425f64, x91, x107);
+                    x116 = arith.mul_add(0.1197f64, x93, x102);
+                    x117 = x109 + x111;
+                    x118 = x110 + x110;
+                    x119 = x117 - x118;
+                    x120 = 4.432922500000001f64 + x93;
+                    x121 = 1.75501953841f64 + x112;
+                    x122 = 1.77012693841f64 + x114;
+                    x123 = 0.19371331275f64 + x116;
+                    x124 = c1 * x91;
+                    x125 = arith.mul_add(s1, x120, x124);
+                    x126 = c1 * x121;
+                    x127 = arith.mul_add(s1, x115, x126);
+                    x128 = s1 * x123;
+                    x129 = arith.mul_add(c1, x113, x128);
+                    x130 = s1 * x119;
+                    x131 = arith.mul_add(c1, x115, x130);
+                    x132 = s1 * x131;
+                    x133 = arith.mul_add(c1, x127, x132);
+                    x134 = arith.mul_add(-0.13585f64, x125, x129);
+                    x135 = 0.41784981244275005f64 + x133;
+                    x136 = arith.mul_add(0.1197f64, x91, x97);
+                    x137 = x88 + x110;
+                    x138 = arith.mul_add(s1, x93, x124);
+                    x139 = s1 * x116;
+                    x140 = arith.mul_add(c1, x136, x139);
+                    x141 = arith.mul_add(-0.13585f64, x138, x140);
+                    x142 = -0.017784735f64 * c3;
+                    x143 = x58 + x78;
+                    x144 = s2 * x142;
+                    x145 = arith.mul_add(c2, x61, x144);
+                    x146 = s2 * x61;
+                    x147 = arith.mul_add(c2, x142, -x146);
+                    x148 = arith.mul_add(-s2, x70, x96);
+                    x149 = arith.mul_add(c2, x70, x101);
+                    x150 = arith.mul_add(-0.1197f64, x147, x148);
+                    x151 = arith.mul_add(0.425f64, x145, x143);
+                    x152 = arith.mul_add(-0.1197f64, x145, x149);
+                    x153 = s1 * x145;
+                    x154 = arith.mul_add(c1, x147, -x153);
+                    x155 = c1 * x150;
+                    x156 = arith.mul_add(s1, x152, -x155);
+                    x157 = arith.mul_add(-0.13585f64, x154, x156);
+                    x158 = s2 * x71;
+                    x159 = arith.mul_add(c2, x67, x158);
+                    x160 = s2 * x67;
+                    x161 = arith.mul_add(c2, x71, -x160);
+                    x162 = s1 * x161;
+                    x163 = arith.mul_add(c1, x159, x162);
+                    x164 = s3 * x46;
+                    x165 = c3 * x46;
+                    x166 = s2 * x165;
+                    x167 = arith.mul_add(c2, x164, x166);
+                    x168 = c2 * x165;
+                    x169 = arith.mul_add(s2, x164, -x168);
+                    x170 = s1 * x169;
+                    x171 = arith.mul_add(c1, x167, -x170);
+                    x172 = 4.432922500000001f64 * qd1;
+                    x173 = -4.432922500000001f64 * x0;
+                    x174 = 0.19371331275f64 * qd1;
+                    x175 = 1.5987592750000001f64 * x18;
+                    x176 = 1.5987592750000001f64 * x6;
+                    x177 = -0.05132265682500001f64 * x18;
+                    x178 = 0.679472691875f64 * x0;
+                    x179 = 0.017784735f64 * x29;
+                    x180 = 0.017784735f64 * x20;
+                    x181 = -0.001653980355f64 * x29;
+                    x182 = -0.017784735f64 * x24;
+                    x183 = -1.75501953841f64 * x0;
+                    x184 = 1.77012693841f64 * qd1;
+                    x185 = arith.mul_add(-0.19371331275f64, x1, x184);
+                    x186 = arith.mul_add(4.432922500000001f64, x3, x185);
+                    x187 = 0.59565195167475f64 * x18;
+                    x188 = arith.mul_add(0.05132265682500001f64, x8, x187);
+                    x189 = arith.mul_add(0.59155695167475f64, x6, -x178);
+                    x190 = arith.mul_add(1.5987592750000001f64, x15, x188);
+                    x191 = 0.22402883622975f64 * x29;
+                    x192 = arith.mul_add(-0.001653980355f64, x22, x191);
+                    x193 = arith.mul_add(0.004608836229750008f64, x20, -x182);
+                    x194 = arith.mul_add(-0.017784735f64, x26, x192);
+                    x195 = 0.033822f64 * x31;
+                    x196 = 0.253242f64 * x34;
+                    x197 = -0.016685526854599998f64 * x36;
+                    x198 = 0.0171364731454f64 * x39;
+                    x199 = qd1 * x1;
+                    x200 = qd1 * x0;
+                    x201 = qd1 * x4;
+                    x202 = qd1 * x3;
+                    x203 = qd4 * x31;
+                    x204 = x1 * x186;
+                    x205 = arith.mul_add(qd1, x174, x204);
+                    x206 = x1 * x183;
+                    x207 = arith.mul_add(x0, x174, -x206);
+                    x208 = qd1 * x183;
+                    x209 = arith.mul_add(x0, x186, x208);
+                    x210 = arith.mul_add(-x4, x173, x205);
+                    x211 = arith.mul_add(-x4, x172, x207);
+                    x212 = arith.mul_add(x3, x173, x209);
+                    x213 = qd1 * x172;
+                    x214 = arith.mul_add(x0, x173, -x213);
+                    x215 = x8 * x190;
+                    x216 = arith.mul_add(x18, x177, x215);
+                    x217 = x6 * x177;
+                    x218 = arith.mul_add(x8, x189, x217);
+                    x219 = x18 * x189;
+                    x220 = arith.mul_add(x6, x190, -x219);
+                    x221 = x15 * x176;
+                    x222 = arith.mul_add(x11, x175, -x221);
+                    x223 = arith.mul_add(x17, x176, x216);
+                    x224 = arith.mul_add(x17, x175, -x218);
+                    x225 = x220 + x222;
+                    x226 = x18 * x175;
+                    x227 = arith.mul_add(x6, x176, x226);
+                    x228 = x22 * x194;
+                    x229 = arith.mul_add(x29, x181, -x228);
+                    x230 = x20 * x181;
+                    x231 = arith.mul_add(x22, x193, -x230);
+                    x232 = x29 * x193;
+                    x233 = arith.mul_add(x20, x194, -x232);
+                    x234 = x24 * x179;
+                    x235 = arith.mul_add(x26, x180, x234);
+                    x236 = arith.mul_add(x28, x180, x229);
+                    x237 = arith.mul_add(x28, x179, x231);
+                    x238 = x233 + x235;
+                    x239 = x22 * x180;
+                    x240 = x29 * x179;
+                    x241 = arith.mul_add(x20, x180, x240);
+                    x242 = x31 * x196;
+                    x243 = arith.mul_add(x34, x195, -x242);
+                    x244 = x33 * x195;
+                    x245 = x38 * x198;
+                    x246 = x39 * x197;
+                    x247 = arith.mul_add(x36, x198, -x246);
+                    x248 = x58 - x55;
+                    x249 = x143 - x55;
+                    x250 = x151 - x55;
+                    x251 = c4 * x171;
+                    x252 = x157 - x251;
+                    x253 = x88 - x55;
+                    x254 = x137 - x55;
+                    x255 = x141 + x251;
+                    x256 = x122 - x55;
+                    x257 = x134 + x251;
+                    x258 = 58.355064750790525f64 * x171;
+                    x259 = arith.mul_add(-x171, x258, x135);
+                    x260 = 1f64 / x44;
+                    x261 = x50 * x260;
+                    x262 = x50 * x261;
+                    x263 = x248 - x262;
+                    x264 = x249 - x262;
+                    x265 = x250 - x262;
+                    x266 = x163 * x261;
+                    x267 = x252 - x266;
+                    x268 = x253 - x262;
+                    x269 = x254 - x262;
+                    x270 = x255 + x266;
+                    x271 = x256 - x262;
+                    x272 = x257 + x266;
+                    x273 = x163 * x260;
+                    x274 = arith.mul_add(-x163, x273, x259);
+                    x275 = 1f64 / x263;
+                    x276 = x264 * x275;
+                    x277 = arith.mul_add(-x264, x276, x268);
+                    x278 = arith.mul_add(-x265, x276, x269);
+                    x279 = arith.mul_add(x267, x276, x270);
+                    x280 = x265 * x275;
+                    x281 = arith.mul_add(-x265, x280, x271);
+                    x282 = arith.mul_add(x267, x280, x272);
+                    x283 = x267 * x275;
+                    x284 = arith.mul_add(-x267, x283, x274);
+                    x285 = 1f64 / x277;
+                    x286 = x278 * x285;
+                    x287 = arith.mul_add(-x278, x286, x281);
+                    x288 = arith.mul_add(x279, x286, -x282);
+                    x289 = x279 * x285;
+                    x290 = arith.mul_add(-x279, x289, x284);
+                    x291 = 1f64 / x287;
+                    x292 = x288 * x291;
+                    x293 = arith.mul_add(-x288, x292, x290);
+                    x294 = 1f64 / x293;
+                    x295 = arith.mul_add(-9.81f64, c1, x201);
+                    x296 = arith.mul_add(-9.81f64, s1, x202);
+                    x297 = s2 * x200;
+                    x298 = arith.mul_add(c2, x199, x297);
+                    x299 = c2 * x200;
+                    x300 = arith.mul_add(s2, x199, -x299);
+                    x301 = arith.mul_add(-0.1197f64, x200, x295);
+                    x302 = arith.mul_add(-0.1197f64, x199, x296);
+                    x303 = s2 * x302;
+                    x304 = arith.mul_add(c2, x301, -x303);
+                    x305 = c2 * x302;
+                    x306 = arith.mul_add(s2, x301, x305);
+                    x307 = arith.mul_add(qd2, x8, x298);
+                    x308 = arith.mul_add(qd2, x6, x300);
+                    x309 = arith.mul_add(-qd2, x17, x304);
+                    x310 = arith.mul_add(qd2, x15, x306);
+                    x311 = c3 * x308;
+                    x312 = arith.mul_add(s3, x307, x311);
+                    x313 = s3 * x308;
+                    x314 = arith.mul_add(c3, x307, -x313);
+                    x315 = 0.39225f64 * x307;
+                    x316 = arith.mul_add(0.425f64, x199, x315);
+                    x317 = c3 * x310;
+                    x318 = arith.mul_add(s3, x309, x317);
+                    x319 = arith.mul_add(qd3, x22, x312);
+                    x320 = arith.mul_add(qd3, x20, x314);
+                    x321 = arith.mul_add(qd3, x28, x318);
+                    x322 = c4 * x319;
+                    x323 = arith.mul_add(qd4, x33, -x322);
+                    x324 = arith.mul_add(s4, x319, -x203);
+                    x325 = s5 * x320;
+                    x326 = arith.mul_add(c5, x323, -x325);
+                    x327 = arith.mul_add(-qd5, x38, x326);
+                    x328 = 4.432922500000001f64 * x295;
+                    x329 = arith.mul_add(-0.19371331275f64, x200, x328);
+                    x330 = arith.mul_add(1.75501953841f64, x199, x210);
+                    x331 = x211 + x329;
+                    x332 = -0.679472691875f64 * x199;
+                    x333 = 1.5987592750000001f64 * x309;
+                    x334 = arith.mul_add(0.59155695167475f64, x307, -x332);
+                    x335 = arith.mul_add(-0.05132265682500001f64, x308, x333);
+                    x336 = 1.5987592750000001f64 * x307;
+                    x337 = x223 + x334;
+                    x338 = x224 + x335;
+                    x339 = arith.mul_add(x8, x175, x336);
+                    x340 = -0.017784735f64 * x316;
+                    x341 = -0.017784735f64 * x321;
+                    x342 = arith.mul_add(-0.004608836229750008f64, x319, -x340);
+                    x343 = arith.mul_add(-0.001653980355f64, x320, x341);
+                    x344 = -0.017784735f64 * x319;
+                    x345 = x236 + x342;
+                    x346 = x237 + x343;
+                    x347 = arith.mul_add(x22, x179, -x344);
+                    x348 = 0.033822f64 * x323;
+                    x349 = arith.mul_add(x33, x196, x348);
+                    x350 = arith.mul_add(0.253242f64, x320, -x244);
+                    x351 = 0.0171364731454f64 * x324;
+                    x352 = arith.mul_add(-0.016685526854599998f64, x327, -x245);
+                    x353 = arith.mul_add(x38, x197, x351);
+                    x354 = c5 * x352;
+                    x355 = arith.mul_add(s5, x247, x354);
+                    x356 = s5 * x352;
+                    x357 = arith.mul_add(c5, x247, -x356);
+                    x358 = x349 + x355;
+                    x359 = x243 + x353;
+                    x360 = x350 + x357;
+                    x361 = s4 * x359;
+                    x362 = arith.mul_add(c4, x358, -x361);
+                    x363 = c4 * x359;
+                    x364 = arith.mul_add(s4, x358, x363);
+                    x365 = x345 + x362;
+                    x366 = x346 + x364;
+                    x367 = x238 + x360;
+                    x368 = s3 * x239;
+                    x369 = arith.mul_add(c3, x241, x368);
+                    x370 = c3 * x239;
+                    x371 = arith.mul_add(s3, x241, -x370);
+                    x372 = s3 * x365;
+                    x373 = arith.mul_add(c3, x367, -x372);
+                    x374 = s3 * x367;
+                    x375 = arith.mul_add(c3, x365, x374);
+                    x376 = arith.mul_add(-0.39225f64, x347, x373);
+                    x377 = arith.mul_add(-0.39225f64, x369, x366);
+                    x378 = x337 + x376;
+                    x379 = x338 + x377;
+                    x380 = x225 - x375;
+                    x381 = arith.mul_add(x8, x176, x369);
+                    x382 = x347 - x339;
+                    x383 = x371 - x227;
+                    x384 = c2 * x381;
+                    x385 = arith.mul_add(s2, x383, -x384);
+                    x386 = c2 * x383;
+                    x387 = arith.mul_add(s2, x381, x386);
+                    x388 = s2 * x380;
+                    x389 = arith.mul_add(c2, x378, x388);
+                    x390 = s2 * x378;
+                    x391 = arith.mul_add(c2, x380, -x390);
+                    x392 = 0.425f64 * x382;
+                    x393 = arith.mul_add(-0.1197f64, x387, -x392);
+                    x394 = x389 + x393;
+                    x395 = arith.mul_add(0.425f64, x385, x379);
+                    x396 = arith.mul_add(0.1197f64, x385, x391);
+                    x397 = x330 + x394;
+                    x398 = x331 + x395;
+                    x399 = x396 - x212;
+                    x400 = arith.mul_add(-x1, x173, x385);
+                    x401 = x214 + x387;
+                    x402 = s1 * x400;
+                    x403 = arith.mul_add(c1, x401, -x402);
+                    x404 = s1 * x399;
+                    x405 = arith.mul_add(c1, x397, x404);
+                    x406 = arith.mul_add(0.13585f64, x403, x405);
+                    x407 = tau0 + x406;
+                    x408 = tau1 - x398;
+                    x409 = tau2 - x379;
+                    x410 = tau3 - x366;
+                    x411 = tau4 - x360;
+                    x412 = tau5 - x353;
+                    x413 = c4 * x412;
+                    x414 = x410 - x413;
+                    x415 = x409 - x413;
+                    x416 = x408 - x413;
+                    x417 = arith.mul_add(-x258, x412, x407);
+                    x418 = x261 * x411;
+                    x419 = x414 + x418;
+                    x420 = x415 + x418;
+                    x421 = x416 + x418;
+                    x422 = arith.mul_add(x273, x411, x417);
+                    x423 = arith.mul_add(-x276, x419, x420);
+                    x424 = arith.mul_add(-x280, x419, x421);
+                    x425 = arith.mul_add(-x283, x419, x422);
+                    x426 = arith.mul_add(-x286, x423, x424);
+                    x427 = arith.mul_add(x289, x423, x425);
+                    x428 = arith.mul_add(-x292, x426, x427);
+                    x429 = x294 * x428;
+                    *o0 = x429;
+                    x430 = x292 * x429;
+                    x431 = arith.mul_add(x291, x426, -x430);
+                    *o1 = x431;
+                    x432 = x289 * x429;
+                    x433 = arith.mul_add(x285, x423, x432);
+                    x434 = arith.mul_add(-x286, x431, x433);
+                    *o2 = x434;
+                    x435 = x283 * x429;
+                    x436 = arith.mul_add(x275, x419, -x435);
+                    x437 = arith.mul_add(-x280, x431, x436);
+                    x438 = arith.mul_add(-x276, x434, x437);
+                    *o3 = x438;
+                    x439 = x273 * x429;
+                    x440 = arith.mul_add(x260, x411, x439);
+                    x441 = arith.mul_add(x261, x431, x440);
+                    x442 = arith.mul_add(x261, x434, x441);
+                    x443 = arith.mul_add(x261, x438, x442);
+                    *o4 = x443;
+                    x444 = x258 * x429;
+                    x445 = arith.mul_add(58.355064750790525f64, x412, -x444);
+                    x446 = arith.mul_add(-c4, x431, x445);
+                    x447 = arith.mul_add(-c4, x434, x446);
+                    x448 = arith.mul_add(-c4, x438, x447);
+                    *o5 = x448;
+                }
+                out
+            }
+        }
+        dyngen_runtime::__private::dispatch::<Body, _>((t, qd, tau))
+    }
+    ///Operations: 241 mul, 190 add/sub, 3 neg, 5 div (joint sines and cosines come precomputed in `JointTrig`).
+    #[inline(never)]
+    fn mass_matrix_inverse(t: &JointTrig<6>) -> SMatrix<f64, 6, 6> {
+        struct Body;
+        impl dyngen_runtime::__private::Kernel<(&JointTrig<6>,)> for Body {
+            type Output = SMatrix<f64, 6, 6>;
+            #[inline(always)]
+            fn run<M: dyngen_runtime::__private::MulAdd>(
+                arith: M,
+                (t,): (&JointTrig<6>,),
+            ) -> SMatrix<f64, 6, 6> {
+                let [_, s1, s2, s3, s4, s5] = t.sin;
+                let [_, c1, c2, c3, c4, c5] = t.cos;
+                let mut out: SMatrix<f64, 6, 6> = SMatrix::zeros();
+                {
+                    let [[o0, o1, o2, o3, o4, o5], [o6, o7, o8, o9, o10, o11], [o12, o13,
+                    o14, o15, o16, o17], [o18, o19, o20, o21, o22, o23], [o24, o25, o26,
+                    o27, o28, o29], [o30, o31, o32, o33, o34, o35]] = &mut out.data.0;
+                    let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                    x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                    x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                    x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                    x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                    x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                    x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                    x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109,
+                    x110, x111, x112, x113, x114, x115, x116, x117, x118, x119, x120,
+                    x121, x122, x123, x124, x125, x126, x127, x128, x129, x130, x131,
+                    x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142,
+                    x143, x144, x145, x146, x147, x148, x149, x150, x151, x152, x153,
+                    x154, x155, x156, x157, x158, x159, x160, x161, x162, x163, x164,
+                    x165, x166, x167, x168, x169, x170, x171, x172, x173, x174, x175,
+                    x176, x177, x178, x179, x180, x181, x182, x183, x184, x185, x186,
+                    x187, x188, x189, x190, x191, x192, x193, x194, x195, x196, x197,
+                    x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
+                    x209, x210, x211, x212, x213, x214, x215, x216, x217, x218, x219,
+                    x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                    x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241,
+                    x242, x243, x244, x245, x246, x247, x248, x249, x250, x251, x252,
+                    x253, x254, x255, x256, x257, x258, x259, x260, x261, x262, x263,
+                    x264, x265, x266, x267, x268, x269, x270, x271, x272, x273, x274,
+                    x275, x276, x277, x278, x279, x280, x281, x282, x283, x284, x285,
+                    x286, x287, x288, x289, x290]: [f64; 291];
+                    x0 = -0.016685526854599998f64 * c5;
+                    x1 = 0.016685526854599998f64 * s5;
+                    x2 = s5 * x0;
+                    x3 = arith.mul_add(c5, x0, 0.033822f64);
+                    x4 = arith.mul_add(-s5, x1, 0.253242f64);
+                    x5 = c4 * x3;
+                    x6 = -0.0171364731454f64 * s4;
+                    x7 = c4 * x2;
+                    x8 = s4 * x3;
+                    x9 = 0.0171364731454f64 * c4;
+                    x10 = s4 * x2;
+                    x11 = s4 * x6;
+                    x12 = arith.mul_add(c4, x5, -x11);
+                    x13 = c4 * x6;
+                    x14 = arith.mul_add(s4, x5, x13);
+                    x15 = c4 * x9;
+                    x16 = arith.mul_add(s4, x8, x15);
+                    x17 = 0.004608836229750008f64 + x12;
+                    x18 = 0.22402883622975f64 + x16;
+                    x19 = -0.001653980355f64 - x10;
+                    x20 = 0.017784735f64 * c3;
+                    x21 = -0.017784735f64 * s3;
+                    x22 = c3 * x7;
+                    x23 = arith.mul_add(s3, x17, x22);
+                    x24 = s3 * x14;
+                    x25 = arith.mul_add(c3, x19, -x24);
+                    x26 = s3 * x7;
+                    x27 = arith.mul_add(c3, x4, x26);
+                    x28 = arith.mul_add(-c3, x17, x26);
+                    x29 = s3 * x19;
+                    x30 = arith.mul_add(c3, x14, x29);
+                    x31 = arith.mul_add(-s3, x4, x22);
+                    x32 = c3 * x27;
+                    x33 = arith.mul_add(s3, x23, x32);
+                    x34 = s3 * x27;
+                    x35 = arith.mul_add(c3, x23, -x34);
+                    x36 = s3 * x31;
+                    x37 = arith.mul_add(c3, x28, x36);
+                    x38 = -0.00697606230375f64 * s3;
+                    x39 = -0.0139521246075f64 * s3;
+                    x40 = x33 + x39;
+                    x41 = x18 + x39;
+                    x42 = arith.mul_add(-0.00697606230375f64, c3, x35);
+                    x43 = x39 - x37;
+                    x44 = x38 + x38;
+                    x45 = x43 - x44;
+                    x46 = 1.5987592750000001f64 + x21;
+                    x47 = 0.59155695167475f64 + x40;
+                    x48 = 0.59565195167475f64 + x41;
+                    x49 = -0.05132265682500001f64 - x30;
+                    x50 = s2 * x46;
+                    x51 = arith.mul_add(c2, x20, x50);
+                    x52 = s2 * x20;
+                    x53 = arith.mul_add(c2, x46, -x52);
+                    x54 = s2 * x42;
+                    x55 = arith.mul_add(c2, x47, x54);
+                    x56 = c2 * x25;
+                    x57 = arith.mul_add(s2, x49, x56);
+                    x58 = c2 * x42;
+                    x59 = arith.mul_add(s2, x45, x58);
+                    x60 = arith.mul_add(-s2, x47, x58);
+                    x61 = s2 * x25;
+                    x62 = arith.mul_add(c2, x49, -x61);
+                    x63 = arith.mul_add(c2, x45, -x54);
+                    x64 = s2 * x59;
+                    x65 = arith.mul_add(c2, x55, x64);
+                    x66 = s2 * x55;
+                    x67 = arith.mul_add(c2, x59, -x66);
+                    x68 = s2 * x60;
+                    x69 = arith.mul_add(c2, x63, -x68);
+                    x70 = 0.425f64 * x53;
+                    x71 = 0.85f64 * x53;
+                    x72 = x65 + x71;
+                    x73 = arith.mul_add(0.1197f64, x51, x57);
+                    x74 = x48 + x71;
+                    x75 = arith.mul_add(-0.425f64, x51, x67);
+                    x76 = arith.mul_add(0.1197f64, x53, x62);
+                    x77 = x69 + x71;
+                    x78 = x70 + x70;
+                    x79 = x77 - x78;
+                    x80 = 4.432922500000001f64 + x53;
+                    x81 = 1.75501953841f64 + x72;
+                    x82 = 1.77012693841f64 + x74;
+                    x83 = 0.19371331275f64 + x76;
+                    x84 = c1 * x51;
+                    x85 = arith.mul_add(s1, x80, x84);
+                    x86 = c1 * x81;
+                    x87 = arith.mul_add(s1, x75, x86);
+                    x88 = s1 * x83;
+                    x89 = arith.mul_add(c1, x73, x88);
+                    x90 = s1 * x79;
+                    x91 = arith.mul_add(c1, x75, x90);
+                    x92 = s1 * x91;
+                    x93 = arith.mul_add(c1, x87, x92);
+                    x94 = arith.mul_add(-0.13585f64, x85, x89);
+                    x95 = 0.41784981244275005f64 + x93;
+                    x96 = arith.mul_add(0.1197f64, x51, x57);
+                    x97 = x48 + x70;
+                    x98 = arith.mul_add(s1, x53, x84);
+                    x99 = s1 * x76;
+                    x100 = arith.mul_add(c1, x96, x99);
+                    x101 = arith.mul_add(-0.13585f64, x98, x100);
+                    x102 = -0.017784735f64 * c3;
+                    x103 = x18 + x38;
+                    x104 = s2 * x102;
+                    x105 = arith.mul_add(c2, x21, x104);
+                    x106 = s2 * x21;
+                    x107 = arith.mul_add(c2, x102, -x106);
+                    x108 = arith.mul_add(-s2, x30, x56);
+                    x109 = arith.mul_add(c2, x30, x61);
+                    x110 = arith.mul_add(-0.1197f64, x107, x108);
+                    x111 = arith.mul_add(0.425f64, x105, x103);
+                    x112 = arith.mul_add(-0.1197f64, x105, x109);
+                    x113 = s1 * x105;
+                    x114 = arith.mul_add(c1, x107, -x113);
+                    x115 = c1 * x110;
+                    x116 = arith.mul_add(s1, x112, -x115);
+                    x117 = arith.mul_add(-0.13585f64, x114, x116);
+                    x118 = s2 * x31;
+                    x119 = arith.mul_add(c2, x27, x118);
+                    x120 = s2 * x27;
+                    x121 = arith.mul_add(c2, x31, -x120);
+                    x122 = s1 * x121;
+                    x123 = arith.mul_add(c1, x119, x122);
+                    x124 = s3 * x6;
+                    x125 = c3 * x6;
+                    x126 = s2 * x125;
+                    x127 = arith.mul_add(c2, x124, x126);
+                    x128 = c2 * x125;
+                    x129 = arith.mul_add(s2, x124, -x128);
+                    x130 = s1 * x129;
+                    x131 = arith.mul_add(c1, x127, -x130);
+                    x132 = x18 - x15;
+                    x133 = x103 - x15;
+                    x134 = x111 - x15;
+                    x135 = c4 * x131;
+                    x136 = x117 - x135;
+                    x137 = x48 - x15;
+                    x138 = x97 - x15;
+                    x139 = x101 + x135;
+                    x140 = x82 - x15;
+                    x141 = x94 + x135;
+                    x142 = 58.355064750790525f64 * x131;
+                    x143 = arith.mul_add(-x131, x142, x95);
+                    x144 = 1f64 / x4;
+                    x145 = x10 * x144;
+                    x146 = x10 * x145;
+                    x147 = x132 - x146;
+                    x148 = x133 - x146;
+                    x149 = x134 - x146;
+                    x150 = x123 * x145;
+                    x151 = x136 - x150;
+                    x152 = x137 - x146;
+                    x153 = x138 - x146;
+                    x154 = x139 + x150;
+                    x155 = x140 - x146;
+                    x156 = x141 + x150;
+                    x157 = x123 * x144;
+                    x158 = arith.mul_add(-x123, x157, x143);
+                    x159 = 1f64 / x147;
+                    x160 = x148 * x159;
+                    x161 = arith.mul_add(-x148, x160, x152);
+                    x162 = arith.mul_add(-x149, x160, x153);
+                    x163 = arith.mul_add(x151, x160, x154);
+                    x164 = x149 * x159;
+                    x165 = arith.mul_add(-x149, x164, x155);
+                    x166 = arith.mul_add(x151, x164, x156);
+                    x167 = x151 * x159;
+                    x168 = arith.mul_add(-x151, x167, x158);
+                    x169 = 1f64 / x161;
+                    x170 = x162 * x169;
+                    x171 = arith.mul_add(-x162, x170, x165);
+                    x172 = arith.mul_add(x163, x170, -x166);
+                    x173 = x163 * x169;
+                    x174 = arith.mul_add(-x163, x173, x168);
+                    x175 = 1f64 / x171;
+                    x176 = x172 * x175;
+                    x177 = arith.mul_add(-x172, x176, x174);
+                    x178 = 1f64 / x177;
+                    *o0 = x178;
+                    x179 = x176 * x178;
+                    x180 = -x179;
+                    *o1 = x180;
+                    *o6 = x180;
+                    x181 = x170 * x179;
+                    x182 = arith.mul_add(x173, x178, x181);
+                    *o2 = x182;
+                    *o12 = x182;
+                    x183 = x167 * x178;
+                    x184 = arith.mul_add(x164, x179, -x183);
+                    x185 = arith.mul_add(-x160, x182, x184);
+                    *o3 = x185;
+                    *o18 = x185;
+                    x186 = x145 * x179;
+                    x187 = arith.mul_add(x157, x178, -x186);
+                    x188 = arith.mul_add(x145, x182, x187);
+                    x189 = arith.mul_add(x145, x185, x188);
+                    *o4 = x189;
+                    *o24 = x189;
+                    x190 = x142 * x178;
+                    x191 = arith.mul_add(c4, x179, -x190);
+                    x192 = arith.mul_add(-c4, x182, x191);
+                    x193 = arith.mul_add(-c4, x185, x192);
+                    *o5 = x193;
+                    *o30 = x193;
+                    x194 = arith.mul_add(x176, x179, x175);
+                    *o7 = x194;
+                    x195 = x170 * x194;
+                    x196 = arith.mul_add(x173, x179, x195);
+                    x197 = -x196;
+                    *o8 = x197;
+                    *o13 = x197;
+                    x198 = x164 * x194;
+                    x199 = arith.mul_add(x167, x179, -x198);
+                    x200 = arith.mul_add(x160, x196, x199);
+                    *o9 = x200;
+                    *o19 = x200;
+                    x201 = x157 * x179;
+                    x202 = arith.mul_add(x145, x194, -x201);
+                    x203 = arith.mul_add(-x145, x196, x202);
+                    x204 = arith.mul_add(x145, x200, x203);
+                    *o10 = x204;
+                    *o25 = x204;
+                    x205 = c4 * x194;
+                    x206 = arith.mul_add(x142, x179, -x205);
+                    x207 = arith.mul_add(c4, x196, x206);
+                    x208 = arith.mul_add(-c4, x200, x207);
+                    *o11 = x208;
+                    *o31 = x208;
+                    x209 = arith.mul_add(x170, x176, x173);
+                    x210 = x178 * x209;
+                    x211 = x176 * x210;
+                    x212 = arith.mul_add(x170, x175, x211);
+                    x213 = arith.mul_add(x173, x210, x169);
+                    x214 = arith.mul_add(x170, x212, x213);
+                    *o14 = x214;
+                    x215 = x167 * x210;
+                    x216 = arith.mul_add(x164, x212, -x215);
+                    x217 = arith.mul_add(-x160, x214, x216);
+                    *o15 = x217;
+                    *o20 = x217;
+                    x218 = x145 * x212;
+                    x219 = arith.mul_add(x157, x210, -x218);
+                    x220 = arith.mul_add(x145, x214, x219);
+                    x221 = arith.mul_add(x145, x217, x220);
+                    *o16 = x221;
+                    *o26 = x221;
+                    x222 = x142 * x210;
+                    x223 = arith.mul_add(c4, x212, -x222);
+                    x224 = arith.mul_add(-c4, x214, x223);
+                    x225 = arith.mul_add(-c4, x217, x224);
+                    *o17 = x225;
+                    *o32 = x225;
+                    x226 = arith.mul_add(x160, x170, -x164);
+                    x227 = arith.mul_add(x160, x173, x167);
+                    x228 = arith.mul_add(x176, x226, x227);
+                    x229 = x178 * x228;
+                    x230 = x176 * x229;
+                    x231 = arith.mul_add(x175, x226, x230);
+                    x232 = x173 * x229;
+                    x233 = arith.mul_add(x160, x169, x232);
+                    x234 = arith.mul_add(x170, x231, x233);
+                    x235 = arith.mul_add(x167, x229, x159);
+                    x236 = arith.mul_add(-x164, x231, x235);
+                    x237 = arith.mul_add(x160, x234, x236);
+                    *o21 = x237;
+                    x238 = x157 * x229;
+                    x239 = arith.mul_add(x145, x231, -x238);
+                    x240 = arith.mul_add(-x145, x234, x239);
+                    x241 = arith.mul_add(x145, x237, x240);
+                    *o22 = x241;
+                    *o27 = x241;
+                    x242 = c4 * x231;
+                    x243 = arith.mul_add(x142, x229, -x242);
+                    x244 = arith.mul_add(c4, x234, x243);
+                    x245 = arith.mul_add(-c4, x237, x244);
+                    *o23 = x245;
+                    *o33 = x245;
+                    x246 = arith.mul_add(-x145, x160, x145);
+                    x247 = arith.mul_add(-x145, x164, x145);
+                    x248 = arith.mul_add(-x145, x167, x157);
+                    x249 = arith.mul_add(-x170, x246, x247);
+                    x250 = arith.mul_add(x173, x246, x248);
+                    x251 = arith.mul_add(-x176, x249, x250);
+                    x252 = x178 * x251;
+                    x253 = x176 * x252;
+                    x254 = arith.mul_add(x175, x249, -x253);
+                    x255 = x173 * x252;
+                    x256 = arith.mul_add(x169, x246, x255);
+                    x257 = arith.mul_add(-x170, x254, x256);
+                    x258 = x167 * x252;
+                    x259 = arith.mul_add(x145, x159, -x258);
+                    x260 = arith.mul_add(-x164, x254, x259);
+                    x261 = arith.mul_add(-x160, x257, x260);
+                    x262 = arith.mul_add(x157, x252, x144);
+                    x263 = arith.mul_add(x145, x254, x262);
+                    x264 = arith.mul_add(x145, x257, x263);
+                    x265 = arith.mul_add(x145, x261, x264);
+                    *o28 = x265;
+                    x266 = c4 * x254;
+                    x267 = arith.mul_add(x142, x252, x266);
+                    x268 = arith.mul_add(c4, x257, x267);
+                    x269 = arith.mul_add(c4, x261, x268);
+                    x270 = -x269;
+                    *o29 = x270;
+                    *o34 = x270;
+                    x271 = arith.mul_add(c4, x160, -c4);
+                    x272 = arith.mul_add(c4, x164, -c4);
+                    x273 = arith.mul_add(c4, x167, -x142);
+                    x274 = arith.mul_add(-x170, x271, x272);
+                    x275 = arith.mul_add(x173, x271, x273);
+                    x276 = arith.mul_add(-x176, x274, x275);
+                    x277 = x178 * x276;
+                    x278 = x176 * x277;
+                    x279 = arith.mul_add(x175, x274, -x278);
+                    x280 = x173 * x277;
+                    x281 = arith.mul_add(x169, x271, x280);
+                    x282 = arith.mul_add(-x170, x279, x281);
+                    x283 = x167 * x277;
+                    x284 = arith.mul_add(c4, x159, x283);
+                    x285 = arith.mul_add(x164, x279, x284);
+                    x286 = arith.mul_add(x160, x282, x285);
+                    x287 = arith.mul_add(-x142, x277, 58.355064750790525f64);
+                    x288 = arith.mul_add(-c4, x279, x287);
+                    x289 = arith.mul_add(-c4, x282, x288);
+                    x290 = arith.mul_add(c4, x286, x289);
+                    *o35 = x290;
+                }
+                out
+            }
+        }
+        dyngen_runtime::__private::dispatch::<Body, _>((t,))
+    }
+}
+impl DynamicsDerivatives<6, 60> for Ur5 {
+    ///Operations: 940 mul, 756 add/sub, 2 neg (joint sines and cosines come precomputed in `JointTrig`).
+    #[inline(never)]
+    fn inverse_dynamics_derivatives(
+        t: &JointTrig<6>,
+        qd: &SVector<f64, 6>,
+        a: &SVector<f64, 6>,
+    ) -> (SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>) {
+        struct Body;
+        impl dyngen_runtime::__private::Kernel<
+            (&JointTrig<6>, &SVector<f64, 6>, &SVector<f64, 6>),
+        > for Body {
+            type Output = (SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>);
+            #[inline(always)]
+            fn run<M: dyngen_runtime::__private::MulAdd>(
+                arith: M,
+                (t, qd, a): (&JointTrig<6>, &SVector<f64, 6>, &SVector<f64, 6>),
+            ) -> (SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>) {
+                let [_, s1, s2, s3, s4, s5] = t.sin;
+                let [_, c1, c2, c3, c4, c5] = t.cos;
+                let [qd0, qd1, qd2, qd3, qd4, qd5] = qd.data.0[0];
+                let [a0, a1, a2, a3, a4, a5] = a.data.0[0];
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
+                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
+                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
+                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
+                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
+                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
+                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
+                x291, x292, x293, x294, x295, x296, x297, x298, x299, x300, x301, x302,
+                x303, x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
+                x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325, x326,
+                x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337, x338,
+                x339, x340, x341, x342, x343, x344, x345, x346, x347, x348, x349, x350,
+                x351, x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373, x374,
+                x375, x376, x377, x378, x379, x380, x381, x382, x383, x384, x385, x386,
+                x387, x388, x389, x390, x391, x392, x393, x394, x395, x396, x397, x398,
+                x399, x400, x401, x402, x403, x404, x405, x406, x407, x408, x409, x410,
+                x411, x412, x413, x414, x415, x416, x417, x418, x419, x420, x421, x422,
+                x423, x424, x425, x426, x427, x428, x429, x430, x431, x432, x433, x434,
+                x435, x436, x437, x438, x439, x440, x441, x442, x443, x444, x445, x446,
+                x447, x448, x449, x450, x451, x452, x453, x454, x455, x456, x457, x458,
+                x459, x460, x461, x462, x463, x464, x465, x466, x467, x468, x469, x470,
+                x471, x472, x473, x474, x475, x476, x477, x478, x479, x480, x481, x482,
+                x483, x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
+                x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505, x506,
+                x507, x508, x509, x510, x511, x512, x513, x514, x515, x516, x517, x518,
+                x519, x520, x521, x522, x523, x524, x525, x526, x527, x528, x529, x530,
+                x531, x532, x533, x534, x535, x536, x537, x538, x539, x540, x541, x542,
+                x543, x544, x545, x546, x547, x548, x549, x550, x551, x552, x553, x554,
+                x555, x556, x557, x558, x559, x560, x561, x562, x563, x564, x565, x566,
+                x567, x568, x569, x570, x571, x572, x573, x574, x575, x576, x577, x578,
+                x579, x580, x581, x582, x583, x584, x585, x586, x587, x588, x589, x590,
+                x591, x592, x593, x594, x595, x596, x597, x598, x599, x600, x601, x602,
+                x603, x604, x605, x606, x607, x608, x609, x610, x611, x612, x613, x614,
+                x615, x616, x617, x618, x619, x620, x621, x622, x623, x624, x625, x626,
+                x627, x628, x629, x630, x631, x632, x633, x634, x635, x636, x637, x638,
+                x639, x640, x641, x642, x643, x644, x645, x646, x647, x648, x649, x650,
+                x651, x652, x653, x654, x655, x656, x657, x658, x659, x660, x661, x662,
+                x663, x664, x665, x666, x667, x668, x669, x670, x671, x672, x673, x674,
+                x675, x676, x677, x678, x679, x680, x681, x682, x683, x684, x685, x686,
+                x687, x688, x689, x690, x691, x692, x693, x694, x695, x696, x697, x698,
+                x699, x700, x701, x702, x703, x704, x705, x706, x707, x708, x709, x710,
+                x711, x712, x713, x714, x715, x716, x717, x718, x719, x720, x721, x722,
+                x723, x724, x725, x726, x727, x728, x729, x730, x731, x732, x733, x734,
+                x735, x736, x737, x738, x739, x740, x741, x742, x743, x744, x745, x746,
+                x747, x748, x749, x750, x751, x752, x753, x754, x755, x756, x757, x758,
+                x759, x760, x761, x762, x763, x764, x765, x766, x767, x768, x769, x770,
+                x771, x772, x773, x774, x775, x776, x777, x778, x779, x780, x781, x782,
+                x783, x784, x785, x786, x787, x788, x789, x790, x791, x792, x793, x794,
+                x795, x796, x797, x798, x799, x800, x801, x802, x803, x804, x805, x806,
+                x807, x808, x809, x810, x811, x812, x813, x814, x815, x816, x817, x818,
+                x819, x820, x821, x822, x823, x824, x825, x826, x827, x828, x829, x830,
+                x831, x832, x833, x834, x835, x836, x837, x838, x839, x840, x841, x842,
+                x843, x844, x845, x846, x847, x848, x849, x850, x851, x852, x853, x854,
+                x855, x856, x857, x858, x859, x860, x861, x862, x863, x864, x865, x866,
+                x867, x868, x869, x870, x871, x872, x873, x874, x875, x876, x877, x878,
+                x879, x880, x881, x882, x883, x884, x885, x886, x887, x888, x889, x890,
+                x891, x892, x893, x894, x895, x896, x897, x898, x899, x900, x901, x902,
+                x903, x904, x905, x906, x907, x908, x909, x910, x911, x912, x913, x914,
+                x915, x916, x917, x918, x919, x920, x921, x922, x923, x924, x925, x926,
+                x927, x928, x929, x930, x931, x932, x933, x934, x935, x936, x937, x938,
+                x939, x940, x941, x942, x943, x944, x945, x946, x947, x948, x949, x950,
+                x951, x952, x953, x954, x955, x956, x957, x958, x959, x960, x961, x962,
+                x963, x964, x965, x966, x967, x968, x969, x970, x971, x972, x973, x974,
+                x975, x976, x977, x978, x979, x980, x981, x982, x983, x984, x985, x986,
+                x987, x988, x989, x990, x991, x992, x993, x994, x995, x996, x997, x998,
+                x999, x1000, x1001, x1002, x1003, x1004, x1005, x1006, x1007, x1008,
+                x1009, x1010, x1011, x1012, x1013, x1014, x1015, x1016, x1017, x1018,
+                x1019, x1020, x1021, x1022, x1023, x1024, x1025, x1026, x1027, x1028,
+                x1029, x1030, x1031, x1032, x1033, x1034, x1035, x1036, x1037, x1038,
+                x1039, x1040, x1041, x1042, x1043, x1044, x1045, x1046, x1047, x1048,
+                x1049, x1050, x1051, x1052, x1053, x1054, x1055, x1056, x1057, x1058,
+                x1059, x1060, x1061, x1062, x1063, x1064, x1065, x1066, x1067, x1068,
+                x1069, x1070, x1071, x1072, x1073, x1074, x1075, x1076, x1077, x1078,
+                x1079, x1080, x1081, x1082, x1083, x1084, x1085, x1086, x1087, x1088,
+                x1089, x1090, x1091, x1092, x1093, x1094, x1095, x1096, x1097, x1098,
+                x1099, x1100, x1101, x1102, x1103, x1104, x1105, x1106, x1107, x1108,
+                x1109, x1110, x1111, x1112, x1113, x1114, x1115, x1116, x1117, x1118,
+                x1119, x1120, x1121, x1122, x1123, x1124, x1125, x1126, x1127, x1128,
+                x1129, x1130, x1131, x1132, x1133, x1134, x1135, x1136, x1137, x1138,
+                x1139, x1140, x1141, x1142, x1143, x1144, x1145, x1146, x1147, x1148,
+                x1149, x1150, x1151, x1152, x1153, x1154, x1155, x1156, x1157, x1158,
+                x1159, x1160, x1161, x1162, x1163, x1164, x1165, x1166, x1167, x1168,
+                x1169, x1170, x1171, x1172, x1173, x1174, x1175, x1176, x1177, x1178,
+                x1179, x1180, x1181, x1182, x1183, x1184, x1185, x1186, x1187, x1188,
+                x1189, x1190, x1191, x1192, x1193, x1194, x1195, x1196, x1197, x1198,
+                x1199, x1200, x1201, x1202, x1203, x1204, x1205, x1206, x1207, x1208,
+                x1209, x1210, x1211, x1212, x1213, x1214, x1215, x1216, x1217, x1218,
+                x1219, x1220, x1221, x1222, x1223, x1224, x1225, x1226, x1227, x1228,
+                x1229]: [f64; 1230];
+                x0 = -9.81f64 * s1;
+                x1 = qd0 * c1;
+                x2 = qd0 * s1;
+                x3 = 0.13585f64 * qd0;
+                x4 = s1 * x3;
+                x5 = c1 * x3;
+                x6 = a0 * c1;
+                x7 = 0.13585f64 * a0;
+                x8 = s1 * x7;
+                x9 = arith.mul_add(-9.81f64, c1, x8);
+                x10 = c1 * x7;
+                x11 = x0 - x10;
+                x12 = c2 * x1;
+                x13 = arith.mul_add(s2, x2, -x12);
+                x14 = c2 * x2;
+                x15 = arith.mul_add(s2, x1, x14);
+                x16 = 0.425f64 * qd1;
+                x17 = arith.mul_add(0.1197f64, x2, -x16);
+                x18 = -0.425f64 * x1;
+                x19 = 0.1197f64 * x1;
+                x20 = x4 - x17;
+                x21 = x19 - x5;
+                x22 = s2 * x21;
+                x23 = arith.mul_add(c2, x20, -x22);
+                x24 = c2 * x21;
+                x25 = arith.mul_add(s2, x20, x24);
+                x26 = qd1 + qd2;
+                x27 = 0.425f64 * a1;
+                x28 = a1 + a2;
+                x29 = s3 * x13;
+                x30 = arith.mul_add(c3, x15, -x29);
+                x31 = s3 * x15;
+                x32 = arith.mul_add(c3, x13, x31);
+                x33 = arith.mul_add(0.39225f64, x26, x23);
+                x34 = arith.mul_add(0.39225f64, x13, x18);
+                x35 = c3 * x25;
+                x36 = arith.mul_add(s3, x33, x35);
+                x37 = c3 * x33;
+                x38 = s3 * x25;
+                x39 = x37 - x38;
+                x40 = qd3 + x26;
+                x41 = a3 + x28;
+                x42 = s4 * x40;
+                x43 = arith.mul_add(c4, x30, x42);
+                x44 = s4 * x30;
+                x45 = arith.mul_add(c4, x40, -x44);
+                x46 = qd4 + x32;
+                x47 = s4 * x41;
+                x48 = s5 * x46;
+                x49 = arith.mul_add(c5, x43, -x48);
+                x50 = c5 * x46;
+                x51 = arith.mul_add(s5, x43, x50);
+                x52 = qd5 + x45;
+                x53 = x38 - x37;
+                x54 = -0.016685526854599998f64 * c5;
+                x55 = 0.016685526854599998f64 * s5;
+                x56 = s5 * x54;
+                x57 = arith.mul_add(c5, x54, 0.033822f64);
+                x58 = arith.mul_add(-s5, x55, 0.253242f64);
+                x59 = c4 * x57;
+                x60 = -0.0171364731454f64 * s4;
+                x61 = c4 * x56;
+                x62 = s4 * x60;
+                x63 = arith.mul_add(c4, x59, -x62);
+                x64 = c4 * x60;
+                x65 = arith.mul_add(s4, x59, x64);
+                x66 = 0.004608836229750008f64 + x63;
+                x67 = arith.mul_add(-s4, x56, -0.001653980355f64);
+                x68 = 0.017784735f64 * c3;
+                x69 = -0.017784735f64 * s3;
+                x70 = c3 * x61;
+                x71 = arith.mul_add(s3, x66, x70);
+                x72 = s3 * x65;
+                x73 = arith.mul_add(c3, x67, -x72);
+                x74 = s3 * x61;
+                x75 = arith.mul_add(c3, x58, x74);
+                x76 = arith.mul_add(-c3, x66, x74);
+                x77 = s3 * x67;
+                x78 = arith.mul_add(c3, x65, x77);
+                x79 = arith.mul_add(-s3, x58, x70);
+                x80 = c3 * x75;
+                x81 = arith.mul_add(s3, x71, x80);
+                x82 = s3 * x75;
+                x83 = arith.mul_add(c3, x71, -x82);
+                x84 = s3 * x79;
+                x85 = arith.mul_add(c3, x76, x84);
+                x86 = -0.00697606230375f64 * s3;
+                x87 = -0.0139521246075f64 * s3;
+                x88 = x81 + x87;
+                x89 = arith.mul_add(-0.00697606230375f64, c3, x83);
+                x90 = x87 - x85;
+                x91 = x86 + x86;
+                x92 = x90 - x91;
+                x93 = 1.5987592750000001f64 + x69;
+                x94 = 0.59155695167475f64 + x88;
+                x95 = -0.05132265682500001f64 - x78;
+                x96 = s2 * x93;
+                x97 = arith.mul_add(c2, x68, x96);
+                x98 = s2 * x68;
+                x99 = arith.mul_add(c2, x93, -x98);
+                x100 = s2 * x89;
+                x101 = arith.mul_add(c2, x94, x100);
+                x102 = c2 * x73;
+                x103 = arith.mul_add(s2, x95, x102);
+                x104 = c2 * x89;
+                x105 = arith.mul_add(s2, x92, x104);
+                x106 = arith.mul_add(-s2, x94, x104);
+                x107 = s2 * x73;
+                x108 = arith.mul_add(c2, x95, -x107);
+                x109 = arith.mul_add(c2, x92, -x100);
+                x110 = s2 * x105;
+                x111 = arith.mul_add(c2, x101, x110);
+                x112 = s2 * x101;
+                x113 = arith.mul_add(c2, x105, -x112);
+                x114 = s2 * x106;
+                x115 = arith.mul_add(c2, x109, -x114);
+                x116 = 0.425f64 * x99;
+                x117 = 0.85f64 * x99;
+                x118 = x111 + x117;
+                x119 = arith.mul_add(0.1197f64, x97, x103);
+                x120 = arith.mul_add(-0.425f64, x97, x113);
+                x121 = arith.mul_add(0.1197f64, x99, x108);
+                x122 = x115 + x117;
+                x123 = x116 + x116;
+                x124 = x122 - x123;
+                x125 = 4.432922500000001f64 + x99;
+                x126 = 1.75501953841f64 + x118;
+                x127 = 0.19371331275f64 + x121;
+                x128 = arith.mul_add(0.1197f64, x97, x103);
+                x129 = -0.017784735f64 * c3;
+                x130 = s2 * x129;
+                x131 = arith.mul_add(c2, x69, x130);
+                x132 = s2 * x69;
+                x133 = arith.mul_add(c2, x129, -x132);
+                x134 = arith.mul_add(-s2, x78, x102);
+                x135 = arith.mul_add(c2, x78, x107);
+                x136 = arith.mul_add(-0.1197f64, x133, x134);
+                x137 = arith.mul_add(-0.1197f64, x131, x135);
+                x138 = s2 * x79;
+                x139 = arith.mul_add(c2, x75, x138);
+                x140 = s2 * x75;
+                x141 = arith.mul_add(c2, x79, -x140);
+                x142 = s3 * x60;
+                x143 = c3 * x60;
+                x144 = s2 * x143;
+                x145 = arith.mul_add(c2, x142, x144);
+                x146 = c2 * x143;
+                x147 = arith.mul_add(s2, x142, -x146);
+                x148 = -4.432922500000001f64 * x5;
+                x149 = -8.865845000000002f64 * x5;
+                x150 = 4.432922500000001f64 * qd1;
+                x151 = -4.432922500000001f64 * x1;
+                x152 = 0.19371331275f64 * qd1;
+                x153 = arith.mul_add(1.77012693841f64, x2, x152);
+                x154 = arith.mul_add(-1.75501953841f64, x2, x153);
+                x155 = -0.19371331275f64 * x1;
+                x156 = x155 + x155;
+                x157 = x149 - x156;
+                x158 = -0.19371331275f64 * x2;
+                x159 = arith.mul_add(1.75501953841f64, qd1, x158);
+                x160 = 4.432922500000001f64 * x4;
+                x161 = x159 + x160;
+                x162 = x148 + x148;
+                x163 = x149 + x156;
+                x164 = x163 - x162;
+                x165 = 1.5987592750000001f64 * x25;
+                x166 = 3.1975185500000003f64 * x25;
+                x167 = 1.5987592750000001f64 * x26;
+                x168 = 1.5987592750000001f64 * x13;
+                x169 = -0.05132265682500001f64 * x26;
+                x170 = arith.mul_add(0.59565195167475f64, x15, x169);
+                x171 = arith.mul_add(-0.59155695167475f64, x15, x170);
+                x172 = -0.05132265682500001f64 * x13;
+                x173 = x172 + x172;
+                x174 = x166 - x173;
+                x175 = 0.05132265682500001f64 * x15;
+                x176 = arith.mul_add(0.59155695167475f64, x26, x175);
+                x177 = 1.5987592750000001f64 * x23;
+                x178 = x176 + x177;
+                x179 = 0.679472691875f64 * x1;
+                x180 = arith.mul_add(0.59565195167475f64, x13, -x179);
+                x181 = x165 + x165;
+                x182 = x166 + x173;
+                x183 = x182 - x181;
+                x184 = 0.017784735f64 * x39;
+                x185 = 0.03556947f64 * x39;
+                x186 = 0.017784735f64 * x40;
+                x187 = 0.017784735f64 * x30;
+                x188 = -0.001653980355f64 * x40;
+                x189 = arith.mul_add(-0.22402883622975f64, x32, x188);
+                x190 = arith.mul_add(0.004608836229750008f64, x32, x189);
+                x191 = -0.001653980355f64 * x30;
+                x192 = x191 + x191;
+                x193 = x185 - x192;
+                x194 = -0.001653980355f64 * x32;
+                x195 = arith.mul_add(0.004608836229750008f64, x40, x194);
+                x196 = -0.017784735f64 * x36;
+                x197 = x195 + x196;
+                x198 = -0.017784735f64 * x34;
+                x199 = arith.mul_add(0.22402883622975f64, x30, -x198);
+                x200 = x184 + x184;
+                x201 = x185 + x192;
+                x202 = x201 - x200;
+                x203 = 0.033822f64 * x45;
+                x204 = arith.mul_add(0.253242f64, x45, -x203);
+                x205 = 0.0171364731454f64 * x51;
+                x206 = arith.mul_add(-0.016685526854599998f64, x51, -x205);
+                x207 = -0.016685526854599998f64 * x52;
+                x208 = 0.0171364731454f64 * x49;
+                x209 = -1.75501953841f64 * x1;
+                x210 = arith.mul_add(1.77012693841f64, qd1, x158);
+                x211 = x160 + x210;
+                x212 = arith.mul_add(0.59565195167475f64, x26, x175);
+                x213 = arith.mul_add(0.59155695167475f64, x13, -x179);
+                x214 = x177 + x212;
+                x215 = arith.mul_add(0.22402883622975f64, x40, x194);
+                x216 = arith.mul_add(0.004608836229750008f64, x30, -x198);
+                x217 = x196 + x215;
+                x218 = 0.033822f64 * x43;
+                x219 = 0.253242f64 * x46;
+                x220 = -0.016685526854599998f64 * x49;
+                x221 = 0.0171364731454f64 * x52;
+                x222 = s5 * x207;
+                x223 = s5 * x208;
+                x224 = arith.mul_add(c5, x206, x223);
+                x225 = c5 * x207;
+                x226 = s5 * x206;
+                x227 = arith.mul_add(c5, x208, -x226);
+                x228 = s5 * x225;
+                x229 = arith.mul_add(c5, x222, x228);
+                x230 = c5 * x225;
+                x231 = arith.mul_add(s5, x222, -x230);
+                x232 = arith.mul_add(0.033822f64, x46, x224);
+                x233 = x204 + x231;
+                x234 = arith.mul_add(-0.253242f64, x43, x227);
+                x235 = arith.mul_add(c5, x220, x218);
+                x236 = arith.mul_add(-s5, x220, x219);
+                x237 = s4 * x232;
+                x238 = arith.mul_add(c4, x229, x237);
+                x239 = c4 * x232;
+                x240 = s4 * x234;
+                x241 = arith.mul_add(c4, x233, -x240);
+                x242 = arith.mul_add(-s4, x229, x239);
+                x243 = c4 * x234;
+                x244 = arith.mul_add(s4, x233, x243);
+                x245 = s4 * x239;
+                x246 = arith.mul_add(c4, x238, x245);
+                x247 = s4 * x238;
+                x248 = arith.mul_add(c4, x239, -x247);
+                x249 = c4 * x237;
+                x250 = arith.mul_add(s4, x242, x249);
+                x251 = x185 - x246;
+                x252 = x190 + x248;
+                x253 = x193 + x250;
+                x254 = x241 - x197;
+                x255 = x199 + x244;
+                x256 = x202 + x229;
+                x257 = s4 * x221;
+                x258 = arith.mul_add(c4, x235, -x257);
+                x259 = x216 + x258;
+                x260 = x188 + x236;
+                x261 = s3 * x186;
+                x262 = c3 * x186;
+                x263 = c3 * x254;
+                x264 = arith.mul_add(-s3, x251, x263);
+                x265 = s3 * x252;
+                x266 = arith.mul_add(c3, x255, -x265);
+                x267 = s3 * x254;
+                x268 = arith.mul_add(c3, x256, -x267);
+                x269 = arith.mul_add(c3, x251, x267);
+                x270 = s3 * x255;
+                x271 = arith.mul_add(c3, x252, x270);
+                x272 = arith.mul_add(s3, x256, x263);
+                x273 = s3 * x264;
+                x274 = arith.mul_add(c3, x268, -x273);
+                x275 = s3 * x268;
+                x276 = arith.mul_add(c3, x264, x275);
+                x277 = s3 * x272;
+                x278 = arith.mul_add(c3, x269, x277);
+                x279 = -0.39225f64 * x262;
+                x280 = -0.7845f64 * x262;
+                x281 = x274 + x280;
+                x282 = x253 + x280;
+                x283 = arith.mul_add(-0.39225f64, x261, x276);
+                x284 = -0.00697606230375f64 * x30;
+                x285 = x271 + x284;
+                x286 = x278 + x280;
+                x287 = x279 + x279;
+                x288 = x286 - x287;
+                x289 = x167 - x261;
+                x290 = x168 + x187;
+                x291 = x166 + x281;
+                x292 = x171 + x266;
+                x293 = x174 + x282;
+                x294 = x178 + x283;
+                x295 = x180 - x285;
+                x296 = x183 + x288;
+                x297 = s3 * x259;
+                x298 = arith.mul_add(c3, x260, -x297);
+                x299 = s3 * x260;
+                x300 = arith.mul_add(c3, x259, x299);
+                x301 = x298 - x284;
+                x302 = x213 + x301;
+                x303 = x169 - x300;
+                x304 = s2 * x262;
+                x305 = arith.mul_add(c2, x289, -x304);
+                x306 = c2 * x262;
+                x307 = arith.mul_add(s2, x289, x306);
+                x308 = s2 * x294;
+                x309 = arith.mul_add(c2, x291, -x308);
+                x310 = s2 * x295;
+                x311 = arith.mul_add(c2, x292, x310);
+                x312 = c2 * x294;
+                x313 = arith.mul_add(s2, x296, -x312);
+                x314 = arith.mul_add(s2, x291, x312);
+                x315 = s2 * x292;
+                x316 = arith.mul_add(c2, x295, -x315);
+                x317 = arith.mul_add(c2, x296, x308);
+                x318 = s2 * x313;
+                x319 = arith.mul_add(c2, x309, x318);
+                x320 = s2 * x309;
+                x321 = arith.mul_add(c2, x313, -x320);
+                x322 = c2 * x317;
+                x323 = arith.mul_add(s2, x314, x322);
+                x324 = 0.1197f64 * x290;
+                x325 = -0.425f64 * x307;
+                x326 = x324 + x325;
+                x327 = 2f64 * x326;
+                x328 = x319 + x327;
+                x329 = -0.1197f64 * x305;
+                x330 = x311 - x329;
+                x331 = x293 + x327;
+                x332 = x324 + x324;
+                x333 = x331 - x332;
+                x334 = arith.mul_add(-0.425f64, x305, x321);
+                x335 = 0.1197f64 * x307;
+                x336 = -0.425f64 * x290;
+                x337 = x335 + x336;
+                x338 = x316 - x337;
+                x339 = x323 + x327;
+                x340 = x325 + x325;
+                x341 = x339 - x340;
+                x342 = x150 + x305;
+                x343 = x151 + x290;
+                x344 = x149 + x328;
+                x345 = x154 + x330;
+                x346 = x157 + x333;
+                x347 = x334 - x161;
+                x348 = arith.mul_add(-1.77012693841f64, x1, x338);
+                x349 = x164 + x341;
+                x350 = s2 * x303;
+                x351 = arith.mul_add(c2, x302, x350);
+                x352 = s2 * x302;
+                x353 = arith.mul_add(c2, x303, -x352);
+                x354 = x335 - x336;
+                x355 = x351 + x354;
+                x356 = x353 - x329;
+                x357 = x209 + x355;
+                x358 = x152 + x356;
+                x359 = c1 * x344;
+                x360 = arith.mul_add(s1, x347, x359);
+                x361 = s1 * x349;
+                x362 = arith.mul_add(c1, x347, x361);
+                x363 = s1 * x362;
+                x364 = arith.mul_add(c1, x360, x363);
+                x365 = arith.mul_add(-0.2717f64, x343, x364);
+                x366 = 0.5f64 * x345;
+                x367 = 0.5f64 * x348;
+                x368 = -0.5f64 * x307;
+                x369 = -0.5f64 * x342;
+                x370 = 0.5f64 * x358;
+                x371 = -0.5f64 * x357;
+                x372 = x1 * x120;
+                x373 = arith.mul_add(x2, x126, -x372);
+                x374 = x1 * x127;
+                x375 = arith.mul_add(x2, x119, -x374);
+                x376 = x1 * x124;
+                x377 = arith.mul_add(x2, x120, -x376);
+                x378 = x4 * x97;
+                x379 = arith.mul_add(x5, x125, -x378);
+                x380 = x375 + x379;
+                x381 = x366 + x373;
+                x382 = arith.mul_add(0.5f64, x346, x380);
+                x383 = x367 + x377;
+                x384 = x370 + x381;
+                x385 = x371 + x383;
+                x386 = x368 + x368;
+                x387 = x369 + x369;
+                x388 = x366 - x370;
+                x389 = x367 - x371;
+                x390 = s1 * x386;
+                x391 = arith.mul_add(c1, x387, -x390);
+                x392 = s1 * x385;
+                x393 = arith.mul_add(c1, x384, x392);
+                x394 = arith.mul_add(0.13585f64, x391, x393);
+                x395 = s1 * x389;
+                x396 = arith.mul_add(c1, x388, x395);
+                x397 = x261 - x167;
+                x398 = 0.5f64 * x292;
+                x399 = 0.5f64 * x293;
+                x400 = 0.5f64 * x295;
+                x401 = -0.5f64 * x262;
+                x402 = 0.5f64 * x397;
+                x403 = 0.5f64 * x303;
+                x404 = -0.5f64 * x302;
+                x405 = x13 * x89;
+                x406 = arith.mul_add(x15, x94, x405);
+                x407 = x15 * x73;
+                x408 = arith.mul_add(x13, x95, x407);
+                x409 = x13 * x92;
+                x410 = arith.mul_add(x15, x89, x409);
+                x411 = x23 * x68;
+                x412 = arith.mul_add(x25, x93, x411);
+                x413 = x408 - x412;
+                x414 = x15 * x93;
+                x415 = arith.mul_add(x13, x68, -x414);
+                x416 = x398 + x406;
+                x417 = x399 + x413;
+                x418 = x400 + x410;
+                x419 = x403 + x416;
+                x420 = x404 + x418;
+                x421 = x401 + x401;
+                x422 = x402 + x402;
+                x423 = x398 - x403;
+                x424 = x400 - x404;
+                x425 = s2 * x422;
+                x426 = arith.mul_add(c2, x421, x425);
+                x427 = s2 * x421;
+                x428 = arith.mul_add(c2, x422, -x427);
+                x429 = s2 * x420;
+                x430 = arith.mul_add(c2, x419, x429);
+                x431 = s2 * x419;
+                x432 = arith.mul_add(c2, x420, -x431);
+                x433 = 0.425f64 * x415;
+                x434 = arith.mul_add(-0.1197f64, x428, -x433);
+                x435 = x430 + x434;
+                x436 = arith.mul_add(0.425f64, x426, x417);
+                x437 = arith.mul_add(0.1197f64, x426, x432);
+                x438 = s2 * x424;
+                x439 = arith.mul_add(c2, x423, x438);
+                x440 = s2 * x423;
+                x441 = arith.mul_add(c2, x424, -x440);
+                x442 = x1 * x121;
+                x443 = arith.mul_add(x2, x128, -x442);
+                x444 = arith.mul_add(x5, x99, -x378);
+                x445 = x443 + x444;
+                x446 = x399 + x445;
+                x447 = s1 * x426;
+                x448 = arith.mul_add(c1, x428, -x447);
+                x449 = s1 * x437;
+                x450 = arith.mul_add(c1, x435, x449);
+                x451 = arith.mul_add(0.13585f64, x448, x450);
+                x452 = s1 * x441;
+                x453 = arith.mul_add(c1, x439, x452);
+                x454 = 0.5f64 * x252;
+                x455 = 0.5f64 * x253;
+                x456 = 0.5f64 * x255;
+                x457 = -0.0088923675f64 * x40;
+                x458 = 0.5f64 * x260;
+                x459 = -0.5f64 * x259;
+                x460 = x30 * x61;
+                x461 = arith.mul_add(x32, x66, x460);
+                x462 = x32 * x65;
+                x463 = arith.mul_add(x30, x67, -x462);
+                x464 = x30 * x58;
+                x465 = arith.mul_add(x32, x61, x464);
+                x466 = 0.017784735f64 * x53;
+                x467 = x463 + x466;
+                x468 = -0.017784735f64 * x32;
+                x469 = x454 - x461;
+                x470 = x455 + x467;
+                x471 = x456 + x465;
+                x472 = x458 + x469;
+                x473 = x459 + x471;
+                x474 = x457 + x457;
+                x475 = x454 - x458;
+                x476 = x456 - x459;
+                x477 = c3 * x474;
+                x478 = s3 * x474;
+                x479 = s3 * x472;
+                x480 = arith.mul_add(c3, x473, -x479);
+                x481 = s3 * x473;
+                x482 = arith.mul_add(c3, x472, x481);
+                x483 = arith.mul_add(-0.00697606230375f64, x32, x480);
+                x484 = arith.mul_add(0.39225f64, x477, x470);
+                x485 = s3 * x475;
+                x486 = arith.mul_add(c3, x476, -x485);
+                x487 = s3 * x476;
+                x488 = arith.mul_add(c3, x475, x487);
+                x489 = arith.mul_add(-x13, x78, x407);
+                x490 = x25 * x69;
+                x491 = arith.mul_add(x23, x129, -x490);
+                x492 = x489 + x491;
+                x493 = x455 + x492;
+                x494 = s2 * x478;
+                x495 = arith.mul_add(c2, x477, -x494);
+                x496 = c2 * x478;
+                x497 = arith.mul_add(s2, x477, x496);
+                x498 = s2 * x482;
+                x499 = arith.mul_add(c2, x483, -x498);
+                x500 = c2 * x482;
+                x501 = arith.mul_add(s2, x483, x500);
+                x502 = 0.007558512375f64 * x32;
+                x503 = arith.mul_add(0.1197f64, x497, -x502);
+                x504 = x499 + x503;
+                x505 = arith.mul_add(0.425f64, x495, x484);
+                x506 = arith.mul_add(-0.1197f64, x495, x501);
+                x507 = s2 * x488;
+                x508 = arith.mul_add(c2, x486, -x507);
+                x509 = c2 * x488;
+                x510 = arith.mul_add(s2, x486, x509);
+                x511 = x1 * x137;
+                x512 = arith.mul_add(x2, x136, x511);
+                x513 = x4 * x133;
+                x514 = arith.mul_add(x5, x131, x513);
+                x515 = x512 + x514;
+                x516 = x455 + x515;
+                x517 = c1 * x497;
+                x518 = arith.mul_add(s1, x495, x517);
+                x519 = c1 * x504;
+                x520 = arith.mul_add(s1, x506, -x519);
+                x521 = arith.mul_add(0.13585f64, x518, x520);
+                x522 = c1 * x508;
+                x523 = arith.mul_add(s1, x510, -x522);
+                x524 = 0.5f64 * x233;
+                x525 = 0.5f64 * x234;
+                x526 = 0.5f64 * x229;
+                x527 = -0.0085682365727f64 * x52;
+                x528 = 0.5f64 * x235;
+                x529 = -0.0171364731454f64 * x43;
+                x530 = arith.mul_add(x45, x57, x524);
+                x531 = x525 + x529;
+                x532 = arith.mul_add(-x45, x56, x526);
+                x533 = x527 + x530;
+                x534 = x528 + x531;
+                x535 = x524 - x527;
+                x536 = x525 - x528;
+                x537 = s4 * x534;
+                x538 = arith.mul_add(c4, x533, -x537);
+                x539 = c4 * x534;
+                x540 = arith.mul_add(s4, x533, x539);
+                x541 = s4 * x536;
+                x542 = arith.mul_add(c4, x535, -x541);
+                x543 = c4 * x536;
+                x544 = arith.mul_add(s4, x535, x543);
+                x545 = x465 + x544;
+                x546 = s3 * x538;
+                x547 = arith.mul_add(c3, x532, -x546);
+                x548 = s3 * x532;
+                x549 = arith.mul_add(c3, x538, x548);
+                x550 = s3 * x542;
+                x551 = arith.mul_add(c3, x526, -x550);
+                x552 = s3 * x526;
+                x553 = arith.mul_add(c3, x542, x552);
+                x554 = x13 * x79;
+                x555 = arith.mul_add(x15, x75, x554);
+                x556 = x544 + x555;
+                x557 = s2 * x549;
+                x558 = arith.mul_add(c2, x547, -x557);
+                x559 = c2 * x549;
+                x560 = arith.mul_add(s2, x547, x559);
+                x561 = s2 * x553;
+                x562 = arith.mul_add(c2, x551, -x561);
+                x563 = c2 * x553;
+                x564 = arith.mul_add(s2, x551, x563);
+                x565 = x1 * x141;
+                x566 = arith.mul_add(x2, x139, -x565);
+                x567 = x544 + x566;
+                x568 = c1 * x558;
+                x569 = arith.mul_add(s1, x560, -x568);
+                x570 = c1 * x562;
+                x571 = arith.mul_add(s1, x564, -x570);
+                x572 = 0.5f64 * x206;
+                x573 = 0.0085682365727f64 * x49;
+                x574 = 0.008342763427299999f64 * x49;
+                x575 = 0.016685526854599998f64 * x51;
+                x576 = x572 + x575;
+                x577 = x573 + x574;
+                x578 = x573 - x574;
+                x579 = s5 * x577;
+                x580 = arith.mul_add(c5, x576, x579);
+                x581 = s5 * x576;
+                x582 = arith.mul_add(c5, x577, -x581);
+                x583 = s5 * x578;
+                x584 = arith.mul_add(c5, x572, x583);
+                x585 = s5 * x572;
+                x586 = arith.mul_add(c5, x578, -x585);
+                x587 = x529 + x586;
+                x588 = c4 * x580;
+                x589 = s4 * x580;
+                x590 = c4 * x584;
+                x591 = s4 * x584;
+                x592 = arith.mul_add(-x32, x60, x591);
+                x593 = s3 * x588;
+                x594 = arith.mul_add(c3, x582, -x593);
+                x595 = s3 * x582;
+                x596 = arith.mul_add(c3, x588, x595);
+                x597 = s3 * x590;
+                x598 = arith.mul_add(c3, x586, -x597);
+                x599 = s3 * x586;
+                x600 = arith.mul_add(c3, x590, x599);
+                x601 = x13 * x143;
+                x602 = arith.mul_add(x15, x142, x601);
+                x603 = x591 - x602;
+                x604 = s2 * x596;
+                x605 = arith.mul_add(c2, x594, -x604);
+                x606 = c2 * x596;
+                x607 = arith.mul_add(s2, x594, x606);
+                x608 = s2 * x600;
+                x609 = arith.mul_add(c2, x598, -x608);
+                x610 = c2 * x600;
+                x611 = arith.mul_add(s2, x598, x610);
+                x612 = x1 * x147;
+                x613 = arith.mul_add(x2, x145, x612);
+                x614 = x591 - x613;
+                x615 = c1 * x605;
+                x616 = arith.mul_add(s1, x607, -x615);
+                x617 = c1 * x609;
+                x618 = arith.mul_add(s1, x611, -x617);
+                x619 = qd1 * x1;
+                x620 = qd1 * x4;
+                x621 = arith.mul_add(qd1, x2, -x6);
+                x622 = arith.mul_add(a0, s1, x619);
+                x623 = arith.mul_add(qd1, x5, x9);
+                x624 = x11 + x620;
+                x625 = s2 * x622;
+                x626 = arith.mul_add(c2, x621, x625);
+                x627 = s2 * x621;
+                x628 = c2 * x622;
+                x629 = x627 - x628;
+                x630 = arith.mul_add(0.1197f64, x622, -x27);
+                x631 = -0.1197f64 * x621;
+                x632 = x623 - x630;
+                x633 = x624 + x631;
+                x634 = s2 * x633;
+                x635 = arith.mul_add(c2, x632, -x634);
+                x636 = c2 * x633;
+                x637 = arith.mul_add(s2, x632, x636);
+                x638 = qd2 * x13;
+                x639 = arith.mul_add(qd2, x15, x626);
+                x640 = x629 + x638;
+                x641 = arith.mul_add(-qd2, x25, x635);
+                x642 = arith.mul_add(qd2, x23, x637);
+                x643 = s3 * x639;
+                x644 = arith.mul_add(c3, x640, x643);
+                x645 = c3 * x639;
+                x646 = s3 * x640;
+                x647 = x645 - x646;
+                x648 = 0.39225f64 * x639;
+                x649 = arith.mul_add(0.39225f64, x28, x641);
+                x650 = arith.mul_add(0.425f64, x621, x648);
+                x651 = s3 * x642;
+                x652 = qd3 * x32;
+                x653 = qd3 * x30;
+                x654 = x644 + x652;
+                x655 = x647 + x653;
+                x656 = c4 * x654;
+                x657 = x47 - x656;
+                x658 = s4 * x654;
+                x659 = arith.mul_add(c4, x41, x658);
+                x660 = a4 + x655;
+                x661 = qd4 * x45;
+                x662 = x657 + x661;
+                x663 = arith.mul_add(-qd4, x43, x659);
+                x664 = s5 * x660;
+                x665 = arith.mul_add(c5, x662, -x664);
+                x666 = c5 * x660;
+                x667 = arith.mul_add(s5, x662, x666);
+                x668 = a5 + x663;
+                x669 = arith.mul_add(-qd5, x51, x665);
+                x670 = arith.mul_add(qd5, x49, x667);
+                x671 = x2 * x211;
+                x672 = arith.mul_add(qd1, x152, x671);
+                x673 = x1 * x211;
+                x674 = arith.mul_add(qd1, x209, x673);
+                x675 = x5 * x151;
+                x676 = x4 * x151;
+                x677 = x672 - x675;
+                x678 = x674 + x676;
+                x679 = x2 * x151;
+                x680 = x1 * x151;
+                x681 = arith.mul_add(-qd1, x150, x680);
+                x682 = arith.mul_add(1.75501953841f64, x621, x677);
+                x683 = arith.mul_add(0.19371331275f64, a1, -x678);
+                x684 = arith.mul_add(4.432922500000001f64, a1, -x679);
+                x685 = -0.679472691875f64 * x621;
+                x686 = arith.mul_add(0.59155695167475f64, x639, -x685);
+                x687 = x15 * x214;
+                x688 = arith.mul_add(x26, x169, x687);
+                x689 = x13 * x214;
+                x690 = arith.mul_add(-x26, x213, x689);
+                x691 = x25 * x168;
+                x692 = x23 * x168;
+                x693 = arith.mul_add(x18, x167, -x692);
+                x694 = x688 + x691;
+                x695 = x690 + x693;
+                x696 = x15 * x168;
+                x697 = x15 * x167;
+                x698 = x13 * x168;
+                x699 = arith.mul_add(x26, x167, x698);
+                x700 = x686 + x694;
+                x701 = arith.mul_add(-0.05132265682500001f64, x28, x695);
+                x702 = arith.mul_add(1.5987592750000001f64, x28, -x696);
+                x703 = arith.mul_add(1.5987592750000001f64, x639, x697);
+                x704 = -0.017784735f64 * x650;
+                x705 = arith.mul_add(-0.004608836229750008f64, x654, -x704);
+                x706 = -0.017784735f64 * x654;
+                x707 = x32 * x217;
+                x708 = arith.mul_add(x40, x188, -x707);
+                x709 = x30 * x217;
+                x710 = arith.mul_add(-x40, x216, x709);
+                x711 = x36 * x187;
+                x712 = arith.mul_add(x34, x186, x711);
+                x713 = arith.mul_add(x39, x187, x708);
+                x714 = x710 + x712;
+                x715 = x32 * x187;
+                x716 = x30 * x187;
+                x717 = arith.mul_add(x40, x186, x716);
+                x718 = x705 + x713;
+                x719 = arith.mul_add(-0.001653980355f64, x41, x714);
+                x720 = arith.mul_add(0.017784735f64, x41, x715);
+                x721 = arith.mul_add(x32, x186, -x706);
+                x722 = x45 * x219;
+                x723 = x43 * x219;
+                x724 = arith.mul_add(x46, x218, -x723);
+                x725 = x45 * x218;
+                x726 = arith.mul_add(0.033822f64, x662, x722);
+                x727 = arith.mul_add(0.253242f64, x660, -x725);
+                x728 = -0.016685526854599998f64 * x669;
+                x729 = x51 * x221;
+                x730 = x51 * x220;
+                x731 = x49 * x221;
+                x732 = arith.mul_add(-x52, x220, x731);
+                x733 = x728 - x729;
+                x734 = arith.mul_add(0.0171364731454f64, x668, x730);
+                x735 = s5 * x732;
+                x736 = arith.mul_add(c5, x733, x735);
+                x737 = s5 * x733;
+                x738 = arith.mul_add(c5, x732, -x737);
+                x739 = x726 + x736;
+                x740 = x724 + x734;
+                x741 = x727 + x738;
+                x742 = s4 * x740;
+                x743 = arith.mul_add(c4, x739, -x742);
+                x744 = x718 + x743;
+                x745 = x719 + x741;
+                x746 = c3 * x717;
+                x747 = arith.mul_add(s3, x720, x746);
+                x748 = c3 * x720;
+                x749 = arith.mul_add(s3, x717, -x748);
+                x750 = s3 * x744;
+                x751 = arith.mul_add(c3, x745, -x750);
+                x752 = s3 * x745;
+                x753 = arith.mul_add(c3, x744, x752);
+                x754 = arith.mul_add(-0.39225f64, x721, x751);
+                x755 = x700 + x754;
+                x756 = x701 - x753;
+                x757 = x702 - x747;
+                x758 = x721 - x703;
+                x759 = x749 - x699;
+                x760 = s2 * x759;
+                x761 = arith.mul_add(c2, x757, x760);
+                x762 = s2 * x757;
+                x763 = arith.mul_add(c2, x759, -x762);
+                x764 = s2 * x756;
+                x765 = arith.mul_add(c2, x755, x764);
+                x766 = s2 * x755;
+                x767 = arith.mul_add(c2, x756, -x766);
+                x768 = 0.425f64 * x758;
+                x769 = arith.mul_add(-0.1197f64, x763, -x768);
+                x770 = x765 + x769;
+                x771 = arith.mul_add(0.1197f64, x761, x767);
+                x772 = x682 + x770;
+                x773 = x683 + x771;
+                x774 = x684 + x761;
+                x775 = x681 + x763;
+                x776 = x10 - x0;
+                x777 = x776 - x620;
+                x778 = 0.425f64 * x2;
+                x779 = x5 - x19;
+                x780 = arith.mul_add(-0.1197f64, x2, x4);
+                x781 = s2 * x780;
+                x782 = arith.mul_add(c2, x779, -x781);
+                x783 = c2 * x780;
+                x784 = arith.mul_add(s2, x779, x783);
+                x785 = x628 - x627;
+                x786 = x777 - x631;
+                x787 = arith.mul_add(-0.1197f64, x622, x623);
+                x788 = s2 * x787;
+                x789 = arith.mul_add(c2, x786, -x788);
+                x790 = c2 * x787;
+                x791 = arith.mul_add(s2, x786, x790);
+                x792 = x785 - x638;
+                x793 = arith.mul_add(-qd2, x784, x789);
+                x794 = arith.mul_add(qd2, x782, x791);
+                x795 = 0.39225f64 * x15;
+                x796 = x778 + x795;
+                x797 = c3 * x784;
+                x798 = arith.mul_add(s3, x782, x797);
+                x799 = s3 * x784;
+                x800 = arith.mul_add(c3, x782, -x799);
+                x801 = arith.mul_add(s3, x792, x645);
+                x802 = arith.mul_add(c3, x792, -x643);
+                x803 = 0.39225f64 * x792;
+                x804 = arith.mul_add(0.425f64, x622, x803);
+                x805 = c3 * x794;
+                x806 = arith.mul_add(s3, x793, x805);
+                x807 = x653 + x801;
+                x808 = x802 - x652;
+                x809 = arith.mul_add(qd3, x800, x806);
+                x810 = c4 * x32;
+                x811 = s4 * x32;
+                x812 = qd4 * x811;
+                x813 = qd4 * x810;
+                x814 = arith.mul_add(-c4, x807, x812);
+                x815 = arith.mul_add(s4, x807, x813);
+                x816 = s5 * x30;
+                x817 = arith.mul_add(c5, x810, x816);
+                x818 = s5 * x810;
+                x819 = arith.mul_add(c5, x30, -x818);
+                x820 = s5 * x808;
+                x821 = arith.mul_add(c5, x814, -x820);
+                x822 = qd5 * x819;
+                x823 = x821 - x822;
+                x824 = 4.432922500000001f64 * x777;
+                x825 = arith.mul_add(0.19371331275f64, x621, x824);
+                x826 = 1.75501953841f64 * x2;
+                x827 = arith.mul_add(4.432922500000001f64, x5, x155);
+                x828 = 4.432922500000001f64 * x2;
+                x829 = arith.mul_add(x2, x827, x673);
+                x830 = x1 * x209;
+                x831 = arith.mul_add(x2, x826, x830);
+                x832 = arith.mul_add(x2, x152, x831);
+                x833 = arith.mul_add(-x1, x827, x671);
+                x834 = arith.mul_add(-qd1, x826, x833);
+                x835 = arith.mul_add(-x5, x828, x676);
+                x836 = arith.mul_add(x4, x828, x675);
+                x837 = x829 + x835;
+                x838 = arith.mul_add(x4, x150, -x832);
+                x839 = x834 - x836;
+                x840 = arith.mul_add(x2, x828, x680);
+                x841 = arith.mul_add(x1, x828, -x679);
+                x842 = arith.mul_add(1.75501953841f64, x622, x837);
+                x843 = x825 + x838;
+                x844 = 0.59155695167475f64 * x792;
+                x845 = -0.05132265682500001f64 * x639;
+                x846 = arith.mul_add(0.679472691875f64, x622, x844);
+                x847 = arith.mul_add(1.5987592750000001f64, x793, x845);
+                x848 = 1.5987592750000001f64 * x792;
+                x849 = 0.59155695167475f64 * x15;
+                x850 = arith.mul_add(0.679472691875f64, x2, x849);
+                x851 = arith.mul_add(1.5987592750000001f64, x782, x172);
+                x852 = 1.5987592750000001f64 * x15;
+                x853 = arith.mul_add(x15, x851, -x689);
+                x854 = x13 * x213;
+                x855 = arith.mul_add(-x15, x850, x854);
+                x856 = x15 * x169;
+                x857 = x855 - x856;
+                x858 = arith.mul_add(x13, x851, x687);
+                x859 = arith.mul_add(-x26, x850, x858);
+                x860 = x25 * x852;
+                x861 = arith.mul_add(x168, x784, x860);
+                x862 = x23 * x852;
+                x863 = arith.mul_add(x168, x782, x862);
+                x864 = arith.mul_add(x167, x778, -x863);
+                x865 = x853 + x861;
+                x866 = arith.mul_add(x167, x784, x857);
+                x867 = x859 + x864;
+                x868 = arith.mul_add(-x15, x852, x698);
+                x869 = arith.mul_add(x13, x852, x696);
+                x870 = x846 + x865;
+                x871 = x847 + x866;
+                x872 = arith.mul_add(x13, x167, -x848);
+                x873 = -0.004608836229750008f64 * x807;
+                x874 = -0.001653980355f64 * x808;
+                x875 = arith.mul_add(0.017784735f64, x804, x873);
+                x876 = arith.mul_add(-0.017784735f64, x809, x874);
+                x877 = -0.004608836229750008f64 * x32;
+                x878 = arith.mul_add(0.017784735f64, x796, x877);
+                x879 = arith.mul_add(-0.017784735f64, x798, x191);
+                x880 = arith.mul_add(x32, x879, x709);
+                x881 = x30 * x216;
+                x882 = arith.mul_add(x32, x878, x881);
+                x883 = x32 * x188;
+                x884 = x882 + x883;
+                x885 = arith.mul_add(x30, x879, -x707);
+                x886 = arith.mul_add(-x40, x878, x885);
+                x887 = x39 * x468;
+                x888 = arith.mul_add(x187, x800, x887);
+                x889 = x36 * x468;
+                x890 = arith.mul_add(x187, x798, x889);
+                x891 = arith.mul_add(x186, x796, x890);
+                x892 = x888 - x880;
+                x893 = arith.mul_add(x186, x800, x884);
+                x894 = x886 + x891;
+                x895 = arith.mul_add(x32, x468, x716);
+                x896 = x30 * x186;
+                x897 = arith.mul_add(-x30, x468, x715);
+                x898 = x875 + x892;
+                x899 = x876 + x893;
+                x900 = arith.mul_add(0.017784735f64, x807, x896);
+                x901 = -0.033822f64 * x810;
+                x902 = 0.253242f64 * x30;
+                x903 = x219 * x811;
+                x904 = arith.mul_add(x45, x902, x903);
+                x905 = x30 * x218;
+                x906 = arith.mul_add(x46, x901, x905);
+                x907 = x219 * x810;
+                x908 = arith.mul_add(x43, x902, -x907);
+                x909 = x906 - x908;
+                x910 = x218 * x811;
+                x911 = arith.mul_add(x45, x901, x910);
+                x912 = arith.mul_add(0.033822f64, x814, x904);
+                x913 = arith.mul_add(0.253242f64, x808, -x911);
+                x914 = 0.016685526854599998f64 * x817;
+                x915 = 0.0171364731454f64 * x811;
+                x916 = x221 * x819;
+                x917 = arith.mul_add(x51, x915, x916);
+                x918 = x220 * x819;
+                x919 = arith.mul_add(x51, x914, x918);
+                x920 = x221 * x817;
+                x921 = arith.mul_add(x49, x915, -x920);
+                x922 = x220 * x811;
+                x923 = arith.mul_add(x52, x914, x922);
+                x924 = x921 - x923;
+                x925 = arith.mul_add(-0.016685526854599998f64, x823, -x917);
+                x926 = arith.mul_add(0.0171364731454f64, x815, x919);
+                x927 = s5 * x924;
+                x928 = arith.mul_add(c5, x925, x927);
+                x929 = c5 * x924;
+                x930 = arith.mul_add(-s5, x925, x929);
+                x931 = x912 + x928;
+                x932 = x909 + x926;
+                x933 = x913 + x930;
+                x934 = s4 * x932;
+                x935 = arith.mul_add(c4, x931, -x934);
+                x936 = c4 * x932;
+                x937 = arith.mul_add(s4, x931, x936);
+                x938 = x898 + x935;
+                x939 = x899 + x937;
+                x940 = x894 + x933;
+                x941 = s3 * x895;
+                x942 = arith.mul_add(c3, x897, -x941);
+                x943 = s3 * x897;
+                x944 = arith.mul_add(c3, x895, x943);
+                x945 = s3 * x938;
+                x946 = arith.mul_add(c3, x940, -x945);
+                x947 = s3 * x940;
+                x948 = arith.mul_add(c3, x938, x947);
+                x949 = 0.39225f64 * x900;
+                x950 = 0.39225f64 * x942;
+                x951 = x946 - x949;
+                x952 = x939 + x950;
+                x953 = x870 + x951;
+                x954 = x871 + x952;
+                x955 = x867 - x948;
+                x956 = x868 + x942;
+                x957 = x872 + x900;
+                x958 = x869 + x944;
+                x959 = s2 * x958;
+                x960 = arith.mul_add(c2, x956, -x959);
+                x961 = c2 * x958;
+                x962 = arith.mul_add(s2, x956, x961);
+                x963 = s2 * x955;
+                x964 = arith.mul_add(c2, x953, x963);
+                x965 = s2 * x953;
+                x966 = arith.mul_add(c2, x955, -x965);
+                x967 = 0.425f64 * x957;
+                x968 = arith.mul_add(0.1197f64, x962, -x967);
+                x969 = x964 + x968;
+                x970 = arith.mul_add(0.425f64, x960, x954);
+                x971 = arith.mul_add(0.1197f64, x960, x966);
+                x972 = x842 + x969;
+                x973 = x843 + x970;
+                x974 = x839 + x971;
+                x975 = x960 - x840;
+                x976 = x841 - x962;
+                x977 = x773 + x972;
+                x978 = x974 - x772;
+                x979 = x775 + x975;
+                x980 = x976 - x774;
+                x981 = s1 * x979;
+                x982 = arith.mul_add(c1, x980, -x981);
+                x983 = s1 * x978;
+                x984 = arith.mul_add(c1, x977, x983);
+                x985 = arith.mul_add(0.13585f64, x982, x984);
+                x986 = -x985;
+                x987 = arith.mul_add(-c3, x23, x38);
+                x988 = arith.mul_add(s3, x23, x35);
+                x989 = arith.mul_add(-c3, x641, x651);
+                x990 = arith.mul_add(qd3, x988, x989);
+                x991 = arith.mul_add(-1.5987592750000001f64, x642, x845);
+                x992 = arith.mul_add(-1.5987592750000001f64, x25, x172);
+                x993 = arith.mul_add(x15, x992, -x689);
+                x994 = arith.mul_add(-x15, x849, x854);
+                x995 = x994 - x856;
+                x996 = arith.mul_add(x13, x992, x687);
+                x997 = arith.mul_add(-x26, x849, x996);
+                x998 = x692 + x860;
+                x999 = x691 - x862;
+                x1000 = x993 + x998;
+                x1001 = arith.mul_add(x23, x167, x995);
+                x1002 = x997 + x999;
+                x1003 = x844 + x1000;
+                x1004 = x991 + x1001;
+                x1005 = arith.mul_add(0.00697606230375f64, x792, x873);
+                x1006 = arith.mul_add(0.017784735f64, x990, x874);
+                x1007 = arith.mul_add(0.00697606230375f64, x15, x877);
+                x1008 = arith.mul_add(0.017784735f64, x987, x191);
+                x1009 = arith.mul_add(x32, x1008, x709);
+                x1010 = arith.mul_add(x32, x1007, x881);
+                x1011 = x883 + x1010;
+                x1012 = arith.mul_add(x30, x1008, -x707);
+                x1013 = arith.mul_add(-x40, x1007, x1012);
+                x1014 = arith.mul_add(-x187, x988, x887);
+                x1015 = arith.mul_add(-x187, x987, x889);
+                x1016 = arith.mul_add(x186, x795, x1015);
+                x1017 = x1014 - x1009;
+                x1018 = arith.mul_add(-x186, x988, x1011);
+                x1019 = x1013 + x1016;
+                x1020 = x1005 + x1017;
+                x1021 = x1006 + x1018;
+                x1022 = x935 + x1020;
+                x1023 = x937 + x1021;
+                x1024 = x933 + x1019;
+                x1025 = s3 * x1022;
+                x1026 = arith.mul_add(c3, x1024, -x1025);
+                x1027 = s3 * x1024;
+                x1028 = arith.mul_add(c3, x1022, x1027);
+                x1029 = x1026 - x949;
+                x1030 = x950 + x1023;
+                x1031 = x1003 + x1029;
+                x1032 = x1004 + x1030;
+                x1033 = x1002 - x1028;
+                x1034 = x747 - x702;
+                x1035 = x756 + x1031;
+                x1036 = x1033 - x755;
+                x1037 = x759 + x956;
+                x1038 = x1034 - x958;
+                x1039 = s2 * x1038;
+                x1040 = arith.mul_add(c2, x1037, x1039);
+                x1041 = s2 * x1037;
+                x1042 = arith.mul_add(c2, x1038, -x1041);
+                x1043 = s2 * x1036;
+                x1044 = arith.mul_add(c2, x1035, x1043);
+                x1045 = s2 * x1035;
+                x1046 = arith.mul_add(c2, x1036, -x1045);
+                x1047 = arith.mul_add(-0.1197f64, x1042, -x967);
+                x1048 = x1044 + x1047;
+                x1049 = arith.mul_add(0.425f64, x1040, x1032);
+                x1050 = arith.mul_add(0.1197f64, x1040, x1046);
+                x1051 = s1 * x1040;
+                x1052 = arith.mul_add(c1, x1042, -x1051);
+                x1053 = s1 * x1050;
+                x1054 = arith.mul_add(c1, x1048, x1053);
+                x1055 = arith.mul_add(0.13585f64, x1052, x1054);
+                x1056 = -x1055;
+                x1057 = x646 - x645;
+                x1058 = arith.mul_add(-c3, x649, x651);
+                x1059 = x1057 - x653;
+                x1060 = arith.mul_add(qd3, x36, x1058);
+                x1061 = arith.mul_add(c4, x1059, x812);
+                x1062 = arith.mul_add(-s4, x1059, x813);
+                x1063 = s5 * x654;
+                x1064 = arith.mul_add(c5, x1061, x1063);
+                x1065 = x1064 - x822;
+                x1066 = 0.017784735f64 * x1060;
+                x1067 = arith.mul_add(0.001653980355f64, x654, x1066);
+                x1068 = x191 + x466;
+                x1069 = arith.mul_add(x32, x1068, x709);
+                x1070 = arith.mul_add(x32, x877, x881);
+                x1071 = x883 + x1070;
+                x1072 = arith.mul_add(x30, x1068, -x707);
+                x1073 = arith.mul_add(-x40, x877, x1072);
+                x1074 = x887 - x711;
+                x1075 = arith.mul_add(-x53, x187, x889);
+                x1076 = x1074 - x1069;
+                x1077 = arith.mul_add(-x36, x186, x1071);
+                x1078 = x1073 + x1075;
+                x1079 = arith.mul_add(0.004608836229750008f64, x1059, x1076);
+                x1080 = x1067 + x1077;
+                x1081 = arith.mul_add(-0.017784735f64, x1059, x896);
+                x1082 = arith.mul_add(0.033822f64, x1061, x904);
+                x1083 = arith.mul_add(-0.253242f64, x654, -x911);
+                x1084 = arith.mul_add(-0.016685526854599998f64, x1065, -x917);
+                x1085 = arith.mul_add(0.0171364731454f64, x1062, x919);
+                x1086 = arith.mul_add(c5, x1084, x927);
+                x1087 = arith.mul_add(-s5, x1084, x929);
+                x1088 = x1082 + x1086;
+                x1089 = x909 + x1085;
+                x1090 = x1083 + x1087;
+                x1091 = s4 * x1089;
+                x1092 = arith.mul_add(c4, x1088, -x1091);
+                x1093 = c4 * x1089;
+                x1094 = arith.mul_add(s4, x1088, x1093);
+                x1095 = x1079 + x1092;
+                x1096 = x1080 + x1094;
+                x1097 = x1078 + x1090;
+                x1098 = x745 + x1095;
+                x1099 = x1097 - x744;
+                x1100 = x895 - x717;
+                x1101 = x897 - x720;
+                x1102 = s3 * x1100;
+                x1103 = arith.mul_add(c3, x1101, -x1102);
+                x1104 = s3 * x1101;
+                x1105 = arith.mul_add(c3, x1100, x1104);
+                x1106 = s3 * x1098;
+                x1107 = arith.mul_add(c3, x1099, -x1106);
+                x1108 = s3 * x1099;
+                x1109 = arith.mul_add(c3, x1098, x1108);
+                x1110 = arith.mul_add(-0.39225f64, x1081, x1107);
+                x1111 = arith.mul_add(0.39225f64, x1103, x1096);
+                x1112 = s2 * x1105;
+                x1113 = arith.mul_add(c2, x1103, -x1112);
+                x1114 = c2 * x1105;
+                x1115 = arith.mul_add(s2, x1103, x1114);
+                x1116 = s2 * x1109;
+                x1117 = arith.mul_add(c2, x1110, -x1116);
+                x1118 = c2 * x1109;
+                x1119 = arith.mul_add(s2, x1110, x1118);
+                x1120 = 0.425f64 * x1081;
+                x1121 = arith.mul_add(0.1197f64, x1115, -x1120);
+                x1122 = x1117 + x1121;
+                x1123 = arith.mul_add(0.425f64, x1113, x1111);
+                x1124 = arith.mul_add(-0.1197f64, x1113, x1119);
+                x1125 = c1 * x1115;
+                x1126 = arith.mul_add(s1, x1113, x1125);
+                x1127 = c1 * x1122;
+                x1128 = arith.mul_add(s1, x1124, -x1127);
+                x1129 = arith.mul_add(0.13585f64, x1126, x1128);
+                x1130 = x656 - x47;
+                x1131 = x1130 - x661;
+                x1132 = c5 * x45;
+                x1133 = s5 * x45;
+                x1134 = qd5 * x1133;
+                x1135 = arith.mul_add(c5, x663, -x1134);
+                x1136 = arith.mul_add(x46, x203, -x722);
+                x1137 = x45 * x203;
+                x1138 = arith.mul_add(x43, x218, -x1137);
+                x1139 = arith.mul_add(0.033822f64, x663, -x723);
+                x1140 = -0.016685526854599998f64 * x1132;
+                x1141 = x221 * x1133;
+                x1142 = arith.mul_add(x51, x529, x1141);
+                x1143 = x220 * x1133;
+                x1144 = arith.mul_add(x51, x1140, x1143);
+                x1145 = x221 * x1132;
+                x1146 = arith.mul_add(x49, x529, x1145);
+                x1147 = x43 * x220;
+                x1148 = arith.mul_add(x52, x1140, -x1147);
+                x1149 = x1146 - x1148;
+                x1150 = arith.mul_add(-0.016685526854599998f64, x1135, -x1142);
+                x1151 = arith.mul_add(0.0171364731454f64, x1131, x1144);
+                x1152 = s5 * x1149;
+                x1153 = arith.mul_add(c5, x1150, x1152);
+                x1154 = s5 * x1150;
+                x1155 = arith.mul_add(c5, x1149, -x1154);
+                x1156 = x1139 + x1153;
+                x1157 = x1136 + x1151;
+                x1158 = x1138 + x1155;
+                x1159 = x1156 - x740;
+                x1160 = x739 + x1157;
+                x1161 = s4 * x1160;
+                x1162 = arith.mul_add(c4, x1159, -x1161);
+                x1163 = c4 * x1160;
+                x1164 = arith.mul_add(s4, x1159, x1163);
+                x1165 = s3 * x1162;
+                x1166 = arith.mul_add(c3, x1158, -x1165);
+                x1167 = s3 * x1158;
+                x1168 = arith.mul_add(c3, x1162, x1167);
+                x1169 = s2 * x1168;
+                x1170 = arith.mul_add(c2, x1166, -x1169);
+                x1171 = c2 * x1168;
+                x1172 = arith.mul_add(s2, x1166, x1171);
+                x1173 = c1 * x1170;
+                x1174 = arith.mul_add(s1, x1172, -x1173);
+                x1175 = x49 * x220;
+                x1176 = arith.mul_add(x51, x575, x1175);
+                x1177 = arith.mul_add(x52, x575, x729);
+                x1178 = arith.mul_add(0.016685526854599998f64, x670, -x731);
+                x1179 = x729 - x728;
+                x1180 = x732 + x1178;
+                x1181 = x1179 - x1177;
+                x1182 = s5 * x1181;
+                x1183 = arith.mul_add(c5, x1180, x1182);
+                x1184 = s5 * x1180;
+                x1185 = arith.mul_add(c5, x1181, -x1184);
+                x1186 = s4 * x1176;
+                x1187 = arith.mul_add(c4, x1183, -x1186);
+                x1188 = c4 * x1176;
+                x1189 = arith.mul_add(s4, x1183, x1188);
+                x1190 = s3 * x1187;
+                x1191 = arith.mul_add(c3, x1185, -x1190);
+                x1192 = s3 * x1185;
+                x1193 = arith.mul_add(c3, x1187, x1192);
+                x1194 = s2 * x1193;
+                x1195 = arith.mul_add(c2, x1191, -x1194);
+                x1196 = c2 * x1193;
+                x1197 = arith.mul_add(s2, x1191, x1196);
+                x1198 = c1 * x1195;
+                x1199 = arith.mul_add(s1, x1197, -x1198);
+                x1200 = -2f64 * x396;
+                x1201 = -2f64 * x453;
+                x1202 = 2f64 * x523;
+                x1203 = 2f64 * x571;
+                x1204 = 2f64 * x618;
+                x1205 = -2f64 * x394;
+                x1206 = 2f64 * x382;
+                x1207 = 2f64 * x446;
+                x1208 = 2f64 * x516;
+                x1209 = 2f64 * x567;
+                x1210 = 2f64 * x614;
+                x1211 = -2f64 * x451;
+                x1212 = 2f64 * x436;
+                x1213 = 2f64 * x417;
+                x1214 = 2f64 * x493;
+                x1215 = 2f64 * x556;
+                x1216 = 2f64 * x603;
+                x1217 = 2f64 * x521;
+                x1218 = 2f64 * x505;
+                x1219 = 2f64 * x484;
+                x1220 = 2f64 * x470;
+                x1221 = 2f64 * x545;
+                x1222 = 2f64 * x592;
+                x1223 = 2f64 * x569;
+                x1224 = 2f64 * x540;
+                x1225 = 2f64 * x532;
+                x1226 = 2f64 * x587;
+                x1227 = 2f64 * x616;
+                x1228 = 2f64 * x589;
+                x1229 = 2f64 * x582;
+                (
+                    SMatrix::from_array_storage(
+                        ArrayStorage([
+                            [0f64, 0f64, 0f64, 0f64, 0f64, 0f64],
+                            [x986, x973, x954, x939, x933, x926],
+                            [x1056, x1049, x1032, x1023, x933, x926],
+                            [x1129, x1123, x1111, x1096, x1090, x1085],
+                            [x1174, x1164, x1164, x1164, x1158, x1151],
+                            [x1199, x1189, x1189, x1189, x1185, x1176],
+                        ]),
+                    ),
+                    SMatrix::from_array_storage(
+                        ArrayStorage([
+                            [x365, x1200, x1201, x1202, x1203, x1204],
+                            [x1205, x1206, x1207, x1208, x1209, x1210],
+                            [x1211, x1212, x1213, x1214, x1215, x1216],
+                            [x1217, x1218, x1219, x1220, x1221, x1222],
+                            [x1223, x1224, x1224, x1224, x1225, x1226],
+                            [x1227, x1228, x1228, x1228, x1229, 0f64],
+                        ]),
+                    ),
+                )
+            }
+        }
+        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, a))
+    }
+    ///Operations: 1423 mul, 1218 add/sub, 1 neg, 5 div (joint sines and cosines come precomputed in `JointTrig`).
+    #[inline(never)]
+    fn forward_dynamics_derivatives(
+        t: &JointTrig<6>,
+        qd: &SVector<f64, 6>,
+        tau: &SVector<f64, 6>,
+    ) -> (SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>) {
+        struct Body;
+        impl dyngen_runtime::__private::Kernel<
+            (&JointTrig<6>, &SVector<f64, 6>, &SVector<f64, 6>),
+        > for Body {
+            type Output = (SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>);
+            #[inline(always)]
+            fn run<M: dyngen_runtime::__private::MulAdd>(
+                arith: M,
+                (t, qd, tau): (&JointTrig<6>, &SVector<f64, 6>, &SVector<f64, 6>),
+            ) -> (SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>) {
+                let [_, s1, s2, s3, s4, s5] = t.sin;
+                let [_, c1, c2, c3, c4, c5] = t.cos;
+                let [qd0, qd1, qd2, qd3, qd4, qd5] = qd.data.0[0];
+                let [tau0, tau1, tau2, tau3, tau4, tau5] = tau.data.0[0];
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
+                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
+                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
+                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
+                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
+                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
+                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
+                x291, x292, x293, x294, x295, x296, x297, x298, x299, x300, x301, x302,
+                x303, x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
+                x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325, x326,
+                x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337, x338,
+                x339, x340, x341, x342, x343, x344, x345, x346, x347, x348, x349, x350,
+                x351, x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373, x374,
+                x375, x376, x377, x378, x379, x380, x381, x382, x383, x384, x385, x386,
+                x387, x388, x389, x390, x391, x392, x393, x394, x395, x396, x397, x398,
+                x399, x400, x401, x402, x403, x404, x405, x406, x407, x408, x409, x410,
+                x411, x412, x413, x414, x415, x416, x417, x418, x419, x420, x421, x422,
+                x423, x424, x425, x426, x427, x428, x429, x430, x431, x432, x433, x434,
+                x435, x436, x437, x438, x439, x440, x441, x442, x443, x444, x445, x446,
+                x447, x448, x449, x450, x451, x452, x453, x454, x455, x456, x457, x458,
+                x459, x460, x461, x462, x463, x464, x465, x466, x467, x468, x469, x470,
+                x471, x472, x473, x474, x475, x476, x477, x478, x479, x480, x481, x482,
+                x483, x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
+                x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505, x506,
+                x507, x508, x509, x510, x511, x512, x513, x514, x515, x516, x517, x518,
+                x519, x520, x521, x522, x523, x524, x525, x526, x527, x528, x529, x530,
+                x531, x532, x533, x534, x535, x536, x537, x538, x539, x540, x541, x542,
+                x543, x544, x545, x546, x547, x548, x549, x550, x551, x552, x553, x554,
+                x555, x556, x557, x558, x559, x560, x561, x562, x563, x564, x565, x566,
+                x567, x568, x569, x570, x571, x572, x573, x574, x575, x576, x577, x578,
+                x579, x580, x581, x582, x583, x584, x585, x586, x587, x588, x589, x590,
+                x591, x592, x593, x594, x595, x596, x597, x598, x599, x600, x601, x602,
+                x603, x604, x605, x606, x607, x608, x609, x610, x611, x612, x613, x614,
+                x615, x616, x617, x618, x619, x620, x621, x622, x623, x624, x625, x626,
+                x627, x628, x629, x630, x631, x632, x633, x634, x635, x636, x637, x638,
+                x639, x640, x641, x642, x643, x644, x645, x646, x647, x648, x649, x650,
+                x651, x652, x653, x654, x655, x656, x657, x658, x659, x660, x661, x662,
+                x663, x664, x665, x666, x667, x668, x669, x670, x671, x672, x673, x674,
+                x675, x676, x677, x678, x679, x680, x681, x682, x683, x684, x685, x686,
+                x687, x688, x689, x690, x691, x692, x693, x694, x695, x696, x697, x698,
+                x699, x700, x701, x702, x703, x704, x705, x706, x707, x708, x709, x710,
+                x711, x712, x713, x714, x715, x716, x717, x718, x719, x720, x721, x722,
+                x723, x724, x725, x726, x727, x728, x729, x730, x731, x732, x733, x734,
+                x735, x736, x737, x738, x739, x740, x741, x742, x743, x744, x745, x746,
+                x747, x748, x749, x750, x751, x752, x753, x754, x755, x756, x757, x758,
+                x759, x760, x761, x762, x763, x764, x765, x766, x767, x768, x769, x770,
+                x771, x772, x773, x774, x775, x776, x777, x778, x779, x780, x781, x782,
+                x783, x784, x785, x786, x787, x788, x789, x790, x791, x792, x793, x794,
+                x795, x796, x797, x798, x799, x800, x801, x802, x803, x804, x805, x806,
+                x807, x808, x809, x810, x811, x812, x813, x814, x815, x816, x817, x818,
+                x819, x820, x821, x822, x823, x824, x825, x826, x827, x828, x829, x830,
+                x831, x832, x833, x834, x835, x836, x837, x838, x839, x840, x841, x842,
+                x843, x844, x845, x846, x847, x848, x849, x850, x851, x852, x853, x854,
+                x855, x856, x857, x858, x859, x860, x861, x862, x863, x864, x865, x866,
+                x867, x868, x869, x870, x871, x872, x873, x874, x875, x876, x877, x878,
+                x879, x880, x881, x882, x883, x884, x885, x886, x887, x888, x889, x890,
+                x891, x892, x893, x894, x895, x896, x897, x898, x899, x900, x901, x902,
+                x903, x904, x905, x906, x907, x908, x909, x910, x911, x912, x913, x914,
+                x915, x916, x917, x918, x919, x920, x921, x922, x923, x924, x925, x926,
+                x927, x928, x929, x930, x931, x932, x933, x934, x935, x936, x937, x938,
+                x939, x940, x941, x942, x943, x944, x945, x946, x947, x948, x949, x950,
+                x951, x952, x953, x954, x955, x956, x957, x958, x959, x960, x961, x962,
+                x963, x964, x965, x966, x967, x968, x969, x970, x971, x972, x973, x974,
+                x975, x976, x977, x978, x979, x980, x981, x982, x983, x984, x985, x986,
+                x987, x988, x989, x990, x991, x992, x993, x994, x995, x996, x997, x998,
+                x999, x1000, x1001, x1002, x1003, x1004, x1005, x1006, x1007, x1008,
+                x1009, x1010, x1011, x1012, x1013, x1014, x1015, x1016, x1017, x1018,
+                x1019, x1020, x1021, x1022, x1023, x1024, x1025, x1026, x1027, x1028,
+                x1029, x1030, x1031, x1032, x1033, x1034, x1035, x1036, x1037, x1038,
+                x1039, x1040, x1041, x1042, x1043, x1044, x1045, x1046, x1047, x1048,
+                x1049, x1050, x1051, x1052, x1053, x1054, x1055, x1056, x1057, x1058,
+                x1059, x1060, x1061, x1062, x1063, x1064, x1065, x1066, x1067, x1068,
+                x1069, x1070, x1071, x1072, x1073, x1074, x1075, x1076, x1077, x1078,
+                x1079, x1080, x1081, x1082, x1083, x1084, x1085, x1086, x1087, x1088,
+                x1089, x1090, x1091, x1092, x1093, x1094, x1095, x1096, x1097, x1098,
+                x1099, x1100, x1101, x1102, x1103, x1104, x1105, x1106, x1107, x1108,
+                x1109, x1110, x1111, x1112, x1113, x1114, x1115, x1116, x1117, x1118,
+                x1119, x1120, x1121, x1122, x1123, x1124, x1125, x1126, x1127, x1128,
+                x1129, x1130, x1131, x1132, x1133, x1134, x1135, x1136, x1137, x1138,
+                x1139, x1140, x1141, x1142, x1143, x1144, x1145, x1146, x1147, x1148,
+                x1149, x1150, x1151, x1152, x1153, x1154, x1155, x1156, x1157, x1158,
+                x1159, x1160, x1161, x1162, x1163, x1164, x1165, x1166, x1167, x1168,
+                x1169, x1170, x1171, x1172, x1173, x1174, x1175, x1176, x1177, x1178,
+                x1179, x1180, x1181, x1182, x1183, x1184, x1185, x1186, x1187, x1188,
+                x1189, x1190, x1191, x1192, x1193, x1194, x1195, x1196, x1197, x1198,
+                x1199, x1200, x1201, x1202, x1203, x1204, x1205, x1206, x1207, x1208,
+                x1209, x1210, x1211, x1212, x1213, x1214, x1215, x1216, x1217, x1218,
+                x1219, x1220, x1221, x1222, x1223, x1224, x1225, x1226, x1227, x1228,
+                x1229, x1230, x1231, x1232, x1233, x1234, x1235, x1236, x1237, x1238,
+                x1239, x1240, x1241, x1242, x1243, x1244, x1245, x1246, x1247, x1248,
+                x1249, x1250, x1251, x1252, x1253, x1254, x1255, x1256, x1257, x1258,
+                x1259, x1260, x1261, x1262, x1263, x1264, x1265, x1266, x1267, x1268,
+                x1269, x1270, x1271, x1272, x1273, x1274, x1275, x1276, x1277, x1278,
+                x1279, x1280, x1281, x1282, x1283, x1284, x1285, x1286, x1287, x1288,
+                x1289, x1290, x1291, x1292, x1293, x1294, x1295, x1296, x1297, x1298,
+                x1299, x1300, x1301, x1302, x1303, x1304, x1305, x1306, x1307, x1308,
+                x1309, x1310, x1311, x1312, x1313, x1314, x1315, x1316, x1317, x1318,
+                x1319, x1320, x1321, x1322, x1323, x1324, x1325, x1326, x1327, x1328,
+                x1329, x1330, x1331, x1332, x1333, x1334, x1335, x1336, x1337, x1338,
+                x1339, x1340, x1341, x1342, x1343, x1344, x1345, x1346, x1347, x1348,
+                x1349, x1350, x1351, x1352, x1353, x1354, x1355, x1356, x1357, x1358,
+                x1359, x1360, x1361, x1362, x1363, x1364, x1365, x1366, x1367, x1368,
+                x1369, x1370, x1371, x1372, x1373, x1374, x1375, x1376, x1377, x1378,
+                x1379, x1380, x1381, x1382, x1383, x1384, x1385, x1386, x1387, x1388,
+                x1389, x1390, x1391, x1392, x1393, x1394, x1395, x1396, x1397, x1398,
+                x1399, x1400, x1401, x1402, x1403, x1404, x1405, x1406, x1407, x1408,
+                x1409, x1410, x1411, x1412, x1413, x1414, x1415, x1416, x1417, x1418,
+                x1419, x1420, x1421, x1422, x1423, x1424, x1425, x1426, x1427, x1428,
+                x1429, x1430, x1431, x1432, x1433, x1434, x1435, x1436, x1437, x1438,
+                x1439, x1440, x1441, x1442, x1443, x1444, x1445, x1446, x1447, x1448,
+                x1449, x1450, x1451, x1452, x1453, x1454, x1455, x1456, x1457, x1458,
+                x1459, x1460, x1461, x1462, x1463, x1464, x1465, x1466, x1467, x1468,
+                x1469, x1470, x1471, x1472, x1473, x1474, x1475, x1476, x1477, x1478,
+                x1479, x1480, x1481, x1482, x1483, x1484, x1485, x1486, x1487, x1488,
+                x1489, x1490, x1491, x1492, x1493, x1494, x1495, x1496, x1497, x1498,
+                x1499, x1500, x1501, x1502, x1503, x1504, x1505, x1506, x1507, x1508,
+                x1509, x1510, x1511, x1512, x1513, x1514, x1515, x1516, x1517, x1518,
+                x1519, x1520, x1521, x1522, x1523, x1524, x1525, x1526, x1527, x1528,
+                x1529, x1530, x1531, x1532, x1533, x1534, x1535, x1536, x1537, x1538,
+                x1539, x1540, x1541, x1542, x1543, x1544, x1545, x1546, x1547, x1548,
+                x1549, x1550, x1551, x1552, x1553, x1554, x1555, x1556, x1557, x1558,
+                x1559, x1560, x1561, x1562, x1563, x1564, x1565, x1566, x1567, x1568,
+                x1569, x1570, x1571, x1572, x1573, x1574, x1575, x1576, x1577, x1578,
+                x1579, x1580, x1581, x1582, x1583, x1584, x1585, x1586, x1587, x1588,
+                x1589, x1590, x1591, x1592, x1593, x1594, x1595, x1596, x1597, x1598,
+                x1599, x1600, x1601, x1602, x1603, x1604, x1605, x1606, x1607, x1608,
+                x1609, x1610, x1611, x1612, x1613, x1614, x1615, x1616, x1617, x1618,
+                x1619, x1620, x1621, x1622, x1623, x1624, x1625, x1626, x1627, x1628,
+                x1629, x1630, x1631, x1632, x1633, x1634, x1635, x1636, x1637, x1638,
+                x1639, x1640, x1641, x1642, x1643, x1644, x1645, x1646, x1647, x1648,
+                x1649, x1650, x1651, x1652, x1653, x1654, x1655, x1656, x1657, x1658,
+                x1659, x1660, x1661, x1662, x1663, x1664, x1665, x1666, x1667, x1668,
+                x1669, x1670, x1671, x1672, x1673, x1674, x1675, x1676, x1677, x1678,
+                x1679, x1680, x1681, x1682, x1683, x1684, x1685, x1686, x1687, x1688,
+                x1689, x1690, x1691, x1692, x1693, x1694, x1695, x1696, x1697, x1698,
+                x1699, x1700, x1701, x1702, x1703, x1704, x1705, x1706, x1707, x1708,
+                x1709, x1710, x1711, x1712, x1713, x1714, x1715, x1716, x1717, x1718,
+                x1719, x1720, x1721, x1722, x1723, x1724, x1725, x1726, x1727, x1728,
+                x1729, x1730, x1731, x1732, x1733, x1734, x1735, x1736, x1737, x1738,
+                x1739, x1740, x1741, x1742, x1743, x1744, x1745, x1746, x1747, x1748,
+                x1749, x1750, x1751, x1752, x1753, x1754, x1755, x1756, x1757, x1758,
+                x1759, x1760, x1761, x1762, x1763, x1764, x1765, x1766, x1767, x1768,
+                x1769, x1770, x1771, x1772, x1773, x1774, x1775, x1776, x1777, x1778,
+                x1779, x1780, x1781, x1782, x1783, x1784, x1785, x1786, x1787, x1788,
+                x1789, x1790, x1791, x1792, x1793, x1794, x1795, x1796, x1797, x1798,
+                x1799, x1800, x1801, x1802, x1803, x1804, x1805, x1806, x1807, x1808,
+                x1809, x1810, x1811, x1812, x1813, x1814, x1815, x1816, x1817, x1818,
+                x1819, x1820, x1821, x1822, x1823, x1824, x1825, x1826, x1827, x1828,
+                x1829, x1830]: [f64; 1831];
+                x0 = -9.81f64 * c1;
+                x1 = -9.81f64 * s1;
+                x2 = qd0 * c1;
+                x3 = qd0 * s1;
+                x4 = 0.13585f64 * qd0;
+                x5 = s1 * x4;
+                x6 = c1 * x4;
+                x7 = c2 * x2;
+                x8 = arith.mul_add(s2, x3, -x7);
+                x9 = c2 * x3;
+                x10 = arith.mul_add(s2, x2, x9);
+                x11 = 0.425f64 * qd1;
+                x12 = arith.mul_add(0.1197f64, x3, -x11);
+                x13 = -0.425f64 * x2;
+                x14 = 0.1197f64 * x2;
+                x15 = x5 - x12;
+                x16 = x14 - x6;
+                x17 = s2 * x16;
+                x18 = arith.mul_add(c2, x15, -x17);
+                x19 = c2 * x16;
+                x20 = arith.mul_add(s2, x15, x19);
+                x21 = qd1 + qd2;
+                x22 = s3 * x8;
+                x23 = arith.mul_add(c3, x10, -x22);
+                x24 = s3 * x10;
+                x25 = arith.mul_add(c3, x8, x24);
+                x26 = arith.mul_add(0.39225f64, x21, x18);
+                x27 = arith.mul_add(0.39225f64, x8, x13);
+                x28 = c3 * x20;
+                x29 = arith.mul_add(s3, x26, x28);
+                x30 = c3 * x26;
+                x31 = s3 * x20;
+                x32 = x30 - x31;
+                x33 = qd3 + x21;
+                x34 = s4 * x33;
+                x35 = arith.mul_add(c4, x23, x34);
+                x36 = s4 * x23;
+                x37 = arith.mul_add(c4, x33, -x36);
+                x38 = qd4 + x25;
+                x39 = s5 * x38;
+                x40 = arith.mul_add(c5, x35, -x39);
+                x41 = c5 * x38;
+                x42 = arith.mul_add(s5, x35, x41);
+                x43 = qd5 + x37;
+                x44 = x31 - x30;
+                x45 = -0.016685526854599998f64 * c5;
+                x46 = 0.016685526854599998f64 * s5;
+                x47 = s5 * x45;
+                x48 = arith.mul_add(c5, x45, 0.033822f64);
+                x49 = arith.mul_add(-s5, x46, 0.253242f64);
+                x50 = c4 * x48;
+                x51 = -0.0171364731454f64 * s4;
+                x52 = c4 * x47;
+                x53 = s4 * x48;
+                x54 = 0.0171364731454f64 * c4;
+                x55 = s4 * x47;
+                x56 = s4 * x51;
+                x57 = arith.mul_add(c4, x50, -x56);
+                x58 = c4 * x51;
+                x59 = arith.mul_add(s4, x50, x58);
+                x60 = c4 * x54;
+                x61 = arith.mul_add(s4, x53, x60);
+                x62 = 0.004608836229750008f64 + x57;
+                x63 = 0.22402883622975f64 + x61;
+                x64 = -0.001653980355f64 - x55;
+                x65 = 0.017784735f64 * c3;
+                x66 = -0.017784735f64 * s3;
+                x67 = c3 * x52;
+                x68 = arith.mul_add(s3, x62, x67);
+                x69 = s3 * x59;
+                x70 = arith.mul_add(c3, x64, -x69);
+                x71 = s3 * x52;
+                x72 = arith.mul_add(c3, x49, x71);
+                x73 = arith.mul_add(-c3, x62, x71);
+                x74 = s3 * x64;
+                x75 = arith.mul_add(c3, x59, x74);
+                x76 = arith.mul_add(-s3, x49, x67);
+                x77 = c3 * x72;
+                x78 = arith.mul_add(s3, x68, x77);
+                x79 = s3 * x72;
+                x80 = arith.mul_add(c3, x68, -x79);
+                x81 = s3 * x76;
+                x82 = arith.mul_add(c3, x73, x81);
+                x83 = -0.00697606230375f64 * s3;
+                x84 = -0.0139521246075f64 * s3;
+                x85 = x78 + x84;
+                x86 = x63 + x84;
+                x87 = arith.mul_add(-0.00697606230375f64, c3, x80);
+                x88 = x84 - x82;
+                x89 = x83 + x83;
+                x90 = x88 - x89;
+                x91 = 1.5987592750000001f64 + x66;
+                x92 = 0.59155695167475f64 + x85;
+                x93 = 0.59565195167475f64 + x86;
+                x94 = -0.05132265682500001f64 - x75;
+                x95 = s2 * x91;
+                x96 = arith.mul_add(c2, x65, x95);
+                x97 = s2 * x65;
+                x98 = arith.mul_add(c2, x91, -x97);
+                x99 = s2 * x87;
+                x100 = arith.mul_add(c2, x92, x99);
+                x101 = c2 * x70;
+                x102 = arith.mul_add(s2, x94, x101);
+                x103 = c2 * x87;
+                x104 = arith.mul_add(s2, x90, x103);
+                x105 = arith.mul_add(-s2, x92, x103);
+                x106 = s2 * x70;
+                x107 = arith.mul_add(c2, x94, -x106);
+                x108 = arith.mul_add(c2, x90, -x99);
+                x109 = s2 * x104;
+                x110 = arith.mul_add(c2, x100, x109);
+                x111 = s2 * x100;
+                x112 = arith.mul_add(c2, x104, -x111);
+                x113 = s2 * x105;
+                x114 = arith.mul_add(c2, x108, -x113);
+                x115 = 0.425f64 * x98;
+                x116 = 0.85f64 * x98;
+                x117 = x110 + x116;
+                x118 = arith.mul_add(0.1197f64, x96, x102);
+                x119 = x93 + x116;
+                x120 = arith.mul_add(-0.425f64, x96, x112);
+                x121 = arith.mul_add(0.1197f64, x98, x107);
+                x122 = x114 + x116;
+                x123 = x115 + x115;
+                x124 = x122 - x123;
+                x125 = 4.432922500000001f64 + x98;
+                x126 = 1.75501953841f64 + x117;
+                x127 = 1.77012693841f64 + x119;
+                x128 = 0.19371331275f64 + x121;
+                x129 = c1 * x96;
+                x130 = arith.mul_add(s1, x125, x129);
+                x131 = c1 * x126;
+                x132 = arith.mul_add(s1, x120, x131);
+                x133 = s1 * x128;
+                x134 = arith.mul_add(c1, x118, x133);
+                x135 = s1 * x124;
+                x136 = arith.mul_add(c1, x120, x135);
+                x137 = s1 * x136;
+                x138 = arith.mul_add(c1, x132, x137);
+                x139 = arith.mul_add(-0.13585f64, x130, x134);
+                x140 = 0.41784981244275005f64 + x138;
+                x141 = arith.mul_add(0.1197f64, x96, x102);
+                x142 = x93 + x115;
+                x143 = arith.mul_add(s1, x98, x129);
+                x144 = s1 * x121;
+                x145 = arith.mul_add(c1, x141, x144);
+                x146 = arith.mul_add(-0.13585f64, x143, x145);
+                x147 = -0.017784735f64 * c3;
+                x148 = x63 + x83;
+                x149 = s2 * x147;
+                x150 = arith.mul_add(c2, x66, x149);
+                x151 = s2 * x66;
+                x152 = arith.mul_add(c2, x147, -x151);
+                x153 = arith.mul_add(-s2, x75, x101);
+                x154 = arith.mul_add(c2, x75, x106);
+                x155 = arith.mul_add(-0.1197f64, x152, x153);
+                x156 = arith.mul_add(0.425f64, x150, x148);
+                x157 = arith.mul_add(-0.1197f64, x150, x154);
+                x158 = s1 * x150;
+                x159 = arith.mul_add(c1, x152, -x158);
+                x160 = c1 * x155;
+                x161 = arith.mul_add(s1, x157, -x160);
+                x162 = arith.mul_add(-0.13585f64, x159, x161);
+                x163 = s2 * x76;
+                x164 = arith.mul_add(c2, x72, x163);
+                x165 = s2 * x72;
+                x166 = arith.mul_add(c2, x76, -x165);
+                x167 = s1 * x166;
+                x168 = arith.mul_add(c1, x164, x167);
+                x169 = s3 * x51;
+                x170 = c3 * x51;
+                x171 = s2 * x170;
+                x172 = arith.mul_add(c2, x169, x171);
+                x173 = c2 * x170;
+                x174 = arith.mul_add(s2, x169, -x173);
+                x175 = s1 * x174;
+                x176 = arith.mul_add(c1, x172, -x175);
+                x177 = -4.432922500000001f64 * x6;
+                x178 = -8.865845000000002f64 * x6;
+                x179 = 4.432922500000001f64 * qd1;
+                x180 = -4.432922500000001f64 * x2;
+                x181 = 0.19371331275f64 * qd1;
+                x182 = arith.mul_add(1.77012693841f64, x3, x181);
+                x183 = arith.mul_add(-1.75501953841f64, x3, x182);
+                x184 = -0.19371331275f64 * x2;
+                x185 = x184 + x184;
+                x186 = x178 - x185;
+                x187 = -0.19371331275f64 * x3;
+                x188 = arith.mul_add(1.75501953841f64, qd1, x187);
+                x189 = 4.432922500000001f64 * x5;
+                x190 = x188 + x189;
+                x191 = x177 + x177;
+                x192 = x178 + x185;
+                x193 = x192 - x191;
+                x194 = 1.5987592750000001f64 * x20;
+                x195 = 3.1975185500000003f64 * x20;
+                x196 = 1.5987592750000001f64 * x21;
+                x197 = 1.5987592750000001f64 * x8;
+                x198 = -0.05132265682500001f64 * x21;
+                x199 = arith.mul_add(0.59565195167475f64, x10, x198);
+                x200 = arith.mul_add(-0.59155695167475f64, x10, x199);
+                x201 = -0.05132265682500001f64 * x8;
+                x202 = x201 + x201;
+                x203 = x195 - x202;
+                x204 = 0.05132265682500001f64 * x10;
+                x205 = arith.mul_add(0.59155695167475f64, x21, x204);
+                x206 = 1.5987592750000001f64 * x18;
+                x207 = x205 + x206;
+                x208 = 0.679472691875f64 * x2;
+                x209 = arith.mul_add(0.59565195167475f64, x8, -x208);
+                x210 = x194 + x194;
+                x211 = x195 + x202;
+                x212 = x211 - x210;
+                x213 = 0.017784735f64 * x32;
+                x214 = 0.03556947f64 * x32;
+                x215 = 0.017784735f64 * x33;
+                x216 = 0.017784735f64 * x23;
+                x217 = -0.001653980355f64 * x33;
+                x218 = arith.mul_add(-0.22402883622975f64, x25, x217);
+                x219 = arith.mul_add(0.004608836229750008f64, x25, x218);
+                x220 = -0.001653980355f64 * x23;
+                x221 = x220 + x220;
+                x222 = x214 - x221;
+                x223 = -0.001653980355f64 * x25;
+                x224 = arith.mul_add(0.004608836229750008f64, x33, x223);
+                x225 = -0.017784735f64 * x29;
+                x226 = x224 + x225;
+                x227 = -0.017784735f64 * x27;
+                x228 = arith.mul_add(0.22402883622975f64, x23, -x227);
+                x229 = x213 + x213;
+                x230 = x214 + x221;
+                x231 = x230 - x229;
+                x232 = 0.033822f64 * x37;
+                x233 = arith.mul_add(0.253242f64, x37, -x232);
+                x234 = 0.0171364731454f64 * x42;
+                x235 = arith.mul_add(-0.016685526854599998f64, x42, -x234);
+                x236 = -0.016685526854599998f64 * x43;
+                x237 = 0.0171364731454f64 * x40;
+                x238 = -1.75501953841f64 * x2;
+                x239 = arith.mul_add(1.77012693841f64, qd1, x187);
+                x240 = x189 + x239;
+                x241 = arith.mul_add(0.59565195167475f64, x21, x204);
+                x242 = arith.mul_add(0.59155695167475f64, x8, -x208);
+                x243 = x206 + x241;
+                x244 = arith.mul_add(0.22402883622975f64, x33, x223);
+                x245 = arith.mul_add(0.004608836229750008f64, x23, -x227);
+                x246 = x225 + x244;
+                x247 = 0.033822f64 * x35;
+                x248 = 0.253242f64 * x38;
+                x249 = -0.016685526854599998f64 * x40;
+                x250 = 0.0171364731454f64 * x43;
+                x251 = s5 * x236;
+                x252 = s5 * x237;
+                x253 = arith.mul_add(c5, x235, x252);
+                x254 = c5 * x236;
+                x255 = s5 * x235;
+                x256 = arith.mul_add(c5, x237, -x255);
+                x257 = s5 * x254;
+                x258 = arith.mul_add(c5, x251, x257);
+                x259 = c5 * x254;
+                x260 = arith.mul_add(s5, x251, -x259);
+                x261 = arith.mul_add(0.033822f64, x38, x253);
+                x262 = x233 + x260;
+                x263 = arith.mul_add(-0.253242f64, x35, x256);
+                x264 = arith.mul_add(c5, x249, x247);
+                x265 = arith.mul_add(-s5, x249, x248);
+                x266 = s4 * x261;
+                x267 = arith.mul_add(c4, x258, x266);
+                x268 = c4 * x261;
+                x269 = s4 * x263;
+                x270 = arith.mul_add(c4, x262, -x269);
+                x271 = arith.mul_add(-s4, x258, x268);
+                x272 = c4 * x263;
+                x273 = arith.mul_add(s4, x262, x272);
+                x274 = s4 * x268;
+                x275 = arith.mul_add(c4, x267, x274);
+                x276 = s4 * x267;
+                x277 = arith.mul_add(c4, x268, -x276);
+                x278 = c4 * x266;
+                x279 = arith.mul_add(s4, x271, x278);
+                x280 = x214 - x275;
+                x281 = x219 + x277;
+                x282 = x222 + x279;
+                x283 = x270 - x226;
+                x284 = x228 + x273;
+                x285 = x231 + x258;
+                x286 = s4 * x250;
+                x287 = arith.mul_add(c4, x264, -x286);
+                x288 = x245 + x287;
+                x289 = x217 + x265;
+                x290 = s3 * x215;
+                x291 = c3 * x215;
+                x292 = c3 * x283;
+                x293 = arith.mul_add(-s3, x280, x292);
+                x294 = s3 * x281;
+                x295 = arith.mul_add(c3, x284, -x294);
+                x296 = s3 * x283;
+                x297 = arith.mul_add(c3, x285, -x296);
+                x298 = arith.mul_add(c3, x280, x296);
+                x299 = s3 * x284;
+                x300 = arith.mul_add(c3, x281, x299);
+                x301 = arith.mul_add(s3, x285, x292);
+                x302 = s3 * x293;
+                x303 = arith.mul_add(c3, x297, -x302);
+                x304 = s3 * x297;
+                x305 = arith.mul_add(c3, x293, x304);
+                x306 = s3 * x301;
+                x307 = arith.mul_add(c3, x298, x306);
+                x308 = -0.39225f64 * x291;
+                x309 = -0.7845f64 * x291;
+                x310 = x303 + x309;
+                x311 = x282 + x309;
+                x312 = arith.mul_add(-0.39225f64, x290, x305);
+                x313 = -0.00697606230375f64 * x23;
+                x314 = x300 + x313;
+                x315 = x307 + x309;
+                x316 = x308 + x308;
+                x317 = x315 - x316;
+                x318 = x196 - x290;
+                x319 = x197 + x216;
+                x320 = x195 + x310;
+                x321 = x200 + x295;
+                x322 = x203 + x311;
+                x323 = x207 + x312;
+                x324 = x209 - x314;
+                x325 = x212 + x317;
+                x326 = s3 * x288;
+                x327 = arith.mul_add(c3, x289, -x326);
+                x328 = s3 * x289;
+                x329 = arith.mul_add(c3, x288, x328);
+                x330 = x327 - x313;
+                x331 = x242 + x330;
+                x332 = x198 - x329;
+                x333 = s2 * x291;
+                x334 = arith.mul_add(c2, x318, -x333);
+                x335 = c2 * x291;
+                x336 = arith.mul_add(s2, x318, x335);
+                x337 = s2 * x323;
+                x338 = arith.mul_add(c2, x320, -x337);
+                x339 = s2 * x324;
+                x340 = arith.mul_add(c2, x321, x339);
+                x341 = c2 * x323;
+                x342 = arith.mul_add(s2, x325, -x341);
+                x343 = arith.mul_add(s2, x320, x341);
+                x344 = s2 * x321;
+                x345 = arith.mul_add(c2, x324, -x344);
+                x346 = arith.mul_add(c2, x325, x337);
+                x347 = s2 * x342;
+                x348 = arith.mul_add(c2, x338, x347);
+                x349 = s2 * x338;
+                x350 = arith.mul_add(c2, x342, -x349);
+                x351 = c2 * x346;
+                x352 = arith.mul_add(s2, x343, x351);
+                x353 = 0.1197f64 * x319;
+                x354 = -0.425f64 * x336;
+                x355 = x353 + x354;
+                x356 = 2f64 * x355;
+                x357 = x348 + x356;
+                x358 = -0.1197f64 * x334;
+                x359 = x340 - x358;
+                x360 = x322 + x356;
+                x361 = x353 + x353;
+                x362 = x360 - x361;
+                x363 = arith.mul_add(-0.425f64, x334, x350);
+                x364 = 0.1197f64 * x336;
+                x365 = -0.425f64 * x319;
+                x366 = x364 + x365;
+                x367 = x345 - x366;
+                x368 = x352 + x356;
+                x369 = x354 + x354;
+                x370 = x368 - x369;
+                x371 = x179 + x334;
+                x372 = x180 + x319;
+                x373 = x178 + x357;
+                x374 = x183 + x359;
+                x375 = x186 + x362;
+                x376 = x363 - x190;
+                x377 = arith.mul_add(-1.77012693841f64, x2, x367);
+                x378 = x193 + x370;
+                x379 = s2 * x332;
+                x380 = arith.mul_add(c2, x331, x379);
+                x381 = s2 * x331;
+                x382 = arith.mul_add(c2, x332, -x381);
+                x383 = x364 - x365;
+                x384 = x380 + x383;
+                x385 = x382 - x358;
+                x386 = x238 + x384;
+                x387 = x181 + x385;
+                x388 = c1 * x373;
+                x389 = arith.mul_add(s1, x376, x388);
+                x390 = s1 * x378;
+                x391 = arith.mul_add(c1, x376, x390);
+                x392 = s1 * x391;
+                x393 = arith.mul_add(c1, x389, x392);
+                x394 = arith.mul_add(-0.2717f64, x372, x393);
+                x395 = 0.5f64 * x374;
+                x396 = 0.5f64 * x377;
+                x397 = -0.5f64 * x336;
+                x398 = -0.5f64 * x371;
+                x399 = 0.5f64 * x387;
+                x400 = -0.5f64 * x386;
+                x401 = x2 * x120;
+                x402 = arith.mul_add(x3, x126, -x401);
+                x403 = x2 * x128;
+                x404 = arith.mul_add(x3, x118, -x403);
+                x405 = x2 * x124;
+                x406 = arith.mul_add(x3, x120, -x405);
+                x407 = x5 * x96;
+                x408 = arith.mul_add(x6, x125, -x407);
+                x409 = x404 + x408;
+                x410 = x395 + x402;
+                x411 = arith.mul_add(0.5f64, x375, x409);
+                x412 = x396 + x406;
+                x413 = x399 + x410;
+                x414 = x400 + x412;
+                x415 = x397 + x397;
+                x416 = x398 + x398;
+                x417 = x395 - x399;
+                x418 = x396 - x400;
+                x419 = s1 * x415;
+                x420 = arith.mul_add(c1, x416, -x419);
+                x421 = s1 * x414;
+                x422 = arith.mul_add(c1, x413, x421);
+                x423 = arith.mul_add(0.13585f64, x420, x422);
+                x424 = s1 * x418;
+                x425 = arith.mul_add(c1, x417, x424);
+                x426 = x290 - x196;
+                x427 = 0.5f64 * x321;
+                x428 = 0.5f64 * x322;
+                x429 = 0.5f64 * x324;
+                x430 = -0.5f64 * x291;
+                x431 = 0.5f64 * x426;
+                x432 = 0.5f64 * x332;
+                x433 = -0.5f64 * x331;
+                x434 = x8 * x87;
+                x435 = arith.mul_add(x10, x92, x434);
+                x436 = x10 * x70;
+                x437 = arith.mul_add(x8, x94, x436);
+                x438 = x8 * x90;
+                x439 = arith.mul_add(x10, x87, x438);
+                x440 = x18 * x65;
+                x441 = arith.mul_add(x20, x91, x440);
+                x442 = x437 - x441;
+                x443 = x10 * x91;
+                x444 = arith.mul_add(x8, x65, -x443);
+                x445 = x427 + x435;
+                x446 = x428 + x442;
+                x447 = x429 + x439;
+                x448 = x432 + x445;
+                x449 = x433 + x447;
+                x450 = x430 + x430;
+                x451 = x431 + x431;
+                x452 = x427 - x432;
+                x453 = x429 - x433;
+                x454 = s2 * x451;
+                x455 = arith.mul_add(c2, x450, x454);
+                x456 = s2 * x450;
+                x457 = arith.mul_add(c2, x451, -x456);
+                x458 = s2 * x449;
+                x459 = arith.mul_add(c2, x448, x458);
+                x460 = s2 * x448;
+                x461 = arith.mul_add(c2, x449, -x460);
+                x462 = 0.425f64 * x444;
+                x463 = arith.mul_add(-0.1197f64, x457, -x462);
+                x464 = x459 + x463;
+                x465 = arith.mul_add(0.425f64, x455, x446);
+                x466 = arith.mul_add(0.1197f64, x455, x461);
+                x467 = s2 * x453;
+                x468 = arith.mul_add(c2, x452, x467);
+                x469 = s2 * x452;
+                x470 = arith.mul_add(c2, x453, -x469);
+                x471 = x2 * x121;
+                x472 = arith.mul_add(x3, x141, -x471);
+                x473 = arith.mul_add(x6, x98, -x407);
+                x474 = x472 + x473;
+                x475 = x428 + x474;
+                x476 = s1 * x455;
+                x477 = arith.mul_add(c1, x457, -x476);
+                x478 = s1 * x466;
+                x479 = arith.mul_add(c1, x464, x478);
+                x480 = arith.mul_add(0.13585f64, x477, x479);
+                x481 = s1 * x470;
+                x482 = arith.mul_add(c1, x468, x481);
+                x483 = 0.5f64 * x281;
+                x484 = 0.5f64 * x282;
+                x485 = 0.5f64 * x284;
+                x486 = -0.0088923675f64 * x33;
+                x487 = 0.5f64 * x289;
+                x488 = -0.5f64 * x288;
+                x489 = x23 * x52;
+                x490 = arith.mul_add(x25, x62, x489);
+                x491 = x25 * x59;
+                x492 = arith.mul_add(x23, x64, -x491);
+                x493 = x23 * x49;
+                x494 = arith.mul_add(x25, x52, x493);
+                x495 = 0.017784735f64 * x44;
+                x496 = x492 + x495;
+                x497 = -0.017784735f64 * x25;
+                x498 = x483 - x490;
+                x499 = x484 + x496;
+                x500 = x485 + x494;
+                x501 = x487 + x498;
+                x502 = x488 + x500;
+                x503 = x486 + x486;
+                x504 = x483 - x487;
+                x505 = x485 - x488;
+                x506 = c3 * x503;
+                x507 = s3 * x503;
+                x508 = s3 * x501;
+                x509 = arith.mul_add(c3, x502, -x508);
+                x510 = s3 * x502;
+                x511 = arith.mul_add(c3, x501, x510);
+                x512 = arith.mul_add(-0.00697606230375f64, x25, x509);
+                x513 = arith.mul_add(0.39225f64, x506, x499);
+                x514 = s3 * x504;
+                x515 = arith.mul_add(c3, x505, -x514);
+                x516 = s3 * x505;
+                x517 = arith.mul_add(c3, x504, x516);
+                x518 = arith.mul_add(-x8, x75, x436);
+                x519 = x20 * x66;
+                x520 = arith.mul_add(x18, x147, -x519);
+                x521 = x518 + x520;
+                x522 = x484 + x521;
+                x523 = s2 * x507;
+                x524 = arith.mul_add(c2, x506, -x523);
+                x525 = c2 * x507;
+                x526 = arith.mul_add(s2, x506, x525);
+                x527 = s2 * x511;
+                x528 = arith.mul_add(c2, x512, -x527);
+                x529 = c2 * x511;
+                x530 = arith.mul_add(s2, x512, x529);
+                x531 = 0.007558512375f64 * x25;
+                x532 = arith.mul_add(0.1197f64, x526, -x531);
+                x533 = x528 + x532;
+                x534 = arith.mul_add(0.425f64, x524, x513);
+                x535 = arith.mul_add(-0.1197f64, x524, x530);
+                x536 = s2 * x517;
+                x537 = arith.mul_add(c2, x515, -x536);
+                x538 = c2 * x517;
+                x539 = arith.mul_add(s2, x515, x538);
+                x540 = x2 * x157;
+                x541 = arith.mul_add(x3, x155, x540);
+                x542 = x5 * x152;
+                x543 = arith.mul_add(x6, x150, x542);
+                x544 = x541 + x543;
+                x545 = x484 + x544;
+                x546 = c1 * x526;
+                x547 = arith.mul_add(s1, x524, x546);
+                x548 = c1 * x533;
+                x549 = arith.mul_add(s1, x535, -x548);
+                x550 = arith.mul_add(0.13585f64, x547, x549);
+                x551 = c1 * x537;
+                x552 = arith.mul_add(s1, x539, -x551);
+                x553 = 0.5f64 * x262;
+                x554 = 0.5f64 * x263;
+                x555 = 0.5f64 * x258;
+                x556 = -0.0085682365727f64 * x43;
+                x557 = 0.5f64 * x264;
+                x558 = -0.0171364731454f64 * x35;
+                x559 = arith.mul_add(x37, x48, x553);
+                x560 = x554 + x558;
+                x561 = arith.mul_add(-x37, x47, x555);
+                x562 = x556 + x559;
+                x563 = x557 + x560;
+                x564 = x553 - x556;
+                x565 = x554 - x557;
+                x566 = s4 * x563;
+                x567 = arith.mul_add(c4, x562, -x566);
+                x568 = c4 * x563;
+                x569 = arith.mul_add(s4, x562, x568);
+                x570 = s4 * x565;
+                x571 = arith.mul_add(c4, x564, -x570);
+                x572 = c4 * x565;
+                x573 = arith.mul_add(s4, x564, x572);
+                x574 = x494 + x573;
+                x575 = s3 * x567;
+                x576 = arith.mul_add(c3, x561, -x575);
+                x577 = s3 * x561;
+                x578 = arith.mul_add(c3, x567, x577);
+                x579 = s3 * x571;
+                x580 = arith.mul_add(c3, x555, -x579);
+                x581 = s3 * x555;
+                x582 = arith.mul_add(c3, x571, x581);
+                x583 = x8 * x76;
+                x584 = arith.mul_add(x10, x72, x583);
+                x585 = x573 + x584;
+                x586 = s2 * x578;
+                x587 = arith.mul_add(c2, x576, -x586);
+                x588 = c2 * x578;
+                x589 = arith.mul_add(s2, x576, x588);
+                x590 = s2 * x582;
+                x591 = arith.mul_add(c2, x580, -x590);
+                x592 = c2 * x582;
+                x593 = arith.mul_add(s2, x580, x592);
+                x594 = x2 * x166;
+                x595 = arith.mul_add(x3, x164, -x594);
+                x596 = x573 + x595;
+                x597 = c1 * x587;
+                x598 = arith.mul_add(s1, x589, -x597);
+                x599 = c1 * x591;
+                x600 = arith.mul_add(s1, x593, -x599);
+                x601 = 0.5f64 * x235;
+                x602 = 0.0085682365727f64 * x40;
+                x603 = 0.008342763427299999f64 * x40;
+                x604 = 0.016685526854599998f64 * x42;
+                x605 = x601 + x604;
+                x606 = x602 + x603;
+                x607 = x602 - x603;
+                x608 = s5 * x606;
+                x609 = arith.mul_add(c5, x605, x608);
+                x610 = s5 * x605;
+                x611 = arith.mul_add(c5, x606, -x610);
+                x612 = s5 * x607;
+                x613 = arith.mul_add(c5, x601, x612);
+                x614 = s5 * x601;
+                x615 = arith.mul_add(c5, x607, -x614);
+                x616 = x558 + x615;
+                x617 = c4 * x609;
+                x618 = s4 * x609;
+                x619 = c4 * x613;
+                x620 = s4 * x613;
+                x621 = arith.mul_add(-x25, x51, x620);
+                x622 = s3 * x617;
+                x623 = arith.mul_add(c3, x611, -x622);
+                x624 = s3 * x611;
+                x625 = arith.mul_add(c3, x617, x624);
+                x626 = s3 * x619;
+                x627 = arith.mul_add(c3, x615, -x626);
+                x628 = s3 * x615;
+                x629 = arith.mul_add(c3, x619, x628);
+                x630 = x8 * x170;
+                x631 = arith.mul_add(x10, x169, x630);
+                x632 = x620 - x631;
+                x633 = s2 * x625;
+                x634 = arith.mul_add(c2, x623, -x633);
+                x635 = c2 * x625;
+                x636 = arith.mul_add(s2, x623, x635);
+                x637 = s2 * x629;
+                x638 = arith.mul_add(c2, x627, -x637);
+                x639 = c2 * x629;
+                x640 = arith.mul_add(s2, x627, x639);
+                x641 = x2 * x174;
+                x642 = arith.mul_add(x3, x172, x641);
+                x643 = x620 - x642;
+                x644 = c1 * x634;
+                x645 = arith.mul_add(s1, x636, -x644);
+                x646 = c1 * x638;
+                x647 = arith.mul_add(s1, x640, -x646);
+                x648 = qd1 * x3;
+                x649 = qd1 * x2;
+                x650 = qd1 * x6;
+                x651 = qd1 * x5;
+                x652 = qd2 * x10;
+                x653 = qd2 * x8;
+                x654 = qd2 * x20;
+                x655 = qd2 * x18;
+                x656 = qd3 * x25;
+                x657 = qd3 * x23;
+                x658 = qd4 * x37;
+                x659 = qd4 * x35;
+                x660 = qd5 * x42;
+                x661 = x3 * x240;
+                x662 = arith.mul_add(qd1, x181, x661);
+                x663 = x3 * x238;
+                x664 = arith.mul_add(x2, x181, -x663);
+                x665 = x2 * x240;
+                x666 = arith.mul_add(qd1, x238, x665);
+                x667 = x6 * x180;
+                x668 = x5 * x180;
+                x669 = x662 - x667;
+                x670 = arith.mul_add(-x6, x179, x664);
+                x671 = x666 + x668;
+                x672 = x3 * x180;
+                x673 = x2 * x180;
+                x674 = arith.mul_add(-qd1, x179, x673);
+                x675 = x10 * x243;
+                x676 = arith.mul_add(x21, x198, x675);
+                x677 = x8 * x198;
+                x678 = arith.mul_add(x10, x242, x677);
+                x679 = x8 * x243;
+                x680 = arith.mul_add(-x21, x242, x679);
+                x681 = x20 * x197;
+                x682 = x18 * x197;
+                x683 = arith.mul_add(x13, x196, -x682);
+                x684 = x676 + x681;
+                x685 = arith.mul_add(x20, x196, -x678);
+                x686 = x680 + x683;
+                x687 = x10 * x197;
+                x688 = x10 * x196;
+                x689 = x8 * x197;
+                x690 = arith.mul_add(x21, x196, x689);
+                x691 = x25 * x246;
+                x692 = arith.mul_add(x33, x217, -x691);
+                x693 = x23 * x217;
+                x694 = arith.mul_add(x25, x245, -x693);
+                x695 = x23 * x246;
+                x696 = arith.mul_add(-x33, x245, x695);
+                x697 = x29 * x216;
+                x698 = arith.mul_add(x27, x215, x697);
+                x699 = arith.mul_add(x32, x216, x692);
+                x700 = arith.mul_add(x32, x215, x694);
+                x701 = x696 + x698;
+                x702 = x25 * x216;
+                x703 = x25 * x215;
+                x704 = x23 * x216;
+                x705 = arith.mul_add(x33, x215, x704);
+                x706 = x37 * x248;
+                x707 = x35 * x248;
+                x708 = arith.mul_add(x38, x247, -x707);
+                x709 = x37 * x247;
+                x710 = x42 * x250;
+                x711 = x42 * x249;
+                x712 = x40 * x250;
+                x713 = arith.mul_add(-x43, x249, x712);
+                x714 = s5 * x713;
+                x715 = c5 * x713;
+                x716 = c3 * x705;
+                x717 = s3 * x705;
+                x718 = x63 - x60;
+                x719 = x148 - x60;
+                x720 = x156 - x60;
+                x721 = c4 * x176;
+                x722 = x162 - x721;
+                x723 = x93 - x60;
+                x724 = x142 - x60;
+                x725 = x146 + x721;
+                x726 = x127 - x60;
+                x727 = x139 + x721;
+                x728 = 58.355064750790525f64 * x176;
+                x729 = arith.mul_add(-x176, x728, x140);
+                x730 = 1f64 / x49;
+                x731 = x55 * x730;
+                x732 = x55 * x731;
+                x733 = x718 - x732;
+                x734 = x719 - x732;
+                x735 = x720 - x732;
+                x736 = x168 * x731;
+                x737 = x722 - x736;
+                x738 = x723 - x732;
+                x739 = x724 - x732;
+                x740 = x725 + x736;
+                x741 = x726 - x732;
+                x742 = x727 + x736;
+                x743 = x168 * x730;
+                x744 = arith.mul_add(-x168, x743, x729);
+                x745 = 1f64 / x733;
+                x746 = x734 * x745;
+                x747 = arith.mul_add(-x734, x746, x738);
+                x748 = arith.mul_add(-x735, x746, x739);
+                x749 = arith.mul_add(x737, x746, x740);
+                x750 = x735 * x745;
+                x751 = arith.mul_add(-x735, x750, x741);
+                x752 = arith.mul_add(x737, x750, x742);
+                x753 = x737 * x745;
+                x754 = arith.mul_add(-x737, x753, x744);
+                x755 = 1f64 / x747;
+                x756 = x748 * x755;
+                x757 = arith.mul_add(-x748, x756, x751);
+                x758 = arith.mul_add(x749, x756, -x752);
+                x759 = x749 * x755;
+                x760 = arith.mul_add(-x749, x759, x754);
+                x761 = 1f64 / x757;
+                x762 = x758 * x761;
+                x763 = arith.mul_add(-x758, x762, x760);
+                x764 = 1f64 / x763;
+                x765 = x0 + x650;
+                x766 = x1 + x651;
+                x767 = s2 * x649;
+                x768 = arith.mul_add(c2, x648, x767);
+                x769 = c2 * x649;
+                x770 = arith.mul_add(s2, x648, -x769);
+                x771 = arith.mul_add(-0.1197f64, x649, x765);
+                x772 = arith.mul_add(-0.1197f64, x648, x766);
+                x773 = s2 * x772;
+                x774 = arith.mul_add(c2, x771, -x773);
+                x775 = c2 * x772;
+                x776 = arith.mul_add(s2, x771, x775);
+                x777 = x652 + x768;
+                x778 = x653 + x770;
+                x779 = x774 - x654;
+                x780 = x655 + x776;
+                x781 = c3 * x778;
+                x782 = arith.mul_add(s3, x777, x781);
+                x783 = s3 * x778;
+                x784 = arith.mul_add(c3, x777, -x783);
+                x785 = 0.39225f64 * x777;
+                x786 = arith.mul_add(0.425f64, x648, x785);
+                x787 = c3 * x780;
+                x788 = arith.mul_add(s3, x779, x787);
+                x789 = x656 + x782;
+                x790 = x657 + x784;
+                x791 = arith.mul_add(qd3, x32, x788);
+                x792 = arith.mul_add(-c4, x789, x658);
+                x793 = arith.mul_add(s4, x789, -x659);
+                x794 = s5 * x790;
+                x795 = arith.mul_add(c5, x792, -x794);
+                x796 = x795 - x660;
+                x797 = 4.432922500000001f64 * x765;
+                x798 = arith.mul_add(-0.19371331275f64, x649, x797);
+                x799 = arith.mul_add(1.75501953841f64, x648, x669);
+                x800 = x670 + x798;
+                x801 = -0.679472691875f64 * x648;
+                x802 = 1.5987592750000001f64 * x779;
+                x803 = arith.mul_add(0.59155695167475f64, x777, -x801);
+                x804 = arith.mul_add(-0.05132265682500001f64, x778, x802);
+                x805 = x684 + x803;
+                x806 = x685 + x804;
+                x807 = arith.mul_add(1.5987592750000001f64, x777, x688);
+                x808 = -0.017784735f64 * x786;
+                x809 = -0.017784735f64 * x791;
+                x810 = arith.mul_add(-0.004608836229750008f64, x789, -x808);
+                x811 = arith.mul_add(-0.001653980355f64, x790, x809);
+                x812 = x699 + x810;
+                x813 = x700 + x811;
+                x814 = arith.mul_add(0.017784735f64, x789, x703);
+                x815 = arith.mul_add(0.033822f64, x792, x706);
+                x816 = arith.mul_add(0.253242f64, x790, -x709);
+                x817 = arith.mul_add(-0.016685526854599998f64, x796, -x710);
+                x818 = arith.mul_add(0.0171364731454f64, x793, x711);
+                x819 = arith.mul_add(c5, x817, x714);
+                x820 = arith.mul_add(-s5, x817, x715);
+                x821 = x815 + x819;
+                x822 = x708 + x818;
+                x823 = x816 + x820;
+                x824 = s4 * x822;
+                x825 = arith.mul_add(c4, x821, -x824);
+                x826 = c4 * x822;
+                x827 = arith.mul_add(s4, x821, x826);
+                x828 = x812 + x825;
+                x829 = x813 + x827;
+                x830 = x701 + x823;
+                x831 = arith.mul_add(s3, x702, x716);
+                x832 = arith.mul_add(-c3, x702, x717);
+                x833 = s3 * x828;
+                x834 = arith.mul_add(c3, x830, -x833);
+                x835 = s3 * x830;
+                x836 = arith.mul_add(c3, x828, x835);
+                x837 = arith.mul_add(-0.39225f64, x814, x834);
+                x838 = arith.mul_add(-0.39225f64, x831, x829);
+                x839 = x805 + x837;
+                x840 = x806 + x838;
+                x841 = x686 - x836;
+                x842 = x687 + x831;
+                x843 = x814 - x807;
+                x844 = x832 - x690;
+                x845 = c2 * x842;
+                x846 = arith.mul_add(s2, x844, -x845);
+                x847 = c2 * x844;
+                x848 = arith.mul_add(s2, x842, x847);
+                x849 = s2 * x841;
+                x850 = arith.mul_add(c2, x839, x849);
+                x851 = s2 * x839;
+                x852 = arith.mul_add(c2, x841, -x851);
+                x853 = 0.425f64 * x843;
+                x854 = arith.mul_add(-0.1197f64, x848, -x853);
+                x855 = x850 + x854;
+                x856 = arith.mul_add(0.425f64, x846, x840);
+                x857 = arith.mul_add(0.1197f64, x846, x852);
+                x858 = x799 + x855;
+                x859 = x800 + x856;
+                x860 = x857 - x671;
+                x861 = x846 - x672;
+                x862 = x674 + x848;
+                x863 = s1 * x861;
+                x864 = arith.mul_add(c1, x862, -x863);
+                x865 = s1 * x860;
+                x866 = arith.mul_add(c1, x858, x865);
+                x867 = arith.mul_add(0.13585f64, x864, x866);
+                x868 = tau0 + x867;
+                x869 = tau1 - x859;
+                x870 = tau2 - x840;
+                x871 = tau3 - x829;
+                x872 = tau4 - x823;
+                x873 = tau5 - x818;
+                x874 = c4 * x873;
+                x875 = x871 - x874;
+                x876 = x870 - x874;
+                x877 = x869 - x874;
+                x878 = arith.mul_add(-x728, x873, x868);
+                x879 = x731 * x872;
+                x880 = x875 + x879;
+                x881 = x876 + x879;
+                x882 = x877 + x879;
+                x883 = arith.mul_add(x743, x872, x878);
+                x884 = arith.mul_add(-x746, x880, x881);
+                x885 = arith.mul_add(-x750, x880, x882);
+                x886 = arith.mul_add(-x753, x880, x883);
+                x887 = arith.mul_add(-x756, x884, x885);
+                x888 = arith.mul_add(x759, x884, x886);
+                x889 = arith.mul_add(-x762, x887, x888);
+                x890 = x764 * x889;
+                x891 = x762 * x890;
+                x892 = arith.mul_add(x761, x887, -x891);
+                x893 = x759 * x890;
+                x894 = arith.mul_add(x755, x884, x893);
+                x895 = arith.mul_add(-x756, x892, x894);
+                x896 = x753 * x890;
+                x897 = arith.mul_add(x745, x880, -x896);
+                x898 = arith.mul_add(-x750, x892, x897);
+                x899 = arith.mul_add(-x746, x895, x898);
+                x900 = x743 * x890;
+                x901 = arith.mul_add(x730, x872, x900);
+                x902 = arith.mul_add(x731, x892, x901);
+                x903 = arith.mul_add(x731, x895, x902);
+                x904 = arith.mul_add(x731, x899, x903);
+                x905 = x728 * x890;
+                x906 = arith.mul_add(58.355064750790525f64, x873, -x905);
+                x907 = arith.mul_add(-c4, x892, x906);
+                x908 = arith.mul_add(-c4, x895, x907);
+                x909 = arith.mul_add(-c4, x899, x908);
+                x910 = 0.425f64 * x3;
+                x911 = x6 - x14;
+                x912 = arith.mul_add(-0.1197f64, x3, x5);
+                x913 = s2 * x912;
+                x914 = arith.mul_add(c2, x911, -x913);
+                x915 = c2 * x912;
+                x916 = arith.mul_add(s2, x911, x915);
+                x917 = 0.39225f64 * x10;
+                x918 = x910 + x917;
+                x919 = c3 * x916;
+                x920 = arith.mul_add(s3, x914, x919);
+                x921 = s3 * x916;
+                x922 = arith.mul_add(c3, x914, -x921);
+                x923 = c4 * x25;
+                x924 = s4 * x25;
+                x925 = qd4 * x924;
+                x926 = qd4 * x923;
+                x927 = s5 * x23;
+                x928 = arith.mul_add(c5, x923, x927);
+                x929 = s5 * x923;
+                x930 = arith.mul_add(c5, x23, -x929);
+                x931 = qd5 * x930;
+                x932 = 1.75501953841f64 * x3;
+                x933 = arith.mul_add(4.432922500000001f64, x6, x184);
+                x934 = 4.432922500000001f64 * x3;
+                x935 = arith.mul_add(x3, x933, x665);
+                x936 = x2 * x238;
+                x937 = arith.mul_add(x3, x932, x936);
+                x938 = arith.mul_add(x3, x181, x937);
+                x939 = arith.mul_add(-x2, x933, x661);
+                x940 = arith.mul_add(-qd1, x932, x939);
+                x941 = arith.mul_add(-x6, x934, x668);
+                x942 = arith.mul_add(x5, x934, x667);
+                x943 = x935 + x941;
+                x944 = arith.mul_add(x5, x179, -x938);
+                x945 = x940 - x942;
+                x946 = arith.mul_add(x3, x934, x673);
+                x947 = arith.mul_add(x2, x934, -x672);
+                x948 = 0.59155695167475f64 * x10;
+                x949 = arith.mul_add(0.679472691875f64, x3, x948);
+                x950 = arith.mul_add(1.5987592750000001f64, x914, x201);
+                x951 = 1.5987592750000001f64 * x10;
+                x952 = arith.mul_add(x10, x950, -x679);
+                x953 = x8 * x242;
+                x954 = arith.mul_add(-x10, x949, x953);
+                x955 = x10 * x198;
+                x956 = x954 - x955;
+                x957 = arith.mul_add(x8, x950, x675);
+                x958 = arith.mul_add(-x21, x949, x957);
+                x959 = x20 * x951;
+                x960 = arith.mul_add(x197, x916, x959);
+                x961 = x18 * x951;
+                x962 = arith.mul_add(x197, x914, x961);
+                x963 = arith.mul_add(x196, x910, -x962);
+                x964 = x952 + x960;
+                x965 = arith.mul_add(x196, x916, x956);
+                x966 = x958 + x963;
+                x967 = arith.mul_add(-x10, x951, x689);
+                x968 = arith.mul_add(x8, x951, x687);
+                x969 = -0.004608836229750008f64 * x25;
+                x970 = arith.mul_add(0.017784735f64, x918, x969);
+                x971 = arith.mul_add(-0.017784735f64, x920, x220);
+                x972 = arith.mul_add(x25, x971, x695);
+                x973 = x23 * x245;
+                x974 = arith.mul_add(x25, x970, x973);
+                x975 = x25 * x217;
+                x976 = x974 + x975;
+                x977 = arith.mul_add(x23, x971, -x691);
+                x978 = arith.mul_add(-x33, x970, x977);
+                x979 = x32 * x497;
+                x980 = arith.mul_add(x216, x922, x979);
+                x981 = x29 * x497;
+                x982 = arith.mul_add(x216, x920, x981);
+                x983 = arith.mul_add(x215, x918, x982);
+                x984 = x980 - x972;
+                x985 = arith.mul_add(x215, x922, x976);
+                x986 = x978 + x983;
+                x987 = arith.mul_add(x25, x497, x704);
+                x988 = x23 * x215;
+                x989 = arith.mul_add(-x23, x497, x702);
+                x990 = -0.033822f64 * x923;
+                x991 = 0.253242f64 * x23;
+                x992 = x248 * x924;
+                x993 = arith.mul_add(x37, x991, x992);
+                x994 = x23 * x247;
+                x995 = arith.mul_add(x38, x990, x994);
+                x996 = x248 * x923;
+                x997 = arith.mul_add(x35, x991, -x996);
+                x998 = x995 - x997;
+                x999 = x247 * x924;
+                x1000 = arith.mul_add(x37, x990, x999);
+                x1001 = 0.016685526854599998f64 * x928;
+                x1002 = 0.0171364731454f64 * x924;
+                x1003 = x250 * x930;
+                x1004 = arith.mul_add(x42, x1002, x1003);
+                x1005 = x249 * x930;
+                x1006 = arith.mul_add(x42, x1001, x1005);
+                x1007 = x250 * x928;
+                x1008 = arith.mul_add(x40, x1002, -x1007);
+                x1009 = x249 * x924;
+                x1010 = arith.mul_add(x43, x1001, x1009);
+                x1011 = x1008 - x1010;
+                x1012 = s5 * x1011;
+                x1013 = c5 * x1011;
+                x1014 = s3 * x987;
+                x1015 = arith.mul_add(c3, x989, -x1014);
+                x1016 = s3 * x989;
+                x1017 = arith.mul_add(c3, x987, x1016);
+                x1018 = 0.39225f64 * x1015;
+                x1019 = x967 + x1015;
+                x1020 = x968 + x1017;
+                x1021 = s2 * x1020;
+                x1022 = arith.mul_add(c2, x1019, -x1021);
+                x1023 = c2 * x1020;
+                x1024 = arith.mul_add(s2, x1019, x1023);
+                x1025 = x1022 - x946;
+                x1026 = x947 - x1024;
+                x1027 = arith.mul_add(-c3, x18, x31);
+                x1028 = arith.mul_add(s3, x18, x28);
+                x1029 = arith.mul_add(-1.5987592750000001f64, x20, x201);
+                x1030 = arith.mul_add(x10, x1029, -x679);
+                x1031 = arith.mul_add(-x10, x948, x953);
+                x1032 = x1031 - x955;
+                x1033 = arith.mul_add(x8, x1029, x675);
+                x1034 = arith.mul_add(-x21, x948, x1033);
+                x1035 = x682 + x959;
+                x1036 = x681 - x961;
+                x1037 = x1030 + x1035;
+                x1038 = arith.mul_add(x18, x196, x1032);
+                x1039 = x1034 + x1036;
+                x1040 = arith.mul_add(0.00697606230375f64, x10, x969);
+                x1041 = arith.mul_add(0.017784735f64, x1027, x220);
+                x1042 = arith.mul_add(x25, x1041, x695);
+                x1043 = arith.mul_add(x25, x1040, x973);
+                x1044 = x975 + x1043;
+                x1045 = arith.mul_add(x23, x1041, -x691);
+                x1046 = arith.mul_add(-x33, x1040, x1045);
+                x1047 = arith.mul_add(-x216, x1028, x979);
+                x1048 = arith.mul_add(-x216, x1027, x981);
+                x1049 = arith.mul_add(x215, x917, x1048);
+                x1050 = x1047 - x1042;
+                x1051 = arith.mul_add(-x215, x1028, x1044);
+                x1052 = x1046 + x1049;
+                x1053 = x220 + x495;
+                x1054 = arith.mul_add(x25, x1053, x695);
+                x1055 = arith.mul_add(x25, x969, x973);
+                x1056 = x975 + x1055;
+                x1057 = arith.mul_add(x23, x1053, -x691);
+                x1058 = arith.mul_add(-x33, x969, x1057);
+                x1059 = x979 - x697;
+                x1060 = arith.mul_add(-x44, x216, x981);
+                x1061 = x1059 - x1054;
+                x1062 = arith.mul_add(-x29, x215, x1056);
+                x1063 = x1058 + x1060;
+                x1064 = x987 - x705;
+                x1065 = s3 * x1064;
+                x1066 = c5 * x37;
+                x1067 = s5 * x37;
+                x1068 = qd5 * x1067;
+                x1069 = arith.mul_add(x38, x232, -x706);
+                x1070 = x37 * x232;
+                x1071 = arith.mul_add(x35, x247, -x1070);
+                x1072 = -0.016685526854599998f64 * x1066;
+                x1073 = x250 * x1067;
+                x1074 = arith.mul_add(x42, x558, x1073);
+                x1075 = x249 * x1067;
+                x1076 = arith.mul_add(x42, x1072, x1075);
+                x1077 = x250 * x1066;
+                x1078 = arith.mul_add(x40, x558, x1077);
+                x1079 = x35 * x249;
+                x1080 = arith.mul_add(x43, x1072, -x1079);
+                x1081 = x1078 - x1080;
+                x1082 = x40 * x249;
+                x1083 = arith.mul_add(x42, x604, x1082);
+                x1084 = arith.mul_add(x43, x604, x710);
+                x1085 = s4 * x1083;
+                x1086 = c4 * x1083;
+                x1087 = 2f64 * x600;
+                x1088 = 2f64 * x647;
+                x1089 = -2f64 * x423;
+                x1090 = 2f64 * x596;
+                x1091 = 2f64 * x643;
+                x1092 = -2f64 * x480;
+                x1093 = 2f64 * x585;
+                x1094 = 2f64 * x632;
+                x1095 = 2f64 * x550;
+                x1096 = 2f64 * x574;
+                x1097 = 2f64 * x621;
+                x1098 = 2f64 * x598;
+                x1099 = 2f64 * x569;
+                x1100 = 2f64 * x561;
+                x1101 = 2f64 * x616;
+                x1102 = 2f64 * x611;
+                x1103 = 0.13585f64 * x890;
+                x1104 = arith.mul_add(s1, x1103, x0);
+                x1105 = c1 * x1103;
+                x1106 = x1 - x1105;
+                x1107 = arith.mul_add(-c1, x890, x648);
+                x1108 = arith.mul_add(s1, x890, x649);
+                x1109 = x650 + x1104;
+                x1110 = x651 + x1106;
+                x1111 = s2 * x1108;
+                x1112 = arith.mul_add(c2, x1107, x1111);
+                x1113 = s2 * x1107;
+                x1114 = c2 * x1108;
+                x1115 = x1113 - x1114;
+                x1116 = 0.425f64 * x892;
+                x1117 = arith.mul_add(0.1197f64, x1108, -x1116);
+                x1118 = -0.1197f64 * x1107;
+                x1119 = x1109 - x1117;
+                x1120 = x1110 + x1118;
+                x1121 = s2 * x1120;
+                x1122 = arith.mul_add(c2, x1119, -x1121);
+                x1123 = c2 * x1120;
+                x1124 = arith.mul_add(s2, x1119, x1123);
+                x1125 = x892 + x895;
+                x1126 = x652 + x1112;
+                x1127 = x653 + x1115;
+                x1128 = x1122 - x654;
+                x1129 = x655 + x1124;
+                x1130 = s3 * x1126;
+                x1131 = arith.mul_add(c3, x1127, x1130);
+                x1132 = c3 * x1126;
+                x1133 = s3 * x1127;
+                x1134 = x1132 - x1133;
+                x1135 = 0.39225f64 * x1126;
+                x1136 = arith.mul_add(0.39225f64, x1125, x1128);
+                x1137 = arith.mul_add(0.425f64, x1107, x1135);
+                x1138 = s3 * x1129;
+                x1139 = x899 + x1125;
+                x1140 = x656 + x1131;
+                x1141 = x657 + x1134;
+                x1142 = c4 * x1140;
+                x1143 = s4 * x1139;
+                x1144 = x1143 - x1142;
+                x1145 = c4 * x1139;
+                x1146 = arith.mul_add(s4, x1140, x1145);
+                x1147 = x904 + x1141;
+                x1148 = x658 + x1144;
+                x1149 = x1146 - x659;
+                x1150 = s5 * x1147;
+                x1151 = arith.mul_add(c5, x1148, -x1150);
+                x1152 = c5 * x1147;
+                x1153 = arith.mul_add(s5, x1148, x1152);
+                x1154 = x909 + x1149;
+                x1155 = x1151 - x660;
+                x1156 = arith.mul_add(qd5, x40, x1153);
+                x1157 = arith.mul_add(1.75501953841f64, x1107, x669);
+                x1158 = arith.mul_add(0.19371331275f64, x892, -x671);
+                x1159 = arith.mul_add(4.432922500000001f64, x892, -x672);
+                x1160 = -0.679472691875f64 * x1107;
+                x1161 = arith.mul_add(0.59155695167475f64, x1126, -x1160);
+                x1162 = x684 + x1161;
+                x1163 = arith.mul_add(-0.05132265682500001f64, x1125, x686);
+                x1164 = arith.mul_add(1.5987592750000001f64, x1125, -x687);
+                x1165 = arith.mul_add(1.5987592750000001f64, x1126, x688);
+                x1166 = -0.017784735f64 * x1137;
+                x1167 = arith.mul_add(-0.004608836229750008f64, x1140, -x1166);
+                x1168 = x699 + x1167;
+                x1169 = arith.mul_add(-0.001653980355f64, x1139, x701);
+                x1170 = arith.mul_add(0.017784735f64, x1139, x702);
+                x1171 = arith.mul_add(0.017784735f64, x1140, x703);
+                x1172 = arith.mul_add(0.033822f64, x1148, x706);
+                x1173 = arith.mul_add(0.253242f64, x1147, -x709);
+                x1174 = -0.016685526854599998f64 * x1155;
+                x1175 = x1174 - x710;
+                x1176 = arith.mul_add(0.0171364731454f64, x1154, x711);
+                x1177 = arith.mul_add(c5, x1175, x714);
+                x1178 = arith.mul_add(-s5, x1175, x715);
+                x1179 = x1172 + x1177;
+                x1180 = x708 + x1176;
+                x1181 = x1173 + x1178;
+                x1182 = s4 * x1180;
+                x1183 = arith.mul_add(c4, x1179, -x1182);
+                x1184 = x1168 + x1183;
+                x1185 = x1169 + x1181;
+                x1186 = arith.mul_add(s3, x1170, x716);
+                x1187 = arith.mul_add(-c3, x1170, x717);
+                x1188 = s3 * x1184;
+                x1189 = arith.mul_add(c3, x1185, -x1188);
+                x1190 = s3 * x1185;
+                x1191 = arith.mul_add(c3, x1184, x1190);
+                x1192 = arith.mul_add(-0.39225f64, x1171, x1189);
+                x1193 = x1162 + x1192;
+                x1194 = x1163 - x1191;
+                x1195 = x1164 - x1186;
+                x1196 = x1171 - x1165;
+                x1197 = x1187 - x690;
+                x1198 = s2 * x1197;
+                x1199 = arith.mul_add(c2, x1195, x1198);
+                x1200 = s2 * x1195;
+                x1201 = arith.mul_add(c2, x1197, -x1200);
+                x1202 = s2 * x1194;
+                x1203 = arith.mul_add(c2, x1193, x1202);
+                x1204 = s2 * x1193;
+                x1205 = arith.mul_add(c2, x1194, -x1204);
+                x1206 = 0.425f64 * x1196;
+                x1207 = arith.mul_add(-0.1197f64, x1201, -x1206);
+                x1208 = x1203 + x1207;
+                x1209 = arith.mul_add(0.1197f64, x1199, x1205);
+                x1210 = x1157 + x1208;
+                x1211 = x1158 + x1209;
+                x1212 = x1159 + x1199;
+                x1213 = x674 + x1201;
+                x1214 = x1105 - x1;
+                x1215 = x1214 - x651;
+                x1216 = x1114 - x1113;
+                x1217 = x1215 - x1118;
+                x1218 = arith.mul_add(-0.1197f64, x1108, x1109);
+                x1219 = s2 * x1218;
+                x1220 = arith.mul_add(c2, x1217, -x1219);
+                x1221 = c2 * x1218;
+                x1222 = arith.mul_add(s2, x1217, x1221);
+                x1223 = x1216 - x653;
+                x1224 = arith.mul_add(-qd2, x916, x1220);
+                x1225 = arith.mul_add(qd2, x914, x1222);
+                x1226 = arith.mul_add(s3, x1223, x1132);
+                x1227 = arith.mul_add(c3, x1223, -x1130);
+                x1228 = 0.39225f64 * x1223;
+                x1229 = arith.mul_add(0.425f64, x1108, x1228);
+                x1230 = c3 * x1225;
+                x1231 = arith.mul_add(s3, x1224, x1230);
+                x1232 = x657 + x1226;
+                x1233 = x1227 - x656;
+                x1234 = arith.mul_add(qd3, x922, x1231);
+                x1235 = arith.mul_add(-c4, x1232, x925);
+                x1236 = arith.mul_add(s4, x1232, x926);
+                x1237 = s5 * x1233;
+                x1238 = arith.mul_add(c5, x1235, -x1237);
+                x1239 = x1238 - x931;
+                x1240 = 4.432922500000001f64 * x1215;
+                x1241 = arith.mul_add(0.19371331275f64, x1107, x1240);
+                x1242 = arith.mul_add(1.75501953841f64, x1108, x943);
+                x1243 = x944 + x1241;
+                x1244 = 0.59155695167475f64 * x1223;
+                x1245 = -0.05132265682500001f64 * x1126;
+                x1246 = arith.mul_add(0.679472691875f64, x1108, x1244);
+                x1247 = arith.mul_add(1.5987592750000001f64, x1224, x1245);
+                x1248 = 1.5987592750000001f64 * x1223;
+                x1249 = x964 + x1246;
+                x1250 = x965 + x1247;
+                x1251 = arith.mul_add(x8, x196, -x1248);
+                x1252 = -0.004608836229750008f64 * x1232;
+                x1253 = -0.001653980355f64 * x1233;
+                x1254 = arith.mul_add(0.017784735f64, x1229, x1252);
+                x1255 = arith.mul_add(-0.017784735f64, x1234, x1253);
+                x1256 = x984 + x1254;
+                x1257 = x985 + x1255;
+                x1258 = arith.mul_add(0.017784735f64, x1232, x988);
+                x1259 = arith.mul_add(0.033822f64, x1235, x993);
+                x1260 = arith.mul_add(0.253242f64, x1233, -x1000);
+                x1261 = arith.mul_add(-0.016685526854599998f64, x1239, -x1004);
+                x1262 = arith.mul_add(0.0171364731454f64, x1236, x1006);
+                x1263 = arith.mul_add(c5, x1261, x1012);
+                x1264 = arith.mul_add(-s5, x1261, x1013);
+                x1265 = x1259 + x1263;
+                x1266 = x998 + x1262;
+                x1267 = x1260 + x1264;
+                x1268 = s4 * x1266;
+                x1269 = arith.mul_add(c4, x1265, -x1268);
+                x1270 = c4 * x1266;
+                x1271 = arith.mul_add(s4, x1265, x1270);
+                x1272 = x1256 + x1269;
+                x1273 = x1257 + x1271;
+                x1274 = x986 + x1267;
+                x1275 = s3 * x1272;
+                x1276 = arith.mul_add(c3, x1274, -x1275);
+                x1277 = s3 * x1274;
+                x1278 = arith.mul_add(c3, x1272, x1277);
+                x1279 = 0.39225f64 * x1258;
+                x1280 = x1276 - x1279;
+                x1281 = x1018 + x1273;
+                x1282 = x1249 + x1280;
+                x1283 = x1250 + x1281;
+                x1284 = x966 - x1278;
+                x1285 = x1251 + x1258;
+                x1286 = s2 * x1284;
+                x1287 = arith.mul_add(c2, x1282, x1286);
+                x1288 = s2 * x1282;
+                x1289 = arith.mul_add(c2, x1284, -x1288);
+                x1290 = 0.425f64 * x1285;
+                x1291 = arith.mul_add(0.1197f64, x1024, -x1290);
+                x1292 = x1287 + x1291;
+                x1293 = arith.mul_add(0.425f64, x1022, x1283);
+                x1294 = arith.mul_add(0.1197f64, x1022, x1289);
+                x1295 = x1242 + x1292;
+                x1296 = x1243 + x1293;
+                x1297 = x945 + x1294;
+                x1298 = x1211 + x1295;
+                x1299 = x1297 - x1210;
+                x1300 = x1025 + x1213;
+                x1301 = x1026 - x1212;
+                x1302 = s1 * x1300;
+                x1303 = arith.mul_add(c1, x1301, -x1302);
+                x1304 = s1 * x1299;
+                x1305 = arith.mul_add(c1, x1298, x1304);
+                x1306 = arith.mul_add(0.13585f64, x1303, x1305);
+                x1307 = arith.mul_add(-c3, x1128, x1138);
+                x1308 = arith.mul_add(qd3, x1028, x1307);
+                x1309 = arith.mul_add(-1.5987592750000001f64, x1129, x1245);
+                x1310 = x1037 + x1244;
+                x1311 = x1038 + x1309;
+                x1312 = arith.mul_add(0.00697606230375f64, x1223, x1252);
+                x1313 = arith.mul_add(0.017784735f64, x1308, x1253);
+                x1314 = x1050 + x1312;
+                x1315 = x1051 + x1313;
+                x1316 = x1269 + x1314;
+                x1317 = x1271 + x1315;
+                x1318 = x1052 + x1267;
+                x1319 = s3 * x1316;
+                x1320 = arith.mul_add(c3, x1318, -x1319);
+                x1321 = s3 * x1318;
+                x1322 = arith.mul_add(c3, x1316, x1321);
+                x1323 = x1320 - x1279;
+                x1324 = x1018 + x1317;
+                x1325 = x1310 + x1323;
+                x1326 = x1311 + x1324;
+                x1327 = x1039 - x1322;
+                x1328 = x1186 - x1164;
+                x1329 = x1194 + x1325;
+                x1330 = x1327 - x1193;
+                x1331 = x1019 + x1197;
+                x1332 = x1328 - x1020;
+                x1333 = s2 * x1332;
+                x1334 = arith.mul_add(c2, x1331, x1333);
+                x1335 = s2 * x1331;
+                x1336 = arith.mul_add(c2, x1332, -x1335);
+                x1337 = s2 * x1330;
+                x1338 = arith.mul_add(c2, x1329, x1337);
+                x1339 = s2 * x1329;
+                x1340 = arith.mul_add(c2, x1330, -x1339);
+                x1341 = arith.mul_add(-0.1197f64, x1336, -x1290);
+                x1342 = x1338 + x1341;
+                x1343 = arith.mul_add(0.425f64, x1334, x1326);
+                x1344 = arith.mul_add(0.1197f64, x1334, x1340);
+                x1345 = s1 * x1334;
+                x1346 = arith.mul_add(c1, x1336, -x1345);
+                x1347 = s1 * x1344;
+                x1348 = arith.mul_add(c1, x1342, x1347);
+                x1349 = arith.mul_add(0.13585f64, x1346, x1348);
+                x1350 = x1133 - x1132;
+                x1351 = arith.mul_add(-c3, x1136, x1138);
+                x1352 = x1350 - x657;
+                x1353 = arith.mul_add(qd3, x29, x1351);
+                x1354 = arith.mul_add(c4, x1352, x925);
+                x1355 = arith.mul_add(-s4, x1352, x926);
+                x1356 = s5 * x1140;
+                x1357 = arith.mul_add(c5, x1354, x1356);
+                x1358 = x1357 - x931;
+                x1359 = 0.017784735f64 * x1353;
+                x1360 = arith.mul_add(0.001653980355f64, x1140, x1359);
+                x1361 = arith.mul_add(0.004608836229750008f64, x1352, x1061);
+                x1362 = x1062 + x1360;
+                x1363 = arith.mul_add(-0.017784735f64, x1352, x988);
+                x1364 = arith.mul_add(0.033822f64, x1354, x993);
+                x1365 = arith.mul_add(-0.253242f64, x1140, -x1000);
+                x1366 = arith.mul_add(-0.016685526854599998f64, x1358, -x1004);
+                x1367 = arith.mul_add(0.0171364731454f64, x1355, x1006);
+                x1368 = arith.mul_add(c5, x1366, x1012);
+                x1369 = arith.mul_add(-s5, x1366, x1013);
+                x1370 = x1364 + x1368;
+                x1371 = x998 + x1367;
+                x1372 = x1365 + x1369;
+                x1373 = s4 * x1371;
+                x1374 = arith.mul_add(c4, x1370, -x1373);
+                x1375 = c4 * x1371;
+                x1376 = arith.mul_add(s4, x1370, x1375);
+                x1377 = x1361 + x1374;
+                x1378 = x1362 + x1376;
+                x1379 = x1063 + x1372;
+                x1380 = x1185 + x1377;
+                x1381 = x1379 - x1184;
+                x1382 = x989 - x1170;
+                x1383 = arith.mul_add(c3, x1382, -x1065);
+                x1384 = s3 * x1382;
+                x1385 = arith.mul_add(c3, x1064, x1384);
+                x1386 = s3 * x1380;
+                x1387 = arith.mul_add(c3, x1381, -x1386);
+                x1388 = s3 * x1381;
+                x1389 = arith.mul_add(c3, x1380, x1388);
+                x1390 = arith.mul_add(-0.39225f64, x1363, x1387);
+                x1391 = arith.mul_add(0.39225f64, x1383, x1378);
+                x1392 = s2 * x1385;
+                x1393 = arith.mul_add(c2, x1383, -x1392);
+                x1394 = c2 * x1385;
+                x1395 = arith.mul_add(s2, x1383, x1394);
+                x1396 = s2 * x1389;
+                x1397 = arith.mul_add(c2, x1390, -x1396);
+                x1398 = c2 * x1389;
+                x1399 = arith.mul_add(s2, x1390, x1398);
+                x1400 = 0.425f64 * x1363;
+                x1401 = arith.mul_add(0.1197f64, x1395, -x1400);
+                x1402 = x1397 + x1401;
+                x1403 = arith.mul_add(0.425f64, x1393, x1391);
+                x1404 = arith.mul_add(-0.1197f64, x1393, x1399);
+                x1405 = c1 * x1395;
+                x1406 = arith.mul_add(s1, x1393, x1405);
+                x1407 = c1 * x1402;
+                x1408 = arith.mul_add(s1, x1404, -x1407);
+                x1409 = x1142 - x1143;
+                x1410 = x1409 - x658;
+                x1411 = arith.mul_add(c5, x1149, -x1068);
+                x1412 = arith.mul_add(0.033822f64, x1149, -x707);
+                x1413 = arith.mul_add(-0.016685526854599998f64, x1411, -x1074);
+                x1414 = arith.mul_add(0.0171364731454f64, x1410, x1076);
+                x1415 = c5 * x1413;
+                x1416 = arith.mul_add(s5, x1081, x1415);
+                x1417 = s5 * x1413;
+                x1418 = arith.mul_add(c5, x1081, -x1417);
+                x1419 = x1412 + x1416;
+                x1420 = x1069 + x1414;
+                x1421 = x1071 + x1418;
+                x1422 = x1419 - x1180;
+                x1423 = x1179 + x1420;
+                x1424 = s4 * x1423;
+                x1425 = arith.mul_add(c4, x1422, -x1424);
+                x1426 = c4 * x1423;
+                x1427 = arith.mul_add(s4, x1422, x1426);
+                x1428 = s3 * x1425;
+                x1429 = arith.mul_add(c3, x1421, -x1428);
+                x1430 = s3 * x1421;
+                x1431 = arith.mul_add(c3, x1425, x1430);
+                x1432 = s2 * x1431;
+                x1433 = arith.mul_add(c2, x1429, -x1432);
+                x1434 = c2 * x1431;
+                x1435 = arith.mul_add(s2, x1429, x1434);
+                x1436 = s1 * x1435;
+                x1437 = arith.mul_add(0.016685526854599998f64, x1156, -x712);
+                x1438 = x710 - x1174;
+                x1439 = x713 + x1437;
+                x1440 = x1438 - x1084;
+                x1441 = s5 * x1440;
+                x1442 = arith.mul_add(c5, x1439, x1441);
+                x1443 = s5 * x1439;
+                x1444 = c5 * x1440;
+                x1445 = x1444 - x1443;
+                x1446 = arith.mul_add(c4, x1442, -x1085);
+                x1447 = arith.mul_add(s4, x1442, x1086);
+                x1448 = s3 * x1446;
+                x1449 = arith.mul_add(c3, x1445, -x1448);
+                x1450 = s3 * x1445;
+                x1451 = arith.mul_add(c3, x1446, x1450);
+                x1452 = s2 * x1451;
+                x1453 = arith.mul_add(c2, x1449, -x1452);
+                x1454 = c2 * x1451;
+                x1455 = arith.mul_add(s2, x1449, x1454);
+                x1456 = s1 * x1455;
+                x1457 = arith.mul_add(-0.13585f64, x1406, -x1408);
+                x1458 = arith.mul_add(c1, x1433, -x1436);
+                x1459 = arith.mul_add(c1, x1453, -x1456);
+                x1460 = x1443 - x1444;
+                x1461 = c4 * x1262;
+                x1462 = x1461 - x1273;
+                x1463 = x1461 - x1283;
+                x1464 = x1461 - x1296;
+                x1465 = x728 * x1262;
+                x1466 = x1306 + x1465;
+                x1467 = x731 * x1267;
+                x1468 = x1462 - x1467;
+                x1469 = x1463 - x1467;
+                x1470 = x1464 - x1467;
+                x1471 = x743 * x1267;
+                x1472 = x1466 - x1471;
+                x1473 = arith.mul_add(-x746, x1468, x1469);
+                x1474 = arith.mul_add(-x750, x1468, x1470);
+                x1475 = arith.mul_add(-x753, x1468, x1472);
+                x1476 = arith.mul_add(-x756, x1473, x1474);
+                x1477 = arith.mul_add(x759, x1473, x1475);
+                x1478 = arith.mul_add(-x762, x1476, x1477);
+                x1479 = x764 * x1478;
+                x1480 = x730 * x1267;
+                x1481 = -58.355064750790525f64 * x1262;
+                x1482 = x762 * x1479;
+                x1483 = arith.mul_add(x761, x1476, -x1482);
+                x1484 = x759 * x1479;
+                x1485 = arith.mul_add(x755, x1473, x1484);
+                x1486 = arith.mul_add(-x756, x1483, x1485);
+                x1487 = x753 * x1479;
+                x1488 = arith.mul_add(x745, x1468, -x1487);
+                x1489 = arith.mul_add(-x750, x1483, x1488);
+                x1490 = arith.mul_add(-x746, x1486, x1489);
+                x1491 = arith.mul_add(x743, x1479, -x1480);
+                x1492 = arith.mul_add(x731, x1483, x1491);
+                x1493 = arith.mul_add(x731, x1486, x1492);
+                x1494 = arith.mul_add(x731, x1490, x1493);
+                x1495 = arith.mul_add(-x728, x1479, x1481);
+                x1496 = arith.mul_add(-c4, x1483, x1495);
+                x1497 = arith.mul_add(-c4, x1486, x1496);
+                x1498 = arith.mul_add(-c4, x1490, x1497);
+                x1499 = x1461 - x1317;
+                x1500 = x1461 - x1326;
+                x1501 = x1461 - x1343;
+                x1502 = x1349 + x1465;
+                x1503 = x1499 - x1467;
+                x1504 = x1500 - x1467;
+                x1505 = x1501 - x1467;
+                x1506 = x1502 - x1471;
+                x1507 = arith.mul_add(-x746, x1503, x1504);
+                x1508 = arith.mul_add(-x750, x1503, x1505);
+                x1509 = arith.mul_add(-x753, x1503, x1506);
+                x1510 = arith.mul_add(-x756, x1507, x1508);
+                x1511 = arith.mul_add(x759, x1507, x1509);
+                x1512 = arith.mul_add(-x762, x1510, x1511);
+                x1513 = x764 * x1512;
+                x1514 = x762 * x1513;
+                x1515 = arith.mul_add(x761, x1510, -x1514);
+                x1516 = x759 * x1513;
+                x1517 = arith.mul_add(x755, x1507, x1516);
+                x1518 = arith.mul_add(-x756, x1515, x1517);
+                x1519 = x753 * x1513;
+                x1520 = arith.mul_add(x745, x1503, -x1519);
+                x1521 = arith.mul_add(-x750, x1515, x1520);
+                x1522 = arith.mul_add(-x746, x1518, x1521);
+                x1523 = arith.mul_add(x743, x1513, -x1480);
+                x1524 = arith.mul_add(x731, x1515, x1523);
+                x1525 = arith.mul_add(x731, x1518, x1524);
+                x1526 = arith.mul_add(x731, x1522, x1525);
+                x1527 = arith.mul_add(-x728, x1513, x1481);
+                x1528 = arith.mul_add(-c4, x1515, x1527);
+                x1529 = arith.mul_add(-c4, x1518, x1528);
+                x1530 = arith.mul_add(-c4, x1522, x1529);
+                x1531 = c4 * x1367;
+                x1532 = x1531 - x1378;
+                x1533 = x1531 - x1391;
+                x1534 = x1531 - x1403;
+                x1535 = arith.mul_add(x728, x1367, x1457);
+                x1536 = x731 * x1372;
+                x1537 = x1532 - x1536;
+                x1538 = x1533 - x1536;
+                x1539 = x1534 - x1536;
+                x1540 = arith.mul_add(-x743, x1372, x1535);
+                x1541 = arith.mul_add(-x746, x1537, x1538);
+                x1542 = arith.mul_add(-x750, x1537, x1539);
+                x1543 = arith.mul_add(-x753, x1537, x1540);
+                x1544 = arith.mul_add(-x756, x1541, x1542);
+                x1545 = arith.mul_add(x759, x1541, x1543);
+                x1546 = arith.mul_add(-x762, x1544, x1545);
+                x1547 = x764 * x1546;
+                x1548 = x730 * x1372;
+                x1549 = x762 * x1547;
+                x1550 = arith.mul_add(x761, x1544, -x1549);
+                x1551 = x759 * x1547;
+                x1552 = arith.mul_add(x755, x1541, x1551);
+                x1553 = arith.mul_add(-x756, x1550, x1552);
+                x1554 = x753 * x1547;
+                x1555 = arith.mul_add(x745, x1537, -x1554);
+                x1556 = arith.mul_add(-x750, x1550, x1555);
+                x1557 = arith.mul_add(-x746, x1553, x1556);
+                x1558 = arith.mul_add(x743, x1547, -x1548);
+                x1559 = arith.mul_add(x731, x1550, x1558);
+                x1560 = arith.mul_add(x731, x1553, x1559);
+                x1561 = arith.mul_add(x731, x1557, x1560);
+                x1562 = x728 * x1547;
+                x1563 = arith.mul_add(-58.355064750790525f64, x1367, -x1562);
+                x1564 = arith.mul_add(-c4, x1550, x1563);
+                x1565 = arith.mul_add(-c4, x1553, x1564);
+                x1566 = arith.mul_add(-c4, x1557, x1565);
+                x1567 = arith.mul_add(c4, x1414, -x1427);
+                x1568 = arith.mul_add(x728, x1414, x1458);
+                x1569 = arith.mul_add(-x731, x1421, x1567);
+                x1570 = arith.mul_add(-x743, x1421, x1568);
+                x1571 = arith.mul_add(-x746, x1569, x1569);
+                x1572 = arith.mul_add(-x750, x1569, x1569);
+                x1573 = arith.mul_add(-x753, x1569, x1570);
+                x1574 = arith.mul_add(-x756, x1571, x1572);
+                x1575 = arith.mul_add(x759, x1571, x1573);
+                x1576 = arith.mul_add(-x762, x1574, x1575);
+                x1577 = x764 * x1576;
+                x1578 = x730 * x1421;
+                x1579 = x762 * x1577;
+                x1580 = arith.mul_add(x761, x1574, -x1579);
+                x1581 = x759 * x1577;
+                x1582 = arith.mul_add(x755, x1571, x1581);
+                x1583 = arith.mul_add(-x756, x1580, x1582);
+                x1584 = x753 * x1577;
+                x1585 = arith.mul_add(x745, x1569, -x1584);
+                x1586 = arith.mul_add(-x750, x1580, x1585);
+                x1587 = arith.mul_add(-x746, x1583, x1586);
+                x1588 = arith.mul_add(x743, x1577, -x1578);
+                x1589 = arith.mul_add(x731, x1580, x1588);
+                x1590 = arith.mul_add(x731, x1583, x1589);
+                x1591 = arith.mul_add(x731, x1587, x1590);
+                x1592 = x728 * x1577;
+                x1593 = arith.mul_add(-58.355064750790525f64, x1414, -x1592);
+                x1594 = arith.mul_add(-c4, x1580, x1593);
+                x1595 = arith.mul_add(-c4, x1583, x1594);
+                x1596 = arith.mul_add(-c4, x1587, x1595);
+                x1597 = x1086 - x1447;
+                x1598 = arith.mul_add(x728, x1083, x1459);
+                x1599 = arith.mul_add(x731, x1460, x1597);
+                x1600 = arith.mul_add(x743, x1460, x1598);
+                x1601 = arith.mul_add(-x746, x1599, x1599);
+                x1602 = arith.mul_add(-x750, x1599, x1599);
+                x1603 = arith.mul_add(-x753, x1599, x1600);
+                x1604 = arith.mul_add(-x756, x1601, x1602);
+                x1605 = arith.mul_add(x759, x1601, x1603);
+                x1606 = arith.mul_add(-x762, x1604, x1605);
+                x1607 = x764 * x1606;
+                x1608 = x762 * x1607;
+                x1609 = arith.mul_add(x761, x1604, -x1608);
+                x1610 = x759 * x1607;
+                x1611 = arith.mul_add(x755, x1601, x1610);
+                x1612 = arith.mul_add(-x756, x1609, x1611);
+                x1613 = x753 * x1607;
+                x1614 = arith.mul_add(x745, x1599, -x1613);
+                x1615 = arith.mul_add(-x750, x1609, x1614);
+                x1616 = arith.mul_add(-x746, x1612, x1615);
+                x1617 = x743 * x1607;
+                x1618 = arith.mul_add(x730, x1460, x1617);
+                x1619 = arith.mul_add(x731, x1609, x1618);
+                x1620 = arith.mul_add(x731, x1612, x1619);
+                x1621 = arith.mul_add(x731, x1616, x1620);
+                x1622 = x728 * x1607;
+                x1623 = arith.mul_add(-58.355064750790525f64, x1083, -x1622);
+                x1624 = arith.mul_add(-c4, x1609, x1623);
+                x1625 = arith.mul_add(-c4, x1612, x1624);
+                x1626 = arith.mul_add(-c4, x1616, x1625);
+                x1627 = c4 * x1088;
+                x1628 = arith.mul_add(-2f64, x552, x1627);
+                x1629 = arith.mul_add(2f64, x482, x1627);
+                x1630 = arith.mul_add(2f64, x425, x1627);
+                x1631 = arith.mul_add(x728, x1088, -x394);
+                x1632 = x731 * x1087;
+                x1633 = x1628 - x1632;
+                x1634 = x1629 - x1632;
+                x1635 = x1630 - x1632;
+                x1636 = arith.mul_add(-x743, x1087, x1631);
+                x1637 = arith.mul_add(-x746, x1633, x1634);
+                x1638 = arith.mul_add(-x750, x1633, x1635);
+                x1639 = arith.mul_add(-x753, x1633, x1636);
+                x1640 = arith.mul_add(-x756, x1637, x1638);
+                x1641 = arith.mul_add(x759, x1637, x1639);
+                x1642 = arith.mul_add(-x762, x1640, x1641);
+                x1643 = x764 * x1642;
+                x1644 = x730 * x1087;
+                x1645 = x762 * x1643;
+                x1646 = arith.mul_add(x761, x1640, -x1645);
+                x1647 = x759 * x1643;
+                x1648 = arith.mul_add(x755, x1637, x1647);
+                x1649 = arith.mul_add(-x756, x1646, x1648);
+                x1650 = x753 * x1643;
+                x1651 = arith.mul_add(x745, x1633, -x1650);
+                x1652 = arith.mul_add(-x750, x1646, x1651);
+                x1653 = arith.mul_add(-x746, x1649, x1652);
+                x1654 = arith.mul_add(x743, x1643, -x1644);
+                x1655 = arith.mul_add(x731, x1646, x1654);
+                x1656 = arith.mul_add(x731, x1649, x1655);
+                x1657 = arith.mul_add(x731, x1653, x1656);
+                x1658 = x728 * x1643;
+                x1659 = arith.mul_add(-116.71012950158105f64, x647, -x1658);
+                x1660 = arith.mul_add(-c4, x1646, x1659);
+                x1661 = arith.mul_add(-c4, x1649, x1660);
+                x1662 = arith.mul_add(-c4, x1653, x1661);
+                x1663 = c4 * x1091;
+                x1664 = arith.mul_add(-2f64, x545, x1663);
+                x1665 = arith.mul_add(-2f64, x475, x1663);
+                x1666 = arith.mul_add(-2f64, x411, x1663);
+                x1667 = arith.mul_add(x728, x1091, -x1089);
+                x1668 = x731 * x1090;
+                x1669 = x1664 - x1668;
+                x1670 = x1665 - x1668;
+                x1671 = x1666 - x1668;
+                x1672 = arith.mul_add(-x743, x1090, x1667);
+                x1673 = arith.mul_add(-x746, x1669, x1670);
+                x1674 = arith.mul_add(-x750, x1669, x1671);
+                x1675 = arith.mul_add(-x753, x1669, x1672);
+                x1676 = arith.mul_add(-x756, x1673, x1674);
+                x1677 = arith.mul_add(x759, x1673, x1675);
+                x1678 = arith.mul_add(-x762, x1676, x1677);
+                x1679 = x764 * x1678;
+                x1680 = x730 * x1090;
+                x1681 = x762 * x1679;
+                x1682 = arith.mul_add(x761, x1676, -x1681);
+                x1683 = x759 * x1679;
+                x1684 = arith.mul_add(x755, x1673, x1683);
+                x1685 = arith.mul_add(-x756, x1682, x1684);
+                x1686 = x753 * x1679;
+                x1687 = arith.mul_add(x745, x1669, -x1686);
+                x1688 = arith.mul_add(-x750, x1682, x1687);
+                x1689 = arith.mul_add(-x746, x1685, x1688);
+                x1690 = arith.mul_add(x743, x1679, -x1680);
+                x1691 = arith.mul_add(x731, x1682, x1690);
+                x1692 = arith.mul_add(x731, x1685, x1691);
+                x1693 = arith.mul_add(x731, x1689, x1692);
+                x1694 = x728 * x1679;
+                x1695 = arith.mul_add(-116.71012950158105f64, x643, -x1694);
+                x1696 = arith.mul_add(-c4, x1682, x1695);
+                x1697 = arith.mul_add(-c4, x1685, x1696);
+                x1698 = arith.mul_add(-c4, x1689, x1697);
+                x1699 = c4 * x1094;
+                x1700 = arith.mul_add(-2f64, x522, x1699);
+                x1701 = arith.mul_add(-2f64, x446, x1699);
+                x1702 = arith.mul_add(-2f64, x465, x1699);
+                x1703 = arith.mul_add(x728, x1094, -x1092);
+                x1704 = x731 * x1093;
+                x1705 = x1700 - x1704;
+                x1706 = x1701 - x1704;
+                x1707 = x1702 - x1704;
+                x1708 = arith.mul_add(-x743, x1093, x1703);
+                x1709 = arith.mul_add(-x746, x1705, x1706);
+                x1710 = arith.mul_add(-x750, x1705, x1707);
+                x1711 = arith.mul_add(-x753, x1705, x1708);
+                x1712 = arith.mul_add(-x756, x1709, x1710);
+                x1713 = arith.mul_add(x759, x1709, x1711);
+                x1714 = arith.mul_add(-x762, x1712, x1713);
+                x1715 = x764 * x1714;
+                x1716 = x730 * x1093;
+                x1717 = x762 * x1715;
+                x1718 = arith.mul_add(x761, x1712, -x1717);
+                x1719 = x759 * x1715;
+                x1720 = arith.mul_add(x755, x1709, x1719);
+                x1721 = arith.mul_add(-x756, x1718, x1720);
+                x1722 = x753 * x1715;
+                x1723 = arith.mul_add(x745, x1705, -x1722);
+                x1724 = arith.mul_add(-x750, x1718, x1723);
+                x1725 = arith.mul_add(-x746, x1721, x1724);
+                x1726 = arith.mul_add(x743, x1715, -x1716);
+                x1727 = arith.mul_add(x731, x1718, x1726);
+                x1728 = arith.mul_add(x731, x1721, x1727);
+                x1729 = arith.mul_add(x731, x1725, x1728);
+                x1730 = x728 * x1715;
+                x1731 = arith.mul_add(-116.71012950158105f64, x632, -x1730);
+                x1732 = arith.mul_add(-c4, x1718, x1731);
+                x1733 = arith.mul_add(-c4, x1721, x1732);
+                x1734 = arith.mul_add(-c4, x1725, x1733);
+                x1735 = c4 * x1097;
+                x1736 = arith.mul_add(-2f64, x499, x1735);
+                x1737 = arith.mul_add(-2f64, x513, x1735);
+                x1738 = arith.mul_add(-2f64, x534, x1735);
+                x1739 = arith.mul_add(x728, x1097, -x1095);
+                x1740 = x731 * x1096;
+                x1741 = x1736 - x1740;
+                x1742 = x1737 - x1740;
+                x1743 = x1738 - x1740;
+                x1744 = arith.mul_add(-x743, x1096, x1739);
+                x1745 = arith.mul_add(-x746, x1741, x1742);
+                x1746 = arith.mul_add(-x750, x1741, x1743);
+                x1747 = arith.mul_add(-x753, x1741, x1744);
+                x1748 = arith.mul_add(-x756, x1745, x1746);
+                x1749 = arith.mul_add(x759, x1745, x1747);
+                x1750 = arith.mul_add(-x762, x1748, x1749);
+                x1751 = x764 * x1750;
+                x1752 = x730 * x1096;
+                x1753 = x762 * x1751;
+                x1754 = arith.mul_add(x761, x1748, -x1753);
+                x1755 = x759 * x1751;
+                x1756 = arith.mul_add(x755, x1745, x1755);
+                x1757 = arith.mul_add(-x756, x1754, x1756);
+                x1758 = x753 * x1751;
+                x1759 = arith.mul_add(x745, x1741, -x1758);
+                x1760 = arith.mul_add(-x750, x1754, x1759);
+                x1761 = arith.mul_add(-x746, x1757, x1760);
+                x1762 = arith.mul_add(x743, x1751, -x1752);
+                x1763 = arith.mul_add(x731, x1754, x1762);
+                x1764 = arith.mul_add(x731, x1757, x1763);
+                x1765 = arith.mul_add(x731, x1761, x1764);
+                x1766 = x728 * x1751;
+                x1767 = arith.mul_add(-116.71012950158105f64, x621, -x1766);
+                x1768 = arith.mul_add(-c4, x1754, x1767);
+                x1769 = arith.mul_add(-c4, x1757, x1768);
+                x1770 = arith.mul_add(-c4, x1761, x1769);
+                x1771 = arith.mul_add(c4, x1101, -x1099);
+                x1772 = arith.mul_add(x728, x1101, -x1098);
+                x1773 = arith.mul_add(-x731, x1100, x1771);
+                x1774 = arith.mul_add(-x743, x1100, x1772);
+                x1775 = arith.mul_add(-x746, x1773, x1773);
+                x1776 = arith.mul_add(-x750, x1773, x1773);
+                x1777 = arith.mul_add(-x753, x1773, x1774);
+                x1778 = arith.mul_add(-x756, x1775, x1776);
+                x1779 = arith.mul_add(x759, x1775, x1777);
+                x1780 = arith.mul_add(-x762, x1778, x1779);
+                x1781 = x764 * x1780;
+                x1782 = x730 * x1100;
+                x1783 = x762 * x1781;
+                x1784 = arith.mul_add(x761, x1778, -x1783);
+                x1785 = x759 * x1781;
+                x1786 = arith.mul_add(x755, x1775, x1785);
+                x1787 = arith.mul_add(-x756, x1784, x1786);
+                x1788 = x753 * x1781;
+                x1789 = arith.mul_add(x745, x1773, -x1788);
+                x1790 = arith.mul_add(-x750, x1784, x1789);
+                x1791 = arith.mul_add(-x746, x1787, x1790);
+                x1792 = arith.mul_add(x743, x1781, -x1782);
+                x1793 = arith.mul_add(x731, x1784, x1792);
+                x1794 = arith.mul_add(x731, x1787, x1793);
+                x1795 = arith.mul_add(x731, x1791, x1794);
+                x1796 = x728 * x1781;
+                x1797 = arith.mul_add(-116.71012950158105f64, x616, -x1796);
+                x1798 = arith.mul_add(-c4, x1784, x1797);
+                x1799 = arith.mul_add(-c4, x1787, x1798);
+                x1800 = arith.mul_add(-c4, x1791, x1799);
+                x1801 = x731 * x1102;
+                x1802 = arith.mul_add(2f64, x618, x1801);
+                x1803 = x743 * x1102;
+                x1804 = arith.mul_add(2f64, x645, x1803);
+                x1805 = arith.mul_add(x746, x1802, -x1802);
+                x1806 = arith.mul_add(x750, x1802, -x1802);
+                x1807 = arith.mul_add(x753, x1802, -x1804);
+                x1808 = arith.mul_add(-x756, x1805, x1806);
+                x1809 = arith.mul_add(x759, x1805, x1807);
+                x1810 = arith.mul_add(-x762, x1808, x1809);
+                x1811 = x764 * x1810;
+                x1812 = x730 * x1102;
+                x1813 = x762 * x1811;
+                x1814 = arith.mul_add(x761, x1808, -x1813);
+                x1815 = x759 * x1811;
+                x1816 = arith.mul_add(x755, x1805, x1815);
+                x1817 = arith.mul_add(-x756, x1814, x1816);
+                x1818 = x753 * x1811;
+                x1819 = arith.mul_add(x745, x1802, x1818);
+                x1820 = arith.mul_add(x750, x1814, x1819);
+                x1821 = arith.mul_add(x746, x1817, x1820);
+                x1822 = -x1821;
+                x1823 = arith.mul_add(x743, x1811, -x1812);
+                x1824 = arith.mul_add(x731, x1814, x1823);
+                x1825 = arith.mul_add(x731, x1817, x1824);
+                x1826 = arith.mul_add(-x731, x1821, x1825);
+                x1827 = c4 * x1814;
+                x1828 = arith.mul_add(x728, x1811, x1827);
+                x1829 = arith.mul_add(c4, x1817, x1828);
+                x1830 = arith.mul_add(c4, x1821, -x1829);
+                (
+                    SMatrix::from_array_storage(
+                        ArrayStorage([
+                            [0f64, 0f64, 0f64, 0f64, 0f64, 0f64],
+                            [x1479, x1483, x1486, x1490, x1494, x1498],
+                            [x1513, x1515, x1518, x1522, x1526, x1530],
+                            [x1547, x1550, x1553, x1557, x1561, x1566],
+                            [x1577, x1580, x1583, x1587, x1591, x1596],
+                            [x1607, x1609, x1612, x1616, x1621, x1626],
+                        ]),
+                    ),
+                    SMatrix::from_array_storage(
+                        ArrayStorage([
+                            [x1643, x1646, x1649, x1653, x1657, x1662],
+                            [x1679, x1682, x1685, x1689, x1693, x1698],
+                            [x1715, x1718, x1721, x1725, x1729, x1734],
+                            [x1751, x1754, x1757, x1761, x1765, x1770],
+                            [x1781, x1784, x1787, x1791, x1795, x1800],
+                            [x1811, x1814, x1817, x1822, x1826, x1830],
+                        ]),
+                    ),
+                )
+            }
+        }
+        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, tau))
     }
 }

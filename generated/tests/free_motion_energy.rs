@@ -7,17 +7,17 @@
 
 use dyngen_generated::{Arm7, Panda, PandaRounded, Ur5};
 use dyngen_runtime::nalgebra::SVector;
-use dyngen_runtime::{JointTrig, RobotDynamics};
+use dyngen_runtime::{ForwardDynamics, JointTrig};
 
 type State<const N: usize> = (SVector<f64, N>, SVector<f64, N>);
 
-fn derivative<R: RobotDynamics<N, P>, const N: usize, const P: usize>((q, qd): &State<N>) -> State<N> {
+fn derivative<R: ForwardDynamics<N, P>, const N: usize, const P: usize>((q, qd): &State<N>) -> State<N> {
     let t = JointTrig::new(q);
     (*qd, R::forward_dynamics(&t, qd, &R::gravity(&t)))
 }
 
 /// Classical RK4, written out here so that the test depends on nothing but generated code.
-fn rk4<R: RobotDynamics<N, P>, const N: usize, const P: usize>(x: &State<N>, h: f64) -> State<N> {
+fn rk4<R: ForwardDynamics<N, P>, const N: usize, const P: usize>(x: &State<N>, h: f64) -> State<N> {
     let at = |k: &State<N>, s: f64| (x.0 + k.0 * s, x.1 + k.1 * s);
     let k1 = derivative::<R, N, P>(x);
     let k2 = derivative::<R, N, P>(&at(&k1, h / 2.0));
@@ -30,12 +30,12 @@ fn rk4<R: RobotDynamics<N, P>, const N: usize, const P: usize>(x: &State<N>, h: 
     )
 }
 
-fn energy<R: RobotDynamics<N, P>, const N: usize, const P: usize>((q, qd): &State<N>) -> f64 {
+fn energy<R: ForwardDynamics<N, P>, const N: usize, const P: usize>((q, qd): &State<N>) -> f64 {
     0.5 * qd.dot(&(R::mass_matrix(&JointTrig::new(q)) * qd))
 }
 
 /// Largest `|E(t) − E(0)|` over one second at step `h`.
-fn drift<R: RobotDynamics<N, P>, const N: usize, const P: usize>(start: &State<N>, h: f64) -> f64 {
+fn drift<R: ForwardDynamics<N, P>, const N: usize, const P: usize>(start: &State<N>, h: f64) -> f64 {
     let e0 = energy::<R, N, P>(start);
     let mut x = *start;
     let mut worst: f64 = 0.0;
@@ -46,7 +46,7 @@ fn drift<R: RobotDynamics<N, P>, const N: usize, const P: usize>(start: &State<N
     worst
 }
 
-fn fourth_order<R: RobotDynamics<N, P>, const N: usize, const P: usize>() {
+fn fourth_order<R: ForwardDynamics<N, P>, const N: usize, const P: usize>() {
     let q = SVector::<f64, N>::from_fn(|i, _| 0.3 + 0.2 * i as f64);
     let qd = SVector::<f64, N>::from_fn(|i, _| if i % 2 == 0 { 1.5 } else { -1.0 });
     let start = (q, qd);

@@ -17,12 +17,12 @@ use dyngen_runtime::__private::{
     avx512_lanes, fused_multiply_adds, set_avx512_lanes, set_fused_multiply_adds,
 };
 use dyngen_runtime::nalgebra::SVector;
-use dyngen_runtime::{BaseParameters, JointTrig, SplitMix64};
+use dyngen_runtime::{BaseParameters, DynamicsDerivatives, ForwardDynamics, JointTrig, SplitMix64};
 
 /// Every output of every scalar generated function at one state, one after the other.
 fn outputs<R, const N: usize, const P: usize, const B: usize>(x: &[SVector<f64, N>; 4]) -> Vec<f64>
 where
-    R: BaseParameters<N, P, B>,
+    R: BaseParameters<N, P, B> + ForwardDynamics<N, P> + DynamicsDerivatives<N, P>,
 {
     let [q, qd, v, a] = x;
     let t = JointTrig::new(q);
@@ -59,7 +59,7 @@ where
 /// entry of each state's outputs); returns how many outputs differed at all.
 fn check<R, const N: usize, const P: usize, const B: usize>(robot: &str) -> usize
 where
-    R: BaseParameters<N, P, B>,
+    R: BaseParameters<N, P, B> + ForwardDynamics<N, P> + DynamicsDerivatives<N, P>,
 {
     let mut rng = SplitMix64::new(11);
     let mut differing = 0;

@@ -10,7 +10,7 @@ use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::model::Model;
 use dyngen_generated::{Arm7, Arm7Friction, Panda, PandaRounded, Ur5};
 use dyngen_runtime::nalgebra::{DMatrix, SMatrix, SVector};
-use dyngen_runtime::{JointTrig, Kinematics, RobotDynamics};
+use dyngen_runtime::{JointTrig, Kinematics, Regressors, RobotDynamics};
 use std::path::Path;
 
 const STATES: u64 = 1000;
@@ -33,7 +33,7 @@ fn sv<const N: usize>(x: &[f64]) -> SVector<f64, N> {
 }
 
 /// Every quantity of the generated `R` against the generic algorithms at one state.
-fn compare<R: RobotDynamics<N, P>, const N: usize, const P: usize>(
+fn compare<R: Regressors<N, P>, const N: usize, const P: usize>(
     generic: &NumericDynamics,
     q: &[f64],
     qd: &[f64],
@@ -132,11 +132,11 @@ fn compare<R: RobotDynamics<N, P>, const N: usize, const P: usize>(
     );
 }
 
-fn against_generic<R: RobotDynamics<N, P>, const N: usize, const P: usize>(robot: &str) {
+fn against_generic<R: Regressors<N, P>, const N: usize, const P: usize>(robot: &str) {
     against_generic_at::<R, N, P>(robot, STATES);
 }
 
-fn against_generic_at<R: RobotDynamics<N, P>, const N: usize, const P: usize>(robot: &str, states: u64) {
+fn against_generic_at<R: Regressors<N, P>, const N: usize, const P: usize>(robot: &str, states: u64) {
     let model = model(robot);
     assert_eq!(
         R::JOINT_NAMES.to_vec(),
@@ -219,7 +219,7 @@ fn ur5_generated_matches_generic() {
 }
 
 /// Generated code for the described robot against Pinocchio's values for the same URDF.
-fn against_fixture<R: RobotDynamics<N, P>, const N: usize, const P: usize>(robot: &str) {
+fn against_fixture<R: Regressors<N, P>, const N: usize, const P: usize>(robot: &str) {
     let fx = fixture::load(robot);
     assert_close(
         &format!("{robot} θ"),

@@ -3,7 +3,7 @@
 
 use dyngen_generated::{Arm7, Arm7Friction, Panda, PandaRounded, Ur5};
 use dyngen_runtime::nalgebra::SVector;
-use dyngen_runtime::{JointTrig, RobotDynamics};
+use dyngen_runtime::{DynamicsDerivatives, ForwardDynamics, JointTrig, Regressors};
 use dyngen_testkit::allocations::{allocations, CountingAllocator};
 use std::hint::black_box;
 use std::path::Path;
@@ -11,7 +11,11 @@ use std::path::Path;
 #[global_allocator]
 static GLOBAL: CountingAllocator = CountingAllocator;
 
-fn every_function<R: RobotDynamics<N, P>, const N: usize, const P: usize>() {
+fn every_function<
+    R: Regressors<N, P> + ForwardDynamics<N, P> + DynamicsDerivatives<N, P>,
+    const N: usize,
+    const P: usize,
+>() {
     let q = SVector::<f64, N>::from_fn(|i, _| 0.3 * i as f64 - 1.0);
     let (qd, v, a) = (q * 0.5, q * -0.2, q * 1.5);
     let t = JointTrig::new(&q);

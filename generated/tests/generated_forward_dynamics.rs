@@ -14,7 +14,7 @@ use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::model::Model;
 use dyngen_generated::{Arm7, Panda, PandaRounded, Ur5};
 use dyngen_runtime::nalgebra::{DMatrix, SMatrix, SVector};
-use dyngen_runtime::{JointTrig, RobotDynamics};
+use dyngen_runtime::{DynamicsDerivatives, ForwardDynamics, JointTrig};
 use std::path::Path;
 
 const STATES: u64 = 200;
@@ -44,7 +44,7 @@ fn sv<const N: usize>(x: &[f64]) -> SVector<f64, N> {
     SVector::from_column_slice(x)
 }
 
-fn fd<R: RobotDynamics<N, P>, const N: usize, const P: usize>(
+fn fd<R: ForwardDynamics<N, P> + DynamicsDerivatives<N, P>, const N: usize, const P: usize>(
     q: &[f64],
     qd: &[f64],
     tau: &[f64],
@@ -52,7 +52,7 @@ fn fd<R: RobotDynamics<N, P>, const N: usize, const P: usize>(
     dm(&R::forward_dynamics(&JointTrig::new(&sv(q)), &sv(qd), &sv(tau)))
 }
 
-fn id<R: RobotDynamics<N, P>, const N: usize, const P: usize>(
+fn id<R: ForwardDynamics<N, P> + DynamicsDerivatives<N, P>, const N: usize, const P: usize>(
     q: &[f64],
     qd: &[f64],
     qdd: &[f64],
@@ -65,7 +65,9 @@ fn differenced(f: impl Fn(&[f64]) -> DMatrix<f64>, x: &[f64]) -> DMatrix<f64> {
     jacobian_by_differences(f, x, STEP)
 }
 
-fn against_generic<R: RobotDynamics<N, P>, const N: usize, const P: usize>(robot: &str) {
+fn against_generic<R: ForwardDynamics<N, P> + DynamicsDerivatives<N, P>, const N: usize, const P: usize>(
+    robot: &str,
+) {
     let model = model(robot);
     let generic = NumericDynamics::new(&model);
     for seed in 0..STATES {
@@ -116,7 +118,9 @@ fn ur5_generated_forward_dynamics_matches_generic() {
     against_generic::<Ur5, 6, 60>("ur5");
 }
 
-fn against_fixture<R: RobotDynamics<N, P>, const N: usize, const P: usize>(robot: &str) {
+fn against_fixture<R: ForwardDynamics<N, P> + DynamicsDerivatives<N, P>, const N: usize, const P: usize>(
+    robot: &str,
+) {
     let fx = fixture::load(robot);
     for (k, s) in fx.states.iter().enumerate() {
         let at = |what: &str| format!("{robot} fixture state {k}: {what}");
@@ -149,7 +153,10 @@ fn ur5_generated_forward_dynamics_matches_pinocchio() {
     against_fixture::<Ur5, 6, 60>("ur5");
 }
 
-fn oracles<R: RobotDynamics<N, P>, const N: usize, const P: usize>(robot: &str, states: u64) {
+fn oracles<R: ForwardDynamics<N, P> + DynamicsDerivatives<N, P>, const N: usize, const P: usize>(
+    robot: &str,
+    states: u64,
+) {
     let model = model(robot);
     for seed in 0..states {
         let s = random_state(&model, 1000 + seed);

@@ -2,7 +2,6 @@
 //! joint or parameter), so a bad input never turns into a silent wrong estimate. An error that
 //! comes from below (reading the file, the CSV reader, the model) keeps it as its source.
 
-use dyngen_codegen::model::ModelError;
 use std::fmt;
 use std::path::{Path, PathBuf};
 
@@ -25,9 +24,10 @@ pub enum IdentifyError {
     /// A compiled robot given as the regressor source is not the description's robot.
     #[error("{0}")]
     WrongRobot(String),
-    /// The consistent estimate did not make a valid model: a bug, said as one.
-    #[error("internal error: the consistent estimate is not a valid model: {0}")]
-    InvalidEstimate(#[source] ModelError),
+    /// No identified description loads back, not even the description identification
+    /// started from with the least squares' joint terms: a bug, said as one.
+    #[error("internal error: no identified description loads back: {0}")]
+    InvalidEstimate(String),
 }
 
 /// Where in the data an error is: file, line, and the CSV field (1-based column, not character)

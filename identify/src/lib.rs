@@ -13,15 +13,19 @@
 //! 3. Observation: the base regressor of a [`BaseRegressorSource`] (the generic numeric
 //!    dynamics of any description, [`BaseModel`], or a compiled robot, [`Compiled`]), in
 //!    torque form, stacked over the samples.
-//! 4. Estimation: weighted least squares on the base parameters with per-parameter standard
-//!    deviations ([`BaseEstimate`]), or an [`IdentifyError::Unidentifiable`] that names the
-//!    parameter the data cannot determine; then a physically consistent full θ
-//!    ([`ConsistentEstimate`]: every body's pseudo-inertia positive definite, armature and
-//!    friction non-negative, by a log-Cholesky parameterisation), started from the
-//!    description's values, or from their nearest physical inertia where a body of the
-//!    description is not physical ([`Identification::notes`] says which).
+//! 4. Estimation: least squares on the base parameters weighted by each joint's noise, the
+//!    noise re-estimated from the weighted residuals until it settles, with per-parameter
+//!    standard deviations ([`BaseEstimate`]), or an [`IdentifyError::Unidentifiable`] that
+//!    names the parameter the data cannot determine; then a physically consistent full θ as
+//!    compatible with the data as the least squares allow ([`ConsistentEstimate`]: every
+//!    body's pseudo-inertia positive definite with a margin, armature and friction positive,
+//!    by a log-Cholesky parameterisation, from the best of several starts
+//!    ([`ConsistentStart`]), made from the description with its bodies that no real body can
+//!    be repaired first ([`Identification::notes`] says which)).
 //! 5. The identified robot as a dyngen YAML description ([`to_yaml`],
-//!    [`Identification::yaml`]); [`identify`] runs all of it in one call.
+//!    [`Identification::yaml`]), checked by loading it back: always one the loader accepts
+//!    ([`WrittenEstimate`]), with warnings ([`Identification::warnings`]) when no consistent
+//!    robot fits the data; [`identify`] runs all of it in one call.
 //!
 //! [`measure`], [`with_payload`] and [`with_joint_terms`] simulate measurements of a "true"
 //! robot, for tests and studies.
@@ -34,10 +38,15 @@ mod error;
 mod excitation;
 mod fourier;
 mod least_squares;
+mod levenberg_marquardt;
+mod loadable;
+mod log_cholesky;
+mod objective;
 mod observation;
 mod physical_start;
 mod pipeline;
 mod simulate;
+mod starts;
 
 pub use consistent::{pseudo_inertia_margins, ConsistentEstimate};
 pub use data::{read_csv, to_csv, Samples};
@@ -47,5 +56,6 @@ pub use excitation::{condition_number, optimise, Excitation, ExcitationOptions};
 pub use fourier::{FourierTrajectory, JointSample, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
 pub use least_squares::BaseEstimate;
 pub use observation::{prepare, BaseModel, BaseRegressorSource, Compiled, Prepared};
-pub use pipeline::{identify, identify_with, Identification, IdentifyOptions};
+pub use pipeline::{identify, identify_with, Identification, IdentifyOptions, WrittenEstimate};
 pub use simulate::{measure, with_joint_terms, with_payload};
+pub use starts::ConsistentStart;

@@ -1,14 +1,18 @@
 //! The whole identification in one call: data → base parameters with uncertainties → a
-//! consistent full θ → an identified description.
+//! consistent full θ → an identified description that loads.
 
-use crate::consistent::{consistent_estimate, ConsistentEstimate};
+use crate::consistent::{consistent_estimate, misfit_bound, ConsistentEstimate};
 use crate::data::Samples;
-use crate::describe::{to_yaml, with_parameters};
+use crate::describe::to_yaml;
 use crate::error::IdentifyError;
 use crate::least_squares::{estimate, BaseEstimate};
+use crate::loadable::loadable;
+use crate::objective::Problem;
 use crate::observation::{prepare, BaseModel, BaseRegressorSource};
 use crate::physical_start::physical_start;
+use crate::starts::{description_start, least_squares_start};
 use dyngen_codegen::model::Model;
+use std::fmt;
 
 /// Options of [`identify`].
 #[derive(Clone, Debug, PartialEq)]
@@ -25,36 +29,80 @@ impl Default for IdentifyOptions {
     }
 }
 
+/// Which estimate the identified description holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum WrittenEstimate {
+    /// The consistent estimate: physically valid, and the closest to the data such a robot
+    /// can be.
+    Consistent,
+    /// The least squares, each body brought to the nearest physically valid one: written when
+    /// no consistent estimate fits the data and this fits it better.
+    LeastSquares,
+    /// The description identification started from, with the joint terms the least squares
+    /// determine alone: written only if neither estimate would load (a bug).
+    Description,
+}
+
+impl fmt::Display for WrittenEstimate {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            WrittenEstimate::Consistent => "the consistent estimate",
+            WrittenEstimate::LeastSquares => "the least squares made physically valid",
+            WrittenEstimate::Description => "the description with the least squares' joint terms",
+        })
+    }
+}
+
 /// What an identification produces.
 #[derive(Clone, Debug)]
 pub struct Identification {
-    /// Least squares on the base parameters, with standard deviations.
+    /// Least squares on the base parameters, with standard deviations and the noise of each
+    /// joint.
     pub base: BaseEstimate,
     /// A physically consistent full θ near it.
     pub consistent: ConsistentEstimate,
-    /// The description's model with the consistent θ.
+    /// The description's model with the identified θ; its YAML ([`Identification::yaml`])
+    /// loads.
     pub model: Model,
+    /// Which estimate `model` holds.
+    pub written: WrittenEstimate,
     /// Samples used (after the filter's end transients, when derivatives were computed).
     pub samples_used: usize,
     pub differentiated: bool,
-    /// What a person should know about how the estimate was made, e.g. that a body of the
-    /// description was not physical and the consistent estimate started from its nearest
-    /// physical inertia.
+    /// What the user should know: a noise estimate that did not settle, no consistent
+    /// estimate compatible with the data, the loader's warnings about the identified
+    /// description.
+    pub warnings: Vec<String>,
+    /// How the estimate was made, where it differs from the usual: a body of the description
+    /// that is not physical, and the nearest physical inertia the consistent estimate started
+    /// from instead (and took as its prior).
     pub notes: Vec<String>,
 }
 
 impl Identification {
     /// The identified robot as dyngen YAML.
     pub fn yaml(&self, source: &str) -> String {
-        let mut comment = vec![
-            format!(
-                "Identified by `dyngen identify` from {source}: {} samples.",
-                self.samples_used
-            ),
-            "Inertial parameters: the physically consistent estimate (log-Cholesky); the directions".into(),
-            "the data cannot see keep the values of the description identification started from.".into(),
-        ];
-        comment.extend(self.notes.iter().map(|note| format!("Note: {note}")));
+        let mut comment = vec![format!(
+            "Identified by `dyngen identify` from {source}: {} samples.",
+            self.samples_used
+        )];
+        match self.written {
+            WrittenEstimate::Consistent => comment.extend([
+                "Inertial parameters: the physically consistent estimate (log-Cholesky); the directions"
+                    .into(),
+                "the data cannot see keep the values of the description identification started from.".into(),
+            ]),
+            WrittenEstimate::LeastSquares => comment.extend([
+                "Inertial parameters: the least-squares estimate, each body brought to the nearest".into(),
+                "physically valid one: no physically consistent estimate fits the data.".into(),
+            ]),
+            WrittenEstimate::Description => comment.extend([
+                "Inertial parameters: the description's; joint terms: the least squares' where they".into(),
+                "are determined alone (neither estimate would load).".into(),
+            ]),
+        }
+        comment.extend(self.notes.iter().map(|n| format!("note: {n}")));
+        comment.extend(self.warnings.iter().map(|w| format!("warning: {w}")));
         to_yaml(&self.model, &comment)
     }
 }
@@ -88,17 +136,73 @@ pub fn identify_with(
     let prepared = prepare(samples, options.cutoff)?;
     let (w, tau) = prepared.stack(source);
     let base = estimate(&w, &tau, model.dof(), &base_model.base.names)?;
-    // The consistent estimate needs a physical start; the least squares above do not.
+    let mut warnings = Vec::new();
+    if !base.noise_settled {
+        warnings.push(format!(
+            "the torque noise estimate did not settle in {} re-estimates: the standard deviations \
+             assume the last one",
+            base.noise_iterations
+        ));
+    }
+    // The consistent estimate's starts and prior need physical bodies; the least squares
+    // above do not.
     let (start, notes) = physical_start(model);
-    let consistent = consistent_estimate(&start, &base_model.base, &base);
-    // Consistent by construction; an error here would be a bug, said as one.
-    let identified = with_parameters(model, &consistent.theta).map_err(IdentifyError::InvalidEstimate)?;
-    Ok(Identification {
-        base,
-        consistent,
-        model: identified,
-        samples_used: prepared.q.len(),
-        differentiated: prepared.differentiated,
-        notes,
-    })
+    let problem = Problem::new(&start, &base_model.base, &base);
+    let consistent = consistent_estimate(&problem, &base);
+    let b = base.theta_b.len();
+    // The description written: the consistent estimate when it fits the data; else whichever
+    // fits better of it and the least squares made physically valid body by body; the
+    // description (with the least squares' joint terms) if neither loads.
+    let mut candidates = vec![(WrittenEstimate::Consistent, consistent.theta.clone())];
+    if !consistent.compatible {
+        warnings.push(format!(
+            "no physically consistent parameters fit the data: the closest found has a whitened \
+             misfit of {:.1} for {b} base parameters (noise explains up to {:.1}); check the data \
+             (units, torque signs, time alignment) and the description's kinematics and joint terms",
+            consistent.misfit,
+            misfit_bound(b)
+        ));
+        if let Some(theta) = least_squares_start(&problem) {
+            let projected = problem.consistent_point(&theta);
+            let least_squares = (WrittenEstimate::LeastSquares, projected);
+            if problem.misfit(&least_squares.1) < consistent.misfit {
+                candidates.insert(0, least_squares);
+            } else {
+                candidates.push(least_squares);
+            }
+        }
+    }
+    let description = problem.consistent_point(&description_start(&problem, &base));
+    candidates.push((WrittenEstimate::Description, description));
+    let mut refused = Vec::new();
+    for (written, theta) in candidates {
+        match loadable(model, &theta) {
+            Ok((identified, loader_warnings)) => {
+                warnings.extend(refused.iter().map(|(what, why)| {
+                    format!("{what} would not load ({why}): the description written holds {written}")
+                }));
+                warnings.extend(
+                    loader_warnings
+                        .into_iter()
+                        .map(|w| format!("the identified description: {w}")),
+                );
+                return Ok(Identification {
+                    base,
+                    consistent,
+                    model: identified,
+                    written,
+                    samples_used: prepared.q.len(),
+                    differentiated: prepared.differentiated,
+                    warnings,
+                    notes,
+                });
+            }
+            Err(why) => refused.push((written, why)),
+        }
+    }
+    let reasons: Vec<String> = refused
+        .iter()
+        .map(|(what, why)| format!("{what}: {why}"))
+        .collect();
+    Err(IdentifyError::InvalidEstimate(reasons.join("; ")))
 }

@@ -76,7 +76,7 @@ fn derivatives_from_positions_match_the_analytic_ones() {
 }
 
 /// The optimised excitation's condition number is at most half the random coefficients'
-/// (the floor), with a short search.
+/// (the acceptance threshold), with a short search.
 #[test]
 fn optimised_excitation_is_better_conditioned_than_random() {
     let nominal = arm7_nominal();

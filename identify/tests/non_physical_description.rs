@@ -76,7 +76,7 @@ fn the_consistent_estimate_starts_from_the_nearest_physical_inertia_and_says_so(
     // warning, and says where its start came from.
     let yaml = id.yaml("test data");
     assert!(
-        yaml.contains("# Note: body 'lower' of the description: inertia is not physical"),
+        yaml.contains("# note: body 'lower' of the description: inertia is not physical"),
         "{yaml}"
     );
     let loaded = load_yaml_str(&yaml, Path::new("identified.yaml")).unwrap_or_else(|e| panic!("{e}\n{yaml}"));

@@ -120,9 +120,15 @@ pub fn unpack<L: Lanes, const N: usize>(x: &[L; N], k: usize) -> SVector<f64, N>
     SVector::from_fn(|i, _| x[i].lane(k))
 }
 
-/// The functions a generated robot also emits in lane form: several states per call.
+/// The functions a generated robot also emits in lane form: several states per call. Generated
+/// with the group `base_parameters`.
 ///
 /// `B` is the number of base parameters (of [`BaseParameters`](crate::BaseParameters)).
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` was generated without the group `base_parameters`, which brings the lane functions",
+    note = "add `base_parameters` to `functions:` in the robot's description (or to \
+            `Builder::functions`, or to `dyngen gen --functions`) and generate it again"
+)]
 pub trait LaneDynamics<const N: usize, const B: usize>: Kinematics<N> {
     /// Inverse dynamics `τ = D q̈ + C q̇ + g`, one state per lane.
     fn inverse_dynamics_lanes<L: Lanes>(t: &JointTrigLanes<N, L>, qd: &[L; N], qdd: &[L; N]) -> [L; N];

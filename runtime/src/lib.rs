@@ -63,7 +63,7 @@ pub use nalgebra;
 pub use parameter::{body_parameters, ParameterKind, PARAMETERS_PER_BODY};
 pub use parameterization::{Base, BaseParameters, Parameterization, Standard};
 pub use random::SplitMix64;
-pub use robot::{Kinematics, Pose, RobotDynamics};
+pub use robot::{DynamicsDerivatives, ForwardDynamics, Kinematics, Pose, Regressors, RobotDynamics};
 
 /// What generated code calls and no one else should: how a generated function runs (its body a
 /// [`Kernel`](__private::Kernel) generic over [`MulAdd`](__private::MulAdd), run by
@@ -103,7 +103,10 @@ pub mod __private {
 /// The traits whose functions a user of generated code calls: `use dyngen_runtime::prelude::*;`
 /// brings `Arm7::mass_matrix(&t)` and `Arm7::jacobian(&t)` into reach.
 pub mod prelude {
-    pub use crate::{BaseParameters, JointTrig, Kinematics, LaneDynamics, Parameterization, RobotDynamics};
+    pub use crate::{
+        BaseParameters, DynamicsDerivatives, ForwardDynamics, JointTrig, Kinematics, LaneDynamics,
+        Parameterization, Regressors, RobotDynamics,
+    };
 }
 
 /// Includes a robot generated into `OUT_DIR` by a build script (`dyngen_codegen::compile_robot`)

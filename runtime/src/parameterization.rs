@@ -4,7 +4,7 @@
 
 use crate::joint::JointTrig;
 use crate::parameter::{ParameterKind, PARAMETERS_PER_BODY};
-use crate::robot::{Kinematics, RobotDynamics};
+use crate::robot::{ForwardDynamics, Kinematics, Regressors, RobotDynamics};
 use core::marker::PhantomData;
 use nalgebra::{SMatrix, SVector};
 
@@ -67,8 +67,14 @@ pub trait Parameterization<const N: usize, const M: usize> {
 }
 
 /// A robot whose generator also emitted its base (minimal, identifiable) parameters: `B`
-/// combinations of the standard ones that span every torque the robot can produce.
-pub trait BaseParameters<const N: usize, const P: usize, const B: usize>: RobotDynamics<N, P> {
+/// combinations of the standard ones that span every torque the robot can produce (the group
+/// `base_parameters`).
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` was generated without the group `base_parameters`",
+    note = "add `base_parameters` to `functions:` in the robot's description (or to \
+            `Builder::functions`, or to `dyngen gen --functions`) and generate it again"
+)]
+pub trait BaseParameters<const N: usize, const P: usize, const B: usize>: Regressors<N, P> {
     /// Readable names that show what each base parameter combines, e.g. `"Izz[link1] + Iyy[link2] + …"`.
     const BASE_PARAMETER_NAMES: [&'static str; B];
     /// `θ_b = Φ θ`, a constant linear map fixed by the kinematics.
@@ -81,7 +87,7 @@ pub trait BaseParameters<const N: usize, const P: usize, const B: usize>: RobotD
         a: &SVector<f64, N>,
     ) -> SMatrix<f64, N, B>;
     /// `(Y_b θ_b, Y_bᵀ r)` with `Y_b = Y_b(q, q̇, v, a)` (see
-    /// [`RobotDynamics::regressor_products`]).
+    /// [`Regressors::regressor_products`]).
     fn base_regressor_products(
         t: &JointTrig<N>,
         qd: &SVector<f64, N>,
@@ -93,7 +99,7 @@ pub trait BaseParameters<const N: usize, const P: usize, const B: usize>: RobotD
         crate::robot::products_of(&Self::base_regressor(t, qd, v, a), theta_b, r)
     }
     /// `Y_b(q, q̇, q̇, q̈)` with `Y_b θ_b = τ`: the base regressor in torque form (see
-    /// [`RobotDynamics::torque_regressor`]).
+    /// [`Regressors::torque_regressor`]).
     fn base_torque_regressor(
         t: &JointTrig<N>,
         qd: &SVector<f64, N>,
@@ -135,7 +141,9 @@ fn body_only<const P: usize>(body: usize, p: &[f64; PARAMETERS_PER_BODY]) -> SVe
     })
 }
 
-impl<R: RobotDynamics<N, P>, const N: usize, const P: usize> Parameterization<N, P> for Standard<R> {
+impl<R: Regressors<N, P> + ForwardDynamics<N, P>, const N: usize, const P: usize> Parameterization<N, P>
+    for Standard<R>
+{
     type Robot = R;
     type StandardParameters = SVector<f64, P>;
     const NAMES: [&'static str; P] = R::PARAMETER_NAMES;
@@ -182,8 +190,8 @@ impl<R: RobotDynamics<N, P>, const N: usize, const P: usize> Parameterization<N,
     }
 }
 
-impl<R: BaseParameters<N, P, B>, const N: usize, const P: usize, const B: usize> Parameterization<N, B>
-    for Base<R, P>
+impl<R: BaseParameters<N, P, B> + ForwardDynamics<N, P>, const N: usize, const P: usize, const B: usize>
+    Parameterization<N, B> for Base<R, P>
 {
     type Robot = R;
     type StandardParameters = SVector<f64, P>;

@@ -74,9 +74,14 @@ pub trait Kinematics<const N: usize> {
 /// Rigid-body dynamics of one robot with `N` joints and `P` standard inertial parameters.
 ///
 /// Conventions: `C` is the Christoffel-consistent Coriolis matrix, so `Ḋ − 2C` is
-/// skew-symmetric; the regressor satisfies `Y(q, q̇, v, a) θ = D a + C v + g` with
-/// `θ = Self::parameters()`, ten parameters per body `[m, m·cx, m·cy, m·cz, Ixx, Ixy, Iyy, Ixz,
-/// Iyz, Izz]` about the joint frame origin.
+/// skew-symmetric; `θ = Self::parameters()` holds ten parameters per body `[m, m·cx, m·cy,
+/// m·cz, Ixx, Ixy, Iyy, Ixz, Iyz, Izz]` about the joint frame origin, then the joint-level
+/// parameters the description chose.
+///
+/// Every generated robot implements this trait and [`Kinematics`]; the others
+/// ([`Regressors`], [`ForwardDynamics`], [`DynamicsDerivatives`],
+/// [`BaseParameters`](crate::BaseParameters), [`LaneDynamics`](crate::LaneDynamics)) exist
+/// when the description chose their group of functions.
 pub trait RobotDynamics<const N: usize, const P: usize>: Kinematics<N> {
     /// Names of the entries of θ, e.g. `"mcx[link3]"`.
     const PARAMETER_NAMES: [&'static str; P];
@@ -100,6 +105,16 @@ pub trait RobotDynamics<const N: usize, const P: usize>: Kinematics<N> {
         v: &SVector<f64, N>,
         a: &SVector<f64, N>,
     ) -> SVector<f64, N>;
+}
+
+/// The regressor of the standard parameters: `Y(q, q̇, v, a) θ = D a + C v + g`, the functions
+/// of the group `regressors`.
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` was generated without the group `regressors`",
+    note = "add `regressors` to `functions:` in the robot's description (or to \
+            `Builder::functions`, or to `dyngen gen --functions`) and generate it again"
+)]
+pub trait Regressors<const N: usize, const P: usize>: RobotDynamics<N, P> {
     /// Slotine–Li regressor `Y(q, q̇, v, a)` with `Y θ = D a + C v + g`.
     fn regressor(
         t: &JointTrig<N>,
@@ -126,10 +141,29 @@ pub trait RobotDynamics<const N: usize, const P: usize>: Kinematics<N> {
     fn torque_regressor(t: &JointTrig<N>, qd: &SVector<f64, N>, qdd: &SVector<f64, N>) -> SMatrix<f64, N, P> {
         Self::regressor(t, qd, qd, qdd)
     }
+}
+
+/// Forward dynamics and the inverse inertia matrix: the group `forward_dynamics`.
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` was generated without the group `forward_dynamics`",
+    note = "add `forward_dynamics` to `functions:` in the robot's description (or to \
+            `Builder::functions`, or to `dyngen gen --functions`) and generate it again"
+)]
+pub trait ForwardDynamics<const N: usize, const P: usize>: RobotDynamics<N, P> {
     /// Forward dynamics `q̈ = D⁻¹ (τ − C q̇ − g)`.
     fn forward_dynamics(t: &JointTrig<N>, qd: &SVector<f64, N>, tau: &SVector<f64, N>) -> SVector<f64, N>;
     /// The inverse inertia matrix `D(q)⁻¹`.
     fn mass_matrix_inverse(t: &JointTrig<N>) -> SMatrix<f64, N, N>;
+}
+
+/// The derivatives of inverse and forward dynamics with respect to the state: the group
+/// `derivatives`.
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` was generated without the group `derivatives`",
+    note = "add `derivatives` to `functions:` in the robot's description (or to \
+            `Builder::functions`, or to `dyngen gen --functions`) and generate it again"
+)]
+pub trait DynamicsDerivatives<const N: usize, const P: usize>: RobotDynamics<N, P> {
     /// `(∂τ/∂q, ∂τ/∂q̇)` of inverse dynamics at `(q, q̇, q̈)`; entry `(i, j)` is `∂τ_i/∂x_j`
     /// (`∂τ/∂q̈ = D`).
     fn inverse_dynamics_derivatives(

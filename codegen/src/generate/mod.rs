@@ -4,6 +4,7 @@ mod crate_dir;
 pub(crate) mod emit;
 mod hash;
 mod output;
+pub(crate) mod quantities;
 mod robot_file;
 pub(crate) mod trace;
 

@@ -3,8 +3,10 @@
 
 use super::emit::{emit, Provenance};
 use super::hash::fnv1a64;
-use super::trace::trace;
+use super::trace::trace_functions;
+use crate::base_parameters::BaseParameterSet;
 use crate::description::{load_with, DescriptionError, UrdfOptions};
+use crate::functions::Functions;
 use crate::model::Model;
 use crate::symbolic::OpCounts;
 use std::path::{Path, PathBuf};
@@ -97,7 +99,8 @@ pub fn generate_robot_with(
         );
         return Err(DescriptionError::new(path, msg).into());
     }
-    let robot = trace(&loaded.model);
+    let functions = Functions::default_for(loaded.model.dof());
+    let robot = trace_functions(&loaded.model, BaseParameterSet::compute(&loaded.model), functions);
     if let Some(v) = robot.non_finite_constant() {
         let msg = format!(
             "the dynamics of this model overflow (a constant computes to {v}): masses, lengths \
@@ -122,7 +125,7 @@ pub fn generate_robot_with(
     let op_counts = robot
         .quantities
         .iter()
-        .map(|q| (q.name, robot.graph.op_counts(&q.outputs)))
+        .map(|q| (q.name(), robot.graph.op_counts(&q.outputs)))
         .collect();
     Ok(GeneratedRobot {
         model: loaded.model,

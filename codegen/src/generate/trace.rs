@@ -1,8 +1,10 @@
 //! Runs the generic dynamics algorithms on symbolic inputs: one graph holds every quantity a
 //! controller needs, so shared subexpressions (joint transforms, body velocities) are one node.
 
+use super::quantities::QuantityKind;
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::{self, Directions};
+use crate::functions::{FunctionGroup, Functions};
 use crate::model::Model;
 use crate::scalar::Scalar;
 use crate::symbolic::{record, Expr, Graph, Id};
@@ -43,11 +45,18 @@ pub enum Shape {
 /// One quantity: a named function of the joint state.
 #[derive(Clone, Debug)]
 pub struct Quantity {
-    pub name: &'static str,
+    pub kind: QuantityKind,
     pub args: Vec<Arg>,
     pub shape: Shape,
     /// Output nodes in the order of the shape (column-major for matrices).
     pub outputs: Vec<Id>,
+}
+
+impl Quantity {
+    /// The generated function's name.
+    pub fn name(&self) -> &'static str {
+        self.kind.name()
+    }
 }
 
 /// Inputs of the graph, by role.
@@ -73,23 +82,11 @@ pub struct SymbolicRobot {
     pub graph: Graph,
     pub inputs: Inputs,
     pub quantities: Vec<Quantity>,
-    /// The base parameters whose regressor is the quantity [`BASE_REGRESSOR`].
+    /// The base parameters whose regressor is the quantity [`QuantityKind::BaseRegressor`].
     pub base: BaseParameterSet,
+    /// The groups traced.
+    pub functions: Functions,
 }
-
-/// Name of the base-parameter regressor `Y_b` (a method of `BaseParameters`, not of
-/// `RobotDynamics`): the kept columns of `Y`, so only their nodes are live in its function.
-pub const BASE_REGRESSOR: &str = "base_regressor";
-
-/// Name of the base-parameter regressor in torque form, `Y_b(q, q̇, q̇, q̈)`.
-pub const BASE_TORQUE_REGRESSOR: &str = "base_torque_regressor";
-
-/// Name of `(Y_b θ_b, Y_bᵀ r)`, the base regressor's products an adaptive law needs.
-pub const BASE_REGRESSOR_PRODUCTS: &str = "base_regressor_products";
-
-/// The quantities that are methods of `BaseParameters` (the others are of `Kinematics` or
-/// `RobotDynamics`).
-pub const BASE_FUNCTIONS: [&str; 3] = [BASE_REGRESSOR, BASE_TORQUE_REGRESSOR, BASE_REGRESSOR_PRODUCTS];
 
 fn ids(v: &[Expr]) -> Vec<Id> {
     v.iter().map(|e| e.id()).collect()
@@ -111,7 +108,14 @@ pub fn trace(model: &Model) -> SymbolicRobot {
 
 /// [`trace`] with base parameters computed beforehand.
 pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
+    trace_functions(model, base, Functions::all())
+}
+
+/// [`trace_with_base`] of the groups `functions` only: the others are not traced at all (what
+/// is traced keeps the order of the full trace, so with every group the graph is the same).
+pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functions) -> SymbolicRobot {
     let n = model.dof();
+    let regressors = functions.contains(FunctionGroup::Regressors);
     let (graph, (inputs, mut quantities, lane_forms)) = record(|| {
         let (q, qd, v, a) = (inputs("q", n), inputs("qd", n), inputs("v", n), inputs("a", n));
         let x = dynamics::joint_transforms(model, &q);
@@ -140,55 +144,58 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
             dynamics::add_armature(model, &joint_values, &mut d);
             d
         };
-        let y = matrix_ids(&full_from_base(
-            &dynamics::regressor(model, &x, &qd, &v, &a),
-            &base,
-        ));
+        let y = match regressors {
+            true => matrix_ids(&full_from_base(
+                &dynamics::regressor(model, &x, &qd, &v, &a),
+                &base,
+            )),
+            false => Vec::new(),
+        };
         // Column-major: column c of Y is y[c·n .. (c+1)·n].
         let y_base: Vec<Id> = base
             .columns
             .iter()
-            .flat_map(|&c| y[c * n..(c + 1) * n].iter().copied())
+            .flat_map(|&c| y.get(c * n..(c + 1) * n).unwrap_or_default().iter().copied())
             .collect();
         let quantities = vec![
             Quantity {
-                name: "forward_kinematics",
+                kind: QuantityKind::ForwardKinematics,
                 args: vec![],
                 shape: Shape::Pose,
                 outputs: pose,
             },
             Quantity {
-                name: "jacobian",
+                kind: QuantityKind::Jacobian,
                 args: vec![],
                 shape: Shape::Matrix(6, n),
                 outputs: matrix_ids(&dynamics::jacobian(model, &world)),
             },
             Quantity {
-                name: "jacobian_dot",
+                kind: QuantityKind::JacobianDot,
                 args: vec![Arg::Qd],
                 shape: Shape::Matrix(6, n),
                 outputs: matrix_ids(&dynamics::jacobian_dot(model, &world, &qd)),
             },
             Quantity {
-                name: "mass_matrix",
+                kind: QuantityKind::MassMatrix,
                 args: vec![],
                 shape: Shape::Matrix(n, n),
                 outputs: matrix_ids(&mass_matrix()),
             },
             Quantity {
-                name: "coriolis_matrix",
+                kind: QuantityKind::CoriolisMatrix,
                 args: vec![Arg::Qd],
                 shape: Shape::Matrix(n, n),
                 outputs: matrix_ids(&dynamics::coriolis_matrix(model, &x, &inertias, &qd)),
             },
             Quantity {
-                name: "gravity",
+                kind: QuantityKind::Gravity,
                 args: vec![],
                 shape: Shape::Vector(n),
                 outputs: ids(&g),
             },
             Quantity {
-                name: "inverse_dynamics",
+                kind: QuantityKind::InverseDynamics,
                 args: vec![Arg::Qd, Arg::A],
                 shape: Shape::Vector(n),
                 outputs: ids(&with_joint_terms(
@@ -198,7 +205,7 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
                 )),
             },
             Quantity {
-                name: "slotine_li",
+                kind: QuantityKind::SlotineLi,
                 args: vec![Arg::Qd, Arg::V, Arg::A],
                 shape: Shape::Vector(n),
                 outputs: ids(&with_joint_terms(
@@ -216,13 +223,13 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
                 )),
             },
             Quantity {
-                name: "regressor",
+                kind: QuantityKind::Regressor,
                 args: vec![Arg::Qd, Arg::V, Arg::A],
                 shape: Shape::Matrix(n, model.parameter_count()),
                 outputs: y,
             },
             Quantity {
-                name: BASE_REGRESSOR,
+                kind: QuantityKind::BaseRegressor,
                 args: vec![Arg::Qd, Arg::V, Arg::A],
                 shape: Shape::Matrix(n, base.count()),
                 outputs: y_base,
@@ -230,12 +237,18 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
         ];
         let mut quantities = quantities;
         let tau = inputs("tau", n);
-        let (forward, lane_forms) = forward_quantities(model, &inertias, &joint_values, &q, &qd, &a, &tau);
+        let (forward, lane_forms) =
+            forward_quantities(model, &inertias, &joint_values, &q, &qd, &a, &tau, functions);
         quantities.extend(forward);
-        quantities.extend(torque_regressors(model, &x, &qd, &a, &base));
+        if regressors {
+            quantities.extend(torque_regressors(model, &x, &qd, &a, &base));
+        }
         quantities.push(fused_kinematics(&quantities, n));
         let (theta, r) = (inputs("theta", model.parameter_count()), inputs("r", n));
-        quantities.extend(regressor_products(model, &x, [&qd, &v, &a], &theta, &r, &base));
+        if regressors {
+            quantities.extend(regressor_products(model, &x, [&qd, &v, &a], &theta, &r, &base));
+        }
+        quantities.retain(|q| functions.contains(q.kind.group()));
         (
             Inputs {
                 q: ids(&q),
@@ -251,8 +264,8 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
         )
     });
     // The derivatives in lanes where they cost less than one direction at a time.
-    for (name, outputs) in lane_forms {
-        if let Some(q) = quantities.iter_mut().find(|q| q.name == name) {
+    for (kind, outputs) in lane_forms {
+        if let Some(q) = quantities.iter_mut().find(|q| q.kind == kind) {
             if cost(&graph, &outputs) < cost(&graph, &q.outputs) {
                 q.outputs = outputs;
             }
@@ -263,6 +276,7 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
         inputs,
         quantities,
         base,
+        functions,
     }
 }
 
@@ -306,11 +320,30 @@ fn forward_quantities(
     qd: &[Expr],
     a: &[Expr],
     tau: &[Expr],
-) -> (Vec<Quantity>, Vec<(&'static str, Vec<Id>)>) {
+    functions: Functions,
+) -> (Vec<Quantity>, Vec<(QuantityKind, Vec<Id>)>) {
     let n = model.dof();
     let x = dynamics::joint_transforms(model, q);
-    let forward = ids(&dynamics::forward_dynamics(model, &x, inertias, jv, qd, tau));
-    let inverse_mass = matrix_ids(&dynamics::mass_matrix_inverse(model, &x, inertias, jv));
+    let mut quantities = Vec::new();
+    if functions.contains(FunctionGroup::ForwardDynamics) {
+        let forward = ids(&dynamics::forward_dynamics(model, &x, inertias, jv, qd, tau));
+        let inverse_mass = matrix_ids(&dynamics::mass_matrix_inverse(model, &x, inertias, jv));
+        quantities.push(Quantity {
+            kind: QuantityKind::ForwardDynamics,
+            args: vec![Arg::Qd, Arg::Tau],
+            shape: Shape::Vector(n),
+            outputs: forward,
+        });
+        quantities.push(Quantity {
+            kind: QuantityKind::MassMatrixInverse,
+            args: vec![],
+            shape: Shape::Matrix(n, n),
+            outputs: inverse_mass,
+        });
+    }
+    if !functions.contains(FunctionGroup::Derivatives) {
+        return (quantities, Vec::new());
+    }
     let derivatives = |directions| {
         let inverse = pair_ids(dynamics::inverse_dynamics_derivatives_by(
             directions, model, q, inertias, jv, qd, a,
@@ -322,35 +355,23 @@ fn forward_quantities(
     };
     let (inverse_derivatives, forward_derivatives) = derivatives(Directions::OneByOne);
     let (inverse_lanes, forward_lanes) = derivatives(Directions::Lanes);
-    let quantities = vec![
+    quantities.extend([
         Quantity {
-            name: "forward_dynamics",
-            args: vec![Arg::Qd, Arg::Tau],
-            shape: Shape::Vector(n),
-            outputs: forward,
-        },
-        Quantity {
-            name: "mass_matrix_inverse",
-            args: vec![],
-            shape: Shape::Matrix(n, n),
-            outputs: inverse_mass,
-        },
-        Quantity {
-            name: "inverse_dynamics_derivatives",
+            kind: QuantityKind::InverseDynamicsDerivatives,
             args: vec![Arg::Qd, Arg::A],
             shape: Shape::MatrixPair(n),
             outputs: inverse_derivatives,
         },
         Quantity {
-            name: "forward_dynamics_derivatives",
+            kind: QuantityKind::ForwardDynamicsDerivatives,
             args: vec![Arg::Qd, Arg::Tau],
             shape: Shape::MatrixPair(n),
             outputs: forward_derivatives,
         },
-    ];
+    ]);
     let lanes = vec![
-        ("inverse_dynamics_derivatives", inverse_lanes),
-        ("forward_dynamics_derivatives", forward_lanes),
+        (QuantityKind::InverseDynamicsDerivatives, inverse_lanes),
+        (QuantityKind::ForwardDynamicsDerivatives, forward_lanes),
     ];
     (quantities, lanes)
 }
@@ -374,13 +395,13 @@ fn torque_regressors(
         .collect();
     vec![
         Quantity {
-            name: "torque_regressor",
+            kind: QuantityKind::TorqueRegressor,
             args: vec![Arg::Qd, Arg::A],
             shape: Shape::Matrix(n, model.parameter_count()),
             outputs: y,
         },
         Quantity {
-            name: BASE_TORQUE_REGRESSOR,
+            kind: QuantityKind::BaseTorqueRegressor,
             args: vec![Arg::Qd, Arg::A],
             shape: Shape::Matrix(n, base.count()),
             outputs: y_base,
@@ -425,14 +446,14 @@ fn regressor_products(
     let (n, p, b) = (model.dof(), model.parameter_count(), base.count());
     let all: Vec<usize> = (0..p).collect();
     [
-        ("regressor_products", all.as_slice(), p),
-        (BASE_REGRESSOR_PRODUCTS, &base.columns, b),
+        (QuantityKind::RegressorProducts, all.as_slice(), p),
+        (QuantityKind::BaseRegressorProducts, &base.columns, b),
     ]
     .into_iter()
-    .map(|(name, columns, len)| {
+    .map(|(kind, columns, len)| {
         let (y_theta, y_tr_r) = dynamics::regressor_products(model, x, qd, v, a, columns, &theta[..len], r);
         Quantity {
-            name,
+            kind,
             args: vec![Arg::Qd, Arg::V, Arg::A, Arg::Theta(len), Arg::R],
             shape: Shape::VectorPair(n, len),
             outputs: ids(&y_theta).into_iter().chain(ids(&y_tr_r)).collect(),
@@ -444,18 +465,18 @@ fn regressor_products(
 /// Forward kinematics, `J` and `J̇` in one function: the nodes the three share (joint
 /// transforms, body poses) are computed once. No new nodes, only the union of their outputs.
 fn fused_kinematics(quantities: &[Quantity], n: usize) -> Quantity {
-    let outputs_of = |name: &str| {
+    let outputs_of = |kind: QuantityKind| {
         quantities
             .iter()
-            .find(|q| q.name == name)
+            .find(|q| q.kind == kind)
             .map(|q| q.outputs.clone())
             .unwrap_or_default()
     };
-    let mut outputs = outputs_of("forward_kinematics");
-    outputs.extend(outputs_of("jacobian"));
-    outputs.extend(outputs_of("jacobian_dot"));
+    let mut outputs = outputs_of(QuantityKind::ForwardKinematics);
+    outputs.extend(outputs_of(QuantityKind::Jacobian));
+    outputs.extend(outputs_of(QuantityKind::JacobianDot));
     Quantity {
-        name: "kinematics",
+        kind: QuantityKind::Kinematics,
         args: vec![Arg::Qd],
         shape: Shape::Kinematics(n),
         outputs,
@@ -484,7 +505,7 @@ impl SymbolicRobot {
     }
 
     pub fn quantity(&self, name: &str) -> Option<&Quantity> {
-        self.quantities.iter().find(|q| q.name == name)
+        self.quantities.iter().find(|q| q.name() == name)
     }
 
     /// Evaluates a quantity with the interpreter (for tests on robots that are never compiled).

@@ -25,7 +25,7 @@ use dyngen_generated::{
     arm7, arm7_friction, panda, panda_rounded, ur5, Arm7, Arm7Friction, Panda, PandaRounded, Ur5,
 };
 use dyngen_runtime::nalgebra::SVector;
-use dyngen_runtime::{BaseParameters, Kinematics, Parameterization};
+use dyngen_runtime::{BaseParameters, ForwardDynamics, Kinematics, Parameterization};
 use std::io::{IsTerminal as _, Write as _};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -200,7 +200,7 @@ fn options(args: &Args) -> DemoOptions {
 /// per body.
 fn run_robot<R, const N: usize, const P: usize, const B: usize>(args: &Args) -> Result<bool, String>
 where
-    R: BaseParameters<N, P, B>,
+    R: BaseParameters<N, P, B> + ForwardDynamics<N, P>,
 {
     let q0 = start_posture_for::<R, N>(args.start.as_deref())?;
     if args.standard {

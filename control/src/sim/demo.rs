@@ -354,7 +354,7 @@ where
         ))
     }
 
-    /// Start of the window the floors are measured over: the last 4 s.
+    /// Start of the window the thresholds are measured over: the last 4 s.
     pub fn metrics_from(&self) -> f64 {
         self.scenario.duration() - 4.0
     }

@@ -7,7 +7,9 @@
 //! the result is its maximum over the states.
 
 use crate::robot::{self, Robot};
-use dyngen_runtime::{BaseParameters, JointTrig, Kinematics, RobotDynamics};
+use dyngen_runtime::{
+    BaseParameters, DynamicsDerivatives, ForwardDynamics, JointTrig, Kinematics, Regressors, RobotDynamics,
+};
 use nalgebra::{DMatrix, SMatrix, SVector};
 use serde_json::{json, Map, Value};
 

@@ -1,4 +1,4 @@
-//! The floors on the demo scenario (arm7, no noise), measured over the last 4 s of the
+//! The acceptance thresholds on the demo scenario (arm7, no noise), measured over the last 4 s of the
 //! real scenario: adaptive RMS normal-force error ≤ 0.02 N and RMS in-plane error ≤ 0.01 mm;
 //! adaptation off at least 100× worse in RMS force error; the known-parameter law beside them.
 //! On the base parameters, which the demo adapts by default. The same with task dimension 6
@@ -7,7 +7,7 @@
 //!
 //! With true joint friction and armature (arm7_friction: the true robot's at 1.25× / 2× its
 //! nominal values), the pose task: adapting the joint terms against holding them, from no
-//! friction model at all (the floor: the force error at least 5× lower) and from the
+//! friction model at all (the acceptance threshold: the force error at least 5× lower) and from the
 //! nominal values.
 
 use dyngen_control::sim::{start_posture_for, Demo, DemoOptions, RunKind, RunStatus, Summary};
@@ -42,11 +42,11 @@ fn run_with<Z: Parameterization<7, M>, const M: usize, const T: usize>(
 }
 
 #[test]
-fn adaptive_meets_the_floors_and_adaptation_off_is_far_worse() {
+fn adaptive_meets_the_thresholds_and_adaptation_off_is_far_worse() {
     let adaptive = run(RunKind::Adaptive);
     let off = run(RunKind::AdaptationOff);
     let known = run(RunKind::KnownParameters);
-    assert_position_and_force_floors(&adaptive);
+    assert_position_and_force_thresholds(&adaptive);
     assert_adaptation_matters(&adaptive, &off);
     // The known-parameter law has only the sampling to fight: it must do better still.
     assert!(known.rms_force_error <= adaptive.rms_force_error);
@@ -56,10 +56,10 @@ fn adaptive_meets_the_floors_and_adaptation_off_is_far_worse() {
 }
 
 #[test]
-fn with_orientation_rows_the_floors_hold_and_the_tool_stays_vertical() {
+fn with_orientation_rows_the_thresholds_hold_and_the_tool_stays_vertical() {
     let adaptive = run_task::<6>(RunKind::Adaptive);
     let off = run_task::<6>(RunKind::AdaptationOff);
-    assert_position_and_force_floors(&adaptive);
+    assert_position_and_force_thresholds(&adaptive);
     assert!(
         adaptive.rms_orientation_error <= 1e-4,
         "RMS orientation error {} rad",
@@ -68,7 +68,7 @@ fn with_orientation_rows_the_floors_hold_and_the_tool_stays_vertical() {
     assert_adaptation_matters(&adaptive, &off);
 }
 
-/// The floor: a controller that starts with no joint friction or armature in its model
+/// The acceptance threshold: a controller that starts with no joint friction or armature in its model
 /// (`θ̂(0)` of the joint terms 0), pose task (m = 6: the tool held vertical, so the wrist
 /// joints move and their friction matters). Adapting the joint terms (default gain) lowers the
 /// RMS force error at least 5× against the same controller with them held at 0 (the rigid-body
@@ -83,7 +83,7 @@ fn with_true_friction_adapting_the_joint_terms_lowers_the_force_error_5x() {
     };
     let adapted = run_with::<Z, M, 6>(RunKind::Adaptive, options);
     let unmodelled = run_with::<Z, M, 6>(RunKind::AdaptiveJointTermsHeld, options);
-    for (what, ratio, floor) in [
+    for (what, ratio, threshold) in [
         ("force", unmodelled.rms_force_error / adapted.rms_force_error, 5.0),
         (
             "orientation",
@@ -97,8 +97,8 @@ fn with_true_friction_adapting_the_joint_terms_lowers_the_force_error_5x() {
         ),
     ] {
         assert!(
-            ratio >= floor,
-            "{what}: friction unmodelled ÷ adapted = {ratio:.2} < {floor}"
+            ratio >= threshold,
+            "{what}: friction unmodelled ÷ adapted = {ratio:.2} < {threshold}"
         );
     }
     assert!(
@@ -140,8 +140,8 @@ fn with_true_friction_adapting_nominal_joint_terms_lowers_the_tracking_errors() 
     }
 }
 
-/// The floors over the last 4 s: RMS force error ≤ 0.02 N, in-plane ≤ 0.01 mm.
-fn assert_position_and_force_floors(adaptive: &Summary) {
+/// The acceptance thresholds over the last 4 s: RMS force error ≤ 0.02 N, in-plane ≤ 0.01 mm.
+fn assert_position_and_force_thresholds(adaptive: &Summary) {
     assert!(
         adaptive.rms_force_error <= 0.02,
         "RMS force error {} N",

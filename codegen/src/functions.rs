@@ -1,0 +1,217 @@
+//! Which functions a robot is generated with: groups a user chooses by name (in a
+//! description's `functions:`, with `Builder::functions`, or `dyngen gen --functions`), each
+//! the functions of one trait of `dyngen-runtime`.
+
+use std::fmt;
+
+/// A group of generated functions, chosen together; each is one trait of `dyngen-runtime`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
+pub enum FunctionGroup {
+    /// Pose, `J`, `J̇` of the end-effector (`Kinematics`). Always generated.
+    Kinematics,
+    /// `θ`, `D`, `C`, `g`, `τ`, the Slotine–Li torque (`RobotDynamics`). Always generated.
+    Dynamics,
+    /// The regressors `Y` (Slotine–Li and torque form) and their products `Y θ`, `Yᵀ r`
+    /// (`Regressors`).
+    Regressors,
+    /// The base parameters `θ_b`, `Y_b` and its products, and the lane functions
+    /// (`BaseParameters`, `LaneDynamics`). Needs `regressors`.
+    BaseParameters,
+    /// `q̈ = D⁻¹ (τ − C q̇ − g)` and `D⁻¹` (`ForwardDynamics`).
+    ForwardDynamics,
+    /// `∂τ/∂(q, q̇)` and `∂q̈/∂(q, q̇)` (`DynamicsDerivatives`).
+    Derivatives,
+}
+
+/// Above this many joints, [`Functions::default_for`] leaves the derivatives out: their code
+/// grows fastest with the robot (a 30-joint chain's took minutes to compile), and whole-body
+/// controllers of such robots rarely call them.
+pub const DERIVATIVES_BY_DEFAULT_UP_TO_DOF: usize = 12;
+
+impl FunctionGroup {
+    /// Every group, in the order of the generated module.
+    pub const ALL: [FunctionGroup; 6] = [
+        FunctionGroup::Kinematics,
+        FunctionGroup::Dynamics,
+        FunctionGroup::Regressors,
+        FunctionGroup::BaseParameters,
+        FunctionGroup::ForwardDynamics,
+        FunctionGroup::Derivatives,
+    ];
+
+    /// The name a description, the builder and the command line use, e.g. `forward_dynamics`.
+    pub fn keyword(self) -> &'static str {
+        match self {
+            FunctionGroup::Kinematics => "kinematics",
+            FunctionGroup::Dynamics => "dynamics",
+            FunctionGroup::Regressors => "regressors",
+            FunctionGroup::BaseParameters => "base_parameters",
+            FunctionGroup::ForwardDynamics => "forward_dynamics",
+            FunctionGroup::Derivatives => "derivatives",
+        }
+    }
+
+    /// The group named `keyword`.
+    pub fn from_keyword(keyword: &str) -> Option<FunctionGroup> {
+        FunctionGroup::ALL.into_iter().find(|g| g.keyword() == keyword)
+    }
+
+    /// The `dyngen-runtime` trait whose methods the group's functions are.
+    pub fn trait_name(self) -> &'static str {
+        match self {
+            FunctionGroup::Kinematics => "Kinematics",
+            FunctionGroup::Dynamics => "RobotDynamics",
+            FunctionGroup::Regressors => "Regressors",
+            FunctionGroup::BaseParameters => "BaseParameters",
+            FunctionGroup::ForwardDynamics => "ForwardDynamics",
+            FunctionGroup::Derivatives => "DynamicsDerivatives",
+        }
+    }
+
+    /// Whether every generated robot has it (the other traits build on these two).
+    pub fn is_always_generated(self) -> bool {
+        matches!(self, FunctionGroup::Kinematics | FunctionGroup::Dynamics)
+    }
+
+    /// The group it cannot be generated without, if any.
+    pub fn needs(self) -> Option<FunctionGroup> {
+        match self {
+            FunctionGroup::BaseParameters => Some(FunctionGroup::Regressors),
+            _ => None,
+        }
+    }
+
+    /// `kinematics, dynamics, …`: every keyword, for messages.
+    pub fn keywords() -> String {
+        let all: Vec<&str> = FunctionGroup::ALL.iter().map(|g| g.keyword()).collect();
+        all.join(", ")
+    }
+}
+
+impl fmt::Display for FunctionGroup {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(self.keyword())
+    }
+}
+
+/// The groups one robot is generated with: always kinematics and dynamics, plus the chosen ones.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Functions {
+    chosen: [bool; 6],
+}
+
+impl Functions {
+    /// Every group.
+    pub fn all() -> Functions {
+        Functions { chosen: [true; 6] }
+    }
+
+    /// What a robot of `dof` joints gets when its description chooses nothing: every group,
+    /// but the derivatives only up to [`DERIVATIVES_BY_DEFAULT_UP_TO_DOF`] joints.
+    pub fn default_for(dof: usize) -> Functions {
+        let mut functions = Functions::all();
+        if dof > DERIVATIVES_BY_DEFAULT_UP_TO_DOF {
+            functions.chosen[FunctionGroup::Derivatives as usize] = false;
+        }
+        functions
+    }
+
+    /// Kinematics, dynamics and `groups`. An error names a group chosen without the one it
+    /// needs.
+    pub fn with(groups: &[FunctionGroup]) -> Result<Functions, String> {
+        let mut chosen = [false; 6];
+        for g in FunctionGroup::ALL.into_iter().filter(|g| g.is_always_generated()) {
+            chosen[g as usize] = true;
+        }
+        for &g in groups {
+            chosen[g as usize] = true;
+        }
+        let functions = Functions { chosen };
+        for g in functions.groups() {
+            if let Some(needed) = g.needs().filter(|n| !functions.contains(*n)) {
+                return Err(format!(
+                    "the group `{g}` needs `{needed}`: add `{needed}` to the functions"
+                ));
+            }
+        }
+        Ok(functions)
+    }
+
+    /// Parses keywords (`["regressors", "derivatives"]`); an unknown one is an error that
+    /// lists the groups.
+    pub fn from_keywords<'a>(keywords: impl IntoIterator<Item = &'a str>) -> Result<Functions, String> {
+        let mut groups = Vec::new();
+        for keyword in keywords {
+            match FunctionGroup::from_keyword(keyword) {
+                Some(g) => groups.push(g),
+                None => {
+                    return Err(format!(
+                        "unknown group of functions `{keyword}`: expected some of {}",
+                        FunctionGroup::keywords()
+                    ))
+                }
+            }
+        }
+        Functions::with(&groups)
+    }
+
+    /// Whether `group` is generated.
+    pub fn contains(&self, group: FunctionGroup) -> bool {
+        self.chosen[group as usize]
+    }
+
+    /// The generated groups, in module order.
+    pub fn groups(&self) -> impl Iterator<Item = FunctionGroup> + '_ {
+        FunctionGroup::ALL.into_iter().filter(|g| self.contains(*g))
+    }
+}
+
+impl fmt::Display for Functions {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        let groups: Vec<&str> = self.groups().map(FunctionGroup::keyword).collect();
+        f.write_str(&groups.join(", "))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn keywords_round_trip_and_unknown_ones_list_the_groups() {
+        for g in FunctionGroup::ALL {
+            assert_eq!(FunctionGroup::from_keyword(g.keyword()), Some(g));
+        }
+        let e = Functions::from_keywords(["derivative"]).unwrap_err();
+        assert!(e.contains("`derivative`") && e.contains("derivatives"), "{e}");
+    }
+
+    #[test]
+    fn kinematics_and_dynamics_are_always_there_and_needs_are_checked() {
+        let f = Functions::with(&[FunctionGroup::ForwardDynamics]).unwrap();
+        let groups: Vec<FunctionGroup> = f.groups().collect();
+        assert_eq!(
+            groups,
+            [
+                FunctionGroup::Kinematics,
+                FunctionGroup::Dynamics,
+                FunctionGroup::ForwardDynamics
+            ]
+        );
+        let e = Functions::with(&[FunctionGroup::BaseParameters]).unwrap_err();
+        assert!(e.contains("`base_parameters` needs `regressors`"), "{e}");
+        assert!(Functions::with(&[FunctionGroup::BaseParameters, FunctionGroup::Regressors]).is_ok());
+    }
+
+    #[test]
+    fn the_default_drops_only_the_derivatives_and_only_for_large_robots() {
+        assert_eq!(
+            Functions::default_for(DERIVATIVES_BY_DEFAULT_UP_TO_DOF),
+            Functions::all()
+        );
+        let large = Functions::default_for(DERIVATIVES_BY_DEFAULT_UP_TO_DOF + 1);
+        for g in FunctionGroup::ALL {
+            assert_eq!(large.contains(g), g != FunctionGroup::Derivatives, "{g}");
+        }
+    }
+}

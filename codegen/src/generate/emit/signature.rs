@@ -1,0 +1,145 @@
+//! The parameters of a generated function and the destructuring of the inputs it reads.
+
+use super::leaves::Leaves;
+use super::plan::Form;
+use crate::generate::trace::{Arg, SymbolicRobot};
+use crate::symbolic::Id;
+use proc_macro2::{Ident, Literal, TokenStream};
+use quote::{format_ident, quote};
+
+/// The parameters of a generated function and the destructuring of the inputs it reads.
+pub(super) struct Signature {
+    pub(super) params: Vec<Param>,
+    pub(super) prelude: Vec<TokenStream>,
+}
+
+/// One parameter of a generated function; an unused one is spelled `_name` where it is bound.
+pub(super) struct Param {
+    pub(super) name: Ident,
+    pub(super) ty: TokenStream,
+    pub(super) used: bool,
+}
+
+impl Param {
+    pub(super) fn used(name: Ident, ty: TokenStream) -> Param {
+        Param { name, ty, used: true }
+    }
+
+    pub(super) fn binding(&self) -> Ident {
+        match self.used {
+            true => self.name.clone(),
+            false => format_ident!("_{}", self.name),
+        }
+    }
+
+    /// `name: Type` as the function declares it.
+    pub(super) fn declared(&self) -> TokenStream {
+        let (name, ty) = (self.binding(), &self.ty);
+        quote!(#name: #ty)
+    }
+}
+
+/// `let [x0, _, x2] = <source>;` for the inputs in `used`; `None` if it reads none of them.
+fn destructure(leaves: &Leaves, ids: &[Id], used: &[Id], source: TokenStream) -> Option<TokenStream> {
+    if !ids.iter().any(|id| used.contains(id)) {
+        return None;
+    }
+    let pattern = ids.iter().map(|id| match used.contains(id) {
+        true => {
+            let name = &leaves.names[id];
+            quote!(#name)
+        }
+        false => quote!(_),
+    });
+    Some(quote!(let [#(#pattern),*] = #source;))
+}
+
+/// The type of the joint sines and cosines, and of a joint-space vector argument.
+fn argument_types(form: Form, n: &Literal) -> (TokenStream, TokenStream) {
+    match form {
+        Form::Scalar => (quote!(JointTrig<#n>), quote!(SVector<f64, #n>)),
+        Form::Lanes => (quote!(JointTrigLanes<#n, L>), quote!([L; #n])),
+    }
+}
+
+pub(super) fn signature(
+    robot: &SymbolicRobot,
+    leaves: &Leaves,
+    args: &[Arg],
+    used: &[Id],
+    n: &Literal,
+    form: Form,
+) -> Signature {
+    let (trig_type, vector_type) = argument_types(form, n);
+    let inputs = &robot.inputs;
+    let (sin_ids, cos_ids) = (&leaves.sin_ids, &leaves.cos_ids);
+    let mut prelude = Vec::new();
+    prelude.extend(destructure(leaves, &inputs.q, used, quote!(t.q)));
+    prelude.extend(destructure(leaves, sin_ids, used, quote!(t.sin)));
+    prelude.extend(destructure(leaves, cos_ids, used, quote!(t.cos)));
+    let mut params = vec![Param {
+        name: format_ident!("t"),
+        ty: quote!(&#trig_type),
+        used: !prelude.is_empty(),
+    }];
+    for &arg in args {
+        let (name, ids) = match arg {
+            Arg::Qd => (format_ident!("qd"), &inputs.qd[..]),
+            Arg::V => (format_ident!("v"), &inputs.v[..]),
+            Arg::A => (format_ident!("a"), &inputs.a[..]),
+            Arg::Tau => (format_ident!("tau"), &inputs.tau[..]),
+            Arg::Theta(len) => (format_ident!("theta"), &inputs.theta[..len]),
+            Arg::R => (format_ident!("r"), &inputs.r[..]),
+        };
+        let ty = argument_type(arg, &vector_type);
+        let source = match form {
+            Form::Scalar => quote!(#name.data.0[0]),
+            Form::Lanes => quote!(*#name),
+        };
+        let destructured = destructure(leaves, ids, used, source);
+        params.push(Param {
+            name,
+            ty: quote!(&#ty),
+            used: destructured.is_some(),
+        });
+        prelude.extend(destructured);
+    }
+    Signature { params, prelude }
+}
+
+pub(super) fn argument_names(args: &[Arg]) -> Vec<Ident> {
+    let mut names = vec![format_ident!("t")];
+    names.extend(args.iter().map(|a| match a {
+        Arg::Qd => format_ident!("qd"),
+        Arg::V => format_ident!("v"),
+        Arg::A => format_ident!("a"),
+        Arg::Tau => format_ident!("tau"),
+        Arg::Theta(_) => format_ident!("theta"),
+        Arg::R => format_ident!("r"),
+    }));
+    names
+}
+
+/// The type of a vector argument: a joint-space vector, or a parameter vector of its own length.
+fn argument_type(arg: Arg, joint_vector: &TokenStream) -> TokenStream {
+    match arg {
+        Arg::Theta(len) => {
+            let len = Literal::usize_unsuffixed(len);
+            quote!(SVector<f64, #len>)
+        }
+        _ => joint_vector.clone(),
+    }
+}
+
+/// `t: &JointTrig<N>, qd: &SVector<f64, N>, …`: every argument, used or not.
+pub(super) fn all_parameters(args: &[Arg], n: &Literal, form: Form) -> Vec<TokenStream> {
+    let (trig_type, vector_type) = argument_types(form, n);
+    let names = argument_names(args);
+    let (t, vectors) = names.split_first().expect("t is always an argument");
+    let mut params = vec![quote!(#t: &#trig_type)];
+    params.extend(vectors.iter().zip(args).map(|(v, &arg)| {
+        let ty = argument_type(arg, &vector_type);
+        quote!(#v: &#ty)
+    }));
+    params
+}

@@ -1,0 +1,158 @@
+//! The one table of generated functions: each quantity's name, its group (which a user chooses
+//! it by, and whose `dyngen-runtime` trait it is a method of), and whether it also has a lane
+//! form. The tracer records quantities by these kinds, the emitter places each method by its
+//! group, and a test holds the table to the traits of `dyngen-runtime` and to the reference in
+//! `docs/dynamics.md`.
+
+use crate::functions::FunctionGroup;
+
+/// One generated function. The order of [`QuantityKind::ALL`] is the order the tracer records
+/// them in, which is append-only: node ids follow creation order, so a quantity added at the end
+/// leaves every earlier function's code byte-identical.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum QuantityKind {
+    ForwardKinematics,
+    Jacobian,
+    JacobianDot,
+    MassMatrix,
+    CoriolisMatrix,
+    Gravity,
+    InverseDynamics,
+    SlotineLi,
+    Regressor,
+    BaseRegressor,
+    ForwardDynamics,
+    MassMatrixInverse,
+    InverseDynamicsDerivatives,
+    ForwardDynamicsDerivatives,
+    TorqueRegressor,
+    BaseTorqueRegressor,
+    Kinematics,
+    RegressorProducts,
+    BaseRegressorProducts,
+}
+
+/// A row of the table.
+#[derive(Clone, Copy, Debug)]
+struct Row {
+    name: &'static str,
+    group: FunctionGroup,
+    lane_form: bool,
+}
+
+impl QuantityKind {
+    /// Every kind, in trace order.
+    pub const ALL: [QuantityKind; 19] = [
+        QuantityKind::ForwardKinematics,
+        QuantityKind::Jacobian,
+        QuantityKind::JacobianDot,
+        QuantityKind::MassMatrix,
+        QuantityKind::CoriolisMatrix,
+        QuantityKind::Gravity,
+        QuantityKind::InverseDynamics,
+        QuantityKind::SlotineLi,
+        QuantityKind::Regressor,
+        QuantityKind::BaseRegressor,
+        QuantityKind::ForwardDynamics,
+        QuantityKind::MassMatrixInverse,
+        QuantityKind::InverseDynamicsDerivatives,
+        QuantityKind::ForwardDynamicsDerivatives,
+        QuantityKind::TorqueRegressor,
+        QuantityKind::BaseTorqueRegressor,
+        QuantityKind::Kinematics,
+        QuantityKind::RegressorProducts,
+        QuantityKind::BaseRegressorProducts,
+    ];
+
+    fn row(self) -> Row {
+        use FunctionGroup as G;
+        let row = |name, group, lane_form| Row {
+            name,
+            group,
+            lane_form,
+        };
+        match self {
+            QuantityKind::ForwardKinematics => row("forward_kinematics", G::Kinematics, false),
+            QuantityKind::Jacobian => row("jacobian", G::Kinematics, false),
+            QuantityKind::JacobianDot => row("jacobian_dot", G::Kinematics, false),
+            QuantityKind::MassMatrix => row("mass_matrix", G::Dynamics, false),
+            QuantityKind::CoriolisMatrix => row("coriolis_matrix", G::Dynamics, false),
+            QuantityKind::Gravity => row("gravity", G::Dynamics, false),
+            QuantityKind::InverseDynamics => row("inverse_dynamics", G::Dynamics, true),
+            QuantityKind::SlotineLi => row("slotine_li", G::Dynamics, false),
+            QuantityKind::Regressor => row("regressor", G::Regressors, false),
+            QuantityKind::BaseRegressor => row("base_regressor", G::BaseParameters, false),
+            QuantityKind::ForwardDynamics => row("forward_dynamics", G::ForwardDynamics, false),
+            QuantityKind::MassMatrixInverse => row("mass_matrix_inverse", G::ForwardDynamics, false),
+            QuantityKind::InverseDynamicsDerivatives => {
+                row("inverse_dynamics_derivatives", G::Derivatives, false)
+            }
+            QuantityKind::ForwardDynamicsDerivatives => {
+                row("forward_dynamics_derivatives", G::Derivatives, false)
+            }
+            QuantityKind::TorqueRegressor => row("torque_regressor", G::Regressors, false),
+            QuantityKind::BaseTorqueRegressor => row("base_torque_regressor", G::BaseParameters, true),
+            QuantityKind::Kinematics => row("kinematics", G::Kinematics, false),
+            QuantityKind::RegressorProducts => row("regressor_products", G::Regressors, false),
+            QuantityKind::BaseRegressorProducts => row("base_regressor_products", G::BaseParameters, false),
+        }
+    }
+
+    /// The generated function's name, e.g. `mass_matrix`.
+    pub fn name(self) -> &'static str {
+        self.row().name
+    }
+
+    /// The kind named `name`, if any.
+    pub fn from_name(name: &str) -> Option<QuantityKind> {
+        QuantityKind::ALL.into_iter().find(|k| k.name() == name)
+    }
+
+    /// The group a user chooses it by; its trait is the group's.
+    pub fn group(self) -> FunctionGroup {
+        self.row().group
+    }
+
+    /// Whether it also comes in lane form (`<name>_lanes`, several states per call, a method
+    /// of `dyngen_runtime::LaneDynamics`): what identification and batched roll-outs evaluate
+    /// in bulk.
+    pub fn has_lane_form(self) -> bool {
+        self.row().lane_form
+    }
+
+    /// Whether it is one of the base-parameter columns of a regressor (its doc names them).
+    pub fn uses_base_columns(self) -> bool {
+        self.group() == FunctionGroup::BaseParameters
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::collections::HashSet;
+
+    #[test]
+    fn names_are_distinct_snake_case_and_round_trip() {
+        let mut seen = HashSet::new();
+        for kind in QuantityKind::ALL {
+            let name = kind.name();
+            assert!(seen.insert(name), "{name} twice");
+            assert!(
+                name.chars().all(|c| c.is_ascii_lowercase() || c == '_') && !name.starts_with('_'),
+                "{name} is not a snake_case function name"
+            );
+            assert_eq!(QuantityKind::from_name(name), Some(kind));
+        }
+        assert_eq!(QuantityKind::from_name("mass_matrix_lanes"), None);
+    }
+
+    #[test]
+    fn every_group_has_a_function() {
+        for group in FunctionGroup::ALL {
+            assert!(
+                QuantityKind::ALL.iter().any(|k| k.group() == group),
+                "{group:?} empty"
+            );
+        }
+    }
+}

@@ -1,0 +1,96 @@
+//! The table of generated functions (`QuantityKind`) against what it describes: the tracer records
+//! exactly its kinds in its order, the traits of `dyngen-runtime` declare each function in the
+//! trait of its group (and nothing generated that the table misses), the lane forms exist, and the
+//! reference in `docs/dynamics.md` names every function.
+
+use dyngen_codegen::description::load;
+use dyngen_codegen::internals::generate::{trace, QuantityKind};
+use dyngen_codegen::FunctionGroup;
+use dyngen_testkit::workspace_root;
+use std::collections::BTreeSet;
+
+/// The required and provided methods of trait `name` in a runtime source file.
+fn trait_methods(file: &str, name: &str) -> BTreeSet<String> {
+    let path = workspace_root().join("runtime/src").join(file);
+    let source = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let parsed = syn::parse_file(&source).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    let methods: Option<BTreeSet<String>> = parsed.items.iter().find_map(|item| match item {
+        syn::Item::Trait(t) if t.ident == name => Some(
+            t.items
+                .iter()
+                .filter_map(|i| match i {
+                    syn::TraitItem::Fn(f) => Some(f.sig.ident.to_string()),
+                    _ => None,
+                })
+                .collect(),
+        ),
+        _ => None,
+    });
+    methods.unwrap_or_else(|| panic!("no trait {name} in {}", path.display()))
+}
+
+#[test]
+fn the_tracer_records_the_table_in_its_order() {
+    for robot in ["arm7.yaml", "arm7_friction.yaml", "ur5.yaml"] {
+        let model = load(&workspace_root().join("robots").join(robot))
+            .unwrap_or_else(|e| panic!("{e}"))
+            .model;
+        let traced: Vec<QuantityKind> = trace(&model).quantities.iter().map(|q| q.kind).collect();
+        assert_eq!(traced, QuantityKind::ALL.to_vec(), "{robot}");
+    }
+}
+
+#[test]
+fn each_function_is_declared_by_the_trait_of_its_group() {
+    let file = |group: FunctionGroup| match group {
+        FunctionGroup::BaseParameters => "parameterization.rs",
+        _ => "robot.rs",
+    };
+    let traits: Vec<(FunctionGroup, BTreeSet<String>)> = FunctionGroup::ALL
+        .into_iter()
+        .map(|g| (g, trait_methods(file(g), g.trait_name())))
+        .collect();
+    for kind in QuantityKind::ALL {
+        for (group, methods) in &traits {
+            assert_eq!(
+                methods.contains(kind.name()),
+                kind.group() == *group,
+                "{}: the table puts it in {:?}",
+                kind.name(),
+                kind.group()
+            );
+        }
+    }
+    // What the traits declare beyond the table is written by the emitter from the model's
+    // numbers, not traced: the parameter vectors.
+    let from_numbers = ["parameters", "base_parameters"];
+    for (group, methods) in &traits {
+        for method in methods {
+            assert!(
+                QuantityKind::from_name(method).is_some() || from_numbers.contains(&method.as_str()),
+                "{} declares {method}, which the table of generated functions lacks",
+                group.trait_name()
+            );
+        }
+    }
+    let lanes = trait_methods("lanes.rs", "LaneDynamics");
+    let expected: BTreeSet<String> = QuantityKind::ALL
+        .into_iter()
+        .filter(|k| k.has_lane_form())
+        .map(|k| format!("{}_lanes", k.name()))
+        .collect();
+    assert_eq!(lanes, expected, "LaneDynamics against the table's lane forms");
+}
+
+#[test]
+fn the_reference_names_every_function() {
+    let path = workspace_root().join("docs/dynamics.md");
+    let docs = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    for kind in QuantityKind::ALL {
+        let name = kind.name();
+        assert!(
+            docs.contains(&format!("`{name}(")) || docs.contains(&format!("`{name}`")),
+            "docs/dynamics.md does not name `{name}`"
+        );
+    }
+}

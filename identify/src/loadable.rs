@@ -1,0 +1,32 @@
+//! An identified θ is only useful as a description that loads: checked the way a user will use
+//! it, by writing the YAML and reading it back with the description loader, and by requiring
+//! every body to keep half the consistent estimate's margin, so that rounding in a file
+//! written or edited later cannot tip a body over the loader's tolerance.
+
+use crate::consistent::body_margins;
+use crate::describe::{to_yaml, with_parameters};
+use crate::log_cholesky::MARGIN;
+use dyngen_codegen::description::load_yaml_str;
+use dyngen_codegen::model::Model;
+use std::path::Path;
+
+/// `model` with parameters `theta`, and the loader's warnings about its YAML; or why it would
+/// not load.
+pub(crate) fn loadable(model: &Model, theta: &[f64]) -> Result<(Model, Vec<String>), String> {
+    if let Some(i) = theta.iter().position(|v| !v.is_finite()) {
+        return Err(format!("parameter {} is not finite", model.parameter_names()[i]));
+    }
+    for (b, margin) in body_margins(model, theta).iter().enumerate() {
+        if margin.is_nan() || *margin < 0.5 * MARGIN {
+            return Err(format!(
+                "link '{}': its inertia is within {margin:.1e} of the physically valid limit (at least {:.0e} is kept)",
+                model.bodies()[b].name,
+                0.5 * MARGIN
+            ));
+        }
+    }
+    let identified = with_parameters(model, theta).map_err(|e| e.to_string())?;
+    let yaml = to_yaml(&identified, &[]);
+    let loaded = load_yaml_str(&yaml, Path::new("identified.yaml")).map_err(|e| e.to_string())?;
+    Ok((identified, loaded.warnings))
+}
