@@ -312,6 +312,7 @@ fn cost(graph: &Graph, outputs: &[Id]) -> usize {
 /// traced with their directions one by one (first, so their code is what it was before lanes
 /// existed), and in lanes: the second list holds the lane form's outputs, which
 /// [`trace_with_base`] keeps where they cost less.
+#[allow(clippy::too_many_arguments)]
 fn forward_quantities(
     model: &Model,
     inertias: &[crate::spatial::RigidInertia<Expr>],
