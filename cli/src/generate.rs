@@ -2,6 +2,7 @@
 //! [`Builder`] (the same atomic write that never replaces a file dyngen did not write).
 
 use crate::failure::Failure;
+use crate::functions::FunctionsArgs;
 use crate::loading::LoadingArgs;
 use clap::Args;
 use dyngen_codegen::generate::WriteOutcome;
@@ -22,6 +23,8 @@ pub struct GenArgs {
     type_name: Option<String>,
     #[command(flatten)]
     loading: LoadingArgs,
+    #[command(flatten)]
+    functions: FunctionsArgs,
 }
 
 pub fn run(args: GenArgs) -> Result<(), Failure> {
@@ -37,6 +40,9 @@ pub fn run(args: GenArgs) -> Result<(), Failure> {
         .urdf_options(args.loading.urdf_options());
     if let Some(name) = &args.type_name {
         builder = builder.type_name(name);
+    }
+    if let Some(groups) = args.functions.groups()? {
+        builder = builder.functions(&groups);
     }
     // Only for a person watching: in a pipe, a failure stays the one `error:` line.
     if std::io::stderr().is_terminal() {
@@ -58,12 +64,13 @@ pub fn run(args: GenArgs) -> Result<(), Failure> {
         WriteOutcome::Unchanged => "unchanged",
     };
     eprintln!(
-        "{} → {} ({state}): {} DOF, {} parameters, {} base parameters, generated in {:.2} s",
+        "{} → {} ({state}): {} DOF, {} parameters, {} base parameters, functions: {}; generated in {:.2} s",
         args.description.display(),
         report.file.display(),
         robot.model.dof(),
         robot.model.parameter_count(),
         robot.base_parameter_count,
+        robot.functions,
         robot.elapsed.as_secs_f64()
     );
     Ok(())

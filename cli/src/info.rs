@@ -2,6 +2,7 @@
 //! end-effector, parameters, base parameters and the operations of each generated function.
 
 use crate::failure::Failure;
+use crate::functions::FunctionsArgs;
 use crate::loading::LoadingArgs;
 use clap::Args;
 use dyngen_codegen::generate::{generate_robot_with, module_name, type_name};
@@ -15,6 +16,8 @@ pub struct InfoArgs {
     description: PathBuf,
     #[command(flatten)]
     loading: LoadingArgs,
+    #[command(flatten)]
+    functions: FunctionsArgs,
 }
 
 pub fn run(args: InfoArgs) -> Result<(), Failure> {
@@ -26,6 +29,7 @@ pub fn run(args: InfoArgs) -> Result<(), Failure> {
         &type_name(&module),
         "dyngen info",
         &args.loading.urdf_options(),
+        args.functions.functions()?,
     )?;
     for note in &robot.notes {
         eprintln!("note: {note}");
@@ -64,6 +68,7 @@ pub fn run(args: InfoArgs) -> Result<(), Failure> {
     for name in &robot.base_parameter_names {
         println!("  {name}");
     }
+    println!("functions: {}", robot.functions);
     println!("operations per generated function:");
     print!("{}", robot.op_count_table("  "));
     println!("traced in {:.2} s", robot.elapsed.as_secs_f64());

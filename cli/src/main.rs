@@ -7,6 +7,7 @@
 mod check;
 mod excite;
 mod failure;
+mod functions;
 mod generate;
 mod identifiable;
 mod identify;

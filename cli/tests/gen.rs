@@ -105,3 +105,46 @@ fn a_missing_output_directory_is_an_error_not_a_panic() {
     assert!(run.stderr.starts_with("error: "), "{}", run.output());
     assert!(!run.stderr.contains("panicked"), "{}", run.output());
 }
+
+#[test]
+fn functions_chooses_the_groups_and_refuses_unknown_ones() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let ur5 = repository_file("robots/urdf/ur5_robot.urdf");
+    let run = dyngen_in(
+        dir.path(),
+        &[
+            "gen",
+            arg(&ur5),
+            "-o",
+            "ur5.rs",
+            "--functions",
+            "forward_dynamics,regressors",
+        ],
+    );
+    assert_eq!(run.code, Some(0), "{}", run.output());
+    let code = std::fs::read_to_string(dir.path().join("ur5.rs")).expect("written");
+    assert!(code.contains("impl ForwardDynamics<6, 60>") && code.contains("impl Regressors<6, 60>"));
+    assert!(!code.contains("impl DynamicsDerivatives") && !code.contains("impl BaseParameters"));
+    assert!(
+        run.stderr
+            .contains("functions: kinematics, dynamics, regressors, forward_dynamics"),
+        "the summary names the groups: {}",
+        run.output()
+    );
+
+    // Not a group: a usage error, listing the groups.
+    let run = dyngen_in(
+        dir.path(),
+        &["gen", arg(&ur5), "-o", "x.rs", "--functions", "derivative"],
+    );
+    assert_eq!(run.code, Some(2), "{}", run.output());
+    assert!(run.stderr.contains("derivatives"), "{}", run.output());
+    // A group without the one it needs: one error line, nothing written.
+    let run = dyngen_in(
+        dir.path(),
+        &["gen", arg(&ur5), "-o", "x.rs", "--functions", "base_parameters"],
+    );
+    assert_eq!(run.code, Some(1), "{}", run.output());
+    assert!(run.stderr.contains("needs `regressors`"), "{}", run.output());
+    assert!(!dir.path().join("x.rs").exists());
+}

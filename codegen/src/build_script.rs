@@ -4,7 +4,8 @@
 //! In `build.rs`, `fn main() { dyngen_codegen::compile_robot("robots/panda.yaml"); }`; in
 //! `src/lib.rs`, `dyngen_runtime::include_robot!(panda);` gives `panda::Panda`.
 
-use crate::description::{NonPhysicalInertia, UrdfOptions};
+use crate::description::{DescriptionError, NonPhysicalInertia, UrdfOptions};
+use crate::functions::{FunctionGroup, Functions};
 use crate::generate::{generate_robot_with, module_name, type_name, write_file, GenerateError, RobotReport};
 use std::path::{Path, PathBuf};
 
@@ -25,6 +26,7 @@ pub struct Builder {
     type_name: Option<String>,
     cargo_directives: bool,
     urdf: UrdfOptions,
+    functions: Option<Vec<FunctionGroup>>,
 }
 
 impl Builder {
@@ -39,6 +41,7 @@ impl Builder {
             type_name: None,
             cargo_directives: true,
             urdf: UrdfOptions::default(),
+            functions: None,
         }
     }
 
@@ -66,6 +69,15 @@ impl Builder {
     /// itself.
     pub fn urdf_options(mut self, options: UrdfOptions) -> Builder {
         self.urdf = options;
+        self
+    }
+
+    /// The groups of functions to generate besides kinematics and dynamics (default: what the
+    /// description's `functions:` says, else every group, the derivatives only up to
+    /// [`DERIVATIVES_BY_DEFAULT_UP_TO_DOF`](crate::DERIVATIVES_BY_DEFAULT_UP_TO_DOF) joints).
+    /// A description that chooses them itself and this option together are an error.
+    pub fn functions(mut self, groups: &[FunctionGroup]) -> Builder {
+        self.functions = Some(groups.to_vec());
         self
     }
 
@@ -143,7 +155,14 @@ impl Builder {
         let regenerate = self
             .regenerate
             .unwrap_or_else(|| "cargo build (build.rs)".to_owned());
-        let robot = generate_robot_with(&self.description, &shown, &ty, &regenerate, &self.urdf)?;
+        let functions = match &self.functions {
+            Some(groups) => Some(
+                Functions::with(groups)
+                    .map_err(|message| DescriptionError::new(&self.description, message))?,
+            ),
+            None => None,
+        };
+        let robot = generate_robot_with(&self.description, &shown, &ty, &regenerate, &self.urdf, functions)?;
         if self.cargo_directives {
             for source in &robot.sources {
                 println!("cargo:rerun-if-changed={}", source.display());

@@ -40,6 +40,6 @@ pub mod generate {
     pub use crate::generate::emit::{emit, type_name, Provenance, MODULE_ATTRIBUTES};
     pub use crate::generate::quantities::QuantityKind;
     pub use crate::generate::trace::{
-        trace, trace_with_base, Arg, Arguments, Inputs, Quantity, Shape, SymbolicRobot,
+        trace, trace_functions, trace_with_base, Arg, Arguments, Inputs, Quantity, Shape, SymbolicRobot,
     };
 }

@@ -54,6 +54,9 @@ pub struct Loaded {
     pub warnings: Vec<String>,
     /// Informational, e.g. `no end-effector given: using leaf link 'tool0' (...)`.
     pub notes: Vec<String>,
+    /// The groups of functions the description chooses (`functions:`); `None`: it leaves the
+    /// choice to the generator's default.
+    pub functions: Option<crate::Functions>,
 }
 
 /// Warnings and notes gathered along the way, already formatted like errors.
@@ -186,12 +189,15 @@ pub fn from_urdf_rs(robot: &urdf_rs::Robot, options: &UrdfOptions) -> Result<Loa
 /// path is relative to its directory. `sources` lists the URDF read, if any (not `file`).
 pub fn load_yaml_str(text: &str, file: &Path) -> Result<Loaded, DescriptionError> {
     let parsed = yaml::parse(text, file)?;
-    build(
+    let functions = parsed.functions()?;
+    let mut loaded = build(
         &parsed.robot,
         &parsed.robot_map,
         &parsed.settings(),
         parsed.read.clone(),
-    )
+    )?;
+    loaded.functions = functions;
+    Ok(loaded)
 }
 
 /// Steps 2–5 of the pipeline (see the module docs).
@@ -235,5 +241,6 @@ fn build(
         sources,
         warnings: diags.warnings,
         notes: diags.notes,
+        functions: None,
     })
 }

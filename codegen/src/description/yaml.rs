@@ -46,6 +46,7 @@ use super::options::{EndEffectorSpec, LockedJoints, NonPhysicalInertia, Settings
 use super::raw::{RawDynamics, RawInertial, RawJoint, RawLimit, RawLink, RawMimic, RawRobot};
 use super::source_map::SourceMap;
 use super::{urdf, yaml_spans};
+use crate::Functions;
 use serde::Deserialize;
 use std::path::{Path, PathBuf};
 
@@ -82,10 +83,22 @@ pub(crate) struct RobotFile {
     /// Joint-level parameters (armature, friction, offset): which regressor columns, and
     /// per-joint values (`joint_parameters` module docs). Absent: none.
     joint_parameters: Option<JointParametersSpec>,
+    /// The groups of functions to generate besides kinematics and dynamics, e.g.
+    /// `[regressors, base_parameters, forward_dynamics]`, or `all`. Absent: the generator's
+    /// default (every group; the derivatives only up to 12 joints).
+    functions: Option<FunctionsSpec>,
     /// Form (a): the links, in any order.
     links: Option<Vec<LinkSpec>>,
     /// Form (a): the joints. Their order fixes the order of sibling branches.
     joints: Option<Vec<JointSpec>>,
+}
+
+/// `functions:` as written: `all`, or a list of group keywords.
+#[derive(Debug, Deserialize)]
+#[serde(untagged)]
+enum FunctionsSpec {
+    Keyword(String),
+    List(Vec<String>),
 }
 
 /// A link (a rigid body), as URDF `<link>`.
@@ -205,11 +218,25 @@ pub(crate) struct Parsed {
     pub snap_angles: Option<f64>,
     pub inertia: NonPhysicalInertia,
     pub joint_parameters: Option<JointParametersSpec>,
+    functions: Option<FunctionsSpec>,
     /// Files read to get here (the URDF of form b).
     pub read: Vec<PathBuf>,
 }
 
 impl Parsed {
+    /// The groups `functions:` chooses, checked; an unknown group is an error at the key.
+    pub fn functions(&self) -> Result<Option<Functions>, DescriptionError> {
+        let chosen = match &self.functions {
+            None => return Ok(None),
+            Some(FunctionsSpec::Keyword(k)) if k == "all" => Ok(Functions::all()),
+            Some(FunctionsSpec::Keyword(k)) => Functions::from_keywords([k.as_str()]),
+            Some(FunctionsSpec::List(list)) => Functions::from_keywords(list.iter().map(String::as_str)),
+        };
+        chosen
+            .map(Some)
+            .map_err(|message| self.yaml_map.error("functions", message))
+    }
+
     pub fn settings(&self) -> Settings<'_> {
         Settings {
             name: self.name.clone(),
@@ -238,6 +265,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         snap_angles,
         inertia,
         joint_parameters,
+        functions,
         links,
         joints,
     } = spec;
@@ -252,6 +280,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         snap_angles,
         inertia,
         joint_parameters,
+        functions,
         read: Vec::new(),
     };
     let both = |key: &str| {

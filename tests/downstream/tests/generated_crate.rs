@@ -93,6 +93,41 @@ fn generated_functions_match_the_generic_dynamics() {{
     )
 }
 
+/// A fresh crate `name` in `krate` around `src/robot.rs` (already written), depending on
+/// nothing but `dyngen-runtime`, with `#![deny(warnings)]`.
+fn write_crate(krate: &Path, name: &str) {
+    let root = workspace_root();
+    let manifest = format!(
+        "[package]\nname = \"{name}\"\nversion = \"0.0.0\"\nedition = \"2021\"\npublish = false\n\n\
+         [dependencies]\ndyngen-runtime = {{ path = {:?} }}\n\n\
+         # Not a member of any workspace above the temporary directory.\n[workspace]\n",
+        root.join("runtime").display().to_string()
+    );
+    std::fs::write(krate.join("Cargo.toml"), manifest).expect("Cargo.toml");
+    // The workspace's versions of nalgebra and the rest, already in the local registry cache:
+    // an offline build needs nothing new.
+    std::fs::copy(root.join("Cargo.lock"), krate.join("Cargo.lock")).expect("Cargo.lock");
+    std::fs::write(krate.join("src/lib.rs"), "#![deny(warnings)]\n\npub mod robot;\n").expect("lib.rs");
+}
+
+/// `cargo <args> --offline` in the crate at `krate`: (success, stdout, stderr).
+fn cargo(krate: &Path, args: &[&str]) -> (bool, String, String) {
+    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
+    let out = Command::new(cargo)
+        .args(args)
+        .args(["--offline", "--manifest-path"])
+        .arg(krate.join("Cargo.toml"))
+        .arg("--target-dir")
+        .arg(workspace_root().join("target/generated-crate"))
+        .output()
+        .expect("cargo runs");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
 #[test]
 fn a_crate_generated_through_the_builder_compiles_and_matches() {
     let root = workspace_root();
@@ -110,37 +145,71 @@ fn a_crate_generated_through_the_builder_compiles_and_matches() {
         .compile()
         .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(written, krate.join("src/robot.rs"));
-
-    let runtime = root.join("runtime");
-    let manifest = format!(
-        "[package]\nname = \"generated-two-dof\"\nversion = \"0.0.0\"\nedition = \"2021\"\npublish = false\n\n\
-         [dependencies]\ndyngen-runtime = {{ path = {:?} }}\n\n\
-         # Not a member of any workspace above the temporary directory.\n[workspace]\n",
-        runtime.display().to_string()
-    );
-    std::fs::write(krate.join("Cargo.toml"), manifest).expect("Cargo.toml");
-    // The workspace's versions of nalgebra and the rest, already in the local registry cache:
-    // an offline build needs nothing new.
-    std::fs::copy(root.join("Cargo.lock"), krate.join("Cargo.lock")).expect("Cargo.lock");
-    std::fs::write(krate.join("src/lib.rs"), "#![deny(warnings)]\n\npub mod robot;\n").expect("lib.rs");
+    write_crate(krate, "generated-two-dof");
     std::fs::write(krate.join("tests/values.rs"), comparison_test(&model)).expect("test");
 
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
-    let out = Command::new(cargo)
-        .args(["test", "--offline", "--manifest-path"])
-        .arg(krate.join("Cargo.toml"))
-        .arg("--target-dir")
-        .arg(root.join("target/generated-crate"))
-        .output()
-        .expect("cargo runs");
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    let stderr = String::from_utf8_lossy(&out.stderr);
-    assert!(
-        out.status.success(),
-        "the generated crate's test fails:\n{stdout}\n{stderr}"
-    );
+    let (success, stdout, stderr) = cargo(krate, &["test"]);
+    assert!(success, "the generated crate's test fails:\n{stdout}\n{stderr}");
     assert!(
         stdout.contains("test generated_functions_match_the_generic_dynamics ... ok"),
         "the comparison ran:\n{stdout}"
     );
+}
+
+/// A robot generated with kinematics and dynamics only compiles without a warning, and code that
+/// calls a function of a group it lacks fails to compile with a message that names the group
+/// and says how to generate it.
+#[test]
+fn a_missing_group_is_a_compile_error_that_says_how_to_generate_it() {
+    let root = workspace_root();
+    let description = root.join("codegen/tests/data/example-robot-data/asr_twodof_description/TwoDofs.urdf");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let krate = dir.path();
+    std::fs::create_dir_all(krate.join("src")).expect("src");
+    std::fs::create_dir_all(krate.join("examples")).expect("examples");
+    Builder::new(&description)
+        .output_file(krate.join("src/robot.rs"))
+        .cargo_directives(false)
+        .functions(&[])
+        .compile()
+        .unwrap_or_else(|e| panic!("{e}"));
+    let code = std::fs::read_to_string(krate.join("src/robot.rs")).expect("generated");
+    for absent in [
+        "impl Regressors",
+        "impl ForwardDynamics",
+        "impl DynamicsDerivatives",
+        "impl BaseParameters",
+    ] {
+        assert!(!code.contains(absent), "{absent} generated without being chosen");
+    }
+    write_crate(krate, "generated-two-dof-dynamics-only");
+    let (success, _, stderr) = cargo(krate, &["build", "--lib"]);
+    assert!(
+        success,
+        "kinematics and dynamics alone do not build cleanly:\n{stderr}"
+    );
+
+    std::fs::write(
+        krate.join("examples/needs_forward_dynamics.rs"),
+        "use dyngen_runtime::nalgebra::SVector;\nuse dyngen_runtime::prelude::*;\n\
+         use generated_two_dof_dynamics_only::robot::Robot;\n\n\
+         fn accelerations<R: ForwardDynamics<2, 20>>() -> SVector<f64, 2> {\n    \
+         let t = JointTrig::new(&SVector::zeros());\n    R::forward_dynamics(&t, &SVector::zeros(), &SVector::zeros())\n}\n\n\
+         fn main() {\n    println!(\"{}\", accelerations::<Robot>());\n}\n",
+    )
+    .expect("example");
+    let (success, _, stderr) = cargo(krate, &["build", "--example", "needs_forward_dynamics"]);
+    assert!(
+        !success,
+        "forward dynamics called on a robot generated without them"
+    );
+    for expected in [
+        "`Robot` was generated without the group `forward_dynamics`",
+        "add `forward_dynamics` to `functions:`",
+    ] {
+        assert!(
+            stderr.contains(expected),
+            "the error does not say {expected:?}:\n{stderr}"
+        );
+    }
 }

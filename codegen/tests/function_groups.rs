@@ -1,0 +1,290 @@
+//! Choosing the groups of functions to generate: the description's `functions:`, the
+//! `Builder`, the default by size, the errors, and that a function computes the same whichever
+//! other groups are generated with it.
+
+use dyngen_codegen::base_parameters::BaseParameterSet;
+use dyngen_codegen::description::{load, UrdfOptions};
+use dyngen_codegen::generate::{generate_robot, generate_robot_with, GeneratedRobot};
+use dyngen_codegen::internals::generate::{trace_functions, Arguments};
+use dyngen_codegen::{Builder, FunctionGroup, Functions, DERIVATIVES_BY_DEFAULT_UP_TO_DOF};
+use dyngen_runtime::SplitMix64;
+use dyngen_testkit::workspace_root;
+use std::path::{Path, PathBuf};
+
+/// `robots/arm7.yaml` with `extra` appended, written into `dir`.
+fn arm7_with(dir: &Path, extra: &str) -> PathBuf {
+    let text = std::fs::read_to_string(workspace_root().join("robots/arm7.yaml")).expect("arm7");
+    let path = dir.join("arm7.yaml");
+    std::fs::write(&path, format!("{text}\n{extra}\n")).expect("write");
+    path
+}
+
+fn generate(path: &Path) -> GeneratedRobot {
+    generate_robot(path, "arm7.yaml", "Arm7", "test").unwrap_or_else(|e| panic!("{e}"))
+}
+
+/// The text of generated method `name` (its doc comment and body), from `fn name(` to the end
+/// of its block at the same indentation.
+fn method(code: &str, name: &str) -> Option<String> {
+    let lines: Vec<&str> = code.lines().collect();
+    let start = lines
+        .iter()
+        .position(|l| l.trim_start().starts_with(&format!("fn {name}(")))?;
+    let indent = &lines[start][..lines[start].len() - lines[start].trim_start().len()];
+    let end = (start..lines.len()).find(|&k| lines[k] == format!("{indent}}}"))?;
+    Some(lines[start..=end].join("\n"))
+}
+
+fn functions_of(robot: &GeneratedRobot) -> Vec<&'static str> {
+    robot.op_counts.iter().map(|(name, _)| *name).collect()
+}
+
+#[test]
+fn a_description_chooses_its_groups_and_gets_exactly_their_traits() {
+    let dir = tempfile::tempdir().expect("dir");
+    let robot = generate(&arm7_with(dir.path(), "functions: [forward_dynamics]"));
+    assert_eq!(
+        robot.functions,
+        Functions::with(&[FunctionGroup::ForwardDynamics]).unwrap()
+    );
+    for present in [
+        "impl Kinematics<7>",
+        "impl RobotDynamics<7, 70>",
+        "impl ForwardDynamics<7, 70>",
+    ] {
+        assert!(robot.code.contains(present), "{present} missing");
+    }
+    for absent in [
+        "impl Regressors",
+        "impl BaseParameters",
+        "impl LaneDynamics",
+        "impl DynamicsDerivatives",
+    ] {
+        assert!(
+            !robot.code.contains(absent),
+            "{absent} generated without being chosen"
+        );
+    }
+    assert_eq!(
+        functions_of(&robot),
+        [
+            "forward_kinematics",
+            "jacobian",
+            "jacobian_dot",
+            "mass_matrix",
+            "coriolis_matrix",
+            "gravity",
+            "inverse_dynamics",
+            "slotine_li",
+            "forward_dynamics",
+            "mass_matrix_inverse",
+            "kinematics"
+        ]
+    );
+}
+
+#[test]
+fn every_group_is_the_default_of_a_small_robot_and_all_is_the_committed_code() {
+    let dir = tempfile::tempdir().expect("dir");
+    let all = generate(&arm7_with(dir.path(), "functions: all"));
+    let committed = std::fs::read_to_string(workspace_root().join("generated/src/arm7.rs")).expect("arm7.rs");
+    assert_eq!(all.functions, Functions::all());
+    for (name, _) in &all.op_counts {
+        assert_eq!(method(&all.code, name), method(&committed, name), "{name}");
+    }
+}
+
+/// A group traced without the groups before it in the trace order computes the same values:
+/// the statements' order may differ (nodes shared with a group left out are created later),
+/// the function may not.
+#[test]
+fn a_function_computes_the_same_whatever_is_generated_with_it() {
+    let model = load(&workspace_root().join("robots/arm7_friction.yaml"))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .model;
+    let base = BaseParameterSet::compute(&model);
+    let full = trace_functions(&model, base.clone(), Functions::all());
+    let (n, p) = (model.dof(), model.parameter_count());
+    let mut rng = SplitMix64::new(5);
+    let mut vector = |len: usize| -> Vec<f64> { (0..len).map(|_| rng.uniform((-1.5, 1.5))).collect() };
+    let states: Vec<[Vec<f64>; 7]> = (0..3)
+        .map(|_| {
+            [
+                vector(n),
+                vector(n),
+                vector(n),
+                vector(n),
+                vector(n),
+                vector(p),
+                vector(n),
+            ]
+        })
+        .collect();
+    use FunctionGroup as G;
+    for chosen in [
+        vec![],
+        vec![G::ForwardDynamics],
+        vec![G::Derivatives],
+        vec![G::Regressors],
+        vec![G::Regressors, G::BaseParameters, G::Derivatives],
+    ] {
+        let functions = Functions::with(&chosen).unwrap();
+        let partial = trace_functions(&model, base.clone(), functions);
+        let names: Vec<&str> = partial.quantities.iter().map(|q| q.name()).collect();
+        let expected: Vec<&str> = full
+            .quantities
+            .iter()
+            .filter(|q| functions.contains(q.kind.group()))
+            .map(|q| q.name())
+            .collect();
+        assert_eq!(names, expected, "{functions}");
+        for [q, qd, v, a, tau, theta, r] in &states {
+            let args = Arguments {
+                q,
+                qd,
+                v,
+                a,
+                tau,
+                theta,
+                r,
+            };
+            for name in &names {
+                let got = partial.evaluate_with(name, &args).expect("traced");
+                let want = full.evaluate_with(name, &args).expect("traced");
+                let scale = want.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
+                for (g, w) in got.iter().zip(&want) {
+                    assert!(
+                        (g - w).abs() <= 1e-12 * scale,
+                        "{name} with [{functions}]: {g} against {w}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn unknown_groups_and_unmet_needs_are_errors_at_the_key() {
+    let dir = tempfile::tempdir().expect("dir");
+    let path = arm7_with(dir.path(), "functions: [regressors, derivative]");
+    let e = generate_robot(&path, "arm7.yaml", "Arm7", "test").expect_err("unknown group");
+    let message = e.to_string();
+    assert!(message.contains("arm7.yaml:"), "{message}");
+    assert!(
+        message.contains("`derivative`") && message.contains("derivatives"),
+        "{message}"
+    );
+    // The key's line: the last line of the file.
+    let line = std::fs::read_to_string(&path).unwrap().lines().count();
+    assert!(
+        message.contains(&format!(":{line}:")),
+        "no line {line}: {message}"
+    );
+
+    let path = arm7_with(dir.path(), "functions: [base_parameters]");
+    let e = generate_robot(&path, "arm7.yaml", "Arm7", "test").expect_err("needs regressors");
+    assert!(
+        e.to_string().contains("`base_parameters` needs `regressors`"),
+        "{e}"
+    );
+}
+
+#[test]
+fn the_builder_chooses_for_a_urdf_and_refuses_a_second_choice() {
+    let dir = tempfile::tempdir().expect("dir");
+    let urdf = workspace_root().join("robots/urdf/ur5_robot.urdf");
+    let report = Builder::new(&urdf)
+        .out_dir(dir.path())
+        .cargo_directives(false)
+        .functions(&[FunctionGroup::Regressors])
+        .compile_report()
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert!(report.robot.code.contains("impl Regressors<6, 60>"));
+    assert!(!report.robot.code.contains("impl ForwardDynamics"));
+
+    let yaml = arm7_with(dir.path(), "functions: all");
+    let e = Builder::new(&yaml)
+        .out_dir(dir.path())
+        .cargo_directives(false)
+        .functions(&[FunctionGroup::Derivatives])
+        .compile()
+        .expect_err("chosen twice");
+    assert!(e.to_string().contains("chosen twice"), "{e}");
+
+    let e = Builder::new(&urdf)
+        .out_dir(dir.path())
+        .cargo_directives(false)
+        .functions(&[FunctionGroup::BaseParameters])
+        .compile()
+        .expect_err("needs regressors");
+    assert!(e.to_string().contains("needs `regressors`"), "{e}");
+}
+
+/// A chain of `n` revolute joints, light links, written as a YAML description.
+fn chain(n: usize) -> String {
+    let mut links = String::from("  - name: base\n");
+    let mut joints = String::new();
+    for i in 1..=n {
+        links += &format!(
+            "  - name: l{i}\n    inertial:\n      mass: 1.0\n      origin: {{ xyz: [0.05, 0.0, 0.1] }}\n      \
+             inertia: {{ ixx: 0.01, ixy: 0.0, ixz: 0.0, iyy: 0.012, iyz: 0.0, izz: 0.008 }}\n"
+        );
+        let parent = if i == 1 {
+            "base".to_owned()
+        } else {
+            format!("l{}", i - 1)
+        };
+        let axis = if i % 2 == 0 { "[0, 1, 0]" } else { "[0, 0, 1]" };
+        joints += &format!(
+            "  - name: j{i}\n    type: revolute\n    parent: {parent}\n    child: l{i}\n    \
+             origin: {{ xyz: [0, 0, 0.2] }}\n    axis: {axis}\n    \
+             limit: {{ lower: -3, upper: 3, velocity: 2, effort: 100 }}\n"
+        );
+    }
+    format!("name: chain\nlinks:\n{links}joints:\n{joints}")
+}
+
+#[test]
+fn large_robots_leave_the_derivatives_out_by_default_and_say_so() {
+    let dir = tempfile::tempdir().expect("dir");
+    let dof = DERIVATIVES_BY_DEFAULT_UP_TO_DOF + 1;
+    let path = dir.path().join("chain.yaml");
+    std::fs::write(&path, chain(dof)).expect("write");
+    let robot = generate_robot_with(
+        &path,
+        "chain.yaml",
+        "Chain",
+        "test",
+        &UrdfOptions::default(),
+        None,
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(robot.model.dof(), dof);
+    assert_eq!(robot.functions, Functions::default_for(dof));
+    assert!(!robot.functions.contains(FunctionGroup::Derivatives));
+    assert!(!robot.code.contains("impl DynamicsDerivatives"));
+    assert!(
+        robot.notes.iter().any(
+            |n| n.contains("derivatives are generated by default only up to") && n.contains("functions:")
+        ),
+        "{:?}",
+        robot.notes
+    );
+    // Chosen explicitly, the same robot gets only what it asks for, and no note.
+    let chosen = Functions::with(&[FunctionGroup::ForwardDynamics]).unwrap();
+    let robot = generate_robot_with(
+        &path,
+        "chain.yaml",
+        "Chain",
+        "test",
+        &UrdfOptions::default(),
+        Some(chosen),
+    )
+    .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(robot.functions, chosen);
+    assert!(
+        robot.notes.iter().all(|n| !n.contains("derivatives")),
+        "{:?}",
+        robot.notes
+    );
+}
