@@ -32,6 +32,7 @@
 //! locked_joints: { panda_finger_joint1: 0.0, panda_finger_joint2: 0.0 }
 //! gravity: [0.0, 0.0, -9.81]
 //! snap_angles: 1e-4                     # optional: 1.5708 → π/2 (each change noted)
+//! functions: [regressors, forward_dynamics]   # optional: the groups to generate (or `all`)
 //! inertia: repair                       # optional: as_written (default) | repair | strict
 //! ```
 //!
