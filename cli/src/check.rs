@@ -1,7 +1,7 @@
 //! `dyngen check`: does a description load, and what does the loader say about it.
 
 use crate::failure::Failure;
-use crate::loading::LoadingArgs;
+use crate::loading::{print_diagnostics, LoadingArgs};
 use clap::Args;
 use dyngen_codegen::description::load_with;
 use std::path::PathBuf;
@@ -20,12 +20,7 @@ pub struct CheckArgs {
 
 pub fn run(args: CheckArgs) -> Result<(), Failure> {
     let loaded = load_with(&args.description, &args.loading.urdf_options())?;
-    for note in &loaded.notes {
-        eprintln!("note: {note}");
-    }
-    for warning in &loaded.warnings {
-        eprintln!("warning: {warning}");
-    }
+    print_diagnostics(&loaded.notes, &loaded.warnings);
     let model = &loaded.model;
     eprintln!(
         "{}: loads: {} DOF, end-effector '{}', {} warning(s)",

@@ -3,7 +3,7 @@
 
 use crate::failure::Failure;
 use crate::functions::FunctionsArgs;
-use crate::loading::LoadingArgs;
+use crate::loading::{print_diagnostics, LoadingArgs};
 use clap::Args;
 use dyngen_codegen::generate::WriteOutcome;
 use dyngen_codegen::Builder;
@@ -53,12 +53,7 @@ pub fn run(args: GenArgs) -> Result<(), Failure> {
     }
     let report = builder.compile_report()?;
     let robot = &report.robot;
-    for note in &robot.notes {
-        eprintln!("note: {note}");
-    }
-    for warning in &robot.warnings {
-        eprintln!("warning: {warning}");
-    }
+    print_diagnostics(&robot.notes, &robot.warnings);
     let state = match report.outcome {
         WriteOutcome::Written => "written",
         WriteOutcome::Unchanged => "unchanged",

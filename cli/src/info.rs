@@ -3,7 +3,7 @@
 
 use crate::failure::Failure;
 use crate::functions::FunctionsArgs;
-use crate::loading::LoadingArgs;
+use crate::loading::{print_diagnostics, LoadingArgs};
 use clap::Args;
 use dyngen_codegen::generate::{generate_robot_with, module_name, type_name};
 use dyngen_codegen::model::JointKind;
@@ -31,12 +31,7 @@ pub fn run(args: InfoArgs) -> Result<(), Failure> {
         &args.loading.urdf_options(),
         args.functions.functions()?,
     )?;
-    for note in &robot.notes {
-        eprintln!("note: {note}");
-    }
-    for warning in &robot.warnings {
-        eprintln!("warning: {warning}");
-    }
+    print_diagnostics(&robot.notes, &robot.warnings);
     let model = &robot.model;
     println!("robot: {} ({shown})", model.name());
     println!("DOF: {}", model.dof());

@@ -57,3 +57,14 @@ impl LoadingArgs {
         }
     }
 }
+
+/// Prints what loading a description said: its notes, then its warnings, one line each on
+/// stderr (stdout stays the command's output).
+pub fn print_diagnostics(notes: &[String], warnings: &[String]) {
+    for note in notes {
+        eprintln!("note: {note}");
+    }
+    for warning in warnings {
+        eprintln!("warning: {warning}");
+    }
+}

@@ -193,28 +193,25 @@ fn unknown_groups_and_unmet_needs_are_errors_at_the_key() {
 fn the_builder_chooses_for_a_urdf_and_refuses_a_second_choice() {
     let dir = tempfile::tempdir().expect("dir");
     let urdf = workspace_root().join("robots/urdf/ur5_robot.urdf");
-    let report = Builder::new(&urdf)
-        .out_dir(dir.path())
-        .cargo_directives(false)
-        .functions(&[FunctionGroup::Regressors])
+    let builder = |description: &Path, groups: &[FunctionGroup]| {
+        Builder::new(description)
+            .out_dir(dir.path())
+            .cargo_directives(false)
+            .functions(groups)
+    };
+    let report = builder(&urdf, &[FunctionGroup::Regressors])
         .compile_report()
         .unwrap_or_else(|e| panic!("{e}"));
     assert!(report.robot.code.contains("impl Regressors<6, 60>"));
     assert!(!report.robot.code.contains("impl ForwardDynamics"));
 
     let yaml = arm7_with(dir.path(), "functions: all");
-    let e = Builder::new(&yaml)
-        .out_dir(dir.path())
-        .cargo_directives(false)
-        .functions(&[FunctionGroup::Derivatives])
+    let e = builder(&yaml, &[FunctionGroup::Derivatives])
         .compile()
         .expect_err("chosen twice");
     assert!(e.to_string().contains("chosen twice"), "{e}");
 
-    let e = Builder::new(&urdf)
-        .out_dir(dir.path())
-        .cargo_directives(false)
-        .functions(&[FunctionGroup::BaseParameters])
+    let e = builder(&urdf, &[FunctionGroup::BaseParameters])
         .compile()
         .expect_err("needs regressors");
     assert!(e.to_string().contains("needs `regressors`"), "{e}");

@@ -15,10 +15,11 @@
 //! offset `[0.2, −0.3, 0.1, −0.1, 0.05, 0.02, −0.02]` N·m. Payload: 1.5 kg, a 4 cm-radius
 //! sphere 5 cm beyond the flange.
 //!
-//! Floors checked (exit status 1 if one is missed): validation torque RMS ≤ 1.2 σ on every
+//! Acceptance thresholds checked (exit status 1 if one is missed): validation torque RMS ≤ 1.2 σ on every
 //! joint; every base parameter with relative σ below 5% within 3σ of its true value; the
 //! optimised excitation's condition number at most half the random coefficients'.
 
+mod joint_values;
 mod plot;
 
 use dyngen_codegen::base_parameters::BaseParameterSet;
@@ -39,21 +40,6 @@ use std::time::Instant;
 const DURATION: f64 = 30.0;
 const RATE: f64 = 500.0;
 const VALIDATION_DURATION: f64 = 20.0;
-
-fn joint_values() -> Vec<JointTermValues> {
-    let armature = [0.5, 0.5, 0.3, 0.3, 0.15, 0.05, 0.05];
-    let viscous = [0.8, 0.8, 0.5, 0.5, 0.3, 0.1, 0.1];
-    let coulomb = [3.0, 3.0, 2.0, 2.0, 1.2, 0.5, 0.5];
-    let offset = [0.2, -0.3, 0.1, -0.1, 0.05, 0.02, -0.02];
-    (0..7)
-        .map(|j| JointTermValues {
-            armature: armature[j],
-            viscous: viscous[j],
-            coulomb: coulomb[j],
-            offset: offset[j],
-        })
-        .collect()
-}
 
 fn rms(x: impl Iterator<Item = f64>) -> f64 {
     let (mut s, mut n) = (0.0, 0);
@@ -83,7 +69,7 @@ fn main() {
         .model;
     let truth = with_joint_terms(
         &with_payload(&arm7, 1.5, Vector3::new(0.0, 0.0, 0.05), 0.04),
-        &joint_values(),
+        &joint_values::arm7_joint_values(),
         None,
     );
     let noise: Vec<f64> = truth
@@ -169,7 +155,7 @@ fn main() {
             predicted[j].push(c[j]);
         }
     }
-    let mut floors_met = true;
+    let mut thresholds_met = true;
     println!("validation ({VALIDATION_DURATION} s at {RATE} Hz, another trajectory): torque RMS error / σ per joint");
     for j in 0..7 {
         rms_ls[j] = rms(err_ls[j].iter().copied()) / noise[j];
@@ -181,7 +167,7 @@ fn main() {
             rms_ls[j],
             rms_consistent[j]
         );
-        floors_met &= rms_ls[j] <= 1.2 && rms_consistent[j] <= 1.2;
+        thresholds_met &= rms_ls[j] <= 1.2 && rms_consistent[j] <= 1.2;
     }
     let plotted = (5.0 * RATE) as usize;
     let panels: Vec<Panel> = (0..7)
@@ -209,10 +195,10 @@ fn main() {
     std::fs::write(out.join("arm7_validation.svg"), plot).expect("write plot");
 
     let ratio = excitation.condition_number / excitation.random_condition_number;
-    println!("floors:");
+    println!("acceptance thresholds:");
     println!(
         "  validation RMS ≤ 1.2 σ on every joint: {}",
-        if floors_met { "met" } else { "MISSED" }
+        if thresholds_met { "met" } else { "MISSED" }
     );
     let all_within = within == precise;
     println!(
@@ -229,7 +215,7 @@ fn main() {
         if identify_seconds <= 2.0 { "met" } else { "MISSED" }
     );
     println!("wrote {}", out.display());
-    if !(floors_met && all_within && ratio <= 0.5) {
+    if !(thresholds_met && all_within && ratio <= 0.5) {
         std::process::exit(1);
     }
 }

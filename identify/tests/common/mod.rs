@@ -12,22 +12,9 @@ pub fn arm7() -> Model {
     load(&path).unwrap_or_else(|e| panic!("{e}")).model
 }
 
-/// Realistic joint terms of a 7-DOF arm with harmonic drives (see the example for sources of
-/// the sizes): armature kg·m², viscous N·m·s/rad, Coulomb N·m, offset N·m.
-pub fn arm7_joint_values() -> Vec<JointTermValues> {
-    let armature = [0.5, 0.5, 0.3, 0.3, 0.15, 0.05, 0.05];
-    let viscous = [0.8, 0.8, 0.5, 0.5, 0.3, 0.1, 0.1];
-    let coulomb = [3.0, 3.0, 2.0, 2.0, 1.2, 0.5, 0.5];
-    let offset = [0.2, -0.3, 0.1, -0.1, 0.05, 0.02, -0.02];
-    (0..7)
-        .map(|j| JointTermValues {
-            armature: armature[j],
-            viscous: viscous[j],
-            coulomb: coulomb[j],
-            offset: offset[j],
-        })
-        .collect()
-}
+#[path = "../../examples/arm7_identification/joint_values.rs"]
+mod joint_values;
+pub use joint_values::arm7_joint_values;
 
 /// The description identification starts from: arm7 with every joint column, values zero.
 pub fn arm7_nominal() -> Model {
