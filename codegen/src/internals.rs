@@ -6,8 +6,10 @@
 /// The dynamics algorithms generic over the scalar type (`f64`, symbols, dual numbers).
 pub mod dynamics {
     pub use crate::dynamics::crba::mass_matrix;
-    pub use crate::dynamics::inertias::body_inertias;
+    pub use crate::dynamics::forward_dynamics::forward_dynamics;
+    pub use crate::dynamics::inertias::{body_inertias, inertias_from_parameters};
     pub use crate::dynamics::joint::joint_transforms;
+    pub use crate::dynamics::joint_terms::joint_term_values;
     pub use crate::dynamics::kinematics::{body_poses, jacobian};
     pub use crate::dynamics::regressor::regressor;
     pub use crate::dynamics::regressor_products::regressor_products;

@@ -5,11 +5,13 @@
 //! a `tests/common` module, so that `cargo xtask fuzz` and `cargo xtask scale` call it directly.
 
 pub mod allocations;
+pub mod double_double;
 pub mod fixture;
 pub mod fuzz;
 pub mod joint_terms;
 pub mod oracles;
 pub mod random_model;
+pub mod reference_solve;
 pub mod scale;
 pub mod serialize;
 pub mod traced;
