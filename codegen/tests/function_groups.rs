@@ -247,15 +247,18 @@ fn large_robots_leave_the_derivatives_out_by_default_and_say_so() {
     let dof = DERIVATIVES_BY_DEFAULT_UP_TO_DOF + 1;
     let path = dir.path().join("chain.yaml");
     std::fs::write(&path, chain(dof)).expect("write");
-    let robot = generate_robot_with(
-        &path,
-        "chain.yaml",
-        "Chain",
-        "test",
-        &UrdfOptions::default(),
-        None,
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
+    let generate = |functions: Option<Functions>| {
+        generate_robot_with(
+            &path,
+            "chain.yaml",
+            "Chain",
+            "test",
+            &UrdfOptions::default(),
+            functions,
+        )
+        .unwrap_or_else(|e| panic!("{e}"))
+    };
+    let robot = generate(None);
     assert_eq!(robot.model.dof(), dof);
     assert_eq!(robot.functions, Functions::default_for(dof));
     assert!(!robot.functions.contains(FunctionGroup::Derivatives));
@@ -269,15 +272,7 @@ fn large_robots_leave_the_derivatives_out_by_default_and_say_so() {
     );
     // Chosen explicitly, the same robot gets only what it asks for, and no note.
     let chosen = Functions::with(&[FunctionGroup::ForwardDynamics]).unwrap();
-    let robot = generate_robot_with(
-        &path,
-        "chain.yaml",
-        "Chain",
-        "test",
-        &UrdfOptions::default(),
-        Some(chosen),
-    )
-    .unwrap_or_else(|e| panic!("{e}"));
+    let robot = generate(Some(chosen));
     assert_eq!(robot.functions, chosen);
     assert!(
         robot.notes.iter().all(|n| !n.contains("derivatives")),
