@@ -64,6 +64,10 @@ pub const ZERO_COEFFICIENT_TOL: f64 = 1e-10;
 /// residual (relative to the size of the terms that cancel).
 pub const VERIFICATION_TOL: f64 = 1e-12;
 
+/// How much larger than the computed coefficients' residual a cleaned candidate's may be: rounding
+/// of the verification itself, not a different robot.
+const CLEANING_SLACK: f64 = 16.0;
+
 /// Most decimals a coefficient is snapped to (products of two lengths given to six decimals).
 const MAX_SNAP_DECIMALS: i32 = 12;
 
@@ -146,11 +150,18 @@ impl BaseParameterSet {
             let is_zero = |c: usize, x: f64| (x * norms[c] / norms[j]).abs() <= ZERO_COEFFICIENT_TOL;
             let zeroed: Vec<(usize, f64)> = raw.iter().filter(|&&(c, x)| !is_zero(c, x)).cloned().collect();
             let exact: Vec<(usize, f64)> = zeroed.iter().map(|&(c, x)| (c, snap(x).unwrap_or(x))).collect();
+            // A cleaned candidate must reproduce the column as well as the computed coefficients
+            // do, up to rounding: on a description whose angles are near-exact (`1.5708`), a
+            // coefficient can be within 1e-11 of a short decimal without being it, and snapping
+            // it would make `θ'` a slightly different robot.
+            let raw_residual = relative_residual(&fresh, j, &raw);
+            let acceptable =
+                |r: f64| r <= VERIFICATION_TOL && r <= CLEANING_SLACK * raw_residual.max(f64::EPSILON);
             let candidates = [exact, zeroed, raw];
             let chosen = candidates
                 .iter()
                 .map(|t| (t, relative_residual(&fresh, j, t)))
-                .find(|(_, r)| *r <= VERIFICATION_TOL);
+                .find(|(_, r)| acceptable(*r));
             let (terms, residual) = match chosen {
                 Some((t, r)) => (t.clone(), r),
                 None => {
