@@ -3,7 +3,7 @@
 
 use clap::builder::PossibleValuesParser;
 use clap::Args;
-use dyngen_codegen::{FunctionGroup, Functions};
+use dyngen_codegen::{FunctionGroup, Functions, ALL_GROUPS};
 
 #[derive(Args, Clone, Debug, Default)]
 pub struct FunctionsArgs {
@@ -17,7 +17,7 @@ pub struct FunctionsArgs {
 /// Every group's keyword and `all`: clap refuses anything else as a usage error.
 fn keywords() -> PossibleValuesParser {
     let mut names: Vec<&'static str> = FunctionGroup::ALL.iter().map(|g| g.keyword()).collect();
-    names.push("all");
+    names.push(ALL_GROUPS);
     PossibleValuesParser::new(names)
 }
 
@@ -27,9 +27,6 @@ impl FunctionsArgs {
         let Some(keywords) = &self.functions else {
             return Ok(None);
         };
-        if keywords.iter().any(|k| k == "all") {
-            return Ok(Some(Functions::all()));
-        }
         Functions::from_keywords(keywords.iter().map(String::as_str)).map(Some)
     }
 

@@ -23,6 +23,9 @@ pub enum FunctionGroup {
     Derivatives,
 }
 
+/// The keyword that chooses every group (`functions: all`, `--functions all`).
+pub const ALL_GROUPS: &str = "all";
+
 /// Above this many joints, [`Functions::default_for`] leaves the derivatives out: their code
 /// grows fastest with the robot (a 30-joint chain's took minutes to compile), and whole-body
 /// controllers of such robots rarely call them.
@@ -137,16 +140,19 @@ impl Functions {
         Ok(functions)
     }
 
-    /// Parses keywords (`["regressors", "derivatives"]`); an unknown one is an error that
-    /// lists the groups.
+    /// Parses keywords (`["regressors", "derivatives"]`, or [`ALL_GROUPS`] for every group);
+    /// an unknown one is an error that lists the groups.
     pub fn from_keywords<'a>(keywords: impl IntoIterator<Item = &'a str>) -> Result<Functions, String> {
         let mut groups = Vec::new();
         for keyword in keywords {
+            if keyword == ALL_GROUPS {
+                return Ok(Functions::all());
+            }
             match FunctionGroup::from_keyword(keyword) {
                 Some(g) => groups.push(g),
                 None => {
                     return Err(format!(
-                        "unknown group of functions `{keyword}`: expected some of {}",
+                        "unknown group of functions `{keyword}`: expected some of {}, or `{ALL_GROUPS}`",
                         FunctionGroup::keywords()
                     ))
                 }
@@ -184,6 +190,10 @@ mod tests {
         }
         let e = Functions::from_keywords(["derivative"]).unwrap_err();
         assert!(e.contains("`derivative`") && e.contains("derivatives"), "{e}");
+        assert_eq!(
+            Functions::from_keywords(["regressors", ALL_GROUPS]),
+            Ok(Functions::all())
+        );
     }
 
     #[test]

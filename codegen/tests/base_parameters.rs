@@ -338,7 +338,8 @@ fn computation_is_deterministic() {
 
 /// A vendor URDF as written, with `1.5708` for π/2 (the xArm7): folding coefficients near short
 /// decimals are not snapped when that changes the robot, so the representative `θ'` every
-/// generated function is traced with has `θ`'s dynamics to rounding (before: `D` 6e-13 away).
+/// generated function is traced with has `θ`'s dynamics to rounding (snapping them all gives a
+/// `D` about 1e-13 away).
 #[test]
 fn the_representative_parameters_keep_a_near_exact_robot_exact() {
     let model = load_model("codegen/tests/data/example-robot-data/xarm_description/xarm7.urdf");

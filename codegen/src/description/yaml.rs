@@ -229,7 +229,6 @@ impl Parsed {
     pub fn functions(&self) -> Result<Option<Functions>, DescriptionError> {
         let chosen = match &self.functions {
             None => return Ok(None),
-            Some(FunctionsSpec::Keyword(k)) if k == "all" => Ok(Functions::all()),
             Some(FunctionsSpec::Keyword(k)) => Functions::from_keywords([k.as_str()]),
             Some(FunctionsSpec::List(list)) => Functions::from_keywords(list.iter().map(String::as_str)),
         };
