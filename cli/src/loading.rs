@@ -2,7 +2,7 @@
 //! would make for a bare URDF file.
 
 use clap::{Args, ValueEnum};
-use dyngen_codegen::description::{EndEffectorSpec, NonPhysicalInertia, UrdfOptions};
+use dyngen_codegen::description::{FrameSpec, NonPhysicalInertia, UrdfOptions};
 
 #[derive(Args, Clone, Debug, Default)]
 pub struct LoadingArgs {
@@ -46,7 +46,7 @@ impl LoadingArgs {
     pub fn urdf_options(&self) -> UrdfOptions {
         UrdfOptions {
             snap_angles: self.snap_angles,
-            end_effector: self.end_effector.as_ref().map(|link| EndEffectorSpec {
+            end_effector: self.end_effector.as_ref().map(|link| FrameSpec {
                 name: None,
                 link: link.clone(),
                 xyz: [0.0; 3],

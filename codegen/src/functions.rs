@@ -21,6 +21,10 @@ pub enum FunctionGroup {
     ForwardDynamics,
     /// `∂τ/∂(q, q̇)` and `∂q̈/∂(q, q̇)` (`DynamicsDerivatives`).
     Derivatives,
+    /// Pose, `J`, `J̇`, velocity and classical acceleration of every named frame (the
+    /// end-effector and `frames:`) in the three reference frames (`FrameKinematics`, and with
+    /// it `WrenchDynamics`: dynamics with external wrenches at those frames).
+    Frames,
 }
 
 /// The keyword that chooses every group (`functions: all`, `--functions all`).
@@ -33,13 +37,14 @@ pub const DERIVATIVES_BY_DEFAULT_UP_TO_DOF: usize = 12;
 
 impl FunctionGroup {
     /// Every group, in the order of the generated module.
-    pub const ALL: [FunctionGroup; 6] = [
+    pub const ALL: [FunctionGroup; 7] = [
         FunctionGroup::Kinematics,
         FunctionGroup::Dynamics,
         FunctionGroup::Regressors,
         FunctionGroup::BaseParameters,
         FunctionGroup::ForwardDynamics,
         FunctionGroup::Derivatives,
+        FunctionGroup::Frames,
     ];
 
     /// The name a description, the builder and the command line use, e.g. `forward_dynamics`.
@@ -51,6 +56,7 @@ impl FunctionGroup {
             FunctionGroup::BaseParameters => "base_parameters",
             FunctionGroup::ForwardDynamics => "forward_dynamics",
             FunctionGroup::Derivatives => "derivatives",
+            FunctionGroup::Frames => "frames",
         }
     }
 
@@ -68,6 +74,7 @@ impl FunctionGroup {
             FunctionGroup::BaseParameters => "BaseParameters",
             FunctionGroup::ForwardDynamics => "ForwardDynamics",
             FunctionGroup::Derivatives => "DynamicsDerivatives",
+            FunctionGroup::Frames => "FrameKinematics",
         }
     }
 
@@ -100,13 +107,15 @@ impl fmt::Display for FunctionGroup {
 /// The groups one robot is generated with: always kinematics and dynamics, plus the chosen ones.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Functions {
-    chosen: [bool; 6],
+    chosen: [bool; FunctionGroup::ALL.len()],
 }
 
 impl Functions {
     /// Every group.
     pub fn all() -> Functions {
-        Functions { chosen: [true; 6] }
+        Functions {
+            chosen: [true; FunctionGroup::ALL.len()],
+        }
     }
 
     /// What a robot of `dof` joints gets when its description chooses nothing: every group,
@@ -122,7 +131,7 @@ impl Functions {
     /// Kinematics, dynamics and `groups`. An error names a group chosen without the one it
     /// needs.
     pub fn with(groups: &[FunctionGroup]) -> Result<Functions, String> {
-        let mut chosen = [false; 6];
+        let mut chosen = [false; FunctionGroup::ALL.len()];
         for g in FunctionGroup::ALL.into_iter().filter(|g| g.is_always_generated()) {
             chosen[g as usize] = true;
         }

@@ -623,7 +623,7 @@ fn unknown_end_effector() {
         ],
     );
     let options = UrdfOptions {
-        end_effector: Some(description::EndEffectorSpec::link("tool9")),
+        end_effector: Some(description::FrameSpec::link("tool9")),
         ..no_options()
     };
     check(

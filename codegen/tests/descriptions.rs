@@ -6,7 +6,7 @@
 //! frame. The rest checks the rules that those two robots do not exercise: branching trees,
 //! YAML and URDF giving the same model, composed fixed placements, defaults.
 
-use dyngen_codegen::description::{self, EndEffectorSpec, Loaded, UrdfOptions};
+use dyngen_codegen::description::{self, FrameSpec, Loaded, UrdfOptions};
 use dyngen_codegen::model::{from_xyz_rpy, JointKind, Model, Pose};
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;
@@ -367,7 +367,7 @@ fn branching_tree_gets_depth_first_order_and_right_parents() {
 #[test]
 fn end_effector_with_offset_and_gravity_from_options() {
     let options = UrdfOptions {
-        end_effector: Some(EndEffectorSpec {
+        end_effector: Some(FrameSpec {
             name: Some("probe".into()),
             link: "sensor".into(),
             xyz: [0.0, 0.0, 0.05],
@@ -486,7 +486,7 @@ joints:
 #[test]
 fn same_robot_in_yaml_and_urdf_gives_the_same_model() {
     let options = UrdfOptions {
-        end_effector: Some(EndEffectorSpec {
+        end_effector: Some(FrameSpec {
             name: Some("tcp".into()),
             link: "tip".into(),
             xyz: [0.0, 0.0, 0.02],

@@ -6,7 +6,7 @@
 //! - regression inputs and the stack-depth probes, data-driven.
 //! - random valid trees written as YAML and URDF load back to the same model.
 
-use dyngen_codegen::description::{load_urdf_str, load_yaml_str, EndEffectorSpec, UrdfOptions};
+use dyngen_codegen::description::{load_urdf_str, load_yaml_str, FrameSpec, UrdfOptions};
 use dyngen_codegen::model::Model;
 use dyngen_testkit::fuzz::{self, check_generation, check_input, corpus, Format};
 use dyngen_testkit::random_model::arb_model;
@@ -295,7 +295,7 @@ fn random_trees_round_trip_through_yaml_and_urdf() {
             .map_err(|e| proptest::test_runner::TestCaseError::fail(format!("YAML: {e}\n{yaml}")))?;
         let urdf = to_urdf(&model);
         let options = UrdfOptions {
-            end_effector: Some(EndEffectorSpec::link(model.end_effector().name.clone())),
+            end_effector: Some(FrameSpec::link(model.end_effector().name.clone())),
             gravity: Some(model.gravity().into()),
             ..UrdfOptions::default()
         };

@@ -2,7 +2,7 @@
 //! the change, keeps the value unless the description opts in (`snap_angles`), and with the
 //! opt-in generates code as lean as for the exact angles.
 
-use dyngen_codegen::description::{load_urdf_str, load_yaml_str, EndEffectorSpec, UrdfOptions};
+use dyngen_codegen::description::{load_urdf_str, load_yaml_str, FrameSpec, UrdfOptions};
 use dyngen_codegen::internals::generate::trace;
 use dyngen_codegen::model::Model;
 use std::path::Path;
@@ -33,7 +33,7 @@ fn rounded(urdf: &str) -> String {
 
 fn options(snap: Option<f64>) -> UrdfOptions {
     UrdfOptions {
-        end_effector: Some(EndEffectorSpec::link("panda_hand_tcp")),
+        end_effector: Some(FrameSpec::link("panda_hand_tcp")),
         locked_joints: vec![
             ("panda_finger_joint1".into(), 0.0),
             ("panda_finger_joint2".into(), 0.0),

@@ -7,7 +7,7 @@
 //! robots and for random trees. Bad input gives the file loader's messages, without the place.
 
 use dyngen_codegen::description::{
-    self, from_urdf_rs, load_urdf_str, to_urdf_rs, DescriptionError, EndEffectorSpec, Loaded, UrdfExport,
+    self, from_urdf_rs, load_urdf_str, to_urdf_rs, DescriptionError, FrameSpec, Loaded, UrdfExport,
     UrdfOptions,
 };
 use dyngen_codegen::internals::generate::{emit, trace, type_name, Provenance};
@@ -481,7 +481,7 @@ fn committed_urdfs_through_urdf_rs_give_the_file_loaders_models() {
     // The YAML wrappers' options, applied to the URDFs as read by urdf-rs (meshes, visuals,
     // collisions, transmissions and all).
     let panda = UrdfOptions {
-        end_effector: Some(EndEffectorSpec::link("panda_hand_tcp")),
+        end_effector: Some(FrameSpec::link("panda_hand_tcp")),
         locked_joints: vec![
             ("panda_finger_joint1".into(), 0.0),
             ("panda_finger_joint2".into(), 0.0),
@@ -489,7 +489,7 @@ fn committed_urdfs_through_urdf_rs_give_the_file_loaders_models() {
         ..UrdfOptions::default()
     };
     let ur5 = UrdfOptions {
-        end_effector: Some(EndEffectorSpec::link("tool0")),
+        end_effector: Some(FrameSpec::link("tool0")),
         ..UrdfOptions::default()
     };
     for (file, yaml, options) in [
@@ -740,7 +740,7 @@ fn bad_input_gives_the_file_loaders_messages_without_the_place() {
         (
             "unknown end-effector",
             UrdfOptions {
-                end_effector: Some(EndEffectorSpec::link("nope")),
+                end_effector: Some(FrameSpec::link("nope")),
                 ..UrdfOptions::default()
             },
         ),

@@ -1,7 +1,10 @@
 //! The contract between generated robot code and everything that uses it. A controller, a
 //! simulator or an identification tool is written against what this crate's root exports:
 //! - the traits a generated robot implements: [`Kinematics`], [`RobotDynamics`],
-//!   [`BaseParameters`], and [`LaneDynamics`] (several states per call, in the lane types
+//!   [`Regressors`], [`BaseParameters`], [`ForwardDynamics`], [`DynamicsDerivatives`],
+//!   [`FrameKinematics`] (any named frame, in any [`ReferenceFrame`]; its `Frame` enum is a
+//!   [`RobotFrame`]) with [`WrenchDynamics`] ([`ExternalWrench`]es at those frames), and
+//!   [`LaneDynamics`] (several states per call, in the lane types
 //!   [`f64x4`] and [`f64x8`], any [`Lanes`]);
 //! - the parameterisations generic code is written against: [`Parameterization`], with
 //!   [`Standard`] and [`Base`];
@@ -41,6 +44,7 @@ mod eight_lanes;
 mod eight_lanes_x86;
 mod fill;
 mod frame;
+mod frames;
 mod joint;
 mod lanes;
 mod mul_add;
@@ -56,6 +60,7 @@ mod trig;
 mod trig_fused;
 mod version;
 
+pub use frames::{ExternalWrench, FrameKinematics, ReferenceFrame, RobotFrame, WrenchDynamics};
 pub use joint::{JointLimits, JointTrig};
 pub use lanes::{f64x4, f64x8, pack, unpack, JointTrigLanes, LaneDynamics, Lanes};
 pub use mul_add::mul_add;
@@ -104,8 +109,9 @@ pub mod __private {
 /// brings `Arm7::mass_matrix(&t)` and `Arm7::jacobian(&t)` into reach.
 pub mod prelude {
     pub use crate::{
-        BaseParameters, DynamicsDerivatives, ForwardDynamics, JointTrig, Kinematics, LaneDynamics,
-        Parameterization, Regressors, RobotDynamics,
+        BaseParameters, DynamicsDerivatives, ExternalWrench, ForwardDynamics, FrameKinematics, JointTrig,
+        Kinematics, LaneDynamics, Parameterization, ReferenceFrame, Regressors, RobotDynamics, RobotFrame,
+        WrenchDynamics,
     };
 }
 

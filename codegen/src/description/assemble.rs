@@ -10,7 +10,7 @@ use super::error::{item, num, render, vec3, DescriptionError};
 use super::items::{too_large, JointShape, Motion};
 use super::joint_parameters;
 use super::non_physical::{self, NonPhysicalLink};
-use super::options::{EndEffectorSpec, Settings};
+use super::options::{FrameSelection, FrameSpec, Settings};
 use super::raw::RawRobot;
 use super::source_map::{joint_path, link_path, SourceMap};
 use super::tree::Topology;
@@ -128,6 +128,7 @@ pub(crate) fn assemble(
         .collect();
 
     let end_effector = end_effector(c, settings, &carrier, &placement, &joints, diags)?;
+    let frames = named_frames(c, settings, &end_effector, &carrier, &placement)?;
     let raw_dynamics: Vec<_> = c.raw.joints.iter().map(|j| j.dynamics).collect();
     let moving = |r: usize| joint_parameters::is_free(c.joints[r].motion, locked[r]);
     let sources = joint_parameters::JointSources {
@@ -147,6 +148,7 @@ pub(crate) fn assemble(
         return Err(settings.map.error("joint_parameters.columns", msg));
     }
     Model::new(name, joints, bodies, Vector3::from(gravity), end_effector)
+        .and_then(|m| m.with_frames(frames))
         .and_then(|m| m.with_joint_terms(joint_terms))
         .and_then(|m| m.with_mimics(mimics))
         .map_err(|e| {
@@ -396,14 +398,36 @@ fn end_effector(
             };
             let msg = format!("no end-effector given: using leaf link '{name}' ({why})");
             diags.notes.push(render(&settings.map.file, None, None, &msg));
-            EndEffectorSpec::link(name.clone())
+            FrameSpec::link(name.clone())
         }
     };
+    frame_from_spec(
+        c,
+        settings,
+        &spec,
+        "end_effector",
+        "end-effector",
+        carrier,
+        placement,
+    )
+}
+
+/// A frame the description names: a link's frame moved by the spec's offset. `path` is where
+/// the spec is written (`end_effector`, `frames[2]`), `what` how messages call it.
+fn frame_from_spec(
+    c: &Checked<'_>,
+    settings: &Settings<'_>,
+    spec: &FrameSpec,
+    path: &str,
+    what: &str,
+    carrier: &[Option<usize>],
+    placement: &[Pose],
+) -> Result<Frame, DescriptionError> {
     let err = |msg: String| {
         settings
             .map
-            .error("end_effector", msg)
-            .about(format!("end-effector '{}'", spec.frame_name()))
+            .error(path, msg)
+            .about(format!("{what} '{}'", spec.frame_name()))
     };
     let Some(&link) = c.topo.link_by_name.get(&spec.link) else {
         return Err(err(format!("link '{}' is not defined", spec.link)));
@@ -424,6 +448,49 @@ fn end_effector(
         parent,
         placement: placement[link].compose(&offset),
     })
+}
+
+/// The frames `frames:` asks for besides the end-effector, in the order written (`all`: every
+/// link that moves, in the description's link order). A name used twice is an error at its
+/// second use; the end-effector's name may be listed only for the end-effector itself.
+fn named_frames(
+    c: &Checked<'_>,
+    settings: &Settings<'_>,
+    end_effector: &Frame,
+    carrier: &[Option<usize>],
+    placement: &[Pose],
+) -> Result<Vec<Frame>, DescriptionError> {
+    let specs: Vec<(String, FrameSpec)> = match &settings.frames {
+        FrameSelection::EndEffector => Vec::new(),
+        FrameSelection::Listed(specs) => specs
+            .iter()
+            .enumerate()
+            .map(|(k, spec)| (format!("frames[{k}]"), spec.clone()))
+            .collect(),
+        FrameSelection::AllLinks => (0..c.raw.links.len())
+            .filter(|&l| carrier[l].is_some())
+            .map(|l| ("frames".to_owned(), FrameSpec::link(c.raw.links[l].name.clone())))
+            .collect(),
+    };
+    let mut frames: Vec<Frame> = Vec::new();
+    for (path, spec) in &specs {
+        let frame = frame_from_spec(c, settings, spec, path, "frame", carrier, placement)?;
+        let taken = frames.iter().any(|f| f.name == frame.name)
+            || (frame.name == end_effector.name && frame != *end_effector);
+        if taken {
+            let msg = format!(
+                "frame name '{}' is already used{}; give this frame another `name`",
+                frame.name,
+                match frame.name == end_effector.name {
+                    true => " by the end-effector, which is a different frame",
+                    false => " by an earlier frame",
+                }
+            );
+            return Err(settings.map.error(path, msg));
+        }
+        frames.push(frame);
+    }
+    Ok(frames)
 }
 
 /// Leaf link whose chain has the most moving joints; ties go to the first in depth-first order.

@@ -9,7 +9,7 @@
 
 use super::assemble::DEFAULT_GRAVITY;
 use super::error::vec3;
-use super::options::{EndEffectorSpec, UrdfOptions};
+use super::options::{FrameSelection, FrameSpec, UrdfOptions};
 use crate::model::{
     exact_sin_cos, from_xyz_rpy, Inertia, JointKind, JointTermValues, JointTerms, Model, Pose,
 };
@@ -43,18 +43,13 @@ impl UrdfExport {
             yaml_str(&self.robot.name)
         );
         if let Some(ee) = &self.options.end_effector {
-            s.push_str(&format!("end_effector: {{ link: {}", yaml_str(&ee.link)));
-            if let Some(name) = &ee.name {
-                s.push_str(&format!(", name: {}", yaml_str(name)));
+            s.push_str(&format!("end_effector: {}\n", frame_yaml(ee)));
+        }
+        if let FrameSelection::Listed(frames) = &self.options.frames {
+            s.push_str("frames:\n");
+            for frame in frames {
+                s.push_str(&format!("  - {}\n", frame_yaml(frame)));
             }
-            if ee.xyz != [0.0; 3] || ee.rpy != [0.0; 3] {
-                s.push_str(&format!(
-                    ", xyz: {}, rpy: {}",
-                    yaml_vec(&ee.xyz),
-                    yaml_vec(&ee.rpy)
-                ));
-            }
-            s.push_str(" }\n");
         }
         if let Some(g) = &self.options.gravity {
             s.push_str(&format!("gravity: {}\n", yaml_vec(g)));
@@ -256,15 +251,9 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
             mimic: None,
             safety_controller: None,
         });
-        EndEffectorSpec::link(ee.name.clone())
+        FrameSpec::link(ee.name.clone())
     } else {
-        let p = pose(&ee.placement);
-        EndEffectorSpec {
-            name: (ee.name != *ee_body).then(|| ee.name.clone()),
-            link: ee_body.clone(),
-            xyz: p.xyz.0,
-            rpy: p.rpy.0,
-        }
+        body_frame_spec(model, ee)
     };
     stick_figure(model, &mut links);
     let robot = urdf_rs::Robot {
@@ -276,8 +265,16 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
     };
 
     let gravity: [f64; 3] = model.gravity().into();
+    let named: Vec<FrameSpec> = model.frames()[1..]
+        .iter()
+        .map(|f| body_frame_spec(model, f))
+        .collect();
     let mut options = UrdfOptions {
         gravity: (gravity != DEFAULT_GRAVITY).then_some(gravity),
+        frames: match named.is_empty() {
+            true => FrameSelection::EndEffector,
+            false => FrameSelection::Listed(named),
+        },
         ..UrdfOptions::default()
     };
     let mut warnings = Vec::new();
@@ -323,8 +320,36 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
     })
 }
 
+/// A frame as YAML writes it, `{ link: l, name: n, xyz: [..], rpy: [..] }`.
+fn frame_yaml(spec: &FrameSpec) -> String {
+    let mut s = format!("{{ link: {}", yaml_str(&spec.link));
+    if let Some(name) = &spec.name {
+        s.push_str(&format!(", name: {}", yaml_str(name)));
+    }
+    if spec.xyz != [0.0; 3] || spec.rpy != [0.0; 3] {
+        s.push_str(&format!(
+            ", xyz: {}, rpy: {}",
+            yaml_vec(&spec.xyz),
+            yaml_vec(&spec.rpy)
+        ));
+    }
+    s + " }"
+}
+
+/// A model frame as a frame of the exported URDF: on its body's link, at its placement there.
+fn body_frame_spec(model: &Model, frame: &crate::model::Frame) -> FrameSpec {
+    let body = &model.bodies()[frame.parent].name;
+    let p = pose(&frame.placement);
+    FrameSpec {
+        name: (frame.name != *body).then(|| frame.name.clone()),
+        link: body.clone(),
+        xyz: p.xyz.0,
+        rpy: p.rpy.0,
+    }
+}
+
 /// `link 'a1', xyz [0, 0, 0.1], rpy [0.3, 0, 0]`: an end-effector option in words.
-fn describe(spec: &EndEffectorSpec) -> String {
+fn describe(spec: &FrameSpec) -> String {
     let mut s = format!("link '{}'", spec.link);
     if let Some(name) = &spec.name {
         s.push_str(&format!(", name '{name}'"));

@@ -36,7 +36,7 @@ mod yaml_spans;
 
 pub use error::{DescriptionError, Location};
 pub use export::{to_urdf_rs, ExportError, UrdfExport};
-pub use options::{EndEffectorSpec, NonPhysicalInertia, UrdfOptions};
+pub use options::{FrameSelection, FrameSpec, NonPhysicalInertia, UrdfOptions};
 
 use crate::model::Model;
 use options::Settings;
@@ -102,7 +102,7 @@ pub fn load_with(path: &Path, urdf: &UrdfOptions) -> Result<Loaded, DescriptionE
             return Err(DescriptionError::new(
                 path,
                 "URDF options were given for a YAML description: set them in the YAML \
-                 (`snap_angles:`, `inertia:`, `end_effector:`, `locked_joints:`, `gravity:`)",
+                 (`snap_angles:`, `inertia:`, `end_effector:`, `frames:`, `locked_joints:`, `gravity:`)",
             ));
         }
         load_yaml_str(&text, path)?
@@ -141,6 +141,7 @@ fn build_bare_urdf(
         name: None,
         gravity: options.gravity,
         end_effector: options.end_effector.clone(),
+        frames: options.frames.clone(),
         locked_joints: options.locked_joints.clone(),
         joint_parameters: None,
         snap_angles: options.snap_angles,

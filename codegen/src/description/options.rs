@@ -1,5 +1,5 @@
-//! What a user chooses on top of a robot description: the end-effector, joints locked at a
-//! value, gravity, what to do with near-exact angles and non-physical inertias. A bare URDF
+//! What a user chooses on top of a robot description: the end-effector and the other frames
+//! to generate, joints locked at a value, gravity, what to do with near-exact angles and non-physical inertias. A bare URDF
 //! gets them from [`UrdfOptions`]; a YAML file from its keys.
 
 use serde::de::{self, value::MapAccessDeserializer, Deserializer, MapAccess, Visitor};
@@ -11,7 +11,10 @@ use std::fmt;
 pub struct UrdfOptions {
     /// The frame whose pose and Jacobian are generated. `None`: the leaf link at the end of
     /// the longest chain (a note says which).
-    pub end_effector: Option<EndEffectorSpec>,
+    pub end_effector: Option<FrameSpec>,
+    /// The named frames generated besides the end-effector (the group `frames`). Default:
+    /// the end-effector only.
+    pub frames: FrameSelection,
     /// Joints made rigid at the given position (radians or metres), e.g. gripper fingers;
     /// the links they carry are merged into the body that carries the joint.
     pub locked_joints: Vec<(String, f64)>,
@@ -62,12 +65,14 @@ impl NonPhysicalInertia {
     }
 }
 
-/// The end-effector frame: a link, optionally moved by a fixed offset.
+/// A frame rigidly attached to a link, optionally moved by a fixed offset: the end-effector,
+/// or one of `frames`.
 ///
 /// In YAML either a link name (`end_effector: tool0`) or a map
-/// (`end_effector: { name: tcp, link: link7, xyz: [0, 0, 0.1], rpy: [0, 0, 0] }`).
+/// (`end_effector: { name: tcp, link: link7, xyz: [0, 0, 0.1], rpy: [0, 0, 0] }`); the link
+/// may be one that a fixed or locked joint merged into its parent's body.
 #[derive(Clone, Debug, PartialEq)]
-pub struct EndEffectorSpec {
+pub struct FrameSpec {
     /// Name of the frame in the generated code; `None`: the link name.
     pub name: Option<String>,
     /// The link the frame is attached to.
@@ -79,10 +84,10 @@ pub struct EndEffectorSpec {
     pub rpy: [f64; 3],
 }
 
-impl EndEffectorSpec {
+impl FrameSpec {
     /// The frame of link `link` itself.
     pub fn link(link: impl Into<String>) -> Self {
-        EndEffectorSpec {
+        FrameSpec {
             name: None,
             link: link.into(),
             xyz: [0.0; 3],
@@ -96,10 +101,10 @@ impl EndEffectorSpec {
     }
 }
 
-/// The map form of `end_effector` in YAML.
+/// The map form of a frame in YAML.
 #[derive(Deserialize)]
 #[serde(deny_unknown_fields)]
-struct EndEffectorMap {
+struct FrameMap {
     /// Name of the frame; default: the link name.
     name: Option<String>,
     /// The link the frame is attached to (required).
@@ -112,20 +117,20 @@ struct EndEffectorMap {
     rpy: [f64; 3],
 }
 
-impl<'de> Deserialize<'de> for EndEffectorSpec {
+impl<'de> Deserialize<'de> for FrameSpec {
     fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
         struct SpecVisitor;
         impl<'de> Visitor<'de> for SpecVisitor {
-            type Value = EndEffectorSpec;
+            type Value = FrameSpec;
             fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
                 f.write_str("a link name, or a map with `link` and optional `name`, `xyz`, `rpy`")
             }
             fn visit_str<E: de::Error>(self, v: &str) -> Result<Self::Value, E> {
-                Ok(EndEffectorSpec::link(v))
+                Ok(FrameSpec::link(v))
             }
             fn visit_map<A: MapAccess<'de>>(self, map: A) -> Result<Self::Value, A::Error> {
-                let m = EndEffectorMap::deserialize(MapAccessDeserializer::new(map))?;
-                Ok(EndEffectorSpec {
+                let m = FrameMap::deserialize(MapAccessDeserializer::new(map))?;
+                Ok(FrameSpec {
                     name: m.name,
                     link: m.link,
                     xyz: m.xyz,
@@ -134,6 +139,50 @@ impl<'de> Deserialize<'de> for EndEffectorSpec {
             }
         }
         deserializer.deserialize_any(SpecVisitor)
+    }
+}
+
+/// The frames generated besides the end-effector: YAML `frames: [tool0, { name: sensor,
+/// link: link7, xyz: [0, 0, 0.05] }]` or `frames: all`, [`UrdfOptions::frames`],
+/// [`Builder::frames`](crate::Builder::frames), `dyngen --frame`.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub enum FrameSelection {
+    /// The end-effector only.
+    #[default]
+    EndEffector,
+    /// The end-effector and these frames (a frame named like the end-effector must be it).
+    Listed(Vec<FrameSpec>),
+    /// The end-effector and the frame of every link that moves with a joint (links welded to
+    /// the fixed base have a constant pose and a zero Jacobian, and are left out).
+    AllLinks,
+}
+
+impl<'de> Deserialize<'de> for FrameSelection {
+    fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        struct SelectionVisitor;
+        impl<'de> Visitor<'de> for SelectionVisitor {
+            type Value = FrameSelection;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                f.write_str("`all`, or a list of frames (each a link name or a map with `link`)")
+            }
+            fn visit_str<E: de::Error>(self, v: &str) -> Result<Self::Value, E> {
+                match v {
+                    "all" => Ok(FrameSelection::AllLinks),
+                    other => Err(E::custom(format!(
+                        "frames: expected `all` or a list of frames, found '{other}' (a single \
+                         frame is written as a list: `frames: [{other}]`)"
+                    ))),
+                }
+            }
+            fn visit_seq<A: de::SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+                let mut frames = Vec::new();
+                while let Some(frame) = seq.next_element::<FrameSpec>()? {
+                    frames.push(frame);
+                }
+                Ok(FrameSelection::Listed(frames))
+            }
+        }
+        deserializer.deserialize_any(SelectionVisitor)
     }
 }
 
@@ -170,13 +219,14 @@ impl<'de> Deserialize<'de> for LockedJoints {
 pub(crate) struct Settings<'a> {
     pub name: Option<String>,
     pub gravity: Option<[f64; 3]>,
-    pub end_effector: Option<EndEffectorSpec>,
+    pub end_effector: Option<FrameSpec>,
+    pub frames: FrameSelection,
     pub locked_joints: Vec<(String, f64)>,
     pub snap_angles: Option<f64>,
     pub inertia: NonPhysicalInertia,
     /// `joint_parameters:` of a YAML file (a bare URDF has none: no joint-level columns).
     pub joint_parameters: Option<super::joint_parameters::JointParametersSpec>,
-    /// Places of `end_effector`, `gravity`, `locked_joints.<joint>`, `snap_angles`, `inertia`.
+    /// Places of `end_effector`, `frames[k]`, `gravity`, `locked_joints.<joint>`, `snap_angles`, `inertia`.
     pub map: &'a super::source_map::SourceMap,
 }
 

@@ -29,6 +29,7 @@
 //! urdf: urdf/panda.urdf                 # relative to this file
 //! name: panda                           # optional
 //! end_effector: panda_hand_tcp
+//! frames: [panda_link4, { name: sensor, link: panda_link8, xyz: [0, 0, 0.05] }]   # or `all`
 //! locked_joints: { panda_finger_joint1: 0.0, panda_finger_joint2: 0.0 }
 //! gravity: [0.0, 0.0, -9.81]
 //! snap_angles: 1e-4                     # optional: 1.5708 → π/2 (each change noted)
@@ -43,7 +44,7 @@
 
 use super::error::{DescriptionError, Location};
 use super::joint_parameters::{DynamicsSpec, JointParametersSpec};
-use super::options::{EndEffectorSpec, LockedJoints, NonPhysicalInertia, Settings};
+use super::options::{FrameSelection, FrameSpec, LockedJoints, NonPhysicalInertia, Settings};
 use super::raw::{RawDynamics, RawInertial, RawJoint, RawLimit, RawLink, RawMimic, RawRobot};
 use super::source_map::SourceMap;
 use super::{urdf, yaml_spans};
@@ -66,7 +67,12 @@ pub(crate) struct RobotFile {
     /// `{ link, name, xyz, rpy }` for a frame at a fixed offset from a link (`name` defaults
     /// to the link name, `xyz`/`rpy` to zero). Default: the leaf link at the end of the
     /// longest chain (the loader says which in a note).
-    end_effector: Option<EndEffectorSpec>,
+    end_effector: Option<FrameSpec>,
+    /// Frames generated besides the end-effector (the group `frames`): a list of frames,
+    /// each written like `end_effector`, or `all` (every link that moves with a joint).
+    /// Default: the end-effector only.
+    #[serde(default)]
+    frames: FrameSelection,
     /// Joints made rigid at a position (radians, or metres for prismatic joints), e.g.
     /// `{ finger_joint1: 0.0 }`. Their child links are welded to the body that carries them.
     /// The position must lie within the joint limits. A locked mimic joint stays where it is
@@ -214,7 +220,8 @@ pub(crate) struct Parsed {
     pub yaml_map: SourceMap,
     pub name: Option<String>,
     pub gravity: Option<[f64; 3]>,
-    pub end_effector: Option<EndEffectorSpec>,
+    pub end_effector: Option<FrameSpec>,
+    pub frames: FrameSelection,
     pub locked_joints: Vec<(String, f64)>,
     pub snap_angles: Option<f64>,
     pub inertia: NonPhysicalInertia,
@@ -242,6 +249,7 @@ impl Parsed {
             name: self.name.clone(),
             gravity: self.gravity,
             end_effector: self.end_effector.clone(),
+            frames: self.frames.clone(),
             locked_joints: self.locked_joints.clone(),
             snap_angles: self.snap_angles,
             inertia: self.inertia,
@@ -261,6 +269,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         urdf,
         gravity,
         end_effector,
+        frames,
         locked_joints,
         snap_angles,
         inertia,
@@ -276,6 +285,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         name,
         gravity,
         end_effector,
+        frames,
         locked_joints: locked_joints.0,
         snap_angles,
         inertia,

@@ -1,8 +1,9 @@
-//! World poses of the bodies and the end-effector, its geometric Jacobian and its derivative.
+//! World poses of the bodies and of any frame, a frame's geometric Jacobian and its derivative
+//! (the end-effector's by default).
 
 use super::coupling::{expand, project_columns};
 use super::joint::pose_to_transform;
-use crate::model::{JointKind, Model};
+use crate::model::{Frame, JointKind, Model};
 use crate::scalar::Scalar;
 use crate::spatial::{Transform, Vec3};
 use nalgebra::DMatrix;
@@ -22,8 +23,12 @@ pub fn body_poses<S: Scalar>(model: &Model, x: &[Transform<S>]) -> Vec<Transform
 
 /// The end-effector frame in the base frame.
 pub fn end_effector_pose<S: Scalar>(model: &Model, world: &[Transform<S>]) -> Transform<S> {
-    let ee = &model.end_effector();
-    world[ee.parent].compose(&pose_to_transform(&ee.placement))
+    frame_pose(world, model.end_effector())
+}
+
+/// A frame in the base frame.
+pub fn frame_pose<S: Scalar>(world: &[Transform<S>], frame: &Frame) -> Transform<S> {
+    world[frame.parent].compose(&pose_to_transform(&frame.placement))
 }
 
 /// Unit axis of joint `j` in world coordinates.
@@ -42,15 +47,20 @@ fn set_column<S: Scalar>(m: &mut DMatrix<S>, j: usize, lin: Vec3<S>, ang: Vec3<S
 /// Geometric Jacobian (6×n) of the end-effector frame origin: rows `[v; ω]` in world axes;
 /// `J_tree G` with mimic joints.
 pub fn jacobian<S: Scalar>(model: &Model, world: &[Transform<S>]) -> DMatrix<S> {
-    project_columns(model, tree_jacobian(model, world))
+    frame_jacobian(model, world, model.end_effector())
+}
+
+/// [`jacobian`] of any frame (Pinocchio's `LOCAL_WORLD_ALIGNED`).
+pub fn frame_jacobian<S: Scalar>(model: &Model, world: &[Transform<S>], frame: &Frame) -> DMatrix<S> {
+    project_columns(model, tree_jacobian(model, world, frame))
 }
 
 /// The Jacobian with one column per moving joint of the tree.
-fn tree_jacobian<S: Scalar>(model: &Model, world: &[Transform<S>]) -> DMatrix<S> {
+fn tree_jacobian<S: Scalar>(model: &Model, world: &[Transform<S>], frame: &Frame) -> DMatrix<S> {
     let n = model.joints().len();
-    let pe = end_effector_pose(model, world).pos;
+    let pe = frame_pose(world, frame).pos;
     let mut jac = DMatrix::from_element(6, n, S::zero());
-    for j in model.chain_to(model.end_effector().parent) {
+    for j in model.chain_to(frame.parent) {
         let z = world_axis(model, world, j);
         match model.joints()[j].kind {
             JointKind::Revolute => set_column(&mut jac, j, z.cross(&(pe - world[j].pos)), z),
@@ -67,13 +77,28 @@ fn tree_jacobian<S: Scalar>(model: &Model, world: &[Transform<S>]) -> DMatrix<S>
 ///
 /// With mimic joints, `J̇_tree(G q̇) G` (`G` is constant).
 pub fn jacobian_dot<S: Scalar>(model: &Model, world: &[Transform<S>], qd: &[S]) -> DMatrix<S> {
-    project_columns(model, tree_jacobian_dot(model, world, &expand(model, qd)))
+    frame_jacobian_dot(model, world, qd, model.end_effector())
+}
+
+/// [`jacobian_dot`] of any frame.
+pub fn frame_jacobian_dot<S: Scalar>(
+    model: &Model,
+    world: &[Transform<S>],
+    qd: &[S],
+    frame: &Frame,
+) -> DMatrix<S> {
+    project_columns(model, tree_jacobian_dot(model, world, &expand(model, qd), frame))
 }
 
 /// `J̇` with one column per moving joint of the tree, `qd` one rate per moving joint.
-fn tree_jacobian_dot<S: Scalar>(model: &Model, world: &[Transform<S>], qd: &[S]) -> DMatrix<S> {
+fn tree_jacobian_dot<S: Scalar>(
+    model: &Model,
+    world: &[Transform<S>],
+    qd: &[S],
+    frame: &Frame,
+) -> DMatrix<S> {
     let n = model.joints().len();
-    let chain = model.chain_to(model.end_effector().parent);
+    let chain = model.chain_to(frame.parent);
     // World angular velocity and origin velocity of every body on the chain.
     let mut omega = vec![Vec3::zero(); n];
     let mut pdot = vec![Vec3::zero(); n];
@@ -88,8 +113,8 @@ fn tree_jacobian_dot<S: Scalar>(model: &Model, world: &[Transform<S>], qd: &[S])
             JointKind::Prismatic => (w0, v0 + z),
         };
     }
-    let last = model.end_effector().parent;
-    let pe = end_effector_pose(model, world).pos;
+    let last = frame.parent;
+    let pe = frame_pose(world, frame).pos;
     let pe_dot = pdot[last] + omega[last].cross(&(pe - world[last].pos));
     let mut jd = DMatrix::from_element(6, n, S::zero());
     for &j in &chain {

@@ -17,6 +17,7 @@ mod coupling;
 pub(crate) mod crba;
 mod derivatives;
 pub(crate) mod forward_dynamics;
+pub(crate) mod frames;
 pub(crate) mod inertias;
 pub(crate) mod joint;
 pub(crate) mod joint_terms;
@@ -30,12 +31,13 @@ pub(crate) mod singular;
 pub(crate) mod slotine_li;
 mod tree_ldl;
 
-pub use numeric::NumericDynamics;
+pub use numeric::{FrameValues, NumericDynamics};
 
 pub(crate) use coriolis::coriolis_matrix;
 pub(crate) use crba::mass_matrix;
 pub(crate) use derivatives::{forward_dynamics_derivatives_by, inverse_dynamics_derivatives_by, Directions};
 pub(crate) use forward_dynamics::{forward_dynamics, mass_matrix_inverse};
+pub(crate) use frames::FrameMotion;
 pub(crate) use inertias::{body_inertias, inertias_from_parameters};
 pub(crate) use joint::joint_transforms;
 pub(crate) use joint_terms::{add_armature, add_torques, joint_term_torques, joint_term_values};

@@ -4,7 +4,8 @@
 use super::*;
 use crate::model::Model;
 use crate::spatial::{RigidInertia, Transform, Vec3};
-use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use dyngen_runtime::ReferenceFrame;
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
 
 /// Numeric dynamics of one model. Holds the model's inertias so calls do not rebuild them.
 #[derive(Clone, Debug)]
@@ -13,6 +14,42 @@ pub struct NumericDynamics<'m> {
     pub(super) inertias: Vec<RigidInertia<f64>>,
     /// Joint-level values that act (chosen kinds; others 0).
     pub(super) joint_values: Vec<crate::model::JointTermValues>,
+}
+
+/// One frame's kinematics at one state, from [`NumericDynamics::frame_motion`].
+pub struct FrameValues {
+    motion: FrameMotion<f64>,
+    qd: Vec<f64>,
+}
+
+impl FrameValues {
+    /// The frame's pose in the base frame (rotation, translation).
+    pub fn pose(&self) -> (Matrix3<f64>, Vector3<f64>) {
+        (
+            to_matrix3(&self.motion.pose),
+            Vector3::from(self.motion.pose.pos.0),
+        )
+    }
+
+    /// `J` (6×n, rows `[linear; angular]`) in `reference`.
+    pub fn jacobian(&self, reference: ReferenceFrame) -> DMatrix<f64> {
+        self.motion.jacobian_in(reference)
+    }
+
+    /// `J̇` in `reference`, the time derivative of [`FrameValues::jacobian`].
+    pub fn jacobian_time_variation(&self, reference: ReferenceFrame) -> DMatrix<f64> {
+        self.motion.jacobian_dot_in(reference, &self.qd)
+    }
+
+    /// The frame's velocity `J q̇` in `reference`, `[linear; angular]`.
+    pub fn velocity(&self, reference: ReferenceFrame) -> Vector6<f64> {
+        Vector6::from(self.motion.velocity_in(reference, &self.qd))
+    }
+
+    /// The classical acceleration at `q̈` in `reference`.
+    pub fn classical_acceleration(&self, reference: ReferenceFrame, qdd: &[f64]) -> Vector6<f64> {
+        Vector6::from(self.motion.classical_acceleration_in(reference, &self.qd, qdd))
+    }
 }
 
 /// The joint transforms at one `q`. Each method builds its own from the `q` it is given (no
@@ -83,6 +120,17 @@ impl<'m> NumericDynamics<'m> {
             &body_poses(self.model, &self.configuration(q).transforms),
             qd,
         )
+    }
+
+    /// Pose, `J` and `J̇` of the frame named `frame` at `(q, q̇)`; `None` if the model has no
+    /// such frame. Its methods give every frame quantity in any reference frame.
+    pub fn frame_motion(&self, frame: &str, q: &[f64], qd: &[f64]) -> Option<FrameValues> {
+        let frame = self.model.frames().iter().find(|f| f.name == frame)?;
+        let world = body_poses(self.model, &self.configuration(q).transforms);
+        Some(FrameValues {
+            motion: FrameMotion::new(self.model, &world, qd, frame),
+            qd: qd.to_vec(),
+        })
     }
 
     /// `D(q)`, with the armature on the diagonal when the model has that column.

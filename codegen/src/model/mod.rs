@@ -98,7 +98,9 @@ pub struct Model {
     joints: Vec<Joint>,
     bodies: Vec<Body>,
     gravity: Vector3<f64>,
-    end_effector: Frame,
+    /// The frames generated code computes: the end-effector first, then the frames the
+    /// description named, with distinct names.
+    frames: Vec<Frame>,
     /// Joint-level parameters (armature, friction, offset): which columns `Y` gets after the
     /// inertial ones, and their values. Default: none.
     joint_terms: JointTerms,
@@ -184,13 +186,26 @@ impl Model {
             joints,
             bodies,
             gravity,
-            end_effector,
+            frames: vec![end_effector],
             joint_terms: JointTerms::default(),
             mimics: vec![None; n],
             coordinate_maps: coupling::coordinate_maps(&[], n),
         };
         validate(&model)?;
         Ok(model)
+    }
+
+    /// The same robot with more named frames after the end-effector (replacing any it had).
+    /// A frame with the end-effector's name must be the end-effector, and is kept once.
+    pub fn with_frames(mut self, frames: Vec<Frame>) -> Result<Model, ModelError> {
+        self.frames.truncate(1);
+        for frame in frames {
+            if frame != self.frames[0] {
+                self.frames.push(frame);
+            }
+        }
+        validate(&self)?;
+        Ok(self)
     }
 
     /// The same robot with joint-level parameters (which regressor columns, and values).
@@ -270,9 +285,14 @@ impl Model {
         self.gravity
     }
 
-    /// The frame whose pose, Jacobian and its derivative are computed.
+    /// The frame a controller tracks by default, the first of [`Model::frames`].
     pub fn end_effector(&self) -> &Frame {
-        &self.end_effector
+        &self.frames[0]
+    }
+
+    /// Every frame generated code computes: the end-effector, then the named frames.
+    pub fn frames(&self) -> &[Frame] {
+        &self.frames
     }
 
     /// Number of degrees of freedom: the moving joints that mimic no other (the length of `q`).

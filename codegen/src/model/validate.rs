@@ -134,15 +134,23 @@ pub(super) fn validate(model: &Model) -> Result<Vec<Warning>, ModelError> {
         check_inertia(&model.bodies[i].inertia)
             .map_err(|m| ModelError(format!("body '{}': {m}", model.bodies[i].name)))?;
     }
-    let ee = &model.end_effector;
-    if ee.parent >= n {
-        return err(format!(
-            "end-effector '{}': parent joint {} does not exist",
-            ee.name, ee.parent
-        ));
+    for (k, frame) in model.frames.iter().enumerate() {
+        let what = match k {
+            0 => "end-effector",
+            _ => "frame",
+        };
+        if frame.parent >= n {
+            return err(format!(
+                "{what} '{}': parent joint {} does not exist",
+                frame.name, frame.parent
+            ));
+        }
+        check_pose(&frame.placement)
+            .map_err(|m| ModelError(format!("{what} '{}': placement {m}", frame.name)))?;
+        if model.frames[..k].iter().any(|f| f.name == frame.name) {
+            return err(format!("frame '{}' is defined twice", frame.name));
+        }
     }
-    check_pose(&ee.placement)
-        .map_err(|m| ModelError(format!("end-effector '{}': placement {m}", ee.name)))?;
     let names: Vec<&str> = model.joints.iter().map(|j| j.name.as_str()).collect();
     super::coupling::check_mimics(&model.mimics, &names).map_err(ModelError)?;
     check_joint_terms(model).map_err(ModelError)?;
@@ -280,11 +288,11 @@ mod tests {
             joint_terms: Default::default(),
             mimics: vec![None],
             coordinate_maps: super::super::coupling::coordinate_maps(&[None], 1),
-            end_effector: Frame {
+            frames: vec![Frame {
                 name: "ee".into(),
                 parent: 0,
                 placement: Pose::identity(),
-            },
+            }],
         }
     }
 
@@ -338,7 +346,7 @@ mod tests {
         m.joints[0].axis = Vector3::new(0.0, 0.0, 2.0);
         assert!(validate(&m).unwrap_err().0.contains("unit"));
         let mut m = one_joint(inertia(1.0, [1.0, 1.0, 1.0]));
-        m.end_effector.placement.rotation[(0, 0)] = 2.0;
+        m.frames[0].placement.rotation[(0, 0)] = 2.0;
         assert!(validate(&m).unwrap_err().0.contains("orthonormal"));
     }
 
