@@ -6,9 +6,9 @@
 dyngen_runtime::__require_version!("0.1.0");
 use dyngen_runtime::nalgebra::{ArrayStorage, Matrix3, SMatrix, SVector, Vector3};
 use dyngen_runtime::{
-    BaseParameters, DynamicsDerivatives, ForwardDynamics, JointLimits, JointTrig,
-    JointTrigLanes, Kinematics, LaneDynamics, Lanes, ParameterKind, Pose, Regressors,
-    RobotDynamics,
+    BaseParameters, DynamicsDerivatives, ForwardDynamics, FrameKinematics, JointLimits,
+    JointTrig, JointTrigLanes, Kinematics, LaneDynamics, Lanes, ParameterKind, Pose,
+    ReferenceFrame, Regressors, RobotDynamics, RobotFrame,
 };
 /// Number of moving joints (the `N` of [`Kinematics`] and [`RobotDynamics`]).
 pub const DOF: usize = 7;
@@ -283,7 +283,7 @@ pub type BaseParameterVector = SVector<f64, BASE_PARAMETER_COUNT>;
 pub type Regressor = SMatrix<f64, DOF, PARAMETER_COUNT>;
 /// The base regressor `Y_b`.
 pub type BaseRegressor = SMatrix<f64, DOF, BASE_PARAMETER_COUNT>;
-/// `arm7`: implements [`Kinematics`], [`RobotDynamics`], [`Regressors`], [`BaseParameters`], [`ForwardDynamics`], [`DynamicsDerivatives`] and [`LaneDynamics`] with flattened, allocation-free code.
+/// `arm7`: implements [`Kinematics`], [`RobotDynamics`], [`Regressors`], [`BaseParameters`], [`ForwardDynamics`], [`DynamicsDerivatives`], [`FrameKinematics`] and [`LaneDynamics`] with flattened, allocation-free code.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct Arm7;
 impl Kinematics<7> for Arm7 {
@@ -29955,4 +29955,5175 @@ impl DynamicsDerivatives<7, 70> for Arm7 {
         }
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, tau))
     }
+}
+/// Number of named frames (the end-effector and the description's `frames`).
+pub const FRAME_COUNT: usize = 1;
+/// Frame names, in the order of [`Frame`]'s variants.
+pub const FRAME_NAMES: [&str; FRAME_COUNT] = ["flange"];
+/// The robot's named frames: the argument of every [`FrameKinematics`] method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Frame {
+    /// `flange`, the end-effector (on body `link7`).
+    Flange,
+}
+impl RobotFrame for Frame {
+    const ALL: &'static [Frame] = &[Frame::Flange];
+    fn name(self) -> &'static str {
+        match self {
+            Frame::Flange => "flange",
+        }
+    }
+}
+impl FrameKinematics<7> for Arm7 {
+    type Frame = Frame;
+    fn frame_pose(frame: Frame, t: &JointTrig<7>) -> Pose {
+        match frame {
+            Frame::Flange => Self::forward_kinematics(t),
+        }
+    }
+    fn frame_jacobian(
+        frame: Frame,
+        reference: ReferenceFrame,
+        t: &JointTrig<7>,
+    ) -> SMatrix<f64, 6, 7> {
+        match (frame, reference) {
+            (Frame::Flange, ReferenceFrame::Local) => frame_jacobian_flange_local(t),
+            (Frame::Flange, ReferenceFrame::World) => frame_jacobian_flange_world(t),
+            (Frame::Flange, ReferenceFrame::LocalWorldAligned) => Self::jacobian(t),
+        }
+    }
+    fn frame_jacobian_time_variation(
+        frame: Frame,
+        reference: ReferenceFrame,
+        t: &JointTrig<7>,
+        qd: &SVector<f64, 7>,
+    ) -> SMatrix<f64, 6, 7> {
+        match (frame, reference) {
+            (Frame::Flange, ReferenceFrame::Local) => {
+                frame_jacobian_time_variation_flange_local(t, qd)
+            }
+            (Frame::Flange, ReferenceFrame::World) => {
+                frame_jacobian_time_variation_flange_world(t, qd)
+            }
+            (Frame::Flange, ReferenceFrame::LocalWorldAligned) => {
+                Self::jacobian_dot(t, qd)
+            }
+        }
+    }
+    fn frame_velocity(
+        frame: Frame,
+        reference: ReferenceFrame,
+        t: &JointTrig<7>,
+        qd: &SVector<f64, 7>,
+    ) -> SVector<f64, 6> {
+        match (frame, reference) {
+            (Frame::Flange, ReferenceFrame::Local) => frame_velocity_flange_local(t, qd),
+            (Frame::Flange, ReferenceFrame::World) => frame_velocity_flange_world(t, qd),
+            (Frame::Flange, ReferenceFrame::LocalWorldAligned) => {
+                frame_velocity_flange_local_world_aligned(t, qd)
+            }
+        }
+    }
+    fn frame_classical_acceleration(
+        frame: Frame,
+        reference: ReferenceFrame,
+        t: &JointTrig<7>,
+        qd: &SVector<f64, 7>,
+        qdd: &SVector<f64, 7>,
+    ) -> SVector<f64, 6> {
+        match (frame, reference) {
+            (Frame::Flange, ReferenceFrame::Local) => {
+                frame_classical_acceleration_flange_local(t, qd, qdd)
+            }
+            (Frame::Flange, ReferenceFrame::World) => {
+                frame_classical_acceleration_flange_world(t, qd, qdd)
+            }
+            (Frame::Flange, ReferenceFrame::LocalWorldAligned) => {
+                frame_classical_acceleration_flange_local_world_aligned(t, qd, qdd)
+            }
+        }
+    }
+    fn frame_kinematics(
+        frame: Frame,
+        t: &JointTrig<7>,
+        qd: &SVector<f64, 7>,
+    ) -> (Pose, SMatrix<f64, 6, 7>, SMatrix<f64, 6, 7>) {
+        match frame {
+            Frame::Flange => Self::kinematics(t, qd),
+        }
+    }
+}
+///Operations: 241 mul, 167 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_jacobian_flange_local(t: &JointTrig<7>) -> SMatrix<f64, 6, 7> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<7>,)> for Body {
+        type Output = SMatrix<f64, 6, 7>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t,): (&JointTrig<7>,),
+        ) -> SMatrix<f64, 6, 7> {
+            let [s0, s1, s2, s3, s4, s5, s6] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, c6] = t.cos;
+            let mut out: SMatrix<f64, 6, 7> = SMatrix::zeros();
+            {
+                let [[o0, o1, o2, o3, o4, o5], [o6, o7, o8, o9, o10, o11], [o12, o13,
+                o14, o15, o16, o17], [o18, o19, o20, o21, o22, o23], [o24, o25, o26, o27,
+                o28, o29], [o30, o31, o32, o33, o34, o35], [o36, o37, o38, o39, o40, o41],
+                ] = &mut out.data.0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
+                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
+                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
+                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
+                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
+                x267, x268, x269, x270, x271, x272, x273, x274]: [f64; 275];
+                x0 = c0 * c1;
+                x1 = c0 * s1;
+                x2 = s0 * c1;
+                x3 = s0 * s1;
+                x4 = 0.01f64 * s0;
+                x5 = -0.01f64 * c0;
+                x6 = s0 * s2;
+                x7 = arith.mul_add(c2, x0, -x6);
+                x8 = s0 * c2;
+                x9 = arith.mul_add(s2, x0, x8);
+                x10 = c0 * s2;
+                x11 = arith.mul_add(c2, x2, x10);
+                x12 = s2 * x2;
+                x13 = c0 * c2;
+                x14 = x13 - x12;
+                x15 = s1 * c2;
+                x16 = s1 * s2;
+                x17 = 0.1945f64 * x1;
+                x18 = arith.mul_add(-0.01f64, s0, x17);
+                x19 = 0.1945f64 * x3;
+                x20 = arith.mul_add(0.01f64, c0, x19);
+                x21 = x4 + x18;
+                x22 = x5 + x20;
+                x23 = arith.mul_add(0.1945f64, c1, 0.36f64);
+                x24 = s3 * x1;
+                x25 = arith.mul_add(c3, x7, x24);
+                x26 = s3 * x7;
+                x27 = arith.mul_add(c3, x1, -x26);
+                x28 = s3 * x3;
+                x29 = arith.mul_add(c3, x11, x28);
+                x30 = s3 * x11;
+                x31 = arith.mul_add(c3, x3, -x30);
+                x32 = c3 * x15;
+                x33 = arith.mul_add(c1, s3, -x32);
+                x34 = c1 * c3;
+                x35 = arith.mul_add(s3, x15, x34);
+                x36 = 0.2255f64 * x1;
+                x37 = arith.mul_add(-0.0105f64, x9, x36);
+                x38 = 0.2255f64 * x3;
+                x39 = arith.mul_add(0.0105f64, x14, x38);
+                x40 = 0.2255f64 * c1;
+                x41 = arith.mul_add(0.0105f64, x16, x40);
+                x42 = x21 + x37;
+                x43 = x22 + x39;
+                x44 = x23 + x41;
+                x45 = s4 * x9;
+                x46 = arith.mul_add(c4, x25, -x45);
+                x47 = c4 * x9;
+                x48 = arith.mul_add(s4, x25, x47);
+                x49 = s4 * x14;
+                x50 = arith.mul_add(c4, x29, x49);
+                x51 = s4 * x29;
+                x52 = arith.mul_add(c4, x14, -x51);
+                x53 = s4 * x16;
+                x54 = arith.mul_add(c4, x33, x53);
+                x55 = s4 * x33;
+                x56 = arith.mul_add(c4, x16, -x55);
+                x57 = 0.1745f64 * x27;
+                x58 = arith.mul_add(0.0105f64, x9, x57);
+                x59 = 0.1745f64 * x31;
+                x60 = arith.mul_add(-0.0105f64, x14, x59);
+                x61 = 0.1745f64 * x35;
+                x62 = arith.mul_add(-0.0105f64, x16, x61);
+                x63 = x42 + x58;
+                x64 = x43 + x60;
+                x65 = x44 + x62;
+                x66 = s5 * x27;
+                x67 = arith.mul_add(c5, x46, -x66);
+                x68 = c5 * x27;
+                x69 = arith.mul_add(s5, x46, x68);
+                x70 = s5 * x31;
+                x71 = arith.mul_add(c5, x50, -x70);
+                x72 = c5 * x31;
+                x73 = arith.mul_add(s5, x50, x72);
+                x74 = s5 * x35;
+                x75 = arith.mul_add(c5, x54, -x74);
+                x76 = c5 * x35;
+                x77 = arith.mul_add(s5, x54, x76);
+                *o5 = x77;
+                x78 = 0.2255f64 * x27;
+                x79 = arith.mul_add(0.0707f64, x48, x78);
+                x80 = 0.2255f64 * x31;
+                x81 = arith.mul_add(-0.0707f64, x52, x80);
+                x82 = 0.2255f64 * x35;
+                x83 = arith.mul_add(-0.0707f64, x56, x82);
+                x84 = x63 + x79;
+                x85 = x64 + x81;
+                x86 = x65 + x83;
+                x87 = s6 * x48;
+                x88 = arith.mul_add(c6, x67, -x87);
+                x89 = c6 * x48;
+                x90 = arith.mul_add(s6, x67, x89);
+                x91 = s6 * x52;
+                x92 = arith.mul_add(c6, x71, x91);
+                x93 = s6 * x71;
+                x94 = arith.mul_add(c6, x52, -x93);
+                x95 = s6 * x56;
+                x96 = arith.mul_add(c6, x75, x95);
+                *o3 = x96;
+                x97 = s6 * x75;
+                x98 = arith.mul_add(c6, x56, -x97);
+                *o4 = x98;
+                x99 = 0.0711f64 * x69;
+                x100 = arith.mul_add(-0.0707f64, x48, x99);
+                x101 = 0.0711f64 * x73;
+                x102 = arith.mul_add(0.0707f64, x52, x101);
+                x103 = 0.0711f64 * x77;
+                x104 = arith.mul_add(0.0707f64, x56, x103);
+                x105 = x84 + x100;
+                x106 = x85 + x102;
+                x107 = x86 + x104;
+                x108 = arith.mul_add(0.0549f64, x69, x105);
+                x109 = arith.mul_add(0.0549f64, x73, x106);
+                x110 = arith.mul_add(0.0549f64, x77, x107);
+                x111 = x108 - x4;
+                x112 = x109 - x5;
+                x113 = x110 - 0.36f64;
+                x114 = c0 * x113;
+                x115 = s0 * x113;
+                x116 = c0 * x111;
+                x117 = arith.mul_add(s0, x112, x116);
+                x118 = x108 - x21;
+                x119 = x109 - x22;
+                x120 = x110 - x23;
+                x121 = c1 * x119;
+                x122 = arith.mul_add(x3, x120, -x121);
+                x123 = x1 * x120;
+                x124 = arith.mul_add(c1, x118, -x123);
+                x125 = x3 * x118;
+                x126 = arith.mul_add(x1, x119, -x125);
+                x127 = x12 - x13;
+                x128 = x108 - x42;
+                x129 = x109 - x43;
+                x130 = x110 - x44;
+                x131 = x16 * x129;
+                x132 = arith.mul_add(x127, x130, x131);
+                x133 = x9 * x130;
+                x134 = arith.mul_add(x16, x128, x133);
+                x135 = x127 * x128;
+                x136 = arith.mul_add(x9, x129, -x135);
+                x137 = x108 - x63;
+                x138 = x109 - x64;
+                x139 = x110 - x65;
+                x140 = x35 * x138;
+                x141 = arith.mul_add(x31, x139, -x140);
+                x142 = x27 * x139;
+                x143 = arith.mul_add(x35, x137, -x142);
+                x144 = x31 * x137;
+                x145 = arith.mul_add(x27, x138, -x144);
+                x146 = x108 - x84;
+                x147 = x109 - x85;
+                x148 = x110 - x86;
+                x149 = x56 * x147;
+                x150 = arith.mul_add(x52, x148, -x149);
+                x151 = x48 * x148;
+                x152 = arith.mul_add(x56, x146, x151);
+                x153 = x52 * x146;
+                x154 = arith.mul_add(x48, x147, x153);
+                x155 = x108 - x105;
+                x156 = x109 - x106;
+                x157 = x110 - x107;
+                x158 = x77 * x156;
+                x159 = arith.mul_add(x73, x157, -x158);
+                x160 = x69 * x157;
+                x161 = arith.mul_add(x77, x155, -x160);
+                x162 = x73 * x155;
+                x163 = arith.mul_add(x69, x156, -x162);
+                x164 = x88 * x109;
+                x165 = arith.mul_add(x92, x108, -x164);
+                *o0 = x165;
+                x166 = x94 * x108;
+                x167 = arith.mul_add(x90, x109, x166);
+                *o1 = x167;
+                x168 = x69 * x109;
+                x169 = arith.mul_add(x73, x108, -x168);
+                *o2 = x169;
+                x170 = x92 * x115;
+                x171 = arith.mul_add(x88, x114, x170);
+                x172 = arith.mul_add(-x96, x117, x171);
+                *o6 = x172;
+                x173 = x90 * x114;
+                x174 = arith.mul_add(x94, x115, -x173);
+                x175 = arith.mul_add(-x98, x117, x174);
+                *o7 = x175;
+                x176 = x73 * x115;
+                x177 = arith.mul_add(x69, x114, x176);
+                x178 = arith.mul_add(-x77, x117, x177);
+                *o8 = x178;
+                x179 = s0 * x88;
+                x180 = arith.mul_add(c0, x92, -x179);
+                *o9 = x180;
+                x181 = c0 * x94;
+                x182 = arith.mul_add(s0, x90, x181);
+                *o10 = x182;
+                x183 = s0 * x69;
+                x184 = arith.mul_add(c0, x73, -x183);
+                *o11 = x184;
+                x185 = x92 * x124;
+                x186 = arith.mul_add(x88, x122, x185);
+                x187 = arith.mul_add(x96, x126, x186);
+                *o12 = x187;
+                x188 = x90 * x122;
+                x189 = arith.mul_add(x94, x124, -x188);
+                x190 = arith.mul_add(x98, x126, x189);
+                *o13 = x190;
+                x191 = x73 * x124;
+                x192 = arith.mul_add(x69, x122, x191);
+                x193 = arith.mul_add(x77, x126, x192);
+                *o14 = x193;
+                x194 = x3 * x92;
+                x195 = arith.mul_add(x1, x88, x194);
+                x196 = arith.mul_add(c1, x96, x195);
+                *o15 = x196;
+                x197 = x1 * x90;
+                x198 = arith.mul_add(x3, x94, -x197);
+                x199 = arith.mul_add(c1, x98, x198);
+                *o16 = x199;
+                x200 = x3 * x73;
+                x201 = arith.mul_add(x1, x69, x200);
+                x202 = arith.mul_add(c1, x77, x201);
+                *o17 = x202;
+                x203 = x92 * x134;
+                x204 = arith.mul_add(x88, x132, -x203);
+                x205 = arith.mul_add(x96, x136, x204);
+                *o18 = x205;
+                x206 = x94 * x134;
+                x207 = arith.mul_add(x90, x132, x206);
+                x208 = arith.mul_add(x98, x136, -x207);
+                *o19 = x208;
+                x209 = x73 * x134;
+                x210 = arith.mul_add(x69, x132, -x209);
+                x211 = arith.mul_add(x77, x136, x210);
+                *o20 = x211;
+                x212 = x92 * x127;
+                x213 = arith.mul_add(x9, x88, x212);
+                x214 = arith.mul_add(-x16, x96, x213);
+                *o21 = x214;
+                x215 = x9 * x90;
+                x216 = arith.mul_add(x94, x127, -x215);
+                x217 = arith.mul_add(-x16, x98, x216);
+                *o22 = x217;
+                x218 = x73 * x127;
+                x219 = arith.mul_add(x9, x69, x218);
+                x220 = arith.mul_add(-x16, x77, x219);
+                *o23 = x220;
+                x221 = x92 * x143;
+                x222 = arith.mul_add(x88, x141, x221);
+                x223 = arith.mul_add(x96, x145, x222);
+                *o24 = x223;
+                x224 = x90 * x141;
+                x225 = arith.mul_add(x94, x143, -x224);
+                x226 = arith.mul_add(x98, x145, x225);
+                *o25 = x226;
+                x227 = x73 * x143;
+                x228 = arith.mul_add(x69, x141, x227);
+                x229 = arith.mul_add(x77, x145, x228);
+                *o26 = x229;
+                x230 = x31 * x92;
+                x231 = arith.mul_add(x27, x88, x230);
+                x232 = arith.mul_add(x35, x96, x231);
+                *o27 = x232;
+                x233 = x27 * x90;
+                x234 = arith.mul_add(x31, x94, -x233);
+                x235 = arith.mul_add(x35, x98, x234);
+                *o28 = x235;
+                x236 = x31 * x73;
+                x237 = arith.mul_add(x27, x69, x236);
+                x238 = arith.mul_add(x35, x77, x237);
+                *o29 = x238;
+                x239 = x92 * x152;
+                x240 = arith.mul_add(x88, x150, x239);
+                x241 = arith.mul_add(-x96, x154, x240);
+                *o30 = x241;
+                x242 = x90 * x150;
+                x243 = arith.mul_add(x94, x152, -x242);
+                x244 = arith.mul_add(-x98, x154, x243);
+                *o31 = x244;
+                x245 = x73 * x152;
+                x246 = arith.mul_add(x69, x150, x245);
+                x247 = arith.mul_add(-x77, x154, x246);
+                *o32 = x247;
+                x248 = x48 * x88;
+                x249 = arith.mul_add(x52, x92, -x248);
+                x250 = arith.mul_add(x56, x96, x249);
+                *o33 = x250;
+                x251 = x52 * x94;
+                x252 = arith.mul_add(x48, x90, x251);
+                x253 = arith.mul_add(x56, x98, x252);
+                *o34 = x253;
+                x254 = x48 * x69;
+                x255 = arith.mul_add(x52, x73, -x254);
+                x256 = arith.mul_add(x56, x77, x255);
+                *o35 = x256;
+                x257 = x92 * x161;
+                x258 = arith.mul_add(x88, x159, x257);
+                x259 = arith.mul_add(x96, x163, x258);
+                *o36 = x259;
+                x260 = x90 * x159;
+                x261 = arith.mul_add(x94, x161, -x260);
+                x262 = arith.mul_add(x98, x163, x261);
+                *o37 = x262;
+                x263 = x73 * x161;
+                x264 = arith.mul_add(x69, x159, x263);
+                x265 = arith.mul_add(x77, x163, x264);
+                *o38 = x265;
+                x266 = x73 * x92;
+                x267 = arith.mul_add(x69, x88, x266);
+                x268 = arith.mul_add(x77, x96, x267);
+                *o39 = x268;
+                x269 = x69 * x90;
+                x270 = arith.mul_add(x73, x94, -x269);
+                x271 = arith.mul_add(x77, x98, x270);
+                *o40 = x271;
+                x272 = x73 * x73;
+                x273 = arith.mul_add(x69, x69, x272);
+                x274 = arith.mul_add(x77, x77, x273);
+                *o41 = x274;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t,))
+}
+///Operations: 146 mul, 120 add/sub, 3 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_jacobian_flange_world(t: &JointTrig<7>) -> SMatrix<f64, 6, 7> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<7>,)> for Body {
+        type Output = SMatrix<f64, 6, 7>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t,): (&JointTrig<7>,),
+        ) -> SMatrix<f64, 6, 7> {
+            let [s0, s1, s2, s3, s4, s5, _] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, _] = t.cos;
+            let mut out: SMatrix<f64, 6, 7> = SMatrix::zeros();
+            {
+                let [[_, _, _, _, _, o5], [o6, o7, o8, o9, o10, _], [o12, o13, o14, o15,
+                o16, o17], [o18, o19, o20, o21, o22, o23], [o24, o25, o26, o27, o28, o29,
+                ], [o30, o31, o32, o33, o34, o35], [o36, o37, o38, o39, o40, o41]] = &mut out
+                    .data
+                    .0;
+                *o5 = 1f64;
+                *o10 = c0;
+                *o17 = c1;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198]: [f64; 199];
+                x0 = -s0;
+                *o9 = x0;
+                x1 = c0 * c1;
+                x2 = c0 * s1;
+                *o15 = x2;
+                x3 = s0 * c1;
+                x4 = s0 * s1;
+                *o16 = x4;
+                x5 = 0.01f64 * s0;
+                x6 = -0.01f64 * c0;
+                x7 = s0 * s2;
+                x8 = arith.mul_add(c2, x1, -x7);
+                x9 = s0 * c2;
+                x10 = arith.mul_add(s2, x1, x9);
+                *o21 = x10;
+                x11 = c0 * s2;
+                x12 = arith.mul_add(c2, x3, x11);
+                x13 = s2 * x3;
+                x14 = c0 * c2;
+                x15 = x14 - x13;
+                x16 = s1 * c2;
+                x17 = s1 * s2;
+                x18 = 0.1945f64 * x2;
+                x19 = arith.mul_add(-0.01f64, s0, x18);
+                x20 = 0.1945f64 * x4;
+                x21 = arith.mul_add(0.01f64, c0, x20);
+                x22 = x5 + x19;
+                x23 = x6 + x21;
+                x24 = arith.mul_add(0.1945f64, c1, 0.36f64);
+                x25 = s3 * x2;
+                x26 = arith.mul_add(c3, x8, x25);
+                x27 = s3 * x8;
+                x28 = arith.mul_add(c3, x2, -x27);
+                *o27 = x28;
+                x29 = s3 * x4;
+                x30 = arith.mul_add(c3, x12, x29);
+                x31 = s3 * x12;
+                x32 = arith.mul_add(c3, x4, -x31);
+                *o28 = x32;
+                x33 = c3 * x16;
+                x34 = arith.mul_add(c1, s3, -x33);
+                x35 = c1 * c3;
+                x36 = arith.mul_add(s3, x16, x35);
+                *o29 = x36;
+                x37 = 0.2255f64 * x2;
+                x38 = arith.mul_add(-0.0105f64, x10, x37);
+                x39 = 0.2255f64 * x4;
+                x40 = arith.mul_add(0.0105f64, x15, x39);
+                x41 = 0.2255f64 * c1;
+                x42 = arith.mul_add(0.0105f64, x17, x41);
+                x43 = x22 + x38;
+                x44 = x23 + x40;
+                x45 = x24 + x42;
+                x46 = s4 * x10;
+                x47 = arith.mul_add(c4, x26, -x46);
+                x48 = c4 * x10;
+                x49 = arith.mul_add(s4, x26, x48);
+                x50 = -x49;
+                *o33 = x50;
+                x51 = s4 * x15;
+                x52 = arith.mul_add(c4, x30, x51);
+                x53 = s4 * x30;
+                x54 = arith.mul_add(c4, x15, -x53);
+                *o34 = x54;
+                x55 = s4 * x17;
+                x56 = arith.mul_add(c4, x34, x55);
+                x57 = s4 * x34;
+                x58 = arith.mul_add(c4, x17, -x57);
+                *o35 = x58;
+                x59 = 0.1745f64 * x28;
+                x60 = arith.mul_add(0.0105f64, x10, x59);
+                x61 = 0.1745f64 * x32;
+                x62 = arith.mul_add(-0.0105f64, x15, x61);
+                x63 = 0.1745f64 * x36;
+                x64 = arith.mul_add(-0.0105f64, x17, x63);
+                x65 = x43 + x60;
+                x66 = x44 + x62;
+                x67 = x45 + x64;
+                x68 = c5 * x28;
+                x69 = arith.mul_add(s5, x47, x68);
+                *o39 = x69;
+                x70 = c5 * x32;
+                x71 = arith.mul_add(s5, x52, x70);
+                *o40 = x71;
+                x72 = c5 * x36;
+                x73 = arith.mul_add(s5, x56, x72);
+                *o41 = x73;
+                x74 = 0.2255f64 * x28;
+                x75 = arith.mul_add(0.0707f64, x49, x74);
+                x76 = 0.2255f64 * x32;
+                x77 = arith.mul_add(-0.0707f64, x54, x76);
+                x78 = 0.2255f64 * x36;
+                x79 = arith.mul_add(-0.0707f64, x58, x78);
+                x80 = x65 + x75;
+                x81 = x66 + x77;
+                x82 = x67 + x79;
+                x83 = 0.0711f64 * x69;
+                x84 = arith.mul_add(-0.0707f64, x49, x83);
+                x85 = 0.0711f64 * x71;
+                x86 = arith.mul_add(0.0707f64, x54, x85);
+                x87 = 0.0711f64 * x73;
+                x88 = arith.mul_add(0.0707f64, x58, x87);
+                x89 = x80 + x84;
+                x90 = x81 + x86;
+                x91 = x82 + x88;
+                x92 = arith.mul_add(0.0549f64, x69, x89);
+                x93 = arith.mul_add(0.0549f64, x71, x90);
+                x94 = arith.mul_add(0.0549f64, x73, x91);
+                x95 = x92 - x5;
+                x96 = x93 - x6;
+                x97 = x94 - 0.36f64;
+                x98 = c0 * x95;
+                x99 = arith.mul_add(s0, x96, x98);
+                x100 = x92 - x22;
+                x101 = x93 - x23;
+                x102 = x94 - x24;
+                x103 = c1 * x101;
+                x104 = arith.mul_add(x4, x102, -x103);
+                x105 = x2 * x102;
+                x106 = arith.mul_add(c1, x100, -x105);
+                x107 = x4 * x100;
+                x108 = arith.mul_add(x2, x101, -x107);
+                x109 = x13 - x14;
+                *o22 = x109;
+                x110 = -x17;
+                *o23 = x110;
+                x111 = x92 - x43;
+                x112 = x93 - x44;
+                x113 = x94 - x45;
+                x114 = x17 * x112;
+                x115 = arith.mul_add(x109, x113, x114);
+                x116 = x10 * x113;
+                x117 = arith.mul_add(x17, x111, x116);
+                x118 = x109 * x111;
+                x119 = arith.mul_add(x10, x112, -x118);
+                x120 = x92 - x65;
+                x121 = x93 - x66;
+                x122 = x94 - x67;
+                x123 = x36 * x121;
+                x124 = arith.mul_add(x32, x122, -x123);
+                x125 = x28 * x122;
+                x126 = arith.mul_add(x36, x120, -x125);
+                x127 = x32 * x120;
+                x128 = arith.mul_add(x28, x121, -x127);
+                x129 = x92 - x80;
+                x130 = x93 - x81;
+                x131 = x94 - x82;
+                x132 = x58 * x130;
+                x133 = arith.mul_add(x54, x131, -x132);
+                x134 = x49 * x131;
+                x135 = arith.mul_add(x58, x129, x134);
+                x136 = x54 * x129;
+                x137 = arith.mul_add(x49, x130, x136);
+                x138 = x92 - x89;
+                x139 = x93 - x90;
+                x140 = x94 - x91;
+                x141 = x73 * x139;
+                x142 = arith.mul_add(x71, x140, -x141);
+                x143 = x69 * x140;
+                x144 = arith.mul_add(x73, x138, -x143);
+                x145 = x71 * x138;
+                x146 = arith.mul_add(x69, x139, -x145);
+                x147 = x69 * x93;
+                x148 = arith.mul_add(x71, x92, -x147);
+                x149 = c0 * x94;
+                x150 = s0 * x94;
+                x151 = s0 * x93;
+                x152 = arith.mul_add(c0, x92, x151);
+                x153 = arith.mul_add(c0, x97, -x149);
+                *o6 = x153;
+                x154 = arith.mul_add(s0, x97, -x150);
+                *o7 = x154;
+                x155 = x152 - x99;
+                *o8 = x155;
+                x156 = x4 * x94;
+                x157 = arith.mul_add(c1, x93, -x156);
+                x158 = c1 * x92;
+                x159 = arith.mul_add(x2, x94, -x158);
+                x160 = x2 * x93;
+                x161 = arith.mul_add(x4, x92, -x160);
+                x162 = x104 + x157;
+                *o12 = x162;
+                x163 = x106 + x159;
+                *o13 = x163;
+                x164 = x108 + x161;
+                *o14 = x164;
+                x165 = x94 * x109;
+                x166 = arith.mul_add(x17, x93, x165);
+                x167 = x17 * x92;
+                x168 = arith.mul_add(x10, x94, x167);
+                x169 = x10 * x93;
+                x170 = arith.mul_add(x92, x109, -x169);
+                x171 = x115 - x166;
+                *o18 = x171;
+                x172 = x168 - x117;
+                *o19 = x172;
+                x173 = x119 + x170;
+                *o20 = x173;
+                x174 = x32 * x94;
+                x175 = arith.mul_add(x36, x93, -x174);
+                x176 = x36 * x92;
+                x177 = arith.mul_add(x28, x94, -x176);
+                x178 = x28 * x93;
+                x179 = arith.mul_add(x32, x92, -x178);
+                x180 = x124 + x175;
+                *o24 = x180;
+                x181 = x126 + x177;
+                *o25 = x181;
+                x182 = x128 + x179;
+                *o26 = x182;
+                x183 = x54 * x94;
+                x184 = arith.mul_add(x58, x93, -x183);
+                x185 = x58 * x92;
+                x186 = arith.mul_add(x49, x94, x185);
+                x187 = x49 * x93;
+                x188 = arith.mul_add(x54, x92, x187);
+                x189 = x133 + x184;
+                *o30 = x189;
+                x190 = x135 - x186;
+                *o31 = x190;
+                x191 = x188 - x137;
+                *o32 = x191;
+                x192 = x71 * x94;
+                x193 = arith.mul_add(x73, x93, -x192);
+                x194 = x73 * x92;
+                x195 = arith.mul_add(x69, x94, -x194);
+                x196 = x142 + x193;
+                *o36 = x196;
+                x197 = x144 + x195;
+                *o37 = x197;
+                x198 = x146 + x148;
+                *o38 = x198;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t,))
+}
+///Operations: 469 mul, 386 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_jacobian_time_variation_flange_local(
+    t: &JointTrig<7>,
+    qd: &SVector<f64, 7>,
+) -> SMatrix<f64, 6, 7> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<7>, &SVector<f64, 7>)> for Body {
+        type Output = SMatrix<f64, 6, 7>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd): (&JointTrig<7>, &SVector<f64, 7>),
+        ) -> SMatrix<f64, 6, 7> {
+            let [s0, s1, s2, s3, s4, s5, s6] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, c6] = t.cos;
+            let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+            let mut out: SMatrix<f64, 6, 7> = SMatrix::zeros();
+            {
+                let [[o0, o1, o2, o3, o4, o5], [o6, o7, o8, o9, o10, o11], [o12, o13,
+                o14, o15, o16, o17], [o18, o19, o20, o21, o22, o23], [o24, o25, o26, o27,
+                o28, o29], [o30, o31, o32, o33, o34, o35], [o36, o37, o38, _, _, _]] = &mut out
+                    .data
+                    .0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
+                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
+                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
+                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
+                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
+                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
+                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
+                x291, x292, x293, x294, x295, x296, x297, x298, x299, x300, x301, x302,
+                x303, x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
+                x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325, x326,
+                x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337, x338,
+                x339, x340, x341, x342, x343, x344, x345, x346, x347, x348, x349, x350,
+                x351, x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373, x374,
+                x375, x376, x377, x378, x379, x380, x381, x382, x383, x384, x385, x386,
+                x387, x388, x389, x390, x391, x392, x393, x394, x395, x396, x397, x398,
+                x399, x400, x401, x402, x403, x404, x405, x406, x407, x408, x409, x410,
+                x411, x412, x413, x414, x415, x416, x417, x418, x419, x420, x421, x422,
+                x423, x424, x425, x426, x427, x428, x429, x430, x431, x432, x433, x434,
+                x435, x436, x437, x438, x439, x440, x441, x442, x443, x444, x445, x446,
+                x447, x448, x449, x450, x451, x452, x453, x454, x455, x456, x457, x458,
+                x459, x460, x461, x462, x463, x464, x465, x466, x467, x468, x469, x470,
+                x471, x472, x473, x474, x475, x476, x477, x478, x479, x480, x481, x482,
+                x483, x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
+                x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505, x506,
+                x507, x508, x509, x510, x511, x512, x513, x514, x515, x516, x517, x518,
+                x519, x520, x521, x522, x523, x524, x525, x526, x527, x528, x529, x530,
+                x531, x532, x533, x534, x535, x536, x537, x538, x539, x540, x541, x542,
+                x543, x544, x545, x546, x547, x548, x549, x550, x551, x552, x553, x554,
+                x555, x556, x557, x558, x559, x560, x561, x562, x563, x564, x565, x566,
+                x567, x568, x569, x570, x571, x572, x573, x574, x575, x576, x577, x578,
+                x579, x580, x581, x582, x583, x584, x585, x586, x587, x588, x589, x590,
+                x591, x592, x593, x594, x595, x596, x597, x598]: [f64; 599];
+                x0 = c0 * c1;
+                x1 = c0 * s1;
+                x2 = s0 * c1;
+                x3 = s0 * s1;
+                x4 = 0.01f64 * s0;
+                x5 = -0.01f64 * c0;
+                x6 = s0 * s2;
+                x7 = arith.mul_add(c2, x0, -x6);
+                x8 = s0 * c2;
+                x9 = arith.mul_add(s2, x0, x8);
+                x10 = c0 * s2;
+                x11 = arith.mul_add(c2, x2, x10);
+                x12 = s2 * x2;
+                x13 = c0 * c2;
+                x14 = x13 - x12;
+                x15 = s1 * c2;
+                x16 = s1 * s2;
+                x17 = 0.1945f64 * x1;
+                x18 = arith.mul_add(-0.01f64, s0, x17);
+                x19 = 0.1945f64 * x3;
+                x20 = arith.mul_add(0.01f64, c0, x19);
+                x21 = x4 + x18;
+                x22 = x5 + x20;
+                x23 = arith.mul_add(0.1945f64, c1, 0.36f64);
+                x24 = s3 * x1;
+                x25 = arith.mul_add(c3, x7, x24);
+                x26 = s3 * x7;
+                x27 = arith.mul_add(c3, x1, -x26);
+                x28 = s3 * x3;
+                x29 = arith.mul_add(c3, x11, x28);
+                x30 = s3 * x11;
+                x31 = arith.mul_add(c3, x3, -x30);
+                x32 = c3 * x15;
+                x33 = arith.mul_add(c1, s3, -x32);
+                x34 = c1 * c3;
+                x35 = arith.mul_add(s3, x15, x34);
+                x36 = 0.2255f64 * x1;
+                x37 = arith.mul_add(-0.0105f64, x9, x36);
+                x38 = 0.2255f64 * x3;
+                x39 = arith.mul_add(0.0105f64, x14, x38);
+                x40 = 0.2255f64 * c1;
+                x41 = arith.mul_add(0.0105f64, x16, x40);
+                x42 = x21 + x37;
+                x43 = x22 + x39;
+                x44 = x23 + x41;
+                x45 = s4 * x9;
+                x46 = arith.mul_add(c4, x25, -x45);
+                x47 = c4 * x9;
+                x48 = arith.mul_add(s4, x25, x47);
+                x49 = s4 * x14;
+                x50 = arith.mul_add(c4, x29, x49);
+                x51 = s4 * x29;
+                x52 = arith.mul_add(c4, x14, -x51);
+                x53 = s4 * x16;
+                x54 = arith.mul_add(c4, x33, x53);
+                x55 = s4 * x33;
+                x56 = arith.mul_add(c4, x16, -x55);
+                x57 = 0.1745f64 * x27;
+                x58 = arith.mul_add(0.0105f64, x9, x57);
+                x59 = 0.1745f64 * x31;
+                x60 = arith.mul_add(-0.0105f64, x14, x59);
+                x61 = 0.1745f64 * x35;
+                x62 = arith.mul_add(-0.0105f64, x16, x61);
+                x63 = x42 + x58;
+                x64 = x43 + x60;
+                x65 = x44 + x62;
+                x66 = s5 * x27;
+                x67 = arith.mul_add(c5, x46, -x66);
+                x68 = c5 * x27;
+                x69 = arith.mul_add(s5, x46, x68);
+                x70 = s5 * x31;
+                x71 = arith.mul_add(c5, x50, -x70);
+                x72 = c5 * x31;
+                x73 = arith.mul_add(s5, x50, x72);
+                x74 = s5 * x35;
+                x75 = arith.mul_add(c5, x54, -x74);
+                x76 = c5 * x35;
+                x77 = arith.mul_add(s5, x54, x76);
+                x78 = 0.2255f64 * x27;
+                x79 = arith.mul_add(0.0707f64, x48, x78);
+                x80 = 0.2255f64 * x31;
+                x81 = arith.mul_add(-0.0707f64, x52, x80);
+                x82 = 0.2255f64 * x35;
+                x83 = arith.mul_add(-0.0707f64, x56, x82);
+                x84 = x63 + x79;
+                x85 = x64 + x81;
+                x86 = x65 + x83;
+                x87 = s6 * x48;
+                x88 = arith.mul_add(c6, x67, -x87);
+                x89 = c6 * x48;
+                x90 = arith.mul_add(s6, x67, x89);
+                x91 = s6 * x52;
+                x92 = arith.mul_add(c6, x71, x91);
+                x93 = s6 * x71;
+                x94 = arith.mul_add(c6, x52, -x93);
+                x95 = s6 * x56;
+                x96 = arith.mul_add(c6, x75, x95);
+                x97 = s6 * x75;
+                x98 = arith.mul_add(c6, x56, -x97);
+                x99 = 0.0711f64 * x69;
+                x100 = arith.mul_add(-0.0707f64, x48, x99);
+                x101 = 0.0711f64 * x73;
+                x102 = arith.mul_add(0.0707f64, x52, x101);
+                x103 = 0.0711f64 * x77;
+                x104 = arith.mul_add(0.0707f64, x56, x103);
+                x105 = x84 + x100;
+                x106 = x85 + x102;
+                x107 = x86 + x104;
+                x108 = arith.mul_add(0.0549f64, x69, x105);
+                x109 = arith.mul_add(0.0549f64, x73, x106);
+                x110 = arith.mul_add(0.0549f64, x77, x107);
+                x111 = x108 - x4;
+                x112 = x109 - x5;
+                x113 = x110 - 0.36f64;
+                x114 = c0 * x113;
+                x115 = s0 * x113;
+                x116 = c0 * x111;
+                x117 = arith.mul_add(s0, x112, x116);
+                x118 = x108 - x21;
+                x119 = x109 - x22;
+                x120 = x110 - x23;
+                x121 = c1 * x119;
+                x122 = arith.mul_add(x3, x120, -x121);
+                x123 = x1 * x120;
+                x124 = arith.mul_add(c1, x118, -x123);
+                x125 = x3 * x118;
+                x126 = arith.mul_add(x1, x119, -x125);
+                x127 = x12 - x13;
+                x128 = x108 - x42;
+                x129 = x109 - x43;
+                x130 = x110 - x44;
+                x131 = x16 * x129;
+                x132 = arith.mul_add(x127, x130, x131);
+                x133 = x9 * x130;
+                x134 = arith.mul_add(x16, x128, x133);
+                x135 = x127 * x128;
+                x136 = arith.mul_add(x9, x129, -x135);
+                x137 = x108 - x63;
+                x138 = x109 - x64;
+                x139 = x110 - x65;
+                x140 = x35 * x138;
+                x141 = arith.mul_add(x31, x139, -x140);
+                x142 = x27 * x139;
+                x143 = arith.mul_add(x35, x137, -x142);
+                x144 = x31 * x137;
+                x145 = arith.mul_add(x27, x138, -x144);
+                x146 = x108 - x84;
+                x147 = x109 - x85;
+                x148 = x110 - x86;
+                x149 = x56 * x147;
+                x150 = arith.mul_add(x52, x148, -x149);
+                x151 = x48 * x148;
+                x152 = arith.mul_add(x56, x146, x151);
+                x153 = x52 * x146;
+                x154 = arith.mul_add(x48, x147, x153);
+                x155 = x108 - x105;
+                x156 = x109 - x106;
+                x157 = x110 - x107;
+                x158 = x77 * x156;
+                x159 = arith.mul_add(x73, x157, -x158);
+                x160 = x69 * x157;
+                x161 = arith.mul_add(x77, x155, -x160);
+                x162 = x73 * x155;
+                x163 = arith.mul_add(x69, x156, -x162);
+                x164 = qd0 * x5;
+                x165 = qd0 * x4;
+                x166 = qd1 * s0;
+                x167 = qd1 * c0;
+                x168 = x21 - x4;
+                x169 = x22 - x5;
+                x170 = x23 - 0.36f64;
+                x171 = qd0 * x169;
+                x172 = arith.mul_add(x167, x170, -x171);
+                x173 = x166 * x170;
+                x174 = arith.mul_add(qd0, x168, x173);
+                x175 = x167 * x168;
+                x176 = arith.mul_add(x166, x169, x175);
+                x177 = x172 - x164;
+                x178 = x165 + x174;
+                x179 = arith.mul_add(qd2, x1, -x166);
+                x180 = arith.mul_add(qd2, x3, x167);
+                x181 = arith.mul_add(qd2, c1, qd0);
+                x182 = x42 - x21;
+                x183 = x43 - x22;
+                x184 = x44 - x23;
+                x185 = x181 * x183;
+                x186 = arith.mul_add(x180, x184, -x185);
+                x187 = x179 * x184;
+                x188 = arith.mul_add(x181, x182, -x187);
+                x189 = x180 * x182;
+                x190 = arith.mul_add(x179, x183, -x189);
+                x191 = x177 + x186;
+                x192 = x178 + x188;
+                x193 = x190 - x176;
+                x194 = arith.mul_add(qd3, x9, x179);
+                x195 = arith.mul_add(qd3, x127, x180);
+                x196 = arith.mul_add(-qd3, x16, x181);
+                x197 = x63 - x42;
+                x198 = x64 - x43;
+                x199 = x65 - x44;
+                x200 = x196 * x198;
+                x201 = arith.mul_add(x195, x199, -x200);
+                x202 = x194 * x199;
+                x203 = arith.mul_add(x196, x197, -x202);
+                x204 = x195 * x197;
+                x205 = arith.mul_add(x194, x198, -x204);
+                x206 = x191 + x201;
+                x207 = x192 + x203;
+                x208 = x193 + x205;
+                x209 = arith.mul_add(qd4, x27, x194);
+                x210 = arith.mul_add(qd4, x31, x195);
+                x211 = arith.mul_add(qd4, x35, x196);
+                x212 = x84 - x63;
+                x213 = x85 - x64;
+                x214 = x86 - x65;
+                x215 = x211 * x213;
+                x216 = arith.mul_add(x210, x214, -x215);
+                x217 = x209 * x214;
+                x218 = arith.mul_add(x211, x212, -x217);
+                x219 = x210 * x212;
+                x220 = arith.mul_add(x209, x213, -x219);
+                x221 = x206 + x216;
+                x222 = x207 + x218;
+                x223 = x208 + x220;
+                x224 = arith.mul_add(-qd5, x48, x209);
+                x225 = arith.mul_add(qd5, x52, x210);
+                x226 = arith.mul_add(qd5, x56, x211);
+                x227 = x105 - x84;
+                x228 = x106 - x85;
+                x229 = x107 - x86;
+                x230 = x226 * x228;
+                x231 = arith.mul_add(x225, x229, -x230);
+                x232 = x224 * x229;
+                x233 = arith.mul_add(x226, x227, -x232);
+                x234 = x225 * x227;
+                x235 = arith.mul_add(x224, x228, -x234);
+                x236 = x221 + x231;
+                x237 = x222 + x233;
+                x238 = x223 + x235;
+                x239 = arith.mul_add(qd6, x69, x224);
+                x240 = arith.mul_add(qd6, x73, x225);
+                x241 = arith.mul_add(qd6, x77, x226);
+                x242 = x156 * x241;
+                x243 = arith.mul_add(x157, x240, -x242);
+                x244 = x157 * x239;
+                x245 = arith.mul_add(x155, x241, -x244);
+                x246 = x155 * x240;
+                x247 = arith.mul_add(x156, x239, -x246);
+                x248 = x236 + x243;
+                x249 = x237 + x245;
+                x250 = x238 + x247;
+                x251 = qd0 * c0;
+                x252 = qd0 * s0;
+                x253 = c0 * x166;
+                x254 = arith.mul_add(s0, x167, -x253);
+                x255 = x112 * x254;
+                x256 = arith.mul_add(x113, x252, x255);
+                x257 = x113 * x251;
+                x258 = arith.mul_add(x111, x254, x257);
+                x259 = x112 * x251;
+                x260 = arith.mul_add(x111, x252, -x259);
+                x261 = x164 + x248;
+                x262 = x249 - x165;
+                x263 = c0 * x261;
+                x264 = arith.mul_add(s0, x262, x263);
+                x265 = arith.mul_add(c0, x250, -x256);
+                x266 = arith.mul_add(s0, x250, x258);
+                x267 = x260 - x264;
+                x268 = x3 * x181;
+                x269 = arith.mul_add(c1, x180, -x268);
+                x270 = c1 * x179;
+                x271 = arith.mul_add(x1, x181, -x270);
+                x272 = x1 * x180;
+                x273 = arith.mul_add(x3, x179, -x272);
+                x274 = x119 * x273;
+                x275 = arith.mul_add(x120, x271, -x274);
+                x276 = x120 * x269;
+                x277 = arith.mul_add(x118, x273, -x276);
+                x278 = x118 * x271;
+                x279 = arith.mul_add(x119, x269, -x278);
+                x280 = x248 - x177;
+                x281 = x249 - x178;
+                x282 = x176 + x250;
+                x283 = c1 * x281;
+                x284 = arith.mul_add(x3, x282, -x283);
+                x285 = x1 * x282;
+                x286 = arith.mul_add(c1, x280, -x285);
+                x287 = x3 * x280;
+                x288 = arith.mul_add(x1, x281, -x287);
+                x289 = x275 + x284;
+                x290 = x277 + x286;
+                x291 = x279 + x288;
+                x292 = x127 * x196;
+                x293 = arith.mul_add(x16, x195, x292);
+                x294 = x16 * x194;
+                x295 = arith.mul_add(x9, x196, x294);
+                x296 = x9 * x195;
+                x297 = arith.mul_add(x127, x194, -x296);
+                x298 = x129 * x297;
+                x299 = arith.mul_add(x130, x295, -x298);
+                x300 = x130 * x293;
+                x301 = arith.mul_add(x128, x297, x300);
+                x302 = x128 * x295;
+                x303 = arith.mul_add(x129, x293, x302);
+                x304 = x248 - x191;
+                x305 = x249 - x192;
+                x306 = x250 - x193;
+                x307 = x16 * x305;
+                x308 = arith.mul_add(x127, x306, x307);
+                x309 = x9 * x306;
+                x310 = arith.mul_add(x16, x304, x309);
+                x311 = x127 * x304;
+                x312 = arith.mul_add(x9, x305, -x311);
+                x313 = x299 + x308;
+                x314 = x301 - x310;
+                x315 = x312 - x303;
+                x316 = x31 * x211;
+                x317 = arith.mul_add(x35, x210, -x316);
+                x318 = x35 * x209;
+                x319 = arith.mul_add(x27, x211, -x318);
+                x320 = x27 * x210;
+                x321 = arith.mul_add(x31, x209, -x320);
+                x322 = x138 * x321;
+                x323 = arith.mul_add(x139, x319, -x322);
+                x324 = x139 * x317;
+                x325 = arith.mul_add(x137, x321, -x324);
+                x326 = x137 * x319;
+                x327 = arith.mul_add(x138, x317, -x326);
+                x328 = x248 - x206;
+                x329 = x249 - x207;
+                x330 = x250 - x208;
+                x331 = x35 * x329;
+                x332 = arith.mul_add(x31, x330, -x331);
+                x333 = x27 * x330;
+                x334 = arith.mul_add(x35, x328, -x333);
+                x335 = x31 * x328;
+                x336 = arith.mul_add(x27, x329, -x335);
+                x337 = x323 + x332;
+                x338 = x325 + x334;
+                x339 = x327 + x336;
+                x340 = x52 * x226;
+                x341 = arith.mul_add(x56, x225, -x340);
+                x342 = x56 * x224;
+                x343 = arith.mul_add(x48, x226, x342);
+                x344 = x48 * x225;
+                x345 = arith.mul_add(x52, x224, x344);
+                x346 = x147 * x345;
+                x347 = arith.mul_add(x148, x343, x346);
+                x348 = x148 * x341;
+                x349 = arith.mul_add(x146, x345, -x348);
+                x350 = x146 * x343;
+                x351 = arith.mul_add(x147, x341, x350);
+                x352 = x248 - x221;
+                x353 = x249 - x222;
+                x354 = x250 - x223;
+                x355 = x56 * x353;
+                x356 = arith.mul_add(x52, x354, -x355);
+                x357 = x48 * x354;
+                x358 = arith.mul_add(x56, x352, x357);
+                x359 = x52 * x352;
+                x360 = arith.mul_add(x48, x353, x359);
+                x361 = x356 - x347;
+                x362 = x349 + x358;
+                x363 = x351 - x360;
+                x364 = x73 * x241;
+                x365 = arith.mul_add(x77, x240, -x364);
+                x366 = x77 * x239;
+                x367 = arith.mul_add(x69, x241, -x366);
+                x368 = x69 * x240;
+                x369 = arith.mul_add(x73, x239, -x368);
+                *o5 = x369;
+                x370 = x156 * x369;
+                x371 = arith.mul_add(x157, x367, -x370);
+                x372 = x157 * x365;
+                x373 = arith.mul_add(x155, x369, -x372);
+                x374 = x155 * x367;
+                x375 = arith.mul_add(x156, x365, -x374);
+                x376 = x248 - x236;
+                x377 = x249 - x237;
+                x378 = x250 - x238;
+                x379 = x77 * x377;
+                x380 = arith.mul_add(x73, x378, -x379);
+                x381 = x69 * x378;
+                x382 = arith.mul_add(x77, x376, -x381);
+                x383 = x73 * x376;
+                x384 = arith.mul_add(x69, x377, -x383);
+                x385 = x371 + x380;
+                x386 = x373 + x382;
+                x387 = x375 + x384;
+                x388 = x109 * x240;
+                x389 = arith.mul_add(x108, x239, x388);
+                x390 = arith.mul_add(x108, x241, -x249);
+                x391 = arith.mul_add(x109, x241, x248);
+                x392 = x92 * x391;
+                x393 = arith.mul_add(x88, x390, x392);
+                x394 = arith.mul_add(-x96, x389, x393);
+                *o0 = x394;
+                x395 = x90 * x390;
+                x396 = arith.mul_add(x94, x391, -x395);
+                x397 = arith.mul_add(-x98, x389, x396);
+                *o1 = x397;
+                x398 = x73 * x391;
+                x399 = arith.mul_add(x69, x390, x398);
+                x400 = arith.mul_add(-x77, x389, x399);
+                *o2 = x400;
+                x401 = x88 * x240;
+                x402 = arith.mul_add(x92, x239, -x401);
+                *o3 = x402;
+                x403 = x94 * x239;
+                x404 = arith.mul_add(x90, x240, x403);
+                *o4 = x404;
+                x405 = x115 * x241;
+                x406 = arith.mul_add(x117, x240, x405);
+                x407 = x117 * x239;
+                x408 = arith.mul_add(x114, x241, x407);
+                x409 = x114 * x240;
+                x410 = arith.mul_add(x115, x239, -x409);
+                x411 = x265 + x406;
+                x412 = x266 - x408;
+                x413 = x267 - x410;
+                x414 = x92 * x412;
+                x415 = arith.mul_add(x88, x411, x414);
+                x416 = arith.mul_add(x96, x413, x415);
+                *o6 = x416;
+                x417 = x90 * x411;
+                x418 = arith.mul_add(x94, x412, -x417);
+                x419 = arith.mul_add(x98, x413, x418);
+                *o7 = x419;
+                x420 = x73 * x412;
+                x421 = arith.mul_add(x69, x411, x420);
+                x422 = arith.mul_add(x77, x413, x421);
+                *o8 = x422;
+                x423 = s0 * x240;
+                x424 = arith.mul_add(c0, x239, x423);
+                x425 = arith.mul_add(c0, x241, -x251);
+                x426 = arith.mul_add(s0, x241, -x252);
+                x427 = x254 - x424;
+                x428 = x92 * x426;
+                x429 = arith.mul_add(x88, x425, x428);
+                x430 = arith.mul_add(x96, x427, x429);
+                *o9 = x430;
+                x431 = x90 * x425;
+                x432 = arith.mul_add(x94, x426, -x431);
+                x433 = arith.mul_add(x98, x427, x432);
+                *o10 = x433;
+                x434 = x73 * x426;
+                x435 = arith.mul_add(x69, x425, x434);
+                x436 = arith.mul_add(x77, x427, x435);
+                *o11 = x436;
+                x437 = x124 * x241;
+                x438 = arith.mul_add(x126, x240, -x437);
+                x439 = x126 * x239;
+                x440 = arith.mul_add(x122, x241, -x439);
+                x441 = x122 * x240;
+                x442 = arith.mul_add(x124, x239, -x441);
+                x443 = x289 - x438;
+                x444 = x290 - x440;
+                x445 = x291 - x442;
+                x446 = x92 * x444;
+                x447 = arith.mul_add(x88, x443, x446);
+                x448 = arith.mul_add(x96, x445, x447);
+                *o12 = x448;
+                x449 = x90 * x443;
+                x450 = arith.mul_add(x94, x444, -x449);
+                x451 = arith.mul_add(x98, x445, x450);
+                *o13 = x451;
+                x452 = x73 * x444;
+                x453 = arith.mul_add(x69, x443, x452);
+                x454 = arith.mul_add(x77, x445, x453);
+                *o14 = x454;
+                x455 = x3 * x241;
+                x456 = arith.mul_add(c1, x240, -x455);
+                x457 = c1 * x239;
+                x458 = arith.mul_add(x1, x241, -x457);
+                x459 = x1 * x240;
+                x460 = arith.mul_add(x3, x239, -x459);
+                x461 = x269 - x456;
+                x462 = x271 - x458;
+                x463 = x273 - x460;
+                x464 = x92 * x462;
+                x465 = arith.mul_add(x88, x461, x464);
+                x466 = arith.mul_add(x96, x463, x465);
+                *o15 = x466;
+                x467 = x90 * x461;
+                x468 = arith.mul_add(x94, x462, -x467);
+                x469 = arith.mul_add(x98, x463, x468);
+                *o16 = x469;
+                x470 = x73 * x462;
+                x471 = arith.mul_add(x69, x461, x470);
+                x472 = arith.mul_add(x77, x463, x471);
+                *o17 = x472;
+                x473 = x134 * x241;
+                x474 = arith.mul_add(x136, x240, x473);
+                x475 = x136 * x239;
+                x476 = arith.mul_add(x132, x241, -x475);
+                x477 = x132 * x240;
+                x478 = arith.mul_add(x134, x239, x477);
+                x479 = x313 - x474;
+                x480 = x314 - x476;
+                x481 = x315 + x478;
+                x482 = x92 * x480;
+                x483 = arith.mul_add(x88, x479, x482);
+                x484 = arith.mul_add(x96, x481, x483);
+                *o18 = x484;
+                x485 = x90 * x479;
+                x486 = arith.mul_add(x94, x480, -x485);
+                x487 = arith.mul_add(x98, x481, x486);
+                *o19 = x487;
+                x488 = x73 * x480;
+                x489 = arith.mul_add(x69, x479, x488);
+                x490 = arith.mul_add(x77, x481, x489);
+                *o20 = x490;
+                x491 = x127 * x241;
+                x492 = arith.mul_add(x16, x240, x491);
+                x493 = x16 * x239;
+                x494 = arith.mul_add(x9, x241, x493);
+                x495 = x9 * x240;
+                x496 = arith.mul_add(x127, x239, -x495);
+                x497 = x492 - x293;
+                x498 = x295 - x494;
+                x499 = x297 - x496;
+                x500 = x92 * x498;
+                x501 = arith.mul_add(x88, x497, x500);
+                x502 = arith.mul_add(x96, x499, x501);
+                *o21 = x502;
+                x503 = x90 * x497;
+                x504 = arith.mul_add(x94, x498, -x503);
+                x505 = arith.mul_add(x98, x499, x504);
+                *o22 = x505;
+                x506 = x73 * x498;
+                x507 = arith.mul_add(x69, x497, x506);
+                x508 = arith.mul_add(x77, x499, x507);
+                *o23 = x508;
+                x509 = x143 * x241;
+                x510 = arith.mul_add(x145, x240, -x509);
+                x511 = x145 * x239;
+                x512 = arith.mul_add(x141, x241, -x511);
+                x513 = x141 * x240;
+                x514 = arith.mul_add(x143, x239, -x513);
+                x515 = x337 - x510;
+                x516 = x338 - x512;
+                x517 = x339 - x514;
+                x518 = x92 * x516;
+                x519 = arith.mul_add(x88, x515, x518);
+                x520 = arith.mul_add(x96, x517, x519);
+                *o24 = x520;
+                x521 = x90 * x515;
+                x522 = arith.mul_add(x94, x516, -x521);
+                x523 = arith.mul_add(x98, x517, x522);
+                *o25 = x523;
+                x524 = x73 * x516;
+                x525 = arith.mul_add(x69, x515, x524);
+                x526 = arith.mul_add(x77, x517, x525);
+                *o26 = x526;
+                x527 = x31 * x241;
+                x528 = arith.mul_add(x35, x240, -x527);
+                x529 = x35 * x239;
+                x530 = arith.mul_add(x27, x241, -x529);
+                x531 = x27 * x240;
+                x532 = arith.mul_add(x31, x239, -x531);
+                x533 = x317 - x528;
+                x534 = x319 - x530;
+                x535 = x321 - x532;
+                x536 = x92 * x534;
+                x537 = arith.mul_add(x88, x533, x536);
+                x538 = arith.mul_add(x96, x535, x537);
+                *o27 = x538;
+                x539 = x90 * x533;
+                x540 = arith.mul_add(x94, x534, -x539);
+                x541 = arith.mul_add(x98, x535, x540);
+                *o28 = x541;
+                x542 = x73 * x534;
+                x543 = arith.mul_add(x69, x533, x542);
+                x544 = arith.mul_add(x77, x535, x543);
+                *o29 = x544;
+                x545 = x152 * x241;
+                x546 = arith.mul_add(x154, x240, x545);
+                x547 = x154 * x239;
+                x548 = arith.mul_add(x150, x241, x547);
+                x549 = x150 * x240;
+                x550 = arith.mul_add(x152, x239, -x549);
+                x551 = x361 + x546;
+                x552 = x362 - x548;
+                x553 = x363 - x550;
+                x554 = x92 * x552;
+                x555 = arith.mul_add(x88, x551, x554);
+                x556 = arith.mul_add(x96, x553, x555);
+                *o30 = x556;
+                x557 = x90 * x551;
+                x558 = arith.mul_add(x94, x552, -x557);
+                x559 = arith.mul_add(x98, x553, x558);
+                *o31 = x559;
+                x560 = x73 * x552;
+                x561 = arith.mul_add(x69, x551, x560);
+                x562 = arith.mul_add(x77, x553, x561);
+                *o32 = x562;
+                x563 = x52 * x241;
+                x564 = arith.mul_add(x56, x240, -x563);
+                x565 = x56 * x239;
+                x566 = arith.mul_add(x48, x241, x565);
+                x567 = x48 * x240;
+                x568 = arith.mul_add(x52, x239, x567);
+                x569 = x341 - x564;
+                x570 = x566 - x343;
+                x571 = x345 - x568;
+                x572 = x92 * x570;
+                x573 = arith.mul_add(x88, x569, x572);
+                x574 = arith.mul_add(x96, x571, x573);
+                *o33 = x574;
+                x575 = x90 * x569;
+                x576 = arith.mul_add(x94, x570, -x575);
+                x577 = arith.mul_add(x98, x571, x576);
+                *o34 = x577;
+                x578 = x73 * x570;
+                x579 = arith.mul_add(x69, x569, x578);
+                x580 = arith.mul_add(x77, x571, x579);
+                *o35 = x580;
+                x581 = x161 * x241;
+                x582 = arith.mul_add(x163, x240, -x581);
+                x583 = x163 * x239;
+                x584 = arith.mul_add(x159, x241, -x583);
+                x585 = x159 * x240;
+                x586 = arith.mul_add(x161, x239, -x585);
+                x587 = x385 - x582;
+                x588 = x386 - x584;
+                x589 = x387 - x586;
+                x590 = x92 * x588;
+                x591 = arith.mul_add(x88, x587, x590);
+                x592 = arith.mul_add(x96, x589, x591);
+                *o36 = x592;
+                x593 = x90 * x587;
+                x594 = arith.mul_add(x94, x588, -x593);
+                x595 = arith.mul_add(x98, x589, x594);
+                *o37 = x595;
+                x596 = x73 * x588;
+                x597 = arith.mul_add(x69, x587, x596);
+                x598 = arith.mul_add(x77, x589, x597);
+                *o38 = x598;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd))
+}
+///Operations: 361 mul, 325 add/sub, 4 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_jacobian_time_variation_flange_world(
+    t: &JointTrig<7>,
+    qd: &SVector<f64, 7>,
+) -> SMatrix<f64, 6, 7> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<7>, &SVector<f64, 7>)> for Body {
+        type Output = SMatrix<f64, 6, 7>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd): (&JointTrig<7>, &SVector<f64, 7>),
+        ) -> SMatrix<f64, 6, 7> {
+            let [s0, s1, s2, s3, s4, s5, _] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, _] = t.cos;
+            let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+            let mut out: SMatrix<f64, 6, 7> = SMatrix::zeros();
+            {
+                let [[o0, o1, _, _, _, _], [o6, o7, o8, o9, o10, o11], [o12, o13, o14,
+                o15, o16, o17], [o18, o19, o20, o21, o22, o23], [o24, o25, o26, o27, o28,
+                o29], [o30, o31, o32, o33, o34, o35], [o36, o37, o38, o39, o40, o41]] = &mut out
+                    .data
+                    .0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
+                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
+                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
+                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
+                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
+                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
+                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
+                x291, x292, x293, x294, x295, x296, x297, x298, x299, x300, x301, x302,
+                x303, x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
+                x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325, x326,
+                x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337, x338,
+                x339, x340, x341, x342, x343, x344, x345, x346, x347, x348, x349, x350,
+                x351, x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373, x374,
+                x375, x376, x377, x378, x379, x380, x381, x382, x383, x384, x385, x386,
+                x387, x388, x389, x390, x391, x392, x393, x394, x395, x396, x397, x398,
+                x399, x400, x401, x402, x403, x404, x405, x406, x407, x408, x409, x410,
+                x411, x412, x413, x414, x415, x416, x417, x418, x419, x420, x421, x422,
+                x423, x424, x425, x426, x427, x428, x429, x430, x431, x432, x433, x434,
+                x435, x436, x437, x438, x439, x440, x441, x442, x443, x444, x445, x446,
+                x447, x448, x449, x450, x451, x452, x453, x454, x455, x456, x457, x458,
+                x459, x460, x461, x462, x463, x464, x465, x466, x467, x468, x469, x470,
+                x471, x472, x473, x474, x475, x476, x477, x478, x479, x480, x481, x482,
+                x483, x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
+                x495, x496, x497, x498, x499]: [f64; 500];
+                x0 = c0 * c1;
+                x1 = c0 * s1;
+                x2 = s0 * c1;
+                x3 = s0 * s1;
+                x4 = 0.01f64 * s0;
+                x5 = -0.01f64 * c0;
+                x6 = s0 * s2;
+                x7 = arith.mul_add(c2, x0, -x6);
+                x8 = s0 * c2;
+                x9 = arith.mul_add(s2, x0, x8);
+                x10 = c0 * s2;
+                x11 = arith.mul_add(c2, x2, x10);
+                x12 = s2 * x2;
+                x13 = c0 * c2;
+                x14 = x13 - x12;
+                x15 = s1 * c2;
+                x16 = s1 * s2;
+                x17 = 0.1945f64 * x1;
+                x18 = arith.mul_add(-0.01f64, s0, x17);
+                x19 = 0.1945f64 * x3;
+                x20 = arith.mul_add(0.01f64, c0, x19);
+                x21 = x4 + x18;
+                x22 = x5 + x20;
+                x23 = arith.mul_add(0.1945f64, c1, 0.36f64);
+                x24 = s3 * x1;
+                x25 = arith.mul_add(c3, x7, x24);
+                x26 = s3 * x7;
+                x27 = arith.mul_add(c3, x1, -x26);
+                x28 = s3 * x3;
+                x29 = arith.mul_add(c3, x11, x28);
+                x30 = s3 * x11;
+                x31 = arith.mul_add(c3, x3, -x30);
+                x32 = c3 * x15;
+                x33 = arith.mul_add(c1, s3, -x32);
+                x34 = c1 * c3;
+                x35 = arith.mul_add(s3, x15, x34);
+                x36 = 0.2255f64 * x1;
+                x37 = arith.mul_add(-0.0105f64, x9, x36);
+                x38 = 0.2255f64 * x3;
+                x39 = arith.mul_add(0.0105f64, x14, x38);
+                x40 = 0.2255f64 * c1;
+                x41 = arith.mul_add(0.0105f64, x16, x40);
+                x42 = x21 + x37;
+                x43 = x22 + x39;
+                x44 = x23 + x41;
+                x45 = s4 * x9;
+                x46 = arith.mul_add(c4, x25, -x45);
+                x47 = c4 * x9;
+                x48 = arith.mul_add(s4, x25, x47);
+                x49 = s4 * x14;
+                x50 = arith.mul_add(c4, x29, x49);
+                x51 = s4 * x29;
+                x52 = arith.mul_add(c4, x14, -x51);
+                x53 = s4 * x16;
+                x54 = arith.mul_add(c4, x33, x53);
+                x55 = s4 * x33;
+                x56 = arith.mul_add(c4, x16, -x55);
+                x57 = 0.1745f64 * x27;
+                x58 = arith.mul_add(0.0105f64, x9, x57);
+                x59 = 0.1745f64 * x31;
+                x60 = arith.mul_add(-0.0105f64, x14, x59);
+                x61 = 0.1745f64 * x35;
+                x62 = arith.mul_add(-0.0105f64, x16, x61);
+                x63 = x42 + x58;
+                x64 = x43 + x60;
+                x65 = x44 + x62;
+                x66 = c5 * x27;
+                x67 = arith.mul_add(s5, x46, x66);
+                x68 = c5 * x31;
+                x69 = arith.mul_add(s5, x50, x68);
+                x70 = c5 * x35;
+                x71 = arith.mul_add(s5, x54, x70);
+                x72 = 0.2255f64 * x27;
+                x73 = arith.mul_add(0.0707f64, x48, x72);
+                x74 = 0.2255f64 * x31;
+                x75 = arith.mul_add(-0.0707f64, x52, x74);
+                x76 = 0.2255f64 * x35;
+                x77 = arith.mul_add(-0.0707f64, x56, x76);
+                x78 = x63 + x73;
+                x79 = x64 + x75;
+                x80 = x65 + x77;
+                x81 = 0.0711f64 * x67;
+                x82 = arith.mul_add(-0.0707f64, x48, x81);
+                x83 = 0.0711f64 * x69;
+                x84 = arith.mul_add(0.0707f64, x52, x83);
+                x85 = 0.0711f64 * x71;
+                x86 = arith.mul_add(0.0707f64, x56, x85);
+                x87 = x78 + x82;
+                x88 = x79 + x84;
+                x89 = x80 + x86;
+                x90 = arith.mul_add(0.0549f64, x67, x87);
+                x91 = arith.mul_add(0.0549f64, x69, x88);
+                x92 = arith.mul_add(0.0549f64, x71, x89);
+                x93 = x90 - x4;
+                x94 = x91 - x5;
+                x95 = x92 - 0.36f64;
+                x96 = c0 * x95;
+                x97 = s0 * x95;
+                x98 = c0 * x93;
+                x99 = arith.mul_add(s0, x94, x98);
+                x100 = x90 - x21;
+                x101 = x91 - x22;
+                x102 = x92 - x23;
+                x103 = c1 * x101;
+                x104 = arith.mul_add(x3, x102, -x103);
+                x105 = x1 * x102;
+                x106 = arith.mul_add(c1, x100, -x105);
+                x107 = x3 * x100;
+                x108 = arith.mul_add(x1, x101, -x107);
+                x109 = x12 - x13;
+                x110 = x90 - x42;
+                x111 = x91 - x43;
+                x112 = x92 - x44;
+                x113 = x16 * x111;
+                x114 = arith.mul_add(x109, x112, x113);
+                x115 = x9 * x112;
+                x116 = arith.mul_add(x16, x110, x115);
+                x117 = x109 * x110;
+                x118 = arith.mul_add(x9, x111, -x117);
+                x119 = x90 - x63;
+                x120 = x91 - x64;
+                x121 = x92 - x65;
+                x122 = x35 * x120;
+                x123 = arith.mul_add(x31, x121, -x122);
+                x124 = x27 * x121;
+                x125 = arith.mul_add(x35, x119, -x124);
+                x126 = x31 * x119;
+                x127 = arith.mul_add(x27, x120, -x126);
+                x128 = x90 - x78;
+                x129 = x91 - x79;
+                x130 = x92 - x80;
+                x131 = x56 * x129;
+                x132 = arith.mul_add(x52, x130, -x131);
+                x133 = x48 * x130;
+                x134 = arith.mul_add(x56, x128, x133);
+                x135 = x52 * x128;
+                x136 = arith.mul_add(x48, x129, x135);
+                x137 = x90 - x87;
+                x138 = x91 - x88;
+                x139 = x92 - x89;
+                x140 = x71 * x138;
+                x141 = arith.mul_add(x69, x139, -x140);
+                x142 = x67 * x139;
+                x143 = arith.mul_add(x71, x137, -x142);
+                x144 = x69 * x137;
+                x145 = arith.mul_add(x67, x138, -x144);
+                x146 = qd0 * x5;
+                x147 = qd0 * x4;
+                x148 = qd1 * s0;
+                x149 = qd1 * c0;
+                x150 = x21 - x4;
+                x151 = x22 - x5;
+                x152 = x23 - 0.36f64;
+                x153 = qd0 * x151;
+                x154 = arith.mul_add(x149, x152, -x153);
+                x155 = x148 * x152;
+                x156 = arith.mul_add(qd0, x150, x155);
+                x157 = x149 * x150;
+                x158 = arith.mul_add(x148, x151, x157);
+                x159 = x154 - x146;
+                x160 = x147 + x156;
+                x161 = arith.mul_add(qd2, x1, -x148);
+                x162 = arith.mul_add(qd2, x3, x149);
+                x163 = arith.mul_add(qd2, c1, qd0);
+                x164 = x42 - x21;
+                x165 = x43 - x22;
+                x166 = x44 - x23;
+                x167 = x163 * x165;
+                x168 = arith.mul_add(x162, x166, -x167);
+                x169 = x161 * x166;
+                x170 = arith.mul_add(x163, x164, -x169);
+                x171 = x162 * x164;
+                x172 = arith.mul_add(x161, x165, -x171);
+                x173 = x159 + x168;
+                x174 = x160 + x170;
+                x175 = x172 - x158;
+                x176 = arith.mul_add(qd3, x9, x161);
+                x177 = arith.mul_add(qd3, x109, x162);
+                x178 = arith.mul_add(-qd3, x16, x163);
+                x179 = x63 - x42;
+                x180 = x64 - x43;
+                x181 = x65 - x44;
+                x182 = x178 * x180;
+                x183 = arith.mul_add(x177, x181, -x182);
+                x184 = x176 * x181;
+                x185 = arith.mul_add(x178, x179, -x184);
+                x186 = x177 * x179;
+                x187 = arith.mul_add(x176, x180, -x186);
+                x188 = x173 + x183;
+                x189 = x174 + x185;
+                x190 = x175 + x187;
+                x191 = arith.mul_add(qd4, x27, x176);
+                x192 = arith.mul_add(qd4, x31, x177);
+                x193 = arith.mul_add(qd4, x35, x178);
+                x194 = x78 - x63;
+                x195 = x79 - x64;
+                x196 = x80 - x65;
+                x197 = x193 * x195;
+                x198 = arith.mul_add(x192, x196, -x197);
+                x199 = x191 * x196;
+                x200 = arith.mul_add(x193, x194, -x199);
+                x201 = x192 * x194;
+                x202 = arith.mul_add(x191, x195, -x201);
+                x203 = x188 + x198;
+                x204 = x189 + x200;
+                x205 = x190 + x202;
+                x206 = arith.mul_add(-qd5, x48, x191);
+                x207 = arith.mul_add(qd5, x52, x192);
+                x208 = arith.mul_add(qd5, x56, x193);
+                x209 = x87 - x78;
+                x210 = x88 - x79;
+                x211 = x89 - x80;
+                x212 = x208 * x210;
+                x213 = arith.mul_add(x207, x211, -x212);
+                x214 = x206 * x211;
+                x215 = arith.mul_add(x208, x209, -x214);
+                x216 = x207 * x209;
+                x217 = arith.mul_add(x206, x210, -x216);
+                x218 = x203 + x213;
+                x219 = x204 + x215;
+                x220 = x205 + x217;
+                x221 = arith.mul_add(qd6, x67, x206);
+                x222 = arith.mul_add(qd6, x69, x207);
+                x223 = arith.mul_add(qd6, x71, x208);
+                x224 = x138 * x223;
+                x225 = arith.mul_add(x139, x222, -x224);
+                x226 = x139 * x221;
+                x227 = arith.mul_add(x137, x223, -x226);
+                x228 = x137 * x222;
+                x229 = arith.mul_add(x138, x221, -x228);
+                x230 = x218 + x225;
+                x231 = x219 + x227;
+                x232 = x220 + x229;
+                x233 = qd0 * c0;
+                x234 = -x233;
+                *o9 = x234;
+                x235 = qd0 * s0;
+                x236 = -x235;
+                *o10 = x236;
+                x237 = c0 * x148;
+                x238 = arith.mul_add(s0, x149, -x237);
+                *o11 = x238;
+                x239 = x94 * x238;
+                x240 = arith.mul_add(x95, x235, x239);
+                x241 = x95 * x233;
+                x242 = arith.mul_add(x93, x238, x241);
+                x243 = x94 * x233;
+                x244 = arith.mul_add(x93, x235, -x243);
+                x245 = x146 + x230;
+                x246 = x231 - x147;
+                x247 = c0 * x245;
+                x248 = arith.mul_add(s0, x246, x247);
+                x249 = arith.mul_add(c0, x232, -x240);
+                x250 = arith.mul_add(s0, x232, x242);
+                x251 = x244 - x248;
+                x252 = x3 * x163;
+                x253 = arith.mul_add(c1, x162, -x252);
+                *o15 = x253;
+                x254 = c1 * x161;
+                x255 = arith.mul_add(x1, x163, -x254);
+                *o16 = x255;
+                x256 = x1 * x162;
+                x257 = arith.mul_add(x3, x161, -x256);
+                *o17 = x257;
+                x258 = x101 * x257;
+                x259 = arith.mul_add(x102, x255, -x258);
+                x260 = x102 * x253;
+                x261 = arith.mul_add(x100, x257, -x260);
+                x262 = x100 * x255;
+                x263 = arith.mul_add(x101, x253, -x262);
+                x264 = x230 - x159;
+                x265 = x231 - x160;
+                x266 = x158 + x232;
+                x267 = c1 * x265;
+                x268 = arith.mul_add(x3, x266, -x267);
+                x269 = x1 * x266;
+                x270 = arith.mul_add(c1, x264, -x269);
+                x271 = x3 * x264;
+                x272 = arith.mul_add(x1, x265, -x271);
+                x273 = x259 + x268;
+                x274 = x261 + x270;
+                x275 = x263 + x272;
+                x276 = x109 * x178;
+                x277 = arith.mul_add(x16, x177, x276);
+                x278 = -x277;
+                *o21 = x278;
+                x279 = x16 * x176;
+                x280 = arith.mul_add(x9, x178, x279);
+                *o22 = x280;
+                x281 = x9 * x177;
+                x282 = arith.mul_add(x109, x176, -x281);
+                *o23 = x282;
+                x283 = x111 * x282;
+                x284 = arith.mul_add(x112, x280, -x283);
+                x285 = x112 * x277;
+                x286 = arith.mul_add(x110, x282, x285);
+                x287 = x110 * x280;
+                x288 = arith.mul_add(x111, x277, x287);
+                x289 = x230 - x173;
+                x290 = x231 - x174;
+                x291 = x232 - x175;
+                x292 = x16 * x290;
+                x293 = arith.mul_add(x109, x291, x292);
+                x294 = x9 * x291;
+                x295 = arith.mul_add(x16, x289, x294);
+                x296 = x109 * x289;
+                x297 = arith.mul_add(x9, x290, -x296);
+                x298 = x284 + x293;
+                x299 = x286 - x295;
+                x300 = x297 - x288;
+                x301 = x31 * x193;
+                x302 = arith.mul_add(x35, x192, -x301);
+                *o27 = x302;
+                x303 = x35 * x191;
+                x304 = arith.mul_add(x27, x193, -x303);
+                *o28 = x304;
+                x305 = x27 * x192;
+                x306 = arith.mul_add(x31, x191, -x305);
+                *o29 = x306;
+                x307 = x120 * x306;
+                x308 = arith.mul_add(x121, x304, -x307);
+                x309 = x121 * x302;
+                x310 = arith.mul_add(x119, x306, -x309);
+                x311 = x119 * x304;
+                x312 = arith.mul_add(x120, x302, -x311);
+                x313 = x230 - x188;
+                x314 = x231 - x189;
+                x315 = x232 - x190;
+                x316 = x35 * x314;
+                x317 = arith.mul_add(x31, x315, -x316);
+                x318 = x27 * x315;
+                x319 = arith.mul_add(x35, x313, -x318);
+                x320 = x31 * x313;
+                x321 = arith.mul_add(x27, x314, -x320);
+                x322 = x308 + x317;
+                x323 = x310 + x319;
+                x324 = x312 + x321;
+                x325 = x52 * x208;
+                x326 = arith.mul_add(x56, x207, -x325);
+                *o33 = x326;
+                x327 = x56 * x206;
+                x328 = arith.mul_add(x48, x208, x327);
+                x329 = -x328;
+                *o34 = x329;
+                x330 = x48 * x207;
+                x331 = arith.mul_add(x52, x206, x330);
+                *o35 = x331;
+                x332 = x129 * x331;
+                x333 = arith.mul_add(x130, x328, x332);
+                x334 = x130 * x326;
+                x335 = arith.mul_add(x128, x331, -x334);
+                x336 = x128 * x328;
+                x337 = arith.mul_add(x129, x326, x336);
+                x338 = x230 - x203;
+                x339 = x231 - x204;
+                x340 = x232 - x205;
+                x341 = x56 * x339;
+                x342 = arith.mul_add(x52, x340, -x341);
+                x343 = x48 * x340;
+                x344 = arith.mul_add(x56, x338, x343);
+                x345 = x52 * x338;
+                x346 = arith.mul_add(x48, x339, x345);
+                x347 = x342 - x333;
+                x348 = x335 + x344;
+                x349 = x337 - x346;
+                x350 = x69 * x223;
+                x351 = arith.mul_add(x71, x222, -x350);
+                *o39 = x351;
+                x352 = x71 * x221;
+                x353 = arith.mul_add(x67, x223, -x352);
+                *o40 = x353;
+                x354 = x67 * x222;
+                x355 = arith.mul_add(x69, x221, -x354);
+                *o41 = x355;
+                x356 = x138 * x355;
+                x357 = arith.mul_add(x139, x353, -x356);
+                x358 = x139 * x351;
+                x359 = arith.mul_add(x137, x355, -x358);
+                x360 = x137 * x353;
+                x361 = arith.mul_add(x138, x351, -x360);
+                x362 = x230 - x218;
+                x363 = x231 - x219;
+                x364 = x232 - x220;
+                x365 = x71 * x363;
+                x366 = arith.mul_add(x69, x364, -x365);
+                x367 = x67 * x364;
+                x368 = arith.mul_add(x71, x362, -x367);
+                x369 = x69 * x362;
+                x370 = arith.mul_add(x67, x363, -x369);
+                x371 = x357 + x366;
+                x372 = x359 + x368;
+                x373 = x361 + x370;
+                x374 = qd0 * x91;
+                x375 = arith.mul_add(qd1, x96, -x374);
+                x376 = arith.mul_add(qd2, x104, x375);
+                x377 = arith.mul_add(qd3, x114, x376);
+                x378 = arith.mul_add(qd4, x123, x377);
+                x379 = arith.mul_add(qd5, x132, x378);
+                x380 = arith.mul_add(qd6, x141, x379);
+                x381 = qd1 * x97;
+                x382 = arith.mul_add(qd0, x90, x381);
+                x383 = arith.mul_add(qd2, x106, x382);
+                x384 = arith.mul_add(-qd3, x116, x383);
+                x385 = arith.mul_add(qd4, x125, x384);
+                x386 = arith.mul_add(qd5, x134, x385);
+                x387 = arith.mul_add(qd6, x143, x386);
+                x388 = qd1 * x99;
+                x389 = arith.mul_add(qd2, x108, -x388);
+                x390 = arith.mul_add(qd3, x118, x389);
+                x391 = arith.mul_add(qd4, x127, x390);
+                x392 = arith.mul_add(-qd5, x136, x391);
+                x393 = arith.mul_add(qd6, x145, x392);
+                x394 = x387 - x231;
+                *o0 = x394;
+                x395 = x230 - x380;
+                *o1 = x395;
+                x396 = s0 * x387;
+                x397 = arith.mul_add(c0, x380, x396);
+                x398 = arith.mul_add(-c0, x393, x249);
+                x399 = arith.mul_add(-s0, x393, x250);
+                x400 = x251 + x397;
+                x401 = x92 * x235;
+                x402 = arith.mul_add(x91, x238, x401);
+                x403 = x90 * x238;
+                x404 = arith.mul_add(x92, x233, x403);
+                x405 = x90 * x235;
+                x406 = arith.mul_add(x91, x233, -x405);
+                x407 = x398 + x402;
+                *o6 = x407;
+                x408 = x399 - x404;
+                *o7 = x408;
+                x409 = x400 + x406;
+                *o8 = x409;
+                x410 = x3 * x393;
+                x411 = arith.mul_add(c1, x387, -x410);
+                x412 = c1 * x380;
+                x413 = arith.mul_add(x1, x393, -x412);
+                x414 = x1 * x387;
+                x415 = arith.mul_add(x3, x380, -x414);
+                x416 = x273 + x411;
+                x417 = x274 + x413;
+                x418 = x275 + x415;
+                x419 = x92 * x255;
+                x420 = arith.mul_add(x91, x257, -x419);
+                x421 = x90 * x257;
+                x422 = arith.mul_add(x92, x253, -x421);
+                x423 = x91 * x253;
+                x424 = arith.mul_add(x90, x255, -x423);
+                x425 = x416 + x420;
+                *o12 = x425;
+                x426 = x417 + x422;
+                *o13 = x426;
+                x427 = x418 + x424;
+                *o14 = x427;
+                x428 = x109 * x393;
+                x429 = arith.mul_add(x16, x387, x428);
+                x430 = x16 * x380;
+                x431 = arith.mul_add(x9, x393, x430);
+                x432 = x9 * x387;
+                x433 = arith.mul_add(x109, x380, -x432);
+                x434 = x298 - x429;
+                x435 = x299 + x431;
+                x436 = x300 + x433;
+                x437 = x92 * x280;
+                x438 = arith.mul_add(x91, x282, -x437);
+                x439 = x90 * x282;
+                x440 = arith.mul_add(x92, x277, x439);
+                x441 = x91 * x277;
+                x442 = arith.mul_add(x90, x280, x441);
+                x443 = x434 + x438;
+                *o18 = x443;
+                x444 = x435 - x440;
+                *o19 = x444;
+                x445 = x436 + x442;
+                *o20 = x445;
+                x446 = x31 * x393;
+                x447 = arith.mul_add(x35, x387, -x446);
+                x448 = x35 * x380;
+                x449 = arith.mul_add(x27, x393, -x448);
+                x450 = x27 * x387;
+                x451 = arith.mul_add(x31, x380, -x450);
+                x452 = x322 + x447;
+                x453 = x323 + x449;
+                x454 = x324 + x451;
+                x455 = x92 * x304;
+                x456 = arith.mul_add(x91, x306, -x455);
+                x457 = x90 * x306;
+                x458 = arith.mul_add(x92, x302, -x457);
+                x459 = x91 * x302;
+                x460 = arith.mul_add(x90, x304, -x459);
+                x461 = x452 + x456;
+                *o24 = x461;
+                x462 = x453 + x458;
+                *o25 = x462;
+                x463 = x454 + x460;
+                *o26 = x463;
+                x464 = x52 * x393;
+                x465 = arith.mul_add(x56, x387, -x464);
+                x466 = x56 * x380;
+                x467 = arith.mul_add(x48, x393, x466);
+                x468 = x48 * x387;
+                x469 = arith.mul_add(x52, x380, x468);
+                x470 = x347 + x465;
+                x471 = x348 - x467;
+                x472 = x349 + x469;
+                x473 = x92 * x328;
+                x474 = arith.mul_add(x91, x331, x473);
+                x475 = x90 * x331;
+                x476 = arith.mul_add(x92, x326, -x475);
+                x477 = x91 * x326;
+                x478 = arith.mul_add(x90, x328, x477);
+                x479 = x470 + x474;
+                *o30 = x479;
+                x480 = x471 + x476;
+                *o31 = x480;
+                x481 = x472 - x478;
+                *o32 = x481;
+                x482 = x69 * x393;
+                x483 = arith.mul_add(x71, x387, -x482);
+                x484 = x71 * x380;
+                x485 = arith.mul_add(x67, x393, -x484);
+                x486 = x67 * x387;
+                x487 = arith.mul_add(x69, x380, -x486);
+                x488 = x371 + x483;
+                x489 = x372 + x485;
+                x490 = x373 + x487;
+                x491 = x92 * x353;
+                x492 = arith.mul_add(x91, x355, -x491);
+                x493 = x90 * x355;
+                x494 = arith.mul_add(x92, x351, -x493);
+                x495 = x91 * x351;
+                x496 = arith.mul_add(x90, x353, -x495);
+                x497 = x488 + x492;
+                *o36 = x497;
+                x498 = x489 + x494;
+                *o37 = x498;
+                x499 = x490 + x496;
+                *o38 = x499;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd))
+}
+///Operations: 283 mul, 203 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_velocity_flange_local(
+    t: &JointTrig<7>,
+    qd: &SVector<f64, 7>,
+) -> SVector<f64, 6> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<7>, &SVector<f64, 7>)> for Body {
+        type Output = SVector<f64, 6>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd): (&JointTrig<7>, &SVector<f64, 7>),
+        ) -> SVector<f64, 6> {
+            let [s0, s1, s2, s3, s4, s5, s6] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, c6] = t.cos;
+            let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+            let mut out: SVector<f64, 6> = SMatrix::zeros();
+            {
+                let [[o0, o1, o2, o3, o4, o5]] = &mut out.data.0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
+                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
+                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
+                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
+                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
+                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
+                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
+                x291, x292, x293, x294, x295, x296, x297, x298, x299, x300, x301, x302,
+                x303, x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
+                x315, x316]: [f64; 317];
+                x0 = c0 * c1;
+                x1 = c0 * s1;
+                x2 = s0 * c1;
+                x3 = s0 * s1;
+                x4 = 0.01f64 * s0;
+                x5 = -0.01f64 * c0;
+                x6 = s0 * s2;
+                x7 = arith.mul_add(c2, x0, -x6);
+                x8 = s0 * c2;
+                x9 = arith.mul_add(s2, x0, x8);
+                x10 = c0 * s2;
+                x11 = arith.mul_add(c2, x2, x10);
+                x12 = s2 * x2;
+                x13 = c0 * c2;
+                x14 = x13 - x12;
+                x15 = s1 * c2;
+                x16 = s1 * s2;
+                x17 = 0.1945f64 * x1;
+                x18 = arith.mul_add(-0.01f64, s0, x17);
+                x19 = 0.1945f64 * x3;
+                x20 = arith.mul_add(0.01f64, c0, x19);
+                x21 = x4 + x18;
+                x22 = x5 + x20;
+                x23 = arith.mul_add(0.1945f64, c1, 0.36f64);
+                x24 = s3 * x1;
+                x25 = arith.mul_add(c3, x7, x24);
+                x26 = s3 * x7;
+                x27 = arith.mul_add(c3, x1, -x26);
+                x28 = s3 * x3;
+                x29 = arith.mul_add(c3, x11, x28);
+                x30 = s3 * x11;
+                x31 = arith.mul_add(c3, x3, -x30);
+                x32 = c3 * x15;
+                x33 = arith.mul_add(c1, s3, -x32);
+                x34 = c1 * c3;
+                x35 = arith.mul_add(s3, x15, x34);
+                x36 = 0.2255f64 * x1;
+                x37 = arith.mul_add(-0.0105f64, x9, x36);
+                x38 = 0.2255f64 * x3;
+                x39 = arith.mul_add(0.0105f64, x14, x38);
+                x40 = 0.2255f64 * c1;
+                x41 = arith.mul_add(0.0105f64, x16, x40);
+                x42 = x21 + x37;
+                x43 = x22 + x39;
+                x44 = x23 + x41;
+                x45 = s4 * x9;
+                x46 = arith.mul_add(c4, x25, -x45);
+                x47 = c4 * x9;
+                x48 = arith.mul_add(s4, x25, x47);
+                x49 = s4 * x14;
+                x50 = arith.mul_add(c4, x29, x49);
+                x51 = s4 * x29;
+                x52 = arith.mul_add(c4, x14, -x51);
+                x53 = s4 * x16;
+                x54 = arith.mul_add(c4, x33, x53);
+                x55 = s4 * x33;
+                x56 = arith.mul_add(c4, x16, -x55);
+                x57 = 0.1745f64 * x27;
+                x58 = arith.mul_add(0.0105f64, x9, x57);
+                x59 = 0.1745f64 * x31;
+                x60 = arith.mul_add(-0.0105f64, x14, x59);
+                x61 = 0.1745f64 * x35;
+                x62 = arith.mul_add(-0.0105f64, x16, x61);
+                x63 = x42 + x58;
+                x64 = x43 + x60;
+                x65 = x44 + x62;
+                x66 = s5 * x27;
+                x67 = arith.mul_add(c5, x46, -x66);
+                x68 = c5 * x27;
+                x69 = arith.mul_add(s5, x46, x68);
+                x70 = s5 * x31;
+                x71 = arith.mul_add(c5, x50, -x70);
+                x72 = c5 * x31;
+                x73 = arith.mul_add(s5, x50, x72);
+                x74 = s5 * x35;
+                x75 = arith.mul_add(c5, x54, -x74);
+                x76 = c5 * x35;
+                x77 = arith.mul_add(s5, x54, x76);
+                x78 = 0.2255f64 * x27;
+                x79 = arith.mul_add(0.0707f64, x48, x78);
+                x80 = 0.2255f64 * x31;
+                x81 = arith.mul_add(-0.0707f64, x52, x80);
+                x82 = 0.2255f64 * x35;
+                x83 = arith.mul_add(-0.0707f64, x56, x82);
+                x84 = x63 + x79;
+                x85 = x64 + x81;
+                x86 = x65 + x83;
+                x87 = s6 * x48;
+                x88 = arith.mul_add(c6, x67, -x87);
+                x89 = c6 * x48;
+                x90 = arith.mul_add(s6, x67, x89);
+                x91 = s6 * x52;
+                x92 = arith.mul_add(c6, x71, x91);
+                x93 = s6 * x71;
+                x94 = arith.mul_add(c6, x52, -x93);
+                x95 = s6 * x56;
+                x96 = arith.mul_add(c6, x75, x95);
+                x97 = s6 * x75;
+                x98 = arith.mul_add(c6, x56, -x97);
+                x99 = 0.0711f64 * x69;
+                x100 = arith.mul_add(-0.0707f64, x48, x99);
+                x101 = 0.0711f64 * x73;
+                x102 = arith.mul_add(0.0707f64, x52, x101);
+                x103 = 0.0711f64 * x77;
+                x104 = arith.mul_add(0.0707f64, x56, x103);
+                x105 = x84 + x100;
+                x106 = x85 + x102;
+                x107 = x86 + x104;
+                x108 = arith.mul_add(0.0549f64, x69, x105);
+                x109 = arith.mul_add(0.0549f64, x73, x106);
+                x110 = arith.mul_add(0.0549f64, x77, x107);
+                x111 = x108 - x4;
+                x112 = x109 - x5;
+                x113 = x110 - 0.36f64;
+                x114 = c0 * x113;
+                x115 = s0 * x113;
+                x116 = c0 * x111;
+                x117 = arith.mul_add(s0, x112, x116);
+                x118 = x108 - x21;
+                x119 = x109 - x22;
+                x120 = x110 - x23;
+                x121 = c1 * x119;
+                x122 = arith.mul_add(x3, x120, -x121);
+                x123 = x1 * x120;
+                x124 = arith.mul_add(c1, x118, -x123);
+                x125 = x3 * x118;
+                x126 = arith.mul_add(x1, x119, -x125);
+                x127 = x12 - x13;
+                x128 = x108 - x42;
+                x129 = x109 - x43;
+                x130 = x110 - x44;
+                x131 = x16 * x129;
+                x132 = arith.mul_add(x127, x130, x131);
+                x133 = x9 * x130;
+                x134 = arith.mul_add(x16, x128, x133);
+                x135 = x127 * x128;
+                x136 = arith.mul_add(x9, x129, -x135);
+                x137 = x108 - x63;
+                x138 = x109 - x64;
+                x139 = x110 - x65;
+                x140 = x35 * x138;
+                x141 = arith.mul_add(x31, x139, -x140);
+                x142 = x27 * x139;
+                x143 = arith.mul_add(x35, x137, -x142);
+                x144 = x31 * x137;
+                x145 = arith.mul_add(x27, x138, -x144);
+                x146 = x108 - x84;
+                x147 = x109 - x85;
+                x148 = x110 - x86;
+                x149 = x56 * x147;
+                x150 = arith.mul_add(x52, x148, -x149);
+                x151 = x48 * x148;
+                x152 = arith.mul_add(x56, x146, x151);
+                x153 = x52 * x146;
+                x154 = arith.mul_add(x48, x147, x153);
+                x155 = x108 - x105;
+                x156 = x109 - x106;
+                x157 = x110 - x107;
+                x158 = x77 * x156;
+                x159 = arith.mul_add(x73, x157, -x158);
+                x160 = x69 * x157;
+                x161 = arith.mul_add(x77, x155, -x160);
+                x162 = x73 * x155;
+                x163 = arith.mul_add(x69, x156, -x162);
+                x164 = x88 * x109;
+                x165 = arith.mul_add(x92, x108, -x164);
+                x166 = x94 * x108;
+                x167 = arith.mul_add(x90, x109, x166);
+                x168 = x69 * x109;
+                x169 = arith.mul_add(x73, x108, -x168);
+                x170 = x92 * x115;
+                x171 = arith.mul_add(x88, x114, x170);
+                x172 = arith.mul_add(-x96, x117, x171);
+                x173 = x90 * x114;
+                x174 = arith.mul_add(x94, x115, -x173);
+                x175 = arith.mul_add(-x98, x117, x174);
+                x176 = x73 * x115;
+                x177 = arith.mul_add(x69, x114, x176);
+                x178 = arith.mul_add(-x77, x117, x177);
+                x179 = s0 * x88;
+                x180 = arith.mul_add(c0, x92, -x179);
+                x181 = c0 * x94;
+                x182 = arith.mul_add(s0, x90, x181);
+                x183 = s0 * x69;
+                x184 = arith.mul_add(c0, x73, -x183);
+                x185 = x92 * x124;
+                x186 = arith.mul_add(x88, x122, x185);
+                x187 = arith.mul_add(x96, x126, x186);
+                x188 = x90 * x122;
+                x189 = arith.mul_add(x94, x124, -x188);
+                x190 = arith.mul_add(x98, x126, x189);
+                x191 = x73 * x124;
+                x192 = arith.mul_add(x69, x122, x191);
+                x193 = arith.mul_add(x77, x126, x192);
+                x194 = x3 * x92;
+                x195 = arith.mul_add(x1, x88, x194);
+                x196 = arith.mul_add(c1, x96, x195);
+                x197 = x1 * x90;
+                x198 = arith.mul_add(x3, x94, -x197);
+                x199 = arith.mul_add(c1, x98, x198);
+                x200 = x3 * x73;
+                x201 = arith.mul_add(x1, x69, x200);
+                x202 = arith.mul_add(c1, x77, x201);
+                x203 = x92 * x134;
+                x204 = arith.mul_add(x88, x132, -x203);
+                x205 = arith.mul_add(x96, x136, x204);
+                x206 = x94 * x134;
+                x207 = arith.mul_add(x90, x132, x206);
+                x208 = arith.mul_add(x98, x136, -x207);
+                x209 = x73 * x134;
+                x210 = arith.mul_add(x69, x132, -x209);
+                x211 = arith.mul_add(x77, x136, x210);
+                x212 = x92 * x127;
+                x213 = arith.mul_add(x9, x88, x212);
+                x214 = arith.mul_add(-x16, x96, x213);
+                x215 = x9 * x90;
+                x216 = arith.mul_add(x94, x127, -x215);
+                x217 = arith.mul_add(-x16, x98, x216);
+                x218 = x73 * x127;
+                x219 = arith.mul_add(x9, x69, x218);
+                x220 = arith.mul_add(-x16, x77, x219);
+                x221 = x92 * x143;
+                x222 = arith.mul_add(x88, x141, x221);
+                x223 = arith.mul_add(x96, x145, x222);
+                x224 = x90 * x141;
+                x225 = arith.mul_add(x94, x143, -x224);
+                x226 = arith.mul_add(x98, x145, x225);
+                x227 = x73 * x143;
+                x228 = arith.mul_add(x69, x141, x227);
+                x229 = arith.mul_add(x77, x145, x228);
+                x230 = x31 * x92;
+                x231 = arith.mul_add(x27, x88, x230);
+                x232 = arith.mul_add(x35, x96, x231);
+                x233 = x27 * x90;
+                x234 = arith.mul_add(x31, x94, -x233);
+                x235 = arith.mul_add(x35, x98, x234);
+                x236 = x31 * x73;
+                x237 = arith.mul_add(x27, x69, x236);
+                x238 = arith.mul_add(x35, x77, x237);
+                x239 = x92 * x152;
+                x240 = arith.mul_add(x88, x150, x239);
+                x241 = arith.mul_add(-x96, x154, x240);
+                x242 = x90 * x150;
+                x243 = arith.mul_add(x94, x152, -x242);
+                x244 = arith.mul_add(-x98, x154, x243);
+                x245 = x73 * x152;
+                x246 = arith.mul_add(x69, x150, x245);
+                x247 = arith.mul_add(-x77, x154, x246);
+                x248 = x48 * x88;
+                x249 = arith.mul_add(x52, x92, -x248);
+                x250 = arith.mul_add(x56, x96, x249);
+                x251 = x52 * x94;
+                x252 = arith.mul_add(x48, x90, x251);
+                x253 = arith.mul_add(x56, x98, x252);
+                x254 = x48 * x69;
+                x255 = arith.mul_add(x52, x73, -x254);
+                x256 = arith.mul_add(x56, x77, x255);
+                x257 = x92 * x161;
+                x258 = arith.mul_add(x88, x159, x257);
+                x259 = arith.mul_add(x96, x163, x258);
+                x260 = x90 * x159;
+                x261 = arith.mul_add(x94, x161, -x260);
+                x262 = arith.mul_add(x98, x163, x261);
+                x263 = x73 * x161;
+                x264 = arith.mul_add(x69, x159, x263);
+                x265 = arith.mul_add(x77, x163, x264);
+                x266 = x73 * x92;
+                x267 = arith.mul_add(x69, x88, x266);
+                x268 = arith.mul_add(x77, x96, x267);
+                x269 = x69 * x90;
+                x270 = arith.mul_add(x73, x94, -x269);
+                x271 = arith.mul_add(x77, x98, x270);
+                x272 = x73 * x73;
+                x273 = arith.mul_add(x69, x69, x272);
+                x274 = arith.mul_add(x77, x77, x273);
+                x275 = qd1 * x172;
+                x276 = arith.mul_add(qd0, x165, x275);
+                x277 = arith.mul_add(qd2, x187, x276);
+                x278 = arith.mul_add(qd3, x205, x277);
+                x279 = arith.mul_add(qd4, x223, x278);
+                x280 = arith.mul_add(qd5, x241, x279);
+                x281 = arith.mul_add(qd6, x259, x280);
+                *o0 = x281;
+                x282 = qd1 * x175;
+                x283 = arith.mul_add(qd0, x167, x282);
+                x284 = arith.mul_add(qd2, x190, x283);
+                x285 = arith.mul_add(qd3, x208, x284);
+                x286 = arith.mul_add(qd4, x226, x285);
+                x287 = arith.mul_add(qd5, x244, x286);
+                x288 = arith.mul_add(qd6, x262, x287);
+                *o1 = x288;
+                x289 = qd1 * x178;
+                x290 = arith.mul_add(qd0, x169, x289);
+                x291 = arith.mul_add(qd2, x193, x290);
+                x292 = arith.mul_add(qd3, x211, x291);
+                x293 = arith.mul_add(qd4, x229, x292);
+                x294 = arith.mul_add(qd5, x247, x293);
+                x295 = arith.mul_add(qd6, x265, x294);
+                *o2 = x295;
+                x296 = qd1 * x180;
+                x297 = arith.mul_add(qd0, x96, x296);
+                x298 = arith.mul_add(qd2, x196, x297);
+                x299 = arith.mul_add(qd3, x214, x298);
+                x300 = arith.mul_add(qd4, x232, x299);
+                x301 = arith.mul_add(qd5, x250, x300);
+                x302 = arith.mul_add(qd6, x268, x301);
+                *o3 = x302;
+                x303 = qd1 * x182;
+                x304 = arith.mul_add(qd0, x98, x303);
+                x305 = arith.mul_add(qd2, x199, x304);
+                x306 = arith.mul_add(qd3, x217, x305);
+                x307 = arith.mul_add(qd4, x235, x306);
+                x308 = arith.mul_add(qd5, x253, x307);
+                x309 = arith.mul_add(qd6, x271, x308);
+                *o4 = x309;
+                x310 = qd1 * x184;
+                x311 = arith.mul_add(qd0, x77, x310);
+                x312 = arith.mul_add(qd2, x202, x311);
+                x313 = arith.mul_add(qd3, x220, x312);
+                x314 = arith.mul_add(qd4, x238, x313);
+                x315 = arith.mul_add(qd5, x256, x314);
+                x316 = arith.mul_add(qd6, x274, x315);
+                *o5 = x316;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd))
+}
+///Operations: 181 mul, 150 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_velocity_flange_world(
+    t: &JointTrig<7>,
+    qd: &SVector<f64, 7>,
+) -> SVector<f64, 6> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<7>, &SVector<f64, 7>)> for Body {
+        type Output = SVector<f64, 6>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd): (&JointTrig<7>, &SVector<f64, 7>),
+        ) -> SVector<f64, 6> {
+            let [s0, s1, s2, s3, s4, s5, _] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, _] = t.cos;
+            let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+            let mut out: SVector<f64, 6> = SMatrix::zeros();
+            {
+                let [[o0, o1, o2, o3, o4, o5]] = &mut out.data.0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
+                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
+                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                ]: [f64; 231];
+                x0 = c0 * c1;
+                x1 = c0 * s1;
+                x2 = s0 * c1;
+                x3 = s0 * s1;
+                x4 = 0.01f64 * s0;
+                x5 = -0.01f64 * c0;
+                x6 = s0 * s2;
+                x7 = arith.mul_add(c2, x0, -x6);
+                x8 = s0 * c2;
+                x9 = arith.mul_add(s2, x0, x8);
+                x10 = c0 * s2;
+                x11 = arith.mul_add(c2, x2, x10);
+                x12 = s2 * x2;
+                x13 = c0 * c2;
+                x14 = x13 - x12;
+                x15 = s1 * c2;
+                x16 = s1 * s2;
+                x17 = 0.1945f64 * x1;
+                x18 = arith.mul_add(-0.01f64, s0, x17);
+                x19 = 0.1945f64 * x3;
+                x20 = arith.mul_add(0.01f64, c0, x19);
+                x21 = x4 + x18;
+                x22 = x5 + x20;
+                x23 = arith.mul_add(0.1945f64, c1, 0.36f64);
+                x24 = s3 * x1;
+                x25 = arith.mul_add(c3, x7, x24);
+                x26 = s3 * x7;
+                x27 = arith.mul_add(c3, x1, -x26);
+                x28 = s3 * x3;
+                x29 = arith.mul_add(c3, x11, x28);
+                x30 = s3 * x11;
+                x31 = arith.mul_add(c3, x3, -x30);
+                x32 = c3 * x15;
+                x33 = arith.mul_add(c1, s3, -x32);
+                x34 = c1 * c3;
+                x35 = arith.mul_add(s3, x15, x34);
+                x36 = 0.2255f64 * x1;
+                x37 = arith.mul_add(-0.0105f64, x9, x36);
+                x38 = 0.2255f64 * x3;
+                x39 = arith.mul_add(0.0105f64, x14, x38);
+                x40 = 0.2255f64 * c1;
+                x41 = arith.mul_add(0.0105f64, x16, x40);
+                x42 = x21 + x37;
+                x43 = x22 + x39;
+                x44 = x23 + x41;
+                x45 = s4 * x9;
+                x46 = arith.mul_add(c4, x25, -x45);
+                x47 = c4 * x9;
+                x48 = arith.mul_add(s4, x25, x47);
+                x49 = s4 * x14;
+                x50 = arith.mul_add(c4, x29, x49);
+                x51 = s4 * x29;
+                x52 = arith.mul_add(c4, x14, -x51);
+                x53 = s4 * x16;
+                x54 = arith.mul_add(c4, x33, x53);
+                x55 = s4 * x33;
+                x56 = arith.mul_add(c4, x16, -x55);
+                x57 = 0.1745f64 * x27;
+                x58 = arith.mul_add(0.0105f64, x9, x57);
+                x59 = 0.1745f64 * x31;
+                x60 = arith.mul_add(-0.0105f64, x14, x59);
+                x61 = 0.1745f64 * x35;
+                x62 = arith.mul_add(-0.0105f64, x16, x61);
+                x63 = x42 + x58;
+                x64 = x43 + x60;
+                x65 = x44 + x62;
+                x66 = c5 * x27;
+                x67 = arith.mul_add(s5, x46, x66);
+                x68 = c5 * x31;
+                x69 = arith.mul_add(s5, x50, x68);
+                x70 = c5 * x35;
+                x71 = arith.mul_add(s5, x54, x70);
+                x72 = 0.2255f64 * x27;
+                x73 = arith.mul_add(0.0707f64, x48, x72);
+                x74 = 0.2255f64 * x31;
+                x75 = arith.mul_add(-0.0707f64, x52, x74);
+                x76 = 0.2255f64 * x35;
+                x77 = arith.mul_add(-0.0707f64, x56, x76);
+                x78 = x63 + x73;
+                x79 = x64 + x75;
+                x80 = x65 + x77;
+                x81 = 0.0711f64 * x67;
+                x82 = arith.mul_add(-0.0707f64, x48, x81);
+                x83 = 0.0711f64 * x69;
+                x84 = arith.mul_add(0.0707f64, x52, x83);
+                x85 = 0.0711f64 * x71;
+                x86 = arith.mul_add(0.0707f64, x56, x85);
+                x87 = x78 + x82;
+                x88 = x79 + x84;
+                x89 = x80 + x86;
+                x90 = arith.mul_add(0.0549f64, x67, x87);
+                x91 = arith.mul_add(0.0549f64, x69, x88);
+                x92 = arith.mul_add(0.0549f64, x71, x89);
+                x93 = x90 - x4;
+                x94 = x91 - x5;
+                x95 = x92 - 0.36f64;
+                x96 = c0 * x93;
+                x97 = arith.mul_add(s0, x94, x96);
+                x98 = x90 - x21;
+                x99 = x91 - x22;
+                x100 = x92 - x23;
+                x101 = c1 * x99;
+                x102 = arith.mul_add(x3, x100, -x101);
+                x103 = x1 * x100;
+                x104 = arith.mul_add(c1, x98, -x103);
+                x105 = x3 * x98;
+                x106 = arith.mul_add(x1, x99, -x105);
+                x107 = x12 - x13;
+                x108 = x90 - x42;
+                x109 = x91 - x43;
+                x110 = x92 - x44;
+                x111 = x16 * x109;
+                x112 = arith.mul_add(x107, x110, x111);
+                x113 = x9 * x110;
+                x114 = arith.mul_add(x16, x108, x113);
+                x115 = x107 * x108;
+                x116 = arith.mul_add(x9, x109, -x115);
+                x117 = x90 - x63;
+                x118 = x91 - x64;
+                x119 = x92 - x65;
+                x120 = x35 * x118;
+                x121 = arith.mul_add(x31, x119, -x120);
+                x122 = x27 * x119;
+                x123 = arith.mul_add(x35, x117, -x122);
+                x124 = x31 * x117;
+                x125 = arith.mul_add(x27, x118, -x124);
+                x126 = x90 - x78;
+                x127 = x91 - x79;
+                x128 = x92 - x80;
+                x129 = x56 * x127;
+                x130 = arith.mul_add(x52, x128, -x129);
+                x131 = x48 * x128;
+                x132 = arith.mul_add(x56, x126, x131);
+                x133 = x52 * x126;
+                x134 = arith.mul_add(x48, x127, x133);
+                x135 = x90 - x87;
+                x136 = x91 - x88;
+                x137 = x92 - x89;
+                x138 = x71 * x136;
+                x139 = arith.mul_add(x69, x137, -x138);
+                x140 = x67 * x137;
+                x141 = arith.mul_add(x71, x135, -x140);
+                x142 = x69 * x135;
+                x143 = arith.mul_add(x67, x136, -x142);
+                x144 = qd1 * s0;
+                x145 = qd2 * x3;
+                x146 = arith.mul_add(qd2, x1, -x144);
+                x147 = arith.mul_add(qd1, c0, x145);
+                x148 = arith.mul_add(qd2, c1, qd0);
+                x149 = arith.mul_add(qd3, x9, x146);
+                x150 = arith.mul_add(qd3, x107, x147);
+                x151 = arith.mul_add(-qd3, x16, x148);
+                x152 = arith.mul_add(qd4, x27, x149);
+                x153 = arith.mul_add(qd4, x31, x150);
+                x154 = arith.mul_add(qd4, x35, x151);
+                x155 = arith.mul_add(-qd5, x48, x152);
+                x156 = arith.mul_add(qd5, x52, x153);
+                x157 = arith.mul_add(qd5, x56, x154);
+                x158 = arith.mul_add(qd6, x67, x155);
+                *o3 = x158;
+                x159 = arith.mul_add(qd6, x69, x156);
+                *o4 = x159;
+                x160 = arith.mul_add(qd6, x71, x157);
+                *o5 = x160;
+                x161 = x67 * x91;
+                x162 = arith.mul_add(x69, x90, -x161);
+                x163 = c0 * x92;
+                x164 = s0 * x92;
+                x165 = s0 * x91;
+                x166 = arith.mul_add(c0, x90, x165);
+                x167 = arith.mul_add(c0, x95, -x163);
+                x168 = arith.mul_add(s0, x95, -x164);
+                x169 = x166 - x97;
+                x170 = x3 * x92;
+                x171 = arith.mul_add(c1, x91, -x170);
+                x172 = c1 * x90;
+                x173 = arith.mul_add(x1, x92, -x172);
+                x174 = x1 * x91;
+                x175 = arith.mul_add(x3, x90, -x174);
+                x176 = x102 + x171;
+                x177 = x104 + x173;
+                x178 = x106 + x175;
+                x179 = x92 * x107;
+                x180 = arith.mul_add(x16, x91, x179);
+                x181 = x16 * x90;
+                x182 = arith.mul_add(x9, x92, x181);
+                x183 = x9 * x91;
+                x184 = arith.mul_add(x90, x107, -x183);
+                x185 = x112 - x180;
+                x186 = x182 - x114;
+                x187 = x116 + x184;
+                x188 = x31 * x92;
+                x189 = arith.mul_add(x35, x91, -x188);
+                x190 = x35 * x90;
+                x191 = arith.mul_add(x27, x92, -x190);
+                x192 = x27 * x91;
+                x193 = arith.mul_add(x31, x90, -x192);
+                x194 = x121 + x189;
+                x195 = x123 + x191;
+                x196 = x125 + x193;
+                x197 = x52 * x92;
+                x198 = arith.mul_add(x56, x91, -x197);
+                x199 = x56 * x90;
+                x200 = arith.mul_add(x48, x92, x199);
+                x201 = x48 * x91;
+                x202 = arith.mul_add(x52, x90, x201);
+                x203 = x130 + x198;
+                x204 = x132 - x200;
+                x205 = x202 - x134;
+                x206 = x69 * x92;
+                x207 = arith.mul_add(x71, x91, -x206);
+                x208 = x71 * x90;
+                x209 = arith.mul_add(x67, x92, -x208);
+                x210 = x139 + x207;
+                x211 = x141 + x209;
+                x212 = x143 + x162;
+                x213 = qd2 * x176;
+                x214 = arith.mul_add(qd1, x167, x213);
+                x215 = arith.mul_add(qd3, x185, x214);
+                x216 = arith.mul_add(qd4, x194, x215);
+                x217 = arith.mul_add(qd5, x203, x216);
+                x218 = arith.mul_add(qd6, x210, x217);
+                *o0 = x218;
+                x219 = qd2 * x177;
+                x220 = arith.mul_add(qd1, x168, x219);
+                x221 = arith.mul_add(qd3, x186, x220);
+                x222 = arith.mul_add(qd4, x195, x221);
+                x223 = arith.mul_add(qd5, x204, x222);
+                x224 = arith.mul_add(qd6, x211, x223);
+                *o1 = x224;
+                x225 = qd2 * x178;
+                x226 = arith.mul_add(qd1, x169, x225);
+                x227 = arith.mul_add(qd3, x187, x226);
+                x228 = arith.mul_add(qd4, x196, x227);
+                x229 = arith.mul_add(qd5, x205, x228);
+                x230 = arith.mul_add(qd6, x212, x229);
+                *o2 = x230;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd))
+}
+///Operations: 149 mul, 118 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_velocity_flange_local_world_aligned(
+    t: &JointTrig<7>,
+    qd: &SVector<f64, 7>,
+) -> SVector<f64, 6> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<7>, &SVector<f64, 7>)> for Body {
+        type Output = SVector<f64, 6>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd): (&JointTrig<7>, &SVector<f64, 7>),
+        ) -> SVector<f64, 6> {
+            let [s0, s1, s2, s3, s4, s5, _] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, _] = t.cos;
+            let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+            let mut out: SVector<f64, 6> = SMatrix::zeros();
+            {
+                let [[o0, o1, o2, o3, o4, o5]] = &mut out.data.0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                ]: [f64; 183];
+                x0 = c0 * c1;
+                x1 = c0 * s1;
+                x2 = s0 * c1;
+                x3 = s0 * s1;
+                x4 = 0.01f64 * s0;
+                x5 = -0.01f64 * c0;
+                x6 = s0 * s2;
+                x7 = arith.mul_add(c2, x0, -x6);
+                x8 = s0 * c2;
+                x9 = arith.mul_add(s2, x0, x8);
+                x10 = c0 * s2;
+                x11 = arith.mul_add(c2, x2, x10);
+                x12 = s2 * x2;
+                x13 = c0 * c2;
+                x14 = x13 - x12;
+                x15 = s1 * c2;
+                x16 = s1 * s2;
+                x17 = 0.1945f64 * x1;
+                x18 = arith.mul_add(-0.01f64, s0, x17);
+                x19 = 0.1945f64 * x3;
+                x20 = arith.mul_add(0.01f64, c0, x19);
+                x21 = x4 + x18;
+                x22 = x5 + x20;
+                x23 = arith.mul_add(0.1945f64, c1, 0.36f64);
+                x24 = s3 * x1;
+                x25 = arith.mul_add(c3, x7, x24);
+                x26 = s3 * x7;
+                x27 = arith.mul_add(c3, x1, -x26);
+                x28 = s3 * x3;
+                x29 = arith.mul_add(c3, x11, x28);
+                x30 = s3 * x11;
+                x31 = arith.mul_add(c3, x3, -x30);
+                x32 = c3 * x15;
+                x33 = arith.mul_add(c1, s3, -x32);
+                x34 = c1 * c3;
+                x35 = arith.mul_add(s3, x15, x34);
+                x36 = 0.2255f64 * x1;
+                x37 = arith.mul_add(-0.0105f64, x9, x36);
+                x38 = 0.2255f64 * x3;
+                x39 = arith.mul_add(0.0105f64, x14, x38);
+                x40 = 0.2255f64 * c1;
+                x41 = arith.mul_add(0.0105f64, x16, x40);
+                x42 = x21 + x37;
+                x43 = x22 + x39;
+                x44 = x23 + x41;
+                x45 = s4 * x9;
+                x46 = arith.mul_add(c4, x25, -x45);
+                x47 = c4 * x9;
+                x48 = arith.mul_add(s4, x25, x47);
+                x49 = s4 * x14;
+                x50 = arith.mul_add(c4, x29, x49);
+                x51 = s4 * x29;
+                x52 = arith.mul_add(c4, x14, -x51);
+                x53 = s4 * x16;
+                x54 = arith.mul_add(c4, x33, x53);
+                x55 = s4 * x33;
+                x56 = arith.mul_add(c4, x16, -x55);
+                x57 = 0.1745f64 * x27;
+                x58 = arith.mul_add(0.0105f64, x9, x57);
+                x59 = 0.1745f64 * x31;
+                x60 = arith.mul_add(-0.0105f64, x14, x59);
+                x61 = 0.1745f64 * x35;
+                x62 = arith.mul_add(-0.0105f64, x16, x61);
+                x63 = x42 + x58;
+                x64 = x43 + x60;
+                x65 = x44 + x62;
+                x66 = c5 * x27;
+                x67 = arith.mul_add(s5, x46, x66);
+                x68 = c5 * x31;
+                x69 = arith.mul_add(s5, x50, x68);
+                x70 = c5 * x35;
+                x71 = arith.mul_add(s5, x54, x70);
+                x72 = 0.2255f64 * x27;
+                x73 = arith.mul_add(0.0707f64, x48, x72);
+                x74 = 0.2255f64 * x31;
+                x75 = arith.mul_add(-0.0707f64, x52, x74);
+                x76 = 0.2255f64 * x35;
+                x77 = arith.mul_add(-0.0707f64, x56, x76);
+                x78 = x63 + x73;
+                x79 = x64 + x75;
+                x80 = x65 + x77;
+                x81 = 0.0711f64 * x67;
+                x82 = arith.mul_add(-0.0707f64, x48, x81);
+                x83 = 0.0711f64 * x69;
+                x84 = arith.mul_add(0.0707f64, x52, x83);
+                x85 = 0.0711f64 * x71;
+                x86 = arith.mul_add(0.0707f64, x56, x85);
+                x87 = x78 + x82;
+                x88 = x79 + x84;
+                x89 = x80 + x86;
+                x90 = arith.mul_add(0.0549f64, x67, x87);
+                x91 = arith.mul_add(0.0549f64, x69, x88);
+                x92 = arith.mul_add(0.0549f64, x71, x89);
+                x93 = x90 - x4;
+                x94 = x91 - x5;
+                x95 = x92 - 0.36f64;
+                x96 = c0 * x95;
+                x97 = s0 * x95;
+                x98 = c0 * x93;
+                x99 = arith.mul_add(s0, x94, x98);
+                x100 = x90 - x21;
+                x101 = x91 - x22;
+                x102 = x92 - x23;
+                x103 = c1 * x101;
+                x104 = arith.mul_add(x3, x102, -x103);
+                x105 = x1 * x102;
+                x106 = arith.mul_add(c1, x100, -x105);
+                x107 = x3 * x100;
+                x108 = arith.mul_add(x1, x101, -x107);
+                x109 = x12 - x13;
+                x110 = x90 - x42;
+                x111 = x91 - x43;
+                x112 = x92 - x44;
+                x113 = x16 * x111;
+                x114 = arith.mul_add(x109, x112, x113);
+                x115 = x9 * x112;
+                x116 = arith.mul_add(x16, x110, x115);
+                x117 = x109 * x110;
+                x118 = arith.mul_add(x9, x111, -x117);
+                x119 = x90 - x63;
+                x120 = x91 - x64;
+                x121 = x92 - x65;
+                x122 = x35 * x120;
+                x123 = arith.mul_add(x31, x121, -x122);
+                x124 = x27 * x121;
+                x125 = arith.mul_add(x35, x119, -x124);
+                x126 = x31 * x119;
+                x127 = arith.mul_add(x27, x120, -x126);
+                x128 = x90 - x78;
+                x129 = x91 - x79;
+                x130 = x92 - x80;
+                x131 = x56 * x129;
+                x132 = arith.mul_add(x52, x130, -x131);
+                x133 = x48 * x130;
+                x134 = arith.mul_add(x56, x128, x133);
+                x135 = x52 * x128;
+                x136 = arith.mul_add(x48, x129, x135);
+                x137 = x90 - x87;
+                x138 = x91 - x88;
+                x139 = x92 - x89;
+                x140 = x71 * x138;
+                x141 = arith.mul_add(x69, x139, -x140);
+                x142 = x67 * x139;
+                x143 = arith.mul_add(x71, x137, -x142);
+                x144 = x69 * x137;
+                x145 = arith.mul_add(x67, x138, -x144);
+                x146 = qd1 * s0;
+                x147 = qd2 * x3;
+                x148 = arith.mul_add(qd2, x1, -x146);
+                x149 = arith.mul_add(qd1, c0, x147);
+                x150 = arith.mul_add(qd2, c1, qd0);
+                x151 = arith.mul_add(qd3, x9, x148);
+                x152 = arith.mul_add(qd3, x109, x149);
+                x153 = arith.mul_add(-qd3, x16, x150);
+                x154 = arith.mul_add(qd4, x27, x151);
+                x155 = arith.mul_add(qd4, x31, x152);
+                x156 = arith.mul_add(qd4, x35, x153);
+                x157 = arith.mul_add(-qd5, x48, x154);
+                x158 = arith.mul_add(qd5, x52, x155);
+                x159 = arith.mul_add(qd5, x56, x156);
+                x160 = arith.mul_add(qd6, x67, x157);
+                *o3 = x160;
+                x161 = arith.mul_add(qd6, x69, x158);
+                *o4 = x161;
+                x162 = arith.mul_add(qd6, x71, x159);
+                *o5 = x162;
+                x163 = qd0 * x91;
+                x164 = arith.mul_add(qd1, x96, -x163);
+                x165 = arith.mul_add(qd2, x104, x164);
+                x166 = arith.mul_add(qd3, x114, x165);
+                x167 = arith.mul_add(qd4, x123, x166);
+                x168 = arith.mul_add(qd5, x132, x167);
+                x169 = arith.mul_add(qd6, x141, x168);
+                *o0 = x169;
+                x170 = qd1 * x97;
+                x171 = arith.mul_add(qd0, x90, x170);
+                x172 = arith.mul_add(qd2, x106, x171);
+                x173 = arith.mul_add(-qd3, x116, x172);
+                x174 = arith.mul_add(qd4, x125, x173);
+                x175 = arith.mul_add(qd5, x134, x174);
+                x176 = arith.mul_add(qd6, x143, x175);
+                *o1 = x176;
+                x177 = qd1 * x99;
+                x178 = arith.mul_add(qd2, x108, -x177);
+                x179 = arith.mul_add(qd3, x118, x178);
+                x180 = arith.mul_add(qd4, x127, x179);
+                x181 = arith.mul_add(-qd5, x136, x180);
+                x182 = arith.mul_add(qd6, x145, x181);
+                *o2 = x182;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd))
+}
+///Operations: 709 mul, 575 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_classical_acceleration_flange_local(
+    t: &JointTrig<7>,
+    qd: &SVector<f64, 7>,
+    a: &SVector<f64, 7>,
+) -> SVector<f64, 6> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<
+        (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
+    > for Body {
+        type Output = SVector<f64, 6>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd, a): (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
+        ) -> SVector<f64, 6> {
+            let [s0, s1, s2, s3, s4, s5, s6] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, c6] = t.cos;
+            let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+            let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
+            let mut out: SVector<f64, 6> = SMatrix::zeros();
+            {
+                let [[o0, o1, o2, o3, o4, o5]] = &mut out.data.0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
+                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
+                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
+                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
+                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
+                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
+                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
+                x291, x292, x293, x294, x295, x296, x297, x298, x299, x300, x301, x302,
+                x303, x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
+                x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325, x326,
+                x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337, x338,
+                x339, x340, x341, x342, x343, x344, x345, x346, x347, x348, x349, x350,
+                x351, x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373, x374,
+                x375, x376, x377, x378, x379, x380, x381, x382, x383, x384, x385, x386,
+                x387, x388, x389, x390, x391, x392, x393, x394, x395, x396, x397, x398,
+                x399, x400, x401, x402, x403, x404, x405, x406, x407, x408, x409, x410,
+                x411, x412, x413, x414, x415, x416, x417, x418, x419, x420, x421, x422,
+                x423, x424, x425, x426, x427, x428, x429, x430, x431, x432, x433, x434,
+                x435, x436, x437, x438, x439, x440, x441, x442, x443, x444, x445, x446,
+                x447, x448, x449, x450, x451, x452, x453, x454, x455, x456, x457, x458,
+                x459, x460, x461, x462, x463, x464, x465, x466, x467, x468, x469, x470,
+                x471, x472, x473, x474, x475, x476, x477, x478, x479, x480, x481, x482,
+                x483, x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
+                x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505, x506,
+                x507, x508, x509, x510, x511, x512, x513, x514, x515, x516, x517, x518,
+                x519, x520, x521, x522, x523, x524, x525, x526, x527, x528, x529, x530,
+                x531, x532, x533, x534, x535, x536, x537, x538, x539, x540, x541, x542,
+                x543, x544, x545, x546, x547, x548, x549, x550, x551, x552, x553, x554,
+                x555, x556, x557, x558, x559, x560, x561, x562, x563, x564, x565, x566,
+                x567, x568, x569, x570, x571, x572, x573, x574, x575, x576, x577, x578,
+                x579, x580, x581, x582, x583, x584, x585, x586, x587, x588, x589, x590,
+                x591, x592, x593, x594, x595, x596, x597, x598, x599, x600, x601, x602,
+                x603, x604, x605, x606, x607, x608, x609, x610, x611, x612, x613, x614,
+                x615, x616, x617, x618, x619, x620, x621, x622, x623, x624, x625, x626,
+                x627, x628, x629, x630, x631, x632, x633, x634, x635, x636, x637, x638,
+                x639, x640, x641, x642, x643, x644, x645, x646, x647, x648, x649, x650,
+                x651, x652, x653, x654, x655, x656, x657, x658, x659, x660, x661, x662,
+                x663, x664, x665, x666, x667, x668, x669, x670, x671, x672, x673, x674,
+                x675, x676, x677, x678, x679, x680, x681, x682, x683, x684, x685, x686,
+                x687, x688, x689, x690, x691, x692, x693, x694, x695, x696, x697, x698,
+                x699, x700, x701, x702, x703, x704, x705, x706, x707, x708, x709, x710,
+                x711, x712, x713, x714, x715, x716, x717, x718, x719, x720, x721, x722,
+                x723, x724, x725, x726, x727, x728, x729, x730, x731, x732, x733, x734,
+                x735, x736, x737, x738, x739, x740, x741, x742, x743, x744, x745, x746,
+                x747, x748, x749, x750, x751, x752, x753, x754, x755, x756, x757, x758,
+                x759, x760, x761, x762, x763, x764, x765, x766, x767, x768, x769, x770,
+                x771, x772, x773, x774, x775, x776, x777, x778, x779, x780, x781, x782,
+                x783, x784, x785, x786, x787, x788, x789, x790, x791, x792, x793, x794,
+                x795, x796, x797, x798, x799, x800, x801, x802, x803, x804, x805, x806,
+                x807, x808, x809, x810, x811, x812, x813, x814, x815, x816, x817, x818,
+                x819, x820, x821, x822, x823, x824, x825, x826, x827, x828, x829, x830,
+                x831, x832, x833, x834, x835, x836, x837, x838, x839, x840, x841, x842,
+                x843, x844, x845, x846, x847]: [f64; 848];
+                x0 = c0 * c1;
+                x1 = c0 * s1;
+                x2 = s0 * c1;
+                x3 = s0 * s1;
+                x4 = 0.01f64 * s0;
+                x5 = -0.01f64 * c0;
+                x6 = s0 * s2;
+                x7 = arith.mul_add(c2, x0, -x6);
+                x8 = s0 * c2;
+                x9 = arith.mul_add(s2, x0, x8);
+                x10 = c0 * s2;
+                x11 = arith.mul_add(c2, x2, x10);
+                x12 = s2 * x2;
+                x13 = c0 * c2;
+                x14 = x13 - x12;
+                x15 = s1 * c2;
+                x16 = s1 * s2;
+                x17 = 0.1945f64 * x1;
+                x18 = arith.mul_add(-0.01f64, s0, x17);
+                x19 = 0.1945f64 * x3;
+                x20 = arith.mul_add(0.01f64, c0, x19);
+                x21 = x4 + x18;
+                x22 = x5 + x20;
+                x23 = arith.mul_add(0.1945f64, c1, 0.36f64);
+                x24 = s3 * x1;
+                x25 = arith.mul_add(c3, x7, x24);
+                x26 = s3 * x7;
+                x27 = arith.mul_add(c3, x1, -x26);
+                x28 = s3 * x3;
+                x29 = arith.mul_add(c3, x11, x28);
+                x30 = s3 * x11;
+                x31 = arith.mul_add(c3, x3, -x30);
+                x32 = c3 * x15;
+                x33 = arith.mul_add(c1, s3, -x32);
+                x34 = c1 * c3;
+                x35 = arith.mul_add(s3, x15, x34);
+                x36 = 0.2255f64 * x1;
+                x37 = arith.mul_add(-0.0105f64, x9, x36);
+                x38 = 0.2255f64 * x3;
+                x39 = arith.mul_add(0.0105f64, x14, x38);
+                x40 = 0.2255f64 * c1;
+                x41 = arith.mul_add(0.0105f64, x16, x40);
+                x42 = x21 + x37;
+                x43 = x22 + x39;
+                x44 = x23 + x41;
+                x45 = s4 * x9;
+                x46 = arith.mul_add(c4, x25, -x45);
+                x47 = c4 * x9;
+                x48 = arith.mul_add(s4, x25, x47);
+                x49 = s4 * x14;
+                x50 = arith.mul_add(c4, x29, x49);
+                x51 = s4 * x29;
+                x52 = arith.mul_add(c4, x14, -x51);
+                x53 = s4 * x16;
+                x54 = arith.mul_add(c4, x33, x53);
+                x55 = s4 * x33;
+                x56 = arith.mul_add(c4, x16, -x55);
+                x57 = 0.1745f64 * x27;
+                x58 = arith.mul_add(0.0105f64, x9, x57);
+                x59 = 0.1745f64 * x31;
+                x60 = arith.mul_add(-0.0105f64, x14, x59);
+                x61 = 0.1745f64 * x35;
+                x62 = arith.mul_add(-0.0105f64, x16, x61);
+                x63 = x42 + x58;
+                x64 = x43 + x60;
+                x65 = x44 + x62;
+                x66 = s5 * x27;
+                x67 = arith.mul_add(c5, x46, -x66);
+                x68 = c5 * x27;
+                x69 = arith.mul_add(s5, x46, x68);
+                x70 = s5 * x31;
+                x71 = arith.mul_add(c5, x50, -x70);
+                x72 = c5 * x31;
+                x73 = arith.mul_add(s5, x50, x72);
+                x74 = s5 * x35;
+                x75 = arith.mul_add(c5, x54, -x74);
+                x76 = c5 * x35;
+                x77 = arith.mul_add(s5, x54, x76);
+                x78 = 0.2255f64 * x27;
+                x79 = arith.mul_add(0.0707f64, x48, x78);
+                x80 = 0.2255f64 * x31;
+                x81 = arith.mul_add(-0.0707f64, x52, x80);
+                x82 = 0.2255f64 * x35;
+                x83 = arith.mul_add(-0.0707f64, x56, x82);
+                x84 = x63 + x79;
+                x85 = x64 + x81;
+                x86 = x65 + x83;
+                x87 = s6 * x48;
+                x88 = arith.mul_add(c6, x67, -x87);
+                x89 = c6 * x48;
+                x90 = arith.mul_add(s6, x67, x89);
+                x91 = s6 * x52;
+                x92 = arith.mul_add(c6, x71, x91);
+                x93 = s6 * x71;
+                x94 = arith.mul_add(c6, x52, -x93);
+                x95 = s6 * x56;
+                x96 = arith.mul_add(c6, x75, x95);
+                x97 = s6 * x75;
+                x98 = arith.mul_add(c6, x56, -x97);
+                x99 = 0.0711f64 * x69;
+                x100 = arith.mul_add(-0.0707f64, x48, x99);
+                x101 = 0.0711f64 * x73;
+                x102 = arith.mul_add(0.0707f64, x52, x101);
+                x103 = 0.0711f64 * x77;
+                x104 = arith.mul_add(0.0707f64, x56, x103);
+                x105 = x84 + x100;
+                x106 = x85 + x102;
+                x107 = x86 + x104;
+                x108 = arith.mul_add(0.0549f64, x69, x105);
+                x109 = arith.mul_add(0.0549f64, x73, x106);
+                x110 = arith.mul_add(0.0549f64, x77, x107);
+                x111 = x108 - x4;
+                x112 = x109 - x5;
+                x113 = x110 - 0.36f64;
+                x114 = c0 * x113;
+                x115 = s0 * x113;
+                x116 = c0 * x111;
+                x117 = arith.mul_add(s0, x112, x116);
+                x118 = x108 - x21;
+                x119 = x109 - x22;
+                x120 = x110 - x23;
+                x121 = c1 * x119;
+                x122 = arith.mul_add(x3, x120, -x121);
+                x123 = x1 * x120;
+                x124 = arith.mul_add(c1, x118, -x123);
+                x125 = x3 * x118;
+                x126 = arith.mul_add(x1, x119, -x125);
+                x127 = x12 - x13;
+                x128 = x108 - x42;
+                x129 = x109 - x43;
+                x130 = x110 - x44;
+                x131 = x16 * x129;
+                x132 = arith.mul_add(x127, x130, x131);
+                x133 = x9 * x130;
+                x134 = arith.mul_add(x16, x128, x133);
+                x135 = x127 * x128;
+                x136 = arith.mul_add(x9, x129, -x135);
+                x137 = x108 - x63;
+                x138 = x109 - x64;
+                x139 = x110 - x65;
+                x140 = x35 * x138;
+                x141 = arith.mul_add(x31, x139, -x140);
+                x142 = x27 * x139;
+                x143 = arith.mul_add(x35, x137, -x142);
+                x144 = x31 * x137;
+                x145 = arith.mul_add(x27, x138, -x144);
+                x146 = x108 - x84;
+                x147 = x109 - x85;
+                x148 = x110 - x86;
+                x149 = x56 * x147;
+                x150 = arith.mul_add(x52, x148, -x149);
+                x151 = x48 * x148;
+                x152 = arith.mul_add(x56, x146, x151);
+                x153 = x52 * x146;
+                x154 = arith.mul_add(x48, x147, x153);
+                x155 = x108 - x105;
+                x156 = x109 - x106;
+                x157 = x110 - x107;
+                x158 = x77 * x156;
+                x159 = arith.mul_add(x73, x157, -x158);
+                x160 = x69 * x157;
+                x161 = arith.mul_add(x77, x155, -x160);
+                x162 = x73 * x155;
+                x163 = arith.mul_add(x69, x156, -x162);
+                x164 = qd0 * x5;
+                x165 = qd0 * x4;
+                x166 = qd1 * s0;
+                x167 = qd1 * c0;
+                x168 = x21 - x4;
+                x169 = x22 - x5;
+                x170 = x23 - 0.36f64;
+                x171 = qd0 * x169;
+                x172 = arith.mul_add(x167, x170, -x171);
+                x173 = x166 * x170;
+                x174 = arith.mul_add(qd0, x168, x173);
+                x175 = x167 * x168;
+                x176 = arith.mul_add(x166, x169, x175);
+                x177 = x172 - x164;
+                x178 = x165 + x174;
+                x179 = arith.mul_add(qd2, x1, -x166);
+                x180 = arith.mul_add(qd2, x3, x167);
+                x181 = arith.mul_add(qd2, c1, qd0);
+                x182 = x42 - x21;
+                x183 = x43 - x22;
+                x184 = x44 - x23;
+                x185 = x181 * x183;
+                x186 = arith.mul_add(x180, x184, -x185);
+                x187 = x179 * x184;
+                x188 = arith.mul_add(x181, x182, -x187);
+                x189 = x180 * x182;
+                x190 = arith.mul_add(x179, x183, -x189);
+                x191 = x177 + x186;
+                x192 = x178 + x188;
+                x193 = x190 - x176;
+                x194 = arith.mul_add(qd3, x9, x179);
+                x195 = arith.mul_add(qd3, x127, x180);
+                x196 = arith.mul_add(-qd3, x16, x181);
+                x197 = x63 - x42;
+                x198 = x64 - x43;
+                x199 = x65 - x44;
+                x200 = x196 * x198;
+                x201 = arith.mul_add(x195, x199, -x200);
+                x202 = x194 * x199;
+                x203 = arith.mul_add(x196, x197, -x202);
+                x204 = x195 * x197;
+                x205 = arith.mul_add(x194, x198, -x204);
+                x206 = x191 + x201;
+                x207 = x192 + x203;
+                x208 = x193 + x205;
+                x209 = arith.mul_add(qd4, x27, x194);
+                x210 = arith.mul_add(qd4, x31, x195);
+                x211 = arith.mul_add(qd4, x35, x196);
+                x212 = x84 - x63;
+                x213 = x85 - x64;
+                x214 = x86 - x65;
+                x215 = x211 * x213;
+                x216 = arith.mul_add(x210, x214, -x215);
+                x217 = x209 * x214;
+                x218 = arith.mul_add(x211, x212, -x217);
+                x219 = x210 * x212;
+                x220 = arith.mul_add(x209, x213, -x219);
+                x221 = x206 + x216;
+                x222 = x207 + x218;
+                x223 = x208 + x220;
+                x224 = arith.mul_add(-qd5, x48, x209);
+                x225 = arith.mul_add(qd5, x52, x210);
+                x226 = arith.mul_add(qd5, x56, x211);
+                x227 = x105 - x84;
+                x228 = x106 - x85;
+                x229 = x107 - x86;
+                x230 = x226 * x228;
+                x231 = arith.mul_add(x225, x229, -x230);
+                x232 = x224 * x229;
+                x233 = arith.mul_add(x226, x227, -x232);
+                x234 = x225 * x227;
+                x235 = arith.mul_add(x224, x228, -x234);
+                x236 = x221 + x231;
+                x237 = x222 + x233;
+                x238 = x223 + x235;
+                x239 = arith.mul_add(qd6, x69, x224);
+                x240 = arith.mul_add(qd6, x73, x225);
+                x241 = arith.mul_add(qd6, x77, x226);
+                x242 = x156 * x241;
+                x243 = arith.mul_add(x157, x240, -x242);
+                x244 = x157 * x239;
+                x245 = arith.mul_add(x155, x241, -x244);
+                x246 = x155 * x240;
+                x247 = arith.mul_add(x156, x239, -x246);
+                x248 = x236 + x243;
+                x249 = x237 + x245;
+                x250 = x238 + x247;
+                x251 = qd0 * c0;
+                x252 = qd0 * s0;
+                x253 = c0 * x166;
+                x254 = arith.mul_add(s0, x167, -x253);
+                x255 = x112 * x254;
+                x256 = arith.mul_add(x113, x252, x255);
+                x257 = x113 * x251;
+                x258 = arith.mul_add(x111, x254, x257);
+                x259 = x112 * x251;
+                x260 = arith.mul_add(x111, x252, -x259);
+                x261 = x164 + x248;
+                x262 = x249 - x165;
+                x263 = c0 * x261;
+                x264 = arith.mul_add(s0, x262, x263);
+                x265 = arith.mul_add(c0, x250, -x256);
+                x266 = arith.mul_add(s0, x250, x258);
+                x267 = x260 - x264;
+                x268 = x3 * x181;
+                x269 = arith.mul_add(c1, x180, -x268);
+                x270 = c1 * x179;
+                x271 = arith.mul_add(x1, x181, -x270);
+                x272 = x1 * x180;
+                x273 = arith.mul_add(x3, x179, -x272);
+                x274 = x119 * x273;
+                x275 = arith.mul_add(x120, x271, -x274);
+                x276 = x120 * x269;
+                x277 = arith.mul_add(x118, x273, -x276);
+                x278 = x118 * x271;
+                x279 = arith.mul_add(x119, x269, -x278);
+                x280 = x248 - x177;
+                x281 = x249 - x178;
+                x282 = x176 + x250;
+                x283 = c1 * x281;
+                x284 = arith.mul_add(x3, x282, -x283);
+                x285 = x1 * x282;
+                x286 = arith.mul_add(c1, x280, -x285);
+                x287 = x3 * x280;
+                x288 = arith.mul_add(x1, x281, -x287);
+                x289 = x275 + x284;
+                x290 = x277 + x286;
+                x291 = x279 + x288;
+                x292 = x127 * x196;
+                x293 = arith.mul_add(x16, x195, x292);
+                x294 = x16 * x194;
+                x295 = arith.mul_add(x9, x196, x294);
+                x296 = x9 * x195;
+                x297 = arith.mul_add(x127, x194, -x296);
+                x298 = x129 * x297;
+                x299 = arith.mul_add(x130, x295, -x298);
+                x300 = x130 * x293;
+                x301 = arith.mul_add(x128, x297, x300);
+                x302 = x128 * x295;
+                x303 = arith.mul_add(x129, x293, x302);
+                x304 = x248 - x191;
+                x305 = x249 - x192;
+                x306 = x250 - x193;
+                x307 = x16 * x305;
+                x308 = arith.mul_add(x127, x306, x307);
+                x309 = x9 * x306;
+                x310 = arith.mul_add(x16, x304, x309);
+                x311 = x127 * x304;
+                x312 = arith.mul_add(x9, x305, -x311);
+                x313 = x299 + x308;
+                x314 = x301 - x310;
+                x315 = x312 - x303;
+                x316 = x31 * x211;
+                x317 = arith.mul_add(x35, x210, -x316);
+                x318 = x35 * x209;
+                x319 = arith.mul_add(x27, x211, -x318);
+                x320 = x27 * x210;
+                x321 = arith.mul_add(x31, x209, -x320);
+                x322 = x138 * x321;
+                x323 = arith.mul_add(x139, x319, -x322);
+                x324 = x139 * x317;
+                x325 = arith.mul_add(x137, x321, -x324);
+                x326 = x137 * x319;
+                x327 = arith.mul_add(x138, x317, -x326);
+                x328 = x248 - x206;
+                x329 = x249 - x207;
+                x330 = x250 - x208;
+                x331 = x35 * x329;
+                x332 = arith.mul_add(x31, x330, -x331);
+                x333 = x27 * x330;
+                x334 = arith.mul_add(x35, x328, -x333);
+                x335 = x31 * x328;
+                x336 = arith.mul_add(x27, x329, -x335);
+                x337 = x323 + x332;
+                x338 = x325 + x334;
+                x339 = x327 + x336;
+                x340 = x52 * x226;
+                x341 = arith.mul_add(x56, x225, -x340);
+                x342 = x56 * x224;
+                x343 = arith.mul_add(x48, x226, x342);
+                x344 = x48 * x225;
+                x345 = arith.mul_add(x52, x224, x344);
+                x346 = x147 * x345;
+                x347 = arith.mul_add(x148, x343, x346);
+                x348 = x148 * x341;
+                x349 = arith.mul_add(x146, x345, -x348);
+                x350 = x146 * x343;
+                x351 = arith.mul_add(x147, x341, x350);
+                x352 = x248 - x221;
+                x353 = x249 - x222;
+                x354 = x250 - x223;
+                x355 = x56 * x353;
+                x356 = arith.mul_add(x52, x354, -x355);
+                x357 = x48 * x354;
+                x358 = arith.mul_add(x56, x352, x357);
+                x359 = x52 * x352;
+                x360 = arith.mul_add(x48, x353, x359);
+                x361 = x356 - x347;
+                x362 = x349 + x358;
+                x363 = x351 - x360;
+                x364 = x73 * x241;
+                x365 = arith.mul_add(x77, x240, -x364);
+                x366 = x77 * x239;
+                x367 = arith.mul_add(x69, x241, -x366);
+                x368 = x69 * x240;
+                x369 = arith.mul_add(x73, x239, -x368);
+                x370 = x156 * x369;
+                x371 = arith.mul_add(x157, x367, -x370);
+                x372 = x157 * x365;
+                x373 = arith.mul_add(x155, x369, -x372);
+                x374 = x155 * x367;
+                x375 = arith.mul_add(x156, x365, -x374);
+                x376 = x248 - x236;
+                x377 = x249 - x237;
+                x378 = x250 - x238;
+                x379 = x77 * x377;
+                x380 = arith.mul_add(x73, x378, -x379);
+                x381 = x69 * x378;
+                x382 = arith.mul_add(x77, x376, -x381);
+                x383 = x73 * x376;
+                x384 = arith.mul_add(x69, x377, -x383);
+                x385 = x371 + x380;
+                x386 = x373 + x382;
+                x387 = x375 + x384;
+                x388 = x88 * x109;
+                x389 = arith.mul_add(x92, x108, -x388);
+                x390 = x94 * x108;
+                x391 = arith.mul_add(x90, x109, x390);
+                x392 = x69 * x109;
+                x393 = arith.mul_add(x73, x108, -x392);
+                x394 = x92 * x115;
+                x395 = arith.mul_add(x88, x114, x394);
+                x396 = arith.mul_add(-x96, x117, x395);
+                x397 = x90 * x114;
+                x398 = arith.mul_add(x94, x115, -x397);
+                x399 = arith.mul_add(-x98, x117, x398);
+                x400 = x73 * x115;
+                x401 = arith.mul_add(x69, x114, x400);
+                x402 = arith.mul_add(-x77, x117, x401);
+                x403 = s0 * x88;
+                x404 = arith.mul_add(c0, x92, -x403);
+                x405 = c0 * x94;
+                x406 = arith.mul_add(s0, x90, x405);
+                x407 = s0 * x69;
+                x408 = arith.mul_add(c0, x73, -x407);
+                x409 = x92 * x124;
+                x410 = arith.mul_add(x88, x122, x409);
+                x411 = arith.mul_add(x96, x126, x410);
+                x412 = x90 * x122;
+                x413 = arith.mul_add(x94, x124, -x412);
+                x414 = arith.mul_add(x98, x126, x413);
+                x415 = x73 * x124;
+                x416 = arith.mul_add(x69, x122, x415);
+                x417 = arith.mul_add(x77, x126, x416);
+                x418 = x3 * x92;
+                x419 = arith.mul_add(x1, x88, x418);
+                x420 = arith.mul_add(c1, x96, x419);
+                x421 = x1 * x90;
+                x422 = arith.mul_add(x3, x94, -x421);
+                x423 = arith.mul_add(c1, x98, x422);
+                x424 = x3 * x73;
+                x425 = arith.mul_add(x1, x69, x424);
+                x426 = arith.mul_add(c1, x77, x425);
+                x427 = x92 * x134;
+                x428 = arith.mul_add(x88, x132, -x427);
+                x429 = arith.mul_add(x96, x136, x428);
+                x430 = x94 * x134;
+                x431 = arith.mul_add(x90, x132, x430);
+                x432 = arith.mul_add(x98, x136, -x431);
+                x433 = x73 * x134;
+                x434 = arith.mul_add(x69, x132, -x433);
+                x435 = arith.mul_add(x77, x136, x434);
+                x436 = x92 * x127;
+                x437 = arith.mul_add(x9, x88, x436);
+                x438 = arith.mul_add(-x16, x96, x437);
+                x439 = x9 * x90;
+                x440 = arith.mul_add(x94, x127, -x439);
+                x441 = arith.mul_add(-x16, x98, x440);
+                x442 = x73 * x127;
+                x443 = arith.mul_add(x9, x69, x442);
+                x444 = arith.mul_add(-x16, x77, x443);
+                x445 = x92 * x143;
+                x446 = arith.mul_add(x88, x141, x445);
+                x447 = arith.mul_add(x96, x145, x446);
+                x448 = x90 * x141;
+                x449 = arith.mul_add(x94, x143, -x448);
+                x450 = arith.mul_add(x98, x145, x449);
+                x451 = x73 * x143;
+                x452 = arith.mul_add(x69, x141, x451);
+                x453 = arith.mul_add(x77, x145, x452);
+                x454 = x31 * x92;
+                x455 = arith.mul_add(x27, x88, x454);
+                x456 = arith.mul_add(x35, x96, x455);
+                x457 = x27 * x90;
+                x458 = arith.mul_add(x31, x94, -x457);
+                x459 = arith.mul_add(x35, x98, x458);
+                x460 = x31 * x73;
+                x461 = arith.mul_add(x27, x69, x460);
+                x462 = arith.mul_add(x35, x77, x461);
+                x463 = x92 * x152;
+                x464 = arith.mul_add(x88, x150, x463);
+                x465 = arith.mul_add(-x96, x154, x464);
+                x466 = x90 * x150;
+                x467 = arith.mul_add(x94, x152, -x466);
+                x468 = arith.mul_add(-x98, x154, x467);
+                x469 = x73 * x152;
+                x470 = arith.mul_add(x69, x150, x469);
+                x471 = arith.mul_add(-x77, x154, x470);
+                x472 = x48 * x88;
+                x473 = arith.mul_add(x52, x92, -x472);
+                x474 = arith.mul_add(x56, x96, x473);
+                x475 = x52 * x94;
+                x476 = arith.mul_add(x48, x90, x475);
+                x477 = arith.mul_add(x56, x98, x476);
+                x478 = x48 * x69;
+                x479 = arith.mul_add(x52, x73, -x478);
+                x480 = arith.mul_add(x56, x77, x479);
+                x481 = x92 * x161;
+                x482 = arith.mul_add(x88, x159, x481);
+                x483 = arith.mul_add(x96, x163, x482);
+                x484 = x90 * x159;
+                x485 = arith.mul_add(x94, x161, -x484);
+                x486 = arith.mul_add(x98, x163, x485);
+                x487 = x73 * x161;
+                x488 = arith.mul_add(x69, x159, x487);
+                x489 = arith.mul_add(x77, x163, x488);
+                x490 = x73 * x92;
+                x491 = arith.mul_add(x69, x88, x490);
+                x492 = arith.mul_add(x77, x96, x491);
+                x493 = x69 * x90;
+                x494 = arith.mul_add(x73, x94, -x493);
+                x495 = arith.mul_add(x77, x98, x494);
+                x496 = x73 * x73;
+                x497 = arith.mul_add(x69, x69, x496);
+                x498 = arith.mul_add(x77, x77, x497);
+                x499 = x109 * x240;
+                x500 = arith.mul_add(x108, x239, x499);
+                x501 = arith.mul_add(x108, x241, -x249);
+                x502 = arith.mul_add(x109, x241, x248);
+                x503 = x92 * x502;
+                x504 = arith.mul_add(x88, x501, x503);
+                x505 = arith.mul_add(-x96, x500, x504);
+                x506 = x90 * x501;
+                x507 = arith.mul_add(x94, x502, -x506);
+                x508 = arith.mul_add(-x98, x500, x507);
+                x509 = x73 * x502;
+                x510 = arith.mul_add(x69, x501, x509);
+                x511 = arith.mul_add(-x77, x500, x510);
+                x512 = x88 * x240;
+                x513 = arith.mul_add(x92, x239, -x512);
+                x514 = x94 * x239;
+                x515 = arith.mul_add(x90, x240, x514);
+                x516 = x115 * x241;
+                x517 = arith.mul_add(x117, x240, x516);
+                x518 = x117 * x239;
+                x519 = arith.mul_add(x114, x241, x518);
+                x520 = x114 * x240;
+                x521 = arith.mul_add(x115, x239, -x520);
+                x522 = x265 + x517;
+                x523 = x266 - x519;
+                x524 = x267 - x521;
+                x525 = x92 * x523;
+                x526 = arith.mul_add(x88, x522, x525);
+                x527 = arith.mul_add(x96, x524, x526);
+                x528 = x90 * x522;
+                x529 = arith.mul_add(x94, x523, -x528);
+                x530 = arith.mul_add(x98, x524, x529);
+                x531 = x73 * x523;
+                x532 = arith.mul_add(x69, x522, x531);
+                x533 = arith.mul_add(x77, x524, x532);
+                x534 = s0 * x240;
+                x535 = arith.mul_add(c0, x239, x534);
+                x536 = arith.mul_add(c0, x241, -x251);
+                x537 = arith.mul_add(s0, x241, -x252);
+                x538 = x254 - x535;
+                x539 = x92 * x537;
+                x540 = arith.mul_add(x88, x536, x539);
+                x541 = arith.mul_add(x96, x538, x540);
+                x542 = x90 * x536;
+                x543 = arith.mul_add(x94, x537, -x542);
+                x544 = arith.mul_add(x98, x538, x543);
+                x545 = x73 * x537;
+                x546 = arith.mul_add(x69, x536, x545);
+                x547 = arith.mul_add(x77, x538, x546);
+                x548 = x124 * x241;
+                x549 = arith.mul_add(x126, x240, -x548);
+                x550 = x126 * x239;
+                x551 = arith.mul_add(x122, x241, -x550);
+                x552 = x122 * x240;
+                x553 = arith.mul_add(x124, x239, -x552);
+                x554 = x289 - x549;
+                x555 = x290 - x551;
+                x556 = x291 - x553;
+                x557 = x92 * x555;
+                x558 = arith.mul_add(x88, x554, x557);
+                x559 = arith.mul_add(x96, x556, x558);
+                x560 = x90 * x554;
+                x561 = arith.mul_add(x94, x555, -x560);
+                x562 = arith.mul_add(x98, x556, x561);
+                x563 = x73 * x555;
+                x564 = arith.mul_add(x69, x554, x563);
+                x565 = arith.mul_add(x77, x556, x564);
+                x566 = x3 * x241;
+                x567 = arith.mul_add(c1, x240, -x566);
+                x568 = c1 * x239;
+                x569 = arith.mul_add(x1, x241, -x568);
+                x570 = x1 * x240;
+                x571 = arith.mul_add(x3, x239, -x570);
+                x572 = x269 - x567;
+                x573 = x271 - x569;
+                x574 = x273 - x571;
+                x575 = x92 * x573;
+                x576 = arith.mul_add(x88, x572, x575);
+                x577 = arith.mul_add(x96, x574, x576);
+                x578 = x90 * x572;
+                x579 = arith.mul_add(x94, x573, -x578);
+                x580 = arith.mul_add(x98, x574, x579);
+                x581 = x73 * x573;
+                x582 = arith.mul_add(x69, x572, x581);
+                x583 = arith.mul_add(x77, x574, x582);
+                x584 = x134 * x241;
+                x585 = arith.mul_add(x136, x240, x584);
+                x586 = x136 * x239;
+                x587 = arith.mul_add(x132, x241, -x586);
+                x588 = x132 * x240;
+                x589 = arith.mul_add(x134, x239, x588);
+                x590 = x313 - x585;
+                x591 = x314 - x587;
+                x592 = x315 + x589;
+                x593 = x92 * x591;
+                x594 = arith.mul_add(x88, x590, x593);
+                x595 = arith.mul_add(x96, x592, x594);
+                x596 = x90 * x590;
+                x597 = arith.mul_add(x94, x591, -x596);
+                x598 = arith.mul_add(x98, x592, x597);
+                x599 = x73 * x591;
+                x600 = arith.mul_add(x69, x590, x599);
+                x601 = arith.mul_add(x77, x592, x600);
+                x602 = x127 * x241;
+                x603 = arith.mul_add(x16, x240, x602);
+                x604 = x16 * x239;
+                x605 = arith.mul_add(x9, x241, x604);
+                x606 = x9 * x240;
+                x607 = arith.mul_add(x127, x239, -x606);
+                x608 = x603 - x293;
+                x609 = x295 - x605;
+                x610 = x297 - x607;
+                x611 = x92 * x609;
+                x612 = arith.mul_add(x88, x608, x611);
+                x613 = arith.mul_add(x96, x610, x612);
+                x614 = x90 * x608;
+                x615 = arith.mul_add(x94, x609, -x614);
+                x616 = arith.mul_add(x98, x610, x615);
+                x617 = x73 * x609;
+                x618 = arith.mul_add(x69, x608, x617);
+                x619 = arith.mul_add(x77, x610, x618);
+                x620 = x143 * x241;
+                x621 = arith.mul_add(x145, x240, -x620);
+                x622 = x145 * x239;
+                x623 = arith.mul_add(x141, x241, -x622);
+                x624 = x141 * x240;
+                x625 = arith.mul_add(x143, x239, -x624);
+                x626 = x337 - x621;
+                x627 = x338 - x623;
+                x628 = x339 - x625;
+                x629 = x92 * x627;
+                x630 = arith.mul_add(x88, x626, x629);
+                x631 = arith.mul_add(x96, x628, x630);
+                x632 = x90 * x626;
+                x633 = arith.mul_add(x94, x627, -x632);
+                x634 = arith.mul_add(x98, x628, x633);
+                x635 = x73 * x627;
+                x636 = arith.mul_add(x69, x626, x635);
+                x637 = arith.mul_add(x77, x628, x636);
+                x638 = x31 * x241;
+                x639 = arith.mul_add(x35, x240, -x638);
+                x640 = x35 * x239;
+                x641 = arith.mul_add(x27, x241, -x640);
+                x642 = x27 * x240;
+                x643 = arith.mul_add(x31, x239, -x642);
+                x644 = x317 - x639;
+                x645 = x319 - x641;
+                x646 = x321 - x643;
+                x647 = x92 * x645;
+                x648 = arith.mul_add(x88, x644, x647);
+                x649 = arith.mul_add(x96, x646, x648);
+                x650 = x90 * x644;
+                x651 = arith.mul_add(x94, x645, -x650);
+                x652 = arith.mul_add(x98, x646, x651);
+                x653 = x73 * x645;
+                x654 = arith.mul_add(x69, x644, x653);
+                x655 = arith.mul_add(x77, x646, x654);
+                x656 = x152 * x241;
+                x657 = arith.mul_add(x154, x240, x656);
+                x658 = x154 * x239;
+                x659 = arith.mul_add(x150, x241, x658);
+                x660 = x150 * x240;
+                x661 = arith.mul_add(x152, x239, -x660);
+                x662 = x361 + x657;
+                x663 = x362 - x659;
+                x664 = x363 - x661;
+                x665 = x92 * x663;
+                x666 = arith.mul_add(x88, x662, x665);
+                x667 = arith.mul_add(x96, x664, x666);
+                x668 = x90 * x662;
+                x669 = arith.mul_add(x94, x663, -x668);
+                x670 = arith.mul_add(x98, x664, x669);
+                x671 = x73 * x663;
+                x672 = arith.mul_add(x69, x662, x671);
+                x673 = arith.mul_add(x77, x664, x672);
+                x674 = x52 * x241;
+                x675 = arith.mul_add(x56, x240, -x674);
+                x676 = x56 * x239;
+                x677 = arith.mul_add(x48, x241, x676);
+                x678 = x48 * x240;
+                x679 = arith.mul_add(x52, x239, x678);
+                x680 = x341 - x675;
+                x681 = x677 - x343;
+                x682 = x345 - x679;
+                x683 = x92 * x681;
+                x684 = arith.mul_add(x88, x680, x683);
+                x685 = arith.mul_add(x96, x682, x684);
+                x686 = x90 * x680;
+                x687 = arith.mul_add(x94, x681, -x686);
+                x688 = arith.mul_add(x98, x682, x687);
+                x689 = x73 * x681;
+                x690 = arith.mul_add(x69, x680, x689);
+                x691 = arith.mul_add(x77, x682, x690);
+                x692 = x161 * x241;
+                x693 = arith.mul_add(x163, x240, -x692);
+                x694 = x163 * x239;
+                x695 = arith.mul_add(x159, x241, -x694);
+                x696 = x159 * x240;
+                x697 = arith.mul_add(x161, x239, -x696);
+                x698 = x385 - x693;
+                x699 = x386 - x695;
+                x700 = x387 - x697;
+                x701 = x92 * x699;
+                x702 = arith.mul_add(x88, x698, x701);
+                x703 = arith.mul_add(x96, x700, x702);
+                x704 = x90 * x698;
+                x705 = arith.mul_add(x94, x699, -x704);
+                x706 = arith.mul_add(x98, x700, x705);
+                x707 = x73 * x699;
+                x708 = arith.mul_add(x69, x698, x707);
+                x709 = arith.mul_add(x77, x700, x708);
+                x710 = qd1 * x396;
+                x711 = arith.mul_add(qd0, x389, x710);
+                x712 = arith.mul_add(qd2, x411, x711);
+                x713 = arith.mul_add(qd3, x429, x712);
+                x714 = arith.mul_add(qd4, x447, x713);
+                x715 = arith.mul_add(qd5, x465, x714);
+                x716 = arith.mul_add(qd6, x483, x715);
+                x717 = qd1 * x399;
+                x718 = arith.mul_add(qd0, x391, x717);
+                x719 = arith.mul_add(qd2, x414, x718);
+                x720 = arith.mul_add(qd3, x432, x719);
+                x721 = arith.mul_add(qd4, x450, x720);
+                x722 = arith.mul_add(qd5, x468, x721);
+                x723 = arith.mul_add(qd6, x486, x722);
+                x724 = qd1 * x402;
+                x725 = arith.mul_add(qd0, x393, x724);
+                x726 = arith.mul_add(qd2, x417, x725);
+                x727 = arith.mul_add(qd3, x435, x726);
+                x728 = arith.mul_add(qd4, x453, x727);
+                x729 = arith.mul_add(qd5, x471, x728);
+                x730 = arith.mul_add(qd6, x489, x729);
+                x731 = qd1 * x404;
+                x732 = arith.mul_add(qd0, x96, x731);
+                x733 = arith.mul_add(qd2, x420, x732);
+                x734 = arith.mul_add(qd3, x438, x733);
+                x735 = arith.mul_add(qd4, x456, x734);
+                x736 = arith.mul_add(qd5, x474, x735);
+                x737 = arith.mul_add(qd6, x492, x736);
+                x738 = qd1 * x406;
+                x739 = arith.mul_add(qd0, x98, x738);
+                x740 = arith.mul_add(qd2, x423, x739);
+                x741 = arith.mul_add(qd3, x441, x740);
+                x742 = arith.mul_add(qd4, x459, x741);
+                x743 = arith.mul_add(qd5, x477, x742);
+                x744 = arith.mul_add(qd6, x495, x743);
+                x745 = qd1 * x408;
+                x746 = arith.mul_add(qd0, x77, x745);
+                x747 = arith.mul_add(qd2, x426, x746);
+                x748 = arith.mul_add(qd3, x444, x747);
+                x749 = arith.mul_add(qd4, x462, x748);
+                x750 = arith.mul_add(qd5, x480, x749);
+                x751 = arith.mul_add(qd6, x498, x750);
+                x752 = a1 * x396;
+                x753 = arith.mul_add(a0, x389, x752);
+                x754 = arith.mul_add(a2, x411, x753);
+                x755 = arith.mul_add(a3, x429, x754);
+                x756 = arith.mul_add(a4, x447, x755);
+                x757 = arith.mul_add(a5, x465, x756);
+                x758 = arith.mul_add(a6, x483, x757);
+                x759 = a1 * x399;
+                x760 = arith.mul_add(a0, x391, x759);
+                x761 = arith.mul_add(a2, x414, x760);
+                x762 = arith.mul_add(a3, x432, x761);
+                x763 = arith.mul_add(a4, x450, x762);
+                x764 = arith.mul_add(a5, x468, x763);
+                x765 = arith.mul_add(a6, x486, x764);
+                x766 = a1 * x402;
+                x767 = arith.mul_add(a0, x393, x766);
+                x768 = arith.mul_add(a2, x417, x767);
+                x769 = arith.mul_add(a3, x435, x768);
+                x770 = arith.mul_add(a4, x453, x769);
+                x771 = arith.mul_add(a5, x471, x770);
+                x772 = arith.mul_add(a6, x489, x771);
+                x773 = a1 * x404;
+                x774 = arith.mul_add(a0, x96, x773);
+                x775 = arith.mul_add(a2, x420, x774);
+                x776 = arith.mul_add(a3, x438, x775);
+                x777 = arith.mul_add(a4, x456, x776);
+                x778 = arith.mul_add(a5, x474, x777);
+                x779 = arith.mul_add(a6, x492, x778);
+                x780 = a1 * x406;
+                x781 = arith.mul_add(a0, x98, x780);
+                x782 = arith.mul_add(a2, x423, x781);
+                x783 = arith.mul_add(a3, x441, x782);
+                x784 = arith.mul_add(a4, x459, x783);
+                x785 = arith.mul_add(a5, x477, x784);
+                x786 = arith.mul_add(a6, x495, x785);
+                x787 = a1 * x408;
+                x788 = arith.mul_add(a0, x77, x787);
+                x789 = arith.mul_add(a2, x426, x788);
+                x790 = arith.mul_add(a3, x444, x789);
+                x791 = arith.mul_add(a4, x462, x790);
+                x792 = arith.mul_add(a5, x480, x791);
+                x793 = arith.mul_add(a6, x498, x792);
+                x794 = qd1 * x527;
+                x795 = arith.mul_add(qd0, x505, x794);
+                x796 = arith.mul_add(qd2, x559, x795);
+                x797 = arith.mul_add(qd3, x595, x796);
+                x798 = arith.mul_add(qd4, x631, x797);
+                x799 = arith.mul_add(qd5, x667, x798);
+                x800 = arith.mul_add(qd6, x703, x799);
+                x801 = qd1 * x530;
+                x802 = arith.mul_add(qd0, x508, x801);
+                x803 = arith.mul_add(qd2, x562, x802);
+                x804 = arith.mul_add(qd3, x598, x803);
+                x805 = arith.mul_add(qd4, x634, x804);
+                x806 = arith.mul_add(qd5, x670, x805);
+                x807 = arith.mul_add(qd6, x706, x806);
+                x808 = qd1 * x533;
+                x809 = arith.mul_add(qd0, x511, x808);
+                x810 = arith.mul_add(qd2, x565, x809);
+                x811 = arith.mul_add(qd3, x601, x810);
+                x812 = arith.mul_add(qd4, x637, x811);
+                x813 = arith.mul_add(qd5, x673, x812);
+                x814 = arith.mul_add(qd6, x709, x813);
+                x815 = qd1 * x541;
+                x816 = arith.mul_add(qd0, x513, x815);
+                x817 = arith.mul_add(qd2, x577, x816);
+                x818 = arith.mul_add(qd3, x613, x817);
+                x819 = arith.mul_add(qd4, x649, x818);
+                x820 = arith.mul_add(qd5, x685, x819);
+                x821 = qd1 * x544;
+                x822 = arith.mul_add(qd0, x515, x821);
+                x823 = arith.mul_add(qd2, x580, x822);
+                x824 = arith.mul_add(qd3, x616, x823);
+                x825 = arith.mul_add(qd4, x652, x824);
+                x826 = arith.mul_add(qd5, x688, x825);
+                x827 = qd1 * x547;
+                x828 = arith.mul_add(qd0, x369, x827);
+                x829 = arith.mul_add(qd2, x583, x828);
+                x830 = arith.mul_add(qd3, x619, x829);
+                x831 = arith.mul_add(qd4, x655, x830);
+                x832 = arith.mul_add(qd5, x691, x831);
+                x833 = x758 + x800;
+                x834 = x765 + x807;
+                x835 = x772 + x814;
+                x836 = x779 + x820;
+                *o3 = x836;
+                x837 = x786 + x826;
+                *o4 = x837;
+                x838 = x793 + x832;
+                *o5 = x838;
+                x839 = x723 * x751;
+                x840 = arith.mul_add(x730, x744, -x839);
+                x841 = x730 * x737;
+                x842 = arith.mul_add(x716, x751, -x841);
+                x843 = x716 * x744;
+                x844 = arith.mul_add(x723, x737, -x843);
+                x845 = x833 + x840;
+                *o0 = x845;
+                x846 = x834 + x842;
+                *o1 = x846;
+                x847 = x835 + x844;
+                *o2 = x847;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd, a))
+}
+///Operations: 492 mul, 448 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_classical_acceleration_flange_world(
+    t: &JointTrig<7>,
+    qd: &SVector<f64, 7>,
+    a: &SVector<f64, 7>,
+) -> SVector<f64, 6> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<
+        (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
+    > for Body {
+        type Output = SVector<f64, 6>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd, a): (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
+        ) -> SVector<f64, 6> {
+            let [s0, s1, s2, s3, s4, s5, _] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, _] = t.cos;
+            let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+            let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
+            let mut out: SVector<f64, 6> = SMatrix::zeros();
+            {
+                let [[o0, o1, o2, o3, o4, o5]] = &mut out.data.0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
+                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
+                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
+                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
+                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
+                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
+                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
+                x291, x292, x293, x294, x295, x296, x297, x298, x299, x300, x301, x302,
+                x303, x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
+                x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325, x326,
+                x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337, x338,
+                x339, x340, x341, x342, x343, x344, x345, x346, x347, x348, x349, x350,
+                x351, x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373, x374,
+                x375, x376, x377, x378, x379, x380, x381, x382, x383, x384, x385, x386,
+                x387, x388, x389, x390, x391, x392, x393, x394, x395, x396, x397, x398,
+                x399, x400, x401, x402, x403, x404, x405, x406, x407, x408, x409, x410,
+                x411, x412, x413, x414, x415, x416, x417, x418, x419, x420, x421, x422,
+                x423, x424, x425, x426, x427, x428, x429, x430, x431, x432, x433, x434,
+                x435, x436, x437, x438, x439, x440, x441, x442, x443, x444, x445, x446,
+                x447, x448, x449, x450, x451, x452, x453, x454, x455, x456, x457, x458,
+                x459, x460, x461, x462, x463, x464, x465, x466, x467, x468, x469, x470,
+                x471, x472, x473, x474, x475, x476, x477, x478, x479, x480, x481, x482,
+                x483, x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
+                x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505, x506,
+                x507, x508, x509, x510, x511, x512, x513, x514, x515, x516, x517, x518,
+                x519, x520, x521, x522, x523, x524, x525, x526, x527, x528, x529, x530,
+                x531, x532, x533, x534, x535, x536, x537, x538, x539, x540, x541, x542,
+                x543, x544, x545, x546, x547, x548, x549, x550, x551, x552, x553, x554,
+                x555, x556, x557, x558, x559, x560, x561, x562, x563, x564, x565, x566,
+                x567, x568, x569, x570, x571, x572, x573, x574, x575, x576, x577, x578,
+                x579, x580, x581, x582, x583, x584, x585, x586, x587, x588, x589, x590,
+                x591, x592, x593, x594, x595, x596, x597, x598, x599, x600, x601, x602,
+                x603, x604, x605, x606, x607, x608, x609, x610, x611, x612, x613, x614,
+                x615, x616, x617, x618, x619, x620, x621, x622, x623, x624, x625, x626,
+                x627, x628, x629, x630, x631, x632, x633, x634, x635, x636, x637, x638,
+                x639, x640, x641, x642, x643, x644, x645, x646, x647, x648, x649, x650,
+                x651]: [f64; 652];
+                x0 = c0 * c1;
+                x1 = c0 * s1;
+                x2 = s0 * c1;
+                x3 = s0 * s1;
+                x4 = 0.01f64 * s0;
+                x5 = -0.01f64 * c0;
+                x6 = s0 * s2;
+                x7 = arith.mul_add(c2, x0, -x6);
+                x8 = s0 * c2;
+                x9 = arith.mul_add(s2, x0, x8);
+                x10 = c0 * s2;
+                x11 = arith.mul_add(c2, x2, x10);
+                x12 = s2 * x2;
+                x13 = c0 * c2;
+                x14 = x13 - x12;
+                x15 = s1 * c2;
+                x16 = s1 * s2;
+                x17 = 0.1945f64 * x1;
+                x18 = arith.mul_add(-0.01f64, s0, x17);
+                x19 = 0.1945f64 * x3;
+                x20 = arith.mul_add(0.01f64, c0, x19);
+                x21 = x4 + x18;
+                x22 = x5 + x20;
+                x23 = arith.mul_add(0.1945f64, c1, 0.36f64);
+                x24 = s3 * x1;
+                x25 = arith.mul_add(c3, x7, x24);
+                x26 = s3 * x7;
+                x27 = arith.mul_add(c3, x1, -x26);
+                x28 = s3 * x3;
+                x29 = arith.mul_add(c3, x11, x28);
+                x30 = s3 * x11;
+                x31 = arith.mul_add(c3, x3, -x30);
+                x32 = c3 * x15;
+                x33 = arith.mul_add(c1, s3, -x32);
+                x34 = c1 * c3;
+                x35 = arith.mul_add(s3, x15, x34);
+                x36 = 0.2255f64 * x1;
+                x37 = arith.mul_add(-0.0105f64, x9, x36);
+                x38 = 0.2255f64 * x3;
+                x39 = arith.mul_add(0.0105f64, x14, x38);
+                x40 = 0.2255f64 * c1;
+                x41 = arith.mul_add(0.0105f64, x16, x40);
+                x42 = x21 + x37;
+                x43 = x22 + x39;
+                x44 = x23 + x41;
+                x45 = s4 * x9;
+                x46 = arith.mul_add(c4, x25, -x45);
+                x47 = c4 * x9;
+                x48 = arith.mul_add(s4, x25, x47);
+                x49 = s4 * x14;
+                x50 = arith.mul_add(c4, x29, x49);
+                x51 = s4 * x29;
+                x52 = arith.mul_add(c4, x14, -x51);
+                x53 = s4 * x16;
+                x54 = arith.mul_add(c4, x33, x53);
+                x55 = s4 * x33;
+                x56 = arith.mul_add(c4, x16, -x55);
+                x57 = 0.1745f64 * x27;
+                x58 = arith.mul_add(0.0105f64, x9, x57);
+                x59 = 0.1745f64 * x31;
+                x60 = arith.mul_add(-0.0105f64, x14, x59);
+                x61 = 0.1745f64 * x35;
+                x62 = arith.mul_add(-0.0105f64, x16, x61);
+                x63 = x42 + x58;
+                x64 = x43 + x60;
+                x65 = x44 + x62;
+                x66 = c5 * x27;
+                x67 = arith.mul_add(s5, x46, x66);
+                x68 = c5 * x31;
+                x69 = arith.mul_add(s5, x50, x68);
+                x70 = c5 * x35;
+                x71 = arith.mul_add(s5, x54, x70);
+                x72 = 0.2255f64 * x27;
+                x73 = arith.mul_add(0.0707f64, x48, x72);
+                x74 = 0.2255f64 * x31;
+                x75 = arith.mul_add(-0.0707f64, x52, x74);
+                x76 = 0.2255f64 * x35;
+                x77 = arith.mul_add(-0.0707f64, x56, x76);
+                x78 = x63 + x73;
+                x79 = x64 + x75;
+                x80 = x65 + x77;
+                x81 = 0.0711f64 * x67;
+                x82 = arith.mul_add(-0.0707f64, x48, x81);
+                x83 = 0.0711f64 * x69;
+                x84 = arith.mul_add(0.0707f64, x52, x83);
+                x85 = 0.0711f64 * x71;
+                x86 = arith.mul_add(0.0707f64, x56, x85);
+                x87 = x78 + x82;
+                x88 = x79 + x84;
+                x89 = x80 + x86;
+                x90 = arith.mul_add(0.0549f64, x67, x87);
+                x91 = arith.mul_add(0.0549f64, x69, x88);
+                x92 = arith.mul_add(0.0549f64, x71, x89);
+                x93 = x90 - x4;
+                x94 = x91 - x5;
+                x95 = x92 - 0.36f64;
+                x96 = c0 * x95;
+                x97 = s0 * x95;
+                x98 = c0 * x93;
+                x99 = arith.mul_add(s0, x94, x98);
+                x100 = x90 - x21;
+                x101 = x91 - x22;
+                x102 = x92 - x23;
+                x103 = c1 * x101;
+                x104 = arith.mul_add(x3, x102, -x103);
+                x105 = x1 * x102;
+                x106 = arith.mul_add(c1, x100, -x105);
+                x107 = x3 * x100;
+                x108 = arith.mul_add(x1, x101, -x107);
+                x109 = x12 - x13;
+                x110 = x90 - x42;
+                x111 = x91 - x43;
+                x112 = x92 - x44;
+                x113 = x16 * x111;
+                x114 = arith.mul_add(x109, x112, x113);
+                x115 = x9 * x112;
+                x116 = arith.mul_add(x16, x110, x115);
+                x117 = x109 * x110;
+                x118 = arith.mul_add(x9, x111, -x117);
+                x119 = x90 - x63;
+                x120 = x91 - x64;
+                x121 = x92 - x65;
+                x122 = x35 * x120;
+                x123 = arith.mul_add(x31, x121, -x122);
+                x124 = x27 * x121;
+                x125 = arith.mul_add(x35, x119, -x124);
+                x126 = x31 * x119;
+                x127 = arith.mul_add(x27, x120, -x126);
+                x128 = x90 - x78;
+                x129 = x91 - x79;
+                x130 = x92 - x80;
+                x131 = x56 * x129;
+                x132 = arith.mul_add(x52, x130, -x131);
+                x133 = x48 * x130;
+                x134 = arith.mul_add(x56, x128, x133);
+                x135 = x52 * x128;
+                x136 = arith.mul_add(x48, x129, x135);
+                x137 = x90 - x87;
+                x138 = x91 - x88;
+                x139 = x92 - x89;
+                x140 = x71 * x138;
+                x141 = arith.mul_add(x69, x139, -x140);
+                x142 = x67 * x139;
+                x143 = arith.mul_add(x71, x137, -x142);
+                x144 = x69 * x137;
+                x145 = arith.mul_add(x67, x138, -x144);
+                x146 = qd0 * x5;
+                x147 = qd0 * x4;
+                x148 = qd1 * s0;
+                x149 = qd1 * c0;
+                x150 = x21 - x4;
+                x151 = x22 - x5;
+                x152 = x23 - 0.36f64;
+                x153 = qd0 * x151;
+                x154 = arith.mul_add(x149, x152, -x153);
+                x155 = x148 * x152;
+                x156 = arith.mul_add(qd0, x150, x155);
+                x157 = x149 * x150;
+                x158 = arith.mul_add(x148, x151, x157);
+                x159 = x154 - x146;
+                x160 = x147 + x156;
+                x161 = arith.mul_add(qd2, x1, -x148);
+                x162 = arith.mul_add(qd2, x3, x149);
+                x163 = arith.mul_add(qd2, c1, qd0);
+                x164 = x42 - x21;
+                x165 = x43 - x22;
+                x166 = x44 - x23;
+                x167 = x163 * x165;
+                x168 = arith.mul_add(x162, x166, -x167);
+                x169 = x161 * x166;
+                x170 = arith.mul_add(x163, x164, -x169);
+                x171 = x162 * x164;
+                x172 = arith.mul_add(x161, x165, -x171);
+                x173 = x159 + x168;
+                x174 = x160 + x170;
+                x175 = x172 - x158;
+                x176 = arith.mul_add(qd3, x9, x161);
+                x177 = arith.mul_add(qd3, x109, x162);
+                x178 = arith.mul_add(-qd3, x16, x163);
+                x179 = x63 - x42;
+                x180 = x64 - x43;
+                x181 = x65 - x44;
+                x182 = x178 * x180;
+                x183 = arith.mul_add(x177, x181, -x182);
+                x184 = x176 * x181;
+                x185 = arith.mul_add(x178, x179, -x184);
+                x186 = x177 * x179;
+                x187 = arith.mul_add(x176, x180, -x186);
+                x188 = x173 + x183;
+                x189 = x174 + x185;
+                x190 = x175 + x187;
+                x191 = arith.mul_add(qd4, x27, x176);
+                x192 = arith.mul_add(qd4, x31, x177);
+                x193 = arith.mul_add(qd4, x35, x178);
+                x194 = x78 - x63;
+                x195 = x79 - x64;
+                x196 = x80 - x65;
+                x197 = x193 * x195;
+                x198 = arith.mul_add(x192, x196, -x197);
+                x199 = x191 * x196;
+                x200 = arith.mul_add(x193, x194, -x199);
+                x201 = x192 * x194;
+                x202 = arith.mul_add(x191, x195, -x201);
+                x203 = x188 + x198;
+                x204 = x189 + x200;
+                x205 = x190 + x202;
+                x206 = arith.mul_add(-qd5, x48, x191);
+                x207 = arith.mul_add(qd5, x52, x192);
+                x208 = arith.mul_add(qd5, x56, x193);
+                x209 = x87 - x78;
+                x210 = x88 - x79;
+                x211 = x89 - x80;
+                x212 = x208 * x210;
+                x213 = arith.mul_add(x207, x211, -x212);
+                x214 = x206 * x211;
+                x215 = arith.mul_add(x208, x209, -x214);
+                x216 = x207 * x209;
+                x217 = arith.mul_add(x206, x210, -x216);
+                x218 = x203 + x213;
+                x219 = x204 + x215;
+                x220 = x205 + x217;
+                x221 = arith.mul_add(qd6, x67, x206);
+                x222 = arith.mul_add(qd6, x69, x207);
+                x223 = arith.mul_add(qd6, x71, x208);
+                x224 = x138 * x223;
+                x225 = arith.mul_add(x139, x222, -x224);
+                x226 = x139 * x221;
+                x227 = arith.mul_add(x137, x223, -x226);
+                x228 = x137 * x222;
+                x229 = arith.mul_add(x138, x221, -x228);
+                x230 = x218 + x225;
+                x231 = x219 + x227;
+                x232 = x220 + x229;
+                x233 = qd0 * c0;
+                x234 = qd0 * s0;
+                x235 = c0 * x148;
+                x236 = arith.mul_add(s0, x149, -x235);
+                x237 = x94 * x236;
+                x238 = arith.mul_add(x95, x234, x237);
+                x239 = x95 * x233;
+                x240 = arith.mul_add(x93, x236, x239);
+                x241 = x94 * x233;
+                x242 = arith.mul_add(x93, x234, -x241);
+                x243 = x146 + x230;
+                x244 = x231 - x147;
+                x245 = c0 * x243;
+                x246 = arith.mul_add(s0, x244, x245);
+                x247 = arith.mul_add(c0, x232, -x238);
+                x248 = arith.mul_add(s0, x232, x240);
+                x249 = x242 - x246;
+                x250 = x3 * x163;
+                x251 = arith.mul_add(c1, x162, -x250);
+                x252 = c1 * x161;
+                x253 = arith.mul_add(x1, x163, -x252);
+                x254 = x1 * x162;
+                x255 = arith.mul_add(x3, x161, -x254);
+                x256 = x101 * x255;
+                x257 = arith.mul_add(x102, x253, -x256);
+                x258 = x102 * x251;
+                x259 = arith.mul_add(x100, x255, -x258);
+                x260 = x100 * x253;
+                x261 = arith.mul_add(x101, x251, -x260);
+                x262 = x230 - x159;
+                x263 = x231 - x160;
+                x264 = x158 + x232;
+                x265 = c1 * x263;
+                x266 = arith.mul_add(x3, x264, -x265);
+                x267 = x1 * x264;
+                x268 = arith.mul_add(c1, x262, -x267);
+                x269 = x3 * x262;
+                x270 = arith.mul_add(x1, x263, -x269);
+                x271 = x257 + x266;
+                x272 = x259 + x268;
+                x273 = x261 + x270;
+                x274 = x109 * x178;
+                x275 = arith.mul_add(x16, x177, x274);
+                x276 = x16 * x176;
+                x277 = arith.mul_add(x9, x178, x276);
+                x278 = x9 * x177;
+                x279 = arith.mul_add(x109, x176, -x278);
+                x280 = x111 * x279;
+                x281 = arith.mul_add(x112, x277, -x280);
+                x282 = x112 * x275;
+                x283 = arith.mul_add(x110, x279, x282);
+                x284 = x110 * x277;
+                x285 = arith.mul_add(x111, x275, x284);
+                x286 = x230 - x173;
+                x287 = x231 - x174;
+                x288 = x232 - x175;
+                x289 = x16 * x287;
+                x290 = arith.mul_add(x109, x288, x289);
+                x291 = x9 * x288;
+                x292 = arith.mul_add(x16, x286, x291);
+                x293 = x109 * x286;
+                x294 = arith.mul_add(x9, x287, -x293);
+                x295 = x281 + x290;
+                x296 = x283 - x292;
+                x297 = x294 - x285;
+                x298 = x31 * x193;
+                x299 = arith.mul_add(x35, x192, -x298);
+                x300 = x35 * x191;
+                x301 = arith.mul_add(x27, x193, -x300);
+                x302 = x27 * x192;
+                x303 = arith.mul_add(x31, x191, -x302);
+                x304 = x120 * x303;
+                x305 = arith.mul_add(x121, x301, -x304);
+                x306 = x121 * x299;
+                x307 = arith.mul_add(x119, x303, -x306);
+                x308 = x119 * x301;
+                x309 = arith.mul_add(x120, x299, -x308);
+                x310 = x230 - x188;
+                x311 = x231 - x189;
+                x312 = x232 - x190;
+                x313 = x35 * x311;
+                x314 = arith.mul_add(x31, x312, -x313);
+                x315 = x27 * x312;
+                x316 = arith.mul_add(x35, x310, -x315);
+                x317 = x31 * x310;
+                x318 = arith.mul_add(x27, x311, -x317);
+                x319 = x305 + x314;
+                x320 = x307 + x316;
+                x321 = x309 + x318;
+                x322 = x52 * x208;
+                x323 = arith.mul_add(x56, x207, -x322);
+                x324 = x56 * x206;
+                x325 = arith.mul_add(x48, x208, x324);
+                x326 = x48 * x207;
+                x327 = arith.mul_add(x52, x206, x326);
+                x328 = x129 * x327;
+                x329 = arith.mul_add(x130, x325, x328);
+                x330 = x130 * x323;
+                x331 = arith.mul_add(x128, x327, -x330);
+                x332 = x128 * x325;
+                x333 = arith.mul_add(x129, x323, x332);
+                x334 = x230 - x203;
+                x335 = x231 - x204;
+                x336 = x232 - x205;
+                x337 = x56 * x335;
+                x338 = arith.mul_add(x52, x336, -x337);
+                x339 = x48 * x336;
+                x340 = arith.mul_add(x56, x334, x339);
+                x341 = x52 * x334;
+                x342 = arith.mul_add(x48, x335, x341);
+                x343 = x338 - x329;
+                x344 = x331 + x340;
+                x345 = x333 - x342;
+                x346 = x69 * x223;
+                x347 = arith.mul_add(x71, x222, -x346);
+                x348 = x71 * x221;
+                x349 = arith.mul_add(x67, x223, -x348);
+                x350 = x67 * x222;
+                x351 = arith.mul_add(x69, x221, -x350);
+                x352 = x138 * x351;
+                x353 = arith.mul_add(x139, x349, -x352);
+                x354 = x139 * x347;
+                x355 = arith.mul_add(x137, x351, -x354);
+                x356 = x137 * x349;
+                x357 = arith.mul_add(x138, x347, -x356);
+                x358 = x230 - x218;
+                x359 = x231 - x219;
+                x360 = x232 - x220;
+                x361 = x71 * x359;
+                x362 = arith.mul_add(x69, x360, -x361);
+                x363 = x67 * x360;
+                x364 = arith.mul_add(x71, x358, -x363);
+                x365 = x69 * x358;
+                x366 = arith.mul_add(x67, x359, -x365);
+                x367 = x353 + x362;
+                x368 = x355 + x364;
+                x369 = x357 + x366;
+                x370 = x67 * x91;
+                x371 = arith.mul_add(x69, x90, -x370);
+                x372 = s0 * x91;
+                x373 = arith.mul_add(c0, x90, x372);
+                x374 = arith.mul_add(-c0, x92, x96);
+                x375 = arith.mul_add(-s0, x92, x97);
+                x376 = x373 - x99;
+                x377 = x3 * x92;
+                x378 = arith.mul_add(c1, x91, -x377);
+                x379 = c1 * x90;
+                x380 = arith.mul_add(x1, x92, -x379);
+                x381 = x1 * x91;
+                x382 = arith.mul_add(x3, x90, -x381);
+                x383 = x104 + x378;
+                x384 = x106 + x380;
+                x385 = x108 + x382;
+                x386 = x92 * x109;
+                x387 = arith.mul_add(x16, x91, x386);
+                x388 = x16 * x90;
+                x389 = arith.mul_add(x9, x92, x388);
+                x390 = x9 * x91;
+                x391 = arith.mul_add(x90, x109, -x390);
+                x392 = x114 - x387;
+                x393 = x389 - x116;
+                x394 = x118 + x391;
+                x395 = x31 * x92;
+                x396 = arith.mul_add(x35, x91, -x395);
+                x397 = x35 * x90;
+                x398 = arith.mul_add(x27, x92, -x397);
+                x399 = x27 * x91;
+                x400 = arith.mul_add(x31, x90, -x399);
+                x401 = x123 + x396;
+                x402 = x125 + x398;
+                x403 = x127 + x400;
+                x404 = x52 * x92;
+                x405 = arith.mul_add(x56, x91, -x404);
+                x406 = x56 * x90;
+                x407 = arith.mul_add(x48, x92, x406);
+                x408 = x48 * x91;
+                x409 = arith.mul_add(x52, x90, x408);
+                x410 = x132 + x405;
+                x411 = x134 - x407;
+                x412 = x409 - x136;
+                x413 = x69 * x92;
+                x414 = arith.mul_add(x71, x91, -x413);
+                x415 = x71 * x90;
+                x416 = arith.mul_add(x67, x92, -x415);
+                x417 = x141 + x414;
+                x418 = x143 + x416;
+                x419 = x145 + x371;
+                x420 = qd0 * x91;
+                x421 = arith.mul_add(qd1, x96, -x420);
+                x422 = arith.mul_add(qd2, x104, x421);
+                x423 = arith.mul_add(qd3, x114, x422);
+                x424 = arith.mul_add(qd4, x123, x423);
+                x425 = arith.mul_add(qd5, x132, x424);
+                x426 = arith.mul_add(qd6, x141, x425);
+                x427 = qd1 * x97;
+                x428 = arith.mul_add(qd0, x90, x427);
+                x429 = arith.mul_add(qd2, x106, x428);
+                x430 = arith.mul_add(-qd3, x116, x429);
+                x431 = arith.mul_add(qd4, x125, x430);
+                x432 = arith.mul_add(qd5, x134, x431);
+                x433 = arith.mul_add(qd6, x143, x432);
+                x434 = qd1 * x99;
+                x435 = arith.mul_add(qd2, x108, -x434);
+                x436 = arith.mul_add(qd3, x118, x435);
+                x437 = arith.mul_add(qd4, x127, x436);
+                x438 = arith.mul_add(-qd5, x136, x437);
+                x439 = arith.mul_add(qd6, x145, x438);
+                x440 = x433 - x231;
+                x441 = x230 - x426;
+                x442 = s0 * x433;
+                x443 = arith.mul_add(c0, x426, x442);
+                x444 = arith.mul_add(-c0, x439, x247);
+                x445 = arith.mul_add(-s0, x439, x248);
+                x446 = x249 + x443;
+                x447 = x92 * x234;
+                x448 = arith.mul_add(x91, x236, x447);
+                x449 = x90 * x236;
+                x450 = arith.mul_add(x92, x233, x449);
+                x451 = x90 * x234;
+                x452 = arith.mul_add(x91, x233, -x451);
+                x453 = x444 + x448;
+                x454 = x445 - x450;
+                x455 = x446 + x452;
+                x456 = x3 * x439;
+                x457 = arith.mul_add(c1, x433, -x456);
+                x458 = c1 * x426;
+                x459 = arith.mul_add(x1, x439, -x458);
+                x460 = x1 * x433;
+                x461 = arith.mul_add(x3, x426, -x460);
+                x462 = x271 + x457;
+                x463 = x272 + x459;
+                x464 = x273 + x461;
+                x465 = x92 * x253;
+                x466 = arith.mul_add(x91, x255, -x465);
+                x467 = x90 * x255;
+                x468 = arith.mul_add(x92, x251, -x467);
+                x469 = x91 * x251;
+                x470 = arith.mul_add(x90, x253, -x469);
+                x471 = x462 + x466;
+                x472 = x463 + x468;
+                x473 = x464 + x470;
+                x474 = x109 * x439;
+                x475 = arith.mul_add(x16, x433, x474);
+                x476 = x16 * x426;
+                x477 = arith.mul_add(x9, x439, x476);
+                x478 = x9 * x433;
+                x479 = arith.mul_add(x109, x426, -x478);
+                x480 = x295 - x475;
+                x481 = x296 + x477;
+                x482 = x297 + x479;
+                x483 = x92 * x277;
+                x484 = arith.mul_add(x91, x279, -x483);
+                x485 = x90 * x279;
+                x486 = arith.mul_add(x92, x275, x485);
+                x487 = x91 * x275;
+                x488 = arith.mul_add(x90, x277, x487);
+                x489 = x480 + x484;
+                x490 = x481 - x486;
+                x491 = x482 + x488;
+                x492 = x31 * x439;
+                x493 = arith.mul_add(x35, x433, -x492);
+                x494 = x35 * x426;
+                x495 = arith.mul_add(x27, x439, -x494);
+                x496 = x27 * x433;
+                x497 = arith.mul_add(x31, x426, -x496);
+                x498 = x319 + x493;
+                x499 = x320 + x495;
+                x500 = x321 + x497;
+                x501 = x92 * x301;
+                x502 = arith.mul_add(x91, x303, -x501);
+                x503 = x90 * x303;
+                x504 = arith.mul_add(x92, x299, -x503);
+                x505 = x91 * x299;
+                x506 = arith.mul_add(x90, x301, -x505);
+                x507 = x498 + x502;
+                x508 = x499 + x504;
+                x509 = x500 + x506;
+                x510 = x52 * x439;
+                x511 = arith.mul_add(x56, x433, -x510);
+                x512 = x56 * x426;
+                x513 = arith.mul_add(x48, x439, x512);
+                x514 = x48 * x433;
+                x515 = arith.mul_add(x52, x426, x514);
+                x516 = x343 + x511;
+                x517 = x344 - x513;
+                x518 = x345 + x515;
+                x519 = x92 * x325;
+                x520 = arith.mul_add(x91, x327, x519);
+                x521 = x90 * x327;
+                x522 = arith.mul_add(x92, x323, -x521);
+                x523 = x91 * x323;
+                x524 = arith.mul_add(x90, x325, x523);
+                x525 = x516 + x520;
+                x526 = x517 + x522;
+                x527 = x518 - x524;
+                x528 = x69 * x439;
+                x529 = arith.mul_add(x71, x433, -x528);
+                x530 = x71 * x426;
+                x531 = arith.mul_add(x67, x439, -x530);
+                x532 = x67 * x433;
+                x533 = arith.mul_add(x69, x426, -x532);
+                x534 = x367 + x529;
+                x535 = x368 + x531;
+                x536 = x369 + x533;
+                x537 = x92 * x349;
+                x538 = arith.mul_add(x91, x351, -x537);
+                x539 = x90 * x351;
+                x540 = arith.mul_add(x92, x347, -x539);
+                x541 = x91 * x347;
+                x542 = arith.mul_add(x90, x349, -x541);
+                x543 = x534 + x538;
+                x544 = x535 + x540;
+                x545 = x536 + x542;
+                x546 = qd2 * x383;
+                x547 = arith.mul_add(qd1, x374, x546);
+                x548 = arith.mul_add(qd3, x392, x547);
+                x549 = arith.mul_add(qd4, x401, x548);
+                x550 = arith.mul_add(qd5, x410, x549);
+                x551 = arith.mul_add(qd6, x417, x550);
+                x552 = qd2 * x384;
+                x553 = arith.mul_add(qd1, x375, x552);
+                x554 = arith.mul_add(qd3, x393, x553);
+                x555 = arith.mul_add(qd4, x402, x554);
+                x556 = arith.mul_add(qd5, x411, x555);
+                x557 = arith.mul_add(qd6, x418, x556);
+                x558 = qd2 * x385;
+                x559 = arith.mul_add(qd1, x376, x558);
+                x560 = arith.mul_add(qd3, x394, x559);
+                x561 = arith.mul_add(qd4, x403, x560);
+                x562 = arith.mul_add(qd5, x412, x561);
+                x563 = arith.mul_add(qd6, x419, x562);
+                x564 = a2 * x383;
+                x565 = arith.mul_add(a1, x374, x564);
+                x566 = arith.mul_add(a3, x392, x565);
+                x567 = arith.mul_add(a4, x401, x566);
+                x568 = arith.mul_add(a5, x410, x567);
+                x569 = arith.mul_add(a6, x417, x568);
+                x570 = a2 * x384;
+                x571 = arith.mul_add(a1, x375, x570);
+                x572 = arith.mul_add(a3, x393, x571);
+                x573 = arith.mul_add(a4, x402, x572);
+                x574 = arith.mul_add(a5, x411, x573);
+                x575 = arith.mul_add(a6, x418, x574);
+                x576 = a2 * x385;
+                x577 = arith.mul_add(a1, x376, x576);
+                x578 = arith.mul_add(a3, x394, x577);
+                x579 = arith.mul_add(a4, x403, x578);
+                x580 = arith.mul_add(a5, x412, x579);
+                x581 = arith.mul_add(a6, x419, x580);
+                x582 = a1 * s0;
+                x583 = arith.mul_add(a2, x1, -x582);
+                x584 = arith.mul_add(a3, x9, x583);
+                x585 = arith.mul_add(a4, x27, x584);
+                x586 = arith.mul_add(-a5, x48, x585);
+                x587 = arith.mul_add(a6, x67, x586);
+                x588 = a2 * x3;
+                x589 = arith.mul_add(a1, c0, x588);
+                x590 = arith.mul_add(a3, x109, x589);
+                x591 = arith.mul_add(a4, x31, x590);
+                x592 = arith.mul_add(a5, x52, x591);
+                x593 = arith.mul_add(a6, x69, x592);
+                x594 = arith.mul_add(a2, c1, a0);
+                x595 = arith.mul_add(-a3, x16, x594);
+                x596 = arith.mul_add(a4, x35, x595);
+                x597 = arith.mul_add(a5, x56, x596);
+                x598 = arith.mul_add(a6, x71, x597);
+                x599 = qd1 * x453;
+                x600 = arith.mul_add(qd0, x440, x599);
+                x601 = arith.mul_add(qd2, x471, x600);
+                x602 = arith.mul_add(qd3, x489, x601);
+                x603 = arith.mul_add(qd4, x507, x602);
+                x604 = arith.mul_add(qd5, x525, x603);
+                x605 = arith.mul_add(qd6, x543, x604);
+                x606 = qd1 * x454;
+                x607 = arith.mul_add(qd0, x441, x606);
+                x608 = arith.mul_add(qd2, x472, x607);
+                x609 = arith.mul_add(qd3, x490, x608);
+                x610 = arith.mul_add(qd4, x508, x609);
+                x611 = arith.mul_add(qd5, x526, x610);
+                x612 = arith.mul_add(qd6, x544, x611);
+                x613 = qd2 * x473;
+                x614 = arith.mul_add(qd1, x455, x613);
+                x615 = arith.mul_add(qd3, x491, x614);
+                x616 = arith.mul_add(qd4, x509, x615);
+                x617 = arith.mul_add(qd5, x527, x616);
+                x618 = arith.mul_add(qd6, x545, x617);
+                x619 = qd1 * x233;
+                x620 = arith.mul_add(qd2, x251, -x619);
+                x621 = arith.mul_add(-qd3, x275, x620);
+                x622 = arith.mul_add(qd4, x299, x621);
+                x623 = arith.mul_add(qd5, x323, x622);
+                x624 = arith.mul_add(qd6, x347, x623);
+                x625 = qd1 * x234;
+                x626 = arith.mul_add(qd2, x253, -x625);
+                x627 = arith.mul_add(qd3, x277, x626);
+                x628 = arith.mul_add(qd4, x301, x627);
+                x629 = arith.mul_add(-qd5, x325, x628);
+                x630 = arith.mul_add(qd6, x349, x629);
+                x631 = qd2 * x255;
+                x632 = arith.mul_add(qd1, x236, x631);
+                x633 = arith.mul_add(qd3, x279, x632);
+                x634 = arith.mul_add(qd4, x303, x633);
+                x635 = arith.mul_add(qd5, x327, x634);
+                x636 = arith.mul_add(qd6, x351, x635);
+                x637 = x569 + x605;
+                x638 = x575 + x612;
+                x639 = x581 + x618;
+                x640 = x587 + x624;
+                *o3 = x640;
+                x641 = x593 + x630;
+                *o4 = x641;
+                x642 = x598 + x636;
+                *o5 = x642;
+                x643 = x223 * x557;
+                x644 = arith.mul_add(x222, x563, -x643);
+                x645 = x221 * x563;
+                x646 = arith.mul_add(x223, x551, -x645);
+                x647 = x222 * x551;
+                x648 = arith.mul_add(x221, x557, -x647);
+                x649 = x637 + x644;
+                *o0 = x649;
+                x650 = x638 + x646;
+                *o1 = x650;
+                x651 = x639 + x648;
+                *o2 = x651;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd, a))
+}
+///Operations: 346 mul, 306 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_classical_acceleration_flange_local_world_aligned(
+    t: &JointTrig<7>,
+    qd: &SVector<f64, 7>,
+    a: &SVector<f64, 7>,
+) -> SVector<f64, 6> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<
+        (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
+    > for Body {
+        type Output = SVector<f64, 6>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd, a): (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
+        ) -> SVector<f64, 6> {
+            let [s0, s1, s2, s3, s4, s5, _] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, _] = t.cos;
+            let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+            let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
+            let mut out: SVector<f64, 6> = SMatrix::zeros();
+            {
+                let [[o0, o1, o2, o3, o4, o5]] = &mut out.data.0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
+                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
+                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
+                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
+                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
+                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
+                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
+                x291, x292, x293, x294, x295, x296, x297, x298, x299, x300, x301, x302,
+                x303, x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
+                x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325, x326,
+                x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337, x338,
+                x339, x340, x341, x342, x343, x344, x345, x346, x347, x348, x349, x350,
+                x351, x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373, x374,
+                x375, x376, x377, x378, x379, x380, x381, x382, x383, x384, x385, x386,
+                x387, x388, x389, x390, x391, x392, x393, x394, x395, x396, x397, x398,
+                x399, x400, x401, x402, x403, x404, x405, x406, x407, x408, x409, x410,
+                x411, x412, x413, x414, x415, x416, x417, x418, x419, x420, x421, x422,
+                x423, x424, x425, x426, x427, x428, x429, x430, x431, x432, x433, x434,
+                x435, x436, x437, x438, x439, x440, x441, x442, x443, x444, x445, x446,
+                x447, x448, x449, x450]: [f64; 451];
+                x0 = c0 * c1;
+                x1 = c0 * s1;
+                x2 = s0 * c1;
+                x3 = s0 * s1;
+                x4 = 0.01f64 * s0;
+                x5 = -0.01f64 * c0;
+                x6 = s0 * s2;
+                x7 = arith.mul_add(c2, x0, -x6);
+                x8 = s0 * c2;
+                x9 = arith.mul_add(s2, x0, x8);
+                x10 = c0 * s2;
+                x11 = arith.mul_add(c2, x2, x10);
+                x12 = s2 * x2;
+                x13 = c0 * c2;
+                x14 = x13 - x12;
+                x15 = s1 * c2;
+                x16 = s1 * s2;
+                x17 = 0.1945f64 * x1;
+                x18 = arith.mul_add(-0.01f64, s0, x17);
+                x19 = 0.1945f64 * x3;
+                x20 = arith.mul_add(0.01f64, c0, x19);
+                x21 = x4 + x18;
+                x22 = x5 + x20;
+                x23 = arith.mul_add(0.1945f64, c1, 0.36f64);
+                x24 = s3 * x1;
+                x25 = arith.mul_add(c3, x7, x24);
+                x26 = s3 * x7;
+                x27 = arith.mul_add(c3, x1, -x26);
+                x28 = s3 * x3;
+                x29 = arith.mul_add(c3, x11, x28);
+                x30 = s3 * x11;
+                x31 = arith.mul_add(c3, x3, -x30);
+                x32 = c3 * x15;
+                x33 = arith.mul_add(c1, s3, -x32);
+                x34 = c1 * c3;
+                x35 = arith.mul_add(s3, x15, x34);
+                x36 = 0.2255f64 * x1;
+                x37 = arith.mul_add(-0.0105f64, x9, x36);
+                x38 = 0.2255f64 * x3;
+                x39 = arith.mul_add(0.0105f64, x14, x38);
+                x40 = 0.2255f64 * c1;
+                x41 = arith.mul_add(0.0105f64, x16, x40);
+                x42 = x21 + x37;
+                x43 = x22 + x39;
+                x44 = x23 + x41;
+                x45 = s4 * x9;
+                x46 = arith.mul_add(c4, x25, -x45);
+                x47 = c4 * x9;
+                x48 = arith.mul_add(s4, x25, x47);
+                x49 = s4 * x14;
+                x50 = arith.mul_add(c4, x29, x49);
+                x51 = s4 * x29;
+                x52 = arith.mul_add(c4, x14, -x51);
+                x53 = s4 * x16;
+                x54 = arith.mul_add(c4, x33, x53);
+                x55 = s4 * x33;
+                x56 = arith.mul_add(c4, x16, -x55);
+                x57 = 0.1745f64 * x27;
+                x58 = arith.mul_add(0.0105f64, x9, x57);
+                x59 = 0.1745f64 * x31;
+                x60 = arith.mul_add(-0.0105f64, x14, x59);
+                x61 = 0.1745f64 * x35;
+                x62 = arith.mul_add(-0.0105f64, x16, x61);
+                x63 = x42 + x58;
+                x64 = x43 + x60;
+                x65 = x44 + x62;
+                x66 = c5 * x27;
+                x67 = arith.mul_add(s5, x46, x66);
+                x68 = c5 * x31;
+                x69 = arith.mul_add(s5, x50, x68);
+                x70 = c5 * x35;
+                x71 = arith.mul_add(s5, x54, x70);
+                x72 = 0.2255f64 * x27;
+                x73 = arith.mul_add(0.0707f64, x48, x72);
+                x74 = 0.2255f64 * x31;
+                x75 = arith.mul_add(-0.0707f64, x52, x74);
+                x76 = 0.2255f64 * x35;
+                x77 = arith.mul_add(-0.0707f64, x56, x76);
+                x78 = x63 + x73;
+                x79 = x64 + x75;
+                x80 = x65 + x77;
+                x81 = 0.0711f64 * x67;
+                x82 = arith.mul_add(-0.0707f64, x48, x81);
+                x83 = 0.0711f64 * x69;
+                x84 = arith.mul_add(0.0707f64, x52, x83);
+                x85 = 0.0711f64 * x71;
+                x86 = arith.mul_add(0.0707f64, x56, x85);
+                x87 = x78 + x82;
+                x88 = x79 + x84;
+                x89 = x80 + x86;
+                x90 = arith.mul_add(0.0549f64, x67, x87);
+                x91 = arith.mul_add(0.0549f64, x69, x88);
+                x92 = arith.mul_add(0.0549f64, x71, x89);
+                x93 = x90 - x4;
+                x94 = x91 - x5;
+                x95 = x92 - 0.36f64;
+                x96 = c0 * x95;
+                x97 = s0 * x95;
+                x98 = c0 * x93;
+                x99 = arith.mul_add(s0, x94, x98);
+                x100 = x90 - x21;
+                x101 = x91 - x22;
+                x102 = x92 - x23;
+                x103 = c1 * x101;
+                x104 = arith.mul_add(x3, x102, -x103);
+                x105 = x1 * x102;
+                x106 = arith.mul_add(c1, x100, -x105);
+                x107 = x3 * x100;
+                x108 = arith.mul_add(x1, x101, -x107);
+                x109 = x12 - x13;
+                x110 = x90 - x42;
+                x111 = x91 - x43;
+                x112 = x92 - x44;
+                x113 = x16 * x111;
+                x114 = arith.mul_add(x109, x112, x113);
+                x115 = x9 * x112;
+                x116 = arith.mul_add(x16, x110, x115);
+                x117 = x109 * x110;
+                x118 = arith.mul_add(x9, x111, -x117);
+                x119 = x90 - x63;
+                x120 = x91 - x64;
+                x121 = x92 - x65;
+                x122 = x35 * x120;
+                x123 = arith.mul_add(x31, x121, -x122);
+                x124 = x27 * x121;
+                x125 = arith.mul_add(x35, x119, -x124);
+                x126 = x31 * x119;
+                x127 = arith.mul_add(x27, x120, -x126);
+                x128 = x90 - x78;
+                x129 = x91 - x79;
+                x130 = x92 - x80;
+                x131 = x56 * x129;
+                x132 = arith.mul_add(x52, x130, -x131);
+                x133 = x48 * x130;
+                x134 = arith.mul_add(x56, x128, x133);
+                x135 = x52 * x128;
+                x136 = arith.mul_add(x48, x129, x135);
+                x137 = x90 - x87;
+                x138 = x91 - x88;
+                x139 = x92 - x89;
+                x140 = x71 * x138;
+                x141 = arith.mul_add(x69, x139, -x140);
+                x142 = x67 * x139;
+                x143 = arith.mul_add(x71, x137, -x142);
+                x144 = x69 * x137;
+                x145 = arith.mul_add(x67, x138, -x144);
+                x146 = qd0 * x5;
+                x147 = qd0 * x4;
+                x148 = qd1 * s0;
+                x149 = qd1 * c0;
+                x150 = x21 - x4;
+                x151 = x22 - x5;
+                x152 = x23 - 0.36f64;
+                x153 = qd0 * x151;
+                x154 = arith.mul_add(x149, x152, -x153);
+                x155 = x148 * x152;
+                x156 = arith.mul_add(qd0, x150, x155);
+                x157 = x149 * x150;
+                x158 = arith.mul_add(x148, x151, x157);
+                x159 = x154 - x146;
+                x160 = x147 + x156;
+                x161 = arith.mul_add(qd2, x1, -x148);
+                x162 = arith.mul_add(qd2, x3, x149);
+                x163 = arith.mul_add(qd2, c1, qd0);
+                x164 = x42 - x21;
+                x165 = x43 - x22;
+                x166 = x44 - x23;
+                x167 = x163 * x165;
+                x168 = arith.mul_add(x162, x166, -x167);
+                x169 = x161 * x166;
+                x170 = arith.mul_add(x163, x164, -x169);
+                x171 = x162 * x164;
+                x172 = arith.mul_add(x161, x165, -x171);
+                x173 = x159 + x168;
+                x174 = x160 + x170;
+                x175 = x172 - x158;
+                x176 = arith.mul_add(qd3, x9, x161);
+                x177 = arith.mul_add(qd3, x109, x162);
+                x178 = arith.mul_add(-qd3, x16, x163);
+                x179 = x63 - x42;
+                x180 = x64 - x43;
+                x181 = x65 - x44;
+                x182 = x178 * x180;
+                x183 = arith.mul_add(x177, x181, -x182);
+                x184 = x176 * x181;
+                x185 = arith.mul_add(x178, x179, -x184);
+                x186 = x177 * x179;
+                x187 = arith.mul_add(x176, x180, -x186);
+                x188 = x173 + x183;
+                x189 = x174 + x185;
+                x190 = x175 + x187;
+                x191 = arith.mul_add(qd4, x27, x176);
+                x192 = arith.mul_add(qd4, x31, x177);
+                x193 = arith.mul_add(qd4, x35, x178);
+                x194 = x78 - x63;
+                x195 = x79 - x64;
+                x196 = x80 - x65;
+                x197 = x193 * x195;
+                x198 = arith.mul_add(x192, x196, -x197);
+                x199 = x191 * x196;
+                x200 = arith.mul_add(x193, x194, -x199);
+                x201 = x192 * x194;
+                x202 = arith.mul_add(x191, x195, -x201);
+                x203 = x188 + x198;
+                x204 = x189 + x200;
+                x205 = x190 + x202;
+                x206 = arith.mul_add(-qd5, x48, x191);
+                x207 = arith.mul_add(qd5, x52, x192);
+                x208 = arith.mul_add(qd5, x56, x193);
+                x209 = x87 - x78;
+                x210 = x88 - x79;
+                x211 = x89 - x80;
+                x212 = x208 * x210;
+                x213 = arith.mul_add(x207, x211, -x212);
+                x214 = x206 * x211;
+                x215 = arith.mul_add(x208, x209, -x214);
+                x216 = x207 * x209;
+                x217 = arith.mul_add(x206, x210, -x216);
+                x218 = x203 + x213;
+                x219 = x204 + x215;
+                x220 = x205 + x217;
+                x221 = arith.mul_add(qd6, x67, x206);
+                x222 = arith.mul_add(qd6, x69, x207);
+                x223 = arith.mul_add(qd6, x71, x208);
+                x224 = x138 * x223;
+                x225 = arith.mul_add(x139, x222, -x224);
+                x226 = x139 * x221;
+                x227 = arith.mul_add(x137, x223, -x226);
+                x228 = x137 * x222;
+                x229 = arith.mul_add(x138, x221, -x228);
+                x230 = x218 + x225;
+                x231 = x219 + x227;
+                x232 = x220 + x229;
+                x233 = qd0 * c0;
+                x234 = qd0 * s0;
+                x235 = c0 * x148;
+                x236 = arith.mul_add(s0, x149, -x235);
+                x237 = x94 * x236;
+                x238 = arith.mul_add(x95, x234, x237);
+                x239 = x95 * x233;
+                x240 = arith.mul_add(x93, x236, x239);
+                x241 = x94 * x233;
+                x242 = arith.mul_add(x93, x234, -x241);
+                x243 = x146 + x230;
+                x244 = x231 - x147;
+                x245 = c0 * x243;
+                x246 = arith.mul_add(s0, x244, x245);
+                x247 = arith.mul_add(c0, x232, -x238);
+                x248 = arith.mul_add(s0, x232, x240);
+                x249 = x242 - x246;
+                x250 = x3 * x163;
+                x251 = arith.mul_add(c1, x162, -x250);
+                x252 = c1 * x161;
+                x253 = arith.mul_add(x1, x163, -x252);
+                x254 = x1 * x162;
+                x255 = arith.mul_add(x3, x161, -x254);
+                x256 = x101 * x255;
+                x257 = arith.mul_add(x102, x253, -x256);
+                x258 = x102 * x251;
+                x259 = arith.mul_add(x100, x255, -x258);
+                x260 = x100 * x253;
+                x261 = arith.mul_add(x101, x251, -x260);
+                x262 = x230 - x159;
+                x263 = x231 - x160;
+                x264 = x158 + x232;
+                x265 = c1 * x263;
+                x266 = arith.mul_add(x3, x264, -x265);
+                x267 = x1 * x264;
+                x268 = arith.mul_add(c1, x262, -x267);
+                x269 = x3 * x262;
+                x270 = arith.mul_add(x1, x263, -x269);
+                x271 = x257 + x266;
+                x272 = x259 + x268;
+                x273 = x261 + x270;
+                x274 = x109 * x178;
+                x275 = arith.mul_add(x16, x177, x274);
+                x276 = x16 * x176;
+                x277 = arith.mul_add(x9, x178, x276);
+                x278 = x9 * x177;
+                x279 = arith.mul_add(x109, x176, -x278);
+                x280 = x111 * x279;
+                x281 = arith.mul_add(x112, x277, -x280);
+                x282 = x112 * x275;
+                x283 = arith.mul_add(x110, x279, x282);
+                x284 = x110 * x277;
+                x285 = arith.mul_add(x111, x275, x284);
+                x286 = x230 - x173;
+                x287 = x231 - x174;
+                x288 = x232 - x175;
+                x289 = x16 * x287;
+                x290 = arith.mul_add(x109, x288, x289);
+                x291 = x9 * x288;
+                x292 = arith.mul_add(x16, x286, x291);
+                x293 = x109 * x286;
+                x294 = arith.mul_add(x9, x287, -x293);
+                x295 = x281 + x290;
+                x296 = x283 - x292;
+                x297 = x294 - x285;
+                x298 = x31 * x193;
+                x299 = arith.mul_add(x35, x192, -x298);
+                x300 = x35 * x191;
+                x301 = arith.mul_add(x27, x193, -x300);
+                x302 = x27 * x192;
+                x303 = arith.mul_add(x31, x191, -x302);
+                x304 = x120 * x303;
+                x305 = arith.mul_add(x121, x301, -x304);
+                x306 = x121 * x299;
+                x307 = arith.mul_add(x119, x303, -x306);
+                x308 = x119 * x301;
+                x309 = arith.mul_add(x120, x299, -x308);
+                x310 = x230 - x188;
+                x311 = x231 - x189;
+                x312 = x232 - x190;
+                x313 = x35 * x311;
+                x314 = arith.mul_add(x31, x312, -x313);
+                x315 = x27 * x312;
+                x316 = arith.mul_add(x35, x310, -x315);
+                x317 = x31 * x310;
+                x318 = arith.mul_add(x27, x311, -x317);
+                x319 = x305 + x314;
+                x320 = x307 + x316;
+                x321 = x309 + x318;
+                x322 = x52 * x208;
+                x323 = arith.mul_add(x56, x207, -x322);
+                x324 = x56 * x206;
+                x325 = arith.mul_add(x48, x208, x324);
+                x326 = x48 * x207;
+                x327 = arith.mul_add(x52, x206, x326);
+                x328 = x129 * x327;
+                x329 = arith.mul_add(x130, x325, x328);
+                x330 = x130 * x323;
+                x331 = arith.mul_add(x128, x327, -x330);
+                x332 = x128 * x325;
+                x333 = arith.mul_add(x129, x323, x332);
+                x334 = x230 - x203;
+                x335 = x231 - x204;
+                x336 = x232 - x205;
+                x337 = x56 * x335;
+                x338 = arith.mul_add(x52, x336, -x337);
+                x339 = x48 * x336;
+                x340 = arith.mul_add(x56, x334, x339);
+                x341 = x52 * x334;
+                x342 = arith.mul_add(x48, x335, x341);
+                x343 = x338 - x329;
+                x344 = x331 + x340;
+                x345 = x333 - x342;
+                x346 = x69 * x223;
+                x347 = arith.mul_add(x71, x222, -x346);
+                x348 = x71 * x221;
+                x349 = arith.mul_add(x67, x223, -x348);
+                x350 = x67 * x222;
+                x351 = arith.mul_add(x69, x221, -x350);
+                x352 = x138 * x351;
+                x353 = arith.mul_add(x139, x349, -x352);
+                x354 = x139 * x347;
+                x355 = arith.mul_add(x137, x351, -x354);
+                x356 = x137 * x349;
+                x357 = arith.mul_add(x138, x347, -x356);
+                x358 = x230 - x218;
+                x359 = x231 - x219;
+                x360 = x232 - x220;
+                x361 = x71 * x359;
+                x362 = arith.mul_add(x69, x360, -x361);
+                x363 = x67 * x360;
+                x364 = arith.mul_add(x71, x358, -x363);
+                x365 = x69 * x358;
+                x366 = arith.mul_add(x67, x359, -x365);
+                x367 = x353 + x362;
+                x368 = x355 + x364;
+                x369 = x357 + x366;
+                x370 = a1 * s0;
+                x371 = arith.mul_add(a2, x1, -x370);
+                x372 = arith.mul_add(a3, x9, x371);
+                x373 = arith.mul_add(a4, x27, x372);
+                x374 = arith.mul_add(-a5, x48, x373);
+                x375 = arith.mul_add(a6, x67, x374);
+                x376 = a2 * x3;
+                x377 = arith.mul_add(a1, c0, x376);
+                x378 = arith.mul_add(a3, x109, x377);
+                x379 = arith.mul_add(a4, x31, x378);
+                x380 = arith.mul_add(a5, x52, x379);
+                x381 = arith.mul_add(a6, x69, x380);
+                x382 = arith.mul_add(a2, c1, a0);
+                x383 = arith.mul_add(-a3, x16, x382);
+                x384 = arith.mul_add(a4, x35, x383);
+                x385 = arith.mul_add(a5, x56, x384);
+                x386 = arith.mul_add(a6, x71, x385);
+                x387 = qd1 * x233;
+                x388 = arith.mul_add(qd2, x251, -x387);
+                x389 = arith.mul_add(-qd3, x275, x388);
+                x390 = arith.mul_add(qd4, x299, x389);
+                x391 = arith.mul_add(qd5, x323, x390);
+                x392 = arith.mul_add(qd6, x347, x391);
+                x393 = qd1 * x234;
+                x394 = arith.mul_add(qd2, x253, -x393);
+                x395 = arith.mul_add(qd3, x277, x394);
+                x396 = arith.mul_add(qd4, x301, x395);
+                x397 = arith.mul_add(-qd5, x325, x396);
+                x398 = arith.mul_add(qd6, x349, x397);
+                x399 = qd2 * x255;
+                x400 = arith.mul_add(qd1, x236, x399);
+                x401 = arith.mul_add(qd3, x279, x400);
+                x402 = arith.mul_add(qd4, x303, x401);
+                x403 = arith.mul_add(qd5, x327, x402);
+                x404 = arith.mul_add(qd6, x351, x403);
+                x405 = x375 + x392;
+                *o3 = x405;
+                x406 = x381 + x398;
+                *o4 = x406;
+                x407 = x386 + x404;
+                *o5 = x407;
+                x408 = a0 * x91;
+                x409 = arith.mul_add(a1, x96, -x408);
+                x410 = arith.mul_add(a2, x104, x409);
+                x411 = arith.mul_add(a3, x114, x410);
+                x412 = arith.mul_add(a4, x123, x411);
+                x413 = arith.mul_add(a5, x132, x412);
+                x414 = arith.mul_add(a6, x141, x413);
+                x415 = a1 * x97;
+                x416 = arith.mul_add(a0, x90, x415);
+                x417 = arith.mul_add(a2, x106, x416);
+                x418 = arith.mul_add(-a3, x116, x417);
+                x419 = arith.mul_add(a4, x125, x418);
+                x420 = arith.mul_add(a5, x134, x419);
+                x421 = arith.mul_add(a6, x143, x420);
+                x422 = a1 * x99;
+                x423 = arith.mul_add(a2, x108, -x422);
+                x424 = arith.mul_add(a3, x118, x423);
+                x425 = arith.mul_add(a4, x127, x424);
+                x426 = arith.mul_add(-a5, x136, x425);
+                x427 = arith.mul_add(a6, x145, x426);
+                x428 = qd0 * x231;
+                x429 = arith.mul_add(qd1, x247, -x428);
+                x430 = arith.mul_add(qd2, x271, x429);
+                x431 = arith.mul_add(qd3, x295, x430);
+                x432 = arith.mul_add(qd4, x319, x431);
+                x433 = arith.mul_add(qd5, x343, x432);
+                x434 = arith.mul_add(qd6, x367, x433);
+                x435 = qd1 * x248;
+                x436 = arith.mul_add(qd0, x230, x435);
+                x437 = arith.mul_add(qd2, x272, x436);
+                x438 = arith.mul_add(qd3, x296, x437);
+                x439 = arith.mul_add(qd4, x320, x438);
+                x440 = arith.mul_add(qd5, x344, x439);
+                x441 = arith.mul_add(qd6, x368, x440);
+                x442 = qd2 * x273;
+                x443 = arith.mul_add(qd1, x249, x442);
+                x444 = arith.mul_add(qd3, x297, x443);
+                x445 = arith.mul_add(qd4, x321, x444);
+                x446 = arith.mul_add(qd5, x345, x445);
+                x447 = arith.mul_add(qd6, x369, x446);
+                x448 = x414 + x434;
+                *o0 = x448;
+                x449 = x421 + x441;
+                *o1 = x449;
+                x450 = x427 + x447;
+                *o2 = x450;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd, a))
 }

@@ -6,9 +6,9 @@
 dyngen_runtime::__require_version!("0.1.0");
 use dyngen_runtime::nalgebra::{ArrayStorage, Matrix3, SMatrix, SVector, Vector3};
 use dyngen_runtime::{
-    BaseParameters, DynamicsDerivatives, ForwardDynamics, JointLimits, JointTrig,
-    JointTrigLanes, Kinematics, LaneDynamics, Lanes, ParameterKind, Pose, Regressors,
-    RobotDynamics,
+    BaseParameters, DynamicsDerivatives, ForwardDynamics, FrameKinematics, JointLimits,
+    JointTrig, JointTrigLanes, Kinematics, LaneDynamics, Lanes, ParameterKind, Pose,
+    ReferenceFrame, Regressors, RobotDynamics, RobotFrame,
 };
 /// Number of moving joints (the `N` of [`Kinematics`] and [`RobotDynamics`]).
 pub const DOF: usize = 7;
@@ -283,7 +283,7 @@ pub type BaseParameterVector = SVector<f64, BASE_PARAMETER_COUNT>;
 pub type Regressor = SMatrix<f64, DOF, PARAMETER_COUNT>;
 /// The base regressor `Y_b`.
 pub type BaseRegressor = SMatrix<f64, DOF, BASE_PARAMETER_COUNT>;
-/// `panda_rounded`: implements [`Kinematics`], [`RobotDynamics`], [`Regressors`], [`BaseParameters`], [`ForwardDynamics`], [`DynamicsDerivatives`] and [`LaneDynamics`] with flattened, allocation-free code.
+/// `panda_rounded`: implements [`Kinematics`], [`RobotDynamics`], [`Regressors`], [`BaseParameters`], [`ForwardDynamics`], [`DynamicsDerivatives`], [`FrameKinematics`] and [`LaneDynamics`] with flattened, allocation-free code.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct PandaRounded;
 impl Kinematics<7> for PandaRounded {
@@ -26584,4 +26584,4760 @@ impl DynamicsDerivatives<7, 70> for PandaRounded {
         }
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, tau))
     }
+}
+/// Number of named frames (the end-effector and the description's `frames`).
+pub const FRAME_COUNT: usize = 1;
+/// Frame names, in the order of [`Frame`]'s variants.
+pub const FRAME_NAMES: [&str; FRAME_COUNT] = ["panda_hand_tcp"];
+/// The robot's named frames: the argument of every [`FrameKinematics`] method.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Frame {
+    /// `panda_hand_tcp`, the end-effector (on body `panda_link7`).
+    PandaHandTcp,
+}
+impl RobotFrame for Frame {
+    const ALL: &'static [Frame] = &[Frame::PandaHandTcp];
+    fn name(self) -> &'static str {
+        match self {
+            Frame::PandaHandTcp => "panda_hand_tcp",
+        }
+    }
+}
+impl FrameKinematics<7> for PandaRounded {
+    type Frame = Frame;
+    fn frame_pose(frame: Frame, t: &JointTrig<7>) -> Pose {
+        match frame {
+            Frame::PandaHandTcp => Self::forward_kinematics(t),
+        }
+    }
+    fn frame_jacobian(
+        frame: Frame,
+        reference: ReferenceFrame,
+        t: &JointTrig<7>,
+    ) -> SMatrix<f64, 6, 7> {
+        match (frame, reference) {
+            (Frame::PandaHandTcp, ReferenceFrame::Local) => {
+                frame_jacobian_panda_hand_tcp_local(t)
+            }
+            (Frame::PandaHandTcp, ReferenceFrame::World) => {
+                frame_jacobian_panda_hand_tcp_world(t)
+            }
+            (Frame::PandaHandTcp, ReferenceFrame::LocalWorldAligned) => Self::jacobian(t),
+        }
+    }
+    fn frame_jacobian_time_variation(
+        frame: Frame,
+        reference: ReferenceFrame,
+        t: &JointTrig<7>,
+        qd: &SVector<f64, 7>,
+    ) -> SMatrix<f64, 6, 7> {
+        match (frame, reference) {
+            (Frame::PandaHandTcp, ReferenceFrame::Local) => {
+                frame_jacobian_time_variation_panda_hand_tcp_local(t, qd)
+            }
+            (Frame::PandaHandTcp, ReferenceFrame::World) => {
+                frame_jacobian_time_variation_panda_hand_tcp_world(t, qd)
+            }
+            (Frame::PandaHandTcp, ReferenceFrame::LocalWorldAligned) => {
+                Self::jacobian_dot(t, qd)
+            }
+        }
+    }
+    fn frame_velocity(
+        frame: Frame,
+        reference: ReferenceFrame,
+        t: &JointTrig<7>,
+        qd: &SVector<f64, 7>,
+    ) -> SVector<f64, 6> {
+        match (frame, reference) {
+            (Frame::PandaHandTcp, ReferenceFrame::Local) => {
+                frame_velocity_panda_hand_tcp_local(t, qd)
+            }
+            (Frame::PandaHandTcp, ReferenceFrame::World) => {
+                frame_velocity_panda_hand_tcp_world(t, qd)
+            }
+            (Frame::PandaHandTcp, ReferenceFrame::LocalWorldAligned) => {
+                frame_velocity_panda_hand_tcp_local_world_aligned(t, qd)
+            }
+        }
+    }
+    fn frame_classical_acceleration(
+        frame: Frame,
+        reference: ReferenceFrame,
+        t: &JointTrig<7>,
+        qd: &SVector<f64, 7>,
+        qdd: &SVector<f64, 7>,
+    ) -> SVector<f64, 6> {
+        match (frame, reference) {
+            (Frame::PandaHandTcp, ReferenceFrame::Local) => {
+                frame_classical_acceleration_panda_hand_tcp_local(t, qd, qdd)
+            }
+            (Frame::PandaHandTcp, ReferenceFrame::World) => {
+                frame_classical_acceleration_panda_hand_tcp_world(t, qd, qdd)
+            }
+            (Frame::PandaHandTcp, ReferenceFrame::LocalWorldAligned) => {
+                frame_classical_acceleration_panda_hand_tcp_local_world_aligned(
+                    t,
+                    qd,
+                    qdd,
+                )
+            }
+        }
+    }
+    fn frame_kinematics(
+        frame: Frame,
+        t: &JointTrig<7>,
+        qd: &SVector<f64, 7>,
+    ) -> (Pose, SMatrix<f64, 6, 7>, SMatrix<f64, 6, 7>) {
+        match frame {
+            Frame::PandaHandTcp => Self::kinematics(t, qd),
+        }
+    }
+}
+///Operations: 237 mul, 151 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_jacobian_panda_hand_tcp_local(t: &JointTrig<7>) -> SMatrix<f64, 6, 7> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<7>,)> for Body {
+        type Output = SMatrix<f64, 6, 7>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t,): (&JointTrig<7>,),
+        ) -> SMatrix<f64, 6, 7> {
+            let [s0, s1, s2, s3, s4, s5, s6] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, c6] = t.cos;
+            let mut out: SMatrix<f64, 6, 7> = SMatrix::zeros();
+            {
+                let [[o0, o1, o2, o3, o4, o5], [o6, o7, o8, o9, o10, o11], [o12, o13,
+                o14, o15, o16, o17], [o18, o19, o20, o21, o22, o23], [o24, o25, o26, o27,
+                o28, o29], [o30, o31, o32, o33, o34, o35], [o36, o37, o38, o39, o40, o41],
+                ] = &mut out.data.0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
+                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
+                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
+                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252]: [f64; 253];
+                x0 = c0 * c1;
+                x1 = c0 * s1;
+                x2 = s0 * c1;
+                x3 = s0 * s1;
+                x4 = s0 * s2;
+                x5 = arith.mul_add(c2, x0, -x4);
+                x6 = s0 * c2;
+                x7 = arith.mul_add(s2, x0, x6);
+                x8 = c0 * s2;
+                x9 = arith.mul_add(c2, x2, x8);
+                x10 = c0 * c2;
+                x11 = s1 * c2;
+                x12 = s1 * s2;
+                x13 = 0.316f64 * x1;
+                x14 = 0.316f64 * x3;
+                x15 = arith.mul_add(0.316f64, c1, 0.333f64);
+                x16 = s3 * x1;
+                x17 = arith.mul_add(c3, x5, x16);
+                x18 = s3 * x5;
+                x19 = arith.mul_add(c3, x1, -x18);
+                x20 = s3 * x3;
+                x21 = arith.mul_add(c3, x9, x20);
+                x22 = s3 * x9;
+                x23 = arith.mul_add(c3, x3, -x22);
+                x24 = arith.mul_add(s2, x2, -x10);
+                x25 = c3 * x11;
+                x26 = arith.mul_add(c1, s3, -x25);
+                x27 = c1 * c3;
+                x28 = arith.mul_add(s3, x11, x27);
+                x29 = arith.mul_add(0.0825f64, x5, x13);
+                x30 = arith.mul_add(0.0825f64, x9, x14);
+                x31 = arith.mul_add(-0.0825f64, x11, x15);
+                x32 = s4 * x7;
+                x33 = arith.mul_add(c4, x17, -x32);
+                x34 = c4 * x7;
+                x35 = arith.mul_add(s4, x17, x34);
+                x36 = s4 * x24;
+                x37 = arith.mul_add(c4, x21, -x36);
+                x38 = c4 * x24;
+                x39 = arith.mul_add(s4, x21, x38);
+                x40 = s4 * x12;
+                x41 = arith.mul_add(c4, x26, x40);
+                x42 = c4 * x12;
+                x43 = 0.384f64 * x19;
+                x44 = arith.mul_add(-0.0825f64, x17, x43);
+                x45 = 0.384f64 * x23;
+                x46 = arith.mul_add(-0.0825f64, x21, x45);
+                x47 = 0.384f64 * x28;
+                x48 = arith.mul_add(-0.0825f64, x26, x47);
+                x49 = x29 + x44;
+                x50 = x30 + x46;
+                x51 = x31 + x48;
+                x52 = s5 * x19;
+                x53 = arith.mul_add(c5, x33, x52);
+                x54 = c5 * x19;
+                x55 = s5 * x23;
+                x56 = arith.mul_add(c5, x37, x55);
+                x57 = c5 * x23;
+                x58 = s5 * x28;
+                x59 = arith.mul_add(c5, x41, x58);
+                x60 = c5 * x28;
+                x61 = arith.mul_add(s4, x26, -x42);
+                x62 = s6 * x35;
+                x63 = arith.mul_add(c6, x53, x62);
+                x64 = s6 * x53;
+                x65 = arith.mul_add(c6, x35, -x64);
+                x66 = arith.mul_add(s5, x33, -x54);
+                x67 = s6 * x39;
+                x68 = arith.mul_add(c6, x56, x67);
+                x69 = s6 * x56;
+                x70 = arith.mul_add(c6, x39, -x69);
+                x71 = arith.mul_add(s5, x37, -x57);
+                x72 = s6 * x61;
+                x73 = arith.mul_add(c6, x59, x72);
+                x74 = s6 * x59;
+                x75 = arith.mul_add(c6, x61, -x74);
+                x76 = arith.mul_add(s5, x41, -x60);
+                *o5 = x76;
+                x77 = arith.mul_add(0.088f64, x53, x49);
+                x78 = arith.mul_add(0.088f64, x56, x50);
+                x79 = arith.mul_add(0.088f64, x59, x51);
+                x80 = -0.7071080798594735f64 * x65;
+                x81 = arith.mul_add(0.7071054825112363f64, x63, x80);
+                x82 = 0.7071054825112363f64 * x65;
+                x83 = arith.mul_add(0.7071080798594735f64, x63, x82);
+                x84 = -0.7071080798594735f64 * x70;
+                x85 = arith.mul_add(0.7071054825112363f64, x68, x84);
+                x86 = 0.7071054825112363f64 * x70;
+                x87 = arith.mul_add(0.7071080798594735f64, x68, x86);
+                x88 = -0.7071080798594735f64 * x75;
+                x89 = arith.mul_add(0.7071054825112363f64, x73, x88);
+                *o3 = x89;
+                x90 = 0.7071054825112363f64 * x75;
+                x91 = arith.mul_add(0.7071080798594735f64, x73, x90);
+                *o4 = x91;
+                x92 = arith.mul_add(0.2104f64, x66, x77);
+                x93 = arith.mul_add(0.2104f64, x71, x78);
+                x94 = arith.mul_add(0.2104f64, x76, x79);
+                x95 = x94 - 0.333f64;
+                x96 = c0 * x95;
+                x97 = s0 * x95;
+                x98 = c0 * x92;
+                x99 = arith.mul_add(s0, x93, x98);
+                x100 = x92 - x13;
+                x101 = x93 - x14;
+                x102 = x94 - x15;
+                x103 = c1 * x101;
+                x104 = arith.mul_add(x3, x102, -x103);
+                x105 = x1 * x102;
+                x106 = arith.mul_add(c1, x100, -x105);
+                x107 = x3 * x100;
+                x108 = arith.mul_add(x1, x101, -x107);
+                x109 = x92 - x29;
+                x110 = x93 - x30;
+                x111 = x94 - x31;
+                x112 = x12 * x110;
+                x113 = arith.mul_add(x24, x111, x112);
+                x114 = x7 * x111;
+                x115 = arith.mul_add(x12, x109, x114);
+                x116 = x24 * x109;
+                x117 = arith.mul_add(x7, x110, -x116);
+                x118 = x92 - x49;
+                x119 = x93 - x50;
+                x120 = x94 - x51;
+                x121 = x28 * x119;
+                x122 = arith.mul_add(x23, x120, -x121);
+                x123 = x19 * x120;
+                x124 = arith.mul_add(x28, x118, -x123);
+                x125 = x23 * x118;
+                x126 = arith.mul_add(x19, x119, -x125);
+                x127 = x61 * x119;
+                x128 = arith.mul_add(x39, x120, -x127);
+                x129 = x35 * x120;
+                x130 = arith.mul_add(x61, x118, -x129);
+                x131 = x39 * x118;
+                x132 = arith.mul_add(x35, x119, -x131);
+                x133 = x92 - x77;
+                x134 = x93 - x78;
+                x135 = x94 - x79;
+                x136 = x76 * x134;
+                x137 = arith.mul_add(x71, x135, -x136);
+                x138 = x66 * x135;
+                x139 = arith.mul_add(x76, x133, -x138);
+                x140 = x71 * x133;
+                x141 = arith.mul_add(x66, x134, -x140);
+                x142 = x81 * x93;
+                x143 = arith.mul_add(x85, x92, -x142);
+                *o0 = x143;
+                x144 = x83 * x93;
+                x145 = arith.mul_add(x87, x92, -x144);
+                *o1 = x145;
+                x146 = x66 * x93;
+                x147 = arith.mul_add(x71, x92, -x146);
+                *o2 = x147;
+                x148 = x85 * x97;
+                x149 = arith.mul_add(x81, x96, x148);
+                x150 = arith.mul_add(-x89, x99, x149);
+                *o6 = x150;
+                x151 = x87 * x97;
+                x152 = arith.mul_add(x83, x96, x151);
+                x153 = arith.mul_add(-x91, x99, x152);
+                *o7 = x153;
+                x154 = x71 * x97;
+                x155 = arith.mul_add(x66, x96, x154);
+                x156 = arith.mul_add(-x76, x99, x155);
+                *o8 = x156;
+                x157 = s0 * x81;
+                x158 = arith.mul_add(c0, x85, -x157);
+                *o9 = x158;
+                x159 = s0 * x83;
+                x160 = arith.mul_add(c0, x87, -x159);
+                *o10 = x160;
+                x161 = s0 * x66;
+                x162 = arith.mul_add(c0, x71, -x161);
+                *o11 = x162;
+                x163 = x85 * x106;
+                x164 = arith.mul_add(x81, x104, x163);
+                x165 = arith.mul_add(x89, x108, x164);
+                *o12 = x165;
+                x166 = x87 * x106;
+                x167 = arith.mul_add(x83, x104, x166);
+                x168 = arith.mul_add(x91, x108, x167);
+                *o13 = x168;
+                x169 = x71 * x106;
+                x170 = arith.mul_add(x66, x104, x169);
+                x171 = arith.mul_add(x76, x108, x170);
+                *o14 = x171;
+                x172 = x3 * x85;
+                x173 = arith.mul_add(x1, x81, x172);
+                x174 = arith.mul_add(c1, x89, x173);
+                *o15 = x174;
+                x175 = x3 * x87;
+                x176 = arith.mul_add(x1, x83, x175);
+                x177 = arith.mul_add(c1, x91, x176);
+                *o16 = x177;
+                x178 = x3 * x71;
+                x179 = arith.mul_add(x1, x66, x178);
+                x180 = arith.mul_add(c1, x76, x179);
+                *o17 = x180;
+                x181 = x85 * x115;
+                x182 = arith.mul_add(x81, x113, -x181);
+                x183 = arith.mul_add(x89, x117, x182);
+                *o18 = x183;
+                x184 = x87 * x115;
+                x185 = arith.mul_add(x83, x113, -x184);
+                x186 = arith.mul_add(x91, x117, x185);
+                *o19 = x186;
+                x187 = x71 * x115;
+                x188 = arith.mul_add(x66, x113, -x187);
+                x189 = arith.mul_add(x76, x117, x188);
+                *o20 = x189;
+                x190 = x24 * x85;
+                x191 = arith.mul_add(x7, x81, x190);
+                x192 = arith.mul_add(-x12, x89, x191);
+                *o21 = x192;
+                x193 = x24 * x87;
+                x194 = arith.mul_add(x7, x83, x193);
+                x195 = arith.mul_add(-x12, x91, x194);
+                *o22 = x195;
+                x196 = x24 * x71;
+                x197 = arith.mul_add(x7, x66, x196);
+                x198 = arith.mul_add(-x12, x76, x197);
+                *o23 = x198;
+                x199 = x85 * x124;
+                x200 = arith.mul_add(x81, x122, x199);
+                x201 = arith.mul_add(x89, x126, x200);
+                *o24 = x201;
+                x202 = x87 * x124;
+                x203 = arith.mul_add(x83, x122, x202);
+                x204 = arith.mul_add(x91, x126, x203);
+                *o25 = x204;
+                x205 = x71 * x124;
+                x206 = arith.mul_add(x66, x122, x205);
+                x207 = arith.mul_add(x76, x126, x206);
+                *o26 = x207;
+                x208 = x23 * x85;
+                x209 = arith.mul_add(x19, x81, x208);
+                x210 = arith.mul_add(x28, x89, x209);
+                *o27 = x210;
+                x211 = x23 * x87;
+                x212 = arith.mul_add(x19, x83, x211);
+                x213 = arith.mul_add(x28, x91, x212);
+                *o28 = x213;
+                x214 = x23 * x71;
+                x215 = arith.mul_add(x19, x66, x214);
+                x216 = arith.mul_add(x28, x76, x215);
+                *o29 = x216;
+                x217 = x85 * x130;
+                x218 = arith.mul_add(x81, x128, x217);
+                x219 = arith.mul_add(x89, x132, x218);
+                *o30 = x219;
+                x220 = x87 * x130;
+                x221 = arith.mul_add(x83, x128, x220);
+                x222 = arith.mul_add(x91, x132, x221);
+                *o31 = x222;
+                x223 = x71 * x130;
+                x224 = arith.mul_add(x66, x128, x223);
+                x225 = arith.mul_add(x76, x132, x224);
+                *o32 = x225;
+                x226 = x39 * x85;
+                x227 = arith.mul_add(x35, x81, x226);
+                x228 = arith.mul_add(x61, x89, x227);
+                *o33 = x228;
+                x229 = x39 * x87;
+                x230 = arith.mul_add(x35, x83, x229);
+                x231 = arith.mul_add(x61, x91, x230);
+                *o34 = x231;
+                x232 = x39 * x71;
+                x233 = arith.mul_add(x35, x66, x232);
+                x234 = arith.mul_add(x61, x76, x233);
+                *o35 = x234;
+                x235 = x85 * x139;
+                x236 = arith.mul_add(x81, x137, x235);
+                x237 = arith.mul_add(x89, x141, x236);
+                *o36 = x237;
+                x238 = x87 * x139;
+                x239 = arith.mul_add(x83, x137, x238);
+                x240 = arith.mul_add(x91, x141, x239);
+                *o37 = x240;
+                x241 = x71 * x139;
+                x242 = arith.mul_add(x66, x137, x241);
+                x243 = arith.mul_add(x76, x141, x242);
+                *o38 = x243;
+                x244 = x71 * x85;
+                x245 = arith.mul_add(x66, x81, x244);
+                x246 = arith.mul_add(x76, x89, x245);
+                *o39 = x246;
+                x247 = x71 * x87;
+                x248 = arith.mul_add(x66, x83, x247);
+                x249 = arith.mul_add(x76, x91, x248);
+                *o40 = x249;
+                x250 = x71 * x71;
+                x251 = arith.mul_add(x66, x66, x250);
+                x252 = arith.mul_add(x76, x76, x251);
+                *o41 = x252;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t,))
+}
+///Operations: 132 mul, 98 add/sub, 2 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_jacobian_panda_hand_tcp_world(t: &JointTrig<7>) -> SMatrix<f64, 6, 7> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<7>,)> for Body {
+        type Output = SMatrix<f64, 6, 7>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t,): (&JointTrig<7>,),
+        ) -> SMatrix<f64, 6, 7> {
+            let [s0, s1, s2, s3, s4, s5, _] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, _] = t.cos;
+            let mut out: SMatrix<f64, 6, 7> = SMatrix::zeros();
+            {
+                let [[_, _, _, _, _, o5], [o6, o7, _, o9, o10, _], [o12, o13, o14, o15,
+                o16, o17], [o18, o19, o20, o21, o22, o23], [o24, o25, o26, o27, o28, o29,
+                ], [o30, o31, o32, o33, o34, o35], [o36, o37, o38, o39, o40, o41]] = &mut out
+                    .data
+                    .0;
+                *o5 = 1f64;
+                *o10 = c0;
+                *o17 = c1;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164]: [f64; 165];
+                x0 = -s0;
+                *o9 = x0;
+                x1 = c0 * c1;
+                x2 = c0 * s1;
+                *o15 = x2;
+                x3 = s0 * c1;
+                x4 = s0 * s1;
+                *o16 = x4;
+                x5 = s0 * s2;
+                x6 = arith.mul_add(c2, x1, -x5);
+                x7 = s0 * c2;
+                x8 = arith.mul_add(s2, x1, x7);
+                *o21 = x8;
+                x9 = c0 * s2;
+                x10 = arith.mul_add(c2, x3, x9);
+                x11 = c0 * c2;
+                x12 = s1 * c2;
+                x13 = s1 * s2;
+                x14 = 0.316f64 * x2;
+                x15 = 0.316f64 * x4;
+                x16 = arith.mul_add(0.316f64, c1, 0.333f64);
+                x17 = s3 * x2;
+                x18 = arith.mul_add(c3, x6, x17);
+                x19 = s3 * x6;
+                x20 = arith.mul_add(c3, x2, -x19);
+                *o27 = x20;
+                x21 = s3 * x4;
+                x22 = arith.mul_add(c3, x10, x21);
+                x23 = s3 * x10;
+                x24 = arith.mul_add(c3, x4, -x23);
+                *o28 = x24;
+                x25 = arith.mul_add(s2, x3, -x11);
+                *o22 = x25;
+                x26 = c3 * x12;
+                x27 = arith.mul_add(c1, s3, -x26);
+                x28 = c1 * c3;
+                x29 = arith.mul_add(s3, x12, x28);
+                *o29 = x29;
+                x30 = -x13;
+                *o23 = x30;
+                x31 = arith.mul_add(0.0825f64, x6, x14);
+                x32 = arith.mul_add(0.0825f64, x10, x15);
+                x33 = arith.mul_add(-0.0825f64, x12, x16);
+                x34 = s4 * x8;
+                x35 = arith.mul_add(c4, x18, -x34);
+                x36 = c4 * x8;
+                x37 = arith.mul_add(s4, x18, x36);
+                *o33 = x37;
+                x38 = s4 * x25;
+                x39 = arith.mul_add(c4, x22, -x38);
+                x40 = c4 * x25;
+                x41 = arith.mul_add(s4, x22, x40);
+                *o34 = x41;
+                x42 = s4 * x13;
+                x43 = arith.mul_add(c4, x27, x42);
+                x44 = c4 * x13;
+                x45 = 0.384f64 * x20;
+                x46 = arith.mul_add(-0.0825f64, x18, x45);
+                x47 = 0.384f64 * x24;
+                x48 = arith.mul_add(-0.0825f64, x22, x47);
+                x49 = 0.384f64 * x29;
+                x50 = arith.mul_add(-0.0825f64, x27, x49);
+                x51 = x31 + x46;
+                x52 = x32 + x48;
+                x53 = x33 + x50;
+                x54 = s5 * x20;
+                x55 = arith.mul_add(c5, x35, x54);
+                x56 = c5 * x20;
+                x57 = s5 * x24;
+                x58 = arith.mul_add(c5, x39, x57);
+                x59 = c5 * x24;
+                x60 = s5 * x29;
+                x61 = arith.mul_add(c5, x43, x60);
+                x62 = c5 * x29;
+                x63 = arith.mul_add(s4, x27, -x44);
+                *o35 = x63;
+                x64 = arith.mul_add(s5, x35, -x56);
+                *o39 = x64;
+                x65 = arith.mul_add(s5, x39, -x59);
+                *o40 = x65;
+                x66 = arith.mul_add(s5, x43, -x62);
+                *o41 = x66;
+                x67 = arith.mul_add(0.088f64, x55, x51);
+                x68 = arith.mul_add(0.088f64, x58, x52);
+                x69 = arith.mul_add(0.088f64, x61, x53);
+                x70 = arith.mul_add(0.2104f64, x64, x67);
+                x71 = arith.mul_add(0.2104f64, x65, x68);
+                x72 = arith.mul_add(0.2104f64, x66, x69);
+                x73 = x72 - 0.333f64;
+                x74 = x70 - x14;
+                x75 = x71 - x15;
+                x76 = x72 - x16;
+                x77 = c1 * x75;
+                x78 = arith.mul_add(x4, x76, -x77);
+                x79 = x2 * x76;
+                x80 = arith.mul_add(c1, x74, -x79);
+                x81 = x4 * x74;
+                x82 = arith.mul_add(x2, x75, -x81);
+                x83 = x70 - x31;
+                x84 = x71 - x32;
+                x85 = x72 - x33;
+                x86 = x13 * x84;
+                x87 = arith.mul_add(x25, x85, x86);
+                x88 = x8 * x85;
+                x89 = arith.mul_add(x13, x83, x88);
+                x90 = x25 * x83;
+                x91 = arith.mul_add(x8, x84, -x90);
+                x92 = x70 - x51;
+                x93 = x71 - x52;
+                x94 = x72 - x53;
+                x95 = x29 * x93;
+                x96 = arith.mul_add(x24, x94, -x95);
+                x97 = x20 * x94;
+                x98 = arith.mul_add(x29, x92, -x97);
+                x99 = x24 * x92;
+                x100 = arith.mul_add(x20, x93, -x99);
+                x101 = x63 * x93;
+                x102 = arith.mul_add(x41, x94, -x101);
+                x103 = x37 * x94;
+                x104 = arith.mul_add(x63, x92, -x103);
+                x105 = x41 * x92;
+                x106 = arith.mul_add(x37, x93, -x105);
+                x107 = x70 - x67;
+                x108 = x71 - x68;
+                x109 = x72 - x69;
+                x110 = x66 * x108;
+                x111 = arith.mul_add(x65, x109, -x110);
+                x112 = x64 * x109;
+                x113 = arith.mul_add(x66, x107, -x112);
+                x114 = x65 * x107;
+                x115 = arith.mul_add(x64, x108, -x114);
+                x116 = x64 * x71;
+                x117 = arith.mul_add(x65, x70, -x116);
+                x118 = c0 * x72;
+                x119 = s0 * x72;
+                x120 = arith.mul_add(c0, x73, -x118);
+                *o6 = x120;
+                x121 = arith.mul_add(s0, x73, -x119);
+                *o7 = x121;
+                x122 = x4 * x72;
+                x123 = arith.mul_add(c1, x71, -x122);
+                x124 = c1 * x70;
+                x125 = arith.mul_add(x2, x72, -x124);
+                x126 = x2 * x71;
+                x127 = arith.mul_add(x4, x70, -x126);
+                x128 = x78 + x123;
+                *o12 = x128;
+                x129 = x80 + x125;
+                *o13 = x129;
+                x130 = x82 + x127;
+                *o14 = x130;
+                x131 = x25 * x72;
+                x132 = arith.mul_add(x13, x71, x131);
+                x133 = x13 * x70;
+                x134 = arith.mul_add(x8, x72, x133);
+                x135 = x8 * x71;
+                x136 = arith.mul_add(x25, x70, -x135);
+                x137 = x87 - x132;
+                *o18 = x137;
+                x138 = x134 - x89;
+                *o19 = x138;
+                x139 = x91 + x136;
+                *o20 = x139;
+                x140 = x24 * x72;
+                x141 = arith.mul_add(x29, x71, -x140);
+                x142 = x29 * x70;
+                x143 = arith.mul_add(x20, x72, -x142);
+                x144 = x20 * x71;
+                x145 = arith.mul_add(x24, x70, -x144);
+                x146 = x96 + x141;
+                *o24 = x146;
+                x147 = x98 + x143;
+                *o25 = x147;
+                x148 = x100 + x145;
+                *o26 = x148;
+                x149 = x41 * x72;
+                x150 = arith.mul_add(x63, x71, -x149);
+                x151 = x63 * x70;
+                x152 = arith.mul_add(x37, x72, -x151);
+                x153 = x37 * x71;
+                x154 = arith.mul_add(x41, x70, -x153);
+                x155 = x102 + x150;
+                *o30 = x155;
+                x156 = x104 + x152;
+                *o31 = x156;
+                x157 = x106 + x154;
+                *o32 = x157;
+                x158 = x65 * x72;
+                x159 = arith.mul_add(x66, x71, -x158);
+                x160 = x66 * x70;
+                x161 = arith.mul_add(x64, x72, -x160);
+                x162 = x111 + x159;
+                *o36 = x162;
+                x163 = x113 + x161;
+                *o37 = x163;
+                x164 = x115 + x117;
+                *o38 = x164;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t,))
+}
+///Operations: 457 mul, 352 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_jacobian_time_variation_panda_hand_tcp_local(
+    t: &JointTrig<7>,
+    qd: &SVector<f64, 7>,
+) -> SMatrix<f64, 6, 7> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<7>, &SVector<f64, 7>)> for Body {
+        type Output = SMatrix<f64, 6, 7>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd): (&JointTrig<7>, &SVector<f64, 7>),
+        ) -> SMatrix<f64, 6, 7> {
+            let [s0, s1, s2, s3, s4, s5, s6] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, c6] = t.cos;
+            let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+            let mut out: SMatrix<f64, 6, 7> = SMatrix::zeros();
+            {
+                let [[o0, o1, o2, o3, o4, o5], [o6, o7, o8, o9, o10, o11], [o12, o13,
+                o14, o15, o16, o17], [o18, o19, o20, o21, o22, o23], [o24, o25, o26, o27,
+                o28, o29], [o30, o31, o32, o33, o34, o35], [o36, o37, o38, _, _, _]] = &mut out
+                    .data
+                    .0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
+                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
+                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
+                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
+                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
+                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
+                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
+                x291, x292, x293, x294, x295, x296, x297, x298, x299, x300, x301, x302,
+                x303, x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
+                x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325, x326,
+                x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337, x338,
+                x339, x340, x341, x342, x343, x344, x345, x346, x347, x348, x349, x350,
+                x351, x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373, x374,
+                x375, x376, x377, x378, x379, x380, x381, x382, x383, x384, x385, x386,
+                x387, x388, x389, x390, x391, x392, x393, x394, x395, x396, x397, x398,
+                x399, x400, x401, x402, x403, x404, x405, x406, x407, x408, x409, x410,
+                x411, x412, x413, x414, x415, x416, x417, x418, x419, x420, x421, x422,
+                x423, x424, x425, x426, x427, x428, x429, x430, x431, x432, x433, x434,
+                x435, x436, x437, x438, x439, x440, x441, x442, x443, x444, x445, x446,
+                x447, x448, x449, x450, x451, x452, x453, x454, x455, x456, x457, x458,
+                x459, x460, x461, x462, x463, x464, x465, x466, x467, x468, x469, x470,
+                x471, x472, x473, x474, x475, x476, x477, x478, x479, x480, x481, x482,
+                x483, x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
+                x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505, x506,
+                x507, x508, x509, x510, x511, x512, x513, x514, x515, x516, x517, x518,
+                x519, x520, x521, x522, x523, x524, x525, x526, x527, x528, x529, x530,
+                x531, x532, x533, x534, x535, x536, x537, x538, x539, x540, x541, x542,
+                x543, x544, x545, x546, x547, x548, x549, x550, x551, x552, x553,
+                ]: [f64; 554];
+                x0 = c0 * c1;
+                x1 = c0 * s1;
+                x2 = s0 * c1;
+                x3 = s0 * s1;
+                x4 = s0 * s2;
+                x5 = arith.mul_add(c2, x0, -x4);
+                x6 = s0 * c2;
+                x7 = arith.mul_add(s2, x0, x6);
+                x8 = c0 * s2;
+                x9 = arith.mul_add(c2, x2, x8);
+                x10 = c0 * c2;
+                x11 = s1 * c2;
+                x12 = s1 * s2;
+                x13 = 0.316f64 * x1;
+                x14 = 0.316f64 * x3;
+                x15 = arith.mul_add(0.316f64, c1, 0.333f64);
+                x16 = s3 * x1;
+                x17 = arith.mul_add(c3, x5, x16);
+                x18 = s3 * x5;
+                x19 = arith.mul_add(c3, x1, -x18);
+                x20 = s3 * x3;
+                x21 = arith.mul_add(c3, x9, x20);
+                x22 = s3 * x9;
+                x23 = arith.mul_add(c3, x3, -x22);
+                x24 = arith.mul_add(s2, x2, -x10);
+                x25 = c3 * x11;
+                x26 = arith.mul_add(c1, s3, -x25);
+                x27 = c1 * c3;
+                x28 = arith.mul_add(s3, x11, x27);
+                x29 = arith.mul_add(0.0825f64, x5, x13);
+                x30 = arith.mul_add(0.0825f64, x9, x14);
+                x31 = arith.mul_add(-0.0825f64, x11, x15);
+                x32 = s4 * x7;
+                x33 = arith.mul_add(c4, x17, -x32);
+                x34 = c4 * x7;
+                x35 = arith.mul_add(s4, x17, x34);
+                x36 = s4 * x24;
+                x37 = arith.mul_add(c4, x21, -x36);
+                x38 = c4 * x24;
+                x39 = arith.mul_add(s4, x21, x38);
+                x40 = s4 * x12;
+                x41 = arith.mul_add(c4, x26, x40);
+                x42 = c4 * x12;
+                x43 = 0.384f64 * x19;
+                x44 = arith.mul_add(-0.0825f64, x17, x43);
+                x45 = 0.384f64 * x23;
+                x46 = arith.mul_add(-0.0825f64, x21, x45);
+                x47 = 0.384f64 * x28;
+                x48 = arith.mul_add(-0.0825f64, x26, x47);
+                x49 = x29 + x44;
+                x50 = x30 + x46;
+                x51 = x31 + x48;
+                x52 = s5 * x19;
+                x53 = arith.mul_add(c5, x33, x52);
+                x54 = c5 * x19;
+                x55 = s5 * x23;
+                x56 = arith.mul_add(c5, x37, x55);
+                x57 = c5 * x23;
+                x58 = s5 * x28;
+                x59 = arith.mul_add(c5, x41, x58);
+                x60 = c5 * x28;
+                x61 = arith.mul_add(s4, x26, -x42);
+                x62 = s6 * x35;
+                x63 = arith.mul_add(c6, x53, x62);
+                x64 = s6 * x53;
+                x65 = arith.mul_add(c6, x35, -x64);
+                x66 = arith.mul_add(s5, x33, -x54);
+                x67 = s6 * x39;
+                x68 = arith.mul_add(c6, x56, x67);
+                x69 = s6 * x56;
+                x70 = arith.mul_add(c6, x39, -x69);
+                x71 = arith.mul_add(s5, x37, -x57);
+                x72 = s6 * x61;
+                x73 = arith.mul_add(c6, x59, x72);
+                x74 = s6 * x59;
+                x75 = arith.mul_add(c6, x61, -x74);
+                x76 = arith.mul_add(s5, x41, -x60);
+                x77 = arith.mul_add(0.088f64, x53, x49);
+                x78 = arith.mul_add(0.088f64, x56, x50);
+                x79 = arith.mul_add(0.088f64, x59, x51);
+                x80 = -0.7071080798594735f64 * x65;
+                x81 = arith.mul_add(0.7071054825112363f64, x63, x80);
+                x82 = 0.7071054825112363f64 * x65;
+                x83 = arith.mul_add(0.7071080798594735f64, x63, x82);
+                x84 = -0.7071080798594735f64 * x70;
+                x85 = arith.mul_add(0.7071054825112363f64, x68, x84);
+                x86 = 0.7071054825112363f64 * x70;
+                x87 = arith.mul_add(0.7071080798594735f64, x68, x86);
+                x88 = -0.7071080798594735f64 * x75;
+                x89 = arith.mul_add(0.7071054825112363f64, x73, x88);
+                x90 = 0.7071054825112363f64 * x75;
+                x91 = arith.mul_add(0.7071080798594735f64, x73, x90);
+                x92 = arith.mul_add(0.2104f64, x66, x77);
+                x93 = arith.mul_add(0.2104f64, x71, x78);
+                x94 = arith.mul_add(0.2104f64, x76, x79);
+                x95 = x94 - 0.333f64;
+                x96 = c0 * x95;
+                x97 = s0 * x95;
+                x98 = c0 * x92;
+                x99 = arith.mul_add(s0, x93, x98);
+                x100 = x92 - x13;
+                x101 = x93 - x14;
+                x102 = x94 - x15;
+                x103 = c1 * x101;
+                x104 = arith.mul_add(x3, x102, -x103);
+                x105 = x1 * x102;
+                x106 = arith.mul_add(c1, x100, -x105);
+                x107 = x3 * x100;
+                x108 = arith.mul_add(x1, x101, -x107);
+                x109 = x92 - x29;
+                x110 = x93 - x30;
+                x111 = x94 - x31;
+                x112 = x12 * x110;
+                x113 = arith.mul_add(x24, x111, x112);
+                x114 = x7 * x111;
+                x115 = arith.mul_add(x12, x109, x114);
+                x116 = x24 * x109;
+                x117 = arith.mul_add(x7, x110, -x116);
+                x118 = x92 - x49;
+                x119 = x93 - x50;
+                x120 = x94 - x51;
+                x121 = x28 * x119;
+                x122 = arith.mul_add(x23, x120, -x121);
+                x123 = x19 * x120;
+                x124 = arith.mul_add(x28, x118, -x123);
+                x125 = x23 * x118;
+                x126 = arith.mul_add(x19, x119, -x125);
+                x127 = x61 * x119;
+                x128 = arith.mul_add(x39, x120, -x127);
+                x129 = x35 * x120;
+                x130 = arith.mul_add(x61, x118, -x129);
+                x131 = x39 * x118;
+                x132 = arith.mul_add(x35, x119, -x131);
+                x133 = x92 - x77;
+                x134 = x93 - x78;
+                x135 = x94 - x79;
+                x136 = x76 * x134;
+                x137 = arith.mul_add(x71, x135, -x136);
+                x138 = x66 * x135;
+                x139 = arith.mul_add(x76, x133, -x138);
+                x140 = x71 * x133;
+                x141 = arith.mul_add(x66, x134, -x140);
+                x142 = qd1 * s0;
+                x143 = qd1 * c0;
+                x144 = x15 - 0.333f64;
+                x145 = qd0 * x14;
+                x146 = arith.mul_add(x143, x144, -x145);
+                x147 = x142 * x144;
+                x148 = arith.mul_add(qd0, x13, x147);
+                x149 = x13 * x143;
+                x150 = arith.mul_add(x14, x142, x149);
+                x151 = arith.mul_add(qd2, x1, -x142);
+                x152 = arith.mul_add(qd2, x3, x143);
+                x153 = arith.mul_add(qd2, c1, qd0);
+                x154 = x29 - x13;
+                x155 = x30 - x14;
+                x156 = x31 - x15;
+                x157 = x153 * x155;
+                x158 = arith.mul_add(x152, x156, -x157);
+                x159 = x151 * x156;
+                x160 = arith.mul_add(x153, x154, -x159);
+                x161 = x152 * x154;
+                x162 = arith.mul_add(x151, x155, -x161);
+                x163 = x146 + x158;
+                x164 = x148 + x160;
+                x165 = x162 - x150;
+                x166 = arith.mul_add(qd3, x7, x151);
+                x167 = arith.mul_add(qd3, x24, x152);
+                x168 = arith.mul_add(-qd3, x12, x153);
+                x169 = x49 - x29;
+                x170 = x50 - x30;
+                x171 = x51 - x31;
+                x172 = x168 * x170;
+                x173 = arith.mul_add(x167, x171, -x172);
+                x174 = x166 * x171;
+                x175 = arith.mul_add(x168, x169, -x174);
+                x176 = x167 * x169;
+                x177 = arith.mul_add(x166, x170, -x176);
+                x178 = x163 + x173;
+                x179 = x164 + x175;
+                x180 = x165 + x177;
+                x181 = arith.mul_add(qd4, x19, x166);
+                x182 = arith.mul_add(qd4, x23, x167);
+                x183 = arith.mul_add(qd4, x28, x168);
+                x184 = arith.mul_add(qd5, x35, x181);
+                x185 = arith.mul_add(qd5, x39, x182);
+                x186 = arith.mul_add(qd5, x61, x183);
+                x187 = x77 - x49;
+                x188 = x78 - x50;
+                x189 = x79 - x51;
+                x190 = x186 * x188;
+                x191 = arith.mul_add(x185, x189, -x190);
+                x192 = x184 * x189;
+                x193 = arith.mul_add(x186, x187, -x192);
+                x194 = x185 * x187;
+                x195 = arith.mul_add(x184, x188, -x194);
+                x196 = x178 + x191;
+                x197 = x179 + x193;
+                x198 = x180 + x195;
+                x199 = arith.mul_add(qd6, x66, x184);
+                x200 = arith.mul_add(qd6, x71, x185);
+                x201 = arith.mul_add(qd6, x76, x186);
+                x202 = x134 * x201;
+                x203 = arith.mul_add(x135, x200, -x202);
+                x204 = x135 * x199;
+                x205 = arith.mul_add(x133, x201, -x204);
+                x206 = x133 * x200;
+                x207 = arith.mul_add(x134, x199, -x206);
+                x208 = x196 + x203;
+                x209 = x197 + x205;
+                x210 = x198 + x207;
+                x211 = qd0 * c0;
+                x212 = qd0 * s0;
+                x213 = c0 * x142;
+                x214 = arith.mul_add(s0, x143, -x213);
+                x215 = x93 * x214;
+                x216 = arith.mul_add(x95, x212, x215);
+                x217 = x95 * x211;
+                x218 = arith.mul_add(x92, x214, x217);
+                x219 = x93 * x211;
+                x220 = arith.mul_add(x92, x212, -x219);
+                x221 = c0 * x208;
+                x222 = arith.mul_add(s0, x209, x221);
+                x223 = arith.mul_add(c0, x210, -x216);
+                x224 = arith.mul_add(s0, x210, x218);
+                x225 = x220 - x222;
+                x226 = x3 * x153;
+                x227 = arith.mul_add(c1, x152, -x226);
+                x228 = c1 * x151;
+                x229 = arith.mul_add(x1, x153, -x228);
+                x230 = x1 * x152;
+                x231 = arith.mul_add(x3, x151, -x230);
+                x232 = x101 * x231;
+                x233 = arith.mul_add(x102, x229, -x232);
+                x234 = x102 * x227;
+                x235 = arith.mul_add(x100, x231, -x234);
+                x236 = x100 * x229;
+                x237 = arith.mul_add(x101, x227, -x236);
+                x238 = x208 - x146;
+                x239 = x209 - x148;
+                x240 = x150 + x210;
+                x241 = c1 * x239;
+                x242 = arith.mul_add(x3, x240, -x241);
+                x243 = x1 * x240;
+                x244 = arith.mul_add(c1, x238, -x243);
+                x245 = x3 * x238;
+                x246 = arith.mul_add(x1, x239, -x245);
+                x247 = x233 + x242;
+                x248 = x235 + x244;
+                x249 = x237 + x246;
+                x250 = x24 * x168;
+                x251 = arith.mul_add(x12, x167, x250);
+                x252 = x12 * x166;
+                x253 = arith.mul_add(x7, x168, x252);
+                x254 = x7 * x167;
+                x255 = arith.mul_add(x24, x166, -x254);
+                x256 = x110 * x255;
+                x257 = arith.mul_add(x111, x253, -x256);
+                x258 = x111 * x251;
+                x259 = arith.mul_add(x109, x255, x258);
+                x260 = x109 * x253;
+                x261 = arith.mul_add(x110, x251, x260);
+                x262 = x208 - x163;
+                x263 = x209 - x164;
+                x264 = x210 - x165;
+                x265 = x12 * x263;
+                x266 = arith.mul_add(x24, x264, x265);
+                x267 = x7 * x264;
+                x268 = arith.mul_add(x12, x262, x267);
+                x269 = x24 * x262;
+                x270 = arith.mul_add(x7, x263, -x269);
+                x271 = x257 + x266;
+                x272 = x259 - x268;
+                x273 = x270 - x261;
+                x274 = x23 * x183;
+                x275 = arith.mul_add(x28, x182, -x274);
+                x276 = x28 * x181;
+                x277 = arith.mul_add(x19, x183, -x276);
+                x278 = x19 * x182;
+                x279 = arith.mul_add(x23, x181, -x278);
+                x280 = x119 * x279;
+                x281 = arith.mul_add(x120, x277, -x280);
+                x282 = x120 * x275;
+                x283 = arith.mul_add(x118, x279, -x282);
+                x284 = x118 * x277;
+                x285 = arith.mul_add(x119, x275, -x284);
+                x286 = x208 - x178;
+                x287 = x209 - x179;
+                x288 = x210 - x180;
+                x289 = x28 * x287;
+                x290 = arith.mul_add(x23, x288, -x289);
+                x291 = x19 * x288;
+                x292 = arith.mul_add(x28, x286, -x291);
+                x293 = x23 * x286;
+                x294 = arith.mul_add(x19, x287, -x293);
+                x295 = x281 + x290;
+                x296 = x283 + x292;
+                x297 = x285 + x294;
+                x298 = x39 * x186;
+                x299 = arith.mul_add(x61, x185, -x298);
+                x300 = x61 * x184;
+                x301 = arith.mul_add(x35, x186, -x300);
+                x302 = x35 * x185;
+                x303 = arith.mul_add(x39, x184, -x302);
+                x304 = x119 * x303;
+                x305 = arith.mul_add(x120, x301, -x304);
+                x306 = x120 * x299;
+                x307 = arith.mul_add(x118, x303, -x306);
+                x308 = x118 * x301;
+                x309 = arith.mul_add(x119, x299, -x308);
+                x310 = x61 * x287;
+                x311 = arith.mul_add(x39, x288, -x310);
+                x312 = x35 * x288;
+                x313 = arith.mul_add(x61, x286, -x312);
+                x314 = x39 * x286;
+                x315 = arith.mul_add(x35, x287, -x314);
+                x316 = x305 + x311;
+                x317 = x307 + x313;
+                x318 = x309 + x315;
+                x319 = x71 * x201;
+                x320 = arith.mul_add(x76, x200, -x319);
+                x321 = x76 * x199;
+                x322 = arith.mul_add(x66, x201, -x321);
+                x323 = x66 * x200;
+                x324 = arith.mul_add(x71, x199, -x323);
+                *o5 = x324;
+                x325 = x134 * x324;
+                x326 = arith.mul_add(x135, x322, -x325);
+                x327 = x135 * x320;
+                x328 = arith.mul_add(x133, x324, -x327);
+                x329 = x133 * x322;
+                x330 = arith.mul_add(x134, x320, -x329);
+                x331 = x208 - x196;
+                x332 = x209 - x197;
+                x333 = x210 - x198;
+                x334 = x76 * x332;
+                x335 = arith.mul_add(x71, x333, -x334);
+                x336 = x66 * x333;
+                x337 = arith.mul_add(x76, x331, -x336);
+                x338 = x71 * x331;
+                x339 = arith.mul_add(x66, x332, -x338);
+                x340 = x326 + x335;
+                x341 = x328 + x337;
+                x342 = x330 + x339;
+                x343 = x93 * x200;
+                x344 = arith.mul_add(x92, x199, x343);
+                x345 = arith.mul_add(x92, x201, -x209);
+                x346 = arith.mul_add(x93, x201, x208);
+                x347 = x85 * x346;
+                x348 = arith.mul_add(x81, x345, x347);
+                x349 = arith.mul_add(-x89, x344, x348);
+                *o0 = x349;
+                x350 = x87 * x346;
+                x351 = arith.mul_add(x83, x345, x350);
+                x352 = arith.mul_add(-x91, x344, x351);
+                *o1 = x352;
+                x353 = x71 * x346;
+                x354 = arith.mul_add(x66, x345, x353);
+                x355 = arith.mul_add(-x76, x344, x354);
+                *o2 = x355;
+                x356 = x81 * x200;
+                x357 = arith.mul_add(x85, x199, -x356);
+                *o3 = x357;
+                x358 = x83 * x200;
+                x359 = arith.mul_add(x87, x199, -x358);
+                *o4 = x359;
+                x360 = x97 * x201;
+                x361 = arith.mul_add(x99, x200, x360);
+                x362 = x99 * x199;
+                x363 = arith.mul_add(x96, x201, x362);
+                x364 = x96 * x200;
+                x365 = arith.mul_add(x97, x199, -x364);
+                x366 = x223 + x361;
+                x367 = x224 - x363;
+                x368 = x225 - x365;
+                x369 = x85 * x367;
+                x370 = arith.mul_add(x81, x366, x369);
+                x371 = arith.mul_add(x89, x368, x370);
+                *o6 = x371;
+                x372 = x87 * x367;
+                x373 = arith.mul_add(x83, x366, x372);
+                x374 = arith.mul_add(x91, x368, x373);
+                *o7 = x374;
+                x375 = x71 * x367;
+                x376 = arith.mul_add(x66, x366, x375);
+                x377 = arith.mul_add(x76, x368, x376);
+                *o8 = x377;
+                x378 = s0 * x200;
+                x379 = arith.mul_add(c0, x199, x378);
+                x380 = arith.mul_add(c0, x201, -x211);
+                x381 = arith.mul_add(s0, x201, -x212);
+                x382 = x214 - x379;
+                x383 = x85 * x381;
+                x384 = arith.mul_add(x81, x380, x383);
+                x385 = arith.mul_add(x89, x382, x384);
+                *o9 = x385;
+                x386 = x87 * x381;
+                x387 = arith.mul_add(x83, x380, x386);
+                x388 = arith.mul_add(x91, x382, x387);
+                *o10 = x388;
+                x389 = x71 * x381;
+                x390 = arith.mul_add(x66, x380, x389);
+                x391 = arith.mul_add(x76, x382, x390);
+                *o11 = x391;
+                x392 = x106 * x201;
+                x393 = arith.mul_add(x108, x200, -x392);
+                x394 = x108 * x199;
+                x395 = arith.mul_add(x104, x201, -x394);
+                x396 = x104 * x200;
+                x397 = arith.mul_add(x106, x199, -x396);
+                x398 = x247 - x393;
+                x399 = x248 - x395;
+                x400 = x249 - x397;
+                x401 = x85 * x399;
+                x402 = arith.mul_add(x81, x398, x401);
+                x403 = arith.mul_add(x89, x400, x402);
+                *o12 = x403;
+                x404 = x87 * x399;
+                x405 = arith.mul_add(x83, x398, x404);
+                x406 = arith.mul_add(x91, x400, x405);
+                *o13 = x406;
+                x407 = x71 * x399;
+                x408 = arith.mul_add(x66, x398, x407);
+                x409 = arith.mul_add(x76, x400, x408);
+                *o14 = x409;
+                x410 = x3 * x201;
+                x411 = arith.mul_add(c1, x200, -x410);
+                x412 = c1 * x199;
+                x413 = arith.mul_add(x1, x201, -x412);
+                x414 = x1 * x200;
+                x415 = arith.mul_add(x3, x199, -x414);
+                x416 = x227 - x411;
+                x417 = x229 - x413;
+                x418 = x231 - x415;
+                x419 = x85 * x417;
+                x420 = arith.mul_add(x81, x416, x419);
+                x421 = arith.mul_add(x89, x418, x420);
+                *o15 = x421;
+                x422 = x87 * x417;
+                x423 = arith.mul_add(x83, x416, x422);
+                x424 = arith.mul_add(x91, x418, x423);
+                *o16 = x424;
+                x425 = x71 * x417;
+                x426 = arith.mul_add(x66, x416, x425);
+                x427 = arith.mul_add(x76, x418, x426);
+                *o17 = x427;
+                x428 = x115 * x201;
+                x429 = arith.mul_add(x117, x200, x428);
+                x430 = x117 * x199;
+                x431 = arith.mul_add(x113, x201, -x430);
+                x432 = x113 * x200;
+                x433 = arith.mul_add(x115, x199, x432);
+                x434 = x271 - x429;
+                x435 = x272 - x431;
+                x436 = x273 + x433;
+                x437 = x85 * x435;
+                x438 = arith.mul_add(x81, x434, x437);
+                x439 = arith.mul_add(x89, x436, x438);
+                *o18 = x439;
+                x440 = x87 * x435;
+                x441 = arith.mul_add(x83, x434, x440);
+                x442 = arith.mul_add(x91, x436, x441);
+                *o19 = x442;
+                x443 = x71 * x435;
+                x444 = arith.mul_add(x66, x434, x443);
+                x445 = arith.mul_add(x76, x436, x444);
+                *o20 = x445;
+                x446 = x24 * x201;
+                x447 = arith.mul_add(x12, x200, x446);
+                x448 = x12 * x199;
+                x449 = arith.mul_add(x7, x201, x448);
+                x450 = x7 * x200;
+                x451 = arith.mul_add(x24, x199, -x450);
+                x452 = x447 - x251;
+                x453 = x253 - x449;
+                x454 = x255 - x451;
+                x455 = x85 * x453;
+                x456 = arith.mul_add(x81, x452, x455);
+                x457 = arith.mul_add(x89, x454, x456);
+                *o21 = x457;
+                x458 = x87 * x453;
+                x459 = arith.mul_add(x83, x452, x458);
+                x460 = arith.mul_add(x91, x454, x459);
+                *o22 = x460;
+                x461 = x71 * x453;
+                x462 = arith.mul_add(x66, x452, x461);
+                x463 = arith.mul_add(x76, x454, x462);
+                *o23 = x463;
+                x464 = x124 * x201;
+                x465 = arith.mul_add(x126, x200, -x464);
+                x466 = x126 * x199;
+                x467 = arith.mul_add(x122, x201, -x466);
+                x468 = x122 * x200;
+                x469 = arith.mul_add(x124, x199, -x468);
+                x470 = x295 - x465;
+                x471 = x296 - x467;
+                x472 = x297 - x469;
+                x473 = x85 * x471;
+                x474 = arith.mul_add(x81, x470, x473);
+                x475 = arith.mul_add(x89, x472, x474);
+                *o24 = x475;
+                x476 = x87 * x471;
+                x477 = arith.mul_add(x83, x470, x476);
+                x478 = arith.mul_add(x91, x472, x477);
+                *o25 = x478;
+                x479 = x71 * x471;
+                x480 = arith.mul_add(x66, x470, x479);
+                x481 = arith.mul_add(x76, x472, x480);
+                *o26 = x481;
+                x482 = x23 * x201;
+                x483 = arith.mul_add(x28, x200, -x482);
+                x484 = x28 * x199;
+                x485 = arith.mul_add(x19, x201, -x484);
+                x486 = x19 * x200;
+                x487 = arith.mul_add(x23, x199, -x486);
+                x488 = x275 - x483;
+                x489 = x277 - x485;
+                x490 = x279 - x487;
+                x491 = x85 * x489;
+                x492 = arith.mul_add(x81, x488, x491);
+                x493 = arith.mul_add(x89, x490, x492);
+                *o27 = x493;
+                x494 = x87 * x489;
+                x495 = arith.mul_add(x83, x488, x494);
+                x496 = arith.mul_add(x91, x490, x495);
+                *o28 = x496;
+                x497 = x71 * x489;
+                x498 = arith.mul_add(x66, x488, x497);
+                x499 = arith.mul_add(x76, x490, x498);
+                *o29 = x499;
+                x500 = x130 * x201;
+                x501 = arith.mul_add(x132, x200, -x500);
+                x502 = x132 * x199;
+                x503 = arith.mul_add(x128, x201, -x502);
+                x504 = x128 * x200;
+                x505 = arith.mul_add(x130, x199, -x504);
+                x506 = x316 - x501;
+                x507 = x317 - x503;
+                x508 = x318 - x505;
+                x509 = x85 * x507;
+                x510 = arith.mul_add(x81, x506, x509);
+                x511 = arith.mul_add(x89, x508, x510);
+                *o30 = x511;
+                x512 = x87 * x507;
+                x513 = arith.mul_add(x83, x506, x512);
+                x514 = arith.mul_add(x91, x508, x513);
+                *o31 = x514;
+                x515 = x71 * x507;
+                x516 = arith.mul_add(x66, x506, x515);
+                x517 = arith.mul_add(x76, x508, x516);
+                *o32 = x517;
+                x518 = x39 * x201;
+                x519 = arith.mul_add(x61, x200, -x518);
+                x520 = x61 * x199;
+                x521 = arith.mul_add(x35, x201, -x520);
+                x522 = x35 * x200;
+                x523 = arith.mul_add(x39, x199, -x522);
+                x524 = x299 - x519;
+                x525 = x301 - x521;
+                x526 = x303 - x523;
+                x527 = x85 * x525;
+                x528 = arith.mul_add(x81, x524, x527);
+                x529 = arith.mul_add(x89, x526, x528);
+                *o33 = x529;
+                x530 = x87 * x525;
+                x531 = arith.mul_add(x83, x524, x530);
+                x532 = arith.mul_add(x91, x526, x531);
+                *o34 = x532;
+                x533 = x71 * x525;
+                x534 = arith.mul_add(x66, x524, x533);
+                x535 = arith.mul_add(x76, x526, x534);
+                *o35 = x535;
+                x536 = x139 * x201;
+                x537 = arith.mul_add(x141, x200, -x536);
+                x538 = x141 * x199;
+                x539 = arith.mul_add(x137, x201, -x538);
+                x540 = x137 * x200;
+                x541 = arith.mul_add(x139, x199, -x540);
+                x542 = x340 - x537;
+                x543 = x341 - x539;
+                x544 = x342 - x541;
+                x545 = x85 * x543;
+                x546 = arith.mul_add(x81, x542, x545);
+                x547 = arith.mul_add(x89, x544, x546);
+                *o36 = x547;
+                x548 = x87 * x543;
+                x549 = arith.mul_add(x83, x542, x548);
+                x550 = arith.mul_add(x91, x544, x549);
+                *o37 = x550;
+                x551 = x71 * x543;
+                x552 = arith.mul_add(x66, x542, x551);
+                x553 = arith.mul_add(x76, x544, x552);
+                *o38 = x553;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd))
+}
+///Operations: 339 mul, 288 add/sub, 3 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_jacobian_time_variation_panda_hand_tcp_world(
+    t: &JointTrig<7>,
+    qd: &SVector<f64, 7>,
+) -> SMatrix<f64, 6, 7> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<7>, &SVector<f64, 7>)> for Body {
+        type Output = SMatrix<f64, 6, 7>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd): (&JointTrig<7>, &SVector<f64, 7>),
+        ) -> SMatrix<f64, 6, 7> {
+            let [s0, s1, s2, s3, s4, s5, _] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, _] = t.cos;
+            let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+            let mut out: SMatrix<f64, 6, 7> = SMatrix::zeros();
+            {
+                let [[o0, o1, _, _, _, _], [o6, o7, o8, o9, o10, o11], [o12, o13, o14,
+                o15, o16, o17], [o18, o19, o20, o21, o22, o23], [o24, o25, o26, o27, o28,
+                o29], [o30, o31, o32, o33, o34, o35], [o36, o37, o38, o39, o40, o41]] = &mut out
+                    .data
+                    .0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
+                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
+                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
+                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
+                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
+                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
+                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
+                x291, x292, x293, x294, x295, x296, x297, x298, x299, x300, x301, x302,
+                x303, x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
+                x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325, x326,
+                x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337, x338,
+                x339, x340, x341, x342, x343, x344, x345, x346, x347, x348, x349, x350,
+                x351, x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373, x374,
+                x375, x376, x377, x378, x379, x380, x381, x382, x383, x384, x385, x386,
+                x387, x388, x389, x390, x391, x392, x393, x394, x395, x396, x397, x398,
+                x399, x400, x401, x402, x403, x404, x405, x406, x407, x408, x409, x410,
+                x411, x412, x413, x414, x415, x416, x417, x418, x419, x420, x421, x422,
+                x423, x424, x425, x426, x427, x428, x429, x430, x431, x432, x433, x434,
+                x435, x436, x437, x438, x439, x440, x441, x442, x443, x444, x445,
+                ]: [f64; 446];
+                x0 = c0 * c1;
+                x1 = c0 * s1;
+                x2 = s0 * c1;
+                x3 = s0 * s1;
+                x4 = s0 * s2;
+                x5 = arith.mul_add(c2, x0, -x4);
+                x6 = s0 * c2;
+                x7 = arith.mul_add(s2, x0, x6);
+                x8 = c0 * s2;
+                x9 = arith.mul_add(c2, x2, x8);
+                x10 = c0 * c2;
+                x11 = s1 * c2;
+                x12 = s1 * s2;
+                x13 = 0.316f64 * x1;
+                x14 = 0.316f64 * x3;
+                x15 = arith.mul_add(0.316f64, c1, 0.333f64);
+                x16 = s3 * x1;
+                x17 = arith.mul_add(c3, x5, x16);
+                x18 = s3 * x5;
+                x19 = arith.mul_add(c3, x1, -x18);
+                x20 = s3 * x3;
+                x21 = arith.mul_add(c3, x9, x20);
+                x22 = s3 * x9;
+                x23 = arith.mul_add(c3, x3, -x22);
+                x24 = arith.mul_add(s2, x2, -x10);
+                x25 = c3 * x11;
+                x26 = arith.mul_add(c1, s3, -x25);
+                x27 = c1 * c3;
+                x28 = arith.mul_add(s3, x11, x27);
+                x29 = arith.mul_add(0.0825f64, x5, x13);
+                x30 = arith.mul_add(0.0825f64, x9, x14);
+                x31 = arith.mul_add(-0.0825f64, x11, x15);
+                x32 = s4 * x7;
+                x33 = arith.mul_add(c4, x17, -x32);
+                x34 = c4 * x7;
+                x35 = arith.mul_add(s4, x17, x34);
+                x36 = s4 * x24;
+                x37 = arith.mul_add(c4, x21, -x36);
+                x38 = c4 * x24;
+                x39 = arith.mul_add(s4, x21, x38);
+                x40 = s4 * x12;
+                x41 = arith.mul_add(c4, x26, x40);
+                x42 = c4 * x12;
+                x43 = 0.384f64 * x19;
+                x44 = arith.mul_add(-0.0825f64, x17, x43);
+                x45 = 0.384f64 * x23;
+                x46 = arith.mul_add(-0.0825f64, x21, x45);
+                x47 = 0.384f64 * x28;
+                x48 = arith.mul_add(-0.0825f64, x26, x47);
+                x49 = x29 + x44;
+                x50 = x30 + x46;
+                x51 = x31 + x48;
+                x52 = s5 * x19;
+                x53 = arith.mul_add(c5, x33, x52);
+                x54 = c5 * x19;
+                x55 = s5 * x23;
+                x56 = arith.mul_add(c5, x37, x55);
+                x57 = c5 * x23;
+                x58 = s5 * x28;
+                x59 = arith.mul_add(c5, x41, x58);
+                x60 = c5 * x28;
+                x61 = arith.mul_add(s4, x26, -x42);
+                x62 = arith.mul_add(s5, x33, -x54);
+                x63 = arith.mul_add(s5, x37, -x57);
+                x64 = arith.mul_add(s5, x41, -x60);
+                x65 = arith.mul_add(0.088f64, x53, x49);
+                x66 = arith.mul_add(0.088f64, x56, x50);
+                x67 = arith.mul_add(0.088f64, x59, x51);
+                x68 = arith.mul_add(0.2104f64, x62, x65);
+                x69 = arith.mul_add(0.2104f64, x63, x66);
+                x70 = arith.mul_add(0.2104f64, x64, x67);
+                x71 = x70 - 0.333f64;
+                x72 = c0 * x71;
+                x73 = s0 * x71;
+                x74 = c0 * x68;
+                x75 = arith.mul_add(s0, x69, x74);
+                x76 = x68 - x13;
+                x77 = x69 - x14;
+                x78 = x70 - x15;
+                x79 = c1 * x77;
+                x80 = arith.mul_add(x3, x78, -x79);
+                x81 = x1 * x78;
+                x82 = arith.mul_add(c1, x76, -x81);
+                x83 = x3 * x76;
+                x84 = arith.mul_add(x1, x77, -x83);
+                x85 = x68 - x29;
+                x86 = x69 - x30;
+                x87 = x70 - x31;
+                x88 = x12 * x86;
+                x89 = arith.mul_add(x24, x87, x88);
+                x90 = x7 * x87;
+                x91 = arith.mul_add(x12, x85, x90);
+                x92 = x24 * x85;
+                x93 = arith.mul_add(x7, x86, -x92);
+                x94 = x68 - x49;
+                x95 = x69 - x50;
+                x96 = x70 - x51;
+                x97 = x28 * x95;
+                x98 = arith.mul_add(x23, x96, -x97);
+                x99 = x19 * x96;
+                x100 = arith.mul_add(x28, x94, -x99);
+                x101 = x23 * x94;
+                x102 = arith.mul_add(x19, x95, -x101);
+                x103 = x61 * x95;
+                x104 = arith.mul_add(x39, x96, -x103);
+                x105 = x35 * x96;
+                x106 = arith.mul_add(x61, x94, -x105);
+                x107 = x39 * x94;
+                x108 = arith.mul_add(x35, x95, -x107);
+                x109 = x68 - x65;
+                x110 = x69 - x66;
+                x111 = x70 - x67;
+                x112 = x64 * x110;
+                x113 = arith.mul_add(x63, x111, -x112);
+                x114 = x62 * x111;
+                x115 = arith.mul_add(x64, x109, -x114);
+                x116 = x63 * x109;
+                x117 = arith.mul_add(x62, x110, -x116);
+                x118 = qd1 * s0;
+                x119 = qd1 * c0;
+                x120 = x15 - 0.333f64;
+                x121 = qd0 * x14;
+                x122 = arith.mul_add(x119, x120, -x121);
+                x123 = x118 * x120;
+                x124 = arith.mul_add(qd0, x13, x123);
+                x125 = x13 * x119;
+                x126 = arith.mul_add(x14, x118, x125);
+                x127 = arith.mul_add(qd2, x1, -x118);
+                x128 = arith.mul_add(qd2, x3, x119);
+                x129 = arith.mul_add(qd2, c1, qd0);
+                x130 = x29 - x13;
+                x131 = x30 - x14;
+                x132 = x31 - x15;
+                x133 = x129 * x131;
+                x134 = arith.mul_add(x128, x132, -x133);
+                x135 = x127 * x132;
+                x136 = arith.mul_add(x129, x130, -x135);
+                x137 = x128 * x130;
+                x138 = arith.mul_add(x127, x131, -x137);
+                x139 = x122 + x134;
+                x140 = x124 + x136;
+                x141 = x138 - x126;
+                x142 = arith.mul_add(qd3, x7, x127);
+                x143 = arith.mul_add(qd3, x24, x128);
+                x144 = arith.mul_add(-qd3, x12, x129);
+                x145 = x49 - x29;
+                x146 = x50 - x30;
+                x147 = x51 - x31;
+                x148 = x144 * x146;
+                x149 = arith.mul_add(x143, x147, -x148);
+                x150 = x142 * x147;
+                x151 = arith.mul_add(x144, x145, -x150);
+                x152 = x143 * x145;
+                x153 = arith.mul_add(x142, x146, -x152);
+                x154 = x139 + x149;
+                x155 = x140 + x151;
+                x156 = x141 + x153;
+                x157 = arith.mul_add(qd4, x19, x142);
+                x158 = arith.mul_add(qd4, x23, x143);
+                x159 = arith.mul_add(qd4, x28, x144);
+                x160 = arith.mul_add(qd5, x35, x157);
+                x161 = arith.mul_add(qd5, x39, x158);
+                x162 = arith.mul_add(qd5, x61, x159);
+                x163 = x65 - x49;
+                x164 = x66 - x50;
+                x165 = x67 - x51;
+                x166 = x162 * x164;
+                x167 = arith.mul_add(x161, x165, -x166);
+                x168 = x160 * x165;
+                x169 = arith.mul_add(x162, x163, -x168);
+                x170 = x161 * x163;
+                x171 = arith.mul_add(x160, x164, -x170);
+                x172 = x154 + x167;
+                x173 = x155 + x169;
+                x174 = x156 + x171;
+                x175 = arith.mul_add(qd6, x62, x160);
+                x176 = arith.mul_add(qd6, x63, x161);
+                x177 = arith.mul_add(qd6, x64, x162);
+                x178 = x110 * x177;
+                x179 = arith.mul_add(x111, x176, -x178);
+                x180 = x111 * x175;
+                x181 = arith.mul_add(x109, x177, -x180);
+                x182 = x109 * x176;
+                x183 = arith.mul_add(x110, x175, -x182);
+                x184 = x172 + x179;
+                x185 = x173 + x181;
+                x186 = x174 + x183;
+                x187 = qd0 * c0;
+                x188 = -x187;
+                *o9 = x188;
+                x189 = qd0 * s0;
+                x190 = -x189;
+                *o10 = x190;
+                x191 = c0 * x118;
+                x192 = arith.mul_add(s0, x119, -x191);
+                *o11 = x192;
+                x193 = x69 * x192;
+                x194 = arith.mul_add(x71, x189, x193);
+                x195 = x68 * x192;
+                x196 = arith.mul_add(x71, x187, x195);
+                x197 = x69 * x187;
+                x198 = x68 * x189;
+                x199 = x198 - x197;
+                x200 = c0 * x184;
+                x201 = arith.mul_add(s0, x185, x200);
+                x202 = arith.mul_add(c0, x186, -x194);
+                x203 = arith.mul_add(s0, x186, x196);
+                x204 = x199 - x201;
+                x205 = x3 * x129;
+                x206 = arith.mul_add(c1, x128, -x205);
+                *o15 = x206;
+                x207 = c1 * x127;
+                x208 = arith.mul_add(x1, x129, -x207);
+                *o16 = x208;
+                x209 = x1 * x128;
+                x210 = arith.mul_add(x3, x127, -x209);
+                *o17 = x210;
+                x211 = x77 * x210;
+                x212 = arith.mul_add(x78, x208, -x211);
+                x213 = x78 * x206;
+                x214 = arith.mul_add(x76, x210, -x213);
+                x215 = x76 * x208;
+                x216 = arith.mul_add(x77, x206, -x215);
+                x217 = x184 - x122;
+                x218 = x185 - x124;
+                x219 = x126 + x186;
+                x220 = c1 * x218;
+                x221 = arith.mul_add(x3, x219, -x220);
+                x222 = x1 * x219;
+                x223 = arith.mul_add(c1, x217, -x222);
+                x224 = x3 * x217;
+                x225 = arith.mul_add(x1, x218, -x224);
+                x226 = x212 + x221;
+                x227 = x214 + x223;
+                x228 = x216 + x225;
+                x229 = x24 * x144;
+                x230 = arith.mul_add(x12, x143, x229);
+                x231 = -x230;
+                *o21 = x231;
+                x232 = x12 * x142;
+                x233 = arith.mul_add(x7, x144, x232);
+                *o22 = x233;
+                x234 = x7 * x143;
+                x235 = arith.mul_add(x24, x142, -x234);
+                *o23 = x235;
+                x236 = x86 * x235;
+                x237 = arith.mul_add(x87, x233, -x236);
+                x238 = x87 * x230;
+                x239 = arith.mul_add(x85, x235, x238);
+                x240 = x85 * x233;
+                x241 = arith.mul_add(x86, x230, x240);
+                x242 = x184 - x139;
+                x243 = x185 - x140;
+                x244 = x186 - x141;
+                x245 = x12 * x243;
+                x246 = arith.mul_add(x24, x244, x245);
+                x247 = x7 * x244;
+                x248 = arith.mul_add(x12, x242, x247);
+                x249 = x24 * x242;
+                x250 = arith.mul_add(x7, x243, -x249);
+                x251 = x237 + x246;
+                x252 = x239 - x248;
+                x253 = x250 - x241;
+                x254 = x23 * x159;
+                x255 = arith.mul_add(x28, x158, -x254);
+                *o27 = x255;
+                x256 = x28 * x157;
+                x257 = arith.mul_add(x19, x159, -x256);
+                *o28 = x257;
+                x258 = x19 * x158;
+                x259 = arith.mul_add(x23, x157, -x258);
+                *o29 = x259;
+                x260 = x95 * x259;
+                x261 = arith.mul_add(x96, x257, -x260);
+                x262 = x96 * x255;
+                x263 = arith.mul_add(x94, x259, -x262);
+                x264 = x94 * x257;
+                x265 = arith.mul_add(x95, x255, -x264);
+                x266 = x184 - x154;
+                x267 = x185 - x155;
+                x268 = x186 - x156;
+                x269 = x28 * x267;
+                x270 = arith.mul_add(x23, x268, -x269);
+                x271 = x19 * x268;
+                x272 = arith.mul_add(x28, x266, -x271);
+                x273 = x23 * x266;
+                x274 = arith.mul_add(x19, x267, -x273);
+                x275 = x261 + x270;
+                x276 = x263 + x272;
+                x277 = x265 + x274;
+                x278 = x39 * x162;
+                x279 = arith.mul_add(x61, x161, -x278);
+                *o33 = x279;
+                x280 = x61 * x160;
+                x281 = arith.mul_add(x35, x162, -x280);
+                *o34 = x281;
+                x282 = x35 * x161;
+                x283 = arith.mul_add(x39, x160, -x282);
+                *o35 = x283;
+                x284 = x95 * x283;
+                x285 = arith.mul_add(x96, x281, -x284);
+                x286 = x96 * x279;
+                x287 = arith.mul_add(x94, x283, -x286);
+                x288 = x94 * x281;
+                x289 = arith.mul_add(x95, x279, -x288);
+                x290 = x61 * x267;
+                x291 = arith.mul_add(x39, x268, -x290);
+                x292 = x35 * x268;
+                x293 = arith.mul_add(x61, x266, -x292);
+                x294 = x39 * x266;
+                x295 = arith.mul_add(x35, x267, -x294);
+                x296 = x285 + x291;
+                x297 = x287 + x293;
+                x298 = x289 + x295;
+                x299 = x63 * x177;
+                x300 = arith.mul_add(x64, x176, -x299);
+                *o39 = x300;
+                x301 = x64 * x175;
+                x302 = arith.mul_add(x62, x177, -x301);
+                *o40 = x302;
+                x303 = x62 * x176;
+                x304 = arith.mul_add(x63, x175, -x303);
+                *o41 = x304;
+                x305 = x110 * x304;
+                x306 = arith.mul_add(x111, x302, -x305);
+                x307 = x111 * x300;
+                x308 = arith.mul_add(x109, x304, -x307);
+                x309 = x109 * x302;
+                x310 = arith.mul_add(x110, x300, -x309);
+                x311 = x184 - x172;
+                x312 = x185 - x173;
+                x313 = x186 - x174;
+                x314 = x64 * x312;
+                x315 = arith.mul_add(x63, x313, -x314);
+                x316 = x62 * x313;
+                x317 = arith.mul_add(x64, x311, -x316);
+                x318 = x63 * x311;
+                x319 = arith.mul_add(x62, x312, -x318);
+                x320 = x306 + x315;
+                x321 = x308 + x317;
+                x322 = x310 + x319;
+                x323 = qd0 * x69;
+                x324 = arith.mul_add(qd1, x72, -x323);
+                x325 = arith.mul_add(qd2, x80, x324);
+                x326 = arith.mul_add(qd3, x89, x325);
+                x327 = arith.mul_add(qd4, x98, x326);
+                x328 = arith.mul_add(qd5, x104, x327);
+                x329 = arith.mul_add(qd6, x113, x328);
+                x330 = qd1 * x73;
+                x331 = arith.mul_add(qd0, x68, x330);
+                x332 = arith.mul_add(qd2, x82, x331);
+                x333 = arith.mul_add(-qd3, x91, x332);
+                x334 = arith.mul_add(qd4, x100, x333);
+                x335 = arith.mul_add(qd5, x106, x334);
+                x336 = arith.mul_add(qd6, x115, x335);
+                x337 = qd1 * x75;
+                x338 = arith.mul_add(qd2, x84, -x337);
+                x339 = arith.mul_add(qd3, x93, x338);
+                x340 = arith.mul_add(qd4, x102, x339);
+                x341 = arith.mul_add(qd5, x108, x340);
+                x342 = arith.mul_add(qd6, x117, x341);
+                x343 = x336 - x185;
+                *o0 = x343;
+                x344 = x184 - x329;
+                *o1 = x344;
+                x345 = s0 * x336;
+                x346 = arith.mul_add(c0, x329, x345);
+                x347 = arith.mul_add(-c0, x342, x202);
+                x348 = arith.mul_add(-s0, x342, x203);
+                x349 = x204 + x346;
+                x350 = arith.mul_add(x70, x189, x193);
+                x351 = arith.mul_add(x70, x187, x195);
+                x352 = x197 - x198;
+                x353 = x347 + x350;
+                *o6 = x353;
+                x354 = x348 - x351;
+                *o7 = x354;
+                x355 = x349 + x352;
+                *o8 = x355;
+                x356 = x3 * x342;
+                x357 = arith.mul_add(c1, x336, -x356);
+                x358 = c1 * x329;
+                x359 = arith.mul_add(x1, x342, -x358);
+                x360 = x1 * x336;
+                x361 = arith.mul_add(x3, x329, -x360);
+                x362 = x226 + x357;
+                x363 = x227 + x359;
+                x364 = x228 + x361;
+                x365 = x70 * x208;
+                x366 = arith.mul_add(x69, x210, -x365);
+                x367 = x68 * x210;
+                x368 = arith.mul_add(x70, x206, -x367);
+                x369 = x69 * x206;
+                x370 = arith.mul_add(x68, x208, -x369);
+                x371 = x362 + x366;
+                *o12 = x371;
+                x372 = x363 + x368;
+                *o13 = x372;
+                x373 = x364 + x370;
+                *o14 = x373;
+                x374 = x24 * x342;
+                x375 = arith.mul_add(x12, x336, x374);
+                x376 = x12 * x329;
+                x377 = arith.mul_add(x7, x342, x376);
+                x378 = x7 * x336;
+                x379 = arith.mul_add(x24, x329, -x378);
+                x380 = x251 - x375;
+                x381 = x252 + x377;
+                x382 = x253 + x379;
+                x383 = x70 * x233;
+                x384 = arith.mul_add(x69, x235, -x383);
+                x385 = x68 * x235;
+                x386 = arith.mul_add(x70, x230, x385);
+                x387 = x69 * x230;
+                x388 = arith.mul_add(x68, x233, x387);
+                x389 = x380 + x384;
+                *o18 = x389;
+                x390 = x381 - x386;
+                *o19 = x390;
+                x391 = x382 + x388;
+                *o20 = x391;
+                x392 = x23 * x342;
+                x393 = arith.mul_add(x28, x336, -x392);
+                x394 = x28 * x329;
+                x395 = arith.mul_add(x19, x342, -x394);
+                x396 = x19 * x336;
+                x397 = arith.mul_add(x23, x329, -x396);
+                x398 = x275 + x393;
+                x399 = x276 + x395;
+                x400 = x277 + x397;
+                x401 = x70 * x257;
+                x402 = arith.mul_add(x69, x259, -x401);
+                x403 = x68 * x259;
+                x404 = arith.mul_add(x70, x255, -x403);
+                x405 = x69 * x255;
+                x406 = arith.mul_add(x68, x257, -x405);
+                x407 = x398 + x402;
+                *o24 = x407;
+                x408 = x399 + x404;
+                *o25 = x408;
+                x409 = x400 + x406;
+                *o26 = x409;
+                x410 = x39 * x342;
+                x411 = arith.mul_add(x61, x336, -x410);
+                x412 = x61 * x329;
+                x413 = arith.mul_add(x35, x342, -x412);
+                x414 = x35 * x336;
+                x415 = arith.mul_add(x39, x329, -x414);
+                x416 = x296 + x411;
+                x417 = x297 + x413;
+                x418 = x298 + x415;
+                x419 = x70 * x281;
+                x420 = arith.mul_add(x69, x283, -x419);
+                x421 = x68 * x283;
+                x422 = arith.mul_add(x70, x279, -x421);
+                x423 = x69 * x279;
+                x424 = arith.mul_add(x68, x281, -x423);
+                x425 = x416 + x420;
+                *o30 = x425;
+                x426 = x417 + x422;
+                *o31 = x426;
+                x427 = x418 + x424;
+                *o32 = x427;
+                x428 = x63 * x342;
+                x429 = arith.mul_add(x64, x336, -x428);
+                x430 = x64 * x329;
+                x431 = arith.mul_add(x62, x342, -x430);
+                x432 = x62 * x336;
+                x433 = arith.mul_add(x63, x329, -x432);
+                x434 = x320 + x429;
+                x435 = x321 + x431;
+                x436 = x322 + x433;
+                x437 = x70 * x302;
+                x438 = arith.mul_add(x69, x304, -x437);
+                x439 = x68 * x304;
+                x440 = arith.mul_add(x70, x300, -x439);
+                x441 = x69 * x300;
+                x442 = arith.mul_add(x68, x302, -x441);
+                x443 = x434 + x438;
+                *o36 = x443;
+                x444 = x435 + x440;
+                *o37 = x444;
+                x445 = x436 + x442;
+                *o38 = x445;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd))
+}
+///Operations: 279 mul, 187 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_velocity_panda_hand_tcp_local(
+    t: &JointTrig<7>,
+    qd: &SVector<f64, 7>,
+) -> SVector<f64, 6> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<7>, &SVector<f64, 7>)> for Body {
+        type Output = SVector<f64, 6>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd): (&JointTrig<7>, &SVector<f64, 7>),
+        ) -> SVector<f64, 6> {
+            let [s0, s1, s2, s3, s4, s5, s6] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, c6] = t.cos;
+            let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+            let mut out: SVector<f64, 6> = SMatrix::zeros();
+            {
+                let [[o0, o1, o2, o3, o4, o5]] = &mut out.data.0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
+                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
+                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
+                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
+                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
+                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
+                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
+                x291, x292, x293, x294]: [f64; 295];
+                x0 = c0 * c1;
+                x1 = c0 * s1;
+                x2 = s0 * c1;
+                x3 = s0 * s1;
+                x4 = s0 * s2;
+                x5 = arith.mul_add(c2, x0, -x4);
+                x6 = s0 * c2;
+                x7 = arith.mul_add(s2, x0, x6);
+                x8 = c0 * s2;
+                x9 = arith.mul_add(c2, x2, x8);
+                x10 = c0 * c2;
+                x11 = s1 * c2;
+                x12 = s1 * s2;
+                x13 = 0.316f64 * x1;
+                x14 = 0.316f64 * x3;
+                x15 = arith.mul_add(0.316f64, c1, 0.333f64);
+                x16 = s3 * x1;
+                x17 = arith.mul_add(c3, x5, x16);
+                x18 = s3 * x5;
+                x19 = arith.mul_add(c3, x1, -x18);
+                x20 = s3 * x3;
+                x21 = arith.mul_add(c3, x9, x20);
+                x22 = s3 * x9;
+                x23 = arith.mul_add(c3, x3, -x22);
+                x24 = arith.mul_add(s2, x2, -x10);
+                x25 = c3 * x11;
+                x26 = arith.mul_add(c1, s3, -x25);
+                x27 = c1 * c3;
+                x28 = arith.mul_add(s3, x11, x27);
+                x29 = arith.mul_add(0.0825f64, x5, x13);
+                x30 = arith.mul_add(0.0825f64, x9, x14);
+                x31 = arith.mul_add(-0.0825f64, x11, x15);
+                x32 = s4 * x7;
+                x33 = arith.mul_add(c4, x17, -x32);
+                x34 = c4 * x7;
+                x35 = arith.mul_add(s4, x17, x34);
+                x36 = s4 * x24;
+                x37 = arith.mul_add(c4, x21, -x36);
+                x38 = c4 * x24;
+                x39 = arith.mul_add(s4, x21, x38);
+                x40 = s4 * x12;
+                x41 = arith.mul_add(c4, x26, x40);
+                x42 = c4 * x12;
+                x43 = 0.384f64 * x19;
+                x44 = arith.mul_add(-0.0825f64, x17, x43);
+                x45 = 0.384f64 * x23;
+                x46 = arith.mul_add(-0.0825f64, x21, x45);
+                x47 = 0.384f64 * x28;
+                x48 = arith.mul_add(-0.0825f64, x26, x47);
+                x49 = x29 + x44;
+                x50 = x30 + x46;
+                x51 = x31 + x48;
+                x52 = s5 * x19;
+                x53 = arith.mul_add(c5, x33, x52);
+                x54 = c5 * x19;
+                x55 = s5 * x23;
+                x56 = arith.mul_add(c5, x37, x55);
+                x57 = c5 * x23;
+                x58 = s5 * x28;
+                x59 = arith.mul_add(c5, x41, x58);
+                x60 = c5 * x28;
+                x61 = arith.mul_add(s4, x26, -x42);
+                x62 = s6 * x35;
+                x63 = arith.mul_add(c6, x53, x62);
+                x64 = s6 * x53;
+                x65 = arith.mul_add(c6, x35, -x64);
+                x66 = arith.mul_add(s5, x33, -x54);
+                x67 = s6 * x39;
+                x68 = arith.mul_add(c6, x56, x67);
+                x69 = s6 * x56;
+                x70 = arith.mul_add(c6, x39, -x69);
+                x71 = arith.mul_add(s5, x37, -x57);
+                x72 = s6 * x61;
+                x73 = arith.mul_add(c6, x59, x72);
+                x74 = s6 * x59;
+                x75 = arith.mul_add(c6, x61, -x74);
+                x76 = arith.mul_add(s5, x41, -x60);
+                x77 = arith.mul_add(0.088f64, x53, x49);
+                x78 = arith.mul_add(0.088f64, x56, x50);
+                x79 = arith.mul_add(0.088f64, x59, x51);
+                x80 = -0.7071080798594735f64 * x65;
+                x81 = arith.mul_add(0.7071054825112363f64, x63, x80);
+                x82 = 0.7071054825112363f64 * x65;
+                x83 = arith.mul_add(0.7071080798594735f64, x63, x82);
+                x84 = -0.7071080798594735f64 * x70;
+                x85 = arith.mul_add(0.7071054825112363f64, x68, x84);
+                x86 = 0.7071054825112363f64 * x70;
+                x87 = arith.mul_add(0.7071080798594735f64, x68, x86);
+                x88 = -0.7071080798594735f64 * x75;
+                x89 = arith.mul_add(0.7071054825112363f64, x73, x88);
+                x90 = 0.7071054825112363f64 * x75;
+                x91 = arith.mul_add(0.7071080798594735f64, x73, x90);
+                x92 = arith.mul_add(0.2104f64, x66, x77);
+                x93 = arith.mul_add(0.2104f64, x71, x78);
+                x94 = arith.mul_add(0.2104f64, x76, x79);
+                x95 = x94 - 0.333f64;
+                x96 = c0 * x95;
+                x97 = s0 * x95;
+                x98 = c0 * x92;
+                x99 = arith.mul_add(s0, x93, x98);
+                x100 = x92 - x13;
+                x101 = x93 - x14;
+                x102 = x94 - x15;
+                x103 = c1 * x101;
+                x104 = arith.mul_add(x3, x102, -x103);
+                x105 = x1 * x102;
+                x106 = arith.mul_add(c1, x100, -x105);
+                x107 = x3 * x100;
+                x108 = arith.mul_add(x1, x101, -x107);
+                x109 = x92 - x29;
+                x110 = x93 - x30;
+                x111 = x94 - x31;
+                x112 = x12 * x110;
+                x113 = arith.mul_add(x24, x111, x112);
+                x114 = x7 * x111;
+                x115 = arith.mul_add(x12, x109, x114);
+                x116 = x24 * x109;
+                x117 = arith.mul_add(x7, x110, -x116);
+                x118 = x92 - x49;
+                x119 = x93 - x50;
+                x120 = x94 - x51;
+                x121 = x28 * x119;
+                x122 = arith.mul_add(x23, x120, -x121);
+                x123 = x19 * x120;
+                x124 = arith.mul_add(x28, x118, -x123);
+                x125 = x23 * x118;
+                x126 = arith.mul_add(x19, x119, -x125);
+                x127 = x61 * x119;
+                x128 = arith.mul_add(x39, x120, -x127);
+                x129 = x35 * x120;
+                x130 = arith.mul_add(x61, x118, -x129);
+                x131 = x39 * x118;
+                x132 = arith.mul_add(x35, x119, -x131);
+                x133 = x92 - x77;
+                x134 = x93 - x78;
+                x135 = x94 - x79;
+                x136 = x76 * x134;
+                x137 = arith.mul_add(x71, x135, -x136);
+                x138 = x66 * x135;
+                x139 = arith.mul_add(x76, x133, -x138);
+                x140 = x71 * x133;
+                x141 = arith.mul_add(x66, x134, -x140);
+                x142 = x81 * x93;
+                x143 = arith.mul_add(x85, x92, -x142);
+                x144 = x83 * x93;
+                x145 = arith.mul_add(x87, x92, -x144);
+                x146 = x66 * x93;
+                x147 = arith.mul_add(x71, x92, -x146);
+                x148 = x85 * x97;
+                x149 = arith.mul_add(x81, x96, x148);
+                x150 = arith.mul_add(-x89, x99, x149);
+                x151 = x87 * x97;
+                x152 = arith.mul_add(x83, x96, x151);
+                x153 = arith.mul_add(-x91, x99, x152);
+                x154 = x71 * x97;
+                x155 = arith.mul_add(x66, x96, x154);
+                x156 = arith.mul_add(-x76, x99, x155);
+                x157 = s0 * x81;
+                x158 = arith.mul_add(c0, x85, -x157);
+                x159 = s0 * x83;
+                x160 = arith.mul_add(c0, x87, -x159);
+                x161 = s0 * x66;
+                x162 = arith.mul_add(c0, x71, -x161);
+                x163 = x85 * x106;
+                x164 = arith.mul_add(x81, x104, x163);
+                x165 = arith.mul_add(x89, x108, x164);
+                x166 = x87 * x106;
+                x167 = arith.mul_add(x83, x104, x166);
+                x168 = arith.mul_add(x91, x108, x167);
+                x169 = x71 * x106;
+                x170 = arith.mul_add(x66, x104, x169);
+                x171 = arith.mul_add(x76, x108, x170);
+                x172 = x3 * x85;
+                x173 = arith.mul_add(x1, x81, x172);
+                x174 = arith.mul_add(c1, x89, x173);
+                x175 = x3 * x87;
+                x176 = arith.mul_add(x1, x83, x175);
+                x177 = arith.mul_add(c1, x91, x176);
+                x178 = x3 * x71;
+                x179 = arith.mul_add(x1, x66, x178);
+                x180 = arith.mul_add(c1, x76, x179);
+                x181 = x85 * x115;
+                x182 = arith.mul_add(x81, x113, -x181);
+                x183 = arith.mul_add(x89, x117, x182);
+                x184 = x87 * x115;
+                x185 = arith.mul_add(x83, x113, -x184);
+                x186 = arith.mul_add(x91, x117, x185);
+                x187 = x71 * x115;
+                x188 = arith.mul_add(x66, x113, -x187);
+                x189 = arith.mul_add(x76, x117, x188);
+                x190 = x24 * x85;
+                x191 = arith.mul_add(x7, x81, x190);
+                x192 = arith.mul_add(-x12, x89, x191);
+                x193 = x24 * x87;
+                x194 = arith.mul_add(x7, x83, x193);
+                x195 = arith.mul_add(-x12, x91, x194);
+                x196 = x24 * x71;
+                x197 = arith.mul_add(x7, x66, x196);
+                x198 = arith.mul_add(-x12, x76, x197);
+                x199 = x85 * x124;
+                x200 = arith.mul_add(x81, x122, x199);
+                x201 = arith.mul_add(x89, x126, x200);
+                x202 = x87 * x124;
+                x203 = arith.mul_add(x83, x122, x202);
+                x204 = arith.mul_add(x91, x126, x203);
+                x205 = x71 * x124;
+                x206 = arith.mul_add(x66, x122, x205);
+                x207 = arith.mul_add(x76, x126, x206);
+                x208 = x23 * x85;
+                x209 = arith.mul_add(x19, x81, x208);
+                x210 = arith.mul_add(x28, x89, x209);
+                x211 = x23 * x87;
+                x212 = arith.mul_add(x19, x83, x211);
+                x213 = arith.mul_add(x28, x91, x212);
+                x214 = x23 * x71;
+                x215 = arith.mul_add(x19, x66, x214);
+                x216 = arith.mul_add(x28, x76, x215);
+                x217 = x85 * x130;
+                x218 = arith.mul_add(x81, x128, x217);
+                x219 = arith.mul_add(x89, x132, x218);
+                x220 = x87 * x130;
+                x221 = arith.mul_add(x83, x128, x220);
+                x222 = arith.mul_add(x91, x132, x221);
+                x223 = x71 * x130;
+                x224 = arith.mul_add(x66, x128, x223);
+                x225 = arith.mul_add(x76, x132, x224);
+                x226 = x39 * x85;
+                x227 = arith.mul_add(x35, x81, x226);
+                x228 = arith.mul_add(x61, x89, x227);
+                x229 = x39 * x87;
+                x230 = arith.mul_add(x35, x83, x229);
+                x231 = arith.mul_add(x61, x91, x230);
+                x232 = x39 * x71;
+                x233 = arith.mul_add(x35, x66, x232);
+                x234 = arith.mul_add(x61, x76, x233);
+                x235 = x85 * x139;
+                x236 = arith.mul_add(x81, x137, x235);
+                x237 = arith.mul_add(x89, x141, x236);
+                x238 = x87 * x139;
+                x239 = arith.mul_add(x83, x137, x238);
+                x240 = arith.mul_add(x91, x141, x239);
+                x241 = x71 * x139;
+                x242 = arith.mul_add(x66, x137, x241);
+                x243 = arith.mul_add(x76, x141, x242);
+                x244 = x71 * x85;
+                x245 = arith.mul_add(x66, x81, x244);
+                x246 = arith.mul_add(x76, x89, x245);
+                x247 = x71 * x87;
+                x248 = arith.mul_add(x66, x83, x247);
+                x249 = arith.mul_add(x76, x91, x248);
+                x250 = x71 * x71;
+                x251 = arith.mul_add(x66, x66, x250);
+                x252 = arith.mul_add(x76, x76, x251);
+                x253 = qd1 * x150;
+                x254 = arith.mul_add(qd0, x143, x253);
+                x255 = arith.mul_add(qd2, x165, x254);
+                x256 = arith.mul_add(qd3, x183, x255);
+                x257 = arith.mul_add(qd4, x201, x256);
+                x258 = arith.mul_add(qd5, x219, x257);
+                x259 = arith.mul_add(qd6, x237, x258);
+                *o0 = x259;
+                x260 = qd1 * x153;
+                x261 = arith.mul_add(qd0, x145, x260);
+                x262 = arith.mul_add(qd2, x168, x261);
+                x263 = arith.mul_add(qd3, x186, x262);
+                x264 = arith.mul_add(qd4, x204, x263);
+                x265 = arith.mul_add(qd5, x222, x264);
+                x266 = arith.mul_add(qd6, x240, x265);
+                *o1 = x266;
+                x267 = qd1 * x156;
+                x268 = arith.mul_add(qd0, x147, x267);
+                x269 = arith.mul_add(qd2, x171, x268);
+                x270 = arith.mul_add(qd3, x189, x269);
+                x271 = arith.mul_add(qd4, x207, x270);
+                x272 = arith.mul_add(qd5, x225, x271);
+                x273 = arith.mul_add(qd6, x243, x272);
+                *o2 = x273;
+                x274 = qd1 * x158;
+                x275 = arith.mul_add(qd0, x89, x274);
+                x276 = arith.mul_add(qd2, x174, x275);
+                x277 = arith.mul_add(qd3, x192, x276);
+                x278 = arith.mul_add(qd4, x210, x277);
+                x279 = arith.mul_add(qd5, x228, x278);
+                x280 = arith.mul_add(qd6, x246, x279);
+                *o3 = x280;
+                x281 = qd1 * x160;
+                x282 = arith.mul_add(qd0, x91, x281);
+                x283 = arith.mul_add(qd2, x177, x282);
+                x284 = arith.mul_add(qd3, x195, x283);
+                x285 = arith.mul_add(qd4, x213, x284);
+                x286 = arith.mul_add(qd5, x231, x285);
+                x287 = arith.mul_add(qd6, x249, x286);
+                *o4 = x287;
+                x288 = qd1 * x162;
+                x289 = arith.mul_add(qd0, x76, x288);
+                x290 = arith.mul_add(qd2, x180, x289);
+                x291 = arith.mul_add(qd3, x198, x290);
+                x292 = arith.mul_add(qd4, x216, x291);
+                x293 = arith.mul_add(qd5, x234, x292);
+                x294 = arith.mul_add(qd6, x252, x293);
+                *o5 = x294;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd))
+}
+///Operations: 166 mul, 127 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_velocity_panda_hand_tcp_world(
+    t: &JointTrig<7>,
+    qd: &SVector<f64, 7>,
+) -> SVector<f64, 6> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<7>, &SVector<f64, 7>)> for Body {
+        type Output = SVector<f64, 6>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd): (&JointTrig<7>, &SVector<f64, 7>),
+        ) -> SVector<f64, 6> {
+            let [s0, s1, s2, s3, s4, s5, _] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, _] = t.cos;
+            let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+            let mut out: SVector<f64, 6> = SMatrix::zeros();
+            {
+                let [[o0, o1, o2, o3, o4, o5]] = &mut out.data.0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196]: [f64; 197];
+                x0 = c0 * c1;
+                x1 = c0 * s1;
+                x2 = s0 * c1;
+                x3 = s0 * s1;
+                x4 = s0 * s2;
+                x5 = arith.mul_add(c2, x0, -x4);
+                x6 = s0 * c2;
+                x7 = arith.mul_add(s2, x0, x6);
+                x8 = c0 * s2;
+                x9 = arith.mul_add(c2, x2, x8);
+                x10 = c0 * c2;
+                x11 = s1 * c2;
+                x12 = s1 * s2;
+                x13 = 0.316f64 * x1;
+                x14 = 0.316f64 * x3;
+                x15 = arith.mul_add(0.316f64, c1, 0.333f64);
+                x16 = s3 * x1;
+                x17 = arith.mul_add(c3, x5, x16);
+                x18 = s3 * x5;
+                x19 = arith.mul_add(c3, x1, -x18);
+                x20 = s3 * x3;
+                x21 = arith.mul_add(c3, x9, x20);
+                x22 = s3 * x9;
+                x23 = arith.mul_add(c3, x3, -x22);
+                x24 = arith.mul_add(s2, x2, -x10);
+                x25 = c3 * x11;
+                x26 = arith.mul_add(c1, s3, -x25);
+                x27 = c1 * c3;
+                x28 = arith.mul_add(s3, x11, x27);
+                x29 = arith.mul_add(0.0825f64, x5, x13);
+                x30 = arith.mul_add(0.0825f64, x9, x14);
+                x31 = arith.mul_add(-0.0825f64, x11, x15);
+                x32 = s4 * x7;
+                x33 = arith.mul_add(c4, x17, -x32);
+                x34 = c4 * x7;
+                x35 = arith.mul_add(s4, x17, x34);
+                x36 = s4 * x24;
+                x37 = arith.mul_add(c4, x21, -x36);
+                x38 = c4 * x24;
+                x39 = arith.mul_add(s4, x21, x38);
+                x40 = s4 * x12;
+                x41 = arith.mul_add(c4, x26, x40);
+                x42 = c4 * x12;
+                x43 = 0.384f64 * x19;
+                x44 = arith.mul_add(-0.0825f64, x17, x43);
+                x45 = 0.384f64 * x23;
+                x46 = arith.mul_add(-0.0825f64, x21, x45);
+                x47 = 0.384f64 * x28;
+                x48 = arith.mul_add(-0.0825f64, x26, x47);
+                x49 = x29 + x44;
+                x50 = x30 + x46;
+                x51 = x31 + x48;
+                x52 = s5 * x19;
+                x53 = arith.mul_add(c5, x33, x52);
+                x54 = c5 * x19;
+                x55 = s5 * x23;
+                x56 = arith.mul_add(c5, x37, x55);
+                x57 = c5 * x23;
+                x58 = s5 * x28;
+                x59 = arith.mul_add(c5, x41, x58);
+                x60 = c5 * x28;
+                x61 = arith.mul_add(s4, x26, -x42);
+                x62 = arith.mul_add(s5, x33, -x54);
+                x63 = arith.mul_add(s5, x37, -x57);
+                x64 = arith.mul_add(s5, x41, -x60);
+                x65 = arith.mul_add(0.088f64, x53, x49);
+                x66 = arith.mul_add(0.088f64, x56, x50);
+                x67 = arith.mul_add(0.088f64, x59, x51);
+                x68 = arith.mul_add(0.2104f64, x62, x65);
+                x69 = arith.mul_add(0.2104f64, x63, x66);
+                x70 = arith.mul_add(0.2104f64, x64, x67);
+                x71 = x70 - 0.333f64;
+                x72 = x68 - x13;
+                x73 = x69 - x14;
+                x74 = x70 - x15;
+                x75 = c1 * x73;
+                x76 = arith.mul_add(x3, x74, -x75);
+                x77 = x1 * x74;
+                x78 = arith.mul_add(c1, x72, -x77);
+                x79 = x3 * x72;
+                x80 = arith.mul_add(x1, x73, -x79);
+                x81 = x68 - x29;
+                x82 = x69 - x30;
+                x83 = x70 - x31;
+                x84 = x12 * x82;
+                x85 = arith.mul_add(x24, x83, x84);
+                x86 = x7 * x83;
+                x87 = arith.mul_add(x12, x81, x86);
+                x88 = x24 * x81;
+                x89 = arith.mul_add(x7, x82, -x88);
+                x90 = x68 - x49;
+                x91 = x69 - x50;
+                x92 = x70 - x51;
+                x93 = x28 * x91;
+                x94 = arith.mul_add(x23, x92, -x93);
+                x95 = x19 * x92;
+                x96 = arith.mul_add(x28, x90, -x95);
+                x97 = x23 * x90;
+                x98 = arith.mul_add(x19, x91, -x97);
+                x99 = x61 * x91;
+                x100 = arith.mul_add(x39, x92, -x99);
+                x101 = x35 * x92;
+                x102 = arith.mul_add(x61, x90, -x101);
+                x103 = x39 * x90;
+                x104 = arith.mul_add(x35, x91, -x103);
+                x105 = x68 - x65;
+                x106 = x69 - x66;
+                x107 = x70 - x67;
+                x108 = x64 * x106;
+                x109 = arith.mul_add(x63, x107, -x108);
+                x110 = x62 * x107;
+                x111 = arith.mul_add(x64, x105, -x110);
+                x112 = x63 * x105;
+                x113 = arith.mul_add(x62, x106, -x112);
+                x114 = qd1 * s0;
+                x115 = qd2 * x3;
+                x116 = arith.mul_add(qd2, x1, -x114);
+                x117 = arith.mul_add(qd1, c0, x115);
+                x118 = arith.mul_add(qd2, c1, qd0);
+                x119 = arith.mul_add(qd3, x7, x116);
+                x120 = arith.mul_add(qd3, x24, x117);
+                x121 = arith.mul_add(-qd3, x12, x118);
+                x122 = arith.mul_add(qd4, x19, x119);
+                x123 = arith.mul_add(qd4, x23, x120);
+                x124 = arith.mul_add(qd4, x28, x121);
+                x125 = arith.mul_add(qd5, x35, x122);
+                x126 = arith.mul_add(qd5, x39, x123);
+                x127 = arith.mul_add(qd5, x61, x124);
+                x128 = arith.mul_add(qd6, x62, x125);
+                *o3 = x128;
+                x129 = arith.mul_add(qd6, x63, x126);
+                *o4 = x129;
+                x130 = arith.mul_add(qd6, x64, x127);
+                *o5 = x130;
+                x131 = x62 * x69;
+                x132 = arith.mul_add(x63, x68, -x131);
+                x133 = c0 * x70;
+                x134 = s0 * x70;
+                x135 = arith.mul_add(c0, x71, -x133);
+                x136 = arith.mul_add(s0, x71, -x134);
+                x137 = x3 * x70;
+                x138 = arith.mul_add(c1, x69, -x137);
+                x139 = c1 * x68;
+                x140 = arith.mul_add(x1, x70, -x139);
+                x141 = x1 * x69;
+                x142 = arith.mul_add(x3, x68, -x141);
+                x143 = x76 + x138;
+                x144 = x78 + x140;
+                x145 = x80 + x142;
+                x146 = x24 * x70;
+                x147 = arith.mul_add(x12, x69, x146);
+                x148 = x12 * x68;
+                x149 = arith.mul_add(x7, x70, x148);
+                x150 = x7 * x69;
+                x151 = arith.mul_add(x24, x68, -x150);
+                x152 = x85 - x147;
+                x153 = x149 - x87;
+                x154 = x89 + x151;
+                x155 = x23 * x70;
+                x156 = arith.mul_add(x28, x69, -x155);
+                x157 = x28 * x68;
+                x158 = arith.mul_add(x19, x70, -x157);
+                x159 = x19 * x69;
+                x160 = arith.mul_add(x23, x68, -x159);
+                x161 = x94 + x156;
+                x162 = x96 + x158;
+                x163 = x98 + x160;
+                x164 = x39 * x70;
+                x165 = arith.mul_add(x61, x69, -x164);
+                x166 = x61 * x68;
+                x167 = arith.mul_add(x35, x70, -x166);
+                x168 = x35 * x69;
+                x169 = arith.mul_add(x39, x68, -x168);
+                x170 = x100 + x165;
+                x171 = x102 + x167;
+                x172 = x104 + x169;
+                x173 = x63 * x70;
+                x174 = arith.mul_add(x64, x69, -x173);
+                x175 = x64 * x68;
+                x176 = arith.mul_add(x62, x70, -x175);
+                x177 = x109 + x174;
+                x178 = x111 + x176;
+                x179 = x113 + x132;
+                x180 = qd2 * x143;
+                x181 = arith.mul_add(qd1, x135, x180);
+                x182 = arith.mul_add(qd3, x152, x181);
+                x183 = arith.mul_add(qd4, x161, x182);
+                x184 = arith.mul_add(qd5, x170, x183);
+                x185 = arith.mul_add(qd6, x177, x184);
+                *o0 = x185;
+                x186 = qd2 * x144;
+                x187 = arith.mul_add(qd1, x136, x186);
+                x188 = arith.mul_add(qd3, x153, x187);
+                x189 = arith.mul_add(qd4, x162, x188);
+                x190 = arith.mul_add(qd5, x171, x189);
+                x191 = arith.mul_add(qd6, x178, x190);
+                *o1 = x191;
+                x192 = qd3 * x154;
+                x193 = arith.mul_add(qd2, x145, x192);
+                x194 = arith.mul_add(qd4, x163, x193);
+                x195 = arith.mul_add(qd5, x172, x194);
+                x196 = arith.mul_add(qd6, x179, x195);
+                *o2 = x196;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd))
+}
+///Operations: 139 mul, 99 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_velocity_panda_hand_tcp_local_world_aligned(
+    t: &JointTrig<7>,
+    qd: &SVector<f64, 7>,
+) -> SVector<f64, 6> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<7>, &SVector<f64, 7>)> for Body {
+        type Output = SVector<f64, 6>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd): (&JointTrig<7>, &SVector<f64, 7>),
+        ) -> SVector<f64, 6> {
+            let [s0, s1, s2, s3, s4, s5, _] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, _] = t.cos;
+            let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+            let mut out: SVector<f64, 6> = SMatrix::zeros();
+            {
+                let [[o0, o1, o2, o3, o4, o5]] = &mut out.data.0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154]: [f64; 155];
+                x0 = c0 * c1;
+                x1 = c0 * s1;
+                x2 = s0 * c1;
+                x3 = s0 * s1;
+                x4 = s0 * s2;
+                x5 = arith.mul_add(c2, x0, -x4);
+                x6 = s0 * c2;
+                x7 = arith.mul_add(s2, x0, x6);
+                x8 = c0 * s2;
+                x9 = arith.mul_add(c2, x2, x8);
+                x10 = c0 * c2;
+                x11 = s1 * c2;
+                x12 = s1 * s2;
+                x13 = 0.316f64 * x1;
+                x14 = 0.316f64 * x3;
+                x15 = arith.mul_add(0.316f64, c1, 0.333f64);
+                x16 = s3 * x1;
+                x17 = arith.mul_add(c3, x5, x16);
+                x18 = s3 * x5;
+                x19 = arith.mul_add(c3, x1, -x18);
+                x20 = s3 * x3;
+                x21 = arith.mul_add(c3, x9, x20);
+                x22 = s3 * x9;
+                x23 = arith.mul_add(c3, x3, -x22);
+                x24 = arith.mul_add(s2, x2, -x10);
+                x25 = c3 * x11;
+                x26 = arith.mul_add(c1, s3, -x25);
+                x27 = c1 * c3;
+                x28 = arith.mul_add(s3, x11, x27);
+                x29 = arith.mul_add(0.0825f64, x5, x13);
+                x30 = arith.mul_add(0.0825f64, x9, x14);
+                x31 = arith.mul_add(-0.0825f64, x11, x15);
+                x32 = s4 * x7;
+                x33 = arith.mul_add(c4, x17, -x32);
+                x34 = c4 * x7;
+                x35 = arith.mul_add(s4, x17, x34);
+                x36 = s4 * x24;
+                x37 = arith.mul_add(c4, x21, -x36);
+                x38 = c4 * x24;
+                x39 = arith.mul_add(s4, x21, x38);
+                x40 = s4 * x12;
+                x41 = arith.mul_add(c4, x26, x40);
+                x42 = c4 * x12;
+                x43 = 0.384f64 * x19;
+                x44 = arith.mul_add(-0.0825f64, x17, x43);
+                x45 = 0.384f64 * x23;
+                x46 = arith.mul_add(-0.0825f64, x21, x45);
+                x47 = 0.384f64 * x28;
+                x48 = arith.mul_add(-0.0825f64, x26, x47);
+                x49 = x29 + x44;
+                x50 = x30 + x46;
+                x51 = x31 + x48;
+                x52 = s5 * x19;
+                x53 = arith.mul_add(c5, x33, x52);
+                x54 = c5 * x19;
+                x55 = s5 * x23;
+                x56 = arith.mul_add(c5, x37, x55);
+                x57 = c5 * x23;
+                x58 = s5 * x28;
+                x59 = arith.mul_add(c5, x41, x58);
+                x60 = c5 * x28;
+                x61 = arith.mul_add(s4, x26, -x42);
+                x62 = arith.mul_add(s5, x33, -x54);
+                x63 = arith.mul_add(s5, x37, -x57);
+                x64 = arith.mul_add(s5, x41, -x60);
+                x65 = arith.mul_add(0.088f64, x53, x49);
+                x66 = arith.mul_add(0.088f64, x56, x50);
+                x67 = arith.mul_add(0.088f64, x59, x51);
+                x68 = arith.mul_add(0.2104f64, x62, x65);
+                x69 = arith.mul_add(0.2104f64, x63, x66);
+                x70 = arith.mul_add(0.2104f64, x64, x67);
+                x71 = x70 - 0.333f64;
+                x72 = c0 * x71;
+                x73 = s0 * x71;
+                x74 = c0 * x68;
+                x75 = arith.mul_add(s0, x69, x74);
+                x76 = x68 - x13;
+                x77 = x69 - x14;
+                x78 = x70 - x15;
+                x79 = c1 * x77;
+                x80 = arith.mul_add(x3, x78, -x79);
+                x81 = x1 * x78;
+                x82 = arith.mul_add(c1, x76, -x81);
+                x83 = x3 * x76;
+                x84 = arith.mul_add(x1, x77, -x83);
+                x85 = x68 - x29;
+                x86 = x69 - x30;
+                x87 = x70 - x31;
+                x88 = x12 * x86;
+                x89 = arith.mul_add(x24, x87, x88);
+                x90 = x7 * x87;
+                x91 = arith.mul_add(x12, x85, x90);
+                x92 = x24 * x85;
+                x93 = arith.mul_add(x7, x86, -x92);
+                x94 = x68 - x49;
+                x95 = x69 - x50;
+                x96 = x70 - x51;
+                x97 = x28 * x95;
+                x98 = arith.mul_add(x23, x96, -x97);
+                x99 = x19 * x96;
+                x100 = arith.mul_add(x28, x94, -x99);
+                x101 = x23 * x94;
+                x102 = arith.mul_add(x19, x95, -x101);
+                x103 = x61 * x95;
+                x104 = arith.mul_add(x39, x96, -x103);
+                x105 = x35 * x96;
+                x106 = arith.mul_add(x61, x94, -x105);
+                x107 = x39 * x94;
+                x108 = arith.mul_add(x35, x95, -x107);
+                x109 = x68 - x65;
+                x110 = x69 - x66;
+                x111 = x70 - x67;
+                x112 = x64 * x110;
+                x113 = arith.mul_add(x63, x111, -x112);
+                x114 = x62 * x111;
+                x115 = arith.mul_add(x64, x109, -x114);
+                x116 = x63 * x109;
+                x117 = arith.mul_add(x62, x110, -x116);
+                x118 = qd1 * s0;
+                x119 = qd2 * x3;
+                x120 = arith.mul_add(qd2, x1, -x118);
+                x121 = arith.mul_add(qd1, c0, x119);
+                x122 = arith.mul_add(qd2, c1, qd0);
+                x123 = arith.mul_add(qd3, x7, x120);
+                x124 = arith.mul_add(qd3, x24, x121);
+                x125 = arith.mul_add(-qd3, x12, x122);
+                x126 = arith.mul_add(qd4, x19, x123);
+                x127 = arith.mul_add(qd4, x23, x124);
+                x128 = arith.mul_add(qd4, x28, x125);
+                x129 = arith.mul_add(qd5, x35, x126);
+                x130 = arith.mul_add(qd5, x39, x127);
+                x131 = arith.mul_add(qd5, x61, x128);
+                x132 = arith.mul_add(qd6, x62, x129);
+                *o3 = x132;
+                x133 = arith.mul_add(qd6, x63, x130);
+                *o4 = x133;
+                x134 = arith.mul_add(qd6, x64, x131);
+                *o5 = x134;
+                x135 = qd0 * x69;
+                x136 = arith.mul_add(qd1, x72, -x135);
+                x137 = arith.mul_add(qd2, x80, x136);
+                x138 = arith.mul_add(qd3, x89, x137);
+                x139 = arith.mul_add(qd4, x98, x138);
+                x140 = arith.mul_add(qd5, x104, x139);
+                x141 = arith.mul_add(qd6, x113, x140);
+                *o0 = x141;
+                x142 = qd1 * x73;
+                x143 = arith.mul_add(qd0, x68, x142);
+                x144 = arith.mul_add(qd2, x82, x143);
+                x145 = arith.mul_add(-qd3, x91, x144);
+                x146 = arith.mul_add(qd4, x100, x145);
+                x147 = arith.mul_add(qd5, x106, x146);
+                x148 = arith.mul_add(qd6, x115, x147);
+                *o1 = x148;
+                x149 = qd1 * x75;
+                x150 = arith.mul_add(qd2, x84, -x149);
+                x151 = arith.mul_add(qd3, x93, x150);
+                x152 = arith.mul_add(qd4, x102, x151);
+                x153 = arith.mul_add(qd5, x108, x152);
+                x154 = arith.mul_add(qd6, x117, x153);
+                *o2 = x154;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd))
+}
+///Operations: 697 mul, 541 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_classical_acceleration_panda_hand_tcp_local(
+    t: &JointTrig<7>,
+    qd: &SVector<f64, 7>,
+    a: &SVector<f64, 7>,
+) -> SVector<f64, 6> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<
+        (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
+    > for Body {
+        type Output = SVector<f64, 6>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd, a): (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
+        ) -> SVector<f64, 6> {
+            let [s0, s1, s2, s3, s4, s5, s6] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, c6] = t.cos;
+            let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+            let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
+            let mut out: SVector<f64, 6> = SMatrix::zeros();
+            {
+                let [[o0, o1, o2, o3, o4, o5]] = &mut out.data.0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
+                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
+                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
+                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
+                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
+                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
+                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
+                x291, x292, x293, x294, x295, x296, x297, x298, x299, x300, x301, x302,
+                x303, x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
+                x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325, x326,
+                x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337, x338,
+                x339, x340, x341, x342, x343, x344, x345, x346, x347, x348, x349, x350,
+                x351, x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373, x374,
+                x375, x376, x377, x378, x379, x380, x381, x382, x383, x384, x385, x386,
+                x387, x388, x389, x390, x391, x392, x393, x394, x395, x396, x397, x398,
+                x399, x400, x401, x402, x403, x404, x405, x406, x407, x408, x409, x410,
+                x411, x412, x413, x414, x415, x416, x417, x418, x419, x420, x421, x422,
+                x423, x424, x425, x426, x427, x428, x429, x430, x431, x432, x433, x434,
+                x435, x436, x437, x438, x439, x440, x441, x442, x443, x444, x445, x446,
+                x447, x448, x449, x450, x451, x452, x453, x454, x455, x456, x457, x458,
+                x459, x460, x461, x462, x463, x464, x465, x466, x467, x468, x469, x470,
+                x471, x472, x473, x474, x475, x476, x477, x478, x479, x480, x481, x482,
+                x483, x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
+                x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505, x506,
+                x507, x508, x509, x510, x511, x512, x513, x514, x515, x516, x517, x518,
+                x519, x520, x521, x522, x523, x524, x525, x526, x527, x528, x529, x530,
+                x531, x532, x533, x534, x535, x536, x537, x538, x539, x540, x541, x542,
+                x543, x544, x545, x546, x547, x548, x549, x550, x551, x552, x553, x554,
+                x555, x556, x557, x558, x559, x560, x561, x562, x563, x564, x565, x566,
+                x567, x568, x569, x570, x571, x572, x573, x574, x575, x576, x577, x578,
+                x579, x580, x581, x582, x583, x584, x585, x586, x587, x588, x589, x590,
+                x591, x592, x593, x594, x595, x596, x597, x598, x599, x600, x601, x602,
+                x603, x604, x605, x606, x607, x608, x609, x610, x611, x612, x613, x614,
+                x615, x616, x617, x618, x619, x620, x621, x622, x623, x624, x625, x626,
+                x627, x628, x629, x630, x631, x632, x633, x634, x635, x636, x637, x638,
+                x639, x640, x641, x642, x643, x644, x645, x646, x647, x648, x649, x650,
+                x651, x652, x653, x654, x655, x656, x657, x658, x659, x660, x661, x662,
+                x663, x664, x665, x666, x667, x668, x669, x670, x671, x672, x673, x674,
+                x675, x676, x677, x678, x679, x680, x681, x682, x683, x684, x685, x686,
+                x687, x688, x689, x690, x691, x692, x693, x694, x695, x696, x697, x698,
+                x699, x700, x701, x702, x703, x704, x705, x706, x707, x708, x709, x710,
+                x711, x712, x713, x714, x715, x716, x717, x718, x719, x720, x721, x722,
+                x723, x724, x725, x726, x727, x728, x729, x730, x731, x732, x733, x734,
+                x735, x736, x737, x738, x739, x740, x741, x742, x743, x744, x745, x746,
+                x747, x748, x749, x750, x751, x752, x753, x754, x755, x756, x757, x758,
+                x759, x760, x761, x762, x763, x764, x765, x766, x767, x768, x769, x770,
+                x771, x772, x773, x774, x775, x776, x777, x778, x779, x780, x781, x782,
+                x783, x784, x785, x786, x787, x788, x789, x790, x791, x792, x793, x794,
+                x795, x796, x797, x798, x799, x800, x801, x802]: [f64; 803];
+                x0 = c0 * c1;
+                x1 = c0 * s1;
+                x2 = s0 * c1;
+                x3 = s0 * s1;
+                x4 = s0 * s2;
+                x5 = arith.mul_add(c2, x0, -x4);
+                x6 = s0 * c2;
+                x7 = arith.mul_add(s2, x0, x6);
+                x8 = c0 * s2;
+                x9 = arith.mul_add(c2, x2, x8);
+                x10 = c0 * c2;
+                x11 = s1 * c2;
+                x12 = s1 * s2;
+                x13 = 0.316f64 * x1;
+                x14 = 0.316f64 * x3;
+                x15 = arith.mul_add(0.316f64, c1, 0.333f64);
+                x16 = s3 * x1;
+                x17 = arith.mul_add(c3, x5, x16);
+                x18 = s3 * x5;
+                x19 = arith.mul_add(c3, x1, -x18);
+                x20 = s3 * x3;
+                x21 = arith.mul_add(c3, x9, x20);
+                x22 = s3 * x9;
+                x23 = arith.mul_add(c3, x3, -x22);
+                x24 = arith.mul_add(s2, x2, -x10);
+                x25 = c3 * x11;
+                x26 = arith.mul_add(c1, s3, -x25);
+                x27 = c1 * c3;
+                x28 = arith.mul_add(s3, x11, x27);
+                x29 = arith.mul_add(0.0825f64, x5, x13);
+                x30 = arith.mul_add(0.0825f64, x9, x14);
+                x31 = arith.mul_add(-0.0825f64, x11, x15);
+                x32 = s4 * x7;
+                x33 = arith.mul_add(c4, x17, -x32);
+                x34 = c4 * x7;
+                x35 = arith.mul_add(s4, x17, x34);
+                x36 = s4 * x24;
+                x37 = arith.mul_add(c4, x21, -x36);
+                x38 = c4 * x24;
+                x39 = arith.mul_add(s4, x21, x38);
+                x40 = s4 * x12;
+                x41 = arith.mul_add(c4, x26, x40);
+                x42 = c4 * x12;
+                x43 = 0.384f64 * x19;
+                x44 = arith.mul_add(-0.0825f64, x17, x43);
+                x45 = 0.384f64 * x23;
+                x46 = arith.mul_add(-0.0825f64, x21, x45);
+                x47 = 0.384f64 * x28;
+                x48 = arith.mul_add(-0.0825f64, x26, x47);
+                x49 = x29 + x44;
+                x50 = x30 + x46;
+                x51 = x31 + x48;
+                x52 = s5 * x19;
+                x53 = arith.mul_add(c5, x33, x52);
+                x54 = c5 * x19;
+                x55 = s5 * x23;
+                x56 = arith.mul_add(c5, x37, x55);
+                x57 = c5 * x23;
+                x58 = s5 * x28;
+                x59 = arith.mul_add(c5, x41, x58);
+                x60 = c5 * x28;
+                x61 = arith.mul_add(s4, x26, -x42);
+                x62 = s6 * x35;
+                x63 = arith.mul_add(c6, x53, x62);
+                x64 = s6 * x53;
+                x65 = arith.mul_add(c6, x35, -x64);
+                x66 = arith.mul_add(s5, x33, -x54);
+                x67 = s6 * x39;
+                x68 = arith.mul_add(c6, x56, x67);
+                x69 = s6 * x56;
+                x70 = arith.mul_add(c6, x39, -x69);
+                x71 = arith.mul_add(s5, x37, -x57);
+                x72 = s6 * x61;
+                x73 = arith.mul_add(c6, x59, x72);
+                x74 = s6 * x59;
+                x75 = arith.mul_add(c6, x61, -x74);
+                x76 = arith.mul_add(s5, x41, -x60);
+                x77 = arith.mul_add(0.088f64, x53, x49);
+                x78 = arith.mul_add(0.088f64, x56, x50);
+                x79 = arith.mul_add(0.088f64, x59, x51);
+                x80 = -0.7071080798594735f64 * x65;
+                x81 = arith.mul_add(0.7071054825112363f64, x63, x80);
+                x82 = 0.7071054825112363f64 * x65;
+                x83 = arith.mul_add(0.7071080798594735f64, x63, x82);
+                x84 = -0.7071080798594735f64 * x70;
+                x85 = arith.mul_add(0.7071054825112363f64, x68, x84);
+                x86 = 0.7071054825112363f64 * x70;
+                x87 = arith.mul_add(0.7071080798594735f64, x68, x86);
+                x88 = -0.7071080798594735f64 * x75;
+                x89 = arith.mul_add(0.7071054825112363f64, x73, x88);
+                x90 = 0.7071054825112363f64 * x75;
+                x91 = arith.mul_add(0.7071080798594735f64, x73, x90);
+                x92 = arith.mul_add(0.2104f64, x66, x77);
+                x93 = arith.mul_add(0.2104f64, x71, x78);
+                x94 = arith.mul_add(0.2104f64, x76, x79);
+                x95 = x94 - 0.333f64;
+                x96 = c0 * x95;
+                x97 = s0 * x95;
+                x98 = c0 * x92;
+                x99 = arith.mul_add(s0, x93, x98);
+                x100 = x92 - x13;
+                x101 = x93 - x14;
+                x102 = x94 - x15;
+                x103 = c1 * x101;
+                x104 = arith.mul_add(x3, x102, -x103);
+                x105 = x1 * x102;
+                x106 = arith.mul_add(c1, x100, -x105);
+                x107 = x3 * x100;
+                x108 = arith.mul_add(x1, x101, -x107);
+                x109 = x92 - x29;
+                x110 = x93 - x30;
+                x111 = x94 - x31;
+                x112 = x12 * x110;
+                x113 = arith.mul_add(x24, x111, x112);
+                x114 = x7 * x111;
+                x115 = arith.mul_add(x12, x109, x114);
+                x116 = x24 * x109;
+                x117 = arith.mul_add(x7, x110, -x116);
+                x118 = x92 - x49;
+                x119 = x93 - x50;
+                x120 = x94 - x51;
+                x121 = x28 * x119;
+                x122 = arith.mul_add(x23, x120, -x121);
+                x123 = x19 * x120;
+                x124 = arith.mul_add(x28, x118, -x123);
+                x125 = x23 * x118;
+                x126 = arith.mul_add(x19, x119, -x125);
+                x127 = x61 * x119;
+                x128 = arith.mul_add(x39, x120, -x127);
+                x129 = x35 * x120;
+                x130 = arith.mul_add(x61, x118, -x129);
+                x131 = x39 * x118;
+                x132 = arith.mul_add(x35, x119, -x131);
+                x133 = x92 - x77;
+                x134 = x93 - x78;
+                x135 = x94 - x79;
+                x136 = x76 * x134;
+                x137 = arith.mul_add(x71, x135, -x136);
+                x138 = x66 * x135;
+                x139 = arith.mul_add(x76, x133, -x138);
+                x140 = x71 * x133;
+                x141 = arith.mul_add(x66, x134, -x140);
+                x142 = qd1 * s0;
+                x143 = qd1 * c0;
+                x144 = x15 - 0.333f64;
+                x145 = qd0 * x14;
+                x146 = arith.mul_add(x143, x144, -x145);
+                x147 = x142 * x144;
+                x148 = arith.mul_add(qd0, x13, x147);
+                x149 = x13 * x143;
+                x150 = arith.mul_add(x14, x142, x149);
+                x151 = arith.mul_add(qd2, x1, -x142);
+                x152 = arith.mul_add(qd2, x3, x143);
+                x153 = arith.mul_add(qd2, c1, qd0);
+                x154 = x29 - x13;
+                x155 = x30 - x14;
+                x156 = x31 - x15;
+                x157 = x153 * x155;
+                x158 = arith.mul_add(x152, x156, -x157);
+                x159 = x151 * x156;
+                x160 = arith.mul_add(x153, x154, -x159);
+                x161 = x152 * x154;
+                x162 = arith.mul_add(x151, x155, -x161);
+                x163 = x146 + x158;
+                x164 = x148 + x160;
+                x165 = x162 - x150;
+                x166 = arith.mul_add(qd3, x7, x151);
+                x167 = arith.mul_add(qd3, x24, x152);
+                x168 = arith.mul_add(-qd3, x12, x153);
+                x169 = x49 - x29;
+                x170 = x50 - x30;
+                x171 = x51 - x31;
+                x172 = x168 * x170;
+                x173 = arith.mul_add(x167, x171, -x172);
+                x174 = x166 * x171;
+                x175 = arith.mul_add(x168, x169, -x174);
+                x176 = x167 * x169;
+                x177 = arith.mul_add(x166, x170, -x176);
+                x178 = x163 + x173;
+                x179 = x164 + x175;
+                x180 = x165 + x177;
+                x181 = arith.mul_add(qd4, x19, x166);
+                x182 = arith.mul_add(qd4, x23, x167);
+                x183 = arith.mul_add(qd4, x28, x168);
+                x184 = arith.mul_add(qd5, x35, x181);
+                x185 = arith.mul_add(qd5, x39, x182);
+                x186 = arith.mul_add(qd5, x61, x183);
+                x187 = x77 - x49;
+                x188 = x78 - x50;
+                x189 = x79 - x51;
+                x190 = x186 * x188;
+                x191 = arith.mul_add(x185, x189, -x190);
+                x192 = x184 * x189;
+                x193 = arith.mul_add(x186, x187, -x192);
+                x194 = x185 * x187;
+                x195 = arith.mul_add(x184, x188, -x194);
+                x196 = x178 + x191;
+                x197 = x179 + x193;
+                x198 = x180 + x195;
+                x199 = arith.mul_add(qd6, x66, x184);
+                x200 = arith.mul_add(qd6, x71, x185);
+                x201 = arith.mul_add(qd6, x76, x186);
+                x202 = x134 * x201;
+                x203 = arith.mul_add(x135, x200, -x202);
+                x204 = x135 * x199;
+                x205 = arith.mul_add(x133, x201, -x204);
+                x206 = x133 * x200;
+                x207 = arith.mul_add(x134, x199, -x206);
+                x208 = x196 + x203;
+                x209 = x197 + x205;
+                x210 = x198 + x207;
+                x211 = qd0 * c0;
+                x212 = qd0 * s0;
+                x213 = c0 * x142;
+                x214 = arith.mul_add(s0, x143, -x213);
+                x215 = x93 * x214;
+                x216 = arith.mul_add(x95, x212, x215);
+                x217 = x95 * x211;
+                x218 = arith.mul_add(x92, x214, x217);
+                x219 = x93 * x211;
+                x220 = arith.mul_add(x92, x212, -x219);
+                x221 = c0 * x208;
+                x222 = arith.mul_add(s0, x209, x221);
+                x223 = arith.mul_add(c0, x210, -x216);
+                x224 = arith.mul_add(s0, x210, x218);
+                x225 = x220 - x222;
+                x226 = x3 * x153;
+                x227 = arith.mul_add(c1, x152, -x226);
+                x228 = c1 * x151;
+                x229 = arith.mul_add(x1, x153, -x228);
+                x230 = x1 * x152;
+                x231 = arith.mul_add(x3, x151, -x230);
+                x232 = x101 * x231;
+                x233 = arith.mul_add(x102, x229, -x232);
+                x234 = x102 * x227;
+                x235 = arith.mul_add(x100, x231, -x234);
+                x236 = x100 * x229;
+                x237 = arith.mul_add(x101, x227, -x236);
+                x238 = x208 - x146;
+                x239 = x209 - x148;
+                x240 = x150 + x210;
+                x241 = c1 * x239;
+                x242 = arith.mul_add(x3, x240, -x241);
+                x243 = x1 * x240;
+                x244 = arith.mul_add(c1, x238, -x243);
+                x245 = x3 * x238;
+                x246 = arith.mul_add(x1, x239, -x245);
+                x247 = x233 + x242;
+                x248 = x235 + x244;
+                x249 = x237 + x246;
+                x250 = x24 * x168;
+                x251 = arith.mul_add(x12, x167, x250);
+                x252 = x12 * x166;
+                x253 = arith.mul_add(x7, x168, x252);
+                x254 = x7 * x167;
+                x255 = arith.mul_add(x24, x166, -x254);
+                x256 = x110 * x255;
+                x257 = arith.mul_add(x111, x253, -x256);
+                x258 = x111 * x251;
+                x259 = arith.mul_add(x109, x255, x258);
+                x260 = x109 * x253;
+                x261 = arith.mul_add(x110, x251, x260);
+                x262 = x208 - x163;
+                x263 = x209 - x164;
+                x264 = x210 - x165;
+                x265 = x12 * x263;
+                x266 = arith.mul_add(x24, x264, x265);
+                x267 = x7 * x264;
+                x268 = arith.mul_add(x12, x262, x267);
+                x269 = x24 * x262;
+                x270 = arith.mul_add(x7, x263, -x269);
+                x271 = x257 + x266;
+                x272 = x259 - x268;
+                x273 = x270 - x261;
+                x274 = x23 * x183;
+                x275 = arith.mul_add(x28, x182, -x274);
+                x276 = x28 * x181;
+                x277 = arith.mul_add(x19, x183, -x276);
+                x278 = x19 * x182;
+                x279 = arith.mul_add(x23, x181, -x278);
+                x280 = x119 * x279;
+                x281 = arith.mul_add(x120, x277, -x280);
+                x282 = x120 * x275;
+                x283 = arith.mul_add(x118, x279, -x282);
+                x284 = x118 * x277;
+                x285 = arith.mul_add(x119, x275, -x284);
+                x286 = x208 - x178;
+                x287 = x209 - x179;
+                x288 = x210 - x180;
+                x289 = x28 * x287;
+                x290 = arith.mul_add(x23, x288, -x289);
+                x291 = x19 * x288;
+                x292 = arith.mul_add(x28, x286, -x291);
+                x293 = x23 * x286;
+                x294 = arith.mul_add(x19, x287, -x293);
+                x295 = x281 + x290;
+                x296 = x283 + x292;
+                x297 = x285 + x294;
+                x298 = x39 * x186;
+                x299 = arith.mul_add(x61, x185, -x298);
+                x300 = x61 * x184;
+                x301 = arith.mul_add(x35, x186, -x300);
+                x302 = x35 * x185;
+                x303 = arith.mul_add(x39, x184, -x302);
+                x304 = x119 * x303;
+                x305 = arith.mul_add(x120, x301, -x304);
+                x306 = x120 * x299;
+                x307 = arith.mul_add(x118, x303, -x306);
+                x308 = x118 * x301;
+                x309 = arith.mul_add(x119, x299, -x308);
+                x310 = x61 * x287;
+                x311 = arith.mul_add(x39, x288, -x310);
+                x312 = x35 * x288;
+                x313 = arith.mul_add(x61, x286, -x312);
+                x314 = x39 * x286;
+                x315 = arith.mul_add(x35, x287, -x314);
+                x316 = x305 + x311;
+                x317 = x307 + x313;
+                x318 = x309 + x315;
+                x319 = x71 * x201;
+                x320 = arith.mul_add(x76, x200, -x319);
+                x321 = x76 * x199;
+                x322 = arith.mul_add(x66, x201, -x321);
+                x323 = x66 * x200;
+                x324 = arith.mul_add(x71, x199, -x323);
+                x325 = x134 * x324;
+                x326 = arith.mul_add(x135, x322, -x325);
+                x327 = x135 * x320;
+                x328 = arith.mul_add(x133, x324, -x327);
+                x329 = x133 * x322;
+                x330 = arith.mul_add(x134, x320, -x329);
+                x331 = x208 - x196;
+                x332 = x209 - x197;
+                x333 = x210 - x198;
+                x334 = x76 * x332;
+                x335 = arith.mul_add(x71, x333, -x334);
+                x336 = x66 * x333;
+                x337 = arith.mul_add(x76, x331, -x336);
+                x338 = x71 * x331;
+                x339 = arith.mul_add(x66, x332, -x338);
+                x340 = x326 + x335;
+                x341 = x328 + x337;
+                x342 = x330 + x339;
+                x343 = x81 * x93;
+                x344 = arith.mul_add(x85, x92, -x343);
+                x345 = x83 * x93;
+                x346 = arith.mul_add(x87, x92, -x345);
+                x347 = x66 * x93;
+                x348 = arith.mul_add(x71, x92, -x347);
+                x349 = x85 * x97;
+                x350 = arith.mul_add(x81, x96, x349);
+                x351 = arith.mul_add(-x89, x99, x350);
+                x352 = x87 * x97;
+                x353 = arith.mul_add(x83, x96, x352);
+                x354 = arith.mul_add(-x91, x99, x353);
+                x355 = x71 * x97;
+                x356 = arith.mul_add(x66, x96, x355);
+                x357 = arith.mul_add(-x76, x99, x356);
+                x358 = s0 * x81;
+                x359 = arith.mul_add(c0, x85, -x358);
+                x360 = s0 * x83;
+                x361 = arith.mul_add(c0, x87, -x360);
+                x362 = s0 * x66;
+                x363 = arith.mul_add(c0, x71, -x362);
+                x364 = x85 * x106;
+                x365 = arith.mul_add(x81, x104, x364);
+                x366 = arith.mul_add(x89, x108, x365);
+                x367 = x87 * x106;
+                x368 = arith.mul_add(x83, x104, x367);
+                x369 = arith.mul_add(x91, x108, x368);
+                x370 = x71 * x106;
+                x371 = arith.mul_add(x66, x104, x370);
+                x372 = arith.mul_add(x76, x108, x371);
+                x373 = x3 * x85;
+                x374 = arith.mul_add(x1, x81, x373);
+                x375 = arith.mul_add(c1, x89, x374);
+                x376 = x3 * x87;
+                x377 = arith.mul_add(x1, x83, x376);
+                x378 = arith.mul_add(c1, x91, x377);
+                x379 = x3 * x71;
+                x380 = arith.mul_add(x1, x66, x379);
+                x381 = arith.mul_add(c1, x76, x380);
+                x382 = x85 * x115;
+                x383 = arith.mul_add(x81, x113, -x382);
+                x384 = arith.mul_add(x89, x117, x383);
+                x385 = x87 * x115;
+                x386 = arith.mul_add(x83, x113, -x385);
+                x387 = arith.mul_add(x91, x117, x386);
+                x388 = x71 * x115;
+                x389 = arith.mul_add(x66, x113, -x388);
+                x390 = arith.mul_add(x76, x117, x389);
+                x391 = x24 * x85;
+                x392 = arith.mul_add(x7, x81, x391);
+                x393 = arith.mul_add(-x12, x89, x392);
+                x394 = x24 * x87;
+                x395 = arith.mul_add(x7, x83, x394);
+                x396 = arith.mul_add(-x12, x91, x395);
+                x397 = x24 * x71;
+                x398 = arith.mul_add(x7, x66, x397);
+                x399 = arith.mul_add(-x12, x76, x398);
+                x400 = x85 * x124;
+                x401 = arith.mul_add(x81, x122, x400);
+                x402 = arith.mul_add(x89, x126, x401);
+                x403 = x87 * x124;
+                x404 = arith.mul_add(x83, x122, x403);
+                x405 = arith.mul_add(x91, x126, x404);
+                x406 = x71 * x124;
+                x407 = arith.mul_add(x66, x122, x406);
+                x408 = arith.mul_add(x76, x126, x407);
+                x409 = x23 * x85;
+                x410 = arith.mul_add(x19, x81, x409);
+                x411 = arith.mul_add(x28, x89, x410);
+                x412 = x23 * x87;
+                x413 = arith.mul_add(x19, x83, x412);
+                x414 = arith.mul_add(x28, x91, x413);
+                x415 = x23 * x71;
+                x416 = arith.mul_add(x19, x66, x415);
+                x417 = arith.mul_add(x28, x76, x416);
+                x418 = x85 * x130;
+                x419 = arith.mul_add(x81, x128, x418);
+                x420 = arith.mul_add(x89, x132, x419);
+                x421 = x87 * x130;
+                x422 = arith.mul_add(x83, x128, x421);
+                x423 = arith.mul_add(x91, x132, x422);
+                x424 = x71 * x130;
+                x425 = arith.mul_add(x66, x128, x424);
+                x426 = arith.mul_add(x76, x132, x425);
+                x427 = x39 * x85;
+                x428 = arith.mul_add(x35, x81, x427);
+                x429 = arith.mul_add(x61, x89, x428);
+                x430 = x39 * x87;
+                x431 = arith.mul_add(x35, x83, x430);
+                x432 = arith.mul_add(x61, x91, x431);
+                x433 = x39 * x71;
+                x434 = arith.mul_add(x35, x66, x433);
+                x435 = arith.mul_add(x61, x76, x434);
+                x436 = x85 * x139;
+                x437 = arith.mul_add(x81, x137, x436);
+                x438 = arith.mul_add(x89, x141, x437);
+                x439 = x87 * x139;
+                x440 = arith.mul_add(x83, x137, x439);
+                x441 = arith.mul_add(x91, x141, x440);
+                x442 = x71 * x139;
+                x443 = arith.mul_add(x66, x137, x442);
+                x444 = arith.mul_add(x76, x141, x443);
+                x445 = x71 * x85;
+                x446 = arith.mul_add(x66, x81, x445);
+                x447 = arith.mul_add(x76, x89, x446);
+                x448 = x71 * x87;
+                x449 = arith.mul_add(x66, x83, x448);
+                x450 = arith.mul_add(x76, x91, x449);
+                x451 = x71 * x71;
+                x452 = arith.mul_add(x66, x66, x451);
+                x453 = arith.mul_add(x76, x76, x452);
+                x454 = x93 * x200;
+                x455 = arith.mul_add(x92, x199, x454);
+                x456 = arith.mul_add(x92, x201, -x209);
+                x457 = arith.mul_add(x93, x201, x208);
+                x458 = x85 * x457;
+                x459 = arith.mul_add(x81, x456, x458);
+                x460 = arith.mul_add(-x89, x455, x459);
+                x461 = x87 * x457;
+                x462 = arith.mul_add(x83, x456, x461);
+                x463 = arith.mul_add(-x91, x455, x462);
+                x464 = x71 * x457;
+                x465 = arith.mul_add(x66, x456, x464);
+                x466 = arith.mul_add(-x76, x455, x465);
+                x467 = x81 * x200;
+                x468 = arith.mul_add(x85, x199, -x467);
+                x469 = x83 * x200;
+                x470 = arith.mul_add(x87, x199, -x469);
+                x471 = x97 * x201;
+                x472 = arith.mul_add(x99, x200, x471);
+                x473 = x99 * x199;
+                x474 = arith.mul_add(x96, x201, x473);
+                x475 = x96 * x200;
+                x476 = arith.mul_add(x97, x199, -x475);
+                x477 = x223 + x472;
+                x478 = x224 - x474;
+                x479 = x225 - x476;
+                x480 = x85 * x478;
+                x481 = arith.mul_add(x81, x477, x480);
+                x482 = arith.mul_add(x89, x479, x481);
+                x483 = x87 * x478;
+                x484 = arith.mul_add(x83, x477, x483);
+                x485 = arith.mul_add(x91, x479, x484);
+                x486 = x71 * x478;
+                x487 = arith.mul_add(x66, x477, x486);
+                x488 = arith.mul_add(x76, x479, x487);
+                x489 = s0 * x200;
+                x490 = arith.mul_add(c0, x199, x489);
+                x491 = arith.mul_add(c0, x201, -x211);
+                x492 = arith.mul_add(s0, x201, -x212);
+                x493 = x214 - x490;
+                x494 = x85 * x492;
+                x495 = arith.mul_add(x81, x491, x494);
+                x496 = arith.mul_add(x89, x493, x495);
+                x497 = x87 * x492;
+                x498 = arith.mul_add(x83, x491, x497);
+                x499 = arith.mul_add(x91, x493, x498);
+                x500 = x71 * x492;
+                x501 = arith.mul_add(x66, x491, x500);
+                x502 = arith.mul_add(x76, x493, x501);
+                x503 = x106 * x201;
+                x504 = arith.mul_add(x108, x200, -x503);
+                x505 = x108 * x199;
+                x506 = arith.mul_add(x104, x201, -x505);
+                x507 = x104 * x200;
+                x508 = arith.mul_add(x106, x199, -x507);
+                x509 = x247 - x504;
+                x510 = x248 - x506;
+                x511 = x249 - x508;
+                x512 = x85 * x510;
+                x513 = arith.mul_add(x81, x509, x512);
+                x514 = arith.mul_add(x89, x511, x513);
+                x515 = x87 * x510;
+                x516 = arith.mul_add(x83, x509, x515);
+                x517 = arith.mul_add(x91, x511, x516);
+                x518 = x71 * x510;
+                x519 = arith.mul_add(x66, x509, x518);
+                x520 = arith.mul_add(x76, x511, x519);
+                x521 = x3 * x201;
+                x522 = arith.mul_add(c1, x200, -x521);
+                x523 = c1 * x199;
+                x524 = arith.mul_add(x1, x201, -x523);
+                x525 = x1 * x200;
+                x526 = arith.mul_add(x3, x199, -x525);
+                x527 = x227 - x522;
+                x528 = x229 - x524;
+                x529 = x231 - x526;
+                x530 = x85 * x528;
+                x531 = arith.mul_add(x81, x527, x530);
+                x532 = arith.mul_add(x89, x529, x531);
+                x533 = x87 * x528;
+                x534 = arith.mul_add(x83, x527, x533);
+                x535 = arith.mul_add(x91, x529, x534);
+                x536 = x71 * x528;
+                x537 = arith.mul_add(x66, x527, x536);
+                x538 = arith.mul_add(x76, x529, x537);
+                x539 = x115 * x201;
+                x540 = arith.mul_add(x117, x200, x539);
+                x541 = x117 * x199;
+                x542 = arith.mul_add(x113, x201, -x541);
+                x543 = x113 * x200;
+                x544 = arith.mul_add(x115, x199, x543);
+                x545 = x271 - x540;
+                x546 = x272 - x542;
+                x547 = x273 + x544;
+                x548 = x85 * x546;
+                x549 = arith.mul_add(x81, x545, x548);
+                x550 = arith.mul_add(x89, x547, x549);
+                x551 = x87 * x546;
+                x552 = arith.mul_add(x83, x545, x551);
+                x553 = arith.mul_add(x91, x547, x552);
+                x554 = x71 * x546;
+                x555 = arith.mul_add(x66, x545, x554);
+                x556 = arith.mul_add(x76, x547, x555);
+                x557 = x24 * x201;
+                x558 = arith.mul_add(x12, x200, x557);
+                x559 = x12 * x199;
+                x560 = arith.mul_add(x7, x201, x559);
+                x561 = x7 * x200;
+                x562 = arith.mul_add(x24, x199, -x561);
+                x563 = x558 - x251;
+                x564 = x253 - x560;
+                x565 = x255 - x562;
+                x566 = x85 * x564;
+                x567 = arith.mul_add(x81, x563, x566);
+                x568 = arith.mul_add(x89, x565, x567);
+                x569 = x87 * x564;
+                x570 = arith.mul_add(x83, x563, x569);
+                x571 = arith.mul_add(x91, x565, x570);
+                x572 = x71 * x564;
+                x573 = arith.mul_add(x66, x563, x572);
+                x574 = arith.mul_add(x76, x565, x573);
+                x575 = x124 * x201;
+                x576 = arith.mul_add(x126, x200, -x575);
+                x577 = x126 * x199;
+                x578 = arith.mul_add(x122, x201, -x577);
+                x579 = x122 * x200;
+                x580 = arith.mul_add(x124, x199, -x579);
+                x581 = x295 - x576;
+                x582 = x296 - x578;
+                x583 = x297 - x580;
+                x584 = x85 * x582;
+                x585 = arith.mul_add(x81, x581, x584);
+                x586 = arith.mul_add(x89, x583, x585);
+                x587 = x87 * x582;
+                x588 = arith.mul_add(x83, x581, x587);
+                x589 = arith.mul_add(x91, x583, x588);
+                x590 = x71 * x582;
+                x591 = arith.mul_add(x66, x581, x590);
+                x592 = arith.mul_add(x76, x583, x591);
+                x593 = x23 * x201;
+                x594 = arith.mul_add(x28, x200, -x593);
+                x595 = x28 * x199;
+                x596 = arith.mul_add(x19, x201, -x595);
+                x597 = x19 * x200;
+                x598 = arith.mul_add(x23, x199, -x597);
+                x599 = x275 - x594;
+                x600 = x277 - x596;
+                x601 = x279 - x598;
+                x602 = x85 * x600;
+                x603 = arith.mul_add(x81, x599, x602);
+                x604 = arith.mul_add(x89, x601, x603);
+                x605 = x87 * x600;
+                x606 = arith.mul_add(x83, x599, x605);
+                x607 = arith.mul_add(x91, x601, x606);
+                x608 = x71 * x600;
+                x609 = arith.mul_add(x66, x599, x608);
+                x610 = arith.mul_add(x76, x601, x609);
+                x611 = x130 * x201;
+                x612 = arith.mul_add(x132, x200, -x611);
+                x613 = x132 * x199;
+                x614 = arith.mul_add(x128, x201, -x613);
+                x615 = x128 * x200;
+                x616 = arith.mul_add(x130, x199, -x615);
+                x617 = x316 - x612;
+                x618 = x317 - x614;
+                x619 = x318 - x616;
+                x620 = x85 * x618;
+                x621 = arith.mul_add(x81, x617, x620);
+                x622 = arith.mul_add(x89, x619, x621);
+                x623 = x87 * x618;
+                x624 = arith.mul_add(x83, x617, x623);
+                x625 = arith.mul_add(x91, x619, x624);
+                x626 = x71 * x618;
+                x627 = arith.mul_add(x66, x617, x626);
+                x628 = arith.mul_add(x76, x619, x627);
+                x629 = x39 * x201;
+                x630 = arith.mul_add(x61, x200, -x629);
+                x631 = x61 * x199;
+                x632 = arith.mul_add(x35, x201, -x631);
+                x633 = x35 * x200;
+                x634 = arith.mul_add(x39, x199, -x633);
+                x635 = x299 - x630;
+                x636 = x301 - x632;
+                x637 = x303 - x634;
+                x638 = x85 * x636;
+                x639 = arith.mul_add(x81, x635, x638);
+                x640 = arith.mul_add(x89, x637, x639);
+                x641 = x87 * x636;
+                x642 = arith.mul_add(x83, x635, x641);
+                x643 = arith.mul_add(x91, x637, x642);
+                x644 = x71 * x636;
+                x645 = arith.mul_add(x66, x635, x644);
+                x646 = arith.mul_add(x76, x637, x645);
+                x647 = x139 * x201;
+                x648 = arith.mul_add(x141, x200, -x647);
+                x649 = x141 * x199;
+                x650 = arith.mul_add(x137, x201, -x649);
+                x651 = x137 * x200;
+                x652 = arith.mul_add(x139, x199, -x651);
+                x653 = x340 - x648;
+                x654 = x341 - x650;
+                x655 = x342 - x652;
+                x656 = x85 * x654;
+                x657 = arith.mul_add(x81, x653, x656);
+                x658 = arith.mul_add(x89, x655, x657);
+                x659 = x87 * x654;
+                x660 = arith.mul_add(x83, x653, x659);
+                x661 = arith.mul_add(x91, x655, x660);
+                x662 = x71 * x654;
+                x663 = arith.mul_add(x66, x653, x662);
+                x664 = arith.mul_add(x76, x655, x663);
+                x665 = qd1 * x351;
+                x666 = arith.mul_add(qd0, x344, x665);
+                x667 = arith.mul_add(qd2, x366, x666);
+                x668 = arith.mul_add(qd3, x384, x667);
+                x669 = arith.mul_add(qd4, x402, x668);
+                x670 = arith.mul_add(qd5, x420, x669);
+                x671 = arith.mul_add(qd6, x438, x670);
+                x672 = qd1 * x354;
+                x673 = arith.mul_add(qd0, x346, x672);
+                x674 = arith.mul_add(qd2, x369, x673);
+                x675 = arith.mul_add(qd3, x387, x674);
+                x676 = arith.mul_add(qd4, x405, x675);
+                x677 = arith.mul_add(qd5, x423, x676);
+                x678 = arith.mul_add(qd6, x441, x677);
+                x679 = qd1 * x357;
+                x680 = arith.mul_add(qd0, x348, x679);
+                x681 = arith.mul_add(qd2, x372, x680);
+                x682 = arith.mul_add(qd3, x390, x681);
+                x683 = arith.mul_add(qd4, x408, x682);
+                x684 = arith.mul_add(qd5, x426, x683);
+                x685 = arith.mul_add(qd6, x444, x684);
+                x686 = qd1 * x359;
+                x687 = arith.mul_add(qd0, x89, x686);
+                x688 = arith.mul_add(qd2, x375, x687);
+                x689 = arith.mul_add(qd3, x393, x688);
+                x690 = arith.mul_add(qd4, x411, x689);
+                x691 = arith.mul_add(qd5, x429, x690);
+                x692 = arith.mul_add(qd6, x447, x691);
+                x693 = qd1 * x361;
+                x694 = arith.mul_add(qd0, x91, x693);
+                x695 = arith.mul_add(qd2, x378, x694);
+                x696 = arith.mul_add(qd3, x396, x695);
+                x697 = arith.mul_add(qd4, x414, x696);
+                x698 = arith.mul_add(qd5, x432, x697);
+                x699 = arith.mul_add(qd6, x450, x698);
+                x700 = qd1 * x363;
+                x701 = arith.mul_add(qd0, x76, x700);
+                x702 = arith.mul_add(qd2, x381, x701);
+                x703 = arith.mul_add(qd3, x399, x702);
+                x704 = arith.mul_add(qd4, x417, x703);
+                x705 = arith.mul_add(qd5, x435, x704);
+                x706 = arith.mul_add(qd6, x453, x705);
+                x707 = a1 * x351;
+                x708 = arith.mul_add(a0, x344, x707);
+                x709 = arith.mul_add(a2, x366, x708);
+                x710 = arith.mul_add(a3, x384, x709);
+                x711 = arith.mul_add(a4, x402, x710);
+                x712 = arith.mul_add(a5, x420, x711);
+                x713 = arith.mul_add(a6, x438, x712);
+                x714 = a1 * x354;
+                x715 = arith.mul_add(a0, x346, x714);
+                x716 = arith.mul_add(a2, x369, x715);
+                x717 = arith.mul_add(a3, x387, x716);
+                x718 = arith.mul_add(a4, x405, x717);
+                x719 = arith.mul_add(a5, x423, x718);
+                x720 = arith.mul_add(a6, x441, x719);
+                x721 = a1 * x357;
+                x722 = arith.mul_add(a0, x348, x721);
+                x723 = arith.mul_add(a2, x372, x722);
+                x724 = arith.mul_add(a3, x390, x723);
+                x725 = arith.mul_add(a4, x408, x724);
+                x726 = arith.mul_add(a5, x426, x725);
+                x727 = arith.mul_add(a6, x444, x726);
+                x728 = a1 * x359;
+                x729 = arith.mul_add(a0, x89, x728);
+                x730 = arith.mul_add(a2, x375, x729);
+                x731 = arith.mul_add(a3, x393, x730);
+                x732 = arith.mul_add(a4, x411, x731);
+                x733 = arith.mul_add(a5, x429, x732);
+                x734 = arith.mul_add(a6, x447, x733);
+                x735 = a1 * x361;
+                x736 = arith.mul_add(a0, x91, x735);
+                x737 = arith.mul_add(a2, x378, x736);
+                x738 = arith.mul_add(a3, x396, x737);
+                x739 = arith.mul_add(a4, x414, x738);
+                x740 = arith.mul_add(a5, x432, x739);
+                x741 = arith.mul_add(a6, x450, x740);
+                x742 = a1 * x363;
+                x743 = arith.mul_add(a0, x76, x742);
+                x744 = arith.mul_add(a2, x381, x743);
+                x745 = arith.mul_add(a3, x399, x744);
+                x746 = arith.mul_add(a4, x417, x745);
+                x747 = arith.mul_add(a5, x435, x746);
+                x748 = arith.mul_add(a6, x453, x747);
+                x749 = qd1 * x482;
+                x750 = arith.mul_add(qd0, x460, x749);
+                x751 = arith.mul_add(qd2, x514, x750);
+                x752 = arith.mul_add(qd3, x550, x751);
+                x753 = arith.mul_add(qd4, x586, x752);
+                x754 = arith.mul_add(qd5, x622, x753);
+                x755 = arith.mul_add(qd6, x658, x754);
+                x756 = qd1 * x485;
+                x757 = arith.mul_add(qd0, x463, x756);
+                x758 = arith.mul_add(qd2, x517, x757);
+                x759 = arith.mul_add(qd3, x553, x758);
+                x760 = arith.mul_add(qd4, x589, x759);
+                x761 = arith.mul_add(qd5, x625, x760);
+                x762 = arith.mul_add(qd6, x661, x761);
+                x763 = qd1 * x488;
+                x764 = arith.mul_add(qd0, x466, x763);
+                x765 = arith.mul_add(qd2, x520, x764);
+                x766 = arith.mul_add(qd3, x556, x765);
+                x767 = arith.mul_add(qd4, x592, x766);
+                x768 = arith.mul_add(qd5, x628, x767);
+                x769 = arith.mul_add(qd6, x664, x768);
+                x770 = qd1 * x496;
+                x771 = arith.mul_add(qd0, x468, x770);
+                x772 = arith.mul_add(qd2, x532, x771);
+                x773 = arith.mul_add(qd3, x568, x772);
+                x774 = arith.mul_add(qd4, x604, x773);
+                x775 = arith.mul_add(qd5, x640, x774);
+                x776 = qd1 * x499;
+                x777 = arith.mul_add(qd0, x470, x776);
+                x778 = arith.mul_add(qd2, x535, x777);
+                x779 = arith.mul_add(qd3, x571, x778);
+                x780 = arith.mul_add(qd4, x607, x779);
+                x781 = arith.mul_add(qd5, x643, x780);
+                x782 = qd1 * x502;
+                x783 = arith.mul_add(qd0, x324, x782);
+                x784 = arith.mul_add(qd2, x538, x783);
+                x785 = arith.mul_add(qd3, x574, x784);
+                x786 = arith.mul_add(qd4, x610, x785);
+                x787 = arith.mul_add(qd5, x646, x786);
+                x788 = x713 + x755;
+                x789 = x720 + x762;
+                x790 = x727 + x769;
+                x791 = x734 + x775;
+                *o3 = x791;
+                x792 = x741 + x781;
+                *o4 = x792;
+                x793 = x748 + x787;
+                *o5 = x793;
+                x794 = x678 * x706;
+                x795 = arith.mul_add(x685, x699, -x794);
+                x796 = x685 * x692;
+                x797 = arith.mul_add(x671, x706, -x796);
+                x798 = x671 * x699;
+                x799 = arith.mul_add(x678, x692, -x798);
+                x800 = x788 + x795;
+                *o0 = x800;
+                x801 = x789 + x797;
+                *o1 = x801;
+                x802 = x790 + x799;
+                *o2 = x802;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd, a))
+}
+///Operations: 466 mul, 407 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_classical_acceleration_panda_hand_tcp_world(
+    t: &JointTrig<7>,
+    qd: &SVector<f64, 7>,
+    a: &SVector<f64, 7>,
+) -> SVector<f64, 6> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<
+        (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
+    > for Body {
+        type Output = SVector<f64, 6>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd, a): (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
+        ) -> SVector<f64, 6> {
+            let [s0, s1, s2, s3, s4, s5, _] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, _] = t.cos;
+            let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+            let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
+            let mut out: SVector<f64, 6> = SMatrix::zeros();
+            {
+                let [[o0, o1, o2, o3, o4, o5]] = &mut out.data.0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
+                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
+                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
+                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
+                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
+                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
+                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
+                x291, x292, x293, x294, x295, x296, x297, x298, x299, x300, x301, x302,
+                x303, x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
+                x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325, x326,
+                x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337, x338,
+                x339, x340, x341, x342, x343, x344, x345, x346, x347, x348, x349, x350,
+                x351, x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373, x374,
+                x375, x376, x377, x378, x379, x380, x381, x382, x383, x384, x385, x386,
+                x387, x388, x389, x390, x391, x392, x393, x394, x395, x396, x397, x398,
+                x399, x400, x401, x402, x403, x404, x405, x406, x407, x408, x409, x410,
+                x411, x412, x413, x414, x415, x416, x417, x418, x419, x420, x421, x422,
+                x423, x424, x425, x426, x427, x428, x429, x430, x431, x432, x433, x434,
+                x435, x436, x437, x438, x439, x440, x441, x442, x443, x444, x445, x446,
+                x447, x448, x449, x450, x451, x452, x453, x454, x455, x456, x457, x458,
+                x459, x460, x461, x462, x463, x464, x465, x466, x467, x468, x469, x470,
+                x471, x472, x473, x474, x475, x476, x477, x478, x479, x480, x481, x482,
+                x483, x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
+                x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505, x506,
+                x507, x508, x509, x510, x511, x512, x513, x514, x515, x516, x517, x518,
+                x519, x520, x521, x522, x523, x524, x525, x526, x527, x528, x529, x530,
+                x531, x532, x533, x534, x535, x536, x537, x538, x539, x540, x541, x542,
+                x543, x544, x545, x546, x547, x548, x549, x550, x551, x552, x553, x554,
+                x555, x556, x557, x558, x559, x560, x561, x562, x563, x564, x565, x566,
+                x567, x568, x569, x570, x571, x572, x573, x574, x575, x576, x577, x578,
+                x579, x580, x581, x582, x583, x584, x585, x586, x587, x588, x589, x590,
+                x591, x592, x593]: [f64; 594];
+                x0 = c0 * c1;
+                x1 = c0 * s1;
+                x2 = s0 * c1;
+                x3 = s0 * s1;
+                x4 = s0 * s2;
+                x5 = arith.mul_add(c2, x0, -x4);
+                x6 = s0 * c2;
+                x7 = arith.mul_add(s2, x0, x6);
+                x8 = c0 * s2;
+                x9 = arith.mul_add(c2, x2, x8);
+                x10 = c0 * c2;
+                x11 = s1 * c2;
+                x12 = s1 * s2;
+                x13 = 0.316f64 * x1;
+                x14 = 0.316f64 * x3;
+                x15 = arith.mul_add(0.316f64, c1, 0.333f64);
+                x16 = s3 * x1;
+                x17 = arith.mul_add(c3, x5, x16);
+                x18 = s3 * x5;
+                x19 = arith.mul_add(c3, x1, -x18);
+                x20 = s3 * x3;
+                x21 = arith.mul_add(c3, x9, x20);
+                x22 = s3 * x9;
+                x23 = arith.mul_add(c3, x3, -x22);
+                x24 = arith.mul_add(s2, x2, -x10);
+                x25 = c3 * x11;
+                x26 = arith.mul_add(c1, s3, -x25);
+                x27 = c1 * c3;
+                x28 = arith.mul_add(s3, x11, x27);
+                x29 = arith.mul_add(0.0825f64, x5, x13);
+                x30 = arith.mul_add(0.0825f64, x9, x14);
+                x31 = arith.mul_add(-0.0825f64, x11, x15);
+                x32 = s4 * x7;
+                x33 = arith.mul_add(c4, x17, -x32);
+                x34 = c4 * x7;
+                x35 = arith.mul_add(s4, x17, x34);
+                x36 = s4 * x24;
+                x37 = arith.mul_add(c4, x21, -x36);
+                x38 = c4 * x24;
+                x39 = arith.mul_add(s4, x21, x38);
+                x40 = s4 * x12;
+                x41 = arith.mul_add(c4, x26, x40);
+                x42 = c4 * x12;
+                x43 = 0.384f64 * x19;
+                x44 = arith.mul_add(-0.0825f64, x17, x43);
+                x45 = 0.384f64 * x23;
+                x46 = arith.mul_add(-0.0825f64, x21, x45);
+                x47 = 0.384f64 * x28;
+                x48 = arith.mul_add(-0.0825f64, x26, x47);
+                x49 = x29 + x44;
+                x50 = x30 + x46;
+                x51 = x31 + x48;
+                x52 = s5 * x19;
+                x53 = arith.mul_add(c5, x33, x52);
+                x54 = c5 * x19;
+                x55 = s5 * x23;
+                x56 = arith.mul_add(c5, x37, x55);
+                x57 = c5 * x23;
+                x58 = s5 * x28;
+                x59 = arith.mul_add(c5, x41, x58);
+                x60 = c5 * x28;
+                x61 = arith.mul_add(s4, x26, -x42);
+                x62 = arith.mul_add(s5, x33, -x54);
+                x63 = arith.mul_add(s5, x37, -x57);
+                x64 = arith.mul_add(s5, x41, -x60);
+                x65 = arith.mul_add(0.088f64, x53, x49);
+                x66 = arith.mul_add(0.088f64, x56, x50);
+                x67 = arith.mul_add(0.088f64, x59, x51);
+                x68 = arith.mul_add(0.2104f64, x62, x65);
+                x69 = arith.mul_add(0.2104f64, x63, x66);
+                x70 = arith.mul_add(0.2104f64, x64, x67);
+                x71 = x70 - 0.333f64;
+                x72 = c0 * x71;
+                x73 = s0 * x71;
+                x74 = c0 * x68;
+                x75 = arith.mul_add(s0, x69, x74);
+                x76 = x68 - x13;
+                x77 = x69 - x14;
+                x78 = x70 - x15;
+                x79 = c1 * x77;
+                x80 = arith.mul_add(x3, x78, -x79);
+                x81 = x1 * x78;
+                x82 = arith.mul_add(c1, x76, -x81);
+                x83 = x3 * x76;
+                x84 = arith.mul_add(x1, x77, -x83);
+                x85 = x68 - x29;
+                x86 = x69 - x30;
+                x87 = x70 - x31;
+                x88 = x12 * x86;
+                x89 = arith.mul_add(x24, x87, x88);
+                x90 = x7 * x87;
+                x91 = arith.mul_add(x12, x85, x90);
+                x92 = x24 * x85;
+                x93 = arith.mul_add(x7, x86, -x92);
+                x94 = x68 - x49;
+                x95 = x69 - x50;
+                x96 = x70 - x51;
+                x97 = x28 * x95;
+                x98 = arith.mul_add(x23, x96, -x97);
+                x99 = x19 * x96;
+                x100 = arith.mul_add(x28, x94, -x99);
+                x101 = x23 * x94;
+                x102 = arith.mul_add(x19, x95, -x101);
+                x103 = x61 * x95;
+                x104 = arith.mul_add(x39, x96, -x103);
+                x105 = x35 * x96;
+                x106 = arith.mul_add(x61, x94, -x105);
+                x107 = x39 * x94;
+                x108 = arith.mul_add(x35, x95, -x107);
+                x109 = x68 - x65;
+                x110 = x69 - x66;
+                x111 = x70 - x67;
+                x112 = x64 * x110;
+                x113 = arith.mul_add(x63, x111, -x112);
+                x114 = x62 * x111;
+                x115 = arith.mul_add(x64, x109, -x114);
+                x116 = x63 * x109;
+                x117 = arith.mul_add(x62, x110, -x116);
+                x118 = qd1 * s0;
+                x119 = qd1 * c0;
+                x120 = x15 - 0.333f64;
+                x121 = qd0 * x14;
+                x122 = arith.mul_add(x119, x120, -x121);
+                x123 = x118 * x120;
+                x124 = arith.mul_add(qd0, x13, x123);
+                x125 = x13 * x119;
+                x126 = arith.mul_add(x14, x118, x125);
+                x127 = arith.mul_add(qd2, x1, -x118);
+                x128 = arith.mul_add(qd2, x3, x119);
+                x129 = arith.mul_add(qd2, c1, qd0);
+                x130 = x29 - x13;
+                x131 = x30 - x14;
+                x132 = x31 - x15;
+                x133 = x129 * x131;
+                x134 = arith.mul_add(x128, x132, -x133);
+                x135 = x127 * x132;
+                x136 = arith.mul_add(x129, x130, -x135);
+                x137 = x128 * x130;
+                x138 = arith.mul_add(x127, x131, -x137);
+                x139 = x122 + x134;
+                x140 = x124 + x136;
+                x141 = x138 - x126;
+                x142 = arith.mul_add(qd3, x7, x127);
+                x143 = arith.mul_add(qd3, x24, x128);
+                x144 = arith.mul_add(-qd3, x12, x129);
+                x145 = x49 - x29;
+                x146 = x50 - x30;
+                x147 = x51 - x31;
+                x148 = x144 * x146;
+                x149 = arith.mul_add(x143, x147, -x148);
+                x150 = x142 * x147;
+                x151 = arith.mul_add(x144, x145, -x150);
+                x152 = x143 * x145;
+                x153 = arith.mul_add(x142, x146, -x152);
+                x154 = x139 + x149;
+                x155 = x140 + x151;
+                x156 = x141 + x153;
+                x157 = arith.mul_add(qd4, x19, x142);
+                x158 = arith.mul_add(qd4, x23, x143);
+                x159 = arith.mul_add(qd4, x28, x144);
+                x160 = arith.mul_add(qd5, x35, x157);
+                x161 = arith.mul_add(qd5, x39, x158);
+                x162 = arith.mul_add(qd5, x61, x159);
+                x163 = x65 - x49;
+                x164 = x66 - x50;
+                x165 = x67 - x51;
+                x166 = x162 * x164;
+                x167 = arith.mul_add(x161, x165, -x166);
+                x168 = x160 * x165;
+                x169 = arith.mul_add(x162, x163, -x168);
+                x170 = x161 * x163;
+                x171 = arith.mul_add(x160, x164, -x170);
+                x172 = x154 + x167;
+                x173 = x155 + x169;
+                x174 = x156 + x171;
+                x175 = arith.mul_add(qd6, x62, x160);
+                x176 = arith.mul_add(qd6, x63, x161);
+                x177 = arith.mul_add(qd6, x64, x162);
+                x178 = x110 * x177;
+                x179 = arith.mul_add(x111, x176, -x178);
+                x180 = x111 * x175;
+                x181 = arith.mul_add(x109, x177, -x180);
+                x182 = x109 * x176;
+                x183 = arith.mul_add(x110, x175, -x182);
+                x184 = x172 + x179;
+                x185 = x173 + x181;
+                x186 = x174 + x183;
+                x187 = qd0 * c0;
+                x188 = qd0 * s0;
+                x189 = c0 * x118;
+                x190 = arith.mul_add(s0, x119, -x189);
+                x191 = x69 * x190;
+                x192 = arith.mul_add(x71, x188, x191);
+                x193 = x68 * x190;
+                x194 = arith.mul_add(x71, x187, x193);
+                x195 = x69 * x187;
+                x196 = x68 * x188;
+                x197 = x196 - x195;
+                x198 = c0 * x184;
+                x199 = arith.mul_add(s0, x185, x198);
+                x200 = arith.mul_add(c0, x186, -x192);
+                x201 = arith.mul_add(s0, x186, x194);
+                x202 = x197 - x199;
+                x203 = x3 * x129;
+                x204 = arith.mul_add(c1, x128, -x203);
+                x205 = c1 * x127;
+                x206 = arith.mul_add(x1, x129, -x205);
+                x207 = x1 * x128;
+                x208 = arith.mul_add(x3, x127, -x207);
+                x209 = x77 * x208;
+                x210 = arith.mul_add(x78, x206, -x209);
+                x211 = x78 * x204;
+                x212 = arith.mul_add(x76, x208, -x211);
+                x213 = x76 * x206;
+                x214 = arith.mul_add(x77, x204, -x213);
+                x215 = x184 - x122;
+                x216 = x185 - x124;
+                x217 = x126 + x186;
+                x218 = c1 * x216;
+                x219 = arith.mul_add(x3, x217, -x218);
+                x220 = x1 * x217;
+                x221 = arith.mul_add(c1, x215, -x220);
+                x222 = x3 * x215;
+                x223 = arith.mul_add(x1, x216, -x222);
+                x224 = x210 + x219;
+                x225 = x212 + x221;
+                x226 = x214 + x223;
+                x227 = x24 * x144;
+                x228 = arith.mul_add(x12, x143, x227);
+                x229 = x12 * x142;
+                x230 = arith.mul_add(x7, x144, x229);
+                x231 = x7 * x143;
+                x232 = arith.mul_add(x24, x142, -x231);
+                x233 = x86 * x232;
+                x234 = arith.mul_add(x87, x230, -x233);
+                x235 = x87 * x228;
+                x236 = arith.mul_add(x85, x232, x235);
+                x237 = x85 * x230;
+                x238 = arith.mul_add(x86, x228, x237);
+                x239 = x184 - x139;
+                x240 = x185 - x140;
+                x241 = x186 - x141;
+                x242 = x12 * x240;
+                x243 = arith.mul_add(x24, x241, x242);
+                x244 = x7 * x241;
+                x245 = arith.mul_add(x12, x239, x244);
+                x246 = x24 * x239;
+                x247 = arith.mul_add(x7, x240, -x246);
+                x248 = x234 + x243;
+                x249 = x236 - x245;
+                x250 = x247 - x238;
+                x251 = x23 * x159;
+                x252 = arith.mul_add(x28, x158, -x251);
+                x253 = x28 * x157;
+                x254 = arith.mul_add(x19, x159, -x253);
+                x255 = x19 * x158;
+                x256 = arith.mul_add(x23, x157, -x255);
+                x257 = x95 * x256;
+                x258 = arith.mul_add(x96, x254, -x257);
+                x259 = x96 * x252;
+                x260 = arith.mul_add(x94, x256, -x259);
+                x261 = x94 * x254;
+                x262 = arith.mul_add(x95, x252, -x261);
+                x263 = x184 - x154;
+                x264 = x185 - x155;
+                x265 = x186 - x156;
+                x266 = x28 * x264;
+                x267 = arith.mul_add(x23, x265, -x266);
+                x268 = x19 * x265;
+                x269 = arith.mul_add(x28, x263, -x268);
+                x270 = x23 * x263;
+                x271 = arith.mul_add(x19, x264, -x270);
+                x272 = x258 + x267;
+                x273 = x260 + x269;
+                x274 = x262 + x271;
+                x275 = x39 * x162;
+                x276 = arith.mul_add(x61, x161, -x275);
+                x277 = x61 * x160;
+                x278 = arith.mul_add(x35, x162, -x277);
+                x279 = x35 * x161;
+                x280 = arith.mul_add(x39, x160, -x279);
+                x281 = x95 * x280;
+                x282 = arith.mul_add(x96, x278, -x281);
+                x283 = x96 * x276;
+                x284 = arith.mul_add(x94, x280, -x283);
+                x285 = x94 * x278;
+                x286 = arith.mul_add(x95, x276, -x285);
+                x287 = x61 * x264;
+                x288 = arith.mul_add(x39, x265, -x287);
+                x289 = x35 * x265;
+                x290 = arith.mul_add(x61, x263, -x289);
+                x291 = x39 * x263;
+                x292 = arith.mul_add(x35, x264, -x291);
+                x293 = x282 + x288;
+                x294 = x284 + x290;
+                x295 = x286 + x292;
+                x296 = x63 * x177;
+                x297 = arith.mul_add(x64, x176, -x296);
+                x298 = x64 * x175;
+                x299 = arith.mul_add(x62, x177, -x298);
+                x300 = x62 * x176;
+                x301 = arith.mul_add(x63, x175, -x300);
+                x302 = x110 * x301;
+                x303 = arith.mul_add(x111, x299, -x302);
+                x304 = x111 * x297;
+                x305 = arith.mul_add(x109, x301, -x304);
+                x306 = x109 * x299;
+                x307 = arith.mul_add(x110, x297, -x306);
+                x308 = x184 - x172;
+                x309 = x185 - x173;
+                x310 = x186 - x174;
+                x311 = x64 * x309;
+                x312 = arith.mul_add(x63, x310, -x311);
+                x313 = x62 * x310;
+                x314 = arith.mul_add(x64, x308, -x313);
+                x315 = x63 * x308;
+                x316 = arith.mul_add(x62, x309, -x315);
+                x317 = x303 + x312;
+                x318 = x305 + x314;
+                x319 = x307 + x316;
+                x320 = x62 * x69;
+                x321 = arith.mul_add(x63, x68, -x320);
+                x322 = arith.mul_add(-c0, x70, x72);
+                x323 = arith.mul_add(-s0, x70, x73);
+                x324 = x3 * x70;
+                x325 = arith.mul_add(c1, x69, -x324);
+                x326 = c1 * x68;
+                x327 = arith.mul_add(x1, x70, -x326);
+                x328 = x1 * x69;
+                x329 = arith.mul_add(x3, x68, -x328);
+                x330 = x80 + x325;
+                x331 = x82 + x327;
+                x332 = x84 + x329;
+                x333 = x24 * x70;
+                x334 = arith.mul_add(x12, x69, x333);
+                x335 = x12 * x68;
+                x336 = arith.mul_add(x7, x70, x335);
+                x337 = x7 * x69;
+                x338 = arith.mul_add(x24, x68, -x337);
+                x339 = x89 - x334;
+                x340 = x336 - x91;
+                x341 = x93 + x338;
+                x342 = x23 * x70;
+                x343 = arith.mul_add(x28, x69, -x342);
+                x344 = x28 * x68;
+                x345 = arith.mul_add(x19, x70, -x344);
+                x346 = x19 * x69;
+                x347 = arith.mul_add(x23, x68, -x346);
+                x348 = x98 + x343;
+                x349 = x100 + x345;
+                x350 = x102 + x347;
+                x351 = x39 * x70;
+                x352 = arith.mul_add(x61, x69, -x351);
+                x353 = x61 * x68;
+                x354 = arith.mul_add(x35, x70, -x353);
+                x355 = x35 * x69;
+                x356 = arith.mul_add(x39, x68, -x355);
+                x357 = x104 + x352;
+                x358 = x106 + x354;
+                x359 = x108 + x356;
+                x360 = x63 * x70;
+                x361 = arith.mul_add(x64, x69, -x360);
+                x362 = x64 * x68;
+                x363 = arith.mul_add(x62, x70, -x362);
+                x364 = x113 + x361;
+                x365 = x115 + x363;
+                x366 = x117 + x321;
+                x367 = qd0 * x69;
+                x368 = arith.mul_add(qd1, x72, -x367);
+                x369 = arith.mul_add(qd2, x80, x368);
+                x370 = arith.mul_add(qd3, x89, x369);
+                x371 = arith.mul_add(qd4, x98, x370);
+                x372 = arith.mul_add(qd5, x104, x371);
+                x373 = arith.mul_add(qd6, x113, x372);
+                x374 = qd1 * x73;
+                x375 = arith.mul_add(qd0, x68, x374);
+                x376 = arith.mul_add(qd2, x82, x375);
+                x377 = arith.mul_add(-qd3, x91, x376);
+                x378 = arith.mul_add(qd4, x100, x377);
+                x379 = arith.mul_add(qd5, x106, x378);
+                x380 = arith.mul_add(qd6, x115, x379);
+                x381 = qd1 * x75;
+                x382 = arith.mul_add(qd2, x84, -x381);
+                x383 = arith.mul_add(qd3, x93, x382);
+                x384 = arith.mul_add(qd4, x102, x383);
+                x385 = arith.mul_add(qd5, x108, x384);
+                x386 = arith.mul_add(qd6, x117, x385);
+                x387 = x380 - x185;
+                x388 = x184 - x373;
+                x389 = s0 * x380;
+                x390 = arith.mul_add(c0, x373, x389);
+                x391 = arith.mul_add(-c0, x386, x200);
+                x392 = arith.mul_add(-s0, x386, x201);
+                x393 = x202 + x390;
+                x394 = arith.mul_add(x70, x188, x191);
+                x395 = arith.mul_add(x70, x187, x193);
+                x396 = x195 - x196;
+                x397 = x391 + x394;
+                x398 = x392 - x395;
+                x399 = x393 + x396;
+                x400 = x3 * x386;
+                x401 = arith.mul_add(c1, x380, -x400);
+                x402 = c1 * x373;
+                x403 = arith.mul_add(x1, x386, -x402);
+                x404 = x1 * x380;
+                x405 = arith.mul_add(x3, x373, -x404);
+                x406 = x224 + x401;
+                x407 = x225 + x403;
+                x408 = x226 + x405;
+                x409 = x70 * x206;
+                x410 = arith.mul_add(x69, x208, -x409);
+                x411 = x68 * x208;
+                x412 = arith.mul_add(x70, x204, -x411);
+                x413 = x69 * x204;
+                x414 = arith.mul_add(x68, x206, -x413);
+                x415 = x406 + x410;
+                x416 = x407 + x412;
+                x417 = x408 + x414;
+                x418 = x24 * x386;
+                x419 = arith.mul_add(x12, x380, x418);
+                x420 = x12 * x373;
+                x421 = arith.mul_add(x7, x386, x420);
+                x422 = x7 * x380;
+                x423 = arith.mul_add(x24, x373, -x422);
+                x424 = x248 - x419;
+                x425 = x249 + x421;
+                x426 = x250 + x423;
+                x427 = x70 * x230;
+                x428 = arith.mul_add(x69, x232, -x427);
+                x429 = x68 * x232;
+                x430 = arith.mul_add(x70, x228, x429);
+                x431 = x69 * x228;
+                x432 = arith.mul_add(x68, x230, x431);
+                x433 = x424 + x428;
+                x434 = x425 - x430;
+                x435 = x426 + x432;
+                x436 = x23 * x386;
+                x437 = arith.mul_add(x28, x380, -x436);
+                x438 = x28 * x373;
+                x439 = arith.mul_add(x19, x386, -x438);
+                x440 = x19 * x380;
+                x441 = arith.mul_add(x23, x373, -x440);
+                x442 = x272 + x437;
+                x443 = x273 + x439;
+                x444 = x274 + x441;
+                x445 = x70 * x254;
+                x446 = arith.mul_add(x69, x256, -x445);
+                x447 = x68 * x256;
+                x448 = arith.mul_add(x70, x252, -x447);
+                x449 = x69 * x252;
+                x450 = arith.mul_add(x68, x254, -x449);
+                x451 = x442 + x446;
+                x452 = x443 + x448;
+                x453 = x444 + x450;
+                x454 = x39 * x386;
+                x455 = arith.mul_add(x61, x380, -x454);
+                x456 = x61 * x373;
+                x457 = arith.mul_add(x35, x386, -x456);
+                x458 = x35 * x380;
+                x459 = arith.mul_add(x39, x373, -x458);
+                x460 = x293 + x455;
+                x461 = x294 + x457;
+                x462 = x295 + x459;
+                x463 = x70 * x278;
+                x464 = arith.mul_add(x69, x280, -x463);
+                x465 = x68 * x280;
+                x466 = arith.mul_add(x70, x276, -x465);
+                x467 = x69 * x276;
+                x468 = arith.mul_add(x68, x278, -x467);
+                x469 = x460 + x464;
+                x470 = x461 + x466;
+                x471 = x462 + x468;
+                x472 = x63 * x386;
+                x473 = arith.mul_add(x64, x380, -x472);
+                x474 = x64 * x373;
+                x475 = arith.mul_add(x62, x386, -x474);
+                x476 = x62 * x380;
+                x477 = arith.mul_add(x63, x373, -x476);
+                x478 = x317 + x473;
+                x479 = x318 + x475;
+                x480 = x319 + x477;
+                x481 = x70 * x299;
+                x482 = arith.mul_add(x69, x301, -x481);
+                x483 = x68 * x301;
+                x484 = arith.mul_add(x70, x297, -x483);
+                x485 = x69 * x297;
+                x486 = arith.mul_add(x68, x299, -x485);
+                x487 = x478 + x482;
+                x488 = x479 + x484;
+                x489 = x480 + x486;
+                x490 = qd2 * x330;
+                x491 = arith.mul_add(qd1, x322, x490);
+                x492 = arith.mul_add(qd3, x339, x491);
+                x493 = arith.mul_add(qd4, x348, x492);
+                x494 = arith.mul_add(qd5, x357, x493);
+                x495 = arith.mul_add(qd6, x364, x494);
+                x496 = qd2 * x331;
+                x497 = arith.mul_add(qd1, x323, x496);
+                x498 = arith.mul_add(qd3, x340, x497);
+                x499 = arith.mul_add(qd4, x349, x498);
+                x500 = arith.mul_add(qd5, x358, x499);
+                x501 = arith.mul_add(qd6, x365, x500);
+                x502 = qd3 * x341;
+                x503 = arith.mul_add(qd2, x332, x502);
+                x504 = arith.mul_add(qd4, x350, x503);
+                x505 = arith.mul_add(qd5, x359, x504);
+                x506 = arith.mul_add(qd6, x366, x505);
+                x507 = a2 * x330;
+                x508 = arith.mul_add(a1, x322, x507);
+                x509 = arith.mul_add(a3, x339, x508);
+                x510 = arith.mul_add(a4, x348, x509);
+                x511 = arith.mul_add(a5, x357, x510);
+                x512 = arith.mul_add(a6, x364, x511);
+                x513 = a2 * x331;
+                x514 = arith.mul_add(a1, x323, x513);
+                x515 = arith.mul_add(a3, x340, x514);
+                x516 = arith.mul_add(a4, x349, x515);
+                x517 = arith.mul_add(a5, x358, x516);
+                x518 = arith.mul_add(a6, x365, x517);
+                x519 = a3 * x341;
+                x520 = arith.mul_add(a2, x332, x519);
+                x521 = arith.mul_add(a4, x350, x520);
+                x522 = arith.mul_add(a5, x359, x521);
+                x523 = arith.mul_add(a6, x366, x522);
+                x524 = a1 * s0;
+                x525 = arith.mul_add(a2, x1, -x524);
+                x526 = arith.mul_add(a3, x7, x525);
+                x527 = arith.mul_add(a4, x19, x526);
+                x528 = arith.mul_add(a5, x35, x527);
+                x529 = arith.mul_add(a6, x62, x528);
+                x530 = a2 * x3;
+                x531 = arith.mul_add(a1, c0, x530);
+                x532 = arith.mul_add(a3, x24, x531);
+                x533 = arith.mul_add(a4, x23, x532);
+                x534 = arith.mul_add(a5, x39, x533);
+                x535 = arith.mul_add(a6, x63, x534);
+                x536 = arith.mul_add(a2, c1, a0);
+                x537 = arith.mul_add(-a3, x12, x536);
+                x538 = arith.mul_add(a4, x28, x537);
+                x539 = arith.mul_add(a5, x61, x538);
+                x540 = arith.mul_add(a6, x64, x539);
+                x541 = qd1 * x397;
+                x542 = arith.mul_add(qd0, x387, x541);
+                x543 = arith.mul_add(qd2, x415, x542);
+                x544 = arith.mul_add(qd3, x433, x543);
+                x545 = arith.mul_add(qd4, x451, x544);
+                x546 = arith.mul_add(qd5, x469, x545);
+                x547 = arith.mul_add(qd6, x487, x546);
+                x548 = qd1 * x398;
+                x549 = arith.mul_add(qd0, x388, x548);
+                x550 = arith.mul_add(qd2, x416, x549);
+                x551 = arith.mul_add(qd3, x434, x550);
+                x552 = arith.mul_add(qd4, x452, x551);
+                x553 = arith.mul_add(qd5, x470, x552);
+                x554 = arith.mul_add(qd6, x488, x553);
+                x555 = qd2 * x417;
+                x556 = arith.mul_add(qd1, x399, x555);
+                x557 = arith.mul_add(qd3, x435, x556);
+                x558 = arith.mul_add(qd4, x453, x557);
+                x559 = arith.mul_add(qd5, x471, x558);
+                x560 = arith.mul_add(qd6, x489, x559);
+                x561 = qd1 * x187;
+                x562 = arith.mul_add(qd2, x204, -x561);
+                x563 = arith.mul_add(-qd3, x228, x562);
+                x564 = arith.mul_add(qd4, x252, x563);
+                x565 = arith.mul_add(qd5, x276, x564);
+                x566 = arith.mul_add(qd6, x297, x565);
+                x567 = qd1 * x188;
+                x568 = arith.mul_add(qd2, x206, -x567);
+                x569 = arith.mul_add(qd3, x230, x568);
+                x570 = arith.mul_add(qd4, x254, x569);
+                x571 = arith.mul_add(qd5, x278, x570);
+                x572 = arith.mul_add(qd6, x299, x571);
+                x573 = qd2 * x208;
+                x574 = arith.mul_add(qd1, x190, x573);
+                x575 = arith.mul_add(qd3, x232, x574);
+                x576 = arith.mul_add(qd4, x256, x575);
+                x577 = arith.mul_add(qd5, x280, x576);
+                x578 = arith.mul_add(qd6, x301, x577);
+                x579 = x512 + x547;
+                x580 = x518 + x554;
+                x581 = x523 + x560;
+                x582 = x529 + x566;
+                *o3 = x582;
+                x583 = x535 + x572;
+                *o4 = x583;
+                x584 = x540 + x578;
+                *o5 = x584;
+                x585 = x177 * x501;
+                x586 = arith.mul_add(x176, x506, -x585);
+                x587 = x175 * x506;
+                x588 = arith.mul_add(x177, x495, -x587);
+                x589 = x176 * x495;
+                x590 = arith.mul_add(x175, x501, -x589);
+                x591 = x579 + x586;
+                *o0 = x591;
+                x592 = x580 + x588;
+                *o1 = x592;
+                x593 = x581 + x590;
+                *o2 = x593;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd, a))
+}
+///Operations: 328 mul, 269 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_classical_acceleration_panda_hand_tcp_local_world_aligned(
+    t: &JointTrig<7>,
+    qd: &SVector<f64, 7>,
+    a: &SVector<f64, 7>,
+) -> SVector<f64, 6> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<
+        (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
+    > for Body {
+        type Output = SVector<f64, 6>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd, a): (&JointTrig<7>, &SVector<f64, 7>, &SVector<f64, 7>),
+        ) -> SVector<f64, 6> {
+            let [s0, s1, s2, s3, s4, s5, _] = t.sin;
+            let [c0, c1, c2, c3, c4, c5, _] = t.cos;
+            let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
+            let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
+            let mut out: SVector<f64, 6> = SMatrix::zeros();
+            {
+                let [[o0, o1, o2, o3, o4, o5]] = &mut out.data.0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206,
+                x207, x208, x209, x210, x211, x212, x213, x214, x215, x216, x217, x218,
+                x219, x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241, x242,
+                x243, x244, x245, x246, x247, x248, x249, x250, x251, x252, x253, x254,
+                x255, x256, x257, x258, x259, x260, x261, x262, x263, x264, x265, x266,
+                x267, x268, x269, x270, x271, x272, x273, x274, x275, x276, x277, x278,
+                x279, x280, x281, x282, x283, x284, x285, x286, x287, x288, x289, x290,
+                x291, x292, x293, x294, x295, x296, x297, x298, x299, x300, x301, x302,
+                x303, x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
+                x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325, x326,
+                x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337, x338,
+                x339, x340, x341, x342, x343, x344, x345, x346, x347, x348, x349, x350,
+                x351, x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373, x374,
+                x375, x376, x377, x378, x379, x380, x381, x382, x383, x384, x385, x386,
+                x387, x388, x389, x390, x391, x392, x393, x394, x395, x396, x397, x398,
+                x399]: [f64; 400];
+                x0 = c0 * c1;
+                x1 = c0 * s1;
+                x2 = s0 * c1;
+                x3 = s0 * s1;
+                x4 = s0 * s2;
+                x5 = arith.mul_add(c2, x0, -x4);
+                x6 = s0 * c2;
+                x7 = arith.mul_add(s2, x0, x6);
+                x8 = c0 * s2;
+                x9 = arith.mul_add(c2, x2, x8);
+                x10 = c0 * c2;
+                x11 = s1 * c2;
+                x12 = s1 * s2;
+                x13 = 0.316f64 * x1;
+                x14 = 0.316f64 * x3;
+                x15 = arith.mul_add(0.316f64, c1, 0.333f64);
+                x16 = s3 * x1;
+                x17 = arith.mul_add(c3, x5, x16);
+                x18 = s3 * x5;
+                x19 = arith.mul_add(c3, x1, -x18);
+                x20 = s3 * x3;
+                x21 = arith.mul_add(c3, x9, x20);
+                x22 = s3 * x9;
+                x23 = arith.mul_add(c3, x3, -x22);
+                x24 = arith.mul_add(s2, x2, -x10);
+                x25 = c3 * x11;
+                x26 = arith.mul_add(c1, s3, -x25);
+                x27 = c1 * c3;
+                x28 = arith.mul_add(s3, x11, x27);
+                x29 = arith.mul_add(0.0825f64, x5, x13);
+                x30 = arith.mul_add(0.0825f64, x9, x14);
+                x31 = arith.mul_add(-0.0825f64, x11, x15);
+                x32 = s4 * x7;
+                x33 = arith.mul_add(c4, x17, -x32);
+                x34 = c4 * x7;
+                x35 = arith.mul_add(s4, x17, x34);
+                x36 = s4 * x24;
+                x37 = arith.mul_add(c4, x21, -x36);
+                x38 = c4 * x24;
+                x39 = arith.mul_add(s4, x21, x38);
+                x40 = s4 * x12;
+                x41 = arith.mul_add(c4, x26, x40);
+                x42 = c4 * x12;
+                x43 = 0.384f64 * x19;
+                x44 = arith.mul_add(-0.0825f64, x17, x43);
+                x45 = 0.384f64 * x23;
+                x46 = arith.mul_add(-0.0825f64, x21, x45);
+                x47 = 0.384f64 * x28;
+                x48 = arith.mul_add(-0.0825f64, x26, x47);
+                x49 = x29 + x44;
+                x50 = x30 + x46;
+                x51 = x31 + x48;
+                x52 = s5 * x19;
+                x53 = arith.mul_add(c5, x33, x52);
+                x54 = c5 * x19;
+                x55 = s5 * x23;
+                x56 = arith.mul_add(c5, x37, x55);
+                x57 = c5 * x23;
+                x58 = s5 * x28;
+                x59 = arith.mul_add(c5, x41, x58);
+                x60 = c5 * x28;
+                x61 = arith.mul_add(s4, x26, -x42);
+                x62 = arith.mul_add(s5, x33, -x54);
+                x63 = arith.mul_add(s5, x37, -x57);
+                x64 = arith.mul_add(s5, x41, -x60);
+                x65 = arith.mul_add(0.088f64, x53, x49);
+                x66 = arith.mul_add(0.088f64, x56, x50);
+                x67 = arith.mul_add(0.088f64, x59, x51);
+                x68 = arith.mul_add(0.2104f64, x62, x65);
+                x69 = arith.mul_add(0.2104f64, x63, x66);
+                x70 = arith.mul_add(0.2104f64, x64, x67);
+                x71 = x70 - 0.333f64;
+                x72 = c0 * x71;
+                x73 = s0 * x71;
+                x74 = c0 * x68;
+                x75 = arith.mul_add(s0, x69, x74);
+                x76 = x68 - x13;
+                x77 = x69 - x14;
+                x78 = x70 - x15;
+                x79 = c1 * x77;
+                x80 = arith.mul_add(x3, x78, -x79);
+                x81 = x1 * x78;
+                x82 = arith.mul_add(c1, x76, -x81);
+                x83 = x3 * x76;
+                x84 = arith.mul_add(x1, x77, -x83);
+                x85 = x68 - x29;
+                x86 = x69 - x30;
+                x87 = x70 - x31;
+                x88 = x12 * x86;
+                x89 = arith.mul_add(x24, x87, x88);
+                x90 = x7 * x87;
+                x91 = arith.mul_add(x12, x85, x90);
+                x92 = x24 * x85;
+                x93 = arith.mul_add(x7, x86, -x92);
+                x94 = x68 - x49;
+                x95 = x69 - x50;
+                x96 = x70 - x51;
+                x97 = x28 * x95;
+                x98 = arith.mul_add(x23, x96, -x97);
+                x99 = x19 * x96;
+                x100 = arith.mul_add(x28, x94, -x99);
+                x101 = x23 * x94;
+                x102 = arith.mul_add(x19, x95, -x101);
+                x103 = x61 * x95;
+                x104 = arith.mul_add(x39, x96, -x103);
+                x105 = x35 * x96;
+                x106 = arith.mul_add(x61, x94, -x105);
+                x107 = x39 * x94;
+                x108 = arith.mul_add(x35, x95, -x107);
+                x109 = x68 - x65;
+                x110 = x69 - x66;
+                x111 = x70 - x67;
+                x112 = x64 * x110;
+                x113 = arith.mul_add(x63, x111, -x112);
+                x114 = x62 * x111;
+                x115 = arith.mul_add(x64, x109, -x114);
+                x116 = x63 * x109;
+                x117 = arith.mul_add(x62, x110, -x116);
+                x118 = qd1 * s0;
+                x119 = qd1 * c0;
+                x120 = x15 - 0.333f64;
+                x121 = qd0 * x14;
+                x122 = arith.mul_add(x119, x120, -x121);
+                x123 = x118 * x120;
+                x124 = arith.mul_add(qd0, x13, x123);
+                x125 = x13 * x119;
+                x126 = arith.mul_add(x14, x118, x125);
+                x127 = arith.mul_add(qd2, x1, -x118);
+                x128 = arith.mul_add(qd2, x3, x119);
+                x129 = arith.mul_add(qd2, c1, qd0);
+                x130 = x29 - x13;
+                x131 = x30 - x14;
+                x132 = x31 - x15;
+                x133 = x129 * x131;
+                x134 = arith.mul_add(x128, x132, -x133);
+                x135 = x127 * x132;
+                x136 = arith.mul_add(x129, x130, -x135);
+                x137 = x128 * x130;
+                x138 = arith.mul_add(x127, x131, -x137);
+                x139 = x122 + x134;
+                x140 = x124 + x136;
+                x141 = x138 - x126;
+                x142 = arith.mul_add(qd3, x7, x127);
+                x143 = arith.mul_add(qd3, x24, x128);
+                x144 = arith.mul_add(-qd3, x12, x129);
+                x145 = x49 - x29;
+                x146 = x50 - x30;
+                x147 = x51 - x31;
+                x148 = x144 * x146;
+                x149 = arith.mul_add(x143, x147, -x148);
+                x150 = x142 * x147;
+                x151 = arith.mul_add(x144, x145, -x150);
+                x152 = x143 * x145;
+                x153 = arith.mul_add(x142, x146, -x152);
+                x154 = x139 + x149;
+                x155 = x140 + x151;
+                x156 = x141 + x153;
+                x157 = arith.mul_add(qd4, x19, x142);
+                x158 = arith.mul_add(qd4, x23, x143);
+                x159 = arith.mul_add(qd4, x28, x144);
+                x160 = arith.mul_add(qd5, x35, x157);
+                x161 = arith.mul_add(qd5, x39, x158);
+                x162 = arith.mul_add(qd5, x61, x159);
+                x163 = x65 - x49;
+                x164 = x66 - x50;
+                x165 = x67 - x51;
+                x166 = x162 * x164;
+                x167 = arith.mul_add(x161, x165, -x166);
+                x168 = x160 * x165;
+                x169 = arith.mul_add(x162, x163, -x168);
+                x170 = x161 * x163;
+                x171 = arith.mul_add(x160, x164, -x170);
+                x172 = x154 + x167;
+                x173 = x155 + x169;
+                x174 = x156 + x171;
+                x175 = arith.mul_add(qd6, x62, x160);
+                x176 = arith.mul_add(qd6, x63, x161);
+                x177 = arith.mul_add(qd6, x64, x162);
+                x178 = x110 * x177;
+                x179 = arith.mul_add(x111, x176, -x178);
+                x180 = x111 * x175;
+                x181 = arith.mul_add(x109, x177, -x180);
+                x182 = x109 * x176;
+                x183 = arith.mul_add(x110, x175, -x182);
+                x184 = x172 + x179;
+                x185 = x173 + x181;
+                x186 = x174 + x183;
+                x187 = qd0 * c0;
+                x188 = qd0 * s0;
+                x189 = c0 * x118;
+                x190 = arith.mul_add(s0, x119, -x189);
+                x191 = x69 * x190;
+                x192 = arith.mul_add(x71, x188, x191);
+                x193 = x71 * x187;
+                x194 = arith.mul_add(x68, x190, x193);
+                x195 = x69 * x187;
+                x196 = arith.mul_add(x68, x188, -x195);
+                x197 = c0 * x184;
+                x198 = arith.mul_add(s0, x185, x197);
+                x199 = arith.mul_add(c0, x186, -x192);
+                x200 = arith.mul_add(s0, x186, x194);
+                x201 = x196 - x198;
+                x202 = x3 * x129;
+                x203 = arith.mul_add(c1, x128, -x202);
+                x204 = c1 * x127;
+                x205 = arith.mul_add(x1, x129, -x204);
+                x206 = x1 * x128;
+                x207 = arith.mul_add(x3, x127, -x206);
+                x208 = x77 * x207;
+                x209 = arith.mul_add(x78, x205, -x208);
+                x210 = x78 * x203;
+                x211 = arith.mul_add(x76, x207, -x210);
+                x212 = x76 * x205;
+                x213 = arith.mul_add(x77, x203, -x212);
+                x214 = x184 - x122;
+                x215 = x185 - x124;
+                x216 = x126 + x186;
+                x217 = c1 * x215;
+                x218 = arith.mul_add(x3, x216, -x217);
+                x219 = x1 * x216;
+                x220 = arith.mul_add(c1, x214, -x219);
+                x221 = x3 * x214;
+                x222 = arith.mul_add(x1, x215, -x221);
+                x223 = x209 + x218;
+                x224 = x211 + x220;
+                x225 = x213 + x222;
+                x226 = x24 * x144;
+                x227 = arith.mul_add(x12, x143, x226);
+                x228 = x12 * x142;
+                x229 = arith.mul_add(x7, x144, x228);
+                x230 = x7 * x143;
+                x231 = arith.mul_add(x24, x142, -x230);
+                x232 = x86 * x231;
+                x233 = arith.mul_add(x87, x229, -x232);
+                x234 = x87 * x227;
+                x235 = arith.mul_add(x85, x231, x234);
+                x236 = x85 * x229;
+                x237 = arith.mul_add(x86, x227, x236);
+                x238 = x184 - x139;
+                x239 = x185 - x140;
+                x240 = x186 - x141;
+                x241 = x12 * x239;
+                x242 = arith.mul_add(x24, x240, x241);
+                x243 = x7 * x240;
+                x244 = arith.mul_add(x12, x238, x243);
+                x245 = x24 * x238;
+                x246 = arith.mul_add(x7, x239, -x245);
+                x247 = x233 + x242;
+                x248 = x235 - x244;
+                x249 = x246 - x237;
+                x250 = x23 * x159;
+                x251 = arith.mul_add(x28, x158, -x250);
+                x252 = x28 * x157;
+                x253 = arith.mul_add(x19, x159, -x252);
+                x254 = x19 * x158;
+                x255 = arith.mul_add(x23, x157, -x254);
+                x256 = x95 * x255;
+                x257 = arith.mul_add(x96, x253, -x256);
+                x258 = x96 * x251;
+                x259 = arith.mul_add(x94, x255, -x258);
+                x260 = x94 * x253;
+                x261 = arith.mul_add(x95, x251, -x260);
+                x262 = x184 - x154;
+                x263 = x185 - x155;
+                x264 = x186 - x156;
+                x265 = x28 * x263;
+                x266 = arith.mul_add(x23, x264, -x265);
+                x267 = x19 * x264;
+                x268 = arith.mul_add(x28, x262, -x267);
+                x269 = x23 * x262;
+                x270 = arith.mul_add(x19, x263, -x269);
+                x271 = x257 + x266;
+                x272 = x259 + x268;
+                x273 = x261 + x270;
+                x274 = x39 * x162;
+                x275 = arith.mul_add(x61, x161, -x274);
+                x276 = x61 * x160;
+                x277 = arith.mul_add(x35, x162, -x276);
+                x278 = x35 * x161;
+                x279 = arith.mul_add(x39, x160, -x278);
+                x280 = x95 * x279;
+                x281 = arith.mul_add(x96, x277, -x280);
+                x282 = x96 * x275;
+                x283 = arith.mul_add(x94, x279, -x282);
+                x284 = x94 * x277;
+                x285 = arith.mul_add(x95, x275, -x284);
+                x286 = x61 * x263;
+                x287 = arith.mul_add(x39, x264, -x286);
+                x288 = x35 * x264;
+                x289 = arith.mul_add(x61, x262, -x288);
+                x290 = x39 * x262;
+                x291 = arith.mul_add(x35, x263, -x290);
+                x292 = x281 + x287;
+                x293 = x283 + x289;
+                x294 = x285 + x291;
+                x295 = x63 * x177;
+                x296 = arith.mul_add(x64, x176, -x295);
+                x297 = x64 * x175;
+                x298 = arith.mul_add(x62, x177, -x297);
+                x299 = x62 * x176;
+                x300 = arith.mul_add(x63, x175, -x299);
+                x301 = x110 * x300;
+                x302 = arith.mul_add(x111, x298, -x301);
+                x303 = x111 * x296;
+                x304 = arith.mul_add(x109, x300, -x303);
+                x305 = x109 * x298;
+                x306 = arith.mul_add(x110, x296, -x305);
+                x307 = x184 - x172;
+                x308 = x185 - x173;
+                x309 = x186 - x174;
+                x310 = x64 * x308;
+                x311 = arith.mul_add(x63, x309, -x310);
+                x312 = x62 * x309;
+                x313 = arith.mul_add(x64, x307, -x312);
+                x314 = x63 * x307;
+                x315 = arith.mul_add(x62, x308, -x314);
+                x316 = x302 + x311;
+                x317 = x304 + x313;
+                x318 = x306 + x315;
+                x319 = a1 * s0;
+                x320 = arith.mul_add(a2, x1, -x319);
+                x321 = arith.mul_add(a3, x7, x320);
+                x322 = arith.mul_add(a4, x19, x321);
+                x323 = arith.mul_add(a5, x35, x322);
+                x324 = arith.mul_add(a6, x62, x323);
+                x325 = a2 * x3;
+                x326 = arith.mul_add(a1, c0, x325);
+                x327 = arith.mul_add(a3, x24, x326);
+                x328 = arith.mul_add(a4, x23, x327);
+                x329 = arith.mul_add(a5, x39, x328);
+                x330 = arith.mul_add(a6, x63, x329);
+                x331 = arith.mul_add(a2, c1, a0);
+                x332 = arith.mul_add(-a3, x12, x331);
+                x333 = arith.mul_add(a4, x28, x332);
+                x334 = arith.mul_add(a5, x61, x333);
+                x335 = arith.mul_add(a6, x64, x334);
+                x336 = qd1 * x187;
+                x337 = arith.mul_add(qd2, x203, -x336);
+                x338 = arith.mul_add(-qd3, x227, x337);
+                x339 = arith.mul_add(qd4, x251, x338);
+                x340 = arith.mul_add(qd5, x275, x339);
+                x341 = arith.mul_add(qd6, x296, x340);
+                x342 = qd1 * x188;
+                x343 = arith.mul_add(qd2, x205, -x342);
+                x344 = arith.mul_add(qd3, x229, x343);
+                x345 = arith.mul_add(qd4, x253, x344);
+                x346 = arith.mul_add(qd5, x277, x345);
+                x347 = arith.mul_add(qd6, x298, x346);
+                x348 = qd2 * x207;
+                x349 = arith.mul_add(qd1, x190, x348);
+                x350 = arith.mul_add(qd3, x231, x349);
+                x351 = arith.mul_add(qd4, x255, x350);
+                x352 = arith.mul_add(qd5, x279, x351);
+                x353 = arith.mul_add(qd6, x300, x352);
+                x354 = x324 + x341;
+                *o3 = x354;
+                x355 = x330 + x347;
+                *o4 = x355;
+                x356 = x335 + x353;
+                *o5 = x356;
+                x357 = a0 * x69;
+                x358 = arith.mul_add(a1, x72, -x357);
+                x359 = arith.mul_add(a2, x80, x358);
+                x360 = arith.mul_add(a3, x89, x359);
+                x361 = arith.mul_add(a4, x98, x360);
+                x362 = arith.mul_add(a5, x104, x361);
+                x363 = arith.mul_add(a6, x113, x362);
+                x364 = a1 * x73;
+                x365 = arith.mul_add(a0, x68, x364);
+                x366 = arith.mul_add(a2, x82, x365);
+                x367 = arith.mul_add(-a3, x91, x366);
+                x368 = arith.mul_add(a4, x100, x367);
+                x369 = arith.mul_add(a5, x106, x368);
+                x370 = arith.mul_add(a6, x115, x369);
+                x371 = a1 * x75;
+                x372 = arith.mul_add(a2, x84, -x371);
+                x373 = arith.mul_add(a3, x93, x372);
+                x374 = arith.mul_add(a4, x102, x373);
+                x375 = arith.mul_add(a5, x108, x374);
+                x376 = arith.mul_add(a6, x117, x375);
+                x377 = qd0 * x185;
+                x378 = arith.mul_add(qd1, x199, -x377);
+                x379 = arith.mul_add(qd2, x223, x378);
+                x380 = arith.mul_add(qd3, x247, x379);
+                x381 = arith.mul_add(qd4, x271, x380);
+                x382 = arith.mul_add(qd5, x292, x381);
+                x383 = arith.mul_add(qd6, x316, x382);
+                x384 = qd1 * x200;
+                x385 = arith.mul_add(qd0, x184, x384);
+                x386 = arith.mul_add(qd2, x224, x385);
+                x387 = arith.mul_add(qd3, x248, x386);
+                x388 = arith.mul_add(qd4, x272, x387);
+                x389 = arith.mul_add(qd5, x293, x388);
+                x390 = arith.mul_add(qd6, x317, x389);
+                x391 = qd2 * x225;
+                x392 = arith.mul_add(qd1, x201, x391);
+                x393 = arith.mul_add(qd3, x249, x392);
+                x394 = arith.mul_add(qd4, x273, x393);
+                x395 = arith.mul_add(qd5, x294, x394);
+                x396 = arith.mul_add(qd6, x318, x395);
+                x397 = x363 + x383;
+                *o0 = x397;
+                x398 = x370 + x390;
+                *o1 = x398;
+                x399 = x376 + x396;
+                *o2 = x399;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd, a))
 }

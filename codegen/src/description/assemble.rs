@@ -475,6 +475,9 @@ fn named_frames(
     let mut frames: Vec<Frame> = Vec::new();
     for (path, spec) in &specs {
         let frame = frame_from_spec(c, settings, spec, path, "frame", carrier, placement)?;
+        if frame == *end_effector {
+            continue;
+        }
         let taken = frames.iter().any(|f| f.name == frame.name)
             || (frame.name == end_effector.name && frame != *end_effector);
         if taken {
@@ -485,6 +488,17 @@ fn named_frames(
                     true => " by the end-effector, which is a different frame",
                     false => " by an earlier frame",
                 }
+            );
+            return Err(settings.map.error(path, msg));
+        }
+        let mut names: Vec<&str> = vec![end_effector.name.as_str()];
+        names.extend(frames.iter().map(|f| f.name.as_str()));
+        names.push(frame.name.as_str());
+        if let Some((earlier, _, spelled)) = crate::generate::frame_names::clashing_frame_names(&names) {
+            let msg = format!(
+                "frame '{}' and frame '{earlier}' are both spelled {spelled} in generated code; \
+                 give one of them another `name`",
+                frame.name
             );
             return Err(settings.map.error(path, msg));
         }

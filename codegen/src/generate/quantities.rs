@@ -30,6 +30,12 @@ pub enum QuantityKind {
     Kinematics,
     RegressorProducts,
     BaseRegressorProducts,
+    FramePose,
+    FrameJacobian,
+    FrameJacobianTimeVariation,
+    FrameVelocity,
+    FrameClassicalAcceleration,
+    FrameKinematics,
 }
 
 /// A row of the table.
@@ -42,7 +48,7 @@ struct Row {
 
 impl QuantityKind {
     /// Every kind, in trace order.
-    pub const ALL: [QuantityKind; 19] = [
+    pub const ALL: [QuantityKind; 25] = [
         QuantityKind::ForwardKinematics,
         QuantityKind::Jacobian,
         QuantityKind::JacobianDot,
@@ -62,6 +68,12 @@ impl QuantityKind {
         QuantityKind::Kinematics,
         QuantityKind::RegressorProducts,
         QuantityKind::BaseRegressorProducts,
+        QuantityKind::FramePose,
+        QuantityKind::FrameJacobian,
+        QuantityKind::FrameJacobianTimeVariation,
+        QuantityKind::FrameVelocity,
+        QuantityKind::FrameClassicalAcceleration,
+        QuantityKind::FrameKinematics,
     ];
 
     fn row(self) -> Row {
@@ -95,6 +107,14 @@ impl QuantityKind {
             QuantityKind::Kinematics => row("kinematics", G::Kinematics, false),
             QuantityKind::RegressorProducts => row("regressor_products", G::Regressors, false),
             QuantityKind::BaseRegressorProducts => row("base_regressor_products", G::BaseParameters, false),
+            QuantityKind::FramePose => row("frame_pose", G::Frames, false),
+            QuantityKind::FrameJacobian => row("frame_jacobian", G::Frames, false),
+            QuantityKind::FrameJacobianTimeVariation => {
+                row("frame_jacobian_time_variation", G::Frames, false)
+            }
+            QuantityKind::FrameVelocity => row("frame_velocity", G::Frames, false),
+            QuantityKind::FrameClassicalAcceleration => row("frame_classical_acceleration", G::Frames, false),
+            QuantityKind::FrameKinematics => row("frame_kinematics", G::Frames, false),
         }
     }
 
@@ -118,6 +138,12 @@ impl QuantityKind {
     /// in bulk.
     pub fn has_lane_form(self) -> bool {
         self.row().lane_form
+    }
+
+    /// Whether it is computed once per named frame (the group `frames`): one function per frame
+    /// (and reference frame), chosen by the trait method with a `match`.
+    pub fn is_per_frame(self) -> bool {
+        self.group() == FunctionGroup::Frames
     }
 
     /// Whether it is one of the base-parameter columns of a regressor (its doc names them).

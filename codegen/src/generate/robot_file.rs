@@ -44,7 +44,7 @@ pub struct GeneratedRobot {
     pub warnings: Vec<String>,
     pub notes: Vec<String>,
     /// Operation counts per generated function, in emission order.
-    pub op_counts: Vec<(&'static str, OpCounts)>,
+    pub op_counts: Vec<(String, OpCounts)>,
     /// Number of base parameters `p_b` (independent combinations of the standard ones).
     pub base_parameter_count: usize,
     /// The base parameters' readable names (`BASE_PARAMETER_NAMES` of the generated module).

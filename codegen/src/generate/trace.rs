@@ -1,6 +1,7 @@
 //! Runs the generic dynamics algorithms on symbolic inputs: one graph holds every quantity a
 //! controller needs, so shared subexpressions (joint transforms, body velocities) are one node.
 
+use super::frame_names::frame_identifiers;
 use super::quantities::QuantityKind;
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::{self, Directions};
@@ -8,10 +9,11 @@ use crate::functions::{FunctionGroup, Functions};
 use crate::model::Model;
 use crate::scalar::Scalar;
 use crate::symbolic::{record, Expr, Graph, Id};
+use dyngen_runtime::ReferenceFrame;
 use nalgebra::DMatrix;
 
 /// The vectors a generated function takes besides the joint sines and cosines.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Arg {
     Qd,
     V,
@@ -42,10 +44,23 @@ pub enum Shape {
     VectorPair(usize, usize),
 }
 
+/// Which frame, and in which reference frame, a frame quantity is of.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct FrameOf {
+    /// Index into `Model::frames`.
+    pub index: usize,
+    /// The frame's name as function names spell it.
+    pub snake: String,
+    /// `None` for what has no reference frame: the pose, and `(pose, J, J̇)` together.
+    pub reference: Option<ReferenceFrame>,
+}
+
 /// One quantity: a named function of the joint state.
 #[derive(Clone, Debug)]
 pub struct Quantity {
     pub kind: QuantityKind,
+    /// The frame of a quantity of the group `frames` (`None` for every other).
+    pub frame: Option<FrameOf>,
     pub args: Vec<Arg>,
     pub shape: Shape,
     /// Output nodes in the order of the shape (column-major for matrices).
@@ -53,9 +68,19 @@ pub struct Quantity {
 }
 
 impl Quantity {
-    /// The generated function's name.
-    pub fn name(&self) -> &'static str {
-        self.kind.name()
+    /// The generated function's name: the kind's, and for a frame quantity the frame's
+    /// identifier and the reference frame (`frame_jacobian_tool0_local`).
+    pub fn name(&self) -> String {
+        match &self.frame {
+            None => self.kind.name().to_owned(),
+            Some(FrameOf { snake, reference, .. }) => {
+                let mut name = format!("{}_{snake}", self.kind.name());
+                if let Some(r) = reference {
+                    name = format!("{name}_{}", r.keyword());
+                }
+                name
+            }
+        }
     }
 }
 
@@ -122,9 +147,7 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
         let world = dynamics::body_poses(model, &x);
         let theta = base.representative(&model.parameters());
         let inertias = representative_inertias(model, &theta);
-        let ee = dynamics::end_effector_pose(model, &world);
-        let mut pose: Vec<Id> = ee.rot.transpose().0.iter().flatten().map(|e| e.id()).collect();
-        pose.extend(ee.pos.0.iter().map(|e| e.id()));
+        let pose = pose_ids(&dynamics::end_effector_pose(model, &world));
         let g = dynamics::gravity_torque(model, &x, &inertias);
         // Joint-level terms (armature, friction, offset) are added only when the model has
         // them, so a model without them records exactly the graph it always did.
@@ -160,42 +183,49 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
         let quantities = vec![
             Quantity {
                 kind: QuantityKind::ForwardKinematics,
+                frame: None,
                 args: vec![],
                 shape: Shape::Pose,
                 outputs: pose,
             },
             Quantity {
                 kind: QuantityKind::Jacobian,
+                frame: None,
                 args: vec![],
                 shape: Shape::Matrix(6, n),
                 outputs: matrix_ids(&dynamics::jacobian(model, &world)),
             },
             Quantity {
                 kind: QuantityKind::JacobianDot,
+                frame: None,
                 args: vec![Arg::Qd],
                 shape: Shape::Matrix(6, n),
                 outputs: matrix_ids(&dynamics::jacobian_dot(model, &world, &qd)),
             },
             Quantity {
                 kind: QuantityKind::MassMatrix,
+                frame: None,
                 args: vec![],
                 shape: Shape::Matrix(n, n),
                 outputs: matrix_ids(&mass_matrix()),
             },
             Quantity {
                 kind: QuantityKind::CoriolisMatrix,
+                frame: None,
                 args: vec![Arg::Qd],
                 shape: Shape::Matrix(n, n),
                 outputs: matrix_ids(&dynamics::coriolis_matrix(model, &x, &inertias, &qd)),
             },
             Quantity {
                 kind: QuantityKind::Gravity,
+                frame: None,
                 args: vec![],
                 shape: Shape::Vector(n),
                 outputs: ids(&g),
             },
             Quantity {
                 kind: QuantityKind::InverseDynamics,
+                frame: None,
                 args: vec![Arg::Qd, Arg::A],
                 shape: Shape::Vector(n),
                 outputs: ids(&with_joint_terms(
@@ -206,6 +236,7 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
             },
             Quantity {
                 kind: QuantityKind::SlotineLi,
+                frame: None,
                 args: vec![Arg::Qd, Arg::V, Arg::A],
                 shape: Shape::Vector(n),
                 outputs: ids(&with_joint_terms(
@@ -224,12 +255,14 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
             },
             Quantity {
                 kind: QuantityKind::Regressor,
+                frame: None,
                 args: vec![Arg::Qd, Arg::V, Arg::A],
                 shape: Shape::Matrix(n, model.parameter_count()),
                 outputs: y,
             },
             Quantity {
                 kind: QuantityKind::BaseRegressor,
+                frame: None,
                 args: vec![Arg::Qd, Arg::V, Arg::A],
                 shape: Shape::Matrix(n, base.count()),
                 outputs: y_base,
@@ -247,6 +280,11 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
         let (theta, r) = (inputs("theta", model.parameter_count()), inputs("r", n));
         if regressors {
             quantities.extend(regressor_products(model, &x, [&qd, &v, &a], &theta, &r, &base));
+        }
+        if functions.contains(FunctionGroup::Frames) {
+            for (index, frame) in model.frames().iter().enumerate() {
+                quantities.extend(frame_quantities(model, &world, &qd, &a, index, frame));
+            }
         }
         quantities.retain(|q| functions.contains(q.kind.group()));
         (
@@ -331,12 +369,14 @@ fn forward_quantities(
         let inverse_mass = matrix_ids(&dynamics::mass_matrix_inverse(model, &x, inertias, jv));
         quantities.push(Quantity {
             kind: QuantityKind::ForwardDynamics,
+            frame: None,
             args: vec![Arg::Qd, Arg::Tau],
             shape: Shape::Vector(n),
             outputs: forward,
         });
         quantities.push(Quantity {
             kind: QuantityKind::MassMatrixInverse,
+            frame: None,
             args: vec![],
             shape: Shape::Matrix(n, n),
             outputs: inverse_mass,
@@ -359,12 +399,14 @@ fn forward_quantities(
     quantities.extend([
         Quantity {
             kind: QuantityKind::InverseDynamicsDerivatives,
+            frame: None,
             args: vec![Arg::Qd, Arg::A],
             shape: Shape::MatrixPair(n),
             outputs: inverse_derivatives,
         },
         Quantity {
             kind: QuantityKind::ForwardDynamicsDerivatives,
+            frame: None,
             args: vec![Arg::Qd, Arg::Tau],
             shape: Shape::MatrixPair(n),
             outputs: forward_derivatives,
@@ -397,12 +439,14 @@ fn torque_regressors(
     vec![
         Quantity {
             kind: QuantityKind::TorqueRegressor,
+            frame: None,
             args: vec![Arg::Qd, Arg::A],
             shape: Shape::Matrix(n, model.parameter_count()),
             outputs: y,
         },
         Quantity {
             kind: QuantityKind::BaseTorqueRegressor,
+            frame: None,
             args: vec![Arg::Qd, Arg::A],
             shape: Shape::Matrix(n, base.count()),
             outputs: y_base,
@@ -455,6 +499,7 @@ fn regressor_products(
         let (y_theta, y_tr_r) = dynamics::regressor_products(model, x, qd, v, a, columns, &theta[..len], r);
         Quantity {
             kind,
+            frame: None,
             args: vec![Arg::Qd, Arg::V, Arg::A, Arg::Theta(len), Arg::R],
             shape: Shape::VectorPair(n, len),
             outputs: ids(&y_theta).into_iter().chain(ids(&y_tr_r)).collect(),
@@ -478,10 +523,103 @@ fn fused_kinematics(quantities: &[Quantity], n: usize) -> Quantity {
     outputs.extend(outputs_of(QuantityKind::JacobianDot));
     Quantity {
         kind: QuantityKind::Kinematics,
+        frame: None,
         args: vec![Arg::Qd],
         shape: Shape::Kinematics(n),
         outputs,
     }
+}
+
+/// The pose, `J`, `J̇` in each reference frame, velocity, classical acceleration and `(pose,
+/// J, J̇)` of one frame, traced after every other quantity (they add nodes, never renumber).
+fn frame_quantities(
+    model: &Model,
+    world: &[crate::spatial::Transform<Expr>],
+    qd: &[Expr],
+    qdd: &[Expr],
+    index: usize,
+    frame: &crate::model::Frame,
+) -> Vec<Quantity> {
+    let n = model.dof();
+    let motion = dynamics::FrameMotion::new(model, world, qd, frame);
+    let snake = frame_identifiers(&frame.name).snake;
+    let quantity = |kind, reference, args: Vec<Arg>, shape, outputs| Quantity {
+        kind,
+        frame: Some(FrameOf {
+            index,
+            snake: snake.clone(),
+            reference,
+        }),
+        args,
+        shape,
+        outputs,
+    };
+    let pose = pose_ids(&motion.pose);
+    let mut out = vec![quantity(
+        QuantityKind::FramePose,
+        None,
+        vec![],
+        Shape::Pose,
+        pose.clone(),
+    )];
+    for r in ReferenceFrame::ALL {
+        let j = matrix_ids(&motion.jacobian_in(r));
+        out.push(quantity(
+            QuantityKind::FrameJacobian,
+            Some(r),
+            vec![],
+            Shape::Matrix(6, n),
+            j,
+        ));
+    }
+    for r in ReferenceFrame::ALL {
+        let jd = matrix_ids(&motion.jacobian_dot_in(r, qd));
+        out.push(quantity(
+            QuantityKind::FrameJacobianTimeVariation,
+            Some(r),
+            vec![Arg::Qd],
+            Shape::Matrix(6, n),
+            jd,
+        ));
+    }
+    for r in ReferenceFrame::ALL {
+        let v = ids(&motion.velocity_in(r, qd));
+        out.push(quantity(
+            QuantityKind::FrameVelocity,
+            Some(r),
+            vec![Arg::Qd],
+            Shape::Vector(6),
+            v,
+        ));
+    }
+    for r in ReferenceFrame::ALL {
+        let a = ids(&motion.classical_acceleration_in(r, qd, qdd));
+        out.push(quantity(
+            QuantityKind::FrameClassicalAcceleration,
+            Some(r),
+            vec![Arg::Qd, Arg::A],
+            Shape::Vector(6),
+            a,
+        ));
+    }
+    let mut fused = pose;
+    fused.extend(matrix_ids(&motion.jacobian));
+    fused.extend(matrix_ids(&motion.jacobian_dot));
+    out.push(quantity(
+        QuantityKind::FrameKinematics,
+        None,
+        vec![Arg::Qd],
+        Shape::Kinematics(n),
+        fused,
+    ));
+    out
+}
+
+/// A pose's outputs: the rotation column-major, then the translation.
+fn pose_ids(pose: &crate::spatial::Transform<Expr>) -> Vec<Id> {
+    let mut out: Vec<Id> = pose.rot.transpose().0.iter().flatten().map(|e| e.id()).collect();
+    out.extend(pose.pos.0.iter().map(|e| e.id()));
+    out
 }
 
 /// The arguments of [`SymbolicRobot::evaluate_with`], by role (empty: not given).
@@ -506,7 +644,9 @@ impl SymbolicRobot {
     }
 
     pub fn quantity(&self, name: &str) -> Option<&Quantity> {
-        self.quantities.iter().find(|q| q.name() == name)
+        self.quantities
+            .iter()
+            .find(|q| q.frame.is_none() && q.kind.name() == name)
     }
 
     /// Evaluates a quantity with the interpreter (for tests on robots that are never compiled).

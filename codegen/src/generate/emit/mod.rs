@@ -15,6 +15,7 @@
 //! the generated code has no indexing, no allocation and no panic path.
 
 mod constants;
+mod frames;
 mod function;
 mod leaves;
 mod plan;
@@ -74,6 +75,9 @@ fn runtime_items(functions: &Functions) -> Vec<&'static str> {
     if functions.contains(FunctionGroup::BaseParameters) {
         items.extend(["JointTrigLanes", "LaneDynamics", "Lanes"]);
     }
+    if functions.contains(FunctionGroup::Frames) {
+        items.extend(["ReferenceFrame", "RobotFrame"]);
+    }
     items.sort_unstable();
     items
 }
@@ -114,6 +118,7 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
     let emitted: Vec<(FunctionGroup, Emitted)> = robot
         .quantities
         .iter()
+        .filter(|q| !q.kind.is_per_frame())
         .map(|q| (q.kind.group(), function(robot, &leaves, q, n, Form::Scalar)))
         .collect();
     // The lane functions come with the base parameters (their trait is bounded by `B`).
@@ -230,6 +235,7 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
                         }
                     }
                 }
+                FunctionGroup::Frames => frames::frame_items(model, robot, &leaves, &ty),
                 other => {
                     let name = format_ident!("{}", other.trait_name());
                     quote! {

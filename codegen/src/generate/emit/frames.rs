@@ -1,0 +1,187 @@
+//! The group `frames`: the robot's `Frame` enum and names, one straight-line function per frame
+//! quantity, and the `FrameKinematics` implementation that chooses among them with a `match`.
+//!
+//! A frame function whose values another function already computes with the same arguments
+//! (the end-effector's pose, `J` and `J̇` at its origin in base axes are `Kinematics`'
+//! functions; two frames at one place share their Jacobians) is not emitted again: its arm
+//! calls the function that exists.
+
+use super::function::{function, Emitted};
+use super::leaves::Leaves;
+use super::plan::Form;
+use crate::generate::frame_names::frame_identifiers;
+use crate::generate::quantities::QuantityKind;
+use crate::generate::trace::{Arg, SymbolicRobot};
+use crate::model::Model;
+use crate::symbolic::Id;
+use dyngen_runtime::ReferenceFrame;
+use proc_macro2::{Ident, Literal, TokenStream};
+use quote::{format_ident, quote};
+use std::collections::HashMap;
+
+/// The `Kinematics` functions a frame function may turn out to equal.
+const KINEMATICS: [QuantityKind; 4] = [
+    QuantityKind::ForwardKinematics,
+    QuantityKind::Jacobian,
+    QuantityKind::JacobianDot,
+    QuantityKind::Kinematics,
+];
+
+/// The frame items of the module: enum, constants, functions, trait implementation.
+pub(super) fn frame_items(model: &Model, robot: &SymbolicRobot, leaves: &Leaves, ty: &Ident) -> TokenStream {
+    let n = Literal::usize_unsuffixed(model.dof());
+    let frames = model.frames();
+    let variants: Vec<Ident> = frames
+        .iter()
+        .map(|f| format_ident!("{}", frame_identifiers(&f.name).variant))
+        .collect();
+    let names: Vec<&str> = frames.iter().map(|f| f.name.as_str()).collect();
+    let docs = frames.iter().enumerate().map(|(k, f)| {
+        let body = &model.bodies()[f.parent].name;
+        match k {
+            0 => format!(" `{}`, the end-effector (on body `{body}`).", f.name),
+            _ => format!(" `{}` (on body `{body}`).", f.name),
+        }
+    });
+    let count = Literal::usize_unsuffixed(frames.len());
+
+    // Which function computes each frame quantity: an existing one, or one emitted here.
+    let mut existing: HashMap<(Vec<Id>, Vec<Arg>), TokenStream> = HashMap::new();
+    for q in robot.quantities.iter().filter(|q| KINEMATICS.contains(&q.kind)) {
+        let name = format_ident!("{}", q.kind.name());
+        existing.insert((q.outputs.clone(), q.args.clone()), quote!(Self::#name));
+    }
+    let mut functions: Vec<Emitted> = Vec::new();
+    let mut calls: HashMap<(QuantityKind, usize, Option<ReferenceFrame>), TokenStream> = HashMap::new();
+    for q in robot.quantities.iter().filter(|q| q.kind.is_per_frame()) {
+        let frame = q.frame.as_ref().expect("a frame quantity names its frame");
+        let key = (q.outputs.clone(), q.args.clone());
+        let call = match existing.get(&key) {
+            Some(call) => call.clone(),
+            None => {
+                let name = format_ident!("{}", q.name());
+                functions.push(function(robot, leaves, q, model.dof(), Form::Scalar));
+                existing.insert(key, quote!(#name));
+                quote!(#name)
+            }
+        };
+        calls.insert((q.kind, frame.index, frame.reference), call);
+    }
+    let arms = |kind: QuantityKind, args: TokenStream| -> Vec<TokenStream> {
+        let mut arms = Vec::new();
+        for (k, variant) in variants.iter().enumerate() {
+            if let Some(call) = calls.get(&(kind, k, None)) {
+                arms.push(quote!(Frame::#variant => #call(#args),));
+            }
+            for r in ReferenceFrame::ALL {
+                if let Some(call) = calls.get(&(kind, k, Some(r))) {
+                    let reference = reference_variant(r);
+                    arms.push(quote!((Frame::#variant, ReferenceFrame::#reference) => #call(#args),));
+                }
+            }
+        }
+        arms
+    };
+    let pose = arms(QuantityKind::FramePose, quote!(t));
+    let jacobian = arms(QuantityKind::FrameJacobian, quote!(t));
+    let time_variation = arms(QuantityKind::FrameJacobianTimeVariation, quote!(t, qd));
+    let velocity = arms(QuantityKind::FrameVelocity, quote!(t, qd));
+    let acceleration = arms(QuantityKind::FrameClassicalAcceleration, quote!(t, qd, qdd));
+    let kinematics = arms(QuantityKind::FrameKinematics, quote!(t, qd));
+    let methods = functions.iter().map(|e| &e.method);
+    let chunks = functions.iter().flat_map(|e| &e.chunks);
+    quote! {
+        /// Number of named frames (the end-effector and the description's `frames`).
+        pub const FRAME_COUNT: usize = #count;
+        /// Frame names, in the order of [`Frame`]'s variants.
+        pub const FRAME_NAMES: [&str; FRAME_COUNT] = [#(#names),*];
+
+        /// The robot's named frames: the argument of every [`FrameKinematics`] method.
+        #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+        pub enum Frame {
+            #(#[doc = #docs] #variants,)*
+        }
+
+        impl RobotFrame for Frame {
+            const ALL: &'static [Frame] = &[#(Frame::#variants),*];
+
+            fn name(self) -> &'static str {
+                match self {
+                    #(Frame::#variants => #names,)*
+                }
+            }
+        }
+
+        impl FrameKinematics<#n> for #ty {
+            type Frame = Frame;
+
+            fn frame_pose(frame: Frame, t: &JointTrig<#n>) -> Pose {
+                match frame {
+                    #(#pose)*
+                }
+            }
+
+            fn frame_jacobian(frame: Frame, reference: ReferenceFrame, t: &JointTrig<#n>) -> SMatrix<f64, 6, #n> {
+                match (frame, reference) {
+                    #(#jacobian)*
+                }
+            }
+
+            fn frame_jacobian_time_variation(
+                frame: Frame,
+                reference: ReferenceFrame,
+                t: &JointTrig<#n>,
+                qd: &SVector<f64, #n>,
+            ) -> SMatrix<f64, 6, #n> {
+                match (frame, reference) {
+                    #(#time_variation)*
+                }
+            }
+
+            fn frame_velocity(
+                frame: Frame,
+                reference: ReferenceFrame,
+                t: &JointTrig<#n>,
+                qd: &SVector<f64, #n>,
+            ) -> SVector<f64, 6> {
+                match (frame, reference) {
+                    #(#velocity)*
+                }
+            }
+
+            fn frame_classical_acceleration(
+                frame: Frame,
+                reference: ReferenceFrame,
+                t: &JointTrig<#n>,
+                qd: &SVector<f64, #n>,
+                qdd: &SVector<f64, #n>,
+            ) -> SVector<f64, 6> {
+                match (frame, reference) {
+                    #(#acceleration)*
+                }
+            }
+
+            fn frame_kinematics(
+                frame: Frame,
+                t: &JointTrig<#n>,
+                qd: &SVector<f64, #n>,
+            ) -> (Pose, SMatrix<f64, 6, #n>, SMatrix<f64, 6, #n>) {
+                match frame {
+                    #(#kinematics)*
+                }
+            }
+        }
+
+        #(#methods)*
+
+        #(#chunks)*
+    }
+}
+
+fn reference_variant(r: ReferenceFrame) -> Ident {
+    match r {
+        ReferenceFrame::Local => format_ident!("Local"),
+        ReferenceFrame::World => format_ident!("World"),
+        ReferenceFrame::LocalWorldAligned => format_ident!("LocalWorldAligned"),
+    }
+}
