@@ -2,7 +2,7 @@
 //! would make for a bare URDF file.
 
 use clap::{Args, ValueEnum};
-use dyngen_codegen::description::{FrameSpec, NonPhysicalInertia, UrdfOptions};
+use dyngen_codegen::description::{FrameSelection, FrameSpec, NonPhysicalInertia, UrdfOptions};
 
 #[derive(Args, Clone, Debug, Default)]
 pub struct LoadingArgs {
@@ -15,6 +15,11 @@ pub struct LoadingArgs {
     /// the end of the longest chain). A YAML description sets `end_effector:` itself.
     #[arg(long, value_name = "LINK")]
     pub end_effector: Option<String>,
+    /// For a bare URDF: a link whose frame is generated besides the end-effector (repeat the
+    /// option for more), or `all` for every link that moves. A YAML description sets
+    /// `frames:` itself.
+    #[arg(long = "frame", value_name = "LINK")]
+    pub frames: Vec<String>,
     /// For a bare URDF: what to do with a link whose inertia no real body can have (a negative
     /// principal moment, a broken triangle inequality, mass without extent about an axis):
     /// load it as written with a warning, repair it to the nearest physical inertia (each
@@ -52,6 +57,11 @@ impl LoadingArgs {
                 xyz: [0.0; 3],
                 rpy: [0.0; 3],
             }),
+            frames: match self.frames.iter().any(|f| f == "all") {
+                true => FrameSelection::AllLinks,
+                false if self.frames.is_empty() => FrameSelection::EndEffector,
+                false => FrameSelection::Listed(self.frames.iter().map(FrameSpec::link).collect()),
+            },
             inertia: self.inertia.into(),
             ..UrdfOptions::default()
         }

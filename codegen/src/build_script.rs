@@ -4,7 +4,7 @@
 //! In `build.rs`, `fn main() { dyngen_codegen::compile_robot("robots/panda.yaml"); }`; in
 //! `src/lib.rs`, `dyngen_runtime::include_robot!(panda);` gives `panda::Panda`.
 
-use crate::description::{DescriptionError, NonPhysicalInertia, UrdfOptions};
+use crate::description::{DescriptionError, FrameSelection, NonPhysicalInertia, UrdfOptions};
 use crate::functions::{FunctionGroup, Functions};
 use crate::generate::{generate_robot_with, module_name, type_name, write_file, GenerateError, RobotReport};
 use std::path::{Path, PathBuf};
@@ -61,6 +61,13 @@ impl Builder {
     /// description sets `inertia:` itself (giving this option with one is an error).
     pub fn inertia(mut self, choice: NonPhysicalInertia) -> Builder {
         self.urdf.inertia = choice;
+        self
+    }
+
+    /// For a bare URDF file: the frames to generate besides the end-effector (a YAML
+    /// description's `frames:`), e.g. `FrameSelection::AllLinks`.
+    pub fn frames(mut self, frames: FrameSelection) -> Builder {
+        self.urdf.frames = frames;
         self
     }
 

@@ -377,6 +377,7 @@ fn end_effector_with_offset_and_gravity_from_options() {
         gravity: Some([0.0, -9.81, 0.0]),
         snap_angles: None,
         inertia: Default::default(),
+        frames: Default::default(),
     };
     let m = description::load_urdf_str(TREE_URDF, Path::new("twins.urdf"), &options)
         .unwrap()
@@ -496,6 +497,7 @@ fn same_robot_in_yaml_and_urdf_gives_the_same_model() {
         gravity: None,
         snap_angles: None,
         inertia: Default::default(),
+        frames: Default::default(),
     };
     let from_urdf = description::load_urdf_str(SAME_URDF, Path::new("same.urdf"), &options).unwrap();
     let from_yaml =

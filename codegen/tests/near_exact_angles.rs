@@ -41,6 +41,7 @@ fn options(snap: Option<f64>) -> UrdfOptions {
         gravity: None,
         snap_angles: snap,
         inertia: Default::default(),
+        frames: Default::default(),
     }
 }
 

@@ -7,8 +7,8 @@
 //! robots and for random trees. Bad input gives the file loader's messages, without the place.
 
 use dyngen_codegen::description::{
-    self, from_urdf_rs, load_urdf_str, to_urdf_rs, DescriptionError, FrameSpec, Loaded, UrdfExport,
-    UrdfOptions,
+    self, from_urdf_rs, load_urdf_str, to_urdf_rs, DescriptionError, FrameSelection, FrameSpec, Loaded,
+    UrdfExport, UrdfOptions,
 };
 use dyngen_codegen::internals::generate::{emit, trace, type_name, Provenance};
 use dyngen_codegen::model::{Body, Frame, Joint, JointKind, Limits, Model, Pose};
@@ -199,8 +199,18 @@ fn committed_robots_round_trip_to_identical_code() {
     for robot in ["arm7", "panda", "panda_rounded", "ur5"] {
         let loaded = load(&repo(&format!("robots/{robot}.yaml")));
         let export = assert_round_trip(&loaded.model, &dir, true);
-        // Default gravity, and the end-effector is the loader's default pick: a bare URDF says it all.
-        assert_eq!(export.options, UrdfOptions::default(), "{robot}");
+        // Default gravity, and the end-effector is the loader's default pick: a bare URDF says
+        // all but the named frames (Panda, UR5: every link), which go into the wrapper.
+        let frames = match &export.options.frames {
+            FrameSelection::Listed(frames) => frames.len(),
+            _ => 0,
+        };
+        assert_eq!(frames, loaded.model.frames().len() - 1, "{robot}");
+        let without_frames = UrdfOptions {
+            frames: FrameSelection::EndEffector,
+            ..export.options.clone()
+        };
+        assert_eq!(without_frames, UrdfOptions::default(), "{robot}");
         assert!(export.warnings.is_empty(), "{robot}: {:?}", export.warnings);
     }
 }

@@ -644,9 +644,7 @@ impl SymbolicRobot {
     }
 
     pub fn quantity(&self, name: &str) -> Option<&Quantity> {
-        self.quantities
-            .iter()
-            .find(|q| q.frame.is_none() && q.kind.name() == name)
+        self.quantities.iter().find(|q| q.name() == name)
     }
 
     /// Evaluates a quantity with the interpreter (for tests on robots that are never compiled).
