@@ -9,7 +9,8 @@ use dyngen_codegen::{FunctionGroup, Functions, ALL_GROUPS};
 pub struct FunctionsArgs {
     /// The groups of functions to generate besides kinematics and dynamics, comma-separated
     /// (`regressors,base_parameters`), or `all`. Default: what the description's `functions:`
-    /// says, else every group, the derivatives only up to 12 joints.
+    /// says, else every group up to 12 joints, and kinematics, dynamics, forward_dynamics and
+    /// frames above.
     #[arg(long, value_name = "GROUPS", value_delimiter = ',', value_parser = keywords())]
     functions: Option<Vec<String>>,
 }

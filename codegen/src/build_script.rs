@@ -80,8 +80,9 @@ impl Builder {
     }
 
     /// The groups of functions to generate besides kinematics and dynamics (default: what the
-    /// description's `functions:` says, else every group, the derivatives only up to
-    /// [`DERIVATIVES_BY_DEFAULT_UP_TO_DOF`](crate::DERIVATIVES_BY_DEFAULT_UP_TO_DOF) joints).
+    /// description's `functions:` says, else [`Functions::default_for`](crate::Functions::default_for)
+    /// its joints: every group up to
+    /// [`EVERY_GROUP_BY_DEFAULT_UP_TO_DOF`](crate::EVERY_GROUP_BY_DEFAULT_UP_TO_DOF) joints).
     /// A description that chooses them itself and this option together are an error.
     pub fn functions(mut self, groups: &[FunctionGroup]) -> Builder {
         self.functions = Some(groups.to_vec());

@@ -30,10 +30,23 @@ pub enum FunctionGroup {
 /// The keyword that chooses every group (`functions: all`, `--functions all`).
 pub const ALL_GROUPS: &str = "all";
 
-/// Above this many joints, [`Functions::default_for`] leaves the derivatives out: their code
-/// grows fastest with the robot (a 30-joint chain's took minutes to compile), and whole-body
-/// controllers of such robots rarely call them.
-pub const DERIVATIVES_BY_DEFAULT_UP_TO_DOF: usize = 12;
+/// Up to this many joints, [`Functions::default_for`] is every group; above it,
+/// [`LARGE_ROBOT_DEFAULT`]. The regressors (with their base-parameter forms) and the derivatives
+/// are the code that grows fastest with the robot: a 30-joint chain's regressors alone are
+/// 58 MiB of Rust, and all its groups together take many minutes to compile, where kinematics,
+/// dynamics, forward dynamics and frames are 20 MiB.
+pub const EVERY_GROUP_BY_DEFAULT_UP_TO_DOF: usize = 12;
+
+/// What a robot of more than [`EVERY_GROUP_BY_DEFAULT_UP_TO_DOF`] joints gets when its
+/// description chooses nothing: what whole-body control and simulation call every tick. The
+/// regressors, base parameters and derivatives (identification, adaptive control, optimal
+/// control) are generated when chosen.
+pub const LARGE_ROBOT_DEFAULT: [FunctionGroup; 4] = [
+    FunctionGroup::Kinematics,
+    FunctionGroup::Dynamics,
+    FunctionGroup::ForwardDynamics,
+    FunctionGroup::Frames,
+];
 
 impl FunctionGroup {
     /// Every group, in the order of the generated module.
@@ -118,14 +131,13 @@ impl Functions {
         }
     }
 
-    /// What a robot of `dof` joints gets when its description chooses nothing: every group,
-    /// but the derivatives only up to [`DERIVATIVES_BY_DEFAULT_UP_TO_DOF`] joints.
+    /// What a robot of `dof` joints gets when its description chooses nothing: every group up
+    /// to [`EVERY_GROUP_BY_DEFAULT_UP_TO_DOF`] joints, [`LARGE_ROBOT_DEFAULT`] above.
     pub fn default_for(dof: usize) -> Functions {
-        let mut functions = Functions::all();
-        if dof > DERIVATIVES_BY_DEFAULT_UP_TO_DOF {
-            functions.chosen[FunctionGroup::Derivatives as usize] = false;
+        match dof > EVERY_GROUP_BY_DEFAULT_UP_TO_DOF {
+            true => Functions::with(&LARGE_ROBOT_DEFAULT).expect("needs nothing it lacks"),
+            false => Functions::all(),
         }
-        functions
     }
 
     /// Kinematics, dynamics and `groups`. An error names a group chosen without the one it
@@ -223,14 +235,14 @@ mod tests {
     }
 
     #[test]
-    fn the_default_drops_only_the_derivatives_and_only_for_large_robots() {
+    fn large_robots_get_the_per_tick_groups_by_default() {
         assert_eq!(
-            Functions::default_for(DERIVATIVES_BY_DEFAULT_UP_TO_DOF),
+            Functions::default_for(EVERY_GROUP_BY_DEFAULT_UP_TO_DOF),
             Functions::all()
         );
-        let large = Functions::default_for(DERIVATIVES_BY_DEFAULT_UP_TO_DOF + 1);
+        let large = Functions::default_for(EVERY_GROUP_BY_DEFAULT_UP_TO_DOF + 1);
         for g in FunctionGroup::ALL {
-            assert_eq!(large.contains(g), g != FunctionGroup::Derivatives, "{g}");
+            assert_eq!(large.contains(g), LARGE_ROBOT_DEFAULT.contains(&g), "{g}");
         }
     }
 }

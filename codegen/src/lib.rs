@@ -19,7 +19,9 @@ mod spatial;
 mod symbolic;
 
 pub use build_script::{compile_robot, Builder};
-pub use functions::{FunctionGroup, Functions, ALL_GROUPS, DERIVATIVES_BY_DEFAULT_UP_TO_DOF};
+pub use functions::{
+    FunctionGroup, Functions, ALL_GROUPS, EVERY_GROUP_BY_DEFAULT_UP_TO_DOF, LARGE_ROBOT_DEFAULT,
+};
 /// The URDF crate that [`description::from_urdf_rs`] reads and [`description::to_urdf_rs`]
 /// writes, re-exported so that callers use the same version.
 pub use urdf_rs;

@@ -2,6 +2,7 @@
 //! the work is done by `dyngen-codegen`.
 
 mod bench_table;
+mod sizes;
 
 use clap::{Parser, Subcommand};
 use dyngen_codegen::generate::{descriptions_in, generate_into_crate, CrateReport, Mode};
@@ -58,6 +59,14 @@ enum Command {
     /// Print the scale table of TESTING.md (chains to 30 DOF, trees to 20: operation counts,
     /// generation time, code size), in release; the modules go to `target/scale/`.
     Scale,
+    /// Print the code-size and compile-time table of BENCHMARKS.md: per group of functions,
+    /// chains of 7 to 30 joints and a 32-joint tree, in release; each module compiled alone in
+    /// `target/sizes/` (run it on an otherwise idle machine).
+    Sizes {
+        /// Which modules to compile (`none`: sizes and generation times only).
+        #[arg(long, value_enum, default_value_t = sizes::Compile::All)]
+        compile: sizes::Compile,
+    },
 }
 
 /// Timings and long runs belong to optimised code: a debug `cargo xtask` runs itself again
@@ -186,6 +195,21 @@ fn main() -> ExitCode {
             }
             print!("{}", dyngen_testkit::scale::report());
             ExitCode::SUCCESS
+        }
+        Command::Sizes { compile } => {
+            if let Some(code) = rerun_in_release() {
+                return code;
+            }
+            match sizes::report(&root, compile) {
+                Ok(table) => {
+                    print!("{table}");
+                    ExitCode::SUCCESS
+                }
+                Err(e) => {
+                    eprintln!("error: {e}");
+                    ExitCode::FAILURE
+                }
+            }
         }
         Command::Gen {
             descriptions,

@@ -92,7 +92,8 @@ pub(crate) struct RobotFile {
     joint_parameters: Option<JointParametersSpec>,
     /// The groups of functions to generate besides kinematics and dynamics, e.g.
     /// `[regressors, base_parameters, forward_dynamics]`, or `all`. Absent: the generator's
-    /// default (every group; the derivatives only up to 12 joints).
+    /// default (every group up to 12 joints; above, kinematics, dynamics, forward dynamics and
+    /// frames).
     functions: Option<FunctionsSpec>,
     /// Form (a): the links, in any order.
     links: Option<Vec<LinkSpec>>,
