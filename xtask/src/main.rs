@@ -148,22 +148,27 @@ fn print_summary(report: &CrateReport, check: bool) {
     }
 }
 
+/// Prints a table on stdout, or the error on stderr.
+fn print_table(table: Result<String, impl std::fmt::Display>) -> ExitCode {
+    match table {
+        Ok(table) => {
+            print!("{table}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let root = workspace_root();
     match cli.command {
-        Command::BenchTable { criterion } => {
-            match bench_table::table(&criterion.unwrap_or_else(|| root.join("target/criterion"))) {
-                Ok(table) => {
-                    print!("{table}");
-                    ExitCode::SUCCESS
-                }
-                Err(e) => {
-                    eprintln!("error: {e}");
-                    ExitCode::FAILURE
-                }
-            }
-        }
+        Command::BenchTable { criterion } => print_table(bench_table::table(
+            &criterion.unwrap_or_else(|| root.join("target/criterion")),
+        )),
         Command::Fuzz {
             cases,
             seed,
@@ -200,16 +205,7 @@ fn main() -> ExitCode {
             if let Some(code) = rerun_in_release() {
                 return code;
             }
-            match sizes::report(&root, compile) {
-                Ok(table) => {
-                    print!("{table}");
-                    ExitCode::SUCCESS
-                }
-                Err(e) => {
-                    eprintln!("error: {e}");
-                    ExitCode::FAILURE
-                }
-            }
+            print_table(sizes::report(&root, compile))
         }
         Command::Gen {
             descriptions,

@@ -38,7 +38,8 @@ pub struct Fixture {
     pub states: Vec<State>,
 }
 
-fn vector(v: &Value) -> Vec<f64> {
+/// A JSON array of numbers.
+pub fn vector(v: &Value) -> Vec<f64> {
     v.as_array()
         .expect("array")
         .iter()

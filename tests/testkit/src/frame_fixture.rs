@@ -2,7 +2,7 @@
 //! (`codegen/tests/fixtures/frames/`, made by `tools/frame_fixtures.py`): every link frame of the
 //! Panda and the UR5 in the three reference frames, and `rnea`/`aba` with wrenches at frames.
 
-use crate::fixture::matrix;
+use crate::fixture::{matrix, vector};
 use dyngen_runtime::ReferenceFrame;
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
 use serde_json::Value;
@@ -39,14 +39,6 @@ pub struct State {
     /// `aba(q, v, tau_aba, fext)`.
     pub tau_aba: DVector<f64>,
     pub qdd_fext: DVector<f64>,
-}
-
-fn vector(v: &Value) -> Vec<f64> {
-    v.as_array()
-        .expect("array")
-        .iter()
-        .map(|x| x.as_f64().expect("number"))
-        .collect()
 }
 
 fn six(v: &Value) -> Vector6<f64> {
