@@ -4,7 +4,8 @@
 //! `V = ½ rᵀ D r + ½ θ̃ᵀ Γ⁻¹ θ̃` never rises by more than 1e-9 (relative) on a step and
 //! `V + ∫ rᵀ G r` stays constant to 1e-6 (relative). For the position task (m = 3) and for
 //! the tasks with orientation rows, m = 6 (pose) and m = 5 (tool axis), while the desired
-//! orientation turns the tool to vertical.
+//! orientation turns the tool to vertical. And with the Panda's flange `panda_link8` as the
+//! controlled frame (pose task, contact at the flange).
 //!
 //! With true joint friction and armature (arm7_friction, joint terms adapted too) the loop
 //! dissipates more: the law's viscous column is `F_v q̇_r`, the plant's `F_v q̇`, so
@@ -15,7 +16,7 @@
 
 use dyngen_control::controller::{parameter_error_energy, Measurement};
 use dyngen_control::sim::{rk4_step, start_posture_for, Demo, DemoOptions, RkState, RunKind};
-use dyngen_generated::{arm7, arm7_friction};
+use dyngen_generated::{arm7, arm7_friction, panda};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{JointTrig, Parameterization};
 
@@ -76,15 +77,39 @@ fn lyapunov_with_joint_friction_and_armature_adapted() {
     assert!(friction > 1e-4, "∫rᵀF_v r / V(0) = {friction:.2e}");
 }
 
-/// Runs the closed loop and checks `V`; returns `∫ rᵀ F_v r / V(0)` (0 without friction).
-fn lyapunov_check<Z: Parameterization<7, M>, const M: usize, const T: usize>() -> f64 {
-    let q0 = start_posture_for::<Z::Robot, 7>(None).expect("start posture");
-    // Start pressing (0.5 mm into the table, 5 N), so that the contact never opens.
-    let options = DemoOptions {
+/// At a named frame other than the end-effector (the Panda's flange `panda_link8`, pose task):
+/// the frame's generated `J` and `J̇` are consistent in the closed loop as the end-effector's
+/// are, with the contact at that frame too.
+#[test]
+fn lyapunov_at_a_named_frame() {
+    type Z = panda::Base;
+    const M: usize = panda::BASE_PARAMETER_COUNT;
+    let demo = Demo::<Z, 7, M, 6>::new_at_frame(pressing(), start::<Z, M>(), panda::Frame::PandaLink8)
+        .expect("valid demo");
+    assert_eq!(demo.controlled_frame(), Some("panda_link8"));
+    lyapunov_of(demo);
+}
+
+fn start<Z: Parameterization<7, M>, const M: usize>() -> SVector<f64, 7> {
+    start_posture_for::<Z::Robot, 7>(None).expect("start posture")
+}
+
+/// Start pressing (0.5 mm into the table, 5 N), so that the contact never opens.
+fn pressing() -> DemoOptions {
+    DemoOptions {
         start_height: -0.0005,
         ..DemoOptions::default()
-    };
-    let demo = Demo::<Z, 7, M, T>::new(options, q0).expect("valid demo");
+    }
+}
+
+/// [`lyapunov_of`] the demo at the end-effector.
+fn lyapunov_check<Z: Parameterization<7, M>, const M: usize, const T: usize>() -> f64 {
+    lyapunov_of(Demo::<Z, 7, M, T>::new(pressing(), start::<Z, M>()).expect("valid demo"))
+}
+
+/// Runs the closed loop and checks `V`; returns `∫ rᵀ F_v r / V(0)` (0 without friction).
+fn lyapunov_of<Z: Parameterization<7, M>, const M: usize, const T: usize>(demo: Demo<Z, 7, M, T>) -> f64 {
+    let q0 = demo.q0;
     let ctrl = demo.controller(RunKind::Adaptive).expect("valid controller");
     let g = demo.g;
     let gamma = demo.gamma;

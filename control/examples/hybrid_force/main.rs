@@ -6,7 +6,9 @@
 //! joint terms differ from the nominal ones, the adaptive run adapts them too (`--joint-gain`)
 //! and a fourth run adapts only the inertial parameters, the joint terms held at nominal. `--task pose`
 //! also turns the tool to vertical and holds its orientation (task dimension 6), `--task
-//! tool-axis` holds only the tool axis vertical (5).
+//! tool-axis` holds only the tool axis vertical (5). `--frame NAME` controls, and touches the
+//! table with, the robot's frame `NAME` instead of the end-effector (`--frame panda_link8`: the
+//! Panda's flange; an unknown name lists the robot's frames).
 //!
 //! `cargo run --release -p dyngen-control --example hybrid_force -- -o out/hybrid_force`
 //!
@@ -16,7 +18,7 @@
 mod svg;
 
 use clap::{Parser, ValueEnum};
-use dyngen_control::controller::GammaByKind;
+use dyngen_control::controller::{frame_named, GammaByKind};
 use dyngen_control::sim::{
     start_posture_for, summary_table, write_csv, Demo, DemoOptions, JointTermFactors, NoiseConfig, RunKind,
     RunResult, RunStatus, Sample,
@@ -25,7 +27,9 @@ use dyngen_generated::{
     arm7, arm7_friction, panda, panda_rounded, ur5, Arm7, Arm7Friction, Panda, PandaRounded, Ur5,
 };
 use dyngen_runtime::nalgebra::SVector;
-use dyngen_runtime::{BaseParameters, ForwardDynamics, Kinematics, Parameterization};
+use dyngen_runtime::{
+    BaseParameters, ForwardDynamics, FrameKinematics, Kinematics, Parameterization, RobotFrame,
+};
 use std::io::{IsTerminal as _, Write as _};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
@@ -64,6 +68,11 @@ struct Args {
     /// (m = 6: position, tool turned to vertical and its orientation held).
     #[arg(long, value_enum, default_value = "position")]
     task: Task,
+    /// The robot frame the task controls and the table is touched with, by its name in the
+    /// description (e.g. panda_link8, panda_hand on the Panda; ee_link, wrist_3_link on the
+    /// UR5); default: the end-effector.
+    #[arg(long, value_name = "NAME")]
+    frame: Option<String>,
     /// Directory for the CSV files and plots (created if missing).
     #[arg(short, long, default_value = "hybrid_force_out")]
     output: PathBuf,
@@ -200,25 +209,39 @@ fn options(args: &Args) -> DemoOptions {
 /// per body.
 fn run_robot<R, const N: usize, const P: usize, const B: usize>(args: &Args) -> Result<bool, String>
 where
-    R: BaseParameters<N, P, B> + ForwardDynamics<N, P>,
+    R: BaseParameters<N, P, B> + ForwardDynamics<N, P> + FrameKinematics<N>,
 {
     let q0 = start_posture_for::<R, N>(args.start.as_deref())?;
+    // `None`: the end-effector through `Kinematics`, as for a robot without named frames.
+    let frame = match &args.frame {
+        Some(name) => Some(frame_named::<R, N>(name).map_err(|e| e.to_string())?),
+        None => None,
+    };
     if args.standard {
-        run_task::<dyngen_runtime::Standard<R>, N, P>(args, q0)
+        run_task::<dyngen_runtime::Standard<R>, N, P>(args, q0, frame)
     } else {
-        run_task::<dyngen_runtime::Base<R, P>, N, B>(args, q0)
+        run_task::<dyngen_runtime::Base<R, P>, N, B>(args, q0, frame)
     }
 }
 
+/// The robot frame a `--frame` chose.
+type FrameOf<Z, const N: usize, const M: usize> =
+    <<Z as Parameterization<N, M>>::Robot as FrameKinematics<N>>::Frame;
+
 /// The task dimension is a type too: 3, 5 or 6.
-fn run_task<Z, const N: usize, const M: usize>(args: &Args, q0: SVector<f64, N>) -> Result<bool, String>
+fn run_task<Z, const N: usize, const M: usize>(
+    args: &Args,
+    q0: SVector<f64, N>,
+    frame: Option<FrameOf<Z, N, M>>,
+) -> Result<bool, String>
 where
     Z: Parameterization<N, M>,
+    Z::Robot: FrameKinematics<N>,
 {
     match args.task {
-        Task::Position => run::<Z, N, M, 3>(args, q0),
-        Task::ToolAxis => run::<Z, N, M, 5>(args, q0),
-        Task::Pose => run::<Z, N, M, 6>(args, q0),
+        Task::Position => run::<Z, N, M, 3>(args, q0, frame),
+        Task::ToolAxis => run::<Z, N, M, 5>(args, q0, frame),
+        Task::Pose => run::<Z, N, M, 6>(args, q0, frame),
     }
 }
 
@@ -226,12 +249,18 @@ where
 fn run<Z, const N: usize, const M: usize, const T: usize>(
     args: &Args,
     q0: SVector<f64, N>,
+    frame: Option<FrameOf<Z, N, M>>,
 ) -> Result<bool, String>
 where
     Z: Parameterization<N, M>,
+    Z::Robot: FrameKinematics<N>,
 {
     let opts = options(args);
-    let demo = Demo::<Z, N, M, T>::new(opts, q0).map_err(|e| e.to_string())?;
+    let demo = match frame {
+        Some(frame) => Demo::<Z, N, M, T>::new_at_frame(opts, q0, frame),
+        None => Demo::<Z, N, M, T>::new(opts, q0),
+    }
+    .map_err(|e| e.to_string())?;
     std::fs::create_dir_all(&args.output)
         .map_err(|e| format!("cannot create {}: {e}", args.output.display()))?;
 
@@ -246,6 +275,18 @@ where
         match opts.stiffness_estimation {
             Some((f, g)) => format!(", stiffness estimated online from {f}·k (γ = {g})"),
             None => String::new(),
+        }
+    );
+    println!(
+        "controlled frame: {}",
+        match demo.controlled_frame() {
+            Some(name) => name.to_string(),
+            None => format!(
+                "{} (the end-effector)",
+                <FrameOf<Z, N, M> as RobotFrame>::ALL
+                    .first()
+                    .map_or("", |f| f.name())
+            ),
         }
     );
     println!(

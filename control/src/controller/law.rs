@@ -4,6 +4,7 @@
 
 use super::adaptation::rate_from_regressor_product;
 use super::error::{ConfigError, TickError};
+use super::frame::ControlledFrame;
 use super::gains::Gains;
 use super::matvec;
 use super::orientation::{orientation_angle, OrientationRows};
@@ -11,7 +12,7 @@ use super::projections::{smallest_singular, Projections, SingularityGuard};
 use super::reference::{reference, Desired, Measurement, Reference, ReferenceGains};
 use super::stiffness_estimator::StiffnessEstimator;
 use super::task::{ContactTask, Orientation, Split};
-use dyngen_runtime::{JointTrig, Kinematics, Parameterization, Pose};
+use dyngen_runtime::{FrameKinematics, JointTrig, Parameterization, Pose};
 use nalgebra::{SMatrix, SVector, Vector3};
 use std::marker::PhantomData;
 
@@ -61,17 +62,22 @@ pub struct ControlOutput<const N: usize, const M: usize, const S: usize> {
 /// `HybridController<arm7::Base, { arm7::DOF }, { arm7::BASE_PARAMETER_COUNT }>` (position),
 /// `HybridController<arm7::Base, { arm7::DOF }, { arm7::BASE_PARAMETER_COUNT }, 6>` (pose).
 /// The number of force-controlled directions comes last, as it changes least often.
+///
+/// The task rows and the contact force act at the *controlled frame*: the end-effector by
+/// default (through [`dyngen_runtime::Kinematics`], for every robot), or any named frame of a
+/// robot generated with the group `frames`, chosen with [`Self::with_controlled_frame`].
 #[derive(Clone, Debug)]
 pub struct HybridController<Z, const N: usize, const M: usize, const T: usize = 3, const S: usize = 1> {
     config: ControllerConfig<N, M, T, S>,
     split: Split<T, S>,
     theta_hat: SVector<f64, M>,
     estimator: Option<StiffnessEstimator<S>>,
+    frame: ControlledFrame<N>,
     _robot: PhantomData<fn() -> Z>,
 }
 
 /// The task rows at one state: `J_T`, `J̇_T`, the orientation rows, the pose and the
-/// end-effector's linear velocity.
+/// controlled frame's linear velocity.
 struct TaskKinematics<const N: usize, const T: usize> {
     pose: Pose,
     velocity: Vector3<f64>,
@@ -110,8 +116,39 @@ where
             split,
             theta_hat: config.theta_hat0,
             estimator: None,
+            frame: ControlledFrame::END_EFFECTOR,
             _robot: PhantomData,
         })
+    }
+
+    /// Controls `frame` instead of the end-effector: its origin's position (and, for task
+    /// dimensions 5 and 6, its orientation; the tool axis of [`Orientation::ToolAxis`] is in its
+    /// axes) follows the desired motion, and the measured force `F̄` is taken as acting at its
+    /// origin (`τ = J_frameᵀ F̄ + …`). The frame's Jacobian is the generated one in
+    /// [`dyngen_runtime::ReferenceFrame::LocalWorldAligned`], the convention of
+    /// [`dyngen_runtime::Kinematics::kinematics`], so choosing the end-effector
+    /// (`RobotFrame::ALL[0]`) gives the same torques as the default. Only for robots generated
+    /// with the group `frames`; [`frame_named`](super::frame_named) finds a frame by its name.
+    pub fn with_controlled_frame(self, frame: <Z::Robot as FrameKinematics<N>>::Frame) -> Self
+    where
+        Z::Robot: FrameKinematics<N>,
+    {
+        self.at_frame(ControlledFrame::of::<Z::Robot>(frame))
+    }
+
+    pub(crate) fn at_frame(mut self, frame: ControlledFrame<N>) -> Self {
+        self.frame = frame;
+        self
+    }
+
+    /// The name of the frame chosen with [`Self::with_controlled_frame`]; `None` when the
+    /// controller controls the end-effector by default.
+    pub fn controlled_frame(&self) -> Option<&'static str> {
+        self.frame.name()
+    }
+
+    pub(crate) fn frame(&self) -> &ControlledFrame<N> {
+        &self.frame
     }
 
     /// Estimate the contact stiffness online (Remark 3, no stability proof) starting from
@@ -133,7 +170,7 @@ where
     /// orientation at the start `d0` is more than
     /// [`MAX_START_ORIENTATION_ERROR_DEG`] away from the robot's.
     pub fn check_start(&self, q0: &SVector<f64, N>, d0: &Desired<N, S>) -> Result<(), ConfigError> {
-        let k = Self::task_kinematics(&self.config.task, &JointTrig::new(q0), &SVector::zeros(), d0);
+        let k = self.task_kinematics(&JointTrig::new(q0), &SVector::zeros(), d0);
         let (sigma, _) = smallest_singular(&k.j);
         let threshold = self.config.guard.sigma_threshold;
         if !(sigma.is_finite() && sigma >= threshold) {
@@ -150,15 +187,17 @@ where
         Ok(())
     }
 
-    /// `J_T`, `J̇_T` and the orientation rows (see [`super::orientation`]).
+    /// `J_T`, `J̇_T` and the orientation rows (see [`super::orientation`]) of the controlled
+    /// frame.
     #[inline]
     fn task_kinematics(
-        task: &ContactTask<T, S>,
+        &self,
         trig: &JointTrig<N>,
         qd: &SVector<f64, N>,
         d: &Desired<N, S>,
     ) -> TaskKinematics<N, T> {
-        let (pose, j6, jd6) = Z::Robot::kinematics(trig, qd);
+        let task = &self.config.task;
+        let (pose, j6, jd6) = self.frame.kinematics::<Z::Robot>(trig, qd);
         let j_force: SMatrix<f64, 3, N> = j6.fixed_rows::<3>(0).into_owned();
         let velocity = matvec::mul(&j_force, qd);
         // Full orientation: P = I, so the task Jacobian is the geometric one (no products).
@@ -237,7 +276,7 @@ where
             return Err(TickError::NonFiniteMeasurement);
         }
         let trig = JointTrig::new(&m.q);
-        let k = Self::task_kinematics(&self.config.task, &trig, &m.qd, d);
+        let k = self.task_kinematics(&trig, &m.qd, d);
         let proj = Projections::new(&k.j, &k.jd, &self.config.guard)?;
         let gains = ReferenceGains {
             lambda: self.config.gains.lambda,

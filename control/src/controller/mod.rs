@@ -1,6 +1,7 @@
 //! The adaptive hybrid force/position controller of the technical note *Adaptive Hybrid
 //! Force-Position Control for Redundant Manipulators* (`docs/controller.md` gives it equation by
-//! equation, with the deviations): task dimension and task-frame contact split (`task`),
+//! equation, with the deviations): the controlled frame, the end-effector or any named frame
+//! (`frame`), task dimension and task-frame contact split (`task`),
 //! orientation rows by rotation error on the geometric Jacobian (`orientation`), projections
 //! with the singularity guard (`projections`, solving with the small Cholesky factor of `spd`
 //! and the fused products of `matvec`), reference velocity and analytic reference acceleration
@@ -11,6 +12,7 @@
 
 mod adaptation;
 mod error;
+pub(crate) mod frame;
 mod gains;
 mod law;
 mod matvec;
@@ -23,6 +25,7 @@ mod task;
 
 pub use adaptation::{parameter_error_energy, GammaByKind};
 pub use error::{ConfigError, TickError};
+pub use frame::frame_named;
 pub use gains::{inertia_estimate, inertia_shaped_gain, Gains};
 pub use law::{
     Adaptation, ControlOutput, ControllerConfig, HybridController, MAX_START_ORIENTATION_ERROR_DEG,

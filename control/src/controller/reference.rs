@@ -6,8 +6,9 @@ use super::projections::Projections;
 use super::task::{ContactTask, Split};
 use nalgebra::{Matrix3, SVector, Vector3};
 
-/// What is measured: joint positions and velocities and the force the end-effector exerts on
-/// the environment `F̄` (base frame). No joint acceleration, no force derivative.
+/// What is measured: joint positions and velocities and the force the controlled frame (the
+/// end-effector by default) exerts on the environment at its origin, `F̄` (base frame). No
+/// joint acceleration, no force derivative.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Measurement<const N: usize> {
     pub q: SVector<f64, N>,
@@ -76,8 +77,9 @@ pub(crate) struct ReferenceGains {
 /// distance). This replaces the note's guard (`Ḟ_t = 0` when `F̄ = 0`), which makes `q̈_r`
 /// inconsistent in free space.
 ///
-/// `position` and `velocity` are the end-effector's (base frame); `orientation` holds the
-/// orientation rows at this state (see [`super::orientation`]); `proj` the task Jacobian.
+/// `position` and `velocity` are those of the controlled frame's origin (base frame);
+/// `orientation` holds the orientation rows at this state (see [`super::orientation`]); `proj`
+/// the task Jacobian.
 #[allow(clippy::too_many_arguments)]
 #[inline]
 pub(crate) fn reference<const N: usize, const S: usize, const T: usize>(

@@ -1,4 +1,5 @@
-//! The contact task: task dimension `T` (what of the end-effector's pose is controlled), the
+//! The contact task: task dimension `T` (what of the controlled frame's pose is controlled: the
+//! end-effector's by default, see `HybridController::with_controlled_frame`), the
 //! task-frame rotation `R`, the contact stiffness rows `K` and their split into the
 //! force-controlled directions `K⁺ = Kᵀ(KKᵀ)⁻¹` and the position-controlled ones `K⁻ = I − K⁺K`.
 //!
@@ -7,7 +8,7 @@
 //!
 //! | `T` | rows | null space on a 7-DOF arm |
 //! |---|---|---|
-//! | 3 (default) | end-effector position | 4-D |
+//! | 3 (default) | position (of the controlled frame's origin) | 4-D |
 //! | 5 | position + the direction of a tool axis (free rotation about it) | 2-D |
 //! | 6 | position + full orientation | 1-D |
 //!
@@ -20,13 +21,13 @@
 use super::error::ConfigError;
 use nalgebra::{Cholesky, Matrix3, SMatrix, Vector3};
 
-/// What of the end-effector's orientation the task controls.
+/// What of the controlled frame's orientation the task controls.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Orientation {
     /// Nothing: task dimension 3 (position only).
     Free,
-    /// The direction of `axis` (a unit vector in the end-effector frame, e.g. `+z`, the tool
-    /// axis); the rotation about it is left to the null space. Task dimension 5.
+    /// The direction of `axis` (a unit vector in the controlled frame's axes, e.g. `+z`, the
+    /// tool axis); the rotation about it is left to the null space. Task dimension 5.
     ToolAxis { axis: Vector3<f64> },
     /// The whole orientation. Task dimension 6.
     Full,
@@ -112,8 +113,8 @@ impl ContactTask<3, 1> {
 
 impl<const S: usize> ContactTask<3, S> {
     /// The same contact with the task dimension `U` (3, 5 or 6) and the orientation task that
-    /// goes with it (`axis`, end-effector frame, is the tool axis for `U = 5`): `K` gains zero
-    /// orientation columns. A `U` that is none of these gives a task that
+    /// goes with it (`axis`, in the controlled frame's axes, is the tool axis for `U = 5`): `K`
+    /// gains zero orientation columns. A `U` that is none of these gives a task that
     /// [`ContactTask::validate`] refuses.
     pub fn with_task_dimension<const U: usize>(&self, axis: Vector3<f64>) -> ContactTask<U, S> {
         ContactTask {
@@ -130,7 +131,7 @@ impl<const S: usize> ContactTask<3, S> {
         self.with_task_dimension::<6>(Vector3::z())
     }
 
-    /// Position and the direction of the tool axis `axis` (end-effector frame), free rotation
+    /// Position and the direction of the tool axis `axis` (controlled frame's axes), free rotation
     /// about it (`T = 5`).
     pub fn with_tool_axis(&self, axis: Vector3<f64>) -> ContactTask<5, S> {
         self.with_task_dimension::<5>(axis)

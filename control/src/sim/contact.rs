@@ -27,8 +27,8 @@ impl PlaneContact {
         self.normal.dot(&(self.point - x))
     }
 
-    /// `F̄`: the force the end-effector at `x` exerts on the surface (base frame); for the table
-    /// `F̄_z = k·min(0, z − z_e)`, negative when pressing.
+    /// `F̄`: the force the robot's contact point at `x` exerts on the surface (base frame); for
+    /// the table `F̄_z = k·min(0, z − z_e)`, negative when pressing.
     pub fn force_on_environment(&self, x: &Vector3<f64>) -> Vector3<f64> {
         let p = self.penetration(x);
         if p > 0.0 {

@@ -4,18 +4,21 @@
 //! compared (adaptive, adaptation off, known parameters; on a robot with joint-level columns
 //! also adaptive with the joint terms held at their nominal values), for a task of dimension `T`: 3
 //! (position, the default), 5 (position and the tool axis held along `tool_direction`), 6
-//! (position and the orientation whose tool axis is along `tool_direction`).
+//! (position and the orientation whose tool axis is along `tool_direction`). The task and the
+//! contact are at the end-effector ([`Demo::new`]) or at any named frame of a robot generated
+//! with the group `frames` ([`Demo::new_at_frame`]).
 
 use super::contact::PlaneContact;
 use super::plant::{Payload, Plant};
 use super::run::{simulate, RunResult, SimConfig};
 use super::scenario::PressAndCircle;
 use super::true_joint_terms::JointTermFactors;
+use crate::controller::frame::ControlledFrame;
 use crate::controller::{
     inertia_shaped_gain, Adaptation, ConfigError, ContactTask, ControllerConfig, Gains, GammaByKind,
     HybridController, SingularityGuard,
 };
-use dyngen_runtime::{JointTrig, Kinematics, Parameterization};
+use dyngen_runtime::{FrameKinematics, JointTrig, Kinematics, Parameterization};
 use nalgebra::{Rotation3, SMatrix, SVector, Vector3};
 
 /// Which law a run uses.
@@ -84,8 +87,8 @@ pub struct DemoOptions {
     /// Online stiffness estimation: `(k̂(0)/k, rate γ)`.
     pub stiffness_estimation: Option<(f64, f64)>,
     pub guard: SingularityGuard,
-    /// The tool axis (end-effector frame, unit): its direction is held by tasks of dimension
-    /// 5 and 6.
+    /// The tool axis (unit, in the axes of the controlled frame: the end-effector's by
+    /// default): its direction is held by tasks of dimension 5 and 6.
     pub tool_axis: Vector3<f64>,
     /// Where the tool axis points once turned (base frame, unit): straight down by default.
     pub tool_direction: Vector3<f64>,
@@ -153,6 +156,8 @@ pub struct Demo<Z, const N: usize, const M: usize, const T: usize = 3> {
     pub gamma: SVector<f64, M>,
     /// `Γ` with the joint-level gain 0: the run [`RunKind::AdaptiveJointTermsHeld`].
     pub gamma_joint_terms_held: SVector<f64, M>,
+    /// The frame the controllers control and the plant touches the table with.
+    frame: ControlledFrame<N>,
     _z: std::marker::PhantomData<fn() -> Z>,
 }
 
@@ -160,13 +165,45 @@ impl<Z, const N: usize, const M: usize, const T: usize> Demo<Z, N, M, T>
 where
     Z: Parameterization<N, M>,
 {
-    /// Builds and checks the set-up: the table is `start_height` below the end-effector at
-    /// `q0`; the target orientation turns the tool axis onto `tool_direction` by the shortest
-    /// rotation; `G = κ D̂(q₀)` from the adaptive run's initial estimate, shared by all runs;
-    /// the torques are clamped to the description's effort limits.
+    /// Builds and checks the set-up at the end-effector (through `Kinematics`, for every
+    /// robot): the table is `start_height` below the end-effector at `q0`; the target
+    /// orientation turns the tool axis onto `tool_direction` by the shortest rotation;
+    /// `G = κ D̂(q₀)` from the adaptive run's initial estimate, shared by all runs; the torques
+    /// are clamped to the description's effort limits.
     pub fn new(options: DemoOptions, q0: SVector<f64, N>) -> Result<Self, ConfigError> {
+        Self::build(options, q0, ControlledFrame::END_EFFECTOR)
+    }
+
+    /// The same set-up at `frame` instead of the end-effector: the table is `start_height`
+    /// below that frame's origin at `q0`, every controller controls it
+    /// ([`HybridController::with_controlled_frame`]), the plant touches the table with it
+    /// ([`Plant::with_contact_frame`]) and the tool axis is in its axes. Only for robots
+    /// generated with the group `frames`; [`crate::controller::frame_named`] finds a frame by
+    /// its name. The payload stays on the end-effector's body.
+    pub fn new_at_frame(
+        options: DemoOptions,
+        q0: SVector<f64, N>,
+        frame: <Z::Robot as FrameKinematics<N>>::Frame,
+    ) -> Result<Self, ConfigError>
+    where
+        Z::Robot: FrameKinematics<N>,
+    {
+        Self::build(options, q0, ControlledFrame::of::<Z::Robot>(frame))
+    }
+
+    /// The name of the frame given to [`Self::new_at_frame`]; `None` for the end-effector of
+    /// [`Self::new`].
+    pub fn controlled_frame(&self) -> Option<&'static str> {
+        self.frame.name()
+    }
+
+    fn build(
+        options: DemoOptions,
+        q0: SVector<f64, N>,
+        frame: ControlledFrame<N>,
+    ) -> Result<Self, ConfigError> {
         let torque_limit = effort_limits::<Z::Robot, N>()?;
-        let pose = Z::Robot::forward_kinematics(&JointTrig::new(&q0));
+        let pose = frame.pose::<Z::Robot>(&JointTrig::new(&q0));
         let start = pose.translation;
         if !start.iter().all(|x| x.is_finite()) {
             return Err(ConfigError::Invalid {
@@ -180,7 +217,8 @@ where
             &options.payload,
             &options.true_joint_terms,
             contact,
-        );
+        )
+        .at_frame(frame);
         let unit = |v: Vector3<f64>, name: &'static str| {
             v.try_normalize(1e-9).ok_or_else(|| ConfigError::Invalid {
                 name,
@@ -274,6 +312,7 @@ where
             g,
             gamma,
             gamma_joint_terms_held,
+            frame,
             _z: std::marker::PhantomData,
         };
         // Every configuration error shows up here, before any run.
@@ -320,7 +359,8 @@ where
             torque_limit: self.torque_limit,
             adaptation,
             theta_hat0: theta,
-        })?;
+        })?
+        .at_frame(self.frame);
         c.check_start(&self.q0, &self.scenario.desired(0.0))?;
         let d_hat = crate::controller::inertia_estimate::<Z, N, M>(&self.q0, &theta);
         let value = gains.stiffest_mode(&d_hat)? * self.options.sim.control_period;

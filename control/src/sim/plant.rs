@@ -19,8 +19,9 @@
 
 use super::contact::PlaneContact;
 use super::true_joint_terms::JointTermFactors;
+use crate::controller::frame::ControlledFrame;
 use crate::mass_matrix_through_regressor;
-use dyngen_runtime::{body_parameters, JointTrig, Kinematics, Parameterization};
+use dyngen_runtime::{body_parameters, FrameKinematics, JointTrig, Kinematics, Parameterization};
 use nalgebra::{Cholesky, Matrix3, SMatrix, SVector, Vector3};
 use std::marker::PhantomData;
 
@@ -70,13 +71,15 @@ impl<const N: usize> super::rk4::RkState for PlantState<N> {
     }
 }
 
-/// The true robot in contact with a plane.
+/// The true robot in contact with a plane, touching it with the origin of its contact frame:
+/// the end-effector by default, or a named frame chosen with [`Plant::with_contact_frame`].
 #[derive(Clone, Debug)]
 pub struct Plant<Z, const N: usize, const M: usize> {
     theta: SVector<f64, M>,
     /// `θ_true` equals the description's: the generated forward dynamics are exact.
     is_description: bool,
     pub contact: PlaneContact,
+    frame: ControlledFrame<N>,
     _robot: PhantomData<fn() -> Z>,
 }
 
@@ -87,8 +90,37 @@ impl<Z: Parameterization<N, M>, const N: usize, const M: usize> Plant<Z, N, M> {
             is_description: theta == Z::description(),
             theta,
             contact,
+            frame: ControlledFrame::END_EFFECTOR,
             _robot: PhantomData,
         }
+    }
+
+    /// Touches the plane with the origin of `frame` instead of the end-effector's: the contact
+    /// force acts there, through that frame's Jacobian. ([`super::simulate`] always touches the
+    /// plane with the controller's controlled frame, see
+    /// [`crate::controller::HybridController::with_controlled_frame`].)
+    pub fn with_contact_frame(self, frame: <Z::Robot as FrameKinematics<N>>::Frame) -> Self
+    where
+        Z::Robot: FrameKinematics<N>,
+    {
+        self.at_frame(ControlledFrame::of::<Z::Robot>(frame))
+    }
+
+    /// The same plant touching the plane with `frame`.
+    pub(crate) fn at_frame(&self, frame: ControlledFrame<N>) -> Self {
+        Plant {
+            theta: self.theta,
+            is_description: self.is_description,
+            contact: self.contact,
+            frame,
+            _robot: PhantomData,
+        }
+    }
+
+    /// The name of the frame chosen with [`Self::with_contact_frame`]; `None` when the
+    /// end-effector touches the plane (the default).
+    pub fn contact_frame(&self) -> Option<&'static str> {
+        self.frame.name()
     }
 
     /// The description's parameters plus `payload` on the end-effector's body.
@@ -144,10 +176,10 @@ impl<Z: Parameterization<N, M>, const N: usize, const M: usize> Plant<Z, N, M> {
         })
     }
 
-    /// `F̄` at `q`: the force the end-effector exerts on the plane.
+    /// `F̄` at `q`: the force the contact frame's origin exerts on the plane.
     pub fn contact_force(&self, t: &JointTrig<N>) -> Vector3<f64> {
         self.contact
-            .force_on_environment(&Z::Robot::forward_kinematics(t).translation)
+            .force_on_environment(&self.frame.pose::<Z::Robot>(t).translation)
     }
 
     /// `q̈` and `F̄` under torque `tau`.
@@ -158,7 +190,11 @@ impl<Z: Parameterization<N, M>, const N: usize, const M: usize> Plant<Z, N, M> {
     ) -> Result<(SVector<f64, N>, Vector3<f64>), PlantError> {
         let t = JointTrig::new(&s.q);
         let force = self.contact_force(&t);
-        let j: SMatrix<f64, 3, N> = Z::Robot::jacobian(&t).fixed_rows::<3>(0).into_owned();
+        let j: SMatrix<f64, 3, N> = self
+            .frame
+            .jacobian::<Z::Robot>(&t)
+            .fixed_rows::<3>(0)
+            .into_owned();
         let applied = tau - j.tr_mul(&force);
         let qdd = if self.is_description {
             Z::description_forward_dynamics(&t, &s.qd, &applied)

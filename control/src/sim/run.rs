@@ -9,7 +9,7 @@ use super::scenario::PressAndCircle;
 use crate::controller::orientation::orientation_angle;
 use crate::controller::parameter_error_energy;
 use crate::controller::{Adaptation, HybridController, Measurement};
-use dyngen_runtime::{JointTrig, Kinematics, Parameterization};
+use dyngen_runtime::{JointTrig, Parameterization};
 use nalgebra::SVector;
 use std::time::Instant;
 
@@ -132,6 +132,10 @@ impl RunResult {
 }
 
 /// Runs the scenario from rest at `q0`. `progress` is called with the fraction done.
+///
+/// The plant touches the plane with the controller's controlled frame (the end-effector unless
+/// chosen with [`HybridController::with_controlled_frame`]), whatever its own contact frame,
+/// and the logged errors are those of that frame.
 pub fn simulate<Z, const N: usize, const M: usize, const T: usize>(
     plant: &Plant<Z, N, M>,
     controller: &mut HybridController<Z, N, M, T>,
@@ -143,6 +147,9 @@ pub fn simulate<Z, const N: usize, const M: usize, const T: usize>(
 where
     Z: Parameterization<N, M>,
 {
+    // The contact and the logged errors at the frame the controller controls.
+    let frame = *controller.frame();
+    let plant = &plant.at_frame(frame);
     let dt = config.control_period;
     let steps = (scenario.duration() / dt).round() as usize;
     let h = dt / config.substeps.max(1) as f64;
@@ -188,7 +195,7 @@ where
         };
 
         // Logged errors from the true state (the controller's own are from noisy measurements).
-        let pose = Z::Robot::forward_kinematics(&trig);
+        let pose = frame.pose::<Z::Robot>(&trig);
         let x_t = task.rotation * pose.translation;
         let f_true = (task.force_selection * (task.rotation * true_force))[0];
         let x_err = x_t - desired.position;

@@ -27,7 +27,7 @@ fn blend(u: f64) -> (f64, f64, f64) {
 /// table, the base frame with z up).
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PressAndCircle<const N: usize> {
-    /// End-effector position at the start.
+    /// Position of the controlled frame's origin (the end-effector's by default) at the start.
     pub start: Vector3<f64>,
     /// Height of the undeformed surface.
     pub surface: f64,
