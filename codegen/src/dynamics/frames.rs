@@ -82,8 +82,8 @@ impl<S: Scalar> FrameMotion<S> {
         if reference != ReferenceFrame::LocalWorldAligned {
             let (v, w) = halves(&self.velocity_in(reference, qd));
             let extra = w.cross(&v);
-            for k in 0..3 {
-                out[k] = out[k] + extra.0[k];
+            for (o, e) in out.iter_mut().zip(extra.0) {
+                *o = *o + e;
             }
         }
         out
