@@ -7,7 +7,9 @@
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::model::{Body, Frame, Inertia, Model, Pose};
 use dyngen_runtime::ReferenceFrame;
-use dyngen_testkit::oracles::{along, directional_derivative, extrapolate, rotation_log, STEP};
+use dyngen_testkit::oracles::{
+    along, directional_derivative, extrapolate, rotation_log, Pose as PoseOf, STEP,
+};
 use dyngen_testkit::random_model::{arb_model_and_state, arb_pose, deterministic_runner};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use proptest::prelude::*;
@@ -40,7 +42,7 @@ fn unit(n: usize, k: usize) -> Vec<f64> {
 /// `express` (base axes, or the frame's own at `x`), `v` the velocity of the body point at
 /// `point` (a point fixed in the frame, given by its position at `x`).
 fn differenced_velocity(
-    pose: &dyn Fn(&[f64]) -> (Matrix3<f64>, Vector3<f64>),
+    pose: &dyn Fn(&[f64]) -> PoseOf,
     q: &[f64],
     dir: &[f64],
     point: Vector3<f64>,
@@ -120,7 +122,7 @@ fn check(model: &Model, q: &[f64], qd: &[f64], qdd: &[f64]) -> Result<(), TestCa
         let p_ddot = extrapolate(
             |t| {
                 let (plus, minus) = (pose(&path(t).0).1, pose(&path(-t).0).1);
-                column((&((plus - 2.0 * p + minus) / (t * t))).as_slice())
+                column(((plus - 2.0 * p + minus) / (t * t)).as_slice())
             },
             STEP,
         );

@@ -5,8 +5,8 @@
 use dyngen_generated::{Panda, Ur5};
 use dyngen_runtime::nalgebra::{DMatrix, SMatrix, SVector};
 use dyngen_runtime::{
-    ExternalWrench, ForwardDynamics, FrameKinematics, JointTrig, Kinematics, ReferenceFrame, RobotDynamics,
-    RobotFrame, WrenchDynamics,
+    ExternalWrench, ForwardDynamics, FrameKinematics, JointTrig, ReferenceFrame, RobotDynamics, RobotFrame,
+    WrenchDynamics,
 };
 use dyngen_testkit::{assert_close, frame_fixture};
 
