@@ -7,6 +7,7 @@
 pub mod dynamics {
     pub use crate::dynamics::crba::mass_matrix;
     pub use crate::dynamics::forward_dynamics::forward_dynamics;
+    pub use crate::dynamics::frames::{local_jacobian, FrameMotion, FrameRates};
     pub use crate::dynamics::inertias::{body_inertias, inertias_from_parameters};
     pub use crate::dynamics::joint::joint_transforms;
     pub use crate::dynamics::joint_terms::joint_term_values;

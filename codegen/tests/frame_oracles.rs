@@ -211,6 +211,42 @@ fn check(model: &Model, q: &[f64], qd: &[f64], qdd: &[f64]) -> Result<(), TestCa
     Ok(())
 }
 
+/// The second formulations the generator may choose instead (the local `J` carried back from
+/// the frame, velocity and acceleration by the forward recursion) give the same values.
+fn check_other_forms(model: &Model, q: &[f64], qd: &[f64], qdd: &[f64]) -> Result<(), TestCaseError> {
+    use dyngen_codegen::internals::dynamics::{
+        body_poses, joint_transforms, local_jacobian, FrameMotion, FrameRates,
+    };
+    let x = joint_transforms(model, q);
+    let world = body_poses(model, &x);
+    for frame in model.frames() {
+        let at = |what: &str| format!("{} frame {}: {what}", model.name(), frame.name);
+        let motion = FrameMotion::new(model, &world, qd, frame);
+        let rates = FrameRates::new(model, &x, qd, qdd, frame);
+        close(
+            &at("local J carried back"),
+            &local_jacobian(model, &x, frame),
+            &motion.jacobian_in(ReferenceFrame::Local),
+            IDENTITY,
+        )?;
+        for r in ReferenceFrame::ALL {
+            close(
+                &at(&format!("velocity by recursion, {}", r.keyword())),
+                &column(&rates.velocity_in(r, &motion.pose)),
+                &column(&motion.velocity_in(r, qd)),
+                IDENTITY,
+            )?;
+            close(
+                &at(&format!("classical acceleration by recursion, {}", r.keyword())),
+                &column(&rates.classical_acceleration_in(r, &motion.pose)),
+                &column(&motion.classical_acceleration_in(r, qd, qdd)),
+                IDENTITY,
+            )?;
+        }
+    }
+    Ok(())
+}
+
 #[test]
 fn frames_on_random_trees_match_their_oracles() {
     let strategy = arb_model_and_state(7).prop_flat_map(|(model, state)| {
@@ -223,7 +259,8 @@ fn frames_on_random_trees_match_their_oracles() {
     deterministic_runner(64)
         .run(&strategy, |(model, state, frames)| {
             let model = with_frames(model, &frames);
-            check(&model, &state.q, &state.qd, &state.qdd)
+            check(&model, &state.q, &state.qd, &state.qdd)?;
+            check_other_forms(&model, &state.q, &state.qd, &state.qdd)
         })
         .unwrap();
 }

@@ -9,14 +9,23 @@
 //!   on each half (since `d(Rᵀ)/dt x = −Rᵀ (ω × x)`).
 //!
 //! Each `J̇` is the time derivative of the `J` in the same convention, as Pinocchio's
-//! `getFrameJacobianTimeVariation` returns it. The classical acceleration adds `ω × v` to the
+//! `getFrameJacobianTimeVariation` returns it.
+//!
+//! Some quantities also have a second formulation, with the same values and other operation
+//! counts, between which the tracer keeps the cheaper per robot and frame: the local `J`
+//! carried back from the frame to each joint ([`local_jacobian`]) rather than turned from base
+//! axes, and velocity and acceleration from the forward recursion of body velocities and
+//! accelerations ([`FrameRates`]) rather than from `J` and `J̇`. The classical acceleration adds `ω × v` to the
 //! linear part of the spatial acceleration `J q̈ + J̇ q̇`; at the frame origin in base axes that
 //! sum is the origin's acceleration `p̈` already, so nothing is added there.
 
+use super::coupling::{expand, project_columns};
+use super::joint::pose_to_transform;
 use super::kinematics::{frame_jacobian, frame_jacobian_dot, frame_pose};
-use crate::model::{Frame, Model};
+use super::slotine_li::forward_pass;
+use crate::model::{Frame, JointKind, Model};
 use crate::scalar::Scalar;
-use crate::spatial::{Transform, Vec3};
+use crate::spatial::{Motion, Transform, Vec3};
 use dyngen_runtime::ReferenceFrame;
 use nalgebra::DMatrix;
 
@@ -88,6 +97,84 @@ impl<S: Scalar> FrameMotion<S> {
         }
         out
     }
+}
+
+/// `J` in the frame's own axes, column by column from the frame carried back to each joint on
+/// its chain: with the frame's axes `R` and origin `r` in joint `j`'s frame and the joint's axis
+/// `a` there, the column is `[Rᵀ (a × r); Rᵀ a]` (revolute) or `[Rᵀ a; 0]` (prismatic).
+pub fn local_jacobian<S: Scalar>(model: &Model, x: &[Transform<S>], frame: &Frame) -> DMatrix<S> {
+    let mut jac = DMatrix::from_element(6, model.joints().len(), S::zero());
+    let mut placed: Transform<S> = pose_to_transform(&frame.placement);
+    let mut next = Some(frame.parent);
+    while let Some(j) = next {
+        let joint = &model.joints()[j];
+        let a = Vec3::from_f64([joint.axis.x, joint.axis.y, joint.axis.z]);
+        let (lin, ang) = match joint.kind {
+            JointKind::Revolute => (
+                placed.rot.tr_mul_vec(&a.cross(&placed.pos)),
+                placed.rot.tr_mul_vec(&a),
+            ),
+            JointKind::Prismatic => (placed.rot.tr_mul_vec(&a), Vec3::zero()),
+        };
+        set_column(&mut jac, j, lin, ang);
+        placed = x[j].compose(&placed);
+        next = joint.parent;
+    }
+    project_columns(model, jac)
+}
+
+/// A frame's velocity and spatial acceleration in its own axes (Featherstone's `[ω; v]`, `v`
+/// at the frame's origin), from the forward recursion over the bodies above it.
+pub struct FrameRates<S> {
+    pub velocity: Motion<S>,
+    pub acceleration: Motion<S>,
+}
+
+impl<S: Scalar> FrameRates<S> {
+    pub fn new(model: &Model, x: &[Transform<S>], qd: &[S], qdd: &[S], frame: &Frame) -> Self {
+        let (qd, qdd) = (expand(model, qd), expand(model, qdd));
+        let body = &forward_pass(model, x, &qd, &qd, &qdd, None)[frame.parent];
+        let placement: Transform<S> = pose_to_transform(&frame.placement);
+        FrameRates {
+            velocity: placement.motion_to_child(&body.vel),
+            acceleration: placement.motion_to_child(&body.wdot),
+        }
+    }
+
+    /// The velocity in `reference`, `[linear; angular]`; `pose` is the frame's.
+    pub fn velocity_in(&self, reference: ReferenceFrame, pose: &Transform<S>) -> [S; 6] {
+        let (v, w) = (self.velocity.lin, self.velocity.ang);
+        let (r, p) = (&pose.rot, &pose.pos);
+        match reference {
+            ReferenceFrame::Local => join(v, w),
+            ReferenceFrame::LocalWorldAligned => join(r.mul_vec(&v), r.mul_vec(&w)),
+            ReferenceFrame::World => {
+                let w = r.mul_vec(&w);
+                join(r.mul_vec(&v) + p.cross(&w), w)
+            }
+        }
+    }
+
+    /// The classical acceleration in `reference` (see the module docs).
+    pub fn classical_acceleration_in(&self, reference: ReferenceFrame, pose: &Transform<S>) -> [S; 6] {
+        let (v, w) = (self.velocity.lin, self.velocity.ang);
+        // The origin's acceleration and the angular one, in the frame's axes.
+        let (lin, ang) = (self.acceleration.lin + w.cross(&v), self.acceleration.ang);
+        let (r, p) = (&pose.rot, &pose.pos);
+        match reference {
+            ReferenceFrame::Local => join(lin, ang),
+            ReferenceFrame::LocalWorldAligned => join(r.mul_vec(&lin), r.mul_vec(&ang)),
+            ReferenceFrame::World => {
+                // The body point at the base origin: p̈ + p × ω̇ + ω × (p × ω).
+                let (p_ddot, w_dot, w) = (r.mul_vec(&lin), r.mul_vec(&ang), r.mul_vec(&w));
+                join(p_ddot + p.cross(&w_dot) + w.cross(&p.cross(&w)), w_dot)
+            }
+        }
+    }
+}
+
+fn join<S: Scalar>(lin: Vec3<S>, ang: Vec3<S>) -> [S; 6] {
+    [lin.0[0], lin.0[1], lin.0[2], ang.0[0], ang.0[1], ang.0[2]]
 }
 
 /// `m x` for a 6×n matrix.

@@ -37,7 +37,7 @@ pub(crate) use coriolis::coriolis_matrix;
 pub(crate) use crba::mass_matrix;
 pub(crate) use derivatives::{forward_dynamics_derivatives_by, inverse_dynamics_derivatives_by, Directions};
 pub(crate) use forward_dynamics::{forward_dynamics, mass_matrix_inverse};
-pub(crate) use frames::FrameMotion;
+pub(crate) use frames::{local_jacobian, FrameMotion, FrameRates};
 pub(crate) use inertias::{body_inertias, inertias_from_parameters};
 pub(crate) use joint::joint_transforms;
 pub(crate) use joint_terms::{add_armature, add_torques, joint_term_torques, joint_term_values};

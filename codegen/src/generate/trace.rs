@@ -141,7 +141,7 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
 pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functions) -> SymbolicRobot {
     let n = model.dof();
     let regressors = functions.contains(FunctionGroup::Regressors);
-    let (graph, (inputs, mut quantities, lane_forms)) = record(|| {
+    let (graph, (inputs, mut quantities, (lane_forms, alternatives))) = record(|| {
         let (q, qd, v, a) = (inputs("q", n), inputs("qd", n), inputs("v", n), inputs("a", n));
         let x = dynamics::joint_transforms(model, &q);
         let world = dynamics::body_poses(model, &x);
@@ -281,9 +281,12 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
         if regressors {
             quantities.extend(regressor_products(model, &x, [&qd, &v, &a], &theta, &r, &base));
         }
+        let mut alternatives = Vec::new();
         if functions.contains(FunctionGroup::Frames) {
             for (index, frame) in model.frames().iter().enumerate() {
-                quantities.extend(frame_quantities(model, &world, &qd, &a, index, frame));
+                let (traced, other_forms) = frame_quantities(model, &x, &world, &qd, &a, index, frame);
+                quantities.extend(traced);
+                alternatives.extend(other_forms);
             }
         }
         quantities.retain(|q| functions.contains(q.kind.group()));
@@ -298,12 +301,20 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
                 r: ids(&r),
             },
             quantities,
-            lane_forms,
+            (lane_forms, alternatives),
         )
     });
     // The derivatives in lanes where they cost less than one direction at a time.
     for (kind, outputs) in lane_forms {
         if let Some(q) = quantities.iter_mut().find(|q| q.kind == kind) {
+            if cost(&graph, &outputs) < cost(&graph, &q.outputs) {
+                q.outputs = outputs;
+            }
+        }
+    }
+    // Frame quantities in their other formulation where it costs less.
+    for (name, outputs) in alternatives {
+        if let Some(q) = quantities.iter_mut().find(|q| q.name() == name) {
             if cost(&graph, &outputs) < cost(&graph, &q.outputs) {
                 q.outputs = outputs;
             }
@@ -532,14 +543,18 @@ fn fused_kinematics(quantities: &[Quantity], n: usize) -> Quantity {
 
 /// The pose, `J`, `J̇` in each reference frame, velocity, classical acceleration and `(pose,
 /// J, J̇)` of one frame, traced after every other quantity (they add nodes, never renumber).
+/// The second list holds other formulations of some of them (the local `J` carried back from
+/// the frame, velocity and acceleration by the forward recursion), by function name, which
+/// [`trace_functions`] keeps where they cost less.
 fn frame_quantities(
     model: &Model,
+    x: &[crate::spatial::Transform<Expr>],
     world: &[crate::spatial::Transform<Expr>],
     qd: &[Expr],
     qdd: &[Expr],
     index: usize,
     frame: &crate::model::Frame,
-) -> Vec<Quantity> {
+) -> (Vec<Quantity>, Vec<(String, Vec<Id>)>) {
     let n = model.dof();
     let motion = dynamics::FrameMotion::new(model, world, qd, frame);
     let snake = frame_identifiers(&frame.name).snake;
@@ -612,7 +627,24 @@ fn frame_quantities(
         Shape::Kinematics(n),
         fused,
     ));
-    out
+
+    let name_of = |kind, reference| quantity(kind, Some(reference), vec![], Shape::Pose, vec![]).name();
+    let mut other_forms = vec![(
+        name_of(QuantityKind::FrameJacobian, ReferenceFrame::Local),
+        matrix_ids(&dynamics::local_jacobian(model, x, frame)),
+    )];
+    let rates = dynamics::FrameRates::new(model, x, qd, qdd, frame);
+    for r in ReferenceFrame::ALL {
+        other_forms.push((
+            name_of(QuantityKind::FrameVelocity, r),
+            ids(&rates.velocity_in(r, &motion.pose)),
+        ));
+        other_forms.push((
+            name_of(QuantityKind::FrameClassicalAcceleration, r),
+            ids(&rates.classical_acceleration_in(r, &motion.pose)),
+        ));
+    }
+    (out, other_forms)
 }
 
 /// A pose's outputs: the rotation column-major, then the translation.

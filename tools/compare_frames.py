@@ -1,0 +1,210 @@
+#!/usr/bin/env python3
+"""Side by side: dyngen's generated named-frame functions (the group `frames`) and numeric
+Pinocchio 4.1's equivalent calls, on the Panda and the UR5, interleaved, pinned to one core;
+prints a Markdown table.
+
+For developers (not CI). The dyngen side is `generated/benches/frames.rs` (criterion); the
+Pinocchio side is the C++ program of `tools/anchors/frames/` (build it first with its
+`build.sh`, see its README.md):
+
+    tools/anchors/frames/build.sh
+    tools/compare_frames.py                      # 3 rounds, the default build of dyngen
+    tools/compare_frames.py --rounds 5 --builds default native
+
+Each round runs `cargo bench -p dyngen-generated --bench frames -- --measurement-time 1`
+(criterion's medians read back from its JSON estimates) and the anchor, one after the other,
+both pinned with `taskset -c 1`. Both time each call over the same 256 random states, the
+joint sines and cosines included on dyngen's side. Times are medians over the rounds; a ratio
+is the median of the per-round ratios. `--builds native` also (or only) times dyngen built with
+`RUSTFLAGS="-C target-cpu=native"` (in target/bench-native), as the anchor is built with
+`-march=native`; `default` is the plain build (target/), which picks AVX2/FMA copies at run
+time. The last column is the operation count of the generated function the call runs (its
+`Operations:` doc comment in generated/src/<robot>.rs).
+
+Run it on an otherwise idle machine: the two vCPUs behave like SMT siblings, so a compile on
+the other one slows a benchmark 1.3-2x (BENCHMARKS.md). Standard library only; reuses
+tools/compare_anchors.py's helpers.
+"""
+
+import argparse
+import json
+import os
+import re
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from compare_anchors import ROOT, anchor_rows, cargo_env, fmt, med, run, split_group  # noqa: E402
+
+ANCHOR = ROOT / "tools" / "anchors" / "frames"
+# robot -> (tool frame, mid-chain frame, end-effector), as generated/benches/frames.rs.
+ROBOTS = {
+    "panda": ("panda_link8", "panda_link4", "panda_hand_tcp"),
+    "ur5": ("ee_link", "forearm_link", "tool0"),
+}
+# The references as the group names spell them (`lwa`: LOCAL_WORLD_ALIGNED; criterion cuts
+# directory names at 64 characters, too short for the full keyword).
+REFERENCES = ("local", "world", "lwa")
+# Timed per frame, in table order.
+FRAME_FUNCTIONS = (["frame_pose"]
+                   + [f"frame_jacobian_{r}" for r in REFERENCES]
+                   + [f"frame_jacobian_time_variation_{r}" for r in REFERENCES]
+                   + ["frame_velocity_local", "frame_classical_acceleration_local", "frame_kinematics"])
+FLOOR = 5.0  # the claim: each frame quantity at least 5x faster than numeric Pinocchio
+
+
+def functions(robot):
+    """[(function, frame)] of one robot, in table order: the criterion group is
+    `<robot>/<function>/<frame>`, the anchor's row `<function>/<frame>`."""
+    tool, mid, end_effector = ROBOTS[robot]
+    rows = [(fn, frame) for frame in (tool, mid) for fn in FRAME_FUNCTIONS]
+    return rows + [("inverse_dynamics_with_wrenches", tool), ("jacobian", end_effector)]
+
+
+def dyngen_build(env):
+    """Builds the bench before the rounds, so that no round times a compile."""
+    cmd = ["cargo", "bench", "-p", "dyngen-generated", "--bench", "frames", "--no-run", "-j", "1"]
+    subprocess.run(cmd, cwd=ROOT, env=env, check=True)
+
+
+def dyngen_round(env, core, target_dir, robots, seconds):
+    """{(robot, "function/frame"): median_ns} of one criterion run of the frames bench; only
+    estimates written by this run are read."""
+    start = time.time()
+    timing = ["--warm-up-time", f"{seconds / 3:g}", "--measurement-time", f"{seconds:g}"]
+    pattern = "^(" + "|".join(re.escape(r) for r in robots) + ")/.*/generated$"
+    run(["taskset", "-c", str(core), "cargo", "bench", "-q", "-p", "dyngen-generated",
+         "--bench", "frames", "--", pattern, *timing], cwd=ROOT, env=env)
+    wanted = {(r, f"{fn}/{frame}") for r in robots for fn, frame in functions(r)}
+    rows = {}
+    for group in (Path(target_dir) / "criterion").iterdir():
+        if not group.is_dir():
+            continue
+        bench = group / "generated"
+        robot, quantity = split_group(group, [bench], robots)
+        estimates = bench / "new" / "estimates.json"
+        if (robot, quantity) in wanted and estimates.is_file() and estimates.stat().st_mtime >= start:
+            rows[(robot, quantity)] = json.loads(estimates.read_text())["median"]["point_estimate"]
+    return rows
+
+
+def operation_counts(robot):
+    """{(function, frame): "mul/add/neg"} of the generated functions the bench's calls run,
+    from the `Operations:` doc comments of generated/src/<robot>.rs and the match arms of its
+    `FrameKinematics` impl."""
+    try:
+        source = (ROOT / "generated" / "src" / f"{robot}.rs").read_text()
+    except OSError:
+        return {}
+    ops = {}
+    for m in re.finditer(r"///Operations: (\d+) mul, (\d+) add/sub, (\d+) neg.*\n(?:\s*#\[.*\]\n)*\s*fn (\w+)\(",
+                         source):
+        ops[m.group(4)] = tuple(int(x) for x in m.group(1, 2, 3))
+    impl = source.find("impl FrameKinematics<")
+    if impl < 0:
+        return {}
+    body = source[impl:]
+    camel = lambda name: "".join(p[:1].upper() + p[1:] for p in name.split("_"))
+    variant = {"local": "Local", "world": "World", "lwa": "LocalWorldAligned"}
+
+    def callee(method, frame, reference=None):
+        start = body.find(f"fn {method}(")
+        end = body.find("\n    fn ", start + 1)
+        text = body[start:end if end > 0 else None]
+        arm = (rf"\(Frame::{camel(frame)}, ReferenceFrame::{variant[reference]}\)" if reference
+               else rf"Frame::{camel(frame)}")
+        m = re.search(arm + r"\s*=>\s*\{?\s*(?:Self::)?(\w+)\(", text)
+        return m.group(1) if m else None
+
+    counts = {}
+    tool, mid, end_effector = ROBOTS[robot]
+    for frame in (tool, mid):
+        for fn in FRAME_FUNCTIONS:
+            reference = next((r for r in REFERENCES if fn.endswith("_" + r)), None)
+            method = fn[: -len(reference) - 1] if reference else fn
+            counts[(fn, frame)] = ops.get(callee(method, frame, reference))
+    # τ − Jᵀw: inverse dynamics and the tool frame's LOCAL Jacobian (plus 6N for Jᵀw, uncounted).
+    rnea, jac = ops.get("inverse_dynamics"), ops.get(callee("frame_jacobian", tool, "local"))
+    counts[("inverse_dynamics_with_wrenches", tool)] = (
+        tuple(a + b for a, b in zip(rnea, jac)) if rnea and jac else None)
+    counts[("jacobian", end_effector)] = ops.get("jacobian")
+    return counts
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--robots", nargs="+", default=list(ROBOTS), choices=list(ROBOTS))
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--core", type=int, default=1)
+    ap.add_argument("--measurement-time", type=float, default=1.0, metavar="SECONDS",
+                    help="per function, both sides (criterion's warm-up a third of it; default 1)")
+    ap.add_argument("--builds", nargs="+", default=["default"], choices=["default", "native"],
+                    help="dyngen builds to time: default (target/) and/or native "
+                         "(target-cpu=native, target/bench-native); default: default")
+    ap.add_argument("--anchor", type=Path, default=ANCHOR / "build" / "bench_frames",
+                    help="the anchor's executable (default: tools/anchors/frames/build/bench_frames)")
+    args = ap.parse_args()
+    robots = list(dict.fromkeys(args.robots))
+    builds = list(dict.fromkeys(args.builds))
+    if not args.anchor.is_file():
+        ap.error(f"no {args.anchor}: build it with tools/anchors/frames/build.sh")
+
+    dirs = {"default": ROOT / "target", "native": ROOT / "target" / "bench-native"}
+    envs = {b: cargo_env(dirs[b], b == "native") for b in builds}
+    for b in builds:
+        print(f"building the frames bench ({b})", file=sys.stderr)
+        dyngen_build(envs[b])
+
+    anchor_env = dict(os.environ, BENCH_SECONDS=f"{args.measurement_time:g}")
+    pin_cmd = ["taskset", "-c", str(args.core), str(args.anchor), str(args.anchor.parent / "models"), *robots]
+    load_start = os.getloadavg()
+    rounds = []
+    for r in range(args.rounds):
+        print(f"round {r + 1}/{args.rounds}", file=sys.stderr)
+        pin = anchor_rows(run(pin_cmd, env=anchor_env), robots)
+        ours = {b: dyngen_round(envs[b], args.core, dirs[b], robots, args.measurement_time) for b in builds}
+        rounds.append((pin, ours))
+        if r == 0:
+            for robot in robots:
+                for fn, frame in functions(robot):
+                    key = (robot, f"{fn}/{frame}")
+                    for side, rows in [("Pinocchio", pin)] + [(f"dyngen {b}", ours[b]) for b in builds]:
+                        if key not in rows:
+                            print(f"warning: no {side} time for {robot} {fn}/{frame}", file=sys.stderr)
+    load = os.getloadavg()
+
+    print(f"Load average at the start: {load_start[0]:.2f} {load_start[1]:.2f} {load_start[2]:.2f}, "
+          f"at the end: {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}; {args.rounds} interleaved rounds "
+          f"on core {args.core}, {args.measurement_time:g} s per function; medians in ns; ratios are "
+          f"medians of per-round ratios; dyngen build(s): {', '.join(builds)}.\n")
+    header = "| robot | function | frame | Pinocchio |"
+    rule = "|---|---|---|---:|"
+    for b in builds:
+        header += f" dyngen {b} | Pinocchio / dyngen {b} (≥ {FLOOR:g}) |"
+        rule += "---:|---:|"
+    print(header + " generated ops (mul/add/neg) |")
+    print(rule + "---:|")
+    missed = []
+    for robot in robots:
+        counts = operation_counts(robot)
+        for fn, frame in functions(robot):
+            key = (robot, f"{fn}/{frame}")
+            pin = [p.get(key) for p, _ in rounds]
+            row = f"| {robot} | {fn} | {frame} | {fmt(med(pin))} |"
+            for b in builds:
+                ours = [o[b].get(key) for _, o in rounds]
+                ratio = med([p / d for p, d in zip(pin, ours) if p and d])
+                low = ratio is not None and ratio < FLOOR and fn != "jacobian"
+                if low:
+                    missed.append(f"{robot} {fn}/{frame} ({b}): {ratio:.2f}×")
+                row += f" {fmt(med(ours))} | {fmt(ratio, 2, '×')}{' **missed**' if low else ''} |"
+            ops = counts.get((fn, frame))
+            print(row + (f" {'/'.join(map(str, ops))} |" if ops else " – |"))
+    if missed:
+        print(f"\nBelow {FLOOR:g}×: " + "; ".join(missed))
+
+
+if __name__ == "__main__":
+    main()
