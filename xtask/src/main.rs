@@ -66,6 +66,9 @@ enum Command {
         /// Which modules to compile (`none`: sizes and generation times only).
         #[arg(long, value_enum, default_value_t = sizes::Compile::All)]
         compile: sizes::Compile,
+        /// Compile only modules of at most this many MiB (the larger take many minutes each).
+        #[arg(long, default_value_t = 16.0)]
+        max_mib: f64,
     },
 }
 
@@ -201,11 +204,11 @@ fn main() -> ExitCode {
             print!("{}", dyngen_testkit::scale::report());
             ExitCode::SUCCESS
         }
-        Command::Sizes { compile } => {
+        Command::Sizes { compile, max_mib } => {
             if let Some(code) = rerun_in_release() {
                 return code;
             }
-            print_table(sizes::report(&root, compile))
+            print_table(sizes::report(&root, compile, max_mib))
         }
         Command::Gen {
             descriptions,

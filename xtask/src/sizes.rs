@@ -111,7 +111,7 @@ impl Scratch {
 }
 
 /// The table, one row per robot and selection.
-pub fn report(root: &Path, compile: Compile) -> Result<String, String> {
+pub fn report(root: &Path, compile: Compile, max_mib: f64) -> Result<String, String> {
     let scratch = match compile {
         Compile::None => None,
         Compile::All => Some(Scratch::new(root)?),
@@ -132,14 +132,13 @@ pub fn report(root: &Path, compile: Compile) -> Result<String, String> {
             };
             let code = emit(&model, &traced, &provenance);
             let generation = start.elapsed().as_secs_f64();
+            let mib = code.len() as f64 / (1024.0 * 1024.0);
             let compiled = match &scratch {
-                Some(s) => format!("{:.1} s", s.compile(&code)?),
+                Some(s) if mib <= max_mib => format!("{:.1} s", s.compile(&code)?),
+                Some(_) => format!("not compiled (over {max_mib} MiB)"),
                 None => "—".to_owned(),
             };
-            let row = format!(
-                "| {name} | {selection} | {:.2} MiB | {generation:.2} s | {compiled} |",
-                code.len() as f64 / (1024.0 * 1024.0)
-            );
+            let row = format!("| {name} | {selection} | {mib:.2} MiB | {generation:.2} s | {compiled} |");
             eprintln!("{row}");
             let _ = writeln!(table, "{row}");
         }
