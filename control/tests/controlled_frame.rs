@@ -117,14 +117,18 @@ fn the_end_effector_by_name_gives_the_default_torques_bit_for_bit() {
     end_effector_by_name_is_the_default::<ur5::Standard, 6, { ur5::PARAMETER_COUNT }, 5>();
 }
 
-fn run_at_link8(kind: RunKind) -> (Summary, RunResult) {
+/// The Panda's demo with its flange `panda_link8` as the controlled frame, and its start.
+fn flange_demo() -> (
+    SVector<f64, 7>,
+    Demo<panda::Base, 7, { panda::BASE_PARAMETER_COUNT }, 3>,
+) {
     let q0 = start_posture_for::<Panda, 7>(None).expect("start posture");
-    let demo = Demo::<panda::Base, 7, { panda::BASE_PARAMETER_COUNT }, 3>::new_at_frame(
-        DemoOptions::default(),
-        q0,
-        panda::Frame::PandaLink8,
-    )
-    .expect("valid demo");
+    let demo = Demo::new_at_frame(DemoOptions::default(), q0, panda::Frame::PandaLink8).expect("valid demo");
+    (q0, demo)
+}
+
+fn run_at_link8(kind: RunKind) -> (Summary, RunResult) {
+    let (_, demo) = flange_demo();
     let res = demo.run(kind, &mut |_| {}).expect("valid controller");
     assert_eq!(res.status, RunStatus::Completed, "{kind:?}");
     let s = res.summary(demo.metrics_from());
@@ -182,13 +186,7 @@ fn a_controller_of_the_panda_flange_converges_in_contact() {
 /// deep in the table), the plant touches it there and the controllers control it.
 #[test]
 fn the_demo_at_a_frame_puts_the_table_under_that_frame() {
-    let q0 = start_posture_for::<Panda, 7>(None).expect("start posture");
-    let demo = Demo::<panda::Base, 7, { panda::BASE_PARAMETER_COUNT }, 3>::new_at_frame(
-        DemoOptions::default(),
-        q0,
-        panda::Frame::PandaLink8,
-    )
-    .expect("valid demo");
+    let (q0, demo) = flange_demo();
     let t = JointTrig::new(&q0);
     let flange = Panda::frame_pose(panda::Frame::PandaLink8, &t).translation;
     let tcp = Panda::forward_kinematics(&t).translation;
