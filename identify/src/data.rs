@@ -198,6 +198,9 @@ fn read_samples(
         let mut time = 0.0;
         for (c, (field, &(kind, j))) in fields.iter().zip(&columns).enumerate() {
             let err = |msg: String| IdentifyError::data(msg).at_line(line).at_column(c + 1, names[c]);
+            if field.is_empty() {
+                return Err(err("empty field: expected a number".into()));
+            }
             let value: f64 = field
                 .parse()
                 .map_err(|_| err(format!("'{field}' is not a number")))?;

@@ -113,6 +113,52 @@ header-only.csv: no samples: the file has a header line only
     );
 }
 
+/// What spreadsheets and loggers write around the same numbers (a byte-order mark, CRLF line
+/// ends, quoted fields, blank lines) reads as the plain file; an empty field is an error at
+/// its place.
+#[test]
+fn files_as_tools_write_them_read_as_the_plain_file() {
+    let good = to_csv(&arm7_nominal(), &good_samples());
+    let read = |name: &str, text: &str| {
+        let dir = std::env::temp_dir().join(format!("dyngen-file-forms-{}-{name}", std::process::id()));
+        std::fs::create_dir_all(&dir).expect("temp dir");
+        let path = dir.join(name);
+        std::fs::write(&path, text).expect("write");
+        let samples = read_csv(&path, &arm7_nominal(), true).unwrap_or_else(|e| panic!("{name}: {e}"));
+        std::fs::remove_dir_all(&dir).ok();
+        samples
+    };
+    let plain = read("plain.csv", &good);
+    let quoted: String = good
+        .lines()
+        .map(|l| {
+            l.split(',')
+                .map(|f| format!("\"{f}\""))
+                .collect::<Vec<_>>()
+                .join(",")
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    for (name, text) in [
+        ("bom.csv", format!("\u{feff}{good}")),
+        ("crlf.csv", good.replace('\n', "\r\n")),
+        ("quoted.csv", quoted),
+        ("blank-lines.csv", good.replacen('\n', "\n\n", 3) + "\n\n"),
+    ] {
+        let other = read(name, &text);
+        assert_eq!(
+            (&other.time, &other.q, &other.tau),
+            (&plain.time, &plain.q, &plain.tau),
+            "{name}"
+        );
+    }
+    let empty = read_error("empty-field.csv", &replace_field(&good, 4, 5, ""));
+    assert_eq!(
+        empty,
+        "empty-field.csv:4: column 5 (q[joint4]): empty field: expected a number"
+    );
+}
+
 /// Data in which a joint never moves cannot determine its parameters: the error names one
 /// and says why, instead of returning a number.
 #[test]
