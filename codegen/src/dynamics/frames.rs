@@ -21,7 +21,7 @@
 
 use super::coupling::{expand, project_columns};
 use super::joint::pose_to_transform;
-use super::kinematics::{frame_jacobian, frame_jacobian_dot, frame_pose};
+use super::kinematics::{frame_jacobian, frame_jacobian_dot, frame_pose, set_column};
 use super::slotine_li::forward_pass;
 use crate::model::{Frame, JointKind, Model};
 use crate::scalar::Scalar;
@@ -197,13 +197,6 @@ fn column<S: Scalar>(m: &DMatrix<S>, c: usize) -> (Vec3<S>, Vec3<S>) {
         Vec3([m[(0, c)], m[(1, c)], m[(2, c)]]),
         Vec3([m[(3, c)], m[(4, c)], m[(5, c)]]),
     )
-}
-
-fn set_column<S: Scalar>(m: &mut DMatrix<S>, c: usize, lin: Vec3<S>, ang: Vec3<S>) {
-    for k in 0..3 {
-        m[(k, c)] = lin.0[k];
-        m[(k + 3, c)] = ang.0[k];
-    }
 }
 
 fn map_columns<S: Scalar>(m: &DMatrix<S>, f: impl Fn(Vec3<S>, Vec3<S>) -> (Vec3<S>, Vec3<S>)) -> DMatrix<S> {

@@ -37,7 +37,8 @@ fn world_axis<S: Scalar>(model: &Model, world: &[Transform<S>], j: usize) -> Vec
     world[j].rot.mul_vec(&Vec3::from_f64([a.x, a.y, a.z]))
 }
 
-fn set_column<S: Scalar>(m: &mut DMatrix<S>, j: usize, lin: Vec3<S>, ang: Vec3<S>) {
+/// Column `j` of a 6-row Jacobian: `[lin; ang]`.
+pub(super) fn set_column<S: Scalar>(m: &mut DMatrix<S>, j: usize, lin: Vec3<S>, ang: Vec3<S>) {
     for r in 0..3 {
         m[(r, j)] = lin.0[r];
         m[(r + 3, j)] = ang.0[r];

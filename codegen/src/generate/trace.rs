@@ -28,7 +28,7 @@ pub enum Arg {
 }
 
 /// What a generated function returns.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Shape {
     /// A vector of `n` entries.
     Vector(usize),
@@ -67,19 +67,24 @@ pub struct Quantity {
     pub outputs: Vec<Id>,
 }
 
+impl FrameOf {
+    /// The name of the function that computes `kind` for this frame and reference frame:
+    /// the kind's, the frame's identifier, the reference frame (`frame_jacobian_tool0_local`).
+    pub fn function_name(&self, kind: QuantityKind) -> String {
+        match self.reference {
+            Some(r) => format!("{}_{}_{}", kind.name(), self.snake, r.keyword()),
+            None => format!("{}_{}", kind.name(), self.snake),
+        }
+    }
+}
+
 impl Quantity {
-    /// The generated function's name: the kind's, and for a frame quantity the frame's
-    /// identifier and the reference frame (`frame_jacobian_tool0_local`).
+    /// The generated function's name: the kind's, and for a frame quantity
+    /// [`FrameOf::function_name`].
     pub fn name(&self) -> String {
         match &self.frame {
             None => self.kind.name().to_owned(),
-            Some(FrameOf { snake, reference, .. }) => {
-                let mut name = format!("{}_{snake}", self.kind.name());
-                if let Some(r) = reference {
-                    name = format!("{name}_{}", r.keyword());
-                }
-                name
-            }
+            Some(frame) => frame.function_name(self.kind),
         }
     }
 }
@@ -141,7 +146,7 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
 pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functions) -> SymbolicRobot {
     let n = model.dof();
     let regressors = functions.contains(FunctionGroup::Regressors);
-    let (graph, (inputs, mut quantities, (lane_forms, alternatives))) = record(|| {
+    let (graph, (inputs, mut quantities, other_forms)) = record(|| {
         let (q, qd, v, a) = (inputs("q", n), inputs("qd", n), inputs("v", n), inputs("a", n));
         let x = dynamics::joint_transforms(model, &q);
         let world = dynamics::body_poses(model, &x);
@@ -270,7 +275,7 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
         ];
         let mut quantities = quantities;
         let tau = inputs("tau", n);
-        let (forward, lane_forms) =
+        let (forward, mut other_forms) =
             forward_quantities(model, &inertias, &joint_values, &q, &qd, &a, &tau, functions);
         quantities.extend(forward);
         if regressors {
@@ -281,12 +286,11 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
         if regressors {
             quantities.extend(regressor_products(model, &x, [&qd, &v, &a], &theta, &r, &base));
         }
-        let mut alternatives = Vec::new();
         if functions.contains(FunctionGroup::Frames) {
             for (index, frame) in model.frames().iter().enumerate() {
-                let (traced, other_forms) = frame_quantities(model, &x, &world, &qd, &a, index, frame);
+                let (traced, frame_forms) = frame_quantities(model, &x, &world, &qd, &a, index, frame);
                 quantities.extend(traced);
-                alternatives.extend(other_forms);
+                other_forms.extend(frame_forms);
             }
         }
         quantities.retain(|q| functions.contains(q.kind.group()));
@@ -301,19 +305,12 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
                 r: ids(&r),
             },
             quantities,
-            (lane_forms, alternatives),
+            other_forms,
         )
     });
-    // The derivatives in lanes where they cost less than one direction at a time.
-    for (kind, outputs) in lane_forms {
-        if let Some(q) = quantities.iter_mut().find(|q| q.kind == kind) {
-            if cost(&graph, &outputs) < cost(&graph, &q.outputs) {
-                q.outputs = outputs;
-            }
-        }
-    }
-    // Frame quantities in their other formulation where it costs less.
-    for (name, outputs) in alternatives {
+    // Each function in its other formulation where that costs less: the derivatives in lanes
+    // rather than one direction at a time, some frame quantities by another algorithm.
+    for (name, outputs) in other_forms {
         if let Some(q) = quantities.iter_mut().find(|q| q.name() == name) {
             if cost(&graph, &outputs) < cost(&graph, &q.outputs) {
                 q.outputs = outputs;
@@ -359,8 +356,8 @@ fn cost(graph: &Graph, outputs: &[Id]) -> usize {
 /// Forward dynamics, `D⁻¹` and the derivatives of the dynamics, traced after the other
 /// quantities so that they reuse (never renumber) the nodes those created. The derivatives are
 /// traced with their directions one by one (first, so their code is what it was before lanes
-/// existed), and in lanes: the second list holds the lane form's outputs, which
-/// [`trace_with_base`] keeps where they cost less.
+/// existed), and in lanes: the second list holds the lane forms' outputs by function name, which
+/// [`trace_functions`] keeps where they cost less.
 #[allow(clippy::too_many_arguments)]
 fn forward_quantities(
     model: &Model,
@@ -371,7 +368,7 @@ fn forward_quantities(
     a: &[Expr],
     tau: &[Expr],
     functions: Functions,
-) -> (Vec<Quantity>, Vec<(QuantityKind, Vec<Id>)>) {
+) -> (Vec<Quantity>, Vec<(String, Vec<Id>)>) {
     let n = model.dof();
     let x = dynamics::joint_transforms(model, q);
     let mut quantities = Vec::new();
@@ -424,8 +421,14 @@ fn forward_quantities(
         },
     ]);
     let lanes = vec![
-        (QuantityKind::InverseDynamicsDerivatives, inverse_lanes),
-        (QuantityKind::ForwardDynamicsDerivatives, forward_lanes),
+        (
+            QuantityKind::InverseDynamicsDerivatives.name().to_owned(),
+            inverse_lanes,
+        ),
+        (
+            QuantityKind::ForwardDynamicsDerivatives.name().to_owned(),
+            forward_lanes,
+        ),
     ];
     (quantities, lanes)
 }
@@ -558,13 +561,14 @@ fn frame_quantities(
     let n = model.dof();
     let motion = dynamics::FrameMotion::new(model, world, qd, frame);
     let snake = frame_identifiers(&frame.name).snake;
+    let frame_of = |reference| FrameOf {
+        index,
+        snake: snake.clone(),
+        reference,
+    };
     let quantity = |kind, reference, args: Vec<Arg>, shape, outputs| Quantity {
         kind,
-        frame: Some(FrameOf {
-            index,
-            snake: snake.clone(),
-            reference,
-        }),
+        frame: Some(frame_of(reference)),
         args,
         shape,
         outputs,
@@ -628,7 +632,7 @@ fn frame_quantities(
         fused,
     ));
 
-    let name_of = |kind, reference| quantity(kind, Some(reference), vec![], Shape::Pose, vec![]).name();
+    let name_of = |kind, reference| frame_of(Some(reference)).function_name(kind);
     let mut other_forms = vec![(
         name_of(QuantityKind::FrameJacobian, ReferenceFrame::Local),
         matrix_ids(&dynamics::local_jacobian(model, x, frame)),

@@ -11,7 +11,7 @@ use super::leaves::Leaves;
 use super::plan::Form;
 use crate::generate::frame_names::frame_identifiers;
 use crate::generate::quantities::QuantityKind;
-use crate::generate::trace::{Arg, SymbolicRobot};
+use crate::generate::trace::{Arg, Shape, SymbolicRobot};
 use crate::model::Model;
 use crate::symbolic::Id;
 use dyngen_runtime::ReferenceFrame;
@@ -46,16 +46,16 @@ pub(super) fn frame_items(model: &Model, robot: &SymbolicRobot, leaves: &Leaves,
     let count = Literal::usize_unsuffixed(frames.len());
 
     // Which function computes each frame quantity: an existing one, or one emitted here.
-    let mut existing: HashMap<(Vec<Id>, Vec<Arg>), TokenStream> = HashMap::new();
+    let mut existing: HashMap<(Vec<Id>, Vec<Arg>, Shape), TokenStream> = HashMap::new();
     for q in robot.quantities.iter().filter(|q| KINEMATICS.contains(&q.kind)) {
         let name = format_ident!("{}", q.kind.name());
-        existing.insert((q.outputs.clone(), q.args.clone()), quote!(Self::#name));
+        existing.insert((q.outputs.clone(), q.args.clone(), q.shape), quote!(Self::#name));
     }
     let mut functions: Vec<Emitted> = Vec::new();
     let mut calls: HashMap<(QuantityKind, usize, Option<ReferenceFrame>), TokenStream> = HashMap::new();
     for q in robot.quantities.iter().filter(|q| q.kind.is_per_frame()) {
         let frame = q.frame.as_ref().expect("a frame quantity names its frame");
-        let key = (q.outputs.clone(), q.args.clone());
+        let key = (q.outputs.clone(), q.args.clone(), q.shape);
         let call = match existing.get(&key) {
             Some(call) => call.clone(),
             None => {
@@ -75,7 +75,7 @@ pub(super) fn frame_items(model: &Model, robot: &SymbolicRobot, leaves: &Leaves,
             }
             for r in ReferenceFrame::ALL {
                 if let Some(call) = calls.get(&(kind, k, Some(r))) {
-                    let reference = reference_variant(r);
+                    let reference = format_ident!("{r:?}");
                     arms.push(quote!((Frame::#variant, ReferenceFrame::#reference) => #call(#args),));
                 }
             }
@@ -175,13 +175,5 @@ pub(super) fn frame_items(model: &Model, robot: &SymbolicRobot, leaves: &Leaves,
         #(#methods)*
 
         #(#chunks)*
-    }
-}
-
-fn reference_variant(r: ReferenceFrame) -> Ident {
-    match r {
-        ReferenceFrame::Local => format_ident!("Local"),
-        ReferenceFrame::World => format_ident!("World"),
-        ReferenceFrame::LocalWorldAligned => format_ident!("LocalWorldAligned"),
     }
 }
