@@ -12,8 +12,10 @@
 
 use crate::error::{IdentifyError, Place};
 use dyngen_codegen::model::Model;
+use std::collections::HashMap;
 use std::fmt::Write as _;
-use std::path::Path;
+use std::io::Write as _;
+use std::path::{Path, PathBuf};
 
 /// Samples of every joint, in the description's joint order.
 #[derive(Clone, Debug, Default, PartialEq)]
@@ -24,6 +26,10 @@ pub struct Samples {
     pub qd: Option<Vec<Vec<f64>>>,
     pub qdd: Option<Vec<Vec<f64>>>,
     pub tau: Option<Vec<Vec<f64>>>,
+    /// A force/torque sensor's wrench `[f; m]` per sample, in [`Samples::sensor_frame`].
+    pub wrench: Option<Vec<[f64; 6]>>,
+    /// The frame (of the description) the wrench columns name.
+    pub sensor_frame: Option<String>,
     /// The line of each sample in its file (for messages; empty for generated samples).
     pub lines: Vec<usize>,
 }
@@ -36,12 +42,41 @@ impl Samples {
     pub fn is_empty(&self) -> bool {
         self.time.is_empty()
     }
+
+    fn push(&mut self, sample: Sample) {
+        self.time.push(sample.time);
+        self.q.push(sample.q);
+        for (all, one) in [
+            (&mut self.qd, sample.qd),
+            (&mut self.qdd, sample.qdd),
+            (&mut self.tau, sample.tau),
+        ] {
+            if let (Some(all), Some(one)) = (all.as_mut(), one) {
+                all.push(one);
+            }
+        }
+        if let (Some(all), Some(one)) = (self.wrench.as_mut(), sample.wrench) {
+            all.push(one);
+        }
+        self.lines.push(sample.line);
+    }
 }
 
-/// What a column holds.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// One line of a data file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Sample {
+    pub line: usize,
+    pub time: f64,
+    pub q: Vec<f64>,
+    pub qd: Option<Vec<f64>>,
+    pub qdd: Option<Vec<f64>>,
+    pub tau: Option<Vec<f64>>,
+    pub wrench: Option<[f64; 6]>,
+}
+
+/// What a joint column holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 enum Kind {
-    Time,
     Q,
     Qd,
     Qdd,
@@ -55,6 +90,18 @@ const KINDS: [(&str, Kind); 4] = [
     ("tau", Kind::Tau),
 ];
 
+/// The six wrench columns of a force/torque sensor, in the order of [`Sample::wrench`].
+const WRENCH: [&str; 6] = ["fx", "fy", "fz", "mx", "my", "mz"];
+
+/// What a column holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+enum Column {
+    Time,
+    Joint(Kind, usize),
+    /// Component `k` of [`WRENCH`].
+    Wrench(usize),
+}
+
 fn joint_list(model: &Model) -> String {
     model
         .joints()
@@ -64,20 +111,34 @@ fn joint_list(model: &Model) -> String {
         .join(", ")
 }
 
+fn frame_list(model: &Model) -> String {
+    model
+        .frames()
+        .iter()
+        .map(|f| f.name.as_str())
+        .collect::<Vec<_>>()
+        .join(", ")
+}
+
 /// Reads a data file for `model`; `require_torque`: `tau[...]` columns must be present.
 pub fn read_csv(path: &Path, model: &Model, require_torque: bool) -> Result<Samples, IdentifyError> {
-    let file = std::fs::File::open(path).map_err(|source| IdentifyError::Read {
-        path: path.to_owned(),
-        source,
-    })?;
-    read_samples(file, model, require_torque).map_err(|e| e.in_file(path))
+    let reader = SampleReader::open(path, model, require_torque)?;
+    let mut samples = reader.empty_samples();
+    for sample in reader {
+        samples.push(sample?);
+    }
+    if samples.is_empty() {
+        return Err(IdentifyError::data("no samples: the file has a header line only").in_file(path));
+    }
+    Ok(samples)
 }
+
+/// A CSV record with its line and byte offset.
+type Record = (usize, u64, csv::StringRecord);
 
 /// The non-blank records of `reader` with their line numbers. Every record may have its own
 /// number of fields, so that a short line is reported naming both counts.
-fn records(
-    reader: impl std::io::Read,
-) -> impl Iterator<Item = Result<(usize, csv::StringRecord), IdentifyError>> {
+fn records(reader: impl std::io::Read) -> impl Iterator<Item = Result<Record, IdentifyError>> {
     csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
@@ -86,7 +147,10 @@ fn records(
         .into_records()
         .filter_map(|record| match record {
             Ok(r) if r.len() == 1 && r[0].is_empty() => None,
-            Ok(r) => Some(Ok((r.position().map_or(0, |p| p.line() as usize), r))),
+            Ok(r) => {
+                let (line, byte) = r.position().map_or((0, 0), |p| (p.line() as usize, p.byte()));
+                Some(Ok((line, byte, r)))
+            }
             Err(source) => {
                 let line = source.position().map(|p| p.line() as usize);
                 let place = Place {
@@ -98,106 +162,156 @@ fn records(
         })
 }
 
-/// [`read_csv`] on any reader (errors carry line and column; the caller adds the file).
-fn read_samples(
-    reader: impl std::io::Read,
-    model: &Model,
-    require_torque: bool,
-) -> Result<Samples, IdentifyError> {
-    let n = model.dof();
-    let mut lines = records(reader);
-    let Some(first) = lines.next() else {
-        return Err(IdentifyError::data(
-            "the file is empty: expected a header line of column names",
-        ));
-    };
-    let (header_line, header) = first?;
-    let names: Vec<&str> = header.iter().collect();
-    // (kind, joint) of every column; where each (kind, joint) is.
-    let mut columns: Vec<(Kind, usize)> = Vec::with_capacity(names.len());
-    let mut place: std::collections::HashMap<(u8, usize), usize> = std::collections::HashMap::new();
-    for (c, name) in names.iter().enumerate() {
-        let err = |msg: String| {
-            IdentifyError::data(msg)
-                .at_line(header_line)
-                .at_column(c + 1, name)
-        };
-        let (kind, joint) = if *name == "time" {
-            (Kind::Time, 0)
-        } else {
-            let parsed = name
-                .strip_suffix(']')
-                .and_then(|s| s.split_once('['))
-                .and_then(|(k, j)| KINDS.iter().find(|(p, _)| *p == k).map(|&(_, kind)| (kind, j)));
-            let Some((kind, joint_name)) = parsed else {
-                return Err(err(
-                    "unknown column: expected time, q[<joint>], qd[<joint>], qdd[<joint>] or tau[<joint>]"
-                        .into(),
-                ));
-            };
-            let Some(joint) = model.joints().iter().position(|j| j.name == joint_name) else {
+/// The header line: what each column holds and where each quantity is.
+struct Header {
+    names: Vec<String>,
+    columns: Vec<Column>,
+    place: HashMap<Column, usize>,
+    line: usize,
+    n: usize,
+    sensor_frame: Option<String>,
+}
+
+impl Header {
+    fn parse(
+        line: usize,
+        record: &csv::StringRecord,
+        model: &Model,
+        require_torque: bool,
+    ) -> Result<Header, IdentifyError> {
+        let n = model.dof();
+        let names: Vec<String> = record.iter().map(str::to_owned).collect();
+        let mut columns = Vec::with_capacity(names.len());
+        let mut place: HashMap<Column, usize> = HashMap::new();
+        let mut sensor: Option<(String, usize)> = None;
+        for (c, name) in names.iter().enumerate() {
+            let err = |msg: String| IdentifyError::data(msg).at_line(line).at_column(c + 1, name);
+            let bracketed = name.strip_suffix(']').and_then(|s| s.split_once('['));
+            let column = if name == "time" {
+                Column::Time
+            } else if let Some(k) = WRENCH.iter().position(|w| w == name) {
                 return Err(err(format!(
-                    "unknown joint '{joint_name}' (the robot's moving joints: {})",
-                    joint_list(model)
+                    "'{}' names no frame: a force/torque column is {}[<frame>], with the frame of \
+                     the description the sensor measures in (the robot's frames: {})",
+                    WRENCH[k],
+                    WRENCH[k],
+                    frame_list(model)
                 )));
+            } else if let Some((label, frame)) = bracketed.filter(|(label, _)| WRENCH.contains(label)) {
+                if !model.frames().iter().any(|f| f.name == frame) {
+                    return Err(err(format!(
+                        "unknown frame '{frame}' (the robot's frames: {}; name others with `frames:` in the description)",
+                        frame_list(model)
+                    )));
+                }
+                match &sensor {
+                    Some((first, at)) if first != frame => {
+                        return Err(err(format!(
+                            "a second force/torque frame '{frame}' (column {} names '{first}'): one sensor per file",
+                            at + 1
+                        )))
+                    }
+                    Some(_) => {}
+                    None => sensor = Some((frame.to_owned(), c)),
+                }
+                Column::Wrench(WRENCH.iter().position(|w| *w == label).expect("a wrench label"))
+            } else {
+                let parsed = bracketed
+                    .and_then(|(k, j)| KINDS.iter().find(|(p, _)| *p == k).map(|&(_, kind)| (kind, j)));
+                let Some((kind, joint_name)) = parsed else {
+                    return Err(err(
+                        "unknown column: expected time, q[<joint>], qd[<joint>], qdd[<joint>], tau[<joint>] \
+                         or a force/torque sensor's fx, fy, fz, mx, my, mz[<frame>]"
+                            .into(),
+                    ));
+                };
+                let Some(joint) = model.joints().iter().position(|j| j.name == joint_name) else {
+                    return Err(err(format!(
+                        "unknown joint '{joint_name}' (the robot's moving joints: {})",
+                        joint_list(model)
+                    )));
+                };
+                Column::Joint(kind, joint)
             };
-            (kind, joint)
-        };
-        if let Some(first) = place.insert((kind as u8, joint), c) {
-            return Err(err(format!("duplicate column (first at column {})", first + 1)));
+            if let Some(first) = place.insert(column, c) {
+                return Err(err(format!("duplicate column (first at column {})", first + 1)));
+            }
+            columns.push(column);
         }
-        columns.push((kind, joint));
-    }
-    let has = |kind: Kind, j: usize| place.contains_key(&(kind as u8, j));
-    if !has(Kind::Time, 0) {
-        return Err(IdentifyError::data("missing column 'time'").at_line(header_line));
-    }
-    let mut required = vec![(Kind::Q, "q", "every joint needs its position")];
-    if require_torque {
-        required.push((Kind::Tau, "tau", "every joint needs its torque"));
-    }
-    for (kind, label, why) in required {
-        if let Some(j) = (0..n).find(|&j| !has(kind, j)) {
-            let msg = format!(
-                "missing column '{label}[{}]' for joint '{}' ({why})",
-                model.joints()[j].name,
-                model.joints()[j].name
-            );
-            return Err(IdentifyError::data(msg).at_line(header_line));
+        let has = |column: Column| place.contains_key(&column);
+        if !has(Column::Time) {
+            return Err(IdentifyError::data("missing column 'time'").at_line(line));
         }
-    }
-    for (kind, label) in [(Kind::Qd, "qd"), (Kind::Qdd, "qdd"), (Kind::Tau, "tau")] {
-        let given = (0..n).filter(|&j| has(kind, j)).count();
-        if given > 0 && given < n {
-            let j = (0..n).find(|&j| !has(kind, j)).unwrap_or(0);
-            let msg = format!(
-                "missing column '{label}[{}]' for joint '{}': {label} is given for some joints, so it must be given for all",
-                model.joints()[j].name, model.joints()[j].name
-            );
-            return Err(IdentifyError::data(msg).at_line(header_line));
+        let mut required = vec![(Kind::Q, "q", "every joint needs its position")];
+        if require_torque {
+            required.push((Kind::Tau, "tau", "every joint needs its torque"));
         }
+        for (kind, label, why) in required {
+            if let Some(j) = (0..n).find(|&j| !has(Column::Joint(kind, j))) {
+                let name = &model.joints()[j].name;
+                let msg = format!("missing column '{label}[{name}]' for joint '{name}' ({why})");
+                return Err(IdentifyError::data(msg).at_line(line));
+            }
+        }
+        for (kind, label) in [(Kind::Qd, "qd"), (Kind::Qdd, "qdd"), (Kind::Tau, "tau")] {
+            let given = (0..n).filter(|&j| has(Column::Joint(kind, j))).count();
+            if given > 0 && given < n {
+                let j = (0..n).find(|&j| !has(Column::Joint(kind, j))).unwrap_or(0);
+                let name = &model.joints()[j].name;
+                let msg = format!(
+                    "missing column '{label}[{name}]' for joint '{name}': {label} is given for some joints, so it must be given for all",
+                );
+                return Err(IdentifyError::data(msg).at_line(line));
+            }
+        }
+        if let Some((frame, _)) = &sensor {
+            if let Some(k) = (0..6).find(|&k| !has(Column::Wrench(k))) {
+                let msg = format!(
+                    "missing column '{}[{frame}]': a force/torque sensor needs all six of fx, fy, fz, mx, my, mz",
+                    WRENCH[k]
+                );
+                return Err(IdentifyError::data(msg).at_line(line));
+            }
+        }
+        Ok(Header {
+            names,
+            columns,
+            place,
+            line,
+            n,
+            sensor_frame: sensor.map(|(frame, _)| frame),
+        })
     }
-    let with = |kind: Kind| has(kind, 0).then(Vec::new);
-    let mut samples = Samples {
-        qd: with(Kind::Qd),
-        qdd: with(Kind::Qdd),
-        tau: with(Kind::Tau),
-        ..Samples::default()
-    };
-    for record in lines {
-        let (line, fields) = record?;
-        if fields.len() != names.len() {
+
+    fn has(&self, kind: Kind) -> bool {
+        self.place.contains_key(&Column::Joint(kind, 0))
+    }
+
+    /// The sample on one line, checked against the joint limits.
+    fn sample(
+        &self,
+        line: usize,
+        fields: &csv::StringRecord,
+        model: &Model,
+    ) -> Result<Sample, IdentifyError> {
+        let n = self.n;
+        if fields.len() != self.names.len() {
             let msg = format!(
                 "{} fields, but the header has {} columns",
                 fields.len(),
-                names.len()
+                self.names.len()
             );
             return Err(IdentifyError::data(msg).at_line(line));
         }
         let mut row = [vec![0.0; n], vec![0.0; n], vec![0.0; n], vec![0.0; n]];
+        let mut wrench = [0.0; 6];
         let mut time = 0.0;
-        for (c, (field, &(kind, j))) in fields.iter().zip(&columns).enumerate() {
-            let err = |msg: String| IdentifyError::data(msg).at_line(line).at_column(c + 1, names[c]);
+        for (c, (field, column)) in fields.iter().zip(&self.columns).enumerate() {
+            let err = |msg: String| {
+                IdentifyError::data(msg)
+                    .at_line(line)
+                    .at_column(c + 1, &self.names[c])
+            };
             if field.is_empty() {
                 return Err(err("empty field: expected a number".into()));
             }
@@ -207,28 +321,16 @@ fn read_samples(
             if !value.is_finite() {
                 return Err(err(format!("{field} is not a finite number")));
             }
-            match kind {
-                Kind::Time => time = value,
-                Kind::Q => row[0][j] = value,
-                Kind::Qd => row[1][j] = value,
-                Kind::Qdd => row[2][j] = value,
-                Kind::Tau => row[3][j] = value,
-            }
-        }
-        if let Some(&previous) = samples.time.last() {
-            if time <= previous {
-                let c = place[&(Kind::Time as u8, 0)];
-                let msg = format!(
-                    "time {time} does not increase (the sample before, line {}, is at {previous})",
-                    samples.lines.last().copied().unwrap_or(0)
-                );
-                return Err(IdentifyError::data(msg).at_line(line).at_column(c + 1, "time"));
+            match *column {
+                Column::Time => time = value,
+                Column::Joint(kind, j) => row[kind as usize][j] = value,
+                Column::Wrench(k) => wrench[k] = value,
             }
         }
         for (j, joint) in model.joints().iter().enumerate() {
             let Some(l) = joint.limits else { continue };
             let err = |kind: Kind, label: &str, msg: String| {
-                let c = place[&(kind as u8, j)];
+                let c = self.place[&Column::Joint(kind, j)];
                 IdentifyError::data(format!("joint '{}': {msg}", joint.name))
                     .at_line(line)
                     .at_column(c + 1, &format!("{label}[{}]", joint.name))
@@ -244,59 +346,248 @@ fn read_samples(
                 );
                 return Err(err(Kind::Q, "q", msg));
             }
-            if samples.qd.is_some() && l.velocity > 0.0 && row[1][j].abs() > l.velocity * (1.0 + 1e-9) {
+            if self.has(Kind::Qd) && l.velocity > 0.0 && row[1][j].abs() > l.velocity * (1.0 + 1e-9) {
                 let msg = format!("velocity {} exceeds the velocity limit {}", row[1][j], l.velocity);
                 return Err(err(Kind::Qd, "qd", msg));
             }
         }
         let [q, qd, qdd, tau] = row;
-        samples.time.push(time);
-        samples.q.push(q);
-        if let Some(v) = samples.qd.as_mut() {
-            v.push(qd);
-        }
-        if let Some(v) = samples.qdd.as_mut() {
-            v.push(qdd);
-        }
-        if let Some(v) = samples.tau.as_mut() {
-            v.push(tau);
-        }
-        samples.lines.push(line);
+        Ok(Sample {
+            line,
+            time,
+            q,
+            qd: self.has(Kind::Qd).then_some(qd),
+            qdd: self.has(Kind::Qdd).then_some(qdd),
+            tau: self.has(Kind::Tau).then_some(tau),
+            wrench: self.sensor_frame.as_ref().map(|_| wrench),
+        })
     }
-    if samples.is_empty() {
-        return Err(IdentifyError::data("no samples: the file has a header line only"));
-    }
-    Ok(samples)
 }
 
-/// The CSV text of `samples` (columns `time`, `q[..]`, then `qd`, `qdd`, `tau` when present).
-/// Numbers are written in Rust's shortest round-trip form, so reading gives the same values.
-pub fn to_csv(model: &Model, samples: &Samples) -> String {
-    let names: Vec<&str> = model.joints().iter().map(|j| j.name.as_str()).collect();
-    let mut out = String::from("time");
-    let blocks: Vec<(&str, &Vec<Vec<f64>>)> = [
-        ("q", Some(&samples.q)),
-        ("qd", samples.qd.as_ref()),
-        ("qdd", samples.qdd.as_ref()),
-        ("tau", samples.tau.as_ref()),
-    ]
-    .into_iter()
-    .filter_map(|(l, v)| v.map(|v| (l, v)))
-    .collect();
-    for (label, _) in &blocks {
-        for name in &names {
-            let _ = write!(out, ",{label}[{name}]");
+/// A data file read one line at a time, with every check [`read_csv`] makes (which reads
+/// through it): memory that does not depend on the file's length, for logs too long to hold.
+/// Yields each sample, or the first error, which names the file, line and column.
+pub struct SampleReader<'m> {
+    model: &'m Model,
+    header: Header,
+    records: Box<dyn Iterator<Item = Result<Record, IdentifyError>>>,
+    path: PathBuf,
+    previous: Option<(f64, usize)>,
+    bytes: u64,
+    failed: bool,
+}
+
+impl<'m> SampleReader<'m> {
+    /// Opens `path` and reads its header line.
+    pub fn open(
+        path: &Path,
+        model: &'m Model,
+        require_torque: bool,
+    ) -> Result<SampleReader<'m>, IdentifyError> {
+        let file = std::fs::File::open(path).map_err(|source| IdentifyError::Read {
+            path: path.to_owned(),
+            source,
+        })?;
+        let mut records = records(std::io::BufReader::with_capacity(1 << 16, file));
+        let Some(first) = records.next() else {
+            return Err(
+                IdentifyError::data("the file is empty: expected a header line of column names")
+                    .in_file(path),
+            );
+        };
+        let (line, _, header) = first.map_err(|e| e.in_file(path))?;
+        let header = Header::parse(line, &header, model, require_torque).map_err(|e| e.in_file(path))?;
+        Ok(SampleReader {
+            model,
+            header,
+            records: Box::new(records),
+            path: path.to_owned(),
+            previous: None,
+            bytes: 0,
+            failed: false,
+        })
+    }
+
+    /// Samples with the columns this file has, and none yet.
+    pub fn empty_samples(&self) -> Samples {
+        let with = |kind: Kind| self.header.has(kind).then(Vec::new);
+        Samples {
+            qd: with(Kind::Qd),
+            qdd: with(Kind::Qdd),
+            tau: with(Kind::Tau),
+            wrench: self.header.sensor_frame.as_ref().map(|_| Vec::new()),
+            sensor_frame: self.header.sensor_frame.clone(),
+            ..Samples::default()
         }
     }
-    out.push('\n');
-    for (k, t) in samples.time.iter().enumerate() {
-        let _ = write!(out, "{t}");
-        for (_, values) in &blocks {
-            for x in &values[k] {
-                let _ = write!(out, ",{x}");
+
+    pub fn has_velocities(&self) -> bool {
+        self.header.has(Kind::Qd)
+    }
+
+    pub fn has_accelerations(&self) -> bool {
+        self.header.has(Kind::Qdd)
+    }
+
+    /// The frame of the force/torque columns, if the file has them.
+    pub fn sensor_frame(&self) -> Option<&str> {
+        self.header.sensor_frame.as_deref()
+    }
+
+    /// Bytes of the file read so far (for progress).
+    pub fn bytes_read(&self) -> u64 {
+        self.bytes
+    }
+
+    /// The file's path.
+    pub fn path(&self) -> &Path {
+        &self.path
+    }
+
+    /// The line of the header.
+    pub fn header_line(&self) -> usize {
+        self.header.line
+    }
+
+    fn next_sample(&mut self) -> Option<Result<Sample, IdentifyError>> {
+        let (line, byte, fields) = match self.records.next()? {
+            Ok(record) => record,
+            Err(e) => return Some(Err(e)),
+        };
+        self.bytes = byte;
+        let sample = match self.header.sample(line, &fields, self.model) {
+            Ok(sample) => sample,
+            Err(e) => return Some(Err(e)),
+        };
+        if let Some((previous, previous_line)) = self.previous {
+            if sample.time <= previous {
+                let c = self.header.place[&Column::Time];
+                let msg = format!(
+                    "time {} does not increase (the sample before, line {previous_line}, is at {previous})",
+                    sample.time
+                );
+                return Some(Err(IdentifyError::data(msg)
+                    .at_line(line)
+                    .at_column(c + 1, "time")));
             }
         }
-        out.push('\n');
+        self.previous = Some((sample.time, line));
+        Some(Ok(sample))
     }
-    out
+}
+
+impl Iterator for SampleReader<'_> {
+    type Item = Result<Sample, IdentifyError>;
+
+    fn next(&mut self) -> Option<Self::Item> {
+        if self.failed {
+            return None;
+        }
+        let next = self.next_sample()?;
+        if next.is_err() {
+            self.failed = true;
+        }
+        Some(next.map_err(|e| e.in_file(&self.path)))
+    }
+}
+
+/// The CSV text of `samples` (columns `time`, `q[..]`, then `qd`, `qdd`, `tau` and the
+/// wrench when present). Numbers are written in Rust's shortest round-trip form, so reading
+/// gives the same values.
+pub fn to_csv(model: &Model, samples: &Samples) -> String {
+    let mut out = Vec::new();
+    let mut writer = SampleWriter::new(&mut out, model, &samples.empty_like()).expect("writing to memory");
+    for k in 0..samples.len() {
+        writer.write(&samples.sample(k)).expect("writing to memory");
+    }
+    drop(writer);
+    String::from_utf8(out).expect("CSV text is UTF-8")
+}
+
+impl Samples {
+    /// Sample `k`.
+    pub fn sample(&self, k: usize) -> Sample {
+        Sample {
+            line: self.lines.get(k).copied().unwrap_or(0),
+            time: self.time[k],
+            q: self.q[k].clone(),
+            qd: self.qd.as_ref().map(|v| v[k].clone()),
+            qdd: self.qdd.as_ref().map(|v| v[k].clone()),
+            tau: self.tau.as_ref().map(|v| v[k].clone()),
+            wrench: self.wrench.as_ref().map(|v| v[k]),
+        }
+    }
+
+    /// No samples, the same columns.
+    fn empty_like(&self) -> Samples {
+        Samples {
+            qd: self.qd.as_ref().map(|_| Vec::new()),
+            qdd: self.qdd.as_ref().map(|_| Vec::new()),
+            tau: self.tau.as_ref().map(|_| Vec::new()),
+            wrench: self.wrench.as_ref().map(|_| Vec::new()),
+            sensor_frame: self.sensor_frame.clone(),
+            ..Samples::default()
+        }
+    }
+}
+
+/// Writes a data file one sample at a time (the way back of [`SampleReader`]): the columns of
+/// `like` (which of `qd`, `qdd`, `tau` and a wrench it has), every sample given must have them.
+pub struct SampleWriter<W: std::io::Write> {
+    out: std::io::BufWriter<W>,
+    line: String,
+}
+
+impl<W: std::io::Write> SampleWriter<W> {
+    /// Writes the header line.
+    pub fn new(out: W, model: &Model, like: &Samples) -> std::io::Result<SampleWriter<W>> {
+        let mut header = String::from("time");
+        let mut blocks = vec!["q"];
+        for (label, given) in [
+            ("qd", like.qd.is_some()),
+            ("qdd", like.qdd.is_some()),
+            ("tau", like.tau.is_some()),
+        ] {
+            if given {
+                blocks.push(label);
+            }
+        }
+        for label in blocks {
+            for joint in model.joints() {
+                let _ = write!(header, ",{label}[{}]", joint.name);
+            }
+        }
+        if let (Some(_), Some(frame)) = (&like.wrench, &like.sensor_frame) {
+            for label in WRENCH {
+                let _ = write!(header, ",{label}[{frame}]");
+            }
+        }
+        header.push('\n');
+        let mut out = std::io::BufWriter::new(out);
+        out.write_all(header.as_bytes())?;
+        Ok(SampleWriter {
+            out,
+            line: String::new(),
+        })
+    }
+
+    /// Writes one sample's line.
+    pub fn write(&mut self, sample: &Sample) -> std::io::Result<()> {
+        self.line.clear();
+        let _ = write!(self.line, "{}", sample.time);
+        let joints = [
+            Some(&sample.q),
+            sample.qd.as_ref(),
+            sample.qdd.as_ref(),
+            sample.tau.as_ref(),
+        ];
+        for x in joints.into_iter().flatten().flatten() {
+            let _ = write!(self.line, ",{x}");
+        }
+        for x in sample.wrench.iter().flatten() {
+            let _ = write!(self.line, ",{x}");
+        }
+        self.line.push('\n');
+        self.out.write_all(self.line.as_bytes())
+    }
 }

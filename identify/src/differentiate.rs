@@ -85,20 +85,25 @@ pub(crate) fn uniform_rate(time: &[f64], lines: &[usize]) -> Result<f64, Identif
     }
     let h = (time[time.len() - 1] - time[0]) / (time.len() - 1) as f64;
     for (k, w) in time.windows(2).enumerate() {
-        let step = w[1] - w[0];
-        if (step - h).abs() > 0.01 * h {
-            let msg = format!(
-                "time step {step} s differs from the mean step {h} s by more than 1%: the filter \
-                 that computes velocities and accelerations needs uniform sampling (or give qd and qdd columns)"
-            );
-            let e = IdentifyError::data(msg);
-            return Err(match lines.get(k + 1) {
-                Some(&l) => e.at_line(l).at_column(1, "time"),
-                None => e,
-            });
-        }
+        check_step(w[1] - w[0], h, lines.get(k + 1).copied())?;
     }
     Ok(1.0 / h)
+}
+
+/// A time step `step` (ending on `line`) against the mean step `h`: within 1%, or an error.
+pub(crate) fn check_step(step: f64, h: f64, line: Option<usize>) -> Result<(), IdentifyError> {
+    if (step - h).abs() <= 0.01 * h {
+        return Ok(());
+    }
+    let msg = format!(
+        "time step {step} s differs from the mean step {h} s by more than 1%: the filter \
+         that computes velocities and accelerations needs uniform sampling (or give qd and qdd columns)"
+    );
+    let e = IdentifyError::data(msg);
+    Err(match line {
+        Some(l) => e.at_line(l).at_column(1, "time"),
+        None => e,
+    })
 }
 
 /// First and second derivatives of `x(t)` by three-point differences (any spacing).

@@ -24,9 +24,12 @@
 //! by orders of magnitude), the normal equations are solved by Cholesky and refined once with
 //! the true residual, which recovers noise-free parameters to rounding error for any
 //! excitation whose scaled condition number is below ~10⁶. Below that, the data does not
-//! determine every base parameter: that is an error naming the parameter and why.
+//! determine every base parameter: that is an error naming the parameter and why. The same
+//! algorithm runs on normal equations accumulated sample by sample (a log too long to stack),
+//! where the residuals come from the sums and there is nothing to refine with.
 
 use crate::error::IdentifyError;
+use crate::normal_equations::NormalEquations;
 use nalgebra::{DMatrix, DVector};
 
 /// The least-squares estimate of the base parameters.
@@ -79,43 +82,101 @@ pub(crate) const NOISE_SETTLED: f64 = 1e-3;
 /// model that has not settled after this many is reported (`noise_settled`), not looped on.
 pub(crate) const MAX_NOISE_ITERATIONS: usize = 20;
 
-/// `Mᵀ M` through an explicit transpose, so the product runs as one blocked matrix
-/// multiplication (several times faster on 10⁵ rows than dot products column by column).
-fn gram(m: &DMatrix<f64>) -> DMatrix<f64> {
-    m.transpose() * m
+/// What an estimate is computed from.
+#[derive(Clone, Copy)]
+pub(crate) enum Observations<'a> {
+    /// The stacked regressor (rows sample-major over `n` joints) and torques: residuals are
+    /// computed from the rows, and every solve is refined once with the true residual, which
+    /// restores the accuracy the normal equations lose.
+    Stacked {
+        w: &'a DMatrix<f64>,
+        tau: &'a DVector<f64>,
+        n: usize,
+    },
+    /// Normal equations accumulated sample by sample ([`NormalEquations`]): memory that does
+    /// not grow with the data, at the normal equations' accuracy.
+    Accumulated(&'a NormalEquations),
 }
 
-/// Solves `A x = Wᵀ D² τ` (`D = diag(weights)`, `A = Wᵀ D² W`) and refines once with the
-/// true residual, which restores the accuracy the normal equations lose.
-fn solve_refined(
-    a: &DMatrix<f64>,
-    w: &DMatrix<f64>,
-    tau: &DVector<f64>,
-    weights2: &DVector<f64>,
-) -> DVector<f64> {
-    let chol = a.clone().cholesky().expect("checked positive definite");
-    let mut x = chol.solve(&w.tr_mul(&tau.component_mul(weights2)));
-    let r = tau - w * &x;
-    x += chol.solve(&w.tr_mul(&r.component_mul(weights2)));
-    x
+/// The per-joint normal equations in column-scaled coordinates (`x = θ_b ∘ norms`), with what
+/// the residuals need.
+struct Scaled<'a> {
+    observations: Observations<'a>,
+    norms: Vec<f64>,
+    grams: Vec<DMatrix<f64>>,
+    rhs: Vec<DVector<f64>>,
+    squares: Vec<f64>,
 }
 
-/// Estimates `θ_b` from the stacked base regressor `w` (rows sample-major over `n` joints),
-/// torques `tau` and the base parameters' names.
+impl Scaled<'_> {
+    /// Solves `(Σ w_j G_j) x = Σ w_j c_j` (refined with the true residual when the rows are
+    /// at hand).
+    fn solve(&self, a: &DMatrix<f64>, weights: &[f64]) -> DVector<f64> {
+        let chol = a.clone().cholesky().expect("checked positive definite");
+        let b = self.norms.len();
+        let rhs = self
+            .rhs
+            .iter()
+            .zip(weights)
+            .fold(DVector::zeros(b), |acc, (c, w)| acc + c * *w);
+        let mut x = chol.solve(&rhs);
+        if let Observations::Stacked { w, tau, n } = self.observations {
+            let r = tau - w * self.unscaled(&x);
+            let weighted = DVector::from_fn(r.len(), |i, _| r[i] * weights[i % n]);
+            let correction = self.unscaled(&w.tr_mul(&weighted));
+            x += chol.solve(&correction);
+        }
+        x
+    }
+
+    fn unscaled(&self, x: &DVector<f64>) -> DVector<f64> {
+        DVector::from_fn(x.len(), |k, _| x[k] / self.norms[k])
+    }
+
+    /// `‖r_j‖²` of every joint at `x`.
+    fn residual_squares(&self, x: &DVector<f64>) -> Vec<f64> {
+        match self.observations {
+            Observations::Stacked { w, tau, n } => {
+                let r = tau - w * self.unscaled(x);
+                let mut squares = vec![0.0; n];
+                for (i, v) in r.iter().enumerate() {
+                    squares[i % n] += v * v;
+                }
+                squares
+            }
+            Observations::Accumulated(_) => (0..self.grams.len())
+                .map(|j| {
+                    let g = &self.grams[j];
+                    (self.squares[j] - 2.0 * x.dot(&self.rhs[j]) + x.dot(&(g * x))).max(0.0)
+                })
+                .collect(),
+        }
+    }
+}
+
+/// Estimates `θ_b` from the observations and the base parameters' names.
 pub(crate) fn estimate(
-    w: &DMatrix<f64>,
-    tau: &DVector<f64>,
-    n: usize,
+    observations: Observations<'_>,
     names: &[String],
 ) -> Result<BaseEstimate, IdentifyError> {
-    let (rows, b) = w.shape();
-    let samples = rows / n.max(1);
+    let stacked;
+    let equations = match observations {
+        Observations::Stacked { w, tau, n } => {
+            stacked = NormalEquations::from_stacked(w, tau, n);
+            &stacked
+        }
+        Observations::Accumulated(equations) => equations,
+    };
+    let (n, b, samples) = (equations.dof(), equations.parameters(), equations.samples());
+    let rows = samples * n;
     if rows < b + n {
         return Err(IdentifyError::Unidentifiable(format!(
             "{samples} samples give {rows} equations for {b} base parameters (and {n} noise levels): too few samples"
         )));
     }
-    let norms: Vec<f64> = w.column_iter().map(|c| c.norm()).collect();
+    let norms: Vec<f64> = (0..b)
+        .map(|k| (0..n).map(|j| equations.joint(j).0[(k, k)]).sum::<f64>().sqrt())
+        .collect();
     let largest = norms.iter().copied().fold(0.0, f64::max);
     if let Some(k) = (0..b).find(|&k| norms[k] <= ZERO_COLUMN_TOL * largest) {
         return Err(IdentifyError::Unidentifiable(format!(
@@ -124,18 +185,20 @@ pub(crate) fn estimate(
             names[k]
         )));
     }
-    let mut ws = w.clone();
-    for (mut c, norm) in ws.column_iter_mut().zip(&norms) {
-        c /= *norm;
-    }
-    // Per-joint Gram matrices: the weighted normal equations are their weighted sum, so the
-    // expensive product over all rows is done once.
-    let grams: Vec<DMatrix<f64>> = (0..n)
-        .map(|j| {
-            let rows_j: Vec<usize> = (0..samples).map(|k| k * n + j).collect();
-            gram(&ws.select_rows(rows_j.iter()))
-        })
-        .collect();
+    // Columns scaled to unit norm: the weighted normal equations are the weighted sum of the
+    // joints' scaled Gram matrices.
+    let scaled = Scaled {
+        observations,
+        grams: (0..n)
+            .map(|j| DMatrix::from_fn(b, b, |r, c| equations.joint(j).0[(r, c)] / (norms[r] * norms[c])))
+            .collect(),
+        rhs: (0..n)
+            .map(|j| DVector::from_fn(b, |r, _| equations.joint(j).1[r] / norms[r]))
+            .collect(),
+        squares: (0..n).map(|j| equations.joint(j).2).collect(),
+        norms: norms.clone(),
+    };
+    let grams = &scaled.grams;
     let a = grams.iter().fold(DMatrix::zeros(b, b), |acc, g| acc + g);
     let eigen = a.clone().symmetric_eigen();
     let (mut kmin, mut kmax) = (0, 0);
@@ -175,20 +238,21 @@ pub(crate) fn estimate(
     }
     let condition_number = (lmax / lmin).sqrt();
     // The torque RMS of each joint, for the floor of its noise.
-    let torque_rms: Vec<f64> = (0..n)
-        .map(|j| ((0..samples).map(|k| tau[k * n + j].powi(2)).sum::<f64>() / samples as f64).sqrt())
+    let torque_rms: Vec<f64> = scaled
+        .squares
+        .iter()
+        .map(|s| (s / samples as f64).sqrt())
         .collect();
     // σ_j² = ‖r_j‖² / (N − tr(A⁻¹ G_j w_j)): the residuals of a fit weighted by `w_j`
     // (normal matrix `A = Σ w_j G_j`), over the joint's degrees of freedom.
     let noise_of = |x: &DVector<f64>, a: &DMatrix<f64>, w: &[f64]| -> Vec<f64> {
-        let r = tau - &ws * x;
+        let squares = scaled.residual_squares(x);
         let a_inv = a.clone().cholesky().expect("checked positive definite").inverse();
         (0..n)
             .map(|j| {
-                let rr: f64 = (0..samples).map(|k| r[k * n + j].powi(2)).sum();
                 let leverage = a_inv.component_mul(&grams[j]).sum() * w[j];
                 let dof = (samples as f64 - leverage).max(1.0);
-                (rr / dof)
+                (squares[j] / dof)
                     .sqrt()
                     .max(NOISE_FLOOR * torque_rms[j])
                     .max(f64::MIN_POSITIVE)
@@ -197,24 +261,21 @@ pub(crate) fn estimate(
     };
     let weighted = |noise: &[f64]| {
         let w: Vec<f64> = noise.iter().map(|s| s.powi(-2)).collect();
-        let weights2 = DVector::from_fn(rows, |i, _| w[i % n]);
         let aw = grams
             .iter()
             .zip(&w)
             .fold(DMatrix::zeros(b, b), |acc, (g, wj)| acc + g * *wj);
-        let x = solve_refined(&aw, &ws, tau, &weights2);
-        (x, aw, weights2)
+        let x = scaled.solve(&aw, &w);
+        (x, aw, w)
     };
     // 1. Ordinary least squares and a first noise of each joint.
-    let ones = DVector::from_element(rows, 1.0);
-    let x = solve_refined(&a, &ws, tau, &ones);
+    let x = scaled.solve(&a, &vec![1.0; n]);
     let mut joint_noise = noise_of(&x, &a, &vec![1.0; n]);
     // 2. Weighted least squares, the noise re-estimated from its residuals until it settles.
-    let (mut x, mut aw, mut weights2) = weighted(&joint_noise);
+    let (mut x, mut aw, mut weights) = weighted(&joint_noise);
     let (mut noise_iterations, mut noise_settled) = (0, false);
     while noise_iterations < MAX_NOISE_ITERATIONS {
-        let w: Vec<f64> = joint_noise.iter().map(|s| s.powi(-2)).collect();
-        let next = noise_of(&x, &aw, &w);
+        let next = noise_of(&x, &aw, &weights);
         noise_iterations += 1;
         let change = next
             .iter()
@@ -222,14 +283,19 @@ pub(crate) fn estimate(
             .map(|(a, b)| (a / b - 1.0).abs())
             .fold(0.0, f64::max);
         joint_noise = next;
-        (x, aw, weights2) = weighted(&joint_noise);
+        (x, aw, weights) = weighted(&joint_noise);
         if change <= NOISE_SETTLED {
             noise_settled = true;
             break;
         }
     }
-    let rw = tau - &ws * &x;
-    let s2 = rw.component_mul(&rw).dot(&weights2) / (rows - b) as f64;
+    let s2 = scaled
+        .residual_squares(&x)
+        .iter()
+        .zip(&weights)
+        .map(|(r, w)| r * w)
+        .sum::<f64>()
+        / (rows - b) as f64;
     let s2 = if s2 > 0.0 { s2 } else { 1.0 };
     let inverse = aw
         .clone()

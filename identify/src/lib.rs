@@ -41,21 +41,27 @@ mod least_squares;
 mod levenberg_marquardt;
 mod loadable;
 mod log_cholesky;
+mod normal_equations;
 mod objective;
 mod observation;
 mod physical_start;
 mod pipeline;
 mod simulate;
 mod starts;
+mod streaming;
 
 pub use consistent::{pseudo_inertia_margins, ConsistentEstimate};
-pub use data::{read_csv, to_csv, Samples};
+pub use data::{read_csv, to_csv, Sample, SampleReader, SampleWriter, Samples};
 pub use describe::to_yaml;
 pub use error::{IdentifyError, Place};
 pub use excitation::{condition_number, optimise, Excitation, ExcitationOptions};
 pub use fourier::{FourierTrajectory, JointSample, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
 pub use least_squares::BaseEstimate;
+pub use normal_equations::NormalEquations;
 pub use observation::{prepare, BaseModel, BaseRegressorSource, Compiled, Prepared};
-pub use pipeline::{identify, identify_with, Identification, IdentifyOptions, WrittenEstimate};
+pub use pipeline::{
+    identify, identify_file, identify_with, Identification, IdentifyOptions, WrittenEstimate,
+};
 pub use simulate::{measure, with_joint_terms, with_payload};
 pub use starts::ConsistentStart;
+pub use streaming::{estimate_streaming, Progress, StreamedEstimate};

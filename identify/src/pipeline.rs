@@ -5,26 +5,33 @@ use crate::consistent::{consistent_estimate, misfit_bound, ConsistentEstimate};
 use crate::data::Samples;
 use crate::describe::to_yaml;
 use crate::error::IdentifyError;
-use crate::least_squares::{estimate, BaseEstimate};
+use crate::least_squares::{estimate, BaseEstimate, Observations};
 use crate::loadable::loadable;
 use crate::objective::Problem;
 use crate::observation::{prepare, BaseModel, BaseRegressorSource};
 use crate::physical_start::physical_start;
 use crate::starts::{description_start, least_squares_start};
+use crate::streaming::{estimate_streaming, Progress};
 use dyngen_codegen::model::Model;
 use std::fmt;
+use std::path::Path;
 
 /// Options of [`identify`].
 #[derive(Clone, Debug, PartialEq)]
 pub struct IdentifyOptions {
     /// Cutoff (Hz) of the low-pass filter used when velocities or accelerations are missing.
     pub cutoff: f64,
+    /// Samples the filter runs over at once when a file is identified line by line
+    /// ([`identify_file`]), besides the overlaps that make the result that of the whole
+    /// signal.
+    pub stream_window: usize,
 }
 
 impl Default for IdentifyOptions {
     fn default() -> Self {
         IdentifyOptions {
             cutoff: crate::differentiate::DEFAULT_CUTOFF_HZ,
+            stream_window: 1 << 14,
         }
     }
 }
@@ -125,6 +132,50 @@ pub fn identify_with(
     samples: &Samples,
     options: &IdentifyOptions,
 ) -> Result<Identification, IdentifyError> {
+    let base_model = matching(model, source)?;
+    let prepared = prepare(samples, options.cutoff)?;
+    let (w, tau) = prepared.stack(source);
+    let observations = Observations::Stacked {
+        w: &w,
+        tau: &tau,
+        n: model.dof(),
+    };
+    let base = estimate(observations, &base_model.base.names)?;
+    complete(
+        model,
+        &base_model,
+        base,
+        prepared.q.len(),
+        prepared.differentiated,
+    )
+}
+
+/// [`identify_with`] on the data file `path` read line by line, for logs too long to hold:
+/// memory does not grow with the file, the samples and the estimate are those of
+/// [`identify_with`] (to the normal equations' accuracy: [`NormalEquations`]), and
+/// `progress` hears how far it has come.
+///
+/// [`NormalEquations`]: crate::NormalEquations
+pub fn identify_file(
+    model: &Model,
+    source: &impl BaseRegressorSource,
+    path: &Path,
+    options: &IdentifyOptions,
+    progress: impl FnMut(&Progress),
+) -> Result<Identification, IdentifyError> {
+    let base_model = matching(model, source)?;
+    let streamed = estimate_streaming(model, source, path, options, progress)?;
+    complete(
+        model,
+        &base_model,
+        streamed.base,
+        streamed.samples_used,
+        streamed.differentiated,
+    )
+}
+
+/// The description's base parameters, checked to be those of `source`.
+fn matching<'m>(model: &'m Model, source: &impl BaseRegressorSource) -> Result<BaseModel<'m>, IdentifyError> {
     let base_model = BaseModel::new(model);
     if source.dof() != model.dof() || source.base_names() != base_model.base.names {
         return Err(IdentifyError::WrongRobot(format!(
@@ -133,9 +184,17 @@ pub fn identify_with(
             model.name()
         )));
     }
-    let prepared = prepare(samples, options.cutoff)?;
-    let (w, tau) = prepared.stack(source);
-    let base = estimate(&w, &tau, model.dof(), &base_model.base.names)?;
+    Ok(base_model)
+}
+
+/// From the least squares to the identified description.
+fn complete(
+    model: &Model,
+    base_model: &BaseModel<'_>,
+    base: BaseEstimate,
+    samples_used: usize,
+    differentiated: bool,
+) -> Result<Identification, IdentifyError> {
     let mut warnings = Vec::new();
     if !base.noise_settled {
         warnings.push(format!(
@@ -191,8 +250,8 @@ pub fn identify_with(
                     consistent,
                     model: identified,
                     written,
-                    samples_used: prepared.q.len(),
-                    differentiated: prepared.differentiated,
+                    samples_used,
+                    differentiated,
                     warnings,
                     notes,
                 });
