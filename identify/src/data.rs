@@ -137,16 +137,16 @@ pub fn read_csv(path: &Path, model: &Model, require_torque: bool) -> Result<Samp
 type Record = (usize, u64, csv::StringRecord);
 
 /// The non-blank records of `reader` with their line numbers. Every record may have its own
-/// number of fields, so that a short line is reported naming both counts.
+/// number of fields, so that a short line is reported naming both counts. Fields are trimmed
+/// where they are read (cheaper than trimming every record).
 fn records(reader: impl std::io::Read) -> impl Iterator<Item = Result<Record, IdentifyError>> {
     csv::ReaderBuilder::new()
         .has_headers(false)
         .flexible(true)
-        .trim(csv::Trim::All)
         .from_reader(reader)
         .into_records()
         .filter_map(|record| match record {
-            Ok(r) if r.len() == 1 && r[0].is_empty() => None,
+            Ok(r) if r.len() == 1 && r[0].trim().is_empty() => None,
             Ok(r) => {
                 let (line, byte) = r.position().map_or((0, 0), |p| (p.line() as usize, p.byte()));
                 Some(Ok((line, byte, r)))
@@ -170,6 +170,8 @@ struct Header {
     line: usize,
     n: usize,
     sensor_frame: Option<String>,
+    /// Whether each [`Kind`] has columns (looked up once, not per line).
+    given: [bool; 4],
 }
 
 impl Header {
@@ -180,7 +182,7 @@ impl Header {
         require_torque: bool,
     ) -> Result<Header, IdentifyError> {
         let n = model.dof();
-        let names: Vec<String> = record.iter().map(str::to_owned).collect();
+        let names: Vec<String> = record.iter().map(|f| f.trim().to_owned()).collect();
         let mut columns = Vec::with_capacity(names.len());
         let mut place: HashMap<Column, usize> = HashMap::new();
         let mut sensor: Option<(String, usize)> = None;
@@ -273,6 +275,7 @@ impl Header {
                 return Err(IdentifyError::data(msg).at_line(line));
             }
         }
+        let given = [Kind::Q, Kind::Qd, Kind::Qdd, Kind::Tau].map(|kind| has(Column::Joint(kind, 0)));
         Ok(Header {
             names,
             columns,
@@ -280,11 +283,32 @@ impl Header {
             line,
             n,
             sensor_frame: sensor.map(|(frame, _)| frame),
+            given,
         })
     }
 
     fn has(&self, kind: Kind) -> bool {
-        self.place.contains_key(&Column::Joint(kind, 0))
+        self.given[kind as usize]
+    }
+
+    /// The number in field `c` of `line`, or the error that names it.
+    fn number(&self, line: usize, c: usize, field: &str) -> Result<f64, IdentifyError> {
+        let err = |msg: String| {
+            IdentifyError::data(msg)
+                .at_line(line)
+                .at_column(c + 1, &self.names[c])
+        };
+        let field = field.trim();
+        if field.is_empty() {
+            return Err(err("empty field: expected a number".into()));
+        }
+        let value: f64 = field
+            .parse()
+            .map_err(|_| err(format!("'{field}' is not a number")))?;
+        if !value.is_finite() {
+            return Err(err(format!("{field} is not a finite number")));
+        }
+        Ok(value)
     }
 
     /// The sample on one line, checked against the joint limits.
@@ -307,20 +331,7 @@ impl Header {
         let mut wrench = [0.0; 6];
         let mut time = 0.0;
         for (c, (field, column)) in fields.iter().zip(&self.columns).enumerate() {
-            let err = |msg: String| {
-                IdentifyError::data(msg)
-                    .at_line(line)
-                    .at_column(c + 1, &self.names[c])
-            };
-            if field.is_empty() {
-                return Err(err("empty field: expected a number".into()));
-            }
-            let value: f64 = field
-                .parse()
-                .map_err(|_| err(format!("'{field}' is not a number")))?;
-            if !value.is_finite() {
-                return Err(err(format!("{field} is not a finite number")));
-            }
+            let value = self.number(line, c, field)?;
             match *column {
                 Column::Time => time = value,
                 Column::Joint(kind, j) => row[kind as usize][j] = value,
@@ -447,6 +458,26 @@ impl<'m> SampleReader<'m> {
     /// The line of the header.
     pub fn header_line(&self) -> usize {
         self.header.line
+    }
+
+    /// The time of the next line, read without its other fields (a first pass over a long
+    /// file); `Some(None)` when that line is not plainly a later sample (a reader that reads
+    /// every field says what is wrong with it).
+    pub(crate) fn next_time(&mut self) -> Option<Option<f64>> {
+        let Ok((line, byte, fields)) = self.records.next()? else {
+            return Some(None);
+        };
+        self.bytes = byte;
+        let c = self.header.place[&Column::Time];
+        if fields.len() != self.header.names.len() {
+            return Some(None);
+        }
+        let time = self.header.number(line, c, &fields[c]).ok()?;
+        if self.previous.is_some_and(|(previous, _)| time <= previous) {
+            return Some(None);
+        }
+        self.previous = Some((time, line));
+        Some(Some(time))
     }
 
     fn next_sample(&mut self) -> Option<Result<Sample, IdentifyError>> {

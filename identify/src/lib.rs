@@ -44,6 +44,7 @@ mod log_cholesky;
 mod normal_equations;
 mod objective;
 mod observation;
+mod payload;
 mod physical_start;
 mod pipeline;
 mod simulate;
@@ -59,9 +60,10 @@ pub use fourier::{FourierTrajectory, JointSample, TrajectoryLimits, DEFAULT_ACCE
 pub use least_squares::BaseEstimate;
 pub use normal_equations::NormalEquations;
 pub use observation::{prepare, BaseModel, BaseRegressorSource, Compiled, Prepared};
+pub use payload::{identify_payload, PayloadData, PayloadEstimate, PayloadOptions};
 pub use pipeline::{
     identify, identify_file, identify_with, Identification, IdentifyOptions, WrittenEstimate,
 };
-pub use simulate::{measure, with_joint_terms, with_payload};
+pub use simulate::{measure, measure_wrench, with_body_at, with_joint_terms, with_payload};
 pub use starts::ConsistentStart;
 pub use streaming::{estimate_streaming, Progress, StreamedEstimate};

@@ -12,7 +12,7 @@
 //! condition number): 10⁻¹¹ for a good excitation (κ ≈ 300), and the residual sums of squares
 //! of a joint lose the digits its noise is below its torque (10⁻¹² of them at 1% noise).
 
-use nalgebra::{DMatrix, DVector};
+use nalgebra::{DMatrix, DMatrixView, DVector};
 
 /// Samples gathered before they are multiplied in.
 const BLOCK: usize = 512;
@@ -26,7 +26,8 @@ pub struct NormalEquations {
     rhs: Vec<DVector<f64>>,
     squares: Vec<f64>,
     samples: usize,
-    /// Rows waiting to be multiplied in, per joint (`BLOCK × b`), with their torques.
+    /// Rows waiting to be multiplied in, per joint, one column per sample (`b × BLOCK`: a
+    /// sample's row is written contiguously), with their torques.
     pending: Vec<DMatrix<f64>>,
     pending_tau: Vec<DVector<f64>>,
     filled: usize,
@@ -42,7 +43,7 @@ impl NormalEquations {
             rhs: vec![DVector::zeros(b); n],
             squares: vec![0.0; n],
             samples: 0,
-            pending: vec![DMatrix::zeros(BLOCK, b); n],
+            pending: vec![DMatrix::zeros(b, BLOCK); n],
             pending_tau: vec![DVector::zeros(BLOCK); n],
             filled: 0,
         }
@@ -52,11 +53,13 @@ impl NormalEquations {
     pub fn push(&mut self, y: &DMatrix<f64>, tau: &[f64]) {
         assert_eq!(y.shape(), (self.n, self.b), "regressor of the wrong shape");
         assert_eq!(tau.len(), self.n, "torques of the wrong length");
-        for j in 0..self.n {
-            for c in 0..self.b {
-                self.pending[j][(self.filled, c)] = y[(j, c)];
-            }
-            self.pending_tau[j][self.filled] = tau[j];
+        for (j, (&t, (pending, pending_tau))) in tau
+            .iter()
+            .zip(self.pending.iter_mut().zip(&mut self.pending_tau))
+            .enumerate()
+        {
+            pending.column_mut(self.filled).copy_from(&y.row(j).transpose());
+            pending_tau[self.filled] = t;
         }
         self.filled += 1;
         self.samples += 1;
@@ -68,13 +71,16 @@ impl NormalEquations {
     /// Multiplies the pending rows in.
     fn flush(&mut self) {
         let rows = self.filled;
+        let b = self.b;
         for j in 0..self.n {
-            let block = self.pending[j].rows(0, rows);
+            let data = &self.pending[j].as_slice()[..rows * b];
+            let columns = DMatrixView::from_slice(data, b, rows);
+            // The same numbers seen as rows × b: the product runs as one blocked matrix
+            // multiplication on strides, without a transposed copy.
+            let rows_view = DMatrixView::from_slice_with_strides(data, rows, b, b, 1);
             let tau = self.pending_tau[j].rows(0, rows);
-            // An explicit transpose makes the product one blocked matrix multiplication.
-            let transposed = block.transpose();
-            self.grams[j].gemm(1.0, &transposed, &block, 1.0);
-            self.rhs[j].gemv(1.0, &transposed, &tau, 1.0);
+            self.grams[j].gemm(1.0, &columns, &rows_view, 1.0);
+            self.rhs[j].gemv(1.0, &columns, &tau, 1.0);
             self.squares[j] += tau.norm_squared();
         }
         self.filled = 0;

@@ -130,59 +130,71 @@ pub fn prepare(samples: &Samples, cutoff: f64) -> Result<Prepared, IdentifyError
             "the data has no torque columns (tau[<joint>])",
         ));
     };
-    let (qd, qdd) = match (&samples.qd, &samples.qdd) {
-        (Some(qd), Some(qdd)) => {
-            return Ok(Prepared {
-                q: samples.q.clone(),
-                qd: qd.clone(),
-                qdd: qdd.clone(),
-                tau: tau.clone(),
-                kept: (0..samples.len()).collect(),
-                differentiated: false,
-            })
-        }
-        (given_qd, _) => {
-            let rate = uniform_rate(&samples.time, &samples.lines)?;
-            if !(cutoff > 0.0 && cutoff < 0.5 * rate) {
-                return Err(IdentifyError::data(format!(
-                    "filter cutoff {cutoff} Hz must lie between 0 and half the sampling rate ({} Hz)",
-                    0.5 * rate
-                )));
-            }
-            let n = samples.q.first().map_or(0, Vec::len);
-            let mut qd = vec![vec![0.0; n]; samples.len()];
-            let mut qdd = vec![vec![0.0; n]; samples.len()];
-            for j in 0..n {
-                let x: Vec<f64> = samples.q.iter().map(|r| r[j]).collect();
-                let (d1, d2) = differences(&samples.time, &filtfilt(&x, rate, cutoff));
-                for k in 0..samples.len() {
-                    qd[k][j] = d1[k];
-                    qdd[k][j] = d2[k];
-                }
-            }
-            if let Some(given) = given_qd {
-                qd = given.clone();
-            }
-            let pad = padding(rate, cutoff);
-            if samples.len() <= 2 * pad {
-                return Err(IdentifyError::data(format!(
-                    "{} samples: the filter's transients take {pad} at each end; give more samples or q̇ and q̈",
-                    samples.len()
-                )));
-            }
-            (qd, qdd)
-        }
-    };
-    let rate = uniform_rate(&samples.time, &samples.lines)?;
-    let pad = padding(rate, cutoff);
-    let kept: Vec<usize> = (pad..samples.len() - pad).collect();
-    let pick = |v: &Vec<Vec<f64>>| kept.iter().map(|&k| v[k].clone()).collect::<Vec<_>>();
+    let motion = motion(samples, cutoff)?;
+    let pick = |v: &Vec<Vec<f64>>| motion.kept.iter().map(|&k| v[k].clone()).collect::<Vec<_>>();
     Ok(Prepared {
         q: pick(&samples.q),
+        tau: pick(tau),
+        qd: motion.qd,
+        qdd: motion.qdd,
+        kept: motion.kept,
+        differentiated: motion.differentiated,
+    })
+}
+
+/// Velocities and accelerations of the samples kept.
+pub(crate) struct Motion {
+    pub qd: Vec<Vec<f64>>,
+    pub qdd: Vec<Vec<f64>>,
+    /// Index in the samples of each one kept.
+    pub kept: Vec<usize>,
+    pub differentiated: bool,
+}
+
+/// `q̇` and `q̈` of `samples`, given or computed as [`prepare`] says.
+pub(crate) fn motion(samples: &Samples, cutoff: f64) -> Result<Motion, IdentifyError> {
+    if let (Some(qd), Some(qdd)) = (&samples.qd, &samples.qdd) {
+        return Ok(Motion {
+            qd: qd.clone(),
+            qdd: qdd.clone(),
+            kept: (0..samples.len()).collect(),
+            differentiated: false,
+        });
+    }
+    let rate = uniform_rate(&samples.time, &samples.lines)?;
+    if !(cutoff > 0.0 && cutoff < 0.5 * rate) {
+        return Err(IdentifyError::data(format!(
+            "filter cutoff {cutoff} Hz must lie between 0 and half the sampling rate ({} Hz)",
+            0.5 * rate
+        )));
+    }
+    let n = samples.q.first().map_or(0, Vec::len);
+    let mut qd = vec![vec![0.0; n]; samples.len()];
+    let mut qdd = vec![vec![0.0; n]; samples.len()];
+    for j in 0..n {
+        let x: Vec<f64> = samples.q.iter().map(|r| r[j]).collect();
+        let (d1, d2) = differences(&samples.time, &filtfilt(&x, rate, cutoff));
+        for k in 0..samples.len() {
+            qd[k][j] = d1[k];
+            qdd[k][j] = d2[k];
+        }
+    }
+    if let Some(given) = &samples.qd {
+        qd = given.clone();
+    }
+    let pad = padding(rate, cutoff);
+    if samples.len() <= 2 * pad {
+        return Err(IdentifyError::data(format!(
+            "{} samples: the filter's transients take {pad} at each end; give more samples or q̇ and q̈",
+            samples.len()
+        )));
+    }
+    let kept: Vec<usize> = (pad..samples.len() - pad).collect();
+    let pick = |v: &Vec<Vec<f64>>| kept.iter().map(|&k| v[k].clone()).collect::<Vec<_>>();
+    Ok(Motion {
         qd: pick(&qd),
         qdd: pick(&qdd),
-        tau: pick(tau),
-        kept: kept.clone(),
+        kept,
         differentiated: true,
     })
 }

@@ -6,25 +6,76 @@ use crate::excitation::normal;
 use crate::fourier::FourierTrajectory;
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::model::{Inertia, JointTermKind, JointTermValues, JointTerms, Model};
-use dyngen_runtime::SplitMix64;
+use dyngen_runtime::{ReferenceFrame, SplitMix64};
 use nalgebra::{Matrix3, Vector3};
 
 /// `model` with a point-like payload of `mass` kg (a solid sphere of radius `radius`) at
 /// `offset` in the end-effector frame, welded to the body that carries the end-effector.
 pub fn with_payload(model: &Model, mass: f64, offset: Vector3<f64>, radius: f64) -> Model {
-    let ee = model.end_effector();
     let payload = Inertia {
         mass,
         com: offset,
         inertia_com: Matrix3::identity() * (0.4 * mass * radius * radius),
-    }
-    .transformed(&ee.placement);
+    };
+    with_body_at(model, &model.end_effector().name, &payload)
+}
+
+/// `model` with a rigid body of `inertia` (given in the coordinates of the frame named
+/// `frame`) welded to the body that carries that frame.
+pub fn with_body_at(model: &Model, frame: &str, inertia: &Inertia) -> Model {
+    let frame = model
+        .frames()
+        .iter()
+        .find(|f| f.name == frame)
+        .unwrap_or_else(|| panic!("no frame '{frame}'"));
     let mut bodies = model.bodies().to_vec();
-    bodies[ee.parent].inertia = bodies[ee.parent].inertia.merged(&payload);
+    bodies[frame.parent].inertia = bodies[frame.parent]
+        .inertia
+        .merged(&inertia.transformed(&frame.placement));
     model
         .clone()
         .with_bodies(bodies)
         .expect("a payload keeps a model valid")
+}
+
+/// What a force/torque sensor at `frame` reads along `trajectory` (the samples of
+/// [`measure`] at `duration` s and `rate` Hz) when `truth` is `held` plus what lies beyond the
+/// sensor: the wrench the load applies to the sensor, `[f; m]` in the sensor frame, plus
+/// Gaussian noise `noise` per axis and a constant `offset`. Computed from the two robots'
+/// inverse dynamics (`τ_truth − τ_held = Jᵀ w`, `J` the frame's local Jacobian), not from a
+/// body regressor, so it checks one.
+#[allow(clippy::too_many_arguments)]
+pub fn measure_wrench(
+    held: &Model,
+    truth: &Model,
+    frame: &str,
+    trajectory: &FourierTrajectory,
+    duration: f64,
+    rate: f64,
+    noise: &[f64; 6],
+    offset: &[f64; 6],
+    seed: u64,
+) -> Vec<[f64; 6]> {
+    let (held_dynamics, truth_dynamics) = (NumericDynamics::new(held), NumericDynamics::new(truth));
+    let mut rng = SplitMix64::new(seed);
+    let count = (duration * rate).round() as usize;
+    (0..count)
+        .map(|k| {
+            let s = trajectory.at(k as f64 / rate);
+            let difference = truth_dynamics.inverse_dynamics(&s.q, &s.qd, &s.qdd)
+                - held_dynamics.inverse_dynamics(&s.q, &s.qd, &s.qdd);
+            let jacobian = held_dynamics
+                .frame_motion(frame, &s.q, &s.qd)
+                .unwrap_or_else(|| panic!("no frame '{frame}'"))
+                .jacobian(ReferenceFrame::Local);
+            let required = jacobian
+                .transpose()
+                .svd(true, true)
+                .solve(&difference, 1e-12)
+                .expect("an SVD solve");
+            std::array::from_fn(|c| -required[c] + offset[c] + noise[c] * normal(&mut rng))
+        })
+        .collect()
 }
 
 /// `model` with every joint-level column and the given values per joint.

@@ -156,7 +156,9 @@ struct Timing {
     step: f64,
 }
 
-/// Reads every line (with every check) for the count and the first and last time.
+/// Reads the time of every line for the count and the first and last time. A line whose time
+/// is not plainly a later sample sends a full read from the start, which reports the first
+/// problem of the file as [`read_csv`](crate::read_csv) does.
 fn first_pass(
     model: &Model,
     path: &Path,
@@ -164,22 +166,21 @@ fn first_pass(
 ) -> Result<Timing, IdentifyError> {
     let mut reader = SampleReader::open(path, model, true)?;
     let (mut count, mut first, mut last) = (0usize, 0.0, 0.0);
-    while let Some(sample) = reader.next() {
-        let s = sample?;
+    while let Some(time) = reader.next_time() {
+        let Some(time) = time else {
+            for sample in SampleReader::open(path, model, true)? {
+                sample?;
+            }
+            return Err(IdentifyError::data("the file changed while it was read").in_file(path));
+        };
         if count == 0 {
-            first = s.time;
+            first = time;
         }
-        last = s.time;
+        last = time;
         count += 1;
         if count % PROGRESS_EVERY == 0 {
             progress(reader.bytes_read(), 0);
         }
-    }
-    if count < 3 {
-        return Err(IdentifyError::data(format!(
-            "{count} samples: at least 3 are needed to compute velocities and accelerations"
-        ))
-        .in_file(path));
     }
     let step = (last - first) / (count - 1) as f64;
     Ok(Timing { count, step })

@@ -1,0 +1,505 @@
+//! A payload (a tool, a grasped object) identified on a robot whose own parameters are known:
+//! the ten parameters of one rigid body attached at a frame, with everything else held at the
+//! description's values, from joint torques, from a wrist force/torque sensor, or both.
+//!
+//! - **Torques**: `τ − Y θ_held = Y_body T φ`, the columns of the body that carries the frame
+//!   (`T` carries the payload's parameters `φ`, in the frame, to that body's frame), optionally
+//!   with the joint terms re-fitted beside it (`τ − Y_rigid θ_held = [Y_body T, Y_joint] [φ; θ_joint]`).
+//! - **Force/torque sensor**: the wrench the payload applies to the sensor, in the sensor's
+//!   frame, is `w = −B(ω, ω̇, a − g) φ + w₀`: `B` the body regressor of the frame (below), from
+//!   the frame's velocity and classical acceleration and gravity, and `w₀` the sensor's offset,
+//!   six more unknowns (every sensor has one, and it drifts).
+//! - **Both**: the rows of both, each channel weighted by its own noise.
+//!
+//! The rows go through the identification's weighted least squares (each joint and each
+//! sensor axis its own noise, re-estimated from its residuals), so the uncertainty of every
+//! number comes with it; then the payload is made physically consistent (its pseudo-inertia
+//! positive definite with the identification's margin) by the log-Cholesky map, minimising
+//! the whitened misfit `(φ − φ̂)ᵀ Σ⁻¹ (φ − φ̂)` over the payload's marginal information, and
+//! a re-fitted joint term that comes out negative (viscous or Coulomb friction, armature) is
+//! held at zero and the rest re-solved.
+//!
+//! The body regressor, with `h = m c`, `I` about the frame origin and `ã = a − g`:
+//!
+//! ```text
+//! f = m ã + (ω̇× + ω×ω×) h
+//! n = I ω̇ + ω × I ω − ã × h
+//! ```
+
+use crate::data::Samples;
+use crate::error::IdentifyError;
+use crate::least_squares::{estimate, BaseEstimate, Observations};
+use crate::levenberg_marquardt::minimise;
+use crate::loadable::loadable;
+use crate::log_cholesky::{relative_margin, BodyMap, MARGIN};
+use crate::observation::motion;
+use dyngen_codegen::dynamics::NumericDynamics;
+use dyngen_codegen::model::{Frame, JointTermValues, Model, Pose, PARAMS_PER_BODY};
+use dyngen_runtime::ReferenceFrame;
+use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, Vector3};
+
+/// What a payload is identified from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PayloadData {
+    /// Joint torques.
+    Torques,
+    /// A force/torque sensor's wrench (the data's `fx … mz[<frame>]` columns).
+    Wrench,
+    /// Both, each channel weighted by its noise.
+    Both,
+}
+
+/// Options of [`identify_payload`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct PayloadOptions {
+    /// The frame the payload is attached at and reported in: by default the sensor's frame
+    /// when the data has a wrench, else the end-effector.
+    pub frame: Option<String>,
+    /// What to identify from: by default everything the data has.
+    pub data: Option<PayloadData>,
+    /// Re-fit the description's joint terms (friction, armature, offset) from the torques
+    /// beside the payload: a load changes the friction of the joints that carry it.
+    pub refit_joint_terms: bool,
+    /// Cutoff (Hz) of the low-pass filter used when velocities or accelerations are missing.
+    pub cutoff: f64,
+}
+
+impl Default for PayloadOptions {
+    fn default() -> Self {
+        PayloadOptions {
+            frame: None,
+            data: None,
+            refit_joint_terms: false,
+            cutoff: crate::differentiate::DEFAULT_CUTOFF_HZ,
+        }
+    }
+}
+
+/// An identified payload.
+#[derive(Clone, Debug)]
+pub struct PayloadEstimate {
+    /// The frame the payload is given in.
+    pub frame: String,
+    pub data: PayloadData,
+    pub mass: f64,
+    /// Centre of mass in the frame.
+    pub com: Vector3<f64>,
+    /// Rotational inertia about the centre of mass, in the frame's axes.
+    pub inertia_com: Matrix3<f64>,
+    /// The least squares, before the payload is made physically consistent: every unknown
+    /// (the payload's ten parameters in the frame, then re-fitted joint terms, then the
+    /// sensor offset), with standard deviations and the noise of each channel (joints, then
+    /// the sensor's axes).
+    pub least_squares: BaseEstimate,
+    /// Whether the least-squares payload was not a physical body, and the consistent one is
+    /// the nearest that is (in the whitened misfit).
+    pub made_consistent: bool,
+    /// The sensor's offset `[f; m]`, when a wrench was used.
+    pub sensor_offset: Option<[f64; 6]>,
+    /// The re-fitted joint terms, when asked for.
+    pub joint_terms: Option<Vec<JointTermValues>>,
+    /// The description with the payload welded to the body that carries the frame (and the
+    /// re-fitted joint terms): its YAML ([`PayloadEstimate::yaml`]) loads.
+    pub model: Model,
+    pub samples_used: usize,
+    pub differentiated: bool,
+    /// The loader's warnings about the description written, and what else a user should know.
+    pub warnings: Vec<String>,
+}
+
+impl PayloadEstimate {
+    /// The ten standard parameters `[m, m·c, I_O]` of the payload about the frame's origin.
+    pub fn parameters(&self) -> [f64; PARAMS_PER_BODY] {
+        dyngen_runtime::body_parameters(self.mass, &self.com, &self.inertia_com)
+    }
+
+    /// The description with the payload, as dyngen YAML.
+    pub fn yaml(&self, source: &str) -> String {
+        let mut comment = vec![
+            format!(
+                "The description with a payload identified by `dyngen payload` from {source} ({} samples, {}):",
+                self.samples_used,
+                match self.data {
+                    PayloadData::Torques => "joint torques",
+                    PayloadData::Wrench => "force/torque sensor",
+                    PayloadData::Both => "joint torques and force/torque sensor",
+                }
+            ),
+            format!(
+                "mass {} kg, centre of mass {:?} m in frame '{}', inertia about it (xx, xy, yy, xz, yz, zz) {:?} kg·m²,",
+                self.mass,
+                self.com.as_slice(),
+                self.frame,
+                [
+                    self.inertia_com[(0, 0)],
+                    self.inertia_com[(0, 1)],
+                    self.inertia_com[(1, 1)],
+                    self.inertia_com[(0, 2)],
+                    self.inertia_com[(1, 2)],
+                    self.inertia_com[(2, 2)]
+                ]
+            ),
+            "welded to the link that carries the frame.".into(),
+        ];
+        if self.joint_terms.is_some() {
+            comment.push("Joint terms: re-fitted with the payload.".into());
+        }
+        comment.extend(self.warnings.iter().map(|w| format!("warning: {w}")));
+        crate::describe::to_yaml(&self.model, &comment)
+    }
+}
+
+/// `p`'s ten parameters (about the origin of the frame they are given in) seen from another
+/// frame, `pose` being the first frame in the second: `h' = R h + m t`,
+/// `I' = R I Rᵀ − [R h]×[t]× − [t]×[R h]× − m [t]×²`.
+pub(crate) fn parameters_in(p: &[f64; PARAMS_PER_BODY], pose: &Pose) -> [f64; PARAMS_PER_BODY] {
+    let (r, t) = (&pose.rotation, &pose.translation);
+    let m = p[0];
+    let h = r * Vector3::new(p[1], p[2], p[3]);
+    let i = Matrix3::new(p[4], p[5], p[7], p[5], p[6], p[8], p[7], p[8], p[9]);
+    let (th, tt) = (h.cross_matrix(), t.cross_matrix());
+    let moved = r * i * r.transpose() - th * tt - tt * th - tt * tt * m;
+    let h = h + t * m;
+    [
+        m,
+        h.x,
+        h.y,
+        h.z,
+        moved[(0, 0)],
+        moved[(0, 1)],
+        moved[(1, 1)],
+        moved[(0, 2)],
+        moved[(1, 2)],
+        moved[(2, 2)],
+    ]
+}
+
+/// The linear map of [`parameters_in`] as a matrix.
+fn parameters_in_matrix(pose: &Pose) -> SMatrix<f64, 10, 10> {
+    let mut t = SMatrix::<f64, 10, 10>::zeros();
+    for k in 0..PARAMS_PER_BODY {
+        let mut e = [0.0; PARAMS_PER_BODY];
+        e[k] = 1.0;
+        t.set_column(k, &SMatrix::<f64, 10, 1>::from(parameters_in(&e, pose)));
+    }
+    t
+}
+
+/// `B` with `[f; n] = B φ`: the wrench that moves a body of parameters `φ` (about the frame
+/// origin, in its axes) at angular velocity `w`, angular acceleration `dw` and origin
+/// acceleration minus gravity `a`, all in the frame.
+pub(crate) fn body_regressor(w: &Vector3<f64>, dw: &Vector3<f64>, a: &Vector3<f64>) -> SMatrix<f64, 6, 10> {
+    let mut b = SMatrix::<f64, 6, 10>::zeros();
+    let wx = w.cross_matrix();
+    b.fixed_view_mut::<3, 1>(0, 0).copy_from(a);
+    b.fixed_view_mut::<3, 3>(0, 1)
+        .copy_from(&(dw.cross_matrix() + wx * wx));
+    b.fixed_view_mut::<3, 3>(3, 1).copy_from(&(-a.cross_matrix()));
+    // `I v` as a matrix of the six inertia entries [xx, xy, yy, xz, yz, zz].
+    let of = |v: &Vector3<f64>| {
+        SMatrix::<f64, 3, 6>::from_row_slice(&[
+            v.x, v.y, 0.0, v.z, 0.0, 0.0, //
+            0.0, v.x, v.y, 0.0, v.z, 0.0, //
+            0.0, 0.0, 0.0, v.x, v.y, v.z,
+        ])
+    };
+    b.fixed_view_mut::<3, 6>(3, 4).copy_from(&(of(dw) + wx * of(w)));
+    b
+}
+
+/// The pose of frame `b` in frame `a`, both on one body.
+fn relative(a: &Frame, b: &Frame) -> Pose {
+    let rt = a.placement.rotation.transpose();
+    Pose {
+        rotation: rt * b.placement.rotation,
+        translation: rt * (b.placement.translation - a.placement.translation),
+    }
+}
+
+fn find_frame<'m>(model: &'m Model, name: &str, what: &str) -> Result<&'m Frame, IdentifyError> {
+    model.frames().iter().find(|f| f.name == name).ok_or_else(|| {
+        let names: Vec<&str> = model.frames().iter().map(|f| f.name.as_str()).collect();
+        IdentifyError::data(format!(
+            "{what} '{name}' is not a frame of the description (its frames: {}; name others with `frames:`)",
+            names.join(", ")
+        ))
+    })
+}
+
+const PAYLOAD_NAMES: [&str; PARAMS_PER_BODY] =
+    ["m", "mcx", "mcy", "mcz", "Ixx", "Ixy", "Iyy", "Ixz", "Iyz", "Izz"];
+const OFFSET_NAMES: [&str; 6] = ["fx", "fy", "fz", "mx", "my", "mz"];
+
+/// Identifies a payload attached at a frame of `model`, with `model`'s own parameters held;
+/// see the module docs.
+pub fn identify_payload(
+    model: &Model,
+    samples: &Samples,
+    options: &PayloadOptions,
+) -> Result<PayloadEstimate, IdentifyError> {
+    let data = match (options.data, samples.tau.is_some(), samples.wrench.is_some()) {
+        (Some(data), _, _) => data,
+        (None, true, true) => PayloadData::Both,
+        (None, true, false) => PayloadData::Torques,
+        (None, false, true) => PayloadData::Wrench,
+        (None, false, false) => {
+            return Err(IdentifyError::data(
+                "the data has neither torque columns (tau[<joint>]) nor a force/torque sensor's (fx … mz[<frame>])",
+            ))
+        }
+    };
+    let torques = matches!(data, PayloadData::Torques | PayloadData::Both);
+    let wrench = matches!(data, PayloadData::Wrench | PayloadData::Both);
+    let tau = match (torques, &samples.tau) {
+        (true, None) => {
+            return Err(IdentifyError::data(
+                "identifying from torques, but the data has no torque columns (tau[<joint>])",
+            ))
+        }
+        (_, tau) => tau.as_ref().filter(|_| torques),
+    };
+    let sensor = match (wrench, &samples.wrench, &samples.sensor_frame) {
+        (true, Some(w), Some(frame)) => Some((w, find_frame(model, frame, "the sensor frame")?)),
+        (true, _, _) => return Err(IdentifyError::data(
+            "identifying from a force/torque sensor, but the data has no wrench columns (fx … mz[<frame>])",
+        )),
+        (false, _, _) => None,
+    };
+    let frame_name = options
+        .frame
+        .clone()
+        .or_else(|| sensor.map(|(_, f)| f.name.clone()))
+        .unwrap_or_else(|| model.end_effector().name.clone());
+    let frame = find_frame(model, &frame_name, "the payload frame")?;
+    if let Some((_, s)) = sensor {
+        if s.parent != frame.parent {
+            return Err(IdentifyError::data(format!(
+                "the payload frame '{}' and the sensor frame '{}' are on different links: the sensor \
+                 measures only what is beyond it",
+                frame.name, s.name
+            )));
+        }
+    }
+    let refit = torques && options.refit_joint_terms && !model.joint_terms().kinds.is_empty();
+    let mut warnings = Vec::new();
+    if options.refit_joint_terms && !refit {
+        warnings.push(if torques {
+            "the description chooses no joint terms: there are none to re-fit".to_string()
+        } else {
+            "joint terms are re-fitted from torques only: held".to_string()
+        });
+    }
+    let motion = motion(samples, options.cutoff)?;
+    let n = model.dof();
+    let inertial = model.inertial_parameter_count();
+    let joint_count = model.parameter_count() - inertial;
+    let refit_count = if refit { joint_count } else { 0 };
+    let offset_at = PARAMS_PER_BODY + refit_count;
+    let columns = offset_at + if wrench { 6 } else { 0 };
+    let channels = (if torques { n } else { 0 }) + (if wrench { 6 } else { 0 });
+    let theta: Vec<f64> = model.parameters();
+    let to_body = parameters_in_matrix(&frame.placement);
+    let to_sensor = sensor.map(|(_, s)| parameters_in_matrix(&relative(s, frame)));
+    let body = PARAMS_PER_BODY * frame.parent;
+    let dynamics = NumericDynamics::new(model);
+    let rows = motion.kept.len() * channels;
+    let mut w = DMatrix::zeros(rows, columns);
+    let mut y = DVector::zeros(rows);
+    for (i, &k) in motion.kept.iter().enumerate() {
+        let (q, qd, qdd) = (&samples.q[k], &motion.qd[i], &motion.qdd[i]);
+        let row = i * channels;
+        if let Some(tau) = tau {
+            let full = dynamics.regressor(q, qd, qd, qdd);
+            let payload = full.columns(body, PARAMS_PER_BODY) * to_body;
+            w.view_mut((row, 0), (n, PARAMS_PER_BODY)).copy_from(&payload);
+            let held_columns = if refit { inertial } else { theta.len() };
+            let held = full.columns(0, held_columns) * DVector::from_column_slice(&theta[..held_columns]);
+            if refit {
+                w.view_mut((row, PARAMS_PER_BODY), (n, joint_count))
+                    .copy_from(&full.columns(inertial, joint_count));
+            }
+            for j in 0..n {
+                y[row + j] = tau[k][j] - held[j];
+            }
+        }
+        if let (Some((measured, s)), Some(to_sensor)) = (sensor, &to_sensor) {
+            let row = row + if torques { n } else { 0 };
+            let values = dynamics
+                .frame_motion(&s.name, q, qd)
+                .expect("the sensor frame is the model's");
+            let (rotation, _) = values.pose();
+            let velocity = values.velocity(ReferenceFrame::Local);
+            let acceleration = values.classical_acceleration(ReferenceFrame::Local, qdd);
+            let (wv, dw) = (
+                Vector3::new(velocity[3], velocity[4], velocity[5]),
+                Vector3::new(acceleration[3], acceleration[4], acceleration[5]),
+            );
+            let a = Vector3::new(acceleration[0], acceleration[1], acceleration[2])
+                - rotation.transpose() * model.gravity();
+            let b = -body_regressor(&wv, &dw, &a) * to_sensor;
+            w.view_mut((row, 0), (6, PARAMS_PER_BODY)).copy_from(&b);
+            w.view_mut((row, offset_at), (6, 6))
+                .copy_from(&DMatrix::<f64>::identity(6, 6));
+            for c in 0..6 {
+                y[row + c] = measured[k][c];
+            }
+        }
+    }
+    let mut names: Vec<String> = PAYLOAD_NAMES.iter().map(|p| format!("payload {p}")).collect();
+    if refit {
+        names.extend(model.parameter_names()[inertial..].iter().cloned());
+    }
+    if wrench {
+        names.extend(OFFSET_NAMES.iter().map(|c| format!("sensor offset {c}")));
+    }
+    // Re-fitted joint terms that must not be negative and come out so are held at zero, one
+    // at a time, the most negative first (an active set, as in non-negative least squares).
+    let term_kinds = &model.joint_terms().kinds;
+    let non_negative = |c: usize| {
+        (PARAMS_PER_BODY..offset_at).contains(&c)
+            && term_kinds[(c - PARAMS_PER_BODY) % term_kinds.len()].is_non_negative()
+    };
+    let mut held_at_zero: Vec<usize> = Vec::new();
+    let least_squares = loop {
+        let free: Vec<usize> = (0..columns).filter(|c| !held_at_zero.contains(c)).collect();
+        let sub = w.select_columns(free.iter());
+        let sub_names: Vec<String> = free.iter().map(|&c| names[c].clone()).collect();
+        let observations = Observations::Stacked {
+            w: &sub,
+            tau: &y,
+            n: channels,
+        };
+        let fit = estimate(observations, &sub_names)?;
+        let negative = free
+            .iter()
+            .enumerate()
+            .filter(|&(_, &c)| non_negative(c))
+            .map(|(i, &c)| (fit.theta_b[i], c))
+            .filter(|(v, _)| *v < 0.0)
+            .min_by(|a, b| a.0.total_cmp(&b.0));
+        match negative {
+            Some((_, c)) => held_at_zero.push(c),
+            None => break (fit, free),
+        }
+    };
+    let (fit, free) = least_squares;
+    let mut x = vec![0.0; columns];
+    for (i, &c) in free.iter().enumerate() {
+        x[c] = fit.theta_b[i];
+    }
+    let (payload, made_consistent) = consistent_payload(&fit, &x[..PARAMS_PER_BODY])?;
+    // The other unknowns given the consistent payload: their least squares conditioned on it.
+    let information = information(&fit);
+    let others: Vec<usize> = (PARAMS_PER_BODY..free.len()).collect();
+    if !others.is_empty() {
+        let i_oo = information
+            .select_rows(others.iter())
+            .select_columns(others.iter());
+        let i_op = information
+            .select_rows(others.iter())
+            .columns(0, PARAMS_PER_BODY)
+            .into_owned();
+        let shift = DVector::from_fn(PARAMS_PER_BODY, |r, _| payload[r] - x[r]);
+        if let Some(chol) = i_oo.cholesky() {
+            let correction = chol.solve(&(i_op * shift));
+            for (i, &o) in others.iter().enumerate() {
+                x[free[o]] -= correction[i];
+            }
+        }
+    }
+    x[..PARAMS_PER_BODY].copy_from_slice(&payload);
+    // The description with the payload welded on and the re-fitted joint terms.
+    let mut theta_new = theta.clone();
+    let in_body = parameters_in(&payload, &frame.placement);
+    for k in 0..PARAMS_PER_BODY {
+        theta_new[body + k] += in_body[k];
+    }
+    if refit {
+        theta_new[inertial..].copy_from_slice(&x[PARAMS_PER_BODY..offset_at]);
+    }
+    let (with_payload, loader_warnings) = loadable(model, &theta_new)
+        .map_err(|why| IdentifyError::InvalidEstimate(format!("the description with the payload: {why}")))?;
+    warnings.extend(
+        loader_warnings
+            .into_iter()
+            .map(|w| format!("the description written: {w}")),
+    );
+    let m = payload[0];
+    let com = Vector3::new(payload[1], payload[2], payload[3]) / m;
+    let origin = Matrix3::new(
+        payload[4], payload[5], payload[7], payload[5], payload[6], payload[8], payload[7], payload[8],
+        payload[9],
+    );
+    let inertia_com = origin - (Matrix3::identity() * com.dot(&com) - com * com.transpose()) * m;
+    Ok(PayloadEstimate {
+        frame: frame.name.clone(),
+        data,
+        mass: m,
+        com,
+        inertia_com: (inertia_com + inertia_com.transpose()) * 0.5,
+        least_squares: fit,
+        made_consistent,
+        sensor_offset: wrench.then(|| std::array::from_fn(|c| x[offset_at + c])),
+        joint_terms: refit.then(|| with_payload.joint_terms().values.clone()),
+        model: with_payload,
+        samples_used: motion.kept.len(),
+        differentiated: motion.differentiated,
+        warnings,
+    })
+}
+
+/// The information matrix `Σ⁻¹` of an estimate, in its own units.
+fn information(fit: &BaseEstimate) -> DMatrix<f64> {
+    let s = &fit.scale;
+    DMatrix::from_fn(s.len(), s.len(), |i, j| {
+        fit.information_scaled[(i, j)] / (s[i] * s[j])
+    })
+}
+
+/// The physically consistent payload nearest the least squares' `p` in the whitened misfit
+/// of its marginal information, and whether it moved.
+fn consistent_payload(
+    fit: &BaseEstimate,
+    p: &[f64],
+) -> Result<([f64; PARAMS_PER_BODY], bool), IdentifyError> {
+    if p[0].is_nan() || p[0] <= 0.0 {
+        return Err(IdentifyError::Unidentifiable(format!(
+            "the data shows no payload: its estimated mass is {:.3e} kg (±{:.1e})",
+            p[0], fit.std_dev[0]
+        )));
+    }
+    let p: [f64; PARAMS_PER_BODY] = std::array::from_fn(|k| p[k]);
+    // The payload's marginal information: the inverse of its block of the covariance.
+    let covariance = information(fit)
+        .cholesky()
+        .map(|c| c.inverse())
+        .ok_or_else(|| IdentifyError::Unidentifiable("the payload's information is singular".into()))?;
+    let block = covariance
+        .view((0, 0), (PARAMS_PER_BODY, PARAMS_PER_BODY))
+        .into_owned();
+    let r = block
+        .cholesky()
+        .map(|c| c.inverse())
+        .and_then(|i| ((&i + i.transpose()) * 0.5).cholesky())
+        .map(|c| c.l().transpose())
+        .ok_or_else(|| IdentifyError::Unidentifiable("the payload's covariance is singular".into()))?;
+    let c = Vector3::new(p[1], p[2], p[3]) / p[0];
+    let gyration = (0.5 * (p[4] + p[6] + p[9]).max(0.0) / p[0]).sqrt();
+    let map = BodyMap {
+        length: c.norm().max(gyration).max(0.01),
+    };
+    let start = map.free_numbers(&p).ok_or_else(|| {
+        IdentifyError::Unidentifiable("the estimated payload has no positive inertia to keep".into())
+    })?;
+    if relative_margin(&p) >= MARGIN {
+        return Ok((p, false));
+    }
+    let target = DVector::from_column_slice(&p);
+    let residual = |phi: &[f64]| &r * (DVector::from_column_slice(&map.parameters(phi)) - &target);
+    let jacobian = |phi: &[f64]| {
+        let j = map.jacobian(phi);
+        &r * DMatrix::from_fn(PARAMS_PER_BODY, PARAMS_PER_BODY, |i, k| j[(i, k)])
+    };
+    let minimum = minimise(residual, jacobian, start.to_vec(), 1e-6);
+    Ok((map.parameters(&minimum.x), true))
+}
