@@ -5,7 +5,9 @@ use crate::failure::Failure;
 use crate::identifiable::load_identifiable;
 use crate::loading::LoadingArgs;
 use clap::Args;
-use dyngen_identify::{identify, read_csv, IdentifyOptions, WrittenEstimate};
+use dyngen_identify::{
+    identify, identify_file, read_csv, BaseModel, IdentifyOptions, Progress, WrittenEstimate,
+};
 use std::path::PathBuf;
 use std::time::Instant;
 
@@ -24,6 +26,11 @@ pub struct IdentifyArgs {
     /// Cutoff of the low-pass filter used when velocities or accelerations are missing, in Hz.
     #[arg(long, value_name = "HZ", default_value_t = IdentifyOptions::default().cutoff)]
     cutoff: f64,
+    /// Read the data file line by line, for logs too long to hold: memory does not grow with
+    /// the file, the estimate is the same (to the normal equations' accuracy), and progress
+    /// goes to stderr.
+    #[arg(long)]
+    stream: bool,
     #[command(flatten)]
     loading: LoadingArgs,
 }
@@ -36,9 +43,30 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
             args.description.display()
         );
     }
-    let samples = read_csv(&args.data, &model, true)?;
+    let options = IdentifyOptions {
+        cutoff: args.cutoff,
+        ..IdentifyOptions::default()
+    };
     let start = Instant::now();
-    let id = identify(&model, &samples, &IdentifyOptions { cutoff: args.cutoff })?;
+    let id = if args.stream {
+        let mut last = Instant::now();
+        let progress = |p: &Progress| {
+            if last.elapsed().as_secs_f64() >= 2.0 {
+                last = Instant::now();
+                let what = if p.pass == 1 {
+                    "checking the file"
+                } else {
+                    "accumulating"
+                };
+                let share = 100.0 * p.bytes_read as f64 / p.file_bytes.max(1) as f64;
+                eprintln!("{what}: {share:.0}% ({} samples)", p.samples);
+            }
+        };
+        identify_file(&model, &BaseModel::new(&model), &args.data, &options, progress)?
+    } else {
+        let samples = read_csv(&args.data, &model, true)?;
+        identify(&model, &samples, &options)?
+    };
     let elapsed = start.elapsed().as_secs_f64();
     for note in &id.notes {
         eprintln!("note: {note}");

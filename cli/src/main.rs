@@ -13,6 +13,7 @@ mod identifiable;
 mod identify;
 mod info;
 mod loading;
+mod payload;
 mod urdf;
 
 use clap::{Parser, Subcommand};
@@ -37,6 +38,7 @@ enum Command {
     Urdf(urdf::UrdfArgs),
     Excite(excite::ExciteArgs),
     Identify(identify::IdentifyArgs),
+    Payload(payload::PayloadArgs),
 }
 
 fn main() -> ExitCode {
@@ -49,6 +51,7 @@ fn main() -> ExitCode {
         Command::Urdf(args) => urdf::run(args),
         Command::Excite(args) => excite::run(args),
         Command::Identify(args) => identify::run(args),
+        Command::Payload(args) => payload::run(args),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -111,6 +111,42 @@ fn excite_then_identify_then_load() {
     let model = load(&identified).unwrap_or_else(|e| panic!("{e}")).model;
     assert_eq!(model.parameter_count(), 98);
 
+    // Line by line (`--stream`): the same least squares (the table of base parameters and
+    // their σ), and a description that loads.
+    let table = |stdout: &str| -> Vec<(f64, f64)> {
+        stdout
+            .lines()
+            .skip_while(|l| !l.contains("σ/|θ_b|"))
+            .skip(1)
+            .take_while(|l| !l.starts_with("torque noise"))
+            .map(|l| {
+                let mut numbers = l.split_whitespace().map(|x| x.parse::<f64>().expect("a number"));
+                (numbers.next().expect("θ_b"), numbers.next().expect("σ"))
+            })
+            .collect()
+    };
+    let stacked = table(&run.stdout);
+    let streamed = dir.path().join("streamed.yaml");
+    let run = dyngen(&[
+        "identify",
+        arg(&description),
+        arg(&data_path),
+        "--stream",
+        "-o",
+        arg(&streamed),
+    ]);
+    assert_eq!(run.code, Some(0), "{}", run.output());
+    let lines = table(&run.stdout);
+    assert_eq!(lines.len(), stacked.len(), "{}", run.output());
+    assert_eq!(lines.len(), 69);
+    for ((a, sa), (b, sb)) in stacked.iter().zip(&lines) {
+        assert!(
+            (a - b).abs() <= 1e-5 * a.abs() && (sa - sb).abs() <= 1e-5 * sa,
+            "{a} ± {sa} vs {b} ± {sb}"
+        );
+    }
+    load(&streamed).unwrap_or_else(|e| panic!("{e}"));
+
     // Data no physically consistent robot explains (joint 7's torque with the wrong sign): a
     // warning, success, and a description that loads.
     let mut flipped = data.clone();

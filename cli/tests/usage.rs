@@ -12,7 +12,7 @@ fn help_and_version_succeed() {
         assert_eq!(run.code, Some(0), "{args:?}: {}", run.output());
     }
     let help = dyngen(&["--help"]);
-    for command in ["gen", "check", "info", "urdf", "excite", "identify"] {
+    for command in ["gen", "check", "info", "urdf", "excite", "identify", "payload"] {
         assert!(
             help.stdout.contains(command),
             "--help lists {command}: {}",
@@ -28,7 +28,7 @@ fn help_and_version_succeed() {
 
 #[test]
 fn every_command_has_help() {
-    for command in ["gen", "check", "info", "urdf", "excite", "identify"] {
+    for command in ["gen", "check", "info", "urdf", "excite", "identify", "payload"] {
         let run = dyngen(&[command, "--help"]);
         assert_eq!(run.code, Some(0), "{command} --help: {}", run.output());
         assert!(run.stdout.contains("Usage: dyngen"), "{}", run.output());
