@@ -40,6 +40,21 @@ fn replace_line(text: &str, line: usize, f: impl Fn(&str) -> String) -> String {
         .join("\n")
 }
 
+/// `text` with columns `names` added, every sample 0 in them.
+fn with_columns(text: &str, names: &[&str]) -> String {
+    text.lines()
+        .enumerate()
+        .map(|(i, l)| {
+            let added: Vec<String> = names
+                .iter()
+                .map(|n| if i == 0 { n.to_string() } else { "0".into() })
+                .collect();
+            format!("{l},{}", added.join(","))
+        })
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
 /// Replaces field `column` (1-based) of line `line`.
 fn replace_field(text: &str, line: usize, column: usize, value: &str) -> String {
     replace_line(text, line, |l| {
@@ -86,6 +101,29 @@ fn every_bad_data_file_is_one_clear_error() {
         ("time-goes-back.csv", replace_field(&good, 7, 1, "0.1")),
         ("outside-limits.csv", replace_field(&good, 8, 3, "2.5")),
         ("header-only.csv", good.lines().next().unwrap().to_string()),
+        ("sensor-without-frame.csv", with_columns(&good, &["fx"])),
+        (
+            "sensor-unknown-frame.csv",
+            with_columns(
+                &good,
+                &[
+                    "fx[tool]", "fy[tool]", "fz[tool]", "mx[tool]", "my[tool]", "mz[tool]",
+                ],
+            ),
+        ),
+        (
+            "sensor-incomplete.csv",
+            with_columns(
+                &good,
+                &[
+                    "fx[flange]",
+                    "fy[flange]",
+                    "fz[flange]",
+                    "mx[flange]",
+                    "my[flange]",
+                ],
+            ),
+        ),
     ];
     let mut report = String::new();
     for (name, text) in &cases {
@@ -93,7 +131,7 @@ fn every_bad_data_file_is_one_clear_error() {
     }
     print!("{report}");
     let expected = "\
-missing-column.csv:1: column 11 (torque3): unknown column: expected time, q[<joint>], qd[<joint>], qdd[<joint>] or tau[<joint>]
+missing-column.csv:1: column 11 (torque3): unknown column: expected time, q[<joint>], qd[<joint>], qdd[<joint>], tau[<joint>] or a force/torque sensor's fx, fy, fz, mx, my, mz[<frame>]
 missing-torque.csv:1: missing column 'tau[joint7]' for joint 'joint7' (every joint needs its torque)
 unknown-joint.csv:1: column 3 (q[joint9]): unknown joint 'joint9' (the robot's moving joints: joint1, joint2, joint3, joint4, joint5, joint6, joint7)
 duplicate-column.csv:1: column 3 (q[joint1]): duplicate column (first at column 2)
@@ -103,6 +141,9 @@ short-line.csv:6: 14 fields, but the header has 15 columns
 time-goes-back.csv:7: column 1 (time): time 0.1 does not increase (the sample before, line 6, is at 0.4)
 outside-limits.csv:8: column 3 (q[joint2]): joint 'joint2': position 2.5 is outside the joint limits [-2.0943951023931953, 2.0943951023931953]
 header-only.csv: no samples: the file has a header line only
+sensor-without-frame.csv:1: column 16 (fx): 'fx' names no frame: a force/torque column is fx[<frame>], with the frame of the description the sensor measures in (the robot's frames: flange)
+sensor-unknown-frame.csv:1: column 16 (fx[tool]): unknown frame 'tool' (the robot's frames: flange; name others with `frames:` in the description)
+sensor-incomplete.csv:1: missing column 'mz[flange]': a force/torque sensor needs all six of fx, fy, fz, mx, my, mz
 ";
     assert_eq!(report, expected);
     let testing =
