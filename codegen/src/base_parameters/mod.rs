@@ -21,8 +21,11 @@
 //!    are zero to rounding error become 0, entries within rounding error of an integer or of a
 //!    short decimal (products of the description's decimal lengths, e.g. `0.0625 = 0.25²`) become
 //!    that exact value. A cleaned column of `β` is accepted only if `Y₂ = Y₁ β` still holds to
-//!    [`VERIFICATION_TOL`] on a second, independent stack of states ([`VERIFICATION_SEED`]);
-//!    otherwise that column stays as computed.
+//!    [`VERIFICATION_TOL`] on a second, independent stack of states ([`VERIFICATION_SEED`]), as
+//!    well as the computed one does; failing that (a near-exact description, whose real
+//!    coefficients can be 10⁻¹¹), only the entries below [`NEGLIGIBLE_COEFFICIENT_TOL`] are
+//!    zeroed (and the rest snapped where that still verifies); otherwise that column stays as
+//!    computed.
 //! 5. Cross-check: the number kept equals the SVD numerical rank of the scaled stack
 //!    ([`SVD_RANK_TOL`]); [`Diagnostics`] records both and the gap between kept and dropped.
 
@@ -59,6 +62,13 @@ pub const SVD_RANK_TOL: f64 = 1e-8;
 /// A folding coefficient whose contribution relative to the dependent column is below this
 /// (in unit-norm column scale) is rounding error and becomes exactly 0 (subject to verification).
 pub const ZERO_COEFFICIENT_TOL: f64 = 1e-10;
+
+/// A folding coefficient whose contribution relative to the dependent column is below this is
+/// rounding noise of the least squares even where the other coefficients cannot be cleaned (a
+/// near-exact description, `1.5708`, has real coefficients of 10⁻¹¹ beside noise of 10⁻¹⁷): it
+/// becomes exactly 0 when the column still verifies as well as with it. Left in, a noise term
+/// makes the folded column a sum over base columns it has nothing to do with.
+pub const NEGLIGIBLE_COEFFICIENT_TOL: f64 = 1e-14;
 
 /// Cleaned coefficients must reproduce each dependent column on fresh states to this relative
 /// residual (relative to the size of the terms that cancel).
@@ -149,7 +159,18 @@ impl BaseParameterSet {
             let raw: Vec<(usize, f64)> = kept.iter().enumerate().map(|(k, &c)| (c, beta[(k, d)])).collect();
             let is_zero = |c: usize, x: f64| (x * norms[c] / norms[j]).abs() <= ZERO_COEFFICIENT_TOL;
             let zeroed: Vec<(usize, f64)> = raw.iter().filter(|&&(c, x)| !is_zero(c, x)).cloned().collect();
-            let exact: Vec<(usize, f64)> = zeroed.iter().map(|&(c, x)| (c, snap(x).unwrap_or(x))).collect();
+            let snapped = |t: &[(usize, f64)]| -> Vec<(usize, f64)> {
+                t.iter().map(|&(c, x)| (c, snap(x).unwrap_or(x))).collect()
+            };
+            let exact = snapped(&zeroed);
+            let is_negligible =
+                |c: usize, x: f64| (x * norms[c] / norms[j]).abs() <= NEGLIGIBLE_COEFFICIENT_TOL;
+            let trimmed: Vec<(usize, f64)> = raw
+                .iter()
+                .filter(|&&(c, x)| !is_negligible(c, x))
+                .cloned()
+                .collect();
+            let trimmed_exact = snapped(&trimmed);
             // A cleaned candidate must reproduce the column as well as the computed coefficients
             // do, up to rounding: on a description whose angles are near-exact (`1.5708`), a
             // coefficient can be within 1e-11 of a short decimal without being it, and snapping
@@ -157,7 +178,7 @@ impl BaseParameterSet {
             let raw_residual = relative_residual(&fresh, j, &raw);
             let acceptable =
                 |r: f64| r <= VERIFICATION_TOL && r <= CLEANING_SLACK * raw_residual.max(f64::EPSILON);
-            let candidates = [exact, zeroed, raw];
+            let candidates = [exact, zeroed, trimmed_exact, trimmed, raw];
             let chosen = candidates
                 .iter()
                 .map(|t| (t, relative_residual(&fresh, j, t)))
@@ -166,7 +187,7 @@ impl BaseParameterSet {
                 Some((t, r)) => (t.clone(), r),
                 None => {
                     diagnostics.uncleaned_columns += 1;
-                    let raw = &candidates[2];
+                    let raw = &candidates[4];
                     (raw.clone(), relative_residual(&fresh, j, raw))
                 }
             };
