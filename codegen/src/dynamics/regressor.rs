@@ -1,12 +1,12 @@
 //! The Slotine–Li regressor `Y(q, q̇, v, a)` with `Y θ = D a + C v + g`.
 
 use super::coupling::{expand, project_rows};
-use super::joint::joint_force;
+use super::joint::{joint_force, joint_motion};
 use super::joint_terms::fill_joint_term_columns;
 use super::slotine_li::{body_force, forward_pass, gravity_vector};
 use crate::model::{Model, PARAMS_PER_BODY};
 use crate::scalar::Scalar;
-use crate::spatial::{RigidInertia, Transform};
+use crate::spatial::{Motion, RigidInertia, Transform};
 use nalgebra::DMatrix;
 
 /// `Y` (n × P): column block `i` (ten columns) belongs to body `i`'s standard parameters; then
@@ -43,4 +43,48 @@ fn tree_regressor<S: Scalar>(model: &Model, x: &[Transform<S>], qd: &[S], v: &[S
     }
     fill_joint_term_columns(model, &mut y, qd, v, a);
     y
+}
+
+/// [`regressor`] by the bodies' Jacobians: the entry of ancestor joint `i` in the column of
+/// body `j`'s parameter `k` is `(X_{j←i} S_i) · f_j^k`, the ancestor's axis carried down to
+/// the body (once per pair of joints) dotted with the body force, instead of each of the ten
+/// body forces carried up to every ancestor. Where the joint frames are dense (a description
+/// whose quarter turns are `1.5708`), carrying one axis is cheaper than carrying ten forces;
+/// where they fold to permutations it may not be, so generation keeps whichever costs less.
+pub fn regressor_by_jacobians<S: Scalar>(
+    model: &Model,
+    x: &[Transform<S>],
+    qd: &[S],
+    v: &[S],
+    a: &[S],
+) -> DMatrix<S> {
+    let (qd, v, a) = (expand(model, qd), expand(model, v), expand(model, a));
+    let n = model.joints().len();
+    let motions = forward_pass(model, x, &qd, &v, &a, Some(gravity_vector(model)));
+    // Every joint's axis seen from each body below it (body j's local Jacobian, column by
+    // column), built parent first: a body carries its parent's list down and adds its own.
+    let mut axes: Vec<Vec<(usize, Motion<S>)>> = Vec::with_capacity(n);
+    let mut y = DMatrix::from_element(n, model.parameter_count(), S::zero());
+    for (j, (joint, m)) in model.joints().iter().zip(&motions).enumerate() {
+        let ancestors: Vec<(usize, Motion<S>)> = match joint.parent {
+            Some(p) => axes[p]
+                .iter()
+                .map(|(i, s)| (*i, x[j].motion_to_child(s)))
+                .collect(),
+            None => Vec::new(),
+        };
+        for k in 0..PARAMS_PER_BODY {
+            let col = PARAMS_PER_BODY * j + k;
+            let f = body_force(&RigidInertia::unit(k), m);
+            y[(j, col)] = joint_force(joint, &f);
+            for (i, s) in &ancestors {
+                y[(*i, col)] = f.power(s);
+            }
+        }
+        let mut own = ancestors;
+        own.push((j, joint_motion(joint, S::one())));
+        axes.push(own);
+    }
+    fill_joint_term_columns(model, &mut y, &qd, &v, &a);
+    project_rows(model, y)
 }

@@ -293,6 +293,26 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
                 other_forms.extend(frame_forms);
             }
         }
+        if regressors {
+            // The regressors by the bodies' Jacobians, traced last so the functions above keep
+            // their node ids; kept per function where they cost less.
+            for (name, base_name, v) in [
+                ("regressor", "base_regressor", &v),
+                ("torque_regressor", "base_torque_regressor", &qd),
+            ] {
+                let y = matrix_ids(&full_from_base(
+                    &dynamics::regressor_by_jacobians(model, &x, &qd, v, &a),
+                    &base,
+                ));
+                let y_base = base
+                    .columns
+                    .iter()
+                    .flat_map(|&c| y[c * n..(c + 1) * n].iter().copied())
+                    .collect();
+                other_forms.push((name.to_string(), y));
+                other_forms.push((base_name.to_string(), y_base));
+            }
+        }
         quantities.retain(|q| functions.contains(q.kind.group()));
         (
             Inputs {
