@@ -11,7 +11,7 @@ use common::{cycle, model, states};
 use criterion::{criterion_group, criterion_main, Criterion};
 use dyngen_codegen::base_parameters::BaseParameterSet;
 use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_generated::{Arm7, Panda, PandaRounded, Ur5};
+use dyngen_generated::{Arm7, Panda, PandaRounded, Ur5, Xarm7, Xarm7Snapped};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{f64x4, f64x8, pack, BaseParameters, JointTrig, JointTrigLanes, LaneDynamics, Lanes};
 use std::hint::black_box;
@@ -179,6 +179,11 @@ fn dynamics(c: &mut Criterion) {
     );
     bench_robot::<Ur5, 6, 60, { dyngen_generated::ur5::BASE_PARAMETER_COUNT }>(c, "ur5");
     bench_robot::<Arm7, 7, 70, { dyngen_generated::arm7::BASE_PARAMETER_COUNT }>(c, "arm7");
+    bench_robot::<Xarm7, 7, 70, { dyngen_generated::xarm7::BASE_PARAMETER_COUNT }>(c, "xarm7");
+    bench_robot::<Xarm7Snapped, 7, 70, { dyngen_generated::xarm7_snapped::BASE_PARAMETER_COUNT }>(
+        c,
+        "xarm7_snapped",
+    );
 }
 
 criterion_group! {

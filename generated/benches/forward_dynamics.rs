@@ -8,7 +8,7 @@ mod common;
 use common::{cycle, model, states};
 use criterion::{criterion_group, criterion_main, Criterion};
 use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_generated::{Arm7, Panda, PandaRounded, Ur5};
+use dyngen_generated::{Arm7, Panda, PandaRounded, Ur5, Xarm7, Xarm7Snapped};
 use dyngen_runtime::{DynamicsDerivatives, ForwardDynamics, JointTrig};
 use std::hint::black_box;
 
@@ -82,6 +82,8 @@ fn forward_dynamics(c: &mut Criterion) {
     bench_robot::<PandaRounded, 7, 70>(c, "panda_rounded");
     bench_robot::<Ur5, 6, 60>(c, "ur5");
     bench_robot::<Arm7, 7, 70>(c, "arm7");
+    bench_robot::<Xarm7, 7, 70>(c, "xarm7");
+    bench_robot::<Xarm7Snapped, 7, 70>(c, "xarm7_snapped");
 }
 
 /// Instruction-cache footprint. Each call above runs one function in a loop, and a function of

@@ -30,3 +30,13 @@ pub use panda_rounded::PandaRounded;
 #[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, clippy::too_many_lines, clippy::many_single_char_names, clippy::similar_names, clippy::neg_multiply)]
 pub mod ur5;
 pub use ur5::Ur5;
+
+#[rustfmt::skip]
+#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, clippy::too_many_lines, clippy::many_single_char_names, clippy::similar_names, clippy::neg_multiply)]
+pub mod xarm7;
+pub use xarm7::Xarm7;
+
+#[rustfmt::skip]
+#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, clippy::too_many_lines, clippy::many_single_char_names, clippy::similar_names, clippy::neg_multiply)]
+pub mod xarm7_snapped;
+pub use xarm7_snapped::Xarm7Snapped;

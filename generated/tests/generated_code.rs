@@ -8,7 +8,7 @@ use common::{assert_close, column, fixture};
 use dyngen_codegen::description::load;
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::model::Model;
-use dyngen_generated::{Arm7, Arm7Friction, Panda, PandaRounded, Ur5};
+use dyngen_generated::{Arm7, Arm7Friction, Panda, PandaRounded, Ur5, Xarm7, Xarm7Snapped};
 use dyngen_runtime::nalgebra::{DMatrix, SMatrix, SVector};
 use dyngen_runtime::{JointTrig, Kinematics, Regressors, RobotDynamics};
 use std::path::Path;
@@ -213,6 +213,13 @@ fn panda_rounded_generated_matches_generic() {
     against_generic::<PandaRounded, 7, 70>("panda_rounded");
 }
 
+/// A vendor URDF as written (`1.5708` quarter turns kept) and the same file snapped.
+#[test]
+fn xarm7_generated_matches_generic() {
+    against_generic::<Xarm7, 7, 70>("xarm7");
+    against_generic::<Xarm7Snapped, 7, 70>("xarm7_snapped");
+}
+
 #[test]
 fn ur5_generated_matches_generic() {
     against_generic::<Ur5, 6, 60>("ur5");
@@ -286,4 +293,10 @@ fn panda_rounded_generated_matches_pinocchio() {
 #[test]
 fn ur5_generated_matches_pinocchio() {
     against_fixture::<Ur5, 6, 60>("ur5");
+}
+
+/// xarm7 as its vendor writes it, against Pinocchio's values for the same file.
+#[test]
+fn xarm7_generated_matches_pinocchio() {
+    against_fixture::<Xarm7, 7, 70>("xarm7");
 }
