@@ -47,15 +47,17 @@ mod physical_start;
 mod pipeline;
 mod simulate;
 mod starts;
+mod workspace;
 
 pub use consistent::{pseudo_inertia_margins, ConsistentEstimate};
 pub use data::{read_csv, to_csv, Samples};
 pub use describe::to_yaml;
 pub use error::{IdentifyError, Place};
-pub use excitation::{condition_number, optimise, Excitation, ExcitationOptions};
+pub use excitation::{condition_number, optimise, optimise_within, Excitation, ExcitationOptions};
 pub use fourier::{FourierTrajectory, JointSample, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
 pub use least_squares::BaseEstimate;
 pub use observation::{prepare, BaseModel, BaseRegressorSource, Compiled, Prepared};
 pub use pipeline::{identify, identify_with, Identification, IdentifyOptions, WrittenEstimate};
 pub use simulate::{measure, with_joint_terms, with_payload};
 pub use starts::ConsistentStart;
+pub use workspace::{ExcitationError, Region, Workspace, WorkspaceCheck, WorkspaceConstraint};
