@@ -38,7 +38,10 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
     }
     let samples = read_csv(&args.data, &model, true)?;
     let start = Instant::now();
-    let id = identify(&model, &samples, &IdentifyOptions { cutoff: args.cutoff })?;
+    let id = identify(&model, &samples, &IdentifyOptions {
+            cutoff: args.cutoff,
+            ..IdentifyOptions::default()
+        })?;
     let elapsed = start.elapsed().as_secs_f64();
     for note in &id.notes {
         eprintln!("note: {note}");

@@ -4,6 +4,7 @@
 use crate::consistent::{consistent_estimate, misfit_bound, ConsistentEstimate};
 use crate::data::Samples;
 use crate::describe::to_yaml;
+use crate::energy::{estimate_by_energy, estimate_by_momentum, Observation};
 use crate::error::IdentifyError;
 use crate::least_squares::{estimate, BaseEstimate};
 use crate::loadable::loadable;
@@ -19,12 +20,15 @@ use std::fmt;
 pub struct IdentifyOptions {
     /// Cutoff (Hz) of the low-pass filter used when velocities or accelerations are missing.
     pub cutoff: f64,
+    /// The torque form (default) or the energy theorem over windows (no accelerations).
+    pub observation: Observation,
 }
 
 impl Default for IdentifyOptions {
     fn default() -> Self {
         IdentifyOptions {
             cutoff: crate::differentiate::DEFAULT_CUTOFF_HZ,
+            observation: Observation::Torque,
         }
     }
 }
@@ -134,8 +138,14 @@ pub fn identify_with(
         )));
     }
     let prepared = prepare(samples, options.cutoff)?;
-    let (w, tau) = prepared.stack(source);
-    let base = estimate(&w, &tau, model.dof(), &base_model.base.names)?;
+    let base = match options.observation {
+        Observation::Torque => {
+            let (w, tau) = prepared.stack(source);
+            estimate(&w, &tau, model.dof(), &base_model.base.names)?
+        }
+        Observation::Energy { window } => estimate_by_energy(&base_model, samples, &prepared, window)?,
+        Observation::Momentum { window } => estimate_by_momentum(&base_model, samples, &prepared, window)?,
+    };
     let mut warnings = Vec::new();
     if !base.noise_settled {
         warnings.push(format!(
