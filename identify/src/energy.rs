@@ -51,9 +51,12 @@ pub enum Observation {
     Momentum { window: f64 },
 }
 
-/// A window length that gives short windows (many equations) whose energy change is still
-/// well above the velocity noise at their ends on the arms tested.
-pub const DEFAULT_ENERGY_WINDOW: f64 = 0.05;
+/// A window for [`Observation::Energy`] and [`Observation::Momentum`] (s). The velocity error
+/// at a window's two ends enters its equation once, whatever its length, while the integrals
+/// grow with it: on arm7 with 14- and 12-bit encoders and the default filter, the momentum
+/// form's validation torque error with 0.1 s windows is a third and a seventh of that with
+/// 0.02 s ones (`docs/identification.md`), and 20 s of data still give 200 windows.
+pub const DEFAULT_WINDOW: f64 = 0.1;
 
 /// Re-estimates of the window variances at most; they settle in two or three.
 const MAX_VARIANCE_ITERATIONS: usize = 10;
@@ -166,7 +169,8 @@ pub(crate) fn momentum_rows(
             let (mut up, mut down) = (q.clone(), q.clone());
             up[j] += h;
             down[j] -= h;
-            let d = (dynamics.kinetic_energy_regressor(&up, qd) - dynamics.kinetic_energy_regressor(&down, qd))
+            let d = (dynamics.kinetic_energy_regressor(&up, qd)
+                - dynamics.kinetic_energy_regressor(&down, qd))
                 / (2.0 * h);
             let mut row = f.row_mut(j);
             row -= d.transpose();
@@ -318,7 +322,13 @@ pub(crate) fn estimate_by_energy(
         let change = next_noise
             .iter()
             .zip(&noise)
-            .map(|(a, b)| if *b > 0.0 { (a / b - 1.0).abs() } else { (a - b).abs() })
+            .map(|(a, b)| {
+                if *b > 0.0 {
+                    (a / b - 1.0).abs()
+                } else {
+                    (a - b).abs()
+                }
+            })
             .fold(0.0, f64::max);
         (variance, noise) = (next_variance, next_noise);
         if change <= VARIANCE_SETTLED {

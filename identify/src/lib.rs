@@ -53,7 +53,7 @@ mod workspace;
 pub use consistent::{pseudo_inertia_margins, ConsistentEstimate};
 pub use data::{read_csv, to_csv, Samples};
 pub use describe::to_yaml;
-pub use energy::{Observation, DEFAULT_ENERGY_WINDOW};
+pub use energy::{Observation, DEFAULT_WINDOW};
 pub use error::{IdentifyError, Place};
 pub use excitation::{condition_number, optimise, optimise_within, Excitation, ExcitationOptions};
 pub use fourier::{FourierTrajectory, JointSample, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
