@@ -38,10 +38,9 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
     }
     let samples = read_csv(&args.data, &model, true)?;
     let start = Instant::now();
-    let id = identify(&model, &samples, &IdentifyOptions {
-            cutoff: args.cutoff,
-            ..IdentifyOptions::default()
-        })?;
+    let mut options = IdentifyOptions::default();
+    options.cutoff = args.cutoff;
+    let id = identify(&model, &samples, &options)?;
     let elapsed = start.elapsed().as_secs_f64();
     for note in &id.notes {
         eprintln!("note: {note}");
