@@ -38,8 +38,10 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
     }
     let samples = read_csv(&args.data, &model, true)?;
     let start = Instant::now();
-    let mut options = IdentifyOptions::default();
-    options.cutoff = args.cutoff;
+    let options = IdentifyOptions {
+        cutoff: args.cutoff,
+        ..IdentifyOptions::default()
+    };
     let id = identify(&model, &samples, &options)?;
     let elapsed = start.elapsed().as_secs_f64();
     for note in &id.notes {
