@@ -158,12 +158,12 @@ impl FourierTrajectory {
     /// [`FourierTrajectory::fit_into`] around the posture `centre` (within the position
     /// ranges) instead of the ranges' middle: the excursion is limited by the nearer end.
     pub fn fit_around(&mut self, limits: &TrajectoryLimits, centre: &[f64]) {
-        for j in 0..self.dof() {
+        for (j, &c) in centre.iter().enumerate().take(self.dof()) {
             let (lo, hi) = limits.position[j];
-            self.offsets[j] = centre[j];
+            self.offsets[j] = c;
             let (dq, v, a) = self.peaks(j);
             let ratio = |limit: f64, peak: f64| if peak > 0.0 { limit / peak } else { f64::INFINITY };
-            let room = (hi - centre[j]).min(centre[j] - lo).max(0.0);
+            let room = (hi - c).min(c - lo).max(0.0);
             let scale = LIMIT_MARGIN
                 * ratio(room, dq)
                     .min(ratio(limits.velocity[j], v))

@@ -286,6 +286,11 @@ impl Workspace {
                 out.guaranteed_margin = out.guaranteed_margin.min(bound);
                 continue;
             }
+            if ma < 0.0 || mb < 0.0 {
+                // Already known to be outside: halving it would prove nothing more.
+                out.guaranteed_margin = out.guaranteed_margin.min(bound);
+                continue;
+            }
             if tb - ta < SHORTEST_INTERVAL * period || out.evaluations >= budget {
                 out.inside = false;
                 out.guaranteed_margin = out.guaranteed_margin.min(bound);

@@ -212,3 +212,38 @@ fn coarse_encoder_momentum_beats_differentiated_accelerations() {
     assert!(m.validation < 0.5 * t.validation, "{m:?} against {t:?}");
     assert!(m.median < t.median, "{m:?} against {t:?}");
 }
+
+/// The table of `docs/identification.md`: the three forms over encoder resolutions and filter
+/// cutoffs (about five minutes in the test profile):
+/// `cargo test -p dyngen-identify --test energy -- --ignored --nocapture`.
+#[test]
+#[ignore]
+fn encoder_and_filter_sweep() {
+    let nominal = arm7_nominal();
+    let truth = arm7_truth();
+    let exact = measure(&truth, &trajectory(5), 20.0, 500.0, &arm7_noise(&truth), 2, false);
+    let forms = [
+        Observation::Torque,
+        Observation::Momentum { window: 0.02 },
+        Observation::Momentum { window: 0.1 },
+        Observation::Energy { window: 0.02 },
+        Observation::Energy { window: 0.1 },
+    ];
+    for bits in [20, 16, 14, 12] {
+        let samples = quantised(&exact, bits);
+        for cutoff in [20.0, 5.0] {
+            let mut line = format!("| {bits} | {cutoff} |");
+            for observation in forms {
+                let options = IdentifyOptions { cutoff, observation };
+                line += &match identify(&nominal, &samples, &options) {
+                    Ok(id) => {
+                        let e = errors(&nominal, &truth, &id);
+                        format!(" {:.3} / {:.2}% |", e.median, 100.0 * e.validation)
+                    }
+                    Err(_) => " not identifiable |".to_string(),
+                };
+            }
+            println!("{line}");
+        }
+    }
+}
