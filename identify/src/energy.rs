@@ -1,4 +1,7 @@
-//! Identification without accelerations: the energy theorem over windows of the data.
+//! Identification without accelerations: the energy theorem and the Lagrange equations,
+//! integrated over windows of the data.
+//!
+//! ## Energy form
 //!
 //! The total energy `H = T + V` is linear in θ (`H = e_H(q, q̇)·θ`, the kinetic energy with the
 //! armature and the potential in gravity), and the joint torques change it at the rate `q̇ᵀ τ`
@@ -27,6 +30,23 @@
 //! the previous fit, starting from an unweighted one, and the windows weighted by
 //! `1/(σ_0² + Σ_j F_wj σ_j²)`, until the `σ_j` settle (as the torque form's noise does).
 //! [`BaseEstimate::joint_noise`] then holds the fitted torque noise `σ_j` of each joint.
+//!
+//! One scalar equation per window mixes all joints: the energy form's condition number is
+//! tens to hundreds of times the torque form's on the same data, and so are its errors
+//! (`docs/identification.md`).
+//!
+//! ## Momentum form
+//!
+//! The Lagrange equations `ṗ − ∂T/∂q + g = τ − τ_terms` with the generalised momentum
+//! `p = ∂T/∂q̇ = D q̇`, integrated over each window, one equation per joint:
+//!
+//! ```text
+//! ∫ τ dt = p(t1) − p(t0) + ∫ (g − ∂T/∂q + τ_terms) dt
+//! ```
+//!
+//! again with `q` and `q̇` only. Its rows are integrals of the torque form's rows, so they have
+//! its base parameters and about its condition number, and its noise is per joint, weighted
+//! and re-estimated by the torque form's least squares.
 
 use crate::data::Samples;
 use crate::error::IdentifyError;
@@ -58,7 +78,8 @@ pub enum Observation {
 /// 0.02 s ones (`docs/identification.md`), and 20 s of data still give 200 windows.
 pub const DEFAULT_WINDOW: f64 = 0.1;
 
-/// Re-estimates of the window variances at most; they settle in two or three.
+/// Re-estimates of the window variances at most: variances that have not settled by then are
+/// reported (`noise_settled`), not looped on.
 const MAX_VARIANCE_ITERATIONS: usize = 10;
 /// The window variances have settled when no `σ_j` changes by more than this fraction.
 const VARIANCE_SETTLED: f64 = 1e-3;
