@@ -113,6 +113,33 @@ fn arm7_flange_in_a_box() {
     constrained_against_unconstrained(&model, &constraints, 3.0);
 }
 
+/// A box in front of arm7 that the upright middle posture is outside of: the search starts
+/// from a posture inside it instead, and stays inside.
+#[test]
+fn arm7_flange_in_a_box_away_from_the_middle_posture() {
+    let model = arm7_nominal();
+    let base = BaseModel::new(&model);
+    let limits = TrajectoryLimits::from_model(&model, DEFAULT_ACCELERATION_PER_VELOCITY);
+    let constraints = [WorkspaceConstraint {
+        frame: "flange".into(),
+        region: Region::between([0.3, -0.5, 0.2], [0.9, 0.5, 1.0]),
+    }];
+    let workspace = Workspace::new(&model, &constraints).expect("valid");
+    let e = optimise_within(&base, &limits, &workspace, &options()).unwrap_or_else(|e| panic!("{e}"));
+    let margins = smallest_margins(&model, &e.trajectory, &constraints, 10 * 64 * 5);
+    println!(
+        "arm7 in front: condition number {:.1} (random {:.1}), smallest margin {:.4} m, centre {:?}",
+        e.condition_number, e.random_condition_number, margins[0], e.trajectory.offsets
+    );
+    assert!(
+        e.trajectory.offsets.iter().any(|q| q.abs() > 0.1),
+        "{:?}",
+        e.trajectory.offsets
+    );
+    assert!(margins[0] >= 0.0, "{margins:?}");
+    assert!(e.condition_number.is_finite());
+}
+
 /// The Panda's hand above a table 0.3 m high and its elbow (link 4) on one side of a wall.
 #[test]
 fn panda_hand_above_a_table_and_elbow_off_a_wall() {
