@@ -1,13 +1,14 @@
 //! `dyngen excite`: an optimised excitation trajectory for identification, as a CSV of
-//! positions, velocities and accelerations within the description's limits.
+//! positions, velocities and accelerations within the description's limits, and with frames
+//! kept in boxes or above planes (`--box`, `--above`) when asked.
 
 use crate::failure::Failure;
 use crate::identifiable::load_identifiable;
 use crate::loading::LoadingArgs;
 use clap::Args;
 use dyngen_identify::{
-    optimise, to_csv, BaseModel, ExcitationOptions, Samples, TrajectoryLimits,
-    DEFAULT_ACCELERATION_PER_VELOCITY,
+    optimise_within, to_csv, BaseModel, ExcitationOptions, Region, Samples, TrajectoryLimits, Workspace,
+    WorkspaceConstraint, DEFAULT_ACCELERATION_PER_VELOCITY,
 };
 use std::path::PathBuf;
 use std::time::Instant;
@@ -42,8 +43,76 @@ pub struct ExciteArgs {
     /// Acceleration limit of each joint as a multiple of its velocity limit (per second).
     #[arg(long, value_name = "K", default_value_t = DEFAULT_ACCELERATION_PER_VELOCITY)]
     acceleration_per_velocity: f64,
+    /// Keep a frame inside an axis-aligned box of the base frame along the whole trajectory,
+    /// in metres; without FRAME, the end-effector. Repeatable.
+    #[arg(
+        long = "box",
+        value_name = "[FRAME:]XMIN,YMIN,ZMIN,XMAX,YMAX,ZMAX",
+        allow_hyphen_values = true,
+        value_parser = parse_box
+    )]
+    boxes: Vec<FrameRegion>,
+    /// Keep a frame on the side of a plane its normal points to, `n·p ≥ d` in the base frame
+    /// (`0,0,1,0.3`: at least 0.3 m above the base's xy plane); without FRAME, the
+    /// end-effector. Repeatable.
+    #[arg(
+        long,
+        value_name = "[FRAME:]NX,NY,NZ,D",
+        allow_hyphen_values = true,
+        value_parser = parse_above
+    )]
+    above: Vec<FrameRegion>,
     #[command(flatten)]
     loading: LoadingArgs,
+}
+
+/// A region and the frame it is for (`None`: the end-effector).
+#[derive(Clone, Debug)]
+struct FrameRegion {
+    frame: Option<String>,
+    region: Region,
+}
+
+/// `[FRAME:]x1,x2,…` with `count` numbers.
+fn frame_and_numbers(text: &str, count: usize) -> Result<(Option<String>, Vec<f64>), String> {
+    let (frame, numbers) = match text.rsplit_once(':') {
+        Some((frame, numbers)) if !frame.is_empty() => (Some(frame.to_string()), numbers),
+        Some((_, _)) => return Err("the frame name before ':' is empty".to_string()),
+        None => (None, text),
+    };
+    let values = numbers
+        .split(',')
+        .map(|v| {
+            v.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| format!("'{}' is not a finite number", v.trim()))
+        })
+        .collect::<Result<Vec<f64>, String>>()?;
+    if values.len() != count {
+        return Err(format!(
+            "expected {count} comma-separated numbers, got {}",
+            values.len()
+        ));
+    }
+    Ok((frame, values))
+}
+
+fn parse_box(text: &str) -> Result<FrameRegion, String> {
+    let (frame, v) = frame_and_numbers(text, 6)?;
+    Ok(FrameRegion {
+        frame,
+        region: Region::between([v[0], v[1], v[2]], [v[3], v[4], v[5]]),
+    })
+}
+
+fn parse_above(text: &str) -> Result<FrameRegion, String> {
+    let (frame, v) = frame_and_numbers(text, 4)?;
+    Ok(FrameRegion {
+        frame,
+        region: Region::above([v[0], v[1], v[2]], v[3]),
+    })
 }
 
 pub fn run(args: ExciteArgs) -> Result<(), Failure> {
@@ -63,8 +132,21 @@ pub fn run(args: ExciteArgs) -> Result<(), Failure> {
         seed: args.seed,
         ..ExcitationOptions::default()
     };
+    let constraints: Vec<WorkspaceConstraint> = args
+        .boxes
+        .iter()
+        .chain(&args.above)
+        .map(|r| WorkspaceConstraint {
+            frame: r
+                .frame
+                .clone()
+                .unwrap_or_else(|| model.end_effector().name.clone()),
+            region: r.region.clone(),
+        })
+        .collect();
+    let workspace = Workspace::new(&model, &constraints)?;
     let start = Instant::now();
-    let excitation = optimise(&base, &limits, &options);
+    let excitation = optimise_within(&base, &limits, &workspace, &options)?;
     println!(
         "{}: {} base parameters; condition number {:.1} (random coefficients within the same limits: {:.1}), {} evaluations in {:.1} s",
         model.name(),
@@ -74,6 +156,13 @@ pub fn run(args: ExciteArgs) -> Result<(), Failure> {
         excitation.evaluations,
         start.elapsed().as_secs_f64()
     );
+    if let Some(check) = &excitation.workspace {
+        println!(
+            "workspace: every frame inside its region at every time (closest: '{}', {:.4} m at t = {:.3} s; \
+             proven on {} times with a frame speed bound of {:.2} m/s)",
+            check.frame, check.smallest_margin, check.time, check.evaluations, check.speed_bound
+        );
+    }
     let count = (args.duration * args.rate).round() as usize;
     let mut samples = Samples {
         qd: Some(Vec::new()),

@@ -4,12 +4,20 @@
 use crate::failure::Failure;
 use crate::identifiable::load_identifiable;
 use crate::loading::LoadingArgs;
-use clap::Args;
+use clap::{Args, ValueEnum};
 use dyngen_identify::{
-    identify, identify_file, read_csv, BaseModel, IdentifyOptions, Progress, WrittenEstimate,
+    identify, identify_file, read_csv, BaseModel, IdentifyOptions, Observation, Progress, WrittenEstimate,
+    DEFAULT_WINDOW,
 };
 use std::path::PathBuf;
 use std::time::Instant;
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum ObservationArg {
+    Torque,
+    Momentum,
+    Energy,
+}
 
 /// Identify a robot's parameters from a data CSV (time, q and tau per joint; qd and qdd
 /// optional) and write the identified description.
@@ -31,6 +39,15 @@ pub struct IdentifyArgs {
     /// goes to stderr.
     #[arg(long)]
     stream: bool,
+    /// What is fitted to the torques: `torque`, the inverse dynamics at every sample (needs
+    /// accelerations, given or differentiated twice); `momentum`, the Lagrange equations
+    /// integrated over windows (no accelerations: better with a coarse encoder); `energy`, the
+    /// energy theorem over windows (no accelerations, poorly conditioned).
+    #[arg(long, value_enum, default_value_t = ObservationArg::Torque)]
+    observation: ObservationArg,
+    /// Window of the momentum and energy forms, in s.
+    #[arg(long, value_name = "S", default_value_t = DEFAULT_WINDOW)]
+    window: f64,
     #[command(flatten)]
     loading: LoadingArgs,
 }
@@ -43,8 +60,19 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
             args.description.display()
         );
     }
+    if !(args.window > 0.0 && args.window.is_finite()) {
+        return Err(Failure::from(format!(
+            "--window {}: a window is a positive number of seconds",
+            args.window
+        )));
+    }
     let options = IdentifyOptions {
         cutoff: args.cutoff,
+        observation: match args.observation {
+            ObservationArg::Torque => Observation::Torque,
+            ObservationArg::Momentum => Observation::Momentum { window: args.window },
+            ObservationArg::Energy => Observation::Energy { window: args.window },
+        },
         ..IdentifyOptions::default()
     };
     let start = Instant::now();

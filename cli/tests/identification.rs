@@ -147,6 +147,33 @@ fn excite_then_identify_then_load() {
     }
     load(&streamed).unwrap_or_else(|e| panic!("{e}"));
 
+    // Without accelerations (the Lagrange equations over windows): a description that loads;
+    // streamed, a clear refusal.
+    let windowed = dir.path().join("windowed.yaml");
+    let run = dyngen(&[
+        "identify",
+        arg(&description),
+        arg(&data_path),
+        "--observation",
+        "momentum",
+        "-o",
+        arg(&windowed),
+    ]);
+    assert_eq!(run.code, Some(0), "{}", run.output());
+    load(&windowed).unwrap_or_else(|e| panic!("{e}"));
+    let run = dyngen(&[
+        "identify",
+        arg(&description),
+        arg(&data_path),
+        "--observation",
+        "momentum",
+        "--stream",
+        "-o",
+        arg(&windowed),
+    ]);
+    assert_eq!(run.code, Some(1), "{}", run.output());
+    assert!(run.stderr.contains("identified in the torque form"), "{}", run.output());
+
     // Data no physically consistent robot explains (joint 7's torque with the wrong sign): a
     // warning, success, and a description that loads.
     let mut flipped = data.clone();

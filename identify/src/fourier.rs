@@ -151,13 +151,21 @@ impl FourierTrajectory {
     /// Centres every joint in its position range and scales its coefficients so that its
     /// binding limit (position, velocity or acceleration) is reached at 95% of it.
     pub fn fit_into(&mut self, limits: &TrajectoryLimits) {
-        for j in 0..self.dof() {
+        let centre: Vec<f64> = limits.position.iter().map(|(lo, hi)| 0.5 * (lo + hi)).collect();
+        self.fit_around(limits, &centre);
+    }
+
+    /// [`FourierTrajectory::fit_into`] around the posture `centre` (within the position
+    /// ranges) instead of the ranges' middle: the excursion is limited by the nearer end.
+    pub fn fit_around(&mut self, limits: &TrajectoryLimits, centre: &[f64]) {
+        for (j, &c) in centre.iter().enumerate().take(self.dof()) {
             let (lo, hi) = limits.position[j];
-            self.offsets[j] = 0.5 * (lo + hi);
+            self.offsets[j] = c;
             let (dq, v, a) = self.peaks(j);
             let ratio = |limit: f64, peak: f64| if peak > 0.0 { limit / peak } else { f64::INFINITY };
+            let room = (hi - c).min(c - lo).max(0.0);
             let scale = LIMIT_MARGIN
-                * ratio(0.5 * (hi - lo), dq)
+                * ratio(room, dq)
                     .min(ratio(limits.velocity[j], v))
                     .min(ratio(limits.acceleration[j], a));
             if scale.is_finite() {
@@ -167,6 +175,17 @@ impl FourierTrajectory {
                     .for_each(|c| *c *= scale);
             }
         }
+    }
+
+    /// The same motion with every excursion from the offsets (and so every velocity and
+    /// acceleration) `s` times as large.
+    pub fn scaled(&self, s: f64) -> FourierTrajectory {
+        let mut t = self.clone();
+        t.a.iter_mut()
+            .chain(t.b.iter_mut())
+            .flatten()
+            .for_each(|c| *c *= s);
+        t
     }
 
     /// The coefficients as one vector (`a` then `b`, joint after joint), for optimisers.

@@ -5,14 +5,16 @@
 //! Every item is at the crate root; the pipeline, one private module per step:
 //! 1. Excitation: [`FourierTrajectory`] (periodic finite Fourier series, scaled into
 //!    [`TrajectoryLimits`]), its coefficients optimised by [`optimise`] for a well-conditioned
-//!    stacked base regressor ([`condition_number`]).
+//!    stacked base regressor ([`condition_number`]); [`optimise_within`] also keeps frames in
+//!    a [`Workspace`] (boxes and planes, [`Region`]), checked over the whole period.
 //! 2. Data: [`read_csv`] reads the data CSV into [`Samples`] (time, joint positions and
 //!    torques by joint name; velocities and accelerations optional), with errors that name
 //!    file, line and column; [`to_csv`] writes one. [`prepare`] computes missing velocities and
 //!    accelerations (zero-phase low-pass filter, central differences).
 //! 3. Observation: the base regressor of a [`BaseRegressorSource`] (the generic numeric
 //!    dynamics of any description, [`BaseModel`], or a compiled robot, [`Compiled`]), in
-//!    torque form, stacked over the samples.
+//!    torque form, stacked over the samples; or, without accelerations, the energy theorem or
+//!    the Lagrange equations integrated over windows ([`Observation`]).
 //! 4. Estimation: least squares on the base parameters weighted by each joint's noise, the
 //!    noise re-estimated from the weighted residuals until it settles, with per-parameter
 //!    standard deviations ([`BaseEstimate`]), or an [`IdentifyError::Unidentifiable`] that
@@ -34,6 +36,7 @@ mod consistent;
 mod data;
 mod describe;
 mod differentiate;
+mod energy;
 mod error;
 mod excitation;
 mod fourier;
@@ -50,12 +53,14 @@ mod pipeline;
 mod simulate;
 mod starts;
 mod streaming;
+mod workspace;
 
 pub use consistent::{pseudo_inertia_margins, ConsistentEstimate};
 pub use data::{read_csv, to_csv, Sample, SampleReader, SampleWriter, Samples};
 pub use describe::to_yaml;
+pub use energy::{Observation, DEFAULT_WINDOW};
 pub use error::{IdentifyError, Place};
-pub use excitation::{condition_number, optimise, Excitation, ExcitationOptions};
+pub use excitation::{condition_number, optimise, optimise_within, Excitation, ExcitationOptions};
 pub use fourier::{FourierTrajectory, JointSample, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
 pub use least_squares::BaseEstimate;
 pub use normal_equations::NormalEquations;
@@ -67,3 +72,4 @@ pub use pipeline::{
 pub use simulate::{measure, measure_wrench, with_body_at, with_joint_terms, with_payload};
 pub use starts::ConsistentStart;
 pub use streaming::{estimate_streaming, Progress, StreamedEstimate};
+pub use workspace::{ExcitationError, Region, Workspace, WorkspaceCheck, WorkspaceConstraint};

@@ -4,6 +4,7 @@
 use crate::consistent::{consistent_estimate, misfit_bound, ConsistentEstimate};
 use crate::data::Samples;
 use crate::describe::to_yaml;
+use crate::energy::{estimate_by_energy, estimate_by_momentum, Observation};
 use crate::error::IdentifyError;
 use crate::least_squares::{estimate, BaseEstimate, Observations};
 use crate::loadable::loadable;
@@ -25,6 +26,8 @@ pub struct IdentifyOptions {
     /// ([`identify_file`]), besides the overlaps that make the result that of the whole
     /// signal.
     pub stream_window: usize,
+    /// The torque form (default), or a form over windows that needs no accelerations.
+    pub observation: Observation,
 }
 
 impl Default for IdentifyOptions {
@@ -32,6 +35,7 @@ impl Default for IdentifyOptions {
         IdentifyOptions {
             cutoff: crate::differentiate::DEFAULT_CUTOFF_HZ,
             stream_window: 1 << 14,
+            observation: Observation::Torque,
         }
     }
 }
@@ -134,13 +138,19 @@ pub fn identify_with(
 ) -> Result<Identification, IdentifyError> {
     let base_model = matching(model, source)?;
     let prepared = prepare(samples, options.cutoff)?;
-    let (w, tau) = prepared.stack(source);
-    let observations = Observations::Stacked {
-        w: &w,
-        tau: &tau,
-        n: model.dof(),
+    let base = match options.observation {
+        Observation::Torque => {
+            let (w, tau) = prepared.stack(source);
+            let observations = Observations::Stacked {
+                w: &w,
+                tau: &tau,
+                n: model.dof(),
+            };
+            estimate(observations, &base_model.base.names)?
+        }
+        Observation::Energy { window } => estimate_by_energy(&base_model, samples, &prepared, window)?,
+        Observation::Momentum { window } => estimate_by_momentum(&base_model, samples, &prepared, window)?,
     };
-    let base = estimate(observations, &base_model.base.names)?;
     complete(
         model,
         &base_model,
@@ -164,6 +174,12 @@ pub fn identify_file(
     progress: impl FnMut(&Progress),
 ) -> Result<Identification, IdentifyError> {
     let base_model = matching(model, source)?;
+    if options.observation != Observation::Torque {
+        return Err(IdentifyError::data(
+            "a file read line by line is identified in the torque form: the windowed forms need \
+             the whole log (identify it without streaming)",
+        ));
+    }
     let streamed = estimate_streaming(model, source, path, options, progress)?;
     complete(
         model,

@@ -16,6 +16,7 @@ mod coriolis;
 mod coupling;
 pub(crate) mod crba;
 mod derivatives;
+mod energy;
 pub(crate) mod forward_dynamics;
 pub(crate) mod frames;
 pub(crate) mod inertias;
