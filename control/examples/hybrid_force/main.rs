@@ -18,7 +18,7 @@
 mod svg;
 
 use clap::{Parser, ValueEnum};
-use dyngen_control::controller::{frame_named, GammaByKind};
+use dyngen_control::controller::{frame_named, Composite, GammaByKind};
 use dyngen_control::sim::{
     start_posture_for, summary_table, write_csv, Demo, DemoOptions, JointTermFactors, NoiseConfig, RunKind,
     RunResult, RunStatus, Sample,
@@ -128,6 +128,17 @@ struct Args {
     /// description's nominal values; 0 starts from no friction model at all.
     #[arg(long, default_value_t = 1.0, value_name = "SCALE")]
     joint_estimate: f64,
+    /// Add the composite adaptation's runs: the update also descends the prediction error of
+    /// the filtered joint torque, θ̂̇ = −Γ (Yᵀ r + Wᵀ R e).
+    #[arg(long)]
+    composite: bool,
+    /// Bandwidth λ_f (rad/s) of the composite adaptation's filter λ_f/(s + λ_f).
+    #[arg(long, default_value_t = Composite::DEFAULT_BANDWIDTH, value_name = "RAD_PER_S")]
+    prediction_bandwidth: f64,
+    /// Weight ρ of the prediction error in the composite adaptation (R = ρ I; 0 is the
+    /// Slotine–Li law).
+    #[arg(long, default_value_t = Composite::DEFAULT_WEIGHT, value_name = "RHO")]
+    prediction_weight: f64,
 }
 
 fn main() -> ExitCode {
@@ -202,6 +213,10 @@ fn options(args: &Args) -> DemoOptions {
         o.sim.seed = args.seed;
     }
     o.stiffness_estimation = args.estimate_stiffness.map(|f| (f, args.estimation_rate));
+    o.composite = args.composite.then_some(Composite {
+        bandwidth: args.prediction_bandwidth,
+        weight: args.prediction_weight,
+    });
     o
 }
 
@@ -317,6 +332,12 @@ where
         opts.sim.substeps as f64 / opts.sim.control_period / 1e3,
         demo.scenario.duration()
     );
+    if let Some(c) = opts.composite {
+        println!(
+            "composite adaptation: filter λ_f/(s + λ_f), λ_f = {} rad/s; R = {}·I",
+            c.bandwidth, c.weight
+        );
+    }
     if Demo::<Z, N, M, T>::has_joint_terms() {
         let f = opts.true_joint_terms;
         println!(
@@ -387,13 +408,15 @@ where
     Ok(all_ok)
 }
 
-const COLOURS: [&str; 4] = ["#1f77b4", "#ff7f0e", "#d62728", "#2ca02c"];
+const COLOURS: [&str; 6] = ["#1f77b4", "#ff7f0e", "#d62728", "#2ca02c", "#9467bd", "#8c564b"];
 
 /// The colour of a run, the same in every figure whichever runs there are.
 fn colour(kind: RunKind) -> &'static str {
     match kind {
         RunKind::Adaptive => COLOURS[0],
+        RunKind::Composite => COLOURS[4],
         RunKind::AdaptiveJointTermsHeld => COLOURS[1],
+        RunKind::CompositeJointTermsHeld => COLOURS[5],
         RunKind::AdaptationOff => COLOURS[2],
         RunKind::KnownParameters => COLOURS[3],
     }
@@ -405,7 +428,7 @@ fn write_plots(dir: &Path, results: &[(RunKind, RunResult)]) -> std::io::Result<
         samples.iter().step_by(step).map(|s| (s.t, f(s))).collect()
     };
     type Getter = fn(&Sample) -> f64;
-    let quantities: [(&str, &str, &str, bool, Getter); 5] = [
+    let quantities: [(&str, &str, &str, bool, Getter); 6] = [
         ("force", "normal force F_t (N)", "N", false, |s| s.true_force),
         (
             "position_error",
@@ -435,9 +458,24 @@ fn write_plots(dir: &Path, results: &[(RunKind, RunResult)]) -> std::io::Result<
             true,
             |s| s.theta_error,
         ),
+        (
+            "joint_term_error",
+            "joint-term error ‖θ̃_j‖/‖θ_j‖",
+            "relative",
+            true,
+            |s| s.joint_term_error,
+        ),
     ];
+    // A robot without joint terms has no joint-term error to draw.
+    let has_joint_terms = results
+        .iter()
+        .any(|(_, r)| r.samples.iter().any(|s| s.joint_term_error.is_finite()));
+    let quantities: Vec<_> = quantities
+        .into_iter()
+        .filter(|q| q.0 != "joint_term_error" || has_joint_terms)
+        .collect();
     let mut panels = Vec::new();
-    for (_, title, unit, log, get) in quantities {
+    for &(_, title, unit, log, get) in &quantities {
         let mut series: Vec<svg::Series> = results
             .iter()
             .map(|(k, r)| svg::Series {
