@@ -399,6 +399,11 @@ where
             write_orientation_plot(&args.output, &results).map_err(|e| format!("cannot write plots: {e}"))?,
         );
     }
+    if opts.composite.is_some() {
+        written.push(
+            write_composite_plot(&args.output, &results).map_err(|e| format!("cannot write plots: {e}"))?,
+        );
+    }
     println!();
     println!(
         "wrote {} and the per-run CSV files into {}",
@@ -551,6 +556,59 @@ fn write_orientation_plot(dir: &Path, results: &[(RunKind, RunResult)]) -> std::
         })
         .collect();
     let file = "hybrid_force_orientation.svg".to_string();
+    std::fs::write(dir.join(&file), svg::render(&panels))?;
+    Ok(file)
+}
+
+/// With the composite adaptation: the force error of every run, the composite runs' prediction
+/// error and, for a robot with joint terms, the joint-term error, stacked in one figure,
+/// `hybrid_force_composite.svg`.
+fn write_composite_plot(dir: &Path, results: &[(RunKind, RunResult)]) -> std::io::Result<String> {
+    let decimate = |samples: &[Sample], f: &dyn Fn(&Sample) -> f64| -> Vec<(f64, f64)> {
+        let step = (samples.len() / 800).max(1);
+        samples.iter().step_by(step).map(|s| (s.t, f(s))).collect()
+    };
+    let composite = |k: RunKind| matches!(k, RunKind::Composite | RunKind::CompositeJointTermsHeld);
+    type Getter = fn(&Sample) -> f64;
+    let mut quantities: Vec<(&str, &str, Getter, bool)> = vec![
+        ("force error |F_t − F_d| (N)", "N", |s| s.force_error.abs(), false),
+        (
+            "prediction error ‖e‖ = ‖W θ̂ − τ_f‖ of the composite runs (N·m)",
+            "N·m",
+            |s| s.prediction_error,
+            true,
+        ),
+    ];
+    if results
+        .iter()
+        .any(|(_, r)| r.samples.iter().any(|s| s.joint_term_error.is_finite()))
+    {
+        quantities.push((
+            "joint-term error ‖θ̃_j‖/‖θ_j‖",
+            "relative",
+            |s| s.joint_term_error,
+            false,
+        ));
+    }
+    let panels: Vec<svg::Panel> = quantities
+        .iter()
+        .map(|(title, unit, get, composite_only)| svg::Panel {
+            title,
+            y_label: unit,
+            log: true,
+            series: results
+                .iter()
+                .filter(|(k, _)| !composite_only || composite(*k))
+                .map(|(k, r)| svg::Series {
+                    label: k.label(),
+                    colour: colour(*k),
+                    dashed: false,
+                    points: decimate(&r.samples, get),
+                })
+                .collect(),
+        })
+        .collect();
+    let file = "hybrid_force_composite.svg".to_string();
     std::fs::write(dir.join(&file), svg::render(&panels))?;
     Ok(file)
 }

@@ -7,8 +7,8 @@
 //!
 //! ```text
 //! D q̈ + C q̇ + g + F_v q̇ + F_c σ(q̇) + f_o = d/dt (Y_p θ) + Y_q θ
-//! Y_p θ = D q̇ + g                          Y_p = Y(q, 0, 0, q̇)
-//! Y_q θ = C q̇ − Ḋ q̇ − ġ + g + friction     Y_q = Y(q, q̇, q̇, 0) − ∂/∂s Y(q + s q̇, 0, 0, q̇)|₀
+//! Y_p = Y(q, 0, 0, q̇)                             Y_p θ = D q̇ + g + f_o
+//! Y_q = Y(q, q̇, q̇, 0) − ∂/∂s Y(q + s q̇, 0, 0, q̇)|₀  Y_q θ = C q̇ − Ḋ q̇ − ġ + g + F_v q̇ + F_c σ(q̇) + f_o
 //! ```
 //!
 //! and the filter `λ_f/(s + λ_f)` of a derivative is `λ_f (x − x_f)`, so with `P_f`, `Q_f`,
@@ -21,8 +21,9 @@
 //! exactly, for any motion. The one derivative the generated code does not give, the
 //! regressor of `Ḋ q̇ + ġ`, is a central difference of `Y(q, 0, 0, q̇)` along `q̇` (step
 //! [`DIRECTION_STEP`] rad): an analytic function differenced, with an error of order 1e-9 of
-//! that term, not an estimate of a measured signal. `docs/controller.md` gives the stability
-//! argument.
+//! that term, not an estimate of a measured signal. The controller's tick steps the prediction
+//! term of `θ̂̇` implicitly (`implicit_step`), since it is stiff. `docs/controller.md` gives the
+//! stability argument.
 
 use super::error::ConfigError;
 use super::spd::SpdFactor;
@@ -35,8 +36,8 @@ pub const DIRECTION_STEP: f64 = 1e-4;
 
 /// The settings of the composite adaptation: the bandwidth `λ_f` (rad/s) of the first-order
 /// filter `λ_f/(s + λ_f)` applied alike to the joint torque and to the regressor, and the weight
-/// `ρ` of the prediction error, `R = ρ I` ((N·m)⁻² per unit of `Γ⁻¹`). `ρ = 0` is the
-/// Slotine–Li law.
+/// `ρ` of the prediction error, `R = ρ I` (it weighs `eᵀ e`, in (N·m)², against `rᵀ G r` in the
+/// Lyapunov function's decrease). `ρ = 0` is the Slotine–Li law.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Composite {
     pub bandwidth: f64,
@@ -44,8 +45,8 @@ pub struct Composite {
 }
 
 impl Default for Composite {
-    /// What the demo on `arm7_friction` measured best ([`Composite::DEFAULT_BANDWIDTH`],
-    /// [`Composite::DEFAULT_WEIGHT`]; `docs/hybrid_force_demo.md`).
+    /// [`Composite::DEFAULT_BANDWIDTH`] and [`Composite::DEFAULT_WEIGHT`], chosen on the demo's
+    /// pose task on `arm7_friction` (`docs/controller.md`, composite adaptation).
     fn default() -> Self {
         Composite {
             bandwidth: Self::DEFAULT_BANDWIDTH,
@@ -55,7 +56,8 @@ impl Default for Composite {
 }
 
 impl Composite {
-    /// `λ_f` (rad/s).
+    /// `λ_f` (rad/s): high enough to keep the torque steps of Coulomb friction at velocity
+    /// reversals, which the joint terms must predict.
     pub const DEFAULT_BANDWIDTH: f64 = 500.0;
     /// `ρ`.
     pub const DEFAULT_WEIGHT: f64 = 0.5;
@@ -84,16 +86,18 @@ impl Composite {
     }
 }
 
-/// The state of the prediction filter: the filtered `Y_p`, `Y_q` and joint torque (module
-/// docs). As a continuous-time state (an integrator that treats it as part of the closed loop,
-/// [`super::HybridController::evaluate_composite`]) it is `(P_f, Q_f, τ_f)` itself; inside the
-/// controller, between ticks, it is that state advanced over the coming control period by
-/// everything known at the tick (see [`PredictionFilter::advanced`]).
+/// The state of the prediction filter of the composite adaptation: `P_f`, `Q_f` and `τ_f`, the
+/// filtered `Y_p`, `Y_q` and joint torque `τ − Jᵀ F̄`, from which `W = λ_f (Y_p − P_f) + Q_f`
+/// (`docs/controller.md`, composite adaptation). What an integrator that treats the filter as
+/// part of the closed-loop state integrates
+/// ([`super::HybridController::evaluate_composite`] gives its rate). Inside the controller,
+/// between ticks, the filter is kept advanced over the coming control period by everything
+/// known at the tick, so that the next tick only adds what it measures.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct PredictionFilter<const N: usize, const M: usize> {
-    /// `P_f`, the filtered `Y_p` (`Y_p θ = D q̇ + g`).
+    /// `P_f`, the filtered `Y_p` (`Y_p θ = D q̇ + g + f_o`).
     pub momentum: SMatrix<f64, N, M>,
-    /// `Q_f`, the filtered `Y_q` (`Y_q θ = C q̇ − Ḋ q̇ − ġ + g` and the joint friction).
+    /// `Q_f`, the filtered `Y_q` (`Y_q θ = C q̇ − Ḋ q̇ − ġ + g + F_v q̇ + F_c σ(q̇) + f_o`).
     pub rest: SMatrix<f64, N, M>,
     /// `τ_f`, the filtered torque the robot's dynamics see, `τ − Jᵀ F̄`.
     pub torque: SVector<f64, N>,

@@ -62,6 +62,8 @@ pub struct ControllerConfig<const N: usize, const M: usize, const T: usize = 3, 
 #[derive(Clone, Copy, Debug)]
 pub struct ControlOutput<const N: usize, const M: usize, const S: usize> {
     pub tau: SVector<f64, N>,
+    /// `θ̂̇` of the law in continuous time (0 with the adaptation off). The tick steps `θ̂` by
+    /// `θ̂̇ dt`, except the composite adaptation's prediction term, which it steps implicitly.
     pub theta_hat_dot: SVector<f64, M>,
     pub reference: Reference<N, S>,
     /// `μ²` of the singularity guard (0 away from singularities).
