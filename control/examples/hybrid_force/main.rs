@@ -97,6 +97,9 @@ struct Args {
     /// Duration of the circle at full speed (s).
     #[arg(long, default_value_t = 8.0)]
     circle_time: f64,
+    /// Revolutions of the circle per second (Hz).
+    #[arg(long, default_value_t = 0.25, value_name = "HZ")]
+    circle_frequency: f64,
     /// Surface stiffness k (N/m).
     #[arg(long, default_value_t = 1e4)]
     stiffness: f64,
@@ -184,6 +187,7 @@ fn options(args: &Args) -> DemoOptions {
         stiffness: args.stiffness,
         target_force: args.force,
         circle_time: args.circle_time,
+        circle_frequency: args.circle_frequency,
         ..DemoOptions::default()
     };
     if let Some(k) = args.kappa {

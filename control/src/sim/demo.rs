@@ -93,6 +93,8 @@ pub struct DemoOptions {
     /// Height of the start above the table (m); negative starts in contact, pressing.
     pub start_height: f64,
     pub circle_time: f64,
+    /// Revolutions of the circle per second (Hz).
+    pub circle_frequency: f64,
     pub sim: SimConfig,
     /// The composite adaptation's filter bandwidth and weight: with `Some`, the comparison
     /// adds the runs [`RunKind::Composite`] (and [`RunKind::CompositeJointTermsHeld`]).
@@ -126,6 +128,7 @@ impl Default for DemoOptions {
             },
             start_height: 0.01,
             circle_time: 8.0,
+            circle_frequency: 0.25,
             sim: SimConfig::default(),
             composite: None,
             stiffness_estimation: None,
@@ -262,6 +265,7 @@ where
                 PressAndCircle::new(task.rotation * start, surface, model_k, options.target_force, q0)
                     .with_orientation(pose.rotation, target_orientation);
             s.circle_time = options.circle_time;
+            s.frequency = options.circle_frequency;
             s
         };
         let model_task = ContactTask::<T> {
