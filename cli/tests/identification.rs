@@ -172,7 +172,11 @@ fn excite_then_identify_then_load() {
         arg(&windowed),
     ]);
     assert_eq!(run.code, Some(1), "{}", run.output());
-    assert!(run.stderr.contains("identified in the torque form"), "{}", run.output());
+    assert!(
+        run.stderr.contains("identified in the torque form"),
+        "{}",
+        run.output()
+    );
 
     // Data no physically consistent robot explains (joint 7's torque with the wrong sign): a
     // warning, success, and a description that loads.

@@ -2,7 +2,7 @@
 //! the reason and keeps the data logged so far.
 
 use dyngen_control::controller::{
-    Adaptation, ConfigError, ContactTask, ControllerConfig, Gains, HybridController, Orientation,
+    Adaptation, Composite, ConfigError, ContactTask, ControllerConfig, Gains, HybridController, Orientation,
     SingularityGuard,
 };
 use dyngen_control::sim::{start_posture, Demo, DemoOptions, RunKind, RunStatus};
@@ -45,6 +45,44 @@ fn table() -> ContactTask {
 #[test]
 fn the_default_demo_is_valid() {
     demo(DemoOptions::default()).expect("default demo");
+}
+
+/// The composite adaptation's filter bandwidth must be > 0 and its weight ≥ 0 (0 is the
+/// Slotine–Li law); the circle's frequency finite and ≥ 0.
+#[test]
+fn composite_settings_out_of_range() {
+    for (bandwidth, weight, name) in [
+        (0.0, 0.5, "λ_f"),
+        (f64::NAN, 0.5, "λ_f"),
+        (500.0, -0.1, "R"),
+        (500.0, f64::INFINITY, "R"),
+    ] {
+        let e = demo(DemoOptions {
+            composite: Some(Composite { bandwidth, weight }),
+            ..DemoOptions::default()
+        })
+        .err();
+        assert!(
+            matches!(e, Some(ConfigError::NotPositiveDefinite { name: n, .. }) if n == name),
+            "{bandwidth} {weight}: {e:?}"
+        );
+        println!("{}", e.expect("an error"));
+    }
+    let c = ControllerConfig {
+        adaptation: Adaptation::Composite(Composite {
+            weight: 0.0,
+            ..Composite::default()
+        }),
+        ..config::<7, 70, 3, 1>(table())
+    };
+    assert!(HybridController::<arm7::Standard, 7, 70>::new(c).is_ok());
+
+    let e = demo(DemoOptions {
+        circle_frequency: -1.0,
+        ..DemoOptions::default()
+    })
+    .err();
+    assert!(matches!(e, Some(ConfigError::Invalid { .. })), "{e:?}");
 }
 
 #[test]

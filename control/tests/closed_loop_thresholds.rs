@@ -8,11 +8,15 @@
 //! With true joint friction and armature (arm7_friction: the true robot's at 1.25× / 2× its
 //! nominal values), the pose task: adapting the joint terms against holding them, from no
 //! friction model at all (the acceptance threshold: the force error at least 5× lower) and from the
-//! nominal values.
+//! nominal values. With the composite adaptation, adapting the joint terms lowers the force
+//! error at least 10× against the rigid-body law alone and at least 2× against the nominal
+//! joint terms held; with its weight 0 it is the Slotine–Li law, to the bit.
 
+use dyngen_control::controller::Composite;
 use dyngen_control::sim::{start_posture_for, Demo, DemoOptions, RunKind, RunStatus, Summary};
 use dyngen_generated::{arm7, arm7_friction};
 use dyngen_runtime::Parameterization;
+use std::sync::OnceLock;
 
 fn run(kind: RunKind) -> Summary {
     run_task::<3>(kind)
@@ -82,7 +86,7 @@ fn with_true_friction_adapting_the_joint_terms_lowers_the_force_error_5x() {
         ..DemoOptions::default()
     };
     let adapted = run_with::<Z, M, 6>(RunKind::Adaptive, options);
-    let unmodelled = run_with::<Z, M, 6>(RunKind::AdaptiveJointTermsHeld, options);
+    let unmodelled = joint_terms_held(0.0);
     for (what, ratio, threshold) in [
         ("force", unmodelled.rms_force_error / adapted.rms_force_error, 5.0),
         (
@@ -118,7 +122,7 @@ fn with_true_friction_adapting_nominal_joint_terms_lowers_the_tracking_errors() 
     type Z = arm7_friction::Base;
     const M: usize = arm7_friction::BASE_PARAMETER_COUNT;
     let adapted = run_on::<Z, M, 6>(RunKind::Adaptive);
-    let nominal = run_on::<Z, M, 6>(RunKind::AdaptiveJointTermsHeld);
+    let nominal = joint_terms_held(1.0);
     assert!(
         nominal.rms_orientation_error >= 5.0 * adapted.rms_orientation_error,
         "orientation: joint terms nominal {} rad vs adapted {} rad",
@@ -137,6 +141,138 @@ fn with_true_friction_adapting_nominal_joint_terms_lowers_the_tracking_errors() 
             "RMS force error {} N",
             s.rms_force_error
         );
+    }
+}
+
+/// The composite adaptation from no friction model at all (pose task, as above): the force
+/// error at least 10× lower than the rigid-body law's alone (the joint terms held at 0, the
+/// Slotine–Li law), the orientation error at least 100× and the in-plane error at least 5×.
+#[test]
+fn with_true_friction_the_composite_adaptation_lowers_the_force_error_10x() {
+    type Z = arm7_friction::Base;
+    const M: usize = arm7_friction::BASE_PARAMETER_COUNT;
+    let options = DemoOptions {
+        joint_estimate_scale: 0.0,
+        ..composite()
+    };
+    let adapted = run_with::<Z, M, 6>(RunKind::Composite, options);
+    let unmodelled = joint_terms_held(0.0);
+    for (what, ratio, threshold) in [
+        (
+            "force",
+            unmodelled.rms_force_error / adapted.rms_force_error,
+            10.0,
+        ),
+        (
+            "orientation",
+            unmodelled.rms_orientation_error / adapted.rms_orientation_error,
+            100.0,
+        ),
+        (
+            "in-plane",
+            unmodelled.rms_in_plane_error / adapted.rms_in_plane_error,
+            5.0,
+        ),
+    ] {
+        assert!(
+            ratio >= threshold,
+            "{what}: friction unmodelled ÷ composite = {ratio:.2} < {threshold}"
+        );
+    }
+}
+
+/// The composite adaptation from the nominal joint terms (half the true friction), pose task:
+/// adapting them lowers the force error at least 2× against holding them at nominal (the
+/// Slotine–Li law, which adapting them with does not lower it; see the test above), and the
+/// orientation error at least 5×.
+#[test]
+fn with_true_friction_the_composite_adaptation_of_nominal_joint_terms_halves_the_force_error() {
+    type Z = arm7_friction::Base;
+    const M: usize = arm7_friction::BASE_PARAMETER_COUNT;
+    let adapted = run_with::<Z, M, 6>(RunKind::Composite, composite());
+    let nominal = joint_terms_held(1.0);
+    let ratio = nominal.rms_force_error / adapted.rms_force_error;
+    assert!(
+        ratio >= 2.0,
+        "force: joint terms nominal {} N ÷ composite {} N = {ratio:.2} < 2",
+        nominal.rms_force_error,
+        adapted.rms_force_error
+    );
+    assert!(
+        nominal.rms_orientation_error >= 5.0 * adapted.rms_orientation_error,
+        "orientation: joint terms nominal {} rad vs composite {} rad",
+        nominal.rms_orientation_error,
+        adapted.rms_orientation_error
+    );
+}
+
+/// The composite adaptation with `R = 0` is the Slotine–Li law: the same run to the bit (the
+/// prediction filter runs, its error is weighted by 0). Arm7 with joint friction, pose task,
+/// every regressor column in use; a short circle.
+#[test]
+fn the_composite_adaptation_with_zero_weight_is_the_slotine_li_law() {
+    type Z = arm7_friction::Base;
+    const M: usize = arm7_friction::BASE_PARAMETER_COUNT;
+    let options = DemoOptions {
+        composite: Some(Composite {
+            weight: 0.0,
+            ..Composite::default()
+        }),
+        circle_time: 1.0,
+        ..DemoOptions::default()
+    };
+    let q0 = start_posture_for::<<Z as Parameterization<7, M>>::Robot, 7>(None).expect("start posture");
+    let demo = Demo::<Z, 7, M, 6>::new(options, q0).expect("valid demo");
+    let slotine_li = demo
+        .run(RunKind::Adaptive, &mut |_| {})
+        .expect("valid controller");
+    let composite = demo
+        .run(RunKind::Composite, &mut |_| {})
+        .expect("valid controller");
+    assert_eq!(slotine_li.status, RunStatus::Completed);
+    assert_eq!(slotine_li.samples.len(), composite.samples.len());
+    // The prediction error is computed (and not 0) but weighted by 0.
+    assert!(composite.samples.iter().any(|s| s.prediction_error > 1e-3));
+    for (a, b) in slotine_li.samples.iter().zip(&composite.samples) {
+        let strip = |s: &dyngen_control::sim::Sample| dyngen_control::sim::Sample {
+            tick_ns: 0.0,
+            prediction_error: 0.0,
+            ..*s
+        };
+        assert_eq!(strip(a), strip(b), "at t = {}", a.t);
+    }
+}
+
+/// The run [`RunKind::AdaptiveJointTermsHeld`] on arm7_friction, pose task, with the joint
+/// terms held at `scale` × nominal (0: the rigid-body law alone): run once for the tests that
+/// compare the Slotine–Li and the composite adaptation with it (the harness runs them in one
+/// process).
+fn joint_terms_held(scale: f64) -> Summary {
+    static FROM_ZERO: OnceLock<Summary> = OnceLock::new();
+    static FROM_NOMINAL: OnceLock<Summary> = OnceLock::new();
+    let cell = if scale == 0.0 {
+        &FROM_ZERO
+    } else {
+        assert_eq!(scale, 1.0, "only the two starts of the tests are kept");
+        &FROM_NOMINAL
+    };
+    *cell.get_or_init(|| {
+        let options = DemoOptions {
+            joint_estimate_scale: scale,
+            ..DemoOptions::default()
+        };
+        run_with::<arm7_friction::Base, { arm7_friction::BASE_PARAMETER_COUNT }, 6>(
+            RunKind::AdaptiveJointTermsHeld,
+            options,
+        )
+    })
+}
+
+/// [`DemoOptions::default`] with the composite adaptation at its default filter and weight.
+fn composite() -> DemoOptions {
+    DemoOptions {
+        composite: Some(Composite::default()),
+        ..DemoOptions::default()
     }
 }
 

@@ -13,8 +13,16 @@
 //! offset columns are functions of the measured state and cancel exactly; the armature is a
 //! constant on `D`'s diagonal and keeps `Ḋ − 2C` skew). So there `V + ∫ rᵀ G r` falls, by
 //! exactly `∫ rᵀ F_v r`.
+//!
+//! With the composite adaptation (`θ̂̇ = −Γ (Yᵀ r + Wᵀ R e)`, the prediction filter part of the
+//! state) the prediction error dissipates too: `V + ∫ rᵀ (G + F_v) r + ∫ eᵀ R e` is the
+//! constant. That holds only if `W θ = τ_f` at every instant, i.e. if the momentum form of the
+//! filtered regressor (`Y_p`, `Y_q` and the difference along `q̇`) is the plant's dynamics and
+//! the torque filtered is the one the plant feels (`τ − Jᵀ F̄`).
 
-use dyngen_control::controller::{parameter_error_energy, Measurement};
+use dyngen_control::controller::{
+    parameter_error_energy, Adaptation, Composite, Measurement, PredictionFilter,
+};
 use dyngen_control::sim::{rk4_step, start_posture_for, Demo, DemoOptions, RkState, RunKind};
 use dyngen_generated::{arm7, arm7_friction, panda};
 use dyngen_runtime::nalgebra::SVector;
@@ -25,10 +33,14 @@ struct Loop<const M: usize> {
     q: SVector<f64, 7>,
     qd: SVector<f64, 7>,
     theta: SVector<f64, M>,
+    /// The composite adaptation's prediction filter (unused by the other laws).
+    filter: PredictionFilter<7, M>,
     /// `∫ rᵀ G r`.
     dissipated: f64,
     /// `∫ rᵀ F_v r`, the true viscous friction's share.
     friction_dissipated: f64,
+    /// `∫ eᵀ R e`, the prediction error's share (composite adaptation).
+    prediction_dissipated: f64,
 }
 
 impl<const M: usize> RkState for Loop<M> {
@@ -37,8 +49,14 @@ impl<const M: usize> RkState for Loop<M> {
             q: self.q + k.q * h,
             qd: self.qd + k.qd * h,
             theta: self.theta + k.theta * h,
+            filter: PredictionFilter {
+                momentum: self.filter.momentum + k.filter.momentum * h,
+                rest: self.filter.rest + k.filter.rest * h,
+                torque: self.filter.torque + k.filter.torque * h,
+            },
             dissipated: self.dissipated + k.dissipated * h,
             friction_dissipated: self.friction_dissipated + k.friction_dissipated * h,
+            prediction_dissipated: self.prediction_dissipated + k.prediction_dissipated * h,
         }
     }
 }
@@ -77,6 +95,48 @@ fn lyapunov_with_joint_friction_and_armature_adapted() {
     assert!(friction > 1e-4, "∫rᵀF_v r / V(0) = {friction:.2e}");
 }
 
+/// The composite adaptation on arm7: `V + ∫ rᵀ G r + ∫ eᵀ R e` is the constant, and the
+/// prediction error's share is not negligible.
+#[test]
+fn lyapunov_with_the_composite_adaptation() {
+    let demo = Demo::<arm7::Base, 7, { arm7::BASE_PARAMETER_COUNT }, 3>::new(
+        composite(),
+        start::<arm7::Base, { arm7::BASE_PARAMETER_COUNT }>(),
+    )
+    .expect("valid demo");
+    let (_, predicted) = lyapunov_of(demo, RunKind::Composite);
+    assert!(predicted > 1e-2, "∫eᵀRe / V(0) = {predicted:.2e}");
+}
+
+/// The composite adaptation with true joint friction and armature, joint terms adapted, pose
+/// task: the filtered regressor's friction and armature columns and the contact torque through
+/// the frame's Jacobian are consistent with the plant.
+#[test]
+fn lyapunov_with_the_composite_adaptation_and_joint_friction() {
+    type Z = arm7_friction::Base;
+    const M: usize = arm7_friction::BASE_PARAMETER_COUNT;
+    let demo = Demo::<Z, 7, M, 6>::new(composite(), start::<Z, M>()).expect("valid demo");
+    let (friction, predicted) = lyapunov_of(demo, RunKind::Composite);
+    assert!(friction > 1e-4, "∫rᵀF_v r / V(0) = {friction:.2e}");
+    assert!(predicted > 1e-2, "∫eᵀRe / V(0) = {predicted:.2e}");
+}
+
+/// [`pressing`] with the composite adaptation at its default filter. The weight is the
+/// largest the explicit RK4 step of this test integrates stably: the prediction term is stiff
+/// (`Γ Wᵀ R W` has the mass gains times `(g·lever)²`), which is why the controller's own tick
+/// steps it implicitly.
+fn composite() -> DemoOptions {
+    DemoOptions {
+        composite: Some(Composite {
+            weight: WEIGHT,
+            ..Composite::default()
+        }),
+        ..pressing()
+    }
+}
+
+const WEIGHT: f64 = 1e-3;
+
 /// At a named frame other than the end-effector (the Panda's flange `panda_link8`, pose task):
 /// the frame's generated `J` and `J̇` are consistent in the closed loop as the end-effector's
 /// are, with the contact at that frame too.
@@ -87,7 +147,7 @@ fn lyapunov_at_a_named_frame() {
     let demo = Demo::<Z, 7, M, 6>::new_at_frame(pressing(), start::<Z, M>(), panda::Frame::PandaLink8)
         .expect("valid demo");
     assert_eq!(demo.controlled_frame(), Some("panda_link8"));
-    lyapunov_of(demo);
+    lyapunov_of(demo, RunKind::Adaptive);
 }
 
 fn start<Z: Parameterization<7, M>, const M: usize>() -> SVector<f64, 7> {
@@ -104,13 +164,25 @@ fn pressing() -> DemoOptions {
 
 /// [`lyapunov_of`] the demo at the end-effector.
 fn lyapunov_check<Z: Parameterization<7, M>, const M: usize, const T: usize>() -> f64 {
-    lyapunov_of(Demo::<Z, 7, M, T>::new(pressing(), start::<Z, M>()).expect("valid demo"))
+    lyapunov_of(
+        Demo::<Z, 7, M, T>::new(pressing(), start::<Z, M>()).expect("valid demo"),
+        RunKind::Adaptive,
+    )
+    .0
 }
 
-/// Runs the closed loop and checks `V`; returns `∫ rᵀ F_v r / V(0)` (0 without friction).
-fn lyapunov_of<Z: Parameterization<7, M>, const M: usize, const T: usize>(demo: Demo<Z, 7, M, T>) -> f64 {
+/// Runs the closed loop of the law of `kind` and checks `V`; returns `∫ rᵀ F_v r / V(0)` (0
+/// without friction) and `∫ eᵀ R e / V(0)` (0 but for the composite adaptation).
+fn lyapunov_of<Z: Parameterization<7, M>, const M: usize, const T: usize>(
+    demo: Demo<Z, 7, M, T>,
+    kind: RunKind,
+) -> (f64, f64) {
     let q0 = demo.q0;
-    let ctrl = demo.controller(RunKind::Adaptive).expect("valid controller");
+    let ctrl = demo.controller(kind).expect("valid controller");
+    let weight = match ctrl.config().adaptation {
+        Adaptation::Composite(c) => c.weight,
+        _ => 0.0,
+    };
     let g = demo.g;
     let gamma = demo.gamma;
     let theta_true = demo.theta_true;
@@ -128,8 +200,8 @@ fn lyapunov_of<Z: Parameterization<7, M>, const M: usize, const T: usize>(demo: 
             qd: x.qd,
             force,
         };
-        let out = ctrl
-            .evaluate(&m, &demo.scenario.desired(t), &x.theta)
+        let (out, filter_rate) = ctrl
+            .evaluate_composite(&m, &demo.scenario.desired(t), &x.theta, &x.filter)
             .map_err(|e| e.to_string())?;
         assert!(!out.saturated && out.damping == 0.0);
         let r = out.reference.r;
@@ -142,8 +214,10 @@ fn lyapunov_of<Z: Parameterization<7, M>, const M: usize, const T: usize>(demo: 
                 q: x.qd,
                 qd: qdd,
                 theta: out.theta_hat_dot,
+                filter: filter_rate,
                 dissipated: r.dot(&(g * r)),
                 friction_dissipated: r.dot(&viscous.component_mul(&r)),
+                prediction_dissipated: weight * out.prediction_error.norm_squared(),
             },
             v,
         ))
@@ -151,12 +225,19 @@ fn lyapunov_of<Z: Parameterization<7, M>, const M: usize, const T: usize>(demo: 
 
     let dt = demo.options.sim.control_period;
     let steps = 3000;
+    let start = Measurement {
+        q: q0,
+        qd: SVector::zeros(),
+        force: plant.contact_force(&JointTrig::new(&q0)),
+    };
     let mut x = Loop {
         q: q0,
         qd: SVector::zeros(),
         theta: demo.theta_hat0,
+        filter: ctrl.prediction_filter_start(&start),
         dissipated: 0.0,
         friction_dissipated: 0.0,
+        prediction_dissipated: 0.0,
     };
     let (_, v0) = f(0.0, &x).expect("first evaluation");
     let (mut v_prev, mut rises, mut worst_rise, mut worst_drift) = (v0, 0, 0.0f64, 0.0f64);
@@ -172,15 +253,17 @@ fn lyapunov_of<Z: Parameterization<7, M>, const M: usize, const T: usize>(demo: 
             rises += 1;
             worst_rise = worst_rise.max(rise);
         }
-        worst_drift = worst_drift.max(((v + x.dissipated + x.friction_dissipated) - v0).abs() / v0);
-        worst_excess = worst_excess.max((v + x.dissipated - v0) / v0);
+        worst_drift = worst_drift
+            .max(((v + x.dissipated + x.friction_dissipated + x.prediction_dissipated) - v0).abs() / v0);
+        worst_excess = worst_excess.max((v + x.dissipated + x.prediction_dissipated - v0) / v0);
         v_prev = v;
     }
     println!(
         "{M} parameters, task dimension {T}: V(0) = {v0:.6e}, V(end) = {v_prev:.6e}, ∫rᵀGr = {:.6e}; V rose on {rises} of {steps} steps \
-         (worst {worst_rise:.2e} relative); ∫rᵀF_v r = {:.6e}; max |V + ∫rᵀ(G + F_v)r − V(0)|/V(0) = {worst_drift:.2e}; \
-         max (V + ∫rᵀGr − V(0))/V(0) = {worst_excess:.2e}; min contact force {min_penetration:.3} N",
-        x.dissipated, x.friction_dissipated
+         (worst {worst_rise:.2e} relative); ∫rᵀF_v r = {:.6e}; ∫eᵀRe = {:.6e}; \
+         max |V + ∫rᵀ(G + F_v)r + ∫eᵀRe − V(0)|/V(0) = {worst_drift:.2e}; \
+         max (V + ∫rᵀGr + ∫eᵀRe − V(0))/V(0) = {worst_excess:.2e}; min contact force {min_penetration:.3} N",
+        x.dissipated, x.friction_dissipated, x.prediction_dissipated
     );
     assert!(min_penetration > 0.0, "the contact opened");
     // Not a trivial run: a substantial share of V(0) is dissipated.
@@ -195,11 +278,11 @@ fn lyapunov_of<Z: Parameterization<7, M>, const M: usize, const T: usize>(demo: 
     );
     assert!(
         worst_drift <= 1e-6,
-        "V + ∫rᵀ(G + F_v)r drifted by {worst_drift:.3e} relative"
+        "V + ∫rᵀ(G + F_v)r + ∫eᵀRe drifted by {worst_drift:.3e} relative"
     );
     assert!(
         worst_excess <= 1e-6,
-        "V + ∫rᵀGr rose above V(0) by {worst_excess:.3e} relative"
+        "V + ∫rᵀGr + ∫eᵀRe rose above V(0) by {worst_excess:.3e} relative"
     );
-    x.friction_dissipated / v0
+    (x.friction_dissipated / v0, x.prediction_dissipated / v0)
 }

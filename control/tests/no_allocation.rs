@@ -1,10 +1,11 @@
 //! A control tick allocates nothing: a counting global allocator sees no allocation while the
 //! adaptive controller (with stiffness estimation) runs many ticks, at the end-effector and at
-//! a named frame (the Panda's flange).
+//! a named frame (the Panda's flange), and with the composite adaptation (its prediction
+//! filter is fixed-size state of the controller).
 
-use dyngen_control::controller::Measurement;
+use dyngen_control::controller::{Composite, Measurement};
 use dyngen_control::sim::{start_posture, Demo, DemoOptions, RunKind};
-use dyngen_generated::{arm7, panda};
+use dyngen_generated::{arm7, arm7_friction, panda};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{JointTrig, Parameterization};
 use dyngen_testkit::allocations::{allocations, CountingAllocator};
@@ -21,6 +22,18 @@ fn a_control_tick_allocates_nothing() {
     ticks_without_allocation::<5>();
     ticks_without_allocation::<6>();
     ticks_at_a_named_frame_without_allocation();
+    composite_ticks_without_allocation();
+}
+
+fn composite_ticks_without_allocation() {
+    let q0 = start_posture::<7>("arm7_friction").expect("arm7_friction start posture");
+    let options = DemoOptions {
+        composite: Some(Composite::default()),
+        ..options()
+    };
+    let d = Demo::<arm7_friction::Base, 7, { arm7_friction::BASE_PARAMETER_COUNT }, 6>::new(options, q0)
+        .expect("valid demo");
+    ticks_of(&d, &q0, RunKind::Composite);
 }
 
 fn ticks_at_a_named_frame_without_allocation() {
@@ -31,7 +44,7 @@ fn ticks_at_a_named_frame_without_allocation() {
         panda::Frame::PandaLink8,
     )
     .expect("valid demo");
-    ticks_of(&d, &q0);
+    ticks_of(&d, &q0, RunKind::Adaptive);
 }
 
 fn options() -> DemoOptions {
@@ -45,15 +58,16 @@ fn options() -> DemoOptions {
 fn ticks_without_allocation<const T: usize>() {
     let q0 = start_posture::<7>("arm7").expect("arm7 start posture");
     let d = Demo::<arm7::Base, 7, { arm7::BASE_PARAMETER_COUNT }, T>::new(options(), q0).expect("valid demo");
-    ticks_of(&d, &q0);
+    ticks_of(&d, &q0, RunKind::Adaptive);
 }
 
 fn ticks_of<Z: Parameterization<7, M>, const M: usize, const T: usize>(
     d: &Demo<Z, 7, M, T>,
     q0: &SVector<f64, 7>,
+    kind: RunKind,
 ) {
     let q0 = *q0;
-    let mut c = d.controller(RunKind::Adaptive).expect("valid controller");
+    let mut c = d.controller(kind).expect("valid controller");
     let desired: Vec<_> = (0..200).map(|k| d.scenario.desired(k as f64 * 0.05)).collect();
     let force = d.plant.contact_force(&JointTrig::new(&q0));
     let mut acc = 0.0;
@@ -69,7 +83,10 @@ fn ticks_of<Z: Parameterization<7, M>, const M: usize, const T: usize>(
         }
     });
     assert!(acc.is_finite());
-    assert_eq!(counted, 0, "a control tick allocated (task dimension {T})");
+    assert_eq!(
+        counted, 0,
+        "a control tick allocated (task dimension {T}, {kind:?})"
+    );
     // The counter sees allocations on this thread: a control case must count one.
     assert_eq!(allocations(|| drop(std::hint::black_box(vec![1u8]))), 1);
 }

@@ -18,7 +18,7 @@
 mod svg;
 
 use clap::{Parser, ValueEnum};
-use dyngen_control::controller::{frame_named, GammaByKind};
+use dyngen_control::controller::{frame_named, Composite, GammaByKind};
 use dyngen_control::sim::{
     start_posture_for, summary_table, write_csv, Demo, DemoOptions, JointTermFactors, NoiseConfig, RunKind,
     RunResult, RunStatus, Sample,
@@ -97,6 +97,9 @@ struct Args {
     /// Duration of the circle at full speed (s).
     #[arg(long, default_value_t = 8.0)]
     circle_time: f64,
+    /// Revolutions of the circle per second (Hz).
+    #[arg(long, default_value_t = 0.25, value_name = "HZ")]
+    circle_frequency: f64,
     /// Surface stiffness k (N/m).
     #[arg(long, default_value_t = 1e4)]
     stiffness: f64,
@@ -128,6 +131,17 @@ struct Args {
     /// description's nominal values; 0 starts from no friction model at all.
     #[arg(long, default_value_t = 1.0, value_name = "SCALE")]
     joint_estimate: f64,
+    /// Add the composite adaptation's runs: the update also descends the prediction error of
+    /// the filtered joint torque, θ̂̇ = −Γ (Yᵀ r + Wᵀ R e).
+    #[arg(long)]
+    composite: bool,
+    /// Bandwidth λ_f (rad/s) of the composite adaptation's filter λ_f/(s + λ_f).
+    #[arg(long, default_value_t = Composite::DEFAULT_BANDWIDTH, value_name = "RAD_PER_S")]
+    prediction_bandwidth: f64,
+    /// Weight ρ of the prediction error in the composite adaptation (R = ρ I; 0 is the
+    /// Slotine–Li law).
+    #[arg(long, default_value_t = Composite::DEFAULT_WEIGHT, value_name = "RHO")]
+    prediction_weight: f64,
 }
 
 fn main() -> ExitCode {
@@ -173,6 +187,7 @@ fn options(args: &Args) -> DemoOptions {
         stiffness: args.stiffness,
         target_force: args.force,
         circle_time: args.circle_time,
+        circle_frequency: args.circle_frequency,
         ..DemoOptions::default()
     };
     if let Some(k) = args.kappa {
@@ -202,6 +217,10 @@ fn options(args: &Args) -> DemoOptions {
         o.sim.seed = args.seed;
     }
     o.stiffness_estimation = args.estimate_stiffness.map(|f| (f, args.estimation_rate));
+    o.composite = args.composite.then_some(Composite {
+        bandwidth: args.prediction_bandwidth,
+        weight: args.prediction_weight,
+    });
     o
 }
 
@@ -317,6 +336,12 @@ where
         opts.sim.substeps as f64 / opts.sim.control_period / 1e3,
         demo.scenario.duration()
     );
+    if let Some(c) = opts.composite {
+        println!(
+            "composite adaptation: filter λ_f/(s + λ_f), λ_f = {} rad/s; R = {}·I",
+            c.bandwidth, c.weight
+        );
+    }
     if Demo::<Z, N, M, T>::has_joint_terms() {
         let f = opts.true_joint_terms;
         println!(
@@ -378,6 +403,11 @@ where
             write_orientation_plot(&args.output, &results).map_err(|e| format!("cannot write plots: {e}"))?,
         );
     }
+    if opts.composite.is_some() {
+        written.push(
+            write_composite_plot(&args.output, &results).map_err(|e| format!("cannot write plots: {e}"))?,
+        );
+    }
     println!();
     println!(
         "wrote {} and the per-run CSV files into {}",
@@ -387,13 +417,15 @@ where
     Ok(all_ok)
 }
 
-const COLOURS: [&str; 4] = ["#1f77b4", "#ff7f0e", "#d62728", "#2ca02c"];
+const COLOURS: [&str; 6] = ["#1f77b4", "#ff7f0e", "#d62728", "#2ca02c", "#9467bd", "#8c564b"];
 
 /// The colour of a run, the same in every figure whichever runs there are.
 fn colour(kind: RunKind) -> &'static str {
     match kind {
         RunKind::Adaptive => COLOURS[0],
+        RunKind::Composite => COLOURS[4],
         RunKind::AdaptiveJointTermsHeld => COLOURS[1],
+        RunKind::CompositeJointTermsHeld => COLOURS[5],
         RunKind::AdaptationOff => COLOURS[2],
         RunKind::KnownParameters => COLOURS[3],
     }
@@ -405,7 +437,7 @@ fn write_plots(dir: &Path, results: &[(RunKind, RunResult)]) -> std::io::Result<
         samples.iter().step_by(step).map(|s| (s.t, f(s))).collect()
     };
     type Getter = fn(&Sample) -> f64;
-    let quantities: [(&str, &str, &str, bool, Getter); 5] = [
+    let quantities: [(&str, &str, &str, bool, Getter); 6] = [
         ("force", "normal force F_t (N)", "N", false, |s| s.true_force),
         (
             "position_error",
@@ -435,9 +467,24 @@ fn write_plots(dir: &Path, results: &[(RunKind, RunResult)]) -> std::io::Result<
             true,
             |s| s.theta_error,
         ),
+        (
+            "joint_term_error",
+            "joint-term error ‖θ̃_j‖/‖θ_j‖",
+            "relative",
+            true,
+            |s| s.joint_term_error,
+        ),
     ];
+    // A robot without joint terms has no joint-term error to draw.
+    let has_joint_terms = results
+        .iter()
+        .any(|(_, r)| r.samples.iter().any(|s| s.joint_term_error.is_finite()));
+    let quantities: Vec<_> = quantities
+        .into_iter()
+        .filter(|q| q.0 != "joint_term_error" || has_joint_terms)
+        .collect();
     let mut panels = Vec::new();
-    for (_, title, unit, log, get) in quantities {
+    for &(_, title, unit, log, get) in &quantities {
         let mut series: Vec<svg::Series> = results
             .iter()
             .map(|(k, r)| svg::Series {
@@ -513,6 +560,59 @@ fn write_orientation_plot(dir: &Path, results: &[(RunKind, RunResult)]) -> std::
         })
         .collect();
     let file = "hybrid_force_orientation.svg".to_string();
+    std::fs::write(dir.join(&file), svg::render(&panels))?;
+    Ok(file)
+}
+
+/// With the composite adaptation: the force error of every run, the composite runs' prediction
+/// error and, for a robot with joint terms, the joint-term error, stacked in one figure,
+/// `hybrid_force_composite.svg`.
+fn write_composite_plot(dir: &Path, results: &[(RunKind, RunResult)]) -> std::io::Result<String> {
+    let decimate = |samples: &[Sample], f: &dyn Fn(&Sample) -> f64| -> Vec<(f64, f64)> {
+        let step = (samples.len() / 800).max(1);
+        samples.iter().step_by(step).map(|s| (s.t, f(s))).collect()
+    };
+    let composite = |k: RunKind| matches!(k, RunKind::Composite | RunKind::CompositeJointTermsHeld);
+    type Getter = fn(&Sample) -> f64;
+    let mut quantities: Vec<(&str, &str, Getter, bool)> = vec![
+        ("force error |F_t − F_d| (N)", "N", |s| s.force_error.abs(), false),
+        (
+            "prediction error ‖e‖ = ‖W θ̂ − τ_f‖ of the composite runs (N·m)",
+            "N·m",
+            |s| s.prediction_error,
+            true,
+        ),
+    ];
+    if results
+        .iter()
+        .any(|(_, r)| r.samples.iter().any(|s| s.joint_term_error.is_finite()))
+    {
+        quantities.push((
+            "joint-term error ‖θ̃_j‖/‖θ_j‖",
+            "relative",
+            |s| s.joint_term_error,
+            false,
+        ));
+    }
+    let panels: Vec<svg::Panel> = quantities
+        .iter()
+        .map(|(title, unit, get, composite_only)| svg::Panel {
+            title,
+            y_label: unit,
+            log: true,
+            series: results
+                .iter()
+                .filter(|(k, _)| !composite_only || composite(*k))
+                .map(|(k, r)| svg::Series {
+                    label: k.label(),
+                    colour: colour(*k),
+                    dashed: false,
+                    points: decimate(&r.samples, get),
+                })
+                .collect(),
+        })
+        .collect();
+    let file = "hybrid_force_composite.svg".to_string();
     std::fs::write(dir.join(&file), svg::render(&panels))?;
     Ok(file)
 }

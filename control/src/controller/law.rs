@@ -1,8 +1,13 @@
 //! The control law: `τ = Jᵀ F̄ + Y(q, q̇, q̇_r, q̈_r) θ̂ − G r` (eq. 42), with `θ̂̇ = −Γ Yᵀ r`
-//! (eq. 46) when adapting. With `θ̂` fixed at the true parameters this is the known-parameter
-//! law of Lemma 1 (`Y θ = D q̈_r + C q̇_r + g` by linearity).
+//! (eq. 46) when adapting, or the composite `θ̂̇ = −Γ (Yᵀ r + Wᵀ R e)`. With `θ̂` fixed at the
+//! true parameters this is the known-parameter law of Lemma 1 (`Y θ = D q̈_r + C q̇_r + g` by
+//! linearity).
 
 use super::adaptation::rate_from_regressor_product;
+use super::composite::{
+    composite_product, implicit_step, prediction_signals, Composite, FilterStep, PredictionFilter,
+    PredictionSignals,
+};
 use super::error::{ConfigError, TickError};
 use super::frame::ControlledFrame;
 use super::gains::Gains;
@@ -20,11 +25,23 @@ use std::marker::PhantomData;
 /// set-up accepts (the rotation error of the orientation rows of an [`Orientation`] task).
 pub const MAX_START_ORIENTATION_ERROR_DEG: f64 = 90.0;
 
-/// Whether `θ̂` follows `θ̂̇ = −Γ Yᵀ r` or stays fixed.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+/// How `θ̂` moves.
+#[derive(Clone, Copy, Debug, PartialEq)]
 pub enum Adaptation {
+    /// `θ̂̇ = −Γ Yᵀ r` (Slotine–Li, the note's eq. 46).
     On,
+    /// `θ̂̇ = −Γ (Yᵀ r + Wᵀ R e)`: also down the prediction error of the filtered joint torque
+    /// (see [`Composite`]).
+    Composite(Composite),
+    /// `θ̂` stays at `θ̂(0)`.
     Off,
+}
+
+impl Adaptation {
+    /// Whether `θ̂` moves at all.
+    pub fn is_adapting(&self) -> bool {
+        !matches!(self, Adaptation::Off)
+    }
 }
 
 /// Everything the controller is configured with.
@@ -45,12 +62,17 @@ pub struct ControllerConfig<const N: usize, const M: usize, const T: usize = 3, 
 #[derive(Clone, Copy, Debug)]
 pub struct ControlOutput<const N: usize, const M: usize, const S: usize> {
     pub tau: SVector<f64, N>,
+    /// `θ̂̇` of the law in continuous time (0 with the adaptation off). The tick steps `θ̂` by
+    /// `θ̂̇ dt`, except the composite adaptation's prediction term, which it steps implicitly.
     pub theta_hat_dot: SVector<f64, M>,
     pub reference: Reference<N, S>,
     /// `μ²` of the singularity guard (0 away from singularities).
     pub damping: f64,
     /// Whether any joint torque was clamped.
     pub saturated: bool,
+    /// The composite adaptation's prediction error `e = W θ̂ − τ_f` (N·m); 0 for the other
+    /// laws.
+    pub prediction_error: SVector<f64, N>,
 }
 
 /// The adaptive hybrid force/position controller, generic over the parameterisation `Z` of a
@@ -73,6 +95,9 @@ pub struct HybridController<Z, const N: usize, const M: usize, const T: usize = 
     theta_hat: SVector<f64, M>,
     estimator: Option<StiffnessEstimator<S>>,
     frame: ControlledFrame<N>,
+    /// The prediction filter advanced to the coming tick (composite adaptation); `None`
+    /// before the first tick.
+    filter: Option<(PredictionFilter<N, M>, FilterStep)>,
     _robot: PhantomData<fn() -> Z>,
 }
 
@@ -97,7 +122,10 @@ where
         if T > N {
             return Err(ConfigError::TaskDimension { task: T, dof: N });
         }
-        config.gains.validate(config.adaptation == Adaptation::On)?;
+        config.gains.validate(config.adaptation.is_adapting())?;
+        if let Adaptation::Composite(c) = config.adaptation {
+            c.validate()?;
+        }
         let split = config.task.validate()?;
         if !config.torque_limit.iter().all(|t| t.is_finite() && *t > 0.0) {
             return Err(ConfigError::Invalid {
@@ -117,6 +145,7 @@ where
             theta_hat: config.theta_hat0,
             estimator: None,
             frame: ControlledFrame::END_EFFECTOR,
+            filter: None,
             _robot: PhantomData,
         })
     }
@@ -260,7 +289,9 @@ where
     }
 
     /// Evaluates the law at `θ̂` without changing any state: what an integrator that treats
-    /// `θ̂` as part of the closed-loop state calls at each stage.
+    /// `θ̂` as part of the closed-loop state calls at each stage. The composite adaptation uses
+    /// the controller's own prediction filter, as the next [`Self::tick`] would (see
+    /// [`Self::evaluate_composite`] to integrate the filter too).
     #[inline]
     pub fn evaluate(
         &self,
@@ -268,6 +299,53 @@ where
         d: &Desired<N, S>,
         theta_hat: &SVector<f64, M>,
     ) -> Result<ControlOutput<N, M, S>, TickError> {
+        Ok(self.evaluate_with(m, d, theta_hat, None)?.0)
+    }
+
+    /// The composite law in continuous time, the prediction filter part of the state: the law
+    /// at `θ̂` with the filter state `filter` (`P_f`, `Q_f`, `τ_f`; from rest, start it with
+    /// [`Self::prediction_filter_start`]), and the filter's rate. For any other adaptation the
+    /// rate is 0 and `filter` is not used.
+    pub fn evaluate_composite(
+        &self,
+        m: &Measurement<N>,
+        d: &Desired<N, S>,
+        theta_hat: &SVector<f64, M>,
+        filter: &PredictionFilter<N, M>,
+    ) -> Result<(ControlOutput<N, M, S>, PredictionFilter<N, M>), TickError> {
+        let (out, state) = self.evaluate_with(m, d, theta_hat, Some(filter))?;
+        let rate = match (self.config.adaptation, state) {
+            (Adaptation::Composite(c), Some(s)) => s.now.rate(&s.signals, &out.tau, c.bandwidth),
+            _ => PredictionFilter {
+                momentum: SMatrix::zeros(),
+                rest: SMatrix::zeros(),
+                torque: SVector::zeros(),
+            },
+        };
+        Ok((out, rate))
+    }
+
+    /// The prediction filter's state at the start of a motion measured by `m`, from which
+    /// `W θ = τ_f` holds at every instant (`P_f = Y_p`, `Q_f = 0`, `τ_f = 0`).
+    pub fn prediction_filter_start(&self, m: &Measurement<N>) -> PredictionFilter<N, M> {
+        let trig = JointTrig::new(&m.q);
+        let j6 = self.frame.jacobian::<Z::Robot>(&trig);
+        let j_force: SMatrix<f64, 3, N> = j6.fixed_rows::<3>(0).into_owned();
+        let contact = matvec::tr_mul(&j_force, &m.force);
+        PredictionFilter::start(&prediction_signals::<Z, N, M>(&trig, &m.q, &m.qd, contact))
+    }
+
+    /// The law at `θ̂`; for the composite adaptation, with the prediction filter `filter`, or
+    /// (`None`) the controller's own completed with this measurement. Returns, for the composite
+    /// adaptation, what the caller needs to step `θ̂` and the filter.
+    #[inline]
+    fn evaluate_with(
+        &self,
+        m: &Measurement<N>,
+        d: &Desired<N, S>,
+        theta_hat: &SVector<f64, M>,
+        filter: Option<&PredictionFilter<N, M>>,
+    ) -> Result<(ControlOutput<N, M, S>, Option<CompositeState<N, M>>), TickError> {
         // A NaN or infinity anywhere makes the sum non-finite (cheaper than testing each entry; a
         // sum that overflows from finite values ~1e308 is refused too, rightly).
         if !(plain_sum(m.q.as_slice()) + plain_sum(m.qd.as_slice()) + plain_sum(m.force.as_slice()))
@@ -303,12 +381,32 @@ where
             theta_hat,
             &reference.r,
         );
+        let contact = matvec::tr_mul(&k.j_force, &m.force);
+        let mut prediction_error = SVector::zeros();
+        let mut composite = None;
         let theta_hat_dot = match self.config.adaptation {
             Adaptation::On => rate_from_regressor_product(&self.config.gains.gamma, &y_tr_r),
+            Adaptation::Composite(c) => {
+                let signals = prediction_signals::<Z, N, M>(&trig, &m.q, &m.qd, contact);
+                let now = match (filter, &self.filter) {
+                    (Some(given), _) => *given,
+                    (None, Some((advanced, step))) => advanced.completed(&signals, step),
+                    (None, None) => PredictionFilter::start(&signals),
+                };
+                let w = now.regressor(&signals, c.bandwidth);
+                let (product, e) = composite_product(&y_tr_r, &w, &now, theta_hat, c.weight);
+                prediction_error = e;
+                composite = Some(CompositeState {
+                    now,
+                    signals,
+                    w,
+                    slotine_li_rate: rate_from_regressor_product(&self.config.gains.gamma, &y_tr_r),
+                });
+                rate_from_regressor_product(&self.config.gains.gamma, &product)
+            }
             Adaptation::Off => SVector::zeros(),
         };
-        let mut tau =
-            matvec::tr_mul(&k.j_force, &m.force) + y_theta - matvec::mul(&self.config.gains.g, &reference.r);
+        let mut tau = contact + y_theta - matvec::mul(&self.config.gains.g, &reference.r);
         if !(plain_sum(tau.as_slice()) + plain_sum(theta_hat_dot.as_slice())).is_finite() {
             return Err(TickError::NonFiniteTorque);
         }
@@ -319,17 +417,24 @@ where
                 saturated = true;
             }
         }
-        Ok(ControlOutput {
-            tau,
-            theta_hat_dot,
-            reference,
-            damping: proj.damping,
-            saturated,
-        })
+        Ok((
+            ControlOutput {
+                tau,
+                theta_hat_dot,
+                reference,
+                damping: proj.damping,
+                saturated,
+                prediction_error,
+            },
+            composite,
+        ))
     }
 
-    /// One control tick of period `dt`: evaluates the law, then advances `θ̂` (explicit Euler,
-    /// the estimate is held between ticks) and the stiffness estimate. Allocation-free.
+    /// One control tick of period `dt`: evaluates the law, then advances `θ̂` (explicit Euler;
+    /// for the composite adaptation the prediction term implicit, see
+    /// `docs/controller.md`; the estimate is held between ticks), the prediction filter of the
+    /// composite adaptation (exactly, for the torque held over the period) and the stiffness
+    /// estimate. Allocation-free.
     #[inline]
     pub fn tick(
         &mut self,
@@ -337,9 +442,27 @@ where
         d: &Desired<N, S>,
         dt: f64,
     ) -> Result<ControlOutput<N, M, S>, TickError> {
-        let out = self.evaluate(m, d, &self.theta_hat)?;
-        if self.config.adaptation == Adaptation::On {
-            self.theta_hat += out.theta_hat_dot * dt;
+        let (out, composite) = self.evaluate_with(m, d, &self.theta_hat, None)?;
+        match (self.config.adaptation, composite) {
+            (Adaptation::Composite(c), Some(s)) => {
+                self.theta_hat = implicit_step(
+                    &self.theta_hat,
+                    &s.slotine_li_rate,
+                    &s.w,
+                    &s.now,
+                    &self.config.gains.gamma,
+                    c.weight,
+                    dt,
+                )
+                .ok_or(TickError::NonFiniteTorque)?;
+                let step = FilterStep::new(c.bandwidth, dt);
+                self.filter = Some((s.now.advanced(&s.signals, &out.tau, &step), step));
+            }
+            (adaptation, _) => {
+                if adaptation.is_adapting() {
+                    self.theta_hat += out.theta_hat_dot * dt;
+                }
+            }
         }
         if let Some(est) = self.estimator.as_mut() {
             let f_meas = self.config.task.force_selection * (self.config.task.rotation * m.force);
@@ -350,6 +473,17 @@ where
         }
         Ok(out)
     }
+}
+
+/// What one evaluation of the composite law leaves for the step of `θ̂` and of the filter.
+struct CompositeState<const N: usize, const M: usize> {
+    /// The prediction filter at this instant.
+    now: PredictionFilter<N, M>,
+    signals: PredictionSignals<N, M>,
+    /// `W`.
+    w: SMatrix<f64, N, M>,
+    /// `−Γ Yᵀ r`.
+    slotine_li_rate: SVector<f64, M>,
 }
 
 /// `Σ xᵢ` over a slice: what nalgebra's `sum` computes, without its general strided iterator

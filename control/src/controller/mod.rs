@@ -7,10 +7,11 @@
 //! and the fused products of `matvec`), reference velocity and analytic reference acceleration
 //! (`reference`), the law (`law`; `Y θ̂` and `Yᵀ r` from the robot's generated
 //! `regressor_products`, without forming `Y`), the
-//! adaptation (`adaptation`), gains (`gains`) and online stiffness estimation
+//! adaptation (`adaptation`; the composite adaptation's prediction filter in `composite`), gains (`gains`) and online stiffness estimation
 //! (`stiffness_estimator`).
 
 mod adaptation;
+mod composite;
 mod error;
 pub(crate) mod frame;
 mod gains;
@@ -24,6 +25,7 @@ mod stiffness_estimator;
 mod task;
 
 pub use adaptation::{parameter_error_energy, GammaByKind};
+pub use composite::{Composite, PredictionFilter, DIRECTION_STEP};
 pub use error::{ConfigError, TickError};
 pub use frame::frame_named;
 pub use gains::{inertia_estimate, inertia_shaped_gain, Gains};

@@ -1,8 +1,9 @@
 //! The demo set-up, shared by the example, the tests and the benchmark: the true plant with an
 //! unmodelled payload (and, on a robot with joint-level columns, friction and armature off
 //! their nominal values), the press-and-circle scenario above a table, and the controllers
-//! compared (adaptive, adaptation off, known parameters; on a robot with joint-level columns
-//! also adaptive with the joint terms held at their nominal values), for a task of dimension `T`: 3
+//! compared (adaptive, adaptation off, known parameters; optionally the composite adaptation;
+//! on a robot with joint-level columns also adaptive with the joint terms held at their
+//! nominal values), for a task of dimension `T`: 3
 //! (position, the default), 5 (position and the tool axis held along `tool_direction`), 6
 //! (position and the orientation whose tool axis is along `tool_direction`). The task and the
 //! contact are at the end-effector ([`Demo::new`]) or at any named frame of a robot generated
@@ -15,8 +16,8 @@ use super::scenario::PressAndCircle;
 use super::true_joint_terms::JointTermFactors;
 use crate::controller::frame::ControlledFrame;
 use crate::controller::{
-    inertia_shaped_gain, Adaptation, ConfigError, ContactTask, ControllerConfig, Gains, GammaByKind,
-    HybridController, SingularityGuard,
+    inertia_shaped_gain, Adaptation, Composite, ConfigError, ContactTask, ControllerConfig, Gains,
+    GammaByKind, HybridController, SingularityGuard,
 };
 use dyngen_runtime::{FrameKinematics, JointTrig, Kinematics, Parameterization};
 use nalgebra::{Rotation3, SMatrix, SVector, Vector3};
@@ -28,10 +29,15 @@ pub enum RunKind {
     /// joint-level ones at [`DemoOptions::joint_estimate_scale`] times the description's
     /// nominal values; every parameter adapts (the joint terms with the joint-level gain).
     Adaptive,
-    /// The same, with the joint terms held at their `θ̂(0)` (joint-level gain 0) while the
-    /// inertial parameters adapt: with `joint_estimate_scale = 0` the controller models no
-    /// joint friction or armature at all. Only for robots with joint-level columns.
+    /// The same with the composite adaptation ([`DemoOptions::composite`]): the update also
+    /// descends the prediction error of the filtered joint torque.
+    Composite,
+    /// [`RunKind::Adaptive`] with the joint terms held at their `θ̂(0)` (joint-level gain 0)
+    /// while the inertial parameters adapt: with `joint_estimate_scale = 0` the controller
+    /// models no joint friction or armature at all. Only for robots with joint-level columns.
     AdaptiveJointTermsHeld,
+    /// [`RunKind::Composite`] with the joint terms held at their `θ̂(0)`.
+    CompositeJointTermsHeld,
     /// The same `θ̂(0)`, never updated.
     AdaptationOff,
     /// Lemma 1: the true parameters, payload (and true friction and armature) included.
@@ -39,16 +45,20 @@ pub enum RunKind {
 }
 
 impl RunKind {
-    pub const ALL: [RunKind; 4] = [
+    pub const ALL: [RunKind; 6] = [
         RunKind::Adaptive,
+        RunKind::Composite,
         RunKind::AdaptiveJointTermsHeld,
+        RunKind::CompositeJointTermsHeld,
         RunKind::AdaptationOff,
         RunKind::KnownParameters,
     ];
     pub fn label(self) -> &'static str {
         match self {
             RunKind::Adaptive => "adaptive",
+            RunKind::Composite => "composite",
             RunKind::AdaptiveJointTermsHeld => "adaptive, joint terms held",
+            RunKind::CompositeJointTermsHeld => "composite, joint terms held",
             RunKind::AdaptationOff => "adaptation off",
             RunKind::KnownParameters => "known parameters",
         }
@@ -83,7 +93,12 @@ pub struct DemoOptions {
     /// Height of the start above the table (m); negative starts in contact, pressing.
     pub start_height: f64,
     pub circle_time: f64,
+    /// Revolutions of the circle per second (Hz).
+    pub circle_frequency: f64,
     pub sim: SimConfig,
+    /// The composite adaptation's filter bandwidth and weight: with `Some`, the comparison
+    /// adds the runs [`RunKind::Composite`] (and [`RunKind::CompositeJointTermsHeld`]).
+    pub composite: Option<Composite>,
     /// Online stiffness estimation: `(k̂(0)/k, rate γ)`.
     pub stiffness_estimation: Option<(f64, f64)>,
     pub guard: SingularityGuard,
@@ -113,7 +128,9 @@ impl Default for DemoOptions {
             },
             start_height: 0.01,
             circle_time: 8.0,
+            circle_frequency: 0.25,
             sim: SimConfig::default(),
+            composite: None,
             stiffness_estimation: None,
             guard: SingularityGuard::default(),
             tool_axis: Vector3::z(),
@@ -248,6 +265,7 @@ where
                 PressAndCircle::new(task.rotation * start, surface, model_k, options.target_force, q0)
                     .with_orientation(pose.rotation, target_orientation);
             s.circle_time = options.circle_time;
+            s.frequency = options.circle_frequency;
             s
         };
         let model_task = ContactTask::<T> {
@@ -327,22 +345,32 @@ where
         Z::gain_by_kind(|kind| f64::from(u8::from(kind.is_joint_level()))).amax() > 0.0
     }
 
-    /// The runs of the comparison: adaptive, adaptation off, known parameters; on a robot with
-    /// joint-level columns whose joint-level gain is not 0, also the adaptive run with the
-    /// joint terms held at their nominal values (second).
+    /// The runs of the comparison: adaptive, adaptation off, known parameters; with
+    /// [`DemoOptions::composite`], also the composite run; on a robot with joint-level columns
+    /// whose joint-level gain is not 0, also the adaptive (and composite) run with the joint
+    /// terms held at their `θ̂(0)`.
     pub fn run_kinds(&self) -> Vec<RunKind> {
         let with_held = Self::has_joint_terms() && self.options.gamma.joint > 0.0;
+        let with_composite = self.options.composite.is_some();
         RunKind::ALL
             .into_iter()
-            .filter(|k| *k != RunKind::AdaptiveJointTermsHeld || with_held)
+            .filter(|k| match k {
+                RunKind::Composite => with_composite,
+                RunKind::AdaptiveJointTermsHeld => with_held,
+                RunKind::CompositeJointTermsHeld => with_held && with_composite,
+                RunKind::Adaptive | RunKind::AdaptationOff | RunKind::KnownParameters => true,
+            })
             .collect()
     }
 
     /// The controller of one run, checked (gains, `K`, start posture, sampling limit).
     pub fn controller(&self, kind: RunKind) -> Result<HybridController<Z, N, M, T>, ConfigError> {
+        let composite = Adaptation::Composite(self.options.composite.unwrap_or_default());
         let (adaptation, theta, gamma) = match kind {
             RunKind::Adaptive => (Adaptation::On, self.theta_hat0, self.gamma),
+            RunKind::Composite => (composite, self.theta_hat0, self.gamma),
             RunKind::AdaptiveJointTermsHeld => (Adaptation::On, self.theta_hat0, self.gamma_joint_terms_held),
+            RunKind::CompositeJointTermsHeld => (composite, self.theta_hat0, self.gamma_joint_terms_held),
             RunKind::AdaptationOff => (Adaptation::Off, self.theta_hat0, self.gamma),
             RunKind::KnownParameters => (Adaptation::Off, self.theta_true, self.gamma),
         };

@@ -8,7 +8,7 @@ use super::rk4::rk4_step;
 use super::scenario::PressAndCircle;
 use crate::controller::orientation::orientation_angle;
 use crate::controller::parameter_error_energy;
-use crate::controller::{Adaptation, HybridController, Measurement};
+use crate::controller::{HybridController, Measurement};
 use dyngen_runtime::{JointTrig, Parameterization};
 use nalgebra::SVector;
 use std::time::Instant;
@@ -64,6 +64,11 @@ pub struct Sample {
     pub lyapunov: f64,
     /// `‖θ̂ − θ‖` in the parameterisation's coordinates.
     pub theta_error: f64,
+    /// `‖θ̂_j − θ_j‖ / ‖θ_j‖` over the parameters made of joint terms only (friction, offset,
+    /// and an armature no inertia combines with); `NaN` for a robot without them.
+    pub joint_term_error: f64,
+    /// `‖e‖`, the composite adaptation's prediction error (N·m; 0 for the other laws).
+    pub prediction_error: f64,
     /// `max |τᵢ|` (N·m).
     pub tau_max: f64,
     /// Wall time of the control tick (ns).
@@ -131,6 +136,13 @@ impl RunResult {
     }
 }
 
+/// 1 for each parameter of `Z` made of joint-level parameters only, else 0.
+fn joint_term_mask<Z: Parameterization<N, M>, const N: usize, const M: usize>() -> SVector<f64, M> {
+    let joint = Z::gain_by_kind(|kind| f64::from(u8::from(kind.is_joint_level())));
+    let inertial = Z::gain_by_kind(|kind| f64::from(u8::from(!kind.is_joint_level())));
+    joint.zip_map(&inertial, |j, i| f64::from(u8::from(j > 0.0 && i == 0.0)))
+}
+
 /// Runs the scenario from rest at `q0`. `progress` is called with the fraction done.
 ///
 /// The plant touches the plane with the controller's controlled frame (the end-effector unless
@@ -162,7 +174,9 @@ where
     let mut samples = Vec::with_capacity(steps + 1);
     let task = controller.config().task;
     let gamma = controller.config().gains.gamma;
-    let adapting = controller.config().adaptation == Adaptation::On;
+    let adapting = controller.config().adaptation.is_adapting();
+    let joint_terms = joint_term_mask::<Z, N, M>();
+    let joint_norm = theta_true.component_mul(&joint_terms).norm();
     let mut last_progress = 0;
 
     let diverged = |samples: Vec<Sample>, time: f64, reason: String| RunResult {
@@ -222,6 +236,8 @@ where
             null_error: out.reference.null_error.norm(),
             lyapunov: v,
             theta_error: theta_err.norm(),
+            joint_term_error: theta_err.component_mul(&joint_terms).norm() / joint_norm,
+            prediction_error: out.prediction_error.norm(),
             tau_max: out.tau.amax(),
             tick_ns,
             damping: out.damping,

@@ -140,10 +140,11 @@ impl<const N: usize> PressAndCircle<N> {
         ];
         if times.iter().any(|t| !(t.is_finite() && *t >= 0.0))
             || !(self.radius.is_finite() && self.radius >= 0.0)
+            || !(self.frequency.is_finite() && self.frequency >= 0.0)
         {
             return Err(ConfigError::Invalid {
                 name: "scenario",
-                detail: "durations and radius must be finite and ≥ 0".into(),
+                detail: "durations, radius and frequency must be finite and ≥ 0".into(),
             });
         }
         Ok(())
