@@ -91,11 +91,11 @@ def cargo_env(target_dir, native):
     return env
 
 
-def dyngen_build(env):
-    """Builds both benches; returns their executables."""
+def dyngen_build(env, root=ROOT):
+    """Builds both benches of the repository at `root`; returns their executables."""
     cmd = ["cargo", "bench", "-p", "dyngen-generated", "--bench", "dynamics",
            "--bench", "forward_dynamics", "--no-run", "--message-format=json-render-diagnostics"]
-    out = subprocess.run(cmd, cwd=ROOT, env=env, check=True, stdout=subprocess.PIPE, text=True).stdout
+    out = subprocess.run(cmd, cwd=root, env=env, check=True, stdout=subprocess.PIPE, text=True).stdout
     executables = []
     for line in out.splitlines():
         message = json.loads(line) if line.startswith("{") else {}
@@ -165,7 +165,7 @@ def split_group(directory, bench_dirs, robots):
     return None, None
 
 
-def dyngen_round(env, core, target_dir, robots, seconds):
+def dyngen_round(env, core, target_dir, robots, seconds, root=ROOT):
     """{(robot, group, id): median_ns} of one run of both benches (each function measured for
     `seconds`, or criterion's own time when None)."""
     timing = []
@@ -174,7 +174,7 @@ def dyngen_round(env, core, target_dir, robots, seconds):
     for bench in ("dynamics", "forward_dynamics"):
         cmd = ["taskset", "-c", str(core), "cargo", "bench", "-q", "-p", "dyngen-generated",
                "--bench", bench, "--", bench_filter(robots), *timing]
-        run(cmd, cwd=ROOT, env=env)
+        run(cmd, cwd=root, env=env)
     rows = {}
     criterion = Path(target_dir) / "criterion"
     for group in criterion.iterdir():

@@ -136,8 +136,9 @@ pub fn corpus(root: &Path) -> Vec<SeedFile> {
         format: Format::Urdf,
         file: root.join("robots/urdf/fuzz_small.urdf"),
     };
-    // The small files are cheap and dense in features: give them most of the cases.
-    for _ in 0..3 {
+    // The small files are cheap and dense in features: give them most of the cases, however
+    // many robots the repository has.
+    for _ in 0..seeds.len().div_ceil(2).max(3) {
         seeds.push(small_yaml.clone());
         seeds.push(small_urdf.clone());
     }

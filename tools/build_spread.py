@@ -1,0 +1,97 @@
+#!/usr/bin/env python3
+"""How much the speed of the same generated code depends on the build: the repository copied to
+several paths of different lengths, the generated crate's benchmarks built in each copy by
+default and with `-C target-cpu=native`, all builds timed in interleaved rounds pinned to one
+core; prints, per robot and function, every build's median, the spread (slowest over fastest
+build of each profile) and default over native.
+
+For developers (not CI): every copy is a full release build of the benchmarks (a few minutes
+each on two cores), and the timing wants an otherwise idle machine.
+
+    tools/build_spread.py --copies 5 --robots panda ur5 xarm7 --rounds 3 --measurement-time 1
+
+Standard library only (no pip). Shares its build and timing with compare_anchors.py.
+"""
+
+import argparse
+import shutil
+import subprocess
+import sys
+import tempfile
+from pathlib import Path
+
+sys.path.insert(0, str(Path(__file__).resolve().parent))
+from compare_anchors import FUNCTIONS, cargo_env, dyngen_build, dyngen_round, fmt, med  # noqa: E402
+
+ROOT = Path(__file__).resolve().parent.parent
+# Builds within this factor of the fastest build of the same profile, and default builds
+# within this factor of native, count as the same speed.
+SPREAD_FLOOR, DEFAULT_FLOOR = 1.2, 1.2
+
+
+def copy_repository(destination):
+    """The tracked files of this checkout at `destination` (a clean tree, as a user has it)."""
+    files = subprocess.run(["git", "ls-files", "-z"], cwd=ROOT, check=True,
+                           capture_output=True).stdout.decode().split("\0")
+    for name in filter(None, files):
+        target = destination / name
+        target.parent.mkdir(parents=True, exist_ok=True)
+        shutil.copy2(ROOT / name, target)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--copies", type=int, default=5)
+    ap.add_argument("--robots", nargs="+", default=["panda", "ur5"], metavar="ROBOT")
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--core", type=int, default=1)
+    ap.add_argument("--measurement-time", type=float, default=1.0, metavar="SECONDS")
+    ap.add_argument("--keep", action="store_true", help="keep the copies (their paths are printed)")
+    args = ap.parse_args()
+
+    scratch = Path(tempfile.mkdtemp(prefix="dyngen-spread-"))
+    builds = []  # (label, repository copy, target dir, environment)
+    for k in range(args.copies):
+        # Paths of different lengths: symbol names, panic locations and section layout move.
+        copy = scratch / ("c" * (k + 1)) / f"dyngen-copy-{k}"
+        copy_repository(copy)
+        for native in (False, True):
+            profile = "native" if native else "default"
+            target = copy / "target"
+            builds.append((f"{profile} {k}", copy, target / profile, cargo_env(target / profile, native)))
+    for label, copy, _, env in builds:
+        print(f"building {label} in {copy}", file=sys.stderr)
+        dyngen_build(env, root=copy)
+
+    rounds = []
+    for r in range(args.rounds):
+        print(f"round {r + 1}/{args.rounds}", file=sys.stderr)
+        rounds.append({label: dyngen_round(env, args.core, target, args.robots, args.measurement_time, root=copy)
+                       for label, copy, target, env in builds})
+
+    labels = [label for label, *_ in builds]
+    print(f"{args.copies} copies at paths of different lengths, built by default and native; "
+          f"{args.rounds} interleaved rounds on core {args.core}; medians in ns.\n")
+    print("| robot | function | " + " | ".join(labels) +
+          " | spread default | spread native | default / native |")
+    print("|---|---|" + "---:|" * (len(labels) + 3))
+    for robot in args.robots:
+        for _, group, _ in FUNCTIONS:
+            key = (robot, group, "generated")
+            medians = {label: med([rnd[label].get(key) for rnd in rounds]) for label in labels}
+            by_profile = {p: [v for l, v in medians.items() if l.startswith(p) and v] for p in ("default", "native")}
+            spread = {p: (max(v) / min(v) if v else None) for p, v in by_profile.items()}
+            ratio = (med(by_profile["default"]) / med(by_profile["native"])
+                     if by_profile["default"] and by_profile["native"] else None)
+            mark = lambda x, floor: fmt(x, 2, "×") + ("" if x is None or x <= floor else " **over**")
+            print(f"| {robot} | `{group}` | " + " | ".join(fmt(medians[l]) for l in labels) +
+                  f" | {mark(spread['default'], SPREAD_FLOOR)} | {mark(spread['native'], SPREAD_FLOOR)} |"
+                  f" {mark(ratio, DEFAULT_FLOOR)} |")
+    if args.keep:
+        print(f"\ncopies kept in {scratch}", file=sys.stderr)
+    else:
+        shutil.rmtree(scratch, ignore_errors=True)
+
+
+if __name__ == "__main__":
+    main()
