@@ -87,24 +87,12 @@ fn with_true_friction_adapting_the_joint_terms_lowers_the_force_error_5x() {
     };
     let adapted = run_with::<Z, M, 6>(RunKind::Adaptive, options);
     let unmodelled = joint_terms_held(0.0);
-    for (what, ratio, threshold) in [
-        ("force", unmodelled.rms_force_error / adapted.rms_force_error, 5.0),
-        (
-            "orientation",
-            unmodelled.rms_orientation_error / adapted.rms_orientation_error,
-            100.0,
-        ),
-        (
-            "in-plane",
-            unmodelled.rms_in_plane_error / adapted.rms_in_plane_error,
-            5.0,
-        ),
-    ] {
-        assert!(
-            ratio >= threshold,
-            "{what}: friction unmodelled ÷ adapted = {ratio:.2} < {threshold}"
-        );
-    }
+    assert_lowered(
+        &unmodelled,
+        &adapted,
+        [5.0, 100.0, 5.0],
+        "friction unmodelled ÷ adapted",
+    );
     assert!(
         adapted.rms_force_error <= 0.05,
         "RMS force error {} N",
@@ -157,28 +145,12 @@ fn with_true_friction_the_composite_adaptation_lowers_the_force_error_10x() {
     };
     let adapted = run_with::<Z, M, 6>(RunKind::Composite, options);
     let unmodelled = joint_terms_held(0.0);
-    for (what, ratio, threshold) in [
-        (
-            "force",
-            unmodelled.rms_force_error / adapted.rms_force_error,
-            10.0,
-        ),
-        (
-            "orientation",
-            unmodelled.rms_orientation_error / adapted.rms_orientation_error,
-            100.0,
-        ),
-        (
-            "in-plane",
-            unmodelled.rms_in_plane_error / adapted.rms_in_plane_error,
-            5.0,
-        ),
-    ] {
-        assert!(
-            ratio >= threshold,
-            "{what}: friction unmodelled ÷ composite = {ratio:.2} < {threshold}"
-        );
-    }
+    assert_lowered(
+        &unmodelled,
+        &adapted,
+        [10.0, 100.0, 5.0],
+        "friction unmodelled ÷ composite",
+    );
 }
 
 /// The composite adaptation from the nominal joint terms (half the true friction), pose task:
@@ -247,6 +219,21 @@ fn the_composite_adaptation_with_zero_weight_is_the_slotine_li_law() {
 /// terms held at `scale` × nominal (0: the rigid-body law alone): run once for the tests that
 /// compare the Slotine–Li and the composite adaptation with it (the harness runs them in one
 /// process).
+/// `held`'s force, orientation and in-plane errors are at least `thresholds` times `adapted`'s.
+fn assert_lowered(held: &Summary, adapted: &Summary, thresholds: [f64; 3], what: &str) {
+    let ratios = [
+        ("force", held.rms_force_error / adapted.rms_force_error),
+        (
+            "orientation",
+            held.rms_orientation_error / adapted.rms_orientation_error,
+        ),
+        ("in-plane", held.rms_in_plane_error / adapted.rms_in_plane_error),
+    ];
+    for ((error, ratio), threshold) in ratios.into_iter().zip(thresholds) {
+        assert!(ratio >= threshold, "{error}: {what} = {ratio:.2} < {threshold}");
+    }
+}
+
 fn joint_terms_held(scale: f64) -> Summary {
     static FROM_ZERO: OnceLock<Summary> = OnceLock::new();
     static FROM_NOMINAL: OnceLock<Summary> = OnceLock::new();

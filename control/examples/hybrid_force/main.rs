@@ -522,13 +522,36 @@ fn write_plots(dir: &Path, results: &[(RunKind, RunResult)]) -> std::io::Result<
     Ok(written)
 }
 
+/// One panel of `get` over time for the runs `results`, decimated to about 800 points each.
+fn panel<'a>(
+    title: &'a str,
+    y_label: &'a str,
+    log: bool,
+    results: impl Iterator<Item = &'a (RunKind, RunResult)>,
+    get: fn(&Sample) -> f64,
+) -> svg::Panel<'a> {
+    let decimate = |samples: &[Sample]| -> Vec<(f64, f64)> {
+        let step = (samples.len() / 800).max(1);
+        samples.iter().step_by(step).map(|s| (s.t, get(s))).collect()
+    };
+    svg::Panel {
+        title,
+        y_label,
+        log,
+        series: results
+            .map(|(k, r)| svg::Series {
+                label: k.label(),
+                colour: colour(*k),
+                dashed: false,
+                points: decimate(&r.samples),
+            })
+            .collect(),
+    }
+}
+
 /// For tasks with orientation rows: force, in-plane error and orientation error of the three
 /// runs stacked in one figure, `hybrid_force_orientation.svg`.
 fn write_orientation_plot(dir: &Path, results: &[(RunKind, RunResult)]) -> std::io::Result<String> {
-    let decimate = |samples: &[Sample], f: &dyn Fn(&Sample) -> f64| -> Vec<(f64, f64)> {
-        let step = (samples.len() / 800).max(1);
-        samples.iter().step_by(step).map(|s| (s.t, f(s))).collect()
-    };
     type Getter = fn(&Sample) -> f64;
     let quantities: [(&str, &str, bool, Getter); 3] = [
         ("normal force F_t (N)", "N", false, |s| s.true_force),
@@ -544,20 +567,7 @@ fn write_orientation_plot(dir: &Path, results: &[(RunKind, RunResult)]) -> std::
     ];
     let panels: Vec<svg::Panel> = quantities
         .iter()
-        .map(|(title, unit, log, get)| svg::Panel {
-            title,
-            y_label: unit,
-            log: *log,
-            series: results
-                .iter()
-                .map(|(k, r)| svg::Series {
-                    label: k.label(),
-                    colour: colour(*k),
-                    dashed: false,
-                    points: decimate(&r.samples, get),
-                })
-                .collect(),
-        })
+        .map(|(title, unit, log, get)| panel(title, unit, *log, results.iter(), *get))
         .collect();
     let file = "hybrid_force_orientation.svg".to_string();
     std::fs::write(dir.join(&file), svg::render(&panels))?;
@@ -568,10 +578,6 @@ fn write_orientation_plot(dir: &Path, results: &[(RunKind, RunResult)]) -> std::
 /// error and, for a robot with joint terms, the joint-term error, stacked in one figure,
 /// `hybrid_force_composite.svg`.
 fn write_composite_plot(dir: &Path, results: &[(RunKind, RunResult)]) -> std::io::Result<String> {
-    let decimate = |samples: &[Sample], f: &dyn Fn(&Sample) -> f64| -> Vec<(f64, f64)> {
-        let step = (samples.len() / 800).max(1);
-        samples.iter().step_by(step).map(|s| (s.t, f(s))).collect()
-    };
     let composite = |k: RunKind| matches!(k, RunKind::Composite | RunKind::CompositeJointTermsHeld);
     type Getter = fn(&Sample) -> f64;
     let mut quantities: Vec<(&str, &str, Getter, bool)> = vec![
@@ -596,20 +602,9 @@ fn write_composite_plot(dir: &Path, results: &[(RunKind, RunResult)]) -> std::io
     }
     let panels: Vec<svg::Panel> = quantities
         .iter()
-        .map(|(title, unit, get, composite_only)| svg::Panel {
-            title,
-            y_label: unit,
-            log: true,
-            series: results
-                .iter()
-                .filter(|(k, _)| !composite_only || composite(*k))
-                .map(|(k, r)| svg::Series {
-                    label: k.label(),
-                    colour: colour(*k),
-                    dashed: false,
-                    points: decimate(&r.samples, get),
-                })
-                .collect(),
+        .map(|(title, unit, get, composite_only)| {
+            let runs = results.iter().filter(|(k, _)| !composite_only || composite(*k));
+            panel(title, unit, true, runs, *get)
         })
         .collect();
     let file = "hybrid_force_composite.svg".to_string();
