@@ -16,9 +16,9 @@ enum From {
     Both,
 }
 
-/// Identify a payload on a known robot from a data CSV (time, q per joint, and tau per joint
-/// and/or a force/torque sensor's fx, fy, fz, mx, my, mz[<frame>]; qd and qdd optional), and
-/// write the description with the payload.
+/// Identify a payload on a known robot from a data CSV (`time`, `q[<joint>]`, and
+/// `tau[<joint>]` and/or a force/torque sensor's `fx`, `fy`, `fz`, `mx`, `my`, `mz[<frame>]`;
+/// `qd` and `qdd` optional), and write the description with the payload.
 #[derive(Args, Debug)]
 pub struct PayloadArgs {
     /// The robot's description, identified or nominal, without the payload (`.yaml` or
