@@ -29,8 +29,14 @@
 //!    ([`WrittenEstimate`]), with warnings ([`Identification::warnings`]) when no consistent
 //!    robot fits the data; [`identify`] runs all of it in one call.
 //!
-//! [`measure`], [`with_payload`] and [`with_joint_terms`] simulate measurements of a "true"
-//! robot, for tests and studies.
+//! Long logs: [`identify_file`] reads the data file one line at a time ([`SampleReader`]),
+//! accumulates per-joint [`NormalEquations`] and computes missing derivatives window by window,
+//! so memory does not grow with the log. Payloads: [`identify_payload`] identifies a tool or a
+//! grasped object at a frame with the robot held, from joint torques, a force/torque sensor's
+//! wrench (`fx … mz[<frame>]` columns), or both ([`PayloadEstimate`]).
+//!
+//! [`measure`], [`measure_wrench`], [`with_payload`], [`with_body_at`] and [`with_joint_terms`]
+//! simulate measurements of a "true" robot, for tests and studies.
 
 mod consistent;
 mod data;
