@@ -167,7 +167,6 @@ struct Header {
     names: Vec<String>,
     columns: Vec<Column>,
     place: HashMap<Column, usize>,
-    line: usize,
     n: usize,
     sensor_frame: Option<String>,
     /// Whether each [`Kind`] has columns (looked up once, not per line).
@@ -280,7 +279,6 @@ impl Header {
             names,
             columns,
             place,
-            line,
             n,
             sensor_frame: sensor.map(|(frame, _)| frame),
             given,
@@ -440,24 +438,9 @@ impl<'m> SampleReader<'m> {
         self.header.has(Kind::Qdd)
     }
 
-    /// The frame of the force/torque columns, if the file has them.
-    pub fn sensor_frame(&self) -> Option<&str> {
-        self.header.sensor_frame.as_deref()
-    }
-
     /// Bytes of the file read so far (for progress).
     pub fn bytes_read(&self) -> u64 {
         self.bytes
-    }
-
-    /// The file's path.
-    pub fn path(&self) -> &Path {
-        &self.path
-    }
-
-    /// The line of the header.
-    pub fn header_line(&self) -> usize {
-        self.header.line
     }
 
     /// The time of the next line, read without its other fields (a first pass over a long

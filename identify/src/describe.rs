@@ -12,6 +12,24 @@ use dyngen_codegen::model::{Body, Inertia, JointKind, JointTerms, Model, ModelEr
 use nalgebra::{Matrix3, Vector3};
 use std::fmt::Write as _;
 
+/// The body of ten standard parameters `[m, m·c, I_O]` (the inverse of
+/// [`Inertia::parameters`]): its centre of mass, and its inertia about it (symmetrised).
+pub(crate) fn inertia_of(p: &[f64]) -> Inertia {
+    let m = p[0];
+    let c = if m > 0.0 {
+        Vector3::new(p[1], p[2], p[3]) / m
+    } else {
+        Vector3::zeros()
+    };
+    let origin = Matrix3::new(p[4], p[5], p[7], p[5], p[6], p[8], p[7], p[8], p[9]);
+    let inertia_com = origin - (Matrix3::identity() * c.dot(&c) - c * c.transpose()) * m;
+    Inertia {
+        mass: m,
+        com: c,
+        inertia_com: (inertia_com + inertia_com.transpose()) * 0.5,
+    }
+}
+
 /// `model` with parameters θ (as [`Model::parameters`]): bodies and joint-level values; an
 /// error when θ is not a physically valid robot.
 pub(crate) fn with_parameters(model: &Model, theta: &[f64]) -> Result<Model, ModelError> {
@@ -21,22 +39,9 @@ pub(crate) fn with_parameters(model: &Model, theta: &[f64]) -> Result<Model, Mod
         .enumerate()
         .map(|(b, body)| {
             let p = &theta[PARAMS_PER_BODY * b..PARAMS_PER_BODY * (b + 1)];
-            let m = p[0];
-            let c = if m > 0.0 {
-                Vector3::new(p[1], p[2], p[3]) / m
-            } else {
-                Vector3::zeros()
-            };
-            let origin = Matrix3::new(p[4], p[5], p[7], p[5], p[6], p[8], p[7], p[8], p[9]);
-            let shift = (Matrix3::identity() * c.dot(&c) - c * c.transpose()) * m;
-            let inertia_com = origin - shift;
             Body {
                 name: body.name.clone(),
-                inertia: Inertia {
-                    mass: m,
-                    com: c,
-                    inertia_com: (inertia_com + inertia_com.transpose()) * 0.5,
-                },
+                inertia: inertia_of(p),
             }
         })
         .collect();

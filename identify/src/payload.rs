@@ -27,16 +27,17 @@
 //! ```
 
 use crate::data::Samples;
+use crate::describe::inertia_of;
 use crate::error::IdentifyError;
 use crate::least_squares::{estimate, BaseEstimate, Observations};
 use crate::levenberg_marquardt::minimise;
 use crate::loadable::loadable;
-use crate::log_cholesky::{relative_margin, BodyMap, MARGIN};
+use crate::log_cholesky::{parameters_of, pseudo_inertia, relative_margin, BodyMap, MARGIN};
 use crate::observation::motion;
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::model::{Frame, JointTermValues, Model, Pose, PARAMS_PER_BODY};
 use dyngen_runtime::ReferenceFrame;
-use nalgebra::{DMatrix, DVector, Matrix3, SMatrix, Vector3};
+use nalgebra::{DMatrix, DVector, Matrix3, Matrix4, SMatrix, Vector3};
 
 /// What a payload is identified from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -150,28 +151,13 @@ impl PayloadEstimate {
 }
 
 /// `p`'s ten parameters (about the origin of the frame they are given in) seen from another
-/// frame, `pose` being the first frame in the second: `h' = R h + m t`,
-/// `I' = R I Rᵀ − [R h]×[t]× − [t]×[R h]× − m [t]×²`.
+/// frame, `pose` being the first frame in the second. The pseudo-inertia `∫ [r; 1][r; 1]ᵀ dm`
+/// moves by congruence with the homogeneous transform, `J' = T J Tᵀ`.
 pub(crate) fn parameters_in(p: &[f64; PARAMS_PER_BODY], pose: &Pose) -> [f64; PARAMS_PER_BODY] {
-    let (r, t) = (&pose.rotation, &pose.translation);
-    let m = p[0];
-    let h = r * Vector3::new(p[1], p[2], p[3]);
-    let i = Matrix3::new(p[4], p[5], p[7], p[5], p[6], p[8], p[7], p[8], p[9]);
-    let (th, tt) = (h.cross_matrix(), t.cross_matrix());
-    let moved = r * i * r.transpose() - th * tt - tt * th - tt * tt * m;
-    let h = h + t * m;
-    [
-        m,
-        h.x,
-        h.y,
-        h.z,
-        moved[(0, 0)],
-        moved[(0, 1)],
-        moved[(1, 1)],
-        moved[(0, 2)],
-        moved[(1, 2)],
-        moved[(2, 2)],
-    ]
+    let mut t = Matrix4::identity();
+    t.fixed_view_mut::<3, 3>(0, 0).copy_from(&pose.rotation);
+    t.fixed_view_mut::<3, 1>(0, 3).copy_from(&pose.translation);
+    parameters_of(&(t * pseudo_inertia(p) * t.transpose()))
 }
 
 /// The linear map of [`parameters_in`] as a matrix.
@@ -424,19 +410,13 @@ pub fn identify_payload(
             .into_iter()
             .map(|w| format!("the description written: {w}")),
     );
-    let m = payload[0];
-    let com = Vector3::new(payload[1], payload[2], payload[3]) / m;
-    let origin = Matrix3::new(
-        payload[4], payload[5], payload[7], payload[5], payload[6], payload[8], payload[7], payload[8],
-        payload[9],
-    );
-    let inertia_com = origin - (Matrix3::identity() * com.dot(&com) - com * com.transpose()) * m;
+    let carried = inertia_of(&payload);
     Ok(PayloadEstimate {
         frame: frame.name.clone(),
         data,
-        mass: m,
-        com,
-        inertia_com: (inertia_com + inertia_com.transpose()) * 0.5,
+        mass: carried.mass,
+        com: carried.com,
+        inertia_com: carried.inertia_com,
         least_squares: fit,
         made_consistent,
         sensor_offset: wrench.then(|| std::array::from_fn(|c| x[offset_at + c])),

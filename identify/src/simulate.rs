@@ -21,7 +21,8 @@ pub fn with_payload(model: &Model, mass: f64, offset: Vector3<f64>, radius: f64)
 }
 
 /// `model` with a rigid body of `inertia` (given in the coordinates of the frame named
-/// `frame`) welded to the body that carries that frame.
+/// `frame`) welded to the body that carries that frame. Panics when `model` has no such frame
+/// (a simulation helper: the frame is the caller's own).
 pub fn with_body_at(model: &Model, frame: &str, inertia: &Inertia) -> Model {
     let frame = model
         .frames()

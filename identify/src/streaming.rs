@@ -81,12 +81,13 @@ pub fn estimate_streaming(
         equations.push(&source.base_regressor(q, qd, qdd), tau);
     };
     if !differentiated {
-        for (k, sample) in reader.enumerate() {
+        let mut reader = reader;
+        while let Some(sample) = reader.next() {
             let s = sample?;
             let (qd, qdd, tau) = (s.qd.expect("qd"), s.qdd.expect("qdd"), s.tau.expect("tau"));
             add(&s.q, &qd, &qdd, &tau, &mut equations);
-            if k % PROGRESS_EVERY == 0 {
-                report(2, 0, k);
+            if equations.samples().is_multiple_of(PROGRESS_EVERY) {
+                report(2, reader.bytes_read(), equations.samples());
             }
         }
     } else {

@@ -179,12 +179,7 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
             )),
             false => Vec::new(),
         };
-        // Column-major: column c of Y is y[c·n .. (c+1)·n].
-        let y_base: Vec<Id> = base
-            .columns
-            .iter()
-            .flat_map(|&c| y.get(c * n..(c + 1) * n).unwrap_or_default().iter().copied())
-            .collect();
+        let y_base = base_columns(&y, &base, n);
         let quantities = vec![
             Quantity {
                 kind: QuantityKind::ForwardKinematics,
@@ -304,11 +299,7 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
                     &dynamics::regressor_by_jacobians(model, &x, &qd, v, &a),
                     &base,
                 ));
-                let y_base = base
-                    .columns
-                    .iter()
-                    .flat_map(|&c| y[c * n..(c + 1) * n].iter().copied())
-                    .collect();
+                let y_base = base_columns(&y, &base, n);
                 other_forms.push((name.to_string(), y));
                 other_forms.push((base_name.to_string(), y_base));
             }
@@ -465,11 +456,7 @@ fn torque_regressors(
 ) -> Vec<Quantity> {
     let n = model.dof();
     let y = matrix_ids(&full_from_base(&dynamics::regressor(model, x, qd, qd, a), base));
-    let y_base = base
-        .columns
-        .iter()
-        .flat_map(|&c| y[c * n..(c + 1) * n].iter().copied())
-        .collect();
+    let y_base = base_columns(&y, base, n);
     vec![
         Quantity {
             kind: QuantityKind::TorqueRegressor,
@@ -486,6 +473,15 @@ fn torque_regressors(
             outputs: y_base,
         },
     ]
+}
+
+/// The base columns of a column-major `Y` (`n` rows; column `c` is `y[c·n .. (c+1)·n]`); none
+/// when `Y` was not traced.
+fn base_columns(y: &[Id], base: &BaseParameterSet, n: usize) -> Vec<Id> {
+    base.columns
+        .iter()
+        .flat_map(|&c| y.get(c * n..(c + 1) * n).unwrap_or_default().iter().copied())
+        .collect()
 }
 
 /// `Y` rebuilt from its base columns. `θ_b = K θ` for every `θ` (exact folding), so `Y = Y_b K`:
