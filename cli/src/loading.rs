@@ -26,6 +26,11 @@ pub struct LoadingArgs {
     /// change a note), or refuse it. A YAML description sets `inertia:` itself.
     #[arg(long, value_enum, value_name = "CHOICE", default_value_t = InertiaArg::AsWritten)]
     pub inertia: InertiaArg,
+    /// For a bare URDF: the root link flies free (a legged robot, a humanoid): the
+    /// configuration gains the base pose and the velocity the base twist. A YAML description
+    /// sets `floating_base:` itself.
+    #[arg(long)]
+    pub floating_base: bool,
 }
 
 /// `--inertia`: [`NonPhysicalInertia`] as the command line spells it.
@@ -63,6 +68,7 @@ impl LoadingArgs {
                 false => FrameSelection::Listed(self.frames.iter().map(FrameSpec::link).collect()),
             },
             inertia: self.inertia.into(),
+            floating_base: self.floating_base,
             ..UrdfOptions::default()
         }
     }

@@ -9,7 +9,8 @@
 //! - the parameterisations generic code is written against: [`Parameterization`], with
 //!   [`Standard`] and [`Base`];
 //! - the plain data they exchange: [`JointTrig`] and [`JointTrigLanes`] (with [`pack`] and
-//!   [`unpack`] between vectors and lanes), [`Pose`], [`JointLimits`], [`ParameterKind`], and
+//!   [`unpack`] between vectors and lanes), [`Pose`], [`BasePose`] (a free-flying base's
+//!   position and unit quaternion, with `integrate` and `difference`), [`JointLimits`], [`ParameterKind`], and
 //!   the ten standard parameters per body ([`PARAMETERS_PER_BODY`], [`body_parameters`]);
 //! - helpers for hand-written code beside the generated functions: [`mul_add`] (fused exactly
 //!   where the build targets FMA) and [`SplitMix64`] (small, seeded, reproducible);
@@ -43,6 +44,7 @@ mod eight_lanes;
 ))]
 mod eight_lanes_x86;
 mod fill;
+mod floating;
 mod frame;
 mod frames;
 mod joint;
@@ -60,6 +62,7 @@ mod trig;
 mod trig_fused;
 mod version;
 
+pub use floating::{BasePose, NonUnitQuaternion, QUATERNION_NORM_TOLERANCE};
 pub use frames::{ExternalWrench, FrameKinematics, ReferenceFrame, RobotFrame, WrenchDynamics};
 pub use joint::{JointLimits, JointTrig};
 pub use lanes::{f64x4, f64x8, pack, unpack, JointTrigLanes, LaneDynamics, Lanes};

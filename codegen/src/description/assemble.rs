@@ -100,24 +100,30 @@ pub(crate) fn assemble(
         ));
     }
 
-    // A link on the base never enters the dynamics, so its inertia's defects are only said.
-    non_physical::report(c.non_physical, |l| carrier[l].is_none(), c.robot_map, diags)?;
+    // A link on a fixed base never enters the dynamics, so its inertia's defects are only said.
+    let floating = settings.floating_base;
+    non_physical::report(c.non_physical, |l| !floating && carrier[l].is_none(), c.robot_map, diags)?;
 
-    // Weld every link into its carrier's body; links on the base do not move and drop out.
-    for &l in &c.topo.link_order {
-        if let Some(k) = carrier[l] {
-            let part = c.links[l].transformed(&placement[l]);
-            bodies[k] = Some(match bodies[k] {
-                None => part,
-                Some(body) => body.merged(&part),
-            });
-        }
-    }
+    // Weld every link into its carrier's body; links on a fixed base do not move and drop
+    // out, links on a floating one make up the base body.
     let zero = Inertia {
         mass: 0.0,
         com: Vector3::zeros(),
         inertia_com: Matrix3::zeros(),
     };
+    let mut base_body = zero;
+    for &l in &c.topo.link_order {
+        let part = c.links[l].transformed(&placement[l]);
+        match carrier[l] {
+            Some(k) => {
+                bodies[k] = Some(match bodies[k] {
+                    None => part,
+                    Some(body) => body.merged(&part),
+                })
+            }
+            None => base_body = base_body.merged(&part),
+        }
+    }
     let bodies = bodies
         .into_iter()
         .zip(body_names)
@@ -147,7 +153,20 @@ pub(crate) fn assemble(
                    `joint_parameters.columns`";
         return Err(settings.map.error("joint_parameters.columns", msg));
     }
+    if floating && (!joint_terms.kinds.is_empty() || mimics.iter().any(Option::is_some)) {
+        let msg = "a floating base does not support joint-level parameters or mimic joints yet; \
+                   leave out `joint_parameters.columns` and lock the mimic joints";
+        return Err(settings.map.error("floating_base", msg));
+    }
+    let base = floating.then(|| Body {
+        name: c.raw.links[c.topo.root].name.clone(),
+        inertia: base_body,
+    });
     Model::new(name, joints, bodies, Vector3::from(gravity), end_effector)
+        .and_then(|m| match base {
+            Some(body) => m.with_floating_base(body),
+            None => Ok(m),
+        })
         .and_then(|m| m.with_frames(frames))
         .and_then(|m| m.with_joint_terms(joint_terms))
         .and_then(|m| m.with_mimics(mimics))

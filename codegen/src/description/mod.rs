@@ -102,7 +102,7 @@ pub fn load_with(path: &Path, urdf: &UrdfOptions) -> Result<Loaded, DescriptionE
             return Err(DescriptionError::new(
                 path,
                 "URDF options were given for a YAML description: set them in the YAML \
-                 (`snap_angles:`, `inertia:`, `end_effector:`, `frames:`, `locked_joints:`, `gravity:`)",
+                 (`snap_angles:`, `inertia:`, `end_effector:`, `frames:`, `locked_joints:`, `gravity:`, `floating_base:`)",
             ));
         }
         load_yaml_str(&text, path)?
@@ -146,6 +146,7 @@ fn build_bare_urdf(
         joint_parameters: None,
         snap_angles: options.snap_angles,
         inertia: options.inertia,
+        floating_base: options.floating_base,
         map,
     };
     build(robot, map, &settings, Vec::new())

@@ -28,6 +28,11 @@ pub struct UrdfOptions {
     /// moment, a broken triangle inequality, mass without extent about an axis). Default:
     /// load it as written, with a warning.
     pub inertia: NonPhysicalInertia,
+    /// The robot moves freely in the world on its root link (a legged robot, a humanoid, a
+    /// mobile manipulator): its configuration gains the base pose, its velocity the base
+    /// twist, and the root link's inertia becomes the base body's. Default: the root link is
+    /// fixed to the world.
+    pub floating_base: bool,
 }
 
 /// What the loader does with a link whose inertia no real body can have: YAML
@@ -224,6 +229,7 @@ pub(crate) struct Settings<'a> {
     pub locked_joints: Vec<(String, f64)>,
     pub snap_angles: Option<f64>,
     pub inertia: NonPhysicalInertia,
+    pub floating_base: bool,
     /// `joint_parameters:` of a YAML file (a bare URDF has none: no joint-level columns).
     pub joint_parameters: Option<super::joint_parameters::JointParametersSpec>,
     /// Places of `end_effector`, `frames[k]`, `gravity`, `locked_joints.<joint>`, `snap_angles`, `inertia`.

@@ -35,6 +35,7 @@
 //! snap_angles: 1e-4                     # optional: 1.5708 → π/2 (each change noted)
 //! functions: [regressors, forward_dynamics]   # optional: the groups to generate (or `all`)
 //! inertia: repair                       # optional: as_written (default) | repair | strict
+//! floating_base: true                   # optional: the root link flies free (default false)
 //! ```
 //!
 //! Both forms may add `joint_parameters:` (armature, friction, offset columns and values; see
@@ -87,6 +88,11 @@ pub(crate) struct RobotFile {
     /// warning), `repair` (the nearest physical inertia, noted) or `strict` (an error).
     #[serde(default)]
     inertia: NonPhysicalInertia,
+    /// The root link moves freely in the world (legged robots, humanoids): the configuration
+    /// gains the base pose, the velocity the base twist, the root link's inertia becomes the
+    /// base body's. Default `false`: the root link is fixed to the world.
+    #[serde(default)]
+    floating_base: bool,
     /// Joint-level parameters (armature, friction, offset): which regressor columns, and
     /// per-joint values (`joint_parameters` module docs). Absent: none.
     joint_parameters: Option<JointParametersSpec>,
@@ -226,6 +232,7 @@ pub(crate) struct Parsed {
     pub locked_joints: Vec<(String, f64)>,
     pub snap_angles: Option<f64>,
     pub inertia: NonPhysicalInertia,
+    pub floating_base: bool,
     pub joint_parameters: Option<JointParametersSpec>,
     functions: Option<FunctionsSpec>,
     /// Files read to get here (the URDF of form b).
@@ -254,6 +261,7 @@ impl Parsed {
             locked_joints: self.locked_joints.clone(),
             snap_angles: self.snap_angles,
             inertia: self.inertia,
+            floating_base: self.floating_base,
             joint_parameters: self.joint_parameters.clone(),
             map: &self.yaml_map,
         }
@@ -274,6 +282,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         locked_joints,
         snap_angles,
         inertia,
+        floating_base,
         joint_parameters,
         functions,
         links,
@@ -290,6 +299,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         locked_joints: locked_joints.0,
         snap_angles,
         inertia,
+        floating_base,
         joint_parameters,
         functions,
         read: Vec::new(),

@@ -19,14 +19,7 @@ fn tree_mass_matrix<S: Scalar>(
     inertias: &[RigidInertia<S>],
 ) -> DMatrix<S> {
     let n = model.joints().len();
-    // Composite inertia of each subtree, in its root body's frame (children have larger indices).
-    let mut composite = inertias.to_vec();
-    for i in (0..n).rev() {
-        if let Some(p) = model.joints()[i].parent {
-            let up = composite[i].to_parent(&x[i]);
-            composite[p] = composite[p] + up;
-        }
-    }
+    let composite = composite_inertias(model, x, inertias);
     let mut d = DMatrix::from_element(n, n, S::zero());
     for i in 0..n {
         let mut f = composite[i].mul_motion(&joint_motion(&model.joints()[i], S::one()));
@@ -41,4 +34,21 @@ fn tree_mass_matrix<S: Scalar>(
         }
     }
     d
+}
+
+/// The composite inertia of each body's subtree, in that body's frame.
+pub(crate) fn composite_inertias<S: Scalar>(
+    model: &Model,
+    x: &[Transform<S>],
+    inertias: &[RigidInertia<S>],
+) -> Vec<RigidInertia<S>> {
+    // Children have larger indices, so one sweep from the leaves up sums every subtree.
+    let mut composite = inertias.to_vec();
+    for i in (0..model.joints().len()).rev() {
+        if let Some(p) = model.joints()[i].parent {
+            let up = composite[i].to_parent(&x[i]);
+            composite[p] = composite[p] + up;
+        }
+    }
+    composite
 }

@@ -57,7 +57,7 @@ pub fn frame_jacobian<S: Scalar>(model: &Model, world: &[Transform<S>], frame: &
 }
 
 /// The Jacobian with one column per moving joint of the tree.
-fn tree_jacobian<S: Scalar>(model: &Model, world: &[Transform<S>], frame: &Frame) -> DMatrix<S> {
+pub(crate) fn tree_jacobian<S: Scalar>(model: &Model, world: &[Transform<S>], frame: &Frame) -> DMatrix<S> {
     let n = model.joints().len();
     let pe = frame_pose(world, frame).pos;
     let mut jac = DMatrix::from_element(6, n, S::zero());
@@ -88,15 +88,26 @@ pub fn frame_jacobian_dot<S: Scalar>(
     qd: &[S],
     frame: &Frame,
 ) -> DMatrix<S> {
-    project_columns(model, tree_jacobian_dot(model, world, &expand(model, qd), frame))
+    project_columns(model, tree_jacobian_dot(model, world, &expand(model, qd), frame, None))
 }
 
-/// `J̇` with one column per moving joint of the tree, `qd` one rate per moving joint.
-fn tree_jacobian_dot<S: Scalar>(
+/// The motion of a floating base, for the kinematics of the tree it carries: its angular
+/// velocity and origin velocity in world axes, and its origin.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct MovingBase<S> {
+    pub omega: Vec3<S>,
+    pub origin_velocity: Vec3<S>,
+    pub origin: Vec3<S>,
+}
+
+/// `J̇` with one column per moving joint of the tree, `qd` one rate per moving joint; the roots
+/// hang from a fixed base (`None`) or from a moving one.
+pub(crate) fn tree_jacobian_dot<S: Scalar>(
     model: &Model,
     world: &[Transform<S>],
     qd: &[S],
     frame: &Frame,
+    base: Option<&MovingBase<S>>,
 ) -> DMatrix<S> {
     let n = model.joints().len();
     let chain = model.chain_to(frame.parent);
@@ -106,7 +117,10 @@ fn tree_jacobian_dot<S: Scalar>(
     for &i in &chain {
         let (w0, v0) = match model.joints()[i].parent {
             Some(p) => (omega[p], pdot[p] + omega[p].cross(&(world[i].pos - world[p].pos))),
-            None => (Vec3::zero(), Vec3::zero()),
+            None => match base {
+                None => (Vec3::zero(), Vec3::zero()),
+                Some(b) => (b.omega, b.origin_velocity + b.omega.cross(&(world[i].pos - b.origin))),
+            },
         };
         let z = world_axis(model, world, i).scale(qd[i]);
         (omega[i], pdot[i]) = match model.joints()[i].kind {

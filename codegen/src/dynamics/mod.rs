@@ -17,6 +17,7 @@ mod coupling;
 pub(crate) mod crba;
 mod derivatives;
 mod energy;
+pub(crate) mod floating;
 pub(crate) mod forward_dynamics;
 pub(crate) mod frames;
 pub(crate) mod inertias;
@@ -24,6 +25,7 @@ pub(crate) mod joint;
 pub(crate) mod joint_terms;
 pub(crate) mod kinematics;
 mod numeric;
+mod numeric_floating;
 mod numeric_forward;
 pub(crate) mod regressor;
 pub(crate) mod regressor_products;
@@ -33,6 +35,7 @@ pub(crate) mod slotine_li;
 mod tree_ldl;
 
 pub use numeric::{FrameValues, NumericDynamics};
+pub use numeric_floating::{FloatingDynamics, FloatingState};
 
 pub(crate) use coriolis::coriolis_matrix;
 pub(crate) use crba::mass_matrix;

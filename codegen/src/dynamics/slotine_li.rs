@@ -34,11 +34,29 @@ pub(crate) fn forward_pass<S: Scalar, X: JointFrame<S>>(
         ang: Vec3::zero(),
         lin: gravity.map_or(Vec3::zero(), |g| -g),
     };
+    let world = BodyMotion {
+        vel: Motion::zero(),
+        w: Motion::zero(),
+        wdot: base,
+    };
+    forward_pass_from(model, x, qd, v, a, &world)
+}
+
+/// [`forward_pass`] with the root joints hanging from a base that moves with `root` (in the
+/// base's frame, gravity folded into its reference acceleration): a floating base.
+pub(crate) fn forward_pass_from<S: Scalar, X: JointFrame<S>>(
+    model: &Model,
+    x: &[X],
+    qd: &[S],
+    v: &[S],
+    a: &[S],
+    root: &BodyMotion<S>,
+) -> Vec<BodyMotion<S>> {
     let mut out: Vec<BodyMotion<S>> = Vec::with_capacity(model.joints().len());
     for (i, joint) in model.joints().iter().enumerate() {
         let (vel0, w0, wdot0) = match joint.parent {
             Some(p) => (out[p].vel, out[p].w, out[p].wdot),
-            None => (Motion::zero(), Motion::zero(), base),
+            None => (root.vel, root.w, root.wdot),
         };
         let vel = x[i].motion_to_child(&vel0) + joint_motion(joint, qd[i]);
         let sv = joint_motion(joint, v[i]);
@@ -89,6 +107,17 @@ fn tree_slotine_li<S: Scalar, X: JointFrame<S>>(
     gravity: Option<Vec3<S>>,
 ) -> Vec<S> {
     let motions = forward_pass(model, x, qd, v, a, gravity);
+    tree_forces(model, x, inertias, &motions).0
+}
+
+/// The backward pass: every tree joint's torque, and the force each body's subtree exerts on
+/// its joint (in the body's frame; a root's is what a floating base feels from it).
+pub(crate) fn tree_forces<S: Scalar, X: JointFrame<S>>(
+    model: &Model,
+    x: &[X],
+    inertias: &[RigidInertia<S>],
+    motions: &[BodyMotion<S>],
+) -> (Vec<S>, Vec<Force<S>>) {
     let mut f: Vec<Force<S>> = motions
         .iter()
         .zip(inertias)
@@ -102,7 +131,7 @@ fn tree_slotine_li<S: Scalar, X: JointFrame<S>>(
             f[p] = f[p] + up;
         }
     }
-    tau
+    (tau, f)
 }
 
 pub(crate) fn gravity_vector<S: Scalar>(model: &Model) -> Vec3<S> {

@@ -35,6 +35,13 @@ impl<S: Scalar> TreeLdl<S> {
             false => model.joints().iter().map(|j| j.parent).collect(),
             true => (0..n).map(|k| k.checked_sub(1)).collect(),
         };
+        Self::factor_tree(parent, d)
+    }
+
+    /// Factors `d`, whose sparsity follows `parent` (`d_ki = 0` unless one of `k`, `i` is an
+    /// ancestor of the other; `parent[k] < k`), reading only its lower triangle.
+    pub fn factor_tree(parent: Vec<Option<usize>>, d: &DMatrix<S>) -> Self {
+        let n = parent.len();
         let mut h = d.clone();
         let mut inv_pivot = vec![S::zero(); n];
         let mut pivots = vec![S::zero(); n];

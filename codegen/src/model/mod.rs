@@ -8,7 +8,9 @@
 //!   refuses the rest, as the description asks);
 //! - body `i` is the rigid body carried by joint `i` (its frame is joint `i`'s frame);
 //! - a mimic joint follows a joint that is not one ([`Mimic`]); the coordinates `q` are the
-//!   joints that mimic nothing, in joint order.
+//!   joints that mimic nothing, in joint order;
+//! - a joint whose parent is `None` hangs from the base: the world for a fixed base, the base
+//!   body for a floating one ([`Model::floating_base`]), whose frame is then the root link's.
 
 mod coupling;
 mod joint_terms;
@@ -108,6 +110,9 @@ pub struct Model {
     mimics: Vec<Option<Mimic>>,
     /// Per joint, where its position comes from (derived from `mimics`).
     coordinate_maps: Vec<CoordinateMap>,
+    /// The body of a free-flying base (the root link and every link welded to it), or `None`
+    /// for a base fixed to the world. Default: fixed.
+    floating_base: Option<Body>,
 }
 
 /// Number of standard inertial parameters per body (the runtime contract's layout).
@@ -190,6 +195,7 @@ impl Model {
             joint_terms: JointTerms::default(),
             mimics: vec![None; n],
             coordinate_maps: coupling::coordinate_maps(&[], n),
+            floating_base: None,
         };
         validate(&model)?;
         Ok(model)
@@ -221,6 +227,31 @@ impl Model {
         self.mimics = mimics;
         validate(&self)?;
         Ok(self)
+    }
+
+    /// The same robot on a free-flying base whose body is `base` (in the root link's frame,
+    /// which the root joints' origins are given in). Its configuration is then the base pose
+    /// and `q` (`nq = dof + 7`), its velocity the base twist and `q̇` (`nv = dof + 6`).
+    pub fn with_floating_base(mut self, base: Body) -> Result<Model, ModelError> {
+        self.floating_base = Some(base);
+        validate(&self)?;
+        Ok(self)
+    }
+
+    /// The body of the free-flying base, `None` for a fixed base.
+    pub fn floating_base(&self) -> Option<&Body> {
+        self.floating_base.as_ref()
+    }
+
+    /// Length of the velocity vector: `dof()`, plus the base twist's six on a floating base.
+    pub fn nv(&self) -> usize {
+        self.dof() + if self.floating_base.is_some() { 6 } else { 0 }
+    }
+
+    /// Length of the configuration vector: `dof()`, plus the base position and unit
+    /// quaternion's seven on a floating base.
+    pub fn nq(&self) -> usize {
+        self.dof() + if self.floating_base.is_some() { 7 } else { 0 }
     }
 
     /// Per joint, the joint it follows (`None` for the joints that are coordinates).

@@ -1,0 +1,96 @@
+//! The inertia matrix (nv × nv) of a floating-base robot by composite rigid bodies, and forward
+//! dynamics by its tree factorisation, the base's six coordinates a chain above the roots.
+
+use super::{base_entries, inverse::floating_inverse_dynamics, unit_base_motion, FloatingBase};
+use crate::dynamics::crba::{composite_inertias, mass_matrix};
+use crate::dynamics::joint::joint_motion;
+use crate::dynamics::tree_ldl::TreeLdl;
+use crate::model::Model;
+use crate::scalar::Scalar;
+use crate::spatial::{Force, RigidInertia, Transform};
+use nalgebra::DMatrix;
+
+/// `D(q)`: the base block is the whole robot's composite inertia in the base frame (constant in
+/// base coordinates), the base–joint blocks each joint's subtree inertia times its axis carried
+/// to the base, the joint block the fixed-base tree's.
+pub fn floating_mass_matrix<S: Scalar>(
+    model: &Model,
+    base_inertia: &RigidInertia<S>,
+    x: &[Transform<S>],
+    inertias: &[RigidInertia<S>],
+) -> DMatrix<S> {
+    let n = model.joints().len();
+    let composite = composite_inertias(model, x, inertias);
+    let mut whole = *base_inertia;
+    for (i, joint) in model.joints().iter().enumerate() {
+        if joint.parent.is_none() {
+            whole = whole + composite[i].to_parent(&x[i]);
+        }
+    }
+    let mut d = DMatrix::from_element(6 + n, 6 + n, S::zero());
+    for k in 0..6 {
+        let column = base_entries(&whole.mul_motion(&unit_base_motion(k)));
+        for (r, value) in column.into_iter().enumerate() {
+            d[(r, k)] = value;
+        }
+    }
+    for i in 0..n {
+        let mut f: Force<S> = composite[i].mul_motion(&joint_motion(&model.joints()[i], S::one()));
+        let mut j = i;
+        while let Some(p) = model.joints()[j].parent {
+            f = x[j].force_to_parent(&f);
+            j = p;
+        }
+        let on_base = base_entries(&x[j].force_to_parent(&f));
+        for (r, value) in on_base.into_iter().enumerate() {
+            d[(r, 6 + i)] = value;
+            d[(6 + i, r)] = value;
+        }
+    }
+    let tree = mass_matrix(model, x, inertias);
+    d.view_mut((6, 6), (n, n)).copy_from(&tree);
+    d
+}
+
+/// Parents of the velocity coordinates for the tree factorisation: the base's six a chain, the
+/// roots below its last.
+fn coordinate_parents(model: &Model) -> Vec<Option<usize>> {
+    let mut parents: Vec<Option<usize>> = (0..6).map(|k: usize| k.checked_sub(1)).collect();
+    parents.extend(model.joints().iter().map(|j| Some(j.parent.map_or(5, |p| 6 + p))));
+    parents
+}
+
+fn factor<S: Scalar>(
+    model: &Model,
+    base: &FloatingBase<S>,
+    x: &[Transform<S>],
+    inertias: &[RigidInertia<S>],
+) -> TreeLdl<S> {
+    let d = floating_mass_matrix(model, &base.inertia, x, inertias);
+    TreeLdl::factor_tree(coordinate_parents(model), &d)
+}
+
+/// Forward dynamics `ν̇ = D⁻¹ (τ − C ν − g)`, `tau` the base wrench and the joint torques.
+pub fn floating_forward_dynamics<S: Scalar>(
+    model: &Model,
+    base: &FloatingBase<S>,
+    x: &[Transform<S>],
+    inertias: &[RigidInertia<S>],
+    qd: &[S],
+    tau: &[S],
+) -> Vec<S> {
+    let zero = vec![S::zero(); model.nv()];
+    let bias = floating_inverse_dynamics(model, base, x, inertias, qd, &zero);
+    let rhs: Vec<S> = tau.iter().zip(&bias).map(|(&t, &b)| t - b).collect();
+    factor(model, base, x, inertias).solve(&rhs)
+}
+
+/// `D(q)⁻¹`, full and symmetric.
+pub fn floating_mass_matrix_inverse<S: Scalar>(
+    model: &Model,
+    base: &FloatingBase<S>,
+    x: &[Transform<S>],
+    inertias: &[RigidInertia<S>],
+) -> DMatrix<S> {
+    factor(model, base, x, inertias).inverse()
+}

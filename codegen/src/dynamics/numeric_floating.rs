@@ -1,0 +1,263 @@
+//! The floating-base algorithms instantiated with `f64`: dyngen's reference dynamics of a robot
+//! on a free-flying base, in Pinocchio's configuration and velocity layout.
+
+use super::floating::{self, FloatingBase};
+use super::frames::FrameMotion;
+use super::{body_inertias, joint_transforms};
+use crate::model::{Model, PARAMS_PER_BODY};
+use crate::spatial::{Mat3, RigidInertia, Transform, Vec3};
+use dyngen_runtime::{BasePose, NonUnitQuaternion, ReferenceFrame};
+use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
+
+/// Numeric dynamics of a floating-base model ([`Model::floating_base`]). Configurations are
+/// `q = [x, y, z, qx, qy, qz, qw, q_joints…]` (`nq = dof + 7`), velocities
+/// `ν = [v; ω; q̇]` with the base twist in the base frame (`nv = dof + 6`); the first six
+/// entries of a generalised force are the base wrench `[f; n]` in the base frame.
+#[derive(Clone, Debug)]
+pub struct FloatingDynamics<'m> {
+    pub model: &'m Model,
+    base_inertia: RigidInertia<f64>,
+    inertias: Vec<RigidInertia<f64>>,
+}
+
+/// One configuration, checked (a unit quaternion) and with its joint transforms computed once
+/// for every quantity asked of it ([`FloatingDynamics::state`]).
+#[derive(Clone, Debug)]
+pub struct FloatingState {
+    base: BasePose,
+    pose: Transform<f64>,
+    transforms: Vec<Transform<f64>>,
+    world: Vec<Transform<f64>>,
+}
+
+impl FloatingState {
+    /// The base pose.
+    pub fn base(&self) -> &BasePose {
+        &self.base
+    }
+}
+
+fn to_matrix3(m: &Mat3<f64>) -> Matrix3<f64> {
+    Matrix3::from_fn(|i, j| m.0[i][j])
+}
+
+impl<'m> FloatingDynamics<'m> {
+    /// The dynamics of `model`, `None` if its base is fixed.
+    pub fn new(model: &'m Model) -> Option<Self> {
+        let base = model.floating_base()?;
+        Some(FloatingDynamics {
+            model,
+            base_inertia: RigidInertia::from_parameters(&base.inertia.parameters()),
+            inertias: body_inertias(model),
+        })
+    }
+
+    /// The same robot with the parameters `θ`: the base body's ten first, then ten per body in
+    /// joint order (the columns of [`FloatingDynamics::regressor`]).
+    pub fn with_parameters(model: &'m Model, theta: &[f64]) -> Option<Self> {
+        let mut dynamics = FloatingDynamics::new(model)?;
+        assert_eq!(theta.len(), PARAMS_PER_BODY * (model.joints().len() + 1), "θ has the wrong length");
+        let body = |k: usize| RigidInertia::from_parameters(&std::array::from_fn(|i| theta[PARAMS_PER_BODY * k + i]));
+        dynamics.base_inertia = body(0);
+        dynamics.inertias = (1..=model.joints().len()).map(body).collect();
+        Some(dynamics)
+    }
+
+    /// The standard parameters: the base body's ten, then ten per body in joint order.
+    pub fn parameters(&self) -> Vec<f64> {
+        let base = self.model.floating_base().expect("a floating model").inertia.parameters();
+        let mut theta = base.to_vec();
+        theta.extend(self.model.parameters());
+        theta
+    }
+
+    /// The configuration `q` (length nq), checked.
+    pub fn state(&self, q: &[f64]) -> Result<FloatingState, NonUnitQuaternion> {
+        assert_eq!(q.len(), self.model.nq(), "q has the wrong length");
+        let base = BasePose::from_configuration(q)?;
+        let pose = Transform {
+            rot: Mat3(std::array::from_fn(|i| std::array::from_fn(|j| base.rotation[(i, j)]))),
+            pos: Vec3(base.position.into()),
+        };
+        let transforms = joint_transforms(self.model, &q[7..]);
+        let world = floating::floating_body_poses(self.model, &pose, &transforms);
+        Ok(FloatingState {
+            base,
+            pose,
+            transforms,
+            world,
+        })
+    }
+
+    fn base(&self, s: &FloatingState) -> FloatingBase<f64> {
+        FloatingBase {
+            pose: s.pose,
+            inertia: self.base_inertia,
+        }
+    }
+
+    fn check_velocity(&self, v: &[f64]) {
+        assert_eq!(v.len(), self.model.nv(), "a velocity or acceleration has the wrong length");
+    }
+
+    /// `D(q)` (nv × nv).
+    pub fn mass_matrix(&self, s: &FloatingState) -> DMatrix<f64> {
+        floating::floating_mass_matrix(self.model, &self.base_inertia, &s.transforms, &self.inertias)
+    }
+
+    /// The Coriolis matrix `C(q, ν)`, with `Ḋ = C + Cᵀ`.
+    pub fn coriolis_matrix(&self, s: &FloatingState, v: &[f64]) -> DMatrix<f64> {
+        self.check_velocity(v);
+        floating::floating_coriolis_matrix(self.model, &self.base(s), &s.transforms, &self.inertias, v)
+    }
+
+    /// The generalised gravity `g(q)`.
+    pub fn gravity(&self, s: &FloatingState) -> DVector<f64> {
+        DVector::from_vec(floating::floating_gravity(self.model, &self.base(s), &s.transforms, &self.inertias))
+    }
+
+    /// Inverse dynamics: the base wrench and joint torques that give `a = ν̇` at `(q, ν)`.
+    pub fn inverse_dynamics(&self, s: &FloatingState, v: &[f64], a: &[f64]) -> DVector<f64> {
+        self.check_velocity(v);
+        self.check_velocity(a);
+        DVector::from_vec(floating::floating_inverse_dynamics(
+            self.model,
+            &self.base(s),
+            &s.transforms,
+            &self.inertias,
+            v,
+            a,
+        ))
+    }
+
+    /// The Slotine–Li form `D a_r + C(q, ν) v_r + g`.
+    pub fn slotine_li(&self, s: &FloatingState, v: &[f64], vr: &[f64], ar: &[f64]) -> DVector<f64> {
+        for x in [v, vr, ar] {
+            self.check_velocity(x);
+        }
+        let g = super::slotine_li::gravity_vector(self.model);
+        DVector::from_vec(floating::floating_slotine_li(
+            self.model,
+            &self.base(s),
+            &s.transforms,
+            &self.inertias,
+            v,
+            vr,
+            ar,
+            Some(g),
+        ))
+    }
+
+    /// The regressor `Y` with `Y θ` the Slotine–Li torque ([`FloatingDynamics::parameters`]).
+    pub fn regressor(&self, s: &FloatingState, v: &[f64], vr: &[f64], ar: &[f64]) -> DMatrix<f64> {
+        for x in [v, vr, ar] {
+            self.check_velocity(x);
+        }
+        floating::floating_regressor(self.model, &s.pose.rot, &s.transforms, v, vr, ar)
+    }
+
+    /// Forward dynamics `ν̇` under the base wrench and joint torques `tau`.
+    pub fn forward_dynamics(&self, s: &FloatingState, v: &[f64], tau: &[f64]) -> DVector<f64> {
+        self.check_velocity(v);
+        self.check_velocity(tau);
+        DVector::from_vec(floating::floating_forward_dynamics(
+            self.model,
+            &self.base(s),
+            &s.transforms,
+            &self.inertias,
+            v,
+            tau,
+        ))
+    }
+
+    /// `D(q)⁻¹`.
+    pub fn mass_matrix_inverse(&self, s: &FloatingState) -> DMatrix<f64> {
+        floating::floating_mass_matrix_inverse(self.model, &self.base(s), &s.transforms, &self.inertias)
+    }
+
+    fn frame_motion(&self, s: &FloatingState, v: &[f64], frame: usize) -> FrameMotion<f64> {
+        let frame = &self.model.frames()[frame];
+        FrameMotion {
+            pose: s.world[frame.parent].compose(&super::joint::pose_to_transform(&frame.placement)),
+            jacobian: floating::floating_frame_jacobian(self.model, &s.pose, &s.world, frame),
+            jacobian_dot: floating::floating_frame_jacobian_dot(self.model, &s.pose, &s.world, v, frame),
+        }
+    }
+
+    /// The pose of frame `frame` (an index into [`Model::frames`]) in the world.
+    pub fn frame_pose(&self, s: &FloatingState, frame: usize) -> (Matrix3<f64>, Vector3<f64>) {
+        let motion = self.frame_motion(s, &vec![0.0; self.model.nv()], frame);
+        (to_matrix3(&motion.pose.rot), Vector3::from(motion.pose.pos.0))
+    }
+
+    /// The Jacobian (6 × nv) of frame `frame` in `reference`.
+    pub fn frame_jacobian(&self, s: &FloatingState, frame: usize, reference: ReferenceFrame) -> DMatrix<f64> {
+        self.frame_motion(s, &vec![0.0; self.model.nv()], frame).jacobian_in(reference)
+    }
+
+    /// `J̇` of frame `frame` in `reference` along `ν`.
+    pub fn frame_jacobian_time_variation(
+        &self,
+        s: &FloatingState,
+        v: &[f64],
+        frame: usize,
+        reference: ReferenceFrame,
+    ) -> DMatrix<f64> {
+        self.check_velocity(v);
+        self.frame_motion(s, v, frame).jacobian_dot_in(reference, v)
+    }
+
+    /// The frame's velocity `J ν` in `reference`, `[linear; angular]`.
+    pub fn frame_velocity(&self, s: &FloatingState, v: &[f64], frame: usize, reference: ReferenceFrame) -> Vector6<f64> {
+        self.check_velocity(v);
+        Vector6::from(self.frame_motion(s, v, frame).velocity_in(reference, v))
+    }
+
+    /// Total mass, centre of mass (world) and the centroidal momentum matrix `A_g` (6 × nv).
+    pub fn centroidal_momentum_matrix(&self, s: &FloatingState) -> (f64, Vector3<f64>, DMatrix<f64>) {
+        let c = floating::centroidal_momentum_matrix(self.model, &self.base(s), &s.transforms, &self.inertias);
+        (c.mass, Vector3::from(c.com.0), c.matrix)
+    }
+
+    /// The centre of mass in the world.
+    pub fn center_of_mass(&self, s: &FloatingState) -> Vector3<f64> {
+        self.centroidal_momentum_matrix(s).1
+    }
+
+    /// The Jacobian of the centre of mass (3 × nv): `A_g`'s linear rows over the mass.
+    pub fn center_of_mass_jacobian(&self, s: &FloatingState) -> DMatrix<f64> {
+        let (mass, _, ag) = self.centroidal_momentum_matrix(s);
+        ag.rows(0, 3) / mass
+    }
+
+    /// `Ȧ_g(q, ν) ν`: the rate of change of the centroidal momentum at zero acceleration.
+    pub fn centroidal_bias(&self, s: &FloatingState, v: &[f64]) -> Vector6<f64> {
+        self.check_velocity(v);
+        Vector6::from(floating::centroidal_bias(
+            self.model,
+            &self.base(s),
+            &s.transforms,
+            &self.inertias,
+            v,
+        ))
+    }
+
+    /// `q ⊕ ν dt`: the base moved along its twist for `dt` (the SE(3) exponential), the joints
+    /// by `q̇ dt`.
+    pub fn integrate(&self, q: &[f64], v: &[f64], dt: f64) -> Result<Vec<f64>, NonUnitQuaternion> {
+        self.check_velocity(v);
+        let base = BasePose::from_configuration(q)?;
+        let twist: [f64; 6] = std::array::from_fn(|k| v[k]);
+        let mut out = base.integrate(&twist, dt).configuration().to_vec();
+        out.extend(q[7..].iter().zip(&v[6..]).map(|(q, v)| q + v * dt));
+        Ok(out)
+    }
+
+    /// The velocity that moves `q0` to `q1` in unit time (`q1 = q0 ⊕ difference(q0, q1)`).
+    pub fn difference(&self, q0: &[f64], q1: &[f64]) -> Result<Vec<f64>, NonUnitQuaternion> {
+        let (a, b) = (BasePose::from_configuration(q0)?, BasePose::from_configuration(q1)?);
+        let mut out = a.difference(&b).to_vec();
+        out.extend(q1[7..].iter().zip(&q0[7..]).map(|(x1, x0)| x1 - x0));
+        Ok(out)
+    }
+}
