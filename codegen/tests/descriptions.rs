@@ -378,6 +378,7 @@ fn end_effector_with_offset_and_gravity_from_options() {
         snap_angles: None,
         inertia: Default::default(),
         frames: Default::default(),
+        floating_base: false,
     };
     let m = description::load_urdf_str(TREE_URDF, Path::new("twins.urdf"), &options)
         .unwrap()
@@ -498,6 +499,7 @@ fn same_robot_in_yaml_and_urdf_gives_the_same_model() {
         snap_angles: None,
         inertia: Default::default(),
         frames: Default::default(),
+        floating_base: false,
     };
     let from_urdf = description::load_urdf_str(SAME_URDF, Path::new("same.urdf"), &options).unwrap();
     let from_yaml =

@@ -42,6 +42,7 @@ fn options(snap: Option<f64>) -> UrdfOptions {
         snap_angles: snap,
         inertia: Default::default(),
         frames: Default::default(),
+        floating_base: false,
     }
 }
 

@@ -296,6 +296,7 @@ mod tests {
             gravity: Vector3::new(0.0, 0.0, -9.81),
             joint_terms: Default::default(),
             mimics: vec![None],
+            floating_base: None,
             coordinate_maps: super::super::coupling::coordinate_maps(&[None], 1),
             frames: vec![Frame {
                 name: "ee".into(),
