@@ -45,4 +45,5 @@ pub mod generate {
     pub use crate::generate::trace::{
         trace, trace_functions, trace_with_base, Arg, Arguments, Inputs, Quantity, Shape, SymbolicRobot,
     };
+    pub use crate::generate::trace_floating::trace_floating;
 }

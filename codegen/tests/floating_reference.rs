@@ -3,14 +3,17 @@
 //! 4.1's values for the same URDF with `JointModelFreeFlyer` (`codegen/tests/fixtures/floating/`,
 //! made by `tools/floating_fixtures.py`): the base body, every dynamics quantity, frames,
 //! the centroidal momentum and the configuration space's `integrate` and `difference`, joint by
-//! joint name, to 1e-9 relative.
+//! joint name, to 1e-9 relative; and the traced graph that generated code is printed from
+//! (through the interpreter), function by function.
 
 use dyngen_testkit as common;
 
 use common::fixture::{matrix, vector};
+use common::floating_fixture::{self, Order};
 use common::{assert_close, column, workspace_root};
 use dyngen_codegen::description::{self, FrameSelection, FrameSpec, Loaded, UrdfOptions};
 use dyngen_codegen::dynamics::FloatingDynamics;
+use dyngen_codegen::internals::generate::{trace_floating, Arguments, SymbolicRobot};
 use dyngen_runtime::ReferenceFrame;
 use nalgebra::DMatrix;
 use serde_json::Value;
@@ -32,89 +35,28 @@ fn load(urdf: &str, fixture: &Value) -> Loaded {
         frames: FrameSelection::Listed(frames),
         ..UrdfOptions::default()
     };
-    let path = workspace_root().join("codegen/tests/data/example-robot-data").join(urdf);
+    let path = workspace_root()
+        .join("codegen/tests/data/example-robot-data")
+        .join(urdf);
     description::load_with(&path, &options).unwrap_or_else(|e| panic!("{e}"))
 }
 
-fn fixture(robot: &str) -> Value {
-    let path = workspace_root().join(format!("codegen/tests/fixtures/floating/{robot}.json"));
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
-}
-
-/// Index maps between Pinocchio's order and ours: `velocity[k]` is our velocity index of
-/// Pinocchio's velocity entry `k` (base first, the same), `body[k]` our body block (0 the base)
-/// of Pinocchio's body `k`.
-struct Order {
-    velocity: Vec<usize>,
-    body: Vec<usize>,
-}
-
-impl Order {
-    fn new(loaded: &Loaded, fixture: &Value) -> Order {
-        let ours: Vec<&str> = loaded.model.joints().iter().map(|j| j.name.as_str()).collect();
-        let theirs: Vec<&str> = fixture["joint_names"]
-            .as_array()
-            .unwrap()
-            .iter()
-            .map(|n| n.as_str().unwrap())
-            .collect();
-        assert_eq!(ours.len(), theirs.len(), "the moving joints");
-        let joint = |name: &str| ours.iter().position(|o| *o == name).unwrap_or_else(|| panic!("joint {name}"));
-        let mut velocity: Vec<usize> = (0..6).collect();
-        velocity.extend(theirs.iter().map(|n| 6 + joint(n)));
-        let mut body = vec![0];
-        body.extend(theirs.iter().map(|n| 1 + joint(n)));
-        Order { velocity, body }
-    }
-
-    /// A Pinocchio velocity-indexed vector in our order.
-    fn vector(&self, theirs: &[f64]) -> Vec<f64> {
-        let mut out = vec![0.0; theirs.len()];
-        for (k, &i) in self.velocity.iter().enumerate() {
-            out[i] = theirs[k];
-        }
-        out
-    }
-
-    /// A configuration: the base's seven entries, then the joints.
-    fn configuration(&self, theirs: &[f64]) -> Vec<f64> {
-        let mut out = theirs[..7].to_vec();
-        out.extend(self.vector(&[&[0.0; 6][..], &theirs[7..]].concat())[6..].iter());
-        out
-    }
-
-    /// A matrix whose rows (`rows`) and/or columns (`cols`) are velocity-indexed.
-    fn matrix(&self, theirs: &DMatrix<f64>, rows: bool, cols: bool) -> DMatrix<f64> {
-        let mut out = theirs.clone();
-        for r in 0..theirs.nrows() {
-            for c in 0..theirs.ncols() {
-                let rr = if rows { self.velocity[r] } else { r };
-                let cc = if cols { self.velocity[c] } else { c };
-                out[(rr, cc)] = theirs[(r, c)];
-            }
-        }
-        out
-    }
-
-    /// Parameters or regressor columns in Pinocchio's body order, in ours.
-    fn parameter_columns(&self, theirs: &DMatrix<f64>) -> DMatrix<f64> {
-        let mut out = theirs.clone();
-        for (k, &b) in self.body.iter().enumerate() {
-            for p in 0..10 {
-                out.set_column(10 * b + p, &theirs.column(10 * k + p));
-            }
-        }
-        out
-    }
-}
-
 fn check_robot(robot: &str, urdf: &str) {
-    let fx = fixture(robot);
+    let fx = floating_fixture::load(robot);
     let loaded = load(urdf, &fx);
     let model = &loaded.model;
-    assert_eq!(model.floating_base().unwrap().name, fx["base_body"].as_str().unwrap());
-    assert_eq!((model.nq(), model.nv()), (fx["nq"].as_u64().unwrap() as usize, fx["nv"].as_u64().unwrap() as usize));
-    let order = Order::new(&loaded, &fx);
+    assert_eq!(
+        model.floating_base().unwrap().name,
+        fx["base_body"].as_str().unwrap()
+    );
+    assert_eq!(
+        (model.nq(), model.nv()),
+        (
+            fx["nq"].as_u64().unwrap() as usize,
+            fx["nv"].as_u64().unwrap() as usize
+        )
+    );
+    let order = Order::new(&loaded.model, &fx);
     let dynamics = FloatingDynamics::new(model).unwrap();
     let pi = DMatrix::from_row_slice(1, vector(&fx["pi"]).len(), &vector(&fx["pi"]));
     assert_close(
@@ -123,17 +65,23 @@ fn check_robot(robot: &str, urdf: &str) {
         &order.parameter_columns(&pi),
         TOL,
     );
+    let traced = trace_floating(model);
     let states = fx["states"].as_array().unwrap();
     for (k, st) in states.iter().enumerate() {
         let what = |q: &str| format!("{robot} state {k}: {q}");
         let q = order.configuration(&vector(&st["q"]));
         let [v, a, vr, ar] = ["v", "a", "vr", "ar"].map(|f| order.vector(&vector(&st[f])));
-        let reorder = |f: &str| order.matrix(&matrix(&st[f]), true, true);
+        let reorder = |f: &str| order.square(st, f);
         let rows = |f: &str| column(&order.vector(&vector(&st[f])));
         let s = dynamics.state(&q).unwrap();
         assert_close(&what("D"), &dynamics.mass_matrix(&s), &reorder("D"), TOL);
         assert_close(&what("C"), &dynamics.coriolis_matrix(&s, &v), &reorder("C"), TOL);
-        assert_close(&what("g"), &column(dynamics.gravity(&s).as_slice()), &rows("g"), TOL);
+        assert_close(
+            &what("g"),
+            &column(dynamics.gravity(&s).as_slice()),
+            &rows("g"),
+            TOL,
+        );
         let tau = dynamics.inverse_dynamics(&s, &v, &a);
         assert_close(&what("tau"), &column(tau.as_slice()), &rows("tau"), TOL);
         assert_close(
@@ -150,11 +98,26 @@ fn check_robot(robot: &str, urdf: &str) {
             &rows("aba"),
             TOL,
         );
-        assert_close(&what("Minv"), &dynamics.mass_matrix_inverse(&s), &reorder("Minv"), TOL);
+        assert_close(
+            &what("Minv"),
+            &dynamics.mass_matrix_inverse(&s),
+            &reorder("Minv"),
+            TOL,
+        );
         let (mass, com, ag) = dynamics.centroidal_momentum_matrix(&s);
         assert!(mass > 0.0);
-        assert_close(&what("com"), &column(com.as_slice()), &column(&vector(&st["com"])), TOL);
-        assert_close(&what("Ag"), &ag, &order.matrix(&matrix(&st["Ag"]), false, true), TOL);
+        assert_close(
+            &what("com"),
+            &column(com.as_slice()),
+            &column(&vector(&st["com"])),
+            TOL,
+        );
+        assert_close(
+            &what("Ag"),
+            &ag,
+            &order.matrix(&matrix(&st["Ag"]), false, true),
+            TOL,
+        );
         assert_close(
             &what("Jcom"),
             &dynamics.center_of_mass_jacobian(&s),
@@ -174,11 +137,26 @@ fn check_robot(robot: &str, urdf: &str) {
             };
             frames_compared += 1;
             let (rotation, translation) = dynamics.frame_pose(&s, index);
-            assert_close(&what(&format!("{f} translation")), &column(translation.as_slice()), &column(&vector(&frame["translation"])), TOL);
-            assert_close(&what(&format!("{f} rotation")), &DMatrix::from_column_slice(3, 3, rotation.as_slice()), &matrix(&frame["rotation"]), TOL);
+            assert_close(
+                &what(&format!("{f} translation")),
+                &column(translation.as_slice()),
+                &column(&vector(&frame["translation"])),
+                TOL,
+            );
+            assert_close(
+                &what(&format!("{f} rotation")),
+                &DMatrix::from_column_slice(3, 3, rotation.as_slice()),
+                &matrix(&frame["rotation"]),
+                TOL,
+            );
             let columns = |field: &str| order.matrix(&matrix(&frame[field]), false, true);
             let lwa = ReferenceFrame::LocalWorldAligned;
-            assert_close(&what(&format!("{f} J")), &dynamics.frame_jacobian(&s, index, lwa), &columns("J_lwa"), TOL);
+            assert_close(
+                &what(&format!("{f} J")),
+                &dynamics.frame_jacobian(&s, index, lwa),
+                &columns("J_lwa"),
+                TOL,
+            );
             assert_close(
                 &what(&format!("{f} J local")),
                 &dynamics.frame_jacobian(&s, index, ReferenceFrame::Local),
@@ -193,12 +171,158 @@ fn check_robot(robot: &str, urdf: &str) {
             );
         }
         assert!(frames_compared >= 4, "{}", what("the feet (and hands) compared"));
+        check_traced(&traced, &order, st, &what);
         let moved = dynamics.integrate(&q, &v, 0.1).unwrap();
-        assert_close(&what("integrate"), &column(&moved), &column(&order.configuration(&vector(&st["integrate"]))), TOL);
+        assert_close(
+            &what("integrate"),
+            &column(&moved),
+            &column(&order.configuration(&vector(&st["integrate"]))),
+            TOL,
+        );
         let next = order.configuration(&vector(&states[(k + 1) % states.len()]["q"]));
         let difference = dynamics.difference(&q, &next).unwrap();
-        assert_close(&what("difference"), &column(&difference), &column(&order.vector(&vector(&st["difference"]))), TOL);
+        assert_close(
+            &what("difference"),
+            &column(&difference),
+            &column(&order.vector(&vector(&st["difference"]))),
+            TOL,
+        );
     }
+}
+
+/// Every traced function of the floating base at one state, through the interpreter.
+fn check_traced(traced: &SymbolicRobot, order: &Order, st: &Value, what: &dyn Fn(&str) -> String) {
+    let q = order.configuration(&vector(&st["q"]));
+    let [v, a, vr, ar, tau] = ["v", "a", "vr", "ar", "tau"].map(|f| order.vector(&vector(&st[f])));
+    let nv = v.len();
+    let eval = |name: &str, args: Arguments| -> Vec<f64> {
+        traced
+            .evaluate_with(name, &args)
+            .unwrap_or_else(|| panic!("{}", what(&format!("{name} is not traced"))))
+    };
+    let square = |values: Vec<f64>| DMatrix::from_column_slice(nv, nv, &values);
+    fn at<'a>(q: &'a [f64], qd: &'a [f64], v: &'a [f64], a: &'a [f64]) -> Arguments<'a> {
+        Arguments {
+            q,
+            qd,
+            v,
+            a,
+            ..Arguments::default()
+        }
+    }
+    let none = at(&q, &[], &[], &[]);
+    let rows = |f: &str| column(&order.vector(&vector(&st[f])));
+    assert_close(
+        &what("traced D"),
+        &square(eval("mass_matrix", none)),
+        &order.square(st, "D"),
+        TOL,
+    );
+    assert_close(
+        &what("traced C"),
+        &square(eval("coriolis_matrix", at(&q, &v, &[], &[]))),
+        &order.square(st, "C"),
+        TOL,
+    );
+    assert_close(
+        &what("traced g"),
+        &column(&eval("gravity", none)),
+        &rows("g"),
+        TOL,
+    );
+    assert_close(
+        &what("traced tau"),
+        &column(&eval("inverse_dynamics", at(&q, &v, &[], &a))),
+        &rows("tau"),
+        TOL,
+    );
+    assert_close(
+        &what("traced tau_ref"),
+        &column(&eval("slotine_li", at(&q, &v, &vr, &ar))),
+        &rows("tau_ref"),
+        TOL,
+    );
+    let y = eval("regressor", at(&q, &v, &v, &a));
+    let expected_y = order.parameter_columns(&order.matrix(&matrix(&st["Y"]), true, false));
+    assert_close(
+        &what("traced Y"),
+        &DMatrix::from_column_slice(nv, y.len() / nv, &y),
+        &expected_y,
+        TOL,
+    );
+    let forward = eval(
+        "forward_dynamics",
+        Arguments {
+            q: &q,
+            qd: &v,
+            tau: &tau,
+            ..Arguments::default()
+        },
+    );
+    assert_close(&what("traced aba"), &column(&forward), &rows("aba"), TOL);
+    assert_close(
+        &what("traced Minv"),
+        &square(eval("mass_matrix_inverse", none)),
+        &order.square(st, "Minv"),
+        TOL,
+    );
+    assert_close(
+        &what("traced com"),
+        &column(&eval("center_of_mass", none)),
+        &column(&vector(&st["com"])),
+        TOL,
+    );
+    let ag = eval("centroidal_momentum_matrix", none);
+    let expected_ag = order.matrix(&matrix(&st["Ag"]), false, true);
+    assert_close(
+        &what("traced Ag"),
+        &DMatrix::from_column_slice(6, nv, &ag),
+        &expected_ag,
+        TOL,
+    );
+    let bias = eval("centroidal_bias", at(&q, &v, &[], &[]));
+    assert_close(
+        &what("traced dAg_v"),
+        &column(&bias),
+        &column(&vector(&st["dAg_v"])),
+        TOL,
+    );
+    let mut frames_compared = 0;
+    for (f, frame) in st["frames"].as_object().unwrap() {
+        let snake = f.to_lowercase();
+        let Some(jacobian) =
+            traced.evaluate_with(&format!("frame_jacobian_{snake}_local_world_aligned"), &none)
+        else {
+            continue; // a frame on the base body
+        };
+        frames_compared += 1;
+        let expected = order.matrix(&matrix(&frame["J_lwa"]), false, true);
+        assert_close(
+            &what(&format!("traced {f} J")),
+            &DMatrix::from_column_slice(6, nv, &jacobian),
+            &expected,
+            TOL,
+        );
+        let jdot = eval(
+            &format!("frame_jacobian_time_variation_{snake}_local_world_aligned"),
+            at(&q, &v, &[], &[]),
+        );
+        let expected = order.matrix(&matrix(&frame["Jdot_lwa"]), false, true);
+        assert_close(
+            &what(&format!("traced {f} Jdot")),
+            &DMatrix::from_column_slice(6, nv, &jdot),
+            &expected,
+            TOL,
+        );
+        let pose = eval(&format!("frame_pose_{snake}"), none);
+        assert_close(
+            &what(&format!("traced {f} translation")),
+            &column(&pose[9..]),
+            &column(&vector(&frame["translation"])),
+            TOL,
+        );
+    }
+    assert!(frames_compared >= 4, "{}", what("traced frames compared"));
 }
 
 #[test]

@@ -28,6 +28,11 @@ pub use panda_rounded::PandaRounded;
 
 #[rustfmt::skip]
 #[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, clippy::too_many_lines, clippy::many_single_char_names, clippy::similar_names, clippy::neg_multiply)]
+pub mod solo12;
+pub use solo12::Solo12;
+
+#[rustfmt::skip]
+#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, clippy::too_many_lines, clippy::many_single_char_names, clippy::similar_names, clippy::neg_multiply)]
 pub mod ur5;
 pub use ur5::Ur5;
 

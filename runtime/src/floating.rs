@@ -187,26 +187,47 @@ fn log_rotation(r: &Matrix3<f64>) -> Vector3<f64> {
 fn quaternion_of(r: &Matrix3<f64>) -> [f64; 4] {
     let trace = r[(0, 0)] + r[(1, 1)] + r[(2, 2)];
     let candidates = [r[(0, 0)], r[(1, 1)], r[(2, 2)], trace];
-    let (k, _) = candidates
-        .iter()
-        .enumerate()
-        .fold((0, f64::NEG_INFINITY), |best, (i, &v)| if v > best.1 { (i, v) } else { best });
+    let (k, _) =
+        candidates.iter().enumerate().fold(
+            (0, f64::NEG_INFINITY),
+            |best, (i, &v)| if v > best.1 { (i, v) } else { best },
+        );
     let q = match k {
         3 => {
             let s = sqrt(1.0 + trace) * 2.0;
-            [(r[(2, 1)] - r[(1, 2)]) / s, (r[(0, 2)] - r[(2, 0)]) / s, (r[(1, 0)] - r[(0, 1)]) / s, s / 4.0]
+            [
+                (r[(2, 1)] - r[(1, 2)]) / s,
+                (r[(0, 2)] - r[(2, 0)]) / s,
+                (r[(1, 0)] - r[(0, 1)]) / s,
+                s / 4.0,
+            ]
         }
         0 => {
             let s = sqrt(1.0 + r[(0, 0)] - r[(1, 1)] - r[(2, 2)]) * 2.0;
-            [s / 4.0, (r[(0, 1)] + r[(1, 0)]) / s, (r[(0, 2)] + r[(2, 0)]) / s, (r[(2, 1)] - r[(1, 2)]) / s]
+            [
+                s / 4.0,
+                (r[(0, 1)] + r[(1, 0)]) / s,
+                (r[(0, 2)] + r[(2, 0)]) / s,
+                (r[(2, 1)] - r[(1, 2)]) / s,
+            ]
         }
         1 => {
             let s = sqrt(1.0 + r[(1, 1)] - r[(0, 0)] - r[(2, 2)]) * 2.0;
-            [(r[(0, 1)] + r[(1, 0)]) / s, s / 4.0, (r[(1, 2)] + r[(2, 1)]) / s, (r[(0, 2)] - r[(2, 0)]) / s]
+            [
+                (r[(0, 1)] + r[(1, 0)]) / s,
+                s / 4.0,
+                (r[(1, 2)] + r[(2, 1)]) / s,
+                (r[(0, 2)] - r[(2, 0)]) / s,
+            ]
         }
         _ => {
             let s = sqrt(1.0 + r[(2, 2)] - r[(0, 0)] - r[(1, 1)]) * 2.0;
-            [(r[(0, 2)] + r[(2, 0)]) / s, (r[(1, 2)] + r[(2, 1)]) / s, s / 4.0, (r[(1, 0)] - r[(0, 1)]) / s]
+            [
+                (r[(0, 2)] + r[(2, 0)]) / s,
+                (r[(1, 2)] + r[(2, 1)]) / s,
+                s / 4.0,
+                (r[(1, 0)] - r[(0, 1)]) / s,
+            ]
         }
     };
     normalised(q)
@@ -238,7 +259,10 @@ mod tests {
             let b = a.integrate(&twist, 1.0);
             let back = a.difference(&b);
             for k in 0..6 {
-                assert!((back[k] - twist[k]).abs() < 1e-12 * (1.0 + scale), "{scale}: {back:?}");
+                assert!(
+                    (back[k] - twist[k]).abs() < 1e-12 * (1.0 + scale),
+                    "{scale}: {back:?}"
+                );
             }
         }
     }

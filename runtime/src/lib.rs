@@ -5,7 +5,8 @@
 //!   [`FrameKinematics`] (any named frame, in any [`ReferenceFrame`]; its `Frame` enum is a
 //!   [`RobotFrame`]) with [`WrenchDynamics`] ([`ExternalWrench`]es at those frames), and
 //!   [`LaneDynamics`] (several states per call, in the lane types
-//!   [`f64x4`] and [`f64x8`], any [`Lanes`]);
+//!   [`f64x4`] and [`f64x8`], any [`Lanes`]); on a free-flying base, [`FloatingBaseDynamics`]
+//!   and [`FloatingFrameKinematics`], taking a [`FloatingTrig`];
 //! - the parameterisations generic code is written against: [`Parameterization`], with
 //!   [`Standard`] and [`Base`];
 //! - the plain data they exchange: [`JointTrig`] and [`JointTrigLanes`] (with [`pack`] and
@@ -45,6 +46,7 @@ mod eight_lanes;
 mod eight_lanes_x86;
 mod fill;
 mod floating;
+mod floating_robot;
 mod frame;
 mod frames;
 mod joint;
@@ -63,6 +65,7 @@ mod trig_fused;
 mod version;
 
 pub use floating::{BasePose, NonUnitQuaternion, QUATERNION_NORM_TOLERANCE};
+pub use floating_robot::{ConfigurationError, FloatingBaseDynamics, FloatingFrameKinematics, FloatingTrig};
 pub use frames::{ExternalWrench, FrameKinematics, ReferenceFrame, RobotFrame, WrenchDynamics};
 pub use joint::{JointLimits, JointTrig};
 pub use lanes::{f64x4, f64x8, pack, unpack, JointTrigLanes, LaneDynamics, Lanes};
@@ -112,9 +115,9 @@ pub mod __private {
 /// brings `Arm7::mass_matrix(&t)` and `Arm7::jacobian(&t)` into reach.
 pub mod prelude {
     pub use crate::{
-        BaseParameters, DynamicsDerivatives, ExternalWrench, ForwardDynamics, FrameKinematics, JointTrig,
-        Kinematics, LaneDynamics, Parameterization, ReferenceFrame, Regressors, RobotDynamics, RobotFrame,
-        WrenchDynamics,
+        BaseParameters, DynamicsDerivatives, ExternalWrench, FloatingBaseDynamics, FloatingFrameKinematics,
+        FloatingTrig, ForwardDynamics, FrameKinematics, JointTrig, Kinematics, LaneDynamics,
+        Parameterization, ReferenceFrame, Regressors, RobotDynamics, RobotFrame, WrenchDynamics,
     };
 }
 

@@ -227,6 +227,28 @@ impl BaseParameterSet {
         }
     }
 
+    /// Every standard parameter its own base parameter, nothing folded: what a robot whose base
+    /// parameters are not computed (a floating base) carries.
+    pub fn unreduced(names: Vec<String>) -> BaseParameterSet {
+        let count = names.len();
+        BaseParameterSet {
+            standard_count: count,
+            columns: (0..count).collect(),
+            terms: (0..count).map(|i| vec![(i, 1.0)]).collect(),
+            names,
+            diagnostics: Diagnostics {
+                svd_rank: count,
+                smallest_kept_residual: 1.0,
+                largest_dropped_residual: 0.0,
+                verification_residual: 0.0,
+                zeroed: 0,
+                exact: 0,
+                inexact: 0,
+                uncleaned_columns: 0,
+            },
+        }
+    }
+
     /// Number of base parameters `p_b`.
     pub fn count(&self) -> usize {
         self.columns.len()

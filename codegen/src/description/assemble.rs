@@ -102,7 +102,12 @@ pub(crate) fn assemble(
 
     // A link on a fixed base never enters the dynamics, so its inertia's defects are only said.
     let floating = settings.floating_base;
-    non_physical::report(c.non_physical, |l| !floating && carrier[l].is_none(), c.robot_map, diags)?;
+    non_physical::report(
+        c.non_physical,
+        |l| !floating && carrier[l].is_none(),
+        c.robot_map,
+        diags,
+    )?;
 
     // Weld every link into its carrier's body; links on a fixed base do not move and drop
     // out, links on a floating one make up the base body.

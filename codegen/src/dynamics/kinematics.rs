@@ -88,7 +88,10 @@ pub fn frame_jacobian_dot<S: Scalar>(
     qd: &[S],
     frame: &Frame,
 ) -> DMatrix<S> {
-    project_columns(model, tree_jacobian_dot(model, world, &expand(model, qd), frame, None))
+    project_columns(
+        model,
+        tree_jacobian_dot(model, world, &expand(model, qd), frame, None),
+    )
 }
 
 /// The motion of a floating base, for the kinematics of the tree it carries: its angular
@@ -119,7 +122,10 @@ pub(crate) fn tree_jacobian_dot<S: Scalar>(
             Some(p) => (omega[p], pdot[p] + omega[p].cross(&(world[i].pos - world[p].pos))),
             None => match base {
                 None => (Vec3::zero(), Vec3::zero()),
-                Some(b) => (b.omega, b.origin_velocity + b.omega.cross(&(world[i].pos - b.origin))),
+                Some(b) => (
+                    b.omega,
+                    b.origin_velocity + b.omega.cross(&(world[i].pos - b.origin)),
+                ),
             },
         };
         let z = world_axis(model, world, i).scale(qd[i]);

@@ -56,8 +56,14 @@ impl<'m> FloatingDynamics<'m> {
     /// joint order (the columns of [`FloatingDynamics::regressor`]).
     pub fn with_parameters(model: &'m Model, theta: &[f64]) -> Option<Self> {
         let mut dynamics = FloatingDynamics::new(model)?;
-        assert_eq!(theta.len(), PARAMS_PER_BODY * (model.joints().len() + 1), "θ has the wrong length");
-        let body = |k: usize| RigidInertia::from_parameters(&std::array::from_fn(|i| theta[PARAMS_PER_BODY * k + i]));
+        assert_eq!(
+            theta.len(),
+            PARAMS_PER_BODY * (model.joints().len() + 1),
+            "θ has the wrong length"
+        );
+        let body = |k: usize| {
+            RigidInertia::from_parameters(&std::array::from_fn(|i| theta[PARAMS_PER_BODY * k + i]))
+        };
         dynamics.base_inertia = body(0);
         dynamics.inertias = (1..=model.joints().len()).map(body).collect();
         Some(dynamics)
@@ -65,7 +71,12 @@ impl<'m> FloatingDynamics<'m> {
 
     /// The standard parameters: the base body's ten, then ten per body in joint order.
     pub fn parameters(&self) -> Vec<f64> {
-        let base = self.model.floating_base().expect("a floating model").inertia.parameters();
+        let base = self
+            .model
+            .floating_base()
+            .expect("a floating model")
+            .inertia
+            .parameters();
         let mut theta = base.to_vec();
         theta.extend(self.model.parameters());
         theta
@@ -76,7 +87,9 @@ impl<'m> FloatingDynamics<'m> {
         assert_eq!(q.len(), self.model.nq(), "q has the wrong length");
         let base = BasePose::from_configuration(q)?;
         let pose = Transform {
-            rot: Mat3(std::array::from_fn(|i| std::array::from_fn(|j| base.rotation[(i, j)]))),
+            rot: Mat3(std::array::from_fn(|i| {
+                std::array::from_fn(|j| base.rotation[(i, j)])
+            })),
             pos: Vec3(base.position.into()),
         };
         let transforms = joint_transforms(self.model, &q[7..]);
@@ -97,7 +110,11 @@ impl<'m> FloatingDynamics<'m> {
     }
 
     fn check_velocity(&self, v: &[f64]) {
-        assert_eq!(v.len(), self.model.nv(), "a velocity or acceleration has the wrong length");
+        assert_eq!(
+            v.len(),
+            self.model.nv(),
+            "a velocity or acceleration has the wrong length"
+        );
     }
 
     /// `D(q)` (nv × nv).
@@ -113,7 +130,12 @@ impl<'m> FloatingDynamics<'m> {
 
     /// The generalised gravity `g(q)`.
     pub fn gravity(&self, s: &FloatingState) -> DVector<f64> {
-        DVector::from_vec(floating::floating_gravity(self.model, &self.base(s), &s.transforms, &self.inertias))
+        DVector::from_vec(floating::floating_gravity(
+            self.model,
+            &self.base(s),
+            &s.transforms,
+            &self.inertias,
+        ))
     }
 
     /// Inverse dynamics: the base wrench and joint torques that give `a = ν̇` at `(q, ν)`.
@@ -192,7 +214,8 @@ impl<'m> FloatingDynamics<'m> {
 
     /// The Jacobian (6 × nv) of frame `frame` in `reference`.
     pub fn frame_jacobian(&self, s: &FloatingState, frame: usize, reference: ReferenceFrame) -> DMatrix<f64> {
-        self.frame_motion(s, &vec![0.0; self.model.nv()], frame).jacobian_in(reference)
+        self.frame_motion(s, &vec![0.0; self.model.nv()], frame)
+            .jacobian_in(reference)
     }
 
     /// `J̇` of frame `frame` in `reference` along `ν`.
@@ -208,14 +231,21 @@ impl<'m> FloatingDynamics<'m> {
     }
 
     /// The frame's velocity `J ν` in `reference`, `[linear; angular]`.
-    pub fn frame_velocity(&self, s: &FloatingState, v: &[f64], frame: usize, reference: ReferenceFrame) -> Vector6<f64> {
+    pub fn frame_velocity(
+        &self,
+        s: &FloatingState,
+        v: &[f64],
+        frame: usize,
+        reference: ReferenceFrame,
+    ) -> Vector6<f64> {
         self.check_velocity(v);
         Vector6::from(self.frame_motion(s, v, frame).velocity_in(reference, v))
     }
 
     /// Total mass, centre of mass (world) and the centroidal momentum matrix `A_g` (6 × nv).
     pub fn centroidal_momentum_matrix(&self, s: &FloatingState) -> (f64, Vector3<f64>, DMatrix<f64>) {
-        let c = floating::centroidal_momentum_matrix(self.model, &self.base(s), &s.transforms, &self.inertias);
+        let c =
+            floating::centroidal_momentum_matrix(self.model, &self.base(s), &s.transforms, &self.inertias);
         (c.mass, Vector3::from(c.com.0), c.matrix)
     }
 
@@ -255,7 +285,10 @@ impl<'m> FloatingDynamics<'m> {
 
     /// The velocity that moves `q0` to `q1` in unit time (`q1 = q0 ⊕ difference(q0, q1)`).
     pub fn difference(&self, q0: &[f64], q1: &[f64]) -> Result<Vec<f64>, NonUnitQuaternion> {
-        let (a, b) = (BasePose::from_configuration(q0)?, BasePose::from_configuration(q1)?);
+        let (a, b) = (
+            BasePose::from_configuration(q0)?,
+            BasePose::from_configuration(q1)?,
+        );
         let mut out = a.difference(&b).to_vec();
         out.extend(q1[7..].iter().zip(&q0[7..]).map(|(x1, x0)| x1 - x0));
         Ok(out)

@@ -8,6 +8,7 @@ mod output;
 pub(crate) mod quantities;
 mod robot_file;
 pub(crate) mod trace;
+pub(crate) mod trace_floating;
 
 pub use crate::symbolic::OpCounts;
 pub use crate_dir::{descriptions_in, generate_into_crate, CrateReport, Mode, RobotReport};

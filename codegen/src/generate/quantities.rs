@@ -36,6 +36,9 @@ pub enum QuantityKind {
     FrameVelocity,
     FrameClassicalAcceleration,
     FrameKinematics,
+    CenterOfMass,
+    CentroidalMomentumMatrix,
+    CentroidalBias,
 }
 
 /// A row of the table.
@@ -74,6 +77,14 @@ impl QuantityKind {
         QuantityKind::FrameVelocity,
         QuantityKind::FrameClassicalAcceleration,
         QuantityKind::FrameKinematics,
+    ];
+
+    /// The kinds only a floating-base robot has (`FloatingBaseDynamics`), traced after the ones
+    /// of [`QuantityKind::ALL`] it shares with fixed-base robots.
+    pub const FLOATING_ONLY: [QuantityKind; 3] = [
+        QuantityKind::CenterOfMass,
+        QuantityKind::CentroidalMomentumMatrix,
+        QuantityKind::CentroidalBias,
     ];
 
     fn row(self) -> Row {
@@ -115,6 +126,9 @@ impl QuantityKind {
             QuantityKind::FrameVelocity => row("frame_velocity", G::Frames, false),
             QuantityKind::FrameClassicalAcceleration => row("frame_classical_acceleration", G::Frames, false),
             QuantityKind::FrameKinematics => row("frame_kinematics", G::Frames, false),
+            QuantityKind::CenterOfMass => row("center_of_mass", G::Dynamics, false),
+            QuantityKind::CentroidalMomentumMatrix => row("centroidal_momentum_matrix", G::Dynamics, false),
+            QuantityKind::CentroidalBias => row("centroidal_bias", G::Dynamics, false),
         }
     }
 
@@ -125,7 +139,10 @@ impl QuantityKind {
 
     /// The kind named `name`, if any.
     pub fn from_name(name: &str) -> Option<QuantityKind> {
-        QuantityKind::ALL.into_iter().find(|k| k.name() == name)
+        QuantityKind::ALL
+            .into_iter()
+            .chain(QuantityKind::FLOATING_ONLY)
+            .find(|k| k.name() == name)
     }
 
     /// The group a user chooses it by; its trait is the group's.

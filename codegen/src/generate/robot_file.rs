@@ -1,9 +1,10 @@
 //! One robot description in, one generated Rust module out: what `cargo xtask gen` and the
 //! build-script API both call.
 
-use super::emit::{emit, Provenance};
+use super::emit::{emit, emit_floating, Provenance};
 use super::hash::fnv1a64;
 use super::trace::trace_functions;
+use super::trace_floating::trace_floating;
 use crate::base_parameters::BaseParameterSet;
 use crate::description::{load_with, DescriptionError, UrdfOptions};
 use crate::functions::{FunctionGroup, Functions, EVERY_GROUP_BY_DEFAULT_UP_TO_DOF};
@@ -138,7 +139,11 @@ pub fn generate_robot_with(
         );
         return Err(DescriptionError::new(path, msg).into());
     }
-    let robot = trace_functions(&loaded.model, BaseParameterSet::compute(&loaded.model), functions);
+    let floating = loaded.model.floating_base().is_some();
+    let robot = match floating {
+        true => trace_floating(&loaded.model),
+        false => trace_functions(&loaded.model, BaseParameterSet::compute(&loaded.model), functions),
+    };
     if let Some(v) = robot.non_finite_constant() {
         let msg = format!(
             "the dynamics of this model overflow (a constant computes to {v}): masses, lengths \
@@ -159,7 +164,11 @@ pub fn generate_robot_with(
             base.diagnostics.svd_rank
         ));
     }
-    let code = format!("{GENERATED_MARKER}\n{}", emit(&loaded.model, &robot, &provenance));
+    let module = match floating {
+        true => emit_floating(&loaded.model, &robot, &provenance),
+        false => emit(&loaded.model, &robot, &provenance),
+    };
+    let code = format!("{GENERATED_MARKER}\n{module}");
     let op_counts = robot
         .quantities
         .iter()

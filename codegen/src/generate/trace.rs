@@ -104,6 +104,10 @@ pub struct Inputs {
     pub theta: Vec<Id>,
     /// The vector `r` of `Yᵀ r`.
     pub r: Vec<Id>,
+    /// A floating base's rotation (row-major) and position in the world; empty for a fixed
+    /// base.
+    pub base_rotation: Vec<Id>,
+    pub base_position: Vec<Id>,
 }
 
 /// Every quantity of one model, recorded in one graph.
@@ -118,15 +122,15 @@ pub struct SymbolicRobot {
     pub functions: Functions,
 }
 
-fn ids(v: &[Expr]) -> Vec<Id> {
+pub(super) fn ids(v: &[Expr]) -> Vec<Id> {
     v.iter().map(|e| e.id()).collect()
 }
 
-fn matrix_ids(m: &DMatrix<Expr>) -> Vec<Id> {
+pub(super) fn matrix_ids(m: &DMatrix<Expr>) -> Vec<Id> {
     m.iter().map(|e| e.id()).collect() // nalgebra iterates column-major
 }
 
-fn inputs(prefix: &str, n: usize) -> Vec<Expr> {
+pub(super) fn inputs(prefix: &str, n: usize) -> Vec<Expr> {
     (0..n).map(|i| Expr::input(&format!("{prefix}{i}"))).collect()
 }
 
@@ -314,6 +318,8 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
                 tau: ids(&tau),
                 theta: ids(&theta),
                 r: ids(&r),
+                base_rotation: Vec::new(),
+                base_position: Vec::new(),
             },
             quantities,
             other_forms,
@@ -574,8 +580,43 @@ fn frame_quantities(
     index: usize,
     frame: &crate::model::Frame,
 ) -> (Vec<Quantity>, Vec<(String, Vec<Id>)>) {
-    let n = model.dof();
     let motion = dynamics::FrameMotion::new(model, world, qd, frame);
+    let out = frame_motion_quantities(&motion, qd, qdd, index, frame, model.dof());
+    let snake = frame_identifiers(&frame.name).snake;
+    let frame_of = |reference| FrameOf {
+        index,
+        snake: snake.clone(),
+        reference,
+    };
+    let name_of = |kind, reference| frame_of(Some(reference)).function_name(kind);
+    let mut other_forms = vec![(
+        name_of(QuantityKind::FrameJacobian, ReferenceFrame::Local),
+        matrix_ids(&dynamics::local_jacobian(model, x, frame)),
+    )];
+    let rates = dynamics::FrameRates::new(model, x, qd, qdd, frame);
+    for r in ReferenceFrame::ALL {
+        other_forms.push((
+            name_of(QuantityKind::FrameVelocity, r),
+            ids(&rates.velocity_in(r, &motion.pose)),
+        ));
+        other_forms.push((
+            name_of(QuantityKind::FrameClassicalAcceleration, r),
+            ids(&rates.classical_acceleration_in(r, &motion.pose)),
+        ));
+    }
+    (out, other_forms)
+}
+
+/// The frame quantities of one frame from its motion (`n` velocity coordinates): the pose, `J`
+/// and `J̇` in each reference frame, velocity, classical acceleration, and `(pose, J, J̇)`.
+pub(super) fn frame_motion_quantities(
+    motion: &dynamics::FrameMotion<Expr>,
+    qd: &[Expr],
+    qdd: &[Expr],
+    index: usize,
+    frame: &crate::model::Frame,
+    n: usize,
+) -> Vec<Quantity> {
     let snake = frame_identifiers(&frame.name).snake;
     let frame_of = |reference| FrameOf {
         index,
@@ -647,28 +688,11 @@ fn frame_quantities(
         Shape::Kinematics(n),
         fused,
     ));
-
-    let name_of = |kind, reference| frame_of(Some(reference)).function_name(kind);
-    let mut other_forms = vec![(
-        name_of(QuantityKind::FrameJacobian, ReferenceFrame::Local),
-        matrix_ids(&dynamics::local_jacobian(model, x, frame)),
-    )];
-    let rates = dynamics::FrameRates::new(model, x, qd, qdd, frame);
-    for r in ReferenceFrame::ALL {
-        other_forms.push((
-            name_of(QuantityKind::FrameVelocity, r),
-            ids(&rates.velocity_in(r, &motion.pose)),
-        ));
-        other_forms.push((
-            name_of(QuantityKind::FrameClassicalAcceleration, r),
-            ids(&rates.classical_acceleration_in(r, &motion.pose)),
-        ));
-    }
-    (out, other_forms)
+    out
 }
 
 /// A pose's outputs: the rotation column-major, then the translation.
-fn pose_ids(pose: &crate::spatial::Transform<Expr>) -> Vec<Id> {
+pub(super) fn pose_ids(pose: &crate::spatial::Transform<Expr>) -> Vec<Id> {
     let mut out: Vec<Id> = pose.rot.transpose().0.iter().flatten().map(|e| e.id()).collect();
     out.extend(pose.pos.0.iter().map(|e| e.id()));
     out
@@ -731,8 +755,19 @@ impl SymbolicRobot {
     pub fn evaluate_with(&self, name: &str, args: &Arguments) -> Option<Vec<f64>> {
         let quantity = self.quantity(name)?;
         let mut values = vec![0.0; self.graph.input_names().len()];
+        // A floating base's `q` is the whole configuration: the base pose, then the joints.
+        let (base_rotation, base_position, q) = match self.inputs.base_rotation.is_empty() {
+            true => (Vec::new(), Vec::new(), args.q),
+            false => {
+                let base = dyngen_runtime::BasePose::from_configuration(args.q).ok()?;
+                let rotation: Vec<f64> = (0..9).map(|k| base.rotation[(k / 3, k % 3)]).collect();
+                (rotation, base.position.as_slice().to_vec(), &args.q[7..])
+            }
+        };
         for (ids, xs) in [
-            (&self.inputs.q, args.q),
+            (&self.inputs.base_rotation, &base_rotation[..]),
+            (&self.inputs.base_position, &base_position[..]),
+            (&self.inputs.q, q),
             (&self.inputs.qd, args.qd),
             (&self.inputs.v, args.v),
             (&self.inputs.a, args.a),

@@ -7,6 +7,7 @@
 pub mod allocations;
 pub mod double_double;
 pub mod fixture;
+pub mod floating_fixture;
 pub mod frame_fixture;
 pub mod fuzz;
 pub mod joint_terms;

@@ -2,8 +2,8 @@
 //! a floating base (see the module docs of `floating` for the base's recursion).
 
 use super::{base_entries, base_motion, FloatingBase};
-use crate::dynamics::slotine_li::{body_force, forward_pass_from, gravity_vector, tree_forces, BodyMotion};
 use crate::dynamics::joint::joint_force;
+use crate::dynamics::slotine_li::{body_force, forward_pass_from, gravity_vector, tree_forces, BodyMotion};
 use crate::model::{Model, PARAMS_PER_BODY};
 use crate::scalar::Scalar;
 use crate::spatial::{JointFrame, Mat3, Motion, RigidInertia, Vec3};
@@ -11,7 +11,13 @@ use nalgebra::DMatrix;
 
 /// The base body's motion: velocity `ν`, reference velocity `ν_r`, reference acceleration
 /// `a_r + ν × ν_r` with gravity (world `g`, seen in the base frame) as an upward acceleration.
-fn base_body_motion<S: Scalar>(rotation: &Mat3<S>, qd: &[S], v: &[S], a: &[S], gravity: Option<Vec3<S>>) -> BodyMotion<S> {
+fn base_body_motion<S: Scalar>(
+    rotation: &Mat3<S>,
+    qd: &[S],
+    v: &[S],
+    a: &[S],
+    gravity: Option<Vec3<S>>,
+) -> BodyMotion<S> {
     let (vel, w) = (base_motion(qd), base_motion(v));
     let mut wdot = base_motion(a) + vel.cross_motion(&w);
     if let Some(g) = gravity {

@@ -14,7 +14,11 @@ use crate::spatial::{Transform, Vec3};
 use nalgebra::DMatrix;
 
 /// Each body's frame in the world, the roots placed on the base.
-pub fn floating_body_poses<S: Scalar>(model: &Model, base: &Transform<S>, x: &[Transform<S>]) -> Vec<Transform<S>> {
+pub fn floating_body_poses<S: Scalar>(
+    model: &Model,
+    base: &Transform<S>,
+    x: &[Transform<S>],
+) -> Vec<Transform<S>> {
     let mut world: Vec<Transform<S>> = Vec::with_capacity(model.joints().len());
     for (i, joint) in model.joints().iter().enumerate() {
         let parent = match joint.parent {

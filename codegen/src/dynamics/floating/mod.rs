@@ -17,7 +17,7 @@ mod inverse;
 mod kinematics;
 mod mass;
 
-pub(crate) use centroidal::{centroidal_bias, centroidal_momentum_matrix, CentroidalMomentum};
+pub(crate) use centroidal::{centroidal_bias, centroidal_momentum_matrix};
 pub(crate) use inverse::{
     floating_coriolis_matrix, floating_gravity, floating_inverse_dynamics, floating_regressor,
     floating_slotine_li,
@@ -26,7 +26,7 @@ pub(crate) use kinematics::{floating_body_poses, floating_frame_jacobian, floati
 pub(crate) use mass::{floating_forward_dynamics, floating_mass_matrix, floating_mass_matrix_inverse};
 
 use crate::scalar::Scalar;
-use crate::spatial::{Force, Mat3, Motion, RigidInertia, Transform, Vec3};
+use crate::spatial::{Force, Motion, RigidInertia, Transform, Vec3};
 
 /// A floating base at one configuration: its pose in the world, and its body's inertia in its
 /// own frame.
@@ -55,16 +55,4 @@ pub(crate) fn unit_base_motion<S: Scalar>(k: usize) -> Motion<S> {
     let mut v = [S::zero(); 6];
     v[k] = S::one();
     base_motion(&v)
-}
-
-/// The rotation of the unit quaternion `[x, y, z, w]` (a polynomial, so it traces to a few
-/// multiplications).
-pub(crate) fn quaternion_rotation<S: Scalar>(q: [S; 4]) -> Mat3<S> {
-    let [x, y, z, w] = q;
-    let (one, two) = (S::one(), S::from_f64(2.0));
-    Mat3([
-        [one - two * (y * y + z * z), two * (x * y - z * w), two * (x * z + y * w)],
-        [two * (x * y + z * w), one - two * (x * x + z * z), two * (y * z - x * w)],
-        [two * (x * z - y * w), two * (y * z + x * w), one - two * (x * x + y * y)],
-    ])
 }

@@ -27,9 +27,53 @@ const KINEMATICS: [QuantityKind; 4] = [
     QuantityKind::Kinematics,
 ];
 
+/// The frame trait a robot implements: `FrameKinematics<N>` on `JointTrig<N>` with `N`
+/// columns, or on a floating base `FloatingFrameKinematics<N, NV>` on `FloatingTrig<N>` with
+/// `NV` columns.
+pub(super) struct FrameTrait {
+    pub(super) name: TokenStream,
+    /// The doc of the `Frame` enum, which links the trait.
+    pub(super) enum_doc: &'static str,
+    pub(super) trig: TokenStream,
+    /// Columns of a Jacobian (velocity coordinates).
+    pub(super) width: usize,
+}
+
+impl FrameTrait {
+    pub(super) fn fixed(model: &Model) -> FrameTrait {
+        let n = Literal::usize_unsuffixed(model.dof());
+        FrameTrait {
+            name: quote!(FrameKinematics<#n>),
+            enum_doc: " The robot's named frames: the argument of every [`FrameKinematics`] method.",
+            trig: quote!(JointTrig<#n>),
+            width: model.dof(),
+        }
+    }
+
+    pub(super) fn floating(model: &Model) -> FrameTrait {
+        let (n, nv) = (
+            Literal::usize_unsuffixed(model.dof()),
+            Literal::usize_unsuffixed(model.nv()),
+        );
+        FrameTrait {
+            name: quote!(FloatingFrameKinematics<#n, #nv>),
+            enum_doc: " The robot's named frames: the argument of every [`FloatingFrameKinematics`] method.",
+            trig: quote!(FloatingTrig<#n>),
+            width: model.nv(),
+        }
+    }
+}
+
 /// The frame items of the module: enum, constants, functions, trait implementation.
-pub(super) fn frame_items(model: &Model, robot: &SymbolicRobot, leaves: &Leaves, ty: &Ident) -> TokenStream {
-    let n = Literal::usize_unsuffixed(model.dof());
+pub(super) fn frame_items(
+    model: &Model,
+    robot: &SymbolicRobot,
+    leaves: &Leaves,
+    ty: &Ident,
+    frame_trait: &FrameTrait,
+) -> TokenStream {
+    let n = Literal::usize_unsuffixed(frame_trait.width);
+    let (trait_name, trig, enum_doc) = (&frame_trait.name, &frame_trait.trig, frame_trait.enum_doc);
     let frames = model.frames();
     let variants: Vec<Ident> = frames
         .iter()
@@ -60,7 +104,7 @@ pub(super) fn frame_items(model: &Model, robot: &SymbolicRobot, leaves: &Leaves,
             Some(call) => call.clone(),
             None => {
                 let name = format_ident!("{}", q.name());
-                functions.push(function(robot, leaves, q, model.dof(), Form::Scalar));
+                functions.push(function(robot, leaves, q, frame_trait.width, Form::Scalar));
                 existing.insert(key, quote!(#name));
                 quote!(#name)
             }
@@ -96,7 +140,7 @@ pub(super) fn frame_items(model: &Model, robot: &SymbolicRobot, leaves: &Leaves,
         /// Frame names, in the order of [`Frame`]'s variants.
         pub const FRAME_NAMES: [&str; FRAME_COUNT] = [#(#names),*];
 
-        /// The robot's named frames: the argument of every [`FrameKinematics`] method.
+        #[doc = #enum_doc]
         #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
         pub enum Frame {
             #(#[doc = #docs] #variants,)*
@@ -112,16 +156,16 @@ pub(super) fn frame_items(model: &Model, robot: &SymbolicRobot, leaves: &Leaves,
             }
         }
 
-        impl FrameKinematics<#n> for #ty {
+        impl #trait_name for #ty {
             type Frame = Frame;
 
-            fn frame_pose(frame: Frame, t: &JointTrig<#n>) -> Pose {
+            fn frame_pose(frame: Frame, t: &#trig) -> Pose {
                 match frame {
                     #(#pose)*
                 }
             }
 
-            fn frame_jacobian(frame: Frame, reference: ReferenceFrame, t: &JointTrig<#n>) -> SMatrix<f64, 6, #n> {
+            fn frame_jacobian(frame: Frame, reference: ReferenceFrame, t: &#trig) -> SMatrix<f64, 6, #n> {
                 match (frame, reference) {
                     #(#jacobian)*
                 }
@@ -130,7 +174,7 @@ pub(super) fn frame_items(model: &Model, robot: &SymbolicRobot, leaves: &Leaves,
             fn frame_jacobian_time_variation(
                 frame: Frame,
                 reference: ReferenceFrame,
-                t: &JointTrig<#n>,
+                t: &#trig,
                 qd: &SVector<f64, #n>,
             ) -> SMatrix<f64, 6, #n> {
                 match (frame, reference) {
@@ -141,7 +185,7 @@ pub(super) fn frame_items(model: &Model, robot: &SymbolicRobot, leaves: &Leaves,
             fn frame_velocity(
                 frame: Frame,
                 reference: ReferenceFrame,
-                t: &JointTrig<#n>,
+                t: &#trig,
                 qd: &SVector<f64, #n>,
             ) -> SVector<f64, 6> {
                 match (frame, reference) {
@@ -152,7 +196,7 @@ pub(super) fn frame_items(model: &Model, robot: &SymbolicRobot, leaves: &Leaves,
             fn frame_classical_acceleration(
                 frame: Frame,
                 reference: ReferenceFrame,
-                t: &JointTrig<#n>,
+                t: &#trig,
                 qd: &SVector<f64, #n>,
                 qdd: &SVector<f64, #n>,
             ) -> SVector<f64, 6> {
@@ -163,7 +207,7 @@ pub(super) fn frame_items(model: &Model, robot: &SymbolicRobot, leaves: &Leaves,
 
             fn frame_kinematics(
                 frame: Frame,
-                t: &JointTrig<#n>,
+                t: &#trig,
                 qd: &SVector<f64, #n>,
             ) -> (Pose, SMatrix<f64, 6, #n>, SMatrix<f64, 6, #n>) {
                 match frame {

@@ -359,7 +359,7 @@ pub(super) fn function(
     }
     // Chunks read the arguments; the method itself reads only what its result needs.
     let prelude = signature(robot, leaves, &q.args, &main_used, &n, form).prelude;
-    let params = all_parameters(&q.args, &n, form);
+    let params = all_parameters(&q.args, &n, form, leaves.floating_joints);
     let method = quote! {
         #(#[doc = #doc])*
         #[inline(never)]

@@ -14,6 +14,9 @@ pub(super) struct Leaves {
     /// needs them, and a scan per chunk made large robots' emission quadratic).
     pub(super) sin_ids: Vec<Id>,
     pub(super) cos_ids: Vec<Id>,
+    /// The number of joints of a floating-base robot, whose functions take a `FloatingTrig`
+    /// (the joints' `JointTrig` and the base pose); `None` for a fixed base.
+    pub(super) floating_joints: Option<usize>,
 }
 
 impl Leaves {
@@ -29,10 +32,14 @@ impl Leaves {
             ("tau", &inputs.tau),
             ("theta", &inputs.theta),
             ("r", &inputs.r),
+            ("pos", &inputs.base_position),
         ] {
             for (i, id) in ids.iter().enumerate() {
                 names.insert(*id, format_ident!("{prefix}{i}"));
             }
+        }
+        for (k, id) in inputs.base_rotation.iter().enumerate() {
+            names.insert(*id, format_ident!("rot{}{}", k / 3, k % 3));
         }
         // sin and cos of a joint angle come precomputed in `JointTrig`.
         for i in 0..g.len() {
@@ -54,6 +61,7 @@ impl Leaves {
             names,
             sin_ids: trig_ids(robot, true),
             cos_ids: trig_ids(robot, false),
+            floating_joints: (!inputs.base_rotation.is_empty()).then_some(inputs.q.len()),
         }
     }
 }

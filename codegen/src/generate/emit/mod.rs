@@ -15,6 +15,7 @@
 //! the generated code has no indexing, no allocation and no panic path.
 
 mod constants;
+mod floating;
 mod frames;
 mod function;
 mod leaves;
@@ -25,6 +26,7 @@ use super::trace::SymbolicRobot;
 use crate::functions::{FunctionGroup, Functions};
 use crate::model::Model;
 use constants::{base_parameters_function, joint_limits, literal, parameter_kinds};
+pub use floating::emit_floating;
 use function::{function, Emitted};
 use leaves::Leaves;
 use plan::Form;
@@ -235,7 +237,9 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
                         }
                     }
                 }
-                FunctionGroup::Frames => frames::frame_items(model, robot, &leaves, &ty),
+                FunctionGroup::Frames => {
+                    frames::frame_items(model, robot, &leaves, &ty, &frames::FrameTrait::fixed(model))
+                }
                 other => {
                     let name = format_ident!("{}", other.trait_name());
                     quote! {

@@ -54,11 +54,16 @@ fn destructure(leaves: &Leaves, ids: &[Id], used: &[Id], source: TokenStream) ->
     Some(quote!(let [#(#pattern),*] = #source;))
 }
 
-/// The type of the joint sines and cosines, and of a joint-space vector argument.
-fn argument_types(form: Form, n: &Literal) -> (TokenStream, TokenStream) {
-    match form {
-        Form::Scalar => (quote!(JointTrig<#n>), quote!(SVector<f64, #n>)),
-        Form::Lanes => (quote!(JointTrigLanes<#n, L>), quote!([L; #n])),
+/// The type of the joint sines and cosines (with a floating base's pose: `FloatingTrig` of
+/// that many joints), and of a velocity-space vector argument (`n` entries).
+fn argument_types(form: Form, n: &Literal, floating_joints: Option<usize>) -> (TokenStream, TokenStream) {
+    match (form, floating_joints) {
+        (Form::Scalar, Some(joints)) => {
+            let joints = Literal::usize_unsuffixed(joints);
+            (quote!(FloatingTrig<#joints>), quote!(SVector<f64, #n>))
+        }
+        (Form::Scalar, None) => (quote!(JointTrig<#n>), quote!(SVector<f64, #n>)),
+        (Form::Lanes, _) => (quote!(JointTrigLanes<#n, L>), quote!([L; #n])),
     }
 }
 
@@ -70,13 +75,24 @@ pub(super) fn signature(
     n: &Literal,
     form: Form,
 ) -> Signature {
-    let (trig_type, vector_type) = argument_types(form, n);
+    let (trig_type, vector_type) = argument_types(form, n, leaves.floating_joints);
     let inputs = &robot.inputs;
     let (sin_ids, cos_ids) = (&leaves.sin_ids, &leaves.cos_ids);
+    let joints = match leaves.floating_joints {
+        Some(_) => quote!(t.joints),
+        None => quote!(t),
+    };
     let mut prelude = Vec::new();
-    prelude.extend(destructure(leaves, &inputs.q, used, quote!(t.q)));
-    prelude.extend(destructure(leaves, sin_ids, used, quote!(t.sin)));
-    prelude.extend(destructure(leaves, cos_ids, used, quote!(t.cos)));
+    prelude.extend(destructure(leaves, &inputs.q, used, quote!(#joints.q)));
+    prelude.extend(destructure(leaves, sin_ids, used, quote!(#joints.sin)));
+    prelude.extend(destructure(leaves, cos_ids, used, quote!(#joints.cos)));
+    prelude.extend(destructure(
+        leaves,
+        &inputs.base_position,
+        used,
+        quote!(t.base.position.data.0[0]),
+    ));
+    prelude.extend(destructure_rotation(leaves, &inputs.base_rotation, used));
     let mut params = vec![Param {
         name: format_ident!("t"),
         ty: quote!(&#trig_type),
@@ -107,6 +123,28 @@ pub(super) fn signature(
     Signature { params, prelude }
 }
 
+/// `let [[rot00, rot10, rot20], …] = t.base.rotation.data.0;` (nalgebra stores columns) for
+/// the base rotation entries in `used`.
+fn destructure_rotation(leaves: &Leaves, row_major: &[Id], used: &[Id]) -> Option<TokenStream> {
+    if !row_major.iter().any(|id| used.contains(id)) {
+        return None;
+    }
+    let columns = (0..3).map(|c| {
+        let entries = (0..3).map(|r| {
+            let id = &row_major[3 * r + c];
+            match used.contains(id) {
+                true => {
+                    let name = &leaves.names[id];
+                    quote!(#name)
+                }
+                false => quote!(_),
+            }
+        });
+        quote!([#(#entries),*])
+    });
+    Some(quote!(let [#(#columns),*] = t.base.rotation.data.0;))
+}
+
 pub(super) fn argument_names(args: &[Arg]) -> Vec<Ident> {
     let mut names = vec![format_ident!("t")];
     names.extend(args.iter().map(|a| match a {
@@ -132,8 +170,13 @@ fn argument_type(arg: Arg, joint_vector: &TokenStream) -> TokenStream {
 }
 
 /// `t: &JointTrig<N>, qd: &SVector<f64, N>, …`: every argument, used or not.
-pub(super) fn all_parameters(args: &[Arg], n: &Literal, form: Form) -> Vec<TokenStream> {
-    let (trig_type, vector_type) = argument_types(form, n);
+pub(super) fn all_parameters(
+    args: &[Arg],
+    n: &Literal,
+    form: Form,
+    floating_joints: Option<usize>,
+) -> Vec<TokenStream> {
+    let (trig_type, vector_type) = argument_types(form, n, floating_joints);
     let names = argument_names(args);
     let (t, vectors) = names.split_first().expect("t is always an argument");
     let mut params = vec![quote!(#t: &#trig_type)];

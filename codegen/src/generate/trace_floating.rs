@@ -1,0 +1,193 @@
+//! The tracer of a floating-base robot: the floating algorithms run on symbolic inputs, the
+//! base pose entering as its rotation matrix and position (`FloatingTrig` computes them once
+//! per tick from the quaternion), velocities of `nv = dof + 6` entries.
+
+use super::quantities::QuantityKind;
+use super::trace::{
+    frame_motion_quantities, ids, inputs, matrix_ids, Arg, Inputs, Quantity, Shape, SymbolicRobot,
+};
+use crate::base_parameters::BaseParameterSet;
+use crate::dynamics::floating::{self as algorithms, FloatingBase};
+use crate::dynamics::{self, FrameMotion};
+use crate::functions::{FunctionGroup, Functions};
+use crate::model::Model;
+use crate::scalar::Scalar;
+use crate::spatial::{Mat3, RigidInertia, Transform, Vec3};
+use crate::symbolic::{record, Expr};
+
+/// The groups a floating-base robot is generated with: its dynamics (with the centroidal
+/// quantities), forward dynamics and frames, the functions of `FloatingBaseDynamics` and
+/// `FloatingFrameKinematics`.
+pub fn floating_functions() -> Functions {
+    Functions::with(&[
+        FunctionGroup::Kinematics,
+        FunctionGroup::Dynamics,
+        FunctionGroup::Regressors,
+        FunctionGroup::ForwardDynamics,
+        FunctionGroup::Frames,
+    ])
+    .expect("the floating groups need nothing they lack")
+}
+
+/// Records every floating-base quantity of `model` in one graph.
+pub fn trace_floating(model: &Model) -> SymbolicRobot {
+    let body = model
+        .floating_base()
+        .expect("trace_floating needs a floating base");
+    let (n, nv) = (model.dof(), model.nv());
+    let (graph, (inputs, quantities)) = record(|| {
+        let q = inputs("q", n);
+        let rotation = inputs("rot", 9);
+        let position = inputs("pos", 3);
+        let (qd, v, a, tau) = (
+            inputs("qd", nv),
+            inputs("v", nv),
+            inputs("a", nv),
+            inputs("tau", nv),
+        );
+        let pose = Transform {
+            rot: Mat3(std::array::from_fn(|r| {
+                std::array::from_fn(|c| rotation[3 * r + c])
+            })),
+            pos: Vec3([position[0], position[1], position[2]]),
+        };
+        let base = FloatingBase {
+            pose,
+            inertia: RigidInertia::from_parameters(&body.inertia.parameters().map(Expr::from_f64)),
+        };
+        let x = dynamics::joint_transforms(model, &q);
+        let world = algorithms::floating_body_poses(model, &pose, &x);
+        let inertias: Vec<RigidInertia<Expr>> = dynamics::body_inertias(model);
+        let gravity = Some(Vec3::from_f64(model.gravity().into()));
+        let p = 10 * (model.joints().len() + 1);
+        let quantity = |kind, args: Vec<Arg>, shape, outputs| Quantity {
+            kind,
+            frame: None,
+            args,
+            shape,
+            outputs,
+        };
+        let centroidal = algorithms::centroidal_momentum_matrix(model, &base, &x, &inertias);
+        let mut quantities = vec![
+            quantity(
+                QuantityKind::MassMatrix,
+                vec![],
+                Shape::Matrix(nv, nv),
+                matrix_ids(&algorithms::floating_mass_matrix(
+                    model,
+                    &base.inertia,
+                    &x,
+                    &inertias,
+                )),
+            ),
+            quantity(
+                QuantityKind::CoriolisMatrix,
+                vec![Arg::Qd],
+                Shape::Matrix(nv, nv),
+                matrix_ids(&algorithms::floating_coriolis_matrix(
+                    model, &base, &x, &inertias, &qd,
+                )),
+            ),
+            quantity(
+                QuantityKind::Gravity,
+                vec![],
+                Shape::Vector(nv),
+                ids(&algorithms::floating_gravity(model, &base, &x, &inertias)),
+            ),
+            quantity(
+                QuantityKind::InverseDynamics,
+                vec![Arg::Qd, Arg::A],
+                Shape::Vector(nv),
+                ids(&algorithms::floating_inverse_dynamics(
+                    model, &base, &x, &inertias, &qd, &a,
+                )),
+            ),
+            quantity(
+                QuantityKind::SlotineLi,
+                vec![Arg::Qd, Arg::V, Arg::A],
+                Shape::Vector(nv),
+                ids(&algorithms::floating_slotine_li(
+                    model, &base, &x, &inertias, &qd, &v, &a, gravity,
+                )),
+            ),
+            quantity(
+                QuantityKind::Regressor,
+                vec![Arg::Qd, Arg::V, Arg::A],
+                Shape::Matrix(nv, p),
+                matrix_ids(&algorithms::floating_regressor(model, &pose.rot, &x, &qd, &v, &a)),
+            ),
+            quantity(
+                QuantityKind::ForwardDynamics,
+                vec![Arg::Qd, Arg::Tau],
+                Shape::Vector(nv),
+                ids(&algorithms::floating_forward_dynamics(
+                    model, &base, &x, &inertias, &qd, &tau,
+                )),
+            ),
+            quantity(
+                QuantityKind::MassMatrixInverse,
+                vec![],
+                Shape::Matrix(nv, nv),
+                matrix_ids(&algorithms::floating_mass_matrix_inverse(
+                    model, &base, &x, &inertias,
+                )),
+            ),
+            quantity(
+                QuantityKind::CenterOfMass,
+                vec![],
+                Shape::Vector(3),
+                ids(&centroidal.com.0),
+            ),
+            quantity(
+                QuantityKind::CentroidalMomentumMatrix,
+                vec![],
+                Shape::Matrix(6, nv),
+                matrix_ids(&centroidal.matrix),
+            ),
+            quantity(
+                QuantityKind::CentroidalBias,
+                vec![Arg::Qd],
+                Shape::Vector(6),
+                ids(&algorithms::centroidal_bias(model, &base, &x, &inertias, &qd)),
+            ),
+        ];
+        for (index, frame) in model.frames().iter().enumerate() {
+            let motion = FrameMotion {
+                pose: world[frame.parent].compose(&dynamics::joint::pose_to_transform(&frame.placement)),
+                jacobian: algorithms::floating_frame_jacobian(model, &pose, &world, frame),
+                jacobian_dot: algorithms::floating_frame_jacobian_dot(model, &pose, &world, &qd, frame),
+            };
+            quantities.extend(frame_motion_quantities(&motion, &qd, &a, index, frame, nv));
+        }
+        let inputs = Inputs {
+            q: ids(&q),
+            qd: ids(&qd),
+            v: ids(&v),
+            a: ids(&a),
+            tau: ids(&tau),
+            theta: Vec::new(),
+            r: Vec::new(),
+            base_rotation: ids(&rotation),
+            base_position: ids(&position),
+        };
+        (inputs, quantities)
+    });
+    SymbolicRobot {
+        graph,
+        inputs,
+        quantities,
+        base: BaseParameterSet::unreduced(floating_parameter_names(model)),
+        functions: floating_functions(),
+    }
+}
+
+/// Names of the floating-base parameters: the base body's ten, then the joints' bodies'.
+pub fn floating_parameter_names(model: &Model) -> Vec<String> {
+    let base = &model.floating_base().expect("a floating base").name;
+    let mut names: Vec<String> = crate::model::PARAM_NAMES
+        .iter()
+        .map(|p| format!("{p}[{base}]"))
+        .collect();
+    names.extend(model.parameter_names());
+    names
+}

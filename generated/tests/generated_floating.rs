@@ -1,0 +1,229 @@
+//! The compiled floating-base robot (Solo-12, `robots/solo12.yaml`) against Pinocchio 4.1 with
+//! `JointModelFreeFlyer` (`codegen/tests/fixtures/floating/solo12.json`) and against the generic
+//! floating-base dynamics at random states, every function of `FloatingBaseDynamics` and
+//! `FloatingFrameKinematics`.
+
+use dyngen_testkit as common;
+
+use common::fixture::{matrix, vector};
+use common::floating_fixture::{self, Order};
+use common::{assert_close, column, workspace_root};
+use dyngen_codegen::description::load;
+use dyngen_codegen::dynamics::FloatingDynamics;
+use dyngen_generated::solo12::{self, Frame, Solo12, Velocity, NV};
+use dyngen_runtime::nalgebra::{DMatrix, SMatrix};
+use dyngen_runtime::{
+    ConfigurationError, FloatingBaseDynamics, FloatingFrameKinematics, ReferenceFrame, RobotFrame, SplitMix64,
+};
+
+const TOL_FIXTURE: f64 = 1e-9;
+const TOL_GENERIC: f64 = 1e-10;
+
+fn dm<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> DMatrix<f64> {
+    DMatrix::from_column_slice(R, C, m.as_slice())
+}
+
+fn velocity(x: &[f64]) -> Velocity {
+    Velocity::from_column_slice(x)
+}
+
+#[test]
+fn solo12_matches_pinocchio() {
+    let model = load(&workspace_root().join("robots/solo12.yaml")).unwrap().model;
+    let fx = floating_fixture::load("solo12");
+    let order = Order::new(&model, &fx);
+    let pi = DMatrix::from_row_slice(1, 130, &vector(&fx["pi"]));
+    let theta = Solo12::parameters();
+    assert_close(
+        "θ",
+        &DMatrix::from_row_slice(1, 130, theta.as_slice()),
+        &order.parameter_columns(&pi),
+        TOL_FIXTURE,
+    );
+    for (k, st) in fx["states"].as_array().unwrap().iter().enumerate() {
+        let what = |q: &str| format!("state {k}: {q}");
+        let q = order.configuration(&vector(&st["q"]));
+        let t = solo12::trig(&solo12::Configuration::from_column_slice(&q)).unwrap();
+        let [v, a, vr, ar, tau] =
+            ["v", "a", "vr", "ar", "tau"].map(|f| velocity(&order.vector(&vector(&st[f]))));
+        let rows = |f: &str| column(&order.vector(&vector(&st[f])));
+        assert_close(
+            &what("D"),
+            &dm(&Solo12::mass_matrix(&t)),
+            &order.square(st, "D"),
+            TOL_FIXTURE,
+        );
+        assert_close(
+            &what("C"),
+            &dm(&Solo12::coriolis_matrix(&t, &v)),
+            &order.square(st, "C"),
+            TOL_FIXTURE,
+        );
+        assert_close(&what("g"), &dm(&Solo12::gravity(&t)), &rows("g"), TOL_FIXTURE);
+        assert_close(
+            &what("tau"),
+            &dm(&Solo12::inverse_dynamics(&t, &v, &a)),
+            &rows("tau"),
+            TOL_FIXTURE,
+        );
+        assert_close(
+            &what("tau_ref"),
+            &dm(&Solo12::slotine_li(&t, &v, &vr, &ar)),
+            &rows("tau_ref"),
+            TOL_FIXTURE,
+        );
+        let y = order.parameter_columns(&order.matrix(&matrix(&st["Y"]), true, false));
+        assert_close(
+            &what("Y"),
+            &dm(&Solo12::regressor(&t, &v, &v, &a)),
+            &y,
+            TOL_FIXTURE,
+        );
+        assert_close(
+            &what("aba"),
+            &dm(&Solo12::forward_dynamics(&t, &v, &tau)),
+            &rows("aba"),
+            TOL_FIXTURE,
+        );
+        assert_close(
+            &what("Minv"),
+            &dm(&Solo12::mass_matrix_inverse(&t)),
+            &order.square(st, "Minv"),
+            TOL_FIXTURE,
+        );
+        assert_close(
+            &what("com"),
+            &dm(&Solo12::center_of_mass(&t)),
+            &column(&vector(&st["com"])),
+            TOL_FIXTURE,
+        );
+        let ag = order.matrix(&matrix(&st["Ag"]), false, true);
+        assert_close(
+            &what("Ag"),
+            &dm(&Solo12::centroidal_momentum_matrix(&t)),
+            &ag,
+            TOL_FIXTURE,
+        );
+        assert_close(
+            &what("dAg_v"),
+            &dm(&Solo12::centroidal_bias(&t, &v)),
+            &column(&vector(&st["dAg_v"])),
+            TOL_FIXTURE,
+        );
+        for frame in Frame::ALL.iter().copied() {
+            let expected = &st["frames"][frame.name()];
+            let pose = Solo12::frame_pose(frame, &t);
+            assert_close(
+                &what("translation"),
+                &dm(&pose.translation),
+                &column(&vector(&expected["translation"])),
+                TOL_FIXTURE,
+            );
+            assert_close(
+                &what("rotation"),
+                &dm(&pose.rotation),
+                &matrix(&expected["rotation"]),
+                TOL_FIXTURE,
+            );
+            let columns = |field: &str| order.matrix(&matrix(&expected[field]), false, true);
+            let lwa = ReferenceFrame::LocalWorldAligned;
+            assert_close(
+                &what("J"),
+                &dm(&Solo12::frame_jacobian(frame, lwa, &t)),
+                &columns("J_lwa"),
+                TOL_FIXTURE,
+            );
+            let local = Solo12::frame_jacobian(frame, ReferenceFrame::Local, &t);
+            assert_close(&what("J local"), &dm(&local), &columns("J_local"), TOL_FIXTURE);
+            let jdot = Solo12::frame_jacobian_time_variation(frame, lwa, &t, &v);
+            assert_close(&what("Jdot"), &dm(&jdot), &columns("Jdot_lwa"), TOL_FIXTURE);
+        }
+    }
+}
+
+/// Every function against the generic floating-base dynamics at random states (random base
+/// orientations, velocities and joints).
+#[test]
+fn solo12_matches_the_generic_dynamics() {
+    let model = load(&workspace_root().join("robots/solo12.yaml")).unwrap().model;
+    let generic = FloatingDynamics::new(&model).unwrap();
+    let mut rng = SplitMix64::new(12);
+    for k in 0..200 {
+        let what = |q: &str| format!("state {k}: {q}");
+        let mut q: Vec<f64> = (0..19).map(|_| rng.uniform((-3.0, 3.0))).collect();
+        let norm = q[3..7].iter().map(|x| x * x).sum::<f64>().sqrt();
+        q[3..7].iter_mut().for_each(|x| *x /= norm);
+        let [v, a, vr, tau] = [0; 4].map(|_| (0..NV).map(|_| rng.uniform((-4.0, 4.0))).collect::<Vec<f64>>());
+        let t = solo12::trig(&solo12::Configuration::from_column_slice(&q)).unwrap();
+        let s = generic.state(&q).unwrap();
+        let (vv, av, vrv, tauv) = (velocity(&v), velocity(&a), velocity(&vr), velocity(&tau));
+        assert_close(
+            &what("D"),
+            &dm(&Solo12::mass_matrix(&t)),
+            &generic.mass_matrix(&s),
+            TOL_GENERIC,
+        );
+        assert_close(
+            &what("C"),
+            &dm(&Solo12::coriolis_matrix(&t, &vv)),
+            &generic.coriolis_matrix(&s, &v),
+            TOL_GENERIC,
+        );
+        let tau_generic = generic.slotine_li(&s, &v, &vr, &a);
+        assert_close(
+            &what("τ_ref"),
+            &dm(&Solo12::slotine_li(&t, &vv, &vrv, &av)),
+            &column(tau_generic.as_slice()),
+            TOL_GENERIC,
+        );
+        let y = generic.regressor(&s, &v, &vr, &a);
+        assert_close(
+            &what("Y"),
+            &dm(&Solo12::regressor(&t, &vv, &vrv, &av)),
+            &y,
+            TOL_GENERIC,
+        );
+        let forward = generic.forward_dynamics(&s, &v, &tau);
+        assert_close(
+            &what("ν̇"),
+            &dm(&Solo12::forward_dynamics(&t, &vv, &tauv)),
+            &column(forward.as_slice()),
+            TOL_GENERIC,
+        );
+        for (index, frame) in Frame::ALL.iter().copied().enumerate() {
+            for reference in ReferenceFrame::ALL {
+                let jdot = generic.frame_jacobian_time_variation(&s, &v, index, reference);
+                let generated = Solo12::frame_jacobian_time_variation(frame, reference, &t, &vv);
+                assert_close(&what("J̇"), &dm(&generated), &jdot, TOL_GENERIC);
+                let velocity = generic.frame_velocity(&s, &v, index, reference);
+                let generated = Solo12::frame_velocity(frame, reference, &t, &vv);
+                assert_close(
+                    &what("frame velocity"),
+                    &dm(&generated),
+                    &dm(&velocity),
+                    TOL_GENERIC,
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_configuration_that_is_not_one_is_refused() {
+    let mut q = solo12::Configuration::zeros();
+    q[6] = 1.2;
+    assert!(matches!(
+        solo12::trig(&q),
+        Err(ConfigurationError::NonUnitQuaternion(_))
+    ));
+    q[6] = 1.0;
+    assert!(solo12::trig(&q).is_ok());
+    let short = [0.0; 12];
+    assert!(matches!(
+        dyngen_runtime::FloatingTrig::<12>::from_configuration(&short),
+        Err(ConfigurationError::Length {
+            expected: 19,
+            found: 12
+        })
+    ));
+}

@@ -1,0 +1,94 @@
+//! Pinocchio 4.1's values for floating-base robots (`codegen/tests/fixtures/floating/`, made by
+//! `tools/floating_fixtures.py`), and the maps from Pinocchio's joint order to a loaded
+//! model's, joint by joint name.
+
+use crate::fixture::matrix;
+use crate::workspace_root;
+use dyngen_codegen::model::Model;
+use nalgebra::DMatrix;
+use serde_json::Value;
+
+/// The fixture of `robot` (`solo12`, `g1`) as JSON.
+pub fn load(robot: &str) -> Value {
+    let path = workspace_root().join(format!("codegen/tests/fixtures/floating/{robot}.json"));
+    let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
+    serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
+}
+
+/// Index maps between Pinocchio's order and a model's: `velocity[k]` is the model's velocity
+/// index of Pinocchio's velocity entry `k` (the base's six first in both), `body[k]` the
+/// model's parameter block (0 the base body) of Pinocchio's body `k`.
+pub struct Order {
+    pub velocity: Vec<usize>,
+    pub body: Vec<usize>,
+}
+
+impl Order {
+    pub fn new(model: &Model, fixture: &Value) -> Order {
+        let ours: Vec<&str> = model.joints().iter().map(|j| j.name.as_str()).collect();
+        let theirs: Vec<&str> = fixture["joint_names"]
+            .as_array()
+            .expect("joint_names")
+            .iter()
+            .map(|n| n.as_str().expect("a joint name"))
+            .collect();
+        assert_eq!(ours.len(), theirs.len(), "the moving joints");
+        let joint = |name: &str| {
+            ours.iter()
+                .position(|o| *o == name)
+                .unwrap_or_else(|| panic!("joint {name} is not in the model"))
+        };
+        let mut velocity: Vec<usize> = (0..6).collect();
+        velocity.extend(theirs.iter().map(|n| 6 + joint(n)));
+        let mut body = vec![0];
+        body.extend(theirs.iter().map(|n| 1 + joint(n)));
+        Order { velocity, body }
+    }
+
+    /// A Pinocchio velocity-indexed vector in the model's order.
+    pub fn vector(&self, theirs: &[f64]) -> Vec<f64> {
+        let mut out = vec![0.0; theirs.len()];
+        for (k, &i) in self.velocity.iter().enumerate() {
+            out[i] = theirs[k];
+        }
+        out
+    }
+
+    /// A configuration: the base's seven entries, then the joints in the model's order.
+    pub fn configuration(&self, theirs: &[f64]) -> Vec<f64> {
+        let mut padded = vec![0.0; 6];
+        padded.extend_from_slice(&theirs[7..]);
+        let mut out = theirs[..7].to_vec();
+        out.extend_from_slice(&self.vector(&padded)[6..]);
+        out
+    }
+
+    /// A matrix whose rows (`rows`) and/or columns (`cols`) are velocity-indexed.
+    pub fn matrix(&self, theirs: &DMatrix<f64>, rows: bool, cols: bool) -> DMatrix<f64> {
+        let mut out = theirs.clone();
+        for r in 0..theirs.nrows() {
+            for c in 0..theirs.ncols() {
+                let rr = if rows { self.velocity[r] } else { r };
+                let cc = if cols { self.velocity[c] } else { c };
+                out[(rr, cc)] = theirs[(r, c)];
+            }
+        }
+        out
+    }
+
+    /// A fixture matrix field with velocity-indexed rows and columns.
+    pub fn square(&self, state: &Value, field: &str) -> DMatrix<f64> {
+        self.matrix(&matrix(&state[field]), true, true)
+    }
+
+    /// Parameters or regressor columns in Pinocchio's body order, in the model's.
+    pub fn parameter_columns(&self, theirs: &DMatrix<f64>) -> DMatrix<f64> {
+        let mut out = theirs.clone();
+        for (k, &b) in self.body.iter().enumerate() {
+            for p in 0..10 {
+                out.set_column(10 * b + p, &theirs.column(10 * k + p));
+            }
+        }
+        out
+    }
+}
