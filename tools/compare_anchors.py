@@ -92,9 +92,10 @@ def cargo_env(target_dir, native):
 
 
 def dyngen_build(env, root=ROOT):
-    """Builds both benches of the repository at `root`; returns their executables."""
+    """Builds the benches of the repository at `root`; returns their executables."""
     cmd = ["cargo", "bench", "-p", "dyngen-generated", "--bench", "dynamics",
-           "--bench", "forward_dynamics", "--no-run", "--message-format=json-render-diagnostics"]
+           "--bench", "forward_dynamics", "--bench", "floating", "--no-run",
+           "--message-format=json-render-diagnostics"]
     out = subprocess.run(cmd, cwd=root, env=env, check=True, stdout=subprocess.PIPE, text=True).stdout
     executables = []
     for line in out.splitlines():
@@ -166,12 +167,12 @@ def split_group(directory, bench_dirs, robots):
 
 
 def dyngen_round(env, core, target_dir, robots, seconds, root=ROOT):
-    """{(robot, group, id): median_ns} of one run of both benches (each function measured for
+    """{(robot, group, id): median_ns} of one run of the benches (each function measured for
     `seconds`, or criterion's own time when None)."""
     timing = []
     if seconds is not None:
         timing = ["--warm-up-time", f"{seconds / 3:g}", "--measurement-time", f"{seconds:g}"]
-    for bench in ("dynamics", "forward_dynamics"):
+    for bench in ("dynamics", "forward_dynamics", "floating"):
         cmd = ["taskset", "-c", str(core), "cargo", "bench", "-q", "-p", "dyngen-generated",
                "--bench", bench, "--", bench_filter(robots), *timing]
         run(cmd, cwd=root, env=env)

@@ -101,3 +101,34 @@ fn the_reference_names_every_function() {
         );
     }
 }
+
+#[test]
+fn the_floating_traits_declare_what_a_floating_robot_is_traced_with() {
+    use dyngen_codegen::internals::generate::trace_floating;
+    let model = load(&workspace_root().join("robots/solo12.yaml"))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .model;
+    let traced = trace_floating(&model);
+    let (frames, dynamics): (Vec<QuantityKind>, Vec<QuantityKind>) = traced
+        .quantities
+        .iter()
+        .map(|q| q.kind)
+        .partition(|k| k.is_per_frame());
+    let names = |kinds: Vec<QuantityKind>| -> BTreeSet<String> {
+        kinds.into_iter().map(|k| k.name().to_owned()).collect()
+    };
+    let mut expected = names(dynamics);
+    expected.insert("parameters".to_owned());
+    assert_eq!(
+        trait_methods("floating_robot.rs", "FloatingBaseDynamics"),
+        expected
+    );
+    assert_eq!(
+        trait_methods("floating_robot.rs", "FloatingFrameKinematics"),
+        names(frames),
+        "FloatingFrameKinematics against the frame functions"
+    );
+    for kind in QuantityKind::FLOATING_ONLY {
+        assert_eq!(QuantityKind::from_name(kind.name()), Some(kind));
+    }
+}

@@ -36,7 +36,8 @@ impl core::fmt::Display for NonUnitQuaternion {
 pub struct BasePose {
     /// The base body's origin in world coordinates.
     pub position: Vector3<f64>,
-    /// The unit quaternion `[x, y, z, w]` of the base orientation.
+    /// The quaternion `[x, y, z, w]` of the base orientation, as given (unit to within
+    /// [`QUATERNION_NORM_TOLERANCE`]; the rotation is that of its normalised form).
     pub quaternion: [f64; 4],
     /// The base body's axes in world coordinates (columns), from the quaternion.
     pub rotation: Matrix3<f64>,
@@ -44,19 +45,20 @@ pub struct BasePose {
 
 impl BasePose {
     /// The pose with `position` and the quaternion `[x, y, z, w]` (Pinocchio's `q[0..7]`). A
-    /// quaternion within [`QUATERNION_NORM_TOLERANCE`] of unit norm is normalised; any other
-    /// is refused.
+    /// quaternion within [`QUATERNION_NORM_TOLERANCE`] of unit norm gives the rotation of its
+    /// normalised form; any other is refused.
     pub fn new(position: [f64; 3], quaternion: [f64; 4]) -> Result<BasePose, NonUnitQuaternion> {
-        let norm = sqrt(quaternion.iter().map(|x| x * x).sum());
-        // `!(… <= …)` also refuses NaN.
-        if !((norm - 1.0).abs() <= QUATERNION_NORM_TOLERANCE) {
-            return Err(NonUnitQuaternion { norm });
+        let squared: f64 = quaternion.iter().map(|x| x * x).sum();
+        // |‖q‖ − 1| ≤ tol, without the square root on the path every control tick takes:
+        // ‖q‖² − 1 = (‖q‖ − 1)(‖q‖ + 1). `!(… <= …)` also refuses NaN.
+        let tolerance = QUATERNION_NORM_TOLERANCE;
+        if !((squared - 1.0).abs() <= tolerance * (2.0 - tolerance)) {
+            return Err(NonUnitQuaternion { norm: sqrt(squared) });
         }
-        let quaternion = quaternion.map(|x| x / norm);
         Ok(BasePose {
             position: Vector3::from(position),
             quaternion,
-            rotation: rotation_of(&quaternion),
+            rotation: rotation_of(&quaternion, squared),
         })
     }
 
@@ -81,7 +83,7 @@ impl BasePose {
         BasePose {
             position,
             quaternion,
-            rotation: rotation_of(&quaternion),
+            rotation: rotation_of(&quaternion, 1.0),
         }
     }
 
@@ -95,18 +97,22 @@ impl BasePose {
     }
 }
 
-fn rotation_of(q: &[f64; 4]) -> Matrix3<f64> {
+/// The rotation of the quaternion `q` of squared norm `squared`, as of `q / ‖q‖` (the `2/‖q‖²`
+/// scaling makes it exactly orthonormal for a quaternion a hair off unit, with one division
+/// and no square root).
+fn rotation_of(q: &[f64; 4], squared: f64) -> Matrix3<f64> {
     let [x, y, z, w] = *q;
+    let s = 2.0 / squared;
     Matrix3::new(
-        1.0 - 2.0 * (y * y + z * z),
-        2.0 * (x * y - z * w),
-        2.0 * (x * z + y * w),
-        2.0 * (x * y + z * w),
-        1.0 - 2.0 * (x * x + z * z),
-        2.0 * (y * z - x * w),
-        2.0 * (x * z - y * w),
-        2.0 * (y * z + x * w),
-        1.0 - 2.0 * (x * x + y * y),
+        1.0 - s * (y * y + z * z),
+        s * (x * y - z * w),
+        s * (x * z + y * w),
+        s * (x * y + z * w),
+        1.0 - s * (x * x + z * z),
+        s * (y * z - x * w),
+        s * (x * z - y * w),
+        s * (y * z + x * w),
+        1.0 - s * (x * x + y * y),
     )
 }
 
@@ -290,6 +296,13 @@ mod tests {
         assert!(BasePose::new([0.0; 3], [f64::NAN, 0.0, 0.0, 1.0]).is_err());
         let near = BasePose::new([0.0; 3], [0.0, 0.0, 0.0, 1.0 + 1e-8]).unwrap();
         assert_eq!(near.rotation, Matrix3::identity());
+        let unit = normalised([0.3, -0.1, 0.5, 0.8]);
+        let tilted = BasePose::new([0.0; 3], unit.map(|x| x * (1.0 + 5e-7))).unwrap();
+        assert!((tilted.rotation - BasePose::new([0.0; 3], unit).unwrap().rotation).amax() < 1e-15);
+        let r = tilted.rotation;
+        assert!((r.transpose() * r - Matrix3::identity()).amax() < 1e-15);
+        assert!(BasePose::new([0.0; 3], [0.0, 0.0, 0.0, 1.0 + 2e-6]).is_err());
+        assert!(BasePose::new([0.0; 3], [0.0, 0.0, 0.0, 1.0 - 2e-6]).is_err());
     }
 
     #[test]

@@ -60,8 +60,13 @@ impl<const N: usize> FloatingTrig<N> {
             });
         }
         let base = BasePose::from_configuration(q).map_err(ConfigurationError::NonUnitQuaternion)?;
-        let joints = SVector::<f64, N>::from_fn(|i, _| q[7 + i]);
-        Ok(FloatingTrig::new(base, &joints))
+        let Ok(joints) = <&[f64; N]>::try_from(&q[7..]) else {
+            unreachable!("the length was checked")
+        };
+        Ok(FloatingTrig {
+            base,
+            joints: crate::trig::joint_trig(joints),
+        })
     }
 }
 
@@ -103,6 +108,13 @@ pub trait FloatingBaseDynamics<const N: usize, const NV: usize, const P: usize> 
         v: &SVector<f64, NV>,
         vr: &SVector<f64, NV>,
         ar: &SVector<f64, NV>,
+    ) -> SMatrix<f64, NV, P>;
+    /// The regressor in torque form, `Y(q, ν, ν, ν̇)` with `Y θ` inverse dynamics (what
+    /// identification stacks), smaller than [`Self::regressor`].
+    fn torque_regressor(
+        t: &FloatingTrig<N>,
+        v: &SVector<f64, NV>,
+        a: &SVector<f64, NV>,
     ) -> SMatrix<f64, NV, P>;
     /// Forward dynamics `ν̇ = D⁻¹ (τ − C ν − g)`, `tau` the base wrench and joint torques.
     fn forward_dynamics(

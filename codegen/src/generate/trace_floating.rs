@@ -117,6 +117,14 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
                 matrix_ids(&algorithms::floating_regressor(model, &pose.rot, &x, &qd, &v, &a)),
             ),
             quantity(
+                QuantityKind::TorqueRegressor,
+                vec![Arg::Qd, Arg::A],
+                Shape::Matrix(nv, p),
+                matrix_ids(&algorithms::floating_regressor(
+                    model, &pose.rot, &x, &qd, &qd, &a,
+                )),
+            ),
+            quantity(
                 QuantityKind::ForwardDynamics,
                 vec![Arg::Qd, Arg::Tau],
                 Shape::Vector(nv),

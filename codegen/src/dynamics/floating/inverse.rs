@@ -82,29 +82,6 @@ pub fn floating_gravity<S: Scalar, X: JointFrame<S>>(
     floating_inverse_dynamics(model, base, x, inertias, &zero, &zero)
 }
 
-/// `C(q, ν)`, column `j` the Slotine–Li torque at `v = e_j` without gravity: the matrix with
-/// `C ν` the velocity terms and `Ḋ = C + Cᵀ`.
-pub fn floating_coriolis_matrix<S: Scalar, X: JointFrame<S>>(
-    model: &Model,
-    base: &FloatingBase<S>,
-    x: &[X],
-    inertias: &[RigidInertia<S>],
-    qd: &[S],
-) -> DMatrix<S> {
-    let nv = model.nv();
-    let zero = vec![S::zero(); nv];
-    let mut c = DMatrix::from_element(nv, nv, S::zero());
-    for j in 0..nv {
-        let mut e = zero.clone();
-        e[j] = S::one();
-        let column = floating_slotine_li(model, base, x, inertias, qd, &e, &zero, None);
-        for (r, value) in column.into_iter().enumerate() {
-            c[(r, j)] = value;
-        }
-    }
-    c
-}
-
 /// The regressor `Y(q, ν, v, a)` (nv × 10·(n + 1)) with `Y θ` the Slotine–Li torque: the base
 /// body's ten columns first, then each joint's body's, as Pinocchio orders them.
 pub fn floating_regressor<S: Scalar, X: JointFrame<S>>(

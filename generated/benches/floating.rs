@@ -1,0 +1,115 @@
+//! Timings of a floating-base robot's generated functions (Solo-12), named as the numeric
+//! Pinocchio anchor names its algorithms (`tools/compare_anchors.py` sets them side by side):
+//! each call includes preparing the configuration (`FloatingTrig::from_configuration`: the
+//! rotation of the base quaternion and the joint sines and cosines), as Pinocchio's calls
+//! include its joint transforms. Inputs cycle through 256 random states: base position in
+//! ±1 m, a random unit quaternion, joints in ±π, velocities in ±2, accelerations in ±5,
+//! generalised forces in ±10.
+
+mod common;
+
+use common::{cycle, STATES};
+use criterion::{criterion_group, criterion_main, Criterion};
+use dyngen_generated::solo12::{Frame, Solo12, Velocity, NQ};
+use dyngen_runtime::nalgebra::SVector;
+use dyngen_runtime::{
+    FloatingBaseDynamics, FloatingFrameKinematics, FloatingTrig, ReferenceFrame, SplitMix64,
+};
+use std::hint::black_box;
+
+fn states() -> Vec<(SVector<f64, NQ>, [Velocity; 3])> {
+    let mut rng = SplitMix64::new(18);
+    let pi = std::f64::consts::PI;
+    (0..STATES)
+        .map(|_| {
+            let mut q = SVector::<f64, NQ>::from_fn(|i, _| match i {
+                0..3 => rng.uniform((-1.0, 1.0)),
+                3..7 => rng.uniform((-1.0, 1.0)),
+                _ => rng.uniform((-pi, pi)),
+            });
+            let norm = q.fixed_rows::<4>(3).norm();
+            q.fixed_rows_mut::<4>(3).unscale_mut(norm);
+            let mut draw = |bound: f64| Velocity::from_fn(|_, _| rng.uniform((-bound, bound)));
+            (q, [draw(2.0), draw(5.0), draw(10.0)])
+        })
+        .collect()
+}
+
+fn trig(q: &SVector<f64, NQ>) -> FloatingTrig<12> {
+    // The states are unit quaternions by construction.
+    FloatingTrig::from_configuration(q.as_slice()).unwrap_or_else(|e| panic!("{e}"))
+}
+
+fn solo12(c: &mut Criterion) {
+    let inputs = states();
+    let g = |f: &str| format!("solo12/{f}");
+    let lwa = ReferenceFrame::LocalWorldAligned;
+    cycle(c, &g("floating_trig"), "generated", &inputs, |(q, _)| {
+        black_box(trig(q));
+    });
+    cycle(c, &g("joint_trig"), "generated", &inputs, |(q, _)| {
+        black_box(dyngen_runtime::JointTrig::new(
+            &q.fixed_rows::<12>(7).into_owned(),
+        ));
+    });
+    cycle(c, &g("base_pose"), "generated", &inputs, |(q, _)| {
+        black_box(dyngen_runtime::BasePose::from_configuration(q.as_slice()).unwrap());
+    });
+    cycle(c, &g("fk"), "generated", &inputs, |(q, _)| {
+        black_box(Solo12::frame_pose(Frame::FLFOOT, &trig(q)));
+    });
+    cycle(c, &g("jacobian"), "generated", &inputs, |(q, _)| {
+        black_box(Solo12::frame_jacobian(Frame::FLFOOT, lwa, &trig(q)));
+    });
+    cycle(c, &g("jacobian_dot"), "generated", &inputs, |(q, [v, ..])| {
+        black_box(Solo12::frame_jacobian_time_variation(
+            Frame::FLFOOT,
+            lwa,
+            &trig(q),
+            v,
+        ));
+    });
+    cycle(c, &g("mass_matrix"), "generated", &inputs, |(q, _)| {
+        black_box(Solo12::mass_matrix(&trig(q)));
+    });
+    cycle(c, &g("coriolis"), "generated", &inputs, |(q, [v, ..])| {
+        black_box(Solo12::coriolis_matrix(&trig(q), v));
+    });
+    cycle(c, &g("gravity"), "generated", &inputs, |(q, _)| {
+        black_box(Solo12::gravity(&trig(q)));
+    });
+    cycle(c, &g("rnea"), "generated", &inputs, |(q, [v, a, _])| {
+        black_box(Solo12::inverse_dynamics(&trig(q), v, a));
+    });
+    cycle(
+        c,
+        &g("torque_regressor"),
+        "generated",
+        &inputs,
+        |(q, [v, a, _])| {
+            black_box(Solo12::torque_regressor(&trig(q), v, a));
+        },
+    );
+    cycle(c, &g("aba"), "generated", &inputs, |(q, [v, _, tau])| {
+        black_box(Solo12::forward_dynamics(&trig(q), v, tau));
+    });
+    cycle(c, &g("minv"), "generated", &inputs, |(q, _)| {
+        black_box(Solo12::mass_matrix_inverse(&trig(q)));
+    });
+    cycle(c, &g("com"), "generated", &inputs, |(q, _)| {
+        black_box(Solo12::center_of_mass(&trig(q)));
+    });
+    cycle(c, &g("ccrba"), "generated", &inputs, |(q, _)| {
+        black_box(Solo12::centroidal_momentum_matrix(&trig(q)));
+    });
+    cycle(c, &g("dccrba"), "generated", &inputs, |(q, [v, ..])| {
+        black_box(Solo12::centroidal_bias(&trig(q), v));
+    });
+}
+
+criterion_group! {
+    name = benches;
+    config = common::config();
+    targets = solo12
+}
+criterion_main!(benches);
