@@ -6,6 +6,7 @@ use crate::functions::FunctionsArgs;
 use crate::loading::{print_diagnostics, LoadingArgs};
 use clap::Args;
 use dyngen_codegen::generate::{generate_robot_with, module_name, type_name};
+use dyngen_codegen::dynamics::FloatingDynamics;
 use dyngen_codegen::model::JointKind;
 use std::path::PathBuf;
 
@@ -35,6 +36,14 @@ pub fn run(args: InfoArgs) -> Result<(), Failure> {
     let model = &robot.model;
     println!("robot: {} ({shown})", model.name());
     println!("DOF: {}", model.dof());
+    if let Some(base) = model.floating_base() {
+        println!(
+            "floating base: body '{}' (nq = {}, nv = {}: base position and quaternion x y z w, base twist in its own frame, then the joints)",
+            base.name,
+            model.nq(),
+            model.nv()
+        );
+    }
     println!("joints:");
     for joint in model.joints() {
         let (kind, unit) = match joint.kind {
@@ -56,12 +65,20 @@ pub fn run(args: InfoArgs) -> Result<(), Failure> {
         end_effector.name,
         model.joints()[end_effector.parent].name
     );
-    let names = model.parameter_names();
+    let names = match model.floating_base() {
+        Some(_) => FloatingDynamics::parameter_names(model),
+        None => model.parameter_names(),
+    };
     println!("parameters ({}):", names.len());
     println!("  {}", names.join(", "));
-    println!("base parameters ({}):", robot.base_parameter_count);
-    for name in &robot.base_parameter_names {
-        println!("  {name}");
+    match model.floating_base() {
+        Some(_) => println!("base parameters: not computed for a floating base"),
+        None => {
+            println!("base parameters ({}):", robot.base_parameter_count);
+            for name in &robot.base_parameter_names {
+                println!("  {name}");
+            }
+        }
     }
     println!("functions: {}", robot.functions);
     println!("operations per generated function:");

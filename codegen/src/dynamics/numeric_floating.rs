@@ -82,6 +82,14 @@ impl<'m> FloatingDynamics<'m> {
         theta
     }
 
+    /// Names of the entries of [`FloatingDynamics::parameters`], e.g. `"mcx[trunk]"`.
+    pub fn parameter_names(model: &Model) -> Vec<String> {
+        let base = &model.floating_base().expect("a floating model").name;
+        let mut names: Vec<String> = crate::model::PARAM_NAMES.iter().map(|p| format!("{p}[{base}]")).collect();
+        names.extend(model.parameter_names());
+        names
+    }
+
     /// The configuration `q` (length nq), checked.
     pub fn state(&self, q: &[f64]) -> Result<FloatingState, NonUnitQuaternion> {
         assert_eq!(q.len(), self.model.nq(), "q has the wrong length");

@@ -46,7 +46,8 @@ pub struct GeneratedRobot {
     pub notes: Vec<String>,
     /// Operation counts per generated function, in emission order.
     pub op_counts: Vec<(String, OpCounts)>,
-    /// Number of base parameters `p_b` (independent combinations of the standard ones).
+    /// Number of base parameters `p_b` (independent combinations of the standard ones); 0 for a
+    /// floating base, whose base parameters are not computed.
     pub base_parameter_count: usize,
     /// The base parameters' readable names (`BASE_PARAMETER_NAMES` of the generated module).
     pub base_parameter_names: Vec<String>,
@@ -181,8 +182,9 @@ pub fn generate_robot_with(
         warnings,
         notes: loaded.notes,
         op_counts,
-        base_parameter_count: robot.base.count(),
-        base_parameter_names: robot.base.names.clone(),
+        // Not computed for a floating base (its `base` holds every parameter unreduced).
+        base_parameter_count: if floating { 0 } else { robot.base.count() },
+        base_parameter_names: if floating { Vec::new() } else { robot.base.names.clone() },
         functions: robot.functions,
         elapsed: start.elapsed(),
     })

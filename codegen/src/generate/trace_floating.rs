@@ -184,18 +184,7 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
         graph,
         inputs,
         quantities,
-        base: BaseParameterSet::unreduced(floating_parameter_names(model)),
+        base: BaseParameterSet::unreduced(crate::dynamics::FloatingDynamics::parameter_names(model)),
         functions: floating_functions(),
     }
-}
-
-/// Names of the floating-base parameters: the base body's ten, then the joints' bodies'.
-pub fn floating_parameter_names(model: &Model) -> Vec<String> {
-    let base = &model.floating_base().expect("a floating base").name;
-    let mut names: Vec<String> = crate::model::PARAM_NAMES
-        .iter()
-        .map(|p| format!("{p}[{base}]"))
-        .collect();
-    names.extend(model.parameter_names());
-    names
 }
