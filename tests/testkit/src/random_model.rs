@@ -309,3 +309,69 @@ pub fn deterministic_runner(cases: u32) -> TestRunner {
         ..Config::default()
     })
 }
+
+/// `inertia` with its mass set to `mass`, the same radii of gyration (the rotational inertia
+/// scaled with the mass), so it stays physical.
+fn with_mass(inertia: Inertia, mass: f64) -> Inertia {
+    let scale = mass / inertia.mass;
+    Inertia {
+        mass,
+        com: inertia.com,
+        inertia_com: inertia.inertia_com * scale,
+    }
+}
+
+/// A random tree of 1 to `max_dof` joints ([`arb_model`]) on a free-flying base, with masses
+/// that differ by orders of magnitude, as on real floating robots: a base body of 0.1 to 100 kg
+/// (log-uniform, the inertia of [`arb_inertia`] scaled with it), about one link in four light
+/// (1 to 100 g), and half of the time a heavy tool (20 to 50 kg) on the end-effector's body.
+/// Frame `1 + i` sits at body `i`'s origin (frame 0 is the end-effector, `tool`), so
+/// `FloatingDynamics::frame_pose` gives every body's world pose.
+pub fn arb_floating_model(max_dof: usize) -> impl Strategy<Value = Model> {
+    arb_model(max_dof)
+        .prop_flat_map(|model| {
+            let n = model.joints().len();
+            let link_masses = proptest::collection::vec(
+                prop_oneof![3 => Just(None), 1 => (-3.0..-1.0f64).prop_map(Some)],
+                n,
+            );
+            let tool = prop_oneof![Just(None), (20.0..50.0f64).prop_map(Some)];
+            (Just(model), arb_inertia(), -1.0..2.0f64, link_masses, tool)
+        })
+        .prop_map(|(model, base, log_base_mass, link_masses, tool)| {
+            let tool_body = model.end_effector().parent;
+            let bodies: Vec<Body> = model
+                .bodies()
+                .iter()
+                .zip(&link_masses)
+                .enumerate()
+                .map(|(i, (body, light))| {
+                    let inertia = match (i == tool_body, tool, light) {
+                        (true, Some(mass), _) => with_mass(body.inertia, mass),
+                        (_, _, Some(log_mass)) => with_mass(body.inertia, 10f64.powf(*log_mass)),
+                        _ => body.inertia,
+                    };
+                    Body {
+                        name: body.name.clone(),
+                        inertia,
+                    }
+                })
+                .collect();
+            let frames = (0..bodies.len())
+                .map(|i| Frame {
+                    name: format!("origin{i}"),
+                    parent: i,
+                    placement: Pose::identity(),
+                })
+                .collect();
+            let base = Body {
+                name: "base".into(),
+                inertia: with_mass(base, 10f64.powf(log_base_mass)),
+            };
+            model
+                .with_bodies(bodies)
+                .and_then(|m| m.with_frames(frames))
+                .and_then(|m| m.with_floating_base(base))
+                .expect("random floating trees are valid models")
+        })
+}
