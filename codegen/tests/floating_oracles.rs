@@ -19,8 +19,8 @@
 //!
 //! Each tolerance states the worst error seen (`cargo test -p dyngen-codegen --test
 //! floating_oracles -- --nocapture` prints them per oracle). The last tests show the scaling
-//! matters (a light link's inertia wrong by one part in a million is caught) and hold a library
-//! bug, ignored until it is fixed (`with_parameters(θ').parameters()`).
+//! matters (a light link's inertia wrong by one part in a million is caught) and that
+//! `with_parameters(θ')` reports θ' as its parameters.
 
 use dyngen_codegen::dynamics::FloatingDynamics;
 use dyngen_codegen::model::{Inertia, Model};
@@ -1244,7 +1244,6 @@ fn algebraic_consistency() {
 /// The parameters a `FloatingDynamics` made by `with_parameters(model, θ')` reports are θ',
 /// the ones its dynamics use (so that `Y · parameters()` is its Slotine–Li torque).
 #[test]
-#[ignore = "library bug: FloatingDynamics::with_parameters(θ').parameters() returns the model's θ, not θ'"]
 fn with_parameters_reports_its_own_parameters() {
     run(4, "with_parameters", |model, seed, _| {
         let fd = FloatingDynamics::new(model).expect("floating");

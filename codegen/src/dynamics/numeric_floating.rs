@@ -69,23 +69,26 @@ impl<'m> FloatingDynamics<'m> {
         Some(dynamics)
     }
 
-    /// The standard parameters: the base body's ten, then ten per body in joint order.
+    /// The standard parameters these dynamics use: the base body's ten, then ten per body in
+    /// joint order (the model's, or those given to [`FloatingDynamics::with_parameters`]).
     pub fn parameters(&self) -> Vec<f64> {
-        let base = self
-            .model
-            .floating_base()
-            .expect("a floating model")
-            .inertia
-            .parameters();
-        let mut theta = base.to_vec();
-        theta.extend(self.model.parameters());
-        theta
+        std::iter::once(&self.base_inertia)
+            .chain(&self.inertias)
+            .flat_map(|i| {
+                [
+                    i.m, i.h.0[0], i.h.0[1], i.h.0[2], i.i[0], i.i[1], i.i[2], i.i[3], i.i[4], i.i[5],
+                ]
+            })
+            .collect()
     }
 
     /// Names of the entries of [`FloatingDynamics::parameters`], e.g. `"mcx[trunk]"`.
     pub fn parameter_names(model: &Model) -> Vec<String> {
         let base = &model.floating_base().expect("a floating model").name;
-        let mut names: Vec<String> = crate::model::PARAM_NAMES.iter().map(|p| format!("{p}[{base}]")).collect();
+        let mut names: Vec<String> = crate::model::PARAM_NAMES
+            .iter()
+            .map(|p| format!("{p}[{base}]"))
+            .collect();
         names.extend(model.parameter_names());
         names
     }

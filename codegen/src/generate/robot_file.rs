@@ -184,7 +184,11 @@ pub fn generate_robot_with(
         op_counts,
         // Not computed for a floating base (its `base` holds every parameter unreduced).
         base_parameter_count: if floating { 0 } else { robot.base.count() },
-        base_parameter_names: if floating { Vec::new() } else { robot.base.names.clone() },
+        base_parameter_names: if floating {
+            Vec::new()
+        } else {
+            robot.base.names.clone()
+        },
         functions: robot.functions,
         elapsed: start.elapsed(),
     })
