@@ -59,12 +59,10 @@ pub fn run(args: GenArgs) -> Result<(), Failure> {
         WriteOutcome::Unchanged => "unchanged",
     };
     eprintln!(
-        "{} → {} ({state}): {} DOF, {} parameters, {} base parameters, functions: {}; generated in {:.2} s",
+        "{} → {} ({state}): {}, functions: {}; generated in {:.2} s",
         args.description.display(),
         report.file.display(),
-        robot.model.dof(),
-        robot.model.parameter_count(),
-        robot.base_parameter_count,
+        robot.sizes(),
         robot.functions,
         robot.elapsed.as_secs_f64()
     );

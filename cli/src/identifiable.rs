@@ -1,5 +1,5 @@
 //! The model identification works on: the description's, refused when it has unlocked mimic
-//! joints (identification reads and writes one column per moving joint).
+//! joints (identification reads and writes one column per moving joint) or a floating base.
 
 use crate::failure::Failure;
 use crate::loading::LoadingArgs;
@@ -15,6 +15,14 @@ pub fn load_identifiable(description: &Path, loading: &LoadingArgs) -> Result<Mo
         eprintln!("warning: {warning}");
     }
     let model = loaded.model;
+    if model.floating_base().is_some() {
+        return Err(Failure::from(format!(
+            "{}: identification of a floating-base robot is not supported yet (its base body's \
+             parameters and base wrench are not in the identification model); identify it on a \
+             fixed base",
+            description.display()
+        )));
+    }
     if model.has_mimics() {
         return Err(Failure::from(format!(
             "{}: identification of robots with mimic joints is not supported; lock them (locked_joints)",

@@ -5,8 +5,8 @@ use crate::failure::Failure;
 use crate::functions::FunctionsArgs;
 use crate::loading::{print_diagnostics, LoadingArgs};
 use clap::Args;
-use dyngen_codegen::generate::{generate_robot_with, module_name, type_name};
 use dyngen_codegen::dynamics::FloatingDynamics;
+use dyngen_codegen::generate::{generate_robot_with, module_name, type_name};
 use dyngen_codegen::model::JointKind;
 use std::path::PathBuf;
 

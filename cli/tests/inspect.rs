@@ -118,3 +118,61 @@ fn urdf_export_loads_back_as_the_same_model() {
     assert_eq!(stdout.code, Some(0), "{}", stdout.output());
     assert!(stdout.stdout.starts_with("<?xml"), "{}", stdout.output());
 }
+
+#[test]
+fn a_floating_base_is_reported_and_refused_where_it_is_not_supported() {
+    let solo = repository_file("robots/solo12.yaml");
+    let info = dyngen(&["info", arg(&solo)]);
+    assert_eq!(info.code, Some(0), "{}", info.output());
+    assert!(
+        info.stdout
+            .contains("floating base: body 'base_link' (nq = 19, nv = 18"),
+        "{}",
+        info.output()
+    );
+    assert!(
+        info.stdout
+            .contains("parameters (130):\n  m[base_link], mcx[base_link]"),
+        "{}",
+        info.output()
+    );
+    assert!(
+        info.stdout
+            .contains("base parameters: not computed for a floating base"),
+        "{}",
+        info.output()
+    );
+    assert!(
+        info.stdout.contains("centroidal_momentum_matrix"),
+        "{}",
+        info.output()
+    );
+    // A bare URDF takes the option; identification refuses the robot in one line.
+    let urdf = repository_file("robots/urdf/solo12.urdf");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let out = dir.path().join("solo.rs");
+    let generated = dyngen(&["gen", arg(&urdf), "--floating-base", "-o", arg(&out)]);
+    assert_eq!(generated.code, Some(0), "{}", generated.output());
+    assert!(
+        generated
+            .stderr
+            .contains("12 DOF on a floating base, 130 parameters"),
+        "{}",
+        generated.output()
+    );
+    let code = std::fs::read_to_string(&out).expect("generated file");
+    assert!(
+        code.contains("impl FloatingBaseDynamics<12, 18, 130> for Solo"),
+        "{}",
+        &code[..2000]
+    );
+    let excite = dyngen(&["excite", arg(&solo), "-o", arg(&dir.path().join("x.csv"))]);
+    assert_eq!(excite.code, Some(1), "{}", excite.output());
+    assert!(
+        excite
+            .stderr
+            .contains("identification of a floating-base robot is not supported yet"),
+        "{}",
+        excite.output()
+    );
+}

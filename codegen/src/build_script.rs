@@ -64,6 +64,14 @@ impl Builder {
         self
     }
 
+    /// For a bare URDF file: the root link flies free (a legged robot, a humanoid): the robot
+    /// is generated with `FloatingBaseDynamics` and `FloatingFrameKinematics`
+    /// (`docs/floating_base.md`). A YAML description sets `floating_base:` itself.
+    pub fn floating_base(mut self) -> Builder {
+        self.urdf.floating_base = true;
+        self
+    }
+
     /// For a bare URDF file: the frames to generate besides the end-effector (a YAML
     /// description's `frames:`), e.g. `FrameSelection::AllLinks`.
     pub fn frames(mut self, frames: FrameSelection) -> Builder {

@@ -315,7 +315,12 @@ fn unknown_joint_type() {
 #[test]
 fn floating_and_planar_joints() {
     for kind in ["floating", "planar"] {
-        let msg = format!("type '{kind}' is not supported (dyngen handles fixed-base trees)");
+        let msg = match kind {
+            "floating" => "type 'floating' is not supported inside the tree; a robot whose root link moves \
+                           freely is loaded with `floating_base: true`"
+                .to_owned(),
+            _ => format!("type '{kind}' is not supported"),
+        };
         let edits: &'static [(&str, &str)] = match kind {
             "floating" => &[("type=\"revolute\"", "type=\"floating\"")],
             _ => &[("type=\"revolute\"", "type=\"planar\"")],

@@ -223,6 +223,7 @@ pub fn identify_payload(
     samples: &Samples,
     options: &PayloadOptions,
 ) -> Result<PayloadEstimate, IdentifyError> {
+    crate::pipeline::refuse_floating_base(model)?;
     let data = match (options.data, samples.tau.is_some(), samples.wrench.is_some()) {
         (Some(data), _, _) => data,
         (None, true, true) => PayloadData::Both,

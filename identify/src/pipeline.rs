@@ -192,6 +192,7 @@ pub fn identify_file(
 
 /// The description's base parameters, checked to be those of `source`.
 fn matching<'m>(model: &'m Model, source: &impl BaseRegressorSource) -> Result<BaseModel<'m>, IdentifyError> {
+    refuse_floating_base(model)?;
     let base_model = BaseModel::new(model);
     if source.dof() != model.dof() || source.base_names() != base_model.base.names {
         return Err(IdentifyError::WrongRobot(format!(
@@ -201,6 +202,18 @@ fn matching<'m>(model: &'m Model, source: &impl BaseRegressorSource) -> Result<B
         )));
     }
     Ok(base_model)
+}
+
+/// A floating base's body and base wrench are not in the identification model (its regressor
+/// is the fixed tree's): refused rather than identified as if the base were fixed.
+pub(crate) fn refuse_floating_base(model: &Model) -> Result<(), IdentifyError> {
+    match model.floating_base() {
+        Some(_) => Err(IdentifyError::WrongRobot(format!(
+            "'{}' has a floating base: identification of floating-base robots is not supported yet",
+            model.name()
+        ))),
+        None => Ok(()),
+    }
 }
 
 /// From the least squares to the identified description.

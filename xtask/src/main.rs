@@ -120,14 +120,13 @@ fn shown(path: &Path) -> String {
 
 fn print_summary(report: &CrateReport, check: bool) {
     for r in &report.robots {
-        let m = &r.robot.model;
         let state = match (r.outcome, check) {
             (dyngen_codegen::generate::WriteOutcome::Unchanged, _) => "up to date",
             (_, false) => "written",
             (_, true) => "STALE",
         };
         println!(
-            "{} → {} ({state})\n  {} DOF, {} parameters, {} base parameters, generated in {:.2} s",
+            "{} → {} ({state})\n  {}, generated in {:.2} s",
             shown(
                 r.robot
                     .sources
@@ -136,9 +135,7 @@ fn print_summary(report: &CrateReport, check: bool) {
                     .unwrap_or(Path::new(""))
             ),
             shown(&r.file),
-            m.dof(),
-            m.parameters().len(),
-            r.robot.base_parameter_count,
+            r.robot.sizes(),
             r.robot.elapsed.as_secs_f64()
         );
         for note in &r.robot.notes {

@@ -54,6 +54,9 @@ impl UrdfExport {
         if let Some(g) = &self.options.gravity {
             s.push_str(&format!("gravity: {}\n", yaml_vec(g)));
         }
+        if self.options.floating_base {
+            s.push_str("floating_base: true\n");
+        }
         s.push_str(&self.joint_parameters_yaml());
         s
     }
@@ -184,10 +187,21 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
     let ee = model.end_effector();
     let ee_body = &model.bodies()[ee.parent].name;
     let ee_link = !link_names.contains(ee.name.as_str());
-    let base = unique("base_link", |n| link_names.contains(n) || n == ee.name);
+    // A floating base is a link of its own with its inertia; a fixed one, a massless link.
+    let floating = model.floating_base();
+    let base = match floating {
+        Some(body) if !link_names.contains(body.name.as_str()) && body.name != ee.name => body.name.clone(),
+        Some(body) => {
+            return Err(fail(format!(
+                "the base body and another link are both named '{}'",
+                body.name
+            )))
+        }
+        None => unique("base_link", |n| link_names.contains(n) || n == ee.name),
+    };
     let parent_link = |parent: Option<usize>| parent.map_or(base.clone(), |p| model.bodies()[p].name.clone());
 
-    let mut links = vec![link(&base, None)];
+    let mut links = vec![link(&base, floating.map(|b| &b.inertia))];
     let mut joints = Vec::new();
     for (j, (joint, body)) in model.joints().iter().zip(model.bodies()).enumerate() {
         links.push(link(&body.name, Some(&body.inertia)));
@@ -278,6 +292,13 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
         ..UrdfOptions::default()
     };
     let mut warnings = Vec::new();
+    if floating.is_some() {
+        options.floating_base = true;
+        warnings.push(format!(
+            "the base '{base}' floats and URDF cannot say so: load the URDF with a floating base \
+             (a YAML wrapper's `floating_base: true`, `UrdfOptions::floating_base`, `--floating-base`)"
+        ));
+    }
     if let Some(g) = options.gravity {
         warnings.push(format!(
             "gravity {} is not the default {} and URDF cannot say so: load the URDF with this \

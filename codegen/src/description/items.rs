@@ -77,13 +77,13 @@ fn check_joint(
         "revolute" | "continuous" => Motion::Moving(JointKind::Revolute),
         "prismatic" => Motion::Moving(JointKind::Prismatic),
         "fixed" => Motion::Fixed,
-        "floating" | "planar" => {
-            let msg = format!(
-                "type '{}' is not supported (dyngen handles fixed-base trees)",
-                j.kind
-            );
-            return Err(err(".type", msg));
+        "floating" => {
+            let msg = "type 'floating' is not supported inside the tree; a robot whose root link \
+                       moves freely is loaded with `floating_base: true` (`UrdfOptions::floating_base`, \
+                       `--floating-base`)";
+            return Err(err(".type", msg.to_owned()));
         }
+        "planar" => return Err(err(".type", "type 'planar' is not supported".to_owned())),
         other => {
             return Err(err(
                 ".type",

@@ -195,6 +195,25 @@ pub fn generate_robot_with(
 }
 
 impl GeneratedRobot {
+    /// `7 DOF, 70 parameters, 43 base parameters`, or for a floating base `12 DOF on a
+    /// floating base, 130 parameters (the base body's first)`: what the front ends print.
+    pub fn sizes(&self) -> String {
+        let m = &self.model;
+        match m.floating_base() {
+            Some(_) => format!(
+                "{} DOF on a floating base, {} parameters (the base body's first)",
+                m.dof(),
+                crate::dynamics::FloatingDynamics::parameter_names(m).len()
+            ),
+            None => format!(
+                "{} DOF, {} parameters, {} base parameters",
+                m.dof(),
+                m.parameter_count(),
+                self.base_parameter_count
+            ),
+        }
+    }
+
     /// The operations of each generated function as a table, one line per function (each
     /// line starts with `indent`), as `cargo xtask gen` and `dyngen info` print it.
     pub fn op_count_table(&self, indent: &str) -> String {

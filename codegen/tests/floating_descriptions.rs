@@ -1,0 +1,146 @@
+//! Floating bases in descriptions: the key in YAML and the URDF option give the same model, the
+//! root link and what is welded to it become the base body, a fixed base is what it always was,
+//! what a floating base does not support yet is refused at its key, and the model written as
+//! URDF loads back as itself.
+
+use dyngen_codegen::description::{self, to_urdf_rs, FrameSelection, FrameSpec, UrdfOptions};
+use dyngen_codegen::model::Inertia;
+use dyngen_testkit::workspace_root;
+use std::path::Path;
+
+const ROBOT: &str = r#"
+name: hopper
+floating_base: true
+end_effector: foot
+links:
+  - { name: trunk, inertial: { mass: 4.0, origin: { xyz: [0.02, 0, 0] }, inertia: { ixx: 0.05, ixy: 0, ixz: 0, iyy: 0.08, iyz: 0, izz: 0.07 } } }
+  - { name: imu, inertial: { mass: 0.1, origin: { xyz: [0, 0.01, 0] }, inertia: { ixx: 1e-5, ixy: 0, ixz: 0, iyy: 1e-5, iyz: 0, izz: 1e-5 } } }
+  - { name: thigh, inertial: { mass: 1.0, origin: { xyz: [0, 0, -0.1] }, inertia: { ixx: 0.01, ixy: 0, ixz: 0, iyy: 0.01, iyz: 0, izz: 0.001 } } }
+  - { name: shank, inertial: { mass: 0.5, origin: { xyz: [0, 0, -0.1] }, inertia: { ixx: 0.004, ixy: 0, ixz: 0, iyy: 0.004, iyz: 0, izz: 0.0005 } } }
+  - { name: foot }
+joints:
+  - { name: imu_mount, type: fixed, parent: trunk, child: imu, origin: { xyz: [0.1, 0, 0.05] } }
+  - name: hip
+    type: revolute
+    parent: trunk
+    child: thigh
+    origin: { xyz: [0, 0, -0.05] }
+    axis: [0, 1, 0]
+    limit: { lower: -1.5, upper: 1.5, effort: 20, velocity: 10 }
+  - name: knee
+    type: revolute
+    parent: thigh
+    child: shank
+    origin: { xyz: [0, 0, -0.2] }
+    axis: [0, 1, 0]
+    limit: { lower: -2.5, upper: 0, effort: 20, velocity: 10 }
+  - { name: ankle, type: fixed, parent: shank, child: foot, origin: { xyz: [0, 0, -0.2] } }
+"#;
+
+#[test]
+fn the_root_link_and_what_is_welded_to_it_are_the_base_body() {
+    let model = description::load_yaml_str(ROBOT, Path::new("hopper.yaml"))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .model;
+    let base = model.floating_base().expect("a floating base");
+    assert_eq!(base.name, "trunk");
+    assert_eq!((model.dof(), model.nq(), model.nv()), (2, 9, 8));
+    assert!(
+        (base.inertia.mass - 4.1).abs() < 1e-12,
+        "trunk and imu: {}",
+        base.inertia.mass
+    );
+    let imu = Inertia {
+        mass: 0.1,
+        com: [0.1, 0.01, 0.05].into(),
+        inertia_com: nalgebra::Matrix3::from_diagonal_element(1e-5),
+    };
+    let trunk = Inertia {
+        mass: 4.0,
+        com: [0.02, 0.0, 0.0].into(),
+        inertia_com: nalgebra::Matrix3::from_diagonal(&[0.05, 0.08, 0.07].into()),
+    };
+    assert_eq!(base.inertia, trunk.merged(&imu));
+    // The same robot on a fixed base drops the trunk and has nothing else changed.
+    let fixed = description::load_yaml_str(
+        &ROBOT.replace("floating_base: true\n", ""),
+        Path::new("hopper.yaml"),
+    )
+    .unwrap()
+    .model;
+    assert!(fixed.floating_base().is_none());
+    assert_eq!((fixed.nq(), fixed.nv()), (2, 2));
+    assert_eq!(fixed.joints(), model.joints());
+    assert_eq!(fixed.bodies(), model.bodies());
+}
+
+#[test]
+fn the_urdf_option_and_the_yaml_key_give_the_same_model() {
+    let urdf = workspace_root().join("robots/urdf/solo12.urdf");
+    let options = UrdfOptions {
+        floating_base: true,
+        end_effector: Some(FrameSpec::link("FL_FOOT")),
+        frames: FrameSelection::Listed(["FR_FOOT", "HL_FOOT", "HR_FOOT"].map(FrameSpec::link).to_vec()),
+        ..UrdfOptions::default()
+    };
+    let from_urdf = description::load_with(&urdf, &options).unwrap_or_else(|e| panic!("{e}"));
+    let from_yaml =
+        description::load(&workspace_root().join("robots/solo12.yaml")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        from_urdf.model.floating_base().map(|b| b.name.as_str()),
+        Some("base_link")
+    );
+    let (a, b) = (&from_yaml.model, &from_urdf.model);
+    assert_eq!(a.name(), "solo12", "the YAML names it; the URDF says `solo`");
+    assert_eq!(
+        (a.joints(), a.bodies(), a.frames()),
+        (b.joints(), b.bodies(), b.frames())
+    );
+    assert_eq!(a.floating_base(), b.floating_base());
+}
+
+#[test]
+fn what_a_floating_base_does_not_support_yet_is_refused_at_its_key() {
+    let with_friction = ROBOT.replace(
+        "floating_base: true\n",
+        "floating_base: true\njoint_parameters: { columns: [viscous] }\n",
+    );
+    let err = description::load_yaml_str(&with_friction, Path::new("hopper.yaml"))
+        .unwrap_err()
+        .to_string();
+    assert!(err.starts_with("hopper.yaml:3:"), "{err}");
+    assert!(
+        err.contains("floating base") && err.contains("joint-level"),
+        "{err}"
+    );
+}
+
+#[test]
+fn a_floating_model_written_as_urdf_loads_back_as_itself() {
+    let model = description::load_yaml_str(ROBOT, Path::new("hopper.yaml"))
+        .unwrap()
+        .model;
+    let export = to_urdf_rs(&model).unwrap_or_else(|e| panic!("{e}"));
+    assert!(export.options.floating_base);
+    assert!(export.needs_wrapper());
+    assert!(export
+        .yaml_wrapper("hopper.urdf")
+        .contains("floating_base: true\n"));
+    assert!(
+        export.warnings.iter().any(|w| w.contains("floats")),
+        "{:?}",
+        export.warnings
+    );
+    let back = description::from_urdf_rs(&export.robot, &export.options).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        back.model.floating_base().map(|b| &b.name),
+        model.floating_base().map(|b| &b.name)
+    );
+    let (a, b) = (
+        &back.model.floating_base().unwrap().inertia,
+        &model.floating_base().unwrap().inertia,
+    );
+    assert!((a.mass - b.mass).abs() < 1e-12 && (a.com - b.com).amax() < 1e-12);
+    assert!((a.inertia_com - b.inertia_com).amax() < 1e-12);
+    assert_eq!(back.model.joints().len(), model.joints().len());
+}
