@@ -1,7 +1,8 @@
 //! Floating-base robots of example-robot-data (a quadruped and a humanoid,
 //! `codegen/tests/data/example-robot-data/`) loaded with `floating_base`, against Pinocchio
 //! 4.1's values for the same URDF with `JointModelFreeFlyer` (`codegen/tests/fixtures/floating/`,
-//! made by `tools/floating_fixtures.py`): the base body, every dynamics quantity, frames,
+//! made by `tools/floating_fixtures.py`): the base body, every dynamics quantity and the
+//! derivatives of inverse and forward dynamics in the tangent space, frames,
 //! the centroidal momentum and the configuration space's `integrate` and `difference`, joint by
 //! joint name, to 1e-9 relative; and the traced graph that generated code is printed from
 //! (through the interpreter), function by function.
@@ -104,6 +105,12 @@ fn check_robot(robot: &str, urdf: &str) {
             &reorder("Minv"),
             TOL,
         );
+        let (dtau_dq, dtau_dv) = dynamics.inverse_dynamics_derivatives(&s, &v, &a);
+        assert_close(&what("dtau_dq"), &dtau_dq, &reorder("dtau_dq"), TOL);
+        assert_close(&what("dtau_dv"), &dtau_dv, &reorder("dtau_dv"), TOL);
+        let (dqdd_dq, dqdd_dv) = dynamics.forward_dynamics_derivatives(&s, &v, tau.as_slice());
+        assert_close(&what("dqdd_dq"), &dqdd_dq, &reorder("dqdd_dq"), TOL);
+        assert_close(&what("dqdd_dv"), &dqdd_dv, &reorder("dqdd_dv"), TOL);
         let (mass, com, ag) = dynamics.centroidal_momentum_matrix(&s);
         assert!(mass > 0.0);
         assert_close(
