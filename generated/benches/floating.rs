@@ -6,6 +6,8 @@
 //! ±1 m, a random unit quaternion, joints in ±π, velocities in ±2, accelerations in ±5,
 //! generalised forces in ±10.
 
+// Its own states: `common::model` and `common::states` are for fixed bases.
+#[allow(dead_code)]
 mod common;
 
 use common::{cycle, STATES};

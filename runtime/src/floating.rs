@@ -50,9 +50,10 @@ impl BasePose {
     pub fn new(position: [f64; 3], quaternion: [f64; 4]) -> Result<BasePose, NonUnitQuaternion> {
         let squared: f64 = quaternion.iter().map(|x| x * x).sum();
         // |‖q‖ − 1| ≤ tol, without the square root on the path every control tick takes:
-        // ‖q‖² − 1 = (‖q‖ − 1)(‖q‖ + 1). `!(… <= …)` also refuses NaN.
+        // ‖q‖² − 1 = (‖q‖ − 1)(‖q‖ + 1). A NaN compares false, so it is refused too.
         let tolerance = QUATERNION_NORM_TOLERANCE;
-        if !((squared - 1.0).abs() <= tolerance * (2.0 - tolerance)) {
+        let unit = (squared - 1.0).abs() <= tolerance * (2.0 - tolerance);
+        if !unit {
             return Err(NonUnitQuaternion { norm: sqrt(squared) });
         }
         Ok(BasePose {

@@ -64,11 +64,9 @@ impl<'m> FloatingDynamics<'m> {
             PARAMS_PER_BODY * (model.joints().len() + 1),
             "θ has the wrong length"
         );
-        let body = |k: usize| {
-            RigidInertia::from_parameters(&std::array::from_fn(|i| theta[PARAMS_PER_BODY * k + i]))
-        };
-        dynamics.base_inertia = body(0);
-        dynamics.inertias = (1..=model.joints().len()).map(body).collect();
+        let mut bodies = super::inertias_from_parameters(theta);
+        dynamics.inertias = bodies.split_off(1);
+        dynamics.base_inertia = bodies[0];
         Some(dynamics)
     }
 

@@ -365,7 +365,7 @@ fn pair_ids((first, second): (DMatrix<Expr>, DMatrix<Expr>)) -> Vec<Id> {
 const LANE_OP_COST: usize = 2;
 
 /// What a function costs by [`LANE_OP_COST`].
-fn cost(graph: &Graph, outputs: &[Id]) -> usize {
+pub(super) fn cost(graph: &Graph, outputs: &[Id]) -> usize {
     let c = graph.op_counts(outputs);
     c.mul + c.add + c.neg + c.div + LANE_OP_COST * c.lanes
 }

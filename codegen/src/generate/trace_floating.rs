@@ -3,6 +3,7 @@
 //! per tick from the quaternion), velocities of `nv = dof + 6` entries.
 
 use super::quantities::QuantityKind;
+use super::trace::cost;
 use super::trace::{
     frame_motion_quantities, ids, inputs, matrix_ids, Arg, Inputs, Quantity, Shape, SymbolicRobot,
 };
@@ -35,7 +36,7 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
         .floating_base()
         .expect("trace_floating needs a floating base");
     let (n, nv) = (model.dof(), model.nv());
-    let (graph, (inputs, quantities)) = record(|| {
+    let (graph, (inputs, quantities, other_forms)) = record(|| {
         let q = inputs("q", n);
         let rotation = inputs("rot", 9);
         let position = inputs("pos", 3);
@@ -178,8 +179,26 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
             base_rotation: ids(&rotation),
             base_position: ids(&position),
         };
-        (inputs, quantities)
+        // The regressors by the bodies' Jacobians, traced last so the functions above keep
+        // their node ids; kept per function where they cost less.
+        let other_forms = [
+            (QuantityKind::Regressor, &v),
+            (QuantityKind::TorqueRegressor, &qd),
+        ]
+        .map(|(kind, reference)| {
+            let y = algorithms::floating_regressor_by_jacobians(model, &pose.rot, &x, &qd, reference, &a);
+            (kind, matrix_ids(&y))
+        });
+        (inputs, quantities, other_forms)
     });
+    let mut quantities = quantities;
+    for (kind, outputs) in other_forms {
+        if let Some(q) = quantities.iter_mut().find(|q| q.kind == kind) {
+            if cost(&graph, &outputs) < cost(&graph, &q.outputs) {
+                q.outputs = outputs;
+            }
+        }
+    }
     SymbolicRobot {
         graph,
         inputs,

@@ -2,9 +2,6 @@
 //! forms (slices for the generic code, fixed-size vectors for the generated code), and the
 //! loop that cycles through them.
 
-// Each bench uses what it needs of this module (the floating-base bench has its own states).
-#![allow(dead_code)]
-
 use criterion::{BenchmarkId, Criterion};
 use dyngen_codegen::description::load;
 use dyngen_codegen::model::Model;
