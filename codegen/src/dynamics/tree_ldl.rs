@@ -125,6 +125,78 @@ impl<S: Scalar> TreeLdl<S> {
         out
     }
 
+    /// `D⁻¹ = M Δ⁻¹ Mᵀ` with `M = L⁻¹`, which keeps `L`'s ancestor pattern: entry `(a, b)` is a
+    /// sum over the common ancestors of `a` and `b` (themselves included), `M` a sum over the
+    /// path between each pair. Where the coordinates share a long chain (a floating base's six
+    /// above every joint) this costs fewer operations than one solve per column
+    /// ([`TreeLdl::inverse`]); generation keeps the cheaper.
+    pub fn inverse_by_ancestors(&self) -> DMatrix<S> {
+        let n = self.inv_pivot.len();
+        let ancestors: Vec<Vec<usize>> = (0..n)
+            .map(|k| {
+                let mut chain = Vec::new();
+                let mut i = self.parent[k];
+                while let Some(ii) = i {
+                    chain.push(ii);
+                    i = self.parent[ii];
+                }
+                chain
+            })
+            .collect();
+        // m[k][p] = M_{k, ancestors[k][p]} (M_kk = 1), rows in order so that every ancestor's
+        // row is ready: L M = 1 gives M_ki = −Σ_j L_kj M_ji over j from i up to k's parent.
+        let mut m: Vec<Vec<S>> = Vec::with_capacity(n);
+        for (k, chain) in ancestors.iter().enumerate() {
+            let mut row = Vec::with_capacity(chain.len());
+            for (p, &i) in chain.iter().enumerate() {
+                let mut sum = self.l[(k, i)];
+                for (q, &j) in chain[..p].iter().enumerate() {
+                    // i is ancestor number p − q − 1 of j (j's chain is k's after j).
+                    sum = sum + self.l[(k, j)] * m[j][p - q - 1];
+                }
+                row.push(-sum);
+            }
+            m.push(row);
+        }
+        // Each coordinate's chain, root first, with M along it.
+        let chains: Vec<Vec<(usize, S)>> = (0..n)
+            .map(|k| {
+                let mut chain: Vec<(usize, S)> =
+                    ancestors[k].iter().copied().zip(m[k].iter().copied()).collect();
+                chain.reverse();
+                chain.push((k, S::one()));
+                chain
+            })
+            .collect();
+        let mut out = DMatrix::from_element(n, n, S::zero());
+        for a in 0..n {
+            for b in 0..=a {
+                let mut sum: Option<S> = None;
+                for (&(ca, ma), &(cb, mb)) in chains[a].iter().zip(&chains[b]) {
+                    if ca != cb {
+                        break;
+                    }
+                    // M_ac Δ⁻¹_c M_bc, with the unit diagonal of M written as no factor.
+                    let mut term = self.inv_pivot[ca];
+                    if ca != a {
+                        term = ma * term;
+                    }
+                    if cb != b {
+                        term = term * mb;
+                    }
+                    sum = Some(match sum {
+                        None => term,
+                        Some(s) => s + term,
+                    });
+                }
+                let value = sum.unwrap_or_else(S::zero);
+                out[(a, b)] = value;
+                out[(b, a)] = value;
+            }
+        }
+        out
+    }
+
     /// `D⁻¹ = L⁻¹ Δ⁻¹ L⁻ᵀ`, symmetric. Column `c` of `L⁻ᵀ` is non-zero only on `c` and its
     /// ancestors, so the solves start sparse (zeros fold away symbolically); the upper triangle
     /// is mirrored from the lower one, which the tracer then never computes twice.
@@ -141,5 +213,61 @@ impl<S: Scalar> TreeLdl<S> {
             }
         }
         out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A symmetric positive definite matrix with the sparsity of `parent` (entries only between
+    /// a coordinate and its ancestors), from `Lᵀ Δ L` with random factors.
+    fn tree_matrix(parent: &[Option<usize>], seed: u64) -> DMatrix<f64> {
+        let n = parent.len();
+        let mut rng = dyngen_runtime::SplitMix64::new(seed);
+        let mut l = DMatrix::<f64>::identity(n, n);
+        for k in 0..n {
+            let mut i = parent[k];
+            while let Some(ii) = i {
+                l[(k, ii)] = rng.uniform((-1.0, 1.0));
+                i = parent[ii];
+            }
+        }
+        let pivots = DMatrix::from_diagonal(&nalgebra::DVector::from_fn(n, |_, _| rng.uniform((0.5, 3.0))));
+        l.transpose() * pivots * l
+    }
+
+    #[test]
+    fn the_inverse_by_common_ancestors_is_the_inverse() {
+        // A floating base's six coordinates in a chain, two legs of three and a branch of one.
+        let parents: Vec<Option<usize>> = vec![
+            None,
+            Some(0),
+            Some(1),
+            Some(2),
+            Some(3),
+            Some(4),
+            Some(5),
+            Some(6),
+            Some(7),
+            Some(5),
+            Some(9),
+            Some(10),
+            Some(9),
+        ];
+        for seed in 0..20 {
+            let d = tree_matrix(&parents, seed);
+            let factor = TreeLdl::factor_tree(parents.clone(), &d);
+            let by_solves = factor.inverse();
+            let by_ancestors = factor.inverse_by_ancestors();
+            assert!(
+                (&by_ancestors - &by_solves).amax() < 1e-12 * by_solves.amax(),
+                "seed {seed}"
+            );
+            assert!(
+                (by_ancestors * &d - DMatrix::identity(13, 13)).amax() < 1e-10,
+                "seed {seed}"
+            );
+        }
     }
 }

@@ -94,3 +94,14 @@ pub fn floating_mass_matrix_inverse<S: Scalar>(
 ) -> DMatrix<S> {
     factor(model, base, x, inertias).inverse()
 }
+
+/// [`floating_mass_matrix_inverse`] by sums over common ancestors
+/// ([`TreeLdl::inverse_by_ancestors`]): the same values, other operations.
+pub fn floating_mass_matrix_inverse_by_ancestors<S: Scalar>(
+    model: &Model,
+    base: &FloatingBase<S>,
+    x: &[Transform<S>],
+    inertias: &[RigidInertia<S>],
+) -> DMatrix<S> {
+    factor(model, base, x, inertias).inverse_by_ancestors()
+}

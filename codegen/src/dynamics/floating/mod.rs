@@ -25,7 +25,10 @@ pub(crate) use inverse::{
     floating_slotine_li,
 };
 pub(crate) use kinematics::{floating_body_poses, floating_frame_jacobian, floating_frame_jacobian_dot};
-pub(crate) use mass::{floating_forward_dynamics, floating_mass_matrix, floating_mass_matrix_inverse};
+pub(crate) use mass::{
+    floating_forward_dynamics, floating_mass_matrix, floating_mass_matrix_inverse,
+    floating_mass_matrix_inverse_by_ancestors,
+};
 
 use crate::scalar::Scalar;
 use crate::spatial::{Force, Motion, RigidInertia, Transform, Vec3};
