@@ -179,19 +179,11 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
             base_rotation: ids(&rotation),
             base_position: ids(&position),
         };
-        // The regressors by the bodies' Jacobians, traced last so the functions above keep
-        // their node ids; kept per function where they cost less.
-        let mut other_forms: Vec<(QuantityKind, Vec<crate::symbolic::Id>)> = [
-            (QuantityKind::Regressor, &v),
-            (QuantityKind::TorqueRegressor, &qd),
-        ]
-        .map(|(kind, reference)| {
-            let y = algorithms::floating_regressor_by_jacobians(model, &pose.rot, &x, &qd, reference, &a);
-            (kind, matrix_ids(&y))
-        })
-        .to_vec();
+        // D⁻¹ by sums over common ancestors, traced last so the functions above keep their node
+        // ids; kept where it costs less. (The regressors by the bodies' Jacobians cost fewer
+        // operations on the G1 but ran slower: longer-lived values.)
         let inverse = algorithms::floating_mass_matrix_inverse_by_ancestors(model, &base, &x, &inertias);
-        other_forms.push((QuantityKind::MassMatrixInverse, matrix_ids(&inverse)));
+        let other_forms = vec![(QuantityKind::MassMatrixInverse, matrix_ids(&inverse))];
         (inputs, quantities, other_forms)
     });
     let mut quantities = quantities;

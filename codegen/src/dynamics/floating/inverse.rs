@@ -2,12 +2,11 @@
 //! a floating base (see the module docs of `floating` for the base's recursion).
 
 use super::{base_entries, base_motion, FloatingBase};
-use crate::dynamics::joint::{joint_force, joint_motion};
-use crate::dynamics::kinematics::body_poses;
+use crate::dynamics::joint::joint_force;
 use crate::dynamics::slotine_li::{body_force, forward_pass_from, gravity_vector, tree_forces, BodyMotion};
 use crate::model::{Model, PARAMS_PER_BODY};
 use crate::scalar::Scalar;
-use crate::spatial::{JointFrame, Mat3, Motion, RigidInertia, Transform, Vec3};
+use crate::spatial::{JointFrame, Mat3, Motion, RigidInertia, Vec3};
 use nalgebra::DMatrix;
 
 /// The base body's motion: velocity `ν`, reference velocity `ν_r`, reference acceleration
@@ -119,60 +118,6 @@ pub fn floating_regressor<S: Scalar, X: JointFrame<S>>(
             }
             set_base_rows(&mut y, col, base_entries(&x[j].force_to_parent(&f)));
         }
-    }
-    y
-}
-
-/// [`floating_regressor`] by the bodies' Jacobians: a joint row is the ancestor's axis carried
-/// down to the body dotted with the body force (as `dynamics::regressor_by_jacobians`), and the
-/// base rows are each body force moved to the base frame at once, by the body's pose in it,
-/// instead of ten forces carried up level by level. Generation keeps whichever form costs less.
-pub fn floating_regressor_by_jacobians<S: Scalar>(
-    model: &Model,
-    rotation: &Mat3<S>,
-    x: &[Transform<S>],
-    qd: &[S],
-    v: &[S],
-    a: &[S],
-) -> DMatrix<S> {
-    let n = model.joints().len();
-    let root = base_body_motion(rotation, qd, v, a, Some(gravity_vector(model)));
-    let motions = forward_pass_from(model, x, &qd[6..], &v[6..], &a[6..], &root);
-    let in_base = body_poses(model, x);
-    let mut y = DMatrix::from_element(6 + n, PARAMS_PER_BODY * (n + 1), S::zero());
-    let set_base_rows = |y: &mut DMatrix<S>, col: usize, entries: [S; 6]| {
-        for (r, e) in entries.into_iter().enumerate() {
-            y[(r, col)] = e;
-        }
-    };
-    for k in 0..PARAMS_PER_BODY {
-        set_base_rows(
-            &mut y,
-            k,
-            base_entries(&body_force(&RigidInertia::unit(k), &root)),
-        );
-    }
-    let mut axes: Vec<Vec<(usize, Motion<S>)>> = Vec::with_capacity(n);
-    for (j, (joint, m)) in model.joints().iter().zip(&motions).enumerate() {
-        let ancestors: Vec<(usize, Motion<S>)> = match joint.parent {
-            Some(p) => axes[p]
-                .iter()
-                .map(|(i, s)| (*i, x[j].motion_to_child(s)))
-                .collect(),
-            None => Vec::new(),
-        };
-        for k in 0..PARAMS_PER_BODY {
-            let col = PARAMS_PER_BODY * (j + 1) + k;
-            let f = body_force(&RigidInertia::unit(k), m);
-            y[(6 + j, col)] = joint_force(joint, &f);
-            for (i, s) in &ancestors {
-                y[(6 + *i, col)] = f.power(s);
-            }
-            set_base_rows(&mut y, col, base_entries(&in_base[j].force_to_parent(&f)));
-        }
-        let mut own = ancestors;
-        own.push((j, joint_motion(joint, S::one())));
-        axes.push(own);
     }
     y
 }

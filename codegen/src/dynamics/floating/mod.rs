@@ -21,8 +21,7 @@ mod mass;
 pub(crate) use centroidal::{centroidal_bias, centroidal_momentum_matrix};
 pub(crate) use coriolis::floating_coriolis_matrix;
 pub(crate) use inverse::{
-    floating_gravity, floating_inverse_dynamics, floating_regressor, floating_regressor_by_jacobians,
-    floating_slotine_li,
+    floating_gravity, floating_inverse_dynamics, floating_regressor, floating_slotine_li,
 };
 pub(crate) use kinematics::{floating_body_poses, floating_frame_jacobian, floating_frame_jacobian_dot};
 pub(crate) use mass::{
