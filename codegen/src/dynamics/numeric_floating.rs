@@ -312,7 +312,7 @@ impl<'m> FloatingDynamics<'m> {
     fn frame_motion(&self, s: &FloatingState, v: &[f64], frame: usize) -> FrameMotion<f64> {
         let frame = &self.model.frames()[frame];
         FrameMotion {
-            pose: s.world[frame.parent].compose(&super::joint::pose_to_transform(&frame.placement)),
+            pose: super::kinematics::frame_pose(&s.world, frame),
             jacobian: floating::floating_frame_jacobian(self.model, &s.pose, &s.world, frame),
             jacobian_dot: floating::floating_frame_jacobian_dot(self.model, &s.pose, &s.world, v, frame),
         }

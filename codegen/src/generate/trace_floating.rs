@@ -162,7 +162,7 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
         ];
         for (index, frame) in model.frames().iter().enumerate() {
             let motion = FrameMotion {
-                pose: world[frame.parent].compose(&dynamics::joint::pose_to_transform(&frame.placement)),
+                pose: dynamics::kinematics::frame_pose(&world, frame),
                 jacobian: algorithms::floating_frame_jacobian(model, &pose, &world, frame),
                 jacobian_dot: algorithms::floating_frame_jacobian_dot(model, &pose, &world, &qd, frame),
             };
