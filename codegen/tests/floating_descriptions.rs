@@ -144,3 +144,16 @@ fn a_floating_model_written_as_urdf_loads_back_as_itself() {
     assert!((a.inertia_com - b.inertia_com).amax() < 1e-12);
     assert_eq!(back.model.joints().len(), model.joints().len());
 }
+
+#[test]
+fn a_frame_on_the_floating_base_body_is_refused_with_what_it_is() {
+    let on_base = ROBOT.replace("end_effector: foot\n", "end_effector: foot\nframes: [imu]\n");
+    let err = description::load_yaml_str(&on_base, Path::new("hopper.yaml"))
+        .unwrap_err()
+        .to_string();
+    assert!(err.starts_with("hopper.yaml:5:"), "{err}");
+    assert!(
+        err.contains("link 'imu' is part of the floating base body"),
+        "{err}"
+    );
+}

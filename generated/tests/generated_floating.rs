@@ -203,6 +203,14 @@ fn solo12_matches_the_generic_dynamics() {
                     &dm(&velocity),
                     TOL_GENERIC,
                 );
+                let acceleration = generic.frame_classical_acceleration(&s, &v, &a, index, reference);
+                let generated = Solo12::frame_classical_acceleration(frame, reference, &t, &vv, &av);
+                assert_close(
+                    &what("frame acceleration"),
+                    &dm(&generated),
+                    &dm(&acceleration),
+                    TOL_GENERIC,
+                );
             }
         }
     }

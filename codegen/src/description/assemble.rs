@@ -460,10 +460,17 @@ fn frame_from_spec(
         return Err(err("offset xyz/rpy is not finite".into()));
     }
     let Some(parent) = carrier[link] else {
-        let msg = format!(
-            "link '{}' does not move with any joint (it is fixed to the base)",
-            spec.link
-        );
+        let msg = match settings.floating_base {
+            true => format!(
+                "link '{}' is part of the floating base body: frames on the base body are not \
+                 supported yet (its pose is the base pose in `FloatingTrig`)",
+                spec.link
+            ),
+            false => format!(
+                "link '{}' does not move with any joint (it is fixed to the base)",
+                spec.link
+            ),
+        };
         return Err(err(msg));
     };
     let offset = from_xyz_rpy(spec.xyz, spec.rpy);

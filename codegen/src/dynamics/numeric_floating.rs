@@ -354,6 +354,23 @@ impl<'m> FloatingDynamics<'m> {
         Vector6::from(self.frame_motion(s, v, frame).velocity_in(reference, v))
     }
 
+    /// The frame's classical acceleration at `ν̇ = a` in `reference`, `[linear; angular]`.
+    pub fn frame_classical_acceleration(
+        &self,
+        s: &FloatingState,
+        v: &[f64],
+        a: &[f64],
+        frame: usize,
+        reference: ReferenceFrame,
+    ) -> Vector6<f64> {
+        self.check_velocity(v);
+        self.check_velocity(a);
+        Vector6::from(
+            self.frame_motion(s, v, frame)
+                .classical_acceleration_in(reference, v, a),
+        )
+    }
+
     /// Total mass, centre of mass (world) and the centroidal momentum matrix `A_g` (6 × nv).
     pub fn centroidal_momentum_matrix(&self, s: &FloatingState) -> (f64, Vector3<f64>, DMatrix<f64>) {
         let c =
