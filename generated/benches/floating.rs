@@ -58,14 +58,14 @@ fn solo12(c: &mut Criterion) {
         black_box(dyngen_runtime::BasePose::from_configuration(q.as_slice()).unwrap());
     });
     cycle(c, &g("fk"), "generated", &inputs, |(q, _)| {
-        black_box(Solo12::frame_pose(Frame::FLFOOT, &trig(q)));
+        black_box(Solo12::frame_pose(Frame::FlFoot, &trig(q)));
     });
     cycle(c, &g("jacobian"), "generated", &inputs, |(q, _)| {
-        black_box(Solo12::frame_jacobian(Frame::FLFOOT, lwa, &trig(q)));
+        black_box(Solo12::frame_jacobian(Frame::FlFoot, lwa, &trig(q)));
     });
     cycle(c, &g("jacobian_dot"), "generated", &inputs, |(q, [v, ..])| {
         black_box(Solo12::frame_jacobian_time_variation(
-            Frame::FLFOOT,
+            Frame::FlFoot,
             lwa,
             &trig(q),
             v,

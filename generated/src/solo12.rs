@@ -26474,27 +26474,27 @@ pub const FRAME_NAMES: [&str; FRAME_COUNT] = [
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Frame {
     /// `FL_FOOT`, the end-effector (on body `FL_LOWER_LEG`).
-    FLFOOT,
+    FlFoot,
     /// `FR_FOOT` (on body `FR_LOWER_LEG`).
-    FRFOOT,
+    FrFoot,
     /// `HL_FOOT` (on body `HL_LOWER_LEG`).
-    HLFOOT,
+    HlFoot,
     /// `HR_FOOT` (on body `HR_LOWER_LEG`).
-    HRFOOT,
+    HrFoot,
 }
 impl RobotFrame for Frame {
     const ALL: &'static [Frame] = &[
-        Frame::FLFOOT,
-        Frame::FRFOOT,
-        Frame::HLFOOT,
-        Frame::HRFOOT,
+        Frame::FlFoot,
+        Frame::FrFoot,
+        Frame::HlFoot,
+        Frame::HrFoot,
     ];
     fn name(self) -> &'static str {
         match self {
-            Frame::FLFOOT => "FL_FOOT",
-            Frame::FRFOOT => "FR_FOOT",
-            Frame::HLFOOT => "HL_FOOT",
-            Frame::HRFOOT => "HR_FOOT",
+            Frame::FlFoot => "FL_FOOT",
+            Frame::FrFoot => "FR_FOOT",
+            Frame::HlFoot => "HL_FOOT",
+            Frame::HrFoot => "HR_FOOT",
         }
     }
 }
@@ -26502,10 +26502,10 @@ impl FloatingFrameKinematics<12, 18> for Solo12 {
     type Frame = Frame;
     fn frame_pose(frame: Frame, t: &FloatingTrig<12>) -> Pose {
         match frame {
-            Frame::FLFOOT => frame_pose_fl_foot(t),
-            Frame::FRFOOT => frame_pose_fr_foot(t),
-            Frame::HLFOOT => frame_pose_hl_foot(t),
-            Frame::HRFOOT => frame_pose_hr_foot(t),
+            Frame::FlFoot => frame_pose_fl_foot(t),
+            Frame::FrFoot => frame_pose_fr_foot(t),
+            Frame::HlFoot => frame_pose_hl_foot(t),
+            Frame::HrFoot => frame_pose_hr_foot(t),
         }
     }
     fn frame_jacobian(
@@ -26514,24 +26514,24 @@ impl FloatingFrameKinematics<12, 18> for Solo12 {
         t: &FloatingTrig<12>,
     ) -> SMatrix<f64, 6, 18> {
         match (frame, reference) {
-            (Frame::FLFOOT, ReferenceFrame::Local) => frame_jacobian_fl_foot_local(t),
-            (Frame::FLFOOT, ReferenceFrame::World) => frame_jacobian_fl_foot_world(t),
-            (Frame::FLFOOT, ReferenceFrame::LocalWorldAligned) => {
+            (Frame::FlFoot, ReferenceFrame::Local) => frame_jacobian_fl_foot_local(t),
+            (Frame::FlFoot, ReferenceFrame::World) => frame_jacobian_fl_foot_world(t),
+            (Frame::FlFoot, ReferenceFrame::LocalWorldAligned) => {
                 frame_jacobian_fl_foot_local_world_aligned(t)
             }
-            (Frame::FRFOOT, ReferenceFrame::Local) => frame_jacobian_fr_foot_local(t),
-            (Frame::FRFOOT, ReferenceFrame::World) => frame_jacobian_fr_foot_world(t),
-            (Frame::FRFOOT, ReferenceFrame::LocalWorldAligned) => {
+            (Frame::FrFoot, ReferenceFrame::Local) => frame_jacobian_fr_foot_local(t),
+            (Frame::FrFoot, ReferenceFrame::World) => frame_jacobian_fr_foot_world(t),
+            (Frame::FrFoot, ReferenceFrame::LocalWorldAligned) => {
                 frame_jacobian_fr_foot_local_world_aligned(t)
             }
-            (Frame::HLFOOT, ReferenceFrame::Local) => frame_jacobian_hl_foot_local(t),
-            (Frame::HLFOOT, ReferenceFrame::World) => frame_jacobian_hl_foot_world(t),
-            (Frame::HLFOOT, ReferenceFrame::LocalWorldAligned) => {
+            (Frame::HlFoot, ReferenceFrame::Local) => frame_jacobian_hl_foot_local(t),
+            (Frame::HlFoot, ReferenceFrame::World) => frame_jacobian_hl_foot_world(t),
+            (Frame::HlFoot, ReferenceFrame::LocalWorldAligned) => {
                 frame_jacobian_hl_foot_local_world_aligned(t)
             }
-            (Frame::HRFOOT, ReferenceFrame::Local) => frame_jacobian_hr_foot_local(t),
-            (Frame::HRFOOT, ReferenceFrame::World) => frame_jacobian_hr_foot_world(t),
-            (Frame::HRFOOT, ReferenceFrame::LocalWorldAligned) => {
+            (Frame::HrFoot, ReferenceFrame::Local) => frame_jacobian_hr_foot_local(t),
+            (Frame::HrFoot, ReferenceFrame::World) => frame_jacobian_hr_foot_world(t),
+            (Frame::HrFoot, ReferenceFrame::LocalWorldAligned) => {
                 frame_jacobian_hr_foot_local_world_aligned(t)
             }
         }
@@ -26543,40 +26543,40 @@ impl FloatingFrameKinematics<12, 18> for Solo12 {
         qd: &SVector<f64, 18>,
     ) -> SMatrix<f64, 6, 18> {
         match (frame, reference) {
-            (Frame::FLFOOT, ReferenceFrame::Local) => {
+            (Frame::FlFoot, ReferenceFrame::Local) => {
                 frame_jacobian_time_variation_fl_foot_local(t, qd)
             }
-            (Frame::FLFOOT, ReferenceFrame::World) => {
+            (Frame::FlFoot, ReferenceFrame::World) => {
                 frame_jacobian_time_variation_fl_foot_world(t, qd)
             }
-            (Frame::FLFOOT, ReferenceFrame::LocalWorldAligned) => {
+            (Frame::FlFoot, ReferenceFrame::LocalWorldAligned) => {
                 frame_jacobian_time_variation_fl_foot_local_world_aligned(t, qd)
             }
-            (Frame::FRFOOT, ReferenceFrame::Local) => {
+            (Frame::FrFoot, ReferenceFrame::Local) => {
                 frame_jacobian_time_variation_fr_foot_local(t, qd)
             }
-            (Frame::FRFOOT, ReferenceFrame::World) => {
+            (Frame::FrFoot, ReferenceFrame::World) => {
                 frame_jacobian_time_variation_fr_foot_world(t, qd)
             }
-            (Frame::FRFOOT, ReferenceFrame::LocalWorldAligned) => {
+            (Frame::FrFoot, ReferenceFrame::LocalWorldAligned) => {
                 frame_jacobian_time_variation_fr_foot_local_world_aligned(t, qd)
             }
-            (Frame::HLFOOT, ReferenceFrame::Local) => {
+            (Frame::HlFoot, ReferenceFrame::Local) => {
                 frame_jacobian_time_variation_hl_foot_local(t, qd)
             }
-            (Frame::HLFOOT, ReferenceFrame::World) => {
+            (Frame::HlFoot, ReferenceFrame::World) => {
                 frame_jacobian_time_variation_hl_foot_world(t, qd)
             }
-            (Frame::HLFOOT, ReferenceFrame::LocalWorldAligned) => {
+            (Frame::HlFoot, ReferenceFrame::LocalWorldAligned) => {
                 frame_jacobian_time_variation_hl_foot_local_world_aligned(t, qd)
             }
-            (Frame::HRFOOT, ReferenceFrame::Local) => {
+            (Frame::HrFoot, ReferenceFrame::Local) => {
                 frame_jacobian_time_variation_hr_foot_local(t, qd)
             }
-            (Frame::HRFOOT, ReferenceFrame::World) => {
+            (Frame::HrFoot, ReferenceFrame::World) => {
                 frame_jacobian_time_variation_hr_foot_world(t, qd)
             }
-            (Frame::HRFOOT, ReferenceFrame::LocalWorldAligned) => {
+            (Frame::HrFoot, ReferenceFrame::LocalWorldAligned) => {
                 frame_jacobian_time_variation_hr_foot_local_world_aligned(t, qd)
             }
         }
@@ -26588,24 +26588,24 @@ impl FloatingFrameKinematics<12, 18> for Solo12 {
         qd: &SVector<f64, 18>,
     ) -> SVector<f64, 6> {
         match (frame, reference) {
-            (Frame::FLFOOT, ReferenceFrame::Local) => frame_velocity_fl_foot_local(t, qd),
-            (Frame::FLFOOT, ReferenceFrame::World) => frame_velocity_fl_foot_world(t, qd),
-            (Frame::FLFOOT, ReferenceFrame::LocalWorldAligned) => {
+            (Frame::FlFoot, ReferenceFrame::Local) => frame_velocity_fl_foot_local(t, qd),
+            (Frame::FlFoot, ReferenceFrame::World) => frame_velocity_fl_foot_world(t, qd),
+            (Frame::FlFoot, ReferenceFrame::LocalWorldAligned) => {
                 frame_velocity_fl_foot_local_world_aligned(t, qd)
             }
-            (Frame::FRFOOT, ReferenceFrame::Local) => frame_velocity_fr_foot_local(t, qd),
-            (Frame::FRFOOT, ReferenceFrame::World) => frame_velocity_fr_foot_world(t, qd),
-            (Frame::FRFOOT, ReferenceFrame::LocalWorldAligned) => {
+            (Frame::FrFoot, ReferenceFrame::Local) => frame_velocity_fr_foot_local(t, qd),
+            (Frame::FrFoot, ReferenceFrame::World) => frame_velocity_fr_foot_world(t, qd),
+            (Frame::FrFoot, ReferenceFrame::LocalWorldAligned) => {
                 frame_velocity_fr_foot_local_world_aligned(t, qd)
             }
-            (Frame::HLFOOT, ReferenceFrame::Local) => frame_velocity_hl_foot_local(t, qd),
-            (Frame::HLFOOT, ReferenceFrame::World) => frame_velocity_hl_foot_world(t, qd),
-            (Frame::HLFOOT, ReferenceFrame::LocalWorldAligned) => {
+            (Frame::HlFoot, ReferenceFrame::Local) => frame_velocity_hl_foot_local(t, qd),
+            (Frame::HlFoot, ReferenceFrame::World) => frame_velocity_hl_foot_world(t, qd),
+            (Frame::HlFoot, ReferenceFrame::LocalWorldAligned) => {
                 frame_velocity_hl_foot_local_world_aligned(t, qd)
             }
-            (Frame::HRFOOT, ReferenceFrame::Local) => frame_velocity_hr_foot_local(t, qd),
-            (Frame::HRFOOT, ReferenceFrame::World) => frame_velocity_hr_foot_world(t, qd),
-            (Frame::HRFOOT, ReferenceFrame::LocalWorldAligned) => {
+            (Frame::HrFoot, ReferenceFrame::Local) => frame_velocity_hr_foot_local(t, qd),
+            (Frame::HrFoot, ReferenceFrame::World) => frame_velocity_hr_foot_world(t, qd),
+            (Frame::HrFoot, ReferenceFrame::LocalWorldAligned) => {
                 frame_velocity_hr_foot_local_world_aligned(t, qd)
             }
         }
@@ -26618,40 +26618,40 @@ impl FloatingFrameKinematics<12, 18> for Solo12 {
         qdd: &SVector<f64, 18>,
     ) -> SVector<f64, 6> {
         match (frame, reference) {
-            (Frame::FLFOOT, ReferenceFrame::Local) => {
+            (Frame::FlFoot, ReferenceFrame::Local) => {
                 frame_classical_acceleration_fl_foot_local(t, qd, qdd)
             }
-            (Frame::FLFOOT, ReferenceFrame::World) => {
+            (Frame::FlFoot, ReferenceFrame::World) => {
                 frame_classical_acceleration_fl_foot_world(t, qd, qdd)
             }
-            (Frame::FLFOOT, ReferenceFrame::LocalWorldAligned) => {
+            (Frame::FlFoot, ReferenceFrame::LocalWorldAligned) => {
                 frame_classical_acceleration_fl_foot_local_world_aligned(t, qd, qdd)
             }
-            (Frame::FRFOOT, ReferenceFrame::Local) => {
+            (Frame::FrFoot, ReferenceFrame::Local) => {
                 frame_classical_acceleration_fr_foot_local(t, qd, qdd)
             }
-            (Frame::FRFOOT, ReferenceFrame::World) => {
+            (Frame::FrFoot, ReferenceFrame::World) => {
                 frame_classical_acceleration_fr_foot_world(t, qd, qdd)
             }
-            (Frame::FRFOOT, ReferenceFrame::LocalWorldAligned) => {
+            (Frame::FrFoot, ReferenceFrame::LocalWorldAligned) => {
                 frame_classical_acceleration_fr_foot_local_world_aligned(t, qd, qdd)
             }
-            (Frame::HLFOOT, ReferenceFrame::Local) => {
+            (Frame::HlFoot, ReferenceFrame::Local) => {
                 frame_classical_acceleration_hl_foot_local(t, qd, qdd)
             }
-            (Frame::HLFOOT, ReferenceFrame::World) => {
+            (Frame::HlFoot, ReferenceFrame::World) => {
                 frame_classical_acceleration_hl_foot_world(t, qd, qdd)
             }
-            (Frame::HLFOOT, ReferenceFrame::LocalWorldAligned) => {
+            (Frame::HlFoot, ReferenceFrame::LocalWorldAligned) => {
                 frame_classical_acceleration_hl_foot_local_world_aligned(t, qd, qdd)
             }
-            (Frame::HRFOOT, ReferenceFrame::Local) => {
+            (Frame::HrFoot, ReferenceFrame::Local) => {
                 frame_classical_acceleration_hr_foot_local(t, qd, qdd)
             }
-            (Frame::HRFOOT, ReferenceFrame::World) => {
+            (Frame::HrFoot, ReferenceFrame::World) => {
                 frame_classical_acceleration_hr_foot_world(t, qd, qdd)
             }
-            (Frame::HRFOOT, ReferenceFrame::LocalWorldAligned) => {
+            (Frame::HrFoot, ReferenceFrame::LocalWorldAligned) => {
                 frame_classical_acceleration_hr_foot_local_world_aligned(t, qd, qdd)
             }
         }
@@ -26662,10 +26662,10 @@ impl FloatingFrameKinematics<12, 18> for Solo12 {
         qd: &SVector<f64, 18>,
     ) -> (Pose, SMatrix<f64, 6, 18>, SMatrix<f64, 6, 18>) {
         match frame {
-            Frame::FLFOOT => frame_kinematics_fl_foot(t, qd),
-            Frame::FRFOOT => frame_kinematics_fr_foot(t, qd),
-            Frame::HLFOOT => frame_kinematics_hl_foot(t, qd),
-            Frame::HRFOOT => frame_kinematics_hr_foot(t, qd),
+            Frame::FlFoot => frame_kinematics_fl_foot(t, qd),
+            Frame::FrFoot => frame_kinematics_fr_foot(t, qd),
+            Frame::HlFoot => frame_kinematics_hl_foot(t, qd),
+            Frame::HrFoot => frame_kinematics_hr_foot(t, qd),
         }
     }
 }

@@ -11,7 +11,9 @@ pub struct FrameIdentifiers {
 }
 
 /// The spellings of `name`: its ASCII letters and digits, split at everything else (and
-/// prefixed when it would start with a digit or be empty).
+/// prefixed when it would start with a digit or be empty). A part written in capitals is a
+/// word, not an acronym to keep (`FL_FOOT` → `FlFoot`, as Rust spells variants); a part in
+/// mixed case keeps its inner capitals (`camelCase` → `CamelCase`).
 pub fn frame_identifiers(name: &str) -> FrameIdentifiers {
     let parts: Vec<&str> = name
         .split(|c: char| !c.is_ascii_alphanumeric())
@@ -20,7 +22,11 @@ pub fn frame_identifiers(name: &str) -> FrameIdentifiers {
     let mut variant: String = parts
         .iter()
         .map(|p| {
-            let mut chars = p.chars();
+            let word = match p.chars().any(|c| c.is_ascii_lowercase()) {
+                true => p.to_string(),
+                false => p.to_ascii_lowercase(),
+            };
+            let mut chars = word.chars();
             let first = chars.next().map(|c| c.to_ascii_uppercase());
             first.into_iter().chain(chars).collect::<String>()
         })
@@ -74,6 +80,13 @@ mod tests {
         assert_eq!(
             (id.variant.as_str(), id.snake.as_str()),
             ("Frame7thLink", "frame_7th_link")
+        );
+        let id = frame_identifiers("FL_FOOT");
+        assert_eq!((id.variant.as_str(), id.snake.as_str()), ("FlFoot", "fl_foot"));
+        let id = frame_identifiers("l_sole2_IMU");
+        assert_eq!(
+            (id.variant.as_str(), id.snake.as_str()),
+            ("LSole2Imu", "l_sole2_imu")
         );
         let id = frame_identifiers("..");
         assert_eq!((id.variant.as_str(), id.snake.as_str()), ("Frame", "frame_"));
