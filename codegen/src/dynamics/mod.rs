@@ -12,7 +12,7 @@
 //! Every algorithm takes the joint transforms of `joint_transforms`, so that the joint
 //! sines and cosines are computed once and shared by all quantities of a control tick.
 
-mod coriolis;
+pub(crate) mod coriolis;
 mod coupling;
 pub(crate) mod crba;
 mod derivatives;

@@ -320,14 +320,21 @@ impl<'m> FloatingDynamics<'m> {
 
     /// The pose of frame `frame` (an index into [`Model::frames`]) in the world.
     pub fn frame_pose(&self, s: &FloatingState, frame: usize) -> (Matrix3<f64>, Vector3<f64>) {
-        let motion = self.frame_motion(s, &vec![0.0; self.model.nv()], frame);
-        (to_matrix3(&motion.pose.rot), Vector3::from(motion.pose.pos.0))
+        let pose = super::kinematics::frame_pose(&s.world, &self.model.frames()[frame]);
+        (to_matrix3(&pose.rot), Vector3::from(pose.pos.0))
     }
 
     /// The Jacobian (6 × nv) of frame `frame` in `reference`.
     pub fn frame_jacobian(&self, s: &FloatingState, frame: usize, reference: ReferenceFrame) -> DMatrix<f64> {
-        self.frame_motion(s, &vec![0.0; self.model.nv()], frame)
-            .jacobian_in(reference)
+        let frame = &self.model.frames()[frame];
+        let jacobian = floating::floating_frame_jacobian(self.model, &s.pose, &s.world, frame);
+        // `J` in a reference frame needs only the pose and `J`; no `J̇` is computed for it.
+        FrameMotion {
+            pose: super::kinematics::frame_pose(&s.world, frame),
+            jacobian_dot: DMatrix::zeros(6, jacobian.ncols()),
+            jacobian,
+        }
+        .jacobian_in(reference)
     }
 
     /// `J̇` of frame `frame` in `reference` along `ν`.

@@ -327,13 +327,7 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
     });
     // Each function in its other formulation where that costs less: the derivatives in lanes
     // rather than one direction at a time, some frame quantities by another algorithm.
-    for (name, outputs) in other_forms {
-        if let Some(q) = quantities.iter_mut().find(|q| q.name() == name) {
-            if cost(&graph, &outputs) < cost(&graph, &q.outputs) {
-                q.outputs = outputs;
-            }
-        }
-    }
+    keep_cheaper(&graph, &mut quantities, other_forms);
     SymbolicRobot {
         graph,
         inputs,
@@ -364,8 +358,19 @@ fn pair_ids((first, second): (DMatrix<Expr>, DMatrix<Expr>)) -> Vec<Id> {
 /// lane ones), the UR5's no faster (3,050 against 808 + 1,587), as this weight predicts.
 const LANE_OP_COST: usize = 2;
 
+/// Each function named in `other_forms` in that formulation where it costs less.
+pub(super) fn keep_cheaper(graph: &Graph, quantities: &mut [Quantity], other_forms: Vec<(String, Vec<Id>)>) {
+    for (name, outputs) in other_forms {
+        if let Some(q) = quantities.iter_mut().find(|q| q.name() == name) {
+            if cost(graph, &outputs) < cost(graph, &q.outputs) {
+                q.outputs = outputs;
+            }
+        }
+    }
+}
+
 /// What a function costs by [`LANE_OP_COST`].
-pub(super) fn cost(graph: &Graph, outputs: &[Id]) -> usize {
+fn cost(graph: &Graph, outputs: &[Id]) -> usize {
     let c = graph.op_counts(outputs);
     c.mul + c.add + c.neg + c.div + LANE_OP_COST * c.lanes
 }

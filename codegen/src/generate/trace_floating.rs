@@ -3,7 +3,7 @@
 //! per tick from the quaternion), velocities of `nv = dof + 6` entries.
 
 use super::quantities::QuantityKind;
-use super::trace::cost;
+use super::trace::keep_cheaper;
 use super::trace::{
     frame_motion_quantities, ids, inputs, matrix_ids, Arg, Inputs, Quantity, Shape, SymbolicRobot,
 };
@@ -183,17 +183,14 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
         // ids; kept where it costs less. (The regressors by the bodies' Jacobians cost fewer
         // operations on the G1 but ran slower: longer-lived values.)
         let inverse = algorithms::floating_mass_matrix_inverse_by_ancestors(model, &base, &x, &inertias);
-        let other_forms = vec![(QuantityKind::MassMatrixInverse, matrix_ids(&inverse))];
+        let other_forms = vec![(
+            QuantityKind::MassMatrixInverse.name().to_owned(),
+            matrix_ids(&inverse),
+        )];
         (inputs, quantities, other_forms)
     });
     let mut quantities = quantities;
-    for (kind, outputs) in other_forms {
-        if let Some(q) = quantities.iter_mut().find(|q| q.kind == kind) {
-            if cost(&graph, &outputs) < cost(&graph, &q.outputs) {
-                q.outputs = outputs;
-            }
-        }
-    }
+    keep_cheaper(&graph, &mut quantities, other_forms);
     SymbolicRobot {
         graph,
         inputs,
