@@ -71,14 +71,9 @@ pub fn run(args: InfoArgs) -> Result<(), Failure> {
     };
     println!("parameters ({}):", names.len());
     println!("  {}", names.join(", "));
-    match model.floating_base() {
-        Some(_) => println!("base parameters: not computed for a floating base"),
-        None => {
-            println!("base parameters ({}):", robot.base_parameter_count);
-            for name in &robot.base_parameter_names {
-                println!("  {name}");
-            }
-        }
+    println!("base parameters ({}):", robot.base_parameter_count);
+    for name in &robot.base_parameter_names {
+        println!("  {name}");
     }
     println!("functions: {}", robot.functions);
     println!("operations per generated function:");

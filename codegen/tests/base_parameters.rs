@@ -7,7 +7,7 @@
 use dyngen_testkit as common;
 
 use common::random_model::{arb_model, random_state, SplitMix64};
-use common::{assert_close, column, fixture};
+use common::{assert_close, column, fixture, scaled_rank};
 use dyngen_codegen::base_parameters::BaseParameterSet;
 use dyngen_codegen::description::load;
 use dyngen_codegen::dynamics::NumericDynamics;
@@ -35,23 +35,6 @@ fn described(robot: &str) -> Model {
 fn random_theta(p: usize, seed: u64) -> Vec<f64> {
     let mut rng = SplitMix64::new(seed);
     (0..p).map(|_| rng.uniform((-1.0, 1.0))).collect()
-}
-
-/// Numerical rank of `m` after scaling its columns to unit norm (zero columns left out), with
-/// the tolerance of the base-parameter selection (1e-8 of the largest singular value), computed
-/// here independently of the code under test.
-fn scaled_rank(m: &DMatrix<f64>) -> (usize, Vec<f64>) {
-    let largest = m.column_iter().map(|c| c.norm()).fold(0.0, f64::max);
-    let cols: Vec<_> = m
-        .column_iter()
-        .filter(|c| c.norm() > 1e-11 * largest)
-        .map(|c| c / c.norm())
-        .collect();
-    let scaled = DMatrix::from_columns(&cols);
-    let mut s: Vec<f64> = scaled.singular_values().iter().cloned().collect();
-    s.sort_by(|a, b| b.total_cmp(a));
-    let rank = s.iter().filter(|&&x| x > 1e-8 * s[0]).count();
-    (rank, s)
 }
 
 /// The generic regressor stacked at `count` states of the tests' own generator (other states

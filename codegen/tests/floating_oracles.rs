@@ -26,7 +26,9 @@ use dyngen_codegen::dynamics::FloatingDynamics;
 use dyngen_codegen::model::{Inertia, Model};
 use dyngen_runtime::{ReferenceFrame, SplitMix64};
 use dyngen_testkit::oracles::{extrapolate, rotation_log, STEP};
-use dyngen_testkit::random_model::{arb_floating_model, deterministic_runner, random_state};
+use dyngen_testkit::random_model::{
+    arb_floating_model, deterministic_runner, random_floating_sample, FloatingSample,
+};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
 use proptest::prelude::*;
 use std::cell::RefCell;
@@ -113,49 +115,6 @@ fn add(x: &[f64], y: &[f64], s: f64) -> Vec<f64> {
 
 // ---------------------------------------------------------------------------------------------
 // Random states
-
-/// A configuration `q` (random position within 1 m, uniformly random orientation, joints over
-/// their ranges), a velocity `v`, an acceleration `a` and reference ones `vr`, `ar`.
-#[derive(Clone, Debug)]
-struct Sample {
-    q: Vec<f64>,
-    v: Vec<f64>,
-    a: Vec<f64>,
-    vr: Vec<f64>,
-    ar: Vec<f64>,
-}
-
-fn random_quaternion(rng: &mut SplitMix64) -> [f64; 4] {
-    loop {
-        let q: [f64; 4] = std::array::from_fn(|_| rng.uniform((-1.0, 1.0)));
-        let n = norm(&q);
-        // Uniform in the unit ball, then on the sphere: a uniformly random rotation.
-        if n > 0.1 && n <= 1.0 {
-            return q.map(|x| x / n);
-        }
-    }
-}
-
-fn random_sample(model: &Model, seed: u64) -> Sample {
-    let joints = random_state(model, seed);
-    let mut rng = SplitMix64::new(seed ^ 0x5EED_F10A_7000_0001);
-    let mut q: Vec<f64> = (0..3).map(|_| rng.uniform((-1.0, 1.0))).collect();
-    q.extend(random_quaternion(&mut rng));
-    q.extend(&joints.q);
-    let mut twist = |lin: f64, ang: f64, rest: &[f64]| -> Vec<f64> {
-        let mut out: Vec<f64> = (0..3).map(|_| rng.uniform((-lin, lin))).collect();
-        out.extend((0..3).map(|_| rng.uniform((-ang, ang))));
-        out.extend(rest);
-        out
-    };
-    Sample {
-        v: twist(1.0, 1.5, &joints.qd),
-        a: twist(3.0, 5.0, &joints.qdd),
-        vr: twist(1.0, 1.5, &joints.v),
-        ar: twist(3.0, 5.0, &joints.a),
-        q,
-    }
-}
 
 /// Random floating trees with a seed for their state.
 fn trees() -> impl Strategy<Value = (Model, u64)> {
@@ -366,7 +325,7 @@ fn accelerated_path(fd: &FloatingDynamics, q: &[f64], v: &[f64], a: &[f64], t: f
 /// the full step (2.7e-11 there, 9.6e-11 at half and 1.2e-10 at a quarter: rounding).
 fn time_derivative(
     fd: &FloatingDynamics,
-    s: &Sample,
+    s: &FloatingSample,
     fraction: f64,
     f: impl Fn(&[f64], &[f64]) -> DMatrix<f64>,
 ) -> DMatrix<f64> {
@@ -441,7 +400,7 @@ fn kinetic_energy_from_differenced_poses() {
     run(CASES, "kinetic energy", |model, seed, worst| {
         let fd = FloatingDynamics::new(model).expect("floating");
         let bodies = inertias(model);
-        let s = random_sample(model, seed);
+        let s = random_floating_sample(model, seed);
         let state = fd.state(&s.q).expect("a unit quaternion");
         let d = fd.mass_matrix(&state);
         let poses = body_poses(&fd, &s.q);
@@ -493,7 +452,7 @@ fn coriolis_matrix_and_mass_matrix_rate() {
     const IDENTITY: f64 = 1e-12;
     run(CASES, "Coriolis", |model, seed, worst| {
         let fd = FloatingDynamics::new(model).expect("floating");
-        let s = random_sample(model, seed);
+        let s = random_floating_sample(model, seed);
         let state = fd.state(&s.q).expect("a unit quaternion");
         let ctx = || describe(model, seed);
         let d = fd.mass_matrix(&state);
@@ -559,7 +518,7 @@ fn frame_jacobians_from_differenced_poses() {
     const IDENTITY: f64 = 1e-12;
     run(CASES, "frames", |model, seed, worst| {
         let fd = FloatingDynamics::new(model).expect("floating");
-        let s = random_sample(model, seed);
+        let s = random_floating_sample(model, seed);
         let state = fd.state(&s.q).expect("a unit quaternion");
         let nv = model.nv();
         let ctx = || describe(model, seed);
@@ -646,7 +605,7 @@ fn centroidal_momentum_from_differenced_poses() {
     run(CASES, "centroidal", |model, seed, worst| {
         let fd = FloatingDynamics::new(model).expect("floating");
         let bodies = inertias(model);
-        let s = random_sample(model, seed);
+        let s = random_floating_sample(model, seed);
         let state = fd.state(&s.q).expect("a unit quaternion");
         let nv = model.nv();
         let ctx = || describe(model, seed);
@@ -791,7 +750,7 @@ fn newton_euler_of_the_whole_robot() {
     const TOL: f64 = 1e-10;
     run(CASES, "Newton-Euler", |model, seed, worst| {
         let fd = FloatingDynamics::new(model).expect("floating");
-        let s = random_sample(model, seed);
+        let s = random_floating_sample(model, seed);
         let state = fd.state(&s.q).expect("a unit quaternion");
         let ctx = || describe(model, seed);
         let (mass, com, ag) = fd.centroidal_momentum_matrix(&state);
@@ -851,7 +810,7 @@ fn lagrange_equations_for_the_joints() {
     run(CASES, "Lagrange", |model, seed, worst| {
         let fd = FloatingDynamics::new(model).expect("floating");
         let bodies = inertias(model);
-        let s = random_sample(model, seed);
+        let s = random_floating_sample(model, seed);
         let ctx = || describe(model, seed);
         for (j, (tau, lagrange, scale)) in lagrange_rows(&fd, &bodies, &s).into_iter().enumerate() {
             worst.check(
@@ -889,7 +848,7 @@ fn joint_momenta(fd: &FloatingDynamics, bodies: &[Inertia], q: &[f64], v: &[f64]
 /// Per joint row: `τ_j` of `fd`'s inverse dynamics at `s`, the Lagrange value from `bodies`
 /// moving as `fd`'s kinematics say (nothing else of `fd`), and the row's scale (the sum of the
 /// magnitudes of the four terms).
-fn lagrange_rows(fd: &FloatingDynamics, bodies: &[Inertia], s: &Sample) -> Vec<(f64, f64, f64)> {
+fn lagrange_rows(fd: &FloatingDynamics, bodies: &[Inertia], s: &FloatingSample) -> Vec<(f64, f64, f64)> {
     let model = fd.model;
     let tau = fd.inverse_dynamics(&fd.state(&s.q).expect("a unit quaternion"), &s.v, &s.a);
     let momentum_rate = time_derivative(fd, s, 1.0, |x, v| joint_momenta(fd, bodies, x, v));
@@ -1049,7 +1008,7 @@ fn simulated_motion_conserves_momentum_and_energy() {
     run(24, "simulation", |model, seed, worst| {
         let weightless = model.clone().with_gravity(Vector3::zeros()).expect("valid");
         let bodies = inertias(model);
-        let s = random_sample(model, seed);
+        let s = random_floating_sample(model, seed);
         let mut rng = SplitMix64::new(seed ^ 0x70_4B_1E);
         let fd = FloatingDynamics::new(model).expect("floating");
         let d0 = fd.mass_matrix(&fd.state(&s.q).unwrap());
@@ -1105,7 +1064,7 @@ fn algebraic_consistency() {
     const IDENTITY: f64 = 1e-12;
     run(CASES, "consistency", |model, seed, worst| {
         let fd = FloatingDynamics::new(model).expect("floating");
-        let s = random_sample(model, seed);
+        let s = random_floating_sample(model, seed);
         let state = fd.state(&s.q).expect("a unit quaternion");
         let nv = model.nv();
         let ctx = || describe(model, seed);
@@ -1249,7 +1208,7 @@ fn with_parameters_reports_its_own_parameters() {
         let fd = FloatingDynamics::new(model).expect("floating");
         let theta: Vec<f64> = fd.parameters().iter().map(|x| x * 1.5).collect();
         let other = FloatingDynamics::with_parameters(model, &theta).expect("floating");
-        let s = random_sample(model, seed);
+        let s = random_floating_sample(model, seed);
         let state = other.state(&s.q).unwrap();
         let y = other.regressor(&state, &s.v, &s.vr, &s.ar);
         let sl = column(other.slotine_li(&state, &s.v, &s.vr, &s.ar).as_slice());
@@ -1286,7 +1245,7 @@ fn a_light_link_error_of_one_part_per_million_is_caught() {
         let perturbed = model.clone().with_bodies(bodies).expect("valid");
         let subject = FloatingDynamics::new(&perturbed).expect("floating");
         let oracle_bodies = inertias(model);
-        let mut s = random_sample(model, seed);
+        let mut s = random_floating_sample(model, seed);
         // The light joint accelerating at 20 /s², so that its torque is not a near-cancellation
         // of its terms (a change of 1e-6 τ_j must stand out against the terms' size).
         s.a[6 + light] = 20.0;

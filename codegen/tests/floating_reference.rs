@@ -178,7 +178,13 @@ fn check_robot(robot: &str, urdf: &str) {
             );
         }
         assert!(frames_compared >= 4, "{}", what("the feet (and hands) compared"));
-        check_traced(&traced, &order, st, &what);
+        check_traced(
+            &traced,
+            &order,
+            order.parameter_columns(&pi).as_slice(),
+            st,
+            &what,
+        );
         let moved = dynamics.integrate(&q, &v, 0.1).unwrap();
         assert_close(
             &what("integrate"),
@@ -198,7 +204,14 @@ fn check_robot(robot: &str, urdf: &str) {
 }
 
 /// Every traced function of the floating base at one state, through the interpreter.
-fn check_traced(traced: &SymbolicRobot, order: &Order, st: &Value, what: &dyn Fn(&str) -> String) {
+/// `theta`: Pinocchio's standard parameters in the model's order.
+fn check_traced(
+    traced: &SymbolicRobot,
+    order: &Order,
+    theta: &[f64],
+    st: &Value,
+    what: &dyn Fn(&str) -> String,
+) {
     let q = order.configuration(&vector(&st["q"]));
     let [v, a, vr, ar, tau] = ["v", "a", "vr", "ar", "tau"].map(|f| order.vector(&vector(&st[f])));
     let nv = v.len();
@@ -255,6 +268,22 @@ fn check_traced(traced: &SymbolicRobot, order: &Order, st: &Value, what: &dyn Fn
         &what("traced Y"),
         &DMatrix::from_column_slice(nv, y.len() / nv, &y),
         &expected_y,
+        TOL,
+    );
+    // The base regressors: Pinocchio's columns of the base parameters, and with θ_b (of
+    // Pinocchio's θ) the base wrench and torques Pinocchio computes.
+    let base = &traced.base;
+    let theta_b = column(&base.base_parameters(theta));
+    let y_b = eval("base_torque_regressor", at(&q, &v, &[], &a));
+    let y_b = DMatrix::from_column_slice(nv, base.count(), &y_b);
+    assert_close(&what("traced Y_b"), &y_b, &base.base_regressor(&expected_y), TOL);
+    assert_close(&what("traced Y_b θ_b"), &(&y_b * &theta_b), &rows("tau"), TOL);
+    let y_b = eval("base_regressor", at(&q, &v, &vr, &ar));
+    let y_b = DMatrix::from_column_slice(nv, base.count(), &y_b);
+    assert_close(
+        &what("traced Slotine–Li Y_b θ_b"),
+        &(&y_b * &theta_b),
+        &rows("tau_ref"),
         TOL,
     );
     let forward = eval(

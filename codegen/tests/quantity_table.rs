@@ -109,11 +109,13 @@ fn the_floating_traits_declare_what_a_floating_robot_is_traced_with() {
         .unwrap_or_else(|e| panic!("{e}"))
         .model;
     let traced = trace_floating(&model);
-    let (frames, dynamics): (Vec<QuantityKind>, Vec<QuantityKind>) = traced
+    let (frames, others): (Vec<QuantityKind>, Vec<QuantityKind>) = traced
         .quantities
         .iter()
         .map(|q| q.kind)
         .partition(|k| k.is_per_frame());
+    let (base, dynamics): (Vec<QuantityKind>, Vec<QuantityKind>) =
+        others.into_iter().partition(|k| k.uses_base_columns());
     let names = |kinds: Vec<QuantityKind>| -> BTreeSet<String> {
         kinds.into_iter().map(|k| k.name().to_owned()).collect()
     };
@@ -122,6 +124,13 @@ fn the_floating_traits_declare_what_a_floating_robot_is_traced_with() {
     assert_eq!(
         trait_methods("floating_robot.rs", "FloatingBaseDynamics"),
         expected
+    );
+    let mut expected = names(base);
+    expected.insert("base_parameters".to_owned());
+    assert_eq!(
+        trait_methods("floating_robot.rs", "FloatingBaseParameters"),
+        expected,
+        "FloatingBaseParameters against the base-column functions"
     );
     assert_eq!(
         trait_methods("floating_robot.rs", "FloatingFrameKinematics"),

@@ -1,19 +1,21 @@
 //! The compiled floating-base robot (Solo-12, `robots/solo12.yaml`) against Pinocchio 4.1 with
 //! `JointModelFreeFlyer` (`codegen/tests/fixtures/floating/solo12.json`) and against the generic
-//! floating-base dynamics at random states, every function of `FloatingBaseDynamics` and
-//! `FloatingFrameKinematics`.
+//! floating-base dynamics at random states, every function of `FloatingBaseDynamics`,
+//! `FloatingBaseParameters` and `FloatingFrameKinematics`.
 
 use dyngen_testkit as common;
 
 use common::fixture::{matrix, vector};
 use common::floating_fixture::{self, Order};
 use common::{assert_close, column, workspace_root};
+use dyngen_codegen::base_parameters::BaseParameterSet;
 use dyngen_codegen::description::load;
 use dyngen_codegen::dynamics::FloatingDynamics;
 use dyngen_generated::solo12::{self, Frame, Solo12, Velocity, NV};
 use dyngen_runtime::nalgebra::{DMatrix, SMatrix};
 use dyngen_runtime::{
-    ConfigurationError, FloatingBaseDynamics, FloatingFrameKinematics, ReferenceFrame, RobotFrame, SplitMix64,
+    ConfigurationError, FloatingBaseDynamics, FloatingBaseParameters, FloatingFrameKinematics,
+    ReferenceFrame, RobotFrame, SplitMix64,
 };
 
 const TOL_FIXTURE: f64 = 1e-9;
@@ -77,6 +79,21 @@ fn solo12_matches_pinocchio() {
             &what("Y"),
             &dm(&Solo12::regressor(&t, &v, &v, &a)),
             &y,
+            TOL_FIXTURE,
+        );
+        // The base parameters of Pinocchio's θ, and the base regressors with them: the base
+        // wrench and torques Pinocchio computes.
+        let theta_b = Solo12::base_parameters(&theta);
+        assert_close(
+            &what("Y_b θ_b"),
+            &dm(&(Solo12::base_torque_regressor(&t, &v, &a) * theta_b)),
+            &rows("tau"),
+            TOL_FIXTURE,
+        );
+        assert_close(
+            &what("Slotine–Li Y_b θ_b"),
+            &dm(&(Solo12::base_regressor(&t, &v, &vr, &ar) * theta_b)),
+            &rows("tau_ref"),
             TOL_FIXTURE,
         );
         assert_close(
@@ -147,6 +164,14 @@ fn solo12_matches_pinocchio() {
 fn solo12_matches_the_generic_dynamics() {
     let model = load(&workspace_root().join("robots/solo12.yaml")).unwrap().model;
     let generic = FloatingDynamics::new(&model).unwrap();
+    let base = BaseParameterSet::compute(&model);
+    let theta = Solo12::parameters();
+    assert_close(
+        "θ_b",
+        &dm(&Solo12::base_parameters(&theta)),
+        &column(&base.base_parameters(theta.as_slice())),
+        TOL_GENERIC,
+    );
     let mut rng = SplitMix64::new(12);
     for k in 0..200 {
         let what = |q: &str| format!("state {k}: {q}");
@@ -181,6 +206,19 @@ fn solo12_matches_the_generic_dynamics() {
             &what("Y"),
             &dm(&Solo12::regressor(&t, &vv, &vrv, &av)),
             &y,
+            TOL_GENERIC,
+        );
+        assert_close(
+            &what("Y_b"),
+            &dm(&Solo12::base_regressor(&t, &vv, &vrv, &av)),
+            &base.base_regressor(&y),
+            TOL_GENERIC,
+        );
+        let torque_y = generic.regressor(&s, &v, &v, &a);
+        assert_close(
+            &what("torque-form Y_b"),
+            &dm(&Solo12::base_torque_regressor(&t, &vv, &av)),
+            &base.base_regressor(&torque_y),
             TOL_GENERIC,
         );
         let forward = generic.forward_dynamics(&s, &v, &tau);

@@ -133,6 +133,32 @@ pub trait FloatingBaseDynamics<const N: usize, const NV: usize, const P: usize> 
     fn centroidal_bias(t: &FloatingTrig<N>, v: &SVector<f64, NV>) -> SVector<f64, 6>;
 }
 
+/// The base (minimal, identifiable) parameters of a floating-base robot: `B` combinations of
+/// the standard ones that span every base wrench and joint torque it can produce. A floating
+/// base makes more of them identifiable than a fixed one: the base body's ten, and every body's
+/// mass through the base rows.
+pub trait FloatingBaseParameters<const N: usize, const NV: usize, const P: usize, const B: usize>:
+    FloatingBaseDynamics<N, NV, P>
+{
+    /// Readable names that show what each base parameter combines.
+    const BASE_PARAMETER_NAMES: [&'static str; B];
+    /// `θ_b = Φ θ`, a constant linear map fixed by the kinematics.
+    fn base_parameters(theta: &SVector<f64, P>) -> SVector<f64, B>;
+    /// `Y_b(q, ν, v_r, a_r)` with `Y_b θ_b = Y θ`, the Slotine–Li torque.
+    fn base_regressor(
+        t: &FloatingTrig<N>,
+        v: &SVector<f64, NV>,
+        vr: &SVector<f64, NV>,
+        ar: &SVector<f64, NV>,
+    ) -> SMatrix<f64, NV, B>;
+    /// `Y_b(q, ν, ν, ν̇)` with `Y_b θ_b` inverse dynamics: what identification stacks.
+    fn base_torque_regressor(
+        t: &FloatingTrig<N>,
+        v: &SVector<f64, NV>,
+        a: &SVector<f64, NV>,
+    ) -> SMatrix<f64, NV, B>;
+}
+
 /// Any named frame of a floating-base robot (feet, hands, sensors), in the world, in any
 /// [`ReferenceFrame`]; `J` is `6 × NV`, its first six columns the base's.
 pub trait FloatingFrameKinematics<const N: usize, const NV: usize> {

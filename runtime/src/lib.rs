@@ -65,7 +65,9 @@ mod trig_fused;
 mod version;
 
 pub use floating::{BasePose, NonUnitQuaternion, QUATERNION_NORM_TOLERANCE};
-pub use floating_robot::{ConfigurationError, FloatingBaseDynamics, FloatingFrameKinematics, FloatingTrig};
+pub use floating_robot::{
+    ConfigurationError, FloatingBaseDynamics, FloatingBaseParameters, FloatingFrameKinematics, FloatingTrig,
+};
 pub use frames::{ExternalWrench, FrameKinematics, ReferenceFrame, RobotFrame, WrenchDynamics};
 pub use joint::{JointLimits, JointTrig};
 pub use lanes::{f64x4, f64x8, pack, unpack, JointTrigLanes, LaneDynamics, Lanes};
@@ -115,9 +117,10 @@ pub mod __private {
 /// brings `Arm7::mass_matrix(&t)` and `Arm7::jacobian(&t)` into reach.
 pub mod prelude {
     pub use crate::{
-        BaseParameters, DynamicsDerivatives, ExternalWrench, FloatingBaseDynamics, FloatingFrameKinematics,
-        FloatingTrig, ForwardDynamics, FrameKinematics, JointTrig, Kinematics, LaneDynamics,
-        Parameterization, ReferenceFrame, Regressors, RobotDynamics, RobotFrame, WrenchDynamics,
+        BaseParameters, DynamicsDerivatives, ExternalWrench, FloatingBaseDynamics, FloatingBaseParameters,
+        FloatingFrameKinematics, FloatingTrig, ForwardDynamics, FrameKinematics, JointTrig, Kinematics,
+        LaneDynamics, Parameterization, ReferenceFrame, Regressors, RobotDynamics, RobotFrame,
+        WrenchDynamics,
     };
 }
 

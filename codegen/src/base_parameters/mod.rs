@@ -36,6 +36,7 @@ use names::base_parameter_name;
 pub use rank::ZERO_COLUMN_TOL;
 use rank::{column_norms, numerical_rank, relative_residual, stacked_regressor};
 
+use crate::dynamics::FloatingDynamics;
 use crate::model::Model;
 use nalgebra::DMatrix;
 
@@ -117,6 +118,15 @@ pub struct BaseParameterSet {
     pub diagnostics: Diagnostics,
 }
 
+/// Names of the standard parameters, the regressor's columns: on a floating base, the base
+/// body's ten first.
+fn standard_names(model: &Model) -> Vec<String> {
+    match model.floating_base() {
+        Some(_) => FloatingDynamics::parameter_names(model),
+        None => model.parameter_names(),
+    }
+}
+
 /// Nearest "exact" value to `x` (an integer, or a decimal with at most [`MAX_SNAP_DECIMALS`]
 /// decimals) when `x` is within rounding error of it, with few decimals preferred.
 fn snap(x: f64) -> Option<f64> {
@@ -136,7 +146,7 @@ fn snap(x: f64) -> Option<f64> {
 impl BaseParameterSet {
     /// Computes the base parameters of `model` (see the module documentation).
     pub fn compute(model: &Model) -> BaseParameterSet {
-        let p = model.parameter_count();
+        let p = standard_names(model).len();
         let y = stacked_regressor(model, STATES, SELECTION_SEED);
         let selection = rank::greedy_selection(&y, INDEPENDENCE_TOL);
         let (kept, dependent) = (&selection.kept, &selection.dependent);
@@ -213,7 +223,7 @@ impl BaseParameterSet {
                 t
             })
             .collect();
-        let standard_names = model.parameter_names();
+        let standard_names = standard_names(model);
         let names = terms
             .iter()
             .map(|t| base_parameter_name(t, &standard_names))
@@ -227,8 +237,7 @@ impl BaseParameterSet {
         }
     }
 
-    /// Every standard parameter its own base parameter, nothing folded: what a robot whose base
-    /// parameters are not computed (a floating base) carries.
+    /// Every standard parameter its own base parameter, nothing folded.
     pub fn unreduced(names: Vec<String>) -> BaseParameterSet {
         let count = names.len();
         BaseParameterSet {

@@ -2,7 +2,7 @@
 //! forward greedy column selection, least squares for the folding coefficients, and the SVD
 //! rank that cross-checks the selection.
 
-use crate::dynamics::NumericDynamics;
+use crate::dynamics::{FloatingDynamics, NumericDynamics};
 use crate::model::{JointKind, Model};
 use dyngen_runtime::SplitMix64;
 use nalgebra::{DMatrix, DVector};
@@ -15,28 +15,76 @@ use nalgebra::{DMatrix, DVector};
 /// joints move within their limits, or ±0.5 m. `q̇` and `v` are independent (`v ≠ q̇`, so the
 /// Coriolis terms of `C v` are seen separately from those of `C q̇`), in ±2; `a` in ±5. Gravity
 /// is part of every row, as in `Y`.
+///
+/// On a floating base the rows are the `nv = n + 6` of the floating regressor (the base wrench's
+/// six first) and the columns the base body's ten, then ten per body; the base moves too: a
+/// uniformly random orientation, a position in ±1 m, a twist and an acceleration like the
+/// joints'.
 pub fn stacked_regressor(model: &Model, states: usize, seed: u64) -> DMatrix<f64> {
+    let mut rng = SplitMix64::new(seed);
+    match FloatingDynamics::new(model) {
+        Some(dynamics) => stacked_floating(&dynamics, &mut rng, states),
+        None => stacked_fixed(model, &mut rng, states),
+    }
+}
+
+fn stacked_fixed(model: &Model, rng: &mut SplitMix64, states: usize) -> DMatrix<f64> {
     let n = model.dof();
     let p = model.parameter_count();
     let dynamics = NumericDynamics::new(model);
-    let mut rng = SplitMix64::new(seed);
     let mut stacked = DMatrix::zeros(states * n, p);
     for k in 0..states {
-        // One position per coordinate (mimic joints follow their master).
-        let q: Vec<f64> = (model.coordinate_joints().iter())
-            .map(|&k| &model.joints()[k])
-            .map(|j| match (j.kind, j.limits) {
-                (JointKind::Revolute, _) => rng.uniform((-std::f64::consts::PI, std::f64::consts::PI)),
-                (JointKind::Prismatic, Some(l)) if l.lower < l.upper => rng.uniform((l.lower, l.upper)),
-                (JointKind::Prismatic, _) => rng.uniform((-0.5, 0.5)),
-            })
-            .collect();
-        let mut vector = |r: f64| -> Vec<f64> { (0..n).map(|_| rng.uniform((-r, r))).collect() };
-        let (qd, v, a) = (vector(2.0), vector(2.0), vector(5.0));
+        let q = joint_positions(model, rng);
+        let (qd, v, a) = (vector(rng, n, 2.0), vector(rng, n, 2.0), vector(rng, n, 5.0));
         let y = dynamics.regressor(&q, &qd, &v, &a);
         stacked.view_mut((k * n, 0), (n, p)).copy_from(&y);
     }
     stacked
+}
+
+fn stacked_floating(dynamics: &FloatingDynamics, rng: &mut SplitMix64, states: usize) -> DMatrix<f64> {
+    let model = dynamics.model;
+    let nv = model.nv();
+    let p = dynamics.parameters().len();
+    let mut stacked = DMatrix::zeros(states * nv, p);
+    for k in 0..states {
+        // A uniformly random unit quaternion (Shoemake's method), normalised once more so that
+        // rounding stays far inside the unit-norm tolerance.
+        let [u1, u2, u3] = [0.0; 3].map(|_| rng.uniform((0.0, 1.0)));
+        let tau = std::f64::consts::TAU;
+        let (a, b) = ((1.0 - u1).sqrt(), u1.sqrt());
+        let quaternion = [
+            a * (tau * u2).sin(),
+            a * (tau * u2).cos(),
+            b * (tau * u3).sin(),
+            b * (tau * u3).cos(),
+        ];
+        let norm = quaternion.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let mut q = vector(rng, 3, 1.0);
+        q.extend(quaternion.map(|x| x / norm));
+        q.extend(joint_positions(model, rng));
+        let state = dynamics.state(&q).expect("a unit quaternion");
+        let (qd, v, a) = (vector(rng, nv, 2.0), vector(rng, nv, 2.0), vector(rng, nv, 5.0));
+        let y = dynamics.regressor(&state, &qd, &v, &a);
+        stacked.view_mut((k * nv, 0), (nv, p)).copy_from(&y);
+    }
+    stacked
+}
+
+/// One position per coordinate (mimic joints follow their master).
+fn joint_positions(model: &Model, rng: &mut SplitMix64) -> Vec<f64> {
+    (model.coordinate_joints().iter())
+        .map(|&k| &model.joints()[k])
+        .map(|j| match (j.kind, j.limits) {
+            (JointKind::Revolute, _) => rng.uniform((-std::f64::consts::PI, std::f64::consts::PI)),
+            (JointKind::Prismatic, Some(l)) if l.lower < l.upper => rng.uniform((l.lower, l.upper)),
+            (JointKind::Prismatic, _) => rng.uniform((-0.5, 0.5)),
+        })
+        .collect()
+}
+
+fn vector(rng: &mut SplitMix64, n: usize, r: f64) -> Vec<f64> {
+    (0..n).map(|_| rng.uniform((-r, r))).collect()
 }
 
 /// Euclidean norms of the columns.

@@ -182,13 +182,8 @@ pub fn generate_robot_with(
         warnings,
         notes: loaded.notes,
         op_counts,
-        // Not computed for a floating base (its `base` holds every parameter unreduced).
-        base_parameter_count: if floating { 0 } else { robot.base.count() },
-        base_parameter_names: if floating {
-            Vec::new()
-        } else {
-            robot.base.names.clone()
-        },
+        base_parameter_count: robot.base.count(),
+        base_parameter_names: robot.base.names.clone(),
         functions: robot.functions,
         elapsed: start.elapsed(),
     })
@@ -196,14 +191,16 @@ pub fn generate_robot_with(
 
 impl GeneratedRobot {
     /// `7 DOF, 70 parameters, 43 base parameters`, or for a floating base `12 DOF on a
-    /// floating base, 130 parameters (the base body's first)`: what the front ends print.
+    /// floating base, 130 parameters (the base body's first), 94 base parameters`: what the
+    /// front ends print.
     pub fn sizes(&self) -> String {
         let m = &self.model;
         match m.floating_base() {
             Some(_) => format!(
-                "{} DOF on a floating base, {} parameters (the base body's first)",
+                "{} DOF on a floating base, {} parameters (the base body's first), {} base parameters",
                 m.dof(),
-                crate::dynamics::FloatingDynamics::parameter_names(m).len()
+                crate::dynamics::FloatingDynamics::parameter_names(m).len(),
+                self.base_parameter_count
             ),
             None => format!(
                 "{} DOF, {} parameters, {} base parameters",

@@ -488,7 +488,7 @@ fn torque_regressors(
 
 /// The base columns of a column-major `Y` (`n` rows; column `c` is `y[c·n .. (c+1)·n]`); none
 /// when `Y` was not traced.
-fn base_columns(y: &[Id], base: &BaseParameterSet, n: usize) -> Vec<Id> {
+pub(super) fn base_columns(y: &[Id], base: &BaseParameterSet, n: usize) -> Vec<Id> {
     base.columns
         .iter()
         .flat_map(|&c| y.get(c * n..(c + 1) * n).unwrap_or_default().iter().copied())
@@ -500,7 +500,7 @@ fn base_columns(y: &[Id], base: &BaseParameterSet, n: usize) -> Vec<Id> {
 /// regressor column traced on its own (torque-form `Y`: UR5 1,732 → 1,321 operations, Panda
 /// 2,178 → 1,761; Slotine–Li `Y`: Panda 3,108 → 2,397). A parameter that folds into nothing has
 /// a zero column.
-fn full_from_base(y: &DMatrix<Expr>, base: &BaseParameterSet) -> DMatrix<Expr> {
+pub(super) fn full_from_base(y: &DMatrix<Expr>, base: &BaseParameterSet) -> DMatrix<Expr> {
     let mut full = DMatrix::from_element(y.nrows(), y.ncols(), Expr::zero());
     for (k, terms) in base.terms.iter().enumerate() {
         let kept = base.columns[k];

@@ -3,13 +3,13 @@
 //! per tick from the quaternion), velocities of `nv = dof + 6` entries.
 
 use super::quantities::QuantityKind;
-use super::trace::keep_cheaper;
+use super::trace::{base_columns, full_from_base, keep_cheaper};
 use super::trace::{
     frame_motion_quantities, ids, inputs, matrix_ids, Arg, Inputs, Quantity, Shape, SymbolicRobot,
 };
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::floating::{self as algorithms, FloatingBase};
-use crate::dynamics::{self, FrameMotion};
+use crate::dynamics::{self, FloatingDynamics, FrameMotion};
 use crate::functions::{FunctionGroup, Functions};
 use crate::model::Model;
 use crate::scalar::Scalar;
@@ -18,12 +18,13 @@ use crate::symbolic::{record, Expr};
 
 /// The groups a floating-base robot is generated with: its dynamics (with the centroidal
 /// quantities), forward dynamics and frames, the functions of `FloatingBaseDynamics` and
-/// `FloatingFrameKinematics`.
+/// `FloatingFrameKinematics`, and the base parameters (`FloatingBaseParameters`).
 pub fn floating_functions() -> Functions {
     Functions::with(&[
         FunctionGroup::Kinematics,
         FunctionGroup::Dynamics,
         FunctionGroup::Regressors,
+        FunctionGroup::BaseParameters,
         FunctionGroup::ForwardDynamics,
         FunctionGroup::Frames,
     ])
@@ -31,10 +32,16 @@ pub fn floating_functions() -> Functions {
 }
 
 /// Records every floating-base quantity of `model` in one graph.
+///
+/// The inertial parameters are the representative ones of the base parameters (every folded
+/// parameter 0, [`BaseParameterSet::representative`]): the same dynamics with fewer terms, as
+/// for a fixed base.
 pub fn trace_floating(model: &Model) -> SymbolicRobot {
-    let body = model
-        .floating_base()
-        .expect("trace_floating needs a floating base");
+    let base_parameters = BaseParameterSet::compute(model);
+    let description = FloatingDynamics::new(model)
+        .expect("trace_floating needs a floating base")
+        .parameters();
+    let theta = base_parameters.representative(&description);
     let (n, nv) = (model.dof(), model.nv());
     let (graph, (inputs, quantities, other_forms)) = record(|| {
         let q = inputs("q", n);
@@ -52,13 +59,23 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
             })),
             pos: Vec3([position[0], position[1], position[2]]),
         };
+        let theta: Vec<Expr> = theta.iter().map(|&x| Expr::from_f64(x)).collect();
+        let mut inertias: Vec<RigidInertia<Expr>> = dynamics::inertias_from_parameters(&theta);
+        let base_inertia = inertias.remove(0);
         let base = FloatingBase {
             pose,
-            inertia: RigidInertia::from_parameters(&body.inertia.parameters().map(Expr::from_f64)),
+            inertia: base_inertia,
         };
         let x = dynamics::joint_transforms(model, &q);
         let world = algorithms::floating_body_poses(model, &pose, &x);
-        let inertias: Vec<RigidInertia<Expr>> = dynamics::body_inertias(model);
+        let regressor = |v: &[Expr]| {
+            let full = algorithms::floating_regressor(model, &pose.rot, &x, &qd, v, &a);
+            let y = matrix_ids(&full_from_base(&full, &base_parameters));
+            let y_base = base_columns(&y, &base_parameters, nv);
+            (y, y_base)
+        };
+        let (y, y_base) = regressor(&v);
+        let (torque_y, torque_y_base) = regressor(&qd);
         let gravity = Some(Vec3::from_f64(model.gravity().into()));
         let p = 10 * (model.joints().len() + 1);
         let quantity = |kind, args: Vec<Arg>, shape, outputs| Quantity {
@@ -115,15 +132,25 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
                 QuantityKind::Regressor,
                 vec![Arg::Qd, Arg::V, Arg::A],
                 Shape::Matrix(nv, p),
-                matrix_ids(&algorithms::floating_regressor(model, &pose.rot, &x, &qd, &v, &a)),
+                y,
+            ),
+            quantity(
+                QuantityKind::BaseRegressor,
+                vec![Arg::Qd, Arg::V, Arg::A],
+                Shape::Matrix(nv, base_parameters.count()),
+                y_base,
             ),
             quantity(
                 QuantityKind::TorqueRegressor,
                 vec![Arg::Qd, Arg::A],
                 Shape::Matrix(nv, p),
-                matrix_ids(&algorithms::floating_regressor(
-                    model, &pose.rot, &x, &qd, &qd, &a,
-                )),
+                torque_y,
+            ),
+            quantity(
+                QuantityKind::BaseTorqueRegressor,
+                vec![Arg::Qd, Arg::A],
+                Shape::Matrix(nv, base_parameters.count()),
+                torque_y_base,
             ),
             quantity(
                 QuantityKind::ForwardDynamics,
@@ -195,7 +222,7 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
         graph,
         inputs,
         quantities,
-        base: BaseParameterSet::unreduced(crate::dynamics::FloatingDynamics::parameter_names(model)),
+        base: base_parameters,
         functions: floating_functions(),
     }
 }

@@ -40,6 +40,23 @@ pub fn column(v: &[f64]) -> DMatrix<f64> {
     DMatrix::from_column_slice(v.len(), 1, v)
 }
 
+/// Numerical rank of `m` after scaling its columns to unit norm (zero columns left out), with
+/// the tolerance of the base-parameter selection (1e-8 of the largest singular value), computed
+/// here independently of the code under test.
+pub fn scaled_rank(m: &DMatrix<f64>) -> (usize, Vec<f64>) {
+    let largest = m.column_iter().map(|c| c.norm()).fold(0.0, f64::max);
+    let cols: Vec<_> = m
+        .column_iter()
+        .filter(|c| c.norm() > 1e-11 * largest)
+        .map(|c| c / c.norm())
+        .collect();
+    let scaled = DMatrix::from_columns(&cols);
+    let mut s: Vec<f64> = scaled.singular_values().iter().cloned().collect();
+    s.sort_by(|a, b| b.total_cmp(a));
+    let rank = s.iter().filter(|&&x| x > 1e-8 * s[0]).count();
+    (rank, s)
+}
+
 /// The workspace root (this crate sits two levels below it, in `tests/testkit`).
 pub fn workspace_root() -> &'static std::path::Path {
     std::path::Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))

@@ -375,3 +375,50 @@ pub fn arb_floating_model(max_dof: usize) -> impl Strategy<Value = Model> {
                 .expect("random floating trees are valid models")
         })
 }
+
+/// A floating-base state: a configuration `q` (random position within 1 m, uniformly random
+/// orientation, joints over their ranges), a velocity `v`, an acceleration `a` and reference
+/// ones `vr`, `ar` ([`random_floating_sample`]).
+#[derive(Clone, Debug)]
+pub struct FloatingSample {
+    pub q: Vec<f64>,
+    pub v: Vec<f64>,
+    pub a: Vec<f64>,
+    pub vr: Vec<f64>,
+    pub ar: Vec<f64>,
+}
+
+/// A uniformly random unit quaternion `x y z w`.
+pub fn random_quaternion(rng: &mut SplitMix64) -> [f64; 4] {
+    loop {
+        let q: [f64; 4] = std::array::from_fn(|_| rng.uniform((-1.0, 1.0)));
+        let n = q.iter().map(|x| x * x).sum::<f64>().sqrt();
+        // Uniform in the unit ball, then on the sphere: a uniformly random rotation.
+        if n > 0.1 && n <= 1.0 {
+            return q.map(|x| x / n);
+        }
+    }
+}
+
+/// The floating-base state of `seed`: the joints as [`random_state`], the base's twist and
+/// acceleration of a walking robot's size.
+pub fn random_floating_sample(model: &Model, seed: u64) -> FloatingSample {
+    let joints = random_state(model, seed);
+    let mut rng = SplitMix64::new(seed ^ 0x5EED_F10A_7000_0001);
+    let mut q: Vec<f64> = (0..3).map(|_| rng.uniform((-1.0, 1.0))).collect();
+    q.extend(random_quaternion(&mut rng));
+    q.extend(&joints.q);
+    let mut twist = |lin: f64, ang: f64, rest: &[f64]| -> Vec<f64> {
+        let mut out: Vec<f64> = (0..3).map(|_| rng.uniform((-lin, lin))).collect();
+        out.extend((0..3).map(|_| rng.uniform((-ang, ang))));
+        out.extend(rest);
+        out
+    };
+    FloatingSample {
+        v: twist(1.0, 1.5, &joints.qd),
+        a: twist(3.0, 5.0, &joints.qdd),
+        vr: twist(1.0, 1.5, &joints.v),
+        ar: twist(3.0, 5.0, &joints.a),
+        q,
+    }
+}

@@ -1,7 +1,7 @@
 //! The module of a floating-base robot: its sizes and types, `FloatingBaseDynamics` and
 //! `FloatingFrameKinematics`, one flat function per quantity as for a fixed base.
 
-use super::constants::{joint_limits, literal};
+use super::constants::{base_parameters_function, joint_limits, literal};
 use super::frames::{frame_items, FrameTrait};
 use super::function::{function, Emitted};
 use super::leaves::Leaves;
@@ -21,8 +21,15 @@ pub fn emit_floating(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
     let base_body = &model.floating_base().expect("a floating base").name;
     let joint_names = model.joints().iter().map(|j| j.name.as_str());
     let joint_limits = joint_limits(model);
-    let parameter_names = &robot.base.names;
+    let parameter_names = crate::dynamics::FloatingDynamics::parameter_names(model);
     let p = parameter_names.len();
+    let base = &robot.base;
+    let base_names = base.names.iter().map(String::as_str);
+    let base_parameters = base_parameters_function(base);
+    let count_doc = format!(
+        " Number of base parameters (the `B` of [`FloatingBaseParameters`]): {} of {p}.",
+        base.count()
+    );
     let mut theta: Vec<f64> = model
         .floating_base()
         .expect("a floating base")
@@ -31,14 +38,24 @@ pub fn emit_floating(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
         .to_vec();
     theta.extend(model.parameters());
     let theta = theta.into_iter().map(literal);
-    let emitted: Vec<Emitted> = robot
+    let emitted: Vec<(bool, Emitted)> = robot
         .quantities
         .iter()
         .filter(|q| !q.kind.is_per_frame())
-        .map(|q| function(robot, &leaves, q, nv, Form::Scalar))
+        .map(|q| {
+            (
+                q.kind.uses_base_columns(),
+                function(robot, &leaves, q, nv, Form::Scalar),
+            )
+        })
         .collect();
-    let methods = emitted.iter().map(|e| &e.method);
-    let chunks = emitted.iter().flat_map(|e| &e.chunks);
+    let methods = |base_columns: bool| {
+        (emitted.iter())
+            .filter(move |(b, _)| *b == base_columns)
+            .map(|(_, e)| &e.method)
+    };
+    let (dynamics_methods, base_methods) = (methods(false), methods(true));
+    let chunks = emitted.iter().flat_map(|(_, e)| &e.chunks);
     let frames = frame_items(model, robot, &leaves, &ty, &FrameTrait::floating(model));
     let header = format!(
         "// Rigid-body dynamics of `{name}` on a floating base (body `{base_body}`; {n} joints, \
@@ -51,18 +68,19 @@ pub fn emit_floating(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
         provenance.regenerate
     );
     let type_doc = format!(
-        " `{name}` on a floating base: implements [`FloatingBaseDynamics`] and \
-         [`FloatingFrameKinematics`] with flattened, allocation-free code."
+        " `{name}` on a floating base: implements [`FloatingBaseDynamics`], \
+         [`FloatingBaseParameters`] and [`FloatingFrameKinematics`] with flattened, \
+         allocation-free code."
     );
     let generated_by = env!("CARGO_PKG_VERSION");
-    let [n, nv, nq, p] = [n, nv, nq, p].map(Literal::usize_unsuffixed);
+    let [n, nv, nq, p, b] = [n, nv, nq, p, base.count()].map(Literal::usize_unsuffixed);
     let tokens = quote! {
         dyngen_runtime::__require_version!(#generated_by);
 
         use dyngen_runtime::nalgebra::{ArrayStorage, Matrix3, SMatrix, SVector, Vector3};
         use dyngen_runtime::{
-            ConfigurationError, FloatingBaseDynamics, FloatingFrameKinematics, FloatingTrig, JointLimits, Pose,
-            ReferenceFrame, RobotFrame,
+            ConfigurationError, FloatingBaseDynamics, FloatingBaseParameters, FloatingFrameKinematics, FloatingTrig,
+            JointLimits, Pose, ReferenceFrame, RobotFrame,
         };
 
         /// Number of moving joints.
@@ -77,8 +95,12 @@ pub fn emit_floating(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
         pub const JOINT_NAMES: [&str; DOF] = [#(#joint_names),*];
         /// Joint limits from the description (infinite where it sets none).
         pub const JOINT_LIMITS: [JointLimits; DOF] = [#(#joint_limits),*];
+        #[doc = #count_doc]
+        pub const BASE_PARAMETER_COUNT: usize = #b;
         /// Names of the standard parameters θ, the base body's first.
         pub const PARAMETER_NAMES: [&str; PARAMETER_COUNT] = [#(#parameter_names),*];
+        /// What each base parameter combines.
+        pub const BASE_PARAMETER_NAMES: [&str; BASE_PARAMETER_COUNT] = [#(#base_names),*];
 
         /// The configuration prepared for every function: base pose and joint sines and cosines.
         pub type Trig = FloatingTrig<DOF>;
@@ -92,8 +114,12 @@ pub fn emit_floating(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
         pub type Jacobian = SMatrix<f64, 6, NV>;
         /// The standard parameters θ.
         pub type Parameters = SVector<f64, PARAMETER_COUNT>;
+        /// The base parameters θ_b.
+        pub type BaseParameterVector = SVector<f64, BASE_PARAMETER_COUNT>;
         /// The regressor `Y`.
         pub type Regressor = SMatrix<f64, NV, PARAMETER_COUNT>;
+        /// The base regressor `Y_b`.
+        pub type BaseRegressor = SMatrix<f64, NV, BASE_PARAMETER_COUNT>;
 
         /// The prepared configuration of `q`; an error for a non-unit quaternion.
         pub fn trig(q: &Configuration) -> Result<Trig, ConfigurationError> {
@@ -114,7 +140,15 @@ pub fn emit_floating(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
                 SVector::from_array_storage(ArrayStorage([[#(#theta),*]]))
             }
 
-            #(#methods)*
+            #(#dynamics_methods)*
+        }
+
+        impl FloatingBaseParameters<#n, #nv, #p, #b> for #ty {
+            const BASE_PARAMETER_NAMES: [&'static str; #b] = BASE_PARAMETER_NAMES;
+
+            #base_parameters
+
+            #(#base_methods)*
         }
 
         #frames
