@@ -63,7 +63,7 @@ pub fn run(args: InfoArgs) -> Result<(), Failure> {
     println!(
         "end-effector: '{}' (on the body of joint '{}')",
         end_effector.name,
-        model.joints()[end_effector.parent].name
+        model.joints()[model.end_effector_body()].name
     );
     let names = match model.floating_base() {
         Some(_) => FloatingDynamics::parameter_names(model),

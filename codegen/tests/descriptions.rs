@@ -123,7 +123,7 @@ fn check_against_fixture(robot: &str, loaded: &Loaded) {
     let ee = &model.end_effector();
     assert_eq!(ee.name, fx["ee_frame"].as_str().unwrap(), "{robot}: ee frame");
     assert_eq!(
-        Some(ee.parent),
+        ee.parent,
         index(fx["ee_parent_joint"].as_str().unwrap()),
         "{robot}: ee parent"
     );
@@ -236,7 +236,7 @@ fn bare_urdf_picks_the_end_of_the_longest_chain_and_says_so() {
     assert_eq!(loaded.model.dof(), 6);
     // ee_link and tool0 both end the 6-joint chain; ee_link comes first in the file.
     assert_eq!(loaded.model.end_effector().name, "ee_link");
-    assert_eq!(loaded.model.end_effector().parent, 5);
+    assert_eq!(loaded.model.end_effector_body(), 5);
     assert!(
         loaded
             .notes
@@ -286,7 +286,7 @@ fn arm7_is_a_realistic_seven_axis_arm() {
         (15.0..30.0).contains(&moving_mass),
         "moving mass {moving_mass} kg"
     );
-    assert_eq!(m.end_effector().parent, 6);
+    assert_eq!(m.end_effector_body(), 6);
     assert!(m.end_effector().placement.translation.z > 0.0);
 }
 
@@ -384,7 +384,7 @@ fn end_effector_with_offset_and_gravity_from_options() {
         .unwrap()
         .model;
     assert_eq!(m.end_effector().name, "probe");
-    assert_eq!(m.end_effector().parent, 0, "the sensor rides on the waist joint");
+    assert_eq!(m.end_effector_body(), 0, "the sensor rides on the waist joint");
     assert_eq!(
         m.end_effector().placement.translation,
         Vector3::new(0.1, 0.0, 0.35)

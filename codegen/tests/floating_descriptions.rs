@@ -1,10 +1,13 @@
 //! Floating bases in descriptions: the key in YAML and the URDF option give the same model, the
 //! root link and what is welded to it become the base body, a fixed base is what it always was,
-//! what a floating base does not support yet is refused at its key, and the model written as
+//! frames ride on the base body too, what a floating base does not support yet is refused at
+//! its key, and the model written as
 //! URDF loads back as itself.
 
 use dyngen_codegen::description::{self, to_urdf_rs, FrameSelection, FrameSpec, UrdfOptions};
+use dyngen_codegen::dynamics::FloatingDynamics;
 use dyngen_codegen::model::Inertia;
+use dyngen_runtime::ReferenceFrame;
 use dyngen_testkit::workspace_root;
 use std::path::Path;
 
@@ -80,7 +83,11 @@ fn the_urdf_option_and_the_yaml_key_give_the_same_model() {
     let options = UrdfOptions {
         floating_base: true,
         end_effector: Some(FrameSpec::link("FL_FOOT")),
-        frames: FrameSelection::Listed(["FR_FOOT", "HL_FOOT", "HR_FOOT"].map(FrameSpec::link).to_vec()),
+        frames: FrameSelection::Listed(
+            ["FR_FOOT", "HL_FOOT", "HR_FOOT", "base_link"]
+                .map(FrameSpec::link)
+                .to_vec(),
+        ),
         ..UrdfOptions::default()
     };
     let from_urdf = description::load_with(&urdf, &options).unwrap_or_else(|e| panic!("{e}"));
@@ -117,7 +124,8 @@ fn what_a_floating_base_does_not_support_yet_is_refused_at_its_key() {
 
 #[test]
 fn a_floating_model_written_as_urdf_loads_back_as_itself() {
-    let model = description::load_yaml_str(ROBOT, Path::new("hopper.yaml"))
+    let with_imu = ROBOT.replace("end_effector: foot\n", "end_effector: foot\nframes: [imu]\n");
+    let model = description::load_yaml_str(&with_imu, Path::new("hopper.yaml"))
         .unwrap()
         .model;
     let export = to_urdf_rs(&model).unwrap_or_else(|e| panic!("{e}"));
@@ -143,17 +151,62 @@ fn a_floating_model_written_as_urdf_loads_back_as_itself() {
     assert!((a.mass - b.mass).abs() < 1e-12 && (a.com - b.com).amax() < 1e-12);
     assert!((a.inertia_com - b.inertia_com).amax() < 1e-12);
     assert_eq!(back.model.joints().len(), model.joints().len());
+    // The IMU stays on the base body, at its place.
+    let imu = &back.model.frames()[1];
+    assert_eq!((imu.name.as_str(), imu.parent), ("imu", None));
+    assert!((imu.placement.translation - model.frames()[1].placement.translation).amax() < 1e-12);
 }
 
 #[test]
-fn a_frame_on_the_floating_base_body_is_refused_with_what_it_is() {
-    let on_base = ROBOT.replace("end_effector: foot\n", "end_effector: foot\nframes: [imu]\n");
+fn a_frame_on_the_floating_base_body_rides_with_the_base() {
+    let on_base = ROBOT.replace(
+        "end_effector: foot\n",
+        "end_effector: foot\nframes: [imu, { name: gps, link: trunk, xyz: [0, 0, 0.2] }]\n",
+    );
+    let model = description::load_yaml_str(&on_base, Path::new("hopper.yaml"))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .model;
+    let (imu, gps) = (&model.frames()[1], &model.frames()[2]);
+    assert_eq!((imu.parent, gps.parent), (None, None));
+    assert_eq!(imu.placement.translation, nalgebra::Vector3::new(0.1, 0.0, 0.05));
+    assert_eq!(gps.placement.translation, nalgebra::Vector3::new(0.0, 0.0, 0.2));
+    // On the base body a frame's pose is the base pose composed with its placement, and its
+    // Jacobian has the base's columns only.
+    let dynamics = FloatingDynamics::new(&model).unwrap();
+    let q = [0.3, -0.2, 1.0, 0.0, 0.0, 0.6, 0.8, 0.4, -0.9];
+    let s = dynamics.state(&q).unwrap();
+    let (rotation, translation) = dynamics.frame_pose(&s, 1);
+    let base = s.base();
+    assert!((rotation - base.rotation).amax() < 1e-15);
+    let expected = base.position + base.rotation * nalgebra::Vector3::new(0.1, 0.0, 0.05);
+    assert!((translation - expected).amax() < 1e-15);
+    let local = dynamics.frame_jacobian(&s, 1, ReferenceFrame::Local);
+    assert!(local.columns(6, 2).iter().all(|&x| x == 0.0));
+    // In its own axes: the base's linear columns, and the base's rotation moving it at r × ω.
+    let expected = nalgebra::DMatrix::from_row_slice(
+        6,
+        6,
+        &[
+            1.0, 0.0, 0.0, 0.0, 0.05, 0.0, //
+            0.0, 1.0, 0.0, -0.05, 0.0, 0.1, //
+            0.0, 0.0, 1.0, 0.0, -0.1, 0.0, //
+            0.0, 0.0, 0.0, 1.0, 0.0, 0.0, //
+            0.0, 0.0, 0.0, 0.0, 1.0, 0.0, //
+            0.0, 0.0, 0.0, 0.0, 0.0, 1.0,
+        ],
+    );
+    assert!((local.columns(0, 6) - expected).amax() < 1e-15, "{local}");
+}
+
+#[test]
+fn the_end_effector_on_the_floating_base_body_is_refused_with_what_it_is() {
+    let on_base = ROBOT.replace("end_effector: foot\n", "end_effector: imu\n");
     let err = description::load_yaml_str(&on_base, Path::new("hopper.yaml"))
         .unwrap_err()
         .to_string();
-    assert!(err.starts_with("hopper.yaml:5:"), "{err}");
+    assert!(err.starts_with("hopper.yaml:4:"), "{err}");
     assert!(
-        err.contains("link 'imu' is part of the floating base body"),
+        err.contains("link 'imu' is part of the floating base body: the end-effector must ride"),
         "{err}"
     );
 }

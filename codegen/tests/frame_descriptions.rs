@@ -68,7 +68,7 @@ fn listed_frames_follow_the_end_effector_with_their_offsets() {
     let model = load("frames: [l1, { name: sensor, link: flange, xyz: [0, 0, 0.05] }]\n").unwrap();
     assert_eq!(names(&model), ["flange", "l1", "sensor"]);
     let sensor = &model.frames()[2];
-    assert_eq!(model.joints()[sensor.parent].name, "j2");
+    assert_eq!(model.joints()[sensor.parent.unwrap()].name, "j2");
     // flange is 0.3 above l2's origin; the sensor 0.05 above the flange.
     assert!((sensor.placement.translation.z - 0.35).abs() < 1e-15);
     // Without `frames:`, the end-effector alone.
@@ -158,7 +158,10 @@ fn exported_descriptions_keep_their_frames() {
     std::fs::remove_dir_all(&dir).ok();
     assert_eq!(names(&back), names(&model));
     for (a, b) in back.frames().iter().zip(model.frames()) {
-        assert_eq!(back.joints()[a.parent].name, model.joints()[b.parent].name);
+        assert_eq!(
+            back.joints()[a.parent.unwrap()].name,
+            model.joints()[b.parent.unwrap()].name
+        );
         assert!(
             (a.placement.translation - b.placement.translation).amax() < 1e-12,
             "{}",

@@ -66,7 +66,7 @@ fn with_frames(model: Model, frames: &[(Index, Pose)]) -> Model {
         .enumerate()
         .map(|(k, (body, pose))| Frame {
             name: format!("frame{k}"),
-            parent: body.index(n),
+            parent: Some(body.index(n)),
             placement: *pose,
         })
         .collect();
@@ -174,7 +174,7 @@ fn check(model: &Model, q: &[f64], qd: &[f64], qdd: &[f64]) -> Result<(), TestCa
             com: frame.placement.translation,
             inertia_com: Matrix3::zeros(),
         };
-        let carrier = &mut bodies[frame.parent];
+        let carrier = &mut bodies[frame.parent.unwrap()];
         carrier.inertia = carrier.inertia.merged(&at_origin);
         let loaded = model.clone().with_bodies(bodies).expect("a heavier body");
         let g_change = NumericDynamics::new(&loaded).gravity_torque(q) - dynamics.gravity_torque(q);

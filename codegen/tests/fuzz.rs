@@ -269,7 +269,7 @@ fn same_model(a: &Model, b: &Model) -> Result<(), String> {
         }
     }
     let (ea, eb) = (&a.end_effector(), &b.end_effector());
-    if a.joints()[ea.parent].name != b.joints()[eb.parent].name
+    if a.joints()[a.end_effector_body()].name != b.joints()[b.end_effector_body()].name
         || !close_all(ea.placement.rotation.as_slice(), eb.placement.rotation.as_slice())
         || !close_all(
             ea.placement.translation.as_slice(),

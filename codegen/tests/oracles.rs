@@ -105,7 +105,7 @@ fn random_tree_oracles() {
 fn random_trees_are_valid_models() {
     let result = deterministic_runner(256).run(&arb_model(10), |model| {
         prop_assert_eq!(model.joints().len(), model.bodies().len());
-        prop_assert!(model.end_effector().parent < model.dof());
+        prop_assert!(model.end_effector_body() < model.dof());
         Ok(())
     });
     if let Err(e) = result {

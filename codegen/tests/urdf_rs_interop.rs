@@ -255,7 +255,7 @@ fn depth_first(model: &Model) -> Model {
         order.iter().map(|&old| model.bodies()[old].clone()).collect(),
         model.gravity(),
         Frame {
-            parent: new_index[model.end_effector().parent],
+            parent: Some(new_index[model.end_effector_body()]),
             ..model.end_effector().clone()
         },
     )
@@ -457,7 +457,7 @@ fn one_joint_model(kind: JointKind, limits: Option<Limits>, body: &str) -> Model
         Vector3::new(0.0, 0.0, -9.81),
         Frame {
             name: "tool".into(),
-            parent: 0,
+            parent: Some(0),
             placement: Pose::identity(),
         },
     )

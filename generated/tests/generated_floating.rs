@@ -127,6 +127,8 @@ fn solo12_matches_pinocchio() {
             &column(&vector(&st["dAg_v"])),
             TOL_FIXTURE,
         );
+        // The feet and the trunk's frame on the base body.
+        assert_eq!(Frame::ALL.len(), st["frames"].as_object().unwrap().len());
         for frame in Frame::ALL.iter().copied() {
             let expected = &st["frames"][frame.name()];
             let pose = Solo12::frame_pose(frame, &t);

@@ -99,7 +99,7 @@ pub fn to_yaml(model: &Model, comment: &[String]) -> String {
         y,
         "end_effector: {{ name: {}, link: {}, xyz: {}, rpy: {} }}",
         ee.name,
-        model.bodies()[ee.parent].name,
+        model.bodies()[model.end_effector_body()].name,
         triple(ee.placement.translation.into()),
         triple(rpy(&ee.placement.rotation))
     );

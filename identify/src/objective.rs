@@ -94,7 +94,8 @@ fn body_lengths(model: &Model) -> Vec<f64> {
         }
     }
     let ee = model.end_effector();
-    lengths[ee.parent] = lengths[ee.parent].max(ee.placement.translation.norm());
+    let body = model.end_effector_body();
+    lengths[body] = lengths[body].max(ee.placement.translation.norm());
     lengths.iter().map(|l| l.max(0.01)).collect()
 }
 

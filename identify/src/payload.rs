@@ -287,7 +287,7 @@ pub fn identify_payload(
     let theta: Vec<f64> = model.parameters();
     let to_body = parameters_in_matrix(&frame.placement);
     let to_sensor = sensor.map(|(_, s)| parameters_in_matrix(&relative(s, frame)));
-    let body = PARAMS_PER_BODY * frame.parent;
+    let body = PARAMS_PER_BODY * crate::pipeline::carrier(frame);
     let dynamics = NumericDynamics::new(model);
     let rows = motion.kept.len() * channels;
     let mut w = DMatrix::zeros(rows, columns);

@@ -216,6 +216,14 @@ pub(crate) fn refuse_floating_base(model: &Model) -> Result<(), IdentifyError> {
     }
 }
 
+/// The body that carries `frame`. Only a floating base carries frames itself, and
+/// identification refuses those ([`refuse_floating_base`]).
+pub(crate) fn carrier(frame: &dyngen_codegen::model::Frame) -> usize {
+    frame
+        .parent
+        .expect("identification refuses a floating base, the only one that carries frames itself")
+}
+
 /// From the least squares to the identified description.
 fn complete(
     model: &Model,

@@ -30,7 +30,8 @@ pub fn with_body_at(model: &Model, frame: &str, inertia: &Inertia) -> Model {
         .find(|f| f.name == frame)
         .unwrap_or_else(|| panic!("no frame '{frame}'"));
     let mut bodies = model.bodies().to_vec();
-    bodies[frame.parent].inertia = bodies[frame.parent]
+    let body = crate::pipeline::carrier(frame);
+    bodies[body].inertia = bodies[body]
         .inertia
         .merged(&inertia.transformed(&frame.placement));
     model

@@ -93,7 +93,7 @@ fn scaled_description_start(problem: &Problem<'_>) -> Option<Vec<f64>> {
     // joint-level parameters).
     let p = problem.prior.len();
     let inertial = PARAMS_PER_BODY * problem.bodies.len();
-    let carrier = problem.model.end_effector().parent;
+    let carrier = problem.model.end_effector_body();
     let bodies = problem.bodies.len();
     let columns = (bodies - 1) + PARAMS_PER_BODY + (p - inertial);
     let mut basis = DMatrix::zeros(p, columns);

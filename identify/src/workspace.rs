@@ -176,10 +176,14 @@ impl Workspace {
             }
             bounds.push(Bound {
                 name,
-                body: frame.parent,
+                body: crate::pipeline::carrier(frame),
                 offset: frame.placement.translation,
                 region: c.region.clone(),
-                reach: reach(model, frame.parent, frame.placement.translation.norm()),
+                reach: reach(
+                    model,
+                    crate::pipeline::carrier(frame),
+                    frame.placement.translation.norm(),
+                ),
             });
         }
         Ok(Workspace { bounds })

@@ -425,7 +425,7 @@ fn end_effector(
             FrameSpec::link(name.clone())
         }
     };
-    frame_from_spec(
+    let frame = frame_from_spec(
         c,
         settings,
         &spec,
@@ -433,7 +433,19 @@ fn end_effector(
         "end-effector",
         carrier,
         placement,
-    )
+    )?;
+    if frame.parent.is_none() {
+        let msg = format!(
+            "link '{}' is part of the floating base body: the end-effector must ride on a moving \
+             joint's body (name a frame on the base under `frames`)",
+            spec.link
+        );
+        return Err(settings
+            .map
+            .error("end_effector", msg)
+            .about(format!("end-effector '{}'", spec.frame_name())));
+    }
+    Ok(frame)
 }
 
 /// A frame the description names: a link's frame moved by the spec's offset. `path` is where
@@ -459,20 +471,14 @@ fn frame_from_spec(
     if !(spec.xyz.iter().chain(&spec.rpy).all(|v| v.is_finite())) {
         return Err(err("offset xyz/rpy is not finite".into()));
     }
-    let Some(parent) = carrier[link] else {
-        let msg = match settings.floating_base {
-            true => format!(
-                "link '{}' is part of the floating base body: frames on the base body are not \
-                 supported yet (its pose is the base pose in `FloatingTrig`)",
-                spec.link
-            ),
-            false => format!(
-                "link '{}' does not move with any joint (it is fixed to the base)",
-                spec.link
-            ),
-        };
+    let parent = carrier[link];
+    if parent.is_none() && !settings.floating_base {
+        let msg = format!(
+            "link '{}' does not move with any joint (it is fixed to the base)",
+            spec.link
+        );
         return Err(err(msg));
-    };
+    }
     let offset = from_xyz_rpy(spec.xyz, spec.rpy);
     Ok(Frame {
         name: spec.frame_name().to_owned(),
@@ -499,7 +505,7 @@ fn named_frames(
             .map(|(k, spec)| (format!("frames[{k}]"), spec.clone()))
             .collect(),
         FrameSelection::AllLinks => (0..c.raw.links.len())
-            .filter(|&l| carrier[l].is_some())
+            .filter(|&l| carrier[l].is_some() || settings.floating_base)
             .map(|l| ("frames".to_owned(), FrameSpec::link(c.raw.links[l].name.clone())))
             .collect(),
     };

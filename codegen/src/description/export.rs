@@ -185,7 +185,7 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
     }
 
     let ee = model.end_effector();
-    let ee_body = &model.bodies()[ee.parent].name;
+    let ee_body = &model.bodies()[model.end_effector_body()].name;
     let ee_link = !link_names.contains(ee.name.as_str());
     // A floating base is a link of its own with its inertia; a fixed one, a massless link.
     let floating = model.floating_base();
@@ -267,7 +267,7 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
         });
         FrameSpec::link(ee.name.clone())
     } else {
-        body_frame_spec(model, ee)
+        body_frame_spec(model, ee, &base)
     };
     stick_figure(model, &mut links);
     let robot = urdf_rs::Robot {
@@ -281,7 +281,7 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
     let gravity: [f64; 3] = model.gravity().into();
     let named: Vec<FrameSpec> = model.frames()[1..]
         .iter()
-        .map(|f| body_frame_spec(model, f))
+        .map(|f| body_frame_spec(model, f, &base))
         .collect();
     let mut options = UrdfOptions {
         gravity: (gravity != DEFAULT_GRAVITY).then_some(gravity),
@@ -313,7 +313,7 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
         .map(|l| l.model)
         .map_err(|e| fail(format!("the URDF does not load back: {e}")))?;
     let same_frame = plain.end_effector().name == ee.name
-        && plain.joints()[plain.end_effector().parent].name == model.joints()[ee.parent].name
+        && plain.joints()[plain.end_effector_body()].name == model.joints()[model.end_effector_body()].name
         && close(&plain.end_effector().placement, &ee.placement);
     if !same_frame {
         warnings.push(format!(
@@ -357,13 +357,14 @@ fn frame_yaml(spec: &FrameSpec) -> String {
     s + " }"
 }
 
-/// A model frame as a frame of the exported URDF: on its body's link, at its placement there.
-fn body_frame_spec(model: &Model, frame: &crate::model::Frame) -> FrameSpec {
-    let body = &model.bodies()[frame.parent].name;
+/// A model frame as a frame of the exported URDF: on its body's link (`base`, the base link's
+/// name, for a frame on a floating base body), at its placement there.
+fn body_frame_spec(model: &Model, frame: &crate::model::Frame, base: &str) -> FrameSpec {
+    let body = frame.parent.map_or(base, |p| model.bodies()[p].name.as_str());
     let p = pose(&frame.placement);
     FrameSpec {
         name: (frame.name != *body).then(|| frame.name.clone()),
-        link: body.clone(),
+        link: body.to_owned(),
         xyz: p.xyz.0,
         rpy: p.rpy.0,
     }
@@ -434,7 +435,7 @@ fn stick_figure(model: &Model, links: &mut [urdf_rs::Link]) {
     for joint in model.joints() {
         ends[joint.parent.map_or(0, |p| p + 1)].push(joint.origin.translation);
     }
-    ends[ee.parent + 1].push(ee.placement.translation);
+    ends[model.end_effector_body() + 1].push(ee.placement.translation);
     let longest = ends.iter().flatten().map(|p| p.norm()).fold(0.0, f64::max);
     let radius = (longest / 40.0).max(0.002);
     let visual = |origin: urdf_rs::Pose, geometry: urdf_rs::Geometry| urdf_rs::Visual {

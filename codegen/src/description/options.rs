@@ -157,8 +157,9 @@ pub enum FrameSelection {
     EndEffector,
     /// The end-effector and these frames (a frame named like the end-effector must be it).
     Listed(Vec<FrameSpec>),
-    /// The end-effector and the frame of every link that moves with a joint (links welded to
-    /// the fixed base have a constant pose and a zero Jacobian, and are left out).
+    /// The end-effector and the frame of every link that moves: with a joint, or with a
+    /// floating base (links welded to a fixed base have a constant pose and a zero Jacobian,
+    /// and are left out).
     AllLinks,
 }
 

@@ -40,7 +40,7 @@ pub struct FrameMotion<S> {
 impl<S: Scalar> FrameMotion<S> {
     pub fn new(model: &Model, world: &[Transform<S>], qd: &[S], frame: &Frame) -> Self {
         FrameMotion {
-            pose: frame_pose(world, frame),
+            pose: frame_pose(None, world, frame),
             jacobian: frame_jacobian(model, world, frame),
             jacobian_dot: frame_jacobian_dot(model, world, qd, frame),
         }
@@ -105,7 +105,7 @@ impl<S: Scalar> FrameMotion<S> {
 pub fn local_jacobian<S: Scalar>(model: &Model, x: &[Transform<S>], frame: &Frame) -> DMatrix<S> {
     let mut jac = DMatrix::from_element(6, model.joints().len(), S::zero());
     let mut placed: Transform<S> = pose_to_transform(&frame.placement);
-    let mut next = Some(frame.parent);
+    let mut next = frame.parent;
     while let Some(j) = next {
         let joint = &model.joints()[j];
         let a = Vec3::from_f64([joint.axis.x, joint.axis.y, joint.axis.z]);
@@ -133,7 +133,8 @@ pub struct FrameRates<S> {
 impl<S: Scalar> FrameRates<S> {
     pub fn new(model: &Model, x: &[Transform<S>], qd: &[S], qdd: &[S], frame: &Frame) -> Self {
         let (qd, qdd) = (expand(model, qd), expand(model, qdd));
-        let body = &forward_pass(model, x, &qd, &qd, &qdd, None)[frame.parent];
+        let carrier = frame.parent.expect("Model::new refuses a frame on a fixed base");
+        let body = &forward_pass(model, x, &qd, &qd, &qdd, None)[carrier];
         let placement: Transform<S> = pose_to_transform(&frame.placement);
         FrameRates {
             velocity: placement.motion_to_child(&body.vel),

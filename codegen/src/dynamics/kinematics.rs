@@ -23,12 +23,22 @@ pub fn body_poses<S: Scalar>(model: &Model, x: &[Transform<S>]) -> Vec<Transform
 
 /// The end-effector frame in the base frame.
 pub fn end_effector_pose<S: Scalar>(model: &Model, world: &[Transform<S>]) -> Transform<S> {
-    frame_pose(world, model.end_effector())
+    frame_pose(None, world, model.end_effector())
 }
 
-/// A frame in the base frame.
-pub fn frame_pose<S: Scalar>(world: &[Transform<S>], frame: &Frame) -> Transform<S> {
-    world[frame.parent].compose(&pose_to_transform(&frame.placement))
+/// A frame in the base frame; on a floating base in the world, `base` the base body's pose
+/// (only a floating base carries frames itself).
+pub fn frame_pose<S: Scalar>(
+    base: Option<&Transform<S>>,
+    world: &[Transform<S>],
+    frame: &Frame,
+) -> Transform<S> {
+    let body = match (frame.parent, base) {
+        (Some(p), _) => &world[p],
+        (None, Some(base)) => base,
+        (None, None) => unreachable!("Model::new refuses a frame on a fixed base"),
+    };
+    body.compose(&pose_to_transform(&frame.placement))
 }
 
 /// Unit axis of joint `j` in world coordinates.
@@ -53,15 +63,25 @@ pub fn jacobian<S: Scalar>(model: &Model, world: &[Transform<S>]) -> DMatrix<S> 
 
 /// [`jacobian`] of any frame (Pinocchio's `LOCAL_WORLD_ALIGNED`).
 pub fn frame_jacobian<S: Scalar>(model: &Model, world: &[Transform<S>], frame: &Frame) -> DMatrix<S> {
-    project_columns(model, tree_jacobian(model, world, frame))
+    let origin = frame_pose(None, world, frame).pos;
+    project_columns(model, tree_jacobian(model, world, frame, origin))
 }
 
-/// The Jacobian with one column per moving joint of the tree.
-pub(crate) fn tree_jacobian<S: Scalar>(model: &Model, world: &[Transform<S>], frame: &Frame) -> DMatrix<S> {
+/// The joints that move `frame`, base first (none for a frame on a floating base body).
+fn chain_of(model: &Model, frame: &Frame) -> Vec<usize> {
+    frame.parent.map_or_else(Vec::new, |body| model.chain_to(body))
+}
+
+/// The Jacobian with one column per moving joint of the tree; `pe` the frame's origin.
+pub(crate) fn tree_jacobian<S: Scalar>(
+    model: &Model,
+    world: &[Transform<S>],
+    frame: &Frame,
+    pe: Vec3<S>,
+) -> DMatrix<S> {
     let n = model.joints().len();
-    let pe = frame_pose(world, frame).pos;
     let mut jac = DMatrix::from_element(6, n, S::zero());
-    for j in model.chain_to(frame.parent) {
+    for j in chain_of(model, frame) {
         let z = world_axis(model, world, j);
         match model.joints()[j].kind {
             JointKind::Revolute => set_column(&mut jac, j, z.cross(&(pe - world[j].pos)), z),
@@ -88,9 +108,10 @@ pub fn frame_jacobian_dot<S: Scalar>(
     qd: &[S],
     frame: &Frame,
 ) -> DMatrix<S> {
+    let origin = frame_pose(None, world, frame).pos;
     project_columns(
         model,
-        tree_jacobian_dot(model, world, &expand(model, qd), frame, None),
+        tree_jacobian_dot(model, world, &expand(model, qd), frame, origin, None),
     )
 }
 
@@ -103,17 +124,21 @@ pub(crate) struct MovingBase<S> {
     pub origin: Vec3<S>,
 }
 
-/// `J̇` with one column per moving joint of the tree, `qd` one rate per moving joint; the roots
-/// hang from a fixed base (`None`) or from a moving one.
+/// `J̇` with one column per moving joint of the tree, `qd` one rate per moving joint, `pe` the
+/// frame's origin; the roots hang from a fixed base (`None`) or from a moving one.
 pub(crate) fn tree_jacobian_dot<S: Scalar>(
     model: &Model,
     world: &[Transform<S>],
     qd: &[S],
     frame: &Frame,
+    pe: Vec3<S>,
     base: Option<&MovingBase<S>>,
 ) -> DMatrix<S> {
     let n = model.joints().len();
-    let chain = model.chain_to(frame.parent);
+    let Some(last) = frame.parent else {
+        return DMatrix::from_element(6, n, S::zero());
+    };
+    let chain = model.chain_to(last);
     // World angular velocity and origin velocity of every body on the chain.
     let mut omega = vec![Vec3::zero(); n];
     let mut pdot = vec![Vec3::zero(); n];
@@ -134,8 +159,6 @@ pub(crate) fn tree_jacobian_dot<S: Scalar>(
             JointKind::Prismatic => (w0, v0 + z),
         };
     }
-    let last = frame.parent;
-    let pe = frame_pose(world, frame).pos;
     let pe_dot = pdot[last] + omega[last].cross(&(pe - world[last].pos));
     let mut jd = DMatrix::from_element(6, n, S::zero());
     for &j in &chain {

@@ -312,7 +312,7 @@ impl<'m> FloatingDynamics<'m> {
     fn frame_motion(&self, s: &FloatingState, v: &[f64], frame: usize) -> FrameMotion<f64> {
         let frame = &self.model.frames()[frame];
         FrameMotion {
-            pose: super::kinematics::frame_pose(&s.world, frame),
+            pose: super::kinematics::frame_pose(Some(&s.pose), &s.world, frame),
             jacobian: floating::floating_frame_jacobian(self.model, &s.pose, &s.world, frame),
             jacobian_dot: floating::floating_frame_jacobian_dot(self.model, &s.pose, &s.world, v, frame),
         }
@@ -320,7 +320,7 @@ impl<'m> FloatingDynamics<'m> {
 
     /// The pose of frame `frame` (an index into [`Model::frames`]) in the world.
     pub fn frame_pose(&self, s: &FloatingState, frame: usize) -> (Matrix3<f64>, Vector3<f64>) {
-        let pose = super::kinematics::frame_pose(&s.world, &self.model.frames()[frame]);
+        let pose = super::kinematics::frame_pose(Some(&s.pose), &s.world, &self.model.frames()[frame]);
         (to_matrix3(&pose.rot), Vector3::from(pose.pos.0))
     }
 
@@ -330,7 +330,7 @@ impl<'m> FloatingDynamics<'m> {
         let jacobian = floating::floating_frame_jacobian(self.model, &s.pose, &s.world, frame);
         // `J` in a reference frame needs only the pose and `J`; no `J̇` is computed for it.
         FrameMotion {
-            pose: super::kinematics::frame_pose(&s.world, frame),
+            pose: super::kinematics::frame_pose(Some(&s.pose), &s.world, frame),
             jacobian_dot: DMatrix::zeros(6, jacobian.ncols()),
             jacobian,
         }

@@ -189,7 +189,7 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
         ];
         for (index, frame) in model.frames().iter().enumerate() {
             let motion = FrameMotion {
-                pose: dynamics::kinematics::frame_pose(&world, frame),
+                pose: dynamics::kinematics::frame_pose(Some(&pose), &world, frame),
                 jacobian: algorithms::floating_frame_jacobian(model, &pose, &world, frame),
                 jacobian_dot: algorithms::floating_frame_jacobian_dot(model, &pose, &world, &qd, frame),
             };

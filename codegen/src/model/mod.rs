@@ -86,9 +86,10 @@ pub struct Body {
 #[derive(Clone, Debug, PartialEq)]
 pub struct Frame {
     pub name: String,
-    /// Index of the joint (body) that carries the frame.
-    pub parent: usize,
-    /// Frame pose in the parent joint's frame.
+    /// Index of the joint (body) that carries the frame; `None` for the floating base body
+    /// (an IMU on a trunk), as a joint's `parent` is `None` on the base.
+    pub parent: Option<usize>,
+    /// Frame pose in the parent joint's frame (in the base body's frame when on the base).
     pub placement: Pose,
 }
 
@@ -319,6 +320,13 @@ impl Model {
     /// The frame a controller tracks by default, the first of [`Model::frames`].
     pub fn end_effector(&self) -> &Frame {
         &self.frames[0]
+    }
+
+    /// The body that carries the end-effector: always a moving one.
+    pub fn end_effector_body(&self) -> usize {
+        self.frames[0]
+            .parent
+            .expect("the end-effector rides on a moving body (validated)")
     }
 
     /// Every frame generated code computes: the end-effector, then the named frames.

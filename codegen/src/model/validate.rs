@@ -148,11 +148,26 @@ pub(super) fn validate(model: &Model) -> Result<Vec<Warning>, ModelError> {
             0 => "end-effector",
             _ => "frame",
         };
-        if frame.parent >= n {
-            return err(format!(
-                "{what} '{}': parent joint {} does not exist",
-                frame.name, frame.parent
-            ));
+        match (frame.parent, &model.floating_base) {
+            (Some(p), _) if p >= n => {
+                return err(format!(
+                    "{what} '{}': parent joint {p} does not exist",
+                    frame.name
+                ));
+            }
+            (None, _) if k == 0 => {
+                return err(format!(
+                    "end-effector '{}' is on the base: it must ride on a moving joint's body",
+                    frame.name
+                ));
+            }
+            (None, None) => {
+                return err(format!(
+                    "frame '{}' is on the fixed base: it does not move",
+                    frame.name
+                ));
+            }
+            _ => {}
         }
         check_pose(&frame.placement)
             .map_err(|m| ModelError(format!("{what} '{}': placement {m}", frame.name)))?;
@@ -300,7 +315,7 @@ mod tests {
             coordinate_maps: super::super::coupling::coordinate_maps(&[None], 1),
             frames: vec![Frame {
                 name: "ee".into(),
-                parent: 0,
+                parent: Some(0),
                 placement: Pose::identity(),
             }],
         }
@@ -358,6 +373,39 @@ mod tests {
         let mut m = one_joint(inertia(1.0, [1.0, 1.0, 1.0]));
         m.frames[0].placement.rotation[(0, 0)] = 2.0;
         assert!(validate(&m).unwrap_err().0.contains("orthonormal"));
+    }
+
+    #[test]
+    fn only_a_floating_base_carries_frames_and_never_the_end_effector() {
+        let on_base = |k: usize| {
+            let mut m = one_joint(inertia(1.0, [1.0, 1.0, 1.0]));
+            m.frames.push(Frame {
+                name: "imu".into(),
+                parent: Some(0),
+                placement: Pose::identity(),
+            });
+            m.frames[k].parent = None;
+            m
+        };
+        let e = validate(&on_base(1)).unwrap_err();
+        assert!(e.0.contains("frame 'imu' is on the fixed base"), "{e}");
+        let floating = Body {
+            name: "trunk".into(),
+            inertia: inertia(2.0, [1.0, 1.0, 1.0]),
+        };
+        let mut m = on_base(1);
+        m.floating_base = Some(floating.clone());
+        assert!(validate(&m).is_ok());
+        let mut m = on_base(0);
+        m.floating_base = Some(floating);
+        let e = validate(&m).unwrap_err();
+        assert!(e.0.contains("end-effector 'ee' is on the base"), "{e}");
+        let mut m = one_joint(inertia(1.0, [1.0, 1.0, 1.0]));
+        m.frames[0].parent = Some(3);
+        assert!(validate(&m)
+            .unwrap_err()
+            .0
+            .contains("parent joint 3 does not exist"));
     }
 
     #[test]

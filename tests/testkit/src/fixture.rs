@@ -159,7 +159,7 @@ impl Fixture {
             Vector3::from_vec(vector(&j["gravity"])),
             Frame {
                 name: j["ee_frame"].as_str().unwrap().to_owned(),
-                parent: ee_parent,
+                parent: Some(ee_parent),
                 placement: pose(&j["ee_placement_in_parent_joint"]),
             },
         )

@@ -132,7 +132,7 @@ pub fn arb_model(max_dof: usize) -> impl Strategy<Value = Model> {
                 .collect();
             let end_effector = Frame {
                 name: "tool".into(),
-                parent: ee_body.index(n),
+                parent: Some(ee_body.index(n)),
                 placement: ee_placement,
             };
             Model::new(
@@ -339,7 +339,7 @@ pub fn arb_floating_model(max_dof: usize) -> impl Strategy<Value = Model> {
             (Just(model), arb_inertia(), -1.0..2.0f64, link_masses, tool)
         })
         .prop_map(|(model, base, log_base_mass, link_masses, tool)| {
-            let tool_body = model.end_effector().parent;
+            let tool_body = model.end_effector_body();
             let bodies: Vec<Body> = model
                 .bodies()
                 .iter()
@@ -360,7 +360,7 @@ pub fn arb_floating_model(max_dof: usize) -> impl Strategy<Value = Model> {
             let frames = (0..bodies.len())
                 .map(|i| Frame {
                     name: format!("origin{i}"),
-                    parent: i,
+                    parent: Some(i),
                     placement: Pose::identity(),
                 })
                 .collect();

@@ -79,7 +79,7 @@ pub fn model(name: &str, n: usize, seed: u64, parent: impl Fn(usize) -> Option<u
         .collect();
     let end_effector = Frame {
         name: "tool".into(),
-        parent: n - 1,
+        parent: Some(n - 1),
         placement: pose(&mut rng),
     };
     Model::new(name, joints, bodies, Vector3::new(0.0, 0.0, -9.81), end_effector).expect("a valid model")

@@ -54,7 +54,7 @@ pub fn to_yaml(model: &Model) -> String {
     s += &format!(
         "end_effector: {{ name: {}, link: {}, xyz: [{}], rpy: [{}] }}\nlinks:\n  - name: base\n",
         ee.name,
-        model.bodies()[ee.parent].name,
+        model.bodies()[model.end_effector_body()].name,
         list(&xyz),
         list(&r)
     );
@@ -150,7 +150,7 @@ pub fn to_urdf(model: &Model) -> String {
         "  <link name=\"{0}\"/>\n  <joint name=\"{0}_fixed\" type=\"fixed\">\n    <parent link=\"{1}\"/>\n    \
          <child link=\"{0}\"/>\n    <origin xyz=\"{2}\" rpy=\"{3}\"/>\n  </joint>\n</robot>\n",
         ee.name,
-        model.bodies()[ee.parent].name,
+        model.bodies()[model.end_effector_body()].name,
         spaced(&xyz),
         spaced(&r)
     );

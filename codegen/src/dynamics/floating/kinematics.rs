@@ -38,8 +38,8 @@ pub fn floating_frame_jacobian<S: Scalar>(
     world: &[Transform<S>],
     frame: &Frame,
 ) -> DMatrix<S> {
-    let pe = frame_pose(world, frame).pos;
-    let tree = tree_jacobian(model, world, frame);
+    let pe = frame_pose(Some(base), world, frame).pos;
+    let tree = tree_jacobian(model, world, frame, pe);
     let mut jac = DMatrix::from_element(6, 6 + tree.ncols(), S::zero());
     for k in 0..3 {
         let axis = base.rot.column(k);
@@ -64,8 +64,8 @@ pub fn floating_frame_jacobian_dot<S: Scalar>(
         origin_velocity: base.rot.mul_vec(&nu.lin),
         origin: base.pos,
     };
-    let tree = tree_jacobian_dot(model, world, &v[6..], frame, Some(&moving));
-    let pe = frame_pose(world, frame).pos;
+    let pe = frame_pose(Some(base), world, frame).pos;
+    let tree = tree_jacobian_dot(model, world, &v[6..], frame, pe, Some(&moving));
     let jac = floating_frame_jacobian(model, base, world, frame);
     let pe_dot = Vec3(std::array::from_fn(|r| {
         (1..v.len()).fold(jac[(r, 0)] * v[0], |acc, c| acc + jac[(r, c)] * v[c])

@@ -81,7 +81,11 @@ pub(super) fn frame_items(
         .collect();
     let names: Vec<&str> = frames.iter().map(|f| f.name.as_str()).collect();
     let docs = frames.iter().enumerate().map(|(k, f)| {
-        let body = &model.bodies()[f.parent].name;
+        let body = match (f.parent, model.floating_base()) {
+            (Some(p), _) => &model.bodies()[p].name,
+            (None, Some(base)) => &base.name,
+            (None, None) => unreachable!("Model::new refuses a frame on a fixed base"),
+        };
         match k {
             0 => format!(" `{}`, the end-effector (on body `{body}`).", f.name),
             _ => format!(" `{}` (on body `{body}`).", f.name),

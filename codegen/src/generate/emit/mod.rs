@@ -112,7 +112,7 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
     let coordinates = model.coordinate_joints();
     let joint_names = coordinates.iter().map(|&k| model.joints()[k].name.as_str());
     let joint_limits = joint_limits(model);
-    let end_effector_body = Literal::usize_unsuffixed(model.end_effector().parent);
+    let end_effector_body = Literal::usize_unsuffixed(model.end_effector_body());
     let param_names = model.parameter_names();
     let param_kinds = parameter_kinds(model);
     let theta: Vec<TokenStream> = model.parameters().into_iter().map(literal).collect();
