@@ -306,6 +306,44 @@ fn check_traced(
         &order.square(st, "Minv"),
         TOL,
     );
+    let pair = |values: Vec<f64>| {
+        let (first, second) = values.split_at(nv * nv);
+        (square(first.to_vec()), square(second.to_vec()))
+    };
+    let (dtau_dq, dtau_dv) = pair(eval("inverse_dynamics_derivatives", at(&q, &v, &[], &a)));
+    assert_close(
+        &what("traced dtau_dq"),
+        &dtau_dq,
+        &order.square(st, "dtau_dq"),
+        TOL,
+    );
+    assert_close(
+        &what("traced dtau_dv"),
+        &dtau_dv,
+        &order.square(st, "dtau_dv"),
+        TOL,
+    );
+    let (dqdd_dq, dqdd_dv) = pair(eval(
+        "forward_dynamics_derivatives",
+        Arguments {
+            q: &q,
+            qd: &v,
+            tau: &tau,
+            ..Arguments::default()
+        },
+    ));
+    assert_close(
+        &what("traced dqdd_dq"),
+        &dqdd_dq,
+        &order.square(st, "dqdd_dq"),
+        TOL,
+    );
+    assert_close(
+        &what("traced dqdd_dv"),
+        &dqdd_dv,
+        &order.square(st, "dqdd_dv"),
+        TOL,
+    );
     assert_close(
         &what("traced com"),
         &column(&eval("center_of_mass", none)),

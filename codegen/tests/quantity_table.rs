@@ -114,8 +114,11 @@ fn the_floating_traits_declare_what_a_floating_robot_is_traced_with() {
         .iter()
         .map(|q| q.kind)
         .partition(|k| k.is_per_frame());
-    let (base, dynamics): (Vec<QuantityKind>, Vec<QuantityKind>) =
+    let (base, others): (Vec<QuantityKind>, Vec<QuantityKind>) =
         others.into_iter().partition(|k| k.uses_base_columns());
+    let (derivatives, dynamics): (Vec<QuantityKind>, Vec<QuantityKind>) = others
+        .into_iter()
+        .partition(|k| k.group() == dyngen_codegen::FunctionGroup::Derivatives);
     let names = |kinds: Vec<QuantityKind>| -> BTreeSet<String> {
         kinds.into_iter().map(|k| k.name().to_owned()).collect()
     };
@@ -131,6 +134,11 @@ fn the_floating_traits_declare_what_a_floating_robot_is_traced_with() {
         trait_methods("floating_robot.rs", "FloatingBaseParameters"),
         expected,
         "FloatingBaseParameters against the base-column functions"
+    );
+    assert_eq!(
+        trait_methods("floating_robot.rs", "FloatingDynamicsDerivatives"),
+        names(derivatives),
+        "FloatingDynamicsDerivatives against the derivatives"
     );
     assert_eq!(
         trait_methods("floating_robot.rs", "FloatingFrameKinematics"),

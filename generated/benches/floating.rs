@@ -15,7 +15,8 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use dyngen_generated::solo12::{Frame, Solo12, Velocity, NQ};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{
-    FloatingBaseDynamics, FloatingFrameKinematics, FloatingTrig, ReferenceFrame, SplitMix64,
+    FloatingBaseDynamics, FloatingBaseParameters, FloatingDynamicsDerivatives, FloatingFrameKinematics,
+    FloatingTrig, ReferenceFrame, SplitMix64,
 };
 use std::hint::black_box;
 
@@ -92,9 +93,36 @@ fn solo12(c: &mut Criterion) {
             black_box(Solo12::torque_regressor(&trig(q), v, a));
         },
     );
+    cycle(
+        c,
+        &g("base_torque_regressor"),
+        "generated",
+        &inputs,
+        |(q, [v, a, _])| {
+            black_box(Solo12::base_torque_regressor(&trig(q), v, a));
+        },
+    );
     cycle(c, &g("aba"), "generated", &inputs, |(q, [v, _, tau])| {
         black_box(Solo12::forward_dynamics(&trig(q), v, tau));
     });
+    cycle(
+        c,
+        &g("rnea_derivatives"),
+        "generated",
+        &inputs,
+        |(q, [v, a, _])| {
+            black_box(Solo12::inverse_dynamics_derivatives(&trig(q), v, a));
+        },
+    );
+    cycle(
+        c,
+        &g("aba_derivatives"),
+        "generated",
+        &inputs,
+        |(q, [v, _, tau])| {
+            black_box(Solo12::forward_dynamics_derivatives(&trig(q), v, tau));
+        },
+    );
     cycle(c, &g("minv"), "generated", &inputs, |(q, _)| {
         black_box(Solo12::mass_matrix_inverse(&trig(q)));
     });

@@ -1,7 +1,7 @@
 //! The compiled floating-base robot (Solo-12, `robots/solo12.yaml`) against Pinocchio 4.1 with
 //! `JointModelFreeFlyer` (`codegen/tests/fixtures/floating/solo12.json`) and against the generic
 //! floating-base dynamics at random states, every function of `FloatingBaseDynamics`,
-//! `FloatingBaseParameters` and `FloatingFrameKinematics`.
+//! `FloatingBaseParameters`, `FloatingDynamicsDerivatives` and `FloatingFrameKinematics`.
 
 use dyngen_testkit as common;
 
@@ -14,8 +14,8 @@ use dyngen_codegen::dynamics::FloatingDynamics;
 use dyngen_generated::solo12::{self, Frame, Solo12, Velocity, NV};
 use dyngen_runtime::nalgebra::{DMatrix, SMatrix};
 use dyngen_runtime::{
-    ConfigurationError, FloatingBaseDynamics, FloatingBaseParameters, FloatingFrameKinematics,
-    ReferenceFrame, RobotFrame, SplitMix64,
+    ConfigurationError, FloatingBaseDynamics, FloatingBaseParameters, FloatingDynamicsDerivatives,
+    FloatingFrameKinematics, ReferenceFrame, RobotFrame, SplitMix64,
 };
 
 const TOL_FIXTURE: f64 = 1e-9;
@@ -106,6 +106,32 @@ fn solo12_matches_pinocchio() {
             &what("Minv"),
             &dm(&Solo12::mass_matrix_inverse(&t)),
             &order.square(st, "Minv"),
+            TOL_FIXTURE,
+        );
+        let (dtau_dq, dtau_dv) = Solo12::inverse_dynamics_derivatives(&t, &v, &a);
+        assert_close(
+            &what("dtau_dq"),
+            &dm(&dtau_dq),
+            &order.square(st, "dtau_dq"),
+            TOL_FIXTURE,
+        );
+        assert_close(
+            &what("dtau_dv"),
+            &dm(&dtau_dv),
+            &order.square(st, "dtau_dv"),
+            TOL_FIXTURE,
+        );
+        let (dqdd_dq, dqdd_dv) = Solo12::forward_dynamics_derivatives(&t, &v, &tau);
+        assert_close(
+            &what("dqdd_dq"),
+            &dm(&dqdd_dq),
+            &order.square(st, "dqdd_dq"),
+            TOL_FIXTURE,
+        );
+        assert_close(
+            &what("dqdd_dv"),
+            &dm(&dqdd_dv),
+            &order.square(st, "dqdd_dv"),
             TOL_FIXTURE,
         );
         assert_close(
@@ -223,6 +249,14 @@ fn solo12_matches_the_generic_dynamics() {
             &base.base_regressor(&torque_y),
             TOL_GENERIC,
         );
+        let (dq, dv) = generic.inverse_dynamics_derivatives(&s, &v, &a);
+        let (gq, gv) = Solo12::inverse_dynamics_derivatives(&t, &vv, &av);
+        assert_close(&what("∂τ/∂q"), &dm(&gq), &dq, TOL_GENERIC);
+        assert_close(&what("∂τ/∂ν"), &dm(&gv), &dv, TOL_GENERIC);
+        let (dq, dv) = generic.forward_dynamics_derivatives(&s, &v, &tau);
+        let (gq, gv) = Solo12::forward_dynamics_derivatives(&t, &vv, &tauv);
+        assert_close(&what("∂ν̇/∂q"), &dm(&gq), &dq, TOL_GENERIC);
+        assert_close(&what("∂ν̇/∂ν"), &dm(&gv), &dv, TOL_GENERIC);
         let forward = generic.forward_dynamics(&s, &v, &tau);
         assert_close(
             &what("ν̇"),

@@ -159,6 +159,28 @@ pub trait FloatingBaseParameters<const N: usize, const NV: usize, const P: usize
     ) -> SMatrix<f64, NV, B>;
 }
 
+/// The derivatives of a floating-base robot's inverse and forward dynamics in the tangent
+/// space, in Pinocchio's layout: column `c` is the derivative along `q ⊕ e_c` (the base
+/// translation's three, the base rotation's three in the base frame, then the joints) or along
+/// `ν`'s entry `c`.
+pub trait FloatingDynamicsDerivatives<const N: usize, const NV: usize, const P: usize>:
+    FloatingBaseDynamics<N, NV, P>
+{
+    /// `(∂τ/∂q, ∂τ/∂ν)` of inverse dynamics at `(q, ν, ν̇)` (`∂τ/∂ν̇ = D`); the base
+    /// translation's columns of `∂τ/∂q` are zero.
+    fn inverse_dynamics_derivatives(
+        t: &FloatingTrig<N>,
+        v: &SVector<f64, NV>,
+        a: &SVector<f64, NV>,
+    ) -> (SMatrix<f64, NV, NV>, SMatrix<f64, NV, NV>);
+    /// `(∂ν̇/∂q, ∂ν̇/∂ν)` of forward dynamics at `(q, ν, τ)` (`∂ν̇/∂τ = D⁻¹`).
+    fn forward_dynamics_derivatives(
+        t: &FloatingTrig<N>,
+        v: &SVector<f64, NV>,
+        tau: &SVector<f64, NV>,
+    ) -> (SMatrix<f64, NV, NV>, SMatrix<f64, NV, NV>);
+}
+
 /// Any named frame of a floating-base robot (feet, hands, sensors), in the world, in any
 /// [`ReferenceFrame`]; `J` is `6 × NV`, its first six columns the base's.
 pub trait FloatingFrameKinematics<const N: usize, const NV: usize> {

@@ -5,8 +5,9 @@
 //!   [`FrameKinematics`] (any named frame, in any [`ReferenceFrame`]; its `Frame` enum is a
 //!   [`RobotFrame`]) with [`WrenchDynamics`] ([`ExternalWrench`]es at those frames), and
 //!   [`LaneDynamics`] (several states per call, in the lane types
-//!   [`f64x4`] and [`f64x8`], any [`Lanes`]); on a free-flying base, [`FloatingBaseDynamics`]
-//!   and [`FloatingFrameKinematics`], taking a [`FloatingTrig`];
+//!   [`f64x4`] and [`f64x8`], any [`Lanes`]); on a free-flying base, [`FloatingBaseDynamics`],
+//!   [`FloatingBaseParameters`], [`FloatingDynamicsDerivatives`] and [`FloatingFrameKinematics`],
+//!   taking a [`FloatingTrig`];
 //! - the parameterisations generic code is written against: [`Parameterization`], with
 //!   [`Standard`] and [`Base`];
 //! - the plain data they exchange: [`JointTrig`] and [`JointTrigLanes`] (with [`pack`] and
@@ -66,7 +67,8 @@ mod version;
 
 pub use floating::{BasePose, NonUnitQuaternion, QUATERNION_NORM_TOLERANCE};
 pub use floating_robot::{
-    ConfigurationError, FloatingBaseDynamics, FloatingBaseParameters, FloatingFrameKinematics, FloatingTrig,
+    ConfigurationError, FloatingBaseDynamics, FloatingBaseParameters, FloatingDynamicsDerivatives,
+    FloatingFrameKinematics, FloatingTrig,
 };
 pub use frames::{ExternalWrench, FrameKinematics, ReferenceFrame, RobotFrame, WrenchDynamics};
 pub use joint::{JointLimits, JointTrig};
@@ -118,9 +120,9 @@ pub mod __private {
 pub mod prelude {
     pub use crate::{
         BaseParameters, DynamicsDerivatives, ExternalWrench, FloatingBaseDynamics, FloatingBaseParameters,
-        FloatingFrameKinematics, FloatingTrig, ForwardDynamics, FrameKinematics, JointTrig, Kinematics,
-        LaneDynamics, Parameterization, ReferenceFrame, Regressors, RobotDynamics, RobotFrame,
-        WrenchDynamics,
+        FloatingDynamicsDerivatives, FloatingFrameKinematics, FloatingTrig, ForwardDynamics, FrameKinematics,
+        JointTrig, Kinematics, LaneDynamics, Parameterization, ReferenceFrame, Regressors, RobotDynamics,
+        RobotFrame, WrenchDynamics,
     };
 }
 

@@ -3,9 +3,9 @@
 
 use super::floating::{self, FloatingBase};
 use super::frames::FrameMotion;
+use super::Directions;
 use super::{body_inertias, joint_transforms};
 use crate::model::{Model, PARAMS_PER_BODY};
-use crate::scalar_dual::Dual;
 use crate::spatial::{Mat3, RigidInertia, Transform, Vec3};
 use dyngen_runtime::{BasePose, NonUnitQuaternion, ReferenceFrame};
 use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
@@ -124,7 +124,7 @@ impl<'m> FloatingDynamics<'m> {
 
     /// `(∂τ/∂q, ∂τ/∂ν)` of inverse dynamics at `(q, ν, ν̇ = a)`, `q` moved in the tangent space
     /// (`q ⊕ δ`, nv columns; the base translation's three are zero: nothing but gravity sees
-    /// the base, and it sees only its orientation).
+    /// the base, and it sees only its orientation), by forward-mode dual numbers in lanes.
     pub fn inverse_dynamics_derivatives(
         &self,
         s: &FloatingState,
@@ -133,21 +133,15 @@ impl<'m> FloatingDynamics<'m> {
     ) -> (DMatrix<f64>, DMatrix<f64>) {
         self.check_velocity(v);
         self.check_velocity(a);
-        let nv = self.model.nv();
-        let (mut dq, mut dv) = (DMatrix::zeros(nv, nv), DMatrix::zeros(nv, nv));
-        for c in 3..nv {
-            dq.set_column(
-                c,
-                &DVector::from_vec(self.tangent_of_torque(s, v, a, Direction::Configuration(c))),
-            );
-        }
-        for c in 0..nv {
-            dv.set_column(
-                c,
-                &DVector::from_vec(self.tangent_of_torque(s, v, a, Direction::Velocity(c))),
-            );
-        }
-        (dq, dv)
+        floating::floating_inverse_dynamics_derivatives(
+            Directions::Lanes,
+            self.model,
+            &self.base(s),
+            &s.joints,
+            &self.inertias,
+            v,
+            a,
+        )
     }
 
     /// `(∂ν̇/∂q, ∂ν̇/∂ν)` of forward dynamics at `(q, ν, τ)`: `−D⁻¹ ∂τ/∂x` at `ν̇ = FD(q, ν, τ)`
@@ -158,67 +152,17 @@ impl<'m> FloatingDynamics<'m> {
         v: &[f64],
         tau: &[f64],
     ) -> (DMatrix<f64>, DMatrix<f64>) {
-        let a = self.forward_dynamics(s, v, tau);
-        let (dq, dv) = self.inverse_dynamics_derivatives(s, v, a.as_slice());
-        let inverse = self.mass_matrix_inverse(s);
-        (-&inverse * dq, -inverse * dv)
-    }
-
-    /// The derivative of inverse dynamics along one direction, by forward-mode dual numbers: a
-    /// joint coordinate moves its joint transform, a base rotation `δ` moves the base rotation
-    /// by `R [δ]×` (so gravity in the base frame by `Rᵀg × δ`), a velocity its entry.
-    fn tangent_of_torque(&self, s: &FloatingState, v: &[f64], a: &[f64], direction: Direction) -> Vec<f64> {
-        type D = Dual<f64, f64>;
-        let seeded = |k: usize, x: f64| match direction {
-            Direction::Velocity(c) if c == k => D::variable(x),
-            _ => D::constant(x),
-        };
-        let qd: Vec<D> = v.iter().enumerate().map(|(k, &x)| seeded(k, x)).collect();
-        let qdd: Vec<D> = a.iter().map(|&x| D::constant(x)).collect();
-        let joints: Vec<D> = s
-            .joints
-            .iter()
-            .enumerate()
-            .map(|(j, &x)| match direction {
-                Direction::Configuration(c) if c == 6 + j => D::variable(x),
-                _ => D::constant(x),
-            })
-            .collect();
-        let x = joint_transforms(self.model, &joints);
-        let r = &s.pose.rot;
-        let rot = Mat3(std::array::from_fn(|i| {
-            std::array::from_fn(|j| {
-                // (R [e_k]×)_ij = Σ_m R_im [e_k]×_mj, with [e_k]×_mj = ε_mkj.
-                let tangent = match direction {
-                    Direction::Configuration(c) if (3..6).contains(&c) => {
-                        let k = c - 3;
-                        (0..3).map(|m| r.0[i][m] * levi_civita(m, k, j)).sum()
-                    }
-                    _ => 0.0,
-                };
-                D {
-                    value: r.0[i][j],
-                    tangent,
-                }
-            })
-        }));
-        let constant = |i: &RigidInertia<f64>| RigidInertia {
-            m: D::constant(i.m),
-            h: Vec3(i.h.0.map(D::constant)),
-            i: i.i.map(D::constant),
-        };
-        let base = FloatingBase {
-            pose: Transform {
-                rot,
-                pos: Vec3(s.pose.pos.0.map(D::constant)),
-            },
-            inertia: constant(&self.base_inertia),
-        };
-        let inertias: Vec<RigidInertia<D>> = self.inertias.iter().map(constant).collect();
-        floating::floating_inverse_dynamics(self.model, &base, &x, &inertias, &qd, &qdd)
-            .into_iter()
-            .map(|d| d.tangent)
-            .collect()
+        self.check_velocity(v);
+        self.check_velocity(tau);
+        floating::floating_forward_dynamics_derivatives(
+            Directions::Lanes,
+            self.model,
+            &self.base(s),
+            &s.joints,
+            &self.inertias,
+            v,
+            tau,
+        )
     }
 
     fn check_velocity(&self, v: &[f64]) {
@@ -428,21 +372,5 @@ impl<'m> FloatingDynamics<'m> {
         let mut out = a.difference(&b).to_vec();
         out.extend(q1[7..].iter().zip(&q0[7..]).map(|(x1, x0)| x1 - x0));
         Ok(out)
-    }
-}
-
-/// A direction of differentiation: a tangent coordinate of the configuration, or a velocity.
-#[derive(Clone, Copy, Debug)]
-enum Direction {
-    Configuration(usize),
-    Velocity(usize),
-}
-
-/// `ε_ijk`.
-fn levi_civita(i: usize, j: usize, k: usize) -> f64 {
-    match (i, j, k) {
-        (0, 1, 2) | (1, 2, 0) | (2, 0, 1) => 1.0,
-        (0, 2, 1) | (2, 1, 0) | (1, 0, 2) => -1.0,
-        _ => 0.0,
     }
 }

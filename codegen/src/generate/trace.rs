@@ -346,7 +346,7 @@ fn representative_inertias(model: &Model, theta: &[f64]) -> Vec<crate::spatial::
     dynamics::inertias_from_parameters(&inertial)
 }
 
-fn pair_ids((first, second): (DMatrix<Expr>, DMatrix<Expr>)) -> Vec<Id> {
+pub(super) fn pair_ids((first, second): (DMatrix<Expr>, DMatrix<Expr>)) -> Vec<Id> {
     let mut out = matrix_ids(&first);
     out.extend(matrix_ids(&second));
     out

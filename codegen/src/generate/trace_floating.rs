@@ -3,13 +3,13 @@
 //! per tick from the quaternion), velocities of `nv = dof + 6` entries.
 
 use super::quantities::QuantityKind;
-use super::trace::{base_columns, full_from_base, keep_cheaper};
+use super::trace::{base_columns, full_from_base, keep_cheaper, pair_ids};
 use super::trace::{
     frame_motion_quantities, ids, inputs, matrix_ids, Arg, Inputs, Quantity, Shape, SymbolicRobot,
 };
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::floating::{self as algorithms, FloatingBase};
-use crate::dynamics::{self, FloatingDynamics, FrameMotion};
+use crate::dynamics::{self, Directions, FloatingDynamics, FrameMotion};
 use crate::functions::{FunctionGroup, Functions};
 use crate::model::Model;
 use crate::scalar::Scalar;
@@ -18,7 +18,8 @@ use crate::symbolic::{record, Expr};
 
 /// The groups a floating-base robot is generated with: its dynamics (with the centroidal
 /// quantities), forward dynamics and frames, the functions of `FloatingBaseDynamics` and
-/// `FloatingFrameKinematics`, and the base parameters (`FloatingBaseParameters`).
+/// `FloatingFrameKinematics`, the base parameters (`FloatingBaseParameters`) and the
+/// derivatives (`FloatingDynamicsDerivatives`).
 pub fn floating_functions() -> Functions {
     Functions::with(&[
         FunctionGroup::Kinematics,
@@ -26,6 +27,7 @@ pub fn floating_functions() -> Functions {
         FunctionGroup::Regressors,
         FunctionGroup::BaseParameters,
         FunctionGroup::ForwardDynamics,
+        FunctionGroup::Derivatives,
         FunctionGroup::Frames,
     ])
     .expect("the floating groups need nothing they lack")
@@ -195,6 +197,32 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
             };
             quantities.extend(frame_motion_quantities(&motion, &qd, &a, index, frame, nv));
         }
+        // The derivatives in both forms, traced after everything else; the cheaper kept.
+        let derivatives = |directions| {
+            let inverse = pair_ids(algorithms::floating_inverse_dynamics_derivatives(
+                directions, model, &base, &q, &inertias, &qd, &a,
+            ));
+            let forward = pair_ids(algorithms::floating_forward_dynamics_derivatives(
+                directions, model, &base, &q, &inertias, &qd, &tau,
+            ));
+            (inverse, forward)
+        };
+        let (inverse_derivatives, forward_derivatives) = derivatives(Directions::OneByOne);
+        quantities.extend([
+            quantity(
+                QuantityKind::InverseDynamicsDerivatives,
+                vec![Arg::Qd, Arg::A],
+                Shape::MatrixPair(nv),
+                inverse_derivatives,
+            ),
+            quantity(
+                QuantityKind::ForwardDynamicsDerivatives,
+                vec![Arg::Qd, Arg::Tau],
+                Shape::MatrixPair(nv),
+                forward_derivatives,
+            ),
+        ]);
+        let (inverse_lanes, forward_lanes) = derivatives(Directions::Lanes);
         let inputs = Inputs {
             q: ids(&q),
             qd: ids(&qd),
@@ -210,10 +238,20 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
         // ids; kept where it costs less. (The regressors by the bodies' Jacobians cost fewer
         // operations on the G1 but ran slower: longer-lived values.)
         let inverse = algorithms::floating_mass_matrix_inverse_by_ancestors(model, &base, &x, &inertias);
-        let other_forms = vec![(
-            QuantityKind::MassMatrixInverse.name().to_owned(),
-            matrix_ids(&inverse),
-        )];
+        let other_forms = vec![
+            (
+                QuantityKind::MassMatrixInverse.name().to_owned(),
+                matrix_ids(&inverse),
+            ),
+            (
+                QuantityKind::InverseDynamicsDerivatives.name().to_owned(),
+                inverse_lanes,
+            ),
+            (
+                QuantityKind::ForwardDynamicsDerivatives.name().to_owned(),
+                forward_lanes,
+            ),
+        ];
         (inputs, quantities, other_forms)
     });
     let mut quantities = quantities;

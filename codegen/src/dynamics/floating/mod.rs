@@ -14,12 +14,14 @@
 
 mod centroidal;
 mod coriolis;
+mod derivatives;
 mod inverse;
 mod kinematics;
 mod mass;
 
 pub(crate) use centroidal::{centroidal_bias, centroidal_momentum_matrix};
 pub(crate) use coriolis::floating_coriolis_matrix;
+pub(crate) use derivatives::{floating_forward_dynamics_derivatives, floating_inverse_dynamics_derivatives};
 pub(crate) use inverse::{
     floating_gravity, floating_inverse_dynamics, floating_regressor, floating_slotine_li,
 };

@@ -7,6 +7,7 @@ use super::function::{function, Emitted};
 use super::leaves::Leaves;
 use super::plan::Form;
 use super::Provenance;
+use crate::functions::FunctionGroup;
 use crate::generate::trace::SymbolicRobot;
 use crate::model::Model;
 use proc_macro2::Literal;
@@ -38,23 +39,30 @@ pub fn emit_floating(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
         .to_vec();
     theta.extend(model.parameters());
     let theta = theta.into_iter().map(literal);
-    let emitted: Vec<(bool, Emitted)> = robot
+    // Each method goes to its group's trait; the dynamics' groups share one.
+    let trait_of = |group: FunctionGroup| match group {
+        FunctionGroup::BaseParameters | FunctionGroup::Derivatives => group,
+        _ => FunctionGroup::Dynamics,
+    };
+    let emitted: Vec<(FunctionGroup, Emitted)> = robot
         .quantities
         .iter()
         .filter(|q| !q.kind.is_per_frame())
         .map(|q| {
             (
-                q.kind.uses_base_columns(),
+                trait_of(q.kind.group()),
                 function(robot, &leaves, q, nv, Form::Scalar),
             )
         })
         .collect();
-    let methods = |base_columns: bool| {
+    let methods = |group: FunctionGroup| {
         (emitted.iter())
-            .filter(move |(b, _)| *b == base_columns)
+            .filter(move |(g, _)| *g == group)
             .map(|(_, e)| &e.method)
     };
-    let (dynamics_methods, base_methods) = (methods(false), methods(true));
+    let dynamics_methods = methods(FunctionGroup::Dynamics);
+    let base_methods = methods(FunctionGroup::BaseParameters);
+    let derivative_methods = methods(FunctionGroup::Derivatives);
     let chunks = emitted.iter().flat_map(|(_, e)| &e.chunks);
     let frames = frame_items(model, robot, &leaves, &ty, &FrameTrait::floating(model));
     let header = format!(
@@ -69,8 +77,8 @@ pub fn emit_floating(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
     );
     let type_doc = format!(
         " `{name}` on a floating base: implements [`FloatingBaseDynamics`], \
-         [`FloatingBaseParameters`] and [`FloatingFrameKinematics`] with flattened, \
-         allocation-free code."
+         [`FloatingBaseParameters`], [`FloatingDynamicsDerivatives`] and \
+         [`FloatingFrameKinematics`] with flattened, allocation-free code."
     );
     let generated_by = env!("CARGO_PKG_VERSION");
     let [n, nv, nq, p, b] = [n, nv, nq, p, base.count()].map(Literal::usize_unsuffixed);
@@ -79,8 +87,8 @@ pub fn emit_floating(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
 
         use dyngen_runtime::nalgebra::{ArrayStorage, Matrix3, SMatrix, SVector, Vector3};
         use dyngen_runtime::{
-            ConfigurationError, FloatingBaseDynamics, FloatingBaseParameters, FloatingFrameKinematics, FloatingTrig,
-            JointLimits, Pose, ReferenceFrame, RobotFrame,
+            ConfigurationError, FloatingBaseDynamics, FloatingBaseParameters, FloatingDynamicsDerivatives,
+            FloatingFrameKinematics, FloatingTrig, JointLimits, Pose, ReferenceFrame, RobotFrame,
         };
 
         /// Number of moving joints.
@@ -149,6 +157,10 @@ pub fn emit_floating(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
             #base_parameters
 
             #(#base_methods)*
+        }
+
+        impl FloatingDynamicsDerivatives<#n, #nv, #p> for #ty {
+            #(#derivative_methods)*
         }
 
         #frames
