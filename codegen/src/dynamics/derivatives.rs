@@ -35,6 +35,7 @@ use super::joint::joint_transforms;
 use super::joint_terms::joint_term_torques;
 use super::seeded_frame::seeded_frames;
 use super::slotine_li::inverse_dynamics;
+use super::tree_ldl::TreeLdl;
 use crate::model::{JointTermValues, Model};
 use crate::scalar::Scalar;
 use crate::scalar_dual::{Dual, LaneScalar, LaneTangent, Tangent, LANES};
@@ -81,11 +82,11 @@ fn lift_inertia<S: Scalar, T: Tangent<S>>(i: &RigidInertia<S>) -> RigidInertia<D
 }
 
 /// The tangents of `τ` along `q_j` and along `q̇_j`, for the group of directions starting at
-/// joint `first` (direction `first + k` in lane `k`).
-struct Group<T> {
-    first: usize,
-    d_q: Vec<T>,
-    d_qd: Vec<T>,
+/// coordinate `first` (direction `first + k` in lane `k`).
+pub(crate) struct Group<T> {
+    pub first: usize,
+    pub d_q: Vec<T>,
+    pub d_qd: Vec<T>,
 }
 
 /// Inverse dynamics (with the model's joint-level terms) on lane duals, one group of
@@ -130,7 +131,7 @@ fn tangent_groups<S: LaneScalar>(
 }
 
 /// The `n × n` matrix whose column `first + k` is lane `k` of the groups' tangents.
-fn columns<S: LaneScalar>(
+pub(crate) fn columns<S: LaneScalar>(
     n: usize,
     groups: &[Group<S::Lanes>],
     pick: impl Fn(&Group<S::Lanes>) -> &Vec<S::Lanes>,
@@ -254,8 +255,18 @@ pub fn forward_dynamics_derivatives_by<S: LaneScalar>(
         let minus_solve = |m: DMatrix<S>| factor.solve_matrix(&m.map(|v| -v));
         return (minus_solve(d_q), minus_solve(d_qd));
     }
-    // `D y = −t` for every lane at once: the solve on duals of value zero, whose tangents are
-    // the right-hand sides (the values fold away symbolically).
+    let groups = tangent_groups(model, q, inertias, joint_values, qd, &qdd);
+    minus_solved_columns(&factor, n, groups)
+}
+
+/// `(−D⁻¹ ∂τ/∂q, −D⁻¹ ∂τ/∂q̇)` from the lane tangents of `τ`, `factor` being `D`'s: `D y = −t`
+/// for every lane at once, as the solve on duals of value zero whose tangents are the
+/// right-hand sides (the values fold away symbolically).
+pub(crate) fn minus_solved_columns<S: LaneScalar>(
+    factor: &TreeLdl<S>,
+    n: usize,
+    groups: Vec<Group<S::Lanes>>,
+) -> (DMatrix<S>, DMatrix<S>) {
     let lifted = factor.map(Dual::<S, S::Lanes>::constant);
     let minus_solve = |t: &Vec<S::Lanes>| -> Vec<S::Lanes> {
         let b: Vec<Lanes<S>> = t
@@ -267,7 +278,7 @@ pub fn forward_dynamics_derivatives_by<S: LaneScalar>(
             .collect();
         lifted.solve(&b).into_iter().map(|y| y.tangent).collect()
     };
-    let groups: Vec<Group<S::Lanes>> = tangent_groups(model, q, inertias, joint_values, qd, &qdd)
+    let groups: Vec<Group<S::Lanes>> = groups
         .into_iter()
         .map(|g| Group {
             first: g.first,

@@ -3,7 +3,6 @@
 
 use super::floating::{self, FloatingBase};
 use super::frames::FrameMotion;
-use super::Directions;
 use super::{body_inertias, joint_transforms};
 use crate::model::{Model, PARAMS_PER_BODY};
 use crate::spatial::{Mat3, RigidInertia, Transform, Vec3};
@@ -134,7 +133,6 @@ impl<'m> FloatingDynamics<'m> {
         self.check_velocity(v);
         self.check_velocity(a);
         floating::floating_inverse_dynamics_derivatives(
-            Directions::Lanes,
             self.model,
             &self.base(s),
             &s.joints,
@@ -155,7 +153,6 @@ impl<'m> FloatingDynamics<'m> {
         self.check_velocity(v);
         self.check_velocity(tau);
         floating::floating_forward_dynamics_derivatives(
-            Directions::Lanes,
             self.model,
             &self.base(s),
             &s.joints,

@@ -9,7 +9,7 @@ use super::trace::{
 };
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::floating::{self as algorithms, FloatingBase};
-use crate::dynamics::{self, Directions, FloatingDynamics, FrameMotion};
+use crate::dynamics::{self, FloatingDynamics, FrameMotion};
 use crate::functions::{FunctionGroup, Functions};
 use crate::model::Model;
 use crate::scalar::Scalar;
@@ -197,17 +197,13 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
             };
             quantities.extend(frame_motion_quantities(&motion, &qd, &a, index, frame, nv));
         }
-        // The derivatives in both forms, traced after everything else; the cheaper kept.
-        let derivatives = |directions| {
-            let inverse = pair_ids(algorithms::floating_inverse_dynamics_derivatives(
-                directions, model, &base, &q, &inertias, &qd, &a,
-            ));
-            let forward = pair_ids(algorithms::floating_forward_dynamics_derivatives(
-                directions, model, &base, &q, &inertias, &qd, &tau,
-            ));
-            (inverse, forward)
-        };
-        let (inverse_derivatives, forward_derivatives) = derivatives(Directions::OneByOne);
+        // The derivatives, traced after everything else so the functions above keep their ids.
+        let inverse_derivatives = pair_ids(algorithms::floating_inverse_dynamics_derivatives(
+            model, &base, &q, &inertias, &qd, &a,
+        ));
+        let forward_derivatives = pair_ids(algorithms::floating_forward_dynamics_derivatives(
+            model, &base, &q, &inertias, &qd, &tau,
+        ));
         quantities.extend([
             quantity(
                 QuantityKind::InverseDynamicsDerivatives,
@@ -222,7 +218,6 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
                 forward_derivatives,
             ),
         ]);
-        let (inverse_lanes, forward_lanes) = derivatives(Directions::Lanes);
         let inputs = Inputs {
             q: ids(&q),
             qd: ids(&qd),
@@ -238,20 +233,10 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
         // ids; kept where it costs less. (The regressors by the bodies' Jacobians cost fewer
         // operations on the G1 but ran slower: longer-lived values.)
         let inverse = algorithms::floating_mass_matrix_inverse_by_ancestors(model, &base, &x, &inertias);
-        let other_forms = vec![
-            (
-                QuantityKind::MassMatrixInverse.name().to_owned(),
-                matrix_ids(&inverse),
-            ),
-            (
-                QuantityKind::InverseDynamicsDerivatives.name().to_owned(),
-                inverse_lanes,
-            ),
-            (
-                QuantityKind::ForwardDynamicsDerivatives.name().to_owned(),
-                forward_lanes,
-            ),
-        ];
+        let other_forms = vec![(
+            QuantityKind::MassMatrixInverse.name().to_owned(),
+            matrix_ids(&inverse),
+        )];
         (inputs, quantities, other_forms)
     });
     let mut quantities = quantities;
