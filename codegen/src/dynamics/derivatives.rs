@@ -259,32 +259,40 @@ pub fn forward_dynamics_derivatives_by<S: LaneScalar>(
     minus_solved_columns(&factor, n, groups)
 }
 
-/// `(−D⁻¹ ∂τ/∂q, −D⁻¹ ∂τ/∂q̇)` from the lane tangents of `τ`, `factor` being `D`'s: `D y = −t`
-/// for every lane at once, as the solve on duals of value zero whose tangents are the
-/// right-hand sides (the values fold away symbolically).
+/// `(−D⁻¹ ∂τ/∂q, −D⁻¹ ∂τ/∂q̇)` from the lane tangents of `τ`, `factor` being `D`'s, every lane
+/// of a group at once ([`minus_solved`]).
 pub(crate) fn minus_solved_columns<S: LaneScalar>(
     factor: &TreeLdl<S>,
     n: usize,
     groups: Vec<Group<S::Lanes>>,
 ) -> (DMatrix<S>, DMatrix<S>) {
-    let lifted = factor.map(Dual::<S, S::Lanes>::constant);
-    let minus_solve = |t: &Vec<S::Lanes>| -> Vec<S::Lanes> {
-        let b: Vec<Lanes<S>> = t
-            .iter()
-            .map(|&t| Dual {
-                value: S::zero(),
-                tangent: -t,
-            })
-            .collect();
-        lifted.solve(&b).into_iter().map(|y| y.tangent).collect()
-    };
+    let lifted = lift_factor(factor);
     let groups: Vec<Group<S::Lanes>> = groups
         .into_iter()
         .map(|g| Group {
             first: g.first,
-            d_q: minus_solve(&g.d_q),
-            d_qd: minus_solve(&g.d_qd),
+            d_q: minus_solved(&lifted, &g.d_q),
+            d_qd: minus_solved(&lifted, &g.d_qd),
         })
         .collect();
     (columns(n, &groups, |g| &g.d_q), columns(n, &groups, |g| &g.d_qd))
+}
+
+/// `factor` on lane duals, for [`minus_solved`].
+pub(crate) fn lift_factor<S: LaneScalar>(factor: &TreeLdl<S>) -> TreeLdl<Lanes<S>> {
+    factor.map(Dual::<S, S::Lanes>::constant)
+}
+
+/// `y` with `D y = −t` in every lane at once, `lifted` being `D`'s factor on lane duals: the
+/// solve on duals of value zero whose tangents are the right-hand sides (the values fold away
+/// symbolically).
+pub(crate) fn minus_solved<S: LaneScalar>(lifted: &TreeLdl<Lanes<S>>, t: &[S::Lanes]) -> Vec<S::Lanes> {
+    let b: Vec<Lanes<S>> = t
+        .iter()
+        .map(|&t| Dual {
+            value: S::zero(),
+            tangent: -t,
+        })
+        .collect();
+    lifted.solve(&b).into_iter().map(|y| y.tangent).collect()
 }

@@ -20,9 +20,7 @@ pub fn evaluate(graph: &Graph, inputs: &[f64], outputs: &[Id]) -> Vec<f64> {
             };
             lanes[i] = match node {
                 Node::LaneZero => [0.0; LANES],
-                Node::LaneUnit(k, a) => {
-                    std::array::from_fn(|j| if j == k as usize { value[a.0 as usize] } else { 0.0 })
-                }
+                Node::LaneBuild(k) => graph.lane_list(k).map(|a| value[a.0 as usize]),
                 Node::Splat(a) => [value[a.0 as usize]; LANES],
                 Node::LaneNeg(a) => l(a).map(|x| -x),
                 Node::LaneAdd(a, b) => zip(a, b, |x, y| x + y),

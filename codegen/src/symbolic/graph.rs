@@ -31,8 +31,10 @@ pub enum Node {
     // `Extract`.
     /// The zero vector.
     LaneZero,
-    /// Scalar `a` in lane `k`, zero in the others (a seed, or a tangent along one direction).
-    LaneUnit(u32, Id),
+    /// A vector built lane by lane from scalars: entry `k` of the graph's lane lists (see
+    /// [`Graph::lane_list`]; a lane that is zero holds the constant zero). A seed, a tangent
+    /// along one direction, or the sum of such tangents along different directions.
+    LaneBuild(u32),
     /// Scalar `a` in every lane.
     Splat(Id),
     LaneNeg(Id),
@@ -53,7 +55,7 @@ impl Node {
         matches!(
             self,
             Node::LaneZero
-                | Node::LaneUnit(..)
+                | Node::LaneBuild(_)
                 | Node::Splat(_)
                 | Node::LaneNeg(_)
                 | Node::LaneAdd(..)
@@ -86,6 +88,9 @@ pub struct Graph {
     nodes: Vec<Node>,
     index: HashMap<Node, Id>,
     input_names: Vec<String>,
+    /// The lanes of each [`Node::LaneBuild`], kept aside so that a node stays two words.
+    lane_lists: Vec<[Id; LANES]>,
+    lane_list_index: HashMap<[Id; LANES], u32>,
 }
 
 impl Graph {
@@ -315,10 +320,75 @@ impl Graph {
     /// `a` in lane `k`, zero elsewhere.
     pub fn lane_unit(&mut self, k: usize, a: Id) -> Id {
         assert!(k < LANES, "lane {k} of {LANES}");
-        if self.is_const(a, 0.0) {
+        let zero = self.constant(0.0);
+        let mut lanes = [zero; LANES];
+        lanes[k] = a;
+        self.lane_build(lanes)
+    }
+
+    /// The vector whose lane `k` is the scalar `lanes[k]`.
+    fn lane_build(&mut self, lanes: [Id; LANES]) -> Id {
+        if lanes.iter().all(|&a| self.is_const(a, 0.0)) {
             return self.lane_zero();
         }
-        self.intern(Node::LaneUnit(k as u32, a))
+        let k = match self.lane_list_index.get(&lanes) {
+            Some(&k) => k,
+            None => {
+                let k = u32::try_from(self.lane_lists.len()).expect("more than 2³² lane lists");
+                self.lane_lists.push(lanes);
+                self.lane_list_index.insert(lanes, k);
+                k
+            }
+        };
+        self.intern(Node::LaneBuild(k))
+    }
+
+    /// The scalars of a [`Node::LaneBuild`]'s lanes.
+    pub fn lane_list(&self, k: u32) -> [Id; LANES] {
+        self.lane_lists[k as usize]
+    }
+
+    /// `v`'s lanes when it is built from scalars (or zero).
+    fn built_lanes(&mut self, v: Id) -> Option<[Id; LANES]> {
+        match self.node(v) {
+            Node::LaneBuild(k) => Some(self.lane_list(k)),
+            Node::LaneZero => Some([self.constant(0.0); LANES]),
+            _ => None,
+        }
+    }
+
+    /// `f` lane by lane on two built vectors, where that costs at most one scalar operation
+    /// (on constants none): lanes that are zero on one side need no operation (a negation of a
+    /// constant is a constant), so tangents along different directions merge into one vector
+    /// instead of a vector operation on two.
+    fn lane_wise(&mut self, a: Id, b: Id, subtract: bool) -> Option<Id> {
+        let (x, y) = (self.built_lanes(a)?, self.built_lanes(b)?);
+        let cost = (0..LANES)
+            .filter(|&k| {
+                let (zx, zy) = (self.is_const(x[k], 0.0), self.is_const(y[k], 0.0));
+                let constants = self.constant_value(x[k]).is_some() && self.constant_value(y[k]).is_some();
+                !constants && !zy && (!zx || subtract)
+            })
+            .count();
+        if cost > 1 {
+            return None;
+        }
+        let lanes = std::array::from_fn(|k| match subtract {
+            true => self.sub(x[k], y[k]),
+            false => self.add(x[k], y[k]),
+        });
+        Some(self.lane_build(lanes))
+    }
+
+    /// The one non-zero lane of a built vector.
+    fn single_lane(&self, v: Id) -> Option<(usize, Id)> {
+        let Node::LaneBuild(k) = self.node(v) else {
+            return None;
+        };
+        let lanes = self.lane_list(k);
+        let mut nonzero = (0..LANES).filter(|&j| !self.is_const(lanes[j], 0.0));
+        let j = nonzero.next()?;
+        nonzero.next().is_none().then_some((j, lanes[j]))
     }
 
     /// `a` in every lane.
@@ -337,11 +407,11 @@ impl Graph {
         if self.is_const(s, -1.0) {
             return self.lane_neg(v);
         }
+        if let Some((k, a)) = self.single_lane(v) {
+            let p = self.mul(s, a);
+            return self.lane_unit(k, p);
+        }
         match self.node(v) {
-            Node::LaneUnit(k, a) => {
-                let p = self.mul(s, a);
-                return self.lane_unit(k as usize, p);
-            }
             Node::LaneNeg(x) => {
                 let p = self.lane_scale(s, x);
                 return self.lane_neg(p);
@@ -365,13 +435,13 @@ impl Graph {
     }
 
     pub fn lane_neg(&mut self, v: Id) -> Id {
+        if let Some((k, a)) = self.single_lane(v) {
+            let m = self.neg(a);
+            return self.lane_unit(k, m);
+        }
         match self.node(v) {
             Node::LaneZero => v,
             Node::LaneNeg(x) => x,
-            Node::LaneUnit(k, a) => {
-                let m = self.neg(a);
-                self.lane_unit(k as usize, m)
-            }
             Node::LaneSub(x, y) => self.lane_sub(y, x),
             _ => self.intern(Node::LaneNeg(v)),
         }
@@ -384,11 +454,8 @@ impl Graph {
         if self.is_lane_zero(b) {
             return a;
         }
-        if let (Node::LaneUnit(j, x), Node::LaneUnit(k, y)) = (self.node(a), self.node(b)) {
-            if j == k {
-                let s = self.add(x, y);
-                return self.lane_unit(k as usize, s);
-            }
+        if let Some(sum) = self.lane_wise(a, b, false) {
+            return sum;
         }
         if let Node::LaneNeg(y) = self.node(b) {
             return self.lane_sub(a, y);
@@ -410,11 +477,8 @@ impl Graph {
         if self.is_lane_zero(a) {
             return self.lane_neg(b);
         }
-        if let (Node::LaneUnit(j, x), Node::LaneUnit(k, y)) = (self.node(a), self.node(b)) {
-            if j == k {
-                let s = self.sub(x, y);
-                return self.lane_unit(k as usize, s);
-            }
+        if let Some(difference) = self.lane_wise(a, b, true) {
+            return difference;
         }
         if let Node::LaneNeg(y) = self.node(b) {
             return self.lane_add(a, y);
@@ -437,9 +501,9 @@ impl Graph {
                 return self.lane_scale(inv, v);
             }
         }
-        if let Node::LaneUnit(k, a) = self.node(v) {
+        if let Some((k, a)) = self.single_lane(v) {
             let q = self.div(a, s);
-            return self.lane_unit(k as usize, q);
+            return self.lane_unit(k, q);
         }
         let s = self.splat(s);
         self.intern(Node::LaneDiv(v, s))
@@ -449,8 +513,7 @@ impl Graph {
     pub fn extract(&mut self, v: Id, k: usize) -> Id {
         match self.node(v) {
             Node::LaneZero => self.constant(0.0),
-            Node::LaneUnit(j, a) if j as usize == k => a,
-            Node::LaneUnit(..) => self.constant(0.0),
+            Node::LaneBuild(j) => self.lane_list(j)[k],
             Node::Splat(a) => a,
             _ => self.intern(Node::Extract(v, k as u32)),
         }
@@ -477,7 +540,10 @@ impl Graph {
         match self.node(id) {
             Node::Const(_) | Node::Input(_) | Node::LaneZero => vec![],
             Node::Sin(a) | Node::Cos(a) | Node::Sign(a) | Node::Tanh(a) | Node::Neg(a) => vec![a],
-            Node::LaneUnit(_, a) | Node::Splat(a) | Node::LaneNeg(a) | Node::Extract(a, _) => vec![a],
+            Node::Splat(a) | Node::LaneNeg(a) | Node::Extract(a, _) => vec![a],
+            Node::LaneBuild(k) => (self.lane_list(k).into_iter())
+                .filter(|&a| !matches!(self.node(a), Node::Const(_)))
+                .collect(),
             Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => vec![a, b],
             Node::LaneAdd(a, b) | Node::LaneSub(a, b) | Node::LaneMul(a, b) | Node::LaneDiv(a, b) => {
                 vec![a, b]
@@ -507,5 +573,51 @@ impl Graph {
             }
         }
         c
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{Graph, Node};
+    use crate::symbolic::evaluate;
+
+    #[test]
+    fn tangents_along_different_directions_merge_into_one_vector() {
+        let mut g = Graph::new();
+        let (a, b) = (g.input("a"), g.input("b"));
+        let (u, w) = (g.lane_unit(0, a), g.lane_unit(3, b));
+        let sum = g.lane_add(u, w);
+        let difference = g.lane_sub(u, w);
+        assert!(matches!(g.node(sum), Node::LaneBuild(_)));
+        assert!(matches!(g.node(difference), Node::LaneBuild(_)));
+        // One vector each, no vector operation; the difference negates `b` once.
+        let sum_counts = g.op_counts(&[sum]);
+        assert_eq!((sum_counts.lanes, sum_counts.add, sum_counts.neg), (1, 0, 0));
+        let difference_counts = g.op_counts(&[difference]);
+        assert_eq!((difference_counts.lanes, difference_counts.neg), (1, 1));
+        let lanes: Vec<_> = (0..4)
+            .flat_map(|k| [g.extract(sum, k), g.extract(difference, k)])
+            .collect();
+        let values = evaluate(&g, &[2.0, 5.0], &lanes);
+        assert_eq!(values, [2.0, 2.0, 0.0, 0.0, 0.0, 0.0, 5.0, -5.0]);
+    }
+
+    #[test]
+    fn vectors_that_overlap_in_several_lanes_stay_one_vector_operation() {
+        let mut g = Graph::new();
+        let x: Vec<_> = ["a", "b", "c", "d"].map(|n| g.input(n)).into();
+        let ab = {
+            let (u, w) = (g.lane_unit(0, x[0]), g.lane_unit(1, x[1]));
+            g.lane_add(u, w)
+        };
+        let cd = {
+            let (u, w) = (g.lane_unit(0, x[2]), g.lane_unit(1, x[3]));
+            g.lane_add(u, w)
+        };
+        // Lane by lane this would take two scalar additions: one vector addition instead.
+        let sum = g.lane_add(ab, cd);
+        assert!(matches!(g.node(sum), Node::LaneAdd(..)));
+        let lanes = [g.extract(sum, 0), g.extract(sum, 1), g.extract(sum, 2)];
+        assert_eq!(evaluate(&g, &[1.0, 2.0, 3.0, 4.0], &lanes), [4.0, 6.0, 0.0]);
     }
 }

@@ -15,7 +15,7 @@
 
 use super::mass::{factor, floating_forward_dynamics};
 use super::{floating_inverse_dynamics, FloatingBase};
-use crate::dynamics::derivatives::{columns, minus_solved_columns, Group};
+use crate::dynamics::derivatives::{lift_factor, minus_solved};
 use crate::dynamics::joint::joint_transforms;
 use crate::dynamics::seeded_frame::seeded_frames;
 use crate::model::Model;
@@ -77,46 +77,167 @@ fn seeded_base<S: Scalar, T: Tangent<S>>(
     }
 }
 
-/// The tangents of inverse dynamics along the configuration directions `seed` gives (velocity
-/// indices: `3..6` the base rotation, `6 + j` joint `j`), and along the velocity directions
-/// `velocity_seed` gives.
-#[allow(clippy::too_many_arguments)]
-fn tangents<S: Scalar, T: Tangent<S>>(
+/// What one lane of a run differentiates along: the configuration moving as `q ⊕ e_c`, or the
+/// velocity as `ν + e_c` (`c` a velocity index).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Direction {
+    Configuration(usize),
+    Velocity(usize),
+}
+
+/// One run of the recursion on lane duals: the direction of each lane, and `τ`'s tangents.
+struct Run<T> {
+    directions: Vec<Direction>,
+    tangent: Vec<T>,
+}
+
+/// The directions of each run, at most [`LANES`] a run. A direction's tangents live on the
+/// bodies it moves: a base direction's on every body, a joint's on its subtree (and on `τ`'s
+/// rows above it). So the base's nine directions (three rotations, six velocities; the
+/// translations' columns are zero) come first, filling whole-tree runs whose free lanes then
+/// take joint directions at no extra cost; the other joints' directions follow in depth-first
+/// order, a subtree that fits in one run kept in one run, so that each later run's tangents are
+/// zero on all but a few branches and fold away there (Solo-12: one leg per run, where lanes
+/// taken in the order of the velocity indices put every leg in every run).
+fn plan(parents: &[Option<usize>]) -> Vec<Vec<Direction>> {
+    let base: Vec<Direction> = (3..6)
+        .map(Direction::Configuration)
+        .chain((0..6).map(Direction::Velocity))
+        .collect();
+    let mut runs: Vec<Vec<Direction>> = base.chunks(LANES).map(<[Direction]>::to_vec).collect();
+    let mut free = LANES - runs.last().map_or(LANES, Vec::len);
+    for block in subtree_blocks(parents) {
+        let mut directions: Vec<Direction> = block
+            .iter()
+            .flat_map(|&j| [Direction::Configuration(6 + j), Direction::Velocity(6 + j)])
+            .collect();
+        if free > 0 {
+            // The last base run: any direction rides along.
+            let taken = directions.len().min(free);
+            runs.last_mut()
+                .expect("the base has runs")
+                .extend(directions.drain(..taken));
+            free -= taken;
+        }
+        if directions.is_empty() {
+            continue;
+        }
+        match runs.last_mut() {
+            // A base run is full once `free` is zero.
+            Some(run) if free == 0 && run.len() + directions.len() <= LANES => run.extend(directions),
+            _ => runs.push(directions),
+        }
+    }
+    runs
+}
+
+/// The joints in depth-first order, cut into blocks of whole subtrees of at most `LANES / 2`
+/// joints (two directions each); a joint whose subtree is larger is a block of its own.
+fn subtree_blocks(parents: &[Option<usize>]) -> Vec<Vec<usize>> {
+    let mut children = vec![Vec::new(); parents.len()];
+    let mut size = vec![1; parents.len()];
+    // Children have larger indices than their parents.
+    for j in (0..parents.len()).rev() {
+        if let Some(p) = parents[j] {
+            children[p].insert(0, j);
+            size[p] += size[j];
+        }
+    }
+    fn preorder(j: usize, children: &[Vec<usize>], out: &mut Vec<usize>) {
+        out.push(j);
+        for &c in &children[j] {
+            preorder(c, children, out);
+        }
+    }
+    fn visit(j: usize, children: &[Vec<usize>], size: &[usize], blocks: &mut Vec<Vec<usize>>) {
+        if 2 * size[j] <= LANES {
+            let mut block = Vec::new();
+            preorder(j, children, &mut block);
+            blocks.push(block);
+        } else {
+            blocks.push(vec![j]);
+            for &c in &children[j] {
+                visit(c, children, size, blocks);
+            }
+        }
+    }
+    let mut blocks = Vec::new();
+    for root in (0..parents.len()).filter(|&j| parents[j].is_none()) {
+        visit(root, &children, &size, &mut blocks);
+    }
+    blocks
+}
+
+/// `τ`'s tangents along `directions` (direction `k` in lane `k`), configuration and velocity
+/// directions in one run.
+fn run<S: LaneScalar>(
+    model: &Model,
+    base: &FloatingBase<S>,
+    q: &[S],
+    inertias: &[RigidInertia<Dual<S, S::Lanes>>],
+    v: &[S],
+    a: &[S],
+    directions: &[Direction],
+) -> Run<S::Lanes> {
+    let lane_of = |wanted: Direction| {
+        (directions.iter().position(|&d| d == wanted)).map(|k| S::Lanes::unit(k, S::one()))
+    };
+    let seeded = seeded_base(base, &|c| lane_of(Direction::Configuration(c)));
+    let x = seeded_frames(model, q, |j| lane_of(Direction::Configuration(6 + j)));
+    let v: Vec<Dual<S, S::Lanes>> = (v.iter().enumerate())
+        .map(|(c, &value)| Dual {
+            value,
+            tangent: lane_of(Direction::Velocity(c)).unwrap_or_else(S::Lanes::zero),
+        })
+        .collect();
+    let a: Vec<Dual<S, S::Lanes>> = a.iter().map(|&x| Dual::constant(x)).collect();
+    let tau = floating_inverse_dynamics(model, &seeded, &x, inertias, &v, &a);
+    Run {
+        directions: directions.to_vec(),
+        tangent: tau.into_iter().map(|d| d.tangent).collect(),
+    }
+}
+
+/// The runs of [`plan`]: `τ`'s tangents along every direction.
+fn runs<S: LaneScalar>(
     model: &Model,
     base: &FloatingBase<S>,
     q: &[S],
     inertias: &[RigidInertia<S>],
     v: &[S],
     a: &[S],
-    seed: impl Fn(usize) -> Option<T>,
-    velocity_seed: impl Fn(usize) -> Option<T>,
-) -> (Vec<T>, Vec<T>) {
-    let inertias: Vec<RigidInertia<Dual<S, T>>> = inertias.iter().map(lift_inertia).collect();
-    let constant = |x: &[S]| -> Vec<Dual<S, T>> { x.iter().map(|&x| Dual::constant(x)).collect() };
-    let (v_const, a_const) = (constant(v), constant(a));
-    let seeded = seeded_base(base, &seed);
-    let x = seeded_frames(model, q, |j| seed(6 + j));
-    let by_configuration = floating_inverse_dynamics(model, &seeded, &x, &inertias, &v_const, &a_const);
-    let no_seed = |_: usize| None;
-    let fixed = seeded_base(base, &no_seed);
-    let x_const = joint_transforms(model, &constant(q));
-    let v_seeded: Vec<Dual<S, T>> = (v.iter().enumerate())
-        .map(|(k, &x)| Dual {
-            value: x,
-            tangent: velocity_seed(k).unwrap_or_else(T::zero),
-        })
-        .collect();
-    let by_velocity = floating_inverse_dynamics(model, &fixed, &x_const, &inertias, &v_seeded, &a_const);
-    let tangent = |tau: Vec<Dual<S, T>>| tau.into_iter().map(|d| d.tangent).collect();
-    (tangent(by_configuration), tangent(by_velocity))
+) -> Vec<Run<S::Lanes>> {
+    let inertias: Vec<RigidInertia<Dual<S, S::Lanes>>> = inertias.iter().map(lift_inertia).collect();
+    let parents: Vec<Option<usize>> = model.joints().iter().map(|j| j.parent).collect();
+    (plan(&parents).iter())
+        .map(|directions| run(model, base, q, &inertias, v, a, directions))
+        .collect()
+}
+
+/// `(∂/∂q, ∂/∂ν)`, `nv × nv` each, from the runs' tangents; the base translation's columns of
+/// `∂/∂q` are zero.
+fn matrices<S: LaneScalar>(nv: usize, runs: &[Run<S::Lanes>]) -> (DMatrix<S>, DMatrix<S>) {
+    let mut d_q = DMatrix::from_element(nv, nv, S::zero());
+    let mut d_v = DMatrix::from_element(nv, nv, S::zero());
+    for run in runs {
+        for (k, direction) in run.directions.iter().enumerate() {
+            let (m, c) = match *direction {
+                Direction::Configuration(c) => (&mut d_q, c),
+                Direction::Velocity(c) => (&mut d_v, c),
+            };
+            for (i, t) in run.tangent.iter().enumerate() {
+                m[(i, c)] = t.lane(k);
+            }
+        }
+    }
+    (d_q, d_v)
 }
 
 /// `(∂τ/∂q, ∂τ/∂ν)` of floating inverse dynamics at `(q, ν, ν̇ = a)`, `q` the joints' coordinates
 /// (the base enters through `base`), both `nv × nv`; entry `(i, c)` is `∂τ_i/∂x_c`.
 ///
-/// In lanes only: every direction reaches the base rows, so the lanes fill, and generated
-/// code ran faster than one direction per run (Solo-12's `∂τ/∂x`: 2,962 scalar and 4,792 lane
-/// operations in 1.46 µs, against 10,861 scalar ones in 2.27 µs; `BENCHMARKS.md`).
+/// In lanes only ([`plan`]): every direction reaches the base rows, so the lanes fill, and
+/// generated code ran faster than one direction per run (`BENCHMARKS.md`).
 pub fn floating_inverse_dynamics_derivatives<S: LaneScalar>(
     model: &Model,
     base: &FloatingBase<S>,
@@ -125,38 +246,7 @@ pub fn floating_inverse_dynamics_derivatives<S: LaneScalar>(
     v: &[S],
     a: &[S],
 ) -> (DMatrix<S>, DMatrix<S>) {
-    let groups = lane_groups(model, base, q, inertias, v, a);
-    let nv = model.nv();
-    (
-        columns(nv, &groups, |g| &g.d_q),
-        columns(nv, &groups, |g| &g.d_qd),
-    )
-}
-
-/// The tangents of inverse dynamics in groups of [`LANES`] directions (direction `first + k`
-/// in lane `k`, for the configuration and for the velocity).
-fn lane_groups<S: LaneScalar>(
-    model: &Model,
-    base: &FloatingBase<S>,
-    q: &[S],
-    inertias: &[RigidInertia<S>],
-    v: &[S],
-    a: &[S],
-) -> Vec<Group<S::Lanes>> {
-    (0..model.nv())
-        .step_by(LANES)
-        .map(|first| {
-            let lane = |k: usize| {
-                (first..first + LANES)
-                    .contains(&k)
-                    .then(|| S::Lanes::unit(k - first, S::one()))
-            };
-            // The base translation's directions are zero: not seeded.
-            let rotation_or_joint = |k: usize| lane(k).filter(|_| k >= 3);
-            let (d_q, d_qd) = tangents(model, base, q, inertias, v, a, rotation_or_joint, lane);
-            Group { first, d_q, d_qd }
-        })
-        .collect()
+    matrices(model.nv(), &runs(model, base, q, inertias, v, a))
 }
 
 /// `(∂ν̇/∂q, ∂ν̇/∂ν)` of floating forward dynamics at `(q, ν, τ)` (`∂ν̇/∂τ = D⁻¹`).
@@ -170,6 +260,91 @@ pub fn floating_forward_dynamics_derivatives<S: LaneScalar>(
 ) -> (DMatrix<S>, DMatrix<S>) {
     let x = joint_transforms(model, q);
     let a = floating_forward_dynamics(model, base, &x, inertias, v, tau);
-    let groups = lane_groups(model, base, q, inertias, v, &a);
-    minus_solved_columns(&factor(model, base, &x, inertias), model.nv(), groups)
+    let lifted = lift_factor(&factor(model, base, &x, inertias));
+    let solved: Vec<Run<S::Lanes>> = runs(model, base, q, inertias, v, &a)
+        .into_iter()
+        .map(|r| Run {
+            tangent: minus_solved(&lifted, &r.tangent),
+            directions: r.directions,
+        })
+        .collect();
+    matrices(model.nv(), &solved)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::{plan, Direction, LANES};
+
+    /// Every direction once (the base translation's configuration columns, zero, in none), at
+    /// most `LANES` a run.
+    fn check_complete(parents: &[Option<usize>]) -> Vec<Vec<Direction>> {
+        let runs = plan(parents);
+        let nv = 6 + parents.len();
+        let mut seen: Vec<Direction> = runs.iter().flatten().copied().collect();
+        assert!(runs.iter().all(|r| !r.is_empty() && r.len() <= LANES));
+        seen.sort_by_key(|d| match *d {
+            Direction::Configuration(c) => c,
+            Direction::Velocity(c) => nv + c,
+        });
+        let expected: Vec<Direction> = (3..nv)
+            .map(Direction::Configuration)
+            .chain((0..nv).map(Direction::Velocity))
+            .collect();
+        assert_eq!(seen, expected);
+        runs
+    }
+
+    /// The root joint of joint `j`'s branch.
+    fn branch(parents: &[Option<usize>], mut j: usize) -> usize {
+        while let Some(p) = parents[j] {
+            j = p;
+        }
+        j
+    }
+
+    #[test]
+    fn a_quadruped_gets_one_leg_per_run_after_the_base() {
+        // Four legs of three joints, as Solo-12.
+        let parents: Vec<Option<usize>> = (0..12)
+            .map(|j| if j % 3 == 0 { None } else { Some(j - 1) })
+            .collect();
+        let runs = check_complete(&parents);
+        // Nine base directions and 24 joint directions: two whole-tree runs, then three legs.
+        assert_eq!(runs.len(), 5);
+        for run in &runs[2..] {
+            let legs: Vec<usize> = run
+                .iter()
+                .map(|d| match *d {
+                    Direction::Configuration(c) | Direction::Velocity(c) => branch(&parents, c - 6),
+                })
+                .collect();
+            assert!(legs.iter().all(|&l| l == legs[0]), "{run:?} spans legs");
+        }
+    }
+
+    #[test]
+    fn long_branches_and_single_joints_are_planned_completely() {
+        // A humanoid's shape: two legs of six, a waist of three carrying two arms of seven.
+        let mut parents = Vec::new();
+        for _ in 0..2 {
+            let first = parents.len();
+            parents.extend((0..6).map(|k| if k == 0 { None } else { Some(first + k - 1) }));
+        }
+        let waist = parents.len();
+        parents.extend([None, Some(waist), Some(waist + 1)]);
+        for _ in 0..2 {
+            let first = parents.len();
+            parents.extend((0..7).map(|k| {
+                if k == 0 {
+                    Some(waist + 2)
+                } else {
+                    Some(first + k - 1)
+                }
+            }));
+        }
+        check_complete(&parents);
+        check_complete(&[None]);
+        check_complete(&[]);
+        check_complete(&(0..30usize).map(|j| j.checked_sub(1)).collect::<Vec<_>>());
+    }
 }

@@ -313,11 +313,11 @@ impl<'a> Plan<'a> {
                 let a = atom(a);
                 quote!(arith.splat_eight(#a))
             }
-            Node::LaneUnit(k, a) => {
-                let a = atom(a);
-                let lanes = (0..LANES).map(|j| match j == k as usize {
-                    true => a.clone(),
-                    false => quote!(0.0),
+            Node::LaneBuild(k) => {
+                let g = &self.robot.graph;
+                let lanes = g.lane_list(k).map(|a| match g.constant_value(a) == Some(0.0) {
+                    true => quote!(0.0),
+                    false => atom(a),
                 });
                 quote!(arith.eight([#(#lanes),*]))
             }
