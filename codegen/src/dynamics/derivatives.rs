@@ -73,7 +73,8 @@ fn seeded<S: LaneScalar>(v: &[S], first: usize) -> Vec<Lanes<S>> {
         .collect()
 }
 
-fn lift_inertia<S: Scalar, T: Tangent<S>>(i: &RigidInertia<S>) -> RigidInertia<Dual<S, T>> {
+/// `i` on dual numbers of zero tangent.
+pub(crate) fn lift_inertia<S: Scalar, T: Tangent<S>>(i: &RigidInertia<S>) -> RigidInertia<Dual<S, T>> {
     RigidInertia {
         m: Dual::constant(i.m),
         h: Vec3(i.h.0.map(Dual::constant)),
@@ -83,10 +84,10 @@ fn lift_inertia<S: Scalar, T: Tangent<S>>(i: &RigidInertia<S>) -> RigidInertia<D
 
 /// The tangents of `τ` along `q_j` and along `q̇_j`, for the group of directions starting at
 /// coordinate `first` (direction `first + k` in lane `k`).
-pub(crate) struct Group<T> {
-    pub first: usize,
-    pub d_q: Vec<T>,
-    pub d_qd: Vec<T>,
+struct Group<T> {
+    first: usize,
+    d_q: Vec<T>,
+    d_qd: Vec<T>,
 }
 
 /// Inverse dynamics (with the model's joint-level terms) on lane duals, one group of
@@ -131,7 +132,7 @@ fn tangent_groups<S: LaneScalar>(
 }
 
 /// The `n × n` matrix whose column `first + k` is lane `k` of the groups' tangents.
-pub(crate) fn columns<S: LaneScalar>(
+fn columns<S: LaneScalar>(
     n: usize,
     groups: &[Group<S::Lanes>],
     pick: impl Fn(&Group<S::Lanes>) -> &Vec<S::Lanes>,
@@ -255,19 +256,9 @@ pub fn forward_dynamics_derivatives_by<S: LaneScalar>(
         let minus_solve = |m: DMatrix<S>| factor.solve_matrix(&m.map(|v| -v));
         return (minus_solve(d_q), minus_solve(d_qd));
     }
-    let groups = tangent_groups(model, q, inertias, joint_values, qd, &qdd);
-    minus_solved_columns(&factor, n, groups)
-}
-
-/// `(−D⁻¹ ∂τ/∂q, −D⁻¹ ∂τ/∂q̇)` from the lane tangents of `τ`, `factor` being `D`'s, every lane
-/// of a group at once ([`minus_solved`]).
-pub(crate) fn minus_solved_columns<S: LaneScalar>(
-    factor: &TreeLdl<S>,
-    n: usize,
-    groups: Vec<Group<S::Lanes>>,
-) -> (DMatrix<S>, DMatrix<S>) {
-    let lifted = lift_factor(factor);
-    let groups: Vec<Group<S::Lanes>> = groups
+    // `D y = −t` for every lane of a group at once.
+    let lifted = lift_factor(&factor);
+    let groups: Vec<Group<S::Lanes>> = tangent_groups(model, q, inertias, joint_values, qd, &qdd)
         .into_iter()
         .map(|g| Group {
             first: g.first,

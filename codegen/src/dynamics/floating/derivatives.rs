@@ -11,11 +11,11 @@
 //!
 //! Forward dynamics needs no differentiation of its own: with `ν̇ = FD(q, ν, τ)` fixed,
 //! `∂ν̇/∂x = −D⁻¹ ∂τ/∂x` at that `ν̇`, solved with the tree factor forward dynamics uses, on
-//! the lane tangents (all columns of a group at once).
+//! the lane tangents (all columns of a run at once).
 
 use super::mass::{factor, floating_forward_dynamics};
 use super::{floating_inverse_dynamics, FloatingBase};
-use crate::dynamics::derivatives::{lift_factor, minus_solved};
+use crate::dynamics::derivatives::{lift_factor, lift_inertia, minus_solved};
 use crate::dynamics::joint::joint_transforms;
 use crate::dynamics::seeded_frame::seeded_frames;
 use crate::model::Model;
@@ -30,14 +30,6 @@ fn levi_civita(i: usize, j: usize, k: usize) -> f64 {
         (0, 1, 2) | (1, 2, 0) | (2, 0, 1) => 1.0,
         (0, 2, 1) | (2, 1, 0) | (1, 0, 2) => -1.0,
         _ => 0.0,
-    }
-}
-
-fn lift_inertia<S: Scalar, T: Tangent<S>>(i: &RigidInertia<S>) -> RigidInertia<Dual<S, T>> {
-    RigidInertia {
-        m: Dual::constant(i.m),
-        h: Vec3(i.h.0.map(Dual::constant)),
-        i: i.i.map(Dual::constant),
     }
 }
 
@@ -122,9 +114,9 @@ fn plan(parents: &[Option<usize>]) -> Vec<Vec<Direction>> {
         if directions.is_empty() {
             continue;
         }
+        // The last run is a full base run or a run of joints, which the block joins if it fits.
         match runs.last_mut() {
-            // A base run is full once `free` is zero.
-            Some(run) if free == 0 && run.len() + directions.len() <= LANES => run.extend(directions),
+            Some(run) if run.len() + directions.len() <= LANES => run.extend(directions),
             _ => runs.push(directions),
         }
     }
