@@ -235,7 +235,7 @@ def check_provenance(robot):
 
 def rounded_rpy(urdf):
     """Every number of every `rpy` attribute with 4 decimals, as `rounded()` in
-    codegen/tests/near_exact_angles.rs writes them (Rust's `{:.4}`)."""
+    codegen/tests/suite/near_exact_angles.rs writes them (Rust's `{:.4}`)."""
 
     def rewrite(m):
         return f'rpy="{" ".join(f"{float(x):.4f}" for x in m.group(1).split())}"'

@@ -3,7 +3,7 @@
 # its own (cargo's verification: the packaged sources only, with the siblings as packaged
 # alongside), so a file left out of a package or a dependency only the workspace provides
 # fails here. A developer script, not run by CI: it needs the crates.io index and takes a few
-# minutes. The metadata itself is checked by `tests/downstream/tests/publishable.rs`.
+# minutes. The metadata itself is checked by `tests/downstream/tests/suite/publishable.rs`.
 #
 # Usage: tools/package_check.sh [extra cargo package flags, e.g. --allow-dirty]
 set -euo pipefail

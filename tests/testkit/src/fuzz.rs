@@ -9,7 +9,7 @@
 //! has only finite numbers, or an error whose message names the file and says something.
 //! A small share of the accepted models also goes through the generator (trace + emit).
 //!
-//! Used by `codegen/tests/fuzz.rs` (a fast fixed-seed slice) and `cargo xtask fuzz` (the long run,
+//! Used by `codegen/tests/suite/fuzz.rs` (a fast fixed-seed slice) and `cargo xtask fuzz` (the long run,
 //! the same code in release). A case is replayed from its seed alone.
 
 use crate::random_model::SplitMix64;

@@ -20,7 +20,7 @@
 //! for `J`, `g` and the Lagrangian `D` and `g`; 1e-11 for `J̇`, Christoffel `C`, `C + Cᵀ` and
 //! the Lagrangian `τ`; 4e-10 for the Lagrangian `C q̇`; 3e-14 for the algebraic identities. The
 //! [`tolerance`]s sit 25× (Lagrangian `C q̇`) to 100× or more above these and at least 100×
-//! below the 1e-6 relative error that the suite must catch (`codegen/tests/oracles.rs` checks both).
+//! below the 1e-6 relative error that the suite must catch (`codegen/tests/suite/oracles.rs` checks both).
 
 use crate::random_model::JointState;
 use dyngen_codegen::dynamics::NumericDynamics;

@@ -5,7 +5,7 @@
 //! description: what the generated code is traced with. The traced and compiled base regressors
 //! are checked against Pinocchio in `floating_reference.rs` and `generated_floating.rs`.
 //!
-//! `cargo test -p dyngen-codegen --test floating_base_parameters -- --nocapture` prints the
+//! `cargo test -p dyngen-codegen --test suite floating_base_parameters:: -- --nocapture` prints the
 //! counts and the worst errors.
 
 use dyngen_testkit as common;

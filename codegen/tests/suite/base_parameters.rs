@@ -1,8 +1,8 @@
 //! Base inertial parameters: their number against independent figures (Pinocchio's rank of the
 //! stacked regressor), `Y_b θ_b = Y θ` for any θ (on Pinocchio's own regressors, on random
-//! trees; on compiled generated code in `generated/tests/base_regressor.rs`), two descriptions of one robot, and determinism.
+//! trees; on compiled generated code in `generated/tests/suite/base_regressor.rs`), two descriptions of one robot, and determinism.
 //!
-//! `cargo test --test base_parameters -- --nocapture` prints p_b, the gaps and the names.
+//! `cargo test -p dyngen-codegen --test suite base_parameters:: -- --nocapture` prints p_b, the gaps and the names.
 
 use dyngen_testkit as common;
 

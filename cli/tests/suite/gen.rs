@@ -1,7 +1,7 @@
 //! `dyngen gen`: writes a generated module (and only over one dyngen wrote), or fails with one
 //! `error:` line naming file, place and problem, writing nothing.
 
-mod common;
+use crate::common;
 
 use common::{arg, broken_arm7, dyngen, dyngen_in, repository_file};
 

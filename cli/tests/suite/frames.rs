@@ -1,6 +1,6 @@
 //! `--frame LINK` (repeated) and `--frame all`: named frames for a bare URDF.
 
-mod common;
+use crate::common;
 
 use common::{arg, dyngen, repository_file};
 

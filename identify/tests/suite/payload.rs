@@ -2,7 +2,7 @@
 //! from a wrist force/torque sensor alone, and from both; the body regressor against the
 //! inverse dynamics; what a payload that is not a physical body and a bad request become.
 
-mod common;
+use crate::common;
 
 use common::{arm7, arm7_joint_values, arm7_noise, arm7_nominal};
 use dyngen_codegen::description::load_yaml_str;

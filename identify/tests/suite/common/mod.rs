@@ -12,7 +12,7 @@ pub fn arm7() -> Model {
     load(&path).unwrap_or_else(|e| panic!("{e}")).model
 }
 
-#[path = "../../examples/arm7_identification/joint_values.rs"]
+#[path = "../../../examples/arm7_identification/joint_values.rs"]
 mod joint_values;
 pub use joint_values::arm7_joint_values;
 

@@ -2,7 +2,7 @@
 //! data CSV, the description with it written and loaded; bad sensor columns and requests the
 //! data cannot answer are one error line.
 
-mod common;
+use crate::common;
 
 use common::{arg, dyngen, repository_file};
 use dyngen_codegen::description::load;

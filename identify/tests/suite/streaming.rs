@@ -2,7 +2,7 @@
 //! file has velocities and accelerations or they are computed window by window, and reports
 //! a bad line as the stacked path does.
 
-mod common;
+use crate::common;
 
 use common::{arm7_noise, arm7_nominal, arm7_truth};
 use dyngen_identify::{

@@ -2,7 +2,7 @@
 //! malformed regions are usage errors, unknown frames, empty boxes and unreachable regions
 //! are one error line.
 
-mod common;
+use crate::common;
 
 use common::{arg, dyngen, repository_file};
 use dyngen_codegen::description::load;

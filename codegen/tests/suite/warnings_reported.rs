@@ -23,7 +23,7 @@ fn build_script_prints_each_warning() {
     std::fs::create_dir_all(&out).expect("scratch");
     let run = Command::new(std::env::current_exe().expect("test binary"))
         .args([
-            "build_script_child",
+            "warnings_reported::build_script_child",
             "--exact",
             "--nocapture",
             "--quiet",

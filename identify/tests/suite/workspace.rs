@@ -3,7 +3,7 @@
 //! ten times the density of the proof's grid, through another kinematics path), the result
 //! is still well conditioned, and impossible or malformed constraints are errors.
 
-mod common;
+use crate::common;
 
 use common::arm7_nominal;
 use dyngen_codegen::description::load;

@@ -1,7 +1,7 @@
 //! Bad data, as a person sees it: one clear error naming the file, line and column or the
 //! joint, never a silent wrong estimate. The messages are listed in TESTING.md.
 
-mod common;
+use crate::common;
 
 use common::{arm7_nominal, arm7_truth};
 use dyngen_identify::measure;

@@ -1,7 +1,7 @@
 //! The command line itself: help and version succeed, a command line clap refuses exits 2
 //! (a usage error), a failure of the work exits 1.
 
-mod common;
+use crate::common;
 
 use common::{dyngen, repository_file};
 

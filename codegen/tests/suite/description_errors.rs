@@ -543,7 +543,7 @@ fn inertia_grossly_violating_the_triangle_inequality() {
 }
 
 /// `inertia: strict` refuses what the default loads with a warning: slight defects of each
-/// kind (the warnings themselves: `codegen/tests/non_physical_inertia.rs`).
+/// kind (the warnings themselves: `codegen/tests/suite/non_physical_inertia.rs`).
 #[test]
 fn strict_inertia_refuses_slight_defects() {
     let strict = || UrdfOptions {

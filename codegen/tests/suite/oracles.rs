@@ -2,7 +2,7 @@
 //! `common/oracles.rs`): the reference arms at fixed-seed random states, a few hundred random
 //! kinematic trees, and a check that the oracles do catch a 1e-6 relative error.
 //!
-//! `cargo test --test oracles -- --nocapture` prints the worst error of every check against its
+//! `cargo test -p dyngen-codegen --test suite oracles:: -- --nocapture` prints the worst error of every check against its
 //! tolerance.
 
 use dyngen_testkit as common;

@@ -2,7 +2,7 @@
 //! identification writes a description that loads, bad data is one error line naming file,
 //! line and column.
 
-mod common;
+use crate::common;
 
 use common::{arg, dyngen, repository_file};
 use dyngen_codegen::description::load;

@@ -1,7 +1,7 @@
 //! `--inertia as-written|repair|strict`: what every command that loads a bare URDF does with a
 //! link whose inertia no real body has (`codegen/tests/data/non-physical/`).
 
-mod common;
+use crate::common;
 
 use common::{arg, dyngen, repository_file};
 

@@ -1,7 +1,7 @@
 //! `dyngen check`, `dyngen info` and `dyngen urdf`: loading, reporting and exporting without
 //! generating a file.
 
-mod common;
+use crate::common;
 
 use common::{arg, broken_arm7, dyngen, repository_file};
 use dyngen_codegen::description::load;

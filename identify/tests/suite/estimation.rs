@@ -1,6 +1,6 @@
 //! Least squares, the consistent estimate and the identified description on the arm7 set-up.
 
-mod common;
+use crate::common;
 
 use common::{arm7_noise, arm7_nominal, arm7_truth};
 use dyngen_codegen::base_parameters::BaseParameterSet;

@@ -4,7 +4,7 @@
 //! twice from quantised positions) the momentum form is more accurate than the torque form,
 //! while the energy form is far worse conditioned than either.
 
-mod common;
+use crate::common;
 
 use common::{arm7, arm7_noise, arm7_nominal, arm7_truth};
 use dyngen_codegen::base_parameters::BaseParameterSet;
@@ -215,7 +215,7 @@ fn coarse_encoder_momentum_beats_differentiated_accelerations() {
 
 /// The table of `docs/identification.md`: the three forms over encoder resolutions and filter
 /// cutoffs (about five minutes in the test profile):
-/// `cargo test -p dyngen-identify --test energy -- --ignored --nocapture`.
+/// `cargo test -p dyngen-identify --test suite energy:: -- --ignored --nocapture`.
 #[test]
 #[ignore]
 fn encoder_and_filter_sweep() {

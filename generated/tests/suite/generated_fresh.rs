@@ -64,7 +64,7 @@ fn generation_is_byte_identical_across_processes_and_order() {
         );
         let out = Command::new(std::env::current_exe().expect("test binary"))
             .args([
-                "determinism_child",
+                "generated_fresh::determinism_child",
                 "--exact",
                 "--nocapture",
                 "--quiet",

@@ -1,7 +1,7 @@
 //! Excitation trajectories: within the limits, analytic derivatives that the filter and
 //! differences reproduce, and an optimised condition number well below random coefficients'.
 
-mod common;
+use crate::common;
 
 use common::arm7_nominal;
 use dyngen_identify::Samples;

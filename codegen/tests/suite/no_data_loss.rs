@@ -60,7 +60,12 @@ fn writer_child() {
 
 fn spawn_writer(target: &Path, description: &Path, pause_ms: u64) -> Child {
     Command::new(std::env::current_exe().expect("test binary"))
-        .args(["writer_child", "--exact", "--quiet", "--test-threads=1"])
+        .args([
+            "no_data_loss::writer_child",
+            "--exact",
+            "--quiet",
+            "--test-threads=1",
+        ])
         .env(CHILD, target)
         .env("DYNGEN_NO_DATA_LOSS_DESCRIPTION", description)
         .env("DYNGEN_TEST_WRITE_PAUSE_MS", pause_ms.to_string())

@@ -1,0 +1,14 @@
+//! The integration tests of `dyngen-cli`: one module per subject, in one test binary (one link
+//! instead of one per file, one pool of test threads). Tests that change process-wide state are
+//! files of their own beside this directory.
+
+mod common;
+
+mod excite_workspace;
+mod frames;
+mod gen;
+mod identification;
+mod inertia;
+mod inspect;
+mod payload;
+mod usage;

@@ -1,0 +1,13 @@
+//! The integration tests of `dyngen-control`: one module per subject, in one test binary (one link
+//! instead of one per file, one pool of test threads). Tests that change process-wide state are
+//! files of their own beside this directory.
+
+mod bad_input;
+mod closed_loop_thresholds;
+mod controlled_frame;
+mod lyapunov;
+mod noise_and_estimation;
+mod plant_forward_dynamics;
+mod plant_regressor;
+mod reference_derivative;
+mod task_and_gains;

@@ -1,0 +1,12 @@
+//! The integration tests of `dyngen-generated`: one module per subject, in one test binary (one link
+//! instead of one per file, one pool of test threads). Tests that change process-wide state are
+//! files of their own beside this directory.
+
+mod base_regressor;
+mod free_motion_energy;
+mod generated_code;
+mod generated_floating;
+mod generated_forward_dynamics;
+mod generated_frames;
+mod generated_fresh;
+mod generated_version_check;

@@ -1,0 +1,15 @@
+//! The integration tests of `dyngen-identify`: one module per subject, in one test binary (one link
+//! instead of one per file, one pool of test threads). Tests that change process-wide state are
+//! files of their own beside this directory.
+
+mod common;
+
+mod bad_input;
+mod energy;
+mod estimation;
+mod excitation;
+mod industrial;
+mod non_physical_description;
+mod payload;
+mod streaming;
+mod workspace;

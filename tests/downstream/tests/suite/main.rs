@@ -1,0 +1,11 @@
+//! The integration tests of `dyngen-downstream-example`: one module per subject, in one test binary (one link
+//! instead of one per file, one pool of test threads). Tests that change process-wide state are
+//! files of their own beside this directory.
+
+mod against_pinocchio;
+mod build_script;
+mod floating_base;
+mod generated_crate;
+mod mimic_joints;
+mod no_std;
+mod publishable;
