@@ -1,6 +1,6 @@
-//! The integration tests of `dyngen-cli`: one module per subject, in one test binary (one link
-//! instead of one per file, one pool of test threads). Tests that change process-wide state are
-//! files of their own beside this directory.
+//! The integration tests of `dyngen-cli`: one module per subject, in one test binary
+//! (one link instead of one per file, one pool of test threads). A test that changes
+//! process-wide state goes in a file of its own beside this directory.
 
 mod common;
 

@@ -1,6 +1,6 @@
-//! The integration tests of `dyngen-generated`: one module per subject, in one test binary (one link
-//! instead of one per file, one pool of test threads). Tests that change process-wide state are
-//! files of their own beside this directory.
+//! The integration tests of `dyngen-generated`: one module per subject, in one test binary
+//! (one link instead of one per file, one pool of test threads). A test that changes
+//! process-wide state goes in a file of its own beside this directory.
 
 mod base_regressor;
 mod free_motion_energy;
