@@ -120,7 +120,13 @@ pub struct SymbolicRobot {
     pub base: BaseParameterSet,
     /// The groups traced.
     pub functions: Functions,
+    /// Values per chunk function when emitted ([`CHUNK_VALUES`] as traced): a function that
+    /// computes more is emitted in chunks. Tests set it small to run the chunked code of a small
+    /// robot.
+    pub chunk_values: usize,
 }
+
+use super::emit::CHUNK_VALUES;
 
 pub(super) fn ids(v: &[Expr]) -> Vec<Id> {
     v.iter().map(|e| e.id()).collect()
@@ -334,6 +340,7 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
         quantities,
         base,
         functions,
+        chunk_values: CHUNK_VALUES,
     }
 }
 

@@ -247,5 +247,6 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
         quantities,
         base: base_parameters,
         functions: floating_functions(),
+        chunk_values: super::emit::CHUNK_VALUES,
     }
 }

@@ -1,24 +1,15 @@
 //! One quantity as a generated function: its result type, its body (written in place or built
 //! at the end), the kernel and dispatch around it, and its chunks when it is large.
 
+use super::chunks::{chunked, Header};
 use super::leaves::Leaves;
 use super::plan::{Form, Plan};
-use super::signature::{all_parameters, argument_names, signature, Param};
+use super::signature::{signature, Param};
 use crate::generate::trace::{Quantity, Shape, SymbolicRobot};
 use crate::symbolic::{Id, Node, OpCounts};
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
-use std::collections::{BTreeSet, HashMap};
-
-/// Values per chunk function. Larger functions run faster (nothing is copied between chunks:
-/// the Panda's `C` and `Y` run 15–18% faster whole than in chunks of 1024, and every function of
-/// a 7-DOF arm but the derivatives of the dynamics fits in one chunk), while chunks bound the
-/// size of what LLVM optimises at once, whose cost grows faster than linearly, for very large
-/// robots. (The Panda's derivatives, about 7,000 values, ran no faster whole, in chunks of 16384.)
-/// Chunks do not shrink what a call runs: the Panda's `∂q̈/∂x`, 39 KB of machine code, is over a
-/// 32 KiB level-1 instruction cache either way, and splitting it made the total larger and the
-/// call 15% slower (`BENCHMARKS.md`).
-const CHUNK: usize = 4096;
+use std::collections::HashMap;
 
 /// A generated function. A scalar one runs its body as a `dyngen_runtime::__private::Kernel`
 /// through `dyngen_runtime::__private::dispatch`: with the processor's fused multiply-adds even in
@@ -29,7 +20,7 @@ const CHUNK: usize = 4096;
 /// registers of a native build). A lane function is generic over its lane type instead, and aligns
 /// its stack frame for its spills (`dyngen_runtime::__private::align_stack_frame`).
 #[allow(clippy::too_many_arguments)]
-fn function_item(
+pub(super) fn function_item(
     form: Form,
     attributes: TokenStream,
     name: &Ident,
@@ -40,12 +31,17 @@ fn function_item(
     many_registers: bool,
     body: TokenStream,
 ) -> TokenStream {
+    // A chunk returns nothing (it writes through its arguments): `()` without `-> ()`.
+    let (arrow, output) = match ret.is_empty() {
+        true => (quote!(), quote!(())),
+        false => (quote!(-> #ret), ret.clone()),
+    };
     if form == Form::Lanes {
         let params = params.iter().map(Param::declared);
         // Its lane vectors spill whole to 64-byte-aligned slots (see the function's docs).
         return quote! {
             #attributes
-            fn #name<L: Lanes>(#(#params),*) -> #ret {
+            fn #name<L: Lanes>(#(#params),*) #arrow {
                 dyngen_runtime::__private::align_stack_frame();
                 #body
             }
@@ -75,12 +71,12 @@ fn function_item(
     };
     quote! {
         #attributes
-        fn #name(#(#outer),*) -> #ret {
+        fn #name(#(#outer),*) #arrow {
             struct Body;
             impl dyngen_runtime::__private::Kernel<(#(#types,)*)> for Body {
-                type Output = #ret;
+                type Output = #output;
                 #[inline(always)]
-                fn run<M: dyngen_runtime::__private::MulAdd>(#arith: M, (#(#bindings,)*): (#(#types,)*)) -> #ret {
+                fn run<M: dyngen_runtime::__private::MulAdd>(#arith: M, (#(#bindings,)*): (#(#types,)*)) #arrow {
                     #lane_methods
                     #body
                 }
@@ -129,7 +125,6 @@ pub(super) fn function(
 ) -> Emitted {
     let n = Literal::usize_unsuffixed(n);
     let plan = Plan::new(robot, leaves, &q.outputs, form);
-    let ty = form.value_type();
     // Lane functions are generic over the lane type, so they cost nothing until a user calls
     // them (then once per lane type).
     let generics = match form {
@@ -140,80 +135,11 @@ pub(super) fn function(
         Form::Scalar => "",
         Form::Lanes => LANES_SUFFIX,
     };
-    let position: HashMap<Id, usize> = plan.order.iter().enumerate().map(|(k, &id)| (id, k)).collect();
-    let chunk_of = |id: &Id| position.get(id).map(|k| k / CHUNK);
-    let n_chunks = plan.order.len().div_ceil(CHUNK).max(1);
-    // Values each chunk needs from earlier chunks, and values each chunk hands on; sets, because
-    // a chunk of a large function carries thousands of values (a linear `contains` per operand
-    // made emitting a 30-DOF chain's derivatives take over a minute).
-    let mut carried_in: Vec<BTreeSet<Id>> = vec![BTreeSet::new(); n_chunks];
-    let mut handed_on: Vec<BTreeSet<Id>> = vec![BTreeSet::new(); n_chunks];
-    for &id in &plan.order {
-        let here = chunk_of(&id).unwrap_or(0);
-        for operand in plan.operands(id) {
-            if let Some(there) = chunk_of(&operand).filter(|&c| c < here) {
-                carried_in[here].insert(operand);
-                handed_on[there].insert(operand);
-            }
-        }
-    }
-    for o in &q.outputs {
-        if let Some(c) = chunk_of(o) {
-            if n_chunks > 1 {
-                handed_on[c].insert(*o);
-            }
-        }
-    }
-    let sorted = |sets: Vec<BTreeSet<Id>>| -> Vec<Vec<Id>> {
-        sets.into_iter().map(|s| s.into_iter().collect()).collect()
-    };
-    let (carried_in, handed_on) = (sorted(carried_in), sorted(handed_on));
+    let n_chunks = plan.order.len().div_ceil(robot.chunk_values).max(1);
     let name = format_ident!("{}{suffix}", q.name());
     let mut main_used = Vec::new();
     let atoms: Vec<TokenStream> = q.outputs.iter().map(|&o| plan.atom(o, &mut main_used)).collect();
-    let result = match (form, q.shape) {
-        (Form::Lanes, Shape::Vector(_)) => quote!([#(#atoms),*]),
-        (Form::Lanes, Shape::Matrix(rows, _)) => {
-            let columns = atoms.chunks(rows).map(|c| quote!([#(#c),*]));
-            quote!([#(#columns),*])
-        }
-        (Form::Lanes, _) => unreachable!("only vectors and matrices have a lane form"),
-        (Form::Scalar, shape) => match shape {
-            Shape::Vector(_) => quote!(SVector::from_array_storage(ArrayStorage([[#(#atoms),*]]))),
-            Shape::Matrix(rows, _) => {
-                let columns = atoms.chunks(rows).map(|c| quote!([#(#c),*]));
-                quote!(SMatrix::from_array_storage(ArrayStorage([#(#columns),*])))
-            }
-            Shape::Pose => pose_value(&atoms),
-            Shape::Kinematics(_) => {
-                let (pose, jacobians) = atoms.split_at(12);
-                let (j, jd) = jacobians.split_at(jacobians.len() / 2);
-                let pose = pose_value(pose);
-                let matrix = |m: &[TokenStream]| {
-                    let c: Vec<TokenStream> = m.chunks(6).map(|c| quote!([#(#c),*])).collect();
-                    quote!(SMatrix::from_array_storage(ArrayStorage([#(#c),*])))
-                };
-                let (j, jd) = (matrix(j), matrix(jd));
-                quote!((#pose, #j, #jd))
-            }
-            Shape::VectorPair(n, _) => {
-                let (first, second) = atoms.split_at(n);
-                quote!((
-                    SVector::from_array_storage(ArrayStorage([[#(#first),*]])),
-                    SVector::from_array_storage(ArrayStorage([[#(#second),*]])),
-                ))
-            }
-            Shape::MatrixPair(rows) => {
-                let (first, second) = atoms.split_at(rows * rows);
-                let columns = |m: &[TokenStream]| {
-                    let c: Vec<TokenStream> = m.chunks(rows).map(|c| quote!([#(#c),*])).collect();
-                    quote!(SMatrix::from_array_storage(ArrayStorage([#(#c),*])))
-                };
-                let (first, second) = (columns(first), columns(second));
-                quote!((#first, #second))
-            }
-        },
-    };
+    let result = result_value(q, form, &atoms);
     let ret = match (form, q.shape) {
         (Form::Lanes, Shape::Vector(len)) => {
             let len = Literal::usize_unsuffixed(len);
@@ -259,16 +185,12 @@ pub(super) fn function(
             ),
         );
     }
-    let names_of = |ids: &[Id]| -> Vec<Ident> { ids.iter().map(|id| plan.names[id].clone()).collect() };
-
     let many_registers = matches!(q.shape, Shape::MatrixPair(_)) || plan.order.len() > MANY_VALUES;
     if n_chunks == 1 {
         let mut used = main_used;
-        let body = match q.shape {
-            Shape::Vector(_) | Shape::Matrix(..) | Shape::VectorPair(..) => {
-                written_in_place(&plan, q, form, &ret, &atoms, &mut used)
-            }
-            _ => {
+        let body = match writes_in_place(q, form) {
+            true => written_in_place(&plan, q, form, &ret, &atoms, &mut used),
+            false => {
                 let statements = plan.statements(&plan.order, &mut used);
                 quote!(#(#statements)* #result)
             }
@@ -292,84 +214,69 @@ pub(super) fn function(
         };
     }
 
-    let args = argument_names(&q.args);
-    let mut chunks = Vec::new();
-    let mut calls = Vec::new();
-    for (k, ids) in plan.order.chunks(CHUNK).enumerate() {
-        let chunk_name = format_ident!("{}{suffix}_part{}", q.name(), k);
-        let mut used = Vec::new();
-        let statements = plan.statements(ids, &mut used);
-        let sig = signature(robot, leaves, &q.args, &used, &n, form);
-        let (mut params, prelude) = (sig.params, sig.prelude);
-        // Values carried between chunks, scalars and lane vectors apart (each an array).
-        let split = |ids: &[Id]| -> (Vec<Ident>, Vec<Ident>) {
-            let (lanes, scalars): (Vec<Id>, Vec<Id>) =
-                ids.iter().partition(|&&id| plan.robot.graph.node(id).is_lanes());
-            (names_of(&scalars), names_of(&lanes))
-        };
-        let ((inputs, lane_inputs), (outputs, lane_outputs)) = (split(&carried_in[k]), split(&handed_on[k]));
-        // Lane vectors cross chunks as plain arrays: each chunk is a kernel of its own, whose
-        // lane type its own dispatch chooses.
-        let lane_ty = quote!([f64; 8]);
-        let (n_in, n_out, n_lane_in, n_lane_out) = (
-            Literal::usize_unsuffixed(inputs.len()),
-            Literal::usize_unsuffixed(outputs.len()),
-            Literal::usize_unsuffixed(lane_inputs.len()),
-            Literal::usize_unsuffixed(lane_outputs.len()),
-        );
-        let mut call_args: Vec<TokenStream> = args.iter().map(|a| quote!(#a)).collect();
-        let mut unpack = Vec::new();
-        if !inputs.is_empty() {
-            params.push(Param::used(format_ident!("carried"), quote!([#ty; #n_in])));
-            call_args.push(quote!([#(#inputs),*]));
-            unpack.push(quote!(let [#(#inputs),*] = carried;));
-        }
-        if !lane_inputs.is_empty() {
-            params.push(Param::used(
-                format_ident!("carried_lanes"),
-                quote!([#lane_ty; #n_lane_in]),
-            ));
-            call_args.push(quote!([#(#lane_inputs),*]));
-            unpack.push(quote!(let [#(#lane_inputs),*] = carried_lanes.map(|lanes| arith.eight(lanes));));
-        }
-        let (ret, returned, bound) = match lane_outputs.is_empty() {
-            true => (
-                quote!([#ty; #n_out]),
-                quote!([#(#outputs),*]),
-                quote!([#(#outputs),*]),
-            ),
-            false => (
-                quote!(([#ty; #n_out], [#lane_ty; #n_lane_out])),
-                quote!(([#(#outputs),*], [#(#lane_outputs.to_array()),*])),
-                quote!(([#(#outputs),*], [#(#lane_outputs),*])),
-            ),
-        };
-        chunks.push(function_item(
-            form,
-            quote!(#[inline(never)]),
-            &chunk_name,
-            &params,
-            &ret,
-            plan.uses_arith(ids) || !lane_inputs.is_empty(),
-            plan.uses_lanes(ids) || !lane_inputs.is_empty(),
+    chunked(
+        &plan,
+        q,
+        form,
+        Header {
+            name: &name,
+            generics: &generics,
+            ret: &ret,
+            doc: &doc,
+            n: &n,
             many_registers,
-            quote!(#(#prelude)* #(#unpack)* #(#statements)* #returned),
-        ));
-        calls.push(quote!(let #bound = #chunk_name(#(#call_args),*);));
-    }
-    // Chunks read the arguments; the method itself reads only what its result needs.
-    let prelude = signature(robot, leaves, &q.args, &main_used, &n, form).prelude;
-    let params = all_parameters(&q.args, &n, form, leaves.floating_joints);
-    let method = quote! {
-        #(#[doc = #doc])*
-        #[inline(never)]
-        fn #name #generics(#(#params),*) -> #ret {
-            #(#prelude)*
-            #(#calls)*
-            #result
+            suffix,
+        },
+        &atoms,
+        main_used,
+    )
+}
+
+/// The result built from its outputs `atoms` (a function not written in place).
+pub(super) fn result_value(q: &Quantity, form: Form, atoms: &[TokenStream]) -> TokenStream {
+    match (form, q.shape) {
+        (Form::Lanes, Shape::Vector(_)) => quote!([#(#atoms),*]),
+        (Form::Lanes, Shape::Matrix(rows, _)) => {
+            let columns = atoms.chunks(rows).map(|c| quote!([#(#c),*]));
+            quote!([#(#columns),*])
         }
-    };
-    Emitted { method, chunks }
+        (Form::Lanes, _) => unreachable!("only vectors and matrices have a lane form"),
+        (Form::Scalar, shape) => match shape {
+            Shape::Vector(_) => quote!(SVector::from_array_storage(ArrayStorage([[#(#atoms),*]]))),
+            Shape::Matrix(rows, _) => {
+                let columns = atoms.chunks(rows).map(|c| quote!([#(#c),*]));
+                quote!(SMatrix::from_array_storage(ArrayStorage([#(#columns),*])))
+            }
+            Shape::Pose => pose_value(atoms),
+            Shape::Kinematics(_) => {
+                let (pose, jacobians) = atoms.split_at(12);
+                let (j, jd) = jacobians.split_at(jacobians.len() / 2);
+                let pose = pose_value(pose);
+                let matrix = |m: &[TokenStream]| {
+                    let c: Vec<TokenStream> = m.chunks(6).map(|c| quote!([#(#c),*])).collect();
+                    quote!(SMatrix::from_array_storage(ArrayStorage([#(#c),*])))
+                };
+                let (j, jd) = (matrix(j), matrix(jd));
+                quote!((#pose, #j, #jd))
+            }
+            Shape::VectorPair(n, _) => {
+                let (first, second) = atoms.split_at(n);
+                quote!((
+                    SVector::from_array_storage(ArrayStorage([[#(#first),*]])),
+                    SVector::from_array_storage(ArrayStorage([[#(#second),*]])),
+                ))
+            }
+            Shape::MatrixPair(rows) => {
+                let (first, second) = atoms.split_at(rows * rows);
+                let columns = |m: &[TokenStream]| {
+                    let c: Vec<TokenStream> = m.chunks(rows).map(|c| quote!([#(#c),*])).collect();
+                    quote!(SMatrix::from_array_storage(ArrayStorage([#(#c),*])))
+                };
+                let (first, second) = (columns(first), columns(second));
+                quote!((#first, #second))
+            }
+        },
+    }
 }
 
 /// Results larger than this start from `dyngen_runtime::__private::fill_zero()` rather than a
@@ -392,11 +299,11 @@ fn result_bytes(q: &Quantity, form: Form) -> usize {
     q.outputs.len() * if form == Form::Lanes { 32 } else { 8 }
 }
 
-/// The body of a one-chunk vector or matrix function that writes each output into the result
-/// as soon as it is computed: `let mut out: R = zeros; { let [[o0, _, o2]] = &mut out…;
-/// x0 = …; *o0 = x0; … } out`. Returning them all at the end kept every output alive across the
-/// whole function (the regressor's peak of live values was 260 instead of 103), so the
-/// register allocator spilled them and reloaded them to store them.
+/// The body of a one-chunk function whose result is written in place ([`writes_in_place`]):
+/// `let mut out: R = zeros; { let [[o0, _, o2]] = &mut out…; x0 = …; *o0 = x0; … } out`.
+/// Returning the outputs at the end kept every one alive across the whole function (the
+/// regressor's peak of live values was 260 instead of 103), so the register allocator spilled
+/// them and reloaded them to store them.
 fn written_in_place(
     plan: &Plan,
     q: &Quantity,
@@ -405,31 +312,125 @@ fn written_in_place(
     atoms: &[TokenStream],
     used: &mut Vec<Id>,
 ) -> TokenStream {
-    let g = &plan.robot.graph;
-    let mut slots: HashMap<Id, Vec<Ident>> = HashMap::new();
-    let mut immediate = Vec::new();
-    let pattern: Vec<TokenStream> = q
-        .outputs
-        .iter()
-        .zip(atoms)
-        .enumerate()
-        .map(|(k, (&id, atom))| {
-            let slot = format_ident!("o{k}");
-            if g.constant_value(id) == Some(0.0) || g.node(id) == Node::LaneZero {
-                return quote!(_);
-            }
-            match plan.names.contains_key(&id) {
-                true => slots.entry(id).or_default().push(slot.clone()),
-                false => immediate.push(quote!(*#slot = #atom;)),
-            }
-            quote!(#slot)
-        })
-        .collect();
-    let statements = plan.statements_writing(&plan.order, used, &slots);
-    let nested = |rows: usize| {
-        let columns = pattern.chunks(rows).map(|c| quote!([#(#c),*]));
+    let slots = OutputSlots::new(plan, q, atoms, |_| true);
+    let statements = plan.statements_writing(&plan.order, used, &slots.slots, &HashMap::new());
+    let (pattern, target, zero) = (
+        slots_pattern(q, form, &slots.pattern),
+        slots_target(q, form, quote!(out), false),
+        zero_result(q, form),
+    );
+    let immediate = &slots.immediate;
+    quote! {
+        let mut out: #ret = #zero;
+        {
+            let #pattern = #target;
+            #(#immediate)*
+            #(#statements)*
+        }
+        out
+    }
+}
+
+/// Whether a function's result is written in place, each output stored as soon as it is
+/// computed: vectors and matrices (and pairs of them), not poses and kinematics.
+pub(super) fn writes_in_place(q: &Quantity, form: Form) -> bool {
+    matches!(
+        (form, q.shape),
+        (_, Shape::Vector(_) | Shape::Matrix(..))
+            | (Form::Scalar, Shape::VectorPair(..) | Shape::MatrixPair(_))
+    )
+}
+
+/// Where outputs go in a result written in place: per output its slot (`o17`, bound as a
+/// `&mut` to the entry) or `_` (a zero, left as filled); which computed value each slot
+/// receives; and the writes of outputs that are inputs or constants (`*o0 = a0;`). Only the
+/// outputs `here` accepts get slots (a chunk writes the ones it computes).
+pub(super) struct OutputSlots {
+    pub(super) pattern: Vec<TokenStream>,
+    pub(super) slots: HashMap<Id, Vec<Ident>>,
+    pub(super) immediate: Vec<TokenStream>,
+}
+
+impl OutputSlots {
+    pub(super) fn new(
+        plan: &Plan,
+        q: &Quantity,
+        atoms: &[TokenStream],
+        here: impl Fn(Id) -> bool,
+    ) -> OutputSlots {
+        let g = &plan.robot.graph;
+        let mut slots: HashMap<Id, Vec<Ident>> = HashMap::new();
+        let mut immediate = Vec::new();
+        let pattern = q
+            .outputs
+            .iter()
+            .zip(atoms)
+            .enumerate()
+            .map(|(k, (&id, atom))| {
+                let slot = format_ident!("o{k}");
+                if g.constant_value(id) == Some(0.0) || g.node(id) == Node::LaneZero || !here(id) {
+                    return quote!(_);
+                }
+                match plan.names.contains_key(&id) {
+                    true => slots.entry(id).or_default().push(slot.clone()),
+                    false => immediate.push(quote!(*#slot = #atom;)),
+                }
+                quote!(#slot)
+            })
+            .collect();
+        OutputSlots {
+            pattern,
+            slots,
+            immediate,
+        }
+    }
+
+    /// Whether any output has a slot.
+    pub(super) fn any(&self) -> bool {
+        !self.slots.is_empty() || !self.immediate.is_empty()
+    }
+}
+
+/// The pattern binding the result's entries, nested as the result's storage is.
+pub(super) fn slots_pattern(q: &Quantity, form: Form, pattern: &[TokenStream]) -> TokenStream {
+    let nested = |entries: &[TokenStream], rows: usize| {
+        let columns = entries.chunks(rows).map(|c| quote!([#(#c),*]));
         quote!([#(#columns),*])
     };
+    match (form, q.shape) {
+        (Form::Scalar, Shape::Vector(rows) | Shape::Matrix(rows, _))
+        | (Form::Lanes, Shape::Matrix(rows, _)) => nested(pattern, rows),
+        (Form::Lanes, Shape::Vector(_)) => quote!([#(#pattern),*]),
+        (Form::Scalar, Shape::VectorPair(n, _)) => {
+            let (first, second) = pattern.split_at(n);
+            quote!(([#(#first),*], [#(#second),*]))
+        }
+        (Form::Scalar, Shape::MatrixPair(rows)) => {
+            let (first, second) = pattern.split_at(rows * rows);
+            let (first, second) = (nested(first, rows), nested(second, rows));
+            quote!((#first, #second))
+        }
+        _ => unreachable!("only vectors, matrices and their pairs are written in place"),
+    }
+}
+
+/// The mutable place [`slots_pattern`] binds, of the result `out` (a local, or a `&mut` to the
+/// result when `by_reference`).
+pub(super) fn slots_target(q: &Quantity, form: Form, out: TokenStream, by_reference: bool) -> TokenStream {
+    match (form, q.shape) {
+        (Form::Scalar, Shape::Vector(_) | Shape::Matrix(..)) => quote!(&mut #out.data.0),
+        (Form::Scalar, Shape::VectorPair(..)) => quote!((&mut #out.0.data.0[0], &mut #out.1.data.0[0])),
+        (Form::Scalar, Shape::MatrixPair(_)) => quote!((&mut #out.0.data.0, &mut #out.1.data.0)),
+        (Form::Lanes, Shape::Vector(_) | Shape::Matrix(..)) => match by_reference {
+            true => out,
+            false => quote!(&mut #out),
+        },
+        _ => unreachable!("only vectors, matrices and their pairs are written in place"),
+    }
+}
+
+/// The zero a result written in place starts from.
+pub(super) fn zero_result(q: &Quantity, form: Form) -> TokenStream {
     let (matrix, fill) = match result_bytes(q, form) > LIBRARY_FILL_BYTES {
         true => (
             quote!(SMatrix::from_element(dyngen_runtime::__private::fill_zero())),
@@ -437,44 +438,18 @@ fn written_in_place(
         ),
         false => (quote!(SMatrix::zeros()), quote!(0.0)),
     };
-    let (slots_pattern, target, zero) = match (form, q.shape) {
-        (Form::Scalar, Shape::Vector(rows) | Shape::Matrix(rows, _)) => {
-            (nested(rows), quote!(&mut out.data.0), matrix)
-        }
-        (Form::Scalar, Shape::VectorPair(n, _)) => {
-            let (first, second) = pattern.split_at(n);
-            (
-                quote!(([#(#first),*], [#(#second),*])),
-                quote!((&mut out.0.data.0[0], &mut out.1.data.0[0])),
-                quote!((#matrix, #matrix)),
-            )
-        }
+    match (form, q.shape) {
+        (Form::Scalar, Shape::Vector(_) | Shape::Matrix(..)) => matrix,
+        (Form::Scalar, Shape::VectorPair(..) | Shape::MatrixPair(_)) => quote!((#matrix, #matrix)),
         (Form::Lanes, Shape::Vector(len)) => {
             let len = Literal::usize_unsuffixed(len);
-            (
-                quote!([#(#pattern),*]),
-                quote!(&mut out),
-                quote!([L::splat(#fill); #len]),
-            )
+            quote!([L::splat(#fill); #len])
         }
         (Form::Lanes, Shape::Matrix(rows, cols)) => {
             let (r, c) = (Literal::usize_unsuffixed(rows), Literal::usize_unsuffixed(cols));
-            (
-                nested(rows),
-                quote!(&mut out),
-                quote!([[L::splat(#fill); #r]; #c]),
-            )
+            quote!([[L::splat(#fill); #r]; #c])
         }
-        _ => unreachable!("only vectors, matrices and vector pairs are written in place"),
-    };
-    quote! {
-        let mut out: #ret = #zero;
-        {
-            let #slots_pattern = #target;
-            #(#immediate)*
-            #(#statements)*
-        }
-        out
+        _ => unreachable!("only vectors, matrices and their pairs are written in place"),
     }
 }
 

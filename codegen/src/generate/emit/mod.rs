@@ -2,18 +2,21 @@
 //!
 //! By concern: `leaves` (how inputs are spelled), `plan` (what a function computes, in what
 //! order, with which multiply-adds), `signature` (parameters and the inputs' destructuring),
-//! `function` (one quantity as a function, in chunks if large), `constants` (constant items and
+//! `function` (one quantity as a function), `chunks` (a large one in chunks), `constants` (constant items and
 //! `θ_b`), and this file, which assembles the module.
 //!
 //! Each function declares all its temporaries once (`let [x0, x1, …]: [f64; K];`), then assigns
 //! every live node in creation order, `xK = a op b;`, with atoms (literals, inputs, earlier
 //! temporaries) as operands: never nested expressions, which overflow rustc's parser on large
 //! robots, and never one `let` per node, which nests debug-info scopes as deep as the function
-//! is long (see `Plan::statements`). Functions of more than `CHUNK` values are split into
-//! `<name>_partK` chunk functions that hand on the values later chunks read. Inputs are
-//! destructured once at the top of a function; outputs are built with `from_array_storage`, so
-//! the generated code has no indexing, no allocation and no panic path.
+//! is long (see `Plan::statements`). Functions of more than `CHUNK_VALUES` values are split into
+//! `<name>_partK` chunk functions that hand on the values later chunks read through arrays the
+//! calling function owns (`chunks`). Inputs are destructured once at the top of a function;
+//! vector and matrix results are written in place through destructured `&mut` entries, the
+//! others built with `from_array_storage`, so the generated code has no indexing, no allocation
+//! and no panic path.
 
+mod chunks;
 mod constants;
 mod floating;
 mod frames;
@@ -25,6 +28,7 @@ mod signature;
 use super::trace::SymbolicRobot;
 use crate::functions::{FunctionGroup, Functions};
 use crate::model::Model;
+pub use chunks::CHUNK_VALUES;
 use constants::{base_parameters_function, joint_limits, literal, parameter_kinds};
 pub use floating::emit_floating;
 use function::{function, Emitted};

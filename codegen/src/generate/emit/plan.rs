@@ -104,30 +104,46 @@ impl<'a> Plan<'a> {
     /// be as large as run time wants; creation order keeps values short-lived, which keeps
     /// register allocation (and so release compile time) cheap.
     pub(super) fn statements(&self, ids: &[Id], used_leaves: &mut Vec<Id>) -> Vec<TokenStream> {
-        self.statements_writing(ids, used_leaves, &HashMap::new())
+        self.statements_writing(ids, used_leaves, &HashMap::new(), &HashMap::new())
     }
 
-    /// [`Plan::statements`], each value followed by its writes to the output slots `slots`
-    /// (`*o3 = x17;`): an output stored as soon as it is computed is not held in a register, or
-    /// spilled and reloaded, until the function returns.
+    /// [`Plan::statements`], each value followed by its writes to the slots `slots` (`*o3 =
+    /// x17;`; a lane vector as its array, `*h3 = x17.to_array();`), and each value of `reads`
+    /// (declared by the caller, computed in an earlier chunk) read by its statement right before
+    /// the first statement that uses it. An output stored as soon as it is computed is not held
+    /// in a register, or spilled and reloaded, until the function returns; a value read where it
+    /// is first needed does not occupy one from the top of the chunk.
     pub(super) fn statements_writing(
         &self,
         ids: &[Id],
         used_leaves: &mut Vec<Id>,
         slots: &HashMap<Id, Vec<Ident>>,
+        reads: &HashMap<Id, TokenStream>,
     ) -> Vec<TokenStream> {
         let g = &self.robot.graph;
         let ty = self.form.value_type();
         let writes = |id: Id| {
             let name = &self.names[&id];
             let slots = slots.get(&id).map(Vec::as_slice).unwrap_or_default();
-            quote!(#(*#slots = #name;)*)
+            match g.node(id).is_lanes() {
+                true => quote!(#(*#slots = #name.to_array();)*),
+                false => quote!(#(*#slots = #name;)*),
+            }
+        };
+        let mut read = std::collections::HashSet::new();
+        let mut reads_before = |id: Id, out: &mut Vec<TokenStream>| {
+            for operand in self.operands(id) {
+                if let Some(statement) = reads.get(&operand).filter(|_| read.insert(operand)) {
+                    out.push(statement.clone());
+                }
+            }
         };
         let mut out = Vec::with_capacity(ids.len() + 2);
         // Lane vectors (`f64x8`) get a declaration of their own.
         let (lanes, scalars): (Vec<Id>, Vec<Id>) = ids.iter().partition(|&&id| g.node(id).is_lanes());
         if scalars.len() == 1 && lanes.is_empty() && !matches!(g.node(ids[0]), Node::Extract(..)) {
             let name = &self.names[&ids[0]];
+            reads_before(ids[0], &mut out);
             let value = self.value(ids[0], used_leaves);
             out.push(quote!(let #name: #ty = #value;));
             out.push(writes(ids[0]));
@@ -142,6 +158,7 @@ impl<'a> Plan<'a> {
         }
         for &id in ids {
             let name = &self.names[&id];
+            reads_before(id, &mut out);
             if let Node::Extract(v, k) = g.node(id) {
                 // A lane of a vector, by destructuring (no indexing).
                 let v = self.atom(v, used_leaves);

@@ -1,0 +1,272 @@
+//! A large function as a run of chunk functions (`<name>_partK`, [`CHUNK_VALUES`] values each,
+//! unless the traced robot says otherwise) that
+//! hand values on through arrays the calling function owns.
+//!
+//! Each chunk writes the values later chunks read into an array of its own as soon as it
+//! computes them (`*h3 = x17;`), and reads an earlier chunk's value from that chunk's array
+//! right before its first use (`x17 = *x17_in;`); the outputs it computes go straight into the
+//! result (`*o5 = x17;`). The calling function only owns the arrays and the result and calls
+//! the chunks in order: nothing is copied between chunks, and its code stays a few calls long.
+//! (Returning the handed-on values and passing them on as arguments made the caller copy every
+//! one at every chunk, and kept them alive to the end of the chunk that computed them: the
+//! Unitree G1's `∂τ/∂x` caller alone was 261 KB of moves.)
+
+use super::function::{
+    function_item, slots_pattern, slots_target, writes_in_place, zero_result, OutputSlots,
+};
+use super::plan::{Form, Plan};
+use super::signature::{all_parameters, argument_names, signature, Param};
+use crate::generate::trace::Quantity;
+use crate::symbolic::Id;
+use proc_macro2::{Ident, Literal, TokenStream};
+use quote::{format_ident, quote};
+use std::collections::{BTreeSet, HashMap};
+
+/// Values per chunk function as traced ([`crate::generate::trace::SymbolicRobot::chunk_values`]). Larger functions run faster (nothing is copied between chunks:
+/// the Panda's `C` and `Y` run 15–18% faster whole than in chunks of 1024, and every function of
+/// a 7-DOF arm but the derivatives of the dynamics fits in one chunk), while chunks bound the
+/// size of what LLVM optimises at once, whose cost grows faster than linearly, for very large
+/// robots. (The Panda's derivatives, about 7,000 values, ran no faster whole, in chunks of 16384.)
+/// Chunks do not shrink what a call runs: the Panda's `∂q̈/∂x`, 39 KB of machine code, is over a
+/// 32 KiB level-1 instruction cache either way, and splitting it made the total larger and the
+/// call 15% slower (`BENCHMARKS.md`).
+pub const CHUNK_VALUES: usize = 4096;
+
+/// What the chunked function is called and returns.
+pub(super) struct Header<'a> {
+    pub(super) name: &'a Ident,
+    pub(super) generics: &'a TokenStream,
+    pub(super) ret: &'a TokenStream,
+    pub(super) doc: &'a [String],
+    pub(super) n: &'a Literal,
+    pub(super) many_registers: bool,
+    pub(super) suffix: &'a str,
+}
+
+/// The values one chunk hands on, scalars and lane vectors apart, each at its index in the
+/// chunk's array of that kind.
+#[derive(Default)]
+struct HandedOn {
+    scalars: Vec<Id>,
+    lanes: Vec<Id>,
+}
+
+/// `q` as chunk functions and the method that calls them (see the module's docs). `atoms` are
+/// the outputs as operands, `main_used` the inputs they read.
+pub(super) fn chunked(
+    plan: &Plan,
+    q: &Quantity,
+    form: Form,
+    header: Header,
+    atoms: &[TokenStream],
+    main_used: Vec<Id>,
+) -> super::function::Emitted {
+    let g = &plan.robot.graph;
+    let position: HashMap<Id, usize> = plan.order.iter().enumerate().map(|(k, &id)| (id, k)).collect();
+    let chunk = plan.robot.chunk_values;
+    let chunk_of = |id: &Id| position.get(id).map(|k| k / chunk);
+    let n_chunks = plan.order.len().div_ceil(chunk);
+    let in_place = writes_in_place(q, form);
+    // What each chunk reads from earlier ones (the last entry: the method, which reads the
+    // outputs it builds its result from when the result is not written in place), and what
+    // each hands on. Sets, because a chunk of a large function carries thousands of values.
+    let mut reads: Vec<BTreeSet<Id>> = vec![BTreeSet::new(); n_chunks + 1];
+    let mut handed: Vec<BTreeSet<Id>> = vec![BTreeSet::new(); n_chunks];
+    for &id in &plan.order {
+        let here = chunk_of(&id).unwrap_or(0);
+        for operand in plan.operands(id) {
+            if let Some(there) = chunk_of(&operand).filter(|&c| c < here) {
+                reads[here].insert(operand);
+                handed[there].insert(operand);
+            }
+        }
+    }
+    if !in_place {
+        for o in &q.outputs {
+            if let Some(c) = chunk_of(o) {
+                reads[n_chunks].insert(*o);
+                handed[c].insert(*o);
+            }
+        }
+    }
+    let handed: Vec<HandedOn> = handed
+        .into_iter()
+        .map(|ids| {
+            let (lanes, scalars) = ids.into_iter().partition(|&id| g.node(id).is_lanes());
+            HandedOn { scalars, lanes }
+        })
+        .collect();
+    let ty = form.value_type();
+    let zero = match form {
+        Form::Scalar => quote!(0.0),
+        Form::Lanes => quote!(L::splat(0.0)),
+    };
+    // The arrays chunk `c` hands on through: `h3: [f64; 120]`, `l3: [[f64; 8]; 40]`.
+    let array_names = |c: usize| (format_ident!("h{c}"), format_ident!("l{c}"));
+    let args = argument_names(&q.args);
+    let mut chunks = Vec::new();
+    let mut calls = Vec::new();
+    let mut arrays = Vec::new();
+    for (k, ids) in plan.order.chunks(chunk).enumerate() {
+        let chunk_name = format_ident!("{}{}_part{}", q.name(), header.suffix, k);
+        let outputs = match in_place {
+            true => OutputSlots::new(plan, q, atoms, |id| {
+                chunk_of(&id) == Some(k) || (k == 0 && chunk_of(&id).is_none())
+            }),
+            false => OutputSlots::new(plan, q, atoms, |_| false),
+        };
+        let mut used = Vec::new();
+        if in_place && k == 0 {
+            // The outputs that are inputs, written by the first chunk.
+            for o in q.outputs.iter().filter(|o| chunk_of(o).is_none()) {
+                plan.atom(*o, &mut used);
+            }
+        }
+        let mut unpack = Vec::new();
+        let mut extra_params = Vec::new();
+        let mut call_args: Vec<TokenStream> = args.iter().map(|a| quote!(#a)).collect();
+        if outputs.any() {
+            let ret = header.ret;
+            extra_params.push(Param::used(format_ident!("out"), quote!(&mut #ret)));
+            call_args.push(quote!(&mut out));
+            let (pattern, target) = (
+                slots_pattern(q, form, &outputs.pattern),
+                slots_target(q, form, quote!(out), true),
+            );
+            unpack.push(quote!(let #pattern = #target;));
+        }
+        // Earlier chunks' values this one reads: bound by reference at the top, read right
+        // before their first use.
+        let mut read_statements: HashMap<Id, TokenStream> = HashMap::new();
+        let (mut read_scalars, mut read_lanes) = (Vec::new(), Vec::new());
+        for (c, from) in handed.iter().enumerate().take(k) {
+            let (h, l) = array_names(c);
+            for (list, lanes) in [(&from.scalars, false), (&from.lanes, true)] {
+                if !list.iter().any(|id| reads[k].contains(id)) {
+                    continue;
+                }
+                let pattern = list.iter().map(|id| match reads[k].contains(id) {
+                    true => {
+                        let r = format_ident!("{}_in", plan.names[id]);
+                        quote!(#r)
+                    }
+                    false => quote!(_),
+                });
+                let (array, array_ty, len) = match lanes {
+                    true => (&l, quote!([f64; 8]), list.len()),
+                    false => (&h, ty.clone(), list.len()),
+                };
+                let len = Literal::usize_unsuffixed(len);
+                extra_params.push(Param::used(array.clone(), quote!(&[#array_ty; #len])));
+                call_args.push(quote!(&#array));
+                unpack.push(quote!(let [#(#pattern),*] = #array;));
+                for id in list.iter().filter(|id| reads[k].contains(id)) {
+                    let (name, r) = (&plan.names[id], format_ident!("{}_in", plan.names[id]));
+                    let statement = match lanes {
+                        true => quote!(#name = arith.eight(*#r);),
+                        false => quote!(#name = *#r;),
+                    };
+                    read_statements.insert(*id, statement);
+                    match lanes {
+                        true => read_lanes.push(name.clone()),
+                        false => read_scalars.push(name.clone()),
+                    }
+                }
+            }
+        }
+        for (names, ty) in [(&read_scalars, ty.clone()), (&read_lanes, quote!(M::Eight))] {
+            if !names.is_empty() {
+                let len = Literal::usize_unsuffixed(names.len());
+                unpack.push(quote!(let [#(#names),*]: [#ty; #len];));
+            }
+        }
+        // This chunk's own arrays: each value written as soon as it is computed.
+        let mut slots = outputs.slots;
+        let (h, l) = array_names(k);
+        for (list, array, array_ty, fill) in [
+            (&handed[k].scalars, &h, ty.clone(), zero.clone()),
+            (&handed[k].lanes, &l, quote!([f64; 8]), quote!([0.0; 8])),
+        ] {
+            if list.is_empty() {
+                continue;
+            }
+            let writes: Vec<Ident> = list
+                .iter()
+                .map(|id| format_ident!("{}_out", plan.names[id]))
+                .collect();
+            for (id, w) in list.iter().zip(&writes) {
+                slots.entry(*id).or_default().push(w.clone());
+            }
+            let len = Literal::usize_unsuffixed(list.len());
+            extra_params.push(Param::used(array.clone(), quote!(&mut [#array_ty; #len])));
+            call_args.push(quote!(&mut #array));
+            unpack.push(quote!(let [#(#writes),*] = #array;));
+            arrays.push(quote!(let mut #array: [#array_ty; #len] = [#fill; #len];));
+        }
+        let immediate = &outputs.immediate;
+        let statements = plan.statements_writing(ids, &mut used, &slots, &read_statements);
+        let sig = signature(plan.robot, plan.leaves, &q.args, &used, header.n, form);
+        let (mut params, prelude) = (sig.params, sig.prelude);
+        params.extend(extra_params);
+        let reads_lanes = !read_lanes.is_empty();
+        chunks.push(function_item(
+            form,
+            quote!(#[inline(never)]),
+            &chunk_name,
+            &params,
+            &TokenStream::new(),
+            plan.uses_arith(ids) || reads_lanes,
+            plan.uses_lanes(ids) || reads_lanes,
+            header.many_registers,
+            quote!(#(#prelude)* #(#unpack)* #(#immediate)* #(#statements)*),
+        ));
+        calls.push(quote!(#chunk_name(#(#call_args),*);));
+    }
+    let (name, generics, ret, doc) = (header.name, header.generics, header.ret, header.doc);
+    let params = all_parameters(&q.args, header.n, form, plan.leaves.floating_joints);
+    let body = match in_place {
+        true => {
+            let zero = zero_result(q, form);
+            quote! {
+                let mut out: #ret = #zero;
+                #(#arrays)*
+                #(#calls)*
+                out
+            }
+        }
+        false => {
+            // The outputs come back through the chunks' arrays.
+            let mut taken = Vec::new();
+            for (c, from) in handed.iter().enumerate() {
+                let (h, _) = array_names(c);
+                if from.scalars.iter().any(|id| reads[n_chunks].contains(id)) {
+                    let pattern = from.scalars.iter().map(|id| match reads[n_chunks].contains(id) {
+                        true => {
+                            let name = &plan.names[id];
+                            quote!(#name)
+                        }
+                        false => quote!(_),
+                    });
+                    taken.push(quote!(let [#(#pattern),*] = #h;));
+                }
+            }
+            let prelude = signature(plan.robot, plan.leaves, &q.args, &main_used, header.n, form).prelude;
+            let result = super::function::result_value(q, form, atoms);
+            quote! {
+                #(#prelude)*
+                #(#arrays)*
+                #(#calls)*
+                #(#taken)*
+                #result
+            }
+        }
+    };
+    let method = quote! {
+        #(#[doc = #doc])*
+        #[inline(never)]
+        fn #name #generics(#(#params),*) -> #ret {
+            #body
+        }
+    };
+    super::function::Emitted { method, chunks }
+}
