@@ -22,14 +22,13 @@ use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 use std::collections::{BTreeSet, HashMap};
 
-/// Values per chunk function as traced ([`crate::generate::trace::SymbolicRobot::chunk_values`]). Larger functions run faster (nothing is copied between chunks:
-/// the Panda's `C` and `Y` run 15–18% faster whole than in chunks of 1024, and every function of
-/// a 7-DOF arm but the derivatives of the dynamics fits in one chunk), while chunks bound the
-/// size of what LLVM optimises at once, whose cost grows faster than linearly, for very large
-/// robots. (The Panda's derivatives, about 7,000 values, ran no faster whole, in chunks of 16384.)
-/// Chunks do not shrink what a call runs: the Panda's `∂q̈/∂x`, 39 KB of machine code, is over a
-/// 32 KiB level-1 instruction cache either way, and splitting it made the total larger and the
-/// call 15% slower (`BENCHMARKS.md`).
+/// Values per chunk function as traced ([`crate::generate::trace::SymbolicRobot::chunk_values`]).
+/// Chunks bound the size of what LLVM optimises at once, whose cost grows faster than linearly,
+/// for very large robots; every function of a 7-DOF arm but its derivatives fits in one. Chunks
+/// do not shrink what a call runs, and a chunk boundary costs a store and a load for each value
+/// that crosses it: when chunks still handed their values on by copying, the Panda's `C` and
+/// `Y` ran 15–18% faster whole than in chunks of 1024 and its `∂q̈/∂x` (about 7,000 values) 15%
+/// faster whole than in two chunks (`BENCHMARKS.md`).
 pub const CHUNK_VALUES: usize = 4096;
 
 /// What the chunked function is called and returns.
