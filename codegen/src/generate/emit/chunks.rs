@@ -44,7 +44,6 @@ pub(super) struct Header<'a> {
 
 /// The values one chunk hands on, scalars and lane vectors apart, each at its index in the
 /// chunk's array of that kind.
-#[derive(Default)]
 struct HandedOn {
     scalars: Vec<Id>,
     lanes: Vec<Id>,
