@@ -135,11 +135,9 @@ pub(super) fn function(
         Form::Scalar => "",
         Form::Lanes => LANES_SUFFIX,
     };
-    let n_chunks = plan.order.len().div_ceil(robot.chunk_values).max(1);
     let name = format_ident!("{}{suffix}", q.name());
     let mut main_used = Vec::new();
     let atoms: Vec<TokenStream> = q.outputs.iter().map(|&o| plan.atom(o, &mut main_used)).collect();
-    let result = result_value(q, form, &atoms);
     let ret = match (form, q.shape) {
         (Form::Lanes, Shape::Vector(len)) => {
             let len = Literal::usize_unsuffixed(len);
@@ -186,12 +184,13 @@ pub(super) fn function(
         );
     }
     let many_registers = matches!(q.shape, Shape::MatrixPair(_)) || plan.order.len() > MANY_VALUES;
-    if n_chunks == 1 {
+    if plan.order.len() <= robot.chunk_values {
         let mut used = main_used;
         let body = match writes_in_place(q, form) {
             true => written_in_place(&plan, q, form, &ret, &atoms, &mut used),
             false => {
                 let statements = plan.statements(&plan.order, &mut used);
+                let result = result_value(q, form, &atoms);
                 quote!(#(#statements)* #result)
             }
         };

@@ -7,16 +7,9 @@
 //! the lane form, for every result shape), into one fresh crate whose test calls every function
 //! of both at several states and compares the results bit for bit.
 
+use super::generated_crate::{cargo, workspace_root, write_crate};
 use dyngen_codegen::description::load;
 use dyngen_codegen::internals::generate::{emit, trace, Provenance, CHUNK_VALUES};
-use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn workspace_root() -> PathBuf {
-    Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
-        .canonicalize()
-        .expect("workspace root")
-}
 
 /// Values per chunk in the chunked copy: small enough that every function of more than a few
 /// dozen operations is split, several times over.
@@ -178,37 +171,11 @@ fn chunked_functions_compute_what_whole_ones_do() {
     }
     std::fs::write(krate.join("src/whole.rs"), whole).expect("whole.rs");
     std::fs::write(krate.join("src/chunked.rs"), chunked).expect("chunked.rs");
-    std::fs::write(
-        krate.join("src/lib.rs"),
-        "#![deny(warnings)]\n\npub mod chunked;\npub mod whole;\n",
-    )
-    .expect("lib.rs");
+    write_crate(krate, "generated-chunks", &["chunked", "whole"]);
     std::fs::write(krate.join("tests/chunks.rs"), COMPARISON).expect("test");
-    let manifest = format!(
-        "[package]\nname = \"generated-chunks\"\nversion = \"0.0.0\"\nedition = \"2021\"\npublish = false\n\n\
-         [dependencies]\ndyngen-runtime = {{ path = {:?} }}\n\n[workspace]\n",
-        root.join("runtime").display().to_string()
-    );
-    std::fs::write(krate.join("Cargo.toml"), manifest).expect("Cargo.toml");
-    std::fs::copy(root.join("Cargo.lock"), krate.join("Cargo.lock")).expect("Cargo.lock");
-
-    let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     // Optimised: the kernels run through the same dispatch as a user's release build.
-    let out = Command::new(cargo)
-        .args(["test", "--release", "--offline", "--manifest-path"])
-        .arg(krate.join("Cargo.toml"))
-        .arg("--target-dir")
-        .arg(root.join("target/generated-crate"))
-        .output()
-        .expect("cargo runs");
-    let (stdout, stderr) = (
-        String::from_utf8_lossy(&out.stdout),
-        String::from_utf8_lossy(&out.stderr),
-    );
-    assert!(
-        out.status.success(),
-        "the chunked crate's test fails:\n{stdout}\n{stderr}"
-    );
+    let (success, stdout, stderr) = cargo(krate, &["test", "--release"]);
+    assert!(success, "the chunked crate's test fails:\n{stdout}\n{stderr}");
     assert!(
         stdout.contains("test chunked_functions_compute_what_whole_ones_do ... ok"),
         "the comparison ran:\n{stdout}"

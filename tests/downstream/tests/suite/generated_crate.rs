@@ -10,7 +10,7 @@ use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-fn workspace_root() -> PathBuf {
+pub(super) fn workspace_root() -> PathBuf {
     Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../.."))
         .canonicalize()
         .expect("workspace root")
@@ -93,9 +93,9 @@ fn generated_functions_match_the_generic_dynamics() {{
     )
 }
 
-/// A fresh crate `name` in `krate` around `src/robot.rs` (already written), depending on
-/// nothing but `dyngen-runtime`, with `#![deny(warnings)]`.
-fn write_crate(krate: &Path, name: &str) {
+/// A fresh crate `name` in `krate` around the modules `src/<module>.rs` (already written),
+/// depending on nothing but `dyngen-runtime`, with `#![deny(warnings)]`.
+pub(super) fn write_crate(krate: &Path, name: &str, modules: &[&str]) {
     let root = workspace_root();
     let manifest = format!(
         "[package]\nname = \"{name}\"\nversion = \"0.0.0\"\nedition = \"2021\"\npublish = false\n\n\
@@ -107,11 +107,16 @@ fn write_crate(krate: &Path, name: &str) {
     // The workspace's versions of nalgebra and the rest, already in the local registry cache:
     // an offline build needs nothing new.
     std::fs::copy(root.join("Cargo.lock"), krate.join("Cargo.lock")).expect("Cargo.lock");
-    std::fs::write(krate.join("src/lib.rs"), "#![deny(warnings)]\n\npub mod robot;\n").expect("lib.rs");
+    let modules: String = modules.iter().map(|m| format!("pub mod {m};\n")).collect();
+    std::fs::write(
+        krate.join("src/lib.rs"),
+        format!("#![deny(warnings)]\n\n{modules}"),
+    )
+    .expect("lib.rs");
 }
 
 /// `cargo <args> --offline` in the crate at `krate`: (success, stdout, stderr).
-fn cargo(krate: &Path, args: &[&str]) -> (bool, String, String) {
+pub(super) fn cargo(krate: &Path, args: &[&str]) -> (bool, String, String) {
     let cargo = std::env::var("CARGO").unwrap_or_else(|_| "cargo".into());
     let out = Command::new(cargo)
         .args(args)
@@ -145,7 +150,7 @@ fn a_crate_generated_through_the_builder_compiles_and_matches() {
         .compile()
         .unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(written, krate.join("src/robot.rs"));
-    write_crate(krate, "generated-two-dof");
+    write_crate(krate, "generated-two-dof", &["robot"]);
     std::fs::write(krate.join("tests/values.rs"), comparison_test(&model)).expect("test");
 
     let (success, stdout, stderr) = cargo(krate, &["test"]);
@@ -182,7 +187,7 @@ fn a_missing_group_is_a_compile_error_that_says_how_to_generate_it() {
     ] {
         assert!(!code.contains(absent), "{absent} generated without being chosen");
     }
-    write_crate(krate, "generated-two-dof-dynamics-only");
+    write_crate(krate, "generated-two-dof-dynamics-only", &["robot"]);
     let (success, _, stderr) = cargo(krate, &["build", "--lib"]);
     assert!(
         success,
