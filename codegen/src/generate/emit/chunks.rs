@@ -26,7 +26,7 @@ use std::collections::{BTreeSet, HashMap};
 /// Chunks bound the size of what LLVM optimises at once, whose cost grows faster than linearly,
 /// for very large robots; every function of a 7-DOF arm but its derivatives fits in one. Chunks
 /// do not shrink what a call runs, and a chunk boundary costs a store and a load for each value
-/// that crosses it: with values copied between chunks (measured so), the Panda's `C` and
+/// that crosses it: measured with the values copied between chunks, the Panda's `C` and
 /// `Y` ran 15–18% faster whole than in chunks of 1024 and its `∂q̈/∂x` (about 7,000 values) 15%
 /// faster whole than in two chunks (`BENCHMARKS.md`).
 pub const CHUNK_VALUES: usize = 4096;
