@@ -20,10 +20,13 @@
 //! processor without FMA: tests compare the two forms with it (it is reached through the hidden
 //! `__private`, like everything here, and is not part of the API).
 
-/// How a kernel computes `a·b + c`, and in which registers it holds eight lanes.
+/// How a kernel computes `a·b + c`, and in which registers it holds eight or four lanes.
 pub trait MulAdd: Copy {
     /// The eight-lane vector of a kernel that carries tangents in lanes ([`dispatch_eight`]).
     type Eight: EightLanes;
+    /// The four-lane vector of a kernel that computes four rows of a column at once (the
+    /// regressors, [`dispatch_eight`]).
+    type Four: FourLanes;
     fn mul_add(self, a: f64, b: f64, c: f64) -> f64;
     /// The lane vector of `lanes`.
     fn eight(self, lanes: [f64; 8]) -> Self::Eight;
@@ -32,9 +35,16 @@ pub trait MulAdd: Copy {
     fn splat_eight(self, x: f64) -> Self::Eight {
         self.eight([x; 8])
     }
+    /// The four-lane vector of `lanes`.
+    fn four(self, lanes: [f64; 4]) -> Self::Four;
+    /// Every lane `x`.
+    #[inline(always)]
+    fn splat_four(self, x: f64) -> Self::Four {
+        self.four([x; 4])
+    }
 }
 
-use crate::eight_lanes::EightLanes;
+use crate::lane_vectors::{EightLanes, FourLanes};
 
 /// `a·b + c` as written: two roundings, on any processor.
 #[derive(Clone, Copy, Debug)]
@@ -42,6 +52,7 @@ pub struct Unfused;
 
 impl MulAdd for Unfused {
     type Eight = wide::f64x8;
+    type Four = wide::f64x4;
     #[inline(always)]
     fn mul_add(self, a: f64, b: f64, c: f64) -> f64 {
         a * b + c
@@ -49,6 +60,10 @@ impl MulAdd for Unfused {
     #[inline(always)]
     fn eight(self, lanes: [f64; 8]) -> wide::f64x8 {
         wide::f64x8::new(lanes)
+    }
+    #[inline(always)]
+    fn four(self, lanes: [f64; 4]) -> wide::f64x4 {
+        wide::f64x4::new(lanes)
     }
 }
 
@@ -65,7 +80,11 @@ impl MulAdd for Fused {
     #[cfg(all(target_feature = "avx2", target_feature = "fma"))]
     type Eight = wide::f64x8;
     #[cfg(not(all(target_feature = "avx2", target_feature = "fma")))]
-    type Eight = crate::eight_lanes_x86::Avx2Eight;
+    type Eight = crate::lane_vectors_x86::Avx2Eight;
+    #[cfg(all(target_feature = "avx2", target_feature = "fma"))]
+    type Four = wide::f64x4;
+    #[cfg(not(all(target_feature = "avx2", target_feature = "fma")))]
+    type Four = crate::lane_vectors_x86::Avx2Four;
     #[inline(always)]
     fn mul_add(self, a: f64, b: f64, c: f64) -> f64 {
         // SAFETY: a `Fused` exists only where the processor has FMA (see the type). Inlined into
@@ -78,7 +97,15 @@ impl MulAdd for Fused {
         return wide::f64x8::new(lanes);
         // SAFETY: a `Fused` exists only where the processor has AVX2 and FMA (see the type).
         #[cfg(not(all(target_feature = "avx2", target_feature = "fma")))]
-        return unsafe { crate::eight_lanes_x86::Avx2Eight::new(lanes) };
+        return unsafe { crate::lane_vectors_x86::Avx2Eight::new(lanes) };
+    }
+    #[inline(always)]
+    fn four(self, lanes: [f64; 4]) -> Self::Four {
+        #[cfg(all(target_feature = "avx2", target_feature = "fma"))]
+        return wide::f64x4::new(lanes);
+        // SAFETY: a `Fused` exists only where the processor has AVX2 and FMA (see the type).
+        #[cfg(not(all(target_feature = "avx2", target_feature = "fma")))]
+        return unsafe { crate::lane_vectors_x86::Avx2Four::new(lanes) };
     }
 }
 
@@ -97,7 +124,9 @@ pub struct Fused512(());
     not(all(target_feature = "avx2", target_feature = "fma"))
 ))]
 impl MulAdd for Fused512 {
-    type Eight = crate::eight_lanes_x86::Avx512Eight;
+    type Eight = crate::lane_vectors_x86::Avx512Eight;
+    /// Four lanes fill one AVX register (with AVX-512's 32 of them and its EVEX encodings).
+    type Four = crate::lane_vectors_x86::Avx2Four;
     #[inline(always)]
     fn mul_add(self, a: f64, b: f64, c: f64) -> f64 {
         // SAFETY: a `Fused512` exists only where the processor has FMA (see the type).
@@ -106,7 +135,12 @@ impl MulAdd for Fused512 {
     #[inline(always)]
     fn eight(self, lanes: [f64; 8]) -> Self::Eight {
         // SAFETY: a `Fused512` exists only where the processor has AVX-512F (see the type).
-        unsafe { crate::eight_lanes_x86::Avx512Eight::new(lanes) }
+        unsafe { crate::lane_vectors_x86::Avx512Eight::new(lanes) }
+    }
+    #[inline(always)]
+    fn four(self, lanes: [f64; 4]) -> Self::Four {
+        // SAFETY: a `Fused512` exists only where the processor has AVX2 and FMA (see the type).
+        unsafe { crate::lane_vectors_x86::Avx2Four::new(lanes) }
     }
 }
 
@@ -125,7 +159,7 @@ pub fn dispatch<K: Kernel<Args>, Args>(args: Args) -> K::Output {
     choice::dispatch::<K, Args>(args)
 }
 
-/// [`dispatch`] for a kernel that carries eight lanes (`M::Eight`), or that holds far more values
+/// [`dispatch`] for a kernel that carries lane vectors (`M::Eight`, `M::Four`), or that holds far more values
 /// than sixteen registers (the derivatives of the dynamics, `C`, the regressors): in a build
 /// that chooses at run time, a processor with AVX-512 (F, DQ, BW, VL) runs it with [`Fused512`]
 /// inside a function compiled for AVX-512 (one register per lane vector and 32 registers, as a

@@ -39,18 +39,18 @@
 ))]
 mod cpu;
 mod dispatch;
-mod eight_lanes;
-#[cfg(all(
-    target_arch = "x86_64",
-    not(all(target_feature = "avx2", target_feature = "fma"))
-))]
-mod eight_lanes_x86;
 mod fill;
 mod floating;
 mod floating_robot;
 mod frame;
 mod frames;
 mod joint;
+mod lane_vectors;
+#[cfg(all(
+    target_arch = "x86_64",
+    not(all(target_feature = "avx2", target_feature = "fma"))
+))]
+mod lane_vectors_x86;
 mod lanes;
 mod mul_add;
 mod parameter;
@@ -99,14 +99,14 @@ pub mod __private {
     ))]
     pub use crate::dispatch::Fused512;
     pub use crate::dispatch::{dispatch, dispatch_eight, Kernel, MulAdd, Unfused};
-    pub use crate::eight_lanes::EightLanes;
+    pub use crate::fill::fill_zero;
+    pub use crate::frame::align_stack_frame;
+    pub use crate::lane_vectors::{EightLanes, FourLanes};
     #[cfg(all(
         target_arch = "x86_64",
         not(all(target_feature = "avx2", target_feature = "fma"))
     ))]
-    pub use crate::eight_lanes_x86::{Avx2Eight, Avx512Eight};
-    pub use crate::fill::fill_zero;
-    pub use crate::frame::align_stack_frame;
+    pub use crate::lane_vectors_x86::{Avx2Eight, Avx2Four, Avx512Eight};
     pub use crate::lanes::sign;
     pub use libm;
 

@@ -46,7 +46,7 @@ pub(crate) use inertias::{body_inertias, inertias_from_parameters};
 pub(crate) use joint::joint_transforms;
 pub(crate) use joint_terms::{add_armature, add_torques, joint_term_torques, joint_term_values};
 pub(crate) use kinematics::{body_poses, end_effector_pose, jacobian, jacobian_dot};
-pub(crate) use regressor::{regressor, regressor_by_jacobians};
+pub(crate) use regressor::{regressor, regressor_by_jacobians, regressor_row_lanes, ROW_LANES};
 pub(crate) use regressor_products::regressor_products;
 pub(crate) use singular::singular_joints;
 pub(crate) use slotine_li::{gravity_torque, inverse_dynamics, slotine_li};

@@ -19,6 +19,17 @@ pub(crate) struct BodyMotion<S> {
     pub wdot: Motion<S>,
 }
 
+impl<S: Copy> BodyMotion<S> {
+    /// `f` entry by entry.
+    pub fn map<T>(&self, f: impl Fn(S) -> T) -> BodyMotion<T> {
+        BodyMotion {
+            vel: self.vel.map(&f),
+            w: self.w.map(&f),
+            wdot: self.wdot.map(&f),
+        }
+    }
+}
+
 /// Forward pass: the velocities and reference accelerations of every body, in body frames.
 /// `gravity: None` leaves gravity out (for `C` and `D` alone).
 pub(crate) fn forward_pass<S: Scalar, X: JointFrame<S>>(

@@ -8,9 +8,11 @@ use crate::dynamics::{self, Directions};
 use crate::functions::{FunctionGroup, Functions};
 use crate::model::Model;
 use crate::scalar::Scalar;
-use crate::symbolic::{record, Expr, Graph, Id};
+use crate::scalar_dual::{LaneTangent, Tangent};
+use crate::symbolic::{record, Expr, Graph, Id, LaneExpr};
 use dyngen_runtime::ReferenceFrame;
 use nalgebra::DMatrix;
+use std::collections::HashMap;
 
 /// The vectors a generated function takes besides the joint sines and cosines.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -124,6 +126,10 @@ pub struct SymbolicRobot {
     /// computes more is emitted in chunks. Tests set it small to run the chunked code of a small
     /// robot.
     pub chunk_values: usize,
+    /// The outputs of functions computed in lane vectors (the regressors, four rows at a time)
+    /// in a scalar formulation, by function name: the form for several states per call
+    /// (`_lanes`), generic over its lane type, computes these.
+    pub scalar_forms: HashMap<String, Vec<Id>>,
 }
 
 use super::emit::CHUNK_VALUES;
@@ -156,7 +162,7 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
 pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functions) -> SymbolicRobot {
     let n = model.dof();
     let regressors = functions.contains(FunctionGroup::Regressors);
-    let (graph, (inputs, mut quantities, other_forms)) = record(|| {
+    let (graph, (inputs, mut quantities, other_forms, row_lane_forms)) = record(|| {
         let (q, qd, v, a) = (inputs("q", n), inputs("qd", n), inputs("v", n), inputs("a", n));
         let x = dynamics::joint_transforms(model, &q);
         let world = dynamics::body_poses(model, &x);
@@ -314,6 +320,10 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
                 other_forms.push((base_name.to_string(), y_base));
             }
         }
+        let row_lane_forms = match regressors {
+            true => row_lane_regressors(model, &x, [&qd, &v, &a], &base),
+            false => Vec::new(),
+        };
         quantities.retain(|q| functions.contains(q.kind.group()));
         (
             Inputs {
@@ -329,11 +339,21 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
             },
             quantities,
             other_forms,
+            row_lane_forms,
         )
     });
     // Each function in its other formulation where that costs less: the derivatives in lanes
     // rather than one direction at a time, some frame quantities by another algorithm.
     keep_cheaper(&graph, &mut quantities, other_forms);
+    // The regressors four rows at a time, their cheaper scalar form kept for several states per
+    // call: on three arms (Panda, UR5, the xArm as written) the row lanes compiled to 10–40%
+    // fewer instructions and ran 1.3–3× faster (`BENCHMARKS.md`), fewer operations or not.
+    let mut scalar_forms = HashMap::new();
+    for (name, outputs) in row_lane_forms {
+        if let Some(q) = quantities.iter_mut().find(|q| q.name() == name) {
+            scalar_forms.insert(name, std::mem::replace(&mut q.outputs, outputs));
+        }
+    }
     SymbolicRobot {
         graph,
         inputs,
@@ -341,6 +361,7 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
         base,
         functions,
         chunk_values: CHUNK_VALUES,
+        scalar_forms,
     }
 }
 
@@ -508,20 +529,62 @@ pub(super) fn base_columns(y: &[Id], base: &BaseParameterSet, n: usize) -> Vec<I
 /// 2,178 → 1,761; Slotine–Li `Y`: Panda 3,108 → 2,397). A parameter that folds into nothing has
 /// a zero column.
 pub(super) fn full_from_base(y: &DMatrix<Expr>, base: &BaseParameterSet) -> DMatrix<Expr> {
-    let mut full = DMatrix::from_element(y.nrows(), y.ncols(), Expr::zero());
+    full_from_base_entries(y, base, <Expr as Scalar>::zero(), |c, e| Expr::from_f64(c) * e)
+}
+
+/// [`full_from_base`] on any entries: scalars, or the lane vectors of rows computed side by side
+/// (`scale(c, e)` is `c·e`).
+fn full_from_base_entries<T: nalgebra::Scalar + Copy + std::ops::Add<Output = T>>(
+    y: &DMatrix<T>,
+    base: &BaseParameterSet,
+    zero: T,
+    scale: impl Fn(f64, T) -> T,
+) -> DMatrix<T> {
+    let mut full = DMatrix::from_element(y.nrows(), y.ncols(), zero);
     for (k, terms) in base.terms.iter().enumerate() {
         let kept = base.columns[k];
         for &(j, c) in terms {
             for r in 0..y.nrows() {
                 let scaled = match c == 1.0 {
                     true => y[(r, kept)],
-                    false => Expr::from_f64(c) * y[(r, kept)],
+                    false => scale(c, y[(r, kept)]),
                 };
                 full[(r, j)] = full[(r, j)] + scaled;
             }
         }
     }
     full
+}
+
+/// The four regressors (Slotine–Li and torque form, all and base columns) with their columns
+/// computed [`dynamics::ROW_LANES`] rows at a time ([`dynamics::regressor_row_lanes`]), by
+/// function name: the folded columns rebuilt from the base columns on the lane vectors. Traced
+/// last, so the other functions keep their node ids.
+fn row_lane_regressors(
+    model: &Model,
+    x: &[crate::spatial::Transform<Expr>],
+    [qd, v, a]: [&[Expr]; 3],
+    base: &BaseParameterSet,
+) -> Vec<(String, Vec<Id>)> {
+    let n = model.dof();
+    let mut forms = Vec::new();
+    for (name, base_name, v) in [
+        ("regressor", "base_regressor", v),
+        ("torque_regressor", "base_torque_regressor", qd),
+    ] {
+        let runs = dynamics::regressor_row_lanes(model, x, qd, v, a);
+        let runs = DMatrix::from_fn(runs.len(), model.parameter_count(), |r, c| runs[r][c]);
+        let full = full_from_base_entries(&runs, base, LaneExpr::zero(), |c, e| e.scale(Expr::from_f64(c)));
+        let rows = dynamics::ROW_LANES;
+        let y: Vec<Id> = (0..full.ncols())
+            .flat_map(|c| (0..n).map(move |i| (i, c)))
+            .map(|(i, c)| full[(i / rows, c)].lane(i % rows).id())
+            .collect();
+        let y_base = base_columns(&y, base, n);
+        forms.push((name.to_string(), y));
+        forms.push((base_name.to_string(), y_base));
+    }
+    forms
 }
 
 /// `(Y θ, Yᵀ r)` of the Slotine–Li regressor and `(Y_b θ_b, Y_bᵀ r)` of its base columns,

@@ -248,5 +248,6 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
         base: base_parameters,
         functions: floating_functions(),
         chunk_values: super::emit::CHUNK_VALUES,
+        scalar_forms: std::collections::HashMap::new(),
     }
 }

@@ -30,6 +30,16 @@ pub struct Force<S> {
     pub lin: Vec3<S>,
 }
 
+impl<S: Copy> Motion<S> {
+    /// `f` entry by entry (a motion over another scalar type).
+    pub fn map<T>(&self, f: impl Fn(S) -> T) -> Motion<T> {
+        Motion {
+            ang: self.ang.map(&f),
+            lin: self.lin.map(&f),
+        }
+    }
+}
+
 impl<S: Scalar> Motion<S> {
     pub fn zero() -> Self {
         Motion {

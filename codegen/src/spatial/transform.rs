@@ -11,6 +11,16 @@ pub struct Transform<S> {
     pub pos: Vec3<S>,
 }
 
+impl<S: Copy> Transform<S> {
+    /// `f` entry by entry (a transform over another scalar type).
+    pub fn map<T>(&self, f: impl Fn(S) -> T) -> Transform<T> {
+        Transform {
+            rot: self.rot.map(&f),
+            pos: self.pos.map(&f),
+        }
+    }
+}
+
 impl<S: Scalar> Transform<S> {
     pub fn identity() -> Self {
         Transform {

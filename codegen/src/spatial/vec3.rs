@@ -10,6 +10,20 @@ pub struct Vec3<S>(pub [S; 3]);
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Mat3<S>(pub [[S; 3]; 3]);
 
+impl<S: Copy> Vec3<S> {
+    /// `f` entry by entry (a vector over another scalar type).
+    pub fn map<T>(&self, f: impl Fn(S) -> T) -> Vec3<T> {
+        Vec3(self.0.map(f))
+    }
+}
+
+impl<S: Copy> Mat3<S> {
+    /// `f` entry by entry.
+    pub fn map<T>(&self, f: impl Fn(S) -> T) -> Mat3<T> {
+        Mat3(self.0.map(|row| row.map(&f)))
+    }
+}
+
 impl<S: Scalar> Vec3<S> {
     pub fn zero() -> Self {
         Vec3([S::zero(); 3])

@@ -100,6 +100,8 @@ pub(super) fn chunked(
         Form::Lanes => quote!(L::splat(0.0)),
     };
     // The arrays chunk `c` hands on through: `h3: [f64; 120]`, `l3: [[f64; 8]; 40]`.
+    let width = Literal::usize_unsuffixed(plan.lanes.lanes());
+    let lane_array = quote!([f64; #width]);
     let array_names = |c: usize| (format_ident!("h{c}"), format_ident!("l{c}"));
     let args = argument_names(&q.args);
     let mut chunks = Vec::new();
@@ -151,7 +153,7 @@ pub(super) fn chunked(
                     false => quote!(_),
                 });
                 let (array, array_ty, len) = match lanes {
-                    true => (&l, quote!([f64; 8]), list.len()),
+                    true => (&l, lane_array.clone(), list.len()),
                     false => (&h, ty.clone(), list.len()),
                 };
                 let len = Literal::usize_unsuffixed(len);
@@ -161,7 +163,10 @@ pub(super) fn chunked(
                 for id in list.iter().filter(|id| reads[k].contains(id)) {
                     let (name, r) = (&plan.names[id], format_ident!("{}_in", plan.names[id]));
                     let statement = match lanes {
-                        true => quote!(#name = arith.eight(*#r);),
+                        true => {
+                            let built = plan.lanes.build(quote!(*#r));
+                            quote!(#name = #built;)
+                        }
                         false => quote!(#name = *#r;),
                     };
                     read_statements.insert(*id, statement);
@@ -172,7 +177,10 @@ pub(super) fn chunked(
                 }
             }
         }
-        for (names, ty) in [(&read_scalars, ty.clone()), (&read_lanes, quote!(M::Eight))] {
+        for (names, ty) in [
+            (&read_scalars, ty.clone()),
+            (&read_lanes, plan.lanes.vector_type()),
+        ] {
             if !names.is_empty() {
                 let len = Literal::usize_unsuffixed(names.len());
                 unpack.push(quote!(let [#(#names),*]: [#ty; #len];));
@@ -183,7 +191,7 @@ pub(super) fn chunked(
         let (h, l) = array_names(k);
         for (list, array, array_ty, fill) in [
             (&handed[k].scalars, &h, ty.clone(), zero.clone()),
-            (&handed[k].lanes, &l, quote!([f64; 8]), quote!([0.0; 8])),
+            (&handed[k].lanes, &l, lane_array.clone(), quote!([0.0; #width])),
         ] {
             if list.is_empty() {
                 continue;
@@ -214,7 +222,7 @@ pub(super) fn chunked(
             &params,
             &TokenStream::new(),
             plan.uses_arith(ids) || reads_lanes,
-            plan.uses_lanes(ids) || reads_lanes,
+            (plan.uses_lanes(ids) || reads_lanes).then_some(plan.lanes),
             header.many_registers,
             quote!(#(#prelude)* #(#unpack)* #(#immediate)* #(#statements)*),
         ));

@@ -2,6 +2,7 @@
 //! at the end), the kernel and dispatch around it, and its chunks when it is large.
 
 use super::chunks::{chunked, Header};
+use super::lane_width::LaneWidth;
 use super::leaves::Leaves;
 use super::plan::{Form, Plan};
 use super::signature::{signature, Param};
@@ -14,7 +15,7 @@ use std::collections::HashMap;
 /// A generated function. A scalar one runs its body as a `dyngen_runtime::__private::Kernel`
 /// through `dyngen_runtime::__private::dispatch`: with the processor's fused multiply-adds even in
 /// a build that does not target them (the body names its multiply-adds `arith.mul_add`), and
-/// through `dyngen_runtime::__private::dispatch_eight` where it carries lane vectors (`uses_lanes`)
+/// through `dyngen_runtime::__private::dispatch_eight` where it carries lane vectors (`lanes`)
 /// or holds far more values than sixteen registers (`many_registers`, see [`MANY_VALUES`]: a
 /// default build then runs it compiled for AVX-512 where the processor has it, with the 32
 /// registers of a native build). A lane function is generic over its lane type instead, and aligns
@@ -27,7 +28,7 @@ pub(super) fn function_item(
     params: &[Param],
     ret: &TokenStream,
     uses_arith: bool,
-    uses_lanes: bool,
+    lanes: Option<LaneWidth>,
     many_registers: bool,
     body: TokenStream,
 ) -> TokenStream {
@@ -58,16 +59,16 @@ pub(super) fn function_item(
         true => format_ident!("arith"),
         false => format_ident!("_arith"),
     };
-    let dispatch = match uses_lanes || many_registers {
+    let dispatch = match lanes.is_some() || many_registers {
         true => quote!(dyngen_runtime::__private::dispatch_eight),
         false => quote!(dyngen_runtime::__private::dispatch),
     };
-    // A kernel with lane vectors calls their multiply-adds as methods of `M::Eight`.
-    let lane_methods = match uses_lanes {
-        true => quote!(
-            use dyngen_runtime::__private::EightLanes as _;
+    // A kernel with lane vectors calls their multiply-adds as methods of `M::Eight` (`M::Four`).
+    let lane_methods = match lanes.map(LaneWidth::vector_trait) {
+        Some(t) => quote!(
+            use #t as _;
         ),
-        false => quote!(),
+        None => quote!(),
     };
     quote! {
         #attributes
@@ -86,7 +87,7 @@ pub(super) fn function_item(
     }
 }
 
-fn doc_counts(c: &OpCounts) -> String {
+fn doc_counts(c: &OpCounts, lanes: LaneWidth) -> String {
     let mut s = format!("Operations: {} mul, {} add/sub, {} neg", c.mul, c.add, c.neg);
     if c.div > 0 {
         s += &format!(", {} div", c.div);
@@ -98,8 +99,12 @@ fn doc_counts(c: &OpCounts) -> String {
         s += &format!(", {} sign/tanh", c.friction);
     }
     if c.lanes > 0 {
+        let (ty, count) = match lanes {
+            LaneWidth::Four => ("f64x4", "four"),
+            LaneWidth::Eight => ("f64x8", "eight"),
+        };
         s += &format!(
-            ", and {} lane ops (f64x8: each on eight lanes at once; splats, seeds and lane \
+            ", and {} lane ops ({ty}: each on {count} lanes at once; splats, seeds and lane \
              extractions included)",
             c.lanes
         );
@@ -172,7 +177,7 @@ pub(super) fn function(
             }
         },
     };
-    let mut doc = vec![doc_counts(&robot.graph.op_counts(&q.outputs))];
+    let mut doc = vec![doc_counts(&robot.graph.op_counts(&q.outputs), plan.lanes)];
     if q.kind.uses_base_columns() {
         let columns: Vec<String> = robot.base.columns.iter().map(|c| c.to_string()).collect();
         doc.insert(
@@ -203,7 +208,7 @@ pub(super) fn function(
             &params,
             &ret,
             plan.uses_arith(&plan.order),
-            plan.uses_lanes(&plan.order),
+            plan.uses_lanes(&plan.order).then_some(plan.lanes),
             many_registers,
             quote!(#(#prelude)* #body),
         );

@@ -21,11 +21,12 @@ mod constants;
 mod floating;
 mod frames;
 mod function;
+mod lane_width;
 mod leaves;
 mod plan;
 mod signature;
 
-use super::trace::SymbolicRobot;
+use super::trace::{Quantity, SymbolicRobot};
 use crate::functions::{FunctionGroup, Functions};
 use crate::model::Model;
 pub use chunks::CHUNK_VALUES;
@@ -133,7 +134,16 @@ pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> St
         .quantities
         .iter()
         .filter(|q| has_lanes && q.kind.has_lane_form())
-        .map(|q| function(robot, &leaves, q, n, Form::Lanes))
+        .map(|q| match robot.scalar_forms.get(&q.name()) {
+            Some(outputs) => {
+                let scalar = Quantity {
+                    outputs: outputs.clone(),
+                    ..q.clone()
+                };
+                function(robot, &leaves, &scalar, n, Form::Lanes)
+            }
+            None => function(robot, &leaves, q, n, Form::Lanes),
+        })
         .collect();
     let methods = |group: FunctionGroup| {
         emitted

@@ -2,9 +2,10 @@
 //! multiply-add, and the statement that computes each value.
 
 use super::constants::literal;
+use super::lane_width::{lane_width, LaneWidth};
 use super::leaves::Leaves;
 use crate::generate::trace::SymbolicRobot;
-use crate::symbolic::{Id, Node, LANES};
+use crate::symbolic::{Id, Node};
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 use std::collections::HashMap;
@@ -28,14 +29,6 @@ impl Form {
     }
 }
 
-/// The type of lane-vector values (the tangents of eight directions at once): the kernel's own
-/// (`dyngen_runtime::__private::MulAdd::Eight`), so that
-/// `dyngen_runtime::__private::dispatch_eight` chooses its registers; vectors are made through
-/// `arith` (`arith.eight([..])`, `arith.splat_eight(x)`).
-fn lane_type() -> TokenStream {
-    quote!(M::Eight)
-}
-
 /// `a·b + c` with one rounding: an addition or subtraction whose product operand is used only
 /// there. `negate_product` and `negate_addend` give `−a·b + c` and `a·b − c`.
 #[derive(Clone, Copy, Debug)]
@@ -57,6 +50,8 @@ pub(super) struct Plan<'a> {
     /// Live computed nodes in topological order.
     pub(super) order: Vec<Id>,
     pub(super) names: HashMap<Id, Ident>,
+    /// The width of its lane vectors, if it has any.
+    pub(super) lanes: LaneWidth,
 }
 
 impl<'a> Plan<'a> {
@@ -72,6 +67,7 @@ impl<'a> Plan<'a> {
             form == Form::Scalar || topological.iter().all(|&id| !g.node(id).is_lanes()),
             "lane-vector nodes in a function generic over its lane type"
         );
+        let lanes = lane_width(g, &topological);
         let (fused, products) = fuse_multiply_adds(g, outputs, &topological);
         let order: Vec<Id> = topological
             .into_iter()
@@ -91,6 +87,7 @@ impl<'a> Plan<'a> {
             fused,
             order,
             names,
+            lanes,
         }
     }
 
@@ -149,7 +146,7 @@ impl<'a> Plan<'a> {
             out.push(writes(ids[0]));
             return out;
         }
-        for (sort, ty) in [(&scalars, ty), (&lanes, lane_type())] {
+        for (sort, ty) in [(&scalars, ty), (&lanes, self.lanes.vector_type())] {
             if !sort.is_empty() {
                 let names = sort.iter().map(|id| &self.names[id]);
                 let k = Literal::usize_unsuffixed(sort.len());
@@ -162,7 +159,7 @@ impl<'a> Plan<'a> {
             if let Node::Extract(v, k) = g.node(id) {
                 // A lane of a vector, by destructuring (no indexing).
                 let v = self.atom(v, used_leaves);
-                let pattern = (0..LANES).map(|j| match j == k as usize {
+                let pattern = (0..self.lanes.lanes()).map(|j| match j == k as usize {
                     true => quote!(#name),
                     false => quote!(_),
                 });
@@ -219,7 +216,7 @@ impl<'a> Plan<'a> {
     /// An operand: a literal, an input, or an earlier temporary. Records inputs it reads.
     pub(super) fn atom(&self, id: Id, used_leaves: &mut Vec<Id>) -> TokenStream {
         if self.robot.graph.node(id) == Node::LaneZero {
-            return quote!(arith.splat_eight(0.0));
+            return self.lanes.splat(quote!(0.0));
         }
         if let Some(x) = self.robot.graph.constant_value(id) {
             let x = literal(x);
@@ -328,7 +325,7 @@ impl<'a> Plan<'a> {
             }
             Node::Splat(a) => {
                 let a = atom(a);
-                quote!(arith.splat_eight(#a))
+                self.lanes.splat(a)
             }
             Node::LaneBuild(k) => {
                 let g = &self.robot.graph;
@@ -336,7 +333,8 @@ impl<'a> Plan<'a> {
                     true => quote!(0.0),
                     false => atom(a),
                 });
-                quote!(arith.eight([#(#lanes),*]))
+                let lanes = &lanes[..self.lanes.lanes()];
+                self.lanes.build(quote!([#(#lanes),*]))
             }
             Node::Const(_) | Node::Input(_) | Node::LaneZero => unreachable!("leaves are not statements"),
             Node::Extract(..) => unreachable!("lane extractions are destructuring statements"),

@@ -114,8 +114,9 @@ fn generated_mimic_arm_matches_generic_dynamics() {
     }
 }
 
-/// The lane functions (four states per call) equal the scalar ones bit for bit, mimic joints'
-/// own sines (multiplier 1.5) taken lane by lane.
+/// The lane functions (four states per call) equal the scalar ones, mimic joints' own sines
+/// (multiplier 1.5) taken lane by lane: `τ` bit for bit, the base regressor to rounding (the
+/// scalar function computes its columns four rows at a time).
 #[test]
 fn generated_mimic_arm_lanes_equal_the_scalar_functions() {
     let mut rng = SplitMix64::new(29);
@@ -137,12 +138,10 @@ fn generated_mimic_arm_lanes_equal_the_scalar_functions() {
             "lane {k}"
         );
         let y_b_scalar = MimicArm::base_torque_regressor(&scalar, &qd[k], &qdd[k]);
+        let scale = y_b_scalar.amax().max(1.0);
         for (c, column) in y_b.iter().enumerate() {
-            assert_eq!(
-                unpack(column, k).as_slice(),
-                y_b_scalar.column(c).as_slice(),
-                "lane {k}, column {c}"
-            );
+            let gap = (unpack(column, k) - y_b_scalar.column(c)).amax();
+            assert!(gap <= 1e-13 * scale, "lane {k}, column {c}: {gap:e} off");
         }
     }
 }
