@@ -144,6 +144,19 @@ impl<S: Scalar, T: LaneTangent<S>> Dual<S, T> {
     }
 }
 
+/// `values` with the derivative taken along entries `first .. first + width` (entry `first + k`
+/// in lane `k`, `width ≤ LANES`); the other entries constant.
+pub fn seeded<S: Scalar, T: LaneTangent<S>>(values: &[S], first: usize, width: usize) -> Vec<Dual<S, T>> {
+    values
+        .iter()
+        .enumerate()
+        .map(|(j, &x)| match j.checked_sub(first).filter(|&k| k < width) {
+            Some(k) => Dual::lane_variable(x, k),
+            None => Dual::constant(x),
+        })
+        .collect()
+}
+
 impl<S: Scalar, T: Tangent<S>> Add for Dual<S, T> {
     type Output = Self;
     fn add(self, o: Self) -> Self {

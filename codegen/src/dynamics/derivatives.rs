@@ -38,7 +38,7 @@ use super::slotine_li::inverse_dynamics;
 use super::tree_ldl::TreeLdl;
 use crate::model::{JointTermValues, Model};
 use crate::scalar::Scalar;
-use crate::scalar_dual::{Dual, LaneScalar, LaneTangent, Tangent, LANES};
+use crate::scalar_dual::{seeded, Dual, LaneScalar, LaneTangent, Tangent, LANES};
 use crate::spatial::{RigidInertia, Vec3};
 use nalgebra::DMatrix;
 
@@ -59,18 +59,6 @@ type Lanes<S> = Dual<S, <S as LaneScalar>::Lanes>;
 
 fn constant<S: LaneScalar>(v: &[S]) -> Vec<Lanes<S>> {
     v.iter().map(|&x| Dual::constant(x)).collect()
-}
-
-/// `v` with the derivative taken along its entries `first .. first + LANES` (entry `first + k`
-/// in lane `k`).
-fn seeded<S: LaneScalar>(v: &[S], first: usize) -> Vec<Lanes<S>> {
-    v.iter()
-        .enumerate()
-        .map(|(j, &x)| match j.checked_sub(first).filter(|&k| k < LANES) {
-            Some(k) => Dual::lane_variable(x, k),
-            None => Dual::constant(x),
-        })
-        .collect()
 }
 
 /// `i` on dual numbers of zero tangent.
@@ -115,7 +103,7 @@ fn tangent_groups<S: LaneScalar>(
                     .then(|| S::Lanes::unit(c - first, S::one()))
             });
             let d_q = inverse_dynamics(model, &x, &dual_inertias, &qd_const, &qdd_const);
-            let qd_seeded = seeded(qd, first);
+            let qd_seeded = seeded(qd, first, LANES);
             let mut d_qd = inverse_dynamics(model, &x_const, &dual_inertias, &qd_seeded, &qdd_const);
             if has_joint_terms {
                 let joint = joint_term_torques(model, joint_values, &qd_seeded, &qd_seeded, &qdd_const);

@@ -6,7 +6,7 @@ use super::joint_terms::{column_entry, fill_joint_term_columns};
 use super::slotine_li::{body_force, forward_pass, gravity_vector};
 use crate::model::{Model, PARAMS_PER_BODY};
 use crate::scalar::Scalar;
-use crate::scalar_dual::{Dual, LaneScalar, Tangent};
+use crate::scalar_dual::{seeded, Dual, LaneScalar, Tangent};
 use crate::spatial::{Motion, RigidInertia, Transform};
 use nalgebra::DMatrix;
 
@@ -120,26 +120,22 @@ pub fn regressor_row_lanes<S: LaneScalar>(
     let motions = forward_pass(model, x, &qd, &v, &a, Some(gravity_vector(model)));
     let n = model.dof();
     let inertial = model.inertial_parameter_count();
+    // The state enters as constants: only the rates carry lanes.
+    let x: Vec<Transform<Dual<S, S::Lanes>>> = x.iter().map(|t| t.map(Dual::constant)).collect();
+    let motions: Vec<_> = motions.iter().map(|m| m.map(Dual::constant)).collect();
     (0..n)
         .step_by(ROW_LANES)
         .map(|first| {
-            let rates: Vec<Dual<S, S::Lanes>> = (0..n)
-                .map(|i| match i.checked_sub(first).filter(|&k| k < ROW_LANES) {
-                    Some(k) => Dual::lane_variable(S::zero(), k),
-                    None => Dual::constant(S::zero()),
-                })
-                .collect();
-            let rates = expand(model, &rates);
+            let rates = expand(model, &seeded(&vec![S::zero(); n], first, ROW_LANES));
             let mut columns = vec![S::Lanes::zero(); model.parameter_count()];
             let mut w: Vec<Motion<Dual<S, S::Lanes>>> = Vec::with_capacity(joints.len());
             for (j, joint) in joints.iter().enumerate() {
-                let up = joint.parent.map_or(Motion::zero(), |p| {
-                    x[j].map(Dual::constant).motion_to_child(&w[p])
-                });
+                let up = joint
+                    .parent
+                    .map_or(Motion::zero(), |p| x[j].motion_to_child(&w[p]));
                 let wj = up + joint_motion(joint, rates[j]);
-                let m = motions[j].map(Dual::constant);
                 for k in 0..PARAMS_PER_BODY {
-                    let f = body_force(&RigidInertia::unit(k), &m);
+                    let f = body_force(&RigidInertia::unit(k), &motions[j]);
                     columns[PARAMS_PER_BODY * j + k] = f.power(&wj).tangent;
                 }
                 w.push(wj);

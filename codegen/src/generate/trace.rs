@@ -346,8 +346,9 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
     // rather than one direction at a time, some frame quantities by another algorithm.
     keep_cheaper(&graph, &mut quantities, other_forms);
     // The regressors four rows at a time, their cheaper scalar form kept for several states per
-    // call: on three arms (Panda, UR5, the xArm as written) the row lanes compiled to 10–40%
-    // fewer instructions and ran 1.3–3× faster (`BENCHMARKS.md`), fewer operations or not.
+    // call: on the Panda, the UR5 and the xArm as written the row lanes compiled to 4–38% fewer
+    // instructions than either scalar form and ran faster on every regressor (Zen 3, side by
+    // side with both anchors), though they count more operations.
     let mut scalar_forms = HashMap::new();
     for (name, outputs) in row_lane_forms {
         if let Some(q) = quantities.iter_mut().find(|q| q.name() == name) {
