@@ -58,13 +58,15 @@ impl<S: Scalar> RigidInertia<S> {
     /// (Echeandia & Wensing 2021). `B(I, v)·v = v ×* I v`, and `B + Bᵀ = İ`: the body force
     /// `I ẇ + B(I, v) w` gives the Christoffel-consistent Coriolis matrix.
     pub fn body_operator(&self, v: &Motion<S>, w: &Motion<S>) -> Force<S> {
+        // The ½ on the motion `w`, not on the force: the body force is computed for many
+        // inertias at one motion (ten unit inertias per regressor body), and `w / 2` and
+        // `v × w / 2` are then one value each instead of a halving per inertia and entry.
         let half = S::from_f64(0.5);
-        let sum = v.cross_force(&self.mul_motion(w)) + w.cross_force(&self.mul_motion(v))
-            - self.mul_motion(&v.cross_motion(w));
-        Force {
-            ang: sum.ang.scale(half),
-            lin: sum.lin.scale(half),
-        }
+        let w = Motion {
+            ang: w.ang.scale(half),
+            lin: w.lin.scale(half),
+        };
+        v.cross_force(&self.mul_motion(&w)) + w.cross_force(&self.mul_motion(v)) - self.mul_motion(&v.cross_motion(&w))
     }
 
     /// The time derivative `İ = v ×* I − I (v ×)` of this inertia moving with velocity `v`
