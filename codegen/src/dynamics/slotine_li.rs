@@ -81,14 +81,13 @@ pub(crate) fn forward_pass_from<S: Scalar, X: JointFrame<S>>(
 
 /// The body force `I ẇ + B(I, vel) w`, linear in the inertia.
 pub(crate) fn body_force<S: Scalar>(inertia: &RigidInertia<S>, m: &BodyMotion<S>) -> Force<S> {
-    let inertial = inertia.mul_motion(&m.wdot);
     if m.w == m.vel {
         // `B(I, v) v = v ×* I v` (as `crm(v) v = 0`): the classical RNEA term, about half the
         // operations. Symbolically the two velocities are the same nodes exactly when `v = q̇`
         // (inverse dynamics), a cancellation the simplifier cannot see on its own.
-        inertial + m.vel.cross_force(&inertia.mul_motion(&m.vel))
+        inertia.mul_motion(&m.wdot) + m.vel.cross_force(&inertia.mul_motion(&m.vel))
     } else {
-        inertial + inertia.body_operator(&m.vel, &m.w)
+        inertia.body_force(&m.vel, &m.w, &m.wdot)
     }
 }
 

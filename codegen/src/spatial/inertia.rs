@@ -54,19 +54,22 @@ impl<S: Scalar> RigidInertia<S> {
         }
     }
 
-    /// The body operator `B(I, v)·w = ½ [v ×* (I w) + w ×* (I v) − I (v × w)]`
-    /// (Echeandia & Wensing 2021). `B(I, v)·v = v ×* I v`, and `B + Bᵀ = İ`: the body force
-    /// `I ẇ + B(I, v) w` gives the Christoffel-consistent Coriolis matrix.
-    pub fn body_operator(&self, v: &Motion<S>, w: &Motion<S>) -> Force<S> {
-        // The ½ on the motion `w`, not on the force: the body force is computed for many
-        // inertias at one motion (ten unit inertias per regressor body), and `w / 2` and
-        // `v × w / 2` are then one value each instead of a halving per inertia and entry.
+    /// The body force `I ẇ + B(I, v)·w`, with the body operator
+    /// `B(I, v)·w = ½ [v ×* (I w) + w ×* (I v) − I (v × w)]` (Echeandia & Wensing 2021):
+    /// `B(I, v)·v = v ×* I v`, and `B + Bᵀ = İ`, which makes the Coriolis matrix
+    /// Christoffel-consistent.
+    ///
+    /// Computed as `I (ẇ − v × ŵ) + v ×* (I ŵ) + ŵ ×* (I v)` with `ŵ = w / 2`: a regressor
+    /// evaluates it for ten unit inertias at one motion, and then `ŵ` and `ẇ − v × ŵ` are one
+    /// value each instead of a halving and a subtraction per inertia and entry.
+    pub fn body_force(&self, v: &Motion<S>, w: &Motion<S>, wdot: &Motion<S>) -> Force<S> {
         let half = S::from_f64(0.5);
         let w = Motion {
             ang: w.ang.scale(half),
             lin: w.lin.scale(half),
         };
-        v.cross_force(&self.mul_motion(&w)) + w.cross_force(&self.mul_motion(v)) - self.mul_motion(&v.cross_motion(&w))
+        let wdot = *wdot - v.cross_motion(&w);
+        self.mul_motion(&wdot) + v.cross_force(&self.mul_motion(&w)) + w.cross_force(&self.mul_motion(v))
     }
 
     /// The time derivative `İ = v ×* I − I (v ×)` of this inertia moving with velocity `v`
