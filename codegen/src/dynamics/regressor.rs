@@ -3,11 +3,11 @@
 use super::coupling::{expand, project_rows};
 use super::joint::{joint_force, joint_motion};
 use super::joint_terms::{column_entry, fill_joint_term_columns};
-use super::slotine_li::{body_force, forward_pass, gravity_vector};
+use super::slotine_li::{forward_pass, gravity_vector, unit_body_force};
 use crate::model::{Model, PARAMS_PER_BODY};
 use crate::scalar::Scalar;
 use crate::scalar_dual::{seeded, Dual, LaneScalar, Tangent};
-use crate::spatial::{Motion, RigidInertia, Transform};
+use crate::spatial::{Motion, Transform};
 use nalgebra::DMatrix;
 
 /// `Y` (n × P): column block `i` (ten columns) belongs to body `i`'s standard parameters; then
@@ -32,7 +32,7 @@ fn tree_regressor<S: Scalar>(model: &Model, x: &[Transform<S>], qd: &[S], v: &[S
     for (i, m) in motions.iter().enumerate() {
         for k in 0..PARAMS_PER_BODY {
             let col = PARAMS_PER_BODY * i + k;
-            let mut f = body_force(&RigidInertia::unit(k), m);
+            let mut f = unit_body_force(k, m);
             let mut j = i;
             y[(j, col)] = joint_force(&model.joints()[j], &f);
             while let Some(p) = model.joints()[j].parent {
@@ -76,7 +76,7 @@ pub fn regressor_by_jacobians<S: Scalar>(
         };
         for k in 0..PARAMS_PER_BODY {
             let col = PARAMS_PER_BODY * j + k;
-            let f = body_force(&RigidInertia::unit(k), m);
+            let f = unit_body_force(k, m);
             y[(j, col)] = joint_force(joint, &f);
             for (i, s) in &ancestors {
                 y[(*i, col)] = f.power(s);
@@ -135,7 +135,7 @@ pub fn regressor_row_lanes<S: LaneScalar>(
                     .map_or(Motion::zero(), |p| x[j].motion_to_child(&w[p]));
                 let wj = up + joint_motion(joint, rates[j]);
                 for k in 0..PARAMS_PER_BODY {
-                    let f = body_force(&RigidInertia::unit(k), &motions[j]);
+                    let f = unit_body_force(k, &motions[j]);
                     columns[PARAMS_PER_BODY * j + k] = f.power(&wj).tangent;
                 }
                 w.push(wj);

@@ -17,10 +17,10 @@
 use super::coupling::{expand, project};
 use super::joint::{joint_force, joint_motion};
 use super::joint_terms::column_entry;
-use super::slotine_li::{body_force, forward_pass, gravity_vector};
+use super::slotine_li::{forward_pass, gravity_vector, unit_body_force};
 use crate::model::{Model, PARAMS_PER_BODY};
 use crate::scalar::Scalar;
-use crate::spatial::{Force, Motion, RigidInertia, Transform};
+use crate::spatial::{Force, Motion, Transform};
 
 /// `(Y θ, Yᵀ r)` of the columns `cols` of the Slotine–Li regressor `Y(q, q̇, v, a)` (`θ` has one
 /// entry per column of `cols`, `Yᵀ r` one per column).
@@ -58,7 +58,7 @@ pub fn regressor_products<S: Scalar>(
     for (&c, &t) in cols.iter().zip(theta) {
         if c < inertial {
             let (body, k) = (c / PARAMS_PER_BODY, c % PARAMS_PER_BODY);
-            let f = body_force(&RigidInertia::unit(k), &motions[body]);
+            let f = unit_body_force(k, &motions[body]);
             y_tr_r.push(f.power(&w[body]));
             forces[body] = forces[body] + f.scale(t);
         } else {

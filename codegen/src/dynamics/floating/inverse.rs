@@ -3,7 +3,9 @@
 
 use super::{base_entries, base_motion, FloatingBase};
 use crate::dynamics::joint::joint_force;
-use crate::dynamics::slotine_li::{body_force, forward_pass_from, gravity_vector, tree_forces, BodyMotion};
+use crate::dynamics::slotine_li::{
+    body_force, forward_pass_from, gravity_vector, tree_forces, unit_body_force, BodyMotion,
+};
 use crate::model::{Model, PARAMS_PER_BODY};
 use crate::scalar::Scalar;
 use crate::spatial::{JointFrame, Mat3, Motion, RigidInertia, Vec3};
@@ -102,13 +104,13 @@ pub fn floating_regressor<S: Scalar, X: JointFrame<S>>(
         }
     };
     for k in 0..PARAMS_PER_BODY {
-        let f = body_force(&RigidInertia::unit(k), &root);
+        let f = unit_body_force(k, &root);
         set_base_rows(&mut y, k, base_entries(&f));
     }
     for (i, m) in motions.iter().enumerate() {
         for k in 0..PARAMS_PER_BODY {
             let col = PARAMS_PER_BODY * (i + 1) + k;
-            let mut f = body_force(&RigidInertia::unit(k), m);
+            let mut f = unit_body_force(k, m);
             let mut j = i;
             y[(6 + j, col)] = joint_force(&model.joints()[j], &f);
             while let Some(p) = model.joints()[j].parent {
