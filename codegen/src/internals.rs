@@ -5,11 +5,12 @@
 
 /// The dynamics algorithms generic over the scalar type (`f64`, symbols, dual numbers).
 pub mod dynamics {
+    pub use crate::dynamics::coriolis::coriolis_matrix;
     pub use crate::dynamics::crba::mass_matrix;
-    pub use crate::dynamics::forward_dynamics::forward_dynamics;
+    pub use crate::dynamics::forward_dynamics::{forward_dynamics, mass_matrix_inverse};
     pub use crate::dynamics::frames::{local_jacobian, FrameMotion, FrameRates};
     pub use crate::dynamics::inertias::{body_inertias, inertias_from_parameters};
-    pub use crate::dynamics::joint::joint_transforms;
+    pub use crate::dynamics::joint::{joint_factored_transforms, joint_transforms};
     pub use crate::dynamics::joint_terms::joint_term_values;
     pub use crate::dynamics::kinematics::{body_poses, jacobian};
     pub use crate::dynamics::regressor::{regressor, regressor_by_jacobians};
@@ -25,7 +26,9 @@ pub mod scalar {
 
 /// The spatial algebra of the generic algorithms, written out so every operation is traced.
 pub mod spatial {
-    pub use crate::spatial::{Force, JointFrame, Mat3, Motion, RigidInertia, Transform, Vec3};
+    pub use crate::spatial::{
+        FactoredTransform, Force, JointFrame, Mat3, Motion, RigidInertia, Transform, Vec3,
+    };
 }
 
 /// The numerical rank tools the base-parameter selection is built on.

@@ -4,18 +4,22 @@ use super::coupling::project_both;
 use super::joint::{joint_force, joint_motion};
 use crate::model::Model;
 use crate::scalar::Scalar;
-use crate::spatial::{RigidInertia, Transform};
+use crate::spatial::{CompositeFrame, RigidInertia};
 use nalgebra::DMatrix;
 
 /// `D(q)`, full and symmetric, on the coordinates (`Gᵀ D_tree G` with mimic joints).
-pub fn mass_matrix<S: Scalar>(model: &Model, x: &[Transform<S>], inertias: &[RigidInertia<S>]) -> DMatrix<S> {
+pub fn mass_matrix<S: Scalar, X: CompositeFrame<S>>(
+    model: &Model,
+    x: &[X],
+    inertias: &[RigidInertia<S>],
+) -> DMatrix<S> {
     project_both(model, tree_mass_matrix(model, x, inertias))
 }
 
 /// The inertia matrix of the tree, one row per moving joint.
-fn tree_mass_matrix<S: Scalar>(
+fn tree_mass_matrix<S: Scalar, X: CompositeFrame<S>>(
     model: &Model,
-    x: &[Transform<S>],
+    x: &[X],
     inertias: &[RigidInertia<S>],
 ) -> DMatrix<S> {
     let n = model.joints().len();
@@ -37,16 +41,16 @@ fn tree_mass_matrix<S: Scalar>(
 }
 
 /// The composite inertia of each body's subtree, in that body's frame.
-pub(crate) fn composite_inertias<S: Scalar>(
+pub(crate) fn composite_inertias<S: Scalar, X: CompositeFrame<S>>(
     model: &Model,
-    x: &[Transform<S>],
+    x: &[X],
     inertias: &[RigidInertia<S>],
 ) -> Vec<RigidInertia<S>> {
     // Children have larger indices, so one sweep from the leaves up sums every subtree.
     let mut composite = inertias.to_vec();
     for i in (0..model.joints().len()).rev() {
         if let Some(p) = model.joints()[i].parent {
-            let up = composite[i].to_parent(&x[i]);
+            let up = x[i].inertia_to_parent(&composite[i]);
             composite[p] = composite[p] + up;
         }
     }

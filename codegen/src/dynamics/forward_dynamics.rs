@@ -18,14 +18,14 @@ use super::slotine_li::inverse_dynamics;
 use super::tree_ldl::TreeLdl;
 use crate::model::{JointTermValues, Model};
 use crate::scalar::Scalar;
-use crate::spatial::{RigidInertia, Transform};
+use crate::spatial::{CompositeFrame, RigidInertia};
 use nalgebra::DMatrix;
 
 /// `C(q, q̇) q̇ + g(q)` plus the joint-level friction and offset: inverse dynamics at zero
 /// acceleration.
-pub(crate) fn bias_torque<S: Scalar>(
+pub(crate) fn bias_torque<S: Scalar, X: CompositeFrame<S>>(
     model: &Model,
-    x: &[Transform<S>],
+    x: &[X],
     inertias: &[RigidInertia<S>],
     joint_values: &[JointTermValues],
     qd: &[S],
@@ -40,9 +40,9 @@ pub(crate) fn bias_torque<S: Scalar>(
 }
 
 /// The factored inertia matrix (armature included) at the configuration of `x`.
-pub fn factor_mass_matrix<S: Scalar>(
+pub fn factor_mass_matrix<S: Scalar, X: CompositeFrame<S>>(
     model: &Model,
-    x: &[Transform<S>],
+    x: &[X],
     inertias: &[RigidInertia<S>],
     joint_values: &[JointTermValues],
 ) -> TreeLdl<S> {
@@ -52,9 +52,9 @@ pub fn factor_mass_matrix<S: Scalar>(
 }
 
 /// `q̈` with `D q̈ + C q̇ + g = τ`, given the factored `D`.
-pub(crate) fn forward_dynamics_factored<S: Scalar>(
+pub(crate) fn forward_dynamics_factored<S: Scalar, X: CompositeFrame<S>>(
     model: &Model,
-    x: &[Transform<S>],
+    x: &[X],
     inertias: &[RigidInertia<S>],
     joint_values: &[JointTermValues],
     factor: &TreeLdl<S>,
@@ -67,9 +67,9 @@ pub(crate) fn forward_dynamics_factored<S: Scalar>(
 }
 
 /// Forward dynamics: `q̈ = D⁻¹ (τ − C q̇ − g)`.
-pub fn forward_dynamics<S: Scalar>(
+pub fn forward_dynamics<S: Scalar, X: CompositeFrame<S>>(
     model: &Model,
-    x: &[Transform<S>],
+    x: &[X],
     inertias: &[RigidInertia<S>],
     joint_values: &[JointTermValues],
     qd: &[S],
@@ -80,9 +80,9 @@ pub fn forward_dynamics<S: Scalar>(
 }
 
 /// `D(q)⁻¹`, full and symmetric.
-pub fn mass_matrix_inverse<S: Scalar>(
+pub fn mass_matrix_inverse<S: Scalar, X: CompositeFrame<S>>(
     model: &Model,
-    x: &[Transform<S>],
+    x: &[X],
     inertias: &[RigidInertia<S>],
     joint_values: &[JointTermValues],
 ) -> DMatrix<S> {

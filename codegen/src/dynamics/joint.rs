@@ -2,7 +2,7 @@
 
 use crate::model::{exact_sin_cos, CoordinateMap, Joint, JointKind, Model, Pose};
 use crate::scalar::Scalar;
-use crate::spatial::{Force, Mat3, Motion, Transform, Vec3};
+use crate::spatial::{FactoredTransform, Force, Mat3, Motion, Transform, Vec3};
 
 pub(crate) fn pose_to_transform<S: Scalar>(p: &Pose) -> Transform<S> {
     let r = &p.rotation;
@@ -84,6 +84,60 @@ pub fn joint_transforms<S: Scalar>(model: &Model, q: &[S]) -> Vec<Transform<S>> 
             Some(_) => mimic_transform(j, q[map.coordinate], map),
         })
         .collect()
+}
+
+/// Every joint's transform at the coordinates `q` as its two factors, the constant placement
+/// and the joint's own motion ([`FactoredTransform`]): the same transforms as
+/// [`joint_transforms`], for the algorithms that apply them one factor after the other.
+pub fn joint_factored_transforms<S: Scalar>(model: &Model, q: &[S]) -> Vec<FactoredTransform<S>> {
+    model
+        .joints()
+        .iter()
+        .zip(model.coordinate_maps())
+        .zip(model.mimics())
+        .map(|((joint, map), mimic)| {
+            let q = q[map.coordinate];
+            let inner = match mimic {
+                None => own_motion(joint, q),
+                Some(_) => mimic_own_motion(joint, q, map),
+            };
+            FactoredTransform {
+                outer: pose_to_transform(&joint.origin),
+                inner,
+            }
+        })
+        .collect()
+}
+
+/// A joint's own motion at position `q`, from its frame at zero.
+fn own_motion<S: Scalar>(joint: &Joint, q: S) -> Transform<S> {
+    match joint.kind {
+        JointKind::Revolute => own_rotation(joint, q.sin(), q.cos()),
+        JointKind::Prismatic => Transform {
+            rot: Mat3::identity(),
+            pos: axis::<S>(joint).scale(q),
+        },
+    }
+}
+
+fn own_rotation<S: Scalar>(joint: &Joint, s: S, c: S) -> Transform<S> {
+    Transform {
+        rot: axis_rotation([joint.axis.x, joint.axis.y, joint.axis.z], s, c),
+        pos: Vec3::zero(),
+    }
+}
+
+/// [`own_motion`] of a mimic joint from its master's position, with the sines and cosines of
+/// [`mimic_transform`].
+fn mimic_own_motion<S: Scalar>(joint: &Joint, q: S, map: &CoordinateMap) -> Transform<S> {
+    let (m, o) = (map.multiplier, map.offset);
+    let k = |x: f64| S::from_f64(x);
+    if joint.kind == JointKind::Revolute && m.abs() == 1.0 {
+        let (so, co) = exact_sin_cos(o);
+        let (s, c) = (k(m) * q.sin(), q.cos());
+        return own_rotation(joint, s * k(co) + c * k(so), c * k(co) - s * k(so));
+    }
+    own_motion(joint, k(m) * q + k(o))
 }
 
 /// `S·x`: the spatial motion of the joint's body for joint rate `x`, in the joint frame.

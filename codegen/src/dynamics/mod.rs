@@ -43,7 +43,7 @@ pub(crate) use derivatives::{forward_dynamics_derivatives_by, inverse_dynamics_d
 pub(crate) use forward_dynamics::{forward_dynamics, mass_matrix_inverse};
 pub(crate) use frames::{local_jacobian, FrameMotion, FrameRates};
 pub(crate) use inertias::{body_inertias, inertias_from_parameters};
-pub(crate) use joint::joint_transforms;
+pub(crate) use joint::{joint_factored_transforms, joint_transforms};
 pub(crate) use joint_terms::{add_armature, add_torques, joint_term_torques, joint_term_values};
 pub(crate) use kinematics::{body_poses, end_effector_pose, jacobian, jacobian_dot};
 pub(crate) use regressor::{regressor, regressor_by_jacobians, regressor_row_lanes, ROW_LANES};

@@ -324,6 +324,33 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
             true => row_lane_regressors(model, &x, [&qd, &v, &a], &base),
             false => Vec::new(),
         };
+        if has_tilted_placements(model) {
+            // `D`, `C`, `τ`, forward dynamics and `D⁻¹` through each joint's placement and own
+            // motion one after the other, traced after everything else so the functions above
+            // keep their node ids; kept where they cost less.
+            let factored = dynamics::joint_factored_transforms(model, &q);
+            let mut d = dynamics::mass_matrix(model, &factored, &inertias);
+            dynamics::add_armature(model, &joint_values, &mut d);
+            other_forms.push((QuantityKind::MassMatrix.name().to_owned(), matrix_ids(&d)));
+            let id = with_joint_terms(
+                dynamics::inverse_dynamics(model, &factored, &inertias, &qd, &a),
+                &qd,
+                &a,
+            );
+            other_forms.push((QuantityKind::InverseDynamics.name().to_owned(), ids(&id)));
+            let c = dynamics::coriolis_matrix(model, &factored, &inertias, &qd);
+            other_forms.push((QuantityKind::CoriolisMatrix.name().to_owned(), matrix_ids(&c)));
+            if functions.contains(FunctionGroup::ForwardDynamics) {
+                let forward =
+                    dynamics::forward_dynamics(model, &factored, &inertias, &joint_values, &qd, &tau);
+                other_forms.push((QuantityKind::ForwardDynamics.name().to_owned(), ids(&forward)));
+                let inverse = dynamics::mass_matrix_inverse(model, &factored, &inertias, &joint_values);
+                other_forms.push((
+                    QuantityKind::MassMatrixInverse.name().to_owned(),
+                    matrix_ids(&inverse),
+                ));
+            }
+        }
         quantities.retain(|q| functions.contains(q.kind.group()));
         (
             Inputs {
@@ -364,6 +391,19 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
         chunk_values: CHUNK_VALUES,
         scalar_forms,
     }
+}
+
+/// Whether a joint's placement in its parent turns by anything but quarter turns (a vendor's
+/// `1.5708`, a tilted axis): there, carrying vectors and inertias through the placement and the
+/// joint's own rotation one after the other ([`FactoredTransform`](crate::spatial::FactoredTransform))
+/// can cost less than through their product, whose every entry the tilt makes dense. With
+/// quarter turns only, the product is as sparse as its factors and the usual form is kept as
+/// it is.
+fn has_tilted_placements(model: &Model) -> bool {
+    model
+        .joints()
+        .iter()
+        .any(|j| j.origin.rotation.iter().any(|&r| r != 0.0 && r.abs() != 1.0))
 }
 
 /// The bodies' inertias of the parameter vector `theta` (ten per body, then joint terms).

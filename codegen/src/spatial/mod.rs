@@ -10,7 +10,7 @@ mod transform;
 mod vec3;
 
 pub use inertia::RigidInertia;
-pub use transform::{JointFrame, Transform};
+pub use transform::{CompositeFrame, FactoredTransform, JointFrame, Transform};
 pub use vec3::{Mat3, Vec3};
 
 use crate::scalar::Scalar;

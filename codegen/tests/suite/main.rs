@@ -9,6 +9,7 @@ mod description_errors;
 mod descriptions;
 mod energy;
 mod example_robot_data;
+mod factored_transforms;
 mod floating_base_parameters;
 mod floating_descriptions;
 mod floating_oracles;
