@@ -5,7 +5,6 @@
 
 /// The dynamics algorithms generic over the scalar type (`f64`, symbols, dual numbers).
 pub mod dynamics {
-    pub use crate::dynamics::coriolis::coriolis_matrix;
     pub use crate::dynamics::crba::mass_matrix;
     pub use crate::dynamics::forward_dynamics::{forward_dynamics, mass_matrix_inverse};
     pub use crate::dynamics::frames::{local_jacobian, FrameMotion, FrameRates};

@@ -17,14 +17,14 @@ use super::coupling::{expand, project_both};
 use super::joint::{joint_force, joint_motion};
 use crate::model::Model;
 use crate::scalar::Scalar;
-use crate::spatial::{CompositeFrame, Force, Motion, RigidInertia};
+use crate::spatial::{Force, Motion, RigidInertia, Transform};
 use nalgebra::DMatrix;
 
 /// `C(q, q̇)` on the coordinates: `Gᵀ C_tree(q, G q̇) G` with mimic joints, which is the
 /// Christoffel matrix of `Gᵀ D_tree G` because `G` is constant.
-pub fn coriolis_matrix<S: Scalar, X: CompositeFrame<S>>(
+pub fn coriolis_matrix<S: Scalar>(
     model: &Model,
-    x: &[X],
+    x: &[Transform<S>],
     inertias: &[RigidInertia<S>],
     qd: &[S],
 ) -> DMatrix<S> {
@@ -35,9 +35,9 @@ pub fn coriolis_matrix<S: Scalar, X: CompositeFrame<S>>(
 }
 
 /// The Coriolis matrix of the tree, `qd` one rate per moving joint.
-fn tree_coriolis_matrix<S: Scalar, X: CompositeFrame<S>>(
+fn tree_coriolis_matrix<S: Scalar>(
     model: &Model,
-    x: &[X],
+    x: &[Transform<S>],
     inertias: &[RigidInertia<S>],
     qd: &[S],
 ) -> DMatrix<S> {
@@ -76,9 +76,9 @@ pub(crate) struct RootTerms<S> {
 /// The tree's entries of `C` into `c` at rows and columns `offset + joint`, the roots hanging
 /// from a base fixed in the world (`root: None`) or moving with `root` (in its frame; the
 /// root's terms are returned). `qd` one rate per moving joint.
-pub(crate) fn tree_coriolis_into<S: Scalar, X: CompositeFrame<S>>(
+pub(crate) fn tree_coriolis_into<S: Scalar>(
     model: &Model,
-    x: &[X],
+    x: &[Transform<S>],
     inertias: &[RigidInertia<S>],
     qd: &[S],
     root: Option<&Motion<S>>,
@@ -107,13 +107,13 @@ pub(crate) fn tree_coriolis_into<S: Scalar, X: CompositeFrame<S>>(
     for i in (0..n).rev() {
         match (model.joints()[i].parent, root_terms.as_mut()) {
             (Some(p), _) => {
-                ic[p] = ic[p] + x[i].inertia_to_parent(&ic[i]);
-                icdot[p] = icdot[p] + x[i].inertia_to_parent(&icdot[i]);
+                ic[p] = ic[p] + ic[i].to_parent(&x[i]);
+                icdot[p] = icdot[p] + icdot[i].to_parent(&x[i]);
                 hc[p] = hc[p] + x[i].force_to_parent(&hc[i]);
             }
             (None, Some(r)) => {
-                r.ic = r.ic + x[i].inertia_to_parent(&ic[i]);
-                r.icdot = r.icdot + x[i].inertia_to_parent(&icdot[i]);
+                r.ic = r.ic + ic[i].to_parent(&x[i]);
+                r.icdot = r.icdot + icdot[i].to_parent(&x[i]);
                 r.hc = r.hc + x[i].force_to_parent(&hc[i]);
             }
             (None, None) => {}
