@@ -50,39 +50,64 @@ pub fn joint_transform<S: Scalar>(joint: &Joint, q: S) -> Transform<S> {
 }
 
 /// A mimic joint's transform from its master's position `q`: `q_j = m·q + o`.
-///
-/// With `m = ±1` a revolute joint's sine and cosine come from those of `q` by the angle-sum
-/// identities (`sin(±q + o) = ±sin q cos o + cos q sin o`, `cos(±q + o) = cos q cos o ∓ sin q sin o`),
-/// so generated code reuses the master's precomputed `JointTrig` entries and takes no new
-/// sine; any other multiplier takes `sin(m·q + o)` and `cos(m·q + o)` of its own.
 fn mimic_transform<S: Scalar>(joint: &Joint, q: S, map: &CoordinateMap) -> Transform<S> {
+    match mimic_position(joint, q, map) {
+        MimicPosition::SinCos(s, c) => {
+            let origin = pose_to_transform::<S>(&joint.origin);
+            let a = [joint.axis.x, joint.axis.y, joint.axis.z];
+            Transform {
+                rot: origin.rot * axis_rotation(a, s, c),
+                pos: origin.pos,
+            }
+        }
+        MimicPosition::Value(x) => joint_transform(joint, x),
+    }
+}
+
+/// Where a mimic joint is, from its master's position `q` (`q_j = m·q + o`).
+enum MimicPosition<S> {
+    /// A revolute joint with `m = ±1`: its sine and cosine from those of `q` by the angle-sum
+    /// identities (`sin(±q + o) = ±sin q cos o + cos q sin o`, `cos(±q + o) = cos q cos o ∓
+    /// sin q sin o`), so generated code reuses the master's precomputed `JointTrig` entries and
+    /// takes no new sine.
+    SinCos(S, S),
+    /// Any other: `m·q + o` itself, whose sine and cosine are its own.
+    Value(S),
+}
+
+fn mimic_position<S: Scalar>(joint: &Joint, q: S, map: &CoordinateMap) -> MimicPosition<S> {
     let (m, o) = (map.multiplier, map.offset);
     let k = |x: f64| S::from_f64(x);
     if joint.kind == JointKind::Revolute && m.abs() == 1.0 {
         let (so, co) = exact_sin_cos(o);
         let (s, c) = (k(m) * q.sin(), q.cos());
-        let origin = pose_to_transform::<S>(&joint.origin);
-        let a = [joint.axis.x, joint.axis.y, joint.axis.z];
-        return Transform {
-            rot: origin.rot * axis_rotation(a, s * k(co) + c * k(so), c * k(co) - s * k(so)),
-            pos: origin.pos,
-        };
+        return MimicPosition::SinCos(s * k(co) + c * k(so), c * k(co) - s * k(so));
     }
-    joint_transform(joint, k(m) * q + k(o))
+    MimicPosition::Value(k(m) * q + k(o))
 }
 
 /// Every joint's transform at the coordinates `q` (mimic joints from their master's
 /// coordinate): the only place where sines and cosines are taken.
 pub fn joint_transforms<S: Scalar>(model: &Model, q: &[S]) -> Vec<Transform<S>> {
+    per_joint(model, q, |joint, q, map| match map {
+        None => joint_transform(joint, q),
+        Some(map) => mimic_transform(joint, q, map),
+    })
+}
+
+/// `f(joint, its coordinate's value, the map from that coordinate if the joint mimics it)` for
+/// every joint, in joint order.
+fn per_joint<S: Scalar, T>(
+    model: &Model,
+    q: &[S],
+    f: impl Fn(&Joint, S, Option<&CoordinateMap>) -> T,
+) -> Vec<T> {
     model
         .joints()
         .iter()
         .zip(model.coordinate_maps())
         .zip(model.mimics())
-        .map(|((j, map), mimic)| match mimic {
-            None => joint_transform(j, q[map.coordinate]),
-            Some(_) => mimic_transform(j, q[map.coordinate], map),
-        })
+        .map(|((joint, map), mimic)| f(joint, q[map.coordinate], mimic.as_ref().map(|_| map)))
         .collect()
 }
 
@@ -90,23 +115,13 @@ pub fn joint_transforms<S: Scalar>(model: &Model, q: &[S]) -> Vec<Transform<S>> 
 /// and the joint's own motion ([`FactoredTransform`]): the same transforms as
 /// [`joint_transforms`], for the algorithms that apply them one factor after the other.
 pub fn joint_factored_transforms<S: Scalar>(model: &Model, q: &[S]) -> Vec<FactoredTransform<S>> {
-    model
-        .joints()
-        .iter()
-        .zip(model.coordinate_maps())
-        .zip(model.mimics())
-        .map(|((joint, map), mimic)| {
-            let q = q[map.coordinate];
-            let inner = match mimic {
-                None => own_motion(joint, q),
-                Some(_) => mimic_own_motion(joint, q, map),
-            };
-            FactoredTransform {
-                outer: pose_to_transform(&joint.origin),
-                inner,
-            }
-        })
-        .collect()
+    per_joint(model, q, |joint, q, map| FactoredTransform {
+        outer: pose_to_transform(&joint.origin),
+        inner: match map {
+            None => own_motion(joint, q),
+            Some(map) => mimic_own_motion(joint, q, map),
+        },
+    })
 }
 
 /// A joint's own motion at position `q`, from its frame at zero.
@@ -127,17 +142,12 @@ fn own_rotation<S: Scalar>(joint: &Joint, s: S, c: S) -> Transform<S> {
     }
 }
 
-/// [`own_motion`] of a mimic joint from its master's position, with the sines and cosines of
-/// [`mimic_transform`].
+/// [`own_motion`] of a mimic joint from its master's position.
 fn mimic_own_motion<S: Scalar>(joint: &Joint, q: S, map: &CoordinateMap) -> Transform<S> {
-    let (m, o) = (map.multiplier, map.offset);
-    let k = |x: f64| S::from_f64(x);
-    if joint.kind == JointKind::Revolute && m.abs() == 1.0 {
-        let (so, co) = exact_sin_cos(o);
-        let (s, c) = (k(m) * q.sin(), q.cos());
-        return own_rotation(joint, s * k(co) + c * k(so), c * k(co) - s * k(so));
+    match mimic_position(joint, q, map) {
+        MimicPosition::SinCos(s, c) => own_rotation(joint, s, c),
+        MimicPosition::Value(x) => own_motion(joint, x),
     }
-    own_motion(joint, k(m) * q + k(o))
 }
 
 /// `S·x`: the spatial motion of the joint's body for joint rate `x`, in the joint frame.
