@@ -3967,7 +3967,7 @@ impl RobotDynamics<7, 70> for Arm7 {
                 out
             }
         }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd))
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd))
     }
     ///Operations: 64 mul, 38 add/sub, 1 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -10734,7 +10734,7 @@ impl Regressors<7, 70> for Arm7 {
                 out
             }
         }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, theta, r))
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd, v, a, theta, r))
     }
 }
 impl BaseParameters<7, 70, 43> for Arm7 {
@@ -14925,7 +14925,7 @@ impl BaseParameters<7, 70, 43> for Arm7 {
                 out
             }
         }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, theta, r))
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd, v, a, theta, r))
     }
 }
 impl LaneDynamics<7, 43> for Arm7 {
@@ -18258,7 +18258,7 @@ impl ForwardDynamics<7, 70> for Arm7 {
                 out
             }
         }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, tau))
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd, tau))
     }
     ///Operations: 571 mul, 472 add/sub, 1 neg, 6 div (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]

@@ -4082,7 +4082,7 @@ impl RobotDynamics<7, 98> for Arm7Friction {
                 out
             }
         }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd))
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd))
     }
     ///Operations: 64 mul, 38 add/sub, 1 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -11195,7 +11195,7 @@ impl Regressors<7, 98> for Arm7Friction {
                 out
             }
         }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, theta, r))
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd, v, a, theta, r))
     }
 }
 impl BaseParameters<7, 98, 69> for Arm7Friction {
@@ -15644,7 +15644,7 @@ impl BaseParameters<7, 98, 69> for Arm7Friction {
                 out
             }
         }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, theta, r))
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd, v, a, theta, r))
     }
 }
 impl LaneDynamics<7, 69> for Arm7Friction {
@@ -19124,7 +19124,7 @@ impl ForwardDynamics<7, 98> for Arm7Friction {
                 out
             }
         }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, tau))
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd, tau))
     }
     ///Operations: 571 mul, 476 add/sub, 1 neg, 6 div (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]

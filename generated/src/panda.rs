@@ -3488,7 +3488,7 @@ impl RobotDynamics<7, 70> for Panda {
                 out
             }
         }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd))
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd))
     }
     ///Operations: 64 mul, 39 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -9663,7 +9663,7 @@ impl Regressors<7, 70> for Panda {
                 out
             }
         }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, theta, r))
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd, v, a, theta, r))
     }
 }
 impl BaseParameters<7, 70, 43> for Panda {

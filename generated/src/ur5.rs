@@ -6890,7 +6890,7 @@ impl Regressors<6, 60> for Ur5 {
                 out
             }
         }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, theta, r))
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd, v, a, theta, r))
     }
 }
 impl BaseParameters<6, 60, 36> for Ur5 {
@@ -13701,7 +13701,7 @@ impl DynamicsDerivatives<6, 60> for Ur5 {
                 out
             }
         }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, a))
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd, a))
     }
     ///Operations: 1423 mul, 1218 add/sub, 1 neg, 5 div (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -15891,7 +15891,7 @@ impl DynamicsDerivatives<6, 60> for Ur5 {
                 out
             }
         }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, tau))
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd, tau))
     }
 }
 /// Number of named frames (the end-effector and the description's `frames`).

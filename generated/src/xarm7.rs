@@ -4604,7 +4604,7 @@ impl RobotDynamics<7, 70> for Xarm7 {
                 out
             }
         }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd))
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd))
     }
     ///Operations: 118 mul, 67 add/sub, 1 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -12474,7 +12474,7 @@ impl Regressors<7, 70> for Xarm7 {
                 out
             }
         }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, theta, r))
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd, v, a, theta, r))
     }
 }
 impl BaseParameters<7, 70, 43> for Xarm7 {
@@ -17305,7 +17305,7 @@ impl BaseParameters<7, 70, 43> for Xarm7 {
                 out
             }
         }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, theta, r))
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd, v, a, theta, r))
     }
 }
 impl LaneDynamics<7, 43> for Xarm7 {
@@ -21045,7 +21045,7 @@ impl ForwardDynamics<7, 70> for Xarm7 {
                 out
             }
         }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, tau))
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd, tau))
     }
     ///Operations: 712 mul, 513 add/sub, 1 neg, 6 div (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]

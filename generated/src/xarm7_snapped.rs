@@ -3379,7 +3379,7 @@ impl RobotDynamics<7, 70> for Xarm7Snapped {
                 out
             }
         }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd))
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd))
     }
     ///Operations: 58 mul, 36 add/sub, 1 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -9599,7 +9599,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                 out
             }
         }
-        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, theta, r))
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd, v, a, theta, r))
     }
 }
 impl BaseParameters<7, 70, 43> for Xarm7Snapped {

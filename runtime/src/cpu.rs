@@ -13,6 +13,9 @@ static AVX2_FMA: AtomicU8 = AtomicU8::new(UNKNOWN);
 // Read by the dispatch of optimised builds and by tests, not by other debug builds.
 #[cfg_attr(all(debug_assertions, not(test)), allow(dead_code))]
 static AVX512: AtomicU8 = AtomicU8::new(UNKNOWN);
+// Read by the dispatch of optimised builds only.
+#[cfg_attr(debug_assertions, allow(dead_code))]
+static INTEL: AtomicU8 = AtomicU8::new(UNKNOWN);
 
 /// AVX2 and FMA both present, and the operating system saves the AVX registers.
 #[inline]
@@ -26,6 +29,23 @@ pub(crate) fn has_avx2_fma() -> bool {
 #[inline]
 pub(crate) fn has_avx512() -> bool {
     cached(&AVX512, || has_avx2_fma() && detect_avx512())
+}
+
+/// An Intel processor (CPUID vendor `GenuineIntel`): where 512-bit instructions slow the other
+/// vector instructions around them (`dispatch::dispatch_many`).
+#[cfg_attr(debug_assertions, allow(dead_code))]
+#[inline]
+pub(crate) fn is_intel() -> bool {
+    cached(&INTEL, || {
+        use core::arch::x86_64::__cpuid;
+        // SAFETY: CPUID exists on every x86-64 processor; leaf 0 on every one.
+        #[allow(unused_unsafe)]
+        let leaf0 = unsafe { __cpuid(0) };
+        // "GenuineIntel" in EBX, EDX, ECX.
+        leaf0.ebx == u32::from_le_bytes(*b"Genu")
+            && leaf0.edx == u32::from_le_bytes(*b"ineI")
+            && leaf0.ecx == u32::from_le_bytes(*b"ntel")
+    })
 }
 
 #[inline(always)]

@@ -170,6 +170,20 @@ pub fn dispatch_eight<K: Kernel<Args>, Args>(args: Args) -> K::Output {
     choice::dispatch_eight::<K, Args>(args)
 }
 
+/// [`dispatch`] for a scalar kernel (no lane vectors) that holds far more values than sixteen
+/// registers (`C`, the regressors' products, derivatives taken one direction per run): in a
+/// build that chooses at run time, an AMD processor with AVX-512 runs it as [`dispatch_eight`]
+/// does, inside a function compiled for AVX-512, for its 32 registers; an Intel one in the
+/// AVX2 copy. There LLVM turns some of a scalar kernel's operations and spills into 512-bit
+/// instructions, and while those are in flight an Intel core leaves the rest of the vector
+/// arithmetic fewer ports: the UR5's scalar `∂τ/∂x` ran 1.5× slower in the AVX-512 copy than in
+/// the AVX2 one, as fast as native there (`BENCHMARKS.md`). AMD cores run 512-bit instructions
+/// without that penalty, and there the 32 registers made such kernels up to 1.3× faster.
+#[inline(always)]
+pub fn dispatch_many<K: Kernel<Args>, Args>(args: Args) -> K::Output {
+    choice::dispatch_many::<K, Args>(args)
+}
+
 /// Whether lane kernels ([`dispatch_eight`]) hold their eight lanes in one AVX-512 register:
 /// in a build that targets AVX-512F, always (the lane type's instructions are the build's); in
 /// an optimised x86-64 build that chooses at run time, where the processor has AVX-512 (F, DQ,
@@ -223,6 +237,11 @@ mod choice {
         K::run(Fused(()), args)
     }
 
+    #[inline(always)]
+    pub fn dispatch_many<K: Kernel<Args>, Args>(args: Args) -> K::Output {
+        dispatch_eight::<K, Args>(args)
+    }
+
     pub fn fused() -> bool {
         true
     }
@@ -273,6 +292,19 @@ mod choice {
         } else {
             // SAFETY: the processor has AVX2 and FMA (checked by `fused`).
             unsafe { run_fused_eight::<K, Args>(args) }
+        }
+    }
+
+    #[inline(always)]
+    pub fn dispatch_many<K: Kernel<Args>, Args>(args: Args) -> K::Output {
+        if avx512_lanes() && !crate::cpu::is_intel() {
+            // SAFETY: as in `dispatch_eight`.
+            unsafe { run_fused512::<K, Args>(args) }
+        } else if fused() {
+            // SAFETY: the processor has AVX2 and FMA (checked by `fused`).
+            unsafe { run_fused_eight::<K, Args>(args) }
+        } else {
+            K::run(Unfused, args)
         }
     }
 
@@ -350,6 +382,11 @@ mod choice {
 
     #[inline(always)]
     pub fn dispatch_eight<K: Kernel<Args>, Args>(args: Args) -> K::Output {
+        K::run(Unfused, args)
+    }
+
+    #[inline(always)]
+    pub fn dispatch_many<K: Kernel<Args>, Args>(args: Args) -> K::Output {
         K::run(Unfused, args)
     }
 

@@ -98,7 +98,7 @@ pub mod __private {
         not(all(target_feature = "avx2", target_feature = "fma"))
     ))]
     pub use crate::dispatch::Fused512;
-    pub use crate::dispatch::{dispatch, dispatch_eight, Kernel, MulAdd, Unfused};
+    pub use crate::dispatch::{dispatch, dispatch_eight, dispatch_many, Kernel, MulAdd, Unfused};
     pub use crate::fill::fill_zero;
     pub use crate::frame::align_stack_frame;
     pub use crate::lane_vectors::{EightLanes, FourLanes};

@@ -15,10 +15,11 @@ use std::collections::HashMap;
 /// A generated function. A scalar one runs its body as a `dyngen_runtime::__private::Kernel`
 /// through `dyngen_runtime::__private::dispatch`: with the processor's fused multiply-adds even in
 /// a build that does not target them (the body names its multiply-adds `arith.mul_add`), and
-/// through `dyngen_runtime::__private::dispatch_eight` where it carries lane vectors (`lanes`)
-/// or holds far more values than sixteen registers (`many_registers`, see [`MANY_VALUES`]: a
-/// default build then runs it compiled for AVX-512 where the processor has it, with the 32
-/// registers of a native build). A lane function is generic over its lane type instead, and aligns
+/// through `dyngen_runtime::__private::dispatch_eight` where it carries lane vectors (`lanes`: a
+/// default build then runs it compiled for AVX-512 where the processor has it), and through
+/// `dyngen_runtime::__private::dispatch_many` where it is scalar but holds far more values than
+/// sixteen registers (`many_registers`, see [`MANY_VALUES`]: compiled for AVX-512, for the 32
+/// registers of a native build, on processors where that does not slow scalar code). A lane function is generic over its lane type instead, and aligns
 /// its stack frame for its spills (`dyngen_runtime::__private::align_stack_frame`).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn function_item(
@@ -59,9 +60,10 @@ pub(super) fn function_item(
         true => format_ident!("arith"),
         false => format_ident!("_arith"),
     };
-    let dispatch = match lanes.is_some() || many_registers {
-        true => quote!(dyngen_runtime::__private::dispatch_eight),
-        false => quote!(dyngen_runtime::__private::dispatch),
+    let dispatch = match (lanes.is_some(), many_registers) {
+        (true, _) => quote!(dyngen_runtime::__private::dispatch_eight),
+        (false, true) => quote!(dyngen_runtime::__private::dispatch_many),
+        (false, false) => quote!(dyngen_runtime::__private::dispatch),
     };
     // A kernel with lane vectors calls their multiply-adds as methods of `M::Eight` (`M::Four`).
     let lane_methods = match lanes.map(LaneWidth::vector_trait) {
@@ -290,11 +292,12 @@ pub(super) fn result_value(q: &Quantity, form: Form, atoms: &[TokenStream]) -> T
 const LIBRARY_FILL_BYTES: usize = 512;
 
 /// Functions that compute more values than this, and the derivatives of the dynamics, run through
-/// `dyngen_runtime::__private::dispatch_eight`: their values outnumber sixteen registers many times
-/// over, and in a default build that function gives them the 32 of AVX-512 where the processor has
-/// it, as a native build does. Measured on `C`, the regressors and their products (arm7, Panda,
-/// UR5): as fast as native or within a few percent, where the AVX2 function was up to 1.3× slower
-/// (`BENCHMARKS.md`). Small kernels stay in the AVX2 function (`fk` was 20% slower in an AVX-512
+/// `dyngen_runtime::__private::dispatch_eight` (lane kernels) or `dispatch_many` (scalar ones):
+/// their values outnumber sixteen registers many times over, and in a default build those give
+/// them the 32 of AVX-512 where the processor has it, as a native build does. Measured on `C`,
+/// the regressors and their products (arm7, Panda, UR5) on an AMD host: as fast as native or
+/// within a few percent, where the AVX2 function was up to 1.3× slower (`BENCHMARKS.md`); on an
+/// Intel host scalar kernels run faster in the AVX2 function, which `dispatch_many` picks there. Small kernels stay in the AVX2 function (`fk` was 20% slower in an AVX-512
 /// one, in an earlier experiment).
 const MANY_VALUES: usize = 1000;
 
