@@ -297,14 +297,11 @@ mod choice {
 
     #[inline(always)]
     pub fn dispatch_many<K: Kernel<Args>, Args>(args: Args) -> K::Output {
-        if avx512_lanes() && !crate::cpu::is_intel() {
-            // SAFETY: as in `dispatch_eight`.
-            unsafe { run_fused512::<K, Args>(args) }
-        } else if fused() {
-            // SAFETY: the processor has AVX2 and FMA (checked by `fused`).
+        if avx512_lanes() && crate::cpu::is_intel() {
+            // SAFETY: the processor has AVX2 and FMA (`avx512_lanes` checks `fused`).
             unsafe { run_fused_eight::<K, Args>(args) }
         } else {
-            K::run(Unfused, args)
+            dispatch_eight::<K, Args>(args)
         }
     }
 

@@ -19,8 +19,9 @@ use std::collections::HashMap;
 /// default build then runs it compiled for AVX-512 where the processor has it), and through
 /// `dyngen_runtime::__private::dispatch_many` where it is scalar but holds far more values than
 /// sixteen registers (`many_registers`, see [`MANY_VALUES`]: compiled for AVX-512, for the 32
-/// registers of a native build, on processors where that does not slow scalar code). A lane function is generic over its lane type instead, and aligns
-/// its stack frame for its spills (`dyngen_runtime::__private::align_stack_frame`).
+/// registers of a native build, on processors where that does not slow scalar code). A lane
+/// function is generic over its lane type instead, and aligns its stack frame for its spills
+/// (`dyngen_runtime::__private::align_stack_frame`).
 #[allow(clippy::too_many_arguments)]
 pub(super) fn function_item(
     form: Form,
@@ -297,8 +298,9 @@ const LIBRARY_FILL_BYTES: usize = 512;
 /// them the 32 of AVX-512 where the processor has it, as a native build does. Measured on `C`,
 /// the regressors and their products (arm7, Panda, UR5) on an AMD host: as fast as native or
 /// within a few percent, where the AVX2 function was up to 1.3× slower (`BENCHMARKS.md`); on an
-/// Intel host scalar kernels run faster in the AVX2 function, which `dispatch_many` picks there. Small kernels stay in the AVX2 function (`fk` was 20% slower in an AVX-512
-/// one, in an earlier experiment).
+/// Intel host scalar kernels run faster in the AVX2 function, which `dispatch_many` picks there.
+/// Small kernels stay in the AVX2 function (`fk` was 20% slower in an AVX-512 one, in an earlier
+/// experiment).
 const MANY_VALUES: usize = 1000;
 
 /// Bytes of `q`'s result: `f64`s, or lane vectors of at least four.
