@@ -12,10 +12,11 @@ pub mod dynamics {
     pub use crate::dynamics::joint::{joint_factored_transforms, joint_transforms};
     pub use crate::dynamics::joint_terms::joint_term_values;
     pub use crate::dynamics::kinematics::{body_poses, jacobian};
+    pub use crate::dynamics::newton_euler::inverse_dynamics;
     pub use crate::dynamics::regressor::{regressor, regressor_by_jacobians};
     pub use crate::dynamics::regressor_products::regressor_products;
     pub use crate::dynamics::singular::singular_joints;
-    pub use crate::dynamics::slotine_li::{gravity_torque, inverse_dynamics};
+    pub use crate::dynamics::slotine_li::gravity_torque;
 }
 
 /// The scalar type the generic algorithms are written against.

@@ -14,7 +14,7 @@
 
 use super::crba::mass_matrix;
 use super::joint_terms::{add_armature, joint_term_torques};
-use super::slotine_li::inverse_dynamics;
+use super::newton_euler::inverse_dynamics;
 use super::tree_ldl::TreeLdl;
 use crate::model::{JointTermValues, Model};
 use crate::scalar::Scalar;

@@ -3,11 +3,11 @@
 use super::coupling::{expand, project_rows};
 use super::joint::{joint_force, joint_motion};
 use super::joint_terms::{column_entry, fill_joint_term_columns};
-use super::slotine_li::{forward_pass, gravity_vector, unit_body_force};
+use super::slotine_li::unit_body_forces;
 use crate::model::{Model, PARAMS_PER_BODY};
 use crate::scalar::Scalar;
 use crate::scalar_dual::{seeded, Dual, LaneScalar, Tangent};
-use crate::spatial::{Motion, Transform};
+use crate::spatial::{Force, Motion, Transform};
 use nalgebra::DMatrix;
 
 /// `Y` (n × P): column block `i` (ten columns) belongs to body `i`'s standard parameters; then
@@ -27,12 +27,12 @@ pub fn regressor<S: Scalar>(model: &Model, x: &[Transform<S>], qd: &[S], v: &[S]
 /// The regressor of the tree, one row per moving joint.
 fn tree_regressor<S: Scalar>(model: &Model, x: &[Transform<S>], qd: &[S], v: &[S], a: &[S]) -> DMatrix<S> {
     let n = model.joints().len();
-    let motions = forward_pass(model, x, qd, v, a, Some(gravity_vector(model)));
+    let forces = unit_body_forces(model, x, qd, v, a);
     let mut y = DMatrix::from_element(n, model.parameter_count(), S::zero());
-    for (i, m) in motions.iter().enumerate() {
-        for k in 0..PARAMS_PER_BODY {
+    for (i, unit) in forces.iter().enumerate() {
+        for (k, &f) in unit.iter().enumerate() {
             let col = PARAMS_PER_BODY * i + k;
-            let mut f = unit_body_force(k, m);
+            let mut f = f;
             let mut j = i;
             y[(j, col)] = joint_force(&model.joints()[j], &f);
             while let Some(p) = model.joints()[j].parent {
@@ -61,12 +61,12 @@ pub fn regressor_by_jacobians<S: Scalar>(
 ) -> DMatrix<S> {
     let (qd, v, a) = (expand(model, qd), expand(model, v), expand(model, a));
     let n = model.joints().len();
-    let motions = forward_pass(model, x, &qd, &v, &a, Some(gravity_vector(model)));
+    let forces = unit_body_forces(model, x, &qd, &v, &a);
     // Every joint's axis seen from each body below it (body j's local Jacobian, column by
     // column), built parent first: a body carries its parent's list down and adds its own.
     let mut axes: Vec<Vec<(usize, Motion<S>)>> = Vec::with_capacity(n);
     let mut y = DMatrix::from_element(n, model.parameter_count(), S::zero());
-    for (j, (joint, m)) in model.joints().iter().zip(&motions).enumerate() {
+    for (j, (joint, unit)) in model.joints().iter().zip(&forces).enumerate() {
         let ancestors: Vec<(usize, Motion<S>)> = match joint.parent {
             Some(p) => axes[p]
                 .iter()
@@ -74,10 +74,9 @@ pub fn regressor_by_jacobians<S: Scalar>(
                 .collect(),
             None => Vec::new(),
         };
-        for k in 0..PARAMS_PER_BODY {
+        for (k, f) in unit.iter().enumerate() {
             let col = PARAMS_PER_BODY * j + k;
-            let f = unit_body_force(k, m);
-            y[(j, col)] = joint_force(joint, &f);
+            y[(j, col)] = joint_force(joint, f);
             for (i, s) in &ancestors {
                 y[(*i, col)] = f.power(s);
             }
@@ -117,12 +116,15 @@ pub fn regressor_row_lanes<S: LaneScalar>(
 ) -> Vec<Vec<S::Lanes>> {
     let (qd, v, a) = (expand(model, qd), expand(model, v), expand(model, a));
     let joints = model.joints();
-    let motions = forward_pass(model, x, &qd, &v, &a, Some(gravity_vector(model)));
+    let forces = unit_body_forces(model, x, &qd, &v, &a);
     let n = model.dof();
     let inertial = model.inertial_parameter_count();
     // The state enters as constants: only the rates carry lanes.
     let x: Vec<Transform<Dual<S, S::Lanes>>> = x.iter().map(|t| t.map(Dual::constant)).collect();
-    let motions: Vec<_> = motions.iter().map(|m| m.map(Dual::constant)).collect();
+    let forces: Vec<[Force<Dual<S, S::Lanes>>; PARAMS_PER_BODY]> = forces
+        .iter()
+        .map(|unit| unit.map(|f| f.map(Dual::constant)))
+        .collect();
     (0..n)
         .step_by(ROW_LANES)
         .map(|first| {
@@ -134,8 +136,7 @@ pub fn regressor_row_lanes<S: LaneScalar>(
                     .parent
                     .map_or(Motion::zero(), |p| x[j].motion_to_child(&w[p]));
                 let wj = up + joint_motion(joint, rates[j]);
-                for k in 0..PARAMS_PER_BODY {
-                    let f = unit_body_force(k, &motions[j]);
+                for (k, f) in forces[j].iter().enumerate() {
                     columns[PARAMS_PER_BODY * j + k] = f.power(&wj).tangent;
                 }
                 w.push(wj);

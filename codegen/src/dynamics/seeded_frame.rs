@@ -95,4 +95,17 @@ impl<S: Scalar, T: Tangent<S>> JointFrame<Dual<S, T>> for SeededFrame<S, T> {
             lin: with_tangent(&f.lin, seed, &turned.lin),
         })
     }
+
+    /// A prismatic joint moves its child's origin along its axis (`d p/dq = R S_lin`); a
+    /// revolute one turns about it.
+    fn origin(&self) -> Vec3<Dual<S, T>> {
+        let p = self.x.pos;
+        match self.seed {
+            Some(seed) if self.axis.lin != Vec3::zero() => {
+                let rot = self.x.rot.map(|d| d.value);
+                with_tangent(&p, seed, &rot.mul_vec(&self.axis.lin))
+            }
+            _ => p,
+        }
+    }
 }

@@ -1,11 +1,13 @@
 //! The Slotine–Li recursion (Niemeyer & Slotine 1991, with the body operator of Echeandia &
 //! Wensing 2021): `D(q) a + C(q, q̇) v + g(q)` in O(n), with the Christoffel-consistent `C`.
-//! Inverse dynamics and gravity are special cases of it; its columns at `v = e_j` are those of
-//! `C` (computed faster in [`super::coriolis`]).
+//! Gravity is a special case of it, and so is inverse dynamics (`v = q̇`), which
+//! [`super::newton_euler`] computes with fewer operations; its columns at `v = e_j` are those
+//! of `C` (computed faster in [`super::coriolis`]).
 
 use super::coupling::{expand, project};
 use super::joint::{joint_force, joint_motion};
-use crate::model::Model;
+use super::newton_euler::origin_motions;
+use crate::model::{Model, PARAMS_PER_BODY};
 use crate::scalar::Scalar;
 use crate::spatial::{Force, JointFrame, Motion, RigidInertia, Transform, Vec3};
 
@@ -17,17 +19,6 @@ pub(crate) struct BodyMotion<S> {
     pub w: Motion<S>,
     /// Reference acceleration (from a and gravity).
     pub wdot: Motion<S>,
-}
-
-impl<S: Copy> BodyMotion<S> {
-    /// `f` entry by entry.
-    pub fn map<T>(&self, f: impl Fn(S) -> T) -> BodyMotion<T> {
-        BodyMotion {
-            vel: self.vel.map(&f),
-            w: self.w.map(&f),
-            wdot: self.wdot.map(&f),
-        }
-    }
 }
 
 /// Forward pass: the velocities and reference accelerations of every body, in body frames.
@@ -104,6 +95,30 @@ pub(crate) fn unit_body_force<S: Scalar>(k: usize, m: &BodyMotion<S>) -> Force<S
     }
 }
 
+/// The body forces of every body's ten unit inertias ([`unit_body_force`]) at the tree's
+/// rates, gravity on: the regressor's columns before they are carried up the tree. In torque
+/// form (`v` the same nodes as `q̇`) from the classical Newton–Euler pass, which never forms
+/// the origins' linear velocities (`newton_euler`).
+pub(crate) fn unit_body_forces<S: Scalar, X: JointFrame<S>>(
+    model: &Model,
+    x: &[X],
+    qd: &[S],
+    v: &[S],
+    a: &[S],
+) -> Vec<[Force<S>; PARAMS_PER_BODY]> {
+    if qd == v {
+        let motions = origin_motions(model, x, qd, a);
+        return motions
+            .iter()
+            .map(|m| std::array::from_fn(|k| m.force(&RigidInertia::unit(k))))
+            .collect();
+    }
+    forward_pass(model, x, qd, v, a, Some(gravity_vector(model)))
+        .iter()
+        .map(|m| std::array::from_fn(|k| unit_body_force(k, m)))
+        .collect()
+}
+
 /// `D(q) a + C(q, q̇) v + g(q)` (gravity optional): the Slotine–Li reference torque, on the
 /// coordinates (`Gᵀ` of the tree's at `G q̇, G v, G a` with mimic joints).
 pub fn slotine_li<S: Scalar, X: JointFrame<S>>(
@@ -130,22 +145,22 @@ fn tree_slotine_li<S: Scalar, X: JointFrame<S>>(
     gravity: Option<Vec3<S>>,
 ) -> Vec<S> {
     let motions = forward_pass(model, x, qd, v, a, gravity);
-    tree_forces(model, x, inertias, &motions).0
+    let forces = motions
+        .iter()
+        .zip(inertias)
+        .map(|(m, i)| body_force(i, m))
+        .collect();
+    tree_forces(model, x, forces).0
 }
 
-/// The backward pass: every tree joint's torque, and the force each body's subtree exerts on
-/// its joint (in the body's frame; a root's is what a floating base feels from it).
+/// The backward pass from every body's own force `f` (in its frame): every tree joint's
+/// torque, and the force each body's subtree exerts on its joint (in the body's frame; a
+/// root's is what a floating base feels from it).
 pub(crate) fn tree_forces<S: Scalar, X: JointFrame<S>>(
     model: &Model,
     x: &[X],
-    inertias: &[RigidInertia<S>],
-    motions: &[BodyMotion<S>],
+    mut f: Vec<Force<S>>,
 ) -> (Vec<S>, Vec<Force<S>>) {
-    let mut f: Vec<Force<S>> = motions
-        .iter()
-        .zip(inertias)
-        .map(|(m, inertia)| body_force(inertia, m))
-        .collect();
     let mut tau = vec![S::zero(); model.joints().len()];
     for (i, joint) in model.joints().iter().enumerate().rev() {
         tau[i] = joint_force(joint, &f[i]);
@@ -159,17 +174,6 @@ pub(crate) fn tree_forces<S: Scalar, X: JointFrame<S>>(
 
 pub(crate) fn gravity_vector<S: Scalar>(model: &Model) -> Vec3<S> {
     Vec3::from_f64([model.gravity().x, model.gravity().y, model.gravity().z])
-}
-
-/// Inverse dynamics `τ = D q̈ + C q̇ + g` (RNEA).
-pub fn inverse_dynamics<S: Scalar, X: JointFrame<S>>(
-    model: &Model,
-    x: &[X],
-    inertias: &[RigidInertia<S>],
-    qd: &[S],
-    qdd: &[S],
-) -> Vec<S> {
-    slotine_li(model, x, inertias, qd, qd, qdd, Some(gravity_vector(model)))
 }
 
 /// Generalized gravity `g(q)`.

@@ -103,6 +103,18 @@ impl<S: Scalar> RigidInertia<S> {
         }
     }
 
+    /// The force about the origin of a body turning at `ω` with angular acceleration `α`,
+    /// whose origin accelerates at `a` (the classical acceleration, not the spatial one):
+    /// `n = J α + ω × J ω + h × a`, `f = m a + α × h + ω × (ω × h)`. It is
+    /// [`Self::newton_euler_force`] at `a = β + ω × u`, without the origin's velocity `u`.
+    pub fn origin_force(&self, omega: &Vec3<S>, alpha: &Vec3<S>, a: &Vec3<S>) -> Force<S> {
+        let h = &self.h;
+        Force {
+            ang: self.rot_mul(alpha) + omega.cross(&self.rot_mul(omega)) + h.cross(a),
+            lin: a.scale(self.m) + alpha.cross(h) + omega.cross(&omega.cross(h)),
+        }
+    }
+
     /// The time derivative `İ = v ×* I − I (v ×)` of this inertia moving with velocity `v`
     /// (angular `ω`, origin velocity `u`), itself of rigid-inertia shape:
     /// `ṁ = 0`, `ḣ = ω × h + m u`, `İ_O = [ω×] I_O − I_O [ω×] + 2 (u·h) 1 − h uᵀ − u hᵀ`.

@@ -40,6 +40,16 @@ impl<S: Copy> Motion<S> {
     }
 }
 
+impl<S: Copy> Force<S> {
+    /// `f` entry by entry (a force over another scalar type).
+    pub fn map<T>(&self, f: impl Fn(S) -> T) -> Force<T> {
+        Force {
+            ang: self.ang.map(&f),
+            lin: self.lin.map(&f),
+        }
+    }
+}
+
 impl<S: Scalar> Motion<S> {
     pub fn zero() -> Self {
         Motion {

@@ -65,6 +65,9 @@ impl<S: Scalar> Transform<S> {
 pub trait JointFrame<S> {
     fn motion_to_child(&self, m: &Motion<S>) -> Motion<S>;
     fn force_to_parent(&self, f: &Force<S>) -> Force<S>;
+    /// The child's origin in the parent's coordinates (what the classical Newton–Euler
+    /// recursion needs to carry an origin's acceleration to the child).
+    fn origin(&self) -> Vec3<S>;
 }
 
 impl<S: Scalar> JointFrame<S> for Transform<S> {
@@ -73,6 +76,9 @@ impl<S: Scalar> JointFrame<S> for Transform<S> {
     }
     fn force_to_parent(&self, f: &Force<S>) -> Force<S> {
         Transform::force_to_parent(self, f)
+    }
+    fn origin(&self) -> Vec3<S> {
+        self.pos
     }
 }
 
@@ -107,6 +113,9 @@ impl<S: Scalar> JointFrame<S> for FactoredTransform<S> {
     }
     fn force_to_parent(&self, f: &Force<S>) -> Force<S> {
         self.outer.force_to_parent(&self.inner.force_to_parent(f))
+    }
+    fn origin(&self) -> Vec3<S> {
+        self.outer.transform_point(&self.inner.pos)
     }
 }
 

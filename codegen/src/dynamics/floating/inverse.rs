@@ -3,12 +3,13 @@
 
 use super::{base_entries, base_motion, FloatingBase};
 use crate::dynamics::joint::joint_force;
+use crate::dynamics::newton_euler::{origin_motions_from, OriginMotion};
 use crate::dynamics::slotine_li::{
     body_force, forward_pass_from, gravity_vector, tree_forces, unit_body_force, BodyMotion,
 };
 use crate::model::{Model, PARAMS_PER_BODY};
 use crate::scalar::Scalar;
-use crate::spatial::{JointFrame, Mat3, Motion, RigidInertia, Vec3};
+use crate::spatial::{Force, JointFrame, Mat3, Motion, RigidInertia, Vec3};
 use nalgebra::DMatrix;
 
 /// The base body's motion: velocity `ν`, reference velocity `ν_r`, reference acceleration
@@ -47,16 +48,29 @@ pub fn floating_slotine_li<S: Scalar, X: JointFrame<S>>(
 ) -> Vec<S> {
     let root = base_body_motion(&base.pose.rot, qd, v, a, gravity);
     let motions = forward_pass_from(model, x, &qd[6..], &v[6..], &a[6..], &root);
-    let (tau, f) = tree_forces(model, x, inertias, &motions);
-    let mut on_base = body_force(&base.inertia, &root);
-    for (i, joint) in model.joints().iter().enumerate() {
-        if joint.parent.is_none() {
-            on_base = on_base + x[i].force_to_parent(&f[i]);
-        }
+    let forces = motions
+        .iter()
+        .zip(inertias)
+        .map(|(m, i)| body_force(i, m))
+        .collect();
+    base_and_joint_forces(model, x, body_force(&base.inertia, &root), forces)
+}
+
+/// The base body's motion for the classical Newton–Euler recursion (`newton_euler`): the
+/// angular velocity and acceleration of `ν` and `ν̇`, and its origin's classical acceleration
+/// `β + ω × u − Rᵀ g` (gravity, world `g` seen in the base frame, as an upward acceleration).
+fn base_origin_motion<S: Scalar>(
+    rotation: &Mat3<S>,
+    qd: &[S],
+    qdd: &[S],
+    gravity: Vec3<S>,
+) -> OriginMotion<S> {
+    let (twist, rates) = (base_motion(qd), base_motion(qdd));
+    OriginMotion {
+        omega: twist.ang,
+        alpha: rates.ang,
+        accel: rates.lin + twist.ang.cross(&twist.lin) - rotation.tr_mul_vec(&gravity),
     }
-    let mut out = base_entries(&on_base).to_vec();
-    out.extend(tau);
-    out
 }
 
 /// Inverse dynamics `D(q) ν̇ + C(q, ν) ν + g(q)`: the base wrench that produces the base
@@ -69,8 +83,29 @@ pub fn floating_inverse_dynamics<S: Scalar, X: JointFrame<S>>(
     qd: &[S],
     qdd: &[S],
 ) -> Vec<S> {
-    let g = gravity_vector(model);
-    floating_slotine_li(model, base, x, inertias, qd, qd, qdd, Some(g))
+    let root = base_origin_motion(&base.pose.rot, qd, qdd, gravity_vector(model));
+    let motions = origin_motions_from(model, x, &qd[6..], &qdd[6..], root);
+    let forces = motions.iter().zip(inertias).map(|(m, i)| m.force(i)).collect();
+    base_and_joint_forces(model, x, root.force(&base.inertia), forces)
+}
+
+/// The base wrench (the base body's own force `on_base` plus what each root's subtree exerts
+/// on it), then the joint torques, from every body's own force.
+fn base_and_joint_forces<S: Scalar, X: JointFrame<S>>(
+    model: &Model,
+    x: &[X],
+    mut on_base: Force<S>,
+    forces: Vec<Force<S>>,
+) -> Vec<S> {
+    let (tau, f) = tree_forces(model, x, forces);
+    for (i, joint) in model.joints().iter().enumerate() {
+        if joint.parent.is_none() {
+            on_base = on_base + x[i].force_to_parent(&f[i]);
+        }
+    }
+    let mut out = base_entries(&on_base).to_vec();
+    out.extend(tau);
+    out
 }
 
 /// The generalised gravity `g(q)`: nonzero base rows are the weight of the whole robot.
@@ -95,22 +130,20 @@ pub fn floating_regressor<S: Scalar, X: JointFrame<S>>(
     a: &[S],
 ) -> DMatrix<S> {
     let n = model.joints().len();
-    let root = base_body_motion(rotation, qd, v, a, Some(gravity_vector(model)));
-    let motions = forward_pass_from(model, x, &qd[6..], &v[6..], &a[6..], &root);
+    let (on_base, forces) = floating_unit_forces(model, rotation, x, qd, v, a);
     let mut y = DMatrix::from_element(6 + n, PARAMS_PER_BODY * (n + 1), S::zero());
     let set_base_rows = |y: &mut DMatrix<S>, col: usize, entries: [S; 6]| {
         for (r, e) in entries.into_iter().enumerate() {
             y[(r, col)] = e;
         }
     };
-    for k in 0..PARAMS_PER_BODY {
-        let f = unit_body_force(k, &root);
-        set_base_rows(&mut y, k, base_entries(&f));
+    for (k, f) in on_base.iter().enumerate() {
+        set_base_rows(&mut y, k, base_entries(f));
     }
-    for (i, m) in motions.iter().enumerate() {
-        for k in 0..PARAMS_PER_BODY {
+    for (i, unit) in forces.iter().enumerate() {
+        for (k, &f) in unit.iter().enumerate() {
             let col = PARAMS_PER_BODY * (i + 1) + k;
-            let mut f = unit_body_force(k, m);
+            let mut f = f;
             let mut j = i;
             y[(6 + j, col)] = joint_force(&model.joints()[j], &f);
             while let Some(p) = model.joints()[j].parent {
@@ -122,4 +155,29 @@ pub fn floating_regressor<S: Scalar, X: JointFrame<S>>(
         }
     }
     y
+}
+
+/// The body forces of the base body's and every joint body's ten unit inertias (the
+/// regressor's columns before they are carried up the tree); in torque form (`v` the same nodes
+/// as `ν`) from the classical Newton–Euler pass, as `slotine_li::unit_body_forces`.
+#[allow(clippy::type_complexity)]
+fn floating_unit_forces<S: Scalar, X: JointFrame<S>>(
+    model: &Model,
+    rotation: &Mat3<S>,
+    x: &[X],
+    qd: &[S],
+    v: &[S],
+    a: &[S],
+) -> ([Force<S>; PARAMS_PER_BODY], Vec<[Force<S>; PARAMS_PER_BODY]>) {
+    let gravity = gravity_vector(model);
+    if qd == v {
+        let root = base_origin_motion(rotation, qd, a, gravity);
+        let unit = |m: &OriginMotion<S>| std::array::from_fn(|k| m.force(&RigidInertia::unit(k)));
+        let motions = origin_motions_from(model, x, &qd[6..], &a[6..], root);
+        return (unit(&root), motions.iter().map(unit).collect());
+    }
+    let root = base_body_motion(rotation, qd, v, a, Some(gravity));
+    let motions = forward_pass_from(model, x, &qd[6..], &v[6..], &a[6..], &root);
+    let unit = |m: &BodyMotion<S>| std::array::from_fn(|k| unit_body_force(k, m));
+    (unit(&root), motions.iter().map(unit).collect())
 }
