@@ -3,11 +3,11 @@
 use super::coupling::{expand, project_rows};
 use super::joint::{joint_force, joint_motion};
 use super::joint_terms::{column_entry, fill_joint_term_columns};
-use super::slotine_li::unit_body_forces;
+use super::slotine_li::{unit_body_forces, UnitForces};
 use crate::model::{Model, PARAMS_PER_BODY};
 use crate::scalar::Scalar;
 use crate::scalar_dual::{seeded, Dual, LaneScalar, Tangent};
-use crate::spatial::{Force, Motion, Transform};
+use crate::spatial::{Motion, Transform};
 use nalgebra::DMatrix;
 
 /// `Y` (n × P): column block `i` (ten columns) belongs to body `i`'s standard parameters; then
@@ -121,7 +121,7 @@ pub fn regressor_row_lanes<S: LaneScalar>(
     let inertial = model.inertial_parameter_count();
     // The state enters as constants: only the rates carry lanes.
     let x: Vec<Transform<Dual<S, S::Lanes>>> = x.iter().map(|t| t.map(Dual::constant)).collect();
-    let forces: Vec<[Force<Dual<S, S::Lanes>>; PARAMS_PER_BODY]> = forces
+    let forces: Vec<UnitForces<Dual<S, S::Lanes>>> = forces
         .iter()
         .map(|unit| unit.map(|f| f.map(Dual::constant)))
         .collect();

@@ -95,6 +95,9 @@ pub(crate) fn unit_body_force<S: Scalar>(k: usize, m: &BodyMotion<S>) -> Force<S
     }
 }
 
+/// A body's forces with each of its ten unit inertias ([`unit_body_force`]).
+pub(crate) type UnitForces<S> = [Force<S>; PARAMS_PER_BODY];
+
 /// The body forces of every body's ten unit inertias ([`unit_body_force`]) at the tree's
 /// rates, gravity on: the regressor's columns before they are carried up the tree. In torque
 /// form (`v` the same nodes as `q̇`) from the classical Newton–Euler pass, which never forms
@@ -105,7 +108,7 @@ pub(crate) fn unit_body_forces<S: Scalar, X: JointFrame<S>>(
     qd: &[S],
     v: &[S],
     a: &[S],
-) -> Vec<[Force<S>; PARAMS_PER_BODY]> {
+) -> Vec<UnitForces<S>> {
     if qd == v {
         let motions = origin_motions(model, x, qd, a);
         return motions

@@ -5,7 +5,7 @@ use super::{base_entries, base_motion, FloatingBase};
 use crate::dynamics::joint::joint_force;
 use crate::dynamics::newton_euler::{origin_motions_from, OriginMotion};
 use crate::dynamics::slotine_li::{
-    body_force, forward_pass_from, gravity_vector, tree_forces, unit_body_force, BodyMotion,
+    body_force, forward_pass_from, gravity_vector, tree_forces, unit_body_force, BodyMotion, UnitForces,
 };
 use crate::model::{Model, PARAMS_PER_BODY};
 use crate::scalar::Scalar;
@@ -160,7 +160,6 @@ pub fn floating_regressor<S: Scalar, X: JointFrame<S>>(
 /// The body forces of the base body's and every joint body's ten unit inertias (the
 /// regressor's columns before they are carried up the tree); in torque form (`v` the same nodes
 /// as `ν`) from the classical Newton–Euler pass, as `slotine_li::unit_body_forces`.
-#[allow(clippy::type_complexity)]
 fn floating_unit_forces<S: Scalar, X: JointFrame<S>>(
     model: &Model,
     rotation: &Mat3<S>,
@@ -168,7 +167,7 @@ fn floating_unit_forces<S: Scalar, X: JointFrame<S>>(
     qd: &[S],
     v: &[S],
     a: &[S],
-) -> ([Force<S>; PARAMS_PER_BODY], Vec<[Force<S>; PARAMS_PER_BODY]>) {
+) -> (UnitForces<S>, Vec<UnitForces<S>>) {
     let gravity = gravity_vector(model);
     if qd == v {
         let root = base_origin_motion(rotation, qd, a, gravity);
