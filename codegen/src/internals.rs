@@ -6,6 +6,9 @@
 /// The dynamics algorithms generic over the scalar type (`f64`, symbols, dual numbers).
 pub mod dynamics {
     pub use crate::dynamics::crba::mass_matrix;
+    pub use crate::dynamics::derivatives::{
+        forward_dynamics_derivatives_by, inverse_dynamics_derivatives_by, Directions, Placements,
+    };
     pub use crate::dynamics::forward_dynamics::{forward_dynamics, mass_matrix_inverse};
     pub use crate::dynamics::frames::{local_jacobian, FrameMotion, FrameRates};
     pub use crate::dynamics::inertias::{body_inertias, inertias_from_parameters};

@@ -31,7 +31,7 @@
 
 use super::coriolis::coriolis_matrix;
 use super::forward_dynamics::{factor_mass_matrix, forward_dynamics_factored};
-use super::joint::joint_transforms;
+use super::joint::{joint_factored_transforms, joint_transforms};
 use super::joint_terms::joint_term_torques;
 use super::newton_euler::inverse_dynamics;
 use super::seeded_frame::seeded_frames;
@@ -39,7 +39,7 @@ use super::tree_ldl::TreeLdl;
 use crate::model::{JointTermValues, Model};
 use crate::scalar::Scalar;
 use crate::scalar_dual::{seeded, Dual, LaneScalar, LaneTangent, Tangent, LANES};
-use crate::spatial::{RigidInertia, Vec3};
+use crate::spatial::{CompositeFrame, RigidInertia, Vec3};
 use nalgebra::DMatrix;
 
 /// How the derivatives carry their directions through the recursion.
@@ -52,6 +52,39 @@ pub enum Directions {
     /// [`LANES`] directions per run, one per lane, for `q` and for `q̇`: fewer, wider
     /// operations, best where the directions' tangents overlap (the Panda).
     Lanes,
+}
+
+/// Which joint transforms the derivatives carry their tangents through.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Placements {
+    /// Each joint's transform multiplied out (`joint_transforms`).
+    Multiplied,
+    /// Each joint's placement and own motion one after the other
+    /// (`joint_factored_transforms`): cheaper where placements are tilted.
+    Factored,
+}
+
+/// Inverse dynamics on dual numbers through the joints' frames seeded by `seed` (see
+/// [`seeded_frames`]), in the form `placements` says.
+fn seeded_inverse_dynamics<S: Scalar, T: Tangent<S>>(
+    placements: Placements,
+    model: &Model,
+    q: &[S],
+    seed: impl Fn(usize) -> Option<T>,
+    inertias: &[RigidInertia<Dual<S, T>>],
+    qd: &[Dual<S, T>],
+    qdd: &[Dual<S, T>],
+) -> Vec<Dual<S, T>> {
+    match placements {
+        Placements::Multiplied => {
+            let x = seeded_frames(model, q, joint_transforms, seed);
+            inverse_dynamics(model, &x, inertias, qd, qdd)
+        }
+        Placements::Factored => {
+            let x = seeded_frames(model, q, joint_factored_transforms, seed);
+            inverse_dynamics(model, &x, inertias, qd, qdd)
+        }
+    }
 }
 
 /// A dual number whose tangent holds [`LANES`] directions.
@@ -81,6 +114,7 @@ struct Group<T> {
 /// Inverse dynamics (with the model's joint-level terms) on lane duals, one group of
 /// [`LANES`] directions at a time.
 fn tangent_groups<S: LaneScalar>(
+    placements: Placements,
     model: &Model,
     q: &[S],
     inertias: &[RigidInertia<S>],
@@ -90,21 +124,29 @@ fn tangent_groups<S: LaneScalar>(
 ) -> Vec<Group<S::Lanes>> {
     let n = model.dof();
     let dual_inertias: Vec<RigidInertia<Lanes<S>>> = inertias.iter().map(lift_inertia).collect();
-    let (q_const, qd_const, qdd_const) = (constant(q), constant(qd), constant(qdd));
-    let x_const = joint_transforms(model, &q_const);
+    let (qd_const, qdd_const) = (constant(qd), constant(qdd));
     let has_joint_terms = !model.joint_terms().kinds.is_empty();
     (0..n)
         .step_by(LANES)
         .map(|first| {
             // Joint-level terms depend on q̇ and q̈ only.
-            let x = seeded_frames(model, q, |c| {
+            let seed = |c| {
                 (first..first + LANES)
                     .contains(&c)
                     .then(|| S::Lanes::unit(c - first, S::one()))
-            });
-            let d_q = inverse_dynamics(model, &x, &dual_inertias, &qd_const, &qdd_const);
+            };
+            let d_q =
+                seeded_inverse_dynamics(placements, model, q, seed, &dual_inertias, &qd_const, &qdd_const);
             let qd_seeded = seeded(qd, first, LANES);
-            let mut d_qd = inverse_dynamics(model, &x_const, &dual_inertias, &qd_seeded, &qdd_const);
+            let mut d_qd = seeded_inverse_dynamics(
+                placements,
+                model,
+                q,
+                |_| None,
+                &dual_inertias,
+                &qd_seeded,
+                &qdd_const,
+            );
             if has_joint_terms {
                 let joint = joint_term_torques(model, joint_values, &qd_seeded, &qd_seeded, &qdd_const);
                 d_qd = d_qd.into_iter().zip(joint).map(|(r, j)| r + j).collect();
@@ -146,12 +188,24 @@ pub fn inverse_dynamics_derivatives<S: LaneScalar>(
     qd: &[S],
     qdd: &[S],
 ) -> (DMatrix<S>, DMatrix<S>) {
-    inverse_dynamics_derivatives_by(Directions::Lanes, model, q, inertias, joint_values, qd, qdd)
+    inverse_dynamics_derivatives_by(
+        Directions::Lanes,
+        Placements::Multiplied,
+        model,
+        q,
+        inertias,
+        joint_values,
+        qd,
+        qdd,
+    )
 }
 
-/// [`inverse_dynamics_derivatives`] with the directions carried as `directions` says.
+/// [`inverse_dynamics_derivatives`] with the directions carried as `directions` says, through
+/// the transforms `placements` says.
+#[allow(clippy::too_many_arguments)]
 pub fn inverse_dynamics_derivatives_by<S: LaneScalar>(
     directions: Directions,
+    placements: Placements,
     model: &Model,
     q: &[S],
     inertias: &[RigidInertia<S>],
@@ -161,9 +215,9 @@ pub fn inverse_dynamics_derivatives_by<S: LaneScalar>(
 ) -> (DMatrix<S>, DMatrix<S>) {
     let n = model.dof();
     match directions {
-        Directions::OneByOne => one_by_one(model, q, inertias, joint_values, qd, qdd),
+        Directions::OneByOne => one_by_one(placements, model, q, inertias, joint_values, qd, qdd),
         Directions::Lanes => {
-            let groups = tangent_groups(model, q, inertias, joint_values, qd, qdd);
+            let groups = tangent_groups(placements, model, q, inertias, joint_values, qd, qdd);
             (columns(n, &groups, |g| &g.d_q), columns(n, &groups, |g| &g.d_qd))
         }
     }
@@ -182,6 +236,7 @@ fn seeded_one<S: Scalar>(v: &[S], j: usize) -> Vec<Dual<S>> {
 
 /// [`Directions::OneByOne`].
 fn one_by_one<S: Scalar>(
+    placements: Placements,
     model: &Model,
     q: &[S],
     inertias: &[RigidInertia<S>],
@@ -195,8 +250,8 @@ fn one_by_one<S: Scalar>(
     let (qd_const, qdd_const) = (constant(qd), constant(qdd));
     let mut d_q = DMatrix::from_element(n, n, S::zero());
     for j in 0..n {
-        let x = seeded_frames(model, q, |c| (c == j).then(S::one));
-        let tau = inverse_dynamics(model, &x, &dual_inertias, &qd_const, &qdd_const);
+        let seed = |c| (c == j).then(S::one);
+        let tau = seeded_inverse_dynamics(placements, model, q, seed, &dual_inertias, &qd_const, &qdd_const);
         for (i, t) in tau.iter().enumerate() {
             d_q[(i, j)] = t.tangent;
         }
@@ -222,12 +277,24 @@ pub fn forward_dynamics_derivatives<S: LaneScalar>(
     qd: &[S],
     tau: &[S],
 ) -> (DMatrix<S>, DMatrix<S>) {
-    forward_dynamics_derivatives_by(Directions::Lanes, model, q, inertias, joint_values, qd, tau)
+    forward_dynamics_derivatives_by(
+        Directions::Lanes,
+        Placements::Multiplied,
+        model,
+        q,
+        inertias,
+        joint_values,
+        qd,
+        tau,
+    )
 }
 
-/// [`forward_dynamics_derivatives`] with the directions carried as `directions` says.
+/// [`forward_dynamics_derivatives`] with the directions carried as `directions` says, through
+/// the transforms `placements` says.
+#[allow(clippy::too_many_arguments)]
 pub fn forward_dynamics_derivatives_by<S: LaneScalar>(
     directions: Directions,
+    placements: Placements,
     model: &Model,
     q: &[S],
     inertias: &[RigidInertia<S>],
@@ -235,18 +302,63 @@ pub fn forward_dynamics_derivatives_by<S: LaneScalar>(
     qd: &[S],
     tau: &[S],
 ) -> (DMatrix<S>, DMatrix<S>) {
+    match placements {
+        Placements::Multiplied => {
+            let x = joint_transforms(model, q);
+            forward_derivatives_through(
+                directions,
+                placements,
+                model,
+                &x,
+                q,
+                inertias,
+                joint_values,
+                qd,
+                tau,
+            )
+        }
+        Placements::Factored => {
+            let x = joint_factored_transforms(model, q);
+            forward_derivatives_through(
+                directions,
+                placements,
+                model,
+                &x,
+                q,
+                inertias,
+                joint_values,
+                qd,
+                tau,
+            )
+        }
+    }
+}
+
+/// [`forward_dynamics_derivatives_by`] with `x` the joint transforms in the form `placements`
+/// says.
+#[allow(clippy::too_many_arguments)]
+fn forward_derivatives_through<S: LaneScalar, X: CompositeFrame<S>>(
+    directions: Directions,
+    placements: Placements,
+    model: &Model,
+    x: &[X],
+    q: &[S],
+    inertias: &[RigidInertia<S>],
+    joint_values: &[JointTermValues],
+    qd: &[S],
+    tau: &[S],
+) -> (DMatrix<S>, DMatrix<S>) {
     let n = model.dof();
-    let x = joint_transforms(model, q);
-    let factor = factor_mass_matrix(model, &x, inertias, joint_values);
-    let qdd = forward_dynamics_factored(model, &x, inertias, joint_values, &factor, qd, tau);
+    let factor = factor_mass_matrix(model, x, inertias, joint_values);
+    let qdd = forward_dynamics_factored(model, x, inertias, joint_values, &factor, qd, tau);
     if directions == Directions::OneByOne {
-        let (d_q, d_qd) = one_by_one(model, q, inertias, joint_values, qd, &qdd);
+        let (d_q, d_qd) = one_by_one(placements, model, q, inertias, joint_values, qd, &qdd);
         let minus_solve = |m: DMatrix<S>| factor.solve_matrix(&m.map(|v| -v));
         return (minus_solve(d_q), minus_solve(d_qd));
     }
     // `D y = −t` for every lane of a group at once.
     let lifted = lift_factor(&factor);
-    let groups: Vec<Group<S::Lanes>> = tangent_groups(model, q, inertias, joint_values, qd, &qdd)
+    let groups: Vec<Group<S::Lanes>> = tangent_groups(placements, model, q, inertias, joint_values, qd, &qdd)
         .into_iter()
         .map(|g| Group {
             first: g.first,

@@ -15,7 +15,7 @@
 pub(crate) mod coriolis;
 mod coupling;
 pub(crate) mod crba;
-mod derivatives;
+pub(crate) mod derivatives;
 mod energy;
 pub(crate) mod floating;
 pub(crate) mod forward_dynamics;
@@ -40,7 +40,9 @@ pub use numeric_floating::{FloatingDynamics, FloatingState};
 
 pub(crate) use coriolis::coriolis_matrix;
 pub(crate) use crba::mass_matrix;
-pub(crate) use derivatives::{forward_dynamics_derivatives_by, inverse_dynamics_derivatives_by, Directions};
+pub(crate) use derivatives::{
+    forward_dynamics_derivatives_by, inverse_dynamics_derivatives_by, Directions, Placements,
+};
 pub(crate) use forward_dynamics::{forward_dynamics, mass_matrix_inverse};
 pub(crate) use frames::{local_jacobian, FrameMotion, FrameRates};
 pub(crate) use inertias::{body_inertias, inertias_from_parameters};

@@ -12,39 +12,47 @@
 //! built each tangent from single-lane pieces. The Panda's derivatives in lanes: 5% fewer lane
 //! operations, 8–10% less machine code, 9% faster (`BENCHMARKS.md`).
 
-use super::joint::{joint_motion, joint_transforms};
+use super::joint::{joint_motion, pose_to_transform};
 use crate::model::Model;
 use crate::scalar::Scalar;
 use crate::scalar_dual::{Dual, Tangent};
-use crate::spatial::{Force, JointFrame, Motion, Transform, Vec3};
+use crate::spatial::{Force, JointFrame, Motion, Vec3};
 
-/// One joint's transform on [`Dual`] numbers, with the tangent `seed` of its own coordinate
-/// (the unit direction, times the mimic multiplier), or none if the derivative is not taken
-/// along it.
+/// One joint's transform on [`Dual`] numbers (in either form, [`Transform`] or
+/// [`FactoredTransform`](crate::spatial::FactoredTransform)), with the tangent `seed` of its
+/// own coordinate (the unit direction, times the mimic multiplier), or none if the derivative
+/// is not taken along it.
 #[derive(Clone, Copy, Debug)]
-pub(crate) struct SeededFrame<S, T> {
-    x: Transform<Dual<S, T>>,
+pub(crate) struct SeededFrame<S, T, X> {
+    x: X,
     axis: Motion<S>,
+    /// How fast the child's origin moves in the parent along the joint's coordinate: a
+    /// prismatic joint's axis in the parent's coordinates; zero for a revolute joint.
+    origin_rate: Vec3<S>,
     seed: Option<T>,
 }
 
-/// Every joint's frame at the coordinates `q`; `seed(c)` is the tangent of coordinate `c` (none:
-/// not a direction of this run).
-pub(crate) fn seeded_frames<S: Scalar, T: Tangent<S>>(
+/// Every joint's frame at the coordinates `q`, its transform built by `transforms` (one of
+/// `joint_transforms`, `joint_factored_transforms`); `seed(c)` is the tangent of coordinate
+/// `c` (none: not a direction of this run).
+pub(crate) fn seeded_frames<S: Scalar, T: Tangent<S>, X>(
     model: &Model,
     q: &[S],
+    transforms: impl Fn(&Model, &[Dual<S, T>]) -> Vec<X>,
     seed: impl Fn(usize) -> Option<T>,
-) -> Vec<SeededFrame<S, T>> {
+) -> Vec<SeededFrame<S, T, X>> {
     let constant: Vec<Dual<S, T>> = q.iter().map(|&x| Dual::constant(x)).collect();
-    joint_transforms(model, &constant)
+    transforms(model, &constant)
         .into_iter()
         .zip(model.joints())
         .zip(model.coordinate_maps().iter().zip(model.mimics()))
         .map(|((x, joint), (map, mimic))| {
             let multiplier = if mimic.is_some() { map.multiplier } else { 1.0 };
+            let axis = joint_motion(joint, S::one());
             SeededFrame {
                 x,
-                axis: joint_motion(joint, S::one()),
+                axis,
+                origin_rate: pose_to_transform::<S>(&joint.origin).rot.mul_vec(&axis.lin),
                 seed: seed(map.coordinate).map(|t| t.scale(S::from_f64(multiplier))),
             }
         })
@@ -67,7 +75,7 @@ fn with_tangent<S: Scalar, T: Tangent<S>>(
     }))
 }
 
-impl<S: Scalar, T: Tangent<S>> JointFrame<Dual<S, T>> for SeededFrame<S, T> {
+impl<S: Scalar, T: Tangent<S>, X: JointFrame<Dual<S, T>>> JointFrame<Dual<S, T>> for SeededFrame<S, T, X> {
     fn motion_to_child(&self, m: &Motion<Dual<S, T>>) -> Motion<Dual<S, T>> {
         let y = self.x.motion_to_child(m);
         let Some(seed) = self.seed else { return y };
@@ -96,15 +104,11 @@ impl<S: Scalar, T: Tangent<S>> JointFrame<Dual<S, T>> for SeededFrame<S, T> {
         })
     }
 
-    /// A prismatic joint moves its child's origin along its axis (`d p/dq = R S_lin`); a
-    /// revolute one turns about it.
+    /// A prismatic joint moves its child's origin along its axis; a revolute one turns about it.
     fn origin(&self) -> Vec3<Dual<S, T>> {
-        let p = self.x.pos;
+        let p = self.x.origin();
         match self.seed {
-            Some(seed) if self.axis.lin != Vec3::zero() => {
-                let rot = self.x.rot.map(|d| d.value);
-                with_tangent(&p, seed, &rot.mul_vec(&self.axis.lin))
-            }
+            Some(seed) if self.origin_rate != Vec3::zero() => with_tangent(&p, seed, &self.origin_rate),
             _ => p,
         }
     }

@@ -4,7 +4,7 @@
 use super::frame_names::frame_identifiers;
 use super::quantities::QuantityKind;
 use crate::base_parameters::BaseParameterSet;
-use crate::dynamics::{self, Directions};
+use crate::dynamics::{self, Directions, Placements};
 use crate::functions::{FunctionGroup, Functions};
 use crate::model::Model;
 use crate::scalar::Scalar;
@@ -349,6 +349,27 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
                     matrix_ids(&inverse),
                 ));
             }
+            if functions.contains(FunctionGroup::Derivatives) {
+                for directions in [Directions::OneByOne, Directions::Lanes] {
+                    let args = [&q[..], &qd, &a, &tau];
+                    let (inverse, forward) = derivatives(
+                        model,
+                        directions,
+                        Placements::Factored,
+                        &inertias,
+                        &joint_values,
+                        args,
+                    );
+                    other_forms.push((
+                        QuantityKind::InverseDynamicsDerivatives.name().to_owned(),
+                        inverse,
+                    ));
+                    other_forms.push((
+                        QuantityKind::ForwardDynamicsDerivatives.name().to_owned(),
+                        forward,
+                    ));
+                }
+            }
         }
         quantities.retain(|q| functions.contains(q.kind.group()));
         (
@@ -484,13 +505,14 @@ fn forward_quantities(
         return (quantities, Vec::new());
     }
     let derivatives = |directions| {
-        let inverse = pair_ids(dynamics::inverse_dynamics_derivatives_by(
-            directions, model, q, inertias, jv, qd, a,
-        ));
-        let forward = pair_ids(dynamics::forward_dynamics_derivatives_by(
-            directions, model, q, inertias, jv, qd, tau,
-        ));
-        (inverse, forward)
+        derivatives(
+            model,
+            directions,
+            Placements::Multiplied,
+            inertias,
+            jv,
+            [q, qd, a, tau],
+        )
     };
     let (inverse_derivatives, forward_derivatives) = derivatives(Directions::OneByOne);
     let (inverse_lanes, forward_lanes) = derivatives(Directions::Lanes);
@@ -521,6 +543,25 @@ fn forward_quantities(
         ),
     ];
     (quantities, lanes)
+}
+
+/// The outputs of `∂τ/∂x` and `∂q̈/∂x`, their directions and transforms carried as
+/// `directions` and `placements` say.
+fn derivatives(
+    model: &Model,
+    directions: Directions,
+    placements: Placements,
+    inertias: &[crate::spatial::RigidInertia<Expr>],
+    jv: &[crate::model::JointTermValues],
+    [q, qd, a, tau]: [&[Expr]; 4],
+) -> (Vec<Id>, Vec<Id>) {
+    let inverse = pair_ids(dynamics::inverse_dynamics_derivatives_by(
+        directions, placements, model, q, inertias, jv, qd, a,
+    ));
+    let forward = pair_ids(dynamics::forward_dynamics_derivatives_by(
+        directions, placements, model, q, inertias, jv, qd, tau,
+    ));
+    (inverse, forward)
 }
 
 /// The regressor at `v = q̇`, `a = q̈` (identification's form, `Y θ = τ`), and its base columns:

@@ -1,5 +1,6 @@
 //! Joint transforms kept as two factors, the constant placement and then the joint's own motion,
-//! which the generator uses for `D`, `τ`, forward dynamics and `D⁻¹` where a placement is tilted:
+//! which the generator uses for `D`, `τ`, forward dynamics, `D⁻¹` and the derivatives where a
+//! placement is tilted:
 //! on random trees (branches, prismatic and mimic joints, skew axes, tilted placements) they
 //! are the multiplied-out transforms, and every algorithm run through them gives the same
 //! values.
@@ -9,8 +10,9 @@ use dyngen_testkit as common;
 use common::random_model::{arb_model_and_state, deterministic_runner};
 use common::{assert_close, column};
 use dyngen_codegen::internals::dynamics::{
-    body_inertias, forward_dynamics, inverse_dynamics, joint_factored_transforms, joint_term_values,
-    joint_transforms, mass_matrix, mass_matrix_inverse,
+    body_inertias, forward_dynamics, forward_dynamics_derivatives_by, inverse_dynamics,
+    inverse_dynamics_derivatives_by, joint_factored_transforms, joint_term_values, joint_transforms,
+    mass_matrix, mass_matrix_inverse, Directions, Placements,
 };
 use std::cell::Cell;
 
@@ -61,6 +63,27 @@ fn factored_transforms_are_the_joint_transforms_and_give_the_same_dynamics() {
             &mass_matrix_inverse(&model, &plain, &inertias, &jv),
             TOL,
         );
+        // The derivatives carry their tangents through seeded frames of either form (a
+        // prismatic joint's origin moves with its coordinate in both).
+        for directions in [Directions::OneByOne, Directions::Lanes] {
+            let through = |placements| {
+                let at = (&model, &s.q[..], &inertias[..], &jv[..], &s.qd[..]);
+                let inverse = inverse_dynamics_derivatives_by(
+                    directions, placements, at.0, at.1, at.2, at.3, at.4, &s.qdd,
+                );
+                let forward = forward_dynamics_derivatives_by(
+                    directions, placements, at.0, at.1, at.2, at.3, at.4, &tau,
+                );
+                [inverse.0, inverse.1, forward.0, forward.1]
+            };
+            let (factored, plain) = (through(Placements::Factored), through(Placements::Multiplied));
+            for (name, (f, p)) in ["∂τ/∂q", "∂τ/∂q̇", "∂q̈/∂q", "∂q̈/∂q̇"]
+                .iter()
+                .zip(factored.iter().zip(&plain))
+            {
+                assert_close(&format!("{name} ({directions:?})"), f, p, TOL);
+            }
+        }
         models.set(models.get() + 1);
         Ok(())
     });

@@ -175,7 +175,9 @@ fn run<S: LaneScalar>(
         (directions.iter().position(|&d| d == wanted)).map(|k| S::Lanes::unit(k, S::one()))
     };
     let seeded = seeded_base(base, &|c| lane_of(Direction::Configuration(c)));
-    let x = seeded_frames(model, q, |j| lane_of(Direction::Configuration(6 + j)));
+    let x = seeded_frames(model, q, joint_transforms, |j| {
+        lane_of(Direction::Configuration(6 + j))
+    });
     let v: Vec<Dual<S, S::Lanes>> = (v.iter().enumerate())
         .map(|(c, &value)| Dual {
             value,
