@@ -58,10 +58,7 @@ mod parameterization;
 mod random;
 mod robot;
 mod trig;
-#[cfg(all(
-    target_arch = "x86_64",
-    not(all(target_feature = "avx2", target_feature = "fma"))
-))]
+#[cfg(target_arch = "x86_64")]
 mod trig_fused;
 mod version;
 

@@ -1,7 +1,7 @@
-//! The joint sines and cosines of [`crate::trig`] written with AVX2 and FMA intrinsics, for
-//! builds that do not target those features but run on a processor that has them
-//! ([`crate::cpu::has_avx2_fma`]). The same steps and constants as the lane form, so the same
-//! values where that form is fused (a `-C target-cpu=native` build).
+//! The joint sines and cosines of [`crate::trig`] written with AVX2 and FMA intrinsics: what
+//! every x86-64 build runs where the processor has those features (targeted, or found at run
+//! time by [`crate::cpu::has_avx2_fma`]). The same steps and constants as the lane form, so the
+//! same values as that form fused.
 
 use crate::trig::{COS, P1, P2, P3, ROUND, SIN, TWO_OVER_PI};
 use crate::JointTrig;
@@ -59,10 +59,13 @@ unsafe fn store(out: &mut [f64], v: __m256d) {
     }
 }
 
-/// The kernel on four angles (one lane vector of `JointTrigLanes`), compiled for AVX2 and FMA.
+/// The kernel on four angles (one lane vector of `JointTrigLanes`), compiled for AVX2 and FMA,
+/// for builds that choose at run time (a build that targets the features runs the lane form
+/// fused).
 ///
 /// # Safety
 /// The processor must have AVX, AVX2 and FMA.
+#[cfg(not(all(target_feature = "avx2", target_feature = "fma")))]
 #[target_feature(enable = "avx,avx2,fma")]
 pub(crate) unsafe fn sin_cos_four(q: &[f64; 4]) -> ([f64; 4], [f64; 4]) {
     let (mut sin, mut cos) = ([0.0; 4], [0.0; 4]);
