@@ -302,71 +302,60 @@ pub fn forward_dynamics_derivatives_by<S: LaneScalar>(
     qd: &[S],
     tau: &[S],
 ) -> (DMatrix<S>, DMatrix<S>) {
+    let at = ForwardAt {
+        directions,
+        placements,
+        model,
+        q,
+        inertias,
+        joint_values,
+        qd,
+        tau,
+    };
     match placements {
-        Placements::Multiplied => {
-            let x = joint_transforms(model, q);
-            forward_derivatives_through(
-                directions,
-                placements,
-                model,
-                &x,
-                q,
-                inertias,
-                joint_values,
-                qd,
-                tau,
-            )
-        }
-        Placements::Factored => {
-            let x = joint_factored_transforms(model, q);
-            forward_derivatives_through(
-                directions,
-                placements,
-                model,
-                &x,
-                q,
-                inertias,
-                joint_values,
-                qd,
-                tau,
-            )
-        }
+        Placements::Multiplied => at.through(&joint_transforms(model, q)),
+        Placements::Factored => at.through(&joint_factored_transforms(model, q)),
     }
 }
 
-/// [`forward_dynamics_derivatives_by`] with `x` the joint transforms in the form `placements`
-/// says.
-#[allow(clippy::too_many_arguments)]
-fn forward_derivatives_through<S: LaneScalar, X: CompositeFrame<S>>(
+/// The arguments of [`forward_dynamics_derivatives_by`].
+struct ForwardAt<'a, S> {
     directions: Directions,
     placements: Placements,
-    model: &Model,
-    x: &[X],
-    q: &[S],
-    inertias: &[RigidInertia<S>],
-    joint_values: &[JointTermValues],
-    qd: &[S],
-    tau: &[S],
-) -> (DMatrix<S>, DMatrix<S>) {
-    let n = model.dof();
-    let factor = factor_mass_matrix(model, x, inertias, joint_values);
-    let qdd = forward_dynamics_factored(model, x, inertias, joint_values, &factor, qd, tau);
-    if directions == Directions::OneByOne {
-        let (d_q, d_qd) = one_by_one(placements, model, q, inertias, joint_values, qd, &qdd);
-        let minus_solve = |m: DMatrix<S>| factor.solve_matrix(&m.map(|v| -v));
-        return (minus_solve(d_q), minus_solve(d_qd));
+    model: &'a Model,
+    q: &'a [S],
+    inertias: &'a [RigidInertia<S>],
+    joint_values: &'a [JointTermValues],
+    qd: &'a [S],
+    tau: &'a [S],
+}
+
+impl<S: LaneScalar> ForwardAt<'_, S> {
+    /// The derivatives with `x` the joint transforms in the form `placements` says.
+    fn through<X: CompositeFrame<S>>(&self, x: &[X]) -> (DMatrix<S>, DMatrix<S>) {
+        let (model, q, qd) = (self.model, self.q, self.qd);
+        let (inertias, joint_values, placements) = (self.inertias, self.joint_values, self.placements);
+        let n = model.dof();
+        let factor = factor_mass_matrix(model, x, inertias, joint_values);
+        let qdd = forward_dynamics_factored(model, x, inertias, joint_values, &factor, qd, self.tau);
+        if self.directions == Directions::OneByOne {
+            let (d_q, d_qd) = one_by_one(placements, model, q, inertias, joint_values, qd, &qdd);
+            let minus_solve = |m: DMatrix<S>| factor.solve_matrix(&m.map(|v| -v));
+            return (minus_solve(d_q), minus_solve(d_qd));
+        }
+        // `D y = −t` for every lane of a group at once.
+        let lifted = lift_factor(&factor);
+        let groups: Vec<Group<S::Lanes>> =
+            tangent_groups(placements, model, q, inertias, joint_values, qd, &qdd)
+                .into_iter()
+                .map(|g| Group {
+                    first: g.first,
+                    d_q: minus_solved(&lifted, &g.d_q),
+                    d_qd: minus_solved(&lifted, &g.d_qd),
+                })
+                .collect();
+        (columns(n, &groups, |g| &g.d_q), columns(n, &groups, |g| &g.d_qd))
     }
-    // `D y = −t` for every lane of a group at once.
-    let lifted = lift_factor(&factor);
-    let groups: Vec<Group<S::Lanes>> = tangent_groups(placements, model, q, inertias, joint_values, qd, &qdd)
-        .into_iter()
-        .map(|g| Group {
-            first: g.first,
-            d_q: minus_solved(&lifted, &g.d_q),
-            d_qd: minus_solved(&lifted, &g.d_qd),
-        })
-        .collect();
-    (columns(n, &groups, |g| &g.d_q), columns(n, &groups, |g| &g.d_qd))
 }
 
 /// `factor` on lane duals, for [`minus_solved`].
