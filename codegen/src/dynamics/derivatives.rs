@@ -49,7 +49,7 @@ pub enum Directions {
     /// diagonal from one scalar run each): the sparsest scalar program, best where every
     /// direction's tangents are few (the UR5).
     OneByOne,
-    /// [`LANES`] directions per run, one per lane, for `q` and for `q̇`: fewer, wider
+    /// `LANES` directions per run, one per lane, for `q` and for `q̇`: fewer, wider
     /// operations, best where the directions' tangents overlap (the Panda).
     Lanes,
 }
@@ -200,7 +200,7 @@ pub fn inverse_dynamics_derivatives<S: LaneScalar>(
     )
 }
 
-/// [`inverse_dynamics_derivatives`] with the directions carried as `directions` says, through
+/// `inverse_dynamics_derivatives` with the directions carried as `directions` says, through
 /// the transforms `placements` says.
 #[allow(clippy::too_many_arguments)]
 pub fn inverse_dynamics_derivatives_by<S: LaneScalar>(
@@ -289,7 +289,7 @@ pub fn forward_dynamics_derivatives<S: LaneScalar>(
     )
 }
 
-/// [`forward_dynamics_derivatives`] with the directions carried as `directions` says, through
+/// `forward_dynamics_derivatives` with the directions carried as `directions` says, through
 /// the transforms `placements` says.
 #[allow(clippy::too_many_arguments)]
 pub fn forward_dynamics_derivatives_by<S: LaneScalar>(
