@@ -18,6 +18,9 @@ use std::path::Path;
 /// `Y_b θ_b` against `Y θ`, relative (to the largest torque, at least 1).
 const TOL: f64 = 1e-10;
 
+/// A kept column of `Y_b` against the same column of `Y`: rounding only.
+const KEPT_COLUMN_TOL: f64 = 1e-14;
+
 fn described(robot: &str) -> Model {
     let path = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../robots")).join(format!("{robot}.yaml"));
     load(&path).unwrap_or_else(|e| panic!("{e}")).model
@@ -66,11 +69,16 @@ where
         let y_b: SMatrix<f64, N, B> = R::base_regressor(&t, &qd, &v, &a);
         let via_trait = <Base<R, P> as Parameterization<N, B>>::regressor(&t, &qd, &v, &a);
         assert_eq!(y_b, via_trait);
+        // The same graph nodes, but each function fuses its own products into multiply-adds
+        // (a product `Y` shares with a folded column stays apart there), so where the build
+        // fuses, an entry may round differently in its last bit: equal to rounding, not bit
+        // for bit (an unfused build, such as the default test profile, agrees exactly).
         for (k, &c) in cols.iter().enumerate() {
-            assert_eq!(
-                y_b.column(k),
-                y.column(c),
-                "{robot} seed {seed}: Y_b column {k} ≠ Y column {c}"
+            assert_close(
+                &format!("{robot} seed {seed}: Y_b column {k} vs Y column {c}"),
+                &column(y_b.column(k).as_slice()),
+                &column(y.column(c).as_slice()),
+                KEPT_COLUMN_TOL,
             );
         }
         for (i, theta) in thetas.iter().enumerate() {
@@ -93,10 +101,11 @@ where
             TOL,
         );
         for (k, &c) in cols.iter().enumerate() {
-            assert_eq!(
-                y_b_torque.column(k),
-                y_torque.column(c),
-                "{robot} seed {seed}: torque-form Y_b column {k} ≠ Y column {c}"
+            assert_close(
+                &format!("{robot} seed {seed}: torque-form Y_b column {k} vs Y column {c}"),
+                &column(y_b_torque.column(k).as_slice()),
+                &column(y_torque.column(c).as_slice()),
+                KEPT_COLUMN_TOL,
             );
         }
         assert_close(
