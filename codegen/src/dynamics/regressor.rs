@@ -30,9 +30,8 @@ fn tree_regressor<S: Scalar>(model: &Model, x: &[Transform<S>], qd: &[S], v: &[S
     let forces = unit_body_forces(model, x, qd, v, a);
     let mut y = DMatrix::from_element(n, model.parameter_count(), S::zero());
     for (i, unit) in forces.iter().enumerate() {
-        for (k, &f) in unit.iter().enumerate() {
+        for (k, mut f) in unit.iter().copied().enumerate() {
             let col = PARAMS_PER_BODY * i + k;
-            let mut f = f;
             let mut j = i;
             y[(j, col)] = joint_force(&model.joints()[j], &f);
             while let Some(p) = model.joints()[j].parent {

@@ -95,13 +95,13 @@ pub(crate) fn unit_body_force<S: Scalar>(k: usize, m: &BodyMotion<S>) -> Force<S
     }
 }
 
-/// A body's forces with each of its ten unit inertias ([`unit_body_force`]).
+/// A body's forces with each of its ten unit inertias: column `k` of its regressor block
+/// before it is carried up the tree.
 pub(crate) type UnitForces<S> = [Force<S>; PARAMS_PER_BODY];
 
-/// The body forces of every body's ten unit inertias ([`unit_body_force`]) at the tree's
-/// rates, gravity on: the regressor's columns before they are carried up the tree. In torque
-/// form (`v` the same nodes as `q̇`) from the classical Newton–Euler pass, which never forms
-/// the origins' linear velocities (`newton_euler`).
+/// Every body's [`UnitForces`] at the tree's rates, gravity on: by the Slotine–Li pass
+/// ([`unit_body_force`]), or in torque form (`v` the same nodes as `q̇`) by the classical
+/// Newton–Euler pass, which never forms the origins' linear velocities (`newton_euler`).
 pub(crate) fn unit_body_forces<S: Scalar, X: JointFrame<S>>(
     model: &Model,
     x: &[X],

@@ -147,9 +147,8 @@ pub fn floating_regressor<S: Scalar, X: JointFrame<S>>(
         set_base_rows(&mut y, k, base_entries(f));
     }
     for (i, unit) in forces.iter().enumerate() {
-        for (k, &f) in unit.iter().enumerate() {
+        for (k, mut f) in unit.iter().copied().enumerate() {
             let col = PARAMS_PER_BODY * (i + 1) + k;
-            let mut f = f;
             let mut j = i;
             y[(6 + j, col)] = joint_force(&model.joints()[j], &f);
             while let Some(p) = model.joints()[j].parent {
