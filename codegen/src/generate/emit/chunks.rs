@@ -31,6 +31,21 @@ use std::collections::{BTreeSet, HashMap};
 /// faster whole than in two chunks (`BENCHMARKS.md`).
 pub const CHUNK_VALUES: usize = 4096;
 
+/// Where each chunk of `len` values starts: a chunk ends at `stage_end` (a stage whose results
+/// everything after it reads, such as forward dynamics before the derivatives taken at its
+/// `q̈`), and none holds more than `chunk` values.
+fn segment_starts(len: usize, chunk: usize, stage_end: Option<usize>) -> Vec<usize> {
+    let split = stage_end.filter(|&e| e > 0 && e < len);
+    let mut starts = Vec::new();
+    for (from, to) in match split {
+        Some(e) => vec![(0, e), (e, len)],
+        None => vec![(0, len)],
+    } {
+        starts.extend((from..to).step_by(chunk.max(1)));
+    }
+    starts
+}
+
 /// What the chunked function is called and returns.
 pub(super) struct Header<'a> {
     pub(super) name: &'a Ident,
@@ -58,12 +73,13 @@ pub(super) fn chunked(
     header: Header,
     atoms: &[TokenStream],
     main_used: Vec<Id>,
+    stage_end: Option<usize>,
 ) -> super::function::Emitted {
     let g = &plan.robot.graph;
     let position: HashMap<Id, usize> = plan.order.iter().enumerate().map(|(k, &id)| (id, k)).collect();
-    let chunk = plan.robot.chunk_values;
-    let chunk_of = |id: &Id| position.get(id).map(|k| k / chunk);
-    let n_chunks = plan.order.len().div_ceil(chunk);
+    let starts = segment_starts(plan.order.len(), plan.robot.chunk_values, stage_end);
+    let chunk_of = |id: &Id| position.get(id).map(|&k| starts.partition_point(|&s| s <= k) - 1);
+    let n_chunks = starts.len();
     let in_place = writes_in_place(q, form);
     // What each chunk reads from earlier ones (the last entry: the method, which reads the
     // outputs it builds its result from when the result is not written in place), and what
@@ -107,7 +123,13 @@ pub(super) fn chunked(
     let mut chunks = Vec::new();
     let mut calls = Vec::new();
     let mut arrays = Vec::new();
-    for (k, ids) in plan.order.chunks(chunk).enumerate() {
+    let ends = starts.iter().skip(1).copied().chain([plan.order.len()]);
+    for (k, ids) in starts
+        .iter()
+        .zip(ends)
+        .map(|(&a, b)| &plan.order[a..b])
+        .enumerate()
+    {
         let chunk_name = format_ident!("{}{}_part{}", q.name(), header.suffix, k);
         let outputs = match in_place {
             true => OutputSlots::new(plan, q, atoms, |id| {
@@ -275,4 +297,27 @@ pub(super) fn chunked(
         }
     };
     super::function::Emitted { method, chunks }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::segment_starts;
+
+    #[test]
+    fn chunks_hold_at_most_the_chunk_size() {
+        assert_eq!(segment_starts(10, 4, None), vec![0, 4, 8]);
+        assert_eq!(segment_starts(8, 4, None), vec![0, 4]);
+        assert_eq!(segment_starts(3, 4, None), vec![0]);
+    }
+
+    #[test]
+    fn a_chunk_ends_where_the_first_stage_does() {
+        assert_eq!(segment_starts(10, 100, Some(3)), vec![0, 3]);
+        // Each stage in chunks of its own.
+        assert_eq!(segment_starts(10, 4, Some(6)), vec![0, 4, 6]);
+        assert_eq!(segment_starts(10, 4, Some(2)), vec![0, 2, 6]);
+        // A stage of nothing, or of everything, splits nothing.
+        assert_eq!(segment_starts(10, 100, Some(0)), vec![0]);
+        assert_eq!(segment_starts(10, 100, Some(10)), vec![0]);
+    }
 }

@@ -6,6 +6,7 @@ use super::lane_width::LaneWidth;
 use super::leaves::Leaves;
 use super::plan::{Form, Plan};
 use super::signature::{signature, Param};
+use crate::generate::quantities::QuantityKind;
 use crate::generate::trace::{Quantity, Shape, SymbolicRobot};
 use crate::symbolic::{Id, Node, OpCounts};
 use proc_macro2::{Ident, Literal, TokenStream};
@@ -132,7 +133,8 @@ pub(super) fn function(
     form: Form,
 ) -> Emitted {
     let n = Literal::usize_unsuffixed(n);
-    let plan = Plan::new(robot, leaves, &q.outputs, form);
+    let mut plan = Plan::new(robot, leaves, &q.outputs, form);
+    let stage_end = first_stage(robot, q, &plan).map(|stage| plan.put_first(&stage));
     // Lane functions are generic over the lane type, so they cost nothing until a user calls
     // them (then once per lane type).
     let generics = match form {
@@ -192,7 +194,7 @@ pub(super) fn function(
         );
     }
     let many_registers = matches!(q.shape, Shape::MatrixPair(_)) || plan.order.len() > MANY_VALUES;
-    if plan.order.len() <= robot.chunk_values {
+    if plan.order.len() <= robot.chunk_values && stage_end.is_none() {
         let mut used = main_used;
         let body = match writes_in_place(q, form) {
             true => written_in_place(&plan, q, form, &ret, &atoms, &mut used),
@@ -236,10 +238,37 @@ pub(super) fn function(
         },
         &atoms,
         main_used,
+        stage_end,
     )
 }
 
 /// The result built from its outputs `atoms` (a function not written in place).
+/// The values `q` computes in a first stage that is best compiled apart, if it has one: the
+/// derivatives of forward dynamics first compute `q̈` (forward dynamics itself, the same nodes
+/// as that function's outputs where both take the same form of the joint transforms), and only
+/// then the tangents of inverse dynamics at that `q̈` and their solves. Compiled as one
+/// function, LLVM interleaved the two, and the xArm's `∂q̈/∂x` ran 1.3× slower than forward
+/// dynamics and `∂τ/∂x` called one after the other (`BENCHMARKS.md`). Only where the
+/// tangents are lane vectors: the UR5's, one direction at a time in scalars, ran 1.2× slower
+/// split.
+fn first_stage(robot: &SymbolicRobot, q: &Quantity, plan: &Plan) -> Option<Vec<Id>> {
+    let g = &robot.graph;
+    let in_lanes = plan.order.iter().any(|&id| g.node(id).is_lanes());
+    if q.kind != QuantityKind::ForwardDynamicsDerivatives || plan.form != Form::Scalar || !in_lanes {
+        return None;
+    }
+    let forward = robot
+        .quantities
+        .iter()
+        .find(|f| f.kind == QuantityKind::ForwardDynamics)?;
+    let computed = |id: &Id| plan.names.contains_key(id);
+    forward
+        .outputs
+        .iter()
+        .all(computed)
+        .then(|| forward.outputs.clone())
+}
+
 pub(super) fn result_value(q: &Quantity, form: Form, atoms: &[TokenStream]) -> TokenStream {
     match (form, q.shape) {
         (Form::Lanes, Shape::Vector(_)) => quote!([#(#atoms),*]),

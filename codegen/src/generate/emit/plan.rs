@@ -91,6 +91,20 @@ impl<'a> Plan<'a> {
         }
     }
 
+    /// Moves what `stage` needs to the front of the order (each part keeping its order, so the
+    /// order stays topological) and renames the values by their new positions; returns how
+    /// many values the stage computes.
+    pub(super) fn put_first(&mut self, stage: &[Id]) -> usize {
+        let live = self.robot.graph.live(stage);
+        let (first, rest): (Vec<Id>, Vec<Id>) = self.order.iter().partition(|id| live[id.0 as usize]);
+        let end = first.len();
+        self.order = first.into_iter().chain(rest).collect();
+        self.names = (self.order.iter().enumerate())
+            .map(|(k, &id)| (id, format_ident!("x{k}")))
+            .collect();
+        end
+    }
+
     /// The statements that compute `ids` (a run of [`Plan::order`]): one declaration of every
     /// temporary, then one assignment per value, in creation order:
     /// `let [x0, x1]: [f64; 2]; x0 = a * b; x1 = x0 + c;`.
