@@ -1,6 +1,7 @@
 //! A large function as a run of chunk functions (`<name>_partK`, [`CHUNK_VALUES`] values each,
 //! unless the traced robot says otherwise) that
-//! hand values on through arrays the calling function owns.
+//! hand values on through arrays the calling function owns; a function with a first stage
+//! best compiled apart (forward dynamics in its derivatives) also ends a chunk there.
 //!
 //! Each chunk writes the values later chunks read into an array of its own as soon as it
 //! computes them (`*h3 = x17;`), and reads an earlier chunk's value from that chunk's array
@@ -28,7 +29,8 @@ use std::collections::{BTreeSet, HashMap};
 /// do not shrink what a call runs, and a chunk boundary costs a store and a load for each value
 /// that crosses it: measured with the values copied between chunks, the Panda's `C` and
 /// `Y` ran 15–18% faster whole than in chunks of 1024 and its `∂q̈/∂x` (about 7,000 values) 15%
-/// faster whole than in two chunks (`BENCHMARKS.md`).
+/// faster whole than in two chunks split by count (`BENCHMARKS.md`); split where its forward
+/// dynamics ends, it runs faster than whole.
 pub const CHUNK_VALUES: usize = 4096;
 
 /// Where each chunk of `len` values starts: a chunk ends at `stage_end` (a stage whose results
