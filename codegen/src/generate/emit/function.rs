@@ -242,7 +242,6 @@ pub(super) fn function(
     )
 }
 
-/// The result built from its outputs `atoms` (a function not written in place).
 /// The values `q` computes in a first stage that is best compiled apart, if it has one: the
 /// derivatives of forward dynamics first compute `q̈` (forward dynamics itself, the same nodes
 /// as that function's outputs where both take the same form of the joint transforms), and only
@@ -269,6 +268,7 @@ fn first_stage(robot: &SymbolicRobot, q: &Quantity, plan: &Plan) -> Option<Vec<I
         .then(|| forward.outputs.clone())
 }
 
+/// The result built from its outputs `atoms` (a function not written in place).
 pub(super) fn result_value(q: &Quantity, form: Form, atoms: &[TokenStream]) -> TokenStream {
     match (form, q.shape) {
         (Form::Lanes, Shape::Vector(_)) => quote!([#(#atoms),*]),
