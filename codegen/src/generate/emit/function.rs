@@ -248,12 +248,15 @@ pub(super) fn function(
 /// then the tangents of inverse dynamics at that `q̈` and their solves. Compiled as one
 /// function, LLVM interleaved the two, and the xArm's `∂q̈/∂x` ran 1.3× slower than forward
 /// dynamics and `∂τ/∂x` called one after the other (`BENCHMARKS.md`). Only where the
-/// tangents are lane vectors: the UR5's, one direction at a time in scalars, ran 1.2× slower
-/// split.
+/// tangents are lane vectors (the UR5's, one direction at a time in scalars, ran 1.2× slower
+/// split) and the function would otherwise be whole (Solo-12's, in chunks anyway, ran
+/// 1.06–1.14× slower with the stage as a chunk of its own).
 fn first_stage(robot: &SymbolicRobot, q: &Quantity, plan: &Plan) -> Option<Vec<Id>> {
     let g = &robot.graph;
     let in_lanes = plan.order.iter().any(|&id| g.node(id).is_lanes());
-    if q.kind != QuantityKind::ForwardDynamicsDerivatives || plan.form != Form::Scalar || !in_lanes {
+    let whole = plan.order.len() <= robot.chunk_values;
+    if q.kind != QuantityKind::ForwardDynamicsDerivatives || plan.form != Form::Scalar || !in_lanes || !whole
+    {
         return None;
     }
     let forward = robot
