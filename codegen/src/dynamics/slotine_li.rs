@@ -118,8 +118,13 @@ pub(crate) fn unit_body_forces<S: Scalar, X: JointFrame<S>>(
     }
     forward_pass(model, x, qd, v, a, Some(gravity_vector(model)))
         .iter()
-        .map(|m| std::array::from_fn(|k| unit_body_force(k, m)))
+        .map(unit_forces)
         .collect()
+}
+
+/// One body's [`UnitForces`] in motion `m`, by the Slotine–Li pass ([`unit_body_force`]).
+pub(crate) fn unit_forces<S: Scalar>(m: &BodyMotion<S>) -> UnitForces<S> {
+    std::array::from_fn(|k| unit_body_force(k, m))
 }
 
 /// `D(q) a + C(q, q̇) v + g(q)` (gravity optional): the Slotine–Li reference torque, on the

@@ -5,7 +5,7 @@ use super::{base_entries, base_motion, FloatingBase};
 use crate::dynamics::joint::joint_force;
 use crate::dynamics::newton_euler::{origin_motions_from, OriginMotion};
 use crate::dynamics::slotine_li::{
-    body_force, forward_pass_from, gravity_vector, tree_forces, unit_body_force, BodyMotion, UnitForces,
+    body_force, forward_pass_from, gravity_vector, tree_forces, unit_forces, BodyMotion,
 };
 use crate::model::{Model, PARAMS_PER_BODY};
 use crate::scalar::Scalar;
@@ -135,8 +135,7 @@ pub fn floating_regressor<S: Scalar, X: JointFrame<S>>(
     // 1.13–1.16× slower (native and default, side by side).
     let root = base_body_motion(rotation, qd, v, a, Some(gravity_vector(model)));
     let motions = forward_pass_from(model, x, &qd[6..], &v[6..], &a[6..], &root);
-    let unit = |m: &BodyMotion<S>| -> UnitForces<S> { std::array::from_fn(|k| unit_body_force(k, m)) };
-    let (on_base, forces): (_, Vec<_>) = (unit(&root), motions.iter().map(unit).collect());
+    let (on_base, forces): (_, Vec<_>) = (unit_forces(&root), motions.iter().map(unit_forces).collect());
     let mut y = DMatrix::from_element(6 + n, PARAMS_PER_BODY * (n + 1), S::zero());
     let set_base_rows = |y: &mut DMatrix<S>, col: usize, entries: [S; 6]| {
         for (r, e) in entries.into_iter().enumerate() {

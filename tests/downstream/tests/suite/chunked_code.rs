@@ -162,7 +162,8 @@ fn chunked_functions_compute_what_whole_ones_do() {
             "{what}: no `{needle}` in the chunked module"
         );
     }
-    // Whole, only the derivatives of forward dynamics come in (their two stages'), functions.
+    // Emitted whole, a module splits only the derivatives of forward dynamics (into their two
+    // stages: each a definition and a call of `…_part0(`).
     let stages = whole.matches("fn forward_dynamics_derivatives_part0(").count();
     assert!(
         whole.matches("_part0(").count() == 2 * stages,
