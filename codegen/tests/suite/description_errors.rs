@@ -1129,8 +1129,8 @@ fn device_files_are_refused_not_read_forever() {
         .unwrap_err()
         .to_string();
     assert!(e.starts_with("/dev/zero.yaml: cannot read file"), "{e}");
-    let dir = std::env::temp_dir().join(format!("dyngen-dev-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("scratch");
+    let scratch = tempfile::Builder::new().prefix("dyngen-dev-").tempdir().expect("scratch dir");
+    let dir = scratch.path();
     let wrapper = dir.join("wrapper.yaml");
     std::fs::write(&wrapper, "urdf: /dev/zero\n").expect("write");
     let e = description::load(&wrapper).unwrap_err().to_string();
@@ -1138,5 +1138,4 @@ fn device_files_are_refused_not_read_forever() {
         e.contains("cannot read URDF file '/dev/zero': not a regular file"),
         "{e}"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -144,8 +144,8 @@ fn exported_descriptions_keep_their_frames() {
         load("frames: [l1, { name: sensor, link: flange, xyz: [0.01, 0, 0.05], rpy: [0.1, 0, 0] }]\n")
             .unwrap();
     let export = description::to_urdf_rs(&model).unwrap();
-    let dir = std::env::temp_dir().join(format!("dyngen-frames-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let scratch = tempfile::Builder::new().prefix("dyngen-frames-").tempdir().expect("scratch dir");
+    let dir = scratch.path();
     std::fs::write(
         dir.join("r.urdf"),
         urdf_rs::write_to_string(&export.robot).unwrap(),
@@ -155,7 +155,6 @@ fn exported_descriptions_keep_their_frames() {
     let back = description::load(&dir.join("r.yaml"))
         .unwrap_or_else(|e| panic!("{e}"))
         .model;
-    std::fs::remove_dir_all(&dir).ok();
     assert_eq!(names(&back), names(&model));
     for (a, b) in back.frames().iter().zip(model.frames()) {
         assert_eq!(

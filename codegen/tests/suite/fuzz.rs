@@ -321,8 +321,8 @@ fn random_trees_round_trip_through_yaml_and_urdf() {
 #[test]
 fn overflowing_models_are_errors_not_panics() {
     // Also kept as data: tests/data/fuzz/overflow-gravity.yaml.
-    let dir = std::env::temp_dir().join(format!("dyngen-overflow-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("scratch");
+    let scratch = tempfile::Builder::new().prefix("dyngen-overflow-").tempdir().expect("scratch dir");
+    let dir = scratch.path();
     let base = "\
 name: huge
 gravity: [0.0, 0.0, -9.81]
@@ -351,7 +351,6 @@ joints:
         let e = result.expect_err(to).to_string();
         assert!(e.contains("huge.yaml") && e.contains(expected), "{to}: {e}");
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// A description with thousands of joints loads (see above), but generating it would run for
@@ -359,8 +358,8 @@ joints:
 #[test]
 fn too_many_joints_is_an_error_not_a_hang() {
     use dyngen_codegen::generate::{generate_robot, MAX_GENERATED_DOF};
-    let dir = std::env::temp_dir().join(format!("dyngen-dof-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("scratch");
+    let scratch = tempfile::Builder::new().prefix("dyngen-dof-").tempdir().expect("scratch dir");
+    let dir = scratch.path();
     let path = dir.join("long.yaml");
     std::fs::write(&path, yaml_chain(MAX_GENERATED_DOF + 1)).expect("write");
     let start = Instant::now();
@@ -371,5 +370,4 @@ fn too_many_joints_is_an_error_not_a_hang() {
         e.contains("long.yaml") && e.contains("65 moving joints") && e.contains("at most 64"),
         "{e}"
     );
-    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -394,8 +394,8 @@ fn yaml_chooses_columns_and_values() {
 
 #[test]
 fn urdf_dynamics_tags_map_to_viscous_and_coulomb_friction() {
-    let dir = std::env::temp_dir().join(format!("dyngen-joint-terms-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let scratch = tempfile::Builder::new().prefix("dyngen-joint-terms-").tempdir().expect("scratch dir");
+    let dir = scratch.path();
     let urdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("../robots/urdf/panda.urdf");
     let wrapper = dir.join("panda_friction.yaml");
     std::fs::write(
@@ -408,7 +408,6 @@ fn urdf_dynamics_tags_map_to_viscous_and_coulomb_friction() {
     )
     .expect("write wrapper");
     let model = load(&wrapper).unwrap_or_else(|e| panic!("{e}")).model;
-    std::fs::remove_dir_all(&dir).ok();
     let text = std::fs::read_to_string(&urdf).expect("panda.urdf");
     let doc = roxmltree::Document::parse(&text).expect("xml");
     for (j, joint) in model.joints().iter().enumerate() {

@@ -128,8 +128,8 @@ fn committed_panda_rounded_is_the_rounded_panda() {
 
 #[test]
 fn snap_angles_from_yaml_and_its_bad_values() {
-    let dir = std::env::temp_dir().join(format!("dyngen-snap-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("scratch");
+    let scratch = tempfile::Builder::new().prefix("dyngen-snap-").tempdir().expect("scratch dir");
+    let dir = scratch.path();
     std::fs::write(dir.join("panda_rounded.urdf"), rounded(&panda_urdf())).expect("write");
     let wrapper = |snap: &str| {
         format!(
@@ -151,7 +151,6 @@ fn snap_angles_from_yaml_and_its_bad_values() {
             "{bad}: {e}"
         );
     }
-    let _ = std::fs::remove_dir_all(&dir);
 }
 
 /// The build-script API snaps a bare URDF on request: the rounded Panda then generates code as

@@ -21,12 +21,12 @@ joints:
   - { name: j1, type: continuous, parent: base, child: l1, axis: [0, 0, 1] }
 ";
 
-/// A fresh directory under the system's temporary directory.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("dyngen-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    dir
+/// A fresh directory under the system's temporary directory, removed when dropped.
+fn scratch(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("dyngen-{name}-"))
+        .tempdir()
+        .expect("scratch dir")
 }
 
 fn old_content() -> String {
@@ -93,7 +93,8 @@ fn wait_for_temporary(dir: &Path, child: &Child) {
 /// content, never a mix or a truncation; the next complete run removes the leftovers.
 #[test]
 fn killed_generation_leaves_old_or_new_file() {
-    let dir = scratch("kill");
+    let temp = scratch("kill");
+    let dir = temp.path();
     let description = dir.join("tiny.yaml");
     std::fs::write(&description, ROBOT).expect("write description");
     let target = dir.join("tiny.rs");
@@ -160,7 +161,8 @@ fn killed_generation_leaves_old_or_new_file() {
 /// An invalid description fails before anything is written: the previous files are intact.
 #[test]
 fn failed_generation_keeps_previous_files() {
-    let dir = scratch("fail");
+    let temp = scratch("fail");
+    let dir = temp.path();
     let src = dir.join("src");
     std::fs::create_dir_all(&src).expect("src");
     let description = dir.join("tiny.yaml");
@@ -185,7 +187,8 @@ fn failed_generation_keeps_previous_files() {
 /// A file that dyngen did not write is never replaced.
 #[test]
 fn hand_written_file_is_never_overwritten() {
-    let dir = scratch("foreign");
+    let temp = scratch("foreign");
+    let dir = temp.path();
     let target = dir.join("tiny.rs");
     let mine = "// my own code\nfn main() {}\n";
     std::fs::write(&target, mine).expect("write");
@@ -200,7 +203,8 @@ fn hand_written_file_is_never_overwritten() {
 /// removes its temporary file.
 #[test]
 fn failed_rename_leaves_no_temporary() {
-    let dir = scratch("rename");
+    let temp = scratch("rename");
+    let dir = temp.path();
     let target = dir.join("tiny.rs");
     std::fs::create_dir_all(target.join("inside")).expect("dir");
     let e = write_file(&target, &old_content()).unwrap_err();

@@ -26,12 +26,12 @@ fn load(path: &Path) -> Loaded {
     description::load(path).unwrap_or_else(|e| panic!("{e}"))
 }
 
-/// A fresh directory under the system's temporary directory.
-fn scratch(name: &str) -> PathBuf {
-    let dir = std::env::temp_dir().join(format!("dyngen-urdf-rs-{name}-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).expect("scratch dir");
-    dir
+/// A fresh directory under the system's temporary directory, removed when dropped.
+fn scratch(name: &str) -> tempfile::TempDir {
+    tempfile::Builder::new()
+        .prefix(&format!("dyngen-urdf-rs-{name}-"))
+        .tempdir()
+        .expect("scratch dir")
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -166,7 +166,8 @@ fn assert_round_trip(model: &Model, dir: &Path, compare_code: bool) -> UrdfExpor
 /// model, its joint terms and its code come back exactly.
 #[test]
 fn joint_friction_and_armature_round_trip_through_dynamics_tags_and_the_wrapper() {
-    let dir = scratch("joint_terms");
+    let temp = scratch("joint_terms");
+    let dir = temp.path();
     let arm7 = load(&repo("robots/arm7.yaml")).model;
     let model = dyngen_testkit::joint_terms::with_joint_terms(arm7, Some(0.02), 11);
     let export = to_urdf_rs(&model).unwrap_or_else(|e| panic!("{e}"));
@@ -195,7 +196,8 @@ fn joint_friction_and_armature_round_trip_through_dynamics_tags_and_the_wrapper(
 
 #[test]
 fn committed_robots_round_trip_to_identical_code() {
-    let dir = scratch("robots");
+    let temp = scratch("robots");
+    let dir = temp.path();
     for robot in ["arm7", "panda", "panda_rounded", "ur5"] {
         let loaded = load(&repo(&format!("robots/{robot}.yaml")));
         let export = assert_round_trip(&loaded.model, &dir, true);
@@ -218,7 +220,8 @@ fn committed_robots_round_trip_to_identical_code() {
 /// Mimic joints are written as `<mimic>` and load back as the same coupling, the same code.
 #[test]
 fn robots_with_mimic_joints_round_trip_to_identical_code() {
-    let dir = scratch("mimic");
+    let temp = scratch("mimic");
+    let dir = temp.path();
     for yaml in ["panda_mimic", "mimic_arm"] {
         let loaded = load(&repo(&format!("codegen/tests/data/mimic/{yaml}.yaml")));
         assert!(loaded.model.has_mimics());
@@ -272,7 +275,8 @@ fn random_models(cases: u32, max_dof: usize) -> Vec<Model> {
 
 #[test]
 fn random_trees_round_trip_to_identical_code() {
-    let dir = scratch("random");
+    let temp = scratch("random");
+    let dir = temp.path();
     let (mut with_gravity, mut with_end_effector) = (0, 0);
     for (k, model) in random_models(24, 5).iter().enumerate() {
         let model = depth_first(model);
@@ -416,7 +420,8 @@ joints:
     let model = description::load_yaml_str(yaml, Path::new("wall.yaml"))
         .unwrap()
         .model;
-    let dir = scratch("options");
+    let temp = scratch("options");
+    let dir = temp.path();
     let export = assert_round_trip(&model, &dir, false);
     assert_eq!(export.options.gravity, Some([-9.81, 0.0, 0.0]));
     let ee = export.options.end_effector.as_ref().expect("end-effector option");

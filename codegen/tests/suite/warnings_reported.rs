@@ -19,8 +19,8 @@ fn build_script_child() {
 
 #[test]
 fn build_script_prints_each_warning() {
-    let out = std::env::temp_dir().join(format!("dyngen-warn-{}", std::process::id()));
-    std::fs::create_dir_all(&out).expect("scratch");
+    let scratch = tempfile::Builder::new().prefix("dyngen-warn-").tempdir().expect("scratch dir");
+    let out = scratch.path();
     let run = Command::new(std::env::current_exe().expect("test binary"))
         .args([
             "warnings_reported::build_script_child",
@@ -29,7 +29,7 @@ fn build_script_prints_each_warning() {
             "--quiet",
             "--test-threads=1",
         ])
-        .env(CHILD, &out)
+        .env(CHILD, out)
         .output()
         .expect("child runs");
     assert!(run.status.success(), "{}", String::from_utf8_lossy(&run.stderr));
@@ -54,6 +54,5 @@ fn build_script_prints_each_warning() {
         );
     }
     assert_eq!(warnings.len(), 5, "{warnings:#?}");
-    assert!(Path::new(&out).join("warnings.rs").is_file());
-    let _ = std::fs::remove_dir_all(&out);
+    assert!(out.join("warnings.rs").is_file());
 }

@@ -101,7 +101,8 @@ fn generation_does_not_depend_on_argument_order() {
         .map(|r| root().join("robots").join(r))
         .collect();
     let reversed: Vec<PathBuf> = robots.iter().rev().cloned().collect();
-    let base = std::env::temp_dir().join(format!("dyngen-order-{}", std::process::id()));
+    let scratch = tempfile::Builder::new().prefix("dyngen-order-").tempdir().expect("scratch dir");
+    let base = scratch.path();
     let mut trees = Vec::new();
     for (name, list) in [("forward", &robots), ("reversed", &reversed)] {
         let src = base.join(name);
@@ -118,7 +119,6 @@ fn generation_does_not_depend_on_argument_order() {
         files.sort();
         trees.push(files);
     }
-    let _ = std::fs::remove_dir_all(&base);
     let names: Vec<&str> = trees[0].iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(names, ["arm7.rs", "lib.rs", "ur5.rs"]);
     for ((name, a), (_, b)) in trees[0].iter().zip(&trees[1]) {

@@ -20,12 +20,11 @@ fn good_samples() -> Samples {
 
 /// Writes `text` to a file named `name` in a fresh directory and reads it for arm7.
 fn read_error(name: &str, text: &str) -> String {
-    let dir: PathBuf = std::env::temp_dir().join(format!("dyngen-bad-data-{}-{name}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let scratch = tempfile::Builder::new().prefix("dyngen-bad-data-").tempdir().expect("scratch dir");
+    let dir = scratch.path();
     let path = dir.join(name);
     std::fs::write(&path, text).expect("write");
     let result = read_csv(&path, &arm7_nominal(), true);
-    std::fs::remove_dir_all(&dir).ok();
     match result {
         Ok(_) => panic!("{name} was accepted"),
         Err(e) => e.to_string().replace(&format!("{}/", dir.display()), ""),
@@ -161,12 +160,10 @@ sensor-incomplete.csv:1: missing column 'mz[flange]': a force/torque sensor need
 fn files_as_tools_write_them_read_as_the_plain_file() {
     let good = to_csv(&arm7_nominal(), &good_samples());
     let read = |name: &str, text: &str| {
-        let dir = std::env::temp_dir().join(format!("dyngen-file-forms-{}-{name}", std::process::id()));
-        std::fs::create_dir_all(&dir).expect("temp dir");
-        let path = dir.join(name);
+        let scratch = tempfile::Builder::new().prefix("dyngen-file-forms-").tempdir().expect("scratch dir");
+        let path = scratch.path().join(name);
         std::fs::write(&path, text).expect("write");
         let samples = read_csv(&path, &arm7_nominal(), true).unwrap_or_else(|e| panic!("{name}: {e}"));
-        std::fs::remove_dir_all(&dir).ok();
         samples
     };
     let plain = read("plain.csv", &good);

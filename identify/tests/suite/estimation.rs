@@ -89,13 +89,12 @@ fn consistent_estimate_satisfies_constraints_and_its_yaml_regenerates() {
         );
     }
     assert_eq!(loaded.model.joints().len(), 7);
-    let dir = std::env::temp_dir().join(format!("dyngen-identified-{}", std::process::id()));
-    std::fs::create_dir_all(&dir).expect("temp dir");
+    let scratch = tempfile::Builder::new().prefix("dyngen-identified-").tempdir().expect("scratch dir");
+    let dir = scratch.path();
     let path = dir.join("arm7_identified.yaml");
     std::fs::write(&path, &yaml).expect("write");
     let generated = generate_robot(&path, "arm7_identified.yaml", "Arm7Identified", "test")
         .unwrap_or_else(|e| panic!("{e}"));
-    std::fs::remove_dir_all(&dir).ok();
     assert!(generated
         .code
         .contains("impl RobotDynamics<7, 98> for Arm7Identified"));
