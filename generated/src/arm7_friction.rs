@@ -5857,9 +5857,7 @@ impl Regressors<7, 98> for Arm7Friction {
                 let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
                 let [v0, v1, v2, v3, v4, v5, v6] = v.data.0[0];
                 let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
-                let mut out: SMatrix<f64, 7, 98> = SMatrix::from_element(
-                    dyngen_runtime::__private::fill_zero(),
-                );
+                let mut out: SMatrix<f64, 7, 98> = SMatrix::zeros();
                 {
                     let [[_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
                     _], [_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
@@ -7734,9 +7732,7 @@ impl Regressors<7, 98> for Arm7Friction {
                 let [_, c1, c2, c3, c4, c5, c6] = t.cos;
                 let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = qd.data.0[0];
                 let [a0, a1, a2, a3, a4, a5, a6] = a.data.0[0];
-                let mut out: SMatrix<f64, 7, 98> = SMatrix::from_element(
-                    dyngen_runtime::__private::fill_zero(),
-                );
+                let mut out: SMatrix<f64, 7, 98> = SMatrix::zeros();
                 {
                     let [[_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
                     _], [_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
@@ -16153,9 +16149,7 @@ impl LaneDynamics<7, 69> for Arm7Friction {
         let [_, c1, c2, c3, c4, c5, c6] = t.cos;
         let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = *qd;
         let [a0, a1, a2, a3, a4, a5, a6] = *a;
-        let mut out: [[L; 7]; 69] = [[L::splat(
-            dyngen_runtime::__private::fill_zero(),
-        ); 7]; 69];
+        let mut out: [[L; 7]; 69] = [[L::splat(0.0); 7]; 69];
         {
             let [[o0, _, _, _, _, _, _], [o7, o8, _, _, _, _, _], [o14, o15, _, _, _, _,
             _], [o21, o22, _, _, _, _, _], [o28, o29, _, _, _, _, _], [o35, o36, _, _, _,

@@ -13869,9 +13869,7 @@ impl LaneDynamics<7, 43> for Panda {
         let [_, c1, c2, c3, c4, c5, c6] = t.cos;
         let [qd0, qd1, qd2, qd3, qd4, qd5, qd6] = *qd;
         let [a0, a1, a2, a3, a4, a5, a6] = *a;
-        let mut out: [[L; 7]; 43] = [[L::splat(
-            dyngen_runtime::__private::fill_zero(),
-        ); 7]; 43];
+        let mut out: [[L; 7]; 43] = [[L::splat(0.0); 7]; 43];
         {
             let [[o0, _, _, _, _, _, _], [_, o8, _, _, _, _, _], [_, o15, _, _, _, _, _],
             [o21, o22, _, _, _, _, _], [o28, o29, _, _, _, _, _], [o35, o36, _, _, _, _,

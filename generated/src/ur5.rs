@@ -10370,9 +10370,7 @@ impl LaneDynamics<6, 36> for Ur5 {
         let [_, c1, c2, c3, c4, c5] = t.cos;
         let [qd0, qd1, qd2, qd3, qd4, qd5] = *qd;
         let [a0, a1, a2, a3, a4, a5] = *a;
-        let mut out: [[L; 6]; 36] = [[L::splat(
-            dyngen_runtime::__private::fill_zero(),
-        ); 6]; 36];
+        let mut out: [[L; 6]; 36] = [[L::splat(0.0); 6]; 36];
         {
             let [[o0, _, _, _, _, _], [o6, o7, _, _, _, _], [o12, o13, _, _, _, _], [o18,
             o19, _, _, _, _], [o24, o25, _, _, _, _], [o30, o31, _, _, _, _], [o36, o37,

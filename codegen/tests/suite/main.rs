@@ -35,6 +35,7 @@ mod reference_fixtures;
 mod reference_forward_dynamics;
 mod regressor_forms;
 mod regressor_products;
+mod result_fills;
 mod scale;
 mod singular_inertia;
 mod symbolic_interpreter;

@@ -318,11 +318,19 @@ pub(super) fn result_value(q: &Quantity, form: Form, atoms: &[TokenStream]) -> T
     }
 }
 
-/// Results larger than this start from `dyngen_runtime::__private::fill_zero()` rather than a
-/// constant zero, whose fill the compiler would make a call to `memset` (see that function).
-/// Smaller ones keep the constant: the compiler fills them with at most sixteen inline stores
-/// (AVX2), or drops the fill when every entry is written.
+/// Results larger than this, up to [`UNROLLED_FILL_BYTES`], start from
+/// `dyngen_runtime::__private::fill_zero()` rather than a constant zero, whose fill the compiler
+/// would make a call to `memset` (see that function). Smaller ones keep the constant: the
+/// compiler fills them with at most sixteen inline stores (AVX2), or drops the fill when every
+/// entry is written.
 const LIBRARY_FILL_BYTES: usize = 512;
+
+/// Results larger than this start from a constant zero again, filled by one `memset` into the
+/// result itself. The compiler unrolls `fill_zero`'s fill into the result only up to about
+/// 5 KiB; a larger one it fills in a temporary and copies into the result, three passes over
+/// the memory where the library call makes one. Solo-12's torque-form regressor (18.7 KB) ran
+/// 1.25× faster from the constant zero, its base regressor 1.16–1.30× (`BENCHMARKS.md`).
+const UNROLLED_FILL_BYTES: usize = 4096;
 
 /// Functions that compute more values than this, and the derivatives of the dynamics, run through
 /// `dyngen_runtime::__private::dispatch_eight` (lane kernels) or `dispatch_many` (scalar ones):
@@ -472,7 +480,8 @@ pub(super) fn slots_target(q: &Quantity, form: Form, out: TokenStream, by_refere
 
 /// The zero a result written in place starts from.
 pub(super) fn zero_result(q: &Quantity, form: Form) -> TokenStream {
-    let (matrix, fill) = match result_bytes(q, form) > LIBRARY_FILL_BYTES {
+    let bytes = result_bytes(q, form);
+    let (matrix, fill) = match bytes > LIBRARY_FILL_BYTES && bytes <= UNROLLED_FILL_BYTES {
         true => (
             quote!(SMatrix::from_element(dyngen_runtime::__private::fill_zero())),
             quote!(dyngen_runtime::__private::fill_zero()),
