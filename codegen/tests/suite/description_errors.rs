@@ -1129,7 +1129,10 @@ fn device_files_are_refused_not_read_forever() {
         .unwrap_err()
         .to_string();
     assert!(e.starts_with("/dev/zero.yaml: cannot read file"), "{e}");
-    let scratch = tempfile::Builder::new().prefix("dyngen-dev-").tempdir().expect("scratch dir");
+    let scratch = tempfile::Builder::new()
+        .prefix("dyngen-dev-")
+        .tempdir()
+        .expect("scratch dir");
     let dir = scratch.path();
     let wrapper = dir.join("wrapper.yaml");
     std::fs::write(&wrapper, "urdf: /dev/zero\n").expect("write");

@@ -25,7 +25,9 @@ fn starts(code: &str, ty: &str) -> Vec<String> {
     code.match_indices(&head)
         .map(|(at, _)| {
             let rest = &code[at + head.len()..];
-            rest[..rest.find(';').expect("a complete statement")].split_whitespace().collect()
+            rest[..rest.find(';').expect("a complete statement")]
+                .split_whitespace()
+                .collect()
         })
         .collect()
 }
@@ -35,7 +37,10 @@ fn results_start_from_the_zero_their_size_calls_for() {
     let arm7 = emitted("robots/arm7.yaml");
     // `D`: 392 bytes.
     let small = starts(&arm7, "SMatrix<f64, 7, 7>");
-    assert!(!small.is_empty() && small.iter().all(|s| s == "SMatrix::zeros()"), "{small:?}");
+    assert!(
+        !small.is_empty() && small.iter().all(|s| s == "SMatrix::zeros()"),
+        "{small:?}"
+    );
     // The regressors: 3,920 bytes.
     let mid = starts(&arm7, "SMatrix<f64, 7, 70>");
     assert!(
@@ -48,5 +53,8 @@ fn results_start_from_the_zero_their_size_calls_for() {
     // With joint friction and armature the regressors have 98 columns: 5,488 bytes.
     let friction = emitted("robots/arm7_friction.yaml");
     let large = starts(&friction, "SMatrix<f64, 7, 98>");
-    assert!(!large.is_empty() && large.iter().all(|s| s == "SMatrix::zeros()"), "{large:?}");
+    assert!(
+        !large.is_empty() && large.iter().all(|s| s == "SMatrix::zeros()"),
+        "{large:?}"
+    );
 }

@@ -19,7 +19,10 @@ fn build_script_child() {
 
 #[test]
 fn build_script_prints_each_warning() {
-    let scratch = tempfile::Builder::new().prefix("dyngen-warn-").tempdir().expect("scratch dir");
+    let scratch = tempfile::Builder::new()
+        .prefix("dyngen-warn-")
+        .tempdir()
+        .expect("scratch dir");
     let out = scratch.path();
     let run = Command::new(std::env::current_exe().expect("test binary"))
         .args([

@@ -20,7 +20,10 @@ fn good_samples() -> Samples {
 
 /// Writes `text` to a file named `name` in a fresh directory and reads it for arm7.
 fn read_error(name: &str, text: &str) -> String {
-    let scratch = tempfile::Builder::new().prefix("dyngen-bad-data-").tempdir().expect("scratch dir");
+    let scratch = tempfile::Builder::new()
+        .prefix("dyngen-bad-data-")
+        .tempdir()
+        .expect("scratch dir");
     let dir = scratch.path();
     let path = dir.join(name);
     std::fs::write(&path, text).expect("write");
@@ -160,7 +163,10 @@ sensor-incomplete.csv:1: missing column 'mz[flange]': a force/torque sensor need
 fn files_as_tools_write_them_read_as_the_plain_file() {
     let good = to_csv(&arm7_nominal(), &good_samples());
     let read = |name: &str, text: &str| {
-        let scratch = tempfile::Builder::new().prefix("dyngen-file-forms-").tempdir().expect("scratch dir");
+        let scratch = tempfile::Builder::new()
+            .prefix("dyngen-file-forms-")
+            .tempdir()
+            .expect("scratch dir");
         let path = scratch.path().join(name);
         std::fs::write(&path, text).expect("write");
         let samples = read_csv(&path, &arm7_nominal(), true).unwrap_or_else(|e| panic!("{name}: {e}"));

@@ -89,7 +89,10 @@ fn consistent_estimate_satisfies_constraints_and_its_yaml_regenerates() {
         );
     }
     assert_eq!(loaded.model.joints().len(), 7);
-    let scratch = tempfile::Builder::new().prefix("dyngen-identified-").tempdir().expect("scratch dir");
+    let scratch = tempfile::Builder::new()
+        .prefix("dyngen-identified-")
+        .tempdir()
+        .expect("scratch dir");
     let dir = scratch.path();
     let path = dir.join("arm7_identified.yaml");
     std::fs::write(&path, &yaml).expect("write");
