@@ -117,7 +117,7 @@ fn killed_generation_leaves_old_or_new_file() {
         std::fs::write(&target, &old).expect("reset target");
         let mut child = spawn_writer(&target, &description, pause);
         if k {
-            wait_for_temporary(&dir, &child);
+            wait_for_temporary(dir, &child);
             if *delay < pause {
                 killed_mid_write += 1;
             }
@@ -142,20 +142,20 @@ fn killed_generation_leaves_old_or_new_file() {
     // A kill mid-write leaves a temporary file; the next run removes it and writes the file.
     std::fs::write(&target, &old).expect("reset target");
     let mut child = spawn_writer(&target, &description, pause);
-    wait_for_temporary(&dir, &child);
+    wait_for_temporary(dir, &child);
     let _ = child.kill();
     let _ = child.wait();
     assert_eq!(std::fs::read_to_string(&target).expect("target"), old);
     assert_eq!(
-        temporaries(&dir).len(),
+        temporaries(dir).len(),
         1,
         "a killed write leaves its temporary file"
     );
     let mut child = spawn_writer(&target, &description, 0);
     assert!(child.wait().expect("child").success());
     assert_eq!(std::fs::read_to_string(&target).expect("target"), new);
-    assert_eq!(temporaries(&dir), Vec::<String>::new());
-    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(temporaries(dir), Vec::<String>::new());
+    let _ = std::fs::remove_dir_all(dir);
 }
 
 /// An invalid description fails before anything is written: the previous files are intact.
@@ -170,7 +170,7 @@ fn failed_generation_keeps_previous_files() {
     let previous = old_content();
     std::fs::write(src.join("tiny.rs"), &previous).expect("write");
     std::fs::write(src.join("lib.rs"), &previous).expect("write");
-    let e = generate_into_crate(&dir, &src, &[description], Mode::Write).unwrap_err();
+    let e = generate_into_crate(dir, &src, &[description], Mode::Write).unwrap_err();
     assert!(e.to_string().contains("negative mass"), "{e}");
     assert_eq!(
         std::fs::read_to_string(src.join("tiny.rs")).expect("read"),
@@ -181,7 +181,7 @@ fn failed_generation_keeps_previous_files() {
         previous
     );
     assert_eq!(temporaries(&src), Vec::<String>::new());
-    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(dir);
 }
 
 /// A file that dyngen did not write is never replaced.
@@ -195,8 +195,8 @@ fn hand_written_file_is_never_overwritten() {
     let e = write_file(&target, &old_content()).unwrap_err();
     assert!(matches!(e, GenerateError::NotGenerated { .. }), "{e}");
     assert_eq!(std::fs::read_to_string(&target).expect("read"), mine);
-    assert_eq!(temporaries(&dir), Vec::<String>::new());
-    let _ = std::fs::remove_dir_all(&dir);
+    assert_eq!(temporaries(dir), Vec::<String>::new());
+    let _ = std::fs::remove_dir_all(dir);
 }
 
 /// A write that fails at the rename (the target is a directory) reports the path and
@@ -210,10 +210,10 @@ fn failed_rename_leaves_no_temporary() {
     let e = write_file(&target, &old_content()).unwrap_err();
     assert!(e.to_string().contains("tiny.rs"), "{e}");
     assert!(target.join("inside").is_dir());
-    assert_eq!(temporaries(&dir), Vec::<String>::new());
+    assert_eq!(temporaries(dir), Vec::<String>::new());
     // A missing directory: an error, nothing created.
     let e = write_file(&dir.join("missing/tiny.rs"), &old_content()).unwrap_err();
     assert!(e.to_string().contains("missing"), "{e}");
     assert!(!dir.join("missing").exists());
-    let _ = std::fs::remove_dir_all(&dir);
+    let _ = std::fs::remove_dir_all(dir);
 }

@@ -184,7 +184,7 @@ fn joint_friction_and_armature_round_trip_through_dynamics_tags_and_the_wrapper(
     }
     // Through `from_urdf_rs` alone (no wrapper) the rigid body comes back; the wrapper's
     // `joint_parameters` choose the columns.
-    let [rigid, from_file] = reload_both_ways(&export, &dir);
+    let [rigid, from_file] = reload_both_ways(&export, dir);
     assert_same_model(&rigid, &model);
     assert_same_model(&from_file, &model);
     assert_eq!(from_file.joint_terms(), model.joint_terms());
@@ -200,7 +200,7 @@ fn committed_robots_round_trip_to_identical_code() {
     let dir = temp.path();
     for robot in ["arm7", "panda", "panda_rounded", "ur5"] {
         let loaded = load(&repo(&format!("robots/{robot}.yaml")));
-        let export = assert_round_trip(&loaded.model, &dir, true);
+        let export = assert_round_trip(&loaded.model, dir, true);
         // Default gravity, and the end-effector is the loader's default pick: a bare URDF says
         // all but the named frames (Panda, UR5: every link), which go into the wrapper.
         let frames = match &export.options.frames {
@@ -225,7 +225,7 @@ fn robots_with_mimic_joints_round_trip_to_identical_code() {
     for yaml in ["panda_mimic", "mimic_arm"] {
         let loaded = load(&repo(&format!("codegen/tests/data/mimic/{yaml}.yaml")));
         assert!(loaded.model.has_mimics());
-        assert_round_trip(&loaded.model, &dir, yaml == "mimic_arm");
+        assert_round_trip(&loaded.model, dir, yaml == "mimic_arm");
     }
 }
 
@@ -281,7 +281,7 @@ fn random_trees_round_trip_to_identical_code() {
     for (k, model) in random_models(24, 5).iter().enumerate() {
         let model = depth_first(model);
         // Code for a third of them: tracing is the slow part, and the models are what differ.
-        let export = assert_round_trip(&model, &dir, k % 3 == 0);
+        let export = assert_round_trip(&model, dir, k % 3 == 0);
         with_gravity += usize::from(export.options.gravity.is_some());
         with_end_effector += usize::from(export.options.end_effector.is_some());
         assert_eq!(
@@ -422,7 +422,7 @@ joints:
         .model;
     let temp = scratch("options");
     let dir = temp.path();
-    let export = assert_round_trip(&model, &dir, false);
+    let export = assert_round_trip(&model, dir, false);
     assert_eq!(export.options.gravity, Some([-9.81, 0.0, 0.0]));
     let ee = export.options.end_effector.as_ref().expect("end-effector option");
     assert_eq!((ee.link.as_str(), ee.name.as_deref()), ("a1", None));

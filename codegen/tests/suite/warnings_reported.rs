@@ -1,7 +1,6 @@
 //! Warnings reach the person building: `cargo:warning=` lines from a build script (the
 //! `Builder` API), one per warning, with file, place and problem.
 
-use std::path::Path;
 use std::process::Command;
 
 const CHILD: &str = "DYNGEN_BUILD_SCRIPT_CHILD";

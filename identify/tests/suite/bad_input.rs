@@ -8,7 +8,6 @@ use dyngen_identify::measure;
 use dyngen_identify::{identify, IdentifyOptions};
 use dyngen_identify::{read_csv, to_csv, Samples};
 use dyngen_identify::{FourierTrajectory, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
-use std::path::PathBuf;
 
 fn good_samples() -> Samples {
     let nominal = arm7_nominal();
