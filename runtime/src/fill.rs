@@ -1,6 +1,6 @@
 //! The zero that mid-sized results start from.
 
-/// `0.0`, hidden from the optimiser, for generated functions to fill a large result with
+/// `0.0`, hidden from the optimiser, for generated functions to fill a mid-sized result with
 /// before they write its entries in place.
 ///
 /// From a constant zero the compiler fills the result with one `memset`, and above a few hundred

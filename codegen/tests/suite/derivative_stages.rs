@@ -2,21 +2,7 @@
 //! dynamics first (scalars only, handing `q̈` and `D`'s factor on), then the tangents at that
 //! `q̈` and their solves. Carried one direction at a time, they stay one function.
 
-use dyngen_codegen::description::load;
-use dyngen_codegen::internals::generate::{emit, trace, type_name, Provenance};
-use std::path::Path;
-
-fn emitted(robot: &str) -> String {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let model = load(&root.join(robot)).unwrap().model;
-    let provenance = Provenance {
-        source: robot.into(),
-        source_hash: "0".into(),
-        regenerate: "none".into(),
-        type_name: type_name(model.name()),
-    };
-    emit(&model, &trace(&model), &provenance)
-}
+use crate::emitted_code::emitted;
 
 /// The text of the free function `name`, up to the next item at the top level.
 fn function<'a>(code: &'a str, name: &str) -> Option<&'a str> {

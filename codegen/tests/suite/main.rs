@@ -8,6 +8,7 @@ mod builder_output_file;
 mod derivative_stages;
 mod description_errors;
 mod descriptions;
+mod emitted_code;
 mod energy;
 mod example_robot_data;
 mod factored_transforms;

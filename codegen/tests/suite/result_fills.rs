@@ -3,31 +3,20 @@
 //! library call), large ones from a constant zero again (one `memset` into the result, where the
 //! compiler would otherwise fill a temporary and copy it).
 
-use dyngen_codegen::description::load;
-use dyngen_codegen::internals::generate::{emit, trace, type_name, Provenance};
-use std::path::Path;
+use crate::emitted_code::emitted;
 
-fn emitted(robot: &str) -> String {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-    let model = load(&root.join(robot)).unwrap().model;
-    let provenance = Provenance {
-        source: robot.into(),
-        source_hash: "0".into(),
-        regenerate: "none".into(),
-        type_name: type_name(model.name()),
-    };
-    emit(&model, &trace(&model), &provenance)
-}
-
-/// The initialisers of every result of type `ty` written in place (`let mut out: ty = …;`).
+/// The initialisers of every result of type `ty` written in place (`let mut out: ty = …;`),
+/// without whitespace.
 fn starts(code: &str, ty: &str) -> Vec<String> {
     let head = format!("let mut out: {ty} = ");
     code.match_indices(&head)
         .map(|(at, _)| {
             let rest = &code[at + head.len()..];
-            rest[..rest.find(';').expect("a complete statement")]
+            let text: String = rest[..rest.find(';').expect("a complete statement")]
                 .split_whitespace()
-                .collect()
+                .collect();
+            // The formatter may break a call over lines, leaving a trailing comma.
+            text.replace(",)", ")")
         })
         .collect()
 }
@@ -47,7 +36,7 @@ fn results_start_from_the_zero_their_size_calls_for() {
         !mid.is_empty()
             && mid
                 .iter()
-                .all(|s| s == "SMatrix::from_element(dyngen_runtime::__private::fill_zero(),)"),
+                .all(|s| s == "SMatrix::from_element(dyngen_runtime::__private::fill_zero())"),
         "{mid:?}"
     );
     // With joint friction and armature the regressors have 98 columns: 5,488 bytes.
