@@ -6,7 +6,8 @@ the old revision's time over the new one's per profile (above 1: the new one is 
 
 For developers (not CI): four release builds of the benchmarks (a few minutes each on two
 cores), and the timing wants an otherwise idle machine. A revision is anything `git worktree
-add` takes; `--new` defaults to the working tree as it is, uncommitted changes included.
+add` takes; `--new` defaults to the working tree as it is, uncommitted changes to tracked files
+included (`git add` a new file for it to be copied).
 
     tools/compare_revisions.py --old HEAD~1 --robots panda ur5 solo12 --rounds 3
 
