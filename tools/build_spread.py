@@ -39,6 +39,20 @@ def copy_repository(destination):
         shutil.copy2(ROOT / name, target)
 
 
+def build_and_time(builds, robots, rounds, core, seconds):
+    """Builds every (label, tree, target dir, environment) of `builds`, then times them all in
+    `rounds` interleaved rounds pinned to `core`: per round {label: {(robot, group, id): ns}}."""
+    for label, tree, _, env in builds:
+        print(f"building {label} in {tree}", file=sys.stderr)
+        dyngen_build(env, root=tree)
+    timed = []
+    for r in range(rounds):
+        print(f"round {r + 1}/{rounds}", file=sys.stderr)
+        timed.append({label: dyngen_round(env, core, target, robots, seconds, root=tree)
+                      for label, tree, target, env in builds})
+    return timed
+
+
 def main():
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--copies", type=int, default=5)
@@ -59,15 +73,7 @@ def main():
             profile = "native" if native else "default"
             target = copy / "target"
             builds.append((f"{profile} {k}", copy, target / profile, cargo_env(target / profile, native)))
-    for label, copy, _, env in builds:
-        print(f"building {label} in {copy}", file=sys.stderr)
-        dyngen_build(env, root=copy)
-
-    rounds = []
-    for r in range(args.rounds):
-        print(f"round {r + 1}/{args.rounds}", file=sys.stderr)
-        rounds.append({label: dyngen_round(env, args.core, target, args.robots, args.measurement_time, root=copy)
-                       for label, copy, target, env in builds})
+    rounds = build_and_time(builds, args.robots, args.rounds, args.core, args.measurement_time)
 
     labels = [label for label, *_ in builds]
     print(f"{args.copies} copies at paths of different lengths, built by default and native; "

@@ -22,8 +22,8 @@ import tempfile
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from build_spread import copy_repository  # noqa: E402
-from compare_anchors import FUNCTIONS, cargo_env, dyngen_build, dyngen_round, fmt, med  # noqa: E402
+from build_spread import build_and_time, copy_repository  # noqa: E402
+from compare_anchors import FUNCTIONS, cargo_env, fmt, med  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 PROFILES = ("default", "native")
@@ -59,14 +59,7 @@ def main():
             for profile in PROFILES:
                 target = tree / "target" / profile
                 builds.append((f"{side} {profile}", tree, target, cargo_env(target, profile == "native")))
-        for label, tree, _, env in builds:
-            print(f"building {label}", file=sys.stderr)
-            dyngen_build(env, root=tree)
-        rounds = []
-        for r in range(args.rounds):
-            print(f"round {r + 1}/{args.rounds}", file=sys.stderr)
-            rounds.append({label: dyngen_round(env, args.core, target, args.robots, args.measurement_time, root=tree)
-                           for label, tree, target, env in builds})
+        rounds = build_and_time(builds, args.robots, args.rounds, args.core, args.measurement_time)
     finally:
         for tree in trees.values():
             subprocess.run(["git", "worktree", "remove", "--force", str(tree)], cwd=ROOT, capture_output=True)
