@@ -1129,10 +1129,7 @@ fn device_files_are_refused_not_read_forever() {
         .unwrap_err()
         .to_string();
     assert!(e.starts_with("/dev/zero.yaml: cannot read file"), "{e}");
-    let scratch = tempfile::Builder::new()
-        .prefix("dyngen-dev-")
-        .tempdir()
-        .expect("scratch dir");
+    let scratch = dyngen_testkit::scratch::scratch_dir("dev");
     let dir = scratch.path();
     let wrapper = dir.join("wrapper.yaml");
     std::fs::write(&wrapper, "urdf: /dev/zero\n").expect("write");

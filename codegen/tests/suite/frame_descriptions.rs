@@ -144,10 +144,7 @@ fn exported_descriptions_keep_their_frames() {
         load("frames: [l1, { name: sensor, link: flange, xyz: [0.01, 0, 0.05], rpy: [0.1, 0, 0] }]\n")
             .unwrap();
     let export = description::to_urdf_rs(&model).unwrap();
-    let scratch = tempfile::Builder::new()
-        .prefix("dyngen-frames-")
-        .tempdir()
-        .expect("scratch dir");
+    let scratch = dyngen_testkit::scratch::scratch_dir("frames");
     let dir = scratch.path();
     std::fs::write(
         dir.join("r.urdf"),

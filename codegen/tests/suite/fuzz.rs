@@ -321,10 +321,7 @@ fn random_trees_round_trip_through_yaml_and_urdf() {
 #[test]
 fn overflowing_models_are_errors_not_panics() {
     // Also kept as data: tests/data/fuzz/overflow-gravity.yaml.
-    let scratch = tempfile::Builder::new()
-        .prefix("dyngen-overflow-")
-        .tempdir()
-        .expect("scratch dir");
+    let scratch = dyngen_testkit::scratch::scratch_dir("overflow");
     let dir = scratch.path();
     let base = "\
 name: huge
@@ -361,10 +358,7 @@ joints:
 #[test]
 fn too_many_joints_is_an_error_not_a_hang() {
     use dyngen_codegen::generate::{generate_robot, MAX_GENERATED_DOF};
-    let scratch = tempfile::Builder::new()
-        .prefix("dyngen-dof-")
-        .tempdir()
-        .expect("scratch dir");
+    let scratch = dyngen_testkit::scratch::scratch_dir("dof");
     let dir = scratch.path();
     let path = dir.join("long.yaml");
     std::fs::write(&path, yaml_chain(MAX_GENERATED_DOF + 1)).expect("write");

@@ -394,10 +394,7 @@ fn yaml_chooses_columns_and_values() {
 
 #[test]
 fn urdf_dynamics_tags_map_to_viscous_and_coulomb_friction() {
-    let scratch = tempfile::Builder::new()
-        .prefix("dyngen-joint-terms-")
-        .tempdir()
-        .expect("scratch dir");
+    let scratch = dyngen_testkit::scratch::scratch_dir("joint-terms");
     let dir = scratch.path();
     let urdf = Path::new(env!("CARGO_MANIFEST_DIR")).join("../robots/urdf/panda.urdf");
     let wrapper = dir.join("panda_friction.yaml");

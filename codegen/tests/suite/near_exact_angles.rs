@@ -128,10 +128,7 @@ fn committed_panda_rounded_is_the_rounded_panda() {
 
 #[test]
 fn snap_angles_from_yaml_and_its_bad_values() {
-    let scratch = tempfile::Builder::new()
-        .prefix("dyngen-snap-")
-        .tempdir()
-        .expect("scratch dir");
+    let scratch = dyngen_testkit::scratch::scratch_dir("snap");
     let dir = scratch.path();
     std::fs::write(dir.join("panda_rounded.urdf"), rounded(&panda_urdf())).expect("write");
     let wrapper = |snap: &str| {

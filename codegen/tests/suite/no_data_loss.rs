@@ -5,6 +5,7 @@
 use dyngen_codegen::generate::{
     generate_into_crate, generate_robot, write_file, GenerateError, Mode, GENERATED_MARKER,
 };
+use dyngen_testkit::scratch::scratch_dir;
 use std::path::{Path, PathBuf};
 use std::process::{Child, Command};
 use std::time::{Duration, Instant};
@@ -20,14 +21,6 @@ links:
 joints:
   - { name: j1, type: continuous, parent: base, child: l1, axis: [0, 0, 1] }
 ";
-
-/// A fresh directory under the system's temporary directory, removed when dropped.
-fn scratch(name: &str) -> tempfile::TempDir {
-    tempfile::Builder::new()
-        .prefix(&format!("dyngen-{name}-"))
-        .tempdir()
-        .expect("scratch dir")
-}
 
 fn old_content() -> String {
     format!("{GENERATED_MARKER}\n// the previous generation, which must survive\n")
@@ -93,7 +86,7 @@ fn wait_for_temporary(dir: &Path, child: &Child) {
 /// content, never a mix or a truncation; the next complete run removes the leftovers.
 #[test]
 fn killed_generation_leaves_old_or_new_file() {
-    let temp = scratch("kill");
+    let temp = scratch_dir("kill");
     let dir = temp.path();
     let description = dir.join("tiny.yaml");
     std::fs::write(&description, ROBOT).expect("write description");
@@ -155,13 +148,12 @@ fn killed_generation_leaves_old_or_new_file() {
     assert!(child.wait().expect("child").success());
     assert_eq!(std::fs::read_to_string(&target).expect("target"), new);
     assert_eq!(temporaries(dir), Vec::<String>::new());
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 /// An invalid description fails before anything is written: the previous files are intact.
 #[test]
 fn failed_generation_keeps_previous_files() {
-    let temp = scratch("fail");
+    let temp = scratch_dir("fail");
     let dir = temp.path();
     let src = dir.join("src");
     std::fs::create_dir_all(&src).expect("src");
@@ -181,13 +173,12 @@ fn failed_generation_keeps_previous_files() {
         previous
     );
     assert_eq!(temporaries(&src), Vec::<String>::new());
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 /// A file that dyngen did not write is never replaced.
 #[test]
 fn hand_written_file_is_never_overwritten() {
-    let temp = scratch("foreign");
+    let temp = scratch_dir("foreign");
     let dir = temp.path();
     let target = dir.join("tiny.rs");
     let mine = "// my own code\nfn main() {}\n";
@@ -196,14 +187,13 @@ fn hand_written_file_is_never_overwritten() {
     assert!(matches!(e, GenerateError::NotGenerated { .. }), "{e}");
     assert_eq!(std::fs::read_to_string(&target).expect("read"), mine);
     assert_eq!(temporaries(dir), Vec::<String>::new());
-    let _ = std::fs::remove_dir_all(dir);
 }
 
 /// A write that fails at the rename (the target is a directory) reports the path and
 /// removes its temporary file.
 #[test]
 fn failed_rename_leaves_no_temporary() {
-    let temp = scratch("rename");
+    let temp = scratch_dir("rename");
     let dir = temp.path();
     let target = dir.join("tiny.rs");
     std::fs::create_dir_all(target.join("inside")).expect("dir");
@@ -215,5 +205,4 @@ fn failed_rename_leaves_no_temporary() {
     let e = write_file(&dir.join("missing/tiny.rs"), &old_content()).unwrap_err();
     assert!(e.to_string().contains("missing"), "{e}");
     assert!(!dir.join("missing").exists());
-    let _ = std::fs::remove_dir_all(dir);
 }

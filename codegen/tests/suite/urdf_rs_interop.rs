@@ -14,6 +14,7 @@ use dyngen_codegen::internals::generate::{emit, trace, type_name, Provenance};
 use dyngen_codegen::model::{Body, Frame, Joint, JointKind, Limits, Model, Pose};
 use dyngen_codegen::urdf_rs;
 use dyngen_testkit::random_model::{arb_model, deterministic_runner};
+use dyngen_testkit::scratch::scratch_dir;
 use nalgebra::{Matrix3, Vector3};
 use proptest::strategy::{Strategy, ValueTree};
 use std::path::{Path, PathBuf};
@@ -24,14 +25,6 @@ fn repo(rel: &str) -> PathBuf {
 
 fn load(path: &Path) -> Loaded {
     description::load(path).unwrap_or_else(|e| panic!("{e}"))
-}
-
-/// A fresh directory under the system's temporary directory, removed when dropped.
-fn scratch(name: &str) -> tempfile::TempDir {
-    tempfile::Builder::new()
-        .prefix(&format!("dyngen-urdf-rs-{name}-"))
-        .tempdir()
-        .expect("scratch dir")
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -166,7 +159,7 @@ fn assert_round_trip(model: &Model, dir: &Path, compare_code: bool) -> UrdfExpor
 /// model, its joint terms and its code come back exactly.
 #[test]
 fn joint_friction_and_armature_round_trip_through_dynamics_tags_and_the_wrapper() {
-    let temp = scratch("joint_terms");
+    let temp = scratch_dir("urdf-rs-joint_terms");
     let dir = temp.path();
     let arm7 = load(&repo("robots/arm7.yaml")).model;
     let model = dyngen_testkit::joint_terms::with_joint_terms(arm7, Some(0.02), 11);
@@ -196,7 +189,7 @@ fn joint_friction_and_armature_round_trip_through_dynamics_tags_and_the_wrapper(
 
 #[test]
 fn committed_robots_round_trip_to_identical_code() {
-    let temp = scratch("robots");
+    let temp = scratch_dir("urdf-rs-robots");
     let dir = temp.path();
     for robot in ["arm7", "panda", "panda_rounded", "ur5"] {
         let loaded = load(&repo(&format!("robots/{robot}.yaml")));
@@ -220,7 +213,7 @@ fn committed_robots_round_trip_to_identical_code() {
 /// Mimic joints are written as `<mimic>` and load back as the same coupling, the same code.
 #[test]
 fn robots_with_mimic_joints_round_trip_to_identical_code() {
-    let temp = scratch("mimic");
+    let temp = scratch_dir("urdf-rs-mimic");
     let dir = temp.path();
     for yaml in ["panda_mimic", "mimic_arm"] {
         let loaded = load(&repo(&format!("codegen/tests/data/mimic/{yaml}.yaml")));
@@ -275,7 +268,7 @@ fn random_models(cases: u32, max_dof: usize) -> Vec<Model> {
 
 #[test]
 fn random_trees_round_trip_to_identical_code() {
-    let temp = scratch("random");
+    let temp = scratch_dir("urdf-rs-random");
     let dir = temp.path();
     let (mut with_gravity, mut with_end_effector) = (0, 0);
     for (k, model) in random_models(24, 5).iter().enumerate() {
@@ -420,7 +413,7 @@ joints:
     let model = description::load_yaml_str(yaml, Path::new("wall.yaml"))
         .unwrap()
         .model;
-    let temp = scratch("options");
+    let temp = scratch_dir("urdf-rs-options");
     let dir = temp.path();
     let export = assert_round_trip(&model, dir, false);
     assert_eq!(export.options.gravity, Some([-9.81, 0.0, 0.0]));

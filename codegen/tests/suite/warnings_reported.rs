@@ -18,10 +18,7 @@ fn build_script_child() {
 
 #[test]
 fn build_script_prints_each_warning() {
-    let scratch = tempfile::Builder::new()
-        .prefix("dyngen-warn-")
-        .tempdir()
-        .expect("scratch dir");
+    let scratch = dyngen_testkit::scratch::scratch_dir("warn");
     let out = scratch.path();
     let run = Command::new(std::env::current_exe().expect("test binary"))
         .args([

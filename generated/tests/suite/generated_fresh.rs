@@ -101,10 +101,7 @@ fn generation_does_not_depend_on_argument_order() {
         .map(|r| root().join("robots").join(r))
         .collect();
     let reversed: Vec<PathBuf> = robots.iter().rev().cloned().collect();
-    let scratch = tempfile::Builder::new()
-        .prefix("dyngen-order-")
-        .tempdir()
-        .expect("scratch dir");
+    let scratch = dyngen_testkit::scratch::scratch_dir("order");
     let base = scratch.path();
     let mut trees = Vec::new();
     for (name, list) in [("forward", &robots), ("reversed", &reversed)] {

@@ -1,7 +1,8 @@
 //! What dyngen's tests and developer commands share: random valid trees and states
 //! (`random_model`), Pinocchio's reference values (`fixture`), oracles that use no dynamics
 //! algorithm (`oracles`), the loader fuzzer (`fuzz`), models written back as YAML/URDF
-//! (`serialize`), the scale models (`scale`), and tolerant comparisons. A library rather than
+//! (`serialize`), the scale models (`scale`), scratch directories (`scratch`), and tolerant
+//! comparisons. A library rather than
 //! a `tests/common` module, so that `cargo xtask fuzz` and `cargo xtask scale` call it directly.
 
 pub mod allocations;
@@ -15,6 +16,7 @@ pub mod oracles;
 pub mod random_model;
 pub mod reference_solve;
 pub mod scale;
+pub mod scratch;
 pub mod serialize;
 pub mod traced;
 
