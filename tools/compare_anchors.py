@@ -22,6 +22,10 @@ three programs one after the other on the same core; ratios are medians of per-r
 Run it on an otherwise idle machine: the two vCPUs of our machines behave like SMT siblings, so
 a compile on the other one slows a benchmark 1.3-2x.
 
+Rows marked `_into` time a function's `_into` form: its result written into a `ResultBuffer`
+kept between calls, as Pinocchio writes into the `Data` it is given (dyngen's by-value row above
+it zeroes and returns a fresh result each call).
+
 Standard library only (no pip).
 """
 
@@ -56,6 +60,10 @@ FUNCTIONS = [
     ("rnea_derivatives", "rnea_derivatives", "inverse_dynamics_derivatives"),
     ("aba_derivatives", "aba_derivatives", "forward_dynamics_derivatives"),
 ]
+# Groups that also time the `_into` form (criterion id `generated_into`: the result written into a
+# `ResultBuffer` kept between calls, as Pinocchio writes into its `Data`): a row each.
+INTO = {"mass_matrix", "coriolis", "torque_regressor", "regressor", "base_torque_regressor",
+        "base_regressor", "minv", "rnea_derivatives", "aba_derivatives"}
 # Several states per call: (criterion group, lane ids), per state against the single call.
 BATCHES = [("rnea", ("generated_lanes4", "generated_lanes8")),
            ("base_torque_regressor", ("generated_lanes4", "generated_lanes8"))]
@@ -147,7 +155,7 @@ def instruction_cache_bytes():
 def bench_filter(robots):
     """Criterion's filter (a regex) for the generated code of these robots: `^(panda)/` does not
     match `panda_rounded/...`."""
-    return "^(" + "|".join(re.escape(r) for r in robots) + ")/.*/generated(_lanes[48])?$"
+    return "^(" + "|".join(re.escape(r) for r in robots) + ")/.*/generated(_lanes[48]|_into)?$"
 
 
 def split_group(directory, bench_dirs, robots):
@@ -269,22 +277,27 @@ def main():
     print(header)
     print(rule)
     for robot in robots:
-        for fn, group, _ in FUNCTIONS:
-            key = (robot, group, "generated")
+        for fn, group, bench_id in ((fn, group, bench_id) for fn, group, _ in FUNCTIONS
+                                    for bench_id in ("generated", "generated_into")
+                                    if bench_id == "generated" or group in INTO):
+            key = (robot, group, bench_id)
             native = [o["native"].get(key) for _, _, o in rounds]
+            if bench_id != "generated" and not any(native):
+                continue
             pin = [p.get((anchor_name(robot), fn)) for p, _, _ in rounds]
             cg = [c.get((anchor_name(robot), fn)) for _, c, _ in rounds]
             ratio = lambda a, b: med([x / y for x, y in zip(a, b) if x and y])
             rp, rc = ratio(pin, native), ratio(cg, native)
             mark = lambda r, floor: fmt(r, 2, "×") + ("" if r is None or r >= floor else " **missed**")
-            row = f"| {robot} | {fn} / `{group}` | {fmt(med(pin))} | {fmt(med(cg))} | {fmt(med(native))} |"
+            form = "" if bench_id == "generated" else " `_into`"
+            row = f"| {robot} | {fn} / `{group}`{form} | {fmt(med(pin))} | {fmt(med(cg))} | {fmt(med(native))} |"
             if args.default_build:
                 default = [o["default"].get(key) for _, _, o in rounds]
                 rd = ratio(default, native)
                 row += f" {fmt(med(default))} | {fmt(rd, 2, '×')}{'' if rd is None or rd <= FLOOR_DEFAULT else ' **missed**'} |"
             row += f" {mark(rp, FLOOR_PINOCCHIO)} | {mark(rc, FLOOR_CG)} |"
             if sizes:
-                size = sizes.get((robot, group))
+                size = sizes.get((robot, group)) if bench_id == "generated" else None
                 over = size is not None and l1i is not None and size > l1i
                 row += f" {fmt(size / 1000 if size else None, 1)}{' (over L1i)' if over else ''} |"
             print(row)

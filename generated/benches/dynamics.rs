@@ -13,7 +13,9 @@ use dyngen_codegen::base_parameters::BaseParameterSet;
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_generated::{Arm7, Panda, PandaRounded, Ur5, Xarm7, Xarm7Snapped};
 use dyngen_runtime::nalgebra::SVector;
-use dyngen_runtime::{f64x4, f64x8, pack, BaseParameters, JointTrig, JointTrigLanes, LaneDynamics, Lanes};
+use dyngen_runtime::{
+    f64x4, f64x8, pack, BaseParameters, JointTrig, JointTrigLanes, LaneDynamics, Lanes, ResultBuffer,
+};
 use std::hint::black_box;
 
 fn bench_robot<
@@ -56,11 +58,22 @@ fn bench_robot<
     cycle(c, &g("mass_matrix"), "generated", &fixed, |[q, ..]| {
         black_box(R::mass_matrix(&JointTrig::new(q)));
     });
+    // The `_into` forms write into a result kept between calls (`ResultBuffer`).
+    let mut d = ResultBuffer::new();
+    cycle(c, &g("mass_matrix"), "generated_into", &fixed, |[q, ..]| {
+        R::mass_matrix_into(&JointTrig::new(q), &mut d);
+        black_box(&d);
+    });
     cycle(c, &g("mass_matrix"), "generic", &raw, |[q, ..]| {
         black_box(generic.mass_matrix(q));
     });
     cycle(c, &g("coriolis"), "generated", &fixed, |[q, qd, ..]| {
         black_box(R::coriolis_matrix(&JointTrig::new(q), qd));
+    });
+    let mut cm = ResultBuffer::new();
+    cycle(c, &g("coriolis"), "generated_into", &fixed, |[q, qd, ..]| {
+        R::coriolis_matrix_into(&JointTrig::new(q), qd, &mut cm);
+        black_box(&cm);
     });
     cycle(c, &g("coriolis"), "generic", &raw, |[q, qd, ..]| {
         black_box(generic.coriolis_matrix(q, qd));
@@ -80,6 +93,11 @@ fn bench_robot<
     cycle(c, &g("regressor"), "generated", &fixed, |[q, qd, v, a]| {
         black_box(R::regressor(&JointTrig::new(q), qd, v, a));
     });
+    let mut y = ResultBuffer::new();
+    cycle(c, &g("regressor"), "generated_into", &fixed, |[q, qd, v, a]| {
+        R::regressor_into(&JointTrig::new(q), qd, v, a, &mut y);
+        black_box(&y);
+    });
     cycle(c, &g("regressor"), "generic", &raw, |[q, qd, v, a]| {
         black_box(generic.regressor(q, qd, v, a));
     });
@@ -89,6 +107,17 @@ fn bench_robot<
     cycle(c, &g("base_regressor"), "generated", &fixed, |[q, qd, v, a]| {
         black_box(R::base_regressor(&JointTrig::new(q), qd, v, a));
     });
+    let mut yb = ResultBuffer::new();
+    cycle(
+        c,
+        &g("base_regressor"),
+        "generated_into",
+        &fixed,
+        |[q, qd, v, a]| {
+            R::base_regressor_into(&JointTrig::new(q), qd, v, a, &mut yb);
+            black_box(&yb);
+        },
+    );
     cycle(c, &g("base_regressor"), "generic", &raw, |[q, qd, v, a]| {
         black_box(base.base_regressor(&generic.regressor(q, qd, v, a)));
     });
@@ -125,6 +154,16 @@ fn bench_robot<
     cycle(c, &g("torque_regressor"), "generated", &fixed, |[q, qd, _, a]| {
         black_box(R::torque_regressor(&JointTrig::new(q), qd, a));
     });
+    cycle(
+        c,
+        &g("torque_regressor"),
+        "generated_into",
+        &fixed,
+        |[q, qd, _, a]| {
+            R::torque_regressor_into(&JointTrig::new(q), qd, a, &mut y);
+            black_box(&y);
+        },
+    );
     cycle(c, &g("torque_regressor"), "generic", &raw, |[q, qd, _, a]| {
         black_box(generic.regressor(q, qd, qd, a));
     });
@@ -137,6 +176,17 @@ fn bench_robot<
             black_box(R::base_torque_regressor(&JointTrig::new(q), qd, a));
         },
     );
+    cycle(
+        c,
+        &g("base_torque_regressor"),
+        "generated_into",
+        &fixed,
+        |[q, qd, _, a]| {
+            R::base_torque_regressor_into(&JointTrig::new(q), qd, a, &mut yb);
+            black_box(&yb);
+        },
+    );
+
     // Several states per call (SIMD lanes); a sample is one call, so divide by the lane count
     // for the time per state.
     lanes::<R, f64x4, N, P, B>(c, robot, &fixed);

@@ -16,7 +16,7 @@ use dyngen_generated::solo12::{Frame, Solo12, Velocity, NQ};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{
     FloatingBaseDynamics, FloatingBaseParameters, FloatingDynamicsDerivatives, FloatingFrameKinematics,
-    FloatingTrig, ReferenceFrame, SplitMix64,
+    FloatingTrig, ReferenceFrame, ResultBuffer, SplitMix64,
 };
 use std::hint::black_box;
 
@@ -75,8 +75,19 @@ fn solo12(c: &mut Criterion) {
     cycle(c, &g("mass_matrix"), "generated", &inputs, |(q, _)| {
         black_box(Solo12::mass_matrix(&trig(q)));
     });
+    // The `_into` forms write into a result kept between calls (`ResultBuffer`).
+    let mut d = ResultBuffer::new();
+    cycle(c, &g("mass_matrix"), "generated_into", &inputs, |(q, _)| {
+        Solo12::mass_matrix_into(&trig(q), &mut d);
+        black_box(&d);
+    });
     cycle(c, &g("coriolis"), "generated", &inputs, |(q, [v, ..])| {
         black_box(Solo12::coriolis_matrix(&trig(q), v));
+    });
+    let mut cm = ResultBuffer::new();
+    cycle(c, &g("coriolis"), "generated_into", &inputs, |(q, [v, ..])| {
+        Solo12::coriolis_matrix_into(&trig(q), v, &mut cm);
+        black_box(&cm);
     });
     cycle(c, &g("gravity"), "generated", &inputs, |(q, _)| {
         black_box(Solo12::gravity(&trig(q)));
@@ -93,6 +104,17 @@ fn solo12(c: &mut Criterion) {
             black_box(Solo12::torque_regressor(&trig(q), v, a));
         },
     );
+    let mut y = ResultBuffer::new();
+    cycle(
+        c,
+        &g("torque_regressor"),
+        "generated_into",
+        &inputs,
+        |(q, [v, a, _])| {
+            Solo12::torque_regressor_into(&trig(q), v, a, &mut y);
+            black_box(&y);
+        },
+    );
     cycle(
         c,
         &g("base_torque_regressor"),
@@ -100,6 +122,17 @@ fn solo12(c: &mut Criterion) {
         &inputs,
         |(q, [v, a, _])| {
             black_box(Solo12::base_torque_regressor(&trig(q), v, a));
+        },
+    );
+    let mut yb = ResultBuffer::new();
+    cycle(
+        c,
+        &g("base_torque_regressor"),
+        "generated_into",
+        &inputs,
+        |(q, [v, a, _])| {
+            Solo12::base_torque_regressor_into(&trig(q), v, a, &mut yb);
+            black_box(&yb);
         },
     );
     cycle(c, &g("aba"), "generated", &inputs, |(q, [v, _, tau])| {
@@ -114,6 +147,17 @@ fn solo12(c: &mut Criterion) {
             black_box(Solo12::inverse_dynamics_derivatives(&trig(q), v, a));
         },
     );
+    let mut d_tau = ResultBuffer::new();
+    cycle(
+        c,
+        &g("rnea_derivatives"),
+        "generated_into",
+        &inputs,
+        |(q, [v, a, _])| {
+            Solo12::inverse_dynamics_derivatives_into(&trig(q), v, a, &mut d_tau);
+            black_box(&d_tau);
+        },
+    );
     cycle(
         c,
         &g("aba_derivatives"),
@@ -123,8 +167,24 @@ fn solo12(c: &mut Criterion) {
             black_box(Solo12::forward_dynamics_derivatives(&trig(q), v, tau));
         },
     );
+    let mut d_nu = ResultBuffer::new();
+    cycle(
+        c,
+        &g("aba_derivatives"),
+        "generated_into",
+        &inputs,
+        |(q, [v, _, tau])| {
+            Solo12::forward_dynamics_derivatives_into(&trig(q), v, tau, &mut d_nu);
+            black_box(&d_nu);
+        },
+    );
     cycle(c, &g("minv"), "generated", &inputs, |(q, _)| {
         black_box(Solo12::mass_matrix_inverse(&trig(q)));
+    });
+    let mut minv = ResultBuffer::new();
+    cycle(c, &g("minv"), "generated_into", &inputs, |(q, _)| {
+        Solo12::mass_matrix_inverse_into(&trig(q), &mut minv);
+        black_box(&minv);
     });
     cycle(c, &g("com"), "generated", &inputs, |(q, _)| {
         black_box(Solo12::center_of_mass(&trig(q)));

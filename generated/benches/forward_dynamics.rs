@@ -9,7 +9,7 @@ use common::{cycle, model, states};
 use criterion::{criterion_group, criterion_main, Criterion};
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_generated::{Arm7, Panda, PandaRounded, Ur5, Xarm7, Xarm7Snapped};
-use dyngen_runtime::{DynamicsDerivatives, ForwardDynamics, JointTrig};
+use dyngen_runtime::{DynamicsDerivatives, ForwardDynamics, JointTrig, ResultBuffer};
 use std::hint::black_box;
 
 fn bench_robot<R: ForwardDynamics<N, P> + DynamicsDerivatives<N, P>, const N: usize, const P: usize>(
@@ -31,6 +31,12 @@ fn bench_robot<R: ForwardDynamics<N, P> + DynamicsDerivatives<N, P>, const N: us
     cycle(c, &g("minv"), "generated", &fixed, |[q, ..]| {
         black_box(R::mass_matrix_inverse(&JointTrig::new(q)));
     });
+    // The `_into` forms write into a result kept between calls (`ResultBuffer`).
+    let mut minv = ResultBuffer::new();
+    cycle(c, &g("minv"), "generated_into", &fixed, |[q, ..]| {
+        R::mass_matrix_inverse_into(&JointTrig::new(q), &mut minv);
+        black_box(&minv);
+    });
     cycle(c, &g("minv"), "generic", &raw, |[q, ..]| {
         black_box(generic.mass_matrix_inverse(q));
     });
@@ -43,12 +49,34 @@ fn bench_robot<R: ForwardDynamics<N, P> + DynamicsDerivatives<N, P>, const N: us
             black_box(R::inverse_dynamics_derivatives(&JointTrig::new(q), qd, qdd));
         },
     );
+    let mut d_tau = ResultBuffer::new();
+    cycle(
+        c,
+        &g("rnea_derivatives"),
+        "generated_into",
+        &fixed,
+        |[q, qd, qdd, _]| {
+            R::inverse_dynamics_derivatives_into(&JointTrig::new(q), qd, qdd, &mut d_tau);
+            black_box(&d_tau);
+        },
+    );
     cycle(c, &g("rnea_derivatives"), "generic", &raw, |[q, qd, qdd, _]| {
         black_box(generic.inverse_dynamics_derivatives(q, qd, qdd));
     });
     cycle(c, &g("aba_derivatives"), "generated", &fixed, |[q, qd, _, tau]| {
         black_box(R::forward_dynamics_derivatives(&JointTrig::new(q), qd, tau));
     });
+    let mut d_qdd = ResultBuffer::new();
+    cycle(
+        c,
+        &g("aba_derivatives"),
+        "generated_into",
+        &fixed,
+        |[q, qd, _, tau]| {
+            R::forward_dynamics_derivatives_into(&JointTrig::new(q), qd, tau, &mut d_qdd);
+            black_box(&d_qdd);
+        },
+    );
     cycle(c, &g("aba_derivatives"), "generic", &raw, |[q, qd, _, tau]| {
         black_box(generic.forward_dynamics_derivatives(q, qd, tau));
     });

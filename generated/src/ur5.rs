@@ -1476,6 +1476,213 @@ impl RobotDynamics<6, 60> for Ur5 {
         }
         dyngen_runtime::__private::dispatch::<Body, _>((t,))
     }
+    #[inline(never)]
+    fn mass_matrix_into(
+        t: &JointTrig<6>,
+        out: &mut dyngen_runtime::ResultBuffer<SMatrix<f64, 6, 6>>,
+    ) {
+        let out = dyngen_runtime::__private::claim(out, 11364790983244906039u64);
+        struct Body;
+        impl dyngen_runtime::__private::Kernel<(&JointTrig<6>, &mut SMatrix<f64, 6, 6>)>
+        for Body {
+            type Output = ();
+            #[inline(always)]
+            fn run<M: dyngen_runtime::__private::MulAdd>(
+                arith: M,
+                (t, out): (&JointTrig<6>, &mut SMatrix<f64, 6, 6>),
+            ) {
+                let [_, s1, s2, s3, s4, s5] = t.sin;
+                let [_, c1, c2, c3, c4, c5] = t.cos;
+                {
+                    let [[o0, o1, o2, o3, o4, o5], [o6, o7, o8, o9, o10, o11], [o12, o13,
+                    o14, o15, o16, o17], [o18, o19, o20, o21, o22, o23], [o24, o25, o26,
+                    o27, o28, _], [o30, o31, o32, o33, _, o35]] = &mut out.data.0;
+                    *o35 = 0.0171364731454f64;
+                    let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                    x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                    x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                    x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                    x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                    x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                    x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                    x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109,
+                    x110, x111, x112, x113, x114, x115, x116, x117, x118, x119, x120,
+                    x121, x122, x123, x124, x125, x126, x127, x128, x129, x130, x131,
+                    x132, x133, x134, x135]: [f64; 136];
+                    x0 = -0.016685526854599998f64 * c5;
+                    x1 = 0.016685526854599998f64 * s5;
+                    x2 = s5 * x0;
+                    x3 = arith.mul_add(c5, x0, 0.033822f64);
+                    x4 = arith.mul_add(-s5, x1, 0.253242f64);
+                    *o28 = x4;
+                    x5 = c4 * x3;
+                    x6 = -0.0171364731454f64 * s4;
+                    x7 = c4 * x2;
+                    x8 = s4 * x3;
+                    x9 = 0.0171364731454f64 * c4;
+                    *o11 = x9;
+                    *o17 = x9;
+                    *o23 = x9;
+                    *o31 = x9;
+                    *o32 = x9;
+                    *o33 = x9;
+                    x10 = s4 * x2;
+                    x11 = -x10;
+                    *o10 = x11;
+                    *o16 = x11;
+                    *o22 = x11;
+                    *o25 = x11;
+                    *o26 = x11;
+                    *o27 = x11;
+                    x12 = s4 * x6;
+                    x13 = arith.mul_add(c4, x5, -x12);
+                    x14 = c4 * x6;
+                    x15 = arith.mul_add(s4, x5, x14);
+                    x16 = c4 * x9;
+                    x17 = arith.mul_add(s4, x8, x16);
+                    x18 = 0.004608836229750008f64 + x13;
+                    x19 = 0.22402883622975f64 + x17;
+                    *o21 = x19;
+                    x20 = -0.001653980355f64 - x10;
+                    x21 = 0.017784735f64 * c3;
+                    x22 = -0.017784735f64 * s3;
+                    x23 = c3 * x7;
+                    x24 = arith.mul_add(s3, x18, x23);
+                    x25 = s3 * x15;
+                    x26 = arith.mul_add(c3, x20, -x25);
+                    x27 = s3 * x7;
+                    x28 = arith.mul_add(c3, x4, x27);
+                    x29 = arith.mul_add(-c3, x18, x27);
+                    x30 = s3 * x20;
+                    x31 = arith.mul_add(c3, x15, x30);
+                    x32 = arith.mul_add(-s3, x4, x23);
+                    x33 = c3 * x28;
+                    x34 = arith.mul_add(s3, x24, x33);
+                    x35 = s3 * x28;
+                    x36 = arith.mul_add(c3, x24, -x35);
+                    x37 = s3 * x32;
+                    x38 = arith.mul_add(c3, x29, x37);
+                    x39 = -0.00697606230375f64 * s3;
+                    x40 = -0.0139521246075f64 * s3;
+                    x41 = x34 + x40;
+                    x42 = x19 + x40;
+                    x43 = arith.mul_add(-0.00697606230375f64, c3, x36);
+                    x44 = x40 - x38;
+                    x45 = x39 + x39;
+                    x46 = x44 - x45;
+                    x47 = 1.5987592750000001f64 + x22;
+                    x48 = 0.59155695167475f64 + x41;
+                    x49 = 0.59565195167475f64 + x42;
+                    *o14 = x49;
+                    x50 = -0.05132265682500001f64 - x31;
+                    x51 = s2 * x47;
+                    x52 = arith.mul_add(c2, x21, x51);
+                    x53 = s2 * x21;
+                    x54 = arith.mul_add(c2, x47, -x53);
+                    x55 = s2 * x43;
+                    x56 = arith.mul_add(c2, x48, x55);
+                    x57 = c2 * x26;
+                    x58 = arith.mul_add(s2, x50, x57);
+                    x59 = c2 * x43;
+                    x60 = arith.mul_add(s2, x46, x59);
+                    x61 = arith.mul_add(-s2, x48, x59);
+                    x62 = s2 * x26;
+                    x63 = arith.mul_add(c2, x50, -x62);
+                    x64 = arith.mul_add(c2, x46, -x55);
+                    x65 = s2 * x60;
+                    x66 = arith.mul_add(c2, x56, x65);
+                    x67 = s2 * x56;
+                    x68 = arith.mul_add(c2, x60, -x67);
+                    x69 = s2 * x61;
+                    x70 = arith.mul_add(c2, x64, -x69);
+                    x71 = 0.425f64 * x54;
+                    x72 = 0.85f64 * x54;
+                    x73 = x66 + x72;
+                    x74 = arith.mul_add(0.1197f64, x52, x58);
+                    x75 = x49 + x72;
+                    x76 = arith.mul_add(-0.425f64, x52, x68);
+                    x77 = arith.mul_add(0.1197f64, x54, x63);
+                    x78 = x70 + x72;
+                    x79 = x71 + x71;
+                    x80 = x78 - x79;
+                    x81 = 4.432922500000001f64 + x54;
+                    x82 = 1.75501953841f64 + x73;
+                    x83 = 1.77012693841f64 + x75;
+                    *o7 = x83;
+                    x84 = 0.19371331275f64 + x77;
+                    x85 = c1 * x52;
+                    x86 = arith.mul_add(s1, x81, x85);
+                    x87 = c1 * x82;
+                    x88 = arith.mul_add(s1, x76, x87);
+                    x89 = s1 * x84;
+                    x90 = arith.mul_add(c1, x74, x89);
+                    x91 = s1 * x80;
+                    x92 = arith.mul_add(c1, x76, x91);
+                    x93 = s1 * x92;
+                    x94 = arith.mul_add(c1, x88, x93);
+                    x95 = arith.mul_add(-0.13585f64, x86, x90);
+                    x96 = -x95;
+                    *o1 = x96;
+                    *o6 = x96;
+                    x97 = 0.41784981244275005f64 + x94;
+                    *o0 = x97;
+                    x98 = arith.mul_add(0.1197f64, x52, x58);
+                    x99 = x49 + x71;
+                    *o8 = x99;
+                    *o13 = x99;
+                    x100 = arith.mul_add(s1, x54, x85);
+                    x101 = s1 * x77;
+                    x102 = arith.mul_add(c1, x98, x101);
+                    x103 = arith.mul_add(-0.13585f64, x100, x102);
+                    x104 = -x103;
+                    *o2 = x104;
+                    *o12 = x104;
+                    x105 = -0.017784735f64 * c3;
+                    x106 = x19 + x39;
+                    *o15 = x106;
+                    *o20 = x106;
+                    x107 = s2 * x105;
+                    x108 = arith.mul_add(c2, x22, x107);
+                    x109 = s2 * x22;
+                    x110 = arith.mul_add(c2, x105, -x109);
+                    x111 = arith.mul_add(-s2, x31, x57);
+                    x112 = arith.mul_add(c2, x31, x62);
+                    x113 = arith.mul_add(-0.1197f64, x110, x111);
+                    x114 = arith.mul_add(0.425f64, x108, x106);
+                    *o9 = x114;
+                    *o19 = x114;
+                    x115 = arith.mul_add(-0.1197f64, x108, x112);
+                    x116 = s1 * x108;
+                    x117 = arith.mul_add(c1, x110, -x116);
+                    x118 = c1 * x113;
+                    x119 = arith.mul_add(s1, x115, -x118);
+                    x120 = arith.mul_add(-0.13585f64, x117, x119);
+                    *o3 = x120;
+                    *o18 = x120;
+                    x121 = s2 * x32;
+                    x122 = arith.mul_add(c2, x28, x121);
+                    x123 = s2 * x28;
+                    x124 = arith.mul_add(c2, x32, -x123);
+                    x125 = s1 * x124;
+                    x126 = arith.mul_add(c1, x122, x125);
+                    x127 = -x126;
+                    *o4 = x127;
+                    *o24 = x127;
+                    x128 = s3 * x6;
+                    x129 = c3 * x6;
+                    x130 = s2 * x129;
+                    x131 = arith.mul_add(c2, x128, x130);
+                    x132 = c2 * x129;
+                    x133 = arith.mul_add(s2, x128, -x132);
+                    x134 = s1 * x133;
+                    x135 = arith.mul_add(c1, x131, -x134);
+                    *o5 = x135;
+                    *o30 = x135;
+                }
+            }
+        }
+        dyngen_runtime::__private::dispatch::<Body, _>((t, out))
+    }
     ///Operations: 461 mul, 347 add/sub, 4 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn coriolis_matrix(t: &JointTrig<6>, qd: &SVector<f64, 6>) -> SMatrix<f64, 6, 6> {
@@ -2185,6 +2392,719 @@ impl RobotDynamics<6, 60> for Ur5 {
             }
         }
         dyngen_runtime::__private::dispatch::<Body, _>((t, qd))
+    }
+    #[inline(never)]
+    fn coriolis_matrix_into(
+        t: &JointTrig<6>,
+        qd: &SVector<f64, 6>,
+        out: &mut dyngen_runtime::ResultBuffer<SMatrix<f64, 6, 6>>,
+    ) {
+        let out = dyngen_runtime::__private::claim(out, 9757595215750468228u64);
+        struct Body;
+        impl dyngen_runtime::__private::Kernel<
+            (&JointTrig<6>, &SVector<f64, 6>, &mut SMatrix<f64, 6, 6>),
+        > for Body {
+            type Output = ();
+            #[inline(always)]
+            fn run<M: dyngen_runtime::__private::MulAdd>(
+                arith: M,
+                (t, qd, out): (&JointTrig<6>, &SVector<f64, 6>, &mut SMatrix<f64, 6, 6>),
+            ) {
+                let [_, s1, s2, s3, s4, s5] = t.sin;
+                let [_, c1, c2, c3, c4, c5] = t.cos;
+                let [qd0, qd1, qd2, qd3, qd4, qd5] = qd.data.0[0];
+                {
+                    let [[o0, o1, o2, o3, o4, o5], [o6, o7, o8, o9, o10, o11], [o12, o13,
+                    o14, o15, o16, o17], [o18, o19, o20, o21, o22, o23], [o24, o25, o26,
+                    o27, o28, o29], [o30, o31, o32, o33, o34, _]] = &mut out.data.0;
+                    let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                    x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                    x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                    x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                    x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                    x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                    x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                    x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109,
+                    x110, x111, x112, x113, x114, x115, x116, x117, x118, x119, x120,
+                    x121, x122, x123, x124, x125, x126, x127, x128, x129, x130, x131,
+                    x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142,
+                    x143, x144, x145, x146, x147, x148, x149, x150, x151, x152, x153,
+                    x154, x155, x156, x157, x158, x159, x160, x161, x162, x163, x164,
+                    x165, x166, x167, x168, x169, x170, x171, x172, x173, x174, x175,
+                    x176, x177, x178, x179, x180, x181, x182, x183, x184, x185, x186,
+                    x187, x188, x189, x190, x191, x192, x193, x194, x195, x196, x197,
+                    x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
+                    x209, x210, x211, x212, x213, x214, x215, x216, x217, x218, x219,
+                    x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                    x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241,
+                    x242, x243, x244, x245, x246, x247, x248, x249, x250, x251, x252,
+                    x253, x254, x255, x256, x257, x258, x259, x260, x261, x262, x263,
+                    x264, x265, x266, x267, x268, x269, x270, x271, x272, x273, x274,
+                    x275, x276, x277, x278, x279, x280, x281, x282, x283, x284, x285,
+                    x286, x287, x288, x289, x290, x291, x292, x293, x294, x295, x296,
+                    x297, x298, x299, x300, x301, x302, x303, x304, x305, x306, x307,
+                    x308, x309, x310, x311, x312, x313, x314, x315, x316, x317, x318,
+                    x319, x320, x321, x322, x323, x324, x325, x326, x327, x328, x329,
+                    x330, x331, x332, x333, x334, x335, x336, x337, x338, x339, x340,
+                    x341, x342, x343, x344, x345, x346, x347, x348, x349, x350, x351,
+                    x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                    x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373,
+                    x374, x375, x376, x377, x378, x379, x380, x381, x382, x383, x384,
+                    x385, x386, x387, x388, x389, x390, x391, x392, x393, x394, x395,
+                    x396, x397, x398, x399, x400, x401, x402, x403, x404, x405, x406,
+                    x407, x408, x409, x410, x411, x412, x413, x414, x415, x416, x417,
+                    x418, x419, x420, x421, x422, x423, x424, x425, x426, x427, x428,
+                    x429, x430, x431, x432, x433, x434, x435, x436, x437, x438, x439,
+                    x440, x441, x442, x443, x444, x445, x446, x447, x448, x449, x450,
+                    x451, x452, x453, x454, x455, x456, x457, x458, x459, x460, x461,
+                    x462, x463, x464, x465, x466, x467, x468, x469, x470, x471, x472,
+                    x473, x474, x475, x476, x477, x478, x479, x480, x481, x482, x483,
+                    x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
+                    x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505,
+                    x506, x507, x508, x509, x510, x511, x512, x513, x514, x515, x516,
+                    x517, x518, x519, x520, x521, x522, x523, x524, x525, x526, x527,
+                    x528, x529, x530, x531, x532, x533, x534, x535, x536, x537, x538,
+                    x539, x540, x541, x542, x543, x544, x545, x546, x547, x548, x549,
+                    x550, x551, x552, x553, x554, x555, x556, x557, x558, x559, x560,
+                    x561, x562, x563, x564, x565, x566, x567, x568, x569, x570, x571,
+                    x572, x573, x574, x575, x576, x577, x578, x579, x580, x581, x582,
+                    x583, x584, x585, x586, x587, x588, x589, x590, x591, x592, x593,
+                    x594, x595]: [f64; 596];
+                    x0 = qd0 * c1;
+                    x1 = qd0 * s1;
+                    x2 = 0.13585f64 * qd0;
+                    x3 = s1 * x2;
+                    x4 = c1 * x2;
+                    x5 = c2 * x0;
+                    x6 = arith.mul_add(s2, x1, -x5);
+                    x7 = c2 * x1;
+                    x8 = arith.mul_add(s2, x0, x7);
+                    x9 = 0.425f64 * qd1;
+                    x10 = arith.mul_add(0.1197f64, x1, -x9);
+                    x11 = x3 - x10;
+                    x12 = arith.mul_add(0.1197f64, x0, -x4);
+                    x13 = s2 * x12;
+                    x14 = arith.mul_add(c2, x11, -x13);
+                    x15 = c2 * x12;
+                    x16 = arith.mul_add(s2, x11, x15);
+                    x17 = qd1 + qd2;
+                    x18 = s3 * x6;
+                    x19 = arith.mul_add(c3, x8, -x18);
+                    x20 = s3 * x8;
+                    x21 = arith.mul_add(c3, x6, x20);
+                    x22 = 0.39225f64 * x6;
+                    x23 = arith.mul_add(0.39225f64, x17, x14);
+                    x24 = arith.mul_add(-0.425f64, x0, x22);
+                    x25 = c3 * x16;
+                    x26 = arith.mul_add(s3, x23, x25);
+                    x27 = c3 * x23;
+                    x28 = s3 * x16;
+                    x29 = x27 - x28;
+                    x30 = qd3 + x17;
+                    x31 = s4 * x30;
+                    x32 = arith.mul_add(c4, x19, x31);
+                    x33 = s4 * x19;
+                    x34 = arith.mul_add(c4, x30, -x33);
+                    x35 = qd4 + x21;
+                    x36 = s5 * x35;
+                    x37 = arith.mul_add(c5, x32, -x36);
+                    x38 = c5 * x35;
+                    x39 = arith.mul_add(s5, x32, x38);
+                    x40 = qd5 + x34;
+                    x41 = -0.016685526854599998f64 * c5;
+                    x42 = 0.016685526854599998f64 * s5;
+                    x43 = s5 * x41;
+                    x44 = arith.mul_add(c5, x41, 0.033822f64);
+                    x45 = arith.mul_add(-s5, x42, 0.253242f64);
+                    x46 = c4 * x44;
+                    x47 = -0.0171364731454f64 * s4;
+                    x48 = c4 * x43;
+                    x49 = s4 * x47;
+                    x50 = arith.mul_add(c4, x46, -x49);
+                    x51 = c4 * x47;
+                    x52 = arith.mul_add(s4, x46, x51);
+                    x53 = 0.004608836229750008f64 + x50;
+                    x54 = arith.mul_add(-s4, x43, -0.001653980355f64);
+                    x55 = 0.017784735f64 * c3;
+                    x56 = -0.017784735f64 * s3;
+                    x57 = c3 * x48;
+                    x58 = arith.mul_add(s3, x53, x57);
+                    x59 = s3 * x52;
+                    x60 = arith.mul_add(c3, x54, -x59);
+                    x61 = s3 * x48;
+                    x62 = arith.mul_add(c3, x45, x61);
+                    x63 = arith.mul_add(-c3, x53, x61);
+                    x64 = s3 * x54;
+                    x65 = arith.mul_add(c3, x52, x64);
+                    x66 = arith.mul_add(-s3, x45, x57);
+                    x67 = c3 * x62;
+                    x68 = arith.mul_add(s3, x58, x67);
+                    x69 = s3 * x62;
+                    x70 = arith.mul_add(c3, x58, -x69);
+                    x71 = s3 * x66;
+                    x72 = arith.mul_add(c3, x63, x71);
+                    x73 = -0.00697606230375f64 * s3;
+                    x74 = -0.0139521246075f64 * s3;
+                    x75 = x68 + x74;
+                    x76 = arith.mul_add(-0.00697606230375f64, c3, x70);
+                    x77 = x74 - x72;
+                    x78 = x73 + x73;
+                    x79 = x77 - x78;
+                    x80 = 1.5987592750000001f64 + x56;
+                    x81 = 0.59155695167475f64 + x75;
+                    x82 = -0.05132265682500001f64 - x65;
+                    x83 = s2 * x80;
+                    x84 = arith.mul_add(c2, x55, x83);
+                    x85 = s2 * x55;
+                    x86 = arith.mul_add(c2, x80, -x85);
+                    x87 = s2 * x76;
+                    x88 = arith.mul_add(c2, x81, x87);
+                    x89 = c2 * x60;
+                    x90 = arith.mul_add(s2, x82, x89);
+                    x91 = c2 * x76;
+                    x92 = arith.mul_add(s2, x79, x91);
+                    x93 = arith.mul_add(-s2, x81, x91);
+                    x94 = s2 * x60;
+                    x95 = arith.mul_add(c2, x82, -x94);
+                    x96 = arith.mul_add(c2, x79, -x87);
+                    x97 = s2 * x92;
+                    x98 = arith.mul_add(c2, x88, x97);
+                    x99 = s2 * x88;
+                    x100 = arith.mul_add(c2, x92, -x99);
+                    x101 = s2 * x93;
+                    x102 = arith.mul_add(c2, x96, -x101);
+                    x103 = 0.425f64 * x86;
+                    x104 = 0.85f64 * x86;
+                    x105 = x98 + x104;
+                    x106 = arith.mul_add(0.1197f64, x84, x90);
+                    x107 = arith.mul_add(-0.425f64, x84, x100);
+                    x108 = arith.mul_add(0.1197f64, x86, x95);
+                    x109 = x102 + x104;
+                    x110 = x103 + x103;
+                    x111 = x109 - x110;
+                    x112 = 4.432922500000001f64 + x86;
+                    x113 = 1.75501953841f64 + x105;
+                    x114 = 0.19371331275f64 + x108;
+                    x115 = arith.mul_add(0.1197f64, x84, x90);
+                    x116 = -0.017784735f64 * c3;
+                    x117 = s2 * x116;
+                    x118 = arith.mul_add(c2, x56, x117);
+                    x119 = s2 * x56;
+                    x120 = arith.mul_add(c2, x116, -x119);
+                    x121 = arith.mul_add(-s2, x65, x89);
+                    x122 = arith.mul_add(c2, x65, x94);
+                    x123 = arith.mul_add(-0.1197f64, x120, x121);
+                    x124 = arith.mul_add(-0.1197f64, x118, x122);
+                    x125 = s2 * x66;
+                    x126 = arith.mul_add(c2, x62, x125);
+                    x127 = s2 * x62;
+                    x128 = arith.mul_add(c2, x66, -x127);
+                    x129 = s3 * x47;
+                    x130 = c3 * x47;
+                    x131 = s2 * x130;
+                    x132 = arith.mul_add(c2, x129, x131);
+                    x133 = c2 * x130;
+                    x134 = arith.mul_add(s2, x129, -x133);
+                    x135 = -4.432922500000001f64 * x4;
+                    x136 = -8.865845000000002f64 * x4;
+                    x137 = 0.19371331275f64 * qd1;
+                    x138 = arith.mul_add(1.77012693841f64, x1, x137);
+                    x139 = arith.mul_add(-1.75501953841f64, x1, x138);
+                    x140 = -0.19371331275f64 * x0;
+                    x141 = x140 + x140;
+                    x142 = x136 - x141;
+                    x143 = 1.75501953841f64 * qd1;
+                    x144 = arith.mul_add(-0.19371331275f64, x1, x143);
+                    x145 = arith.mul_add(4.432922500000001f64, x3, x144);
+                    x146 = x135 + x135;
+                    x147 = x136 + x141;
+                    x148 = x147 - x146;
+                    x149 = 1.5987592750000001f64 * x16;
+                    x150 = 3.1975185500000003f64 * x16;
+                    x151 = 1.5987592750000001f64 * x17;
+                    x152 = -0.05132265682500001f64 * x17;
+                    x153 = arith.mul_add(0.59565195167475f64, x8, x152);
+                    x154 = arith.mul_add(-0.59155695167475f64, x8, x153);
+                    x155 = -0.05132265682500001f64 * x6;
+                    x156 = x155 + x155;
+                    x157 = x150 - x156;
+                    x158 = 0.59155695167475f64 * x17;
+                    x159 = arith.mul_add(0.05132265682500001f64, x8, x158);
+                    x160 = arith.mul_add(1.5987592750000001f64, x14, x159);
+                    x161 = 0.679472691875f64 * x0;
+                    x162 = arith.mul_add(0.59565195167475f64, x6, -x161);
+                    x163 = x149 + x149;
+                    x164 = x150 + x156;
+                    x165 = x164 - x163;
+                    x166 = 0.017784735f64 * x29;
+                    x167 = 0.03556947f64 * x29;
+                    x168 = 0.017784735f64 * x30;
+                    x169 = 0.017784735f64 * x19;
+                    x170 = -0.001653980355f64 * x30;
+                    x171 = arith.mul_add(-0.22402883622975f64, x21, x170);
+                    x172 = arith.mul_add(0.004608836229750008f64, x21, x171);
+                    x173 = -0.001653980355f64 * x19;
+                    x174 = x173 + x173;
+                    x175 = x167 - x174;
+                    x176 = 0.004608836229750008f64 * x30;
+                    x177 = arith.mul_add(-0.001653980355f64, x21, x176);
+                    x178 = arith.mul_add(-0.017784735f64, x26, x177);
+                    x179 = -0.017784735f64 * x24;
+                    x180 = arith.mul_add(0.22402883622975f64, x19, -x179);
+                    x181 = x166 + x166;
+                    x182 = x167 + x174;
+                    x183 = x182 - x181;
+                    x184 = 0.033822f64 * x34;
+                    x185 = arith.mul_add(0.253242f64, x34, -x184);
+                    x186 = 0.0171364731454f64 * x39;
+                    x187 = arith.mul_add(-0.016685526854599998f64, x39, -x186);
+                    x188 = -0.016685526854599998f64 * x40;
+                    x189 = 0.0171364731454f64 * x37;
+                    x190 = arith.mul_add(0.59155695167475f64, x6, -x161);
+                    x191 = arith.mul_add(0.004608836229750008f64, x19, -x179);
+                    x192 = -0.016685526854599998f64 * x37;
+                    x193 = 0.0171364731454f64 * x40;
+                    x194 = s5 * x188;
+                    x195 = s5 * x189;
+                    x196 = arith.mul_add(c5, x187, x195);
+                    x197 = c5 * x188;
+                    x198 = s5 * x187;
+                    x199 = arith.mul_add(c5, x189, -x198);
+                    x200 = s5 * x197;
+                    x201 = arith.mul_add(c5, x194, x200);
+                    x202 = c5 * x197;
+                    x203 = arith.mul_add(s5, x194, -x202);
+                    x204 = arith.mul_add(0.033822f64, x35, x196);
+                    x205 = x185 + x203;
+                    x206 = arith.mul_add(-0.253242f64, x32, x199);
+                    x207 = c5 * x192;
+                    x208 = s5 * x192;
+                    x209 = arith.mul_add(0.033822f64, x32, x207);
+                    x210 = arith.mul_add(0.253242f64, x35, -x208);
+                    x211 = s4 * x204;
+                    x212 = arith.mul_add(c4, x201, x211);
+                    x213 = c4 * x204;
+                    x214 = s4 * x206;
+                    x215 = arith.mul_add(c4, x205, -x214);
+                    x216 = arith.mul_add(-s4, x201, x213);
+                    x217 = c4 * x206;
+                    x218 = arith.mul_add(s4, x205, x217);
+                    x219 = s4 * x213;
+                    x220 = arith.mul_add(c4, x212, x219);
+                    x221 = s4 * x212;
+                    x222 = arith.mul_add(c4, x213, -x221);
+                    x223 = c4 * x211;
+                    x224 = arith.mul_add(s4, x216, x223);
+                    x225 = x167 - x220;
+                    x226 = x172 + x222;
+                    x227 = x175 + x224;
+                    x228 = x215 - x178;
+                    x229 = x180 + x218;
+                    x230 = x183 + x201;
+                    x231 = s4 * x193;
+                    x232 = arith.mul_add(c4, x209, -x231);
+                    x233 = x191 + x232;
+                    x234 = x170 + x210;
+                    x235 = s3 * x168;
+                    x236 = c3 * x168;
+                    x237 = c3 * x228;
+                    x238 = arith.mul_add(-s3, x225, x237);
+                    x239 = s3 * x226;
+                    x240 = arith.mul_add(c3, x229, -x239);
+                    x241 = s3 * x228;
+                    x242 = arith.mul_add(c3, x230, -x241);
+                    x243 = arith.mul_add(c3, x225, x241);
+                    x244 = s3 * x229;
+                    x245 = arith.mul_add(c3, x226, x244);
+                    x246 = arith.mul_add(s3, x230, x237);
+                    x247 = s3 * x238;
+                    x248 = arith.mul_add(c3, x242, -x247);
+                    x249 = s3 * x242;
+                    x250 = arith.mul_add(c3, x238, x249);
+                    x251 = s3 * x246;
+                    x252 = arith.mul_add(c3, x243, x251);
+                    x253 = -0.39225f64 * x236;
+                    x254 = -0.7845f64 * x236;
+                    x255 = x248 + x254;
+                    x256 = x227 + x254;
+                    x257 = arith.mul_add(-0.39225f64, x235, x250);
+                    x258 = -0.00697606230375f64 * x19;
+                    x259 = x245 + x258;
+                    x260 = x252 + x254;
+                    x261 = x253 + x253;
+                    x262 = x260 - x261;
+                    x263 = x151 - x235;
+                    x264 = arith.mul_add(1.5987592750000001f64, x6, x169);
+                    x265 = x150 + x255;
+                    x266 = x154 + x240;
+                    x267 = x157 + x256;
+                    x268 = x160 + x257;
+                    x269 = x162 - x259;
+                    x270 = x165 + x262;
+                    x271 = s3 * x233;
+                    x272 = arith.mul_add(c3, x234, -x271);
+                    x273 = s3 * x234;
+                    x274 = arith.mul_add(c3, x233, x273);
+                    x275 = x272 - x258;
+                    x276 = x190 + x275;
+                    x277 = x152 - x274;
+                    x278 = s2 * x236;
+                    x279 = arith.mul_add(c2, x263, -x278);
+                    x280 = c2 * x236;
+                    x281 = arith.mul_add(s2, x263, x280);
+                    x282 = s2 * x268;
+                    x283 = arith.mul_add(c2, x265, -x282);
+                    x284 = s2 * x269;
+                    x285 = arith.mul_add(c2, x266, x284);
+                    x286 = c2 * x268;
+                    x287 = arith.mul_add(s2, x270, -x286);
+                    x288 = arith.mul_add(s2, x265, x286);
+                    x289 = s2 * x266;
+                    x290 = arith.mul_add(c2, x269, -x289);
+                    x291 = arith.mul_add(c2, x270, x282);
+                    x292 = s2 * x287;
+                    x293 = arith.mul_add(c2, x283, x292);
+                    x294 = s2 * x283;
+                    x295 = arith.mul_add(c2, x287, -x294);
+                    x296 = c2 * x291;
+                    x297 = arith.mul_add(s2, x288, x296);
+                    x298 = 0.1197f64 * x264;
+                    x299 = -0.425f64 * x281;
+                    x300 = x298 + x299;
+                    x301 = 2f64 * x300;
+                    x302 = x293 + x301;
+                    x303 = -0.1197f64 * x279;
+                    x304 = x285 - x303;
+                    x305 = x267 + x301;
+                    x306 = x298 + x298;
+                    x307 = x305 - x306;
+                    x308 = arith.mul_add(-0.425f64, x279, x295);
+                    x309 = 0.1197f64 * x281;
+                    x310 = -0.425f64 * x264;
+                    x311 = x309 + x310;
+                    x312 = x290 - x311;
+                    x313 = x297 + x301;
+                    x314 = x299 + x299;
+                    x315 = x313 - x314;
+                    x316 = arith.mul_add(4.432922500000001f64, qd1, x279);
+                    x317 = arith.mul_add(-4.432922500000001f64, x0, x264);
+                    x318 = x136 + x302;
+                    x319 = x139 + x304;
+                    x320 = x142 + x307;
+                    x321 = x308 - x145;
+                    x322 = arith.mul_add(-1.77012693841f64, x0, x312);
+                    x323 = x148 + x315;
+                    x324 = s2 * x277;
+                    x325 = arith.mul_add(c2, x276, x324);
+                    x326 = s2 * x276;
+                    x327 = arith.mul_add(c2, x277, -x326);
+                    x328 = x309 - x310;
+                    x329 = x325 + x328;
+                    x330 = x327 - x303;
+                    x331 = arith.mul_add(-1.75501953841f64, x0, x329);
+                    x332 = x137 + x330;
+                    x333 = c1 * x318;
+                    x334 = arith.mul_add(s1, x321, x333);
+                    x335 = s1 * x323;
+                    x336 = arith.mul_add(c1, x321, x335);
+                    x337 = s1 * x336;
+                    x338 = arith.mul_add(c1, x334, x337);
+                    x339 = arith.mul_add(-0.2717f64, x317, x338);
+                    x340 = 0.5f64 * x339;
+                    *o0 = x340;
+                    x341 = 0.5f64 * x319;
+                    x342 = 0.5f64 * x322;
+                    x343 = -0.5f64 * x281;
+                    x344 = -0.5f64 * x316;
+                    x345 = 0.5f64 * x332;
+                    x346 = -0.5f64 * x331;
+                    x347 = x0 * x107;
+                    x348 = arith.mul_add(x1, x113, -x347);
+                    x349 = x0 * x114;
+                    x350 = arith.mul_add(x1, x106, -x349);
+                    x351 = x0 * x111;
+                    x352 = arith.mul_add(x1, x107, -x351);
+                    x353 = x3 * x84;
+                    x354 = arith.mul_add(x4, x112, -x353);
+                    x355 = x350 + x354;
+                    x356 = x341 + x348;
+                    x357 = arith.mul_add(0.5f64, x320, x355);
+                    *o7 = x357;
+                    x358 = x342 + x352;
+                    x359 = x345 + x356;
+                    x360 = x346 + x358;
+                    x361 = x343 + x343;
+                    x362 = x344 + x344;
+                    x363 = x341 - x345;
+                    x364 = x342 - x346;
+                    x365 = s1 * x361;
+                    x366 = arith.mul_add(c1, x362, -x365);
+                    x367 = s1 * x360;
+                    x368 = arith.mul_add(c1, x359, x367);
+                    x369 = arith.mul_add(0.13585f64, x366, x368);
+                    x370 = -x369;
+                    *o6 = x370;
+                    x371 = s1 * x364;
+                    x372 = arith.mul_add(c1, x363, x371);
+                    x373 = -x372;
+                    *o1 = x373;
+                    x374 = x235 - x151;
+                    x375 = 0.5f64 * x266;
+                    x376 = 0.5f64 * x267;
+                    x377 = 0.5f64 * x269;
+                    x378 = -0.5f64 * x236;
+                    x379 = 0.5f64 * x374;
+                    x380 = 0.5f64 * x277;
+                    x381 = -0.5f64 * x276;
+                    x382 = x6 * x76;
+                    x383 = arith.mul_add(x8, x81, x382);
+                    x384 = x8 * x60;
+                    x385 = arith.mul_add(x6, x82, x384);
+                    x386 = x6 * x79;
+                    x387 = arith.mul_add(x8, x76, x386);
+                    x388 = x14 * x55;
+                    x389 = arith.mul_add(x16, x80, x388);
+                    x390 = x385 - x389;
+                    x391 = x8 * x80;
+                    x392 = arith.mul_add(x6, x55, -x391);
+                    x393 = x375 + x383;
+                    x394 = x376 + x390;
+                    *o14 = x394;
+                    x395 = x377 + x387;
+                    x396 = x380 + x393;
+                    x397 = x381 + x395;
+                    x398 = x378 + x378;
+                    x399 = x379 + x379;
+                    x400 = x375 - x380;
+                    x401 = x377 - x381;
+                    x402 = s2 * x399;
+                    x403 = arith.mul_add(c2, x398, x402);
+                    x404 = s2 * x398;
+                    x405 = arith.mul_add(c2, x399, -x404);
+                    x406 = s2 * x397;
+                    x407 = arith.mul_add(c2, x396, x406);
+                    x408 = s2 * x396;
+                    x409 = arith.mul_add(c2, x397, -x408);
+                    x410 = 0.425f64 * x392;
+                    x411 = arith.mul_add(-0.1197f64, x405, -x410);
+                    x412 = x407 + x411;
+                    x413 = arith.mul_add(0.425f64, x403, x394);
+                    *o13 = x413;
+                    x414 = arith.mul_add(0.1197f64, x403, x409);
+                    x415 = s2 * x401;
+                    x416 = arith.mul_add(c2, x400, x415);
+                    x417 = s2 * x400;
+                    x418 = arith.mul_add(c2, x401, -x417);
+                    x419 = x0 * x108;
+                    x420 = arith.mul_add(x1, x115, -x419);
+                    x421 = arith.mul_add(x4, x86, -x353);
+                    x422 = x420 + x421;
+                    x423 = x376 + x422;
+                    *o8 = x423;
+                    x424 = s1 * x403;
+                    x425 = arith.mul_add(c1, x405, -x424);
+                    x426 = s1 * x414;
+                    x427 = arith.mul_add(c1, x412, x426);
+                    x428 = arith.mul_add(0.13585f64, x425, x427);
+                    x429 = -x428;
+                    *o12 = x429;
+                    x430 = s1 * x418;
+                    x431 = arith.mul_add(c1, x416, x430);
+                    x432 = -x431;
+                    *o2 = x432;
+                    x433 = x28 - x27;
+                    x434 = 0.5f64 * x226;
+                    x435 = 0.5f64 * x227;
+                    x436 = 0.5f64 * x229;
+                    x437 = -0.0088923675f64 * x30;
+                    x438 = 0.5f64 * x234;
+                    x439 = -0.5f64 * x233;
+                    x440 = x19 * x48;
+                    x441 = arith.mul_add(x21, x53, x440);
+                    x442 = x21 * x52;
+                    x443 = arith.mul_add(x19, x54, -x442);
+                    x444 = x19 * x45;
+                    x445 = arith.mul_add(x21, x48, x444);
+                    x446 = arith.mul_add(0.017784735f64, x433, x443);
+                    x447 = x434 - x441;
+                    x448 = x435 + x446;
+                    *o21 = x448;
+                    x449 = x436 + x445;
+                    x450 = x438 + x447;
+                    x451 = x439 + x449;
+                    x452 = x437 + x437;
+                    x453 = x434 - x438;
+                    x454 = x436 - x439;
+                    x455 = c3 * x452;
+                    x456 = s3 * x452;
+                    x457 = s3 * x450;
+                    x458 = arith.mul_add(c3, x451, -x457);
+                    x459 = s3 * x451;
+                    x460 = arith.mul_add(c3, x450, x459);
+                    x461 = arith.mul_add(-0.00697606230375f64, x21, x458);
+                    x462 = arith.mul_add(0.39225f64, x455, x448);
+                    *o20 = x462;
+                    x463 = s3 * x453;
+                    x464 = arith.mul_add(c3, x454, -x463);
+                    x465 = s3 * x454;
+                    x466 = arith.mul_add(c3, x453, x465);
+                    x467 = arith.mul_add(-x6, x65, x384);
+                    x468 = x16 * x56;
+                    x469 = arith.mul_add(x14, x116, -x468);
+                    x470 = x467 + x469;
+                    x471 = x435 + x470;
+                    *o15 = x471;
+                    x472 = s2 * x456;
+                    x473 = arith.mul_add(c2, x455, -x472);
+                    x474 = c2 * x456;
+                    x475 = arith.mul_add(s2, x455, x474);
+                    x476 = s2 * x460;
+                    x477 = arith.mul_add(c2, x461, -x476);
+                    x478 = c2 * x460;
+                    x479 = arith.mul_add(s2, x461, x478);
+                    x480 = 0.007558512375f64 * x21;
+                    x481 = arith.mul_add(0.1197f64, x475, -x480);
+                    x482 = x477 + x481;
+                    x483 = arith.mul_add(0.425f64, x473, x462);
+                    *o19 = x483;
+                    x484 = arith.mul_add(-0.1197f64, x473, x479);
+                    x485 = s2 * x466;
+                    x486 = arith.mul_add(c2, x464, -x485);
+                    x487 = c2 * x466;
+                    x488 = arith.mul_add(s2, x464, x487);
+                    x489 = x0 * x124;
+                    x490 = arith.mul_add(x1, x123, x489);
+                    x491 = x3 * x120;
+                    x492 = arith.mul_add(x4, x118, x491);
+                    x493 = x490 + x492;
+                    x494 = x435 + x493;
+                    *o9 = x494;
+                    x495 = c1 * x475;
+                    x496 = arith.mul_add(s1, x473, x495);
+                    x497 = c1 * x482;
+                    x498 = arith.mul_add(s1, x484, -x497);
+                    x499 = arith.mul_add(0.13585f64, x496, x498);
+                    *o18 = x499;
+                    x500 = c1 * x486;
+                    x501 = arith.mul_add(s1, x488, -x500);
+                    *o3 = x501;
+                    x502 = 0.5f64 * x205;
+                    x503 = 0.5f64 * x206;
+                    x504 = 0.5f64 * x201;
+                    x505 = -0.0085682365727f64 * x40;
+                    x506 = 0.5f64 * x209;
+                    x507 = -0.0171364731454f64 * x32;
+                    x508 = arith.mul_add(x34, x44, x502);
+                    x509 = x503 + x507;
+                    x510 = arith.mul_add(-x34, x43, x504);
+                    *o28 = x510;
+                    x511 = x505 + x508;
+                    x512 = x506 + x509;
+                    x513 = x502 - x505;
+                    x514 = x503 - x506;
+                    x515 = s4 * x512;
+                    x516 = arith.mul_add(c4, x511, -x515);
+                    x517 = c4 * x512;
+                    x518 = arith.mul_add(s4, x511, x517);
+                    *o25 = x518;
+                    *o26 = x518;
+                    *o27 = x518;
+                    x519 = s4 * x514;
+                    x520 = arith.mul_add(c4, x513, -x519);
+                    x521 = c4 * x514;
+                    x522 = arith.mul_add(s4, x513, x521);
+                    x523 = x445 + x522;
+                    *o22 = x523;
+                    x524 = s3 * x516;
+                    x525 = arith.mul_add(c3, x510, -x524);
+                    x526 = s3 * x510;
+                    x527 = arith.mul_add(c3, x516, x526);
+                    x528 = s3 * x520;
+                    x529 = arith.mul_add(c3, x504, -x528);
+                    x530 = s3 * x504;
+                    x531 = arith.mul_add(c3, x520, x530);
+                    x532 = x6 * x66;
+                    x533 = arith.mul_add(x8, x62, x532);
+                    x534 = x522 + x533;
+                    *o16 = x534;
+                    x535 = s2 * x527;
+                    x536 = arith.mul_add(c2, x525, -x535);
+                    x537 = c2 * x527;
+                    x538 = arith.mul_add(s2, x525, x537);
+                    x539 = s2 * x531;
+                    x540 = arith.mul_add(c2, x529, -x539);
+                    x541 = c2 * x531;
+                    x542 = arith.mul_add(s2, x529, x541);
+                    x543 = x0 * x128;
+                    x544 = arith.mul_add(x1, x126, -x543);
+                    x545 = x522 + x544;
+                    *o10 = x545;
+                    x546 = c1 * x536;
+                    x547 = arith.mul_add(s1, x538, -x546);
+                    *o24 = x547;
+                    x548 = c1 * x540;
+                    x549 = arith.mul_add(s1, x542, -x548);
+                    *o4 = x549;
+                    x550 = 0.5f64 * x187;
+                    x551 = 0.0085682365727f64 * x37;
+                    x552 = 0.008342763427299999f64 * x37;
+                    x553 = arith.mul_add(0.016685526854599998f64, x39, x550);
+                    x554 = x551 + x552;
+                    x555 = x551 - x552;
+                    x556 = s5 * x554;
+                    x557 = arith.mul_add(c5, x553, x556);
+                    x558 = s5 * x553;
+                    x559 = arith.mul_add(c5, x554, -x558);
+                    *o34 = x559;
+                    x560 = s5 * x555;
+                    x561 = arith.mul_add(c5, x550, x560);
+                    x562 = s5 * x550;
+                    x563 = arith.mul_add(c5, x555, -x562);
+                    x564 = x507 + x563;
+                    *o29 = x564;
+                    x565 = c4 * x557;
+                    x566 = s4 * x557;
+                    *o31 = x566;
+                    *o32 = x566;
+                    *o33 = x566;
+                    x567 = c4 * x561;
+                    x568 = s4 * x561;
+                    x569 = arith.mul_add(-x21, x47, x568);
+                    *o23 = x569;
+                    x570 = s3 * x565;
+                    x571 = arith.mul_add(c3, x559, -x570);
+                    x572 = s3 * x559;
+                    x573 = arith.mul_add(c3, x565, x572);
+                    x574 = s3 * x567;
+                    x575 = arith.mul_add(c3, x563, -x574);
+                    x576 = s3 * x563;
+                    x577 = arith.mul_add(c3, x567, x576);
+                    x578 = x6 * x130;
+                    x579 = arith.mul_add(x8, x129, x578);
+                    x580 = x568 - x579;
+                    *o17 = x580;
+                    x581 = s2 * x573;
+                    x582 = arith.mul_add(c2, x571, -x581);
+                    x583 = c2 * x573;
+                    x584 = arith.mul_add(s2, x571, x583);
+                    x585 = s2 * x577;
+                    x586 = arith.mul_add(c2, x575, -x585);
+                    x587 = c2 * x577;
+                    x588 = arith.mul_add(s2, x575, x587);
+                    x589 = x0 * x134;
+                    x590 = arith.mul_add(x1, x132, x589);
+                    x591 = x568 - x590;
+                    *o11 = x591;
+                    x592 = c1 * x582;
+                    x593 = arith.mul_add(s1, x584, -x592);
+                    *o30 = x593;
+                    x594 = c1 * x586;
+                    x595 = arith.mul_add(s1, x588, -x594);
+                    *o5 = x595;
+                }
+            }
+        }
+        dyngen_runtime::__private::dispatch::<Body, _>((t, qd, out))
     }
     ///Operations: 11 mul, 5 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -4369,6 +5289,1404 @@ impl Regressors<6, 60> for Ur5 {
         }
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a))
     }
+    #[inline(never)]
+    fn regressor_into(
+        t: &JointTrig<6>,
+        qd: &SVector<f64, 6>,
+        v: &SVector<f64, 6>,
+        a: &SVector<f64, 6>,
+        out: &mut dyngen_runtime::ResultBuffer<SMatrix<f64, 6, 60>>,
+    ) {
+        let out = dyngen_runtime::__private::claim(out, 17496910729634716863u64);
+        struct Body;
+        impl dyngen_runtime::__private::Kernel<
+            (
+                &JointTrig<6>,
+                &SVector<f64, 6>,
+                &SVector<f64, 6>,
+                &SVector<f64, 6>,
+                &mut SMatrix<f64, 6, 60>,
+            ),
+        > for Body {
+            type Output = ();
+            #[inline(always)]
+            fn run<M: dyngen_runtime::__private::MulAdd>(
+                arith: M,
+                (
+                    t,
+                    qd,
+                    v,
+                    a,
+                    out,
+                ): (
+                    &JointTrig<6>,
+                    &SVector<f64, 6>,
+                    &SVector<f64, 6>,
+                    &SVector<f64, 6>,
+                    &mut SMatrix<f64, 6, 60>,
+                ),
+            ) {
+                use dyngen_runtime::__private::FourLanes as _;
+                let [_, s1, s2, s3, s4, s5] = t.sin;
+                let [_, c1, c2, c3, c4, c5] = t.cos;
+                let [qd0, qd1, qd2, qd3, qd4, qd5] = qd.data.0[0];
+                let [v0, v1, v2, v3, v4, v5] = v.data.0[0];
+                let [a0, a1, a2, a3, a4, a5] = a.data.0[0];
+                {
+                    let [[_, _, _, _, _, _], [_, _, _, _, _, _], [_, _, _, _, _, _], [_,
+                    _, _, _, _, _], [_, _, _, _, _, _], [_, _, _, _, _, _], [_, _, _, _,
+                    _, _], [_, _, _, _, _, _], [_, _, _, _, _, _], [o54, _, _, _, _, _],
+                    [o60, _, _, _, _, _], [o66, o67, _, _, _, _], [o72, _, _, _, _, _],
+                    [o78, o79, _, _, _, _], [o84, o85, _, _, _, _], [o90, o91, _, _, _, _,
+                    ], [o96, o97, _, _, _, _], [o102, o103, _, _, _, _], [o108, o109, _,
+                    _, _, _], [o114, o115, o116, o117, _, _], [o120, o121, o122, o123, _,
+                    _], [o126, o127, o128, o129, _, _], [o132, o133, o134, o135, _, _],
+                    [o138, o139, o140, o141, _, _], [o144, o145, o146, o147, _, _],
+                    [o150, o151, o152, o153, _, _], [o156, o157, o158, o159, _, _],
+                    [o162, o163, o164, o165, _, _], [o168, o169, o170, o171, _, _],
+                    [o174, o175, o176, o177, _, _], [o180, o181, o182, o183, _, _],
+                    [o186, o187, o188, o189, _, _], [o192, o193, o194, o195, _, _],
+                    [o198, o199, o200, o201, _, _], [o204, o205, o206, o207, _, _],
+                    [o210, o211, o212, o213, _, _], [o216, o217, o218, o219, _, _],
+                    [o222, o223, o224, o225, _, _], [o228, o229, o230, o231, _, _],
+                    [o234, o235, o236, o237, _, _], [o240, o241, o242, o243, _, _],
+                    [o246, o247, o248, o249, o250, _], [o252, o253, o254, o255, o256, _],
+                    [o258, o259, o260, o261, _, _], [o264, o265, o266, o267, o268, _],
+                    [o270, o271, o272, o273, o274, _], [o276, o277, o278, o279, o280, _],
+                    [o282, o283, o284, o285, o286, _], [o288, o289, o290, o291, o292, _],
+                    [o294, o295, o296, o297, o298, _], [o300, o301, o302, o303, _, _],
+                    [o306, o307, o308, o309, o310, o311], [o312, o313, o314, o315, o316,
+                    _], [o318, o319, o320, o321, o322, o323], [o324, o325, o326, o327,
+                    o328, o329], [o330, o331, o332, o333, o334, o335], [o336, o337, o338,
+                    o339, o340, o341], [o342, o343, o344, o345, o346, o347], [o348, o349,
+                    o350, o351, o352, o353], [o354, o355, o356, o357, o358, o359]] = &mut out
+                        .data
+                        .0;
+                    *o54 = a0;
+                    let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                    x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                    x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                    x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                    x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                    x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                    x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                    x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109,
+                    x110, x111, x112, x113, x114, x115, x116, x117, x118, x119, x120,
+                    x121, x122, x123, x124, x125, x126, x127, x128, x129, x130, x131,
+                    x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142,
+                    x143, x144, x145, x146, x147, x148, x149, x150, x151, x152, x153,
+                    x154, x155, x156, x157, x158, x159, x160, x161, x162, x163, x164,
+                    x165, x166, x167, x168, x169, x170, x171, x172, x173, x174, x175,
+                    x176, x177, x178, x179, x180, x181, x182, x183, x184, x185, x186,
+                    x187, x188, x189, x190, x191, x192, x193, x194, x195, x196, x197,
+                    x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
+                    x209, x210, x211, x212, x213, x214, x215, x216, x217, x218, x219,
+                    x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                    x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241,
+                    x242, x243, x244, x245, x246, x247, x248, x249, x250, x251, x252,
+                    x253, x254, x255, x256, x257, x258, x259, x260, x261, x262, x263,
+                    x264, x265, x266, x267, x268, x269, x270, x271, x272, x273, x274,
+                    x275, x276, x277, x278, x279, x280, x281, x282, x283, x284, x285,
+                    x286, x287, x288, x289, x290, x291, x292, x293, x294, x295, x296,
+                    x297, x298, x299, x300, x301, x302, x303, x304, x305, x306, x307,
+                    x308, x309, x310, x311, x312, x313, x314, x315, x316, x317, x318,
+                    x319, x320, x321, x322, x323, x324, x325, x326, x327, x328, x329,
+                    x330, x331, x332, x333, x334, x335, x336, x337, x338, x339, x340,
+                    x341, x342, x343, x344, x345, x346, x347, x348, x349, x350, x351,
+                    x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                    x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373,
+                    x374, x375, x376, x377, x378, x379, x380, x381, x382, x383, x384,
+                    x385, x386, x387, x388, x389, x390, x391, x392, x393, x394, x395,
+                    x396, x397, x398, x399, x400, x401, x402, x403, x404, x405, x406,
+                    x407, x408, x409, x410, x411, x412, x413, x414, x415, x416, x417,
+                    x418, x419, x420, x421, x422, x423, x424, x425, x426, x427, x428,
+                    x429, x430, x431, x432, x433, x434, x435, x436, x437, x438, x439,
+                    x440, x441, x442, x443, x444, x445, x446, x447, x448, x449, x450,
+                    x451, x452, x453, x454, x455, x456, x457, x458, x459, x460, x461,
+                    x462, x463, x464, x465, x466, x467, x468, x469, x470, x471, x472,
+                    x473, x474, x475, x476, x477, x478, x479, x480, x481, x482, x483,
+                    x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
+                    x495, x496, x497, x509, x510, x511, x514, x516, x521, x523, x524,
+                    x525, x526, x527, x528, x529, x530, x531, x532, x533, x534, x535,
+                    x536, x537, x538, x539, x540, x541, x542, x543, x544, x545, x546,
+                    x547, x548, x549, x550, x551, x552, x553, x554, x555, x556, x557,
+                    x558, x559, x560, x561, x562, x563, x564, x565, x566, x567, x568,
+                    x569, x570, x571, x572, x573, x574, x575, x576, x577, x578, x579,
+                    x580, x581, x582, x583, x584, x856, x857, x858, x859, x860, x861,
+                    x862, x863, x864, x865, x866, x867, x868, x869, x870, x871, x872,
+                    x873, x874, x875, x876, x877, x878, x879, x880, x881, x882, x883,
+                    x884, x885, x886, x887, x888, x889, x890, x891, x892, x893, x894,
+                    x895, x896, x897, x898, x899, x900, x901, x902, x903, x904, x905,
+                    x906, x907, x908, x909, x910, x911, x912, x913, x914, x915, x916,
+                    x917, x918, x919, x920, x921, x922, x923, x924, x925, x926, x927,
+                    x928, x929, x930, x931, x932, x933, x934, x935, x936, x937, x938,
+                    x939, x940, x941, x942, x943, x944, x945, x946, x947, x948, x949,
+                    x950, x951, x952, x953, x954, x955, x956, x957, x958, x959, x960,
+                    x961, x962, x963, x964, x965, x966, x967, x968, x969, x970, x971,
+                    x972, x973, x974, x975, x976, x977, x978, x979, x980, x981, x982,
+                    x983, x984, x985, x986, x987, x988, x989, x990, x991, x992, x993,
+                    x994, x995, x996, x997, x998, x999, x1000, x1001, x1002, x1003,
+                    x1004, x1005, x1006, x1007, x1008, x1009, x1010, x1011, x1012, x1013,
+                    x1014, x1015, x1016, x1017, x1018, x1019, x1020, x1021]: [f64; 732];
+                    let [x498, x499, x500, x501, x502, x503, x504, x505, x506, x507,
+                    x508, x512, x513, x515, x517, x518, x519, x520, x522, x585, x586,
+                    x587, x588, x589, x590, x591, x592, x593, x594, x595, x596, x597,
+                    x598, x599, x600, x601, x602, x603, x604, x605, x606, x607, x608,
+                    x609, x610, x611, x612, x613, x614, x615, x616, x617, x618, x619,
+                    x620, x621, x622, x623, x624, x625, x626, x627, x628, x629, x630,
+                    x631, x632, x633, x634, x635, x636, x637, x638, x639, x640, x641,
+                    x642, x643, x644, x645, x646, x647, x648, x649, x650, x651, x652,
+                    x653, x654, x655, x656, x657, x658, x659, x660, x661, x662, x663,
+                    x664, x665, x666, x667, x668, x669, x670, x671, x672, x673, x674,
+                    x675, x676, x677, x678, x679, x680, x681, x682, x683, x684, x685,
+                    x686, x687, x688, x689, x690, x691, x692, x693, x694, x695, x696,
+                    x697, x698, x699, x700, x701, x702, x703, x704, x705, x706, x707,
+                    x708, x709, x710, x711, x712, x713, x714, x715, x716, x717, x718,
+                    x719, x720, x721, x722, x723, x724, x725, x726, x727, x728, x729,
+                    x730, x731, x732, x733, x734, x735, x736, x737, x738, x739, x740,
+                    x741, x742, x743, x744, x745, x746, x747, x748, x749, x750, x751,
+                    x752, x753, x754, x755, x756, x757, x758, x759, x760, x761, x762,
+                    x763, x764, x765, x766, x767, x768, x769, x770, x771, x772, x773,
+                    x774, x775, x776, x777, x778, x779, x780, x781, x782, x783, x784,
+                    x785, x786, x787, x788, x789, x790, x791, x792, x793, x794, x795,
+                    x796, x797, x798, x799, x800, x801, x802, x803, x804, x805, x806,
+                    x807, x808, x809, x810, x811, x812, x813, x814, x815, x816, x817,
+                    x818, x819, x820, x821, x822, x823, x824, x825, x826, x827, x828,
+                    x829, x830, x831, x832, x833, x834, x835, x836, x837, x838, x839,
+                    x840, x841, x842, x843, x844, x845, x846, x847, x848, x849, x850,
+                    x851, x852, x853, x854, x855]: [M::Four; 290];
+                    x0 = c1 * c2;
+                    x1 = arith.mul_add(s1, s2, -x0);
+                    x2 = s1 * c2;
+                    x3 = arith.mul_add(c1, s2, x2);
+                    x4 = s3 * x1;
+                    x5 = arith.mul_add(c3, x3, -x4);
+                    x6 = s3 * x3;
+                    x7 = arith.mul_add(c3, x1, x6);
+                    x8 = c4 * x5;
+                    x9 = s4 * x5;
+                    x10 = -x9;
+                    x11 = s5 * x7;
+                    x12 = -x11;
+                    x13 = c5 * x7;
+                    x14 = qd0 * c1;
+                    x15 = qd0 * s1;
+                    x16 = 0.13585f64 * qd0;
+                    x17 = s1 * x16;
+                    x18 = c1 * x16;
+                    x19 = v0 * c1;
+                    x20 = v0 * s1;
+                    x21 = a0 * c1;
+                    x22 = 0.13585f64 * a0;
+                    x23 = s1 * x22;
+                    x24 = arith.mul_add(-9.81f64, c1, x23);
+                    x25 = c1 * x22;
+                    x26 = arith.mul_add(-9.81f64, s1, -x25);
+                    x27 = v1 * x14;
+                    x28 = v1 * x18;
+                    x29 = v1 * x17;
+                    x30 = arith.mul_add(v1, x15, -x21);
+                    x31 = arith.mul_add(a0, s1, x27);
+                    x32 = x24 + x28;
+                    x33 = x26 + x29;
+                    x34 = c2 * x14;
+                    x35 = arith.mul_add(s2, x15, -x34);
+                    x36 = c2 * x15;
+                    x37 = arith.mul_add(s2, x14, x36);
+                    x38 = 0.425f64 * qd1;
+                    x39 = arith.mul_add(0.1197f64, x15, -x38);
+                    x40 = -0.425f64 * x14;
+                    x41 = x17 - x39;
+                    x42 = arith.mul_add(0.1197f64, x14, -x18);
+                    x43 = s2 * x42;
+                    x44 = arith.mul_add(c2, x41, -x43);
+                    x45 = c2 * x42;
+                    x46 = arith.mul_add(s2, x41, x45);
+                    x47 = qd1 + qd2;
+                    x48 = c2 * x19;
+                    x49 = arith.mul_add(s2, x20, -x48);
+                    x50 = c2 * x20;
+                    x51 = arith.mul_add(s2, x19, x50);
+                    x52 = v1 + v2;
+                    x53 = s2 * x31;
+                    x54 = arith.mul_add(c2, x30, x53);
+                    x55 = c2 * x31;
+                    x56 = arith.mul_add(s2, x30, -x55);
+                    x57 = 0.425f64 * a1;
+                    x58 = arith.mul_add(0.1197f64, x31, -x57);
+                    x59 = 0.425f64 * x30;
+                    x60 = x32 - x58;
+                    x61 = arith.mul_add(-0.1197f64, x30, x33);
+                    x62 = s2 * x61;
+                    x63 = arith.mul_add(c2, x60, -x62);
+                    x64 = c2 * x61;
+                    x65 = arith.mul_add(s2, x60, x64);
+                    x66 = a1 + a2;
+                    x67 = arith.mul_add(v2, x37, x54);
+                    x68 = arith.mul_add(v2, x35, x56);
+                    x69 = arith.mul_add(-v2, x46, x63);
+                    x70 = arith.mul_add(v2, x44, x65);
+                    x71 = s3 * x35;
+                    x72 = arith.mul_add(c3, x37, -x71);
+                    x73 = s3 * x37;
+                    x74 = arith.mul_add(c3, x35, x73);
+                    x75 = arith.mul_add(0.39225f64, x47, x44);
+                    x76 = arith.mul_add(0.39225f64, x35, x40);
+                    x77 = c3 * x46;
+                    x78 = arith.mul_add(s3, x75, x77);
+                    x79 = s3 * x46;
+                    x80 = arith.mul_add(c3, x75, -x79);
+                    x81 = qd3 + x47;
+                    x82 = s3 * x49;
+                    x83 = arith.mul_add(c3, x51, -x82);
+                    x84 = s3 * x51;
+                    x85 = arith.mul_add(c3, x49, x84);
+                    x86 = v3 + x52;
+                    x87 = c3 * x68;
+                    x88 = arith.mul_add(s3, x67, x87);
+                    x89 = s3 * x68;
+                    x90 = arith.mul_add(c3, x67, -x89);
+                    x91 = arith.mul_add(0.39225f64, x66, x69);
+                    x92 = arith.mul_add(0.39225f64, x67, x59);
+                    x93 = c3 * x70;
+                    x94 = arith.mul_add(s3, x91, x93);
+                    x95 = s3 * x70;
+                    x96 = arith.mul_add(c3, x91, -x95);
+                    x97 = a3 + x66;
+                    x98 = v3 * x78;
+                    x99 = arith.mul_add(v3, x74, x88);
+                    x100 = arith.mul_add(v3, x72, x90);
+                    x101 = arith.mul_add(v3, x80, x94);
+                    x102 = x96 - x98;
+                    x103 = s4 * x81;
+                    x104 = arith.mul_add(c4, x72, x103);
+                    x105 = s4 * x72;
+                    x106 = arith.mul_add(c4, x81, -x105);
+                    x107 = arith.mul_add(0.093f64, x74, x78);
+                    x108 = arith.mul_add(0.093f64, x72, x80);
+                    x109 = s4 * x76;
+                    x110 = arith.mul_add(c4, x107, x109);
+                    x111 = c4 * x76;
+                    x112 = arith.mul_add(s4, x107, -x111);
+                    x113 = qd4 + x74;
+                    x114 = s4 * x86;
+                    x115 = arith.mul_add(c4, x83, x114);
+                    x116 = s4 * x83;
+                    x117 = arith.mul_add(c4, x86, -x116);
+                    x118 = v4 + x85;
+                    x119 = c4 * x99;
+                    x120 = arith.mul_add(s4, x97, -x119);
+                    x121 = c4 * x97;
+                    x122 = arith.mul_add(s4, x99, x121);
+                    x123 = arith.mul_add(0.093f64, x100, x101);
+                    x124 = arith.mul_add(-0.093f64, x99, x102);
+                    x125 = s4 * x92;
+                    x126 = arith.mul_add(c4, x123, x125);
+                    x127 = c4 * x92;
+                    x128 = arith.mul_add(s4, x123, -x127);
+                    x129 = a4 + x100;
+                    x130 = v4 * x104;
+                    x131 = v4 * x112;
+                    x132 = arith.mul_add(v4, x106, x120);
+                    x133 = x122 - x130;
+                    x134 = x131 - x126;
+                    x135 = arith.mul_add(v4, x110, x128);
+                    x136 = s5 * x113;
+                    x137 = arith.mul_add(c5, x104, -x136);
+                    x138 = c5 * x113;
+                    x139 = arith.mul_add(s5, x104, x138);
+                    x140 = arith.mul_add(0.09465f64, x106, -x110);
+                    x141 = arith.mul_add(-0.09465f64, x104, x112);
+                    x142 = s5 * x108;
+                    x143 = arith.mul_add(c5, x140, -x142);
+                    x144 = c5 * x108;
+                    x145 = arith.mul_add(s5, x140, x144);
+                    x146 = qd5 + x106;
+                    x147 = s5 * x118;
+                    x148 = arith.mul_add(c5, x115, -x147);
+                    x149 = c5 * x118;
+                    x150 = arith.mul_add(s5, x115, x149);
+                    x151 = v5 + x117;
+                    x152 = s5 * x129;
+                    x153 = arith.mul_add(c5, x132, -x152);
+                    x154 = c5 * x129;
+                    x155 = arith.mul_add(s5, x132, x154);
+                    x156 = 0.09465f64 * x132;
+                    x157 = arith.mul_add(0.09465f64, x133, x134);
+                    x158 = x135 - x156;
+                    x159 = s5 * x124;
+                    x160 = arith.mul_add(c5, x157, -x159);
+                    x161 = c5 * x124;
+                    x162 = arith.mul_add(s5, x157, x161);
+                    x163 = a5 + x133;
+                    x164 = v5 * x139;
+                    x165 = x153 - x164;
+                    x166 = arith.mul_add(v5, x137, x155);
+                    x167 = arith.mul_add(-v5, x145, x160);
+                    x168 = arith.mul_add(v5, x143, x162);
+                    x169 = -0.5f64 * x19;
+                    x170 = 0.5f64 * v1;
+                    x171 = -0.5f64 * x20;
+                    x172 = qd1 * x171;
+                    x173 = x15 * x170;
+                    x174 = x172 + x173;
+                    x175 = x15 * x169;
+                    x176 = x14 * x171;
+                    x177 = x176 - x175;
+                    x178 = x14 * x170;
+                    x179 = qd1 * x169;
+                    x180 = x178 + x179;
+                    x181 = x30 - x174;
+                    x182 = a1 - x177;
+                    *o97 = x182;
+                    x183 = x180 - x31;
+                    x184 = x18 * x19;
+                    x185 = arith.mul_add(x17, x20, x184);
+                    x186 = x32 - x28;
+                    *o79 = x186;
+                    x187 = x14 * x19;
+                    x188 = arith.mul_add(qd1, v1, x187);
+                    x189 = x15 * x20;
+                    x190 = x188 + x189;
+                    x191 = x29 - x33;
+                    *o67 = x191;
+                    x192 = x187 - x190;
+                    x193 = arith.mul_add(x15, x19, -a1);
+                    x194 = arith.mul_add(x14, x20, a1);
+                    x195 = x189 - x190;
+                    x196 = x175 + x176;
+                    x197 = -x196;
+                    *o85 = x197;
+                    x198 = x178 - x179;
+                    x199 = x14 * x169;
+                    x200 = qd1 * x170;
+                    x201 = x199 + x200;
+                    x202 = x175 + x182;
+                    x203 = x181 - x173;
+                    x204 = x176 + x202;
+                    x205 = x172 + x203;
+                    *o91 = x205;
+                    x206 = x201 + x201;
+                    x207 = x173 - x172;
+                    x208 = x179 - x178;
+                    x209 = x15 * x171;
+                    x210 = x199 - x209;
+                    x211 = x179 + x183;
+                    x212 = x181 - x172;
+                    x213 = x211 - x178;
+                    x214 = x210 + x210;
+                    *o103 = x214;
+                    x215 = x173 + x212;
+                    x216 = x200 + x209;
+                    x217 = x178 + x183;
+                    x218 = x182 - x176;
+                    x219 = x216 + x216;
+                    x220 = x217 - x179;
+                    *o109 = x220;
+                    x221 = x218 - x175;
+                    x222 = 0.5f64 * x49;
+                    x223 = 0.5f64 * x52;
+                    x224 = -0.5f64 * x51;
+                    x225 = x47 * x224;
+                    x226 = x37 * x223;
+                    x227 = x225 + x226;
+                    x228 = x37 * x222;
+                    x229 = x35 * x224;
+                    x230 = x228 + x229;
+                    x231 = x35 * x223;
+                    x232 = x47 * x222;
+                    x233 = x231 - x232;
+                    x234 = x67 - x227;
+                    x235 = x66 + x230;
+                    x236 = x68 - x233;
+                    x237 = x44 * x51;
+                    x238 = x46 * x49;
+                    x239 = x35 * x49;
+                    x240 = arith.mul_add(x47, x52, x239);
+                    x241 = x37 * x51;
+                    x242 = x240 + x241;
+                    x243 = arith.mul_add(x44, x52, -x70);
+                    x244 = x59 + x237;
+                    x245 = arith.mul_add(x40, x49, x243);
+                    x246 = x238 + x244;
+                    x247 = x239 - x242;
+                    x248 = arith.mul_add(x47, x49, x68);
+                    x249 = arith.mul_add(x37, x49, x66);
+                    x250 = x59 + x238;
+                    x251 = arith.mul_add(x46, x52, x69);
+                    x252 = x237 + x250;
+                    x253 = arith.mul_add(-x40, x51, x251);
+                    x254 = arith.mul_add(-x35, x51, x66);
+                    x255 = arith.mul_add(x47, x51, x67);
+                    x256 = x241 - x242;
+                    x257 = x229 - x228;
+                    x258 = x231 + x232;
+                    x259 = x35 * x222;
+                    x260 = x47 * x223;
+                    x261 = x259 - x260;
+                    x262 = x228 + x235;
+                    x263 = x234 - x226;
+                    x264 = x262 - x229;
+                    x265 = x225 + x263;
+                    x266 = x261 + x261;
+                    x267 = x226 - x225;
+                    x268 = x37 * x224;
+                    x269 = x259 + x268;
+                    x270 = x232 + x236;
+                    x271 = x234 - x225;
+                    x272 = x231 + x270;
+                    x273 = x269 + x269;
+                    x274 = x226 + x271;
+                    x275 = x260 + x268;
+                    x276 = x236 - x231;
+                    x277 = x229 + x235;
+                    x278 = x275 + x275;
+                    x279 = x276 - x232;
+                    x280 = x277 - x228;
+                    x281 = 0.5f64 * x83;
+                    x282 = 0.5f64 * x86;
+                    x283 = 0.5f64 * x85;
+                    x284 = x81 * x283;
+                    x285 = x74 * x282;
+                    x286 = x284 - x285;
+                    x287 = x74 * x281;
+                    x288 = x72 * x283;
+                    x289 = x287 - x288;
+                    x290 = x72 * x282;
+                    x291 = x81 * x281;
+                    x292 = x290 - x291;
+                    x293 = x99 + x286;
+                    x294 = x97 - x289;
+                    x295 = x100 - x292;
+                    x296 = x78 * x85;
+                    x297 = x80 * x83;
+                    x298 = x72 * x83;
+                    x299 = arith.mul_add(x81, x86, x298);
+                    x300 = x74 * x85;
+                    x301 = x299 + x300;
+                    x302 = x98 - x96;
+                    x303 = arith.mul_add(-x78, x86, x302);
+                    x304 = x92 + x296;
+                    x305 = arith.mul_add(x76, x83, x303);
+                    x306 = x297 + x304;
+                    x307 = x298 - x301;
+                    x308 = arith.mul_add(x81, x83, x100);
+                    x309 = arith.mul_add(x74, x83, -x97);
+                    x310 = x92 + x297;
+                    x311 = arith.mul_add(x80, x86, -x101);
+                    x312 = x296 + x310;
+                    x313 = arith.mul_add(x76, x85, x311);
+                    x314 = arith.mul_add(x72, x85, x97);
+                    x315 = arith.mul_add(x81, x85, x99);
+                    x316 = x300 - x301;
+                    x317 = x287 + x288;
+                    x318 = x290 + x291;
+                    x319 = x72 * x281;
+                    x320 = x81 * x282;
+                    x321 = x319 - x320;
+                    x322 = x294 - x287;
+                    x323 = x285 - x293;
+                    x324 = x322 - x288;
+                    x325 = x284 + x323;
+                    x326 = x321 + x321;
+                    x327 = x284 + x285;
+                    x328 = x74 * x283;
+                    x329 = x328 - x319;
+                    x330 = x291 + x295;
+                    x331 = x284 + x293;
+                    x332 = x290 + x330;
+                    x333 = x329 + x329;
+                    x334 = x285 + x331;
+                    x335 = x320 - x328;
+                    x336 = x295 - x290;
+                    x337 = x288 + x294;
+                    x338 = x335 + x335;
+                    x339 = x336 - x291;
+                    x340 = x287 + x337;
+                    x341 = 0.5f64 * x115;
+                    x342 = 0.5f64 * x117;
+                    x343 = 0.5f64 * x118;
+                    x344 = x106 * x343;
+                    x345 = x113 * x342;
+                    x346 = x344 - x345;
+                    x347 = x113 * x341;
+                    x348 = x104 * x343;
+                    x349 = x347 - x348;
+                    x350 = x104 * x342;
+                    x351 = x106 * x341;
+                    x352 = x350 - x351;
+                    x353 = x132 - x346;
+                    x354 = x133 - x349;
+                    x355 = x129 - x352;
+                    *o298 = x355;
+                    x356 = x112 * x115;
+                    x357 = x110 * x117;
+                    x358 = x104 * x115;
+                    x359 = x106 * x117;
+                    x360 = x358 + x359;
+                    x361 = arith.mul_add(x113, x118, x360);
+                    x362 = x124 + x357;
+                    x363 = arith.mul_add(-x110, x118, x135);
+                    x364 = x356 + x362;
+                    x365 = arith.mul_add(-x108, x115, x363);
+                    *o250 = x365;
+                    x366 = x130 - x122;
+                    x367 = x358 - x361;
+                    x368 = arith.mul_add(x106, x115, x129);
+                    x369 = arith.mul_add(x113, x115, x366);
+                    x370 = x126 - x131;
+                    x371 = x124 + x356;
+                    x372 = arith.mul_add(x112, x118, x370);
+                    x373 = x357 + x371;
+                    x374 = arith.mul_add(-x108, x117, x372);
+                    *o256 = x374;
+                    x375 = arith.mul_add(x104, x117, -x129);
+                    x376 = x359 - x361;
+                    x377 = arith.mul_add(x113, x117, x132);
+                    x378 = x347 + x348;
+                    x379 = x350 + x351;
+                    *o280 = x379;
+                    x380 = -x379;
+                    *o268 = x380;
+                    x381 = x104 * x341;
+                    x382 = x106 * x342;
+                    x383 = x381 - x382;
+                    x384 = x354 - x347;
+                    x385 = x345 + x353;
+                    x386 = x384 - x348;
+                    x387 = x344 + x385;
+                    x388 = x383 + x383;
+                    *o274 = x388;
+                    x389 = x344 + x345;
+                    x390 = x113 * x343;
+                    x391 = x390 - x381;
+                    x392 = x351 + x355;
+                    x393 = x353 - x344;
+                    x394 = x350 + x392;
+                    x395 = x391 + x391;
+                    x396 = x393 - x345;
+                    *o286 = x396;
+                    x397 = x382 - x390;
+                    x398 = x355 - x350;
+                    x399 = x348 + x354;
+                    x400 = x397 + x397;
+                    x401 = x398 - x351;
+                    x402 = x347 + x399;
+                    *o292 = x402;
+                    x403 = 0.5f64 * x148;
+                    x404 = 0.5f64 * x151;
+                    x405 = 0.5f64 * x150;
+                    x406 = x146 * x405;
+                    x407 = x139 * x404;
+                    x408 = x406 - x407;
+                    x409 = x139 * x403;
+                    x410 = x137 * x405;
+                    x411 = x409 - x410;
+                    x412 = x137 * x404;
+                    x413 = x146 * x403;
+                    x414 = x412 - x413;
+                    x415 = x165 - x408;
+                    x416 = x163 - x411;
+                    *o341 = x416;
+                    x417 = x166 - x414;
+                    x418 = x143 * x150;
+                    x419 = x145 * x148;
+                    x420 = x137 * x148;
+                    x421 = arith.mul_add(x146, x151, x420);
+                    x422 = x139 * x150;
+                    x423 = x421 + x422;
+                    x424 = arith.mul_add(x143, x151, -x168);
+                    x425 = x158 + x418;
+                    x426 = arith.mul_add(-x141, x148, x424);
+                    *o311 = x426;
+                    x427 = x425 - x419;
+                    x428 = x420 - x423;
+                    x429 = arith.mul_add(x146, x148, x166);
+                    x430 = arith.mul_add(x139, x148, -x163);
+                    x431 = x164 - x153;
+                    x432 = x156 - x135;
+                    x433 = x419 + x432;
+                    x434 = arith.mul_add(x145, x151, x167);
+                    x435 = x433 - x418;
+                    x436 = arith.mul_add(-x141, x150, x434);
+                    *o323 = x436;
+                    x437 = arith.mul_add(x137, x150, x163);
+                    x438 = arith.mul_add(x146, x150, x431);
+                    x439 = x422 - x423;
+                    x440 = x409 + x410;
+                    *o329 = x440;
+                    x441 = x412 + x413;
+                    x442 = x137 * x403;
+                    x443 = x146 * x404;
+                    x444 = x442 - x443;
+                    x445 = x416 - x409;
+                    x446 = x407 + x415;
+                    x447 = x445 - x410;
+                    x448 = x406 + x446;
+                    *o335 = x448;
+                    x449 = x444 + x444;
+                    x450 = x406 + x407;
+                    x451 = x139 * x405;
+                    x452 = x451 - x442;
+                    x453 = x413 + x417;
+                    x454 = x415 - x406;
+                    x455 = x412 + x453;
+                    x456 = x452 + x452;
+                    *o347 = x456;
+                    x457 = x454 - x407;
+                    x458 = x443 - x451;
+                    x459 = x417 - x412;
+                    x460 = x410 + x416;
+                    x461 = x458 + x458;
+                    x462 = x459 - x413;
+                    *o353 = x462;
+                    x463 = x409 + x460;
+                    x464 = s1 * x198;
+                    x465 = arith.mul_add(c1, x181, x464);
+                    x466 = -x465;
+                    *o84 = x466;
+                    x467 = c1 * x204;
+                    x468 = arith.mul_add(s1, x206, -x467);
+                    *o90 = x468;
+                    x469 = s1 * x208;
+                    x470 = arith.mul_add(c1, x207, x469);
+                    x471 = -x470;
+                    *o96 = x471;
+                    x472 = s1 * x215;
+                    x473 = arith.mul_add(c1, x213, x472);
+                    x474 = -x473;
+                    *o102 = x474;
+                    x475 = s1 * x221;
+                    x476 = arith.mul_add(c1, x219, x475);
+                    x477 = -x476;
+                    *o108 = x477;
+                    x478 = c5 * x427;
+                    *o310 = x478;
+                    x479 = s5 * x435;
+                    x480 = -x479;
+                    *o322 = x480;
+                    x481 = c5 * x441;
+                    x482 = arith.mul_add(s5, x415, x481);
+                    x483 = -x482;
+                    *o328 = x483;
+                    x484 = s5 * x447;
+                    x485 = arith.mul_add(c5, x449, -x484);
+                    *o334 = x485;
+                    x486 = arith.mul_add(s5, x450, x481);
+                    *o340 = x486;
+                    x487 = s5 * x455;
+                    x488 = arith.mul_add(c5, x457, -x487);
+                    *o346 = x488;
+                    x489 = s5 * x461;
+                    x490 = arith.mul_add(c5, x463, -x489);
+                    *o352 = x490;
+                    x491 = 0.0184552225f64 * a0;
+                    *o60 = x491;
+                    x492 = 0.2717f64 * a0;
+                    *o72 = x492;
+                    x493 = 0.0002608225f64 * a0;
+                    x494 = 0.0323f64 * a0;
+                    x495 = 0.0119137225f64 * a0;
+                    x496 = arith.mul_add(-0.09465f64, x402, x374);
+                    *o316 = x496;
+                    x497 = x355 - x379;
+                    x498 = arith.splat_four(0.39225f64);
+                    x499 = arith.splat_four(s3);
+                    x500 = arith.splat_four(c3);
+                    x501 = arith.splat_four(c4);
+                    x502 = arith.splat_four(s4);
+                    x503 = arith.splat_four(0.09465f64);
+                    x504 = arith.splat_four(c5);
+                    x505 = arith.splat_four(s5);
+                    x506 = arith.splat_four(c2);
+                    x507 = arith.splat_four(s2);
+                    x508 = arith.splat_four(0.425f64);
+                    x509 = 0.13585f64 * s1;
+                    x510 = -0.13585f64 * c1;
+                    x511 = -0.425f64 * c1;
+                    x512 = arith.four([0.0, 1f64, 1f64, 0.0]);
+                    x513 = arith.four([0.0, 1f64, 1f64, 1f64]);
+                    x514 = 0.093f64 * x7;
+                    x515 = arith.four([x514, 0.0, 0.0, 0.0]);
+                    x516 = 0.093f64 * x5;
+                    x517 = arith.four([x8, 0.0, 0.0, 0.0]);
+                    x518 = x502.mul_add(x513, x517);
+                    x519 = arith.four([x10, 0.0, 0.0, 0.0]);
+                    x520 = x501.mul_add(x513, x519);
+                    x521 = -x516;
+                    x522 = arith.four([x521, 0.0, 0.0, 0.0]);
+                    x523 = x193 * x510;
+                    x524 = arith.mul_add(x192, x509, x523);
+                    x525 = arith.mul_add(s1, x185, x524);
+                    *o66 = x525;
+                    x526 = x195 * x510;
+                    x527 = arith.mul_add(x194, x509, x526);
+                    x528 = arith.mul_add(-c1, x185, x527);
+                    *o78 = x528;
+                    x529 = arith.mul_add(-0.1197f64, s1, x509);
+                    x530 = arith.mul_add(0.1197f64, c1, x510);
+                    x531 = s2 * x530;
+                    x532 = -x531;
+                    x533 = c2 * x530;
+                    x534 = x3 * x246;
+                    x535 = x248 * x511;
+                    x536 = -x535;
+                    x537 = x1 * x252;
+                    x538 = x255 * x511;
+                    x539 = x1 * x234;
+                    x540 = x3 * x258;
+                    x541 = x1 * x264;
+                    x542 = x3 * x266;
+                    x543 = -x542;
+                    x544 = x1 * x267;
+                    x545 = -x540;
+                    x546 = x1 * x272;
+                    x547 = x3 * x274;
+                    x548 = -x547;
+                    x549 = x1 * x278;
+                    x550 = x3 * x280;
+                    x551 = -x550;
+                    x552 = arith.mul_add(0.39225f64, x1, x511);
+                    x553 = x7 * x306;
+                    x554 = -x553;
+                    x555 = x308 * x552;
+                    x556 = -x555;
+                    x557 = x5 * x312;
+                    x558 = x315 * x552;
+                    x559 = -x558;
+                    x560 = x5 * x293;
+                    x561 = -x560;
+                    x562 = x7 * x318;
+                    x563 = -x562;
+                    x564 = x5 * x324;
+                    x565 = x7 * x326;
+                    x566 = x5 * x327;
+                    x567 = -x566;
+                    x568 = x5 * x332;
+                    x569 = x7 * x334;
+                    x570 = -x569;
+                    x571 = x5 * x338;
+                    x572 = x7 * x340;
+                    x573 = s4 * x552;
+                    x574 = -x573;
+                    x575 = c4 * x552;
+                    x576 = -x575;
+                    x577 = x7 * x365;
+                    x578 = x7 * x374;
+                    x579 = x7 * x379;
+                    x580 = -x579;
+                    x581 = x7 * x388;
+                    x582 = x7 * x396;
+                    x583 = x7 * x402;
+                    x584 = x7 * x355;
+                    x585 = arith.four([a0, 0.0, 0.0, 0.0]);
+                    x586 = arith.four([x528, x186, 0.0, 0.0]);
+                    x587 = arith.four([x466, x197, 0.0, 0.0]);
+                    x588 = arith.four([x471, x182, 0.0, 0.0]);
+                    x589 = arith.four([x477, x220, 0.0, 0.0]);
+                    x590 = arith.four([x529, 0.425f64, 0.0, 0.0]);
+                    x591 = arith.four([x532, 0.0, 0.0, 0.0]);
+                    x592 = x506.mul_add(x590, x591);
+                    x593 = arith.four([x533, 0.0, 0.0, 0.0]);
+                    x594 = x507.mul_add(x590, x593);
+                    x595 = arith.splat_four(x245);
+                    x596 = arith.four([x534, 0.0, 0.0, 0.0]);
+                    x597 = x595.mul_add(x512, x596);
+                    x598 = arith.splat_four(x247);
+                    x599 = arith.four([x536, 0.0, 0.0, 0.0]);
+                    x600 = x598.mul_add(x592, x599);
+                    x601 = arith.splat_four(x249);
+                    x602 = x601.mul_neg_add(x594, x600);
+                    x603 = x597 + x602;
+                    x604 = arith.four([x537, 0.0, 0.0, 0.0]);
+                    x605 = arith.splat_four(x253);
+                    x606 = x605.mul_add(x512, x604);
+                    x607 = arith.splat_four(x254);
+                    x608 = arith.four([x538, 0.0, 0.0, 0.0]);
+                    x609 = x607.mul_add(x592, x608);
+                    x610 = arith.splat_four(x256);
+                    x611 = x610.mul_add(x594, x609);
+                    x612 = x606 + x611;
+                    x613 = arith.four([x539, 0.0, 0.0, 0.0]);
+                    x614 = arith.splat_four(x257);
+                    x615 = x614.mul_add(x512, x613);
+                    x616 = arith.four([x540, 0.0, 0.0, 0.0]);
+                    x617 = x615 + x616;
+                    x618 = arith.four([x541, 0.0, 0.0, 0.0]);
+                    x619 = arith.splat_four(x265);
+                    x620 = x619.mul_add(x512, x618);
+                    x621 = arith.four([x543, 0.0, 0.0, 0.0]);
+                    x622 = x620 + x621;
+                    x623 = arith.four([x544, 0.0, 0.0, 0.0]);
+                    x624 = arith.splat_four(x235);
+                    x625 = x624.mul_add(x512, x623);
+                    x626 = arith.four([x545, 0.0, 0.0, 0.0]);
+                    x627 = x625 + x626;
+                    x628 = arith.four([x546, 0.0, 0.0, 0.0]);
+                    x629 = arith.splat_four(x273);
+                    x630 = x629.mul_neg_add(x512, x628);
+                    x631 = arith.four([x548, 0.0, 0.0, 0.0]);
+                    x632 = x630 + x631;
+                    x633 = arith.four([x549, 0.0, 0.0, 0.0]);
+                    x634 = arith.splat_four(x279);
+                    x635 = x634.mul_add(x512, x633);
+                    x636 = arith.four([x551, 0.0, 0.0, 0.0]);
+                    x637 = x635 + x636;
+                    x638 = x498.mul_add(x512, x592);
+                    x639 = x500 * x594;
+                    x640 = x499.mul_add(x638, x639);
+                    x641 = x499 * x594;
+                    x642 = x500.mul_sub(x638, x641);
+                    x643 = arith.splat_four(x305);
+                    x644 = arith.four([x554, 0.0, 0.0, 0.0]);
+                    x645 = x643.mul_add(x513, x644);
+                    x646 = arith.splat_four(x307);
+                    x647 = arith.four([x556, 0.0, 0.0, 0.0]);
+                    x648 = x646.mul_neg_add(x640, x647);
+                    x649 = arith.splat_four(x309);
+                    x650 = x649.mul_add(x642, x648);
+                    x651 = x645 + x650;
+                    x652 = arith.four([x557, 0.0, 0.0, 0.0]);
+                    x653 = arith.splat_four(x313);
+                    x654 = x653.mul_add(x513, x652);
+                    x655 = arith.splat_four(x314);
+                    x656 = arith.four([x559, 0.0, 0.0, 0.0]);
+                    x657 = x655.mul_neg_add(x640, x656);
+                    x658 = arith.splat_four(x316);
+                    x659 = x658.mul_add(x642, x657);
+                    x660 = x654 + x659;
+                    x661 = arith.four([x561, 0.0, 0.0, 0.0]);
+                    x662 = arith.splat_four(x317);
+                    x663 = x662.mul_add(x513, x661);
+                    x664 = arith.four([x563, 0.0, 0.0, 0.0]);
+                    x665 = x663 + x664;
+                    x666 = arith.four([x564, 0.0, 0.0, 0.0]);
+                    x667 = arith.splat_four(x325);
+                    x668 = x667.mul_add(x513, x666);
+                    x669 = arith.four([x565, 0.0, 0.0, 0.0]);
+                    x670 = x668 + x669;
+                    x671 = arith.four([x567, 0.0, 0.0, 0.0]);
+                    x672 = arith.splat_four(x294);
+                    x673 = x672.mul_add(x513, x671);
+                    x674 = arith.four([x562, 0.0, 0.0, 0.0]);
+                    x675 = x673 + x674;
+                    x676 = arith.four([x568, 0.0, 0.0, 0.0]);
+                    x677 = arith.splat_four(x333);
+                    x678 = x677.mul_add(x513, x676);
+                    x679 = arith.four([x570, 0.0, 0.0, 0.0]);
+                    x680 = x678 + x679;
+                    x681 = arith.four([x571, 0.0, 0.0, 0.0]);
+                    x682 = arith.splat_four(x339);
+                    x683 = x682.mul_add(x513, x681);
+                    x684 = arith.four([x572, 0.0, 0.0, 0.0]);
+                    x685 = x683 + x684;
+                    x686 = x515 + x640;
+                    x687 = x642 - x522;
+                    x688 = arith.four([x574, 0.0, 0.0, 0.0]);
+                    x689 = x501.mul_neg_add(x686, x688);
+                    x690 = arith.four([x576, 0.0, 0.0, 0.0]);
+                    x691 = x502.mul_add(x686, x690);
+                    x692 = arith.splat_four(x364);
+                    x693 = arith.four([x577, 0.0, 0.0, 0.0]);
+                    x694 = x692.mul_neg_add(x520, x693);
+                    x695 = arith.splat_four(x367);
+                    x696 = arith.splat_four(x368);
+                    x697 = x696 * x691;
+                    x698 = x695.mul_add(x689, x697);
+                    x699 = arith.splat_four(x369);
+                    x700 = x699.mul_add(x687, x698);
+                    x701 = x694 + x700;
+                    x702 = arith.splat_four(x373);
+                    x703 = arith.four([x578, 0.0, 0.0, 0.0]);
+                    x704 = x702.mul_add(x518, x703);
+                    x705 = arith.splat_four(x375);
+                    x706 = arith.splat_four(x376);
+                    x707 = x706 * x691;
+                    x708 = x705.mul_add(x689, x707);
+                    x709 = arith.splat_four(x377);
+                    x710 = x709.mul_add(x687, x708);
+                    x711 = x704 + x710;
+                    x712 = arith.splat_four(x353);
+                    x713 = arith.splat_four(x378);
+                    x714 = x713 * x520;
+                    x715 = x712.mul_add(x518, x714);
+                    x716 = arith.four([x580, 0.0, 0.0, 0.0]);
+                    x717 = x715 + x716;
+                    x718 = arith.splat_four(x386);
+                    x719 = arith.splat_four(x387);
+                    x720 = x719 * x520;
+                    x721 = x718.mul_add(x518, x720);
+                    x722 = arith.four([x581, 0.0, 0.0, 0.0]);
+                    x723 = x721 + x722;
+                    x724 = arith.splat_four(x389);
+                    x725 = arith.splat_four(x394);
+                    x726 = arith.splat_four(x395);
+                    x727 = x726 * x520;
+                    x728 = x725.mul_add(x518, x727);
+                    x729 = arith.four([x582, 0.0, 0.0, 0.0]);
+                    x730 = x728 + x729;
+                    x731 = arith.splat_four(x400);
+                    x732 = arith.splat_four(x401);
+                    x733 = x732 * x520;
+                    x734 = x731.mul_add(x518, x733);
+                    x735 = arith.four([x583, 0.0, 0.0, 0.0]);
+                    x736 = x734 + x735;
+                    x737 = x724.mul_sub(x518, x714);
+                    x738 = arith.four([x584, 0.0, 0.0, 0.0]);
+                    x739 = x737 + x738;
+                    x740 = arith.four([x12, 0.0, 0.0, 0.0]);
+                    x741 = x504.mul_add(x518, x740);
+                    x742 = arith.four([x13, 0.0, 0.0, 0.0]);
+                    x743 = x505.mul_add(x518, x742);
+                    x744 = x503.mul_add(x520, x689);
+                    x745 = x503.mul_neg_add(x518, x691);
+                    x746 = x505 * x687;
+                    x747 = x504.mul_sub(x744, x746);
+                    x748 = x504 * x687;
+                    x749 = x505.mul_add(x744, x748);
+                    x750 = arith.splat_four(x426);
+                    x751 = arith.splat_four(x427);
+                    x752 = x751 * x743;
+                    x753 = x750.mul_add(x520, x752);
+                    x754 = arith.splat_four(x428);
+                    x755 = arith.splat_four(x429);
+                    x756 = x755 * x745;
+                    x757 = x754.mul_add(x747, x756);
+                    x758 = arith.splat_four(x430);
+                    x759 = x758.mul_add(x749, x757);
+                    x760 = x753 + x759;
+                    x761 = arith.splat_four(x435);
+                    x762 = arith.splat_four(x436);
+                    x763 = x762 * x520;
+                    x764 = x761.mul_add(x741, x763);
+                    x765 = arith.splat_four(x437);
+                    x766 = arith.splat_four(x438);
+                    x767 = x766 * x745;
+                    x768 = x765.mul_add(x747, x767);
+                    x769 = arith.splat_four(x439);
+                    x770 = x769.mul_add(x749, x768);
+                    x771 = x764 + x770;
+                    x772 = arith.splat_four(x415);
+                    x773 = arith.splat_four(x440);
+                    x774 = x773 * x520;
+                    x775 = x772.mul_add(x741, x774);
+                    x776 = arith.splat_four(x441);
+                    x777 = x776 * x743;
+                    x778 = x775 - x777;
+                    x779 = arith.splat_four(x447);
+                    x780 = arith.splat_four(x448);
+                    x781 = x780 * x520;
+                    x782 = x779.mul_add(x741, x781);
+                    x783 = arith.splat_four(x449);
+                    x784 = x783.mul_add(x743, x782);
+                    x785 = arith.splat_four(x450);
+                    x786 = x785 * x741;
+                    x787 = arith.splat_four(x416);
+                    x788 = x787.mul_sub(x520, x786);
+                    x789 = x777 + x788;
+                    x790 = arith.splat_four(x455);
+                    x791 = arith.splat_four(x456);
+                    x792 = x791 * x520;
+                    x793 = x790.mul_add(x741, x792);
+                    x794 = arith.splat_four(x457);
+                    x795 = x794.mul_add(x743, x793);
+                    x796 = arith.splat_four(x461);
+                    x797 = arith.splat_four(x462);
+                    x798 = x797 * x520;
+                    x799 = x796.mul_add(x741, x798);
+                    x800 = arith.splat_four(x463);
+                    x801 = x800.mul_add(x743, x799);
+                    x802 = arith.four([x483, x440, 0.0, 0.0]);
+                    x803 = arith.four([x493, 0.0, 0.0, 0.0]);
+                    x804 = arith.four([x494, 0.0, 0.0, 0.0]);
+                    x805 = arith.four([x495, 0.0, 0.0, 0.0]);
+                    x806 = x508 * x586;
+                    x807 = x803 + x806;
+                    x808 = x805 + x806;
+                    x809 = x585 - x587;
+                    x810 = arith.splat_four(0.180625f64);
+                    x811 = x810 * x587;
+                    x812 = x807 + x811;
+                    x813 = x808 + x811;
+                    x814 = x810 * x588;
+                    x815 = x812 + x814;
+                    x816 = x813 + x814;
+                    x817 = arith.splat_four(0.0508725f64);
+                    x818 = x817.mul_add(x589, x815);
+                    x819 = arith.splat_four(-0.425f64);
+                    x820 = x819.mul_add(x589, x804);
+                    x821 = arith.splat_four(0.0113475f64);
+                    x822 = x821.mul_add(x589, x816);
+                    x823 = x498 * x612;
+                    x824 = x818 + x823;
+                    x825 = x822 + x823;
+                    x826 = x585 - x617;
+                    x827 = arith.splat_four(0.1538600625f64);
+                    x828 = x827 * x617;
+                    x829 = x824 + x828;
+                    x830 = x825 + x828;
+                    x831 = x827 * x627;
+                    x832 = x829 + x831;
+                    x833 = x830 + x831;
+                    x834 = arith.splat_four(-0.39225f64);
+                    x835 = x834.mul_add(x637, x820);
+                    x836 = arith.splat_four(-0.03647925f64);
+                    x837 = x836.mul_add(x637, x833);
+                    x838 = x503.mul_add(x660, x837);
+                    x839 = x585 - x665;
+                    x840 = arith.splat_four(0.0089586225f64);
+                    x841 = x840.mul_add(x665, x838);
+                    x842 = x665 + x675;
+                    x843 = x840.mul_add(x675, x841);
+                    x844 = arith.splat_four(-0.093f64);
+                    x845 = x844.mul_add(x685, x660);
+                    x846 = arith.splat_four(-0.00880245f64);
+                    x847 = x846.mul_add(x685, x843);
+                    x848 = x842 - x717;
+                    x849 = arith.splat_four(-0.09465f64);
+                    x850 = x849.mul_add(x736, x711);
+                    x851 = x717 + x739;
+                    x852 = arith.four([x497, 0.0, 0.0, 0.0]);
+                    x853 = x777 - x775;
+                    x854 = x851 + x853;
+                    x855 = x852 - x802;
+                    [x856, _, _, _] = x809.to_array();
+                    *o114 = x856;
+                    [_, x857, _, _] = x809.to_array();
+                    *o115 = x857;
+                    [_, _, x858, _] = x809.to_array();
+                    *o116 = x858;
+                    [_, _, _, x859] = x809.to_array();
+                    *o117 = x859;
+                    [x860, _, _, _] = x818.to_array();
+                    *o120 = x860;
+                    [_, x861, _, _] = x818.to_array();
+                    *o121 = x861;
+                    [_, _, x862, _] = x818.to_array();
+                    *o122 = x862;
+                    [_, _, _, x863] = x818.to_array();
+                    *o123 = x863;
+                    [x864, _, _, _] = x603.to_array();
+                    *o126 = x864;
+                    [_, x865, _, _] = x603.to_array();
+                    *o127 = x865;
+                    [_, _, x866, _] = x603.to_array();
+                    *o128 = x866;
+                    [_, _, _, x867] = x603.to_array();
+                    *o129 = x867;
+                    [x868, _, _, _] = x820.to_array();
+                    *o132 = x868;
+                    [_, x869, _, _] = x820.to_array();
+                    *o133 = x869;
+                    [_, _, x870, _] = x820.to_array();
+                    *o134 = x870;
+                    [_, _, _, x871] = x820.to_array();
+                    *o135 = x871;
+                    [x872, _, _, _] = x612.to_array();
+                    *o138 = x872;
+                    [_, x873, _, _] = x612.to_array();
+                    *o139 = x873;
+                    [_, _, x874, _] = x612.to_array();
+                    *o140 = x874;
+                    [_, _, _, x875] = x612.to_array();
+                    *o141 = x875;
+                    [x876, _, _, _] = x617.to_array();
+                    *o144 = x876;
+                    [_, x877, _, _] = x617.to_array();
+                    *o145 = x877;
+                    [_, _, x878, _] = x617.to_array();
+                    *o146 = x878;
+                    [_, _, _, x879] = x617.to_array();
+                    *o147 = x879;
+                    [x880, _, _, _] = x622.to_array();
+                    *o150 = x880;
+                    [_, x881, _, _] = x622.to_array();
+                    *o151 = x881;
+                    [_, _, x882, _] = x622.to_array();
+                    *o152 = x882;
+                    [_, _, _, x883] = x622.to_array();
+                    *o153 = x883;
+                    [x884, _, _, _] = x627.to_array();
+                    *o156 = x884;
+                    [_, x885, _, _] = x627.to_array();
+                    *o157 = x885;
+                    [_, _, x886, _] = x627.to_array();
+                    *o158 = x886;
+                    [_, _, _, x887] = x627.to_array();
+                    *o159 = x887;
+                    [x888, _, _, _] = x632.to_array();
+                    *o162 = x888;
+                    [_, x889, _, _] = x632.to_array();
+                    *o163 = x889;
+                    [_, _, x890, _] = x632.to_array();
+                    *o164 = x890;
+                    [_, _, _, x891] = x632.to_array();
+                    *o165 = x891;
+                    [x892, _, _, _] = x637.to_array();
+                    *o168 = x892;
+                    [_, x893, _, _] = x637.to_array();
+                    *o169 = x893;
+                    [_, _, x894, _] = x637.to_array();
+                    *o170 = x894;
+                    [_, _, _, x895] = x637.to_array();
+                    *o171 = x895;
+                    [x896, _, _, _] = x826.to_array();
+                    *o174 = x896;
+                    [_, x897, _, _] = x826.to_array();
+                    *o175 = x897;
+                    [_, _, x898, _] = x826.to_array();
+                    *o176 = x898;
+                    [_, _, _, x899] = x826.to_array();
+                    *o177 = x899;
+                    [x900, _, _, _] = x832.to_array();
+                    *o180 = x900;
+                    [_, x901, _, _] = x832.to_array();
+                    *o181 = x901;
+                    [_, _, x902, _] = x832.to_array();
+                    *o182 = x902;
+                    [_, _, _, x903] = x832.to_array();
+                    *o183 = x903;
+                    [x904, _, _, _] = x651.to_array();
+                    *o186 = x904;
+                    [_, x905, _, _] = x651.to_array();
+                    *o187 = x905;
+                    [_, _, x906, _] = x651.to_array();
+                    *o188 = x906;
+                    [_, _, _, x907] = x651.to_array();
+                    *o189 = x907;
+                    [x908, _, _, _] = x835.to_array();
+                    *o192 = x908;
+                    [_, x909, _, _] = x835.to_array();
+                    *o193 = x909;
+                    [_, _, x910, _] = x835.to_array();
+                    *o194 = x910;
+                    [_, _, _, x911] = x835.to_array();
+                    *o195 = x911;
+                    [x912, _, _, _] = x660.to_array();
+                    *o198 = x912;
+                    [_, x913, _, _] = x660.to_array();
+                    *o199 = x913;
+                    [_, _, x914, _] = x660.to_array();
+                    *o200 = x914;
+                    [_, _, _, x915] = x660.to_array();
+                    *o201 = x915;
+                    [x916, _, _, _] = x665.to_array();
+                    *o204 = x916;
+                    [_, x917, _, _] = x665.to_array();
+                    *o205 = x917;
+                    [_, _, x918, _] = x665.to_array();
+                    *o206 = x918;
+                    [_, _, _, x919] = x665.to_array();
+                    *o207 = x919;
+                    [x920, _, _, _] = x670.to_array();
+                    *o210 = x920;
+                    [_, x921, _, _] = x670.to_array();
+                    *o211 = x921;
+                    [_, _, x922, _] = x670.to_array();
+                    *o212 = x922;
+                    [_, _, _, x923] = x670.to_array();
+                    *o213 = x923;
+                    [x924, _, _, _] = x675.to_array();
+                    *o216 = x924;
+                    [_, x925, _, _] = x675.to_array();
+                    *o217 = x925;
+                    [_, _, x926, _] = x675.to_array();
+                    *o218 = x926;
+                    [_, _, _, x927] = x675.to_array();
+                    *o219 = x927;
+                    [x928, _, _, _] = x680.to_array();
+                    *o222 = x928;
+                    [_, x929, _, _] = x680.to_array();
+                    *o223 = x929;
+                    [_, _, x930, _] = x680.to_array();
+                    *o224 = x930;
+                    [_, _, _, x931] = x680.to_array();
+                    *o225 = x931;
+                    [x932, _, _, _] = x685.to_array();
+                    *o228 = x932;
+                    [_, x933, _, _] = x685.to_array();
+                    *o229 = x933;
+                    [_, _, x934, _] = x685.to_array();
+                    *o230 = x934;
+                    [_, _, _, x935] = x685.to_array();
+                    *o231 = x935;
+                    [x936, _, _, _] = x839.to_array();
+                    *o234 = x936;
+                    [_, x937, _, _] = x839.to_array();
+                    *o235 = x937;
+                    [_, _, x938, _] = x839.to_array();
+                    *o236 = x938;
+                    [_, _, _, x939] = x839.to_array();
+                    *o237 = x939;
+                    [x940, _, _, _] = x837.to_array();
+                    *o240 = x940;
+                    [_, x941, _, _] = x837.to_array();
+                    *o241 = x941;
+                    [_, _, x942, _] = x837.to_array();
+                    *o242 = x942;
+                    [_, _, _, x943] = x837.to_array();
+                    *o243 = x943;
+                    [x944, _, _, _] = x701.to_array();
+                    *o246 = x944;
+                    [_, x945, _, _] = x701.to_array();
+                    *o247 = x945;
+                    [_, _, x946, _] = x701.to_array();
+                    *o248 = x946;
+                    [_, _, _, x947] = x701.to_array();
+                    *o249 = x947;
+                    [x948, _, _, _] = x711.to_array();
+                    *o252 = x948;
+                    [_, x949, _, _] = x711.to_array();
+                    *o253 = x949;
+                    [_, _, x950, _] = x711.to_array();
+                    *o254 = x950;
+                    [_, _, _, x951] = x711.to_array();
+                    *o255 = x951;
+                    [x952, _, _, _] = x845.to_array();
+                    *o258 = x952;
+                    [_, x953, _, _] = x845.to_array();
+                    *o259 = x953;
+                    [_, _, x954, _] = x845.to_array();
+                    *o260 = x954;
+                    [_, _, _, x955] = x845.to_array();
+                    *o261 = x955;
+                    [x956, _, _, _] = x717.to_array();
+                    *o264 = x956;
+                    [_, x957, _, _] = x717.to_array();
+                    *o265 = x957;
+                    [_, _, x958, _] = x717.to_array();
+                    *o266 = x958;
+                    [_, _, _, x959] = x717.to_array();
+                    *o267 = x959;
+                    [x960, _, _, _] = x723.to_array();
+                    *o270 = x960;
+                    [_, x961, _, _] = x723.to_array();
+                    *o271 = x961;
+                    [_, _, x962, _] = x723.to_array();
+                    *o272 = x962;
+                    [_, _, _, x963] = x723.to_array();
+                    *o273 = x963;
+                    [x964, _, _, _] = x848.to_array();
+                    *o276 = x964;
+                    [_, x965, _, _] = x848.to_array();
+                    *o277 = x965;
+                    [_, _, x966, _] = x848.to_array();
+                    *o278 = x966;
+                    [_, _, _, x967] = x848.to_array();
+                    *o279 = x967;
+                    [x968, _, _, _] = x730.to_array();
+                    *o282 = x968;
+                    [_, x969, _, _] = x730.to_array();
+                    *o283 = x969;
+                    [_, _, x970, _] = x730.to_array();
+                    *o284 = x970;
+                    [_, _, _, x971] = x730.to_array();
+                    *o285 = x971;
+                    [x972, _, _, _] = x736.to_array();
+                    *o288 = x972;
+                    [_, x973, _, _] = x736.to_array();
+                    *o289 = x973;
+                    [_, _, x974, _] = x736.to_array();
+                    *o290 = x974;
+                    [_, _, _, x975] = x736.to_array();
+                    *o291 = x975;
+                    [x976, _, _, _] = x739.to_array();
+                    *o294 = x976;
+                    [_, x977, _, _] = x739.to_array();
+                    *o295 = x977;
+                    [_, _, x978, _] = x739.to_array();
+                    *o296 = x978;
+                    [_, _, _, x979] = x739.to_array();
+                    *o297 = x979;
+                    [x980, _, _, _] = x847.to_array();
+                    *o300 = x980;
+                    [_, x981, _, _] = x847.to_array();
+                    *o301 = x981;
+                    [_, _, x982, _] = x847.to_array();
+                    *o302 = x982;
+                    [_, _, _, x983] = x847.to_array();
+                    *o303 = x983;
+                    [x984, _, _, _] = x760.to_array();
+                    *o306 = x984;
+                    [_, x985, _, _] = x760.to_array();
+                    *o307 = x985;
+                    [_, _, x986, _] = x760.to_array();
+                    *o308 = x986;
+                    [_, _, _, x987] = x760.to_array();
+                    *o309 = x987;
+                    [x988, _, _, _] = x850.to_array();
+                    *o312 = x988;
+                    [_, x989, _, _] = x850.to_array();
+                    *o313 = x989;
+                    [_, _, x990, _] = x850.to_array();
+                    *o314 = x990;
+                    [_, _, _, x991] = x850.to_array();
+                    *o315 = x991;
+                    [x992, _, _, _] = x771.to_array();
+                    *o318 = x992;
+                    [_, x993, _, _] = x771.to_array();
+                    *o319 = x993;
+                    [_, _, x994, _] = x771.to_array();
+                    *o320 = x994;
+                    [_, _, _, x995] = x771.to_array();
+                    *o321 = x995;
+                    [x996, _, _, _] = x778.to_array();
+                    *o324 = x996;
+                    [_, x997, _, _] = x778.to_array();
+                    *o325 = x997;
+                    [_, _, x998, _] = x778.to_array();
+                    *o326 = x998;
+                    [_, _, _, x999] = x778.to_array();
+                    *o327 = x999;
+                    [x1000, _, _, _] = x784.to_array();
+                    *o330 = x1000;
+                    [_, x1001, _, _] = x784.to_array();
+                    *o331 = x1001;
+                    [_, _, x1002, _] = x784.to_array();
+                    *o332 = x1002;
+                    [_, _, _, x1003] = x784.to_array();
+                    *o333 = x1003;
+                    [x1004, _, _, _] = x789.to_array();
+                    *o336 = x1004;
+                    [_, x1005, _, _] = x789.to_array();
+                    *o337 = x1005;
+                    [_, _, x1006, _] = x789.to_array();
+                    *o338 = x1006;
+                    [_, _, _, x1007] = x789.to_array();
+                    *o339 = x1007;
+                    [x1008, _, _, _] = x795.to_array();
+                    *o342 = x1008;
+                    [_, x1009, _, _] = x795.to_array();
+                    *o343 = x1009;
+                    [_, _, x1010, _] = x795.to_array();
+                    *o344 = x1010;
+                    [_, _, _, x1011] = x795.to_array();
+                    *o345 = x1011;
+                    [x1012, _, _, _] = x801.to_array();
+                    *o348 = x1012;
+                    [_, x1013, _, _] = x801.to_array();
+                    *o349 = x1013;
+                    [_, _, x1014, _] = x801.to_array();
+                    *o350 = x1014;
+                    [_, _, _, x1015] = x801.to_array();
+                    *o351 = x1015;
+                    [x1016, _, _, _] = x854.to_array();
+                    *o354 = x1016;
+                    [_, x1017, _, _] = x854.to_array();
+                    *o355 = x1017;
+                    [_, _, x1018, _] = x854.to_array();
+                    *o356 = x1018;
+                    [_, _, _, x1019] = x854.to_array();
+                    *o357 = x1019;
+                    [x1020, _, _, _] = x855.to_array();
+                    *o358 = x1020;
+                    [_, x1021, _, _] = x855.to_array();
+                    *o359 = x1021;
+                }
+            }
+        }
+        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, out))
+    }
     ///Operations: 232 mul, 171 add/sub, 28 neg, and 526 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn torque_regressor(
@@ -5515,6 +7833,1160 @@ impl Regressors<6, 60> for Ur5 {
             }
         }
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, a))
+    }
+    #[inline(never)]
+    fn torque_regressor_into(
+        t: &JointTrig<6>,
+        qd: &SVector<f64, 6>,
+        a: &SVector<f64, 6>,
+        out: &mut dyngen_runtime::ResultBuffer<SMatrix<f64, 6, 60>>,
+    ) {
+        let out = dyngen_runtime::__private::claim(out, 17496910729634716863u64);
+        struct Body;
+        impl dyngen_runtime::__private::Kernel<
+            (&JointTrig<6>, &SVector<f64, 6>, &SVector<f64, 6>, &mut SMatrix<f64, 6, 60>),
+        > for Body {
+            type Output = ();
+            #[inline(always)]
+            fn run<M: dyngen_runtime::__private::MulAdd>(
+                arith: M,
+                (
+                    t,
+                    qd,
+                    a,
+                    out,
+                ): (
+                    &JointTrig<6>,
+                    &SVector<f64, 6>,
+                    &SVector<f64, 6>,
+                    &mut SMatrix<f64, 6, 60>,
+                ),
+            ) {
+                use dyngen_runtime::__private::FourLanes as _;
+                let [_, s1, s2, s3, s4, s5] = t.sin;
+                let [_, c1, c2, c3, c4, c5] = t.cos;
+                let [qd0, qd1, qd2, qd3, qd4, qd5] = qd.data.0[0];
+                let [a0, a1, a2, a3, a4, a5] = a.data.0[0];
+                {
+                    let [[_, _, _, _, _, _], [_, _, _, _, _, _], [_, _, _, _, _, _], [_,
+                    _, _, _, _, _], [_, _, _, _, _, _], [_, _, _, _, _, _], [_, _, _, _,
+                    _, _], [_, _, _, _, _, _], [_, _, _, _, _, _], [o54, _, _, _, _, _],
+                    [o60, _, _, _, _, _], [o66, o67, _, _, _, _], [o72, _, _, _, _, _],
+                    [o78, o79, _, _, _, _], [o84, o85, _, _, _, _], [o90, o91, _, _, _, _,
+                    ], [o96, o97, _, _, _, _], [o102, o103, _, _, _, _], [o108, o109, _,
+                    _, _, _], [o114, o115, o116, o117, _, _], [o120, o121, o122, o123, _,
+                    _], [o126, o127, o128, o129, _, _], [o132, o133, o134, o135, _, _],
+                    [o138, o139, o140, o141, _, _], [o144, o145, o146, o147, _, _],
+                    [o150, o151, o152, o153, _, _], [o156, o157, o158, o159, _, _],
+                    [o162, o163, o164, o165, _, _], [o168, o169, o170, o171, _, _],
+                    [o174, o175, o176, o177, _, _], [o180, o181, o182, o183, _, _],
+                    [o186, o187, o188, o189, _, _], [o192, o193, o194, o195, _, _],
+                    [o198, o199, o200, o201, _, _], [o204, o205, o206, o207, _, _],
+                    [o210, o211, o212, o213, _, _], [o216, o217, o218, o219, _, _],
+                    [o222, o223, o224, o225, _, _], [o228, o229, o230, o231, _, _],
+                    [o234, o235, o236, o237, _, _], [o240, o241, o242, o243, _, _],
+                    [o246, o247, o248, o249, o250, _], [o252, o253, o254, o255, o256, _],
+                    [o258, o259, o260, o261, _, _], [o264, o265, o266, o267, o268, _],
+                    [o270, o271, o272, o273, o274, _], [o276, o277, o278, o279, o280, _],
+                    [o282, o283, o284, o285, o286, _], [o288, o289, o290, o291, o292, _],
+                    [o294, o295, o296, o297, o298, _], [o300, o301, o302, o303, _, _],
+                    [o306, o307, o308, o309, o310, o311], [o312, o313, o314, o315, o316,
+                    _], [o318, o319, o320, o321, o322, o323], [o324, o325, o326, o327,
+                    o328, o329], [o330, o331, o332, o333, o334, o335], [o336, o337, o338,
+                    o339, o340, o341], [o342, o343, o344, o345, o346, o347], [o348, o349,
+                    o350, o351, o352, o353], [o354, o355, o356, o357, o358, o359]] = &mut out
+                        .data
+                        .0;
+                    *o54 = a0;
+                    *o97 = a1;
+                    let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                    x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                    x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                    x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                    x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                    x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                    x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                    x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109,
+                    x110, x111, x112, x113, x114, x115, x116, x117, x118, x119, x120,
+                    x121, x122, x123, x124, x125, x126, x127, x128, x129, x130, x131,
+                    x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142,
+                    x143, x144, x145, x146, x147, x148, x149, x150, x151, x152, x153,
+                    x154, x155, x156, x157, x158, x159, x171, x172, x173, x176, x178,
+                    x183, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                    x195, x196, x197, x198, x199, x200, x201, x202, x203, x204, x205,
+                    x206, x207, x208, x209, x210, x211, x212, x213, x214, x215, x216,
+                    x217, x218, x219, x220, x221, x222, x223, x224, x225, x226, x227,
+                    x228, x229, x230, x231, x232, x233, x234, x235, x236, x237, x238,
+                    x239, x240, x241, x242, x243, x244, x245, x246, x247, x248, x249,
+                    x250, x251, x252, x253, x254, x255, x256, x257, x258, x259, x260,
+                    x261, x262, x263, x264, x265, x266, x267, x268, x269, x270, x271,
+                    x272, x273, x274, x275, x276, x277, x278, x279, x280, x281, x282,
+                    x283, x284, x285, x286, x287, x288, x289, x290, x291, x292, x293,
+                    x294, x295, x296, x297, x298, x299, x300, x301, x302, x303, x304,
+                    x305, x306, x307, x308, x309, x310, x311, x312, x313, x314, x315,
+                    x316, x317, x318, x319, x320, x321, x322, x323, x324, x325, x326,
+                    x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337,
+                    x338, x339, x340, x341, x342, x343, x344, x345, x346, x347, x348,
+                    x349, x350, x351, x352, x353, x354, x355, x356, x357, x358, x359,
+                    x360, x361, x362, x363, x364, x365, x366, x367, x368, x369, x370,
+                    x371, x372, x641, x642, x643, x644, x645, x646, x647, x648, x649,
+                    x650, x651, x652, x653, x654, x655, x656, x657, x658, x659, x660,
+                    x661, x662, x663, x664, x665, x666, x667, x668, x669, x670, x671,
+                    x672, x673, x674, x675, x676, x677, x678, x679, x680, x681, x682,
+                    x683, x684, x685, x686, x687, x688, x689, x690, x691, x692, x693,
+                    x694, x695, x696, x697, x698, x699, x700, x701, x702, x703, x704,
+                    x705, x706, x707, x708, x709, x710, x711, x712, x713, x714, x715,
+                    x716, x717, x718, x719, x720, x721, x722, x723, x724, x725, x726,
+                    x727, x728, x729, x730, x731, x732, x733, x734, x735, x736, x737,
+                    x738, x739, x740, x741, x742, x743, x744, x745, x746, x747, x748,
+                    x749, x750, x751, x752, x753, x754, x755, x756, x757, x758, x759,
+                    x760, x761, x762, x763, x764, x765, x766, x767, x768, x769, x770,
+                    x771, x772, x773, x774, x775, x776, x777, x778, x779, x780, x781,
+                    x782, x783, x784, x785, x786, x787, x788, x789, x790, x791, x792,
+                    x793, x794, x795, x796, x797, x798, x799, x800, x801, x802, x803,
+                    x804, x805, x806]: [f64; 520];
+                    let [x160, x161, x162, x163, x164, x165, x166, x167, x168, x169,
+                    x170, x174, x175, x177, x179, x180, x181, x182, x184, x373, x374,
+                    x375, x376, x377, x378, x379, x380, x381, x382, x383, x384, x385,
+                    x386, x387, x388, x389, x390, x391, x392, x393, x394, x395, x396,
+                    x397, x398, x399, x400, x401, x402, x403, x404, x405, x406, x407,
+                    x408, x409, x410, x411, x412, x413, x414, x415, x416, x417, x418,
+                    x419, x420, x421, x422, x423, x424, x425, x426, x427, x428, x429,
+                    x430, x431, x432, x433, x434, x435, x436, x437, x438, x439, x440,
+                    x441, x442, x443, x444, x445, x446, x447, x448, x449, x450, x451,
+                    x452, x453, x454, x455, x456, x457, x458, x459, x460, x461, x462,
+                    x463, x464, x465, x466, x467, x468, x469, x470, x471, x472, x473,
+                    x474, x475, x476, x477, x478, x479, x480, x481, x482, x483, x484,
+                    x485, x486, x487, x488, x489, x490, x491, x492, x493, x494, x495,
+                    x496, x497, x498, x499, x500, x501, x502, x503, x504, x505, x506,
+                    x507, x508, x509, x510, x511, x512, x513, x514, x515, x516, x517,
+                    x518, x519, x520, x521, x522, x523, x524, x525, x526, x527, x528,
+                    x529, x530, x531, x532, x533, x534, x535, x536, x537, x538, x539,
+                    x540, x541, x542, x543, x544, x545, x546, x547, x548, x549, x550,
+                    x551, x552, x553, x554, x555, x556, x557, x558, x559, x560, x561,
+                    x562, x563, x564, x565, x566, x567, x568, x569, x570, x571, x572,
+                    x573, x574, x575, x576, x577, x578, x579, x580, x581, x582, x583,
+                    x584, x585, x586, x587, x588, x589, x590, x591, x592, x593, x594,
+                    x595, x596, x597, x598, x599, x600, x601, x602, x603, x604, x605,
+                    x606, x607, x608, x609, x610, x611, x612, x613, x614, x615, x616,
+                    x617, x618, x619, x620, x621, x622, x623, x624, x625, x626, x627,
+                    x628, x629, x630, x631, x632, x633, x634, x635, x636, x637, x638,
+                    x639, x640]: [M::Four; 287];
+                    x0 = c1 * c2;
+                    x1 = arith.mul_add(s1, s2, -x0);
+                    x2 = s1 * c2;
+                    x3 = arith.mul_add(c1, s2, x2);
+                    x4 = s3 * x1;
+                    x5 = arith.mul_add(c3, x3, -x4);
+                    x6 = s3 * x3;
+                    x7 = arith.mul_add(c3, x1, x6);
+                    x8 = c4 * x5;
+                    x9 = s4 * x5;
+                    x10 = -x9;
+                    x11 = s5 * x7;
+                    x12 = -x11;
+                    x13 = c5 * x7;
+                    x14 = -9.81f64 * s1;
+                    x15 = qd0 * c1;
+                    x16 = qd0 * s1;
+                    x17 = 0.13585f64 * qd0;
+                    x18 = 0.13585f64 * a0;
+                    x19 = s1 * x18;
+                    x20 = arith.mul_add(-9.81f64, c1, x19);
+                    *o79 = x20;
+                    x21 = c1 * x18;
+                    x22 = x14 - x21;
+                    x23 = c2 * x15;
+                    x24 = s2 * x16;
+                    x25 = x24 - x23;
+                    x26 = c2 * x16;
+                    x27 = arith.mul_add(s2, x15, x26);
+                    x28 = 0.1197f64 * x16;
+                    x29 = -0.425f64 * x15;
+                    x30 = 0.1197f64 * x15;
+                    x31 = qd1 + qd2;
+                    x32 = 0.425f64 * a1;
+                    x33 = a1 + a2;
+                    x34 = s3 * x25;
+                    x35 = c3 * x27;
+                    x36 = x35 - x34;
+                    x37 = s3 * x27;
+                    x38 = arith.mul_add(c3, x25, x37);
+                    x39 = 0.39225f64 * x31;
+                    x40 = 0.39225f64 * x25;
+                    x41 = qd3 + x31;
+                    x42 = a3 + x33;
+                    x43 = s4 * x41;
+                    x44 = arith.mul_add(c4, x36, x43);
+                    x45 = s4 * x36;
+                    x46 = c4 * x41;
+                    x47 = x46 - x45;
+                    x48 = 0.093f64 * x38;
+                    x49 = 0.093f64 * x36;
+                    x50 = qd4 + x38;
+                    x51 = c5 * x44;
+                    x52 = s5 * x50;
+                    x53 = x51 - x52;
+                    x54 = c5 * x50;
+                    x55 = arith.mul_add(s5, x44, x54);
+                    x56 = 0.09465f64 * x47;
+                    x57 = 0.09465f64 * x44;
+                    x58 = qd5 + x47;
+                    x59 = 0.0184552225f64 * a0;
+                    *o60 = x59;
+                    x60 = 0.2717f64 * a0;
+                    *o72 = x60;
+                    x61 = 0.0002608225f64 * a0;
+                    x62 = 0.0323f64 * a0;
+                    x63 = 0.0119137225f64 * a0;
+                    x64 = qd0 * x17;
+                    x65 = qd1 * x16;
+                    x66 = qd1 * x15;
+                    x67 = arith.mul_add(-a0, c1, x65);
+                    x68 = arith.mul_add(a0, s1, x66);
+                    x69 = arith.mul_add(0.425f64, qd1, -x28);
+                    x70 = x16 * x29;
+                    x71 = arith.mul_add(qd1, x30, -x70);
+                    x72 = x16 * x69;
+                    x73 = arith.mul_add(x15, x30, -x72);
+                    x74 = qd1 * x69;
+                    x75 = arith.mul_add(x15, x29, -x74);
+                    x76 = x20 + x71;
+                    x77 = x73 - x64;
+                    x78 = x22 + x75;
+                    x79 = s2 * x68;
+                    x80 = arith.mul_add(c2, x67, x79);
+                    x81 = c2 * x68;
+                    x82 = arith.mul_add(s2, x67, -x81);
+                    x83 = arith.mul_add(0.1197f64, x68, -x32);
+                    x84 = 0.425f64 * x67;
+                    x85 = x76 - x83;
+                    x86 = x77 - x84;
+                    x87 = arith.mul_add(-0.1197f64, x67, x78);
+                    x88 = s2 * x87;
+                    x89 = arith.mul_add(c2, x85, -x88);
+                    x90 = c2 * x87;
+                    x91 = arith.mul_add(s2, x85, x90);
+                    x92 = arith.mul_add(qd2, x27, x80);
+                    x93 = arith.mul_add(qd2, x25, x82);
+                    x94 = x31 * x39;
+                    x95 = arith.mul_add(x25, x40, x94);
+                    x96 = arith.mul_add(-x27, x40, x89);
+                    x97 = arith.mul_add(-x27, x39, x86);
+                    x98 = x91 - x95;
+                    x99 = c3 * x93;
+                    x100 = arith.mul_add(s3, x92, x99);
+                    x101 = s3 * x93;
+                    x102 = arith.mul_add(c3, x92, -x101);
+                    x103 = 0.39225f64 * x92;
+                    x104 = arith.mul_add(0.39225f64, x33, x96);
+                    x105 = x97 - x103;
+                    x106 = c3 * x98;
+                    x107 = arith.mul_add(s3, x104, x106);
+                    x108 = c3 * x104;
+                    x109 = s3 * x98;
+                    x110 = x108 - x109;
+                    x111 = arith.mul_add(qd3, x38, x100);
+                    x112 = arith.mul_add(qd3, x36, x102);
+                    x113 = x36 * x49;
+                    x114 = arith.mul_add(x38, x48, x113);
+                    x115 = arith.mul_add(x41, x49, -x107);
+                    x116 = x105 - x114;
+                    x117 = arith.mul_add(x41, x48, x110);
+                    x118 = c4 * x111;
+                    x119 = arith.mul_add(s4, x42, -x118);
+                    x120 = s4 * x111;
+                    x121 = arith.mul_add(c4, x42, x120);
+                    x122 = arith.mul_add(-0.093f64, x112, x115);
+                    x123 = arith.mul_add(-0.093f64, x111, x117);
+                    x124 = s4 * x116;
+                    x125 = arith.mul_add(c4, x122, x124);
+                    x126 = s4 * x122;
+                    x127 = arith.mul_add(c4, x116, -x126);
+                    *o250 = x127;
+                    x128 = a4 + x112;
+                    *o298 = x128;
+                    x129 = qd4 * x44;
+                    x130 = arith.mul_add(qd4, x47, x119);
+                    x131 = x121 - x129;
+                    x132 = x47 * x56;
+                    x133 = arith.mul_add(x44, x57, x132);
+                    x134 = arith.mul_add(x50, x57, x125);
+                    x135 = arith.mul_add(x50, x56, x127);
+                    x136 = x123 - x133;
+                    x137 = s5 * x128;
+                    x138 = arith.mul_add(c5, x130, -x137);
+                    x139 = c5 * x128;
+                    x140 = arith.mul_add(s5, x130, x139);
+                    x141 = 0.09465f64 * x130;
+                    x142 = arith.mul_add(0.09465f64, x131, x134);
+                    x143 = x135 - x141;
+                    x144 = s5 * x136;
+                    x145 = arith.mul_add(c5, x142, -x144);
+                    *o323 = x145;
+                    x146 = c5 * x136;
+                    x147 = arith.mul_add(s5, x142, x146);
+                    x148 = a5 + x131;
+                    *o341 = x148;
+                    x149 = qd5 * x55;
+                    x150 = x138 - x149;
+                    x151 = arith.mul_add(qd5, x53, x140);
+                    x152 = x21 - x14;
+                    *o67 = x152;
+                    x153 = x23 - x24;
+                    x154 = x109 - x108;
+                    x155 = x34 - x35;
+                    x156 = -x125;
+                    *o256 = x156;
+                    x157 = x45 - x46;
+                    x158 = -x147;
+                    *o311 = x158;
+                    x159 = x52 - x51;
+                    x160 = arith.splat_four(0.39225f64);
+                    x161 = arith.splat_four(s3);
+                    x162 = arith.splat_four(c3);
+                    x163 = arith.splat_four(c4);
+                    x164 = arith.splat_four(s4);
+                    x165 = arith.splat_four(0.09465f64);
+                    x166 = arith.splat_four(c5);
+                    x167 = arith.splat_four(s5);
+                    x168 = arith.splat_four(c2);
+                    x169 = arith.splat_four(s2);
+                    x170 = arith.splat_four(0.425f64);
+                    x171 = 0.13585f64 * s1;
+                    x172 = -0.13585f64 * c1;
+                    x173 = -0.425f64 * c1;
+                    x174 = arith.four([0.0, 1f64, 1f64, 0.0]);
+                    x175 = arith.four([0.0, 1f64, 1f64, 1f64]);
+                    x176 = 0.093f64 * x7;
+                    x177 = arith.four([x176, 0.0, 0.0, 0.0]);
+                    x178 = 0.093f64 * x5;
+                    x179 = arith.four([x8, 0.0, 0.0, 0.0]);
+                    x180 = x164.mul_add(x175, x179);
+                    x181 = arith.four([x10, 0.0, 0.0, 0.0]);
+                    x182 = x163.mul_add(x175, x181);
+                    x183 = -x178;
+                    x184 = arith.four([x183, 0.0, 0.0, 0.0]);
+                    x185 = qd1 * qd1;
+                    x186 = x16 * x16;
+                    x187 = x185 + x186;
+                    x188 = x15 * x16;
+                    *o85 = x188;
+                    x189 = x66 + x68;
+                    x190 = x188 - a1;
+                    x191 = x15 * x15;
+                    x192 = x67 - x65;
+                    *o91 = x192;
+                    x193 = x185 + x191;
+                    x194 = a1 + x188;
+                    x195 = x191 - x185;
+                    x196 = a1 - x188;
+                    x197 = x186 - x191;
+                    *o103 = x197;
+                    x198 = x65 + x67;
+                    x199 = x185 - x186;
+                    x200 = x66 - x68;
+                    *o109 = x200;
+                    x201 = x31 * x31;
+                    x202 = x27 * x27;
+                    x203 = x201 + x202;
+                    x204 = x25 * x31;
+                    x205 = x25 * x27;
+                    x206 = x93 + x204;
+                    x207 = x33 + x205;
+                    x208 = x25 * x25;
+                    x209 = x27 * x31;
+                    x210 = x92 - x209;
+                    x211 = x84 - x77;
+                    x212 = arith.mul_add(x25, x153, -x201);
+                    x213 = arith.mul_add(x27, x153, x33);
+                    x214 = x92 + x209;
+                    x215 = x208 - x201;
+                    x216 = x202 - x208;
+                    x217 = x201 - x202;
+                    x218 = x93 - x204;
+                    x219 = x33 - x205;
+                    x220 = x41 * x41;
+                    x221 = x38 * x38;
+                    x222 = x220 + x221;
+                    x223 = x36 * x41;
+                    x224 = x36 * x38;
+                    x225 = x112 + x223;
+                    x226 = x224 - x42;
+                    x227 = x36 * x36;
+                    x228 = x38 * x41;
+                    x229 = x228 - x111;
+                    x230 = x103 - x97;
+                    x231 = arith.mul_add(x36, x155, -x220);
+                    x232 = arith.mul_add(-x38, x155, x42);
+                    x233 = x111 + x228;
+                    x234 = x227 - x220;
+                    x235 = x42 - x224;
+                    x236 = x221 - x227;
+                    x237 = x220 - x221;
+                    x238 = x112 - x223;
+                    x239 = x42 + x224;
+                    x240 = x129 - x121;
+                    x241 = x50 * x50;
+                    x242 = arith.mul_add(x47, x157, -x241);
+                    x243 = x44 * x50;
+                    x244 = arith.mul_add(-x44, x157, x128);
+                    x245 = x240 + x243;
+                    x246 = x44 * x47;
+                    *o280 = x246;
+                    x247 = x44 * x44;
+                    x248 = x241 + x247;
+                    x249 = x47 * x50;
+                    x250 = x246 - x128;
+                    x251 = x130 + x249;
+                    x252 = x47 * x47;
+                    x253 = x131 + x243;
+                    *o292 = x253;
+                    x254 = -x246;
+                    *o268 = x254;
+                    x255 = x247 - x252;
+                    *o274 = x255;
+                    x256 = x131 - x243;
+                    x257 = x241 - x247;
+                    x258 = x128 + x246;
+                    x259 = x130 - x249;
+                    *o286 = x259;
+                    x260 = x252 - x241;
+                    x261 = x128 - x246;
+                    x262 = x58 * x58;
+                    x263 = x55 * x55;
+                    x264 = x262 + x263;
+                    x265 = x53 * x58;
+                    x266 = x53 * x55;
+                    *o329 = x266;
+                    x267 = x151 + x265;
+                    x268 = x266 - x148;
+                    x269 = x53 * x53;
+                    x270 = x55 * x58;
+                    x271 = x150 + x270;
+                    *o335 = x271;
+                    x272 = x141 - x135;
+                    x273 = x149 - x138;
+                    x274 = arith.mul_add(x53, x159, -x262);
+                    x275 = arith.mul_add(-x55, x159, x148);
+                    x276 = x270 + x273;
+                    x277 = x269 - x262;
+                    x278 = x148 - x266;
+                    x279 = x263 - x269;
+                    *o347 = x279;
+                    x280 = x150 - x270;
+                    x281 = x262 - x263;
+                    x282 = x151 - x265;
+                    *o353 = x282;
+                    x283 = x148 + x266;
+                    x284 = s1 * x66;
+                    x285 = arith.mul_add(c1, x67, x284);
+                    x286 = -x285;
+                    *o84 = x286;
+                    x287 = s1 * x195;
+                    x288 = arith.mul_add(c1, x196, x287);
+                    x289 = -x288;
+                    *o90 = x289;
+                    x290 = arith.mul_add(-c1, x65, x284);
+                    *o96 = x290;
+                    x291 = s1 * x198;
+                    x292 = arith.mul_add(c1, x189, -x291);
+                    *o102 = x292;
+                    x293 = c1 * x199;
+                    x294 = arith.mul_add(s1, x194, x293);
+                    x295 = -x294;
+                    *o108 = x295;
+                    x296 = c5 * x143;
+                    *o310 = x296;
+                    x297 = s5 * x272;
+                    x298 = -x297;
+                    *o322 = x298;
+                    x299 = c5 * x265;
+                    x300 = arith.mul_add(s5, x150, x299);
+                    x301 = -x300;
+                    *o328 = x301;
+                    x302 = s5 * x278;
+                    x303 = arith.mul_add(c5, x277, -x302);
+                    *o334 = x303;
+                    x304 = arith.mul_add(s5, x270, x299);
+                    *o340 = x304;
+                    x305 = s5 * x267;
+                    x306 = arith.mul_add(c5, x280, -x305);
+                    *o346 = x306;
+                    x307 = s5 * x281;
+                    x308 = arith.mul_add(c5, x283, -x307);
+                    *o352 = x308;
+                    x309 = arith.mul_add(-0.09465f64, x253, -x125);
+                    *o316 = x309;
+                    x310 = x1 * x92;
+                    x311 = x5 * x111;
+                    x312 = -x311;
+                    x313 = x7 * x128;
+                    x314 = arith.mul_add(-0.1197f64, s1, x171);
+                    x315 = arith.mul_add(0.1197f64, c1, x172);
+                    x316 = s2 * x315;
+                    x317 = -x316;
+                    x318 = c2 * x315;
+                    x319 = arith.mul_add(0.39225f64, x1, x173);
+                    x320 = s4 * x319;
+                    x321 = -x320;
+                    x322 = c4 * x319;
+                    x323 = -x322;
+                    x324 = x171 * x187;
+                    x325 = arith.mul_add(x172, x190, -x324);
+                    x326 = arith.mul_add(s1, x64, x325);
+                    *o66 = x326;
+                    x327 = x172 * x193;
+                    x328 = arith.mul_add(x171, x194, -x327);
+                    x329 = arith.mul_add(-c1, x64, x328);
+                    *o78 = x329;
+                    x330 = x3 * x86;
+                    x331 = -x330;
+                    x332 = x173 * x206;
+                    x333 = -x332;
+                    x334 = x1 * x211;
+                    x335 = x173 * x214;
+                    x336 = x3 * x204;
+                    x337 = x1 * x207;
+                    x338 = x3 * x215;
+                    x339 = -x338;
+                    x340 = x1 * x209;
+                    x341 = -x336;
+                    x342 = x1 * x206;
+                    x343 = x3 * x214;
+                    x344 = -x343;
+                    x345 = x1 * x217;
+                    x346 = x3 * x219;
+                    x347 = -x346;
+                    x348 = x7 * x105;
+                    x349 = x225 * x319;
+                    x350 = -x349;
+                    x351 = x5 * x230;
+                    x352 = x233 * x319;
+                    x353 = -x352;
+                    x354 = x7 * x223;
+                    x355 = -x354;
+                    x356 = x5 * x235;
+                    x357 = x7 * x234;
+                    x358 = x5 * x228;
+                    x359 = -x358;
+                    x360 = x5 * x225;
+                    x361 = x7 * x233;
+                    x362 = -x361;
+                    x363 = x5 * x237;
+                    x364 = x7 * x239;
+                    x365 = x7 * x127;
+                    x366 = x7 * x125;
+                    x367 = -x366;
+                    x368 = x7 * x246;
+                    x369 = -x368;
+                    x370 = x7 * x255;
+                    x371 = x7 * x259;
+                    x372 = x7 * x253;
+                    x373 = arith.four([a0, 0.0, 0.0, 0.0]);
+                    x374 = arith.four([x314, 0.425f64, 0.0, 0.0]);
+                    x375 = arith.four([x317, 0.0, 0.0, 0.0]);
+                    x376 = x168.mul_add(x374, x375);
+                    x377 = arith.four([x318, 0.0, 0.0, 0.0]);
+                    x378 = x169.mul_add(x374, x377);
+                    x379 = x160.mul_add(x174, x376);
+                    x380 = x162 * x378;
+                    x381 = x161.mul_add(x379, x380);
+                    x382 = x161 * x378;
+                    x383 = x162.mul_sub(x379, x382);
+                    x384 = x177 + x381;
+                    x385 = x383 - x184;
+                    x386 = arith.four([x321, 0.0, 0.0, 0.0]);
+                    x387 = x163.mul_neg_add(x384, x386);
+                    x388 = arith.four([x323, 0.0, 0.0, 0.0]);
+                    x389 = x164.mul_add(x384, x388);
+                    x390 = arith.four([x12, 0.0, 0.0, 0.0]);
+                    x391 = x166.mul_add(x180, x390);
+                    x392 = arith.four([x13, 0.0, 0.0, 0.0]);
+                    x393 = x167.mul_add(x180, x392);
+                    x394 = x165.mul_add(x182, x387);
+                    x395 = x165.mul_neg_add(x180, x389);
+                    x396 = x167 * x385;
+                    x397 = x166.mul_sub(x394, x396);
+                    x398 = x166 * x385;
+                    x399 = x167.mul_add(x394, x398);
+                    x400 = arith.four([x61, 0.0, 0.0, 0.0]);
+                    x401 = arith.four([x62, 0.0, 0.0, 0.0]);
+                    x402 = arith.four([x63, 0.0, 0.0, 0.0]);
+                    x403 = arith.splat_four(0.180625f64);
+                    x404 = arith.splat_four(0.0508725f64);
+                    x405 = arith.splat_four(-0.425f64);
+                    x406 = arith.splat_four(0.0113475f64);
+                    x407 = arith.splat_four(0.1538600625f64);
+                    x408 = arith.splat_four(-0.39225f64);
+                    x409 = arith.splat_four(-0.03647925f64);
+                    x410 = arith.splat_four(0.0089586225f64);
+                    x411 = arith.splat_four(-0.093f64);
+                    x412 = arith.splat_four(-0.00880245f64);
+                    x413 = arith.splat_four(-0.09465f64);
+                    x414 = arith.four([x329, x20, 0.0, 0.0]);
+                    x415 = arith.four([x286, x188, 0.0, 0.0]);
+                    x416 = arith.four([x290, a1, 0.0, 0.0]);
+                    x417 = arith.four([x295, x200, 0.0, 0.0]);
+                    x418 = arith.splat_four(x89);
+                    x419 = arith.splat_four(x91);
+                    x420 = arith.four([x331, 0.0, 0.0, 0.0]);
+                    x421 = x419.mul_neg_add(x174, x420);
+                    x422 = arith.splat_four(x203);
+                    x423 = arith.four([x333, 0.0, 0.0, 0.0]);
+                    x424 = x422.mul_neg_add(x376, x423);
+                    x425 = arith.splat_four(x207);
+                    x426 = x425.mul_neg_add(x378, x424);
+                    x427 = x421 + x426;
+                    x428 = arith.splat_four(x210);
+                    x429 = arith.four([x334, 0.0, 0.0, 0.0]);
+                    x430 = x418.mul_add(x174, x429);
+                    x431 = arith.splat_four(x213);
+                    x432 = arith.four([x335, 0.0, 0.0, 0.0]);
+                    x433 = x431.mul_add(x376, x432);
+                    x434 = arith.splat_four(x212);
+                    x435 = x434.mul_add(x378, x433);
+                    x436 = x430 + x435;
+                    x437 = arith.four([x310, 0.0, 0.0, 0.0]);
+                    x438 = arith.splat_four(x205);
+                    x439 = x438.mul_neg_add(x174, x437);
+                    x440 = arith.four([x336, 0.0, 0.0, 0.0]);
+                    x441 = x439 + x440;
+                    x442 = arith.four([x337, 0.0, 0.0, 0.0]);
+                    x443 = x428.mul_add(x174, x442);
+                    x444 = arith.four([x339, 0.0, 0.0, 0.0]);
+                    x445 = x443 + x444;
+                    x446 = arith.four([x340, 0.0, 0.0, 0.0]);
+                    x447 = arith.splat_four(x33);
+                    x448 = x447.mul_add(x174, x446);
+                    x449 = arith.four([x341, 0.0, 0.0, 0.0]);
+                    x450 = x448 + x449;
+                    x451 = arith.four([x342, 0.0, 0.0, 0.0]);
+                    x452 = arith.splat_four(x216);
+                    x453 = x452.mul_add(x174, x451);
+                    x454 = arith.four([x344, 0.0, 0.0, 0.0]);
+                    x455 = x453 + x454;
+                    x456 = arith.four([x345, 0.0, 0.0, 0.0]);
+                    x457 = arith.splat_four(x218);
+                    x458 = x457.mul_add(x174, x456);
+                    x459 = arith.four([x347, 0.0, 0.0, 0.0]);
+                    x460 = x458 + x459;
+                    x461 = arith.splat_four(x107);
+                    x462 = arith.splat_four(x154);
+                    x463 = arith.four([x348, 0.0, 0.0, 0.0]);
+                    x464 = x462.mul_add(x175, x463);
+                    x465 = arith.splat_four(x222);
+                    x466 = arith.four([x350, 0.0, 0.0, 0.0]);
+                    x467 = x465.mul_add(x381, x466);
+                    x468 = arith.splat_four(x226);
+                    x469 = x468.mul_add(x383, x467);
+                    x470 = x464 + x469;
+                    x471 = arith.splat_four(x229);
+                    x472 = arith.four([x351, 0.0, 0.0, 0.0]);
+                    x473 = x461.mul_neg_add(x175, x472);
+                    x474 = arith.splat_four(x232);
+                    x475 = arith.four([x353, 0.0, 0.0, 0.0]);
+                    x476 = x474.mul_neg_add(x381, x475);
+                    x477 = arith.splat_four(x231);
+                    x478 = x477.mul_add(x383, x476);
+                    x479 = x473 + x478;
+                    x480 = arith.four([x312, 0.0, 0.0, 0.0]);
+                    x481 = arith.splat_four(x224);
+                    x482 = x481.mul_add(x175, x480);
+                    x483 = arith.four([x355, 0.0, 0.0, 0.0]);
+                    x484 = x482 + x483;
+                    x485 = arith.four([x356, 0.0, 0.0, 0.0]);
+                    x486 = x471.mul_add(x175, x485);
+                    x487 = arith.four([x357, 0.0, 0.0, 0.0]);
+                    x488 = x486 + x487;
+                    x489 = arith.four([x359, 0.0, 0.0, 0.0]);
+                    x490 = arith.splat_four(x42);
+                    x491 = x490.mul_add(x175, x489);
+                    x492 = arith.four([x354, 0.0, 0.0, 0.0]);
+                    x493 = x491 + x492;
+                    x494 = arith.four([x360, 0.0, 0.0, 0.0]);
+                    x495 = arith.splat_four(x236);
+                    x496 = x495.mul_add(x175, x494);
+                    x497 = arith.four([x362, 0.0, 0.0, 0.0]);
+                    x498 = x496 + x497;
+                    x499 = arith.four([x363, 0.0, 0.0, 0.0]);
+                    x500 = arith.splat_four(x238);
+                    x501 = x500.mul_add(x175, x499);
+                    x502 = arith.four([x364, 0.0, 0.0, 0.0]);
+                    x503 = x501 + x502;
+                    x504 = arith.splat_four(x123);
+                    x505 = arith.four([x365, 0.0, 0.0, 0.0]);
+                    x506 = x504.mul_neg_add(x182, x505);
+                    x507 = arith.splat_four(x242);
+                    x508 = arith.splat_four(x244);
+                    x509 = x508 * x389;
+                    x510 = x507.mul_add(x387, x509);
+                    x511 = arith.splat_four(x245);
+                    x512 = x511.mul_add(x385, x510);
+                    x513 = x506 + x512;
+                    x514 = arith.four([x367, 0.0, 0.0, 0.0]);
+                    x515 = x504.mul_add(x180, x514);
+                    x516 = arith.splat_four(x250);
+                    x517 = arith.splat_four(x248);
+                    x518 = x517 * x389;
+                    x519 = x516.mul_sub(x387, x518);
+                    x520 = arith.splat_four(x251);
+                    x521 = x520.mul_add(x385, x519);
+                    x522 = x515 + x521;
+                    x523 = arith.splat_four(x130);
+                    x524 = arith.splat_four(x243);
+                    x525 = x524 * x182;
+                    x526 = x523.mul_add(x180, x525);
+                    x527 = arith.four([x369, 0.0, 0.0, 0.0]);
+                    x528 = x526 + x527;
+                    x529 = arith.splat_four(x256);
+                    x530 = x520 * x182;
+                    x531 = x529.mul_add(x180, x530);
+                    x532 = arith.four([x370, 0.0, 0.0, 0.0]);
+                    x533 = x531 + x532;
+                    x534 = arith.splat_four(x249);
+                    x535 = arith.splat_four(x258);
+                    x536 = arith.splat_four(x257);
+                    x537 = x536 * x182;
+                    x538 = x535.mul_add(x180, x537);
+                    x539 = arith.four([x371, 0.0, 0.0, 0.0]);
+                    x540 = x538 + x539;
+                    x541 = arith.splat_four(x260);
+                    x542 = arith.splat_four(x261);
+                    x543 = x542 * x182;
+                    x544 = x541.mul_add(x180, x543);
+                    x545 = arith.four([x372, 0.0, 0.0, 0.0]);
+                    x546 = x544 + x545;
+                    x547 = x534.mul_sub(x180, x525);
+                    x548 = arith.four([x313, 0.0, 0.0, 0.0]);
+                    x549 = x547 + x548;
+                    x550 = arith.splat_four(x145);
+                    x551 = arith.splat_four(x143);
+                    x552 = arith.splat_four(x147);
+                    x553 = x552 * x182;
+                    x554 = x551.mul_sub(x393, x553);
+                    x555 = arith.splat_four(x264);
+                    x556 = x555 * x397;
+                    x557 = arith.splat_four(x267);
+                    x558 = x557.mul_sub(x395, x556);
+                    x559 = arith.splat_four(x268);
+                    x560 = x559.mul_add(x399, x558);
+                    x561 = x554 + x560;
+                    x562 = arith.splat_four(x271);
+                    x563 = arith.splat_four(x272);
+                    x564 = x550 * x182;
+                    x565 = x563.mul_add(x391, x564);
+                    x566 = arith.splat_four(x275);
+                    x567 = arith.splat_four(x276);
+                    x568 = x567 * x395;
+                    x569 = x566.mul_add(x397, x568);
+                    x570 = arith.splat_four(x274);
+                    x571 = x570.mul_add(x399, x569);
+                    x572 = x565 + x571;
+                    x573 = arith.splat_four(x150);
+                    x574 = arith.splat_four(x266);
+                    x575 = x574 * x182;
+                    x576 = x573.mul_add(x391, x575);
+                    x577 = arith.splat_four(x265);
+                    x578 = x577 * x393;
+                    x579 = x576 - x578;
+                    x580 = arith.splat_four(x278);
+                    x581 = x562 * x182;
+                    x582 = x580.mul_add(x391, x581);
+                    x583 = arith.splat_four(x277);
+                    x584 = x583.mul_add(x393, x582);
+                    x585 = arith.splat_four(x270);
+                    x586 = x585 * x391;
+                    x587 = arith.splat_four(x148);
+                    x588 = x587.mul_sub(x182, x586);
+                    x589 = x578 + x588;
+                    x590 = arith.splat_four(x279);
+                    x591 = x590 * x182;
+                    x592 = x557.mul_add(x391, x591);
+                    x593 = arith.splat_four(x280);
+                    x594 = x593.mul_add(x393, x592);
+                    x595 = arith.splat_four(x281);
+                    x596 = arith.splat_four(x282);
+                    x597 = x596 * x182;
+                    x598 = x595.mul_add(x391, x597);
+                    x599 = arith.splat_four(x283);
+                    x600 = x599.mul_add(x393, x598);
+                    x601 = arith.four([x301, x266, 0.0, 0.0]);
+                    x602 = x170 * x414;
+                    x603 = x400 + x602;
+                    x604 = x402 + x602;
+                    x605 = x373 - x415;
+                    x606 = x403 * x415;
+                    x607 = x603 + x606;
+                    x608 = x604 + x606;
+                    x609 = x403 * x416;
+                    x610 = x607 + x609;
+                    x611 = x608 + x609;
+                    x612 = x404.mul_add(x417, x610);
+                    x613 = x405.mul_add(x417, x401);
+                    x614 = x406.mul_add(x417, x611);
+                    x615 = x160 * x436;
+                    x616 = x612 + x615;
+                    x617 = x614 + x615;
+                    x618 = x373 - x441;
+                    x619 = x407 * x441;
+                    x620 = x616 + x619;
+                    x621 = x617 + x619;
+                    x622 = x407 * x450;
+                    x623 = x620 + x622;
+                    x624 = x621 + x622;
+                    x625 = x408.mul_add(x460, x613);
+                    x626 = x409.mul_add(x460, x624);
+                    x627 = x165.mul_add(x479, x626);
+                    x628 = x373 - x484;
+                    x629 = x410.mul_add(x484, x627);
+                    x630 = x484 + x493;
+                    x631 = x410.mul_add(x493, x629);
+                    x632 = x411.mul_add(x503, x479);
+                    x633 = x412.mul_add(x503, x631);
+                    x634 = x630 - x528;
+                    x635 = x413.mul_add(x546, x522);
+                    x636 = x528 + x549;
+                    x637 = arith.four([x261, 0.0, 0.0, 0.0]);
+                    x638 = x578 - x576;
+                    x639 = x636 + x638;
+                    x640 = x637 - x601;
+                    [x641, _, _, _] = x605.to_array();
+                    *o114 = x641;
+                    [_, x642, _, _] = x605.to_array();
+                    *o115 = x642;
+                    [_, _, x643, _] = x605.to_array();
+                    *o116 = x643;
+                    [_, _, _, x644] = x605.to_array();
+                    *o117 = x644;
+                    [x645, _, _, _] = x612.to_array();
+                    *o120 = x645;
+                    [_, x646, _, _] = x612.to_array();
+                    *o121 = x646;
+                    [_, _, x647, _] = x612.to_array();
+                    *o122 = x647;
+                    [_, _, _, x648] = x612.to_array();
+                    *o123 = x648;
+                    [x649, _, _, _] = x427.to_array();
+                    *o126 = x649;
+                    [_, x650, _, _] = x427.to_array();
+                    *o127 = x650;
+                    [_, _, x651, _] = x427.to_array();
+                    *o128 = x651;
+                    [_, _, _, x652] = x427.to_array();
+                    *o129 = x652;
+                    [x653, _, _, _] = x613.to_array();
+                    *o132 = x653;
+                    [_, x654, _, _] = x613.to_array();
+                    *o133 = x654;
+                    [_, _, x655, _] = x613.to_array();
+                    *o134 = x655;
+                    [_, _, _, x656] = x613.to_array();
+                    *o135 = x656;
+                    [x657, _, _, _] = x436.to_array();
+                    *o138 = x657;
+                    [_, x658, _, _] = x436.to_array();
+                    *o139 = x658;
+                    [_, _, x659, _] = x436.to_array();
+                    *o140 = x659;
+                    [_, _, _, x660] = x436.to_array();
+                    *o141 = x660;
+                    [x661, _, _, _] = x441.to_array();
+                    *o144 = x661;
+                    [_, x662, _, _] = x441.to_array();
+                    *o145 = x662;
+                    [_, _, x663, _] = x441.to_array();
+                    *o146 = x663;
+                    [_, _, _, x664] = x441.to_array();
+                    *o147 = x664;
+                    [x665, _, _, _] = x445.to_array();
+                    *o150 = x665;
+                    [_, x666, _, _] = x445.to_array();
+                    *o151 = x666;
+                    [_, _, x667, _] = x445.to_array();
+                    *o152 = x667;
+                    [_, _, _, x668] = x445.to_array();
+                    *o153 = x668;
+                    [x669, _, _, _] = x450.to_array();
+                    *o156 = x669;
+                    [_, x670, _, _] = x450.to_array();
+                    *o157 = x670;
+                    [_, _, x671, _] = x450.to_array();
+                    *o158 = x671;
+                    [_, _, _, x672] = x450.to_array();
+                    *o159 = x672;
+                    [x673, _, _, _] = x455.to_array();
+                    *o162 = x673;
+                    [_, x674, _, _] = x455.to_array();
+                    *o163 = x674;
+                    [_, _, x675, _] = x455.to_array();
+                    *o164 = x675;
+                    [_, _, _, x676] = x455.to_array();
+                    *o165 = x676;
+                    [x677, _, _, _] = x460.to_array();
+                    *o168 = x677;
+                    [_, x678, _, _] = x460.to_array();
+                    *o169 = x678;
+                    [_, _, x679, _] = x460.to_array();
+                    *o170 = x679;
+                    [_, _, _, x680] = x460.to_array();
+                    *o171 = x680;
+                    [x681, _, _, _] = x618.to_array();
+                    *o174 = x681;
+                    [_, x682, _, _] = x618.to_array();
+                    *o175 = x682;
+                    [_, _, x683, _] = x618.to_array();
+                    *o176 = x683;
+                    [_, _, _, x684] = x618.to_array();
+                    *o177 = x684;
+                    [x685, _, _, _] = x623.to_array();
+                    *o180 = x685;
+                    [_, x686, _, _] = x623.to_array();
+                    *o181 = x686;
+                    [_, _, x687, _] = x623.to_array();
+                    *o182 = x687;
+                    [_, _, _, x688] = x623.to_array();
+                    *o183 = x688;
+                    [x689, _, _, _] = x470.to_array();
+                    *o186 = x689;
+                    [_, x690, _, _] = x470.to_array();
+                    *o187 = x690;
+                    [_, _, x691, _] = x470.to_array();
+                    *o188 = x691;
+                    [_, _, _, x692] = x470.to_array();
+                    *o189 = x692;
+                    [x693, _, _, _] = x625.to_array();
+                    *o192 = x693;
+                    [_, x694, _, _] = x625.to_array();
+                    *o193 = x694;
+                    [_, _, x695, _] = x625.to_array();
+                    *o194 = x695;
+                    [_, _, _, x696] = x625.to_array();
+                    *o195 = x696;
+                    [x697, _, _, _] = x479.to_array();
+                    *o198 = x697;
+                    [_, x698, _, _] = x479.to_array();
+                    *o199 = x698;
+                    [_, _, x699, _] = x479.to_array();
+                    *o200 = x699;
+                    [_, _, _, x700] = x479.to_array();
+                    *o201 = x700;
+                    [x701, _, _, _] = x484.to_array();
+                    *o204 = x701;
+                    [_, x702, _, _] = x484.to_array();
+                    *o205 = x702;
+                    [_, _, x703, _] = x484.to_array();
+                    *o206 = x703;
+                    [_, _, _, x704] = x484.to_array();
+                    *o207 = x704;
+                    [x705, _, _, _] = x488.to_array();
+                    *o210 = x705;
+                    [_, x706, _, _] = x488.to_array();
+                    *o211 = x706;
+                    [_, _, x707, _] = x488.to_array();
+                    *o212 = x707;
+                    [_, _, _, x708] = x488.to_array();
+                    *o213 = x708;
+                    [x709, _, _, _] = x493.to_array();
+                    *o216 = x709;
+                    [_, x710, _, _] = x493.to_array();
+                    *o217 = x710;
+                    [_, _, x711, _] = x493.to_array();
+                    *o218 = x711;
+                    [_, _, _, x712] = x493.to_array();
+                    *o219 = x712;
+                    [x713, _, _, _] = x498.to_array();
+                    *o222 = x713;
+                    [_, x714, _, _] = x498.to_array();
+                    *o223 = x714;
+                    [_, _, x715, _] = x498.to_array();
+                    *o224 = x715;
+                    [_, _, _, x716] = x498.to_array();
+                    *o225 = x716;
+                    [x717, _, _, _] = x503.to_array();
+                    *o228 = x717;
+                    [_, x718, _, _] = x503.to_array();
+                    *o229 = x718;
+                    [_, _, x719, _] = x503.to_array();
+                    *o230 = x719;
+                    [_, _, _, x720] = x503.to_array();
+                    *o231 = x720;
+                    [x721, _, _, _] = x628.to_array();
+                    *o234 = x721;
+                    [_, x722, _, _] = x628.to_array();
+                    *o235 = x722;
+                    [_, _, x723, _] = x628.to_array();
+                    *o236 = x723;
+                    [_, _, _, x724] = x628.to_array();
+                    *o237 = x724;
+                    [x725, _, _, _] = x626.to_array();
+                    *o240 = x725;
+                    [_, x726, _, _] = x626.to_array();
+                    *o241 = x726;
+                    [_, _, x727, _] = x626.to_array();
+                    *o242 = x727;
+                    [_, _, _, x728] = x626.to_array();
+                    *o243 = x728;
+                    [x729, _, _, _] = x513.to_array();
+                    *o246 = x729;
+                    [_, x730, _, _] = x513.to_array();
+                    *o247 = x730;
+                    [_, _, x731, _] = x513.to_array();
+                    *o248 = x731;
+                    [_, _, _, x732] = x513.to_array();
+                    *o249 = x732;
+                    [x733, _, _, _] = x522.to_array();
+                    *o252 = x733;
+                    [_, x734, _, _] = x522.to_array();
+                    *o253 = x734;
+                    [_, _, x735, _] = x522.to_array();
+                    *o254 = x735;
+                    [_, _, _, x736] = x522.to_array();
+                    *o255 = x736;
+                    [x737, _, _, _] = x632.to_array();
+                    *o258 = x737;
+                    [_, x738, _, _] = x632.to_array();
+                    *o259 = x738;
+                    [_, _, x739, _] = x632.to_array();
+                    *o260 = x739;
+                    [_, _, _, x740] = x632.to_array();
+                    *o261 = x740;
+                    [x741, _, _, _] = x528.to_array();
+                    *o264 = x741;
+                    [_, x742, _, _] = x528.to_array();
+                    *o265 = x742;
+                    [_, _, x743, _] = x528.to_array();
+                    *o266 = x743;
+                    [_, _, _, x744] = x528.to_array();
+                    *o267 = x744;
+                    [x745, _, _, _] = x533.to_array();
+                    *o270 = x745;
+                    [_, x746, _, _] = x533.to_array();
+                    *o271 = x746;
+                    [_, _, x747, _] = x533.to_array();
+                    *o272 = x747;
+                    [_, _, _, x748] = x533.to_array();
+                    *o273 = x748;
+                    [x749, _, _, _] = x634.to_array();
+                    *o276 = x749;
+                    [_, x750, _, _] = x634.to_array();
+                    *o277 = x750;
+                    [_, _, x751, _] = x634.to_array();
+                    *o278 = x751;
+                    [_, _, _, x752] = x634.to_array();
+                    *o279 = x752;
+                    [x753, _, _, _] = x540.to_array();
+                    *o282 = x753;
+                    [_, x754, _, _] = x540.to_array();
+                    *o283 = x754;
+                    [_, _, x755, _] = x540.to_array();
+                    *o284 = x755;
+                    [_, _, _, x756] = x540.to_array();
+                    *o285 = x756;
+                    [x757, _, _, _] = x546.to_array();
+                    *o288 = x757;
+                    [_, x758, _, _] = x546.to_array();
+                    *o289 = x758;
+                    [_, _, x759, _] = x546.to_array();
+                    *o290 = x759;
+                    [_, _, _, x760] = x546.to_array();
+                    *o291 = x760;
+                    [x761, _, _, _] = x549.to_array();
+                    *o294 = x761;
+                    [_, x762, _, _] = x549.to_array();
+                    *o295 = x762;
+                    [_, _, x763, _] = x549.to_array();
+                    *o296 = x763;
+                    [_, _, _, x764] = x549.to_array();
+                    *o297 = x764;
+                    [x765, _, _, _] = x633.to_array();
+                    *o300 = x765;
+                    [_, x766, _, _] = x633.to_array();
+                    *o301 = x766;
+                    [_, _, x767, _] = x633.to_array();
+                    *o302 = x767;
+                    [_, _, _, x768] = x633.to_array();
+                    *o303 = x768;
+                    [x769, _, _, _] = x561.to_array();
+                    *o306 = x769;
+                    [_, x770, _, _] = x561.to_array();
+                    *o307 = x770;
+                    [_, _, x771, _] = x561.to_array();
+                    *o308 = x771;
+                    [_, _, _, x772] = x561.to_array();
+                    *o309 = x772;
+                    [x773, _, _, _] = x635.to_array();
+                    *o312 = x773;
+                    [_, x774, _, _] = x635.to_array();
+                    *o313 = x774;
+                    [_, _, x775, _] = x635.to_array();
+                    *o314 = x775;
+                    [_, _, _, x776] = x635.to_array();
+                    *o315 = x776;
+                    [x777, _, _, _] = x572.to_array();
+                    *o318 = x777;
+                    [_, x778, _, _] = x572.to_array();
+                    *o319 = x778;
+                    [_, _, x779, _] = x572.to_array();
+                    *o320 = x779;
+                    [_, _, _, x780] = x572.to_array();
+                    *o321 = x780;
+                    [x781, _, _, _] = x579.to_array();
+                    *o324 = x781;
+                    [_, x782, _, _] = x579.to_array();
+                    *o325 = x782;
+                    [_, _, x783, _] = x579.to_array();
+                    *o326 = x783;
+                    [_, _, _, x784] = x579.to_array();
+                    *o327 = x784;
+                    [x785, _, _, _] = x584.to_array();
+                    *o330 = x785;
+                    [_, x786, _, _] = x584.to_array();
+                    *o331 = x786;
+                    [_, _, x787, _] = x584.to_array();
+                    *o332 = x787;
+                    [_, _, _, x788] = x584.to_array();
+                    *o333 = x788;
+                    [x789, _, _, _] = x589.to_array();
+                    *o336 = x789;
+                    [_, x790, _, _] = x589.to_array();
+                    *o337 = x790;
+                    [_, _, x791, _] = x589.to_array();
+                    *o338 = x791;
+                    [_, _, _, x792] = x589.to_array();
+                    *o339 = x792;
+                    [x793, _, _, _] = x594.to_array();
+                    *o342 = x793;
+                    [_, x794, _, _] = x594.to_array();
+                    *o343 = x794;
+                    [_, _, x795, _] = x594.to_array();
+                    *o344 = x795;
+                    [_, _, _, x796] = x594.to_array();
+                    *o345 = x796;
+                    [x797, _, _, _] = x600.to_array();
+                    *o348 = x797;
+                    [_, x798, _, _] = x600.to_array();
+                    *o349 = x798;
+                    [_, _, x799, _] = x600.to_array();
+                    *o350 = x799;
+                    [_, _, _, x800] = x600.to_array();
+                    *o351 = x800;
+                    [x801, _, _, _] = x639.to_array();
+                    *o354 = x801;
+                    [_, x802, _, _] = x639.to_array();
+                    *o355 = x802;
+                    [_, _, x803, _] = x639.to_array();
+                    *o356 = x803;
+                    [_, _, _, x804] = x639.to_array();
+                    *o357 = x804;
+                    [x805, _, _, _] = x640.to_array();
+                    *o358 = x805;
+                    [_, x806, _, _] = x640.to_array();
+                    *o359 = x806;
+                }
+            }
+        }
+        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, a, out))
     }
     ///Operations: 698 mul, 722 add/sub, 1 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -8075,6 +11547,1203 @@ impl BaseParameters<6, 60, 36> for Ur5 {
         }
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a))
     }
+    #[inline(never)]
+    fn base_regressor_into(
+        t: &JointTrig<6>,
+        qd: &SVector<f64, 6>,
+        v: &SVector<f64, 6>,
+        a: &SVector<f64, 6>,
+        out: &mut dyngen_runtime::ResultBuffer<SMatrix<f64, 6, 36>>,
+    ) {
+        let out = dyngen_runtime::__private::claim(out, 6135561062022235460u64);
+        struct Body;
+        impl dyngen_runtime::__private::Kernel<
+            (
+                &JointTrig<6>,
+                &SVector<f64, 6>,
+                &SVector<f64, 6>,
+                &SVector<f64, 6>,
+                &mut SMatrix<f64, 6, 36>,
+            ),
+        > for Body {
+            type Output = ();
+            #[inline(always)]
+            fn run<M: dyngen_runtime::__private::MulAdd>(
+                arith: M,
+                (
+                    t,
+                    qd,
+                    v,
+                    a,
+                    out,
+                ): (
+                    &JointTrig<6>,
+                    &SVector<f64, 6>,
+                    &SVector<f64, 6>,
+                    &SVector<f64, 6>,
+                    &mut SMatrix<f64, 6, 36>,
+                ),
+            ) {
+                use dyngen_runtime::__private::FourLanes as _;
+                let [_, s1, s2, s3, s4, s5] = t.sin;
+                let [_, c1, c2, c3, c4, c5] = t.cos;
+                let [qd0, qd1, qd2, qd3, qd4, qd5] = qd.data.0[0];
+                let [v0, v1, v2, v3, v4, v5] = v.data.0[0];
+                let [a0, a1, a2, a3, a4, a5] = a.data.0[0];
+                {
+                    let [[o0, _, _, _, _, _], [o6, o7, _, _, _, _], [o12, o13, _, _, _, _,
+                    ], [o18, o19, _, _, _, _], [o24, o25, _, _, _, _], [o30, o31, _, _,
+                    _, _], [o36, o37, _, _, _, _], [o42, o43, _, _, _, _], [o48, o49,
+                    o50, o51, _, _], [o54, o55, o56, o57, _, _], [o60, o61, o62, o63, _,
+                    _], [o66, o67, o68, o69, _, _], [o72, o73, o74, o75, _, _], [o78,
+                    o79, o80, o81, _, _], [o84, o85, o86, o87, _, _], [o90, o91, o92,
+                    o93, _, _], [o96, o97, o98, o99, _, _], [o102, o103, o104, o105, _, _,
+                    ], [o108, o109, o110, o111, _, _], [o114, o115, o116, o117, _, _],
+                    [o120, o121, o122, o123, _, _], [o126, o127, o128, o129, _, _],
+                    [o132, o133, o134, o135, o136, _], [o138, o139, o140, o141, o142, _],
+                    [o144, o145, o146, o147, o148, _], [o150, o151, o152, o153, o154, _],
+                    [o156, o157, o158, o159, o160, _], [o162, o163, o164, o165, o166, _],
+                    [o168, o169, o170, o171, o172, _], [o174, o175, o176, o177, o178,
+                    o179], [o180, o181, o182, o183, o184, o185], [o186, o187, o188, o189,
+                    o190, o191], [o192, o193, o194, o195, o196, o197], [o198, o199, o200,
+                    o201, o202, o203], [o204, o205, o206, o207, o208, o209], [o210, o211,
+                    o212, o213, o214, o215]] = &mut out.data.0;
+                    *o0 = a0;
+                    let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                    x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                    x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                    x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                    x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                    x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                    x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                    x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109,
+                    x110, x111, x112, x113, x114, x115, x116, x117, x118, x119, x120,
+                    x121, x122, x123, x124, x125, x126, x127, x128, x129, x130, x131,
+                    x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142,
+                    x143, x144, x145, x146, x147, x148, x149, x150, x151, x152, x153,
+                    x154, x155, x156, x157, x158, x159, x160, x161, x162, x163, x164,
+                    x165, x166, x167, x168, x169, x170, x171, x172, x173, x174, x175,
+                    x176, x177, x178, x179, x180, x181, x182, x183, x184, x185, x186,
+                    x187, x188, x189, x190, x191, x192, x193, x194, x195, x196, x197,
+                    x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
+                    x209, x210, x211, x212, x213, x214, x215, x216, x217, x218, x219,
+                    x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                    x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241,
+                    x242, x243, x244, x245, x246, x247, x248, x249, x250, x251, x252,
+                    x253, x254, x255, x256, x257, x258, x259, x260, x261, x262, x263,
+                    x264, x265, x266, x267, x268, x269, x270, x271, x272, x273, x274,
+                    x275, x276, x277, x278, x279, x280, x281, x282, x283, x284, x285,
+                    x286, x287, x288, x289, x290, x291, x292, x293, x294, x295, x296,
+                    x297, x298, x299, x300, x301, x302, x303, x304, x305, x306, x307,
+                    x308, x309, x310, x311, x312, x313, x314, x315, x316, x317, x318,
+                    x319, x320, x321, x322, x323, x324, x325, x326, x327, x328, x329,
+                    x330, x331, x332, x333, x334, x335, x336, x337, x338, x339, x340,
+                    x341, x342, x343, x344, x345, x346, x347, x348, x349, x350, x351,
+                    x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                    x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373,
+                    x374, x375, x376, x377, x378, x379, x380, x381, x382, x383, x384,
+                    x385, x386, x387, x388, x389, x390, x391, x392, x393, x394, x395,
+                    x396, x397, x398, x399, x400, x401, x402, x403, x404, x405, x406,
+                    x407, x408, x409, x410, x411, x412, x413, x414, x415, x416, x417,
+                    x418, x419, x420, x421, x422, x423, x424, x425, x426, x427, x428,
+                    x429, x430, x431, x432, x433, x434, x435, x436, x437, x438, x439,
+                    x440, x441, x442, x443, x444, x445, x446, x447, x448, x449, x450,
+                    x451, x452, x453, x454, x455, x456, x457, x458, x459, x460, x461,
+                    x462, x463, x464, x465, x466, x467, x468, x469, x470, x471, x472,
+                    x473, x474, x475, x476, x477, x478, x479, x480, x481, x482, x483,
+                    x484, x485, x486, x487, x488, x489, x490, x501, x502, x503, x506,
+                    x508, x513, x515, x516, x517, x518, x519, x520, x521, x522, x523,
+                    x524, x525, x526, x527, x528, x529, x530, x531, x532, x533, x534,
+                    x535, x536, x537, x538, x539, x540, x541, x542, x543, x544, x545,
+                    x546, x547, x548, x549, x550, x551, x552, x553, x554, x555, x556,
+                    x557, x558, x559, x560, x561, x562, x563, x564, x565, x566, x567,
+                    x568, x569, x570, x571, x572, x573, x574, x575, x576, x789, x790,
+                    x791, x792, x793, x794, x795, x796, x797, x798, x799, x800, x801,
+                    x802, x803, x804, x805, x806, x807, x808, x809, x810, x811, x812,
+                    x813, x814, x815, x816, x817, x818, x819, x820, x821, x822, x823,
+                    x824, x825, x826, x827, x828, x829, x830, x831, x832, x833, x834,
+                    x835, x836, x837, x838, x839, x840, x841, x842, x843, x844, x845,
+                    x846, x847, x848, x849, x850, x851, x852, x853, x854, x855, x856,
+                    x857, x858, x859, x860, x861, x862, x863, x864, x865, x866, x867,
+                    x868, x869, x870, x871, x872, x873, x874, x875, x876, x877, x878,
+                    x879, x880, x881, x882, x883, x884, x885, x886, x887, x888, x889,
+                    x890, x891, x892, x893, x894, x895, x896, x897, x898, x899, x900,
+                    ]: [f64; 671];
+                    let [x491, x492, x493, x494, x495, x496, x497, x498, x499, x500,
+                    x504, x505, x507, x509, x510, x511, x512, x514, x577, x578, x579,
+                    x580, x581, x582, x583, x584, x585, x586, x587, x588, x589, x590,
+                    x591, x592, x593, x594, x595, x596, x597, x598, x599, x600, x601,
+                    x602, x603, x604, x605, x606, x607, x608, x609, x610, x611, x612,
+                    x613, x614, x615, x616, x617, x618, x619, x620, x621, x622, x623,
+                    x624, x625, x626, x627, x628, x629, x630, x631, x632, x633, x634,
+                    x635, x636, x637, x638, x639, x640, x641, x642, x643, x644, x645,
+                    x646, x647, x648, x649, x650, x651, x652, x653, x654, x655, x656,
+                    x657, x658, x659, x660, x661, x662, x663, x664, x665, x666, x667,
+                    x668, x669, x670, x671, x672, x673, x674, x675, x676, x677, x678,
+                    x679, x680, x681, x682, x683, x684, x685, x686, x687, x688, x689,
+                    x690, x691, x692, x693, x694, x695, x696, x697, x698, x699, x700,
+                    x701, x702, x703, x704, x705, x706, x707, x708, x709, x710, x711,
+                    x712, x713, x714, x715, x716, x717, x718, x719, x720, x721, x722,
+                    x723, x724, x725, x726, x727, x728, x729, x730, x731, x732, x733,
+                    x734, x735, x736, x737, x738, x739, x740, x741, x742, x743, x744,
+                    x745, x746, x747, x748, x749, x750, x751, x752, x753, x754, x755,
+                    x756, x757, x758, x759, x760, x761, x762, x763, x764, x765, x766,
+                    x767, x768, x769, x770, x771, x772, x773, x774, x775, x776, x777,
+                    x778, x779, x780, x781, x782, x783, x784, x785, x786, x787, x788,
+                    ]: [M::Four; 230];
+                    x0 = c1 * c2;
+                    x1 = arith.mul_add(s1, s2, -x0);
+                    x2 = s1 * c2;
+                    x3 = arith.mul_add(c1, s2, x2);
+                    x4 = s3 * x1;
+                    x5 = arith.mul_add(c3, x3, -x4);
+                    x6 = s3 * x3;
+                    x7 = arith.mul_add(c3, x1, x6);
+                    x8 = c4 * x5;
+                    x9 = s4 * x5;
+                    x10 = -x9;
+                    x11 = s5 * x7;
+                    x12 = -x11;
+                    x13 = c5 * x7;
+                    x14 = qd0 * c1;
+                    x15 = qd0 * s1;
+                    x16 = 0.13585f64 * qd0;
+                    x17 = s1 * x16;
+                    x18 = c1 * x16;
+                    x19 = v0 * c1;
+                    x20 = v0 * s1;
+                    x21 = a0 * c1;
+                    x22 = 0.13585f64 * a0;
+                    x23 = s1 * x22;
+                    x24 = arith.mul_add(-9.81f64, c1, x23);
+                    x25 = c1 * x22;
+                    x26 = arith.mul_add(-9.81f64, s1, -x25);
+                    x27 = v1 * x14;
+                    x28 = v1 * x18;
+                    x29 = v1 * x17;
+                    x30 = arith.mul_add(v1, x15, -x21);
+                    x31 = arith.mul_add(a0, s1, x27);
+                    x32 = x24 + x28;
+                    x33 = x26 + x29;
+                    x34 = c2 * x14;
+                    x35 = arith.mul_add(s2, x15, -x34);
+                    x36 = c2 * x15;
+                    x37 = arith.mul_add(s2, x14, x36);
+                    x38 = 0.425f64 * qd1;
+                    x39 = arith.mul_add(0.1197f64, x15, -x38);
+                    x40 = -0.425f64 * x14;
+                    x41 = x17 - x39;
+                    x42 = arith.mul_add(0.1197f64, x14, -x18);
+                    x43 = s2 * x42;
+                    x44 = arith.mul_add(c2, x41, -x43);
+                    x45 = c2 * x42;
+                    x46 = arith.mul_add(s2, x41, x45);
+                    x47 = qd1 + qd2;
+                    x48 = c2 * x19;
+                    x49 = arith.mul_add(s2, x20, -x48);
+                    x50 = c2 * x20;
+                    x51 = arith.mul_add(s2, x19, x50);
+                    x52 = v1 + v2;
+                    x53 = s2 * x31;
+                    x54 = arith.mul_add(c2, x30, x53);
+                    x55 = c2 * x31;
+                    x56 = arith.mul_add(s2, x30, -x55);
+                    x57 = 0.425f64 * a1;
+                    x58 = arith.mul_add(0.1197f64, x31, -x57);
+                    x59 = 0.425f64 * x30;
+                    x60 = x32 - x58;
+                    x61 = arith.mul_add(-0.1197f64, x30, x33);
+                    x62 = s2 * x61;
+                    x63 = arith.mul_add(c2, x60, -x62);
+                    x64 = c2 * x61;
+                    x65 = arith.mul_add(s2, x60, x64);
+                    x66 = a1 + a2;
+                    x67 = arith.mul_add(v2, x37, x54);
+                    x68 = arith.mul_add(v2, x35, x56);
+                    x69 = arith.mul_add(-v2, x46, x63);
+                    x70 = arith.mul_add(v2, x44, x65);
+                    x71 = s3 * x35;
+                    x72 = arith.mul_add(c3, x37, -x71);
+                    x73 = s3 * x37;
+                    x74 = arith.mul_add(c3, x35, x73);
+                    x75 = arith.mul_add(0.39225f64, x47, x44);
+                    x76 = arith.mul_add(0.39225f64, x35, x40);
+                    x77 = c3 * x46;
+                    x78 = arith.mul_add(s3, x75, x77);
+                    x79 = s3 * x46;
+                    x80 = arith.mul_add(c3, x75, -x79);
+                    x81 = qd3 + x47;
+                    x82 = s3 * x49;
+                    x83 = arith.mul_add(c3, x51, -x82);
+                    x84 = s3 * x51;
+                    x85 = arith.mul_add(c3, x49, x84);
+                    x86 = v3 + x52;
+                    x87 = c3 * x68;
+                    x88 = arith.mul_add(s3, x67, x87);
+                    x89 = s3 * x68;
+                    x90 = arith.mul_add(c3, x67, -x89);
+                    x91 = arith.mul_add(0.39225f64, x66, x69);
+                    x92 = arith.mul_add(0.39225f64, x67, x59);
+                    x93 = c3 * x70;
+                    x94 = arith.mul_add(s3, x91, x93);
+                    x95 = s3 * x70;
+                    x96 = arith.mul_add(c3, x91, -x95);
+                    x97 = a3 + x66;
+                    x98 = v3 * x78;
+                    x99 = arith.mul_add(v3, x74, x88);
+                    x100 = arith.mul_add(v3, x72, x90);
+                    x101 = arith.mul_add(v3, x80, x94);
+                    x102 = x96 - x98;
+                    x103 = s4 * x81;
+                    x104 = arith.mul_add(c4, x72, x103);
+                    x105 = s4 * x72;
+                    x106 = arith.mul_add(c4, x81, -x105);
+                    x107 = arith.mul_add(0.093f64, x74, x78);
+                    x108 = arith.mul_add(0.093f64, x72, x80);
+                    x109 = s4 * x76;
+                    x110 = arith.mul_add(c4, x107, x109);
+                    x111 = c4 * x76;
+                    x112 = arith.mul_add(s4, x107, -x111);
+                    x113 = qd4 + x74;
+                    x114 = s4 * x86;
+                    x115 = arith.mul_add(c4, x83, x114);
+                    x116 = s4 * x83;
+                    x117 = arith.mul_add(c4, x86, -x116);
+                    x118 = v4 + x85;
+                    x119 = c4 * x99;
+                    x120 = arith.mul_add(s4, x97, -x119);
+                    x121 = c4 * x97;
+                    x122 = arith.mul_add(s4, x99, x121);
+                    x123 = arith.mul_add(0.093f64, x100, x101);
+                    x124 = arith.mul_add(-0.093f64, x99, x102);
+                    x125 = s4 * x92;
+                    x126 = arith.mul_add(c4, x123, x125);
+                    x127 = c4 * x92;
+                    x128 = arith.mul_add(s4, x123, -x127);
+                    x129 = a4 + x100;
+                    x130 = v4 * x104;
+                    x131 = v4 * x112;
+                    x132 = arith.mul_add(v4, x106, x120);
+                    x133 = x122 - x130;
+                    x134 = x131 - x126;
+                    x135 = arith.mul_add(v4, x110, x128);
+                    x136 = s5 * x113;
+                    x137 = arith.mul_add(c5, x104, -x136);
+                    x138 = c5 * x113;
+                    x139 = arith.mul_add(s5, x104, x138);
+                    x140 = arith.mul_add(0.09465f64, x106, -x110);
+                    x141 = arith.mul_add(-0.09465f64, x104, x112);
+                    x142 = s5 * x108;
+                    x143 = arith.mul_add(c5, x140, -x142);
+                    x144 = c5 * x108;
+                    x145 = arith.mul_add(s5, x140, x144);
+                    x146 = qd5 + x106;
+                    x147 = s5 * x118;
+                    x148 = arith.mul_add(c5, x115, -x147);
+                    x149 = c5 * x118;
+                    x150 = arith.mul_add(s5, x115, x149);
+                    x151 = v5 + x117;
+                    x152 = s5 * x129;
+                    x153 = arith.mul_add(c5, x132, -x152);
+                    x154 = c5 * x129;
+                    x155 = arith.mul_add(s5, x132, x154);
+                    x156 = 0.09465f64 * x132;
+                    x157 = arith.mul_add(0.09465f64, x133, x134);
+                    x158 = x135 - x156;
+                    x159 = s5 * x124;
+                    x160 = arith.mul_add(c5, x157, -x159);
+                    x161 = c5 * x124;
+                    x162 = arith.mul_add(s5, x157, x161);
+                    x163 = a5 + x133;
+                    x164 = v5 * x139;
+                    x165 = x153 - x164;
+                    x166 = arith.mul_add(v5, x137, x155);
+                    x167 = arith.mul_add(-v5, x145, x160);
+                    x168 = arith.mul_add(v5, x143, x162);
+                    x169 = -0.5f64 * x19;
+                    x170 = 0.5f64 * v1;
+                    x171 = -0.5f64 * x20;
+                    x172 = qd1 * x171;
+                    x173 = x15 * x170;
+                    x174 = x172 + x173;
+                    x175 = x15 * x169;
+                    x176 = x14 * x171;
+                    x177 = x176 - x175;
+                    x178 = x14 * x170;
+                    x179 = qd1 * x169;
+                    x180 = x178 + x179;
+                    x181 = x30 - x174;
+                    x182 = a1 - x177;
+                    *o31 = x182;
+                    x183 = x180 - x31;
+                    x184 = x18 * x19;
+                    x185 = arith.mul_add(x17, x20, x184);
+                    x186 = x32 - x28;
+                    *o13 = x186;
+                    x187 = x14 * x19;
+                    x188 = arith.mul_add(qd1, v1, x187);
+                    x189 = x15 * x20;
+                    x190 = x188 + x189;
+                    x191 = x29 - x33;
+                    *o7 = x191;
+                    x192 = x187 - x190;
+                    x193 = arith.mul_add(x15, x19, -a1);
+                    x194 = arith.mul_add(x14, x20, a1);
+                    x195 = x189 - x190;
+                    x196 = x175 + x176;
+                    x197 = -x196;
+                    *o19 = x197;
+                    x198 = x178 - x179;
+                    x199 = x14 * x169;
+                    x200 = qd1 * x170;
+                    x201 = x199 + x200;
+                    x202 = x175 + x182;
+                    x203 = x181 - x173;
+                    x204 = x176 + x202;
+                    x205 = x172 + x203;
+                    *o25 = x205;
+                    x206 = x201 + x201;
+                    x207 = x173 - x172;
+                    x208 = x179 - x178;
+                    x209 = x15 * x171;
+                    x210 = x199 - x209;
+                    x211 = x179 + x183;
+                    x212 = x181 - x172;
+                    x213 = x211 - x178;
+                    x214 = x210 + x210;
+                    *o37 = x214;
+                    x215 = x173 + x212;
+                    x216 = x200 + x209;
+                    x217 = x178 + x183;
+                    x218 = x182 - x176;
+                    x219 = x216 + x216;
+                    x220 = x217 - x179;
+                    *o43 = x220;
+                    x221 = x218 - x175;
+                    x222 = 0.5f64 * x49;
+                    x223 = 0.5f64 * x52;
+                    x224 = -0.5f64 * x51;
+                    x225 = x47 * x224;
+                    x226 = x37 * x223;
+                    x227 = x225 + x226;
+                    x228 = x37 * x222;
+                    x229 = x35 * x224;
+                    x230 = x228 + x229;
+                    x231 = x35 * x223;
+                    x232 = x47 * x222;
+                    x233 = x231 - x232;
+                    x234 = x67 - x227;
+                    x235 = x66 + x230;
+                    x236 = x68 - x233;
+                    x237 = x44 * x51;
+                    x238 = x46 * x49;
+                    x239 = x35 * x49;
+                    x240 = arith.mul_add(x47, x52, x239);
+                    x241 = x37 * x51;
+                    x242 = x240 + x241;
+                    x243 = arith.mul_add(x44, x52, -x70);
+                    x244 = x59 + x237;
+                    x245 = arith.mul_add(x40, x49, x243);
+                    x246 = x238 + x244;
+                    x247 = x239 - x242;
+                    x248 = arith.mul_add(x47, x49, x68);
+                    x249 = arith.mul_add(x37, x49, x66);
+                    x250 = x59 + x238;
+                    x251 = arith.mul_add(x46, x52, x69);
+                    x252 = x237 + x250;
+                    x253 = arith.mul_add(-x40, x51, x251);
+                    x254 = arith.mul_add(-x35, x51, x66);
+                    x255 = arith.mul_add(x47, x51, x67);
+                    x256 = x241 - x242;
+                    x257 = x229 - x228;
+                    x258 = x231 + x232;
+                    x259 = x35 * x222;
+                    x260 = x47 * x223;
+                    x261 = x259 - x260;
+                    x262 = x228 + x235;
+                    x263 = x234 - x226;
+                    x264 = x262 - x229;
+                    x265 = x225 + x263;
+                    x266 = x261 + x261;
+                    x267 = x226 - x225;
+                    x268 = x37 * x224;
+                    x269 = x259 + x268;
+                    x270 = x232 + x236;
+                    x271 = x234 - x225;
+                    x272 = x231 + x270;
+                    x273 = x269 + x269;
+                    x274 = x226 + x271;
+                    x275 = x260 + x268;
+                    x276 = x236 - x231;
+                    x277 = x229 + x235;
+                    x278 = x275 + x275;
+                    x279 = x276 - x232;
+                    x280 = x277 - x228;
+                    x281 = 0.5f64 * x83;
+                    x282 = 0.5f64 * x86;
+                    x283 = 0.5f64 * x85;
+                    x284 = x81 * x283;
+                    x285 = x74 * x282;
+                    x286 = x284 - x285;
+                    x287 = x74 * x281;
+                    x288 = x72 * x283;
+                    x289 = x287 - x288;
+                    x290 = x72 * x282;
+                    x291 = x81 * x281;
+                    x292 = x290 - x291;
+                    x293 = x99 + x286;
+                    x294 = x97 - x289;
+                    x295 = x100 - x292;
+                    x296 = x78 * x85;
+                    x297 = x80 * x83;
+                    x298 = x72 * x83;
+                    x299 = arith.mul_add(x81, x86, x298);
+                    x300 = x74 * x85;
+                    x301 = x299 + x300;
+                    x302 = x98 - x96;
+                    x303 = arith.mul_add(-x78, x86, x302);
+                    x304 = x92 + x296;
+                    x305 = arith.mul_add(x76, x83, x303);
+                    x306 = x297 + x304;
+                    x307 = x298 - x301;
+                    x308 = arith.mul_add(x81, x83, x100);
+                    x309 = arith.mul_add(x74, x83, -x97);
+                    x310 = x92 + x297;
+                    x311 = arith.mul_add(x80, x86, -x101);
+                    x312 = x296 + x310;
+                    x313 = arith.mul_add(x76, x85, x311);
+                    x314 = arith.mul_add(x72, x85, x97);
+                    x315 = arith.mul_add(x81, x85, x99);
+                    x316 = x300 - x301;
+                    x317 = x287 + x288;
+                    x318 = x290 + x291;
+                    x319 = x72 * x281;
+                    x320 = x81 * x282;
+                    x321 = x319 - x320;
+                    x322 = x294 - x287;
+                    x323 = x285 - x293;
+                    x324 = x322 - x288;
+                    x325 = x284 + x323;
+                    x326 = x321 + x321;
+                    x327 = x284 + x285;
+                    x328 = x74 * x283;
+                    x329 = x328 - x319;
+                    x330 = x291 + x295;
+                    x331 = x284 + x293;
+                    x332 = x290 + x330;
+                    x333 = x329 + x329;
+                    x334 = x285 + x331;
+                    x335 = x320 - x328;
+                    x336 = x295 - x290;
+                    x337 = x288 + x294;
+                    x338 = x335 + x335;
+                    x339 = x336 - x291;
+                    x340 = x287 + x337;
+                    x341 = 0.5f64 * x115;
+                    x342 = 0.5f64 * x117;
+                    x343 = 0.5f64 * x118;
+                    x344 = x106 * x343;
+                    x345 = x113 * x342;
+                    x346 = x344 - x345;
+                    x347 = x113 * x341;
+                    x348 = x104 * x343;
+                    x349 = x347 - x348;
+                    x350 = x104 * x342;
+                    x351 = x106 * x341;
+                    x352 = x350 - x351;
+                    x353 = x132 - x346;
+                    x354 = x133 - x349;
+                    x355 = x129 - x352;
+                    *o172 = x355;
+                    x356 = x112 * x115;
+                    x357 = x110 * x117;
+                    x358 = x104 * x115;
+                    x359 = x106 * x117;
+                    x360 = x358 + x359;
+                    x361 = arith.mul_add(x113, x118, x360);
+                    x362 = x124 + x357;
+                    x363 = arith.mul_add(-x110, x118, x135);
+                    x364 = x356 + x362;
+                    x365 = arith.mul_add(-x108, x115, x363);
+                    *o136 = x365;
+                    x366 = x130 - x122;
+                    x367 = x358 - x361;
+                    x368 = arith.mul_add(x106, x115, x129);
+                    x369 = arith.mul_add(x113, x115, x366);
+                    x370 = x126 - x131;
+                    x371 = x124 + x356;
+                    x372 = arith.mul_add(x112, x118, x370);
+                    x373 = x357 + x371;
+                    x374 = arith.mul_add(-x108, x117, x372);
+                    *o142 = x374;
+                    x375 = arith.mul_add(x104, x117, -x129);
+                    x376 = x359 - x361;
+                    x377 = arith.mul_add(x113, x117, x132);
+                    x378 = x347 + x348;
+                    x379 = x350 + x351;
+                    x380 = -x379;
+                    *o148 = x380;
+                    x381 = x104 * x341;
+                    x382 = x106 * x342;
+                    x383 = x381 - x382;
+                    x384 = x354 - x347;
+                    x385 = x345 + x353;
+                    x386 = x384 - x348;
+                    x387 = x344 + x385;
+                    x388 = x383 + x383;
+                    *o154 = x388;
+                    x389 = x344 + x345;
+                    x390 = x113 * x343;
+                    x391 = x390 - x381;
+                    x392 = x351 + x355;
+                    x393 = x353 - x344;
+                    x394 = x350 + x392;
+                    x395 = x391 + x391;
+                    x396 = x393 - x345;
+                    *o160 = x396;
+                    x397 = x382 - x390;
+                    x398 = x355 - x350;
+                    x399 = x348 + x354;
+                    x400 = x397 + x397;
+                    x401 = x398 - x351;
+                    x402 = x347 + x399;
+                    *o166 = x402;
+                    x403 = 0.5f64 * x148;
+                    x404 = 0.5f64 * x151;
+                    x405 = 0.5f64 * x150;
+                    x406 = x146 * x405;
+                    x407 = x139 * x404;
+                    x408 = x406 - x407;
+                    x409 = x139 * x403;
+                    x410 = x137 * x405;
+                    x411 = x409 - x410;
+                    x412 = x137 * x404;
+                    x413 = x146 * x403;
+                    x414 = x412 - x413;
+                    x415 = x165 - x408;
+                    x416 = x163 - x411;
+                    *o203 = x416;
+                    x417 = x166 - x414;
+                    x418 = x143 * x150;
+                    x419 = x145 * x148;
+                    x420 = x137 * x148;
+                    x421 = arith.mul_add(x146, x151, x420);
+                    x422 = x139 * x150;
+                    x423 = x421 + x422;
+                    x424 = arith.mul_add(x143, x151, -x168);
+                    x425 = x158 + x418;
+                    x426 = arith.mul_add(-x141, x148, x424);
+                    *o179 = x426;
+                    x427 = x425 - x419;
+                    x428 = x420 - x423;
+                    x429 = arith.mul_add(x146, x148, x166);
+                    x430 = arith.mul_add(x139, x148, -x163);
+                    x431 = x164 - x153;
+                    x432 = x156 - x135;
+                    x433 = x419 + x432;
+                    x434 = arith.mul_add(x145, x151, x167);
+                    x435 = x433 - x418;
+                    x436 = arith.mul_add(-x141, x150, x434);
+                    *o185 = x436;
+                    x437 = arith.mul_add(x137, x150, x163);
+                    x438 = arith.mul_add(x146, x150, x431);
+                    x439 = x422 - x423;
+                    x440 = x409 + x410;
+                    *o191 = x440;
+                    x441 = x412 + x413;
+                    x442 = x137 * x403;
+                    x443 = x146 * x404;
+                    x444 = x442 - x443;
+                    x445 = x416 - x409;
+                    x446 = x407 + x415;
+                    x447 = x445 - x410;
+                    x448 = x406 + x446;
+                    *o197 = x448;
+                    x449 = x444 + x444;
+                    x450 = x406 + x407;
+                    x451 = x139 * x405;
+                    x452 = x451 - x442;
+                    x453 = x413 + x417;
+                    x454 = x415 - x406;
+                    x455 = x412 + x453;
+                    x456 = x452 + x452;
+                    *o209 = x456;
+                    x457 = x454 - x407;
+                    x458 = x443 - x451;
+                    x459 = x417 - x412;
+                    x460 = x410 + x416;
+                    x461 = x458 + x458;
+                    x462 = x459 - x413;
+                    *o215 = x462;
+                    x463 = x409 + x460;
+                    x464 = s1 * x198;
+                    x465 = arith.mul_add(c1, x181, x464);
+                    x466 = -x465;
+                    *o18 = x466;
+                    x467 = c1 * x204;
+                    x468 = arith.mul_add(s1, x206, -x467);
+                    *o24 = x468;
+                    x469 = s1 * x208;
+                    x470 = arith.mul_add(c1, x207, x469);
+                    x471 = -x470;
+                    *o30 = x471;
+                    x472 = s1 * x215;
+                    x473 = arith.mul_add(c1, x213, x472);
+                    x474 = -x473;
+                    *o36 = x474;
+                    x475 = s1 * x221;
+                    x476 = arith.mul_add(c1, x219, x475);
+                    x477 = -x476;
+                    *o42 = x477;
+                    x478 = c5 * x427;
+                    *o178 = x478;
+                    x479 = s5 * x435;
+                    x480 = -x479;
+                    *o184 = x480;
+                    x481 = c5 * x441;
+                    x482 = arith.mul_add(s5, x415, x481);
+                    x483 = -x482;
+                    *o190 = x483;
+                    x484 = s5 * x447;
+                    x485 = arith.mul_add(c5, x449, -x484);
+                    *o196 = x485;
+                    x486 = arith.mul_add(s5, x450, x481);
+                    *o202 = x486;
+                    x487 = s5 * x455;
+                    x488 = arith.mul_add(c5, x457, -x487);
+                    *o208 = x488;
+                    x489 = s5 * x461;
+                    x490 = arith.mul_add(c5, x463, -x489);
+                    *o214 = x490;
+                    x491 = arith.splat_four(0.39225f64);
+                    x492 = arith.splat_four(s3);
+                    x493 = arith.splat_four(c3);
+                    x494 = arith.splat_four(c4);
+                    x495 = arith.splat_four(s4);
+                    x496 = arith.splat_four(0.09465f64);
+                    x497 = arith.splat_four(c5);
+                    x498 = arith.splat_four(s5);
+                    x499 = arith.splat_four(c2);
+                    x500 = arith.splat_four(s2);
+                    x501 = 0.13585f64 * s1;
+                    x502 = -0.13585f64 * c1;
+                    x503 = -0.425f64 * c1;
+                    x504 = arith.four([0.0, 1f64, 1f64, 0.0]);
+                    x505 = arith.four([0.0, 1f64, 1f64, 1f64]);
+                    x506 = 0.093f64 * x7;
+                    x507 = arith.four([x506, 0.0, 0.0, 0.0]);
+                    x508 = 0.093f64 * x5;
+                    x509 = arith.four([x8, 0.0, 0.0, 0.0]);
+                    x510 = x495.mul_add(x505, x509);
+                    x511 = arith.four([x10, 0.0, 0.0, 0.0]);
+                    x512 = x494.mul_add(x505, x511);
+                    x513 = -x508;
+                    x514 = arith.four([x513, 0.0, 0.0, 0.0]);
+                    x515 = x193 * x502;
+                    x516 = arith.mul_add(x192, x501, x515);
+                    x517 = arith.mul_add(s1, x185, x516);
+                    *o6 = x517;
+                    x518 = x195 * x502;
+                    x519 = arith.mul_add(x194, x501, x518);
+                    x520 = arith.mul_add(-c1, x185, x519);
+                    *o12 = x520;
+                    x521 = arith.mul_add(-0.1197f64, s1, x501);
+                    x522 = arith.mul_add(0.1197f64, c1, x502);
+                    x523 = s2 * x522;
+                    x524 = -x523;
+                    x525 = c2 * x522;
+                    x526 = x3 * x246;
+                    x527 = x248 * x503;
+                    x528 = -x527;
+                    x529 = x1 * x252;
+                    x530 = x255 * x503;
+                    x531 = x1 * x234;
+                    x532 = x3 * x258;
+                    x533 = x1 * x264;
+                    x534 = x3 * x266;
+                    x535 = -x534;
+                    x536 = x1 * x267;
+                    x537 = -x532;
+                    x538 = x1 * x272;
+                    x539 = x3 * x274;
+                    x540 = -x539;
+                    x541 = x1 * x278;
+                    x542 = x3 * x280;
+                    x543 = -x542;
+                    x544 = arith.mul_add(0.39225f64, x1, x503);
+                    x545 = x7 * x306;
+                    x546 = -x545;
+                    x547 = x308 * x544;
+                    x548 = -x547;
+                    x549 = x5 * x312;
+                    x550 = x315 * x544;
+                    x551 = -x550;
+                    x552 = x5 * x293;
+                    x553 = -x552;
+                    x554 = x7 * x318;
+                    x555 = -x554;
+                    x556 = x5 * x324;
+                    x557 = x7 * x326;
+                    x558 = x5 * x327;
+                    x559 = -x558;
+                    x560 = x5 * x332;
+                    x561 = x7 * x334;
+                    x562 = -x561;
+                    x563 = x5 * x338;
+                    x564 = x7 * x340;
+                    x565 = s4 * x544;
+                    x566 = -x565;
+                    x567 = c4 * x544;
+                    x568 = -x567;
+                    x569 = x7 * x365;
+                    x570 = x7 * x374;
+                    x571 = x7 * x379;
+                    x572 = -x571;
+                    x573 = x7 * x388;
+                    x574 = x7 * x396;
+                    x575 = x7 * x402;
+                    x576 = x7 * x355;
+                    x577 = arith.four([x521, 0.425f64, 0.0, 0.0]);
+                    x578 = arith.four([x524, 0.0, 0.0, 0.0]);
+                    x579 = x499.mul_add(x577, x578);
+                    x580 = arith.four([x525, 0.0, 0.0, 0.0]);
+                    x581 = x500.mul_add(x577, x580);
+                    x582 = arith.splat_four(x245);
+                    x583 = arith.four([x526, 0.0, 0.0, 0.0]);
+                    x584 = x582.mul_add(x504, x583);
+                    x585 = arith.splat_four(x247);
+                    x586 = arith.four([x528, 0.0, 0.0, 0.0]);
+                    x587 = x585.mul_add(x579, x586);
+                    x588 = arith.splat_four(x249);
+                    x589 = x588.mul_neg_add(x581, x587);
+                    x590 = x584 + x589;
+                    x591 = arith.four([x529, 0.0, 0.0, 0.0]);
+                    x592 = arith.splat_four(x253);
+                    x593 = x592.mul_add(x504, x591);
+                    x594 = arith.splat_four(x254);
+                    x595 = arith.four([x530, 0.0, 0.0, 0.0]);
+                    x596 = x594.mul_add(x579, x595);
+                    x597 = arith.splat_four(x256);
+                    x598 = x597.mul_add(x581, x596);
+                    x599 = x593 + x598;
+                    x600 = arith.four([x531, 0.0, 0.0, 0.0]);
+                    x601 = arith.splat_four(x257);
+                    x602 = x601.mul_add(x504, x600);
+                    x603 = arith.four([x532, 0.0, 0.0, 0.0]);
+                    x604 = x602 + x603;
+                    x605 = arith.four([x533, 0.0, 0.0, 0.0]);
+                    x606 = arith.splat_four(x265);
+                    x607 = x606.mul_add(x504, x605);
+                    x608 = arith.four([x535, 0.0, 0.0, 0.0]);
+                    x609 = x607 + x608;
+                    x610 = arith.four([x536, 0.0, 0.0, 0.0]);
+                    x611 = arith.splat_four(x235);
+                    x612 = x611.mul_add(x504, x610);
+                    x613 = arith.four([x537, 0.0, 0.0, 0.0]);
+                    x614 = x612 + x613;
+                    x615 = arith.four([x538, 0.0, 0.0, 0.0]);
+                    x616 = arith.splat_four(x273);
+                    x617 = x616.mul_neg_add(x504, x615);
+                    x618 = arith.four([x540, 0.0, 0.0, 0.0]);
+                    x619 = x617 + x618;
+                    x620 = arith.four([x541, 0.0, 0.0, 0.0]);
+                    x621 = arith.splat_four(x279);
+                    x622 = x621.mul_add(x504, x620);
+                    x623 = arith.four([x543, 0.0, 0.0, 0.0]);
+                    x624 = x622 + x623;
+                    x625 = x491.mul_add(x504, x579);
+                    x626 = x493 * x581;
+                    x627 = x492.mul_add(x625, x626);
+                    x628 = x492 * x581;
+                    x629 = x493.mul_sub(x625, x628);
+                    x630 = arith.splat_four(x305);
+                    x631 = arith.four([x546, 0.0, 0.0, 0.0]);
+                    x632 = x630.mul_add(x505, x631);
+                    x633 = arith.splat_four(x307);
+                    x634 = arith.four([x548, 0.0, 0.0, 0.0]);
+                    x635 = x633.mul_neg_add(x627, x634);
+                    x636 = arith.splat_four(x309);
+                    x637 = x636.mul_add(x629, x635);
+                    x638 = x632 + x637;
+                    x639 = arith.four([x549, 0.0, 0.0, 0.0]);
+                    x640 = arith.splat_four(x313);
+                    x641 = x640.mul_add(x505, x639);
+                    x642 = arith.splat_four(x314);
+                    x643 = arith.four([x551, 0.0, 0.0, 0.0]);
+                    x644 = x642.mul_neg_add(x627, x643);
+                    x645 = arith.splat_four(x316);
+                    x646 = x645.mul_add(x629, x644);
+                    x647 = x641 + x646;
+                    x648 = arith.four([x553, 0.0, 0.0, 0.0]);
+                    x649 = arith.splat_four(x317);
+                    x650 = x649.mul_add(x505, x648);
+                    x651 = arith.four([x555, 0.0, 0.0, 0.0]);
+                    x652 = x650 + x651;
+                    x653 = arith.four([x556, 0.0, 0.0, 0.0]);
+                    x654 = arith.splat_four(x325);
+                    x655 = x654.mul_add(x505, x653);
+                    x656 = arith.four([x557, 0.0, 0.0, 0.0]);
+                    x657 = x655 + x656;
+                    x658 = arith.four([x559, 0.0, 0.0, 0.0]);
+                    x659 = arith.splat_four(x294);
+                    x660 = x659.mul_add(x505, x658);
+                    x661 = arith.four([x554, 0.0, 0.0, 0.0]);
+                    x662 = x660 + x661;
+                    x663 = arith.four([x560, 0.0, 0.0, 0.0]);
+                    x664 = arith.splat_four(x333);
+                    x665 = x664.mul_add(x505, x663);
+                    x666 = arith.four([x562, 0.0, 0.0, 0.0]);
+                    x667 = x665 + x666;
+                    x668 = arith.four([x563, 0.0, 0.0, 0.0]);
+                    x669 = arith.splat_four(x339);
+                    x670 = x669.mul_add(x505, x668);
+                    x671 = arith.four([x564, 0.0, 0.0, 0.0]);
+                    x672 = x670 + x671;
+                    x673 = x507 + x627;
+                    x674 = x629 - x514;
+                    x675 = arith.four([x566, 0.0, 0.0, 0.0]);
+                    x676 = x494.mul_neg_add(x673, x675);
+                    x677 = arith.four([x568, 0.0, 0.0, 0.0]);
+                    x678 = x495.mul_add(x673, x677);
+                    x679 = arith.splat_four(x364);
+                    x680 = arith.four([x569, 0.0, 0.0, 0.0]);
+                    x681 = x679.mul_neg_add(x512, x680);
+                    x682 = arith.splat_four(x367);
+                    x683 = arith.splat_four(x368);
+                    x684 = x683 * x678;
+                    x685 = x682.mul_add(x676, x684);
+                    x686 = arith.splat_four(x369);
+                    x687 = x686.mul_add(x674, x685);
+                    x688 = x681 + x687;
+                    x689 = arith.splat_four(x373);
+                    x690 = arith.four([x570, 0.0, 0.0, 0.0]);
+                    x691 = x689.mul_add(x510, x690);
+                    x692 = arith.splat_four(x375);
+                    x693 = arith.splat_four(x376);
+                    x694 = x693 * x678;
+                    x695 = x692.mul_add(x676, x694);
+                    x696 = arith.splat_four(x377);
+                    x697 = x696.mul_add(x674, x695);
+                    x698 = x691 + x697;
+                    x699 = arith.splat_four(x353);
+                    x700 = arith.splat_four(x378);
+                    x701 = x700 * x512;
+                    x702 = x699.mul_add(x510, x701);
+                    x703 = arith.four([x572, 0.0, 0.0, 0.0]);
+                    x704 = x702 + x703;
+                    x705 = arith.splat_four(x386);
+                    x706 = arith.splat_four(x387);
+                    x707 = x706 * x512;
+                    x708 = x705.mul_add(x510, x707);
+                    x709 = arith.four([x573, 0.0, 0.0, 0.0]);
+                    x710 = x708 + x709;
+                    x711 = arith.splat_four(x389);
+                    x712 = arith.splat_four(x394);
+                    x713 = arith.splat_four(x395);
+                    x714 = x713 * x512;
+                    x715 = x712.mul_add(x510, x714);
+                    x716 = arith.four([x574, 0.0, 0.0, 0.0]);
+                    x717 = x715 + x716;
+                    x718 = arith.splat_four(x400);
+                    x719 = arith.splat_four(x401);
+                    x720 = x719 * x512;
+                    x721 = x718.mul_add(x510, x720);
+                    x722 = arith.four([x575, 0.0, 0.0, 0.0]);
+                    x723 = x721 + x722;
+                    x724 = x711.mul_sub(x510, x701);
+                    x725 = arith.four([x576, 0.0, 0.0, 0.0]);
+                    x726 = x724 + x725;
+                    x727 = arith.four([x12, 0.0, 0.0, 0.0]);
+                    x728 = x497.mul_add(x510, x727);
+                    x729 = arith.four([x13, 0.0, 0.0, 0.0]);
+                    x730 = x498.mul_add(x510, x729);
+                    x731 = x496.mul_add(x512, x676);
+                    x732 = x496.mul_neg_add(x510, x678);
+                    x733 = x498 * x674;
+                    x734 = x497.mul_sub(x731, x733);
+                    x735 = x497 * x674;
+                    x736 = x498.mul_add(x731, x735);
+                    x737 = arith.splat_four(x426);
+                    x738 = arith.splat_four(x427);
+                    x739 = x738 * x730;
+                    x740 = x737.mul_add(x512, x739);
+                    x741 = arith.splat_four(x428);
+                    x742 = arith.splat_four(x429);
+                    x743 = x742 * x732;
+                    x744 = x741.mul_add(x734, x743);
+                    x745 = arith.splat_four(x430);
+                    x746 = x745.mul_add(x736, x744);
+                    x747 = x740 + x746;
+                    x748 = arith.splat_four(x435);
+                    x749 = arith.splat_four(x436);
+                    x750 = x749 * x512;
+                    x751 = x748.mul_add(x728, x750);
+                    x752 = arith.splat_four(x437);
+                    x753 = arith.splat_four(x438);
+                    x754 = x753 * x732;
+                    x755 = x752.mul_add(x734, x754);
+                    x756 = arith.splat_four(x439);
+                    x757 = x756.mul_add(x736, x755);
+                    x758 = x751 + x757;
+                    x759 = arith.splat_four(x415);
+                    x760 = arith.splat_four(x440);
+                    x761 = x760 * x512;
+                    x762 = x759.mul_add(x728, x761);
+                    x763 = arith.splat_four(x441);
+                    x764 = x763 * x730;
+                    x765 = x762 - x764;
+                    x766 = arith.splat_four(x447);
+                    x767 = arith.splat_four(x448);
+                    x768 = x767 * x512;
+                    x769 = x766.mul_add(x728, x768);
+                    x770 = arith.splat_four(x449);
+                    x771 = x770.mul_add(x730, x769);
+                    x772 = arith.splat_four(x450);
+                    x773 = x772 * x728;
+                    x774 = arith.splat_four(x416);
+                    x775 = x774.mul_sub(x512, x773);
+                    x776 = x764 + x775;
+                    x777 = arith.splat_four(x455);
+                    x778 = arith.splat_four(x456);
+                    x779 = x778 * x512;
+                    x780 = x777.mul_add(x728, x779);
+                    x781 = arith.splat_four(x457);
+                    x782 = x781.mul_add(x730, x780);
+                    x783 = arith.splat_four(x461);
+                    x784 = arith.splat_four(x462);
+                    x785 = x784 * x512;
+                    x786 = x783.mul_add(x728, x785);
+                    x787 = arith.splat_four(x463);
+                    x788 = x787.mul_add(x730, x786);
+                    [x789, _, _, _] = x590.to_array();
+                    *o48 = x789;
+                    [_, x790, _, _] = x590.to_array();
+                    *o49 = x790;
+                    [_, _, x791, _] = x590.to_array();
+                    *o50 = x791;
+                    [_, _, _, x792] = x590.to_array();
+                    *o51 = x792;
+                    [x793, _, _, _] = x599.to_array();
+                    *o54 = x793;
+                    [_, x794, _, _] = x599.to_array();
+                    *o55 = x794;
+                    [_, _, x795, _] = x599.to_array();
+                    *o56 = x795;
+                    [_, _, _, x796] = x599.to_array();
+                    *o57 = x796;
+                    [x797, _, _, _] = x604.to_array();
+                    *o60 = x797;
+                    [_, x798, _, _] = x604.to_array();
+                    *o61 = x798;
+                    [_, _, x799, _] = x604.to_array();
+                    *o62 = x799;
+                    [_, _, _, x800] = x604.to_array();
+                    *o63 = x800;
+                    [x801, _, _, _] = x609.to_array();
+                    *o66 = x801;
+                    [_, x802, _, _] = x609.to_array();
+                    *o67 = x802;
+                    [_, _, x803, _] = x609.to_array();
+                    *o68 = x803;
+                    [_, _, _, x804] = x609.to_array();
+                    *o69 = x804;
+                    [x805, _, _, _] = x614.to_array();
+                    *o72 = x805;
+                    [_, x806, _, _] = x614.to_array();
+                    *o73 = x806;
+                    [_, _, x807, _] = x614.to_array();
+                    *o74 = x807;
+                    [_, _, _, x808] = x614.to_array();
+                    *o75 = x808;
+                    [x809, _, _, _] = x619.to_array();
+                    *o78 = x809;
+                    [_, x810, _, _] = x619.to_array();
+                    *o79 = x810;
+                    [_, _, x811, _] = x619.to_array();
+                    *o80 = x811;
+                    [_, _, _, x812] = x619.to_array();
+                    *o81 = x812;
+                    [x813, _, _, _] = x624.to_array();
+                    *o84 = x813;
+                    [_, x814, _, _] = x624.to_array();
+                    *o85 = x814;
+                    [_, _, x815, _] = x624.to_array();
+                    *o86 = x815;
+                    [_, _, _, x816] = x624.to_array();
+                    *o87 = x816;
+                    [x817, _, _, _] = x638.to_array();
+                    *o90 = x817;
+                    [_, x818, _, _] = x638.to_array();
+                    *o91 = x818;
+                    [_, _, x819, _] = x638.to_array();
+                    *o92 = x819;
+                    [_, _, _, x820] = x638.to_array();
+                    *o93 = x820;
+                    [x821, _, _, _] = x647.to_array();
+                    *o96 = x821;
+                    [_, x822, _, _] = x647.to_array();
+                    *o97 = x822;
+                    [_, _, x823, _] = x647.to_array();
+                    *o98 = x823;
+                    [_, _, _, x824] = x647.to_array();
+                    *o99 = x824;
+                    [x825, _, _, _] = x652.to_array();
+                    *o102 = x825;
+                    [_, x826, _, _] = x652.to_array();
+                    *o103 = x826;
+                    [_, _, x827, _] = x652.to_array();
+                    *o104 = x827;
+                    [_, _, _, x828] = x652.to_array();
+                    *o105 = x828;
+                    [x829, _, _, _] = x657.to_array();
+                    *o108 = x829;
+                    [_, x830, _, _] = x657.to_array();
+                    *o109 = x830;
+                    [_, _, x831, _] = x657.to_array();
+                    *o110 = x831;
+                    [_, _, _, x832] = x657.to_array();
+                    *o111 = x832;
+                    [x833, _, _, _] = x662.to_array();
+                    *o114 = x833;
+                    [_, x834, _, _] = x662.to_array();
+                    *o115 = x834;
+                    [_, _, x835, _] = x662.to_array();
+                    *o116 = x835;
+                    [_, _, _, x836] = x662.to_array();
+                    *o117 = x836;
+                    [x837, _, _, _] = x667.to_array();
+                    *o120 = x837;
+                    [_, x838, _, _] = x667.to_array();
+                    *o121 = x838;
+                    [_, _, x839, _] = x667.to_array();
+                    *o122 = x839;
+                    [_, _, _, x840] = x667.to_array();
+                    *o123 = x840;
+                    [x841, _, _, _] = x672.to_array();
+                    *o126 = x841;
+                    [_, x842, _, _] = x672.to_array();
+                    *o127 = x842;
+                    [_, _, x843, _] = x672.to_array();
+                    *o128 = x843;
+                    [_, _, _, x844] = x672.to_array();
+                    *o129 = x844;
+                    [x845, _, _, _] = x688.to_array();
+                    *o132 = x845;
+                    [_, x846, _, _] = x688.to_array();
+                    *o133 = x846;
+                    [_, _, x847, _] = x688.to_array();
+                    *o134 = x847;
+                    [_, _, _, x848] = x688.to_array();
+                    *o135 = x848;
+                    [x849, _, _, _] = x698.to_array();
+                    *o138 = x849;
+                    [_, x850, _, _] = x698.to_array();
+                    *o139 = x850;
+                    [_, _, x851, _] = x698.to_array();
+                    *o140 = x851;
+                    [_, _, _, x852] = x698.to_array();
+                    *o141 = x852;
+                    [x853, _, _, _] = x704.to_array();
+                    *o144 = x853;
+                    [_, x854, _, _] = x704.to_array();
+                    *o145 = x854;
+                    [_, _, x855, _] = x704.to_array();
+                    *o146 = x855;
+                    [_, _, _, x856] = x704.to_array();
+                    *o147 = x856;
+                    [x857, _, _, _] = x710.to_array();
+                    *o150 = x857;
+                    [_, x858, _, _] = x710.to_array();
+                    *o151 = x858;
+                    [_, _, x859, _] = x710.to_array();
+                    *o152 = x859;
+                    [_, _, _, x860] = x710.to_array();
+                    *o153 = x860;
+                    [x861, _, _, _] = x717.to_array();
+                    *o156 = x861;
+                    [_, x862, _, _] = x717.to_array();
+                    *o157 = x862;
+                    [_, _, x863, _] = x717.to_array();
+                    *o158 = x863;
+                    [_, _, _, x864] = x717.to_array();
+                    *o159 = x864;
+                    [x865, _, _, _] = x723.to_array();
+                    *o162 = x865;
+                    [_, x866, _, _] = x723.to_array();
+                    *o163 = x866;
+                    [_, _, x867, _] = x723.to_array();
+                    *o164 = x867;
+                    [_, _, _, x868] = x723.to_array();
+                    *o165 = x868;
+                    [x869, _, _, _] = x726.to_array();
+                    *o168 = x869;
+                    [_, x870, _, _] = x726.to_array();
+                    *o169 = x870;
+                    [_, _, x871, _] = x726.to_array();
+                    *o170 = x871;
+                    [_, _, _, x872] = x726.to_array();
+                    *o171 = x872;
+                    [x873, _, _, _] = x747.to_array();
+                    *o174 = x873;
+                    [_, x874, _, _] = x747.to_array();
+                    *o175 = x874;
+                    [_, _, x875, _] = x747.to_array();
+                    *o176 = x875;
+                    [_, _, _, x876] = x747.to_array();
+                    *o177 = x876;
+                    [x877, _, _, _] = x758.to_array();
+                    *o180 = x877;
+                    [_, x878, _, _] = x758.to_array();
+                    *o181 = x878;
+                    [_, _, x879, _] = x758.to_array();
+                    *o182 = x879;
+                    [_, _, _, x880] = x758.to_array();
+                    *o183 = x880;
+                    [x881, _, _, _] = x765.to_array();
+                    *o186 = x881;
+                    [_, x882, _, _] = x765.to_array();
+                    *o187 = x882;
+                    [_, _, x883, _] = x765.to_array();
+                    *o188 = x883;
+                    [_, _, _, x884] = x765.to_array();
+                    *o189 = x884;
+                    [x885, _, _, _] = x771.to_array();
+                    *o192 = x885;
+                    [_, x886, _, _] = x771.to_array();
+                    *o193 = x886;
+                    [_, _, x887, _] = x771.to_array();
+                    *o194 = x887;
+                    [_, _, _, x888] = x771.to_array();
+                    *o195 = x888;
+                    [x889, _, _, _] = x776.to_array();
+                    *o198 = x889;
+                    [_, x890, _, _] = x776.to_array();
+                    *o199 = x890;
+                    [_, _, x891, _] = x776.to_array();
+                    *o200 = x891;
+                    [_, _, _, x892] = x776.to_array();
+                    *o201 = x892;
+                    [x893, _, _, _] = x782.to_array();
+                    *o204 = x893;
+                    [_, x894, _, _] = x782.to_array();
+                    *o205 = x894;
+                    [_, _, x895, _] = x782.to_array();
+                    *o206 = x895;
+                    [_, _, _, x896] = x782.to_array();
+                    *o207 = x896;
+                    [x897, _, _, _] = x788.to_array();
+                    *o210 = x897;
+                    [_, x898, _, _] = x788.to_array();
+                    *o211 = x898;
+                    [_, _, x899, _] = x788.to_array();
+                    *o212 = x899;
+                    [_, _, _, x900] = x788.to_array();
+                    *o213 = x900;
+                }
+            }
+        }
+        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, out))
+    }
     /// `Y_b`: columns 9, 11, 13, 14, 15, 16, 17, 18, 21, 23, 24, 25, 26, 27, 28, 31, 33, 34, 35, 36, 37, 38, 41, 42, 44, 45, 47, 48, 49, 51, 53, 54, 55, 56, 57, 58 of `Y` (the base parameters'), computed without the others.
     ///Operations: 226 mul, 170 add/sub, 28 neg, and 401 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -9020,6 +13689,958 @@ impl BaseParameters<6, 60, 36> for Ur5 {
             }
         }
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, a))
+    }
+    #[inline(never)]
+    fn base_torque_regressor_into(
+        t: &JointTrig<6>,
+        qd: &SVector<f64, 6>,
+        a: &SVector<f64, 6>,
+        out: &mut dyngen_runtime::ResultBuffer<SMatrix<f64, 6, 36>>,
+    ) {
+        let out = dyngen_runtime::__private::claim(out, 6135561062022235460u64);
+        struct Body;
+        impl dyngen_runtime::__private::Kernel<
+            (&JointTrig<6>, &SVector<f64, 6>, &SVector<f64, 6>, &mut SMatrix<f64, 6, 36>),
+        > for Body {
+            type Output = ();
+            #[inline(always)]
+            fn run<M: dyngen_runtime::__private::MulAdd>(
+                arith: M,
+                (
+                    t,
+                    qd,
+                    a,
+                    out,
+                ): (
+                    &JointTrig<6>,
+                    &SVector<f64, 6>,
+                    &SVector<f64, 6>,
+                    &mut SMatrix<f64, 6, 36>,
+                ),
+            ) {
+                use dyngen_runtime::__private::FourLanes as _;
+                let [_, s1, s2, s3, s4, s5] = t.sin;
+                let [_, c1, c2, c3, c4, c5] = t.cos;
+                let [qd0, qd1, qd2, qd3, qd4, qd5] = qd.data.0[0];
+                let [a0, a1, a2, a3, a4, a5] = a.data.0[0];
+                {
+                    let [[o0, _, _, _, _, _], [o6, o7, _, _, _, _], [o12, o13, _, _, _, _,
+                    ], [o18, o19, _, _, _, _], [o24, o25, _, _, _, _], [o30, o31, _, _,
+                    _, _], [o36, o37, _, _, _, _], [o42, o43, _, _, _, _], [o48, o49,
+                    o50, o51, _, _], [o54, o55, o56, o57, _, _], [o60, o61, o62, o63, _,
+                    _], [o66, o67, o68, o69, _, _], [o72, o73, o74, o75, _, _], [o78,
+                    o79, o80, o81, _, _], [o84, o85, o86, o87, _, _], [o90, o91, o92,
+                    o93, _, _], [o96, o97, o98, o99, _, _], [o102, o103, o104, o105, _, _,
+                    ], [o108, o109, o110, o111, _, _], [o114, o115, o116, o117, _, _],
+                    [o120, o121, o122, o123, _, _], [o126, o127, o128, o129, _, _],
+                    [o132, o133, o134, o135, o136, _], [o138, o139, o140, o141, o142, _],
+                    [o144, o145, o146, o147, o148, _], [o150, o151, o152, o153, o154, _],
+                    [o156, o157, o158, o159, o160, _], [o162, o163, o164, o165, o166, _],
+                    [o168, o169, o170, o171, o172, _], [o174, o175, o176, o177, o178,
+                    o179], [o180, o181, o182, o183, o184, o185], [o186, o187, o188, o189,
+                    o190, o191], [o192, o193, o194, o195, o196, o197], [o198, o199, o200,
+                    o201, o202, o203], [o204, o205, o206, o207, o208, o209], [o210, o211,
+                    o212, o213, o214, o215]] = &mut out.data.0;
+                    *o0 = a0;
+                    *o31 = a1;
+                    let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                    x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                    x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                    x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                    x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                    x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                    x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                    x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109,
+                    x110, x111, x112, x113, x114, x115, x116, x117, x118, x119, x120,
+                    x121, x122, x123, x124, x125, x126, x127, x128, x129, x130, x131,
+                    x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142,
+                    x143, x144, x145, x146, x147, x148, x149, x150, x151, x152, x153,
+                    x154, x165, x166, x167, x170, x172, x177, x179, x180, x181, x182,
+                    x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193,
+                    x194, x195, x196, x197, x198, x199, x200, x201, x202, x203, x204,
+                    x205, x206, x207, x208, x209, x210, x211, x212, x213, x214, x215,
+                    x216, x217, x218, x219, x220, x221, x222, x223, x224, x225, x226,
+                    x227, x228, x229, x230, x231, x232, x233, x234, x235, x236, x237,
+                    x238, x239, x240, x241, x242, x243, x244, x245, x246, x247, x248,
+                    x249, x250, x251, x252, x253, x254, x255, x256, x257, x258, x259,
+                    x260, x261, x262, x263, x264, x265, x266, x267, x268, x269, x270,
+                    x271, x272, x273, x274, x275, x276, x277, x278, x279, x280, x281,
+                    x282, x283, x284, x285, x286, x287, x288, x289, x290, x291, x292,
+                    x293, x294, x295, x296, x297, x298, x299, x300, x301, x302, x303,
+                    x304, x305, x306, x307, x308, x309, x310, x311, x312, x313, x314,
+                    x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325,
+                    x326, x327, x328, x329, x330, x331, x332, x333, x334, x335, x336,
+                    x337, x338, x339, x340, x341, x342, x343, x344, x345, x346, x347,
+                    x348, x349, x350, x351, x352, x353, x354, x355, x356, x357, x358,
+                    x359, x360, x361, x362, x363, x364, x365, x575, x576, x577, x578,
+                    x579, x580, x581, x582, x583, x584, x585, x586, x587, x588, x589,
+                    x590, x591, x592, x593, x594, x595, x596, x597, x598, x599, x600,
+                    x601, x602, x603, x604, x605, x606, x607, x608, x609, x610, x611,
+                    x612, x613, x614, x615, x616, x617, x618, x619, x620, x621, x622,
+                    x623, x624, x625, x626, x627, x628, x629, x630, x631, x632, x633,
+                    x634, x635, x636, x637, x638, x639, x640, x641, x642, x643, x644,
+                    x645, x646, x647, x648, x649, x650, x651, x652, x653, x654, x655,
+                    x656, x657, x658, x659, x660, x661, x662, x663, x664, x665, x666,
+                    x667, x668, x669, x670, x671, x672, x673, x674, x675, x676, x677,
+                    x678, x679, x680, x681, x682, x683, x684, x685, x686]: [f64; 460];
+                    let [x155, x156, x157, x158, x159, x160, x161, x162, x163, x164,
+                    x168, x169, x171, x173, x174, x175, x176, x178, x366, x367, x368,
+                    x369, x370, x371, x372, x373, x374, x375, x376, x377, x378, x379,
+                    x380, x381, x382, x383, x384, x385, x386, x387, x388, x389, x390,
+                    x391, x392, x393, x394, x395, x396, x397, x398, x399, x400, x401,
+                    x402, x403, x404, x405, x406, x407, x408, x409, x410, x411, x412,
+                    x413, x414, x415, x416, x417, x418, x419, x420, x421, x422, x423,
+                    x424, x425, x426, x427, x428, x429, x430, x431, x432, x433, x434,
+                    x435, x436, x437, x438, x439, x440, x441, x442, x443, x444, x445,
+                    x446, x447, x448, x449, x450, x451, x452, x453, x454, x455, x456,
+                    x457, x458, x459, x460, x461, x462, x463, x464, x465, x466, x467,
+                    x468, x469, x470, x471, x472, x473, x474, x475, x476, x477, x478,
+                    x479, x480, x481, x482, x483, x484, x485, x486, x487, x488, x489,
+                    x490, x491, x492, x493, x494, x495, x496, x497, x498, x499, x500,
+                    x501, x502, x503, x504, x505, x506, x507, x508, x509, x510, x511,
+                    x512, x513, x514, x515, x516, x517, x518, x519, x520, x521, x522,
+                    x523, x524, x525, x526, x527, x528, x529, x530, x531, x532, x533,
+                    x534, x535, x536, x537, x538, x539, x540, x541, x542, x543, x544,
+                    x545, x546, x547, x548, x549, x550, x551, x552, x553, x554, x555,
+                    x556, x557, x558, x559, x560, x561, x562, x563, x564, x565, x566,
+                    x567, x568, x569, x570, x571, x572, x573, x574]: [M::Four; 227];
+                    x0 = c1 * c2;
+                    x1 = arith.mul_add(s1, s2, -x0);
+                    x2 = s1 * c2;
+                    x3 = arith.mul_add(c1, s2, x2);
+                    x4 = s3 * x1;
+                    x5 = arith.mul_add(c3, x3, -x4);
+                    x6 = s3 * x3;
+                    x7 = arith.mul_add(c3, x1, x6);
+                    x8 = c4 * x5;
+                    x9 = s4 * x5;
+                    x10 = -x9;
+                    x11 = s5 * x7;
+                    x12 = -x11;
+                    x13 = c5 * x7;
+                    x14 = -9.81f64 * s1;
+                    x15 = qd0 * c1;
+                    x16 = qd0 * s1;
+                    x17 = 0.13585f64 * qd0;
+                    x18 = 0.13585f64 * a0;
+                    x19 = s1 * x18;
+                    x20 = arith.mul_add(-9.81f64, c1, x19);
+                    *o13 = x20;
+                    x21 = c1 * x18;
+                    x22 = x14 - x21;
+                    x23 = c2 * x15;
+                    x24 = s2 * x16;
+                    x25 = x24 - x23;
+                    x26 = c2 * x16;
+                    x27 = arith.mul_add(s2, x15, x26);
+                    x28 = 0.1197f64 * x16;
+                    x29 = -0.425f64 * x15;
+                    x30 = 0.1197f64 * x15;
+                    x31 = qd1 + qd2;
+                    x32 = 0.425f64 * a1;
+                    x33 = a1 + a2;
+                    x34 = s3 * x25;
+                    x35 = c3 * x27;
+                    x36 = x35 - x34;
+                    x37 = s3 * x27;
+                    x38 = arith.mul_add(c3, x25, x37);
+                    x39 = 0.39225f64 * x31;
+                    x40 = 0.39225f64 * x25;
+                    x41 = qd3 + x31;
+                    x42 = a3 + x33;
+                    x43 = s4 * x41;
+                    x44 = arith.mul_add(c4, x36, x43);
+                    x45 = s4 * x36;
+                    x46 = c4 * x41;
+                    x47 = x46 - x45;
+                    x48 = 0.093f64 * x38;
+                    x49 = 0.093f64 * x36;
+                    x50 = qd4 + x38;
+                    x51 = c5 * x44;
+                    x52 = s5 * x50;
+                    x53 = x51 - x52;
+                    x54 = c5 * x50;
+                    x55 = arith.mul_add(s5, x44, x54);
+                    x56 = 0.09465f64 * x47;
+                    x57 = 0.09465f64 * x44;
+                    x58 = qd5 + x47;
+                    x59 = qd0 * x17;
+                    x60 = qd1 * x16;
+                    x61 = qd1 * x15;
+                    x62 = arith.mul_add(-a0, c1, x60);
+                    x63 = arith.mul_add(a0, s1, x61);
+                    x64 = arith.mul_add(0.425f64, qd1, -x28);
+                    x65 = x16 * x29;
+                    x66 = arith.mul_add(qd1, x30, -x65);
+                    x67 = x16 * x64;
+                    x68 = arith.mul_add(x15, x30, -x67);
+                    x69 = qd1 * x64;
+                    x70 = arith.mul_add(x15, x29, -x69);
+                    x71 = x20 + x66;
+                    x72 = x68 - x59;
+                    x73 = x22 + x70;
+                    x74 = s2 * x63;
+                    x75 = arith.mul_add(c2, x62, x74);
+                    x76 = c2 * x63;
+                    x77 = arith.mul_add(s2, x62, -x76);
+                    x78 = arith.mul_add(0.1197f64, x63, -x32);
+                    x79 = 0.425f64 * x62;
+                    x80 = x71 - x78;
+                    x81 = x72 - x79;
+                    x82 = arith.mul_add(-0.1197f64, x62, x73);
+                    x83 = s2 * x82;
+                    x84 = arith.mul_add(c2, x80, -x83);
+                    x85 = c2 * x82;
+                    x86 = arith.mul_add(s2, x80, x85);
+                    x87 = arith.mul_add(qd2, x27, x75);
+                    x88 = arith.mul_add(qd2, x25, x77);
+                    x89 = x31 * x39;
+                    x90 = arith.mul_add(x25, x40, x89);
+                    x91 = arith.mul_add(-x27, x40, x84);
+                    x92 = arith.mul_add(-x27, x39, x81);
+                    x93 = x86 - x90;
+                    x94 = c3 * x88;
+                    x95 = arith.mul_add(s3, x87, x94);
+                    x96 = s3 * x88;
+                    x97 = arith.mul_add(c3, x87, -x96);
+                    x98 = 0.39225f64 * x87;
+                    x99 = arith.mul_add(0.39225f64, x33, x91);
+                    x100 = x92 - x98;
+                    x101 = c3 * x93;
+                    x102 = arith.mul_add(s3, x99, x101);
+                    x103 = c3 * x99;
+                    x104 = s3 * x93;
+                    x105 = x103 - x104;
+                    x106 = arith.mul_add(qd3, x38, x95);
+                    x107 = arith.mul_add(qd3, x36, x97);
+                    x108 = x36 * x49;
+                    x109 = arith.mul_add(x38, x48, x108);
+                    x110 = arith.mul_add(x41, x49, -x102);
+                    x111 = x100 - x109;
+                    x112 = arith.mul_add(x41, x48, x105);
+                    x113 = c4 * x106;
+                    x114 = arith.mul_add(s4, x42, -x113);
+                    x115 = s4 * x106;
+                    x116 = arith.mul_add(c4, x42, x115);
+                    x117 = arith.mul_add(-0.093f64, x107, x110);
+                    x118 = arith.mul_add(-0.093f64, x106, x112);
+                    x119 = s4 * x111;
+                    x120 = arith.mul_add(c4, x117, x119);
+                    x121 = s4 * x117;
+                    x122 = arith.mul_add(c4, x111, -x121);
+                    *o136 = x122;
+                    x123 = a4 + x107;
+                    *o172 = x123;
+                    x124 = qd4 * x44;
+                    x125 = arith.mul_add(qd4, x47, x114);
+                    x126 = x116 - x124;
+                    x127 = x47 * x56;
+                    x128 = arith.mul_add(x44, x57, x127);
+                    x129 = arith.mul_add(x50, x57, x120);
+                    x130 = arith.mul_add(x50, x56, x122);
+                    x131 = x118 - x128;
+                    x132 = s5 * x123;
+                    x133 = arith.mul_add(c5, x125, -x132);
+                    x134 = c5 * x123;
+                    x135 = arith.mul_add(s5, x125, x134);
+                    x136 = 0.09465f64 * x125;
+                    x137 = arith.mul_add(0.09465f64, x126, x129);
+                    x138 = x130 - x136;
+                    x139 = s5 * x131;
+                    x140 = arith.mul_add(c5, x137, -x139);
+                    *o185 = x140;
+                    x141 = c5 * x131;
+                    x142 = arith.mul_add(s5, x137, x141);
+                    x143 = a5 + x126;
+                    *o203 = x143;
+                    x144 = qd5 * x55;
+                    x145 = x133 - x144;
+                    x146 = arith.mul_add(qd5, x53, x135);
+                    x147 = x21 - x14;
+                    *o7 = x147;
+                    x148 = x23 - x24;
+                    x149 = x104 - x103;
+                    x150 = x34 - x35;
+                    x151 = -x120;
+                    *o142 = x151;
+                    x152 = x45 - x46;
+                    x153 = -x142;
+                    *o179 = x153;
+                    x154 = x52 - x51;
+                    x155 = arith.splat_four(0.39225f64);
+                    x156 = arith.splat_four(s3);
+                    x157 = arith.splat_four(c3);
+                    x158 = arith.splat_four(c4);
+                    x159 = arith.splat_four(s4);
+                    x160 = arith.splat_four(0.09465f64);
+                    x161 = arith.splat_four(c5);
+                    x162 = arith.splat_four(s5);
+                    x163 = arith.splat_four(c2);
+                    x164 = arith.splat_four(s2);
+                    x165 = 0.13585f64 * s1;
+                    x166 = -0.13585f64 * c1;
+                    x167 = -0.425f64 * c1;
+                    x168 = arith.four([0.0, 1f64, 1f64, 0.0]);
+                    x169 = arith.four([0.0, 1f64, 1f64, 1f64]);
+                    x170 = 0.093f64 * x7;
+                    x171 = arith.four([x170, 0.0, 0.0, 0.0]);
+                    x172 = 0.093f64 * x5;
+                    x173 = arith.four([x8, 0.0, 0.0, 0.0]);
+                    x174 = x159.mul_add(x169, x173);
+                    x175 = arith.four([x10, 0.0, 0.0, 0.0]);
+                    x176 = x158.mul_add(x169, x175);
+                    x177 = -x172;
+                    x178 = arith.four([x177, 0.0, 0.0, 0.0]);
+                    x179 = qd1 * qd1;
+                    x180 = x16 * x16;
+                    x181 = x179 + x180;
+                    x182 = x15 * x16;
+                    *o19 = x182;
+                    x183 = x61 + x63;
+                    x184 = x182 - a1;
+                    x185 = x15 * x15;
+                    x186 = x62 - x60;
+                    *o25 = x186;
+                    x187 = x179 + x185;
+                    x188 = a1 + x182;
+                    x189 = x185 - x179;
+                    x190 = a1 - x182;
+                    x191 = x180 - x185;
+                    *o37 = x191;
+                    x192 = x60 + x62;
+                    x193 = x179 - x180;
+                    x194 = x61 - x63;
+                    *o43 = x194;
+                    x195 = x31 * x31;
+                    x196 = x27 * x27;
+                    x197 = x195 + x196;
+                    x198 = x25 * x31;
+                    x199 = x25 * x27;
+                    x200 = x88 + x198;
+                    x201 = x33 + x199;
+                    x202 = x25 * x25;
+                    x203 = x27 * x31;
+                    x204 = x87 - x203;
+                    x205 = x79 - x72;
+                    x206 = arith.mul_add(x25, x148, -x195);
+                    x207 = arith.mul_add(x27, x148, x33);
+                    x208 = x87 + x203;
+                    x209 = x202 - x195;
+                    x210 = x196 - x202;
+                    x211 = x195 - x196;
+                    x212 = x88 - x198;
+                    x213 = x33 - x199;
+                    x214 = x41 * x41;
+                    x215 = x38 * x38;
+                    x216 = x214 + x215;
+                    x217 = x36 * x41;
+                    x218 = x36 * x38;
+                    x219 = x107 + x217;
+                    x220 = x218 - x42;
+                    x221 = x36 * x36;
+                    x222 = x38 * x41;
+                    x223 = x222 - x106;
+                    x224 = x98 - x92;
+                    x225 = arith.mul_add(x36, x150, -x214);
+                    x226 = arith.mul_add(-x38, x150, x42);
+                    x227 = x106 + x222;
+                    x228 = x221 - x214;
+                    x229 = x42 - x218;
+                    x230 = x215 - x221;
+                    x231 = x214 - x215;
+                    x232 = x107 - x217;
+                    x233 = x42 + x218;
+                    x234 = x124 - x116;
+                    x235 = x50 * x50;
+                    x236 = arith.mul_add(x47, x152, -x235);
+                    x237 = x44 * x50;
+                    x238 = arith.mul_add(-x44, x152, x123);
+                    x239 = x234 + x237;
+                    x240 = x44 * x47;
+                    x241 = x44 * x44;
+                    x242 = x235 + x241;
+                    x243 = x47 * x50;
+                    x244 = x240 - x123;
+                    x245 = x125 + x243;
+                    x246 = x47 * x47;
+                    x247 = x126 + x237;
+                    *o166 = x247;
+                    x248 = -x240;
+                    *o148 = x248;
+                    x249 = x241 - x246;
+                    *o154 = x249;
+                    x250 = x126 - x237;
+                    x251 = x235 - x241;
+                    x252 = x123 + x240;
+                    x253 = x125 - x243;
+                    *o160 = x253;
+                    x254 = x246 - x235;
+                    x255 = x123 - x240;
+                    x256 = x58 * x58;
+                    x257 = x55 * x55;
+                    x258 = x256 + x257;
+                    x259 = x53 * x58;
+                    x260 = x53 * x55;
+                    *o191 = x260;
+                    x261 = x146 + x259;
+                    x262 = x260 - x143;
+                    x263 = x53 * x53;
+                    x264 = x55 * x58;
+                    x265 = x145 + x264;
+                    *o197 = x265;
+                    x266 = x136 - x130;
+                    x267 = x144 - x133;
+                    x268 = arith.mul_add(x53, x154, -x256);
+                    x269 = arith.mul_add(-x55, x154, x143);
+                    x270 = x264 + x267;
+                    x271 = x263 - x256;
+                    x272 = x143 - x260;
+                    x273 = x257 - x263;
+                    *o209 = x273;
+                    x274 = x145 - x264;
+                    x275 = x256 - x257;
+                    x276 = x146 - x259;
+                    *o215 = x276;
+                    x277 = x143 + x260;
+                    x278 = s1 * x61;
+                    x279 = arith.mul_add(c1, x62, x278);
+                    x280 = -x279;
+                    *o18 = x280;
+                    x281 = s1 * x189;
+                    x282 = arith.mul_add(c1, x190, x281);
+                    x283 = -x282;
+                    *o24 = x283;
+                    x284 = arith.mul_add(-c1, x60, x278);
+                    *o30 = x284;
+                    x285 = s1 * x192;
+                    x286 = arith.mul_add(c1, x183, -x285);
+                    *o36 = x286;
+                    x287 = c1 * x193;
+                    x288 = arith.mul_add(s1, x188, x287);
+                    x289 = -x288;
+                    *o42 = x289;
+                    x290 = c5 * x138;
+                    *o178 = x290;
+                    x291 = s5 * x266;
+                    x292 = -x291;
+                    *o184 = x292;
+                    x293 = c5 * x259;
+                    x294 = arith.mul_add(s5, x145, x293);
+                    x295 = -x294;
+                    *o190 = x295;
+                    x296 = s5 * x272;
+                    x297 = arith.mul_add(c5, x271, -x296);
+                    *o196 = x297;
+                    x298 = arith.mul_add(s5, x264, x293);
+                    *o202 = x298;
+                    x299 = s5 * x261;
+                    x300 = arith.mul_add(c5, x274, -x299);
+                    *o208 = x300;
+                    x301 = s5 * x275;
+                    x302 = arith.mul_add(c5, x277, -x301);
+                    *o214 = x302;
+                    x303 = x1 * x87;
+                    x304 = x5 * x106;
+                    x305 = -x304;
+                    x306 = x7 * x123;
+                    x307 = arith.mul_add(-0.1197f64, s1, x165);
+                    x308 = arith.mul_add(0.1197f64, c1, x166);
+                    x309 = s2 * x308;
+                    x310 = -x309;
+                    x311 = c2 * x308;
+                    x312 = arith.mul_add(0.39225f64, x1, x167);
+                    x313 = s4 * x312;
+                    x314 = -x313;
+                    x315 = c4 * x312;
+                    x316 = -x315;
+                    x317 = x165 * x181;
+                    x318 = arith.mul_add(x166, x184, -x317);
+                    x319 = arith.mul_add(s1, x59, x318);
+                    *o6 = x319;
+                    x320 = x166 * x187;
+                    x321 = arith.mul_add(x165, x188, -x320);
+                    x322 = arith.mul_add(-c1, x59, x321);
+                    *o12 = x322;
+                    x323 = x3 * x81;
+                    x324 = -x323;
+                    x325 = x167 * x200;
+                    x326 = -x325;
+                    x327 = x1 * x205;
+                    x328 = x167 * x208;
+                    x329 = x3 * x198;
+                    x330 = x1 * x201;
+                    x331 = x3 * x209;
+                    x332 = -x331;
+                    x333 = x1 * x203;
+                    x334 = -x329;
+                    x335 = x1 * x200;
+                    x336 = x3 * x208;
+                    x337 = -x336;
+                    x338 = x1 * x211;
+                    x339 = x3 * x213;
+                    x340 = -x339;
+                    x341 = x7 * x100;
+                    x342 = x219 * x312;
+                    x343 = -x342;
+                    x344 = x5 * x224;
+                    x345 = x227 * x312;
+                    x346 = -x345;
+                    x347 = x7 * x217;
+                    x348 = -x347;
+                    x349 = x5 * x229;
+                    x350 = x7 * x228;
+                    x351 = x5 * x222;
+                    x352 = -x351;
+                    x353 = x5 * x219;
+                    x354 = x7 * x227;
+                    x355 = -x354;
+                    x356 = x5 * x231;
+                    x357 = x7 * x233;
+                    x358 = x7 * x122;
+                    x359 = x7 * x120;
+                    x360 = -x359;
+                    x361 = x7 * x240;
+                    x362 = -x361;
+                    x363 = x7 * x249;
+                    x364 = x7 * x253;
+                    x365 = x7 * x247;
+                    x366 = arith.four([x307, 0.425f64, 0.0, 0.0]);
+                    x367 = arith.four([x310, 0.0, 0.0, 0.0]);
+                    x368 = x163.mul_add(x366, x367);
+                    x369 = arith.four([x311, 0.0, 0.0, 0.0]);
+                    x370 = x164.mul_add(x366, x369);
+                    x371 = x155.mul_add(x168, x368);
+                    x372 = x157 * x370;
+                    x373 = x156.mul_add(x371, x372);
+                    x374 = x156 * x370;
+                    x375 = x157.mul_sub(x371, x374);
+                    x376 = x171 + x373;
+                    x377 = x375 - x178;
+                    x378 = arith.four([x314, 0.0, 0.0, 0.0]);
+                    x379 = x158.mul_neg_add(x376, x378);
+                    x380 = arith.four([x316, 0.0, 0.0, 0.0]);
+                    x381 = x159.mul_add(x376, x380);
+                    x382 = arith.four([x12, 0.0, 0.0, 0.0]);
+                    x383 = x161.mul_add(x174, x382);
+                    x384 = arith.four([x13, 0.0, 0.0, 0.0]);
+                    x385 = x162.mul_add(x174, x384);
+                    x386 = x160.mul_add(x176, x379);
+                    x387 = x160.mul_neg_add(x174, x381);
+                    x388 = x162 * x377;
+                    x389 = x161.mul_sub(x386, x388);
+                    x390 = x161 * x377;
+                    x391 = x162.mul_add(x386, x390);
+                    x392 = arith.splat_four(x84);
+                    x393 = arith.splat_four(x86);
+                    x394 = arith.four([x324, 0.0, 0.0, 0.0]);
+                    x395 = x393.mul_neg_add(x168, x394);
+                    x396 = arith.splat_four(x197);
+                    x397 = arith.four([x326, 0.0, 0.0, 0.0]);
+                    x398 = x396.mul_neg_add(x368, x397);
+                    x399 = arith.splat_four(x201);
+                    x400 = x399.mul_neg_add(x370, x398);
+                    x401 = x395 + x400;
+                    x402 = arith.splat_four(x204);
+                    x403 = arith.four([x327, 0.0, 0.0, 0.0]);
+                    x404 = x392.mul_add(x168, x403);
+                    x405 = arith.splat_four(x207);
+                    x406 = arith.four([x328, 0.0, 0.0, 0.0]);
+                    x407 = x405.mul_add(x368, x406);
+                    x408 = arith.splat_four(x206);
+                    x409 = x408.mul_add(x370, x407);
+                    x410 = x404 + x409;
+                    x411 = arith.four([x303, 0.0, 0.0, 0.0]);
+                    x412 = arith.splat_four(x199);
+                    x413 = x412.mul_neg_add(x168, x411);
+                    x414 = arith.four([x329, 0.0, 0.0, 0.0]);
+                    x415 = x413 + x414;
+                    x416 = arith.four([x330, 0.0, 0.0, 0.0]);
+                    x417 = x402.mul_add(x168, x416);
+                    x418 = arith.four([x332, 0.0, 0.0, 0.0]);
+                    x419 = x417 + x418;
+                    x420 = arith.four([x333, 0.0, 0.0, 0.0]);
+                    x421 = arith.splat_four(x33);
+                    x422 = x421.mul_add(x168, x420);
+                    x423 = arith.four([x334, 0.0, 0.0, 0.0]);
+                    x424 = x422 + x423;
+                    x425 = arith.four([x335, 0.0, 0.0, 0.0]);
+                    x426 = arith.splat_four(x210);
+                    x427 = x426.mul_add(x168, x425);
+                    x428 = arith.four([x337, 0.0, 0.0, 0.0]);
+                    x429 = x427 + x428;
+                    x430 = arith.four([x338, 0.0, 0.0, 0.0]);
+                    x431 = arith.splat_four(x212);
+                    x432 = x431.mul_add(x168, x430);
+                    x433 = arith.four([x340, 0.0, 0.0, 0.0]);
+                    x434 = x432 + x433;
+                    x435 = arith.splat_four(x102);
+                    x436 = arith.splat_four(x149);
+                    x437 = arith.four([x341, 0.0, 0.0, 0.0]);
+                    x438 = x436.mul_add(x169, x437);
+                    x439 = arith.splat_four(x216);
+                    x440 = arith.four([x343, 0.0, 0.0, 0.0]);
+                    x441 = x439.mul_add(x373, x440);
+                    x442 = arith.splat_four(x220);
+                    x443 = x442.mul_add(x375, x441);
+                    x444 = x438 + x443;
+                    x445 = arith.splat_four(x223);
+                    x446 = arith.four([x344, 0.0, 0.0, 0.0]);
+                    x447 = x435.mul_neg_add(x169, x446);
+                    x448 = arith.splat_four(x226);
+                    x449 = arith.four([x346, 0.0, 0.0, 0.0]);
+                    x450 = x448.mul_neg_add(x373, x449);
+                    x451 = arith.splat_four(x225);
+                    x452 = x451.mul_add(x375, x450);
+                    x453 = x447 + x452;
+                    x454 = arith.four([x305, 0.0, 0.0, 0.0]);
+                    x455 = arith.splat_four(x218);
+                    x456 = x455.mul_add(x169, x454);
+                    x457 = arith.four([x348, 0.0, 0.0, 0.0]);
+                    x458 = x456 + x457;
+                    x459 = arith.four([x349, 0.0, 0.0, 0.0]);
+                    x460 = x445.mul_add(x169, x459);
+                    x461 = arith.four([x350, 0.0, 0.0, 0.0]);
+                    x462 = x460 + x461;
+                    x463 = arith.four([x352, 0.0, 0.0, 0.0]);
+                    x464 = arith.splat_four(x42);
+                    x465 = x464.mul_add(x169, x463);
+                    x466 = arith.four([x347, 0.0, 0.0, 0.0]);
+                    x467 = x465 + x466;
+                    x468 = arith.four([x353, 0.0, 0.0, 0.0]);
+                    x469 = arith.splat_four(x230);
+                    x470 = x469.mul_add(x169, x468);
+                    x471 = arith.four([x355, 0.0, 0.0, 0.0]);
+                    x472 = x470 + x471;
+                    x473 = arith.four([x356, 0.0, 0.0, 0.0]);
+                    x474 = arith.splat_four(x232);
+                    x475 = x474.mul_add(x169, x473);
+                    x476 = arith.four([x357, 0.0, 0.0, 0.0]);
+                    x477 = x475 + x476;
+                    x478 = arith.splat_four(x118);
+                    x479 = arith.four([x358, 0.0, 0.0, 0.0]);
+                    x480 = x478.mul_neg_add(x176, x479);
+                    x481 = arith.splat_four(x236);
+                    x482 = arith.splat_four(x238);
+                    x483 = x482 * x381;
+                    x484 = x481.mul_add(x379, x483);
+                    x485 = arith.splat_four(x239);
+                    x486 = x485.mul_add(x377, x484);
+                    x487 = x480 + x486;
+                    x488 = arith.four([x360, 0.0, 0.0, 0.0]);
+                    x489 = x478.mul_add(x174, x488);
+                    x490 = arith.splat_four(x244);
+                    x491 = arith.splat_four(x242);
+                    x492 = x491 * x381;
+                    x493 = x490.mul_sub(x379, x492);
+                    x494 = arith.splat_four(x245);
+                    x495 = x494.mul_add(x377, x493);
+                    x496 = x489 + x495;
+                    x497 = arith.splat_four(x125);
+                    x498 = arith.splat_four(x237);
+                    x499 = x498 * x176;
+                    x500 = x497.mul_add(x174, x499);
+                    x501 = arith.four([x362, 0.0, 0.0, 0.0]);
+                    x502 = x500 + x501;
+                    x503 = arith.splat_four(x250);
+                    x504 = x494 * x176;
+                    x505 = x503.mul_add(x174, x504);
+                    x506 = arith.four([x363, 0.0, 0.0, 0.0]);
+                    x507 = x505 + x506;
+                    x508 = arith.splat_four(x243);
+                    x509 = arith.splat_four(x252);
+                    x510 = arith.splat_four(x251);
+                    x511 = x510 * x176;
+                    x512 = x509.mul_add(x174, x511);
+                    x513 = arith.four([x364, 0.0, 0.0, 0.0]);
+                    x514 = x512 + x513;
+                    x515 = arith.splat_four(x254);
+                    x516 = arith.splat_four(x255);
+                    x517 = x516 * x176;
+                    x518 = x515.mul_add(x174, x517);
+                    x519 = arith.four([x365, 0.0, 0.0, 0.0]);
+                    x520 = x518 + x519;
+                    x521 = x508.mul_sub(x174, x499);
+                    x522 = arith.four([x306, 0.0, 0.0, 0.0]);
+                    x523 = x521 + x522;
+                    x524 = arith.splat_four(x140);
+                    x525 = arith.splat_four(x138);
+                    x526 = arith.splat_four(x142);
+                    x527 = x526 * x176;
+                    x528 = x525.mul_sub(x385, x527);
+                    x529 = arith.splat_four(x258);
+                    x530 = x529 * x389;
+                    x531 = arith.splat_four(x261);
+                    x532 = x531.mul_sub(x387, x530);
+                    x533 = arith.splat_four(x262);
+                    x534 = x533.mul_add(x391, x532);
+                    x535 = x528 + x534;
+                    x536 = arith.splat_four(x265);
+                    x537 = arith.splat_four(x266);
+                    x538 = x524 * x176;
+                    x539 = x537.mul_add(x383, x538);
+                    x540 = arith.splat_four(x269);
+                    x541 = arith.splat_four(x270);
+                    x542 = x541 * x387;
+                    x543 = x540.mul_add(x389, x542);
+                    x544 = arith.splat_four(x268);
+                    x545 = x544.mul_add(x391, x543);
+                    x546 = x539 + x545;
+                    x547 = arith.splat_four(x145);
+                    x548 = arith.splat_four(x260);
+                    x549 = x548 * x176;
+                    x550 = x547.mul_add(x383, x549);
+                    x551 = arith.splat_four(x259);
+                    x552 = x551 * x385;
+                    x553 = x550 - x552;
+                    x554 = arith.splat_four(x272);
+                    x555 = x536 * x176;
+                    x556 = x554.mul_add(x383, x555);
+                    x557 = arith.splat_four(x271);
+                    x558 = x557.mul_add(x385, x556);
+                    x559 = arith.splat_four(x264);
+                    x560 = x559 * x383;
+                    x561 = arith.splat_four(x143);
+                    x562 = x561.mul_sub(x176, x560);
+                    x563 = x552 + x562;
+                    x564 = arith.splat_four(x273);
+                    x565 = x564 * x176;
+                    x566 = x531.mul_add(x383, x565);
+                    x567 = arith.splat_four(x274);
+                    x568 = x567.mul_add(x385, x566);
+                    x569 = arith.splat_four(x275);
+                    x570 = arith.splat_four(x276);
+                    x571 = x570 * x176;
+                    x572 = x569.mul_add(x383, x571);
+                    x573 = arith.splat_four(x277);
+                    x574 = x573.mul_add(x385, x572);
+                    [x575, _, _, _] = x401.to_array();
+                    *o48 = x575;
+                    [_, x576, _, _] = x401.to_array();
+                    *o49 = x576;
+                    [_, _, x577, _] = x401.to_array();
+                    *o50 = x577;
+                    [_, _, _, x578] = x401.to_array();
+                    *o51 = x578;
+                    [x579, _, _, _] = x410.to_array();
+                    *o54 = x579;
+                    [_, x580, _, _] = x410.to_array();
+                    *o55 = x580;
+                    [_, _, x581, _] = x410.to_array();
+                    *o56 = x581;
+                    [_, _, _, x582] = x410.to_array();
+                    *o57 = x582;
+                    [x583, _, _, _] = x415.to_array();
+                    *o60 = x583;
+                    [_, x584, _, _] = x415.to_array();
+                    *o61 = x584;
+                    [_, _, x585, _] = x415.to_array();
+                    *o62 = x585;
+                    [_, _, _, x586] = x415.to_array();
+                    *o63 = x586;
+                    [x587, _, _, _] = x419.to_array();
+                    *o66 = x587;
+                    [_, x588, _, _] = x419.to_array();
+                    *o67 = x588;
+                    [_, _, x589, _] = x419.to_array();
+                    *o68 = x589;
+                    [_, _, _, x590] = x419.to_array();
+                    *o69 = x590;
+                    [x591, _, _, _] = x424.to_array();
+                    *o72 = x591;
+                    [_, x592, _, _] = x424.to_array();
+                    *o73 = x592;
+                    [_, _, x593, _] = x424.to_array();
+                    *o74 = x593;
+                    [_, _, _, x594] = x424.to_array();
+                    *o75 = x594;
+                    [x595, _, _, _] = x429.to_array();
+                    *o78 = x595;
+                    [_, x596, _, _] = x429.to_array();
+                    *o79 = x596;
+                    [_, _, x597, _] = x429.to_array();
+                    *o80 = x597;
+                    [_, _, _, x598] = x429.to_array();
+                    *o81 = x598;
+                    [x599, _, _, _] = x434.to_array();
+                    *o84 = x599;
+                    [_, x600, _, _] = x434.to_array();
+                    *o85 = x600;
+                    [_, _, x601, _] = x434.to_array();
+                    *o86 = x601;
+                    [_, _, _, x602] = x434.to_array();
+                    *o87 = x602;
+                    [x603, _, _, _] = x444.to_array();
+                    *o90 = x603;
+                    [_, x604, _, _] = x444.to_array();
+                    *o91 = x604;
+                    [_, _, x605, _] = x444.to_array();
+                    *o92 = x605;
+                    [_, _, _, x606] = x444.to_array();
+                    *o93 = x606;
+                    [x607, _, _, _] = x453.to_array();
+                    *o96 = x607;
+                    [_, x608, _, _] = x453.to_array();
+                    *o97 = x608;
+                    [_, _, x609, _] = x453.to_array();
+                    *o98 = x609;
+                    [_, _, _, x610] = x453.to_array();
+                    *o99 = x610;
+                    [x611, _, _, _] = x458.to_array();
+                    *o102 = x611;
+                    [_, x612, _, _] = x458.to_array();
+                    *o103 = x612;
+                    [_, _, x613, _] = x458.to_array();
+                    *o104 = x613;
+                    [_, _, _, x614] = x458.to_array();
+                    *o105 = x614;
+                    [x615, _, _, _] = x462.to_array();
+                    *o108 = x615;
+                    [_, x616, _, _] = x462.to_array();
+                    *o109 = x616;
+                    [_, _, x617, _] = x462.to_array();
+                    *o110 = x617;
+                    [_, _, _, x618] = x462.to_array();
+                    *o111 = x618;
+                    [x619, _, _, _] = x467.to_array();
+                    *o114 = x619;
+                    [_, x620, _, _] = x467.to_array();
+                    *o115 = x620;
+                    [_, _, x621, _] = x467.to_array();
+                    *o116 = x621;
+                    [_, _, _, x622] = x467.to_array();
+                    *o117 = x622;
+                    [x623, _, _, _] = x472.to_array();
+                    *o120 = x623;
+                    [_, x624, _, _] = x472.to_array();
+                    *o121 = x624;
+                    [_, _, x625, _] = x472.to_array();
+                    *o122 = x625;
+                    [_, _, _, x626] = x472.to_array();
+                    *o123 = x626;
+                    [x627, _, _, _] = x477.to_array();
+                    *o126 = x627;
+                    [_, x628, _, _] = x477.to_array();
+                    *o127 = x628;
+                    [_, _, x629, _] = x477.to_array();
+                    *o128 = x629;
+                    [_, _, _, x630] = x477.to_array();
+                    *o129 = x630;
+                    [x631, _, _, _] = x487.to_array();
+                    *o132 = x631;
+                    [_, x632, _, _] = x487.to_array();
+                    *o133 = x632;
+                    [_, _, x633, _] = x487.to_array();
+                    *o134 = x633;
+                    [_, _, _, x634] = x487.to_array();
+                    *o135 = x634;
+                    [x635, _, _, _] = x496.to_array();
+                    *o138 = x635;
+                    [_, x636, _, _] = x496.to_array();
+                    *o139 = x636;
+                    [_, _, x637, _] = x496.to_array();
+                    *o140 = x637;
+                    [_, _, _, x638] = x496.to_array();
+                    *o141 = x638;
+                    [x639, _, _, _] = x502.to_array();
+                    *o144 = x639;
+                    [_, x640, _, _] = x502.to_array();
+                    *o145 = x640;
+                    [_, _, x641, _] = x502.to_array();
+                    *o146 = x641;
+                    [_, _, _, x642] = x502.to_array();
+                    *o147 = x642;
+                    [x643, _, _, _] = x507.to_array();
+                    *o150 = x643;
+                    [_, x644, _, _] = x507.to_array();
+                    *o151 = x644;
+                    [_, _, x645, _] = x507.to_array();
+                    *o152 = x645;
+                    [_, _, _, x646] = x507.to_array();
+                    *o153 = x646;
+                    [x647, _, _, _] = x514.to_array();
+                    *o156 = x647;
+                    [_, x648, _, _] = x514.to_array();
+                    *o157 = x648;
+                    [_, _, x649, _] = x514.to_array();
+                    *o158 = x649;
+                    [_, _, _, x650] = x514.to_array();
+                    *o159 = x650;
+                    [x651, _, _, _] = x520.to_array();
+                    *o162 = x651;
+                    [_, x652, _, _] = x520.to_array();
+                    *o163 = x652;
+                    [_, _, x653, _] = x520.to_array();
+                    *o164 = x653;
+                    [_, _, _, x654] = x520.to_array();
+                    *o165 = x654;
+                    [x655, _, _, _] = x523.to_array();
+                    *o168 = x655;
+                    [_, x656, _, _] = x523.to_array();
+                    *o169 = x656;
+                    [_, _, x657, _] = x523.to_array();
+                    *o170 = x657;
+                    [_, _, _, x658] = x523.to_array();
+                    *o171 = x658;
+                    [x659, _, _, _] = x535.to_array();
+                    *o174 = x659;
+                    [_, x660, _, _] = x535.to_array();
+                    *o175 = x660;
+                    [_, _, x661, _] = x535.to_array();
+                    *o176 = x661;
+                    [_, _, _, x662] = x535.to_array();
+                    *o177 = x662;
+                    [x663, _, _, _] = x546.to_array();
+                    *o180 = x663;
+                    [_, x664, _, _] = x546.to_array();
+                    *o181 = x664;
+                    [_, _, x665, _] = x546.to_array();
+                    *o182 = x665;
+                    [_, _, _, x666] = x546.to_array();
+                    *o183 = x666;
+                    [x667, _, _, _] = x553.to_array();
+                    *o186 = x667;
+                    [_, x668, _, _] = x553.to_array();
+                    *o187 = x668;
+                    [_, _, x669, _] = x553.to_array();
+                    *o188 = x669;
+                    [_, _, _, x670] = x553.to_array();
+                    *o189 = x670;
+                    [x671, _, _, _] = x558.to_array();
+                    *o192 = x671;
+                    [_, x672, _, _] = x558.to_array();
+                    *o193 = x672;
+                    [_, _, x673, _] = x558.to_array();
+                    *o194 = x673;
+                    [_, _, _, x674] = x558.to_array();
+                    *o195 = x674;
+                    [x675, _, _, _] = x563.to_array();
+                    *o198 = x675;
+                    [_, x676, _, _] = x563.to_array();
+                    *o199 = x676;
+                    [_, _, x677, _] = x563.to_array();
+                    *o200 = x677;
+                    [_, _, _, x678] = x563.to_array();
+                    *o201 = x678;
+                    [x679, _, _, _] = x568.to_array();
+                    *o204 = x679;
+                    [_, x680, _, _] = x568.to_array();
+                    *o205 = x680;
+                    [_, _, x681, _] = x568.to_array();
+                    *o206 = x681;
+                    [_, _, _, x682] = x568.to_array();
+                    *o207 = x682;
+                    [x683, _, _, _] = x574.to_array();
+                    *o210 = x683;
+                    [_, x684, _, _] = x574.to_array();
+                    *o211 = x684;
+                    [_, _, x685, _] = x574.to_array();
+                    *o212 = x685;
+                    [_, _, _, x686] = x574.to_array();
+                    *o213 = x686;
+                }
+            }
+        }
+        dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, a, out))
     }
     /// `Y_b`: columns 9, 11, 13, 14, 15, 16, 17, 18, 21, 23, 24, 25, 26, 27, 28, 31, 33, 34, 35, 36, 37, 38, 41, 42, 44, 45, 47, 48, 49, 51, 53, 54, 55, 56, 57, 58 of `Y` (the base parameters'), computed without the others.
     ///Operations: 591 mul, 570 add/sub, 1 neg (joint sines and cosines come precomputed in `JointTrig`).
@@ -11972,6 +17593,384 @@ impl ForwardDynamics<6, 60> for Ur5 {
         }
         dyngen_runtime::__private::dispatch::<Body, _>((t,))
     }
+    #[inline(never)]
+    fn mass_matrix_inverse_into(
+        t: &JointTrig<6>,
+        out: &mut dyngen_runtime::ResultBuffer<SMatrix<f64, 6, 6>>,
+    ) {
+        let out = dyngen_runtime::__private::claim(out, 9756469315843369389u64);
+        struct Body;
+        impl dyngen_runtime::__private::Kernel<(&JointTrig<6>, &mut SMatrix<f64, 6, 6>)>
+        for Body {
+            type Output = ();
+            #[inline(always)]
+            fn run<M: dyngen_runtime::__private::MulAdd>(
+                arith: M,
+                (t, out): (&JointTrig<6>, &mut SMatrix<f64, 6, 6>),
+            ) {
+                let [_, s1, s2, s3, s4, s5] = t.sin;
+                let [_, c1, c2, c3, c4, c5] = t.cos;
+                {
+                    let [[o0, o1, o2, o3, o4, o5], [o6, o7, o8, o9, o10, o11], [o12, o13,
+                    o14, o15, o16, o17], [o18, o19, o20, o21, o22, o23], [o24, o25, o26,
+                    o27, o28, o29], [o30, o31, o32, o33, o34, o35]] = &mut out.data.0;
+                    let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                    x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                    x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                    x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                    x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                    x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                    x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                    x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109,
+                    x110, x111, x112, x113, x114, x115, x116, x117, x118, x119, x120,
+                    x121, x122, x123, x124, x125, x126, x127, x128, x129, x130, x131,
+                    x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142,
+                    x143, x144, x145, x146, x147, x148, x149, x150, x151, x152, x153,
+                    x154, x155, x156, x157, x158, x159, x160, x161, x162, x163, x164,
+                    x165, x166, x167, x168, x169, x170, x171, x172, x173, x174, x175,
+                    x176, x177, x178, x179, x180, x181, x182, x183, x184, x185, x186,
+                    x187, x188, x189, x190, x191, x192, x193, x194, x195, x196, x197,
+                    x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
+                    x209, x210, x211, x212, x213, x214, x215, x216, x217, x218, x219,
+                    x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                    x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241,
+                    x242, x243, x244, x245, x246, x247, x248, x249, x250, x251, x252,
+                    x253, x254, x255, x256, x257, x258, x259, x260, x261, x262, x263,
+                    x264, x265, x266, x267, x268, x269, x270, x271, x272, x273, x274,
+                    x275, x276, x277, x278, x279, x280, x281, x282, x283, x284, x285,
+                    x286, x287, x288, x289, x290]: [f64; 291];
+                    x0 = -0.016685526854599998f64 * c5;
+                    x1 = 0.016685526854599998f64 * s5;
+                    x2 = s5 * x0;
+                    x3 = arith.mul_add(c5, x0, 0.033822f64);
+                    x4 = arith.mul_add(-s5, x1, 0.253242f64);
+                    x5 = c4 * x3;
+                    x6 = -0.0171364731454f64 * s4;
+                    x7 = c4 * x2;
+                    x8 = s4 * x3;
+                    x9 = 0.0171364731454f64 * c4;
+                    x10 = s4 * x2;
+                    x11 = s4 * x6;
+                    x12 = arith.mul_add(c4, x5, -x11);
+                    x13 = c4 * x6;
+                    x14 = arith.mul_add(s4, x5, x13);
+                    x15 = c4 * x9;
+                    x16 = arith.mul_add(s4, x8, x15);
+                    x17 = 0.004608836229750008f64 + x12;
+                    x18 = 0.22402883622975f64 + x16;
+                    x19 = -0.001653980355f64 - x10;
+                    x20 = 0.017784735f64 * c3;
+                    x21 = -0.017784735f64 * s3;
+                    x22 = c3 * x7;
+                    x23 = arith.mul_add(s3, x17, x22);
+                    x24 = s3 * x14;
+                    x25 = arith.mul_add(c3, x19, -x24);
+                    x26 = s3 * x7;
+                    x27 = arith.mul_add(c3, x4, x26);
+                    x28 = arith.mul_add(-c3, x17, x26);
+                    x29 = s3 * x19;
+                    x30 = arith.mul_add(c3, x14, x29);
+                    x31 = arith.mul_add(-s3, x4, x22);
+                    x32 = c3 * x27;
+                    x33 = arith.mul_add(s3, x23, x32);
+                    x34 = s3 * x27;
+                    x35 = arith.mul_add(c3, x23, -x34);
+                    x36 = s3 * x31;
+                    x37 = arith.mul_add(c3, x28, x36);
+                    x38 = -0.00697606230375f64 * s3;
+                    x39 = -0.0139521246075f64 * s3;
+                    x40 = x33 + x39;
+                    x41 = x18 + x39;
+                    x42 = arith.mul_add(-0.00697606230375f64, c3, x35);
+                    x43 = x39 - x37;
+                    x44 = x38 + x38;
+                    x45 = x43 - x44;
+                    x46 = 1.5987592750000001f64 + x21;
+                    x47 = 0.59155695167475f64 + x40;
+                    x48 = 0.59565195167475f64 + x41;
+                    x49 = -0.05132265682500001f64 - x30;
+                    x50 = s2 * x46;
+                    x51 = arith.mul_add(c2, x20, x50);
+                    x52 = s2 * x20;
+                    x53 = arith.mul_add(c2, x46, -x52);
+                    x54 = s2 * x42;
+                    x55 = arith.mul_add(c2, x47, x54);
+                    x56 = c2 * x25;
+                    x57 = arith.mul_add(s2, x49, x56);
+                    x58 = c2 * x42;
+                    x59 = arith.mul_add(s2, x45, x58);
+                    x60 = arith.mul_add(-s2, x47, x58);
+                    x61 = s2 * x25;
+                    x62 = arith.mul_add(c2, x49, -x61);
+                    x63 = arith.mul_add(c2, x45, -x54);
+                    x64 = s2 * x59;
+                    x65 = arith.mul_add(c2, x55, x64);
+                    x66 = s2 * x55;
+                    x67 = arith.mul_add(c2, x59, -x66);
+                    x68 = s2 * x60;
+                    x69 = arith.mul_add(c2, x63, -x68);
+                    x70 = 0.425f64 * x53;
+                    x71 = 0.85f64 * x53;
+                    x72 = x65 + x71;
+                    x73 = arith.mul_add(0.1197f64, x51, x57);
+                    x74 = x48 + x71;
+                    x75 = arith.mul_add(-0.425f64, x51, x67);
+                    x76 = arith.mul_add(0.1197f64, x53, x62);
+                    x77 = x69 + x71;
+                    x78 = x70 + x70;
+                    x79 = x77 - x78;
+                    x80 = 4.432922500000001f64 + x53;
+                    x81 = 1.75501953841f64 + x72;
+                    x82 = 1.77012693841f64 + x74;
+                    x83 = 0.19371331275f64 + x76;
+                    x84 = c1 * x51;
+                    x85 = arith.mul_add(s1, x80, x84);
+                    x86 = c1 * x81;
+                    x87 = arith.mul_add(s1, x75, x86);
+                    x88 = s1 * x83;
+                    x89 = arith.mul_add(c1, x73, x88);
+                    x90 = s1 * x79;
+                    x91 = arith.mul_add(c1, x75, x90);
+                    x92 = s1 * x91;
+                    x93 = arith.mul_add(c1, x87, x92);
+                    x94 = arith.mul_add(-0.13585f64, x85, x89);
+                    x95 = 0.41784981244275005f64 + x93;
+                    x96 = arith.mul_add(0.1197f64, x51, x57);
+                    x97 = x48 + x70;
+                    x98 = arith.mul_add(s1, x53, x84);
+                    x99 = s1 * x76;
+                    x100 = arith.mul_add(c1, x96, x99);
+                    x101 = arith.mul_add(-0.13585f64, x98, x100);
+                    x102 = -0.017784735f64 * c3;
+                    x103 = x18 + x38;
+                    x104 = s2 * x102;
+                    x105 = arith.mul_add(c2, x21, x104);
+                    x106 = s2 * x21;
+                    x107 = arith.mul_add(c2, x102, -x106);
+                    x108 = arith.mul_add(-s2, x30, x56);
+                    x109 = arith.mul_add(c2, x30, x61);
+                    x110 = arith.mul_add(-0.1197f64, x107, x108);
+                    x111 = arith.mul_add(0.425f64, x105, x103);
+                    x112 = arith.mul_add(-0.1197f64, x105, x109);
+                    x113 = s1 * x105;
+                    x114 = arith.mul_add(c1, x107, -x113);
+                    x115 = c1 * x110;
+                    x116 = arith.mul_add(s1, x112, -x115);
+                    x117 = arith.mul_add(-0.13585f64, x114, x116);
+                    x118 = s2 * x31;
+                    x119 = arith.mul_add(c2, x27, x118);
+                    x120 = s2 * x27;
+                    x121 = arith.mul_add(c2, x31, -x120);
+                    x122 = s1 * x121;
+                    x123 = arith.mul_add(c1, x119, x122);
+                    x124 = s3 * x6;
+                    x125 = c3 * x6;
+                    x126 = s2 * x125;
+                    x127 = arith.mul_add(c2, x124, x126);
+                    x128 = c2 * x125;
+                    x129 = arith.mul_add(s2, x124, -x128);
+                    x130 = s1 * x129;
+                    x131 = arith.mul_add(c1, x127, -x130);
+                    x132 = x18 - x15;
+                    x133 = x103 - x15;
+                    x134 = x111 - x15;
+                    x135 = c4 * x131;
+                    x136 = x117 - x135;
+                    x137 = x48 - x15;
+                    x138 = x97 - x15;
+                    x139 = x101 + x135;
+                    x140 = x82 - x15;
+                    x141 = x94 + x135;
+                    x142 = 58.355064750790525f64 * x131;
+                    x143 = arith.mul_add(-x131, x142, x95);
+                    x144 = 1f64 / x4;
+                    x145 = x10 * x144;
+                    x146 = x10 * x145;
+                    x147 = x132 - x146;
+                    x148 = x133 - x146;
+                    x149 = x134 - x146;
+                    x150 = x123 * x145;
+                    x151 = x136 - x150;
+                    x152 = x137 - x146;
+                    x153 = x138 - x146;
+                    x154 = x139 + x150;
+                    x155 = x140 - x146;
+                    x156 = x141 + x150;
+                    x157 = x123 * x144;
+                    x158 = arith.mul_add(-x123, x157, x143);
+                    x159 = 1f64 / x147;
+                    x160 = x148 * x159;
+                    x161 = arith.mul_add(-x148, x160, x152);
+                    x162 = arith.mul_add(-x149, x160, x153);
+                    x163 = arith.mul_add(x151, x160, x154);
+                    x164 = x149 * x159;
+                    x165 = arith.mul_add(-x149, x164, x155);
+                    x166 = arith.mul_add(x151, x164, x156);
+                    x167 = x151 * x159;
+                    x168 = arith.mul_add(-x151, x167, x158);
+                    x169 = 1f64 / x161;
+                    x170 = x162 * x169;
+                    x171 = arith.mul_add(-x162, x170, x165);
+                    x172 = arith.mul_add(x163, x170, -x166);
+                    x173 = x163 * x169;
+                    x174 = arith.mul_add(-x163, x173, x168);
+                    x175 = 1f64 / x171;
+                    x176 = x172 * x175;
+                    x177 = arith.mul_add(-x172, x176, x174);
+                    x178 = 1f64 / x177;
+                    *o0 = x178;
+                    x179 = x176 * x178;
+                    x180 = -x179;
+                    *o1 = x180;
+                    *o6 = x180;
+                    x181 = x170 * x179;
+                    x182 = arith.mul_add(x173, x178, x181);
+                    *o2 = x182;
+                    *o12 = x182;
+                    x183 = x167 * x178;
+                    x184 = arith.mul_add(x164, x179, -x183);
+                    x185 = arith.mul_add(-x160, x182, x184);
+                    *o3 = x185;
+                    *o18 = x185;
+                    x186 = x145 * x179;
+                    x187 = arith.mul_add(x157, x178, -x186);
+                    x188 = arith.mul_add(x145, x182, x187);
+                    x189 = arith.mul_add(x145, x185, x188);
+                    *o4 = x189;
+                    *o24 = x189;
+                    x190 = x142 * x178;
+                    x191 = arith.mul_add(c4, x179, -x190);
+                    x192 = arith.mul_add(-c4, x182, x191);
+                    x193 = arith.mul_add(-c4, x185, x192);
+                    *o5 = x193;
+                    *o30 = x193;
+                    x194 = arith.mul_add(x176, x179, x175);
+                    *o7 = x194;
+                    x195 = x170 * x194;
+                    x196 = arith.mul_add(x173, x179, x195);
+                    x197 = -x196;
+                    *o8 = x197;
+                    *o13 = x197;
+                    x198 = x164 * x194;
+                    x199 = arith.mul_add(x167, x179, -x198);
+                    x200 = arith.mul_add(x160, x196, x199);
+                    *o9 = x200;
+                    *o19 = x200;
+                    x201 = x157 * x179;
+                    x202 = arith.mul_add(x145, x194, -x201);
+                    x203 = arith.mul_add(-x145, x196, x202);
+                    x204 = arith.mul_add(x145, x200, x203);
+                    *o10 = x204;
+                    *o25 = x204;
+                    x205 = c4 * x194;
+                    x206 = arith.mul_add(x142, x179, -x205);
+                    x207 = arith.mul_add(c4, x196, x206);
+                    x208 = arith.mul_add(-c4, x200, x207);
+                    *o11 = x208;
+                    *o31 = x208;
+                    x209 = arith.mul_add(x170, x176, x173);
+                    x210 = x178 * x209;
+                    x211 = x176 * x210;
+                    x212 = arith.mul_add(x170, x175, x211);
+                    x213 = arith.mul_add(x173, x210, x169);
+                    x214 = arith.mul_add(x170, x212, x213);
+                    *o14 = x214;
+                    x215 = x167 * x210;
+                    x216 = arith.mul_add(x164, x212, -x215);
+                    x217 = arith.mul_add(-x160, x214, x216);
+                    *o15 = x217;
+                    *o20 = x217;
+                    x218 = x145 * x212;
+                    x219 = arith.mul_add(x157, x210, -x218);
+                    x220 = arith.mul_add(x145, x214, x219);
+                    x221 = arith.mul_add(x145, x217, x220);
+                    *o16 = x221;
+                    *o26 = x221;
+                    x222 = x142 * x210;
+                    x223 = arith.mul_add(c4, x212, -x222);
+                    x224 = arith.mul_add(-c4, x214, x223);
+                    x225 = arith.mul_add(-c4, x217, x224);
+                    *o17 = x225;
+                    *o32 = x225;
+                    x226 = arith.mul_add(x160, x170, -x164);
+                    x227 = arith.mul_add(x160, x173, x167);
+                    x228 = arith.mul_add(x176, x226, x227);
+                    x229 = x178 * x228;
+                    x230 = x176 * x229;
+                    x231 = arith.mul_add(x175, x226, x230);
+                    x232 = x173 * x229;
+                    x233 = arith.mul_add(x160, x169, x232);
+                    x234 = arith.mul_add(x170, x231, x233);
+                    x235 = arith.mul_add(x167, x229, x159);
+                    x236 = arith.mul_add(-x164, x231, x235);
+                    x237 = arith.mul_add(x160, x234, x236);
+                    *o21 = x237;
+                    x238 = x157 * x229;
+                    x239 = arith.mul_add(x145, x231, -x238);
+                    x240 = arith.mul_add(-x145, x234, x239);
+                    x241 = arith.mul_add(x145, x237, x240);
+                    *o22 = x241;
+                    *o27 = x241;
+                    x242 = c4 * x231;
+                    x243 = arith.mul_add(x142, x229, -x242);
+                    x244 = arith.mul_add(c4, x234, x243);
+                    x245 = arith.mul_add(-c4, x237, x244);
+                    *o23 = x245;
+                    *o33 = x245;
+                    x246 = arith.mul_add(-x145, x160, x145);
+                    x247 = arith.mul_add(-x145, x164, x145);
+                    x248 = arith.mul_add(-x145, x167, x157);
+                    x249 = arith.mul_add(-x170, x246, x247);
+                    x250 = arith.mul_add(x173, x246, x248);
+                    x251 = arith.mul_add(-x176, x249, x250);
+                    x252 = x178 * x251;
+                    x253 = x176 * x252;
+                    x254 = arith.mul_add(x175, x249, -x253);
+                    x255 = x173 * x252;
+                    x256 = arith.mul_add(x169, x246, x255);
+                    x257 = arith.mul_add(-x170, x254, x256);
+                    x258 = x167 * x252;
+                    x259 = arith.mul_add(x145, x159, -x258);
+                    x260 = arith.mul_add(-x164, x254, x259);
+                    x261 = arith.mul_add(-x160, x257, x260);
+                    x262 = arith.mul_add(x157, x252, x144);
+                    x263 = arith.mul_add(x145, x254, x262);
+                    x264 = arith.mul_add(x145, x257, x263);
+                    x265 = arith.mul_add(x145, x261, x264);
+                    *o28 = x265;
+                    x266 = c4 * x254;
+                    x267 = arith.mul_add(x142, x252, x266);
+                    x268 = arith.mul_add(c4, x257, x267);
+                    x269 = arith.mul_add(c4, x261, x268);
+                    x270 = -x269;
+                    *o29 = x270;
+                    *o34 = x270;
+                    x271 = arith.mul_add(c4, x160, -c4);
+                    x272 = arith.mul_add(c4, x164, -c4);
+                    x273 = arith.mul_add(c4, x167, -x142);
+                    x274 = arith.mul_add(-x170, x271, x272);
+                    x275 = arith.mul_add(x173, x271, x273);
+                    x276 = arith.mul_add(-x176, x274, x275);
+                    x277 = x178 * x276;
+                    x278 = x176 * x277;
+                    x279 = arith.mul_add(x175, x274, -x278);
+                    x280 = x173 * x277;
+                    x281 = arith.mul_add(x169, x271, x280);
+                    x282 = arith.mul_add(-x170, x279, x281);
+                    x283 = x167 * x277;
+                    x284 = arith.mul_add(c4, x159, x283);
+                    x285 = arith.mul_add(x164, x279, x284);
+                    x286 = arith.mul_add(x160, x282, x285);
+                    x287 = arith.mul_add(-x142, x277, 58.355064750790525f64);
+                    x288 = arith.mul_add(-c4, x279, x287);
+                    x289 = arith.mul_add(-c4, x282, x288);
+                    x290 = arith.mul_add(c4, x286, x289);
+                    *o35 = x290;
+                }
+            }
+        }
+        dyngen_runtime::__private::dispatch::<Body, _>((t, out))
+    }
 }
 impl DynamicsDerivatives<6, 60> for Ur5 {
     ///Operations: 891 mul, 695 add/sub, 2 neg (joint sines and cosines come precomputed in `JointTrig`).
@@ -13417,6 +19416,1461 @@ impl DynamicsDerivatives<6, 60> for Ur5 {
             }
         }
         dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd, a))
+    }
+    #[inline(never)]
+    fn inverse_dynamics_derivatives_into(
+        t: &JointTrig<6>,
+        qd: &SVector<f64, 6>,
+        a: &SVector<f64, 6>,
+        out: &mut dyngen_runtime::ResultBuffer<(SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>)>,
+    ) {
+        let out = dyngen_runtime::__private::claim(out, 15114107561889577448u64);
+        struct Body;
+        impl dyngen_runtime::__private::Kernel<
+            (
+                &JointTrig<6>,
+                &SVector<f64, 6>,
+                &SVector<f64, 6>,
+                &mut (SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>),
+            ),
+        > for Body {
+            type Output = ();
+            #[inline(always)]
+            fn run<M: dyngen_runtime::__private::MulAdd>(
+                arith: M,
+                (
+                    t,
+                    qd,
+                    a,
+                    out,
+                ): (
+                    &JointTrig<6>,
+                    &SVector<f64, 6>,
+                    &SVector<f64, 6>,
+                    &mut (SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>),
+                ),
+            ) {
+                let [_, s1, s2, s3, s4, s5] = t.sin;
+                let [_, c1, c2, c3, c4, c5] = t.cos;
+                let [qd0, qd1, qd2, qd3, qd4, qd5] = qd.data.0[0];
+                let [a0, a1, a2, a3, a4, a5] = a.data.0[0];
+                {
+                    let (
+                        [[_,
+                        _,
+                        _,
+                        _,
+                        _,
+                        _,
+                        ],
+                        [o6,
+                        o7,
+                        o8,
+                        o9,
+                        o10,
+                        o11,
+                        ],
+                        [o12,
+                        o13,
+                        o14,
+                        o15,
+                        o16,
+                        o17,
+                        ],
+                        [o18,
+                        o19,
+                        o20,
+                        o21,
+                        o22,
+                        o23,
+                        ],
+                        [o24,
+                        o25,
+                        o26,
+                        o27,
+                        o28,
+                        o29,
+                        ],
+                        [o30,
+                        o31,
+                        o32,
+                        o33,
+                        o34,
+                        o35,
+                        ],
+                        ],
+                        [[o36,
+                        o37,
+                        o38,
+                        o39,
+                        o40,
+                        o41,
+                        ],
+                        [o42,
+                        o43,
+                        o44,
+                        o45,
+                        o46,
+                        o47,
+                        ],
+                        [o48,
+                        o49,
+                        o50,
+                        o51,
+                        o52,
+                        o53,
+                        ],
+                        [o54,
+                        o55,
+                        o56,
+                        o57,
+                        o58,
+                        o59,
+                        ],
+                        [o60,
+                        o61,
+                        o62,
+                        o63,
+                        o64,
+                        o65,
+                        ],
+                        [o66,
+                        o67,
+                        o68,
+                        o69,
+                        o70,
+                        _,
+                        ],
+                        ],
+                    ) = (&mut out.0.data.0, &mut out.1.data.0);
+                    let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                    x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                    x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                    x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                    x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                    x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                    x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                    x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109,
+                    x110, x111, x112, x113, x114, x115, x116, x117, x118, x119, x120,
+                    x121, x122, x123, x124, x125, x126, x127, x128, x129, x130, x131,
+                    x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142,
+                    x143, x144, x145, x146, x147, x148, x149, x150, x151, x152, x153,
+                    x154, x155, x156, x157, x158, x159, x160, x161, x162, x163, x164,
+                    x165, x166, x167, x168, x169, x170, x171, x172, x173, x174, x175,
+                    x176, x177, x178, x179, x180, x181, x182, x183, x184, x185, x186,
+                    x187, x188, x189, x190, x191, x192, x193, x194, x195, x196, x197,
+                    x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
+                    x209, x210, x211, x212, x213, x214, x215, x216, x217, x218, x219,
+                    x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                    x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241,
+                    x242, x243, x244, x245, x246, x247, x248, x249, x250, x251, x252,
+                    x253, x254, x255, x256, x257, x258, x259, x260, x261, x262, x263,
+                    x264, x265, x266, x267, x268, x269, x270, x271, x272, x273, x274,
+                    x275, x276, x277, x278, x279, x280, x281, x282, x283, x284, x285,
+                    x286, x287, x288, x289, x290, x291, x292, x293, x294, x295, x296,
+                    x297, x298, x299, x300, x301, x302, x303, x304, x305, x306, x307,
+                    x308, x309, x310, x311, x312, x313, x314, x315, x316, x317, x318,
+                    x319, x320, x321, x322, x323, x324, x325, x326, x327, x328, x329,
+                    x330, x331, x332, x333, x334, x335, x336, x337, x338, x339, x340,
+                    x341, x342, x343, x344, x345, x346, x347, x348, x349, x350, x351,
+                    x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                    x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373,
+                    x374, x375, x376, x377, x378, x379, x380, x381, x382, x383, x384,
+                    x385, x386, x387, x388, x389, x390, x391, x392, x393, x394, x395,
+                    x396, x397, x398, x399, x400, x401, x402, x403, x404, x405, x406,
+                    x407, x408, x409, x410, x411, x412, x413, x414, x415, x416, x417,
+                    x418, x419, x420, x421, x422, x423, x424, x425, x426, x427, x428,
+                    x429, x430, x431, x432, x433, x434, x435, x436, x437, x438, x439,
+                    x440, x441, x442, x443, x444, x445, x446, x447, x448, x449, x450,
+                    x451, x452, x453, x454, x455, x456, x457, x458, x459, x460, x461,
+                    x462, x463, x464, x465, x466, x467, x468, x469, x470, x471, x472,
+                    x473, x474, x475, x476, x477, x478, x479, x480, x481, x482, x483,
+                    x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
+                    x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505,
+                    x506, x507, x508, x509, x510, x511, x512, x513, x514, x515, x516,
+                    x517, x518, x519, x520, x521, x522, x523, x524, x525, x526, x527,
+                    x528, x529, x530, x531, x532, x533, x534, x535, x536, x537, x538,
+                    x539, x540, x541, x542, x543, x544, x545, x546, x547, x548, x549,
+                    x550, x551, x552, x553, x554, x555, x556, x557, x558, x559, x560,
+                    x561, x562, x563, x564, x565, x566, x567, x568, x569, x570, x571,
+                    x572, x573, x574, x575, x576, x577, x578, x579, x580, x581, x582,
+                    x583, x584, x585, x586, x587, x588, x589, x590, x591, x592, x593,
+                    x594, x595, x596, x597, x598, x599, x600, x601, x602, x603, x604,
+                    x605, x606, x607, x608, x609, x610, x611, x612, x613, x614, x615,
+                    x616, x617, x618, x619, x620, x621, x622, x623, x624, x625, x626,
+                    x627, x628, x629, x630, x631, x632, x633, x634, x635, x636, x637,
+                    x638, x639, x640, x641, x642, x643, x644, x645, x646, x647, x648,
+                    x649, x650, x651, x652, x653, x654, x655, x656, x657, x658, x659,
+                    x660, x661, x662, x663, x664, x665, x666, x667, x668, x669, x670,
+                    x671, x672, x673, x674, x675, x676, x677, x678, x679, x680, x681,
+                    x682, x683, x684, x685, x686, x687, x688, x689, x690, x691, x692,
+                    x693, x694, x695, x696, x697, x698, x699, x700, x701, x702, x703,
+                    x704, x705, x706, x707, x708, x709, x710, x711, x712, x713, x714,
+                    x715, x716, x717, x718, x719, x720, x721, x722, x723, x724, x725,
+                    x726, x727, x728, x729, x730, x731, x732, x733, x734, x735, x736,
+                    x737, x738, x739, x740, x741, x742, x743, x744, x745, x746, x747,
+                    x748, x749, x750, x751, x752, x753, x754, x755, x756, x757, x758,
+                    x759, x760, x761, x762, x763, x764, x765, x766, x767, x768, x769,
+                    x770, x771, x772, x773, x774, x775, x776, x777, x778, x779, x780,
+                    x781, x782, x783, x784, x785, x786, x787, x788, x789, x790, x791,
+                    x792, x793, x794, x795, x796, x797, x798, x799, x800, x801, x802,
+                    x803, x804, x805, x806, x807, x808, x809, x810, x811, x812, x813,
+                    x814, x815, x816, x817, x818, x819, x820, x821, x822, x823, x824,
+                    x825, x826, x827, x828, x829, x830, x831, x832, x833, x834, x835,
+                    x836, x837, x838, x839, x840, x841, x842, x843, x844, x845, x846,
+                    x847, x848, x849, x850, x851, x852, x853, x854, x855, x856, x857,
+                    x858, x859, x860, x861, x862, x863, x864, x865, x866, x867, x868,
+                    x869, x870, x871, x872, x873, x874, x875, x876, x877, x878, x879,
+                    x880, x881, x882, x883, x884, x885, x886, x887, x888, x889, x890,
+                    x891, x892, x893, x894, x895, x896, x897, x898, x899, x900, x901,
+                    x902, x903, x904, x905, x906, x907, x908, x909, x910, x911, x912,
+                    x913, x914, x915, x916, x917, x918, x919, x920, x921, x922, x923,
+                    x924, x925, x926, x927, x928, x929, x930, x931, x932, x933, x934,
+                    x935, x936, x937, x938, x939, x940, x941, x942, x943, x944, x945,
+                    x946, x947, x948, x949, x950, x951, x952, x953, x954, x955, x956,
+                    x957, x958, x959, x960, x961, x962, x963, x964, x965, x966, x967,
+                    x968, x969, x970, x971, x972, x973, x974, x975, x976, x977, x978,
+                    x979, x980, x981, x982, x983, x984, x985, x986, x987, x988, x989,
+                    x990, x991, x992, x993, x994, x995, x996, x997, x998, x999, x1000,
+                    x1001, x1002, x1003, x1004, x1005, x1006, x1007, x1008, x1009, x1010,
+                    x1011, x1012, x1013, x1014, x1015, x1016, x1017, x1018, x1019, x1020,
+                    x1021, x1022, x1023, x1024, x1025, x1026, x1027, x1028, x1029, x1030,
+                    x1031, x1032, x1033, x1034, x1035, x1036, x1037, x1038, x1039, x1040,
+                    x1041, x1042, x1043, x1044, x1045, x1046, x1047, x1048, x1049, x1050,
+                    x1051, x1052, x1053, x1054, x1055, x1056, x1057, x1058, x1059, x1060,
+                    x1061, x1062, x1063, x1064, x1065, x1066, x1067, x1068, x1069, x1070,
+                    x1071, x1072, x1073, x1074, x1075, x1076, x1077, x1078, x1079, x1080,
+                    x1081, x1082, x1083, x1084, x1085, x1086, x1087, x1088, x1089, x1090,
+                    x1091, x1092, x1093, x1094, x1095, x1096, x1097, x1098, x1099, x1100,
+                    x1101, x1102, x1103, x1104, x1105, x1106, x1107, x1108, x1109, x1110,
+                    x1111, x1112, x1113, x1114, x1115, x1116, x1117, x1118, x1119, x1120,
+                    x1121, x1122, x1123, x1124, x1125, x1126, x1127, x1128, x1129, x1130,
+                    x1131, x1132, x1133, x1134, x1135, x1136, x1137, x1138, x1139, x1140,
+                    x1141, x1142, x1143, x1144, x1145, x1146, x1147, x1148, x1149, x1150,
+                    x1151, x1152, x1153]: [f64; 1154];
+                    x0 = -9.81f64 * s1;
+                    x1 = qd0 * c1;
+                    x2 = qd0 * s1;
+                    x3 = 0.13585f64 * qd0;
+                    x4 = s1 * x3;
+                    x5 = c1 * x3;
+                    x6 = a0 * c1;
+                    x7 = 0.13585f64 * a0;
+                    x8 = s1 * x7;
+                    x9 = arith.mul_add(-9.81f64, c1, x8);
+                    x10 = c1 * x7;
+                    x11 = x0 - x10;
+                    x12 = c2 * x1;
+                    x13 = arith.mul_add(s2, x2, -x12);
+                    x14 = c2 * x2;
+                    x15 = arith.mul_add(s2, x1, x14);
+                    x16 = 0.1197f64 * x2;
+                    x17 = 0.425f64 * qd1;
+                    x18 = x16 - x17;
+                    x19 = -0.425f64 * x1;
+                    x20 = 0.1197f64 * x1;
+                    x21 = x4 - x18;
+                    x22 = x20 - x5;
+                    x23 = s2 * x22;
+                    x24 = arith.mul_add(c2, x21, -x23);
+                    x25 = c2 * x22;
+                    x26 = arith.mul_add(s2, x21, x25);
+                    x27 = qd1 + qd2;
+                    x28 = 0.425f64 * a1;
+                    x29 = a1 + a2;
+                    x30 = s3 * x13;
+                    x31 = arith.mul_add(c3, x15, -x30);
+                    x32 = s3 * x15;
+                    x33 = arith.mul_add(c3, x13, x32);
+                    x34 = 0.39225f64 * x27;
+                    x35 = 0.39225f64 * x13;
+                    x36 = x24 + x34;
+                    x37 = x19 + x35;
+                    x38 = c3 * x26;
+                    x39 = arith.mul_add(s3, x36, x38);
+                    x40 = c3 * x36;
+                    x41 = s3 * x26;
+                    x42 = x40 - x41;
+                    x43 = qd3 + x27;
+                    x44 = a3 + x29;
+                    x45 = s4 * x43;
+                    x46 = arith.mul_add(c4, x31, x45);
+                    x47 = s4 * x31;
+                    x48 = arith.mul_add(c4, x43, -x47);
+                    x49 = qd4 + x33;
+                    x50 = s4 * x44;
+                    x51 = s5 * x49;
+                    x52 = arith.mul_add(c5, x46, -x51);
+                    x53 = c5 * x49;
+                    x54 = arith.mul_add(s5, x46, x53);
+                    x55 = qd5 + x48;
+                    x56 = -0.016685526854599998f64 * c5;
+                    x57 = 0.016685526854599998f64 * s5;
+                    x58 = s5 * x56;
+                    x59 = arith.mul_add(c5, x56, 0.033822f64);
+                    x60 = arith.mul_add(-s5, x57, 0.253242f64);
+                    x61 = c4 * x59;
+                    x62 = -0.0171364731454f64 * s4;
+                    x63 = c4 * x58;
+                    x64 = s4 * x62;
+                    x65 = arith.mul_add(c4, x61, -x64);
+                    x66 = c4 * x62;
+                    x67 = arith.mul_add(s4, x61, x66);
+                    x68 = 0.004608836229750008f64 + x65;
+                    x69 = arith.mul_add(-s4, x58, -0.001653980355f64);
+                    x70 = 0.017784735f64 * c3;
+                    x71 = -0.017784735f64 * s3;
+                    x72 = c3 * x63;
+                    x73 = arith.mul_add(s3, x68, x72);
+                    x74 = s3 * x67;
+                    x75 = arith.mul_add(c3, x69, -x74);
+                    x76 = s3 * x63;
+                    x77 = arith.mul_add(c3, x60, x76);
+                    x78 = arith.mul_add(-c3, x68, x76);
+                    x79 = s3 * x69;
+                    x80 = arith.mul_add(c3, x67, x79);
+                    x81 = arith.mul_add(-s3, x60, x72);
+                    x82 = c3 * x77;
+                    x83 = arith.mul_add(s3, x73, x82);
+                    x84 = s3 * x77;
+                    x85 = arith.mul_add(c3, x73, -x84);
+                    x86 = s3 * x81;
+                    x87 = arith.mul_add(c3, x78, x86);
+                    x88 = -0.00697606230375f64 * s3;
+                    x89 = -0.0139521246075f64 * s3;
+                    x90 = x83 + x89;
+                    x91 = arith.mul_add(-0.00697606230375f64, c3, x85);
+                    x92 = x89 - x87;
+                    x93 = x88 + x88;
+                    x94 = x92 - x93;
+                    x95 = 1.5987592750000001f64 + x71;
+                    x96 = 0.59155695167475f64 + x90;
+                    x97 = -0.05132265682500001f64 - x80;
+                    x98 = s2 * x95;
+                    x99 = arith.mul_add(c2, x70, x98);
+                    x100 = s2 * x70;
+                    x101 = arith.mul_add(c2, x95, -x100);
+                    x102 = s2 * x91;
+                    x103 = arith.mul_add(c2, x96, x102);
+                    x104 = c2 * x75;
+                    x105 = arith.mul_add(s2, x97, x104);
+                    x106 = c2 * x91;
+                    x107 = arith.mul_add(s2, x94, x106);
+                    x108 = arith.mul_add(-s2, x96, x106);
+                    x109 = s2 * x75;
+                    x110 = arith.mul_add(c2, x97, -x109);
+                    x111 = arith.mul_add(c2, x94, -x102);
+                    x112 = s2 * x107;
+                    x113 = arith.mul_add(c2, x103, x112);
+                    x114 = s2 * x103;
+                    x115 = arith.mul_add(c2, x107, -x114);
+                    x116 = s2 * x108;
+                    x117 = arith.mul_add(c2, x111, -x116);
+                    x118 = 0.425f64 * x101;
+                    x119 = 0.85f64 * x101;
+                    x120 = x113 + x119;
+                    x121 = arith.mul_add(0.1197f64, x99, x105);
+                    x122 = arith.mul_add(-0.425f64, x99, x115);
+                    x123 = arith.mul_add(0.1197f64, x101, x110);
+                    x124 = x117 + x119;
+                    x125 = x118 + x118;
+                    x126 = x124 - x125;
+                    x127 = 4.432922500000001f64 + x101;
+                    x128 = 1.75501953841f64 + x120;
+                    x129 = 0.19371331275f64 + x123;
+                    x130 = arith.mul_add(0.1197f64, x99, x105);
+                    x131 = -0.017784735f64 * c3;
+                    x132 = s2 * x131;
+                    x133 = arith.mul_add(c2, x71, x132);
+                    x134 = s2 * x71;
+                    x135 = arith.mul_add(c2, x131, -x134);
+                    x136 = arith.mul_add(-s2, x80, x104);
+                    x137 = arith.mul_add(c2, x80, x109);
+                    x138 = arith.mul_add(-0.1197f64, x135, x136);
+                    x139 = arith.mul_add(-0.1197f64, x133, x137);
+                    x140 = s2 * x81;
+                    x141 = arith.mul_add(c2, x77, x140);
+                    x142 = s2 * x77;
+                    x143 = arith.mul_add(c2, x81, -x142);
+                    x144 = s3 * x62;
+                    x145 = c3 * x62;
+                    x146 = s2 * x145;
+                    x147 = arith.mul_add(c2, x144, x146);
+                    x148 = c2 * x145;
+                    x149 = arith.mul_add(s2, x144, -x148);
+                    x150 = -4.432922500000001f64 * x5;
+                    x151 = -8.865845000000002f64 * x5;
+                    x152 = 4.432922500000001f64 * qd1;
+                    x153 = -4.432922500000001f64 * x1;
+                    x154 = 0.19371331275f64 * qd1;
+                    x155 = arith.mul_add(1.77012693841f64, x2, x154);
+                    x156 = arith.mul_add(-1.75501953841f64, x2, x155);
+                    x157 = -0.19371331275f64 * x1;
+                    x158 = x157 + x157;
+                    x159 = x151 - x158;
+                    x160 = -0.19371331275f64 * x2;
+                    x161 = arith.mul_add(1.75501953841f64, qd1, x160);
+                    x162 = arith.mul_add(4.432922500000001f64, x4, x161);
+                    x163 = x150 + x150;
+                    x164 = x151 + x158;
+                    x165 = x164 - x163;
+                    x166 = 1.5987592750000001f64 * x26;
+                    x167 = 3.1975185500000003f64 * x26;
+                    x168 = 1.5987592750000001f64 * x27;
+                    x169 = 1.5987592750000001f64 * x13;
+                    x170 = -0.05132265682500001f64 * x27;
+                    x171 = arith.mul_add(0.59565195167475f64, x15, x170);
+                    x172 = arith.mul_add(-0.59155695167475f64, x15, x171);
+                    x173 = -0.05132265682500001f64 * x13;
+                    x174 = x173 + x173;
+                    x175 = x167 - x174;
+                    x176 = 0.05132265682500001f64 * x15;
+                    x177 = arith.mul_add(0.59155695167475f64, x27, x176);
+                    x178 = arith.mul_add(1.5987592750000001f64, x24, x177);
+                    x179 = 0.679472691875f64 * x1;
+                    x180 = arith.mul_add(0.59565195167475f64, x13, -x179);
+                    x181 = x166 + x166;
+                    x182 = x167 + x174;
+                    x183 = x182 - x181;
+                    x184 = 0.017784735f64 * x42;
+                    x185 = 0.03556947f64 * x42;
+                    x186 = 0.017784735f64 * x43;
+                    x187 = 0.017784735f64 * x31;
+                    x188 = -0.001653980355f64 * x43;
+                    x189 = arith.mul_add(-0.22402883622975f64, x33, x188);
+                    x190 = arith.mul_add(0.004608836229750008f64, x33, x189);
+                    x191 = -0.001653980355f64 * x31;
+                    x192 = x191 + x191;
+                    x193 = x185 - x192;
+                    x194 = -0.001653980355f64 * x33;
+                    x195 = arith.mul_add(0.004608836229750008f64, x43, x194);
+                    x196 = arith.mul_add(-0.017784735f64, x39, x195);
+                    x197 = -0.017784735f64 * x37;
+                    x198 = arith.mul_add(0.22402883622975f64, x31, -x197);
+                    x199 = x184 + x184;
+                    x200 = x185 + x192;
+                    x201 = x200 - x199;
+                    x202 = 0.033822f64 * x48;
+                    x203 = arith.mul_add(0.253242f64, x48, -x202);
+                    x204 = 0.0171364731454f64 * x54;
+                    x205 = arith.mul_add(-0.016685526854599998f64, x54, -x204);
+                    x206 = -0.016685526854599998f64 * x55;
+                    x207 = 0.0171364731454f64 * x52;
+                    x208 = -1.75501953841f64 * x1;
+                    x209 = arith.mul_add(1.77012693841f64, qd1, x160);
+                    x210 = 0.59155695167475f64 * x13;
+                    x211 = arith.mul_add(0.59565195167475f64, x27, x176);
+                    x212 = x210 - x179;
+                    x213 = 0.004608836229750008f64 * x31;
+                    x214 = arith.mul_add(0.22402883622975f64, x43, x194);
+                    x215 = x213 - x197;
+                    x216 = 0.033822f64 * x46;
+                    x217 = 0.253242f64 * x49;
+                    x218 = -0.016685526854599998f64 * x52;
+                    x219 = 0.0171364731454f64 * x55;
+                    x220 = s5 * x206;
+                    x221 = s5 * x207;
+                    x222 = arith.mul_add(c5, x205, x221);
+                    x223 = c5 * x206;
+                    x224 = s5 * x205;
+                    x225 = arith.mul_add(c5, x207, -x224);
+                    x226 = s5 * x223;
+                    x227 = arith.mul_add(c5, x220, x226);
+                    x228 = c5 * x223;
+                    x229 = arith.mul_add(s5, x220, -x228);
+                    x230 = arith.mul_add(0.033822f64, x49, x222);
+                    x231 = x203 + x229;
+                    x232 = arith.mul_add(-0.253242f64, x46, x225);
+                    x233 = arith.mul_add(c5, x218, x216);
+                    x234 = arith.mul_add(-s5, x218, x217);
+                    x235 = s4 * x230;
+                    x236 = arith.mul_add(c4, x227, x235);
+                    x237 = c4 * x230;
+                    x238 = s4 * x232;
+                    x239 = arith.mul_add(c4, x231, -x238);
+                    x240 = arith.mul_add(-s4, x227, x237);
+                    x241 = c4 * x232;
+                    x242 = arith.mul_add(s4, x231, x241);
+                    x243 = s4 * x237;
+                    x244 = arith.mul_add(c4, x236, x243);
+                    x245 = s4 * x236;
+                    x246 = arith.mul_add(c4, x237, -x245);
+                    x247 = c4 * x235;
+                    x248 = arith.mul_add(s4, x240, x247);
+                    x249 = x185 - x244;
+                    x250 = x190 + x246;
+                    x251 = x193 + x248;
+                    x252 = x239 - x196;
+                    x253 = x198 + x242;
+                    x254 = x201 + x227;
+                    x255 = s4 * x219;
+                    x256 = arith.mul_add(c4, x233, -x255);
+                    x257 = x215 + x256;
+                    x258 = x188 + x234;
+                    x259 = s3 * x186;
+                    x260 = c3 * x186;
+                    x261 = c3 * x252;
+                    x262 = arith.mul_add(-s3, x249, x261);
+                    x263 = s3 * x250;
+                    x264 = arith.mul_add(c3, x253, -x263);
+                    x265 = s3 * x252;
+                    x266 = arith.mul_add(c3, x254, -x265);
+                    x267 = arith.mul_add(c3, x249, x265);
+                    x268 = s3 * x253;
+                    x269 = arith.mul_add(c3, x250, x268);
+                    x270 = arith.mul_add(s3, x254, x261);
+                    x271 = s3 * x262;
+                    x272 = arith.mul_add(c3, x266, -x271);
+                    x273 = s3 * x266;
+                    x274 = arith.mul_add(c3, x262, x273);
+                    x275 = s3 * x270;
+                    x276 = arith.mul_add(c3, x267, x275);
+                    x277 = -0.39225f64 * x260;
+                    x278 = -0.7845f64 * x260;
+                    x279 = x272 + x278;
+                    x280 = x251 + x278;
+                    x281 = arith.mul_add(-0.39225f64, x259, x274);
+                    x282 = -0.00697606230375f64 * x31;
+                    x283 = x269 + x282;
+                    x284 = x276 + x278;
+                    x285 = x277 + x277;
+                    x286 = x284 - x285;
+                    x287 = x168 - x259;
+                    x288 = x169 + x187;
+                    x289 = x167 + x279;
+                    x290 = x172 + x264;
+                    x291 = x175 + x280;
+                    x292 = x178 + x281;
+                    x293 = x180 - x283;
+                    x294 = x183 + x286;
+                    x295 = s3 * x257;
+                    x296 = arith.mul_add(c3, x258, -x295);
+                    x297 = s3 * x258;
+                    x298 = arith.mul_add(c3, x257, x297);
+                    x299 = x296 - x282;
+                    x300 = x212 + x299;
+                    x301 = x170 - x298;
+                    x302 = s2 * x260;
+                    x303 = arith.mul_add(c2, x287, -x302);
+                    x304 = c2 * x260;
+                    x305 = arith.mul_add(s2, x287, x304);
+                    x306 = s2 * x292;
+                    x307 = arith.mul_add(c2, x289, -x306);
+                    x308 = s2 * x293;
+                    x309 = arith.mul_add(c2, x290, x308);
+                    x310 = c2 * x292;
+                    x311 = arith.mul_add(s2, x294, -x310);
+                    x312 = arith.mul_add(s2, x289, x310);
+                    x313 = s2 * x290;
+                    x314 = arith.mul_add(c2, x293, -x313);
+                    x315 = arith.mul_add(c2, x294, x306);
+                    x316 = s2 * x311;
+                    x317 = arith.mul_add(c2, x307, x316);
+                    x318 = s2 * x307;
+                    x319 = arith.mul_add(c2, x311, -x318);
+                    x320 = c2 * x315;
+                    x321 = arith.mul_add(s2, x312, x320);
+                    x322 = 0.1197f64 * x288;
+                    x323 = -0.425f64 * x305;
+                    x324 = x322 + x323;
+                    x325 = 2f64 * x324;
+                    x326 = x317 + x325;
+                    x327 = -0.1197f64 * x303;
+                    x328 = x309 - x327;
+                    x329 = x291 + x325;
+                    x330 = x322 + x322;
+                    x331 = x329 - x330;
+                    x332 = arith.mul_add(-0.425f64, x303, x319);
+                    x333 = 0.1197f64 * x305;
+                    x334 = -0.425f64 * x288;
+                    x335 = x333 + x334;
+                    x336 = x314 - x335;
+                    x337 = x321 + x325;
+                    x338 = x323 + x323;
+                    x339 = x337 - x338;
+                    x340 = x152 + x303;
+                    x341 = x153 + x288;
+                    x342 = x151 + x326;
+                    x343 = x156 + x328;
+                    x344 = x159 + x331;
+                    x345 = x332 - x162;
+                    x346 = arith.mul_add(-1.77012693841f64, x1, x336);
+                    x347 = x165 + x339;
+                    x348 = s2 * x301;
+                    x349 = arith.mul_add(c2, x300, x348);
+                    x350 = s2 * x300;
+                    x351 = arith.mul_add(c2, x301, -x350);
+                    x352 = x333 - x334;
+                    x353 = x349 + x352;
+                    x354 = x351 - x327;
+                    x355 = x208 + x353;
+                    x356 = x154 + x354;
+                    x357 = c1 * x342;
+                    x358 = arith.mul_add(s1, x345, x357);
+                    x359 = s1 * x347;
+                    x360 = arith.mul_add(c1, x345, x359);
+                    x361 = s1 * x360;
+                    x362 = arith.mul_add(c1, x358, x361);
+                    x363 = arith.mul_add(-0.2717f64, x341, x362);
+                    *o36 = x363;
+                    x364 = 0.5f64 * x343;
+                    x365 = 0.5f64 * x346;
+                    x366 = -0.5f64 * x305;
+                    x367 = -0.5f64 * x340;
+                    x368 = 0.5f64 * x356;
+                    x369 = -0.5f64 * x355;
+                    x370 = x1 * x122;
+                    x371 = arith.mul_add(x2, x128, -x370);
+                    x372 = x1 * x129;
+                    x373 = arith.mul_add(x2, x121, -x372);
+                    x374 = x1 * x126;
+                    x375 = arith.mul_add(x2, x122, -x374);
+                    x376 = x4 * x99;
+                    x377 = arith.mul_add(x5, x127, -x376);
+                    x378 = x373 + x377;
+                    x379 = x364 + x371;
+                    x380 = arith.mul_add(0.5f64, x344, x378);
+                    x381 = x365 + x375;
+                    x382 = x368 + x379;
+                    x383 = x369 + x381;
+                    x384 = x366 + x366;
+                    x385 = x367 + x367;
+                    x386 = x364 - x368;
+                    x387 = x365 - x369;
+                    x388 = s1 * x384;
+                    x389 = arith.mul_add(c1, x385, -x388);
+                    x390 = s1 * x383;
+                    x391 = arith.mul_add(c1, x382, x390);
+                    x392 = arith.mul_add(0.13585f64, x389, x391);
+                    x393 = s1 * x387;
+                    x394 = arith.mul_add(c1, x386, x393);
+                    x395 = x259 - x168;
+                    x396 = 0.5f64 * x290;
+                    x397 = 0.5f64 * x291;
+                    x398 = 0.5f64 * x293;
+                    x399 = -0.5f64 * x260;
+                    x400 = 0.5f64 * x395;
+                    x401 = 0.5f64 * x301;
+                    x402 = -0.5f64 * x300;
+                    x403 = x13 * x91;
+                    x404 = arith.mul_add(x15, x96, x403);
+                    x405 = x15 * x75;
+                    x406 = arith.mul_add(x13, x97, x405);
+                    x407 = x13 * x94;
+                    x408 = arith.mul_add(x15, x91, x407);
+                    x409 = x24 * x70;
+                    x410 = arith.mul_add(x26, x95, x409);
+                    x411 = x406 - x410;
+                    x412 = x15 * x95;
+                    x413 = arith.mul_add(x13, x70, -x412);
+                    x414 = x396 + x404;
+                    x415 = x397 + x411;
+                    x416 = x398 + x408;
+                    x417 = x401 + x414;
+                    x418 = x402 + x416;
+                    x419 = x399 + x399;
+                    x420 = x400 + x400;
+                    x421 = x396 - x401;
+                    x422 = x398 - x402;
+                    x423 = s2 * x420;
+                    x424 = arith.mul_add(c2, x419, x423);
+                    x425 = s2 * x419;
+                    x426 = arith.mul_add(c2, x420, -x425);
+                    x427 = s2 * x418;
+                    x428 = arith.mul_add(c2, x417, x427);
+                    x429 = s2 * x417;
+                    x430 = arith.mul_add(c2, x418, -x429);
+                    x431 = 0.425f64 * x413;
+                    x432 = arith.mul_add(-0.1197f64, x426, -x431);
+                    x433 = x428 + x432;
+                    x434 = arith.mul_add(0.425f64, x424, x415);
+                    x435 = arith.mul_add(0.1197f64, x424, x430);
+                    x436 = s2 * x422;
+                    x437 = arith.mul_add(c2, x421, x436);
+                    x438 = s2 * x421;
+                    x439 = arith.mul_add(c2, x422, -x438);
+                    x440 = x1 * x123;
+                    x441 = arith.mul_add(x2, x130, -x440);
+                    x442 = arith.mul_add(x5, x101, -x376);
+                    x443 = x441 + x442;
+                    x444 = x397 + x443;
+                    x445 = s1 * x424;
+                    x446 = arith.mul_add(c1, x426, -x445);
+                    x447 = s1 * x435;
+                    x448 = arith.mul_add(c1, x433, x447);
+                    x449 = arith.mul_add(0.13585f64, x446, x448);
+                    x450 = s1 * x439;
+                    x451 = arith.mul_add(c1, x437, x450);
+                    x452 = x41 - x40;
+                    x453 = 0.5f64 * x250;
+                    x454 = 0.5f64 * x251;
+                    x455 = 0.5f64 * x253;
+                    x456 = -0.0088923675f64 * x43;
+                    x457 = 0.5f64 * x258;
+                    x458 = -0.5f64 * x257;
+                    x459 = x31 * x63;
+                    x460 = arith.mul_add(x33, x68, x459);
+                    x461 = x33 * x67;
+                    x462 = arith.mul_add(x31, x69, -x461);
+                    x463 = x31 * x60;
+                    x464 = arith.mul_add(x33, x63, x463);
+                    x465 = arith.mul_add(0.017784735f64, x452, x462);
+                    x466 = -0.017784735f64 * x33;
+                    x467 = x453 - x460;
+                    x468 = x454 + x465;
+                    x469 = x455 + x464;
+                    x470 = x457 + x467;
+                    x471 = x458 + x469;
+                    x472 = x456 + x456;
+                    x473 = x453 - x457;
+                    x474 = x455 - x458;
+                    x475 = c3 * x472;
+                    x476 = s3 * x472;
+                    x477 = s3 * x470;
+                    x478 = arith.mul_add(c3, x471, -x477);
+                    x479 = s3 * x471;
+                    x480 = arith.mul_add(c3, x470, x479);
+                    x481 = arith.mul_add(-0.00697606230375f64, x33, x478);
+                    x482 = arith.mul_add(0.39225f64, x475, x468);
+                    x483 = s3 * x473;
+                    x484 = arith.mul_add(c3, x474, -x483);
+                    x485 = s3 * x474;
+                    x486 = arith.mul_add(c3, x473, x485);
+                    x487 = arith.mul_add(-x13, x80, x405);
+                    x488 = x26 * x71;
+                    x489 = arith.mul_add(x24, x131, -x488);
+                    x490 = x487 + x489;
+                    x491 = x454 + x490;
+                    x492 = s2 * x476;
+                    x493 = arith.mul_add(c2, x475, -x492);
+                    x494 = c2 * x476;
+                    x495 = arith.mul_add(s2, x475, x494);
+                    x496 = s2 * x480;
+                    x497 = arith.mul_add(c2, x481, -x496);
+                    x498 = c2 * x480;
+                    x499 = arith.mul_add(s2, x481, x498);
+                    x500 = 0.007558512375f64 * x33;
+                    x501 = arith.mul_add(0.1197f64, x495, -x500);
+                    x502 = x497 + x501;
+                    x503 = arith.mul_add(0.425f64, x493, x482);
+                    x504 = arith.mul_add(-0.1197f64, x493, x499);
+                    x505 = s2 * x486;
+                    x506 = arith.mul_add(c2, x484, -x505);
+                    x507 = c2 * x486;
+                    x508 = arith.mul_add(s2, x484, x507);
+                    x509 = x1 * x139;
+                    x510 = arith.mul_add(x2, x138, x509);
+                    x511 = x4 * x135;
+                    x512 = arith.mul_add(x5, x133, x511);
+                    x513 = x510 + x512;
+                    x514 = x454 + x513;
+                    x515 = c1 * x495;
+                    x516 = arith.mul_add(s1, x493, x515);
+                    x517 = c1 * x502;
+                    x518 = arith.mul_add(s1, x504, -x517);
+                    x519 = arith.mul_add(0.13585f64, x516, x518);
+                    x520 = c1 * x506;
+                    x521 = arith.mul_add(s1, x508, -x520);
+                    x522 = 0.5f64 * x231;
+                    x523 = 0.5f64 * x232;
+                    x524 = 0.5f64 * x227;
+                    x525 = -0.0085682365727f64 * x55;
+                    x526 = 0.5f64 * x233;
+                    x527 = -0.0171364731454f64 * x46;
+                    x528 = arith.mul_add(x48, x59, x522);
+                    x529 = x523 + x527;
+                    x530 = arith.mul_add(-x48, x58, x524);
+                    x531 = x525 + x528;
+                    x532 = x526 + x529;
+                    x533 = x522 - x525;
+                    x534 = x523 - x526;
+                    x535 = s4 * x532;
+                    x536 = arith.mul_add(c4, x531, -x535);
+                    x537 = c4 * x532;
+                    x538 = arith.mul_add(s4, x531, x537);
+                    x539 = s4 * x534;
+                    x540 = arith.mul_add(c4, x533, -x539);
+                    x541 = c4 * x534;
+                    x542 = arith.mul_add(s4, x533, x541);
+                    x543 = x464 + x542;
+                    x544 = s3 * x536;
+                    x545 = arith.mul_add(c3, x530, -x544);
+                    x546 = s3 * x530;
+                    x547 = arith.mul_add(c3, x536, x546);
+                    x548 = s3 * x540;
+                    x549 = arith.mul_add(c3, x524, -x548);
+                    x550 = s3 * x524;
+                    x551 = arith.mul_add(c3, x540, x550);
+                    x552 = x13 * x81;
+                    x553 = arith.mul_add(x15, x77, x552);
+                    x554 = x542 + x553;
+                    x555 = s2 * x547;
+                    x556 = arith.mul_add(c2, x545, -x555);
+                    x557 = c2 * x547;
+                    x558 = arith.mul_add(s2, x545, x557);
+                    x559 = s2 * x551;
+                    x560 = arith.mul_add(c2, x549, -x559);
+                    x561 = c2 * x551;
+                    x562 = arith.mul_add(s2, x549, x561);
+                    x563 = x1 * x143;
+                    x564 = arith.mul_add(x2, x141, -x563);
+                    x565 = x542 + x564;
+                    x566 = c1 * x556;
+                    x567 = arith.mul_add(s1, x558, -x566);
+                    x568 = c1 * x560;
+                    x569 = arith.mul_add(s1, x562, -x568);
+                    x570 = 0.5f64 * x205;
+                    x571 = 0.0085682365727f64 * x52;
+                    x572 = 0.008342763427299999f64 * x52;
+                    x573 = 0.016685526854599998f64 * x54;
+                    x574 = x570 + x573;
+                    x575 = x571 + x572;
+                    x576 = x571 - x572;
+                    x577 = s5 * x575;
+                    x578 = arith.mul_add(c5, x574, x577);
+                    x579 = s5 * x574;
+                    x580 = arith.mul_add(c5, x575, -x579);
+                    x581 = s5 * x576;
+                    x582 = arith.mul_add(c5, x570, x581);
+                    x583 = s5 * x570;
+                    x584 = arith.mul_add(c5, x576, -x583);
+                    x585 = x527 + x584;
+                    x586 = c4 * x578;
+                    x587 = s4 * x578;
+                    x588 = c4 * x582;
+                    x589 = s4 * x582;
+                    x590 = arith.mul_add(-x33, x62, x589);
+                    x591 = s3 * x586;
+                    x592 = arith.mul_add(c3, x580, -x591);
+                    x593 = s3 * x580;
+                    x594 = arith.mul_add(c3, x586, x593);
+                    x595 = s3 * x588;
+                    x596 = arith.mul_add(c3, x584, -x595);
+                    x597 = s3 * x584;
+                    x598 = arith.mul_add(c3, x588, x597);
+                    x599 = x13 * x145;
+                    x600 = arith.mul_add(x15, x144, x599);
+                    x601 = x589 - x600;
+                    x602 = s2 * x594;
+                    x603 = arith.mul_add(c2, x592, -x602);
+                    x604 = c2 * x594;
+                    x605 = arith.mul_add(s2, x592, x604);
+                    x606 = s2 * x598;
+                    x607 = arith.mul_add(c2, x596, -x606);
+                    x608 = c2 * x598;
+                    x609 = arith.mul_add(s2, x596, x608);
+                    x610 = x1 * x149;
+                    x611 = arith.mul_add(x2, x147, x610);
+                    x612 = x589 - x611;
+                    x613 = c1 * x603;
+                    x614 = arith.mul_add(s1, x605, -x613);
+                    x615 = c1 * x607;
+                    x616 = arith.mul_add(s1, x609, -x615);
+                    x617 = qd0 * x3;
+                    x618 = qd1 * x1;
+                    x619 = arith.mul_add(qd1, x2, -x6);
+                    x620 = arith.mul_add(a0, s1, x618);
+                    x621 = x17 - x16;
+                    x622 = qd1 * x20;
+                    x623 = x2 * x19;
+                    x624 = x622 - x623;
+                    x625 = x2 * x621;
+                    x626 = arith.mul_add(x1, x20, -x625);
+                    x627 = x1 * x19;
+                    x628 = arith.mul_add(-qd1, x621, x627);
+                    x629 = x9 + x624;
+                    x630 = x626 - x617;
+                    x631 = x11 + x628;
+                    x632 = s2 * x620;
+                    x633 = arith.mul_add(c2, x619, x632);
+                    x634 = s2 * x619;
+                    x635 = c2 * x620;
+                    x636 = x634 - x635;
+                    x637 = arith.mul_add(0.1197f64, x620, -x28);
+                    x638 = -0.1197f64 * x619;
+                    x639 = x629 - x637;
+                    x640 = arith.mul_add(-0.425f64, x619, x630);
+                    x641 = x631 + x638;
+                    x642 = s2 * x641;
+                    x643 = arith.mul_add(c2, x639, -x642);
+                    x644 = c2 * x641;
+                    x645 = arith.mul_add(s2, x639, x644);
+                    x646 = qd2 * x13;
+                    x647 = arith.mul_add(qd2, x15, x633);
+                    x648 = x636 + x646;
+                    x649 = x15 * x35;
+                    x650 = x13 * x35;
+                    x651 = arith.mul_add(x27, x34, x650);
+                    x652 = x643 - x649;
+                    x653 = arith.mul_add(-x15, x34, x640);
+                    x654 = x645 - x651;
+                    x655 = s3 * x647;
+                    x656 = arith.mul_add(c3, x648, x655);
+                    x657 = c3 * x647;
+                    x658 = s3 * x648;
+                    x659 = x657 - x658;
+                    x660 = arith.mul_add(0.39225f64, x29, x652);
+                    x661 = arith.mul_add(-0.39225f64, x647, x653);
+                    x662 = c3 * x660;
+                    x663 = qd3 * x33;
+                    x664 = qd3 * x31;
+                    x665 = x656 + x663;
+                    x666 = x659 + x664;
+                    x667 = c4 * x665;
+                    x668 = x50 - x667;
+                    x669 = s4 * x665;
+                    x670 = arith.mul_add(c4, x44, x669);
+                    x671 = a4 + x666;
+                    x672 = qd4 * x48;
+                    x673 = x668 + x672;
+                    x674 = arith.mul_add(-qd4, x46, x670);
+                    x675 = s5 * x671;
+                    x676 = arith.mul_add(c5, x673, -x675);
+                    x677 = c5 * x671;
+                    x678 = arith.mul_add(s5, x673, x677);
+                    x679 = a5 + x674;
+                    x680 = arith.mul_add(-qd5, x54, x676);
+                    x681 = arith.mul_add(qd5, x52, x678);
+                    x682 = x2 * x209;
+                    x683 = arith.mul_add(qd1, x154, x682);
+                    x684 = x1 * x209;
+                    x685 = arith.mul_add(qd1, x208, x684);
+                    x686 = arith.mul_add(1.75501953841f64, x619, x683);
+                    x687 = arith.mul_add(0.19371331275f64, a1, -x685);
+                    x688 = arith.mul_add(4.432922500000001f64, x617, x686);
+                    x689 = x2 * x153;
+                    x690 = x1 * x153;
+                    x691 = arith.mul_add(-qd1, x152, x690);
+                    x692 = arith.mul_add(4.432922500000001f64, a1, -x689);
+                    x693 = x15 * x211;
+                    x694 = arith.mul_add(x27, x170, x693);
+                    x695 = x13 * x211;
+                    x696 = arith.mul_add(-x27, x210, x695);
+                    x697 = arith.mul_add(0.59155695167475f64, x647, x694);
+                    x698 = arith.mul_add(-0.05132265682500001f64, x29, x696);
+                    x699 = arith.mul_add(-1.5987592750000001f64, x640, x697);
+                    x700 = x15 * x169;
+                    x701 = x15 * x168;
+                    x702 = x13 * x169;
+                    x703 = arith.mul_add(x27, x168, x702);
+                    x704 = arith.mul_add(1.5987592750000001f64, x29, -x700);
+                    x705 = arith.mul_add(1.5987592750000001f64, x647, x701);
+                    x706 = x33 * x214;
+                    x707 = arith.mul_add(x43, x188, -x706);
+                    x708 = x31 * x214;
+                    x709 = arith.mul_add(-x43, x213, x708);
+                    x710 = arith.mul_add(-0.004608836229750008f64, x665, x707);
+                    x711 = arith.mul_add(-0.001653980355f64, x44, x709);
+                    x712 = arith.mul_add(-0.017784735f64, x661, x710);
+                    x713 = -0.017784735f64 * x665;
+                    x714 = x33 * x187;
+                    x715 = x31 * x187;
+                    x716 = arith.mul_add(x43, x186, x715);
+                    x717 = arith.mul_add(0.017784735f64, x44, x714);
+                    x718 = arith.mul_add(x33, x186, -x713);
+                    x719 = x48 * x217;
+                    x720 = x46 * x217;
+                    x721 = arith.mul_add(x49, x216, -x720);
+                    x722 = x48 * x216;
+                    x723 = arith.mul_add(0.033822f64, x673, x719);
+                    x724 = arith.mul_add(0.253242f64, x671, -x722);
+                    x725 = -0.016685526854599998f64 * x680;
+                    x726 = x54 * x219;
+                    x727 = x54 * x218;
+                    x728 = x52 * x219;
+                    x729 = arith.mul_add(-x55, x218, x728);
+                    x730 = x725 - x726;
+                    x731 = arith.mul_add(0.0171364731454f64, x679, x727);
+                    x732 = s5 * x729;
+                    x733 = arith.mul_add(c5, x730, x732);
+                    x734 = s5 * x730;
+                    x735 = arith.mul_add(c5, x729, -x734);
+                    x736 = x723 + x733;
+                    x737 = x721 + x731;
+                    x738 = x724 + x735;
+                    x739 = s4 * x737;
+                    x740 = arith.mul_add(c4, x736, -x739);
+                    x741 = x712 + x740;
+                    x742 = x711 + x738;
+                    x743 = c3 * x716;
+                    x744 = arith.mul_add(s3, x717, x743);
+                    x745 = c3 * x717;
+                    x746 = arith.mul_add(s3, x716, -x745);
+                    x747 = s3 * x741;
+                    x748 = arith.mul_add(c3, x742, -x747);
+                    x749 = s3 * x742;
+                    x750 = arith.mul_add(c3, x741, x749);
+                    x751 = arith.mul_add(-0.39225f64, x718, x748);
+                    x752 = x699 + x751;
+                    x753 = x698 - x750;
+                    x754 = x704 - x744;
+                    x755 = x718 - x705;
+                    x756 = x746 - x703;
+                    x757 = s2 * x756;
+                    x758 = arith.mul_add(c2, x754, x757);
+                    x759 = s2 * x754;
+                    x760 = arith.mul_add(c2, x756, -x759);
+                    x761 = s2 * x753;
+                    x762 = arith.mul_add(c2, x752, x761);
+                    x763 = s2 * x752;
+                    x764 = arith.mul_add(c2, x753, -x763);
+                    x765 = 0.425f64 * x755;
+                    x766 = arith.mul_add(-0.1197f64, x760, -x765);
+                    x767 = x762 + x766;
+                    x768 = arith.mul_add(0.1197f64, x758, x764);
+                    x769 = x688 + x767;
+                    x770 = x687 + x768;
+                    x771 = x692 + x758;
+                    x772 = x691 + x760;
+                    x773 = x10 - x0;
+                    x774 = 0.425f64 * x2;
+                    x775 = -0.1197f64 * x2;
+                    x776 = arith.mul_add(x2, x774, x627);
+                    x777 = arith.mul_add(qd1, x775, -x776);
+                    x778 = x2 * x20;
+                    x779 = arith.mul_add(-x1, x621, x778);
+                    x780 = arith.mul_add(-x1, x775, x778);
+                    x781 = x779 - x780;
+                    x782 = arith.mul_add(x1, x774, -x623);
+                    x783 = x622 + x782;
+                    x784 = x773 + x777;
+                    x785 = x9 + x783;
+                    x786 = x635 - x634;
+                    x787 = x784 - x638;
+                    x788 = arith.mul_add(-0.425f64, x620, x781);
+                    x789 = arith.mul_add(-0.1197f64, x620, x785);
+                    x790 = s2 * x789;
+                    x791 = arith.mul_add(c2, x787, -x790);
+                    x792 = c2 * x789;
+                    x793 = arith.mul_add(s2, x787, x792);
+                    x794 = x786 - x646;
+                    x795 = 0.39225f64 * x15;
+                    x796 = arith.mul_add(-x15, x795, x650);
+                    x797 = x13 * x34;
+                    x798 = arith.mul_add(x13, x795, x649);
+                    x799 = x791 + x796;
+                    x800 = x788 + x797;
+                    x801 = x793 - x798;
+                    x802 = arith.mul_add(s3, x794, x657);
+                    x803 = arith.mul_add(c3, x794, -x655);
+                    x804 = 0.39225f64 * x794;
+                    x805 = x800 - x804;
+                    x806 = c3 * x801;
+                    x807 = arith.mul_add(s3, x799, x806);
+                    x808 = x664 + x802;
+                    x809 = x803 - x663;
+                    x810 = c4 * x33;
+                    x811 = s4 * x33;
+                    x812 = qd4 * x811;
+                    x813 = qd4 * x810;
+                    x814 = arith.mul_add(-c4, x808, x812);
+                    x815 = arith.mul_add(s4, x808, x813);
+                    x816 = s5 * x809;
+                    x817 = arith.mul_add(c5, x814, -x816);
+                    x818 = s5 * x31;
+                    x819 = arith.mul_add(c5, x810, x818);
+                    x820 = s5 * x810;
+                    x821 = arith.mul_add(c5, x31, -x820);
+                    x822 = qd5 * x821;
+                    x823 = x817 - x822;
+                    x824 = 1.75501953841f64 * x2;
+                    x825 = arith.mul_add(x2, x157, x684);
+                    x826 = x1 * x208;
+                    x827 = arith.mul_add(x2, x824, x826);
+                    x828 = arith.mul_add(x2, x154, x827);
+                    x829 = arith.mul_add(-x1, x157, x682);
+                    x830 = arith.mul_add(-qd1, x824, x829);
+                    x831 = arith.mul_add(1.75501953841f64, x620, x825);
+                    x832 = arith.mul_add(0.19371331275f64, x619, -x828);
+                    x833 = arith.mul_add(4.432922500000001f64, x773, x832);
+                    x834 = 4.432922500000001f64 * x2;
+                    x835 = arith.mul_add(x2, x834, x690);
+                    x836 = arith.mul_add(x1, x834, -x689);
+                    x837 = 0.59155695167475f64 * x15;
+                    x838 = arith.mul_add(x15, x173, -x695);
+                    x839 = x15 * x837;
+                    x840 = arith.mul_add(x13, x210, -x839);
+                    x841 = arith.mul_add(-x15, x170, x840);
+                    x842 = arith.mul_add(x13, x173, x693);
+                    x843 = arith.mul_add(-x27, x837, x842);
+                    x844 = arith.mul_add(0.59155695167475f64, x794, x838);
+                    x845 = arith.mul_add(-0.05132265682500001f64, x647, x841);
+                    x846 = arith.mul_add(-1.5987592750000001f64, x788, x844);
+                    x847 = arith.mul_add(1.5987592750000001f64, x791, x845);
+                    x848 = 1.5987592750000001f64 * x794;
+                    x849 = 1.5987592750000001f64 * x15;
+                    x850 = arith.mul_add(-x15, x849, x702);
+                    x851 = arith.mul_add(x13, x849, x700);
+                    x852 = arith.mul_add(x13, x168, -x848);
+                    x853 = -0.004608836229750008f64 * x33;
+                    x854 = arith.mul_add(x33, x191, x708);
+                    x855 = x31 * x213;
+                    x856 = arith.mul_add(x33, x853, x855);
+                    x857 = arith.mul_add(x33, x188, x856);
+                    x858 = arith.mul_add(x31, x191, -x706);
+                    x859 = arith.mul_add(-x43, x853, x858);
+                    x860 = arith.mul_add(-0.004608836229750008f64, x808, -x854);
+                    x861 = arith.mul_add(-0.001653980355f64, x809, x857);
+                    x862 = arith.mul_add(-0.017784735f64, x805, x860);
+                    x863 = arith.mul_add(-0.017784735f64, x807, x861);
+                    x864 = arith.mul_add(x33, x466, x715);
+                    x865 = x31 * x186;
+                    x866 = arith.mul_add(-x31, x466, x714);
+                    x867 = arith.mul_add(0.017784735f64, x808, x865);
+                    x868 = -0.033822f64 * x810;
+                    x869 = 0.253242f64 * x31;
+                    x870 = x217 * x811;
+                    x871 = arith.mul_add(x48, x869, x870);
+                    x872 = x31 * x216;
+                    x873 = arith.mul_add(x49, x868, x872);
+                    x874 = x217 * x810;
+                    x875 = arith.mul_add(x46, x869, -x874);
+                    x876 = x873 - x875;
+                    x877 = x216 * x811;
+                    x878 = arith.mul_add(x48, x868, x877);
+                    x879 = arith.mul_add(0.033822f64, x814, x871);
+                    x880 = arith.mul_add(0.253242f64, x809, -x878);
+                    x881 = 0.016685526854599998f64 * x819;
+                    x882 = 0.0171364731454f64 * x811;
+                    x883 = x219 * x821;
+                    x884 = arith.mul_add(x54, x882, x883);
+                    x885 = x218 * x821;
+                    x886 = arith.mul_add(x54, x881, x885);
+                    x887 = x219 * x819;
+                    x888 = arith.mul_add(x52, x882, -x887);
+                    x889 = x218 * x811;
+                    x890 = arith.mul_add(x55, x881, x889);
+                    x891 = x888 - x890;
+                    x892 = arith.mul_add(-0.016685526854599998f64, x823, -x884);
+                    x893 = arith.mul_add(0.0171364731454f64, x815, x886);
+                    *o11 = x893;
+                    *o17 = x893;
+                    x894 = s5 * x891;
+                    x895 = arith.mul_add(c5, x892, x894);
+                    x896 = c5 * x891;
+                    x897 = arith.mul_add(-s5, x892, x896);
+                    x898 = x879 + x895;
+                    x899 = x876 + x893;
+                    x900 = x880 + x897;
+                    *o10 = x900;
+                    *o16 = x900;
+                    x901 = s4 * x899;
+                    x902 = arith.mul_add(c4, x898, -x901);
+                    x903 = c4 * x899;
+                    x904 = arith.mul_add(s4, x898, x903);
+                    x905 = x862 + x902;
+                    x906 = x863 + x904;
+                    *o9 = x906;
+                    x907 = x859 + x900;
+                    x908 = s3 * x864;
+                    x909 = arith.mul_add(c3, x866, -x908);
+                    x910 = s3 * x866;
+                    x911 = arith.mul_add(c3, x864, x910);
+                    x912 = c3 * x907;
+                    x913 = arith.mul_add(-s3, x905, x912);
+                    x914 = s3 * x907;
+                    x915 = arith.mul_add(c3, x905, x914);
+                    x916 = 0.39225f64 * x867;
+                    x917 = 0.39225f64 * x909;
+                    x918 = x913 - x916;
+                    x919 = x906 + x917;
+                    x920 = x846 + x918;
+                    x921 = x847 + x919;
+                    *o8 = x921;
+                    x922 = x843 - x915;
+                    x923 = x850 + x909;
+                    x924 = x852 + x867;
+                    x925 = x851 + x911;
+                    x926 = s2 * x925;
+                    x927 = arith.mul_add(c2, x923, -x926);
+                    x928 = c2 * x925;
+                    x929 = arith.mul_add(s2, x923, x928);
+                    x930 = s2 * x922;
+                    x931 = arith.mul_add(c2, x920, x930);
+                    x932 = s2 * x920;
+                    x933 = arith.mul_add(c2, x922, -x932);
+                    x934 = 0.425f64 * x924;
+                    x935 = arith.mul_add(0.1197f64, x929, -x934);
+                    x936 = x931 + x935;
+                    x937 = arith.mul_add(0.425f64, x927, x921);
+                    x938 = arith.mul_add(0.1197f64, x927, x933);
+                    x939 = x831 + x936;
+                    x940 = x833 + x937;
+                    *o7 = x940;
+                    x941 = x830 + x938;
+                    x942 = x927 - x835;
+                    x943 = x836 - x929;
+                    x944 = x770 + x939;
+                    x945 = x941 - x769;
+                    x946 = x772 + x942;
+                    x947 = x943 - x771;
+                    x948 = s1 * x946;
+                    x949 = arith.mul_add(c1, x947, -x948);
+                    x950 = s1 * x945;
+                    x951 = arith.mul_add(c1, x944, x950);
+                    x952 = arith.mul_add(0.13585f64, x949, x951);
+                    x953 = -x952;
+                    *o6 = x953;
+                    x954 = x796 - x645;
+                    x955 = x643 - x798;
+                    x956 = x797 - x804;
+                    x957 = c3 * x955;
+                    x958 = arith.mul_add(s3, x954, x957);
+                    x959 = arith.mul_add(-1.5987592750000001f64, x645, x845);
+                    x960 = arith.mul_add(-0.017784735f64, x956, x860);
+                    x961 = arith.mul_add(-0.017784735f64, x958, x861);
+                    x962 = x902 + x960;
+                    x963 = x904 + x961;
+                    *o15 = x963;
+                    x964 = arith.mul_add(-s3, x962, x912);
+                    x965 = arith.mul_add(c3, x962, x914);
+                    x966 = x964 - x916;
+                    x967 = x917 + x963;
+                    x968 = x844 + x966;
+                    x969 = x959 + x967;
+                    *o14 = x969;
+                    x970 = x843 - x965;
+                    x971 = x744 - x704;
+                    x972 = x753 + x968;
+                    x973 = x970 - x752;
+                    x974 = x756 + x923;
+                    x975 = x971 - x925;
+                    x976 = s2 * x975;
+                    x977 = arith.mul_add(c2, x974, x976);
+                    x978 = s2 * x974;
+                    x979 = arith.mul_add(c2, x975, -x978);
+                    x980 = s2 * x973;
+                    x981 = arith.mul_add(c2, x972, x980);
+                    x982 = s2 * x972;
+                    x983 = arith.mul_add(c2, x973, -x982);
+                    x984 = arith.mul_add(-0.1197f64, x979, -x934);
+                    x985 = x981 + x984;
+                    x986 = arith.mul_add(0.425f64, x977, x969);
+                    *o13 = x986;
+                    x987 = arith.mul_add(0.1197f64, x977, x983);
+                    x988 = s1 * x977;
+                    x989 = arith.mul_add(c1, x979, -x988);
+                    x990 = s1 * x987;
+                    x991 = arith.mul_add(c1, x985, x990);
+                    x992 = arith.mul_add(0.13585f64, x989, x991);
+                    x993 = -x992;
+                    *o12 = x993;
+                    x994 = x658 - x657;
+                    x995 = arith.mul_add(s3, x654, -x662);
+                    x996 = x994 - x664;
+                    x997 = arith.mul_add(c4, x996, x812);
+                    x998 = arith.mul_add(-s4, x996, x813);
+                    x999 = s5 * x665;
+                    x1000 = arith.mul_add(c5, x997, x999);
+                    x1001 = x1000 - x822;
+                    x1002 = arith.mul_add(0.004608836229750008f64, x996, -x854);
+                    x1003 = arith.mul_add(0.001653980355f64, x665, x857);
+                    x1004 = arith.mul_add(0.017784735f64, x995, x1003);
+                    x1005 = arith.mul_add(-0.017784735f64, x996, x865);
+                    x1006 = arith.mul_add(0.033822f64, x997, x871);
+                    x1007 = arith.mul_add(-0.253242f64, x665, -x878);
+                    x1008 = arith.mul_add(-0.016685526854599998f64, x1001, -x884);
+                    x1009 = arith.mul_add(0.0171364731454f64, x998, x886);
+                    *o23 = x1009;
+                    x1010 = arith.mul_add(c5, x1008, x894);
+                    x1011 = arith.mul_add(-s5, x1008, x896);
+                    x1012 = x1006 + x1010;
+                    x1013 = x876 + x1009;
+                    x1014 = x1007 + x1011;
+                    *o22 = x1014;
+                    x1015 = s4 * x1013;
+                    x1016 = arith.mul_add(c4, x1012, -x1015);
+                    x1017 = c4 * x1013;
+                    x1018 = arith.mul_add(s4, x1012, x1017);
+                    x1019 = x1002 + x1016;
+                    x1020 = x1004 + x1018;
+                    *o21 = x1020;
+                    x1021 = x859 + x1014;
+                    x1022 = x742 + x1019;
+                    x1023 = x1021 - x741;
+                    x1024 = x864 - x716;
+                    x1025 = x866 - x717;
+                    x1026 = s3 * x1024;
+                    x1027 = arith.mul_add(c3, x1025, -x1026);
+                    x1028 = s3 * x1025;
+                    x1029 = arith.mul_add(c3, x1024, x1028);
+                    x1030 = s3 * x1022;
+                    x1031 = arith.mul_add(c3, x1023, -x1030);
+                    x1032 = s3 * x1023;
+                    x1033 = arith.mul_add(c3, x1022, x1032);
+                    x1034 = arith.mul_add(-0.39225f64, x1005, x1031);
+                    x1035 = arith.mul_add(0.39225f64, x1027, x1020);
+                    *o20 = x1035;
+                    x1036 = s2 * x1029;
+                    x1037 = arith.mul_add(c2, x1027, -x1036);
+                    x1038 = c2 * x1029;
+                    x1039 = arith.mul_add(s2, x1027, x1038);
+                    x1040 = s2 * x1033;
+                    x1041 = arith.mul_add(c2, x1034, -x1040);
+                    x1042 = c2 * x1033;
+                    x1043 = arith.mul_add(s2, x1034, x1042);
+                    x1044 = 0.425f64 * x1005;
+                    x1045 = arith.mul_add(0.1197f64, x1039, -x1044);
+                    x1046 = x1041 + x1045;
+                    x1047 = arith.mul_add(0.425f64, x1037, x1035);
+                    *o19 = x1047;
+                    x1048 = arith.mul_add(-0.1197f64, x1037, x1043);
+                    x1049 = c1 * x1039;
+                    x1050 = arith.mul_add(s1, x1037, x1049);
+                    x1051 = c1 * x1046;
+                    x1052 = arith.mul_add(s1, x1048, -x1051);
+                    x1053 = arith.mul_add(0.13585f64, x1050, x1052);
+                    *o18 = x1053;
+                    x1054 = x667 - x50;
+                    x1055 = x1054 - x672;
+                    x1056 = c5 * x48;
+                    x1057 = s5 * x48;
+                    x1058 = qd5 * x1057;
+                    x1059 = arith.mul_add(c5, x674, -x1058);
+                    x1060 = arith.mul_add(x49, x202, -x719);
+                    x1061 = x48 * x202;
+                    x1062 = arith.mul_add(x46, x216, -x1061);
+                    x1063 = arith.mul_add(0.033822f64, x674, -x720);
+                    x1064 = -0.016685526854599998f64 * x1056;
+                    x1065 = x219 * x1057;
+                    x1066 = arith.mul_add(x54, x527, x1065);
+                    x1067 = x218 * x1057;
+                    x1068 = arith.mul_add(x54, x1064, x1067);
+                    x1069 = x219 * x1056;
+                    x1070 = arith.mul_add(x52, x527, x1069);
+                    x1071 = x46 * x218;
+                    x1072 = arith.mul_add(x55, x1064, -x1071);
+                    x1073 = x1070 - x1072;
+                    x1074 = arith.mul_add(-0.016685526854599998f64, x1059, -x1066);
+                    x1075 = arith.mul_add(0.0171364731454f64, x1055, x1068);
+                    *o29 = x1075;
+                    x1076 = s5 * x1073;
+                    x1077 = arith.mul_add(c5, x1074, x1076);
+                    x1078 = s5 * x1074;
+                    x1079 = arith.mul_add(c5, x1073, -x1078);
+                    x1080 = x1063 + x1077;
+                    x1081 = x1060 + x1075;
+                    x1082 = x1062 + x1079;
+                    *o28 = x1082;
+                    x1083 = x1080 - x737;
+                    x1084 = x736 + x1081;
+                    x1085 = s4 * x1084;
+                    x1086 = arith.mul_add(c4, x1083, -x1085);
+                    x1087 = c4 * x1084;
+                    x1088 = arith.mul_add(s4, x1083, x1087);
+                    *o25 = x1088;
+                    *o26 = x1088;
+                    *o27 = x1088;
+                    x1089 = s3 * x1086;
+                    x1090 = arith.mul_add(c3, x1082, -x1089);
+                    x1091 = s3 * x1082;
+                    x1092 = arith.mul_add(c3, x1086, x1091);
+                    x1093 = s2 * x1092;
+                    x1094 = arith.mul_add(c2, x1090, -x1093);
+                    x1095 = c2 * x1092;
+                    x1096 = arith.mul_add(s2, x1090, x1095);
+                    x1097 = c1 * x1094;
+                    x1098 = arith.mul_add(s1, x1096, -x1097);
+                    *o24 = x1098;
+                    x1099 = x52 * x218;
+                    x1100 = arith.mul_add(x54, x573, x1099);
+                    *o35 = x1100;
+                    x1101 = arith.mul_add(x55, x573, x726);
+                    x1102 = arith.mul_add(0.016685526854599998f64, x681, -x728);
+                    x1103 = x726 - x725;
+                    x1104 = x729 + x1102;
+                    x1105 = x1103 - x1101;
+                    x1106 = s5 * x1105;
+                    x1107 = arith.mul_add(c5, x1104, x1106);
+                    x1108 = s5 * x1104;
+                    x1109 = arith.mul_add(c5, x1105, -x1108);
+                    *o34 = x1109;
+                    x1110 = s4 * x1100;
+                    x1111 = arith.mul_add(c4, x1107, -x1110);
+                    x1112 = c4 * x1100;
+                    x1113 = arith.mul_add(s4, x1107, x1112);
+                    *o31 = x1113;
+                    *o32 = x1113;
+                    *o33 = x1113;
+                    x1114 = s3 * x1111;
+                    x1115 = arith.mul_add(c3, x1109, -x1114);
+                    x1116 = s3 * x1109;
+                    x1117 = arith.mul_add(c3, x1111, x1116);
+                    x1118 = s2 * x1117;
+                    x1119 = arith.mul_add(c2, x1115, -x1118);
+                    x1120 = c2 * x1117;
+                    x1121 = arith.mul_add(s2, x1115, x1120);
+                    x1122 = c1 * x1119;
+                    x1123 = arith.mul_add(s1, x1121, -x1122);
+                    *o30 = x1123;
+                    x1124 = -2f64 * x394;
+                    *o37 = x1124;
+                    x1125 = -2f64 * x451;
+                    *o38 = x1125;
+                    x1126 = 2f64 * x521;
+                    *o39 = x1126;
+                    x1127 = 2f64 * x569;
+                    *o40 = x1127;
+                    x1128 = 2f64 * x616;
+                    *o41 = x1128;
+                    x1129 = -2f64 * x392;
+                    *o42 = x1129;
+                    x1130 = 2f64 * x380;
+                    *o43 = x1130;
+                    x1131 = 2f64 * x444;
+                    *o44 = x1131;
+                    x1132 = 2f64 * x514;
+                    *o45 = x1132;
+                    x1133 = 2f64 * x565;
+                    *o46 = x1133;
+                    x1134 = 2f64 * x612;
+                    *o47 = x1134;
+                    x1135 = -2f64 * x449;
+                    *o48 = x1135;
+                    x1136 = 2f64 * x434;
+                    *o49 = x1136;
+                    x1137 = 2f64 * x415;
+                    *o50 = x1137;
+                    x1138 = 2f64 * x491;
+                    *o51 = x1138;
+                    x1139 = 2f64 * x554;
+                    *o52 = x1139;
+                    x1140 = 2f64 * x601;
+                    *o53 = x1140;
+                    x1141 = 2f64 * x519;
+                    *o54 = x1141;
+                    x1142 = 2f64 * x503;
+                    *o55 = x1142;
+                    x1143 = 2f64 * x482;
+                    *o56 = x1143;
+                    x1144 = 2f64 * x468;
+                    *o57 = x1144;
+                    x1145 = 2f64 * x543;
+                    *o58 = x1145;
+                    x1146 = 2f64 * x590;
+                    *o59 = x1146;
+                    x1147 = 2f64 * x567;
+                    *o60 = x1147;
+                    x1148 = 2f64 * x538;
+                    *o61 = x1148;
+                    *o62 = x1148;
+                    *o63 = x1148;
+                    x1149 = 2f64 * x530;
+                    *o64 = x1149;
+                    x1150 = 2f64 * x585;
+                    *o65 = x1150;
+                    x1151 = 2f64 * x614;
+                    *o66 = x1151;
+                    x1152 = 2f64 * x587;
+                    *o67 = x1152;
+                    *o68 = x1152;
+                    *o69 = x1152;
+                    x1153 = 2f64 * x580;
+                    *o70 = x1153;
+                }
+            }
+        }
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd, a, out))
     }
     ///Operations: 1370 mul, 1156 add/sub, 1 neg, 5 div (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
@@ -15514,6 +22968,2114 @@ impl DynamicsDerivatives<6, 60> for Ur5 {
             }
         }
         dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd, tau))
+    }
+    #[inline(never)]
+    fn forward_dynamics_derivatives_into(
+        t: &JointTrig<6>,
+        qd: &SVector<f64, 6>,
+        tau: &SVector<f64, 6>,
+        out: &mut dyngen_runtime::ResultBuffer<(SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>)>,
+    ) {
+        let out = dyngen_runtime::__private::claim(out, 15112981661982478609u64);
+        struct Body;
+        impl dyngen_runtime::__private::Kernel<
+            (
+                &JointTrig<6>,
+                &SVector<f64, 6>,
+                &SVector<f64, 6>,
+                &mut (SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>),
+            ),
+        > for Body {
+            type Output = ();
+            #[inline(always)]
+            fn run<M: dyngen_runtime::__private::MulAdd>(
+                arith: M,
+                (
+                    t,
+                    qd,
+                    tau,
+                    out,
+                ): (
+                    &JointTrig<6>,
+                    &SVector<f64, 6>,
+                    &SVector<f64, 6>,
+                    &mut (SMatrix<f64, 6, 6>, SMatrix<f64, 6, 6>),
+                ),
+            ) {
+                let [_, s1, s2, s3, s4, s5] = t.sin;
+                let [_, c1, c2, c3, c4, c5] = t.cos;
+                let [qd0, qd1, qd2, qd3, qd4, qd5] = qd.data.0[0];
+                let [tau0, tau1, tau2, tau3, tau4, tau5] = tau.data.0[0];
+                {
+                    let (
+                        [[_,
+                        _,
+                        _,
+                        _,
+                        _,
+                        _,
+                        ],
+                        [o6,
+                        o7,
+                        o8,
+                        o9,
+                        o10,
+                        o11,
+                        ],
+                        [o12,
+                        o13,
+                        o14,
+                        o15,
+                        o16,
+                        o17,
+                        ],
+                        [o18,
+                        o19,
+                        o20,
+                        o21,
+                        o22,
+                        o23,
+                        ],
+                        [o24,
+                        o25,
+                        o26,
+                        o27,
+                        o28,
+                        o29,
+                        ],
+                        [o30,
+                        o31,
+                        o32,
+                        o33,
+                        o34,
+                        o35,
+                        ],
+                        ],
+                        [[o36,
+                        o37,
+                        o38,
+                        o39,
+                        o40,
+                        o41,
+                        ],
+                        [o42,
+                        o43,
+                        o44,
+                        o45,
+                        o46,
+                        o47,
+                        ],
+                        [o48,
+                        o49,
+                        o50,
+                        o51,
+                        o52,
+                        o53,
+                        ],
+                        [o54,
+                        o55,
+                        o56,
+                        o57,
+                        o58,
+                        o59,
+                        ],
+                        [o60,
+                        o61,
+                        o62,
+                        o63,
+                        o64,
+                        o65,
+                        ],
+                        [o66,
+                        o67,
+                        o68,
+                        o69,
+                        o70,
+                        o71,
+                        ],
+                        ],
+                    ) = (&mut out.0.data.0, &mut out.1.data.0);
+                    let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                    x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                    x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                    x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                    x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                    x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                    x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                    x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109,
+                    x110, x111, x112, x113, x114, x115, x116, x117, x118, x119, x120,
+                    x121, x122, x123, x124, x125, x126, x127, x128, x129, x130, x131,
+                    x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142,
+                    x143, x144, x145, x146, x147, x148, x149, x150, x151, x152, x153,
+                    x154, x155, x156, x157, x158, x159, x160, x161, x162, x163, x164,
+                    x165, x166, x167, x168, x169, x170, x171, x172, x173, x174, x175,
+                    x176, x177, x178, x179, x180, x181, x182, x183, x184, x185, x186,
+                    x187, x188, x189, x190, x191, x192, x193, x194, x195, x196, x197,
+                    x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
+                    x209, x210, x211, x212, x213, x214, x215, x216, x217, x218, x219,
+                    x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                    x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241,
+                    x242, x243, x244, x245, x246, x247, x248, x249, x250, x251, x252,
+                    x253, x254, x255, x256, x257, x258, x259, x260, x261, x262, x263,
+                    x264, x265, x266, x267, x268, x269, x270, x271, x272, x273, x274,
+                    x275, x276, x277, x278, x279, x280, x281, x282, x283, x284, x285,
+                    x286, x287, x288, x289, x290, x291, x292, x293, x294, x295, x296,
+                    x297, x298, x299, x300, x301, x302, x303, x304, x305, x306, x307,
+                    x308, x309, x310, x311, x312, x313, x314, x315, x316, x317, x318,
+                    x319, x320, x321, x322, x323, x324, x325, x326, x327, x328, x329,
+                    x330, x331, x332, x333, x334, x335, x336, x337, x338, x339, x340,
+                    x341, x342, x343, x344, x345, x346, x347, x348, x349, x350, x351,
+                    x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                    x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373,
+                    x374, x375, x376, x377, x378, x379, x380, x381, x382, x383, x384,
+                    x385, x386, x387, x388, x389, x390, x391, x392, x393, x394, x395,
+                    x396, x397, x398, x399, x400, x401, x402, x403, x404, x405, x406,
+                    x407, x408, x409, x410, x411, x412, x413, x414, x415, x416, x417,
+                    x418, x419, x420, x421, x422, x423, x424, x425, x426, x427, x428,
+                    x429, x430, x431, x432, x433, x434, x435, x436, x437, x438, x439,
+                    x440, x441, x442, x443, x444, x445, x446, x447, x448, x449, x450,
+                    x451, x452, x453, x454, x455, x456, x457, x458, x459, x460, x461,
+                    x462, x463, x464, x465, x466, x467, x468, x469, x470, x471, x472,
+                    x473, x474, x475, x476, x477, x478, x479, x480, x481, x482, x483,
+                    x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
+                    x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505,
+                    x506, x507, x508, x509, x510, x511, x512, x513, x514, x515, x516,
+                    x517, x518, x519, x520, x521, x522, x523, x524, x525, x526, x527,
+                    x528, x529, x530, x531, x532, x533, x534, x535, x536, x537, x538,
+                    x539, x540, x541, x542, x543, x544, x545, x546, x547, x548, x549,
+                    x550, x551, x552, x553, x554, x555, x556, x557, x558, x559, x560,
+                    x561, x562, x563, x564, x565, x566, x567, x568, x569, x570, x571,
+                    x572, x573, x574, x575, x576, x577, x578, x579, x580, x581, x582,
+                    x583, x584, x585, x586, x587, x588, x589, x590, x591, x592, x593,
+                    x594, x595, x596, x597, x598, x599, x600, x601, x602, x603, x604,
+                    x605, x606, x607, x608, x609, x610, x611, x612, x613, x614, x615,
+                    x616, x617, x618, x619, x620, x621, x622, x623, x624, x625, x626,
+                    x627, x628, x629, x630, x631, x632, x633, x634, x635, x636, x637,
+                    x638, x639, x640, x641, x642, x643, x644, x645, x646, x647, x648,
+                    x649, x650, x651, x652, x653, x654, x655, x656, x657, x658, x659,
+                    x660, x661, x662, x663, x664, x665, x666, x667, x668, x669, x670,
+                    x671, x672, x673, x674, x675, x676, x677, x678, x679, x680, x681,
+                    x682, x683, x684, x685, x686, x687, x688, x689, x690, x691, x692,
+                    x693, x694, x695, x696, x697, x698, x699, x700, x701, x702, x703,
+                    x704, x705, x706, x707, x708, x709, x710, x711, x712, x713, x714,
+                    x715, x716, x717, x718, x719, x720, x721, x722, x723, x724, x725,
+                    x726, x727, x728, x729, x730, x731, x732, x733, x734, x735, x736,
+                    x737, x738, x739, x740, x741, x742, x743, x744, x745, x746, x747,
+                    x748, x749, x750, x751, x752, x753, x754, x755, x756, x757, x758,
+                    x759, x760, x761, x762, x763, x764, x765, x766, x767, x768, x769,
+                    x770, x771, x772, x773, x774, x775, x776, x777, x778, x779, x780,
+                    x781, x782, x783, x784, x785, x786, x787, x788, x789, x790, x791,
+                    x792, x793, x794, x795, x796, x797, x798, x799, x800, x801, x802,
+                    x803, x804, x805, x806, x807, x808, x809, x810, x811, x812, x813,
+                    x814, x815, x816, x817, x818, x819, x820, x821, x822, x823, x824,
+                    x825, x826, x827, x828, x829, x830, x831, x832, x833, x834, x835,
+                    x836, x837, x838, x839, x840, x841, x842, x843, x844, x845, x846,
+                    x847, x848, x849, x850, x851, x852, x853, x854, x855, x856, x857,
+                    x858, x859, x860, x861, x862, x863, x864, x865, x866, x867, x868,
+                    x869, x870, x871, x872, x873, x874, x875, x876, x877, x878, x879,
+                    x880, x881, x882, x883, x884, x885, x886, x887, x888, x889, x890,
+                    x891, x892, x893, x894, x895, x896, x897, x898, x899, x900, x901,
+                    x902, x903, x904, x905, x906, x907, x908, x909, x910, x911, x912,
+                    x913, x914, x915, x916, x917, x918, x919, x920, x921, x922, x923,
+                    x924, x925, x926, x927, x928, x929, x930, x931, x932, x933, x934,
+                    x935, x936, x937, x938, x939, x940, x941, x942, x943, x944, x945,
+                    x946, x947, x948, x949, x950, x951, x952, x953, x954, x955, x956,
+                    x957, x958, x959, x960, x961, x962, x963, x964, x965, x966, x967,
+                    x968, x969, x970, x971, x972, x973, x974, x975, x976, x977, x978,
+                    x979, x980, x981, x982, x983, x984, x985, x986, x987, x988, x989,
+                    x990, x991, x992, x993, x994, x995, x996, x997, x998, x999, x1000,
+                    x1001, x1002, x1003, x1004, x1005, x1006, x1007, x1008, x1009, x1010,
+                    x1011, x1012, x1013, x1014, x1015, x1016, x1017, x1018, x1019, x1020,
+                    x1021, x1022, x1023, x1024, x1025, x1026, x1027, x1028, x1029, x1030,
+                    x1031, x1032, x1033, x1034, x1035, x1036, x1037, x1038, x1039, x1040,
+                    x1041, x1042, x1043, x1044, x1045, x1046, x1047, x1048, x1049, x1050,
+                    x1051, x1052, x1053, x1054, x1055, x1056, x1057, x1058, x1059, x1060,
+                    x1061, x1062, x1063, x1064, x1065, x1066, x1067, x1068, x1069, x1070,
+                    x1071, x1072, x1073, x1074, x1075, x1076, x1077, x1078, x1079, x1080,
+                    x1081, x1082, x1083, x1084, x1085, x1086, x1087, x1088, x1089, x1090,
+                    x1091, x1092, x1093, x1094, x1095, x1096, x1097, x1098, x1099, x1100,
+                    x1101, x1102, x1103, x1104, x1105, x1106, x1107, x1108, x1109, x1110,
+                    x1111, x1112, x1113, x1114, x1115, x1116, x1117, x1118, x1119, x1120,
+                    x1121, x1122, x1123, x1124, x1125, x1126, x1127, x1128, x1129, x1130,
+                    x1131, x1132, x1133, x1134, x1135, x1136, x1137, x1138, x1139, x1140,
+                    x1141, x1142, x1143, x1144, x1145, x1146, x1147, x1148, x1149, x1150,
+                    x1151, x1152, x1153, x1154, x1155, x1156, x1157, x1158, x1159, x1160,
+                    x1161, x1162, x1163, x1164, x1165, x1166, x1167, x1168, x1169, x1170,
+                    x1171, x1172, x1173, x1174, x1175, x1176, x1177, x1178, x1179, x1180,
+                    x1181, x1182, x1183, x1184, x1185, x1186, x1187, x1188, x1189, x1190,
+                    x1191, x1192, x1193, x1194, x1195, x1196, x1197, x1198, x1199, x1200,
+                    x1201, x1202, x1203, x1204, x1205, x1206, x1207, x1208, x1209, x1210,
+                    x1211, x1212, x1213, x1214, x1215, x1216, x1217, x1218, x1219, x1220,
+                    x1221, x1222, x1223, x1224, x1225, x1226, x1227, x1228, x1229, x1230,
+                    x1231, x1232, x1233, x1234, x1235, x1236, x1237, x1238, x1239, x1240,
+                    x1241, x1242, x1243, x1244, x1245, x1246, x1247, x1248, x1249, x1250,
+                    x1251, x1252, x1253, x1254, x1255, x1256, x1257, x1258, x1259, x1260,
+                    x1261, x1262, x1263, x1264, x1265, x1266, x1267, x1268, x1269, x1270,
+                    x1271, x1272, x1273, x1274, x1275, x1276, x1277, x1278, x1279, x1280,
+                    x1281, x1282, x1283, x1284, x1285, x1286, x1287, x1288, x1289, x1290,
+                    x1291, x1292, x1293, x1294, x1295, x1296, x1297, x1298, x1299, x1300,
+                    x1301, x1302, x1303, x1304, x1305, x1306, x1307, x1308, x1309, x1310,
+                    x1311, x1312, x1313, x1314, x1315, x1316, x1317, x1318, x1319, x1320,
+                    x1321, x1322, x1323, x1324, x1325, x1326, x1327, x1328, x1329, x1330,
+                    x1331, x1332, x1333, x1334, x1335, x1336, x1337, x1338, x1339, x1340,
+                    x1341, x1342, x1343, x1344, x1345, x1346, x1347, x1348, x1349, x1350,
+                    x1351, x1352, x1353, x1354, x1355, x1356, x1357, x1358, x1359, x1360,
+                    x1361, x1362, x1363, x1364, x1365, x1366, x1367, x1368, x1369, x1370,
+                    x1371, x1372, x1373, x1374, x1375, x1376, x1377, x1378, x1379, x1380,
+                    x1381, x1382, x1383, x1384, x1385, x1386, x1387, x1388, x1389, x1390,
+                    x1391, x1392, x1393, x1394, x1395, x1396, x1397, x1398, x1399, x1400,
+                    x1401, x1402, x1403, x1404, x1405, x1406, x1407, x1408, x1409, x1410,
+                    x1411, x1412, x1413, x1414, x1415, x1416, x1417, x1418, x1419, x1420,
+                    x1421, x1422, x1423, x1424, x1425, x1426, x1427, x1428, x1429, x1430,
+                    x1431, x1432, x1433, x1434, x1435, x1436, x1437, x1438, x1439, x1440,
+                    x1441, x1442, x1443, x1444, x1445, x1446, x1447, x1448, x1449, x1450,
+                    x1451, x1452, x1453, x1454, x1455, x1456, x1457, x1458, x1459, x1460,
+                    x1461, x1462, x1463, x1464, x1465, x1466, x1467, x1468, x1469, x1470,
+                    x1471, x1472, x1473, x1474, x1475, x1476, x1477, x1478, x1479, x1480,
+                    x1481, x1482, x1483, x1484, x1485, x1486, x1487, x1488, x1489, x1490,
+                    x1491, x1492, x1493, x1494, x1495, x1496, x1497, x1498, x1499, x1500,
+                    x1501, x1502, x1503, x1504, x1505, x1506, x1507, x1508, x1509, x1510,
+                    x1511, x1512, x1513, x1514, x1515, x1516, x1517, x1518, x1519, x1520,
+                    x1521, x1522, x1523, x1524, x1525, x1526, x1527, x1528, x1529, x1530,
+                    x1531, x1532, x1533, x1534, x1535, x1536, x1537, x1538, x1539, x1540,
+                    x1541, x1542, x1543, x1544, x1545, x1546, x1547, x1548, x1549, x1550,
+                    x1551, x1552, x1553, x1554, x1555, x1556, x1557, x1558, x1559, x1560,
+                    x1561, x1562, x1563, x1564, x1565, x1566, x1567, x1568, x1569, x1570,
+                    x1571, x1572, x1573, x1574, x1575, x1576, x1577, x1578, x1579, x1580,
+                    x1581, x1582, x1583, x1584, x1585, x1586, x1587, x1588, x1589, x1590,
+                    x1591, x1592, x1593, x1594, x1595, x1596, x1597, x1598, x1599, x1600,
+                    x1601, x1602, x1603, x1604, x1605, x1606, x1607, x1608, x1609, x1610,
+                    x1611, x1612, x1613, x1614, x1615, x1616, x1617, x1618, x1619, x1620,
+                    x1621, x1622, x1623, x1624, x1625, x1626, x1627, x1628, x1629, x1630,
+                    x1631, x1632, x1633, x1634, x1635, x1636, x1637, x1638, x1639, x1640,
+                    x1641, x1642, x1643, x1644, x1645, x1646, x1647, x1648, x1649, x1650,
+                    x1651, x1652, x1653, x1654, x1655, x1656, x1657, x1658, x1659, x1660,
+                    x1661, x1662, x1663, x1664, x1665, x1666, x1667, x1668, x1669, x1670,
+                    x1671, x1672, x1673, x1674, x1675, x1676, x1677, x1678, x1679, x1680,
+                    x1681, x1682, x1683, x1684, x1685, x1686, x1687, x1688, x1689, x1690,
+                    x1691, x1692, x1693, x1694, x1695, x1696, x1697, x1698, x1699, x1700,
+                    x1701, x1702, x1703, x1704, x1705, x1706, x1707, x1708, x1709, x1710,
+                    x1711, x1712, x1713, x1714, x1715, x1716, x1717, x1718, x1719, x1720,
+                    x1721, x1722, x1723, x1724, x1725, x1726, x1727, x1728, x1729, x1730,
+                    x1731, x1732, x1733, x1734, x1735, x1736, x1737, x1738, x1739, x1740,
+                    x1741, x1742, x1743, x1744, x1745, x1746]: [f64; 1747];
+                    x0 = -9.81f64 * c1;
+                    x1 = -9.81f64 * s1;
+                    x2 = qd0 * c1;
+                    x3 = qd0 * s1;
+                    x4 = 0.13585f64 * qd0;
+                    x5 = s1 * x4;
+                    x6 = c1 * x4;
+                    x7 = c2 * x2;
+                    x8 = arith.mul_add(s2, x3, -x7);
+                    x9 = c2 * x3;
+                    x10 = arith.mul_add(s2, x2, x9);
+                    x11 = 0.1197f64 * x3;
+                    x12 = 0.425f64 * qd1;
+                    x13 = x11 - x12;
+                    x14 = -0.425f64 * x2;
+                    x15 = 0.1197f64 * x2;
+                    x16 = x5 - x13;
+                    x17 = x15 - x6;
+                    x18 = s2 * x17;
+                    x19 = arith.mul_add(c2, x16, -x18);
+                    x20 = c2 * x17;
+                    x21 = arith.mul_add(s2, x16, x20);
+                    x22 = qd1 + qd2;
+                    x23 = s3 * x8;
+                    x24 = arith.mul_add(c3, x10, -x23);
+                    x25 = s3 * x10;
+                    x26 = arith.mul_add(c3, x8, x25);
+                    x27 = 0.39225f64 * x22;
+                    x28 = 0.39225f64 * x8;
+                    x29 = x19 + x27;
+                    x30 = x14 + x28;
+                    x31 = c3 * x21;
+                    x32 = arith.mul_add(s3, x29, x31);
+                    x33 = c3 * x29;
+                    x34 = s3 * x21;
+                    x35 = x33 - x34;
+                    x36 = qd3 + x22;
+                    x37 = s4 * x36;
+                    x38 = arith.mul_add(c4, x24, x37);
+                    x39 = s4 * x24;
+                    x40 = arith.mul_add(c4, x36, -x39);
+                    x41 = qd4 + x26;
+                    x42 = s5 * x41;
+                    x43 = arith.mul_add(c5, x38, -x42);
+                    x44 = c5 * x41;
+                    x45 = arith.mul_add(s5, x38, x44);
+                    x46 = qd5 + x40;
+                    x47 = -0.016685526854599998f64 * c5;
+                    x48 = 0.016685526854599998f64 * s5;
+                    x49 = s5 * x47;
+                    x50 = arith.mul_add(c5, x47, 0.033822f64);
+                    x51 = arith.mul_add(-s5, x48, 0.253242f64);
+                    x52 = c4 * x50;
+                    x53 = -0.0171364731454f64 * s4;
+                    x54 = c4 * x49;
+                    x55 = s4 * x50;
+                    x56 = 0.0171364731454f64 * c4;
+                    x57 = s4 * x49;
+                    x58 = s4 * x53;
+                    x59 = arith.mul_add(c4, x52, -x58);
+                    x60 = c4 * x53;
+                    x61 = arith.mul_add(s4, x52, x60);
+                    x62 = c4 * x56;
+                    x63 = arith.mul_add(s4, x55, x62);
+                    x64 = 0.004608836229750008f64 + x59;
+                    x65 = 0.22402883622975f64 + x63;
+                    x66 = -0.001653980355f64 - x57;
+                    x67 = 0.017784735f64 * c3;
+                    x68 = -0.017784735f64 * s3;
+                    x69 = c3 * x54;
+                    x70 = arith.mul_add(s3, x64, x69);
+                    x71 = s3 * x61;
+                    x72 = arith.mul_add(c3, x66, -x71);
+                    x73 = s3 * x54;
+                    x74 = arith.mul_add(c3, x51, x73);
+                    x75 = arith.mul_add(-c3, x64, x73);
+                    x76 = s3 * x66;
+                    x77 = arith.mul_add(c3, x61, x76);
+                    x78 = arith.mul_add(-s3, x51, x69);
+                    x79 = c3 * x74;
+                    x80 = arith.mul_add(s3, x70, x79);
+                    x81 = s3 * x74;
+                    x82 = arith.mul_add(c3, x70, -x81);
+                    x83 = s3 * x78;
+                    x84 = arith.mul_add(c3, x75, x83);
+                    x85 = -0.00697606230375f64 * s3;
+                    x86 = -0.0139521246075f64 * s3;
+                    x87 = x80 + x86;
+                    x88 = x65 + x86;
+                    x89 = arith.mul_add(-0.00697606230375f64, c3, x82);
+                    x90 = x86 - x84;
+                    x91 = x85 + x85;
+                    x92 = x90 - x91;
+                    x93 = 1.5987592750000001f64 + x68;
+                    x94 = 0.59155695167475f64 + x87;
+                    x95 = 0.59565195167475f64 + x88;
+                    x96 = -0.05132265682500001f64 - x77;
+                    x97 = s2 * x93;
+                    x98 = arith.mul_add(c2, x67, x97);
+                    x99 = s2 * x67;
+                    x100 = arith.mul_add(c2, x93, -x99);
+                    x101 = s2 * x89;
+                    x102 = arith.mul_add(c2, x94, x101);
+                    x103 = c2 * x72;
+                    x104 = arith.mul_add(s2, x96, x103);
+                    x105 = c2 * x89;
+                    x106 = arith.mul_add(s2, x92, x105);
+                    x107 = arith.mul_add(-s2, x94, x105);
+                    x108 = s2 * x72;
+                    x109 = arith.mul_add(c2, x96, -x108);
+                    x110 = arith.mul_add(c2, x92, -x101);
+                    x111 = s2 * x106;
+                    x112 = arith.mul_add(c2, x102, x111);
+                    x113 = s2 * x102;
+                    x114 = arith.mul_add(c2, x106, -x113);
+                    x115 = s2 * x107;
+                    x116 = arith.mul_add(c2, x110, -x115);
+                    x117 = 0.425f64 * x100;
+                    x118 = 0.85f64 * x100;
+                    x119 = x112 + x118;
+                    x120 = arith.mul_add(0.1197f64, x98, x104);
+                    x121 = x95 + x118;
+                    x122 = arith.mul_add(-0.425f64, x98, x114);
+                    x123 = arith.mul_add(0.1197f64, x100, x109);
+                    x124 = x116 + x118;
+                    x125 = x117 + x117;
+                    x126 = x124 - x125;
+                    x127 = 4.432922500000001f64 + x100;
+                    x128 = 1.75501953841f64 + x119;
+                    x129 = 1.77012693841f64 + x121;
+                    x130 = 0.19371331275f64 + x123;
+                    x131 = c1 * x98;
+                    x132 = arith.mul_add(s1, x127, x131);
+                    x133 = c1 * x128;
+                    x134 = arith.mul_add(s1, x122, x133);
+                    x135 = s1 * x130;
+                    x136 = arith.mul_add(c1, x120, x135);
+                    x137 = s1 * x126;
+                    x138 = arith.mul_add(c1, x122, x137);
+                    x139 = s1 * x138;
+                    x140 = arith.mul_add(c1, x134, x139);
+                    x141 = arith.mul_add(-0.13585f64, x132, x136);
+                    x142 = 0.41784981244275005f64 + x140;
+                    x143 = arith.mul_add(0.1197f64, x98, x104);
+                    x144 = x95 + x117;
+                    x145 = arith.mul_add(s1, x100, x131);
+                    x146 = s1 * x123;
+                    x147 = arith.mul_add(c1, x143, x146);
+                    x148 = arith.mul_add(-0.13585f64, x145, x147);
+                    x149 = -0.017784735f64 * c3;
+                    x150 = x65 + x85;
+                    x151 = s2 * x149;
+                    x152 = arith.mul_add(c2, x68, x151);
+                    x153 = s2 * x68;
+                    x154 = arith.mul_add(c2, x149, -x153);
+                    x155 = arith.mul_add(-s2, x77, x103);
+                    x156 = arith.mul_add(c2, x77, x108);
+                    x157 = arith.mul_add(-0.1197f64, x154, x155);
+                    x158 = arith.mul_add(0.425f64, x152, x150);
+                    x159 = arith.mul_add(-0.1197f64, x152, x156);
+                    x160 = s1 * x152;
+                    x161 = arith.mul_add(c1, x154, -x160);
+                    x162 = c1 * x157;
+                    x163 = arith.mul_add(s1, x159, -x162);
+                    x164 = arith.mul_add(-0.13585f64, x161, x163);
+                    x165 = s2 * x78;
+                    x166 = arith.mul_add(c2, x74, x165);
+                    x167 = s2 * x74;
+                    x168 = arith.mul_add(c2, x78, -x167);
+                    x169 = s1 * x168;
+                    x170 = arith.mul_add(c1, x166, x169);
+                    x171 = s3 * x53;
+                    x172 = c3 * x53;
+                    x173 = s2 * x172;
+                    x174 = arith.mul_add(c2, x171, x173);
+                    x175 = c2 * x172;
+                    x176 = arith.mul_add(s2, x171, -x175);
+                    x177 = s1 * x176;
+                    x178 = arith.mul_add(c1, x174, -x177);
+                    x179 = -4.432922500000001f64 * x6;
+                    x180 = -8.865845000000002f64 * x6;
+                    x181 = 4.432922500000001f64 * qd1;
+                    x182 = -4.432922500000001f64 * x2;
+                    x183 = 0.19371331275f64 * qd1;
+                    x184 = arith.mul_add(1.77012693841f64, x3, x183);
+                    x185 = arith.mul_add(-1.75501953841f64, x3, x184);
+                    x186 = -0.19371331275f64 * x2;
+                    x187 = x186 + x186;
+                    x188 = x180 - x187;
+                    x189 = -0.19371331275f64 * x3;
+                    x190 = arith.mul_add(1.75501953841f64, qd1, x189);
+                    x191 = arith.mul_add(4.432922500000001f64, x5, x190);
+                    x192 = x179 + x179;
+                    x193 = x180 + x187;
+                    x194 = x193 - x192;
+                    x195 = 1.5987592750000001f64 * x21;
+                    x196 = 3.1975185500000003f64 * x21;
+                    x197 = 1.5987592750000001f64 * x22;
+                    x198 = 1.5987592750000001f64 * x8;
+                    x199 = -0.05132265682500001f64 * x22;
+                    x200 = arith.mul_add(0.59565195167475f64, x10, x199);
+                    x201 = arith.mul_add(-0.59155695167475f64, x10, x200);
+                    x202 = -0.05132265682500001f64 * x8;
+                    x203 = x202 + x202;
+                    x204 = x196 - x203;
+                    x205 = 0.05132265682500001f64 * x10;
+                    x206 = arith.mul_add(0.59155695167475f64, x22, x205);
+                    x207 = arith.mul_add(1.5987592750000001f64, x19, x206);
+                    x208 = 0.679472691875f64 * x2;
+                    x209 = arith.mul_add(0.59565195167475f64, x8, -x208);
+                    x210 = x195 + x195;
+                    x211 = x196 + x203;
+                    x212 = x211 - x210;
+                    x213 = 0.017784735f64 * x35;
+                    x214 = 0.03556947f64 * x35;
+                    x215 = 0.017784735f64 * x36;
+                    x216 = 0.017784735f64 * x24;
+                    x217 = -0.001653980355f64 * x36;
+                    x218 = arith.mul_add(-0.22402883622975f64, x26, x217);
+                    x219 = arith.mul_add(0.004608836229750008f64, x26, x218);
+                    x220 = -0.001653980355f64 * x24;
+                    x221 = x220 + x220;
+                    x222 = x214 - x221;
+                    x223 = -0.001653980355f64 * x26;
+                    x224 = arith.mul_add(0.004608836229750008f64, x36, x223);
+                    x225 = arith.mul_add(-0.017784735f64, x32, x224);
+                    x226 = -0.017784735f64 * x30;
+                    x227 = arith.mul_add(0.22402883622975f64, x24, -x226);
+                    x228 = x213 + x213;
+                    x229 = x214 + x221;
+                    x230 = x229 - x228;
+                    x231 = 0.033822f64 * x40;
+                    x232 = arith.mul_add(0.253242f64, x40, -x231);
+                    x233 = 0.0171364731454f64 * x45;
+                    x234 = arith.mul_add(-0.016685526854599998f64, x45, -x233);
+                    x235 = -0.016685526854599998f64 * x46;
+                    x236 = 0.0171364731454f64 * x43;
+                    x237 = -1.75501953841f64 * x2;
+                    x238 = arith.mul_add(1.77012693841f64, qd1, x189);
+                    x239 = 0.59155695167475f64 * x8;
+                    x240 = arith.mul_add(0.59565195167475f64, x22, x205);
+                    x241 = x239 - x208;
+                    x242 = 0.004608836229750008f64 * x24;
+                    x243 = arith.mul_add(0.22402883622975f64, x36, x223);
+                    x244 = x242 - x226;
+                    x245 = 0.033822f64 * x38;
+                    x246 = 0.253242f64 * x41;
+                    x247 = -0.016685526854599998f64 * x43;
+                    x248 = 0.0171364731454f64 * x46;
+                    x249 = s5 * x235;
+                    x250 = s5 * x236;
+                    x251 = arith.mul_add(c5, x234, x250);
+                    x252 = c5 * x235;
+                    x253 = s5 * x234;
+                    x254 = arith.mul_add(c5, x236, -x253);
+                    x255 = s5 * x252;
+                    x256 = arith.mul_add(c5, x249, x255);
+                    x257 = c5 * x252;
+                    x258 = arith.mul_add(s5, x249, -x257);
+                    x259 = arith.mul_add(0.033822f64, x41, x251);
+                    x260 = x232 + x258;
+                    x261 = arith.mul_add(-0.253242f64, x38, x254);
+                    x262 = arith.mul_add(c5, x247, x245);
+                    x263 = arith.mul_add(-s5, x247, x246);
+                    x264 = s4 * x259;
+                    x265 = arith.mul_add(c4, x256, x264);
+                    x266 = c4 * x259;
+                    x267 = s4 * x261;
+                    x268 = arith.mul_add(c4, x260, -x267);
+                    x269 = arith.mul_add(-s4, x256, x266);
+                    x270 = c4 * x261;
+                    x271 = arith.mul_add(s4, x260, x270);
+                    x272 = s4 * x266;
+                    x273 = arith.mul_add(c4, x265, x272);
+                    x274 = s4 * x265;
+                    x275 = arith.mul_add(c4, x266, -x274);
+                    x276 = c4 * x264;
+                    x277 = arith.mul_add(s4, x269, x276);
+                    x278 = x214 - x273;
+                    x279 = x219 + x275;
+                    x280 = x222 + x277;
+                    x281 = x268 - x225;
+                    x282 = x227 + x271;
+                    x283 = x230 + x256;
+                    x284 = s4 * x248;
+                    x285 = arith.mul_add(c4, x262, -x284);
+                    x286 = x244 + x285;
+                    x287 = x217 + x263;
+                    x288 = s3 * x215;
+                    x289 = c3 * x215;
+                    x290 = c3 * x281;
+                    x291 = arith.mul_add(-s3, x278, x290);
+                    x292 = s3 * x279;
+                    x293 = arith.mul_add(c3, x282, -x292);
+                    x294 = s3 * x281;
+                    x295 = arith.mul_add(c3, x283, -x294);
+                    x296 = arith.mul_add(c3, x278, x294);
+                    x297 = s3 * x282;
+                    x298 = arith.mul_add(c3, x279, x297);
+                    x299 = arith.mul_add(s3, x283, x290);
+                    x300 = s3 * x291;
+                    x301 = arith.mul_add(c3, x295, -x300);
+                    x302 = s3 * x295;
+                    x303 = arith.mul_add(c3, x291, x302);
+                    x304 = s3 * x299;
+                    x305 = arith.mul_add(c3, x296, x304);
+                    x306 = -0.39225f64 * x289;
+                    x307 = -0.7845f64 * x289;
+                    x308 = x301 + x307;
+                    x309 = x280 + x307;
+                    x310 = arith.mul_add(-0.39225f64, x288, x303);
+                    x311 = -0.00697606230375f64 * x24;
+                    x312 = x298 + x311;
+                    x313 = x305 + x307;
+                    x314 = x306 + x306;
+                    x315 = x313 - x314;
+                    x316 = x197 - x288;
+                    x317 = x198 + x216;
+                    x318 = x196 + x308;
+                    x319 = x201 + x293;
+                    x320 = x204 + x309;
+                    x321 = x207 + x310;
+                    x322 = x209 - x312;
+                    x323 = x212 + x315;
+                    x324 = s3 * x286;
+                    x325 = arith.mul_add(c3, x287, -x324);
+                    x326 = s3 * x287;
+                    x327 = arith.mul_add(c3, x286, x326);
+                    x328 = x325 - x311;
+                    x329 = x241 + x328;
+                    x330 = x199 - x327;
+                    x331 = s2 * x289;
+                    x332 = arith.mul_add(c2, x316, -x331);
+                    x333 = c2 * x289;
+                    x334 = arith.mul_add(s2, x316, x333);
+                    x335 = s2 * x321;
+                    x336 = arith.mul_add(c2, x318, -x335);
+                    x337 = s2 * x322;
+                    x338 = arith.mul_add(c2, x319, x337);
+                    x339 = c2 * x321;
+                    x340 = arith.mul_add(s2, x323, -x339);
+                    x341 = arith.mul_add(s2, x318, x339);
+                    x342 = s2 * x319;
+                    x343 = arith.mul_add(c2, x322, -x342);
+                    x344 = arith.mul_add(c2, x323, x335);
+                    x345 = s2 * x340;
+                    x346 = arith.mul_add(c2, x336, x345);
+                    x347 = s2 * x336;
+                    x348 = arith.mul_add(c2, x340, -x347);
+                    x349 = c2 * x344;
+                    x350 = arith.mul_add(s2, x341, x349);
+                    x351 = 0.1197f64 * x317;
+                    x352 = -0.425f64 * x334;
+                    x353 = x351 + x352;
+                    x354 = 2f64 * x353;
+                    x355 = x346 + x354;
+                    x356 = -0.1197f64 * x332;
+                    x357 = x338 - x356;
+                    x358 = x320 + x354;
+                    x359 = x351 + x351;
+                    x360 = x358 - x359;
+                    x361 = arith.mul_add(-0.425f64, x332, x348);
+                    x362 = 0.1197f64 * x334;
+                    x363 = -0.425f64 * x317;
+                    x364 = x362 + x363;
+                    x365 = x343 - x364;
+                    x366 = x350 + x354;
+                    x367 = x352 + x352;
+                    x368 = x366 - x367;
+                    x369 = x181 + x332;
+                    x370 = x182 + x317;
+                    x371 = x180 + x355;
+                    x372 = x185 + x357;
+                    x373 = x188 + x360;
+                    x374 = x361 - x191;
+                    x375 = arith.mul_add(-1.77012693841f64, x2, x365);
+                    x376 = x194 + x368;
+                    x377 = s2 * x330;
+                    x378 = arith.mul_add(c2, x329, x377);
+                    x379 = s2 * x329;
+                    x380 = arith.mul_add(c2, x330, -x379);
+                    x381 = x362 - x363;
+                    x382 = x378 + x381;
+                    x383 = x380 - x356;
+                    x384 = x237 + x382;
+                    x385 = x183 + x383;
+                    x386 = c1 * x371;
+                    x387 = arith.mul_add(s1, x374, x386);
+                    x388 = s1 * x376;
+                    x389 = arith.mul_add(c1, x374, x388);
+                    x390 = s1 * x389;
+                    x391 = arith.mul_add(c1, x387, x390);
+                    x392 = arith.mul_add(-0.2717f64, x370, x391);
+                    x393 = 0.5f64 * x372;
+                    x394 = 0.5f64 * x375;
+                    x395 = -0.5f64 * x334;
+                    x396 = -0.5f64 * x369;
+                    x397 = 0.5f64 * x385;
+                    x398 = -0.5f64 * x384;
+                    x399 = x2 * x122;
+                    x400 = arith.mul_add(x3, x128, -x399);
+                    x401 = x2 * x130;
+                    x402 = arith.mul_add(x3, x120, -x401);
+                    x403 = x2 * x126;
+                    x404 = arith.mul_add(x3, x122, -x403);
+                    x405 = x5 * x98;
+                    x406 = arith.mul_add(x6, x127, -x405);
+                    x407 = x402 + x406;
+                    x408 = x393 + x400;
+                    x409 = arith.mul_add(0.5f64, x373, x407);
+                    x410 = x394 + x404;
+                    x411 = x397 + x408;
+                    x412 = x398 + x410;
+                    x413 = x395 + x395;
+                    x414 = x396 + x396;
+                    x415 = x393 - x397;
+                    x416 = x394 - x398;
+                    x417 = s1 * x413;
+                    x418 = arith.mul_add(c1, x414, -x417);
+                    x419 = s1 * x412;
+                    x420 = arith.mul_add(c1, x411, x419);
+                    x421 = arith.mul_add(0.13585f64, x418, x420);
+                    x422 = s1 * x416;
+                    x423 = arith.mul_add(c1, x415, x422);
+                    x424 = x288 - x197;
+                    x425 = 0.5f64 * x319;
+                    x426 = 0.5f64 * x320;
+                    x427 = 0.5f64 * x322;
+                    x428 = -0.5f64 * x289;
+                    x429 = 0.5f64 * x424;
+                    x430 = 0.5f64 * x330;
+                    x431 = -0.5f64 * x329;
+                    x432 = x8 * x89;
+                    x433 = arith.mul_add(x10, x94, x432);
+                    x434 = x10 * x72;
+                    x435 = arith.mul_add(x8, x96, x434);
+                    x436 = x8 * x92;
+                    x437 = arith.mul_add(x10, x89, x436);
+                    x438 = x19 * x67;
+                    x439 = arith.mul_add(x21, x93, x438);
+                    x440 = x435 - x439;
+                    x441 = x10 * x93;
+                    x442 = arith.mul_add(x8, x67, -x441);
+                    x443 = x425 + x433;
+                    x444 = x426 + x440;
+                    x445 = x427 + x437;
+                    x446 = x430 + x443;
+                    x447 = x431 + x445;
+                    x448 = x428 + x428;
+                    x449 = x429 + x429;
+                    x450 = x425 - x430;
+                    x451 = x427 - x431;
+                    x452 = s2 * x449;
+                    x453 = arith.mul_add(c2, x448, x452);
+                    x454 = s2 * x448;
+                    x455 = arith.mul_add(c2, x449, -x454);
+                    x456 = s2 * x447;
+                    x457 = arith.mul_add(c2, x446, x456);
+                    x458 = s2 * x446;
+                    x459 = arith.mul_add(c2, x447, -x458);
+                    x460 = 0.425f64 * x442;
+                    x461 = arith.mul_add(-0.1197f64, x455, -x460);
+                    x462 = x457 + x461;
+                    x463 = arith.mul_add(0.425f64, x453, x444);
+                    x464 = arith.mul_add(0.1197f64, x453, x459);
+                    x465 = s2 * x451;
+                    x466 = arith.mul_add(c2, x450, x465);
+                    x467 = s2 * x450;
+                    x468 = arith.mul_add(c2, x451, -x467);
+                    x469 = x2 * x123;
+                    x470 = arith.mul_add(x3, x143, -x469);
+                    x471 = arith.mul_add(x6, x100, -x405);
+                    x472 = x470 + x471;
+                    x473 = x426 + x472;
+                    x474 = s1 * x453;
+                    x475 = arith.mul_add(c1, x455, -x474);
+                    x476 = s1 * x464;
+                    x477 = arith.mul_add(c1, x462, x476);
+                    x478 = arith.mul_add(0.13585f64, x475, x477);
+                    x479 = s1 * x468;
+                    x480 = arith.mul_add(c1, x466, x479);
+                    x481 = x34 - x33;
+                    x482 = 0.5f64 * x279;
+                    x483 = 0.5f64 * x280;
+                    x484 = 0.5f64 * x282;
+                    x485 = -0.0088923675f64 * x36;
+                    x486 = 0.5f64 * x287;
+                    x487 = -0.5f64 * x286;
+                    x488 = x24 * x54;
+                    x489 = arith.mul_add(x26, x64, x488);
+                    x490 = x26 * x61;
+                    x491 = arith.mul_add(x24, x66, -x490);
+                    x492 = x24 * x51;
+                    x493 = arith.mul_add(x26, x54, x492);
+                    x494 = arith.mul_add(0.017784735f64, x481, x491);
+                    x495 = -0.017784735f64 * x26;
+                    x496 = x482 - x489;
+                    x497 = x483 + x494;
+                    x498 = x484 + x493;
+                    x499 = x486 + x496;
+                    x500 = x487 + x498;
+                    x501 = x485 + x485;
+                    x502 = x482 - x486;
+                    x503 = x484 - x487;
+                    x504 = c3 * x501;
+                    x505 = s3 * x501;
+                    x506 = s3 * x499;
+                    x507 = arith.mul_add(c3, x500, -x506);
+                    x508 = s3 * x500;
+                    x509 = arith.mul_add(c3, x499, x508);
+                    x510 = arith.mul_add(-0.00697606230375f64, x26, x507);
+                    x511 = arith.mul_add(0.39225f64, x504, x497);
+                    x512 = s3 * x502;
+                    x513 = arith.mul_add(c3, x503, -x512);
+                    x514 = s3 * x503;
+                    x515 = arith.mul_add(c3, x502, x514);
+                    x516 = arith.mul_add(-x8, x77, x434);
+                    x517 = x21 * x68;
+                    x518 = arith.mul_add(x19, x149, -x517);
+                    x519 = x516 + x518;
+                    x520 = x483 + x519;
+                    x521 = s2 * x505;
+                    x522 = arith.mul_add(c2, x504, -x521);
+                    x523 = c2 * x505;
+                    x524 = arith.mul_add(s2, x504, x523);
+                    x525 = s2 * x509;
+                    x526 = arith.mul_add(c2, x510, -x525);
+                    x527 = c2 * x509;
+                    x528 = arith.mul_add(s2, x510, x527);
+                    x529 = 0.007558512375f64 * x26;
+                    x530 = arith.mul_add(0.1197f64, x524, -x529);
+                    x531 = x526 + x530;
+                    x532 = arith.mul_add(0.425f64, x522, x511);
+                    x533 = arith.mul_add(-0.1197f64, x522, x528);
+                    x534 = s2 * x515;
+                    x535 = arith.mul_add(c2, x513, -x534);
+                    x536 = c2 * x515;
+                    x537 = arith.mul_add(s2, x513, x536);
+                    x538 = x2 * x159;
+                    x539 = arith.mul_add(x3, x157, x538);
+                    x540 = x5 * x154;
+                    x541 = arith.mul_add(x6, x152, x540);
+                    x542 = x539 + x541;
+                    x543 = x483 + x542;
+                    x544 = c1 * x524;
+                    x545 = arith.mul_add(s1, x522, x544);
+                    x546 = c1 * x531;
+                    x547 = arith.mul_add(s1, x533, -x546);
+                    x548 = arith.mul_add(0.13585f64, x545, x547);
+                    x549 = c1 * x535;
+                    x550 = arith.mul_add(s1, x537, -x549);
+                    x551 = 0.5f64 * x260;
+                    x552 = 0.5f64 * x261;
+                    x553 = 0.5f64 * x256;
+                    x554 = -0.0085682365727f64 * x46;
+                    x555 = 0.5f64 * x262;
+                    x556 = -0.0171364731454f64 * x38;
+                    x557 = arith.mul_add(x40, x50, x551);
+                    x558 = x552 + x556;
+                    x559 = arith.mul_add(-x40, x49, x553);
+                    x560 = x554 + x557;
+                    x561 = x555 + x558;
+                    x562 = x551 - x554;
+                    x563 = x552 - x555;
+                    x564 = s4 * x561;
+                    x565 = arith.mul_add(c4, x560, -x564);
+                    x566 = c4 * x561;
+                    x567 = arith.mul_add(s4, x560, x566);
+                    x568 = s4 * x563;
+                    x569 = arith.mul_add(c4, x562, -x568);
+                    x570 = c4 * x563;
+                    x571 = arith.mul_add(s4, x562, x570);
+                    x572 = x493 + x571;
+                    x573 = s3 * x565;
+                    x574 = arith.mul_add(c3, x559, -x573);
+                    x575 = s3 * x559;
+                    x576 = arith.mul_add(c3, x565, x575);
+                    x577 = s3 * x569;
+                    x578 = arith.mul_add(c3, x553, -x577);
+                    x579 = s3 * x553;
+                    x580 = arith.mul_add(c3, x569, x579);
+                    x581 = x8 * x78;
+                    x582 = arith.mul_add(x10, x74, x581);
+                    x583 = x571 + x582;
+                    x584 = s2 * x576;
+                    x585 = arith.mul_add(c2, x574, -x584);
+                    x586 = c2 * x576;
+                    x587 = arith.mul_add(s2, x574, x586);
+                    x588 = s2 * x580;
+                    x589 = arith.mul_add(c2, x578, -x588);
+                    x590 = c2 * x580;
+                    x591 = arith.mul_add(s2, x578, x590);
+                    x592 = x2 * x168;
+                    x593 = arith.mul_add(x3, x166, -x592);
+                    x594 = x571 + x593;
+                    x595 = c1 * x585;
+                    x596 = arith.mul_add(s1, x587, -x595);
+                    x597 = c1 * x589;
+                    x598 = arith.mul_add(s1, x591, -x597);
+                    x599 = 0.5f64 * x234;
+                    x600 = 0.0085682365727f64 * x43;
+                    x601 = 0.008342763427299999f64 * x43;
+                    x602 = 0.016685526854599998f64 * x45;
+                    x603 = x599 + x602;
+                    x604 = x600 + x601;
+                    x605 = x600 - x601;
+                    x606 = s5 * x604;
+                    x607 = arith.mul_add(c5, x603, x606);
+                    x608 = s5 * x603;
+                    x609 = arith.mul_add(c5, x604, -x608);
+                    x610 = s5 * x605;
+                    x611 = arith.mul_add(c5, x599, x610);
+                    x612 = s5 * x599;
+                    x613 = arith.mul_add(c5, x605, -x612);
+                    x614 = x556 + x613;
+                    x615 = c4 * x607;
+                    x616 = s4 * x607;
+                    x617 = c4 * x611;
+                    x618 = s4 * x611;
+                    x619 = arith.mul_add(-x26, x53, x618);
+                    x620 = s3 * x615;
+                    x621 = arith.mul_add(c3, x609, -x620);
+                    x622 = s3 * x609;
+                    x623 = arith.mul_add(c3, x615, x622);
+                    x624 = s3 * x617;
+                    x625 = arith.mul_add(c3, x613, -x624);
+                    x626 = s3 * x613;
+                    x627 = arith.mul_add(c3, x617, x626);
+                    x628 = x8 * x172;
+                    x629 = arith.mul_add(x10, x171, x628);
+                    x630 = x618 - x629;
+                    x631 = s2 * x623;
+                    x632 = arith.mul_add(c2, x621, -x631);
+                    x633 = c2 * x623;
+                    x634 = arith.mul_add(s2, x621, x633);
+                    x635 = s2 * x627;
+                    x636 = arith.mul_add(c2, x625, -x635);
+                    x637 = c2 * x627;
+                    x638 = arith.mul_add(s2, x625, x637);
+                    x639 = x2 * x176;
+                    x640 = arith.mul_add(x3, x174, x639);
+                    x641 = x618 - x640;
+                    x642 = c1 * x632;
+                    x643 = arith.mul_add(s1, x634, -x642);
+                    x644 = c1 * x636;
+                    x645 = arith.mul_add(s1, x638, -x644);
+                    x646 = qd0 * x4;
+                    x647 = qd1 * x3;
+                    x648 = qd1 * x2;
+                    x649 = x12 - x11;
+                    x650 = qd1 * x15;
+                    x651 = x3 * x14;
+                    x652 = x650 - x651;
+                    x653 = x3 * x649;
+                    x654 = arith.mul_add(x2, x15, -x653);
+                    x655 = x2 * x14;
+                    x656 = arith.mul_add(-qd1, x649, x655);
+                    x657 = x654 - x646;
+                    x658 = qd2 * x10;
+                    x659 = qd2 * x8;
+                    x660 = x10 * x28;
+                    x661 = x10 * x27;
+                    x662 = x8 * x28;
+                    x663 = arith.mul_add(x22, x27, x662);
+                    x664 = qd3 * x26;
+                    x665 = qd3 * x24;
+                    x666 = qd4 * x40;
+                    x667 = qd4 * x38;
+                    x668 = qd5 * x45;
+                    x669 = x3 * x238;
+                    x670 = arith.mul_add(qd1, x183, x669);
+                    x671 = x3 * x237;
+                    x672 = arith.mul_add(x2, x183, -x671);
+                    x673 = x2 * x238;
+                    x674 = arith.mul_add(qd1, x237, x673);
+                    x675 = -4.432922500000001f64 * x646;
+                    x676 = x3 * x182;
+                    x677 = x2 * x182;
+                    x678 = arith.mul_add(-qd1, x181, x677);
+                    x679 = x10 * x240;
+                    x680 = arith.mul_add(x22, x199, x679);
+                    x681 = x8 * x199;
+                    x682 = arith.mul_add(x10, x239, x681);
+                    x683 = x8 * x240;
+                    x684 = arith.mul_add(-x22, x239, x683);
+                    x685 = x10 * x198;
+                    x686 = x10 * x197;
+                    x687 = x8 * x198;
+                    x688 = arith.mul_add(x22, x197, x687);
+                    x689 = x26 * x243;
+                    x690 = arith.mul_add(x36, x217, -x689);
+                    x691 = x24 * x217;
+                    x692 = arith.mul_add(x26, x242, -x691);
+                    x693 = x24 * x243;
+                    x694 = arith.mul_add(-x36, x242, x693);
+                    x695 = x26 * x216;
+                    x696 = x26 * x215;
+                    x697 = x24 * x216;
+                    x698 = arith.mul_add(x36, x215, x697);
+                    x699 = x40 * x246;
+                    x700 = x38 * x246;
+                    x701 = arith.mul_add(x41, x245, -x700);
+                    x702 = x40 * x245;
+                    x703 = x45 * x248;
+                    x704 = x45 * x247;
+                    x705 = x43 * x248;
+                    x706 = arith.mul_add(-x46, x247, x705);
+                    x707 = s5 * x706;
+                    x708 = c5 * x706;
+                    x709 = c3 * x698;
+                    x710 = s3 * x698;
+                    x711 = x65 - x62;
+                    x712 = x150 - x62;
+                    x713 = x158 - x62;
+                    x714 = c4 * x178;
+                    x715 = x164 - x714;
+                    x716 = x95 - x62;
+                    x717 = x144 - x62;
+                    x718 = x148 + x714;
+                    x719 = x129 - x62;
+                    x720 = x141 + x714;
+                    x721 = 58.355064750790525f64 * x178;
+                    x722 = arith.mul_add(-x178, x721, x142);
+                    x723 = 1f64 / x51;
+                    x724 = x57 * x723;
+                    x725 = x57 * x724;
+                    x726 = x711 - x725;
+                    x727 = x712 - x725;
+                    x728 = x713 - x725;
+                    x729 = x170 * x724;
+                    x730 = x715 - x729;
+                    x731 = x716 - x725;
+                    x732 = x717 - x725;
+                    x733 = x718 + x729;
+                    x734 = x719 - x725;
+                    x735 = x720 + x729;
+                    x736 = x170 * x723;
+                    x737 = arith.mul_add(-x170, x736, x722);
+                    x738 = 1f64 / x726;
+                    x739 = x727 * x738;
+                    x740 = arith.mul_add(-x727, x739, x731);
+                    x741 = arith.mul_add(-x728, x739, x732);
+                    x742 = arith.mul_add(x730, x739, x733);
+                    x743 = x728 * x738;
+                    x744 = arith.mul_add(-x728, x743, x734);
+                    x745 = arith.mul_add(x730, x743, x735);
+                    x746 = x730 * x738;
+                    x747 = arith.mul_add(-x730, x746, x737);
+                    x748 = 1f64 / x740;
+                    x749 = x741 * x748;
+                    x750 = arith.mul_add(-x741, x749, x744);
+                    x751 = arith.mul_add(x742, x749, -x745);
+                    x752 = x742 * x748;
+                    x753 = arith.mul_add(-x742, x752, x747);
+                    x754 = 1f64 / x750;
+                    x755 = x751 * x754;
+                    x756 = arith.mul_add(-x751, x755, x753);
+                    x757 = 1f64 / x756;
+                    x758 = x0 + x652;
+                    x759 = x1 + x656;
+                    x760 = s2 * x648;
+                    x761 = arith.mul_add(c2, x647, x760);
+                    x762 = c2 * x648;
+                    x763 = arith.mul_add(s2, x647, -x762);
+                    x764 = arith.mul_add(-0.1197f64, x648, x758);
+                    x765 = arith.mul_add(-0.425f64, x647, x657);
+                    x766 = arith.mul_add(-0.1197f64, x647, x759);
+                    x767 = s2 * x766;
+                    x768 = arith.mul_add(c2, x764, -x767);
+                    x769 = c2 * x766;
+                    x770 = arith.mul_add(s2, x764, x769);
+                    x771 = x658 + x761;
+                    x772 = x659 + x763;
+                    x773 = x768 - x660;
+                    x774 = x765 - x661;
+                    x775 = x770 - x663;
+                    x776 = c3 * x772;
+                    x777 = arith.mul_add(s3, x771, x776);
+                    x778 = s3 * x772;
+                    x779 = arith.mul_add(c3, x771, -x778);
+                    x780 = arith.mul_add(-0.39225f64, x771, x774);
+                    x781 = c3 * x775;
+                    x782 = arith.mul_add(s3, x773, x781);
+                    x783 = x664 + x777;
+                    x784 = x665 + x779;
+                    x785 = arith.mul_add(-c4, x783, x666);
+                    x786 = arith.mul_add(s4, x783, -x667);
+                    x787 = s5 * x784;
+                    x788 = arith.mul_add(c5, x785, -x787);
+                    x789 = x788 - x668;
+                    x790 = arith.mul_add(1.75501953841f64, x647, x670);
+                    x791 = arith.mul_add(-0.19371331275f64, x648, x672);
+                    x792 = x790 - x675;
+                    x793 = arith.mul_add(-43.48696972500001f64, c1, x791);
+                    x794 = arith.mul_add(0.59155695167475f64, x771, x680);
+                    x795 = arith.mul_add(-0.05132265682500001f64, x772, -x682);
+                    x796 = arith.mul_add(-1.5987592750000001f64, x765, x794);
+                    x797 = arith.mul_add(1.5987592750000001f64, x768, x795);
+                    x798 = arith.mul_add(1.5987592750000001f64, x771, x686);
+                    x799 = arith.mul_add(-0.004608836229750008f64, x783, x690);
+                    x800 = arith.mul_add(-0.001653980355f64, x784, x692);
+                    x801 = arith.mul_add(-0.017784735f64, x780, x799);
+                    x802 = arith.mul_add(-0.017784735f64, x782, x800);
+                    x803 = arith.mul_add(0.017784735f64, x783, x696);
+                    x804 = arith.mul_add(0.033822f64, x785, x699);
+                    x805 = arith.mul_add(0.253242f64, x784, -x702);
+                    x806 = arith.mul_add(-0.016685526854599998f64, x789, -x703);
+                    x807 = arith.mul_add(0.0171364731454f64, x786, x704);
+                    x808 = arith.mul_add(c5, x806, x707);
+                    x809 = arith.mul_add(-s5, x806, x708);
+                    x810 = x804 + x808;
+                    x811 = x701 + x807;
+                    x812 = x805 + x809;
+                    x813 = s4 * x811;
+                    x814 = arith.mul_add(c4, x810, -x813);
+                    x815 = c4 * x811;
+                    x816 = arith.mul_add(s4, x810, x815);
+                    x817 = x801 + x814;
+                    x818 = x802 + x816;
+                    x819 = x694 + x812;
+                    x820 = arith.mul_add(s3, x695, x709);
+                    x821 = arith.mul_add(-c3, x695, x710);
+                    x822 = s3 * x817;
+                    x823 = arith.mul_add(c3, x819, -x822);
+                    x824 = s3 * x819;
+                    x825 = arith.mul_add(c3, x817, x824);
+                    x826 = arith.mul_add(-0.39225f64, x803, x823);
+                    x827 = arith.mul_add(-0.39225f64, x820, x818);
+                    x828 = x796 + x826;
+                    x829 = x797 + x827;
+                    x830 = x684 - x825;
+                    x831 = x685 + x820;
+                    x832 = x803 - x798;
+                    x833 = x821 - x688;
+                    x834 = c2 * x831;
+                    x835 = arith.mul_add(s2, x833, -x834);
+                    x836 = c2 * x833;
+                    x837 = arith.mul_add(s2, x831, x836);
+                    x838 = s2 * x830;
+                    x839 = arith.mul_add(c2, x828, x838);
+                    x840 = s2 * x828;
+                    x841 = arith.mul_add(c2, x830, -x840);
+                    x842 = 0.425f64 * x832;
+                    x843 = arith.mul_add(-0.1197f64, x837, -x842);
+                    x844 = x839 + x843;
+                    x845 = arith.mul_add(0.425f64, x835, x829);
+                    x846 = arith.mul_add(0.1197f64, x835, x841);
+                    x847 = x792 + x844;
+                    x848 = x793 + x845;
+                    x849 = x846 - x674;
+                    x850 = x835 - x676;
+                    x851 = x678 + x837;
+                    x852 = s1 * x850;
+                    x853 = arith.mul_add(c1, x851, -x852);
+                    x854 = s1 * x849;
+                    x855 = arith.mul_add(c1, x847, x854);
+                    x856 = arith.mul_add(0.13585f64, x853, x855);
+                    x857 = tau0 + x856;
+                    x858 = tau1 - x848;
+                    x859 = tau2 - x829;
+                    x860 = tau3 - x818;
+                    x861 = tau4 - x812;
+                    x862 = tau5 - x807;
+                    x863 = c4 * x862;
+                    x864 = x860 - x863;
+                    x865 = x859 - x863;
+                    x866 = x858 - x863;
+                    x867 = arith.mul_add(-x721, x862, x857);
+                    x868 = x724 * x861;
+                    x869 = x864 + x868;
+                    x870 = x865 + x868;
+                    x871 = x866 + x868;
+                    x872 = arith.mul_add(x736, x861, x867);
+                    x873 = arith.mul_add(-x739, x869, x870);
+                    x874 = arith.mul_add(-x743, x869, x871);
+                    x875 = arith.mul_add(-x746, x869, x872);
+                    x876 = arith.mul_add(-x749, x873, x874);
+                    x877 = arith.mul_add(x752, x873, x875);
+                    x878 = arith.mul_add(-x755, x876, x877);
+                    x879 = x757 * x878;
+                    x880 = x755 * x879;
+                    x881 = arith.mul_add(x754, x876, -x880);
+                    x882 = x752 * x879;
+                    x883 = arith.mul_add(x748, x873, x882);
+                    x884 = arith.mul_add(-x749, x881, x883);
+                    x885 = x746 * x879;
+                    x886 = arith.mul_add(x738, x869, -x885);
+                    x887 = arith.mul_add(-x743, x881, x886);
+                    x888 = arith.mul_add(-x739, x884, x887);
+                    x889 = x736 * x879;
+                    x890 = arith.mul_add(x723, x861, x889);
+                    x891 = arith.mul_add(x724, x881, x890);
+                    x892 = arith.mul_add(x724, x884, x891);
+                    x893 = arith.mul_add(x724, x888, x892);
+                    x894 = x721 * x879;
+                    x895 = arith.mul_add(58.355064750790525f64, x862, -x894);
+                    x896 = arith.mul_add(-c4, x881, x895);
+                    x897 = arith.mul_add(-c4, x884, x896);
+                    x898 = arith.mul_add(-c4, x888, x897);
+                    x899 = 0.425f64 * x3;
+                    x900 = -0.1197f64 * x3;
+                    x901 = arith.mul_add(x3, x899, x655);
+                    x902 = arith.mul_add(qd1, x900, -x901);
+                    x903 = x3 * x15;
+                    x904 = arith.mul_add(-x2, x649, x903);
+                    x905 = arith.mul_add(-x2, x900, x903);
+                    x906 = x904 - x905;
+                    x907 = arith.mul_add(x2, x899, -x651);
+                    x908 = x650 + x907;
+                    x909 = 0.39225f64 * x10;
+                    x910 = arith.mul_add(-x10, x909, x662);
+                    x911 = x8 * x27;
+                    x912 = arith.mul_add(x8, x909, x660);
+                    x913 = c4 * x26;
+                    x914 = s4 * x26;
+                    x915 = qd4 * x914;
+                    x916 = qd4 * x913;
+                    x917 = s5 * x24;
+                    x918 = arith.mul_add(c5, x913, x917);
+                    x919 = s5 * x913;
+                    x920 = arith.mul_add(c5, x24, -x919);
+                    x921 = qd5 * x920;
+                    x922 = 1.75501953841f64 * x3;
+                    x923 = arith.mul_add(x3, x186, x673);
+                    x924 = x2 * x237;
+                    x925 = arith.mul_add(x3, x922, x924);
+                    x926 = arith.mul_add(x3, x183, x925);
+                    x927 = arith.mul_add(-x2, x186, x669);
+                    x928 = arith.mul_add(-qd1, x922, x927);
+                    x929 = 4.432922500000001f64 * x3;
+                    x930 = arith.mul_add(x3, x929, x677);
+                    x931 = arith.mul_add(x2, x929, -x676);
+                    x932 = 0.59155695167475f64 * x10;
+                    x933 = arith.mul_add(x10, x202, -x683);
+                    x934 = x10 * x932;
+                    x935 = arith.mul_add(x8, x239, -x934);
+                    x936 = arith.mul_add(-x10, x199, x935);
+                    x937 = arith.mul_add(x8, x202, x679);
+                    x938 = arith.mul_add(-x22, x932, x937);
+                    x939 = 1.5987592750000001f64 * x10;
+                    x940 = arith.mul_add(-x10, x939, x687);
+                    x941 = arith.mul_add(x8, x939, x685);
+                    x942 = -0.004608836229750008f64 * x26;
+                    x943 = arith.mul_add(x26, x220, x693);
+                    x944 = x24 * x242;
+                    x945 = arith.mul_add(x26, x942, x944);
+                    x946 = arith.mul_add(x26, x217, x945);
+                    x947 = arith.mul_add(x24, x220, -x689);
+                    x948 = arith.mul_add(-x36, x942, x947);
+                    x949 = arith.mul_add(x26, x495, x697);
+                    x950 = x24 * x215;
+                    x951 = arith.mul_add(-x24, x495, x695);
+                    x952 = -0.033822f64 * x913;
+                    x953 = 0.253242f64 * x24;
+                    x954 = x246 * x914;
+                    x955 = arith.mul_add(x40, x953, x954);
+                    x956 = x24 * x245;
+                    x957 = arith.mul_add(x41, x952, x956);
+                    x958 = x246 * x913;
+                    x959 = arith.mul_add(x38, x953, -x958);
+                    x960 = x957 - x959;
+                    x961 = x245 * x914;
+                    x962 = arith.mul_add(x40, x952, x961);
+                    x963 = 0.016685526854599998f64 * x918;
+                    x964 = 0.0171364731454f64 * x914;
+                    x965 = x248 * x920;
+                    x966 = arith.mul_add(x45, x964, x965);
+                    x967 = x247 * x920;
+                    x968 = arith.mul_add(x45, x963, x967);
+                    x969 = x248 * x918;
+                    x970 = arith.mul_add(x43, x964, -x969);
+                    x971 = x247 * x914;
+                    x972 = arith.mul_add(x46, x963, x971);
+                    x973 = x970 - x972;
+                    x974 = s5 * x973;
+                    x975 = c5 * x973;
+                    x976 = s3 * x949;
+                    x977 = arith.mul_add(c3, x951, -x976);
+                    x978 = s3 * x951;
+                    x979 = arith.mul_add(c3, x949, x978);
+                    x980 = 0.39225f64 * x977;
+                    x981 = x940 + x977;
+                    x982 = x941 + x979;
+                    x983 = s2 * x982;
+                    x984 = arith.mul_add(c2, x981, -x983);
+                    x985 = c2 * x982;
+                    x986 = arith.mul_add(s2, x981, x985);
+                    x987 = x984 - x930;
+                    x988 = x931 - x986;
+                    x989 = x949 - x698;
+                    x990 = s3 * x989;
+                    x991 = c5 * x40;
+                    x992 = s5 * x40;
+                    x993 = qd5 * x992;
+                    x994 = arith.mul_add(x41, x231, -x699);
+                    x995 = x40 * x231;
+                    x996 = arith.mul_add(x38, x245, -x995);
+                    x997 = -0.016685526854599998f64 * x991;
+                    x998 = x248 * x992;
+                    x999 = arith.mul_add(x45, x556, x998);
+                    x1000 = x247 * x992;
+                    x1001 = arith.mul_add(x45, x997, x1000);
+                    x1002 = x248 * x991;
+                    x1003 = arith.mul_add(x43, x556, x1002);
+                    x1004 = x38 * x247;
+                    x1005 = arith.mul_add(x46, x997, -x1004);
+                    x1006 = x1003 - x1005;
+                    x1007 = x43 * x247;
+                    x1008 = arith.mul_add(x45, x602, x1007);
+                    x1009 = arith.mul_add(x46, x602, x703);
+                    x1010 = s4 * x1008;
+                    x1011 = c4 * x1008;
+                    x1012 = 2f64 * x598;
+                    x1013 = 2f64 * x645;
+                    x1014 = -2f64 * x421;
+                    x1015 = 2f64 * x594;
+                    x1016 = 2f64 * x641;
+                    x1017 = -2f64 * x478;
+                    x1018 = 2f64 * x583;
+                    x1019 = 2f64 * x630;
+                    x1020 = 2f64 * x548;
+                    x1021 = 2f64 * x572;
+                    x1022 = 2f64 * x619;
+                    x1023 = 2f64 * x596;
+                    x1024 = 2f64 * x567;
+                    x1025 = 2f64 * x559;
+                    x1026 = 2f64 * x614;
+                    x1027 = 2f64 * x609;
+                    x1028 = 0.13585f64 * x879;
+                    x1029 = arith.mul_add(s1, x1028, x0);
+                    x1030 = c1 * x1028;
+                    x1031 = x1 - x1030;
+                    x1032 = arith.mul_add(-c1, x879, x647);
+                    x1033 = arith.mul_add(s1, x879, x648);
+                    x1034 = x652 + x1029;
+                    x1035 = x656 + x1031;
+                    x1036 = s2 * x1033;
+                    x1037 = arith.mul_add(c2, x1032, x1036);
+                    x1038 = s2 * x1032;
+                    x1039 = c2 * x1033;
+                    x1040 = x1038 - x1039;
+                    x1041 = 0.425f64 * x881;
+                    x1042 = arith.mul_add(0.1197f64, x1033, -x1041);
+                    x1043 = -0.1197f64 * x1032;
+                    x1044 = x1034 - x1042;
+                    x1045 = arith.mul_add(-0.425f64, x1032, x657);
+                    x1046 = x1035 + x1043;
+                    x1047 = s2 * x1046;
+                    x1048 = arith.mul_add(c2, x1044, -x1047);
+                    x1049 = c2 * x1046;
+                    x1050 = arith.mul_add(s2, x1044, x1049);
+                    x1051 = x881 + x884;
+                    x1052 = x658 + x1037;
+                    x1053 = x659 + x1040;
+                    x1054 = x1048 - x660;
+                    x1055 = x1045 - x661;
+                    x1056 = x1050 - x663;
+                    x1057 = s3 * x1052;
+                    x1058 = arith.mul_add(c3, x1053, x1057);
+                    x1059 = c3 * x1052;
+                    x1060 = s3 * x1053;
+                    x1061 = x1059 - x1060;
+                    x1062 = arith.mul_add(0.39225f64, x1051, x1054);
+                    x1063 = arith.mul_add(-0.39225f64, x1052, x1055);
+                    x1064 = c3 * x1062;
+                    x1065 = x888 + x1051;
+                    x1066 = x664 + x1058;
+                    x1067 = x665 + x1061;
+                    x1068 = c4 * x1066;
+                    x1069 = s4 * x1065;
+                    x1070 = x1069 - x1068;
+                    x1071 = c4 * x1065;
+                    x1072 = arith.mul_add(s4, x1066, x1071);
+                    x1073 = x893 + x1067;
+                    x1074 = x666 + x1070;
+                    x1075 = x1072 - x667;
+                    x1076 = s5 * x1073;
+                    x1077 = arith.mul_add(c5, x1074, -x1076);
+                    x1078 = c5 * x1073;
+                    x1079 = arith.mul_add(s5, x1074, x1078);
+                    x1080 = x898 + x1075;
+                    x1081 = x1077 - x668;
+                    x1082 = arith.mul_add(qd5, x43, x1079);
+                    x1083 = arith.mul_add(1.75501953841f64, x1032, x670);
+                    x1084 = arith.mul_add(0.19371331275f64, x881, -x674);
+                    x1085 = x1083 - x675;
+                    x1086 = arith.mul_add(4.432922500000001f64, x881, -x676);
+                    x1087 = arith.mul_add(0.59155695167475f64, x1052, x680);
+                    x1088 = arith.mul_add(-0.05132265682500001f64, x1051, x684);
+                    x1089 = arith.mul_add(-1.5987592750000001f64, x1045, x1087);
+                    x1090 = arith.mul_add(1.5987592750000001f64, x1051, -x685);
+                    x1091 = arith.mul_add(1.5987592750000001f64, x1052, x686);
+                    x1092 = arith.mul_add(-0.004608836229750008f64, x1066, x690);
+                    x1093 = arith.mul_add(-0.001653980355f64, x1065, x694);
+                    x1094 = arith.mul_add(-0.017784735f64, x1063, x1092);
+                    x1095 = arith.mul_add(0.017784735f64, x1065, x695);
+                    x1096 = arith.mul_add(0.017784735f64, x1066, x696);
+                    x1097 = arith.mul_add(0.033822f64, x1074, x699);
+                    x1098 = arith.mul_add(0.253242f64, x1073, -x702);
+                    x1099 = -0.016685526854599998f64 * x1081;
+                    x1100 = x1099 - x703;
+                    x1101 = arith.mul_add(0.0171364731454f64, x1080, x704);
+                    x1102 = arith.mul_add(c5, x1100, x707);
+                    x1103 = arith.mul_add(-s5, x1100, x708);
+                    x1104 = x1097 + x1102;
+                    x1105 = x701 + x1101;
+                    x1106 = x1098 + x1103;
+                    x1107 = s4 * x1105;
+                    x1108 = arith.mul_add(c4, x1104, -x1107);
+                    x1109 = x1094 + x1108;
+                    x1110 = x1093 + x1106;
+                    x1111 = arith.mul_add(s3, x1095, x709);
+                    x1112 = arith.mul_add(-c3, x1095, x710);
+                    x1113 = s3 * x1109;
+                    x1114 = arith.mul_add(c3, x1110, -x1113);
+                    x1115 = s3 * x1110;
+                    x1116 = arith.mul_add(c3, x1109, x1115);
+                    x1117 = arith.mul_add(-0.39225f64, x1096, x1114);
+                    x1118 = x1089 + x1117;
+                    x1119 = x1088 - x1116;
+                    x1120 = x1090 - x1111;
+                    x1121 = x1096 - x1091;
+                    x1122 = x1112 - x688;
+                    x1123 = s2 * x1122;
+                    x1124 = arith.mul_add(c2, x1120, x1123);
+                    x1125 = s2 * x1120;
+                    x1126 = arith.mul_add(c2, x1122, -x1125);
+                    x1127 = s2 * x1119;
+                    x1128 = arith.mul_add(c2, x1118, x1127);
+                    x1129 = s2 * x1118;
+                    x1130 = arith.mul_add(c2, x1119, -x1129);
+                    x1131 = 0.425f64 * x1121;
+                    x1132 = arith.mul_add(-0.1197f64, x1126, -x1131);
+                    x1133 = x1128 + x1132;
+                    x1134 = arith.mul_add(0.1197f64, x1124, x1130);
+                    x1135 = x1085 + x1133;
+                    x1136 = x1084 + x1134;
+                    x1137 = x1086 + x1124;
+                    x1138 = x678 + x1126;
+                    x1139 = x1030 - x1;
+                    x1140 = x902 + x1139;
+                    x1141 = x908 + x1029;
+                    x1142 = x1039 - x1038;
+                    x1143 = x1140 - x1043;
+                    x1144 = arith.mul_add(-0.425f64, x1033, x906);
+                    x1145 = arith.mul_add(-0.1197f64, x1033, x1141);
+                    x1146 = s2 * x1145;
+                    x1147 = arith.mul_add(c2, x1143, -x1146);
+                    x1148 = c2 * x1145;
+                    x1149 = arith.mul_add(s2, x1143, x1148);
+                    x1150 = x1142 - x659;
+                    x1151 = x910 + x1147;
+                    x1152 = x911 + x1144;
+                    x1153 = x1149 - x912;
+                    x1154 = arith.mul_add(s3, x1150, x1059);
+                    x1155 = arith.mul_add(c3, x1150, -x1057);
+                    x1156 = 0.39225f64 * x1150;
+                    x1157 = x1152 - x1156;
+                    x1158 = c3 * x1153;
+                    x1159 = arith.mul_add(s3, x1151, x1158);
+                    x1160 = x665 + x1154;
+                    x1161 = x1155 - x664;
+                    x1162 = arith.mul_add(-c4, x1160, x915);
+                    x1163 = arith.mul_add(s4, x1160, x916);
+                    x1164 = s5 * x1161;
+                    x1165 = arith.mul_add(c5, x1162, -x1164);
+                    x1166 = x1165 - x921;
+                    x1167 = arith.mul_add(1.75501953841f64, x1033, x923);
+                    x1168 = arith.mul_add(0.19371331275f64, x1032, -x926);
+                    x1169 = arith.mul_add(4.432922500000001f64, x1139, x1168);
+                    x1170 = arith.mul_add(0.59155695167475f64, x1150, x933);
+                    x1171 = arith.mul_add(-0.05132265682500001f64, x1052, x936);
+                    x1172 = arith.mul_add(-1.5987592750000001f64, x1144, x1170);
+                    x1173 = arith.mul_add(1.5987592750000001f64, x1147, x1171);
+                    x1174 = 1.5987592750000001f64 * x1150;
+                    x1175 = arith.mul_add(x8, x197, -x1174);
+                    x1176 = arith.mul_add(-0.004608836229750008f64, x1160, -x943);
+                    x1177 = arith.mul_add(-0.001653980355f64, x1161, x946);
+                    x1178 = arith.mul_add(-0.017784735f64, x1157, x1176);
+                    x1179 = arith.mul_add(-0.017784735f64, x1159, x1177);
+                    x1180 = arith.mul_add(0.017784735f64, x1160, x950);
+                    x1181 = arith.mul_add(0.033822f64, x1162, x955);
+                    x1182 = arith.mul_add(0.253242f64, x1161, -x962);
+                    x1183 = arith.mul_add(-0.016685526854599998f64, x1166, -x966);
+                    x1184 = arith.mul_add(0.0171364731454f64, x1163, x968);
+                    x1185 = arith.mul_add(c5, x1183, x974);
+                    x1186 = arith.mul_add(-s5, x1183, x975);
+                    x1187 = x1181 + x1185;
+                    x1188 = x960 + x1184;
+                    x1189 = x1182 + x1186;
+                    x1190 = s4 * x1188;
+                    x1191 = arith.mul_add(c4, x1187, -x1190);
+                    x1192 = c4 * x1188;
+                    x1193 = arith.mul_add(s4, x1187, x1192);
+                    x1194 = x1178 + x1191;
+                    x1195 = x1179 + x1193;
+                    x1196 = x948 + x1189;
+                    x1197 = c3 * x1196;
+                    x1198 = arith.mul_add(-s3, x1194, x1197);
+                    x1199 = s3 * x1196;
+                    x1200 = arith.mul_add(c3, x1194, x1199);
+                    x1201 = 0.39225f64 * x1180;
+                    x1202 = x1198 - x1201;
+                    x1203 = x980 + x1195;
+                    x1204 = x1172 + x1202;
+                    x1205 = x1173 + x1203;
+                    x1206 = x938 - x1200;
+                    x1207 = x1175 + x1180;
+                    x1208 = s2 * x1206;
+                    x1209 = arith.mul_add(c2, x1204, x1208);
+                    x1210 = s2 * x1204;
+                    x1211 = arith.mul_add(c2, x1206, -x1210);
+                    x1212 = 0.425f64 * x1207;
+                    x1213 = arith.mul_add(0.1197f64, x986, -x1212);
+                    x1214 = x1209 + x1213;
+                    x1215 = arith.mul_add(0.425f64, x984, x1205);
+                    x1216 = arith.mul_add(0.1197f64, x984, x1211);
+                    x1217 = x1167 + x1214;
+                    x1218 = x1169 + x1215;
+                    x1219 = x928 + x1216;
+                    x1220 = x1136 + x1217;
+                    x1221 = x1219 - x1135;
+                    x1222 = x987 + x1138;
+                    x1223 = x988 - x1137;
+                    x1224 = s1 * x1222;
+                    x1225 = arith.mul_add(c1, x1223, -x1224);
+                    x1226 = s1 * x1221;
+                    x1227 = arith.mul_add(c1, x1220, x1226);
+                    x1228 = arith.mul_add(0.13585f64, x1225, x1227);
+                    x1229 = x910 - x1050;
+                    x1230 = x1048 - x912;
+                    x1231 = x911 - x1156;
+                    x1232 = c3 * x1230;
+                    x1233 = arith.mul_add(s3, x1229, x1232);
+                    x1234 = arith.mul_add(-1.5987592750000001f64, x1050, x1171);
+                    x1235 = arith.mul_add(-0.017784735f64, x1231, x1176);
+                    x1236 = arith.mul_add(-0.017784735f64, x1233, x1177);
+                    x1237 = x1191 + x1235;
+                    x1238 = x1193 + x1236;
+                    x1239 = arith.mul_add(-s3, x1237, x1197);
+                    x1240 = arith.mul_add(c3, x1237, x1199);
+                    x1241 = x1239 - x1201;
+                    x1242 = x980 + x1238;
+                    x1243 = x1170 + x1241;
+                    x1244 = x1234 + x1242;
+                    x1245 = x938 - x1240;
+                    x1246 = x1111 - x1090;
+                    x1247 = x1119 + x1243;
+                    x1248 = x1245 - x1118;
+                    x1249 = x981 + x1122;
+                    x1250 = x1246 - x982;
+                    x1251 = s2 * x1250;
+                    x1252 = arith.mul_add(c2, x1249, x1251);
+                    x1253 = s2 * x1249;
+                    x1254 = arith.mul_add(c2, x1250, -x1253);
+                    x1255 = s2 * x1248;
+                    x1256 = arith.mul_add(c2, x1247, x1255);
+                    x1257 = s2 * x1247;
+                    x1258 = arith.mul_add(c2, x1248, -x1257);
+                    x1259 = arith.mul_add(-0.1197f64, x1254, -x1212);
+                    x1260 = x1256 + x1259;
+                    x1261 = arith.mul_add(0.425f64, x1252, x1244);
+                    x1262 = arith.mul_add(0.1197f64, x1252, x1258);
+                    x1263 = s1 * x1252;
+                    x1264 = arith.mul_add(c1, x1254, -x1263);
+                    x1265 = s1 * x1262;
+                    x1266 = arith.mul_add(c1, x1260, x1265);
+                    x1267 = arith.mul_add(0.13585f64, x1264, x1266);
+                    x1268 = x1060 - x1059;
+                    x1269 = arith.mul_add(s3, x1056, -x1064);
+                    x1270 = x1268 - x665;
+                    x1271 = arith.mul_add(c4, x1270, x915);
+                    x1272 = arith.mul_add(-s4, x1270, x916);
+                    x1273 = s5 * x1066;
+                    x1274 = arith.mul_add(c5, x1271, x1273);
+                    x1275 = x1274 - x921;
+                    x1276 = arith.mul_add(0.004608836229750008f64, x1270, -x943);
+                    x1277 = arith.mul_add(0.001653980355f64, x1066, x946);
+                    x1278 = arith.mul_add(0.017784735f64, x1269, x1277);
+                    x1279 = arith.mul_add(-0.017784735f64, x1270, x950);
+                    x1280 = arith.mul_add(0.033822f64, x1271, x955);
+                    x1281 = arith.mul_add(-0.253242f64, x1066, -x962);
+                    x1282 = arith.mul_add(-0.016685526854599998f64, x1275, -x966);
+                    x1283 = arith.mul_add(0.0171364731454f64, x1272, x968);
+                    x1284 = arith.mul_add(c5, x1282, x974);
+                    x1285 = arith.mul_add(-s5, x1282, x975);
+                    x1286 = x1280 + x1284;
+                    x1287 = x960 + x1283;
+                    x1288 = x1281 + x1285;
+                    x1289 = s4 * x1287;
+                    x1290 = arith.mul_add(c4, x1286, -x1289);
+                    x1291 = c4 * x1287;
+                    x1292 = arith.mul_add(s4, x1286, x1291);
+                    x1293 = x1276 + x1290;
+                    x1294 = x1278 + x1292;
+                    x1295 = x948 + x1288;
+                    x1296 = x1110 + x1293;
+                    x1297 = x1295 - x1109;
+                    x1298 = x951 - x1095;
+                    x1299 = arith.mul_add(c3, x1298, -x990);
+                    x1300 = s3 * x1298;
+                    x1301 = arith.mul_add(c3, x989, x1300);
+                    x1302 = s3 * x1296;
+                    x1303 = arith.mul_add(c3, x1297, -x1302);
+                    x1304 = s3 * x1297;
+                    x1305 = arith.mul_add(c3, x1296, x1304);
+                    x1306 = arith.mul_add(-0.39225f64, x1279, x1303);
+                    x1307 = arith.mul_add(0.39225f64, x1299, x1294);
+                    x1308 = s2 * x1301;
+                    x1309 = arith.mul_add(c2, x1299, -x1308);
+                    x1310 = c2 * x1301;
+                    x1311 = arith.mul_add(s2, x1299, x1310);
+                    x1312 = s2 * x1305;
+                    x1313 = arith.mul_add(c2, x1306, -x1312);
+                    x1314 = c2 * x1305;
+                    x1315 = arith.mul_add(s2, x1306, x1314);
+                    x1316 = 0.425f64 * x1279;
+                    x1317 = arith.mul_add(0.1197f64, x1311, -x1316);
+                    x1318 = x1313 + x1317;
+                    x1319 = arith.mul_add(0.425f64, x1309, x1307);
+                    x1320 = arith.mul_add(-0.1197f64, x1309, x1315);
+                    x1321 = c1 * x1311;
+                    x1322 = arith.mul_add(s1, x1309, x1321);
+                    x1323 = c1 * x1318;
+                    x1324 = arith.mul_add(s1, x1320, -x1323);
+                    x1325 = x1068 - x1069;
+                    x1326 = x1325 - x666;
+                    x1327 = arith.mul_add(c5, x1075, -x993);
+                    x1328 = arith.mul_add(0.033822f64, x1075, -x700);
+                    x1329 = arith.mul_add(-0.016685526854599998f64, x1327, -x999);
+                    x1330 = arith.mul_add(0.0171364731454f64, x1326, x1001);
+                    x1331 = c5 * x1329;
+                    x1332 = arith.mul_add(s5, x1006, x1331);
+                    x1333 = s5 * x1329;
+                    x1334 = arith.mul_add(c5, x1006, -x1333);
+                    x1335 = x1328 + x1332;
+                    x1336 = x994 + x1330;
+                    x1337 = x996 + x1334;
+                    x1338 = x1335 - x1105;
+                    x1339 = x1104 + x1336;
+                    x1340 = s4 * x1339;
+                    x1341 = arith.mul_add(c4, x1338, -x1340);
+                    x1342 = c4 * x1339;
+                    x1343 = arith.mul_add(s4, x1338, x1342);
+                    x1344 = s3 * x1341;
+                    x1345 = arith.mul_add(c3, x1337, -x1344);
+                    x1346 = s3 * x1337;
+                    x1347 = arith.mul_add(c3, x1341, x1346);
+                    x1348 = s2 * x1347;
+                    x1349 = arith.mul_add(c2, x1345, -x1348);
+                    x1350 = c2 * x1347;
+                    x1351 = arith.mul_add(s2, x1345, x1350);
+                    x1352 = s1 * x1351;
+                    x1353 = arith.mul_add(0.016685526854599998f64, x1082, -x705);
+                    x1354 = x703 - x1099;
+                    x1355 = x706 + x1353;
+                    x1356 = x1354 - x1009;
+                    x1357 = s5 * x1356;
+                    x1358 = arith.mul_add(c5, x1355, x1357);
+                    x1359 = s5 * x1355;
+                    x1360 = c5 * x1356;
+                    x1361 = x1360 - x1359;
+                    x1362 = arith.mul_add(c4, x1358, -x1010);
+                    x1363 = arith.mul_add(s4, x1358, x1011);
+                    x1364 = s3 * x1362;
+                    x1365 = arith.mul_add(c3, x1361, -x1364);
+                    x1366 = s3 * x1361;
+                    x1367 = arith.mul_add(c3, x1362, x1366);
+                    x1368 = s2 * x1367;
+                    x1369 = arith.mul_add(c2, x1365, -x1368);
+                    x1370 = c2 * x1367;
+                    x1371 = arith.mul_add(s2, x1365, x1370);
+                    x1372 = s1 * x1371;
+                    x1373 = arith.mul_add(-0.13585f64, x1322, -x1324);
+                    x1374 = arith.mul_add(c1, x1349, -x1352);
+                    x1375 = arith.mul_add(c1, x1369, -x1372);
+                    x1376 = x1359 - x1360;
+                    x1377 = c4 * x1184;
+                    x1378 = x1377 - x1195;
+                    x1379 = x1377 - x1205;
+                    x1380 = x1377 - x1218;
+                    x1381 = x721 * x1184;
+                    x1382 = x1228 + x1381;
+                    x1383 = x724 * x1189;
+                    x1384 = x1378 - x1383;
+                    x1385 = x1379 - x1383;
+                    x1386 = x1380 - x1383;
+                    x1387 = x736 * x1189;
+                    x1388 = x1382 - x1387;
+                    x1389 = arith.mul_add(-x739, x1384, x1385);
+                    x1390 = arith.mul_add(-x743, x1384, x1386);
+                    x1391 = arith.mul_add(-x746, x1384, x1388);
+                    x1392 = arith.mul_add(-x749, x1389, x1390);
+                    x1393 = arith.mul_add(x752, x1389, x1391);
+                    x1394 = arith.mul_add(-x755, x1392, x1393);
+                    x1395 = x757 * x1394;
+                    *o6 = x1395;
+                    x1396 = x723 * x1189;
+                    x1397 = -58.355064750790525f64 * x1184;
+                    x1398 = x755 * x1395;
+                    x1399 = arith.mul_add(x754, x1392, -x1398);
+                    *o7 = x1399;
+                    x1400 = x752 * x1395;
+                    x1401 = arith.mul_add(x748, x1389, x1400);
+                    x1402 = arith.mul_add(-x749, x1399, x1401);
+                    *o8 = x1402;
+                    x1403 = x746 * x1395;
+                    x1404 = arith.mul_add(x738, x1384, -x1403);
+                    x1405 = arith.mul_add(-x743, x1399, x1404);
+                    x1406 = arith.mul_add(-x739, x1402, x1405);
+                    *o9 = x1406;
+                    x1407 = arith.mul_add(x736, x1395, -x1396);
+                    x1408 = arith.mul_add(x724, x1399, x1407);
+                    x1409 = arith.mul_add(x724, x1402, x1408);
+                    x1410 = arith.mul_add(x724, x1406, x1409);
+                    *o10 = x1410;
+                    x1411 = arith.mul_add(-x721, x1395, x1397);
+                    x1412 = arith.mul_add(-c4, x1399, x1411);
+                    x1413 = arith.mul_add(-c4, x1402, x1412);
+                    x1414 = arith.mul_add(-c4, x1406, x1413);
+                    *o11 = x1414;
+                    x1415 = x1377 - x1238;
+                    x1416 = x1377 - x1244;
+                    x1417 = x1377 - x1261;
+                    x1418 = x1267 + x1381;
+                    x1419 = x1415 - x1383;
+                    x1420 = x1416 - x1383;
+                    x1421 = x1417 - x1383;
+                    x1422 = x1418 - x1387;
+                    x1423 = arith.mul_add(-x739, x1419, x1420);
+                    x1424 = arith.mul_add(-x743, x1419, x1421);
+                    x1425 = arith.mul_add(-x746, x1419, x1422);
+                    x1426 = arith.mul_add(-x749, x1423, x1424);
+                    x1427 = arith.mul_add(x752, x1423, x1425);
+                    x1428 = arith.mul_add(-x755, x1426, x1427);
+                    x1429 = x757 * x1428;
+                    *o12 = x1429;
+                    x1430 = x755 * x1429;
+                    x1431 = arith.mul_add(x754, x1426, -x1430);
+                    *o13 = x1431;
+                    x1432 = x752 * x1429;
+                    x1433 = arith.mul_add(x748, x1423, x1432);
+                    x1434 = arith.mul_add(-x749, x1431, x1433);
+                    *o14 = x1434;
+                    x1435 = x746 * x1429;
+                    x1436 = arith.mul_add(x738, x1419, -x1435);
+                    x1437 = arith.mul_add(-x743, x1431, x1436);
+                    x1438 = arith.mul_add(-x739, x1434, x1437);
+                    *o15 = x1438;
+                    x1439 = arith.mul_add(x736, x1429, -x1396);
+                    x1440 = arith.mul_add(x724, x1431, x1439);
+                    x1441 = arith.mul_add(x724, x1434, x1440);
+                    x1442 = arith.mul_add(x724, x1438, x1441);
+                    *o16 = x1442;
+                    x1443 = arith.mul_add(-x721, x1429, x1397);
+                    x1444 = arith.mul_add(-c4, x1431, x1443);
+                    x1445 = arith.mul_add(-c4, x1434, x1444);
+                    x1446 = arith.mul_add(-c4, x1438, x1445);
+                    *o17 = x1446;
+                    x1447 = c4 * x1283;
+                    x1448 = x1447 - x1294;
+                    x1449 = x1447 - x1307;
+                    x1450 = x1447 - x1319;
+                    x1451 = arith.mul_add(x721, x1283, x1373);
+                    x1452 = x724 * x1288;
+                    x1453 = x1448 - x1452;
+                    x1454 = x1449 - x1452;
+                    x1455 = x1450 - x1452;
+                    x1456 = arith.mul_add(-x736, x1288, x1451);
+                    x1457 = arith.mul_add(-x739, x1453, x1454);
+                    x1458 = arith.mul_add(-x743, x1453, x1455);
+                    x1459 = arith.mul_add(-x746, x1453, x1456);
+                    x1460 = arith.mul_add(-x749, x1457, x1458);
+                    x1461 = arith.mul_add(x752, x1457, x1459);
+                    x1462 = arith.mul_add(-x755, x1460, x1461);
+                    x1463 = x757 * x1462;
+                    *o18 = x1463;
+                    x1464 = x723 * x1288;
+                    x1465 = x755 * x1463;
+                    x1466 = arith.mul_add(x754, x1460, -x1465);
+                    *o19 = x1466;
+                    x1467 = x752 * x1463;
+                    x1468 = arith.mul_add(x748, x1457, x1467);
+                    x1469 = arith.mul_add(-x749, x1466, x1468);
+                    *o20 = x1469;
+                    x1470 = x746 * x1463;
+                    x1471 = arith.mul_add(x738, x1453, -x1470);
+                    x1472 = arith.mul_add(-x743, x1466, x1471);
+                    x1473 = arith.mul_add(-x739, x1469, x1472);
+                    *o21 = x1473;
+                    x1474 = arith.mul_add(x736, x1463, -x1464);
+                    x1475 = arith.mul_add(x724, x1466, x1474);
+                    x1476 = arith.mul_add(x724, x1469, x1475);
+                    x1477 = arith.mul_add(x724, x1473, x1476);
+                    *o22 = x1477;
+                    x1478 = x721 * x1463;
+                    x1479 = arith.mul_add(-58.355064750790525f64, x1283, -x1478);
+                    x1480 = arith.mul_add(-c4, x1466, x1479);
+                    x1481 = arith.mul_add(-c4, x1469, x1480);
+                    x1482 = arith.mul_add(-c4, x1473, x1481);
+                    *o23 = x1482;
+                    x1483 = arith.mul_add(c4, x1330, -x1343);
+                    x1484 = arith.mul_add(x721, x1330, x1374);
+                    x1485 = arith.mul_add(-x724, x1337, x1483);
+                    x1486 = arith.mul_add(-x736, x1337, x1484);
+                    x1487 = arith.mul_add(-x739, x1485, x1485);
+                    x1488 = arith.mul_add(-x743, x1485, x1485);
+                    x1489 = arith.mul_add(-x746, x1485, x1486);
+                    x1490 = arith.mul_add(-x749, x1487, x1488);
+                    x1491 = arith.mul_add(x752, x1487, x1489);
+                    x1492 = arith.mul_add(-x755, x1490, x1491);
+                    x1493 = x757 * x1492;
+                    *o24 = x1493;
+                    x1494 = x723 * x1337;
+                    x1495 = x755 * x1493;
+                    x1496 = arith.mul_add(x754, x1490, -x1495);
+                    *o25 = x1496;
+                    x1497 = x752 * x1493;
+                    x1498 = arith.mul_add(x748, x1487, x1497);
+                    x1499 = arith.mul_add(-x749, x1496, x1498);
+                    *o26 = x1499;
+                    x1500 = x746 * x1493;
+                    x1501 = arith.mul_add(x738, x1485, -x1500);
+                    x1502 = arith.mul_add(-x743, x1496, x1501);
+                    x1503 = arith.mul_add(-x739, x1499, x1502);
+                    *o27 = x1503;
+                    x1504 = arith.mul_add(x736, x1493, -x1494);
+                    x1505 = arith.mul_add(x724, x1496, x1504);
+                    x1506 = arith.mul_add(x724, x1499, x1505);
+                    x1507 = arith.mul_add(x724, x1503, x1506);
+                    *o28 = x1507;
+                    x1508 = x721 * x1493;
+                    x1509 = arith.mul_add(-58.355064750790525f64, x1330, -x1508);
+                    x1510 = arith.mul_add(-c4, x1496, x1509);
+                    x1511 = arith.mul_add(-c4, x1499, x1510);
+                    x1512 = arith.mul_add(-c4, x1503, x1511);
+                    *o29 = x1512;
+                    x1513 = x1011 - x1363;
+                    x1514 = arith.mul_add(x721, x1008, x1375);
+                    x1515 = arith.mul_add(x724, x1376, x1513);
+                    x1516 = arith.mul_add(x736, x1376, x1514);
+                    x1517 = arith.mul_add(-x739, x1515, x1515);
+                    x1518 = arith.mul_add(-x743, x1515, x1515);
+                    x1519 = arith.mul_add(-x746, x1515, x1516);
+                    x1520 = arith.mul_add(-x749, x1517, x1518);
+                    x1521 = arith.mul_add(x752, x1517, x1519);
+                    x1522 = arith.mul_add(-x755, x1520, x1521);
+                    x1523 = x757 * x1522;
+                    *o30 = x1523;
+                    x1524 = x755 * x1523;
+                    x1525 = arith.mul_add(x754, x1520, -x1524);
+                    *o31 = x1525;
+                    x1526 = x752 * x1523;
+                    x1527 = arith.mul_add(x748, x1517, x1526);
+                    x1528 = arith.mul_add(-x749, x1525, x1527);
+                    *o32 = x1528;
+                    x1529 = x746 * x1523;
+                    x1530 = arith.mul_add(x738, x1515, -x1529);
+                    x1531 = arith.mul_add(-x743, x1525, x1530);
+                    x1532 = arith.mul_add(-x739, x1528, x1531);
+                    *o33 = x1532;
+                    x1533 = x736 * x1523;
+                    x1534 = arith.mul_add(x723, x1376, x1533);
+                    x1535 = arith.mul_add(x724, x1525, x1534);
+                    x1536 = arith.mul_add(x724, x1528, x1535);
+                    x1537 = arith.mul_add(x724, x1532, x1536);
+                    *o34 = x1537;
+                    x1538 = x721 * x1523;
+                    x1539 = arith.mul_add(-58.355064750790525f64, x1008, -x1538);
+                    x1540 = arith.mul_add(-c4, x1525, x1539);
+                    x1541 = arith.mul_add(-c4, x1528, x1540);
+                    x1542 = arith.mul_add(-c4, x1532, x1541);
+                    *o35 = x1542;
+                    x1543 = c4 * x1013;
+                    x1544 = arith.mul_add(-2f64, x550, x1543);
+                    x1545 = arith.mul_add(2f64, x480, x1543);
+                    x1546 = arith.mul_add(2f64, x423, x1543);
+                    x1547 = arith.mul_add(x721, x1013, -x392);
+                    x1548 = x724 * x1012;
+                    x1549 = x1544 - x1548;
+                    x1550 = x1545 - x1548;
+                    x1551 = x1546 - x1548;
+                    x1552 = arith.mul_add(-x736, x1012, x1547);
+                    x1553 = arith.mul_add(-x739, x1549, x1550);
+                    x1554 = arith.mul_add(-x743, x1549, x1551);
+                    x1555 = arith.mul_add(-x746, x1549, x1552);
+                    x1556 = arith.mul_add(-x749, x1553, x1554);
+                    x1557 = arith.mul_add(x752, x1553, x1555);
+                    x1558 = arith.mul_add(-x755, x1556, x1557);
+                    x1559 = x757 * x1558;
+                    *o36 = x1559;
+                    x1560 = x723 * x1012;
+                    x1561 = x755 * x1559;
+                    x1562 = arith.mul_add(x754, x1556, -x1561);
+                    *o37 = x1562;
+                    x1563 = x752 * x1559;
+                    x1564 = arith.mul_add(x748, x1553, x1563);
+                    x1565 = arith.mul_add(-x749, x1562, x1564);
+                    *o38 = x1565;
+                    x1566 = x746 * x1559;
+                    x1567 = arith.mul_add(x738, x1549, -x1566);
+                    x1568 = arith.mul_add(-x743, x1562, x1567);
+                    x1569 = arith.mul_add(-x739, x1565, x1568);
+                    *o39 = x1569;
+                    x1570 = arith.mul_add(x736, x1559, -x1560);
+                    x1571 = arith.mul_add(x724, x1562, x1570);
+                    x1572 = arith.mul_add(x724, x1565, x1571);
+                    x1573 = arith.mul_add(x724, x1569, x1572);
+                    *o40 = x1573;
+                    x1574 = x721 * x1559;
+                    x1575 = arith.mul_add(-116.71012950158105f64, x645, -x1574);
+                    x1576 = arith.mul_add(-c4, x1562, x1575);
+                    x1577 = arith.mul_add(-c4, x1565, x1576);
+                    x1578 = arith.mul_add(-c4, x1569, x1577);
+                    *o41 = x1578;
+                    x1579 = c4 * x1016;
+                    x1580 = arith.mul_add(-2f64, x543, x1579);
+                    x1581 = arith.mul_add(-2f64, x473, x1579);
+                    x1582 = arith.mul_add(-2f64, x409, x1579);
+                    x1583 = arith.mul_add(x721, x1016, -x1014);
+                    x1584 = x724 * x1015;
+                    x1585 = x1580 - x1584;
+                    x1586 = x1581 - x1584;
+                    x1587 = x1582 - x1584;
+                    x1588 = arith.mul_add(-x736, x1015, x1583);
+                    x1589 = arith.mul_add(-x739, x1585, x1586);
+                    x1590 = arith.mul_add(-x743, x1585, x1587);
+                    x1591 = arith.mul_add(-x746, x1585, x1588);
+                    x1592 = arith.mul_add(-x749, x1589, x1590);
+                    x1593 = arith.mul_add(x752, x1589, x1591);
+                    x1594 = arith.mul_add(-x755, x1592, x1593);
+                    x1595 = x757 * x1594;
+                    *o42 = x1595;
+                    x1596 = x723 * x1015;
+                    x1597 = x755 * x1595;
+                    x1598 = arith.mul_add(x754, x1592, -x1597);
+                    *o43 = x1598;
+                    x1599 = x752 * x1595;
+                    x1600 = arith.mul_add(x748, x1589, x1599);
+                    x1601 = arith.mul_add(-x749, x1598, x1600);
+                    *o44 = x1601;
+                    x1602 = x746 * x1595;
+                    x1603 = arith.mul_add(x738, x1585, -x1602);
+                    x1604 = arith.mul_add(-x743, x1598, x1603);
+                    x1605 = arith.mul_add(-x739, x1601, x1604);
+                    *o45 = x1605;
+                    x1606 = arith.mul_add(x736, x1595, -x1596);
+                    x1607 = arith.mul_add(x724, x1598, x1606);
+                    x1608 = arith.mul_add(x724, x1601, x1607);
+                    x1609 = arith.mul_add(x724, x1605, x1608);
+                    *o46 = x1609;
+                    x1610 = x721 * x1595;
+                    x1611 = arith.mul_add(-116.71012950158105f64, x641, -x1610);
+                    x1612 = arith.mul_add(-c4, x1598, x1611);
+                    x1613 = arith.mul_add(-c4, x1601, x1612);
+                    x1614 = arith.mul_add(-c4, x1605, x1613);
+                    *o47 = x1614;
+                    x1615 = c4 * x1019;
+                    x1616 = arith.mul_add(-2f64, x520, x1615);
+                    x1617 = arith.mul_add(-2f64, x444, x1615);
+                    x1618 = arith.mul_add(-2f64, x463, x1615);
+                    x1619 = arith.mul_add(x721, x1019, -x1017);
+                    x1620 = x724 * x1018;
+                    x1621 = x1616 - x1620;
+                    x1622 = x1617 - x1620;
+                    x1623 = x1618 - x1620;
+                    x1624 = arith.mul_add(-x736, x1018, x1619);
+                    x1625 = arith.mul_add(-x739, x1621, x1622);
+                    x1626 = arith.mul_add(-x743, x1621, x1623);
+                    x1627 = arith.mul_add(-x746, x1621, x1624);
+                    x1628 = arith.mul_add(-x749, x1625, x1626);
+                    x1629 = arith.mul_add(x752, x1625, x1627);
+                    x1630 = arith.mul_add(-x755, x1628, x1629);
+                    x1631 = x757 * x1630;
+                    *o48 = x1631;
+                    x1632 = x723 * x1018;
+                    x1633 = x755 * x1631;
+                    x1634 = arith.mul_add(x754, x1628, -x1633);
+                    *o49 = x1634;
+                    x1635 = x752 * x1631;
+                    x1636 = arith.mul_add(x748, x1625, x1635);
+                    x1637 = arith.mul_add(-x749, x1634, x1636);
+                    *o50 = x1637;
+                    x1638 = x746 * x1631;
+                    x1639 = arith.mul_add(x738, x1621, -x1638);
+                    x1640 = arith.mul_add(-x743, x1634, x1639);
+                    x1641 = arith.mul_add(-x739, x1637, x1640);
+                    *o51 = x1641;
+                    x1642 = arith.mul_add(x736, x1631, -x1632);
+                    x1643 = arith.mul_add(x724, x1634, x1642);
+                    x1644 = arith.mul_add(x724, x1637, x1643);
+                    x1645 = arith.mul_add(x724, x1641, x1644);
+                    *o52 = x1645;
+                    x1646 = x721 * x1631;
+                    x1647 = arith.mul_add(-116.71012950158105f64, x630, -x1646);
+                    x1648 = arith.mul_add(-c4, x1634, x1647);
+                    x1649 = arith.mul_add(-c4, x1637, x1648);
+                    x1650 = arith.mul_add(-c4, x1641, x1649);
+                    *o53 = x1650;
+                    x1651 = c4 * x1022;
+                    x1652 = arith.mul_add(-2f64, x497, x1651);
+                    x1653 = arith.mul_add(-2f64, x511, x1651);
+                    x1654 = arith.mul_add(-2f64, x532, x1651);
+                    x1655 = arith.mul_add(x721, x1022, -x1020);
+                    x1656 = x724 * x1021;
+                    x1657 = x1652 - x1656;
+                    x1658 = x1653 - x1656;
+                    x1659 = x1654 - x1656;
+                    x1660 = arith.mul_add(-x736, x1021, x1655);
+                    x1661 = arith.mul_add(-x739, x1657, x1658);
+                    x1662 = arith.mul_add(-x743, x1657, x1659);
+                    x1663 = arith.mul_add(-x746, x1657, x1660);
+                    x1664 = arith.mul_add(-x749, x1661, x1662);
+                    x1665 = arith.mul_add(x752, x1661, x1663);
+                    x1666 = arith.mul_add(-x755, x1664, x1665);
+                    x1667 = x757 * x1666;
+                    *o54 = x1667;
+                    x1668 = x723 * x1021;
+                    x1669 = x755 * x1667;
+                    x1670 = arith.mul_add(x754, x1664, -x1669);
+                    *o55 = x1670;
+                    x1671 = x752 * x1667;
+                    x1672 = arith.mul_add(x748, x1661, x1671);
+                    x1673 = arith.mul_add(-x749, x1670, x1672);
+                    *o56 = x1673;
+                    x1674 = x746 * x1667;
+                    x1675 = arith.mul_add(x738, x1657, -x1674);
+                    x1676 = arith.mul_add(-x743, x1670, x1675);
+                    x1677 = arith.mul_add(-x739, x1673, x1676);
+                    *o57 = x1677;
+                    x1678 = arith.mul_add(x736, x1667, -x1668);
+                    x1679 = arith.mul_add(x724, x1670, x1678);
+                    x1680 = arith.mul_add(x724, x1673, x1679);
+                    x1681 = arith.mul_add(x724, x1677, x1680);
+                    *o58 = x1681;
+                    x1682 = x721 * x1667;
+                    x1683 = arith.mul_add(-116.71012950158105f64, x619, -x1682);
+                    x1684 = arith.mul_add(-c4, x1670, x1683);
+                    x1685 = arith.mul_add(-c4, x1673, x1684);
+                    x1686 = arith.mul_add(-c4, x1677, x1685);
+                    *o59 = x1686;
+                    x1687 = arith.mul_add(c4, x1026, -x1024);
+                    x1688 = arith.mul_add(x721, x1026, -x1023);
+                    x1689 = arith.mul_add(-x724, x1025, x1687);
+                    x1690 = arith.mul_add(-x736, x1025, x1688);
+                    x1691 = arith.mul_add(-x739, x1689, x1689);
+                    x1692 = arith.mul_add(-x743, x1689, x1689);
+                    x1693 = arith.mul_add(-x746, x1689, x1690);
+                    x1694 = arith.mul_add(-x749, x1691, x1692);
+                    x1695 = arith.mul_add(x752, x1691, x1693);
+                    x1696 = arith.mul_add(-x755, x1694, x1695);
+                    x1697 = x757 * x1696;
+                    *o60 = x1697;
+                    x1698 = x723 * x1025;
+                    x1699 = x755 * x1697;
+                    x1700 = arith.mul_add(x754, x1694, -x1699);
+                    *o61 = x1700;
+                    x1701 = x752 * x1697;
+                    x1702 = arith.mul_add(x748, x1691, x1701);
+                    x1703 = arith.mul_add(-x749, x1700, x1702);
+                    *o62 = x1703;
+                    x1704 = x746 * x1697;
+                    x1705 = arith.mul_add(x738, x1689, -x1704);
+                    x1706 = arith.mul_add(-x743, x1700, x1705);
+                    x1707 = arith.mul_add(-x739, x1703, x1706);
+                    *o63 = x1707;
+                    x1708 = arith.mul_add(x736, x1697, -x1698);
+                    x1709 = arith.mul_add(x724, x1700, x1708);
+                    x1710 = arith.mul_add(x724, x1703, x1709);
+                    x1711 = arith.mul_add(x724, x1707, x1710);
+                    *o64 = x1711;
+                    x1712 = x721 * x1697;
+                    x1713 = arith.mul_add(-116.71012950158105f64, x614, -x1712);
+                    x1714 = arith.mul_add(-c4, x1700, x1713);
+                    x1715 = arith.mul_add(-c4, x1703, x1714);
+                    x1716 = arith.mul_add(-c4, x1707, x1715);
+                    *o65 = x1716;
+                    x1717 = x724 * x1027;
+                    x1718 = arith.mul_add(2f64, x616, x1717);
+                    x1719 = x736 * x1027;
+                    x1720 = arith.mul_add(2f64, x643, x1719);
+                    x1721 = arith.mul_add(x739, x1718, -x1718);
+                    x1722 = arith.mul_add(x743, x1718, -x1718);
+                    x1723 = arith.mul_add(x746, x1718, -x1720);
+                    x1724 = arith.mul_add(-x749, x1721, x1722);
+                    x1725 = arith.mul_add(x752, x1721, x1723);
+                    x1726 = arith.mul_add(-x755, x1724, x1725);
+                    x1727 = x757 * x1726;
+                    *o66 = x1727;
+                    x1728 = x723 * x1027;
+                    x1729 = x755 * x1727;
+                    x1730 = arith.mul_add(x754, x1724, -x1729);
+                    *o67 = x1730;
+                    x1731 = x752 * x1727;
+                    x1732 = arith.mul_add(x748, x1721, x1731);
+                    x1733 = arith.mul_add(-x749, x1730, x1732);
+                    *o68 = x1733;
+                    x1734 = x746 * x1727;
+                    x1735 = arith.mul_add(x738, x1718, x1734);
+                    x1736 = arith.mul_add(x743, x1730, x1735);
+                    x1737 = arith.mul_add(x739, x1733, x1736);
+                    x1738 = -x1737;
+                    *o69 = x1738;
+                    x1739 = arith.mul_add(x736, x1727, -x1728);
+                    x1740 = arith.mul_add(x724, x1730, x1739);
+                    x1741 = arith.mul_add(x724, x1733, x1740);
+                    x1742 = arith.mul_add(-x724, x1737, x1741);
+                    *o70 = x1742;
+                    x1743 = c4 * x1730;
+                    x1744 = arith.mul_add(x721, x1727, x1743);
+                    x1745 = arith.mul_add(c4, x1733, x1744);
+                    x1746 = arith.mul_add(c4, x1737, -x1745);
+                    *o71 = x1746;
+                }
+            }
+        }
+        dyngen_runtime::__private::dispatch_many::<Body, _>((t, qd, tau, out))
     }
 }
 /// Number of named frames (the end-effector and the description's `frames`).

@@ -11,6 +11,7 @@ use crate::floating::{BasePose, NonUnitQuaternion};
 use crate::frames::{ReferenceFrame, RobotFrame};
 use crate::joint::{JointLimits, JointTrig};
 use crate::robot::Pose;
+use crate::ResultBuffer;
 use nalgebra::{SMatrix, SVector, Vector3};
 
 /// Why a configuration vector was refused ([`FloatingTrig::from_configuration`]).
@@ -89,8 +90,22 @@ pub trait FloatingBaseDynamics<const N: usize, const NV: usize, const P: usize> 
     fn parameters() -> SVector<f64, P>;
     /// The inertia matrix `D(q)` (`NV × NV`).
     fn mass_matrix(t: &FloatingTrig<N>) -> SMatrix<f64, NV, NV>;
+    /// [`Self::mass_matrix`] written into `out`, a result kept between calls
+    /// (see [`ResultBuffer`]).
+    fn mass_matrix_into(t: &FloatingTrig<N>, out: &mut ResultBuffer<SMatrix<f64, NV, NV>>) {
+        out.replace(Self::mass_matrix(t));
+    }
     /// The Coriolis matrix `C(q, ν)`.
     fn coriolis_matrix(t: &FloatingTrig<N>, v: &SVector<f64, NV>) -> SMatrix<f64, NV, NV>;
+    /// [`Self::coriolis_matrix`] written into `out`, a result kept between calls
+    /// (see [`ResultBuffer`]).
+    fn coriolis_matrix_into(
+        t: &FloatingTrig<N>,
+        v: &SVector<f64, NV>,
+        out: &mut ResultBuffer<SMatrix<f64, NV, NV>>,
+    ) {
+        out.replace(Self::coriolis_matrix(t, v));
+    }
     /// The generalised gravity `g(q)`: the base rows hold the weight of the whole robot.
     fn gravity(t: &FloatingTrig<N>) -> SVector<f64, NV>;
     /// Inverse dynamics `D ν̇ + C ν + g`: the base wrench, then the joint torques.
@@ -109,6 +124,17 @@ pub trait FloatingBaseDynamics<const N: usize, const NV: usize, const P: usize> 
         vr: &SVector<f64, NV>,
         ar: &SVector<f64, NV>,
     ) -> SMatrix<f64, NV, P>;
+    /// [`Self::regressor`] written into `out`, a result kept between calls
+    /// (see [`ResultBuffer`]).
+    fn regressor_into(
+        t: &FloatingTrig<N>,
+        v: &SVector<f64, NV>,
+        vr: &SVector<f64, NV>,
+        ar: &SVector<f64, NV>,
+        out: &mut ResultBuffer<SMatrix<f64, NV, P>>,
+    ) {
+        out.replace(Self::regressor(t, v, vr, ar));
+    }
     /// The regressor in torque form, `Y(q, ν, ν, ν̇)` with `Y θ` inverse dynamics (what
     /// identification stacks), smaller than [`Self::regressor`].
     fn torque_regressor(
@@ -116,6 +142,16 @@ pub trait FloatingBaseDynamics<const N: usize, const NV: usize, const P: usize> 
         v: &SVector<f64, NV>,
         a: &SVector<f64, NV>,
     ) -> SMatrix<f64, NV, P>;
+    /// [`Self::torque_regressor`] written into `out`, a result kept between calls
+    /// (see [`ResultBuffer`]).
+    fn torque_regressor_into(
+        t: &FloatingTrig<N>,
+        v: &SVector<f64, NV>,
+        a: &SVector<f64, NV>,
+        out: &mut ResultBuffer<SMatrix<f64, NV, P>>,
+    ) {
+        out.replace(Self::torque_regressor(t, v, a));
+    }
     /// Forward dynamics `ν̇ = D⁻¹ (τ − C ν − g)`, `tau` the base wrench and joint torques.
     fn forward_dynamics(
         t: &FloatingTrig<N>,
@@ -124,6 +160,11 @@ pub trait FloatingBaseDynamics<const N: usize, const NV: usize, const P: usize> 
     ) -> SVector<f64, NV>;
     /// `D(q)⁻¹`.
     fn mass_matrix_inverse(t: &FloatingTrig<N>) -> SMatrix<f64, NV, NV>;
+    /// [`Self::mass_matrix_inverse`] written into `out`, a result kept between calls
+    /// (see [`ResultBuffer`]).
+    fn mass_matrix_inverse_into(t: &FloatingTrig<N>, out: &mut ResultBuffer<SMatrix<f64, NV, NV>>) {
+        out.replace(Self::mass_matrix_inverse(t));
+    }
     /// The centre of mass in the world.
     fn center_of_mass(t: &FloatingTrig<N>) -> Vector3<f64>;
     /// The centroidal momentum matrix `A_g(q)` (`6 × NV`): `A_g ν` is the linear momentum and
@@ -151,12 +192,33 @@ pub trait FloatingBaseParameters<const N: usize, const NV: usize, const P: usize
         vr: &SVector<f64, NV>,
         ar: &SVector<f64, NV>,
     ) -> SMatrix<f64, NV, B>;
+    /// [`Self::base_regressor`] written into `out`, a result kept between calls
+    /// (see [`ResultBuffer`]).
+    fn base_regressor_into(
+        t: &FloatingTrig<N>,
+        v: &SVector<f64, NV>,
+        vr: &SVector<f64, NV>,
+        ar: &SVector<f64, NV>,
+        out: &mut ResultBuffer<SMatrix<f64, NV, B>>,
+    ) {
+        out.replace(Self::base_regressor(t, v, vr, ar));
+    }
     /// `Y_b(q, ν, ν, ν̇)` with `Y_b θ_b` inverse dynamics: what identification stacks.
     fn base_torque_regressor(
         t: &FloatingTrig<N>,
         v: &SVector<f64, NV>,
         a: &SVector<f64, NV>,
     ) -> SMatrix<f64, NV, B>;
+    /// [`Self::base_torque_regressor`] written into `out`, a result kept between calls
+    /// (see [`ResultBuffer`]).
+    fn base_torque_regressor_into(
+        t: &FloatingTrig<N>,
+        v: &SVector<f64, NV>,
+        a: &SVector<f64, NV>,
+        out: &mut ResultBuffer<SMatrix<f64, NV, B>>,
+    ) {
+        out.replace(Self::base_torque_regressor(t, v, a));
+    }
 }
 
 /// The derivatives of a floating-base robot's inverse and forward dynamics in the tangent
@@ -173,12 +235,32 @@ pub trait FloatingDynamicsDerivatives<const N: usize, const NV: usize, const P: 
         v: &SVector<f64, NV>,
         a: &SVector<f64, NV>,
     ) -> (SMatrix<f64, NV, NV>, SMatrix<f64, NV, NV>);
+    /// [`Self::inverse_dynamics_derivatives`] written into `out`, a result kept between calls
+    /// (see [`ResultBuffer`]).
+    fn inverse_dynamics_derivatives_into(
+        t: &FloatingTrig<N>,
+        v: &SVector<f64, NV>,
+        a: &SVector<f64, NV>,
+        out: &mut ResultBuffer<(SMatrix<f64, NV, NV>, SMatrix<f64, NV, NV>)>,
+    ) {
+        out.replace(Self::inverse_dynamics_derivatives(t, v, a));
+    }
     /// `(∂ν̇/∂q, ∂ν̇/∂ν)` of forward dynamics at `(q, ν, τ)` (`∂ν̇/∂τ = D⁻¹`).
     fn forward_dynamics_derivatives(
         t: &FloatingTrig<N>,
         v: &SVector<f64, NV>,
         tau: &SVector<f64, NV>,
     ) -> (SMatrix<f64, NV, NV>, SMatrix<f64, NV, NV>);
+    /// [`Self::forward_dynamics_derivatives`] written into `out`, a result kept between calls
+    /// (see [`ResultBuffer`]).
+    fn forward_dynamics_derivatives_into(
+        t: &FloatingTrig<N>,
+        v: &SVector<f64, NV>,
+        tau: &SVector<f64, NV>,
+        out: &mut ResultBuffer<(SMatrix<f64, NV, NV>, SMatrix<f64, NV, NV>)>,
+    ) {
+        out.replace(Self::forward_dynamics_derivatives(t, v, tau));
+    }
 }
 
 /// Any named frame of a floating-base robot (feet, hands, sensors), in the world, in any

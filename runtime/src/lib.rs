@@ -56,6 +56,7 @@ mod mul_add;
 mod parameter;
 mod parameterization;
 mod random;
+mod result_buffer;
 mod robot;
 mod trig;
 #[cfg(target_arch = "x86_64")]
@@ -75,6 +76,7 @@ pub use nalgebra;
 pub use parameter::{body_parameters, ParameterKind, PARAMETERS_PER_BODY};
 pub use parameterization::{Base, BaseParameters, Parameterization, Standard};
 pub use random::SplitMix64;
+pub use result_buffer::{BufferedResult, ResultBuffer};
 pub use robot::{DynamicsDerivatives, ForwardDynamics, Kinematics, Pose, Regressors, RobotDynamics};
 
 /// What generated code calls and no one else should: how a generated function runs (its body a
@@ -105,6 +107,7 @@ pub mod __private {
     ))]
     pub use crate::lane_vectors_x86::{Avx2Eight, Avx2Four, Avx512Eight};
     pub use crate::lanes::sign;
+    pub use crate::result_buffer::claim;
     pub use libm;
 
     // The switches between the fused and unfused forms, for tests and measurements: a program
@@ -118,8 +121,8 @@ pub mod prelude {
     pub use crate::{
         BaseParameters, DynamicsDerivatives, ExternalWrench, FloatingBaseDynamics, FloatingBaseParameters,
         FloatingDynamicsDerivatives, FloatingFrameKinematics, FloatingTrig, ForwardDynamics, FrameKinematics,
-        JointTrig, Kinematics, LaneDynamics, Parameterization, ReferenceFrame, Regressors, RobotDynamics,
-        RobotFrame, WrenchDynamics,
+        JointTrig, Kinematics, LaneDynamics, Parameterization, ReferenceFrame, Regressors, ResultBuffer,
+        RobotDynamics, RobotFrame, WrenchDynamics,
     };
 }
 

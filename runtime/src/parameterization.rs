@@ -5,6 +5,7 @@
 use crate::joint::JointTrig;
 use crate::parameter::{ParameterKind, PARAMETERS_PER_BODY};
 use crate::robot::{ForwardDynamics, Kinematics, Regressors, RobotDynamics};
+use crate::ResultBuffer;
 use core::marker::PhantomData;
 use nalgebra::{SMatrix, SVector};
 
@@ -86,6 +87,17 @@ pub trait BaseParameters<const N: usize, const P: usize, const B: usize>: Regres
         v: &SVector<f64, N>,
         a: &SVector<f64, N>,
     ) -> SMatrix<f64, N, B>;
+    /// [`Self::base_regressor`] written into `out`, a result kept between calls
+    /// (see [`ResultBuffer`]).
+    fn base_regressor_into(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+        a: &SVector<f64, N>,
+        out: &mut ResultBuffer<SMatrix<f64, N, B>>,
+    ) {
+        out.replace(Self::base_regressor(t, qd, v, a));
+    }
     /// `(Y_b θ_b, Y_bᵀ r)` with `Y_b = Y_b(q, q̇, v, a)` (see
     /// [`Regressors::regressor_products`]).
     fn base_regressor_products(
@@ -106,6 +118,16 @@ pub trait BaseParameters<const N: usize, const P: usize, const B: usize>: Regres
         qdd: &SVector<f64, N>,
     ) -> SMatrix<f64, N, B> {
         Self::base_regressor(t, qd, qd, qdd)
+    }
+    /// [`Self::base_torque_regressor`] written into `out`, a result kept between calls
+    /// (see [`ResultBuffer`]).
+    fn base_torque_regressor_into(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        qdd: &SVector<f64, N>,
+        out: &mut ResultBuffer<SMatrix<f64, N, B>>,
+    ) {
+        out.replace(Self::base_torque_regressor(t, qd, qdd));
     }
 }
 

@@ -2,6 +2,7 @@
 
 use crate::joint::{JointLimits, JointTrig};
 use crate::parameter::ParameterKind;
+use crate::ResultBuffer;
 use nalgebra::{Matrix3, SMatrix, SVector, Vector3};
 
 /// A rigid placement of a child frame in a parent frame: a point `p` of the child frame is
@@ -92,8 +93,22 @@ pub trait RobotDynamics<const N: usize, const P: usize>: Kinematics<N> {
     fn parameters() -> SVector<f64, P>;
     /// Joint-space inertia matrix `D(q)`.
     fn mass_matrix(t: &JointTrig<N>) -> SMatrix<f64, N, N>;
+    /// [`Self::mass_matrix`] written into `out`, a result kept between calls
+    /// (see [`ResultBuffer`]).
+    fn mass_matrix_into(t: &JointTrig<N>, out: &mut ResultBuffer<SMatrix<f64, N, N>>) {
+        out.replace(Self::mass_matrix(t));
+    }
     /// Christoffel-consistent Coriolis matrix `C(q, q̇)`.
     fn coriolis_matrix(t: &JointTrig<N>, qd: &SVector<f64, N>) -> SMatrix<f64, N, N>;
+    /// [`Self::coriolis_matrix`] written into `out`, a result kept between calls
+    /// (see [`ResultBuffer`]).
+    fn coriolis_matrix_into(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        out: &mut ResultBuffer<SMatrix<f64, N, N>>,
+    ) {
+        out.replace(Self::coriolis_matrix(t, qd));
+    }
     /// Generalized gravity `g(q)`.
     fn gravity(t: &JointTrig<N>) -> SVector<f64, N>;
     /// Inverse dynamics `τ = D q̈ + C q̇ + g`.
@@ -122,6 +137,17 @@ pub trait Regressors<const N: usize, const P: usize>: RobotDynamics<N, P> {
         v: &SVector<f64, N>,
         a: &SVector<f64, N>,
     ) -> SMatrix<f64, N, P>;
+    /// [`Self::regressor`] written into `out`, a result kept between calls
+    /// (see [`ResultBuffer`]).
+    fn regressor_into(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        v: &SVector<f64, N>,
+        a: &SVector<f64, N>,
+        out: &mut ResultBuffer<SMatrix<f64, N, P>>,
+    ) {
+        out.replace(Self::regressor(t, qd, v, a));
+    }
     /// `(Y θ, Yᵀ r)` with `Y = Y(q, q̇, v, a)`: what an adaptive law needs each tick (the
     /// torque `Y θ̂` and the adaptation's `Yᵀ r`). Generated robots compute both without
     /// forming `Y`: one force per column and no carrying of it up the tree.
@@ -141,6 +167,16 @@ pub trait Regressors<const N: usize, const P: usize>: RobotDynamics<N, P> {
     fn torque_regressor(t: &JointTrig<N>, qd: &SVector<f64, N>, qdd: &SVector<f64, N>) -> SMatrix<f64, N, P> {
         Self::regressor(t, qd, qd, qdd)
     }
+    /// [`Self::torque_regressor`] written into `out`, a result kept between calls
+    /// (see [`ResultBuffer`]).
+    fn torque_regressor_into(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        qdd: &SVector<f64, N>,
+        out: &mut ResultBuffer<SMatrix<f64, N, P>>,
+    ) {
+        out.replace(Self::torque_regressor(t, qd, qdd));
+    }
 }
 
 /// Forward dynamics and the inverse inertia matrix: the group `forward_dynamics`.
@@ -154,6 +190,11 @@ pub trait ForwardDynamics<const N: usize, const P: usize>: RobotDynamics<N, P> {
     fn forward_dynamics(t: &JointTrig<N>, qd: &SVector<f64, N>, tau: &SVector<f64, N>) -> SVector<f64, N>;
     /// The inverse inertia matrix `D(q)⁻¹`.
     fn mass_matrix_inverse(t: &JointTrig<N>) -> SMatrix<f64, N, N>;
+    /// [`Self::mass_matrix_inverse`] written into `out`, a result kept between calls
+    /// (see [`ResultBuffer`]).
+    fn mass_matrix_inverse_into(t: &JointTrig<N>, out: &mut ResultBuffer<SMatrix<f64, N, N>>) {
+        out.replace(Self::mass_matrix_inverse(t));
+    }
 }
 
 /// The derivatives of inverse and forward dynamics with respect to the state: the group
@@ -171,12 +212,32 @@ pub trait DynamicsDerivatives<const N: usize, const P: usize>: RobotDynamics<N, 
         qd: &SVector<f64, N>,
         qdd: &SVector<f64, N>,
     ) -> (SMatrix<f64, N, N>, SMatrix<f64, N, N>);
+    /// [`Self::inverse_dynamics_derivatives`] written into `out`, a result kept between calls
+    /// (see [`ResultBuffer`]).
+    fn inverse_dynamics_derivatives_into(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        qdd: &SVector<f64, N>,
+        out: &mut ResultBuffer<(SMatrix<f64, N, N>, SMatrix<f64, N, N>)>,
+    ) {
+        out.replace(Self::inverse_dynamics_derivatives(t, qd, qdd));
+    }
     /// `(∂q̈/∂q, ∂q̈/∂q̇)` of forward dynamics at `(q, q̇, τ)` (`∂q̈/∂τ = D⁻¹`).
     fn forward_dynamics_derivatives(
         t: &JointTrig<N>,
         qd: &SVector<f64, N>,
         tau: &SVector<f64, N>,
     ) -> (SMatrix<f64, N, N>, SMatrix<f64, N, N>);
+    /// [`Self::forward_dynamics_derivatives`] written into `out`, a result kept between calls
+    /// (see [`ResultBuffer`]).
+    fn forward_dynamics_derivatives_into(
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        tau: &SVector<f64, N>,
+        out: &mut ResultBuffer<(SMatrix<f64, N, N>, SMatrix<f64, N, N>)>,
+    ) {
+        out.replace(Self::forward_dynamics_derivatives(t, qd, tau));
+    }
 }
 
 /// `(Y θ, Yᵀ r)` of a regressor already formed: what the products default to where a robot's

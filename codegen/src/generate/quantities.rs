@@ -163,6 +163,24 @@ impl QuantityKind {
         self.group() == FunctionGroup::Frames
     }
 
+    /// Whether its trait has a `_into` form that writes into a `ResultBuffer` kept between
+    /// calls: the matrices whose entries are largely zero in every state, or whose size makes a
+    /// fill and a copy per call worth saving.
+    pub fn has_into_form(self) -> bool {
+        matches!(
+            self,
+            QuantityKind::MassMatrix
+                | QuantityKind::CoriolisMatrix
+                | QuantityKind::Regressor
+                | QuantityKind::TorqueRegressor
+                | QuantityKind::BaseRegressor
+                | QuantityKind::BaseTorqueRegressor
+                | QuantityKind::MassMatrixInverse
+                | QuantityKind::InverseDynamicsDerivatives
+                | QuantityKind::ForwardDynamicsDerivatives
+        )
+    }
+
     /// Whether it is one of the base-parameter columns of a regressor (its doc names them).
     pub fn uses_base_columns(self) -> bool {
         self.group() == FunctionGroup::BaseParameters

@@ -45,6 +45,20 @@ fn the_tracer_records_the_table_in_its_order() {
     }
 }
 
+/// The name of a function's `_into` form (written into a `ResultBuffer`).
+fn into_form(name: &str) -> String {
+    format!("{name}_into")
+}
+
+/// The `_into` forms of `kinds` that have one.
+fn into_forms(kinds: &[QuantityKind]) -> BTreeSet<String> {
+    kinds
+        .iter()
+        .filter(|k| k.has_into_form())
+        .map(|k| into_form(k.name()))
+        .collect()
+}
+
 #[test]
 fn each_function_is_declared_by_the_trait_of_its_group() {
     let file = |group: FunctionGroup| match group {
@@ -65,6 +79,12 @@ fn each_function_is_declared_by_the_trait_of_its_group() {
                 kind.name(),
                 kind.group()
             );
+            assert_eq!(
+                methods.contains(&into_form(kind.name())),
+                kind.group() == *group && kind.has_into_form(),
+                "{}: its `_into` form against the table",
+                kind.name()
+            );
         }
     }
     // What the traits declare beyond the table is not traced: the parameter vectors, which the
@@ -73,8 +93,9 @@ fn each_function_is_declared_by_the_trait_of_its_group() {
     let from_numbers = ["parameters", "base_parameters", "wrench_torques"];
     for (group, methods) in &traits {
         for method in methods {
+            let kind = QuantityKind::from_name(method.strip_suffix("_into").unwrap_or(method));
             assert!(
-                QuantityKind::from_name(method).is_some() || from_numbers.contains(&method.as_str()),
+                kind.is_some() || from_numbers.contains(&method.as_str()),
                 "{} declares {method}, which the table of generated functions lacks",
                 group.trait_name()
             );
@@ -119,8 +140,11 @@ fn the_floating_traits_declare_what_a_floating_robot_is_traced_with() {
     let (derivatives, dynamics): (Vec<QuantityKind>, Vec<QuantityKind>) = others
         .into_iter()
         .partition(|k| k.group() == dyngen_codegen::FunctionGroup::Derivatives);
+    // Each function, and its `_into` form where it has one.
     let names = |kinds: Vec<QuantityKind>| -> BTreeSet<String> {
-        kinds.into_iter().map(|k| k.name().to_owned()).collect()
+        let mut names = into_forms(&kinds);
+        names.extend(kinds.into_iter().map(|k| k.name().to_owned()));
+        names
     };
     let mut expected = names(dynamics);
     expected.insert("parameters".to_owned());

@@ -10,3 +10,4 @@ mod generated_forward_dynamics;
 mod generated_frames;
 mod generated_fresh;
 mod generated_version_check;
+mod result_buffers;

@@ -15,6 +15,7 @@
 use super::function::{
     function_item, slots_pattern, slots_target, writes_in_place, zero_result, OutputSlots,
 };
+use super::into_form::{has_into_form, into_method, zero_pattern};
 use super::plan::{Form, Plan};
 use super::signature::{all_parameters, argument_names, signature, Param};
 use crate::generate::trace::Quantity;
@@ -124,6 +125,7 @@ pub(super) fn chunked(
     let args = argument_names(&q.args);
     let mut chunks = Vec::new();
     let mut calls = Vec::new();
+    let mut into_calls = Vec::new();
     let mut arrays = Vec::new();
     let ends = starts.iter().skip(1).copied().chain([plan.order.len()]);
     for (k, ids) in starts
@@ -149,9 +151,11 @@ pub(super) fn chunked(
         let mut unpack = Vec::new();
         let mut extra_params = Vec::new();
         let mut call_args: Vec<TokenStream> = args.iter().map(|a| quote!(#a)).collect();
+        let mut out_at = None;
         if outputs.any() {
             let ret = header.ret;
             extra_params.push(Param::used(format_ident!("out"), quote!(&mut #ret)));
+            out_at = Some(call_args.len());
             call_args.push(quote!(&mut out));
             let (pattern, target) = (
                 slots_pattern(q, form, &outputs.pattern),
@@ -251,6 +255,11 @@ pub(super) fn chunked(
             quote!(#(#prelude)* #(#unpack)* #(#immediate)* #(#statements)*),
         ));
         calls.push(quote!(#chunk_name(#(#call_args),*);));
+        // The `_into` form passes on the buffer's `&mut` itself.
+        if let Some(k) = out_at {
+            call_args[k] = quote!(out);
+        }
+        into_calls.push(quote!(#chunk_name(#(#call_args),*);));
     }
     let (name, generics, ret, doc) = (header.name, header.generics, header.ret, header.doc);
     let params = all_parameters(&q.args, header.n, form, plan.leaves.floating_joints);
@@ -291,12 +300,25 @@ pub(super) fn chunked(
             }
         }
     };
+    // The `_into` form: the same chunks, writing into the caller's buffer.
+    let into = match has_into_form(q, form) {
+        true => into_method(
+            name,
+            &params,
+            ret,
+            zero_pattern(q, g),
+            quote!(#(#arrays)* #(#into_calls)*),
+        ),
+        false => quote!(),
+    };
     let method = quote! {
         #(#[doc = #doc])*
         #[inline(never)]
         fn #name #generics(#(#params),*) -> #ret {
             #body
         }
+
+        #into
     };
     super::function::Emitted { method, chunks }
 }

@@ -2,13 +2,14 @@
 //! at the end), the kernel and dispatch around it, and its chunks when it is large.
 
 use super::chunks::{chunked, Header};
+use super::into_form::{has_into_form, into_method, is_structural_zero, zero_pattern};
 use super::lane_width::LaneWidth;
 use super::leaves::Leaves;
 use super::plan::{Form, Plan};
 use super::signature::{signature, Param};
 use crate::generate::quantities::QuantityKind;
 use crate::generate::trace::{Quantity, Shape, SymbolicRobot};
-use crate::symbolic::{Id, Node, OpCounts};
+use crate::symbolic::{Id, OpCounts};
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 use std::collections::HashMap;
@@ -36,9 +37,9 @@ pub(super) fn function_item(
     body: TokenStream,
 ) -> TokenStream {
     // A chunk returns nothing (it writes through its arguments): `()` without `-> ()`.
-    let (arrow, output) = match ret.is_empty() {
-        true => (quote!(), quote!(())),
-        false => (quote!(-> #ret), ret.clone()),
+    let arrow = match ret.is_empty() {
+        true => quote!(),
+        false => quote!(-> #ret),
     };
     if form == Form::Lanes {
         let params = params.iter().map(Param::declared);
@@ -51,10 +52,33 @@ pub(super) fn function_item(
             }
         };
     }
-    let outer = params.iter().map(|p| {
-        let (name, ty) = (&p.name, &p.ty);
-        quote!(#name: #ty)
-    });
+    let outer = params.iter().map(Param::passed_on);
+    let lane_methods = lane_methods(lanes);
+    let body = quote!(#lane_methods #body);
+    let call = kernel_call(params, ret, uses_arith, lanes, many_registers, body);
+    quote! {
+        #attributes
+        fn #name(#(#outer),*) #arrow {
+            #call
+        }
+    }
+}
+
+/// The body of a scalar function: its kernel (`struct Body; impl Kernel<…> for Body`, running
+/// `body` on the parameters, bound by pattern) and its dispatch on the parameters' values
+/// (`lanes`: through `dispatch_eight`; a body that calls lane methods brings their trait in).
+pub(super) fn kernel_call(
+    params: &[Param],
+    ret: &TokenStream,
+    uses_arith: bool,
+    lanes: Option<LaneWidth>,
+    many_registers: bool,
+    body: TokenStream,
+) -> TokenStream {
+    let (arrow, output) = match ret.is_empty() {
+        true => (quote!(), quote!(())),
+        false => (quote!(-> #ret), ret.clone()),
+    };
     let names = params.iter().map(|p| &p.name);
     let bindings = params.iter().map(Param::binding);
     let types: Vec<&TokenStream> = params.iter().map(|p| &p.ty).collect();
@@ -67,27 +91,26 @@ pub(super) fn function_item(
         (false, true) => quote!(dyngen_runtime::__private::dispatch_many),
         (false, false) => quote!(dyngen_runtime::__private::dispatch),
     };
-    // A kernel with lane vectors calls their multiply-adds as methods of `M::Eight` (`M::Four`).
-    let lane_methods = match lanes.map(LaneWidth::vector_trait) {
+    quote! {
+        struct Body;
+        impl dyngen_runtime::__private::Kernel<(#(#types,)*)> for Body {
+            type Output = #output;
+            #[inline(always)]
+            fn run<M: dyngen_runtime::__private::MulAdd>(#arith: M, (#(#bindings,)*): (#(#types,)*)) #arrow {
+                #body
+            }
+        }
+        #dispatch::<Body, _>((#(#names,)*))
+    }
+}
+
+/// A kernel with lane vectors calls their multiply-adds as methods of `M::Eight` (`M::Four`).
+pub(super) fn lane_methods(lanes: Option<LaneWidth>) -> TokenStream {
+    match lanes.map(LaneWidth::vector_trait) {
         Some(t) => quote!(
             use #t as _;
         ),
         None => quote!(),
-    };
-    quote! {
-        #attributes
-        fn #name(#(#outer),*) #arrow {
-            struct Body;
-            impl dyngen_runtime::__private::Kernel<(#(#types,)*)> for Body {
-                type Output = #output;
-                #[inline(always)]
-                fn run<M: dyngen_runtime::__private::MulAdd>(#arith: M, (#(#bindings,)*): (#(#types,)*)) #arrow {
-                    #lane_methods
-                    #body
-                }
-            }
-            #dispatch::<Body, _>((#(#names,)*))
-        }
     }
 }
 
@@ -196,6 +219,7 @@ pub(super) fn function(
     let many_registers = matches!(q.shape, Shape::MatrixPair(_)) || plan.order.len() > MANY_VALUES;
     if plan.order.len() <= robot.chunk_values && stage_end.is_none() {
         let mut used = main_used;
+        let read_by_outputs = used.clone();
         let body = match writes_in_place(q, form) {
             true => written_in_place(&plan, q, form, &ret, &atoms, &mut used),
             false => {
@@ -206,19 +230,56 @@ pub(super) fn function(
         };
         let sig = signature(robot, leaves, &q.args, &used, &n, form);
         let (params, prelude) = (sig.params, sig.prelude);
+        let (uses_arith, lanes) = (
+            plan.uses_arith(&plan.order),
+            plan.uses_lanes(&plan.order).then_some(plan.lanes),
+        );
         let method = function_item(
             form,
             quote!(#(#[doc = #doc])* #[inline(never)]),
             &name,
             &params,
             &ret,
-            plan.uses_arith(&plan.order),
-            plan.uses_lanes(&plan.order).then_some(plan.lanes),
+            uses_arith,
+            lanes,
             many_registers,
             quote!(#(#prelude)* #body),
         );
+        // The `_into` form: the same statements again, writing into the caller's buffer. Not a
+        // function both methods call: the by-value method then lost its result's placement in
+        // the caller's return slot (Solo-12's regressor ran 1.6× slower, its result held in
+        // registers and spills to the end and copied out). The copy costs compile time (the
+        // arms' modules grow by a quarter to a half) and nothing at run time; without it an
+        // `_into` would be the by-value function and a copy, slower than by value (the Panda's
+        // `D`, 78 against 56 ns).
+        let into = match has_into_form(q, form) {
+            true => {
+                let writes = writes_into_out(&plan, q, form, &atoms, &mut read_by_outputs.clone());
+                let lane_methods = lane_methods(lanes);
+                let outer: Vec<TokenStream> = params.iter().map(Param::passed_on).collect();
+                into_method(
+                    &name,
+                    &outer,
+                    &ret,
+                    zero_pattern(q, &robot.graph),
+                    kernel_call(
+                        &[
+                            params.clone(),
+                            vec![Param::used(format_ident!("out"), quote!(&mut #ret))],
+                        ]
+                        .concat(),
+                        &TokenStream::new(),
+                        uses_arith,
+                        lanes,
+                        many_registers,
+                        quote!(#lane_methods #(#prelude)* #writes),
+                    ),
+                )
+            }
+            false => quote!(),
+        };
         return Emitted {
-            method,
+            method: quote!(#method #into),
             chunks: Vec::new(),
         };
     }
@@ -361,22 +422,38 @@ fn written_in_place(
     atoms: &[TokenStream],
     used: &mut Vec<Id>,
 ) -> TokenStream {
+    let writes = writes_into_out(plan, q, form, atoms, used);
+    let zero = zero_result(q, form);
+    quote! {
+        let mut out: #ret = #zero;
+        #writes
+        out
+    }
+}
+
+/// `{ let [[o0, _, o2]] = &mut out…; x0 = …; *o0 = x0; … }`: every value computed and every
+/// output that is not a structural zero written into `out` (a local result or a `&mut` to one),
+/// which the block leaves as it found the structural zeros.
+pub(super) fn writes_into_out(
+    plan: &Plan,
+    q: &Quantity,
+    form: Form,
+    atoms: &[TokenStream],
+    used: &mut Vec<Id>,
+) -> TokenStream {
     let slots = OutputSlots::new(plan, q, atoms, |_| true);
     let statements = plan.statements_writing(&plan.order, used, &slots.slots, &HashMap::new());
-    let (pattern, target, zero) = (
+    let (pattern, target) = (
         slots_pattern(q, form, &slots.pattern),
         slots_target(q, form, quote!(out), false),
-        zero_result(q, form),
     );
     let immediate = &slots.immediate;
     quote! {
-        let mut out: #ret = #zero;
         {
             let #pattern = #target;
             #(#immediate)*
             #(#statements)*
         }
-        out
     }
 }
 
@@ -417,7 +494,7 @@ impl OutputSlots {
             .enumerate()
             .map(|(k, (&id, atom))| {
                 let slot = format_ident!("o{k}");
-                if g.constant_value(id) == Some(0.0) || g.node(id) == Node::LaneZero || !here(id) {
+                if is_structural_zero(g, id) || !here(id) {
                     return quote!(_);
                 }
                 match plan.names.contains_key(&id) {

@@ -21,6 +21,7 @@ mod constants;
 mod floating;
 mod frames;
 mod function;
+mod into_form;
 mod lane_width;
 mod leaves;
 mod plan;

@@ -14,6 +14,7 @@ pub(super) struct Signature {
 }
 
 /// One parameter of a generated function; an unused one is spelled `_name` where it is bound.
+#[derive(Clone)]
 pub(super) struct Param {
     pub(super) name: Ident,
     pub(super) ty: TokenStream,
@@ -30,6 +31,12 @@ impl Param {
             true => self.name.clone(),
             false => format_ident!("_{}", self.name),
         }
+    }
+
+    /// `name: Type` where a function only passes it on (its kernel binds it).
+    pub(super) fn passed_on(&self) -> TokenStream {
+        let (name, ty) = (&self.name, &self.ty);
+        quote!(#name: #ty)
     }
 
     /// `name: Type` as the function declares it.

@@ -1,0 +1,65 @@
+//! The `_into` form of a function (`torque_regressor_into(&t, &qd, &qdd, &mut y)`): the same
+//! body, writing into a `dyngen_runtime::ResultBuffer` the caller keeps between calls. A buffer
+//! that already holds the function's structural zeros (the entries it never writes) is not
+//! filled again, and a function in chunks writes its result where the caller keeps it instead
+//! of in a local it then copies out.
+//!
+//! A function in chunks gets it for the cost of a few lines: both methods call the same chunks.
+//! A function in one piece gets a second copy of its statements (see `function::function`).
+
+use super::function::writes_in_place;
+use super::plan::Form;
+use crate::generate::hash::fnv1a64;
+use crate::generate::trace::Quantity;
+use crate::symbolic::{Graph, Node};
+use proc_macro2::{Ident, TokenStream};
+use quote::{format_ident, quote};
+
+/// Whether `q`, emitted in `form`, gets an `_into` method besides its by-value one.
+pub(super) fn has_into_form(q: &Quantity, form: Form) -> bool {
+    form == Form::Scalar && q.kind.has_into_form() && writes_in_place(q, form)
+}
+
+/// Whether output `id` is zero in every state: never written, left as the result was filled.
+pub(super) fn is_structural_zero(g: &Graph, id: crate::symbolic::Id) -> bool {
+    g.constant_value(id) == Some(0.0) || g.node(id) == Node::LaneZero
+}
+
+/// The id of `q`'s pattern of structural zeros, which a `ResultBuffer` records: two functions
+/// (of any robots) with the same id leave the same entries zero, so one's buffer needs no fill
+/// for the other. A hash of the shape and of which entries are zero; never `0` or `u64::MAX`,
+/// which the buffer keeps for "all zero" and "written by value".
+pub(super) fn zero_pattern(q: &Quantity, g: &Graph) -> u64 {
+    let shape = format!("{:?}", q.shape);
+    let zeros: Vec<u8> = q
+        .outputs
+        .iter()
+        .map(|&id| u8::from(is_structural_zero(g, id)))
+        .collect();
+    fnv1a64(&[shape.as_bytes(), &zeros]).clamp(1, u64::MAX - 1)
+}
+
+/// `name_into`.
+fn into_name(name: &Ident) -> Ident {
+    format_ident!("{name}_into")
+}
+
+/// The `_into` method, of parameters `outer` (`name: Type`) and the buffer: `out` claimed for
+/// `pattern`, then `body`, which writes into it (a kernel of the function's statements, or its
+/// chunks).
+pub(super) fn into_method(
+    name: &Ident,
+    outer: &[TokenStream],
+    ret: &TokenStream,
+    pattern: u64,
+    body: TokenStream,
+) -> TokenStream {
+    let into = into_name(name);
+    quote! {
+        #[inline(never)]
+        fn #into(#(#outer,)* out: &mut dyngen_runtime::ResultBuffer<#ret>) {
+            let out = dyngen_runtime::__private::claim(out, #pattern);
+            #body
+        }
+    }
+}
