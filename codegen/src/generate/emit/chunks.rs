@@ -13,7 +13,7 @@
 //! Unitree G1's `∂τ/∂x` caller alone was 261 KB of moves.)
 
 use super::function::{
-    function_item, slots_pattern, slots_target, writes_in_place, zero_result, OutputSlots,
+    function_item, slots_pattern, slots_target, writes_in_place, zero_result, KernelKind, OutputSlots,
 };
 use super::into_form::{has_into_form, into_method, zero_pattern};
 use super::plan::{Form, Plan};
@@ -249,9 +249,11 @@ pub(super) fn chunked(
             &chunk_name,
             &params,
             &TokenStream::new(),
-            plan.uses_arith(ids) || reads_lanes,
-            (plan.uses_lanes(ids) || reads_lanes).then_some(plan.lanes),
-            header.many_registers,
+            KernelKind {
+                uses_arith: plan.uses_arith(ids) || reads_lanes,
+                lanes: (plan.uses_lanes(ids) || reads_lanes).then_some(plan.lanes),
+                many_registers: header.many_registers,
+            },
             quote!(#(#prelude)* #(#unpack)* #(#immediate)* #(#statements)*),
         ));
         calls.push(quote!(#chunk_name(#(#call_args),*);));

@@ -24,16 +24,13 @@ use std::collections::HashMap;
 /// registers of a native build, on processors where that does not slow scalar code). A lane
 /// function is generic over its lane type instead, and aligns its stack frame for its spills
 /// (`dyngen_runtime::__private::align_stack_frame`).
-#[allow(clippy::too_many_arguments)]
 pub(super) fn function_item(
     form: Form,
     attributes: TokenStream,
     name: &Ident,
     params: &[Param],
     ret: &TokenStream,
-    uses_arith: bool,
-    lanes: Option<LaneWidth>,
-    many_registers: bool,
+    kernel: KernelKind,
     body: TokenStream,
 ) -> TokenStream {
     // A chunk returns nothing (it writes through its arguments): `()` without `-> ()`.
@@ -53,9 +50,9 @@ pub(super) fn function_item(
         };
     }
     let outer = params.iter().map(Param::passed_on);
-    let lane_methods = lane_methods(lanes);
+    let lane_methods = lane_methods(kernel.lanes);
     let body = quote!(#lane_methods #body);
-    let call = kernel_call(params, ret, uses_arith, lanes, many_registers, body);
+    let call = kernel_call(params, ret, kernel, body);
     quote! {
         #attributes
         fn #name(#(#outer),*) #arrow {
@@ -64,17 +61,31 @@ pub(super) fn function_item(
     }
 }
 
+/// What decides how a scalar function's kernel is written and dispatched.
+#[derive(Clone, Copy)]
+pub(super) struct KernelKind {
+    /// Whether its body calls `arith` (else the strategy is bound as `_arith`).
+    pub(super) uses_arith: bool,
+    /// The lane width of its lane vectors, if it has any: run through `dispatch_eight`.
+    pub(super) lanes: Option<LaneWidth>,
+    /// Whether it holds far more values than registers: run through `dispatch_many`.
+    pub(super) many_registers: bool,
+}
+
 /// The body of a scalar function: its kernel (`struct Body; impl Kernel<…> for Body`, running
-/// `body` on the parameters, bound by pattern) and its dispatch on the parameters' values
-/// (`lanes`: through `dispatch_eight`; a body that calls lane methods brings their trait in).
+/// `body` on the parameters, bound by pattern) and its dispatch on the parameters' values (a
+/// body that calls lane methods brings their trait in itself, [`lane_methods`]).
 pub(super) fn kernel_call(
     params: &[Param],
     ret: &TokenStream,
-    uses_arith: bool,
-    lanes: Option<LaneWidth>,
-    many_registers: bool,
+    kernel: KernelKind,
     body: TokenStream,
 ) -> TokenStream {
+    let KernelKind {
+        uses_arith,
+        lanes,
+        many_registers,
+    } = kernel;
     let (arrow, output) = match ret.is_empty() {
         true => (quote!(), quote!(())),
         false => (quote!(-> #ret), ret.clone()),
@@ -230,19 +241,18 @@ pub(super) fn function(
         };
         let sig = signature(robot, leaves, &q.args, &used, &n, form);
         let (params, prelude) = (sig.params, sig.prelude);
-        let (uses_arith, lanes) = (
-            plan.uses_arith(&plan.order),
-            plan.uses_lanes(&plan.order).then_some(plan.lanes),
-        );
+        let kernel = KernelKind {
+            uses_arith: plan.uses_arith(&plan.order),
+            lanes: plan.uses_lanes(&plan.order).then_some(plan.lanes),
+            many_registers,
+        };
         let method = function_item(
             form,
             quote!(#(#[doc = #doc])* #[inline(never)]),
             &name,
             &params,
             &ret,
-            uses_arith,
-            lanes,
-            many_registers,
+            kernel,
             quote!(#(#prelude)* #body),
         );
         // The `_into` form: the same statements again, writing into the caller's buffer. Not a
@@ -255,7 +265,7 @@ pub(super) fn function(
         let into = match has_into_form(q, form) {
             true => {
                 let writes = writes_into_out(&plan, q, form, &atoms, &mut read_by_outputs.clone());
-                let lane_methods = lane_methods(lanes);
+                let lane_methods = lane_methods(kernel.lanes);
                 let outer: Vec<TokenStream> = params.iter().map(Param::passed_on).collect();
                 into_method(
                     &name,
@@ -269,9 +279,7 @@ pub(super) fn function(
                         ]
                         .concat(),
                         &TokenStream::new(),
-                        uses_arith,
-                        lanes,
-                        many_registers,
+                        kernel,
                         quote!(#lane_methods #(#prelude)* #writes),
                     ),
                 )
