@@ -5,7 +5,8 @@
 //! emitted twice, whole and with chunks of 64 values (every function of more than 64 values
 //! becomes chunk functions handing scalars and lane vectors on to each other, in the scalar and
 //! the lane form, for every result shape), into one fresh crate whose test calls every function
-//! of both at several states and compares the results bit for bit.
+//! of both (and the `_into` forms, on a buffer written at another state first) at several states
+//! and compares the results bit for bit.
 
 use super::generated_crate::{cargo, workspace_root, write_crate};
 use dyngen_codegen::description::load;
@@ -21,7 +22,7 @@ const COMPARISON: &str = r#"//! Written by `chunked_code.rs` of dyngen's downstr
 
 use dyngen_runtime::nalgebra::{SMatrix, SVector};
 use dyngen_runtime::prelude::*;
-use dyngen_runtime::{f64x4, JointTrigLanes, Lanes, Pose, SplitMix64};
+use dyngen_runtime::{f64x4, JointTrigLanes, Lanes, Pose, ResultBuffer, SplitMix64};
 use generated_chunks::{chunked, whole};
 
 const N: usize = whole::DOF;
@@ -53,6 +54,8 @@ where
     let mut draw = |bound: f64| SVector::<f64, N>::from_fn(|_, _| rng.uniform((-bound, bound)));
     let (q, qd, v, a, tau) = (draw(3.0), draw(2.0), draw(2.0), draw(5.0), draw(10.0));
     let r = draw(1.0);
+    // The `_into` forms write a buffer last written at another state.
+    let earlier = JointTrig::new(&draw(3.0));
     let theta = SVector::<f64, P>::from_fn(|i, _| 0.5 + 0.01 * i as f64);
     let t = JointTrig::new(&q);
     let mut out = Vec::new();
@@ -88,6 +91,49 @@ where
     let (dq, dqd) = R::forward_dynamics_derivatives(&t, &qd, &tau);
     push(&mut out, &dq);
     push(&mut out, &dqd);
+    let mut d = ResultBuffer::new();
+    for t in [&earlier, &t] {
+        R::mass_matrix_into(t, &mut d);
+    }
+    push(&mut out, &d);
+    let mut c = ResultBuffer::new();
+    for t in [&earlier, &t] {
+        R::coriolis_matrix_into(t, &qd, &mut c);
+    }
+    push(&mut out, &c);
+    let mut y = ResultBuffer::new();
+    for t in [&earlier, &t] {
+        R::regressor_into(t, &qd, &v, &a, &mut y);
+    }
+    push(&mut out, &y);
+    for t in [&earlier, &t] {
+        R::torque_regressor_into(t, &qd, &a, &mut y);
+    }
+    push(&mut out, &y);
+    let mut yb = ResultBuffer::new();
+    for t in [&earlier, &t] {
+        R::base_regressor_into(t, &qd, &v, &a, &mut yb);
+    }
+    push(&mut out, &yb);
+    for t in [&earlier, &t] {
+        R::base_torque_regressor_into(t, &qd, &a, &mut yb);
+    }
+    push(&mut out, &yb);
+    for t in [&earlier, &t] {
+        R::mass_matrix_inverse_into(t, &mut d);
+    }
+    push(&mut out, &d);
+    let mut pair = ResultBuffer::new();
+    for t in [&earlier, &t] {
+        R::inverse_dynamics_derivatives_into(t, &qd, &a, &mut pair);
+    }
+    push(&mut out, &pair.0);
+    push(&mut out, &pair.1);
+    for t in [&earlier, &t] {
+        R::forward_dynamics_derivatives_into(t, &qd, &tau, &mut pair);
+    }
+    push(&mut out, &pair.0);
+    push(&mut out, &pair.1);
     for &frame in <R as FrameKinematics<N>>::Frame::ALL {
         push_pose(&mut out, &R::frame_pose(frame, &t));
         for reference in [ReferenceFrame::Local, ReferenceFrame::World, ReferenceFrame::LocalWorldAligned] {
@@ -163,10 +209,11 @@ fn chunked_functions_compute_what_whole_ones_do() {
         );
     }
     // Emitted whole, a module splits only the derivatives of forward dynamics (into their two
-    // stages: each a definition and a call of `…_part0(`).
+    // stages: each a definition of `…_part0(` and a call in each of the two forms, by value and
+    // `_into`).
     let stages = whole.matches("fn forward_dynamics_derivatives_part0(").count();
     assert!(
-        whole.matches("_part0(").count() == 2 * stages,
+        whole.matches("_part0(").count() == 3 * stages,
         "the whole module has chunks"
     );
 
