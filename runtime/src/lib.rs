@@ -14,6 +14,8 @@
 //!   [`unpack`] between vectors and lanes), [`Pose`], [`BasePose`] (a free-flying base's
 //!   position and unit quaternion, with `integrate` and `difference`), [`JointLimits`], [`ParameterKind`], and
 //!   the ten standard parameters per body ([`PARAMETERS_PER_BODY`], [`body_parameters`]);
+//! - [`ResultBuffer`] (any [`BufferedResult`]): a matrix result kept between calls of the
+//!   `_into` forms (`torque_regressor_into`), written only where it can be nonzero;
 //! - helpers for hand-written code beside the generated functions: [`mul_add`] (fused exactly
 //!   where the build targets FMA) and [`SplitMix64`] (small, seeded, reproducible);
 //! - [`prelude`], [`include_robot!`], and the [`nalgebra`] that every signature uses.

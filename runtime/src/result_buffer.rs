@@ -18,7 +18,7 @@ use nalgebra::SMatrix;
 /// zeroed once first. (A hand-written implementation of a robot trait computes the result by
 /// value and stores it: the traits' default.) Reading a buffer is reading `T` (it dereferences
 /// to it); writing it is only for the generated functions, which is what keeps its zeros true.
-#[derive(Clone, Debug, PartialEq)]
+#[derive(Clone, Debug)]
 pub struct ResultBuffer<T> {
     value: T,
     /// The structural-zero pattern `value` holds: [`ZEROED`], [`UNKNOWN`], or a generated

@@ -14,8 +14,8 @@ use std::fmt::Debug;
 
 const STATES: usize = 25;
 
-/// The buffers one robot's functions write: one per function, kept over every state, and one
-/// per shape that every function of that shape writes in turn.
+/// One buffer per function of a shape, each kept over every state (the buffer every function
+/// of that shape writes in turn is passed to `check`).
 struct Buffers<T: BufferedResult> {
     own: Vec<ResultBuffer<T>>,
 }

@@ -11,7 +11,7 @@ use super::function::writes_in_place;
 use super::plan::Form;
 use crate::generate::hash::fnv1a64;
 use crate::generate::trace::Quantity;
-use crate::symbolic::{Graph, Node};
+use crate::symbolic::{Graph, Id, Node};
 use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 
@@ -21,7 +21,7 @@ pub(super) fn has_into_form(q: &Quantity, form: Form) -> bool {
 }
 
 /// Whether output `id` is zero in every state: never written, left as the result was filled.
-pub(super) fn is_structural_zero(g: &Graph, id: crate::symbolic::Id) -> bool {
+pub(super) fn is_structural_zero(g: &Graph, id: Id) -> bool {
     g.constant_value(id) == Some(0.0) || g.node(id) == Node::LaneZero
 }
 
