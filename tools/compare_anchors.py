@@ -64,6 +64,17 @@ FUNCTIONS = [
 # `ResultBuffer` kept between calls, as Pinocchio writes into its `Data`): a row each.
 INTO = {"mass_matrix", "coriolis", "torque_regressor", "regressor", "base_torque_regressor",
         "base_regressor", "minv", "rnea_derivatives", "aba_derivatives"}
+
+
+def timed_rows():
+    """(anchor function, criterion group, criterion id) of every table row: each function by
+    value, then its `_into` form where it has one."""
+    for fn, group, _ in FUNCTIONS:
+        yield fn, group, "generated"
+        if group in INTO:
+            yield fn, group, "generated_into"
+
+
 # Several states per call: (criterion group, lane ids), per state against the single call.
 BATCHES = [("rnea", ("generated_lanes4", "generated_lanes8")),
            ("base_torque_regressor", ("generated_lanes4", "generated_lanes8"))]
@@ -277,9 +288,7 @@ def main():
     print(header)
     print(rule)
     for robot in robots:
-        for fn, group, bench_id in ((fn, group, bench_id) for fn, group, _ in FUNCTIONS
-                                    for bench_id in ("generated", "generated_into")
-                                    if bench_id == "generated" or group in INTO):
+        for fn, group, bench_id in timed_rows():
             key = (robot, group, bench_id)
             native = [o["native"].get(key) for _, _, o in rounds]
             if bench_id != "generated" and not any(native):

@@ -23,7 +23,7 @@ from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 from build_spread import build_and_time, copy_repository  # noqa: E402
-from compare_anchors import FUNCTIONS, cargo_env, fmt, med  # noqa: E402
+from compare_anchors import cargo_env, fmt, med, timed_rows  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 PROFILES = ("default", "native")
@@ -71,14 +71,15 @@ def main():
     print("| robot | function | " + " | ".join(labels) + " | " + " | ".join(f"old / new {p}" for p in PROFILES) + " |")
     print("|---|---|" + "---:|" * (len(labels) + len(PROFILES)))
     for robot in args.robots:
-        for _, group, _ in FUNCTIONS:
-            key = (robot, group, "generated")
+        for _, group, bench_id in timed_rows():
+            key = (robot, group, bench_id)
             medians = {label: med([rnd[label].get(key) for rnd in rounds]) for label in labels}
             if all(v is None for v in medians.values()):
                 continue
             ratios = [fmt(medians[f"old {p}"] / medians[f"new {p}"], 2, "×")
                       if medians[f"old {p}"] and medians[f"new {p}"] else "–" for p in PROFILES]
-            print(f"| {robot} | `{group}` | " + " | ".join(fmt(medians[l]) for l in labels) +
+            form = "" if bench_id == "generated" else " `_into`"
+            print(f"| {robot} | `{group}`{form} | " + " | ".join(fmt(medians[l]) for l in labels) +
                   " | " + " | ".join(ratios) + " |")
 
 
