@@ -2,7 +2,7 @@
 //! at the end), the kernel and dispatch around it, and its chunks when it is large.
 
 use super::chunks::{chunked, Header};
-use super::into_form::{has_into_form, into_method, is_structural_zero, zero_pattern};
+use super::into_form::{has_into_form, is_structural_zero, one_piece_into, zero_pattern};
 use super::lane_width::LaneWidth;
 use super::leaves::Leaves;
 use super::plan::{Form, Plan};
@@ -230,10 +230,18 @@ pub(super) fn function(
     let many_registers = matches!(q.shape, Shape::MatrixPair(_)) || plan.order.len() > MANY_VALUES;
     if plan.order.len() <= robot.chunk_values && stage_end.is_none() {
         let mut used = main_used;
-        let read_by_outputs = used.clone();
-        let body = match writes_in_place(q, form) {
-            true => written_in_place(&plan, q, form, &ret, &atoms, &mut used),
-            false => {
+        // The statements writing the result in place, shared by the by-value and `_into` forms.
+        let writes = writes_in_place(q, form).then(|| writes_into_out(&plan, q, form, &atoms, &mut used));
+        let body = match &writes {
+            Some(writes) => {
+                let zero = zero_result(q, form);
+                quote! {
+                    let mut out: #ret = #zero;
+                    #writes
+                    out
+                }
+            }
+            None => {
                 let statements = plan.statements(&plan.order, &mut used);
                 let result = result_value(q, form, &atoms);
                 quote!(#(#statements)* #result)
@@ -255,36 +263,16 @@ pub(super) fn function(
             kernel,
             quote!(#(#prelude)* #body),
         );
-        // The `_into` form: the same statements again, writing into the caller's buffer. Not a
-        // function both methods call: the by-value method then lost its result's placement in
-        // the caller's return slot (Solo-12's regressor ran 1.6× slower, its result held in
-        // registers and spills to the end and copied out). The copy costs compile time (the
-        // arms' modules grow by a quarter to a half) and nothing at run time; without it an
-        // `_into` would be the by-value function and a copy, slower than by value (the Panda's
-        // `D`, 78 against 56 ns).
-        let into = match has_into_form(q, form) {
-            true => {
-                let writes = writes_into_out(&plan, q, form, &atoms, &mut read_by_outputs.clone());
-                let lane_methods = lane_methods(kernel.lanes);
-                let outer: Vec<TokenStream> = params.iter().map(Param::passed_on).collect();
-                into_method(
-                    &name,
-                    &outer,
-                    &ret,
-                    zero_pattern(q, &robot.graph),
-                    kernel_call(
-                        &[
-                            params.clone(),
-                            vec![Param::used(format_ident!("out"), quote!(&mut #ret))],
-                        ]
-                        .concat(),
-                        &TokenStream::new(),
-                        kernel,
-                        quote!(#lane_methods #(#prelude)* #writes),
-                    ),
-                )
-            }
-            false => quote!(),
+        let into = match (has_into_form(q, form), writes) {
+            (true, Some(writes)) => one_piece_into(
+                &name,
+                &params,
+                &ret,
+                zero_pattern(q, &robot.graph),
+                kernel,
+                quote!(#(#prelude)* #writes),
+            ),
+            _ => quote!(),
         };
         return Emitted {
             method: quote!(#method #into),
@@ -417,31 +405,12 @@ fn result_bytes(q: &Quantity, form: Form) -> usize {
     q.outputs.len() * if form == Form::Lanes { 32 } else { 8 }
 }
 
-/// The body of a one-chunk function whose result is written in place ([`writes_in_place`]):
-/// `let mut out: R = zeros; { let [[o0, _, o2]] = &mut out…; x0 = …; *o0 = x0; … } out`.
-/// Returning the outputs at the end kept every one alive across the whole function (the
-/// regressor's peak of live values was 260 instead of 103), so the register allocator spilled
-/// them and reloaded them to store them.
-fn written_in_place(
-    plan: &Plan,
-    q: &Quantity,
-    form: Form,
-    ret: &TokenStream,
-    atoms: &[TokenStream],
-    used: &mut Vec<Id>,
-) -> TokenStream {
-    let writes = writes_into_out(plan, q, form, atoms, used);
-    let zero = zero_result(q, form);
-    quote! {
-        let mut out: #ret = #zero;
-        #writes
-        out
-    }
-}
-
 /// `{ let [[o0, _, o2]] = &mut out…; x0 = …; *o0 = x0; … }`: every value computed and every
 /// output that is not a structural zero written into `out` (a local result or a `&mut` to one),
-/// which the block leaves as it found the structural zeros.
+/// which the block leaves as it found the structural zeros. Each output is stored as soon as it
+/// is computed: returning the outputs at the end kept every one alive across the whole function
+/// (the regressor's peak of live values was 260 instead of 103), so the register allocator
+/// spilled them and reloaded them to store them.
 pub(super) fn writes_into_out(
     plan: &Plan,
     q: &Quantity,

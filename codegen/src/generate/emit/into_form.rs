@@ -5,10 +5,11 @@
 //! of in a local it then copies out.
 //!
 //! A function in chunks gets it for the cost of a few lines: both methods call the same chunks.
-//! A function in one piece gets a second copy of its statements (see `function::function`).
+//! A function in one piece gets a second copy of its statements ([`one_piece_into`]).
 
-use super::function::writes_in_place;
+use super::function::{kernel_call, lane_methods, writes_in_place, KernelKind};
 use super::plan::Form;
+use super::signature::Param;
 use crate::generate::hash::fnv1a64;
 use crate::generate::trace::Quantity;
 use crate::symbolic::{Graph, Id, Node};
@@ -62,4 +63,34 @@ pub(super) fn into_method(
             #body
         }
     }
+}
+
+/// The `_into` method of a function in one piece: a kernel of its own running `body` (the
+/// prelude and the statements the by-value method runs, writing into `out`) on the buffer.
+///
+/// The same statements again, not a function both methods call: the by-value method then lost
+/// its result's placement in the caller's return slot (Solo-12's regressor ran 1.6× slower,
+/// its result held in registers and spills to the end and copied out). The copy costs compile
+/// time (the arms' modules grow by a quarter to a half) and nothing at run time; without it an
+/// `_into` would be the by-value function and a copy, slower than by value (the Panda's `D`,
+/// 78 against 56 ns).
+pub(super) fn one_piece_into(
+    name: &Ident,
+    params: &[Param],
+    ret: &TokenStream,
+    pattern: u64,
+    kernel: KernelKind,
+    body: TokenStream,
+) -> TokenStream {
+    let outer: Vec<TokenStream> = params.iter().map(Param::passed_on).collect();
+    let mut with_out = params.to_vec();
+    with_out.push(Param::used(format_ident!("out"), quote!(&mut #ret)));
+    let lane_methods = lane_methods(kernel.lanes);
+    let call = kernel_call(
+        &with_out,
+        &TokenStream::new(),
+        kernel,
+        quote!(#lane_methods #body),
+    );
+    into_method(name, &outer, ret, pattern, call)
 }

@@ -2,7 +2,8 @@
 //!
 //! By concern: `leaves` (how inputs are spelled), `plan` (what a function computes, in what
 //! order, with which multiply-adds), `signature` (parameters and the inputs' destructuring),
-//! `function` (one quantity as a function), `chunks` (a large one in chunks), `constants` (constant items and
+//! `function` (one quantity as a function), `into_form` (its form writing into a kept
+//! `ResultBuffer`), `chunks` (a large one in chunks), `constants` (constant items and
 //! `θ_b`), and this file, which assembles the module.
 //!
 //! Each function declares all its temporaries once (`let [x0, x1, …]: [f64; K];`), then assigns
