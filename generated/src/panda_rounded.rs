@@ -6994,37 +6994,28 @@ impl Regressors<7, 70> for PandaRounded {
                     _], [_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
                     _], [o63, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, o78, _, _, _,
                     _, _], [_, o85, _, _, _, _, _], [_, _, _, _, _, _, _], [o98, o99, _,
-                    _, _, _, _], [o105, o106, _, _, _, _, _], [o112, o113, o114, o115, _,
-                    _, _], [o119, o120, _, _, _, _, _], [o126, o127, _, _, _, _, _],
-                    [o133, o134, _, _, _, _, _], [o140, o141, o142, o143, _, _, _],
-                    [o147, o148, o149, o150, _, _, _], [o154, o155, o156, o157, _, _, _],
-                    [o161, o162, o163, o164, _, _, _], [o168, o169, o170, o171, _, _, _],
-                    [o175, o176, o177, o178, _, _, _], [o182, o183, o184, o185, _, _, _],
-                    [o189, o190, o191, o192, _, _, _], [o196, o197, o198, o199, _, _, _],
-                    [o203, o204, o205, o206, _, _, _], [o210, o211, o212, o213, _, _, _],
-                    [o217, o218, o219, o220, _, _, _], [o224, o225, o226, o227, _, _, _],
-                    [o231, o232, o233, o234, _, _, _], [o238, o239, o240, o241, _, _, _],
-                    [o245, o246, o247, o248, _, _, _], [o252, o253, o254, o255, _, _, _],
-                    [o259, o260, o261, o262, _, _, _], [o266, o267, o268, o269, _, _, _],
-                    [o273, o274, o275, o276, _, _, _], [o280, o281, o282, o283, _, _, _],
-                    [o287, o288, o289, o290, o291, _, _], [o294, o295, o296, o297, o298,
-                    _, _], [o301, o302, o303, o304, _, _, _], [o308, o309, o310, o311,
-                    o312, _, _], [o315, o316, o317, o318, o319, _, _], [o322, o323, o324,
-                    o325, o326, _, _], [o329, o330, o331, o332, o333, _, _], [o336, o337,
-                    o338, o339, o340, _, _], [o343, o344, o345, o346, o347, _, _], [o350,
-                    o351, o352, o353, _, _, _], [o357, o358, o359, o360, o361, o362, _],
-                    [o364, o365, o366, o367, o368, o369, _], [o371, o372, o373, o374,
-                    o375, _, _], [o378, o379, o380, o381, o382, o383, _], [o385, o386,
-                    o387, o388, o389, o390, _], [o392, o393, o394, o395, o396, o397, o398,
-                    ], [o399, o400, o401, o402, o403, o404, _], [o406, o407, o408, o409,
-                    o410, o411, _], [o413, o414, o415, o416, o417, o418, _], [o420, o421,
-                    o422, o423, o424, o425, o426], [o427, o428, o429, o430, o431, o432,
-                    o433], [o434, o435, o436, o437, o438, o439, o440], [o441, o442, o443,
-                    o444, o445, o446, o447], [o448, o449, o450, o451, o452, o453, o454],
-                    [o455, o456, o457, o458, o459, o460, o461], [o462, o463, o464, o465,
-                    o466, o467, o468], [o469, o470, o471, o472, o473, o474, o475], [o476,
-                    o477, o478, o479, o480, o481, o482], [o483, o484, o485, o486, o487,
-                    o488, o489]] = &mut out.data.0;
+                    _, _, _, _], [o105, o106, _, _, _, _, _], [g112 @ .., _, _, _],
+                    [o119, o120, _, _, _, _, _], [o126, o127, _, _, _, _, _], [o133,
+                    o134, _, _, _, _, _], [g140 @ .., _, _, _], [g147 @ .., _, _, _],
+                    [g154 @ .., _, _, _], [g161 @ .., _, _, _], [g168 @ .., _, _, _],
+                    [g175 @ .., _, _, _], [g182 @ .., _, _, _], [g189 @ .., _, _, _],
+                    [g196 @ .., _, _, _], [g203 @ .., _, _, _], [g210 @ .., _, _, _],
+                    [g217 @ .., _, _, _], [g224 @ .., _, _, _], [g231 @ .., _, _, _],
+                    [g238 @ .., _, _, _], [g245 @ .., _, _, _], [g252 @ .., _, _, _],
+                    [g259 @ .., _, _, _], [g266 @ .., _, _, _], [g273 @ .., _, _, _],
+                    [g280 @ .., _, _, _], [g287 @ .., o291, _, _], [g294 @ .., o298, _, _,
+                    ], [g301 @ .., _, _, _], [g308 @ .., o312, _, _], [g315 @ .., o319,
+                    _, _], [g322 @ .., o326, _, _], [g329 @ .., o333, _, _], [g336 @ ..,
+                    o340, _, _], [g343 @ .., o347, _, _], [g350 @ .., _, _, _],
+                    [g357 @ .., o361, o362, _], [g364 @ .., o368, o369, _], [g371 @ ..,
+                    o375, _, _], [g378 @ .., o382, o383, _], [g385 @ .., o389, o390, _],
+                    [g392 @ .., o396, o397, o398], [g399 @ .., o403, o404, _],
+                    [g406 @ .., o410, o411, _], [g413 @ .., o417, o418, _], [g420 @ ..,
+                    o424, o425, o426], [g427 @ .., o431, o432, o433], [g434 @ .., o438,
+                    o439, o440], [g441 @ .., o445, o446, o447], [g448 @ .., o452, o453,
+                    o454], [g455 @ .., o459, o460, o461], [g462 @ .., o466, o467, o468],
+                    [g469 @ .., o473, o474, o475], [g476 @ .., o480, o481, o482],
+                    [g483 @ .., o487, o488, o489]] = &mut out.data.0;
                     *o63 = a0;
                     let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
                     x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
@@ -7076,30 +7067,10 @@ impl Regressors<7, 70> for PandaRounded {
                     x539, x540, x541, x542, x543, x544, x545, x546, x547, x548, x549,
                     x550, x551, x552, x553, x554, x555, x556, x557, x571, x574, x575,
                     x577, x578, x595, x596, x597, x598, x599, x600, x601, x602, x603,
-                    x604, x605, x606, x607, x989, x990, x991, x992, x993, x994, x995,
-                    x996, x997, x998, x999, x1000, x1001, x1002, x1003, x1004, x1005,
-                    x1006, x1007, x1008, x1009, x1010, x1011, x1012, x1013, x1014, x1015,
-                    x1016, x1017, x1018, x1019, x1020, x1021, x1022, x1023, x1024, x1025,
-                    x1026, x1027, x1028, x1029, x1030, x1031, x1032, x1033, x1034, x1035,
-                    x1036, x1037, x1038, x1039, x1040, x1041, x1042, x1043, x1044, x1045,
-                    x1046, x1047, x1048, x1049, x1050, x1051, x1052, x1053, x1054, x1055,
-                    x1056, x1057, x1058, x1059, x1060, x1061, x1062, x1063, x1064, x1065,
-                    x1066, x1067, x1068, x1069, x1070, x1071, x1072, x1073, x1074, x1075,
-                    x1076, x1077, x1078, x1079, x1080, x1081, x1082, x1083, x1084, x1085,
-                    x1086, x1087, x1088, x1089, x1090, x1091, x1092, x1093, x1094, x1095,
-                    x1096, x1097, x1098, x1099, x1100, x1101, x1102, x1103, x1104, x1105,
-                    x1106, x1107, x1108, x1109, x1110, x1111, x1112, x1113, x1114, x1115,
-                    x1116, x1117, x1118, x1119, x1120, x1121, x1122, x1123, x1124, x1125,
-                    x1126, x1127, x1128, x1129, x1130, x1131, x1132, x1133, x1134, x1135,
-                    x1136, x1137, x1138, x1139, x1140, x1141, x1142, x1143, x1144, x1145,
-                    x1146, x1147, x1148, x1149, x1150, x1151, x1152, x1153, x1154, x1155,
-                    x1156, x1157, x1158, x1159, x1160, x1161, x1162, x1163, x1164, x1165,
-                    x1166, x1167, x1168, x1169, x1170, x1171, x1172, x1173, x1174, x1175,
-                    x1176, x1177, x1178, x1179, x1180, x1181, x1182, x1183, x1184, x1185,
-                    x1186, x1187, x1188, x1189, x1190, x1191, x1192, x1193, x1194, x1195,
-                    x1196, x1197, x1198, x1199, x1200, x1201, x1202, x1203, x1204, x1205,
-                    x1206, x1207, x1208, x1209, x1210, x1211, x1212, x1213, x1214, x1215,
-                    x1216, x1217, x1218, x1219, x1220, x1221]: [f64; 809];
+                    x604, x605, x606, x607, x1137, x1138, x1139, x1156, x1157, x1158,
+                    x1163, x1164, x1165, x1170, x1171, x1172, x1177, x1178, x1179, x1184,
+                    x1185, x1186, x1191, x1192, x1193, x1198, x1199, x1200, x1205, x1206,
+                    x1207, x1212, x1213, x1214, x1219, x1220, x1221]: [f64; 609];
                     let [x558, x559, x560, x561, x562, x563, x564, x565, x566, x567,
                     x568, x569, x570, x572, x573, x576, x579, x580, x581, x582, x583,
                     x584, x585, x586, x587, x588, x589, x590, x591, x592, x593, x594,
@@ -7793,6 +7764,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x617 = x616 * x579;
                     x618 = x615.mul_add(x576, x617);
                     x619 = x614 + x618;
+                    *g147 = x619.to_array();
                     x620 = arith.splat_four(x257);
                     x621 = arith.splat_four(x256);
                     x622 = x621 * x580;
@@ -7802,6 +7774,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x626 = x625 * x579;
                     x627 = x624.mul_add(x576, x626);
                     x628 = x623 + x627;
+                    *g154 = x628.to_array();
                     x629 = arith.splat_four(x241);
                     x630 = arith.splat_four(x260);
                     x631 = x630 * x573;
@@ -7809,12 +7782,14 @@ impl Regressors<7, 70> for PandaRounded {
                     x633 = arith.splat_four(x261);
                     x634 = x633 * x580;
                     x635 = x632 - x634;
+                    *g168 = x635.to_array();
                     x636 = arith.splat_four(x267);
                     x637 = arith.splat_four(x268);
                     x638 = x637 * x573;
                     x639 = x636.mul_add(x572, x638);
                     x640 = arith.splat_four(x269);
                     x641 = x640.mul_add(x580, x639);
+                    *g175 = x641.to_array();
                     x642 = arith.splat_four(x270);
                     x643 = arith.splat_four(x275);
                     x644 = arith.splat_four(x276);
@@ -7822,15 +7797,18 @@ impl Regressors<7, 70> for PandaRounded {
                     x646 = x643.mul_add(x572, x645);
                     x647 = arith.splat_four(x277);
                     x648 = x647.mul_add(x580, x646);
+                    *g189 = x648.to_array();
                     x649 = arith.splat_four(x281);
                     x650 = arith.splat_four(x282);
                     x651 = x650 * x573;
                     x652 = x649.mul_add(x572, x651);
                     x653 = arith.splat_four(x283);
                     x654 = x653.mul_add(x580, x652);
+                    *g196 = x654.to_array();
                     x655 = x642.mul_sub(x572, x631);
                     x656 = arith.splat_four(x243);
                     x657 = x656.mul_add(x580, x655);
+                    *g203 = x657.to_array();
                     x658 = x559.mul_add(x580, x579);
                     x659 = x560.mul_sub(x576, x586);
                     x660 = x561 * x576;
@@ -7846,6 +7824,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x670 = arith.splat_four(x312);
                     x671 = x670.mul_neg_add(x658, x669);
                     x672 = x665 + x671;
+                    *g217 = x672.to_array();
                     x673 = arith.splat_four(x316);
                     x674 = x673 * x583;
                     x675 = arith.splat_four(x317);
@@ -7857,6 +7836,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x681 = arith.splat_four(x320);
                     x682 = x681.mul_neg_add(x658, x680);
                     x683 = x676 + x682;
+                    *g224 = x683.to_array();
                     x684 = arith.splat_four(x296);
                     x685 = arith.splat_four(x321);
                     x686 = x685 * x585;
@@ -7864,12 +7844,14 @@ impl Regressors<7, 70> for PandaRounded {
                     x688 = arith.splat_four(x322);
                     x689 = x688 * x587;
                     x690 = x687 - x689;
+                    *g238 = x690.to_array();
                     x691 = arith.splat_four(x328);
                     x692 = arith.splat_four(x329);
                     x693 = x692 * x585;
                     x694 = x691.mul_add(x583, x693);
                     x695 = arith.splat_four(x330);
                     x696 = x695.mul_add(x587, x694);
+                    *g245 = x696.to_array();
                     x697 = arith.splat_four(x331);
                     x698 = arith.splat_four(x336);
                     x699 = arith.splat_four(x337);
@@ -7877,15 +7859,18 @@ impl Regressors<7, 70> for PandaRounded {
                     x701 = x698.mul_add(x583, x700);
                     x702 = arith.splat_four(x338);
                     x703 = x702.mul_add(x587, x701);
+                    *g259 = x703.to_array();
                     x704 = arith.splat_four(x342);
                     x705 = arith.splat_four(x343);
                     x706 = x705 * x585;
                     x707 = x704.mul_add(x583, x706);
                     x708 = arith.splat_four(x344);
                     x709 = x708.mul_add(x587, x707);
+                    *g266 = x709.to_array();
                     x710 = x697.mul_sub(x583, x686);
                     x711 = arith.splat_four(x298);
                     x712 = x711.mul_add(x587, x710);
+                    *g273 = x712.to_array();
                     x713 = x562.mul_neg_add(x587, x659);
                     x714 = x563.mul_sub(x587, x661);
                     x715 = x593 + x658;
@@ -7905,6 +7890,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x729 = arith.splat_four(x373);
                     x730 = x729.mul_add(x714, x728);
                     x731 = x724 + x730;
+                    *g287 = x731.to_array();
                     x732 = arith.splat_four(x376);
                     x733 = arith.splat_four(x377);
                     x734 = x733 * x585;
@@ -7916,34 +7902,40 @@ impl Regressors<7, 70> for PandaRounded {
                     x740 = arith.splat_four(x380);
                     x741 = x740.mul_add(x714, x739);
                     x742 = x735 + x741;
+                    *g294 = x742.to_array();
                     x743 = arith.splat_four(x357);
                     x744 = arith.splat_four(x381);
                     x745 = x744 * x592;
                     x746 = x743.mul_sub(x590, x745);
                     x747 = arith.splat_four(x382);
                     x748 = x747.mul_add(x585, x746);
+                    *g308 = x748.to_array();
                     x749 = arith.splat_four(x388);
                     x750 = arith.splat_four(x389);
                     x751 = x750 * x592;
                     x752 = x749.mul_add(x590, x751);
                     x753 = arith.splat_four(x390);
                     x754 = x753.mul_sub(x585, x752);
+                    *g315 = x754.to_array();
                     x755 = arith.splat_four(x396);
                     x756 = arith.splat_four(x397);
                     x757 = x756 * x592;
                     x758 = x755.mul_sub(x590, x757);
                     x759 = arith.splat_four(x398);
                     x760 = x759.mul_add(x585, x758);
+                    *g329 = x760.to_array();
                     x761 = arith.splat_four(x402);
                     x762 = arith.splat_four(x403);
                     x763 = x762 * x592;
                     x764 = x761.mul_add(x590, x763);
                     x765 = arith.splat_four(x404);
                     x766 = x765.mul_sub(x585, x764);
+                    *g336 = x766.to_array();
                     x767 = arith.splat_four(x405);
                     x768 = x767.mul_add(x590, x745);
                     x769 = arith.splat_four(x359);
                     x770 = x769.mul_add(x585, x768);
+                    *g343 = x770.to_array();
                     x771 = x567 * x585;
                     x772 = x566.mul_add(x590, x771);
                     x773 = x566 * x585;
@@ -7964,6 +7956,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x788 = arith.splat_four(x433);
                     x789 = x788.mul_add(x779, x787);
                     x790 = x783 + x789;
+                    *g357 = x790.to_array();
                     x791 = arith.splat_four(x436);
                     x792 = arith.splat_four(x437);
                     x793 = x792 * x592;
@@ -7975,6 +7968,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x799 = arith.splat_four(x440);
                     x800 = x799.mul_add(x779, x798);
                     x801 = x794 + x800;
+                    *g364 = x801.to_array();
                     x802 = arith.splat_four(x418);
                     x803 = arith.splat_four(x441);
                     x804 = x803 * x774;
@@ -7982,12 +7976,14 @@ impl Regressors<7, 70> for PandaRounded {
                     x806 = arith.splat_four(x442);
                     x807 = x806 * x592;
                     x808 = x805 - x807;
+                    *g378 = x808.to_array();
                     x809 = arith.splat_four(x449);
                     x810 = arith.splat_four(x450);
                     x811 = x810 * x774;
                     x812 = x809.mul_add(x772, x811);
                     x813 = arith.splat_four(x451);
                     x814 = x813.mul_add(x592, x812);
+                    *g385 = x814.to_array();
                     x815 = arith.splat_four(x452);
                     x816 = arith.splat_four(x457);
                     x817 = arith.splat_four(x458);
@@ -7995,15 +7991,18 @@ impl Regressors<7, 70> for PandaRounded {
                     x819 = x816.mul_add(x772, x818);
                     x820 = arith.splat_four(x459);
                     x821 = x820.mul_add(x592, x819);
+                    *g399 = x821.to_array();
                     x822 = arith.splat_four(x463);
                     x823 = arith.splat_four(x464);
                     x824 = x823 * x774;
                     x825 = x822.mul_add(x772, x824);
                     x826 = arith.splat_four(x465);
                     x827 = x826.mul_add(x592, x825);
+                    *g406 = x827.to_array();
                     x828 = x815.mul_sub(x772, x804);
                     x829 = arith.splat_four(x420);
                     x830 = x829.mul_add(x592, x828);
+                    *g413 = x830.to_array();
                     x831 = x570 * x592;
                     x832 = x569.mul_add(x772, x831);
                     x833 = x570 * x772;
@@ -8026,6 +8025,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x850 = arith.splat_four(x494);
                     x851 = x850.mul_neg_add(x836, x849);
                     x852 = x845 + x851;
+                    *g427 = x852.to_array();
                     x853 = arith.splat_four(x497);
                     x854 = arith.splat_four(x498);
                     x855 = x854 * x835;
@@ -8037,6 +8037,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x861 = arith.splat_four(x501);
                     x862 = x861.mul_neg_add(x836, x860);
                     x863 = x856 + x862;
+                    *g434 = x863.to_array();
                     x864 = arith.splat_four(x478);
                     x865 = arith.splat_four(x502);
                     x866 = x865 * x834;
@@ -8044,12 +8045,14 @@ impl Regressors<7, 70> for PandaRounded {
                     x868 = arith.splat_four(x503);
                     x869 = x868 * x835;
                     x870 = x867 - x869;
+                    *g448 = x870.to_array();
                     x871 = arith.splat_four(x509);
                     x872 = arith.splat_four(x510);
                     x873 = x872 * x834;
                     x874 = x871.mul_add(x832, x873);
                     x875 = arith.splat_four(x511);
                     x876 = x875.mul_add(x835, x874);
+                    *g455 = x876.to_array();
                     x877 = arith.splat_four(x512);
                     x878 = arith.splat_four(x517);
                     x879 = arith.splat_four(x518);
@@ -8057,15 +8060,18 @@ impl Regressors<7, 70> for PandaRounded {
                     x881 = x878.mul_add(x832, x880);
                     x882 = arith.splat_four(x519);
                     x883 = x882.mul_add(x835, x881);
+                    *g469 = x883.to_array();
                     x884 = arith.splat_four(x523);
                     x885 = arith.splat_four(x524);
                     x886 = x885 * x834;
                     x887 = x884.mul_add(x832, x886);
                     x888 = arith.splat_four(x525);
                     x889 = x888.mul_add(x835, x887);
+                    *g476 = x889.to_array();
                     x890 = x877.mul_sub(x832, x866);
                     x891 = arith.splat_four(x480);
                     x892 = x891.mul_add(x835, x890);
+                    *g483 = x892.to_array();
                     x893 = arith.four([x540, x430, 0.0, 0.0]);
                     x894 = arith.four([x541, x437, 0.0, 0.0]);
                     x895 = arith.four([x543, x443, 0.0, 0.0]);
@@ -8100,6 +8106,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x924 = arith.four([0.0, x553, 0.0, 0.0]);
                     x925 = arith.four([0.0, x3, 0.0, 0.0]);
                     x926 = x608 - x609;
+                    *g112 = x926.to_array();
                     x927 = arith.splat_four(0.099856f64);
                     x928 = x927.mul_add(x609, x924);
                     x929 = arith.splat_four(0.632f64);
@@ -8107,17 +8114,22 @@ impl Regressors<7, 70> for PandaRounded {
                     x931 = arith.splat_four(0.10666225f64);
                     x932 = x931.mul_add(x609, x924);
                     x933 = x927.mul_add(x610, x928);
+                    *g140 = x933.to_array();
                     x934 = x929.mul_add(x610, x930);
+                    *g161 = x934.to_array();
                     x935 = x609 + x610;
                     x936 = x931.mul_add(x610, x932);
                     x937 = x559.mul_add(x619, x936);
                     x938 = x634 - x632;
                     x939 = x935 + x938;
+                    *g182 = x939.to_array();
                     x940 = arith.splat_four(-0.00680625f64);
                     x941 = x940.mul_add(x635, x937);
                     x942 = x559.mul_sub(x641, x628);
+                    *g231 = x942.to_array();
                     x943 = arith.splat_four(0.00680625f64);
                     x944 = x943.mul_add(x657, x941);
+                    *g210 = x944.to_array();
                     x945 = x635 + x657;
                     x946 = arith.splat_four(0.0136125f64);
                     x947 = x946.mul_add(x657, x937);
@@ -8125,6 +8137,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x949 = x562.mul_add(x683, x948);
                     x950 = x689 - x687;
                     x951 = x945 + x950;
+                    *g252 = x951.to_array();
                     x952 = arith.splat_four(0.14064975f64);
                     x953 = x952.mul_add(x690, x949);
                     x954 = arith.splat_four(0.768f64);
@@ -8134,10 +8147,15 @@ impl Regressors<7, 70> for PandaRounded {
                     x958 = x559.mul_add(x696, x955);
                     x959 = arith.splat_four(0.15426225f64);
                     x960 = x959.mul_add(x712, x957);
+                    *g280 = x960.to_array();
+                    *g350 = x960.to_array();
                     x961 = x954.mul_add(x712, x958);
+                    *g301 = x961.to_array();
                     x962 = x690 + x712;
                     x963 = -x742;
+                    *g371 = x963.to_array();
                     x964 = x962 - x748;
+                    *g322 = x964.to_array();
                     x965 = arith.splat_four(0.007744f64);
                     x966 = x965.mul_add(x748, x960);
                     x967 = x748 + x770;
@@ -8148,484 +8166,84 @@ impl Regressors<7, 70> for PandaRounded {
                     x972 = x568.mul_add(x893, x970);
                     x973 = x807 - x805;
                     x974 = x967 + x973;
+                    *g392 = x974.to_array();
                     x975 = x968 - x895;
                     x976 = arith.splat_four(-0.007744f64);
                     x977 = x976.mul_add(x808, x971);
                     x978 = x976.mul_add(x895, x972);
                     x979 = x568.mul_sub(x814, x801);
+                    *g441 = x979.to_array();
                     x980 = x568.mul_sub(x896, x894);
                     x981 = x965.mul_add(x830, x977);
+                    *g420 = x981.to_array();
                     x982 = x965.mul_add(x897, x978);
                     x983 = x808 + x830;
                     x984 = x895 + x897;
                     x985 = x869 - x867;
                     x986 = x983 + x985;
+                    *g462 = x986.to_array();
                     x987 = x911 - x910;
                     x988 = x984 + x987;
-                    [x989, _, _, _] = x926.to_array();
-                    *o112 = x989;
-                    [_, x990, _, _] = x926.to_array();
-                    *o113 = x990;
-                    [_, _, x991, _] = x926.to_array();
-                    *o114 = x991;
-                    [_, _, _, x992] = x926.to_array();
-                    *o115 = x992;
-                    [x993, _, _, _] = x933.to_array();
-                    *o140 = x993;
-                    [_, x994, _, _] = x933.to_array();
-                    *o141 = x994;
-                    [_, _, x995, _] = x933.to_array();
-                    *o142 = x995;
-                    [_, _, _, x996] = x933.to_array();
-                    *o143 = x996;
-                    [x997, _, _, _] = x619.to_array();
-                    *o147 = x997;
-                    [_, x998, _, _] = x619.to_array();
-                    *o148 = x998;
-                    [_, _, x999, _] = x619.to_array();
-                    *o149 = x999;
-                    [_, _, _, x1000] = x619.to_array();
-                    *o150 = x1000;
-                    [x1001, _, _, _] = x628.to_array();
-                    *o154 = x1001;
-                    [_, x1002, _, _] = x628.to_array();
-                    *o155 = x1002;
-                    [_, _, x1003, _] = x628.to_array();
-                    *o156 = x1003;
-                    [_, _, _, x1004] = x628.to_array();
-                    *o157 = x1004;
-                    [x1005, _, _, _] = x934.to_array();
-                    *o161 = x1005;
-                    [_, x1006, _, _] = x934.to_array();
-                    *o162 = x1006;
-                    [_, _, x1007, _] = x934.to_array();
-                    *o163 = x1007;
-                    [_, _, _, x1008] = x934.to_array();
-                    *o164 = x1008;
-                    [x1009, _, _, _] = x635.to_array();
-                    *o168 = x1009;
-                    [_, x1010, _, _] = x635.to_array();
-                    *o169 = x1010;
-                    [_, _, x1011, _] = x635.to_array();
-                    *o170 = x1011;
-                    [_, _, _, x1012] = x635.to_array();
-                    *o171 = x1012;
-                    [x1013, _, _, _] = x641.to_array();
-                    *o175 = x1013;
-                    [_, x1014, _, _] = x641.to_array();
-                    *o176 = x1014;
-                    [_, _, x1015, _] = x641.to_array();
-                    *o177 = x1015;
-                    [_, _, _, x1016] = x641.to_array();
-                    *o178 = x1016;
-                    [x1017, _, _, _] = x939.to_array();
-                    *o182 = x1017;
-                    [_, x1018, _, _] = x939.to_array();
-                    *o183 = x1018;
-                    [_, _, x1019, _] = x939.to_array();
-                    *o184 = x1019;
-                    [_, _, _, x1020] = x939.to_array();
-                    *o185 = x1020;
-                    [x1021, _, _, _] = x648.to_array();
-                    *o189 = x1021;
-                    [_, x1022, _, _] = x648.to_array();
-                    *o190 = x1022;
-                    [_, _, x1023, _] = x648.to_array();
-                    *o191 = x1023;
-                    [_, _, _, x1024] = x648.to_array();
-                    *o192 = x1024;
-                    [x1025, _, _, _] = x654.to_array();
-                    *o196 = x1025;
-                    [_, x1026, _, _] = x654.to_array();
-                    *o197 = x1026;
-                    [_, _, x1027, _] = x654.to_array();
-                    *o198 = x1027;
-                    [_, _, _, x1028] = x654.to_array();
-                    *o199 = x1028;
-                    [x1029, _, _, _] = x657.to_array();
-                    *o203 = x1029;
-                    [_, x1030, _, _] = x657.to_array();
-                    *o204 = x1030;
-                    [_, _, x1031, _] = x657.to_array();
-                    *o205 = x1031;
-                    [_, _, _, x1032] = x657.to_array();
-                    *o206 = x1032;
-                    [x1033, _, _, _] = x944.to_array();
-                    *o210 = x1033;
-                    [_, x1034, _, _] = x944.to_array();
-                    *o211 = x1034;
-                    [_, _, x1035, _] = x944.to_array();
-                    *o212 = x1035;
-                    [_, _, _, x1036] = x944.to_array();
-                    *o213 = x1036;
-                    [x1037, _, _, _] = x672.to_array();
-                    *o217 = x1037;
-                    [_, x1038, _, _] = x672.to_array();
-                    *o218 = x1038;
-                    [_, _, x1039, _] = x672.to_array();
-                    *o219 = x1039;
-                    [_, _, _, x1040] = x672.to_array();
-                    *o220 = x1040;
-                    [x1041, _, _, _] = x683.to_array();
-                    *o224 = x1041;
-                    [_, x1042, _, _] = x683.to_array();
-                    *o225 = x1042;
-                    [_, _, x1043, _] = x683.to_array();
-                    *o226 = x1043;
-                    [_, _, _, x1044] = x683.to_array();
-                    *o227 = x1044;
-                    [x1045, _, _, _] = x942.to_array();
-                    *o231 = x1045;
-                    [_, x1046, _, _] = x942.to_array();
-                    *o232 = x1046;
-                    [_, _, x1047, _] = x942.to_array();
-                    *o233 = x1047;
-                    [_, _, _, x1048] = x942.to_array();
-                    *o234 = x1048;
-                    [x1049, _, _, _] = x690.to_array();
-                    *o238 = x1049;
-                    [_, x1050, _, _] = x690.to_array();
-                    *o239 = x1050;
-                    [_, _, x1051, _] = x690.to_array();
-                    *o240 = x1051;
-                    [_, _, _, x1052] = x690.to_array();
-                    *o241 = x1052;
-                    [x1053, _, _, _] = x696.to_array();
-                    *o245 = x1053;
-                    [_, x1054, _, _] = x696.to_array();
-                    *o246 = x1054;
-                    [_, _, x1055, _] = x696.to_array();
-                    *o247 = x1055;
-                    [_, _, _, x1056] = x696.to_array();
-                    *o248 = x1056;
-                    [x1057, _, _, _] = x951.to_array();
-                    *o252 = x1057;
-                    [_, x1058, _, _] = x951.to_array();
-                    *o253 = x1058;
-                    [_, _, x1059, _] = x951.to_array();
-                    *o254 = x1059;
-                    [_, _, _, x1060] = x951.to_array();
-                    *o255 = x1060;
-                    [x1061, _, _, _] = x703.to_array();
-                    *o259 = x1061;
-                    [_, x1062, _, _] = x703.to_array();
-                    *o260 = x1062;
-                    [_, _, x1063, _] = x703.to_array();
-                    *o261 = x1063;
-                    [_, _, _, x1064] = x703.to_array();
-                    *o262 = x1064;
-                    [x1065, _, _, _] = x709.to_array();
-                    *o266 = x1065;
-                    [_, x1066, _, _] = x709.to_array();
-                    *o267 = x1066;
-                    [_, _, x1067, _] = x709.to_array();
-                    *o268 = x1067;
-                    [_, _, _, x1068] = x709.to_array();
-                    *o269 = x1068;
-                    [x1069, _, _, _] = x712.to_array();
-                    *o273 = x1069;
-                    [_, x1070, _, _] = x712.to_array();
-                    *o274 = x1070;
-                    [_, _, x1071, _] = x712.to_array();
-                    *o275 = x1071;
-                    [_, _, _, x1072] = x712.to_array();
-                    *o276 = x1072;
-                    [x1073, _, _, _] = x960.to_array();
-                    *o280 = x1073;
-                    *o350 = x1073;
-                    [_, x1074, _, _] = x960.to_array();
-                    *o281 = x1074;
-                    *o351 = x1074;
-                    [_, _, x1075, _] = x960.to_array();
-                    *o282 = x1075;
-                    *o352 = x1075;
-                    [_, _, _, x1076] = x960.to_array();
-                    *o283 = x1076;
-                    *o353 = x1076;
-                    [x1077, _, _, _] = x731.to_array();
-                    *o287 = x1077;
-                    [_, x1078, _, _] = x731.to_array();
-                    *o288 = x1078;
-                    [_, _, x1079, _] = x731.to_array();
-                    *o289 = x1079;
-                    [_, _, _, x1080] = x731.to_array();
-                    *o290 = x1080;
-                    [x1081, _, _, _] = x742.to_array();
-                    *o294 = x1081;
-                    [_, x1082, _, _] = x742.to_array();
-                    *o295 = x1082;
-                    [_, _, x1083, _] = x742.to_array();
-                    *o296 = x1083;
-                    [_, _, _, x1084] = x742.to_array();
-                    *o297 = x1084;
-                    [x1085, _, _, _] = x961.to_array();
-                    *o301 = x1085;
-                    [_, x1086, _, _] = x961.to_array();
-                    *o302 = x1086;
-                    [_, _, x1087, _] = x961.to_array();
-                    *o303 = x1087;
-                    [_, _, _, x1088] = x961.to_array();
-                    *o304 = x1088;
-                    [x1089, _, _, _] = x748.to_array();
-                    *o308 = x1089;
-                    [_, x1090, _, _] = x748.to_array();
-                    *o309 = x1090;
-                    [_, _, x1091, _] = x748.to_array();
-                    *o310 = x1091;
-                    [_, _, _, x1092] = x748.to_array();
-                    *o311 = x1092;
-                    [x1093, _, _, _] = x754.to_array();
-                    *o315 = x1093;
-                    [_, x1094, _, _] = x754.to_array();
-                    *o316 = x1094;
-                    [_, _, x1095, _] = x754.to_array();
-                    *o317 = x1095;
-                    [_, _, _, x1096] = x754.to_array();
-                    *o318 = x1096;
-                    [x1097, _, _, _] = x964.to_array();
-                    *o322 = x1097;
-                    [_, x1098, _, _] = x964.to_array();
-                    *o323 = x1098;
-                    [_, _, x1099, _] = x964.to_array();
-                    *o324 = x1099;
-                    [_, _, _, x1100] = x964.to_array();
-                    *o325 = x1100;
-                    [x1101, _, _, _] = x760.to_array();
-                    *o329 = x1101;
-                    [_, x1102, _, _] = x760.to_array();
-                    *o330 = x1102;
-                    [_, _, x1103, _] = x760.to_array();
-                    *o331 = x1103;
-                    [_, _, _, x1104] = x760.to_array();
-                    *o332 = x1104;
-                    [x1105, _, _, _] = x766.to_array();
-                    *o336 = x1105;
-                    [_, x1106, _, _] = x766.to_array();
-                    *o337 = x1106;
-                    [_, _, x1107, _] = x766.to_array();
-                    *o338 = x1107;
-                    [_, _, _, x1108] = x766.to_array();
-                    *o339 = x1108;
-                    [x1109, _, _, _] = x770.to_array();
-                    *o343 = x1109;
-                    [_, x1110, _, _] = x770.to_array();
-                    *o344 = x1110;
-                    [_, _, x1111, _] = x770.to_array();
-                    *o345 = x1111;
-                    [_, _, _, x1112] = x770.to_array();
-                    *o346 = x1112;
-                    [x1113, _, _, _] = x790.to_array();
-                    *o357 = x1113;
-                    [_, x1114, _, _] = x790.to_array();
-                    *o358 = x1114;
-                    [_, _, x1115, _] = x790.to_array();
-                    *o359 = x1115;
-                    [_, _, _, x1116] = x790.to_array();
-                    *o360 = x1116;
-                    [x1117, _, _, _] = x801.to_array();
-                    *o364 = x1117;
-                    [_, x1118, _, _] = x801.to_array();
-                    *o365 = x1118;
-                    [_, _, x1119, _] = x801.to_array();
-                    *o366 = x1119;
-                    [_, _, _, x1120] = x801.to_array();
-                    *o367 = x1120;
-                    [x1121, _, _, _] = x963.to_array();
-                    *o371 = x1121;
-                    [_, x1122, _, _] = x963.to_array();
-                    *o372 = x1122;
-                    [_, _, x1123, _] = x963.to_array();
-                    *o373 = x1123;
-                    [_, _, _, x1124] = x963.to_array();
-                    *o374 = x1124;
-                    [x1125, _, _, _] = x808.to_array();
-                    *o378 = x1125;
-                    [_, x1126, _, _] = x808.to_array();
-                    *o379 = x1126;
-                    [_, _, x1127, _] = x808.to_array();
-                    *o380 = x1127;
-                    [_, _, _, x1128] = x808.to_array();
-                    *o381 = x1128;
-                    [x1129, _, _, _] = x814.to_array();
-                    *o385 = x1129;
-                    [_, x1130, _, _] = x814.to_array();
-                    *o386 = x1130;
-                    [_, _, x1131, _] = x814.to_array();
-                    *o387 = x1131;
-                    [_, _, _, x1132] = x814.to_array();
-                    *o388 = x1132;
-                    [x1133, _, _, _] = x974.to_array();
-                    *o392 = x1133;
-                    [_, x1134, _, _] = x974.to_array();
-                    *o393 = x1134;
-                    [_, _, x1135, _] = x974.to_array();
-                    *o394 = x1135;
-                    [_, _, _, x1136] = x974.to_array();
-                    *o395 = x1136;
                     [x1137, _, _, _] = x975.to_array();
                     *o396 = x1137;
                     [_, x1138, _, _] = x975.to_array();
                     *o397 = x1138;
                     [_, _, x1139, _] = x975.to_array();
                     *o398 = x1139;
-                    [x1140, _, _, _] = x821.to_array();
-                    *o399 = x1140;
-                    [_, x1141, _, _] = x821.to_array();
-                    *o400 = x1141;
-                    [_, _, x1142, _] = x821.to_array();
-                    *o401 = x1142;
-                    [_, _, _, x1143] = x821.to_array();
-                    *o402 = x1143;
-                    [x1144, _, _, _] = x827.to_array();
-                    *o406 = x1144;
-                    [_, x1145, _, _] = x827.to_array();
-                    *o407 = x1145;
-                    [_, _, x1146, _] = x827.to_array();
-                    *o408 = x1146;
-                    [_, _, _, x1147] = x827.to_array();
-                    *o409 = x1147;
-                    [x1148, _, _, _] = x830.to_array();
-                    *o413 = x1148;
-                    [_, x1149, _, _] = x830.to_array();
-                    *o414 = x1149;
-                    [_, _, x1150, _] = x830.to_array();
-                    *o415 = x1150;
-                    [_, _, _, x1151] = x830.to_array();
-                    *o416 = x1151;
-                    [x1152, _, _, _] = x981.to_array();
-                    *o420 = x1152;
-                    [_, x1153, _, _] = x981.to_array();
-                    *o421 = x1153;
-                    [_, _, x1154, _] = x981.to_array();
-                    *o422 = x1154;
-                    [_, _, _, x1155] = x981.to_array();
-                    *o423 = x1155;
                     [x1156, _, _, _] = x982.to_array();
                     *o424 = x1156;
                     [_, x1157, _, _] = x982.to_array();
                     *o425 = x1157;
                     [_, _, x1158, _] = x982.to_array();
                     *o426 = x1158;
-                    [x1159, _, _, _] = x852.to_array();
-                    *o427 = x1159;
-                    [_, x1160, _, _] = x852.to_array();
-                    *o428 = x1160;
-                    [_, _, x1161, _] = x852.to_array();
-                    *o429 = x1161;
-                    [_, _, _, x1162] = x852.to_array();
-                    *o430 = x1162;
                     [x1163, _, _, _] = x904.to_array();
                     *o431 = x1163;
                     [_, x1164, _, _] = x904.to_array();
                     *o432 = x1164;
                     [_, _, x1165, _] = x904.to_array();
                     *o433 = x1165;
-                    [x1166, _, _, _] = x863.to_array();
-                    *o434 = x1166;
-                    [_, x1167, _, _] = x863.to_array();
-                    *o435 = x1167;
-                    [_, _, x1168, _] = x863.to_array();
-                    *o436 = x1168;
-                    [_, _, _, x1169] = x863.to_array();
-                    *o437 = x1169;
                     [x1170, _, _, _] = x908.to_array();
                     *o438 = x1170;
                     [_, x1171, _, _] = x908.to_array();
                     *o439 = x1171;
                     [_, _, x1172, _] = x908.to_array();
                     *o440 = x1172;
-                    [x1173, _, _, _] = x979.to_array();
-                    *o441 = x1173;
-                    [_, x1174, _, _] = x979.to_array();
-                    *o442 = x1174;
-                    [_, _, x1175, _] = x979.to_array();
-                    *o443 = x1175;
-                    [_, _, _, x1176] = x979.to_array();
-                    *o444 = x1176;
                     [x1177, _, _, _] = x980.to_array();
                     *o445 = x1177;
                     [_, x1178, _, _] = x980.to_array();
                     *o446 = x1178;
                     [_, _, x1179, _] = x980.to_array();
                     *o447 = x1179;
-                    [x1180, _, _, _] = x870.to_array();
-                    *o448 = x1180;
-                    [_, x1181, _, _] = x870.to_array();
-                    *o449 = x1181;
-                    [_, _, x1182, _] = x870.to_array();
-                    *o450 = x1182;
-                    [_, _, _, x1183] = x870.to_array();
-                    *o451 = x1183;
                     [x1184, _, _, _] = x912.to_array();
                     *o452 = x1184;
                     [_, x1185, _, _] = x912.to_array();
                     *o453 = x1185;
                     [_, _, x1186, _] = x912.to_array();
                     *o454 = x1186;
-                    [x1187, _, _, _] = x876.to_array();
-                    *o455 = x1187;
-                    [_, x1188, _, _] = x876.to_array();
-                    *o456 = x1188;
-                    [_, _, x1189, _] = x876.to_array();
-                    *o457 = x1189;
-                    [_, _, _, x1190] = x876.to_array();
-                    *o458 = x1190;
                     [x1191, _, _, _] = x915.to_array();
                     *o459 = x1191;
                     [_, x1192, _, _] = x915.to_array();
                     *o460 = x1192;
                     [_, _, x1193, _] = x915.to_array();
                     *o461 = x1193;
-                    [x1194, _, _, _] = x986.to_array();
-                    *o462 = x1194;
-                    [_, x1195, _, _] = x986.to_array();
-                    *o463 = x1195;
-                    [_, _, x1196, _] = x986.to_array();
-                    *o464 = x1196;
-                    [_, _, _, x1197] = x986.to_array();
-                    *o465 = x1197;
                     [x1198, _, _, _] = x988.to_array();
                     *o466 = x1198;
                     [_, x1199, _, _] = x988.to_array();
                     *o467 = x1199;
                     [_, _, x1200, _] = x988.to_array();
                     *o468 = x1200;
-                    [x1201, _, _, _] = x883.to_array();
-                    *o469 = x1201;
-                    [_, x1202, _, _] = x883.to_array();
-                    *o470 = x1202;
-                    [_, _, x1203, _] = x883.to_array();
-                    *o471 = x1203;
-                    [_, _, _, x1204] = x883.to_array();
-                    *o472 = x1204;
                     [x1205, _, _, _] = x918.to_array();
                     *o473 = x1205;
                     [_, x1206, _, _] = x918.to_array();
                     *o474 = x1206;
                     [_, _, x1207, _] = x918.to_array();
                     *o475 = x1207;
-                    [x1208, _, _, _] = x889.to_array();
-                    *o476 = x1208;
-                    [_, x1209, _, _] = x889.to_array();
-                    *o477 = x1209;
-                    [_, _, x1210, _] = x889.to_array();
-                    *o478 = x1210;
-                    [_, _, _, x1211] = x889.to_array();
-                    *o479 = x1211;
                     [x1212, _, _, _] = x921.to_array();
                     *o480 = x1212;
                     [_, x1213, _, _] = x921.to_array();
                     *o481 = x1213;
                     [_, _, x1214, _] = x921.to_array();
                     *o482 = x1214;
-                    [x1215, _, _, _] = x892.to_array();
-                    *o483 = x1215;
-                    [_, x1216, _, _] = x892.to_array();
-                    *o484 = x1216;
-                    [_, _, x1217, _] = x892.to_array();
-                    *o485 = x1217;
-                    [_, _, _, x1218] = x892.to_array();
-                    *o486 = x1218;
                     [x1219, _, _, _] = x923.to_array();
                     *o487 = x1219;
                     [_, x1220, _, _] = x923.to_array();
@@ -8687,37 +8305,28 @@ impl Regressors<7, 70> for PandaRounded {
                     _], [_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
                     _], [o63, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, o78, _, _, _,
                     _, _], [_, o85, _, _, _, _, _], [_, _, _, _, _, _, _], [o98, o99, _,
-                    _, _, _, _], [o105, o106, _, _, _, _, _], [o112, o113, o114, o115, _,
-                    _, _], [o119, o120, _, _, _, _, _], [o126, o127, _, _, _, _, _],
-                    [o133, o134, _, _, _, _, _], [o140, o141, o142, o143, _, _, _],
-                    [o147, o148, o149, o150, _, _, _], [o154, o155, o156, o157, _, _, _],
-                    [o161, o162, o163, o164, _, _, _], [o168, o169, o170, o171, _, _, _],
-                    [o175, o176, o177, o178, _, _, _], [o182, o183, o184, o185, _, _, _],
-                    [o189, o190, o191, o192, _, _, _], [o196, o197, o198, o199, _, _, _],
-                    [o203, o204, o205, o206, _, _, _], [o210, o211, o212, o213, _, _, _],
-                    [o217, o218, o219, o220, _, _, _], [o224, o225, o226, o227, _, _, _],
-                    [o231, o232, o233, o234, _, _, _], [o238, o239, o240, o241, _, _, _],
-                    [o245, o246, o247, o248, _, _, _], [o252, o253, o254, o255, _, _, _],
-                    [o259, o260, o261, o262, _, _, _], [o266, o267, o268, o269, _, _, _],
-                    [o273, o274, o275, o276, _, _, _], [o280, o281, o282, o283, _, _, _],
-                    [o287, o288, o289, o290, o291, _, _], [o294, o295, o296, o297, o298,
-                    _, _], [o301, o302, o303, o304, _, _, _], [o308, o309, o310, o311,
-                    o312, _, _], [o315, o316, o317, o318, o319, _, _], [o322, o323, o324,
-                    o325, o326, _, _], [o329, o330, o331, o332, o333, _, _], [o336, o337,
-                    o338, o339, o340, _, _], [o343, o344, o345, o346, o347, _, _], [o350,
-                    o351, o352, o353, _, _, _], [o357, o358, o359, o360, o361, o362, _],
-                    [o364, o365, o366, o367, o368, o369, _], [o371, o372, o373, o374,
-                    o375, _, _], [o378, o379, o380, o381, o382, o383, _], [o385, o386,
-                    o387, o388, o389, o390, _], [o392, o393, o394, o395, o396, o397, o398,
-                    ], [o399, o400, o401, o402, o403, o404, _], [o406, o407, o408, o409,
-                    o410, o411, _], [o413, o414, o415, o416, o417, o418, _], [o420, o421,
-                    o422, o423, o424, o425, o426], [o427, o428, o429, o430, o431, o432,
-                    o433], [o434, o435, o436, o437, o438, o439, o440], [o441, o442, o443,
-                    o444, o445, o446, o447], [o448, o449, o450, o451, o452, o453, o454],
-                    [o455, o456, o457, o458, o459, o460, o461], [o462, o463, o464, o465,
-                    o466, o467, o468], [o469, o470, o471, o472, o473, o474, o475], [o476,
-                    o477, o478, o479, o480, o481, o482], [o483, o484, o485, o486, o487,
-                    o488, o489]] = &mut out.data.0;
+                    _, _, _, _], [o105, o106, _, _, _, _, _], [g112 @ .., _, _, _],
+                    [o119, o120, _, _, _, _, _], [o126, o127, _, _, _, _, _], [o133,
+                    o134, _, _, _, _, _], [g140 @ .., _, _, _], [g147 @ .., _, _, _],
+                    [g154 @ .., _, _, _], [g161 @ .., _, _, _], [g168 @ .., _, _, _],
+                    [g175 @ .., _, _, _], [g182 @ .., _, _, _], [g189 @ .., _, _, _],
+                    [g196 @ .., _, _, _], [g203 @ .., _, _, _], [g210 @ .., _, _, _],
+                    [g217 @ .., _, _, _], [g224 @ .., _, _, _], [g231 @ .., _, _, _],
+                    [g238 @ .., _, _, _], [g245 @ .., _, _, _], [g252 @ .., _, _, _],
+                    [g259 @ .., _, _, _], [g266 @ .., _, _, _], [g273 @ .., _, _, _],
+                    [g280 @ .., _, _, _], [g287 @ .., o291, _, _], [g294 @ .., o298, _, _,
+                    ], [g301 @ .., _, _, _], [g308 @ .., o312, _, _], [g315 @ .., o319,
+                    _, _], [g322 @ .., o326, _, _], [g329 @ .., o333, _, _], [g336 @ ..,
+                    o340, _, _], [g343 @ .., o347, _, _], [g350 @ .., _, _, _],
+                    [g357 @ .., o361, o362, _], [g364 @ .., o368, o369, _], [g371 @ ..,
+                    o375, _, _], [g378 @ .., o382, o383, _], [g385 @ .., o389, o390, _],
+                    [g392 @ .., o396, o397, o398], [g399 @ .., o403, o404, _],
+                    [g406 @ .., o410, o411, _], [g413 @ .., o417, o418, _], [g420 @ ..,
+                    o424, o425, o426], [g427 @ .., o431, o432, o433], [g434 @ .., o438,
+                    o439, o440], [g441 @ .., o445, o446, o447], [g448 @ .., o452, o453,
+                    o454], [g455 @ .., o459, o460, o461], [g462 @ .., o466, o467, o468],
+                    [g469 @ .., o473, o474, o475], [g476 @ .., o480, o481, o482],
+                    [g483 @ .., o487, o488, o489]] = &mut out.data.0;
                     *o63 = a0;
                     let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
                     x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
@@ -8769,30 +8378,10 @@ impl Regressors<7, 70> for PandaRounded {
                     x539, x540, x541, x542, x543, x544, x545, x546, x547, x548, x549,
                     x550, x551, x552, x553, x554, x555, x556, x557, x571, x574, x575,
                     x577, x578, x595, x596, x597, x598, x599, x600, x601, x602, x603,
-                    x604, x605, x606, x607, x989, x990, x991, x992, x993, x994, x995,
-                    x996, x997, x998, x999, x1000, x1001, x1002, x1003, x1004, x1005,
-                    x1006, x1007, x1008, x1009, x1010, x1011, x1012, x1013, x1014, x1015,
-                    x1016, x1017, x1018, x1019, x1020, x1021, x1022, x1023, x1024, x1025,
-                    x1026, x1027, x1028, x1029, x1030, x1031, x1032, x1033, x1034, x1035,
-                    x1036, x1037, x1038, x1039, x1040, x1041, x1042, x1043, x1044, x1045,
-                    x1046, x1047, x1048, x1049, x1050, x1051, x1052, x1053, x1054, x1055,
-                    x1056, x1057, x1058, x1059, x1060, x1061, x1062, x1063, x1064, x1065,
-                    x1066, x1067, x1068, x1069, x1070, x1071, x1072, x1073, x1074, x1075,
-                    x1076, x1077, x1078, x1079, x1080, x1081, x1082, x1083, x1084, x1085,
-                    x1086, x1087, x1088, x1089, x1090, x1091, x1092, x1093, x1094, x1095,
-                    x1096, x1097, x1098, x1099, x1100, x1101, x1102, x1103, x1104, x1105,
-                    x1106, x1107, x1108, x1109, x1110, x1111, x1112, x1113, x1114, x1115,
-                    x1116, x1117, x1118, x1119, x1120, x1121, x1122, x1123, x1124, x1125,
-                    x1126, x1127, x1128, x1129, x1130, x1131, x1132, x1133, x1134, x1135,
-                    x1136, x1137, x1138, x1139, x1140, x1141, x1142, x1143, x1144, x1145,
-                    x1146, x1147, x1148, x1149, x1150, x1151, x1152, x1153, x1154, x1155,
-                    x1156, x1157, x1158, x1159, x1160, x1161, x1162, x1163, x1164, x1165,
-                    x1166, x1167, x1168, x1169, x1170, x1171, x1172, x1173, x1174, x1175,
-                    x1176, x1177, x1178, x1179, x1180, x1181, x1182, x1183, x1184, x1185,
-                    x1186, x1187, x1188, x1189, x1190, x1191, x1192, x1193, x1194, x1195,
-                    x1196, x1197, x1198, x1199, x1200, x1201, x1202, x1203, x1204, x1205,
-                    x1206, x1207, x1208, x1209, x1210, x1211, x1212, x1213, x1214, x1215,
-                    x1216, x1217, x1218, x1219, x1220, x1221]: [f64; 809];
+                    x604, x605, x606, x607, x1137, x1138, x1139, x1156, x1157, x1158,
+                    x1163, x1164, x1165, x1170, x1171, x1172, x1177, x1178, x1179, x1184,
+                    x1185, x1186, x1191, x1192, x1193, x1198, x1199, x1200, x1205, x1206,
+                    x1207, x1212, x1213, x1214, x1219, x1220, x1221]: [f64; 609];
                     let [x558, x559, x560, x561, x562, x563, x564, x565, x566, x567,
                     x568, x569, x570, x572, x573, x576, x579, x580, x581, x582, x583,
                     x584, x585, x586, x587, x588, x589, x590, x591, x592, x593, x594,
@@ -9486,6 +9075,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x617 = x616 * x579;
                     x618 = x615.mul_add(x576, x617);
                     x619 = x614 + x618;
+                    *g147 = x619.to_array();
                     x620 = arith.splat_four(x257);
                     x621 = arith.splat_four(x256);
                     x622 = x621 * x580;
@@ -9495,6 +9085,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x626 = x625 * x579;
                     x627 = x624.mul_add(x576, x626);
                     x628 = x623 + x627;
+                    *g154 = x628.to_array();
                     x629 = arith.splat_four(x241);
                     x630 = arith.splat_four(x260);
                     x631 = x630 * x573;
@@ -9502,12 +9093,14 @@ impl Regressors<7, 70> for PandaRounded {
                     x633 = arith.splat_four(x261);
                     x634 = x633 * x580;
                     x635 = x632 - x634;
+                    *g168 = x635.to_array();
                     x636 = arith.splat_four(x267);
                     x637 = arith.splat_four(x268);
                     x638 = x637 * x573;
                     x639 = x636.mul_add(x572, x638);
                     x640 = arith.splat_four(x269);
                     x641 = x640.mul_add(x580, x639);
+                    *g175 = x641.to_array();
                     x642 = arith.splat_four(x270);
                     x643 = arith.splat_four(x275);
                     x644 = arith.splat_four(x276);
@@ -9515,15 +9108,18 @@ impl Regressors<7, 70> for PandaRounded {
                     x646 = x643.mul_add(x572, x645);
                     x647 = arith.splat_four(x277);
                     x648 = x647.mul_add(x580, x646);
+                    *g189 = x648.to_array();
                     x649 = arith.splat_four(x281);
                     x650 = arith.splat_four(x282);
                     x651 = x650 * x573;
                     x652 = x649.mul_add(x572, x651);
                     x653 = arith.splat_four(x283);
                     x654 = x653.mul_add(x580, x652);
+                    *g196 = x654.to_array();
                     x655 = x642.mul_sub(x572, x631);
                     x656 = arith.splat_four(x243);
                     x657 = x656.mul_add(x580, x655);
+                    *g203 = x657.to_array();
                     x658 = x559.mul_add(x580, x579);
                     x659 = x560.mul_sub(x576, x586);
                     x660 = x561 * x576;
@@ -9539,6 +9135,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x670 = arith.splat_four(x312);
                     x671 = x670.mul_neg_add(x658, x669);
                     x672 = x665 + x671;
+                    *g217 = x672.to_array();
                     x673 = arith.splat_four(x316);
                     x674 = x673 * x583;
                     x675 = arith.splat_four(x317);
@@ -9550,6 +9147,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x681 = arith.splat_four(x320);
                     x682 = x681.mul_neg_add(x658, x680);
                     x683 = x676 + x682;
+                    *g224 = x683.to_array();
                     x684 = arith.splat_four(x296);
                     x685 = arith.splat_four(x321);
                     x686 = x685 * x585;
@@ -9557,12 +9155,14 @@ impl Regressors<7, 70> for PandaRounded {
                     x688 = arith.splat_four(x322);
                     x689 = x688 * x587;
                     x690 = x687 - x689;
+                    *g238 = x690.to_array();
                     x691 = arith.splat_four(x328);
                     x692 = arith.splat_four(x329);
                     x693 = x692 * x585;
                     x694 = x691.mul_add(x583, x693);
                     x695 = arith.splat_four(x330);
                     x696 = x695.mul_add(x587, x694);
+                    *g245 = x696.to_array();
                     x697 = arith.splat_four(x331);
                     x698 = arith.splat_four(x336);
                     x699 = arith.splat_four(x337);
@@ -9570,15 +9170,18 @@ impl Regressors<7, 70> for PandaRounded {
                     x701 = x698.mul_add(x583, x700);
                     x702 = arith.splat_four(x338);
                     x703 = x702.mul_add(x587, x701);
+                    *g259 = x703.to_array();
                     x704 = arith.splat_four(x342);
                     x705 = arith.splat_four(x343);
                     x706 = x705 * x585;
                     x707 = x704.mul_add(x583, x706);
                     x708 = arith.splat_four(x344);
                     x709 = x708.mul_add(x587, x707);
+                    *g266 = x709.to_array();
                     x710 = x697.mul_sub(x583, x686);
                     x711 = arith.splat_four(x298);
                     x712 = x711.mul_add(x587, x710);
+                    *g273 = x712.to_array();
                     x713 = x562.mul_neg_add(x587, x659);
                     x714 = x563.mul_sub(x587, x661);
                     x715 = x593 + x658;
@@ -9598,6 +9201,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x729 = arith.splat_four(x373);
                     x730 = x729.mul_add(x714, x728);
                     x731 = x724 + x730;
+                    *g287 = x731.to_array();
                     x732 = arith.splat_four(x376);
                     x733 = arith.splat_four(x377);
                     x734 = x733 * x585;
@@ -9609,34 +9213,40 @@ impl Regressors<7, 70> for PandaRounded {
                     x740 = arith.splat_four(x380);
                     x741 = x740.mul_add(x714, x739);
                     x742 = x735 + x741;
+                    *g294 = x742.to_array();
                     x743 = arith.splat_four(x357);
                     x744 = arith.splat_four(x381);
                     x745 = x744 * x592;
                     x746 = x743.mul_sub(x590, x745);
                     x747 = arith.splat_four(x382);
                     x748 = x747.mul_add(x585, x746);
+                    *g308 = x748.to_array();
                     x749 = arith.splat_four(x388);
                     x750 = arith.splat_four(x389);
                     x751 = x750 * x592;
                     x752 = x749.mul_add(x590, x751);
                     x753 = arith.splat_four(x390);
                     x754 = x753.mul_sub(x585, x752);
+                    *g315 = x754.to_array();
                     x755 = arith.splat_four(x396);
                     x756 = arith.splat_four(x397);
                     x757 = x756 * x592;
                     x758 = x755.mul_sub(x590, x757);
                     x759 = arith.splat_four(x398);
                     x760 = x759.mul_add(x585, x758);
+                    *g329 = x760.to_array();
                     x761 = arith.splat_four(x402);
                     x762 = arith.splat_four(x403);
                     x763 = x762 * x592;
                     x764 = x761.mul_add(x590, x763);
                     x765 = arith.splat_four(x404);
                     x766 = x765.mul_sub(x585, x764);
+                    *g336 = x766.to_array();
                     x767 = arith.splat_four(x405);
                     x768 = x767.mul_add(x590, x745);
                     x769 = arith.splat_four(x359);
                     x770 = x769.mul_add(x585, x768);
+                    *g343 = x770.to_array();
                     x771 = x567 * x585;
                     x772 = x566.mul_add(x590, x771);
                     x773 = x566 * x585;
@@ -9657,6 +9267,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x788 = arith.splat_four(x433);
                     x789 = x788.mul_add(x779, x787);
                     x790 = x783 + x789;
+                    *g357 = x790.to_array();
                     x791 = arith.splat_four(x436);
                     x792 = arith.splat_four(x437);
                     x793 = x792 * x592;
@@ -9668,6 +9279,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x799 = arith.splat_four(x440);
                     x800 = x799.mul_add(x779, x798);
                     x801 = x794 + x800;
+                    *g364 = x801.to_array();
                     x802 = arith.splat_four(x418);
                     x803 = arith.splat_four(x441);
                     x804 = x803 * x774;
@@ -9675,12 +9287,14 @@ impl Regressors<7, 70> for PandaRounded {
                     x806 = arith.splat_four(x442);
                     x807 = x806 * x592;
                     x808 = x805 - x807;
+                    *g378 = x808.to_array();
                     x809 = arith.splat_four(x449);
                     x810 = arith.splat_four(x450);
                     x811 = x810 * x774;
                     x812 = x809.mul_add(x772, x811);
                     x813 = arith.splat_four(x451);
                     x814 = x813.mul_add(x592, x812);
+                    *g385 = x814.to_array();
                     x815 = arith.splat_four(x452);
                     x816 = arith.splat_four(x457);
                     x817 = arith.splat_four(x458);
@@ -9688,15 +9302,18 @@ impl Regressors<7, 70> for PandaRounded {
                     x819 = x816.mul_add(x772, x818);
                     x820 = arith.splat_four(x459);
                     x821 = x820.mul_add(x592, x819);
+                    *g399 = x821.to_array();
                     x822 = arith.splat_four(x463);
                     x823 = arith.splat_four(x464);
                     x824 = x823 * x774;
                     x825 = x822.mul_add(x772, x824);
                     x826 = arith.splat_four(x465);
                     x827 = x826.mul_add(x592, x825);
+                    *g406 = x827.to_array();
                     x828 = x815.mul_sub(x772, x804);
                     x829 = arith.splat_four(x420);
                     x830 = x829.mul_add(x592, x828);
+                    *g413 = x830.to_array();
                     x831 = x570 * x592;
                     x832 = x569.mul_add(x772, x831);
                     x833 = x570 * x772;
@@ -9719,6 +9336,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x850 = arith.splat_four(x494);
                     x851 = x850.mul_neg_add(x836, x849);
                     x852 = x845 + x851;
+                    *g427 = x852.to_array();
                     x853 = arith.splat_four(x497);
                     x854 = arith.splat_four(x498);
                     x855 = x854 * x835;
@@ -9730,6 +9348,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x861 = arith.splat_four(x501);
                     x862 = x861.mul_neg_add(x836, x860);
                     x863 = x856 + x862;
+                    *g434 = x863.to_array();
                     x864 = arith.splat_four(x478);
                     x865 = arith.splat_four(x502);
                     x866 = x865 * x834;
@@ -9737,12 +9356,14 @@ impl Regressors<7, 70> for PandaRounded {
                     x868 = arith.splat_four(x503);
                     x869 = x868 * x835;
                     x870 = x867 - x869;
+                    *g448 = x870.to_array();
                     x871 = arith.splat_four(x509);
                     x872 = arith.splat_four(x510);
                     x873 = x872 * x834;
                     x874 = x871.mul_add(x832, x873);
                     x875 = arith.splat_four(x511);
                     x876 = x875.mul_add(x835, x874);
+                    *g455 = x876.to_array();
                     x877 = arith.splat_four(x512);
                     x878 = arith.splat_four(x517);
                     x879 = arith.splat_four(x518);
@@ -9750,15 +9371,18 @@ impl Regressors<7, 70> for PandaRounded {
                     x881 = x878.mul_add(x832, x880);
                     x882 = arith.splat_four(x519);
                     x883 = x882.mul_add(x835, x881);
+                    *g469 = x883.to_array();
                     x884 = arith.splat_four(x523);
                     x885 = arith.splat_four(x524);
                     x886 = x885 * x834;
                     x887 = x884.mul_add(x832, x886);
                     x888 = arith.splat_four(x525);
                     x889 = x888.mul_add(x835, x887);
+                    *g476 = x889.to_array();
                     x890 = x877.mul_sub(x832, x866);
                     x891 = arith.splat_four(x480);
                     x892 = x891.mul_add(x835, x890);
+                    *g483 = x892.to_array();
                     x893 = arith.four([x540, x430, 0.0, 0.0]);
                     x894 = arith.four([x541, x437, 0.0, 0.0]);
                     x895 = arith.four([x543, x443, 0.0, 0.0]);
@@ -9793,6 +9417,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x924 = arith.four([0.0, x553, 0.0, 0.0]);
                     x925 = arith.four([0.0, x3, 0.0, 0.0]);
                     x926 = x608 - x609;
+                    *g112 = x926.to_array();
                     x927 = arith.splat_four(0.099856f64);
                     x928 = x927.mul_add(x609, x924);
                     x929 = arith.splat_four(0.632f64);
@@ -9800,17 +9425,22 @@ impl Regressors<7, 70> for PandaRounded {
                     x931 = arith.splat_four(0.10666225f64);
                     x932 = x931.mul_add(x609, x924);
                     x933 = x927.mul_add(x610, x928);
+                    *g140 = x933.to_array();
                     x934 = x929.mul_add(x610, x930);
+                    *g161 = x934.to_array();
                     x935 = x609 + x610;
                     x936 = x931.mul_add(x610, x932);
                     x937 = x559.mul_add(x619, x936);
                     x938 = x634 - x632;
                     x939 = x935 + x938;
+                    *g182 = x939.to_array();
                     x940 = arith.splat_four(-0.00680625f64);
                     x941 = x940.mul_add(x635, x937);
                     x942 = x559.mul_sub(x641, x628);
+                    *g231 = x942.to_array();
                     x943 = arith.splat_four(0.00680625f64);
                     x944 = x943.mul_add(x657, x941);
+                    *g210 = x944.to_array();
                     x945 = x635 + x657;
                     x946 = arith.splat_four(0.0136125f64);
                     x947 = x946.mul_add(x657, x937);
@@ -9818,6 +9448,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x949 = x562.mul_add(x683, x948);
                     x950 = x689 - x687;
                     x951 = x945 + x950;
+                    *g252 = x951.to_array();
                     x952 = arith.splat_four(0.14064975f64);
                     x953 = x952.mul_add(x690, x949);
                     x954 = arith.splat_four(0.768f64);
@@ -9827,10 +9458,15 @@ impl Regressors<7, 70> for PandaRounded {
                     x958 = x559.mul_add(x696, x955);
                     x959 = arith.splat_four(0.15426225f64);
                     x960 = x959.mul_add(x712, x957);
+                    *g280 = x960.to_array();
+                    *g350 = x960.to_array();
                     x961 = x954.mul_add(x712, x958);
+                    *g301 = x961.to_array();
                     x962 = x690 + x712;
                     x963 = -x742;
+                    *g371 = x963.to_array();
                     x964 = x962 - x748;
+                    *g322 = x964.to_array();
                     x965 = arith.splat_four(0.007744f64);
                     x966 = x965.mul_add(x748, x960);
                     x967 = x748 + x770;
@@ -9841,484 +9477,84 @@ impl Regressors<7, 70> for PandaRounded {
                     x972 = x568.mul_add(x893, x970);
                     x973 = x807 - x805;
                     x974 = x967 + x973;
+                    *g392 = x974.to_array();
                     x975 = x968 - x895;
                     x976 = arith.splat_four(-0.007744f64);
                     x977 = x976.mul_add(x808, x971);
                     x978 = x976.mul_add(x895, x972);
                     x979 = x568.mul_sub(x814, x801);
+                    *g441 = x979.to_array();
                     x980 = x568.mul_sub(x896, x894);
                     x981 = x965.mul_add(x830, x977);
+                    *g420 = x981.to_array();
                     x982 = x965.mul_add(x897, x978);
                     x983 = x808 + x830;
                     x984 = x895 + x897;
                     x985 = x869 - x867;
                     x986 = x983 + x985;
+                    *g462 = x986.to_array();
                     x987 = x911 - x910;
                     x988 = x984 + x987;
-                    [x989, _, _, _] = x926.to_array();
-                    *o112 = x989;
-                    [_, x990, _, _] = x926.to_array();
-                    *o113 = x990;
-                    [_, _, x991, _] = x926.to_array();
-                    *o114 = x991;
-                    [_, _, _, x992] = x926.to_array();
-                    *o115 = x992;
-                    [x993, _, _, _] = x933.to_array();
-                    *o140 = x993;
-                    [_, x994, _, _] = x933.to_array();
-                    *o141 = x994;
-                    [_, _, x995, _] = x933.to_array();
-                    *o142 = x995;
-                    [_, _, _, x996] = x933.to_array();
-                    *o143 = x996;
-                    [x997, _, _, _] = x619.to_array();
-                    *o147 = x997;
-                    [_, x998, _, _] = x619.to_array();
-                    *o148 = x998;
-                    [_, _, x999, _] = x619.to_array();
-                    *o149 = x999;
-                    [_, _, _, x1000] = x619.to_array();
-                    *o150 = x1000;
-                    [x1001, _, _, _] = x628.to_array();
-                    *o154 = x1001;
-                    [_, x1002, _, _] = x628.to_array();
-                    *o155 = x1002;
-                    [_, _, x1003, _] = x628.to_array();
-                    *o156 = x1003;
-                    [_, _, _, x1004] = x628.to_array();
-                    *o157 = x1004;
-                    [x1005, _, _, _] = x934.to_array();
-                    *o161 = x1005;
-                    [_, x1006, _, _] = x934.to_array();
-                    *o162 = x1006;
-                    [_, _, x1007, _] = x934.to_array();
-                    *o163 = x1007;
-                    [_, _, _, x1008] = x934.to_array();
-                    *o164 = x1008;
-                    [x1009, _, _, _] = x635.to_array();
-                    *o168 = x1009;
-                    [_, x1010, _, _] = x635.to_array();
-                    *o169 = x1010;
-                    [_, _, x1011, _] = x635.to_array();
-                    *o170 = x1011;
-                    [_, _, _, x1012] = x635.to_array();
-                    *o171 = x1012;
-                    [x1013, _, _, _] = x641.to_array();
-                    *o175 = x1013;
-                    [_, x1014, _, _] = x641.to_array();
-                    *o176 = x1014;
-                    [_, _, x1015, _] = x641.to_array();
-                    *o177 = x1015;
-                    [_, _, _, x1016] = x641.to_array();
-                    *o178 = x1016;
-                    [x1017, _, _, _] = x939.to_array();
-                    *o182 = x1017;
-                    [_, x1018, _, _] = x939.to_array();
-                    *o183 = x1018;
-                    [_, _, x1019, _] = x939.to_array();
-                    *o184 = x1019;
-                    [_, _, _, x1020] = x939.to_array();
-                    *o185 = x1020;
-                    [x1021, _, _, _] = x648.to_array();
-                    *o189 = x1021;
-                    [_, x1022, _, _] = x648.to_array();
-                    *o190 = x1022;
-                    [_, _, x1023, _] = x648.to_array();
-                    *o191 = x1023;
-                    [_, _, _, x1024] = x648.to_array();
-                    *o192 = x1024;
-                    [x1025, _, _, _] = x654.to_array();
-                    *o196 = x1025;
-                    [_, x1026, _, _] = x654.to_array();
-                    *o197 = x1026;
-                    [_, _, x1027, _] = x654.to_array();
-                    *o198 = x1027;
-                    [_, _, _, x1028] = x654.to_array();
-                    *o199 = x1028;
-                    [x1029, _, _, _] = x657.to_array();
-                    *o203 = x1029;
-                    [_, x1030, _, _] = x657.to_array();
-                    *o204 = x1030;
-                    [_, _, x1031, _] = x657.to_array();
-                    *o205 = x1031;
-                    [_, _, _, x1032] = x657.to_array();
-                    *o206 = x1032;
-                    [x1033, _, _, _] = x944.to_array();
-                    *o210 = x1033;
-                    [_, x1034, _, _] = x944.to_array();
-                    *o211 = x1034;
-                    [_, _, x1035, _] = x944.to_array();
-                    *o212 = x1035;
-                    [_, _, _, x1036] = x944.to_array();
-                    *o213 = x1036;
-                    [x1037, _, _, _] = x672.to_array();
-                    *o217 = x1037;
-                    [_, x1038, _, _] = x672.to_array();
-                    *o218 = x1038;
-                    [_, _, x1039, _] = x672.to_array();
-                    *o219 = x1039;
-                    [_, _, _, x1040] = x672.to_array();
-                    *o220 = x1040;
-                    [x1041, _, _, _] = x683.to_array();
-                    *o224 = x1041;
-                    [_, x1042, _, _] = x683.to_array();
-                    *o225 = x1042;
-                    [_, _, x1043, _] = x683.to_array();
-                    *o226 = x1043;
-                    [_, _, _, x1044] = x683.to_array();
-                    *o227 = x1044;
-                    [x1045, _, _, _] = x942.to_array();
-                    *o231 = x1045;
-                    [_, x1046, _, _] = x942.to_array();
-                    *o232 = x1046;
-                    [_, _, x1047, _] = x942.to_array();
-                    *o233 = x1047;
-                    [_, _, _, x1048] = x942.to_array();
-                    *o234 = x1048;
-                    [x1049, _, _, _] = x690.to_array();
-                    *o238 = x1049;
-                    [_, x1050, _, _] = x690.to_array();
-                    *o239 = x1050;
-                    [_, _, x1051, _] = x690.to_array();
-                    *o240 = x1051;
-                    [_, _, _, x1052] = x690.to_array();
-                    *o241 = x1052;
-                    [x1053, _, _, _] = x696.to_array();
-                    *o245 = x1053;
-                    [_, x1054, _, _] = x696.to_array();
-                    *o246 = x1054;
-                    [_, _, x1055, _] = x696.to_array();
-                    *o247 = x1055;
-                    [_, _, _, x1056] = x696.to_array();
-                    *o248 = x1056;
-                    [x1057, _, _, _] = x951.to_array();
-                    *o252 = x1057;
-                    [_, x1058, _, _] = x951.to_array();
-                    *o253 = x1058;
-                    [_, _, x1059, _] = x951.to_array();
-                    *o254 = x1059;
-                    [_, _, _, x1060] = x951.to_array();
-                    *o255 = x1060;
-                    [x1061, _, _, _] = x703.to_array();
-                    *o259 = x1061;
-                    [_, x1062, _, _] = x703.to_array();
-                    *o260 = x1062;
-                    [_, _, x1063, _] = x703.to_array();
-                    *o261 = x1063;
-                    [_, _, _, x1064] = x703.to_array();
-                    *o262 = x1064;
-                    [x1065, _, _, _] = x709.to_array();
-                    *o266 = x1065;
-                    [_, x1066, _, _] = x709.to_array();
-                    *o267 = x1066;
-                    [_, _, x1067, _] = x709.to_array();
-                    *o268 = x1067;
-                    [_, _, _, x1068] = x709.to_array();
-                    *o269 = x1068;
-                    [x1069, _, _, _] = x712.to_array();
-                    *o273 = x1069;
-                    [_, x1070, _, _] = x712.to_array();
-                    *o274 = x1070;
-                    [_, _, x1071, _] = x712.to_array();
-                    *o275 = x1071;
-                    [_, _, _, x1072] = x712.to_array();
-                    *o276 = x1072;
-                    [x1073, _, _, _] = x960.to_array();
-                    *o280 = x1073;
-                    *o350 = x1073;
-                    [_, x1074, _, _] = x960.to_array();
-                    *o281 = x1074;
-                    *o351 = x1074;
-                    [_, _, x1075, _] = x960.to_array();
-                    *o282 = x1075;
-                    *o352 = x1075;
-                    [_, _, _, x1076] = x960.to_array();
-                    *o283 = x1076;
-                    *o353 = x1076;
-                    [x1077, _, _, _] = x731.to_array();
-                    *o287 = x1077;
-                    [_, x1078, _, _] = x731.to_array();
-                    *o288 = x1078;
-                    [_, _, x1079, _] = x731.to_array();
-                    *o289 = x1079;
-                    [_, _, _, x1080] = x731.to_array();
-                    *o290 = x1080;
-                    [x1081, _, _, _] = x742.to_array();
-                    *o294 = x1081;
-                    [_, x1082, _, _] = x742.to_array();
-                    *o295 = x1082;
-                    [_, _, x1083, _] = x742.to_array();
-                    *o296 = x1083;
-                    [_, _, _, x1084] = x742.to_array();
-                    *o297 = x1084;
-                    [x1085, _, _, _] = x961.to_array();
-                    *o301 = x1085;
-                    [_, x1086, _, _] = x961.to_array();
-                    *o302 = x1086;
-                    [_, _, x1087, _] = x961.to_array();
-                    *o303 = x1087;
-                    [_, _, _, x1088] = x961.to_array();
-                    *o304 = x1088;
-                    [x1089, _, _, _] = x748.to_array();
-                    *o308 = x1089;
-                    [_, x1090, _, _] = x748.to_array();
-                    *o309 = x1090;
-                    [_, _, x1091, _] = x748.to_array();
-                    *o310 = x1091;
-                    [_, _, _, x1092] = x748.to_array();
-                    *o311 = x1092;
-                    [x1093, _, _, _] = x754.to_array();
-                    *o315 = x1093;
-                    [_, x1094, _, _] = x754.to_array();
-                    *o316 = x1094;
-                    [_, _, x1095, _] = x754.to_array();
-                    *o317 = x1095;
-                    [_, _, _, x1096] = x754.to_array();
-                    *o318 = x1096;
-                    [x1097, _, _, _] = x964.to_array();
-                    *o322 = x1097;
-                    [_, x1098, _, _] = x964.to_array();
-                    *o323 = x1098;
-                    [_, _, x1099, _] = x964.to_array();
-                    *o324 = x1099;
-                    [_, _, _, x1100] = x964.to_array();
-                    *o325 = x1100;
-                    [x1101, _, _, _] = x760.to_array();
-                    *o329 = x1101;
-                    [_, x1102, _, _] = x760.to_array();
-                    *o330 = x1102;
-                    [_, _, x1103, _] = x760.to_array();
-                    *o331 = x1103;
-                    [_, _, _, x1104] = x760.to_array();
-                    *o332 = x1104;
-                    [x1105, _, _, _] = x766.to_array();
-                    *o336 = x1105;
-                    [_, x1106, _, _] = x766.to_array();
-                    *o337 = x1106;
-                    [_, _, x1107, _] = x766.to_array();
-                    *o338 = x1107;
-                    [_, _, _, x1108] = x766.to_array();
-                    *o339 = x1108;
-                    [x1109, _, _, _] = x770.to_array();
-                    *o343 = x1109;
-                    [_, x1110, _, _] = x770.to_array();
-                    *o344 = x1110;
-                    [_, _, x1111, _] = x770.to_array();
-                    *o345 = x1111;
-                    [_, _, _, x1112] = x770.to_array();
-                    *o346 = x1112;
-                    [x1113, _, _, _] = x790.to_array();
-                    *o357 = x1113;
-                    [_, x1114, _, _] = x790.to_array();
-                    *o358 = x1114;
-                    [_, _, x1115, _] = x790.to_array();
-                    *o359 = x1115;
-                    [_, _, _, x1116] = x790.to_array();
-                    *o360 = x1116;
-                    [x1117, _, _, _] = x801.to_array();
-                    *o364 = x1117;
-                    [_, x1118, _, _] = x801.to_array();
-                    *o365 = x1118;
-                    [_, _, x1119, _] = x801.to_array();
-                    *o366 = x1119;
-                    [_, _, _, x1120] = x801.to_array();
-                    *o367 = x1120;
-                    [x1121, _, _, _] = x963.to_array();
-                    *o371 = x1121;
-                    [_, x1122, _, _] = x963.to_array();
-                    *o372 = x1122;
-                    [_, _, x1123, _] = x963.to_array();
-                    *o373 = x1123;
-                    [_, _, _, x1124] = x963.to_array();
-                    *o374 = x1124;
-                    [x1125, _, _, _] = x808.to_array();
-                    *o378 = x1125;
-                    [_, x1126, _, _] = x808.to_array();
-                    *o379 = x1126;
-                    [_, _, x1127, _] = x808.to_array();
-                    *o380 = x1127;
-                    [_, _, _, x1128] = x808.to_array();
-                    *o381 = x1128;
-                    [x1129, _, _, _] = x814.to_array();
-                    *o385 = x1129;
-                    [_, x1130, _, _] = x814.to_array();
-                    *o386 = x1130;
-                    [_, _, x1131, _] = x814.to_array();
-                    *o387 = x1131;
-                    [_, _, _, x1132] = x814.to_array();
-                    *o388 = x1132;
-                    [x1133, _, _, _] = x974.to_array();
-                    *o392 = x1133;
-                    [_, x1134, _, _] = x974.to_array();
-                    *o393 = x1134;
-                    [_, _, x1135, _] = x974.to_array();
-                    *o394 = x1135;
-                    [_, _, _, x1136] = x974.to_array();
-                    *o395 = x1136;
                     [x1137, _, _, _] = x975.to_array();
                     *o396 = x1137;
                     [_, x1138, _, _] = x975.to_array();
                     *o397 = x1138;
                     [_, _, x1139, _] = x975.to_array();
                     *o398 = x1139;
-                    [x1140, _, _, _] = x821.to_array();
-                    *o399 = x1140;
-                    [_, x1141, _, _] = x821.to_array();
-                    *o400 = x1141;
-                    [_, _, x1142, _] = x821.to_array();
-                    *o401 = x1142;
-                    [_, _, _, x1143] = x821.to_array();
-                    *o402 = x1143;
-                    [x1144, _, _, _] = x827.to_array();
-                    *o406 = x1144;
-                    [_, x1145, _, _] = x827.to_array();
-                    *o407 = x1145;
-                    [_, _, x1146, _] = x827.to_array();
-                    *o408 = x1146;
-                    [_, _, _, x1147] = x827.to_array();
-                    *o409 = x1147;
-                    [x1148, _, _, _] = x830.to_array();
-                    *o413 = x1148;
-                    [_, x1149, _, _] = x830.to_array();
-                    *o414 = x1149;
-                    [_, _, x1150, _] = x830.to_array();
-                    *o415 = x1150;
-                    [_, _, _, x1151] = x830.to_array();
-                    *o416 = x1151;
-                    [x1152, _, _, _] = x981.to_array();
-                    *o420 = x1152;
-                    [_, x1153, _, _] = x981.to_array();
-                    *o421 = x1153;
-                    [_, _, x1154, _] = x981.to_array();
-                    *o422 = x1154;
-                    [_, _, _, x1155] = x981.to_array();
-                    *o423 = x1155;
                     [x1156, _, _, _] = x982.to_array();
                     *o424 = x1156;
                     [_, x1157, _, _] = x982.to_array();
                     *o425 = x1157;
                     [_, _, x1158, _] = x982.to_array();
                     *o426 = x1158;
-                    [x1159, _, _, _] = x852.to_array();
-                    *o427 = x1159;
-                    [_, x1160, _, _] = x852.to_array();
-                    *o428 = x1160;
-                    [_, _, x1161, _] = x852.to_array();
-                    *o429 = x1161;
-                    [_, _, _, x1162] = x852.to_array();
-                    *o430 = x1162;
                     [x1163, _, _, _] = x904.to_array();
                     *o431 = x1163;
                     [_, x1164, _, _] = x904.to_array();
                     *o432 = x1164;
                     [_, _, x1165, _] = x904.to_array();
                     *o433 = x1165;
-                    [x1166, _, _, _] = x863.to_array();
-                    *o434 = x1166;
-                    [_, x1167, _, _] = x863.to_array();
-                    *o435 = x1167;
-                    [_, _, x1168, _] = x863.to_array();
-                    *o436 = x1168;
-                    [_, _, _, x1169] = x863.to_array();
-                    *o437 = x1169;
                     [x1170, _, _, _] = x908.to_array();
                     *o438 = x1170;
                     [_, x1171, _, _] = x908.to_array();
                     *o439 = x1171;
                     [_, _, x1172, _] = x908.to_array();
                     *o440 = x1172;
-                    [x1173, _, _, _] = x979.to_array();
-                    *o441 = x1173;
-                    [_, x1174, _, _] = x979.to_array();
-                    *o442 = x1174;
-                    [_, _, x1175, _] = x979.to_array();
-                    *o443 = x1175;
-                    [_, _, _, x1176] = x979.to_array();
-                    *o444 = x1176;
                     [x1177, _, _, _] = x980.to_array();
                     *o445 = x1177;
                     [_, x1178, _, _] = x980.to_array();
                     *o446 = x1178;
                     [_, _, x1179, _] = x980.to_array();
                     *o447 = x1179;
-                    [x1180, _, _, _] = x870.to_array();
-                    *o448 = x1180;
-                    [_, x1181, _, _] = x870.to_array();
-                    *o449 = x1181;
-                    [_, _, x1182, _] = x870.to_array();
-                    *o450 = x1182;
-                    [_, _, _, x1183] = x870.to_array();
-                    *o451 = x1183;
                     [x1184, _, _, _] = x912.to_array();
                     *o452 = x1184;
                     [_, x1185, _, _] = x912.to_array();
                     *o453 = x1185;
                     [_, _, x1186, _] = x912.to_array();
                     *o454 = x1186;
-                    [x1187, _, _, _] = x876.to_array();
-                    *o455 = x1187;
-                    [_, x1188, _, _] = x876.to_array();
-                    *o456 = x1188;
-                    [_, _, x1189, _] = x876.to_array();
-                    *o457 = x1189;
-                    [_, _, _, x1190] = x876.to_array();
-                    *o458 = x1190;
                     [x1191, _, _, _] = x915.to_array();
                     *o459 = x1191;
                     [_, x1192, _, _] = x915.to_array();
                     *o460 = x1192;
                     [_, _, x1193, _] = x915.to_array();
                     *o461 = x1193;
-                    [x1194, _, _, _] = x986.to_array();
-                    *o462 = x1194;
-                    [_, x1195, _, _] = x986.to_array();
-                    *o463 = x1195;
-                    [_, _, x1196, _] = x986.to_array();
-                    *o464 = x1196;
-                    [_, _, _, x1197] = x986.to_array();
-                    *o465 = x1197;
                     [x1198, _, _, _] = x988.to_array();
                     *o466 = x1198;
                     [_, x1199, _, _] = x988.to_array();
                     *o467 = x1199;
                     [_, _, x1200, _] = x988.to_array();
                     *o468 = x1200;
-                    [x1201, _, _, _] = x883.to_array();
-                    *o469 = x1201;
-                    [_, x1202, _, _] = x883.to_array();
-                    *o470 = x1202;
-                    [_, _, x1203, _] = x883.to_array();
-                    *o471 = x1203;
-                    [_, _, _, x1204] = x883.to_array();
-                    *o472 = x1204;
                     [x1205, _, _, _] = x918.to_array();
                     *o473 = x1205;
                     [_, x1206, _, _] = x918.to_array();
                     *o474 = x1206;
                     [_, _, x1207, _] = x918.to_array();
                     *o475 = x1207;
-                    [x1208, _, _, _] = x889.to_array();
-                    *o476 = x1208;
-                    [_, x1209, _, _] = x889.to_array();
-                    *o477 = x1209;
-                    [_, _, x1210, _] = x889.to_array();
-                    *o478 = x1210;
-                    [_, _, _, x1211] = x889.to_array();
-                    *o479 = x1211;
                     [x1212, _, _, _] = x921.to_array();
                     *o480 = x1212;
                     [_, x1213, _, _] = x921.to_array();
                     *o481 = x1213;
                     [_, _, x1214, _] = x921.to_array();
                     *o482 = x1214;
-                    [x1215, _, _, _] = x892.to_array();
-                    *o483 = x1215;
-                    [_, x1216, _, _] = x892.to_array();
-                    *o484 = x1216;
-                    [_, _, x1217, _] = x892.to_array();
-                    *o485 = x1217;
-                    [_, _, _, x1218] = x892.to_array();
-                    *o486 = x1218;
                     [x1219, _, _, _] = x923.to_array();
                     *o487 = x1219;
                     [_, x1220, _, _] = x923.to_array();
@@ -10361,37 +9597,28 @@ impl Regressors<7, 70> for PandaRounded {
                     _], [_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
                     _], [o63, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, o78, _, _, _,
                     _, _], [_, o85, _, _, _, _, _], [_, _, _, _, _, _, _], [o98, o99, _,
-                    _, _, _, _], [o105, o106, _, _, _, _, _], [o112, o113, o114, o115, _,
-                    _, _], [o119, o120, _, _, _, _, _], [o126, o127, _, _, _, _, _],
-                    [o133, o134, _, _, _, _, _], [o140, o141, o142, o143, _, _, _],
-                    [o147, o148, o149, o150, _, _, _], [o154, o155, o156, o157, _, _, _],
-                    [o161, o162, o163, o164, _, _, _], [o168, o169, o170, o171, _, _, _],
-                    [o175, o176, o177, o178, _, _, _], [o182, o183, o184, o185, _, _, _],
-                    [o189, o190, o191, o192, _, _, _], [o196, o197, o198, o199, _, _, _],
-                    [o203, o204, o205, o206, _, _, _], [o210, o211, o212, o213, _, _, _],
-                    [o217, o218, o219, o220, _, _, _], [o224, o225, o226, o227, _, _, _],
-                    [o231, o232, o233, o234, _, _, _], [o238, o239, o240, o241, _, _, _],
-                    [o245, o246, o247, o248, _, _, _], [o252, o253, o254, o255, _, _, _],
-                    [o259, o260, o261, o262, _, _, _], [o266, o267, o268, o269, _, _, _],
-                    [o273, o274, o275, o276, _, _, _], [o280, o281, o282, o283, _, _, _],
-                    [o287, o288, o289, o290, o291, _, _], [o294, o295, o296, o297, o298,
-                    _, _], [o301, o302, o303, o304, _, _, _], [o308, o309, o310, o311,
-                    o312, _, _], [o315, o316, o317, o318, o319, _, _], [o322, o323, o324,
-                    o325, o326, _, _], [o329, o330, o331, o332, o333, _, _], [o336, o337,
-                    o338, o339, o340, _, _], [o343, o344, o345, o346, o347, _, _], [o350,
-                    o351, o352, o353, _, _, _], [o357, o358, o359, o360, o361, o362, _],
-                    [o364, o365, o366, o367, o368, o369, _], [o371, o372, o373, o374,
-                    o375, _, _], [o378, o379, o380, o381, o382, o383, _], [o385, o386,
-                    o387, o388, o389, o390, _], [o392, o393, o394, o395, o396, o397, o398,
-                    ], [o399, o400, o401, o402, o403, o404, _], [o406, o407, o408, o409,
-                    o410, o411, _], [o413, o414, o415, o416, o417, o418, _], [o420, o421,
-                    o422, o423, o424, o425, o426], [o427, o428, o429, o430, o431, o432,
-                    o433], [o434, o435, o436, o437, o438, o439, o440], [o441, o442, o443,
-                    o444, o445, o446, o447], [o448, o449, o450, o451, o452, o453, o454],
-                    [o455, o456, o457, o458, o459, o460, o461], [o462, o463, o464, o465,
-                    o466, o467, o468], [o469, o470, o471, o472, o473, o474, o475], [o476,
-                    o477, o478, o479, o480, o481, o482], [o483, o484, o485, o486, o487,
-                    o488, o489]] = &mut out.data.0;
+                    _, _, _, _], [o105, o106, _, _, _, _, _], [g112 @ .., _, _, _],
+                    [o119, o120, _, _, _, _, _], [o126, o127, _, _, _, _, _], [o133,
+                    o134, _, _, _, _, _], [g140 @ .., _, _, _], [g147 @ .., _, _, _],
+                    [g154 @ .., _, _, _], [g161 @ .., _, _, _], [g168 @ .., _, _, _],
+                    [g175 @ .., _, _, _], [g182 @ .., _, _, _], [g189 @ .., _, _, _],
+                    [g196 @ .., _, _, _], [g203 @ .., _, _, _], [g210 @ .., _, _, _],
+                    [g217 @ .., _, _, _], [g224 @ .., _, _, _], [g231 @ .., _, _, _],
+                    [g238 @ .., _, _, _], [g245 @ .., _, _, _], [g252 @ .., _, _, _],
+                    [g259 @ .., _, _, _], [g266 @ .., _, _, _], [g273 @ .., _, _, _],
+                    [g280 @ .., _, _, _], [g287 @ .., o291, _, _], [g294 @ .., o298, _, _,
+                    ], [g301 @ .., _, _, _], [g308 @ .., o312, _, _], [g315 @ .., o319,
+                    _, _], [g322 @ .., o326, _, _], [g329 @ .., o333, _, _], [g336 @ ..,
+                    o340, _, _], [g343 @ .., o347, _, _], [g350 @ .., _, _, _],
+                    [g357 @ .., o361, o362, _], [g364 @ .., o368, o369, _], [g371 @ ..,
+                    o375, _, _], [g378 @ .., o382, o383, _], [g385 @ .., o389, o390, _],
+                    [g392 @ .., o396, o397, o398], [g399 @ .., o403, o404, _],
+                    [g406 @ .., o410, o411, _], [g413 @ .., o417, o418, _], [g420 @ ..,
+                    o424, o425, o426], [g427 @ .., o431, o432, o433], [g434 @ .., o438,
+                    o439, o440], [g441 @ .., o445, o446, o447], [g448 @ .., o452, o453,
+                    o454], [g455 @ .., o459, o460, o461], [g462 @ .., o466, o467, o468],
+                    [g469 @ .., o473, o474, o475], [g476 @ .., o480, o481, o482],
+                    [g483 @ .., o487, o488, o489]] = &mut out.data.0;
                     *o63 = a0;
                     *o134 = a1;
                     let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
@@ -10420,28 +9647,10 @@ impl Regressors<7, 70> for PandaRounded {
                     x307, x308, x309, x310, x311, x312, x313, x314, x315, x316, x317,
                     x318, x319, x320, x321, x322, x323, x324, x325, x326, x327, x328,
                     x329, x330, x331, x332, x333, x334, x335, x336, x337, x338, x339,
-                    x340, x341, x342, x343, x344, x345, x346, x716, x717, x718, x719,
-                    x720, x721, x722, x723, x724, x725, x726, x727, x728, x729, x730,
-                    x731, x732, x733, x734, x735, x736, x737, x738, x739, x740, x741,
-                    x742, x743, x744, x745, x746, x747, x748, x749, x750, x751, x752,
-                    x753, x754, x755, x756, x757, x758, x759, x760, x761, x762, x763,
-                    x764, x765, x766, x767, x768, x769, x770, x771, x772, x773, x774,
-                    x775, x776, x777, x778, x779, x780, x781, x782, x783, x784, x785,
-                    x786, x787, x788, x789, x790, x791, x792, x793, x794, x795, x796,
-                    x797, x798, x799, x800, x801, x802, x803, x804, x805, x806, x807,
-                    x808, x809, x810, x811, x812, x813, x814, x815, x816, x817, x818,
-                    x819, x820, x821, x822, x823, x824, x825, x826, x827, x828, x829,
-                    x830, x831, x832, x833, x834, x835, x836, x837, x838, x839, x840,
-                    x841, x842, x843, x844, x845, x846, x847, x848, x849, x850, x851,
-                    x852, x853, x854, x855, x856, x857, x858, x859, x860, x861, x862,
-                    x863, x864, x865, x866, x867, x868, x869, x870, x871, x872, x873,
-                    x874, x875, x876, x877, x878, x879, x880, x881, x882, x883, x884,
-                    x885, x886, x887, x888, x889, x890, x891, x892, x893, x894, x895,
-                    x896, x897, x898, x899, x900, x901, x902, x903, x904, x905, x906,
-                    x907, x908, x909, x910, x911, x912, x913, x914, x915, x916, x917,
-                    x918, x919, x920, x921, x922, x923, x924, x925, x926, x927, x928,
-                    x929, x930, x931, x932, x933, x934, x935, x936, x937, x938, x939,
-                    x940, x941, x942, x943, x944, x945, x946, x947, x948]: [f64; 548];
+                    x340, x341, x342, x343, x344, x345, x346, x864, x865, x866, x883,
+                    x884, x885, x890, x891, x892, x897, x898, x899, x904, x905, x906,
+                    x911, x912, x913, x918, x919, x920, x925, x926, x927, x932, x933,
+                    x934, x939, x940, x941, x946, x947, x948]: [f64; 348];
                     let [x159, x160, x161, x162, x163, x164, x165, x166, x167, x168,
                     x169, x170, x171, x173, x174, x177, x180, x181, x182, x183, x184,
                     x185, x186, x187, x188, x189, x190, x191, x192, x193, x194, x195,
@@ -10922,6 +10131,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x406 = arith.splat_four(x215);
                     x407 = x406.mul_sub(x180, x405);
                     x408 = x403 + x407;
+                    *g147 = x408.to_array();
                     x409 = x399 * x181;
                     x410 = x401.mul_add(x173, x409);
                     x411 = arith.splat_four(x219);
@@ -10929,6 +10139,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x413 = x412 * x180;
                     x414 = x411.mul_sub(x177, x413);
                     x415 = x414 - x410;
+                    *g154 = x415.to_array();
                     x416 = arith.splat_four(x70);
                     x417 = arith.splat_four(x214);
                     x418 = x417 * x174;
@@ -10936,27 +10147,32 @@ impl Regressors<7, 70> for PandaRounded {
                     x420 = arith.splat_four(x213);
                     x421 = x420 * x181;
                     x422 = x419 - x421;
+                    *g168 = x422.to_array();
                     x423 = arith.splat_four(x222);
                     x424 = arith.splat_four(x220);
                     x425 = x424 * x174;
                     x426 = x423.mul_add(x173, x425);
                     x427 = arith.splat_four(x221);
                     x428 = x427.mul_add(x181, x426);
+                    *g175 = x428.to_array();
                     x429 = arith.splat_four(x218);
                     x430 = arith.splat_four(x223);
                     x431 = x430 * x174;
                     x432 = x406.mul_add(x173, x431);
                     x433 = arith.splat_four(x224);
                     x434 = x433.mul_add(x181, x432);
+                    *g189 = x434.to_array();
                     x435 = arith.splat_four(x225);
                     x436 = arith.splat_four(x226);
                     x437 = x436 * x174;
                     x438 = x435.mul_add(x173, x437);
                     x439 = arith.splat_four(x227);
                     x440 = x439.mul_add(x181, x438);
+                    *g196 = x440.to_array();
                     x441 = x429.mul_sub(x173, x418);
                     x442 = arith.splat_four(x68);
                     x443 = x442.mul_add(x181, x441);
+                    *g203 = x443.to_array();
                     x444 = arith.splat_four(x85);
                     x445 = arith.splat_four(x87);
                     x446 = arith.splat_four(x82);
@@ -10969,6 +10185,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x453 = arith.splat_four(x233);
                     x454 = x453.mul_neg_add(x348, x452);
                     x455 = x448 + x454;
+                    *g217 = x455.to_array();
                     x456 = x444 * x188;
                     x457 = x446.mul_add(x184, x456);
                     x458 = arith.splat_four(x238);
@@ -10978,6 +10195,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x462 = arith.splat_four(x239);
                     x463 = x462.mul_neg_add(x348, x461);
                     x464 = x463 - x457;
+                    *g224 = x464.to_array();
                     x465 = arith.splat_four(x242);
                     x466 = arith.splat_four(x90);
                     x467 = arith.splat_four(x231);
@@ -10986,12 +10204,14 @@ impl Regressors<7, 70> for PandaRounded {
                     x470 = arith.splat_four(x235);
                     x471 = x470 * x188;
                     x472 = x469 - x471;
+                    *g238 = x472.to_array();
                     x473 = arith.splat_four(x244);
                     x474 = arith.splat_four(x245);
                     x475 = x474 * x186;
                     x476 = x473.mul_add(x184, x475);
                     x477 = arith.splat_four(x243);
                     x478 = x477.mul_add(x188, x476);
+                    *g245 = x478.to_array();
                     x479 = arith.splat_four(x240);
                     x480 = arith.splat_four(x247);
                     x481 = arith.splat_four(x246);
@@ -10999,14 +10219,17 @@ impl Regressors<7, 70> for PandaRounded {
                     x483 = x480.mul_add(x184, x482);
                     x484 = arith.splat_four(x248);
                     x485 = x484.mul_add(x188, x483);
+                    *g259 = x485.to_array();
                     x486 = arith.splat_four(x249);
                     x487 = arith.splat_four(x250);
                     x488 = x487 * x186;
                     x489 = x486.mul_add(x184, x488);
                     x490 = x465.mul_add(x188, x489);
+                    *g266 = x490.to_array();
                     x491 = x479.mul_sub(x184, x468);
                     x492 = arith.splat_four(x88);
                     x493 = x492.mul_add(x188, x491);
+                    *g273 = x493.to_array();
                     x494 = arith.splat_four(x115);
                     x495 = arith.splat_four(x109);
                     x496 = x494 * x186;
@@ -11018,6 +10241,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x502 = arith.splat_four(x258);
                     x503 = x502.mul_add(x353, x501);
                     x504 = x497 + x503;
+                    *g287 = x504.to_array();
                     x505 = arith.splat_four(x153);
                     x506 = x505 * x186;
                     x507 = x495.mul_add(x191, x506);
@@ -11028,30 +10252,36 @@ impl Regressors<7, 70> for PandaRounded {
                     x512 = arith.splat_four(x263);
                     x513 = x512.mul_sub(x353, x511);
                     x514 = x507 + x513;
+                    *g294 = x514.to_array();
                     x515 = arith.splat_four(x118);
                     x516 = arith.splat_four(x256);
                     x517 = x516 * x193;
                     x518 = x515.mul_sub(x191, x517);
                     x519 = arith.splat_four(x254);
                     x520 = x519.mul_add(x186, x518);
+                    *g308 = x520.to_array();
                     x521 = x512 * x193;
                     x522 = x502.mul_add(x191, x521);
                     x523 = arith.splat_four(x264);
                     x524 = x523.mul_sub(x186, x522);
+                    *g315 = x524.to_array();
                     x525 = arith.splat_four(x261);
                     x526 = arith.splat_four(x265);
                     x527 = x526 * x193;
                     x528 = x500.mul_sub(x191, x527);
                     x529 = arith.splat_four(x266);
                     x530 = x529.mul_add(x186, x528);
+                    *g329 = x530.to_array();
                     x531 = arith.splat_four(x267);
                     x532 = x508 * x193;
                     x533 = x531.mul_sub(x191, x532);
                     x534 = arith.splat_four(x268);
                     x535 = x534.mul_add(x186, x533);
+                    *g336 = x535.to_array();
                     x536 = x525.mul_neg_add(x191, x517);
                     x537 = arith.splat_four(x117);
                     x538 = x537.mul_add(x186, x536);
+                    *g343 = x538.to_array();
                     x539 = arith.splat_four(x125);
                     x540 = arith.splat_four(x127);
                     x541 = x494 * x363;
@@ -11063,6 +10293,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x547 = arith.splat_four(x273);
                     x548 = x547.mul_add(x368, x546);
                     x549 = x542 + x548;
+                    *g357 = x549.to_array();
                     x550 = x539 * x193;
                     x551 = x494.mul_sub(x361, x550);
                     x552 = arith.splat_four(x278);
@@ -11072,6 +10303,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x556 = arith.splat_four(x279);
                     x557 = x556.mul_add(x368, x555);
                     x558 = x551 + x557;
+                    *g364 = x558.to_array();
                     x559 = arith.splat_four(x281);
                     x560 = arith.splat_four(x130);
                     x561 = arith.splat_four(x271);
@@ -11080,11 +10312,13 @@ impl Regressors<7, 70> for PandaRounded {
                     x564 = arith.splat_four(x274);
                     x565 = x564 * x193;
                     x566 = x563 - x565;
+                    *g378 = x566.to_array();
                     x567 = arith.splat_four(x284);
                     x568 = x556 * x363;
                     x569 = x567.mul_add(x361, x568);
                     x570 = arith.splat_four(x283);
                     x571 = x570.mul_add(x193, x569);
+                    *g385 = x571.to_array();
                     x572 = arith.splat_four(x277);
                     x573 = arith.splat_four(x286);
                     x574 = arith.splat_four(x285);
@@ -11092,14 +10326,17 @@ impl Regressors<7, 70> for PandaRounded {
                     x576 = x573.mul_add(x361, x575);
                     x577 = arith.splat_four(x287);
                     x578 = x577.mul_add(x193, x576);
+                    *g399 = x578.to_array();
                     x579 = arith.splat_four(x288);
                     x580 = arith.splat_four(x289);
                     x581 = x580 * x363;
                     x582 = x579.mul_add(x361, x581);
                     x583 = x559.mul_add(x193, x582);
+                    *g406 = x583.to_array();
                     x584 = x572.mul_sub(x361, x562);
                     x585 = arith.splat_four(x128);
                     x586 = x585.mul_add(x193, x584);
+                    *g413 = x586.to_array();
                     x587 = arith.splat_four(x145);
                     x588 = arith.splat_four(x147);
                     x589 = arith.splat_four(x142);
@@ -11112,6 +10349,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x596 = arith.splat_four(x295);
                     x597 = x596.mul_neg_add(x374, x595);
                     x598 = x591 + x597;
+                    *g427 = x598.to_array();
                     x599 = x587 * x373;
                     x600 = x589.mul_add(x370, x599);
                     x601 = arith.splat_four(x300);
@@ -11121,6 +10359,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x605 = arith.splat_four(x301);
                     x606 = x605.mul_neg_add(x374, x604);
                     x607 = x606 - x600;
+                    *g434 = x607.to_array();
                     x608 = arith.splat_four(x303);
                     x609 = arith.splat_four(x150);
                     x610 = arith.splat_four(x293);
@@ -11129,11 +10368,13 @@ impl Regressors<7, 70> for PandaRounded {
                     x613 = arith.splat_four(x296);
                     x614 = x613 * x373;
                     x615 = x612 - x614;
+                    *g448 = x615.to_array();
                     x616 = arith.splat_four(x305);
                     x617 = x605 * x372;
                     x618 = x616.mul_add(x370, x617);
                     x619 = arith.splat_four(x304);
                     x620 = x619.mul_add(x373, x618);
+                    *g455 = x620.to_array();
                     x621 = arith.splat_four(x299);
                     x622 = arith.splat_four(x307);
                     x623 = arith.splat_four(x306);
@@ -11141,14 +10382,17 @@ impl Regressors<7, 70> for PandaRounded {
                     x625 = x622.mul_add(x370, x624);
                     x626 = arith.splat_four(x308);
                     x627 = x626.mul_add(x373, x625);
+                    *g469 = x627.to_array();
                     x628 = arith.splat_four(x309);
                     x629 = arith.splat_four(x310);
                     x630 = x629 * x372;
                     x631 = x628.mul_add(x370, x630);
                     x632 = x608.mul_add(x373, x631);
+                    *g476 = x632.to_array();
                     x633 = x621.mul_sub(x370, x611);
                     x634 = arith.splat_four(x148);
                     x635 = x634.mul_add(x373, x633);
+                    *g483 = x635.to_array();
                     x636 = arith.four([x155, x127, 0.0, 0.0]);
                     x637 = arith.four([x156, x157, 0.0, 0.0]);
                     x638 = arith.four([x323, x282, 0.0, 0.0]);
@@ -11178,35 +10422,47 @@ impl Regressors<7, 70> for PandaRounded {
                     x662 = x621.mul_sub(x380, x649);
                     x663 = x634.mul_add(x382, x662);
                     x664 = x347 - x397;
+                    *g112 = x664.to_array();
                     x665 = x385.mul_add(x397, x383);
                     x666 = x386.mul_add(x397, x384);
                     x667 = x387.mul_add(x397, x383);
                     x668 = x385.mul_add(x398, x665);
+                    *g140 = x668.to_array();
                     x669 = x386.mul_add(x398, x666);
+                    *g161 = x669.to_array();
                     x670 = x397 + x398;
                     x671 = x387.mul_add(x398, x667);
                     x672 = x160.mul_add(x408, x671);
                     x673 = x410 - x414;
                     x674 = x421 - x419;
                     x675 = x670 + x674;
+                    *g182 = x675.to_array();
                     x676 = x388.mul_add(x422, x672);
                     x677 = x160.mul_add(x428, x673);
+                    *g231 = x677.to_array();
                     x678 = x389.mul_add(x443, x676);
+                    *g210 = x678.to_array();
                     x679 = x422 + x443;
                     x680 = x390.mul_add(x443, x672);
                     x681 = x164.mul_add(x455, x680);
                     x682 = x163.mul_add(x464, x681);
                     x683 = x471 - x469;
                     x684 = x679 + x683;
+                    *g252 = x684.to_array();
                     x685 = x391.mul_add(x472, x682);
                     x686 = x392.mul_add(x472, x464);
                     x687 = x393.mul_add(x478, x685);
                     x688 = x160.mul_add(x478, x686);
                     x689 = x394.mul_add(x493, x687);
+                    *g280 = x689.to_array();
+                    *g350 = x689.to_array();
                     x690 = x392.mul_add(x493, x688);
+                    *g301 = x690.to_array();
                     x691 = x472 + x493;
                     x692 = -x514;
+                    *g371 = x692.to_array();
                     x693 = x691 - x520;
+                    *g322 = x693.to_array();
                     x694 = x395.mul_add(x520, x689);
                     x695 = x520 + x538;
                     x696 = arith.four([x262, 0.0, 0.0, 0.0]);
@@ -11216,483 +10472,83 @@ impl Regressors<7, 70> for PandaRounded {
                     x700 = x169.mul_add(x636, x698);
                     x701 = x565 - x563;
                     x702 = x695 + x701;
+                    *g392 = x702.to_array();
                     x703 = x696 - x638;
                     x704 = x396.mul_add(x566, x699);
                     x705 = x396.mul_add(x638, x700);
                     x706 = x169.mul_sub(x571, x558);
+                    *g441 = x706.to_array();
                     x707 = x169.mul_sub(x639, x637);
                     x708 = x395.mul_add(x586, x704);
+                    *g420 = x708.to_array();
                     x709 = x395.mul_add(x640, x705);
                     x710 = x566 + x586;
                     x711 = x638 + x640;
                     x712 = x614 - x612;
                     x713 = x710 + x712;
+                    *g462 = x713.to_array();
                     x714 = x651 - x650;
                     x715 = x711 + x714;
-                    [x716, _, _, _] = x664.to_array();
-                    *o112 = x716;
-                    [_, x717, _, _] = x664.to_array();
-                    *o113 = x717;
-                    [_, _, x718, _] = x664.to_array();
-                    *o114 = x718;
-                    [_, _, _, x719] = x664.to_array();
-                    *o115 = x719;
-                    [x720, _, _, _] = x668.to_array();
-                    *o140 = x720;
-                    [_, x721, _, _] = x668.to_array();
-                    *o141 = x721;
-                    [_, _, x722, _] = x668.to_array();
-                    *o142 = x722;
-                    [_, _, _, x723] = x668.to_array();
-                    *o143 = x723;
-                    [x724, _, _, _] = x408.to_array();
-                    *o147 = x724;
-                    [_, x725, _, _] = x408.to_array();
-                    *o148 = x725;
-                    [_, _, x726, _] = x408.to_array();
-                    *o149 = x726;
-                    [_, _, _, x727] = x408.to_array();
-                    *o150 = x727;
-                    [x728, _, _, _] = x415.to_array();
-                    *o154 = x728;
-                    [_, x729, _, _] = x415.to_array();
-                    *o155 = x729;
-                    [_, _, x730, _] = x415.to_array();
-                    *o156 = x730;
-                    [_, _, _, x731] = x415.to_array();
-                    *o157 = x731;
-                    [x732, _, _, _] = x669.to_array();
-                    *o161 = x732;
-                    [_, x733, _, _] = x669.to_array();
-                    *o162 = x733;
-                    [_, _, x734, _] = x669.to_array();
-                    *o163 = x734;
-                    [_, _, _, x735] = x669.to_array();
-                    *o164 = x735;
-                    [x736, _, _, _] = x422.to_array();
-                    *o168 = x736;
-                    [_, x737, _, _] = x422.to_array();
-                    *o169 = x737;
-                    [_, _, x738, _] = x422.to_array();
-                    *o170 = x738;
-                    [_, _, _, x739] = x422.to_array();
-                    *o171 = x739;
-                    [x740, _, _, _] = x428.to_array();
-                    *o175 = x740;
-                    [_, x741, _, _] = x428.to_array();
-                    *o176 = x741;
-                    [_, _, x742, _] = x428.to_array();
-                    *o177 = x742;
-                    [_, _, _, x743] = x428.to_array();
-                    *o178 = x743;
-                    [x744, _, _, _] = x675.to_array();
-                    *o182 = x744;
-                    [_, x745, _, _] = x675.to_array();
-                    *o183 = x745;
-                    [_, _, x746, _] = x675.to_array();
-                    *o184 = x746;
-                    [_, _, _, x747] = x675.to_array();
-                    *o185 = x747;
-                    [x748, _, _, _] = x434.to_array();
-                    *o189 = x748;
-                    [_, x749, _, _] = x434.to_array();
-                    *o190 = x749;
-                    [_, _, x750, _] = x434.to_array();
-                    *o191 = x750;
-                    [_, _, _, x751] = x434.to_array();
-                    *o192 = x751;
-                    [x752, _, _, _] = x440.to_array();
-                    *o196 = x752;
-                    [_, x753, _, _] = x440.to_array();
-                    *o197 = x753;
-                    [_, _, x754, _] = x440.to_array();
-                    *o198 = x754;
-                    [_, _, _, x755] = x440.to_array();
-                    *o199 = x755;
-                    [x756, _, _, _] = x443.to_array();
-                    *o203 = x756;
-                    [_, x757, _, _] = x443.to_array();
-                    *o204 = x757;
-                    [_, _, x758, _] = x443.to_array();
-                    *o205 = x758;
-                    [_, _, _, x759] = x443.to_array();
-                    *o206 = x759;
-                    [x760, _, _, _] = x678.to_array();
-                    *o210 = x760;
-                    [_, x761, _, _] = x678.to_array();
-                    *o211 = x761;
-                    [_, _, x762, _] = x678.to_array();
-                    *o212 = x762;
-                    [_, _, _, x763] = x678.to_array();
-                    *o213 = x763;
-                    [x764, _, _, _] = x455.to_array();
-                    *o217 = x764;
-                    [_, x765, _, _] = x455.to_array();
-                    *o218 = x765;
-                    [_, _, x766, _] = x455.to_array();
-                    *o219 = x766;
-                    [_, _, _, x767] = x455.to_array();
-                    *o220 = x767;
-                    [x768, _, _, _] = x464.to_array();
-                    *o224 = x768;
-                    [_, x769, _, _] = x464.to_array();
-                    *o225 = x769;
-                    [_, _, x770, _] = x464.to_array();
-                    *o226 = x770;
-                    [_, _, _, x771] = x464.to_array();
-                    *o227 = x771;
-                    [x772, _, _, _] = x677.to_array();
-                    *o231 = x772;
-                    [_, x773, _, _] = x677.to_array();
-                    *o232 = x773;
-                    [_, _, x774, _] = x677.to_array();
-                    *o233 = x774;
-                    [_, _, _, x775] = x677.to_array();
-                    *o234 = x775;
-                    [x776, _, _, _] = x472.to_array();
-                    *o238 = x776;
-                    [_, x777, _, _] = x472.to_array();
-                    *o239 = x777;
-                    [_, _, x778, _] = x472.to_array();
-                    *o240 = x778;
-                    [_, _, _, x779] = x472.to_array();
-                    *o241 = x779;
-                    [x780, _, _, _] = x478.to_array();
-                    *o245 = x780;
-                    [_, x781, _, _] = x478.to_array();
-                    *o246 = x781;
-                    [_, _, x782, _] = x478.to_array();
-                    *o247 = x782;
-                    [_, _, _, x783] = x478.to_array();
-                    *o248 = x783;
-                    [x784, _, _, _] = x684.to_array();
-                    *o252 = x784;
-                    [_, x785, _, _] = x684.to_array();
-                    *o253 = x785;
-                    [_, _, x786, _] = x684.to_array();
-                    *o254 = x786;
-                    [_, _, _, x787] = x684.to_array();
-                    *o255 = x787;
-                    [x788, _, _, _] = x485.to_array();
-                    *o259 = x788;
-                    [_, x789, _, _] = x485.to_array();
-                    *o260 = x789;
-                    [_, _, x790, _] = x485.to_array();
-                    *o261 = x790;
-                    [_, _, _, x791] = x485.to_array();
-                    *o262 = x791;
-                    [x792, _, _, _] = x490.to_array();
-                    *o266 = x792;
-                    [_, x793, _, _] = x490.to_array();
-                    *o267 = x793;
-                    [_, _, x794, _] = x490.to_array();
-                    *o268 = x794;
-                    [_, _, _, x795] = x490.to_array();
-                    *o269 = x795;
-                    [x796, _, _, _] = x493.to_array();
-                    *o273 = x796;
-                    [_, x797, _, _] = x493.to_array();
-                    *o274 = x797;
-                    [_, _, x798, _] = x493.to_array();
-                    *o275 = x798;
-                    [_, _, _, x799] = x493.to_array();
-                    *o276 = x799;
-                    [x800, _, _, _] = x689.to_array();
-                    *o280 = x800;
-                    *o350 = x800;
-                    [_, x801, _, _] = x689.to_array();
-                    *o281 = x801;
-                    *o351 = x801;
-                    [_, _, x802, _] = x689.to_array();
-                    *o282 = x802;
-                    *o352 = x802;
-                    [_, _, _, x803] = x689.to_array();
-                    *o283 = x803;
-                    *o353 = x803;
-                    [x804, _, _, _] = x504.to_array();
-                    *o287 = x804;
-                    [_, x805, _, _] = x504.to_array();
-                    *o288 = x805;
-                    [_, _, x806, _] = x504.to_array();
-                    *o289 = x806;
-                    [_, _, _, x807] = x504.to_array();
-                    *o290 = x807;
-                    [x808, _, _, _] = x514.to_array();
-                    *o294 = x808;
-                    [_, x809, _, _] = x514.to_array();
-                    *o295 = x809;
-                    [_, _, x810, _] = x514.to_array();
-                    *o296 = x810;
-                    [_, _, _, x811] = x514.to_array();
-                    *o297 = x811;
-                    [x812, _, _, _] = x690.to_array();
-                    *o301 = x812;
-                    [_, x813, _, _] = x690.to_array();
-                    *o302 = x813;
-                    [_, _, x814, _] = x690.to_array();
-                    *o303 = x814;
-                    [_, _, _, x815] = x690.to_array();
-                    *o304 = x815;
-                    [x816, _, _, _] = x520.to_array();
-                    *o308 = x816;
-                    [_, x817, _, _] = x520.to_array();
-                    *o309 = x817;
-                    [_, _, x818, _] = x520.to_array();
-                    *o310 = x818;
-                    [_, _, _, x819] = x520.to_array();
-                    *o311 = x819;
-                    [x820, _, _, _] = x524.to_array();
-                    *o315 = x820;
-                    [_, x821, _, _] = x524.to_array();
-                    *o316 = x821;
-                    [_, _, x822, _] = x524.to_array();
-                    *o317 = x822;
-                    [_, _, _, x823] = x524.to_array();
-                    *o318 = x823;
-                    [x824, _, _, _] = x693.to_array();
-                    *o322 = x824;
-                    [_, x825, _, _] = x693.to_array();
-                    *o323 = x825;
-                    [_, _, x826, _] = x693.to_array();
-                    *o324 = x826;
-                    [_, _, _, x827] = x693.to_array();
-                    *o325 = x827;
-                    [x828, _, _, _] = x530.to_array();
-                    *o329 = x828;
-                    [_, x829, _, _] = x530.to_array();
-                    *o330 = x829;
-                    [_, _, x830, _] = x530.to_array();
-                    *o331 = x830;
-                    [_, _, _, x831] = x530.to_array();
-                    *o332 = x831;
-                    [x832, _, _, _] = x535.to_array();
-                    *o336 = x832;
-                    [_, x833, _, _] = x535.to_array();
-                    *o337 = x833;
-                    [_, _, x834, _] = x535.to_array();
-                    *o338 = x834;
-                    [_, _, _, x835] = x535.to_array();
-                    *o339 = x835;
-                    [x836, _, _, _] = x538.to_array();
-                    *o343 = x836;
-                    [_, x837, _, _] = x538.to_array();
-                    *o344 = x837;
-                    [_, _, x838, _] = x538.to_array();
-                    *o345 = x838;
-                    [_, _, _, x839] = x538.to_array();
-                    *o346 = x839;
-                    [x840, _, _, _] = x549.to_array();
-                    *o357 = x840;
-                    [_, x841, _, _] = x549.to_array();
-                    *o358 = x841;
-                    [_, _, x842, _] = x549.to_array();
-                    *o359 = x842;
-                    [_, _, _, x843] = x549.to_array();
-                    *o360 = x843;
-                    [x844, _, _, _] = x558.to_array();
-                    *o364 = x844;
-                    [_, x845, _, _] = x558.to_array();
-                    *o365 = x845;
-                    [_, _, x846, _] = x558.to_array();
-                    *o366 = x846;
-                    [_, _, _, x847] = x558.to_array();
-                    *o367 = x847;
-                    [x848, _, _, _] = x692.to_array();
-                    *o371 = x848;
-                    [_, x849, _, _] = x692.to_array();
-                    *o372 = x849;
-                    [_, _, x850, _] = x692.to_array();
-                    *o373 = x850;
-                    [_, _, _, x851] = x692.to_array();
-                    *o374 = x851;
-                    [x852, _, _, _] = x566.to_array();
-                    *o378 = x852;
-                    [_, x853, _, _] = x566.to_array();
-                    *o379 = x853;
-                    [_, _, x854, _] = x566.to_array();
-                    *o380 = x854;
-                    [_, _, _, x855] = x566.to_array();
-                    *o381 = x855;
-                    [x856, _, _, _] = x571.to_array();
-                    *o385 = x856;
-                    [_, x857, _, _] = x571.to_array();
-                    *o386 = x857;
-                    [_, _, x858, _] = x571.to_array();
-                    *o387 = x858;
-                    [_, _, _, x859] = x571.to_array();
-                    *o388 = x859;
-                    [x860, _, _, _] = x702.to_array();
-                    *o392 = x860;
-                    [_, x861, _, _] = x702.to_array();
-                    *o393 = x861;
-                    [_, _, x862, _] = x702.to_array();
-                    *o394 = x862;
-                    [_, _, _, x863] = x702.to_array();
-                    *o395 = x863;
                     [x864, _, _, _] = x703.to_array();
                     *o396 = x864;
                     [_, x865, _, _] = x703.to_array();
                     *o397 = x865;
                     [_, _, x866, _] = x703.to_array();
                     *o398 = x866;
-                    [x867, _, _, _] = x578.to_array();
-                    *o399 = x867;
-                    [_, x868, _, _] = x578.to_array();
-                    *o400 = x868;
-                    [_, _, x869, _] = x578.to_array();
-                    *o401 = x869;
-                    [_, _, _, x870] = x578.to_array();
-                    *o402 = x870;
-                    [x871, _, _, _] = x583.to_array();
-                    *o406 = x871;
-                    [_, x872, _, _] = x583.to_array();
-                    *o407 = x872;
-                    [_, _, x873, _] = x583.to_array();
-                    *o408 = x873;
-                    [_, _, _, x874] = x583.to_array();
-                    *o409 = x874;
-                    [x875, _, _, _] = x586.to_array();
-                    *o413 = x875;
-                    [_, x876, _, _] = x586.to_array();
-                    *o414 = x876;
-                    [_, _, x877, _] = x586.to_array();
-                    *o415 = x877;
-                    [_, _, _, x878] = x586.to_array();
-                    *o416 = x878;
-                    [x879, _, _, _] = x708.to_array();
-                    *o420 = x879;
-                    [_, x880, _, _] = x708.to_array();
-                    *o421 = x880;
-                    [_, _, x881, _] = x708.to_array();
-                    *o422 = x881;
-                    [_, _, _, x882] = x708.to_array();
-                    *o423 = x882;
                     [x883, _, _, _] = x709.to_array();
                     *o424 = x883;
                     [_, x884, _, _] = x709.to_array();
                     *o425 = x884;
                     [_, _, x885, _] = x709.to_array();
                     *o426 = x885;
-                    [x886, _, _, _] = x598.to_array();
-                    *o427 = x886;
-                    [_, x887, _, _] = x598.to_array();
-                    *o428 = x887;
-                    [_, _, x888, _] = x598.to_array();
-                    *o429 = x888;
-                    [_, _, _, x889] = x598.to_array();
-                    *o430 = x889;
                     [x890, _, _, _] = x644.to_array();
                     *o431 = x890;
                     [_, x891, _, _] = x644.to_array();
                     *o432 = x891;
                     [_, _, x892, _] = x644.to_array();
                     *o433 = x892;
-                    [x893, _, _, _] = x607.to_array();
-                    *o434 = x893;
-                    [_, x894, _, _] = x607.to_array();
-                    *o435 = x894;
-                    [_, _, x895, _] = x607.to_array();
-                    *o436 = x895;
-                    [_, _, _, x896] = x607.to_array();
-                    *o437 = x896;
                     [x897, _, _, _] = x648.to_array();
                     *o438 = x897;
                     [_, x898, _, _] = x648.to_array();
                     *o439 = x898;
                     [_, _, x899, _] = x648.to_array();
                     *o440 = x899;
-                    [x900, _, _, _] = x706.to_array();
-                    *o441 = x900;
-                    [_, x901, _, _] = x706.to_array();
-                    *o442 = x901;
-                    [_, _, x902, _] = x706.to_array();
-                    *o443 = x902;
-                    [_, _, _, x903] = x706.to_array();
-                    *o444 = x903;
                     [x904, _, _, _] = x707.to_array();
                     *o445 = x904;
                     [_, x905, _, _] = x707.to_array();
                     *o446 = x905;
                     [_, _, x906, _] = x707.to_array();
                     *o447 = x906;
-                    [x907, _, _, _] = x615.to_array();
-                    *o448 = x907;
-                    [_, x908, _, _] = x615.to_array();
-                    *o449 = x908;
-                    [_, _, x909, _] = x615.to_array();
-                    *o450 = x909;
-                    [_, _, _, x910] = x615.to_array();
-                    *o451 = x910;
                     [x911, _, _, _] = x652.to_array();
                     *o452 = x911;
                     [_, x912, _, _] = x652.to_array();
                     *o453 = x912;
                     [_, _, x913, _] = x652.to_array();
                     *o454 = x913;
-                    [x914, _, _, _] = x620.to_array();
-                    *o455 = x914;
-                    [_, x915, _, _] = x620.to_array();
-                    *o456 = x915;
-                    [_, _, x916, _] = x620.to_array();
-                    *o457 = x916;
-                    [_, _, _, x917] = x620.to_array();
-                    *o458 = x917;
                     [x918, _, _, _] = x655.to_array();
                     *o459 = x918;
                     [_, x919, _, _] = x655.to_array();
                     *o460 = x919;
                     [_, _, x920, _] = x655.to_array();
                     *o461 = x920;
-                    [x921, _, _, _] = x713.to_array();
-                    *o462 = x921;
-                    [_, x922, _, _] = x713.to_array();
-                    *o463 = x922;
-                    [_, _, x923, _] = x713.to_array();
-                    *o464 = x923;
-                    [_, _, _, x924] = x713.to_array();
-                    *o465 = x924;
                     [x925, _, _, _] = x715.to_array();
                     *o466 = x925;
                     [_, x926, _, _] = x715.to_array();
                     *o467 = x926;
                     [_, _, x927, _] = x715.to_array();
                     *o468 = x927;
-                    [x928, _, _, _] = x627.to_array();
-                    *o469 = x928;
-                    [_, x929, _, _] = x627.to_array();
-                    *o470 = x929;
-                    [_, _, x930, _] = x627.to_array();
-                    *o471 = x930;
-                    [_, _, _, x931] = x627.to_array();
-                    *o472 = x931;
                     [x932, _, _, _] = x658.to_array();
                     *o473 = x932;
                     [_, x933, _, _] = x658.to_array();
                     *o474 = x933;
                     [_, _, x934, _] = x658.to_array();
                     *o475 = x934;
-                    [x935, _, _, _] = x632.to_array();
-                    *o476 = x935;
-                    [_, x936, _, _] = x632.to_array();
-                    *o477 = x936;
-                    [_, _, x937, _] = x632.to_array();
-                    *o478 = x937;
-                    [_, _, _, x938] = x632.to_array();
-                    *o479 = x938;
                     [x939, _, _, _] = x661.to_array();
                     *o480 = x939;
                     [_, x940, _, _] = x661.to_array();
                     *o481 = x940;
                     [_, _, x941, _] = x661.to_array();
                     *o482 = x941;
-                    [x942, _, _, _] = x635.to_array();
-                    *o483 = x942;
-                    [_, x943, _, _] = x635.to_array();
-                    *o484 = x943;
-                    [_, _, x944, _] = x635.to_array();
-                    *o485 = x944;
-                    [_, _, _, x945] = x635.to_array();
-                    *o486 = x945;
                     [x946, _, _, _] = x663.to_array();
                     *o487 = x946;
                     [_, x947, _, _] = x663.to_array();
@@ -11744,37 +10600,28 @@ impl Regressors<7, 70> for PandaRounded {
                     _], [_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
                     _], [o63, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, o78, _, _, _,
                     _, _], [_, o85, _, _, _, _, _], [_, _, _, _, _, _, _], [o98, o99, _,
-                    _, _, _, _], [o105, o106, _, _, _, _, _], [o112, o113, o114, o115, _,
-                    _, _], [o119, o120, _, _, _, _, _], [o126, o127, _, _, _, _, _],
-                    [o133, o134, _, _, _, _, _], [o140, o141, o142, o143, _, _, _],
-                    [o147, o148, o149, o150, _, _, _], [o154, o155, o156, o157, _, _, _],
-                    [o161, o162, o163, o164, _, _, _], [o168, o169, o170, o171, _, _, _],
-                    [o175, o176, o177, o178, _, _, _], [o182, o183, o184, o185, _, _, _],
-                    [o189, o190, o191, o192, _, _, _], [o196, o197, o198, o199, _, _, _],
-                    [o203, o204, o205, o206, _, _, _], [o210, o211, o212, o213, _, _, _],
-                    [o217, o218, o219, o220, _, _, _], [o224, o225, o226, o227, _, _, _],
-                    [o231, o232, o233, o234, _, _, _], [o238, o239, o240, o241, _, _, _],
-                    [o245, o246, o247, o248, _, _, _], [o252, o253, o254, o255, _, _, _],
-                    [o259, o260, o261, o262, _, _, _], [o266, o267, o268, o269, _, _, _],
-                    [o273, o274, o275, o276, _, _, _], [o280, o281, o282, o283, _, _, _],
-                    [o287, o288, o289, o290, o291, _, _], [o294, o295, o296, o297, o298,
-                    _, _], [o301, o302, o303, o304, _, _, _], [o308, o309, o310, o311,
-                    o312, _, _], [o315, o316, o317, o318, o319, _, _], [o322, o323, o324,
-                    o325, o326, _, _], [o329, o330, o331, o332, o333, _, _], [o336, o337,
-                    o338, o339, o340, _, _], [o343, o344, o345, o346, o347, _, _], [o350,
-                    o351, o352, o353, _, _, _], [o357, o358, o359, o360, o361, o362, _],
-                    [o364, o365, o366, o367, o368, o369, _], [o371, o372, o373, o374,
-                    o375, _, _], [o378, o379, o380, o381, o382, o383, _], [o385, o386,
-                    o387, o388, o389, o390, _], [o392, o393, o394, o395, o396, o397, o398,
-                    ], [o399, o400, o401, o402, o403, o404, _], [o406, o407, o408, o409,
-                    o410, o411, _], [o413, o414, o415, o416, o417, o418, _], [o420, o421,
-                    o422, o423, o424, o425, o426], [o427, o428, o429, o430, o431, o432,
-                    o433], [o434, o435, o436, o437, o438, o439, o440], [o441, o442, o443,
-                    o444, o445, o446, o447], [o448, o449, o450, o451, o452, o453, o454],
-                    [o455, o456, o457, o458, o459, o460, o461], [o462, o463, o464, o465,
-                    o466, o467, o468], [o469, o470, o471, o472, o473, o474, o475], [o476,
-                    o477, o478, o479, o480, o481, o482], [o483, o484, o485, o486, o487,
-                    o488, o489]] = &mut out.data.0;
+                    _, _, _, _], [o105, o106, _, _, _, _, _], [g112 @ .., _, _, _],
+                    [o119, o120, _, _, _, _, _], [o126, o127, _, _, _, _, _], [o133,
+                    o134, _, _, _, _, _], [g140 @ .., _, _, _], [g147 @ .., _, _, _],
+                    [g154 @ .., _, _, _], [g161 @ .., _, _, _], [g168 @ .., _, _, _],
+                    [g175 @ .., _, _, _], [g182 @ .., _, _, _], [g189 @ .., _, _, _],
+                    [g196 @ .., _, _, _], [g203 @ .., _, _, _], [g210 @ .., _, _, _],
+                    [g217 @ .., _, _, _], [g224 @ .., _, _, _], [g231 @ .., _, _, _],
+                    [g238 @ .., _, _, _], [g245 @ .., _, _, _], [g252 @ .., _, _, _],
+                    [g259 @ .., _, _, _], [g266 @ .., _, _, _], [g273 @ .., _, _, _],
+                    [g280 @ .., _, _, _], [g287 @ .., o291, _, _], [g294 @ .., o298, _, _,
+                    ], [g301 @ .., _, _, _], [g308 @ .., o312, _, _], [g315 @ .., o319,
+                    _, _], [g322 @ .., o326, _, _], [g329 @ .., o333, _, _], [g336 @ ..,
+                    o340, _, _], [g343 @ .., o347, _, _], [g350 @ .., _, _, _],
+                    [g357 @ .., o361, o362, _], [g364 @ .., o368, o369, _], [g371 @ ..,
+                    o375, _, _], [g378 @ .., o382, o383, _], [g385 @ .., o389, o390, _],
+                    [g392 @ .., o396, o397, o398], [g399 @ .., o403, o404, _],
+                    [g406 @ .., o410, o411, _], [g413 @ .., o417, o418, _], [g420 @ ..,
+                    o424, o425, o426], [g427 @ .., o431, o432, o433], [g434 @ .., o438,
+                    o439, o440], [g441 @ .., o445, o446, o447], [g448 @ .., o452, o453,
+                    o454], [g455 @ .., o459, o460, o461], [g462 @ .., o466, o467, o468],
+                    [g469 @ .., o473, o474, o475], [g476 @ .., o480, o481, o482],
+                    [g483 @ .., o487, o488, o489]] = &mut out.data.0;
                     *o63 = a0;
                     *o134 = a1;
                     let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
@@ -11803,28 +10650,10 @@ impl Regressors<7, 70> for PandaRounded {
                     x307, x308, x309, x310, x311, x312, x313, x314, x315, x316, x317,
                     x318, x319, x320, x321, x322, x323, x324, x325, x326, x327, x328,
                     x329, x330, x331, x332, x333, x334, x335, x336, x337, x338, x339,
-                    x340, x341, x342, x343, x344, x345, x346, x716, x717, x718, x719,
-                    x720, x721, x722, x723, x724, x725, x726, x727, x728, x729, x730,
-                    x731, x732, x733, x734, x735, x736, x737, x738, x739, x740, x741,
-                    x742, x743, x744, x745, x746, x747, x748, x749, x750, x751, x752,
-                    x753, x754, x755, x756, x757, x758, x759, x760, x761, x762, x763,
-                    x764, x765, x766, x767, x768, x769, x770, x771, x772, x773, x774,
-                    x775, x776, x777, x778, x779, x780, x781, x782, x783, x784, x785,
-                    x786, x787, x788, x789, x790, x791, x792, x793, x794, x795, x796,
-                    x797, x798, x799, x800, x801, x802, x803, x804, x805, x806, x807,
-                    x808, x809, x810, x811, x812, x813, x814, x815, x816, x817, x818,
-                    x819, x820, x821, x822, x823, x824, x825, x826, x827, x828, x829,
-                    x830, x831, x832, x833, x834, x835, x836, x837, x838, x839, x840,
-                    x841, x842, x843, x844, x845, x846, x847, x848, x849, x850, x851,
-                    x852, x853, x854, x855, x856, x857, x858, x859, x860, x861, x862,
-                    x863, x864, x865, x866, x867, x868, x869, x870, x871, x872, x873,
-                    x874, x875, x876, x877, x878, x879, x880, x881, x882, x883, x884,
-                    x885, x886, x887, x888, x889, x890, x891, x892, x893, x894, x895,
-                    x896, x897, x898, x899, x900, x901, x902, x903, x904, x905, x906,
-                    x907, x908, x909, x910, x911, x912, x913, x914, x915, x916, x917,
-                    x918, x919, x920, x921, x922, x923, x924, x925, x926, x927, x928,
-                    x929, x930, x931, x932, x933, x934, x935, x936, x937, x938, x939,
-                    x940, x941, x942, x943, x944, x945, x946, x947, x948]: [f64; 548];
+                    x340, x341, x342, x343, x344, x345, x346, x864, x865, x866, x883,
+                    x884, x885, x890, x891, x892, x897, x898, x899, x904, x905, x906,
+                    x911, x912, x913, x918, x919, x920, x925, x926, x927, x932, x933,
+                    x934, x939, x940, x941, x946, x947, x948]: [f64; 348];
                     let [x159, x160, x161, x162, x163, x164, x165, x166, x167, x168,
                     x169, x170, x171, x173, x174, x177, x180, x181, x182, x183, x184,
                     x185, x186, x187, x188, x189, x190, x191, x192, x193, x194, x195,
@@ -12305,6 +11134,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x406 = arith.splat_four(x215);
                     x407 = x406.mul_sub(x180, x405);
                     x408 = x403 + x407;
+                    *g147 = x408.to_array();
                     x409 = x399 * x181;
                     x410 = x401.mul_add(x173, x409);
                     x411 = arith.splat_four(x219);
@@ -12312,6 +11142,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x413 = x412 * x180;
                     x414 = x411.mul_sub(x177, x413);
                     x415 = x414 - x410;
+                    *g154 = x415.to_array();
                     x416 = arith.splat_four(x70);
                     x417 = arith.splat_four(x214);
                     x418 = x417 * x174;
@@ -12319,27 +11150,32 @@ impl Regressors<7, 70> for PandaRounded {
                     x420 = arith.splat_four(x213);
                     x421 = x420 * x181;
                     x422 = x419 - x421;
+                    *g168 = x422.to_array();
                     x423 = arith.splat_four(x222);
                     x424 = arith.splat_four(x220);
                     x425 = x424 * x174;
                     x426 = x423.mul_add(x173, x425);
                     x427 = arith.splat_four(x221);
                     x428 = x427.mul_add(x181, x426);
+                    *g175 = x428.to_array();
                     x429 = arith.splat_four(x218);
                     x430 = arith.splat_four(x223);
                     x431 = x430 * x174;
                     x432 = x406.mul_add(x173, x431);
                     x433 = arith.splat_four(x224);
                     x434 = x433.mul_add(x181, x432);
+                    *g189 = x434.to_array();
                     x435 = arith.splat_four(x225);
                     x436 = arith.splat_four(x226);
                     x437 = x436 * x174;
                     x438 = x435.mul_add(x173, x437);
                     x439 = arith.splat_four(x227);
                     x440 = x439.mul_add(x181, x438);
+                    *g196 = x440.to_array();
                     x441 = x429.mul_sub(x173, x418);
                     x442 = arith.splat_four(x68);
                     x443 = x442.mul_add(x181, x441);
+                    *g203 = x443.to_array();
                     x444 = arith.splat_four(x85);
                     x445 = arith.splat_four(x87);
                     x446 = arith.splat_four(x82);
@@ -12352,6 +11188,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x453 = arith.splat_four(x233);
                     x454 = x453.mul_neg_add(x348, x452);
                     x455 = x448 + x454;
+                    *g217 = x455.to_array();
                     x456 = x444 * x188;
                     x457 = x446.mul_add(x184, x456);
                     x458 = arith.splat_four(x238);
@@ -12361,6 +11198,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x462 = arith.splat_four(x239);
                     x463 = x462.mul_neg_add(x348, x461);
                     x464 = x463 - x457;
+                    *g224 = x464.to_array();
                     x465 = arith.splat_four(x242);
                     x466 = arith.splat_four(x90);
                     x467 = arith.splat_four(x231);
@@ -12369,12 +11207,14 @@ impl Regressors<7, 70> for PandaRounded {
                     x470 = arith.splat_four(x235);
                     x471 = x470 * x188;
                     x472 = x469 - x471;
+                    *g238 = x472.to_array();
                     x473 = arith.splat_four(x244);
                     x474 = arith.splat_four(x245);
                     x475 = x474 * x186;
                     x476 = x473.mul_add(x184, x475);
                     x477 = arith.splat_four(x243);
                     x478 = x477.mul_add(x188, x476);
+                    *g245 = x478.to_array();
                     x479 = arith.splat_four(x240);
                     x480 = arith.splat_four(x247);
                     x481 = arith.splat_four(x246);
@@ -12382,14 +11222,17 @@ impl Regressors<7, 70> for PandaRounded {
                     x483 = x480.mul_add(x184, x482);
                     x484 = arith.splat_four(x248);
                     x485 = x484.mul_add(x188, x483);
+                    *g259 = x485.to_array();
                     x486 = arith.splat_four(x249);
                     x487 = arith.splat_four(x250);
                     x488 = x487 * x186;
                     x489 = x486.mul_add(x184, x488);
                     x490 = x465.mul_add(x188, x489);
+                    *g266 = x490.to_array();
                     x491 = x479.mul_sub(x184, x468);
                     x492 = arith.splat_four(x88);
                     x493 = x492.mul_add(x188, x491);
+                    *g273 = x493.to_array();
                     x494 = arith.splat_four(x115);
                     x495 = arith.splat_four(x109);
                     x496 = x494 * x186;
@@ -12401,6 +11244,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x502 = arith.splat_four(x258);
                     x503 = x502.mul_add(x353, x501);
                     x504 = x497 + x503;
+                    *g287 = x504.to_array();
                     x505 = arith.splat_four(x153);
                     x506 = x505 * x186;
                     x507 = x495.mul_add(x191, x506);
@@ -12411,30 +11255,36 @@ impl Regressors<7, 70> for PandaRounded {
                     x512 = arith.splat_four(x263);
                     x513 = x512.mul_sub(x353, x511);
                     x514 = x507 + x513;
+                    *g294 = x514.to_array();
                     x515 = arith.splat_four(x118);
                     x516 = arith.splat_four(x256);
                     x517 = x516 * x193;
                     x518 = x515.mul_sub(x191, x517);
                     x519 = arith.splat_four(x254);
                     x520 = x519.mul_add(x186, x518);
+                    *g308 = x520.to_array();
                     x521 = x512 * x193;
                     x522 = x502.mul_add(x191, x521);
                     x523 = arith.splat_four(x264);
                     x524 = x523.mul_sub(x186, x522);
+                    *g315 = x524.to_array();
                     x525 = arith.splat_four(x261);
                     x526 = arith.splat_four(x265);
                     x527 = x526 * x193;
                     x528 = x500.mul_sub(x191, x527);
                     x529 = arith.splat_four(x266);
                     x530 = x529.mul_add(x186, x528);
+                    *g329 = x530.to_array();
                     x531 = arith.splat_four(x267);
                     x532 = x508 * x193;
                     x533 = x531.mul_sub(x191, x532);
                     x534 = arith.splat_four(x268);
                     x535 = x534.mul_add(x186, x533);
+                    *g336 = x535.to_array();
                     x536 = x525.mul_neg_add(x191, x517);
                     x537 = arith.splat_four(x117);
                     x538 = x537.mul_add(x186, x536);
+                    *g343 = x538.to_array();
                     x539 = arith.splat_four(x125);
                     x540 = arith.splat_four(x127);
                     x541 = x494 * x363;
@@ -12446,6 +11296,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x547 = arith.splat_four(x273);
                     x548 = x547.mul_add(x368, x546);
                     x549 = x542 + x548;
+                    *g357 = x549.to_array();
                     x550 = x539 * x193;
                     x551 = x494.mul_sub(x361, x550);
                     x552 = arith.splat_four(x278);
@@ -12455,6 +11306,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x556 = arith.splat_four(x279);
                     x557 = x556.mul_add(x368, x555);
                     x558 = x551 + x557;
+                    *g364 = x558.to_array();
                     x559 = arith.splat_four(x281);
                     x560 = arith.splat_four(x130);
                     x561 = arith.splat_four(x271);
@@ -12463,11 +11315,13 @@ impl Regressors<7, 70> for PandaRounded {
                     x564 = arith.splat_four(x274);
                     x565 = x564 * x193;
                     x566 = x563 - x565;
+                    *g378 = x566.to_array();
                     x567 = arith.splat_four(x284);
                     x568 = x556 * x363;
                     x569 = x567.mul_add(x361, x568);
                     x570 = arith.splat_four(x283);
                     x571 = x570.mul_add(x193, x569);
+                    *g385 = x571.to_array();
                     x572 = arith.splat_four(x277);
                     x573 = arith.splat_four(x286);
                     x574 = arith.splat_four(x285);
@@ -12475,14 +11329,17 @@ impl Regressors<7, 70> for PandaRounded {
                     x576 = x573.mul_add(x361, x575);
                     x577 = arith.splat_four(x287);
                     x578 = x577.mul_add(x193, x576);
+                    *g399 = x578.to_array();
                     x579 = arith.splat_four(x288);
                     x580 = arith.splat_four(x289);
                     x581 = x580 * x363;
                     x582 = x579.mul_add(x361, x581);
                     x583 = x559.mul_add(x193, x582);
+                    *g406 = x583.to_array();
                     x584 = x572.mul_sub(x361, x562);
                     x585 = arith.splat_four(x128);
                     x586 = x585.mul_add(x193, x584);
+                    *g413 = x586.to_array();
                     x587 = arith.splat_four(x145);
                     x588 = arith.splat_four(x147);
                     x589 = arith.splat_four(x142);
@@ -12495,6 +11352,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x596 = arith.splat_four(x295);
                     x597 = x596.mul_neg_add(x374, x595);
                     x598 = x591 + x597;
+                    *g427 = x598.to_array();
                     x599 = x587 * x373;
                     x600 = x589.mul_add(x370, x599);
                     x601 = arith.splat_four(x300);
@@ -12504,6 +11362,7 @@ impl Regressors<7, 70> for PandaRounded {
                     x605 = arith.splat_four(x301);
                     x606 = x605.mul_neg_add(x374, x604);
                     x607 = x606 - x600;
+                    *g434 = x607.to_array();
                     x608 = arith.splat_four(x303);
                     x609 = arith.splat_four(x150);
                     x610 = arith.splat_four(x293);
@@ -12512,11 +11371,13 @@ impl Regressors<7, 70> for PandaRounded {
                     x613 = arith.splat_four(x296);
                     x614 = x613 * x373;
                     x615 = x612 - x614;
+                    *g448 = x615.to_array();
                     x616 = arith.splat_four(x305);
                     x617 = x605 * x372;
                     x618 = x616.mul_add(x370, x617);
                     x619 = arith.splat_four(x304);
                     x620 = x619.mul_add(x373, x618);
+                    *g455 = x620.to_array();
                     x621 = arith.splat_four(x299);
                     x622 = arith.splat_four(x307);
                     x623 = arith.splat_four(x306);
@@ -12524,14 +11385,17 @@ impl Regressors<7, 70> for PandaRounded {
                     x625 = x622.mul_add(x370, x624);
                     x626 = arith.splat_four(x308);
                     x627 = x626.mul_add(x373, x625);
+                    *g469 = x627.to_array();
                     x628 = arith.splat_four(x309);
                     x629 = arith.splat_four(x310);
                     x630 = x629 * x372;
                     x631 = x628.mul_add(x370, x630);
                     x632 = x608.mul_add(x373, x631);
+                    *g476 = x632.to_array();
                     x633 = x621.mul_sub(x370, x611);
                     x634 = arith.splat_four(x148);
                     x635 = x634.mul_add(x373, x633);
+                    *g483 = x635.to_array();
                     x636 = arith.four([x155, x127, 0.0, 0.0]);
                     x637 = arith.four([x156, x157, 0.0, 0.0]);
                     x638 = arith.four([x323, x282, 0.0, 0.0]);
@@ -12561,35 +11425,47 @@ impl Regressors<7, 70> for PandaRounded {
                     x662 = x621.mul_sub(x380, x649);
                     x663 = x634.mul_add(x382, x662);
                     x664 = x347 - x397;
+                    *g112 = x664.to_array();
                     x665 = x385.mul_add(x397, x383);
                     x666 = x386.mul_add(x397, x384);
                     x667 = x387.mul_add(x397, x383);
                     x668 = x385.mul_add(x398, x665);
+                    *g140 = x668.to_array();
                     x669 = x386.mul_add(x398, x666);
+                    *g161 = x669.to_array();
                     x670 = x397 + x398;
                     x671 = x387.mul_add(x398, x667);
                     x672 = x160.mul_add(x408, x671);
                     x673 = x410 - x414;
                     x674 = x421 - x419;
                     x675 = x670 + x674;
+                    *g182 = x675.to_array();
                     x676 = x388.mul_add(x422, x672);
                     x677 = x160.mul_add(x428, x673);
+                    *g231 = x677.to_array();
                     x678 = x389.mul_add(x443, x676);
+                    *g210 = x678.to_array();
                     x679 = x422 + x443;
                     x680 = x390.mul_add(x443, x672);
                     x681 = x164.mul_add(x455, x680);
                     x682 = x163.mul_add(x464, x681);
                     x683 = x471 - x469;
                     x684 = x679 + x683;
+                    *g252 = x684.to_array();
                     x685 = x391.mul_add(x472, x682);
                     x686 = x392.mul_add(x472, x464);
                     x687 = x393.mul_add(x478, x685);
                     x688 = x160.mul_add(x478, x686);
                     x689 = x394.mul_add(x493, x687);
+                    *g280 = x689.to_array();
+                    *g350 = x689.to_array();
                     x690 = x392.mul_add(x493, x688);
+                    *g301 = x690.to_array();
                     x691 = x472 + x493;
                     x692 = -x514;
+                    *g371 = x692.to_array();
                     x693 = x691 - x520;
+                    *g322 = x693.to_array();
                     x694 = x395.mul_add(x520, x689);
                     x695 = x520 + x538;
                     x696 = arith.four([x262, 0.0, 0.0, 0.0]);
@@ -12599,483 +11475,83 @@ impl Regressors<7, 70> for PandaRounded {
                     x700 = x169.mul_add(x636, x698);
                     x701 = x565 - x563;
                     x702 = x695 + x701;
+                    *g392 = x702.to_array();
                     x703 = x696 - x638;
                     x704 = x396.mul_add(x566, x699);
                     x705 = x396.mul_add(x638, x700);
                     x706 = x169.mul_sub(x571, x558);
+                    *g441 = x706.to_array();
                     x707 = x169.mul_sub(x639, x637);
                     x708 = x395.mul_add(x586, x704);
+                    *g420 = x708.to_array();
                     x709 = x395.mul_add(x640, x705);
                     x710 = x566 + x586;
                     x711 = x638 + x640;
                     x712 = x614 - x612;
                     x713 = x710 + x712;
+                    *g462 = x713.to_array();
                     x714 = x651 - x650;
                     x715 = x711 + x714;
-                    [x716, _, _, _] = x664.to_array();
-                    *o112 = x716;
-                    [_, x717, _, _] = x664.to_array();
-                    *o113 = x717;
-                    [_, _, x718, _] = x664.to_array();
-                    *o114 = x718;
-                    [_, _, _, x719] = x664.to_array();
-                    *o115 = x719;
-                    [x720, _, _, _] = x668.to_array();
-                    *o140 = x720;
-                    [_, x721, _, _] = x668.to_array();
-                    *o141 = x721;
-                    [_, _, x722, _] = x668.to_array();
-                    *o142 = x722;
-                    [_, _, _, x723] = x668.to_array();
-                    *o143 = x723;
-                    [x724, _, _, _] = x408.to_array();
-                    *o147 = x724;
-                    [_, x725, _, _] = x408.to_array();
-                    *o148 = x725;
-                    [_, _, x726, _] = x408.to_array();
-                    *o149 = x726;
-                    [_, _, _, x727] = x408.to_array();
-                    *o150 = x727;
-                    [x728, _, _, _] = x415.to_array();
-                    *o154 = x728;
-                    [_, x729, _, _] = x415.to_array();
-                    *o155 = x729;
-                    [_, _, x730, _] = x415.to_array();
-                    *o156 = x730;
-                    [_, _, _, x731] = x415.to_array();
-                    *o157 = x731;
-                    [x732, _, _, _] = x669.to_array();
-                    *o161 = x732;
-                    [_, x733, _, _] = x669.to_array();
-                    *o162 = x733;
-                    [_, _, x734, _] = x669.to_array();
-                    *o163 = x734;
-                    [_, _, _, x735] = x669.to_array();
-                    *o164 = x735;
-                    [x736, _, _, _] = x422.to_array();
-                    *o168 = x736;
-                    [_, x737, _, _] = x422.to_array();
-                    *o169 = x737;
-                    [_, _, x738, _] = x422.to_array();
-                    *o170 = x738;
-                    [_, _, _, x739] = x422.to_array();
-                    *o171 = x739;
-                    [x740, _, _, _] = x428.to_array();
-                    *o175 = x740;
-                    [_, x741, _, _] = x428.to_array();
-                    *o176 = x741;
-                    [_, _, x742, _] = x428.to_array();
-                    *o177 = x742;
-                    [_, _, _, x743] = x428.to_array();
-                    *o178 = x743;
-                    [x744, _, _, _] = x675.to_array();
-                    *o182 = x744;
-                    [_, x745, _, _] = x675.to_array();
-                    *o183 = x745;
-                    [_, _, x746, _] = x675.to_array();
-                    *o184 = x746;
-                    [_, _, _, x747] = x675.to_array();
-                    *o185 = x747;
-                    [x748, _, _, _] = x434.to_array();
-                    *o189 = x748;
-                    [_, x749, _, _] = x434.to_array();
-                    *o190 = x749;
-                    [_, _, x750, _] = x434.to_array();
-                    *o191 = x750;
-                    [_, _, _, x751] = x434.to_array();
-                    *o192 = x751;
-                    [x752, _, _, _] = x440.to_array();
-                    *o196 = x752;
-                    [_, x753, _, _] = x440.to_array();
-                    *o197 = x753;
-                    [_, _, x754, _] = x440.to_array();
-                    *o198 = x754;
-                    [_, _, _, x755] = x440.to_array();
-                    *o199 = x755;
-                    [x756, _, _, _] = x443.to_array();
-                    *o203 = x756;
-                    [_, x757, _, _] = x443.to_array();
-                    *o204 = x757;
-                    [_, _, x758, _] = x443.to_array();
-                    *o205 = x758;
-                    [_, _, _, x759] = x443.to_array();
-                    *o206 = x759;
-                    [x760, _, _, _] = x678.to_array();
-                    *o210 = x760;
-                    [_, x761, _, _] = x678.to_array();
-                    *o211 = x761;
-                    [_, _, x762, _] = x678.to_array();
-                    *o212 = x762;
-                    [_, _, _, x763] = x678.to_array();
-                    *o213 = x763;
-                    [x764, _, _, _] = x455.to_array();
-                    *o217 = x764;
-                    [_, x765, _, _] = x455.to_array();
-                    *o218 = x765;
-                    [_, _, x766, _] = x455.to_array();
-                    *o219 = x766;
-                    [_, _, _, x767] = x455.to_array();
-                    *o220 = x767;
-                    [x768, _, _, _] = x464.to_array();
-                    *o224 = x768;
-                    [_, x769, _, _] = x464.to_array();
-                    *o225 = x769;
-                    [_, _, x770, _] = x464.to_array();
-                    *o226 = x770;
-                    [_, _, _, x771] = x464.to_array();
-                    *o227 = x771;
-                    [x772, _, _, _] = x677.to_array();
-                    *o231 = x772;
-                    [_, x773, _, _] = x677.to_array();
-                    *o232 = x773;
-                    [_, _, x774, _] = x677.to_array();
-                    *o233 = x774;
-                    [_, _, _, x775] = x677.to_array();
-                    *o234 = x775;
-                    [x776, _, _, _] = x472.to_array();
-                    *o238 = x776;
-                    [_, x777, _, _] = x472.to_array();
-                    *o239 = x777;
-                    [_, _, x778, _] = x472.to_array();
-                    *o240 = x778;
-                    [_, _, _, x779] = x472.to_array();
-                    *o241 = x779;
-                    [x780, _, _, _] = x478.to_array();
-                    *o245 = x780;
-                    [_, x781, _, _] = x478.to_array();
-                    *o246 = x781;
-                    [_, _, x782, _] = x478.to_array();
-                    *o247 = x782;
-                    [_, _, _, x783] = x478.to_array();
-                    *o248 = x783;
-                    [x784, _, _, _] = x684.to_array();
-                    *o252 = x784;
-                    [_, x785, _, _] = x684.to_array();
-                    *o253 = x785;
-                    [_, _, x786, _] = x684.to_array();
-                    *o254 = x786;
-                    [_, _, _, x787] = x684.to_array();
-                    *o255 = x787;
-                    [x788, _, _, _] = x485.to_array();
-                    *o259 = x788;
-                    [_, x789, _, _] = x485.to_array();
-                    *o260 = x789;
-                    [_, _, x790, _] = x485.to_array();
-                    *o261 = x790;
-                    [_, _, _, x791] = x485.to_array();
-                    *o262 = x791;
-                    [x792, _, _, _] = x490.to_array();
-                    *o266 = x792;
-                    [_, x793, _, _] = x490.to_array();
-                    *o267 = x793;
-                    [_, _, x794, _] = x490.to_array();
-                    *o268 = x794;
-                    [_, _, _, x795] = x490.to_array();
-                    *o269 = x795;
-                    [x796, _, _, _] = x493.to_array();
-                    *o273 = x796;
-                    [_, x797, _, _] = x493.to_array();
-                    *o274 = x797;
-                    [_, _, x798, _] = x493.to_array();
-                    *o275 = x798;
-                    [_, _, _, x799] = x493.to_array();
-                    *o276 = x799;
-                    [x800, _, _, _] = x689.to_array();
-                    *o280 = x800;
-                    *o350 = x800;
-                    [_, x801, _, _] = x689.to_array();
-                    *o281 = x801;
-                    *o351 = x801;
-                    [_, _, x802, _] = x689.to_array();
-                    *o282 = x802;
-                    *o352 = x802;
-                    [_, _, _, x803] = x689.to_array();
-                    *o283 = x803;
-                    *o353 = x803;
-                    [x804, _, _, _] = x504.to_array();
-                    *o287 = x804;
-                    [_, x805, _, _] = x504.to_array();
-                    *o288 = x805;
-                    [_, _, x806, _] = x504.to_array();
-                    *o289 = x806;
-                    [_, _, _, x807] = x504.to_array();
-                    *o290 = x807;
-                    [x808, _, _, _] = x514.to_array();
-                    *o294 = x808;
-                    [_, x809, _, _] = x514.to_array();
-                    *o295 = x809;
-                    [_, _, x810, _] = x514.to_array();
-                    *o296 = x810;
-                    [_, _, _, x811] = x514.to_array();
-                    *o297 = x811;
-                    [x812, _, _, _] = x690.to_array();
-                    *o301 = x812;
-                    [_, x813, _, _] = x690.to_array();
-                    *o302 = x813;
-                    [_, _, x814, _] = x690.to_array();
-                    *o303 = x814;
-                    [_, _, _, x815] = x690.to_array();
-                    *o304 = x815;
-                    [x816, _, _, _] = x520.to_array();
-                    *o308 = x816;
-                    [_, x817, _, _] = x520.to_array();
-                    *o309 = x817;
-                    [_, _, x818, _] = x520.to_array();
-                    *o310 = x818;
-                    [_, _, _, x819] = x520.to_array();
-                    *o311 = x819;
-                    [x820, _, _, _] = x524.to_array();
-                    *o315 = x820;
-                    [_, x821, _, _] = x524.to_array();
-                    *o316 = x821;
-                    [_, _, x822, _] = x524.to_array();
-                    *o317 = x822;
-                    [_, _, _, x823] = x524.to_array();
-                    *o318 = x823;
-                    [x824, _, _, _] = x693.to_array();
-                    *o322 = x824;
-                    [_, x825, _, _] = x693.to_array();
-                    *o323 = x825;
-                    [_, _, x826, _] = x693.to_array();
-                    *o324 = x826;
-                    [_, _, _, x827] = x693.to_array();
-                    *o325 = x827;
-                    [x828, _, _, _] = x530.to_array();
-                    *o329 = x828;
-                    [_, x829, _, _] = x530.to_array();
-                    *o330 = x829;
-                    [_, _, x830, _] = x530.to_array();
-                    *o331 = x830;
-                    [_, _, _, x831] = x530.to_array();
-                    *o332 = x831;
-                    [x832, _, _, _] = x535.to_array();
-                    *o336 = x832;
-                    [_, x833, _, _] = x535.to_array();
-                    *o337 = x833;
-                    [_, _, x834, _] = x535.to_array();
-                    *o338 = x834;
-                    [_, _, _, x835] = x535.to_array();
-                    *o339 = x835;
-                    [x836, _, _, _] = x538.to_array();
-                    *o343 = x836;
-                    [_, x837, _, _] = x538.to_array();
-                    *o344 = x837;
-                    [_, _, x838, _] = x538.to_array();
-                    *o345 = x838;
-                    [_, _, _, x839] = x538.to_array();
-                    *o346 = x839;
-                    [x840, _, _, _] = x549.to_array();
-                    *o357 = x840;
-                    [_, x841, _, _] = x549.to_array();
-                    *o358 = x841;
-                    [_, _, x842, _] = x549.to_array();
-                    *o359 = x842;
-                    [_, _, _, x843] = x549.to_array();
-                    *o360 = x843;
-                    [x844, _, _, _] = x558.to_array();
-                    *o364 = x844;
-                    [_, x845, _, _] = x558.to_array();
-                    *o365 = x845;
-                    [_, _, x846, _] = x558.to_array();
-                    *o366 = x846;
-                    [_, _, _, x847] = x558.to_array();
-                    *o367 = x847;
-                    [x848, _, _, _] = x692.to_array();
-                    *o371 = x848;
-                    [_, x849, _, _] = x692.to_array();
-                    *o372 = x849;
-                    [_, _, x850, _] = x692.to_array();
-                    *o373 = x850;
-                    [_, _, _, x851] = x692.to_array();
-                    *o374 = x851;
-                    [x852, _, _, _] = x566.to_array();
-                    *o378 = x852;
-                    [_, x853, _, _] = x566.to_array();
-                    *o379 = x853;
-                    [_, _, x854, _] = x566.to_array();
-                    *o380 = x854;
-                    [_, _, _, x855] = x566.to_array();
-                    *o381 = x855;
-                    [x856, _, _, _] = x571.to_array();
-                    *o385 = x856;
-                    [_, x857, _, _] = x571.to_array();
-                    *o386 = x857;
-                    [_, _, x858, _] = x571.to_array();
-                    *o387 = x858;
-                    [_, _, _, x859] = x571.to_array();
-                    *o388 = x859;
-                    [x860, _, _, _] = x702.to_array();
-                    *o392 = x860;
-                    [_, x861, _, _] = x702.to_array();
-                    *o393 = x861;
-                    [_, _, x862, _] = x702.to_array();
-                    *o394 = x862;
-                    [_, _, _, x863] = x702.to_array();
-                    *o395 = x863;
                     [x864, _, _, _] = x703.to_array();
                     *o396 = x864;
                     [_, x865, _, _] = x703.to_array();
                     *o397 = x865;
                     [_, _, x866, _] = x703.to_array();
                     *o398 = x866;
-                    [x867, _, _, _] = x578.to_array();
-                    *o399 = x867;
-                    [_, x868, _, _] = x578.to_array();
-                    *o400 = x868;
-                    [_, _, x869, _] = x578.to_array();
-                    *o401 = x869;
-                    [_, _, _, x870] = x578.to_array();
-                    *o402 = x870;
-                    [x871, _, _, _] = x583.to_array();
-                    *o406 = x871;
-                    [_, x872, _, _] = x583.to_array();
-                    *o407 = x872;
-                    [_, _, x873, _] = x583.to_array();
-                    *o408 = x873;
-                    [_, _, _, x874] = x583.to_array();
-                    *o409 = x874;
-                    [x875, _, _, _] = x586.to_array();
-                    *o413 = x875;
-                    [_, x876, _, _] = x586.to_array();
-                    *o414 = x876;
-                    [_, _, x877, _] = x586.to_array();
-                    *o415 = x877;
-                    [_, _, _, x878] = x586.to_array();
-                    *o416 = x878;
-                    [x879, _, _, _] = x708.to_array();
-                    *o420 = x879;
-                    [_, x880, _, _] = x708.to_array();
-                    *o421 = x880;
-                    [_, _, x881, _] = x708.to_array();
-                    *o422 = x881;
-                    [_, _, _, x882] = x708.to_array();
-                    *o423 = x882;
                     [x883, _, _, _] = x709.to_array();
                     *o424 = x883;
                     [_, x884, _, _] = x709.to_array();
                     *o425 = x884;
                     [_, _, x885, _] = x709.to_array();
                     *o426 = x885;
-                    [x886, _, _, _] = x598.to_array();
-                    *o427 = x886;
-                    [_, x887, _, _] = x598.to_array();
-                    *o428 = x887;
-                    [_, _, x888, _] = x598.to_array();
-                    *o429 = x888;
-                    [_, _, _, x889] = x598.to_array();
-                    *o430 = x889;
                     [x890, _, _, _] = x644.to_array();
                     *o431 = x890;
                     [_, x891, _, _] = x644.to_array();
                     *o432 = x891;
                     [_, _, x892, _] = x644.to_array();
                     *o433 = x892;
-                    [x893, _, _, _] = x607.to_array();
-                    *o434 = x893;
-                    [_, x894, _, _] = x607.to_array();
-                    *o435 = x894;
-                    [_, _, x895, _] = x607.to_array();
-                    *o436 = x895;
-                    [_, _, _, x896] = x607.to_array();
-                    *o437 = x896;
                     [x897, _, _, _] = x648.to_array();
                     *o438 = x897;
                     [_, x898, _, _] = x648.to_array();
                     *o439 = x898;
                     [_, _, x899, _] = x648.to_array();
                     *o440 = x899;
-                    [x900, _, _, _] = x706.to_array();
-                    *o441 = x900;
-                    [_, x901, _, _] = x706.to_array();
-                    *o442 = x901;
-                    [_, _, x902, _] = x706.to_array();
-                    *o443 = x902;
-                    [_, _, _, x903] = x706.to_array();
-                    *o444 = x903;
                     [x904, _, _, _] = x707.to_array();
                     *o445 = x904;
                     [_, x905, _, _] = x707.to_array();
                     *o446 = x905;
                     [_, _, x906, _] = x707.to_array();
                     *o447 = x906;
-                    [x907, _, _, _] = x615.to_array();
-                    *o448 = x907;
-                    [_, x908, _, _] = x615.to_array();
-                    *o449 = x908;
-                    [_, _, x909, _] = x615.to_array();
-                    *o450 = x909;
-                    [_, _, _, x910] = x615.to_array();
-                    *o451 = x910;
                     [x911, _, _, _] = x652.to_array();
                     *o452 = x911;
                     [_, x912, _, _] = x652.to_array();
                     *o453 = x912;
                     [_, _, x913, _] = x652.to_array();
                     *o454 = x913;
-                    [x914, _, _, _] = x620.to_array();
-                    *o455 = x914;
-                    [_, x915, _, _] = x620.to_array();
-                    *o456 = x915;
-                    [_, _, x916, _] = x620.to_array();
-                    *o457 = x916;
-                    [_, _, _, x917] = x620.to_array();
-                    *o458 = x917;
                     [x918, _, _, _] = x655.to_array();
                     *o459 = x918;
                     [_, x919, _, _] = x655.to_array();
                     *o460 = x919;
                     [_, _, x920, _] = x655.to_array();
                     *o461 = x920;
-                    [x921, _, _, _] = x713.to_array();
-                    *o462 = x921;
-                    [_, x922, _, _] = x713.to_array();
-                    *o463 = x922;
-                    [_, _, x923, _] = x713.to_array();
-                    *o464 = x923;
-                    [_, _, _, x924] = x713.to_array();
-                    *o465 = x924;
                     [x925, _, _, _] = x715.to_array();
                     *o466 = x925;
                     [_, x926, _, _] = x715.to_array();
                     *o467 = x926;
                     [_, _, x927, _] = x715.to_array();
                     *o468 = x927;
-                    [x928, _, _, _] = x627.to_array();
-                    *o469 = x928;
-                    [_, x929, _, _] = x627.to_array();
-                    *o470 = x929;
-                    [_, _, x930, _] = x627.to_array();
-                    *o471 = x930;
-                    [_, _, _, x931] = x627.to_array();
-                    *o472 = x931;
                     [x932, _, _, _] = x658.to_array();
                     *o473 = x932;
                     [_, x933, _, _] = x658.to_array();
                     *o474 = x933;
                     [_, _, x934, _] = x658.to_array();
                     *o475 = x934;
-                    [x935, _, _, _] = x632.to_array();
-                    *o476 = x935;
-                    [_, x936, _, _] = x632.to_array();
-                    *o477 = x936;
-                    [_, _, x937, _] = x632.to_array();
-                    *o478 = x937;
-                    [_, _, _, x938] = x632.to_array();
-                    *o479 = x938;
                     [x939, _, _, _] = x661.to_array();
                     *o480 = x939;
                     [_, x940, _, _] = x661.to_array();
                     *o481 = x940;
                     [_, _, x941, _] = x661.to_array();
                     *o482 = x941;
-                    [x942, _, _, _] = x635.to_array();
-                    *o483 = x942;
-                    [_, x943, _, _] = x635.to_array();
-                    *o484 = x943;
-                    [_, _, x944, _] = x635.to_array();
-                    *o485 = x944;
-                    [_, _, _, x945] = x635.to_array();
-                    *o486 = x945;
                     [x946, _, _, _] = x663.to_array();
                     *o487 = x946;
                     [_, x947, _, _] = x663.to_array();
@@ -14680,26 +13156,20 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     let [[o0, _, _, _, _, _, _], [_, o8, _, _, _, _, _], [_, o15, _, _,
                     _, _, _], [o21, o22, _, _, _, _, _], [o28, o29, _, _, _, _, _], [o35,
                     o36, _, _, _, _, _], [o42, o43, _, _, _, _, _], [o49, o50, _, _, _,
-                    _, _], [o56, o57, o58, o59, _, _, _], [o63, o64, o65, o66, _, _, _],
-                    [o70, o71, o72, o73, _, _, _], [o77, o78, o79, o80, _, _, _], [o84,
-                    o85, o86, o87, _, _, _], [o91, o92, o93, o94, _, _, _], [o98, o99,
-                    o100, o101, _, _, _], [o105, o106, o107, o108, _, _, _], [o112, o113,
-                    o114, o115, _, _, _], [o119, o120, o121, o122, _, _, _], [o126, o127,
-                    o128, o129, _, _, _], [o133, o134, o135, o136, _, _, _], [o140, o141,
-                    o142, o143, _, _, _], [o147, o148, o149, o150, _, _, _], [o154, o155,
-                    o156, o157, o158, _, _], [o161, o162, o163, o164, o165, _, _], [o168,
-                    o169, o170, o171, o172, _, _], [o175, o176, o177, o178, o179, _, _],
-                    [o182, o183, o184, o185, o186, _, _], [o189, o190, o191, o192, o193,
-                    _, _], [o196, o197, o198, o199, o200, _, _], [o203, o204, o205, o206,
-                    o207, o208, _], [o210, o211, o212, o213, o214, o215, _], [o217, o218,
-                    o219, o220, o221, o222, _], [o224, o225, o226, o227, o228, o229, _],
-                    [o231, o232, o233, o234, o235, o236, _], [o238, o239, o240, o241,
-                    o242, o243, _], [o245, o246, o247, o248, o249, o250, _], [o252, o253,
-                    o254, o255, o256, o257, o258], [o259, o260, o261, o262, o263, o264,
-                    o265], [o266, o267, o268, o269, o270, o271, o272], [o273, o274, o275,
-                    o276, o277, o278, o279], [o280, o281, o282, o283, o284, o285, o286],
-                    [o287, o288, o289, o290, o291, o292, o293], [o294, o295, o296, o297,
-                    o298, o299, o300]] = &mut out.data.0;
+                    _, _], [g56 @ .., _, _, _], [g63 @ .., _, _, _], [g70 @ .., _, _, _],
+                    [g77 @ .., _, _, _], [g84 @ .., _, _, _], [g91 @ .., _, _, _],
+                    [g98 @ .., _, _, _], [g105 @ .., _, _, _], [g112 @ .., _, _, _],
+                    [g119 @ .., _, _, _], [g126 @ .., _, _, _], [g133 @ .., _, _, _],
+                    [g140 @ .., _, _, _], [g147 @ .., _, _, _], [g154 @ .., o158, _, _],
+                    [g161 @ .., o165, _, _], [g168 @ .., o172, _, _], [g175 @ .., o179,
+                    _, _], [g182 @ .., o186, _, _], [g189 @ .., o193, _, _], [g196 @ ..,
+                    o200, _, _], [g203 @ .., o207, o208, _], [g210 @ .., o214, o215, _],
+                    [g217 @ .., o221, o222, _], [g224 @ .., o228, o229, _], [g231 @ ..,
+                    o235, o236, _], [g238 @ .., o242, o243, _], [g245 @ .., o249, o250, _,
+                    ], [g252 @ .., o256, o257, o258], [g259 @ .., o263, o264, o265],
+                    [g266 @ .., o270, o271, o272], [g273 @ .., o277, o278, o279],
+                    [g280 @ .., o284, o285, o286], [g287 @ .., o291, o292, o293],
+                    [g294 @ .., o298, o299, o300]] = &mut out.data.0;
                     *o0 = a0;
                     let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
                     x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
@@ -14750,23 +13220,10 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x528, x529, x530, x531, x532, x533, x534, x535, x536, x537, x538,
                     x539, x540, x541, x542, x543, x544, x545, x546, x547, x548, x549,
                     x550, x551, x565, x568, x569, x571, x572, x589, x590, x591, x592,
-                    x593, x594, x595, x596, x597, x598, x599, x600, x601, x905, x906,
-                    x907, x908, x909, x910, x911, x912, x913, x914, x915, x916, x917,
-                    x918, x919, x920, x921, x922, x923, x924, x925, x926, x927, x928,
-                    x929, x930, x931, x932, x933, x934, x935, x936, x937, x938, x939,
-                    x940, x941, x942, x943, x944, x945, x946, x947, x948, x949, x950,
-                    x951, x952, x953, x954, x955, x956, x957, x958, x959, x960, x961,
-                    x962, x963, x964, x965, x966, x967, x968, x969, x970, x971, x972,
-                    x973, x974, x975, x976, x977, x978, x979, x980, x981, x982, x983,
-                    x984, x985, x986, x987, x988, x989, x990, x991, x992, x993, x994,
-                    x995, x996, x997, x998, x999, x1000, x1001, x1002, x1003, x1004,
-                    x1005, x1006, x1007, x1008, x1009, x1010, x1011, x1012, x1013, x1014,
-                    x1015, x1016, x1017, x1018, x1019, x1020, x1021, x1022, x1023, x1024,
-                    x1025, x1026, x1027, x1028, x1029, x1030, x1031, x1032, x1033, x1034,
-                    x1035, x1036, x1037, x1038, x1039, x1040, x1041, x1042, x1043, x1044,
-                    x1045, x1046, x1047, x1048, x1049, x1050, x1051, x1052, x1053, x1054,
-                    x1055, x1056, x1057, x1058, x1059, x1060, x1061, x1062, x1063, x1064,
-                    x1065]: [f64; 731];
+                    x593, x594, x595, x596, x597, x598, x599, x600, x601, x1021, x1022,
+                    x1023, x1028, x1029, x1030, x1035, x1036, x1037, x1042, x1043, x1044,
+                    x1049, x1050, x1051, x1056, x1057, x1058, x1063, x1064, x1065,
+                    ]: [f64; 591];
                     let [x552, x553, x554, x555, x556, x557, x558, x559, x560, x561,
                     x562, x563, x564, x566, x567, x570, x573, x574, x575, x576, x577,
                     x578, x579, x580, x581, x582, x583, x584, x585, x586, x587, x588,
@@ -15442,6 +13899,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x608 = x607 * x573;
                     x609 = x606.mul_add(x570, x608);
                     x610 = x605 + x609;
+                    *g56 = x610.to_array();
                     x611 = arith.splat_four(x257);
                     x612 = arith.splat_four(x256);
                     x613 = x612 * x574;
@@ -15451,18 +13909,21 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x617 = x616 * x573;
                     x618 = x615.mul_add(x570, x617);
                     x619 = x614 + x618;
+                    *g63 = x619.to_array();
                     x620 = arith.splat_four(x241);
                     x621 = arith.splat_four(x260);
                     x622 = x621 * x567;
                     x623 = x620.mul_add(x566, x622);
                     x624 = arith.splat_four(x261);
                     x625 = x624.mul_neg_add(x574, x623);
+                    *g70 = x625.to_array();
                     x626 = arith.splat_four(x267);
                     x627 = arith.splat_four(x268);
                     x628 = x627 * x567;
                     x629 = x626.mul_add(x566, x628);
                     x630 = arith.splat_four(x269);
                     x631 = x630.mul_add(x574, x629);
+                    *g77 = x631.to_array();
                     x632 = arith.splat_four(x270);
                     x633 = arith.splat_four(x275);
                     x634 = arith.splat_four(x276);
@@ -15470,15 +13931,18 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x636 = x633.mul_add(x566, x635);
                     x637 = arith.splat_four(x277);
                     x638 = x637.mul_add(x574, x636);
+                    *g84 = x638.to_array();
                     x639 = arith.splat_four(x281);
                     x640 = arith.splat_four(x282);
                     x641 = x640 * x567;
                     x642 = x639.mul_add(x566, x641);
                     x643 = arith.splat_four(x283);
                     x644 = x643.mul_add(x574, x642);
+                    *g91 = x644.to_array();
                     x645 = x632.mul_sub(x566, x622);
                     x646 = arith.splat_four(x243);
                     x647 = x646.mul_add(x574, x645);
+                    *g98 = x647.to_array();
                     x648 = x553.mul_add(x574, x573);
                     x649 = x554.mul_sub(x570, x580);
                     x650 = x555 * x570;
@@ -15494,6 +13958,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x660 = arith.splat_four(x312);
                     x661 = x660.mul_neg_add(x648, x659);
                     x662 = x655 + x661;
+                    *g105 = x662.to_array();
                     x663 = arith.splat_four(x316);
                     x664 = x663 * x577;
                     x665 = arith.splat_four(x317);
@@ -15505,18 +13970,21 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x671 = arith.splat_four(x320);
                     x672 = x671.mul_neg_add(x648, x670);
                     x673 = x666 + x672;
+                    *g112 = x673.to_array();
                     x674 = arith.splat_four(x296);
                     x675 = arith.splat_four(x321);
                     x676 = x675 * x579;
                     x677 = x674.mul_add(x577, x676);
                     x678 = arith.splat_four(x322);
                     x679 = x678.mul_neg_add(x581, x677);
+                    *g119 = x679.to_array();
                     x680 = arith.splat_four(x328);
                     x681 = arith.splat_four(x329);
                     x682 = x681 * x579;
                     x683 = x680.mul_add(x577, x682);
                     x684 = arith.splat_four(x330);
                     x685 = x684.mul_add(x581, x683);
+                    *g126 = x685.to_array();
                     x686 = arith.splat_four(x331);
                     x687 = arith.splat_four(x336);
                     x688 = arith.splat_four(x337);
@@ -15524,15 +13992,18 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x690 = x687.mul_add(x577, x689);
                     x691 = arith.splat_four(x338);
                     x692 = x691.mul_add(x581, x690);
+                    *g133 = x692.to_array();
                     x693 = arith.splat_four(x342);
                     x694 = arith.splat_four(x343);
                     x695 = x694 * x579;
                     x696 = x693.mul_add(x577, x695);
                     x697 = arith.splat_four(x344);
                     x698 = x697.mul_add(x581, x696);
+                    *g140 = x698.to_array();
                     x699 = x686.mul_sub(x577, x676);
                     x700 = arith.splat_four(x298);
                     x701 = x700.mul_add(x581, x699);
+                    *g147 = x701.to_array();
                     x702 = x556.mul_neg_add(x581, x649);
                     x703 = x557.mul_sub(x581, x651);
                     x704 = x587 + x648;
@@ -15552,6 +14023,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x718 = arith.splat_four(x373);
                     x719 = x718.mul_add(x703, x717);
                     x720 = x713 + x719;
+                    *g154 = x720.to_array();
                     x721 = arith.splat_four(x376);
                     x722 = arith.splat_four(x377);
                     x723 = x722 * x579;
@@ -15563,34 +14035,40 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x729 = arith.splat_four(x380);
                     x730 = x729.mul_add(x703, x728);
                     x731 = x724 + x730;
+                    *g161 = x731.to_array();
                     x732 = arith.splat_four(x357);
                     x733 = arith.splat_four(x381);
                     x734 = x733 * x586;
                     x735 = x732.mul_sub(x584, x734);
                     x736 = arith.splat_four(x382);
                     x737 = x736.mul_add(x579, x735);
+                    *g168 = x737.to_array();
                     x738 = arith.splat_four(x388);
                     x739 = arith.splat_four(x389);
                     x740 = x739 * x586;
                     x741 = x738.mul_add(x584, x740);
                     x742 = arith.splat_four(x390);
                     x743 = x742.mul_sub(x579, x741);
+                    *g175 = x743.to_array();
                     x744 = arith.splat_four(x395);
                     x745 = arith.splat_four(x396);
                     x746 = x745 * x586;
                     x747 = x744.mul_sub(x584, x746);
                     x748 = arith.splat_four(x397);
                     x749 = x748.mul_add(x579, x747);
+                    *g182 = x749.to_array();
                     x750 = arith.splat_four(x401);
                     x751 = arith.splat_four(x402);
                     x752 = x751 * x586;
                     x753 = x750.mul_add(x584, x752);
                     x754 = arith.splat_four(x403);
                     x755 = x754.mul_sub(x579, x753);
+                    *g189 = x755.to_array();
                     x756 = arith.splat_four(x404);
                     x757 = x756.mul_add(x584, x734);
                     x758 = arith.splat_four(x359);
                     x759 = x758.mul_add(x579, x757);
+                    *g196 = x759.to_array();
                     x760 = x561 * x579;
                     x761 = x560.mul_add(x584, x760);
                     x762 = x560 * x579;
@@ -15611,6 +14089,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x777 = arith.splat_four(x432);
                     x778 = x777.mul_add(x768, x776);
                     x779 = x772 + x778;
+                    *g203 = x779.to_array();
                     x780 = arith.splat_four(x435);
                     x781 = arith.splat_four(x436);
                     x782 = x781 * x586;
@@ -15622,18 +14101,21 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x788 = arith.splat_four(x439);
                     x789 = x788.mul_add(x768, x787);
                     x790 = x783 + x789;
+                    *g210 = x790.to_array();
                     x791 = arith.splat_four(x417);
                     x792 = arith.splat_four(x440);
                     x793 = x792 * x763;
                     x794 = x791.mul_add(x761, x793);
                     x795 = arith.splat_four(x441);
                     x796 = x795.mul_neg_add(x586, x794);
+                    *g217 = x796.to_array();
                     x797 = arith.splat_four(x448);
                     x798 = arith.splat_four(x449);
                     x799 = x798 * x763;
                     x800 = x797.mul_add(x761, x799);
                     x801 = arith.splat_four(x450);
                     x802 = x801.mul_add(x586, x800);
+                    *g224 = x802.to_array();
                     x803 = arith.splat_four(x451);
                     x804 = arith.splat_four(x456);
                     x805 = arith.splat_four(x457);
@@ -15641,15 +14123,18 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x807 = x804.mul_add(x761, x806);
                     x808 = arith.splat_four(x458);
                     x809 = x808.mul_add(x586, x807);
+                    *g231 = x809.to_array();
                     x810 = arith.splat_four(x462);
                     x811 = arith.splat_four(x463);
                     x812 = x811 * x763;
                     x813 = x810.mul_add(x761, x812);
                     x814 = arith.splat_four(x464);
                     x815 = x814.mul_add(x586, x813);
+                    *g238 = x815.to_array();
                     x816 = x803.mul_sub(x761, x793);
                     x817 = arith.splat_four(x419);
                     x818 = x817.mul_add(x586, x816);
+                    *g245 = x818.to_array();
                     x819 = x564 * x586;
                     x820 = x563.mul_add(x761, x819);
                     x821 = x564 * x761;
@@ -15672,6 +14157,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x838 = arith.splat_four(x493);
                     x839 = x838.mul_neg_add(x824, x837);
                     x840 = x833 + x839;
+                    *g252 = x840.to_array();
                     x841 = arith.splat_four(x496);
                     x842 = arith.splat_four(x497);
                     x843 = x842 * x823;
@@ -15683,18 +14169,21 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x849 = arith.splat_four(x500);
                     x850 = x849.mul_neg_add(x824, x848);
                     x851 = x844 + x850;
+                    *g259 = x851.to_array();
                     x852 = arith.splat_four(x477);
                     x853 = arith.splat_four(x501);
                     x854 = x853 * x822;
                     x855 = x852.mul_add(x820, x854);
                     x856 = arith.splat_four(x502);
                     x857 = x856.mul_neg_add(x823, x855);
+                    *g266 = x857.to_array();
                     x858 = arith.splat_four(x508);
                     x859 = arith.splat_four(x509);
                     x860 = x859 * x822;
                     x861 = x858.mul_add(x820, x860);
                     x862 = arith.splat_four(x510);
                     x863 = x862.mul_add(x823, x861);
+                    *g273 = x863.to_array();
                     x864 = arith.splat_four(x511);
                     x865 = arith.splat_four(x516);
                     x866 = arith.splat_four(x517);
@@ -15702,15 +14191,18 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x868 = x865.mul_add(x820, x867);
                     x869 = arith.splat_four(x518);
                     x870 = x869.mul_add(x823, x868);
+                    *g280 = x870.to_array();
                     x871 = arith.splat_four(x522);
                     x872 = arith.splat_four(x523);
                     x873 = x872 * x822;
                     x874 = x871.mul_add(x820, x873);
                     x875 = arith.splat_four(x524);
                     x876 = x875.mul_add(x823, x874);
+                    *g287 = x876.to_array();
                     x877 = x864.mul_sub(x820, x854);
                     x878 = arith.splat_four(x479);
                     x879 = x878.mul_add(x823, x877);
+                    *g294 = x879.to_array();
                     x880 = arith.four([x591, s6, 0.0, 0.0]);
                     x881 = arith.four([x593, c6, 0.0, 0.0]);
                     x882 = arith.four([x589, 0.0, 1f64, 0.0]);
@@ -15736,322 +14228,42 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x902 = x875.mul_add(x882, x901);
                     x903 = x864.mul_sub(x880, x891);
                     x904 = x878.mul_add(x882, x903);
-                    [x905, _, _, _] = x610.to_array();
-                    *o56 = x905;
-                    [_, x906, _, _] = x610.to_array();
-                    *o57 = x906;
-                    [_, _, x907, _] = x610.to_array();
-                    *o58 = x907;
-                    [_, _, _, x908] = x610.to_array();
-                    *o59 = x908;
-                    [x909, _, _, _] = x619.to_array();
-                    *o63 = x909;
-                    [_, x910, _, _] = x619.to_array();
-                    *o64 = x910;
-                    [_, _, x911, _] = x619.to_array();
-                    *o65 = x911;
-                    [_, _, _, x912] = x619.to_array();
-                    *o66 = x912;
-                    [x913, _, _, _] = x625.to_array();
-                    *o70 = x913;
-                    [_, x914, _, _] = x625.to_array();
-                    *o71 = x914;
-                    [_, _, x915, _] = x625.to_array();
-                    *o72 = x915;
-                    [_, _, _, x916] = x625.to_array();
-                    *o73 = x916;
-                    [x917, _, _, _] = x631.to_array();
-                    *o77 = x917;
-                    [_, x918, _, _] = x631.to_array();
-                    *o78 = x918;
-                    [_, _, x919, _] = x631.to_array();
-                    *o79 = x919;
-                    [_, _, _, x920] = x631.to_array();
-                    *o80 = x920;
-                    [x921, _, _, _] = x638.to_array();
-                    *o84 = x921;
-                    [_, x922, _, _] = x638.to_array();
-                    *o85 = x922;
-                    [_, _, x923, _] = x638.to_array();
-                    *o86 = x923;
-                    [_, _, _, x924] = x638.to_array();
-                    *o87 = x924;
-                    [x925, _, _, _] = x644.to_array();
-                    *o91 = x925;
-                    [_, x926, _, _] = x644.to_array();
-                    *o92 = x926;
-                    [_, _, x927, _] = x644.to_array();
-                    *o93 = x927;
-                    [_, _, _, x928] = x644.to_array();
-                    *o94 = x928;
-                    [x929, _, _, _] = x647.to_array();
-                    *o98 = x929;
-                    [_, x930, _, _] = x647.to_array();
-                    *o99 = x930;
-                    [_, _, x931, _] = x647.to_array();
-                    *o100 = x931;
-                    [_, _, _, x932] = x647.to_array();
-                    *o101 = x932;
-                    [x933, _, _, _] = x662.to_array();
-                    *o105 = x933;
-                    [_, x934, _, _] = x662.to_array();
-                    *o106 = x934;
-                    [_, _, x935, _] = x662.to_array();
-                    *o107 = x935;
-                    [_, _, _, x936] = x662.to_array();
-                    *o108 = x936;
-                    [x937, _, _, _] = x673.to_array();
-                    *o112 = x937;
-                    [_, x938, _, _] = x673.to_array();
-                    *o113 = x938;
-                    [_, _, x939, _] = x673.to_array();
-                    *o114 = x939;
-                    [_, _, _, x940] = x673.to_array();
-                    *o115 = x940;
-                    [x941, _, _, _] = x679.to_array();
-                    *o119 = x941;
-                    [_, x942, _, _] = x679.to_array();
-                    *o120 = x942;
-                    [_, _, x943, _] = x679.to_array();
-                    *o121 = x943;
-                    [_, _, _, x944] = x679.to_array();
-                    *o122 = x944;
-                    [x945, _, _, _] = x685.to_array();
-                    *o126 = x945;
-                    [_, x946, _, _] = x685.to_array();
-                    *o127 = x946;
-                    [_, _, x947, _] = x685.to_array();
-                    *o128 = x947;
-                    [_, _, _, x948] = x685.to_array();
-                    *o129 = x948;
-                    [x949, _, _, _] = x692.to_array();
-                    *o133 = x949;
-                    [_, x950, _, _] = x692.to_array();
-                    *o134 = x950;
-                    [_, _, x951, _] = x692.to_array();
-                    *o135 = x951;
-                    [_, _, _, x952] = x692.to_array();
-                    *o136 = x952;
-                    [x953, _, _, _] = x698.to_array();
-                    *o140 = x953;
-                    [_, x954, _, _] = x698.to_array();
-                    *o141 = x954;
-                    [_, _, x955, _] = x698.to_array();
-                    *o142 = x955;
-                    [_, _, _, x956] = x698.to_array();
-                    *o143 = x956;
-                    [x957, _, _, _] = x701.to_array();
-                    *o147 = x957;
-                    [_, x958, _, _] = x701.to_array();
-                    *o148 = x958;
-                    [_, _, x959, _] = x701.to_array();
-                    *o149 = x959;
-                    [_, _, _, x960] = x701.to_array();
-                    *o150 = x960;
-                    [x961, _, _, _] = x720.to_array();
-                    *o154 = x961;
-                    [_, x962, _, _] = x720.to_array();
-                    *o155 = x962;
-                    [_, _, x963, _] = x720.to_array();
-                    *o156 = x963;
-                    [_, _, _, x964] = x720.to_array();
-                    *o157 = x964;
-                    [x965, _, _, _] = x731.to_array();
-                    *o161 = x965;
-                    [_, x966, _, _] = x731.to_array();
-                    *o162 = x966;
-                    [_, _, x967, _] = x731.to_array();
-                    *o163 = x967;
-                    [_, _, _, x968] = x731.to_array();
-                    *o164 = x968;
-                    [x969, _, _, _] = x737.to_array();
-                    *o168 = x969;
-                    [_, x970, _, _] = x737.to_array();
-                    *o169 = x970;
-                    [_, _, x971, _] = x737.to_array();
-                    *o170 = x971;
-                    [_, _, _, x972] = x737.to_array();
-                    *o171 = x972;
-                    [x973, _, _, _] = x743.to_array();
-                    *o175 = x973;
-                    [_, x974, _, _] = x743.to_array();
-                    *o176 = x974;
-                    [_, _, x975, _] = x743.to_array();
-                    *o177 = x975;
-                    [_, _, _, x976] = x743.to_array();
-                    *o178 = x976;
-                    [x977, _, _, _] = x749.to_array();
-                    *o182 = x977;
-                    [_, x978, _, _] = x749.to_array();
-                    *o183 = x978;
-                    [_, _, x979, _] = x749.to_array();
-                    *o184 = x979;
-                    [_, _, _, x980] = x749.to_array();
-                    *o185 = x980;
-                    [x981, _, _, _] = x755.to_array();
-                    *o189 = x981;
-                    [_, x982, _, _] = x755.to_array();
-                    *o190 = x982;
-                    [_, _, x983, _] = x755.to_array();
-                    *o191 = x983;
-                    [_, _, _, x984] = x755.to_array();
-                    *o192 = x984;
-                    [x985, _, _, _] = x759.to_array();
-                    *o196 = x985;
-                    [_, x986, _, _] = x759.to_array();
-                    *o197 = x986;
-                    [_, _, x987, _] = x759.to_array();
-                    *o198 = x987;
-                    [_, _, _, x988] = x759.to_array();
-                    *o199 = x988;
-                    [x989, _, _, _] = x779.to_array();
-                    *o203 = x989;
-                    [_, x990, _, _] = x779.to_array();
-                    *o204 = x990;
-                    [_, _, x991, _] = x779.to_array();
-                    *o205 = x991;
-                    [_, _, _, x992] = x779.to_array();
-                    *o206 = x992;
-                    [x993, _, _, _] = x790.to_array();
-                    *o210 = x993;
-                    [_, x994, _, _] = x790.to_array();
-                    *o211 = x994;
-                    [_, _, x995, _] = x790.to_array();
-                    *o212 = x995;
-                    [_, _, _, x996] = x790.to_array();
-                    *o213 = x996;
-                    [x997, _, _, _] = x796.to_array();
-                    *o217 = x997;
-                    [_, x998, _, _] = x796.to_array();
-                    *o218 = x998;
-                    [_, _, x999, _] = x796.to_array();
-                    *o219 = x999;
-                    [_, _, _, x1000] = x796.to_array();
-                    *o220 = x1000;
-                    [x1001, _, _, _] = x802.to_array();
-                    *o224 = x1001;
-                    [_, x1002, _, _] = x802.to_array();
-                    *o225 = x1002;
-                    [_, _, x1003, _] = x802.to_array();
-                    *o226 = x1003;
-                    [_, _, _, x1004] = x802.to_array();
-                    *o227 = x1004;
-                    [x1005, _, _, _] = x809.to_array();
-                    *o231 = x1005;
-                    [_, x1006, _, _] = x809.to_array();
-                    *o232 = x1006;
-                    [_, _, x1007, _] = x809.to_array();
-                    *o233 = x1007;
-                    [_, _, _, x1008] = x809.to_array();
-                    *o234 = x1008;
-                    [x1009, _, _, _] = x815.to_array();
-                    *o238 = x1009;
-                    [_, x1010, _, _] = x815.to_array();
-                    *o239 = x1010;
-                    [_, _, x1011, _] = x815.to_array();
-                    *o240 = x1011;
-                    [_, _, _, x1012] = x815.to_array();
-                    *o241 = x1012;
-                    [x1013, _, _, _] = x818.to_array();
-                    *o245 = x1013;
-                    [_, x1014, _, _] = x818.to_array();
-                    *o246 = x1014;
-                    [_, _, x1015, _] = x818.to_array();
-                    *o247 = x1015;
-                    [_, _, _, x1016] = x818.to_array();
-                    *o248 = x1016;
-                    [x1017, _, _, _] = x840.to_array();
-                    *o252 = x1017;
-                    [_, x1018, _, _] = x840.to_array();
-                    *o253 = x1018;
-                    [_, _, x1019, _] = x840.to_array();
-                    *o254 = x1019;
-                    [_, _, _, x1020] = x840.to_array();
-                    *o255 = x1020;
                     [x1021, _, _, _] = x886.to_array();
                     *o256 = x1021;
                     [_, x1022, _, _] = x886.to_array();
                     *o257 = x1022;
                     [_, _, x1023, _] = x886.to_array();
                     *o258 = x1023;
-                    [x1024, _, _, _] = x851.to_array();
-                    *o259 = x1024;
-                    [_, x1025, _, _] = x851.to_array();
-                    *o260 = x1025;
-                    [_, _, x1026, _] = x851.to_array();
-                    *o261 = x1026;
-                    [_, _, _, x1027] = x851.to_array();
-                    *o262 = x1027;
                     [x1028, _, _, _] = x890.to_array();
                     *o263 = x1028;
                     [_, x1029, _, _] = x890.to_array();
                     *o264 = x1029;
                     [_, _, x1030, _] = x890.to_array();
                     *o265 = x1030;
-                    [x1031, _, _, _] = x857.to_array();
-                    *o266 = x1031;
-                    [_, x1032, _, _] = x857.to_array();
-                    *o267 = x1032;
-                    [_, _, x1033, _] = x857.to_array();
-                    *o268 = x1033;
-                    [_, _, _, x1034] = x857.to_array();
-                    *o269 = x1034;
                     [x1035, _, _, _] = x893.to_array();
                     *o270 = x1035;
                     [_, x1036, _, _] = x893.to_array();
                     *o271 = x1036;
                     [_, _, x1037, _] = x893.to_array();
                     *o272 = x1037;
-                    [x1038, _, _, _] = x863.to_array();
-                    *o273 = x1038;
-                    [_, x1039, _, _] = x863.to_array();
-                    *o274 = x1039;
-                    [_, _, x1040, _] = x863.to_array();
-                    *o275 = x1040;
-                    [_, _, _, x1041] = x863.to_array();
-                    *o276 = x1041;
                     [x1042, _, _, _] = x896.to_array();
                     *o277 = x1042;
                     [_, x1043, _, _] = x896.to_array();
                     *o278 = x1043;
                     [_, _, x1044, _] = x896.to_array();
                     *o279 = x1044;
-                    [x1045, _, _, _] = x870.to_array();
-                    *o280 = x1045;
-                    [_, x1046, _, _] = x870.to_array();
-                    *o281 = x1046;
-                    [_, _, x1047, _] = x870.to_array();
-                    *o282 = x1047;
-                    [_, _, _, x1048] = x870.to_array();
-                    *o283 = x1048;
                     [x1049, _, _, _] = x899.to_array();
                     *o284 = x1049;
                     [_, x1050, _, _] = x899.to_array();
                     *o285 = x1050;
                     [_, _, x1051, _] = x899.to_array();
                     *o286 = x1051;
-                    [x1052, _, _, _] = x876.to_array();
-                    *o287 = x1052;
-                    [_, x1053, _, _] = x876.to_array();
-                    *o288 = x1053;
-                    [_, _, x1054, _] = x876.to_array();
-                    *o289 = x1054;
-                    [_, _, _, x1055] = x876.to_array();
-                    *o290 = x1055;
                     [x1056, _, _, _] = x902.to_array();
                     *o291 = x1056;
                     [_, x1057, _, _] = x902.to_array();
                     *o292 = x1057;
                     [_, _, x1058, _] = x902.to_array();
                     *o293 = x1058;
-                    [x1059, _, _, _] = x879.to_array();
-                    *o294 = x1059;
-                    [_, x1060, _, _] = x879.to_array();
-                    *o295 = x1060;
-                    [_, _, x1061, _] = x879.to_array();
-                    *o296 = x1061;
-                    [_, _, _, x1062] = x879.to_array();
-                    *o297 = x1062;
                     [x1063, _, _, _] = x904.to_array();
                     *o298 = x1063;
                     [_, x1064, _, _] = x904.to_array();
@@ -16111,26 +14323,20 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     let [[o0, _, _, _, _, _, _], [_, o8, _, _, _, _, _], [_, o15, _, _,
                     _, _, _], [o21, o22, _, _, _, _, _], [o28, o29, _, _, _, _, _], [o35,
                     o36, _, _, _, _, _], [o42, o43, _, _, _, _, _], [o49, o50, _, _, _,
-                    _, _], [o56, o57, o58, o59, _, _, _], [o63, o64, o65, o66, _, _, _],
-                    [o70, o71, o72, o73, _, _, _], [o77, o78, o79, o80, _, _, _], [o84,
-                    o85, o86, o87, _, _, _], [o91, o92, o93, o94, _, _, _], [o98, o99,
-                    o100, o101, _, _, _], [o105, o106, o107, o108, _, _, _], [o112, o113,
-                    o114, o115, _, _, _], [o119, o120, o121, o122, _, _, _], [o126, o127,
-                    o128, o129, _, _, _], [o133, o134, o135, o136, _, _, _], [o140, o141,
-                    o142, o143, _, _, _], [o147, o148, o149, o150, _, _, _], [o154, o155,
-                    o156, o157, o158, _, _], [o161, o162, o163, o164, o165, _, _], [o168,
-                    o169, o170, o171, o172, _, _], [o175, o176, o177, o178, o179, _, _],
-                    [o182, o183, o184, o185, o186, _, _], [o189, o190, o191, o192, o193,
-                    _, _], [o196, o197, o198, o199, o200, _, _], [o203, o204, o205, o206,
-                    o207, o208, _], [o210, o211, o212, o213, o214, o215, _], [o217, o218,
-                    o219, o220, o221, o222, _], [o224, o225, o226, o227, o228, o229, _],
-                    [o231, o232, o233, o234, o235, o236, _], [o238, o239, o240, o241,
-                    o242, o243, _], [o245, o246, o247, o248, o249, o250, _], [o252, o253,
-                    o254, o255, o256, o257, o258], [o259, o260, o261, o262, o263, o264,
-                    o265], [o266, o267, o268, o269, o270, o271, o272], [o273, o274, o275,
-                    o276, o277, o278, o279], [o280, o281, o282, o283, o284, o285, o286],
-                    [o287, o288, o289, o290, o291, o292, o293], [o294, o295, o296, o297,
-                    o298, o299, o300]] = &mut out.data.0;
+                    _, _], [g56 @ .., _, _, _], [g63 @ .., _, _, _], [g70 @ .., _, _, _],
+                    [g77 @ .., _, _, _], [g84 @ .., _, _, _], [g91 @ .., _, _, _],
+                    [g98 @ .., _, _, _], [g105 @ .., _, _, _], [g112 @ .., _, _, _],
+                    [g119 @ .., _, _, _], [g126 @ .., _, _, _], [g133 @ .., _, _, _],
+                    [g140 @ .., _, _, _], [g147 @ .., _, _, _], [g154 @ .., o158, _, _],
+                    [g161 @ .., o165, _, _], [g168 @ .., o172, _, _], [g175 @ .., o179,
+                    _, _], [g182 @ .., o186, _, _], [g189 @ .., o193, _, _], [g196 @ ..,
+                    o200, _, _], [g203 @ .., o207, o208, _], [g210 @ .., o214, o215, _],
+                    [g217 @ .., o221, o222, _], [g224 @ .., o228, o229, _], [g231 @ ..,
+                    o235, o236, _], [g238 @ .., o242, o243, _], [g245 @ .., o249, o250, _,
+                    ], [g252 @ .., o256, o257, o258], [g259 @ .., o263, o264, o265],
+                    [g266 @ .., o270, o271, o272], [g273 @ .., o277, o278, o279],
+                    [g280 @ .., o284, o285, o286], [g287 @ .., o291, o292, o293],
+                    [g294 @ .., o298, o299, o300]] = &mut out.data.0;
                     *o0 = a0;
                     let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
                     x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
@@ -16181,23 +14387,10 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x528, x529, x530, x531, x532, x533, x534, x535, x536, x537, x538,
                     x539, x540, x541, x542, x543, x544, x545, x546, x547, x548, x549,
                     x550, x551, x565, x568, x569, x571, x572, x589, x590, x591, x592,
-                    x593, x594, x595, x596, x597, x598, x599, x600, x601, x905, x906,
-                    x907, x908, x909, x910, x911, x912, x913, x914, x915, x916, x917,
-                    x918, x919, x920, x921, x922, x923, x924, x925, x926, x927, x928,
-                    x929, x930, x931, x932, x933, x934, x935, x936, x937, x938, x939,
-                    x940, x941, x942, x943, x944, x945, x946, x947, x948, x949, x950,
-                    x951, x952, x953, x954, x955, x956, x957, x958, x959, x960, x961,
-                    x962, x963, x964, x965, x966, x967, x968, x969, x970, x971, x972,
-                    x973, x974, x975, x976, x977, x978, x979, x980, x981, x982, x983,
-                    x984, x985, x986, x987, x988, x989, x990, x991, x992, x993, x994,
-                    x995, x996, x997, x998, x999, x1000, x1001, x1002, x1003, x1004,
-                    x1005, x1006, x1007, x1008, x1009, x1010, x1011, x1012, x1013, x1014,
-                    x1015, x1016, x1017, x1018, x1019, x1020, x1021, x1022, x1023, x1024,
-                    x1025, x1026, x1027, x1028, x1029, x1030, x1031, x1032, x1033, x1034,
-                    x1035, x1036, x1037, x1038, x1039, x1040, x1041, x1042, x1043, x1044,
-                    x1045, x1046, x1047, x1048, x1049, x1050, x1051, x1052, x1053, x1054,
-                    x1055, x1056, x1057, x1058, x1059, x1060, x1061, x1062, x1063, x1064,
-                    x1065]: [f64; 731];
+                    x593, x594, x595, x596, x597, x598, x599, x600, x601, x1021, x1022,
+                    x1023, x1028, x1029, x1030, x1035, x1036, x1037, x1042, x1043, x1044,
+                    x1049, x1050, x1051, x1056, x1057, x1058, x1063, x1064, x1065,
+                    ]: [f64; 591];
                     let [x552, x553, x554, x555, x556, x557, x558, x559, x560, x561,
                     x562, x563, x564, x566, x567, x570, x573, x574, x575, x576, x577,
                     x578, x579, x580, x581, x582, x583, x584, x585, x586, x587, x588,
@@ -16873,6 +15066,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x608 = x607 * x573;
                     x609 = x606.mul_add(x570, x608);
                     x610 = x605 + x609;
+                    *g56 = x610.to_array();
                     x611 = arith.splat_four(x257);
                     x612 = arith.splat_four(x256);
                     x613 = x612 * x574;
@@ -16882,18 +15076,21 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x617 = x616 * x573;
                     x618 = x615.mul_add(x570, x617);
                     x619 = x614 + x618;
+                    *g63 = x619.to_array();
                     x620 = arith.splat_four(x241);
                     x621 = arith.splat_four(x260);
                     x622 = x621 * x567;
                     x623 = x620.mul_add(x566, x622);
                     x624 = arith.splat_four(x261);
                     x625 = x624.mul_neg_add(x574, x623);
+                    *g70 = x625.to_array();
                     x626 = arith.splat_four(x267);
                     x627 = arith.splat_four(x268);
                     x628 = x627 * x567;
                     x629 = x626.mul_add(x566, x628);
                     x630 = arith.splat_four(x269);
                     x631 = x630.mul_add(x574, x629);
+                    *g77 = x631.to_array();
                     x632 = arith.splat_four(x270);
                     x633 = arith.splat_four(x275);
                     x634 = arith.splat_four(x276);
@@ -16901,15 +15098,18 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x636 = x633.mul_add(x566, x635);
                     x637 = arith.splat_four(x277);
                     x638 = x637.mul_add(x574, x636);
+                    *g84 = x638.to_array();
                     x639 = arith.splat_four(x281);
                     x640 = arith.splat_four(x282);
                     x641 = x640 * x567;
                     x642 = x639.mul_add(x566, x641);
                     x643 = arith.splat_four(x283);
                     x644 = x643.mul_add(x574, x642);
+                    *g91 = x644.to_array();
                     x645 = x632.mul_sub(x566, x622);
                     x646 = arith.splat_four(x243);
                     x647 = x646.mul_add(x574, x645);
+                    *g98 = x647.to_array();
                     x648 = x553.mul_add(x574, x573);
                     x649 = x554.mul_sub(x570, x580);
                     x650 = x555 * x570;
@@ -16925,6 +15125,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x660 = arith.splat_four(x312);
                     x661 = x660.mul_neg_add(x648, x659);
                     x662 = x655 + x661;
+                    *g105 = x662.to_array();
                     x663 = arith.splat_four(x316);
                     x664 = x663 * x577;
                     x665 = arith.splat_four(x317);
@@ -16936,18 +15137,21 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x671 = arith.splat_four(x320);
                     x672 = x671.mul_neg_add(x648, x670);
                     x673 = x666 + x672;
+                    *g112 = x673.to_array();
                     x674 = arith.splat_four(x296);
                     x675 = arith.splat_four(x321);
                     x676 = x675 * x579;
                     x677 = x674.mul_add(x577, x676);
                     x678 = arith.splat_four(x322);
                     x679 = x678.mul_neg_add(x581, x677);
+                    *g119 = x679.to_array();
                     x680 = arith.splat_four(x328);
                     x681 = arith.splat_four(x329);
                     x682 = x681 * x579;
                     x683 = x680.mul_add(x577, x682);
                     x684 = arith.splat_four(x330);
                     x685 = x684.mul_add(x581, x683);
+                    *g126 = x685.to_array();
                     x686 = arith.splat_four(x331);
                     x687 = arith.splat_four(x336);
                     x688 = arith.splat_four(x337);
@@ -16955,15 +15159,18 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x690 = x687.mul_add(x577, x689);
                     x691 = arith.splat_four(x338);
                     x692 = x691.mul_add(x581, x690);
+                    *g133 = x692.to_array();
                     x693 = arith.splat_four(x342);
                     x694 = arith.splat_four(x343);
                     x695 = x694 * x579;
                     x696 = x693.mul_add(x577, x695);
                     x697 = arith.splat_four(x344);
                     x698 = x697.mul_add(x581, x696);
+                    *g140 = x698.to_array();
                     x699 = x686.mul_sub(x577, x676);
                     x700 = arith.splat_four(x298);
                     x701 = x700.mul_add(x581, x699);
+                    *g147 = x701.to_array();
                     x702 = x556.mul_neg_add(x581, x649);
                     x703 = x557.mul_sub(x581, x651);
                     x704 = x587 + x648;
@@ -16983,6 +15190,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x718 = arith.splat_four(x373);
                     x719 = x718.mul_add(x703, x717);
                     x720 = x713 + x719;
+                    *g154 = x720.to_array();
                     x721 = arith.splat_four(x376);
                     x722 = arith.splat_four(x377);
                     x723 = x722 * x579;
@@ -16994,34 +15202,40 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x729 = arith.splat_four(x380);
                     x730 = x729.mul_add(x703, x728);
                     x731 = x724 + x730;
+                    *g161 = x731.to_array();
                     x732 = arith.splat_four(x357);
                     x733 = arith.splat_four(x381);
                     x734 = x733 * x586;
                     x735 = x732.mul_sub(x584, x734);
                     x736 = arith.splat_four(x382);
                     x737 = x736.mul_add(x579, x735);
+                    *g168 = x737.to_array();
                     x738 = arith.splat_four(x388);
                     x739 = arith.splat_four(x389);
                     x740 = x739 * x586;
                     x741 = x738.mul_add(x584, x740);
                     x742 = arith.splat_four(x390);
                     x743 = x742.mul_sub(x579, x741);
+                    *g175 = x743.to_array();
                     x744 = arith.splat_four(x395);
                     x745 = arith.splat_four(x396);
                     x746 = x745 * x586;
                     x747 = x744.mul_sub(x584, x746);
                     x748 = arith.splat_four(x397);
                     x749 = x748.mul_add(x579, x747);
+                    *g182 = x749.to_array();
                     x750 = arith.splat_four(x401);
                     x751 = arith.splat_four(x402);
                     x752 = x751 * x586;
                     x753 = x750.mul_add(x584, x752);
                     x754 = arith.splat_four(x403);
                     x755 = x754.mul_sub(x579, x753);
+                    *g189 = x755.to_array();
                     x756 = arith.splat_four(x404);
                     x757 = x756.mul_add(x584, x734);
                     x758 = arith.splat_four(x359);
                     x759 = x758.mul_add(x579, x757);
+                    *g196 = x759.to_array();
                     x760 = x561 * x579;
                     x761 = x560.mul_add(x584, x760);
                     x762 = x560 * x579;
@@ -17042,6 +15256,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x777 = arith.splat_four(x432);
                     x778 = x777.mul_add(x768, x776);
                     x779 = x772 + x778;
+                    *g203 = x779.to_array();
                     x780 = arith.splat_four(x435);
                     x781 = arith.splat_four(x436);
                     x782 = x781 * x586;
@@ -17053,18 +15268,21 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x788 = arith.splat_four(x439);
                     x789 = x788.mul_add(x768, x787);
                     x790 = x783 + x789;
+                    *g210 = x790.to_array();
                     x791 = arith.splat_four(x417);
                     x792 = arith.splat_four(x440);
                     x793 = x792 * x763;
                     x794 = x791.mul_add(x761, x793);
                     x795 = arith.splat_four(x441);
                     x796 = x795.mul_neg_add(x586, x794);
+                    *g217 = x796.to_array();
                     x797 = arith.splat_four(x448);
                     x798 = arith.splat_four(x449);
                     x799 = x798 * x763;
                     x800 = x797.mul_add(x761, x799);
                     x801 = arith.splat_four(x450);
                     x802 = x801.mul_add(x586, x800);
+                    *g224 = x802.to_array();
                     x803 = arith.splat_four(x451);
                     x804 = arith.splat_four(x456);
                     x805 = arith.splat_four(x457);
@@ -17072,15 +15290,18 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x807 = x804.mul_add(x761, x806);
                     x808 = arith.splat_four(x458);
                     x809 = x808.mul_add(x586, x807);
+                    *g231 = x809.to_array();
                     x810 = arith.splat_four(x462);
                     x811 = arith.splat_four(x463);
                     x812 = x811 * x763;
                     x813 = x810.mul_add(x761, x812);
                     x814 = arith.splat_four(x464);
                     x815 = x814.mul_add(x586, x813);
+                    *g238 = x815.to_array();
                     x816 = x803.mul_sub(x761, x793);
                     x817 = arith.splat_four(x419);
                     x818 = x817.mul_add(x586, x816);
+                    *g245 = x818.to_array();
                     x819 = x564 * x586;
                     x820 = x563.mul_add(x761, x819);
                     x821 = x564 * x761;
@@ -17103,6 +15324,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x838 = arith.splat_four(x493);
                     x839 = x838.mul_neg_add(x824, x837);
                     x840 = x833 + x839;
+                    *g252 = x840.to_array();
                     x841 = arith.splat_four(x496);
                     x842 = arith.splat_four(x497);
                     x843 = x842 * x823;
@@ -17114,18 +15336,21 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x849 = arith.splat_four(x500);
                     x850 = x849.mul_neg_add(x824, x848);
                     x851 = x844 + x850;
+                    *g259 = x851.to_array();
                     x852 = arith.splat_four(x477);
                     x853 = arith.splat_four(x501);
                     x854 = x853 * x822;
                     x855 = x852.mul_add(x820, x854);
                     x856 = arith.splat_four(x502);
                     x857 = x856.mul_neg_add(x823, x855);
+                    *g266 = x857.to_array();
                     x858 = arith.splat_four(x508);
                     x859 = arith.splat_four(x509);
                     x860 = x859 * x822;
                     x861 = x858.mul_add(x820, x860);
                     x862 = arith.splat_four(x510);
                     x863 = x862.mul_add(x823, x861);
+                    *g273 = x863.to_array();
                     x864 = arith.splat_four(x511);
                     x865 = arith.splat_four(x516);
                     x866 = arith.splat_four(x517);
@@ -17133,15 +15358,18 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x868 = x865.mul_add(x820, x867);
                     x869 = arith.splat_four(x518);
                     x870 = x869.mul_add(x823, x868);
+                    *g280 = x870.to_array();
                     x871 = arith.splat_four(x522);
                     x872 = arith.splat_four(x523);
                     x873 = x872 * x822;
                     x874 = x871.mul_add(x820, x873);
                     x875 = arith.splat_four(x524);
                     x876 = x875.mul_add(x823, x874);
+                    *g287 = x876.to_array();
                     x877 = x864.mul_sub(x820, x854);
                     x878 = arith.splat_four(x479);
                     x879 = x878.mul_add(x823, x877);
+                    *g294 = x879.to_array();
                     x880 = arith.four([x591, s6, 0.0, 0.0]);
                     x881 = arith.four([x593, c6, 0.0, 0.0]);
                     x882 = arith.four([x589, 0.0, 1f64, 0.0]);
@@ -17167,322 +15395,42 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x902 = x875.mul_add(x882, x901);
                     x903 = x864.mul_sub(x880, x891);
                     x904 = x878.mul_add(x882, x903);
-                    [x905, _, _, _] = x610.to_array();
-                    *o56 = x905;
-                    [_, x906, _, _] = x610.to_array();
-                    *o57 = x906;
-                    [_, _, x907, _] = x610.to_array();
-                    *o58 = x907;
-                    [_, _, _, x908] = x610.to_array();
-                    *o59 = x908;
-                    [x909, _, _, _] = x619.to_array();
-                    *o63 = x909;
-                    [_, x910, _, _] = x619.to_array();
-                    *o64 = x910;
-                    [_, _, x911, _] = x619.to_array();
-                    *o65 = x911;
-                    [_, _, _, x912] = x619.to_array();
-                    *o66 = x912;
-                    [x913, _, _, _] = x625.to_array();
-                    *o70 = x913;
-                    [_, x914, _, _] = x625.to_array();
-                    *o71 = x914;
-                    [_, _, x915, _] = x625.to_array();
-                    *o72 = x915;
-                    [_, _, _, x916] = x625.to_array();
-                    *o73 = x916;
-                    [x917, _, _, _] = x631.to_array();
-                    *o77 = x917;
-                    [_, x918, _, _] = x631.to_array();
-                    *o78 = x918;
-                    [_, _, x919, _] = x631.to_array();
-                    *o79 = x919;
-                    [_, _, _, x920] = x631.to_array();
-                    *o80 = x920;
-                    [x921, _, _, _] = x638.to_array();
-                    *o84 = x921;
-                    [_, x922, _, _] = x638.to_array();
-                    *o85 = x922;
-                    [_, _, x923, _] = x638.to_array();
-                    *o86 = x923;
-                    [_, _, _, x924] = x638.to_array();
-                    *o87 = x924;
-                    [x925, _, _, _] = x644.to_array();
-                    *o91 = x925;
-                    [_, x926, _, _] = x644.to_array();
-                    *o92 = x926;
-                    [_, _, x927, _] = x644.to_array();
-                    *o93 = x927;
-                    [_, _, _, x928] = x644.to_array();
-                    *o94 = x928;
-                    [x929, _, _, _] = x647.to_array();
-                    *o98 = x929;
-                    [_, x930, _, _] = x647.to_array();
-                    *o99 = x930;
-                    [_, _, x931, _] = x647.to_array();
-                    *o100 = x931;
-                    [_, _, _, x932] = x647.to_array();
-                    *o101 = x932;
-                    [x933, _, _, _] = x662.to_array();
-                    *o105 = x933;
-                    [_, x934, _, _] = x662.to_array();
-                    *o106 = x934;
-                    [_, _, x935, _] = x662.to_array();
-                    *o107 = x935;
-                    [_, _, _, x936] = x662.to_array();
-                    *o108 = x936;
-                    [x937, _, _, _] = x673.to_array();
-                    *o112 = x937;
-                    [_, x938, _, _] = x673.to_array();
-                    *o113 = x938;
-                    [_, _, x939, _] = x673.to_array();
-                    *o114 = x939;
-                    [_, _, _, x940] = x673.to_array();
-                    *o115 = x940;
-                    [x941, _, _, _] = x679.to_array();
-                    *o119 = x941;
-                    [_, x942, _, _] = x679.to_array();
-                    *o120 = x942;
-                    [_, _, x943, _] = x679.to_array();
-                    *o121 = x943;
-                    [_, _, _, x944] = x679.to_array();
-                    *o122 = x944;
-                    [x945, _, _, _] = x685.to_array();
-                    *o126 = x945;
-                    [_, x946, _, _] = x685.to_array();
-                    *o127 = x946;
-                    [_, _, x947, _] = x685.to_array();
-                    *o128 = x947;
-                    [_, _, _, x948] = x685.to_array();
-                    *o129 = x948;
-                    [x949, _, _, _] = x692.to_array();
-                    *o133 = x949;
-                    [_, x950, _, _] = x692.to_array();
-                    *o134 = x950;
-                    [_, _, x951, _] = x692.to_array();
-                    *o135 = x951;
-                    [_, _, _, x952] = x692.to_array();
-                    *o136 = x952;
-                    [x953, _, _, _] = x698.to_array();
-                    *o140 = x953;
-                    [_, x954, _, _] = x698.to_array();
-                    *o141 = x954;
-                    [_, _, x955, _] = x698.to_array();
-                    *o142 = x955;
-                    [_, _, _, x956] = x698.to_array();
-                    *o143 = x956;
-                    [x957, _, _, _] = x701.to_array();
-                    *o147 = x957;
-                    [_, x958, _, _] = x701.to_array();
-                    *o148 = x958;
-                    [_, _, x959, _] = x701.to_array();
-                    *o149 = x959;
-                    [_, _, _, x960] = x701.to_array();
-                    *o150 = x960;
-                    [x961, _, _, _] = x720.to_array();
-                    *o154 = x961;
-                    [_, x962, _, _] = x720.to_array();
-                    *o155 = x962;
-                    [_, _, x963, _] = x720.to_array();
-                    *o156 = x963;
-                    [_, _, _, x964] = x720.to_array();
-                    *o157 = x964;
-                    [x965, _, _, _] = x731.to_array();
-                    *o161 = x965;
-                    [_, x966, _, _] = x731.to_array();
-                    *o162 = x966;
-                    [_, _, x967, _] = x731.to_array();
-                    *o163 = x967;
-                    [_, _, _, x968] = x731.to_array();
-                    *o164 = x968;
-                    [x969, _, _, _] = x737.to_array();
-                    *o168 = x969;
-                    [_, x970, _, _] = x737.to_array();
-                    *o169 = x970;
-                    [_, _, x971, _] = x737.to_array();
-                    *o170 = x971;
-                    [_, _, _, x972] = x737.to_array();
-                    *o171 = x972;
-                    [x973, _, _, _] = x743.to_array();
-                    *o175 = x973;
-                    [_, x974, _, _] = x743.to_array();
-                    *o176 = x974;
-                    [_, _, x975, _] = x743.to_array();
-                    *o177 = x975;
-                    [_, _, _, x976] = x743.to_array();
-                    *o178 = x976;
-                    [x977, _, _, _] = x749.to_array();
-                    *o182 = x977;
-                    [_, x978, _, _] = x749.to_array();
-                    *o183 = x978;
-                    [_, _, x979, _] = x749.to_array();
-                    *o184 = x979;
-                    [_, _, _, x980] = x749.to_array();
-                    *o185 = x980;
-                    [x981, _, _, _] = x755.to_array();
-                    *o189 = x981;
-                    [_, x982, _, _] = x755.to_array();
-                    *o190 = x982;
-                    [_, _, x983, _] = x755.to_array();
-                    *o191 = x983;
-                    [_, _, _, x984] = x755.to_array();
-                    *o192 = x984;
-                    [x985, _, _, _] = x759.to_array();
-                    *o196 = x985;
-                    [_, x986, _, _] = x759.to_array();
-                    *o197 = x986;
-                    [_, _, x987, _] = x759.to_array();
-                    *o198 = x987;
-                    [_, _, _, x988] = x759.to_array();
-                    *o199 = x988;
-                    [x989, _, _, _] = x779.to_array();
-                    *o203 = x989;
-                    [_, x990, _, _] = x779.to_array();
-                    *o204 = x990;
-                    [_, _, x991, _] = x779.to_array();
-                    *o205 = x991;
-                    [_, _, _, x992] = x779.to_array();
-                    *o206 = x992;
-                    [x993, _, _, _] = x790.to_array();
-                    *o210 = x993;
-                    [_, x994, _, _] = x790.to_array();
-                    *o211 = x994;
-                    [_, _, x995, _] = x790.to_array();
-                    *o212 = x995;
-                    [_, _, _, x996] = x790.to_array();
-                    *o213 = x996;
-                    [x997, _, _, _] = x796.to_array();
-                    *o217 = x997;
-                    [_, x998, _, _] = x796.to_array();
-                    *o218 = x998;
-                    [_, _, x999, _] = x796.to_array();
-                    *o219 = x999;
-                    [_, _, _, x1000] = x796.to_array();
-                    *o220 = x1000;
-                    [x1001, _, _, _] = x802.to_array();
-                    *o224 = x1001;
-                    [_, x1002, _, _] = x802.to_array();
-                    *o225 = x1002;
-                    [_, _, x1003, _] = x802.to_array();
-                    *o226 = x1003;
-                    [_, _, _, x1004] = x802.to_array();
-                    *o227 = x1004;
-                    [x1005, _, _, _] = x809.to_array();
-                    *o231 = x1005;
-                    [_, x1006, _, _] = x809.to_array();
-                    *o232 = x1006;
-                    [_, _, x1007, _] = x809.to_array();
-                    *o233 = x1007;
-                    [_, _, _, x1008] = x809.to_array();
-                    *o234 = x1008;
-                    [x1009, _, _, _] = x815.to_array();
-                    *o238 = x1009;
-                    [_, x1010, _, _] = x815.to_array();
-                    *o239 = x1010;
-                    [_, _, x1011, _] = x815.to_array();
-                    *o240 = x1011;
-                    [_, _, _, x1012] = x815.to_array();
-                    *o241 = x1012;
-                    [x1013, _, _, _] = x818.to_array();
-                    *o245 = x1013;
-                    [_, x1014, _, _] = x818.to_array();
-                    *o246 = x1014;
-                    [_, _, x1015, _] = x818.to_array();
-                    *o247 = x1015;
-                    [_, _, _, x1016] = x818.to_array();
-                    *o248 = x1016;
-                    [x1017, _, _, _] = x840.to_array();
-                    *o252 = x1017;
-                    [_, x1018, _, _] = x840.to_array();
-                    *o253 = x1018;
-                    [_, _, x1019, _] = x840.to_array();
-                    *o254 = x1019;
-                    [_, _, _, x1020] = x840.to_array();
-                    *o255 = x1020;
                     [x1021, _, _, _] = x886.to_array();
                     *o256 = x1021;
                     [_, x1022, _, _] = x886.to_array();
                     *o257 = x1022;
                     [_, _, x1023, _] = x886.to_array();
                     *o258 = x1023;
-                    [x1024, _, _, _] = x851.to_array();
-                    *o259 = x1024;
-                    [_, x1025, _, _] = x851.to_array();
-                    *o260 = x1025;
-                    [_, _, x1026, _] = x851.to_array();
-                    *o261 = x1026;
-                    [_, _, _, x1027] = x851.to_array();
-                    *o262 = x1027;
                     [x1028, _, _, _] = x890.to_array();
                     *o263 = x1028;
                     [_, x1029, _, _] = x890.to_array();
                     *o264 = x1029;
                     [_, _, x1030, _] = x890.to_array();
                     *o265 = x1030;
-                    [x1031, _, _, _] = x857.to_array();
-                    *o266 = x1031;
-                    [_, x1032, _, _] = x857.to_array();
-                    *o267 = x1032;
-                    [_, _, x1033, _] = x857.to_array();
-                    *o268 = x1033;
-                    [_, _, _, x1034] = x857.to_array();
-                    *o269 = x1034;
                     [x1035, _, _, _] = x893.to_array();
                     *o270 = x1035;
                     [_, x1036, _, _] = x893.to_array();
                     *o271 = x1036;
                     [_, _, x1037, _] = x893.to_array();
                     *o272 = x1037;
-                    [x1038, _, _, _] = x863.to_array();
-                    *o273 = x1038;
-                    [_, x1039, _, _] = x863.to_array();
-                    *o274 = x1039;
-                    [_, _, x1040, _] = x863.to_array();
-                    *o275 = x1040;
-                    [_, _, _, x1041] = x863.to_array();
-                    *o276 = x1041;
                     [x1042, _, _, _] = x896.to_array();
                     *o277 = x1042;
                     [_, x1043, _, _] = x896.to_array();
                     *o278 = x1043;
                     [_, _, x1044, _] = x896.to_array();
                     *o279 = x1044;
-                    [x1045, _, _, _] = x870.to_array();
-                    *o280 = x1045;
-                    [_, x1046, _, _] = x870.to_array();
-                    *o281 = x1046;
-                    [_, _, x1047, _] = x870.to_array();
-                    *o282 = x1047;
-                    [_, _, _, x1048] = x870.to_array();
-                    *o283 = x1048;
                     [x1049, _, _, _] = x899.to_array();
                     *o284 = x1049;
                     [_, x1050, _, _] = x899.to_array();
                     *o285 = x1050;
                     [_, _, x1051, _] = x899.to_array();
                     *o286 = x1051;
-                    [x1052, _, _, _] = x876.to_array();
-                    *o287 = x1052;
-                    [_, x1053, _, _] = x876.to_array();
-                    *o288 = x1053;
-                    [_, _, x1054, _] = x876.to_array();
-                    *o289 = x1054;
-                    [_, _, _, x1055] = x876.to_array();
-                    *o290 = x1055;
                     [x1056, _, _, _] = x902.to_array();
                     *o291 = x1056;
                     [_, x1057, _, _] = x902.to_array();
                     *o292 = x1057;
                     [_, _, x1058, _] = x902.to_array();
                     *o293 = x1058;
-                    [x1059, _, _, _] = x879.to_array();
-                    *o294 = x1059;
-                    [_, x1060, _, _] = x879.to_array();
-                    *o295 = x1060;
-                    [_, _, x1061, _] = x879.to_array();
-                    *o296 = x1061;
-                    [_, _, _, x1062] = x879.to_array();
-                    *o297 = x1062;
                     [x1063, _, _, _] = x904.to_array();
                     *o298 = x1063;
                     [_, x1064, _, _] = x904.to_array();
@@ -17524,26 +15472,20 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     let [[o0, _, _, _, _, _, _], [_, o8, _, _, _, _, _], [_, o15, _, _,
                     _, _, _], [o21, o22, _, _, _, _, _], [o28, o29, _, _, _, _, _], [o35,
                     o36, _, _, _, _, _], [o42, o43, _, _, _, _, _], [o49, o50, _, _, _,
-                    _, _], [o56, o57, o58, o59, _, _, _], [o63, o64, o65, o66, _, _, _],
-                    [o70, o71, o72, o73, _, _, _], [o77, o78, o79, o80, _, _, _], [o84,
-                    o85, o86, o87, _, _, _], [o91, o92, o93, o94, _, _, _], [o98, o99,
-                    o100, o101, _, _, _], [o105, o106, o107, o108, _, _, _], [o112, o113,
-                    o114, o115, _, _, _], [o119, o120, o121, o122, _, _, _], [o126, o127,
-                    o128, o129, _, _, _], [o133, o134, o135, o136, _, _, _], [o140, o141,
-                    o142, o143, _, _, _], [o147, o148, o149, o150, _, _, _], [o154, o155,
-                    o156, o157, o158, _, _], [o161, o162, o163, o164, o165, _, _], [o168,
-                    o169, o170, o171, o172, _, _], [o175, o176, o177, o178, o179, _, _],
-                    [o182, o183, o184, o185, o186, _, _], [o189, o190, o191, o192, o193,
-                    _, _], [o196, o197, o198, o199, o200, _, _], [o203, o204, o205, o206,
-                    o207, o208, _], [o210, o211, o212, o213, o214, o215, _], [o217, o218,
-                    o219, o220, o221, o222, _], [o224, o225, o226, o227, o228, o229, _],
-                    [o231, o232, o233, o234, o235, o236, _], [o238, o239, o240, o241,
-                    o242, o243, _], [o245, o246, o247, o248, o249, o250, _], [o252, o253,
-                    o254, o255, o256, o257, o258], [o259, o260, o261, o262, o263, o264,
-                    o265], [o266, o267, o268, o269, o270, o271, o272], [o273, o274, o275,
-                    o276, o277, o278, o279], [o280, o281, o282, o283, o284, o285, o286],
-                    [o287, o288, o289, o290, o291, o292, o293], [o294, o295, o296, o297,
-                    o298, o299, o300]] = &mut out.data.0;
+                    _, _], [g56 @ .., _, _, _], [g63 @ .., _, _, _], [g70 @ .., _, _, _],
+                    [g77 @ .., _, _, _], [g84 @ .., _, _, _], [g91 @ .., _, _, _],
+                    [g98 @ .., _, _, _], [g105 @ .., _, _, _], [g112 @ .., _, _, _],
+                    [g119 @ .., _, _, _], [g126 @ .., _, _, _], [g133 @ .., _, _, _],
+                    [g140 @ .., _, _, _], [g147 @ .., _, _, _], [g154 @ .., o158, _, _],
+                    [g161 @ .., o165, _, _], [g168 @ .., o172, _, _], [g175 @ .., o179,
+                    _, _], [g182 @ .., o186, _, _], [g189 @ .., o193, _, _], [g196 @ ..,
+                    o200, _, _], [g203 @ .., o207, o208, _], [g210 @ .., o214, o215, _],
+                    [g217 @ .., o221, o222, _], [g224 @ .., o228, o229, _], [g231 @ ..,
+                    o235, o236, _], [g238 @ .., o242, o243, _], [g245 @ .., o249, o250, _,
+                    ], [g252 @ .., o256, o257, o258], [g259 @ .., o263, o264, o265],
+                    [g266 @ .., o270, o271, o272], [g273 @ .., o277, o278, o279],
+                    [g280 @ .., o284, o285, o286], [g287 @ .., o291, o292, o293],
+                    [g294 @ .., o298, o299, o300]] = &mut out.data.0;
                     *o0 = a0;
                     *o50 = a1;
                     let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
@@ -17572,22 +15514,9 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x307, x308, x309, x310, x311, x312, x313, x314, x315, x316, x317,
                     x318, x319, x320, x321, x322, x323, x324, x325, x326, x327, x328,
                     x329, x330, x331, x332, x333, x334, x335, x336, x337, x338, x339,
-                    x340, x341, x342, x633, x634, x635, x636, x637, x638, x639, x640,
-                    x641, x642, x643, x644, x645, x646, x647, x648, x649, x650, x651,
-                    x652, x653, x654, x655, x656, x657, x658, x659, x660, x661, x662,
-                    x663, x664, x665, x666, x667, x668, x669, x670, x671, x672, x673,
-                    x674, x675, x676, x677, x678, x679, x680, x681, x682, x683, x684,
-                    x685, x686, x687, x688, x689, x690, x691, x692, x693, x694, x695,
-                    x696, x697, x698, x699, x700, x701, x702, x703, x704, x705, x706,
-                    x707, x708, x709, x710, x711, x712, x713, x714, x715, x716, x717,
-                    x718, x719, x720, x721, x722, x723, x724, x725, x726, x727, x728,
-                    x729, x730, x731, x732, x733, x734, x735, x736, x737, x738, x739,
-                    x740, x741, x742, x743, x744, x745, x746, x747, x748, x749, x750,
-                    x751, x752, x753, x754, x755, x756, x757, x758, x759, x760, x761,
-                    x762, x763, x764, x765, x766, x767, x768, x769, x770, x771, x772,
-                    x773, x774, x775, x776, x777, x778, x779, x780, x781, x782, x783,
-                    x784, x785, x786, x787, x788, x789, x790, x791, x792, x793,
-                    ]: [f64; 472];
+                    x340, x341, x342, x749, x750, x751, x756, x757, x758, x763, x764,
+                    x765, x770, x771, x772, x777, x778, x779, x784, x785, x786, x791,
+                    x792, x793]: [f64; 332];
                     let [x158, x159, x160, x161, x162, x163, x164, x165, x166, x167,
                     x168, x169, x170, x172, x173, x176, x179, x180, x181, x182, x183,
                     x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
@@ -18038,6 +15967,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x385 = arith.splat_four(x214);
                     x386 = x385.mul_sub(x179, x384);
                     x387 = x382 + x386;
+                    *g56 = x387.to_array();
                     x388 = x378 * x180;
                     x389 = x380.mul_add(x172, x388);
                     x390 = arith.splat_four(x218);
@@ -18045,33 +15975,39 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x392 = x391 * x179;
                     x393 = x390.mul_sub(x176, x392);
                     x394 = x393 - x389;
+                    *g63 = x394.to_array();
                     x395 = arith.splat_four(x69);
                     x396 = arith.splat_four(x213);
                     x397 = x396 * x173;
                     x398 = x395.mul_add(x172, x397);
                     x399 = arith.splat_four(x212);
                     x400 = x399.mul_neg_add(x180, x398);
+                    *g70 = x400.to_array();
                     x401 = arith.splat_four(x221);
                     x402 = arith.splat_four(x219);
                     x403 = x402 * x173;
                     x404 = x401.mul_add(x172, x403);
                     x405 = arith.splat_four(x220);
                     x406 = x405.mul_add(x180, x404);
+                    *g77 = x406.to_array();
                     x407 = arith.splat_four(x217);
                     x408 = arith.splat_four(x222);
                     x409 = x408 * x173;
                     x410 = x385.mul_add(x172, x409);
                     x411 = arith.splat_four(x223);
                     x412 = x411.mul_add(x180, x410);
+                    *g84 = x412.to_array();
                     x413 = arith.splat_four(x224);
                     x414 = arith.splat_four(x225);
                     x415 = x414 * x173;
                     x416 = x413.mul_add(x172, x415);
                     x417 = arith.splat_four(x226);
                     x418 = x417.mul_add(x180, x416);
+                    *g91 = x418.to_array();
                     x419 = x407.mul_sub(x172, x397);
                     x420 = arith.splat_four(x67);
                     x421 = x420.mul_add(x180, x419);
+                    *g98 = x421.to_array();
                     x422 = arith.splat_four(x84);
                     x423 = arith.splat_four(x86);
                     x424 = arith.splat_four(x81);
@@ -18084,6 +16020,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x431 = arith.splat_four(x232);
                     x432 = x431.mul_neg_add(x343, x430);
                     x433 = x426 + x432;
+                    *g105 = x433.to_array();
                     x434 = x422 * x187;
                     x435 = x424.mul_add(x183, x434);
                     x436 = arith.splat_four(x237);
@@ -18093,6 +16030,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x440 = arith.splat_four(x238);
                     x441 = x440.mul_neg_add(x343, x439);
                     x442 = x441 - x435;
+                    *g112 = x442.to_array();
                     x443 = arith.splat_four(x241);
                     x444 = arith.splat_four(x89);
                     x445 = arith.splat_four(x230);
@@ -18100,12 +16038,14 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x447 = x444.mul_add(x183, x446);
                     x448 = arith.splat_four(x234);
                     x449 = x448.mul_neg_add(x187, x447);
+                    *g119 = x449.to_array();
                     x450 = arith.splat_four(x243);
                     x451 = arith.splat_four(x244);
                     x452 = x451 * x185;
                     x453 = x450.mul_add(x183, x452);
                     x454 = arith.splat_four(x242);
                     x455 = x454.mul_add(x187, x453);
+                    *g126 = x455.to_array();
                     x456 = arith.splat_four(x239);
                     x457 = arith.splat_four(x246);
                     x458 = arith.splat_four(x245);
@@ -18113,14 +16053,17 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x460 = x457.mul_add(x183, x459);
                     x461 = arith.splat_four(x247);
                     x462 = x461.mul_add(x187, x460);
+                    *g133 = x462.to_array();
                     x463 = arith.splat_four(x248);
                     x464 = arith.splat_four(x249);
                     x465 = x464 * x185;
                     x466 = x463.mul_add(x183, x465);
                     x467 = x443.mul_add(x187, x466);
+                    *g140 = x467.to_array();
                     x468 = x456.mul_sub(x183, x446);
                     x469 = arith.splat_four(x87);
                     x470 = x469.mul_add(x187, x468);
+                    *g147 = x470.to_array();
                     x471 = arith.splat_four(x114);
                     x472 = arith.splat_four(x108);
                     x473 = x471 * x185;
@@ -18132,6 +16075,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x479 = arith.splat_four(x256);
                     x480 = x479.mul_add(x348, x478);
                     x481 = x474 + x480;
+                    *g154 = x481.to_array();
                     x482 = arith.splat_four(x152);
                     x483 = x482 * x185;
                     x484 = x472.mul_add(x190, x483);
@@ -18142,30 +16086,36 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x489 = arith.splat_four(x261);
                     x490 = x489.mul_sub(x348, x488);
                     x491 = x484 + x490;
+                    *g161 = x491.to_array();
                     x492 = arith.splat_four(x117);
                     x493 = arith.splat_four(x254);
                     x494 = x493 * x192;
                     x495 = x492.mul_sub(x190, x494);
                     x496 = arith.splat_four(x253);
                     x497 = x496.mul_add(x185, x495);
+                    *g168 = x497.to_array();
                     x498 = x489 * x192;
                     x499 = x479.mul_add(x190, x498);
                     x500 = arith.splat_four(x262);
                     x501 = x500.mul_sub(x185, x499);
+                    *g175 = x501.to_array();
                     x502 = arith.splat_four(x259);
                     x503 = arith.splat_four(x263);
                     x504 = x503 * x192;
                     x505 = x477.mul_sub(x190, x504);
                     x506 = arith.splat_four(x264);
                     x507 = x506.mul_add(x185, x505);
+                    *g182 = x507.to_array();
                     x508 = arith.splat_four(x265);
                     x509 = x485 * x192;
                     x510 = x508.mul_sub(x190, x509);
                     x511 = arith.splat_four(x266);
                     x512 = x511.mul_add(x185, x510);
+                    *g189 = x512.to_array();
                     x513 = x502.mul_neg_add(x190, x494);
                     x514 = arith.splat_four(x116);
                     x515 = x514.mul_add(x185, x513);
+                    *g196 = x515.to_array();
                     x516 = arith.splat_four(x124);
                     x517 = arith.splat_four(x126);
                     x518 = x471 * x358;
@@ -18177,6 +16127,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x524 = arith.splat_four(x271);
                     x525 = x524.mul_add(x363, x523);
                     x526 = x519 + x525;
+                    *g203 = x526.to_array();
                     x527 = x516 * x192;
                     x528 = x471.mul_sub(x356, x527);
                     x529 = arith.splat_four(x276);
@@ -18186,6 +16137,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x533 = arith.splat_four(x277);
                     x534 = x533.mul_add(x363, x532);
                     x535 = x528 + x534;
+                    *g210 = x535.to_array();
                     x536 = arith.splat_four(x279);
                     x537 = arith.splat_four(x129);
                     x538 = arith.splat_four(x269);
@@ -18193,11 +16145,13 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x540 = x537.mul_add(x356, x539);
                     x541 = arith.splat_four(x272);
                     x542 = x541.mul_neg_add(x192, x540);
+                    *g217 = x542.to_array();
                     x543 = arith.splat_four(x282);
                     x544 = x533 * x358;
                     x545 = x543.mul_add(x356, x544);
                     x546 = arith.splat_four(x281);
                     x547 = x546.mul_add(x192, x545);
+                    *g224 = x547.to_array();
                     x548 = arith.splat_four(x275);
                     x549 = arith.splat_four(x284);
                     x550 = arith.splat_four(x283);
@@ -18205,14 +16159,17 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x552 = x549.mul_add(x356, x551);
                     x553 = arith.splat_four(x285);
                     x554 = x553.mul_add(x192, x552);
+                    *g231 = x554.to_array();
                     x555 = arith.splat_four(x286);
                     x556 = arith.splat_four(x287);
                     x557 = x556 * x358;
                     x558 = x555.mul_add(x356, x557);
                     x559 = x536.mul_add(x192, x558);
+                    *g238 = x559.to_array();
                     x560 = x548.mul_sub(x356, x539);
                     x561 = arith.splat_four(x127);
                     x562 = x561.mul_add(x192, x560);
+                    *g245 = x562.to_array();
                     x563 = arith.splat_four(x144);
                     x564 = arith.splat_four(x146);
                     x565 = arith.splat_four(x141);
@@ -18225,6 +16182,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x572 = arith.splat_four(x293);
                     x573 = x572.mul_neg_add(x369, x571);
                     x574 = x567 + x573;
+                    *g252 = x574.to_array();
                     x575 = x563 * x368;
                     x576 = x565.mul_add(x365, x575);
                     x577 = arith.splat_four(x298);
@@ -18234,6 +16192,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x581 = arith.splat_four(x299);
                     x582 = x581.mul_neg_add(x369, x580);
                     x583 = x582 - x576;
+                    *g259 = x583.to_array();
                     x584 = arith.splat_four(x301);
                     x585 = arith.splat_four(x149);
                     x586 = arith.splat_four(x291);
@@ -18241,11 +16200,13 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x588 = x585.mul_add(x365, x587);
                     x589 = arith.splat_four(x294);
                     x590 = x589.mul_neg_add(x368, x588);
+                    *g266 = x590.to_array();
                     x591 = arith.splat_four(x303);
                     x592 = x581 * x367;
                     x593 = x591.mul_add(x365, x592);
                     x594 = arith.splat_four(x302);
                     x595 = x594.mul_add(x368, x593);
+                    *g273 = x595.to_array();
                     x596 = arith.splat_four(x297);
                     x597 = arith.splat_four(x305);
                     x598 = arith.splat_four(x304);
@@ -18253,14 +16214,17 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x600 = x597.mul_add(x365, x599);
                     x601 = arith.splat_four(x306);
                     x602 = x601.mul_add(x368, x600);
+                    *g280 = x602.to_array();
                     x603 = arith.splat_four(x307);
                     x604 = arith.splat_four(x308);
                     x605 = x604 * x367;
                     x606 = x603.mul_add(x365, x605);
                     x607 = x584.mul_add(x368, x606);
+                    *g287 = x607.to_array();
                     x608 = x596.mul_sub(x365, x587);
                     x609 = arith.splat_four(x147);
                     x610 = x609.mul_add(x368, x608);
+                    *g294 = x610.to_array();
                     x611 = x564 * x377;
                     x612 = x565.mul_add(x376, x611);
                     x613 = arith.four([x340, x329, 0.0, 0.0]);
@@ -18283,322 +16247,42 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x630 = x584.mul_add(x377, x629);
                     x631 = x596.mul_sub(x375, x619);
                     x632 = x609.mul_add(x377, x631);
-                    [x633, _, _, _] = x387.to_array();
-                    *o56 = x633;
-                    [_, x634, _, _] = x387.to_array();
-                    *o57 = x634;
-                    [_, _, x635, _] = x387.to_array();
-                    *o58 = x635;
-                    [_, _, _, x636] = x387.to_array();
-                    *o59 = x636;
-                    [x637, _, _, _] = x394.to_array();
-                    *o63 = x637;
-                    [_, x638, _, _] = x394.to_array();
-                    *o64 = x638;
-                    [_, _, x639, _] = x394.to_array();
-                    *o65 = x639;
-                    [_, _, _, x640] = x394.to_array();
-                    *o66 = x640;
-                    [x641, _, _, _] = x400.to_array();
-                    *o70 = x641;
-                    [_, x642, _, _] = x400.to_array();
-                    *o71 = x642;
-                    [_, _, x643, _] = x400.to_array();
-                    *o72 = x643;
-                    [_, _, _, x644] = x400.to_array();
-                    *o73 = x644;
-                    [x645, _, _, _] = x406.to_array();
-                    *o77 = x645;
-                    [_, x646, _, _] = x406.to_array();
-                    *o78 = x646;
-                    [_, _, x647, _] = x406.to_array();
-                    *o79 = x647;
-                    [_, _, _, x648] = x406.to_array();
-                    *o80 = x648;
-                    [x649, _, _, _] = x412.to_array();
-                    *o84 = x649;
-                    [_, x650, _, _] = x412.to_array();
-                    *o85 = x650;
-                    [_, _, x651, _] = x412.to_array();
-                    *o86 = x651;
-                    [_, _, _, x652] = x412.to_array();
-                    *o87 = x652;
-                    [x653, _, _, _] = x418.to_array();
-                    *o91 = x653;
-                    [_, x654, _, _] = x418.to_array();
-                    *o92 = x654;
-                    [_, _, x655, _] = x418.to_array();
-                    *o93 = x655;
-                    [_, _, _, x656] = x418.to_array();
-                    *o94 = x656;
-                    [x657, _, _, _] = x421.to_array();
-                    *o98 = x657;
-                    [_, x658, _, _] = x421.to_array();
-                    *o99 = x658;
-                    [_, _, x659, _] = x421.to_array();
-                    *o100 = x659;
-                    [_, _, _, x660] = x421.to_array();
-                    *o101 = x660;
-                    [x661, _, _, _] = x433.to_array();
-                    *o105 = x661;
-                    [_, x662, _, _] = x433.to_array();
-                    *o106 = x662;
-                    [_, _, x663, _] = x433.to_array();
-                    *o107 = x663;
-                    [_, _, _, x664] = x433.to_array();
-                    *o108 = x664;
-                    [x665, _, _, _] = x442.to_array();
-                    *o112 = x665;
-                    [_, x666, _, _] = x442.to_array();
-                    *o113 = x666;
-                    [_, _, x667, _] = x442.to_array();
-                    *o114 = x667;
-                    [_, _, _, x668] = x442.to_array();
-                    *o115 = x668;
-                    [x669, _, _, _] = x449.to_array();
-                    *o119 = x669;
-                    [_, x670, _, _] = x449.to_array();
-                    *o120 = x670;
-                    [_, _, x671, _] = x449.to_array();
-                    *o121 = x671;
-                    [_, _, _, x672] = x449.to_array();
-                    *o122 = x672;
-                    [x673, _, _, _] = x455.to_array();
-                    *o126 = x673;
-                    [_, x674, _, _] = x455.to_array();
-                    *o127 = x674;
-                    [_, _, x675, _] = x455.to_array();
-                    *o128 = x675;
-                    [_, _, _, x676] = x455.to_array();
-                    *o129 = x676;
-                    [x677, _, _, _] = x462.to_array();
-                    *o133 = x677;
-                    [_, x678, _, _] = x462.to_array();
-                    *o134 = x678;
-                    [_, _, x679, _] = x462.to_array();
-                    *o135 = x679;
-                    [_, _, _, x680] = x462.to_array();
-                    *o136 = x680;
-                    [x681, _, _, _] = x467.to_array();
-                    *o140 = x681;
-                    [_, x682, _, _] = x467.to_array();
-                    *o141 = x682;
-                    [_, _, x683, _] = x467.to_array();
-                    *o142 = x683;
-                    [_, _, _, x684] = x467.to_array();
-                    *o143 = x684;
-                    [x685, _, _, _] = x470.to_array();
-                    *o147 = x685;
-                    [_, x686, _, _] = x470.to_array();
-                    *o148 = x686;
-                    [_, _, x687, _] = x470.to_array();
-                    *o149 = x687;
-                    [_, _, _, x688] = x470.to_array();
-                    *o150 = x688;
-                    [x689, _, _, _] = x481.to_array();
-                    *o154 = x689;
-                    [_, x690, _, _] = x481.to_array();
-                    *o155 = x690;
-                    [_, _, x691, _] = x481.to_array();
-                    *o156 = x691;
-                    [_, _, _, x692] = x481.to_array();
-                    *o157 = x692;
-                    [x693, _, _, _] = x491.to_array();
-                    *o161 = x693;
-                    [_, x694, _, _] = x491.to_array();
-                    *o162 = x694;
-                    [_, _, x695, _] = x491.to_array();
-                    *o163 = x695;
-                    [_, _, _, x696] = x491.to_array();
-                    *o164 = x696;
-                    [x697, _, _, _] = x497.to_array();
-                    *o168 = x697;
-                    [_, x698, _, _] = x497.to_array();
-                    *o169 = x698;
-                    [_, _, x699, _] = x497.to_array();
-                    *o170 = x699;
-                    [_, _, _, x700] = x497.to_array();
-                    *o171 = x700;
-                    [x701, _, _, _] = x501.to_array();
-                    *o175 = x701;
-                    [_, x702, _, _] = x501.to_array();
-                    *o176 = x702;
-                    [_, _, x703, _] = x501.to_array();
-                    *o177 = x703;
-                    [_, _, _, x704] = x501.to_array();
-                    *o178 = x704;
-                    [x705, _, _, _] = x507.to_array();
-                    *o182 = x705;
-                    [_, x706, _, _] = x507.to_array();
-                    *o183 = x706;
-                    [_, _, x707, _] = x507.to_array();
-                    *o184 = x707;
-                    [_, _, _, x708] = x507.to_array();
-                    *o185 = x708;
-                    [x709, _, _, _] = x512.to_array();
-                    *o189 = x709;
-                    [_, x710, _, _] = x512.to_array();
-                    *o190 = x710;
-                    [_, _, x711, _] = x512.to_array();
-                    *o191 = x711;
-                    [_, _, _, x712] = x512.to_array();
-                    *o192 = x712;
-                    [x713, _, _, _] = x515.to_array();
-                    *o196 = x713;
-                    [_, x714, _, _] = x515.to_array();
-                    *o197 = x714;
-                    [_, _, x715, _] = x515.to_array();
-                    *o198 = x715;
-                    [_, _, _, x716] = x515.to_array();
-                    *o199 = x716;
-                    [x717, _, _, _] = x526.to_array();
-                    *o203 = x717;
-                    [_, x718, _, _] = x526.to_array();
-                    *o204 = x718;
-                    [_, _, x719, _] = x526.to_array();
-                    *o205 = x719;
-                    [_, _, _, x720] = x526.to_array();
-                    *o206 = x720;
-                    [x721, _, _, _] = x535.to_array();
-                    *o210 = x721;
-                    [_, x722, _, _] = x535.to_array();
-                    *o211 = x722;
-                    [_, _, x723, _] = x535.to_array();
-                    *o212 = x723;
-                    [_, _, _, x724] = x535.to_array();
-                    *o213 = x724;
-                    [x725, _, _, _] = x542.to_array();
-                    *o217 = x725;
-                    [_, x726, _, _] = x542.to_array();
-                    *o218 = x726;
-                    [_, _, x727, _] = x542.to_array();
-                    *o219 = x727;
-                    [_, _, _, x728] = x542.to_array();
-                    *o220 = x728;
-                    [x729, _, _, _] = x547.to_array();
-                    *o224 = x729;
-                    [_, x730, _, _] = x547.to_array();
-                    *o225 = x730;
-                    [_, _, x731, _] = x547.to_array();
-                    *o226 = x731;
-                    [_, _, _, x732] = x547.to_array();
-                    *o227 = x732;
-                    [x733, _, _, _] = x554.to_array();
-                    *o231 = x733;
-                    [_, x734, _, _] = x554.to_array();
-                    *o232 = x734;
-                    [_, _, x735, _] = x554.to_array();
-                    *o233 = x735;
-                    [_, _, _, x736] = x554.to_array();
-                    *o234 = x736;
-                    [x737, _, _, _] = x559.to_array();
-                    *o238 = x737;
-                    [_, x738, _, _] = x559.to_array();
-                    *o239 = x738;
-                    [_, _, x739, _] = x559.to_array();
-                    *o240 = x739;
-                    [_, _, _, x740] = x559.to_array();
-                    *o241 = x740;
-                    [x741, _, _, _] = x562.to_array();
-                    *o245 = x741;
-                    [_, x742, _, _] = x562.to_array();
-                    *o246 = x742;
-                    [_, _, x743, _] = x562.to_array();
-                    *o247 = x743;
-                    [_, _, _, x744] = x562.to_array();
-                    *o248 = x744;
-                    [x745, _, _, _] = x574.to_array();
-                    *o252 = x745;
-                    [_, x746, _, _] = x574.to_array();
-                    *o253 = x746;
-                    [_, _, x747, _] = x574.to_array();
-                    *o254 = x747;
-                    [_, _, _, x748] = x574.to_array();
-                    *o255 = x748;
                     [x749, _, _, _] = x614.to_array();
                     *o256 = x749;
                     [_, x750, _, _] = x614.to_array();
                     *o257 = x750;
                     [_, _, x751, _] = x614.to_array();
                     *o258 = x751;
-                    [x752, _, _, _] = x583.to_array();
-                    *o259 = x752;
-                    [_, x753, _, _] = x583.to_array();
-                    *o260 = x753;
-                    [_, _, x754, _] = x583.to_array();
-                    *o261 = x754;
-                    [_, _, _, x755] = x583.to_array();
-                    *o262 = x755;
                     [x756, _, _, _] = x618.to_array();
                     *o263 = x756;
                     [_, x757, _, _] = x618.to_array();
                     *o264 = x757;
                     [_, _, x758, _] = x618.to_array();
                     *o265 = x758;
-                    [x759, _, _, _] = x590.to_array();
-                    *o266 = x759;
-                    [_, x760, _, _] = x590.to_array();
-                    *o267 = x760;
-                    [_, _, x761, _] = x590.to_array();
-                    *o268 = x761;
-                    [_, _, _, x762] = x590.to_array();
-                    *o269 = x762;
                     [x763, _, _, _] = x621.to_array();
                     *o270 = x763;
                     [_, x764, _, _] = x621.to_array();
                     *o271 = x764;
                     [_, _, x765, _] = x621.to_array();
                     *o272 = x765;
-                    [x766, _, _, _] = x595.to_array();
-                    *o273 = x766;
-                    [_, x767, _, _] = x595.to_array();
-                    *o274 = x767;
-                    [_, _, x768, _] = x595.to_array();
-                    *o275 = x768;
-                    [_, _, _, x769] = x595.to_array();
-                    *o276 = x769;
                     [x770, _, _, _] = x624.to_array();
                     *o277 = x770;
                     [_, x771, _, _] = x624.to_array();
                     *o278 = x771;
                     [_, _, x772, _] = x624.to_array();
                     *o279 = x772;
-                    [x773, _, _, _] = x602.to_array();
-                    *o280 = x773;
-                    [_, x774, _, _] = x602.to_array();
-                    *o281 = x774;
-                    [_, _, x775, _] = x602.to_array();
-                    *o282 = x775;
-                    [_, _, _, x776] = x602.to_array();
-                    *o283 = x776;
                     [x777, _, _, _] = x627.to_array();
                     *o284 = x777;
                     [_, x778, _, _] = x627.to_array();
                     *o285 = x778;
                     [_, _, x779, _] = x627.to_array();
                     *o286 = x779;
-                    [x780, _, _, _] = x607.to_array();
-                    *o287 = x780;
-                    [_, x781, _, _] = x607.to_array();
-                    *o288 = x781;
-                    [_, _, x782, _] = x607.to_array();
-                    *o289 = x782;
-                    [_, _, _, x783] = x607.to_array();
-                    *o290 = x783;
                     [x784, _, _, _] = x630.to_array();
                     *o291 = x784;
                     [_, x785, _, _] = x630.to_array();
                     *o292 = x785;
                     [_, _, x786, _] = x630.to_array();
                     *o293 = x786;
-                    [x787, _, _, _] = x610.to_array();
-                    *o294 = x787;
-                    [_, x788, _, _] = x610.to_array();
-                    *o295 = x788;
-                    [_, _, x789, _] = x610.to_array();
-                    *o296 = x789;
-                    [_, _, _, x790] = x610.to_array();
-                    *o297 = x790;
                     [x791, _, _, _] = x632.to_array();
                     *o298 = x791;
                     [_, x792, _, _] = x632.to_array();
@@ -18648,26 +16332,20 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     let [[o0, _, _, _, _, _, _], [_, o8, _, _, _, _, _], [_, o15, _, _,
                     _, _, _], [o21, o22, _, _, _, _, _], [o28, o29, _, _, _, _, _], [o35,
                     o36, _, _, _, _, _], [o42, o43, _, _, _, _, _], [o49, o50, _, _, _,
-                    _, _], [o56, o57, o58, o59, _, _, _], [o63, o64, o65, o66, _, _, _],
-                    [o70, o71, o72, o73, _, _, _], [o77, o78, o79, o80, _, _, _], [o84,
-                    o85, o86, o87, _, _, _], [o91, o92, o93, o94, _, _, _], [o98, o99,
-                    o100, o101, _, _, _], [o105, o106, o107, o108, _, _, _], [o112, o113,
-                    o114, o115, _, _, _], [o119, o120, o121, o122, _, _, _], [o126, o127,
-                    o128, o129, _, _, _], [o133, o134, o135, o136, _, _, _], [o140, o141,
-                    o142, o143, _, _, _], [o147, o148, o149, o150, _, _, _], [o154, o155,
-                    o156, o157, o158, _, _], [o161, o162, o163, o164, o165, _, _], [o168,
-                    o169, o170, o171, o172, _, _], [o175, o176, o177, o178, o179, _, _],
-                    [o182, o183, o184, o185, o186, _, _], [o189, o190, o191, o192, o193,
-                    _, _], [o196, o197, o198, o199, o200, _, _], [o203, o204, o205, o206,
-                    o207, o208, _], [o210, o211, o212, o213, o214, o215, _], [o217, o218,
-                    o219, o220, o221, o222, _], [o224, o225, o226, o227, o228, o229, _],
-                    [o231, o232, o233, o234, o235, o236, _], [o238, o239, o240, o241,
-                    o242, o243, _], [o245, o246, o247, o248, o249, o250, _], [o252, o253,
-                    o254, o255, o256, o257, o258], [o259, o260, o261, o262, o263, o264,
-                    o265], [o266, o267, o268, o269, o270, o271, o272], [o273, o274, o275,
-                    o276, o277, o278, o279], [o280, o281, o282, o283, o284, o285, o286],
-                    [o287, o288, o289, o290, o291, o292, o293], [o294, o295, o296, o297,
-                    o298, o299, o300]] = &mut out.data.0;
+                    _, _], [g56 @ .., _, _, _], [g63 @ .., _, _, _], [g70 @ .., _, _, _],
+                    [g77 @ .., _, _, _], [g84 @ .., _, _, _], [g91 @ .., _, _, _],
+                    [g98 @ .., _, _, _], [g105 @ .., _, _, _], [g112 @ .., _, _, _],
+                    [g119 @ .., _, _, _], [g126 @ .., _, _, _], [g133 @ .., _, _, _],
+                    [g140 @ .., _, _, _], [g147 @ .., _, _, _], [g154 @ .., o158, _, _],
+                    [g161 @ .., o165, _, _], [g168 @ .., o172, _, _], [g175 @ .., o179,
+                    _, _], [g182 @ .., o186, _, _], [g189 @ .., o193, _, _], [g196 @ ..,
+                    o200, _, _], [g203 @ .., o207, o208, _], [g210 @ .., o214, o215, _],
+                    [g217 @ .., o221, o222, _], [g224 @ .., o228, o229, _], [g231 @ ..,
+                    o235, o236, _], [g238 @ .., o242, o243, _], [g245 @ .., o249, o250, _,
+                    ], [g252 @ .., o256, o257, o258], [g259 @ .., o263, o264, o265],
+                    [g266 @ .., o270, o271, o272], [g273 @ .., o277, o278, o279],
+                    [g280 @ .., o284, o285, o286], [g287 @ .., o291, o292, o293],
+                    [g294 @ .., o298, o299, o300]] = &mut out.data.0;
                     *o0 = a0;
                     *o50 = a1;
                     let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
@@ -18696,22 +16374,9 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x307, x308, x309, x310, x311, x312, x313, x314, x315, x316, x317,
                     x318, x319, x320, x321, x322, x323, x324, x325, x326, x327, x328,
                     x329, x330, x331, x332, x333, x334, x335, x336, x337, x338, x339,
-                    x340, x341, x342, x633, x634, x635, x636, x637, x638, x639, x640,
-                    x641, x642, x643, x644, x645, x646, x647, x648, x649, x650, x651,
-                    x652, x653, x654, x655, x656, x657, x658, x659, x660, x661, x662,
-                    x663, x664, x665, x666, x667, x668, x669, x670, x671, x672, x673,
-                    x674, x675, x676, x677, x678, x679, x680, x681, x682, x683, x684,
-                    x685, x686, x687, x688, x689, x690, x691, x692, x693, x694, x695,
-                    x696, x697, x698, x699, x700, x701, x702, x703, x704, x705, x706,
-                    x707, x708, x709, x710, x711, x712, x713, x714, x715, x716, x717,
-                    x718, x719, x720, x721, x722, x723, x724, x725, x726, x727, x728,
-                    x729, x730, x731, x732, x733, x734, x735, x736, x737, x738, x739,
-                    x740, x741, x742, x743, x744, x745, x746, x747, x748, x749, x750,
-                    x751, x752, x753, x754, x755, x756, x757, x758, x759, x760, x761,
-                    x762, x763, x764, x765, x766, x767, x768, x769, x770, x771, x772,
-                    x773, x774, x775, x776, x777, x778, x779, x780, x781, x782, x783,
-                    x784, x785, x786, x787, x788, x789, x790, x791, x792, x793,
-                    ]: [f64; 472];
+                    x340, x341, x342, x749, x750, x751, x756, x757, x758, x763, x764,
+                    x765, x770, x771, x772, x777, x778, x779, x784, x785, x786, x791,
+                    x792, x793]: [f64; 332];
                     let [x158, x159, x160, x161, x162, x163, x164, x165, x166, x167,
                     x168, x169, x170, x172, x173, x176, x179, x180, x181, x182, x183,
                     x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
@@ -19162,6 +16827,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x385 = arith.splat_four(x214);
                     x386 = x385.mul_sub(x179, x384);
                     x387 = x382 + x386;
+                    *g56 = x387.to_array();
                     x388 = x378 * x180;
                     x389 = x380.mul_add(x172, x388);
                     x390 = arith.splat_four(x218);
@@ -19169,33 +16835,39 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x392 = x391 * x179;
                     x393 = x390.mul_sub(x176, x392);
                     x394 = x393 - x389;
+                    *g63 = x394.to_array();
                     x395 = arith.splat_four(x69);
                     x396 = arith.splat_four(x213);
                     x397 = x396 * x173;
                     x398 = x395.mul_add(x172, x397);
                     x399 = arith.splat_four(x212);
                     x400 = x399.mul_neg_add(x180, x398);
+                    *g70 = x400.to_array();
                     x401 = arith.splat_four(x221);
                     x402 = arith.splat_four(x219);
                     x403 = x402 * x173;
                     x404 = x401.mul_add(x172, x403);
                     x405 = arith.splat_four(x220);
                     x406 = x405.mul_add(x180, x404);
+                    *g77 = x406.to_array();
                     x407 = arith.splat_four(x217);
                     x408 = arith.splat_four(x222);
                     x409 = x408 * x173;
                     x410 = x385.mul_add(x172, x409);
                     x411 = arith.splat_four(x223);
                     x412 = x411.mul_add(x180, x410);
+                    *g84 = x412.to_array();
                     x413 = arith.splat_four(x224);
                     x414 = arith.splat_four(x225);
                     x415 = x414 * x173;
                     x416 = x413.mul_add(x172, x415);
                     x417 = arith.splat_four(x226);
                     x418 = x417.mul_add(x180, x416);
+                    *g91 = x418.to_array();
                     x419 = x407.mul_sub(x172, x397);
                     x420 = arith.splat_four(x67);
                     x421 = x420.mul_add(x180, x419);
+                    *g98 = x421.to_array();
                     x422 = arith.splat_four(x84);
                     x423 = arith.splat_four(x86);
                     x424 = arith.splat_four(x81);
@@ -19208,6 +16880,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x431 = arith.splat_four(x232);
                     x432 = x431.mul_neg_add(x343, x430);
                     x433 = x426 + x432;
+                    *g105 = x433.to_array();
                     x434 = x422 * x187;
                     x435 = x424.mul_add(x183, x434);
                     x436 = arith.splat_four(x237);
@@ -19217,6 +16890,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x440 = arith.splat_four(x238);
                     x441 = x440.mul_neg_add(x343, x439);
                     x442 = x441 - x435;
+                    *g112 = x442.to_array();
                     x443 = arith.splat_four(x241);
                     x444 = arith.splat_four(x89);
                     x445 = arith.splat_four(x230);
@@ -19224,12 +16898,14 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x447 = x444.mul_add(x183, x446);
                     x448 = arith.splat_four(x234);
                     x449 = x448.mul_neg_add(x187, x447);
+                    *g119 = x449.to_array();
                     x450 = arith.splat_four(x243);
                     x451 = arith.splat_four(x244);
                     x452 = x451 * x185;
                     x453 = x450.mul_add(x183, x452);
                     x454 = arith.splat_four(x242);
                     x455 = x454.mul_add(x187, x453);
+                    *g126 = x455.to_array();
                     x456 = arith.splat_four(x239);
                     x457 = arith.splat_four(x246);
                     x458 = arith.splat_four(x245);
@@ -19237,14 +16913,17 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x460 = x457.mul_add(x183, x459);
                     x461 = arith.splat_four(x247);
                     x462 = x461.mul_add(x187, x460);
+                    *g133 = x462.to_array();
                     x463 = arith.splat_four(x248);
                     x464 = arith.splat_four(x249);
                     x465 = x464 * x185;
                     x466 = x463.mul_add(x183, x465);
                     x467 = x443.mul_add(x187, x466);
+                    *g140 = x467.to_array();
                     x468 = x456.mul_sub(x183, x446);
                     x469 = arith.splat_four(x87);
                     x470 = x469.mul_add(x187, x468);
+                    *g147 = x470.to_array();
                     x471 = arith.splat_four(x114);
                     x472 = arith.splat_four(x108);
                     x473 = x471 * x185;
@@ -19256,6 +16935,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x479 = arith.splat_four(x256);
                     x480 = x479.mul_add(x348, x478);
                     x481 = x474 + x480;
+                    *g154 = x481.to_array();
                     x482 = arith.splat_four(x152);
                     x483 = x482 * x185;
                     x484 = x472.mul_add(x190, x483);
@@ -19266,30 +16946,36 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x489 = arith.splat_four(x261);
                     x490 = x489.mul_sub(x348, x488);
                     x491 = x484 + x490;
+                    *g161 = x491.to_array();
                     x492 = arith.splat_four(x117);
                     x493 = arith.splat_four(x254);
                     x494 = x493 * x192;
                     x495 = x492.mul_sub(x190, x494);
                     x496 = arith.splat_four(x253);
                     x497 = x496.mul_add(x185, x495);
+                    *g168 = x497.to_array();
                     x498 = x489 * x192;
                     x499 = x479.mul_add(x190, x498);
                     x500 = arith.splat_four(x262);
                     x501 = x500.mul_sub(x185, x499);
+                    *g175 = x501.to_array();
                     x502 = arith.splat_four(x259);
                     x503 = arith.splat_four(x263);
                     x504 = x503 * x192;
                     x505 = x477.mul_sub(x190, x504);
                     x506 = arith.splat_four(x264);
                     x507 = x506.mul_add(x185, x505);
+                    *g182 = x507.to_array();
                     x508 = arith.splat_four(x265);
                     x509 = x485 * x192;
                     x510 = x508.mul_sub(x190, x509);
                     x511 = arith.splat_four(x266);
                     x512 = x511.mul_add(x185, x510);
+                    *g189 = x512.to_array();
                     x513 = x502.mul_neg_add(x190, x494);
                     x514 = arith.splat_four(x116);
                     x515 = x514.mul_add(x185, x513);
+                    *g196 = x515.to_array();
                     x516 = arith.splat_four(x124);
                     x517 = arith.splat_four(x126);
                     x518 = x471 * x358;
@@ -19301,6 +16987,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x524 = arith.splat_four(x271);
                     x525 = x524.mul_add(x363, x523);
                     x526 = x519 + x525;
+                    *g203 = x526.to_array();
                     x527 = x516 * x192;
                     x528 = x471.mul_sub(x356, x527);
                     x529 = arith.splat_four(x276);
@@ -19310,6 +16997,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x533 = arith.splat_four(x277);
                     x534 = x533.mul_add(x363, x532);
                     x535 = x528 + x534;
+                    *g210 = x535.to_array();
                     x536 = arith.splat_four(x279);
                     x537 = arith.splat_four(x129);
                     x538 = arith.splat_four(x269);
@@ -19317,11 +17005,13 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x540 = x537.mul_add(x356, x539);
                     x541 = arith.splat_four(x272);
                     x542 = x541.mul_neg_add(x192, x540);
+                    *g217 = x542.to_array();
                     x543 = arith.splat_four(x282);
                     x544 = x533 * x358;
                     x545 = x543.mul_add(x356, x544);
                     x546 = arith.splat_four(x281);
                     x547 = x546.mul_add(x192, x545);
+                    *g224 = x547.to_array();
                     x548 = arith.splat_four(x275);
                     x549 = arith.splat_four(x284);
                     x550 = arith.splat_four(x283);
@@ -19329,14 +17019,17 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x552 = x549.mul_add(x356, x551);
                     x553 = arith.splat_four(x285);
                     x554 = x553.mul_add(x192, x552);
+                    *g231 = x554.to_array();
                     x555 = arith.splat_four(x286);
                     x556 = arith.splat_four(x287);
                     x557 = x556 * x358;
                     x558 = x555.mul_add(x356, x557);
                     x559 = x536.mul_add(x192, x558);
+                    *g238 = x559.to_array();
                     x560 = x548.mul_sub(x356, x539);
                     x561 = arith.splat_four(x127);
                     x562 = x561.mul_add(x192, x560);
+                    *g245 = x562.to_array();
                     x563 = arith.splat_four(x144);
                     x564 = arith.splat_four(x146);
                     x565 = arith.splat_four(x141);
@@ -19349,6 +17042,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x572 = arith.splat_four(x293);
                     x573 = x572.mul_neg_add(x369, x571);
                     x574 = x567 + x573;
+                    *g252 = x574.to_array();
                     x575 = x563 * x368;
                     x576 = x565.mul_add(x365, x575);
                     x577 = arith.splat_four(x298);
@@ -19358,6 +17052,7 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x581 = arith.splat_four(x299);
                     x582 = x581.mul_neg_add(x369, x580);
                     x583 = x582 - x576;
+                    *g259 = x583.to_array();
                     x584 = arith.splat_four(x301);
                     x585 = arith.splat_four(x149);
                     x586 = arith.splat_four(x291);
@@ -19365,11 +17060,13 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x588 = x585.mul_add(x365, x587);
                     x589 = arith.splat_four(x294);
                     x590 = x589.mul_neg_add(x368, x588);
+                    *g266 = x590.to_array();
                     x591 = arith.splat_four(x303);
                     x592 = x581 * x367;
                     x593 = x591.mul_add(x365, x592);
                     x594 = arith.splat_four(x302);
                     x595 = x594.mul_add(x368, x593);
+                    *g273 = x595.to_array();
                     x596 = arith.splat_four(x297);
                     x597 = arith.splat_four(x305);
                     x598 = arith.splat_four(x304);
@@ -19377,14 +17074,17 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x600 = x597.mul_add(x365, x599);
                     x601 = arith.splat_four(x306);
                     x602 = x601.mul_add(x368, x600);
+                    *g280 = x602.to_array();
                     x603 = arith.splat_four(x307);
                     x604 = arith.splat_four(x308);
                     x605 = x604 * x367;
                     x606 = x603.mul_add(x365, x605);
                     x607 = x584.mul_add(x368, x606);
+                    *g287 = x607.to_array();
                     x608 = x596.mul_sub(x365, x587);
                     x609 = arith.splat_four(x147);
                     x610 = x609.mul_add(x368, x608);
+                    *g294 = x610.to_array();
                     x611 = x564 * x377;
                     x612 = x565.mul_add(x376, x611);
                     x613 = arith.four([x340, x329, 0.0, 0.0]);
@@ -19407,322 +17107,42 @@ impl BaseParameters<7, 70, 43> for PandaRounded {
                     x630 = x584.mul_add(x377, x629);
                     x631 = x596.mul_sub(x375, x619);
                     x632 = x609.mul_add(x377, x631);
-                    [x633, _, _, _] = x387.to_array();
-                    *o56 = x633;
-                    [_, x634, _, _] = x387.to_array();
-                    *o57 = x634;
-                    [_, _, x635, _] = x387.to_array();
-                    *o58 = x635;
-                    [_, _, _, x636] = x387.to_array();
-                    *o59 = x636;
-                    [x637, _, _, _] = x394.to_array();
-                    *o63 = x637;
-                    [_, x638, _, _] = x394.to_array();
-                    *o64 = x638;
-                    [_, _, x639, _] = x394.to_array();
-                    *o65 = x639;
-                    [_, _, _, x640] = x394.to_array();
-                    *o66 = x640;
-                    [x641, _, _, _] = x400.to_array();
-                    *o70 = x641;
-                    [_, x642, _, _] = x400.to_array();
-                    *o71 = x642;
-                    [_, _, x643, _] = x400.to_array();
-                    *o72 = x643;
-                    [_, _, _, x644] = x400.to_array();
-                    *o73 = x644;
-                    [x645, _, _, _] = x406.to_array();
-                    *o77 = x645;
-                    [_, x646, _, _] = x406.to_array();
-                    *o78 = x646;
-                    [_, _, x647, _] = x406.to_array();
-                    *o79 = x647;
-                    [_, _, _, x648] = x406.to_array();
-                    *o80 = x648;
-                    [x649, _, _, _] = x412.to_array();
-                    *o84 = x649;
-                    [_, x650, _, _] = x412.to_array();
-                    *o85 = x650;
-                    [_, _, x651, _] = x412.to_array();
-                    *o86 = x651;
-                    [_, _, _, x652] = x412.to_array();
-                    *o87 = x652;
-                    [x653, _, _, _] = x418.to_array();
-                    *o91 = x653;
-                    [_, x654, _, _] = x418.to_array();
-                    *o92 = x654;
-                    [_, _, x655, _] = x418.to_array();
-                    *o93 = x655;
-                    [_, _, _, x656] = x418.to_array();
-                    *o94 = x656;
-                    [x657, _, _, _] = x421.to_array();
-                    *o98 = x657;
-                    [_, x658, _, _] = x421.to_array();
-                    *o99 = x658;
-                    [_, _, x659, _] = x421.to_array();
-                    *o100 = x659;
-                    [_, _, _, x660] = x421.to_array();
-                    *o101 = x660;
-                    [x661, _, _, _] = x433.to_array();
-                    *o105 = x661;
-                    [_, x662, _, _] = x433.to_array();
-                    *o106 = x662;
-                    [_, _, x663, _] = x433.to_array();
-                    *o107 = x663;
-                    [_, _, _, x664] = x433.to_array();
-                    *o108 = x664;
-                    [x665, _, _, _] = x442.to_array();
-                    *o112 = x665;
-                    [_, x666, _, _] = x442.to_array();
-                    *o113 = x666;
-                    [_, _, x667, _] = x442.to_array();
-                    *o114 = x667;
-                    [_, _, _, x668] = x442.to_array();
-                    *o115 = x668;
-                    [x669, _, _, _] = x449.to_array();
-                    *o119 = x669;
-                    [_, x670, _, _] = x449.to_array();
-                    *o120 = x670;
-                    [_, _, x671, _] = x449.to_array();
-                    *o121 = x671;
-                    [_, _, _, x672] = x449.to_array();
-                    *o122 = x672;
-                    [x673, _, _, _] = x455.to_array();
-                    *o126 = x673;
-                    [_, x674, _, _] = x455.to_array();
-                    *o127 = x674;
-                    [_, _, x675, _] = x455.to_array();
-                    *o128 = x675;
-                    [_, _, _, x676] = x455.to_array();
-                    *o129 = x676;
-                    [x677, _, _, _] = x462.to_array();
-                    *o133 = x677;
-                    [_, x678, _, _] = x462.to_array();
-                    *o134 = x678;
-                    [_, _, x679, _] = x462.to_array();
-                    *o135 = x679;
-                    [_, _, _, x680] = x462.to_array();
-                    *o136 = x680;
-                    [x681, _, _, _] = x467.to_array();
-                    *o140 = x681;
-                    [_, x682, _, _] = x467.to_array();
-                    *o141 = x682;
-                    [_, _, x683, _] = x467.to_array();
-                    *o142 = x683;
-                    [_, _, _, x684] = x467.to_array();
-                    *o143 = x684;
-                    [x685, _, _, _] = x470.to_array();
-                    *o147 = x685;
-                    [_, x686, _, _] = x470.to_array();
-                    *o148 = x686;
-                    [_, _, x687, _] = x470.to_array();
-                    *o149 = x687;
-                    [_, _, _, x688] = x470.to_array();
-                    *o150 = x688;
-                    [x689, _, _, _] = x481.to_array();
-                    *o154 = x689;
-                    [_, x690, _, _] = x481.to_array();
-                    *o155 = x690;
-                    [_, _, x691, _] = x481.to_array();
-                    *o156 = x691;
-                    [_, _, _, x692] = x481.to_array();
-                    *o157 = x692;
-                    [x693, _, _, _] = x491.to_array();
-                    *o161 = x693;
-                    [_, x694, _, _] = x491.to_array();
-                    *o162 = x694;
-                    [_, _, x695, _] = x491.to_array();
-                    *o163 = x695;
-                    [_, _, _, x696] = x491.to_array();
-                    *o164 = x696;
-                    [x697, _, _, _] = x497.to_array();
-                    *o168 = x697;
-                    [_, x698, _, _] = x497.to_array();
-                    *o169 = x698;
-                    [_, _, x699, _] = x497.to_array();
-                    *o170 = x699;
-                    [_, _, _, x700] = x497.to_array();
-                    *o171 = x700;
-                    [x701, _, _, _] = x501.to_array();
-                    *o175 = x701;
-                    [_, x702, _, _] = x501.to_array();
-                    *o176 = x702;
-                    [_, _, x703, _] = x501.to_array();
-                    *o177 = x703;
-                    [_, _, _, x704] = x501.to_array();
-                    *o178 = x704;
-                    [x705, _, _, _] = x507.to_array();
-                    *o182 = x705;
-                    [_, x706, _, _] = x507.to_array();
-                    *o183 = x706;
-                    [_, _, x707, _] = x507.to_array();
-                    *o184 = x707;
-                    [_, _, _, x708] = x507.to_array();
-                    *o185 = x708;
-                    [x709, _, _, _] = x512.to_array();
-                    *o189 = x709;
-                    [_, x710, _, _] = x512.to_array();
-                    *o190 = x710;
-                    [_, _, x711, _] = x512.to_array();
-                    *o191 = x711;
-                    [_, _, _, x712] = x512.to_array();
-                    *o192 = x712;
-                    [x713, _, _, _] = x515.to_array();
-                    *o196 = x713;
-                    [_, x714, _, _] = x515.to_array();
-                    *o197 = x714;
-                    [_, _, x715, _] = x515.to_array();
-                    *o198 = x715;
-                    [_, _, _, x716] = x515.to_array();
-                    *o199 = x716;
-                    [x717, _, _, _] = x526.to_array();
-                    *o203 = x717;
-                    [_, x718, _, _] = x526.to_array();
-                    *o204 = x718;
-                    [_, _, x719, _] = x526.to_array();
-                    *o205 = x719;
-                    [_, _, _, x720] = x526.to_array();
-                    *o206 = x720;
-                    [x721, _, _, _] = x535.to_array();
-                    *o210 = x721;
-                    [_, x722, _, _] = x535.to_array();
-                    *o211 = x722;
-                    [_, _, x723, _] = x535.to_array();
-                    *o212 = x723;
-                    [_, _, _, x724] = x535.to_array();
-                    *o213 = x724;
-                    [x725, _, _, _] = x542.to_array();
-                    *o217 = x725;
-                    [_, x726, _, _] = x542.to_array();
-                    *o218 = x726;
-                    [_, _, x727, _] = x542.to_array();
-                    *o219 = x727;
-                    [_, _, _, x728] = x542.to_array();
-                    *o220 = x728;
-                    [x729, _, _, _] = x547.to_array();
-                    *o224 = x729;
-                    [_, x730, _, _] = x547.to_array();
-                    *o225 = x730;
-                    [_, _, x731, _] = x547.to_array();
-                    *o226 = x731;
-                    [_, _, _, x732] = x547.to_array();
-                    *o227 = x732;
-                    [x733, _, _, _] = x554.to_array();
-                    *o231 = x733;
-                    [_, x734, _, _] = x554.to_array();
-                    *o232 = x734;
-                    [_, _, x735, _] = x554.to_array();
-                    *o233 = x735;
-                    [_, _, _, x736] = x554.to_array();
-                    *o234 = x736;
-                    [x737, _, _, _] = x559.to_array();
-                    *o238 = x737;
-                    [_, x738, _, _] = x559.to_array();
-                    *o239 = x738;
-                    [_, _, x739, _] = x559.to_array();
-                    *o240 = x739;
-                    [_, _, _, x740] = x559.to_array();
-                    *o241 = x740;
-                    [x741, _, _, _] = x562.to_array();
-                    *o245 = x741;
-                    [_, x742, _, _] = x562.to_array();
-                    *o246 = x742;
-                    [_, _, x743, _] = x562.to_array();
-                    *o247 = x743;
-                    [_, _, _, x744] = x562.to_array();
-                    *o248 = x744;
-                    [x745, _, _, _] = x574.to_array();
-                    *o252 = x745;
-                    [_, x746, _, _] = x574.to_array();
-                    *o253 = x746;
-                    [_, _, x747, _] = x574.to_array();
-                    *o254 = x747;
-                    [_, _, _, x748] = x574.to_array();
-                    *o255 = x748;
                     [x749, _, _, _] = x614.to_array();
                     *o256 = x749;
                     [_, x750, _, _] = x614.to_array();
                     *o257 = x750;
                     [_, _, x751, _] = x614.to_array();
                     *o258 = x751;
-                    [x752, _, _, _] = x583.to_array();
-                    *o259 = x752;
-                    [_, x753, _, _] = x583.to_array();
-                    *o260 = x753;
-                    [_, _, x754, _] = x583.to_array();
-                    *o261 = x754;
-                    [_, _, _, x755] = x583.to_array();
-                    *o262 = x755;
                     [x756, _, _, _] = x618.to_array();
                     *o263 = x756;
                     [_, x757, _, _] = x618.to_array();
                     *o264 = x757;
                     [_, _, x758, _] = x618.to_array();
                     *o265 = x758;
-                    [x759, _, _, _] = x590.to_array();
-                    *o266 = x759;
-                    [_, x760, _, _] = x590.to_array();
-                    *o267 = x760;
-                    [_, _, x761, _] = x590.to_array();
-                    *o268 = x761;
-                    [_, _, _, x762] = x590.to_array();
-                    *o269 = x762;
                     [x763, _, _, _] = x621.to_array();
                     *o270 = x763;
                     [_, x764, _, _] = x621.to_array();
                     *o271 = x764;
                     [_, _, x765, _] = x621.to_array();
                     *o272 = x765;
-                    [x766, _, _, _] = x595.to_array();
-                    *o273 = x766;
-                    [_, x767, _, _] = x595.to_array();
-                    *o274 = x767;
-                    [_, _, x768, _] = x595.to_array();
-                    *o275 = x768;
-                    [_, _, _, x769] = x595.to_array();
-                    *o276 = x769;
                     [x770, _, _, _] = x624.to_array();
                     *o277 = x770;
                     [_, x771, _, _] = x624.to_array();
                     *o278 = x771;
                     [_, _, x772, _] = x624.to_array();
                     *o279 = x772;
-                    [x773, _, _, _] = x602.to_array();
-                    *o280 = x773;
-                    [_, x774, _, _] = x602.to_array();
-                    *o281 = x774;
-                    [_, _, x775, _] = x602.to_array();
-                    *o282 = x775;
-                    [_, _, _, x776] = x602.to_array();
-                    *o283 = x776;
                     [x777, _, _, _] = x627.to_array();
                     *o284 = x777;
                     [_, x778, _, _] = x627.to_array();
                     *o285 = x778;
                     [_, _, x779, _] = x627.to_array();
                     *o286 = x779;
-                    [x780, _, _, _] = x607.to_array();
-                    *o287 = x780;
-                    [_, x781, _, _] = x607.to_array();
-                    *o288 = x781;
-                    [_, _, x782, _] = x607.to_array();
-                    *o289 = x782;
-                    [_, _, _, x783] = x607.to_array();
-                    *o290 = x783;
                     [x784, _, _, _] = x630.to_array();
                     *o291 = x784;
                     [_, x785, _, _] = x630.to_array();
                     *o292 = x785;
                     [_, _, x786, _] = x630.to_array();
                     *o293 = x786;
-                    [x787, _, _, _] = x610.to_array();
-                    *o294 = x787;
-                    [_, x788, _, _] = x610.to_array();
-                    *o295 = x788;
-                    [_, _, x789, _] = x610.to_array();
-                    *o296 = x789;
-                    [_, _, _, x790] = x610.to_array();
-                    *o297 = x790;
                     [x791, _, _, _] = x632.to_array();
                     *o298 = x791;
                     [_, x792, _, _] = x632.to_array();

@@ -6823,37 +6823,28 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     _], [_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
                     _], [o63, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, o78, _, _, _,
                     _, _], [_, o85, _, _, _, _, _], [_, _, _, _, _, _, _], [o98, o99, _,
-                    _, _, _, _], [o105, o106, _, _, _, _, _], [o112, o113, o114, o115, _,
-                    _, _], [o119, o120, _, _, _, _, _], [o126, o127, _, _, _, _, _],
-                    [o133, o134, _, _, _, _, _], [o140, o141, o142, o143, _, _, _],
-                    [o147, o148, o149, o150, _, _, _], [o154, o155, o156, o157, _, _, _],
-                    [o161, o162, o163, o164, _, _, _], [o168, o169, o170, o171, _, _, _],
-                    [o175, o176, o177, o178, _, _, _], [o182, o183, o184, o185, _, _, _],
-                    [o189, o190, o191, o192, _, _, _], [o196, o197, o198, o199, _, _, _],
-                    [o203, o204, o205, o206, _, _, _], [o210, o211, o212, o213, _, _, _],
-                    [o217, o218, o219, o220, _, _, _], [o224, o225, o226, o227, _, _, _],
-                    [o231, o232, o233, o234, _, _, _], [o238, o239, o240, o241, _, _, _],
-                    [o245, o246, o247, o248, _, _, _], [o252, o253, o254, o255, _, _, _],
-                    [o259, o260, o261, o262, _, _, _], [o266, o267, o268, o269, _, _, _],
-                    [o273, o274, o275, o276, _, _, _], [o280, o281, o282, o283, _, _, _],
-                    [o287, o288, o289, o290, o291, _, _], [o294, o295, o296, o297, o298,
-                    _, _], [o301, o302, o303, o304, _, _, _], [o308, o309, o310, o311,
-                    o312, _, _], [o315, o316, o317, o318, o319, _, _], [o322, o323, o324,
-                    o325, o326, _, _], [o329, o330, o331, o332, o333, _, _], [o336, o337,
-                    o338, o339, o340, _, _], [o343, o344, o345, o346, o347, _, _], [o350,
-                    o351, o352, o353, _, _, _], [o357, o358, o359, o360, o361, o362, _],
-                    [o364, o365, o366, o367, o368, o369, _], [o371, o372, o373, o374,
-                    o375, _, _], [o378, o379, o380, o381, o382, o383, _], [o385, o386,
-                    o387, o388, o389, o390, _], [o392, o393, o394, o395, o396, o397, o398,
-                    ], [o399, o400, o401, o402, o403, o404, _], [o406, o407, o408, o409,
-                    o410, o411, _], [o413, o414, o415, o416, o417, o418, _], [o420, o421,
-                    o422, o423, o424, o425, o426], [o427, o428, o429, o430, o431, o432,
-                    o433], [o434, o435, o436, o437, o438, o439, o440], [o441, o442, o443,
-                    o444, o445, o446, o447], [o448, o449, o450, o451, o452, o453, o454],
-                    [o455, o456, o457, o458, o459, o460, o461], [o462, o463, o464, o465,
-                    o466, o467, o468], [o469, o470, o471, o472, o473, o474, o475], [o476,
-                    o477, o478, o479, o480, o481, o482], [o483, o484, o485, o486, o487,
-                    o488, o489]] = &mut out.data.0;
+                    _, _, _, _], [o105, o106, _, _, _, _, _], [g112 @ .., _, _, _],
+                    [o119, o120, _, _, _, _, _], [o126, o127, _, _, _, _, _], [o133,
+                    o134, _, _, _, _, _], [g140 @ .., _, _, _], [g147 @ .., _, _, _],
+                    [g154 @ .., _, _, _], [g161 @ .., _, _, _], [g168 @ .., _, _, _],
+                    [g175 @ .., _, _, _], [g182 @ .., _, _, _], [g189 @ .., _, _, _],
+                    [g196 @ .., _, _, _], [g203 @ .., _, _, _], [g210 @ .., _, _, _],
+                    [g217 @ .., _, _, _], [g224 @ .., _, _, _], [g231 @ .., _, _, _],
+                    [g238 @ .., _, _, _], [g245 @ .., _, _, _], [g252 @ .., _, _, _],
+                    [g259 @ .., _, _, _], [g266 @ .., _, _, _], [g273 @ .., _, _, _],
+                    [g280 @ .., _, _, _], [g287 @ .., o291, _, _], [g294 @ .., o298, _, _,
+                    ], [g301 @ .., _, _, _], [g308 @ .., o312, _, _], [g315 @ .., o319,
+                    _, _], [g322 @ .., o326, _, _], [g329 @ .., o333, _, _], [g336 @ ..,
+                    o340, _, _], [g343 @ .., o347, _, _], [g350 @ .., _, _, _],
+                    [g357 @ .., o361, o362, _], [g364 @ .., o368, o369, _], [g371 @ ..,
+                    o375, _, _], [g378 @ .., o382, o383, _], [g385 @ .., o389, o390, _],
+                    [g392 @ .., o396, o397, o398], [g399 @ .., o403, o404, _],
+                    [g406 @ .., o410, o411, _], [g413 @ .., o417, o418, _], [g420 @ ..,
+                    o424, o425, o426], [g427 @ .., o431, o432, o433], [g434 @ .., o438,
+                    o439, o440], [g441 @ .., o445, o446, o447], [g448 @ .., o452, o453,
+                    o454], [g455 @ .., o459, o460, o461], [g462 @ .., o466, o467, o468],
+                    [g469 @ .., o473, o474, o475], [g476 @ .., o480, o481, o482],
+                    [g483 @ .., o487, o488, o489]] = &mut out.data.0;
                     *o63 = a0;
                     let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
                     x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
@@ -6906,30 +6897,10 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x550, x551, x552, x553, x554, x555, x556, x557, x558, x559, x560,
                     x561, x562, x563, x564, x565, x566, x567, x568, x583, x586, x587,
                     x589, x590, x611, x612, x613, x614, x615, x616, x617, x618, x619,
-                    x620, x621, x1022, x1023, x1024, x1025, x1026, x1027, x1028, x1029,
-                    x1030, x1031, x1032, x1033, x1034, x1035, x1036, x1037, x1038, x1039,
-                    x1040, x1041, x1042, x1043, x1044, x1045, x1046, x1047, x1048, x1049,
-                    x1050, x1051, x1052, x1053, x1054, x1055, x1056, x1057, x1058, x1059,
-                    x1060, x1061, x1062, x1063, x1064, x1065, x1066, x1067, x1068, x1069,
-                    x1070, x1071, x1072, x1073, x1074, x1075, x1076, x1077, x1078, x1079,
-                    x1080, x1081, x1082, x1083, x1084, x1085, x1086, x1087, x1088, x1089,
-                    x1090, x1091, x1092, x1093, x1094, x1095, x1096, x1097, x1098, x1099,
-                    x1100, x1101, x1102, x1103, x1104, x1105, x1106, x1107, x1108, x1109,
-                    x1110, x1111, x1112, x1113, x1114, x1115, x1116, x1117, x1118, x1119,
-                    x1120, x1121, x1122, x1123, x1124, x1125, x1126, x1127, x1128, x1129,
-                    x1130, x1131, x1132, x1133, x1134, x1135, x1136, x1137, x1138, x1139,
-                    x1140, x1141, x1142, x1143, x1144, x1145, x1146, x1147, x1148, x1149,
-                    x1150, x1151, x1152, x1153, x1154, x1155, x1156, x1157, x1158, x1159,
-                    x1160, x1161, x1162, x1163, x1164, x1165, x1166, x1167, x1168, x1169,
-                    x1170, x1171, x1172, x1173, x1174, x1175, x1176, x1177, x1178, x1179,
-                    x1180, x1181, x1182, x1183, x1184, x1185, x1186, x1187, x1188, x1189,
-                    x1190, x1191, x1192, x1193, x1194, x1195, x1196, x1197, x1198, x1199,
-                    x1200, x1201, x1202, x1203, x1204, x1205, x1206, x1207, x1208, x1209,
-                    x1210, x1211, x1212, x1213, x1214, x1215, x1216, x1217, x1218, x1219,
-                    x1220, x1221, x1222, x1223, x1224, x1225, x1226, x1227, x1228, x1229,
-                    x1230, x1231, x1232, x1233, x1234, x1235, x1236, x1237, x1238, x1239,
-                    x1240, x1241, x1242, x1243, x1244, x1245, x1246, x1247, x1248, x1249,
-                    x1250, x1251, x1252, x1253, x1254]: [f64; 818];
+                    x620, x621, x1170, x1171, x1172, x1189, x1190, x1191, x1196, x1197,
+                    x1198, x1203, x1204, x1205, x1210, x1211, x1212, x1217, x1218, x1219,
+                    x1224, x1225, x1226, x1231, x1232, x1233, x1238, x1239, x1240, x1245,
+                    x1246, x1247, x1252, x1253, x1254]: [f64; 618];
                     let [x569, x570, x571, x572, x573, x574, x575, x576, x577, x578,
                     x579, x580, x581, x582, x584, x585, x588, x591, x592, x593, x594,
                     x595, x596, x597, x598, x599, x600, x601, x602, x603, x604, x605,
@@ -7640,6 +7611,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x631 = x630 * x591;
                     x632 = x629.mul_add(x588, x631);
                     x633 = x628 + x632;
+                    *g147 = x633.to_array();
                     x634 = arith.splat_four(x267);
                     x635 = arith.splat_four(x266);
                     x636 = x635 * x592;
@@ -7649,6 +7621,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x640 = x639 * x591;
                     x641 = x638.mul_add(x588, x640);
                     x642 = x637 + x641;
+                    *g154 = x642.to_array();
                     x643 = arith.splat_four(x251);
                     x644 = arith.splat_four(x270);
                     x645 = x644 * x585;
@@ -7656,12 +7629,14 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x647 = arith.splat_four(x271);
                     x648 = x647 * x592;
                     x649 = x646 - x648;
+                    *g168 = x649.to_array();
                     x650 = arith.splat_four(x277);
                     x651 = arith.splat_four(x278);
                     x652 = x651 * x585;
                     x653 = x650.mul_add(x584, x652);
                     x654 = arith.splat_four(x279);
                     x655 = x654.mul_add(x592, x653);
+                    *g175 = x655.to_array();
                     x656 = arith.splat_four(x280);
                     x657 = arith.splat_four(x285);
                     x658 = arith.splat_four(x286);
@@ -7669,15 +7644,18 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x660 = x657.mul_add(x584, x659);
                     x661 = arith.splat_four(x287);
                     x662 = x661.mul_add(x592, x660);
+                    *g189 = x662.to_array();
                     x663 = arith.splat_four(x291);
                     x664 = arith.splat_four(x292);
                     x665 = x664 * x585;
                     x666 = x663.mul_add(x584, x665);
                     x667 = arith.splat_four(x293);
                     x668 = x667.mul_add(x592, x666);
+                    *g196 = x668.to_array();
                     x669 = x656.mul_sub(x584, x645);
                     x670 = arith.splat_four(x253);
                     x671 = x670.mul_add(x592, x669);
+                    *g203 = x671.to_array();
                     x672 = x570.mul_add(x592, x591);
                     x673 = x571.mul_sub(x588, x599);
                     x674 = x572 * x588;
@@ -7693,6 +7671,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x684 = arith.splat_four(x321);
                     x685 = x684.mul_neg_add(x672, x683);
                     x686 = x679 + x685;
+                    *g217 = x686.to_array();
                     x687 = arith.splat_four(x325);
                     x688 = x687 * x595;
                     x689 = arith.splat_four(x326);
@@ -7704,6 +7683,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x695 = arith.splat_four(x329);
                     x696 = x695.mul_neg_add(x672, x694);
                     x697 = x690 + x696;
+                    *g224 = x697.to_array();
                     x698 = arith.splat_four(x306);
                     x699 = arith.splat_four(x330);
                     x700 = x699 * x598;
@@ -7711,12 +7691,14 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x702 = arith.splat_four(x331);
                     x703 = x702 * x600;
                     x704 = x701 - x703;
+                    *g238 = x704.to_array();
                     x705 = arith.splat_four(x337);
                     x706 = arith.splat_four(x338);
                     x707 = x706 * x598;
                     x708 = x705.mul_add(x595, x707);
                     x709 = arith.splat_four(x339);
                     x710 = x709.mul_add(x600, x708);
+                    *g245 = x710.to_array();
                     x711 = arith.splat_four(x340);
                     x712 = arith.splat_four(x345);
                     x713 = arith.splat_four(x346);
@@ -7724,15 +7706,18 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x715 = x712.mul_add(x595, x714);
                     x716 = arith.splat_four(x347);
                     x717 = x716.mul_add(x600, x715);
+                    *g259 = x717.to_array();
                     x718 = arith.splat_four(x351);
                     x719 = arith.splat_four(x352);
                     x720 = x719 * x598;
                     x721 = x718.mul_add(x595, x720);
                     x722 = arith.splat_four(x353);
                     x723 = x722.mul_add(x600, x721);
+                    *g266 = x723.to_array();
                     x724 = x711.mul_sub(x595, x700);
                     x725 = arith.splat_four(x308);
                     x726 = x725.mul_add(x600, x724);
+                    *g273 = x726.to_array();
                     x727 = x573.mul_neg_add(x600, x673);
                     x728 = x608 + x672;
                     x729 = x576 * x728;
@@ -7751,6 +7736,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x742 = arith.splat_four(x382);
                     x743 = x742.mul_add(x733, x741);
                     x744 = x737 + x743;
+                    *g287 = x744.to_array();
                     x745 = arith.splat_four(x386);
                     x746 = arith.splat_four(x387);
                     x747 = x746 * x607;
@@ -7762,6 +7748,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x753 = arith.splat_four(x390);
                     x754 = x753.mul_add(x733, x752);
                     x755 = x748 + x754;
+                    *g294 = x755.to_array();
                     x756 = arith.splat_four(x366);
                     x757 = arith.splat_four(x391);
                     x758 = x757 * x606;
@@ -7769,12 +7756,14 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x760 = arith.splat_four(x392);
                     x761 = x760 * x607;
                     x762 = x759 - x761;
+                    *g308 = x762.to_array();
                     x763 = arith.splat_four(x399);
                     x764 = arith.splat_four(x400);
                     x765 = x764 * x606;
                     x766 = x763.mul_add(x603, x765);
                     x767 = arith.splat_four(x401);
                     x768 = x767.mul_add(x607, x766);
+                    *g315 = x768.to_array();
                     x769 = arith.splat_four(x402);
                     x770 = arith.splat_four(x407);
                     x771 = arith.splat_four(x408);
@@ -7782,15 +7771,18 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x773 = x770.mul_add(x603, x772);
                     x774 = arith.splat_four(x409);
                     x775 = x774.mul_add(x607, x773);
+                    *g329 = x775.to_array();
                     x776 = arith.splat_four(x413);
                     x777 = arith.splat_four(x414);
                     x778 = x777 * x606;
                     x779 = x776.mul_add(x603, x778);
                     x780 = arith.splat_four(x415);
                     x781 = x780.mul_add(x607, x779);
+                    *g336 = x781.to_array();
                     x782 = x769.mul_sub(x603, x758);
                     x783 = arith.splat_four(x368);
                     x784 = x783.mul_add(x607, x782);
+                    *g343 = x784.to_array();
                     x785 = x578 * x607;
                     x786 = x577.mul_add(x603, x785);
                     x787 = x577.mul_sub(x607, x609);
@@ -7809,6 +7801,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x800 = arith.splat_four(x444);
                     x801 = x800.mul_add(x732, x799);
                     x802 = x795 + x801;
+                    *g357 = x802.to_array();
                     x803 = arith.splat_four(x447);
                     x804 = arith.splat_four(x448);
                     x805 = x804 * x610;
@@ -7820,6 +7813,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x811 = arith.splat_four(x451);
                     x812 = x811.mul_add(x732, x810);
                     x813 = x806 + x812;
+                    *g364 = x813.to_array();
                     x814 = arith.splat_four(x428);
                     x815 = arith.splat_four(x452);
                     x816 = x815 * x787;
@@ -7827,12 +7821,14 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x818 = arith.splat_four(x453);
                     x819 = x818 * x610;
                     x820 = x817 - x819;
+                    *g378 = x820.to_array();
                     x821 = arith.splat_four(x460);
                     x822 = arith.splat_four(x461);
                     x823 = x822 * x787;
                     x824 = x821.mul_add(x786, x823);
                     x825 = arith.splat_four(x462);
                     x826 = x825.mul_add(x610, x824);
+                    *g385 = x826.to_array();
                     x827 = arith.splat_four(x463);
                     x828 = arith.splat_four(x468);
                     x829 = arith.splat_four(x469);
@@ -7840,15 +7836,18 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x831 = x828.mul_add(x786, x830);
                     x832 = arith.splat_four(x470);
                     x833 = x832.mul_add(x610, x831);
+                    *g399 = x833.to_array();
                     x834 = arith.splat_four(x474);
                     x835 = arith.splat_four(x475);
                     x836 = x835 * x787;
                     x837 = x834.mul_add(x786, x836);
                     x838 = arith.splat_four(x476);
                     x839 = x838.mul_add(x610, x837);
+                    *g406 = x839.to_array();
                     x840 = x827.mul_sub(x786, x816);
                     x841 = arith.splat_four(x430);
                     x842 = x841.mul_add(x610, x840);
+                    *g413 = x842.to_array();
                     x843 = x582 * x610;
                     x844 = x581.mul_sub(x786, x843);
                     x845 = x581 * x610;
@@ -7873,6 +7872,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x864 = arith.splat_four(x504);
                     x865 = x864.mul_add(x850, x863);
                     x866 = x859 + x865;
+                    *g427 = x866.to_array();
                     x867 = arith.splat_four(x508);
                     x868 = arith.splat_four(x509);
                     x869 = x868 * x787;
@@ -7884,34 +7884,40 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x875 = arith.splat_four(x512);
                     x876 = x875.mul_sub(x850, x874);
                     x877 = x870 + x876;
+                    *g434 = x877.to_array();
                     x878 = arith.splat_four(x489);
                     x879 = arith.splat_four(x513);
                     x880 = x879 * x846;
                     x881 = x878.mul_sub(x844, x880);
                     x882 = arith.splat_four(x514);
                     x883 = x882.mul_add(x787, x881);
+                    *g448 = x883.to_array();
                     x884 = arith.splat_four(x520);
                     x885 = arith.splat_four(x521);
                     x886 = x885 * x846;
                     x887 = x884.mul_add(x844, x886);
                     x888 = arith.splat_four(x522);
                     x889 = x888.mul_sub(x787, x887);
+                    *g455 = x889.to_array();
                     x890 = arith.splat_four(x527);
                     x891 = arith.splat_four(x528);
                     x892 = x891 * x846;
                     x893 = x890.mul_sub(x844, x892);
                     x894 = arith.splat_four(x529);
                     x895 = x894.mul_add(x787, x893);
+                    *g469 = x895.to_array();
                     x896 = arith.splat_four(x533);
                     x897 = arith.splat_four(x534);
                     x898 = x897 * x846;
                     x899 = x896.mul_add(x844, x898);
                     x900 = arith.splat_four(x535);
                     x901 = x900.mul_sub(x787, x899);
+                    *g476 = x901.to_array();
                     x902 = arith.splat_four(x536);
                     x903 = x902.mul_add(x844, x880);
                     x904 = arith.splat_four(x491);
                     x905 = x904.mul_add(x787, x903);
+                    *g483 = x905.to_array();
                     x906 = arith.four([x552, x440, 0.0, 0.0]);
                     x907 = arith.four([x553, x448, 0.0, 0.0]);
                     x908 = arith.four([x555, x454, 0.0, 0.0]);
@@ -7953,6 +7959,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x944 = arith.four([0.0, x565, 0.0, 0.0]);
                     x945 = arith.four([0.0, x5, 0.0, 0.0]);
                     x946 = x622 - x623;
+                    *g112 = x946.to_array();
                     x947 = arith.splat_four(0.085849f64);
                     x948 = x947.mul_add(x623, x944);
                     x949 = arith.splat_four(0.586f64);
@@ -7960,19 +7967,24 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x951 = arith.splat_four(0.08860525f64);
                     x952 = x951.mul_add(x623, x944);
                     x953 = x947.mul_add(x624, x948);
+                    *g140 = x953.to_array();
                     x954 = x949.mul_add(x624, x950);
+                    *g161 = x954.to_array();
                     x955 = x623 + x624;
                     x956 = x951.mul_add(x624, x952);
                     x957 = x570.mul_add(x633, x956);
                     x958 = x648 - x646;
                     x959 = x955 + x958;
+                    *g182 = x959.to_array();
                     x960 = arith.splat_four(-0.00275625f64);
                     x961 = x960.mul_add(x649, x957);
                     x962 = arith.splat_four(0.00325f64);
                     x963 = x962.mul_add(x649, x957);
                     x964 = x570.mul_sub(x655, x642);
+                    *g231 = x964.to_array();
                     x965 = arith.splat_four(0.00275625f64);
                     x966 = x965.mul_add(x671, x961);
+                    *g210 = x966.to_array();
                     x967 = x649 + x671;
                     x968 = arith.splat_four(0.0087625f64);
                     x969 = x968.mul_add(x671, x963);
@@ -7980,6 +7992,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x971 = x573.mul_add(x697, x970);
                     x972 = x703 - x701;
                     x973 = x967 + x972;
+                    *g252 = x973.to_array();
                     x974 = arith.splat_four(0.1113f64);
                     x975 = x974.mul_add(x704, x971);
                     x976 = arith.splat_four(0.685f64);
@@ -7989,11 +8002,16 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x980 = x574.mul_add(x710, x977);
                     x981 = arith.splat_four(0.1233125f64);
                     x982 = x981.mul_add(x726, x979);
+                    *g280 = x982.to_array();
+                    *g350 = x982.to_array();
                     x983 = x976.mul_add(x726, x980);
+                    *g301 = x983.to_array();
                     x984 = x704 + x726;
                     x985 = -x755;
+                    *g371 = x985.to_array();
                     x986 = x761 - x759;
                     x987 = x984 + x986;
+                    *g322 = x987.to_array();
                     x988 = arith.splat_four(0.005776f64);
                     x989 = x988.mul_add(x762, x982);
                     x990 = x762 + x784;
@@ -8006,6 +8024,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x997 = x579.mul_add(x907, x995);
                     x998 = x819 - x817;
                     x999 = x990 + x998;
+                    *g392 = x999.to_array();
                     x1000 = x991 - x908;
                     x1001 = arith.splat_four(0.003633f64);
                     x1002 = x1001.mul_add(x820, x996);
@@ -8021,477 +8040,76 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x1012 = x1010.mul_add(x909, x1006);
                     x1013 = arith.splat_four(0.015185f64);
                     x1014 = x1013.mul_add(x842, x1008);
+                    *g420 = x1014.to_array();
                     x1015 = x1013.mul_add(x910, x1009);
                     x1016 = x1004.mul_add(x842, x1011);
+                    *g441 = x1016.to_array();
                     x1017 = x1004.mul_add(x910, x1012);
                     x1018 = x820 + x842;
                     x1019 = x908 + x910;
                     x1020 = x1018 - x883;
+                    *g462 = x1020.to_array();
                     x1021 = x1019 - x932;
-                    [x1022, _, _, _] = x946.to_array();
-                    *o112 = x1022;
-                    [_, x1023, _, _] = x946.to_array();
-                    *o113 = x1023;
-                    [_, _, x1024, _] = x946.to_array();
-                    *o114 = x1024;
-                    [_, _, _, x1025] = x946.to_array();
-                    *o115 = x1025;
-                    [x1026, _, _, _] = x953.to_array();
-                    *o140 = x1026;
-                    [_, x1027, _, _] = x953.to_array();
-                    *o141 = x1027;
-                    [_, _, x1028, _] = x953.to_array();
-                    *o142 = x1028;
-                    [_, _, _, x1029] = x953.to_array();
-                    *o143 = x1029;
-                    [x1030, _, _, _] = x633.to_array();
-                    *o147 = x1030;
-                    [_, x1031, _, _] = x633.to_array();
-                    *o148 = x1031;
-                    [_, _, x1032, _] = x633.to_array();
-                    *o149 = x1032;
-                    [_, _, _, x1033] = x633.to_array();
-                    *o150 = x1033;
-                    [x1034, _, _, _] = x642.to_array();
-                    *o154 = x1034;
-                    [_, x1035, _, _] = x642.to_array();
-                    *o155 = x1035;
-                    [_, _, x1036, _] = x642.to_array();
-                    *o156 = x1036;
-                    [_, _, _, x1037] = x642.to_array();
-                    *o157 = x1037;
-                    [x1038, _, _, _] = x954.to_array();
-                    *o161 = x1038;
-                    [_, x1039, _, _] = x954.to_array();
-                    *o162 = x1039;
-                    [_, _, x1040, _] = x954.to_array();
-                    *o163 = x1040;
-                    [_, _, _, x1041] = x954.to_array();
-                    *o164 = x1041;
-                    [x1042, _, _, _] = x649.to_array();
-                    *o168 = x1042;
-                    [_, x1043, _, _] = x649.to_array();
-                    *o169 = x1043;
-                    [_, _, x1044, _] = x649.to_array();
-                    *o170 = x1044;
-                    [_, _, _, x1045] = x649.to_array();
-                    *o171 = x1045;
-                    [x1046, _, _, _] = x655.to_array();
-                    *o175 = x1046;
-                    [_, x1047, _, _] = x655.to_array();
-                    *o176 = x1047;
-                    [_, _, x1048, _] = x655.to_array();
-                    *o177 = x1048;
-                    [_, _, _, x1049] = x655.to_array();
-                    *o178 = x1049;
-                    [x1050, _, _, _] = x959.to_array();
-                    *o182 = x1050;
-                    [_, x1051, _, _] = x959.to_array();
-                    *o183 = x1051;
-                    [_, _, x1052, _] = x959.to_array();
-                    *o184 = x1052;
-                    [_, _, _, x1053] = x959.to_array();
-                    *o185 = x1053;
-                    [x1054, _, _, _] = x662.to_array();
-                    *o189 = x1054;
-                    [_, x1055, _, _] = x662.to_array();
-                    *o190 = x1055;
-                    [_, _, x1056, _] = x662.to_array();
-                    *o191 = x1056;
-                    [_, _, _, x1057] = x662.to_array();
-                    *o192 = x1057;
-                    [x1058, _, _, _] = x668.to_array();
-                    *o196 = x1058;
-                    [_, x1059, _, _] = x668.to_array();
-                    *o197 = x1059;
-                    [_, _, x1060, _] = x668.to_array();
-                    *o198 = x1060;
-                    [_, _, _, x1061] = x668.to_array();
-                    *o199 = x1061;
-                    [x1062, _, _, _] = x671.to_array();
-                    *o203 = x1062;
-                    [_, x1063, _, _] = x671.to_array();
-                    *o204 = x1063;
-                    [_, _, x1064, _] = x671.to_array();
-                    *o205 = x1064;
-                    [_, _, _, x1065] = x671.to_array();
-                    *o206 = x1065;
-                    [x1066, _, _, _] = x966.to_array();
-                    *o210 = x1066;
-                    [_, x1067, _, _] = x966.to_array();
-                    *o211 = x1067;
-                    [_, _, x1068, _] = x966.to_array();
-                    *o212 = x1068;
-                    [_, _, _, x1069] = x966.to_array();
-                    *o213 = x1069;
-                    [x1070, _, _, _] = x686.to_array();
-                    *o217 = x1070;
-                    [_, x1071, _, _] = x686.to_array();
-                    *o218 = x1071;
-                    [_, _, x1072, _] = x686.to_array();
-                    *o219 = x1072;
-                    [_, _, _, x1073] = x686.to_array();
-                    *o220 = x1073;
-                    [x1074, _, _, _] = x697.to_array();
-                    *o224 = x1074;
-                    [_, x1075, _, _] = x697.to_array();
-                    *o225 = x1075;
-                    [_, _, x1076, _] = x697.to_array();
-                    *o226 = x1076;
-                    [_, _, _, x1077] = x697.to_array();
-                    *o227 = x1077;
-                    [x1078, _, _, _] = x964.to_array();
-                    *o231 = x1078;
-                    [_, x1079, _, _] = x964.to_array();
-                    *o232 = x1079;
-                    [_, _, x1080, _] = x964.to_array();
-                    *o233 = x1080;
-                    [_, _, _, x1081] = x964.to_array();
-                    *o234 = x1081;
-                    [x1082, _, _, _] = x704.to_array();
-                    *o238 = x1082;
-                    [_, x1083, _, _] = x704.to_array();
-                    *o239 = x1083;
-                    [_, _, x1084, _] = x704.to_array();
-                    *o240 = x1084;
-                    [_, _, _, x1085] = x704.to_array();
-                    *o241 = x1085;
-                    [x1086, _, _, _] = x710.to_array();
-                    *o245 = x1086;
-                    [_, x1087, _, _] = x710.to_array();
-                    *o246 = x1087;
-                    [_, _, x1088, _] = x710.to_array();
-                    *o247 = x1088;
-                    [_, _, _, x1089] = x710.to_array();
-                    *o248 = x1089;
-                    [x1090, _, _, _] = x973.to_array();
-                    *o252 = x1090;
-                    [_, x1091, _, _] = x973.to_array();
-                    *o253 = x1091;
-                    [_, _, x1092, _] = x973.to_array();
-                    *o254 = x1092;
-                    [_, _, _, x1093] = x973.to_array();
-                    *o255 = x1093;
-                    [x1094, _, _, _] = x717.to_array();
-                    *o259 = x1094;
-                    [_, x1095, _, _] = x717.to_array();
-                    *o260 = x1095;
-                    [_, _, x1096, _] = x717.to_array();
-                    *o261 = x1096;
-                    [_, _, _, x1097] = x717.to_array();
-                    *o262 = x1097;
-                    [x1098, _, _, _] = x723.to_array();
-                    *o266 = x1098;
-                    [_, x1099, _, _] = x723.to_array();
-                    *o267 = x1099;
-                    [_, _, x1100, _] = x723.to_array();
-                    *o268 = x1100;
-                    [_, _, _, x1101] = x723.to_array();
-                    *o269 = x1101;
-                    [x1102, _, _, _] = x726.to_array();
-                    *o273 = x1102;
-                    [_, x1103, _, _] = x726.to_array();
-                    *o274 = x1103;
-                    [_, _, x1104, _] = x726.to_array();
-                    *o275 = x1104;
-                    [_, _, _, x1105] = x726.to_array();
-                    *o276 = x1105;
-                    [x1106, _, _, _] = x982.to_array();
-                    *o280 = x1106;
-                    *o350 = x1106;
-                    [_, x1107, _, _] = x982.to_array();
-                    *o281 = x1107;
-                    *o351 = x1107;
-                    [_, _, x1108, _] = x982.to_array();
-                    *o282 = x1108;
-                    *o352 = x1108;
-                    [_, _, _, x1109] = x982.to_array();
-                    *o283 = x1109;
-                    *o353 = x1109;
-                    [x1110, _, _, _] = x744.to_array();
-                    *o287 = x1110;
-                    [_, x1111, _, _] = x744.to_array();
-                    *o288 = x1111;
-                    [_, _, x1112, _] = x744.to_array();
-                    *o289 = x1112;
-                    [_, _, _, x1113] = x744.to_array();
-                    *o290 = x1113;
-                    [x1114, _, _, _] = x755.to_array();
-                    *o294 = x1114;
-                    [_, x1115, _, _] = x755.to_array();
-                    *o295 = x1115;
-                    [_, _, x1116, _] = x755.to_array();
-                    *o296 = x1116;
-                    [_, _, _, x1117] = x755.to_array();
-                    *o297 = x1117;
-                    [x1118, _, _, _] = x983.to_array();
-                    *o301 = x1118;
-                    [_, x1119, _, _] = x983.to_array();
-                    *o302 = x1119;
-                    [_, _, x1120, _] = x983.to_array();
-                    *o303 = x1120;
-                    [_, _, _, x1121] = x983.to_array();
-                    *o304 = x1121;
-                    [x1122, _, _, _] = x762.to_array();
-                    *o308 = x1122;
-                    [_, x1123, _, _] = x762.to_array();
-                    *o309 = x1123;
-                    [_, _, x1124, _] = x762.to_array();
-                    *o310 = x1124;
-                    [_, _, _, x1125] = x762.to_array();
-                    *o311 = x1125;
-                    [x1126, _, _, _] = x768.to_array();
-                    *o315 = x1126;
-                    [_, x1127, _, _] = x768.to_array();
-                    *o316 = x1127;
-                    [_, _, x1128, _] = x768.to_array();
-                    *o317 = x1128;
-                    [_, _, _, x1129] = x768.to_array();
-                    *o318 = x1129;
-                    [x1130, _, _, _] = x987.to_array();
-                    *o322 = x1130;
-                    [_, x1131, _, _] = x987.to_array();
-                    *o323 = x1131;
-                    [_, _, x1132, _] = x987.to_array();
-                    *o324 = x1132;
-                    [_, _, _, x1133] = x987.to_array();
-                    *o325 = x1133;
-                    [x1134, _, _, _] = x775.to_array();
-                    *o329 = x1134;
-                    [_, x1135, _, _] = x775.to_array();
-                    *o330 = x1135;
-                    [_, _, x1136, _] = x775.to_array();
-                    *o331 = x1136;
-                    [_, _, _, x1137] = x775.to_array();
-                    *o332 = x1137;
-                    [x1138, _, _, _] = x781.to_array();
-                    *o336 = x1138;
-                    [_, x1139, _, _] = x781.to_array();
-                    *o337 = x1139;
-                    [_, _, x1140, _] = x781.to_array();
-                    *o338 = x1140;
-                    [_, _, _, x1141] = x781.to_array();
-                    *o339 = x1141;
-                    [x1142, _, _, _] = x784.to_array();
-                    *o343 = x1142;
-                    [_, x1143, _, _] = x784.to_array();
-                    *o344 = x1143;
-                    [_, _, x1144, _] = x784.to_array();
-                    *o345 = x1144;
-                    [_, _, _, x1145] = x784.to_array();
-                    *o346 = x1145;
-                    [x1146, _, _, _] = x802.to_array();
-                    *o357 = x1146;
-                    [_, x1147, _, _] = x802.to_array();
-                    *o358 = x1147;
-                    [_, _, x1148, _] = x802.to_array();
-                    *o359 = x1148;
-                    [_, _, _, x1149] = x802.to_array();
-                    *o360 = x1149;
-                    [x1150, _, _, _] = x813.to_array();
-                    *o364 = x1150;
-                    [_, x1151, _, _] = x813.to_array();
-                    *o365 = x1151;
-                    [_, _, x1152, _] = x813.to_array();
-                    *o366 = x1152;
-                    [_, _, _, x1153] = x813.to_array();
-                    *o367 = x1153;
-                    [x1154, _, _, _] = x985.to_array();
-                    *o371 = x1154;
-                    [_, x1155, _, _] = x985.to_array();
-                    *o372 = x1155;
-                    [_, _, x1156, _] = x985.to_array();
-                    *o373 = x1156;
-                    [_, _, _, x1157] = x985.to_array();
-                    *o374 = x1157;
-                    [x1158, _, _, _] = x820.to_array();
-                    *o378 = x1158;
-                    [_, x1159, _, _] = x820.to_array();
-                    *o379 = x1159;
-                    [_, _, x1160, _] = x820.to_array();
-                    *o380 = x1160;
-                    [_, _, _, x1161] = x820.to_array();
-                    *o381 = x1161;
-                    [x1162, _, _, _] = x826.to_array();
-                    *o385 = x1162;
-                    [_, x1163, _, _] = x826.to_array();
-                    *o386 = x1163;
-                    [_, _, x1164, _] = x826.to_array();
-                    *o387 = x1164;
-                    [_, _, _, x1165] = x826.to_array();
-                    *o388 = x1165;
-                    [x1166, _, _, _] = x999.to_array();
-                    *o392 = x1166;
-                    [_, x1167, _, _] = x999.to_array();
-                    *o393 = x1167;
-                    [_, _, x1168, _] = x999.to_array();
-                    *o394 = x1168;
-                    [_, _, _, x1169] = x999.to_array();
-                    *o395 = x1169;
                     [x1170, _, _, _] = x1000.to_array();
                     *o396 = x1170;
                     [_, x1171, _, _] = x1000.to_array();
                     *o397 = x1171;
                     [_, _, x1172, _] = x1000.to_array();
                     *o398 = x1172;
-                    [x1173, _, _, _] = x833.to_array();
-                    *o399 = x1173;
-                    [_, x1174, _, _] = x833.to_array();
-                    *o400 = x1174;
-                    [_, _, x1175, _] = x833.to_array();
-                    *o401 = x1175;
-                    [_, _, _, x1176] = x833.to_array();
-                    *o402 = x1176;
-                    [x1177, _, _, _] = x839.to_array();
-                    *o406 = x1177;
-                    [_, x1178, _, _] = x839.to_array();
-                    *o407 = x1178;
-                    [_, _, x1179, _] = x839.to_array();
-                    *o408 = x1179;
-                    [_, _, _, x1180] = x839.to_array();
-                    *o409 = x1180;
-                    [x1181, _, _, _] = x842.to_array();
-                    *o413 = x1181;
-                    [_, x1182, _, _] = x842.to_array();
-                    *o414 = x1182;
-                    [_, _, x1183, _] = x842.to_array();
-                    *o415 = x1183;
-                    [_, _, _, x1184] = x842.to_array();
-                    *o416 = x1184;
-                    [x1185, _, _, _] = x1014.to_array();
-                    *o420 = x1185;
-                    [_, x1186, _, _] = x1014.to_array();
-                    *o421 = x1186;
-                    [_, _, x1187, _] = x1014.to_array();
-                    *o422 = x1187;
-                    [_, _, _, x1188] = x1014.to_array();
-                    *o423 = x1188;
                     [x1189, _, _, _] = x1015.to_array();
                     *o424 = x1189;
                     [_, x1190, _, _] = x1015.to_array();
                     *o425 = x1190;
                     [_, _, x1191, _] = x1015.to_array();
                     *o426 = x1191;
-                    [x1192, _, _, _] = x866.to_array();
-                    *o427 = x1192;
-                    [_, x1193, _, _] = x866.to_array();
-                    *o428 = x1193;
-                    [_, _, x1194, _] = x866.to_array();
-                    *o429 = x1194;
-                    [_, _, _, x1195] = x866.to_array();
-                    *o430 = x1195;
                     [x1196, _, _, _] = x922.to_array();
                     *o431 = x1196;
                     [_, x1197, _, _] = x922.to_array();
                     *o432 = x1197;
                     [_, _, x1198, _] = x922.to_array();
                     *o433 = x1198;
-                    [x1199, _, _, _] = x877.to_array();
-                    *o434 = x1199;
-                    [_, x1200, _, _] = x877.to_array();
-                    *o435 = x1200;
-                    [_, _, x1201, _] = x877.to_array();
-                    *o436 = x1201;
-                    [_, _, _, x1202] = x877.to_array();
-                    *o437 = x1202;
                     [x1203, _, _, _] = x929.to_array();
                     *o438 = x1203;
                     [_, x1204, _, _] = x929.to_array();
                     *o439 = x1204;
                     [_, _, x1205, _] = x929.to_array();
                     *o440 = x1205;
-                    [x1206, _, _, _] = x1016.to_array();
-                    *o441 = x1206;
-                    [_, x1207, _, _] = x1016.to_array();
-                    *o442 = x1207;
-                    [_, _, x1208, _] = x1016.to_array();
-                    *o443 = x1208;
-                    [_, _, _, x1209] = x1016.to_array();
-                    *o444 = x1209;
                     [x1210, _, _, _] = x1017.to_array();
                     *o445 = x1210;
                     [_, x1211, _, _] = x1017.to_array();
                     *o446 = x1211;
                     [_, _, x1212, _] = x1017.to_array();
                     *o447 = x1212;
-                    [x1213, _, _, _] = x883.to_array();
-                    *o448 = x1213;
-                    [_, x1214, _, _] = x883.to_array();
-                    *o449 = x1214;
-                    [_, _, x1215, _] = x883.to_array();
-                    *o450 = x1215;
-                    [_, _, _, x1216] = x883.to_array();
-                    *o451 = x1216;
                     [x1217, _, _, _] = x932.to_array();
                     *o452 = x1217;
                     [_, x1218, _, _] = x932.to_array();
                     *o453 = x1218;
                     [_, _, x1219, _] = x932.to_array();
                     *o454 = x1219;
-                    [x1220, _, _, _] = x889.to_array();
-                    *o455 = x1220;
-                    [_, x1221, _, _] = x889.to_array();
-                    *o456 = x1221;
-                    [_, _, x1222, _] = x889.to_array();
-                    *o457 = x1222;
-                    [_, _, _, x1223] = x889.to_array();
-                    *o458 = x1223;
                     [x1224, _, _, _] = x935.to_array();
                     *o459 = x1224;
                     [_, x1225, _, _] = x935.to_array();
                     *o460 = x1225;
                     [_, _, x1226, _] = x935.to_array();
                     *o461 = x1226;
-                    [x1227, _, _, _] = x1020.to_array();
-                    *o462 = x1227;
-                    [_, x1228, _, _] = x1020.to_array();
-                    *o463 = x1228;
-                    [_, _, x1229, _] = x1020.to_array();
-                    *o464 = x1229;
-                    [_, _, _, x1230] = x1020.to_array();
-                    *o465 = x1230;
                     [x1231, _, _, _] = x1021.to_array();
                     *o466 = x1231;
                     [_, x1232, _, _] = x1021.to_array();
                     *o467 = x1232;
                     [_, _, x1233, _] = x1021.to_array();
                     *o468 = x1233;
-                    [x1234, _, _, _] = x895.to_array();
-                    *o469 = x1234;
-                    [_, x1235, _, _] = x895.to_array();
-                    *o470 = x1235;
-                    [_, _, x1236, _] = x895.to_array();
-                    *o471 = x1236;
-                    [_, _, _, x1237] = x895.to_array();
-                    *o472 = x1237;
                     [x1238, _, _, _] = x938.to_array();
                     *o473 = x1238;
                     [_, x1239, _, _] = x938.to_array();
                     *o474 = x1239;
                     [_, _, x1240, _] = x938.to_array();
                     *o475 = x1240;
-                    [x1241, _, _, _] = x901.to_array();
-                    *o476 = x1241;
-                    [_, x1242, _, _] = x901.to_array();
-                    *o477 = x1242;
-                    [_, _, x1243, _] = x901.to_array();
-                    *o478 = x1243;
-                    [_, _, _, x1244] = x901.to_array();
-                    *o479 = x1244;
                     [x1245, _, _, _] = x941.to_array();
                     *o480 = x1245;
                     [_, x1246, _, _] = x941.to_array();
                     *o481 = x1246;
                     [_, _, x1247, _] = x941.to_array();
                     *o482 = x1247;
-                    [x1248, _, _, _] = x905.to_array();
-                    *o483 = x1248;
-                    [_, x1249, _, _] = x905.to_array();
-                    *o484 = x1249;
-                    [_, _, x1250, _] = x905.to_array();
-                    *o485 = x1250;
-                    [_, _, _, x1251] = x905.to_array();
-                    *o486 = x1251;
                     [x1252, _, _, _] = x943.to_array();
                     *o487 = x1252;
                     [_, x1253, _, _] = x943.to_array();
@@ -8553,37 +8171,28 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     _], [_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
                     _], [o63, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, o78, _, _, _,
                     _, _], [_, o85, _, _, _, _, _], [_, _, _, _, _, _, _], [o98, o99, _,
-                    _, _, _, _], [o105, o106, _, _, _, _, _], [o112, o113, o114, o115, _,
-                    _, _], [o119, o120, _, _, _, _, _], [o126, o127, _, _, _, _, _],
-                    [o133, o134, _, _, _, _, _], [o140, o141, o142, o143, _, _, _],
-                    [o147, o148, o149, o150, _, _, _], [o154, o155, o156, o157, _, _, _],
-                    [o161, o162, o163, o164, _, _, _], [o168, o169, o170, o171, _, _, _],
-                    [o175, o176, o177, o178, _, _, _], [o182, o183, o184, o185, _, _, _],
-                    [o189, o190, o191, o192, _, _, _], [o196, o197, o198, o199, _, _, _],
-                    [o203, o204, o205, o206, _, _, _], [o210, o211, o212, o213, _, _, _],
-                    [o217, o218, o219, o220, _, _, _], [o224, o225, o226, o227, _, _, _],
-                    [o231, o232, o233, o234, _, _, _], [o238, o239, o240, o241, _, _, _],
-                    [o245, o246, o247, o248, _, _, _], [o252, o253, o254, o255, _, _, _],
-                    [o259, o260, o261, o262, _, _, _], [o266, o267, o268, o269, _, _, _],
-                    [o273, o274, o275, o276, _, _, _], [o280, o281, o282, o283, _, _, _],
-                    [o287, o288, o289, o290, o291, _, _], [o294, o295, o296, o297, o298,
-                    _, _], [o301, o302, o303, o304, _, _, _], [o308, o309, o310, o311,
-                    o312, _, _], [o315, o316, o317, o318, o319, _, _], [o322, o323, o324,
-                    o325, o326, _, _], [o329, o330, o331, o332, o333, _, _], [o336, o337,
-                    o338, o339, o340, _, _], [o343, o344, o345, o346, o347, _, _], [o350,
-                    o351, o352, o353, _, _, _], [o357, o358, o359, o360, o361, o362, _],
-                    [o364, o365, o366, o367, o368, o369, _], [o371, o372, o373, o374,
-                    o375, _, _], [o378, o379, o380, o381, o382, o383, _], [o385, o386,
-                    o387, o388, o389, o390, _], [o392, o393, o394, o395, o396, o397, o398,
-                    ], [o399, o400, o401, o402, o403, o404, _], [o406, o407, o408, o409,
-                    o410, o411, _], [o413, o414, o415, o416, o417, o418, _], [o420, o421,
-                    o422, o423, o424, o425, o426], [o427, o428, o429, o430, o431, o432,
-                    o433], [o434, o435, o436, o437, o438, o439, o440], [o441, o442, o443,
-                    o444, o445, o446, o447], [o448, o449, o450, o451, o452, o453, o454],
-                    [o455, o456, o457, o458, o459, o460, o461], [o462, o463, o464, o465,
-                    o466, o467, o468], [o469, o470, o471, o472, o473, o474, o475], [o476,
-                    o477, o478, o479, o480, o481, o482], [o483, o484, o485, o486, o487,
-                    o488, o489]] = &mut out.data.0;
+                    _, _, _, _], [o105, o106, _, _, _, _, _], [g112 @ .., _, _, _],
+                    [o119, o120, _, _, _, _, _], [o126, o127, _, _, _, _, _], [o133,
+                    o134, _, _, _, _, _], [g140 @ .., _, _, _], [g147 @ .., _, _, _],
+                    [g154 @ .., _, _, _], [g161 @ .., _, _, _], [g168 @ .., _, _, _],
+                    [g175 @ .., _, _, _], [g182 @ .., _, _, _], [g189 @ .., _, _, _],
+                    [g196 @ .., _, _, _], [g203 @ .., _, _, _], [g210 @ .., _, _, _],
+                    [g217 @ .., _, _, _], [g224 @ .., _, _, _], [g231 @ .., _, _, _],
+                    [g238 @ .., _, _, _], [g245 @ .., _, _, _], [g252 @ .., _, _, _],
+                    [g259 @ .., _, _, _], [g266 @ .., _, _, _], [g273 @ .., _, _, _],
+                    [g280 @ .., _, _, _], [g287 @ .., o291, _, _], [g294 @ .., o298, _, _,
+                    ], [g301 @ .., _, _, _], [g308 @ .., o312, _, _], [g315 @ .., o319,
+                    _, _], [g322 @ .., o326, _, _], [g329 @ .., o333, _, _], [g336 @ ..,
+                    o340, _, _], [g343 @ .., o347, _, _], [g350 @ .., _, _, _],
+                    [g357 @ .., o361, o362, _], [g364 @ .., o368, o369, _], [g371 @ ..,
+                    o375, _, _], [g378 @ .., o382, o383, _], [g385 @ .., o389, o390, _],
+                    [g392 @ .., o396, o397, o398], [g399 @ .., o403, o404, _],
+                    [g406 @ .., o410, o411, _], [g413 @ .., o417, o418, _], [g420 @ ..,
+                    o424, o425, o426], [g427 @ .., o431, o432, o433], [g434 @ .., o438,
+                    o439, o440], [g441 @ .., o445, o446, o447], [g448 @ .., o452, o453,
+                    o454], [g455 @ .., o459, o460, o461], [g462 @ .., o466, o467, o468],
+                    [g469 @ .., o473, o474, o475], [g476 @ .., o480, o481, o482],
+                    [g483 @ .., o487, o488, o489]] = &mut out.data.0;
                     *o63 = a0;
                     let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
                     x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
@@ -8636,30 +8245,10 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x550, x551, x552, x553, x554, x555, x556, x557, x558, x559, x560,
                     x561, x562, x563, x564, x565, x566, x567, x568, x583, x586, x587,
                     x589, x590, x611, x612, x613, x614, x615, x616, x617, x618, x619,
-                    x620, x621, x1022, x1023, x1024, x1025, x1026, x1027, x1028, x1029,
-                    x1030, x1031, x1032, x1033, x1034, x1035, x1036, x1037, x1038, x1039,
-                    x1040, x1041, x1042, x1043, x1044, x1045, x1046, x1047, x1048, x1049,
-                    x1050, x1051, x1052, x1053, x1054, x1055, x1056, x1057, x1058, x1059,
-                    x1060, x1061, x1062, x1063, x1064, x1065, x1066, x1067, x1068, x1069,
-                    x1070, x1071, x1072, x1073, x1074, x1075, x1076, x1077, x1078, x1079,
-                    x1080, x1081, x1082, x1083, x1084, x1085, x1086, x1087, x1088, x1089,
-                    x1090, x1091, x1092, x1093, x1094, x1095, x1096, x1097, x1098, x1099,
-                    x1100, x1101, x1102, x1103, x1104, x1105, x1106, x1107, x1108, x1109,
-                    x1110, x1111, x1112, x1113, x1114, x1115, x1116, x1117, x1118, x1119,
-                    x1120, x1121, x1122, x1123, x1124, x1125, x1126, x1127, x1128, x1129,
-                    x1130, x1131, x1132, x1133, x1134, x1135, x1136, x1137, x1138, x1139,
-                    x1140, x1141, x1142, x1143, x1144, x1145, x1146, x1147, x1148, x1149,
-                    x1150, x1151, x1152, x1153, x1154, x1155, x1156, x1157, x1158, x1159,
-                    x1160, x1161, x1162, x1163, x1164, x1165, x1166, x1167, x1168, x1169,
-                    x1170, x1171, x1172, x1173, x1174, x1175, x1176, x1177, x1178, x1179,
-                    x1180, x1181, x1182, x1183, x1184, x1185, x1186, x1187, x1188, x1189,
-                    x1190, x1191, x1192, x1193, x1194, x1195, x1196, x1197, x1198, x1199,
-                    x1200, x1201, x1202, x1203, x1204, x1205, x1206, x1207, x1208, x1209,
-                    x1210, x1211, x1212, x1213, x1214, x1215, x1216, x1217, x1218, x1219,
-                    x1220, x1221, x1222, x1223, x1224, x1225, x1226, x1227, x1228, x1229,
-                    x1230, x1231, x1232, x1233, x1234, x1235, x1236, x1237, x1238, x1239,
-                    x1240, x1241, x1242, x1243, x1244, x1245, x1246, x1247, x1248, x1249,
-                    x1250, x1251, x1252, x1253, x1254]: [f64; 818];
+                    x620, x621, x1170, x1171, x1172, x1189, x1190, x1191, x1196, x1197,
+                    x1198, x1203, x1204, x1205, x1210, x1211, x1212, x1217, x1218, x1219,
+                    x1224, x1225, x1226, x1231, x1232, x1233, x1238, x1239, x1240, x1245,
+                    x1246, x1247, x1252, x1253, x1254]: [f64; 618];
                     let [x569, x570, x571, x572, x573, x574, x575, x576, x577, x578,
                     x579, x580, x581, x582, x584, x585, x588, x591, x592, x593, x594,
                     x595, x596, x597, x598, x599, x600, x601, x602, x603, x604, x605,
@@ -9370,6 +8959,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x631 = x630 * x591;
                     x632 = x629.mul_add(x588, x631);
                     x633 = x628 + x632;
+                    *g147 = x633.to_array();
                     x634 = arith.splat_four(x267);
                     x635 = arith.splat_four(x266);
                     x636 = x635 * x592;
@@ -9379,6 +8969,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x640 = x639 * x591;
                     x641 = x638.mul_add(x588, x640);
                     x642 = x637 + x641;
+                    *g154 = x642.to_array();
                     x643 = arith.splat_four(x251);
                     x644 = arith.splat_four(x270);
                     x645 = x644 * x585;
@@ -9386,12 +8977,14 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x647 = arith.splat_four(x271);
                     x648 = x647 * x592;
                     x649 = x646 - x648;
+                    *g168 = x649.to_array();
                     x650 = arith.splat_four(x277);
                     x651 = arith.splat_four(x278);
                     x652 = x651 * x585;
                     x653 = x650.mul_add(x584, x652);
                     x654 = arith.splat_four(x279);
                     x655 = x654.mul_add(x592, x653);
+                    *g175 = x655.to_array();
                     x656 = arith.splat_four(x280);
                     x657 = arith.splat_four(x285);
                     x658 = arith.splat_four(x286);
@@ -9399,15 +8992,18 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x660 = x657.mul_add(x584, x659);
                     x661 = arith.splat_four(x287);
                     x662 = x661.mul_add(x592, x660);
+                    *g189 = x662.to_array();
                     x663 = arith.splat_four(x291);
                     x664 = arith.splat_four(x292);
                     x665 = x664 * x585;
                     x666 = x663.mul_add(x584, x665);
                     x667 = arith.splat_four(x293);
                     x668 = x667.mul_add(x592, x666);
+                    *g196 = x668.to_array();
                     x669 = x656.mul_sub(x584, x645);
                     x670 = arith.splat_four(x253);
                     x671 = x670.mul_add(x592, x669);
+                    *g203 = x671.to_array();
                     x672 = x570.mul_add(x592, x591);
                     x673 = x571.mul_sub(x588, x599);
                     x674 = x572 * x588;
@@ -9423,6 +9019,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x684 = arith.splat_four(x321);
                     x685 = x684.mul_neg_add(x672, x683);
                     x686 = x679 + x685;
+                    *g217 = x686.to_array();
                     x687 = arith.splat_four(x325);
                     x688 = x687 * x595;
                     x689 = arith.splat_four(x326);
@@ -9434,6 +9031,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x695 = arith.splat_four(x329);
                     x696 = x695.mul_neg_add(x672, x694);
                     x697 = x690 + x696;
+                    *g224 = x697.to_array();
                     x698 = arith.splat_four(x306);
                     x699 = arith.splat_four(x330);
                     x700 = x699 * x598;
@@ -9441,12 +9039,14 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x702 = arith.splat_four(x331);
                     x703 = x702 * x600;
                     x704 = x701 - x703;
+                    *g238 = x704.to_array();
                     x705 = arith.splat_four(x337);
                     x706 = arith.splat_four(x338);
                     x707 = x706 * x598;
                     x708 = x705.mul_add(x595, x707);
                     x709 = arith.splat_four(x339);
                     x710 = x709.mul_add(x600, x708);
+                    *g245 = x710.to_array();
                     x711 = arith.splat_four(x340);
                     x712 = arith.splat_four(x345);
                     x713 = arith.splat_four(x346);
@@ -9454,15 +9054,18 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x715 = x712.mul_add(x595, x714);
                     x716 = arith.splat_four(x347);
                     x717 = x716.mul_add(x600, x715);
+                    *g259 = x717.to_array();
                     x718 = arith.splat_four(x351);
                     x719 = arith.splat_four(x352);
                     x720 = x719 * x598;
                     x721 = x718.mul_add(x595, x720);
                     x722 = arith.splat_four(x353);
                     x723 = x722.mul_add(x600, x721);
+                    *g266 = x723.to_array();
                     x724 = x711.mul_sub(x595, x700);
                     x725 = arith.splat_four(x308);
                     x726 = x725.mul_add(x600, x724);
+                    *g273 = x726.to_array();
                     x727 = x573.mul_neg_add(x600, x673);
                     x728 = x608 + x672;
                     x729 = x576 * x728;
@@ -9481,6 +9084,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x742 = arith.splat_four(x382);
                     x743 = x742.mul_add(x733, x741);
                     x744 = x737 + x743;
+                    *g287 = x744.to_array();
                     x745 = arith.splat_four(x386);
                     x746 = arith.splat_four(x387);
                     x747 = x746 * x607;
@@ -9492,6 +9096,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x753 = arith.splat_four(x390);
                     x754 = x753.mul_add(x733, x752);
                     x755 = x748 + x754;
+                    *g294 = x755.to_array();
                     x756 = arith.splat_four(x366);
                     x757 = arith.splat_four(x391);
                     x758 = x757 * x606;
@@ -9499,12 +9104,14 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x760 = arith.splat_four(x392);
                     x761 = x760 * x607;
                     x762 = x759 - x761;
+                    *g308 = x762.to_array();
                     x763 = arith.splat_four(x399);
                     x764 = arith.splat_four(x400);
                     x765 = x764 * x606;
                     x766 = x763.mul_add(x603, x765);
                     x767 = arith.splat_four(x401);
                     x768 = x767.mul_add(x607, x766);
+                    *g315 = x768.to_array();
                     x769 = arith.splat_four(x402);
                     x770 = arith.splat_four(x407);
                     x771 = arith.splat_four(x408);
@@ -9512,15 +9119,18 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x773 = x770.mul_add(x603, x772);
                     x774 = arith.splat_four(x409);
                     x775 = x774.mul_add(x607, x773);
+                    *g329 = x775.to_array();
                     x776 = arith.splat_four(x413);
                     x777 = arith.splat_four(x414);
                     x778 = x777 * x606;
                     x779 = x776.mul_add(x603, x778);
                     x780 = arith.splat_four(x415);
                     x781 = x780.mul_add(x607, x779);
+                    *g336 = x781.to_array();
                     x782 = x769.mul_sub(x603, x758);
                     x783 = arith.splat_four(x368);
                     x784 = x783.mul_add(x607, x782);
+                    *g343 = x784.to_array();
                     x785 = x578 * x607;
                     x786 = x577.mul_add(x603, x785);
                     x787 = x577.mul_sub(x607, x609);
@@ -9539,6 +9149,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x800 = arith.splat_four(x444);
                     x801 = x800.mul_add(x732, x799);
                     x802 = x795 + x801;
+                    *g357 = x802.to_array();
                     x803 = arith.splat_four(x447);
                     x804 = arith.splat_four(x448);
                     x805 = x804 * x610;
@@ -9550,6 +9161,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x811 = arith.splat_four(x451);
                     x812 = x811.mul_add(x732, x810);
                     x813 = x806 + x812;
+                    *g364 = x813.to_array();
                     x814 = arith.splat_four(x428);
                     x815 = arith.splat_four(x452);
                     x816 = x815 * x787;
@@ -9557,12 +9169,14 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x818 = arith.splat_four(x453);
                     x819 = x818 * x610;
                     x820 = x817 - x819;
+                    *g378 = x820.to_array();
                     x821 = arith.splat_four(x460);
                     x822 = arith.splat_four(x461);
                     x823 = x822 * x787;
                     x824 = x821.mul_add(x786, x823);
                     x825 = arith.splat_four(x462);
                     x826 = x825.mul_add(x610, x824);
+                    *g385 = x826.to_array();
                     x827 = arith.splat_four(x463);
                     x828 = arith.splat_four(x468);
                     x829 = arith.splat_four(x469);
@@ -9570,15 +9184,18 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x831 = x828.mul_add(x786, x830);
                     x832 = arith.splat_four(x470);
                     x833 = x832.mul_add(x610, x831);
+                    *g399 = x833.to_array();
                     x834 = arith.splat_four(x474);
                     x835 = arith.splat_four(x475);
                     x836 = x835 * x787;
                     x837 = x834.mul_add(x786, x836);
                     x838 = arith.splat_four(x476);
                     x839 = x838.mul_add(x610, x837);
+                    *g406 = x839.to_array();
                     x840 = x827.mul_sub(x786, x816);
                     x841 = arith.splat_four(x430);
                     x842 = x841.mul_add(x610, x840);
+                    *g413 = x842.to_array();
                     x843 = x582 * x610;
                     x844 = x581.mul_sub(x786, x843);
                     x845 = x581 * x610;
@@ -9603,6 +9220,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x864 = arith.splat_four(x504);
                     x865 = x864.mul_add(x850, x863);
                     x866 = x859 + x865;
+                    *g427 = x866.to_array();
                     x867 = arith.splat_four(x508);
                     x868 = arith.splat_four(x509);
                     x869 = x868 * x787;
@@ -9614,34 +9232,40 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x875 = arith.splat_four(x512);
                     x876 = x875.mul_sub(x850, x874);
                     x877 = x870 + x876;
+                    *g434 = x877.to_array();
                     x878 = arith.splat_four(x489);
                     x879 = arith.splat_four(x513);
                     x880 = x879 * x846;
                     x881 = x878.mul_sub(x844, x880);
                     x882 = arith.splat_four(x514);
                     x883 = x882.mul_add(x787, x881);
+                    *g448 = x883.to_array();
                     x884 = arith.splat_four(x520);
                     x885 = arith.splat_four(x521);
                     x886 = x885 * x846;
                     x887 = x884.mul_add(x844, x886);
                     x888 = arith.splat_four(x522);
                     x889 = x888.mul_sub(x787, x887);
+                    *g455 = x889.to_array();
                     x890 = arith.splat_four(x527);
                     x891 = arith.splat_four(x528);
                     x892 = x891 * x846;
                     x893 = x890.mul_sub(x844, x892);
                     x894 = arith.splat_four(x529);
                     x895 = x894.mul_add(x787, x893);
+                    *g469 = x895.to_array();
                     x896 = arith.splat_four(x533);
                     x897 = arith.splat_four(x534);
                     x898 = x897 * x846;
                     x899 = x896.mul_add(x844, x898);
                     x900 = arith.splat_four(x535);
                     x901 = x900.mul_sub(x787, x899);
+                    *g476 = x901.to_array();
                     x902 = arith.splat_four(x536);
                     x903 = x902.mul_add(x844, x880);
                     x904 = arith.splat_four(x491);
                     x905 = x904.mul_add(x787, x903);
+                    *g483 = x905.to_array();
                     x906 = arith.four([x552, x440, 0.0, 0.0]);
                     x907 = arith.four([x553, x448, 0.0, 0.0]);
                     x908 = arith.four([x555, x454, 0.0, 0.0]);
@@ -9683,6 +9307,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x944 = arith.four([0.0, x565, 0.0, 0.0]);
                     x945 = arith.four([0.0, x5, 0.0, 0.0]);
                     x946 = x622 - x623;
+                    *g112 = x946.to_array();
                     x947 = arith.splat_four(0.085849f64);
                     x948 = x947.mul_add(x623, x944);
                     x949 = arith.splat_four(0.586f64);
@@ -9690,19 +9315,24 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x951 = arith.splat_four(0.08860525f64);
                     x952 = x951.mul_add(x623, x944);
                     x953 = x947.mul_add(x624, x948);
+                    *g140 = x953.to_array();
                     x954 = x949.mul_add(x624, x950);
+                    *g161 = x954.to_array();
                     x955 = x623 + x624;
                     x956 = x951.mul_add(x624, x952);
                     x957 = x570.mul_add(x633, x956);
                     x958 = x648 - x646;
                     x959 = x955 + x958;
+                    *g182 = x959.to_array();
                     x960 = arith.splat_four(-0.00275625f64);
                     x961 = x960.mul_add(x649, x957);
                     x962 = arith.splat_four(0.00325f64);
                     x963 = x962.mul_add(x649, x957);
                     x964 = x570.mul_sub(x655, x642);
+                    *g231 = x964.to_array();
                     x965 = arith.splat_four(0.00275625f64);
                     x966 = x965.mul_add(x671, x961);
+                    *g210 = x966.to_array();
                     x967 = x649 + x671;
                     x968 = arith.splat_four(0.0087625f64);
                     x969 = x968.mul_add(x671, x963);
@@ -9710,6 +9340,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x971 = x573.mul_add(x697, x970);
                     x972 = x703 - x701;
                     x973 = x967 + x972;
+                    *g252 = x973.to_array();
                     x974 = arith.splat_four(0.1113f64);
                     x975 = x974.mul_add(x704, x971);
                     x976 = arith.splat_four(0.685f64);
@@ -9719,11 +9350,16 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x980 = x574.mul_add(x710, x977);
                     x981 = arith.splat_four(0.1233125f64);
                     x982 = x981.mul_add(x726, x979);
+                    *g280 = x982.to_array();
+                    *g350 = x982.to_array();
                     x983 = x976.mul_add(x726, x980);
+                    *g301 = x983.to_array();
                     x984 = x704 + x726;
                     x985 = -x755;
+                    *g371 = x985.to_array();
                     x986 = x761 - x759;
                     x987 = x984 + x986;
+                    *g322 = x987.to_array();
                     x988 = arith.splat_four(0.005776f64);
                     x989 = x988.mul_add(x762, x982);
                     x990 = x762 + x784;
@@ -9736,6 +9372,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x997 = x579.mul_add(x907, x995);
                     x998 = x819 - x817;
                     x999 = x990 + x998;
+                    *g392 = x999.to_array();
                     x1000 = x991 - x908;
                     x1001 = arith.splat_four(0.003633f64);
                     x1002 = x1001.mul_add(x820, x996);
@@ -9751,477 +9388,76 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x1012 = x1010.mul_add(x909, x1006);
                     x1013 = arith.splat_four(0.015185f64);
                     x1014 = x1013.mul_add(x842, x1008);
+                    *g420 = x1014.to_array();
                     x1015 = x1013.mul_add(x910, x1009);
                     x1016 = x1004.mul_add(x842, x1011);
+                    *g441 = x1016.to_array();
                     x1017 = x1004.mul_add(x910, x1012);
                     x1018 = x820 + x842;
                     x1019 = x908 + x910;
                     x1020 = x1018 - x883;
+                    *g462 = x1020.to_array();
                     x1021 = x1019 - x932;
-                    [x1022, _, _, _] = x946.to_array();
-                    *o112 = x1022;
-                    [_, x1023, _, _] = x946.to_array();
-                    *o113 = x1023;
-                    [_, _, x1024, _] = x946.to_array();
-                    *o114 = x1024;
-                    [_, _, _, x1025] = x946.to_array();
-                    *o115 = x1025;
-                    [x1026, _, _, _] = x953.to_array();
-                    *o140 = x1026;
-                    [_, x1027, _, _] = x953.to_array();
-                    *o141 = x1027;
-                    [_, _, x1028, _] = x953.to_array();
-                    *o142 = x1028;
-                    [_, _, _, x1029] = x953.to_array();
-                    *o143 = x1029;
-                    [x1030, _, _, _] = x633.to_array();
-                    *o147 = x1030;
-                    [_, x1031, _, _] = x633.to_array();
-                    *o148 = x1031;
-                    [_, _, x1032, _] = x633.to_array();
-                    *o149 = x1032;
-                    [_, _, _, x1033] = x633.to_array();
-                    *o150 = x1033;
-                    [x1034, _, _, _] = x642.to_array();
-                    *o154 = x1034;
-                    [_, x1035, _, _] = x642.to_array();
-                    *o155 = x1035;
-                    [_, _, x1036, _] = x642.to_array();
-                    *o156 = x1036;
-                    [_, _, _, x1037] = x642.to_array();
-                    *o157 = x1037;
-                    [x1038, _, _, _] = x954.to_array();
-                    *o161 = x1038;
-                    [_, x1039, _, _] = x954.to_array();
-                    *o162 = x1039;
-                    [_, _, x1040, _] = x954.to_array();
-                    *o163 = x1040;
-                    [_, _, _, x1041] = x954.to_array();
-                    *o164 = x1041;
-                    [x1042, _, _, _] = x649.to_array();
-                    *o168 = x1042;
-                    [_, x1043, _, _] = x649.to_array();
-                    *o169 = x1043;
-                    [_, _, x1044, _] = x649.to_array();
-                    *o170 = x1044;
-                    [_, _, _, x1045] = x649.to_array();
-                    *o171 = x1045;
-                    [x1046, _, _, _] = x655.to_array();
-                    *o175 = x1046;
-                    [_, x1047, _, _] = x655.to_array();
-                    *o176 = x1047;
-                    [_, _, x1048, _] = x655.to_array();
-                    *o177 = x1048;
-                    [_, _, _, x1049] = x655.to_array();
-                    *o178 = x1049;
-                    [x1050, _, _, _] = x959.to_array();
-                    *o182 = x1050;
-                    [_, x1051, _, _] = x959.to_array();
-                    *o183 = x1051;
-                    [_, _, x1052, _] = x959.to_array();
-                    *o184 = x1052;
-                    [_, _, _, x1053] = x959.to_array();
-                    *o185 = x1053;
-                    [x1054, _, _, _] = x662.to_array();
-                    *o189 = x1054;
-                    [_, x1055, _, _] = x662.to_array();
-                    *o190 = x1055;
-                    [_, _, x1056, _] = x662.to_array();
-                    *o191 = x1056;
-                    [_, _, _, x1057] = x662.to_array();
-                    *o192 = x1057;
-                    [x1058, _, _, _] = x668.to_array();
-                    *o196 = x1058;
-                    [_, x1059, _, _] = x668.to_array();
-                    *o197 = x1059;
-                    [_, _, x1060, _] = x668.to_array();
-                    *o198 = x1060;
-                    [_, _, _, x1061] = x668.to_array();
-                    *o199 = x1061;
-                    [x1062, _, _, _] = x671.to_array();
-                    *o203 = x1062;
-                    [_, x1063, _, _] = x671.to_array();
-                    *o204 = x1063;
-                    [_, _, x1064, _] = x671.to_array();
-                    *o205 = x1064;
-                    [_, _, _, x1065] = x671.to_array();
-                    *o206 = x1065;
-                    [x1066, _, _, _] = x966.to_array();
-                    *o210 = x1066;
-                    [_, x1067, _, _] = x966.to_array();
-                    *o211 = x1067;
-                    [_, _, x1068, _] = x966.to_array();
-                    *o212 = x1068;
-                    [_, _, _, x1069] = x966.to_array();
-                    *o213 = x1069;
-                    [x1070, _, _, _] = x686.to_array();
-                    *o217 = x1070;
-                    [_, x1071, _, _] = x686.to_array();
-                    *o218 = x1071;
-                    [_, _, x1072, _] = x686.to_array();
-                    *o219 = x1072;
-                    [_, _, _, x1073] = x686.to_array();
-                    *o220 = x1073;
-                    [x1074, _, _, _] = x697.to_array();
-                    *o224 = x1074;
-                    [_, x1075, _, _] = x697.to_array();
-                    *o225 = x1075;
-                    [_, _, x1076, _] = x697.to_array();
-                    *o226 = x1076;
-                    [_, _, _, x1077] = x697.to_array();
-                    *o227 = x1077;
-                    [x1078, _, _, _] = x964.to_array();
-                    *o231 = x1078;
-                    [_, x1079, _, _] = x964.to_array();
-                    *o232 = x1079;
-                    [_, _, x1080, _] = x964.to_array();
-                    *o233 = x1080;
-                    [_, _, _, x1081] = x964.to_array();
-                    *o234 = x1081;
-                    [x1082, _, _, _] = x704.to_array();
-                    *o238 = x1082;
-                    [_, x1083, _, _] = x704.to_array();
-                    *o239 = x1083;
-                    [_, _, x1084, _] = x704.to_array();
-                    *o240 = x1084;
-                    [_, _, _, x1085] = x704.to_array();
-                    *o241 = x1085;
-                    [x1086, _, _, _] = x710.to_array();
-                    *o245 = x1086;
-                    [_, x1087, _, _] = x710.to_array();
-                    *o246 = x1087;
-                    [_, _, x1088, _] = x710.to_array();
-                    *o247 = x1088;
-                    [_, _, _, x1089] = x710.to_array();
-                    *o248 = x1089;
-                    [x1090, _, _, _] = x973.to_array();
-                    *o252 = x1090;
-                    [_, x1091, _, _] = x973.to_array();
-                    *o253 = x1091;
-                    [_, _, x1092, _] = x973.to_array();
-                    *o254 = x1092;
-                    [_, _, _, x1093] = x973.to_array();
-                    *o255 = x1093;
-                    [x1094, _, _, _] = x717.to_array();
-                    *o259 = x1094;
-                    [_, x1095, _, _] = x717.to_array();
-                    *o260 = x1095;
-                    [_, _, x1096, _] = x717.to_array();
-                    *o261 = x1096;
-                    [_, _, _, x1097] = x717.to_array();
-                    *o262 = x1097;
-                    [x1098, _, _, _] = x723.to_array();
-                    *o266 = x1098;
-                    [_, x1099, _, _] = x723.to_array();
-                    *o267 = x1099;
-                    [_, _, x1100, _] = x723.to_array();
-                    *o268 = x1100;
-                    [_, _, _, x1101] = x723.to_array();
-                    *o269 = x1101;
-                    [x1102, _, _, _] = x726.to_array();
-                    *o273 = x1102;
-                    [_, x1103, _, _] = x726.to_array();
-                    *o274 = x1103;
-                    [_, _, x1104, _] = x726.to_array();
-                    *o275 = x1104;
-                    [_, _, _, x1105] = x726.to_array();
-                    *o276 = x1105;
-                    [x1106, _, _, _] = x982.to_array();
-                    *o280 = x1106;
-                    *o350 = x1106;
-                    [_, x1107, _, _] = x982.to_array();
-                    *o281 = x1107;
-                    *o351 = x1107;
-                    [_, _, x1108, _] = x982.to_array();
-                    *o282 = x1108;
-                    *o352 = x1108;
-                    [_, _, _, x1109] = x982.to_array();
-                    *o283 = x1109;
-                    *o353 = x1109;
-                    [x1110, _, _, _] = x744.to_array();
-                    *o287 = x1110;
-                    [_, x1111, _, _] = x744.to_array();
-                    *o288 = x1111;
-                    [_, _, x1112, _] = x744.to_array();
-                    *o289 = x1112;
-                    [_, _, _, x1113] = x744.to_array();
-                    *o290 = x1113;
-                    [x1114, _, _, _] = x755.to_array();
-                    *o294 = x1114;
-                    [_, x1115, _, _] = x755.to_array();
-                    *o295 = x1115;
-                    [_, _, x1116, _] = x755.to_array();
-                    *o296 = x1116;
-                    [_, _, _, x1117] = x755.to_array();
-                    *o297 = x1117;
-                    [x1118, _, _, _] = x983.to_array();
-                    *o301 = x1118;
-                    [_, x1119, _, _] = x983.to_array();
-                    *o302 = x1119;
-                    [_, _, x1120, _] = x983.to_array();
-                    *o303 = x1120;
-                    [_, _, _, x1121] = x983.to_array();
-                    *o304 = x1121;
-                    [x1122, _, _, _] = x762.to_array();
-                    *o308 = x1122;
-                    [_, x1123, _, _] = x762.to_array();
-                    *o309 = x1123;
-                    [_, _, x1124, _] = x762.to_array();
-                    *o310 = x1124;
-                    [_, _, _, x1125] = x762.to_array();
-                    *o311 = x1125;
-                    [x1126, _, _, _] = x768.to_array();
-                    *o315 = x1126;
-                    [_, x1127, _, _] = x768.to_array();
-                    *o316 = x1127;
-                    [_, _, x1128, _] = x768.to_array();
-                    *o317 = x1128;
-                    [_, _, _, x1129] = x768.to_array();
-                    *o318 = x1129;
-                    [x1130, _, _, _] = x987.to_array();
-                    *o322 = x1130;
-                    [_, x1131, _, _] = x987.to_array();
-                    *o323 = x1131;
-                    [_, _, x1132, _] = x987.to_array();
-                    *o324 = x1132;
-                    [_, _, _, x1133] = x987.to_array();
-                    *o325 = x1133;
-                    [x1134, _, _, _] = x775.to_array();
-                    *o329 = x1134;
-                    [_, x1135, _, _] = x775.to_array();
-                    *o330 = x1135;
-                    [_, _, x1136, _] = x775.to_array();
-                    *o331 = x1136;
-                    [_, _, _, x1137] = x775.to_array();
-                    *o332 = x1137;
-                    [x1138, _, _, _] = x781.to_array();
-                    *o336 = x1138;
-                    [_, x1139, _, _] = x781.to_array();
-                    *o337 = x1139;
-                    [_, _, x1140, _] = x781.to_array();
-                    *o338 = x1140;
-                    [_, _, _, x1141] = x781.to_array();
-                    *o339 = x1141;
-                    [x1142, _, _, _] = x784.to_array();
-                    *o343 = x1142;
-                    [_, x1143, _, _] = x784.to_array();
-                    *o344 = x1143;
-                    [_, _, x1144, _] = x784.to_array();
-                    *o345 = x1144;
-                    [_, _, _, x1145] = x784.to_array();
-                    *o346 = x1145;
-                    [x1146, _, _, _] = x802.to_array();
-                    *o357 = x1146;
-                    [_, x1147, _, _] = x802.to_array();
-                    *o358 = x1147;
-                    [_, _, x1148, _] = x802.to_array();
-                    *o359 = x1148;
-                    [_, _, _, x1149] = x802.to_array();
-                    *o360 = x1149;
-                    [x1150, _, _, _] = x813.to_array();
-                    *o364 = x1150;
-                    [_, x1151, _, _] = x813.to_array();
-                    *o365 = x1151;
-                    [_, _, x1152, _] = x813.to_array();
-                    *o366 = x1152;
-                    [_, _, _, x1153] = x813.to_array();
-                    *o367 = x1153;
-                    [x1154, _, _, _] = x985.to_array();
-                    *o371 = x1154;
-                    [_, x1155, _, _] = x985.to_array();
-                    *o372 = x1155;
-                    [_, _, x1156, _] = x985.to_array();
-                    *o373 = x1156;
-                    [_, _, _, x1157] = x985.to_array();
-                    *o374 = x1157;
-                    [x1158, _, _, _] = x820.to_array();
-                    *o378 = x1158;
-                    [_, x1159, _, _] = x820.to_array();
-                    *o379 = x1159;
-                    [_, _, x1160, _] = x820.to_array();
-                    *o380 = x1160;
-                    [_, _, _, x1161] = x820.to_array();
-                    *o381 = x1161;
-                    [x1162, _, _, _] = x826.to_array();
-                    *o385 = x1162;
-                    [_, x1163, _, _] = x826.to_array();
-                    *o386 = x1163;
-                    [_, _, x1164, _] = x826.to_array();
-                    *o387 = x1164;
-                    [_, _, _, x1165] = x826.to_array();
-                    *o388 = x1165;
-                    [x1166, _, _, _] = x999.to_array();
-                    *o392 = x1166;
-                    [_, x1167, _, _] = x999.to_array();
-                    *o393 = x1167;
-                    [_, _, x1168, _] = x999.to_array();
-                    *o394 = x1168;
-                    [_, _, _, x1169] = x999.to_array();
-                    *o395 = x1169;
                     [x1170, _, _, _] = x1000.to_array();
                     *o396 = x1170;
                     [_, x1171, _, _] = x1000.to_array();
                     *o397 = x1171;
                     [_, _, x1172, _] = x1000.to_array();
                     *o398 = x1172;
-                    [x1173, _, _, _] = x833.to_array();
-                    *o399 = x1173;
-                    [_, x1174, _, _] = x833.to_array();
-                    *o400 = x1174;
-                    [_, _, x1175, _] = x833.to_array();
-                    *o401 = x1175;
-                    [_, _, _, x1176] = x833.to_array();
-                    *o402 = x1176;
-                    [x1177, _, _, _] = x839.to_array();
-                    *o406 = x1177;
-                    [_, x1178, _, _] = x839.to_array();
-                    *o407 = x1178;
-                    [_, _, x1179, _] = x839.to_array();
-                    *o408 = x1179;
-                    [_, _, _, x1180] = x839.to_array();
-                    *o409 = x1180;
-                    [x1181, _, _, _] = x842.to_array();
-                    *o413 = x1181;
-                    [_, x1182, _, _] = x842.to_array();
-                    *o414 = x1182;
-                    [_, _, x1183, _] = x842.to_array();
-                    *o415 = x1183;
-                    [_, _, _, x1184] = x842.to_array();
-                    *o416 = x1184;
-                    [x1185, _, _, _] = x1014.to_array();
-                    *o420 = x1185;
-                    [_, x1186, _, _] = x1014.to_array();
-                    *o421 = x1186;
-                    [_, _, x1187, _] = x1014.to_array();
-                    *o422 = x1187;
-                    [_, _, _, x1188] = x1014.to_array();
-                    *o423 = x1188;
                     [x1189, _, _, _] = x1015.to_array();
                     *o424 = x1189;
                     [_, x1190, _, _] = x1015.to_array();
                     *o425 = x1190;
                     [_, _, x1191, _] = x1015.to_array();
                     *o426 = x1191;
-                    [x1192, _, _, _] = x866.to_array();
-                    *o427 = x1192;
-                    [_, x1193, _, _] = x866.to_array();
-                    *o428 = x1193;
-                    [_, _, x1194, _] = x866.to_array();
-                    *o429 = x1194;
-                    [_, _, _, x1195] = x866.to_array();
-                    *o430 = x1195;
                     [x1196, _, _, _] = x922.to_array();
                     *o431 = x1196;
                     [_, x1197, _, _] = x922.to_array();
                     *o432 = x1197;
                     [_, _, x1198, _] = x922.to_array();
                     *o433 = x1198;
-                    [x1199, _, _, _] = x877.to_array();
-                    *o434 = x1199;
-                    [_, x1200, _, _] = x877.to_array();
-                    *o435 = x1200;
-                    [_, _, x1201, _] = x877.to_array();
-                    *o436 = x1201;
-                    [_, _, _, x1202] = x877.to_array();
-                    *o437 = x1202;
                     [x1203, _, _, _] = x929.to_array();
                     *o438 = x1203;
                     [_, x1204, _, _] = x929.to_array();
                     *o439 = x1204;
                     [_, _, x1205, _] = x929.to_array();
                     *o440 = x1205;
-                    [x1206, _, _, _] = x1016.to_array();
-                    *o441 = x1206;
-                    [_, x1207, _, _] = x1016.to_array();
-                    *o442 = x1207;
-                    [_, _, x1208, _] = x1016.to_array();
-                    *o443 = x1208;
-                    [_, _, _, x1209] = x1016.to_array();
-                    *o444 = x1209;
                     [x1210, _, _, _] = x1017.to_array();
                     *o445 = x1210;
                     [_, x1211, _, _] = x1017.to_array();
                     *o446 = x1211;
                     [_, _, x1212, _] = x1017.to_array();
                     *o447 = x1212;
-                    [x1213, _, _, _] = x883.to_array();
-                    *o448 = x1213;
-                    [_, x1214, _, _] = x883.to_array();
-                    *o449 = x1214;
-                    [_, _, x1215, _] = x883.to_array();
-                    *o450 = x1215;
-                    [_, _, _, x1216] = x883.to_array();
-                    *o451 = x1216;
                     [x1217, _, _, _] = x932.to_array();
                     *o452 = x1217;
                     [_, x1218, _, _] = x932.to_array();
                     *o453 = x1218;
                     [_, _, x1219, _] = x932.to_array();
                     *o454 = x1219;
-                    [x1220, _, _, _] = x889.to_array();
-                    *o455 = x1220;
-                    [_, x1221, _, _] = x889.to_array();
-                    *o456 = x1221;
-                    [_, _, x1222, _] = x889.to_array();
-                    *o457 = x1222;
-                    [_, _, _, x1223] = x889.to_array();
-                    *o458 = x1223;
                     [x1224, _, _, _] = x935.to_array();
                     *o459 = x1224;
                     [_, x1225, _, _] = x935.to_array();
                     *o460 = x1225;
                     [_, _, x1226, _] = x935.to_array();
                     *o461 = x1226;
-                    [x1227, _, _, _] = x1020.to_array();
-                    *o462 = x1227;
-                    [_, x1228, _, _] = x1020.to_array();
-                    *o463 = x1228;
-                    [_, _, x1229, _] = x1020.to_array();
-                    *o464 = x1229;
-                    [_, _, _, x1230] = x1020.to_array();
-                    *o465 = x1230;
                     [x1231, _, _, _] = x1021.to_array();
                     *o466 = x1231;
                     [_, x1232, _, _] = x1021.to_array();
                     *o467 = x1232;
                     [_, _, x1233, _] = x1021.to_array();
                     *o468 = x1233;
-                    [x1234, _, _, _] = x895.to_array();
-                    *o469 = x1234;
-                    [_, x1235, _, _] = x895.to_array();
-                    *o470 = x1235;
-                    [_, _, x1236, _] = x895.to_array();
-                    *o471 = x1236;
-                    [_, _, _, x1237] = x895.to_array();
-                    *o472 = x1237;
                     [x1238, _, _, _] = x938.to_array();
                     *o473 = x1238;
                     [_, x1239, _, _] = x938.to_array();
                     *o474 = x1239;
                     [_, _, x1240, _] = x938.to_array();
                     *o475 = x1240;
-                    [x1241, _, _, _] = x901.to_array();
-                    *o476 = x1241;
-                    [_, x1242, _, _] = x901.to_array();
-                    *o477 = x1242;
-                    [_, _, x1243, _] = x901.to_array();
-                    *o478 = x1243;
-                    [_, _, _, x1244] = x901.to_array();
-                    *o479 = x1244;
                     [x1245, _, _, _] = x941.to_array();
                     *o480 = x1245;
                     [_, x1246, _, _] = x941.to_array();
                     *o481 = x1246;
                     [_, _, x1247, _] = x941.to_array();
                     *o482 = x1247;
-                    [x1248, _, _, _] = x905.to_array();
-                    *o483 = x1248;
-                    [_, x1249, _, _] = x905.to_array();
-                    *o484 = x1249;
-                    [_, _, x1250, _] = x905.to_array();
-                    *o485 = x1250;
-                    [_, _, _, x1251] = x905.to_array();
-                    *o486 = x1251;
                     [x1252, _, _, _] = x943.to_array();
                     *o487 = x1252;
                     [_, x1253, _, _] = x943.to_array();
@@ -10264,37 +9500,28 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     _], [_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
                     _], [o63, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, o78, _, _, _,
                     _, _], [_, o85, _, _, _, _, _], [_, _, _, _, _, _, _], [o98, o99, _,
-                    _, _, _, _], [o105, o106, _, _, _, _, _], [o112, o113, o114, o115, _,
-                    _, _], [o119, o120, _, _, _, _, _], [o126, o127, _, _, _, _, _],
-                    [o133, o134, _, _, _, _, _], [o140, o141, o142, o143, _, _, _],
-                    [o147, o148, o149, o150, _, _, _], [o154, o155, o156, o157, _, _, _],
-                    [o161, o162, o163, o164, _, _, _], [o168, o169, o170, o171, _, _, _],
-                    [o175, o176, o177, o178, _, _, _], [o182, o183, o184, o185, _, _, _],
-                    [o189, o190, o191, o192, _, _, _], [o196, o197, o198, o199, _, _, _],
-                    [o203, o204, o205, o206, _, _, _], [o210, o211, o212, o213, _, _, _],
-                    [o217, o218, o219, o220, _, _, _], [o224, o225, o226, o227, _, _, _],
-                    [o231, o232, o233, o234, _, _, _], [o238, o239, o240, o241, _, _, _],
-                    [o245, o246, o247, o248, _, _, _], [o252, o253, o254, o255, _, _, _],
-                    [o259, o260, o261, o262, _, _, _], [o266, o267, o268, o269, _, _, _],
-                    [o273, o274, o275, o276, _, _, _], [o280, o281, o282, o283, _, _, _],
-                    [o287, o288, o289, o290, o291, _, _], [o294, o295, o296, o297, o298,
-                    _, _], [o301, o302, o303, o304, _, _, _], [o308, o309, o310, o311,
-                    o312, _, _], [o315, o316, o317, o318, o319, _, _], [o322, o323, o324,
-                    o325, o326, _, _], [o329, o330, o331, o332, o333, _, _], [o336, o337,
-                    o338, o339, o340, _, _], [o343, o344, o345, o346, o347, _, _], [o350,
-                    o351, o352, o353, _, _, _], [o357, o358, o359, o360, o361, o362, _],
-                    [o364, o365, o366, o367, o368, o369, _], [o371, o372, o373, o374,
-                    o375, _, _], [o378, o379, o380, o381, o382, o383, _], [o385, o386,
-                    o387, o388, o389, o390, _], [o392, o393, o394, o395, o396, o397, o398,
-                    ], [o399, o400, o401, o402, o403, o404, _], [o406, o407, o408, o409,
-                    o410, o411, _], [o413, o414, o415, o416, o417, o418, _], [o420, o421,
-                    o422, o423, o424, o425, o426], [o427, o428, o429, o430, o431, o432,
-                    o433], [o434, o435, o436, o437, o438, o439, o440], [o441, o442, o443,
-                    o444, o445, o446, o447], [o448, o449, o450, o451, o452, o453, o454],
-                    [o455, o456, o457, o458, o459, o460, o461], [o462, o463, o464, o465,
-                    o466, o467, o468], [o469, o470, o471, o472, o473, o474, o475], [o476,
-                    o477, o478, o479, o480, o481, o482], [o483, o484, o485, o486, o487,
-                    o488, o489]] = &mut out.data.0;
+                    _, _, _, _], [o105, o106, _, _, _, _, _], [g112 @ .., _, _, _],
+                    [o119, o120, _, _, _, _, _], [o126, o127, _, _, _, _, _], [o133,
+                    o134, _, _, _, _, _], [g140 @ .., _, _, _], [g147 @ .., _, _, _],
+                    [g154 @ .., _, _, _], [g161 @ .., _, _, _], [g168 @ .., _, _, _],
+                    [g175 @ .., _, _, _], [g182 @ .., _, _, _], [g189 @ .., _, _, _],
+                    [g196 @ .., _, _, _], [g203 @ .., _, _, _], [g210 @ .., _, _, _],
+                    [g217 @ .., _, _, _], [g224 @ .., _, _, _], [g231 @ .., _, _, _],
+                    [g238 @ .., _, _, _], [g245 @ .., _, _, _], [g252 @ .., _, _, _],
+                    [g259 @ .., _, _, _], [g266 @ .., _, _, _], [g273 @ .., _, _, _],
+                    [g280 @ .., _, _, _], [g287 @ .., o291, _, _], [g294 @ .., o298, _, _,
+                    ], [g301 @ .., _, _, _], [g308 @ .., o312, _, _], [g315 @ .., o319,
+                    _, _], [g322 @ .., o326, _, _], [g329 @ .., o333, _, _], [g336 @ ..,
+                    o340, _, _], [g343 @ .., o347, _, _], [g350 @ .., _, _, _],
+                    [g357 @ .., o361, o362, _], [g364 @ .., o368, o369, _], [g371 @ ..,
+                    o375, _, _], [g378 @ .., o382, o383, _], [g385 @ .., o389, o390, _],
+                    [g392 @ .., o396, o397, o398], [g399 @ .., o403, o404, _],
+                    [g406 @ .., o410, o411, _], [g413 @ .., o417, o418, _], [g420 @ ..,
+                    o424, o425, o426], [g427 @ .., o431, o432, o433], [g434 @ .., o438,
+                    o439, o440], [g441 @ .., o445, o446, o447], [g448 @ .., o452, o453,
+                    o454], [g455 @ .., o459, o460, o461], [g462 @ .., o466, o467, o468],
+                    [g469 @ .., o473, o474, o475], [g476 @ .., o480, o481, o482],
+                    [g483 @ .., o487, o488, o489]] = &mut out.data.0;
                     *o63 = a0;
                     *o134 = a1;
                     let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
@@ -10324,29 +9551,10 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x323, x324, x325, x326, x327, x328, x329, x330, x331, x332, x333,
                     x334, x335, x336, x337, x338, x339, x340, x341, x342, x343, x344,
                     x345, x346, x347, x348, x349, x350, x351, x352, x353, x354, x355,
-                    x356, x357, x358, x359, x360, x361, x362, x363, x364, x756, x757,
-                    x758, x759, x760, x761, x762, x763, x764, x765, x766, x767, x768,
-                    x769, x770, x771, x772, x773, x774, x775, x776, x777, x778, x779,
-                    x780, x781, x782, x783, x784, x785, x786, x787, x788, x789, x790,
-                    x791, x792, x793, x794, x795, x796, x797, x798, x799, x800, x801,
-                    x802, x803, x804, x805, x806, x807, x808, x809, x810, x811, x812,
-                    x813, x814, x815, x816, x817, x818, x819, x820, x821, x822, x823,
-                    x824, x825, x826, x827, x828, x829, x830, x831, x832, x833, x834,
-                    x835, x836, x837, x838, x839, x840, x841, x842, x843, x844, x845,
-                    x846, x847, x848, x849, x850, x851, x852, x853, x854, x855, x856,
-                    x857, x858, x859, x860, x861, x862, x863, x864, x865, x866, x867,
-                    x868, x869, x870, x871, x872, x873, x874, x875, x876, x877, x878,
-                    x879, x880, x881, x882, x883, x884, x885, x886, x887, x888, x889,
-                    x890, x891, x892, x893, x894, x895, x896, x897, x898, x899, x900,
-                    x901, x902, x903, x904, x905, x906, x907, x908, x909, x910, x911,
-                    x912, x913, x914, x915, x916, x917, x918, x919, x920, x921, x922,
-                    x923, x924, x925, x926, x927, x928, x929, x930, x931, x932, x933,
-                    x934, x935, x936, x937, x938, x939, x940, x941, x942, x943, x944,
-                    x945, x946, x947, x948, x949, x950, x951, x952, x953, x954, x955,
-                    x956, x957, x958, x959, x960, x961, x962, x963, x964, x965, x966,
-                    x967, x968, x969, x970, x971, x972, x973, x974, x975, x976, x977,
-                    x978, x979, x980, x981, x982, x983, x984, x985, x986, x987, x988,
-                    ]: [f64; 561];
+                    x356, x357, x358, x359, x360, x361, x362, x363, x364, x904, x905,
+                    x906, x923, x924, x925, x930, x931, x932, x937, x938, x939, x944,
+                    x945, x946, x951, x952, x953, x958, x959, x960, x965, x966, x967,
+                    x972, x973, x974, x979, x980, x981, x986, x987, x988]: [f64; 361];
                     let [x172, x173, x174, x175, x176, x177, x178, x179, x180, x181,
                     x182, x183, x184, x185, x187, x188, x191, x194, x195, x196, x197,
                     x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
@@ -10854,6 +10062,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x430 = arith.splat_four(x233);
                     x431 = x430.mul_sub(x194, x429);
                     x432 = x427 + x431;
+                    *g147 = x432.to_array();
                     x433 = x423 * x195;
                     x434 = x425.mul_add(x187, x433);
                     x435 = arith.splat_four(x237);
@@ -10861,6 +10070,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x437 = x436 * x194;
                     x438 = x435.mul_sub(x191, x437);
                     x439 = x438 - x434;
+                    *g154 = x439.to_array();
                     x440 = arith.splat_four(x74);
                     x441 = arith.splat_four(x232);
                     x442 = x441 * x188;
@@ -10868,27 +10078,32 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x444 = arith.splat_four(x231);
                     x445 = x444 * x195;
                     x446 = x443 - x445;
+                    *g168 = x446.to_array();
                     x447 = arith.splat_four(x240);
                     x448 = arith.splat_four(x238);
                     x449 = x448 * x188;
                     x450 = x447.mul_add(x187, x449);
                     x451 = arith.splat_four(x239);
                     x452 = x451.mul_add(x195, x450);
+                    *g175 = x452.to_array();
                     x453 = arith.splat_four(x236);
                     x454 = arith.splat_four(x241);
                     x455 = x454 * x188;
                     x456 = x430.mul_add(x187, x455);
                     x457 = arith.splat_four(x242);
                     x458 = x457.mul_add(x195, x456);
+                    *g189 = x458.to_array();
                     x459 = arith.splat_four(x243);
                     x460 = arith.splat_four(x244);
                     x461 = x460 * x188;
                     x462 = x459.mul_add(x187, x461);
                     x463 = arith.splat_four(x245);
                     x464 = x463.mul_add(x195, x462);
+                    *g196 = x464.to_array();
                     x465 = x453.mul_sub(x187, x442);
                     x466 = arith.splat_four(x72);
                     x467 = x466.mul_add(x195, x465);
+                    *g203 = x467.to_array();
                     x468 = arith.splat_four(x89);
                     x469 = arith.splat_four(x91);
                     x470 = arith.splat_four(x86);
@@ -10901,6 +10116,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x477 = arith.splat_four(x250);
                     x478 = x477.mul_neg_add(x366, x476);
                     x479 = x472 + x478;
+                    *g217 = x479.to_array();
                     x480 = x468 * x203;
                     x481 = x470.mul_add(x198, x480);
                     x482 = arith.splat_four(x255);
@@ -10910,6 +10126,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x486 = arith.splat_four(x256);
                     x487 = x486.mul_neg_add(x366, x485);
                     x488 = x487 - x481;
+                    *g224 = x488.to_array();
                     x489 = arith.splat_four(x259);
                     x490 = arith.splat_four(x94);
                     x491 = arith.splat_four(x248);
@@ -10918,12 +10135,14 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x494 = arith.splat_four(x252);
                     x495 = x494 * x203;
                     x496 = x493 - x495;
+                    *g238 = x496.to_array();
                     x497 = arith.splat_four(x261);
                     x498 = arith.splat_four(x262);
                     x499 = x498 * x201;
                     x500 = x497.mul_add(x198, x499);
                     x501 = arith.splat_four(x260);
                     x502 = x501.mul_add(x203, x500);
+                    *g245 = x502.to_array();
                     x503 = arith.splat_four(x257);
                     x504 = arith.splat_four(x264);
                     x505 = arith.splat_four(x263);
@@ -10931,14 +10150,17 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x507 = x504.mul_add(x198, x506);
                     x508 = arith.splat_four(x265);
                     x509 = x508.mul_add(x203, x507);
+                    *g259 = x509.to_array();
                     x510 = arith.splat_four(x266);
                     x511 = arith.splat_four(x267);
                     x512 = x511 * x201;
                     x513 = x510.mul_add(x198, x512);
                     x514 = x489.mul_add(x203, x513);
+                    *g266 = x514.to_array();
                     x515 = x503.mul_sub(x198, x492);
                     x516 = arith.splat_four(x92);
                     x517 = x516.mul_add(x203, x515);
+                    *g273 = x517.to_array();
                     x518 = arith.splat_four(x117);
                     x519 = arith.splat_four(x120);
                     x520 = arith.splat_four(x114);
@@ -10951,6 +10173,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x527 = arith.splat_four(x272);
                     x528 = x527.mul_add(x376, x526);
                     x529 = x522 + x528;
+                    *g287 = x529.to_array();
                     x530 = x518 * x210;
                     x531 = x520.mul_add(x206, x530);
                     x532 = arith.splat_four(x277);
@@ -10960,6 +10183,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x536 = arith.splat_four(x278);
                     x537 = x536.mul_add(x376, x535);
                     x538 = x537 - x531;
+                    *g294 = x538.to_array();
                     x539 = arith.splat_four(x136);
                     x540 = arith.splat_four(x280);
                     x541 = arith.splat_four(x123);
@@ -10969,11 +10193,13 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x545 = arith.splat_four(x273);
                     x546 = x545 * x210;
                     x547 = x544 - x546;
+                    *g308 = x547.to_array();
                     x548 = arith.splat_four(x283);
                     x549 = x536 * x209;
                     x550 = x548.mul_add(x206, x549);
                     x551 = arith.splat_four(x282);
                     x552 = x551.mul_add(x210, x550);
+                    *g315 = x552.to_array();
                     x553 = arith.splat_four(x276);
                     x554 = arith.splat_four(x285);
                     x555 = arith.splat_four(x284);
@@ -10981,14 +10207,17 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x557 = x554.mul_add(x206, x556);
                     x558 = arith.splat_four(x286);
                     x559 = x558.mul_add(x210, x557);
+                    *g329 = x559.to_array();
                     x560 = arith.splat_four(x287);
                     x561 = arith.splat_four(x288);
                     x562 = x561 * x209;
                     x563 = x560.mul_add(x206, x562);
                     x564 = x540.mul_add(x210, x563);
+                    *g336 = x564.to_array();
                     x565 = x553.mul_sub(x206, x543);
                     x566 = arith.splat_four(x121);
                     x567 = x566.mul_add(x210, x565);
+                    *g343 = x567.to_array();
                     x568 = arith.splat_four(x134);
                     x569 = x568 * x213;
                     x570 = x519.mul_sub(x379, x569);
@@ -10999,6 +10228,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x575 = arith.splat_four(x294);
                     x576 = x575.mul_add(x375, x574);
                     x577 = x570 + x576;
+                    *g357 = x577.to_array();
                     x578 = arith.splat_four(x169);
                     x579 = x578 * x213;
                     x580 = x539.mul_add(x378, x579);
@@ -11009,6 +10239,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x585 = arith.splat_four(x300);
                     x586 = x585.mul_add(x375, x584);
                     x587 = x580 + x586;
+                    *g364 = x587.to_array();
                     x588 = arith.splat_four(x302);
                     x589 = arith.splat_four(x139);
                     x590 = arith.splat_four(x292);
@@ -11017,11 +10248,13 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x593 = arith.splat_four(x295);
                     x594 = x593 * x213;
                     x595 = x592 - x594;
+                    *g378 = x595.to_array();
                     x596 = arith.splat_four(x305);
                     x597 = x585 * x379;
                     x598 = x596.mul_add(x378, x597);
                     x599 = arith.splat_four(x304);
                     x600 = x599.mul_add(x213, x598);
+                    *g385 = x600.to_array();
                     x601 = arith.splat_four(x298);
                     x602 = arith.splat_four(x307);
                     x603 = arith.splat_four(x306);
@@ -11029,14 +10262,17 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x605 = x602.mul_add(x378, x604);
                     x606 = arith.splat_four(x308);
                     x607 = x606.mul_add(x213, x605);
+                    *g399 = x607.to_array();
                     x608 = arith.splat_four(x309);
                     x609 = arith.splat_four(x310);
                     x610 = x609 * x379;
                     x611 = x608.mul_add(x378, x610);
                     x612 = x588.mul_add(x213, x611);
+                    *g406 = x612.to_array();
                     x613 = x601.mul_sub(x378, x591);
                     x614 = arith.splat_four(x137);
                     x615 = x614.mul_add(x213, x613);
+                    *g413 = x615.to_array();
                     x616 = arith.splat_four(x163);
                     x617 = arith.splat_four(x159);
                     x618 = arith.splat_four(x311);
@@ -11049,6 +10285,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x625 = arith.splat_four(x318);
                     x626 = x625.mul_sub(x391, x624);
                     x627 = x626 - x620;
+                    *g427 = x627.to_array();
                     x628 = arith.splat_four(x171);
                     x629 = x628 * x379;
                     x630 = x617.mul_add(x385, x629);
@@ -11059,30 +10296,36 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x635 = arith.splat_four(x323);
                     x636 = x635.mul_add(x391, x634);
                     x637 = x630 + x636;
+                    *g434 = x637.to_array();
                     x638 = arith.splat_four(x165);
                     x639 = arith.splat_four(x316);
                     x640 = x639 * x387;
                     x641 = x638.mul_sub(x385, x640);
                     x642 = arith.splat_four(x315);
                     x643 = x642.mul_add(x379, x641);
+                    *g448 = x643.to_array();
                     x644 = x635 * x387;
                     x645 = x625.mul_add(x385, x644);
                     x646 = arith.splat_four(x324);
                     x647 = x646.mul_sub(x379, x645);
+                    *g455 = x647.to_array();
                     x648 = arith.splat_four(x321);
                     x649 = arith.splat_four(x325);
                     x650 = x649 * x387;
                     x651 = x622.mul_sub(x385, x650);
                     x652 = arith.splat_four(x326);
                     x653 = x652.mul_add(x379, x651);
+                    *g469 = x653.to_array();
                     x654 = arith.splat_four(x327);
                     x655 = x631 * x387;
                     x656 = x654.mul_sub(x385, x655);
                     x657 = arith.splat_four(x328);
                     x658 = x657.mul_add(x379, x656);
+                    *g476 = x658.to_array();
                     x659 = x648.mul_neg_add(x385, x640);
                     x660 = arith.splat_four(x164);
                     x661 = x660.mul_add(x379, x659);
+                    *g483 = x661.to_array();
                     x662 = arith.four([x168, x135, 0.0, 0.0]);
                     x663 = arith.four([x340, x169, 0.0, 0.0]);
                     x664 = arith.four([x342, x303, 0.0, 0.0]);
@@ -11117,21 +10360,27 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x693 = x648.mul_add(x397, x681);
                     x694 = x660.mul_sub(x401, x693);
                     x695 = x365 - x421;
+                    *g112 = x695.to_array();
                     x696 = x404.mul_add(x421, x402);
                     x697 = x405.mul_add(x421, x403);
                     x698 = x406.mul_add(x421, x402);
                     x699 = x404.mul_add(x422, x696);
+                    *g140 = x699.to_array();
                     x700 = x405.mul_add(x422, x697);
+                    *g161 = x700.to_array();
                     x701 = x421 + x422;
                     x702 = x406.mul_add(x422, x698);
                     x703 = x173.mul_add(x432, x702);
                     x704 = x434 - x438;
                     x705 = x445 - x443;
                     x706 = x701 + x705;
+                    *g182 = x706.to_array();
                     x707 = x407.mul_add(x446, x703);
                     x708 = x408.mul_add(x446, x703);
                     x709 = x173.mul_add(x452, x704);
+                    *g231 = x709.to_array();
                     x710 = x409.mul_add(x467, x707);
+                    *g210 = x710.to_array();
                     x711 = x446 + x467;
                     x712 = x410.mul_add(x467, x708);
                     x713 = x177.mul_add(x479, x712);
@@ -11139,16 +10388,22 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x715 = x481 - x487;
                     x716 = x495 - x493;
                     x717 = x711 + x716;
+                    *g252 = x717.to_array();
                     x718 = x411.mul_add(x496, x714);
                     x719 = x412.mul_add(x496, x715);
                     x720 = x413.mul_add(x502, x718);
                     x721 = x177.mul_add(x502, x719);
                     x722 = x414.mul_add(x517, x720);
+                    *g280 = x722.to_array();
+                    *g350 = x722.to_array();
                     x723 = x412.mul_add(x517, x721);
+                    *g301 = x723.to_array();
                     x724 = x496 + x517;
                     x725 = x531 - x537;
+                    *g371 = x725.to_array();
                     x726 = x546 - x544;
                     x727 = x724 + x726;
+                    *g322 = x727.to_array();
                     x728 = x415.mul_add(x547, x722);
                     x729 = x547 + x567;
                     x730 = arith.four([x288, 0.0, 0.0, 0.0]);
@@ -11160,6 +10415,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x736 = x182.mul_add(x663, x734);
                     x737 = x594 - x592;
                     x738 = x729 + x737;
+                    *g392 = x738.to_array();
                     x739 = x730 - x664;
                     x740 = x416.mul_add(x595, x735);
                     x741 = x416.mul_add(x664, x736);
@@ -11170,477 +10426,76 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x746 = x419.mul_add(x600, x742);
                     x747 = x419.mul_add(x665, x743);
                     x748 = x420.mul_add(x615, x744);
+                    *g420 = x748.to_array();
                     x749 = x420.mul_add(x666, x745);
                     x750 = x417.mul_add(x615, x746);
+                    *g441 = x750.to_array();
                     x751 = x417.mul_add(x666, x747);
                     x752 = x595 + x615;
                     x753 = x664 + x666;
                     x754 = x752 - x643;
+                    *g462 = x754.to_array();
                     x755 = x753 - x683;
-                    [x756, _, _, _] = x695.to_array();
-                    *o112 = x756;
-                    [_, x757, _, _] = x695.to_array();
-                    *o113 = x757;
-                    [_, _, x758, _] = x695.to_array();
-                    *o114 = x758;
-                    [_, _, _, x759] = x695.to_array();
-                    *o115 = x759;
-                    [x760, _, _, _] = x699.to_array();
-                    *o140 = x760;
-                    [_, x761, _, _] = x699.to_array();
-                    *o141 = x761;
-                    [_, _, x762, _] = x699.to_array();
-                    *o142 = x762;
-                    [_, _, _, x763] = x699.to_array();
-                    *o143 = x763;
-                    [x764, _, _, _] = x432.to_array();
-                    *o147 = x764;
-                    [_, x765, _, _] = x432.to_array();
-                    *o148 = x765;
-                    [_, _, x766, _] = x432.to_array();
-                    *o149 = x766;
-                    [_, _, _, x767] = x432.to_array();
-                    *o150 = x767;
-                    [x768, _, _, _] = x439.to_array();
-                    *o154 = x768;
-                    [_, x769, _, _] = x439.to_array();
-                    *o155 = x769;
-                    [_, _, x770, _] = x439.to_array();
-                    *o156 = x770;
-                    [_, _, _, x771] = x439.to_array();
-                    *o157 = x771;
-                    [x772, _, _, _] = x700.to_array();
-                    *o161 = x772;
-                    [_, x773, _, _] = x700.to_array();
-                    *o162 = x773;
-                    [_, _, x774, _] = x700.to_array();
-                    *o163 = x774;
-                    [_, _, _, x775] = x700.to_array();
-                    *o164 = x775;
-                    [x776, _, _, _] = x446.to_array();
-                    *o168 = x776;
-                    [_, x777, _, _] = x446.to_array();
-                    *o169 = x777;
-                    [_, _, x778, _] = x446.to_array();
-                    *o170 = x778;
-                    [_, _, _, x779] = x446.to_array();
-                    *o171 = x779;
-                    [x780, _, _, _] = x452.to_array();
-                    *o175 = x780;
-                    [_, x781, _, _] = x452.to_array();
-                    *o176 = x781;
-                    [_, _, x782, _] = x452.to_array();
-                    *o177 = x782;
-                    [_, _, _, x783] = x452.to_array();
-                    *o178 = x783;
-                    [x784, _, _, _] = x706.to_array();
-                    *o182 = x784;
-                    [_, x785, _, _] = x706.to_array();
-                    *o183 = x785;
-                    [_, _, x786, _] = x706.to_array();
-                    *o184 = x786;
-                    [_, _, _, x787] = x706.to_array();
-                    *o185 = x787;
-                    [x788, _, _, _] = x458.to_array();
-                    *o189 = x788;
-                    [_, x789, _, _] = x458.to_array();
-                    *o190 = x789;
-                    [_, _, x790, _] = x458.to_array();
-                    *o191 = x790;
-                    [_, _, _, x791] = x458.to_array();
-                    *o192 = x791;
-                    [x792, _, _, _] = x464.to_array();
-                    *o196 = x792;
-                    [_, x793, _, _] = x464.to_array();
-                    *o197 = x793;
-                    [_, _, x794, _] = x464.to_array();
-                    *o198 = x794;
-                    [_, _, _, x795] = x464.to_array();
-                    *o199 = x795;
-                    [x796, _, _, _] = x467.to_array();
-                    *o203 = x796;
-                    [_, x797, _, _] = x467.to_array();
-                    *o204 = x797;
-                    [_, _, x798, _] = x467.to_array();
-                    *o205 = x798;
-                    [_, _, _, x799] = x467.to_array();
-                    *o206 = x799;
-                    [x800, _, _, _] = x710.to_array();
-                    *o210 = x800;
-                    [_, x801, _, _] = x710.to_array();
-                    *o211 = x801;
-                    [_, _, x802, _] = x710.to_array();
-                    *o212 = x802;
-                    [_, _, _, x803] = x710.to_array();
-                    *o213 = x803;
-                    [x804, _, _, _] = x479.to_array();
-                    *o217 = x804;
-                    [_, x805, _, _] = x479.to_array();
-                    *o218 = x805;
-                    [_, _, x806, _] = x479.to_array();
-                    *o219 = x806;
-                    [_, _, _, x807] = x479.to_array();
-                    *o220 = x807;
-                    [x808, _, _, _] = x488.to_array();
-                    *o224 = x808;
-                    [_, x809, _, _] = x488.to_array();
-                    *o225 = x809;
-                    [_, _, x810, _] = x488.to_array();
-                    *o226 = x810;
-                    [_, _, _, x811] = x488.to_array();
-                    *o227 = x811;
-                    [x812, _, _, _] = x709.to_array();
-                    *o231 = x812;
-                    [_, x813, _, _] = x709.to_array();
-                    *o232 = x813;
-                    [_, _, x814, _] = x709.to_array();
-                    *o233 = x814;
-                    [_, _, _, x815] = x709.to_array();
-                    *o234 = x815;
-                    [x816, _, _, _] = x496.to_array();
-                    *o238 = x816;
-                    [_, x817, _, _] = x496.to_array();
-                    *o239 = x817;
-                    [_, _, x818, _] = x496.to_array();
-                    *o240 = x818;
-                    [_, _, _, x819] = x496.to_array();
-                    *o241 = x819;
-                    [x820, _, _, _] = x502.to_array();
-                    *o245 = x820;
-                    [_, x821, _, _] = x502.to_array();
-                    *o246 = x821;
-                    [_, _, x822, _] = x502.to_array();
-                    *o247 = x822;
-                    [_, _, _, x823] = x502.to_array();
-                    *o248 = x823;
-                    [x824, _, _, _] = x717.to_array();
-                    *o252 = x824;
-                    [_, x825, _, _] = x717.to_array();
-                    *o253 = x825;
-                    [_, _, x826, _] = x717.to_array();
-                    *o254 = x826;
-                    [_, _, _, x827] = x717.to_array();
-                    *o255 = x827;
-                    [x828, _, _, _] = x509.to_array();
-                    *o259 = x828;
-                    [_, x829, _, _] = x509.to_array();
-                    *o260 = x829;
-                    [_, _, x830, _] = x509.to_array();
-                    *o261 = x830;
-                    [_, _, _, x831] = x509.to_array();
-                    *o262 = x831;
-                    [x832, _, _, _] = x514.to_array();
-                    *o266 = x832;
-                    [_, x833, _, _] = x514.to_array();
-                    *o267 = x833;
-                    [_, _, x834, _] = x514.to_array();
-                    *o268 = x834;
-                    [_, _, _, x835] = x514.to_array();
-                    *o269 = x835;
-                    [x836, _, _, _] = x517.to_array();
-                    *o273 = x836;
-                    [_, x837, _, _] = x517.to_array();
-                    *o274 = x837;
-                    [_, _, x838, _] = x517.to_array();
-                    *o275 = x838;
-                    [_, _, _, x839] = x517.to_array();
-                    *o276 = x839;
-                    [x840, _, _, _] = x722.to_array();
-                    *o280 = x840;
-                    *o350 = x840;
-                    [_, x841, _, _] = x722.to_array();
-                    *o281 = x841;
-                    *o351 = x841;
-                    [_, _, x842, _] = x722.to_array();
-                    *o282 = x842;
-                    *o352 = x842;
-                    [_, _, _, x843] = x722.to_array();
-                    *o283 = x843;
-                    *o353 = x843;
-                    [x844, _, _, _] = x529.to_array();
-                    *o287 = x844;
-                    [_, x845, _, _] = x529.to_array();
-                    *o288 = x845;
-                    [_, _, x846, _] = x529.to_array();
-                    *o289 = x846;
-                    [_, _, _, x847] = x529.to_array();
-                    *o290 = x847;
-                    [x848, _, _, _] = x538.to_array();
-                    *o294 = x848;
-                    [_, x849, _, _] = x538.to_array();
-                    *o295 = x849;
-                    [_, _, x850, _] = x538.to_array();
-                    *o296 = x850;
-                    [_, _, _, x851] = x538.to_array();
-                    *o297 = x851;
-                    [x852, _, _, _] = x723.to_array();
-                    *o301 = x852;
-                    [_, x853, _, _] = x723.to_array();
-                    *o302 = x853;
-                    [_, _, x854, _] = x723.to_array();
-                    *o303 = x854;
-                    [_, _, _, x855] = x723.to_array();
-                    *o304 = x855;
-                    [x856, _, _, _] = x547.to_array();
-                    *o308 = x856;
-                    [_, x857, _, _] = x547.to_array();
-                    *o309 = x857;
-                    [_, _, x858, _] = x547.to_array();
-                    *o310 = x858;
-                    [_, _, _, x859] = x547.to_array();
-                    *o311 = x859;
-                    [x860, _, _, _] = x552.to_array();
-                    *o315 = x860;
-                    [_, x861, _, _] = x552.to_array();
-                    *o316 = x861;
-                    [_, _, x862, _] = x552.to_array();
-                    *o317 = x862;
-                    [_, _, _, x863] = x552.to_array();
-                    *o318 = x863;
-                    [x864, _, _, _] = x727.to_array();
-                    *o322 = x864;
-                    [_, x865, _, _] = x727.to_array();
-                    *o323 = x865;
-                    [_, _, x866, _] = x727.to_array();
-                    *o324 = x866;
-                    [_, _, _, x867] = x727.to_array();
-                    *o325 = x867;
-                    [x868, _, _, _] = x559.to_array();
-                    *o329 = x868;
-                    [_, x869, _, _] = x559.to_array();
-                    *o330 = x869;
-                    [_, _, x870, _] = x559.to_array();
-                    *o331 = x870;
-                    [_, _, _, x871] = x559.to_array();
-                    *o332 = x871;
-                    [x872, _, _, _] = x564.to_array();
-                    *o336 = x872;
-                    [_, x873, _, _] = x564.to_array();
-                    *o337 = x873;
-                    [_, _, x874, _] = x564.to_array();
-                    *o338 = x874;
-                    [_, _, _, x875] = x564.to_array();
-                    *o339 = x875;
-                    [x876, _, _, _] = x567.to_array();
-                    *o343 = x876;
-                    [_, x877, _, _] = x567.to_array();
-                    *o344 = x877;
-                    [_, _, x878, _] = x567.to_array();
-                    *o345 = x878;
-                    [_, _, _, x879] = x567.to_array();
-                    *o346 = x879;
-                    [x880, _, _, _] = x577.to_array();
-                    *o357 = x880;
-                    [_, x881, _, _] = x577.to_array();
-                    *o358 = x881;
-                    [_, _, x882, _] = x577.to_array();
-                    *o359 = x882;
-                    [_, _, _, x883] = x577.to_array();
-                    *o360 = x883;
-                    [x884, _, _, _] = x587.to_array();
-                    *o364 = x884;
-                    [_, x885, _, _] = x587.to_array();
-                    *o365 = x885;
-                    [_, _, x886, _] = x587.to_array();
-                    *o366 = x886;
-                    [_, _, _, x887] = x587.to_array();
-                    *o367 = x887;
-                    [x888, _, _, _] = x725.to_array();
-                    *o371 = x888;
-                    [_, x889, _, _] = x725.to_array();
-                    *o372 = x889;
-                    [_, _, x890, _] = x725.to_array();
-                    *o373 = x890;
-                    [_, _, _, x891] = x725.to_array();
-                    *o374 = x891;
-                    [x892, _, _, _] = x595.to_array();
-                    *o378 = x892;
-                    [_, x893, _, _] = x595.to_array();
-                    *o379 = x893;
-                    [_, _, x894, _] = x595.to_array();
-                    *o380 = x894;
-                    [_, _, _, x895] = x595.to_array();
-                    *o381 = x895;
-                    [x896, _, _, _] = x600.to_array();
-                    *o385 = x896;
-                    [_, x897, _, _] = x600.to_array();
-                    *o386 = x897;
-                    [_, _, x898, _] = x600.to_array();
-                    *o387 = x898;
-                    [_, _, _, x899] = x600.to_array();
-                    *o388 = x899;
-                    [x900, _, _, _] = x738.to_array();
-                    *o392 = x900;
-                    [_, x901, _, _] = x738.to_array();
-                    *o393 = x901;
-                    [_, _, x902, _] = x738.to_array();
-                    *o394 = x902;
-                    [_, _, _, x903] = x738.to_array();
-                    *o395 = x903;
                     [x904, _, _, _] = x739.to_array();
                     *o396 = x904;
                     [_, x905, _, _] = x739.to_array();
                     *o397 = x905;
                     [_, _, x906, _] = x739.to_array();
                     *o398 = x906;
-                    [x907, _, _, _] = x607.to_array();
-                    *o399 = x907;
-                    [_, x908, _, _] = x607.to_array();
-                    *o400 = x908;
-                    [_, _, x909, _] = x607.to_array();
-                    *o401 = x909;
-                    [_, _, _, x910] = x607.to_array();
-                    *o402 = x910;
-                    [x911, _, _, _] = x612.to_array();
-                    *o406 = x911;
-                    [_, x912, _, _] = x612.to_array();
-                    *o407 = x912;
-                    [_, _, x913, _] = x612.to_array();
-                    *o408 = x913;
-                    [_, _, _, x914] = x612.to_array();
-                    *o409 = x914;
-                    [x915, _, _, _] = x615.to_array();
-                    *o413 = x915;
-                    [_, x916, _, _] = x615.to_array();
-                    *o414 = x916;
-                    [_, _, x917, _] = x615.to_array();
-                    *o415 = x917;
-                    [_, _, _, x918] = x615.to_array();
-                    *o416 = x918;
-                    [x919, _, _, _] = x748.to_array();
-                    *o420 = x919;
-                    [_, x920, _, _] = x748.to_array();
-                    *o421 = x920;
-                    [_, _, x921, _] = x748.to_array();
-                    *o422 = x921;
-                    [_, _, _, x922] = x748.to_array();
-                    *o423 = x922;
                     [x923, _, _, _] = x749.to_array();
                     *o424 = x923;
                     [_, x924, _, _] = x749.to_array();
                     *o425 = x924;
                     [_, _, x925, _] = x749.to_array();
                     *o426 = x925;
-                    [x926, _, _, _] = x627.to_array();
-                    *o427 = x926;
-                    [_, x927, _, _] = x627.to_array();
-                    *o428 = x927;
-                    [_, _, x928, _] = x627.to_array();
-                    *o429 = x928;
-                    [_, _, _, x929] = x627.to_array();
-                    *o430 = x929;
                     [x930, _, _, _] = x673.to_array();
                     *o431 = x930;
                     [_, x931, _, _] = x673.to_array();
                     *o432 = x931;
                     [_, _, x932, _] = x673.to_array();
                     *o433 = x932;
-                    [x933, _, _, _] = x637.to_array();
-                    *o434 = x933;
-                    [_, x934, _, _] = x637.to_array();
-                    *o435 = x934;
-                    [_, _, x935, _] = x637.to_array();
-                    *o436 = x935;
-                    [_, _, _, x936] = x637.to_array();
-                    *o437 = x936;
                     [x937, _, _, _] = x680.to_array();
                     *o438 = x937;
                     [_, x938, _, _] = x680.to_array();
                     *o439 = x938;
                     [_, _, x939, _] = x680.to_array();
                     *o440 = x939;
-                    [x940, _, _, _] = x750.to_array();
-                    *o441 = x940;
-                    [_, x941, _, _] = x750.to_array();
-                    *o442 = x941;
-                    [_, _, x942, _] = x750.to_array();
-                    *o443 = x942;
-                    [_, _, _, x943] = x750.to_array();
-                    *o444 = x943;
                     [x944, _, _, _] = x751.to_array();
                     *o445 = x944;
                     [_, x945, _, _] = x751.to_array();
                     *o446 = x945;
                     [_, _, x946, _] = x751.to_array();
                     *o447 = x946;
-                    [x947, _, _, _] = x643.to_array();
-                    *o448 = x947;
-                    [_, x948, _, _] = x643.to_array();
-                    *o449 = x948;
-                    [_, _, x949, _] = x643.to_array();
-                    *o450 = x949;
-                    [_, _, _, x950] = x643.to_array();
-                    *o451 = x950;
                     [x951, _, _, _] = x683.to_array();
                     *o452 = x951;
                     [_, x952, _, _] = x683.to_array();
                     *o453 = x952;
                     [_, _, x953, _] = x683.to_array();
                     *o454 = x953;
-                    [x954, _, _, _] = x647.to_array();
-                    *o455 = x954;
-                    [_, x955, _, _] = x647.to_array();
-                    *o456 = x955;
-                    [_, _, x956, _] = x647.to_array();
-                    *o457 = x956;
-                    [_, _, _, x957] = x647.to_array();
-                    *o458 = x957;
                     [x958, _, _, _] = x686.to_array();
                     *o459 = x958;
                     [_, x959, _, _] = x686.to_array();
                     *o460 = x959;
                     [_, _, x960, _] = x686.to_array();
                     *o461 = x960;
-                    [x961, _, _, _] = x754.to_array();
-                    *o462 = x961;
-                    [_, x962, _, _] = x754.to_array();
-                    *o463 = x962;
-                    [_, _, x963, _] = x754.to_array();
-                    *o464 = x963;
-                    [_, _, _, x964] = x754.to_array();
-                    *o465 = x964;
                     [x965, _, _, _] = x755.to_array();
                     *o466 = x965;
                     [_, x966, _, _] = x755.to_array();
                     *o467 = x966;
                     [_, _, x967, _] = x755.to_array();
                     *o468 = x967;
-                    [x968, _, _, _] = x653.to_array();
-                    *o469 = x968;
-                    [_, x969, _, _] = x653.to_array();
-                    *o470 = x969;
-                    [_, _, x970, _] = x653.to_array();
-                    *o471 = x970;
-                    [_, _, _, x971] = x653.to_array();
-                    *o472 = x971;
                     [x972, _, _, _] = x689.to_array();
                     *o473 = x972;
                     [_, x973, _, _] = x689.to_array();
                     *o474 = x973;
                     [_, _, x974, _] = x689.to_array();
                     *o475 = x974;
-                    [x975, _, _, _] = x658.to_array();
-                    *o476 = x975;
-                    [_, x976, _, _] = x658.to_array();
-                    *o477 = x976;
-                    [_, _, x977, _] = x658.to_array();
-                    *o478 = x977;
-                    [_, _, _, x978] = x658.to_array();
-                    *o479 = x978;
                     [x979, _, _, _] = x692.to_array();
                     *o480 = x979;
                     [_, x980, _, _] = x692.to_array();
                     *o481 = x980;
                     [_, _, x981, _] = x692.to_array();
                     *o482 = x981;
-                    [x982, _, _, _] = x661.to_array();
-                    *o483 = x982;
-                    [_, x983, _, _] = x661.to_array();
-                    *o484 = x983;
-                    [_, _, x984, _] = x661.to_array();
-                    *o485 = x984;
-                    [_, _, _, x985] = x661.to_array();
-                    *o486 = x985;
                     [x986, _, _, _] = x694.to_array();
                     *o487 = x986;
                     [_, x987, _, _] = x694.to_array();
@@ -11692,37 +10547,28 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     _], [_, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, _, _, _, _, _,
                     _], [o63, _, _, _, _, _, _], [_, _, _, _, _, _, _], [_, o78, _, _, _,
                     _, _], [_, o85, _, _, _, _, _], [_, _, _, _, _, _, _], [o98, o99, _,
-                    _, _, _, _], [o105, o106, _, _, _, _, _], [o112, o113, o114, o115, _,
-                    _, _], [o119, o120, _, _, _, _, _], [o126, o127, _, _, _, _, _],
-                    [o133, o134, _, _, _, _, _], [o140, o141, o142, o143, _, _, _],
-                    [o147, o148, o149, o150, _, _, _], [o154, o155, o156, o157, _, _, _],
-                    [o161, o162, o163, o164, _, _, _], [o168, o169, o170, o171, _, _, _],
-                    [o175, o176, o177, o178, _, _, _], [o182, o183, o184, o185, _, _, _],
-                    [o189, o190, o191, o192, _, _, _], [o196, o197, o198, o199, _, _, _],
-                    [o203, o204, o205, o206, _, _, _], [o210, o211, o212, o213, _, _, _],
-                    [o217, o218, o219, o220, _, _, _], [o224, o225, o226, o227, _, _, _],
-                    [o231, o232, o233, o234, _, _, _], [o238, o239, o240, o241, _, _, _],
-                    [o245, o246, o247, o248, _, _, _], [o252, o253, o254, o255, _, _, _],
-                    [o259, o260, o261, o262, _, _, _], [o266, o267, o268, o269, _, _, _],
-                    [o273, o274, o275, o276, _, _, _], [o280, o281, o282, o283, _, _, _],
-                    [o287, o288, o289, o290, o291, _, _], [o294, o295, o296, o297, o298,
-                    _, _], [o301, o302, o303, o304, _, _, _], [o308, o309, o310, o311,
-                    o312, _, _], [o315, o316, o317, o318, o319, _, _], [o322, o323, o324,
-                    o325, o326, _, _], [o329, o330, o331, o332, o333, _, _], [o336, o337,
-                    o338, o339, o340, _, _], [o343, o344, o345, o346, o347, _, _], [o350,
-                    o351, o352, o353, _, _, _], [o357, o358, o359, o360, o361, o362, _],
-                    [o364, o365, o366, o367, o368, o369, _], [o371, o372, o373, o374,
-                    o375, _, _], [o378, o379, o380, o381, o382, o383, _], [o385, o386,
-                    o387, o388, o389, o390, _], [o392, o393, o394, o395, o396, o397, o398,
-                    ], [o399, o400, o401, o402, o403, o404, _], [o406, o407, o408, o409,
-                    o410, o411, _], [o413, o414, o415, o416, o417, o418, _], [o420, o421,
-                    o422, o423, o424, o425, o426], [o427, o428, o429, o430, o431, o432,
-                    o433], [o434, o435, o436, o437, o438, o439, o440], [o441, o442, o443,
-                    o444, o445, o446, o447], [o448, o449, o450, o451, o452, o453, o454],
-                    [o455, o456, o457, o458, o459, o460, o461], [o462, o463, o464, o465,
-                    o466, o467, o468], [o469, o470, o471, o472, o473, o474, o475], [o476,
-                    o477, o478, o479, o480, o481, o482], [o483, o484, o485, o486, o487,
-                    o488, o489]] = &mut out.data.0;
+                    _, _, _, _], [o105, o106, _, _, _, _, _], [g112 @ .., _, _, _],
+                    [o119, o120, _, _, _, _, _], [o126, o127, _, _, _, _, _], [o133,
+                    o134, _, _, _, _, _], [g140 @ .., _, _, _], [g147 @ .., _, _, _],
+                    [g154 @ .., _, _, _], [g161 @ .., _, _, _], [g168 @ .., _, _, _],
+                    [g175 @ .., _, _, _], [g182 @ .., _, _, _], [g189 @ .., _, _, _],
+                    [g196 @ .., _, _, _], [g203 @ .., _, _, _], [g210 @ .., _, _, _],
+                    [g217 @ .., _, _, _], [g224 @ .., _, _, _], [g231 @ .., _, _, _],
+                    [g238 @ .., _, _, _], [g245 @ .., _, _, _], [g252 @ .., _, _, _],
+                    [g259 @ .., _, _, _], [g266 @ .., _, _, _], [g273 @ .., _, _, _],
+                    [g280 @ .., _, _, _], [g287 @ .., o291, _, _], [g294 @ .., o298, _, _,
+                    ], [g301 @ .., _, _, _], [g308 @ .., o312, _, _], [g315 @ .., o319,
+                    _, _], [g322 @ .., o326, _, _], [g329 @ .., o333, _, _], [g336 @ ..,
+                    o340, _, _], [g343 @ .., o347, _, _], [g350 @ .., _, _, _],
+                    [g357 @ .., o361, o362, _], [g364 @ .., o368, o369, _], [g371 @ ..,
+                    o375, _, _], [g378 @ .., o382, o383, _], [g385 @ .., o389, o390, _],
+                    [g392 @ .., o396, o397, o398], [g399 @ .., o403, o404, _],
+                    [g406 @ .., o410, o411, _], [g413 @ .., o417, o418, _], [g420 @ ..,
+                    o424, o425, o426], [g427 @ .., o431, o432, o433], [g434 @ .., o438,
+                    o439, o440], [g441 @ .., o445, o446, o447], [g448 @ .., o452, o453,
+                    o454], [g455 @ .., o459, o460, o461], [g462 @ .., o466, o467, o468],
+                    [g469 @ .., o473, o474, o475], [g476 @ .., o480, o481, o482],
+                    [g483 @ .., o487, o488, o489]] = &mut out.data.0;
                     *o63 = a0;
                     *o134 = a1;
                     let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
@@ -11752,29 +10598,10 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x323, x324, x325, x326, x327, x328, x329, x330, x331, x332, x333,
                     x334, x335, x336, x337, x338, x339, x340, x341, x342, x343, x344,
                     x345, x346, x347, x348, x349, x350, x351, x352, x353, x354, x355,
-                    x356, x357, x358, x359, x360, x361, x362, x363, x364, x756, x757,
-                    x758, x759, x760, x761, x762, x763, x764, x765, x766, x767, x768,
-                    x769, x770, x771, x772, x773, x774, x775, x776, x777, x778, x779,
-                    x780, x781, x782, x783, x784, x785, x786, x787, x788, x789, x790,
-                    x791, x792, x793, x794, x795, x796, x797, x798, x799, x800, x801,
-                    x802, x803, x804, x805, x806, x807, x808, x809, x810, x811, x812,
-                    x813, x814, x815, x816, x817, x818, x819, x820, x821, x822, x823,
-                    x824, x825, x826, x827, x828, x829, x830, x831, x832, x833, x834,
-                    x835, x836, x837, x838, x839, x840, x841, x842, x843, x844, x845,
-                    x846, x847, x848, x849, x850, x851, x852, x853, x854, x855, x856,
-                    x857, x858, x859, x860, x861, x862, x863, x864, x865, x866, x867,
-                    x868, x869, x870, x871, x872, x873, x874, x875, x876, x877, x878,
-                    x879, x880, x881, x882, x883, x884, x885, x886, x887, x888, x889,
-                    x890, x891, x892, x893, x894, x895, x896, x897, x898, x899, x900,
-                    x901, x902, x903, x904, x905, x906, x907, x908, x909, x910, x911,
-                    x912, x913, x914, x915, x916, x917, x918, x919, x920, x921, x922,
-                    x923, x924, x925, x926, x927, x928, x929, x930, x931, x932, x933,
-                    x934, x935, x936, x937, x938, x939, x940, x941, x942, x943, x944,
-                    x945, x946, x947, x948, x949, x950, x951, x952, x953, x954, x955,
-                    x956, x957, x958, x959, x960, x961, x962, x963, x964, x965, x966,
-                    x967, x968, x969, x970, x971, x972, x973, x974, x975, x976, x977,
-                    x978, x979, x980, x981, x982, x983, x984, x985, x986, x987, x988,
-                    ]: [f64; 561];
+                    x356, x357, x358, x359, x360, x361, x362, x363, x364, x904, x905,
+                    x906, x923, x924, x925, x930, x931, x932, x937, x938, x939, x944,
+                    x945, x946, x951, x952, x953, x958, x959, x960, x965, x966, x967,
+                    x972, x973, x974, x979, x980, x981, x986, x987, x988]: [f64; 361];
                     let [x172, x173, x174, x175, x176, x177, x178, x179, x180, x181,
                     x182, x183, x184, x185, x187, x188, x191, x194, x195, x196, x197,
                     x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
@@ -12282,6 +11109,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x430 = arith.splat_four(x233);
                     x431 = x430.mul_sub(x194, x429);
                     x432 = x427 + x431;
+                    *g147 = x432.to_array();
                     x433 = x423 * x195;
                     x434 = x425.mul_add(x187, x433);
                     x435 = arith.splat_four(x237);
@@ -12289,6 +11117,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x437 = x436 * x194;
                     x438 = x435.mul_sub(x191, x437);
                     x439 = x438 - x434;
+                    *g154 = x439.to_array();
                     x440 = arith.splat_four(x74);
                     x441 = arith.splat_four(x232);
                     x442 = x441 * x188;
@@ -12296,27 +11125,32 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x444 = arith.splat_four(x231);
                     x445 = x444 * x195;
                     x446 = x443 - x445;
+                    *g168 = x446.to_array();
                     x447 = arith.splat_four(x240);
                     x448 = arith.splat_four(x238);
                     x449 = x448 * x188;
                     x450 = x447.mul_add(x187, x449);
                     x451 = arith.splat_four(x239);
                     x452 = x451.mul_add(x195, x450);
+                    *g175 = x452.to_array();
                     x453 = arith.splat_four(x236);
                     x454 = arith.splat_four(x241);
                     x455 = x454 * x188;
                     x456 = x430.mul_add(x187, x455);
                     x457 = arith.splat_four(x242);
                     x458 = x457.mul_add(x195, x456);
+                    *g189 = x458.to_array();
                     x459 = arith.splat_four(x243);
                     x460 = arith.splat_four(x244);
                     x461 = x460 * x188;
                     x462 = x459.mul_add(x187, x461);
                     x463 = arith.splat_four(x245);
                     x464 = x463.mul_add(x195, x462);
+                    *g196 = x464.to_array();
                     x465 = x453.mul_sub(x187, x442);
                     x466 = arith.splat_four(x72);
                     x467 = x466.mul_add(x195, x465);
+                    *g203 = x467.to_array();
                     x468 = arith.splat_four(x89);
                     x469 = arith.splat_four(x91);
                     x470 = arith.splat_four(x86);
@@ -12329,6 +11163,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x477 = arith.splat_four(x250);
                     x478 = x477.mul_neg_add(x366, x476);
                     x479 = x472 + x478;
+                    *g217 = x479.to_array();
                     x480 = x468 * x203;
                     x481 = x470.mul_add(x198, x480);
                     x482 = arith.splat_four(x255);
@@ -12338,6 +11173,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x486 = arith.splat_four(x256);
                     x487 = x486.mul_neg_add(x366, x485);
                     x488 = x487 - x481;
+                    *g224 = x488.to_array();
                     x489 = arith.splat_four(x259);
                     x490 = arith.splat_four(x94);
                     x491 = arith.splat_four(x248);
@@ -12346,12 +11182,14 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x494 = arith.splat_four(x252);
                     x495 = x494 * x203;
                     x496 = x493 - x495;
+                    *g238 = x496.to_array();
                     x497 = arith.splat_four(x261);
                     x498 = arith.splat_four(x262);
                     x499 = x498 * x201;
                     x500 = x497.mul_add(x198, x499);
                     x501 = arith.splat_four(x260);
                     x502 = x501.mul_add(x203, x500);
+                    *g245 = x502.to_array();
                     x503 = arith.splat_four(x257);
                     x504 = arith.splat_four(x264);
                     x505 = arith.splat_four(x263);
@@ -12359,14 +11197,17 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x507 = x504.mul_add(x198, x506);
                     x508 = arith.splat_four(x265);
                     x509 = x508.mul_add(x203, x507);
+                    *g259 = x509.to_array();
                     x510 = arith.splat_four(x266);
                     x511 = arith.splat_four(x267);
                     x512 = x511 * x201;
                     x513 = x510.mul_add(x198, x512);
                     x514 = x489.mul_add(x203, x513);
+                    *g266 = x514.to_array();
                     x515 = x503.mul_sub(x198, x492);
                     x516 = arith.splat_four(x92);
                     x517 = x516.mul_add(x203, x515);
+                    *g273 = x517.to_array();
                     x518 = arith.splat_four(x117);
                     x519 = arith.splat_four(x120);
                     x520 = arith.splat_four(x114);
@@ -12379,6 +11220,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x527 = arith.splat_four(x272);
                     x528 = x527.mul_add(x376, x526);
                     x529 = x522 + x528;
+                    *g287 = x529.to_array();
                     x530 = x518 * x210;
                     x531 = x520.mul_add(x206, x530);
                     x532 = arith.splat_four(x277);
@@ -12388,6 +11230,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x536 = arith.splat_four(x278);
                     x537 = x536.mul_add(x376, x535);
                     x538 = x537 - x531;
+                    *g294 = x538.to_array();
                     x539 = arith.splat_four(x136);
                     x540 = arith.splat_four(x280);
                     x541 = arith.splat_four(x123);
@@ -12397,11 +11240,13 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x545 = arith.splat_four(x273);
                     x546 = x545 * x210;
                     x547 = x544 - x546;
+                    *g308 = x547.to_array();
                     x548 = arith.splat_four(x283);
                     x549 = x536 * x209;
                     x550 = x548.mul_add(x206, x549);
                     x551 = arith.splat_four(x282);
                     x552 = x551.mul_add(x210, x550);
+                    *g315 = x552.to_array();
                     x553 = arith.splat_four(x276);
                     x554 = arith.splat_four(x285);
                     x555 = arith.splat_four(x284);
@@ -12409,14 +11254,17 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x557 = x554.mul_add(x206, x556);
                     x558 = arith.splat_four(x286);
                     x559 = x558.mul_add(x210, x557);
+                    *g329 = x559.to_array();
                     x560 = arith.splat_four(x287);
                     x561 = arith.splat_four(x288);
                     x562 = x561 * x209;
                     x563 = x560.mul_add(x206, x562);
                     x564 = x540.mul_add(x210, x563);
+                    *g336 = x564.to_array();
                     x565 = x553.mul_sub(x206, x543);
                     x566 = arith.splat_four(x121);
                     x567 = x566.mul_add(x210, x565);
+                    *g343 = x567.to_array();
                     x568 = arith.splat_four(x134);
                     x569 = x568 * x213;
                     x570 = x519.mul_sub(x379, x569);
@@ -12427,6 +11275,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x575 = arith.splat_four(x294);
                     x576 = x575.mul_add(x375, x574);
                     x577 = x570 + x576;
+                    *g357 = x577.to_array();
                     x578 = arith.splat_four(x169);
                     x579 = x578 * x213;
                     x580 = x539.mul_add(x378, x579);
@@ -12437,6 +11286,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x585 = arith.splat_four(x300);
                     x586 = x585.mul_add(x375, x584);
                     x587 = x580 + x586;
+                    *g364 = x587.to_array();
                     x588 = arith.splat_four(x302);
                     x589 = arith.splat_four(x139);
                     x590 = arith.splat_four(x292);
@@ -12445,11 +11295,13 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x593 = arith.splat_four(x295);
                     x594 = x593 * x213;
                     x595 = x592 - x594;
+                    *g378 = x595.to_array();
                     x596 = arith.splat_four(x305);
                     x597 = x585 * x379;
                     x598 = x596.mul_add(x378, x597);
                     x599 = arith.splat_four(x304);
                     x600 = x599.mul_add(x213, x598);
+                    *g385 = x600.to_array();
                     x601 = arith.splat_four(x298);
                     x602 = arith.splat_four(x307);
                     x603 = arith.splat_four(x306);
@@ -12457,14 +11309,17 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x605 = x602.mul_add(x378, x604);
                     x606 = arith.splat_four(x308);
                     x607 = x606.mul_add(x213, x605);
+                    *g399 = x607.to_array();
                     x608 = arith.splat_four(x309);
                     x609 = arith.splat_four(x310);
                     x610 = x609 * x379;
                     x611 = x608.mul_add(x378, x610);
                     x612 = x588.mul_add(x213, x611);
+                    *g406 = x612.to_array();
                     x613 = x601.mul_sub(x378, x591);
                     x614 = arith.splat_four(x137);
                     x615 = x614.mul_add(x213, x613);
+                    *g413 = x615.to_array();
                     x616 = arith.splat_four(x163);
                     x617 = arith.splat_four(x159);
                     x618 = arith.splat_four(x311);
@@ -12477,6 +11332,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x625 = arith.splat_four(x318);
                     x626 = x625.mul_sub(x391, x624);
                     x627 = x626 - x620;
+                    *g427 = x627.to_array();
                     x628 = arith.splat_four(x171);
                     x629 = x628 * x379;
                     x630 = x617.mul_add(x385, x629);
@@ -12487,30 +11343,36 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x635 = arith.splat_four(x323);
                     x636 = x635.mul_add(x391, x634);
                     x637 = x630 + x636;
+                    *g434 = x637.to_array();
                     x638 = arith.splat_four(x165);
                     x639 = arith.splat_four(x316);
                     x640 = x639 * x387;
                     x641 = x638.mul_sub(x385, x640);
                     x642 = arith.splat_four(x315);
                     x643 = x642.mul_add(x379, x641);
+                    *g448 = x643.to_array();
                     x644 = x635 * x387;
                     x645 = x625.mul_add(x385, x644);
                     x646 = arith.splat_four(x324);
                     x647 = x646.mul_sub(x379, x645);
+                    *g455 = x647.to_array();
                     x648 = arith.splat_four(x321);
                     x649 = arith.splat_four(x325);
                     x650 = x649 * x387;
                     x651 = x622.mul_sub(x385, x650);
                     x652 = arith.splat_four(x326);
                     x653 = x652.mul_add(x379, x651);
+                    *g469 = x653.to_array();
                     x654 = arith.splat_four(x327);
                     x655 = x631 * x387;
                     x656 = x654.mul_sub(x385, x655);
                     x657 = arith.splat_four(x328);
                     x658 = x657.mul_add(x379, x656);
+                    *g476 = x658.to_array();
                     x659 = x648.mul_neg_add(x385, x640);
                     x660 = arith.splat_four(x164);
                     x661 = x660.mul_add(x379, x659);
+                    *g483 = x661.to_array();
                     x662 = arith.four([x168, x135, 0.0, 0.0]);
                     x663 = arith.four([x340, x169, 0.0, 0.0]);
                     x664 = arith.four([x342, x303, 0.0, 0.0]);
@@ -12545,21 +11407,27 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x693 = x648.mul_add(x397, x681);
                     x694 = x660.mul_sub(x401, x693);
                     x695 = x365 - x421;
+                    *g112 = x695.to_array();
                     x696 = x404.mul_add(x421, x402);
                     x697 = x405.mul_add(x421, x403);
                     x698 = x406.mul_add(x421, x402);
                     x699 = x404.mul_add(x422, x696);
+                    *g140 = x699.to_array();
                     x700 = x405.mul_add(x422, x697);
+                    *g161 = x700.to_array();
                     x701 = x421 + x422;
                     x702 = x406.mul_add(x422, x698);
                     x703 = x173.mul_add(x432, x702);
                     x704 = x434 - x438;
                     x705 = x445 - x443;
                     x706 = x701 + x705;
+                    *g182 = x706.to_array();
                     x707 = x407.mul_add(x446, x703);
                     x708 = x408.mul_add(x446, x703);
                     x709 = x173.mul_add(x452, x704);
+                    *g231 = x709.to_array();
                     x710 = x409.mul_add(x467, x707);
+                    *g210 = x710.to_array();
                     x711 = x446 + x467;
                     x712 = x410.mul_add(x467, x708);
                     x713 = x177.mul_add(x479, x712);
@@ -12567,16 +11435,22 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x715 = x481 - x487;
                     x716 = x495 - x493;
                     x717 = x711 + x716;
+                    *g252 = x717.to_array();
                     x718 = x411.mul_add(x496, x714);
                     x719 = x412.mul_add(x496, x715);
                     x720 = x413.mul_add(x502, x718);
                     x721 = x177.mul_add(x502, x719);
                     x722 = x414.mul_add(x517, x720);
+                    *g280 = x722.to_array();
+                    *g350 = x722.to_array();
                     x723 = x412.mul_add(x517, x721);
+                    *g301 = x723.to_array();
                     x724 = x496 + x517;
                     x725 = x531 - x537;
+                    *g371 = x725.to_array();
                     x726 = x546 - x544;
                     x727 = x724 + x726;
+                    *g322 = x727.to_array();
                     x728 = x415.mul_add(x547, x722);
                     x729 = x547 + x567;
                     x730 = arith.four([x288, 0.0, 0.0, 0.0]);
@@ -12588,6 +11462,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x736 = x182.mul_add(x663, x734);
                     x737 = x594 - x592;
                     x738 = x729 + x737;
+                    *g392 = x738.to_array();
                     x739 = x730 - x664;
                     x740 = x416.mul_add(x595, x735);
                     x741 = x416.mul_add(x664, x736);
@@ -12598,477 +11473,76 @@ impl Regressors<7, 70> for Xarm7Snapped {
                     x746 = x419.mul_add(x600, x742);
                     x747 = x419.mul_add(x665, x743);
                     x748 = x420.mul_add(x615, x744);
+                    *g420 = x748.to_array();
                     x749 = x420.mul_add(x666, x745);
                     x750 = x417.mul_add(x615, x746);
+                    *g441 = x750.to_array();
                     x751 = x417.mul_add(x666, x747);
                     x752 = x595 + x615;
                     x753 = x664 + x666;
                     x754 = x752 - x643;
+                    *g462 = x754.to_array();
                     x755 = x753 - x683;
-                    [x756, _, _, _] = x695.to_array();
-                    *o112 = x756;
-                    [_, x757, _, _] = x695.to_array();
-                    *o113 = x757;
-                    [_, _, x758, _] = x695.to_array();
-                    *o114 = x758;
-                    [_, _, _, x759] = x695.to_array();
-                    *o115 = x759;
-                    [x760, _, _, _] = x699.to_array();
-                    *o140 = x760;
-                    [_, x761, _, _] = x699.to_array();
-                    *o141 = x761;
-                    [_, _, x762, _] = x699.to_array();
-                    *o142 = x762;
-                    [_, _, _, x763] = x699.to_array();
-                    *o143 = x763;
-                    [x764, _, _, _] = x432.to_array();
-                    *o147 = x764;
-                    [_, x765, _, _] = x432.to_array();
-                    *o148 = x765;
-                    [_, _, x766, _] = x432.to_array();
-                    *o149 = x766;
-                    [_, _, _, x767] = x432.to_array();
-                    *o150 = x767;
-                    [x768, _, _, _] = x439.to_array();
-                    *o154 = x768;
-                    [_, x769, _, _] = x439.to_array();
-                    *o155 = x769;
-                    [_, _, x770, _] = x439.to_array();
-                    *o156 = x770;
-                    [_, _, _, x771] = x439.to_array();
-                    *o157 = x771;
-                    [x772, _, _, _] = x700.to_array();
-                    *o161 = x772;
-                    [_, x773, _, _] = x700.to_array();
-                    *o162 = x773;
-                    [_, _, x774, _] = x700.to_array();
-                    *o163 = x774;
-                    [_, _, _, x775] = x700.to_array();
-                    *o164 = x775;
-                    [x776, _, _, _] = x446.to_array();
-                    *o168 = x776;
-                    [_, x777, _, _] = x446.to_array();
-                    *o169 = x777;
-                    [_, _, x778, _] = x446.to_array();
-                    *o170 = x778;
-                    [_, _, _, x779] = x446.to_array();
-                    *o171 = x779;
-                    [x780, _, _, _] = x452.to_array();
-                    *o175 = x780;
-                    [_, x781, _, _] = x452.to_array();
-                    *o176 = x781;
-                    [_, _, x782, _] = x452.to_array();
-                    *o177 = x782;
-                    [_, _, _, x783] = x452.to_array();
-                    *o178 = x783;
-                    [x784, _, _, _] = x706.to_array();
-                    *o182 = x784;
-                    [_, x785, _, _] = x706.to_array();
-                    *o183 = x785;
-                    [_, _, x786, _] = x706.to_array();
-                    *o184 = x786;
-                    [_, _, _, x787] = x706.to_array();
-                    *o185 = x787;
-                    [x788, _, _, _] = x458.to_array();
-                    *o189 = x788;
-                    [_, x789, _, _] = x458.to_array();
-                    *o190 = x789;
-                    [_, _, x790, _] = x458.to_array();
-                    *o191 = x790;
-                    [_, _, _, x791] = x458.to_array();
-                    *o192 = x791;
-                    [x792, _, _, _] = x464.to_array();
-                    *o196 = x792;
-                    [_, x793, _, _] = x464.to_array();
-                    *o197 = x793;
-                    [_, _, x794, _] = x464.to_array();
-                    *o198 = x794;
-                    [_, _, _, x795] = x464.to_array();
-                    *o199 = x795;
-                    [x796, _, _, _] = x467.to_array();
-                    *o203 = x796;
-                    [_, x797, _, _] = x467.to_array();
-                    *o204 = x797;
-                    [_, _, x798, _] = x467.to_array();
-                    *o205 = x798;
-                    [_, _, _, x799] = x467.to_array();
-                    *o206 = x799;
-                    [x800, _, _, _] = x710.to_array();
-                    *o210 = x800;
-                    [_, x801, _, _] = x710.to_array();
-                    *o211 = x801;
-                    [_, _, x802, _] = x710.to_array();
-                    *o212 = x802;
-                    [_, _, _, x803] = x710.to_array();
-                    *o213 = x803;
-                    [x804, _, _, _] = x479.to_array();
-                    *o217 = x804;
-                    [_, x805, _, _] = x479.to_array();
-                    *o218 = x805;
-                    [_, _, x806, _] = x479.to_array();
-                    *o219 = x806;
-                    [_, _, _, x807] = x479.to_array();
-                    *o220 = x807;
-                    [x808, _, _, _] = x488.to_array();
-                    *o224 = x808;
-                    [_, x809, _, _] = x488.to_array();
-                    *o225 = x809;
-                    [_, _, x810, _] = x488.to_array();
-                    *o226 = x810;
-                    [_, _, _, x811] = x488.to_array();
-                    *o227 = x811;
-                    [x812, _, _, _] = x709.to_array();
-                    *o231 = x812;
-                    [_, x813, _, _] = x709.to_array();
-                    *o232 = x813;
-                    [_, _, x814, _] = x709.to_array();
-                    *o233 = x814;
-                    [_, _, _, x815] = x709.to_array();
-                    *o234 = x815;
-                    [x816, _, _, _] = x496.to_array();
-                    *o238 = x816;
-                    [_, x817, _, _] = x496.to_array();
-                    *o239 = x817;
-                    [_, _, x818, _] = x496.to_array();
-                    *o240 = x818;
-                    [_, _, _, x819] = x496.to_array();
-                    *o241 = x819;
-                    [x820, _, _, _] = x502.to_array();
-                    *o245 = x820;
-                    [_, x821, _, _] = x502.to_array();
-                    *o246 = x821;
-                    [_, _, x822, _] = x502.to_array();
-                    *o247 = x822;
-                    [_, _, _, x823] = x502.to_array();
-                    *o248 = x823;
-                    [x824, _, _, _] = x717.to_array();
-                    *o252 = x824;
-                    [_, x825, _, _] = x717.to_array();
-                    *o253 = x825;
-                    [_, _, x826, _] = x717.to_array();
-                    *o254 = x826;
-                    [_, _, _, x827] = x717.to_array();
-                    *o255 = x827;
-                    [x828, _, _, _] = x509.to_array();
-                    *o259 = x828;
-                    [_, x829, _, _] = x509.to_array();
-                    *o260 = x829;
-                    [_, _, x830, _] = x509.to_array();
-                    *o261 = x830;
-                    [_, _, _, x831] = x509.to_array();
-                    *o262 = x831;
-                    [x832, _, _, _] = x514.to_array();
-                    *o266 = x832;
-                    [_, x833, _, _] = x514.to_array();
-                    *o267 = x833;
-                    [_, _, x834, _] = x514.to_array();
-                    *o268 = x834;
-                    [_, _, _, x835] = x514.to_array();
-                    *o269 = x835;
-                    [x836, _, _, _] = x517.to_array();
-                    *o273 = x836;
-                    [_, x837, _, _] = x517.to_array();
-                    *o274 = x837;
-                    [_, _, x838, _] = x517.to_array();
-                    *o275 = x838;
-                    [_, _, _, x839] = x517.to_array();
-                    *o276 = x839;
-                    [x840, _, _, _] = x722.to_array();
-                    *o280 = x840;
-                    *o350 = x840;
-                    [_, x841, _, _] = x722.to_array();
-                    *o281 = x841;
-                    *o351 = x841;
-                    [_, _, x842, _] = x722.to_array();
-                    *o282 = x842;
-                    *o352 = x842;
-                    [_, _, _, x843] = x722.to_array();
-                    *o283 = x843;
-                    *o353 = x843;
-                    [x844, _, _, _] = x529.to_array();
-                    *o287 = x844;
-                    [_, x845, _, _] = x529.to_array();
-                    *o288 = x845;
-                    [_, _, x846, _] = x529.to_array();
-                    *o289 = x846;
-                    [_, _, _, x847] = x529.to_array();
-                    *o290 = x847;
-                    [x848, _, _, _] = x538.to_array();
-                    *o294 = x848;
-                    [_, x849, _, _] = x538.to_array();
-                    *o295 = x849;
-                    [_, _, x850, _] = x538.to_array();
-                    *o296 = x850;
-                    [_, _, _, x851] = x538.to_array();
-                    *o297 = x851;
-                    [x852, _, _, _] = x723.to_array();
-                    *o301 = x852;
-                    [_, x853, _, _] = x723.to_array();
-                    *o302 = x853;
-                    [_, _, x854, _] = x723.to_array();
-                    *o303 = x854;
-                    [_, _, _, x855] = x723.to_array();
-                    *o304 = x855;
-                    [x856, _, _, _] = x547.to_array();
-                    *o308 = x856;
-                    [_, x857, _, _] = x547.to_array();
-                    *o309 = x857;
-                    [_, _, x858, _] = x547.to_array();
-                    *o310 = x858;
-                    [_, _, _, x859] = x547.to_array();
-                    *o311 = x859;
-                    [x860, _, _, _] = x552.to_array();
-                    *o315 = x860;
-                    [_, x861, _, _] = x552.to_array();
-                    *o316 = x861;
-                    [_, _, x862, _] = x552.to_array();
-                    *o317 = x862;
-                    [_, _, _, x863] = x552.to_array();
-                    *o318 = x863;
-                    [x864, _, _, _] = x727.to_array();
-                    *o322 = x864;
-                    [_, x865, _, _] = x727.to_array();
-                    *o323 = x865;
-                    [_, _, x866, _] = x727.to_array();
-                    *o324 = x866;
-                    [_, _, _, x867] = x727.to_array();
-                    *o325 = x867;
-                    [x868, _, _, _] = x559.to_array();
-                    *o329 = x868;
-                    [_, x869, _, _] = x559.to_array();
-                    *o330 = x869;
-                    [_, _, x870, _] = x559.to_array();
-                    *o331 = x870;
-                    [_, _, _, x871] = x559.to_array();
-                    *o332 = x871;
-                    [x872, _, _, _] = x564.to_array();
-                    *o336 = x872;
-                    [_, x873, _, _] = x564.to_array();
-                    *o337 = x873;
-                    [_, _, x874, _] = x564.to_array();
-                    *o338 = x874;
-                    [_, _, _, x875] = x564.to_array();
-                    *o339 = x875;
-                    [x876, _, _, _] = x567.to_array();
-                    *o343 = x876;
-                    [_, x877, _, _] = x567.to_array();
-                    *o344 = x877;
-                    [_, _, x878, _] = x567.to_array();
-                    *o345 = x878;
-                    [_, _, _, x879] = x567.to_array();
-                    *o346 = x879;
-                    [x880, _, _, _] = x577.to_array();
-                    *o357 = x880;
-                    [_, x881, _, _] = x577.to_array();
-                    *o358 = x881;
-                    [_, _, x882, _] = x577.to_array();
-                    *o359 = x882;
-                    [_, _, _, x883] = x577.to_array();
-                    *o360 = x883;
-                    [x884, _, _, _] = x587.to_array();
-                    *o364 = x884;
-                    [_, x885, _, _] = x587.to_array();
-                    *o365 = x885;
-                    [_, _, x886, _] = x587.to_array();
-                    *o366 = x886;
-                    [_, _, _, x887] = x587.to_array();
-                    *o367 = x887;
-                    [x888, _, _, _] = x725.to_array();
-                    *o371 = x888;
-                    [_, x889, _, _] = x725.to_array();
-                    *o372 = x889;
-                    [_, _, x890, _] = x725.to_array();
-                    *o373 = x890;
-                    [_, _, _, x891] = x725.to_array();
-                    *o374 = x891;
-                    [x892, _, _, _] = x595.to_array();
-                    *o378 = x892;
-                    [_, x893, _, _] = x595.to_array();
-                    *o379 = x893;
-                    [_, _, x894, _] = x595.to_array();
-                    *o380 = x894;
-                    [_, _, _, x895] = x595.to_array();
-                    *o381 = x895;
-                    [x896, _, _, _] = x600.to_array();
-                    *o385 = x896;
-                    [_, x897, _, _] = x600.to_array();
-                    *o386 = x897;
-                    [_, _, x898, _] = x600.to_array();
-                    *o387 = x898;
-                    [_, _, _, x899] = x600.to_array();
-                    *o388 = x899;
-                    [x900, _, _, _] = x738.to_array();
-                    *o392 = x900;
-                    [_, x901, _, _] = x738.to_array();
-                    *o393 = x901;
-                    [_, _, x902, _] = x738.to_array();
-                    *o394 = x902;
-                    [_, _, _, x903] = x738.to_array();
-                    *o395 = x903;
                     [x904, _, _, _] = x739.to_array();
                     *o396 = x904;
                     [_, x905, _, _] = x739.to_array();
                     *o397 = x905;
                     [_, _, x906, _] = x739.to_array();
                     *o398 = x906;
-                    [x907, _, _, _] = x607.to_array();
-                    *o399 = x907;
-                    [_, x908, _, _] = x607.to_array();
-                    *o400 = x908;
-                    [_, _, x909, _] = x607.to_array();
-                    *o401 = x909;
-                    [_, _, _, x910] = x607.to_array();
-                    *o402 = x910;
-                    [x911, _, _, _] = x612.to_array();
-                    *o406 = x911;
-                    [_, x912, _, _] = x612.to_array();
-                    *o407 = x912;
-                    [_, _, x913, _] = x612.to_array();
-                    *o408 = x913;
-                    [_, _, _, x914] = x612.to_array();
-                    *o409 = x914;
-                    [x915, _, _, _] = x615.to_array();
-                    *o413 = x915;
-                    [_, x916, _, _] = x615.to_array();
-                    *o414 = x916;
-                    [_, _, x917, _] = x615.to_array();
-                    *o415 = x917;
-                    [_, _, _, x918] = x615.to_array();
-                    *o416 = x918;
-                    [x919, _, _, _] = x748.to_array();
-                    *o420 = x919;
-                    [_, x920, _, _] = x748.to_array();
-                    *o421 = x920;
-                    [_, _, x921, _] = x748.to_array();
-                    *o422 = x921;
-                    [_, _, _, x922] = x748.to_array();
-                    *o423 = x922;
                     [x923, _, _, _] = x749.to_array();
                     *o424 = x923;
                     [_, x924, _, _] = x749.to_array();
                     *o425 = x924;
                     [_, _, x925, _] = x749.to_array();
                     *o426 = x925;
-                    [x926, _, _, _] = x627.to_array();
-                    *o427 = x926;
-                    [_, x927, _, _] = x627.to_array();
-                    *o428 = x927;
-                    [_, _, x928, _] = x627.to_array();
-                    *o429 = x928;
-                    [_, _, _, x929] = x627.to_array();
-                    *o430 = x929;
                     [x930, _, _, _] = x673.to_array();
                     *o431 = x930;
                     [_, x931, _, _] = x673.to_array();
                     *o432 = x931;
                     [_, _, x932, _] = x673.to_array();
                     *o433 = x932;
-                    [x933, _, _, _] = x637.to_array();
-                    *o434 = x933;
-                    [_, x934, _, _] = x637.to_array();
-                    *o435 = x934;
-                    [_, _, x935, _] = x637.to_array();
-                    *o436 = x935;
-                    [_, _, _, x936] = x637.to_array();
-                    *o437 = x936;
                     [x937, _, _, _] = x680.to_array();
                     *o438 = x937;
                     [_, x938, _, _] = x680.to_array();
                     *o439 = x938;
                     [_, _, x939, _] = x680.to_array();
                     *o440 = x939;
-                    [x940, _, _, _] = x750.to_array();
-                    *o441 = x940;
-                    [_, x941, _, _] = x750.to_array();
-                    *o442 = x941;
-                    [_, _, x942, _] = x750.to_array();
-                    *o443 = x942;
-                    [_, _, _, x943] = x750.to_array();
-                    *o444 = x943;
                     [x944, _, _, _] = x751.to_array();
                     *o445 = x944;
                     [_, x945, _, _] = x751.to_array();
                     *o446 = x945;
                     [_, _, x946, _] = x751.to_array();
                     *o447 = x946;
-                    [x947, _, _, _] = x643.to_array();
-                    *o448 = x947;
-                    [_, x948, _, _] = x643.to_array();
-                    *o449 = x948;
-                    [_, _, x949, _] = x643.to_array();
-                    *o450 = x949;
-                    [_, _, _, x950] = x643.to_array();
-                    *o451 = x950;
                     [x951, _, _, _] = x683.to_array();
                     *o452 = x951;
                     [_, x952, _, _] = x683.to_array();
                     *o453 = x952;
                     [_, _, x953, _] = x683.to_array();
                     *o454 = x953;
-                    [x954, _, _, _] = x647.to_array();
-                    *o455 = x954;
-                    [_, x955, _, _] = x647.to_array();
-                    *o456 = x955;
-                    [_, _, x956, _] = x647.to_array();
-                    *o457 = x956;
-                    [_, _, _, x957] = x647.to_array();
-                    *o458 = x957;
                     [x958, _, _, _] = x686.to_array();
                     *o459 = x958;
                     [_, x959, _, _] = x686.to_array();
                     *o460 = x959;
                     [_, _, x960, _] = x686.to_array();
                     *o461 = x960;
-                    [x961, _, _, _] = x754.to_array();
-                    *o462 = x961;
-                    [_, x962, _, _] = x754.to_array();
-                    *o463 = x962;
-                    [_, _, x963, _] = x754.to_array();
-                    *o464 = x963;
-                    [_, _, _, x964] = x754.to_array();
-                    *o465 = x964;
                     [x965, _, _, _] = x755.to_array();
                     *o466 = x965;
                     [_, x966, _, _] = x755.to_array();
                     *o467 = x966;
                     [_, _, x967, _] = x755.to_array();
                     *o468 = x967;
-                    [x968, _, _, _] = x653.to_array();
-                    *o469 = x968;
-                    [_, x969, _, _] = x653.to_array();
-                    *o470 = x969;
-                    [_, _, x970, _] = x653.to_array();
-                    *o471 = x970;
-                    [_, _, _, x971] = x653.to_array();
-                    *o472 = x971;
                     [x972, _, _, _] = x689.to_array();
                     *o473 = x972;
                     [_, x973, _, _] = x689.to_array();
                     *o474 = x973;
                     [_, _, x974, _] = x689.to_array();
                     *o475 = x974;
-                    [x975, _, _, _] = x658.to_array();
-                    *o476 = x975;
-                    [_, x976, _, _] = x658.to_array();
-                    *o477 = x976;
-                    [_, _, x977, _] = x658.to_array();
-                    *o478 = x977;
-                    [_, _, _, x978] = x658.to_array();
-                    *o479 = x978;
                     [x979, _, _, _] = x692.to_array();
                     *o480 = x979;
                     [_, x980, _, _] = x692.to_array();
                     *o481 = x980;
                     [_, _, x981, _] = x692.to_array();
                     *o482 = x981;
-                    [x982, _, _, _] = x661.to_array();
-                    *o483 = x982;
-                    [_, x983, _, _] = x661.to_array();
-                    *o484 = x983;
-                    [_, _, x984, _] = x661.to_array();
-                    *o485 = x984;
-                    [_, _, _, x985] = x661.to_array();
-                    *o486 = x985;
                     [x986, _, _, _] = x694.to_array();
                     *o487 = x986;
                     [_, x987, _, _] = x694.to_array();
@@ -14689,26 +13163,20 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     let [[o0, _, _, _, _, _, _], [_, o8, _, _, _, _, _], [_, o15, _, _,
                     _, _, _], [o21, o22, _, _, _, _, _], [o28, o29, _, _, _, _, _], [o35,
                     o36, _, _, _, _, _], [o42, o43, _, _, _, _, _], [o49, o50, _, _, _,
-                    _, _], [o56, o57, o58, o59, _, _, _], [o63, o64, o65, o66, _, _, _],
-                    [o70, o71, o72, o73, _, _, _], [o77, o78, o79, o80, _, _, _], [o84,
-                    o85, o86, o87, _, _, _], [o91, o92, o93, o94, _, _, _], [o98, o99,
-                    o100, o101, _, _, _], [o105, o106, o107, o108, _, _, _], [o112, o113,
-                    o114, o115, _, _, _], [o119, o120, o121, o122, _, _, _], [o126, o127,
-                    o128, o129, _, _, _], [o133, o134, o135, o136, _, _, _], [o140, o141,
-                    o142, o143, _, _, _], [o147, o148, o149, o150, _, _, _], [o154, o155,
-                    o156, o157, o158, _, _], [o161, o162, o163, o164, o165, _, _], [o168,
-                    o169, o170, o171, o172, _, _], [o175, o176, o177, o178, o179, _, _],
-                    [o182, o183, o184, o185, o186, _, _], [o189, o190, o191, o192, o193,
-                    _, _], [o196, o197, o198, o199, o200, _, _], [o203, o204, o205, o206,
-                    o207, o208, _], [o210, o211, o212, o213, o214, o215, _], [o217, o218,
-                    o219, o220, o221, o222, _], [o224, o225, o226, o227, o228, o229, _],
-                    [o231, o232, o233, o234, o235, o236, _], [o238, o239, o240, o241,
-                    o242, o243, _], [o245, o246, o247, o248, o249, o250, _], [o252, o253,
-                    o254, o255, o256, o257, o258], [o259, o260, o261, o262, o263, o264,
-                    o265], [o266, o267, o268, o269, o270, o271, o272], [o273, o274, o275,
-                    o276, o277, o278, o279], [o280, o281, o282, o283, o284, o285, o286],
-                    [o287, o288, o289, o290, o291, o292, o293], [o294, o295, o296, o297,
-                    o298, o299, o300]] = &mut out.data.0;
+                    _, _], [g56 @ .., _, _, _], [g63 @ .., _, _, _], [g70 @ .., _, _, _],
+                    [g77 @ .., _, _, _], [g84 @ .., _, _, _], [g91 @ .., _, _, _],
+                    [g98 @ .., _, _, _], [g105 @ .., _, _, _], [g112 @ .., _, _, _],
+                    [g119 @ .., _, _, _], [g126 @ .., _, _, _], [g133 @ .., _, _, _],
+                    [g140 @ .., _, _, _], [g147 @ .., _, _, _], [g154 @ .., o158, _, _],
+                    [g161 @ .., o165, _, _], [g168 @ .., o172, _, _], [g175 @ .., o179,
+                    _, _], [g182 @ .., o186, _, _], [g189 @ .., o193, _, _], [g196 @ ..,
+                    o200, _, _], [g203 @ .., o207, o208, _], [g210 @ .., o214, o215, _],
+                    [g217 @ .., o221, o222, _], [g224 @ .., o228, o229, _], [g231 @ ..,
+                    o235, o236, _], [g238 @ .., o242, o243, _], [g245 @ .., o249, o250, _,
+                    ], [g252 @ .., o256, o257, o258], [g259 @ .., o263, o264, o265],
+                    [g266 @ .., o270, o271, o272], [g273 @ .., o277, o278, o279],
+                    [g280 @ .., o284, o285, o286], [g287 @ .., o291, o292, o293],
+                    [g294 @ .., o298, o299, o300]] = &mut out.data.0;
                     *o0 = a0;
                     let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
                     x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
@@ -14760,23 +13228,9 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x539, x540, x541, x542, x543, x544, x545, x546, x547, x548, x549,
                     x550, x551, x552, x553, x554, x555, x556, x557, x558, x559, x560,
                     x561, x562, x577, x580, x581, x583, x584, x605, x606, x607, x608,
-                    x609, x610, x611, x612, x613, x614, x615, x926, x927, x928, x929,
-                    x930, x931, x932, x933, x934, x935, x936, x937, x938, x939, x940,
-                    x941, x942, x943, x944, x945, x946, x947, x948, x949, x950, x951,
-                    x952, x953, x954, x955, x956, x957, x958, x959, x960, x961, x962,
-                    x963, x964, x965, x966, x967, x968, x969, x970, x971, x972, x973,
-                    x974, x975, x976, x977, x978, x979, x980, x981, x982, x983, x984,
-                    x985, x986, x987, x988, x989, x990, x991, x992, x993, x994, x995,
-                    x996, x997, x998, x999, x1000, x1001, x1002, x1003, x1004, x1005,
-                    x1006, x1007, x1008, x1009, x1010, x1011, x1012, x1013, x1014, x1015,
-                    x1016, x1017, x1018, x1019, x1020, x1021, x1022, x1023, x1024, x1025,
-                    x1026, x1027, x1028, x1029, x1030, x1031, x1032, x1033, x1034, x1035,
-                    x1036, x1037, x1038, x1039, x1040, x1041, x1042, x1043, x1044, x1045,
-                    x1046, x1047, x1048, x1049, x1050, x1051, x1052, x1053, x1054, x1055,
-                    x1056, x1057, x1058, x1059, x1060, x1061, x1062, x1063, x1064, x1065,
-                    x1066, x1067, x1068, x1069, x1070, x1071, x1072, x1073, x1074, x1075,
-                    x1076, x1077, x1078, x1079, x1080, x1081, x1082, x1083, x1084, x1085,
-                    x1086]: [f64; 740];
+                    x609, x610, x611, x612, x613, x614, x615, x1042, x1043, x1044, x1049,
+                    x1050, x1051, x1056, x1057, x1058, x1063, x1064, x1065, x1070, x1071,
+                    x1072, x1077, x1078, x1079, x1084, x1085, x1086]: [f64; 600];
                     let [x563, x564, x565, x566, x567, x568, x569, x570, x571, x572,
                     x573, x574, x575, x576, x578, x579, x582, x585, x586, x587, x588,
                     x589, x590, x591, x592, x593, x594, x595, x596, x597, x598, x599,
@@ -15467,6 +13921,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x622 = x621 * x585;
                     x623 = x620.mul_add(x582, x622);
                     x624 = x619 + x623;
+                    *g56 = x624.to_array();
                     x625 = arith.splat_four(x267);
                     x626 = arith.splat_four(x266);
                     x627 = x626 * x586;
@@ -15476,18 +13931,21 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x631 = x630 * x585;
                     x632 = x629.mul_add(x582, x631);
                     x633 = x628 + x632;
+                    *g63 = x633.to_array();
                     x634 = arith.splat_four(x251);
                     x635 = arith.splat_four(x270);
                     x636 = x635 * x579;
                     x637 = x634.mul_add(x578, x636);
                     x638 = arith.splat_four(x271);
                     x639 = x638.mul_neg_add(x586, x637);
+                    *g70 = x639.to_array();
                     x640 = arith.splat_four(x277);
                     x641 = arith.splat_four(x278);
                     x642 = x641 * x579;
                     x643 = x640.mul_add(x578, x642);
                     x644 = arith.splat_four(x279);
                     x645 = x644.mul_add(x586, x643);
+                    *g77 = x645.to_array();
                     x646 = arith.splat_four(x280);
                     x647 = arith.splat_four(x285);
                     x648 = arith.splat_four(x286);
@@ -15495,15 +13953,18 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x650 = x647.mul_add(x578, x649);
                     x651 = arith.splat_four(x287);
                     x652 = x651.mul_add(x586, x650);
+                    *g84 = x652.to_array();
                     x653 = arith.splat_four(x291);
                     x654 = arith.splat_four(x292);
                     x655 = x654 * x579;
                     x656 = x653.mul_add(x578, x655);
                     x657 = arith.splat_four(x293);
                     x658 = x657.mul_add(x586, x656);
+                    *g91 = x658.to_array();
                     x659 = x646.mul_sub(x578, x636);
                     x660 = arith.splat_four(x253);
                     x661 = x660.mul_add(x586, x659);
+                    *g98 = x661.to_array();
                     x662 = x564.mul_add(x586, x585);
                     x663 = x565.mul_sub(x582, x593);
                     x664 = x566 * x582;
@@ -15519,6 +13980,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x674 = arith.splat_four(x321);
                     x675 = x674.mul_neg_add(x662, x673);
                     x676 = x669 + x675;
+                    *g105 = x676.to_array();
                     x677 = arith.splat_four(x325);
                     x678 = x677 * x589;
                     x679 = arith.splat_four(x326);
@@ -15530,18 +13992,21 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x685 = arith.splat_four(x329);
                     x686 = x685.mul_neg_add(x662, x684);
                     x687 = x680 + x686;
+                    *g112 = x687.to_array();
                     x688 = arith.splat_four(x306);
                     x689 = arith.splat_four(x330);
                     x690 = x689 * x592;
                     x691 = x688.mul_add(x589, x690);
                     x692 = arith.splat_four(x331);
                     x693 = x692.mul_neg_add(x594, x691);
+                    *g119 = x693.to_array();
                     x694 = arith.splat_four(x337);
                     x695 = arith.splat_four(x338);
                     x696 = x695 * x592;
                     x697 = x694.mul_add(x589, x696);
                     x698 = arith.splat_four(x339);
                     x699 = x698.mul_add(x594, x697);
+                    *g126 = x699.to_array();
                     x700 = arith.splat_four(x340);
                     x701 = arith.splat_four(x345);
                     x702 = arith.splat_four(x346);
@@ -15549,15 +14014,18 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x704 = x701.mul_add(x589, x703);
                     x705 = arith.splat_four(x347);
                     x706 = x705.mul_add(x594, x704);
+                    *g133 = x706.to_array();
                     x707 = arith.splat_four(x351);
                     x708 = arith.splat_four(x352);
                     x709 = x708 * x592;
                     x710 = x707.mul_add(x589, x709);
                     x711 = arith.splat_four(x353);
                     x712 = x711.mul_add(x594, x710);
+                    *g140 = x712.to_array();
                     x713 = x700.mul_sub(x589, x690);
                     x714 = arith.splat_four(x308);
                     x715 = x714.mul_add(x594, x713);
+                    *g147 = x715.to_array();
                     x716 = x567.mul_neg_add(x594, x663);
                     x717 = x602 + x662;
                     x718 = x570 * x717;
@@ -15576,6 +14044,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x731 = arith.splat_four(x381);
                     x732 = x731.mul_add(x722, x730);
                     x733 = x726 + x732;
+                    *g154 = x733.to_array();
                     x734 = arith.splat_four(x385);
                     x735 = arith.splat_four(x386);
                     x736 = x735 * x601;
@@ -15587,18 +14056,21 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x742 = arith.splat_four(x389);
                     x743 = x742.mul_add(x722, x741);
                     x744 = x737 + x743;
+                    *g161 = x744.to_array();
                     x745 = arith.splat_four(x366);
                     x746 = arith.splat_four(x390);
                     x747 = x746 * x600;
                     x748 = x745.mul_add(x597, x747);
                     x749 = arith.splat_four(x391);
                     x750 = x749.mul_neg_add(x601, x748);
+                    *g168 = x750.to_array();
                     x751 = arith.splat_four(x398);
                     x752 = arith.splat_four(x399);
                     x753 = x752 * x600;
                     x754 = x751.mul_add(x597, x753);
                     x755 = arith.splat_four(x400);
                     x756 = x755.mul_add(x601, x754);
+                    *g175 = x756.to_array();
                     x757 = arith.splat_four(x401);
                     x758 = arith.splat_four(x406);
                     x759 = arith.splat_four(x407);
@@ -15606,15 +14078,18 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x761 = x758.mul_add(x597, x760);
                     x762 = arith.splat_four(x408);
                     x763 = x762.mul_add(x601, x761);
+                    *g182 = x763.to_array();
                     x764 = arith.splat_four(x412);
                     x765 = arith.splat_four(x413);
                     x766 = x765 * x600;
                     x767 = x764.mul_add(x597, x766);
                     x768 = arith.splat_four(x414);
                     x769 = x768.mul_add(x601, x767);
+                    *g189 = x769.to_array();
                     x770 = x757.mul_sub(x597, x747);
                     x771 = arith.splat_four(x368);
                     x772 = x771.mul_add(x601, x770);
+                    *g196 = x772.to_array();
                     x773 = x572 * x601;
                     x774 = x571.mul_add(x597, x773);
                     x775 = x571.mul_sub(x601, x603);
@@ -15633,6 +14108,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x788 = arith.splat_four(x443);
                     x789 = x788.mul_add(x721, x787);
                     x790 = x783 + x789;
+                    *g203 = x790.to_array();
                     x791 = arith.splat_four(x446);
                     x792 = arith.splat_four(x447);
                     x793 = x792 * x604;
@@ -15644,18 +14120,21 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x799 = arith.splat_four(x450);
                     x800 = x799.mul_add(x721, x798);
                     x801 = x794 + x800;
+                    *g210 = x801.to_array();
                     x802 = arith.splat_four(x427);
                     x803 = arith.splat_four(x451);
                     x804 = x803 * x775;
                     x805 = x802.mul_add(x774, x804);
                     x806 = arith.splat_four(x452);
                     x807 = x806.mul_neg_add(x604, x805);
+                    *g217 = x807.to_array();
                     x808 = arith.splat_four(x459);
                     x809 = arith.splat_four(x460);
                     x810 = x809 * x775;
                     x811 = x808.mul_add(x774, x810);
                     x812 = arith.splat_four(x461);
                     x813 = x812.mul_add(x604, x811);
+                    *g224 = x813.to_array();
                     x814 = arith.splat_four(x462);
                     x815 = arith.splat_four(x467);
                     x816 = arith.splat_four(x468);
@@ -15663,15 +14142,18 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x818 = x815.mul_add(x774, x817);
                     x819 = arith.splat_four(x469);
                     x820 = x819.mul_add(x604, x818);
+                    *g231 = x820.to_array();
                     x821 = arith.splat_four(x473);
                     x822 = arith.splat_four(x474);
                     x823 = x822 * x775;
                     x824 = x821.mul_add(x774, x823);
                     x825 = arith.splat_four(x475);
                     x826 = x825.mul_add(x604, x824);
+                    *g238 = x826.to_array();
                     x827 = x814.mul_sub(x774, x804);
                     x828 = arith.splat_four(x429);
                     x829 = x828.mul_add(x604, x827);
+                    *g245 = x829.to_array();
                     x830 = x576 * x604;
                     x831 = x575.mul_sub(x774, x830);
                     x832 = x575 * x604;
@@ -15696,6 +14178,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x851 = arith.splat_four(x503);
                     x852 = x851.mul_add(x837, x850);
                     x853 = x846 + x852;
+                    *g252 = x853.to_array();
                     x854 = arith.splat_four(x507);
                     x855 = arith.splat_four(x508);
                     x856 = x855 * x775;
@@ -15707,34 +14190,40 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x862 = arith.splat_four(x511);
                     x863 = x862.mul_sub(x837, x861);
                     x864 = x857 + x863;
+                    *g259 = x864.to_array();
                     x865 = arith.splat_four(x488);
                     x866 = arith.splat_four(x512);
                     x867 = x866 * x833;
                     x868 = x865.mul_sub(x831, x867);
                     x869 = arith.splat_four(x513);
                     x870 = x869.mul_add(x775, x868);
+                    *g266 = x870.to_array();
                     x871 = arith.splat_four(x519);
                     x872 = arith.splat_four(x520);
                     x873 = x872 * x833;
                     x874 = x871.mul_add(x831, x873);
                     x875 = arith.splat_four(x521);
                     x876 = x875.mul_sub(x775, x874);
+                    *g273 = x876.to_array();
                     x877 = arith.splat_four(x526);
                     x878 = arith.splat_four(x527);
                     x879 = x878 * x833;
                     x880 = x877.mul_sub(x831, x879);
                     x881 = arith.splat_four(x528);
                     x882 = x881.mul_add(x775, x880);
+                    *g280 = x882.to_array();
                     x883 = arith.splat_four(x532);
                     x884 = arith.splat_four(x533);
                     x885 = x884 * x833;
                     x886 = x883.mul_add(x831, x885);
                     x887 = arith.splat_four(x534);
                     x888 = x887.mul_sub(x775, x886);
+                    *g287 = x888.to_array();
                     x889 = arith.splat_four(x535);
                     x890 = x889.mul_add(x831, x867);
                     x891 = arith.splat_four(x490);
                     x892 = x891.mul_add(x775, x890);
+                    *g294 = x892.to_array();
                     x893 = arith.four([x607, x0, 0.0, 0.0]);
                     x894 = arith.four([x609, x1, 0.0, 0.0]);
                     x895 = arith.four([x613, x605, 0.0, 0.0]);
@@ -15768,322 +14257,42 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x923 = x887.mul_add(x897, x922);
                     x924 = x889.mul_sub(x893, x912);
                     x925 = x891.mul_add(x897, x924);
-                    [x926, _, _, _] = x624.to_array();
-                    *o56 = x926;
-                    [_, x927, _, _] = x624.to_array();
-                    *o57 = x927;
-                    [_, _, x928, _] = x624.to_array();
-                    *o58 = x928;
-                    [_, _, _, x929] = x624.to_array();
-                    *o59 = x929;
-                    [x930, _, _, _] = x633.to_array();
-                    *o63 = x930;
-                    [_, x931, _, _] = x633.to_array();
-                    *o64 = x931;
-                    [_, _, x932, _] = x633.to_array();
-                    *o65 = x932;
-                    [_, _, _, x933] = x633.to_array();
-                    *o66 = x933;
-                    [x934, _, _, _] = x639.to_array();
-                    *o70 = x934;
-                    [_, x935, _, _] = x639.to_array();
-                    *o71 = x935;
-                    [_, _, x936, _] = x639.to_array();
-                    *o72 = x936;
-                    [_, _, _, x937] = x639.to_array();
-                    *o73 = x937;
-                    [x938, _, _, _] = x645.to_array();
-                    *o77 = x938;
-                    [_, x939, _, _] = x645.to_array();
-                    *o78 = x939;
-                    [_, _, x940, _] = x645.to_array();
-                    *o79 = x940;
-                    [_, _, _, x941] = x645.to_array();
-                    *o80 = x941;
-                    [x942, _, _, _] = x652.to_array();
-                    *o84 = x942;
-                    [_, x943, _, _] = x652.to_array();
-                    *o85 = x943;
-                    [_, _, x944, _] = x652.to_array();
-                    *o86 = x944;
-                    [_, _, _, x945] = x652.to_array();
-                    *o87 = x945;
-                    [x946, _, _, _] = x658.to_array();
-                    *o91 = x946;
-                    [_, x947, _, _] = x658.to_array();
-                    *o92 = x947;
-                    [_, _, x948, _] = x658.to_array();
-                    *o93 = x948;
-                    [_, _, _, x949] = x658.to_array();
-                    *o94 = x949;
-                    [x950, _, _, _] = x661.to_array();
-                    *o98 = x950;
-                    [_, x951, _, _] = x661.to_array();
-                    *o99 = x951;
-                    [_, _, x952, _] = x661.to_array();
-                    *o100 = x952;
-                    [_, _, _, x953] = x661.to_array();
-                    *o101 = x953;
-                    [x954, _, _, _] = x676.to_array();
-                    *o105 = x954;
-                    [_, x955, _, _] = x676.to_array();
-                    *o106 = x955;
-                    [_, _, x956, _] = x676.to_array();
-                    *o107 = x956;
-                    [_, _, _, x957] = x676.to_array();
-                    *o108 = x957;
-                    [x958, _, _, _] = x687.to_array();
-                    *o112 = x958;
-                    [_, x959, _, _] = x687.to_array();
-                    *o113 = x959;
-                    [_, _, x960, _] = x687.to_array();
-                    *o114 = x960;
-                    [_, _, _, x961] = x687.to_array();
-                    *o115 = x961;
-                    [x962, _, _, _] = x693.to_array();
-                    *o119 = x962;
-                    [_, x963, _, _] = x693.to_array();
-                    *o120 = x963;
-                    [_, _, x964, _] = x693.to_array();
-                    *o121 = x964;
-                    [_, _, _, x965] = x693.to_array();
-                    *o122 = x965;
-                    [x966, _, _, _] = x699.to_array();
-                    *o126 = x966;
-                    [_, x967, _, _] = x699.to_array();
-                    *o127 = x967;
-                    [_, _, x968, _] = x699.to_array();
-                    *o128 = x968;
-                    [_, _, _, x969] = x699.to_array();
-                    *o129 = x969;
-                    [x970, _, _, _] = x706.to_array();
-                    *o133 = x970;
-                    [_, x971, _, _] = x706.to_array();
-                    *o134 = x971;
-                    [_, _, x972, _] = x706.to_array();
-                    *o135 = x972;
-                    [_, _, _, x973] = x706.to_array();
-                    *o136 = x973;
-                    [x974, _, _, _] = x712.to_array();
-                    *o140 = x974;
-                    [_, x975, _, _] = x712.to_array();
-                    *o141 = x975;
-                    [_, _, x976, _] = x712.to_array();
-                    *o142 = x976;
-                    [_, _, _, x977] = x712.to_array();
-                    *o143 = x977;
-                    [x978, _, _, _] = x715.to_array();
-                    *o147 = x978;
-                    [_, x979, _, _] = x715.to_array();
-                    *o148 = x979;
-                    [_, _, x980, _] = x715.to_array();
-                    *o149 = x980;
-                    [_, _, _, x981] = x715.to_array();
-                    *o150 = x981;
-                    [x982, _, _, _] = x733.to_array();
-                    *o154 = x982;
-                    [_, x983, _, _] = x733.to_array();
-                    *o155 = x983;
-                    [_, _, x984, _] = x733.to_array();
-                    *o156 = x984;
-                    [_, _, _, x985] = x733.to_array();
-                    *o157 = x985;
-                    [x986, _, _, _] = x744.to_array();
-                    *o161 = x986;
-                    [_, x987, _, _] = x744.to_array();
-                    *o162 = x987;
-                    [_, _, x988, _] = x744.to_array();
-                    *o163 = x988;
-                    [_, _, _, x989] = x744.to_array();
-                    *o164 = x989;
-                    [x990, _, _, _] = x750.to_array();
-                    *o168 = x990;
-                    [_, x991, _, _] = x750.to_array();
-                    *o169 = x991;
-                    [_, _, x992, _] = x750.to_array();
-                    *o170 = x992;
-                    [_, _, _, x993] = x750.to_array();
-                    *o171 = x993;
-                    [x994, _, _, _] = x756.to_array();
-                    *o175 = x994;
-                    [_, x995, _, _] = x756.to_array();
-                    *o176 = x995;
-                    [_, _, x996, _] = x756.to_array();
-                    *o177 = x996;
-                    [_, _, _, x997] = x756.to_array();
-                    *o178 = x997;
-                    [x998, _, _, _] = x763.to_array();
-                    *o182 = x998;
-                    [_, x999, _, _] = x763.to_array();
-                    *o183 = x999;
-                    [_, _, x1000, _] = x763.to_array();
-                    *o184 = x1000;
-                    [_, _, _, x1001] = x763.to_array();
-                    *o185 = x1001;
-                    [x1002, _, _, _] = x769.to_array();
-                    *o189 = x1002;
-                    [_, x1003, _, _] = x769.to_array();
-                    *o190 = x1003;
-                    [_, _, x1004, _] = x769.to_array();
-                    *o191 = x1004;
-                    [_, _, _, x1005] = x769.to_array();
-                    *o192 = x1005;
-                    [x1006, _, _, _] = x772.to_array();
-                    *o196 = x1006;
-                    [_, x1007, _, _] = x772.to_array();
-                    *o197 = x1007;
-                    [_, _, x1008, _] = x772.to_array();
-                    *o198 = x1008;
-                    [_, _, _, x1009] = x772.to_array();
-                    *o199 = x1009;
-                    [x1010, _, _, _] = x790.to_array();
-                    *o203 = x1010;
-                    [_, x1011, _, _] = x790.to_array();
-                    *o204 = x1011;
-                    [_, _, x1012, _] = x790.to_array();
-                    *o205 = x1012;
-                    [_, _, _, x1013] = x790.to_array();
-                    *o206 = x1013;
-                    [x1014, _, _, _] = x801.to_array();
-                    *o210 = x1014;
-                    [_, x1015, _, _] = x801.to_array();
-                    *o211 = x1015;
-                    [_, _, x1016, _] = x801.to_array();
-                    *o212 = x1016;
-                    [_, _, _, x1017] = x801.to_array();
-                    *o213 = x1017;
-                    [x1018, _, _, _] = x807.to_array();
-                    *o217 = x1018;
-                    [_, x1019, _, _] = x807.to_array();
-                    *o218 = x1019;
-                    [_, _, x1020, _] = x807.to_array();
-                    *o219 = x1020;
-                    [_, _, _, x1021] = x807.to_array();
-                    *o220 = x1021;
-                    [x1022, _, _, _] = x813.to_array();
-                    *o224 = x1022;
-                    [_, x1023, _, _] = x813.to_array();
-                    *o225 = x1023;
-                    [_, _, x1024, _] = x813.to_array();
-                    *o226 = x1024;
-                    [_, _, _, x1025] = x813.to_array();
-                    *o227 = x1025;
-                    [x1026, _, _, _] = x820.to_array();
-                    *o231 = x1026;
-                    [_, x1027, _, _] = x820.to_array();
-                    *o232 = x1027;
-                    [_, _, x1028, _] = x820.to_array();
-                    *o233 = x1028;
-                    [_, _, _, x1029] = x820.to_array();
-                    *o234 = x1029;
-                    [x1030, _, _, _] = x826.to_array();
-                    *o238 = x1030;
-                    [_, x1031, _, _] = x826.to_array();
-                    *o239 = x1031;
-                    [_, _, x1032, _] = x826.to_array();
-                    *o240 = x1032;
-                    [_, _, _, x1033] = x826.to_array();
-                    *o241 = x1033;
-                    [x1034, _, _, _] = x829.to_array();
-                    *o245 = x1034;
-                    [_, x1035, _, _] = x829.to_array();
-                    *o246 = x1035;
-                    [_, _, x1036, _] = x829.to_array();
-                    *o247 = x1036;
-                    [_, _, _, x1037] = x829.to_array();
-                    *o248 = x1037;
-                    [x1038, _, _, _] = x853.to_array();
-                    *o252 = x1038;
-                    [_, x1039, _, _] = x853.to_array();
-                    *o253 = x1039;
-                    [_, _, x1040, _] = x853.to_array();
-                    *o254 = x1040;
-                    [_, _, _, x1041] = x853.to_array();
-                    *o255 = x1041;
                     [x1042, _, _, _] = x904.to_array();
                     *o256 = x1042;
                     [_, x1043, _, _] = x904.to_array();
                     *o257 = x1043;
                     [_, _, x1044, _] = x904.to_array();
                     *o258 = x1044;
-                    [x1045, _, _, _] = x864.to_array();
-                    *o259 = x1045;
-                    [_, x1046, _, _] = x864.to_array();
-                    *o260 = x1046;
-                    [_, _, x1047, _] = x864.to_array();
-                    *o261 = x1047;
-                    [_, _, _, x1048] = x864.to_array();
-                    *o262 = x1048;
                     [x1049, _, _, _] = x911.to_array();
                     *o263 = x1049;
                     [_, x1050, _, _] = x911.to_array();
                     *o264 = x1050;
                     [_, _, x1051, _] = x911.to_array();
                     *o265 = x1051;
-                    [x1052, _, _, _] = x870.to_array();
-                    *o266 = x1052;
-                    [_, x1053, _, _] = x870.to_array();
-                    *o267 = x1053;
-                    [_, _, x1054, _] = x870.to_array();
-                    *o268 = x1054;
-                    [_, _, _, x1055] = x870.to_array();
-                    *o269 = x1055;
                     [x1056, _, _, _] = x914.to_array();
                     *o270 = x1056;
                     [_, x1057, _, _] = x914.to_array();
                     *o271 = x1057;
                     [_, _, x1058, _] = x914.to_array();
                     *o272 = x1058;
-                    [x1059, _, _, _] = x876.to_array();
-                    *o273 = x1059;
-                    [_, x1060, _, _] = x876.to_array();
-                    *o274 = x1060;
-                    [_, _, x1061, _] = x876.to_array();
-                    *o275 = x1061;
-                    [_, _, _, x1062] = x876.to_array();
-                    *o276 = x1062;
                     [x1063, _, _, _] = x917.to_array();
                     *o277 = x1063;
                     [_, x1064, _, _] = x917.to_array();
                     *o278 = x1064;
                     [_, _, x1065, _] = x917.to_array();
                     *o279 = x1065;
-                    [x1066, _, _, _] = x882.to_array();
-                    *o280 = x1066;
-                    [_, x1067, _, _] = x882.to_array();
-                    *o281 = x1067;
-                    [_, _, x1068, _] = x882.to_array();
-                    *o282 = x1068;
-                    [_, _, _, x1069] = x882.to_array();
-                    *o283 = x1069;
                     [x1070, _, _, _] = x920.to_array();
                     *o284 = x1070;
                     [_, x1071, _, _] = x920.to_array();
                     *o285 = x1071;
                     [_, _, x1072, _] = x920.to_array();
                     *o286 = x1072;
-                    [x1073, _, _, _] = x888.to_array();
-                    *o287 = x1073;
-                    [_, x1074, _, _] = x888.to_array();
-                    *o288 = x1074;
-                    [_, _, x1075, _] = x888.to_array();
-                    *o289 = x1075;
-                    [_, _, _, x1076] = x888.to_array();
-                    *o290 = x1076;
                     [x1077, _, _, _] = x923.to_array();
                     *o291 = x1077;
                     [_, x1078, _, _] = x923.to_array();
                     *o292 = x1078;
                     [_, _, x1079, _] = x923.to_array();
                     *o293 = x1079;
-                    [x1080, _, _, _] = x892.to_array();
-                    *o294 = x1080;
-                    [_, x1081, _, _] = x892.to_array();
-                    *o295 = x1081;
-                    [_, _, x1082, _] = x892.to_array();
-                    *o296 = x1082;
-                    [_, _, _, x1083] = x892.to_array();
-                    *o297 = x1083;
                     [x1084, _, _, _] = x925.to_array();
                     *o298 = x1084;
                     [_, x1085, _, _] = x925.to_array();
@@ -16143,26 +14352,20 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     let [[o0, _, _, _, _, _, _], [_, o8, _, _, _, _, _], [_, o15, _, _,
                     _, _, _], [o21, o22, _, _, _, _, _], [o28, o29, _, _, _, _, _], [o35,
                     o36, _, _, _, _, _], [o42, o43, _, _, _, _, _], [o49, o50, _, _, _,
-                    _, _], [o56, o57, o58, o59, _, _, _], [o63, o64, o65, o66, _, _, _],
-                    [o70, o71, o72, o73, _, _, _], [o77, o78, o79, o80, _, _, _], [o84,
-                    o85, o86, o87, _, _, _], [o91, o92, o93, o94, _, _, _], [o98, o99,
-                    o100, o101, _, _, _], [o105, o106, o107, o108, _, _, _], [o112, o113,
-                    o114, o115, _, _, _], [o119, o120, o121, o122, _, _, _], [o126, o127,
-                    o128, o129, _, _, _], [o133, o134, o135, o136, _, _, _], [o140, o141,
-                    o142, o143, _, _, _], [o147, o148, o149, o150, _, _, _], [o154, o155,
-                    o156, o157, o158, _, _], [o161, o162, o163, o164, o165, _, _], [o168,
-                    o169, o170, o171, o172, _, _], [o175, o176, o177, o178, o179, _, _],
-                    [o182, o183, o184, o185, o186, _, _], [o189, o190, o191, o192, o193,
-                    _, _], [o196, o197, o198, o199, o200, _, _], [o203, o204, o205, o206,
-                    o207, o208, _], [o210, o211, o212, o213, o214, o215, _], [o217, o218,
-                    o219, o220, o221, o222, _], [o224, o225, o226, o227, o228, o229, _],
-                    [o231, o232, o233, o234, o235, o236, _], [o238, o239, o240, o241,
-                    o242, o243, _], [o245, o246, o247, o248, o249, o250, _], [o252, o253,
-                    o254, o255, o256, o257, o258], [o259, o260, o261, o262, o263, o264,
-                    o265], [o266, o267, o268, o269, o270, o271, o272], [o273, o274, o275,
-                    o276, o277, o278, o279], [o280, o281, o282, o283, o284, o285, o286],
-                    [o287, o288, o289, o290, o291, o292, o293], [o294, o295, o296, o297,
-                    o298, o299, o300]] = &mut out.data.0;
+                    _, _], [g56 @ .., _, _, _], [g63 @ .., _, _, _], [g70 @ .., _, _, _],
+                    [g77 @ .., _, _, _], [g84 @ .., _, _, _], [g91 @ .., _, _, _],
+                    [g98 @ .., _, _, _], [g105 @ .., _, _, _], [g112 @ .., _, _, _],
+                    [g119 @ .., _, _, _], [g126 @ .., _, _, _], [g133 @ .., _, _, _],
+                    [g140 @ .., _, _, _], [g147 @ .., _, _, _], [g154 @ .., o158, _, _],
+                    [g161 @ .., o165, _, _], [g168 @ .., o172, _, _], [g175 @ .., o179,
+                    _, _], [g182 @ .., o186, _, _], [g189 @ .., o193, _, _], [g196 @ ..,
+                    o200, _, _], [g203 @ .., o207, o208, _], [g210 @ .., o214, o215, _],
+                    [g217 @ .., o221, o222, _], [g224 @ .., o228, o229, _], [g231 @ ..,
+                    o235, o236, _], [g238 @ .., o242, o243, _], [g245 @ .., o249, o250, _,
+                    ], [g252 @ .., o256, o257, o258], [g259 @ .., o263, o264, o265],
+                    [g266 @ .., o270, o271, o272], [g273 @ .., o277, o278, o279],
+                    [g280 @ .., o284, o285, o286], [g287 @ .., o291, o292, o293],
+                    [g294 @ .., o298, o299, o300]] = &mut out.data.0;
                     *o0 = a0;
                     let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
                     x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
@@ -16214,23 +14417,9 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x539, x540, x541, x542, x543, x544, x545, x546, x547, x548, x549,
                     x550, x551, x552, x553, x554, x555, x556, x557, x558, x559, x560,
                     x561, x562, x577, x580, x581, x583, x584, x605, x606, x607, x608,
-                    x609, x610, x611, x612, x613, x614, x615, x926, x927, x928, x929,
-                    x930, x931, x932, x933, x934, x935, x936, x937, x938, x939, x940,
-                    x941, x942, x943, x944, x945, x946, x947, x948, x949, x950, x951,
-                    x952, x953, x954, x955, x956, x957, x958, x959, x960, x961, x962,
-                    x963, x964, x965, x966, x967, x968, x969, x970, x971, x972, x973,
-                    x974, x975, x976, x977, x978, x979, x980, x981, x982, x983, x984,
-                    x985, x986, x987, x988, x989, x990, x991, x992, x993, x994, x995,
-                    x996, x997, x998, x999, x1000, x1001, x1002, x1003, x1004, x1005,
-                    x1006, x1007, x1008, x1009, x1010, x1011, x1012, x1013, x1014, x1015,
-                    x1016, x1017, x1018, x1019, x1020, x1021, x1022, x1023, x1024, x1025,
-                    x1026, x1027, x1028, x1029, x1030, x1031, x1032, x1033, x1034, x1035,
-                    x1036, x1037, x1038, x1039, x1040, x1041, x1042, x1043, x1044, x1045,
-                    x1046, x1047, x1048, x1049, x1050, x1051, x1052, x1053, x1054, x1055,
-                    x1056, x1057, x1058, x1059, x1060, x1061, x1062, x1063, x1064, x1065,
-                    x1066, x1067, x1068, x1069, x1070, x1071, x1072, x1073, x1074, x1075,
-                    x1076, x1077, x1078, x1079, x1080, x1081, x1082, x1083, x1084, x1085,
-                    x1086]: [f64; 740];
+                    x609, x610, x611, x612, x613, x614, x615, x1042, x1043, x1044, x1049,
+                    x1050, x1051, x1056, x1057, x1058, x1063, x1064, x1065, x1070, x1071,
+                    x1072, x1077, x1078, x1079, x1084, x1085, x1086]: [f64; 600];
                     let [x563, x564, x565, x566, x567, x568, x569, x570, x571, x572,
                     x573, x574, x575, x576, x578, x579, x582, x585, x586, x587, x588,
                     x589, x590, x591, x592, x593, x594, x595, x596, x597, x598, x599,
@@ -16921,6 +15110,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x622 = x621 * x585;
                     x623 = x620.mul_add(x582, x622);
                     x624 = x619 + x623;
+                    *g56 = x624.to_array();
                     x625 = arith.splat_four(x267);
                     x626 = arith.splat_four(x266);
                     x627 = x626 * x586;
@@ -16930,18 +15120,21 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x631 = x630 * x585;
                     x632 = x629.mul_add(x582, x631);
                     x633 = x628 + x632;
+                    *g63 = x633.to_array();
                     x634 = arith.splat_four(x251);
                     x635 = arith.splat_four(x270);
                     x636 = x635 * x579;
                     x637 = x634.mul_add(x578, x636);
                     x638 = arith.splat_four(x271);
                     x639 = x638.mul_neg_add(x586, x637);
+                    *g70 = x639.to_array();
                     x640 = arith.splat_four(x277);
                     x641 = arith.splat_four(x278);
                     x642 = x641 * x579;
                     x643 = x640.mul_add(x578, x642);
                     x644 = arith.splat_four(x279);
                     x645 = x644.mul_add(x586, x643);
+                    *g77 = x645.to_array();
                     x646 = arith.splat_four(x280);
                     x647 = arith.splat_four(x285);
                     x648 = arith.splat_four(x286);
@@ -16949,15 +15142,18 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x650 = x647.mul_add(x578, x649);
                     x651 = arith.splat_four(x287);
                     x652 = x651.mul_add(x586, x650);
+                    *g84 = x652.to_array();
                     x653 = arith.splat_four(x291);
                     x654 = arith.splat_four(x292);
                     x655 = x654 * x579;
                     x656 = x653.mul_add(x578, x655);
                     x657 = arith.splat_four(x293);
                     x658 = x657.mul_add(x586, x656);
+                    *g91 = x658.to_array();
                     x659 = x646.mul_sub(x578, x636);
                     x660 = arith.splat_four(x253);
                     x661 = x660.mul_add(x586, x659);
+                    *g98 = x661.to_array();
                     x662 = x564.mul_add(x586, x585);
                     x663 = x565.mul_sub(x582, x593);
                     x664 = x566 * x582;
@@ -16973,6 +15169,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x674 = arith.splat_four(x321);
                     x675 = x674.mul_neg_add(x662, x673);
                     x676 = x669 + x675;
+                    *g105 = x676.to_array();
                     x677 = arith.splat_four(x325);
                     x678 = x677 * x589;
                     x679 = arith.splat_four(x326);
@@ -16984,18 +15181,21 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x685 = arith.splat_four(x329);
                     x686 = x685.mul_neg_add(x662, x684);
                     x687 = x680 + x686;
+                    *g112 = x687.to_array();
                     x688 = arith.splat_four(x306);
                     x689 = arith.splat_four(x330);
                     x690 = x689 * x592;
                     x691 = x688.mul_add(x589, x690);
                     x692 = arith.splat_four(x331);
                     x693 = x692.mul_neg_add(x594, x691);
+                    *g119 = x693.to_array();
                     x694 = arith.splat_four(x337);
                     x695 = arith.splat_four(x338);
                     x696 = x695 * x592;
                     x697 = x694.mul_add(x589, x696);
                     x698 = arith.splat_four(x339);
                     x699 = x698.mul_add(x594, x697);
+                    *g126 = x699.to_array();
                     x700 = arith.splat_four(x340);
                     x701 = arith.splat_four(x345);
                     x702 = arith.splat_four(x346);
@@ -17003,15 +15203,18 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x704 = x701.mul_add(x589, x703);
                     x705 = arith.splat_four(x347);
                     x706 = x705.mul_add(x594, x704);
+                    *g133 = x706.to_array();
                     x707 = arith.splat_four(x351);
                     x708 = arith.splat_four(x352);
                     x709 = x708 * x592;
                     x710 = x707.mul_add(x589, x709);
                     x711 = arith.splat_four(x353);
                     x712 = x711.mul_add(x594, x710);
+                    *g140 = x712.to_array();
                     x713 = x700.mul_sub(x589, x690);
                     x714 = arith.splat_four(x308);
                     x715 = x714.mul_add(x594, x713);
+                    *g147 = x715.to_array();
                     x716 = x567.mul_neg_add(x594, x663);
                     x717 = x602 + x662;
                     x718 = x570 * x717;
@@ -17030,6 +15233,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x731 = arith.splat_four(x381);
                     x732 = x731.mul_add(x722, x730);
                     x733 = x726 + x732;
+                    *g154 = x733.to_array();
                     x734 = arith.splat_four(x385);
                     x735 = arith.splat_four(x386);
                     x736 = x735 * x601;
@@ -17041,18 +15245,21 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x742 = arith.splat_four(x389);
                     x743 = x742.mul_add(x722, x741);
                     x744 = x737 + x743;
+                    *g161 = x744.to_array();
                     x745 = arith.splat_four(x366);
                     x746 = arith.splat_four(x390);
                     x747 = x746 * x600;
                     x748 = x745.mul_add(x597, x747);
                     x749 = arith.splat_four(x391);
                     x750 = x749.mul_neg_add(x601, x748);
+                    *g168 = x750.to_array();
                     x751 = arith.splat_four(x398);
                     x752 = arith.splat_four(x399);
                     x753 = x752 * x600;
                     x754 = x751.mul_add(x597, x753);
                     x755 = arith.splat_four(x400);
                     x756 = x755.mul_add(x601, x754);
+                    *g175 = x756.to_array();
                     x757 = arith.splat_four(x401);
                     x758 = arith.splat_four(x406);
                     x759 = arith.splat_four(x407);
@@ -17060,15 +15267,18 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x761 = x758.mul_add(x597, x760);
                     x762 = arith.splat_four(x408);
                     x763 = x762.mul_add(x601, x761);
+                    *g182 = x763.to_array();
                     x764 = arith.splat_four(x412);
                     x765 = arith.splat_four(x413);
                     x766 = x765 * x600;
                     x767 = x764.mul_add(x597, x766);
                     x768 = arith.splat_four(x414);
                     x769 = x768.mul_add(x601, x767);
+                    *g189 = x769.to_array();
                     x770 = x757.mul_sub(x597, x747);
                     x771 = arith.splat_four(x368);
                     x772 = x771.mul_add(x601, x770);
+                    *g196 = x772.to_array();
                     x773 = x572 * x601;
                     x774 = x571.mul_add(x597, x773);
                     x775 = x571.mul_sub(x601, x603);
@@ -17087,6 +15297,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x788 = arith.splat_four(x443);
                     x789 = x788.mul_add(x721, x787);
                     x790 = x783 + x789;
+                    *g203 = x790.to_array();
                     x791 = arith.splat_four(x446);
                     x792 = arith.splat_four(x447);
                     x793 = x792 * x604;
@@ -17098,18 +15309,21 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x799 = arith.splat_four(x450);
                     x800 = x799.mul_add(x721, x798);
                     x801 = x794 + x800;
+                    *g210 = x801.to_array();
                     x802 = arith.splat_four(x427);
                     x803 = arith.splat_four(x451);
                     x804 = x803 * x775;
                     x805 = x802.mul_add(x774, x804);
                     x806 = arith.splat_four(x452);
                     x807 = x806.mul_neg_add(x604, x805);
+                    *g217 = x807.to_array();
                     x808 = arith.splat_four(x459);
                     x809 = arith.splat_four(x460);
                     x810 = x809 * x775;
                     x811 = x808.mul_add(x774, x810);
                     x812 = arith.splat_four(x461);
                     x813 = x812.mul_add(x604, x811);
+                    *g224 = x813.to_array();
                     x814 = arith.splat_four(x462);
                     x815 = arith.splat_four(x467);
                     x816 = arith.splat_four(x468);
@@ -17117,15 +15331,18 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x818 = x815.mul_add(x774, x817);
                     x819 = arith.splat_four(x469);
                     x820 = x819.mul_add(x604, x818);
+                    *g231 = x820.to_array();
                     x821 = arith.splat_four(x473);
                     x822 = arith.splat_four(x474);
                     x823 = x822 * x775;
                     x824 = x821.mul_add(x774, x823);
                     x825 = arith.splat_four(x475);
                     x826 = x825.mul_add(x604, x824);
+                    *g238 = x826.to_array();
                     x827 = x814.mul_sub(x774, x804);
                     x828 = arith.splat_four(x429);
                     x829 = x828.mul_add(x604, x827);
+                    *g245 = x829.to_array();
                     x830 = x576 * x604;
                     x831 = x575.mul_sub(x774, x830);
                     x832 = x575 * x604;
@@ -17150,6 +15367,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x851 = arith.splat_four(x503);
                     x852 = x851.mul_add(x837, x850);
                     x853 = x846 + x852;
+                    *g252 = x853.to_array();
                     x854 = arith.splat_four(x507);
                     x855 = arith.splat_four(x508);
                     x856 = x855 * x775;
@@ -17161,34 +15379,40 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x862 = arith.splat_four(x511);
                     x863 = x862.mul_sub(x837, x861);
                     x864 = x857 + x863;
+                    *g259 = x864.to_array();
                     x865 = arith.splat_four(x488);
                     x866 = arith.splat_four(x512);
                     x867 = x866 * x833;
                     x868 = x865.mul_sub(x831, x867);
                     x869 = arith.splat_four(x513);
                     x870 = x869.mul_add(x775, x868);
+                    *g266 = x870.to_array();
                     x871 = arith.splat_four(x519);
                     x872 = arith.splat_four(x520);
                     x873 = x872 * x833;
                     x874 = x871.mul_add(x831, x873);
                     x875 = arith.splat_four(x521);
                     x876 = x875.mul_sub(x775, x874);
+                    *g273 = x876.to_array();
                     x877 = arith.splat_four(x526);
                     x878 = arith.splat_four(x527);
                     x879 = x878 * x833;
                     x880 = x877.mul_sub(x831, x879);
                     x881 = arith.splat_four(x528);
                     x882 = x881.mul_add(x775, x880);
+                    *g280 = x882.to_array();
                     x883 = arith.splat_four(x532);
                     x884 = arith.splat_four(x533);
                     x885 = x884 * x833;
                     x886 = x883.mul_add(x831, x885);
                     x887 = arith.splat_four(x534);
                     x888 = x887.mul_sub(x775, x886);
+                    *g287 = x888.to_array();
                     x889 = arith.splat_four(x535);
                     x890 = x889.mul_add(x831, x867);
                     x891 = arith.splat_four(x490);
                     x892 = x891.mul_add(x775, x890);
+                    *g294 = x892.to_array();
                     x893 = arith.four([x607, x0, 0.0, 0.0]);
                     x894 = arith.four([x609, x1, 0.0, 0.0]);
                     x895 = arith.four([x613, x605, 0.0, 0.0]);
@@ -17222,322 +15446,42 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x923 = x887.mul_add(x897, x922);
                     x924 = x889.mul_sub(x893, x912);
                     x925 = x891.mul_add(x897, x924);
-                    [x926, _, _, _] = x624.to_array();
-                    *o56 = x926;
-                    [_, x927, _, _] = x624.to_array();
-                    *o57 = x927;
-                    [_, _, x928, _] = x624.to_array();
-                    *o58 = x928;
-                    [_, _, _, x929] = x624.to_array();
-                    *o59 = x929;
-                    [x930, _, _, _] = x633.to_array();
-                    *o63 = x930;
-                    [_, x931, _, _] = x633.to_array();
-                    *o64 = x931;
-                    [_, _, x932, _] = x633.to_array();
-                    *o65 = x932;
-                    [_, _, _, x933] = x633.to_array();
-                    *o66 = x933;
-                    [x934, _, _, _] = x639.to_array();
-                    *o70 = x934;
-                    [_, x935, _, _] = x639.to_array();
-                    *o71 = x935;
-                    [_, _, x936, _] = x639.to_array();
-                    *o72 = x936;
-                    [_, _, _, x937] = x639.to_array();
-                    *o73 = x937;
-                    [x938, _, _, _] = x645.to_array();
-                    *o77 = x938;
-                    [_, x939, _, _] = x645.to_array();
-                    *o78 = x939;
-                    [_, _, x940, _] = x645.to_array();
-                    *o79 = x940;
-                    [_, _, _, x941] = x645.to_array();
-                    *o80 = x941;
-                    [x942, _, _, _] = x652.to_array();
-                    *o84 = x942;
-                    [_, x943, _, _] = x652.to_array();
-                    *o85 = x943;
-                    [_, _, x944, _] = x652.to_array();
-                    *o86 = x944;
-                    [_, _, _, x945] = x652.to_array();
-                    *o87 = x945;
-                    [x946, _, _, _] = x658.to_array();
-                    *o91 = x946;
-                    [_, x947, _, _] = x658.to_array();
-                    *o92 = x947;
-                    [_, _, x948, _] = x658.to_array();
-                    *o93 = x948;
-                    [_, _, _, x949] = x658.to_array();
-                    *o94 = x949;
-                    [x950, _, _, _] = x661.to_array();
-                    *o98 = x950;
-                    [_, x951, _, _] = x661.to_array();
-                    *o99 = x951;
-                    [_, _, x952, _] = x661.to_array();
-                    *o100 = x952;
-                    [_, _, _, x953] = x661.to_array();
-                    *o101 = x953;
-                    [x954, _, _, _] = x676.to_array();
-                    *o105 = x954;
-                    [_, x955, _, _] = x676.to_array();
-                    *o106 = x955;
-                    [_, _, x956, _] = x676.to_array();
-                    *o107 = x956;
-                    [_, _, _, x957] = x676.to_array();
-                    *o108 = x957;
-                    [x958, _, _, _] = x687.to_array();
-                    *o112 = x958;
-                    [_, x959, _, _] = x687.to_array();
-                    *o113 = x959;
-                    [_, _, x960, _] = x687.to_array();
-                    *o114 = x960;
-                    [_, _, _, x961] = x687.to_array();
-                    *o115 = x961;
-                    [x962, _, _, _] = x693.to_array();
-                    *o119 = x962;
-                    [_, x963, _, _] = x693.to_array();
-                    *o120 = x963;
-                    [_, _, x964, _] = x693.to_array();
-                    *o121 = x964;
-                    [_, _, _, x965] = x693.to_array();
-                    *o122 = x965;
-                    [x966, _, _, _] = x699.to_array();
-                    *o126 = x966;
-                    [_, x967, _, _] = x699.to_array();
-                    *o127 = x967;
-                    [_, _, x968, _] = x699.to_array();
-                    *o128 = x968;
-                    [_, _, _, x969] = x699.to_array();
-                    *o129 = x969;
-                    [x970, _, _, _] = x706.to_array();
-                    *o133 = x970;
-                    [_, x971, _, _] = x706.to_array();
-                    *o134 = x971;
-                    [_, _, x972, _] = x706.to_array();
-                    *o135 = x972;
-                    [_, _, _, x973] = x706.to_array();
-                    *o136 = x973;
-                    [x974, _, _, _] = x712.to_array();
-                    *o140 = x974;
-                    [_, x975, _, _] = x712.to_array();
-                    *o141 = x975;
-                    [_, _, x976, _] = x712.to_array();
-                    *o142 = x976;
-                    [_, _, _, x977] = x712.to_array();
-                    *o143 = x977;
-                    [x978, _, _, _] = x715.to_array();
-                    *o147 = x978;
-                    [_, x979, _, _] = x715.to_array();
-                    *o148 = x979;
-                    [_, _, x980, _] = x715.to_array();
-                    *o149 = x980;
-                    [_, _, _, x981] = x715.to_array();
-                    *o150 = x981;
-                    [x982, _, _, _] = x733.to_array();
-                    *o154 = x982;
-                    [_, x983, _, _] = x733.to_array();
-                    *o155 = x983;
-                    [_, _, x984, _] = x733.to_array();
-                    *o156 = x984;
-                    [_, _, _, x985] = x733.to_array();
-                    *o157 = x985;
-                    [x986, _, _, _] = x744.to_array();
-                    *o161 = x986;
-                    [_, x987, _, _] = x744.to_array();
-                    *o162 = x987;
-                    [_, _, x988, _] = x744.to_array();
-                    *o163 = x988;
-                    [_, _, _, x989] = x744.to_array();
-                    *o164 = x989;
-                    [x990, _, _, _] = x750.to_array();
-                    *o168 = x990;
-                    [_, x991, _, _] = x750.to_array();
-                    *o169 = x991;
-                    [_, _, x992, _] = x750.to_array();
-                    *o170 = x992;
-                    [_, _, _, x993] = x750.to_array();
-                    *o171 = x993;
-                    [x994, _, _, _] = x756.to_array();
-                    *o175 = x994;
-                    [_, x995, _, _] = x756.to_array();
-                    *o176 = x995;
-                    [_, _, x996, _] = x756.to_array();
-                    *o177 = x996;
-                    [_, _, _, x997] = x756.to_array();
-                    *o178 = x997;
-                    [x998, _, _, _] = x763.to_array();
-                    *o182 = x998;
-                    [_, x999, _, _] = x763.to_array();
-                    *o183 = x999;
-                    [_, _, x1000, _] = x763.to_array();
-                    *o184 = x1000;
-                    [_, _, _, x1001] = x763.to_array();
-                    *o185 = x1001;
-                    [x1002, _, _, _] = x769.to_array();
-                    *o189 = x1002;
-                    [_, x1003, _, _] = x769.to_array();
-                    *o190 = x1003;
-                    [_, _, x1004, _] = x769.to_array();
-                    *o191 = x1004;
-                    [_, _, _, x1005] = x769.to_array();
-                    *o192 = x1005;
-                    [x1006, _, _, _] = x772.to_array();
-                    *o196 = x1006;
-                    [_, x1007, _, _] = x772.to_array();
-                    *o197 = x1007;
-                    [_, _, x1008, _] = x772.to_array();
-                    *o198 = x1008;
-                    [_, _, _, x1009] = x772.to_array();
-                    *o199 = x1009;
-                    [x1010, _, _, _] = x790.to_array();
-                    *o203 = x1010;
-                    [_, x1011, _, _] = x790.to_array();
-                    *o204 = x1011;
-                    [_, _, x1012, _] = x790.to_array();
-                    *o205 = x1012;
-                    [_, _, _, x1013] = x790.to_array();
-                    *o206 = x1013;
-                    [x1014, _, _, _] = x801.to_array();
-                    *o210 = x1014;
-                    [_, x1015, _, _] = x801.to_array();
-                    *o211 = x1015;
-                    [_, _, x1016, _] = x801.to_array();
-                    *o212 = x1016;
-                    [_, _, _, x1017] = x801.to_array();
-                    *o213 = x1017;
-                    [x1018, _, _, _] = x807.to_array();
-                    *o217 = x1018;
-                    [_, x1019, _, _] = x807.to_array();
-                    *o218 = x1019;
-                    [_, _, x1020, _] = x807.to_array();
-                    *o219 = x1020;
-                    [_, _, _, x1021] = x807.to_array();
-                    *o220 = x1021;
-                    [x1022, _, _, _] = x813.to_array();
-                    *o224 = x1022;
-                    [_, x1023, _, _] = x813.to_array();
-                    *o225 = x1023;
-                    [_, _, x1024, _] = x813.to_array();
-                    *o226 = x1024;
-                    [_, _, _, x1025] = x813.to_array();
-                    *o227 = x1025;
-                    [x1026, _, _, _] = x820.to_array();
-                    *o231 = x1026;
-                    [_, x1027, _, _] = x820.to_array();
-                    *o232 = x1027;
-                    [_, _, x1028, _] = x820.to_array();
-                    *o233 = x1028;
-                    [_, _, _, x1029] = x820.to_array();
-                    *o234 = x1029;
-                    [x1030, _, _, _] = x826.to_array();
-                    *o238 = x1030;
-                    [_, x1031, _, _] = x826.to_array();
-                    *o239 = x1031;
-                    [_, _, x1032, _] = x826.to_array();
-                    *o240 = x1032;
-                    [_, _, _, x1033] = x826.to_array();
-                    *o241 = x1033;
-                    [x1034, _, _, _] = x829.to_array();
-                    *o245 = x1034;
-                    [_, x1035, _, _] = x829.to_array();
-                    *o246 = x1035;
-                    [_, _, x1036, _] = x829.to_array();
-                    *o247 = x1036;
-                    [_, _, _, x1037] = x829.to_array();
-                    *o248 = x1037;
-                    [x1038, _, _, _] = x853.to_array();
-                    *o252 = x1038;
-                    [_, x1039, _, _] = x853.to_array();
-                    *o253 = x1039;
-                    [_, _, x1040, _] = x853.to_array();
-                    *o254 = x1040;
-                    [_, _, _, x1041] = x853.to_array();
-                    *o255 = x1041;
                     [x1042, _, _, _] = x904.to_array();
                     *o256 = x1042;
                     [_, x1043, _, _] = x904.to_array();
                     *o257 = x1043;
                     [_, _, x1044, _] = x904.to_array();
                     *o258 = x1044;
-                    [x1045, _, _, _] = x864.to_array();
-                    *o259 = x1045;
-                    [_, x1046, _, _] = x864.to_array();
-                    *o260 = x1046;
-                    [_, _, x1047, _] = x864.to_array();
-                    *o261 = x1047;
-                    [_, _, _, x1048] = x864.to_array();
-                    *o262 = x1048;
                     [x1049, _, _, _] = x911.to_array();
                     *o263 = x1049;
                     [_, x1050, _, _] = x911.to_array();
                     *o264 = x1050;
                     [_, _, x1051, _] = x911.to_array();
                     *o265 = x1051;
-                    [x1052, _, _, _] = x870.to_array();
-                    *o266 = x1052;
-                    [_, x1053, _, _] = x870.to_array();
-                    *o267 = x1053;
-                    [_, _, x1054, _] = x870.to_array();
-                    *o268 = x1054;
-                    [_, _, _, x1055] = x870.to_array();
-                    *o269 = x1055;
                     [x1056, _, _, _] = x914.to_array();
                     *o270 = x1056;
                     [_, x1057, _, _] = x914.to_array();
                     *o271 = x1057;
                     [_, _, x1058, _] = x914.to_array();
                     *o272 = x1058;
-                    [x1059, _, _, _] = x876.to_array();
-                    *o273 = x1059;
-                    [_, x1060, _, _] = x876.to_array();
-                    *o274 = x1060;
-                    [_, _, x1061, _] = x876.to_array();
-                    *o275 = x1061;
-                    [_, _, _, x1062] = x876.to_array();
-                    *o276 = x1062;
                     [x1063, _, _, _] = x917.to_array();
                     *o277 = x1063;
                     [_, x1064, _, _] = x917.to_array();
                     *o278 = x1064;
                     [_, _, x1065, _] = x917.to_array();
                     *o279 = x1065;
-                    [x1066, _, _, _] = x882.to_array();
-                    *o280 = x1066;
-                    [_, x1067, _, _] = x882.to_array();
-                    *o281 = x1067;
-                    [_, _, x1068, _] = x882.to_array();
-                    *o282 = x1068;
-                    [_, _, _, x1069] = x882.to_array();
-                    *o283 = x1069;
                     [x1070, _, _, _] = x920.to_array();
                     *o284 = x1070;
                     [_, x1071, _, _] = x920.to_array();
                     *o285 = x1071;
                     [_, _, x1072, _] = x920.to_array();
                     *o286 = x1072;
-                    [x1073, _, _, _] = x888.to_array();
-                    *o287 = x1073;
-                    [_, x1074, _, _] = x888.to_array();
-                    *o288 = x1074;
-                    [_, _, x1075, _] = x888.to_array();
-                    *o289 = x1075;
-                    [_, _, _, x1076] = x888.to_array();
-                    *o290 = x1076;
                     [x1077, _, _, _] = x923.to_array();
                     *o291 = x1077;
                     [_, x1078, _, _] = x923.to_array();
                     *o292 = x1078;
                     [_, _, x1079, _] = x923.to_array();
                     *o293 = x1079;
-                    [x1080, _, _, _] = x892.to_array();
-                    *o294 = x1080;
-                    [_, x1081, _, _] = x892.to_array();
-                    *o295 = x1081;
-                    [_, _, x1082, _] = x892.to_array();
-                    *o296 = x1082;
-                    [_, _, _, x1083] = x892.to_array();
-                    *o297 = x1083;
                     [x1084, _, _, _] = x925.to_array();
                     *o298 = x1084;
                     [_, x1085, _, _] = x925.to_array();
@@ -17579,26 +15523,20 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     let [[o0, _, _, _, _, _, _], [_, o8, _, _, _, _, _], [_, o15, _, _,
                     _, _, _], [o21, o22, _, _, _, _, _], [o28, o29, _, _, _, _, _], [o35,
                     o36, _, _, _, _, _], [o42, o43, _, _, _, _, _], [o49, o50, _, _, _,
-                    _, _], [o56, o57, o58, o59, _, _, _], [o63, o64, o65, o66, _, _, _],
-                    [o70, o71, o72, o73, _, _, _], [o77, o78, o79, o80, _, _, _], [o84,
-                    o85, o86, o87, _, _, _], [o91, o92, o93, o94, _, _, _], [o98, o99,
-                    o100, o101, _, _, _], [o105, o106, o107, o108, _, _, _], [o112, o113,
-                    o114, o115, _, _, _], [o119, o120, o121, o122, _, _, _], [o126, o127,
-                    o128, o129, _, _, _], [o133, o134, o135, o136, _, _, _], [o140, o141,
-                    o142, o143, _, _, _], [o147, o148, o149, o150, _, _, _], [o154, o155,
-                    o156, o157, o158, _, _], [o161, o162, o163, o164, o165, _, _], [o168,
-                    o169, o170, o171, o172, _, _], [o175, o176, o177, o178, o179, _, _],
-                    [o182, o183, o184, o185, o186, _, _], [o189, o190, o191, o192, o193,
-                    _, _], [o196, o197, o198, o199, o200, _, _], [o203, o204, o205, o206,
-                    o207, o208, _], [o210, o211, o212, o213, o214, o215, _], [o217, o218,
-                    o219, o220, o221, o222, _], [o224, o225, o226, o227, o228, o229, _],
-                    [o231, o232, o233, o234, o235, o236, _], [o238, o239, o240, o241,
-                    o242, o243, _], [o245, o246, o247, o248, o249, o250, _], [o252, o253,
-                    o254, o255, o256, o257, o258], [o259, o260, o261, o262, o263, o264,
-                    o265], [o266, o267, o268, o269, o270, o271, o272], [o273, o274, o275,
-                    o276, o277, o278, o279], [o280, o281, o282, o283, o284, o285, o286],
-                    [o287, o288, o289, o290, o291, o292, o293], [o294, o295, o296, o297,
-                    o298, o299, o300]] = &mut out.data.0;
+                    _, _], [g56 @ .., _, _, _], [g63 @ .., _, _, _], [g70 @ .., _, _, _],
+                    [g77 @ .., _, _, _], [g84 @ .., _, _, _], [g91 @ .., _, _, _],
+                    [g98 @ .., _, _, _], [g105 @ .., _, _, _], [g112 @ .., _, _, _],
+                    [g119 @ .., _, _, _], [g126 @ .., _, _, _], [g133 @ .., _, _, _],
+                    [g140 @ .., _, _, _], [g147 @ .., _, _, _], [g154 @ .., o158, _, _],
+                    [g161 @ .., o165, _, _], [g168 @ .., o172, _, _], [g175 @ .., o179,
+                    _, _], [g182 @ .., o186, _, _], [g189 @ .., o193, _, _], [g196 @ ..,
+                    o200, _, _], [g203 @ .., o207, o208, _], [g210 @ .., o214, o215, _],
+                    [g217 @ .., o221, o222, _], [g224 @ .., o228, o229, _], [g231 @ ..,
+                    o235, o236, _], [g238 @ .., o242, o243, _], [g245 @ .., o249, o250, _,
+                    ], [g252 @ .., o256, o257, o258], [g259 @ .., o263, o264, o265],
+                    [g266 @ .., o270, o271, o272], [g273 @ .., o277, o278, o279],
+                    [g280 @ .., o284, o285, o286], [g287 @ .., o291, o292, o293],
+                    [g294 @ .., o298, o299, o300]] = &mut out.data.0;
                     *o0 = a0;
                     *o50 = a1;
                     let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
@@ -17628,22 +15566,9 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x323, x324, x325, x326, x327, x328, x329, x330, x331, x332, x333,
                     x334, x335, x336, x337, x338, x339, x340, x341, x342, x343, x344,
                     x345, x346, x347, x348, x349, x350, x351, x352, x353, x354, x355,
-                    x356, x357, x358, x359, x360, x361, x661, x662, x663, x664, x665,
-                    x666, x667, x668, x669, x670, x671, x672, x673, x674, x675, x676,
-                    x677, x678, x679, x680, x681, x682, x683, x684, x685, x686, x687,
-                    x688, x689, x690, x691, x692, x693, x694, x695, x696, x697, x698,
-                    x699, x700, x701, x702, x703, x704, x705, x706, x707, x708, x709,
-                    x710, x711, x712, x713, x714, x715, x716, x717, x718, x719, x720,
-                    x721, x722, x723, x724, x725, x726, x727, x728, x729, x730, x731,
-                    x732, x733, x734, x735, x736, x737, x738, x739, x740, x741, x742,
-                    x743, x744, x745, x746, x747, x748, x749, x750, x751, x752, x753,
-                    x754, x755, x756, x757, x758, x759, x760, x761, x762, x763, x764,
-                    x765, x766, x767, x768, x769, x770, x771, x772, x773, x774, x775,
-                    x776, x777, x778, x779, x780, x781, x782, x783, x784, x785, x786,
-                    x787, x788, x789, x790, x791, x792, x793, x794, x795, x796, x797,
-                    x798, x799, x800, x801, x802, x803, x804, x805, x806, x807, x808,
-                    x809, x810, x811, x812, x813, x814, x815, x816, x817, x818, x819,
-                    x820, x821]: [f64; 486];
+                    x356, x357, x358, x359, x360, x361, x777, x778, x779, x784, x785,
+                    x786, x791, x792, x793, x798, x799, x800, x805, x806, x807, x812,
+                    x813, x814, x819, x820, x821]: [f64; 346];
                     let [x171, x172, x173, x174, x175, x176, x177, x178, x179, x180,
                     x181, x182, x183, x184, x186, x187, x190, x193, x194, x195, x196,
                     x197, x198, x199, x200, x201, x202, x203, x204, x205, x206, x207,
@@ -18115,6 +16040,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x405 = arith.splat_four(x232);
                     x406 = x405.mul_sub(x193, x404);
                     x407 = x402 + x406;
+                    *g56 = x407.to_array();
                     x408 = x398 * x194;
                     x409 = x400.mul_add(x186, x408);
                     x410 = arith.splat_four(x236);
@@ -18122,33 +16048,39 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x412 = x411 * x193;
                     x413 = x410.mul_sub(x190, x412);
                     x414 = x413 - x409;
+                    *g63 = x414.to_array();
                     x415 = arith.splat_four(x73);
                     x416 = arith.splat_four(x231);
                     x417 = x416 * x187;
                     x418 = x415.mul_add(x186, x417);
                     x419 = arith.splat_four(x230);
                     x420 = x419.mul_neg_add(x194, x418);
+                    *g70 = x420.to_array();
                     x421 = arith.splat_four(x239);
                     x422 = arith.splat_four(x237);
                     x423 = x422 * x187;
                     x424 = x421.mul_add(x186, x423);
                     x425 = arith.splat_four(x238);
                     x426 = x425.mul_add(x194, x424);
+                    *g77 = x426.to_array();
                     x427 = arith.splat_four(x235);
                     x428 = arith.splat_four(x240);
                     x429 = x428 * x187;
                     x430 = x405.mul_add(x186, x429);
                     x431 = arith.splat_four(x241);
                     x432 = x431.mul_add(x194, x430);
+                    *g84 = x432.to_array();
                     x433 = arith.splat_four(x242);
                     x434 = arith.splat_four(x243);
                     x435 = x434 * x187;
                     x436 = x433.mul_add(x186, x435);
                     x437 = arith.splat_four(x244);
                     x438 = x437.mul_add(x194, x436);
+                    *g91 = x438.to_array();
                     x439 = x427.mul_sub(x186, x417);
                     x440 = arith.splat_four(x71);
                     x441 = x440.mul_add(x194, x439);
+                    *g98 = x441.to_array();
                     x442 = arith.splat_four(x88);
                     x443 = arith.splat_four(x90);
                     x444 = arith.splat_four(x85);
@@ -18161,6 +16093,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x451 = arith.splat_four(x249);
                     x452 = x451.mul_neg_add(x362, x450);
                     x453 = x446 + x452;
+                    *g105 = x453.to_array();
                     x454 = x442 * x202;
                     x455 = x444.mul_add(x197, x454);
                     x456 = arith.splat_four(x254);
@@ -18170,6 +16103,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x460 = arith.splat_four(x255);
                     x461 = x460.mul_neg_add(x362, x459);
                     x462 = x461 - x455;
+                    *g112 = x462.to_array();
                     x463 = arith.splat_four(x258);
                     x464 = arith.splat_four(x93);
                     x465 = arith.splat_four(x247);
@@ -18177,12 +16111,14 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x467 = x464.mul_add(x197, x466);
                     x468 = arith.splat_four(x251);
                     x469 = x468.mul_neg_add(x202, x467);
+                    *g119 = x469.to_array();
                     x470 = arith.splat_four(x260);
                     x471 = arith.splat_four(x261);
                     x472 = x471 * x200;
                     x473 = x470.mul_add(x197, x472);
                     x474 = arith.splat_four(x259);
                     x475 = x474.mul_add(x202, x473);
+                    *g126 = x475.to_array();
                     x476 = arith.splat_four(x256);
                     x477 = arith.splat_four(x263);
                     x478 = arith.splat_four(x262);
@@ -18190,14 +16126,17 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x480 = x477.mul_add(x197, x479);
                     x481 = arith.splat_four(x264);
                     x482 = x481.mul_add(x202, x480);
+                    *g133 = x482.to_array();
                     x483 = arith.splat_four(x265);
                     x484 = arith.splat_four(x266);
                     x485 = x484 * x200;
                     x486 = x483.mul_add(x197, x485);
                     x487 = x463.mul_add(x202, x486);
+                    *g140 = x487.to_array();
                     x488 = x476.mul_sub(x197, x466);
                     x489 = arith.splat_four(x91);
                     x490 = x489.mul_add(x202, x488);
+                    *g147 = x490.to_array();
                     x491 = arith.splat_four(x116);
                     x492 = arith.splat_four(x119);
                     x493 = arith.splat_four(x113);
@@ -18210,6 +16149,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x500 = arith.splat_four(x271);
                     x501 = x500.mul_add(x372, x499);
                     x502 = x495 + x501;
+                    *g154 = x502.to_array();
                     x503 = x491 * x209;
                     x504 = x493.mul_add(x205, x503);
                     x505 = arith.splat_four(x276);
@@ -18219,6 +16159,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x509 = arith.splat_four(x277);
                     x510 = x509.mul_add(x372, x508);
                     x511 = x510 - x504;
+                    *g161 = x511.to_array();
                     x512 = arith.splat_four(x135);
                     x513 = arith.splat_four(x279);
                     x514 = arith.splat_four(x122);
@@ -18227,11 +16168,13 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x517 = x514.mul_add(x205, x516);
                     x518 = arith.splat_four(x272);
                     x519 = x518.mul_neg_add(x209, x517);
+                    *g168 = x519.to_array();
                     x520 = arith.splat_four(x282);
                     x521 = x509 * x208;
                     x522 = x520.mul_add(x205, x521);
                     x523 = arith.splat_four(x281);
                     x524 = x523.mul_add(x209, x522);
+                    *g175 = x524.to_array();
                     x525 = arith.splat_four(x275);
                     x526 = arith.splat_four(x284);
                     x527 = arith.splat_four(x283);
@@ -18239,14 +16182,17 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x529 = x526.mul_add(x205, x528);
                     x530 = arith.splat_four(x285);
                     x531 = x530.mul_add(x209, x529);
+                    *g182 = x531.to_array();
                     x532 = arith.splat_four(x286);
                     x533 = arith.splat_four(x287);
                     x534 = x533 * x208;
                     x535 = x532.mul_add(x205, x534);
                     x536 = x513.mul_add(x209, x535);
+                    *g189 = x536.to_array();
                     x537 = x525.mul_sub(x205, x516);
                     x538 = arith.splat_four(x120);
                     x539 = x538.mul_add(x209, x537);
+                    *g196 = x539.to_array();
                     x540 = arith.splat_four(x133);
                     x541 = x540 * x212;
                     x542 = x492.mul_sub(x375, x541);
@@ -18257,6 +16203,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x547 = arith.splat_four(x293);
                     x548 = x547.mul_add(x371, x546);
                     x549 = x542 + x548;
+                    *g203 = x549.to_array();
                     x550 = arith.splat_four(x168);
                     x551 = x550 * x212;
                     x552 = x512.mul_add(x374, x551);
@@ -18267,6 +16214,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x557 = arith.splat_four(x299);
                     x558 = x557.mul_add(x371, x556);
                     x559 = x552 + x558;
+                    *g210 = x559.to_array();
                     x560 = arith.splat_four(x301);
                     x561 = arith.splat_four(x138);
                     x562 = arith.splat_four(x291);
@@ -18274,11 +16222,13 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x564 = x561.mul_add(x374, x563);
                     x565 = arith.splat_four(x294);
                     x566 = x565.mul_neg_add(x212, x564);
+                    *g217 = x566.to_array();
                     x567 = arith.splat_four(x304);
                     x568 = x557 * x375;
                     x569 = x567.mul_add(x374, x568);
                     x570 = arith.splat_four(x303);
                     x571 = x570.mul_add(x212, x569);
+                    *g224 = x571.to_array();
                     x572 = arith.splat_four(x297);
                     x573 = arith.splat_four(x306);
                     x574 = arith.splat_four(x305);
@@ -18286,14 +16236,17 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x576 = x573.mul_add(x374, x575);
                     x577 = arith.splat_four(x307);
                     x578 = x577.mul_add(x212, x576);
+                    *g231 = x578.to_array();
                     x579 = arith.splat_four(x308);
                     x580 = arith.splat_four(x309);
                     x581 = x580 * x375;
                     x582 = x579.mul_add(x374, x581);
                     x583 = x560.mul_add(x212, x582);
+                    *g238 = x583.to_array();
                     x584 = x572.mul_sub(x374, x563);
                     x585 = arith.splat_four(x136);
                     x586 = x585.mul_add(x212, x584);
+                    *g245 = x586.to_array();
                     x587 = arith.splat_four(x162);
                     x588 = arith.splat_four(x158);
                     x589 = arith.splat_four(x310);
@@ -18306,6 +16259,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x596 = arith.splat_four(x317);
                     x597 = x596.mul_sub(x387, x595);
                     x598 = x597 - x591;
+                    *g252 = x598.to_array();
                     x599 = arith.splat_four(x170);
                     x600 = x599 * x375;
                     x601 = x588.mul_add(x381, x600);
@@ -18316,30 +16270,36 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x606 = arith.splat_four(x322);
                     x607 = x606.mul_add(x387, x605);
                     x608 = x601 + x607;
+                    *g259 = x608.to_array();
                     x609 = arith.splat_four(x164);
                     x610 = arith.splat_four(x315);
                     x611 = x610 * x383;
                     x612 = x609.mul_sub(x381, x611);
                     x613 = arith.splat_four(x314);
                     x614 = x613.mul_add(x375, x612);
+                    *g266 = x614.to_array();
                     x615 = x606 * x383;
                     x616 = x596.mul_add(x381, x615);
                     x617 = arith.splat_four(x323);
                     x618 = x617.mul_sub(x375, x616);
+                    *g273 = x618.to_array();
                     x619 = arith.splat_four(x320);
                     x620 = arith.splat_four(x324);
                     x621 = x620 * x383;
                     x622 = x593.mul_sub(x381, x621);
                     x623 = arith.splat_four(x325);
                     x624 = x623.mul_add(x375, x622);
+                    *g280 = x624.to_array();
                     x625 = arith.splat_four(x326);
                     x626 = x602 * x383;
                     x627 = x625.mul_sub(x381, x626);
                     x628 = arith.splat_four(x327);
                     x629 = x628.mul_add(x375, x627);
+                    *g287 = x629.to_array();
                     x630 = x619.mul_neg_add(x381, x611);
                     x631 = arith.splat_four(x163);
                     x632 = x631.mul_add(x375, x630);
+                    *g294 = x632.to_array();
                     x633 = x587 * x397;
                     x634 = x589.mul_sub(x394, x633);
                     x635 = x592 * x395;
@@ -18368,322 +16328,42 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x658 = x628.mul_add(x397, x657);
                     x659 = x619.mul_add(x393, x647);
                     x660 = x631.mul_sub(x397, x659);
-                    [x661, _, _, _] = x407.to_array();
-                    *o56 = x661;
-                    [_, x662, _, _] = x407.to_array();
-                    *o57 = x662;
-                    [_, _, x663, _] = x407.to_array();
-                    *o58 = x663;
-                    [_, _, _, x664] = x407.to_array();
-                    *o59 = x664;
-                    [x665, _, _, _] = x414.to_array();
-                    *o63 = x665;
-                    [_, x666, _, _] = x414.to_array();
-                    *o64 = x666;
-                    [_, _, x667, _] = x414.to_array();
-                    *o65 = x667;
-                    [_, _, _, x668] = x414.to_array();
-                    *o66 = x668;
-                    [x669, _, _, _] = x420.to_array();
-                    *o70 = x669;
-                    [_, x670, _, _] = x420.to_array();
-                    *o71 = x670;
-                    [_, _, x671, _] = x420.to_array();
-                    *o72 = x671;
-                    [_, _, _, x672] = x420.to_array();
-                    *o73 = x672;
-                    [x673, _, _, _] = x426.to_array();
-                    *o77 = x673;
-                    [_, x674, _, _] = x426.to_array();
-                    *o78 = x674;
-                    [_, _, x675, _] = x426.to_array();
-                    *o79 = x675;
-                    [_, _, _, x676] = x426.to_array();
-                    *o80 = x676;
-                    [x677, _, _, _] = x432.to_array();
-                    *o84 = x677;
-                    [_, x678, _, _] = x432.to_array();
-                    *o85 = x678;
-                    [_, _, x679, _] = x432.to_array();
-                    *o86 = x679;
-                    [_, _, _, x680] = x432.to_array();
-                    *o87 = x680;
-                    [x681, _, _, _] = x438.to_array();
-                    *o91 = x681;
-                    [_, x682, _, _] = x438.to_array();
-                    *o92 = x682;
-                    [_, _, x683, _] = x438.to_array();
-                    *o93 = x683;
-                    [_, _, _, x684] = x438.to_array();
-                    *o94 = x684;
-                    [x685, _, _, _] = x441.to_array();
-                    *o98 = x685;
-                    [_, x686, _, _] = x441.to_array();
-                    *o99 = x686;
-                    [_, _, x687, _] = x441.to_array();
-                    *o100 = x687;
-                    [_, _, _, x688] = x441.to_array();
-                    *o101 = x688;
-                    [x689, _, _, _] = x453.to_array();
-                    *o105 = x689;
-                    [_, x690, _, _] = x453.to_array();
-                    *o106 = x690;
-                    [_, _, x691, _] = x453.to_array();
-                    *o107 = x691;
-                    [_, _, _, x692] = x453.to_array();
-                    *o108 = x692;
-                    [x693, _, _, _] = x462.to_array();
-                    *o112 = x693;
-                    [_, x694, _, _] = x462.to_array();
-                    *o113 = x694;
-                    [_, _, x695, _] = x462.to_array();
-                    *o114 = x695;
-                    [_, _, _, x696] = x462.to_array();
-                    *o115 = x696;
-                    [x697, _, _, _] = x469.to_array();
-                    *o119 = x697;
-                    [_, x698, _, _] = x469.to_array();
-                    *o120 = x698;
-                    [_, _, x699, _] = x469.to_array();
-                    *o121 = x699;
-                    [_, _, _, x700] = x469.to_array();
-                    *o122 = x700;
-                    [x701, _, _, _] = x475.to_array();
-                    *o126 = x701;
-                    [_, x702, _, _] = x475.to_array();
-                    *o127 = x702;
-                    [_, _, x703, _] = x475.to_array();
-                    *o128 = x703;
-                    [_, _, _, x704] = x475.to_array();
-                    *o129 = x704;
-                    [x705, _, _, _] = x482.to_array();
-                    *o133 = x705;
-                    [_, x706, _, _] = x482.to_array();
-                    *o134 = x706;
-                    [_, _, x707, _] = x482.to_array();
-                    *o135 = x707;
-                    [_, _, _, x708] = x482.to_array();
-                    *o136 = x708;
-                    [x709, _, _, _] = x487.to_array();
-                    *o140 = x709;
-                    [_, x710, _, _] = x487.to_array();
-                    *o141 = x710;
-                    [_, _, x711, _] = x487.to_array();
-                    *o142 = x711;
-                    [_, _, _, x712] = x487.to_array();
-                    *o143 = x712;
-                    [x713, _, _, _] = x490.to_array();
-                    *o147 = x713;
-                    [_, x714, _, _] = x490.to_array();
-                    *o148 = x714;
-                    [_, _, x715, _] = x490.to_array();
-                    *o149 = x715;
-                    [_, _, _, x716] = x490.to_array();
-                    *o150 = x716;
-                    [x717, _, _, _] = x502.to_array();
-                    *o154 = x717;
-                    [_, x718, _, _] = x502.to_array();
-                    *o155 = x718;
-                    [_, _, x719, _] = x502.to_array();
-                    *o156 = x719;
-                    [_, _, _, x720] = x502.to_array();
-                    *o157 = x720;
-                    [x721, _, _, _] = x511.to_array();
-                    *o161 = x721;
-                    [_, x722, _, _] = x511.to_array();
-                    *o162 = x722;
-                    [_, _, x723, _] = x511.to_array();
-                    *o163 = x723;
-                    [_, _, _, x724] = x511.to_array();
-                    *o164 = x724;
-                    [x725, _, _, _] = x519.to_array();
-                    *o168 = x725;
-                    [_, x726, _, _] = x519.to_array();
-                    *o169 = x726;
-                    [_, _, x727, _] = x519.to_array();
-                    *o170 = x727;
-                    [_, _, _, x728] = x519.to_array();
-                    *o171 = x728;
-                    [x729, _, _, _] = x524.to_array();
-                    *o175 = x729;
-                    [_, x730, _, _] = x524.to_array();
-                    *o176 = x730;
-                    [_, _, x731, _] = x524.to_array();
-                    *o177 = x731;
-                    [_, _, _, x732] = x524.to_array();
-                    *o178 = x732;
-                    [x733, _, _, _] = x531.to_array();
-                    *o182 = x733;
-                    [_, x734, _, _] = x531.to_array();
-                    *o183 = x734;
-                    [_, _, x735, _] = x531.to_array();
-                    *o184 = x735;
-                    [_, _, _, x736] = x531.to_array();
-                    *o185 = x736;
-                    [x737, _, _, _] = x536.to_array();
-                    *o189 = x737;
-                    [_, x738, _, _] = x536.to_array();
-                    *o190 = x738;
-                    [_, _, x739, _] = x536.to_array();
-                    *o191 = x739;
-                    [_, _, _, x740] = x536.to_array();
-                    *o192 = x740;
-                    [x741, _, _, _] = x539.to_array();
-                    *o196 = x741;
-                    [_, x742, _, _] = x539.to_array();
-                    *o197 = x742;
-                    [_, _, x743, _] = x539.to_array();
-                    *o198 = x743;
-                    [_, _, _, x744] = x539.to_array();
-                    *o199 = x744;
-                    [x745, _, _, _] = x549.to_array();
-                    *o203 = x745;
-                    [_, x746, _, _] = x549.to_array();
-                    *o204 = x746;
-                    [_, _, x747, _] = x549.to_array();
-                    *o205 = x747;
-                    [_, _, _, x748] = x549.to_array();
-                    *o206 = x748;
-                    [x749, _, _, _] = x559.to_array();
-                    *o210 = x749;
-                    [_, x750, _, _] = x559.to_array();
-                    *o211 = x750;
-                    [_, _, x751, _] = x559.to_array();
-                    *o212 = x751;
-                    [_, _, _, x752] = x559.to_array();
-                    *o213 = x752;
-                    [x753, _, _, _] = x566.to_array();
-                    *o217 = x753;
-                    [_, x754, _, _] = x566.to_array();
-                    *o218 = x754;
-                    [_, _, x755, _] = x566.to_array();
-                    *o219 = x755;
-                    [_, _, _, x756] = x566.to_array();
-                    *o220 = x756;
-                    [x757, _, _, _] = x571.to_array();
-                    *o224 = x757;
-                    [_, x758, _, _] = x571.to_array();
-                    *o225 = x758;
-                    [_, _, x759, _] = x571.to_array();
-                    *o226 = x759;
-                    [_, _, _, x760] = x571.to_array();
-                    *o227 = x760;
-                    [x761, _, _, _] = x578.to_array();
-                    *o231 = x761;
-                    [_, x762, _, _] = x578.to_array();
-                    *o232 = x762;
-                    [_, _, x763, _] = x578.to_array();
-                    *o233 = x763;
-                    [_, _, _, x764] = x578.to_array();
-                    *o234 = x764;
-                    [x765, _, _, _] = x583.to_array();
-                    *o238 = x765;
-                    [_, x766, _, _] = x583.to_array();
-                    *o239 = x766;
-                    [_, _, x767, _] = x583.to_array();
-                    *o240 = x767;
-                    [_, _, _, x768] = x583.to_array();
-                    *o241 = x768;
-                    [x769, _, _, _] = x586.to_array();
-                    *o245 = x769;
-                    [_, x770, _, _] = x586.to_array();
-                    *o246 = x770;
-                    [_, _, x771, _] = x586.to_array();
-                    *o247 = x771;
-                    [_, _, _, x772] = x586.to_array();
-                    *o248 = x772;
-                    [x773, _, _, _] = x598.to_array();
-                    *o252 = x773;
-                    [_, x774, _, _] = x598.to_array();
-                    *o253 = x774;
-                    [_, _, x775, _] = x598.to_array();
-                    *o254 = x775;
-                    [_, _, _, x776] = x598.to_array();
-                    *o255 = x776;
                     [x777, _, _, _] = x639.to_array();
                     *o256 = x777;
                     [_, x778, _, _] = x639.to_array();
                     *o257 = x778;
                     [_, _, x779, _] = x639.to_array();
                     *o258 = x779;
-                    [x780, _, _, _] = x608.to_array();
-                    *o259 = x780;
-                    [_, x781, _, _] = x608.to_array();
-                    *o260 = x781;
-                    [_, _, x782, _] = x608.to_array();
-                    *o261 = x782;
-                    [_, _, _, x783] = x608.to_array();
-                    *o262 = x783;
                     [x784, _, _, _] = x646.to_array();
                     *o263 = x784;
                     [_, x785, _, _] = x646.to_array();
                     *o264 = x785;
                     [_, _, x786, _] = x646.to_array();
                     *o265 = x786;
-                    [x787, _, _, _] = x614.to_array();
-                    *o266 = x787;
-                    [_, x788, _, _] = x614.to_array();
-                    *o267 = x788;
-                    [_, _, x789, _] = x614.to_array();
-                    *o268 = x789;
-                    [_, _, _, x790] = x614.to_array();
-                    *o269 = x790;
                     [x791, _, _, _] = x649.to_array();
                     *o270 = x791;
                     [_, x792, _, _] = x649.to_array();
                     *o271 = x792;
                     [_, _, x793, _] = x649.to_array();
                     *o272 = x793;
-                    [x794, _, _, _] = x618.to_array();
-                    *o273 = x794;
-                    [_, x795, _, _] = x618.to_array();
-                    *o274 = x795;
-                    [_, _, x796, _] = x618.to_array();
-                    *o275 = x796;
-                    [_, _, _, x797] = x618.to_array();
-                    *o276 = x797;
                     [x798, _, _, _] = x652.to_array();
                     *o277 = x798;
                     [_, x799, _, _] = x652.to_array();
                     *o278 = x799;
                     [_, _, x800, _] = x652.to_array();
                     *o279 = x800;
-                    [x801, _, _, _] = x624.to_array();
-                    *o280 = x801;
-                    [_, x802, _, _] = x624.to_array();
-                    *o281 = x802;
-                    [_, _, x803, _] = x624.to_array();
-                    *o282 = x803;
-                    [_, _, _, x804] = x624.to_array();
-                    *o283 = x804;
                     [x805, _, _, _] = x655.to_array();
                     *o284 = x805;
                     [_, x806, _, _] = x655.to_array();
                     *o285 = x806;
                     [_, _, x807, _] = x655.to_array();
                     *o286 = x807;
-                    [x808, _, _, _] = x629.to_array();
-                    *o287 = x808;
-                    [_, x809, _, _] = x629.to_array();
-                    *o288 = x809;
-                    [_, _, x810, _] = x629.to_array();
-                    *o289 = x810;
-                    [_, _, _, x811] = x629.to_array();
-                    *o290 = x811;
                     [x812, _, _, _] = x658.to_array();
                     *o291 = x812;
                     [_, x813, _, _] = x658.to_array();
                     *o292 = x813;
                     [_, _, x814, _] = x658.to_array();
                     *o293 = x814;
-                    [x815, _, _, _] = x632.to_array();
-                    *o294 = x815;
-                    [_, x816, _, _] = x632.to_array();
-                    *o295 = x816;
-                    [_, _, x817, _] = x632.to_array();
-                    *o296 = x817;
-                    [_, _, _, x818] = x632.to_array();
-                    *o297 = x818;
                     [x819, _, _, _] = x660.to_array();
                     *o298 = x819;
                     [_, x820, _, _] = x660.to_array();
@@ -18733,26 +16413,20 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     let [[o0, _, _, _, _, _, _], [_, o8, _, _, _, _, _], [_, o15, _, _,
                     _, _, _], [o21, o22, _, _, _, _, _], [o28, o29, _, _, _, _, _], [o35,
                     o36, _, _, _, _, _], [o42, o43, _, _, _, _, _], [o49, o50, _, _, _,
-                    _, _], [o56, o57, o58, o59, _, _, _], [o63, o64, o65, o66, _, _, _],
-                    [o70, o71, o72, o73, _, _, _], [o77, o78, o79, o80, _, _, _], [o84,
-                    o85, o86, o87, _, _, _], [o91, o92, o93, o94, _, _, _], [o98, o99,
-                    o100, o101, _, _, _], [o105, o106, o107, o108, _, _, _], [o112, o113,
-                    o114, o115, _, _, _], [o119, o120, o121, o122, _, _, _], [o126, o127,
-                    o128, o129, _, _, _], [o133, o134, o135, o136, _, _, _], [o140, o141,
-                    o142, o143, _, _, _], [o147, o148, o149, o150, _, _, _], [o154, o155,
-                    o156, o157, o158, _, _], [o161, o162, o163, o164, o165, _, _], [o168,
-                    o169, o170, o171, o172, _, _], [o175, o176, o177, o178, o179, _, _],
-                    [o182, o183, o184, o185, o186, _, _], [o189, o190, o191, o192, o193,
-                    _, _], [o196, o197, o198, o199, o200, _, _], [o203, o204, o205, o206,
-                    o207, o208, _], [o210, o211, o212, o213, o214, o215, _], [o217, o218,
-                    o219, o220, o221, o222, _], [o224, o225, o226, o227, o228, o229, _],
-                    [o231, o232, o233, o234, o235, o236, _], [o238, o239, o240, o241,
-                    o242, o243, _], [o245, o246, o247, o248, o249, o250, _], [o252, o253,
-                    o254, o255, o256, o257, o258], [o259, o260, o261, o262, o263, o264,
-                    o265], [o266, o267, o268, o269, o270, o271, o272], [o273, o274, o275,
-                    o276, o277, o278, o279], [o280, o281, o282, o283, o284, o285, o286],
-                    [o287, o288, o289, o290, o291, o292, o293], [o294, o295, o296, o297,
-                    o298, o299, o300]] = &mut out.data.0;
+                    _, _], [g56 @ .., _, _, _], [g63 @ .., _, _, _], [g70 @ .., _, _, _],
+                    [g77 @ .., _, _, _], [g84 @ .., _, _, _], [g91 @ .., _, _, _],
+                    [g98 @ .., _, _, _], [g105 @ .., _, _, _], [g112 @ .., _, _, _],
+                    [g119 @ .., _, _, _], [g126 @ .., _, _, _], [g133 @ .., _, _, _],
+                    [g140 @ .., _, _, _], [g147 @ .., _, _, _], [g154 @ .., o158, _, _],
+                    [g161 @ .., o165, _, _], [g168 @ .., o172, _, _], [g175 @ .., o179,
+                    _, _], [g182 @ .., o186, _, _], [g189 @ .., o193, _, _], [g196 @ ..,
+                    o200, _, _], [g203 @ .., o207, o208, _], [g210 @ .., o214, o215, _],
+                    [g217 @ .., o221, o222, _], [g224 @ .., o228, o229, _], [g231 @ ..,
+                    o235, o236, _], [g238 @ .., o242, o243, _], [g245 @ .., o249, o250, _,
+                    ], [g252 @ .., o256, o257, o258], [g259 @ .., o263, o264, o265],
+                    [g266 @ .., o270, o271, o272], [g273 @ .., o277, o278, o279],
+                    [g280 @ .., o284, o285, o286], [g287 @ .., o291, o292, o293],
+                    [g294 @ .., o298, o299, o300]] = &mut out.data.0;
                     *o0 = a0;
                     *o50 = a1;
                     let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
@@ -18782,22 +16456,9 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x323, x324, x325, x326, x327, x328, x329, x330, x331, x332, x333,
                     x334, x335, x336, x337, x338, x339, x340, x341, x342, x343, x344,
                     x345, x346, x347, x348, x349, x350, x351, x352, x353, x354, x355,
-                    x356, x357, x358, x359, x360, x361, x661, x662, x663, x664, x665,
-                    x666, x667, x668, x669, x670, x671, x672, x673, x674, x675, x676,
-                    x677, x678, x679, x680, x681, x682, x683, x684, x685, x686, x687,
-                    x688, x689, x690, x691, x692, x693, x694, x695, x696, x697, x698,
-                    x699, x700, x701, x702, x703, x704, x705, x706, x707, x708, x709,
-                    x710, x711, x712, x713, x714, x715, x716, x717, x718, x719, x720,
-                    x721, x722, x723, x724, x725, x726, x727, x728, x729, x730, x731,
-                    x732, x733, x734, x735, x736, x737, x738, x739, x740, x741, x742,
-                    x743, x744, x745, x746, x747, x748, x749, x750, x751, x752, x753,
-                    x754, x755, x756, x757, x758, x759, x760, x761, x762, x763, x764,
-                    x765, x766, x767, x768, x769, x770, x771, x772, x773, x774, x775,
-                    x776, x777, x778, x779, x780, x781, x782, x783, x784, x785, x786,
-                    x787, x788, x789, x790, x791, x792, x793, x794, x795, x796, x797,
-                    x798, x799, x800, x801, x802, x803, x804, x805, x806, x807, x808,
-                    x809, x810, x811, x812, x813, x814, x815, x816, x817, x818, x819,
-                    x820, x821]: [f64; 486];
+                    x356, x357, x358, x359, x360, x361, x777, x778, x779, x784, x785,
+                    x786, x791, x792, x793, x798, x799, x800, x805, x806, x807, x812,
+                    x813, x814, x819, x820, x821]: [f64; 346];
                     let [x171, x172, x173, x174, x175, x176, x177, x178, x179, x180,
                     x181, x182, x183, x184, x186, x187, x190, x193, x194, x195, x196,
                     x197, x198, x199, x200, x201, x202, x203, x204, x205, x206, x207,
@@ -19269,6 +16930,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x405 = arith.splat_four(x232);
                     x406 = x405.mul_sub(x193, x404);
                     x407 = x402 + x406;
+                    *g56 = x407.to_array();
                     x408 = x398 * x194;
                     x409 = x400.mul_add(x186, x408);
                     x410 = arith.splat_four(x236);
@@ -19276,33 +16938,39 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x412 = x411 * x193;
                     x413 = x410.mul_sub(x190, x412);
                     x414 = x413 - x409;
+                    *g63 = x414.to_array();
                     x415 = arith.splat_four(x73);
                     x416 = arith.splat_four(x231);
                     x417 = x416 * x187;
                     x418 = x415.mul_add(x186, x417);
                     x419 = arith.splat_four(x230);
                     x420 = x419.mul_neg_add(x194, x418);
+                    *g70 = x420.to_array();
                     x421 = arith.splat_four(x239);
                     x422 = arith.splat_four(x237);
                     x423 = x422 * x187;
                     x424 = x421.mul_add(x186, x423);
                     x425 = arith.splat_four(x238);
                     x426 = x425.mul_add(x194, x424);
+                    *g77 = x426.to_array();
                     x427 = arith.splat_four(x235);
                     x428 = arith.splat_four(x240);
                     x429 = x428 * x187;
                     x430 = x405.mul_add(x186, x429);
                     x431 = arith.splat_four(x241);
                     x432 = x431.mul_add(x194, x430);
+                    *g84 = x432.to_array();
                     x433 = arith.splat_four(x242);
                     x434 = arith.splat_four(x243);
                     x435 = x434 * x187;
                     x436 = x433.mul_add(x186, x435);
                     x437 = arith.splat_four(x244);
                     x438 = x437.mul_add(x194, x436);
+                    *g91 = x438.to_array();
                     x439 = x427.mul_sub(x186, x417);
                     x440 = arith.splat_four(x71);
                     x441 = x440.mul_add(x194, x439);
+                    *g98 = x441.to_array();
                     x442 = arith.splat_four(x88);
                     x443 = arith.splat_four(x90);
                     x444 = arith.splat_four(x85);
@@ -19315,6 +16983,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x451 = arith.splat_four(x249);
                     x452 = x451.mul_neg_add(x362, x450);
                     x453 = x446 + x452;
+                    *g105 = x453.to_array();
                     x454 = x442 * x202;
                     x455 = x444.mul_add(x197, x454);
                     x456 = arith.splat_four(x254);
@@ -19324,6 +16993,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x460 = arith.splat_four(x255);
                     x461 = x460.mul_neg_add(x362, x459);
                     x462 = x461 - x455;
+                    *g112 = x462.to_array();
                     x463 = arith.splat_four(x258);
                     x464 = arith.splat_four(x93);
                     x465 = arith.splat_four(x247);
@@ -19331,12 +17001,14 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x467 = x464.mul_add(x197, x466);
                     x468 = arith.splat_four(x251);
                     x469 = x468.mul_neg_add(x202, x467);
+                    *g119 = x469.to_array();
                     x470 = arith.splat_four(x260);
                     x471 = arith.splat_four(x261);
                     x472 = x471 * x200;
                     x473 = x470.mul_add(x197, x472);
                     x474 = arith.splat_four(x259);
                     x475 = x474.mul_add(x202, x473);
+                    *g126 = x475.to_array();
                     x476 = arith.splat_four(x256);
                     x477 = arith.splat_four(x263);
                     x478 = arith.splat_four(x262);
@@ -19344,14 +17016,17 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x480 = x477.mul_add(x197, x479);
                     x481 = arith.splat_four(x264);
                     x482 = x481.mul_add(x202, x480);
+                    *g133 = x482.to_array();
                     x483 = arith.splat_four(x265);
                     x484 = arith.splat_four(x266);
                     x485 = x484 * x200;
                     x486 = x483.mul_add(x197, x485);
                     x487 = x463.mul_add(x202, x486);
+                    *g140 = x487.to_array();
                     x488 = x476.mul_sub(x197, x466);
                     x489 = arith.splat_four(x91);
                     x490 = x489.mul_add(x202, x488);
+                    *g147 = x490.to_array();
                     x491 = arith.splat_four(x116);
                     x492 = arith.splat_four(x119);
                     x493 = arith.splat_four(x113);
@@ -19364,6 +17039,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x500 = arith.splat_four(x271);
                     x501 = x500.mul_add(x372, x499);
                     x502 = x495 + x501;
+                    *g154 = x502.to_array();
                     x503 = x491 * x209;
                     x504 = x493.mul_add(x205, x503);
                     x505 = arith.splat_four(x276);
@@ -19373,6 +17049,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x509 = arith.splat_four(x277);
                     x510 = x509.mul_add(x372, x508);
                     x511 = x510 - x504;
+                    *g161 = x511.to_array();
                     x512 = arith.splat_four(x135);
                     x513 = arith.splat_four(x279);
                     x514 = arith.splat_four(x122);
@@ -19381,11 +17058,13 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x517 = x514.mul_add(x205, x516);
                     x518 = arith.splat_four(x272);
                     x519 = x518.mul_neg_add(x209, x517);
+                    *g168 = x519.to_array();
                     x520 = arith.splat_four(x282);
                     x521 = x509 * x208;
                     x522 = x520.mul_add(x205, x521);
                     x523 = arith.splat_four(x281);
                     x524 = x523.mul_add(x209, x522);
+                    *g175 = x524.to_array();
                     x525 = arith.splat_four(x275);
                     x526 = arith.splat_four(x284);
                     x527 = arith.splat_four(x283);
@@ -19393,14 +17072,17 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x529 = x526.mul_add(x205, x528);
                     x530 = arith.splat_four(x285);
                     x531 = x530.mul_add(x209, x529);
+                    *g182 = x531.to_array();
                     x532 = arith.splat_four(x286);
                     x533 = arith.splat_four(x287);
                     x534 = x533 * x208;
                     x535 = x532.mul_add(x205, x534);
                     x536 = x513.mul_add(x209, x535);
+                    *g189 = x536.to_array();
                     x537 = x525.mul_sub(x205, x516);
                     x538 = arith.splat_four(x120);
                     x539 = x538.mul_add(x209, x537);
+                    *g196 = x539.to_array();
                     x540 = arith.splat_four(x133);
                     x541 = x540 * x212;
                     x542 = x492.mul_sub(x375, x541);
@@ -19411,6 +17093,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x547 = arith.splat_four(x293);
                     x548 = x547.mul_add(x371, x546);
                     x549 = x542 + x548;
+                    *g203 = x549.to_array();
                     x550 = arith.splat_four(x168);
                     x551 = x550 * x212;
                     x552 = x512.mul_add(x374, x551);
@@ -19421,6 +17104,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x557 = arith.splat_four(x299);
                     x558 = x557.mul_add(x371, x556);
                     x559 = x552 + x558;
+                    *g210 = x559.to_array();
                     x560 = arith.splat_four(x301);
                     x561 = arith.splat_four(x138);
                     x562 = arith.splat_four(x291);
@@ -19428,11 +17112,13 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x564 = x561.mul_add(x374, x563);
                     x565 = arith.splat_four(x294);
                     x566 = x565.mul_neg_add(x212, x564);
+                    *g217 = x566.to_array();
                     x567 = arith.splat_four(x304);
                     x568 = x557 * x375;
                     x569 = x567.mul_add(x374, x568);
                     x570 = arith.splat_four(x303);
                     x571 = x570.mul_add(x212, x569);
+                    *g224 = x571.to_array();
                     x572 = arith.splat_four(x297);
                     x573 = arith.splat_four(x306);
                     x574 = arith.splat_four(x305);
@@ -19440,14 +17126,17 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x576 = x573.mul_add(x374, x575);
                     x577 = arith.splat_four(x307);
                     x578 = x577.mul_add(x212, x576);
+                    *g231 = x578.to_array();
                     x579 = arith.splat_four(x308);
                     x580 = arith.splat_four(x309);
                     x581 = x580 * x375;
                     x582 = x579.mul_add(x374, x581);
                     x583 = x560.mul_add(x212, x582);
+                    *g238 = x583.to_array();
                     x584 = x572.mul_sub(x374, x563);
                     x585 = arith.splat_four(x136);
                     x586 = x585.mul_add(x212, x584);
+                    *g245 = x586.to_array();
                     x587 = arith.splat_four(x162);
                     x588 = arith.splat_four(x158);
                     x589 = arith.splat_four(x310);
@@ -19460,6 +17149,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x596 = arith.splat_four(x317);
                     x597 = x596.mul_sub(x387, x595);
                     x598 = x597 - x591;
+                    *g252 = x598.to_array();
                     x599 = arith.splat_four(x170);
                     x600 = x599 * x375;
                     x601 = x588.mul_add(x381, x600);
@@ -19470,30 +17160,36 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x606 = arith.splat_four(x322);
                     x607 = x606.mul_add(x387, x605);
                     x608 = x601 + x607;
+                    *g259 = x608.to_array();
                     x609 = arith.splat_four(x164);
                     x610 = arith.splat_four(x315);
                     x611 = x610 * x383;
                     x612 = x609.mul_sub(x381, x611);
                     x613 = arith.splat_four(x314);
                     x614 = x613.mul_add(x375, x612);
+                    *g266 = x614.to_array();
                     x615 = x606 * x383;
                     x616 = x596.mul_add(x381, x615);
                     x617 = arith.splat_four(x323);
                     x618 = x617.mul_sub(x375, x616);
+                    *g273 = x618.to_array();
                     x619 = arith.splat_four(x320);
                     x620 = arith.splat_four(x324);
                     x621 = x620 * x383;
                     x622 = x593.mul_sub(x381, x621);
                     x623 = arith.splat_four(x325);
                     x624 = x623.mul_add(x375, x622);
+                    *g280 = x624.to_array();
                     x625 = arith.splat_four(x326);
                     x626 = x602 * x383;
                     x627 = x625.mul_sub(x381, x626);
                     x628 = arith.splat_four(x327);
                     x629 = x628.mul_add(x375, x627);
+                    *g287 = x629.to_array();
                     x630 = x619.mul_neg_add(x381, x611);
                     x631 = arith.splat_four(x163);
                     x632 = x631.mul_add(x375, x630);
+                    *g294 = x632.to_array();
                     x633 = x587 * x397;
                     x634 = x589.mul_sub(x394, x633);
                     x635 = x592 * x395;
@@ -19522,322 +17218,42 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
                     x658 = x628.mul_add(x397, x657);
                     x659 = x619.mul_add(x393, x647);
                     x660 = x631.mul_sub(x397, x659);
-                    [x661, _, _, _] = x407.to_array();
-                    *o56 = x661;
-                    [_, x662, _, _] = x407.to_array();
-                    *o57 = x662;
-                    [_, _, x663, _] = x407.to_array();
-                    *o58 = x663;
-                    [_, _, _, x664] = x407.to_array();
-                    *o59 = x664;
-                    [x665, _, _, _] = x414.to_array();
-                    *o63 = x665;
-                    [_, x666, _, _] = x414.to_array();
-                    *o64 = x666;
-                    [_, _, x667, _] = x414.to_array();
-                    *o65 = x667;
-                    [_, _, _, x668] = x414.to_array();
-                    *o66 = x668;
-                    [x669, _, _, _] = x420.to_array();
-                    *o70 = x669;
-                    [_, x670, _, _] = x420.to_array();
-                    *o71 = x670;
-                    [_, _, x671, _] = x420.to_array();
-                    *o72 = x671;
-                    [_, _, _, x672] = x420.to_array();
-                    *o73 = x672;
-                    [x673, _, _, _] = x426.to_array();
-                    *o77 = x673;
-                    [_, x674, _, _] = x426.to_array();
-                    *o78 = x674;
-                    [_, _, x675, _] = x426.to_array();
-                    *o79 = x675;
-                    [_, _, _, x676] = x426.to_array();
-                    *o80 = x676;
-                    [x677, _, _, _] = x432.to_array();
-                    *o84 = x677;
-                    [_, x678, _, _] = x432.to_array();
-                    *o85 = x678;
-                    [_, _, x679, _] = x432.to_array();
-                    *o86 = x679;
-                    [_, _, _, x680] = x432.to_array();
-                    *o87 = x680;
-                    [x681, _, _, _] = x438.to_array();
-                    *o91 = x681;
-                    [_, x682, _, _] = x438.to_array();
-                    *o92 = x682;
-                    [_, _, x683, _] = x438.to_array();
-                    *o93 = x683;
-                    [_, _, _, x684] = x438.to_array();
-                    *o94 = x684;
-                    [x685, _, _, _] = x441.to_array();
-                    *o98 = x685;
-                    [_, x686, _, _] = x441.to_array();
-                    *o99 = x686;
-                    [_, _, x687, _] = x441.to_array();
-                    *o100 = x687;
-                    [_, _, _, x688] = x441.to_array();
-                    *o101 = x688;
-                    [x689, _, _, _] = x453.to_array();
-                    *o105 = x689;
-                    [_, x690, _, _] = x453.to_array();
-                    *o106 = x690;
-                    [_, _, x691, _] = x453.to_array();
-                    *o107 = x691;
-                    [_, _, _, x692] = x453.to_array();
-                    *o108 = x692;
-                    [x693, _, _, _] = x462.to_array();
-                    *o112 = x693;
-                    [_, x694, _, _] = x462.to_array();
-                    *o113 = x694;
-                    [_, _, x695, _] = x462.to_array();
-                    *o114 = x695;
-                    [_, _, _, x696] = x462.to_array();
-                    *o115 = x696;
-                    [x697, _, _, _] = x469.to_array();
-                    *o119 = x697;
-                    [_, x698, _, _] = x469.to_array();
-                    *o120 = x698;
-                    [_, _, x699, _] = x469.to_array();
-                    *o121 = x699;
-                    [_, _, _, x700] = x469.to_array();
-                    *o122 = x700;
-                    [x701, _, _, _] = x475.to_array();
-                    *o126 = x701;
-                    [_, x702, _, _] = x475.to_array();
-                    *o127 = x702;
-                    [_, _, x703, _] = x475.to_array();
-                    *o128 = x703;
-                    [_, _, _, x704] = x475.to_array();
-                    *o129 = x704;
-                    [x705, _, _, _] = x482.to_array();
-                    *o133 = x705;
-                    [_, x706, _, _] = x482.to_array();
-                    *o134 = x706;
-                    [_, _, x707, _] = x482.to_array();
-                    *o135 = x707;
-                    [_, _, _, x708] = x482.to_array();
-                    *o136 = x708;
-                    [x709, _, _, _] = x487.to_array();
-                    *o140 = x709;
-                    [_, x710, _, _] = x487.to_array();
-                    *o141 = x710;
-                    [_, _, x711, _] = x487.to_array();
-                    *o142 = x711;
-                    [_, _, _, x712] = x487.to_array();
-                    *o143 = x712;
-                    [x713, _, _, _] = x490.to_array();
-                    *o147 = x713;
-                    [_, x714, _, _] = x490.to_array();
-                    *o148 = x714;
-                    [_, _, x715, _] = x490.to_array();
-                    *o149 = x715;
-                    [_, _, _, x716] = x490.to_array();
-                    *o150 = x716;
-                    [x717, _, _, _] = x502.to_array();
-                    *o154 = x717;
-                    [_, x718, _, _] = x502.to_array();
-                    *o155 = x718;
-                    [_, _, x719, _] = x502.to_array();
-                    *o156 = x719;
-                    [_, _, _, x720] = x502.to_array();
-                    *o157 = x720;
-                    [x721, _, _, _] = x511.to_array();
-                    *o161 = x721;
-                    [_, x722, _, _] = x511.to_array();
-                    *o162 = x722;
-                    [_, _, x723, _] = x511.to_array();
-                    *o163 = x723;
-                    [_, _, _, x724] = x511.to_array();
-                    *o164 = x724;
-                    [x725, _, _, _] = x519.to_array();
-                    *o168 = x725;
-                    [_, x726, _, _] = x519.to_array();
-                    *o169 = x726;
-                    [_, _, x727, _] = x519.to_array();
-                    *o170 = x727;
-                    [_, _, _, x728] = x519.to_array();
-                    *o171 = x728;
-                    [x729, _, _, _] = x524.to_array();
-                    *o175 = x729;
-                    [_, x730, _, _] = x524.to_array();
-                    *o176 = x730;
-                    [_, _, x731, _] = x524.to_array();
-                    *o177 = x731;
-                    [_, _, _, x732] = x524.to_array();
-                    *o178 = x732;
-                    [x733, _, _, _] = x531.to_array();
-                    *o182 = x733;
-                    [_, x734, _, _] = x531.to_array();
-                    *o183 = x734;
-                    [_, _, x735, _] = x531.to_array();
-                    *o184 = x735;
-                    [_, _, _, x736] = x531.to_array();
-                    *o185 = x736;
-                    [x737, _, _, _] = x536.to_array();
-                    *o189 = x737;
-                    [_, x738, _, _] = x536.to_array();
-                    *o190 = x738;
-                    [_, _, x739, _] = x536.to_array();
-                    *o191 = x739;
-                    [_, _, _, x740] = x536.to_array();
-                    *o192 = x740;
-                    [x741, _, _, _] = x539.to_array();
-                    *o196 = x741;
-                    [_, x742, _, _] = x539.to_array();
-                    *o197 = x742;
-                    [_, _, x743, _] = x539.to_array();
-                    *o198 = x743;
-                    [_, _, _, x744] = x539.to_array();
-                    *o199 = x744;
-                    [x745, _, _, _] = x549.to_array();
-                    *o203 = x745;
-                    [_, x746, _, _] = x549.to_array();
-                    *o204 = x746;
-                    [_, _, x747, _] = x549.to_array();
-                    *o205 = x747;
-                    [_, _, _, x748] = x549.to_array();
-                    *o206 = x748;
-                    [x749, _, _, _] = x559.to_array();
-                    *o210 = x749;
-                    [_, x750, _, _] = x559.to_array();
-                    *o211 = x750;
-                    [_, _, x751, _] = x559.to_array();
-                    *o212 = x751;
-                    [_, _, _, x752] = x559.to_array();
-                    *o213 = x752;
-                    [x753, _, _, _] = x566.to_array();
-                    *o217 = x753;
-                    [_, x754, _, _] = x566.to_array();
-                    *o218 = x754;
-                    [_, _, x755, _] = x566.to_array();
-                    *o219 = x755;
-                    [_, _, _, x756] = x566.to_array();
-                    *o220 = x756;
-                    [x757, _, _, _] = x571.to_array();
-                    *o224 = x757;
-                    [_, x758, _, _] = x571.to_array();
-                    *o225 = x758;
-                    [_, _, x759, _] = x571.to_array();
-                    *o226 = x759;
-                    [_, _, _, x760] = x571.to_array();
-                    *o227 = x760;
-                    [x761, _, _, _] = x578.to_array();
-                    *o231 = x761;
-                    [_, x762, _, _] = x578.to_array();
-                    *o232 = x762;
-                    [_, _, x763, _] = x578.to_array();
-                    *o233 = x763;
-                    [_, _, _, x764] = x578.to_array();
-                    *o234 = x764;
-                    [x765, _, _, _] = x583.to_array();
-                    *o238 = x765;
-                    [_, x766, _, _] = x583.to_array();
-                    *o239 = x766;
-                    [_, _, x767, _] = x583.to_array();
-                    *o240 = x767;
-                    [_, _, _, x768] = x583.to_array();
-                    *o241 = x768;
-                    [x769, _, _, _] = x586.to_array();
-                    *o245 = x769;
-                    [_, x770, _, _] = x586.to_array();
-                    *o246 = x770;
-                    [_, _, x771, _] = x586.to_array();
-                    *o247 = x771;
-                    [_, _, _, x772] = x586.to_array();
-                    *o248 = x772;
-                    [x773, _, _, _] = x598.to_array();
-                    *o252 = x773;
-                    [_, x774, _, _] = x598.to_array();
-                    *o253 = x774;
-                    [_, _, x775, _] = x598.to_array();
-                    *o254 = x775;
-                    [_, _, _, x776] = x598.to_array();
-                    *o255 = x776;
                     [x777, _, _, _] = x639.to_array();
                     *o256 = x777;
                     [_, x778, _, _] = x639.to_array();
                     *o257 = x778;
                     [_, _, x779, _] = x639.to_array();
                     *o258 = x779;
-                    [x780, _, _, _] = x608.to_array();
-                    *o259 = x780;
-                    [_, x781, _, _] = x608.to_array();
-                    *o260 = x781;
-                    [_, _, x782, _] = x608.to_array();
-                    *o261 = x782;
-                    [_, _, _, x783] = x608.to_array();
-                    *o262 = x783;
                     [x784, _, _, _] = x646.to_array();
                     *o263 = x784;
                     [_, x785, _, _] = x646.to_array();
                     *o264 = x785;
                     [_, _, x786, _] = x646.to_array();
                     *o265 = x786;
-                    [x787, _, _, _] = x614.to_array();
-                    *o266 = x787;
-                    [_, x788, _, _] = x614.to_array();
-                    *o267 = x788;
-                    [_, _, x789, _] = x614.to_array();
-                    *o268 = x789;
-                    [_, _, _, x790] = x614.to_array();
-                    *o269 = x790;
                     [x791, _, _, _] = x649.to_array();
                     *o270 = x791;
                     [_, x792, _, _] = x649.to_array();
                     *o271 = x792;
                     [_, _, x793, _] = x649.to_array();
                     *o272 = x793;
-                    [x794, _, _, _] = x618.to_array();
-                    *o273 = x794;
-                    [_, x795, _, _] = x618.to_array();
-                    *o274 = x795;
-                    [_, _, x796, _] = x618.to_array();
-                    *o275 = x796;
-                    [_, _, _, x797] = x618.to_array();
-                    *o276 = x797;
                     [x798, _, _, _] = x652.to_array();
                     *o277 = x798;
                     [_, x799, _, _] = x652.to_array();
                     *o278 = x799;
                     [_, _, x800, _] = x652.to_array();
                     *o279 = x800;
-                    [x801, _, _, _] = x624.to_array();
-                    *o280 = x801;
-                    [_, x802, _, _] = x624.to_array();
-                    *o281 = x802;
-                    [_, _, x803, _] = x624.to_array();
-                    *o282 = x803;
-                    [_, _, _, x804] = x624.to_array();
-                    *o283 = x804;
                     [x805, _, _, _] = x655.to_array();
                     *o284 = x805;
                     [_, x806, _, _] = x655.to_array();
                     *o285 = x806;
                     [_, _, x807, _] = x655.to_array();
                     *o286 = x807;
-                    [x808, _, _, _] = x629.to_array();
-                    *o287 = x808;
-                    [_, x809, _, _] = x629.to_array();
-                    *o288 = x809;
-                    [_, _, x810, _] = x629.to_array();
-                    *o289 = x810;
-                    [_, _, _, x811] = x629.to_array();
-                    *o290 = x811;
                     [x812, _, _, _] = x658.to_array();
                     *o291 = x812;
                     [_, x813, _, _] = x658.to_array();
                     *o292 = x813;
                     [_, _, x814, _] = x658.to_array();
                     *o293 = x814;
-                    [x815, _, _, _] = x632.to_array();
-                    *o294 = x815;
-                    [_, x816, _, _] = x632.to_array();
-                    *o295 = x816;
-                    [_, _, x817, _] = x632.to_array();
-                    *o296 = x817;
-                    [_, _, _, x818] = x632.to_array();
-                    *o297 = x818;
                     [x819, _, _, _] = x660.to_array();
                     *o298 = x819;
                     [_, x820, _, _] = x660.to_array();

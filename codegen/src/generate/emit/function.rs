@@ -418,8 +418,15 @@ pub(super) fn writes_into_out(
     atoms: &[TokenStream],
     used: &mut Vec<Id>,
 ) -> TokenStream {
-    let slots = OutputSlots::new(plan, q, atoms, |_| true);
-    let statements = plan.statements_writing(&plan.order, used, &slots.slots, &HashMap::new());
+    let mut slots = OutputSlots::new(plan, q, atoms, |_| true);
+    let unread = slots.store_four_lanes_whole(plan, q, form);
+    let ids: Vec<Id> = plan
+        .order
+        .iter()
+        .filter(|id| !unread.contains(id))
+        .copied()
+        .collect();
+    let statements = plan.statements_writing(&ids, used, &slots.slots, &HashMap::new());
     let (pattern, target) = (
         slots_pattern(q, form, &slots.pattern),
         slots_target(q, form, quote!(out), false),
@@ -497,7 +504,11 @@ impl OutputSlots {
 /// The pattern binding the result's entries, nested as the result's storage is.
 pub(super) fn slots_pattern(q: &Quantity, form: Form, pattern: &[TokenStream]) -> TokenStream {
     let nested = |entries: &[TokenStream], rows: usize| {
-        let columns = entries.chunks(rows).map(|c| quote!([#(#c),*]));
+        // An entry stored with its column's vector ([`OutputSlots::store_four_lanes_whole`]) is
+        // bound by the rest pattern before it, and left empty here.
+        let columns = (entries.chunks(rows))
+            .map(|c| c.iter().filter(|e| !e.is_empty()))
+            .map(|c| quote!([#(#c),*]));
         quote!([#(#columns),*])
     };
     match (form, q.shape) {

@@ -2,9 +2,9 @@
 //!
 //! By concern: `leaves` (how inputs are spelled), `plan` (what a function computes, in what
 //! order, with which multiply-adds), `signature` (parameters and the inputs' destructuring),
-//! `function` (one quantity as a function), `into_form` (its form writing into a kept
-//! `ResultBuffer`), `chunks` (a large one in chunks), `constants` (constant items and
-//! `θ_b`), and this file, which assembles the module.
+//! `function` (one quantity as a function), `vector_stores` (outputs written a vector at a
+//! time), `into_form` (its form writing into a kept `ResultBuffer`), `chunks` (a large one in
+//! chunks), `constants` (constant items and `θ_b`), and this file, which assembles the module.
 //!
 //! Each function declares all its temporaries once (`let [x0, x1, …]: [f64; K];`), then assigns
 //! every live node in creation order, `xK = a op b;`, with atoms (literals, inputs, earlier
@@ -27,6 +27,7 @@ mod lane_width;
 mod leaves;
 mod plan;
 mod signature;
+mod vector_stores;
 
 use super::trace::{Quantity, SymbolicRobot};
 use crate::functions::{FunctionGroup, Functions};
