@@ -163,10 +163,11 @@ def instruction_cache_bytes():
     return None
 
 
-def bench_filter(robots):
-    """Criterion's filter (a regex) for the generated code of these robots: `^(panda)/` does not
-    match `panda_rounded/...`."""
-    return "^(" + "|".join(re.escape(r) for r in robots) + ")/.*/generated(_lanes[48]|_into)?$"
+def bench_filter(robots, by_value_only=False):
+    """Criterion's filter (a regex) for the generated code of these robots (only the by-value
+    rows when `by_value_only`): `^(panda)/` does not match `panda_rounded/...`."""
+    forms = "" if by_value_only else "(_lanes[48]|_into)?"
+    return "^(" + "|".join(re.escape(r) for r in robots) + ")/.*/generated" + forms + "$"
 
 
 def split_group(directory, bench_dirs, robots):
@@ -185,15 +186,15 @@ def split_group(directory, bench_dirs, robots):
     return None, None
 
 
-def dyngen_round(env, core, target_dir, robots, seconds, root=ROOT):
+def dyngen_round(env, core, target_dir, robots, seconds, root=ROOT, by_value_only=False):
     """{(robot, group, id): median_ns} of one run of the benches (each function measured for
-    `seconds`, or criterion's own time when None)."""
+    `seconds`, or criterion's own time when None; only the by-value rows when `by_value_only`)."""
     timing = []
     if seconds is not None:
         timing = ["--warm-up-time", f"{seconds / 3:g}", "--measurement-time", f"{seconds:g}"]
     for bench in ("dynamics", "forward_dynamics", "floating"):
         cmd = ["taskset", "-c", str(core), "cargo", "bench", "-q", "-p", "dyngen-generated",
-               "--bench", bench, "--", bench_filter(robots), *timing]
+               "--bench", bench, "--", bench_filter(robots, by_value_only), *timing]
         run(cmd, cwd=root, env=env)
     rows = {}
     criterion = Path(target_dir) / "criterion"
