@@ -7919,7 +7919,7 @@ impl RobotDynamics<7, 70> for Arm7 {
     }
 }
 impl Regressors<7, 70> for Arm7 {
-    ///Operations: 386 mul, 417 add/sub, 10 neg, and 865 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 386 mul, 417 add/sub, 10 neg, and 661 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn regressor(
         t: &JointTrig<7>,
@@ -10815,7 +10815,7 @@ impl Regressors<7, 70> for Arm7 {
         }
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, out))
     }
-    ///Operations: 258 mul, 228 add/sub, 13 neg, and 857 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 258 mul, 228 add/sub, 13 neg, and 653 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn torque_regressor(
         t: &JointTrig<7>,
@@ -14836,7 +14836,7 @@ impl BaseParameters<7, 70, 43> for Arm7 {
         )
     }
     /// `Y_b`: columns 9, 11, 13, 14, 15, 16, 17, 18, 21, 22, 24, 25, 27, 28, 29, 31, 33, 34, 35, 36, 37, 38, 41, 42, 44, 45, 47, 48, 49, 51, 53, 54, 55, 56, 57, 58, 61, 62, 64, 65, 67, 68, 69 of `Y` (the base parameters'), computed without the others.
-    ///Operations: 377 mul, 410 add/sub, 10 neg, and 638 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 377 mul, 410 add/sub, 10 neg, and 498 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn base_regressor(
         t: &JointTrig<7>,
@@ -17357,7 +17357,7 @@ impl BaseParameters<7, 70, 43> for Arm7 {
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, out))
     }
     /// `Y_b`: columns 9, 11, 13, 14, 15, 16, 17, 18, 21, 22, 24, 25, 27, 28, 29, 31, 33, 34, 35, 36, 37, 38, 41, 42, 44, 45, 47, 48, 49, 51, 53, 54, 55, 56, 57, 58, 61, 62, 64, 65, 67, 68, 69 of `Y` (the base parameters'), computed without the others.
-    ///Operations: 249 mul, 222 add/sub, 13 neg, and 630 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 249 mul, 222 add/sub, 13 neg, and 490 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn base_torque_regressor(
         t: &JointTrig<7>,

@@ -8139,7 +8139,7 @@ impl RobotDynamics<7, 98> for Arm7Friction {
     }
 }
 impl Regressors<7, 98> for Arm7Friction {
-    ///Operations: 393 mul, 417 add/sub, 10 neg, 7 sign/tanh, and 865 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 393 mul, 417 add/sub, 10 neg, 7 sign/tanh, and 661 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn regressor(
         t: &JointTrig<7>,
@@ -11141,7 +11141,7 @@ impl Regressors<7, 98> for Arm7Friction {
         }
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, out))
     }
-    ///Operations: 265 mul, 228 add/sub, 13 neg, 7 sign/tanh, and 857 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 265 mul, 228 add/sub, 13 neg, 7 sign/tanh, and 653 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn torque_regressor(
         t: &JointTrig<7>,
@@ -15429,7 +15429,7 @@ impl BaseParameters<7, 98, 69> for Arm7Friction {
         )
     }
     /// `Y_b`: columns 9, 11, 13, 14, 15, 16, 17, 18, 21, 22, 24, 25, 27, 28, 29, 31, 33, 34, 35, 36, 37, 38, 41, 42, 44, 45, 47, 48, 49, 51, 53, 54, 55, 56, 57, 58, 61, 62, 64, 65, 67, 68, 69, 71, 72, 73, 75, 76, 77, 78, 79, 80, 81, 82, 83, 84, 85, 86, 87, 88, 89, 90, 91, 92, 93, 94, 95, 96, 97 of `Y` (the base parameters'), computed without the others.
-    ///Operations: 384 mul, 410 add/sub, 10 neg, 7 sign/tanh, and 638 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 384 mul, 410 add/sub, 10 neg, 7 sign/tanh, and 498 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn base_regressor(
         t: &JointTrig<7>,
@@ -18054,7 +18054,7 @@ impl BaseParameters<7, 98, 69> for Arm7Friction {
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, out))
     }
     /// `Y_b`: columns 9, 11, 13, 14, 15, 16, 17, 18, 21, 22, 24, 25, 27, 28, 29, 31, 33, 34, 35, 36, 37, 38, 41, 42, 44, 45, 47, 48, 49, 51, 53, 54, 55, 56, 57, 58, 61, 62, 64, 65, 67, 68, 69, 71, 72, 73, 75, 76, 77, 78, 79, 80, 81, 82, 83, 84, 85, 86, 87, 88, 89, 90, 91, 92, 93, 94, 95, 96, 97 of `Y` (the base parameters'), computed without the others.
-    ///Operations: 256 mul, 222 add/sub, 13 neg, 7 sign/tanh, and 630 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 256 mul, 222 add/sub, 13 neg, 7 sign/tanh, and 490 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn base_torque_regressor(
         t: &JointTrig<7>,

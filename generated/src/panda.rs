@@ -6956,7 +6956,7 @@ impl RobotDynamics<7, 70> for Panda {
     }
 }
 impl Regressors<7, 70> for Panda {
-    ///Operations: 325 mul, 368 add/sub, 12 neg, and 780 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 325 mul, 368 add/sub, 12 neg, and 580 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn regressor(
         t: &JointTrig<7>,
@@ -9566,7 +9566,7 @@ impl Regressors<7, 70> for Panda {
         }
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, out))
     }
-    ///Operations: 199 mul, 178 add/sub, 13 neg, and 768 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 199 mul, 178 add/sub, 13 neg, and 568 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn torque_regressor(
         t: &JointTrig<7>,
@@ -13120,7 +13120,7 @@ impl BaseParameters<7, 70, 43> for Panda {
         )
     }
     /// `Y_b`: columns 9, 11, 12, 14, 15, 17, 18, 19, 21, 22, 24, 25, 27, 28, 29, 31, 32, 34, 35, 37, 38, 39, 41, 42, 44, 45, 47, 48, 49, 51, 52, 54, 55, 57, 58, 59, 61, 62, 64, 65, 67, 68, 69 of `Y` (the base parameters'), computed without the others.
-    ///Operations: 322 mul, 365 add/sub, 11 neg, and 606 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 322 mul, 365 add/sub, 11 neg, and 466 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn base_regressor(
         t: &JointTrig<7>,
@@ -15443,7 +15443,7 @@ impl BaseParameters<7, 70, 43> for Panda {
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, out))
     }
     /// `Y_b`: columns 9, 11, 12, 14, 15, 17, 18, 19, 21, 22, 24, 25, 27, 28, 29, 31, 32, 34, 35, 37, 38, 39, 41, 42, 44, 45, 47, 48, 49, 51, 52, 54, 55, 57, 58, 59, 61, 62, 64, 65, 67, 68, 69 of `Y` (the base parameters'), computed without the others.
-    ///Operations: 196 mul, 177 add/sub, 12 neg, and 593 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 196 mul, 177 add/sub, 12 neg, and 453 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn base_torque_regressor(
         t: &JointTrig<7>,

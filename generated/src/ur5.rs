@@ -3901,7 +3901,7 @@ impl RobotDynamics<6, 60> for Ur5 {
     }
 }
 impl Regressors<6, 60> for Ur5 {
-    ///Operations: 343 mul, 329 add/sub, 27 neg, and 529 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 343 mul, 329 add/sub, 27 neg, and 365 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn regressor(
         t: &JointTrig<6>,
@@ -6067,7 +6067,7 @@ impl Regressors<6, 60> for Ur5 {
         }
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, out))
     }
-    ///Operations: 232 mul, 171 add/sub, 28 neg, and 526 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 232 mul, 171 add/sub, 28 neg, and 362 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn torque_regressor(
         t: &JointTrig<6>,
@@ -9120,7 +9120,7 @@ impl BaseParameters<6, 60, 36> for Ur5 {
         )
     }
     /// `Y_b`: columns 9, 11, 13, 14, 15, 16, 17, 18, 21, 23, 24, 25, 26, 27, 28, 31, 33, 34, 35, 36, 37, 38, 41, 42, 44, 45, 47, 48, 49, 51, 53, 54, 55, 56, 57, 58 of `Y` (the base parameters'), computed without the others.
-    ///Operations: 337 mul, 327 add/sub, 27 neg, and 404 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 337 mul, 327 add/sub, 27 neg, and 292 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn base_regressor(
         t: &JointTrig<6>,
@@ -11081,7 +11081,7 @@ impl BaseParameters<6, 60, 36> for Ur5 {
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, out))
     }
     /// `Y_b`: columns 9, 11, 13, 14, 15, 16, 17, 18, 21, 23, 24, 25, 26, 27, 28, 31, 33, 34, 35, 36, 37, 38, 41, 42, 44, 45, 47, 48, 49, 51, 53, 54, 55, 56, 57, 58 of `Y` (the base parameters'), computed without the others.
-    ///Operations: 226 mul, 170 add/sub, 28 neg, and 401 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 226 mul, 170 add/sub, 28 neg, and 289 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn base_torque_regressor(
         t: &JointTrig<6>,

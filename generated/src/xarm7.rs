@@ -9208,7 +9208,7 @@ impl RobotDynamics<7, 70> for Xarm7 {
     }
 }
 impl Regressors<7, 70> for Xarm7 {
-    ///Operations: 472 mul, 451 add/sub, 1 neg, and 1292 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 472 mul, 451 add/sub, 1 neg, and 1060 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn regressor(
         t: &JointTrig<7>,
@@ -12844,7 +12844,7 @@ impl Regressors<7, 70> for Xarm7 {
         }
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, out))
     }
-    ///Operations: 301 mul, 232 add/sub, 3 neg, and 1278 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 301 mul, 232 add/sub, 3 neg, and 1046 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn torque_regressor(
         t: &JointTrig<7>,
@@ -17647,7 +17647,7 @@ impl BaseParameters<7, 70, 43> for Xarm7 {
         )
     }
     /// `Y_b`: columns 9, 11, 12, 14, 15, 17, 18, 19, 21, 22, 24, 25, 27, 28, 29, 31, 32, 34, 35, 37, 38, 39, 41, 42, 44, 45, 47, 48, 49, 51, 52, 54, 55, 57, 58, 59, 61, 62, 64, 65, 67, 68, 69 of `Y` (the base parameters'), computed without the others.
-    ///Operations: 456 mul, 446 add/sub, 1 neg, and 837 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 456 mul, 446 add/sub, 1 neg, and 669 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn base_regressor(
         t: &JointTrig<7>,
@@ -20550,7 +20550,7 @@ impl BaseParameters<7, 70, 43> for Xarm7 {
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, out))
     }
     /// `Y_b`: columns 9, 11, 12, 14, 15, 17, 18, 19, 21, 22, 24, 25, 27, 28, 29, 31, 32, 34, 35, 37, 38, 39, 41, 42, 44, 45, 47, 48, 49, 51, 52, 54, 55, 57, 58, 59, 61, 62, 64, 65, 67, 68, 69 of `Y` (the base parameters'), computed without the others.
-    ///Operations: 285 mul, 227 add/sub, 3 neg, and 823 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 285 mul, 227 add/sub, 3 neg, and 655 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn base_torque_regressor(
         t: &JointTrig<7>,

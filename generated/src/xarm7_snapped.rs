@@ -6785,7 +6785,7 @@ impl RobotDynamics<7, 70> for Xarm7Snapped {
     }
 }
 impl Regressors<7, 70> for Xarm7Snapped {
-    ///Operations: 328 mul, 372 add/sub, 13 neg, and 817 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 328 mul, 372 add/sub, 13 neg, and 617 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn regressor(
         t: &JointTrig<7>,
@@ -9469,7 +9469,7 @@ impl Regressors<7, 70> for Xarm7Snapped {
         }
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, out))
     }
-    ///Operations: 204 mul, 184 add/sub, 14 neg, and 808 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 204 mul, 184 add/sub, 14 neg, and 608 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn torque_regressor(
         t: &JointTrig<7>,
@@ -13127,7 +13127,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
         )
     }
     /// `Y_b`: columns 9, 11, 12, 14, 15, 17, 18, 19, 21, 22, 24, 25, 27, 28, 29, 31, 32, 34, 35, 37, 38, 39, 41, 42, 44, 45, 47, 48, 49, 51, 52, 54, 55, 57, 58, 59, 61, 62, 64, 65, 67, 68, 69 of `Y` (the base parameters'), computed without the others.
-    ///Operations: 325 mul, 369 add/sub, 13 neg, and 621 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 325 mul, 369 add/sub, 13 neg, and 481 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn base_regressor(
         t: &JointTrig<7>,
@@ -15494,7 +15494,7 @@ impl BaseParameters<7, 70, 43> for Xarm7Snapped {
         dyngen_runtime::__private::dispatch_eight::<Body, _>((t, qd, v, a, out))
     }
     /// `Y_b`: columns 9, 11, 12, 14, 15, 17, 18, 19, 21, 22, 24, 25, 27, 28, 29, 31, 32, 34, 35, 37, 38, 39, 41, 42, 44, 45, 47, 48, 49, 51, 52, 54, 55, 57, 58, 59, 61, 62, 64, 65, 67, 68, 69 of `Y` (the base parameters'), computed without the others.
-    ///Operations: 201 mul, 183 add/sub, 14 neg, and 610 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
+    ///Operations: 201 mul, 183 add/sub, 14 neg, and 470 lane ops (f64x4: each on four lanes at once; splats, seeds and lane extractions included) (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
     fn base_torque_regressor(
         t: &JointTrig<7>,

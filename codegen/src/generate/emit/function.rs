@@ -216,7 +216,17 @@ pub(super) fn function(
             }
         },
     };
-    let mut doc = vec![doc_counts(&robot.graph.op_counts(&q.outputs), plan.lanes)];
+    let whole = plan.order.len() <= robot.chunk_values && stage_end.is_none();
+    let mut used = main_used;
+    let mut counts = robot.graph.op_counts(&q.outputs);
+    // The statements writing the result in place, shared by the by-value and `_into` forms; the
+    // lane extractions they store a vector at a time are not computed.
+    let writes = (whole && writes_in_place(q, form)).then(|| {
+        let (writes, stored_whole) = writes_into_out(&plan, q, form, &atoms, &mut used);
+        counts.lanes -= stored_whole;
+        writes
+    });
+    let mut doc = vec![doc_counts(&counts, plan.lanes)];
     if q.kind.uses_base_columns() {
         let columns: Vec<String> = robot.base.columns.iter().map(|c| c.to_string()).collect();
         doc.insert(
@@ -228,10 +238,7 @@ pub(super) fn function(
         );
     }
     let many_registers = matches!(q.shape, Shape::MatrixPair(_)) || plan.order.len() > MANY_VALUES;
-    if plan.order.len() <= robot.chunk_values && stage_end.is_none() {
-        let mut used = main_used;
-        // The statements writing the result in place, shared by the by-value and `_into` forms.
-        let writes = writes_in_place(q, form).then(|| writes_into_out(&plan, q, form, &atoms, &mut used));
+    if whole {
         let body = match &writes {
             Some(writes) => {
                 let zero = zero_result(q, form);
@@ -294,7 +301,7 @@ pub(super) fn function(
             suffix,
         },
         &atoms,
-        main_used,
+        used,
         stage_end,
     )
 }
@@ -410,14 +417,15 @@ fn result_bytes(q: &Quantity, form: Form) -> usize {
 /// which the block leaves as it found the structural zeros. Each output is stored as soon as it
 /// is computed: returning the outputs at the end kept every one alive across the whole function
 /// (the regressor's peak of live values was 260 instead of 103), so the register allocator
-/// spilled them and reloaded them to store them.
+/// spilled them and reloaded them to store them. Also returns how many lane extractions the
+/// block leaves out because it stores their vector whole.
 pub(super) fn writes_into_out(
     plan: &Plan,
     q: &Quantity,
     form: Form,
     atoms: &[TokenStream],
     used: &mut Vec<Id>,
-) -> TokenStream {
+) -> (TokenStream, usize) {
     let mut slots = OutputSlots::new(plan, q, atoms, |_| true);
     let unread = slots.store_four_lanes_whole(plan, q, form);
     let ids: Vec<Id> = plan
@@ -432,13 +440,14 @@ pub(super) fn writes_into_out(
         slots_target(q, form, quote!(out), false),
     );
     let immediate = &slots.immediate;
-    quote! {
+    let block = quote! {
         {
             let #pattern = #target;
             #(#immediate)*
             #(#statements)*
         }
-    }
+    };
+    (block, unread.len())
 }
 
 /// Whether a function's result is written in place, each output stored as soon as it is
