@@ -49,7 +49,7 @@ def build_and_time(builds, robots, rounds, core, seconds):
     timed = []
     for r in range(rounds):
         print(f"round {r + 1}/{rounds}", file=sys.stderr)
-        # The table reports the by-value rows only: the `_into` and lane rows would double a round.
+        # The tables report the by-value rows only: the `_into` and lane rows would double a round.
         timed.append({label: dyngen_round(env, core, target, robots, seconds, root=tree,
                                           by_value_only=True)
                       for label, tree, target, env in builds})
@@ -64,7 +64,7 @@ def print_table(rounds, labels, robots, reduce, launches=False):
     extra = " launches of one build |" if launches else ""
     print("| robot | function | " + " | ".join(labels) +
           " | spread default | spread native | default / native |" + extra)
-    print("|---|---|" + "---:|" * (len(labels) + 3 + launches))
+    print("|---|---|" + "---:|" * (len(labels) + 3 + (1 if launches else 0)))
     for robot in robots:
         for _, group, _ in FUNCTIONS:
             key = (robot, group, "generated")
