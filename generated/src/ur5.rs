@@ -13618,1019 +13618,1074 @@ impl BaseParameters<6, 60, 36> for Ur5 {
 impl LaneDynamics<6, 36> for Ur5 {
     ///Operations: 200 mul, 137 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
-    fn inverse_dynamics_lanes<L: Lanes>(
-        t: &JointTrigLanes<6, L>,
-        qd: &[L; 6],
-        a: &[L; 6],
-    ) -> [L; 6] {
-        dyngen_runtime::__private::align_stack_frame();
-        let [_, s1, s2, s3, s4, s5] = t.sin;
-        let [_, c1, c2, c3, c4, c5] = t.cos;
-        let [qd0, qd1, qd2, qd3, qd4, qd5] = *qd;
-        let [a0, a1, a2, a3, a4, a5] = *a;
-        let mut out: [L; 6] = [L::splat(0.0); 6];
-        {
-            let [o0, o1, o2, o3, o4, o5] = &mut out;
-            let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14, x15,
-            x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28, x29, x30,
-            x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42, x43, x44, x45,
-            x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56, x57, x58, x59, x60,
-            x61, x62, x63, x64, x65, x66, x67, x68, x69, x70, x71, x72, x73, x74, x75,
-            x76, x77, x78, x79, x80, x81, x82, x83, x84, x85, x86, x87, x88, x89, x90,
-            x91, x92, x93, x94, x95, x96, x97, x98, x99, x100, x101, x102, x103, x104,
-            x105, x106, x107, x108, x109, x110, x111, x112, x113, x114, x115, x116, x117,
-            x118, x119, x120, x121, x122, x123, x124, x125, x126, x127, x128, x129, x130,
-            x131, x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142, x143,
-            x144, x145, x146, x147, x148, x149, x150, x151, x152, x153, x154, x155, x156,
-            x157, x158, x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169,
-            x170, x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
-            x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194, x195,
-            x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
-            x209, x210, x211, x212, x213, x214, x215, x216, x217, x218, x219, x220, x221,
-            x222, x223, x224, x225, x226, x227, x228, x229, x230, x231, x232, x233,
-            ]: [L; 234];
-            x0 = qd0 * c1;
-            x1 = qd0 * s1;
-            x2 = L::splat(0.13585f64) * qd0;
-            x3 = a0 * c1;
-            x4 = L::splat(0.13585f64) * a0;
-            x5 = s1 * x4;
-            x6 = L::splat(-9.81f64).mul_add(c1, x5);
-            x7 = c1 * x4;
-            x8 = L::splat(-9.81f64).mul_add(s1, -x7);
-            x9 = c2 * x0;
-            x10 = s2.mul_add(x1, -x9);
-            x11 = c2 * x1;
-            x12 = s2.mul_add(x0, x11);
-            x13 = L::splat(0.1197f64) * x1;
-            x14 = L::splat(-0.425f64) * x0;
-            x15 = L::splat(0.1197f64) * x0;
-            x16 = qd1 + qd2;
-            x17 = L::splat(0.425f64) * a1;
-            x18 = a1 + a2;
-            x19 = s3 * x10;
-            x20 = c3.mul_add(x12, -x19);
-            x21 = s3 * x12;
-            x22 = c3.mul_add(x10, x21);
-            x23 = L::splat(0.39225f64) * x16;
-            x24 = L::splat(0.39225f64) * x10;
-            x25 = qd3 + x16;
-            x26 = a3 + x18;
-            x27 = s4 * x25;
-            x28 = c4.mul_add(x20, x27);
-            x29 = s4 * x20;
-            x30 = c4.mul_add(x25, -x29);
-            x31 = qd4 + x22;
-            x32 = s5 * x31;
-            x33 = c5.mul_add(x28, -x32);
-            x34 = c5 * x31;
-            x35 = s5.mul_add(x28, x34);
-            x36 = qd5 + x30;
-            x37 = L::splat(4.432922500000001f64) * qd1;
-            x38 = L::splat(-4.432922500000001f64) * x0;
-            x39 = L::splat(0.19371331275f64) * qd1;
-            x40 = L::splat(1.5987592750000001f64) * x16;
-            x41 = L::splat(1.5987592750000001f64) * x10;
-            x42 = L::splat(-0.05132265682500001f64) * x16;
-            x43 = L::splat(0.017784735f64) * x25;
-            x44 = L::splat(0.017784735f64) * x20;
-            x45 = L::splat(-0.001653980355f64) * x25;
-            x46 = L::splat(-1.75501953841f64) * x0;
-            x47 = L::splat(1.77012693841f64) * qd1;
-            x48 = L::splat(-0.19371331275f64).mul_add(x1, x47);
-            x49 = L::splat(0.59155695167475f64) * x10;
-            x50 = L::splat(0.59565195167475f64) * x16;
-            x51 = L::splat(0.05132265682500001f64).mul_add(x12, x50);
-            x52 = L::splat(0.004608836229750008f64) * x20;
-            x53 = L::splat(0.22402883622975f64) * x25;
-            x54 = L::splat(-0.001653980355f64).mul_add(x22, x53);
-            x55 = L::splat(0.033822f64) * x28;
-            x56 = L::splat(0.253242f64) * x31;
-            x57 = L::splat(-0.016685526854599998f64) * x33;
-            x58 = L::splat(0.0171364731454f64) * x36;
-            x59 = qd0 * x2;
-            x60 = qd1 * x0;
-            x61 = qd1.mul_add(x1, -x3);
-            x62 = a0.mul_add(s1, x60);
-            x63 = L::splat(0.425f64).mul_add(qd1, -x13);
-            x64 = x1 * x14;
-            x65 = qd1.mul_add(x15, -x64);
-            x66 = x1 * x63;
-            x67 = x0.mul_add(x15, -x66);
-            x68 = qd1 * x63;
-            x69 = x0.mul_add(x14, -x68);
-            x70 = x6 + x65;
-            x71 = x67 - x59;
-            x72 = x8 + x69;
-            x73 = s2 * x62;
-            x74 = c2.mul_add(x61, x73);
-            x75 = c2 * x62;
-            x76 = s2.mul_add(x61, -x75);
-            x77 = L::splat(0.1197f64).mul_add(x62, -x17);
-            x78 = x70 - x77;
-            x79 = L::splat(-0.425f64).mul_add(x61, x71);
-            x80 = L::splat(-0.1197f64).mul_add(x61, x72);
-            x81 = s2 * x80;
-            x82 = c2.mul_add(x78, -x81);
-            x83 = c2 * x80;
-            x84 = s2.mul_add(x78, x83);
-            x85 = qd2.mul_add(x12, x74);
-            x86 = qd2.mul_add(x10, x76);
-            x87 = x16 * x23;
-            x88 = x10.mul_add(x24, x87);
-            x89 = (-x12).mul_add(x24, x82);
-            x90 = (-x12).mul_add(x23, x79);
-            x91 = x84 - x88;
-            x92 = c3 * x86;
-            x93 = s3.mul_add(x85, x92);
-            x94 = s3 * x86;
-            x95 = c3.mul_add(x85, -x94);
-            x96 = L::splat(0.39225f64).mul_add(x18, x89);
-            x97 = L::splat(-0.39225f64).mul_add(x85, x90);
-            x98 = c3 * x91;
-            x99 = s3.mul_add(x96, x98);
-            x100 = qd3.mul_add(x22, x93);
-            x101 = qd3.mul_add(x20, x95);
-            x102 = c4 * x100;
-            x103 = s4.mul_add(x26, -x102);
-            x104 = s4 * x100;
-            x105 = c4.mul_add(x26, x104);
-            x106 = a4 + x101;
-            x107 = qd4.mul_add(x30, x103);
-            x108 = (-qd4).mul_add(x28, x105);
-            x109 = s5 * x106;
-            x110 = c5.mul_add(x107, -x109);
-            x111 = a5 + x108;
-            x112 = (-qd5).mul_add(x35, x110);
-            x113 = L::splat(-0.19371331275f64) * x62;
-            x114 = L::splat(1.77012693841f64).mul_add(a1, x113);
-            x115 = x1 * x48;
-            x116 = qd1.mul_add(x39, x115);
-            x117 = x1 * x46;
-            x118 = x0.mul_add(x39, -x117);
-            x119 = qd1 * x46;
-            x120 = x0.mul_add(x48, x119);
-            x121 = L::splat(1.75501953841f64).mul_add(x61, x116);
-            x122 = x114 + x118;
-            x123 = L::splat(0.19371331275f64).mul_add(a1, -x120);
-            x124 = L::splat(4.432922500000001f64).mul_add(x59, x121);
-            x125 = L::splat(4.432922500000001f64).mul_add(x6, x122);
-            x126 = x1 * x38;
-            x127 = qd1 * x37;
-            x128 = x0.mul_add(x38, -x127);
-            x129 = L::splat(4.432922500000001f64).mul_add(a1, -x126);
-            x130 = L::splat(-0.05132265682500001f64) * x86;
-            x131 = L::splat(0.59565195167475f64).mul_add(x18, x130);
-            x132 = x12 * x51;
-            x133 = x16.mul_add(x42, x132);
-            x134 = x10 * x42;
-            x135 = x12.mul_add(x49, x134);
-            x136 = x16 * x49;
-            x137 = x10.mul_add(x51, -x136);
-            x138 = L::splat(0.59155695167475f64).mul_add(x85, x133);
-            x139 = x131 - x135;
-            x140 = L::splat(-0.05132265682500001f64).mul_add(x18, x137);
-            x141 = L::splat(-1.5987592750000001f64).mul_add(x79, x138);
-            x142 = L::splat(1.5987592750000001f64).mul_add(x82, x139);
-            x143 = x12 * x41;
-            x144 = x12 * x40;
-            x145 = x16 * x40;
-            x146 = x10.mul_add(x41, x145);
-            x147 = L::splat(1.5987592750000001f64).mul_add(x18, -x143);
-            x148 = L::splat(1.5987592750000001f64).mul_add(x85, x144);
-            x149 = L::splat(-0.001653980355f64) * x101;
-            x150 = L::splat(0.22402883622975f64).mul_add(x26, x149);
-            x151 = x22 * x54;
-            x152 = x25.mul_add(x45, -x151);
-            x153 = x20 * x45;
-            x154 = x22.mul_add(x52, -x153);
-            x155 = x25 * x52;
-            x156 = x20.mul_add(x54, -x155);
-            x157 = L::splat(-0.004608836229750008f64).mul_add(x100, x152);
-            x158 = x150 + x154;
-            x159 = L::splat(-0.001653980355f64).mul_add(x26, x156);
-            x160 = L::splat(-0.017784735f64).mul_add(x97, x157);
-            x161 = L::splat(-0.017784735f64).mul_add(x99, x158);
-            x162 = L::splat(-0.017784735f64) * x100;
-            x163 = x22 * x44;
-            x164 = x25 * x43;
-            x165 = x20.mul_add(x44, x164);
-            x166 = L::splat(0.017784735f64).mul_add(x26, x163);
-            x167 = x22.mul_add(x43, -x162);
-            x168 = x30 * x56;
-            x169 = x28 * x56;
-            x170 = x31.mul_add(x55, -x169);
-            x171 = x30 * x55;
-            x172 = L::splat(0.033822f64).mul_add(x107, x168);
-            x173 = L::splat(0.253242f64).mul_add(x106, -x171);
-            x174 = x35 * x58;
-            x175 = x35 * x57;
-            x176 = x36 * x57;
-            x177 = x33.mul_add(x58, -x176);
-            x178 = L::splat(-0.016685526854599998f64).mul_add(x112, -x174);
-            x179 = L::splat(0.0171364731454f64).mul_add(x111, x175);
-            *o5 = x179;
-            x180 = s5 * x177;
-            x181 = c5.mul_add(x178, x180);
-            x182 = s5 * x178;
-            x183 = c5.mul_add(x177, -x182);
-            x184 = x172 + x181;
-            x185 = x170 + x179;
-            x186 = x173 + x183;
-            *o4 = x186;
-            x187 = s4 * x185;
-            x188 = c4.mul_add(x184, -x187);
-            x189 = c4 * x185;
-            x190 = s4.mul_add(x184, x189);
-            x191 = x160 + x188;
-            x192 = x161 + x190;
-            *o3 = x192;
-            x193 = x159 + x186;
-            x194 = c3 * x165;
-            x195 = s3.mul_add(x166, x194);
-            x196 = c3 * x166;
-            x197 = s3.mul_add(x165, -x196);
-            x198 = s3 * x191;
-            x199 = c3.mul_add(x193, -x198);
-            x200 = s3 * x193;
-            x201 = c3.mul_add(x191, x200);
-            x202 = L::splat(-0.39225f64).mul_add(x167, x199);
-            x203 = L::splat(-0.39225f64).mul_add(x195, x192);
-            x204 = x141 + x202;
-            x205 = x142 + x203;
-            *o2 = x205;
-            x206 = x140 - x201;
-            x207 = x147 - x195;
-            x208 = x167 - x148;
-            x209 = x197 - x146;
-            x210 = s2 * x209;
-            x211 = c2.mul_add(x207, x210);
-            x212 = s2 * x207;
-            x213 = c2.mul_add(x209, -x212);
-            x214 = s2 * x206;
-            x215 = c2.mul_add(x204, x214);
-            x216 = s2 * x204;
-            x217 = c2.mul_add(x206, -x216);
-            x218 = L::splat(0.425f64) * x208;
-            x219 = L::splat(-0.1197f64).mul_add(x213, -x218);
-            x220 = x215 + x219;
-            x221 = L::splat(0.425f64).mul_add(x211, x205);
-            x222 = L::splat(0.1197f64).mul_add(x211, x217);
-            x223 = x124 + x220;
-            x224 = x125 + x221;
-            *o1 = x224;
-            x225 = x123 + x222;
-            x226 = x129 + x211;
-            x227 = x128 + x213;
-            x228 = s1 * x226;
-            x229 = c1.mul_add(x227, -x228);
-            x230 = s1 * x225;
-            x231 = c1.mul_add(x223, x230);
-            x232 = L::splat(0.13585f64).mul_add(x229, x231);
-            x233 = L::splat(0.41784981244275005f64).mul_add(a0, -x232);
-            *o0 = x233;
+    fn inverse_dynamics_lanes<C: Lanes>(
+        t: &JointTrigLanes<6, C>,
+        qd: &[C; 6],
+        a: &[C; 6],
+    ) -> [C; 6] {
+        struct Body;
+        impl<
+            C: Lanes,
+        > dyngen_runtime::__private::LaneKernel<
+            C,
+            (&JointTrigLanes<6, C>, &[C; 6], &[C; 6]),
+        > for Body {
+            type Output = [C; 6];
+            #[inline(always)]
+            fn run<
+                M: dyngen_runtime::__private::MulAdd,
+                L: dyngen_runtime::__private::LaneVector<M>,
+            >(
+                arith: M,
+                (t, qd, a): (&JointTrigLanes<6, C>, &[C; 6], &[C; 6]),
+            ) -> [C; 6] {
+                let t = &dyngen_runtime::__private::trig_in::<M, C, L, _>(arith, t);
+                let qd = &dyngen_runtime::__private::lanes_in::<M, C, L, _>(arith, qd);
+                let a = &dyngen_runtime::__private::lanes_in::<M, C, L, _>(arith, a);
+                let [_, s1, s2, s3, s4, s5] = t.sin;
+                let [_, c1, c2, c3, c4, c5] = t.cos;
+                let [qd0, qd1, qd2, qd3, qd4, qd5] = *qd;
+                let [a0, a1, a2, a3, a4, a5] = *a;
+                let mut out: [C; 6] = [C::splat(0.0); 6];
+                {
+                    let [o0, o1, o2, o3, o4, o5] = &mut out;
+                    let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                    x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                    x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                    x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                    x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                    x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                    x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                    x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109,
+                    x110, x111, x112, x113, x114, x115, x116, x117, x118, x119, x120,
+                    x121, x122, x123, x124, x125, x126, x127, x128, x129, x130, x131,
+                    x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142,
+                    x143, x144, x145, x146, x147, x148, x149, x150, x151, x152, x153,
+                    x154, x155, x156, x157, x158, x159, x160, x161, x162, x163, x164,
+                    x165, x166, x167, x168, x169, x170, x171, x172, x173, x174, x175,
+                    x176, x177, x178, x179, x180, x181, x182, x183, x184, x185, x186,
+                    x187, x188, x189, x190, x191, x192, x193, x194, x195, x196, x197,
+                    x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
+                    x209, x210, x211, x212, x213, x214, x215, x216, x217, x218, x219,
+                    x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                    x231, x232, x233]: [L; 234];
+                    x0 = qd0 * c1;
+                    x1 = qd0 * s1;
+                    x2 = L::splat_in(arith, 0.13585f64) * qd0;
+                    x3 = a0 * c1;
+                    x4 = L::splat_in(arith, 0.13585f64) * a0;
+                    x5 = s1 * x4;
+                    x6 = L::splat_in(arith, -9.81f64).mul_add(c1, x5);
+                    x7 = c1 * x4;
+                    x8 = L::splat_in(arith, -9.81f64).mul_add(s1, -x7);
+                    x9 = c2 * x0;
+                    x10 = s2.mul_add(x1, -x9);
+                    x11 = c2 * x1;
+                    x12 = s2.mul_add(x0, x11);
+                    x13 = L::splat_in(arith, 0.1197f64) * x1;
+                    x14 = L::splat_in(arith, -0.425f64) * x0;
+                    x15 = L::splat_in(arith, 0.1197f64) * x0;
+                    x16 = qd1 + qd2;
+                    x17 = L::splat_in(arith, 0.425f64) * a1;
+                    x18 = a1 + a2;
+                    x19 = s3 * x10;
+                    x20 = c3.mul_add(x12, -x19);
+                    x21 = s3 * x12;
+                    x22 = c3.mul_add(x10, x21);
+                    x23 = L::splat_in(arith, 0.39225f64) * x16;
+                    x24 = L::splat_in(arith, 0.39225f64) * x10;
+                    x25 = qd3 + x16;
+                    x26 = a3 + x18;
+                    x27 = s4 * x25;
+                    x28 = c4.mul_add(x20, x27);
+                    x29 = s4 * x20;
+                    x30 = c4.mul_add(x25, -x29);
+                    x31 = qd4 + x22;
+                    x32 = s5 * x31;
+                    x33 = c5.mul_add(x28, -x32);
+                    x34 = c5 * x31;
+                    x35 = s5.mul_add(x28, x34);
+                    x36 = qd5 + x30;
+                    x37 = L::splat_in(arith, 4.432922500000001f64) * qd1;
+                    x38 = L::splat_in(arith, -4.432922500000001f64) * x0;
+                    x39 = L::splat_in(arith, 0.19371331275f64) * qd1;
+                    x40 = L::splat_in(arith, 1.5987592750000001f64) * x16;
+                    x41 = L::splat_in(arith, 1.5987592750000001f64) * x10;
+                    x42 = L::splat_in(arith, -0.05132265682500001f64) * x16;
+                    x43 = L::splat_in(arith, 0.017784735f64) * x25;
+                    x44 = L::splat_in(arith, 0.017784735f64) * x20;
+                    x45 = L::splat_in(arith, -0.001653980355f64) * x25;
+                    x46 = L::splat_in(arith, -1.75501953841f64) * x0;
+                    x47 = L::splat_in(arith, 1.77012693841f64) * qd1;
+                    x48 = L::splat_in(arith, -0.19371331275f64).mul_add(x1, x47);
+                    x49 = L::splat_in(arith, 0.59155695167475f64) * x10;
+                    x50 = L::splat_in(arith, 0.59565195167475f64) * x16;
+                    x51 = L::splat_in(arith, 0.05132265682500001f64).mul_add(x12, x50);
+                    x52 = L::splat_in(arith, 0.004608836229750008f64) * x20;
+                    x53 = L::splat_in(arith, 0.22402883622975f64) * x25;
+                    x54 = L::splat_in(arith, -0.001653980355f64).mul_add(x22, x53);
+                    x55 = L::splat_in(arith, 0.033822f64) * x28;
+                    x56 = L::splat_in(arith, 0.253242f64) * x31;
+                    x57 = L::splat_in(arith, -0.016685526854599998f64) * x33;
+                    x58 = L::splat_in(arith, 0.0171364731454f64) * x36;
+                    x59 = qd0 * x2;
+                    x60 = qd1 * x0;
+                    x61 = qd1.mul_add(x1, -x3);
+                    x62 = a0.mul_add(s1, x60);
+                    x63 = L::splat_in(arith, 0.425f64).mul_add(qd1, -x13);
+                    x64 = x1 * x14;
+                    x65 = qd1.mul_add(x15, -x64);
+                    x66 = x1 * x63;
+                    x67 = x0.mul_add(x15, -x66);
+                    x68 = qd1 * x63;
+                    x69 = x0.mul_add(x14, -x68);
+                    x70 = x6 + x65;
+                    x71 = x67 - x59;
+                    x72 = x8 + x69;
+                    x73 = s2 * x62;
+                    x74 = c2.mul_add(x61, x73);
+                    x75 = c2 * x62;
+                    x76 = s2.mul_add(x61, -x75);
+                    x77 = L::splat_in(arith, 0.1197f64).mul_add(x62, -x17);
+                    x78 = x70 - x77;
+                    x79 = L::splat_in(arith, -0.425f64).mul_add(x61, x71);
+                    x80 = L::splat_in(arith, -0.1197f64).mul_add(x61, x72);
+                    x81 = s2 * x80;
+                    x82 = c2.mul_add(x78, -x81);
+                    x83 = c2 * x80;
+                    x84 = s2.mul_add(x78, x83);
+                    x85 = qd2.mul_add(x12, x74);
+                    x86 = qd2.mul_add(x10, x76);
+                    x87 = x16 * x23;
+                    x88 = x10.mul_add(x24, x87);
+                    x89 = (-x12).mul_add(x24, x82);
+                    x90 = (-x12).mul_add(x23, x79);
+                    x91 = x84 - x88;
+                    x92 = c3 * x86;
+                    x93 = s3.mul_add(x85, x92);
+                    x94 = s3 * x86;
+                    x95 = c3.mul_add(x85, -x94);
+                    x96 = L::splat_in(arith, 0.39225f64).mul_add(x18, x89);
+                    x97 = L::splat_in(arith, -0.39225f64).mul_add(x85, x90);
+                    x98 = c3 * x91;
+                    x99 = s3.mul_add(x96, x98);
+                    x100 = qd3.mul_add(x22, x93);
+                    x101 = qd3.mul_add(x20, x95);
+                    x102 = c4 * x100;
+                    x103 = s4.mul_add(x26, -x102);
+                    x104 = s4 * x100;
+                    x105 = c4.mul_add(x26, x104);
+                    x106 = a4 + x101;
+                    x107 = qd4.mul_add(x30, x103);
+                    x108 = (-qd4).mul_add(x28, x105);
+                    x109 = s5 * x106;
+                    x110 = c5.mul_add(x107, -x109);
+                    x111 = a5 + x108;
+                    x112 = (-qd5).mul_add(x35, x110);
+                    x113 = L::splat_in(arith, -0.19371331275f64) * x62;
+                    x114 = L::splat_in(arith, 1.77012693841f64).mul_add(a1, x113);
+                    x115 = x1 * x48;
+                    x116 = qd1.mul_add(x39, x115);
+                    x117 = x1 * x46;
+                    x118 = x0.mul_add(x39, -x117);
+                    x119 = qd1 * x46;
+                    x120 = x0.mul_add(x48, x119);
+                    x121 = L::splat_in(arith, 1.75501953841f64).mul_add(x61, x116);
+                    x122 = x114 + x118;
+                    x123 = L::splat_in(arith, 0.19371331275f64).mul_add(a1, -x120);
+                    x124 = L::splat_in(arith, 4.432922500000001f64).mul_add(x59, x121);
+                    x125 = L::splat_in(arith, 4.432922500000001f64).mul_add(x6, x122);
+                    x126 = x1 * x38;
+                    x127 = qd1 * x37;
+                    x128 = x0.mul_add(x38, -x127);
+                    x129 = L::splat_in(arith, 4.432922500000001f64).mul_add(a1, -x126);
+                    x130 = L::splat_in(arith, -0.05132265682500001f64) * x86;
+                    x131 = L::splat_in(arith, 0.59565195167475f64).mul_add(x18, x130);
+                    x132 = x12 * x51;
+                    x133 = x16.mul_add(x42, x132);
+                    x134 = x10 * x42;
+                    x135 = x12.mul_add(x49, x134);
+                    x136 = x16 * x49;
+                    x137 = x10.mul_add(x51, -x136);
+                    x138 = L::splat_in(arith, 0.59155695167475f64).mul_add(x85, x133);
+                    x139 = x131 - x135;
+                    x140 = L::splat_in(arith, -0.05132265682500001f64)
+                        .mul_add(x18, x137);
+                    x141 = L::splat_in(arith, -1.5987592750000001f64).mul_add(x79, x138);
+                    x142 = L::splat_in(arith, 1.5987592750000001f64).mul_add(x82, x139);
+                    x143 = x12 * x41;
+                    x144 = x12 * x40;
+                    x145 = x16 * x40;
+                    x146 = x10.mul_add(x41, x145);
+                    x147 = L::splat_in(arith, 1.5987592750000001f64).mul_add(x18, -x143);
+                    x148 = L::splat_in(arith, 1.5987592750000001f64).mul_add(x85, x144);
+                    x149 = L::splat_in(arith, -0.001653980355f64) * x101;
+                    x150 = L::splat_in(arith, 0.22402883622975f64).mul_add(x26, x149);
+                    x151 = x22 * x54;
+                    x152 = x25.mul_add(x45, -x151);
+                    x153 = x20 * x45;
+                    x154 = x22.mul_add(x52, -x153);
+                    x155 = x25 * x52;
+                    x156 = x20.mul_add(x54, -x155);
+                    x157 = L::splat_in(arith, -0.004608836229750008f64)
+                        .mul_add(x100, x152);
+                    x158 = x150 + x154;
+                    x159 = L::splat_in(arith, -0.001653980355f64).mul_add(x26, x156);
+                    x160 = L::splat_in(arith, -0.017784735f64).mul_add(x97, x157);
+                    x161 = L::splat_in(arith, -0.017784735f64).mul_add(x99, x158);
+                    x162 = L::splat_in(arith, -0.017784735f64) * x100;
+                    x163 = x22 * x44;
+                    x164 = x25 * x43;
+                    x165 = x20.mul_add(x44, x164);
+                    x166 = L::splat_in(arith, 0.017784735f64).mul_add(x26, x163);
+                    x167 = x22.mul_add(x43, -x162);
+                    x168 = x30 * x56;
+                    x169 = x28 * x56;
+                    x170 = x31.mul_add(x55, -x169);
+                    x171 = x30 * x55;
+                    x172 = L::splat_in(arith, 0.033822f64).mul_add(x107, x168);
+                    x173 = L::splat_in(arith, 0.253242f64).mul_add(x106, -x171);
+                    x174 = x35 * x58;
+                    x175 = x35 * x57;
+                    x176 = x36 * x57;
+                    x177 = x33.mul_add(x58, -x176);
+                    x178 = L::splat_in(arith, -0.016685526854599998f64)
+                        .mul_add(x112, -x174);
+                    x179 = L::splat_in(arith, 0.0171364731454f64).mul_add(x111, x175);
+                    *o5 = dyngen_runtime::__private::lane_out(arith, x179);
+                    x180 = s5 * x177;
+                    x181 = c5.mul_add(x178, x180);
+                    x182 = s5 * x178;
+                    x183 = c5.mul_add(x177, -x182);
+                    x184 = x172 + x181;
+                    x185 = x170 + x179;
+                    x186 = x173 + x183;
+                    *o4 = dyngen_runtime::__private::lane_out(arith, x186);
+                    x187 = s4 * x185;
+                    x188 = c4.mul_add(x184, -x187);
+                    x189 = c4 * x185;
+                    x190 = s4.mul_add(x184, x189);
+                    x191 = x160 + x188;
+                    x192 = x161 + x190;
+                    *o3 = dyngen_runtime::__private::lane_out(arith, x192);
+                    x193 = x159 + x186;
+                    x194 = c3 * x165;
+                    x195 = s3.mul_add(x166, x194);
+                    x196 = c3 * x166;
+                    x197 = s3.mul_add(x165, -x196);
+                    x198 = s3 * x191;
+                    x199 = c3.mul_add(x193, -x198);
+                    x200 = s3 * x193;
+                    x201 = c3.mul_add(x191, x200);
+                    x202 = L::splat_in(arith, -0.39225f64).mul_add(x167, x199);
+                    x203 = L::splat_in(arith, -0.39225f64).mul_add(x195, x192);
+                    x204 = x141 + x202;
+                    x205 = x142 + x203;
+                    *o2 = dyngen_runtime::__private::lane_out(arith, x205);
+                    x206 = x140 - x201;
+                    x207 = x147 - x195;
+                    x208 = x167 - x148;
+                    x209 = x197 - x146;
+                    x210 = s2 * x209;
+                    x211 = c2.mul_add(x207, x210);
+                    x212 = s2 * x207;
+                    x213 = c2.mul_add(x209, -x212);
+                    x214 = s2 * x206;
+                    x215 = c2.mul_add(x204, x214);
+                    x216 = s2 * x204;
+                    x217 = c2.mul_add(x206, -x216);
+                    x218 = L::splat_in(arith, 0.425f64) * x208;
+                    x219 = L::splat_in(arith, -0.1197f64).mul_add(x213, -x218);
+                    x220 = x215 + x219;
+                    x221 = L::splat_in(arith, 0.425f64).mul_add(x211, x205);
+                    x222 = L::splat_in(arith, 0.1197f64).mul_add(x211, x217);
+                    x223 = x124 + x220;
+                    x224 = x125 + x221;
+                    *o1 = dyngen_runtime::__private::lane_out(arith, x224);
+                    x225 = x123 + x222;
+                    x226 = x129 + x211;
+                    x227 = x128 + x213;
+                    x228 = s1 * x226;
+                    x229 = c1.mul_add(x227, -x228);
+                    x230 = s1 * x225;
+                    x231 = c1.mul_add(x223, x230);
+                    x232 = L::splat_in(arith, 0.13585f64).mul_add(x229, x231);
+                    x233 = L::splat_in(arith, 0.41784981244275005f64).mul_add(a0, -x232);
+                    *o0 = dyngen_runtime::__private::lane_out(arith, x233);
+                }
+                out
+            }
         }
-        out
+        dyngen_runtime::__private::dispatch_lanes::<Body, C, _>((t, qd, a))
     }
     /// `Y_b`: columns 9, 11, 13, 14, 15, 16, 17, 18, 21, 23, 24, 25, 26, 27, 28, 31, 33, 34, 35, 36, 37, 38, 41, 42, 44, 45, 47, 48, 49, 51, 53, 54, 55, 56, 57, 58 of `Y` (the base parameters'), computed without the others.
     ///Operations: 388 mul, 312 add/sub, 15 neg (joint sines and cosines come precomputed in `JointTrig`).
     #[inline(never)]
-    fn base_torque_regressor_lanes<L: Lanes>(
-        t: &JointTrigLanes<6, L>,
-        qd: &[L; 6],
-        a: &[L; 6],
-    ) -> [[L; 6]; 36] {
-        dyngen_runtime::__private::align_stack_frame();
-        let [_, s1, s2, s3, s4, s5] = t.sin;
-        let [_, c1, c2, c3, c4, c5] = t.cos;
-        let [qd0, qd1, qd2, qd3, qd4, qd5] = *qd;
-        let [a0, a1, a2, a3, a4, a5] = *a;
-        let mut out: [[L; 6]; 36] = [[L::splat(0.0); 6]; 36];
-        {
-            let [[o0, _, _, _, _, _], [o6, o7, _, _, _, _], [o12, o13, _, _, _, _], [o18,
-            o19, _, _, _, _], [o24, o25, _, _, _, _], [o30, o31, _, _, _, _], [o36, o37,
-            _, _, _, _], [o42, o43, _, _, _, _], [o48, o49, o50, _, _, _], [o54, o55,
-            o56, _, _, _], [o60, o61, o62, _, _, _], [o66, o67, o68, _, _, _], [o72, o73,
-            o74, _, _, _], [o78, o79, o80, _, _, _], [o84, o85, o86, _, _, _], [o90, o91,
-            o92, o93, _, _], [o96, o97, o98, o99, _, _], [o102, o103, o104, o105, _, _],
-            [o108, o109, o110, o111, _, _], [o114, o115, o116, o117, _, _], [o120, o121,
-            o122, o123, _, _], [o126, o127, o128, o129, _, _], [o132, o133, o134, o135,
-            o136, _], [o138, o139, o140, o141, o142, _], [o144, o145, o146, o147, o148, _,
-            ], [o150, o151, o152, o153, o154, _], [o156, o157, o158, o159, o160, _],
-            [o162, o163, o164, o165, o166, _], [o168, o169, o170, o171, o172, _], [o174,
-            o175, o176, o177, o178, o179], [o180, o181, o182, o183, o184, o185], [o186,
-            o187, o188, o189, o190, o191], [o192, o193, o194, o195, o196, o197], [o198,
-            o199, o200, o201, o202, o203], [o204, o205, o206, o207, o208, o209], [o210,
-            o211, o212, o213, o214, o215]] = &mut out;
-            *o0 = a0;
-            *o31 = a1;
-            let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14, x15,
-            x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28, x29, x30,
-            x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42, x43, x44, x45,
-            x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56, x57, x58, x59, x60,
-            x61, x62, x63, x64, x65, x66, x67, x68, x69, x70, x71, x72, x73, x74, x75,
-            x76, x77, x78, x79, x80, x81, x82, x83, x84, x85, x86, x87, x88, x89, x90,
-            x91, x92, x93, x94, x95, x96, x97, x98, x99, x100, x101, x102, x103, x104,
-            x105, x106, x107, x108, x109, x110, x111, x112, x113, x114, x115, x116, x117,
-            x118, x119, x120, x121, x122, x123, x124, x125, x126, x127, x128, x129, x130,
-            x131, x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142, x143,
-            x144, x145, x146, x147, x148, x149, x150, x151, x152, x153, x154, x155, x156,
-            x157, x158, x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169,
-            x170, x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
-            x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194, x195,
-            x196, x197, x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
-            x209, x210, x211, x212, x213, x214, x215, x216, x217, x218, x219, x220, x221,
-            x222, x223, x224, x225, x226, x227, x228, x229, x230, x231, x232, x233, x234,
-            x235, x236, x237, x238, x239, x240, x241, x242, x243, x244, x245, x246, x247,
-            x248, x249, x250, x251, x252, x253, x254, x255, x256, x257, x258, x259, x260,
-            x261, x262, x263, x264, x265, x266, x267, x268, x269, x270, x271, x272, x273,
-            x274, x275, x276, x277, x278, x279, x280, x281, x282, x283, x284, x285, x286,
-            x287, x288, x289, x290, x291, x292, x293, x294, x295, x296, x297, x298, x299,
-            x300, x301, x302, x303, x304, x305, x306, x307, x308, x309, x310, x311, x312,
-            x313, x314, x315, x316, x317, x318, x319, x320, x321, x322, x323, x324, x325,
-            x326, x327, x328, x329, x330, x331, x332, x333, x334, x335, x336, x337, x338,
-            x339, x340, x341, x342, x343, x344, x345, x346, x347, x348, x349, x350, x351,
-            x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362, x363, x364,
-            x365, x366, x367, x368, x369, x370, x371, x372, x373, x374, x375, x376, x377,
-            x378, x379, x380, x381, x382, x383, x384, x385, x386, x387, x388, x389, x390,
-            x391, x392, x393, x394, x395, x396, x397, x398, x399, x400, x401, x402, x403,
-            x404, x405, x406, x407, x408, x409, x410, x411, x412, x413, x414, x415, x416,
-            x417, x418, x419, x420, x421, x422, x423, x424, x425, x426, x427, x428, x429,
-            x430, x431, x432, x433, x434, x435, x436, x437, x438, x439, x440, x441, x442,
-            x443, x444, x445, x446, x447, x448, x449, x450, x451, x452, x453, x454, x455,
-            x456, x457, x458, x459, x460, x461, x462, x463, x464, x465, x466, x467, x468,
-            x469, x470, x471, x472, x473, x474, x475, x476, x477, x478, x479, x480, x481,
-            x482, x483, x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
-            x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505, x506, x507,
-            x508, x509, x510, x511, x512, x513, x514, x515, x516, x517, x518, x519, x520,
-            x521, x522, x523, x524, x525]: [L; 526];
-            x0 = c1 * c2;
-            x1 = s1.mul_add(s2, -x0);
-            x2 = s1 * c2;
-            x3 = c1.mul_add(s2, x2);
-            x4 = s3 * x1;
-            x5 = c3.mul_add(x3, -x4);
-            x6 = s3 * x3;
-            x7 = c3.mul_add(x1, x6);
-            x8 = c4 * x5;
-            x9 = s4 * x5;
-            x10 = s5 * x7;
-            x11 = c5.mul_add(x8, -x10);
-            x12 = c5 * x7;
-            x13 = s5.mul_add(x8, x12);
-            x14 = L::splat(-9.81f64) * s1;
-            x15 = qd0 * c1;
-            x16 = qd0 * s1;
-            x17 = L::splat(0.13585f64) * qd0;
-            x18 = L::splat(0.13585f64) * a0;
-            x19 = s1 * x18;
-            x20 = L::splat(-9.81f64).mul_add(c1, x19);
-            *o13 = x20;
-            x21 = c1 * x18;
-            x22 = x14 - x21;
-            x23 = c2 * x15;
-            x24 = s2 * x16;
-            x25 = x24 - x23;
-            x26 = c2 * x16;
-            x27 = s2.mul_add(x15, x26);
-            x28 = L::splat(0.1197f64) * x16;
-            x29 = L::splat(-0.425f64) * x15;
-            x30 = L::splat(0.1197f64) * x15;
-            x31 = qd1 + qd2;
-            x32 = L::splat(0.425f64) * a1;
-            x33 = a1 + a2;
-            *o73 = x33;
-            *o74 = x33;
-            x34 = s3 * x25;
-            x35 = c3 * x27;
-            x36 = x35 - x34;
-            x37 = s3 * x27;
-            x38 = c3.mul_add(x25, x37);
-            x39 = L::splat(0.39225f64) * x31;
-            x40 = L::splat(0.39225f64) * x25;
-            x41 = qd3 + x31;
-            x42 = a3 + x33;
-            *o115 = x42;
-            *o116 = x42;
-            *o117 = x42;
-            x43 = s4 * x41;
-            x44 = c4.mul_add(x36, x43);
-            x45 = s4 * x36;
-            x46 = c4 * x41;
-            x47 = x46 - x45;
-            x48 = L::splat(0.093f64) * x38;
-            x49 = L::splat(0.093f64) * x36;
-            x50 = qd4 + x38;
-            x51 = c5 * x44;
-            x52 = s5 * x50;
-            x53 = x51 - x52;
-            x54 = c5 * x50;
-            x55 = s5.mul_add(x44, x54);
-            x56 = L::splat(0.09465f64) * x47;
-            x57 = L::splat(0.09465f64) * x44;
-            x58 = qd5 + x47;
-            x59 = qd0 * x17;
-            x60 = qd1 * x16;
-            x61 = qd1 * x15;
-            x62 = (-a0).mul_add(c1, x60);
-            x63 = a0.mul_add(s1, x61);
-            x64 = L::splat(0.425f64).mul_add(qd1, -x28);
-            x65 = x16 * x29;
-            x66 = qd1.mul_add(x30, -x65);
-            x67 = x16 * x64;
-            x68 = x15.mul_add(x30, -x67);
-            x69 = qd1 * x64;
-            x70 = x15.mul_add(x29, -x69);
-            x71 = x20 + x66;
-            x72 = x68 - x59;
-            x73 = x22 + x70;
-            x74 = s2 * x63;
-            x75 = c2.mul_add(x62, x74);
-            x76 = c2 * x63;
-            x77 = s2.mul_add(x62, -x76);
-            x78 = L::splat(0.1197f64).mul_add(x63, -x32);
-            x79 = L::splat(0.425f64) * x62;
-            x80 = x71 - x78;
-            x81 = x72 - x79;
-            x82 = L::splat(-0.1197f64).mul_add(x62, x73);
-            x83 = s2 * x82;
-            x84 = c2.mul_add(x80, -x83);
-            *o56 = x84;
-            x85 = c2 * x82;
-            x86 = s2.mul_add(x80, x85);
-            x87 = qd2.mul_add(x27, x75);
-            x88 = qd2.mul_add(x25, x77);
-            x89 = x31 * x39;
-            x90 = x25.mul_add(x40, x89);
-            x91 = (-x27).mul_add(x40, x84);
-            x92 = (-x27).mul_add(x39, x81);
-            x93 = x86 - x90;
-            x94 = c3 * x88;
-            x95 = s3.mul_add(x87, x94);
-            x96 = s3 * x88;
-            x97 = c3.mul_add(x87, -x96);
-            x98 = L::splat(0.39225f64) * x87;
-            x99 = L::splat(0.39225f64).mul_add(x33, x91);
-            x100 = x92 - x98;
-            x101 = c3 * x93;
-            x102 = s3.mul_add(x99, x101);
-            x103 = -x102;
-            *o99 = x103;
-            x104 = c3 * x99;
-            x105 = s3 * x93;
-            x106 = x104 - x105;
-            x107 = qd3.mul_add(x38, x95);
-            x108 = qd3.mul_add(x36, x97);
-            x109 = x36 * x49;
-            x110 = x38.mul_add(x48, x109);
-            x111 = x41.mul_add(x49, -x102);
-            x112 = x100 - x110;
-            x113 = x41.mul_add(x48, x106);
-            x114 = c4 * x107;
-            x115 = s4.mul_add(x42, -x114);
-            x116 = s4 * x107;
-            x117 = c4.mul_add(x42, x116);
-            x118 = L::splat(-0.093f64).mul_add(x108, x111);
-            x119 = L::splat(-0.093f64).mul_add(x107, x113);
-            x120 = s4 * x112;
-            x121 = c4.mul_add(x118, x120);
-            x122 = s4 * x118;
-            x123 = c4.mul_add(x112, -x122);
-            *o136 = x123;
-            x124 = a4 + x108;
-            *o172 = x124;
-            x125 = qd4 * x44;
-            x126 = qd4.mul_add(x47, x115);
-            x127 = x117 - x125;
-            x128 = x47 * x56;
-            x129 = x44.mul_add(x57, x128);
-            x130 = x50.mul_add(x57, x121);
-            x131 = x50.mul_add(x56, x123);
-            x132 = x119 - x129;
-            x133 = s5 * x124;
-            x134 = c5.mul_add(x126, -x133);
-            x135 = c5 * x124;
-            x136 = s5.mul_add(x126, x135);
-            x137 = L::splat(0.09465f64) * x126;
-            x138 = L::splat(0.09465f64).mul_add(x127, x130);
-            x139 = x131 - x137;
-            x140 = s5 * x132;
-            x141 = c5.mul_add(x138, -x140);
-            *o185 = x141;
-            x142 = c5 * x132;
-            x143 = s5.mul_add(x138, x142);
-            x144 = a5 + x127;
-            *o203 = x144;
-            x145 = qd5 * x55;
-            x146 = x134 - x145;
-            x147 = qd5.mul_add(x53, x136);
-            x148 = x21 - x14;
-            *o7 = x148;
-            x149 = -x86;
-            *o50 = x149;
-            x150 = x23 - x24;
-            x151 = x105 - x104;
-            *o93 = x151;
-            x152 = x34 - x35;
-            x153 = -x121;
-            *o142 = x153;
-            x154 = x45 - x46;
-            x155 = -x143;
-            *o179 = x155;
-            x156 = x52 - x51;
-            x157 = L::splat(0.13585f64) * s1;
-            x158 = L::splat(-0.13585f64) * c1;
-            x159 = L::splat(-0.425f64) * c1;
-            x160 = qd1 * qd1;
-            x161 = x16 * x16;
-            x162 = x160 + x161;
-            x163 = x15 * x16;
-            *o19 = x163;
-            x164 = x61 + x63;
-            x165 = x163 - a1;
-            x166 = x15 * x15;
-            x167 = x62 - x60;
-            *o25 = x167;
-            x168 = x160 + x166;
-            x169 = a1 + x163;
-            x170 = x166 - x160;
-            x171 = a1 - x163;
-            x172 = x161 - x166;
-            *o37 = x172;
-            x173 = x60 + x62;
-            x174 = x160 - x161;
-            x175 = x61 - x63;
-            *o43 = x175;
-            x176 = x31 * x31;
-            x177 = x27 * x27;
-            x178 = x176 + x177;
-            x179 = x25 * x31;
-            x180 = x25 * x27;
-            x181 = -x180;
-            *o61 = x181;
-            *o62 = x181;
-            x182 = x88 + x179;
-            x183 = x33 + x180;
-            x184 = x25 * x25;
-            x185 = x27 * x31;
-            x186 = x87 - x185;
-            *o67 = x186;
-            *o68 = x186;
-            x187 = x79 - x72;
-            x188 = x25.mul_add(x150, -x176);
-            x189 = x27.mul_add(x150, x33);
-            x190 = x87 + x185;
-            x191 = x184 - x176;
-            x192 = x177 - x184;
-            *o79 = x192;
-            *o80 = x192;
-            x193 = x176 - x177;
-            x194 = x88 - x179;
-            *o85 = x194;
-            *o86 = x194;
-            x195 = x33 - x180;
-            x196 = x41 * x41;
-            x197 = x38 * x38;
-            x198 = x196 + x197;
-            x199 = x36 * x41;
-            x200 = x36 * x38;
-            *o103 = x200;
-            *o104 = x200;
-            *o105 = x200;
-            x201 = x108 + x199;
-            x202 = x200 - x42;
-            x203 = x36 * x36;
-            x204 = x38 * x41;
-            x205 = x204 - x107;
-            *o109 = x205;
-            *o110 = x205;
-            *o111 = x205;
-            x206 = x98 - x92;
-            x207 = x36.mul_add(x152, -x196);
-            x208 = (-x38).mul_add(x152, x42);
-            x209 = x107 + x204;
-            x210 = x203 - x196;
-            x211 = x42 - x200;
-            x212 = x197 - x203;
-            *o121 = x212;
-            *o122 = x212;
-            *o123 = x212;
-            x213 = x196 - x197;
-            x214 = x108 - x199;
-            *o127 = x214;
-            *o128 = x214;
-            *o129 = x214;
-            x215 = x42 + x200;
-            x216 = x125 - x117;
-            x217 = x50 * x50;
-            x218 = x47.mul_add(x154, -x217);
-            x219 = x44 * x50;
-            x220 = (-x44).mul_add(x154, x124);
-            x221 = x216 + x219;
-            x222 = x44 * x47;
-            x223 = x44 * x44;
-            x224 = x217 + x223;
-            x225 = x47 * x50;
-            x226 = x222 - x124;
-            x227 = x126 + x225;
-            x228 = x47 * x47;
-            x229 = x127 + x219;
-            *o166 = x229;
-            x230 = -x222;
-            *o148 = x230;
-            x231 = x223 - x228;
-            *o154 = x231;
-            x232 = x127 - x219;
-            x233 = x217 - x223;
-            x234 = x124 + x222;
-            x235 = x126 - x225;
-            *o160 = x235;
-            x236 = x228 - x217;
-            x237 = x124 - x222;
-            x238 = x58 * x58;
-            x239 = x55 * x55;
-            x240 = x238 + x239;
-            x241 = x53 * x58;
-            x242 = x53 * x55;
-            *o191 = x242;
-            x243 = x147 + x241;
-            x244 = x242 - x144;
-            x245 = x53 * x53;
-            x246 = x55 * x58;
-            x247 = x146 + x246;
-            *o197 = x247;
-            x248 = x137 - x131;
-            x249 = x145 - x134;
-            x250 = x53.mul_add(x156, -x238);
-            x251 = (-x55).mul_add(x156, x144);
-            x252 = x246 + x249;
-            x253 = x245 - x238;
-            x254 = x144 - x242;
-            x255 = x239 - x245;
-            *o209 = x255;
-            x256 = x146 - x246;
-            x257 = x238 - x239;
-            x258 = x147 - x241;
-            *o215 = x258;
-            x259 = x144 + x242;
-            x260 = s1 * x61;
-            x261 = c1.mul_add(x62, x260);
-            x262 = -x261;
-            *o18 = x262;
-            x263 = s1 * x170;
-            x264 = c1.mul_add(x171, x263);
-            x265 = -x264;
-            *o24 = x265;
-            x266 = (-c1).mul_add(x60, x260);
-            *o30 = x266;
-            x267 = s1 * x173;
-            x268 = c1.mul_add(x164, -x267);
-            *o36 = x268;
-            x269 = c1 * x174;
-            x270 = s1.mul_add(x169, x269);
-            x271 = -x270;
-            *o42 = x271;
-            x272 = s4 * x119;
-            *o141 = x272;
-            x273 = c4 * x119;
-            x274 = -x273;
-            *o135 = x274;
-            x275 = c4 * x219;
-            x276 = s4.mul_add(x126, x275);
-            *o145 = x276;
-            *o146 = x276;
-            *o147 = x276;
-            x277 = c4 * x227;
-            x278 = s4.mul_add(x232, x277);
-            *o151 = x278;
-            *o152 = x278;
-            *o153 = x278;
-            x279 = c4 * x233;
-            x280 = s4.mul_add(x234, x279);
-            *o157 = x280;
-            *o158 = x280;
-            *o159 = x280;
-            x281 = c4 * x237;
-            x282 = s4.mul_add(x236, x281);
-            *o163 = x282;
-            *o164 = x282;
-            *o165 = x282;
-            x283 = s4.mul_add(x225, -x275);
-            *o169 = x283;
-            *o170 = x283;
-            *o171 = x283;
-            x284 = c5 * x139;
-            *o178 = x284;
-            x285 = s5 * x248;
-            x286 = -x285;
-            *o184 = x286;
-            x287 = c5 * x241;
-            x288 = s5.mul_add(x146, x287);
-            x289 = -x288;
-            *o190 = x289;
-            x290 = s5 * x254;
-            x291 = c5.mul_add(x253, -x290);
-            *o196 = x291;
-            x292 = s5.mul_add(x246, x287);
-            *o202 = x292;
-            x293 = s5 * x243;
-            x294 = c5.mul_add(x256, -x293);
-            *o208 = x294;
-            x295 = s5 * x257;
-            x296 = c5.mul_add(x259, -x295);
-            *o214 = x296;
-            x297 = s4 * c5;
-            x298 = s4 * s5;
-            x299 = L::splat(0.425f64) * c2;
-            x300 = L::splat(0.425f64) * s2;
-            x301 = L::splat(-0.39225f64) * s3;
-            x302 = L::splat(0.39225f64) * c3;
-            x303 = L::splat(-0.1197f64).mul_add(s1, x157);
-            x304 = L::splat(0.1197f64).mul_add(c1, x158);
-            x305 = s2 * x304;
-            x306 = c2.mul_add(x303, -x305);
-            x307 = c2 * x304;
-            x308 = s2.mul_add(x303, x307);
-            x309 = L::splat(0.39225f64).mul_add(x1, x159);
-            x310 = c3 * x308;
-            x311 = s3.mul_add(x306, x310);
-            x312 = s3 * x308;
-            x313 = c3.mul_add(x306, -x312);
-            x314 = x299 - L::splat(-0.39225f64);
-            x315 = c3 * x300;
-            x316 = s3.mul_add(x314, x315);
-            x317 = s3 * x300;
-            x318 = c3.mul_add(x314, -x317);
-            x319 = L::splat(0.093f64).mul_add(x7, x311);
-            x320 = L::splat(0.093f64).mul_add(x5, x313);
-            x321 = s4 * x309;
-            x322 = c4.mul_add(x319, x321);
-            x323 = c4 * x309;
-            x324 = s4.mul_add(x319, -x323);
-            x325 = c4 * x316;
-            x326 = s4 * x316;
-            x327 = c4 * x301;
-            x328 = s4 * x301;
-            x329 = L::splat(-0.09465f64).mul_add(x9, -x322);
-            x330 = L::splat(-0.09465f64).mul_add(x8, x324);
-            x331 = s5 * x320;
-            x332 = c5.mul_add(x329, -x331);
-            x333 = c5 * x320;
-            x334 = s5.mul_add(x329, x333);
-            x335 = L::splat(0.09465f64) * c4;
-            x336 = L::splat(0.09465f64) * s4;
-            x337 = x335 - x325;
-            x338 = x326 - x336;
-            x339 = s5 * x318;
-            x340 = c5.mul_add(x337, -x339);
-            x341 = c5 * x318;
-            x342 = s5.mul_add(x337, x341);
-            x343 = x327 + x335;
-            x344 = x328 + x336;
-            x345 = s5 * x302;
-            x346 = c5.mul_add(x343, -x345);
-            x347 = c5 * x302;
-            x348 = s5.mul_add(x343, x347);
-            x349 = c5 * x335;
-            x350 = s5 * x335;
-            x351 = x157 * x162;
-            x352 = x158.mul_add(x165, -x351);
-            x353 = s1.mul_add(x59, x352);
-            *o6 = x353;
-            x354 = x158 * x168;
-            x355 = x157.mul_add(x169, -x354);
-            x356 = (-c1).mul_add(x59, x355);
-            *o12 = x356;
-            x357 = x159 * x182;
-            x358 = x178.mul_add(x306, x357);
-            x359 = x183.mul_add(x308, x358);
-            x360 = x3.mul_add(x81, x359);
-            x361 = -x360;
-            *o48 = x361;
-            x362 = x183 * x300;
-            x363 = x178.mul_add(x299, x362);
-            x364 = x86 + x363;
-            x365 = -x364;
-            *o49 = x365;
-            x366 = x159 * x190;
-            x367 = x189.mul_add(x306, x366);
-            x368 = x188.mul_add(x308, x367);
-            x369 = x1.mul_add(x187, x368);
-            *o54 = x369;
-            x370 = x188 * x300;
-            x371 = x189.mul_add(x299, x370);
-            x372 = x84 + x371;
-            *o55 = x372;
-            x373 = x3 * x179;
-            x374 = x1.mul_add(x87, x373);
-            *o60 = x374;
-            x375 = x3 * x191;
-            x376 = x1.mul_add(x183, -x375);
-            *o66 = x376;
-            x377 = x1.mul_add(x185, -x373);
-            *o72 = x377;
-            x378 = x3 * x190;
-            x379 = x1.mul_add(x182, -x378);
-            *o78 = x379;
-            x380 = x3 * x195;
-            x381 = x1.mul_add(x193, -x380);
-            *o84 = x381;
-            x382 = x201 * x309;
-            x383 = x198.mul_add(x311, -x382);
-            x384 = x202.mul_add(x313, x383);
-            x385 = x7.mul_add(x100, x384);
-            *o90 = x385;
-            x386 = x202 * x318;
-            x387 = x198.mul_add(x316, x386);
-            x388 = x151 + x387;
-            *o91 = x388;
-            x389 = x198 * x301;
-            x390 = x202.mul_add(x302, -x389);
-            x391 = x151 + x390;
-            *o92 = x391;
-            x392 = x209 * x309;
-            x393 = x208.mul_add(x311, x392);
-            x394 = x207.mul_add(x313, -x393);
-            x395 = x5.mul_add(x206, x394);
-            *o96 = x395;
-            x396 = x208 * x316;
-            x397 = x207.mul_add(x318, -x396);
-            x398 = x397 - x102;
-            *o97 = x398;
-            x399 = x207 * x302;
-            x400 = x208.mul_add(x301, x399);
-            x401 = x400 - x102;
-            *o98 = x401;
-            x402 = x7 * x199;
-            x403 = x5.mul_add(x107, x402);
-            x404 = -x403;
-            *o102 = x404;
-            x405 = x7 * x210;
-            x406 = x5.mul_add(x211, x405);
-            *o108 = x406;
-            x407 = (-x5).mul_add(x204, x402);
-            *o114 = x407;
-            x408 = x7 * x209;
-            x409 = x5.mul_add(x201, -x408);
-            *o120 = x409;
-            x410 = x7 * x215;
-            x411 = x5.mul_add(x213, x410);
-            *o126 = x411;
-            x412 = x7 * x123;
-            x413 = x9.mul_add(x119, x412);
-            x414 = x218 * x322;
-            x415 = x220.mul_add(x324, -x414);
-            x416 = x221.mul_add(x320, x415);
-            x417 = x413 + x416;
-            *o132 = x417;
-            x418 = x218 * x325;
-            x419 = x220.mul_add(x326, -x418);
-            x420 = x221.mul_add(x318, x419);
-            x421 = x420 - x273;
-            *o133 = x421;
-            x422 = x220 * x328;
-            x423 = x218.mul_add(x327, -x422);
-            x424 = x221.mul_add(x302, x423);
-            x425 = x424 - x273;
-            *o134 = x425;
-            x426 = x7 * x121;
-            x427 = x8.mul_add(x119, -x426);
-            x428 = x224 * x324;
-            x429 = x226.mul_add(x322, x428);
-            x430 = x227.mul_add(x320, -x429);
-            x431 = x427 + x430;
-            *o138 = x431;
-            x432 = x224 * x326;
-            x433 = x226.mul_add(x325, x432);
-            x434 = x227.mul_add(x318, -x433);
-            x435 = x272 + x434;
-            *o139 = x435;
-            x436 = x224 * x328;
-            x437 = x226.mul_add(x327, x436);
-            x438 = x227.mul_add(x302, x437);
-            x439 = x272 + x438;
-            *o140 = x439;
-            x440 = x9 * x219;
-            x441 = x8.mul_add(x126, -x440);
-            x442 = (-x7).mul_add(x222, x441);
-            *o144 = x442;
-            x443 = x9 * x227;
-            x444 = x8.mul_add(x232, -x443);
-            x445 = x7.mul_add(x231, x444);
-            *o150 = x445;
-            x446 = x9 * x233;
-            x447 = x8.mul_add(x234, -x446);
-            x448 = x7.mul_add(x235, x447);
-            *o156 = x448;
-            x449 = x9 * x237;
-            x450 = x8.mul_add(x236, -x449);
-            x451 = x7.mul_add(x229, x450);
-            *o162 = x451;
-            x452 = x8.mul_add(x225, x440);
-            x453 = x7.mul_add(x124, x452);
-            *o168 = x453;
-            x454 = x13 * x139;
-            x455 = x9.mul_add(x143, x454);
-            x456 = x240 * x332;
-            x457 = x243.mul_add(x330, -x456);
-            x458 = x244.mul_add(x334, x457);
-            x459 = x455 + x458;
-            *o174 = x459;
-            x460 = c4 * x143;
-            x461 = x139.mul_add(x298, -x460);
-            x462 = x240 * x340;
-            x463 = x243.mul_add(x338, -x462);
-            x464 = x244.mul_add(x342, x463);
-            x465 = x461 + x464;
-            *o175 = x465;
-            x466 = x243 * x344;
-            x467 = x240.mul_add(x346, x466);
-            x468 = x244.mul_add(x348, -x467);
-            x469 = x461 + x468;
-            *o176 = x469;
-            x470 = x243 * x336;
-            x471 = x240.mul_add(x349, x470);
-            x472 = x244.mul_add(x350, -x471);
-            x473 = x461 + x472;
-            *o177 = x473;
-            x474 = x9 * x141;
-            x475 = x11.mul_add(x248, -x474);
-            x476 = x252 * x330;
-            x477 = x251.mul_add(x332, x476);
-            x478 = x250.mul_add(x334, x477);
-            x479 = x475 + x478;
-            *o180 = x479;
-            x480 = c4 * x141;
-            x481 = x248.mul_add(x297, x480);
-            x482 = x252 * x338;
-            x483 = x251.mul_add(x340, x482);
-            x484 = x250.mul_add(x342, x483);
-            x485 = x481 + x484;
-            *o181 = x485;
-            x486 = x252 * x344;
-            x487 = x251.mul_add(x346, -x486);
-            x488 = x250.mul_add(x348, x487);
-            x489 = x481 + x488;
-            *o182 = x489;
-            x490 = x252 * x336;
-            x491 = x251.mul_add(x349, -x490);
-            x492 = x250.mul_add(x350, x491);
-            x493 = x481 + x492;
-            *o183 = x493;
-            x494 = x9 * x242;
-            x495 = x11.mul_add(x146, -x494);
-            x496 = x13 * x241;
-            x497 = x495 - x496;
-            *o186 = x497;
-            x498 = x146 * x297;
-            x499 = c4.mul_add(x242, x498);
-            x500 = x241 * x298;
-            x501 = x499 - x500;
-            *o187 = x501;
-            *o188 = x501;
-            *o189 = x501;
-            x502 = x9 * x247;
-            x503 = x11.mul_add(x254, -x502);
-            x504 = x13.mul_add(x253, x503);
-            *o192 = x504;
-            x505 = x254 * x297;
-            x506 = c4.mul_add(x247, x505);
-            x507 = x253.mul_add(x298, x506);
-            *o193 = x507;
-            *o194 = x507;
-            *o195 = x507;
-            x508 = x11 * x246;
-            x509 = x9.mul_add(x144, x508);
-            x510 = x496 - x509;
-            *o198 = x510;
-            x511 = x246 * x297;
-            x512 = c4.mul_add(x144, -x511);
-            x513 = x500 + x512;
-            *o199 = x513;
-            *o200 = x513;
-            *o201 = x513;
-            x514 = x9 * x255;
-            x515 = x11.mul_add(x243, -x514);
-            x516 = x13.mul_add(x256, x515);
-            *o204 = x516;
-            x517 = x243 * x297;
-            x518 = c4.mul_add(x255, x517);
-            x519 = x256.mul_add(x298, x518);
-            *o205 = x519;
-            *o206 = x519;
-            *o207 = x519;
-            x520 = x9 * x258;
-            x521 = x11.mul_add(x257, -x520);
-            x522 = x13.mul_add(x259, x521);
-            *o210 = x522;
-            x523 = x257 * x297;
-            x524 = c4.mul_add(x258, x523);
-            x525 = x259.mul_add(x298, x524);
-            *o211 = x525;
-            *o212 = x525;
-            *o213 = x525;
+    fn base_torque_regressor_lanes<C: Lanes>(
+        t: &JointTrigLanes<6, C>,
+        qd: &[C; 6],
+        a: &[C; 6],
+    ) -> [[C; 6]; 36] {
+        struct Body;
+        impl<
+            C: Lanes,
+        > dyngen_runtime::__private::LaneKernel<
+            C,
+            (&JointTrigLanes<6, C>, &[C; 6], &[C; 6]),
+        > for Body {
+            type Output = [[C; 6]; 36];
+            #[inline(always)]
+            fn run<
+                M: dyngen_runtime::__private::MulAdd,
+                L: dyngen_runtime::__private::LaneVector<M>,
+            >(
+                arith: M,
+                (t, qd, a): (&JointTrigLanes<6, C>, &[C; 6], &[C; 6]),
+            ) -> [[C; 6]; 36] {
+                let t = &dyngen_runtime::__private::trig_in::<M, C, L, _>(arith, t);
+                let qd = &dyngen_runtime::__private::lanes_in::<M, C, L, _>(arith, qd);
+                let a = &dyngen_runtime::__private::lanes_in::<M, C, L, _>(arith, a);
+                let [_, s1, s2, s3, s4, s5] = t.sin;
+                let [_, c1, c2, c3, c4, c5] = t.cos;
+                let [qd0, qd1, qd2, qd3, qd4, qd5] = *qd;
+                let [a0, a1, a2, a3, a4, a5] = *a;
+                let mut out: [[C; 6]; 36] = [[C::splat(0.0); 6]; 36];
+                {
+                    let [[o0, _, _, _, _, _], [o6, o7, _, _, _, _], [o12, o13, _, _, _, _,
+                    ], [o18, o19, _, _, _, _], [o24, o25, _, _, _, _], [o30, o31, _, _,
+                    _, _], [o36, o37, _, _, _, _], [o42, o43, _, _, _, _], [o48, o49,
+                    o50, _, _, _], [o54, o55, o56, _, _, _], [o60, o61, o62, _, _, _],
+                    [o66, o67, o68, _, _, _], [o72, o73, o74, _, _, _], [o78, o79, o80,
+                    _, _, _], [o84, o85, o86, _, _, _], [o90, o91, o92, o93, _, _], [o96,
+                    o97, o98, o99, _, _], [o102, o103, o104, o105, _, _], [o108, o109,
+                    o110, o111, _, _], [o114, o115, o116, o117, _, _], [o120, o121, o122,
+                    o123, _, _], [o126, o127, o128, o129, _, _], [o132, o133, o134, o135,
+                    o136, _], [o138, o139, o140, o141, o142, _], [o144, o145, o146, o147,
+                    o148, _], [o150, o151, o152, o153, o154, _], [o156, o157, o158, o159,
+                    o160, _], [o162, o163, o164, o165, o166, _], [o168, o169, o170, o171,
+                    o172, _], [o174, o175, o176, o177, o178, o179], [o180, o181, o182,
+                    o183, o184, o185], [o186, o187, o188, o189, o190, o191], [o192, o193,
+                    o194, o195, o196, o197], [o198, o199, o200, o201, o202, o203], [o204,
+                    o205, o206, o207, o208, o209], [o210, o211, o212, o213, o214, o215],
+                    ] = &mut out;
+                    *o0 = dyngen_runtime::__private::lane_out(arith, a0);
+                    *o31 = dyngen_runtime::__private::lane_out(arith, a1);
+                    let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                    x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                    x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                    x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                    x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                    x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                    x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                    x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109,
+                    x110, x111, x112, x113, x114, x115, x116, x117, x118, x119, x120,
+                    x121, x122, x123, x124, x125, x126, x127, x128, x129, x130, x131,
+                    x132, x133, x134, x135, x136, x137, x138, x139, x140, x141, x142,
+                    x143, x144, x145, x146, x147, x148, x149, x150, x151, x152, x153,
+                    x154, x155, x156, x157, x158, x159, x160, x161, x162, x163, x164,
+                    x165, x166, x167, x168, x169, x170, x171, x172, x173, x174, x175,
+                    x176, x177, x178, x179, x180, x181, x182, x183, x184, x185, x186,
+                    x187, x188, x189, x190, x191, x192, x193, x194, x195, x196, x197,
+                    x198, x199, x200, x201, x202, x203, x204, x205, x206, x207, x208,
+                    x209, x210, x211, x212, x213, x214, x215, x216, x217, x218, x219,
+                    x220, x221, x222, x223, x224, x225, x226, x227, x228, x229, x230,
+                    x231, x232, x233, x234, x235, x236, x237, x238, x239, x240, x241,
+                    x242, x243, x244, x245, x246, x247, x248, x249, x250, x251, x252,
+                    x253, x254, x255, x256, x257, x258, x259, x260, x261, x262, x263,
+                    x264, x265, x266, x267, x268, x269, x270, x271, x272, x273, x274,
+                    x275, x276, x277, x278, x279, x280, x281, x282, x283, x284, x285,
+                    x286, x287, x288, x289, x290, x291, x292, x293, x294, x295, x296,
+                    x297, x298, x299, x300, x301, x302, x303, x304, x305, x306, x307,
+                    x308, x309, x310, x311, x312, x313, x314, x315, x316, x317, x318,
+                    x319, x320, x321, x322, x323, x324, x325, x326, x327, x328, x329,
+                    x330, x331, x332, x333, x334, x335, x336, x337, x338, x339, x340,
+                    x341, x342, x343, x344, x345, x346, x347, x348, x349, x350, x351,
+                    x352, x353, x354, x355, x356, x357, x358, x359, x360, x361, x362,
+                    x363, x364, x365, x366, x367, x368, x369, x370, x371, x372, x373,
+                    x374, x375, x376, x377, x378, x379, x380, x381, x382, x383, x384,
+                    x385, x386, x387, x388, x389, x390, x391, x392, x393, x394, x395,
+                    x396, x397, x398, x399, x400, x401, x402, x403, x404, x405, x406,
+                    x407, x408, x409, x410, x411, x412, x413, x414, x415, x416, x417,
+                    x418, x419, x420, x421, x422, x423, x424, x425, x426, x427, x428,
+                    x429, x430, x431, x432, x433, x434, x435, x436, x437, x438, x439,
+                    x440, x441, x442, x443, x444, x445, x446, x447, x448, x449, x450,
+                    x451, x452, x453, x454, x455, x456, x457, x458, x459, x460, x461,
+                    x462, x463, x464, x465, x466, x467, x468, x469, x470, x471, x472,
+                    x473, x474, x475, x476, x477, x478, x479, x480, x481, x482, x483,
+                    x484, x485, x486, x487, x488, x489, x490, x491, x492, x493, x494,
+                    x495, x496, x497, x498, x499, x500, x501, x502, x503, x504, x505,
+                    x506, x507, x508, x509, x510, x511, x512, x513, x514, x515, x516,
+                    x517, x518, x519, x520, x521, x522, x523, x524, x525]: [L; 526];
+                    x0 = c1 * c2;
+                    x1 = s1.mul_add(s2, -x0);
+                    x2 = s1 * c2;
+                    x3 = c1.mul_add(s2, x2);
+                    x4 = s3 * x1;
+                    x5 = c3.mul_add(x3, -x4);
+                    x6 = s3 * x3;
+                    x7 = c3.mul_add(x1, x6);
+                    x8 = c4 * x5;
+                    x9 = s4 * x5;
+                    x10 = s5 * x7;
+                    x11 = c5.mul_add(x8, -x10);
+                    x12 = c5 * x7;
+                    x13 = s5.mul_add(x8, x12);
+                    x14 = L::splat_in(arith, -9.81f64) * s1;
+                    x15 = qd0 * c1;
+                    x16 = qd0 * s1;
+                    x17 = L::splat_in(arith, 0.13585f64) * qd0;
+                    x18 = L::splat_in(arith, 0.13585f64) * a0;
+                    x19 = s1 * x18;
+                    x20 = L::splat_in(arith, -9.81f64).mul_add(c1, x19);
+                    *o13 = dyngen_runtime::__private::lane_out(arith, x20);
+                    x21 = c1 * x18;
+                    x22 = x14 - x21;
+                    x23 = c2 * x15;
+                    x24 = s2 * x16;
+                    x25 = x24 - x23;
+                    x26 = c2 * x16;
+                    x27 = s2.mul_add(x15, x26);
+                    x28 = L::splat_in(arith, 0.1197f64) * x16;
+                    x29 = L::splat_in(arith, -0.425f64) * x15;
+                    x30 = L::splat_in(arith, 0.1197f64) * x15;
+                    x31 = qd1 + qd2;
+                    x32 = L::splat_in(arith, 0.425f64) * a1;
+                    x33 = a1 + a2;
+                    *o73 = dyngen_runtime::__private::lane_out(arith, x33);
+                    *o74 = dyngen_runtime::__private::lane_out(arith, x33);
+                    x34 = s3 * x25;
+                    x35 = c3 * x27;
+                    x36 = x35 - x34;
+                    x37 = s3 * x27;
+                    x38 = c3.mul_add(x25, x37);
+                    x39 = L::splat_in(arith, 0.39225f64) * x31;
+                    x40 = L::splat_in(arith, 0.39225f64) * x25;
+                    x41 = qd3 + x31;
+                    x42 = a3 + x33;
+                    *o115 = dyngen_runtime::__private::lane_out(arith, x42);
+                    *o116 = dyngen_runtime::__private::lane_out(arith, x42);
+                    *o117 = dyngen_runtime::__private::lane_out(arith, x42);
+                    x43 = s4 * x41;
+                    x44 = c4.mul_add(x36, x43);
+                    x45 = s4 * x36;
+                    x46 = c4 * x41;
+                    x47 = x46 - x45;
+                    x48 = L::splat_in(arith, 0.093f64) * x38;
+                    x49 = L::splat_in(arith, 0.093f64) * x36;
+                    x50 = qd4 + x38;
+                    x51 = c5 * x44;
+                    x52 = s5 * x50;
+                    x53 = x51 - x52;
+                    x54 = c5 * x50;
+                    x55 = s5.mul_add(x44, x54);
+                    x56 = L::splat_in(arith, 0.09465f64) * x47;
+                    x57 = L::splat_in(arith, 0.09465f64) * x44;
+                    x58 = qd5 + x47;
+                    x59 = qd0 * x17;
+                    x60 = qd1 * x16;
+                    x61 = qd1 * x15;
+                    x62 = (-a0).mul_add(c1, x60);
+                    x63 = a0.mul_add(s1, x61);
+                    x64 = L::splat_in(arith, 0.425f64).mul_add(qd1, -x28);
+                    x65 = x16 * x29;
+                    x66 = qd1.mul_add(x30, -x65);
+                    x67 = x16 * x64;
+                    x68 = x15.mul_add(x30, -x67);
+                    x69 = qd1 * x64;
+                    x70 = x15.mul_add(x29, -x69);
+                    x71 = x20 + x66;
+                    x72 = x68 - x59;
+                    x73 = x22 + x70;
+                    x74 = s2 * x63;
+                    x75 = c2.mul_add(x62, x74);
+                    x76 = c2 * x63;
+                    x77 = s2.mul_add(x62, -x76);
+                    x78 = L::splat_in(arith, 0.1197f64).mul_add(x63, -x32);
+                    x79 = L::splat_in(arith, 0.425f64) * x62;
+                    x80 = x71 - x78;
+                    x81 = x72 - x79;
+                    x82 = L::splat_in(arith, -0.1197f64).mul_add(x62, x73);
+                    x83 = s2 * x82;
+                    x84 = c2.mul_add(x80, -x83);
+                    *o56 = dyngen_runtime::__private::lane_out(arith, x84);
+                    x85 = c2 * x82;
+                    x86 = s2.mul_add(x80, x85);
+                    x87 = qd2.mul_add(x27, x75);
+                    x88 = qd2.mul_add(x25, x77);
+                    x89 = x31 * x39;
+                    x90 = x25.mul_add(x40, x89);
+                    x91 = (-x27).mul_add(x40, x84);
+                    x92 = (-x27).mul_add(x39, x81);
+                    x93 = x86 - x90;
+                    x94 = c3 * x88;
+                    x95 = s3.mul_add(x87, x94);
+                    x96 = s3 * x88;
+                    x97 = c3.mul_add(x87, -x96);
+                    x98 = L::splat_in(arith, 0.39225f64) * x87;
+                    x99 = L::splat_in(arith, 0.39225f64).mul_add(x33, x91);
+                    x100 = x92 - x98;
+                    x101 = c3 * x93;
+                    x102 = s3.mul_add(x99, x101);
+                    x103 = -x102;
+                    *o99 = dyngen_runtime::__private::lane_out(arith, x103);
+                    x104 = c3 * x99;
+                    x105 = s3 * x93;
+                    x106 = x104 - x105;
+                    x107 = qd3.mul_add(x38, x95);
+                    x108 = qd3.mul_add(x36, x97);
+                    x109 = x36 * x49;
+                    x110 = x38.mul_add(x48, x109);
+                    x111 = x41.mul_add(x49, -x102);
+                    x112 = x100 - x110;
+                    x113 = x41.mul_add(x48, x106);
+                    x114 = c4 * x107;
+                    x115 = s4.mul_add(x42, -x114);
+                    x116 = s4 * x107;
+                    x117 = c4.mul_add(x42, x116);
+                    x118 = L::splat_in(arith, -0.093f64).mul_add(x108, x111);
+                    x119 = L::splat_in(arith, -0.093f64).mul_add(x107, x113);
+                    x120 = s4 * x112;
+                    x121 = c4.mul_add(x118, x120);
+                    x122 = s4 * x118;
+                    x123 = c4.mul_add(x112, -x122);
+                    *o136 = dyngen_runtime::__private::lane_out(arith, x123);
+                    x124 = a4 + x108;
+                    *o172 = dyngen_runtime::__private::lane_out(arith, x124);
+                    x125 = qd4 * x44;
+                    x126 = qd4.mul_add(x47, x115);
+                    x127 = x117 - x125;
+                    x128 = x47 * x56;
+                    x129 = x44.mul_add(x57, x128);
+                    x130 = x50.mul_add(x57, x121);
+                    x131 = x50.mul_add(x56, x123);
+                    x132 = x119 - x129;
+                    x133 = s5 * x124;
+                    x134 = c5.mul_add(x126, -x133);
+                    x135 = c5 * x124;
+                    x136 = s5.mul_add(x126, x135);
+                    x137 = L::splat_in(arith, 0.09465f64) * x126;
+                    x138 = L::splat_in(arith, 0.09465f64).mul_add(x127, x130);
+                    x139 = x131 - x137;
+                    x140 = s5 * x132;
+                    x141 = c5.mul_add(x138, -x140);
+                    *o185 = dyngen_runtime::__private::lane_out(arith, x141);
+                    x142 = c5 * x132;
+                    x143 = s5.mul_add(x138, x142);
+                    x144 = a5 + x127;
+                    *o203 = dyngen_runtime::__private::lane_out(arith, x144);
+                    x145 = qd5 * x55;
+                    x146 = x134 - x145;
+                    x147 = qd5.mul_add(x53, x136);
+                    x148 = x21 - x14;
+                    *o7 = dyngen_runtime::__private::lane_out(arith, x148);
+                    x149 = -x86;
+                    *o50 = dyngen_runtime::__private::lane_out(arith, x149);
+                    x150 = x23 - x24;
+                    x151 = x105 - x104;
+                    *o93 = dyngen_runtime::__private::lane_out(arith, x151);
+                    x152 = x34 - x35;
+                    x153 = -x121;
+                    *o142 = dyngen_runtime::__private::lane_out(arith, x153);
+                    x154 = x45 - x46;
+                    x155 = -x143;
+                    *o179 = dyngen_runtime::__private::lane_out(arith, x155);
+                    x156 = x52 - x51;
+                    x157 = L::splat_in(arith, 0.13585f64) * s1;
+                    x158 = L::splat_in(arith, -0.13585f64) * c1;
+                    x159 = L::splat_in(arith, -0.425f64) * c1;
+                    x160 = qd1 * qd1;
+                    x161 = x16 * x16;
+                    x162 = x160 + x161;
+                    x163 = x15 * x16;
+                    *o19 = dyngen_runtime::__private::lane_out(arith, x163);
+                    x164 = x61 + x63;
+                    x165 = x163 - a1;
+                    x166 = x15 * x15;
+                    x167 = x62 - x60;
+                    *o25 = dyngen_runtime::__private::lane_out(arith, x167);
+                    x168 = x160 + x166;
+                    x169 = a1 + x163;
+                    x170 = x166 - x160;
+                    x171 = a1 - x163;
+                    x172 = x161 - x166;
+                    *o37 = dyngen_runtime::__private::lane_out(arith, x172);
+                    x173 = x60 + x62;
+                    x174 = x160 - x161;
+                    x175 = x61 - x63;
+                    *o43 = dyngen_runtime::__private::lane_out(arith, x175);
+                    x176 = x31 * x31;
+                    x177 = x27 * x27;
+                    x178 = x176 + x177;
+                    x179 = x25 * x31;
+                    x180 = x25 * x27;
+                    x181 = -x180;
+                    *o61 = dyngen_runtime::__private::lane_out(arith, x181);
+                    *o62 = dyngen_runtime::__private::lane_out(arith, x181);
+                    x182 = x88 + x179;
+                    x183 = x33 + x180;
+                    x184 = x25 * x25;
+                    x185 = x27 * x31;
+                    x186 = x87 - x185;
+                    *o67 = dyngen_runtime::__private::lane_out(arith, x186);
+                    *o68 = dyngen_runtime::__private::lane_out(arith, x186);
+                    x187 = x79 - x72;
+                    x188 = x25.mul_add(x150, -x176);
+                    x189 = x27.mul_add(x150, x33);
+                    x190 = x87 + x185;
+                    x191 = x184 - x176;
+                    x192 = x177 - x184;
+                    *o79 = dyngen_runtime::__private::lane_out(arith, x192);
+                    *o80 = dyngen_runtime::__private::lane_out(arith, x192);
+                    x193 = x176 - x177;
+                    x194 = x88 - x179;
+                    *o85 = dyngen_runtime::__private::lane_out(arith, x194);
+                    *o86 = dyngen_runtime::__private::lane_out(arith, x194);
+                    x195 = x33 - x180;
+                    x196 = x41 * x41;
+                    x197 = x38 * x38;
+                    x198 = x196 + x197;
+                    x199 = x36 * x41;
+                    x200 = x36 * x38;
+                    *o103 = dyngen_runtime::__private::lane_out(arith, x200);
+                    *o104 = dyngen_runtime::__private::lane_out(arith, x200);
+                    *o105 = dyngen_runtime::__private::lane_out(arith, x200);
+                    x201 = x108 + x199;
+                    x202 = x200 - x42;
+                    x203 = x36 * x36;
+                    x204 = x38 * x41;
+                    x205 = x204 - x107;
+                    *o109 = dyngen_runtime::__private::lane_out(arith, x205);
+                    *o110 = dyngen_runtime::__private::lane_out(arith, x205);
+                    *o111 = dyngen_runtime::__private::lane_out(arith, x205);
+                    x206 = x98 - x92;
+                    x207 = x36.mul_add(x152, -x196);
+                    x208 = (-x38).mul_add(x152, x42);
+                    x209 = x107 + x204;
+                    x210 = x203 - x196;
+                    x211 = x42 - x200;
+                    x212 = x197 - x203;
+                    *o121 = dyngen_runtime::__private::lane_out(arith, x212);
+                    *o122 = dyngen_runtime::__private::lane_out(arith, x212);
+                    *o123 = dyngen_runtime::__private::lane_out(arith, x212);
+                    x213 = x196 - x197;
+                    x214 = x108 - x199;
+                    *o127 = dyngen_runtime::__private::lane_out(arith, x214);
+                    *o128 = dyngen_runtime::__private::lane_out(arith, x214);
+                    *o129 = dyngen_runtime::__private::lane_out(arith, x214);
+                    x215 = x42 + x200;
+                    x216 = x125 - x117;
+                    x217 = x50 * x50;
+                    x218 = x47.mul_add(x154, -x217);
+                    x219 = x44 * x50;
+                    x220 = (-x44).mul_add(x154, x124);
+                    x221 = x216 + x219;
+                    x222 = x44 * x47;
+                    x223 = x44 * x44;
+                    x224 = x217 + x223;
+                    x225 = x47 * x50;
+                    x226 = x222 - x124;
+                    x227 = x126 + x225;
+                    x228 = x47 * x47;
+                    x229 = x127 + x219;
+                    *o166 = dyngen_runtime::__private::lane_out(arith, x229);
+                    x230 = -x222;
+                    *o148 = dyngen_runtime::__private::lane_out(arith, x230);
+                    x231 = x223 - x228;
+                    *o154 = dyngen_runtime::__private::lane_out(arith, x231);
+                    x232 = x127 - x219;
+                    x233 = x217 - x223;
+                    x234 = x124 + x222;
+                    x235 = x126 - x225;
+                    *o160 = dyngen_runtime::__private::lane_out(arith, x235);
+                    x236 = x228 - x217;
+                    x237 = x124 - x222;
+                    x238 = x58 * x58;
+                    x239 = x55 * x55;
+                    x240 = x238 + x239;
+                    x241 = x53 * x58;
+                    x242 = x53 * x55;
+                    *o191 = dyngen_runtime::__private::lane_out(arith, x242);
+                    x243 = x147 + x241;
+                    x244 = x242 - x144;
+                    x245 = x53 * x53;
+                    x246 = x55 * x58;
+                    x247 = x146 + x246;
+                    *o197 = dyngen_runtime::__private::lane_out(arith, x247);
+                    x248 = x137 - x131;
+                    x249 = x145 - x134;
+                    x250 = x53.mul_add(x156, -x238);
+                    x251 = (-x55).mul_add(x156, x144);
+                    x252 = x246 + x249;
+                    x253 = x245 - x238;
+                    x254 = x144 - x242;
+                    x255 = x239 - x245;
+                    *o209 = dyngen_runtime::__private::lane_out(arith, x255);
+                    x256 = x146 - x246;
+                    x257 = x238 - x239;
+                    x258 = x147 - x241;
+                    *o215 = dyngen_runtime::__private::lane_out(arith, x258);
+                    x259 = x144 + x242;
+                    x260 = s1 * x61;
+                    x261 = c1.mul_add(x62, x260);
+                    x262 = -x261;
+                    *o18 = dyngen_runtime::__private::lane_out(arith, x262);
+                    x263 = s1 * x170;
+                    x264 = c1.mul_add(x171, x263);
+                    x265 = -x264;
+                    *o24 = dyngen_runtime::__private::lane_out(arith, x265);
+                    x266 = (-c1).mul_add(x60, x260);
+                    *o30 = dyngen_runtime::__private::lane_out(arith, x266);
+                    x267 = s1 * x173;
+                    x268 = c1.mul_add(x164, -x267);
+                    *o36 = dyngen_runtime::__private::lane_out(arith, x268);
+                    x269 = c1 * x174;
+                    x270 = s1.mul_add(x169, x269);
+                    x271 = -x270;
+                    *o42 = dyngen_runtime::__private::lane_out(arith, x271);
+                    x272 = s4 * x119;
+                    *o141 = dyngen_runtime::__private::lane_out(arith, x272);
+                    x273 = c4 * x119;
+                    x274 = -x273;
+                    *o135 = dyngen_runtime::__private::lane_out(arith, x274);
+                    x275 = c4 * x219;
+                    x276 = s4.mul_add(x126, x275);
+                    *o145 = dyngen_runtime::__private::lane_out(arith, x276);
+                    *o146 = dyngen_runtime::__private::lane_out(arith, x276);
+                    *o147 = dyngen_runtime::__private::lane_out(arith, x276);
+                    x277 = c4 * x227;
+                    x278 = s4.mul_add(x232, x277);
+                    *o151 = dyngen_runtime::__private::lane_out(arith, x278);
+                    *o152 = dyngen_runtime::__private::lane_out(arith, x278);
+                    *o153 = dyngen_runtime::__private::lane_out(arith, x278);
+                    x279 = c4 * x233;
+                    x280 = s4.mul_add(x234, x279);
+                    *o157 = dyngen_runtime::__private::lane_out(arith, x280);
+                    *o158 = dyngen_runtime::__private::lane_out(arith, x280);
+                    *o159 = dyngen_runtime::__private::lane_out(arith, x280);
+                    x281 = c4 * x237;
+                    x282 = s4.mul_add(x236, x281);
+                    *o163 = dyngen_runtime::__private::lane_out(arith, x282);
+                    *o164 = dyngen_runtime::__private::lane_out(arith, x282);
+                    *o165 = dyngen_runtime::__private::lane_out(arith, x282);
+                    x283 = s4.mul_add(x225, -x275);
+                    *o169 = dyngen_runtime::__private::lane_out(arith, x283);
+                    *o170 = dyngen_runtime::__private::lane_out(arith, x283);
+                    *o171 = dyngen_runtime::__private::lane_out(arith, x283);
+                    x284 = c5 * x139;
+                    *o178 = dyngen_runtime::__private::lane_out(arith, x284);
+                    x285 = s5 * x248;
+                    x286 = -x285;
+                    *o184 = dyngen_runtime::__private::lane_out(arith, x286);
+                    x287 = c5 * x241;
+                    x288 = s5.mul_add(x146, x287);
+                    x289 = -x288;
+                    *o190 = dyngen_runtime::__private::lane_out(arith, x289);
+                    x290 = s5 * x254;
+                    x291 = c5.mul_add(x253, -x290);
+                    *o196 = dyngen_runtime::__private::lane_out(arith, x291);
+                    x292 = s5.mul_add(x246, x287);
+                    *o202 = dyngen_runtime::__private::lane_out(arith, x292);
+                    x293 = s5 * x243;
+                    x294 = c5.mul_add(x256, -x293);
+                    *o208 = dyngen_runtime::__private::lane_out(arith, x294);
+                    x295 = s5 * x257;
+                    x296 = c5.mul_add(x259, -x295);
+                    *o214 = dyngen_runtime::__private::lane_out(arith, x296);
+                    x297 = s4 * c5;
+                    x298 = s4 * s5;
+                    x299 = L::splat_in(arith, 0.425f64) * c2;
+                    x300 = L::splat_in(arith, 0.425f64) * s2;
+                    x301 = L::splat_in(arith, -0.39225f64) * s3;
+                    x302 = L::splat_in(arith, 0.39225f64) * c3;
+                    x303 = L::splat_in(arith, -0.1197f64).mul_add(s1, x157);
+                    x304 = L::splat_in(arith, 0.1197f64).mul_add(c1, x158);
+                    x305 = s2 * x304;
+                    x306 = c2.mul_add(x303, -x305);
+                    x307 = c2 * x304;
+                    x308 = s2.mul_add(x303, x307);
+                    x309 = L::splat_in(arith, 0.39225f64).mul_add(x1, x159);
+                    x310 = c3 * x308;
+                    x311 = s3.mul_add(x306, x310);
+                    x312 = s3 * x308;
+                    x313 = c3.mul_add(x306, -x312);
+                    x314 = x299 - L::splat_in(arith, -0.39225f64);
+                    x315 = c3 * x300;
+                    x316 = s3.mul_add(x314, x315);
+                    x317 = s3 * x300;
+                    x318 = c3.mul_add(x314, -x317);
+                    x319 = L::splat_in(arith, 0.093f64).mul_add(x7, x311);
+                    x320 = L::splat_in(arith, 0.093f64).mul_add(x5, x313);
+                    x321 = s4 * x309;
+                    x322 = c4.mul_add(x319, x321);
+                    x323 = c4 * x309;
+                    x324 = s4.mul_add(x319, -x323);
+                    x325 = c4 * x316;
+                    x326 = s4 * x316;
+                    x327 = c4 * x301;
+                    x328 = s4 * x301;
+                    x329 = L::splat_in(arith, -0.09465f64).mul_add(x9, -x322);
+                    x330 = L::splat_in(arith, -0.09465f64).mul_add(x8, x324);
+                    x331 = s5 * x320;
+                    x332 = c5.mul_add(x329, -x331);
+                    x333 = c5 * x320;
+                    x334 = s5.mul_add(x329, x333);
+                    x335 = L::splat_in(arith, 0.09465f64) * c4;
+                    x336 = L::splat_in(arith, 0.09465f64) * s4;
+                    x337 = x335 - x325;
+                    x338 = x326 - x336;
+                    x339 = s5 * x318;
+                    x340 = c5.mul_add(x337, -x339);
+                    x341 = c5 * x318;
+                    x342 = s5.mul_add(x337, x341);
+                    x343 = x327 + x335;
+                    x344 = x328 + x336;
+                    x345 = s5 * x302;
+                    x346 = c5.mul_add(x343, -x345);
+                    x347 = c5 * x302;
+                    x348 = s5.mul_add(x343, x347);
+                    x349 = c5 * x335;
+                    x350 = s5 * x335;
+                    x351 = x157 * x162;
+                    x352 = x158.mul_add(x165, -x351);
+                    x353 = s1.mul_add(x59, x352);
+                    *o6 = dyngen_runtime::__private::lane_out(arith, x353);
+                    x354 = x158 * x168;
+                    x355 = x157.mul_add(x169, -x354);
+                    x356 = (-c1).mul_add(x59, x355);
+                    *o12 = dyngen_runtime::__private::lane_out(arith, x356);
+                    x357 = x159 * x182;
+                    x358 = x178.mul_add(x306, x357);
+                    x359 = x183.mul_add(x308, x358);
+                    x360 = x3.mul_add(x81, x359);
+                    x361 = -x360;
+                    *o48 = dyngen_runtime::__private::lane_out(arith, x361);
+                    x362 = x183 * x300;
+                    x363 = x178.mul_add(x299, x362);
+                    x364 = x86 + x363;
+                    x365 = -x364;
+                    *o49 = dyngen_runtime::__private::lane_out(arith, x365);
+                    x366 = x159 * x190;
+                    x367 = x189.mul_add(x306, x366);
+                    x368 = x188.mul_add(x308, x367);
+                    x369 = x1.mul_add(x187, x368);
+                    *o54 = dyngen_runtime::__private::lane_out(arith, x369);
+                    x370 = x188 * x300;
+                    x371 = x189.mul_add(x299, x370);
+                    x372 = x84 + x371;
+                    *o55 = dyngen_runtime::__private::lane_out(arith, x372);
+                    x373 = x3 * x179;
+                    x374 = x1.mul_add(x87, x373);
+                    *o60 = dyngen_runtime::__private::lane_out(arith, x374);
+                    x375 = x3 * x191;
+                    x376 = x1.mul_add(x183, -x375);
+                    *o66 = dyngen_runtime::__private::lane_out(arith, x376);
+                    x377 = x1.mul_add(x185, -x373);
+                    *o72 = dyngen_runtime::__private::lane_out(arith, x377);
+                    x378 = x3 * x190;
+                    x379 = x1.mul_add(x182, -x378);
+                    *o78 = dyngen_runtime::__private::lane_out(arith, x379);
+                    x380 = x3 * x195;
+                    x381 = x1.mul_add(x193, -x380);
+                    *o84 = dyngen_runtime::__private::lane_out(arith, x381);
+                    x382 = x201 * x309;
+                    x383 = x198.mul_add(x311, -x382);
+                    x384 = x202.mul_add(x313, x383);
+                    x385 = x7.mul_add(x100, x384);
+                    *o90 = dyngen_runtime::__private::lane_out(arith, x385);
+                    x386 = x202 * x318;
+                    x387 = x198.mul_add(x316, x386);
+                    x388 = x151 + x387;
+                    *o91 = dyngen_runtime::__private::lane_out(arith, x388);
+                    x389 = x198 * x301;
+                    x390 = x202.mul_add(x302, -x389);
+                    x391 = x151 + x390;
+                    *o92 = dyngen_runtime::__private::lane_out(arith, x391);
+                    x392 = x209 * x309;
+                    x393 = x208.mul_add(x311, x392);
+                    x394 = x207.mul_add(x313, -x393);
+                    x395 = x5.mul_add(x206, x394);
+                    *o96 = dyngen_runtime::__private::lane_out(arith, x395);
+                    x396 = x208 * x316;
+                    x397 = x207.mul_add(x318, -x396);
+                    x398 = x397 - x102;
+                    *o97 = dyngen_runtime::__private::lane_out(arith, x398);
+                    x399 = x207 * x302;
+                    x400 = x208.mul_add(x301, x399);
+                    x401 = x400 - x102;
+                    *o98 = dyngen_runtime::__private::lane_out(arith, x401);
+                    x402 = x7 * x199;
+                    x403 = x5.mul_add(x107, x402);
+                    x404 = -x403;
+                    *o102 = dyngen_runtime::__private::lane_out(arith, x404);
+                    x405 = x7 * x210;
+                    x406 = x5.mul_add(x211, x405);
+                    *o108 = dyngen_runtime::__private::lane_out(arith, x406);
+                    x407 = (-x5).mul_add(x204, x402);
+                    *o114 = dyngen_runtime::__private::lane_out(arith, x407);
+                    x408 = x7 * x209;
+                    x409 = x5.mul_add(x201, -x408);
+                    *o120 = dyngen_runtime::__private::lane_out(arith, x409);
+                    x410 = x7 * x215;
+                    x411 = x5.mul_add(x213, x410);
+                    *o126 = dyngen_runtime::__private::lane_out(arith, x411);
+                    x412 = x7 * x123;
+                    x413 = x9.mul_add(x119, x412);
+                    x414 = x218 * x322;
+                    x415 = x220.mul_add(x324, -x414);
+                    x416 = x221.mul_add(x320, x415);
+                    x417 = x413 + x416;
+                    *o132 = dyngen_runtime::__private::lane_out(arith, x417);
+                    x418 = x218 * x325;
+                    x419 = x220.mul_add(x326, -x418);
+                    x420 = x221.mul_add(x318, x419);
+                    x421 = x420 - x273;
+                    *o133 = dyngen_runtime::__private::lane_out(arith, x421);
+                    x422 = x220 * x328;
+                    x423 = x218.mul_add(x327, -x422);
+                    x424 = x221.mul_add(x302, x423);
+                    x425 = x424 - x273;
+                    *o134 = dyngen_runtime::__private::lane_out(arith, x425);
+                    x426 = x7 * x121;
+                    x427 = x8.mul_add(x119, -x426);
+                    x428 = x224 * x324;
+                    x429 = x226.mul_add(x322, x428);
+                    x430 = x227.mul_add(x320, -x429);
+                    x431 = x427 + x430;
+                    *o138 = dyngen_runtime::__private::lane_out(arith, x431);
+                    x432 = x224 * x326;
+                    x433 = x226.mul_add(x325, x432);
+                    x434 = x227.mul_add(x318, -x433);
+                    x435 = x272 + x434;
+                    *o139 = dyngen_runtime::__private::lane_out(arith, x435);
+                    x436 = x224 * x328;
+                    x437 = x226.mul_add(x327, x436);
+                    x438 = x227.mul_add(x302, x437);
+                    x439 = x272 + x438;
+                    *o140 = dyngen_runtime::__private::lane_out(arith, x439);
+                    x440 = x9 * x219;
+                    x441 = x8.mul_add(x126, -x440);
+                    x442 = (-x7).mul_add(x222, x441);
+                    *o144 = dyngen_runtime::__private::lane_out(arith, x442);
+                    x443 = x9 * x227;
+                    x444 = x8.mul_add(x232, -x443);
+                    x445 = x7.mul_add(x231, x444);
+                    *o150 = dyngen_runtime::__private::lane_out(arith, x445);
+                    x446 = x9 * x233;
+                    x447 = x8.mul_add(x234, -x446);
+                    x448 = x7.mul_add(x235, x447);
+                    *o156 = dyngen_runtime::__private::lane_out(arith, x448);
+                    x449 = x9 * x237;
+                    x450 = x8.mul_add(x236, -x449);
+                    x451 = x7.mul_add(x229, x450);
+                    *o162 = dyngen_runtime::__private::lane_out(arith, x451);
+                    x452 = x8.mul_add(x225, x440);
+                    x453 = x7.mul_add(x124, x452);
+                    *o168 = dyngen_runtime::__private::lane_out(arith, x453);
+                    x454 = x13 * x139;
+                    x455 = x9.mul_add(x143, x454);
+                    x456 = x240 * x332;
+                    x457 = x243.mul_add(x330, -x456);
+                    x458 = x244.mul_add(x334, x457);
+                    x459 = x455 + x458;
+                    *o174 = dyngen_runtime::__private::lane_out(arith, x459);
+                    x460 = c4 * x143;
+                    x461 = x139.mul_add(x298, -x460);
+                    x462 = x240 * x340;
+                    x463 = x243.mul_add(x338, -x462);
+                    x464 = x244.mul_add(x342, x463);
+                    x465 = x461 + x464;
+                    *o175 = dyngen_runtime::__private::lane_out(arith, x465);
+                    x466 = x243 * x344;
+                    x467 = x240.mul_add(x346, x466);
+                    x468 = x244.mul_add(x348, -x467);
+                    x469 = x461 + x468;
+                    *o176 = dyngen_runtime::__private::lane_out(arith, x469);
+                    x470 = x243 * x336;
+                    x471 = x240.mul_add(x349, x470);
+                    x472 = x244.mul_add(x350, -x471);
+                    x473 = x461 + x472;
+                    *o177 = dyngen_runtime::__private::lane_out(arith, x473);
+                    x474 = x9 * x141;
+                    x475 = x11.mul_add(x248, -x474);
+                    x476 = x252 * x330;
+                    x477 = x251.mul_add(x332, x476);
+                    x478 = x250.mul_add(x334, x477);
+                    x479 = x475 + x478;
+                    *o180 = dyngen_runtime::__private::lane_out(arith, x479);
+                    x480 = c4 * x141;
+                    x481 = x248.mul_add(x297, x480);
+                    x482 = x252 * x338;
+                    x483 = x251.mul_add(x340, x482);
+                    x484 = x250.mul_add(x342, x483);
+                    x485 = x481 + x484;
+                    *o181 = dyngen_runtime::__private::lane_out(arith, x485);
+                    x486 = x252 * x344;
+                    x487 = x251.mul_add(x346, -x486);
+                    x488 = x250.mul_add(x348, x487);
+                    x489 = x481 + x488;
+                    *o182 = dyngen_runtime::__private::lane_out(arith, x489);
+                    x490 = x252 * x336;
+                    x491 = x251.mul_add(x349, -x490);
+                    x492 = x250.mul_add(x350, x491);
+                    x493 = x481 + x492;
+                    *o183 = dyngen_runtime::__private::lane_out(arith, x493);
+                    x494 = x9 * x242;
+                    x495 = x11.mul_add(x146, -x494);
+                    x496 = x13 * x241;
+                    x497 = x495 - x496;
+                    *o186 = dyngen_runtime::__private::lane_out(arith, x497);
+                    x498 = x146 * x297;
+                    x499 = c4.mul_add(x242, x498);
+                    x500 = x241 * x298;
+                    x501 = x499 - x500;
+                    *o187 = dyngen_runtime::__private::lane_out(arith, x501);
+                    *o188 = dyngen_runtime::__private::lane_out(arith, x501);
+                    *o189 = dyngen_runtime::__private::lane_out(arith, x501);
+                    x502 = x9 * x247;
+                    x503 = x11.mul_add(x254, -x502);
+                    x504 = x13.mul_add(x253, x503);
+                    *o192 = dyngen_runtime::__private::lane_out(arith, x504);
+                    x505 = x254 * x297;
+                    x506 = c4.mul_add(x247, x505);
+                    x507 = x253.mul_add(x298, x506);
+                    *o193 = dyngen_runtime::__private::lane_out(arith, x507);
+                    *o194 = dyngen_runtime::__private::lane_out(arith, x507);
+                    *o195 = dyngen_runtime::__private::lane_out(arith, x507);
+                    x508 = x11 * x246;
+                    x509 = x9.mul_add(x144, x508);
+                    x510 = x496 - x509;
+                    *o198 = dyngen_runtime::__private::lane_out(arith, x510);
+                    x511 = x246 * x297;
+                    x512 = c4.mul_add(x144, -x511);
+                    x513 = x500 + x512;
+                    *o199 = dyngen_runtime::__private::lane_out(arith, x513);
+                    *o200 = dyngen_runtime::__private::lane_out(arith, x513);
+                    *o201 = dyngen_runtime::__private::lane_out(arith, x513);
+                    x514 = x9 * x255;
+                    x515 = x11.mul_add(x243, -x514);
+                    x516 = x13.mul_add(x256, x515);
+                    *o204 = dyngen_runtime::__private::lane_out(arith, x516);
+                    x517 = x243 * x297;
+                    x518 = c4.mul_add(x255, x517);
+                    x519 = x256.mul_add(x298, x518);
+                    *o205 = dyngen_runtime::__private::lane_out(arith, x519);
+                    *o206 = dyngen_runtime::__private::lane_out(arith, x519);
+                    *o207 = dyngen_runtime::__private::lane_out(arith, x519);
+                    x520 = x9 * x258;
+                    x521 = x11.mul_add(x257, -x520);
+                    x522 = x13.mul_add(x259, x521);
+                    *o210 = dyngen_runtime::__private::lane_out(arith, x522);
+                    x523 = x257 * x297;
+                    x524 = c4.mul_add(x258, x523);
+                    x525 = x259.mul_add(x298, x524);
+                    *o211 = dyngen_runtime::__private::lane_out(arith, x525);
+                    *o212 = dyngen_runtime::__private::lane_out(arith, x525);
+                    *o213 = dyngen_runtime::__private::lane_out(arith, x525);
+                }
+                out
+            }
         }
-        out
+        dyngen_runtime::__private::dispatch_lanes::<Body, C, _>((t, qd, a))
     }
 }
 impl ForwardDynamics<6, 60> for Ur5 {

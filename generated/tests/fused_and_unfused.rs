@@ -4,8 +4,9 @@
 //! processor the fused results differ from the unfused ones in their last bits.
 //!
 //! On a processor with AVX-512, the functions that run through `dispatch_eight` (the derivatives,
-//! with their lanes in one 512-bit register; `C`, the regressors) give the same bits in an
-//! AVX-512 function as in an AVX2 one (`set_avx512_lanes`).
+//! with their lanes in one 512-bit register; `C`, the regressors; the lane functions of several
+//! states per call) give the same bits in an AVX-512 function as in an AVX2 one
+//! (`set_avx512_lanes`).
 //!
 //! Its own test binary: the choice is process-wide. Optimised builds only (debug builds compile
 //! one form): `cargo test --release -p dyngen-generated --test fused_and_unfused`.
@@ -17,12 +18,15 @@ use dyngen_runtime::__private::{
     avx512_lanes, fused_multiply_adds, set_avx512_lanes, set_fused_multiply_adds,
 };
 use dyngen_runtime::nalgebra::SVector;
-use dyngen_runtime::{BaseParameters, DynamicsDerivatives, ForwardDynamics, JointTrig, SplitMix64};
+use dyngen_runtime::{
+    f64x4, f64x8, pack, unpack, BaseParameters, DynamicsDerivatives, ForwardDynamics, JointTrig,
+    JointTrigLanes, LaneDynamics, Lanes, SplitMix64,
+};
 
 /// Every output of every scalar generated function at one state, one after the other.
 fn outputs<R, const N: usize, const P: usize, const B: usize>(x: &[SVector<f64, N>; 4]) -> Vec<f64>
 where
-    R: BaseParameters<N, P, B> + ForwardDynamics<N, P> + DynamicsDerivatives<N, P>,
+    R: BaseParameters<N, P, B> + ForwardDynamics<N, P> + DynamicsDerivatives<N, P> + LaneDynamics<N, B>,
 {
     let [q, qd, v, a] = x;
     let t = JointTrig::new(q);
@@ -52,6 +56,26 @@ where
     out.extend(dq.iter().chain(dv.iter()));
     let (dq, dv) = R::forward_dynamics_derivatives(&t, qd, a);
     out.extend(dq.iter().chain(dv.iter()));
+    // The lane functions, the state in every lane (lane 0 read back).
+    out.extend(lane_outputs::<R, f64x4, N, B>(x));
+    out.extend(lane_outputs::<R, f64x8, N, B>(x));
+    out
+}
+
+/// `τ` and `Y_b` of the lane functions (`dispatch_lanes`) at `x`, from lane 0.
+fn lane_outputs<R: LaneDynamics<N, B>, L: Lanes, const N: usize, const B: usize>(
+    x: &[SVector<f64, N>; 4],
+) -> Vec<f64> {
+    let [q, qd, _, a] = x;
+    let [q, qd, a] = [q, qd, a].map(|v| pack::<L, N>(&[*v]));
+    let t = JointTrigLanes::new(&q);
+    let mut out: Vec<f64> = unpack(&R::inverse_dynamics_lanes(&t, &qd, &a), 0)
+        .iter()
+        .copied()
+        .collect();
+    for column in R::base_torque_regressor_lanes(&t, &qd, &a) {
+        out.extend(unpack(&column, 0).iter());
+    }
     out
 }
 
@@ -59,7 +83,7 @@ where
 /// entry of each state's outputs); returns how many outputs differed at all.
 fn check<R, const N: usize, const P: usize, const B: usize>(robot: &str) -> usize
 where
-    R: BaseParameters<N, P, B> + ForwardDynamics<N, P> + DynamicsDerivatives<N, P>,
+    R: BaseParameters<N, P, B> + ForwardDynamics<N, P> + DynamicsDerivatives<N, P> + LaneDynamics<N, B>,
 {
     let mut rng = SplitMix64::new(11);
     let mut differing = 0;

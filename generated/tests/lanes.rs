@@ -52,29 +52,33 @@ where
 
 #[test]
 fn lanes_equal_scalar_functions() {
-    // The lane types fuse their multiply-adds only where the build targets FMA; the scalar
-    // functions also where the processor has it. Unfused scalar functions in a build that does
-    // not (the only test of this binary that depends on the choice).
-    dyngen_runtime::__private::set_fused_multiply_adds(false);
-    check::<Arm7, f64x4, 7, { arm7::PARAMETER_COUNT }, { arm7::BASE_PARAMETER_COUNT }>("arm7");
-    check::<Panda, f64x4, 7, { panda::PARAMETER_COUNT }, { panda::BASE_PARAMETER_COUNT }>("panda");
-    check::<Panda, f64x8, 7, { panda::PARAMETER_COUNT }, { panda::BASE_PARAMETER_COUNT }>("panda");
-    check::<
-        PandaRounded,
-        f64x4,
-        7,
-        { panda_rounded::PARAMETER_COUNT },
-        { panda_rounded::BASE_PARAMETER_COUNT },
-    >("panda_rounded");
-    check::<
-        PandaRounded,
-        f64x8,
-        7,
-        { panda_rounded::PARAMETER_COUNT },
-        { panda_rounded::BASE_PARAMETER_COUNT },
-    >("panda_rounded");
-    check::<Ur5, f64x4, 6, { ur5::PARAMETER_COUNT }, { ur5::BASE_PARAMETER_COUNT }>("ur5");
-    check::<Ur5, f64x8, 6, { ur5::PARAMETER_COUNT }, { ur5::BASE_PARAMETER_COUNT }>("ur5");
+    // The lane functions run under the same choice of multiply-adds as the scalar ones (fused
+    // where the processor has FMA, also in a build that does not target it), so they agree bit
+    // for bit under either choice (the only test of this binary that changes it; a debug build
+    // has the unfused form only).
+    for fused in [true, false] {
+        dyngen_runtime::__private::set_fused_multiply_adds(fused);
+        check::<Arm7, f64x4, 7, { arm7::PARAMETER_COUNT }, { arm7::BASE_PARAMETER_COUNT }>("arm7");
+        check::<Panda, f64x4, 7, { panda::PARAMETER_COUNT }, { panda::BASE_PARAMETER_COUNT }>("panda");
+        check::<Panda, f64x8, 7, { panda::PARAMETER_COUNT }, { panda::BASE_PARAMETER_COUNT }>("panda");
+        check::<
+            PandaRounded,
+            f64x4,
+            7,
+            { panda_rounded::PARAMETER_COUNT },
+            { panda_rounded::BASE_PARAMETER_COUNT },
+        >("panda_rounded");
+        check::<
+            PandaRounded,
+            f64x8,
+            7,
+            { panda_rounded::PARAMETER_COUNT },
+            { panda_rounded::BASE_PARAMETER_COUNT },
+        >("panda_rounded");
+        check::<Ur5, f64x4, 6, { ur5::PARAMETER_COUNT }, { ur5::BASE_PARAMETER_COUNT }>("ur5");
+        check::<Ur5, f64x8, 6, { ur5::PARAMETER_COUNT }, { ur5::BASE_PARAMETER_COUNT }>("ur5");
+    }
+    dyngen_runtime::__private::set_fused_multiply_adds(true);
 }
 
 #[test]

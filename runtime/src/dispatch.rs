@@ -23,10 +23,10 @@
 /// How a kernel computes `a·b + c`, and in which registers it holds eight or four lanes.
 pub trait MulAdd: Copy {
     /// The eight-lane vector of a kernel that carries tangents in lanes ([`dispatch_eight`]).
-    type Eight: EightLanes;
+    type Eight: EightLanes + LaneVector<Self>;
     /// The four-lane vector of a kernel that computes four rows of a column at once (the
-    /// regressors, [`dispatch_eight`]).
-    type Four: FourLanes;
+    /// regressors, [`dispatch_eight`]), and of a `*_lanes` function called with four lanes.
+    type Four: FourLanes + LaneVector<Self>;
     fn mul_add(self, a: f64, b: f64, c: f64) -> f64;
     /// The lane vector of `lanes`.
     fn eight(self, lanes: [f64; 8]) -> Self::Eight;
@@ -44,6 +44,7 @@ pub trait MulAdd: Copy {
     }
 }
 
+use crate::lane_kernels::LaneVector;
 use crate::lane_vectors::{EightLanes, FourLanes};
 
 /// `a·b + c` as written: two roundings, on any processor.

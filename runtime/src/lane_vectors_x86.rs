@@ -10,6 +10,8 @@
 //! [`Fused`]: crate::dispatch::Fused
 //! [`Fused512`]: crate::dispatch::Fused512
 
+use crate::dispatch::{Fused, Fused512};
+use crate::lane_kernels::LaneVector;
 use crate::lane_vectors::{EightLanes, FourLanes};
 use core::arch::x86_64::*;
 use core::mem::transmute;
@@ -171,6 +173,39 @@ unsafe fn neg_one(a: Avx512Eight) -> Avx512Eight {
         Avx512Eight(_mm512_castsi512_pd(bits))
     }
 }
+
+/// `$t` as the vector a `*_lanes` kernel computes in under the strategy `$m`, which
+/// [`dispatch_eight`] creates only where the processor has `$t`'s instructions: so making one
+/// through a value of `$m` is sound, and no other way to make one exists.
+macro_rules! compute_vector {
+    ($t:ident: $trait:ident under $m:ty) => {
+        impl LaneVector<$m> for $t {
+            #[inline(always)]
+            fn splat_in(arith: $m, x: f64) -> Self {
+                Self::from_fn_in(arith, |_| x)
+            }
+            #[inline(always)]
+            fn from_fn_in(_: $m, f: impl FnMut(usize) -> f64) -> Self {
+                // SAFETY: a value of `$m` exists only where the processor has the instructions
+                // of `$t` (see the macro).
+                unsafe { $t::new(core::array::from_fn(f)) }
+            }
+            #[inline(always)]
+            fn lane(&self, k: usize) -> f64 {
+                $trait::to_array(*self)[k]
+            }
+            #[inline(always)]
+            fn mul_add(self, b: Self, c: Self) -> Self {
+                $trait::mul_add(self, b, c)
+            }
+        }
+    };
+}
+
+compute_vector!(Avx2Four: FourLanes under Fused);
+compute_vector!(Avx2Eight: EightLanes under Fused);
+compute_vector!(Avx2Four: FourLanes under Fused512);
+compute_vector!(Avx512Eight: EightLanes under Fused512);
 
 #[cfg(test)]
 mod tests {

@@ -11,6 +11,8 @@
 //! the lane types fuse their multiply-adds and the scalar code does not, so the two may differ
 //! in the last bits there.
 
+use crate::dispatch::MulAdd;
+use crate::lane_kernels::LaneKernel;
 use crate::robot::Kinematics;
 use core::ops::{Add, Div, Mul, Neg, Sub};
 use nalgebra::SVector;
@@ -40,12 +42,41 @@ pub trait Lanes:
     fn map(self, f: impl Fn(f64) -> f64) -> Self {
         Self::from_fn(|k| f(self.lane(k)))
     }
+    /// [`Lanes::sin_cos`] of each of `q` (what [`JointTrigLanes::new`] computes): for `f64x4` and
+    /// `f64x8`, all in one function compiled for the processor's AVX2 and FMA where a build
+    /// chooses at run time.
+    #[doc(hidden)]
+    #[inline]
+    fn sin_cos_each<const N: usize>(q: &[Self; N]) -> ([Self; N], [Self; N]) {
+        let mut sin = [Self::splat(0.0); N];
+        let mut cos = [Self::splat(0.0); N];
+        for i in 0..N {
+            (sin[i], cos[i]) = q[i].sin_cos();
+        }
+        (sin, cos)
+    }
+    /// Runs a generated lane function's kernel under the multiply-add strategy `M`, computing
+    /// in the strategy's vector of this type's width where it has one (`f64x4`, `f64x8`), else
+    /// in this type (plumbing for generated code: [`dispatch_lanes`](crate::lane_kernels::dispatch_lanes)).
+    #[doc(hidden)]
+    #[inline(always)]
+    fn run_lane_kernel<M: MulAdd, K: LaneKernel<Self, A>, A>(arith: M, args: A) -> K::Output {
+        K::run::<M, Self>(arith, args)
+    }
 }
 
 macro_rules! lanes {
-    ($t:ty, $w:literal, $sin_cos:path) => {
+    ($t:ty, $w:literal, $sin_cos:path, $sin_cos_each:path, $vector:ident) => {
         impl Lanes for $t {
             const WIDTH: usize = $w;
+            #[inline]
+            fn sin_cos_each<const N: usize>(q: &[Self; N]) -> ([Self; N], [Self; N]) {
+                $sin_cos_each(q)
+            }
+            #[inline(always)]
+            fn run_lane_kernel<M: MulAdd, K: LaneKernel<Self, A>, A>(arith: M, args: A) -> K::Output {
+                K::run::<M, M::$vector>(arith, args)
+            }
             #[inline(always)]
             fn splat(x: f64) -> Self {
                 <$t>::splat(x)
@@ -69,8 +100,20 @@ macro_rules! lanes {
         }
     };
 }
-lanes!(f64x4, 4, crate::trig::sin_cos_f64x4);
-lanes!(f64x8, 8, crate::trig::sin_cos_f64x8);
+lanes!(
+    f64x4,
+    4,
+    crate::trig::sin_cos_f64x4,
+    crate::trig::sin_cos_f64x4_all,
+    Four
+);
+lanes!(
+    f64x8,
+    8,
+    crate::trig::sin_cos_f64x8,
+    crate::trig::sin_cos_f64x8_all,
+    Eight
+);
 
 /// `sign(x)` with `sign(0) = 0` (and 0 for NaN), unlike `f64::signum` (which gives ±1 at ±0):
 /// a joint at rest has no Coulomb friction, and the mass matrix through the regressor
@@ -99,11 +142,7 @@ impl<const N: usize, L: Lanes> JointTrigLanes<N, L> {
     /// [`JointTrig::new`](crate::JointTrig::new) computes them, so lane `k` matches the scalar
     /// functions exactly.
     pub fn new(q: &[L; N]) -> Self {
-        let mut sin = [L::splat(0.0); N];
-        let mut cos = [L::splat(0.0); N];
-        for i in 0..N {
-            (sin[i], cos[i]) = q[i].sin_cos();
-        }
+        let (sin, cos) = L::sin_cos_each(q);
         JointTrigLanes { q: *q, sin, cos }
     }
 }

@@ -47,6 +47,7 @@ mod floating_robot;
 mod frame;
 mod frames;
 mod joint;
+mod lane_kernels;
 mod lane_vectors;
 #[cfg(all(
     target_arch = "x86_64",
@@ -102,6 +103,7 @@ pub mod __private {
     pub use crate::dispatch::{dispatch, dispatch_eight, dispatch_many, Kernel, MulAdd, Unfused};
     pub use crate::fill::fill_zero;
     pub use crate::frame::align_stack_frame;
+    pub use crate::lane_kernels::{dispatch_lanes, lane_out, lanes_in, trig_in, LaneKernel, LaneVector};
     pub use crate::lane_vectors::{EightLanes, FourLanes};
     #[cfg(all(
         target_arch = "x86_64",

@@ -149,6 +149,70 @@ pub(crate) fn sin_cos_f64x4(q: f64x4) -> (f64x4, f64x4) {
     (f64x4::new(sin), f64x4::new(cos))
 }
 
+/// [`sin_cos_f64x4`] of each of `q` (the joints of a `JointTrigLanes`): where a build chooses at
+/// run time and the processor has AVX2 and FMA, all of them in one function compiled for those
+/// features.
+#[inline]
+pub(crate) fn sin_cos_f64x4_all<const N: usize>(q: &[f64x4; N]) -> ([f64x4; N], [f64x4; N]) {
+    #[cfg(all(
+        target_arch = "x86_64",
+        not(all(target_feature = "avx2", target_feature = "fma"))
+    ))]
+    if crate::cpu::has_avx2_fma() {
+        let angles: [[f64; 4]; N] = core::array::from_fn(|i| q[i].to_array());
+        // SAFETY: the processor has AVX, AVX2 and FMA (just checked).
+        let (mut sin, mut cos) = unsafe { crate::trig_fused::sin_cos_fours(&angles) };
+        for i in 0..N {
+            exact_beyond_limit(&angles[i], &mut sin[i], &mut cos[i]);
+        }
+        return (
+            core::array::from_fn(|i| f64x4::new(sin[i])),
+            core::array::from_fn(|i| f64x4::new(cos[i])),
+        );
+    }
+    let mut sin = [f64x4::ZERO; N];
+    let mut cos = [f64x4::ZERO; N];
+    for i in 0..N {
+        (sin[i], cos[i]) = sin_cos_f64x4(q[i]);
+    }
+    (sin, cos)
+}
+
+/// [`sin_cos_f64x8`] of each of `q`: as [`sin_cos_f64x4_all`], each half as four lanes, where
+/// a build chooses at run time and the processor has AVX2 and FMA.
+#[inline]
+pub(crate) fn sin_cos_f64x8_all<const N: usize>(
+    q: &[wide::f64x8; N],
+) -> ([wide::f64x8; N], [wide::f64x8; N]) {
+    #[cfg(all(
+        target_arch = "x86_64",
+        not(all(target_feature = "avx2", target_feature = "fma"))
+    ))]
+    if crate::cpu::has_avx2_fma() {
+        let half = |h: usize| -> [f64x4; N] {
+            core::array::from_fn(|i| {
+                let a = q[i].to_array();
+                f64x4::new([a[4 * h], a[4 * h + 1], a[4 * h + 2], a[4 * h + 3]])
+            })
+        };
+        let ((s0, c0), (s1, c1)) = (sin_cos_f64x4_all(&half(0)), sin_cos_f64x4_all(&half(1)));
+        let join = |lo: f64x4, hi: f64x4| {
+            let (lo, hi) = (lo.to_array(), hi.to_array());
+            wide::f64x8::new([lo[0], lo[1], lo[2], lo[3], hi[0], hi[1], hi[2], hi[3]])
+        };
+        return (
+            core::array::from_fn(|i| join(s0[i], s1[i])),
+            core::array::from_fn(|i| join(c0[i], c1[i])),
+        );
+    }
+    let mut sin = [wide::f64x8::ZERO; N];
+    let mut cos = [wide::f64x8::ZERO; N];
+    for i in 0..N {
+        (sin[i], cos[i]) = sin_cos_f64x8(q[i]);
+    }
+    (sin, cos)
+}
+
 /// The kernel on four angles: fused where the build targets FMA or the processor has it.
 #[inline(always)]
 fn sin_cos_four_in_range(q: f64x4) -> (f64x4, f64x4) {

@@ -78,6 +78,27 @@ pub(crate) unsafe fn sin_cos_four(q: &[f64; 4]) -> ([f64; 4], [f64; 4]) {
     (sin, cos)
 }
 
+/// [`sin_cos_four`] of every vector of `q` in one function compiled for AVX2 and FMA: the joints
+/// of a `JointTrigLanes` of four lanes (or of each half of eight) in one call, where one call
+/// per joint, each through arrays, took a default build 3.5 times as long as a native one.
+///
+/// # Safety
+/// The processor must have AVX, AVX2 and FMA.
+#[cfg(not(all(target_feature = "avx2", target_feature = "fma")))]
+#[target_feature(enable = "avx,avx2,fma")]
+pub(crate) unsafe fn sin_cos_fours<const N: usize>(q: &[[f64; 4]; N]) -> ([[f64; 4]; N], [[f64; 4]; N]) {
+    let (mut sin, mut cos) = ([[0.0; 4]; N], [[0.0; 4]; N]);
+    for i in 0..N {
+        // SAFETY: the enclosing function's features; reads and writes stay in the arrays.
+        unsafe {
+            let (s, c) = sin_cos_4(_mm256_loadu_pd(q[i].as_ptr()));
+            _mm256_storeu_pd(sin[i].as_mut_ptr(), s);
+            _mm256_storeu_pd(cos[i].as_mut_ptr(), c);
+        }
+    }
+    (sin, cos)
+}
+
 #[target_feature(enable = "avx,avx2,fma")]
 #[inline]
 unsafe fn sin_cos_4(q: __m256d) -> (__m256d, __m256d) {

@@ -267,7 +267,7 @@ pub(super) fn chunked(
     let params = all_parameters(&q.args, header.n, form, plan.leaves.floating_joints);
     let body = match in_place {
         true => {
-            let zero = zero_result(q, form);
+            let zero = zero_result(q, form, true);
             quote! {
                 let mut out: #ret = #zero;
                 #(#arrays)*

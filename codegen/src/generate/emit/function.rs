@@ -39,14 +39,9 @@ pub(super) fn function_item(
         false => quote!(-> #ret),
     };
     if form == Form::Lanes {
-        let params = params.iter().map(Param::declared);
-        // Its lane vectors spill whole to 64-byte-aligned slots (see the function's docs).
-        return quote! {
-            #attributes
-            fn #name<L: Lanes>(#(#params),*) #arrow {
-                dyngen_runtime::__private::align_stack_frame();
-                #body
-            }
+        return match ret.is_empty() {
+            true => lane_chunk_item(attributes, name, params, body),
+            false => lane_kernel_item(attributes, name, params, ret, body),
         };
     }
     let outer = params.iter().map(Param::passed_on);
@@ -58,6 +53,100 @@ pub(super) fn function_item(
         fn #name(#(#outer),*) #arrow {
             #call
         }
+    }
+}
+
+/// A whole lane function: its body as a `dyngen_runtime::__private::LaneKernel` computing in
+/// `L` (the vectors `dyngen_runtime::__private::dispatch_lanes` chooses) on the caller's lanes
+/// of type `C`, which `lane_body` converts in and out.
+fn lane_kernel_item(
+    attributes: TokenStream,
+    name: &Ident,
+    params: &[Param],
+    ret: &TokenStream,
+    body: TokenStream,
+) -> TokenStream {
+    let in_caller_lanes = |ty: &TokenStream| rename_lane_type(ty.clone());
+    let ret = in_caller_lanes(ret);
+    let types: Vec<TokenStream> = params.iter().map(|p| in_caller_lanes(&p.ty)).collect();
+    let names = params.iter().map(|p| &p.name);
+    let outer = params.iter().zip(&types).map(|(p, ty)| {
+        let name = &p.name;
+        quote!(#name: #ty)
+    });
+    let bindings = params.iter().map(Param::binding);
+    quote! {
+        #attributes
+        fn #name<C: Lanes>(#(#outer),*) -> #ret {
+            struct Body;
+            impl<C: Lanes> dyngen_runtime::__private::LaneKernel<C, (#(#types,)*)> for Body {
+                type Output = #ret;
+                #[inline(always)]
+                fn run<M: dyngen_runtime::__private::MulAdd, L: dyngen_runtime::__private::LaneVector<M>>(
+                    arith: M,
+                    (#(#bindings,)*): (#(#types,)*),
+                ) -> #ret {
+                    #body
+                }
+            }
+            dyngen_runtime::__private::dispatch_lanes::<Body, C, _>((#(#names,)*))
+        }
+    }
+}
+
+/// A chunk of a lane function generated in chunks: computes in the caller's lane type, its
+/// multiply-adds as that type rounds them (`Unfused` only names the strategy its vectors are
+/// made under).
+fn lane_chunk_item(
+    attributes: TokenStream,
+    name: &Ident,
+    params: &[Param],
+    body: TokenStream,
+) -> TokenStream {
+    let params = params.iter().map(Param::declared);
+    // Its lane vectors spill whole to 64-byte-aligned slots (see the function's docs).
+    quote! {
+        #attributes
+        fn #name<L: dyngen_runtime::__private::LaneVector<dyngen_runtime::__private::Unfused>>(#(#params),*) {
+            dyngen_runtime::__private::align_stack_frame();
+            #[allow(unused_variables)]
+            let arith = dyngen_runtime::__private::Unfused;
+            #body
+        }
+    }
+}
+
+/// `ty` with the lane type `L` (what a lane function's statements compute in) renamed `C` (the
+/// caller's lane type, which its parameters and result are in).
+fn rename_lane_type(ty: TokenStream) -> TokenStream {
+    use proc_macro2::{Group, TokenTree};
+    ty.into_iter()
+        .map(|tree| match tree {
+            TokenTree::Ident(i) if i == "L" => TokenTree::Ident(Ident::new("C", i.span())),
+            TokenTree::Group(g) => {
+                let mut renamed = Group::new(g.delimiter(), rename_lane_type(g.stream()));
+                renamed.set_span(g.span());
+                TokenTree::Group(renamed)
+            }
+            other => other,
+        })
+        .collect()
+}
+
+/// The body of a whole lane function's kernel: its used parameters converted from the caller's
+/// lanes into the kernel's vectors, then `body` (which writes its outputs back in the caller's
+/// lane type, `lane_out`).
+fn lane_body(params: &[Param], body: TokenStream) -> TokenStream {
+    let conversions = params.iter().filter(|p| p.used).map(|p| {
+        let name = &p.name;
+        match name == "t" {
+            true => quote!(let #name = &dyngen_runtime::__private::trig_in::<M, C, L, _>(arith, #name);),
+            false => quote!(let #name = &dyngen_runtime::__private::lanes_in::<M, C, L, _>(arith, #name);),
+        }
+    });
+    quote! {
+        #(#conversions)*
+        #body
     }
 }
 
@@ -241,9 +330,14 @@ pub(super) fn function(
     if whole {
         let body = match &writes {
             Some(writes) => {
-                let zero = zero_result(q, form);
+                let zero = zero_result(q, form, false);
+                // A lane function's result is in the caller's lane type.
+                let out_type = match form {
+                    Form::Scalar => ret.clone(),
+                    Form::Lanes => rename_lane_type(ret.clone()),
+                };
                 quote! {
-                    let mut out: #ret = #zero;
+                    let mut out: #out_type = #zero;
                     #writes
                     out
                 }
@@ -261,6 +355,10 @@ pub(super) fn function(
             lanes: plan.uses_lanes(&plan.order).then_some(plan.lanes),
             many_registers,
         };
+        let body = match form {
+            Form::Scalar => quote!(#(#prelude)* #body),
+            Form::Lanes => lane_body(&params, quote!(#(#prelude)* #body)),
+        };
         let method = function_item(
             form,
             quote!(#(#[doc = #doc])* #[inline(never)]),
@@ -268,7 +366,7 @@ pub(super) fn function(
             &params,
             &ret,
             kernel,
-            quote!(#(#prelude)* #body),
+            body,
         );
         let into = match (has_into_form(q, form), writes) {
             (true, Some(writes)) => one_piece_into(
@@ -492,7 +590,10 @@ impl OutputSlots {
                 }
                 match plan.names.contains_key(&id) {
                     true => slots.entry(id).or_default().push(slot.clone()),
-                    false => immediate.push(quote!(*#slot = #atom;)),
+                    false => immediate.push(match plan.form {
+                        Form::Scalar => quote!(*#slot = #atom;),
+                        Form::Lanes => quote!(*#slot = dyngen_runtime::__private::lane_out(arith, #atom);),
+                    }),
                 }
                 quote!(#slot)
             })
@@ -552,8 +653,10 @@ pub(super) fn slots_target(q: &Quantity, form: Form, out: TokenStream, by_refere
     }
 }
 
-/// The zero a result written in place starts from.
-pub(super) fn zero_result(q: &Quantity, form: Form) -> TokenStream {
+/// The zero a result written in place starts from; a lane result's in the caller's lane type,
+/// named `C` in a lane kernel and `L` where `in_chunks` (the calling function of a lane
+/// function in chunks).
+pub(super) fn zero_result(q: &Quantity, form: Form, in_chunks: bool) -> TokenStream {
     let bytes = result_bytes(q, form);
     let (matrix, fill) = match bytes > LIBRARY_FILL_BYTES && bytes <= UNROLLED_FILL_BYTES {
         true => (
@@ -565,13 +668,22 @@ pub(super) fn zero_result(q: &Quantity, form: Form) -> TokenStream {
     match (form, q.shape) {
         (Form::Scalar, Shape::Vector(_) | Shape::Matrix(..)) => matrix,
         (Form::Scalar, Shape::VectorPair(..) | Shape::MatrixPair(_)) => quote!((#matrix, #matrix)),
-        (Form::Lanes, Shape::Vector(len)) => {
-            let len = Literal::usize_unsuffixed(len);
-            quote!([L::splat(#fill); #len])
-        }
-        (Form::Lanes, Shape::Matrix(rows, cols)) => {
-            let (r, c) = (Literal::usize_unsuffixed(rows), Literal::usize_unsuffixed(cols));
-            quote!([[L::splat(#fill); #r]; #c])
+        (Form::Lanes, shape) => {
+            let splat = match in_chunks {
+                true => quote!(L::splat(#fill)),
+                false => quote!(C::splat(#fill)),
+            };
+            match shape {
+                Shape::Vector(len) => {
+                    let len = Literal::usize_unsuffixed(len);
+                    quote!([#splat; #len])
+                }
+                Shape::Matrix(rows, cols) => {
+                    let (r, c) = (Literal::usize_unsuffixed(rows), Literal::usize_unsuffixed(cols));
+                    quote!([[#splat; #r]; #c])
+                }
+                _ => unreachable!("only vectors and matrices have a lane form"),
+            }
         }
         _ => unreachable!("only vectors, matrices and their pairs are written in place"),
     }

@@ -136,9 +136,13 @@ impl<'a> Plan<'a> {
         let writes = |id: Id| {
             let name = &self.names[&id];
             let slots = slots.get(&id).map(Vec::as_slice).unwrap_or_default();
-            match g.node(id).is_lanes() {
-                true => quote!(#(*#slots = #name.to_array();)*),
-                false => quote!(#(*#slots = #name;)*),
+            match (g.node(id).is_lanes(), self.form) {
+                (true, _) => quote!(#(*#slots = #name.to_array();)*),
+                (false, Form::Scalar) => quote!(#(*#slots = #name;)*),
+                // Into the caller's lane type.
+                (false, Form::Lanes) => {
+                    quote!(#(*#slots = dyngen_runtime::__private::lane_out(arith, #name);)*)
+                }
             }
         };
         let mut read = std::collections::HashSet::new();
@@ -209,7 +213,7 @@ impl<'a> Plan<'a> {
                 let x = literal(-x);
                 match self.form {
                     Form::Scalar => x,
-                    Form::Lanes => quote!(L::splat(#x)),
+                    Form::Lanes => quote!(L::splat_in(arith, #x)),
                 }
             }
             (true, None) => {
@@ -236,7 +240,7 @@ impl<'a> Plan<'a> {
             let x = literal(x);
             return match self.form {
                 Form::Scalar => x,
-                Form::Lanes => quote!(L::splat(#x)),
+                Form::Lanes => quote!(L::splat_in(arith, #x)),
             };
         }
         if let Some(name) = self.leaves.names.get(&id) {
@@ -296,7 +300,7 @@ impl<'a> Plan<'a> {
             };
             if let Some((a, f)) = lane_function {
                 let a = atom(a);
-                return quote!(#a.map(#f));
+                return quote!(#a.map_in(arith, #f));
             }
         }
         let value = match self.robot.graph.node(id) {

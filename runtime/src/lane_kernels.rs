@@ -1,0 +1,118 @@
+//! The `*_lanes` functions (several states per call) run with the processor's widest registers
+//! and fused multiply-adds even in a build that does not target them, as the one-state functions
+//! do ([`dispatch`](crate::dispatch)).
+//!
+//! A caller's lane type (`f64x4`, `f64x8`: `wide`'s) compiles to the build's target alone: in a
+//! default x86-64 build, SSE2 and no FMA, which made the Panda's `τ` four states at a time run
+//! four times slower per state there than in a native build, slower even than one state per
+//! call. So a lane function is written once as a [`LaneKernel`], generic over the vector type
+//! it computes in ([`LaneVector`]), and called through [`dispatch_lanes`]: the kernel runs under
+//! [`dispatch_eight`](crate::dispatch::dispatch_eight)'s choice of multiply-adds, computing in
+//! that strategy's vector of the caller's width (`M::Four` for four lanes, `M::Eight` for eight:
+//! AVX2 or AVX-512 registers where the processor has them), and converts the caller's lanes in
+//! and out at its edges. A caller's own [`Lanes`] type of another width runs the kernel in that
+//! type, as written.
+//!
+//! A compute vector is made only through the strategy value (`splat_in(arith, x)`), never from
+//! nothing: a value of the strategy exists only where the processor has its instructions, which
+//! is what makes the AVX types' safe operations sound.
+
+use crate::dispatch::{Kernel, MulAdd};
+use crate::lanes::{JointTrigLanes, Lanes};
+use core::marker::PhantomData;
+use core::ops::{Add, Div, Mul, Neg, Sub};
+
+/// The vector a lane kernel computes in, under the multiply-add strategy `M`: lane-wise
+/// arithmetic, and vectors made only through a value of `M`.
+pub trait LaneVector<M>:
+    Copy + Add<Output = Self> + Sub<Output = Self> + Mul<Output = Self> + Div<Output = Self> + Neg<Output = Self>
+{
+    /// Every lane `x`.
+    fn splat_in(arith: M, x: f64) -> Self;
+    /// Lane `k` is `f(k)`.
+    fn from_fn_in(arith: M, f: impl FnMut(usize) -> f64) -> Self;
+    /// Lane `k`.
+    fn lane(&self, k: usize) -> f64;
+    /// `self · b + c` lane by lane, fused where `M` fuses.
+    fn mul_add(self, b: Self, c: Self) -> Self;
+    /// `f` applied lane by lane (the few non-arithmetic nodes: `sign`, `tanh`, the sine of a
+    /// constant-shifted angle).
+    #[inline]
+    fn map_in(self, arith: M, f: impl Fn(f64) -> f64) -> Self {
+        Self::from_fn_in(arith, |k| f(self.lane(k)))
+    }
+}
+
+/// A caller's lane type computes as itself, under any strategy (its operations are the build's,
+/// safe on any processor the build runs on).
+impl<M, T: Lanes> LaneVector<M> for T {
+    #[inline(always)]
+    fn splat_in(_: M, x: f64) -> Self {
+        T::splat(x)
+    }
+    #[inline(always)]
+    fn from_fn_in(_: M, f: impl FnMut(usize) -> f64) -> Self {
+        T::from_fn(f)
+    }
+    #[inline(always)]
+    fn lane(&self, k: usize) -> f64 {
+        Lanes::lane(self, k)
+    }
+    #[inline(always)]
+    fn mul_add(self, b: Self, c: Self) -> Self {
+        Lanes::mul_add(self, b, c)
+    }
+}
+
+/// A `*_lanes` function's body for the caller's lane type `C`: `Args` are its arguments (in
+/// `C`), [`LaneKernel::run`] computes in `L` and returns the result in `C`. Implementations
+/// mark `run` `#[inline(always)]`, so that the dispatch compiles it with the features it enables.
+pub trait LaneKernel<C: Lanes, Args> {
+    type Output;
+    fn run<M: MulAdd, L: LaneVector<M>>(arith: M, args: Args) -> Self::Output;
+}
+
+/// Runs lane kernel `K` on `args` in the caller's lane type `C`, with the processor's widest
+/// registers and fused multiply-adds where it has them (see the module).
+#[inline(always)]
+pub fn dispatch_lanes<K: LaneKernel<C, Args>, C: Lanes, Args>(args: Args) -> K::Output {
+    crate::dispatch::dispatch_eight::<InLanes<K, C>, Args>(args)
+}
+
+/// [`LaneKernel`] `K` as a [`Kernel`]: the strategy's vector of `C`'s width
+/// ([`Lanes::run_lane_kernel`]).
+struct InLanes<K, C>(PhantomData<(K, C)>);
+
+impl<K: LaneKernel<C, Args>, C: Lanes, Args> Kernel<Args> for InLanes<K, C> {
+    type Output = K::Output;
+    #[inline(always)]
+    fn run<M: MulAdd>(arith: M, args: Args) -> K::Output {
+        C::run_lane_kernel::<M, K, Args>(arith, args)
+    }
+}
+
+/// The caller's lanes `x` as compute vectors.
+#[inline(always)]
+pub fn lanes_in<M: Copy, C: Lanes, L: LaneVector<M>, const N: usize>(arith: M, x: &[C; N]) -> [L; N] {
+    core::array::from_fn(|i| L::from_fn_in(arith, |k| x[i].lane(k)))
+}
+
+/// [`lanes_in`] of the sines and cosines (and angles) of `t`.
+#[inline(always)]
+pub fn trig_in<M: Copy, C: Lanes, L: LaneVector<M>, const N: usize>(
+    arith: M,
+    t: &JointTrigLanes<N, C>,
+) -> JointTrigLanes<N, L> {
+    JointTrigLanes {
+        q: lanes_in(arith, &t.q),
+        sin: lanes_in(arith, &t.sin),
+        cos: lanes_in(arith, &t.cos),
+    }
+}
+
+/// A computed lane vector in the caller's lane type (or another compute type under the same
+/// strategy): where the two are one type, nothing.
+#[inline(always)]
+pub fn lane_out<M: Copy, L: LaneVector<M>, C: LaneVector<M>>(arith: M, x: L) -> C {
+    C::from_fn_in(arith, |k| x.lane(k))
+}
