@@ -13,7 +13,8 @@
 //! Unitree G1's `∂τ/∂x` caller alone was 261 KB of moves.)
 
 use super::function::{
-    function_item, slots_pattern, slots_target, writes_in_place, zero_result, KernelKind, OutputSlots,
+    function_item, rename_lane_type, slots_pattern, slots_target, writes_in_place, zero_result, KernelKind,
+    OutputSlots,
 };
 use super::into_form::{has_into_form, into_method, zero_pattern};
 use super::plan::{Form, Plan};
@@ -114,9 +115,11 @@ pub(super) fn chunked(
         })
         .collect();
     let ty = form.value_type();
-    let zero = match form {
-        Form::Scalar => quote!(0.0),
-        Form::Lanes => quote!(L::splat(0.0)),
+    // What the arrays between chunks hold: a lane function's values in the caller's lane type
+    // `C`, as each chunk is a kernel of its own (converted on the way in and out).
+    let (handed_ty, zero) = match form {
+        Form::Scalar => (ty.clone(), quote!(0.0)),
+        Form::Lanes => (quote!(C), quote!(C::splat(0.0))),
     };
     // The arrays chunk `c` hands on through: `h3: [f64; 120]`, `l3: [[f64; 8]; 40]`.
     let width = Literal::usize_unsuffixed(plan.lanes.lanes());
@@ -154,6 +157,11 @@ pub(super) fn chunked(
         let mut out_at = None;
         if outputs.any() {
             let ret = header.ret;
+            // A lane function's result is in the caller's lane type.
+            let ret = match form {
+                Form::Scalar => ret.clone(),
+                Form::Lanes => rename_lane_type(ret.clone()),
+            };
             extra_params.push(Param::used(format_ident!("out"), quote!(&mut #ret)));
             out_at = Some(call_args.len());
             call_args.push(quote!(&mut out));
@@ -182,7 +190,7 @@ pub(super) fn chunked(
                 });
                 let (array, array_ty, len) = match lanes {
                     true => (&l, lane_array.clone(), list.len()),
-                    false => (&h, ty.clone(), list.len()),
+                    false => (&h, handed_ty.clone(), list.len()),
                 };
                 let len = Literal::usize_unsuffixed(len);
                 extra_params.push(Param::used(array.clone(), quote!(&[#array_ty; #len])));
@@ -195,7 +203,10 @@ pub(super) fn chunked(
                             let built = plan.lanes.build(quote!(*#r));
                             quote!(#name = #built;)
                         }
-                        false => quote!(#name = *#r;),
+                        false => match form {
+                            Form::Scalar => quote!(#name = *#r;),
+                            Form::Lanes => quote!(#name = dyngen_runtime::__private::lane_out(arith, *#r);),
+                        },
                     };
                     read_statements.insert(*id, statement);
                     match lanes {
@@ -218,7 +229,7 @@ pub(super) fn chunked(
         let mut slots = outputs.slots;
         let (h, l) = array_names(k);
         for (list, array, array_ty, fill) in [
-            (&handed[k].scalars, &h, ty.clone(), zero.clone()),
+            (&handed[k].scalars, &h, handed_ty.clone(), zero.clone()),
             (&handed[k].lanes, &l, lane_array.clone(), quote!([0.0; #width])),
         ] {
             if list.is_empty() {
@@ -267,9 +278,13 @@ pub(super) fn chunked(
     let params = all_parameters(&q.args, header.n, form, plan.leaves.floating_joints);
     let body = match in_place {
         true => {
-            let zero = zero_result(q, form, true);
+            let zero = zero_result(q, form);
+            let out_type = match form {
+                Form::Scalar => ret.clone(),
+                Form::Lanes => rename_lane_type(ret.clone()),
+            };
             quote! {
-                let mut out: #ret = #zero;
+                let mut out: #out_type = #zero;
                 #(#arrays)*
                 #(#calls)*
                 out
@@ -312,6 +327,15 @@ pub(super) fn chunked(
             quote!(#(#arrays)* #(#into_calls)*),
         ),
         false => quote!(),
+    };
+    // A lane function's calling function is in the caller's lane type `C` throughout.
+    let (generics, params, ret) = match form {
+        Form::Scalar => (generics.clone(), params, ret.clone()),
+        Form::Lanes => (
+            quote!(<C: Lanes>),
+            params.into_iter().map(rename_lane_type).collect(),
+            rename_lane_type(ret.clone()),
+        ),
     };
     let method = quote! {
         #(#[doc = #doc])*

@@ -39,10 +39,7 @@ pub(super) fn function_item(
         false => quote!(-> #ret),
     };
     if form == Form::Lanes {
-        return match ret.is_empty() {
-            true => lane_chunk_item(attributes, name, params, body),
-            false => lane_kernel_item(attributes, name, params, ret, body),
-        };
+        return lane_kernel_item(attributes, name, params, ret, lane_body(params, body));
     }
     let outer = params.iter().map(Param::passed_on);
     let lane_methods = lane_methods(kernel.lanes);
@@ -59,7 +56,7 @@ pub(super) fn function_item(
 /// A whole lane function: its body as a `dyngen_runtime::__private::LaneKernel` computing in
 /// `L` (the vectors `dyngen_runtime::__private::dispatch_lanes` chooses) on the caller's lanes
 /// of type `C`, which `lane_body` converts in and out.
-fn lane_kernel_item(
+pub(super) fn lane_kernel_item(
     attributes: TokenStream,
     name: &Ident,
     params: &[Param],
@@ -75,17 +72,22 @@ fn lane_kernel_item(
         quote!(#name: #ty)
     });
     let bindings = params.iter().map(Param::binding);
+    // A chunk returns nothing (it writes through its arguments).
+    let (arrow, output) = match ret.is_empty() {
+        true => (quote!(), quote!(())),
+        false => (quote!(-> #ret), ret.clone()),
+    };
     quote! {
         #attributes
-        fn #name<C: Lanes>(#(#outer),*) -> #ret {
+        fn #name<C: Lanes>(#(#outer),*) #arrow {
             struct Body;
             impl<C: Lanes> dyngen_runtime::__private::LaneKernel<C, (#(#types,)*)> for Body {
-                type Output = #ret;
+                type Output = #output;
                 #[inline(always)]
                 fn run<M: dyngen_runtime::__private::MulAdd, L: dyngen_runtime::__private::LaneVector<M>>(
                     arith: M,
                     (#(#bindings,)*): (#(#types,)*),
-                ) -> #ret {
+                ) #arrow {
                     #body
                 }
             }
@@ -94,31 +96,9 @@ fn lane_kernel_item(
     }
 }
 
-/// A chunk of a lane function generated in chunks: computes in the caller's lane type, its
-/// multiply-adds as that type rounds them (`Unfused` only names the strategy its vectors are
-/// made under).
-fn lane_chunk_item(
-    attributes: TokenStream,
-    name: &Ident,
-    params: &[Param],
-    body: TokenStream,
-) -> TokenStream {
-    let params = params.iter().map(Param::declared);
-    // Its lane vectors spill whole to 64-byte-aligned slots (see the function's docs).
-    quote! {
-        #attributes
-        fn #name<L: dyngen_runtime::__private::LaneVector<dyngen_runtime::__private::Unfused>>(#(#params),*) {
-            dyngen_runtime::__private::align_stack_frame();
-            #[allow(unused_variables)]
-            let arith = dyngen_runtime::__private::Unfused;
-            #body
-        }
-    }
-}
-
 /// `ty` with the lane type `L` (what a lane function's statements compute in) renamed `C` (the
 /// caller's lane type, which its parameters and result are in).
-fn rename_lane_type(ty: TokenStream) -> TokenStream {
+pub(super) fn rename_lane_type(ty: TokenStream) -> TokenStream {
     use proc_macro2::{Group, TokenTree};
     ty.into_iter()
         .map(|tree| match tree {
@@ -133,13 +113,16 @@ fn rename_lane_type(ty: TokenStream) -> TokenStream {
         .collect()
 }
 
-/// The body of a whole lane function's kernel: its used parameters converted from the caller's
-/// lanes into the kernel's vectors, then `body` (which writes its outputs back in the caller's
-/// lane type, `lane_out`).
-fn lane_body(params: &[Param], body: TokenStream) -> TokenStream {
-    let conversions = params.iter().filter(|p| p.used).map(|p| {
+/// The body of a lane function's kernel: the arguments it reads converted from the caller's
+/// lanes into the kernel's vectors, then `body` (which writes its outputs, and a chunk the
+/// values it hands on, back in the caller's lane type: `lane_out`).
+pub(super) fn lane_body(params: &[Param], body: TokenStream) -> TokenStream {
+    // The arguments are the parameters typed in `L` (a chunk's result and arrays are in `C`
+    // already, and are read and written value by value).
+    let mentions_l = |ty: &TokenStream| ty.to_string() != rename_lane_type(ty.clone()).to_string();
+    let conversions = params.iter().filter(|p| p.used && mentions_l(&p.ty)).map(|p| {
         let name = &p.name;
-        match name == "t" {
+        match p.ty.to_string().contains("JointTrigLanes") {
             true => quote!(let #name = &dyngen_runtime::__private::trig_in::<M, C, L, _>(arith, #name);),
             false => quote!(let #name = &dyngen_runtime::__private::lanes_in::<M, C, L, _>(arith, #name);),
         }
@@ -330,7 +313,7 @@ pub(super) fn function(
     if whole {
         let body = match &writes {
             Some(writes) => {
-                let zero = zero_result(q, form, false);
+                let zero = zero_result(q, form);
                 // A lane function's result is in the caller's lane type.
                 let out_type = match form {
                     Form::Scalar => ret.clone(),
@@ -355,10 +338,6 @@ pub(super) fn function(
             lanes: plan.uses_lanes(&plan.order).then_some(plan.lanes),
             many_registers,
         };
-        let body = match form {
-            Form::Scalar => quote!(#(#prelude)* #body),
-            Form::Lanes => lane_body(&params, quote!(#(#prelude)* #body)),
-        };
         let method = function_item(
             form,
             quote!(#(#[doc = #doc])* #[inline(never)]),
@@ -366,7 +345,7 @@ pub(super) fn function(
             &params,
             &ret,
             kernel,
-            body,
+            quote!(#(#prelude)* #body),
         );
         let into = match (has_into_form(q, form), writes) {
             (true, Some(writes)) => one_piece_into(
@@ -653,10 +632,9 @@ pub(super) fn slots_target(q: &Quantity, form: Form, out: TokenStream, by_refere
     }
 }
 
-/// The zero a result written in place starts from; a lane result's in the caller's lane type,
-/// named `C` in a lane kernel and `L` where `in_chunks` (the calling function of a lane
-/// function in chunks).
-pub(super) fn zero_result(q: &Quantity, form: Form, in_chunks: bool) -> TokenStream {
+/// The zero a result written in place starts from; a lane result's in the caller's lane type
+/// (`C`, in the lane kernel).
+pub(super) fn zero_result(q: &Quantity, form: Form) -> TokenStream {
     let bytes = result_bytes(q, form);
     let (matrix, fill) = match bytes > LIBRARY_FILL_BYTES && bytes <= UNROLLED_FILL_BYTES {
         true => (
@@ -669,10 +647,7 @@ pub(super) fn zero_result(q: &Quantity, form: Form, in_chunks: bool) -> TokenStr
         (Form::Scalar, Shape::Vector(_) | Shape::Matrix(..)) => matrix,
         (Form::Scalar, Shape::VectorPair(..) | Shape::MatrixPair(_)) => quote!((#matrix, #matrix)),
         (Form::Lanes, shape) => {
-            let splat = match in_chunks {
-                true => quote!(L::splat(#fill)),
-                false => quote!(C::splat(#fill)),
-            };
+            let splat = quote!(C::splat(#fill));
             match shape {
                 Shape::Vector(len) => {
                     let len = Literal::usize_unsuffixed(len);

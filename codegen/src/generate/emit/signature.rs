@@ -38,12 +38,6 @@ impl Param {
         let (name, ty) = (&self.name, &self.ty);
         quote!(#name: #ty)
     }
-
-    /// `name: Type` as the function declares it.
-    pub(super) fn declared(&self) -> TokenStream {
-        let (name, ty) = (self.binding(), &self.ty);
-        quote!(#name: #ty)
-    }
 }
 
 /// `let [x0, _, x2] = <source>;` for the inputs in `used`; `None` if it reads none of them.

@@ -198,7 +198,7 @@ fn chunked_functions_compute_what_whole_ones_do() {
         ("a derivative in chunks", "fn inverse_dynamics_derivatives_part1("),
         (
             "a lane-form function in chunks",
-            "fn inverse_dynamics_lanes_part1<L: Lanes>(",
+            "fn inverse_dynamics_lanes_part1<C: Lanes>(",
         ),
         ("lane vectors handed on", "&mut [[f64; 8];"),
         ("a pose built from chunks", "fn forward_kinematics_part1("),
