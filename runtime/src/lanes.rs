@@ -2,14 +2,13 @@
 //! straight-line code as the scalar ones on a lane type `L` (`f64x4`: AVX; `f64x8`: AVX-512),
 //! so one call evaluates four or eight states for little more than the cost of one.
 //!
-//! The results equal the scalar functions' bit for bit on x86-64 where both fuse their
-//! multiply-adds or neither does: the same IEEE operations in the same order, lane by lane. The
-//! lane types fuse by the build's `fma` target feature; the scalar functions also where the
-//! processor has FMA ([`dispatch`](crate::dispatch::dispatch)), so a build that does not target
-//! FMA matches them after
-//! [`set_fused_multiply_adds(false)`](crate::dispatch::set_fused_multiply_adds). On AArch64
-//! the lane types fuse their multiply-adds and the scalar code does not, so the two may differ
-//! in the last bits there.
+//! A caller's `f64x4` or `f64x8` is only what goes in and out: the functions compute in the
+//! processor's registers of that width with its fused multiply-adds where it has them, also in
+//! a build that does not target them ([`dispatch_lanes`](crate::lane_kernels::dispatch_lanes)),
+//! under the same choice as the scalar functions. So the results equal the scalar functions'
+//! bit for bit on x86-64: the same IEEE operations in the same order, lane by lane, fused or
+//! not alike. On AArch64 the lane types fuse their multiply-adds and the scalar code does not,
+//! so the two may differ in the last bits there.
 
 use crate::dispatch::MulAdd;
 use crate::lane_kernels::LaneKernel;

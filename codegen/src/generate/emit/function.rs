@@ -22,8 +22,9 @@ use std::collections::HashMap;
 /// `dyngen_runtime::__private::dispatch_many` where it is scalar but holds far more values than
 /// sixteen registers (`many_registers`, see [`MANY_VALUES`]: compiled for AVX-512, for the 32
 /// registers of a native build, on processors where that does not slow scalar code). A lane
-/// function is generic over its lane type instead, and aligns its stack frame for its spills
-/// (`dyngen_runtime::__private::align_stack_frame`).
+/// function (several states per call) is generic over the caller's lane type `C` and runs its
+/// body as a `dyngen_runtime::__private::LaneKernel`, computing in the vector type `L` that
+/// `dyngen_runtime::__private::dispatch_lanes` chooses for that width.
 pub(super) fn function_item(
     form: Form,
     attributes: TokenStream,
