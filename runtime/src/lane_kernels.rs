@@ -4,13 +4,13 @@
 //!
 //! A caller's lane type (`f64x4`, `f64x8`: `wide`'s) compiles to the build's target alone: in a
 //! default x86-64 build, SSE2 and no FMA, which made the Panda's `τ` four states at a time run
-//! four times slower per state there than in a native build, slower even than one state per
+//! 3.8 times slower per state there than in a native build, slower even than one state per
 //! call. So a lane function is written once as a [`LaneKernel`], generic over the vector type
 //! it computes in ([`LaneVector`]), and called through [`dispatch_lanes`]: the kernel runs under
 //! [`dispatch_eight`](crate::dispatch::dispatch_eight)'s choice of multiply-adds, computing in
 //! that strategy's vector of the caller's width (`M::Four` for four lanes, `M::Eight` for eight:
-//! AVX2 or AVX-512 registers where the processor has them), and converts the caller's lanes in
-//! and out at its edges. A caller's own [`Lanes`] type of another width runs the kernel in that
+//! AVX2 or AVX-512 registers where the processor has them): it converts the caller's lanes in
+//! ([`lanes_in`], [`trig_in`]) and each output back as it stores it ([`lane_out`]). A caller's own [`Lanes`] type of another width runs the kernel in that
 //! type, as written.
 //!
 //! A compute vector is made only through the strategy value (`splat_in(arith, x)`), never from

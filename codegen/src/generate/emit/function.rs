@@ -54,9 +54,10 @@ pub(super) fn function_item(
     }
 }
 
-/// A whole lane function: its body as a `dyngen_runtime::__private::LaneKernel` computing in
-/// `L` (the vectors `dyngen_runtime::__private::dispatch_lanes` chooses) on the caller's lanes
-/// of type `C`, which `lane_body` converts in and out.
+/// A lane function, or a chunk of one: its body as a `dyngen_runtime::__private::LaneKernel`
+/// computing in `L` (the vectors `dyngen_runtime::__private::dispatch_lanes` chooses) on the
+/// caller's lanes of type `C` (`ret` and the parameters' types are written in `L` and renamed).
+/// A chunk (`ret` empty) returns nothing: it writes through its arguments.
 pub(super) fn lane_kernel_item(
     attributes: TokenStream,
     name: &Ident,
@@ -73,7 +74,6 @@ pub(super) fn lane_kernel_item(
         quote!(#name: #ty)
     });
     let bindings = params.iter().map(Param::binding);
-    // A chunk returns nothing (it writes through its arguments).
     let (arrow, output) = match ret.is_empty() {
         true => (quote!(), quote!(())),
         false => (quote!(-> #ret), ret.clone()),
