@@ -116,3 +116,94 @@ pub fn trig_in<M: Copy, C: Lanes, L: LaneVector<M>, const N: usize>(
 pub fn lane_out<M: Copy, L: LaneVector<M>, C: LaneVector<M>>(arith: M, x: L) -> C {
     C::from_fn_in(arith, |k| x.lane(k))
 }
+
+#[cfg(test)]
+mod tests {
+    use super::{dispatch_lanes, lane_out, lanes_in, LaneKernel, LaneVector};
+    use crate::dispatch::MulAdd;
+    use crate::lanes::{f64x4, f64x8, Lanes};
+    use core::ops::{Add, Div, Mul, Neg, Sub};
+
+    /// `a·b + 1` lane by lane, through every conversion a generated lane kernel uses.
+    struct MulAddOne;
+    impl<C: Lanes> LaneKernel<C, (&[C; 3], &[C; 3])> for MulAddOne {
+        type Output = [C; 3];
+        #[inline(always)]
+        fn run<M: MulAdd, L: LaneVector<M>>(arith: M, (a, b): (&[C; 3], &[C; 3])) -> [C; 3] {
+            let (a, b): ([L; 3], [L; 3]) = (lanes_in(arith, a), lanes_in(arith, b));
+            core::array::from_fn(|i| lane_out(arith, a[i].mul_add(b[i], L::splat_in(arith, 1.0))))
+        }
+    }
+
+    /// A caller's own lane type of two lanes, which the kernel computes in as it is.
+    #[derive(Clone, Copy, Debug)]
+    struct Two([f64; 2]);
+    macro_rules! two_operator {
+        ($op:ident, $method:ident, $symbol:tt) => {
+            impl $op for Two {
+                type Output = Two;
+                fn $method(self, b: Two) -> Two {
+                    Two([self.0[0] $symbol b.0[0], self.0[1] $symbol b.0[1]])
+                }
+            }
+        };
+    }
+    two_operator!(Add, add, +);
+    two_operator!(Sub, sub, -);
+    two_operator!(Mul, mul, *);
+    two_operator!(Div, div, /);
+    impl Neg for Two {
+        type Output = Two;
+        fn neg(self) -> Two {
+            Two([-self.0[0], -self.0[1]])
+        }
+    }
+    impl Lanes for Two {
+        const WIDTH: usize = 2;
+        fn splat(x: f64) -> Two {
+            Two([x; 2])
+        }
+        fn from_fn(mut f: impl FnMut(usize) -> f64) -> Two {
+            Two([f(0), f(1)])
+        }
+        fn lane(&self, k: usize) -> f64 {
+            self.0[k]
+        }
+        fn mul_add(self, b: Two, c: Two) -> Two {
+            self * b + c
+        }
+        fn sin_cos(self) -> (Two, Two) {
+            let [(s0, c0), (s1, c1)] = self.0.map(libm::sincos);
+            (Two([s0, s1]), Two([c0, c1]))
+        }
+    }
+
+    /// Every lane of the dispatched kernel's result is `a·b + 1` of that lane, once or twice
+    /// rounded as the dispatch chose, for `wide`'s types (computed in the strategy's vectors)
+    /// and for a lane type of another width (computed in itself).
+    fn computes_lane_by_lane<C: Lanes>() {
+        let mut rng = crate::SplitMix64::new(3);
+        let mut draw = || -> [C; 3] { core::array::from_fn(|_| C::from_fn(|_| rng.uniform((-4.0, 4.0)))) };
+        let (a, b) = (draw(), draw());
+        let got = dispatch_lanes::<MulAddOne, C, _>((&a, &b));
+        for i in 0..3 {
+            for k in 0..C::WIDTH {
+                let (x, y) = (a[i].lane(k), b[i].lane(k));
+                let want = x * y + 1.0;
+                let gap = (got[i].lane(k) - want).abs();
+                assert!(
+                    gap <= 1e-15 * want.abs().max(1.0),
+                    "width {}, {i}/{k}: {gap:e}",
+                    C::WIDTH
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn lane_kernels_compute_lane_by_lane_in_any_width() {
+        computes_lane_by_lane::<f64x4>();
+        computes_lane_by_lane::<f64x8>();
+        computes_lane_by_lane::<Two>();
+    }
+}
