@@ -10,8 +10,8 @@
 //! [`dispatch_eight`](crate::dispatch::dispatch_eight)'s choice of multiply-adds, computing in
 //! that strategy's vector of the caller's width (`M::Four` for four lanes, `M::Eight` for eight:
 //! AVX2 or AVX-512 registers where the processor has them): it converts the caller's lanes in
-//! ([`lanes_in`], [`trig_in`]) and each output back as it stores it ([`lane_out`]). A caller's own [`Lanes`] type of another width runs the kernel in that
-//! type, as written.
+//! ([`lanes_in`], [`trig_in`]) and each output back as it stores it ([`lane_out`]). A caller's
+//! own [`Lanes`] type of another width runs the kernel in that type, as written.
 //!
 //! A compute vector is made only through the strategy value (`splat_in(arith, x)`), never from
 //! nothing: a value of the strategy exists only where the processor has its instructions, which
@@ -94,7 +94,7 @@ impl<K: LaneKernel<C, Args>, C: Lanes, Args> Kernel<Args> for InLanes<K, C> {
 /// The caller's lanes `x` as compute vectors.
 #[inline(always)]
 pub fn lanes_in<M: Copy, C: Lanes, L: LaneVector<M>, const N: usize>(arith: M, x: &[C; N]) -> [L; N] {
-    core::array::from_fn(|i| L::from_fn_in(arith, |k| x[i].lane(k)))
+    core::array::from_fn(|i| lane_out(arith, x[i]))
 }
 
 /// [`lanes_in`] of the sines and cosines (and angles) of `t`.
@@ -110,8 +110,8 @@ pub fn trig_in<M: Copy, C: Lanes, L: LaneVector<M>, const N: usize>(
     }
 }
 
-/// A computed lane vector in the caller's lane type (or another compute type under the same
-/// strategy): where the two are one type, nothing.
+/// A lane vector in another lane type under the same strategy (a computed one in the caller's,
+/// or the caller's in the kernel's): where the two are one type, nothing.
 #[inline(always)]
 pub fn lane_out<M: Copy, L: LaneVector<M>, C: LaneVector<M>>(arith: M, x: L) -> C {
     C::from_fn_in(arith, |k| x.lane(k))

@@ -47,12 +47,7 @@ pub trait Lanes:
     #[doc(hidden)]
     #[inline]
     fn sin_cos_each<const N: usize>(q: &[Self; N]) -> ([Self; N], [Self; N]) {
-        let mut sin = [Self::splat(0.0); N];
-        let mut cos = [Self::splat(0.0); N];
-        for i in 0..N {
-            (sin[i], cos[i]) = q[i].sin_cos();
-        }
-        (sin, cos)
+        crate::trig::each(q, Self::sin_cos)
     }
     /// Runs a generated lane function's kernel under the multiply-add strategy `M`, computing
     /// in the strategy's vector of this type's width where it has one (`f64x4`, `f64x8`), else

@@ -149,6 +149,16 @@ pub(crate) fn sin_cos_f64x4(q: f64x4) -> (f64x4, f64x4) {
     (f64x4::new(sin), f64x4::new(cos))
 }
 
+/// `f` (a sine and cosine) of each of `q`.
+#[inline(always)]
+pub(crate) fn each<T: Copy, const N: usize>(q: &[T; N], f: impl Fn(T) -> (T, T)) -> ([T; N], [T; N]) {
+    let (mut sin, mut cos) = (*q, *q);
+    for i in 0..N {
+        (sin[i], cos[i]) = f(q[i]);
+    }
+    (sin, cos)
+}
+
 /// [`sin_cos_f64x4`] of each of `q` (the joints of a `JointTrigLanes`): where a build chooses at
 /// run time and the processor has AVX2 and FMA, all of them in one function compiled for those
 /// features.
@@ -165,17 +175,9 @@ pub(crate) fn sin_cos_f64x4_all<const N: usize>(q: &[f64x4; N]) -> ([f64x4; N], 
         for i in 0..N {
             exact_beyond_limit(&angles[i], &mut sin[i], &mut cos[i]);
         }
-        return (
-            core::array::from_fn(|i| f64x4::new(sin[i])),
-            core::array::from_fn(|i| f64x4::new(cos[i])),
-        );
+        return (sin.map(f64x4::new), cos.map(f64x4::new));
     }
-    let mut sin = [f64x4::ZERO; N];
-    let mut cos = [f64x4::ZERO; N];
-    for i in 0..N {
-        (sin[i], cos[i]) = sin_cos_f64x4(q[i]);
-    }
-    (sin, cos)
+    each(q, sin_cos_f64x4)
 }
 
 /// [`sin_cos_f64x8`] of each of `q`: as [`sin_cos_f64x4_all`], each half as four lanes, where
@@ -189,28 +191,34 @@ pub(crate) fn sin_cos_f64x8_all<const N: usize>(
         not(all(target_feature = "avx2", target_feature = "fma"))
     ))]
     if crate::cpu::has_avx2_fma() {
-        let half = |h: usize| -> [f64x4; N] {
-            core::array::from_fn(|i| {
-                let a = q[i].to_array();
-                f64x4::new([a[4 * h], a[4 * h + 1], a[4 * h + 2], a[4 * h + 3]])
-            })
-        };
-        let ((s0, c0), (s1, c1)) = (sin_cos_f64x4_all(&half(0)), sin_cos_f64x4_all(&half(1)));
-        let join = |lo: f64x4, hi: f64x4| {
-            let (lo, hi) = (lo.to_array(), hi.to_array());
-            wide::f64x8::new([lo[0], lo[1], lo[2], lo[3], hi[0], hi[1], hi[2], hi[3]])
-        };
+        let halves = q.map(halves);
+        let ((s0, c0), (s1, c1)) = (
+            sin_cos_f64x4_all(&halves.map(|h| h.0)),
+            sin_cos_f64x4_all(&halves.map(|h| h.1)),
+        );
         return (
             core::array::from_fn(|i| join(s0[i], s1[i])),
             core::array::from_fn(|i| join(c0[i], c1[i])),
         );
     }
-    let mut sin = [wide::f64x8::ZERO; N];
-    let mut cos = [wide::f64x8::ZERO; N];
-    for i in 0..N {
-        (sin[i], cos[i]) = sin_cos_f64x8(q[i]);
-    }
-    (sin, cos)
+    each(q, sin_cos_f64x8)
+}
+
+/// Lanes 0–3 and 4–7 of `q`.
+#[inline(always)]
+fn halves(q: wide::f64x8) -> (f64x4, f64x4) {
+    let a = q.to_array();
+    (
+        f64x4::new([a[0], a[1], a[2], a[3]]),
+        f64x4::new([a[4], a[5], a[6], a[7]]),
+    )
+}
+
+/// Eight lanes from their halves.
+#[inline(always)]
+fn join(low: f64x4, high: f64x4) -> wide::f64x8 {
+    let (l, h) = (low.to_array(), high.to_array());
+    wide::f64x8::new([l[0], l[1], l[2], l[3], h[0], h[1], h[2], h[3]])
 }
 
 /// The kernel on four angles: fused where the build targets FMA or the processor has it.
@@ -231,13 +239,8 @@ fn sin_cos_four_in_range(q: f64x4) -> (f64x4, f64x4) {
 /// [`sin_cos_f64x4`] on each half of eight lanes.
 #[inline]
 pub(crate) fn sin_cos_f64x8(q: wide::f64x8) -> (wide::f64x8, wide::f64x8) {
-    let a = q.to_array();
-    let (s0, c0) = sin_cos_f64x4(f64x4::new([a[0], a[1], a[2], a[3]]));
-    let (s1, c1) = sin_cos_f64x4(f64x4::new([a[4], a[5], a[6], a[7]]));
-    let join = |lo: f64x4, hi: f64x4| {
-        let (lo, hi) = (lo.to_array(), hi.to_array());
-        wide::f64x8::new([lo[0], lo[1], lo[2], lo[3], hi[0], hi[1], hi[2], hi[3]])
-    };
+    let (low, high) = halves(q);
+    let ((s0, c0), (s1, c1)) = (sin_cos_f64x4(low), sin_cos_f64x4(high));
     (join(s0, s1), join(c0, c1))
 }
 

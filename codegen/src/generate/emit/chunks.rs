@@ -13,7 +13,7 @@
 //! Unitree G1's `∂τ/∂x` caller alone was 261 KB of moves.)
 
 use super::function::{
-    function_item, rename_lane_type, slots_pattern, slots_target, writes_in_place, zero_result, KernelKind,
+    function_item, in_caller_type, slots_pattern, slots_target, writes_in_place, zero_result, KernelKind,
     OutputSlots,
 };
 use super::into_form::{has_into_form, into_method, zero_pattern};
@@ -156,12 +156,7 @@ pub(super) fn chunked(
         let mut call_args: Vec<TokenStream> = args.iter().map(|a| quote!(#a)).collect();
         let mut out_at = None;
         if outputs.any() {
-            let ret = header.ret;
-            // A lane function's result is in the caller's lane type.
-            let ret = match form {
-                Form::Scalar => ret.clone(),
-                Form::Lanes => rename_lane_type(ret.clone()),
-            };
+            let ret = in_caller_type(form, header.ret);
             extra_params.push(Param::used(format_ident!("out"), quote!(&mut #ret)));
             out_at = Some(call_args.len());
             call_args.push(quote!(&mut out));
@@ -279,10 +274,7 @@ pub(super) fn chunked(
     let body = match in_place {
         true => {
             let zero = zero_result(q, form);
-            let out_type = match form {
-                Form::Scalar => ret.clone(),
-                Form::Lanes => rename_lane_type(ret.clone()),
-            };
+            let out_type = in_caller_type(form, ret);
             quote! {
                 let mut out: #out_type = #zero;
                 #(#arrays)*
@@ -329,14 +321,12 @@ pub(super) fn chunked(
         false => quote!(),
     };
     // A lane function's calling function is in the caller's lane type `C` throughout.
-    let (generics, params, ret) = match form {
-        Form::Scalar => (generics.clone(), params, ret.clone()),
-        Form::Lanes => (
-            quote!(<C: Lanes>),
-            params.into_iter().map(rename_lane_type).collect(),
-            rename_lane_type(ret.clone()),
-        ),
+    let generics = match form {
+        Form::Scalar => generics.clone(),
+        Form::Lanes => quote!(<C: Lanes>),
     };
+    let params: Vec<TokenStream> = params.iter().map(|p| in_caller_type(form, p)).collect();
+    let ret = in_caller_type(form, ret);
     let method = quote! {
         #(#[doc = #doc])*
         #[inline(never)]

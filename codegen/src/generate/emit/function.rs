@@ -65,9 +65,11 @@ pub(super) fn lane_kernel_item(
     ret: &TokenStream,
     body: TokenStream,
 ) -> TokenStream {
-    let in_caller_lanes = |ty: &TokenStream| rename_lane_type(ty.clone());
-    let ret = in_caller_lanes(ret);
-    let types: Vec<TokenStream> = params.iter().map(|p| in_caller_lanes(&p.ty)).collect();
+    let ret = in_caller_type(Form::Lanes, ret);
+    let types: Vec<TokenStream> = params
+        .iter()
+        .map(|p| in_caller_type(Form::Lanes, &p.ty))
+        .collect();
     let names = params.iter().map(|p| &p.name);
     let outer = params.iter().zip(&types).map(|(p, ty)| {
         let name = &p.name;
@@ -97,15 +99,19 @@ pub(super) fn lane_kernel_item(
     }
 }
 
-/// `ty` with the lane type `L` (what a lane function's statements compute in) renamed `C` (the
-/// caller's lane type, which its parameters and result are in).
-pub(super) fn rename_lane_type(ty: TokenStream) -> TokenStream {
+/// `ty` as the caller sees it: a lane function's with the lane type `L` (what its statements
+/// compute in) renamed `C` (the caller's lane type, which its parameters and result are in).
+pub(super) fn in_caller_type(form: Form, ty: &TokenStream) -> TokenStream {
     use proc_macro2::{Group, TokenTree};
-    ty.into_iter()
+    if form == Form::Scalar {
+        return ty.clone();
+    }
+    ty.clone()
+        .into_iter()
         .map(|tree| match tree {
             TokenTree::Ident(i) if i == "L" => TokenTree::Ident(Ident::new("C", i.span())),
             TokenTree::Group(g) => {
-                let mut renamed = Group::new(g.delimiter(), rename_lane_type(g.stream()));
+                let mut renamed = Group::new(g.delimiter(), in_caller_type(form, &g.stream()));
                 renamed.set_span(g.span());
                 TokenTree::Group(renamed)
             }
@@ -114,16 +120,24 @@ pub(super) fn rename_lane_type(ty: TokenStream) -> TokenStream {
         .collect()
 }
 
+/// Whether `ty` names the identifier `name`.
+fn names(ty: &TokenStream, name: &str) -> bool {
+    ty.clone().into_iter().any(|tree| match tree {
+        proc_macro2::TokenTree::Ident(i) => i == name,
+        proc_macro2::TokenTree::Group(g) => names(&g.stream(), name),
+        _ => false,
+    })
+}
+
 /// The body of a lane function's kernel: the arguments it reads converted from the caller's
 /// lanes into the kernel's vectors, then `body` (which writes its outputs, and a chunk the
 /// values it hands on, back in the caller's lane type: `lane_out`).
 pub(super) fn lane_body(params: &[Param], body: TokenStream) -> TokenStream {
     // The arguments are the parameters typed in `L` (a chunk's result and arrays are in `C`
     // already, and are read and written value by value).
-    let mentions_l = |ty: &TokenStream| ty.to_string() != rename_lane_type(ty.clone()).to_string();
-    let conversions = params.iter().filter(|p| p.used && mentions_l(&p.ty)).map(|p| {
+    let conversions = params.iter().filter(|p| p.used && names(&p.ty, "L")).map(|p| {
         let name = &p.name;
-        match p.ty.to_string().contains("JointTrigLanes") {
+        match names(&p.ty, "JointTrigLanes") {
             true => quote!(let #name = &dyngen_runtime::__private::trig_in::<M, C, L, _>(arith, #name);),
             false => quote!(let #name = &dyngen_runtime::__private::lanes_in::<M, C, L, _>(arith, #name);),
         }
@@ -315,11 +329,7 @@ pub(super) fn function(
         let body = match &writes {
             Some(writes) => {
                 let zero = zero_result(q, form);
-                // A lane function's result is in the caller's lane type.
-                let out_type = match form {
-                    Form::Scalar => ret.clone(),
-                    Form::Lanes => rename_lane_type(ret.clone()),
-                };
+                let out_type = in_caller_type(form, &ret);
                 quote! {
                     let mut out: #out_type = #zero;
                     #writes
