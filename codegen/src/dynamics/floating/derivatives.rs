@@ -9,15 +9,24 @@
 //! joint's coordinate moves its transform through its motion subspace
 //! (`dynamics::seeded_frame`). A velocity direction seeds its entry of `ν`.
 //!
+//! Gravity is all a base rotation reaches: `τ` is affine in `Rᵀ g`, whose coefficient is the
+//! same in `g(q)` (the weight enters as an upward acceleration of the base), so
+//! `∂τ/∂δ_k = ∂g/∂δ_k`. Those three columns come from the gravity recursion, which has no
+//! velocities, instead of from inverse dynamics in lanes: carried through inverse dynamics,
+//! the rotations filled a second run that reached every body.
+//!
 //! Forward dynamics needs no differentiation of its own: with `ν̇ = FD(q, ν, τ)` fixed,
 //! `∂ν̇/∂x = −D⁻¹ ∂τ/∂x` at that `ν̇`, solved with the tree factor forward dynamics uses, on
-//! the lane tangents (all columns of a run at once).
+//! the lane tangents (all columns of a run at once). Its base rotations' columns need neither:
+//! `ν̇ = D⁻¹ (τ − h) + [Rᵀ g; 0]` (with the joint torques held, the weight accelerates the
+//! base as a whole and moves nothing else), so column `3 + k` is `[Rᵀ g × e_k; 0]`.
 
 use super::mass::{factor, floating_forward_dynamics};
-use super::{floating_inverse_dynamics, FloatingBase};
+use super::{floating_gravity, floating_inverse_dynamics, FloatingBase};
 use crate::dynamics::derivatives::{lift_factor, lift_inertia, minus_solved};
 use crate::dynamics::joint::joint_transforms;
 use crate::dynamics::seeded_frame::seeded_frames;
+use crate::dynamics::slotine_li::gravity_vector;
 use crate::model::Model;
 use crate::scalar::Scalar;
 use crate::scalar_dual::{Dual, LaneScalar, LaneTangent, Tangent, LANES};
@@ -84,18 +93,15 @@ struct Run<T> {
 }
 
 /// The directions of each run, at most [`LANES`] a run. A direction's tangents live on the
-/// bodies it moves: a base direction's on every body, a joint's on its subtree (and on `τ`'s
-/// rows above it). So the base's nine directions (three rotations, six velocities; the
-/// translations' columns are zero) come first, filling whole-tree runs whose free lanes then
-/// take joint directions at no extra cost; the other joints' directions follow in depth-first
-/// order, a subtree that fits in one run kept in one run, so that each later run's tangents are
-/// zero on all but a few branches and fold away there (Solo-12: one leg per run, where lanes
-/// taken in the order of the velocity indices put every leg in every run).
+/// bodies it moves: a base velocity's on every body, a joint's on its subtree (and on `τ`'s
+/// rows above it). So the base's six velocities come first, filling a whole-tree run whose free
+/// lanes then take joint directions at no extra cost; the other joints' directions follow in
+/// depth-first order, a subtree that fits in one run kept in one run, so that each later run's
+/// tangents are zero on all but a few branches and fold away there (Solo-12: one leg per run,
+/// where lanes taken in the order of the velocity indices put every leg in every run). The base
+/// rotations are not planned here ([`with_base_rotations`]; the translations' columns are zero).
 fn plan(parents: &[Option<usize>]) -> Vec<Vec<Direction>> {
-    let base: Vec<Direction> = (3..6)
-        .map(Direction::Configuration)
-        .chain((0..6).map(Direction::Velocity))
-        .collect();
+    let base: Vec<Direction> = (0..6).map(Direction::Velocity).collect();
     let mut runs: Vec<Vec<Direction>> = base.chunks(LANES).map(<[Direction]>::to_vec).collect();
     let mut free = LANES - runs.last().map_or(LANES, Vec::len);
     for block in subtree_blocks(parents) {
@@ -121,6 +127,22 @@ fn plan(parents: &[Option<usize>]) -> Vec<Vec<Direction>> {
         }
     }
     runs
+}
+
+/// `runs` with the base rotations in the free lanes of the first run with room for all three:
+/// their columns come from gravity ([`run`]), whatever else the run carries.
+fn with_base_rotations(mut runs: Vec<Vec<Direction>>) -> Vec<Vec<Direction>> {
+    let rotations: Vec<Direction> = (3..6).map(Direction::Configuration).collect();
+    match runs.iter_mut().find(|run| run.len() + rotations.len() <= LANES) {
+        Some(run) => run.extend(rotations),
+        None => runs.push(rotations),
+    }
+    runs
+}
+
+/// Each joint's parent, as [`plan`] takes them.
+fn parents(model: &Model) -> Vec<Option<usize>> {
+    model.joints().iter().map(|j| j.parent).collect()
 }
 
 /// The joints in depth-first order, cut into blocks of whole subtrees of at most `LANES / 2`
@@ -174,7 +196,6 @@ fn run<S: LaneScalar>(
     let lane_of = |wanted: Direction| {
         (directions.iter().position(|&d| d == wanted)).map(|k| S::Lanes::unit(k, S::one()))
     };
-    let seeded = seeded_base(base, &|c| lane_of(Direction::Configuration(c)));
     let x = seeded_frames(model, q, joint_transforms, |j| {
         lane_of(Direction::Configuration(6 + j))
     });
@@ -185,15 +206,31 @@ fn run<S: LaneScalar>(
         })
         .collect();
     let a: Vec<Dual<S, S::Lanes>> = a.iter().map(|&x| Dual::constant(x)).collect();
-    let tau = floating_inverse_dynamics(model, &seeded, &x, inertias, &v, &a);
+    let unturned = seeded_base(base, &|_| None);
+    let mut tangent: Vec<S::Lanes> = floating_inverse_dynamics(model, &unturned, &x, inertias, &v, &a)
+        .into_iter()
+        .map(|d| d.tangent)
+        .collect();
+    let rotation = |c: usize| lane_of(Direction::Configuration(c));
+    if (3..6).any(|c| rotation(c).is_some()) {
+        // `∂τ/∂δ_k = ∂g/∂δ_k` (module docs): gravity at the joints' configuration, held fixed.
+        let turned = seeded_base(base, &rotation);
+        let fixed = seeded_frames(model, q, joint_transforms, |_| None);
+        let gravity = floating_gravity(model, &turned, &fixed, inertias);
+        for (t, g) in tangent.iter_mut().zip(gravity) {
+            *t = *t + g.tangent;
+        }
+    }
     Run {
         directions: directions.to_vec(),
-        tangent: tau.into_iter().map(|d| d.tangent).collect(),
+        tangent,
     }
 }
 
-/// The runs of [`plan`]: `τ`'s tangents along every direction.
+/// The runs `planned`: `τ`'s tangents along every direction.
+#[allow(clippy::too_many_arguments)]
 fn runs<S: LaneScalar>(
+    planned: &[Vec<Direction>],
     model: &Model,
     base: &FloatingBase<S>,
     q: &[S],
@@ -202,8 +239,7 @@ fn runs<S: LaneScalar>(
     a: &[S],
 ) -> Vec<Run<S::Lanes>> {
     let inertias: Vec<RigidInertia<Dual<S, S::Lanes>>> = inertias.iter().map(lift_inertia).collect();
-    let parents: Vec<Option<usize>> = model.joints().iter().map(|j| j.parent).collect();
-    (plan(&parents).iter())
+    (planned.iter())
         .map(|directions| run(model, base, q, &inertias, v, a, directions))
         .collect()
 }
@@ -240,7 +276,8 @@ pub fn floating_inverse_dynamics_derivatives<S: LaneScalar>(
     v: &[S],
     a: &[S],
 ) -> (DMatrix<S>, DMatrix<S>) {
-    matrices(model.nv(), &runs(model, base, q, inertias, v, a))
+    let planned = with_base_rotations(plan(&parents(model)));
+    matrices(model.nv(), &runs(&planned, model, base, q, inertias, v, a))
 }
 
 /// `(∂ν̇/∂q, ∂ν̇/∂ν)` of floating forward dynamics at `(q, ν, τ)` (`∂ν̇/∂τ = D⁻¹`).
@@ -255,24 +292,33 @@ pub fn floating_forward_dynamics_derivatives<S: LaneScalar>(
     let x = joint_transforms(model, q);
     let a = floating_forward_dynamics(model, base, &x, inertias, v, tau);
     let lifted = lift_factor(&factor(model, base, &x, inertias));
-    let solved: Vec<Run<S::Lanes>> = runs(model, base, q, inertias, v, &a)
+    let solved: Vec<Run<S::Lanes>> = runs(&plan(&parents(model)), model, base, q, inertias, v, &a)
         .into_iter()
         .map(|r| Run {
             tangent: minus_solved(&lifted, &r.tangent),
             directions: r.directions,
         })
         .collect();
-    matrices(model.nv(), &solved)
+    let (mut d_q, d_v) = matrices(model.nv(), &solved);
+    // The base rotations' columns (module docs): `[g_b × e_k; 0]`, `g_b` gravity in the base frame.
+    let g_b = base.pose.rot.tr_mul_vec(&gravity_vector(model));
+    for k in 0..3 {
+        let column = g_b.cross(&Mat3::identity().column(k));
+        for (i, &entry) in column.0.iter().enumerate() {
+            d_q[(i, 3 + k)] = entry;
+        }
+    }
+    (d_q, d_v)
 }
 
 #[cfg(test)]
 mod tests {
-    use super::{plan, Direction, LANES};
+    use super::{plan, with_base_rotations, Direction, LANES};
 
     /// Every direction once (the base translation's configuration columns, zero, in none), at
     /// most `LANES` a run.
     fn check_complete(parents: &[Option<usize>]) -> Vec<Vec<Direction>> {
-        let runs = plan(parents);
+        let runs = with_base_rotations(plan(parents));
         let nv = 6 + parents.len();
         let mut seen: Vec<Direction> = runs.iter().flatten().copied().collect();
         assert!(runs.iter().all(|r| !r.is_empty() && r.len() <= LANES));
@@ -303,8 +349,14 @@ mod tests {
             .map(|j| if j % 3 == 0 { None } else { Some(j - 1) })
             .collect();
         let runs = check_complete(&parents);
-        // Nine base directions and 24 joint directions: two whole-tree runs, then three legs.
+        // Six base velocities and 24 joint directions: one whole-tree run (the base velocities
+        // and two directions of the first leg), the rest of the first leg with the three base
+        // rotations, then three legs.
         assert_eq!(runs.len(), 5);
+        let base_velocity = |d: &Direction| matches!(*d, Direction::Velocity(c) if c < 6);
+        assert_eq!(runs[0].iter().filter(|d| base_velocity(d)).count(), 6);
+        assert!(runs[1..].iter().flatten().all(|d| !base_velocity(d)));
+        assert!((3..6).all(|c| runs[1].contains(&Direction::Configuration(c))));
         for run in &runs[2..] {
             let legs: Vec<usize> = run
                 .iter()
