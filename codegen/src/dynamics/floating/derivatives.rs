@@ -5,24 +5,27 @@
 //! Directions are Pinocchio's: a configuration moves as `q ⊕ δ` (`nv` columns). The base
 //! translation's three columns are zero (nothing but the kinematics sees the base position,
 //! and inverse dynamics is written in the base frame); a base rotation `δ_k` turns the base as
-//! `R ↦ R exp([δ]×)`, so `R` moves by `R [e_k]×` and with it gravity seen in the base frame; a
-//! joint's coordinate moves its transform through its motion subspace
+//! `R ↦ R exp([δ]×)`; a joint's coordinate moves its transform through its motion subspace
 //! (`dynamics::seeded_frame`). A velocity direction seeds its entry of `ν`.
 //!
-//! Gravity is all a base rotation reaches: `τ` is affine in `Rᵀ g`, whose coefficient is the
-//! same in `g(q)` (the weight enters as an upward acceleration of the base), so
-//! `∂τ/∂δ_k = ∂g/∂δ_k`. Those three columns come from the gravity recursion, which has no
-//! velocities, instead of from inverse dynamics in lanes: carried through inverse dynamics,
-//! the rotations filled a second run that reached every body.
+//! Six of the base's directions reach only the base origin's classical acceleration
+//! `a₀ = ν̇_v + ω × v − g_b`, through which the weight enters (`g_b = Rᵀ g`, gravity seen in
+//! the base frame, as an upward acceleration): a rotation turns `g_b` by `g_b × e_k`, and the
+//! base's linear velocity `v` enters nowhere else (bodies' accelerations do not depend on a
+//! uniform velocity), moving `a₀` by `ω × e_k`. `τ` is affine in `a₀` with the coefficient it
+//! has in `g(q)`, so those columns are the gravity recursion's derivatives along `g_b`
+//! (`g_b × e_k` and `e_k × ω`), a recursion without velocities, instead of inverse dynamics'
+//! in lanes: there, the six filled a second run that reached every body.
 //!
 //! Forward dynamics needs no differentiation of its own: with `ν̇ = FD(q, ν, τ)` fixed,
 //! `∂ν̇/∂x = −D⁻¹ ∂τ/∂x` at that `ν̇`, solved with the tree factor forward dynamics uses, on
-//! the lane tangents (all columns of a run at once). Its base rotations' columns need neither:
-//! `ν̇ = D⁻¹ (τ − h) + [Rᵀ g; 0]` (with the joint torques held, the weight accelerates the
-//! base as a whole and moves nothing else), so column `3 + k` is `[Rᵀ g × e_k; 0]`.
+//! the lane tangents (all columns of a run at once). Its six columns through `a₀` need neither:
+//! with the torques held the solution keeps `a₀` (`ν̇_v` moves by minus `a₀`'s change, and
+//! nothing else moves), so a rotation's column is `[g_b × e_k; 0]` and a linear velocity's
+//! `[e_k × ω; 0]`.
 
 use super::mass::{factor, floating_forward_dynamics};
-use super::{floating_gravity, floating_inverse_dynamics, FloatingBase};
+use super::{floating_inverse_dynamics, floating_inverse_dynamics_in_field, FloatingBase};
 use crate::dynamics::derivatives::{lift_factor, lift_inertia, minus_solved};
 use crate::dynamics::joint::joint_transforms;
 use crate::dynamics::seeded_frame::seeded_frames;
@@ -33,48 +36,42 @@ use crate::scalar_dual::{Dual, LaneScalar, LaneTangent, Tangent, LANES};
 use crate::spatial::{Mat3, RigidInertia, Transform, Vec3};
 use nalgebra::DMatrix;
 
-/// `ε_ijk`.
-fn levi_civita(i: usize, j: usize, k: usize) -> f64 {
-    match (i, j, k) {
-        (0, 1, 2) | (1, 2, 0) | (2, 0, 1) => 1.0,
-        (0, 2, 1) | (2, 1, 0) | (1, 0, 2) => -1.0,
-        _ => 0.0,
+/// The base on dual numbers, constant: its directions enter through `ν` and the field
+/// ([`run`]), not through its pose.
+fn constant_base<S: Scalar, T: Tangent<S>>(base: &FloatingBase<S>) -> FloatingBase<Dual<S, T>> {
+    FloatingBase {
+        pose: base.pose.map(Dual::constant),
+        inertia: lift_inertia(&base.inertia),
     }
 }
 
-/// The base on dual numbers: the rotation's tangent is `Σ_k seed(3 + k) · R [e_k]×` (the base
-/// rotations of this run), the position and the inertia constant.
-fn seeded_base<S: Scalar, T: Tangent<S>>(
-    base: &FloatingBase<S>,
-    seed: &impl Fn(usize) -> Option<T>,
-) -> FloatingBase<Dual<S, T>> {
-    let r = &base.pose.rot;
-    let rot = Mat3(std::array::from_fn(|i| {
-        std::array::from_fn(|j| {
-            let mut tangent = T::zero();
-            for k in 0..3 {
-                let Some(s) = seed(3 + k) else { continue };
-                // (R [e_k]×)_ij = Σ_m R_im ε_mkj: one entry of R, signed, or none.
-                for m in 0..3 {
-                    match levi_civita(m, k, j) {
-                        1.0 => tangent = tangent + s.scale(r.0[i][m]),
-                        -1.0 => tangent = tangent - s.scale(r.0[i][m]),
-                        _ => {}
-                    }
-                }
-            }
-            Dual {
-                value: r.0[i][j],
-                tangent,
-            }
-        })
-    }));
-    FloatingBase {
-        pose: Transform {
-            rot,
-            pos: Vec3(base.pose.pos.0.map(Dual::constant)),
-        },
-        inertia: lift_inertia(&base.inertia),
+/// `g_b = Rᵀ g` and the base's angular velocity `ω`, what the six directions through `a₀` turn
+/// into columns (module docs).
+fn weight_and_spin<S: Scalar>(model: &Model, base: &FloatingBase<S>, v: &[S]) -> (Vec3<S>, Vec3<S>) {
+    (
+        base.pose.rot.tr_mul_vec(&gravity_vector(model)),
+        Vec3([v[3], v[4], v[5]]),
+    )
+}
+
+/// The directions that act through `a₀` alone: the base rotations and linear velocities.
+const FIELD_DIRECTIONS: [Direction; 6] = [
+    Direction::Configuration(3),
+    Direction::Configuration(4),
+    Direction::Configuration(5),
+    Direction::Velocity(0),
+    Direction::Velocity(1),
+    Direction::Velocity(2),
+];
+
+/// How direction `d` moves the field `g_b`, if it acts through `a₀` (module docs): a base
+/// rotation by `g_b × e_k`, a base linear velocity by `e_k × ω` (the field is minus `a₀`).
+fn field_rate<S: Scalar>(d: Direction, weight: &Vec3<S>, spin: &Vec3<S>) -> Option<Vec3<S>> {
+    let unit = |k: usize| Mat3::identity().column(k);
+    match d {
+        Direction::Configuration(c @ 3..6) => Some(weight.cross(&unit(c - 3))),
+        Direction::Velocity(c @ 0..3) => Some(unit(c).cross(spin)),
+        _ => None,
     }
 }
 
@@ -93,15 +90,16 @@ struct Run<T> {
 }
 
 /// The directions of each run, at most [`LANES`] a run. A direction's tangents live on the
-/// bodies it moves: a base velocity's on every body, a joint's on its subtree (and on `τ`'s
-/// rows above it). So the base's six velocities come first, filling a whole-tree run whose free
-/// lanes then take joint directions at no extra cost; the other joints' directions follow in
-/// depth-first order, a subtree that fits in one run kept in one run, so that each later run's
-/// tangents are zero on all but a few branches and fold away there (Solo-12: one leg per run,
-/// where lanes taken in the order of the velocity indices put every leg in every run). The base
-/// rotations are not planned here ([`with_base_rotations`]; the translations' columns are zero).
+/// bodies it moves: a base angular velocity's on every body, a joint's on its subtree (and on
+/// `τ`'s rows above it). So the base's three angular velocities come first, in a whole-tree run
+/// whose free lanes then take joint directions at no extra cost; the other joints' directions
+/// follow in depth-first order, a subtree that fits in one run kept in one run, so that each
+/// later run's tangents are zero on all but a few branches and fold away there (Solo-12: one leg
+/// per run, where lanes taken in the order of the velocity indices put every leg in every run).
+/// The six directions through `a₀` are not planned here ([`with_field_directions`]; the base
+/// translations' columns are zero).
 fn plan(parents: &[Option<usize>]) -> Vec<Vec<Direction>> {
-    let base: Vec<Direction> = (0..6).map(Direction::Velocity).collect();
+    let base: Vec<Direction> = (3..6).map(Direction::Velocity).collect();
     let mut runs: Vec<Vec<Direction>> = base.chunks(LANES).map(<[Direction]>::to_vec).collect();
     let mut free = LANES - runs.last().map_or(LANES, Vec::len);
     for block in subtree_blocks(parents) {
@@ -129,13 +127,16 @@ fn plan(parents: &[Option<usize>]) -> Vec<Vec<Direction>> {
     runs
 }
 
-/// `runs` with the base rotations in the free lanes of the first run with room for all three:
-/// their columns come from gravity ([`run`]), whatever else the run carries.
-fn with_base_rotations(mut runs: Vec<Vec<Direction>>) -> Vec<Vec<Direction>> {
-    let rotations: Vec<Direction> = (3..6).map(Direction::Configuration).collect();
-    match runs.iter_mut().find(|run| run.len() + rotations.len() <= LANES) {
-        Some(run) => run.extend(rotations),
-        None => runs.push(rotations),
+/// `runs` with the six directions through `a₀` (the base rotations and linear velocities) in
+/// the free lanes of the first run with room for them, or in a run of their own: their columns
+/// come from the gravity recursion ([`run`]), whatever else the run carries.
+fn with_field_directions(mut runs: Vec<Vec<Direction>>) -> Vec<Vec<Direction>> {
+    match runs
+        .iter_mut()
+        .find(|run| run.len() + FIELD_DIRECTIONS.len() <= LANES)
+    {
+        Some(run) => run.extend(FIELD_DIRECTIONS),
+        None => runs.push(FIELD_DIRECTIONS.to_vec()),
     }
     runs
 }
@@ -196,27 +197,46 @@ fn run<S: LaneScalar>(
     let lane_of = |wanted: Direction| {
         (directions.iter().position(|&d| d == wanted)).map(|k| S::Lanes::unit(k, S::one()))
     };
+    let (weight, spin) = weight_and_spin(model, base, v);
+    let through_field = |d: Direction| field_rate(d, &weight, &spin).is_some();
     let x = seeded_frames(model, q, joint_transforms, |j| {
         lane_of(Direction::Configuration(6 + j))
     });
-    let v: Vec<Dual<S, S::Lanes>> = (v.iter().enumerate())
+    let seeded_v: Vec<Dual<S, S::Lanes>> = (v.iter().enumerate())
         .map(|(c, &value)| Dual {
             value,
-            tangent: lane_of(Direction::Velocity(c)).unwrap_or_else(S::Lanes::zero),
+            tangent: (lane_of(Direction::Velocity(c)))
+                .filter(|_| !through_field(Direction::Velocity(c)))
+                .unwrap_or_else(S::Lanes::zero),
         })
         .collect();
     let a: Vec<Dual<S, S::Lanes>> = a.iter().map(|&x| Dual::constant(x)).collect();
-    let unturned = seeded_base(base, &|_| None);
-    let mut tangent: Vec<S::Lanes> = floating_inverse_dynamics(model, &unturned, &x, inertias, &v, &a)
+    let base = constant_base(base);
+    let mut tangent: Vec<S::Lanes> = floating_inverse_dynamics(model, &base, &x, inertias, &seeded_v, &a)
         .into_iter()
         .map(|d| d.tangent)
         .collect();
-    let rotation = |c: usize| lane_of(Direction::Configuration(c));
-    if (3..6).any(|c| rotation(c).is_some()) {
-        // `∂τ/∂δ_k = ∂g/∂δ_k` (module docs): gravity at the joints' configuration, held fixed.
-        let turned = seeded_base(base, &rotation);
+    if directions.iter().any(|&d| through_field(d)) {
+        // The gravity recursion under `g_b` moving as the run's field directions say, seen from
+        // an upright base (module docs).
+        let mut field = Vec3(weight.0.map(Dual::constant));
+        for (k, &d) in directions.iter().enumerate() {
+            let Some(rate) = field_rate(d, &weight, &spin) else {
+                continue;
+            };
+            let lane = S::Lanes::unit(k, S::one());
+            for (f, r) in field.0.iter_mut().zip(rate.0) {
+                f.tangent = f.tangent + lane.scale(r);
+            }
+        }
+        let upright = FloatingBase {
+            pose: Transform::identity(),
+            inertia: base.inertia,
+        };
         let fixed = seeded_frames(model, q, joint_transforms, |_| None);
-        let gravity = floating_gravity(model, &turned, &fixed, inertias);
+        let rest = vec![Dual::constant(S::zero()); v.len()];
+        let gravity =
+            floating_inverse_dynamics_in_field(model, &upright, field, &fixed, inertias, &rest, &rest);
         for (t, g) in tangent.iter_mut().zip(gravity) {
             *t = *t + g.tangent;
         }
@@ -276,7 +296,7 @@ pub fn floating_inverse_dynamics_derivatives<S: LaneScalar>(
     v: &[S],
     a: &[S],
 ) -> (DMatrix<S>, DMatrix<S>) {
-    let planned = with_base_rotations(plan(&parents(model)));
+    let planned = with_field_directions(plan(&parents(model)));
     matrices(model.nv(), &runs(&planned, model, base, q, inertias, v, a))
 }
 
@@ -299,13 +319,17 @@ pub fn floating_forward_dynamics_derivatives<S: LaneScalar>(
             directions: r.directions,
         })
         .collect();
-    let (mut d_q, d_v) = matrices(model.nv(), &solved);
-    // The base rotations' columns (module docs): `[g_b × e_k; 0]`, `g_b` gravity in the base frame.
-    let g_b = base.pose.rot.tr_mul_vec(&gravity_vector(model));
-    for k in 0..3 {
-        let column = g_b.cross(&Mat3::identity().column(k));
-        for (i, &entry) in column.0.iter().enumerate() {
-            d_q[(i, 3 + k)] = entry;
+    let (mut d_q, mut d_v) = matrices(model.nv(), &solved);
+    // The six columns through `a₀` (module docs): `ν̇_v` moves by the field's rate.
+    let (weight, spin) = weight_and_spin(model, base, v);
+    for d in FIELD_DIRECTIONS {
+        let rate = field_rate(d, &weight, &spin).expect("a direction through the base acceleration");
+        let (m, c) = match d {
+            Direction::Configuration(c) => (&mut d_q, c),
+            Direction::Velocity(c) => (&mut d_v, c),
+        };
+        for (i, &entry) in rate.0.iter().enumerate() {
+            m[(i, c)] = entry;
         }
     }
     (d_q, d_v)
@@ -313,12 +337,12 @@ pub fn floating_forward_dynamics_derivatives<S: LaneScalar>(
 
 #[cfg(test)]
 mod tests {
-    use super::{plan, with_base_rotations, Direction, LANES};
+    use super::{plan, with_field_directions, Direction, LANES};
 
     /// Every direction once (the base translation's configuration columns, zero, in none), at
     /// most `LANES` a run.
     fn check_complete(parents: &[Option<usize>]) -> Vec<Vec<Direction>> {
-        let runs = with_base_rotations(plan(parents));
+        let runs = with_field_directions(plan(parents));
         let nv = 6 + parents.len();
         let mut seen: Vec<Direction> = runs.iter().flatten().copied().collect();
         assert!(runs.iter().all(|r| !r.is_empty() && r.len() <= LANES));
@@ -343,21 +367,24 @@ mod tests {
     }
 
     #[test]
-    fn a_quadruped_gets_one_leg_per_run_after_the_base() {
+    fn a_quadruped_gets_its_legs_in_runs_of_their_own_after_the_base() {
         // Four legs of three joints, as Solo-12.
         let parents: Vec<Option<usize>> = (0..12)
             .map(|j| if j % 3 == 0 { None } else { Some(j - 1) })
             .collect();
         let runs = check_complete(&parents);
-        // Six base velocities and 24 joint directions: one whole-tree run (the base velocities
-        // and two directions of the first leg), the rest of the first leg with the three base
-        // rotations, then three legs.
+        // Three base angular velocities and 24 joint directions: one whole-tree run (the angular
+        // velocities and five directions of the first leg), the first leg's last direction with
+        // the second leg, the third and fourth legs, and the six directions through the base
+        // acceleration in a run of their own.
         assert_eq!(runs.len(), 5);
-        let base_velocity = |d: &Direction| matches!(*d, Direction::Velocity(c) if c < 6);
-        assert_eq!(runs[0].iter().filter(|d| base_velocity(d)).count(), 6);
-        assert!(runs[1..].iter().flatten().all(|d| !base_velocity(d)));
-        assert!((3..6).all(|c| runs[1].contains(&Direction::Configuration(c))));
-        for run in &runs[2..] {
+        let base = |d: &Direction| match *d {
+            Direction::Configuration(c) | Direction::Velocity(c) => c < 6,
+        };
+        assert_eq!(runs[0].iter().filter(|d| base(d)).count(), 3);
+        assert!(runs[1..4].iter().flatten().all(|d| !base(d)));
+        assert_eq!(runs[4], super::FIELD_DIRECTIONS);
+        for run in &runs[2..4] {
             let legs: Vec<usize> = run
                 .iter()
                 .map(|d| match *d {

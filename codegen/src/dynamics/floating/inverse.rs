@@ -83,7 +83,22 @@ pub fn floating_inverse_dynamics<S: Scalar, X: JointFrame<S>>(
     qd: &[S],
     qdd: &[S],
 ) -> Vec<S> {
-    let root = base_origin_motion(&base.pose.rot, qd, qdd, gravity_vector(model));
+    floating_inverse_dynamics_in_field(model, base, gravity_vector(model), x, inertias, qd, qdd)
+}
+
+/// [`floating_inverse_dynamics`] in the uniform field `gravity` (in the world's frame) instead of
+/// the model's. The derivatives take the base orientation's effect, and the base linear
+/// velocity's, through it.
+pub(crate) fn floating_inverse_dynamics_in_field<S: Scalar, X: JointFrame<S>>(
+    model: &Model,
+    base: &FloatingBase<S>,
+    gravity: Vec3<S>,
+    x: &[X],
+    inertias: &[RigidInertia<S>],
+    qd: &[S],
+    qdd: &[S],
+) -> Vec<S> {
+    let root = base_origin_motion(&base.pose.rot, qd, qdd, gravity);
     let motions = origin_motions_from(model, x, &qd[6..], &qdd[6..], root);
     let forces = motions.iter().zip(inertias).map(|(m, i)| m.force(i)).collect();
     base_and_joint_forces(model, x, root.force(&base.inertia), forces)

@@ -23,7 +23,8 @@ pub(crate) use centroidal::{centroidal_bias, centroidal_momentum_matrix};
 pub(crate) use coriolis::floating_coriolis_matrix;
 pub(crate) use derivatives::{floating_forward_dynamics_derivatives, floating_inverse_dynamics_derivatives};
 pub(crate) use inverse::{
-    floating_gravity, floating_inverse_dynamics, floating_regressor, floating_slotine_li,
+    floating_gravity, floating_inverse_dynamics, floating_inverse_dynamics_in_field, floating_regressor,
+    floating_slotine_li,
 };
 pub(crate) use kinematics::{floating_body_poses, floating_frame_jacobian, floating_frame_jacobian_dot};
 pub(crate) use mass::{
