@@ -197,8 +197,6 @@ fn run<S: LaneScalar>(
     let lane_of = |wanted: Direction| {
         (directions.iter().position(|&d| d == wanted)).map(|k| S::Lanes::unit(k, S::one()))
     };
-    let (weight, spin) = weight_and_spin(model, base, v);
-    let through_field = |d: Direction| field_rate(d, &weight, &spin).is_some();
     let x = seeded_frames(model, q, joint_transforms, |j| {
         lane_of(Direction::Configuration(6 + j))
     });
@@ -206,17 +204,18 @@ fn run<S: LaneScalar>(
         .map(|(c, &value)| Dual {
             value,
             tangent: (lane_of(Direction::Velocity(c)))
-                .filter(|_| !through_field(Direction::Velocity(c)))
+                .filter(|_| !FIELD_DIRECTIONS.contains(&Direction::Velocity(c)))
                 .unwrap_or_else(S::Lanes::zero),
         })
         .collect();
     let a: Vec<Dual<S, S::Lanes>> = a.iter().map(|&x| Dual::constant(x)).collect();
+    let (weight, spin) = weight_and_spin(model, base, v);
     let base = constant_base(base);
     let mut tangent: Vec<S::Lanes> = floating_inverse_dynamics(model, &base, &x, inertias, &seeded_v, &a)
         .into_iter()
         .map(|d| d.tangent)
         .collect();
-    if directions.iter().any(|&d| through_field(d)) {
+    if directions.iter().any(|d| FIELD_DIRECTIONS.contains(d)) {
         // The gravity recursion under `g_b` moving as the run's field directions say, seen from
         // an upright base (module docs).
         let mut field = Vec3(weight.0.map(Dual::constant));
