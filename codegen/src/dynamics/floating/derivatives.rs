@@ -366,7 +366,7 @@ mod tests {
     }
 
     #[test]
-    fn a_quadruped_gets_its_legs_in_runs_of_their_own_after_the_base() {
+    fn a_quadruped_has_one_whole_tree_run_then_runs_by_leg() {
         // Four legs of three joints, as Solo-12.
         let parents: Vec<Option<usize>> = (0..12)
             .map(|j| if j % 3 == 0 { None } else { Some(j - 1) })
