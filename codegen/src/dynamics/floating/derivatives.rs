@@ -209,15 +209,15 @@ fn run<S: LaneScalar>(
         })
         .collect();
     let a: Vec<Dual<S, S::Lanes>> = a.iter().map(|&x| Dual::constant(x)).collect();
-    let (weight, spin) = weight_and_spin(model, base, v);
-    let base = constant_base(base);
-    let mut tangent: Vec<S::Lanes> = floating_inverse_dynamics(model, &base, &x, inertias, &seeded_v, &a)
+    let constant = constant_base(base);
+    let mut tangent: Vec<S::Lanes> = floating_inverse_dynamics(model, &constant, &x, inertias, &seeded_v, &a)
         .into_iter()
         .map(|d| d.tangent)
         .collect();
     if directions.iter().any(|d| FIELD_DIRECTIONS.contains(d)) {
         // The gravity recursion under `g_b` moving as the run's field directions say, seen from
         // an upright base (module docs).
+        let (weight, spin) = weight_and_spin(model, base, v);
         let mut field = Vec3(weight.0.map(Dual::constant));
         for (k, &d) in directions.iter().enumerate() {
             let Some(rate) = field_rate(d, &weight, &spin) else {
@@ -230,7 +230,7 @@ fn run<S: LaneScalar>(
         }
         let upright = FloatingBase {
             pose: Transform::identity(),
-            inertia: base.inertia,
+            inertia: constant.inertia,
         };
         let fixed = seeded_frames(model, q, joint_transforms, |_| None);
         let rest = vec![Dual::constant(S::zero()); v.len()];
