@@ -5,8 +5,8 @@
 //! `src/lib.rs`, `dyngen_runtime::include_robot!(panda);` gives `panda::Panda`.
 
 use crate::description::{DescriptionError, FrameSelection, NonPhysicalInertia, UrdfOptions};
-use crate::functions::{FunctionGroup, Functions};
 use crate::generate::{generate_robot_with, module_name, type_name, write_file, GenerateError, RobotReport};
+use crate::{FunctionGroup, Functions};
 use std::path::{Path, PathBuf};
 
 /// Generates `description` into `$OUT_DIR/<module>.rs` with the defaults of [`Builder`]; on

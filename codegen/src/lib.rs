@@ -1,27 +1,20 @@
-//! dyngen's generator side: a robot description ([`description`]) becomes a kinematic-tree
-//! [`model::Model`]; the dynamics algorithms, written once generic over the scalar type, run on
-//! it with `f64` ([`dynamics::NumericDynamics`], the reference values) and with symbols, from
-//! which [`generate`] writes flattened Rust. Build scripts call [`compile_robot`] or
-//! [`Builder`]; [`base_parameters`] gives the identifiable combinations of the parameters.
+//! dyngen's generator: the dynamics algorithms of `dyngen-model`, run on symbols, become
+//! flattened Rust ([`generate`]). Build scripts call [`compile_robot`] or [`Builder`].
+//!
+//! The model side (descriptions, [`model::Model`], the generic `f64` dynamics, base parameters)
+//! lives in `dyngen-model` and is re-exported here, so that a build script needs one
+//! dependency; crates that only load and evaluate robots depend on `dyngen-model` alone.
 
-pub mod base_parameters;
 mod build_script;
-pub mod description;
-pub mod dynamics;
-mod functions;
 pub mod generate;
 #[doc(hidden)]
 pub mod internals;
-pub mod model;
-mod scalar;
-mod scalar_dual;
-mod spatial;
 mod symbolic;
 
 pub use build_script::{compile_robot, Builder};
-pub use functions::{
-    FunctionGroup, Functions, ALL_GROUPS, EVERY_GROUP_BY_DEFAULT_UP_TO_DOF, LARGE_ROBOT_DEFAULT,
+pub use dyngen_model::{base_parameters, description, dynamics, model};
+pub use dyngen_model::{
+    urdf_rs, FunctionGroup, Functions, ALL_GROUPS, EVERY_GROUP_BY_DEFAULT_UP_TO_DOF, LARGE_ROBOT_DEFAULT,
 };
-/// The URDF crate that [`description::from_urdf_rs`] reads and [`description::to_urdf_rs`]
-/// writes, re-exported so that callers use the same version.
-pub use urdf_rs;
+// The model crate's plumbing, under the paths the generator's modules name it by.
+use dyngen_model::{frame_names, scalar, scalar_dual, spatial};

@@ -13,13 +13,13 @@
 //! [`identify_with`], for comparison. Each prints its time and the process's peak resident
 //! memory (`VmHWM`), so run them as separate processes.
 
-use dyngen_codegen::description::load;
-use dyngen_codegen::model::{JointTermValues, JointTerms};
 use dyngen_generated::arm7_friction::{Arm7Friction, BASE_PARAMETER_COUNT, DOF, PARAMETER_COUNT};
 use dyngen_identify::{
     identify_file, identify_with, read_csv, with_payload, Compiled, FourierTrajectory, IdentifyOptions,
     Sample, SampleWriter, Samples, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY,
 };
+use dyngen_model::description::load;
+use dyngen_model::model::{JointTermValues, JointTerms};
 use dyngen_runtime::{JointTrig, Regressors, SplitMix64};
 use nalgebra::{SVector, Vector3};
 use std::path::Path;
@@ -37,7 +37,7 @@ fn peak_mib() -> Option<f64> {
     Some(kib / 1024.0)
 }
 
-fn description() -> dyngen_codegen::model::Model {
+fn description() -> dyngen_model::model::Model {
     let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
     load(&root.join("robots/arm7_friction.yaml"))
         .unwrap_or_else(|e| panic!("{e}"))

@@ -11,7 +11,7 @@
 //! limits. Nothing is guessed or dropped.
 
 use crate::error::{IdentifyError, Place};
-use dyngen_codegen::model::Model;
+use dyngen_model::model::Model;
 use std::collections::HashMap;
 use std::fmt::Write as _;
 use std::io::Write as _;

@@ -52,7 +52,7 @@ use crate::data::Samples;
 use crate::error::IdentifyError;
 use crate::least_squares::{estimate, BaseEstimate, Observations};
 use crate::observation::{BaseModel, Prepared};
-use dyngen_codegen::dynamics::NumericDynamics;
+use dyngen_model::dynamics::NumericDynamics;
 use nalgebra::{DMatrix, DVector};
 
 /// What identification fits to the data.

@@ -30,7 +30,7 @@
 use crate::fourier::{FourierTrajectory, TrajectoryLimits};
 use crate::observation::{BaseModel, BaseRegressorSource};
 use crate::workspace::{ExcitationError, Workspace, WorkspaceCheck};
-use dyngen_codegen::dynamics::NumericDynamics;
+use dyngen_model::dynamics::NumericDynamics;
 use dyngen_runtime::SplitMix64;
 
 /// Options of the search.

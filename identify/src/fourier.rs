@@ -15,7 +15,7 @@
 //! limits by scaling each joint's coefficients by one factor: the largest that keeps position,
 //! velocity and acceleration within their limits (times a margin), on a dense grid.
 
-use dyngen_codegen::model::{JointKind, Model};
+use dyngen_model::model::{JointKind, Model};
 use std::f64::consts::PI;
 
 /// Joint limits an excitation must respect.

@@ -6,8 +6,8 @@
 use crate::consistent::body_margins;
 use crate::describe::{to_yaml, with_parameters};
 use crate::log_cholesky::MARGIN;
-use dyngen_codegen::description::load_yaml_str;
-use dyngen_codegen::model::Model;
+use dyngen_model::description::load_yaml_str;
+use dyngen_model::model::Model;
 use std::path::Path;
 
 /// `model` with parameters `theta`, and the loader's warnings about its YAML; or why it would

@@ -8,9 +8,9 @@
 use crate::data::Samples;
 use crate::differentiate::{differences, filtfilt, padding, uniform_rate};
 use crate::error::IdentifyError;
-use dyngen_codegen::base_parameters::BaseParameterSet;
-use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::model::Model;
+use dyngen_model::base_parameters::BaseParameterSet;
+use dyngen_model::dynamics::NumericDynamics;
+use dyngen_model::model::Model;
 use dyngen_runtime::{BaseParameters, JointTrig};
 use nalgebra::{DMatrix, DVector, SVector};
 use std::marker::PhantomData;

@@ -7,8 +7,8 @@
 //! inertia (`Inertia::repaired`, the loader's `inertia: repair`) for the start, and a note says
 //! which and by how much.
 
-use dyngen_codegen::model::physical_inertia::moments_text;
-use dyngen_codegen::model::{Body, Model};
+use dyngen_model::model::physical_inertia::moments_text;
+use dyngen_model::model::{Body, Model};
 
 /// The model identification starts from: `model`, or a copy with every non-physical body
 /// repaired; and one note per repaired body.

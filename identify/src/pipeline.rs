@@ -13,7 +13,7 @@ use crate::observation::{prepare, BaseModel, BaseRegressorSource};
 use crate::physical_start::physical_start;
 use crate::starts::{description_start, least_squares_start};
 use crate::streaming::{estimate_streaming, Progress};
-use dyngen_codegen::model::Model;
+use dyngen_model::model::Model;
 use std::fmt;
 use std::path::Path;
 
@@ -218,7 +218,7 @@ pub(crate) fn refuse_floating_base(model: &Model) -> Result<(), IdentifyError> {
 
 /// The body that carries `frame`. Only a floating base carries frames itself, and
 /// identification refuses those ([`refuse_floating_base`]).
-pub(crate) fn carrier(frame: &dyngen_codegen::model::Frame) -> usize {
+pub(crate) fn carrier(frame: &dyngen_model::model::Frame) -> usize {
     frame
         .parent
         .expect("identification refuses a floating base, the only one that carries frames itself")

@@ -4,8 +4,8 @@
 use crate::data::Samples;
 use crate::excitation::normal;
 use crate::fourier::FourierTrajectory;
-use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::model::{Inertia, JointTermKind, JointTermValues, JointTerms, Model};
+use dyngen_model::dynamics::NumericDynamics;
+use dyngen_model::model::{Inertia, JointTermKind, JointTermValues, JointTerms, Model};
 use dyngen_runtime::{ReferenceFrame, SplitMix64};
 use nalgebra::{Matrix3, Vector3};
 

@@ -21,7 +21,7 @@ use crate::least_squares::{estimate, BaseEstimate, Observations};
 use crate::normal_equations::NormalEquations;
 use crate::observation::BaseRegressorSource;
 use crate::pipeline::IdentifyOptions;
-use dyngen_codegen::model::Model;
+use dyngen_model::model::Model;
 use std::collections::VecDeque;
 use std::path::Path;
 

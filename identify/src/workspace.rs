@@ -22,8 +22,8 @@
 //! to a boundary.
 
 use crate::fourier::FourierTrajectory;
-use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::model::{JointKind, Model};
+use dyngen_model::dynamics::NumericDynamics;
+use dyngen_model::model::{JointKind, Model};
 use nalgebra::Vector3;
 use thiserror::Error;
 

@@ -2,7 +2,6 @@
 
 mod crate_dir;
 pub(crate) mod emit;
-pub(crate) mod frame_names;
 mod hash;
 mod output;
 pub(crate) mod quantities;

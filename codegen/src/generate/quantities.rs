@@ -4,7 +4,7 @@
 //! group, and a test holds the table to the traits of `dyngen-runtime` and to the reference in
 //! `docs/dynamics.md`.
 
-use crate::functions::FunctionGroup;
+use crate::FunctionGroup;
 
 /// One generated function. The order of [`QuantityKind::ALL`] is the order the tracer records
 /// them in, which is append-only: node ids follow creation order, so a quantity added at the end

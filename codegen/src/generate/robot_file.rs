@@ -7,9 +7,9 @@ use super::trace::trace_functions;
 use super::trace_floating::trace_floating;
 use crate::base_parameters::BaseParameterSet;
 use crate::description::{load_with, DescriptionError, UrdfOptions};
-use crate::functions::{FunctionGroup, Functions, EVERY_GROUP_BY_DEFAULT_UP_TO_DOF};
 use crate::model::Model;
 use crate::symbolic::OpCounts;
+use crate::{FunctionGroup, Functions, EVERY_GROUP_BY_DEFAULT_UP_TO_DOF};
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
 

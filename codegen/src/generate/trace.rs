@@ -1,15 +1,15 @@
 //! Runs the generic dynamics algorithms on symbolic inputs: one graph holds every quantity a
 //! controller needs, so shared subexpressions (joint transforms, body velocities) are one node.
 
-use super::frame_names::frame_identifiers;
 use super::quantities::QuantityKind;
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::{self, Directions, Placements};
-use crate::functions::{FunctionGroup, Functions};
+use crate::frame_names::frame_identifiers;
 use crate::model::Model;
 use crate::scalar::Scalar;
 use crate::scalar_dual::{LaneTangent, Tangent};
 use crate::symbolic::{record, Expr, Graph, Id, LaneExpr};
+use crate::{FunctionGroup, Functions};
 use dyngen_runtime::ReferenceFrame;
 use nalgebra::DMatrix;
 use std::collections::HashMap;

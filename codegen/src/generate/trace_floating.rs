@@ -10,11 +10,11 @@ use super::trace::{
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::floating::{self as algorithms, FloatingBase};
 use crate::dynamics::{self, FloatingDynamics, FrameMotion};
-use crate::functions::{FunctionGroup, Functions};
 use crate::model::Model;
 use crate::scalar::Scalar;
 use crate::spatial::{Mat3, RigidInertia, Transform, Vec3};
 use crate::symbolic::{record, Expr};
+use crate::{FunctionGroup, Functions};
 
 /// The groups a floating-base robot is generated with: its dynamics (with the centroidal
 /// quantities), forward dynamics and frames, the functions of `FloatingBaseDynamics` and

@@ -46,8 +46,8 @@ pub enum Node {
     Extract(Id, u32),
 }
 
-/// Lanes of a lane vector node.
-pub const LANES: usize = 8;
+/// Lanes of a lane vector node: the directions a dual number's lane tangent carries.
+pub use crate::scalar_dual::LANES;
 
 impl Node {
     /// Whether the node's value is a lane vector (else a scalar).

@@ -148,7 +148,7 @@ fn exported_descriptions_keep_their_frames() {
     let dir = scratch.path();
     std::fs::write(
         dir.join("r.urdf"),
-        urdf_rs::write_to_string(&export.robot).unwrap(),
+        dyngen_codegen::urdf_rs::write_to_string(&export.robot).unwrap(),
     )
     .unwrap();
     std::fs::write(dir.join("r.yaml"), export.yaml_wrapper("r.urdf")).unwrap();

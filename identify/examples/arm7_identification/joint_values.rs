@@ -2,7 +2,7 @@
 //! tests (which include this file): realistic values for a 7-DOF arm with harmonic drives
 //! (sources in the example's docs).
 
-use dyngen_codegen::model::JointTermValues;
+use dyngen_model::model::JointTermValues;
 
 /// Armature kg·m², viscous N·m·s/rad, Coulomb N·m, offset N·m, joint by joint.
 pub fn arm7_joint_values() -> Vec<JointTermValues> {

@@ -22,15 +22,15 @@
 mod joint_values;
 mod plot;
 
-use dyngen_codegen::base_parameters::BaseParameterSet;
-use dyngen_codegen::description::{load, load_yaml_str};
-use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::model::{JointTermValues, Model};
 use dyngen_identify::{
     identify, measure, optimise, read_csv, to_csv, to_yaml, with_joint_terms, with_payload, BaseModel,
     BaseRegressorSource, ExcitationOptions, FourierTrajectory, IdentifyOptions, TrajectoryLimits,
     DEFAULT_ACCELERATION_PER_VELOCITY,
 };
+use dyngen_model::base_parameters::BaseParameterSet;
+use dyngen_model::description::{load, load_yaml_str};
+use dyngen_model::dynamics::NumericDynamics;
+use dyngen_model::model::{JointTermValues, Model};
 use nalgebra::{DVector, Vector3};
 use plot::{svg, Panel};
 use plotters::style::RGBColor;

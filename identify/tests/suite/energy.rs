@@ -7,15 +7,15 @@
 use crate::common;
 
 use common::{arm7, arm7_noise, arm7_nominal, arm7_truth};
-use dyngen_codegen::base_parameters::BaseParameterSet;
-use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::model::{JointTerms, Model};
 use dyngen_identify::{
     identify, measure, with_payload, Identification, IdentifyOptions, Observation, Samples,
 };
 use dyngen_identify::{
     FourierTrajectory, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY, DEFAULT_WINDOW,
 };
+use dyngen_model::base_parameters::BaseParameterSet;
+use dyngen_model::dynamics::NumericDynamics;
+use dyngen_model::model::{JointTerms, Model};
 use dyngen_runtime::SplitMix64;
 use nalgebra::{DVector, Vector3};
 

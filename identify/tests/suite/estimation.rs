@@ -3,14 +3,14 @@
 use crate::common;
 
 use common::{arm7_noise, arm7_nominal, arm7_truth};
-use dyngen_codegen::base_parameters::BaseParameterSet;
-use dyngen_codegen::description::load_yaml_str;
 use dyngen_codegen::generate::generate_robot;
-use dyngen_codegen::model::JointTermKind;
 use dyngen_identify::measure;
 use dyngen_identify::pseudo_inertia_margins;
 use dyngen_identify::{identify, IdentifyOptions};
 use dyngen_identify::{FourierTrajectory, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
+use dyngen_model::base_parameters::BaseParameterSet;
+use dyngen_model::description::load_yaml_str;
+use dyngen_model::model::JointTermKind;
 
 fn trajectory(seed: u64) -> FourierTrajectory {
     let nominal = arm7_nominal();

@@ -5,15 +5,15 @@
 //! excitation, torque noise 1% of each joint's largest torque, then validated on another
 //! trajectory. The floors are the acceptance thresholds of TESTING.md.
 
-use dyngen_codegen::base_parameters::BaseParameterSet;
-use dyngen_codegen::description::{load, load_yaml_str};
-use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::model::{JointTermValues, Model};
 use dyngen_identify::{
     identify, measure, optimise, with_joint_terms, with_payload, BaseModel, ExcitationOptions,
     FourierTrajectory, Identification, IdentifyOptions, TrajectoryLimits, WrittenEstimate,
     DEFAULT_ACCELERATION_PER_VELOCITY,
 };
+use dyngen_model::base_parameters::BaseParameterSet;
+use dyngen_model::description::{load, load_yaml_str};
+use dyngen_model::dynamics::NumericDynamics;
+use dyngen_model::model::{JointTermValues, Model};
 use nalgebra::Vector3;
 use std::path::Path;
 

@@ -2,10 +2,10 @@
 //! default): the least squares do not care, the consistent estimate starts from the nearest
 //! physical inertia and says so, and the identified description is physical.
 
-use dyngen_codegen::description::{load, load_yaml_str};
-use dyngen_codegen::model::{Body, Model};
 use dyngen_identify::{identify, measure, pseudo_inertia_margins, IdentifyOptions};
 use dyngen_identify::{FourierTrajectory, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
+use dyngen_model::description::{load, load_yaml_str};
+use dyngen_model::model::{Body, Model};
 use std::path::Path;
 
 /// A two-joint arm whose forearm has a principal moment of -1e-4 kg·m² (a rod along x).

@@ -5,14 +5,14 @@
 use crate::common;
 
 use common::{arm7, arm7_joint_values, arm7_noise, arm7_nominal};
-use dyngen_codegen::description::load_yaml_str;
-use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::model::{Inertia, Model};
 use dyngen_identify::{
     identify, identify_payload, measure, measure_wrench, with_body_at, with_joint_terms, FourierTrajectory,
     IdentifyOptions, PayloadData, PayloadEstimate, PayloadOptions, Samples, TrajectoryLimits,
     DEFAULT_ACCELERATION_PER_VELOCITY,
 };
+use dyngen_model::description::load_yaml_str;
+use dyngen_model::dynamics::NumericDynamics;
+use dyngen_model::model::{Inertia, Model};
 use nalgebra::{Matrix3, Rotation3, Vector3};
 use std::path::Path;
 

@@ -6,13 +6,13 @@
 use crate::common;
 
 use common::arm7_nominal;
-use dyngen_codegen::description::load;
-use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::model::Model;
 use dyngen_identify::{
     optimise, optimise_within, BaseModel, ExcitationError, ExcitationOptions, FourierTrajectory, Region,
     TrajectoryLimits, Workspace, WorkspaceConstraint, DEFAULT_ACCELERATION_PER_VELOCITY,
 };
+use dyngen_model::description::load;
+use dyngen_model::dynamics::NumericDynamics;
+use dyngen_model::model::Model;
 use nalgebra::Vector3;
 use std::path::Path;
 

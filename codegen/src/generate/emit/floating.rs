@@ -7,9 +7,9 @@ use super::function::{function, Emitted};
 use super::leaves::Leaves;
 use super::plan::Form;
 use super::Provenance;
-use crate::functions::FunctionGroup;
 use crate::generate::trace::SymbolicRobot;
 use crate::model::Model;
+use crate::FunctionGroup;
 use proc_macro2::Literal;
 use quote::{format_ident, quote};
 

@@ -9,7 +9,7 @@
 use super::function::{function, Emitted};
 use super::leaves::Leaves;
 use super::plan::Form;
-use crate::generate::frame_names::frame_identifiers;
+use crate::frame_names::frame_identifiers;
 use crate::generate::quantities::QuantityKind;
 use crate::generate::trace::{Arg, Shape, SymbolicRobot};
 use crate::model::Model;

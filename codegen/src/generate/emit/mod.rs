@@ -30,8 +30,8 @@ mod signature;
 mod vector_stores;
 
 use super::trace::{Quantity, SymbolicRobot};
-use crate::functions::{FunctionGroup, Functions};
 use crate::model::Model;
+use crate::{FunctionGroup, Functions};
 pub use chunks::CHUNK_VALUES;
 use constants::{base_parameters_function, joint_limits, literal, parameter_kinds};
 pub use floating::emit_floating;

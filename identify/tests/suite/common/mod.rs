@@ -1,9 +1,9 @@
 //! The arm7 set-up shared by the identification tests.
 #![allow(dead_code)]
 
-use dyngen_codegen::description::load;
-use dyngen_codegen::model::{JointTermValues, Model};
 use dyngen_identify::{with_joint_terms, with_payload};
+use dyngen_model::description::load;
+use dyngen_model::model::{JointTermValues, Model};
 use nalgebra::Vector3;
 use std::path::Path;
 

@@ -9,11 +9,12 @@ use std::path::{Path, PathBuf};
 use std::process::Command;
 
 /// The crates a user depends on or installs; everything else only builds or tests them.
-const SHIPPED: [&str; 5] = [
+const SHIPPED: [&str; 6] = [
     "dyngen-cli",
     "dyngen-codegen",
     "dyngen-control",
     "dyngen-identify",
+    "dyngen-model",
     "dyngen-runtime",
 ];
 
