@@ -12,9 +12,36 @@ repository (built with their own notes: a pip venv with pin 4.1.0 and example-ro
 `--robots` picks the committed robots (default: panda ur5); each needs a row of that name in
 the numeric anchor's robots.txt and in the CppADCodeGen anchor's build (`ROBOTS="panda ur5
 panda_rounded" ./build.sh`), except xarm7_snapped, whose anchor rows are xarm7's (the file as
-written). panda_rounded is the Panda with every `rpy` rounded to 4 decimals:
-dyngen generates it with `snap_angles: 1e-4`, the anchors read the rounded URDF as written
-(BENCHMARKS.md, "How to reproduce").
+written: Pinocchio has no snapping).
+
+panda_rounded is the Panda with every `rpy` rounded to 4 decimals, generated with
+`snap_angles: 1e-4`; the anchors read the rounded URDF as written: copy
+robots/urdf/panda_rounded.urdf to panda_description/urdf/ under example-robot-data's robots/,
+add the row `panda_rounded panda_description/urdf/panda_rounded.urdf panda_hand_tcp
+panda_finger_joint1,panda_finger_joint2` to the numeric anchor's robots.txt, make its model with
+the anchor's build/urdf_to_model, and rebuild the CppADCodeGen anchor with the robot in ROBOTS.
+
+Floating bases (solo12): the numeric anchor times any model it is given as a text archive
+(CppADCodeGen is not built for them). Make a free-flyer model with the anchor's Python
+environment, bounds on the base position for randomConfiguration, and give it a row:
+
+    /tmp/pinenv/bin/python -c "
+    import pinocchio as pin
+    m = pin.buildModelFromUrdf('robots/urdf/solo12.urdf', pin.JointModelFreeFlyer())
+    m.lowerPositionLimit[:3] = -1; m.upperPositionLimit[:3] = 1
+    m.saveToText('ANCHORS/pinocchio/build/models/solo12.txt')"
+    echo 'solo12 solo_description/robots/solo12.urdf FL_FOOT -' >> ANCHORS/pinocchio/robots.txt
+
+The humanoid (Unitree G1) is not a committed robot (every function is 13 MB of Rust): generate
+it into a crate of its own (`dyngen gen g1_29dof_rev_1_0.urdf --floating-base --functions all
+--frame left_ankle_roll_link -o src/g1.rs --type-name G1`), time it with a copy of
+generated/benches/floating.rs, and give the anchor a free-flyer model and the row
+`g1 g1_description/urdf/g1_29dof_rev_1_0.urdf left_ankle_roll_link -`.
+
+`--record benchmarks/results.csv --machine KIND` appends the run's medians to the results file
+from which `cargo xtask bench-render` renders BENCHMARKS.md's tables (its columns:
+xtask/src/results.rs): a row per robot, function, form and build, the anchors' medians beside
+dyngen's.
 
 Both print `robot nq nv function median_ns min_ns` rows, timing each call over 256
 precomputed random states, as `cargo bench -p dyngen-generated` does. Each round runs the
@@ -30,6 +57,8 @@ Standard library only (no pip).
 """
 
 import argparse
+import csv
+import datetime
 import json
 import os
 import re
@@ -88,6 +117,58 @@ def anchor_name(robot):
     return ANCHOR_ROBOT.get(robot, robot)
 
 
+# The columns of benchmarks/results.csv, in order (xtask/src/results.rs).
+RESULTS_HEADER = ["machine", "date", "build", "robot", "function", "frame", "form", "dyngen_ns",
+                  "pinocchio_ns", "cppadcg_ns", "code_kb", "l1i_kib"]
+
+
+def add_record_arguments(ap):
+    """--record, --machine and --date, shared by the tools that write results."""
+    ap.add_argument("--record", type=Path, metavar="RESULTS_CSV",
+                    help="append the run's medians to this results file (benchmarks/results.csv), "
+                         "from which `cargo xtask bench-render` renders BENCHMARKS.md's tables")
+    ap.add_argument("--machine", metavar="KIND",
+                    help='the kind of machine, as the results file names it (e.g. "AMD EPYC Zen 3 (AVX2)")')
+    ap.add_argument("--date", default=datetime.date.today().isoformat(), metavar="YYYY-MM-DD",
+                    help="the run's date (default: today)")
+
+
+def check_record_arguments(ap, args):
+    if args.record and not args.machine:
+        ap.error("--record needs --machine")
+    try:
+        datetime.date.fromisoformat(args.date)
+    except ValueError:
+        ap.error(f"--date {args.date}: expected YYYY-MM-DD")
+
+
+def number(x):
+    """A results-file number: one decimal, empty when not measured."""
+    return "" if x is None else f"{x:.1f}"
+
+
+def record_rows(path, machine, date, rows):
+    """Appends `rows` (dicts keyed by RESULTS_HEADER's columns; machine and date filled in here) to
+    the results file, the header first when the file is new; refuses a file of other columns."""
+    path = Path(path)
+    text = path.read_text() if path.is_file() else ""
+    if text.strip():
+        header = next(csv.reader([text.splitlines()[0]]))
+        if header != RESULTS_HEADER:
+            sys.exit(f"error: {path}: its header is not {','.join(RESULTS_HEADER)}")
+    path.parent.mkdir(parents=True, exist_ok=True)
+    with path.open("a", newline="") as f:
+        if text and not text.endswith("\n"):
+            f.write("\n")
+        writer = csv.writer(f, lineterminator="\n")
+        if not text.strip():
+            writer.writerow(RESULTS_HEADER)
+        for row in rows:
+            row = dict(row, machine=machine, date=date)
+            writer.writerow([row.get(column, "") for column in RESULTS_HEADER])
+    print(f"recorded {len(rows)} rows in {path}", file=sys.stderr)
+
+
 def run(cmd, cwd=None, env=None):
     out = subprocess.run(cmd, cwd=cwd, env=env, check=True, capture_output=True, text=True)
     return out.stdout
@@ -127,7 +208,8 @@ def dyngen_build(env, root=ROOT):
 def code_sizes(executables, robots):
     """{(robot, group): bytes} of machine code of each timed generated function (its chunk
     functions included), from `nm -S`: a function larger than the level-1 instruction cache is
-    fetched from the level-2 cache on every call of a loop that runs only it (BENCHMARKS.md)."""
+    fetched from the level-2 cache on every call of a loop that runs only it
+    (docs/performance-notes.md)."""
     group_of = {function: group for _, group, function in FUNCTIONS}
     # The trait method `<dyngen_generated::panda::Panda as …>::f`, or a chunk of it
     # `dyngen_generated::panda::f_part0`.
@@ -237,7 +319,9 @@ def main():
                          "stack placement and host noise differ (default: the benches' own)")
     ap.add_argument("--default-build", action="store_true",
                     help="also time dyngen built without target-cpu (the default build)")
+    add_record_arguments(ap)
     args = ap.parse_args()
+    check_record_arguments(ap, args)
     robots = list(dict.fromkeys(args.robots))
     unknown = [r for r in robots if not (ROOT / "robots" / f"{r}.yaml").is_file()]
     if unknown:
@@ -324,6 +408,32 @@ def main():
                 ratio = med([s / p for s, p in zip(single, per_state) if s and p])
                 print(f"| {robot} | {group} | {fmt(med(single))} | {width} | {fmt(med(per_state))} | "
                       f"{fmt(ratio, 2, '×')} |")
+    if args.record:
+        record_rows(args.record, args.machine, args.date,
+                    results_rows(rounds, robots, [name for name, _, _ in builds], sizes, l1i))
+
+
+def results_rows(rounds, robots, builds, sizes, l1i):
+    """The run as results-file rows: per robot, function, form and build, dyngen's median over
+    the rounds and the anchors' beside it (none for lanes, which no anchor times)."""
+    forms = [(fn, group, bench_id, "value" if bench_id == "generated" else "into")
+             for fn, group, bench_id in timed_rows()]
+    forms += [(None, group, lane_id, "lanes" + lane_id.removeprefix("generated_lanes"))
+              for group, ids in BATCHES for lane_id in ids]
+    rows = []
+    for robot in robots:
+        for fn, group, bench_id, form in forms:
+            anchor = lambda side: med([r[side].get((anchor_name(robot), fn)) for r in rounds]) if fn else None
+            for build in builds:
+                ns = med([r[2][build].get((robot, group, bench_id)) for r in rounds])
+                if ns is None:
+                    continue
+                size = sizes.get((robot, group)) if build == "native" and form == "value" else None
+                rows.append({"build": build, "robot": robot, "function": group, "form": form,
+                             "dyngen_ns": number(ns), "pinocchio_ns": number(anchor(0)),
+                             "cppadcg_ns": number(anchor(1)), "code_kb": number(size / 1000 if size else None),
+                             "l1i_kib": number(l1i / 1024 if l1i else None)})
+    return rows
 
 
 if __name__ == "__main__":

@@ -22,7 +22,9 @@ time. The last column is the operation count of the generated function the call 
 `Operations:` doc comment in generated/src/<robot>.rs).
 
 Run it on an otherwise idle machine: the two vCPUs behave like SMT siblings, so a compile on
-the other one slows a benchmark 1.3-2x (BENCHMARKS.md). Standard library only; reuses
+the other one slows a benchmark 1.3-2x (BENCHMARKS.md). `--record benchmarks/results.csv
+--machine KIND` appends the run's medians to the results file BENCHMARKS.md's tables are
+rendered from (`cargo xtask bench-render`). Standard library only; reuses
 tools/compare_anchors.py's helpers.
 """
 
@@ -36,7 +38,8 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from compare_anchors import ROOT, anchor_rows, cargo_env, fmt, med, run, split_group  # noqa: E402
+from compare_anchors import (ROOT, add_record_arguments, anchor_rows, cargo_env,  # noqa: E402
+                             check_record_arguments, fmt, med, number, record_rows, run, split_group)
 
 ANCHOR = ROOT / "tools" / "anchors" / "frames"
 # robot -> (tool frame, mid-chain frame, end-effector), as generated/benches/frames.rs.
@@ -145,7 +148,9 @@ def main():
                          "(target-cpu=native, target/bench-native); default: default")
     ap.add_argument("--anchor", type=Path, default=ANCHOR / "build" / "bench_frames",
                     help="the anchor's executable (default: tools/anchors/frames/build/bench_frames)")
+    add_record_arguments(ap)
     args = ap.parse_args()
+    check_record_arguments(ap, args)
     robots = list(dict.fromkeys(args.robots))
     builds = list(dict.fromkeys(args.builds))
     if not args.anchor.is_file():
@@ -204,6 +209,18 @@ def main():
             print(row + (f" {'/'.join(map(str, ops))} |" if ops else " – |"))
     if missed:
         print(f"\nBelow {FLOOR:g}×: " + "; ".join(missed))
+    if args.record:
+        rows = []
+        for robot in robots:
+            for fn, frame in functions(robot):
+                key = (robot, f"{fn}/{frame}")
+                pin = med([p.get(key) for p, _ in rounds])
+                for b in builds:
+                    ns = med([o[b].get(key) for _, o in rounds])
+                    if ns is not None:
+                        rows.append({"build": b, "robot": robot, "function": fn, "frame": frame,
+                                     "form": "value", "dyngen_ns": number(ns), "pinocchio_ns": number(pin)})
+        record_rows(args.record, args.machine, args.date, rows)
 
 
 if __name__ == "__main__":

@@ -14,7 +14,7 @@ urdf="$repo/codegen/tests/data/example-robot-data/xarm_description/xarm7.urdf"
 work=$(mktemp -d)
 trap 'rm -rf "$work"' EXIT
 
-echo "== cargo install --path cli (into $work/root)"
+echo "== cargo install --locked --path cli (into $work/root)"
 cargo install --quiet --locked --path "$repo/cli" --root "$work/root" \
     --target-dir "$repo/target/install-check"
 dyngen="$work/root/bin/dyngen"

@@ -1,8 +1,8 @@
 #!/bin/bash
 # Instructions per generated function, counted in the compiled code (a native release build),
 # one line per function: `count robot function`. Deterministic where timings on a shared host are
-# not, and on straight-line kernels a good predictor of their speed ratios (BENCHMARKS.md, *On a
-# processor without AVX-512*): compare two versions of the generator by running this in each.
+# not, and on straight-line kernels a good predictor of their speed ratios (docs/performance-notes.md,
+# *Without AVX-512*): compare two versions of the generator by running this in each.
 #
 #   tools/instruction_counts.sh OUT_DIR [ROBOT ...]     (robots of robots/, default panda ur5 xarm7)
 set -euo pipefail

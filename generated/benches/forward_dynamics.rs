@@ -118,7 +118,8 @@ fn forward_dynamics(c: &mut Criterion) {
 /// up to about 30 KB of code then stays in the 32 KB level-1 instruction cache. Here the
 /// Panda's `∂τ/∂x` (about 30 KB) runs twice per state: twice the same code, then once the
 /// Panda's and once the rounded Panda's (the same operations, a second copy: 60 KB between
-/// them), whose code has to come from the level-2 cache on every call (`BENCHMARKS.md`).
+/// them), whose code has to come from the level-2 cache on every call
+/// (`docs/performance-notes.md`, *Code size*).
 fn code_footprint(c: &mut Criterion) {
     let (_, fixed) = states::<7>(0xfd5eed, [(-2.0, 2.0), (-5.0, 5.0), (-10.0, 10.0)]);
     let group = "footprint/rnea_derivatives_twice";

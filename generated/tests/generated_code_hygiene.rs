@@ -132,8 +132,8 @@ fn lanes_stored_one_by_one(body: &str) -> Vec<(String, usize, usize)> {
 
 /// Four lanes of one vector bound for four consecutive entries of one column are stored as one
 /// vector (`*g14 = x3.to_array();`): stored lane by lane, LLVM joins the run into 512-bit stores
-/// and shuffles in a default build's AVX-512 copy, which ran the arms' regressors 1.2–1.4×
-/// slower than a native build.
+/// and shuffles in a default build's AVX-512 copy, which made the arms' regressors slower than
+/// in a native build (`docs/performance-notes.md`).
 #[test]
 fn four_lanes_bound_for_one_column_are_stored_as_one_vector() {
     let dir = Path::new(concat!(env!("CARGO_MANIFEST_DIR"), "/..")).join("generated/src");

@@ -2,8 +2,8 @@
 //!
 //! Rust never contracts `a * b + c`, so a build that does not target FMA (the default
 //! `x86-64`, without `-C target-cpu`) runs every multiply-add of the generated code as two
-//! instructions with two roundings, and without the three-operand AVX encodings: generated
-//! functions ran 1.3–2× slower there than in a `target-cpu=native` build. Each generated
+//! instructions with two roundings, and without the three-operand AVX encodings, far slower
+//! than in a `target-cpu=native` build. Each generated
 //! function is therefore written once as a [`Kernel`], generic over how it multiplies and adds
 //! ([`MulAdd`]), and called through [`dispatch`]:
 //! - in a build that targets AVX2 and FMA, the kernel runs [`Fused`] directly (nothing is
@@ -177,9 +177,9 @@ pub fn dispatch_eight<K: Kernel<Args>, Args>(args: Args) -> K::Output {
 /// does, inside a function compiled for AVX-512, for its 32 registers; an Intel one in the
 /// AVX2 copy. There LLVM turns some of a scalar kernel's operations and spills into 512-bit
 /// instructions, and while those are in flight an Intel core leaves the rest of the vector
-/// arithmetic fewer ports: the UR5's scalar `∂τ/∂x` ran 1.5× slower in the AVX-512 copy than in
-/// the AVX2 one, as fast as native there (`BENCHMARKS.md`). AMD cores run 512-bit instructions
-/// without that penalty, and there the 32 registers made such kernels up to 1.3× faster.
+/// arithmetic fewer ports, so such a kernel runs slower in the AVX-512 copy than in the AVX2
+/// one, which is as fast as native there. AMD cores run 512-bit instructions without that
+/// penalty, and there the 32 registers save spills (`docs/performance-notes.md`).
 #[inline(always)]
 pub fn dispatch_many<K: Kernel<Args>, Args>(args: Args) -> K::Output {
     choice::dispatch_many::<K, Args>(args)
@@ -348,7 +348,7 @@ mod choice {
     /// `K` compiled for AVX-512 (F, DQ, BW, VL), AVX2 and FMA, its lane vectors in 512-bit
     /// registers. With F alone, the kernel's 128- and 256-bit instructions could not use the
     /// EVEX forms a native build uses: the Panda's `∂τ/∂x` was 29.5 KB of code instead of 27.1,
-    /// and ran 1.07–1.7× slower than a native build (1.0× with them).
+    /// and slower than a native build, which it matches with them.
     ///
     /// # Safety
     /// The processor must have AVX-512 F, DQ, BW and VL, AVX2 and FMA.

@@ -6,13 +6,13 @@
 /// From a constant zero the compiler fills the result with one `memset`, and above a few hundred
 /// bytes that is a call into the C library: mid-kernel, so every vector register live across
 /// it is spilled and reloaded, and glibc serves sizes from 2 KiB with `rep stosb`, which is slow
-/// to start on AMD Zen. The UR5's torque-form regressor (2,880 bytes) ran 1.36× faster
-/// filled from this zero (`BENCHMARKS.md`), which is no byte pattern to the compiler, so the fill stays a run of
-/// vector stores inside the kernel. Only up to about 5 KiB, though: a longer fill the compiler
-/// does not unroll, and it then fills a temporary and copies it into the result, so generated
-/// results over 4 KiB start from a constant zero again (one `memset` straight into the result;
-/// Solo-12's torque-form regressor, 18.7 KB, ran 1.25× faster so). Only speed depends on it: a
-/// build that sees through [`core::hint::black_box`] fills with the same zeros.
+/// to start on AMD Zen. Filled from this zero, which is no byte pattern to the compiler, the
+/// fill stays a run of vector stores inside the kernel (`docs/performance-notes.md`). Only up to
+/// about 5 KiB, though: a longer fill the compiler does not unroll, and it then fills a temporary
+/// and copies it into the result, so generated results over 4 KiB start from a constant zero
+/// again (one `memset` straight into the result, one pass over the memory instead of three).
+/// Only speed depends on it: a build that sees through [`core::hint::black_box`] fills with the
+/// same zeros.
 #[inline(always)]
 pub fn fill_zero() -> f64 {
     core::hint::black_box(0.0)

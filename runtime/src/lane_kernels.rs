@@ -3,9 +3,8 @@
 //! do ([`dispatch`](crate::dispatch)).
 //!
 //! A caller's lane type (`f64x4`, `f64x8`: `wide`'s) compiles to the build's target alone: in a
-//! default x86-64 build, SSE2 and no FMA, which made the Panda's `τ` four states at a time run
-//! 3.8 times slower per state there than in a native build, slower even than one state per
-//! call. So a lane function is written once as a [`LaneKernel`], generic over the vector type
+//! default x86-64 build, SSE2 and no FMA, where four states per call ran slower per state than
+//! one per call. So a lane function is written once as a [`LaneKernel`], generic over the vector type
 //! it computes in ([`LaneVector`]), and called through [`dispatch_lanes`]: the kernel runs under
 //! [`dispatch_eight`](crate::dispatch::dispatch_eight)'s choice of multiply-adds, computing in
 //! that strategy's vector of the caller's width (`M::Four` for four lanes, `M::Eight` for eight:

@@ -6,7 +6,7 @@
 //! `arith.four([..])`), so [`dispatch_eight`](crate::dispatch::dispatch_eight) can give it the
 //! widest registers the processor has even in a build that does not target them: `wide`'s types
 //! compile to the build's target alone, four SSE2 instructions per eight-lane operation in a
-//! default build, which made the Panda's derivatives 2.7–4× slower there than in a native one.
+//! default build, where AVX-512 takes one.
 
 use core::ops::{Add, Div, Mul, Neg, Sub};
 

@@ -31,9 +31,8 @@ pub fn mul_add(a: f64, b: f64, c: f64) -> f64 {
 /// `a·b + c` as one `vfmadd` in code compiled with FMA enabled.
 ///
 /// Written with one intrinsic and bit casts rather than `_mm_set_sd`/`_mm_cvtsd_f64`: those are
-/// functions too, and a generated function inlines this thousands of times. With them, a
-/// release build of the Panda's module took 3.3× (default target) and 3.6× (`target-cpu=native`)
-/// as long, for the same machine code.
+/// functions too, and a generated function inlines this thousands of times: with them, the
+/// generated modules took several times as long to compile, for the same machine code.
 ///
 /// # Safety
 /// The processor must have FMA.

@@ -8,10 +8,9 @@
 //! ulp), and the quadrant applied by selects. Angles beyond `LIMIT` (and NaN or infinity) take
 //! `libm::sincos`, which reduces exactly for any argument.
 //!
-//! Four lanes, not eight, even where the target has AVX-512: one `f64x8` kernel is faster alone
-//! (Panda 28 against 37 ns), but the 512-bit instructions slow the scalar code that follows
-//! them: most generated functions were slower with it (`rnea` 1.25×, `gravity` 1.7× on the
-//! Panda, measured side by side).
+//! Four lanes, not eight, even where the target has AVX-512: one `f64x8` kernel is faster alone,
+//! but its 512-bit instructions slow the scalar code that follows them, the generated function
+//! the sines and cosines are for, and the call as a whole is slower.
 //!
 //! Written on the lane type rather than as loops over arrays: the compiler vectorised those
 //! loops as 4 + 2 + 1 lanes for seven joints, kept the quadrant's bit operations scalar and
@@ -57,9 +56,8 @@ pub(crate) const COS: [f64; 8] = [
 /// intrinsics kernel (`trig_fused`), which stores each result once, into the value returned;
 /// inlined into the caller, so that this value is the caller's. Built in a temporary and
 /// copied, the results were read back in pieces of another width than they were stored in,
-/// which the processor cannot forward: a default build took 25 or 42 ns for the UR5's sines
-/// and cosines from one run to the next, against 25 ns native; a native build's Panda sines
-/// and cosines followed by `τ`, 75–77 ns by the lane form against 66–67 by this kernel.
+/// which the processor cannot forward: a stall on every load, and times that varied from one
+/// run to the next (`docs/performance-notes.md`).
 #[inline(always)]
 pub(crate) fn joint_trig<const N: usize>(q: &[f64; N]) -> JointTrig<N> {
     #[cfg(all(target_arch = "x86_64", target_feature = "avx2", target_feature = "fma"))]

@@ -1,13 +1,20 @@
 //! `cargo xtask`: the project's developer commands. Thin: argument parsing and reporting only;
 //! the work is done by `dyngen-codegen`.
 
+mod bench_render;
 mod bench_table;
+mod results;
 mod sizes;
 
 use clap::{Parser, Subcommand};
 use dyngen_codegen::generate::{descriptions_in, generate_into_crate, CrateReport, Mode};
 use std::path::{Path, PathBuf};
 use std::process::ExitCode;
+
+/// The recorded benchmark results, relative to the workspace root.
+const RESULTS: &str = "benchmarks/results.csv";
+/// The document whose tables are rendered from them.
+const BENCHMARKS: &str = "BENCHMARKS.md";
 
 #[derive(Parser)]
 #[command(name = "cargo xtask", about = "dyngen developer commands")]
@@ -31,12 +38,33 @@ enum Command {
         #[arg(long)]
         check: bool,
     },
-    /// Print the medians of the last `cargo bench --bench dynamics` run as a Markdown table.
+    /// Print the medians of the last `cargo bench --bench dynamics` run as a Markdown table;
+    /// with `--record`, also append every generated benchmark of that run to the results file.
     BenchTable {
         /// Criterion's output directory (default: `target/criterion` of the workspace; set it
         /// when the benchmarks ran with another `CARGO_TARGET_DIR`).
         #[arg(long)]
         criterion: Option<PathBuf>,
+        /// Append the run's medians to this results file (`benchmarks/results.csv`).
+        #[arg(long, requires_all = ["machine", "build"])]
+        record: Option<PathBuf>,
+        /// The kind of machine the run was on, as the results file names it (e.g. "AMD EPYC Zen
+        /// 3 (AVX2)").
+        #[arg(long)]
+        machine: Option<String>,
+        /// How the benchmarks were built.
+        #[arg(long, value_enum)]
+        build: Option<results::Build>,
+        /// The run's date, YYYY-MM-DD (default: today, UTC).
+        #[arg(long)]
+        date: Option<String>,
+    },
+    /// Render the tables of BENCHMARKS.md from the latest rows of `benchmarks/results.csv`
+    /// (between its `<!-- rendered: MACHINE -->` and `<!-- /rendered -->` markers).
+    BenchRender {
+        /// Write nothing; exit non-zero if BENCHMARKS.md is not what the results render to.
+        #[arg(long)]
+        check: bool,
     },
     /// Fuzz the description loaders (`dyngen_testkit::fuzz`), in release, with progress. An
     /// abort without a finding is a stack overflow or a hang: rerun with `--threads 1` and
@@ -59,7 +87,7 @@ enum Command {
     /// Print the scale table of TESTING.md (chains to 30 DOF, trees to 20: operation counts,
     /// generation time, code size), in release; the modules go to `target/scale/`.
     Scale,
-    /// Print the code-size and compile-time table of BENCHMARKS.md: per group of functions,
+    /// Print the code-size and compile-time table of docs/performance-notes.md: per group of functions,
     /// chains of 7 to 30 joints and a 32-joint tree, in release; each module compiled alone in
     /// `target/sizes/` (run it on an otherwise idle machine).
     Sizes {
@@ -162,13 +190,69 @@ fn print_table(table: Result<String, impl std::fmt::Display>) -> ExitCode {
     }
 }
 
+/// `cargo xtask bench-render [--check]`.
+fn bench_render(root: &Path, check: bool) -> ExitCode {
+    let path = root.join(BENCHMARKS);
+    let rendered = results::read(&root.join(RESULTS)).and_then(|rows| {
+        let document = std::fs::read_to_string(&path).map_err(|e| format!("{}: {e}", path.display()))?;
+        let rendered =
+            bench_render::render_document(&document, &rows).map_err(|e| format!("{BENCHMARKS}: {e}"))?;
+        Ok((document, rendered))
+    });
+    match rendered {
+        Ok((document, rendered)) if document == rendered => {
+            println!("{BENCHMARKS} is up to date with {RESULTS}");
+            ExitCode::SUCCESS
+        }
+        Ok(_) if check => {
+            eprintln!("error: {BENCHMARKS} is stale (run `cargo xtask bench-render`)");
+            ExitCode::FAILURE
+        }
+        Ok((_, rendered)) => match std::fs::write(&path, rendered) {
+            Ok(()) => {
+                println!("{BENCHMARKS} rendered from {RESULTS}");
+                ExitCode::SUCCESS
+            }
+            Err(e) => {
+                eprintln!("error: {}: {e}", path.display());
+                ExitCode::FAILURE
+            }
+        },
+        Err(e) => {
+            eprintln!("error: {e}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
 fn main() -> ExitCode {
     let cli = Cli::parse();
     let root = workspace_root();
     match cli.command {
-        Command::BenchTable { criterion } => print_table(bench_table::table(
-            &criterion.unwrap_or_else(|| root.join("target/criterion")),
-        )),
+        Command::BenchTable {
+            criterion,
+            record,
+            machine,
+            build,
+            date,
+        } => {
+            let criterion = criterion.unwrap_or_else(|| root.join("target/criterion"));
+            if let (Some(file), Some(machine), Some(build)) = (record, machine, build) {
+                let date = date.unwrap_or_else(results::today);
+                let recorded = results::check_date(&date)
+                    .and_then(|()| bench_table::records(&criterion, &machine, build, &date))
+                    .and_then(|rows| results::append(&resolve(&file, &root), &rows).map(|()| rows.len()));
+                match recorded {
+                    Ok(n) => eprintln!("recorded {n} rows in {}", file.display()),
+                    Err(e) => {
+                        eprintln!("error: {e}");
+                        return ExitCode::FAILURE;
+                    }
+                }
+            }
+            print_table(bench_table::table(&criterion))
+        }
+        Command::BenchRender { check } => bench_render(&root, check),
         Command::Fuzz {
             cases,
             seed,

@@ -1,5 +1,5 @@
 //! `cargo xtask sizes`: generated code size and release compile time per group of functions, as
-//! the robot grows (BENCHMARKS.md, *Code size and compile time*).
+//! the robot grows (docs/performance-notes.md, *Code size and compile time*).
 //!
 //! Robots: the random chains of `dyngen_testkit::scale` with 7, 12, 20 and 30 joints and its
 //! tree of four 8-joint branches (32 joints). Per robot, the module with kinematics and dynamics

@@ -327,8 +327,8 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
         if has_tilted_placements(model) {
             // `D`, `τ`, forward dynamics and `D⁻¹` through each joint's placement and own motion
             // one after the other, traced after everything else so the functions above keep
-            // their node ids; kept where they cost less. (`C` in this form cost 8% fewer
-            // operations on the xArm as written but ran 1.33× slower in default builds.)
+            // their node ids; kept where they cost less. (`C` in this form costs fewer
+            // operations but ran slower in default builds: `docs/performance-notes.md`.)
             let factored = dynamics::joint_factored_transforms(model, &q);
             let mut d = dynamics::mass_matrix(model, &factored, &inertias);
             dynamics::add_armature(model, &joint_values, &mut d);
@@ -394,8 +394,8 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
     keep_cheaper(&graph, &mut quantities, other_forms);
     // The regressors four rows at a time, their cheaper scalar form kept for several states per
     // call: on the Panda, the UR5 and the xArm as written the row lanes compiled to 4–38% fewer
-    // instructions than either scalar form and ran faster on every regressor (Zen 3, side by
-    // side with both anchors), though they count more operations.
+    // instructions than either scalar form, fewer spilled values, and so ran faster on every
+    // regressor, though they count more operations (`docs/performance-notes.md`).
     let mut scalar_forms = HashMap::new();
     for (name, outputs) in row_lane_forms {
         if let Some(q) = quantities.iter_mut().find(|q| q.name() == name) {
@@ -442,9 +442,10 @@ pub(super) fn pair_ids((first, second): (DMatrix<Expr>, DMatrix<Expr>)) -> Vec<I
 }
 
 /// A lane operation (`f64x8`) weighed as this many scalar ones when the derivatives choose how
-/// to carry their directions ([`Directions`]). Measured (`BENCHMARKS.md`, AVX-512): the Panda's
-/// derivatives ran 1.5–2.2× faster in lanes (6,850 scalar operations against 1,151 + 2,675
-/// lane ones), the UR5's no faster (3,050 against 808 + 1,587), as this weight predicts.
+/// to carry their directions ([`Directions`]): a lane operation costs about two scalar ones in
+/// time, so the Panda's derivatives (6,850 scalar operations against 1,151 + 2,675 lane ones) go
+/// in lanes and the UR5's (3,050 against 808 + 1,587) stay scalar, as timing them both ways
+/// agrees (`docs/performance-notes.md`).
 const LANE_OP_COST: usize = 2;
 
 /// Each function named in `other_forms` in that formulation where it costs less.

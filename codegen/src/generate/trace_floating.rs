@@ -232,9 +232,9 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
         // D⁻¹ by sums over common ancestors, traced last so the functions above keep their node
         // ids; kept where it costs less. (The regressors by the bodies' Jacobians cost fewer
         // operations on the G1 but ran slower: longer-lived values. Four rows at a time, as for
-        // a fixed base, they ran 1.2–1.45× slower on Solo-12: every body's columns carry the six
-        // dense base rows, while the scalar form gets each joint row from one entry of the
-        // force it carries up anyway.)
+        // a fixed base, they ran slower on Solo-12: every body's columns carry the six dense
+        // base rows, while the scalar form gets each joint row from one entry of the force it
+        // carries up anyway; `docs/performance-notes.md`.)
         let inverse = algorithms::floating_mass_matrix_inverse_by_ancestors(model, &base, &x, &inertias);
         let other_forms = vec![(
             QuantityKind::MassMatrixInverse.name().to_owned(),

@@ -13,8 +13,9 @@
 //! differentiated along its own coordinate through its motion subspace
 //! ([`super::seeded_frame`]: `d(X m)/dq = −S × X m`), not through its sines and cosines.
 //! Running the directions one at a time instead gives the sparsest scalar program (the flattened cost of the analytical
-//! derivatives of Carpentier & Mansard, 2018), but a long and irregular one: the Panda's runs
-//! 1.5–2.2× faster in lanes (`BENCHMARKS.md`), the UR5's, already sparse, no faster.
+//! derivatives of Carpentier & Mansard, 2018), but a long and irregular one: where directions
+//! meet often (the Panda) the lanes do far more work per instruction, where the scalar program is
+//! already sparse (the UR5) they gain nothing (`docs/performance-notes.md`).
 //!
 //! Which of the two pays depends on the robot ([`Directions`]): the generator traces both and
 //! keeps the cheaper (`generate::trace`); the generic `f64` dynamics use the lanes.
@@ -23,7 +24,7 @@
 //! terms of the model, whose Coulomb friction without smoothing, `sign(q̇)`, has derivative zero
 //! where it exists). It could also be `2 C(q, q̇)` (`τ = D q̈ + C q̇ + g` with the
 //! Christoffel-consistent `C`, `Γ_ijk = Γ_ikj`), which [`Directions::OneByOne`] uses; next to
-//! lanes over `q`, lanes over `q̇` measured a little faster than `2C` on the Panda.
+//! lanes over `q`, lanes over `q̇` reuse that pass's values, which `2C` recomputes.
 //!
 //! Forward dynamics needs no differentiation of its own: with `q̈ = FD(q, q̇, τ)` fixed,
 //! `D ∂q̈/∂x = −∂τ/∂x |_{q̈}`, so `∂q̈/∂x = −D⁻¹ ∂ID/∂x` evaluated at that `q̈`, solved with the

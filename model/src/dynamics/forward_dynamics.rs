@@ -6,7 +6,7 @@
 //! of up to a few dozen joints (`D` and the bias are already among the cheapest generated
 //! functions, and the factorisation and solves are `O(n·depth²)` scalar operations), while the
 //! articulated-body inertias are dense 6×6 matrices updated by rank-one corrections at every
-//! joint. The figures are in `BENCHMARKS.md`.
+//! joint. The operation counts: `docs/performance-notes.md`.
 //!
 //! Joint-level terms, when the model has them (`joint_terms.rs`), enter as everywhere else: the
 //! armature on the diagonal of `D`, friction and offset in the bias. `joint_values` are the

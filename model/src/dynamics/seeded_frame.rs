@@ -9,8 +9,7 @@
 //! Both reuse what the recursion computes anyway (`X m`, the force before it is carried), and a
 //! cross product with an axis is a few copies and negations, where differentiating the
 //! rotation entries (`d cos q = −sin q`, …) cost a multiplication and an addition per entry and
-//! built each tangent from single-lane pieces. The Panda's derivatives in lanes: 5% fewer lane
-//! operations, 8–10% less machine code, 9% faster (`BENCHMARKS.md`).
+//! built each tangent from single-lane pieces: fewer lane operations and less machine code.
 
 use super::joint::{joint_motion, pose_to_transform};
 use crate::model::Model;

@@ -29,10 +29,9 @@ use std::collections::{BTreeSet, HashMap};
 /// Chunks bound the size of what LLVM optimises at once, whose cost grows faster than linearly,
 /// for very large robots; every function of a 7-DOF arm but its derivatives fits in one. Chunks
 /// do not shrink what a call runs, and a chunk boundary costs a store and a load for each value
-/// that crosses it: measured with the values copied between chunks, the Panda's `C` and
-/// `Y` ran 15–18% faster whole than in chunks of 1024 and its `∂q̈/∂x` (about 7,000 values) 15%
-/// faster whole than in two chunks split by count (`BENCHMARKS.md`); split where its forward
-/// dynamics ends, it runs faster than whole.
+/// that crosses it: a function that fits one chunk runs fastest whole. Split where its forward
+/// dynamics ends rather than by count, `∂q̈/∂x` runs faster than whole (the first stage of
+/// `emit::function`; `docs/performance-notes.md`).
 pub const CHUNK_VALUES: usize = 4096;
 
 /// Where each chunk of `len` values starts: a chunk ends at `stage_end` (a stage whose results

@@ -398,11 +398,10 @@ pub(super) fn function(
 /// derivatives of forward dynamics first compute `q̈` (forward dynamics itself, the same nodes
 /// as that function's outputs where both take the same form of the joint transforms), and only
 /// then the tangents of inverse dynamics at that `q̈` and their solves. Compiled as one
-/// function, LLVM interleaved the two, and the xArm's `∂q̈/∂x` ran 1.3× slower than forward
-/// dynamics and `∂τ/∂x` called one after the other (`BENCHMARKS.md`). Only where the
-/// tangents are lane vectors (the UR5's, one direction at a time in scalars, ran 1.2× slower
-/// split) and the function would otherwise be whole (Solo-12's, in chunks anyway, ran
-/// 1.06–1.14× slower with the stage as a chunk of its own).
+/// function, LLVM interleaves the two, which made `∂q̈/∂x` slower than forward dynamics and
+/// `∂τ/∂x` called one after the other. Only where the tangents are lane vectors (scalar
+/// tangents run slower split) and the function would otherwise be whole (one already in chunks
+/// runs slower with the stage as a chunk of its own); `docs/performance-notes.md`.
 fn first_stage(robot: &SymbolicRobot, q: &Quantity, plan: &Plan) -> Option<Vec<Id>> {
     let g = &robot.graph;
     let in_lanes = plan.order.iter().any(|&id| g.node(id).is_lanes());
@@ -480,19 +479,17 @@ const LIBRARY_FILL_BYTES: usize = 512;
 /// Results larger than this start from a constant zero again, filled by one `memset` into the
 /// result itself. The compiler unrolls `fill_zero`'s fill into the result only up to about
 /// 5 KiB; a larger one it fills in a temporary and copies into the result, three passes over
-/// the memory where the library call makes one. Solo-12's torque-form regressor (18.7 KB) ran
-/// 1.25× faster from the constant zero, its base regressor 1.16–1.30× (`BENCHMARKS.md`).
+/// the memory where the library call makes one (`docs/performance-notes.md`).
 const UNROLLED_FILL_BYTES: usize = 4096;
 
 /// Functions that compute more values than this, and the derivatives of the dynamics, run through
 /// `dyngen_runtime::__private::dispatch_eight` (lane kernels) or `dispatch_many` (scalar ones):
 /// their values outnumber sixteen registers many times over, and in a default build those give
-/// them the 32 of AVX-512 where the processor has it, as a native build does. Measured on `C`,
-/// the regressors and their products (arm7, Panda, UR5) on an AMD host: as fast as native or
-/// within a few percent, where the AVX2 function was up to 1.3× slower (`BENCHMARKS.md`); on an
-/// Intel host scalar kernels run faster in the AVX2 function, which `dispatch_many` picks there.
-/// Small kernels stay in the AVX2 function (`fk` was 20% slower in an AVX-512 one, in an earlier
-/// experiment).
+/// them the 32 of AVX-512 where the processor has it, as a native build does: fewer spills, so
+/// close to native speed on AMD processors; on Intel's, scalar kernels run faster in the AVX2
+/// function, which `dispatch_many` picks there. Small kernels stay in the AVX2 function: they
+/// have no spills to save, and the 512-bit instructions LLVM forms in them slow them down
+/// (`docs/performance-notes.md`).
 const MANY_VALUES: usize = 1000;
 
 /// Bytes of `q`'s result: `f64`s, or lane vectors of at least four.

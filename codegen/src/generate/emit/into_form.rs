@@ -68,12 +68,11 @@ pub(super) fn into_method(
 /// The `_into` method of a function in one piece: a kernel of its own running `body` (the
 /// prelude and the statements the by-value method runs, writing into `out`) on the buffer.
 ///
-/// The same statements again, not a function both methods call: the by-value method then lost
-/// its result's placement in the caller's return slot (Solo-12's regressor ran 1.6× slower,
-/// its result held in registers and spills to the end and copied out). The copy costs compile
-/// time (the arms' modules grow by a quarter to a half) and nothing at run time; without it an
-/// `_into` would be the by-value function and a copy, slower than by value (the Panda's `D`,
-/// 78 against 56 ns).
+/// The same statements again, not a function both methods call: the by-value method then loses
+/// its result's placement in the caller's return slot (its result held in registers and spills
+/// to the end and copied out, much slower on a large result). The copy costs compile time (the
+/// arms' modules grow by a quarter to a half) and nothing at run time; without it an `_into`
+/// would be the by-value function and a copy, slower than by value.
 pub(super) fn one_piece_into(
     name: &Ident,
     params: &[Param],

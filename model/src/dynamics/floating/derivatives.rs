@@ -286,7 +286,7 @@ fn matrices<S: LaneScalar>(nv: usize, runs: &[Run<S::Lanes>]) -> (DMatrix<S>, DM
 /// (the base enters through `base`), both `nv × nv`; entry `(i, c)` is `∂τ_i/∂x_c`.
 ///
 /// In lanes only ([`plan`]): every direction reaches the base rows, so the lanes fill, and
-/// generated code ran faster than one direction per run (`BENCHMARKS.md`).
+/// generated code ran faster than one direction per run (`docs/performance-notes.md`).
 pub fn floating_inverse_dynamics_derivatives<S: LaneScalar>(
     model: &Model,
     base: &FloatingBase<S>,

@@ -147,8 +147,8 @@ pub fn floating_regressor<S: Scalar, X: JointFrame<S>>(
 ) -> DMatrix<S> {
     let n = model.joints().len();
     // The spatial forward pass also in torque form: the classical Newton–Euler pass
-    // (`newton_euler`), 4% fewer operations on Solo-12's torque-form regressors, ran them
-    // 1.13–1.16× slower (native and default, side by side).
+    // (`newton_euler`) saves a few operations on Solo-12's torque-form regressors but made them
+    // slower in both builds (`docs/performance-notes.md`, *What did not help*).
     let root = base_body_motion(rotation, qd, v, a, Some(gravity_vector(model)));
     let motions = forward_pass_from(model, x, &qd[6..], &v[6..], &a[6..], &root);
     let (on_base, forces): (_, Vec<_>) = (unit_forces(&root), motions.iter().map(unit_forces).collect());

@@ -1,0 +1,332 @@
+//! `cargo xtask bench-render`: the tables of BENCHMARKS.md, rendered from the latest rows of
+//! `benchmarks/results.csv` ([`crate::results`]).
+//!
+//! A table stands between two marker lines, `<!-- rendered: MACHINE -->` and `<!-- /rendered -->`,
+//! and shows that machine kind's rows; everything outside the markers is written by hand. A table
+//! has a row per robot, function and frame (robots, then functions, in the order they first
+//! appear in the results file), and a column per quantity that some row of it has: the anchors'
+//! medians and dyngen's native median, dyngen written into a kept buffer (`_into`), per state in
+//! lanes, the default build over the native one, the native machine code. Ratios are computed
+//! here, each from the medians of one row of the file (one run), never typed.
+
+use crate::results::{latest, Build, Form, Row};
+use std::collections::{BTreeSet, HashMap};
+
+const START: &str = "<!-- rendered: ";
+const END: &str = "<!-- /rendered -->";
+/// A value that was not measured.
+const MISSING: &str = "—";
+
+/// `document` with the table between each pair of markers rendered anew from `rows`.
+pub fn render_document(document: &str, rows: &[Row]) -> Result<String, String> {
+    let mut out = String::with_capacity(document.len());
+    let mut lines = document.split_inclusive('\n').enumerate();
+    while let Some((number, line)) = lines.next() {
+        out.push_str(line);
+        let Some(machine) = line
+            .trim()
+            .strip_prefix(START)
+            .and_then(|l| l.strip_suffix(" -->"))
+        else {
+            if line.trim() == END {
+                return Err(format!("line {}: `{END}` without a start marker", number + 1));
+            }
+            continue;
+        };
+        let table = render_table(rows, machine.trim()).map_err(|e| format!("line {}: {e}", number + 1))?;
+        if !line.ends_with('\n') {
+            out.push('\n');
+        }
+        out.push_str(&table);
+        loop {
+            match lines.next() {
+                Some((_, l)) if l.trim() == END => {
+                    out.push_str(l);
+                    break;
+                }
+                Some((n, l)) if l.trim().starts_with(START) => {
+                    return Err(format!("line {}: a start marker before `{END}`", n + 1));
+                }
+                Some(_) => {}
+                None => return Err(format!("line {}: no `{END}` after it", number + 1)),
+            }
+        }
+    }
+    Ok(out)
+}
+
+/// One row of a rendered table: the measurements of one robot's function (at one frame).
+#[derive(Default)]
+struct Entry<'a> {
+    by_value: [Option<&'a Row>; 2],
+    into: [Option<&'a Row>; 2],
+    lanes: Vec<(u32, &'a Row)>,
+}
+
+fn slot(build: Build) -> usize {
+    match build {
+        Build::Native => 0,
+        Build::Default => 1,
+    }
+}
+
+/// Nanoseconds as the tables show them: whole above 10 ns.
+fn ns(x: f64) -> String {
+    if x >= 10.0 {
+        format!("{x:.0}")
+    } else {
+        format!("{x:.1}")
+    }
+}
+
+/// A ratio `a / b` with three significant figures at most.
+fn ratio(a: Option<f64>, b: Option<f64>) -> String {
+    match (a, b) {
+        (Some(a), Some(b)) => {
+            let r = a / b;
+            if r >= 10.0 {
+                format!("{r:.1}×")
+            } else {
+                format!("{r:.2}×")
+            }
+        }
+        _ => MISSING.to_owned(),
+    }
+}
+
+fn value(x: Option<f64>) -> String {
+    x.map_or(MISSING.to_owned(), ns)
+}
+
+/// The Markdown table of one machine kind, with the dates of the runs it shows above it.
+pub fn render_table(rows: &[Row], machine: &str) -> Result<String, String> {
+    let shown = latest(rows, machine);
+    if shown.is_empty() {
+        return Err(format!("no results for the machine `{machine}`"));
+    }
+    // Robots, then their functions, in the order they first appear in the file.
+    let mut robots: Vec<&str> = Vec::new();
+    let mut entries: Vec<((&str, &str, &str), Entry)> = Vec::new();
+    for row in rows.iter().filter(|r| r.machine == machine) {
+        if !robots.contains(&row.robot.as_str()) {
+            robots.push(&row.robot);
+        }
+        let key = (row.robot.as_str(), row.function.as_str(), row.frame.as_str());
+        if !entries.iter().any(|(k, _)| *k == key) {
+            entries.push((key, Entry::default()));
+        }
+    }
+    let index: HashMap<_, _> = entries.iter().enumerate().map(|(i, (k, _))| (*k, i)).collect();
+    let mut widths = BTreeSet::new();
+    let mut dates: Vec<(&str, Vec<&str>)> = Vec::new();
+    for row in &shown {
+        let entry = &mut entries[index[&(row.robot.as_str(), row.function.as_str(), row.frame.as_str())]].1;
+        match row.form {
+            Form::Value => entry.by_value[slot(row.build)] = Some(row),
+            Form::Into => entry.into[slot(row.build)] = Some(row),
+            Form::Lanes(n) if row.build == Build::Native => {
+                widths.insert(n);
+                entry.lanes.push((n, row));
+            }
+            Form::Lanes(_) => {}
+        }
+        match dates.iter_mut().find(|(d, _)| *d == row.date) {
+            Some((_, robots)) if robots.contains(&row.robot.as_str()) => {}
+            Some((_, robots)) => robots.push(&row.robot),
+            None => dates.push((&row.date, vec![&row.robot])),
+        }
+    }
+    entries.sort_by_key(|((robot, _, _), _)| robots.iter().position(|r| r == robot));
+
+    let mut header = vec![
+        "robot".to_owned(),
+        "function".to_owned(),
+        "Pinocchio".to_owned(),
+        "CppADCodeGen".to_owned(),
+        "dyngen".to_owned(),
+        "Pinocchio / dyngen".to_owned(),
+        "CppADCodeGen / dyngen".to_owned(),
+        "`_into`".to_owned(),
+        "Pinocchio / `_into`".to_owned(),
+        "CppADCodeGen / `_into`".to_owned(),
+    ];
+    header.extend(widths.iter().map(|n| format!("{n} lanes, per state")));
+    header.extend(["default / native".to_owned(), "code (KB)".to_owned()]);
+    let mut body: Vec<Vec<String>> = Vec::new();
+    for ((robot, function, frame), e) in &entries {
+        let [native, default] = e.by_value;
+        // The anchors as measured beside the native build, else beside the default one.
+        let anchors = native.or(default);
+        let into = e.into[0];
+        let mut cells = vec![
+            robot.to_string(),
+            if frame.is_empty() {
+                format!("`{function}`")
+            } else {
+                format!("`{function}` at `{frame}`")
+            },
+            value(anchors.and_then(|r| r.pinocchio_ns)),
+            value(anchors.and_then(|r| r.cppadcg_ns)),
+            value(native.map(|r| r.dyngen_ns)),
+            ratio(native.and_then(|r| r.pinocchio_ns), native.map(|r| r.dyngen_ns)),
+            ratio(native.and_then(|r| r.cppadcg_ns), native.map(|r| r.dyngen_ns)),
+            value(into.map(|r| r.dyngen_ns)),
+            ratio(into.and_then(|r| r.pinocchio_ns), into.map(|r| r.dyngen_ns)),
+            ratio(into.and_then(|r| r.cppadcg_ns), into.map(|r| r.dyngen_ns)),
+        ];
+        for n in &widths {
+            let per_state = e
+                .lanes
+                .iter()
+                .find(|(w, _)| w == n)
+                .map(|(w, r)| r.dyngen_ns / f64::from(*w));
+            cells.push(value(per_state));
+        }
+        cells.push(ratio(default.map(|r| r.dyngen_ns), native.map(|r| r.dyngen_ns)));
+        cells.push(match native.and_then(|r| r.code_kb.map(|kb| (kb, r.l1i_kib))) {
+            None => MISSING.to_owned(),
+            Some((kb, l1i)) if l1i.is_some_and(|l1i| kb * 1000.0 > l1i * 1024.0) => {
+                format!("{kb:.1} (over L1i)")
+            }
+            Some((kb, _)) => format!("{kb:.1}"),
+        });
+        body.push(cells);
+    }
+    // Only the columns some row has.
+    let keep: Vec<bool> = (0..header.len())
+        .map(|c| c < 2 || body.iter().any(|cells| cells[c] != MISSING))
+        .collect();
+    let pick = |cells: &[String]| -> Vec<String> {
+        cells
+            .iter()
+            .zip(&keep)
+            .filter(|(_, k)| **k)
+            .map(|(c, _)| c.clone())
+            .collect()
+    };
+
+    dates.sort();
+    let mut out = String::from("Measured on ");
+    if let [(date, _)] = dates.as_slice() {
+        out.push_str(date);
+    } else {
+        let parts: Vec<String> = dates
+            .iter()
+            .map(|(date, robots)| format!("{date} ({})", robots.join(", ")))
+            .collect();
+        out.push_str(&parts.join(", "));
+    }
+    out.push_str(".\n\n");
+    let header = pick(&header);
+    out += &format!("| {} |\n", header.join(" | "));
+    out += &format!(
+        "|{}\n",
+        (0..header.len())
+            .map(|c| if c < 2 { "---|" } else { "---:|" })
+            .collect::<String>()
+    );
+    for cells in &body {
+        out += &format!("| {} |\n", pick(cells).join(" | "));
+    }
+    Ok(out)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::results::parse;
+
+    const HEADER: &str =
+        "machine,date,build,robot,function,frame,form,dyngen_ns,pinocchio_ns,cppadcg_ns,code_kb,l1i_kib\n";
+
+    fn sample() -> Vec<Row> {
+        parse(&format!(
+            "{HEADER}\
+M,2026-01-01,native,arm,fk,,value,40,400,100,0.5,32
+M,2026-01-01,default,arm,fk,,value,44,400,100,,32
+M,2026-01-01,native,arm,mass_matrix,,value,50,500,,40,32
+M,2026-01-01,native,arm,mass_matrix,,into,40,500,,,32
+M,2026-01-01,native,arm,rnea,,lanes4,80,,,,32
+M,2026-01-02,native,arm,fk,,value,20,400,100,0.5,32
+O,2026-01-03,native,arm,fk,,value,10,,,,
+"
+        ))
+        .unwrap()
+    }
+
+    #[test]
+    fn renders_ratios_missing_values_and_the_latest_run() {
+        let table = render_table(&sample(), "M").unwrap();
+        let lines: Vec<&str> = table.lines().collect();
+        // Two runs of machine M: each robot listed under the dates of the rows shown.
+        assert_eq!(lines[0], "Measured on 2026-01-01 (arm), 2026-01-02 (arm).");
+        assert_eq!(
+            lines[2],
+            "| robot | function | Pinocchio | CppADCodeGen | dyngen | Pinocchio / dyngen | CppADCodeGen / dyngen \
+             | `_into` | Pinocchio / `_into` | 4 lanes, per state | default / native | code (KB) |"
+        );
+        // fk: the 2026-01-02 native row (20 ns) replaces the 2026-01-01 one; 400 / 20 = 20.0×,
+        // 100 / 20 = 5.00×; the default row (44 ns) against it, 2.20×.
+        assert_eq!(
+            lines[4],
+            "| arm | `fk` | 400 | 100 | 20 | 20.0× | 5.00× | — | — | — | 2.20× | 0.5 |"
+        );
+        // No CppADCodeGen time: "—"; 40 KB of code is over a 32 KiB level-1 instruction cache.
+        assert_eq!(
+            lines[5],
+            "| arm | `mass_matrix` | 500 | — | 50 | 10.0× | — | 40 | 12.5× | — | — | 40.0 (over L1i) |"
+        );
+        // Four states per call in 80 ns: 20 ns per state.
+        assert_eq!(
+            lines[6],
+            "| arm | `rnea` | — | — | — | — | — | — | — | 20 | — | — |"
+        );
+        assert_eq!(
+            render_table(&sample(), "O").unwrap().lines().next(),
+            Some("Measured on 2026-01-03.")
+        );
+        assert!(render_table(&sample(), "P").is_err());
+    }
+
+    #[test]
+    fn replaces_only_between_the_markers() {
+        let doc = "# Title\n\nProse.\n<!-- rendered: O -->\nstale\n<!-- /rendered -->\nMore prose.\n";
+        let out = render_document(doc, &sample()).unwrap();
+        assert_eq!(
+            out,
+            "# Title\n\nProse.\n<!-- rendered: O -->\nMeasured on 2026-01-03.\n\n\
+             | robot | function | dyngen |\n|---|---|---:|\n| arm | `fk` | 10 |\n<!-- /rendered -->\nMore prose.\n"
+        );
+        assert_eq!(render_document(&out, &sample()).unwrap(), out);
+        assert!(render_document("<!-- rendered: O -->\n", &sample()).is_err());
+        assert!(render_document("<!-- /rendered -->\n", &sample()).is_err());
+    }
+
+    #[test]
+    fn frames_name_their_frame() {
+        let rows = parse(&format!(
+            "{HEADER}F,2026-01-01,native,arm,frame_pose,link4,value,25,250,,,\n"
+        ))
+        .unwrap();
+        let table = render_table(&rows, "F").unwrap();
+        assert!(
+            table.contains("| arm | `frame_pose` at `link4` | 250 | 25 | 10.0× |"),
+            "{table}"
+        );
+    }
+
+    /// BENCHMARKS.md's tables are what the committed results render to.
+    #[test]
+    fn benchmarks_md_is_rendered_from_the_committed_results() {
+        let root = crate::workspace_root();
+        let rows = crate::results::read(&root.join(crate::RESULTS)).unwrap();
+        let document = std::fs::read_to_string(root.join(crate::BENCHMARKS)).unwrap();
+        let rendered = render_document(&document, &rows).unwrap();
+        assert!(
+            rendered == document,
+            "{} is not what {} renders to: run `cargo xtask bench-render` and commit the result",
+            crate::BENCHMARKS,
+            crate::RESULTS
+        );
+    }
+}
