@@ -44,7 +44,6 @@ mod dispatch;
 mod fill;
 mod floating;
 mod floating_robot;
-mod frame;
 mod frames;
 mod joint;
 mod lane_kernels;
@@ -61,6 +60,7 @@ mod parameterization;
 mod random;
 mod result_buffer;
 mod robot;
+mod stack_align;
 mod trig;
 #[cfg(target_arch = "x86_64")]
 mod trig_fused;
@@ -102,7 +102,6 @@ pub mod __private {
     pub use crate::dispatch::Fused512;
     pub use crate::dispatch::{dispatch, dispatch_eight, dispatch_many, Kernel, MulAdd, Unfused};
     pub use crate::fill::fill_zero;
-    pub use crate::frame::align_stack_frame;
     pub use crate::lane_kernels::{dispatch_lanes, lane_out, lanes_in, trig_in, LaneKernel, LaneVector};
     pub use crate::lane_vectors::{EightLanes, FourLanes};
     #[cfg(all(
@@ -112,6 +111,7 @@ pub mod __private {
     pub use crate::lane_vectors_x86::{Avx2Eight, Avx2Four, Avx512Eight};
     pub use crate::lanes::sign;
     pub use crate::result_buffer::claim;
+    pub use crate::stack_align::align_stack_frame;
     pub use libm;
 
     // The switches between the fused and unfused forms, for tests and measurements: a program
