@@ -49,7 +49,7 @@ impl Payload {
 /// A failure of the plant (reported with the time by the run).
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 pub enum PlantError {
-    #[error("the true inertia matrix is not positive definite (Cholesky failed)")]
+    #[error("the true mass matrix is not positive definite (Cholesky failed)")]
     MassMatrix,
     #[error("non-finite joint acceleration")]
     NonFinite,
