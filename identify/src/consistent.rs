@@ -38,7 +38,8 @@ use crate::least_squares::BaseEstimate;
 use crate::log_cholesky::relative_margin;
 use crate::objective::{Problem, PRECISION_FLOOR};
 use crate::starts::{starts, ConsistentStart};
-use dyngen_codegen::model::{Model, PARAMS_PER_BODY};
+use dyngen_codegen::model::Model;
+use dyngen_runtime::PARAMETERS_PER_BODY;
 use nalgebra::DVector;
 
 /// The precision floors of the continuation, before the objective's own
@@ -123,8 +124,9 @@ pub(crate) fn consistent_estimate(problem: &Problem<'_>, estimate: &BaseEstimate
 pub fn pseudo_inertia_margins(model: &Model, theta: &[f64]) -> Vec<f64> {
     (0..model.bodies().len())
         .map(|b| {
-            let j =
-                crate::log_cholesky::pseudo_inertia(&theta[PARAMS_PER_BODY * b..PARAMS_PER_BODY * (b + 1)]);
+            let j = crate::log_cholesky::pseudo_inertia(
+                &theta[PARAMETERS_PER_BODY * b..PARAMETERS_PER_BODY * (b + 1)],
+            );
             let e = j.symmetric_eigenvalues();
             let (lo, hi) = (e.min(), e.max());
             if hi > 0.0 {
@@ -140,6 +142,6 @@ pub fn pseudo_inertia_margins(model: &Model, theta: &[f64]) -> Vec<f64> {
 /// estimate's margin, 10⁻⁵, for every body it makes).
 pub(crate) fn body_margins(model: &Model, theta: &[f64]) -> Vec<f64> {
     (0..model.bodies().len())
-        .map(|b| relative_margin(&theta[PARAMS_PER_BODY * b..PARAMS_PER_BODY * (b + 1)]))
+        .map(|b| relative_margin(&theta[PARAMETERS_PER_BODY * b..PARAMETERS_PER_BODY * (b + 1)]))
         .collect()
 }

@@ -8,7 +8,8 @@
 //! of mass in the body frame's axes. Numbers are written in Rust's shortest round-trip form, so
 //! loading the file gives back the same parameters to rounding of the inertia shift.
 
-use dyngen_codegen::model::{Body, Inertia, JointKind, JointTerms, Model, ModelError, Pose, PARAMS_PER_BODY};
+use dyngen_codegen::model::{Body, Inertia, JointKind, JointTerms, Model, ModelError, Pose};
+use dyngen_runtime::PARAMETERS_PER_BODY;
 use nalgebra::{Matrix3, Vector3};
 use std::fmt::Write as _;
 
@@ -38,7 +39,7 @@ pub(crate) fn with_parameters(model: &Model, theta: &[f64]) -> Result<Model, Mod
         .iter()
         .enumerate()
         .map(|(b, body)| {
-            let p = &theta[PARAMS_PER_BODY * b..PARAMS_PER_BODY * (b + 1)];
+            let p = &theta[PARAMETERS_PER_BODY * b..PARAMETERS_PER_BODY * (b + 1)];
             Body {
                 name: body.name.clone(),
                 inertia: inertia_of(p),

@@ -22,7 +22,8 @@ use crate::least_squares::BaseEstimate;
 use crate::levenberg_marquardt::{minimise, Minimum};
 use crate::log_cholesky::BodyMap;
 use dyngen_codegen::base_parameters::BaseParameterSet;
-use dyngen_codegen::model::{JointTermKind, Model, PARAMS_PER_BODY};
+use dyngen_codegen::model::{JointTermKind, Model};
+use dyngen_runtime::PARAMETERS_PER_BODY;
 use nalgebra::{DMatrix, DVector};
 
 /// Weight of the prior relative to one σ² of data misfit.
@@ -61,7 +62,7 @@ fn prior_scales(model: &Model, prior: &[f64]) -> Vec<f64> {
             let floor = if i >= model.inertial_parameter_count() {
                 0.1
             } else {
-                match i % PARAMS_PER_BODY {
+                match i % PARAMETERS_PER_BODY {
                     0 => 0.1,
                     1..=3 => 0.01,
                     _ => 0.001,
@@ -217,14 +218,14 @@ impl<'m> Problem<'m> {
     }
 
     fn inertial(&self) -> usize {
-        PARAMS_PER_BODY * self.bodies.len()
+        PARAMETERS_PER_BODY * self.bodies.len()
     }
 
     /// θ of free numbers `phi`.
     pub fn theta(&self, phi: &[f64]) -> Vec<f64> {
         let mut theta = Vec::with_capacity(phi.len());
         for (b, map) in self.bodies.iter().enumerate() {
-            theta.extend(map.parameters(&phi[PARAMS_PER_BODY * b..PARAMS_PER_BODY * (b + 1)]));
+            theta.extend(map.parameters(&phi[PARAMETERS_PER_BODY * b..PARAMETERS_PER_BODY * (b + 1)]));
         }
         let first = self.inertial();
         theta.extend(self.terms.iter().enumerate().map(|(k, map)| match map {
@@ -241,7 +242,7 @@ impl<'m> Problem<'m> {
     pub fn free_numbers(&self, theta: &[f64], fallback: Option<&[f64]>) -> Vec<f64> {
         let mut phi = Vec::with_capacity(theta.len());
         let masses: Vec<f64> = (0..self.bodies.len())
-            .map(|b| theta[PARAMS_PER_BODY * b])
+            .map(|b| theta[PARAMETERS_PER_BODY * b])
             .filter(|m| *m > 0.0)
             .collect();
         let typical_mass = if masses.is_empty() {
@@ -250,13 +251,13 @@ impl<'m> Problem<'m> {
             masses.iter().sum::<f64>() / masses.len() as f64
         };
         for (b, map) in self.bodies.iter().enumerate() {
-            let range = PARAMS_PER_BODY * b..PARAMS_PER_BODY * (b + 1);
+            let range = PARAMETERS_PER_BODY * b..PARAMETERS_PER_BODY * (b + 1);
             match (map.free_numbers(&theta[range.clone()]), fallback) {
                 (Some(p), _) => phi.extend(p),
                 (None, Some(f)) => phi.extend_from_slice(&f[range]),
                 (None, None) => {
                     // A ball of a thousandth of the typical mass, a third of the body's length.
-                    let mut p = [0.0; PARAMS_PER_BODY];
+                    let mut p = [0.0; PARAMETERS_PER_BODY];
                     p[0] = 0.5 * (1e-3 * typical_mass).ln();
                     for d in &mut p[1..4] {
                         *d = (1.0f64 / 3.0).ln();
@@ -302,12 +303,13 @@ impl<'m> Problem<'m> {
         let w = PRIOR_WEIGHT.sqrt();
         let mut jac = DMatrix::zeros(b + 2 * p, p);
         for (body, map) in self.bodies.iter().enumerate() {
-            let first = PARAMS_PER_BODY * body;
-            let d = map.jacobian(&phi[first..first + PARAMS_PER_BODY]);
-            let block = self.a.columns(first, PARAMS_PER_BODY) * d;
-            jac.view_mut((0, first), (b, PARAMS_PER_BODY)).copy_from(&block);
-            for row in 0..PARAMS_PER_BODY {
-                for col in 0..PARAMS_PER_BODY {
+            let first = PARAMETERS_PER_BODY * body;
+            let d = map.jacobian(&phi[first..first + PARAMETERS_PER_BODY]);
+            let block = self.a.columns(first, PARAMETERS_PER_BODY) * d;
+            jac.view_mut((0, first), (b, PARAMETERS_PER_BODY))
+                .copy_from(&block);
+            for row in 0..PARAMETERS_PER_BODY {
+                for col in 0..PARAMETERS_PER_BODY {
                     jac[(b + first + row, first + col)] = w * d[(row, col)] / self.scales[first + row];
                 }
             }

@@ -35,8 +35,8 @@ use crate::loadable::loadable;
 use crate::log_cholesky::{parameters_of, pseudo_inertia, relative_margin, BodyMap, MARGIN};
 use crate::observation::motion;
 use dyngen_codegen::dynamics::NumericDynamics;
-use dyngen_codegen::model::{Frame, JointTermValues, Model, Pose, PARAMS_PER_BODY};
-use dyngen_runtime::ReferenceFrame;
+use dyngen_codegen::model::{Frame, JointTermValues, Model, Pose};
+use dyngen_runtime::{ReferenceFrame, PARAMETERS_PER_BODY};
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix4, SMatrix, Vector3};
 
 /// What a payload is identified from.
@@ -110,7 +110,7 @@ pub struct PayloadEstimate {
 
 impl PayloadEstimate {
     /// The ten standard parameters `[m, m·c, I_O]` of the payload about the frame's origin.
-    pub fn parameters(&self) -> [f64; PARAMS_PER_BODY] {
+    pub fn parameters(&self) -> [f64; PARAMETERS_PER_BODY] {
         dyngen_runtime::body_parameters(self.mass, &self.com, &self.inertia_com)
     }
 
@@ -153,7 +153,7 @@ impl PayloadEstimate {
 /// `p`'s ten parameters (about the origin of the frame they are given in) seen from another
 /// frame, `pose` being the first frame in the second. The pseudo-inertia `∫ [r; 1][r; 1]ᵀ dm`
 /// moves by congruence with the homogeneous transform, `J' = T J Tᵀ`.
-pub(crate) fn parameters_in(p: &[f64; PARAMS_PER_BODY], pose: &Pose) -> [f64; PARAMS_PER_BODY] {
+pub(crate) fn parameters_in(p: &[f64; PARAMETERS_PER_BODY], pose: &Pose) -> [f64; PARAMETERS_PER_BODY] {
     let mut t = Matrix4::identity();
     t.fixed_view_mut::<3, 3>(0, 0).copy_from(&pose.rotation);
     t.fixed_view_mut::<3, 1>(0, 3).copy_from(&pose.translation);
@@ -163,8 +163,8 @@ pub(crate) fn parameters_in(p: &[f64; PARAMS_PER_BODY], pose: &Pose) -> [f64; PA
 /// The linear map of [`parameters_in`] as a matrix.
 fn parameters_in_matrix(pose: &Pose) -> SMatrix<f64, 10, 10> {
     let mut t = SMatrix::<f64, 10, 10>::zeros();
-    for k in 0..PARAMS_PER_BODY {
-        let mut e = [0.0; PARAMS_PER_BODY];
+    for k in 0..PARAMETERS_PER_BODY {
+        let mut e = [0.0; PARAMETERS_PER_BODY];
         e[k] = 1.0;
         t.set_column(k, &SMatrix::<f64, 10, 1>::from(parameters_in(&e, pose)));
     }
@@ -212,7 +212,7 @@ fn find_frame<'m>(model: &'m Model, name: &str, what: &str) -> Result<&'m Frame,
     })
 }
 
-const PAYLOAD_NAMES: [&str; PARAMS_PER_BODY] =
+const PAYLOAD_NAMES: [&str; PARAMETERS_PER_BODY] =
     ["m", "mcx", "mcy", "mcz", "Ixx", "Ixy", "Iyy", "Ixz", "Iyz", "Izz"];
 const OFFSET_NAMES: [&str; 6] = ["fx", "fy", "fz", "mx", "my", "mz"];
 
@@ -281,13 +281,13 @@ pub fn identify_payload(
     let inertial = model.inertial_parameter_count();
     let joint_count = model.parameter_count() - inertial;
     let refit_count = if refit { joint_count } else { 0 };
-    let offset_at = PARAMS_PER_BODY + refit_count;
+    let offset_at = PARAMETERS_PER_BODY + refit_count;
     let columns = offset_at + if wrench { 6 } else { 0 };
     let channels = (if torques { n } else { 0 }) + (if wrench { 6 } else { 0 });
     let theta: Vec<f64> = model.parameters();
     let to_body = parameters_in_matrix(&frame.placement);
     let to_sensor = sensor.map(|(_, s)| parameters_in_matrix(&relative(s, frame)));
-    let body = PARAMS_PER_BODY * crate::pipeline::carrier(frame);
+    let body = PARAMETERS_PER_BODY * crate::pipeline::carrier(frame);
     let dynamics = NumericDynamics::new(model);
     let rows = motion.kept.len() * channels;
     let mut w = DMatrix::zeros(rows, columns);
@@ -297,12 +297,12 @@ pub fn identify_payload(
         let row = i * channels;
         if let Some(tau) = tau {
             let full = dynamics.regressor(q, qd, qd, qdd);
-            let payload = full.columns(body, PARAMS_PER_BODY) * to_body;
-            w.view_mut((row, 0), (n, PARAMS_PER_BODY)).copy_from(&payload);
+            let payload = full.columns(body, PARAMETERS_PER_BODY) * to_body;
+            w.view_mut((row, 0), (n, PARAMETERS_PER_BODY)).copy_from(&payload);
             let held_columns = if refit { inertial } else { theta.len() };
             let held = full.columns(0, held_columns) * DVector::from_column_slice(&theta[..held_columns]);
             if refit {
-                w.view_mut((row, PARAMS_PER_BODY), (n, joint_count))
+                w.view_mut((row, PARAMETERS_PER_BODY), (n, joint_count))
                     .copy_from(&full.columns(inertial, joint_count));
             }
             for j in 0..n {
@@ -324,7 +324,7 @@ pub fn identify_payload(
             let a = Vector3::new(acceleration[0], acceleration[1], acceleration[2])
                 - rotation.transpose() * model.gravity();
             let b = -body_regressor(&wv, &dw, &a) * to_sensor;
-            w.view_mut((row, 0), (6, PARAMS_PER_BODY)).copy_from(&b);
+            w.view_mut((row, 0), (6, PARAMETERS_PER_BODY)).copy_from(&b);
             w.view_mut((row, offset_at), (6, 6))
                 .copy_from(&DMatrix::<f64>::identity(6, 6));
             for c in 0..6 {
@@ -343,8 +343,8 @@ pub fn identify_payload(
     // at a time, the most negative first (an active set, as in non-negative least squares).
     let term_kinds = &model.joint_terms().kinds;
     let non_negative = |c: usize| {
-        (PARAMS_PER_BODY..offset_at).contains(&c)
-            && term_kinds[(c - PARAMS_PER_BODY) % term_kinds.len()].is_non_negative()
+        (PARAMETERS_PER_BODY..offset_at).contains(&c)
+            && term_kinds[(c - PARAMETERS_PER_BODY) % term_kinds.len()].is_non_negative()
     };
     let mut held_at_zero: Vec<usize> = Vec::new();
     let least_squares = loop {
@@ -374,19 +374,19 @@ pub fn identify_payload(
     for (i, &c) in free.iter().enumerate() {
         x[c] = fit.theta_b[i];
     }
-    let (payload, made_consistent) = consistent_payload(&fit, &x[..PARAMS_PER_BODY])?;
+    let (payload, made_consistent) = consistent_payload(&fit, &x[..PARAMETERS_PER_BODY])?;
     // The other unknowns given the consistent payload: their least squares conditioned on it.
     let information = information(&fit);
-    let others: Vec<usize> = (PARAMS_PER_BODY..free.len()).collect();
+    let others: Vec<usize> = (PARAMETERS_PER_BODY..free.len()).collect();
     if !others.is_empty() {
         let i_oo = information
             .select_rows(others.iter())
             .select_columns(others.iter());
         let i_op = information
             .select_rows(others.iter())
-            .columns(0, PARAMS_PER_BODY)
+            .columns(0, PARAMETERS_PER_BODY)
             .into_owned();
-        let shift = DVector::from_fn(PARAMS_PER_BODY, |r, _| payload[r] - x[r]);
+        let shift = DVector::from_fn(PARAMETERS_PER_BODY, |r, _| payload[r] - x[r]);
         if let Some(chol) = i_oo.cholesky() {
             let correction = chol.solve(&(i_op * shift));
             for (i, &o) in others.iter().enumerate() {
@@ -394,15 +394,15 @@ pub fn identify_payload(
             }
         }
     }
-    x[..PARAMS_PER_BODY].copy_from_slice(&payload);
+    x[..PARAMETERS_PER_BODY].copy_from_slice(&payload);
     // The description with the payload welded on and the re-fitted joint terms.
     let mut theta_new = theta.clone();
     let in_body = parameters_in(&payload, &frame.placement);
-    for k in 0..PARAMS_PER_BODY {
+    for k in 0..PARAMETERS_PER_BODY {
         theta_new[body + k] += in_body[k];
     }
     if refit {
-        theta_new[inertial..].copy_from_slice(&x[PARAMS_PER_BODY..offset_at]);
+        theta_new[inertial..].copy_from_slice(&x[PARAMETERS_PER_BODY..offset_at]);
     }
     let (with_payload, loader_warnings) = loadable(model, &theta_new)
         .map_err(|why| IdentifyError::InvalidEstimate(format!("the description with the payload: {why}")))?;
@@ -442,21 +442,21 @@ fn information(fit: &BaseEstimate) -> DMatrix<f64> {
 fn consistent_payload(
     fit: &BaseEstimate,
     p: &[f64],
-) -> Result<([f64; PARAMS_PER_BODY], bool), IdentifyError> {
+) -> Result<([f64; PARAMETERS_PER_BODY], bool), IdentifyError> {
     if p[0].is_nan() || p[0] <= 0.0 {
         return Err(IdentifyError::Unidentifiable(format!(
             "the data shows no payload: its estimated mass is {:.3e} kg (±{:.1e})",
             p[0], fit.std_dev[0]
         )));
     }
-    let p: [f64; PARAMS_PER_BODY] = std::array::from_fn(|k| p[k]);
+    let p: [f64; PARAMETERS_PER_BODY] = std::array::from_fn(|k| p[k]);
     // The payload's marginal information: the inverse of its block of the covariance.
     let covariance = information(fit)
         .cholesky()
         .map(|c| c.inverse())
         .ok_or_else(|| IdentifyError::Unidentifiable("the payload's information is singular".into()))?;
     let block = covariance
-        .view((0, 0), (PARAMS_PER_BODY, PARAMS_PER_BODY))
+        .view((0, 0), (PARAMETERS_PER_BODY, PARAMETERS_PER_BODY))
         .into_owned();
     let r = block
         .cholesky()
@@ -479,7 +479,7 @@ fn consistent_payload(
     let residual = |phi: &[f64]| &r * (DVector::from_column_slice(&map.parameters(phi)) - &target);
     let jacobian = |phi: &[f64]| {
         let j = map.jacobian(phi);
-        &r * DMatrix::from_fn(PARAMS_PER_BODY, PARAMS_PER_BODY, |i, k| j[(i, k)])
+        &r * DMatrix::from_fn(PARAMETERS_PER_BODY, PARAMETERS_PER_BODY, |i, k| j[(i, k)])
     };
     let minimum = minimise(residual, jacobian, start.to_vec(), 1e-6);
     Ok((map.parameters(&minimum.x), true))

@@ -15,7 +15,7 @@
 
 use crate::least_squares::BaseEstimate;
 use crate::objective::Problem;
-use dyngen_codegen::model::PARAMS_PER_BODY;
+use dyngen_runtime::PARAMETERS_PER_BODY;
 use nalgebra::{DMatrix, DVector};
 use std::fmt;
 
@@ -59,7 +59,7 @@ fn nearest_fit(m: &DMatrix<f64>, y: &DVector<f64>, x0: &DVector<f64>) -> Option<
 /// The description, with the joint-level parameters the least squares determine alone.
 pub(crate) fn description_start(problem: &Problem<'_>, estimate: &BaseEstimate) -> Vec<f64> {
     let p = problem.prior.len();
-    let inertial = PARAMS_PER_BODY * problem.bodies.len();
+    let inertial = PARAMETERS_PER_BODY * problem.bodies.len();
     let mut description = problem.prior.clone();
     for row in 0..problem.k.nrows() {
         let nonzero: Vec<usize> = (0..p).filter(|&i| problem.k[(row, i)] != 0.0).collect();
@@ -92,21 +92,21 @@ fn scaled_description_start(problem: &Problem<'_>) -> Option<Vec<f64>> {
     // θ = B z: z = (one factor per body but the end effector's, its ten parameters, the
     // joint-level parameters).
     let p = problem.prior.len();
-    let inertial = PARAMS_PER_BODY * problem.bodies.len();
+    let inertial = PARAMETERS_PER_BODY * problem.bodies.len();
     let carrier = problem.model.end_effector_body();
     let bodies = problem.bodies.len();
-    let columns = (bodies - 1) + PARAMS_PER_BODY + (p - inertial);
+    let columns = (bodies - 1) + PARAMETERS_PER_BODY + (p - inertial);
     let mut basis = DMatrix::zeros(p, columns);
     let mut z0 = DVector::zeros(columns);
     let mut column = 0;
     for b in (0..bodies).filter(|&b| b != carrier) {
-        for i in PARAMS_PER_BODY * b..PARAMS_PER_BODY * (b + 1) {
+        for i in PARAMETERS_PER_BODY * b..PARAMETERS_PER_BODY * (b + 1) {
             basis[(i, column)] = problem.prior[i];
         }
         z0[column] = 1.0;
         column += 1;
     }
-    for i in (PARAMS_PER_BODY * carrier..PARAMS_PER_BODY * (carrier + 1)).chain(inertial..p) {
+    for i in (PARAMETERS_PER_BODY * carrier..PARAMETERS_PER_BODY * (carrier + 1)).chain(inertial..p) {
         // In the prior's scales, so the fit is not dominated by units.
         basis[(i, column)] = problem.scales[i];
         z0[column] = problem.prior[i] / problem.scales[i];
