@@ -13,7 +13,8 @@
 //! - the plain data they exchange: [`JointTrig`] and [`JointTrigLanes`] (with [`pack`] and
 //!   [`unpack`] between vectors and lanes), [`Pose`], [`BasePose`] (a free-flying base's
 //!   position and unit quaternion, with `integrate` and `difference`), [`JointLimits`], [`ParameterKind`], and
-//!   the ten standard parameters per body ([`PARAMETERS_PER_BODY`], [`body_parameters`]);
+//!   the ten standard parameters per body ([`PARAMETERS_PER_BODY`], [`BODY_PARAMETER_NAMES`],
+//!   [`body_parameters`]);
 //! - [`ResultBuffer`] (any [`BufferedResult`]): a matrix result kept between calls of the
 //!   `_into` forms (`torque_regressor_into`), written only where it can be nonzero;
 //! - helpers for hand-written code beside the generated functions: [`mul_add`] (fused exactly
@@ -76,7 +77,7 @@ pub use joint::{JointLimits, JointTrig};
 pub use lanes::{f64x4, f64x8, pack, unpack, JointTrigLanes, LaneDynamics, Lanes};
 pub use mul_add::mul_add;
 pub use nalgebra;
-pub use parameter::{body_parameters, ParameterKind, PARAMETERS_PER_BODY};
+pub use parameter::{body_parameters, ParameterKind, BODY_PARAMETER_NAMES, PARAMETERS_PER_BODY};
 pub use parameterization::{Base, BaseParameters, Parameterization, Standard};
 pub use random::SplitMix64;
 pub use result_buffer::{BufferedResult, ResultBuffer};
