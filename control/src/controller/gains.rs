@@ -108,3 +108,19 @@ where
 {
     mass_matrix_estimate::<Z, N, M>(q0, theta_hat) * kappa
 }
+
+/// The former name of [`mass_matrix_shaped_gain`]. Temporary: only the README's controller
+/// example (compiled as a doctest of this crate) still calls it; remove this once it says
+/// `mass_matrix_shaped_gain`.
+#[doc(hidden)]
+#[deprecated(note = "renamed `mass_matrix_shaped_gain`")]
+pub fn inertia_shaped_gain<Z, const N: usize, const M: usize>(
+    kappa: f64,
+    q0: &SVector<f64, N>,
+    theta_hat: &SVector<f64, M>,
+) -> SMatrix<f64, N, N>
+where
+    Z: Parameterization<N, M>,
+{
+    mass_matrix_shaped_gain::<Z, N, M>(kappa, q0, theta_hat)
+}

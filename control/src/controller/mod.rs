@@ -29,6 +29,9 @@ pub use composite::{Composite, PredictionFilter, DIRECTION_STEP};
 pub use error::{ConfigError, TickError};
 pub use frame::frame_named;
 pub use gains::{mass_matrix_estimate, mass_matrix_shaped_gain, Gains};
+// Temporary, until the README's example is renamed (see `gains::inertia_shaped_gain`).
+#[allow(deprecated)]
+pub use gains::inertia_shaped_gain;
 pub use law::{
     Adaptation, ControlOutput, ControllerConfig, HybridController, MAX_START_ORIENTATION_ERROR_DEG,
 };
