@@ -4,10 +4,10 @@
 //! ([`dyngen_runtime::Parameterization`]: `arm7::Base` or `arm7::Standard`).
 
 pub mod controller;
-mod inertia;
+mod mass_matrix;
 pub mod sim;
 
-pub use inertia::mass_matrix_through_regressor;
+pub use mass_matrix::mass_matrix_through_regressor;
 
 /// The README's Rust examples, compiled and run as doctests of this crate (which has the
 /// committed robots as a dev-dependency), so the README cannot drift from the API.

@@ -74,7 +74,7 @@ fn prior_scales(model: &Model, prior: &[f64]) -> Vec<f64> {
 }
 
 /// A body's length: the farthest of its centre of mass, its radius of gyration, the joints
-/// it carries and the end effector on it (at least 1 cm).
+/// it carries and the end-effector on it (at least 1 cm).
 fn body_lengths(model: &Model) -> Vec<f64> {
     let mut lengths: Vec<f64> = model
         .bodies()

@@ -36,8 +36,7 @@ use crate::log_cholesky::{parameters_of, pseudo_inertia, relative_margin, BodyMa
 use crate::observation::motion;
 use dyngen_model::dynamics::NumericDynamics;
 use dyngen_model::model::{Frame, JointTermValues, Model, Pose};
-use dyngen_runtime::ReferenceFrame;
-use dyngen_runtime::PARAMETERS_PER_BODY;
+use dyngen_runtime::{ReferenceFrame, BODY_PARAMETER_NAMES, PARAMETERS_PER_BODY};
 use nalgebra::{DMatrix, DVector, Matrix3, Matrix4, SMatrix, Vector3};
 
 /// What a payload is identified from.
@@ -213,8 +212,6 @@ fn find_frame<'m>(model: &'m Model, name: &str, what: &str) -> Result<&'m Frame,
     })
 }
 
-const PAYLOAD_NAMES: [&str; PARAMETERS_PER_BODY] =
-    ["m", "mcx", "mcy", "mcz", "Ixx", "Ixy", "Iyy", "Ixz", "Iyz", "Izz"];
 const OFFSET_NAMES: [&str; 6] = ["fx", "fy", "fz", "mx", "my", "mz"];
 
 /// Identifies a payload attached at a frame of `model`, with `model`'s own parameters held;
@@ -333,7 +330,10 @@ pub fn identify_payload(
             }
         }
     }
-    let mut names: Vec<String> = PAYLOAD_NAMES.iter().map(|p| format!("payload {p}")).collect();
+    let mut names: Vec<String> = BODY_PARAMETER_NAMES
+        .iter()
+        .map(|p| format!("payload {p}"))
+        .collect();
     if refit {
         names.extend(model.parameter_names()[inertial..].iter().cloned());
     }

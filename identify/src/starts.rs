@@ -9,7 +9,7 @@
 //!   scaled metric) whose base parameters are the least squares', brought to consistency body
 //!   by body: right when the data is rich and the description far off.
 //! - [`ConsistentStart::ScaledDescription`]: the description with each body scaled by one
-//!   factor, the body that carries the end effector free (a payload), and the joint-level
+//!   factor, the body that carries the end-effector free (a payload), and the joint-level
 //!   parameters free, fitted to the data: a few numbers, so well determined even when the
 //!   least squares' full θ is not near any consistent one.
 
@@ -27,7 +27,7 @@ pub enum ConsistentStart {
     /// The full θ nearest the description whose base parameters are the least squares',
     /// brought to physical validity body by body.
     LeastSquares,
-    /// The description with each body scaled by one factor, the end effector's body (a
+    /// The description with each body scaled by one factor, the end-effector's body (a
     /// payload) and the joint-level parameters fitted to the data.
     ScaledDescription,
 }
@@ -86,10 +86,10 @@ pub(crate) fn least_squares_start(problem: &Problem<'_>) -> Option<Vec<f64>> {
     )
 }
 
-/// The description scaled body by body, the end effector's body and the joint-level
+/// The description scaled body by body, the end-effector's body and the joint-level
 /// parameters fitted.
 fn scaled_description_start(problem: &Problem<'_>) -> Option<Vec<f64>> {
-    // θ = B z: z = (one factor per body but the end effector's, its ten parameters, the
+    // θ = B z: z = (one factor per body but the end-effector's, its ten parameters, the
     // joint-level parameters).
     let p = problem.prior.len();
     let inertial = PARAMETERS_PER_BODY * problem.bodies.len();

@@ -234,7 +234,7 @@ mod choice {
 
     #[inline(always)]
     pub fn dispatch_eight<K: Kernel<Args>, Args>(args: Args) -> K::Output {
-        crate::frame::align_stack_frame();
+        crate::stack_align::align_stack_frame();
         K::run(Fused(()), args)
     }
 
@@ -341,7 +341,7 @@ mod choice {
     /// The processor must have AVX2 and FMA.
     #[target_feature(enable = "avx2,fma")]
     unsafe fn run_fused_eight<K: Kernel<Args>, Args>(args: Args) -> K::Output {
-        crate::frame::align_stack_frame();
+        crate::stack_align::align_stack_frame();
         K::run(Fused(()), args)
     }
 
@@ -354,7 +354,7 @@ mod choice {
     /// The processor must have AVX-512 F, DQ, BW and VL, AVX2 and FMA.
     #[target_feature(enable = "avx512f,avx512dq,avx512bw,avx512vl,avx2,fma")]
     unsafe fn run_fused512<K: Kernel<Args>, Args>(args: Args) -> K::Output {
-        crate::frame::align_stack_frame();
+        crate::stack_align::align_stack_frame();
         K::run(Fused512(()), args)
     }
 }

@@ -88,7 +88,7 @@ pub trait FloatingBaseDynamics<const N: usize, const NV: usize, const P: usize> 
 
     /// The standard parameters θ of the description: the base body's ten, then ten per body.
     fn parameters() -> SVector<f64, P>;
-    /// The inertia matrix `D(q)` (`NV × NV`).
+    /// The mass matrix `D(q)` (`NV × NV`).
     fn mass_matrix(t: &FloatingTrig<N>) -> SMatrix<f64, NV, NV>;
     /// [`Self::mass_matrix`] written into `out`, a result kept between calls
     /// (see [`ResultBuffer`]).

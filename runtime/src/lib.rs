@@ -13,7 +13,8 @@
 //! - the plain data they exchange: [`JointTrig`] and [`JointTrigLanes`] (with [`pack`] and
 //!   [`unpack`] between vectors and lanes), [`Pose`], [`BasePose`] (a free-flying base's
 //!   position and unit quaternion, with `integrate` and `difference`), [`JointLimits`], [`ParameterKind`], and
-//!   the ten standard parameters per body ([`PARAMETERS_PER_BODY`], [`body_parameters`]);
+//!   the ten standard parameters per body ([`PARAMETERS_PER_BODY`], [`BODY_PARAMETER_NAMES`],
+//!   [`body_parameters`]);
 //! - [`ResultBuffer`] (any [`BufferedResult`]): a matrix result kept between calls of the
 //!   `_into` forms (`torque_regressor_into`), written only where it can be nonzero;
 //! - helpers for hand-written code beside the generated functions: [`mul_add`] (fused exactly
@@ -44,7 +45,6 @@ mod dispatch;
 mod fill;
 mod floating;
 mod floating_robot;
-mod frame;
 mod frames;
 mod joint;
 mod lane_kernels;
@@ -61,6 +61,7 @@ mod parameterization;
 mod random;
 mod result_buffer;
 mod robot;
+mod stack_align;
 mod trig;
 #[cfg(target_arch = "x86_64")]
 mod trig_fused;
@@ -76,7 +77,7 @@ pub use joint::{JointLimits, JointTrig};
 pub use lanes::{f64x4, f64x8, pack, unpack, JointTrigLanes, LaneDynamics, Lanes};
 pub use mul_add::mul_add;
 pub use nalgebra;
-pub use parameter::{body_parameters, ParameterKind, PARAMETERS_PER_BODY};
+pub use parameter::{body_parameters, ParameterKind, BODY_PARAMETER_NAMES, PARAMETERS_PER_BODY};
 pub use parameterization::{Base, BaseParameters, Parameterization, Standard};
 pub use random::SplitMix64;
 pub use result_buffer::{BufferedResult, ResultBuffer};
@@ -102,7 +103,6 @@ pub mod __private {
     pub use crate::dispatch::Fused512;
     pub use crate::dispatch::{dispatch, dispatch_eight, dispatch_many, Kernel, MulAdd, Unfused};
     pub use crate::fill::fill_zero;
-    pub use crate::frame::align_stack_frame;
     pub use crate::lane_kernels::{dispatch_lanes, lane_out, lanes_in, trig_in, LaneKernel, LaneVector};
     pub use crate::lane_vectors::{EightLanes, FourLanes};
     #[cfg(all(
@@ -112,6 +112,7 @@ pub mod __private {
     pub use crate::lane_vectors_x86::{Avx2Eight, Avx2Four, Avx512Eight};
     pub use crate::lanes::sign;
     pub use crate::result_buffer::claim;
+    pub use crate::stack_align::align_stack_frame;
     pub use libm;
 
     // The switches between the fused and unfused forms, for tests and measurements: a program

@@ -6,6 +6,11 @@ use nalgebra::{Matrix3, Vector3};
 /// inertia about the body (joint) frame origin.
 pub const PARAMETERS_PER_BODY: usize = 10;
 
+/// Names of a body's ten standard parameters, in the order of [`body_parameters`] (a robot's
+/// `PARAMETER_NAMES` are these with the body's name, `"mcx[link3]"`).
+pub const BODY_PARAMETER_NAMES: [&str; PARAMETERS_PER_BODY] =
+    ["m", "mcx", "mcy", "mcz", "Ixx", "Ixy", "Iyy", "Ixz", "Iyz", "Izz"];
+
 /// A rigid body's ten standard parameters `[m, m·cx, m·cy, m·cz, Ixx, Ixy, Iyy, Ixz, Iyz, Izz]`
 /// from its mass, centre of mass `com` and rotational inertia about the centre of mass, all
 /// in the body (joint) frame: `I_O = I_C + m (cᵀc·1 − c cᵀ)` (parallel axes).

@@ -30,7 +30,7 @@ pub trait Parameterization<const N: usize, const M: usize> {
     ///
     /// # Panics
     /// If `body` is not a body of the robot.
-    fn body_parameters(body: usize, p: &[f64; PARAMETERS_PER_BODY]) -> SVector<f64, M>;
+    fn from_body_parameters(body: usize, p: &[f64; PARAMETERS_PER_BODY]) -> SVector<f64, M>;
     /// `Φ θ'` where `θ'` is the description's θ with every standard parameter multiplied by
     /// `scale(kind)`: an estimate that is off by kind (the demo starts the inertial parameters
     /// at half and the joint friction at its nominal value), or a true robot whose friction and
@@ -176,7 +176,7 @@ impl<R: Regressors<N, P> + ForwardDynamics<N, P>, const N: usize, const P: usize
     fn description() -> SVector<f64, P> {
         R::parameters()
     }
-    fn body_parameters(body: usize, p: &[f64; PARAMETERS_PER_BODY]) -> SVector<f64, P> {
+    fn from_body_parameters(body: usize, p: &[f64; PARAMETERS_PER_BODY]) -> SVector<f64, P> {
         body_only(body, p)
     }
     fn description_scaled_by_kind(scale: impl Fn(ParameterKind) -> f64) -> SVector<f64, P> {
@@ -225,7 +225,7 @@ impl<R: BaseParameters<N, P, B> + ForwardDynamics<N, P>, const N: usize, const P
     fn description() -> SVector<f64, B> {
         R::base_parameters(&R::parameters())
     }
-    fn body_parameters(body: usize, p: &[f64; PARAMETERS_PER_BODY]) -> SVector<f64, B> {
+    fn from_body_parameters(body: usize, p: &[f64; PARAMETERS_PER_BODY]) -> SVector<f64, B> {
         R::base_parameters(&body_only(body, p))
     }
     fn description_scaled_by_kind(scale: impl Fn(ParameterKind) -> f64) -> SVector<f64, B> {

@@ -72,7 +72,7 @@ pub trait Kinematics<const N: usize> {
     }
 }
 
-/// Rigid-body dynamics of one robot with `N` joints and `P` standard inertial parameters.
+/// Rigid-body dynamics of one robot with `N` joints and `P` standard parameters.
 ///
 /// Conventions: `C` is the Christoffel-consistent Coriolis matrix, so `Ḋ − 2C` is
 /// skew-symmetric; `θ = Self::parameters()` holds ten parameters per body `[m, m·cx, m·cy,
@@ -89,9 +89,9 @@ pub trait RobotDynamics<const N: usize, const P: usize>: Kinematics<N> {
     /// The kind of each entry of θ.
     const PARAMETER_KINDS: [ParameterKind; P];
 
-    /// The standard inertial parameters θ of the description.
+    /// The standard parameters θ of the description.
     fn parameters() -> SVector<f64, P>;
-    /// Joint-space inertia matrix `D(q)`.
+    /// Joint-space mass matrix `D(q)`.
     fn mass_matrix(t: &JointTrig<N>) -> SMatrix<f64, N, N>;
     /// [`Self::mass_matrix`] written into `out`, a result kept between calls
     /// (see [`ResultBuffer`]).
@@ -179,7 +179,7 @@ pub trait Regressors<const N: usize, const P: usize>: RobotDynamics<N, P> {
     }
 }
 
-/// Forward dynamics and the inverse inertia matrix: the group `forward_dynamics`.
+/// Forward dynamics and the inverse mass matrix: the group `forward_dynamics`.
 #[diagnostic::on_unimplemented(
     message = "`{Self}` was generated without the group `forward_dynamics`",
     note = "add `forward_dynamics` to `functions:` in the robot's description (or to \
@@ -188,7 +188,7 @@ pub trait Regressors<const N: usize, const P: usize>: RobotDynamics<N, P> {
 pub trait ForwardDynamics<const N: usize, const P: usize>: RobotDynamics<N, P> {
     /// Forward dynamics `q̈ = D⁻¹ (τ − C q̇ − g)`.
     fn forward_dynamics(t: &JointTrig<N>, qd: &SVector<f64, N>, tau: &SVector<f64, N>) -> SVector<f64, N>;
-    /// The inverse inertia matrix `D(q)⁻¹`.
+    /// The inverse mass matrix `D(q)⁻¹`.
     fn mass_matrix_inverse(t: &JointTrig<N>) -> SMatrix<f64, N, N>;
     /// [`Self::mass_matrix_inverse`] written into `out`, a result kept between calls
     /// (see [`ResultBuffer`]).

@@ -15,7 +15,7 @@ use core::arch::x86_64::*;
 #[target_feature(enable = "avx,avx2,fma")]
 pub(crate) unsafe fn joint_trig<const N: usize>(q: &[f64; N]) -> JointTrig<N> {
     // Its constant vectors spill (more than sixteen registers' worth): whole, into aligned slots.
-    crate::frame::align_stack_frame();
+    crate::stack_align::align_stack_frame();
     let (mut sin, mut cos) = ([0.0; N], [0.0; N]);
     let mut start = 0;
     while start < N {

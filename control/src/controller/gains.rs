@@ -65,7 +65,7 @@ impl<const N: usize, const M: usize> Gains<N, M> {
     pub fn stiffest_mode(&self, d_hat: &SMatrix<f64, N, N>) -> Result<f64, ConfigError> {
         let chol = Cholesky::new(*d_hat).ok_or_else(|| ConfigError::NotPositiveDefinite {
             name: "D̂(q₀)",
-            detail: "the controller's inertia estimate is not positive definite".into(),
+            detail: "the controller's mass matrix estimate is not positive definite".into(),
         })?;
         let mut x = SVector::<f64, N>::from_element(1.0).normalize();
         let mut lam = 0.0;
@@ -84,8 +84,8 @@ impl<const N: usize, const M: usize> Gains<N, M> {
     }
 }
 
-/// The controller's own inertia estimate `D̂(q)` at `θ̂`, symmetrised (rounding only).
-pub fn inertia_estimate<Z, const N: usize, const M: usize>(
+/// The controller's own mass matrix estimate `D̂(q)` at `θ̂`, symmetrised (rounding only).
+pub fn mass_matrix_estimate<Z, const N: usize, const M: usize>(
     q: &SVector<f64, N>,
     theta_hat: &SVector<f64, M>,
 ) -> SMatrix<f64, N, N>
@@ -98,7 +98,7 @@ where
 
 /// `G = κ D̂(q₀)`, the full SPD gain that is stable at 1 kHz where a diagonal one is not
 /// (`docs/controller.md`, gains).
-pub fn inertia_shaped_gain<Z, const N: usize, const M: usize>(
+pub fn mass_matrix_shaped_gain<Z, const N: usize, const M: usize>(
     kappa: f64,
     q0: &SVector<f64, N>,
     theta_hat: &SVector<f64, M>,
@@ -106,5 +106,5 @@ pub fn inertia_shaped_gain<Z, const N: usize, const M: usize>(
 where
     Z: Parameterization<N, M>,
 {
-    inertia_estimate::<Z, N, M>(q0, theta_hat) * kappa
+    mass_matrix_estimate::<Z, N, M>(q0, theta_hat) * kappa
 }

@@ -28,7 +28,7 @@ pub use adaptation::{parameter_error_energy, GammaByKind};
 pub use composite::{Composite, PredictionFilter, DIRECTION_STEP};
 pub use error::{ConfigError, TickError};
 pub use frame::frame_named;
-pub use gains::{inertia_estimate, inertia_shaped_gain, Gains};
+pub use gains::{mass_matrix_estimate, mass_matrix_shaped_gain, Gains};
 pub use law::{
     Adaptation, ControlOutput, ControllerConfig, HybridController, MAX_START_ORIENTATION_ERROR_DEG,
 };

@@ -16,7 +16,7 @@ use super::scenario::PressAndCircle;
 use super::true_joint_terms::JointTermFactors;
 use crate::controller::frame::ControlledFrame;
 use crate::controller::{
-    inertia_shaped_gain, Adaptation, Composite, ConfigError, ContactTask, ControllerConfig, Gains,
+    mass_matrix_shaped_gain, Adaptation, Composite, ConfigError, ContactTask, ControllerConfig, Gains,
     GammaByKind, HybridController, SingularityGuard,
 };
 use dyngen_runtime::{FrameKinematics, JointTrig, Kinematics, Parameterization};
@@ -311,7 +311,7 @@ where
             }
         });
         let theta_true = *plant.parameters();
-        let g = inertia_shaped_gain::<Z, N, M>(options.kappa, &q0, &theta_hat0);
+        let g = mass_matrix_shaped_gain::<Z, N, M>(options.kappa, &q0, &theta_hat0);
         let gamma = options.gamma.carried_to::<Z, N, M>();
         let gamma_joint_terms_held = GammaByKind {
             joint: 0.0,
@@ -390,7 +390,7 @@ where
         })?
         .at_frame(self.frame);
         c.check_start(&self.q0, &self.scenario.desired(0.0))?;
-        let d_hat = crate::controller::inertia_estimate::<Z, N, M>(&self.q0, &theta);
+        let d_hat = crate::controller::mass_matrix_estimate::<Z, N, M>(&self.q0, &theta);
         let value = gains.stiffest_mode(&d_hat)? * self.options.sim.control_period;
         let limit = 2.0;
         if value > limit {

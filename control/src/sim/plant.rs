@@ -49,7 +49,7 @@ impl Payload {
 /// A failure of the plant (reported with the time by the run).
 #[derive(Debug, Clone, Copy, PartialEq, thiserror::Error)]
 pub enum PlantError {
-    #[error("the true inertia matrix is not positive definite (Cholesky failed)")]
+    #[error("the true mass matrix is not positive definite (Cholesky failed)")]
     MassMatrix,
     #[error("non-finite joint acceleration")]
     NonFinite,
@@ -137,7 +137,7 @@ impl<Z: Parameterization<N, M>, const N: usize, const M: usize> Plant<Z, N, M> {
     ) -> Self {
         let body = <Z::Robot as Kinematics<N>>::END_EFFECTOR_BODY;
         let theta = Z::description_scaled_by_kind(|kind| joint_terms.of(kind))
-            + Z::body_parameters(body, &payload.parameters());
+            + Z::from_body_parameters(body, &payload.parameters());
         Self::new(theta, contact)
     }
 

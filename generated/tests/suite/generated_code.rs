@@ -171,7 +171,7 @@ fn arm7_friction_generated_matches_generic() {
 
 /// `robots/arm7_friction.yaml` copies arm7's links and joints: same joints and limits, same
 /// inertial parameters (the first 70 of its 98), same kinematics, and without its joint terms
-/// the same inertia matrix.
+/// the same mass matrix.
 #[test]
 fn arm7_friction_is_arm7_plus_joint_terms() {
     assert_eq!(Arm7Friction::JOINT_NAMES, Arm7::JOINT_NAMES);

@@ -1,4 +1,4 @@
-//! The joint-space inertia matrix `D(q)` by the composite-rigid-body algorithm.
+//! The joint-space mass matrix `D(q)` by the composite-rigid-body algorithm.
 
 use super::coupling::project_both;
 use super::joint::{joint_force, joint_motion};
@@ -16,7 +16,7 @@ pub fn mass_matrix<S: Scalar, X: CompositeFrame<S>>(
     project_both(model, tree_mass_matrix(model, x, inertias))
 }
 
-/// The inertia matrix of the tree, one row per moving joint.
+/// The mass matrix of the tree, one row per moving joint.
 fn tree_mass_matrix<S: Scalar, X: CompositeFrame<S>>(
     model: &Model,
     x: &[X],

@@ -1,4 +1,4 @@
-//! Forward dynamics `q̈ = D⁻¹ (τ − C q̇ − g)` and the inverse inertia matrix `D⁻¹`, by the
+//! Forward dynamics `q̈ = D⁻¹ (τ − C q̇ − g)` and the inverse mass matrix `D⁻¹`, by the
 //! composite-rigid-body `D`, the inverse-dynamics bias `C q̇ + g` (RNEA at `q̈ = 0`) and the tree
 //! `LᵀΔL` factorisation of `D`.
 //!
@@ -39,7 +39,7 @@ pub fn bias_torque<S: Scalar, X: CompositeFrame<S>>(
     rigid.into_iter().zip(joint).map(|(r, j)| r + j).collect()
 }
 
-/// The factored inertia matrix (armature included) at the configuration of `x`.
+/// The factored mass matrix (armature included) at the configuration of `x`.
 pub fn factor_mass_matrix<S: Scalar, X: CompositeFrame<S>>(
     model: &Model,
     x: &[X],

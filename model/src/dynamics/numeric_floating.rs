@@ -86,7 +86,7 @@ impl<'m> FloatingDynamics<'m> {
     /// Names of the entries of [`FloatingDynamics::parameters`], e.g. `"mcx[trunk]"`.
     pub fn parameter_names(model: &Model) -> Vec<String> {
         let base = &model.floating_base().expect("a floating model").name;
-        let mut names: Vec<String> = crate::model::PARAMETER_NAMES
+        let mut names: Vec<String> = dyngen_runtime::BODY_PARAMETER_NAMES
             .iter()
             .map(|p| format!("{p}[{base}]"))
             .collect();

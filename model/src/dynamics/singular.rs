@@ -1,4 +1,4 @@
-//! Joints whose inertia matrix pivot vanishes: the joint moves no mass or inertia in its own
+//! Joints whose mass matrix pivot vanishes: the joint moves no mass or inertia in its own
 //! direction (a massless last link, a point mass on its revolute axis, a rod along it), so `D` is
 //! singular and forward dynamics and `D⁻¹` do not exist. Found numerically, from the pivots of
 //! the tree factorisation at random configurations, because what counts is the whole subtree

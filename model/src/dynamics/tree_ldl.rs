@@ -28,7 +28,7 @@ pub struct TreeLdl<S> {
 }
 
 impl<S: Scalar> TreeLdl<S> {
-    /// Factors `d` (the inertia matrix of `model`), reading only its lower triangle.
+    /// Factors `d` (the mass matrix of `model`), reading only its lower triangle.
     pub fn factor(model: &Model, d: &DMatrix<S>) -> Self {
         let n = model.dof();
         let parent: Vec<Option<usize>> = match model.has_mimics() {

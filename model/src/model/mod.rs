@@ -28,7 +28,7 @@ pub(crate) use validate::principal_moments;
 use validate::validate;
 pub use validate::{ModelError, Warning};
 
-use dyngen_runtime::{ParameterKind, PARAMETERS_PER_BODY};
+use dyngen_runtime::{ParameterKind, BODY_PARAMETER_NAMES, PARAMETERS_PER_BODY};
 use nalgebra::{Matrix3, Vector3};
 
 /// How a joint moves.
@@ -116,10 +116,6 @@ pub struct Model {
     /// for a base fixed to the world. Default: fixed.
     floating_base: Option<Body>,
 }
-
-/// Names of the standard parameters of one body, in the order of [`Inertia::parameters`].
-pub(crate) const PARAMETER_NAMES: [&str; PARAMETERS_PER_BODY] =
-    ["m", "mcx", "mcy", "mcz", "Ixx", "Ixy", "Iyy", "Ixz", "Iyz", "Izz"];
 
 impl Inertia {
     /// The ten standard parameters `[m, m·c, I_O]` with `I_O` about the body-frame origin,
@@ -365,7 +361,11 @@ impl Model {
         let mut names: Vec<String> = self
             .bodies
             .iter()
-            .flat_map(|b| PARAMETER_NAMES.iter().map(move |p| format!("{p}[{}]", b.name)))
+            .flat_map(|b| {
+                BODY_PARAMETER_NAMES
+                    .iter()
+                    .map(move |p| format!("{p}[{}]", b.name))
+            })
             .collect();
         for j in &self.joints {
             names.extend(

@@ -30,7 +30,7 @@ const UNIT_TOL: f64 = 1e-9;
 #[derive(Clone, Debug, PartialEq)]
 pub enum Warning {
     /// A moving body with zero mass that carries no further joints: nothing resists its joint,
-    /// so the joint-space inertia matrix is singular.
+    /// so the mass matrix is singular.
     MasslessLeaf {
         /// The joint that carries the body.
         joint: String,
@@ -52,7 +52,7 @@ impl fmt::Display for Warning {
             Warning::MasslessLeaf { joint, body } => write!(
                 f,
                 "link '{body}': zero mass and no children (joint '{joint}' moves nothing; \
-                 the inertia matrix is singular)"
+                 the mass matrix is singular)"
             ),
             Warning::MasslessBody { joint, body } => {
                 write!(

@@ -1,4 +1,4 @@
-//! The inertia matrix (nv × nv) of a floating-base robot by composite rigid bodies, and forward
+//! The mass matrix (nv × nv) of a floating-base robot by composite rigid bodies, and forward
 //! dynamics by its tree factorisation, the base's six coordinates a chain above the roots.
 
 use super::{base_entries, inverse::floating_inverse_dynamics, unit_base_motion, FloatingBase};

@@ -5,7 +5,7 @@ use nalgebra::{SMatrix, SVector};
 
 /// `D(q)` of the robot whose parameters (in `Z`'s coordinates) are `phi`, through the
 /// regressor, exact by linearity: column `i` is `Y(q, 0, 0, eᵢ) φ − Y(q, 0, 0, 0) φ`. How the
-/// simulator gets the true robot's inertia (payload included) and the controller its estimate,
+/// simulator gets the true robot's mass matrix (payload included) and the controller its estimate,
 /// neither of which the generated `mass_matrix` (the description's parameters) can give.
 pub fn mass_matrix_through_regressor<Z, const N: usize, const M: usize>(
     t: &JointTrig<N>,

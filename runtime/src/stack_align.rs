@@ -1,4 +1,5 @@
-//! Stack frames aligned for vector spills.
+//! Stack frames aligned for vector spills (call stack frames, unrelated to a robot's named frames
+//! in `frames.rs`).
 
 /// Makes the function this is inlined into keep its stack frame aligned to 64 bytes, so that
 /// the vector registers it spills are stored whole in one cache line each.
