@@ -122,17 +122,11 @@ pub struct SymbolicRobot {
     pub base: BaseParameterSet,
     /// The groups traced.
     pub functions: Functions,
-    /// Values per chunk function when emitted ([`CHUNK_VALUES`] as traced): a function that
-    /// computes more is emitted in chunks. Tests set it small to run the chunked code of a small
-    /// robot.
-    pub chunk_values: usize,
     /// The outputs of functions computed in lane vectors (the regressors, four rows at a time)
     /// in a scalar formulation, by function name: the form for several states per call
     /// (`_lanes`), generic over its lane type, computes these.
     pub scalar_forms: HashMap<String, Vec<Id>>,
 }
-
-use super::emit::CHUNK_VALUES;
 
 pub(super) fn ids(v: &[Expr]) -> Vec<Id> {
     v.iter().map(|e| e.id()).collect()
@@ -408,7 +402,6 @@ pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functio
         quantities,
         base,
         functions,
-        chunk_values: CHUNK_VALUES,
         scalar_forms,
     }
 }

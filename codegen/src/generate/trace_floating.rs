@@ -250,7 +250,6 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
         quantities,
         base: base_parameters,
         functions: floating_functions(),
-        chunk_values: super::emit::CHUNK_VALUES,
         scalar_forms: std::collections::HashMap::new(),
     }
 }

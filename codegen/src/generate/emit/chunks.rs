@@ -1,6 +1,6 @@
-//! A large function as a run of chunk functions (`<name>_partK`, [`CHUNK_VALUES`] values each,
-//! unless the traced robot says otherwise) that
-//! hand values on through arrays the calling function owns; a function with a first stage
+//! A large function as a run of chunk functions (`<name>_partK`, of at most
+//! [`Sizes::chunk_values`] values each) that hand values on through arrays the calling function
+//! owns; a function with a first stage
 //! best compiled apart (forward dynamics in its derivatives) also ends a chunk there.
 //!
 //! Each chunk writes the values later chunks read into an array of its own as soon as it
@@ -12,28 +12,18 @@
 //! one at every chunk, and kept them alive to the end of the chunk that computed them: the
 //! Unitree G1's `∂τ/∂x` caller alone was 261 KB of moves.)
 
-use super::function::{
-    function_item, in_caller_type, slots_pattern, slots_target, writes_in_place, zero_result, KernelKind,
-    OutputSlots,
-};
+use super::header::{Emitted, Header};
 use super::into_form::{has_into_form, into_method, zero_pattern};
+use super::kernel::{function_item, in_caller_type, KernelKind};
+use super::outputs::{result_value, slots_pattern, slots_target, writes_in_place, zero_result, OutputSlots};
 use super::plan::{Form, Plan};
 use super::signature::{all_parameters, argument_names, signature, Param};
+use super::sizes::Sizes;
 use crate::generate::trace::Quantity;
 use crate::symbolic::Id;
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 use std::collections::{BTreeSet, HashMap};
-
-/// Values per chunk function as traced ([`crate::generate::trace::SymbolicRobot::chunk_values`]).
-/// Chunks bound the size of what LLVM optimises at once, whose cost grows faster than linearly,
-/// for very large robots; every function of a 7-DOF arm but its derivatives fits in one. Chunks
-/// do not shrink what a call runs, and a chunk boundary costs a store and a load for each value
-/// that crosses it: measured with the values copied between chunks, the Panda's `C` and
-/// `Y` ran 15–18% faster whole than in chunks of 1024 and its `∂q̈/∂x` (about 7,000 values) 15%
-/// faster whole than in two chunks split by count (`BENCHMARKS.md`); split where its forward
-/// dynamics ends, it runs faster than whole.
-pub const CHUNK_VALUES: usize = 4096;
 
 /// Where each chunk of `len` values starts: a chunk ends at `stage_end` (a stage whose results
 /// everything after it reads, such as forward dynamics before the derivatives taken at its
@@ -50,17 +40,6 @@ fn segment_starts(len: usize, chunk: usize, stage_end: Option<usize>) -> Vec<usi
     starts
 }
 
-/// What the chunked function is called and returns.
-pub(super) struct Header<'a> {
-    pub(super) name: &'a Ident,
-    pub(super) generics: &'a TokenStream,
-    pub(super) ret: &'a TokenStream,
-    pub(super) doc: &'a [String],
-    pub(super) n: &'a Literal,
-    pub(super) many_registers: bool,
-    pub(super) suffix: &'a str,
-}
-
 /// The values one chunk hands on, scalars and lane vectors apart, each at its index in the
 /// chunk's array of that kind.
 struct HandedOn {
@@ -73,15 +52,16 @@ struct HandedOn {
 pub(super) fn chunked(
     plan: &Plan,
     q: &Quantity,
-    form: Form,
-    header: Header,
+    header: &Header,
     atoms: &[TokenStream],
     main_used: Vec<Id>,
     stage_end: Option<usize>,
-) -> super::function::Emitted {
+    sizes: &Sizes,
+) -> Emitted {
+    let form = plan.form;
     let g = &plan.robot.graph;
     let position: HashMap<Id, usize> = plan.order.iter().enumerate().map(|(k, &id)| (id, k)).collect();
-    let starts = segment_starts(plan.order.len(), plan.robot.chunk_values, stage_end);
+    let starts = segment_starts(plan.order.len(), sizes.chunk_values, stage_end);
     let chunk_of = |id: &Id| position.get(id).map(|&k| starts.partition_point(|&s| s <= k) - 1);
     let n_chunks = starts.len();
     let in_place = writes_in_place(q, form);
@@ -156,7 +136,7 @@ pub(super) fn chunked(
         let mut call_args: Vec<TokenStream> = args.iter().map(|a| quote!(#a)).collect();
         let mut out_at = None;
         if outputs.any() {
-            let ret = in_caller_type(form, header.ret);
+            let ret = in_caller_type(form, &header.ret);
             extra_params.push(Param::used(format_ident!("out"), quote!(&mut #ret)));
             out_at = Some(call_args.len());
             call_args.push(quote!(&mut out));
@@ -245,7 +225,7 @@ pub(super) fn chunked(
         }
         let immediate = &outputs.immediate;
         let statements = plan.statements_writing(ids, &mut used, &slots, &read_statements);
-        let sig = signature(plan.robot, plan.leaves, &q.args, &used, header.n, form);
+        let sig = signature(plan.robot, plan.leaves, &q.args, &used, &header.n, form);
         let (mut params, prelude) = (sig.params, sig.prelude);
         params.extend(extra_params);
         let reads_lanes = !read_lanes.is_empty();
@@ -269,11 +249,11 @@ pub(super) fn chunked(
         }
         into_calls.push(quote!(#chunk_name(#(#call_args),*);));
     }
-    let (name, generics, ret, doc) = (header.name, header.generics, header.ret, header.doc);
-    let params = all_parameters(&q.args, header.n, form, plan.leaves.floating_joints);
+    let (name, ret, doc) = (&header.name, &header.ret, header.doc(0));
+    let params = all_parameters(&q.args, &header.n, form, plan.leaves.floating_joints);
     let body = match in_place {
         true => {
-            let zero = zero_result(q, form);
+            let zero = zero_result(q, form, sizes);
             let out_type = in_caller_type(form, ret);
             quote! {
                 let mut out: #out_type = #zero;
@@ -298,8 +278,8 @@ pub(super) fn chunked(
                     taken.push(quote!(let [#(#pattern),*] = #h;));
                 }
             }
-            let prelude = signature(plan.robot, plan.leaves, &q.args, &main_used, header.n, form).prelude;
-            let result = super::function::result_value(q, form, atoms);
+            let prelude = signature(plan.robot, plan.leaves, &q.args, &main_used, &header.n, form).prelude;
+            let result = result_value(q, form, atoms);
             quote! {
                 #(#prelude)*
                 #(#arrays)*
@@ -322,7 +302,7 @@ pub(super) fn chunked(
     };
     // A lane function's calling function is in the caller's lane type `C` throughout.
     let generics = match form {
-        Form::Scalar => generics.clone(),
+        Form::Scalar => quote!(),
         Form::Lanes => quote!(<C: Lanes>),
     };
     let params: Vec<TokenStream> = params.iter().map(|p| in_caller_type(form, p)).collect();
@@ -336,7 +316,7 @@ pub(super) fn chunked(
 
         #into
     };
-    super::function::Emitted { method, chunks }
+    Emitted { method, chunks }
 }
 
 #[cfg(test)]

@@ -10,8 +10,8 @@
 //! 1.3–1.4× slower by default than native on an Intel host; a vector store gives the
 //! vectoriser no run to join (`BENCHMARKS.md`).
 
-use super::function::OutputSlots;
 use super::lane_width::LaneWidth;
+use super::outputs::OutputSlots;
 use super::plan::{Form, Plan};
 use crate::generate::trace::{Quantity, Shape};
 use crate::symbolic::{Id, Node};
