@@ -4,7 +4,8 @@
 
 use super::plan::{Form, Plan};
 use super::sizes::Sizes;
-use crate::generate::trace::{Quantity, Shape};
+use crate::generate::quantities::Shape;
+use crate::generate::trace::Quantity;
 use crate::symbolic::{Graph, Id, Node};
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};

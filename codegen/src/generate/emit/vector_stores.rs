@@ -13,7 +13,8 @@
 use super::lane_width::LaneWidth;
 use super::outputs::OutputSlots;
 use super::plan::{Form, Plan};
-use crate::generate::trace::{Quantity, Shape};
+use crate::generate::quantities::Shape;
+use crate::generate::trace::Quantity;
 use crate::symbolic::{Id, Node};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};
