@@ -600,9 +600,9 @@ pub(super) fn pair_ids((first, second): (DMatrix<Expr>, DMatrix<Expr>)) -> Vec<I
 }
 
 /// A lane operation (`f64x8`) weighed as this many scalar ones when the derivatives choose how
-/// to carry their directions ([`Directions`]). Measured (`BENCHMARKS.md`, AVX-512): the Panda's
-/// derivatives ran 1.5–2.2× faster in lanes (6,850 scalar operations against 1,151 + 2,675
-/// lane ones), the UR5's no faster (3,050 against 808 + 1,587), as this weight predicts.
+/// to carry their directions ([`Directions`]): the weight that tells the measured cases apart
+/// (`BENCHMARKS.md`, AVX-512). The Panda's derivatives (6,850 scalar operations against 1,151 +
+/// 2,675 lane ones) run faster in lanes, the UR5's (3,050 against 808 + 1,587) do not.
 const LANE_OP_COST: usize = 2;
 
 /// Each function named in `other_forms` in that formulation where it costs less.

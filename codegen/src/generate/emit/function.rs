@@ -36,11 +36,11 @@ pub(super) fn function(
 /// derivatives of forward dynamics first compute `q̈` (forward dynamics itself, the same nodes
 /// as that function's outputs where both take the same form of the joint transforms), and only
 /// then the tangents of inverse dynamics at that `q̈` and their solves. Compiled as one
-/// function, LLVM interleaved the two, and the xArm's `∂q̈/∂x` ran 1.3× slower than forward
-/// dynamics and `∂τ/∂x` called one after the other (`BENCHMARKS.md`). Only where the
-/// tangents are lane vectors (the UR5's, one direction at a time in scalars, ran 1.2× slower
-/// split) and the function would otherwise be whole (Solo-12's, in chunks anyway, ran
-/// 1.06–1.14× slower with the stage as a chunk of its own).
+/// function, LLVM interleaved the two, and the xArm's `∂q̈/∂x` ran slower than forward dynamics
+/// and `∂τ/∂x` called one after the other (`BENCHMARKS.md`). Only where the tangents are lane
+/// vectors (the UR5's, one direction at a time in scalars, ran slower split) and the function
+/// would otherwise be whole (Solo-12's, in chunks anyway, ran slower with the stage as a chunk
+/// of its own).
 fn first_stage(q: &Quantity, plan: &Plan, sizes: &Sizes) -> Option<Vec<Id>> {
     let robot = plan.robot;
     let g = &robot.graph;

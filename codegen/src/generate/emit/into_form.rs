@@ -65,11 +65,10 @@ pub(super) fn into_method(
 /// prelude and the statements the by-value method runs, writing into `out`) on the buffer.
 ///
 /// The same statements again, not a function both methods call: the by-value method then lost
-/// its result's placement in the caller's return slot (Solo-12's regressor ran 1.6× slower,
-/// its result held in registers and spills to the end and copied out). The copy costs compile
-/// time (the arms' modules grow by a quarter to a half) and nothing at run time; without it an
-/// `_into` would be the by-value function and a copy, slower than by value (the Panda's `D`,
-/// 78 against 56 ns).
+/// its result's placement in the caller's return slot (Solo-12's regressor ran slower, its
+/// result held in registers and spills to the end and copied out). The copy costs compile time
+/// (the arms' modules grow by a quarter to a half) and nothing at run time; without it an
+/// `_into` would be the by-value function and a copy, slower than by value (`BENCHMARKS.md`).
 pub(super) fn one_piece_into(
     name: &Ident,
     params: &[Param],

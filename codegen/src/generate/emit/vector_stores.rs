@@ -7,8 +7,8 @@
 //! registers are legal and not discouraged: in the AVX-512 copy of a build that does not target
 //! the processor (generic tuning), not in a native build (Intel's tuning prefers 256 bits). The
 //! shuffles that gather those lanes and the 512-bit values they spill made the arms' regressors
-//! 1.3–1.4× slower by default than native on an Intel host; a vector store gives the
-//! vectoriser no run to join (`BENCHMARKS.md`).
+//! slower by default than native on an Intel host; a vector store gives the vectoriser no run
+//! to join (`BENCHMARKS.md`).
 
 use super::lane_width::LaneWidth;
 use super::outputs::OutputSlots;
