@@ -21,7 +21,7 @@ use quote::{format_ident, quote};
 pub(super) fn module(model: &Model, robot: &SymbolicRobot, provenance: &Provenance, sizes: &Sizes) -> String {
     let module = FixedModule::new(model, robot, provenance, sizes);
     let version = version_check();
-    let items = module.items();
+    let (constants, types) = (module.constants(), module.types());
     let implementations = robot.functions.groups().map(|g| module.implementation(g));
     let chunks = (module.emitted.iter().map(|(_, e)| e))
         .chain(&module.lane_functions)
@@ -29,7 +29,9 @@ pub(super) fn module(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
     let tokens = quote! {
         #version
 
-        #items
+        #constants
+
+        #types
 
         #(#implementations)*
 
@@ -156,9 +158,9 @@ impl<'a> FixedModule<'a> {
         }
     }
 
-    /// The module's imports, constants and types, and the robot type.
-    fn items(&self) -> TokenStream {
-        let (model, robot, ty) = (self.model, self.robot, &self.ty);
+    /// The module's imports and constants.
+    fn constants(&self) -> TokenStream {
+        let (model, robot) = (self.model, self.robot);
         let [n, p, b] =
             [model.dof(), model.parameter_count(), robot.base.count()].map(Literal::usize_unsuffixed);
         let runtime_items = runtime_items(&robot.functions)
@@ -170,7 +172,6 @@ impl<'a> FixedModule<'a> {
         let param_kinds = parameter_kinds(model);
         let base_names = robot.base.names.iter().map(String::as_str);
         let count_doc = base_count_doc(model, robot);
-        let type_doc = type_doc(model.name(), &robot.functions);
         quote! {
             use dyngen_runtime::nalgebra::{ArrayStorage, Matrix3, SMatrix, SVector, Vector3};
             use dyngen_runtime::{#(#runtime_items),*};
@@ -191,7 +192,14 @@ impl<'a> FixedModule<'a> {
             pub const PARAMETER_KINDS: [ParameterKind; PARAMETER_COUNT] = [#(#param_kinds),*];
             /// What each base parameter combines.
             pub const BASE_PARAMETER_NAMES: [&str; BASE_PARAMETER_COUNT] = [#(#base_names),*];
+        }
+    }
 
+    /// The module's types, and the robot type.
+    fn types(&self) -> TokenStream {
+        let ty = &self.ty;
+        let type_doc = type_doc(self.model.name(), &self.robot.functions);
+        quote! {
             /// The standard parameters, for generic code (`HybridController<Standard, DOF, PARAMETER_COUNT>`).
             pub type Standard = dyngen_runtime::Standard<#ty>;
             /// The base parameters, for generic code (`HybridController<Base, DOF, BASE_PARAMETER_COUNT>`).

@@ -52,11 +52,13 @@ pub(super) fn module(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
     let frames = frame_items(model, robot, &leaves, &ty, &FrameTrait::floating(model), sizes);
     let chunks = emitted.iter().flat_map(|(_, e)| &e.chunks);
     let version = version_check();
-    let items = items(model, robot, &ty);
+    let (constants, types) = (constants(model, robot), types(model, &ty));
     let tokens = quote! {
         #version
 
-        #items
+        #constants
+
+        #types
 
         #(#implementations)*
 
@@ -142,9 +144,8 @@ fn implementation(
     }
 }
 
-/// The module's imports, constants and types, `trig`, and the robot type.
-fn items(model: &Model, robot: &SymbolicRobot, ty: &Ident) -> TokenStream {
-    let name = model.name();
+/// The module's imports and constants.
+fn constants(model: &Model, robot: &SymbolicRobot) -> TokenStream {
     let joint_names = model.joints().iter().map(|j| j.name.as_str());
     let joint_limits = joint_limits(model);
     let parameter_names = crate::dynamics::FloatingDynamics::parameter_names(model);
@@ -154,11 +155,6 @@ fn items(model: &Model, robot: &SymbolicRobot, ty: &Ident) -> TokenStream {
         " Number of base parameters (the `B` of [`FloatingBaseParameters`]): {} of {}.",
         base.count(),
         parameter_names.len()
-    );
-    let type_doc = format!(
-        " `{name}` on a floating base: implements [`FloatingBaseDynamics`], \
-         [`FloatingBaseParameters`], [`FloatingDynamicsDerivatives`] and \
-         [`FloatingFrameKinematics`] with flattened, allocation-free code."
     );
     let [n, nv, nq, p, b] = [
         model.dof(),
@@ -193,7 +189,18 @@ fn items(model: &Model, robot: &SymbolicRobot, ty: &Ident) -> TokenStream {
         pub const PARAMETER_NAMES: [&str; PARAMETER_COUNT] = [#(#parameter_names),*];
         /// What each base parameter combines.
         pub const BASE_PARAMETER_NAMES: [&str; BASE_PARAMETER_COUNT] = [#(#base_names),*];
+    }
+}
 
+/// The module's types, `trig`, and the robot type.
+fn types(model: &Model, ty: &Ident) -> TokenStream {
+    let type_doc = format!(
+        " `{}` on a floating base: implements [`FloatingBaseDynamics`], \
+         [`FloatingBaseParameters`], [`FloatingDynamicsDerivatives`] and \
+         [`FloatingFrameKinematics`] with flattened, allocation-free code.",
+        model.name()
+    );
+    quote! {
         /// The configuration prepared for every function: base pose and joint sines and cosines.
         pub type Trig = FloatingTrig<DOF>;
         /// A configuration `q` (NQ entries).

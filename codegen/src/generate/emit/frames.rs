@@ -172,6 +172,29 @@ fn frame_functions(
     (functions, calls)
 }
 
+/// The arms of the `match` of the trait method of `kind`: per frame (and reference frame), the
+/// call of the function that computes it, with `args`.
+fn frame_arms(
+    variants: &[Ident],
+    calls: &FrameCalls,
+    kind: QuantityKind,
+    args: TokenStream,
+) -> Vec<TokenStream> {
+    let mut arms = Vec::new();
+    for (k, variant) in variants.iter().enumerate() {
+        if let Some(call) = calls.get(&(kind, k, None)) {
+            arms.push(quote!(Frame::#variant => #call(#args),));
+        }
+        for r in ReferenceFrame::ALL {
+            if let Some(call) = calls.get(&(kind, k, Some(r))) {
+                let reference = format_ident!("{r:?}");
+                arms.push(quote!((Frame::#variant, ReferenceFrame::#reference) => #call(#args),));
+            }
+        }
+    }
+    arms
+}
+
 /// The frame trait's implementation for `ty`: each method a `match` on the frame (and the
 /// reference frame) calling the function `calls` names.
 fn frame_trait_impl(
@@ -182,21 +205,7 @@ fn frame_trait_impl(
 ) -> TokenStream {
     let n = Literal::usize_unsuffixed(frame_trait.width);
     let (trait_name, trig) = (&frame_trait.name, &frame_trait.trig);
-    let arms = |kind: QuantityKind, args: TokenStream| -> Vec<TokenStream> {
-        let mut arms = Vec::new();
-        for (k, variant) in variants.iter().enumerate() {
-            if let Some(call) = calls.get(&(kind, k, None)) {
-                arms.push(quote!(Frame::#variant => #call(#args),));
-            }
-            for r in ReferenceFrame::ALL {
-                if let Some(call) = calls.get(&(kind, k, Some(r))) {
-                    let reference = format_ident!("{r:?}");
-                    arms.push(quote!((Frame::#variant, ReferenceFrame::#reference) => #call(#args),));
-                }
-            }
-        }
-        arms
-    };
+    let arms = |kind, args| frame_arms(variants, calls, kind, args);
     let pose = arms(QuantityKind::FramePose, quote!(t));
     let jacobian = arms(QuantityKind::FrameJacobian, quote!(t));
     let time_variation = arms(QuantityKind::FrameJacobianTimeVariation, quote!(t, qd));
