@@ -1,5 +1,13 @@
 //! Runs the generic dynamics algorithms on symbolic inputs: one graph holds every quantity a
 //! controller needs, so shared subexpressions (joint transforms, body velocities) are one node.
+//!
+//! The tracer is driven by the quantity table: it creates the inputs and the values the rows
+//! share, then goes through the rows of the chosen groups in the table's order, each row's
+//! outputs from one `match` on its kind (`FixedTracer::outputs`), its arguments and shape from
+//! the table ([`QuantityKind::signature`]); the per-frame rows, last in the table, frame by
+//! frame ([`frame_rows`]); then other formulations of some rows, kept where they cost less.
+//! Node ids follow creation order and the generated code follows node ids, so this order is
+//! append-only: what is added is traced after everything else.
 
 use super::quantities::{Arg, Dims, QuantityKind, Shape};
 use crate::base_parameters::BaseParameterSet;

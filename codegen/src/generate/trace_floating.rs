@@ -1,6 +1,8 @@
 //! The tracer of a floating-base robot: the floating algorithms run on symbolic inputs, the
 //! base pose entering as its rotation matrix and position (`FloatingTrig` computes them once
-//! per tick from the quaternion), velocities of `nv = dof + 6` entries.
+//! per tick from the quaternion), velocities of `nv = dof + 6` entries. Driven by the quantity
+//! table as the fixed-base tracer is, in an order of its own (which is the order of the
+//! floating-base module's methods).
 
 use super::quantities::{Dims, QuantityKind};
 use super::trace::{base_columns, frame_rows, full_from_base, ids, inputs, matrix_ids, pair_ids};
@@ -57,8 +59,8 @@ const AFTER_FRAMES: [QuantityKind; 2] = [
     QuantityKind::ForwardDynamicsDerivatives,
 ];
 
-/// Records every floating-base quantity of `model` in one graph: the rows of [`BEFORE_FRAMES`],
-/// the per-frame rows frame by frame, the rows of [`AFTER_FRAMES`], then another formulation of
+/// Records every floating-base quantity of `model` in one graph: the rows of `BEFORE_FRAMES`,
+/// the per-frame rows frame by frame, the rows of `AFTER_FRAMES`, then another formulation of
 /// `D⁻¹`.
 ///
 /// The inertial parameters are the representative ones of the base parameters (every folded

@@ -1,18 +1,18 @@
 //! Rust source from a traced robot: one flat, single-assignment function per quantity.
 //!
-//! The files form a one-way chain of layers; each uses only files of the layers below it:
+//! The files form a one-way chain of layers; each uses only files listed before it (a test
+//! holds them to it):
 //!
-//! 1. `sizes` (the sizes the emitter's choices turn on), `leaves` (how inputs are spelled),
-//!    `lane_width` (how wide a function's lane vectors are), `constants` (literals and the
-//!    module's constant items), `file` (what every generated file has: header, provenance,
-//!    formatting);
+//! 1. `sizes` (the sizes the emitter's choices turn on), `constants` (literals and the module's
+//!    constant items), `lane_width` (how wide a function's lane vectors are), `leaves` (how
+//!    inputs are spelled), `file` (what every generated file has: header, provenance,
+//!    formatting): they use no other file;
 //! 2. `plan`: what a function computes, in what order, with which multiply-adds;
-//! 3. `signature`: its parameters and the inputs' destructuring;
-//! 4. `kernel` (its body as a kernel, and the dispatch that runs it) and `outputs` (its result:
-//!    type, zero, value, the slots of a result written in place), with `vector_stores`
-//!    (outputs written a vector at a time);
-//! 5. `header` (what a function is called, returns and says) and `into_form` (its form writing
-//!    into a kept `ResultBuffer`);
+//! 3. `signature` (its parameters and the inputs' destructuring) and `outputs` (its result:
+//!    type, zero, value, the slots of a result written in place);
+//! 4. `kernel` (its body as a kernel, and the dispatch that runs it), `vector_stores` (outputs
+//!    written a vector at a time) and `header` (what a function is called, returns and says);
+//! 5. `into_form`: its form writing into a kept `ResultBuffer`;
 //! 6. `body` (a function in one piece) and `chunks` (a large one in chunks);
 //! 7. `function`: one quantity, planned and emitted in one piece or in chunks;
 //! 8. `frames`: the per-frame functions and the frame trait;
