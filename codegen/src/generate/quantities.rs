@@ -292,6 +292,14 @@ mod tests {
     }
 
     #[test]
+    fn the_per_frame_rows_come_last() {
+        // The tracer traces them frame by frame after every other row of `ALL`.
+        let first = QuantityKind::ALL.iter().position(|k| k.is_per_frame());
+        let first = first.expect("per-frame rows");
+        assert!(QuantityKind::ALL[first..].iter().all(|k| k.is_per_frame()));
+    }
+
+    #[test]
     fn every_group_has_a_function() {
         for group in FunctionGroup::ALL {
             assert!(
