@@ -1,10 +1,53 @@
 //! The one table of generated functions: each quantity's name, its group (which a user chooses
-//! it by, and whose `dyngen-runtime` trait it is a method of), and whether it also has a lane
-//! form. The tracer records quantities by these kinds, the emitter places each method by its
-//! group, and a test holds the table to the traits of `dyngen-runtime` and to the reference in
-//! `docs/dynamics.md`.
+//! it by, and whose `dyngen-runtime` trait it is a method of), whether it also has a lane form,
+//! and what it takes and returns ([`QuantityKind::signature`]). The tracer records quantities by
+//! these kinds, in the table's order, the emitter places each method by its group, and a test
+//! holds the table to the traits of `dyngen-runtime` and to the reference in `docs/dynamics.md`.
 
 use crate::FunctionGroup;
+
+/// The vectors a generated function takes besides the joint sines and cosines.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Arg {
+    Qd,
+    V,
+    A,
+    /// Joint torques (forward dynamics).
+    Tau,
+    /// The first `len` parameters `θ` (a parameter vector of that length: all of them, or the
+    /// base parameters).
+    Theta(usize),
+    /// The vector `r` an adaptation law multiplies `Yᵀ` with.
+    R,
+}
+
+/// What a generated function returns.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Shape {
+    /// A vector of `n` entries.
+    Vector(usize),
+    /// A `rows × cols` matrix (outputs column-major).
+    Matrix(usize, usize),
+    /// A rotation (3×3, column-major) followed by a translation.
+    Pose,
+    /// Two `n × n` matrices (derivatives with respect to `q` and `q̇`), each column-major.
+    MatrixPair(usize),
+    /// A pose, then `J` and `J̇` (6 × n each, column-major): the kinematics of a control tick.
+    Kinematics(usize),
+    /// Two vectors, of `n` and of `m` entries (`Y θ` and `Yᵀ r`).
+    VectorPair(usize, usize),
+}
+
+/// The sizes a function's arguments and result are written in.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Dims {
+    /// Velocity coordinates: the joints' (fixed base), or the base twist's six and the joints'.
+    pub n: usize,
+    /// Standard parameters.
+    pub p: usize,
+    /// Base parameters.
+    pub b: usize,
+}
 
 /// One generated function. The order of [`QuantityKind::ALL`] is the order the tracer records
 /// them in, which is append-only: node ids follow creation order, so a quantity added at the end
@@ -185,6 +228,47 @@ impl QuantityKind {
     pub fn uses_base_columns(self) -> bool {
         self.group() == FunctionGroup::BaseParameters
     }
+
+    /// Whether a per-frame function also comes once per reference frame
+    /// (`frame_jacobian_tool0_local`): all but the pose and `(pose, J, J̇)`.
+    pub fn has_reference_frame(self) -> bool {
+        self.is_per_frame() && !matches!(self, QuantityKind::FramePose | QuantityKind::FrameKinematics)
+    }
+
+    /// The vectors it takes besides the configuration, and what it returns, in the sizes `d`
+    /// (`θ`: the base parameters for a function of base columns, else all of them).
+    pub fn signature(self, d: Dims) -> (Vec<Arg>, Shape) {
+        use Arg::{Qd, Tau, A, R, V};
+        use QuantityKind as K;
+        let n = d.n;
+        let (theta, p) = match self.uses_base_columns() {
+            true => (Arg::Theta(d.b), d.b),
+            false => (Arg::Theta(d.p), d.p),
+        };
+        match self {
+            K::ForwardKinematics | K::FramePose => (vec![], Shape::Pose),
+            K::Jacobian | K::FrameJacobian | K::CentroidalMomentumMatrix => (vec![], Shape::Matrix(6, n)),
+            K::JacobianDot | K::FrameJacobianTimeVariation => (vec![Qd], Shape::Matrix(6, n)),
+            K::MassMatrix | K::MassMatrixInverse => (vec![], Shape::Matrix(n, n)),
+            K::CoriolisMatrix => (vec![Qd], Shape::Matrix(n, n)),
+            K::Gravity => (vec![], Shape::Vector(n)),
+            K::InverseDynamics => (vec![Qd, A], Shape::Vector(n)),
+            K::SlotineLi => (vec![Qd, V, A], Shape::Vector(n)),
+            K::Regressor | K::BaseRegressor => (vec![Qd, V, A], Shape::Matrix(n, p)),
+            K::TorqueRegressor | K::BaseTorqueRegressor => (vec![Qd, A], Shape::Matrix(n, p)),
+            K::RegressorProducts | K::BaseRegressorProducts => {
+                (vec![Qd, V, A, theta, R], Shape::VectorPair(n, p))
+            }
+            K::ForwardDynamics => (vec![Qd, Tau], Shape::Vector(n)),
+            K::InverseDynamicsDerivatives => (vec![Qd, A], Shape::MatrixPair(n)),
+            K::ForwardDynamicsDerivatives => (vec![Qd, Tau], Shape::MatrixPair(n)),
+            K::Kinematics | K::FrameKinematics => (vec![Qd], Shape::Kinematics(n)),
+            K::FrameVelocity => (vec![Qd], Shape::Vector(6)),
+            K::FrameClassicalAcceleration => (vec![Qd, A], Shape::Vector(6)),
+            K::CenterOfMass => (vec![], Shape::Vector(3)),
+            K::CentroidalBias => (vec![Qd], Shape::Vector(6)),
+        }
+    }
 }
 
 #[cfg(test)]
@@ -205,6 +289,14 @@ mod tests {
             assert_eq!(QuantityKind::from_name(name), Some(kind));
         }
         assert_eq!(QuantityKind::from_name("mass_matrix_lanes"), None);
+    }
+
+    #[test]
+    fn the_per_frame_rows_come_last() {
+        // The tracer traces them frame by frame after every other row of `ALL`.
+        let first = QuantityKind::ALL.iter().position(|k| k.is_per_frame());
+        let first = first.expect("per-frame rows");
+        assert!(QuantityKind::ALL[first..].iter().all(|k| k.is_per_frame()));
     }
 
     #[test]

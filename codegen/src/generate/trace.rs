@@ -1,50 +1,27 @@
 //! Runs the generic dynamics algorithms on symbolic inputs: one graph holds every quantity a
 //! controller needs, so shared subexpressions (joint transforms, body velocities) are one node.
+//!
+//! The tracer is driven by the quantity table: it creates the inputs and the values the rows
+//! share, then goes through the rows of the chosen groups in the table's order, each row's
+//! outputs from one `match` on its kind (`FixedTracer::outputs`), its arguments and shape from
+//! the table ([`QuantityKind::signature`]); the per-frame rows, last in the table, frame by
+//! frame ([`frame_rows`]); then other formulations of some rows, kept where they cost less.
+//! Node ids follow creation order and the generated code follows node ids, so this order is
+//! append-only: what is added is traced after everything else.
 
-use super::quantities::QuantityKind;
+use super::quantities::{Arg, Dims, QuantityKind, Shape};
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::{self, Directions, Placements};
 use crate::frame_names::frame_identifiers;
-use crate::model::Model;
+use crate::model::{Frame, JointTermValues, Model};
 use crate::scalar::Scalar;
 use crate::scalar_dual::{LaneTangent, Tangent};
+use crate::spatial::{CompositeFrame, JointFrame, RigidInertia, Transform, Vec3};
 use crate::symbolic::{record, Expr, Graph, Id, LaneExpr};
 use crate::{FunctionGroup, Functions};
 use dyngen_runtime::ReferenceFrame;
 use nalgebra::DMatrix;
 use std::collections::HashMap;
-
-/// The vectors a generated function takes besides the joint sines and cosines.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Arg {
-    Qd,
-    V,
-    A,
-    /// Joint torques (forward dynamics).
-    Tau,
-    /// The first `len` parameters `θ` (a parameter vector of that length: all of them, or the
-    /// base parameters).
-    Theta(usize),
-    /// The vector `r` an adaptation law multiplies `Yᵀ` with.
-    R,
-}
-
-/// What a generated function returns.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
-pub enum Shape {
-    /// A vector of `n` entries.
-    Vector(usize),
-    /// A `rows × cols` matrix (outputs column-major).
-    Matrix(usize, usize),
-    /// A rotation (3×3, column-major) followed by a translation.
-    Pose,
-    /// Two `n × n` matrices (derivatives with respect to `q` and `q̇`), each column-major.
-    MatrixPair(usize),
-    /// A pose, then `J` and `J̇` (6 × n each, column-major): the kinematics of a control tick.
-    Kinematics(usize),
-    /// Two vectors, of `n` and of `m` entries (`Y θ` and `Yᵀ r`).
-    VectorPair(usize, usize),
-}
 
 /// Which frame, and in which reference frame, a frame quantity is of.
 #[derive(Clone, Debug, PartialEq, Eq)]
@@ -70,6 +47,15 @@ pub struct Quantity {
 }
 
 impl FrameOf {
+    /// Frame `index` of `Model::frames`, `frame`, in `reference`.
+    pub fn new(index: usize, frame: &Frame, reference: Option<ReferenceFrame>) -> FrameOf {
+        FrameOf {
+            index,
+            snake: frame_identifiers(&frame.name).snake,
+            reference,
+        }
+    }
+
     /// The name of the function that computes `kind` for this frame and reference frame:
     /// the kind's, the frame's identifier, the reference frame (`frame_jacobian_tool0_local`).
     pub fn function_name(&self, kind: QuantityKind) -> String {
@@ -122,17 +108,11 @@ pub struct SymbolicRobot {
     pub base: BaseParameterSet,
     /// The groups traced.
     pub functions: Functions,
-    /// Values per chunk function when emitted ([`CHUNK_VALUES`] as traced): a function that
-    /// computes more is emitted in chunks. Tests set it small to run the chunked code of a small
-    /// robot.
-    pub chunk_values: usize,
     /// The outputs of functions computed in lane vectors (the regressors, four rows at a time)
     /// in a scalar formulation, by function name: the form for several states per call
     /// (`_lanes`), generic over its lane type, computes these.
     pub scalar_forms: HashMap<String, Vec<Id>>,
 }
-
-use super::emit::CHUNK_VALUES;
 
 pub(super) fn ids(v: &[Expr]) -> Vec<Id> {
     v.iter().map(|e| e.id()).collect()
@@ -146,8 +126,7 @@ pub(super) fn inputs(prefix: &str, n: usize) -> Vec<Expr> {
     (0..n).map(|i| Expr::input(&format!("{prefix}{i}"))).collect()
 }
 
-/// Records forward kinematics, `J`, `J̇`, `D`, `C`, `g`, `τ`, the Slotine–Li torque, the
-/// regressor and the base-parameter regressor of `model`, in that order.
+/// Records every quantity of `model`: every group, in the order of [`QuantityKind::ALL`].
 pub fn trace(model: &Model) -> SymbolicRobot {
     trace_with_base(model, BaseParameterSet::compute(model))
 }
@@ -157,261 +136,448 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
     trace_functions(model, base, Functions::all())
 }
 
-/// [`trace_with_base`] of the groups `functions` only: the others are not traced at all (what
-/// is traced keeps the order of the full trace, so with every group the graph is the same).
+/// [`trace_with_base`] of the groups `functions` only: the rows of the others are not traced at
+/// all (what is traced keeps the order of the full trace, so with every group the graph is the
+/// same).
 pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functions) -> SymbolicRobot {
-    let n = model.dof();
-    let regressors = functions.contains(FunctionGroup::Regressors);
-    let (graph, (inputs, mut quantities, other_forms, row_lane_forms)) = record(|| {
+    let (graph, traced) = record(|| FixedTracer::new(model, &base, functions).run());
+    traced.into_robot(graph, base, functions)
+}
+
+/// What a tracer records in the graph: the inputs, the chosen rows' quantities, and other
+/// formulations of some of them.
+pub(super) struct Traced {
+    pub(super) inputs: Inputs,
+    pub(super) quantities: Vec<Quantity>,
+    /// Other formulations by function name, each kept where it costs less.
+    pub(super) other_forms: Vec<(String, Vec<Id>)>,
+    /// The regressors with their columns computed four rows at a time, by function name.
+    pub(super) row_lane_forms: Vec<(String, Vec<Id>)>,
+}
+
+impl Traced {
+    /// The traced robot of `graph`: each function in its cheapest formulation.
+    pub(super) fn into_robot(
+        self,
+        graph: Graph,
+        base: BaseParameterSet,
+        functions: Functions,
+    ) -> SymbolicRobot {
+        let Traced {
+            inputs,
+            mut quantities,
+            other_forms,
+            row_lane_forms,
+        } = self;
+        // Each function in its other formulation where that costs less: the derivatives in lanes
+        // rather than one direction at a time, some frame quantities by another algorithm.
+        keep_cheaper(&graph, &mut quantities, other_forms);
+        // The regressors four rows at a time, their cheaper scalar form kept for several states
+        // per call (generic over its own lane type): the row lanes compile to fewer instructions
+        // than either scalar form and run faster, though they count more operations
+        // (`BENCHMARKS.md`).
+        let mut scalar_forms = HashMap::new();
+        for (name, outputs) in row_lane_forms {
+            if let Some(q) = quantities.iter_mut().find(|q| q.name() == name) {
+                scalar_forms.insert(name, std::mem::replace(&mut q.outputs, outputs));
+            }
+        }
+        SymbolicRobot {
+            graph,
+            inputs,
+            quantities,
+            base,
+            functions,
+            scalar_forms,
+        }
+    }
+}
+
+/// Whether row `kind` is traced for the groups `functions`: when its group is chosen, and a row
+/// of base columns whenever the regressors are (it is their columns, or is traced beside them),
+/// so choosing the base parameters or not leaves the node ids of the rows after it as they
+/// are. What is traced for a group not chosen is dropped at the end.
+fn traced(functions: &Functions, kind: QuantityKind) -> bool {
+    match kind.group() {
+        FunctionGroup::BaseParameters => functions.contains(FunctionGroup::Regressors),
+        group => functions.contains(group),
+    }
+}
+
+/// The tracer of a fixed-base robot: the inputs and the values its rows share, and what it has
+/// recorded. Each row's outputs come from [`FixedTracer::outputs`]; its arguments and shape
+/// from the table ([`QuantityKind::signature`]).
+struct FixedTracer<'a> {
+    model: &'a Model,
+    base: &'a BaseParameterSet,
+    functions: Functions,
+    dims: Dims,
+    /// The state, created first: the shared values read it.
+    q: Vec<Expr>,
+    qd: Vec<Expr>,
+    v: Vec<Expr>,
+    a: Vec<Expr>,
+    /// Torques, parameters and the vector of `Yᵀ r`, created before the first row that takes
+    /// them ([`FixedTracer::create_inputs`]).
+    tau: Vec<Expr>,
+    theta: Vec<Expr>,
+    r: Vec<Expr>,
+    /// Joint transforms and body poses.
+    x: Vec<Transform<Expr>>,
+    world: Vec<Transform<Expr>>,
+    /// The bodies' inertias and joint-level terms, of the base parameters' representative
+    /// parameters.
+    inertias: Vec<RigidInertia<Expr>>,
+    joint_values: Vec<JointTermValues>,
+    /// The end-effector pose, the gravity torque and (with the regressors) `Y`, traced before
+    /// any row: the rows after them were written with these node ids.
+    pose: Vec<Id>,
+    gravity: Vec<Expr>,
+    y: Vec<Id>,
+    quantities: Vec<Quantity>,
+    other_forms: Vec<(String, Vec<Id>)>,
+}
+
+impl<'a> FixedTracer<'a> {
+    /// The state and the shared values, traced.
+    fn new(model: &'a Model, base: &'a BaseParameterSet, functions: Functions) -> Self {
+        let n = model.dof();
         let (q, qd, v, a) = (inputs("q", n), inputs("qd", n), inputs("v", n), inputs("a", n));
         let x = dynamics::joint_transforms(model, &q);
         let world = dynamics::body_poses(model, &x);
-        let theta = base.representative(&model.parameters());
-        let inertias = representative_inertias(model, &theta);
+        let representative = base.representative(&model.parameters());
+        let inertias = representative_inertias(model, &representative);
         let pose = pose_ids(&dynamics::end_effector_pose(model, &world));
-        let g = dynamics::gravity_torque(model, &x, &inertias);
-        // Joint-level terms (armature, friction, offset) are added only when the model has
-        // them, so a model without them records exactly the graph it always did.
-        let joint_values = model.joint_term_values_from(&theta);
-        let has_joint_terms = !model.joint_terms().kinds.is_empty();
-        let with_joint_terms = |rigid: Vec<Expr>, v: &[Expr], a: &[Expr]| match has_joint_terms {
-            true => dynamics::add_torques(
-                rigid,
-                &dynamics::joint_term_torques(model, &joint_values, &qd, v, a),
-            ),
-            false => rigid,
-        };
-        // Called where `D` was always recorded: node ids follow creation order, and the emitted
-        // code of a robot without joint terms must stay byte-identical.
-        let mass_matrix = || {
-            let mut d = dynamics::mass_matrix(model, &x, &inertias);
-            dynamics::add_armature(model, &joint_values, &mut d);
-            d
-        };
-        let y = match regressors {
+        let gravity = dynamics::gravity_torque(model, &x, &inertias);
+        let joint_values = model.joint_term_values_from(&representative);
+        let y = match functions.contains(FunctionGroup::Regressors) {
             true => matrix_ids(&full_from_base(
                 &dynamics::regressor(model, &x, &qd, &v, &a),
-                &base,
+                base,
             )),
             false => Vec::new(),
         };
-        let y_base = base_columns(&y, &base, n);
-        let quantities = vec![
-            Quantity {
-                kind: QuantityKind::ForwardKinematics,
-                frame: None,
-                args: vec![],
-                shape: Shape::Pose,
-                outputs: pose,
+        FixedTracer {
+            model,
+            base,
+            functions,
+            dims: Dims {
+                n,
+                p: model.parameter_count(),
+                b: base.count(),
             },
-            Quantity {
-                kind: QuantityKind::Jacobian,
-                frame: None,
-                args: vec![],
-                shape: Shape::Matrix(6, n),
-                outputs: matrix_ids(&dynamics::jacobian(model, &world)),
-            },
-            Quantity {
-                kind: QuantityKind::JacobianDot,
-                frame: None,
-                args: vec![Arg::Qd],
-                shape: Shape::Matrix(6, n),
-                outputs: matrix_ids(&dynamics::jacobian_dot(model, &world, &qd)),
-            },
-            Quantity {
-                kind: QuantityKind::MassMatrix,
-                frame: None,
-                args: vec![],
-                shape: Shape::Matrix(n, n),
-                outputs: matrix_ids(&mass_matrix()),
-            },
-            Quantity {
-                kind: QuantityKind::CoriolisMatrix,
-                frame: None,
-                args: vec![Arg::Qd],
-                shape: Shape::Matrix(n, n),
-                outputs: matrix_ids(&dynamics::coriolis_matrix(model, &x, &inertias, &qd)),
-            },
-            Quantity {
-                kind: QuantityKind::Gravity,
-                frame: None,
-                args: vec![],
-                shape: Shape::Vector(n),
-                outputs: ids(&g),
-            },
-            Quantity {
-                kind: QuantityKind::InverseDynamics,
-                frame: None,
-                args: vec![Arg::Qd, Arg::A],
-                shape: Shape::Vector(n),
-                outputs: ids(&with_joint_terms(
-                    dynamics::inverse_dynamics(model, &x, &inertias, &qd, &a),
-                    &qd,
-                    &a,
-                )),
-            },
-            Quantity {
-                kind: QuantityKind::SlotineLi,
-                frame: None,
-                args: vec![Arg::Qd, Arg::V, Arg::A],
-                shape: Shape::Vector(n),
-                outputs: ids(&with_joint_terms(
-                    dynamics::slotine_li(
-                        model,
-                        &x,
-                        &inertias,
-                        &qd,
-                        &v,
-                        &a,
-                        Some(crate::spatial::Vec3::from_f64(model.gravity().into())),
-                    ),
-                    &v,
-                    &a,
-                )),
-            },
-            Quantity {
-                kind: QuantityKind::Regressor,
-                frame: None,
-                args: vec![Arg::Qd, Arg::V, Arg::A],
-                shape: Shape::Matrix(n, model.parameter_count()),
-                outputs: y,
-            },
-            Quantity {
-                kind: QuantityKind::BaseRegressor,
-                frame: None,
-                args: vec![Arg::Qd, Arg::V, Arg::A],
-                shape: Shape::Matrix(n, base.count()),
-                outputs: y_base,
-            },
-        ];
-        let mut quantities = quantities;
-        let tau = inputs("tau", n);
-        let (forward, mut other_forms) =
-            forward_quantities(model, &inertias, &joint_values, &q, &qd, &a, &tau, functions);
-        quantities.extend(forward);
-        if regressors {
-            quantities.extend(torque_regressors(model, &x, &qd, &a, &base));
+            q,
+            qd,
+            v,
+            a,
+            tau: Vec::new(),
+            theta: Vec::new(),
+            r: Vec::new(),
+            x,
+            world,
+            inertias,
+            joint_values,
+            pose,
+            gravity,
+            y,
+            quantities: Vec::new(),
+            other_forms: Vec::new(),
         }
-        quantities.push(fused_kinematics(&quantities, n));
-        let (theta, r) = (inputs("theta", model.parameter_count()), inputs("r", n));
-        if regressors {
-            quantities.extend(regressor_products(model, &x, [&qd, &v, &a], &theta, &r, &base));
-        }
-        if functions.contains(FunctionGroup::Frames) {
-            for (index, frame) in model.frames().iter().enumerate() {
-                let (traced, frame_forms) = frame_quantities(model, &x, &world, &qd, &a, index, frame);
-                quantities.extend(traced);
-                other_forms.extend(frame_forms);
+    }
+
+    /// Traces the chosen rows in the order of [`QuantityKind::ALL`] (the per-frame ones, last
+    /// there, frame by frame), then the other formulations.
+    fn run(mut self) -> Traced {
+        for kind in QuantityKind::ALL.into_iter().filter(|k| !k.is_per_frame()) {
+            self.create_inputs(kind);
+            if traced(&self.functions, kind) {
+                let outputs = self.outputs(kind);
+                self.record(kind, outputs);
             }
         }
-        if regressors {
-            // The regressors by the bodies' Jacobians, traced last so the functions above keep
-            // their node ids; kept per function where they cost less.
-            for (name, base_name, v) in [
-                ("regressor", "base_regressor", &v),
-                ("torque_regressor", "base_torque_regressor", &qd),
-            ] {
-                let y = matrix_ids(&full_from_base(
-                    &dynamics::regressor_by_jacobians(model, &x, &qd, v, &a),
-                    &base,
-                ));
-                let y_base = base_columns(&y, &base, n);
-                other_forms.push((name.to_string(), y));
-                other_forms.push((base_name.to_string(), y_base));
+        if self.functions.contains(FunctionGroup::Frames) {
+            for (index, frame) in self.model.frames().iter().enumerate() {
+                self.trace_frame(index, frame);
             }
         }
-        let row_lane_forms = match regressors {
-            true => row_lane_regressors(model, &x, [&qd, &v, &a], &base),
-            false => Vec::new(),
-        };
-        if has_tilted_placements(model) {
-            // `D`, `τ`, forward dynamics and `D⁻¹` through each joint's placement and own motion
-            // one after the other, traced after everything else so the functions above keep
-            // their node ids; kept where they cost less. (`C` in this form costs fewer
-            // operations but ran slower in default builds: `docs/performance-notes.md`.)
-            let factored = dynamics::joint_factored_transforms(model, &q);
-            let mut d = dynamics::mass_matrix(model, &factored, &inertias);
-            dynamics::add_armature(model, &joint_values, &mut d);
-            other_forms.push((QuantityKind::MassMatrix.name().to_owned(), matrix_ids(&d)));
-            let id = with_joint_terms(
-                dynamics::inverse_dynamics(model, &factored, &inertias, &qd, &a),
-                &qd,
-                &a,
-            );
-            other_forms.push((QuantityKind::InverseDynamics.name().to_owned(), ids(&id)));
-            if functions.contains(FunctionGroup::ForwardDynamics) {
-                let forward =
-                    dynamics::forward_dynamics(model, &factored, &inertias, &joint_values, &qd, &tau);
-                other_forms.push((QuantityKind::ForwardDynamics.name().to_owned(), ids(&forward)));
-                let inverse = dynamics::mass_matrix_inverse(model, &factored, &inertias, &joint_values);
-                other_forms.push((
-                    QuantityKind::MassMatrixInverse.name().to_owned(),
-                    matrix_ids(&inverse),
-                ));
-            }
-            if functions.contains(FunctionGroup::Derivatives) {
-                for directions in [Directions::OneByOne, Directions::Lanes] {
-                    let args = [&q[..], &qd, &a, &tau];
-                    let (inverse, forward) = derivatives(
-                        model,
-                        directions,
-                        Placements::Factored,
-                        &inertias,
-                        &joint_values,
-                        args,
-                    );
-                    other_forms.push((
-                        QuantityKind::InverseDynamicsDerivatives.name().to_owned(),
-                        inverse,
-                    ));
-                    other_forms.push((
-                        QuantityKind::ForwardDynamicsDerivatives.name().to_owned(),
-                        forward,
-                    ));
-                }
-            }
-        }
-        quantities.retain(|q| functions.contains(q.kind.group()));
-        (
-            Inputs {
-                q: ids(&q),
-                qd: ids(&qd),
-                v: ids(&v),
-                a: ids(&a),
-                tau: ids(&tau),
-                theta: ids(&theta),
-                r: ids(&r),
+        let row_lane_forms = self.trace_other_forms();
+        let functions = self.functions;
+        self.quantities.retain(|q| functions.contains(q.kind.group()));
+        Traced {
+            inputs: Inputs {
+                q: ids(&self.q),
+                qd: ids(&self.qd),
+                v: ids(&self.v),
+                a: ids(&self.a),
+                tau: ids(&self.tau),
+                theta: ids(&self.theta),
+                r: ids(&self.r),
                 base_rotation: Vec::new(),
                 base_position: Vec::new(),
             },
-            quantities,
-            other_forms,
+            quantities: self.quantities,
+            other_forms: self.other_forms,
             row_lane_forms,
-        )
-    });
-    // Each function in its other formulation where that costs less: the derivatives in lanes
-    // rather than one direction at a time, some frame quantities by another algorithm.
-    keep_cheaper(&graph, &mut quantities, other_forms);
-    // The regressors four rows at a time, their cheaper scalar form kept for several states per
-    // call: on the Panda, the UR5 and the xArm as written the row lanes compiled to 4–38% fewer
-    // instructions than either scalar form, fewer spilled values, and so ran faster on every
-    // regressor, though they count more operations (`docs/performance-notes.md`).
-    let mut scalar_forms = HashMap::new();
-    for (name, outputs) in row_lane_forms {
-        if let Some(q) = quantities.iter_mut().find(|q| q.name() == name) {
-            scalar_forms.insert(name, std::mem::replace(&mut q.outputs, outputs));
         }
     }
-    SymbolicRobot {
-        graph,
-        inputs,
-        quantities,
-        base,
-        functions,
-        chunk_values: CHUNK_VALUES,
-        scalar_forms,
+
+    /// The inputs row `kind` takes that do not exist yet (`τ`, `θ`, `r`), created before the
+    /// row whether it is chosen or not, so the rows after it are traced as in the full trace
+    /// (node ids follow creation order).
+    fn create_inputs(&mut self, kind: QuantityKind) {
+        let Dims { n, p, .. } = self.dims;
+        for arg in kind.signature(self.dims).0 {
+            match arg {
+                Arg::Tau if self.tau.is_empty() => self.tau = inputs("tau", n),
+                Arg::Theta(_) if self.theta.is_empty() => self.theta = inputs("theta", p),
+                Arg::R if self.r.is_empty() => self.r = inputs("r", n),
+                _ => {}
+            }
+        }
+    }
+
+    /// Records `outputs` as row `kind`, with the table's arguments and shape.
+    fn record(&mut self, kind: QuantityKind, outputs: Vec<Id>) {
+        let (args, shape) = kind.signature(self.dims);
+        self.quantities.push(Quantity {
+            kind,
+            frame: None,
+            args,
+            shape,
+            outputs,
+        });
+    }
+
+    /// The outputs of row `kind` as recorded, if it was (empty if not).
+    fn recorded(&self, kind: QuantityKind) -> Vec<Id> {
+        (self.quantities.iter())
+            .find(|q| q.kind == kind)
+            .map(|q| q.outputs.clone())
+            .unwrap_or_default()
+    }
+
+    /// How row `kind` (one not per frame) is traced: its outputs.
+    fn outputs(&mut self, kind: QuantityKind) -> Vec<Id> {
+        use QuantityKind as K;
+        let (model, x, inertias, jv) = (self.model, &self.x, &self.inertias, &self.joint_values);
+        let (qd, a) = (&self.qd, &self.a);
+        match kind {
+            K::ForwardKinematics => self.pose.clone(),
+            K::Jacobian => matrix_ids(&dynamics::jacobian(model, &self.world)),
+            K::JacobianDot => matrix_ids(&dynamics::jacobian_dot(model, &self.world, qd)),
+            K::MassMatrix => matrix_ids(&self.mass_matrix(x)),
+            K::CoriolisMatrix => matrix_ids(&dynamics::coriolis_matrix(model, x, inertias, qd)),
+            K::Gravity => ids(&self.gravity),
+            K::InverseDynamics => ids(&self.inverse_dynamics(x)),
+            K::SlotineLi => ids(&self.slotine_li()),
+            K::Regressor => self.y.clone(),
+            K::TorqueRegressor => {
+                let y = dynamics::regressor(model, x, qd, qd, a);
+                matrix_ids(&full_from_base(&y, self.base))
+            }
+            K::BaseRegressor => base_columns(&self.recorded(K::Regressor), self.base, self.dims.n),
+            K::BaseTorqueRegressor => {
+                base_columns(&self.recorded(K::TorqueRegressor), self.base, self.dims.n)
+            }
+            K::ForwardDynamics => ids(&dynamics::forward_dynamics(model, x, inertias, jv, qd, &self.tau)),
+            K::MassMatrixInverse => matrix_ids(&dynamics::mass_matrix_inverse(model, x, inertias, jv)),
+            K::InverseDynamicsDerivatives => {
+                self.derivative(kind, Directions::OneByOne, Placements::Multiplied)
+            }
+            K::ForwardDynamicsDerivatives => {
+                let outputs = self.derivative(kind, Directions::OneByOne, Placements::Multiplied);
+                // Both derivatives with their directions in lanes too, traced after the one by
+                // one forms (which keep the code they had before lanes existed).
+                for kind in DERIVATIVES {
+                    let lanes = self.derivative(kind, Directions::Lanes, Placements::Multiplied);
+                    self.other_forms.push((kind.name().to_owned(), lanes));
+                }
+                outputs
+            }
+            // Forward kinematics, `J` and `J̇` in one function: the nodes the three share (joint
+            // transforms, body poses) are computed once. No new nodes, only their outputs.
+            K::Kinematics => [K::ForwardKinematics, K::Jacobian, K::JacobianDot]
+                .into_iter()
+                .flat_map(|k| self.recorded(k))
+                .collect(),
+            K::RegressorProducts | K::BaseRegressorProducts => self.regressor_products(kind),
+            _ => unreachable!("{kind:?} is not a row of a fixed base traced on its own"),
+        }
+    }
+
+    /// `D` with the armature, of the joint transforms `x`.
+    fn mass_matrix<X: CompositeFrame<Expr>>(&self, x: &[X]) -> DMatrix<Expr> {
+        let mut d = dynamics::mass_matrix(self.model, x, &self.inertias);
+        dynamics::add_armature(self.model, &self.joint_values, &mut d);
+        d
+    }
+
+    /// `τ` with the joint-level terms, of the joint transforms `x`.
+    fn inverse_dynamics<X: JointFrame<Expr>>(&self, x: &[X]) -> Vec<Expr> {
+        let rigid = dynamics::inverse_dynamics(self.model, x, &self.inertias, &self.qd, &self.a);
+        self.with_joint_terms(rigid, &self.qd)
+    }
+
+    /// The Slotine–Li torque with the joint-level terms.
+    fn slotine_li(&self) -> Vec<Expr> {
+        let (model, x, inertias) = (self.model, &self.x, &self.inertias);
+        let gravity = Some(Vec3::from_f64(model.gravity().into()));
+        let rigid = dynamics::slotine_li(model, x, inertias, &self.qd, &self.v, &self.a, gravity);
+        self.with_joint_terms(rigid, &self.v)
+    }
+
+    /// `rigid` torques plus the joint-level terms (armature, friction, offset) with `v` as the
+    /// reference velocity (Slotine–Li's `v`, else `q̇`). Added only when the model has them, so
+    /// a model without them records exactly the graph it always did.
+    fn with_joint_terms(&self, rigid: Vec<Expr>, v: &[Expr]) -> Vec<Expr> {
+        if self.model.joint_terms().kinds.is_empty() {
+            return rigid;
+        }
+        let terms = dynamics::joint_term_torques(self.model, &self.joint_values, &self.qd, v, &self.a);
+        dynamics::add_torques(rigid, &terms)
+    }
+
+    /// The outputs of derivative row `kind` (of `τ` or of `q̈`), their directions and joint
+    /// transforms carried as `directions` and `placements` say.
+    fn derivative(&self, kind: QuantityKind, directions: Directions, placements: Placements) -> Vec<Id> {
+        let (model, q, inertias, jv, qd) =
+            (self.model, &self.q, &self.inertias, &self.joint_values, &self.qd);
+        pair_ids(match kind {
+            QuantityKind::InverseDynamicsDerivatives => dynamics::inverse_dynamics_derivatives_by(
+                directions, placements, model, q, inertias, jv, qd, &self.a,
+            ),
+            QuantityKind::ForwardDynamicsDerivatives => dynamics::forward_dynamics_derivatives_by(
+                directions, placements, model, q, inertias, jv, qd, &self.tau,
+            ),
+            _ => unreachable!("{kind:?} is not a derivative"),
+        })
+    }
+
+    /// `(Y θ, Yᵀ r)` of the Slotine–Li regressor, or `(Y_b θ_b, Y_bᵀ r)` of its base columns,
+    /// without forming either regressor (`dynamics::regressor_products`): what an adaptive law
+    /// needs each tick, on inputs of its own.
+    fn regressor_products(&self, kind: QuantityKind) -> Vec<Id> {
+        let all: Vec<usize> = (0..self.dims.p).collect();
+        let (columns, len) = match kind.uses_base_columns() {
+            true => (&self.base.columns, self.dims.b),
+            false => (&all, self.dims.p),
+        };
+        let (qd, v, a) = (&self.qd, &self.v, &self.a);
+        let (y_theta, y_tr_r) = dynamics::regressor_products(
+            self.model,
+            &self.x,
+            qd,
+            v,
+            a,
+            columns,
+            &self.theta[..len],
+            &self.r,
+        );
+        ids(&y_theta).into_iter().chain(ids(&y_tr_r)).collect()
+    }
+
+    /// The per-frame rows of one frame, then other formulations of some of them (the local `J`
+    /// carried back from the frame, velocity and acceleration by the forward recursion), kept
+    /// where they cost less.
+    fn trace_frame(&mut self, index: usize, frame: &Frame) {
+        let (model, qd) = (self.model, &self.qd);
+        let motion = dynamics::FrameMotion::new(model, &self.world, qd, frame);
+        let rows = frame_rows(&motion, qd, &self.a, index, frame, self.dims);
+        self.quantities.extend(rows);
+        let name_of = |kind, reference| FrameOf::new(index, frame, Some(reference)).function_name(kind);
+        let mut other_forms = vec![(
+            name_of(QuantityKind::FrameJacobian, ReferenceFrame::Local),
+            matrix_ids(&dynamics::local_jacobian(model, &self.x, frame)),
+        )];
+        let rates = dynamics::FrameRates::new(model, &self.x, qd, &self.a, frame);
+        for r in ReferenceFrame::ALL {
+            other_forms.push((
+                name_of(QuantityKind::FrameVelocity, r),
+                ids(&rates.velocity_in(r, &motion.pose)),
+            ));
+            other_forms.push((
+                name_of(QuantityKind::FrameClassicalAcceleration, r),
+                ids(&rates.classical_acceleration_in(r, &motion.pose)),
+            ));
+        }
+        self.other_forms.extend(other_forms);
+    }
+
+    /// Other formulations of some rows, traced after every row so those keep their node ids,
+    /// each kept where it costs less; returns the regressors four rows at a time.
+    fn trace_other_forms(&mut self) -> Vec<(String, Vec<Id>)> {
+        let regressors = self.functions.contains(FunctionGroup::Regressors);
+        if regressors {
+            self.regressors_by_jacobians();
+        }
+        let row_lane_forms = match regressors {
+            true => row_lane_regressors(self.model, &self.x, [&self.qd, &self.v, &self.a], self.base),
+            false => Vec::new(),
+        };
+        if has_tilted_placements(self.model) {
+            self.factored_forms();
+        }
+        row_lane_forms
+    }
+
+    /// The regressors (and their base columns) by the bodies' Jacobians, kept per function where
+    /// they cost less.
+    fn regressors_by_jacobians(&mut self) {
+        use QuantityKind as K;
+        let (model, x, qd, a) = (self.model, &self.x, &self.qd, &self.a);
+        let mut forms = Vec::new();
+        for (kind, base_kind, v) in [
+            (K::Regressor, K::BaseRegressor, &self.v),
+            (K::TorqueRegressor, K::BaseTorqueRegressor, qd),
+        ] {
+            let y = matrix_ids(&full_from_base(
+                &dynamics::regressor_by_jacobians(model, x, qd, v, a),
+                self.base,
+            ));
+            let y_base = base_columns(&y, self.base, self.dims.n);
+            forms.push((kind.name().to_owned(), y));
+            forms.push((base_kind.name().to_owned(), y_base));
+        }
+        self.other_forms.extend(forms);
+    }
+
+    /// `D`, `τ`, forward dynamics, `D⁻¹` and the derivatives (of the chosen groups) through each
+    /// joint's placement and own motion one after the other, kept where they cost less. (`C` in
+    /// this form counts fewer operations on the xArm as written but runs slower in default
+    /// builds, `BENCHMARKS.md`.)
+    fn factored_forms(&mut self) {
+        use QuantityKind as K;
+        let (model, inertias, jv, qd) = (self.model, &self.inertias, &self.joint_values, &self.qd);
+        let factored = dynamics::joint_factored_transforms(model, &self.q);
+        let mut forms = vec![
+            (K::MassMatrix, matrix_ids(&self.mass_matrix(&factored))),
+            (K::InverseDynamics, ids(&self.inverse_dynamics(&factored))),
+        ];
+        if self.functions.contains(FunctionGroup::ForwardDynamics) {
+            let forward = dynamics::forward_dynamics(model, &factored, inertias, jv, qd, &self.tau);
+            forms.push((K::ForwardDynamics, ids(&forward)));
+            let inverse = dynamics::mass_matrix_inverse(model, &factored, inertias, jv);
+            forms.push((K::MassMatrixInverse, matrix_ids(&inverse)));
+        }
+        if self.functions.contains(FunctionGroup::Derivatives) {
+            for directions in [Directions::OneByOne, Directions::Lanes] {
+                for kind in DERIVATIVES {
+                    forms.push((kind, self.derivative(kind, directions, Placements::Factored)));
+                }
+            }
+        }
+        let named = forms
+            .into_iter()
+            .map(|(kind, outputs)| (kind.name().to_owned(), outputs));
+        self.other_forms.extend(named);
     }
 }
+
+/// The derivative rows, in the order they are traced.
+const DERIVATIVES: [QuantityKind; 2] = [
+    QuantityKind::InverseDynamicsDerivatives,
+    QuantityKind::ForwardDynamicsDerivatives,
+];
 
 /// Whether a joint's placement in its parent turns by anything but quarter turns (a vendor's
 /// `1.5708`, a tilted axis): there, carrying vectors and inertias through the placement and the
@@ -442,10 +608,9 @@ pub(super) fn pair_ids((first, second): (DMatrix<Expr>, DMatrix<Expr>)) -> Vec<I
 }
 
 /// A lane operation (`f64x8`) weighed as this many scalar ones when the derivatives choose how
-/// to carry their directions ([`Directions`]): a lane operation costs about two scalar ones in
-/// time, so the Panda's derivatives (6,850 scalar operations against 1,151 + 2,675 lane ones) go
-/// in lanes and the UR5's (3,050 against 808 + 1,587) stay scalar, as timing them both ways
-/// agrees (`docs/performance-notes.md`).
+/// to carry their directions ([`Directions`]): the weight that tells the measured cases apart
+/// (`BENCHMARKS.md`, AVX-512). The Panda's derivatives (6,850 scalar operations against 1,151 +
+/// 2,675 lane ones) run faster in lanes, the UR5's (3,050 against 808 + 1,587) do not.
 const LANE_OP_COST: usize = 2;
 
 /// Each function named in `other_forms` in that formulation where it costs less.
@@ -463,137 +628,6 @@ pub(super) fn keep_cheaper(graph: &Graph, quantities: &mut [Quantity], other_for
 fn cost(graph: &Graph, outputs: &[Id]) -> usize {
     let c = graph.op_counts(outputs);
     c.mul + c.add + c.neg + c.div + LANE_OP_COST * c.lanes
-}
-
-/// Forward dynamics, `D⁻¹` and the derivatives of the dynamics, traced after the other
-/// quantities so that they reuse (never renumber) the nodes those created. The derivatives are
-/// traced with their directions one by one (first, so their code is what it was before lanes
-/// existed), and in lanes: the second list holds the lane forms' outputs by function name, which
-/// [`trace_functions`] keeps where they cost less.
-#[allow(clippy::too_many_arguments)]
-fn forward_quantities(
-    model: &Model,
-    inertias: &[crate::spatial::RigidInertia<Expr>],
-    jv: &[crate::model::JointTermValues],
-    q: &[Expr],
-    qd: &[Expr],
-    a: &[Expr],
-    tau: &[Expr],
-    functions: Functions,
-) -> (Vec<Quantity>, Vec<(String, Vec<Id>)>) {
-    let n = model.dof();
-    let x = dynamics::joint_transforms(model, q);
-    let mut quantities = Vec::new();
-    if functions.contains(FunctionGroup::ForwardDynamics) {
-        let forward = ids(&dynamics::forward_dynamics(model, &x, inertias, jv, qd, tau));
-        let inverse_mass = matrix_ids(&dynamics::mass_matrix_inverse(model, &x, inertias, jv));
-        quantities.push(Quantity {
-            kind: QuantityKind::ForwardDynamics,
-            frame: None,
-            args: vec![Arg::Qd, Arg::Tau],
-            shape: Shape::Vector(n),
-            outputs: forward,
-        });
-        quantities.push(Quantity {
-            kind: QuantityKind::MassMatrixInverse,
-            frame: None,
-            args: vec![],
-            shape: Shape::Matrix(n, n),
-            outputs: inverse_mass,
-        });
-    }
-    if !functions.contains(FunctionGroup::Derivatives) {
-        return (quantities, Vec::new());
-    }
-    let derivatives = |directions| {
-        derivatives(
-            model,
-            directions,
-            Placements::Multiplied,
-            inertias,
-            jv,
-            [q, qd, a, tau],
-        )
-    };
-    let (inverse_derivatives, forward_derivatives) = derivatives(Directions::OneByOne);
-    let (inverse_lanes, forward_lanes) = derivatives(Directions::Lanes);
-    quantities.extend([
-        Quantity {
-            kind: QuantityKind::InverseDynamicsDerivatives,
-            frame: None,
-            args: vec![Arg::Qd, Arg::A],
-            shape: Shape::MatrixPair(n),
-            outputs: inverse_derivatives,
-        },
-        Quantity {
-            kind: QuantityKind::ForwardDynamicsDerivatives,
-            frame: None,
-            args: vec![Arg::Qd, Arg::Tau],
-            shape: Shape::MatrixPair(n),
-            outputs: forward_derivatives,
-        },
-    ]);
-    let lanes = vec![
-        (
-            QuantityKind::InverseDynamicsDerivatives.name().to_owned(),
-            inverse_lanes,
-        ),
-        (
-            QuantityKind::ForwardDynamicsDerivatives.name().to_owned(),
-            forward_lanes,
-        ),
-    ];
-    (quantities, lanes)
-}
-
-/// The outputs of `∂τ/∂x` and `∂q̈/∂x`, their directions and transforms carried as
-/// `directions` and `placements` say.
-fn derivatives(
-    model: &Model,
-    directions: Directions,
-    placements: Placements,
-    inertias: &[crate::spatial::RigidInertia<Expr>],
-    jv: &[crate::model::JointTermValues],
-    [q, qd, a, tau]: [&[Expr]; 4],
-) -> (Vec<Id>, Vec<Id>) {
-    let inverse = pair_ids(dynamics::inverse_dynamics_derivatives_by(
-        directions, placements, model, q, inertias, jv, qd, a,
-    ));
-    let forward = pair_ids(dynamics::forward_dynamics_derivatives_by(
-        directions, placements, model, q, inertias, jv, qd, tau,
-    ));
-    (inverse, forward)
-}
-
-/// The regressor at `v = q̇`, `a = q̈` (identification's form, `Y θ = τ`), and its base columns:
-/// traced last, so the earlier functions keep their node ids. The body forces take the cheaper
-/// `v ×* I v` form there, so these are smaller than the Slotine–Li regressor.
-fn torque_regressors(
-    model: &Model,
-    x: &[crate::spatial::Transform<Expr>],
-    qd: &[Expr],
-    a: &[Expr],
-    base: &BaseParameterSet,
-) -> Vec<Quantity> {
-    let n = model.dof();
-    let y = matrix_ids(&full_from_base(&dynamics::regressor(model, x, qd, qd, a), base));
-    let y_base = base_columns(&y, base, n);
-    vec![
-        Quantity {
-            kind: QuantityKind::TorqueRegressor,
-            frame: None,
-            args: vec![Arg::Qd, Arg::A],
-            shape: Shape::Matrix(n, model.parameter_count()),
-            outputs: y,
-        },
-        Quantity {
-            kind: QuantityKind::BaseTorqueRegressor,
-            frame: None,
-            args: vec![Arg::Qd, Arg::A],
-            shape: Shape::Matrix(n, base.count()),
-            outputs: y_base,
-        },
-    ]
 }
 
 /// The base columns of a column-major `Y` (`n` rows; column `c` is `y[c·n .. (c+1)·n]`); none
@@ -669,183 +703,59 @@ fn row_lane_regressors(
     forms
 }
 
-/// `(Y θ, Yᵀ r)` of the Slotine–Li regressor and `(Y_b θ_b, Y_bᵀ r)` of its base columns,
-/// without forming either regressor (`dynamics::regressor_products`): what an adaptive law
-/// needs each tick. Traced last, on inputs of their own, so the earlier functions keep their
-/// node ids.
-fn regressor_products(
-    model: &Model,
-    x: &[crate::spatial::Transform<Expr>],
-    [qd, v, a]: [&[Expr]; 3],
-    theta: &[Expr],
-    r: &[Expr],
-    base: &BaseParameterSet,
-) -> Vec<Quantity> {
-    let (n, p, b) = (model.dof(), model.parameter_count(), base.count());
-    let all: Vec<usize> = (0..p).collect();
-    [
-        (QuantityKind::RegressorProducts, all.as_slice(), p),
-        (QuantityKind::BaseRegressorProducts, &base.columns, b),
-    ]
-    .into_iter()
-    .map(|(kind, columns, len)| {
-        let (y_theta, y_tr_r) = dynamics::regressor_products(model, x, qd, v, a, columns, &theta[..len], r);
-        Quantity {
-            kind,
-            frame: None,
-            args: vec![Arg::Qd, Arg::V, Arg::A, Arg::Theta(len), Arg::R],
-            shape: Shape::VectorPair(n, len),
-            outputs: ids(&y_theta).into_iter().chain(ids(&y_tr_r)).collect(),
-        }
-    })
-    .collect()
-}
-
-/// Forward kinematics, `J` and `J̇` in one function: the nodes the three share (joint
-/// transforms, body poses) are computed once. No new nodes, only the union of their outputs.
-fn fused_kinematics(quantities: &[Quantity], n: usize) -> Quantity {
-    let outputs_of = |kind: QuantityKind| {
-        quantities
-            .iter()
-            .find(|q| q.kind == kind)
-            .map(|q| q.outputs.clone())
-            .unwrap_or_default()
-    };
-    let mut outputs = outputs_of(QuantityKind::ForwardKinematics);
-    outputs.extend(outputs_of(QuantityKind::Jacobian));
-    outputs.extend(outputs_of(QuantityKind::JacobianDot));
-    Quantity {
-        kind: QuantityKind::Kinematics,
-        frame: None,
-        args: vec![Arg::Qd],
-        shape: Shape::Kinematics(n),
-        outputs,
-    }
-}
-
-/// The pose, `J`, `J̇` in each reference frame, velocity, classical acceleration and `(pose,
-/// J, J̇)` of one frame, traced after every other quantity (they add nodes, never renumber).
-/// The second list holds other formulations of some of them (the local `J` carried back from
-/// the frame, velocity and acceleration by the forward recursion), by function name, which
-/// [`trace_functions`] keeps where they cost less.
-fn frame_quantities(
-    model: &Model,
-    x: &[crate::spatial::Transform<Expr>],
-    world: &[crate::spatial::Transform<Expr>],
-    qd: &[Expr],
-    qdd: &[Expr],
-    index: usize,
-    frame: &crate::model::Frame,
-) -> (Vec<Quantity>, Vec<(String, Vec<Id>)>) {
-    let motion = dynamics::FrameMotion::new(model, world, qd, frame);
-    let out = frame_motion_quantities(&motion, qd, qdd, index, frame, model.dof());
-    let snake = frame_identifiers(&frame.name).snake;
-    let frame_of = |reference| FrameOf {
-        index,
-        snake: snake.clone(),
-        reference,
-    };
-    let name_of = |kind, reference| frame_of(Some(reference)).function_name(kind);
-    let mut other_forms = vec![(
-        name_of(QuantityKind::FrameJacobian, ReferenceFrame::Local),
-        matrix_ids(&dynamics::local_jacobian(model, x, frame)),
-    )];
-    let rates = dynamics::FrameRates::new(model, x, qd, qdd, frame);
-    for r in ReferenceFrame::ALL {
-        other_forms.push((
-            name_of(QuantityKind::FrameVelocity, r),
-            ids(&rates.velocity_in(r, &motion.pose)),
-        ));
-        other_forms.push((
-            name_of(QuantityKind::FrameClassicalAcceleration, r),
-            ids(&rates.classical_acceleration_in(r, &motion.pose)),
-        ));
-    }
-    (out, other_forms)
-}
-
-/// The frame quantities of one frame from its motion (`n` velocity coordinates): the pose, `J`
-/// and `J̇` in each reference frame, velocity, classical acceleration, and `(pose, J, J̇)`.
-pub(super) fn frame_motion_quantities(
+/// The per-frame rows of one frame (`index` in `Model::frames`) from its motion, in the table's
+/// order, each once per reference frame where it has one; `dims.n` velocity coordinates.
+pub(super) fn frame_rows(
     motion: &dynamics::FrameMotion<Expr>,
     qd: &[Expr],
     qdd: &[Expr],
     index: usize,
-    frame: &crate::model::Frame,
-    n: usize,
+    frame: &Frame,
+    dims: Dims,
 ) -> Vec<Quantity> {
-    let snake = frame_identifiers(&frame.name).snake;
-    let frame_of = |reference| FrameOf {
-        index,
-        snake: snake.clone(),
-        reference,
-    };
-    let quantity = |kind, reference, args: Vec<Arg>, shape, outputs| Quantity {
-        kind,
-        frame: Some(frame_of(reference)),
-        args,
-        shape,
-        outputs,
-    };
-    let pose = pose_ids(&motion.pose);
-    let mut out = vec![quantity(
-        QuantityKind::FramePose,
-        None,
-        vec![],
-        Shape::Pose,
-        pose.clone(),
-    )];
-    for r in ReferenceFrame::ALL {
-        let j = matrix_ids(&motion.jacobian_in(r));
-        out.push(quantity(
-            QuantityKind::FrameJacobian,
-            Some(r),
-            vec![],
-            Shape::Matrix(6, n),
-            j,
-        ));
+    let mut rows = Vec::new();
+    for kind in QuantityKind::ALL.into_iter().filter(|k| k.is_per_frame()) {
+        let references = match kind.has_reference_frame() {
+            true => ReferenceFrame::ALL.map(Some).to_vec(),
+            false => vec![None],
+        };
+        for reference in references {
+            let (args, shape) = kind.signature(dims);
+            rows.push(Quantity {
+                kind,
+                frame: Some(FrameOf::new(index, frame, reference)),
+                args,
+                shape,
+                outputs: frame_outputs(motion, kind, reference, qd, qdd),
+            });
+        }
     }
-    for r in ReferenceFrame::ALL {
-        let jd = matrix_ids(&motion.jacobian_dot_in(r, qd));
-        out.push(quantity(
-            QuantityKind::FrameJacobianTimeVariation,
-            Some(r),
-            vec![Arg::Qd],
-            Shape::Matrix(6, n),
-            jd,
-        ));
+    rows
+}
+
+/// How per-frame row `kind` is traced: its outputs in `reference` (`None` for a row without).
+fn frame_outputs(
+    motion: &dynamics::FrameMotion<Expr>,
+    kind: QuantityKind,
+    reference: Option<ReferenceFrame>,
+    qd: &[Expr],
+    qdd: &[Expr],
+) -> Vec<Id> {
+    use QuantityKind as K;
+    match (kind, reference) {
+        (K::FramePose, None) => pose_ids(&motion.pose),
+        (K::FrameJacobian, Some(r)) => matrix_ids(&motion.jacobian_in(r)),
+        (K::FrameJacobianTimeVariation, Some(r)) => matrix_ids(&motion.jacobian_dot_in(r, qd)),
+        (K::FrameVelocity, Some(r)) => ids(&motion.velocity_in(r, qd)),
+        (K::FrameClassicalAcceleration, Some(r)) => ids(&motion.classical_acceleration_in(r, qd, qdd)),
+        (K::FrameKinematics, None) => {
+            let mut fused = pose_ids(&motion.pose);
+            fused.extend(matrix_ids(&motion.jacobian));
+            fused.extend(matrix_ids(&motion.jacobian_dot));
+            fused
+        }
+        _ => unreachable!("{kind:?} in {reference:?} is not a per-frame row"),
     }
-    for r in ReferenceFrame::ALL {
-        let v = ids(&motion.velocity_in(r, qd));
-        out.push(quantity(
-            QuantityKind::FrameVelocity,
-            Some(r),
-            vec![Arg::Qd],
-            Shape::Vector(6),
-            v,
-        ));
-    }
-    for r in ReferenceFrame::ALL {
-        let a = ids(&motion.classical_acceleration_in(r, qd, qdd));
-        out.push(quantity(
-            QuantityKind::FrameClassicalAcceleration,
-            Some(r),
-            vec![Arg::Qd, Arg::A],
-            Shape::Vector(6),
-            a,
-        ));
-    }
-    let mut fused = pose;
-    fused.extend(matrix_ids(&motion.jacobian));
-    fused.extend(matrix_ids(&motion.jacobian_dot));
-    out.push(quantity(
-        QuantityKind::FrameKinematics,
-        None,
-        vec![Arg::Qd],
-        Shape::Kinematics(n),
-        fused,
-    ));
-    out
 }
 
 /// A pose's outputs: the rotation column-major, then the translation.

@@ -1,19 +1,19 @@
 //! The tracer of a floating-base robot: the floating algorithms run on symbolic inputs, the
 //! base pose entering as its rotation matrix and position (`FloatingTrig` computes them once
-//! per tick from the quaternion), velocities of `nv = dof + 6` entries.
+//! per tick from the quaternion), velocities of `nv = dof + 6` entries. Driven by the quantity
+//! table as the fixed-base tracer is, in an order of its own (which is the order of the
+//! floating-base module's methods).
 
-use super::quantities::QuantityKind;
-use super::trace::{base_columns, full_from_base, keep_cheaper, pair_ids};
-use super::trace::{
-    frame_motion_quantities, ids, inputs, matrix_ids, Arg, Inputs, Quantity, Shape, SymbolicRobot,
-};
+use super::quantities::{Dims, QuantityKind};
+use super::trace::{base_columns, frame_rows, full_from_base, ids, inputs, matrix_ids, pair_ids};
+use super::trace::{Inputs, Quantity, SymbolicRobot, Traced};
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::floating::{self as algorithms, FloatingBase};
 use crate::dynamics::{self, FloatingDynamics, FrameMotion};
-use crate::model::Model;
+use crate::model::{Frame, Model};
 use crate::scalar::Scalar;
 use crate::spatial::{Mat3, RigidInertia, Transform, Vec3};
-use crate::symbolic::{record, Expr};
+use crate::symbolic::{record, Expr, Id};
 use crate::{FunctionGroup, Functions};
 
 /// The groups a floating-base robot is generated with: its dynamics (with the centroidal
@@ -33,22 +33,88 @@ pub fn floating_functions() -> Functions {
     .expect("the floating groups need nothing they lack")
 }
 
-/// Records every floating-base quantity of `model` in one graph.
+/// The rows of a floating-base robot traced before its frames, in trace order (which is their
+/// order in the module).
+const BEFORE_FRAMES: [QuantityKind; 14] = [
+    QuantityKind::MassMatrix,
+    QuantityKind::CoriolisMatrix,
+    QuantityKind::Gravity,
+    QuantityKind::InverseDynamics,
+    QuantityKind::SlotineLi,
+    QuantityKind::Regressor,
+    QuantityKind::BaseRegressor,
+    QuantityKind::TorqueRegressor,
+    QuantityKind::BaseTorqueRegressor,
+    QuantityKind::ForwardDynamics,
+    QuantityKind::MassMatrixInverse,
+    QuantityKind::CenterOfMass,
+    QuantityKind::CentroidalMomentumMatrix,
+    QuantityKind::CentroidalBias,
+];
+
+/// The rows traced after the frames: the derivatives, last so the functions before keep their
+/// node ids.
+const AFTER_FRAMES: [QuantityKind; 2] = [
+    QuantityKind::InverseDynamicsDerivatives,
+    QuantityKind::ForwardDynamicsDerivatives,
+];
+
+/// Records every floating-base quantity of `model` in one graph: the rows of `BEFORE_FRAMES`,
+/// the per-frame rows frame by frame, the rows of `AFTER_FRAMES`, then another formulation of
+/// `D⁻¹`.
 ///
 /// The inertial parameters are the representative ones of the base parameters (every folded
 /// parameter 0, [`BaseParameterSet::representative`]): the same dynamics with fewer terms, as
 /// for a fixed base.
 pub fn trace_floating(model: &Model) -> SymbolicRobot {
     let base_parameters = BaseParameterSet::compute(model);
-    let description = FloatingDynamics::new(model)
-        .expect("trace_floating needs a floating base")
-        .parameters();
-    let theta = base_parameters.representative(&description);
-    let (n, nv) = (model.dof(), model.nv());
-    let (graph, (inputs, quantities, other_forms)) = record(|| {
-        let q = inputs("q", n);
-        let rotation = inputs("rot", 9);
-        let position = inputs("pos", 3);
+    let functions = floating_functions();
+    let (graph, traced) = record(|| FloatingTracer::new(model, &base_parameters).run(functions));
+    traced.into_robot(graph, base_parameters, functions)
+}
+
+/// The tracer of a floating-base robot: the inputs and the values its rows share, and what it
+/// has recorded. Each row's outputs come from [`FloatingTracer::outputs`]; its arguments and
+/// shape from the table ([`QuantityKind::signature`]).
+struct FloatingTracer<'a> {
+    model: &'a Model,
+    base_parameters: &'a BaseParameterSet,
+    dims: Dims,
+    /// The joints' positions, and the base pose as its rotation matrix (row-major) and
+    /// position.
+    q: Vec<Expr>,
+    rotation: Vec<Expr>,
+    position: Vec<Expr>,
+    /// Velocity-space inputs (`nv` entries, the base's six first).
+    qd: Vec<Expr>,
+    v: Vec<Expr>,
+    a: Vec<Expr>,
+    tau: Vec<Expr>,
+    /// The base (pose and inertia), the joint transforms, the bodies' poses and inertias.
+    base: FloatingBase<Expr>,
+    x: Vec<Transform<Expr>>,
+    world: Vec<Transform<Expr>>,
+    inertias: Vec<RigidInertia<Expr>>,
+    /// The Slotine–Li and the torque-form regressor, gravity, the centre of mass and the
+    /// centroidal momentum matrix, traced before any row: the rows after them were written with
+    /// these node ids.
+    y: Vec<Id>,
+    torque_y: Vec<Id>,
+    gravity: Option<Vec3<Expr>>,
+    center_of_mass: Vec<Id>,
+    centroidal_matrix: Vec<Id>,
+    quantities: Vec<Quantity>,
+}
+
+impl<'a> FloatingTracer<'a> {
+    /// The inputs and the shared values, traced.
+    fn new(model: &'a Model, base_parameters: &'a BaseParameterSet) -> Self {
+        let (n, nv) = (model.dof(), model.nv());
+        let description = FloatingDynamics::new(model)
+            .expect("trace_floating needs a floating base")
+            .parameters();
+        let theta = base_parameters.representative(&description);
+        let (q, rotation, position) = (inputs("q", n), inputs("rot", 9), inputs("pos", 3));
         let (qd, v, a, tau) = (
             inputs("qd", nv),
             inputs("v", nv),
@@ -63,194 +129,172 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
         };
         let theta: Vec<Expr> = theta.iter().map(|&x| Expr::from_f64(x)).collect();
         let mut inertias: Vec<RigidInertia<Expr>> = dynamics::inertias_from_parameters(&theta);
-        let base_inertia = inertias.remove(0);
         let base = FloatingBase {
             pose,
-            inertia: base_inertia,
+            inertia: inertias.remove(0),
         };
         let x = dynamics::joint_transforms(model, &q);
         let world = algorithms::floating_body_poses(model, &pose, &x);
         let regressor = |v: &[Expr]| {
             let full = algorithms::floating_regressor(model, &pose.rot, &x, &qd, v, &a);
-            let y = matrix_ids(&full_from_base(&full, &base_parameters));
-            let y_base = base_columns(&y, &base_parameters, nv);
-            (y, y_base)
+            matrix_ids(&full_from_base(&full, base_parameters))
         };
-        let (y, y_base) = regressor(&v);
-        let (torque_y, torque_y_base) = regressor(&qd);
+        let (y, torque_y) = (regressor(&v), regressor(&qd));
         let gravity = Some(Vec3::from_f64(model.gravity().into()));
-        let p = 10 * (model.joints().len() + 1);
-        let quantity = |kind, args: Vec<Arg>, shape, outputs| Quantity {
-            kind,
-            frame: None,
-            args,
-            shape,
-            outputs,
-        };
         let centroidal = algorithms::centroidal_momentum_matrix(model, &base, &x, &inertias);
-        let mut quantities = vec![
-            quantity(
-                QuantityKind::MassMatrix,
-                vec![],
-                Shape::Matrix(nv, nv),
-                matrix_ids(&algorithms::floating_mass_matrix(
-                    model,
-                    &base.inertia,
-                    &x,
-                    &inertias,
-                )),
-            ),
-            quantity(
-                QuantityKind::CoriolisMatrix,
-                vec![Arg::Qd],
-                Shape::Matrix(nv, nv),
-                matrix_ids(&algorithms::floating_coriolis_matrix(
-                    model, &base, &x, &inertias, &qd,
-                )),
-            ),
-            quantity(
-                QuantityKind::Gravity,
-                vec![],
-                Shape::Vector(nv),
-                ids(&algorithms::floating_gravity(model, &base, &x, &inertias)),
-            ),
-            quantity(
-                QuantityKind::InverseDynamics,
-                vec![Arg::Qd, Arg::A],
-                Shape::Vector(nv),
-                ids(&algorithms::floating_inverse_dynamics(
-                    model, &base, &x, &inertias, &qd, &a,
-                )),
-            ),
-            quantity(
-                QuantityKind::SlotineLi,
-                vec![Arg::Qd, Arg::V, Arg::A],
-                Shape::Vector(nv),
-                ids(&algorithms::floating_slotine_li(
-                    model, &base, &x, &inertias, &qd, &v, &a, gravity,
-                )),
-            ),
-            quantity(
-                QuantityKind::Regressor,
-                vec![Arg::Qd, Arg::V, Arg::A],
-                Shape::Matrix(nv, p),
-                y,
-            ),
-            quantity(
-                QuantityKind::BaseRegressor,
-                vec![Arg::Qd, Arg::V, Arg::A],
-                Shape::Matrix(nv, base_parameters.count()),
-                y_base,
-            ),
-            quantity(
-                QuantityKind::TorqueRegressor,
-                vec![Arg::Qd, Arg::A],
-                Shape::Matrix(nv, p),
-                torque_y,
-            ),
-            quantity(
-                QuantityKind::BaseTorqueRegressor,
-                vec![Arg::Qd, Arg::A],
-                Shape::Matrix(nv, base_parameters.count()),
-                torque_y_base,
-            ),
-            quantity(
-                QuantityKind::ForwardDynamics,
-                vec![Arg::Qd, Arg::Tau],
-                Shape::Vector(nv),
-                ids(&algorithms::floating_forward_dynamics(
-                    model, &base, &x, &inertias, &qd, &tau,
-                )),
-            ),
-            quantity(
-                QuantityKind::MassMatrixInverse,
-                vec![],
-                Shape::Matrix(nv, nv),
-                matrix_ids(&algorithms::floating_mass_matrix_inverse(
-                    model, &base, &x, &inertias,
-                )),
-            ),
-            quantity(
-                QuantityKind::CenterOfMass,
-                vec![],
-                Shape::Vector(3),
-                ids(&centroidal.com.0),
-            ),
-            quantity(
-                QuantityKind::CentroidalMomentumMatrix,
-                vec![],
-                Shape::Matrix(6, nv),
-                matrix_ids(&centroidal.matrix),
-            ),
-            quantity(
-                QuantityKind::CentroidalBias,
-                vec![Arg::Qd],
-                Shape::Vector(6),
-                ids(&algorithms::centroidal_bias(model, &base, &x, &inertias, &qd)),
-            ),
-        ];
-        for (index, frame) in model.frames().iter().enumerate() {
-            let motion = FrameMotion {
-                pose: dynamics::kinematics::frame_pose(Some(&pose), &world, frame),
-                jacobian: algorithms::floating_frame_jacobian(model, &pose, &world, frame),
-                jacobian_dot: algorithms::floating_frame_jacobian_dot(model, &pose, &world, &qd, frame),
-            };
-            quantities.extend(frame_motion_quantities(&motion, &qd, &a, index, frame, nv));
+        FloatingTracer {
+            model,
+            base_parameters,
+            dims: Dims {
+                n: nv,
+                p: 10 * (model.joints().len() + 1),
+                b: base_parameters.count(),
+            },
+            q,
+            rotation,
+            position,
+            qd,
+            v,
+            a,
+            tau,
+            base,
+            x,
+            world,
+            inertias,
+            y,
+            torque_y,
+            gravity,
+            center_of_mass: ids(&centroidal.com.0),
+            centroidal_matrix: matrix_ids(&centroidal.matrix),
+            quantities: Vec::new(),
         }
-        // The derivatives, traced after everything else so the functions above keep their ids.
-        let inverse_derivatives = pair_ids(algorithms::floating_inverse_dynamics_derivatives(
-            model, &base, &q, &inertias, &qd, &a,
-        ));
-        let forward_derivatives = pair_ids(algorithms::floating_forward_dynamics_derivatives(
-            model, &base, &q, &inertias, &qd, &tau,
-        ));
-        quantities.extend([
-            quantity(
-                QuantityKind::InverseDynamicsDerivatives,
-                vec![Arg::Qd, Arg::A],
-                Shape::MatrixPair(nv),
-                inverse_derivatives,
-            ),
-            quantity(
-                QuantityKind::ForwardDynamicsDerivatives,
-                vec![Arg::Qd, Arg::Tau],
-                Shape::MatrixPair(nv),
-                forward_derivatives,
-            ),
-        ]);
-        let inputs = Inputs {
-            q: ids(&q),
-            qd: ids(&qd),
-            v: ids(&v),
-            a: ids(&a),
-            tau: ids(&tau),
-            theta: Vec::new(),
-            r: Vec::new(),
-            base_rotation: ids(&rotation),
-            base_position: ids(&position),
-        };
+    }
+
+    /// Traces the rows of `functions` in trace order, then the other formulation of `D⁻¹`.
+    fn run(mut self, functions: Functions) -> Traced {
+        let chosen = |kind: &QuantityKind| functions.contains(kind.group());
+        for kind in BEFORE_FRAMES.into_iter().filter(chosen) {
+            let outputs = self.outputs(kind);
+            self.record(kind, outputs);
+        }
+        if functions.contains(FunctionGroup::Frames) {
+            for (index, frame) in self.model.frames().iter().enumerate() {
+                self.trace_frame(index, frame);
+            }
+        }
+        for kind in AFTER_FRAMES.into_iter().filter(chosen) {
+            let outputs = self.outputs(kind);
+            self.record(kind, outputs);
+        }
         // D⁻¹ by sums over common ancestors, traced last so the functions above keep their node
         // ids; kept where it costs less. (The regressors by the bodies' Jacobians cost fewer
         // operations on the G1 but ran slower: longer-lived values. Four rows at a time, as for
         // a fixed base, they ran slower on Solo-12: every body's columns carry the six dense
         // base rows, while the scalar form gets each joint row from one entry of the force it
-        // carries up anyway; `docs/performance-notes.md`.)
-        let inverse = algorithms::floating_mass_matrix_inverse_by_ancestors(model, &base, &x, &inertias);
+        // carries up anyway; `BENCHMARKS.md`.)
+        let (model, base, x, inertias) = (self.model, &self.base, &self.x, &self.inertias);
+        let inverse = algorithms::floating_mass_matrix_inverse_by_ancestors(model, base, x, inertias);
         let other_forms = vec![(
             QuantityKind::MassMatrixInverse.name().to_owned(),
             matrix_ids(&inverse),
         )];
-        (inputs, quantities, other_forms)
-    });
-    let mut quantities = quantities;
-    keep_cheaper(&graph, &mut quantities, other_forms);
-    SymbolicRobot {
-        graph,
-        inputs,
-        quantities,
-        base: base_parameters,
-        functions: floating_functions(),
-        chunk_values: super::emit::CHUNK_VALUES,
-        scalar_forms: std::collections::HashMap::new(),
+        Traced {
+            inputs: self.inputs(),
+            quantities: self.quantities,
+            other_forms,
+            row_lane_forms: Vec::new(),
+        }
+    }
+
+    /// Records `outputs` as row `kind`, with the table's arguments and shape.
+    fn record(&mut self, kind: QuantityKind, outputs: Vec<Id>) {
+        let (args, shape) = kind.signature(self.dims);
+        self.quantities.push(Quantity {
+            kind,
+            frame: None,
+            args,
+            shape,
+            outputs,
+        });
+    }
+
+    /// How row `kind` (one not per frame) is traced: its outputs.
+    fn outputs(&self, kind: QuantityKind) -> Vec<Id> {
+        use QuantityKind as K;
+        let (model, base, x, inertias) = (self.model, &self.base, &self.x, &self.inertias);
+        let (qd, v, a, tau) = (&self.qd, &self.v, &self.a, &self.tau);
+        let base_columns = |y: &[Id]| base_columns(y, self.base_parameters, self.dims.n);
+        match kind {
+            K::MassMatrix => matrix_ids(&algorithms::floating_mass_matrix(
+                model,
+                &base.inertia,
+                x,
+                inertias,
+            )),
+            K::CoriolisMatrix => matrix_ids(&algorithms::floating_coriolis_matrix(
+                model, base, x, inertias, qd,
+            )),
+            K::Gravity => ids(&algorithms::floating_gravity(model, base, x, inertias)),
+            K::InverseDynamics => ids(&algorithms::floating_inverse_dynamics(
+                model, base, x, inertias, qd, a,
+            )),
+            K::SlotineLi => ids(&algorithms::floating_slotine_li(
+                model,
+                base,
+                x,
+                inertias,
+                qd,
+                v,
+                a,
+                self.gravity,
+            )),
+            K::Regressor => self.y.clone(),
+            K::BaseRegressor => base_columns(&self.y),
+            K::TorqueRegressor => self.torque_y.clone(),
+            K::BaseTorqueRegressor => base_columns(&self.torque_y),
+            K::ForwardDynamics => ids(&algorithms::floating_forward_dynamics(
+                model, base, x, inertias, qd, tau,
+            )),
+            K::MassMatrixInverse => matrix_ids(&algorithms::floating_mass_matrix_inverse(
+                model, base, x, inertias,
+            )),
+            K::CenterOfMass => self.center_of_mass.clone(),
+            K::CentroidalMomentumMatrix => self.centroidal_matrix.clone(),
+            K::CentroidalBias => ids(&algorithms::centroidal_bias(model, base, x, inertias, qd)),
+            K::InverseDynamicsDerivatives => pair_ids(algorithms::floating_inverse_dynamics_derivatives(
+                model, base, &self.q, inertias, qd, a,
+            )),
+            K::ForwardDynamicsDerivatives => pair_ids(algorithms::floating_forward_dynamics_derivatives(
+                model, base, &self.q, inertias, qd, tau,
+            )),
+            _ => unreachable!("{kind:?} is not a row of a floating base traced on its own"),
+        }
+    }
+
+    /// The per-frame rows of one frame, of its motion with the base's.
+    fn trace_frame(&mut self, index: usize, frame: &Frame) {
+        let (model, pose, world) = (self.model, &self.base.pose, &self.world);
+        let motion = FrameMotion {
+            pose: dynamics::kinematics::frame_pose(Some(pose), world, frame),
+            jacobian: algorithms::floating_frame_jacobian(model, pose, world, frame),
+            jacobian_dot: algorithms::floating_frame_jacobian_dot(model, pose, world, &self.qd, frame),
+        };
+        let rows = frame_rows(&motion, &self.qd, &self.a, index, frame, self.dims);
+        self.quantities.extend(rows);
+    }
+
+    /// The inputs by role.
+    fn inputs(&self) -> Inputs {
+        Inputs {
+            q: ids(&self.q),
+            qd: ids(&self.qd),
+            v: ids(&self.v),
+            a: ids(&self.a),
+            tau: ids(&self.tau),
+            theta: Vec::new(),
+            r: Vec::new(),
+            base_rotation: ids(&self.rotation),
+            base_position: ids(&self.position),
+        }
     }
 }

@@ -27,6 +27,7 @@ mod fuzz;
 mod joint_terms;
 mod mimic_oracles;
 mod mimic_reference;
+mod module_layers;
 mod near_exact_angles;
 mod no_data_loss;
 mod non_physical_inertia;

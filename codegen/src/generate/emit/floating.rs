@@ -1,90 +1,170 @@
-//! The module of a floating-base robot: its sizes and types, `FloatingBaseDynamics` and
-//! `FloatingFrameKinematics`, one flat function per quantity as for a fixed base.
+//! The module of a floating-base robot: its sizes, names and types, `FloatingBaseDynamics`,
+//! `FloatingBaseParameters` and `FloatingDynamicsDerivatives` (each method placed by its row's
+//! group), `FloatingFrameKinematics`, then the chunk functions of the large functions.
 
 use super::constants::{base_parameters_function, joint_limits, literal};
+use super::file::{formatted, header, version_check, Provenance};
 use super::frames::{frame_items, FrameTrait};
-use super::function::{function, Emitted};
+use super::function::function;
+use super::header::Emitted;
 use super::leaves::Leaves;
 use super::plan::Form;
-use super::Provenance;
+use super::sizes::Sizes;
 use crate::generate::trace::SymbolicRobot;
 use crate::model::Model;
 use crate::FunctionGroup;
-use proc_macro2::Literal;
+use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
 
+/// The traits of a floating-base module, by the group whose methods each holds.
+const TRAITS: [FunctionGroup; 3] = [
+    FunctionGroup::Dynamics,
+    FunctionGroup::BaseParameters,
+    FunctionGroup::Derivatives,
+];
+
+/// The group whose trait a function of `group` is a method of: the dynamics' groups share
+/// `FloatingBaseDynamics`.
+fn trait_of(group: FunctionGroup) -> FunctionGroup {
+    match group {
+        FunctionGroup::BaseParameters | FunctionGroup::Derivatives => group,
+        _ => FunctionGroup::Dynamics,
+    }
+}
+
 /// The complete generated module of a floating-base `model`, formatted.
-pub fn emit_floating(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> String {
-    let (n, nv, nq) = (model.dof(), model.nv(), model.nq());
+pub(super) fn module(model: &Model, robot: &SymbolicRobot, provenance: &Provenance, sizes: &Sizes) -> String {
     let leaves = Leaves::new(robot);
     let ty = format_ident!("{}", provenance.type_name);
-    let name = model.name();
+    let emitted: Vec<(FunctionGroup, Emitted)> = (robot.quantities.iter())
+        .filter(|q| !q.kind.is_per_frame())
+        .map(|q| {
+            let function = function(robot, &leaves, q, model.nv(), Form::Scalar, sizes);
+            (trait_of(q.kind.group()), function)
+        })
+        .collect();
+    let implementations = TRAITS.map(|group| {
+        let methods = (emitted.iter())
+            .filter(|(g, _)| *g == group)
+            .map(|(_, e)| &e.method);
+        implementation(model, robot, &ty, group, quote!(#(#methods)*))
+    });
+    let frames = frame_items(model, robot, &leaves, &ty, &FrameTrait::floating(model), sizes);
+    let chunks = emitted.iter().flat_map(|(_, e)| &e.chunks);
+    let version = version_check();
+    let (constants, types) = (constants(model, robot), types(model, &ty));
+    let tokens = quote! {
+        #version
+
+        #constants
+
+        #types
+
+        #(#implementations)*
+
+        #frames
+
+        #(#chunks)*
+    };
+    formatted(header(&description(model), provenance), tokens)
+}
+
+/// What the module computes, for its header.
+fn description(model: &Model) -> String {
     let base_body = &model.floating_base().expect("a floating base").name;
+    format!(
+        "Rigid-body dynamics of `{}` on a floating base (body `{base_body}`; {} joints, {} \
+         inertial parameters).",
+        model.name(),
+        model.dof(),
+        parameter_count(model)
+    )
+}
+
+/// Ten parameters for the base body, then ten per body.
+fn parameter_count(model: &Model) -> usize {
+    crate::dynamics::FloatingDynamics::parameter_names(model).len()
+}
+
+/// The implementation of the trait of `group` (one of [`TRAITS`]) for `ty`, with `methods`.
+fn implementation(
+    model: &Model,
+    robot: &SymbolicRobot,
+    ty: &Ident,
+    group: FunctionGroup,
+    methods: TokenStream,
+) -> TokenStream {
+    let [n, nv, p, b] = [
+        model.dof(),
+        model.nv(),
+        parameter_count(model),
+        robot.base.count(),
+    ]
+    .map(Literal::usize_unsuffixed);
+    match group {
+        FunctionGroup::Dynamics => {
+            let name = model.name();
+            let base = model.floating_base().expect("a floating base");
+            let theta = (base.inertia.parameters().into_iter())
+                .chain(model.parameters())
+                .map(literal);
+            quote! {
+                impl FloatingBaseDynamics<#n, #nv, #p> for #ty {
+                    const NAME: &'static str = #name;
+                    const JOINT_NAMES: [&'static str; #n] = JOINT_NAMES;
+                    const JOINT_LIMITS: [JointLimits; #n] = JOINT_LIMITS;
+                    const PARAMETER_NAMES: [&'static str; #p] = PARAMETER_NAMES;
+
+                    fn parameters() -> SVector<f64, #p> {
+                        SVector::from_array_storage(ArrayStorage([[#(#theta),*]]))
+                    }
+
+                    #methods
+                }
+            }
+        }
+        FunctionGroup::BaseParameters => {
+            let base_parameters = base_parameters_function(&robot.base);
+            quote! {
+                impl FloatingBaseParameters<#n, #nv, #p, #b> for #ty {
+                    const BASE_PARAMETER_NAMES: [&'static str; #b] = BASE_PARAMETER_NAMES;
+
+                    #base_parameters
+
+                    #methods
+                }
+            }
+        }
+        FunctionGroup::Derivatives => quote! {
+            impl FloatingDynamicsDerivatives<#n, #nv, #p> for #ty {
+                #methods
+            }
+        },
+        other => unreachable!("a floating-base module has no trait of its own for {other}"),
+    }
+}
+
+/// The module's imports and constants.
+fn constants(model: &Model, robot: &SymbolicRobot) -> TokenStream {
     let joint_names = model.joints().iter().map(|j| j.name.as_str());
     let joint_limits = joint_limits(model);
     let parameter_names = crate::dynamics::FloatingDynamics::parameter_names(model);
-    let p = parameter_names.len();
     let base = &robot.base;
     let base_names = base.names.iter().map(String::as_str);
-    let base_parameters = base_parameters_function(base);
     let count_doc = format!(
-        " Number of base parameters (the `B` of [`FloatingBaseParameters`]): {} of {p}.",
-        base.count()
+        " Number of base parameters (the `B` of [`FloatingBaseParameters`]): {} of {}.",
+        base.count(),
+        parameter_names.len()
     );
-    let mut theta: Vec<f64> = model
-        .floating_base()
-        .expect("a floating base")
-        .inertia
-        .parameters()
-        .to_vec();
-    theta.extend(model.parameters());
-    let theta = theta.into_iter().map(literal);
-    // Each method goes to its group's trait; the dynamics' groups share one.
-    let trait_of = |group: FunctionGroup| match group {
-        FunctionGroup::BaseParameters | FunctionGroup::Derivatives => group,
-        _ => FunctionGroup::Dynamics,
-    };
-    let emitted: Vec<(FunctionGroup, Emitted)> = robot
-        .quantities
-        .iter()
-        .filter(|q| !q.kind.is_per_frame())
-        .map(|q| {
-            (
-                trait_of(q.kind.group()),
-                function(robot, &leaves, q, nv, Form::Scalar),
-            )
-        })
-        .collect();
-    let methods = |group: FunctionGroup| {
-        (emitted.iter())
-            .filter(move |(g, _)| *g == group)
-            .map(|(_, e)| &e.method)
-    };
-    let dynamics_methods = methods(FunctionGroup::Dynamics);
-    let base_methods = methods(FunctionGroup::BaseParameters);
-    let derivative_methods = methods(FunctionGroup::Derivatives);
-    let chunks = emitted.iter().flat_map(|(_, e)| &e.chunks);
-    let frames = frame_items(model, robot, &leaves, &ty, &FrameTrait::floating(model));
-    let header = format!(
-        "// Rigid-body dynamics of `{name}` on a floating base (body `{base_body}`; {n} joints, \
-         {p} inertial parameters).\n\
-         // Generated by dyngen {} from `{}` (fnv1a64 {}).\n\
-         // Do not edit by hand: regenerate with `{}`.\n\n",
-        env!("CARGO_PKG_VERSION"),
-        provenance.source,
-        provenance.source_hash,
-        provenance.regenerate
-    );
-    let type_doc = format!(
-        " `{name}` on a floating base: implements [`FloatingBaseDynamics`], \
-         [`FloatingBaseParameters`], [`FloatingDynamicsDerivatives`] and \
-         [`FloatingFrameKinematics`] with flattened, allocation-free code."
-    );
-    let generated_by = env!("CARGO_PKG_VERSION");
-    let [n, nv, nq, p, b] = [n, nv, nq, p, base.count()].map(Literal::usize_unsuffixed);
-    let tokens = quote! {
-        dyngen_runtime::__require_version!(#generated_by);
-
+    let [n, nv, nq, p, b] = [
+        model.dof(),
+        model.nv(),
+        model.nq(),
+        parameter_names.len(),
+        base.count(),
+    ]
+    .map(Literal::usize_unsuffixed);
+    quote! {
         use dyngen_runtime::nalgebra::{ArrayStorage, Matrix3, SMatrix, SVector, Vector3};
         use dyngen_runtime::{
             ConfigurationError, FloatingBaseDynamics, FloatingBaseParameters, FloatingDynamicsDerivatives,
@@ -109,7 +189,18 @@ pub fn emit_floating(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
         pub const PARAMETER_NAMES: [&str; PARAMETER_COUNT] = [#(#parameter_names),*];
         /// What each base parameter combines.
         pub const BASE_PARAMETER_NAMES: [&str; BASE_PARAMETER_COUNT] = [#(#base_names),*];
+    }
+}
 
+/// The module's types, `trig`, and the robot type.
+fn types(model: &Model, ty: &Ident) -> TokenStream {
+    let type_doc = format!(
+        " `{}` on a floating base: implements [`FloatingBaseDynamics`], \
+         [`FloatingBaseParameters`], [`FloatingDynamicsDerivatives`] and \
+         [`FloatingFrameKinematics`] with flattened, allocation-free code.",
+        model.name()
+    );
+    quote! {
         /// The configuration prepared for every function: base pose and joint sines and cosines.
         pub type Trig = FloatingTrig<DOF>;
         /// A configuration `q` (NQ entries).
@@ -137,38 +228,5 @@ pub fn emit_floating(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
         #[doc = #type_doc]
         #[derive(Clone, Copy, Debug, Default)]
         pub struct #ty;
-
-        impl FloatingBaseDynamics<#n, #nv, #p> for #ty {
-            const NAME: &'static str = #name;
-            const JOINT_NAMES: [&'static str; #n] = JOINT_NAMES;
-            const JOINT_LIMITS: [JointLimits; #n] = JOINT_LIMITS;
-            const PARAMETER_NAMES: [&'static str; #p] = PARAMETER_NAMES;
-
-            fn parameters() -> SVector<f64, #p> {
-                SVector::from_array_storage(ArrayStorage([[#(#theta),*]]))
-            }
-
-            #(#dynamics_methods)*
-        }
-
-        impl FloatingBaseParameters<#n, #nv, #p, #b> for #ty {
-            const BASE_PARAMETER_NAMES: [&'static str; #b] = BASE_PARAMETER_NAMES;
-
-            #base_parameters
-
-            #(#base_methods)*
-        }
-
-        impl FloatingDynamicsDerivatives<#n, #nv, #p> for #ty {
-            #(#derivative_methods)*
-        }
-
-        #frames
-
-        #(#chunks)*
-    };
-    match syn::parse2::<syn::File>(tokens) {
-        Ok(file) => header + &prettyplease::unparse(&file),
-        Err(e) => panic!("dyngen emitted invalid Rust ({e}); this is a bug in dyngen"),
     }
 }

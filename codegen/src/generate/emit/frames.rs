@@ -6,12 +6,14 @@
 //! functions; two frames at one place share their Jacobians) is not emitted again: its arm
 //! calls the function that exists.
 
-use super::function::{function, Emitted};
+use super::function::function;
+use super::header::Emitted;
 use super::leaves::Leaves;
 use super::plan::Form;
+use super::sizes::Sizes;
 use crate::frame_names::frame_identifiers;
-use crate::generate::quantities::QuantityKind;
-use crate::generate::trace::{Arg, Shape, SymbolicRobot};
+use crate::generate::quantities::{Arg, QuantityKind, Shape};
+use crate::generate::trace::SymbolicRobot;
 use crate::model::Model;
 use crate::symbolic::Id;
 use dyngen_runtime::ReferenceFrame;
@@ -71,14 +73,33 @@ pub(super) fn frame_items(
     leaves: &Leaves,
     ty: &Ident,
     frame_trait: &FrameTrait,
+    sizes: &Sizes,
 ) -> TokenStream {
-    let n = Literal::usize_unsuffixed(frame_trait.width);
-    let (trait_name, trig, enum_doc) = (&frame_trait.name, &frame_trait.trig, frame_trait.enum_doc);
-    let frames = model.frames();
-    let variants: Vec<Ident> = frames
+    let variants: Vec<Ident> = model
+        .frames()
         .iter()
         .map(|f| format_ident!("{}", frame_identifiers(&f.name).variant))
         .collect();
+    let enum_items = frame_enum(model, &variants, frame_trait.enum_doc);
+    let (functions, calls) = frame_functions(robot, leaves, frame_trait.width, sizes);
+    let implementation = frame_trait_impl(frame_trait, ty, &variants, &calls);
+    let methods = functions.iter().map(|e| &e.method);
+    let chunks = functions.iter().flat_map(|e| &e.chunks);
+    quote! {
+        #enum_items
+
+        #implementation
+
+        #(#methods)*
+
+        #(#chunks)*
+    }
+}
+
+/// `FRAME_COUNT`, `FRAME_NAMES`, the `Frame` enum (`variants`, documented `enum_doc`) and its
+/// `RobotFrame` implementation.
+fn frame_enum(model: &Model, variants: &[Ident], enum_doc: &str) -> TokenStream {
+    let frames = model.frames();
     let names: Vec<&str> = frames.iter().map(|f| f.name.as_str()).collect();
     let docs = frames.iter().enumerate().map(|(k, f)| {
         let body = match (f.parent, model.floating_base()) {
@@ -92,52 +113,6 @@ pub(super) fn frame_items(
         }
     });
     let count = Literal::usize_unsuffixed(frames.len());
-
-    // Which function computes each frame quantity: an existing one, or one emitted here.
-    let mut existing: HashMap<(Vec<Id>, Vec<Arg>, Shape), TokenStream> = HashMap::new();
-    for q in robot.quantities.iter().filter(|q| KINEMATICS.contains(&q.kind)) {
-        let name = format_ident!("{}", q.kind.name());
-        existing.insert((q.outputs.clone(), q.args.clone(), q.shape), quote!(Self::#name));
-    }
-    let mut functions: Vec<Emitted> = Vec::new();
-    let mut calls: HashMap<(QuantityKind, usize, Option<ReferenceFrame>), TokenStream> = HashMap::new();
-    for q in robot.quantities.iter().filter(|q| q.kind.is_per_frame()) {
-        let frame = q.frame.as_ref().expect("a frame quantity names its frame");
-        let key = (q.outputs.clone(), q.args.clone(), q.shape);
-        let call = match existing.get(&key) {
-            Some(call) => call.clone(),
-            None => {
-                let name = format_ident!("{}", q.name());
-                functions.push(function(robot, leaves, q, frame_trait.width, Form::Scalar));
-                existing.insert(key, quote!(#name));
-                quote!(#name)
-            }
-        };
-        calls.insert((q.kind, frame.index, frame.reference), call);
-    }
-    let arms = |kind: QuantityKind, args: TokenStream| -> Vec<TokenStream> {
-        let mut arms = Vec::new();
-        for (k, variant) in variants.iter().enumerate() {
-            if let Some(call) = calls.get(&(kind, k, None)) {
-                arms.push(quote!(Frame::#variant => #call(#args),));
-            }
-            for r in ReferenceFrame::ALL {
-                if let Some(call) = calls.get(&(kind, k, Some(r))) {
-                    let reference = format_ident!("{r:?}");
-                    arms.push(quote!((Frame::#variant, ReferenceFrame::#reference) => #call(#args),));
-                }
-            }
-        }
-        arms
-    };
-    let pose = arms(QuantityKind::FramePose, quote!(t));
-    let jacobian = arms(QuantityKind::FrameJacobian, quote!(t));
-    let time_variation = arms(QuantityKind::FrameJacobianTimeVariation, quote!(t, qd));
-    let velocity = arms(QuantityKind::FrameVelocity, quote!(t, qd));
-    let acceleration = arms(QuantityKind::FrameClassicalAcceleration, quote!(t, qd, qdd));
-    let kinematics = arms(QuantityKind::FrameKinematics, quote!(t, qd));
-    let methods = functions.iter().map(|e| &e.method);
-    let chunks = functions.iter().flat_map(|e| &e.chunks);
     quote! {
         /// Number of named frames (the end-effector and the description's `frames`).
         pub const FRAME_COUNT: usize = #count;
@@ -159,7 +134,85 @@ pub(super) fn frame_items(
                 }
             }
         }
+    }
+}
 
+/// Which function computes a frame quantity: by kind, frame index and reference frame.
+type FrameCalls = HashMap<(QuantityKind, usize, Option<ReferenceFrame>), TokenStream>;
+
+/// The frame functions to emit (of Jacobians `width` columns wide), and which function computes
+/// each frame quantity: an existing one, or one emitted here.
+fn frame_functions(
+    robot: &SymbolicRobot,
+    leaves: &Leaves,
+    width: usize,
+    sizes: &Sizes,
+) -> (Vec<Emitted>, FrameCalls) {
+    let mut existing: HashMap<(Vec<Id>, Vec<Arg>, Shape), TokenStream> = HashMap::new();
+    for q in robot.quantities.iter().filter(|q| KINEMATICS.contains(&q.kind)) {
+        let name = format_ident!("{}", q.kind.name());
+        existing.insert((q.outputs.clone(), q.args.clone(), q.shape), quote!(Self::#name));
+    }
+    let mut functions: Vec<Emitted> = Vec::new();
+    let mut calls = FrameCalls::new();
+    for q in robot.quantities.iter().filter(|q| q.kind.is_per_frame()) {
+        let frame = q.frame.as_ref().expect("a frame quantity names its frame");
+        let key = (q.outputs.clone(), q.args.clone(), q.shape);
+        let call = match existing.get(&key) {
+            Some(call) => call.clone(),
+            None => {
+                let name = format_ident!("{}", q.name());
+                functions.push(function(robot, leaves, q, width, Form::Scalar, sizes));
+                existing.insert(key, quote!(#name));
+                quote!(#name)
+            }
+        };
+        calls.insert((q.kind, frame.index, frame.reference), call);
+    }
+    (functions, calls)
+}
+
+/// The arms of the `match` of the trait method of `kind`: per frame (and reference frame), the
+/// call of the function that computes it, with `args`.
+fn frame_arms(
+    variants: &[Ident],
+    calls: &FrameCalls,
+    kind: QuantityKind,
+    args: TokenStream,
+) -> Vec<TokenStream> {
+    let mut arms = Vec::new();
+    for (k, variant) in variants.iter().enumerate() {
+        if let Some(call) = calls.get(&(kind, k, None)) {
+            arms.push(quote!(Frame::#variant => #call(#args),));
+        }
+        for r in ReferenceFrame::ALL {
+            if let Some(call) = calls.get(&(kind, k, Some(r))) {
+                let reference = format_ident!("{r:?}");
+                arms.push(quote!((Frame::#variant, ReferenceFrame::#reference) => #call(#args),));
+            }
+        }
+    }
+    arms
+}
+
+/// The frame trait's implementation for `ty`: each method a `match` on the frame (and the
+/// reference frame) calling the function `calls` names.
+fn frame_trait_impl(
+    frame_trait: &FrameTrait,
+    ty: &Ident,
+    variants: &[Ident],
+    calls: &FrameCalls,
+) -> TokenStream {
+    let n = Literal::usize_unsuffixed(frame_trait.width);
+    let (trait_name, trig) = (&frame_trait.name, &frame_trait.trig);
+    let arms = |kind, args| frame_arms(variants, calls, kind, args);
+    let pose = arms(QuantityKind::FramePose, quote!(t));
+    let jacobian = arms(QuantityKind::FrameJacobian, quote!(t));
+    let time_variation = arms(QuantityKind::FrameJacobianTimeVariation, quote!(t, qd));
+    let velocity = arms(QuantityKind::FrameVelocity, quote!(t, qd));
+    let acceleration = arms(QuantityKind::FrameClassicalAcceleration, quote!(t, qd, qdd));
+    let kinematics = arms(QuantityKind::FrameKinematics, quote!(t, qd));
+    quote! {
         impl #trait_name for #ty {
             type Frame = Frame;
 
@@ -219,9 +272,5 @@ pub(super) fn frame_items(
                 }
             }
         }
-
-        #(#methods)*
-
-        #(#chunks)*
     }
 }

@@ -7,23 +7,19 @@
 //! A function in chunks gets it for the cost of a few lines: both methods call the same chunks.
 //! A function in one piece gets a second copy of its statements ([`one_piece_into`]).
 
-use super::function::{kernel_call, lane_methods, writes_in_place, KernelKind};
+use super::kernel::{kernel_call, lane_methods, KernelKind};
+use super::outputs::{is_structural_zero, writes_in_place};
 use super::plan::Form;
 use super::signature::Param;
 use crate::generate::hash::fnv1a64;
 use crate::generate::trace::Quantity;
-use crate::symbolic::{Graph, Id, Node};
+use crate::symbolic::Graph;
 use proc_macro2::{Ident, TokenStream};
 use quote::{format_ident, quote};
 
 /// Whether `q`, emitted in `form`, gets an `_into` method besides its by-value one.
 pub(super) fn has_into_form(q: &Quantity, form: Form) -> bool {
     form == Form::Scalar && q.kind.has_into_form() && writes_in_place(q, form)
-}
-
-/// Whether output `id` is zero in every state: never written, left as the result was filled.
-pub(super) fn is_structural_zero(g: &Graph, id: Id) -> bool {
-    g.constant_value(id) == Some(0.0) || g.node(id) == Node::LaneZero
 }
 
 /// The id of `q`'s pattern of structural zeros, which a `ResultBuffer` records: two functions
@@ -68,11 +64,11 @@ pub(super) fn into_method(
 /// The `_into` method of a function in one piece: a kernel of its own running `body` (the
 /// prelude and the statements the by-value method runs, writing into `out`) on the buffer.
 ///
-/// The same statements again, not a function both methods call: the by-value method then loses
-/// its result's placement in the caller's return slot (its result held in registers and spills
-/// to the end and copied out, much slower on a large result). The copy costs compile time (the
-/// arms' modules grow by a quarter to a half) and nothing at run time; without it an `_into`
-/// would be the by-value function and a copy, slower than by value.
+/// The same statements again, not a function both methods call: the by-value method then lost
+/// its result's placement in the caller's return slot (Solo-12's regressor ran slower, its
+/// result held in registers and spills to the end and copied out). The copy costs compile time
+/// (the arms' modules grow by a quarter to a half) and nothing at run time; without it an
+/// `_into` would be the by-value function and a copy, slower than by value (`BENCHMARKS.md`).
 pub(super) fn one_piece_into(
     name: &Ident,
     params: &[Param],

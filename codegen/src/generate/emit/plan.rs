@@ -255,12 +255,19 @@ impl<'a> Plan<'a> {
 
     /// The expression computing `id` from its operands.
     pub(super) fn value(&self, id: Id, used_leaves: &mut Vec<Id>) -> TokenStream {
-        if let Some(f) = self
-            .fused
-            .get(&id)
-            .filter(|_| self.robot.graph.node(id).is_lanes())
-        {
-            // `c ± a·b` on lane vectors: the lane types' multiply-adds, which negate for free.
+        if let Some(f) = self.fused.get(&id) {
+            return self.multiply_add(id, f, used_leaves);
+        }
+        if let Some(mapped) = self.lane_by_lane(id, used_leaves) {
+            return mapped;
+        }
+        self.operation(id, used_leaves)
+    }
+
+    /// `c ± a·b`, the fused multiply-add `f` that computes `id`.
+    fn multiply_add(&self, id: Id, f: &MulAdd, used_leaves: &mut Vec<Id>) -> TokenStream {
+        if self.robot.graph.node(id).is_lanes() {
+            // On lane vectors: the lane types' multiply-adds, which negate for free.
             let (a, b, c) = (
                 self.atom(f.a, used_leaves),
                 self.atom(f.b, used_leaves),
@@ -273,37 +280,41 @@ impl<'a> Plan<'a> {
                 (true, true) => quote!(#a.mul_neg_sub(#b, #c)),
             };
         }
+        let b = self.atom(f.b, used_leaves);
+        let (a, c) = (
+            self.maybe_negated(f.a, f.negate_product, used_leaves),
+            self.maybe_negated(f.c, f.negate_addend, used_leaves),
+        );
+        match self.form {
+            Form::Scalar => quote!(arith.mul_add(#a, #b, #c)),
+            // `(-x).mul_add(..)`: a method call binds tighter than the minus.
+            Form::Lanes => match f.negate_product && self.robot.graph.constant_value(f.a).is_none() {
+                true => quote!((#a).mul_add(#b, #c)),
+                false => quote!(#a.mul_add(#b, #c)),
+            },
+        }
+    }
+
+    /// In the lane form, a non-arithmetic node lane by lane, as the scalar code computes it.
+    fn lane_by_lane(&self, id: Id, used_leaves: &mut Vec<Id>) -> Option<TokenStream> {
+        if self.form != Form::Lanes {
+            return None;
+        }
+        let (a, f) = match self.robot.graph.node(id) {
+            Node::Sin(a) => (a, quote!(dyngen_runtime::__private::libm::sin)),
+            Node::Cos(a) => (a, quote!(dyngen_runtime::__private::libm::cos)),
+            Node::Tanh(a) => (a, quote!(dyngen_runtime::__private::libm::tanh)),
+            Node::Sign(a) => (a, quote!(dyngen_runtime::__private::sign)),
+            _ => return None,
+        };
+        let a = self.atom(a, used_leaves);
+        Some(quote!(#a.map_in(arith, #f)))
+    }
+
+    /// The expression of operation node `id` (not a multiply-add).
+    fn operation(&self, id: Id, used_leaves: &mut Vec<Id>) -> TokenStream {
         let mut atom = |x| self.atom(x, used_leaves);
-        if let Some(f) = self.fused.get(&id) {
-            let b = atom(f.b);
-            let (a, c) = (
-                self.maybe_negated(f.a, f.negate_product, used_leaves),
-                self.maybe_negated(f.c, f.negate_addend, used_leaves),
-            );
-            return match self.form {
-                Form::Scalar => quote!(arith.mul_add(#a, #b, #c)),
-                // `(-x).mul_add(..)`: a method call binds tighter than the minus.
-                Form::Lanes => match f.negate_product && self.robot.graph.constant_value(f.a).is_none() {
-                    true => quote!((#a).mul_add(#b, #c)),
-                    false => quote!(#a.mul_add(#b, #c)),
-                },
-            };
-        }
-        if self.form == Form::Lanes {
-            // The non-arithmetic nodes, lane by lane, as the scalar code computes them.
-            let lane_function = match self.robot.graph.node(id) {
-                Node::Sin(a) => Some((a, quote!(dyngen_runtime::__private::libm::sin))),
-                Node::Cos(a) => Some((a, quote!(dyngen_runtime::__private::libm::cos))),
-                Node::Tanh(a) => Some((a, quote!(dyngen_runtime::__private::libm::tanh))),
-                Node::Sign(a) => Some((a, quote!(dyngen_runtime::__private::sign))),
-                _ => None,
-            };
-            if let Some((a, f)) = lane_function {
-                let a = atom(a);
-                return quote!(#a.map_in(arith, #f));
-            }
-        }
-        let value = match self.robot.graph.node(id) {
+        match self.robot.graph.node(id) {
             Node::Sin(a) => {
                 let a = atom(a);
                 quote!(dyngen_runtime::__private::libm::sin(#a))
@@ -356,8 +367,7 @@ impl<'a> Plan<'a> {
             }
             Node::Const(_) | Node::Input(_) | Node::LaneZero => unreachable!("leaves are not statements"),
             Node::Extract(..) => unreachable!("lane extractions are destructuring statements"),
-        };
-        value
+        }
     }
 }
 

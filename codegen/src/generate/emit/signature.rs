@@ -2,7 +2,8 @@
 
 use super::leaves::Leaves;
 use super::plan::Form;
-use crate::generate::trace::{Arg, SymbolicRobot};
+use crate::generate::quantities::Arg;
+use crate::generate::trace::SymbolicRobot;
 use crate::symbolic::Id;
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};

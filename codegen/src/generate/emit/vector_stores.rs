@@ -7,13 +7,14 @@
 //! registers are legal and not discouraged: in the AVX-512 copy of a build that does not target
 //! the processor (generic tuning), not in a native build (Intel's tuning prefers 256 bits). The
 //! shuffles that gather those lanes and the 512-bit values they spill made the arms' regressors
-//! slower by default than native; a vector store gives the vectoriser no run to join
-//! (`docs/performance-notes.md`, *Default builds against native ones*).
+//! slower by default than native on an Intel host; a vector store gives the vectoriser no run
+//! to join (`BENCHMARKS.md`).
 
-use super::function::OutputSlots;
 use super::lane_width::LaneWidth;
+use super::outputs::OutputSlots;
 use super::plan::{Form, Plan};
-use crate::generate::trace::{Quantity, Shape};
+use crate::generate::quantities::Shape;
+use crate::generate::trace::Quantity;
 use crate::symbolic::{Id, Node};
 use proc_macro2::TokenStream;
 use quote::{format_ident, quote};

@@ -10,7 +10,7 @@
 
 use super::generated_crate::{cargo, workspace_root, write_crate};
 use dyngen_codegen::description::load;
-use dyngen_codegen::internals::generate::{emit, trace, Provenance, CHUNK_VALUES};
+use dyngen_codegen::internals::generate::{emit, emit_with, trace, Provenance, Sizes, SIZES};
 
 /// Values per chunk in the chunked copy: small enough that every function of more than a few
 /// dozen operations is split, several times over.
@@ -181,7 +181,7 @@ fn chunked_functions_compute_what_whole_ones_do() {
     let root = workspace_root();
     let description = root.join("codegen/tests/data/example-robot-data/kinova_description/kinova.urdf");
     let model = load(&description).unwrap_or_else(|e| panic!("{e}")).model;
-    let mut robot = trace(&model);
+    let robot = trace(&model);
     let provenance = Provenance {
         source: "kinova.urdf".into(),
         source_hash: "0".into(),
@@ -189,9 +189,11 @@ fn chunked_functions_compute_what_whole_ones_do() {
         type_name: "Robot".into(),
     };
     let whole = emit(&model, &robot, &provenance);
-    assert_eq!(robot.chunk_values, CHUNK_VALUES);
-    robot.chunk_values = SMALL_CHUNKS;
-    let chunked = emit(&model, &robot, &provenance);
+    let small = Sizes {
+        chunk_values: SMALL_CHUNKS,
+        ..SIZES
+    };
+    let chunked = emit_with(&model, &robot, &provenance, &small);
     // The chunked copy has what this test is for: chunks of both forms, handing on scalars and
     // lane vectors, and results written in place as well as built by the caller.
     for (what, needle) in [
