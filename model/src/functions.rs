@@ -193,6 +193,25 @@ impl Functions {
     }
 }
 
+/// As a description writes it: `all` ([`ALL_GROUPS`]), or a list of group keywords
+/// (`[regressors, forward_dynamics]`); an unknown keyword, or a group without the one it needs,
+/// is an error.
+impl<'de> serde::Deserialize<'de> for Functions {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        #[derive(serde::Deserialize)]
+        #[serde(untagged)]
+        enum Written {
+            Keyword(String),
+            List(Vec<String>),
+        }
+        let chosen = match Written::deserialize(deserializer)? {
+            Written::Keyword(k) => Functions::from_keywords([k.as_str()]),
+            Written::List(list) => Functions::from_keywords(list.iter().map(String::as_str)),
+        };
+        chosen.map_err(serde::de::Error::custom)
+    }
+}
+
 impl fmt::Display for Functions {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let groups: Vec<&str> = self.groups().map(FunctionGroup::keyword).collect();

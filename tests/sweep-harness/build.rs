@@ -6,7 +6,7 @@
 //! set, stops after loading a model with more moving joints (generated code grows
 //! quadratically: a quick sweep can leave the largest robots out and still check they load).
 
-use dyngen_codegen::description::{self, UrdfOptions};
+use dyngen_codegen::description::{self, Choices};
 use dyngen_codegen::generate::{generate_robot_with, write_file};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
@@ -58,8 +58,11 @@ fn generate(path: &Path, out_dir: &Path) -> Value {
     }
     let shown = path.to_string_lossy().into_owned();
     // Every group: the comparison calls every function, derivatives included, at any size.
-    let all = Some(dyngen_codegen::Functions::all());
-    match generate_robot_with(path, &shown, "Robot", "dyngen sweep harness", &UrdfOptions::default(), all) {
+    let all = Choices {
+        functions: Some(dyngen_codegen::Functions::all()),
+        ..Choices::default()
+    };
+    match generate_robot_with(path, &shown, "Robot", "dyngen sweep harness", &all) {
         Ok(robot) => match write_file(&out_dir.join("robot.rs"), &robot.code) {
             Ok(_) => {
                 outcome["status"] = "generated".into();

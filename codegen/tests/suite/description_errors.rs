@@ -5,7 +5,7 @@
 //! substrings the message must contain. Places are line:column in both formats, and URDF
 //! messages also name the element (`joint 'j1'`).
 
-use dyngen_codegen::description::{self, DescriptionError, Loaded, Location, UrdfOptions};
+use dyngen_codegen::description::{self, DescriptionError, Loaded, Location, Choices};
 use std::path::{Path, PathBuf};
 
 /// The base YAML robot; comments give the line numbers the cases rely on.
@@ -51,7 +51,7 @@ enum Src {
     /// BASE_YAML with (from, to) replacements, then `extra` appended.
     Yaml(&'static [(&'static str, &'static str)], &'static str),
     /// BASE_URDF with replacements.
-    Urdf(&'static [(&'static str, &'static str)], UrdfOptions),
+    Urdf(&'static [(&'static str, &'static str)], Choices),
     /// A complete YAML text, for the wrapper form (`file` decides where `urdf:` resolves).
     YamlAt(&'static str, PathBuf),
 }
@@ -127,8 +127,8 @@ fn robots(file: &str) -> PathBuf {
         .join(file)
 }
 
-fn no_options() -> UrdfOptions {
-    UrdfOptions::default()
+fn no_options() -> Choices {
+    Choices::default()
 }
 
 #[test]
@@ -546,9 +546,9 @@ fn inertia_grossly_violating_the_triangle_inequality() {
 /// kind (the warnings themselves: `codegen/tests/suite/non_physical_inertia.rs`).
 #[test]
 fn strict_inertia_refuses_slight_defects() {
-    let strict = || UrdfOptions {
+    let strict = || Choices {
         inertia: description::NonPhysicalInertia::Strict,
-        ..UrdfOptions::default()
+        ..Choices::default()
     };
     check(
         Src::Urdf(&[("ixx=\"0.1\"", "ixx=\"-0.001\"")], strict()),
@@ -627,7 +627,7 @@ fn unknown_end_effector() {
             "link 'tool9' is not defined",
         ],
     );
-    let options = UrdfOptions {
+    let options = Choices {
         end_effector: Some(description::FrameSpec::link("tool9")),
         ..no_options()
     };
@@ -665,7 +665,7 @@ fn unknown_locked_joint() {
         Src::Yaml(&[("name: r\n", "name: r\nlocked_joints: { j9: 0.0 }\n")], ""),
         &["bad.yaml:2:22", "locked joint 'j9'", "unknown locked joint"],
     );
-    let options = UrdfOptions {
+    let options = Choices {
         locked_joints: vec![("j9".into(), 0.0)],
         ..no_options()
     };
@@ -1082,7 +1082,7 @@ fn odd_inputs_give_errors_not_panics() {
         BASE_URDF.replace("0.1", "1e308"),
     ];
     for text in &urdfs {
-        match description::load_urdf_str(text, Path::new("odd.urdf"), &UrdfOptions::default()) {
+        match description::load_urdf_str(text, Path::new("odd.urdf"), &Choices::default()) {
             Ok(_) => {}
             Err(e) => {
                 let msg = e.to_string();

@@ -11,7 +11,7 @@ use dyngen_testkit as common;
 
 use common::fixture::{self, Fixture, State};
 use common::{assert_close, column, workspace_root};
-use dyngen_codegen::description::{self, Loaded, NonPhysicalInertia, UrdfOptions};
+use dyngen_codegen::description::{self, Loaded, NonPhysicalInertia, Choices};
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::internals::generate::{trace, SymbolicRobot};
 use nalgebra::DMatrix;
@@ -216,9 +216,9 @@ fn allegro_hand_with_non_physical_inertias_matches_pinocchio_as_written() {
     }
     assert!(loaded.warnings[0].contains("broken by 20%: I1 + I2 = 5.78591e-6 < I3 = 7.2659e-6 kg·m²"));
 
-    let options = |inertia| UrdfOptions {
+    let options = |inertia| Choices {
         inertia,
-        ..UrdfOptions::default()
+        ..Choices::default()
     };
     let file = workspace_root().join(path);
     let error = description::load_with(&file, &options(NonPhysicalInertia::Strict))

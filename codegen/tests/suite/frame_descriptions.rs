@@ -1,8 +1,8 @@
-//! Named frames in descriptions: what `frames:` (YAML), `UrdfOptions::frames` and an exported
+//! Named frames in descriptions: what `frames:` (YAML), `Choices::frames` and an exported
 //! description give, and the one-line errors (file:line:column) for frames that cannot be.
 
 use dyngen_codegen::description::{
-    self, load_urdf_str, load_yaml_str, FrameSelection, FrameSpec, UrdfOptions,
+    self, load_urdf_str, load_yaml_str, FrameSelection, FrameSpec, Choices,
 };
 use dyngen_codegen::model::Model;
 use std::path::Path;
@@ -117,9 +117,9 @@ fn a_bare_urdf_takes_frames_from_its_options() {
   <joint name="t" type="fixed"><parent link="l1"/><child link="tip"/><origin xyz="0 0 0.2"/></joint>
 </robot>
 "#;
-    let options = |frames| UrdfOptions {
+    let options = |frames| Choices {
         frames,
-        ..UrdfOptions::default()
+        ..Choices::default()
     };
     let all = load_urdf_str(urdf, Path::new("r.urdf"), &options(FrameSelection::AllLinks)).unwrap();
     assert_eq!(names(&all.model), ["tip", "l1"]);
