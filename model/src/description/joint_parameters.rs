@@ -71,13 +71,23 @@ fn columns<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Vec<JointTermKi
     struct Column(JointTermKind);
     impl<'de> Deserialize<'de> for Column {
         fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
-            let c = String::deserialize(deserializer)?;
-            match JointTermKind::ALL.into_iter().find(|k| k.keyword() == c) {
-                Some(kind) => Ok(Column(kind)),
-                None => Err(de::Error::custom(format!(
-                    "unknown joint-parameter column '{c}' (expected armature, viscous, coulomb or offset)"
-                ))),
+            // Judged in the visitor, so that the error carries the keyword's place.
+            struct Keyword;
+            impl Visitor<'_> for Keyword {
+                type Value = Column;
+                fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                    f.write_str("a column: armature, viscous, coulomb or offset")
+                }
+                fn visit_str<E: de::Error>(self, c: &str) -> Result<Column, E> {
+                    match JointTermKind::ALL.into_iter().find(|k| k.keyword() == c) {
+                        Some(kind) => Ok(Column(kind)),
+                        None => Err(E::custom(format!(
+                            "unknown joint-parameter column '{c}' (expected armature, viscous, coulomb or offset)"
+                        ))),
+                    }
+                }
             }
+            deserializer.deserialize_str(Keyword)
         }
     }
     struct Columns;
