@@ -737,8 +737,8 @@ fn frame_quantities(
     frame: &crate::model::Frame,
 ) -> (Vec<Quantity>, Vec<(String, Vec<Id>)>) {
     let motion = dynamics::FrameMotion::new(model, world, qd, frame);
-    let out = frame_motion_quantities(&motion, qd, qdd, index, frame, model.dof());
-    let snake = frame_identifiers(&frame.name).snake;
+    let snake = frame_identifiers(model.frames().iter().map(|f| f.name.as_str())).swap_remove(index).snake;
+    let out = frame_motion_quantities(&motion, qd, qdd, index, &snake, model.dof());
     let frame_of = |reference| FrameOf {
         index,
         snake: snake.clone(),
@@ -770,13 +770,12 @@ pub(super) fn frame_motion_quantities(
     qd: &[Expr],
     qdd: &[Expr],
     index: usize,
-    frame: &crate::model::Frame,
+    snake: &str,
     n: usize,
 ) -> Vec<Quantity> {
-    let snake = frame_identifiers(&frame.name).snake;
     let frame_of = |reference| FrameOf {
         index,
-        snake: snake.clone(),
+        snake: snake.to_owned(),
         reference,
     };
     let quantity = |kind, reference, args: Vec<Arg>, shape, outputs| Quantity {

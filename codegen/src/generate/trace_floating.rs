@@ -10,6 +10,7 @@ use super::trace::{
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::floating::{self as algorithms, FloatingBase};
 use crate::dynamics::{self, FloatingDynamics, FrameMotion};
+use crate::frame_names::frame_identifiers;
 use crate::model::Model;
 use crate::scalar::Scalar;
 use crate::spatial::{Mat3, RigidInertia, Transform, Vec3};
@@ -189,13 +190,14 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
                 ids(&algorithms::centroidal_bias(model, &base, &x, &inertias, &qd)),
             ),
         ];
+        let frame_ids = frame_identifiers(model.frames().iter().map(|f| f.name.as_str()));
         for (index, frame) in model.frames().iter().enumerate() {
             let motion = FrameMotion {
                 pose: dynamics::kinematics::frame_pose(Some(&pose), &world, frame),
                 jacobian: algorithms::floating_frame_jacobian(model, &pose, &world, frame),
                 jacobian_dot: algorithms::floating_frame_jacobian_dot(model, &pose, &world, &qd, frame),
             };
-            quantities.extend(frame_motion_quantities(&motion, &qd, &a, index, frame, nv));
+            quantities.extend(frame_motion_quantities(&motion, &qd, &a, index, &frame_ids[index].snake, nv));
         }
         // The derivatives, traced after everything else so the functions above keep their ids.
         let inverse_derivatives = pair_ids(algorithms::floating_inverse_dynamics_derivatives(

@@ -15,6 +15,7 @@ use super::near_exact::{Snap, REPORTED};
 use super::raw::RawRobot;
 use super::source_map::{joint_path, link_path, SourceMap};
 use super::tree::Topology;
+use crate::frame_names::frame_identifiers;
 use crate::model::{exact_sin_cos, from_xyz_rpy, Body, Frame, Inertia, Joint, JointKind, Mimic, Model, Pose};
 use nalgebra::{Matrix3, Vector3};
 
@@ -163,7 +164,7 @@ pub(crate) fn assemble(
         .collect();
 
     let end_effector = end_effector(c, settings, &carrier, &placement, &joints, diags)?;
-    let frames = named_frames(c, settings, &end_effector, &carrier, &placement)?;
+    let frames = named_frames(c, settings, &end_effector, &carrier, &placement, diags)?;
     let raw_dynamics: Vec<_> = c.raw.joints.iter().map(|j| j.dynamics).collect();
     // Only moving joints that are not locked carry joint-level parameters.
     let moving = |r: usize| matches!(c.joints[r].motion, Motion::Moving(_)) && locked[r].is_none();
@@ -525,6 +526,7 @@ fn named_frames(
     end_effector: &Frame,
     carrier: &[Option<usize>],
     placement: &[Pose],
+    diags: &mut Diagnostics,
 ) -> Result<Vec<Frame>, DescriptionError> {
     let specs: Vec<(String, FrameSpec)> = match &settings.choices.frames {
         FrameSelection::EndEffector => Vec::new(),
@@ -557,20 +559,35 @@ fn named_frames(
             );
             return Err(settings.map.error(path, msg));
         }
-        let mut names: Vec<&str> = vec![end_effector.name.as_str()];
-        names.extend(frames.iter().map(|f| f.name.as_str()));
-        names.push(frame.name.as_str());
-        if let Some((earlier, _, spelled)) = crate::frame_names::clashing_frame_names(&names) {
-            let msg = format!(
-                "frame '{}' and frame '{earlier}' are both spelled {spelled} in generated code; \
-                 give one of them another `name`",
-                frame.name
-            );
-            return Err(settings.map.error(path, msg));
-        }
         frames.push(frame);
     }
+    note_suffixed_names(end_effector, &frames, settings.map, diags);
     Ok(frames)
+}
+
+/// One note per frame whose name generated code spells like an earlier frame's, with the
+/// spellings it gets instead (`crate::frame_names`: the rule, and the one list the generator
+/// uses too).
+fn note_suffixed_names(end_effector: &Frame, frames: &[Frame], map: &SourceMap, diags: &mut Diagnostics) {
+    let all: Vec<&Frame> = std::iter::once(end_effector).chain(frames).collect();
+    let ids = frame_identifiers(all.iter().map(|f| f.name.as_str()));
+    for (k, id) in ids.iter().enumerate() {
+        let Some(earlier) = id.suffixed_after else {
+            continue;
+        };
+        let (first, alike) = (&ids[earlier], &all[k].name);
+        let own = &frame_identifiers([alike.as_str()])[0];
+        let spelled = match own.variant == first.variant {
+            true => format!("`Frame::{}`", first.variant),
+            false => format!("`{}` in function names", first.snake),
+        };
+        let msg = format!(
+            "frames '{}' and '{alike}' are both spelled {spelled} in generated code: '{alike}' is \
+             `Frame::{}`, `{}` in function names (`frame_pose_{}`)",
+            all[earlier].name, id.variant, id.snake, id.snake
+        );
+        diags.notes.push(map.diagnostic("frames", None, &msg));
+    }
 }
 
 /// Leaf link whose chain has the most moving joints; ties go to the first in depth-first order.

@@ -75,9 +75,9 @@ pub(super) fn frame_items(
     let n = Literal::usize_unsuffixed(frame_trait.width);
     let (trait_name, trig, enum_doc) = (&frame_trait.name, &frame_trait.trig, frame_trait.enum_doc);
     let frames = model.frames();
-    let variants: Vec<Ident> = frames
-        .iter()
-        .map(|f| format_ident!("{}", frame_identifiers(&f.name).variant))
+    let variants: Vec<Ident> = frame_identifiers(frames.iter().map(|f| f.name.as_str()))
+        .into_iter()
+        .map(|id| format_ident!("{}", id.variant))
         .collect();
     let names: Vec<&str> = frames.iter().map(|f| f.name.as_str()).collect();
     let docs = frames.iter().enumerate().map(|(k, f)| {
