@@ -33,9 +33,20 @@ fn main() {
     std::fs::write(out_dir.join("outcome.json"), text).expect("write outcome.json");
 }
 
+/// The choices for a bare URDF: angles within 1e-9 rad of a quarter turn made exact, as
+/// `tools/sweep.py` hands the file to Pinocchio (`exact_quarter_turns`). A YAML description
+/// makes its own.
+fn choices(path: &Path) -> Choices {
+    let urdf = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("urdf"));
+    Choices {
+        snap_angles: urdf.then_some(1e-9),
+        ..Choices::default()
+    }
+}
+
 /// Load first (so that a loader error is told apart from a generation error), then generate.
 fn generate(path: &Path, out_dir: &Path) -> Value {
-    let loaded = match description::load(path) {
+    let loaded = match description::load_with(path, &choices(path)) {
         Ok(loaded) => loaded,
         Err(e) => return json!({ "status": "load_error", "message": e.to_string() }),
     };
@@ -60,7 +71,7 @@ fn generate(path: &Path, out_dir: &Path) -> Value {
     // Every group: the comparison calls every function, derivatives included, at any size.
     let all = Choices {
         functions: Some(dyngen_codegen::Functions::all()),
-        ..Choices::default()
+        ..choices(path)
     };
     match generate_robot_with(path, &shown, "Robot", "dyngen sweep harness", &all) {
         Ok(robot) => match write_file(&out_dir.join("robot.rs"), &robot.code) {

@@ -34,9 +34,10 @@ fn numbers(v: &Value) -> Vec<f64> {
         .collect()
 }
 
-/// `from_xyz_rpy` makes angles within 1e-9 rad of a quarter turn exact; Pinocchio does not,
-/// so its `cos(π/2)` is 6e-17 (Panda) or 4.9e-12 (UR5, whose URDF writes 1.57079632679).
-/// Snap the reference the same way, then compare tightly.
+/// dyngen's robots have exact quarter turns (the Panda's URDF writes π/2 to the last bit, which
+/// `from_xyz_rpy` takes as exact; `robots/ur5.yaml` snaps the UR5's 1.57079632679); Pinocchio
+/// computes `cos(π/2)` as 6e-17 (Panda) or 4.9e-12 (UR5). Snap the reference the same way,
+/// then compare tightly.
 fn snap(x: f64) -> f64 {
     for exact in [-1.0, 0.0, 1.0] {
         if (x - exact).abs() < 1e-9 {

@@ -498,6 +498,7 @@ fn committed_urdfs_through_urdf_rs_give_the_file_loaders_models() {
     };
     let ur5 = Choices {
         end_effector: Some(FrameSpec::link("tool0")),
+        snap_angles: Some(1e-9),
         ..Choices::default()
     };
     for (file, yaml, options) in [
