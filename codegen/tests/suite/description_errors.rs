@@ -172,8 +172,28 @@ fn yaml_unknown_field() {
     );
     check(
         Src::Yaml(&[("name: r\n", "name: r\ngravty: [0, 0, -9.81]\n")], ""),
-        &["bad.yaml:2:1", "unknown field `gravty`"],
+        &["bad.yaml:2:1", "unknown field `gravty`, expected one of `name`, `urdf`", "`functions`"],
     );
+}
+
+/// A choice whose value does not parse is an error at the value (the choices are one
+/// flattened struct, whose values serde reads without their places: they are read again).
+#[test]
+fn yaml_bad_choice_values_have_their_places() {
+    check(
+        Src::Yaml(&[("name: r\n", "name: r\ngravity: [0, -9.81]\n")], ""),
+        &["bad.yaml:2:10: gravity: invalid length 2, expected an array of length 3"],
+    );
+    check(
+        Src::Yaml(&[("name: r\n", "name: r\n\nfloating_base: 1\n")], ""),
+        &["bad.yaml:3:16: floating_base: invalid type: integer `1`, expected a boolean"],
+    );
+    check(
+        Src::Yaml(&[("name: r\n", "name: r\nlocked_joints: { j1: 0.1, j1: 0.2 }\n")], ""),
+        &["bad.yaml:2:", "joint 'j1' is locked twice"],
+    );
+    // A robot file that is not a map says what it expected.
+    check(Src::YamlAt("- a\n", "w.yaml".into()), &["w.yaml:1:1", "expected struct RobotFile"]);
 }
 
 #[test]

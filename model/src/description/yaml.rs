@@ -210,9 +210,20 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
     check_flow_nesting(text, file)?;
     let spec: RobotFile = serde_yaml::from_str(text).map_err(|e| {
         // serde reads a flattened struct from a copy of the values, without their places:
-        // a choice that does not parse is read again on its own, for its line and column.
-        let e = serde_yaml::from_str::<Choices>(text).err().unwrap_or(e);
-        serde_error(file, &e)
+        // the choices are read again on their own, and an error about one of their keys
+        // (`gravity: invalid length 2, ...`) is reported from there, with its line and column.
+        let about_a_choice = |e: &serde_yaml::Error| {
+            let message = e.to_string();
+            Choices::KEYS.iter().any(|k| {
+                message
+                    .strip_prefix(k)
+                    .is_some_and(|rest| rest.starts_with([':', '.', '[']))
+            })
+        };
+        match serde_yaml::from_str::<Choices>(text) {
+            Err(choice) if about_a_choice(&choice) => serde_error(file, &choice),
+            _ => serde_error(file, &e),
+        }
     })?;
     let yaml_map = yaml_spans::index(text, file);
     let RobotFile {
