@@ -30,5 +30,4 @@ impl FunctionsArgs {
         };
         Functions::from_keywords(keywords.iter().map(String::as_str)).map(Some)
     }
-
 }

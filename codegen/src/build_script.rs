@@ -4,7 +4,9 @@
 //! In `build.rs`, `fn main() { dyngen_codegen::compile_robot("robots/panda.yaml"); }`; in
 //! `src/lib.rs`, `dyngen_runtime::include_robot!(panda);` gives `panda::Panda`.
 
-use crate::description::{Choices, DescriptionError, FrameSelection, FrameSpec, JointParameters, NonPhysicalInertia};
+use crate::description::{
+    Choices, DescriptionError, FrameSelection, FrameSpec, JointParameters, NonPhysicalInertia,
+};
 use crate::generate::{generate_robot_with, module_name, type_name, write_file, GenerateError, RobotReport};
 use crate::{FunctionGroup, Functions};
 use std::path::{Path, PathBuf};

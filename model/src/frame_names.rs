@@ -122,7 +122,14 @@ mod tests {
 
     #[test]
     fn names_become_rust_identifiers() {
-        let names = ["panda_hand_tcp", "link_3.0_tip", "7th-Link", "FL_FOOT", "l_sole2_IMU", ".."];
+        let names = [
+            "panda_hand_tcp",
+            "link_3.0_tip",
+            "7th-Link",
+            "FL_FOOT",
+            "l_sole2_IMU",
+            "..",
+        ];
         assert_eq!(
             spelled(&names),
             pairs(&[
@@ -134,26 +141,41 @@ mod tests {
                 ("Frame", "frame_"),
             ])
         );
-        assert!(frame_identifiers(names).iter().all(|id| id.suffixed_after.is_none()));
+        assert!(frame_identifiers(names)
+            .iter()
+            .all(|id| id.suffixed_after.is_none()));
     }
 
     #[test]
     fn names_spelled_alike_get_suffixes_in_order() {
         let ids = frame_identifiers(["tool0", "link_1", "Link1"]);
         assert_eq!(
-            ids.iter().map(|id| (id.variant.as_str(), id.snake.as_str())).collect::<Vec<_>>(),
+            ids.iter()
+                .map(|id| (id.variant.as_str(), id.snake.as_str()))
+                .collect::<Vec<_>>(),
             [("Tool0", "tool0"), ("Link1", "link_1"), ("Link1_2", "link1_2")]
         );
         assert_eq!(ids[2].suffixed_after, Some(1));
         // Either spelling alike is enough; the suffix joins a letter without `_`.
         assert_eq!(
             spelled(&["a-b", "a_b", "ab_c", "AbC"]),
-            pairs(&[("AB", "a_b"), ("AB2", "a_b_2"), ("AbC", "ab_c"), ("AbC2", "abc_2")])
+            pairs(&[
+                ("AB", "a_b"),
+                ("AB2", "a_b_2"),
+                ("AbC", "ab_c"),
+                ("AbC2", "abc_2")
+            ])
         );
         // A suffix never takes a spelling some frame has, nor one given before.
         assert_eq!(
             spelled(&["x", "X", "x_2", "x-3", "X."]),
-            pairs(&[("X", "x"), ("X4", "x_4"), ("X2", "x_2"), ("X3", "x_3"), ("X5", "x_5")])
+            pairs(&[
+                ("X", "x"),
+                ("X4", "x_4"),
+                ("X2", "x_2"),
+                ("X3", "x_3"),
+                ("X5", "x_5")
+            ])
         );
     }
 }

@@ -214,7 +214,8 @@ impl<'de> serde::Deserialize<'de> for Functions {
                 while let Some(keyword) = seq.next_element()? {
                     keywords.push(keyword);
                 }
-                Functions::from_keywords(keywords.iter().map(String::as_str)).map_err(serde::de::Error::custom)
+                Functions::from_keywords(keywords.iter().map(String::as_str))
+                    .map_err(serde::de::Error::custom)
             }
         }
         deserializer.deserialize_any(Written)

@@ -125,7 +125,9 @@ fn the_flag_takes_three_values_and_is_refused_where_the_yaml_chooses() {
     let repaired = dyngen(&["check", arg(&yaml), "--inertia", "repair"]);
     assert_eq!(repaired.code, Some(0), "{}", repaired.output());
     assert!(
-        repaired.stderr.contains("repaired to the nearest physical inertia"),
+        repaired
+            .stderr
+            .contains("repaired to the nearest physical inertia"),
         "{}",
         repaired.output()
     );

@@ -46,7 +46,11 @@ fn check_exit_codes() {
     let rounded = repository_file("robots/panda_rounded.yaml");
     let mixed = dyngen(&["check", arg(&rounded), "--snap-angles", "1e-4"]);
     assert_eq!(mixed.code, Some(1), "{}", mixed.output());
-    assert!(mixed.stderr.contains("`snap_angles` was chosen twice"), "{}", mixed.output());
+    assert!(
+        mixed.stderr.contains("`snap_angles` was chosen twice"),
+        "{}",
+        mixed.output()
+    );
     let open = dyngen(&["check", arg(&arm7), "--snap-angles", "1e-4"]);
     assert_eq!(open.code, Some(0), "{}", open.output());
 }

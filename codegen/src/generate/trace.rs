@@ -737,7 +737,9 @@ fn frame_quantities(
     frame: &crate::model::Frame,
 ) -> (Vec<Quantity>, Vec<(String, Vec<Id>)>) {
     let motion = dynamics::FrameMotion::new(model, world, qd, frame);
-    let snake = frame_identifiers(model.frames().iter().map(|f| f.name.as_str())).swap_remove(index).snake;
+    let snake = frame_identifiers(model.frames().iter().map(|f| f.name.as_str()))
+        .swap_remove(index)
+        .snake;
     let out = frame_motion_quantities(&motion, qd, qdd, index, &snake, model.dof());
     let frame_of = |reference| FrameOf {
         index,

@@ -190,14 +190,15 @@ pub fn trace_floating(model: &Model) -> SymbolicRobot {
                 ids(&algorithms::centroidal_bias(model, &base, &x, &inertias, &qd)),
             ),
         ];
-        let frame_ids = frame_identifiers(model.frames().iter().map(|f| f.name.as_str()));
+        let spelled = frame_identifiers(model.frames().iter().map(|f| f.name.as_str()));
         for (index, frame) in model.frames().iter().enumerate() {
             let motion = FrameMotion {
                 pose: dynamics::kinematics::frame_pose(Some(&pose), &world, frame),
                 jacobian: algorithms::floating_frame_jacobian(model, &pose, &world, frame),
                 jacobian_dot: algorithms::floating_frame_jacobian_dot(model, &pose, &world, &qd, frame),
             };
-            quantities.extend(frame_motion_quantities(&motion, &qd, &a, index, &frame_ids[index].snake, nv));
+            let snake = &spelled[index].snake;
+            quantities.extend(frame_motion_quantities(&motion, &qd, &a, index, snake, nv));
         }
         // The derivatives, traced after everything else so the functions above keep their ids.
         let inverse_derivatives = pair_ids(algorithms::floating_inverse_dynamics_derivatives(

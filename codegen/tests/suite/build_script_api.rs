@@ -158,8 +158,17 @@ fn the_choice_setters_compose_in_any_order() {
         snap_angles: Some(1e-4),
         ..Choices::default()
     };
-    let before = new().choices(whole.clone()).floating_base().frames(FrameSelection::AllLinks);
-    let after = new().floating_base().frames(FrameSelection::AllLinks).choices(whole);
+    let before = new()
+        .choices(whole.clone())
+        .floating_base()
+        .frames(FrameSelection::AllLinks);
+    let after = new()
+        .floating_base()
+        .frames(FrameSelection::AllLinks)
+        .choices(whole);
     assert_eq!(before.chosen(), after.chosen());
-    assert_eq!(after.chosen().chosen_keys(), ["frames", "gravity", "snap_angles", "floating_base"]);
+    assert_eq!(
+        after.chosen().chosen_keys(),
+        ["frames", "gravity", "snap_angles", "floating_base"]
+    );
 }

@@ -5,7 +5,7 @@
 //! substrings the message must contain. Places are line:column in both formats, and URDF
 //! messages also name the element (`joint 'j1'`).
 
-use dyngen_codegen::description::{self, DescriptionError, Loaded, Location, Choices};
+use dyngen_codegen::description::{self, Choices, DescriptionError, Loaded, Location};
 use std::path::{Path, PathBuf};
 
 /// The base YAML robot; comments give the line numbers the cases rely on.
@@ -47,6 +47,8 @@ const BASE_URDF: &str = r#"<robot name="r">
 // line 7: <parent> at 7:5, <child> at 7:26, <axis> at 7:44;  line 8: <limit> at 8:5
 
 /// Where a case's text comes from.
+// Test cases, built once each: the size of `Choices` does not matter.
+#[allow(clippy::large_enum_variant)]
 enum Src {
     /// BASE_YAML with (from, to) replacements, then `extra` appended.
     Yaml(&'static [(&'static str, &'static str)], &'static str),
@@ -172,7 +174,11 @@ fn yaml_unknown_field() {
     );
     check(
         Src::Yaml(&[("name: r\n", "name: r\ngravty: [0, 0, -9.81]\n")], ""),
-        &["bad.yaml:2:1", "unknown field `gravty`, expected one of `name`, `urdf`", "`functions`"],
+        &[
+            "bad.yaml:2:1",
+            "unknown field `gravty`, expected one of `name`, `urdf`",
+            "`functions`",
+        ],
     );
 }
 
@@ -189,11 +195,17 @@ fn yaml_bad_choice_values_have_their_places() {
         &["bad.yaml:3:16: floating_base: invalid type: integer `1`, expected a boolean"],
     );
     check(
-        Src::Yaml(&[("name: r\n", "name: r\nlocked_joints: { j1: 0.1, j1: 0.2 }\n")], ""),
+        Src::Yaml(
+            &[("name: r\n", "name: r\nlocked_joints: { j1: 0.1, j1: 0.2 }\n")],
+            "",
+        ),
         &["bad.yaml:2:", "joint 'j1' is locked twice"],
     );
     // A robot file that is not a map says what it expected.
-    check(Src::YamlAt("- a\n", "w.yaml".into()), &["w.yaml:1:1", "expected struct RobotFile"]);
+    check(
+        Src::YamlAt("- a\n", "w.yaml".into()),
+        &["w.yaml:1:1", "expected struct RobotFile"],
+    );
 }
 
 #[test]

@@ -6,7 +6,7 @@
 //! frame. The rest checks the rules that those two robots do not exercise: branching trees,
 //! YAML and URDF giving the same model, composed fixed placements, defaults.
 
-use dyngen_codegen::description::{self, FrameSpec, Loaded, Choices};
+use dyngen_codegen::description::{self, Choices, FrameSpec, Loaded};
 use dyngen_codegen::model::{from_xyz_rpy, JointKind, Model, Pose};
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;

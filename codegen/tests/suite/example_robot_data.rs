@@ -12,7 +12,7 @@ use dyngen_testkit as common;
 
 use common::fixture::{self, Fixture, State};
 use common::{assert_close, column, workspace_root};
-use dyngen_codegen::description::{self, Loaded, NonPhysicalInertia, Choices};
+use dyngen_codegen::description::{self, Choices, Loaded, NonPhysicalInertia};
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::internals::generate::{trace, SymbolicRobot};
 use nalgebra::DMatrix;

@@ -4,7 +4,7 @@
 //! its key, and the model written as
 //! URDF loads back as itself.
 
-use dyngen_codegen::description::{self, to_urdf_rs, FrameSelection, FrameSpec, Choices};
+use dyngen_codegen::description::{self, to_urdf_rs, Choices, FrameSelection, FrameSpec};
 use dyngen_codegen::dynamics::FloatingDynamics;
 use dyngen_codegen::model::Inertia;
 use dyngen_runtime::ReferenceFrame;

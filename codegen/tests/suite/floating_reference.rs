@@ -12,7 +12,7 @@ use dyngen_testkit as common;
 use common::fixture::{matrix, vector};
 use common::floating_fixture::{self, Order};
 use common::{assert_close, column, workspace_root};
-use dyngen_codegen::description::{self, FrameSelection, FrameSpec, Loaded, Choices};
+use dyngen_codegen::description::{self, Choices, FrameSelection, FrameSpec, Loaded};
 use dyngen_codegen::dynamics::FloatingDynamics;
 use dyngen_codegen::internals::generate::{trace_floating, Arguments, SymbolicRobot};
 use dyngen_runtime::ReferenceFrame;

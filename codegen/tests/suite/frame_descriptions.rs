@@ -1,9 +1,7 @@
 //! Named frames in descriptions: what `frames:` (YAML), `Choices::frames` and an exported
 //! description give, and the one-line errors (file:line:column) for frames that cannot be.
 
-use dyngen_codegen::description::{
-    self, load_urdf_str, load_yaml_str, FrameSelection, FrameSpec, Choices,
-};
+use dyngen_codegen::description::{self, load_urdf_str, load_yaml_str, Choices, FrameSelection, FrameSpec};
 use dyngen_codegen::model::Model;
 use std::path::Path;
 
@@ -192,7 +190,8 @@ fn names_spelled_alike_in_rust_are_told_apart_with_a_note() {
         frames: FrameSelection::AllLinks,
         ..Choices::default()
     };
-    let loaded = load_urdf_str(TWINS_URDF, Path::new("twins.urdf"), &choices).unwrap_or_else(|e| panic!("{e}"));
+    let loaded =
+        load_urdf_str(TWINS_URDF, Path::new("twins.urdf"), &choices).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(names(&loaded.model), ["tool0", "link_1", "Link1"]);
     let notes: Vec<&String> = loaded.notes.iter().filter(|n| n.contains("'Link1'")).collect();
     assert_eq!(notes.len(), 1, "{:#?}", loaded.notes);
@@ -215,7 +214,11 @@ fn names_spelled_alike_in_rust_are_told_apart_with_a_note() {
         .unwrap_or_else(|e| panic!("{e}"));
     let code = &robot.code;
     for variant in ["Tool0,", "Link1,", "Link1_2,"] {
-        assert_eq!(code.matches(&format!("    {variant}\n")).count(), 1, "variant {variant}");
+        assert_eq!(
+            code.matches(&format!("    {variant}\n")).count(),
+            1,
+            "variant {variant}"
+        );
     }
     for function in ["fn frame_pose_link_1(", "fn frame_pose_link1_2("] {
         assert!(code.contains(function), "{function}");

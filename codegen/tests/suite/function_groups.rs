@@ -253,8 +253,7 @@ fn large_robots_get_the_per_tick_groups_by_default_and_say_so() {
             functions,
             ..Choices::default()
         };
-        generate_robot_with(&path, "chain.yaml", "Chain", "test", &choices)
-        .unwrap_or_else(|e| panic!("{e}"))
+        generate_robot_with(&path, "chain.yaml", "Chain", "test", &choices).unwrap_or_else(|e| panic!("{e}"))
     };
     let robot = generate(None);
     assert_eq!(robot.model.dof(), dof);

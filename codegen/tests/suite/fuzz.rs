@@ -6,7 +6,7 @@
 //! - regression inputs and the stack-depth probes, data-driven.
 //! - random valid trees written as YAML and URDF load back to the same model.
 
-use dyngen_codegen::description::{load_urdf_str, load_yaml_str, FrameSpec, Choices};
+use dyngen_codegen::description::{load_urdf_str, load_yaml_str, Choices, FrameSpec};
 use dyngen_codegen::model::Model;
 use dyngen_testkit::fuzz::{self, check_generation, check_input, corpus, Format};
 use dyngen_testkit::random_model::arb_model;

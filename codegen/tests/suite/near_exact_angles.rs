@@ -2,7 +2,7 @@
 //! the change, keeps the value unless the description opts in (`snap_angles`), and with the
 //! opt-in generates code as lean as for the exact angles.
 
-use dyngen_codegen::description::{load_urdf_str, load_yaml_str, FrameSpec, Choices};
+use dyngen_codegen::description::{load_urdf_str, load_yaml_str, Choices, FrameSpec};
 use dyngen_codegen::internals::generate::trace;
 use dyngen_codegen::model::Model;
 use std::path::Path;
@@ -196,8 +196,9 @@ fn builder_snaps_a_bare_urdf_and_refuses_a_second_snap_for_yaml() {
         .compile()
         .expect_err("snap_angles chosen twice");
     assert!(
-        err.to_string()
-            .contains("`snap_angles` was chosen twice, by `snap_angles:` in the description and by the caller"),
+        err.to_string().contains(
+            "`snap_angles` was chosen twice, by `snap_angles:` in the description and by the caller"
+        ),
         "{err}"
     );
 }

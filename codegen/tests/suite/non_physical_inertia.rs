@@ -12,8 +12,7 @@ use common::oracles::{assert_passed, check_all};
 use common::random_model::random_state;
 use common::workspace_root;
 use dyngen_codegen::description::{
-    from_urdf_rs, load_urdf_str, load_with, load_yaml_str, to_urdf_rs, Loaded, NonPhysicalInertia,
-    Choices,
+    from_urdf_rs, load_urdf_str, load_with, load_yaml_str, to_urdf_rs, Choices, Loaded, NonPhysicalInertia,
 };
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::model::{inertia_defect, Inertia, InertiaDefectKind, Model};
@@ -296,9 +295,7 @@ fn an_unknown_choice_is_an_error_with_its_place() {
 #[test]
 fn a_robot_in_memory_follows_the_choice() {
     let robot = urdf_rs::read_file(data("gross.urdf")).expect("urdf-rs reads it");
-    let error = from_urdf_rs(&robot, &Choices::default())
-        .unwrap_err()
-        .to_string();
+    let error = from_urdf_rs(&robot, &Choices::default()).unwrap_err().to_string();
     assert!(
         error.starts_with("<urdf_rs::Robot 'gross'>: link 'lower': inertia is not physical: triangle inequality broken by 60%"),
         "{error}"

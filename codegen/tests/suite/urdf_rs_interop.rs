@@ -7,8 +7,8 @@
 //! robots and for random trees. Bad input gives the file loader's messages, without the place.
 
 use dyngen_codegen::description::{
-    self, from_urdf_rs, load_urdf_str, to_urdf_rs, DescriptionError, FrameSelection, FrameSpec, Loaded,
-    UrdfExport, Choices,
+    self, from_urdf_rs, load_urdf_str, to_urdf_rs, Choices, DescriptionError, FrameSelection, FrameSpec,
+    Loaded, UrdfExport,
 };
 use dyngen_codegen::internals::generate::{emit, trace, type_name, Provenance};
 use dyngen_codegen::model::{Body, Frame, Joint, JointKind, Limits, Model, Pose};
@@ -383,9 +383,7 @@ fn continuous_joints_and_massless_bodies_are_written_as_urdf_says_them() {
     // The end-effector is the body itself: no extra link, and the default rule finds it.
     assert_eq!(export.robot.links.len(), 2);
     assert_eq!(export.choices, Choices::default());
-    let back = from_urdf_rs(&export.robot, &Choices::default())
-        .unwrap()
-        .model;
+    let back = from_urdf_rs(&export.robot, &Choices::default()).unwrap().model;
     assert_eq!(back, loaded.model);
 }
 
@@ -423,9 +421,7 @@ joints:
     close("ee roll", ee.rpy[0], 0.3);
     assert_eq!(export.warnings.len(), 2, "{:?}", export.warnings);
     // Without the options the URDF gives the default gravity and the longest branch's leaf.
-    let bare = from_urdf_rs(&export.robot, &Choices::default())
-        .unwrap()
-        .model;
+    let bare = from_urdf_rs(&export.robot, &Choices::default()).unwrap().model;
     assert_eq!(bare.gravity(), Vector3::new(0.0, 0.0, -9.81));
     assert_eq!(bare.end_effector().name, "b2");
     assert!(export
@@ -612,11 +608,7 @@ fn what_dyngen_does_not_model_is_noted() {
     <dynamics damping="0.5" friction="0.1"/></joint>
 </robot>"#
     );
-    let loaded = from_urdf_rs(
-        &urdf_rs::read_from_string(&text).unwrap(),
-        &Choices::default(),
-    )
-    .unwrap();
+    let loaded = from_urdf_rs(&urdf_rs::read_from_string(&text).unwrap(), &Choices::default()).unwrap();
     let notes = loaded.notes.join("\n");
     assert!(
         notes.contains(
@@ -798,15 +790,11 @@ fn empty_names_in_memory_are_errors() {
     let text = robot_with(&links(), &joint("j", "continuous", "base", "a", ""));
     let mut robot = urdf_rs::read_from_string(&text).unwrap();
     robot.links[1].name.clear();
-    let e = from_urdf_rs(&robot, &Choices::default())
-        .unwrap_err()
-        .to_string();
+    let e = from_urdf_rs(&robot, &Choices::default()).unwrap_err().to_string();
     assert_eq!(e, "<urdf_rs::Robot 'bad'>: the link at index 1 has an empty name");
     let mut robot = urdf_rs::read_from_string(&text).unwrap();
     robot.joints[0].child.link.clear();
-    let e = from_urdf_rs(&robot, &Choices::default())
-        .unwrap_err()
-        .to_string();
+    let e = from_urdf_rs(&robot, &Choices::default()).unwrap_err().to_string();
     assert_eq!(
         e,
         "<urdf_rs::Robot 'bad'>: joint 'j': the child link name is empty"

@@ -6,12 +6,12 @@
 //! link's placement composed with its own URDF origin, which is what [`crate::model::Joint`]
 //! wants: the frame relative to the parent *moving* joint, not to the parent link.
 
-use super::error::{DescriptionError, Diagnostics, item, num, render, vec3};
+use super::choices::{Choices, FrameSelection, FrameSpec};
+use super::error::{item, num, render, vec3, DescriptionError, Diagnostics};
 use super::items::{too_large, JointShape, Motion};
 use super::joint_parameters;
-use super::non_physical::{self, NonPhysicalLink};
-use super::choices::{Choices, FrameSelection, FrameSpec};
 use super::near_exact::{Snap, REPORTED};
+use super::non_physical::{self, NonPhysicalLink};
 use super::raw::RawRobot;
 use super::source_map::{joint_path, link_path, SourceMap};
 use super::tree::Topology;

@@ -8,8 +8,8 @@
 //! link (the end-effector's) leaves a body's numbers unchanged.
 
 use super::assemble::DEFAULT_GRAVITY;
-use super::error::vec3;
 use super::choices::{Choices, FrameSelection, FrameSpec};
+use super::error::vec3;
 use super::joint_parameters::{JointParameters, JointValues};
 use super::load::from_urdf_rs;
 use crate::model::{

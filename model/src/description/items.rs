@@ -5,10 +5,10 @@
 //! inertia is physical (what is then done about it: `non_physical`). The tree rules (names,
 //! parents, cycles) are in `tree`.
 
-use super::error::{DescriptionError, Diagnostics, item, num, vec3};
+use super::choices::NonPhysicalInertia;
+use super::error::{item, num, vec3, DescriptionError, Diagnostics};
 use super::near_exact::{Finding, Snap};
 use super::non_physical::{self, NonPhysicalLink};
-use super::choices::NonPhysicalInertia;
 use super::raw::{RawInertial, RawJoint, RawLink};
 use super::source_map::{joint_path, link_path, SourceMap};
 use crate::model::{from_xyz_rpy, principal_moments, Inertia, JointKind, Limits, Pose};

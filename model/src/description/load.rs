@@ -128,7 +128,11 @@ pub fn load_yaml_str(text: &str, file: &Path) -> Result<Loaded, DescriptionError
 /// [`load_yaml_str`], with the caller's choices on top of the file's.
 fn load_yaml_with(text: &str, file: &Path, caller: &Choices) -> Result<Loaded, DescriptionError> {
     let parsed = yaml::parse(text, file)?;
-    if let Some(key) = caller.chosen_keys().into_iter().find(|&key| parsed.written.iter().any(|k| k == key)) {
+    if let Some(key) = caller
+        .chosen_keys()
+        .into_iter()
+        .find(|&key| parsed.written.iter().any(|k| k == key))
+    {
         return Err(parsed.yaml_map.key_error(key, chosen_twice(key)));
     }
     let choices = parsed.choices.clone().with(caller.clone());

@@ -1,4 +1,4 @@
-//! Robot descriptions (URDF, and dyngen's YAML) → [`Model`].
+//! Robot descriptions (URDF, and dyngen's YAML) → [`Model`](crate::model::Model).
 //!
 //! The pipeline, one file per step:
 //! 1. read: `urdf` (XML), `yaml` (both YAML forms) or `import` (a [`urdf_rs::Robot`] in
@@ -24,8 +24,8 @@
 //! cannot be modelled exactly (floating joints, a mimic joint whose master is fixed or locked)
 //! is an error. Unlocked mimic joints follow their master (`model::Mimic`).
 //!
-//! The way back, [`to_urdf_rs`] (`export`), writes any [`Model`] as a URDF: to view it in
-//! urdf-viz or RViz, or to hand it to another tool.
+//! The way back, [`to_urdf_rs`] (`export`), writes any [`Model`](crate::model::Model) as a
+//! URDF: to view it in urdf-viz or RViz, or to hand it to another tool.
 
 mod assemble;
 mod choices;

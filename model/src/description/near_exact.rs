@@ -137,7 +137,8 @@ mod tests {
         assert_eq!(f.len(), 2);
         assert!(f.iter().all(|f| !f.snapped));
         assert!(
-            f[0].message.contains("origin roll 1.57079632679 is 4.9e-12 from 1·π/2")
+            f[0].message
+                .contains("origin roll 1.57079632679 is 4.9e-12 from 1·π/2")
                 && f[0].message.contains("`snap_angles: 1e-11`"),
             "{}",
             f[0].message

@@ -11,7 +11,7 @@
 //! meet (a body's motion depends on every joint above it, a joint's torque on every body below),
 //! so one vector operation does the work of up to eight scalar ones. A joint's transform is
 //! differentiated along its own coordinate through its motion subspace
-//! ([`super::seeded_frame`]: `d(X m)/dq = −S × X m`), not through its sines and cosines.
+//! (`seeded_frame`: `d(X m)/dq = −S × X m`), not through its sines and cosines.
 //! Running the directions one at a time instead gives the sparsest scalar program (the flattened cost of the analytical
 //! derivatives of Carpentier & Mansard, 2018), but a long and irregular one: the Panda's runs
 //! 1.5–2.2× faster in lanes (`BENCHMARKS.md`), the UR5's, already sparse, no faster.

@@ -13,7 +13,7 @@
 //! the same code in release). A case is replayed from its seed alone.
 
 use crate::random_model::SplitMix64;
-use dyngen_codegen::description::{load_urdf_str, load_yaml_str, Loaded, Choices};
+use dyngen_codegen::description::{load_urdf_str, load_yaml_str, Choices, Loaded};
 use dyngen_codegen::internals::generate::{emit, trace, Provenance};
 use dyngen_codegen::model::Model;
 use std::panic::{catch_unwind, AssertUnwindSafe};

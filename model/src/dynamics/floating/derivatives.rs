@@ -285,7 +285,7 @@ fn matrices<S: LaneScalar>(nv: usize, runs: &[Run<S::Lanes>]) -> (DMatrix<S>, DM
 /// `(∂τ/∂q, ∂τ/∂ν)` of floating inverse dynamics at `(q, ν, ν̇ = a)`, `q` the joints' coordinates
 /// (the base enters through `base`), both `nv × nv`; entry `(i, c)` is `∂τ_i/∂x_c`.
 ///
-/// In lanes only ([`plan`]): every direction reaches the base rows, so the lanes fill, and
+/// In lanes only (`plan`): every direction reaches the base rows, so the lanes fill, and
 /// generated code ran faster than one direction per run (`BENCHMARKS.md`).
 pub fn floating_inverse_dynamics_derivatives<S: LaneScalar>(
     model: &Model,

@@ -96,7 +96,7 @@ pub fn floating_mass_matrix_inverse<S: Scalar>(
 }
 
 /// [`floating_mass_matrix_inverse`] by sums over common ancestors
-/// ([`TreeLdl::inverse_by_ancestors`]): the same values, other operations.
+/// (`TreeLdl::inverse_by_ancestors`): the same values, other operations.
 pub fn floating_mass_matrix_inverse_by_ancestors<S: Scalar>(
     model: &Model,
     base: &FloatingBase<S>,

@@ -255,7 +255,15 @@ fn frames_spelled_alike_compile_with_their_suffixes() {
     for variant in ["AB", "Link1", "Link1_2", "AB2"] {
         assert!(code.contains(&format!("    {variant},\n")), "variant {variant}");
     }
-    assert_eq!(report.robot.notes.iter().filter(|n| n.contains("both spelled")).count(), 2);
+    assert_eq!(
+        report
+            .robot
+            .notes
+            .iter()
+            .filter(|n| n.contains("both spelled"))
+            .count(),
+        2
+    );
     write_crate(krate, "generated-twins", &["robot"]);
     let (success, _, stderr) = cargo(krate, &["build", "--lib"]);
     assert!(success, "the generated crate does not build cleanly:\n{stderr}");
