@@ -16,9 +16,9 @@
 //! [`Choices`] (`choices`): a YAML file's keys, or the caller's for a bare URDF. `load` runs
 //! the pipeline.
 //!
-//! Modules use only modules listed after them in this order: `load`, `export`, `yaml`,
-//! `assemble`, `joint_parameters`, `items`, `non_physical`, `tree`, `urdf`, `import`,
-//! `yaml_spans`, `choices`, `near_exact`, `source_map`, `raw`, `error` (no cycle).
+//! Modules use only modules listed after them in this order: `export`, `load`, `yaml`,
+//! `assemble`, `items`, `non_physical`, `choices`, `joint_parameters`, `tree`, `urdf`, `import`,
+//! `yaml_spans`, `near_exact`, `source_map`, `raw`, `error` (no cycle).
 //!
 //! Nothing here panics on user input, and nothing is silently dropped or guessed: what
 //! cannot be modelled exactly (floating joints, a mimic joint whose master is fixed or locked)
