@@ -61,8 +61,8 @@ class Robot:
     # URDF mimic joints as Pinocchio 4's mimic joints (`mimic=True`, with the tree:
     # pinocchio_reference.build_models): the coordinates are the joints that mimic nothing.
     mimic: bool = False
-    # Angles within 1e-9 rad of a quarter turn made exact, as dyngen's loader takes them
-    # (pinocchio_reference.exact_quarter_turns). Off for the robots whose files predate it and
+    # Angles within 1e-9 rad of a quarter turn made exact, as dyngen loads them with
+    # `snap_angles: 1e-9` (pinocchio_reference.exact_quarter_turns). Off for the robots whose files predate it and
     # stay as they are (panda, ur5, panda_mimic, mimic_arm; only the UR5's URDF has an angle it
     # would change, and its conditioning keeps the 5e-12 difference below 1e-9).
     exact_quarter_turns: bool = True

@@ -33,12 +33,13 @@ RPY = re.compile(r'(\brpy\s*=\s*)(["\'])([^"\']*)\2')
 
 def exact_quarter_turns(urdf, tolerance=None):
     """The URDF text with every `rpy` angle within 1e-9 rad of a multiple of π/2 written as
-    that multiple, which is what dyngen's loader takes it for (`exact_sin_cos` in
-    model/src/model/pose.rs). A URDF that writes 1.57079632679 (Kinova, UR) otherwise gives
+    that multiple, which is the model dyngen loads with `snap_angles: 1e-9` (what the tests of
+    the example-robot-data fixtures and robots/ur5.yaml ask for; dyngen uses an angle as written
+    unless asked). A URDF that writes 1.57079632679 (Kinova, UR) otherwise gives
     Pinocchio rotations 5e-12 off dyngen's, which an ill-conditioned mass matrix amplifies to
-    more than 1e-9 in forward dynamics. Angles farther off (1.5708) are left alone, as dyngen
-    leaves them, unless a `tolerance` is given: then this is dyngen's `snap_angles:
-    <tolerance>` (model/src/description/near_exact.rs), e.g. 1e-4 makes `1.5708` exact and
+    more than 1e-9 in forward dynamics. Angles farther off (1.5708) are left alone, as
+    `snap_angles: 1e-9` leaves them, unless a `tolerance` is given: then this is dyngen's
+    `snap_angles: <tolerance>` (model/src/description/near_exact.rs), e.g. 1e-4 makes `1.5708` exact and
     leaves `0.7854` (π/4 rounded) as written."""
 
     def snap(text):

@@ -19,7 +19,7 @@ pub struct CheckArgs {
 }
 
 pub fn run(args: CheckArgs) -> Result<(), Failure> {
-    let loaded = load_with(&args.description, &args.loading.urdf_options())?;
+    let loaded = load_with(&args.description, &args.loading.choices(None))?;
     print_diagnostics(&loaded.notes, &loaded.warnings);
     let model = &loaded.model;
     eprintln!(

@@ -7,10 +7,10 @@ use dyngen_codegen::{FunctionGroup, Functions, ALL_GROUPS};
 
 #[derive(Args, Clone, Debug, Default)]
 pub struct FunctionsArgs {
-    /// The groups of functions to generate besides kinematics and dynamics, comma-separated
-    /// (`regressors,base_parameters`), or `all`. Default: what the description's `functions:`
-    /// says, else every group up to 12 joints, and kinematics, dynamics, forward_dynamics and
-    /// frames above.
+    /// `functions`: the groups of functions to generate besides kinematics and dynamics,
+    /// comma-separated (`regressors,base_parameters`), or `all`. Default: what the
+    /// description's `functions:` says, else every group up to 12 joints, and kinematics,
+    /// dynamics, forward_dynamics and frames above.
     #[arg(long, value_name = "GROUPS", value_delimiter = ',', value_parser = keywords())]
     functions: Option<Vec<String>>,
 }
@@ -29,10 +29,5 @@ impl FunctionsArgs {
             return Ok(None);
         };
         Functions::from_keywords(keywords.iter().map(String::as_str)).map(Some)
-    }
-
-    /// The groups as [`dyngen_codegen::Builder::functions`] takes them.
-    pub fn groups(&self) -> Result<Option<Vec<FunctionGroup>>, String> {
-        Ok(self.functions()?.map(|f| f.groups().collect()))
     }
 }

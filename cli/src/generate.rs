@@ -33,16 +33,14 @@ pub fn run(args: GenArgs) -> Result<(), Failure> {
         args.description.display(),
         args.output.display()
     );
+    let choices = args.loading.choices(args.functions.functions()?);
     let mut builder = Builder::new(&args.description)
         .output_file(&args.output)
         .cargo_directives(false)
         .regenerate_command(regenerate)
-        .urdf_options(args.loading.urdf_options());
+        .choices(choices);
     if let Some(name) = &args.type_name {
         builder = builder.type_name(name);
-    }
-    if let Some(groups) = args.functions.groups()? {
-        builder = builder.functions(&groups);
     }
     // Only for a person watching: in a pipe, a failure stays the one `error:` line.
     if std::io::stderr().is_terminal() {

@@ -29,8 +29,7 @@ pub fn run(args: InfoArgs) -> Result<(), Failure> {
         &shown,
         &type_name(&module),
         "dyngen info",
-        &args.loading.urdf_options(),
-        args.functions.functions()?,
+        &args.loading.choices(args.functions.functions()?),
     )?;
     print_diagnostics(&robot.notes, &robot.warnings);
     let model = &robot.model;

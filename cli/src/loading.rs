@@ -1,34 +1,36 @@
-//! The options every command that reads a description shares: the choices a YAML wrapper
-//! would make for a bare URDF file.
+//! The options every command that reads a description shares: the user's choices
+//! ([`Choices`], one flag per key the command line offers), for a bare URDF or the keys a YAML
+//! description does not write.
 
 use clap::{Args, ValueEnum};
-use dyngen_codegen::description::{FrameSelection, FrameSpec, NonPhysicalInertia, UrdfOptions};
+use dyngen_codegen::description::{Choices, FrameSelection, FrameSpec, NonPhysicalInertia};
+use dyngen_codegen::Functions;
 
+/// Each flag is one key of the description's choices (`docs/descriptions.md`, *Choices*): for a
+/// bare URDF, or a key a YAML description does not write (one it writes too is an error).
 #[derive(Args, Clone, Debug, Default)]
 pub struct LoadingArgs {
-    /// For a bare URDF: make origin angles within TOL radians of a quarter turn exact quarter
-    /// turns, and axis components that close to 0 exactly 0 (at most 1e-3; each change is a
-    /// warning). A YAML description sets `snap_angles:` itself.
+    /// `snap_angles`: make origin angles within TOL radians of a quarter turn exact quarter
+    /// turns, and axis components that close to 0 exactly 0 (at most 1e-3; each change a
+    /// note).
     #[arg(long, value_name = "TOL")]
     pub snap_angles: Option<f64>,
-    /// For a bare URDF: the link whose pose and Jacobian are generated (default: the leaf at
-    /// the end of the longest chain). A YAML description sets `end_effector:` itself.
+    /// `end_effector`: the link whose pose and Jacobian are generated (default: the leaf at the
+    /// end of the longest chain).
     #[arg(long, value_name = "LINK")]
     pub end_effector: Option<String>,
-    /// For a bare URDF: a link whose frame is generated besides the end-effector (repeat the
-    /// option for more), or `all` for every link that moves. A YAML description sets
-    /// `frames:` itself.
+    /// `frames`: a link whose frame is generated besides the end-effector (repeat the option
+    /// for more), or `all` for every link that moves.
     #[arg(long = "frame", value_name = "LINK")]
     pub frames: Vec<String>,
-    /// For a bare URDF: what to do with a link whose inertia no real body can have (a negative
+    /// `inertia`: what to do with a link whose inertia no real body can have (a negative
     /// principal moment, a broken triangle inequality, mass without extent about an axis):
     /// load it as written with a warning, repair it to the nearest physical inertia (each
-    /// change a note), or refuse it. A YAML description sets `inertia:` itself.
+    /// change a note), or refuse it.
     #[arg(long, value_enum, value_name = "CHOICE", default_value_t = InertiaArg::AsWritten)]
     pub inertia: InertiaArg,
-    /// For a bare URDF: the root link flies free (a legged robot, a humanoid): the
-    /// configuration gains the base pose and the velocity the base twist. A YAML description
-    /// sets `floating_base:` itself.
+    /// `floating_base`: the root link flies free (a legged robot, a humanoid): the
+    /// configuration gains the base pose and the velocity the base twist.
     #[arg(long)]
     pub floating_base: bool,
 }
@@ -53,15 +55,13 @@ impl From<InertiaArg> for NonPhysicalInertia {
 }
 
 impl LoadingArgs {
-    pub fn urdf_options(&self) -> UrdfOptions {
-        UrdfOptions {
+    /// The flags as one [`Choices`] value, with the `functions` chosen (`--functions` of the
+    /// commands that generate); the keys without a flag are left at their default.
+    pub fn choices(&self, functions: Option<Functions>) -> Choices {
+        Choices {
+            functions,
             snap_angles: self.snap_angles,
-            end_effector: self.end_effector.as_ref().map(|link| FrameSpec {
-                name: None,
-                link: link.clone(),
-                xyz: [0.0; 3],
-                rpy: [0.0; 3],
-            }),
+            end_effector: self.end_effector.as_deref().map(FrameSpec::link),
             frames: match self.frames.iter().any(|f| f == "all") {
                 true => FrameSelection::AllLinks,
                 false if self.frames.is_empty() => FrameSelection::EndEffector,
@@ -69,7 +69,7 @@ impl LoadingArgs {
             },
             inertia: self.inertia.into(),
             floating_base: self.floating_base,
-            ..UrdfOptions::default()
+            ..Choices::default()
         }
     }
 }

@@ -4,7 +4,9 @@
 //! In `build.rs`, `fn main() { dyngen_codegen::compile_robot("robots/panda.yaml"); }`; in
 //! `src/lib.rs`, `dyngen_runtime::include_robot!(panda);` gives `panda::Panda`.
 
-use crate::description::{DescriptionError, FrameSelection, NonPhysicalInertia, UrdfOptions};
+use crate::description::{
+    Choices, DescriptionError, FrameSelection, FrameSpec, JointParameters, NonPhysicalInertia,
+};
 use crate::generate::{generate_robot_with, module_name, type_name, write_file, GenerateError, RobotReport};
 use crate::{FunctionGroup, Functions};
 use std::path::{Path, PathBuf};
@@ -15,7 +17,25 @@ pub fn compile_robot(description: impl AsRef<Path>) {
     Builder::new(description).compile_or_exit();
 }
 
-/// Options for generating one robot from a build script.
+/// Options for generating one robot from a build script: where the module goes and what it
+/// is called, and the user's [`Choices`] on top of the description.
+///
+/// Each choice setter sets one field of the [`Choices`] (whose docs say what each does), so
+/// the setters combine in any order; [`Builder::choices`] sets every field a whole value
+/// chooses. For a bare URDF every choice comes from here; a YAML description makes its own,
+/// and a key chosen both in it and here is an error naming the key (never a silent
+/// preference).
+///
+/// ```no_run
+/// use dyngen_codegen::description::FrameSelection;
+/// use dyngen_codegen::{Builder, FunctionGroup};
+/// Builder::new("urdf/kr210.urdf")
+///     .end_effector("tool0")
+///     .frames(FrameSelection::AllLinks)
+///     .snap_angles(1e-4)
+///     .functions(&[FunctionGroup::Regressors, FunctionGroup::ForwardDynamics])
+///     .compile_or_exit();
+/// ```
 #[derive(Clone, Debug)]
 pub struct Builder {
     description: PathBuf,
@@ -25,8 +45,10 @@ pub struct Builder {
     regenerate: Option<String>,
     type_name: Option<String>,
     cargo_directives: bool,
-    urdf: UrdfOptions,
-    functions: Option<Vec<FunctionGroup>>,
+    choices: Choices,
+    /// Why the groups given to [`Builder::functions`] cannot be generated together (a group
+    /// without one it needs); reported by [`Builder::compile`].
+    invalid_functions: Option<String>,
 }
 
 impl Builder {
@@ -40,61 +62,98 @@ impl Builder {
             regenerate: None,
             type_name: None,
             cargo_directives: true,
-            urdf: UrdfOptions::default(),
-            functions: None,
+            choices: Choices::default(),
+            invalid_functions: None,
         }
     }
 
-    /// For a bare URDF file: make origin angles within `tolerance` radians of a quarter turn
-    /// exact quarter turns, and axis components that close to 0 exactly 0 (at most 1e-3; each
-    /// change is reported as a warning). Vendor files often write `1.5708` for π/2, which leaves
-    /// every rotation dense and the generated code slower. A YAML description sets
-    /// `snap_angles:` itself (giving this option with one is an error).
-    pub fn snap_angles(mut self, tolerance: f64) -> Builder {
-        self.urdf.snap_angles = Some(tolerance);
+    /// Sets [`Choices::end_effector`]: a link name (`.end_effector("tool0")`) or a
+    /// [`FrameSpec`] (a frame at an offset from a link).
+    pub fn end_effector(mut self, frame: impl Into<FrameSpec>) -> Builder {
+        self.choices.end_effector = Some(frame.into());
         self
     }
 
-    /// For a bare URDF file: what to do with a link whose inertia no real body can have
-    /// (default [`NonPhysicalInertia::AsWritten`]: load it as written, with a warning;
-    /// `Repair`: the nearest physical inertia, each change a note; `Strict`: an error). A YAML
-    /// description sets `inertia:` itself (giving this option with one is an error).
-    pub fn inertia(mut self, choice: NonPhysicalInertia) -> Builder {
-        self.urdf.inertia = choice;
-        self
-    }
-
-    /// For a bare URDF file: the root link flies free (a legged robot, a humanoid): the robot
-    /// is generated with `FloatingBaseDynamics` and `FloatingFrameKinematics`
-    /// (`docs/floating_base.md`). A YAML description sets `floating_base:` itself.
-    pub fn floating_base(mut self) -> Builder {
-        self.urdf.floating_base = true;
-        self
-    }
-
-    /// For a bare URDF file: the frames to generate besides the end-effector (a YAML
-    /// description's `frames:`), e.g. `FrameSelection::AllLinks`.
+    /// Sets [`Choices::frames`], e.g. [`FrameSelection::AllLinks`].
     pub fn frames(mut self, frames: FrameSelection) -> Builder {
-        self.urdf.frames = frames;
+        self.choices.frames = frames;
         self
     }
 
-    /// For a bare URDF file: all the choices a YAML wrapper would make (end-effector frame,
-    /// locked joints, gravity, snapping, non-physical inertias). A YAML description makes them
-    /// itself.
-    pub fn urdf_options(mut self, options: UrdfOptions) -> Builder {
-        self.urdf = options;
+    /// Adds a joint to [`Choices::locked_joints`], made rigid at `position` (radians or
+    /// metres); one call per joint (locking a joint twice is an error).
+    pub fn locked_joint(mut self, joint: impl Into<String>, position: f64) -> Builder {
+        self.choices.locked_joints.push((joint.into(), position));
         self
     }
 
-    /// The groups of functions to generate besides kinematics and dynamics (default: what the
-    /// description's `functions:` says, else [`Functions::default_for`](crate::Functions::default_for)
-    /// its joints: every group up to
+    /// Sets [`Choices::gravity`] (m/s², in the base frame).
+    pub fn gravity(mut self, gravity: [f64; 3]) -> Builder {
+        self.choices.gravity = Some(gravity);
+        self
+    }
+
+    /// Sets [`Choices::snap_angles`]: angles within `tolerance` radians of a quarter turn
+    /// made exact, each change a note.
+    pub fn snap_angles(mut self, tolerance: f64) -> Builder {
+        self.choices.snap_angles = Some(tolerance);
+        self
+    }
+
+    /// Sets [`Choices::inertia`]: what to do with a link whose inertia no real body can have.
+    pub fn inertia(mut self, choice: NonPhysicalInertia) -> Builder {
+        self.choices.inertia = choice;
+        self
+    }
+
+    /// Sets [`Choices::floating_base`]: the root link flies free, and the robot is generated
+    /// with `FloatingBaseDynamics` and `FloatingFrameKinematics` (`docs/floating_base.md`).
+    pub fn floating_base(mut self) -> Builder {
+        self.choices.floating_base = true;
+        self
+    }
+
+    /// Sets [`Choices::joint_parameters`]: joint-level regressor columns and values.
+    pub fn joint_parameters(mut self, parameters: JointParameters) -> Builder {
+        self.choices.joint_parameters = Some(parameters);
+        self
+    }
+
+    /// Sets [`Choices::functions`]: the groups of functions to generate besides kinematics
+    /// and dynamics (default: what the description's `functions:` says, else
+    /// [`Functions::default_for`] its joints: every group up to
     /// [`EVERY_GROUP_BY_DEFAULT_UP_TO_DOF`](crate::EVERY_GROUP_BY_DEFAULT_UP_TO_DOF) joints).
-    /// A description that chooses them itself and this option together are an error.
+    /// Groups that cannot go together (`base_parameters` without `regressors`) make
+    /// [`Builder::compile`] fail with the reason.
     pub fn functions(mut self, groups: &[FunctionGroup]) -> Builder {
-        self.functions = Some(groups.to_vec());
+        match Functions::with(groups) {
+            Ok(functions) => {
+                self.choices.functions = Some(functions);
+                self.invalid_functions = None;
+            }
+            Err(message) => {
+                self.choices.functions = None;
+                self.invalid_functions = Some(message);
+            }
+        }
         self
+    }
+
+    /// Sets every field that `choices` chooses ([`Choices::chosen_keys`]: those that are not
+    /// the default), as the field setters would; the other fields keep what was set before or
+    /// after, in any order. E.g. the choices of a URDF export
+    /// ([`UrdfExport::choices`](crate::description::UrdfExport::choices)), or a command line's.
+    pub fn choices(mut self, choices: Choices) -> Builder {
+        if choices.functions.is_some() {
+            self.invalid_functions = None;
+        }
+        self.choices = self.choices.with(choices);
+        self
+    }
+
+    /// The choices set so far: what [`Builder::compile`] generates the description with.
+    pub fn chosen(&self) -> &Choices {
+        &self.choices
     }
 
     /// The directory to write `<module>.rs` into (default: `$OUT_DIR`).
@@ -171,14 +230,10 @@ impl Builder {
         let regenerate = self
             .regenerate
             .unwrap_or_else(|| "cargo build (build.rs)".to_owned());
-        let functions = match &self.functions {
-            Some(groups) => Some(
-                Functions::with(groups)
-                    .map_err(|message| DescriptionError::new(&self.description, message))?,
-            ),
-            None => None,
-        };
-        let robot = generate_robot_with(&self.description, &shown, &ty, &regenerate, &self.urdf, functions)?;
+        if let Some(message) = self.invalid_functions {
+            return Err(DescriptionError::new(&self.description, message).into());
+        }
+        let robot = generate_robot_with(&self.description, &shown, &ty, &regenerate, &self.choices)?;
         if self.cargo_directives {
             for source in &robot.sources {
                 println!("cargo:rerun-if-changed={}", source.display());

@@ -193,6 +193,35 @@ impl Functions {
     }
 }
 
+/// As a description writes it: `all` ([`ALL_GROUPS`]), or a list of group keywords
+/// (`[regressors, forward_dynamics]`); an unknown keyword, or a group without the one it needs,
+/// is an error.
+impl<'de> serde::Deserialize<'de> for Functions {
+    fn deserialize<D: serde::Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+        // A visitor, not a buffered `untagged` enum: the error then carries the place of the
+        // value in the file.
+        struct Written;
+        impl<'de> serde::de::Visitor<'de> for Written {
+            type Value = Functions;
+            fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                write!(f, "`{ALL_GROUPS}` or a list of groups of functions")
+            }
+            fn visit_str<E: serde::de::Error>(self, keyword: &str) -> Result<Functions, E> {
+                Functions::from_keywords([keyword]).map_err(E::custom)
+            }
+            fn visit_seq<A: serde::de::SeqAccess<'de>>(self, mut seq: A) -> Result<Functions, A::Error> {
+                let mut keywords: Vec<String> = Vec::new();
+                while let Some(keyword) = seq.next_element()? {
+                    keywords.push(keyword);
+                }
+                Functions::from_keywords(keywords.iter().map(String::as_str))
+                    .map_err(serde::de::Error::custom)
+            }
+        }
+        deserializer.deserialize_any(Written)
+    }
+}
+
 impl fmt::Display for Functions {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         let groups: Vec<&str> = self.groups().map(FunctionGroup::keyword).collect();

@@ -6,7 +6,7 @@
 //! set, stops after loading a model with more moving joints (generated code grows
 //! quadratically: a quick sweep can leave the largest robots out and still check they load).
 
-use dyngen_codegen::description::{self, UrdfOptions};
+use dyngen_codegen::description::{self, Choices};
 use dyngen_codegen::generate::{generate_robot_with, write_file};
 use serde_json::{json, Value};
 use std::path::{Path, PathBuf};
@@ -33,9 +33,20 @@ fn main() {
     std::fs::write(out_dir.join("outcome.json"), text).expect("write outcome.json");
 }
 
+/// The choices for a bare URDF: angles within 1e-9 rad of a quarter turn made exact, as
+/// `tools/sweep.py` hands the file to Pinocchio (`exact_quarter_turns`). A YAML description
+/// makes its own.
+fn choices(path: &Path) -> Choices {
+    let urdf = path.extension().is_some_and(|e| e.eq_ignore_ascii_case("urdf"));
+    Choices {
+        snap_angles: urdf.then_some(1e-9),
+        ..Choices::default()
+    }
+}
+
 /// Load first (so that a loader error is told apart from a generation error), then generate.
 fn generate(path: &Path, out_dir: &Path) -> Value {
-    let loaded = match description::load(path) {
+    let loaded = match description::load_with(path, &choices(path)) {
         Ok(loaded) => loaded,
         Err(e) => return json!({ "status": "load_error", "message": e.to_string() }),
     };
@@ -58,8 +69,11 @@ fn generate(path: &Path, out_dir: &Path) -> Value {
     }
     let shown = path.to_string_lossy().into_owned();
     // Every group: the comparison calls every function, derivatives included, at any size.
-    let all = Some(dyngen_codegen::Functions::all());
-    match generate_robot_with(path, &shown, "Robot", "dyngen sweep harness", &UrdfOptions::default(), all) {
+    let all = Choices {
+        functions: Some(dyngen_codegen::Functions::all()),
+        ..choices(path)
+    };
+    match generate_robot_with(path, &shown, "Robot", "dyngen sweep harness", &all) {
         Ok(robot) => match write_file(&out_dir.join("robot.rs"), &robot.code) {
             Ok(_) => {
                 outcome["status"] = "generated".into();

@@ -109,7 +109,7 @@ fn a_gross_defect_needs_the_repair_on_every_command() {
 }
 
 #[test]
-fn the_flag_takes_three_values_and_is_for_bare_urdf_files() {
+fn the_flag_takes_three_values_and_is_refused_where_the_yaml_chooses() {
     let file = repository_file(NEGATIVE_MOMENT);
     let bad = dyngen(&["check", arg(&file), "--inertia", "repaired"]);
     assert_eq!(bad.code, Some(2), "{}", bad.output());
@@ -119,14 +119,25 @@ fn the_flag_takes_three_values_and_is_for_bare_urdf_files() {
         bad.output()
     );
 
+    // A YAML description that leaves `inertia:` to the caller takes the flag; one that
+    // writes it refuses the flag, naming the key.
     let yaml = repository_file("codegen/tests/data/non-physical/triangle-inequality.yaml");
-    let refused = dyngen(&["check", arg(&yaml), "--inertia", "repair"]);
+    let repaired = dyngen(&["check", arg(&yaml), "--inertia", "repair"]);
+    assert_eq!(repaired.code, Some(0), "{}", repaired.output());
+    assert!(
+        repaired
+            .stderr
+            .contains("repaired to the nearest physical inertia"),
+        "{}",
+        repaired.output()
+    );
+    let yaml = repository_file("codegen/tests/data/non-physical/gross-repaired.yaml");
+    let refused = dyngen(&["check", arg(&yaml), "--inertia", "strict"]);
     assert_eq!(refused.code, Some(1), "{}", refused.output());
     assert!(
         refused
             .stderr
-            .contains("URDF options were given for a YAML description")
-            && refused.stderr.contains("`inertia:`"),
+            .contains("`inertia` was chosen twice, by `inertia:` in the description and by the caller"),
         "{}",
         refused.output()
     );

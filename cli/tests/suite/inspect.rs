@@ -41,9 +41,18 @@ fn check_exit_codes() {
     // Snapping them away leaves nothing to deny... except what snapping itself reports.
     let snapped = dyngen(&["check", arg(&xarm), "--snap-angles=1e-4"]);
     assert_eq!(snapped.code, Some(0), "{}", snapped.output());
-    // URDF options with a YAML description are an error, never ignored.
-    let mixed = dyngen(&["check", arg(&arm7), "--snap-angles", "1e-4"]);
+    // A choice a YAML description makes itself, made again on the command line, is an error
+    // naming the key, never ignored; one it leaves open is the flag's.
+    let rounded = repository_file("robots/panda_rounded.yaml");
+    let mixed = dyngen(&["check", arg(&rounded), "--snap-angles", "1e-4"]);
     assert_eq!(mixed.code, Some(1), "{}", mixed.output());
+    assert!(
+        mixed.stderr.contains("`snap_angles` was chosen twice"),
+        "{}",
+        mixed.output()
+    );
+    let open = dyngen(&["check", arg(&arm7), "--snap-angles", "1e-4"]);
+    assert_eq!(open.code, Some(0), "{}", open.output());
 }
 
 #[test]

@@ -6,7 +6,7 @@ use super::hash::fnv1a64;
 use super::trace::trace_functions;
 use super::trace_floating::trace_floating;
 use crate::base_parameters::BaseParameterSet;
-use crate::description::{load_with, DescriptionError, UrdfOptions};
+use crate::description::{load_with, Choices, DescriptionError};
 use crate::model::Model;
 use crate::symbolic::OpCounts;
 use crate::{FunctionGroup, Functions, EVERY_GROUP_BY_DEFAULT_UP_TO_DOF};
@@ -65,38 +65,26 @@ pub fn generate_robot(
     type_name: &str,
     regenerate: &str,
 ) -> Result<GeneratedRobot, GenerateError> {
-    generate_robot_with(
-        path,
-        shown_as,
-        type_name,
-        regenerate,
-        &UrdfOptions::default(),
-        None,
-    )
+    generate_robot_with(path, shown_as, type_name, regenerate, &Choices::default())
 }
 
-/// [`generate_robot`] with the choices for a bare URDF file (see
-/// [`load_with`](crate::description::load_with)) and the groups of functions to generate, for a
-/// description that does not choose them itself (`None`: what it chooses, else
-/// [`Functions::default_for`] its joints).
+/// [`generate_robot`] with the caller's [`Choices`], whole: every choice for a bare URDF file;
+/// for a YAML description, those it does not make itself (a key both make is an error naming
+/// it; see [`load_with`](crate::description::load_with)). The functions generated are the
+/// chosen ones (`choices.functions` or the description's `functions:`), else
+/// [`Functions::default_for`] the robot's joints.
 pub fn generate_robot_with(
     path: &Path,
     shown_as: &str,
     type_name: &str,
     regenerate: &str,
-    urdf: &UrdfOptions,
-    functions: Option<Functions>,
+    choices: &Choices,
 ) -> Result<GeneratedRobot, GenerateError> {
     let start = Instant::now();
-    let mut loaded = load_with(path, urdf)?;
-    let functions = match (loaded.functions, functions) {
-        (Some(_), Some(_)) => {
-            let msg = "the functions to generate were chosen twice, by `functions:` in the \
-                       description and by the caller: choose them in one place";
-            return Err(DescriptionError::new(path, msg).into());
-        }
-        (Some(chosen), None) | (None, Some(chosen)) => chosen,
-        (None, None) => {
+    let mut loaded = load_with(path, choices)?;
+    let functions = match loaded.choices.functions {
+        Some(chosen) => chosen,
+        None => {
             let dof = loaded.model.dof();
             let default = Functions::default_for(dof);
             if default != Functions::all() {

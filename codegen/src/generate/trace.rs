@@ -12,7 +12,7 @@
 use super::quantities::{Arg, Dims, QuantityKind, Shape};
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::{self, Directions, Placements};
-use crate::frame_names::frame_identifiers;
+use crate::frame_names::{frame_identifiers, FrameIdentifiers};
 use crate::model::{Frame, JointTermValues, Model};
 use crate::scalar::Scalar;
 use crate::scalar_dual::{LaneTangent, Tangent};
@@ -47,11 +47,11 @@ pub struct Quantity {
 }
 
 impl FrameOf {
-    /// Frame `index` of `Model::frames`, `frame`, in `reference`.
-    pub fn new(index: usize, frame: &Frame, reference: Option<ReferenceFrame>) -> FrameOf {
+    /// Frame `index` of `Model::frames`, spelled `snake` in function names, in `reference`.
+    pub fn new(index: usize, snake: &str, reference: Option<ReferenceFrame>) -> FrameOf {
         FrameOf {
             index,
-            snake: frame_identifiers(&frame.name).snake,
+            snake: snake.to_owned(),
             reference,
         }
     }
@@ -296,8 +296,9 @@ impl<'a> FixedTracer<'a> {
             }
         }
         if self.functions.contains(FunctionGroup::Frames) {
+            let spelled = frame_spellings(self.model);
             for (index, frame) in self.model.frames().iter().enumerate() {
-                self.trace_frame(index, frame);
+                self.trace_frame(index, frame, &spelled[index].snake);
             }
         }
         let row_lane_forms = self.trace_other_forms();
@@ -479,12 +480,12 @@ impl<'a> FixedTracer<'a> {
     /// The per-frame rows of one frame, then other formulations of some of them (the local `J`
     /// carried back from the frame, velocity and acceleration by the forward recursion), kept
     /// where they cost less.
-    fn trace_frame(&mut self, index: usize, frame: &Frame) {
+    fn trace_frame(&mut self, index: usize, frame: &Frame, snake: &str) {
         let (model, qd) = (self.model, &self.qd);
         let motion = dynamics::FrameMotion::new(model, &self.world, qd, frame);
-        let rows = frame_rows(&motion, qd, &self.a, index, frame, self.dims);
+        let rows = frame_rows(&motion, qd, &self.a, index, snake, self.dims);
         self.quantities.extend(rows);
-        let name_of = |kind, reference| FrameOf::new(index, frame, Some(reference)).function_name(kind);
+        let name_of = |kind, reference| FrameOf::new(index, snake, Some(reference)).function_name(kind);
         let mut other_forms = vec![(
             name_of(QuantityKind::FrameJacobian, ReferenceFrame::Local),
             matrix_ids(&dynamics::local_jacobian(model, &self.x, frame)),
@@ -703,14 +704,21 @@ fn row_lane_regressors(
     forms
 }
 
-/// The per-frame rows of one frame (`index` in `Model::frames`) from its motion, in the table's
-/// order, each once per reference frame where it has one; `dims.n` velocity coordinates.
+/// How the model's frames are spelled in generated code, told apart where two would be spelled
+/// alike (`frame_names`): the one list the tracers and the emitter name frames by.
+pub(super) fn frame_spellings(model: &Model) -> Vec<FrameIdentifiers> {
+    frame_identifiers(model.frames().iter().map(|f| f.name.as_str()))
+}
+
+/// The per-frame rows of one frame (`index` in `Model::frames`, spelled `snake`) from its
+/// motion, in the table's order, each once per reference frame where it has one; `dims.n`
+/// velocity coordinates.
 pub(super) fn frame_rows(
     motion: &dynamics::FrameMotion<Expr>,
     qd: &[Expr],
     qdd: &[Expr],
     index: usize,
-    frame: &Frame,
+    snake: &str,
     dims: Dims,
 ) -> Vec<Quantity> {
     let mut rows = Vec::new();
@@ -723,7 +731,7 @@ pub(super) fn frame_rows(
             let (args, shape) = kind.signature(dims);
             rows.push(Quantity {
                 kind,
-                frame: Some(FrameOf::new(index, frame, reference)),
+                frame: Some(FrameOf::new(index, snake, reference)),
                 args,
                 shape,
                 outputs: frame_outputs(motion, kind, reference, qd, qdd),

@@ -5,7 +5,9 @@
 //! floating-base module's methods).
 
 use super::quantities::{Dims, QuantityKind};
-use super::trace::{base_columns, frame_rows, full_from_base, ids, inputs, matrix_ids, pair_ids};
+use super::trace::{
+    base_columns, frame_rows, frame_spellings, full_from_base, ids, inputs, matrix_ids, pair_ids,
+};
 use super::trace::{Inputs, Quantity, SymbolicRobot, Traced};
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::floating::{self as algorithms, FloatingBase};
@@ -178,8 +180,9 @@ impl<'a> FloatingTracer<'a> {
             self.record(kind, outputs);
         }
         if functions.contains(FunctionGroup::Frames) {
+            let spelled = frame_spellings(self.model);
             for (index, frame) in self.model.frames().iter().enumerate() {
-                self.trace_frame(index, frame);
+                self.trace_frame(index, frame, &spelled[index].snake);
             }
         }
         for kind in AFTER_FRAMES.into_iter().filter(chosen) {
@@ -272,14 +275,14 @@ impl<'a> FloatingTracer<'a> {
     }
 
     /// The per-frame rows of one frame, of its motion with the base's.
-    fn trace_frame(&mut self, index: usize, frame: &Frame) {
+    fn trace_frame(&mut self, index: usize, frame: &Frame, snake: &str) {
         let (model, pose, world) = (self.model, &self.base.pose, &self.world);
         let motion = FrameMotion {
             pose: dynamics::kinematics::frame_pose(Some(pose), world, frame),
             jacobian: algorithms::floating_frame_jacobian(model, pose, world, frame),
             jacobian_dot: algorithms::floating_frame_jacobian_dot(model, pose, world, &self.qd, frame),
         };
-        let rows = frame_rows(&motion, &self.qd, &self.a, index, frame, self.dims);
+        let rows = frame_rows(&motion, &self.qd, &self.a, index, snake, self.dims);
         self.quantities.extend(rows);
     }
 

@@ -110,3 +110,65 @@ fn every_file_read_is_reported_for_rerun_if_changed() {
     assert!(names.contains(&"panda.yaml".to_owned()), "{names:?}");
     assert!(names.contains(&"panda.urdf".to_owned()), "{names:?}");
 }
+
+/// Each choice setter sets one field of the builder's `Choices`, so the setters give the same
+/// choices in any order; `.choices(..)` sets the fields its value chooses and keeps the others,
+/// before or after the setters. (`urdf_options`, which replaced every choice, is gone: a
+/// `.floating_base()` before it was silently dropped.)
+#[test]
+fn the_choice_setters_compose_in_any_order() {
+    use dyngen_codegen::description::{Choices, FrameSelection, FrameSpec, NonPhysicalInertia};
+    use dyngen_codegen::{FunctionGroup, Functions};
+    let new = || Builder::new("robot.urdf");
+    let one = new()
+        .floating_base()
+        .frames(FrameSelection::AllLinks)
+        .end_effector("tool0")
+        .locked_joint("finger", 0.01)
+        .gravity([0.0, 0.0, -1.62])
+        .snap_angles(1e-4)
+        .inertia(NonPhysicalInertia::Repair)
+        .functions(&[FunctionGroup::Frames]);
+    let other = new()
+        .functions(&[FunctionGroup::Frames])
+        .inertia(NonPhysicalInertia::Repair)
+        .snap_angles(1e-4)
+        .gravity([0.0, 0.0, -1.62])
+        .locked_joint("finger", 0.01)
+        .end_effector(FrameSpec::link("tool0"))
+        .frames(FrameSelection::AllLinks)
+        .floating_base();
+    assert_eq!(one.chosen(), other.chosen());
+    let expected = Choices {
+        end_effector: Some(FrameSpec::link("tool0")),
+        frames: FrameSelection::AllLinks,
+        locked_joints: vec![("finger".into(), 0.01)],
+        gravity: Some([0.0, 0.0, -1.62]),
+        snap_angles: Some(1e-4),
+        inertia: NonPhysicalInertia::Repair,
+        floating_base: true,
+        joint_parameters: None,
+        functions: Some(Functions::with(&[FunctionGroup::Frames]).unwrap()),
+    };
+    assert_eq!(one.chosen(), &expected);
+
+    // A whole value, before or after field setters, keeps what it does not choose.
+    let whole = Choices {
+        gravity: Some([0.0, 0.0, -1.62]),
+        snap_angles: Some(1e-4),
+        ..Choices::default()
+    };
+    let before = new()
+        .choices(whole.clone())
+        .floating_base()
+        .frames(FrameSelection::AllLinks);
+    let after = new()
+        .floating_base()
+        .frames(FrameSelection::AllLinks)
+        .choices(whole);
+    assert_eq!(before.chosen(), after.chosen());
+    assert_eq!(
+        after.chosen().chosen_keys(),
+        ["frames", "gravity", "snap_angles", "floating_base"]
+    );
+}

@@ -5,7 +5,7 @@
 //! substrings the message must contain. Places are line:column in both formats, and URDF
 //! messages also name the element (`joint 'j1'`).
 
-use dyngen_codegen::description::{self, DescriptionError, Loaded, Location, UrdfOptions};
+use dyngen_codegen::description::{self, Choices, DescriptionError, Loaded, Location};
 use std::path::{Path, PathBuf};
 
 /// The base YAML robot; comments give the line numbers the cases rely on.
@@ -47,11 +47,13 @@ const BASE_URDF: &str = r#"<robot name="r">
 // line 7: <parent> at 7:5, <child> at 7:26, <axis> at 7:44;  line 8: <limit> at 8:5
 
 /// Where a case's text comes from.
+// Test cases, built once each: the size of `Choices` does not matter.
+#[allow(clippy::large_enum_variant)]
 enum Src {
     /// BASE_YAML with (from, to) replacements, then `extra` appended.
     Yaml(&'static [(&'static str, &'static str)], &'static str),
     /// BASE_URDF with replacements.
-    Urdf(&'static [(&'static str, &'static str)], UrdfOptions),
+    Urdf(&'static [(&'static str, &'static str)], Choices),
     /// A complete YAML text, for the wrapper form (`file` decides where `urdf:` resolves).
     YamlAt(&'static str, PathBuf),
 }
@@ -127,8 +129,8 @@ fn robots(file: &str) -> PathBuf {
         .join(file)
 }
 
-fn no_options() -> UrdfOptions {
-    UrdfOptions::default()
+fn no_options() -> Choices {
+    Choices::default()
 }
 
 #[test]
@@ -172,7 +174,37 @@ fn yaml_unknown_field() {
     );
     check(
         Src::Yaml(&[("name: r\n", "name: r\ngravty: [0, 0, -9.81]\n")], ""),
-        &["bad.yaml:2:1", "unknown field `gravty`"],
+        &[
+            "bad.yaml:2:1",
+            "unknown field `gravty`, expected one of `name`, `urdf`",
+            "`functions`",
+        ],
+    );
+}
+
+/// A choice whose value does not parse is an error at the value (the choices are one
+/// flattened struct, whose values serde reads without their places: they are read again).
+#[test]
+fn yaml_bad_choice_values_have_their_places() {
+    check(
+        Src::Yaml(&[("name: r\n", "name: r\ngravity: [0, -9.81]\n")], ""),
+        &["bad.yaml:2:10: gravity: invalid length 2, expected an array of length 3"],
+    );
+    check(
+        Src::Yaml(&[("name: r\n", "name: r\n\nfloating_base: 1\n")], ""),
+        &["bad.yaml:3:16: floating_base: invalid type: integer `1`, expected a boolean"],
+    );
+    check(
+        Src::Yaml(
+            &[("name: r\n", "name: r\nlocked_joints: { j1: 0.1, j1: 0.2 }\n")],
+            "",
+        ),
+        &["bad.yaml:2:", "joint 'j1' is locked twice"],
+    );
+    // A robot file that is not a map says what it expected.
+    check(
+        Src::YamlAt("- a\n", "w.yaml".into()),
+        &["w.yaml:1:1", "expected struct RobotFile"],
     );
 }
 
@@ -546,9 +578,9 @@ fn inertia_grossly_violating_the_triangle_inequality() {
 /// kind (the warnings themselves: `codegen/tests/suite/non_physical_inertia.rs`).
 #[test]
 fn strict_inertia_refuses_slight_defects() {
-    let strict = || UrdfOptions {
+    let strict = || Choices {
         inertia: description::NonPhysicalInertia::Strict,
-        ..UrdfOptions::default()
+        ..Choices::default()
     };
     check(
         Src::Urdf(&[("ixx=\"0.1\"", "ixx=\"-0.001\"")], strict()),
@@ -627,7 +659,7 @@ fn unknown_end_effector() {
             "link 'tool9' is not defined",
         ],
     );
-    let options = UrdfOptions {
+    let options = Choices {
         end_effector: Some(description::FrameSpec::link("tool9")),
         ..no_options()
     };
@@ -665,7 +697,7 @@ fn unknown_locked_joint() {
         Src::Yaml(&[("name: r\n", "name: r\nlocked_joints: { j9: 0.0 }\n")], ""),
         &["bad.yaml:2:22", "locked joint 'j9'", "unknown locked joint"],
     );
-    let options = UrdfOptions {
+    let options = Choices {
         locked_joints: vec![("j9".into(), 0.0)],
         ..no_options()
     };
@@ -1082,7 +1114,7 @@ fn odd_inputs_give_errors_not_panics() {
         BASE_URDF.replace("0.1", "1e308"),
     ];
     for text in &urdfs {
-        match description::load_urdf_str(text, Path::new("odd.urdf"), &UrdfOptions::default()) {
+        match description::load_urdf_str(text, Path::new("odd.urdf"), &Choices::default()) {
             Ok(_) => {}
             Err(e) => {
                 let msg = e.to_string();

@@ -6,7 +6,7 @@
 //! frame. The rest checks the rules that those two robots do not exercise: branching trees,
 //! YAML and URDF giving the same model, composed fixed placements, defaults.
 
-use dyngen_codegen::description::{self, FrameSpec, Loaded, UrdfOptions};
+use dyngen_codegen::description::{self, Choices, FrameSpec, Loaded};
 use dyngen_codegen::model::{from_xyz_rpy, JointKind, Model, Pose};
 use nalgebra::{Matrix3, Vector3};
 use serde_json::Value;
@@ -34,9 +34,10 @@ fn numbers(v: &Value) -> Vec<f64> {
         .collect()
 }
 
-/// `from_xyz_rpy` makes angles within 1e-9 rad of a quarter turn exact; Pinocchio does not,
-/// so its `cos(π/2)` is 6e-17 (Panda) or 4.9e-12 (UR5, whose URDF writes 1.57079632679).
-/// Snap the reference the same way, then compare tightly.
+/// dyngen's robots have exact quarter turns (the Panda's URDF writes π/2 to the last bit, which
+/// `from_xyz_rpy` takes as exact; `robots/ur5.yaml` snaps the UR5's 1.57079632679); Pinocchio
+/// computes `cos(π/2)` as 6e-17 (Panda) or 4.9e-12 (UR5). Snap the reference the same way,
+/// then compare tightly.
 fn snap(x: f64) -> f64 {
     for exact in [-1.0, 0.0, 1.0] {
         if (x - exact).abs() < 1e-9 {
@@ -201,7 +202,7 @@ fn ur5_matches_pinocchio() {
 fn panda_with_fingers_free_has_the_second_finger_mimic_the_first() {
     let text = std::fs::read_to_string(repo("robots/urdf/panda.urdf")).unwrap();
     let file = Path::new("robots/urdf/panda.urdf");
-    let free = description::load_urdf_str(&text, file, &UrdfOptions::default()).unwrap();
+    let free = description::load_urdf_str(&text, file, &Choices::default()).unwrap();
     let m = &free.model;
     assert_eq!((m.dof(), m.joints().len(), m.parameter_count()), (8, 9, 90));
     let coordinates: Vec<&str> = (m.coordinate_joints().into_iter())
@@ -217,7 +218,7 @@ fn panda_with_fingers_free_has_the_second_finger_mimic_the_first() {
     assert_eq!(m.joints()[mimic.master].name, "panda_finger_joint1");
     assert_eq!((mimic.multiplier, mimic.offset), (1.0, 0.0));
     // Locking only the mimic joint is accepted (finger 1 stays a ninth... eighth joint).
-    let options = UrdfOptions {
+    let options = Choices {
         locked_joints: vec![("panda_finger_joint2".into(), 0.0)],
         ..Default::default()
     };
@@ -334,7 +335,7 @@ const TREE_URDF: &str = r#"<?xml version="1.0"?>
 
 #[test]
 fn branching_tree_gets_depth_first_order_and_right_parents() {
-    let loaded = description::load_urdf_str(TREE_URDF, Path::new("twins.urdf"), &UrdfOptions::default())
+    let loaded = description::load_urdf_str(TREE_URDF, Path::new("twins.urdf"), &Choices::default())
         .unwrap_or_else(|e| panic!("{e}"));
     let m = &loaded.model;
     let names: Vec<&str> = m.joints().iter().map(|j| j.name.as_str()).collect();
@@ -366,7 +367,7 @@ fn branching_tree_gets_depth_first_order_and_right_parents() {
 
 #[test]
 fn end_effector_with_offset_and_gravity_from_options() {
-    let options = UrdfOptions {
+    let options = Choices {
         end_effector: Some(FrameSpec {
             name: Some("probe".into()),
             link: "sensor".into(),
@@ -379,6 +380,8 @@ fn end_effector_with_offset_and_gravity_from_options() {
         inertia: Default::default(),
         frames: Default::default(),
         floating_base: false,
+        joint_parameters: None,
+        functions: None,
     };
     let m = description::load_urdf_str(TREE_URDF, Path::new("twins.urdf"), &options)
         .unwrap()
@@ -394,7 +397,7 @@ fn end_effector_with_offset_and_gravity_from_options() {
 
 #[test]
 fn locked_joint_welds_its_child_at_the_locked_position() {
-    let options = UrdfOptions {
+    let options = Choices {
         locked_joints: vec![("left2".into(), 0.1)],
         ..Default::default()
     };
@@ -487,7 +490,7 @@ joints:
 
 #[test]
 fn same_robot_in_yaml_and_urdf_gives_the_same_model() {
-    let options = UrdfOptions {
+    let options = Choices {
         end_effector: Some(FrameSpec {
             name: Some("tcp".into()),
             link: "tip".into(),
@@ -500,6 +503,8 @@ fn same_robot_in_yaml_and_urdf_gives_the_same_model() {
         inertia: Default::default(),
         frames: Default::default(),
         floating_base: false,
+        joint_parameters: None,
+        functions: None,
     };
     let from_urdf = description::load_urdf_str(SAME_URDF, Path::new("same.urdf"), &options).unwrap();
     let from_yaml =
@@ -560,7 +565,7 @@ fn inertial_frame_rotation_is_applied() {
       <link name="a"><inertial><origin xyz="0.1 0.2 0.3" rpy="0 0 1.5707963267948966"/><mass value="2"/>
         <inertia ixx="1" ixy="0" ixz="0" iyy="2" iyz="0" izz="3"/></inertial></link>
       <joint name="j" type="continuous"><parent link="base"/><child link="a"/></joint></robot>"#;
-    let m = description::load_urdf_str(urdf, Path::new("r.urdf"), &UrdfOptions::default())
+    let m = description::load_urdf_str(urdf, Path::new("r.urdf"), &Choices::default())
         .unwrap()
         .model;
     let body = &m.bodies()[0].inertia;

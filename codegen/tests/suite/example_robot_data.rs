@@ -1,5 +1,6 @@
 //! URDFs of example-robot-data that no other test has (`codegen/tests/data/example-robot-data/`,
-//! why each: its README), loaded as a user would (the bare file, no options), against
+//! why each: its README), loaded as a user would (the bare file, with only `snap_angles: 1e-9`:
+//! the fixtures' Pinocchio reads angles within 1e-9 rad of a quarter turn as exact), against
 //! Pinocchio 4.1's reference values for the same file (`codegen/tests/fixtures/`, made by
 //! `tools/fixtures.py`): the model (joints, parameters, end-effector), the generic dynamics,
 //! and the traced graph that the generated code is printed from (through the interpreter),
@@ -11,15 +12,24 @@ use dyngen_testkit as common;
 
 use common::fixture::{self, Fixture, State};
 use common::{assert_close, column, workspace_root};
-use dyngen_codegen::description::{self, Loaded, NonPhysicalInertia, UrdfOptions};
+use dyngen_codegen::description::{self, Choices, Loaded, NonPhysicalInertia};
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::internals::generate::{trace, SymbolicRobot};
 use nalgebra::DMatrix;
 
 const TOL: f64 = 1e-9;
 
+/// The choices the fixtures were made with: angles within 1e-9 rad of a quarter turn exact
+/// (`exact_quarter_turns` in `tools/pinocchio_reference.py`), each a note.
+fn fixture_choices() -> Choices {
+    Choices {
+        snap_angles: Some(1e-9),
+        ..Choices::default()
+    }
+}
+
 fn load(path: &str) -> Loaded {
-    description::load(&workspace_root().join(path)).unwrap_or_else(|e| panic!("{e}"))
+    description::load_with(&workspace_root().join(path), &fixture_choices()).unwrap_or_else(|e| panic!("{e}"))
 }
 
 /// The fixture in the loaded model's joint order (checked to be the same joints).
@@ -216,9 +226,9 @@ fn allegro_hand_with_non_physical_inertias_matches_pinocchio_as_written() {
     }
     assert!(loaded.warnings[0].contains("broken by 20%: I1 + I2 = 5.78591e-6 < I3 = 7.2659e-6 kg·m²"));
 
-    let options = |inertia| UrdfOptions {
+    let options = |inertia| Choices {
         inertia,
-        ..UrdfOptions::default()
+        ..fixture_choices()
     };
     let file = workspace_root().join(path);
     let error = description::load_with(&file, &options(NonPhysicalInertia::Strict))

@@ -112,7 +112,7 @@ fn the_humanoids_count_is_the_rank_at_fresh_states() {
     let path = workspace_root()
         .join("codegen/tests/data/example-robot-data")
         .join("g1_description/g1_29dof_rev_1_0.urdf");
-    let options = dyngen_codegen::description::UrdfOptions {
+    let options = dyngen_codegen::description::Choices {
         floating_base: true,
         ..Default::default()
     };

@@ -4,7 +4,7 @@
 //! its key, and the model written as
 //! URDF loads back as itself.
 
-use dyngen_codegen::description::{self, to_urdf_rs, FrameSelection, FrameSpec, UrdfOptions};
+use dyngen_codegen::description::{self, to_urdf_rs, Choices, FrameSelection, FrameSpec};
 use dyngen_codegen::dynamics::FloatingDynamics;
 use dyngen_codegen::model::Inertia;
 use dyngen_runtime::ReferenceFrame;
@@ -80,7 +80,7 @@ fn the_root_link_and_what_is_welded_to_it_are_the_base_body() {
 #[test]
 fn the_urdf_option_and_the_yaml_key_give_the_same_model() {
     let urdf = workspace_root().join("robots/urdf/solo12.urdf");
-    let options = UrdfOptions {
+    let options = Choices {
         floating_base: true,
         end_effector: Some(FrameSpec::link("FL_FOOT")),
         frames: FrameSelection::Listed(
@@ -88,7 +88,7 @@ fn the_urdf_option_and_the_yaml_key_give_the_same_model() {
                 .map(FrameSpec::link)
                 .to_vec(),
         ),
-        ..UrdfOptions::default()
+        ..Choices::default()
     };
     let from_urdf = description::load_with(&urdf, &options).unwrap_or_else(|e| panic!("{e}"));
     let from_yaml =
@@ -129,7 +129,7 @@ fn a_floating_model_written_as_urdf_loads_back_as_itself() {
         .unwrap()
         .model;
     let export = to_urdf_rs(&model).unwrap_or_else(|e| panic!("{e}"));
-    assert!(export.options.floating_base);
+    assert!(export.choices.floating_base);
     assert!(export.needs_wrapper());
     assert!(export
         .yaml_wrapper("hopper.urdf")
@@ -139,7 +139,7 @@ fn a_floating_model_written_as_urdf_loads_back_as_itself() {
         "{:?}",
         export.warnings
     );
-    let back = description::from_urdf_rs(&export.robot, &export.options).unwrap_or_else(|e| panic!("{e}"));
+    let back = description::from_urdf_rs(&export.robot, &export.choices).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(
         back.model.floating_base().map(|b| &b.name),
         model.floating_base().map(|b| &b.name)

@@ -12,7 +12,7 @@ use dyngen_testkit as common;
 use common::fixture::{matrix, vector};
 use common::floating_fixture::{self, Order};
 use common::{assert_close, column, workspace_root};
-use dyngen_codegen::description::{self, FrameSelection, FrameSpec, Loaded, UrdfOptions};
+use dyngen_codegen::description::{self, Choices, FrameSelection, FrameSpec, Loaded};
 use dyngen_codegen::dynamics::FloatingDynamics;
 use dyngen_codegen::internals::generate::{trace_floating, Arguments, SymbolicRobot};
 use dyngen_runtime::ReferenceFrame;
@@ -30,11 +30,11 @@ fn load(urdf: &str, fixture: &Value) -> Loaded {
         .iter()
         .map(|f| FrameSpec::link(f["name"].as_str().unwrap()))
         .collect();
-    let options = UrdfOptions {
+    let options = Choices {
         floating_base: true,
         end_effector: Some(frames[0].clone()),
         frames: FrameSelection::Listed(frames),
-        ..UrdfOptions::default()
+        ..Choices::default()
     };
     let path = workspace_root()
         .join("codegen/tests/data/example-robot-data")

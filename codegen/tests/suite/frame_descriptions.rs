@@ -1,9 +1,7 @@
-//! Named frames in descriptions: what `frames:` (YAML), `UrdfOptions::frames` and an exported
+//! Named frames in descriptions: what `frames:` (YAML), `Choices::frames` and an exported
 //! description give, and the one-line errors (file:line:column) for frames that cannot be.
 
-use dyngen_codegen::description::{
-    self, load_urdf_str, load_yaml_str, FrameSelection, FrameSpec, UrdfOptions,
-};
+use dyngen_codegen::description::{self, load_urdf_str, load_yaml_str, Choices, FrameSelection, FrameSpec};
 use dyngen_codegen::model::Model;
 use std::path::Path;
 
@@ -99,8 +97,6 @@ fn frames_that_cannot_be_are_errors_at_their_place() {
     assert!(e.contains("'l1' is already used by an earlier frame"), "{e}");
     let e = error("frames: [{ name: flange, link: l1 }]\n");
     assert!(e.contains("already used by the end-effector"), "{e}");
-    let e = error("frames: [{ name: a-b, link: l1 }, { name: a_b, link: l2 }]\n");
-    assert!(e.contains("`Frame::AB`") && e.contains("'a-b'"), "{e}");
     let e = error("frames: l1\n");
     assert!(e.contains("`all` or a list") && e.contains("frames: [l1]"), "{e}");
     let e = error("frames: [{ link: l1, xyz: [0, 0, .nan] }]\n");
@@ -117,9 +113,9 @@ fn a_bare_urdf_takes_frames_from_its_options() {
   <joint name="t" type="fixed"><parent link="l1"/><child link="tip"/><origin xyz="0 0 0.2"/></joint>
 </robot>
 "#;
-    let options = |frames| UrdfOptions {
+    let options = |frames| Choices {
         frames,
-        ..UrdfOptions::default()
+        ..Choices::default()
     };
     let all = load_urdf_str(urdf, Path::new("r.urdf"), &options(FrameSelection::AllLinks)).unwrap();
     assert_eq!(names(&all.model), ["tip", "l1"]);
@@ -172,4 +168,60 @@ fn exported_descriptions_keep_their_frames() {
             a.name
         );
     }
+}
+
+/// ROS-Industrial's spelling: `link_1` and `Link1` in one URDF (both `Link1` in Rust). With
+/// `frames: all` both are frames: the first keeps its spelling, the second gets the suffix
+/// `_2`, with a note; the generated enum and functions use the same spellings.
+const TWINS_URDF: &str = r#"<robot name="twins">
+  <link name="base_link"/>
+  <link name="link_1"><inertial><mass value="2"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>
+  <link name="Link1"><inertial><origin xyz="0.2 0 0"/><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <link name="tool0"/>
+  <joint name="joint_a1" type="revolute"><parent link="base_link"/><child link="link_1"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="100" velocity="2"/></joint>
+  <joint name="joint_a2" type="revolute"><parent link="link_1"/><child link="Link1"/><origin xyz="0 0 0.5"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="100" velocity="2"/></joint>
+  <joint name="joint_tool" type="fixed"><parent link="Link1"/><child link="tool0"/><origin xyz="0.4 0 0"/></joint>
+</robot>
+"#;
+
+#[test]
+fn names_spelled_alike_in_rust_are_told_apart_with_a_note() {
+    let choices = Choices {
+        frames: FrameSelection::AllLinks,
+        ..Choices::default()
+    };
+    let loaded =
+        load_urdf_str(TWINS_URDF, Path::new("twins.urdf"), &choices).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(names(&loaded.model), ["tool0", "link_1", "Link1"]);
+    let notes: Vec<&String> = loaded.notes.iter().filter(|n| n.contains("'Link1'")).collect();
+    assert_eq!(notes.len(), 1, "{:#?}", loaded.notes);
+    assert!(
+        notes[0].contains("frames 'link_1' and 'Link1' are both spelled `Frame::Link1` in generated code")
+            && notes[0].contains("'Link1' is `Frame::Link1_2`, `link1_2` in function names"),
+        "{}",
+        notes[0]
+    );
+
+    let dir = dyngen_testkit::scratch::scratch_dir("twins");
+    let urdf = dir.path().join("twins.urdf");
+    std::fs::write(&urdf, TWINS_URDF).unwrap();
+    let functions = dyngen_codegen::Functions::with(&[dyngen_codegen::FunctionGroup::Frames]).unwrap();
+    let choices = Choices {
+        functions: Some(functions),
+        ..choices
+    };
+    let robot = dyngen_codegen::generate::generate_robot_with(&urdf, "twins.urdf", "Twins", "test", &choices)
+        .unwrap_or_else(|e| panic!("{e}"));
+    let code = &robot.code;
+    for variant in ["Tool0,", "Link1,", "Link1_2,"] {
+        assert_eq!(
+            code.matches(&format!("    {variant}\n")).count(),
+            1,
+            "variant {variant}"
+        );
+    }
+    for function in ["fn frame_pose_link_1(", "fn frame_pose_link1_2("] {
+        assert!(code.contains(function), "{function}");
+    }
+    assert!(code.contains("Frame::Link1_2 =>"), "the match names the variant");
 }

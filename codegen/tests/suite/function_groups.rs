@@ -3,7 +3,7 @@
 //! other groups are generated with it.
 
 use dyngen_codegen::base_parameters::BaseParameterSet;
-use dyngen_codegen::description::{load, UrdfOptions};
+use dyngen_codegen::description::{load, Choices};
 use dyngen_codegen::generate::{generate_robot, generate_robot_with, GeneratedRobot};
 use dyngen_codegen::internals::generate::{trace_functions, Arguments};
 use dyngen_codegen::{Builder, FunctionGroup, Functions, EVERY_GROUP_BY_DEFAULT_UP_TO_DOF};
@@ -249,15 +249,11 @@ fn large_robots_get_the_per_tick_groups_by_default_and_say_so() {
     let path = dir.path().join("chain.yaml");
     std::fs::write(&path, chain(dof)).expect("write");
     let generate = |functions: Option<Functions>| {
-        generate_robot_with(
-            &path,
-            "chain.yaml",
-            "Chain",
-            "test",
-            &UrdfOptions::default(),
+        let choices = Choices {
             functions,
-        )
-        .unwrap_or_else(|e| panic!("{e}"))
+            ..Choices::default()
+        };
+        generate_robot_with(&path, "chain.yaml", "Chain", "test", &choices).unwrap_or_else(|e| panic!("{e}"))
     };
     let robot = generate(None);
     assert_eq!(robot.model.dof(), dof);

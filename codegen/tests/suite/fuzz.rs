@@ -6,7 +6,7 @@
 //! - regression inputs and the stack-depth probes, data-driven.
 //! - random valid trees written as YAML and URDF load back to the same model.
 
-use dyngen_codegen::description::{load_urdf_str, load_yaml_str, FrameSpec, UrdfOptions};
+use dyngen_codegen::description::{load_urdf_str, load_yaml_str, Choices, FrameSpec};
 use dyngen_codegen::model::Model;
 use dyngen_testkit::fuzz::{self, check_generation, check_input, corpus, Format};
 use dyngen_testkit::random_model::arb_model;
@@ -77,14 +77,14 @@ fn check_case(name: &str, text: String, format: Format, expect: Expect) {
         (Expect::Accepted, None) => {
             let e = match format {
                 Format::Yaml => load_yaml_str(&text, file).map(|_| ()),
-                Format::Urdf => load_urdf_str(&text, file, &UrdfOptions::default()).map(|_| ()),
+                Format::Urdf => load_urdf_str(&text, file, &Choices::default()).map(|_| ()),
             };
             panic!("{name}: rejected: {e:?}")
         }
         (Expect::Error(piece), None) => {
             let e = match format {
                 Format::Yaml => load_yaml_str(&text, file).err(),
-                Format::Urdf => load_urdf_str(&text, file, &UrdfOptions::default()).err(),
+                Format::Urdf => load_urdf_str(&text, file, &Choices::default()).err(),
             };
             let msg = e.map(|e| e.to_string()).unwrap_or_default();
             assert!(msg.contains(piece), "{name}: message lacks {piece:?}: {msg}");
@@ -294,10 +294,10 @@ fn random_trees_round_trip_through_yaml_and_urdf() {
         same_model(&model, &loaded.model)
             .map_err(|e| proptest::test_runner::TestCaseError::fail(format!("YAML: {e}\n{yaml}")))?;
         let urdf = to_urdf(&model);
-        let options = UrdfOptions {
+        let options = Choices {
             end_effector: Some(FrameSpec::link(model.end_effector().name.clone())),
             gravity: Some(model.gravity().into()),
-            ..UrdfOptions::default()
+            ..Choices::default()
         };
         let from_urdf = load_urdf_str(&urdf, Path::new("tree.urdf"), &options)
             .map_err(|e| proptest::test_runner::TestCaseError::fail(format!("URDF rejected: {e}\n{urdf}")))?;

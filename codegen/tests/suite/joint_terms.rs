@@ -455,7 +455,7 @@ fn bad_joint_parameters_are_errors_with_places() {
     let cases = [
         (
             TWO_JOINTS.replace("[offset, viscous", "[offset, visous"),
-            "two.yaml:4:21: unknown joint-parameter column 'visous' (expected armature, viscous, coulomb or offset)",
+            "two.yaml:4:21: joint_parameters.columns[1]: unknown joint-parameter column 'visous' (expected armature, viscous, coulomb or offset)",
         ),
         (
             TWO_JOINTS.replace("[offset, viscous, coulomb, armature]", "[offset, offset]"),

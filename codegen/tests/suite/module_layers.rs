@@ -233,7 +233,6 @@ fn the_emitter_is_a_one_way_chain() {
 }
 
 #[test]
-#[ignore = "the description modules are being untangled on another branch"]
 fn the_description_modules_are_a_one_way_chain() {
     assert_one_way("model/src/description", &["description"]);
 }

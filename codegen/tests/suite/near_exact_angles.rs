@@ -2,7 +2,7 @@
 //! the change, keeps the value unless the description opts in (`snap_angles`), and with the
 //! opt-in generates code as lean as for the exact angles.
 
-use dyngen_codegen::description::{load_urdf_str, load_yaml_str, FrameSpec, UrdfOptions};
+use dyngen_codegen::description::{load_urdf_str, load_yaml_str, Choices, FrameSpec};
 use dyngen_codegen::internals::generate::trace;
 use dyngen_codegen::model::Model;
 use std::path::Path;
@@ -31,8 +31,8 @@ fn rounded(urdf: &str) -> String {
     out
 }
 
-fn options(snap: Option<f64>) -> UrdfOptions {
-    UrdfOptions {
+fn options(snap: Option<f64>) -> Choices {
+    Choices {
         end_effector: Some(FrameSpec::link("panda_hand_tcp")),
         locked_joints: vec![
             ("panda_finger_joint1".into(), 0.0),
@@ -43,6 +43,8 @@ fn options(snap: Option<f64>) -> UrdfOptions {
         inertia: Default::default(),
         frames: Default::default(),
         floating_base: false,
+        joint_parameters: None,
+        functions: None,
     }
 }
 
@@ -157,7 +159,7 @@ fn snap_angles_from_yaml_and_its_bad_values() {
 /// lean as the exact one (the same operation count in every function; the rounded π/4 and π/6
 /// change numbers, not structure), and without the option keeps the dense rotations.
 #[test]
-fn builder_snaps_a_bare_urdf_and_refuses_urdf_options_for_yaml() {
+fn builder_snaps_a_bare_urdf_and_refuses_a_second_snap_for_yaml() {
     let dir = Path::new(env!("CARGO_TARGET_TMPDIR")).join("near_exact_builder");
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).expect("scratch directory");
@@ -171,7 +173,7 @@ fn builder_snaps_a_bare_urdf_and_refuses_urdf_options_for_yaml() {
             .out_dir(&dir)
             .module_name("panda")
             .cargo_directives(false)
-            .urdf_options(options(snap))
+            .choices(options(snap))
             .compile()
             .unwrap_or_else(|e| panic!("{e}"));
         let code = std::fs::read_to_string(file).expect("generated");
@@ -185,13 +187,20 @@ fn builder_snaps_a_bare_urdf_and_refuses_urdf_options_for_yaml() {
     assert_eq!(counts(&vendor, Some(1e-4)), from_exact, "snapped vs exact");
     assert_ne!(counts(&vendor, None), from_exact, "unsnapped should stay dense");
 
-    let err = dyngen_codegen::Builder::new(concat!(env!("CARGO_MANIFEST_DIR"), "/../robots/panda.yaml"))
+    // A YAML description that snaps itself: snapping again from the builder names the key.
+    let rounded = concat!(env!("CARGO_MANIFEST_DIR"), "/../robots/panda_rounded.yaml");
+    let err = dyngen_codegen::Builder::new(rounded)
         .out_dir(&dir)
         .cargo_directives(false)
         .snap_angles(1e-4)
         .compile()
-        .expect_err("URDF options with a YAML description");
-    assert!(err.to_string().contains("set them in the YAML"), "{err}");
+        .expect_err("snap_angles chosen twice");
+    assert!(
+        err.to_string().contains(
+            "`snap_angles` was chosen twice, by `snap_angles:` in the description and by the caller"
+        ),
+        "{err}"
+    );
 }
 
 /// A near-exact description (xarm7 as its vendor writes it, quarter turns as `1.5708`) has real
@@ -208,9 +217,9 @@ fn near_exact_base_parameters_carry_no_rounding_noise() {
         "/tests/data/example-robot-data/xarm_description/xarm7.urdf"
     ));
     let load = |snap: Option<f64>| {
-        let options = UrdfOptions {
+        let options = Choices {
             snap_angles: snap,
-            ..UrdfOptions::default()
+            ..Choices::default()
         };
         load_with(path, &options).unwrap_or_else(|e| panic!("{e}")).model
     };

@@ -12,8 +12,7 @@ use common::oracles::{assert_passed, check_all};
 use common::random_model::random_state;
 use common::workspace_root;
 use dyngen_codegen::description::{
-    from_urdf_rs, load_urdf_str, load_with, load_yaml_str, to_urdf_rs, Loaded, NonPhysicalInertia,
-    UrdfOptions,
+    from_urdf_rs, load_urdf_str, load_with, load_yaml_str, to_urdf_rs, Choices, Loaded, NonPhysicalInertia,
 };
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::model::{inertia_defect, Inertia, InertiaDefectKind, Model};
@@ -29,9 +28,9 @@ fn data(file: &str) -> PathBuf {
 }
 
 fn load(file: &str, inertia: NonPhysicalInertia) -> Result<Loaded, String> {
-    let options = UrdfOptions {
+    let options = Choices {
         inertia,
-        ..UrdfOptions::default()
+        ..Choices::default()
     };
     load_with(&data(file), &options).map_err(|e| e.to_string())
 }
@@ -256,7 +255,7 @@ fn a_gross_defect_is_refused_unless_repaired_or_welded_to_the_base() {
 
     // The YAML key: a wrapper that asks for the repair loads it, with the note.
     let wrapped =
-        load_with(&data("gross-repaired.yaml"), &UrdfOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+        load_with(&data("gross-repaired.yaml"), &Choices::default()).unwrap_or_else(|e| panic!("{e}"));
     assert!(wrapped.warnings.is_empty(), "{:?}", wrapped.warnings);
     assert!(
         wrapped
@@ -296,25 +295,24 @@ fn an_unknown_choice_is_an_error_with_its_place() {
 #[test]
 fn a_robot_in_memory_follows_the_choice() {
     let robot = urdf_rs::read_file(data("gross.urdf")).expect("urdf-rs reads it");
-    let error = from_urdf_rs(&robot, &UrdfOptions::default())
-        .unwrap_err()
-        .to_string();
+    let error = from_urdf_rs(&robot, &Choices::default()).unwrap_err().to_string();
     assert!(
         error.starts_with("<urdf_rs::Robot 'gross'>: link 'lower': inertia is not physical: triangle inequality broken by 60%"),
         "{error}"
     );
-    let options = UrdfOptions {
+    let options = Choices {
         inertia: NonPhysicalInertia::Repair,
-        ..UrdfOptions::default()
+        ..Choices::default()
     };
     let repaired = from_urdf_rs(&robot, &options).unwrap_or_else(|e| panic!("{e}"));
     let from_file = load("gross.urdf", NonPhysicalInertia::Repair).unwrap();
     assert_eq!(repaired.model, from_file.model);
 }
 
-/// `Builder::inertia` for a bare URDF; refused with a YAML file, which states its own choice.
+/// `Builder::inertia` for a bare URDF, or a YAML file that leaves the choice to the caller;
+/// refused with a YAML file that makes it.
 #[test]
-fn the_builder_passes_the_choice_and_refuses_it_for_yaml() {
+fn the_builder_passes_the_choice_and_refuses_it_when_the_yaml_makes_it() {
     let out = Path::new(env!("CARGO_TARGET_TMPDIR")).join("non_physical_inertia");
     let _ = std::fs::remove_dir_all(&out);
     std::fs::create_dir_all(&out).expect("scratch");
@@ -332,16 +330,23 @@ fn the_builder_passes_the_choice_and_refuses_it_for_yaml() {
         .compile()
         .unwrap_or_else(|e| panic!("{e}"));
     assert!(written.ends_with("gross.rs"));
-    let yaml = builder("triangle-inequality.yaml")
+    // A YAML file that leaves `inertia:` to the caller takes the builder's; one that writes
+    // it refuses a second choice, naming the key at its place.
+    let strict = builder("triangle-inequality.yaml")
         .inertia(NonPhysicalInertia::Strict)
         .compile()
-        .expect_err("a YAML file states its own choice")
+        .expect_err("strict refuses the forearm")
+        .to_string();
+    assert!(strict.contains("`inertia: strict` refuses it"), "{strict}");
+    let yaml = builder("gross-repaired.yaml")
+        .inertia(NonPhysicalInertia::Strict)
+        .compile()
+        .expect_err("a YAML file that states its own choice")
         .to_string();
     assert!(
-        yaml.contains("URDF options were given for a YAML description"),
+        yaml.contains("gross-repaired.yaml:3:1: `inertia` was chosen twice, by `inertia:` in the description and by the caller"),
         "{yaml}"
     );
-    assert!(yaml.contains("`inertia:`"), "{yaml}");
 }
 
 /// The dynamics of links kept as written are what the Lagrangian of their kinetic and
@@ -370,7 +375,7 @@ fn exports_of_models_kept_as_written_load_back_in_the_default_mode() {
         let loaded = load_any(case.file, NonPhysicalInertia::AsWritten).unwrap();
         let export = to_urdf_rs(&loaded.model).unwrap_or_else(|e| panic!("{e}"));
         let text = urdf_rs::write_to_string(&export.robot).expect("written");
-        let back = load_urdf_str(&text, Path::new("export.urdf"), &export.options)
+        let back = load_urdf_str(&text, Path::new("export.urdf"), &export.choices)
             .unwrap_or_else(|e| panic!("{}: the export is refused: {e}", case.file));
         assert_eq!(
             back.model.parameters(),

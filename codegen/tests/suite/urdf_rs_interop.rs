@@ -7,8 +7,8 @@
 //! robots and for random trees. Bad input gives the file loader's messages, without the place.
 
 use dyngen_codegen::description::{
-    self, from_urdf_rs, load_urdf_str, to_urdf_rs, DescriptionError, FrameSelection, FrameSpec, Loaded,
-    UrdfExport, UrdfOptions,
+    self, from_urdf_rs, load_urdf_str, to_urdf_rs, Choices, DescriptionError, FrameSelection, FrameSpec,
+    Loaded, UrdfExport,
 };
 use dyngen_codegen::internals::generate::{emit, trace, type_name, Provenance};
 use dyngen_codegen::model::{Body, Frame, Joint, JointKind, Limits, Model, Pose};
@@ -111,7 +111,7 @@ fn reload_both_ways(export: &UrdfExport, dir: &Path) -> [Model; 2] {
     let text = urdf_rs::write_to_string(&export.robot).expect("urdf-rs writes the robot");
     let parsed =
         urdf_rs::read_from_string(&text).unwrap_or_else(|e| panic!("urdf-rs reads its text: {e}\n{text}"));
-    let in_memory = from_urdf_rs(&parsed, &export.options).unwrap_or_else(|e| panic!("{e}\n{text}"));
+    let in_memory = from_urdf_rs(&parsed, &export.choices).unwrap_or_else(|e| panic!("{e}\n{text}"));
 
     let urdf_path = dir.join(format!("{}.urdf", export.robot.name));
     std::fs::write(&urdf_path, &text).expect("write URDF");
@@ -196,16 +196,16 @@ fn committed_robots_round_trip_to_identical_code() {
         let export = assert_round_trip(&loaded.model, dir, true);
         // Default gravity, and the end-effector is the loader's default pick: a bare URDF says
         // all but the named frames (Panda, UR5: every link), which go into the wrapper.
-        let frames = match &export.options.frames {
+        let frames = match &export.choices.frames {
             FrameSelection::Listed(frames) => frames.len(),
             _ => 0,
         };
         assert_eq!(frames, loaded.model.frames().len() - 1, "{robot}");
-        let without_frames = UrdfOptions {
+        let without_frames = Choices {
             frames: FrameSelection::EndEffector,
-            ..export.options.clone()
+            ..export.choices.clone()
         };
-        assert_eq!(without_frames, UrdfOptions::default(), "{robot}");
+        assert_eq!(without_frames, Choices::default(), "{robot}");
         assert!(export.warnings.is_empty(), "{robot}: {:?}", export.warnings);
     }
 }
@@ -275,15 +275,15 @@ fn random_trees_round_trip_to_identical_code() {
         let model = depth_first(model);
         // Code for a third of them: tracing is the slow part, and the models are what differ.
         let export = assert_round_trip(&model, dir, k % 3 == 0);
-        with_gravity += usize::from(export.options.gravity.is_some());
-        with_end_effector += usize::from(export.options.end_effector.is_some());
+        with_gravity += usize::from(export.choices.gravity.is_some());
+        with_end_effector += usize::from(export.choices.end_effector.is_some());
         assert_eq!(
-            export.options.gravity.is_some(),
+            export.choices.gravity.is_some(),
             model.gravity() != Vector3::new(0.0, 0.0, -9.81),
             "gravity is in the options exactly when it is not the default"
         );
         let warned = export.warnings.iter().any(|w| w.contains("gravity"));
-        assert_eq!(warned, export.options.gravity.is_some(), "{:?}", export.warnings);
+        assert_eq!(warned, export.choices.gravity.is_some(), "{:?}", export.warnings);
     }
     // The sample exercises the options, not only the bare URDF.
     assert!(
@@ -311,7 +311,7 @@ fn joints_not_in_depth_first_order_come_back_reordered_with_a_warning() {
         "{:?}",
         export.warnings
     );
-    let back = from_urdf_rs(&export.robot, &export.options).unwrap().model;
+    let back = from_urdf_rs(&export.robot, &export.choices).unwrap().model;
     assert_same_model(&back, &depth_first(model));
 }
 
@@ -382,10 +382,8 @@ fn continuous_joints_and_massless_bodies_are_written_as_urdf_says_them() {
     assert_eq!(spin.limit, urdf_rs::JointLimit::default());
     // The end-effector is the body itself: no extra link, and the default rule finds it.
     assert_eq!(export.robot.links.len(), 2);
-    assert_eq!(export.options, UrdfOptions::default());
-    let back = from_urdf_rs(&export.robot, &UrdfOptions::default())
-        .unwrap()
-        .model;
+    assert_eq!(export.choices, Choices::default());
+    let back = from_urdf_rs(&export.robot, &Choices::default()).unwrap().model;
     assert_eq!(back, loaded.model);
 }
 
@@ -416,16 +414,14 @@ joints:
     let temp = scratch_dir("urdf-rs-options");
     let dir = temp.path();
     let export = assert_round_trip(&model, dir, false);
-    assert_eq!(export.options.gravity, Some([-9.81, 0.0, 0.0]));
-    let ee = export.options.end_effector.as_ref().expect("end-effector option");
+    assert_eq!(export.choices.gravity, Some([-9.81, 0.0, 0.0]));
+    let ee = export.choices.end_effector.as_ref().expect("end-effector option");
     assert_eq!((ee.link.as_str(), ee.name.as_deref()), ("a1", None));
     close("ee z", ee.xyz[2], 0.1);
     close("ee roll", ee.rpy[0], 0.3);
     assert_eq!(export.warnings.len(), 2, "{:?}", export.warnings);
     // Without the options the URDF gives the default gravity and the longest branch's leaf.
-    let bare = from_urdf_rs(&export.robot, &UrdfOptions::default())
-        .unwrap()
-        .model;
+    let bare = from_urdf_rs(&export.robot, &Choices::default()).unwrap().model;
     assert_eq!(bare.gravity(), Vector3::new(0.0, 0.0, -9.81));
     assert_eq!(bare.end_effector().name, "b2");
     assert!(export
@@ -468,7 +464,7 @@ fn the_base_link_name_avoids_the_bodies() {
     let export = to_urdf_rs(&model).unwrap();
     assert_eq!(export.robot.links[0].name, "base_link_1");
     assert_eq!(find_joint(&export.robot, "j").parent.link, "base_link_1");
-    assert_eq!(from_urdf_rs(&export.robot, &export.options).unwrap().model, model);
+    assert_eq!(from_urdf_rs(&export.robot, &export.choices).unwrap().model, model);
 }
 
 #[test]
@@ -488,17 +484,18 @@ fn what_urdf_cannot_express_is_refused() {
 fn committed_urdfs_through_urdf_rs_give_the_file_loaders_models() {
     // The YAML wrappers' options, applied to the URDFs as read by urdf-rs (meshes, visuals,
     // collisions, transmissions and all).
-    let panda = UrdfOptions {
+    let panda = Choices {
         end_effector: Some(FrameSpec::link("panda_hand_tcp")),
         locked_joints: vec![
             ("panda_finger_joint1".into(), 0.0),
             ("panda_finger_joint2".into(), 0.0),
         ],
-        ..UrdfOptions::default()
+        ..Choices::default()
     };
-    let ur5 = UrdfOptions {
+    let ur5 = Choices {
         end_effector: Some(FrameSpec::link("tool0")),
-        ..UrdfOptions::default()
+        snap_angles: Some(1e-9),
+        ..Choices::default()
     };
     for (file, yaml, options) in [
         ("panda.urdf", "panda.yaml", panda),
@@ -526,9 +523,9 @@ fn committed_urdfs_through_urdf_rs_give_the_file_loaders_models() {
 /// notes once the place is taken out.
 fn both_readers(text: &str) -> (Loaded, Loaded) {
     let file =
-        load_urdf_str(text, Path::new("t.urdf"), &UrdfOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+        load_urdf_str(text, Path::new("t.urdf"), &Choices::default()).unwrap_or_else(|e| panic!("{e}"));
     let robot = urdf_rs::read_from_string(text).unwrap_or_else(|e| panic!("{e}"));
-    let memory = from_urdf_rs(&robot, &UrdfOptions::default()).unwrap_or_else(|e| panic!("{e}"));
+    let memory = from_urdf_rs(&robot, &Choices::default()).unwrap_or_else(|e| panic!("{e}"));
     assert_eq!(memory.model, file.model);
     (file, memory)
 }
@@ -565,9 +562,9 @@ fn urdf_defaults_map_as_in_a_file() {
     <limit lower="-1" upper="1" velocity="1" effort="10"/><mimic joint="jc"/></joint>
 </robot>"#
     );
-    let options = UrdfOptions {
+    let options = Choices {
         locked_joints: vec![("jd".into(), 0.5), ("jc".into(), 0.5)],
-        ..UrdfOptions::default()
+        ..Choices::default()
     };
     let file = load_urdf_str(&text, Path::new("t.urdf"), &options).unwrap();
     let memory = from_urdf_rs(&urdf_rs::read_from_string(&text).unwrap(), &options).unwrap();
@@ -611,11 +608,7 @@ fn what_dyngen_does_not_model_is_noted() {
     <dynamics damping="0.5" friction="0.1"/></joint>
 </robot>"#
     );
-    let loaded = from_urdf_rs(
-        &urdf_rs::read_from_string(&text).unwrap(),
-        &UrdfOptions::default(),
-    )
-    .unwrap();
+    let loaded = from_urdf_rs(&urdf_rs::read_from_string(&text).unwrap(), &Choices::default()).unwrap();
     let notes = loaded.notes.join("\n");
     assert!(
         notes.contains(
@@ -627,7 +620,7 @@ fn what_dyngen_does_not_model_is_noted() {
     // `<dynamics damping friction>` is read as the file reader reads it: viscous and Coulomb
     // friction values, used when the description asks for joint friction columns.
     assert!(!notes.contains("dynamics"), "{notes}");
-    let from_file = load_urdf_str(&text, Path::new("r.urdf"), &UrdfOptions::default()).unwrap();
+    let from_file = load_urdf_str(&text, Path::new("r.urdf"), &Choices::default()).unwrap();
     assert_eq!(loaded.model, from_file.model);
 }
 
@@ -740,22 +733,22 @@ fn bad_input_gives_the_file_loaders_messages_without_the_place() {
     let with_options = [
         (
             "unknown locked joint",
-            UrdfOptions {
+            Choices {
                 locked_joints: vec![("nope".into(), 0.0)],
-                ..UrdfOptions::default()
+                ..Choices::default()
             },
         ),
         (
             "unknown end-effector",
-            UrdfOptions {
+            Choices {
                 end_effector: Some(FrameSpec::link("nope")),
-                ..UrdfOptions::default()
+                ..Choices::default()
             },
         ),
     ];
     let cases = plain
         .into_iter()
-        .map(|(what, text)| (what, text, UrdfOptions::default()))
+        .map(|(what, text)| (what, text, Choices::default()))
         .chain(
             with_options
                 .into_iter()
@@ -797,15 +790,11 @@ fn empty_names_in_memory_are_errors() {
     let text = robot_with(&links(), &joint("j", "continuous", "base", "a", ""));
     let mut robot = urdf_rs::read_from_string(&text).unwrap();
     robot.links[1].name.clear();
-    let e = from_urdf_rs(&robot, &UrdfOptions::default())
-        .unwrap_err()
-        .to_string();
+    let e = from_urdf_rs(&robot, &Choices::default()).unwrap_err().to_string();
     assert_eq!(e, "<urdf_rs::Robot 'bad'>: the link at index 1 has an empty name");
     let mut robot = urdf_rs::read_from_string(&text).unwrap();
     robot.joints[0].child.link.clear();
-    let e = from_urdf_rs(&robot, &UrdfOptions::default())
-        .unwrap_err()
-        .to_string();
+    let e = from_urdf_rs(&robot, &Choices::default()).unwrap_err().to_string();
     assert_eq!(
         e,
         "<urdf_rs::Robot 'bad'>: joint 'j': the child link name is empty"
@@ -867,7 +856,7 @@ fn fuzzed_urdfs_through_urdf_rs() {
             continue;
         };
         parsed += 1;
-        let options = UrdfOptions::default();
+        let options = Choices::default();
         let memory = catch_unwind(AssertUnwindSafe(|| from_urdf_rs(&robot, &options)))
             .unwrap_or_else(|_| panic!("from_urdf_rs panicked on case {seed}:\n{}", input.text));
         let file = load_urdf_str(&input.text, Path::new("fuzz.urdf"), &options);
@@ -908,7 +897,7 @@ fn a_declaration_and_a_comment_before_the_robot_are_read() {
         urdf_rs::write_to_string(&export.robot).unwrap()
     );
     let parsed = urdf_rs::read_from_string(&text).unwrap();
-    assert_eq!(from_urdf_rs(&parsed, &export.options).unwrap().model, model);
-    let file = load_urdf_str(&text, Path::new("ur5.urdf"), &export.options).unwrap();
+    assert_eq!(from_urdf_rs(&parsed, &export.choices).unwrap().model, model);
+    let file = load_urdf_str(&text, Path::new("ur5.urdf"), &export.choices).unwrap();
     assert_eq!(file.model, model);
 }

@@ -6,20 +6,45 @@
 //! link's placement composed with its own URDF origin, which is what [`crate::model::Joint`]
 //! wants: the frame relative to the parent *moving* joint, not to the parent link.
 
-use super::error::{item, num, render, vec3, DescriptionError};
+use super::choices::{Choices, FrameSelection, FrameSpec};
+use super::error::{item, num, render, vec3, DescriptionError, Diagnostics};
 use super::items::{too_large, JointShape, Motion};
 use super::joint_parameters;
+use super::near_exact::{Snap, REPORTED};
 use super::non_physical::{self, NonPhysicalLink};
-use super::options::{FrameSelection, FrameSpec, Settings};
 use super::raw::RawRobot;
 use super::source_map::{joint_path, link_path, SourceMap};
 use super::tree::Topology;
-use super::Diagnostics;
+use crate::frame_names::frame_identifiers;
 use crate::model::{exact_sin_cos, from_xyz_rpy, Body, Frame, Inertia, Joint, JointKind, Mimic, Model, Pose};
 use nalgebra::{Matrix3, Vector3};
 
 /// Gravity when the description gives none (z up).
 pub(crate) const DEFAULT_GRAVITY: [f64; 3] = [0.0, 0.0, -9.81];
+
+/// The user's choices as the loader uses them: with the description's `name:` and the file
+/// they are written in (a YAML description, or the URDF itself when the caller made them).
+pub(crate) struct Settings<'a> {
+    /// A YAML description's `name:`, over the robot's own.
+    pub name: Option<&'a str>,
+    pub choices: &'a Choices,
+    /// Places of `end_effector`, `frames[k]`, `gravity`, `locked_joints.<joint>`,
+    /// `snap_angles`, `inertia`, `joint_parameters…`.
+    pub map: &'a SourceMap,
+}
+
+impl Settings<'_> {
+    /// The snapping asked for, checked: a tolerance in (0, 1e-3] rad.
+    pub fn snap(&self) -> Result<Snap, DescriptionError> {
+        match self.choices.snap_angles {
+            Some(t) if !(t > 0.0 && t <= REPORTED) => Err(self.map.error(
+                "snap_angles",
+                format!("snap_angles {t} must be a tolerance in radians, above 0 and at most {REPORTED}"),
+            )),
+            t => Ok(Snap(t)),
+        }
+    }
+}
 
 /// Everything the assembly needs, checked.
 pub(crate) struct Checked<'a> {
@@ -39,11 +64,11 @@ pub(crate) fn assemble(
     settings: &Settings<'_>,
     diags: &mut Diagnostics,
 ) -> Result<Model, DescriptionError> {
-    let name = match settings.name.clone().or_else(|| c.raw.name.clone()) {
+    let name = match settings.name.map(str::to_owned).or_else(|| c.raw.name.clone()) {
         Some(n) => n,
         None => return Err(DescriptionError::new(&c.robot_map.file, "the robot has no name")),
     };
-    let gravity = settings.gravity.unwrap_or(DEFAULT_GRAVITY);
+    let gravity = settings.choices.gravity.unwrap_or(DEFAULT_GRAVITY);
     if !gravity.iter().all(|g| g.is_finite()) {
         return Err(settings
             .map
@@ -101,7 +126,7 @@ pub(crate) fn assemble(
     }
 
     // A link on a fixed base never enters the dynamics, so its inertia's defects are only said.
-    let floating = settings.floating_base;
+    let floating = settings.choices.floating_base;
     non_physical::report(
         c.non_physical,
         |l| !floating && carrier[l].is_none(),
@@ -139,9 +164,10 @@ pub(crate) fn assemble(
         .collect();
 
     let end_effector = end_effector(c, settings, &carrier, &placement, &joints, diags)?;
-    let frames = named_frames(c, settings, &end_effector, &carrier, &placement)?;
+    let frames = named_frames(c, settings, &end_effector, &carrier, &placement, diags)?;
     let raw_dynamics: Vec<_> = c.raw.joints.iter().map(|j| j.dynamics).collect();
-    let moving = |r: usize| joint_parameters::is_free(c.joints[r].motion, locked[r]);
+    // Only moving joints that are not locked carry joint-level parameters.
+    let moving = |r: usize| matches!(c.joints[r].motion, Motion::Moving(_)) && locked[r].is_none();
     let sources = joint_parameters::JointSources {
         raw_index: &raw_index,
         raw: &raw_dynamics,
@@ -149,8 +175,12 @@ pub(crate) fn assemble(
         joint_by_name: &c.topo.joint_by_name,
         robot_map: c.robot_map,
     };
-    let joint_terms =
-        joint_parameters::joint_terms(settings.joint_parameters.as_ref(), settings, &joints, &sources)?;
+    let joint_terms = joint_parameters::joint_terms(
+        settings.choices.joint_parameters.as_ref(),
+        settings.map,
+        &joints,
+        &sources,
+    )?;
     let mimics = model_mimics(&follows, &raw_index);
     if !joint_terms.kinds.is_empty() && mimics.iter().any(Option::is_some) {
         let msg = "joint-level parameters (armature, friction, offset) are not supported on a \
@@ -222,7 +252,7 @@ fn joint_motion(kind: JointKind, axis: &Vector3<f64>, q: f64) -> Pose {
 /// Locked position per joint (`None`: not locked), with every entry checked.
 fn locked_values(c: &Checked<'_>, settings: &Settings<'_>) -> Result<Vec<Option<f64>>, DescriptionError> {
     let mut locked = vec![None; c.raw.joints.len()];
-    for (name, q) in &settings.locked_joints {
+    for (name, q) in &settings.choices.locked_joints {
         let path = format!("locked_joints.{name}");
         let err = |msg: String| {
             settings
@@ -403,7 +433,7 @@ fn end_effector(
     joints: &[Joint],
     diags: &mut Diagnostics,
 ) -> Result<Frame, DescriptionError> {
-    let spec = match &settings.end_effector {
+    let spec = match &settings.choices.end_effector {
         Some(spec) => spec.clone(),
         None => {
             let leaf = default_leaf(c, carrier, joints)?;
@@ -472,7 +502,7 @@ fn frame_from_spec(
         return Err(err("offset xyz/rpy is not finite".into()));
     }
     let parent = carrier[link];
-    if parent.is_none() && !settings.floating_base {
+    if parent.is_none() && !settings.choices.floating_base {
         let msg = format!(
             "link '{}' does not move with any joint (it is fixed to the base)",
             spec.link
@@ -496,8 +526,9 @@ fn named_frames(
     end_effector: &Frame,
     carrier: &[Option<usize>],
     placement: &[Pose],
+    diags: &mut Diagnostics,
 ) -> Result<Vec<Frame>, DescriptionError> {
-    let specs: Vec<(String, FrameSpec)> = match &settings.frames {
+    let specs: Vec<(String, FrameSpec)> = match &settings.choices.frames {
         FrameSelection::EndEffector => Vec::new(),
         FrameSelection::Listed(specs) => specs
             .iter()
@@ -505,7 +536,7 @@ fn named_frames(
             .map(|(k, spec)| (format!("frames[{k}]"), spec.clone()))
             .collect(),
         FrameSelection::AllLinks => (0..c.raw.links.len())
-            .filter(|&l| carrier[l].is_some() || settings.floating_base)
+            .filter(|&l| carrier[l].is_some() || settings.choices.floating_base)
             .map(|l| ("frames".to_owned(), FrameSpec::link(c.raw.links[l].name.clone())))
             .collect(),
     };
@@ -528,20 +559,35 @@ fn named_frames(
             );
             return Err(settings.map.error(path, msg));
         }
-        let mut names: Vec<&str> = vec![end_effector.name.as_str()];
-        names.extend(frames.iter().map(|f| f.name.as_str()));
-        names.push(frame.name.as_str());
-        if let Some((earlier, _, spelled)) = crate::frame_names::clashing_frame_names(&names) {
-            let msg = format!(
-                "frame '{}' and frame '{earlier}' are both spelled {spelled} in generated code; \
-                 give one of them another `name`",
-                frame.name
-            );
-            return Err(settings.map.error(path, msg));
-        }
         frames.push(frame);
     }
+    note_suffixed_names(end_effector, &frames, settings.map, diags);
     Ok(frames)
+}
+
+/// One note per frame whose name generated code spells like an earlier frame's, with the
+/// spellings it gets instead (`crate::frame_names`: the rule, and the one list the generator
+/// uses too).
+fn note_suffixed_names(end_effector: &Frame, frames: &[Frame], map: &SourceMap, diags: &mut Diagnostics) {
+    let all: Vec<&Frame> = std::iter::once(end_effector).chain(frames).collect();
+    let ids = frame_identifiers(all.iter().map(|f| f.name.as_str()));
+    for (k, id) in ids.iter().enumerate() {
+        let Some(earlier) = id.suffixed_after else {
+            continue;
+        };
+        let (first, alike) = (&ids[earlier], &all[k].name);
+        let own = &frame_identifiers([alike.as_str()])[0];
+        let spelled = match own.variant == first.variant {
+            true => format!("`Frame::{}`", first.variant),
+            false => format!("`{}` in function names", first.snake),
+        };
+        let msg = format!(
+            "frames '{}' and '{alike}' are both spelled {spelled} in generated code: '{alike}' is \
+             `Frame::{}`, `{}` in function names (`frame_pose_{}`)",
+            all[earlier].name, id.variant, id.snake, id.snake
+        );
+        diags.notes.push(map.diagnostic("frames", None, &msg));
+    }
 }
 
 /// Leaf link whose chain has the most moving joints; ties go to the first in depth-first order.

@@ -7,6 +7,13 @@
 use std::fmt;
 use std::path::{Path, PathBuf};
 
+/// Warnings and notes gathered along the way, already formatted like errors.
+#[derive(Debug, Default)]
+pub(crate) struct Diagnostics {
+    pub warnings: Vec<String>,
+    pub notes: Vec<String>,
+}
+
 /// A place in a text file, both counted from 1.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
 pub struct Location {

@@ -8,8 +8,10 @@
 //! link (the end-effector's) leaves a body's numbers unchanged.
 
 use super::assemble::DEFAULT_GRAVITY;
+use super::choices::{Choices, FrameSelection, FrameSpec};
 use super::error::vec3;
-use super::options::{FrameSelection, FrameSpec, UrdfOptions};
+use super::joint_parameters::{JointParameters, JointValues};
+use super::load::from_urdf_rs;
 use crate::model::{
     exact_sin_cos, from_xyz_rpy, Inertia, JointKind, JointTermValues, JointTerms, Model, Pose,
 };
@@ -21,10 +23,11 @@ use std::collections::HashSet;
 pub struct UrdfExport {
     /// The robot: write it with [`urdf_rs::write_to_string`].
     pub robot: urdf_rs::Robot,
-    /// What loading `robot` back needs to give the same model (a YAML wrapper's `gravity` and
-    /// `end_effector`); [`UrdfOptions::default`] when the URDF alone suffices.
-    pub options: UrdfOptions,
-    /// What differs when the URDF is read without [`UrdfExport::options`], or by tools other
+    /// What loading `robot` back needs to give the same model (gravity, the end-effector, the
+    /// named frames, a floating base, joint-level parameters), as a YAML wrapper would write
+    /// them; [`Choices::default`] when the URDF alone suffices.
+    pub choices: Choices,
+    /// What differs when the URDF is read without [`UrdfExport::choices`], or by tools other
     /// than dyngen (gravity, the order of the joints), one line each.
     pub warnings: Vec<String>,
     /// The model's joint-level parameters: viscous and Coulomb friction are in the URDF
@@ -42,19 +45,19 @@ impl UrdfExport {
             yaml_str(urdf_path),
             yaml_str(&self.robot.name)
         );
-        if let Some(ee) = &self.options.end_effector {
+        if let Some(ee) = &self.choices.end_effector {
             s.push_str(&format!("end_effector: {}\n", frame_yaml(ee)));
         }
-        if let FrameSelection::Listed(frames) = &self.options.frames {
+        if let FrameSelection::Listed(frames) = &self.choices.frames {
             s.push_str("frames:\n");
             for frame in frames {
                 s.push_str(&format!("  - {}\n", frame_yaml(frame)));
             }
         }
-        if let Some(g) = &self.options.gravity {
+        if let Some(g) = &self.choices.gravity {
             s.push_str(&format!("gravity: {}\n", yaml_vec(g)));
         }
-        if self.options.floating_base {
+        if self.choices.floating_base {
             s.push_str("floating_base: true\n");
         }
         s.push_str(&self.joint_parameters_yaml());
@@ -63,7 +66,7 @@ impl UrdfExport {
 
     /// Whether loading the URDF alone gives a different model: a YAML wrapper is needed.
     pub fn needs_wrapper(&self) -> bool {
-        self.options != UrdfOptions::default() || !self.joint_terms.kinds.is_empty()
+        self.choices != Choices::default()
     }
 
     /// `joint_parameters:` with what URDF cannot say (empty without joint-level columns).
@@ -136,14 +139,15 @@ pub struct ExportError {
 ///   body axes (`<inertial>` origin at the centre of mass, rpy zero);
 /// - the end-effector frame as a massless link of the frame's name on a fixed joint
 ///   (`<frame>_joint`), unless a body already has that name (then the frame needs an
-///   `end_effector` option naming the body and the offset);
+///   `end_effector` choice naming the body and the offset);
 /// - visuals for viewers (dyngen's readers skip them): a sphere at every joint and at the
 ///   end-effector, and a rod from every link's frame to each frame it carries.
 ///
-/// Returns the robot with the options that load it back as `model` and warnings about what
-/// the URDF alone does not say. The options are empty when the URDF alone suffices: default
-/// gravity, and an end-effector that the loader's default rule picks (the leaf at the end of
-/// the longest chain). Loaded back with them, the model is the same, with the same parameters
+/// Returns the robot with the choices that load it back as `model` and warnings about what
+/// the URDF alone does not say. The choices are the default when the URDF alone suffices:
+/// default gravity, no named frames or joint-level columns, and an end-effector that the
+/// loader's default rule picks (the leaf at the end of the longest chain). Loaded back with
+/// them, the model is the same, with the same parameters
 /// and byte-identical generated code, whenever every rotation in it is one URDF rpy rotation
 /// (true of every model loaded from a description whose moving joints hang from moving links
 /// or the base), and equal to rounding otherwise; the inertia tensor's lower triangle is
@@ -151,7 +155,7 @@ pub struct ExportError {
 /// order come back in depth-first order (a warning lists it), as every URDF reader orders
 /// them. URDF has no gravity: a model whose gravity is not
 /// `[0, 0, -9.81]` is still written (a robot on a wall should be viewable), with a warning, and
-/// the gravity in the options. Fails when no URDF loads back as the model: two bodies of one
+/// the gravity in [`UrdfExport::choices`]. Fails when no URDF loads back as the model: two bodies of one
 /// name, a prismatic joint without limits (URDF requires them).
 ///
 /// ```
@@ -160,7 +164,7 @@ pub struct ExportError {
 /// let export = to_urdf_rs(&arm7).unwrap();
 /// let text = dyngen_model::urdf_rs::write_to_string(&export.robot).unwrap();
 /// assert!(text.contains(r#"<joint name="flange_joint" type="fixed">"#));
-/// let back = from_urdf_rs(&export.robot, &export.options).unwrap().model;
+/// let back = from_urdf_rs(&export.robot, &export.choices).unwrap().model;
 /// assert_eq!(back, arm7);
 /// ```
 pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
@@ -283,33 +287,33 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
         .iter()
         .map(|f| body_frame_spec(model, f, &base))
         .collect();
-    let mut options = UrdfOptions {
+    let mut choices = Choices {
         gravity: (gravity != DEFAULT_GRAVITY).then_some(gravity),
         frames: match named.is_empty() {
             true => FrameSelection::EndEffector,
             false => FrameSelection::Listed(named),
         },
-        ..UrdfOptions::default()
+        ..Choices::default()
     };
     let mut warnings = Vec::new();
     if floating.is_some() {
-        options.floating_base = true;
+        choices.floating_base = true;
         warnings.push(format!(
             "the base '{base}' floats and URDF cannot say so: load the URDF with a floating base \
-             (a YAML wrapper's `floating_base: true`, `UrdfOptions::floating_base`, `--floating-base`)"
+             (a YAML wrapper's `floating_base: true`, `Choices::floating_base`, `--floating-base`)"
         ));
     }
-    if let Some(g) = options.gravity {
+    if let Some(g) = choices.gravity {
         warnings.push(format!(
             "gravity {} is not the default {} and URDF cannot say so: load the URDF with this \
-             gravity (a YAML wrapper's `gravity`, or `UrdfOptions::gravity`)",
+             gravity (a YAML wrapper's `gravity`, or `Choices::gravity`)",
             vec3(&g),
             vec3(&DEFAULT_GRAVITY)
         ));
     }
 
     // The loader is the judge of what its default rule picks and of the joint order.
-    let plain = super::from_urdf_rs(&robot, &options)
+    let plain = from_urdf_rs(&robot, &choices)
         .map(|l| l.model)
         .map_err(|e| fail(format!("the URDF does not load back: {e}")))?;
     let same_frame = plain.end_effector().name == ee.name
@@ -323,7 +327,7 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
             plain.end_effector().name,
             describe(&spec)
         ));
-        options.end_effector = Some(spec);
+        choices.end_effector = Some(spec);
     }
     let order: Vec<&str> = plain.joints().iter().map(|j| j.name.as_str()).collect();
     if order.iter().zip(model.joints()).any(|(a, j)| *a != j.name) {
@@ -333,11 +337,42 @@ pub fn to_urdf_rs(model: &Model) -> Result<UrdfExport, ExportError> {
             order.join(", ")
         ));
     }
+    choices.joint_parameters = joint_parameters(model);
     Ok(UrdfExport {
         robot,
-        options,
+        choices,
         warnings,
         joint_terms: model.joint_terms().clone(),
+    })
+}
+
+/// The model's joint-level columns and the values URDF cannot hold (armature, offset; friction
+/// is in `<dynamics>`), as a wrapper's `joint_parameters`; `None` without columns.
+fn joint_parameters(model: &Model) -> Option<JointParameters> {
+    let terms = model.joint_terms();
+    if terms.kinds.is_empty() {
+        return None;
+    }
+    let nonzero = |x: f64| (x != 0.0).then_some(x);
+    let joints = model
+        .joints()
+        .iter()
+        .enumerate()
+        .map(|(j, joint)| {
+            let v = terms.value(j);
+            let values = JointValues {
+                armature: nonzero(v.armature),
+                offset: nonzero(v.offset),
+                ..JointValues::default()
+            };
+            (joint.name.clone(), values)
+        })
+        .filter(|(_, v)| *v != JointValues::default())
+        .collect();
+    Some(JointParameters {
+        columns: terms.kinds.clone(),
+        coulomb_smoothing: terms.coulomb_smoothing,
+        joints,
     })
 }
 

@@ -5,13 +5,12 @@
 //! inertia is physical (what is then done about it: `non_physical`). The tree rules (names,
 //! parents, cycles) are in `tree`.
 
-use super::error::{item, num, vec3, DescriptionError};
+use super::choices::NonPhysicalInertia;
+use super::error::{item, num, vec3, DescriptionError, Diagnostics};
 use super::near_exact::{Finding, Snap};
 use super::non_physical::{self, NonPhysicalLink};
-use super::options::NonPhysicalInertia;
 use super::raw::{RawInertial, RawJoint, RawLink};
 use super::source_map::{joint_path, link_path, SourceMap};
-use super::Diagnostics;
 use crate::model::{from_xyz_rpy, principal_moments, Inertia, JointKind, Limits, Pose};
 use nalgebra::{Matrix3, Vector3};
 
@@ -79,7 +78,7 @@ fn check_joint(
         "fixed" => Motion::Fixed,
         "floating" => {
             let msg = "type 'floating' is not supported inside the tree; a robot whose root link \
-                       moves freely is loaded with `floating_base: true` (`UrdfOptions::floating_base`, \
+                       moves freely is loaded with `floating_base: true` (`Choices::floating_base`, \
                        `--floating-base`)";
             return Err(err(".type", msg.to_owned()));
         }

@@ -17,32 +17,34 @@
 //! `<dynamics>` tags generates the rigid-body code until its wrapper chooses columns.
 
 use super::error::{num, DescriptionError};
-use super::items::Motion;
-use super::options::Settings;
 use super::raw::RawDynamics;
 use super::source_map::{joint_path, SourceMap};
 use crate::model::{Joint, JointTermKind, JointTermValues, JointTerms};
+use serde::de::{self, Deserializer, SeqAccess, Visitor};
 use serde::Deserialize;
 use std::collections::BTreeMap;
+use std::fmt;
 
-/// `joint_parameters:` of a YAML file.
+/// The joint-level parameters a robot gets: the choice `Choices::joint_parameters` (YAML
+/// `joint_parameters:`; the module docs).
 #[derive(Clone, Debug, Default, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
-pub(crate) struct JointParametersSpec {
-    /// The kinds of joint-level columns: `armature`, `viscous`, `coulomb`, `offset`.
-    #[serde(default)]
-    pub columns: Vec<String>,
-    /// `ε` (rad/s or m/s) of `tanh(q̇/ε)`; absent: `sign(q̇)`.
+pub struct JointParameters {
+    /// The kinds of joint-level regressor columns (`armature`, `viscous`, `coulomb`,
+    /// `offset`), each at most once; the order does not matter.
+    #[serde(default, deserialize_with = "columns")]
+    pub columns: Vec<JointTermKind>,
+    /// `ε` (rad/s or m/s) of `tanh(q̇/ε)`, a smooth Coulomb friction; `None`: `sign(q̇)`.
     pub coulomb_smoothing: Option<f64>,
-    /// Values per joint name.
+    /// Values per joint name, over the joint's own (a moving joint that is not locked).
     #[serde(default)]
-    pub joints: BTreeMap<String, DynamicsSpec>,
+    pub joints: BTreeMap<String, JointValues>,
 }
 
-/// Joint-level values of one joint (each optional).
+/// Joint-level values of one joint, each optional: `{ armature, viscous, coulomb, offset }`.
 #[derive(Clone, Copy, Debug, Default, Deserialize, PartialEq)]
 #[serde(deny_unknown_fields)]
-pub(crate) struct DynamicsSpec {
+pub struct JointValues {
     /// Reflected rotor inertia, kg·m² (kg for prismatic joints), ≥ 0.
     pub armature: Option<f64>,
     /// Viscous friction, N·m·s/rad (N·s/m), ≥ 0.
@@ -53,8 +55,8 @@ pub(crate) struct DynamicsSpec {
     pub offset: Option<f64>,
 }
 
-impl From<DynamicsSpec> for RawDynamics {
-    fn from(d: DynamicsSpec) -> RawDynamics {
+impl From<JointValues> for RawDynamics {
+    fn from(d: JointValues) -> RawDynamics {
         RawDynamics {
             armature: d.armature,
             viscous: d.viscous,
@@ -62,6 +64,47 @@ impl From<DynamicsSpec> for RawDynamics {
             offset: d.offset,
         }
     }
+}
+
+/// `columns:` as written: a list of keywords, each an error at its place when unknown.
+fn columns<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Vec<JointTermKind>, D::Error> {
+    struct Column(JointTermKind);
+    impl<'de> Deserialize<'de> for Column {
+        fn deserialize<D: Deserializer<'de>>(deserializer: D) -> Result<Self, D::Error> {
+            // Judged in the visitor, so that the error carries the keyword's place.
+            struct Keyword;
+            impl Visitor<'_> for Keyword {
+                type Value = Column;
+                fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+                    f.write_str("a column: armature, viscous, coulomb or offset")
+                }
+                fn visit_str<E: de::Error>(self, c: &str) -> Result<Column, E> {
+                    match JointTermKind::ALL.into_iter().find(|k| k.keyword() == c) {
+                        Some(kind) => Ok(Column(kind)),
+                        None => Err(E::custom(format!(
+                            "unknown joint-parameter column '{c}' (expected armature, viscous, coulomb or offset)"
+                        ))),
+                    }
+                }
+            }
+            deserializer.deserialize_str(Keyword)
+        }
+    }
+    struct Columns;
+    impl<'de> Visitor<'de> for Columns {
+        type Value = Vec<JointTermKind>;
+        fn expecting(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            f.write_str("a list of columns, e.g. [armature, viscous, coulomb, offset]")
+        }
+        fn visit_seq<A: SeqAccess<'de>>(self, mut seq: A) -> Result<Self::Value, A::Error> {
+            let mut out = Vec::new();
+            while let Some(Column(kind)) = seq.next_element()? {
+                out.push(kind);
+            }
+            Ok(out)
+        }
+    }
+    deserializer.deserialize_seq(Columns)
 }
 
 fn raw_get(d: &RawDynamics, kind: JointTermKind) -> Option<f64> {
@@ -109,25 +152,18 @@ pub(crate) struct JointSources<'a> {
 
 /// The model's [`JointTerms`] from the description; see the module docs.
 pub(crate) fn joint_terms(
-    spec: Option<&JointParametersSpec>,
-    settings: &Settings<'_>,
+    spec: Option<&JointParameters>,
+    map: &SourceMap,
     joints: &[Joint],
     src: &JointSources<'_>,
 ) -> Result<JointTerms, DescriptionError> {
     let Some(spec) = spec else {
         return Ok(JointTerms::default());
     };
-    let map = settings.map;
     let mut kinds = Vec::new();
-    for (i, c) in spec.columns.iter().enumerate() {
-        let Some(kind) = JointTermKind::ALL.into_iter().find(|k| k.keyword() == c) else {
-            let msg = format!(
-                "unknown joint-parameter column '{c}' (expected armature, viscous, coulomb or offset)"
-            );
-            return Err(map.error(&format!("joint_parameters.columns[{i}]"), msg));
-        };
+    for (i, &kind) in spec.columns.iter().enumerate() {
         if kinds.contains(&kind) {
-            let msg = format!("joint-parameter column '{c}' is listed twice");
+            let msg = format!("joint-parameter column '{}' is listed twice", kind.keyword());
             return Err(map.error(&format!("joint_parameters.columns[{i}]"), msg));
         }
         kinds.push(kind);
@@ -176,9 +212,4 @@ pub(crate) fn joint_terms(
         coulomb_smoothing: spec.coulomb_smoothing,
         values,
     })
-}
-
-/// Only moving joints that are not locked carry joint-level parameters.
-pub(crate) fn is_free(motion: Motion, locked: Option<f64>) -> bool {
-    matches!(motion, Motion::Moving(_)) && locked.is_none()
 }

@@ -4,16 +4,15 @@
 //! exact quarter turn (or of an axis along a coordinate axis) away; 3.7e-6 rad off, every
 //! rotation stays dense and the generated code does several times the work. Such values are
 //! reported with the size of the change that would make them exact, and changed only when the
-//! description opts in (`snap_angles: TOLERANCE`): never silently. Within 1e-9 rad (the
-//! precision with which any real robot is described, and the rounding of printed π/2) a quarter
-//! turn is always exact (`model::exact_sin_cos`), without a message.
+//! description opts in (`snap_angles: TOLERANCE`), each change a note: never silently, however
+//! small (`1.57079632679`, 4.9e-12 off, is reported like `1.5708`). Only a quarter turn to the
+//! last bit of `f64` (`1.5707963267948966`) is exact as written (`model::quarter_turns`).
 
+use crate::model::quarter_turns;
 use std::f64::consts::FRAC_PI_2;
 
 /// How far from a quarter turn (rad), or from 0 for an axis component, a value is reported.
 pub(crate) const REPORTED: f64 = 1e-3;
-/// Closer than this, a quarter turn is exact already (see `model::exact_sin_cos`).
-const EXACT: f64 = 1e-9;
 
 /// What to do about a near-exact value: keep it, or snap it within a tolerance.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -53,7 +52,7 @@ impl Snap {
             let turns = (angle / FRAC_PI_2).round();
             let exact = turns * FRAC_PI_2;
             let distance = (angle - exact).abs();
-            if distance > EXACT && distance <= REPORTED {
+            if quarter_turns(*angle).is_none() && distance <= REPORTED {
                 let name = ["roll", "pitch", "yaw"][k];
                 let shown = format!("{what} {name} {angle}");
                 let f = self.finding(shown, distance, format!("{turns}·π/2"));
@@ -124,11 +123,29 @@ mod tests {
 
     #[test]
     fn exact_and_far_values_say_nothing() {
-        let (_, f) = Snap(None).rpy("origin", [1.57079632679, 0.3, 2.0]);
+        let (_, f) = Snap(None).rpy("origin", [FRAC_PI_2, 0.3, -std::f64::consts::PI]);
         assert!(f.is_empty());
         let (a, f) = Snap(Some(1e-3)).axis([0.0, 0.6, 0.8]);
         assert!(f.is_empty());
         assert_eq!(a, [0.0, 0.6, 0.8]);
+    }
+
+    #[test]
+    fn values_a_hair_from_exact_are_kept_and_reported_unless_snapped() {
+        let (rpy, f) = Snap(None).rpy("origin", [1.57079632679, 0.0, 1e-12]);
+        assert_eq!(rpy, [1.57079632679, 0.0, 1e-12]);
+        assert_eq!(f.len(), 2);
+        assert!(f.iter().all(|f| !f.snapped));
+        assert!(
+            f[0].message
+                .contains("origin roll 1.57079632679 is 4.9e-12 from 1·π/2")
+                && f[0].message.contains("`snap_angles: 1e-11`"),
+            "{}",
+            f[0].message
+        );
+        let (rpy, f) = Snap(Some(1e-9)).rpy("origin", [1.57079632679, 0.0, 1e-12]);
+        assert_eq!(rpy, [FRAC_PI_2, 0.0, 0.0]);
+        assert!(f.iter().all(|f| f.snapped && f.message.contains("snapped to")));
     }
 
     #[test]

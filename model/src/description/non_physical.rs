@@ -9,10 +9,9 @@
 //! to the fixed base never enters the dynamics, so it is only warned about; that is decided
 //! when the links' carriers are known ([`report`]).
 
-use super::error::{item, DescriptionError};
-use super::options::NonPhysicalInertia;
+use super::choices::NonPhysicalInertia;
+use super::error::{item, DescriptionError, Diagnostics};
 use super::source_map::{link_path, SourceMap};
-use super::Diagnostics;
 use crate::model::physical_inertia::{moments_text, nearest_physical, percent, short, GROSS_DEFECT};
 use crate::model::{inertia_defect, InertiaDefect, InertiaDefectKind};
 use nalgebra::Matrix3;

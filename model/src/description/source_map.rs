@@ -14,6 +14,8 @@ use std::path::{Path, PathBuf};
 pub(crate) struct SourceMap {
     pub file: PathBuf,
     places: HashMap<String, Location>,
+    /// Places of mapping keys (YAML only), by the path of their value.
+    keys: HashMap<String, Location>,
 }
 
 impl SourceMap {
@@ -21,12 +23,25 @@ impl SourceMap {
         SourceMap {
             file: file.to_path_buf(),
             places: HashMap::new(),
+            keys: HashMap::new(),
         }
     }
 
     /// Records a place; the first record of a path wins.
     pub fn insert(&mut self, path: String, location: Location) {
         self.places.entry(path).or_insert(location);
+    }
+
+    /// Records the place of the key whose value is at `path`; the first record wins.
+    pub fn insert_key(&mut self, path: String, location: Location) {
+        self.keys.entry(path).or_insert(location);
+    }
+
+    /// An error about the key whose value is at `path` (an unknown key, a key chosen twice),
+    /// at the key; else as [`SourceMap::error`].
+    pub fn key_error(&self, path: &str, message: impl Into<String>) -> DescriptionError {
+        let at = self.keys.get(path).copied().or_else(|| self.locate(path));
+        DescriptionError::new(&self.file, message).at(at)
     }
 
     /// The place of `path`, or of the nearest enclosing path that has one
@@ -61,6 +76,17 @@ pub(crate) fn link_path(i: usize) -> String {
 /// Path of the `i`-th joint of a description.
 pub(crate) fn joint_path(i: usize) -> String {
     format!("joints[{i}]")
+}
+
+/// Reads a description: a regular file only (`/dev/zero` or a FIFO would never end), UTF-8.
+pub(crate) fn read_regular_file(path: &Path) -> std::io::Result<String> {
+    if !std::fs::metadata(path)?.is_file() {
+        return Err(std::io::Error::new(
+            std::io::ErrorKind::InvalidInput,
+            "not a regular file",
+        ));
+    }
+    std::fs::read_to_string(path)
 }
 
 #[cfg(test)]

@@ -38,81 +38,53 @@
 //! floating_base: true                   # optional: the root link flies free (default false)
 //! ```
 //!
-//! Both forms may add `joint_parameters:` (armature, friction, offset columns and values; see
-//! the `joint_parameters` module), and form (a) joints a `dynamics:` map of their own values.
+//! Every key but the robot's (`urdf`, or `links` and `joints`, and `name`) is one of the user's
+//! [`Choices`], in either form: [`Choices`] documents each (`joint_parameters:` among them:
+//! armature, friction and offset columns and values). Form (a) joints may add a `dynamics:` map
+//! of their own joint-level values.
 //!
 //! Unknown keys are errors (a typo must not be ignored).
 
+use super::choices::Choices;
 use super::error::{DescriptionError, Location};
-use super::joint_parameters::{DynamicsSpec, JointParametersSpec};
-use super::options::{FrameSelection, FrameSpec, LockedJoints, NonPhysicalInertia, Settings};
+use super::joint_parameters::JointValues;
 use super::raw::{RawDynamics, RawInertial, RawJoint, RawLimit, RawLink, RawMimic, RawRobot};
-use super::source_map::SourceMap;
+use super::source_map::{read_regular_file, SourceMap};
 use super::{urdf, yaml_spans};
-use crate::Functions;
+use serde::de::IgnoredAny;
 use serde::Deserialize;
+use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-/// A robot file: either `urdf` (form b) or `links` + `joints` (form a), never both.
+/// A robot file: the robot, either `urdf` (form b) or `links` + `joints` (form a), never both;
+/// and the user's [`Choices`], each a key beside them.
 #[derive(Debug, Deserialize)]
-#[serde(deny_unknown_fields)]
 pub(crate) struct RobotFile {
     /// Robot name, used to name generated code. Required for form (a); for form (b) it
     /// defaults to the URDF `<robot name>`.
     name: Option<String>,
     /// Form (b): path of the URDF file to load, relative to this YAML file.
     urdf: Option<String>,
-    /// Gravity acceleration in the base frame, m/s². Default `[0, 0, -9.81]` (z up).
-    gravity: Option<[f64; 3]>,
-    /// The frame whose pose and Jacobian are generated: a link name, or
-    /// `{ link, name, xyz, rpy }` for a frame at a fixed offset from a link (`name` defaults
-    /// to the link name, `xyz`/`rpy` to zero). Default: the leaf link at the end of the
-    /// longest chain (the loader says which in a note).
-    end_effector: Option<FrameSpec>,
-    /// Frames generated besides the end-effector (the group `frames`): a list of frames,
-    /// each written like `end_effector`, or `all` (every link that moves with a joint).
-    /// Default: the end-effector only.
-    #[serde(default)]
-    frames: FrameSelection,
-    /// Joints made rigid at a position (radians, or metres for prismatic joints), e.g.
-    /// `{ finger_joint1: 0.0 }`. Their child links are welded to the body that carries them.
-    /// The position must lie within the joint limits. A locked mimic joint stays where it is
-    /// locked; the master of an unlocked mimic joint cannot be locked.
-    #[serde(default)]
-    locked_joints: LockedJoints,
-    /// Origin angles within this many radians of a quarter turn become exact quarter turns,
-    /// and axis components this close to 0 become 0 (at most 1e-3; each change is noted).
-    /// Default: kept as written, with a warning.
-    snap_angles: Option<f64>,
-    /// What to do with a link whose inertia no real body can have: `as_written` (default: a
-    /// warning), `repair` (the nearest physical inertia, noted) or `strict` (an error).
-    #[serde(default)]
-    inertia: NonPhysicalInertia,
-    /// The root link moves freely in the world (legged robots, humanoids): the configuration
-    /// gains the base pose, the velocity the base twist, the root link's inertia becomes the
-    /// base body's. Default `false`: the root link is fixed to the world.
-    #[serde(default)]
-    floating_base: bool,
-    /// Joint-level parameters (armature, friction, offset): which regressor columns, and
-    /// per-joint values (`joint_parameters` module docs). Absent: none.
-    joint_parameters: Option<JointParametersSpec>,
-    /// The groups of functions to generate besides kinematics and dynamics, e.g.
-    /// `[regressors, base_parameters, forward_dynamics]`, or `all`. Absent: the generator's
-    /// default (every group up to 12 joints; above, kinematics, dynamics, forward dynamics and
-    /// frames).
-    functions: Option<FunctionsSpec>,
     /// Form (a): the links, in any order.
     links: Option<Vec<LinkSpec>>,
     /// Form (a): the joints. Their order fixes the order of sibling branches.
     joints: Option<Vec<JointSpec>>,
+    /// Every key but the four above, each a key of [`Choices`] ([`Choices::KEYS`]) or an error.
+    /// Before `choices`: serde's `flatten` lends all remaining keys to a map and hands a
+    /// struct only its own, so this sees the choices' keys too.
+    #[serde(flatten)]
+    other_keys: BTreeMap<String, IgnoredAny>,
+    /// The user's choices (`end_effector`, `frames`, …): [`Choices`] documents each key.
+    #[serde(flatten)]
+    choices: Choices,
 }
 
-/// `functions:` as written: `all`, or a list of group keywords.
-#[derive(Debug, Deserialize)]
-#[serde(untagged)]
-enum FunctionsSpec {
-    Keyword(String),
-    List(Vec<String>),
+/// The keys of a robot file that are the robot, not a choice: the fields of [`RobotFile`].
+const DESCRIPTION_KEYS: [&str; 4] = ["name", "urdf", "links", "joints"];
+
+/// Every key a robot file may have: the robot's, then the choices'.
+fn keys() -> impl Iterator<Item = &'static str> {
+    DESCRIPTION_KEYS.into_iter().chain(Choices::KEYS.iter().copied())
 }
 
 /// A link (a rigid body), as URDF `<link>`.
@@ -189,7 +161,7 @@ struct JointSpec {
     mimic: Option<MimicSpec>,
     /// Joint-level values `{ armature, viscous, coulomb, offset }` (each optional; used for
     /// the columns `joint_parameters.columns` chooses).
-    dynamics: Option<DynamicsSpec>,
+    dynamics: Option<JointValues>,
 }
 
 /// Joint limits, as URDF `<limit>` (all four required).
@@ -223,85 +195,60 @@ pub(crate) struct Parsed {
     pub robot: RawRobot,
     /// Places of links and joints: this file (form a) or the URDF (form b).
     pub robot_map: SourceMap,
-    /// Places of the YAML keys (end_effector, locked_joints, gravity).
+    /// Places of the YAML keys and values (`end_effector`, `locked_joints.<joint>`, …).
     pub yaml_map: SourceMap,
     pub name: Option<String>,
-    pub gravity: Option<[f64; 3]>,
-    pub end_effector: Option<FrameSpec>,
-    pub frames: FrameSelection,
-    pub locked_joints: Vec<(String, f64)>,
-    pub snap_angles: Option<f64>,
-    pub inertia: NonPhysicalInertia,
-    pub floating_base: bool,
-    pub joint_parameters: Option<JointParametersSpec>,
-    functions: Option<FunctionsSpec>,
+    pub choices: Choices,
+    /// The keys of `choices` the file writes.
+    pub written: Vec<String>,
     /// Files read to get here (the URDF of form b).
     pub read: Vec<PathBuf>,
-}
-
-impl Parsed {
-    /// The groups `functions:` chooses, checked; an unknown group is an error at the key.
-    pub fn functions(&self) -> Result<Option<Functions>, DescriptionError> {
-        let chosen = match &self.functions {
-            None => return Ok(None),
-            Some(FunctionsSpec::Keyword(k)) => Functions::from_keywords([k.as_str()]),
-            Some(FunctionsSpec::List(list)) => Functions::from_keywords(list.iter().map(String::as_str)),
-        };
-        chosen
-            .map(Some)
-            .map_err(|message| self.yaml_map.error("functions", message))
-    }
-
-    pub fn settings(&self) -> Settings<'_> {
-        Settings {
-            name: self.name.clone(),
-            gravity: self.gravity,
-            end_effector: self.end_effector.clone(),
-            frames: self.frames.clone(),
-            locked_joints: self.locked_joints.clone(),
-            snap_angles: self.snap_angles,
-            inertia: self.inertia,
-            floating_base: self.floating_base,
-            joint_parameters: self.joint_parameters.clone(),
-            map: &self.yaml_map,
-        }
-    }
 }
 
 /// Parses a YAML robot file; for form (b) reads the URDF it points to.
 pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError> {
     check_flow_nesting(text, file)?;
-    let spec: RobotFile = serde_yaml::from_str(text).map_err(|e| serde_error(file, &e))?;
+    let spec: RobotFile = serde_yaml::from_str(text).map_err(|e| {
+        // serde reads a flattened struct from a copy of the values, without their places:
+        // the choices are read again on their own, and an error about one of their keys
+        // (`gravity: invalid length 2, ...`) is reported from there, with its line and column.
+        let about_a_choice = |e: &serde_yaml::Error| {
+            let message = e.to_string();
+            Choices::KEYS.iter().any(|k| {
+                message
+                    .strip_prefix(k)
+                    .is_some_and(|rest| rest.starts_with([':', '.', '[']))
+            })
+        };
+        match serde_yaml::from_str::<Choices>(text) {
+            Err(choice) if about_a_choice(&choice) => serde_error(file, &choice),
+            _ => serde_error(file, &e),
+        }
+    })?;
     let yaml_map = yaml_spans::index(text, file);
     let RobotFile {
         name,
         urdf,
-        gravity,
-        end_effector,
-        frames,
-        locked_joints,
-        snap_angles,
-        inertia,
-        floating_base,
-        joint_parameters,
-        functions,
         links,
         joints,
+        other_keys,
+        choices,
     } = spec;
+    if let Some(unknown) = other_keys.keys().find(|k| !Choices::KEYS.contains(&k.as_str())) {
+        let expected: Vec<String> = keys().map(|k| format!("`{k}`")).collect();
+        let msg = format!(
+            "unknown field `{unknown}`, expected one of {}",
+            expected.join(", ")
+        );
+        return Err(yaml_map.key_error(unknown, msg));
+    }
     let mut parsed = Parsed {
         robot: RawRobot::default(),
         robot_map: SourceMap::new(file),
         yaml_map,
         name,
-        gravity,
-        end_effector,
-        frames,
-        locked_joints: locked_joints.0,
-        snap_angles,
-        inertia,
-        floating_base,
-        joint_parameters,
-        functions,
+        choices,
+        written: other_keys.into_keys().collect(),
         read: Vec::new(),
     };
     let both = |key: &str| {
@@ -315,7 +262,7 @@ pub(crate) fn parse(text: &str, file: &Path) -> Result<Parsed, DescriptionError>
         (Some(_), None, Some(_)) => both("joints"),
         (Some(urdf_rel), None, None) => {
             let urdf_path = file.parent().unwrap_or(Path::new("")).join(&urdf_rel);
-            let text = super::read_regular_file(&urdf_path).map_err(|e| {
+            let text = read_regular_file(&urdf_path).map_err(|e| {
                 let msg = format!("cannot read URDF file '{}': {e}", urdf_path.display());
                 parsed.yaml_map.error("urdf", msg)
             })?;

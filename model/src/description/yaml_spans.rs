@@ -63,6 +63,13 @@ impl Recorder {
                 if *expecting_key {
                     *expecting_key = false;
                     *key = key_text.map(str::to_owned);
+                    if let (Some(p), Some(k)) = (path.as_ref(), key.as_ref()) {
+                        let at = match p.is_empty() {
+                            true => k.clone(),
+                            false => format!("{p}.{k}"),
+                        };
+                        self.map.insert_key(at, location);
+                    }
                     return None;
                 }
                 *expecting_key = true;
@@ -147,6 +154,10 @@ mod tests {
         assert_eq!(at("joints[1]"), Some((5, 5)));
         assert_eq!(at("joints[1].axis"), Some((5, 22)));
         assert_eq!(at("locked_joints.f1"), Some((6, 21)));
+        let key = |p: &str| map.key_error(p, "").location.map(|l| (l.line, l.column));
+        assert_eq!(key("locked_joints"), Some((6, 1)));
+        assert_eq!(key("locked_joints.f1"), Some((6, 17)));
+        assert_eq!(key("joints[1].axis"), Some((5, 16)));
     }
 
     #[test]

@@ -22,7 +22,7 @@ pub use coupling::{CoordinateMap, Mimic};
 pub use joint_terms::{JointTermKind, JointTermValues, JointTerms};
 pub use physical_inertia::{inertia_defect, nearest_physical, InertiaDefect, InertiaDefectKind};
 #[doc(hidden)]
-pub use pose::exact_sin_cos;
+pub use pose::{exact_sin_cos, quarter_turns};
 pub use pose::{from_xyz_rpy, Pose};
 pub(crate) use validate::principal_moments;
 use validate::validate;

@@ -13,7 +13,7 @@
 //! the same code in release). A case is replayed from its seed alone.
 
 use crate::random_model::SplitMix64;
-use dyngen_codegen::description::{load_urdf_str, load_yaml_str, Loaded, UrdfOptions};
+use dyngen_codegen::description::{load_urdf_str, load_yaml_str, Choices, Loaded};
 use dyngen_codegen::internals::generate::{emit, trace, Provenance};
 use dyngen_codegen::model::Model;
 use std::panic::{catch_unwind, AssertUnwindSafe};
@@ -598,7 +598,7 @@ pub fn model_is_finite(m: &Model) -> bool {
 pub fn check_input(text: &str, format: Format, file: &Path) -> Result<Option<Loaded>, String> {
     let result = catch_unwind(AssertUnwindSafe(|| match format {
         Format::Yaml => load_yaml_str(text, file),
-        Format::Urdf => load_urdf_str(text, file, &UrdfOptions::default()),
+        Format::Urdf => load_urdf_str(text, file, &Choices::default()),
     }));
     match result {
         Err(p) => Err(format!("the loader panicked: {}", panic_message(&*p))),

@@ -75,10 +75,9 @@ pub(super) fn frame_items(
     frame_trait: &FrameTrait,
     sizes: &Sizes,
 ) -> TokenStream {
-    let variants: Vec<Ident> = model
-        .frames()
-        .iter()
-        .map(|f| format_ident!("{}", frame_identifiers(&f.name).variant))
+    let variants: Vec<Ident> = frame_identifiers(model.frames().iter().map(|f| f.name.as_str()))
+        .into_iter()
+        .map(|id| format_ident!("{}", id.variant))
         .collect();
     let enum_items = frame_enum(model, &variants, frame_trait.enum_doc);
     let (functions, calls) = frame_functions(robot, leaves, frame_trait.width, sizes);

@@ -218,3 +218,53 @@ fn a_missing_group_is_a_compile_error_that_says_how_to_generate_it() {
         );
     }
 }
+
+/// Frames whose names Rust spells alike (`link_1` and `Link1`, as ROS-Industrial URDFs have
+/// them) get told-apart identifiers, and the generated crate compiles without a warning.
+#[test]
+fn frames_spelled_alike_compile_with_their_suffixes() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let krate = dir.path();
+    std::fs::create_dir_all(krate.join("src")).expect("src");
+    let urdf = krate.join("twins.urdf");
+    std::fs::write(
+        &urdf,
+        r#"<robot name="twins">
+  <link name="base_link"/>
+  <link name="link_1"><inertial><mass value="2"/><inertia ixx="0.1" ixy="0" ixz="0" iyy="0.1" iyz="0" izz="0.1"/></inertial></link>
+  <link name="Link1"><inertial><origin xyz="0.2 0 0"/><mass value="1"/><inertia ixx="0.01" ixy="0" ixz="0" iyy="0.01" iyz="0" izz="0.01"/></inertial></link>
+  <link name="a-b"/>
+  <link name="a_b"/>
+  <joint name="joint_a1" type="revolute"><parent link="base_link"/><child link="link_1"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" effort="100" velocity="2"/></joint>
+  <joint name="joint_a2" type="revolute"><parent link="link_1"/><child link="Link1"/><origin xyz="0 0 0.5"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" effort="100" velocity="2"/></joint>
+  <joint name="to_ab" type="fixed"><parent link="Link1"/><child link="a-b"/><origin xyz="0.4 0 0"/></joint>
+  <joint name="to_a_b" type="fixed"><parent link="Link1"/><child link="a_b"/><origin xyz="0.5 0 0"/></joint>
+</robot>
+"#,
+    )
+    .expect("urdf");
+    let report = Builder::new(&urdf)
+        .output_file(krate.join("src/robot.rs"))
+        .cargo_directives(false)
+        .end_effector("a-b")
+        .frames(dyngen_codegen::description::FrameSelection::AllLinks)
+        .functions(&[dyngen_codegen::FunctionGroup::Frames])
+        .compile_report()
+        .unwrap_or_else(|e| panic!("{e}"));
+    let code = &report.robot.code;
+    for variant in ["AB", "Link1", "Link1_2", "AB2"] {
+        assert!(code.contains(&format!("    {variant},\n")), "variant {variant}");
+    }
+    assert_eq!(
+        report
+            .robot
+            .notes
+            .iter()
+            .filter(|n| n.contains("both spelled"))
+            .count(),
+        2
+    );
+    write_crate(krate, "generated-twins", &["robot"]);
+    let (success, _, stderr) = cargo(krate, &["build", "--lib"]);
+    assert!(success, "the generated crate does not build cleanly:\n{stderr}");
+}
