@@ -227,7 +227,7 @@ fn singular_inertia_warnings(path: &Path, model: &Model) -> Vec<String> {
         .map(|k| {
             format!(
                 "{}: joint '{}': moves no mass or inertia in its own direction (link '{}' and what \
-                 it carries): the inertia matrix D is singular, so forward dynamics and D⁻¹ do not \
+                 it carries): the mass matrix D is singular, so forward dynamics and D⁻¹ do not \
                  exist (forward_dynamics, mass_matrix_inverse and forward_dynamics_derivatives \
                  return non-finite values)",
                 path.display(),

@@ -1,4 +1,4 @@
-//! A robot whose inertia matrix is singular (a joint that moves no mass or inertia in its own
+//! A robot whose mass matrix is singular (a joint that moves no mass or inertia in its own
 //! direction) is generated with a warning that names the joint: its forward dynamics do not exist.
 
 use dyngen_codegen::description::load;
@@ -18,7 +18,7 @@ fn point_mass_on_its_own_axis_warns_with_the_joint_named() {
     let singular: Vec<&String> = robot
         .warnings
         .iter()
-        .filter(|w| w.contains("inertia matrix D is singular"))
+        .filter(|w| w.contains("mass matrix D is singular"))
         .collect();
     assert_eq!(singular.len(), 1, "{:#?}", robot.warnings);
     assert!(singular[0].contains("joint 'wrist'"), "{}", singular[0]);
