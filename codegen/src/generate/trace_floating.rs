@@ -18,21 +18,11 @@ use crate::spatial::{Mat3, RigidInertia, Transform, Vec3};
 use crate::symbolic::{record, Expr, Id};
 use crate::{FunctionGroup, Functions};
 
-/// The groups a floating-base robot is generated with: its dynamics (with the centroidal
-/// quantities), forward dynamics and frames, the functions of `FloatingBaseDynamics` and
-/// `FloatingFrameKinematics`, the base parameters (`FloatingBaseParameters`) and the
-/// derivatives (`FloatingDynamicsDerivatives`).
+/// The groups a floating-base robot is generated with: every group, since its traits
+/// (`FloatingBaseDynamics`, `FloatingBaseParameters`, `FloatingDynamicsDerivatives`,
+/// `FloatingFrameKinematics`) are not split by group.
 pub fn floating_functions() -> Functions {
-    Functions::with(&[
-        FunctionGroup::Kinematics,
-        FunctionGroup::Dynamics,
-        FunctionGroup::Regressors,
-        FunctionGroup::BaseParameters,
-        FunctionGroup::ForwardDynamics,
-        FunctionGroup::Derivatives,
-        FunctionGroup::Frames,
-    ])
-    .expect("the floating groups need nothing they lack")
+    Functions::all()
 }
 
 /// The rows of a floating-base robot traced before its frames, in trace order (which is their
