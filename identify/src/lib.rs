@@ -17,13 +17,15 @@
 //!    the Lagrange equations integrated over windows ([`Observation`]).
 //! 4. Estimation: least squares on the base parameters weighted by each joint's noise, the
 //!    noise re-estimated from the weighted residuals until it settles, with per-parameter
-//!    standard deviations ([`BaseEstimate`]), or an [`IdentifyError::Unidentifiable`] that
-//!    names the parameter the data cannot determine; then a physically consistent full θ as
+//!    standard deviations and covariance ([`BaseEstimate`]; [`BaseEstimate::trust`] flags the
+//!    parameters whose relative σ is above a limit), or an [`IdentifyError::Unidentifiable`]
+//!    that names the parameter the data cannot determine; then a physically consistent full θ as
 //!    compatible with the data as the least squares allow ([`ConsistentEstimate`]: every
 //!    body's pseudo-inertia positive definite with a margin, armature and friction positive,
 //!    by a log-Cholesky parameterisation, from the best of several starts
 //!    ([`ConsistentStart`]), made from the description with its bodies that no real body can
-//!    be repaired first ([`Identification::notes`] says which)).
+//!    be repaired first ([`Identification::notes`] says which)), with the σ of its base
+//!    parameters by linearisation at the optimum.
 //! 5. The identified robot as a dyngen YAML description ([`to_yaml`],
 //!    [`Identification::yaml`]), checked by loading it back: always one the loader accepts
 //!    ([`WrittenEstimate`]), with warnings ([`Identification::warnings`]) when no consistent
@@ -68,7 +70,7 @@ pub use energy::{Observation, DEFAULT_WINDOW};
 pub use error::{IdentifyError, Place};
 pub use excitation::{condition_number, optimise, optimise_within, Excitation, ExcitationOptions};
 pub use fourier::{FourierTrajectory, JointSample, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
-pub use least_squares::BaseEstimate;
+pub use least_squares::{BaseEstimate, Trust, DEFAULT_MAX_RELATIVE_STD};
 pub use normal_equations::NormalEquations;
 pub use observation::{prepare, BaseModel, BaseRegressorSource, Compiled, Prepared};
 pub use payload::{identify_payload, PayloadData, PayloadEstimate, PayloadOptions};

@@ -12,4 +12,5 @@ mod industrial;
 mod non_physical_description;
 mod payload;
 mod streaming;
+mod uncertainty;
 mod workspace;
