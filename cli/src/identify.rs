@@ -6,8 +6,8 @@ use crate::identifiable::load_identifiable;
 use crate::loading::LoadingArgs;
 use clap::{Args, ValueEnum};
 use dyngen_identify::{
-    identify, identify_file, read_csv, BaseModel, IdentifyOptions, Observation, Progress, WrittenEstimate,
-    DEFAULT_WINDOW,
+    identify, identify_file, read_csv, BaseModel, Identification, IdentifyOptions, Observation, Progress,
+    WrittenEstimate, DEFAULT_MAX_RELATIVE_STD, DEFAULT_WINDOW,
 };
 use std::path::PathBuf;
 use std::time::Instant;
@@ -48,6 +48,14 @@ pub struct IdentifyArgs {
     /// Window of the momentum and energy forms, in s.
     #[arg(long, value_name = "S", default_value_t = DEFAULT_WINDOW)]
     window: f64,
+    /// Mark the base parameters whose standard deviation is above this percentage of their
+    /// value as poorly determined; when every one is, the identification is refused (nothing
+    /// written) unless --force.
+    #[arg(long, value_name = "PCT", default_value_t = 100.0 * DEFAULT_MAX_RELATIVE_STD)]
+    max_relative_std: f64,
+    /// Write the identified description even when the identification cannot be trusted.
+    #[arg(long)]
+    force: bool,
     #[command(flatten)]
     loading: LoadingArgs,
 }
@@ -59,6 +67,12 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
             "note: {} chooses no joint-level columns (joint_parameters.columns): friction and armature are not identified",
             args.description.display()
         );
+    }
+    if !(args.max_relative_std > 0.0 && args.max_relative_std.is_finite()) {
+        return Err(Failure::from(format!(
+            "--max-relative-std {}: a limit is a positive percentage",
+            args.max_relative_std
+        )));
     }
     if !(args.window > 0.0 && args.window.is_finite()) {
         return Err(Failure::from(format!(
@@ -107,16 +121,8 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
         id.base.theta_b.len(),
         id.base.condition_number
     );
-    println!("{:>14} {:>14} {:>9}  base parameter", "θ_b", "σ", "σ/|θ_b|");
-    for k in 0..id.base.theta_b.len() {
-        println!(
-            "{:>14.6e} {:>14.3e} {:>8.2}%  {}",
-            id.base.theta_b[k],
-            id.base.std_dev[k],
-            100.0 * id.base.relative_std_dev(k),
-            id.base.names[k]
-        );
-    }
+    let trust = id.base.trust(args.max_relative_std / 100.0);
+    print_table(&id, &trust.flagged, args.max_relative_std);
     println!(
         "torque noise per joint (σ, from the weighted residuals; re-estimated {} times{}):",
         id.base.noise_iterations,
@@ -147,9 +153,50 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
     for warning in &id.warnings {
         eprintln!("warning: {warning}");
     }
+    if let Some(why) = &trust.untrusted {
+        if !args.force {
+            return Err(Failure::from(format!(
+                "the identification cannot be trusted: {why}; nothing written (--force writes it anyway)"
+            )));
+        }
+        eprintln!("warning: the identification cannot be trusted: {why}; written anyway (--force)");
+    }
     let yaml = id.yaml(&args.data.display().to_string());
     std::fs::write(&args.output, yaml)
         .map_err(|e| Failure::from(format!("{}: cannot write: {e}", args.output.display())))?;
     println!("wrote {}", args.output.display());
     Ok(())
+}
+
+/// The base parameters: the least squares' value, σ and σ relative to the value, the consistent
+/// estimate's value and σ (by linearisation at its optimum), a `*` on those whose relative σ
+/// is above `limit` percent, and the name.
+fn print_table(id: &Identification, flagged: &[usize], limit: f64) {
+    let (base, consistent) = (&id.base, &id.consistent);
+    println!(
+        "{:>14} {:>11} {:>9}  {:>14} {:>11}    base parameter",
+        "θ_b", "σ", "%σ", "consistent θ_b", "σ"
+    );
+    for k in 0..base.theta_b.len() {
+        println!(
+            "{:>14.6e} {:>11.3e} {:>8.2}%  {:>14.6e} {:>11.3e}  {}  {}",
+            base.theta_b[k],
+            base.std_dev[k],
+            100.0 * base.relative_std_dev(k),
+            consistent.theta_b[k],
+            consistent.std_dev[k],
+            if flagged.contains(&k) { '*' } else { ' ' },
+            base.names[k]
+        );
+    }
+    let b = base.theta_b.len();
+    if flagged.is_empty() {
+        println!("every base parameter has σ within {limit}% of its value");
+    } else {
+        println!(
+            "* {} of {b} base parameters have σ above {limit}% of their value (--max-relative-std): \
+             poorly determined by this data",
+            flagged.len()
+        );
+    }
 }
