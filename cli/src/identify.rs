@@ -26,7 +26,7 @@ pub struct IdentifyArgs {
     /// The robot description identification starts from (`.yaml` or `.urdf`).
     description: PathBuf,
     /// The measured data (CSV with columns `time`, `q[<joint>]`, `tau[<joint>]`, optionally
-    /// `qd[<joint>]` and `qdd[<joint>]`).
+    /// `qd[<joint>]` and `qdd[<joint>]`); `-` reads the standard input.
     data: PathBuf,
     /// The identified description to write (dyngen YAML).
     #[arg(short, long, value_name = "identified.yaml")]
@@ -36,7 +36,7 @@ pub struct IdentifyArgs {
     cutoff: f64,
     /// Read the data file line by line, for logs too long to hold: memory does not grow with
     /// the file, the estimate is the same (to the normal equations' accuracy), and progress
-    /// goes to stderr.
+    /// goes to stderr. A pipe or the standard input is read in one pass.
     #[arg(long)]
     stream: bool,
     /// What is fitted to the torques: `torque`, the inverse dynamics at every sample (needs
@@ -100,8 +100,12 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
                 } else {
                     "accumulating"
                 };
-                let share = 100.0 * p.bytes_read as f64 / p.file_bytes.max(1) as f64;
-                eprintln!("{what}: {share:.0}% ({} samples)", p.samples);
+                if p.file_bytes > 0 {
+                    let share = 100.0 * p.bytes_read as f64 / p.file_bytes as f64;
+                    eprintln!("{what}: {share:.0}% ({} samples)", p.samples);
+                } else {
+                    eprintln!("{what}: {} samples", p.samples);
+                }
             }
         };
         identify_file(&model, &BaseModel::new(&model), &args.data, &options, progress)?
@@ -111,7 +115,7 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
     };
     let elapsed = start.elapsed().as_secs_f64();
     for note in &id.notes {
-        eprintln!("note: {note}");
+        eprintln!("note: {}: {note}", args.description.display());
     }
     println!(
         "{}: {} samples used{}, {} base parameters, scaled condition number {:.1}, identified in {elapsed:.2} s",
@@ -150,22 +154,35 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
     if id.written != WrittenEstimate::Consistent {
         println!("the description written holds {}", id.written);
     }
+    let data = data_name(&args.data);
     for warning in &id.warnings {
-        eprintln!("warning: {warning}");
+        eprintln!("warning: {data}: {warning}");
     }
     if let Some(why) = &trust.untrusted {
         if !args.force {
             return Err(Failure::from(format!(
-                "the identification cannot be trusted: {why}; nothing written (--force writes it anyway)"
+                "{data}: the identification cannot be trusted: {why}; nothing written (--force writes it anyway)"
             )));
         }
-        eprintln!("warning: the identification cannot be trusted: {why}; written anyway (--force)");
+        eprintln!("warning: {data}: the identification cannot be trusted: {why}; written anyway (--force)");
     }
-    let yaml = id.yaml(&args.data.display().to_string());
-    std::fs::write(&args.output, yaml)
+    let (text, loader_warnings) = id.written(&data, &args.output)?;
+    std::fs::write(&args.output, text)
         .map_err(|e| Failure::from(format!("{}: cannot write: {e}", args.output.display())))?;
     println!("wrote {}", args.output.display());
+    // What the loader says of the file as written: its name and lines.
+    for warning in &loader_warnings {
+        eprintln!("warning: {warning}");
+    }
     Ok(())
+}
+
+/// The data file as messages name it (`<stdin>` for `-`).
+pub fn data_name(data: &std::path::Path) -> String {
+    match data.to_str() {
+        Some("-") => "<stdin>".to_owned(),
+        _ => data.display().to_string(),
+    }
 }
 
 /// The base parameters: the least squares' value, σ and σ relative to the value, the consistent

@@ -107,7 +107,9 @@ pub(crate) fn consistent_estimate(problem: &Problem<'_>, estimate: &BaseEstimate
         .filter(|&&floor| floor > PRECISION_FLOOR)
         .map(|&floor| problem.with_precision_floor(floor))
         .collect();
-    let mut best: Option<(f64, Vec<f64>, Vec<f64>, usize, ConsistentStart)> = None;
+    // The best end so far: cost, θ, free numbers, iterations, start.
+    type End = (f64, Vec<f64>, Vec<f64>, usize, ConsistentStart);
+    let mut best: Option<End> = None;
     let mut misfits = Vec::new();
     for (start, theta) in starts(problem, estimate) {
         let mut phi = problem.free_numbers(&theta, Some(&problem.phi_prior));

@@ -85,7 +85,7 @@ impl BaseEstimate {
         dof: usize,
         names: &[String],
     ) -> Result<BaseEstimate, IdentifyError> {
-        if dof == 0 || w.nrows() != tau.len() || w.nrows() % dof != 0 || w.ncols() != names.len() {
+        if dof == 0 || w.nrows() != tau.len() || !w.nrows().is_multiple_of(dof) || w.ncols() != names.len() {
             return Err(IdentifyError::data(format!(
                 "a stacked regressor of {} × {} with {} torques, {dof} joints and {} names do not fit together",
                 w.nrows(),
@@ -139,7 +139,13 @@ impl BaseEstimate {
     pub fn trust(&self, max_relative_std: f64) -> Trust {
         let b = self.theta_b.len();
         let flagged: Vec<usize> = (0..b)
-            .filter(|&k| !(self.relative_std_dev(k) <= max_relative_std))
+            // Above the limit, or not a number (0/0): not within it.
+            .filter(|&k| {
+                !matches!(
+                    self.relative_std_dev(k).partial_cmp(&max_relative_std),
+                    Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal)
+                )
+            })
             .collect();
         let untrusted = (b > 0 && flagged.len() == b).then(|| {
             let best = (0..b)

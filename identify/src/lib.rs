@@ -73,7 +73,10 @@ pub use fourier::{FourierTrajectory, JointSample, TrajectoryLimits, DEFAULT_ACCE
 pub use least_squares::{BaseEstimate, Trust, DEFAULT_MAX_RELATIVE_STD};
 pub use normal_equations::NormalEquations;
 pub use observation::{prepare, BaseModel, BaseRegressorSource, Compiled, Prepared};
-pub use payload::{identify_payload, PayloadData, PayloadEstimate, PayloadOptions};
+pub use payload::{
+    identify_payload, PayloadData, PayloadEstimate, PayloadOptions, SourceCheck, DISAGREEMENT_LIMIT,
+    SENSOR_MISFIT_LIMIT,
+};
 pub use pipeline::{
     identify, identify_file, identify_with, Identification, IdentifyOptions, WrittenEstimate,
 };

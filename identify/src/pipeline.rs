@@ -7,7 +7,7 @@ use crate::describe::to_yaml;
 use crate::energy::{estimate_by_energy, estimate_by_momentum, Observation};
 use crate::error::IdentifyError;
 use crate::least_squares::{estimate, BaseEstimate, Observations};
-use crate::loadable::loadable;
+use crate::loadable::{loadable, warnings_of};
 use crate::objective::Problem;
 use crate::observation::{prepare, BaseModel, BaseRegressorSource};
 use crate::physical_start::physical_start;
@@ -80,9 +80,10 @@ pub struct Identification {
     /// Samples used (after the filter's end transients, when derivatives were computed).
     pub samples_used: usize,
     pub differentiated: bool,
-    /// What the user should know: a noise estimate that did not settle, no consistent
-    /// estimate compatible with the data, the loader's warnings about the identified
-    /// description.
+    /// What the user should know about the data and the estimate: a noise estimate that did
+    /// not settle, no consistent estimate compatible with the data, an estimate that would not
+    /// load. (The loader's warnings about the identified description come with the text as
+    /// written: [`Identification::written`].)
     pub warnings: Vec<String>,
     /// How the estimate was made, where it differs from the usual: a body of the description
     /// that is not physical, and the nearest physical inertia the consistent estimate started
@@ -91,7 +92,17 @@ pub struct Identification {
 }
 
 impl Identification {
-    /// The identified robot as dyngen YAML.
+    /// The identified robot as dyngen YAML written to `path`, with the loader's warnings about
+    /// that text, each naming `path` and its line there. The warnings are not in the text: the
+    /// loader says them, with their place, each time the file is loaded.
+    pub fn written(&self, source: &str, path: &Path) -> Result<(String, Vec<String>), IdentifyError> {
+        let text = self.yaml(source);
+        let warnings = warnings_of(&text, path)?;
+        Ok((text, warnings))
+    }
+
+    /// The identified robot as dyngen YAML: a comment says where it came from, which estimate
+    /// it holds, the notes and the warnings about the data.
     pub fn yaml(&self, source: &str) -> String {
         let mut comment = vec![format!(
             "Identified by `dyngen identify` from {source}: {} samples.",
@@ -137,7 +148,7 @@ pub fn identify_with(
     options: &IdentifyOptions,
 ) -> Result<Identification, IdentifyError> {
     let base_model = matching(model, source)?;
-    let prepared = prepare(samples, options.cutoff)?;
+    let prepared = prepare(samples, options.cutoff).map_err(|e| samples.locate(e))?;
     let base = match options.observation {
         Observation::Torque => {
             let (w, tau) = prepared.stack(source);
@@ -148,8 +159,12 @@ pub fn identify_with(
             };
             estimate(observations, &base_model.base.names)?
         }
-        Observation::Energy { window } => estimate_by_energy(&base_model, samples, &prepared, window)?,
-        Observation::Momentum { window } => estimate_by_momentum(&base_model, samples, &prepared, window)?,
+        Observation::Energy { window } => {
+            estimate_by_energy(&base_model, samples, &prepared, window).map_err(|e| samples.locate(e))?
+        }
+        Observation::Momentum { window } => {
+            estimate_by_momentum(&base_model, samples, &prepared, window).map_err(|e| samples.locate(e))?
+        }
     };
     complete(
         model,
@@ -273,15 +288,10 @@ fn complete(
     let mut refused = Vec::new();
     for (written, theta) in candidates {
         match loadable(model, &theta) {
-            Ok((identified, loader_warnings)) => {
+            Ok(identified) => {
                 warnings.extend(refused.iter().map(|(what, why)| {
                     format!("{what} would not load ({why}): the description written holds {written}")
                 }));
-                warnings.extend(
-                    loader_warnings
-                        .into_iter()
-                        .map(|w| format!("the identified description: {w}")),
-                );
                 return Ok(Identification {
                     base,
                     consistent,

@@ -175,10 +175,11 @@ fn excite_then_identify_then_load() {
     ]);
     assert_eq!(run.code, Some(1), "{}", run.output());
     assert!(
-        run.stderr.starts_with(
-            "error: the identification cannot be trusted: every one of the 69 base parameters has a relative \
-             standard deviation above 0.000001%"
-        ) && run.stderr.contains("nothing written (--force writes it anyway)"),
+        run.stderr.starts_with(&format!(
+            "error: {}: the identification cannot be trusted: every one of the 69 base parameters has a \
+             relative standard deviation above 0.000001%",
+            data_path.display()
+        )) && run.stderr.contains("nothing written (--force writes it anyway)"),
         "{}",
         run.output()
     );
@@ -196,9 +197,10 @@ fn excite_then_identify_then_load() {
     ]);
     assert_eq!(run.code, Some(0), "{}", run.output());
     assert!(
-        run.stderr
-            .contains("warning: the identification cannot be trusted: every one of the 69")
-            && run.stderr.contains("written anyway (--force)"),
+        run.stderr.contains(&format!(
+            "warning: {}: the identification cannot be trusted: every one of the 69",
+            data_path.display()
+        )) && run.stderr.contains("written anyway (--force)"),
         "{}",
         run.output()
     );
@@ -269,9 +271,10 @@ fn excite_then_identify_then_load() {
     ]);
     assert_eq!(run.code, Some(0), "{}", run.output());
     assert!(
-        run.stderr
-            .contains("warning: no physically consistent parameters fit the data")
-            && run.stdout.contains("(NOT compatible with the data)"),
+        run.stderr.contains(&format!(
+            "warning: {}: no physically consistent parameters fit the data",
+            flipped_path.display()
+        )) && run.stdout.contains("(NOT compatible with the data)"),
         "{}",
         run.output()
     );
