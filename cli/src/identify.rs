@@ -5,11 +5,13 @@ use crate::failure::Failure;
 use crate::identifiable::load_identifiable;
 use crate::loading::LoadingArgs;
 use clap::{Args, ValueEnum};
+use dyngen_codegen::description::load;
+use dyngen_identify::wrapper_path;
 use dyngen_identify::{
     identify, identify_file, read_csv, BaseModel, Identification, IdentifyOptions, Observation, Progress,
     WrittenEstimate, DEFAULT_MAX_RELATIVE_STD, DEFAULT_WINDOW,
 };
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::time::Instant;
 
 #[derive(Clone, Copy, Debug, ValueEnum)]
@@ -28,7 +30,9 @@ pub struct IdentifyArgs {
     /// The measured data (CSV with columns `time`, `q[<joint>]`, `tau[<joint>]`, optionally
     /// `qd[<joint>]` and `qdd[<joint>]`); `-` reads the standard input.
     data: PathBuf,
-    /// The identified description to write (dyngen YAML).
+    /// The identified description to write: dyngen YAML, or URDF when the name ends in
+    /// `.urdf` (then, when URDF cannot say everything, such as armature and torque offsets,
+    /// also `<name>.dyngen.yaml` beside it, which loads the URDF as the identified robot).
     #[arg(short, long, value_name = "identified.yaml")]
     output: PathBuf,
     /// Cutoff of the low-pass filter used when velocities or accelerations are missing, in Hz.
@@ -166,15 +170,78 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
         }
         eprintln!("warning: {data}: the identification cannot be trusted: {why}; written anyway (--force)");
     }
-    let (text, loader_warnings) = id.written(&data, &args.output)?;
-    std::fs::write(&args.output, text)
-        .map_err(|e| Failure::from(format!("{}: cannot write: {e}", args.output.display())))?;
-    println!("wrote {}", args.output.display());
-    // What the loader says of the file as written: its name and lines.
+    let urdf = args
+        .output
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("urdf"));
+    let loader_warnings = if urdf {
+        write_urdf(&id, &data, &args)?
+    } else {
+        let (text, loader_warnings) = id.written(&data, &args.output)?;
+        write(&args.output, &text)?;
+        loader_warnings
+    };
+    // What the loader says of the files as written: their names and lines.
     for warning in &loader_warnings {
         eprintln!("warning: {warning}");
     }
     Ok(())
+}
+
+fn write(path: &Path, text: &str) -> Result<(), Failure> {
+    std::fs::write(path, text)
+        .map_err(|e| Failure::from(format!("{}: cannot write: {e}", path.display())))?;
+    println!("wrote {}", path.display());
+    Ok(())
+}
+
+/// The identified robot as the URDF `args.output` and, when URDF cannot say everything, its
+/// wrapper beside it; loaded back as written (through the wrapper when there is one), which
+/// must give the identified robot's parameters. Returns the loader's warnings.
+fn write_urdf(id: &Identification, data: &str, args: &IdentifyArgs) -> Result<Vec<String>, Failure> {
+    let files = id.urdf(data, &args.output)?;
+    let wrapper = wrapper_path(&args.output);
+    if files.wrapper.is_some() && same_file(&wrapper, &args.description) {
+        return Err(Failure::from(format!(
+            "{}: the URDF's wrapper would be written over the description; choose another -o",
+            wrapper.display()
+        )));
+    }
+    write(&args.output, &files.urdf)?;
+    let loads = match &files.wrapper {
+        Some(text) => {
+            write(&wrapper, text)?;
+            println!(
+                "  {} loads {} as the identified robot, with what URDF cannot say:",
+                wrapper.display(),
+                args.output.display()
+            );
+            for line in &files.missing {
+                println!("  - {line}");
+            }
+            wrapper
+        }
+        None => args.output.clone(),
+    };
+    let loaded = load(&loads)?;
+    let (written, identified) = (loaded.model.parameters(), id.model.parameters());
+    let same = written.len() == identified.len()
+        && written
+            .iter()
+            .zip(&identified)
+            .all(|(a, b)| (a - b).abs() <= 1e-9 * b.abs().max(1.0));
+    if !same {
+        return Err(Failure::from(format!(
+            "internal error: {} does not load back as the identified robot",
+            loads.display()
+        )));
+    }
+    Ok(loaded.warnings)
+}
+
+/// Whether `a` and `b` name one existing file.
+fn same_file(a: &Path, b: &Path) -> bool {
+    matches!((a.canonicalize(), b.canonicalize()), (Ok(a), Ok(b)) if a == b)
 }
 
 /// The data file as messages name it (`<stdin>` for `-`).

@@ -27,7 +27,8 @@
 //!    be repaired first ([`Identification::notes`] says which)), with the σ of its base
 //!    parameters by linearisation at the optimum.
 //! 5. The identified robot as a dyngen YAML description ([`to_yaml`],
-//!    [`Identification::yaml`]), checked by loading it back: always one the loader accepts
+//!    [`Identification::yaml`]) or as a URDF with what URDF cannot say in a YAML wrapper beside
+//!    it ([`to_urdf`], [`Identification::urdf`]), checked by loading it back: always one the loader accepts
 //!    ([`WrittenEstimate`]), with warnings ([`Identification::warnings`]) when no consistent
 //!    robot fits the data; [`identify`] runs all of it in one call.
 //!
@@ -61,6 +62,7 @@ mod pipeline;
 mod simulate;
 mod starts;
 mod streaming;
+mod urdf;
 mod workspace;
 
 pub use consistent::{pseudo_inertia_margins, ConsistentEstimate};
@@ -83,4 +85,5 @@ pub use pipeline::{
 pub use simulate::{measure, measure_wrench, with_body_at, with_joint_terms, with_payload};
 pub use starts::ConsistentStart;
 pub use streaming::{estimate_streaming, Progress, StreamedEstimate};
+pub use urdf::{to_urdf, wrapper_path, UrdfFiles};
 pub use workspace::{ExcitationError, Region, Workspace, WorkspaceCheck, WorkspaceConstraint};

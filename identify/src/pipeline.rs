@@ -13,6 +13,7 @@ use crate::observation::{prepare, BaseModel, BaseRegressorSource};
 use crate::physical_start::physical_start;
 use crate::starts::{description_start, least_squares_start};
 use crate::streaming::{estimate_streaming, Progress};
+use crate::urdf::{to_urdf, UrdfFiles};
 use dyngen_model::model::Model;
 use std::fmt;
 use std::path::Path;
@@ -104,6 +105,19 @@ impl Identification {
     /// The identified robot as dyngen YAML: a comment says where it came from, which estimate
     /// it holds, the notes and the warnings about the data.
     pub fn yaml(&self, source: &str) -> String {
+        to_yaml(&self.model, &self.comment(source))
+    }
+
+    /// The identified robot as a URDF to be written at `urdf_path`, with the dyngen YAML
+    /// wrapper that loads it as the identified robot when URDF cannot say everything
+    /// (armature, offsets, the joint-level columns: see [`to_urdf`](crate::to_urdf)); both
+    /// with [`Identification::yaml`]'s comment.
+    pub fn urdf(&self, source: &str, urdf_path: &Path) -> Result<UrdfFiles, IdentifyError> {
+        to_urdf(&self.model, &self.comment(source), urdf_path)
+    }
+
+    /// The header comment of the identified description's files.
+    fn comment(&self, source: &str) -> Vec<String> {
         let mut comment = vec![format!(
             "Identified by `dyngen identify` from {source}: {} samples.",
             self.samples_used
@@ -125,7 +139,7 @@ impl Identification {
         }
         comment.extend(self.notes.iter().map(|n| format!("note: {n}")));
         comment.extend(self.warnings.iter().map(|w| format!("warning: {w}")));
-        to_yaml(&self.model, &comment)
+        comment
     }
 }
 

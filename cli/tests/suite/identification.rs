@@ -111,6 +111,27 @@ fn excite_then_identify_then_load() {
     let model = load(&identified).unwrap_or_else(|e| panic!("{e}")).model;
     assert_eq!(model.parameter_count(), 98);
 
+    // As URDF (by the extension): the URDF and, for the armature, offsets and columns, its
+    // wrapper beside it, which loads as the description the YAML run wrote.
+    let urdf = dir.path().join("identified.urdf");
+    let run = dyngen(&["identify", arg(&description), arg(&data_path), "-o", arg(&urdf)]);
+    assert_eq!(run.code, Some(0), "{}", run.output());
+    let wrapper = dir.path().join("identified.dyngen.yaml");
+    assert!(
+        run.stdout.contains(&format!("wrote {}", urdf.display()))
+            && run.stdout.contains(&format!("wrote {}", wrapper.display()))
+            && run.stdout.contains("  - armature (no URDF element): joint1 "),
+        "{}",
+        run.output()
+    );
+    let text = std::fs::read_to_string(&urdf).expect("the URDF");
+    assert!(
+        text.contains("<dynamics damping=") && text.contains("<inertial>"),
+        "{text}"
+    );
+    let from_urdf = load(&wrapper).unwrap_or_else(|e| panic!("{e}")).model;
+    assert_eq!(from_urdf.parameters(), model.parameters());
+
     // The table: θ_b, σ, %σ, the consistent estimate's θ_b and σ, a `*` on the parameters
     // whose σ is above 10% of their value, the name; then how many are marked.
     let rows = table(&run.stdout);

@@ -13,4 +13,5 @@ mod non_physical_description;
 mod payload;
 mod streaming;
 mod uncertainty;
+mod urdf_output;
 mod workspace;
