@@ -9,7 +9,7 @@ use dyngen_codegen::description::load;
 use dyngen_identify::wrapper_path;
 use dyngen_identify::{
     identify, identify_file, read_csv, BaseModel, Identification, IdentifyOptions, Observation, Progress,
-    WrittenEstimate, DEFAULT_MAX_RELATIVE_STD, DEFAULT_WINDOW,
+    WrittenEstimate, DEFAULT_MAX_RELATIVE_STD, DEFAULT_WINDOW, DELAY_MARGIN,
 };
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -60,6 +60,10 @@ pub struct IdentifyArgs {
     /// Write the identified description even when the identification cannot be trusted.
     #[arg(long)]
     force: bool,
+    /// Search a delay of the torques behind the positions of up to MAX samples either way,
+    /// estimated with the parameters (torque form, without --stream).
+    #[arg(long, value_name = "MAX")]
+    estimate_delay: Option<usize>,
     #[command(flatten)]
     loading: LoadingArgs,
 }
@@ -91,9 +95,11 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
             ObservationArg::Momentum => Observation::Momentum { window: args.window },
             ObservationArg::Energy => Observation::Energy { window: args.window },
         },
+        max_delay: args.estimate_delay,
         ..IdentifyOptions::default()
     };
     let start = Instant::now();
+    let mut rate = None;
     let id = if args.stream {
         let mut last = Instant::now();
         let progress = |p: &Progress| {
@@ -115,6 +121,9 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
         identify_file(&model, &BaseModel::new(&model), &args.data, &options, progress)?
     } else {
         let samples = read_csv(&args.data, &model, true)?;
+        if samples.len() > 1 {
+            rate = Some((samples.len() - 1) as f64 / (samples.time[samples.len() - 1] - samples.time[0]));
+        }
         identify(&model, &samples, &options)?
     };
     let elapsed = start.elapsed().as_secs_f64();
@@ -129,6 +138,31 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
         id.base.theta_b.len(),
         id.base.condition_number
     );
+    if let Some(delay) = &id.delay {
+        let d = delay.samples;
+        let seconds = rate.map_or_else(String::new, |r| format!(" ({:.4} s)", d as f64 / r));
+        let around: Vec<String> = delay
+            .criterion
+            .iter()
+            .filter(|(c, _)| (c - d).abs() <= 1)
+            .map(|(c, v)| format!("{c}: {v:.3}"))
+            .collect();
+        let margin = delay.log_likelihood_margin();
+        println!(
+            "torque delay: {d} samples{seconds} behind the positions (searched over ±{}; Σ ln σ_j at {}; \
+             ln of the likelihood ratio to the next best {margin:.1})",
+            args.estimate_delay.unwrap_or_default(),
+            around.join(", ")
+        );
+        if margin < DELAY_MARGIN {
+            eprintln!(
+                "warning: {}: the torque delay is barely determined (ln of the likelihood ratio to the next \
+                 best {margin:.1}, below {DELAY_MARGIN}): it may be off by a sample; the torques change \
+                 little over one sample against their noise",
+                data_name(&args.data)
+            );
+        }
+    }
     let trust = id.base.trust(args.max_relative_std / 100.0);
     print_table(&id, &trust.flagged, args.max_relative_std);
     println!(

@@ -32,6 +32,9 @@
 //!    ([`WrittenEstimate`]), with warnings ([`Identification::warnings`]) when no consistent
 //!    robot fits the data; [`identify`] runs all of it in one call.
 //!
+//! A delay of the torques behind the positions, in whole samples, is searched with the
+//! parameters when asked ([`IdentifyOptions::max_delay`], [`DelaySearch`]).
+//!
 //! Long logs: [`identify_file`] reads the data file one line at a time ([`SampleReader`]),
 //! accumulates per-joint [`NormalEquations`] and computes missing derivatives window by window,
 //! so memory does not grow with the log. Payloads: [`identify_payload`] identifies a tool or a
@@ -43,6 +46,7 @@
 
 mod consistent;
 mod data;
+mod delay;
 mod describe;
 mod differentiate;
 mod energy;
@@ -67,6 +71,7 @@ mod workspace;
 
 pub use consistent::{pseudo_inertia_margins, ConsistentEstimate};
 pub use data::{read_csv, to_csv, Sample, SampleReader, SampleWriter, Samples};
+pub use delay::{DelaySearch, DELAY_MARGIN};
 pub use describe::to_yaml;
 pub use energy::{Observation, DEFAULT_WINDOW};
 pub use error::{IdentifyError, Place};

@@ -3,6 +3,7 @@
 
 use crate::consistent::{consistent_estimate, misfit_bound, ConsistentEstimate};
 use crate::data::Samples;
+use crate::delay::{estimate_with_delay, DelaySearch};
 use crate::describe::to_yaml;
 use crate::energy::{estimate_by_energy, estimate_by_momentum, Observation};
 use crate::error::IdentifyError;
@@ -29,6 +30,10 @@ pub struct IdentifyOptions {
     pub stream_window: usize,
     /// The torque form (default), or a form over windows that needs no accelerations.
     pub observation: Observation,
+    /// Search a delay of the torques behind the positions of up to this many samples either
+    /// way, estimated with the parameters ([`Identification::delay`]); torque form only, on
+    /// the whole log (not [`identify_file`]).
+    pub max_delay: Option<usize>,
 }
 
 impl Default for IdentifyOptions {
@@ -37,6 +42,7 @@ impl Default for IdentifyOptions {
             cutoff: crate::differentiate::DEFAULT_CUTOFF_HZ,
             stream_window: 1 << 14,
             observation: Observation::Torque,
+            max_delay: None,
         }
     }
 }
@@ -78,8 +84,13 @@ pub struct Identification {
     pub model: Model,
     /// Which estimate `model` holds.
     pub written: WrittenEstimate,
-    /// Samples used (after the filter's end transients, when derivatives were computed).
+    /// Samples used (after the filter's end transients, when derivatives were computed, and
+    /// those whose torques a delay puts outside the log).
     pub samples_used: usize,
+    /// The torques' delay behind the positions, when it was searched
+    /// ([`IdentifyOptions::max_delay`]): the estimate pairs each sample with the torques that
+    /// many samples later.
+    pub delay: Option<DelaySearch>,
     pub differentiated: bool,
     /// What the user should know about the data and the estimate: a noise estimate that did
     /// not settle, no consistent estimate compatible with the data, an estimate that would not
@@ -137,6 +148,13 @@ impl Identification {
                 "are determined alone (neither estimate would load).".into(),
             ]),
         }
+        if let Some(delay) = &self.delay {
+            comment.push(format!(
+                "Each sample was paired with the torques {} samples later: the torques' delay behind \
+                 the positions, estimated with the parameters.",
+                delay.samples
+            ));
+        }
         comment.extend(self.notes.iter().map(|n| format!("note: {n}")));
         comment.extend(self.warnings.iter().map(|w| format!("warning: {w}")));
         comment
@@ -163,15 +181,40 @@ pub fn identify_with(
 ) -> Result<Identification, IdentifyError> {
     let base_model = matching(model, source)?;
     let prepared = prepare(samples, options.cutoff).map_err(|e| samples.locate(e))?;
+    if options.max_delay.is_some() && options.observation != Observation::Torque {
+        return Err(IdentifyError::data(
+            "a delay is searched in the torque form only: the windowed forms integrate the torques",
+        ));
+    }
+    let mut delay = None;
+    let mut samples_used = prepared.q.len();
     let base = match options.observation {
         Observation::Torque => {
             let (w, tau) = prepared.stack(source);
-            let observations = Observations::Stacked {
-                w: &w,
-                tau: &tau,
-                n: model.dof(),
-            };
-            estimate(observations, &base_model.base.names)?
+            match (options.max_delay, &samples.tau) {
+                (Some(max), Some(all)) => {
+                    let (search, fit, used) = estimate_with_delay(
+                        &w,
+                        all,
+                        &prepared.kept,
+                        model.dof(),
+                        &base_model.base.names,
+                        max,
+                    )
+                    .map_err(|e| samples.locate(e))?;
+                    delay = Some(search);
+                    samples_used = used;
+                    fit
+                }
+                _ => {
+                    let observations = Observations::Stacked {
+                        w: &w,
+                        tau: &tau,
+                        n: model.dof(),
+                    };
+                    estimate(observations, &base_model.base.names)?
+                }
+            }
         }
         Observation::Energy { window } => {
             estimate_by_energy(&base_model, samples, &prepared, window).map_err(|e| samples.locate(e))?
@@ -180,13 +223,9 @@ pub fn identify_with(
             estimate_by_momentum(&base_model, samples, &prepared, window).map_err(|e| samples.locate(e))?
         }
     };
-    complete(
-        model,
-        &base_model,
-        base,
-        prepared.q.len(),
-        prepared.differentiated,
-    )
+    let mut identification = complete(model, &base_model, base, samples_used, prepared.differentiated)?;
+    identification.delay = delay;
+    Ok(identification)
 }
 
 /// [`identify_with`] on the data file `path` read line by line, for logs too long to hold:
@@ -207,6 +246,11 @@ pub fn identify_file(
         return Err(IdentifyError::data(
             "a file read line by line is identified in the torque form: the windowed forms need \
              the whole log (identify it without streaming)",
+        ));
+    }
+    if options.max_delay.is_some() {
+        return Err(IdentifyError::data(
+            "a delay is searched on the whole log: identify it without streaming",
         ));
     }
     let streamed = estimate_streaming(model, source, path, options, progress)?;
@@ -312,6 +356,7 @@ fn complete(
                     model: identified,
                     written,
                     samples_used,
+                    delay: None,
                     differentiated,
                     warnings,
                     notes,

@@ -14,6 +14,11 @@ use std::path::{Path, PathBuf};
 /// arm7 (rigid) measured along a random motion: positions only (velocities and accelerations
 /// are computed), torques with noise of 1% of the rated torque; 8 s at 200 Hz.
 fn positions_data(dir: &Path) -> (PathBuf, PathBuf, String) {
+    positions_data_with_noise(dir, 0.01)
+}
+
+/// [`positions_data`] with torque noise of `fraction` of the rated torque.
+fn positions_data_with_noise(dir: &Path, fraction: f64) -> (PathBuf, PathBuf, String) {
     let description = repository_file("robots/arm7.yaml");
     let robot = load(&description).unwrap_or_else(|e| panic!("{e}")).model;
     let limits = TrajectoryLimits::from_model(&robot, DEFAULT_ACCELERATION_PER_VELOCITY);
@@ -22,7 +27,7 @@ fn positions_data(dir: &Path) -> (PathBuf, PathBuf, String) {
     let noise: Vec<f64> = robot
         .joints()
         .iter()
-        .map(|j| 0.01 * j.limits.map_or(1.0, |l| l.effort))
+        .map(|j| fraction * j.limits.map_or(1.0, |l| l.effort))
         .collect();
     let samples = measure(&robot, &motion, 8.0, 200.0, &noise, 6, false);
     let text = to_csv(&robot, &samples);
@@ -206,4 +211,99 @@ fn warnings_about_the_written_file_name_it_and_its_line() {
     );
     assert!(!written.contains("effort limit is 0"), "{written}");
     assert!(!run.stderr.contains("identified.yaml"), "{}", run.output());
+}
+
+/// `text` (a data file) as a logger whose torques lag by `lag` samples writes it: each line
+/// keeps its time and motion and takes the torques of the line `lag` before (the first `lag`
+/// lines dropped).
+fn delayed(text: &str, lag: usize) -> String {
+    let lines: Vec<Vec<&str>> = text.lines().map(|l| l.split(',').collect()).collect();
+    let first_tau = lines[0]
+        .iter()
+        .position(|c| c.starts_with("tau["))
+        .expect("torques");
+    std::iter::once(lines[0].join(","))
+        .chain((1 + lag..lines.len()).map(|i| {
+            let mut fields = lines[i][..first_tau].to_vec();
+            fields.extend_from_slice(&lines[i - lag][first_tau..]);
+            fields.join(",")
+        }))
+        .collect::<Vec<_>>()
+        .join("\n")
+}
+
+/// A log whose torques are 3 samples late: `--estimate-delay 10` finds the delay and says it
+/// in samples and seconds; at ten times the noise, where one sample's change of the torques is
+/// lost in it, a warning says the delay is barely determined; with `--stream` it is refused
+/// in one line. (One sample, 5 ms, of this slow motion changes the torques by less than 1% of
+/// the rated torque.)
+#[test]
+fn a_torque_delay_is_found() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (description, _, quiet) = positions_data_with_noise(dir.path(), 0.001);
+    let path = dir.path().join("delayed.csv");
+    std::fs::write(&path, delayed(&quiet, 3)).expect("write");
+    let out = dir.path().join("identified.yaml");
+    let run = dyngen(&[
+        "identify",
+        arg(&description),
+        arg(&path),
+        "--estimate-delay",
+        "10",
+        "-o",
+        arg(&out),
+    ]);
+    assert_eq!(run.code, Some(0), "{}", run.output());
+    assert!(
+        run.stdout
+            .contains("torque delay: 3 samples (0.0150 s) behind the positions (searched over ±10;"),
+        "{}",
+        run.output()
+    );
+    assert!(!run.stderr.contains("barely determined"), "{}", run.output());
+    let written = std::fs::read_to_string(&out).expect("written");
+    assert!(
+        written.contains("paired with the torques 3 samples later"),
+        "{written}"
+    );
+
+    let (_, _, noisy) = positions_data(dir.path());
+    let noisy_path = dir.path().join("noisy_delayed.csv");
+    std::fs::write(&noisy_path, delayed(&noisy, 3)).expect("write");
+    let run = dyngen(&[
+        "identify",
+        arg(&description),
+        arg(&noisy_path),
+        "--estimate-delay",
+        "10",
+        "-o",
+        arg(&out),
+    ]);
+    assert_eq!(run.code, Some(0), "{}", run.output());
+    assert!(
+        run.stderr.contains(&format!(
+            "warning: {}: the torque delay is barely determined",
+            noisy_path.display()
+        )),
+        "{}",
+        run.output()
+    );
+
+    let run = dyngen(&[
+        "identify",
+        arg(&description),
+        arg(&path),
+        "--estimate-delay",
+        "10",
+        "--stream",
+        "-o",
+        arg(&out),
+    ]);
+    assert_eq!(run.code, Some(1), "{}", run.output());
+    assert_eq!(
+        errors(&run.stderr),
+        ["error: a delay is searched on the whole log: identify it without streaming"],
+        "{}",
+        run.output()
+    );
 }
