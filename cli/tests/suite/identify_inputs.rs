@@ -307,3 +307,48 @@ fn a_torque_delay_is_found() {
         run.output()
     );
 }
+
+/// Data that cannot determine some parameter (joint 1 never moves: nothing in the data
+/// multiplies the inertia about its axis) is one error line naming the parameter, and
+/// nothing is written, `--force` or not: there is no estimate to write.
+#[test]
+fn a_rank_deficient_excitation_writes_nothing() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let (description, _, text) = positions_data(dir.path());
+    let lines: Vec<Vec<&str>> = text.lines().map(|l| l.split(',').collect()).collect();
+    let column = lines[0]
+        .iter()
+        .position(|c| *c == "q[joint1]")
+        .expect("q[joint1]");
+    let still: Vec<String> = lines
+        .iter()
+        .enumerate()
+        .map(|(i, fields)| {
+            let mut fields: Vec<&str> = fields.clone();
+            if i > 0 {
+                fields[column] = "0.3";
+            }
+            fields.join(",")
+        })
+        .collect();
+    let path = dir.path().join("still.csv");
+    std::fs::write(&path, still.join("\n")).expect("write");
+    let out = dir.path().join("identified.yaml");
+    for force in [false, true] {
+        let mut args = vec!["identify", arg(&description), arg(&path), "-o", arg(&out)];
+        if force {
+            args.push("--force");
+        }
+        let run = dyngen(&args);
+        assert_eq!(run.code, Some(1), "{}", run.output());
+        let said = errors(&run.stderr);
+        assert!(
+            said.len() == 1
+                && said[0].starts_with("error: base parameter '")
+                && said[0].contains("cannot be determined"),
+            "{}",
+            run.output()
+        );
+        assert!(!out.exists());
+    }
+}
