@@ -24,7 +24,7 @@ pub struct PayloadArgs {
     /// The robot's description, identified or nominal, without the payload (`.yaml` or
     /// `.urdf`): its parameters are held.
     description: PathBuf,
-    /// The measured data with the payload attached.
+    /// The measured data with the payload attached; `-` reads the standard input.
     data: PathBuf,
     /// The description with the payload welded on (dyngen YAML).
     #[arg(short, long, value_name = "with_payload.yaml")]
@@ -43,6 +43,10 @@ pub struct PayloadArgs {
     /// Cutoff of the low-pass filter used when velocities or accelerations are missing, in Hz.
     #[arg(long, value_name = "HZ", default_value_t = PayloadOptions::default().cutoff)]
     cutoff: f64,
+    /// Write the description even when the force/torque sensor's readings fit no payload or
+    /// disagree with the joint torques (a flipped or mis-framed sensor).
+    #[arg(long)]
+    force: bool,
     #[command(flatten)]
     loading: LoadingArgs,
 }
@@ -113,11 +117,39 @@ pub fn run(args: PayloadArgs) -> Result<(), Failure> {
     for (name, sigma) in channels.iter().zip(&fit.joint_noise) {
         println!("  {name}: σ = {sigma:.4e}");
     }
-    for warning in &p.warnings {
-        eprintln!("warning: {warning}");
+    if let Some(check) = &p.sources {
+        if let Some(misfit) = check.sensor_misfit {
+            println!("sensor residuals over the noise their scatter shows (fx … mz): {misfit:.2?}");
+        }
+        if !check.joint_cost.is_empty() {
+            println!(
+                "noise fitted together over fitted alone, per channel: {:.2?}",
+                check.joint_cost
+            );
+        }
     }
-    std::fs::write(&args.output, p.yaml(&args.data.display().to_string()))
+    for note in &p.notes {
+        eprintln!("note: {note}");
+    }
+    let data = crate::identify::data_name(&args.data);
+    let disagreement = p.sources.as_ref().and_then(|s| s.disagreement.as_ref());
+    for warning in p.warnings.iter().filter(|w| Some(*w) != disagreement) {
+        eprintln!("warning: {data}: {warning}");
+    }
+    if let Some(why) = disagreement {
+        if !args.force {
+            return Err(Failure::from(format!(
+                "{data}: {why}; nothing written (--force writes it anyway)"
+            )));
+        }
+        eprintln!("warning: {data}: {why}; written anyway (--force)");
+    }
+    let (text, loader_warnings) = p.written(&data, &args.output)?;
+    std::fs::write(&args.output, text)
         .map_err(|e| Failure::from(format!("{}: cannot write: {e}", args.output.display())))?;
     println!("wrote {}", args.output.display());
+    for warning in &loader_warnings {
+        eprintln!("warning: {warning}");
+    }
     Ok(())
 }

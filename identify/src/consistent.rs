@@ -29,6 +29,13 @@
 //! ([`ConsistentEstimate::compatible`]) fits the data as well as the true robot would; noise-free
 //! data that a consistent robot made gives that robot's base parameters.
 //!
+//! How sure it is: the covariance of its base parameters by linearisation at the optimum
+//! ([`ConsistentEstimate::covariance`]), the Gauss–Newton map from the whitened data to the
+//! free numbers carried to `θ_b`. Where no constraint binds it is the least squares'; a
+//! parameter the constraints hold (a friction pressed to zero) gets next to none. Linear: when
+//! a parameter's σ is of the size of its distance to a constraint, the estimates of many data
+//! sets spread less than it says (the constraint truncates them).
+//!
 //! Why not a semidefinite program (e.g. `clarabel`): it is convex, but its PSD cones need a
 //! LAPACK backend (a system library or a large build), and it returns points on the cone's
 //! boundary to solver tolerance, which the loader may then reject. The free numbers need no
@@ -40,7 +47,7 @@ use crate::objective::{Problem, PRECISION_FLOOR};
 use crate::starts::{starts, ConsistentStart};
 use dyngen_model::model::Model;
 use dyngen_runtime::PARAMETERS_PER_BODY;
-use nalgebra::DVector;
+use nalgebra::{DMatrix, DVector};
 
 /// The precision floors of the continuation, before the objective's own
 /// ([`PRECISION_FLOOR`]).
@@ -61,10 +68,27 @@ pub struct ConsistentEstimate {
     /// The start that was kept, and the misfit reached from every start tried.
     pub start: ConsistentStart,
     pub misfits: Vec<(ConsistentStart, f64)>,
+    /// Standard deviation of each of its base parameters [`ConsistentEstimate::theta_b`], by
+    /// linearisation at the optimum (see [`ConsistentEstimate::covariance`]).
+    pub std_dev: Vec<f64>,
+    /// The covariance of [`ConsistentEstimate::theta_b`] by linearisation at the optimum: the
+    /// Gauss–Newton map `δφ = (JᵀJ)⁻¹ J_dᵀ e` from a whitened data error `e` (covariance `I`)
+    /// to the free numbers (`J` the Jacobian of the whole objective, `J_d` its data rows),
+    /// carried to `θ_b = K θ(φ)` by `K ∂θ/∂φ`. Where no constraint binds, it is the least
+    /// squares' covariance; a parameter pressed against a constraint (a friction at zero, a
+    /// body at the edge of physical validity) varies less, and its σ says so.
+    pub covariance: DMatrix<f64>,
     /// Whether the misfit is within what noise explains (`b + 4√(2b)`, the far tail of a χ²
     /// with `b` degrees of freedom): else no consistent robot fits the data as well as the
     /// least squares, and the data or the model (its joint terms, its kinematics) is off.
     pub compatible: bool,
+}
+
+impl ConsistentEstimate {
+    /// Relative standard deviation `σ/|θ_b|` of its base parameter `k` (∞ for θ_b = 0).
+    pub fn relative_std_dev(&self, k: usize) -> f64 {
+        self.std_dev[k] / self.theta_b[k].abs()
+    }
 }
 
 /// The largest misfit noise explains for `b` base parameters (see
@@ -83,7 +107,9 @@ pub(crate) fn consistent_estimate(problem: &Problem<'_>, estimate: &BaseEstimate
         .filter(|&&floor| floor > PRECISION_FLOOR)
         .map(|&floor| problem.with_precision_floor(floor))
         .collect();
-    let mut best: Option<(f64, Vec<f64>, usize, ConsistentStart)> = None;
+    // The best end so far: cost, θ, free numbers, iterations, start.
+    type End = (f64, Vec<f64>, Vec<f64>, usize, ConsistentStart);
+    let mut best: Option<End> = None;
     let mut misfits = Vec::new();
     for (start, theta) in starts(problem, estimate) {
         let mut phi = problem.free_numbers(&theta, Some(&problem.phi_prior));
@@ -99,10 +125,11 @@ pub(crate) fn consistent_estimate(problem: &Problem<'_>, estimate: &BaseEstimate
         let theta = problem.theta(&phi);
         misfits.push((start, problem.misfit(&theta)));
         if best.as_ref().is_none_or(|b| cost < b.0) {
-            best = Some((cost, theta, iterations, start));
+            best = Some((cost, theta, phi, iterations, start));
         }
     }
-    let (_, theta, iterations, start) = best.expect("at least one start");
+    let (_, theta, phi, iterations, start) = best.expect("at least one start");
+    let covariance = linearised_covariance(problem, &phi);
     let theta_b: Vec<f64> = (&problem.k * DVector::from_column_slice(&theta))
         .iter()
         .copied()
@@ -115,8 +142,51 @@ pub(crate) fn consistent_estimate(problem: &Problem<'_>, estimate: &BaseEstimate
         iterations,
         start,
         misfits,
+        std_dev: (0..covariance.nrows())
+            .map(|k| covariance[(k, k)].max(0.0).sqrt())
+            .collect(),
+        covariance,
         compatible: misfit <= misfit_bound(problem.c.len()),
     }
+}
+
+/// Singular values of the objective's Jacobian below this fraction of the largest carry no
+/// information: their directions get no variance.
+const SINGULAR_FLOOR: f64 = 1e-14;
+
+/// The covariance of the consistent estimate's base parameters by linearisation at the free
+/// numbers `phi` (see [`ConsistentEstimate::covariance`]). `(JᵀJ)⁻¹ J_dᵀ` is the data
+/// columns of the pseudo-inverse `J⁺`, computed from a singular value decomposition of `J`:
+/// the data rows weigh up to 10¹² times the prior's, which `JᵀJ` would square past double
+/// precision. The free numbers are of one size by construction (a unit change of one is a
+/// change of its body or term by a factor of order e), so `J` is not rescaled: a direction
+/// in which a unit change moves the data less than the prior does (a friction pressed to
+/// zero, `θ = e^u` with `u` far below zero; a body on the edge of validity) gets the prior's
+/// small variance, and through `∂θ/∂φ ≈ 0` next to none in `θ_b`.
+fn linearised_covariance(problem: &Problem<'_>, phi: &[f64]) -> DMatrix<f64> {
+    let b = problem.c.len();
+    let jacobian = problem.jacobian(phi);
+    let p = jacobian.ncols();
+    let svd = jacobian.svd(true, true);
+    let (Some(u), Some(v_t)) = (svd.u, svd.v_t) else {
+        return DMatrix::from_element(b, b, f64::NAN);
+    };
+    let sigma = &svd.singular_values;
+    let resolved = SINGULAR_FLOOR * sigma.max();
+    // δφ = V Σ⁻¹ U_dᵀ e, U_d the data rows of U.
+    let mut map = DMatrix::zeros(p, b);
+    for k in (0..sigma.len()).filter(|&k| sigma[k] > resolved) {
+        let v = v_t.row(k);
+        let u_d = u.view((0, k), (b, 1));
+        for i in 0..p {
+            let vi = v[i] / sigma[k];
+            for j in 0..b {
+                map[(i, j)] += vi * u_d[j];
+            }
+        }
+    }
+    let to_base = &problem.k * problem.theta_jacobian(phi) * map;
+    &to_base * to_base.transpose()
 }
 
 /// Smallest eigenvalue of each body's pseudo-inertia in `theta`, relative to its largest

@@ -32,6 +32,9 @@ pub struct Samples {
     pub sensor_frame: Option<String>,
     /// The line of each sample in its file (for messages; empty for generated samples).
     pub lines: Vec<usize>,
+    /// The file the samples were read from, which errors about them name (`None` for
+    /// generated samples).
+    pub file: Option<PathBuf>,
 }
 
 impl Samples {
@@ -41,6 +44,14 @@ impl Samples {
 
     pub fn is_empty(&self) -> bool {
         self.time.is_empty()
+    }
+
+    /// `e` placed in the file the samples came from, when they came from one.
+    pub(crate) fn locate(&self, e: IdentifyError) -> IdentifyError {
+        match &self.file {
+            Some(file) => e.in_file(file),
+            None => e,
+        }
     }
 
     fn push(&mut self, sample: Sample) {
@@ -124,6 +135,7 @@ fn frame_list(model: &Model) -> String {
 pub fn read_csv(path: &Path, model: &Model, require_torque: bool) -> Result<Samples, IdentifyError> {
     let reader = SampleReader::open(path, model, require_torque)?;
     let mut samples = reader.empty_samples();
+    samples.file = Some(reader.path.clone());
     for sample in reader {
         samples.push(sample?);
     }
@@ -131,6 +143,15 @@ pub fn read_csv(path: &Path, model: &Model, require_torque: bool) -> Result<Samp
         return Err(IdentifyError::data("no samples: the file has a header line only").in_file(path));
     }
     Ok(samples)
+}
+
+/// What messages call the standard input, read as the data file `-`.
+const STDIN: &str = "<stdin>";
+
+/// Whether `path` is read once only: the standard input (`-`), a pipe, a terminal or another
+/// device, which a second read would find used up.
+pub(crate) fn read_once(path: &Path) -> bool {
+    path == Path::new("-") || std::fs::metadata(path).is_ok_and(|m| !m.is_file())
 }
 
 /// A CSV record with its line and byte offset.
@@ -387,17 +408,31 @@ pub struct SampleReader<'m> {
 }
 
 impl<'m> SampleReader<'m> {
-    /// Opens `path` and reads its header line.
+    /// Opens `path` and reads its header line. `-` is the standard input (named `<stdin>` in
+    /// messages).
     pub fn open(
         path: &Path,
         model: &'m Model,
         require_torque: bool,
     ) -> Result<SampleReader<'m>, IdentifyError> {
+        if path == Path::new("-") {
+            return SampleReader::from_reader(std::io::stdin(), Path::new(STDIN), model, require_torque);
+        }
         let file = std::fs::File::open(path).map_err(|source| IdentifyError::Read {
             path: path.to_owned(),
             source,
         })?;
-        let mut records = records(std::io::BufReader::with_capacity(1 << 16, file));
+        SampleReader::from_reader(file, path, model, require_torque)
+    }
+
+    /// Reads the header line of the data `reader` gives, which messages call `path`.
+    pub fn from_reader(
+        reader: impl std::io::Read + 'static,
+        path: &Path,
+        model: &'m Model,
+        require_torque: bool,
+    ) -> Result<SampleReader<'m>, IdentifyError> {
+        let mut records = records(std::io::BufReader::with_capacity(1 << 16, reader));
         let Some(first) = records.next() else {
             return Err(
                 IdentifyError::data("the file is empty: expected a header line of column names")

@@ -37,7 +37,8 @@ use nalgebra::{DMatrix, DVector};
 pub struct BaseEstimate {
     pub names: Vec<String>,
     pub theta_b: Vec<f64>,
-    /// Standard deviation of each base parameter.
+    /// Standard deviation of each base parameter: the square roots of the diagonal of
+    /// [`BaseEstimate::covariance`].
     pub std_dev: Vec<f64>,
     /// Estimated torque noise `σ_j` per joint (from the weighted residuals, once settled).
     pub joint_noise: Vec<f64>,
@@ -57,10 +58,115 @@ pub struct BaseEstimate {
     pub condition_number: f64,
 }
 
+/// The limit on a parameter's relative standard deviation `σ/|θ_b|` above which it is
+/// reported as poorly determined, unless the caller chooses another: 10%, a parameter known
+/// to a tenth of its value.
+pub const DEFAULT_MAX_RELATIVE_STD: f64 = 0.10;
+
+/// How far an estimate can be trusted, at a limit on the relative standard deviation
+/// ([`BaseEstimate::trust`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Trust {
+    /// The limit on `σ/|θ_b|` (a fraction: 0.1 is 10%).
+    pub max_relative_std: f64,
+    /// The parameters whose `σ/|θ_b|` is above the limit, in column order.
+    pub flagged: Vec<usize>,
+    /// Why the estimate as a whole cannot be trusted, in one sentence; `None` when it can.
+    pub untrusted: Option<String>,
+}
+
 impl BaseEstimate {
+    /// Weighted least squares on a stacked base regressor `w` (rows sample-major over `dof`
+    /// joints: row `k·dof + j` is joint `j` at sample `k`) and its torques, the parameters
+    /// named `names`: what [`identify`](crate::identify) computes first.
+    pub fn from_stacked(
+        w: &DMatrix<f64>,
+        tau: &DVector<f64>,
+        dof: usize,
+        names: &[String],
+    ) -> Result<BaseEstimate, IdentifyError> {
+        if dof == 0 || w.nrows() != tau.len() || !w.nrows().is_multiple_of(dof) || w.ncols() != names.len() {
+            return Err(IdentifyError::data(format!(
+                "a stacked regressor of {} × {} with {} torques, {dof} joints and {} names do not fit together",
+                w.nrows(),
+                w.ncols(),
+                tau.len(),
+                names.len()
+            )));
+        }
+        estimate(Observations::Stacked { w, tau, n: dof }, names)
+    }
+
+    /// Weighted least squares on accumulated normal equations (a log too long to stack).
+    pub fn from_normal_equations(
+        equations: &NormalEquations,
+        names: &[String],
+    ) -> Result<BaseEstimate, IdentifyError> {
+        if equations.parameters() != names.len() {
+            return Err(IdentifyError::data(format!(
+                "normal equations of {} parameters with {} names",
+                equations.parameters(),
+                names.len()
+            )));
+        }
+        estimate(Observations::Accumulated(equations), names)
+    }
+
     /// Relative standard deviation `σ/|θ|` of base parameter `k` (∞ for θ = 0).
     pub fn relative_std_dev(&self, k: usize) -> f64 {
         self.std_dev[k] / self.theta_b[k].abs()
+    }
+
+    /// The covariance of `θ_b`, `s² (Wᵀ Σ⁻¹ W)⁻¹`: the per-joint noise weights as estimated,
+    /// `s²` the weighted residual variance. Its diagonal is the square of
+    /// [`BaseEstimate::std_dev`].
+    pub fn covariance(&self) -> DMatrix<f64> {
+        let b = self.scale.len();
+        let scaled = self
+            .information_scaled
+            .clone()
+            .cholesky()
+            .map(|c| c.inverse())
+            .unwrap_or_else(|| DMatrix::from_element(b, b, f64::NAN));
+        DMatrix::from_fn(b, b, |i, j| scaled[(i, j)] * self.scale[i] * self.scale[j])
+    }
+
+    /// Which parameters are poorly determined (`σ/|θ_b|` above `max_relative_std`, a
+    /// fraction), and whether the estimate as a whole can be trusted: not when every
+    /// parameter is poorly determined (the data says nothing about the robot beyond its
+    /// noise). Data that cannot determine some parameter at all never gets this far: the
+    /// estimate is then an [`IdentifyError::Unidentifiable`].
+    pub fn trust(&self, max_relative_std: f64) -> Trust {
+        let b = self.theta_b.len();
+        let flagged: Vec<usize> = (0..b)
+            // Above the limit, or not a number (0/0): not within it.
+            .filter(|&k| {
+                !matches!(
+                    self.relative_std_dev(k).partial_cmp(&max_relative_std),
+                    Some(std::cmp::Ordering::Less | std::cmp::Ordering::Equal)
+                )
+            })
+            .collect();
+        let untrusted = (b > 0 && flagged.len() == b).then(|| {
+            let best = (0..b)
+                .min_by(|&i, &j| self.relative_std_dev(i).total_cmp(&self.relative_std_dev(j)))
+                .expect("b > 0");
+            format!(
+                "every one of the {b} base parameters has a relative standard deviation above {}% \
+                 (the best determined, '{}', {:.3}%; scaled condition number {:.1}): the data \
+                 determines none of them; excite the robot more (longer, faster, a better-conditioned \
+                 trajectory) or check the torque noise",
+                100.0 * max_relative_std,
+                self.names[best],
+                100.0 * self.relative_std_dev(best),
+                self.condition_number
+            )
+        });
+        Trust {
+            max_relative_std,
+            flagged,
+            untrusted,
+        }
     }
 }
 

@@ -17,17 +17,23 @@
 //!    the Lagrange equations integrated over windows ([`Observation`]).
 //! 4. Estimation: least squares on the base parameters weighted by each joint's noise, the
 //!    noise re-estimated from the weighted residuals until it settles, with per-parameter
-//!    standard deviations ([`BaseEstimate`]), or an [`IdentifyError::Unidentifiable`] that
-//!    names the parameter the data cannot determine; then a physically consistent full θ as
+//!    standard deviations and covariance ([`BaseEstimate`]; [`BaseEstimate::trust`] flags the
+//!    parameters whose relative σ is above a limit), or an [`IdentifyError::Unidentifiable`]
+//!    that names the parameter the data cannot determine; then a physically consistent full θ as
 //!    compatible with the data as the least squares allow ([`ConsistentEstimate`]: every
 //!    body's pseudo-inertia positive definite with a margin, armature and friction positive,
 //!    by a log-Cholesky parameterisation, from the best of several starts
 //!    ([`ConsistentStart`]), made from the description with its bodies that no real body can
-//!    be repaired first ([`Identification::notes`] says which)).
+//!    be repaired first ([`Identification::notes`] says which)), with the σ of its base
+//!    parameters by linearisation at the optimum.
 //! 5. The identified robot as a dyngen YAML description ([`to_yaml`],
-//!    [`Identification::yaml`]), checked by loading it back: always one the loader accepts
+//!    [`Identification::yaml`]) or as a URDF with what URDF cannot say in a YAML wrapper beside
+//!    it ([`to_urdf`], [`Identification::urdf`]), checked by loading it back: always one the loader accepts
 //!    ([`WrittenEstimate`]), with warnings ([`Identification::warnings`]) when no consistent
 //!    robot fits the data; [`identify`] runs all of it in one call.
+//!
+//! A delay of the torques behind the positions, in whole samples, is searched with the
+//! parameters when asked ([`IdentifyOptions::max_delay`], [`DelaySearch`]).
 //!
 //! Long logs: [`identify_file`] reads the data file one line at a time ([`SampleReader`]),
 //! accumulates per-joint [`NormalEquations`] and computes missing derivatives window by window,
@@ -40,6 +46,7 @@
 
 mod consistent;
 mod data;
+mod delay;
 mod describe;
 mod differentiate;
 mod energy;
@@ -59,23 +66,29 @@ mod pipeline;
 mod simulate;
 mod starts;
 mod streaming;
+mod urdf;
 mod workspace;
 
 pub use consistent::{pseudo_inertia_margins, ConsistentEstimate};
 pub use data::{read_csv, to_csv, Sample, SampleReader, SampleWriter, Samples};
+pub use delay::{DelaySearch, DELAY_MARGIN};
 pub use describe::to_yaml;
 pub use energy::{Observation, DEFAULT_WINDOW};
 pub use error::{IdentifyError, Place};
 pub use excitation::{condition_number, optimise, optimise_within, Excitation, ExcitationOptions};
 pub use fourier::{FourierTrajectory, JointSample, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
-pub use least_squares::BaseEstimate;
+pub use least_squares::{BaseEstimate, Trust, DEFAULT_MAX_RELATIVE_STD};
 pub use normal_equations::NormalEquations;
 pub use observation::{prepare, BaseModel, BaseRegressorSource, Compiled, Prepared};
-pub use payload::{identify_payload, PayloadData, PayloadEstimate, PayloadOptions};
+pub use payload::{
+    identify_payload, PayloadData, PayloadEstimate, PayloadOptions, SourceCheck, DISAGREEMENT_LIMIT,
+    SENSOR_MISFIT_LIMIT,
+};
 pub use pipeline::{
     identify, identify_file, identify_with, Identification, IdentifyOptions, WrittenEstimate,
 };
 pub use simulate::{measure, measure_wrench, with_body_at, with_joint_terms, with_payload};
 pub use starts::ConsistentStart;
 pub use streaming::{estimate_streaming, Progress, StreamedEstimate};
+pub use urdf::{to_urdf, wrapper_path, UrdfFiles};
 pub use workspace::{ExcitationError, Region, Workspace, WorkspaceCheck, WorkspaceConstraint};

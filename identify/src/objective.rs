@@ -297,8 +297,34 @@ impl<'m> Problem<'m> {
         (r, theta)
     }
 
-    /// The residual's Jacobian by the free numbers.
-    fn jacobian(&self, phi: &[f64]) -> DMatrix<f64> {
+    /// `∂θ/∂φ`, block diagonal: a body's ten parameters depend on its ten free numbers, a
+    /// joint parameter on its own.
+    pub fn theta_jacobian(&self, phi: &[f64]) -> DMatrix<f64> {
+        let p = phi.len();
+        let mut d = DMatrix::zeros(p, p);
+        for (body, map) in self.bodies.iter().enumerate() {
+            let first = PARAMETERS_PER_BODY * body;
+            let block = map.jacobian(&phi[first..first + PARAMETERS_PER_BODY]);
+            for row in 0..PARAMETERS_PER_BODY {
+                for col in 0..PARAMETERS_PER_BODY {
+                    d[(first + row, first + col)] = block[(row, col)];
+                }
+            }
+        }
+        let first = self.inertial();
+        for (k, map) in self.terms.iter().enumerate() {
+            let i = first + k;
+            d[(i, i)] = match map {
+                TermMap::Positive => phi[i].exp(),
+                TermMap::Linear(scale) => *scale,
+            };
+        }
+        d
+    }
+
+    /// The residual's Jacobian by the free numbers: its first `b` rows are the whitened data
+    /// term's, the rest the prior's.
+    pub fn jacobian(&self, phi: &[f64]) -> DMatrix<f64> {
         let (b, p) = (self.c.len(), phi.len());
         let w = PRIOR_WEIGHT.sqrt();
         let mut jac = DMatrix::zeros(b + 2 * p, p);

@@ -104,7 +104,15 @@ pub struct PayloadEstimate {
     pub model: Model,
     pub samples_used: usize,
     pub differentiated: bool,
-    /// The loader's warnings about the description written, and what else a user should know.
+    /// With a force/torque sensor: whether its readings fit a payload, and, with torques too,
+    /// whether the two sources agree ([`SourceCheck::disagreement`]).
+    pub sources: Option<SourceCheck>,
+    /// How the estimate was made where it differs from what was asked: joint terms held that
+    /// were to be re-fitted.
+    pub notes: Vec<String>,
+    /// What a user should know about the data and the estimate. (The loader's warnings about
+    /// the description with the payload come with the text as written:
+    /// [`PayloadEstimate::written`].)
     pub warnings: Vec<String>,
 }
 
@@ -112,6 +120,19 @@ impl PayloadEstimate {
     /// The ten standard parameters `[m, m·c, I_O]` of the payload about the frame's origin.
     pub fn parameters(&self) -> [f64; PARAMETERS_PER_BODY] {
         dyngen_runtime::body_parameters(self.mass, &self.com, &self.inertia_com)
+    }
+
+    /// The description with the payload as dyngen YAML written to `path`, with the loader's
+    /// warnings about that text, each naming `path` and its line there (not in the text: the
+    /// loader says them each time the file is loaded).
+    pub fn written(
+        &self,
+        source: &str,
+        path: &std::path::Path,
+    ) -> Result<(String, Vec<String>), IdentifyError> {
+        let text = self.yaml(source);
+        let warnings = crate::loadable::warnings_of(&text, path)?;
+        Ok((text, warnings))
     }
 
     /// The description with the payload, as dyngen YAML.
@@ -145,8 +166,218 @@ impl PayloadEstimate {
         if self.joint_terms.is_some() {
             comment.push("Joint terms: re-fitted with the payload.".into());
         }
+        comment.extend(self.notes.iter().map(|n| format!("note: {n}")));
         comment.extend(self.warnings.iter().map(|w| format!("warning: {w}")));
         crate::describe::to_yaml(&self.model, &comment)
+    }
+}
+
+/// A sensor whose residuals, fitted alone, are more than this many times the noise their
+/// sample-to-sample scatter shows fits no payload: its readings are not the wrench of a rigid
+/// body in the frame the columns name (a sensor mounted rotated, another frame).
+pub const SENSOR_MISFIT_LIMIT: f64 = 20.0;
+/// Sources whose fit together leaves some channel more than this many times the noise it has
+/// fitted alone disagree: no one payload explains both (a flipped or mis-framed sensor).
+pub const DISAGREEMENT_LIMIT: f64 = 10.0;
+/// Channels whose noise, fitted together, is below this fraction of their RMS are not
+/// compared (noise-free data leaves residuals at rounding, whose ratios mean nothing).
+const RESOLVED_NOISE: f64 = 1e-6;
+
+/// How a force/torque sensor's readings and the joint torques agree with a payload and with
+/// each other: each source fitted alone, and what fitting them together costs. The checks and
+/// their limits: [`SENSOR_MISFIT_LIMIT`], [`DISAGREEMENT_LIMIT`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct SourceCheck {
+    /// The payload's mass from the joint torques alone (`None`: no torques, or the torques
+    /// alone do not determine the payload).
+    pub mass_from_torques: Option<f64>,
+    /// The payload's mass from the sensor alone, and the offset force `[fx, fy, fz]` it then
+    /// needs (N).
+    pub mass_from_wrench: Option<f64>,
+    pub offset_force: Option<Vector3<f64>>,
+    /// Per sensor axis (`fx … mz`): the residual σ of the sensor fitted alone over the noise
+    /// its sample-to-sample scatter shows (second differences of the residuals): about 1 for
+    /// readings a payload explains.
+    pub sensor_misfit: Option<[f64; 6]>,
+    /// With both sources: per channel (joints, then sensor axes), its noise fitted together
+    /// over its noise fitted alone: about 1 for sources that agree.
+    pub joint_cost: Vec<f64>,
+    /// Why the data cannot be trusted, in one line with the likely cause; `None` when every
+    /// check passes.
+    pub disagreement: Option<String>,
+}
+
+/// The σ of each of `channels` channels of a residual (rows sample-major) from its
+/// sample-to-sample scatter: `Σ (r_{k+1} − 2 r_k + r_{k−1})² / 6(N − 2)`, the noise of white
+/// noise, blind to anything smooth (a model's misfit).
+fn scatter_noise(r: &DVector<f64>, channels: usize) -> Vec<f64> {
+    let samples = r.len() / channels;
+    (0..channels)
+        .map(|c| {
+            let at = |k: usize| r[k * channels + c];
+            let sum: f64 = (1..samples.saturating_sub(1))
+                .map(|k| (at(k + 1) - 2.0 * at(k) + at(k - 1)).powi(2))
+                .sum();
+            (sum / (6.0 * samples.saturating_sub(2).max(1) as f64)).sqrt()
+        })
+        .collect()
+}
+
+/// The least squares of `y ≈ w x` over `rows` of every sample (of `channels` rows each) and
+/// `columns`, with its residual; `None` when those rows do not determine those columns.
+fn fit_alone(
+    w: &DMatrix<f64>,
+    y: &DVector<f64>,
+    channels: usize,
+    rows: std::ops::Range<usize>,
+    columns: &[usize],
+    names: &[String],
+) -> Option<(BaseEstimate, DVector<f64>)> {
+    let samples = y.len() / channels;
+    let picked: Vec<usize> = (0..samples)
+        .flat_map(|k| rows.clone().map(move |c| k * channels + c))
+        .collect();
+    let sub = w.select_rows(picked.iter()).select_columns(columns.iter());
+    let sub_y = DVector::from_iterator(picked.len(), picked.iter().map(|&r| y[r]));
+    let sub_names: Vec<String> = columns.iter().map(|&c| names[c].clone()).collect();
+    let observations = Observations::Stacked {
+        w: &sub,
+        tau: &sub_y,
+        n: rows.len(),
+    };
+    let fit = estimate(observations, &sub_names).ok()?;
+    let residual = &sub_y - &sub * DVector::from_column_slice(&fit.theta_b);
+    Some((fit, residual))
+}
+
+/// The checks of [`SourceCheck`] on the rows `w`, `y` (per sample: `n` torque rows when
+/// `torques`, then six sensor rows) and the fit `together` of the columns `free` (the payload,
+/// the re-fitted joint terms, the sensor offset at `offset_at`).
+#[allow(clippy::too_many_arguments)]
+fn check_sources(
+    w: &DMatrix<f64>,
+    y: &DVector<f64>,
+    n: usize,
+    torques: bool,
+    offset_at: usize,
+    names: &[String],
+    together: &BaseEstimate,
+    sensor_frame: &str,
+    gravity: f64,
+) -> SourceCheck {
+    let first_sensor = if torques { n } else { 0 };
+    let channels = first_sensor + 6;
+    let payload: Vec<usize> = (0..PARAMETERS_PER_BODY).collect();
+    let sensor_columns: Vec<usize> = payload.iter().copied().chain(offset_at..offset_at + 6).collect();
+    let torque_columns: Vec<usize> = (0..offset_at).collect();
+    let sensor = fit_alone(w, y, channels, first_sensor..channels, &sensor_columns, names);
+    let torque = torques
+        .then(|| fit_alone(w, y, channels, 0..n, &torque_columns, names))
+        .flatten();
+    let mass_from_torques = torque.as_ref().map(|(fit, _)| fit.theta_b[0]);
+    let mass_from_wrench = sensor.as_ref().map(|(fit, _)| fit.theta_b[0]);
+    let offset_force = sensor.as_ref().map(|(fit, _)| {
+        let at = PARAMETERS_PER_BODY;
+        Vector3::new(fit.theta_b[at], fit.theta_b[at + 1], fit.theta_b[at + 2])
+    });
+    let sensor_misfit = sensor.as_ref().map(|(fit, residual)| {
+        let scatter = scatter_noise(residual, 6);
+        std::array::from_fn(|c| fit.joint_noise[c] / scatter[c].max(f64::MIN_POSITIVE))
+    });
+    // Channels fitted together against each alone.
+    let mut joint_cost = Vec::new();
+    if torques {
+        let rms: Vec<f64> = (0..channels)
+            .map(|c| {
+                let samples = y.len() / channels;
+                ((0..samples).map(|k| y[k * channels + c].powi(2)).sum::<f64>() / samples as f64).sqrt()
+            })
+            .collect();
+        let alone: Vec<Option<f64>> = (0..channels)
+            .map(|c| match c < n {
+                true => torque.as_ref().map(|(fit, _)| fit.joint_noise[c]),
+                false => sensor.as_ref().map(|(fit, _)| fit.joint_noise[c - n]),
+            })
+            .collect();
+        joint_cost = (0..channels)
+            .map(|c| match alone[c] {
+                Some(a) if together.joint_noise[c] > RESOLVED_NOISE * rms[c] => {
+                    together.joint_noise[c] / a.max(f64::MIN_POSITIVE)
+                }
+                _ => 1.0,
+            })
+            .collect();
+    }
+    let axis = |c: usize| OFFSET_NAMES[c];
+    let worst = |values: &[f64]| {
+        (0..values.len())
+            .max_by(|&a, &b| values[a].total_cmp(&values[b]))
+            .map(|c| (c, values[c]))
+    };
+    let channel_name = |c: usize| match c < first_sensor {
+        true => format!("joint {}", c + 1),
+        false => axis(c - first_sensor).to_string(),
+    };
+    // The likely cause, from the sources alone.
+    let weight = mass_from_torques.or(mass_from_wrench).map(|m| m.abs() * gravity);
+    let offset_the_weight = match (offset_force, weight) {
+        (Some(f), Some(weight)) if f.norm() > 0.5 * weight => Some(format!(
+            "; the offset force it needs, {:.1} N, is the size of the payload's weight, {weight:.1} N",
+            f.norm()
+        )),
+        _ => None,
+    };
+    let misfit = sensor_misfit
+        .and_then(|m: [f64; 6]| worst(&m))
+        .filter(|&(_, r)| r > SENSOR_MISFIT_LIMIT);
+    let disagree = worst(&joint_cost).filter(|&(_, r)| r > DISAGREEMENT_LIMIT);
+    let flipped = matches!((mass_from_torques, mass_from_wrench), (Some(t), Some(s)) if t > 0.0 && s < 0.0);
+    let disagreement = if let Some((c, r)) = disagree {
+        let cause = if flipped {
+            format!(
+                "the sensor's sign: from the sensor alone the payload weighs {:.3} kg, from the torques {:.3} kg; \
+                 its columns look like the wrench the sensor applies to the load, the opposite of the \
+                 convention (the wrench the load applies to the sensor): negate its six columns",
+                mass_from_wrench.unwrap_or_default(),
+                mass_from_torques.unwrap_or_default()
+            )
+        } else if misfit.is_some() || offset_the_weight.is_some() {
+            format!(
+                "the sensor's frame: its readings are not a wrench in the axes of '{sensor_frame}' (a sensor \
+                 mounted rotated, or another frame){}",
+                offset_the_weight.clone().unwrap_or_default()
+            )
+        } else {
+            format!(
+                "the payload weighs {:.3} kg from the sensor alone and {:.3} kg from the torques; check the \
+                 sensor's frame and units, and that the description is the robot's",
+                mass_from_wrench.unwrap_or(f64::NAN),
+                mass_from_torques.unwrap_or(f64::NAN)
+            )
+        };
+        Some(format!(
+            "the force/torque sensor and the joint torques disagree: fitted together, {} has {r:.0} times \
+             the noise it has alone; likely cause: {cause}",
+            channel_name(c)
+        ))
+    } else {
+        misfit.map(|(c, r)| {
+            format!(
+                "the force/torque sensor's readings fit no payload: its residuals are {r:.0} times the noise \
+                 their scatter shows ({}); likely cause: the sensor's frame: its readings are not a wrench in \
+                 the axes of '{sensor_frame}' (a sensor mounted rotated, or another frame){}",
+                axis(c),
+                offset_the_weight.unwrap_or_default()
+            )
+        })
+    };
+    SourceCheck {
+        mass_from_torques,
+        mass_from_wrench,
+        offset_force,
+        sensor_misfit,
+        joint_cost,
+        disagreement,
     }
 }
 
@@ -228,26 +459,26 @@ pub fn identify_payload(
         (None, true, false) => PayloadData::Torques,
         (None, false, true) => PayloadData::Wrench,
         (None, false, false) => {
-            return Err(IdentifyError::data(
+            return Err(samples.locate(IdentifyError::data(
                 "the data has neither torque columns (tau[<joint>]) nor a force/torque sensor's (fx … mz[<frame>])",
-            ))
+            )))
         }
     };
     let torques = matches!(data, PayloadData::Torques | PayloadData::Both);
     let wrench = matches!(data, PayloadData::Wrench | PayloadData::Both);
     let tau = match (torques, &samples.tau) {
         (true, None) => {
-            return Err(IdentifyError::data(
+            return Err(samples.locate(IdentifyError::data(
                 "identifying from torques, but the data has no torque columns (tau[<joint>])",
-            ))
+            )))
         }
         (_, tau) => tau.as_ref().filter(|_| torques),
     };
     let sensor = match (wrench, &samples.wrench, &samples.sensor_frame) {
         (true, Some(w), Some(frame)) => Some((w, find_frame(model, frame, "the sensor frame")?)),
-        (true, _, _) => return Err(IdentifyError::data(
+        (true, _, _) => return Err(samples.locate(IdentifyError::data(
             "identifying from a force/torque sensor, but the data has no wrench columns (fx … mz[<frame>])",
-        )),
+        ))),
         (false, _, _) => None,
     };
     let frame_name = options
@@ -266,15 +497,15 @@ pub fn identify_payload(
         }
     }
     let refit = torques && options.refit_joint_terms && !model.joint_terms().kinds.is_empty();
-    let mut warnings = Vec::new();
+    let (mut warnings, mut notes) = (Vec::new(), Vec::new());
     if options.refit_joint_terms && !refit {
-        warnings.push(if torques {
+        notes.push(if torques {
             "the description chooses no joint terms: there are none to re-fit".to_string()
         } else {
             "joint terms are re-fitted from torques only: held".to_string()
         });
     }
-    let motion = motion(samples, options.cutoff)?;
+    let motion = motion(samples, options.cutoff).map_err(|e| samples.locate(e))?;
     let n = model.dof();
     let inertial = model.inertial_parameter_count();
     let joint_count = model.parameter_count() - inertial;
@@ -375,7 +606,35 @@ pub fn identify_payload(
     for (i, &c) in free.iter().enumerate() {
         x[c] = fit.theta_b[i];
     }
-    let (payload, made_consistent) = consistent_payload(&fit, &x[..PARAMETERS_PER_BODY])?;
+    let sources = sensor.map(|(_, s)| {
+        check_sources(
+            &w,
+            &y,
+            n,
+            torques,
+            offset_at,
+            &names,
+            &fit,
+            &s.name,
+            model.gravity().norm(),
+        )
+    });
+    let disagreement = sources.as_ref().and_then(|s| s.disagreement.clone());
+    let (payload, made_consistent) = match consistent_payload(&fit, &x[..PARAMETERS_PER_BODY]) {
+        Ok(consistent) => consistent,
+        Err(e) => {
+            return Err(match &disagreement {
+                Some(why) => samples.locate(IdentifyError::data(why.clone())),
+                None if wrench && !torques && x[0] < 0.0 => IdentifyError::Unidentifiable(format!(
+                "{e}; a negative mass from a force/torque sensor alone is the sign of a sensor that reports \
+                     the wrench it applies to the load, the opposite of the convention (the wrench the load \
+                     applies to the sensor): negate its six columns"
+            )),
+                None => e,
+            })
+        }
+    };
+    warnings.extend(disagreement);
     // The other unknowns given the consistent payload: their least squares conditioned on it.
     let information = information(&fit);
     let others: Vec<usize> = (PARAMETERS_PER_BODY..free.len()).collect();
@@ -405,13 +664,8 @@ pub fn identify_payload(
     if refit {
         theta_new[inertial..].copy_from_slice(&x[PARAMETERS_PER_BODY..offset_at]);
     }
-    let (with_payload, loader_warnings) = loadable(model, &theta_new)
+    let with_payload = loadable(model, &theta_new)
         .map_err(|why| IdentifyError::InvalidEstimate(format!("the description with the payload: {why}")))?;
-    warnings.extend(
-        loader_warnings
-            .into_iter()
-            .map(|w| format!("the description written: {w}")),
-    );
     let carried = inertia_of(&payload);
     Ok(PayloadEstimate {
         frame: frame.name.clone(),
@@ -426,6 +680,8 @@ pub fn identify_payload(
         model: with_payload,
         samples_used: motion.kept.len(),
         differentiated: motion.differentiated,
+        sources,
+        notes,
         warnings,
     })
 }

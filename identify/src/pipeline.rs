@@ -3,16 +3,18 @@
 
 use crate::consistent::{consistent_estimate, misfit_bound, ConsistentEstimate};
 use crate::data::Samples;
+use crate::delay::{estimate_with_delay, DelaySearch};
 use crate::describe::to_yaml;
 use crate::energy::{estimate_by_energy, estimate_by_momentum, Observation};
 use crate::error::IdentifyError;
 use crate::least_squares::{estimate, BaseEstimate, Observations};
-use crate::loadable::loadable;
+use crate::loadable::{loadable, warnings_of};
 use crate::objective::Problem;
 use crate::observation::{prepare, BaseModel, BaseRegressorSource};
 use crate::physical_start::physical_start;
 use crate::starts::{description_start, least_squares_start};
 use crate::streaming::{estimate_streaming, Progress};
+use crate::urdf::{to_urdf, UrdfFiles};
 use dyngen_model::model::Model;
 use std::fmt;
 use std::path::Path;
@@ -28,6 +30,10 @@ pub struct IdentifyOptions {
     pub stream_window: usize,
     /// The torque form (default), or a form over windows that needs no accelerations.
     pub observation: Observation,
+    /// Search a delay of the torques behind the positions of up to this many samples either
+    /// way, estimated with the parameters ([`Identification::delay`]); torque form only, on
+    /// the whole log (not [`identify_file`]).
+    pub max_delay: Option<usize>,
 }
 
 impl Default for IdentifyOptions {
@@ -36,6 +42,7 @@ impl Default for IdentifyOptions {
             cutoff: crate::differentiate::DEFAULT_CUTOFF_HZ,
             stream_window: 1 << 14,
             observation: Observation::Torque,
+            max_delay: None,
         }
     }
 }
@@ -77,12 +84,18 @@ pub struct Identification {
     pub model: Model,
     /// Which estimate `model` holds.
     pub written: WrittenEstimate,
-    /// Samples used (after the filter's end transients, when derivatives were computed).
+    /// Samples used (after the filter's end transients, when derivatives were computed, and
+    /// those whose torques a delay puts outside the log).
     pub samples_used: usize,
+    /// The torques' delay behind the positions, when it was searched
+    /// ([`IdentifyOptions::max_delay`]): the estimate pairs each sample with the torques that
+    /// many samples later.
+    pub delay: Option<DelaySearch>,
     pub differentiated: bool,
-    /// What the user should know: a noise estimate that did not settle, no consistent
-    /// estimate compatible with the data, the loader's warnings about the identified
-    /// description.
+    /// What the user should know about the data and the estimate: a noise estimate that did
+    /// not settle, no consistent estimate compatible with the data, an estimate that would not
+    /// load. (The loader's warnings about the identified description come with the text as
+    /// written: [`Identification::written`].)
     pub warnings: Vec<String>,
     /// How the estimate was made, where it differs from the usual: a body of the description
     /// that is not physical, and the nearest physical inertia the consistent estimate started
@@ -91,8 +104,31 @@ pub struct Identification {
 }
 
 impl Identification {
-    /// The identified robot as dyngen YAML.
+    /// The identified robot as dyngen YAML written to `path`, with the loader's warnings about
+    /// that text, each naming `path` and its line there. The warnings are not in the text: the
+    /// loader says them, with their place, each time the file is loaded.
+    pub fn written(&self, source: &str, path: &Path) -> Result<(String, Vec<String>), IdentifyError> {
+        let text = self.yaml(source);
+        let warnings = warnings_of(&text, path)?;
+        Ok((text, warnings))
+    }
+
+    /// The identified robot as dyngen YAML: a comment says where it came from, which estimate
+    /// it holds, the notes and the warnings about the data.
     pub fn yaml(&self, source: &str) -> String {
+        to_yaml(&self.model, &self.comment(source))
+    }
+
+    /// The identified robot as a URDF to be written at `urdf_path`, with the dyngen YAML
+    /// wrapper that loads it as the identified robot when URDF cannot say everything
+    /// (armature, offsets, the joint-level columns: see [`to_urdf`](crate::to_urdf)); both
+    /// with [`Identification::yaml`]'s comment.
+    pub fn urdf(&self, source: &str, urdf_path: &Path) -> Result<UrdfFiles, IdentifyError> {
+        to_urdf(&self.model, &self.comment(source), urdf_path)
+    }
+
+    /// The header comment of the identified description's files.
+    fn comment(&self, source: &str) -> Vec<String> {
         let mut comment = vec![format!(
             "Identified by `dyngen identify` from {source}: {} samples.",
             self.samples_used
@@ -112,9 +148,16 @@ impl Identification {
                 "are determined alone (neither estimate would load).".into(),
             ]),
         }
+        if let Some(delay) = &self.delay {
+            comment.push(format!(
+                "Each sample was paired with the torques {} samples later: the torques' delay behind \
+                 the positions, estimated with the parameters.",
+                delay.samples
+            ));
+        }
         comment.extend(self.notes.iter().map(|n| format!("note: {n}")));
         comment.extend(self.warnings.iter().map(|w| format!("warning: {w}")));
-        to_yaml(&self.model, &comment)
+        comment
     }
 }
 
@@ -137,27 +180,52 @@ pub fn identify_with(
     options: &IdentifyOptions,
 ) -> Result<Identification, IdentifyError> {
     let base_model = matching(model, source)?;
-    let prepared = prepare(samples, options.cutoff)?;
+    let prepared = prepare(samples, options.cutoff).map_err(|e| samples.locate(e))?;
+    if options.max_delay.is_some() && options.observation != Observation::Torque {
+        return Err(IdentifyError::data(
+            "a delay is searched in the torque form only: the windowed forms integrate the torques",
+        ));
+    }
+    let mut delay = None;
+    let mut samples_used = prepared.q.len();
     let base = match options.observation {
         Observation::Torque => {
             let (w, tau) = prepared.stack(source);
-            let observations = Observations::Stacked {
-                w: &w,
-                tau: &tau,
-                n: model.dof(),
-            };
-            estimate(observations, &base_model.base.names)?
+            match (options.max_delay, &samples.tau) {
+                (Some(max), Some(all)) => {
+                    let (search, fit, used) = estimate_with_delay(
+                        &w,
+                        all,
+                        &prepared.kept,
+                        model.dof(),
+                        &base_model.base.names,
+                        max,
+                    )
+                    .map_err(|e| samples.locate(e))?;
+                    delay = Some(search);
+                    samples_used = used;
+                    fit
+                }
+                _ => {
+                    let observations = Observations::Stacked {
+                        w: &w,
+                        tau: &tau,
+                        n: model.dof(),
+                    };
+                    estimate(observations, &base_model.base.names)?
+                }
+            }
         }
-        Observation::Energy { window } => estimate_by_energy(&base_model, samples, &prepared, window)?,
-        Observation::Momentum { window } => estimate_by_momentum(&base_model, samples, &prepared, window)?,
+        Observation::Energy { window } => {
+            estimate_by_energy(&base_model, samples, &prepared, window).map_err(|e| samples.locate(e))?
+        }
+        Observation::Momentum { window } => {
+            estimate_by_momentum(&base_model, samples, &prepared, window).map_err(|e| samples.locate(e))?
+        }
     };
-    complete(
-        model,
-        &base_model,
-        base,
-        prepared.q.len(),
-        prepared.differentiated,
-    )
+    let mut identification = complete(model, &base_model, base, samples_used, prepared.differentiated)?;
+    identification.delay = delay;
+    Ok(identification)
 }
 
 /// [`identify_with`] on the data file `path` read line by line, for logs too long to hold:
@@ -178,6 +246,11 @@ pub fn identify_file(
         return Err(IdentifyError::data(
             "a file read line by line is identified in the torque form: the windowed forms need \
              the whole log (identify it without streaming)",
+        ));
+    }
+    if options.max_delay.is_some() {
+        return Err(IdentifyError::data(
+            "a delay is searched on the whole log: identify it without streaming",
         ));
     }
     let streamed = estimate_streaming(model, source, path, options, progress)?;
@@ -273,21 +346,17 @@ fn complete(
     let mut refused = Vec::new();
     for (written, theta) in candidates {
         match loadable(model, &theta) {
-            Ok((identified, loader_warnings)) => {
+            Ok(identified) => {
                 warnings.extend(refused.iter().map(|(what, why)| {
                     format!("{what} would not load ({why}): the description written holds {written}")
                 }));
-                warnings.extend(
-                    loader_warnings
-                        .into_iter()
-                        .map(|w| format!("the identified description: {w}")),
-                );
                 return Ok(Identification {
                     base,
                     consistent,
                     model: identified,
                     written,
                     samples_used,
+                    delay: None,
                     differentiated,
                     warnings,
                     notes,

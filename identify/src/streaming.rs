@@ -13,8 +13,14 @@
 //! from a first pass over the file (first and last time, count), as the stacked path takes it
 //! from the whole signal; that pass reads every line with every check, so a bad line is
 //! reported before any work, with the message the stacked path gives.
+//!
+//! An input that can be read once only (the standard input `-`, a pipe such as `/dev/stdin`
+//! or a named pipe) is read in one pass: the step is the mean of the first window's
+//! ([`IdentifyOptions::stream_window`] samples, held until it is known), and every later step
+//! is checked against it. Sampling uniform to rounding gives the stacked path's samples to
+//! rounding; a bad line is reported when it is reached.
 
-use crate::data::{Sample, SampleReader};
+use crate::data::{read_once, Sample, SampleReader};
 use crate::differentiate::{check_step, differences, filtfilt, padding};
 use crate::error::IdentifyError;
 use crate::least_squares::{estimate, BaseEstimate, Observations};
@@ -91,22 +97,51 @@ pub fn estimate_streaming(
             }
         }
     } else {
-        let timing = first_pass(model, path, &mut |bytes, k| report(1, bytes, k))?;
-        report(1, file_bytes, 0);
-        let rate = 1.0 / timing.step;
+        // The sampling step: from a first pass over the whole file, as the stacked path takes
+        // it; or, from an input that can be read once only, from the first window's samples,
+        // held until it is known.
+        let mut reader = reader;
+        let mut lead = Vec::new();
+        let (step, count) = if read_once(path) {
+            while lead.len() < options.stream_window.max(3) {
+                match reader.next() {
+                    Some(sample) => lead.push(sample?),
+                    None => break,
+                }
+            }
+            if lead.len() < 3 {
+                return Err(IdentifyError::data(format!(
+                    "{} samples: at least 3 are needed to compute velocities and accelerations",
+                    lead.len()
+                ))
+                .in_file(path));
+            }
+            let span = lead[lead.len() - 1].time - lead[0].time;
+            (span / (lead.len() - 1) as f64, None)
+        } else {
+            let timing = first_pass(model, path, &mut |bytes, k| report(1, bytes, k))?;
+            report(1, file_bytes, 0);
+            reader = SampleReader::open(path, model, true)?;
+            (timing.step, Some(timing.count))
+        };
+        let rate = 1.0 / step;
         if !(options.cutoff > 0.0 && options.cutoff < 0.5 * rate) {
             return Err(IdentifyError::data(format!(
                 "filter cutoff {} Hz must lie between 0 and half the sampling rate ({} Hz)",
                 options.cutoff,
                 0.5 * rate
-            )));
+            ))
+            .in_file(path));
         }
         let pad = padding(rate, options.cutoff);
-        if timing.count <= 2 * pad {
-            return Err(IdentifyError::data(format!(
-                "{} samples: the filter's transients take {pad} at each end; give more samples or q̇ and q̈",
-                timing.count
-            )));
+        let too_few = |count: usize| {
+            IdentifyError::data(format!(
+                "{count} samples: the filter's transients take {pad} at each end; give more samples or q̇ and q̈",
+            ))
+            .in_file(path)
+        };
+        if let Some(count) = count.filter(|&count| count <= 2 * pad) {
+            return Err(too_few(count));
         }
         let mut windows = Windows {
             rate,
@@ -114,17 +149,23 @@ pub fn estimate_streaming(
             pad,
             overlap: overlap(rate, options.cutoff),
             window: options.stream_window.max(1),
-            count: timing.count,
+            count: count.unwrap_or(usize::MAX),
             buffer: VecDeque::new(),
             first: 0,
             next: pad,
         };
-        let mut reader = SampleReader::open(path, model, true)?;
         let (mut k, mut previous) = (0, None);
-        while let Some(sample) = reader.next() {
-            let sample = sample?;
+        let mut lead = lead.into_iter();
+        loop {
+            let sample = match lead.next() {
+                Some(sample) => sample,
+                None => match reader.next() {
+                    Some(sample) => sample?,
+                    None => break,
+                },
+            };
             if let Some(p) = previous {
-                check_step(sample.time - p, timing.step, Some(sample.line)).map_err(|e| e.in_file(path))?;
+                check_step(sample.time - p, step, Some(sample.line)).map_err(|e| e.in_file(path))?;
             }
             previous = Some(sample.time);
             windows.push(sample, &mut |q, qd, qdd, tau| {
@@ -134,6 +175,12 @@ pub fn estimate_streaming(
             if k % PROGRESS_EVERY == 0 {
                 report(2, reader.bytes_read(), equations.samples());
             }
+        }
+        if count.is_none() {
+            if k <= 2 * pad {
+                return Err(too_few(k));
+            }
+            windows.count = k;
         }
         windows.finish(&mut |q, qd, qdd, tau| add(q, qd, qdd, tau, &mut equations));
     }

@@ -111,21 +111,56 @@ fn excite_then_identify_then_load() {
     let model = load(&identified).unwrap_or_else(|e| panic!("{e}")).model;
     assert_eq!(model.parameter_count(), 98);
 
+    // As URDF (by the extension): the URDF and, for the armature, offsets and columns, its
+    // wrapper beside it, which loads as the description the YAML run wrote.
+    let urdf = dir.path().join("identified.urdf");
+    let run = dyngen(&["identify", arg(&description), arg(&data_path), "-o", arg(&urdf)]);
+    assert_eq!(run.code, Some(0), "{}", run.output());
+    let wrapper = dir.path().join("identified.dyngen.yaml");
+    assert!(
+        run.stdout.contains(&format!("wrote {}", urdf.display()))
+            && run.stdout.contains(&format!("wrote {}", wrapper.display()))
+            && run.stdout.contains("  - armature (no URDF element): joint1 "),
+        "{}",
+        run.output()
+    );
+    let text = std::fs::read_to_string(&urdf).expect("the URDF");
+    assert!(
+        text.contains("<dynamics damping=") && text.contains("<inertial>"),
+        "{text}"
+    );
+    let from_urdf = load(&wrapper).unwrap_or_else(|e| panic!("{e}")).model;
+    assert_eq!(from_urdf.parameters(), model.parameters());
+
+    // The table: θ_b, σ, %σ, the consistent estimate's θ_b and σ, a `*` on the parameters
+    // whose σ is above 10% of their value, the name; then how many are marked.
+    let rows = table(&run.stdout);
+    assert_eq!(rows.len(), 69, "{}", run.output());
+    let marked: Vec<&Row> = rows.iter().filter(|r| r.flagged).collect();
+    for row in &rows {
+        assert!(
+            (row.percent - 100.0 * row.sigma / row.value.abs()).abs() <= 0.01 * row.percent.max(1.0),
+            "{row:?}"
+        );
+        assert_eq!(row.flagged, row.percent > 10.0, "{row:?}");
+    }
+    assert!(
+        !marked.is_empty() && marked.len() < rows.len(),
+        "{}",
+        run.output()
+    );
+    assert!(
+        run.stdout.contains(&format!(
+            "* {} of 69 base parameters have σ above 10% of their value",
+            marked.len()
+        )),
+        "{}",
+        run.output()
+    );
+
     // Line by line (`--stream`): the same least squares (the table of base parameters and
     // their σ), and a description that loads.
-    let table = |stdout: &str| -> Vec<(f64, f64)> {
-        stdout
-            .lines()
-            .skip_while(|l| !l.contains("σ/|θ_b|"))
-            .skip(1)
-            .take_while(|l| !l.starts_with("torque noise"))
-            .map(|l| {
-                let mut numbers = l.split_whitespace().map(|x| x.parse::<f64>().expect("a number"));
-                (numbers.next().expect("θ_b"), numbers.next().expect("σ"))
-            })
-            .collect()
-    };
-    let stacked = table(&run.stdout);
+    let stacked: Vec<(f64, f64)> = rows.iter().map(|r| (r.value, r.sigma)).collect();
     let streamed = dir.path().join("streamed.yaml");
     let run = dyngen(&[
         "identify",
@@ -136,7 +171,7 @@ fn excite_then_identify_then_load() {
         arg(&streamed),
     ]);
     assert_eq!(run.code, Some(0), "{}", run.output());
-    let lines = table(&run.stdout);
+    let lines: Vec<(f64, f64)> = table(&run.stdout).iter().map(|r| (r.value, r.sigma)).collect();
     assert_eq!(lines.len(), stacked.len(), "{}", run.output());
     assert_eq!(lines.len(), 69);
     for ((a, sa), (b, sb)) in stacked.iter().zip(&lines) {
@@ -146,6 +181,67 @@ fn excite_then_identify_then_load() {
         );
     }
     load(&streamed).unwrap_or_else(|e| panic!("{e}"));
+
+    // A limit no parameter meets: the identification is refused in one line and nothing is
+    // written; with --force it is written, with a warning.
+    let strict = dir.path().join("strict.yaml");
+    let run = dyngen(&[
+        "identify",
+        arg(&description),
+        arg(&data_path),
+        "--max-relative-std",
+        "1e-6",
+        "-o",
+        arg(&strict),
+    ]);
+    assert_eq!(run.code, Some(1), "{}", run.output());
+    assert!(
+        run.stderr.starts_with(&format!(
+            "error: {}: the identification cannot be trusted: every one of the 69 base parameters has a \
+             relative standard deviation above 0.000001%",
+            data_path.display()
+        )) && run.stderr.contains("nothing written (--force writes it anyway)"),
+        "{}",
+        run.output()
+    );
+    assert_eq!(run.stderr.lines().count(), 1, "{}", run.output());
+    assert!(!strict.exists());
+    let run = dyngen(&[
+        "identify",
+        arg(&description),
+        arg(&data_path),
+        "--max-relative-std",
+        "1e-6",
+        "--force",
+        "-o",
+        arg(&strict),
+    ]);
+    assert_eq!(run.code, Some(0), "{}", run.output());
+    assert!(
+        run.stderr.contains(&format!(
+            "warning: {}: the identification cannot be trusted: every one of the 69",
+            data_path.display()
+        )) && run.stderr.contains("written anyway (--force)"),
+        "{}",
+        run.output()
+    );
+    load(&strict).unwrap_or_else(|e| panic!("{e}"));
+    let run = dyngen(&[
+        "identify",
+        arg(&description),
+        arg(&data_path),
+        "--max-relative-std",
+        "0",
+        "-o",
+        arg(&strict),
+    ]);
+    assert_eq!(run.code, Some(1), "{}", run.output());
+    assert!(
+        run.stderr
+            .contains("--max-relative-std 0: a limit is a positive percentage"),
+        "{}",
+        run.output()
+    );
 
     // Without accelerations (the Lagrange equations over windows): a description that loads;
     // streamed, a clear refusal.
@@ -196,9 +292,10 @@ fn excite_then_identify_then_load() {
     ]);
     assert_eq!(run.code, Some(0), "{}", run.output());
     assert!(
-        run.stderr
-            .contains("warning: no physically consistent parameters fit the data")
-            && run.stdout.contains("(NOT compatible with the data)"),
+        run.stderr.contains(&format!(
+            "warning: {}: no physically consistent parameters fit the data",
+            flipped_path.display()
+        )) && run.stdout.contains("(NOT compatible with the data)"),
         "{}",
         run.output()
     );
@@ -221,4 +318,39 @@ fn excite_then_identify_then_load() {
     );
     assert_eq!(run.stderr.lines().count(), 1, "{}", run.output());
     assert!(!not_written.exists());
+}
+
+/// A row of `dyngen identify`'s table of base parameters.
+#[derive(Debug)]
+struct Row {
+    value: f64,
+    sigma: f64,
+    percent: f64,
+    flagged: bool,
+}
+
+/// The rows of the table (between its header, which names `consistent θ_b`, and the line
+/// that counts the marked parameters).
+fn table(stdout: &str) -> Vec<Row> {
+    stdout
+        .lines()
+        .skip_while(|l| !l.contains("consistent θ_b"))
+        .skip(1)
+        .take_while(|l| !l.starts_with("* ") && !l.starts_with("every base parameter"))
+        .map(|l| {
+            let fields: Vec<&str> = l.split_whitespace().collect();
+            let number = |i: usize| -> f64 {
+                fields[i]
+                    .trim_end_matches('%')
+                    .parse()
+                    .unwrap_or_else(|_| panic!("field {i} of {l:?}"))
+            };
+            Row {
+                value: number(0),
+                sigma: number(1),
+                percent: number(2),
+                flagged: fields[5] == "*",
+            }
+        })
+        .collect()
 }

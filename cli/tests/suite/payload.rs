@@ -8,7 +8,7 @@ use common::{arg, dyngen, repository_file};
 use dyngen_codegen::description::load;
 use dyngen_codegen::model::{Inertia, Model};
 use dyngen_identify::{
-    measure, measure_wrench, to_csv, with_body_at, FourierTrajectory, TrajectoryLimits,
+    measure, measure_wrench, to_csv, with_body_at, FourierTrajectory, Samples, TrajectoryLimits,
     DEFAULT_ACCELERATION_PER_VELOCITY,
 };
 use nalgebra::{Matrix3, Vector3};
@@ -17,18 +17,16 @@ fn total_mass(model: &Model) -> f64 {
     model.bodies().iter().map(|b| b.inertia.mass).sum()
 }
 
-#[test]
-fn payload_from_a_data_file_then_load() {
-    let dir = tempfile::tempdir().expect("temp dir");
-    let description = repository_file("robots/arm7.yaml");
-    let robot = load(&description).unwrap_or_else(|e| panic!("{e}")).model;
+/// arm7 with a 1.8 kg payload at the flange: positions and torques (noise 1% of rated
+/// torque) and a wrist sensor at the flange, 10 s at 200 Hz.
+fn payload_data(robot: &Model) -> Samples {
     let payload = Inertia {
         mass: 1.8,
         com: Vector3::new(0.01, 0.0, 0.07),
         inertia_com: Matrix3::from_diagonal(&Vector3::new(0.004, 0.005, 0.003)),
     };
-    let truth = with_body_at(&robot, "flange", &payload);
-    let limits = TrajectoryLimits::from_model(&robot, DEFAULT_ACCELERATION_PER_VELOCITY);
+    let truth = with_body_at(robot, "flange", &payload);
+    let limits = TrajectoryLimits::from_model(robot, DEFAULT_ACCELERATION_PER_VELOCITY);
     let mut motion = FourierTrajectory::random(7, 5, 0.1, 3);
     motion.fit_into(&limits);
     let noise: Vec<f64> = robot
@@ -39,7 +37,7 @@ fn payload_from_a_data_file_then_load() {
     let mut data = measure(&truth, &motion, 10.0, 200.0, &noise, 1, false);
     let sensor_noise = [0.05, 0.05, 0.05, 0.003, 0.003, 0.003];
     data.wrench = Some(measure_wrench(
-        &robot,
+        robot,
         &truth,
         "flange",
         &motion,
@@ -50,6 +48,15 @@ fn payload_from_a_data_file_then_load() {
         2,
     ));
     data.sensor_frame = Some("flange".into());
+    data
+}
+
+#[test]
+fn payload_from_a_data_file_then_load() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let description = repository_file("robots/arm7.yaml");
+    let robot = load(&description).unwrap_or_else(|e| panic!("{e}")).model;
+    let data = payload_data(&robot);
     let data_path = dir.path().join("payload.csv");
     let text = to_csv(&robot, &data);
     assert!(text
@@ -119,4 +126,96 @@ fn payload_from_a_data_file_then_load() {
         "{}",
         run.output()
     );
+}
+
+/// The sensor checked against itself and the torques: a sensor with the opposite sign and one
+/// turned a quarter turn about its z axis are one error line that names the data file and the
+/// likely cause, and nothing is written; `--force` writes the turned one with a warning. From
+/// the sensor alone, the flipped one's negative mass comes with the hint.
+#[test]
+fn a_flipped_or_turned_sensor_is_one_line_naming_the_cause() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let description = repository_file("robots/arm7.yaml");
+    let robot = load(&description).unwrap_or_else(|e| panic!("{e}")).model;
+    let data = payload_data(&robot);
+    let write = |name: &str, f: &dyn Fn([f64; 6]) -> [f64; 6]| {
+        let mut changed = data.clone();
+        for w in changed.wrench.as_mut().expect("a wrench") {
+            *w = f(*w);
+        }
+        let path = dir.path().join(name);
+        std::fs::write(&path, to_csv(&robot, &changed)).expect("write");
+        path
+    };
+    let flipped = write("flipped.csv", &|w| w.map(|v| -v));
+    let turned = write("turned.csv", &|w| [w[1], -w[0], w[2], w[4], -w[3], w[5]]);
+    let written = dir.path().join("with_payload.yaml");
+
+    let run = dyngen(&["payload", arg(&description), arg(&flipped), "-o", arg(&written)]);
+    assert_eq!(run.code, Some(1), "{}", run.output());
+    assert!(
+        run.stderr.starts_with(&format!(
+            "error: {}: the force/torque sensor and the joint torques disagree",
+            flipped.display()
+        )) && run.stderr.contains("likely cause: the sensor's sign"),
+        "{}",
+        run.output()
+    );
+    assert_eq!(run.stderr.lines().count(), 1, "{}", run.output());
+    assert!(!written.exists());
+    let run = dyngen(&[
+        "payload",
+        arg(&description),
+        arg(&flipped),
+        "--from",
+        "wrench",
+        "-o",
+        arg(&written),
+    ]);
+    assert_eq!(run.code, Some(1), "{}", run.output());
+    assert!(
+        run.stderr
+            .contains("the data shows no payload: its estimated mass is -1.8")
+            && run.stderr.contains("negate its six columns"),
+        "{}",
+        run.output()
+    );
+    assert!(!written.exists());
+
+    let run = dyngen(&["payload", arg(&description), arg(&turned), "-o", arg(&written)]);
+    assert_eq!(run.code, Some(1), "{}", run.output());
+    assert!(
+        run.stderr.starts_with(&format!(
+            "error: {}: the force/torque sensor's readings fit no payload",
+            turned.display()
+        )) && run.stderr.contains("likely cause: the sensor's frame")
+            && run.stderr.contains("nothing written (--force writes it anyway)"),
+        "{}",
+        run.output()
+    );
+    assert_eq!(run.stderr.lines().count(), 1, "{}", run.output());
+    assert!(!written.exists());
+    let run = dyngen(&[
+        "payload",
+        arg(&description),
+        arg(&turned),
+        "--force",
+        "-o",
+        arg(&written),
+    ]);
+    assert_eq!(run.code, Some(0), "{}", run.output());
+    assert!(
+        run.stderr.contains(&format!(
+            "warning: {}: the force/torque sensor's readings fit no payload",
+            turned.display()
+        )) && run.stderr.contains("written anyway (--force)"),
+        "{}",
+        run.output()
+    );
+    let text = std::fs::read_to_string(&written).expect("written");
+    assert!(
+        text.contains("# warning: the force/torque sensor's readings fit no payload"),
+        "{text}"
+    );
+    load(&written).unwrap_or_else(|e| panic!("{e}"));
 }

@@ -5,6 +5,7 @@
 mod common;
 
 mod bad_input;
+mod delay;
 mod energy;
 mod estimation;
 mod excitation;
@@ -12,4 +13,6 @@ mod industrial;
 mod non_physical_description;
 mod payload;
 mod streaming;
+mod uncertainty;
+mod urdf_output;
 mod workspace;

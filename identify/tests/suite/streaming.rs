@@ -135,11 +135,47 @@ fn a_bad_line_is_the_error_the_stacked_path_gives() {
         .expect_err("refused")
         .to_string();
     assert!(
-        streamed.contains(":2001: column 1 (time): time step"),
+        streamed.contains(&format!("{}:2001: column 1 (time): time step", uneven.display())),
         "{streamed}"
     );
     assert!(
-        stacked.contains("line 2001: column 1 (time): time step"),
+        stacked.contains(&format!("{}:2001: column 1 (time): time step", uneven.display())),
         "{stacked}"
     );
+}
+
+/// A named pipe in place of the file, fed by another thread: read once, in one pass (the step
+/// from the first window, 700 samples), it gives the estimate of the file read twice.
+#[cfg(unix)]
+#[test]
+fn a_pipe_is_read_in_one_pass_to_the_same_estimate() {
+    let (dir, path) = data_file("positions.csv", false);
+    let (stacked, _, _) = both(&path);
+    let pipe = dir.path().join("pipe.csv");
+    let made = std::process::Command::new("mkfifo")
+        .arg(&pipe)
+        .status()
+        .expect("mkfifo runs");
+    assert!(made.success());
+    let writer = {
+        let (from, to) = (path.clone(), pipe.clone());
+        std::thread::spawn(move || {
+            let text = std::fs::read(&from).expect("read");
+            std::fs::write(&to, text).expect("write into the pipe");
+        })
+    };
+    let model = arm7_nominal();
+    let options = IdentifyOptions {
+        stream_window: 700,
+        ..IdentifyOptions::default()
+    };
+    let mut progress = Vec::new();
+    let streamed = identify_file(&model, &BaseModel::new(&model), &pipe, &options, |p| {
+        progress.push(*p)
+    })
+    .expect("streamed from the pipe");
+    writer.join().expect("the writer finishes");
+    assert!(streamed.differentiated);
+    assert!(progress.iter().all(|p| p.pass == 2), "one pass");
+    assert_same_estimate(&stacked, &streamed);
 }

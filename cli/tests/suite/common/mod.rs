@@ -36,6 +36,32 @@ pub fn dyngen_in(dir: &Path, args: &[&str]) -> Run {
     }
 }
 
+/// Runs `dyngen` with `args`, its standard input a pipe that `input` is written into.
+pub fn dyngen_with_stdin(args: &[&str], input: &[u8]) -> Run {
+    use std::io::Write as _;
+    let mut child = Command::new(env!("CARGO_BIN_EXE_dyngen"))
+        .args(args)
+        .stdin(std::process::Stdio::piped())
+        .stdout(std::process::Stdio::piped())
+        .stderr(std::process::Stdio::piped())
+        .spawn()
+        .expect("dyngen runs");
+    let mut stdin = child.stdin.take().expect("a pipe");
+    let input = input.to_vec();
+    // Written from another thread: the child reads while it writes its output. It may stop
+    // reading early (an error), which closes the pipe: that write error is the child's to report.
+    let writer = std::thread::spawn(move || {
+        let _ = stdin.write_all(&input);
+    });
+    let out = child.wait_with_output().expect("dyngen finishes");
+    writer.join().expect("the writer finishes");
+    Run {
+        code: out.status.code(),
+        stdout: String::from_utf8_lossy(&out.stdout).into_owned(),
+        stderr: String::from_utf8_lossy(&out.stderr).into_owned(),
+    }
+}
+
 /// Runs `dyngen` with `args` in the current directory.
 pub fn dyngen(args: &[&str]) -> Run {
     dyngen_in(Path::new("."), args)
