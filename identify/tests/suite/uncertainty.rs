@@ -208,32 +208,28 @@ fn arm3_samples(exact: &Samples, fraction: f64, rng: &mut SplitMix64) -> Samples
     samples
 }
 
+/// The small arm's true joint terms, every one positive but the last joint's viscous friction,
+/// `last_viscous`.
+fn joint_terms(last_viscous: f64) -> [JointTermValues; 3] {
+    let terms = |armature, viscous, coulomb, offset| JointTermValues {
+        armature,
+        viscous,
+        coulomb,
+        offset,
+    };
+    [
+        terms(0.3, 2.0, 3.0, 0.5),
+        terms(0.3, 1.5, 2.5, -0.4),
+        terms(0.1, last_viscous, 1.2, 0.2),
+    ]
+}
+
 /// The consistent estimate of a small arm whose every constraint is slack (bodies well inside
 /// physical validity, every friction and armature positive): its σ by linearisation match the
 /// spread of its base parameters over 200 draws within 20%, as the least squares' do.
 #[test]
 fn consistent_standard_deviations_match_the_monte_carlo_spread() {
-    let values = [
-        JointTermValues {
-            armature: 0.3,
-            viscous: 2.0,
-            coulomb: 3.0,
-            offset: 0.5,
-        },
-        JointTermValues {
-            armature: 0.3,
-            viscous: 1.5,
-            coulomb: 2.5,
-            offset: -0.4,
-        },
-        JointTermValues {
-            armature: 0.1,
-            viscous: 0.8,
-            coulomb: 1.2,
-            offset: 0.2,
-        },
-    ];
-    let truth = arm3(&values);
+    let truth = arm3(&joint_terms(0.8));
     let nominal = arm3(&[JointTermValues::default(); 3]);
     let exact = measure(&truth, &trajectory(&nominal, 2), 8.0, 100.0, &[0.0; 3], 1, true);
     let mut rng = SplitMix64::new(23);
@@ -280,27 +276,7 @@ fn consistent_standard_deviations_match_the_monte_carlo_spread() {
 /// squares' σ within 10%. The limit flags parameters whose σ exceeds it.
 #[test]
 fn a_parameter_held_by_a_constraint_varies_less() {
-    let values = [
-        JointTermValues {
-            armature: 0.3,
-            viscous: 2.0,
-            coulomb: 3.0,
-            offset: 0.5,
-        },
-        JointTermValues {
-            armature: 0.3,
-            viscous: 1.5,
-            coulomb: 2.5,
-            offset: -0.4,
-        },
-        JointTermValues {
-            armature: 0.1,
-            viscous: 0.0,
-            coulomb: 1.2,
-            offset: 0.2,
-        },
-    ];
-    let truth = arm3(&values);
+    let truth = arm3(&joint_terms(0.0));
     let nominal = arm3(&[JointTermValues::default(); 3]);
     let exact = measure(&truth, &trajectory(&nominal, 2), 8.0, 100.0, &[0.0; 3], 1, true);
     let base = BaseParameterSet::compute(&nominal);
