@@ -23,6 +23,13 @@ pub struct LoadingArgs {
     /// for more), or `all` for every link that moves.
     #[arg(long = "frame", value_name = "LINK")]
     pub frames: Vec<String>,
+    /// `locked_joints`: a joint made rigid at a position (radians, or metres for a prismatic
+    /// joint), e.g. `--lock finger_joint1=0.0`; repeat the option for more.
+    #[arg(long = "lock", value_name = "JOINT=POSITION", value_parser = locked_joint)]
+    pub locked_joints: Vec<(String, f64)>,
+    /// `gravity`: the gravity acceleration in the base frame, m/s² (default `0,0,-9.81`).
+    #[arg(long, value_name = "X,Y,Z", value_parser = gravity, allow_hyphen_values = true)]
+    pub gravity: Option<[f64; 3]>,
     /// `inertia`: what to do with a link whose inertia no real body can have (a negative
     /// principal moment, a broken triangle inequality, mass without extent about an axis):
     /// load it as written with a warning, repair it to the nearest physical inertia (each
@@ -67,11 +74,39 @@ impl LoadingArgs {
                 false if self.frames.is_empty() => FrameSelection::EndEffector,
                 false => FrameSelection::Listed(self.frames.iter().map(FrameSpec::link).collect()),
             },
+            locked_joints: self.locked_joints.clone(),
+            gravity: self.gravity,
             inertia: self.inertia.into(),
             floating_base: self.floating_base,
             ..Choices::default()
         }
     }
+}
+
+/// `--lock JOINT=POSITION`.
+fn locked_joint(text: &str) -> Result<(String, f64), String> {
+    let (joint, position) = text
+        .split_once('=')
+        .ok_or_else(|| format!("expected JOINT=POSITION, found '{text}'"))?;
+    let position: f64 = position
+        .trim()
+        .parse()
+        .map_err(|_| format!("the position of joint '{joint}' is not a number: '{position}'"))?;
+    match (joint.trim(), position.is_finite()) {
+        ("", _) => Err(format!("expected JOINT=POSITION, found '{text}'")),
+        (_, false) => Err(format!("the position of joint '{joint}' must be finite")),
+        (joint, true) => Ok((joint.to_owned(), position)),
+    }
+}
+
+/// `--gravity X,Y,Z`.
+fn gravity(text: &str) -> Result<[f64; 3], String> {
+    let parts: Vec<f64> = text
+        .split(',')
+        .map(|p| p.trim().parse::<f64>().ok().filter(|x| x.is_finite()))
+        .collect::<Option<_>>()
+        .ok_or_else(|| format!("expected three finite numbers X,Y,Z, found '{text}'"))?;
+    <[f64; 3]>::try_from(parts).map_err(|_| format!("expected three numbers X,Y,Z, found '{text}'"))
 }
 
 /// Prints what loading a description said: its notes, then its warnings, one line each on

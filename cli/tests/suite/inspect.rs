@@ -185,3 +185,47 @@ fn a_floating_base_is_reported_and_refused_where_it_is_not_supported() {
         excite.output()
     );
 }
+
+/// `--lock` and `--gravity` choose `locked_joints` and `gravity` for a bare URDF, as the YAML
+/// keys do: the locked joint leaves the model; a malformed value is a usage error (exit 2), a
+/// key a YAML file writes too is refused.
+#[test]
+fn lock_and_gravity_flags_are_the_yaml_keys() {
+    let xarm = repository_file("robots/urdf/xarm7.urdf");
+    let dir = tempfile::tempdir().expect("temp dir");
+    let exported = dir.path().join("locked.urdf");
+    let run = dyngen(&[
+        "urdf",
+        arg(&xarm),
+        "--lock",
+        "joint7=0.25",
+        "--gravity",
+        "0,0,-1.62",
+        "-o",
+        arg(&exported),
+    ]);
+    assert_eq!(run.code, Some(0), "{}", run.output());
+    let model = load(&exported).unwrap_or_else(|e| panic!("{e}")).model;
+    assert_eq!(model.dof(), 6, "joint7 locked");
+    assert!(model.joints().iter().all(|j| j.name != "joint7"));
+    let unlocked = load(&xarm).expect("xarm7").model;
+    assert_eq!(unlocked.dof(), 7);
+
+    for (flag, value) in [
+        ("--lock", "joint7"),
+        ("--lock", "joint7=x"),
+        ("--gravity", "0,-9.81"),
+    ] {
+        let bad = dyngen(&["check", arg(&xarm), flag, value]);
+        assert_eq!(bad.code, Some(2), "{flag} {value}: {}", bad.output());
+    }
+    // robots/ur5.yaml writes `gravity:`; the flag may not choose it again.
+    let ur5 = repository_file("robots/ur5.yaml");
+    let twice = dyngen(&["check", arg(&ur5), "--gravity", "0,0,-9.81"]);
+    assert_eq!(twice.code, Some(1), "{}", twice.output());
+    assert!(
+        twice.stderr.contains("`gravity` was chosen twice"),
+        "{}",
+        twice.output()
+    );
+}
