@@ -113,8 +113,7 @@ fn every_file_read_is_reported_for_rerun_if_changed() {
 
 /// Each choice setter sets one field of the builder's `Choices`, so the setters give the same
 /// choices in any order; `.choices(..)` sets the fields its value chooses and keeps the others,
-/// before or after the setters. (`urdf_options`, which replaced every choice, is gone: a
-/// `.floating_base()` before it was silently dropped.)
+/// before or after the setters, so no choice made earlier is dropped without a word.
 #[test]
 fn the_choice_setters_compose_in_any_order() {
     use dyngen_codegen::description::{Choices, FrameSelection, FrameSpec, NonPhysicalInertia};
