@@ -1,8 +1,9 @@
 //! The crate root of a C library (`src/lib.rs`): `extern "C"` functions around the generated
-//! module, written from the table's entries. Each entry becomes a safe function of one state
-//! (arrays in, arrays out), the exported function that reads its pointers into it, and the
-//! batch loop `P_evaluate` calls; the pointers are read and written in a few helpers whose
-//! contracts the callers' `SAFETY` comments meet. Nothing here indexes, unwraps or allocates.
+//! module, written from the table's entries. Each entry becomes a function of one state (its
+//! inputs read in place, its outputs written from the generated function's values), the
+//! exported function that checks its pointers and calls it, and the batch loop `P_evaluate`
+//! calls; the pointers are read and written in a few helpers whose contracts the callers'
+//! `SAFETY` comments meet. Nothing here indexes, unwraps or allocates.
 
 use super::table::{reference_number, Array, Entry};
 use super::Library;
@@ -119,7 +120,8 @@ fn preamble(library: &Library) -> TokenStream {
         #![allow(clippy::too_many_arguments)]
         __dyngen_comment!("The allow above: an exported function takes every input and output of its quantity (the regressor products eight pointers).");
 
-        use dyngen_runtime::nalgebra::SVector;
+        use core::mem::MaybeUninit;
+        use dyngen_runtime::nalgebra::{SMatrix, SVector};
         use dyngen_runtime::prelude::*;
 
         /// The generated robot.
@@ -154,8 +156,8 @@ fn helpers(library: &Library) -> TokenStream {
             /// The configuration prepared for the generated functions; a quaternion that is not
             /// a unit one is refused.
             #[inline(always)]
-            fn trig(q: &[f64; NQ]) -> Result<FloatingTrig<DOF>, i32> {
-                FloatingTrig::from_configuration(q).map_err(|_| NON_UNIT_QUATERNION)
+            fn trig(q: &SVector<f64, NQ>) -> Result<FloatingTrig<DOF>, i32> {
+                FloatingTrig::from_configuration(q.as_slice()).map_err(|_| NON_UNIT_QUATERNION)
             }
 
             /// Whether every state's quaternion is a unit one, checked before a batch writes
@@ -165,9 +167,9 @@ fn helpers(library: &Library) -> TokenStream {
             /// `q` points to `batch` configurations of `NQ` doubles.
             unsafe fn check_configurations(q: *const f64, batch: usize) -> Result<(), i32> {
                 for s in 0..batch {
+                    let mut copy = MaybeUninit::uninit();
                     __dyngen_comment!("SAFETY: state `s` lies within the `batch` states the caller provides.");
-                    let q = unsafe { read::<NQ>(q.add(NQ * s)) };
-                    trig(&q)?;
+                    trig(unsafe { input::<NQ>(q.add(NQ * s), &mut copy) })?;
                 }
                 Ok(())
             }
@@ -175,8 +177,8 @@ fn helpers(library: &Library) -> TokenStream {
         false => quote! {
             /// The configuration prepared for the generated functions (its sines and cosines).
             #[inline(always)]
-            fn trig(q: &[f64; NQ]) -> Result<JointTrig<DOF>, i32> {
-                Ok(JointTrig::new(&SVector::from(*q)))
+            fn trig(q: &SVector<f64, NQ>) -> Result<JointTrig<DOF>, i32> {
+                Ok(JointTrig::new(q))
             }
         },
     };
@@ -198,8 +200,8 @@ fn helpers(library: &Library) -> TokenStream {
                 lanes
             }
 
-            /// The four states of a result computed in lanes, each `R × C` column-major.
-            fn split_lanes<const R: usize, const C: usize>(value: &[[f64x4; R]; C]) -> [Columns<R, C>; 4] {
+            /// The four states of a result computed in lanes, each `R × C`.
+            fn split_lanes<const R: usize, const C: usize>(value: &[[f64x4; R]; C]) -> [SMatrix<f64, R, C>; 4] {
                 let mut states = [[[0.0; R]; C]; 4];
                 let [s0, s1, s2, s3] = &mut states;
                 for ((((column, c0), c1), c2), c3) in value.iter().zip(s0).zip(s1).zip(s2).zip(s3) {
@@ -207,33 +209,51 @@ fn helpers(library: &Library) -> TokenStream {
                         [*y0, *y1, *y2, *y3] = x.to_array();
                     }
                 }
-                states
+                states.map(SMatrix::from)
             }
         },
         false => quote!(),
     };
     quote! {
-        /// One state's output: an `R × C` matrix as its columns (a vector is one column).
-        type Columns<const R: usize, const C: usize> = [[f64; R]; C];
-
-        /// One state's input of `L` doubles.
+        /// Fails the build unless `T` is `n` doubles in memory, aligned as a double.
         ///
-        /// # Safety
-        /// `p` points to `L` readable doubles (no alignment needed).
-        #[inline(always)]
-        unsafe fn read<const L: usize>(p: *const f64) -> [f64; L] {
-            __dyngen_comment!("SAFETY: passed on from the caller.");
-            unsafe { p.cast::<[f64; L]>().read_unaligned() }
+        /// Reading and writing nalgebra's fixed-size matrices through the caller's pointers
+        /// relies on it: `SMatrix<f64, R, C>` is `[[f64; R]; C]`, its columns, in memory, since
+        /// `Matrix` is `repr(C)` around its storage and a zero-sized marker, and `ArrayStorage` a
+        /// `repr(transparent)` array of columns. Size and alignment are held here for every
+        /// shape used, the order of the entries by those two representations.
+        const fn assert_doubles<T>(n: usize) {
+            if size_of::<T>() != n * size_of::<f64>() || align_of::<T>() != align_of::<f64>() {
+                panic!("a nalgebra matrix is not its doubles in memory");
+            }
         }
 
-        /// One state's output, an `R × C` matrix column by column.
+        /// One state's input of `L` doubles: the caller's memory itself where it is aligned as a
+        /// double is (always, from C), else a copy in `copy`. In place, the generated code's
+        /// wide loads read what the caller stored (a copy stored in pieces stalls them).
+        ///
+        /// # Safety
+        /// `p` points to `L` readable doubles, not written while the result is used.
+        #[inline(always)]
+        unsafe fn input<const L: usize>(p: *const f64, copy: &mut MaybeUninit<SVector<f64, L>>) -> &SVector<f64, L> {
+            const { assert_doubles::<SVector<f64, L>>(L) };
+            let p = p.cast::<SVector<f64, L>>();
+            __dyngen_comment!("SAFETY: `L` doubles by the caller's contract, which `SVector<f64, L>` is (`assert_doubles`), read in place only where aligned.");
+            match p.is_aligned() {
+                true => unsafe { &*p },
+                false => copy.write(unsafe { p.read_unaligned() }),
+            }
+        }
+
+        /// One state's output, an `R × C` matrix (a vector: one column) column by column.
         ///
         /// # Safety
         /// `p` points to `R · C` writable doubles (no alignment needed).
         #[inline(always)]
-        unsafe fn write<const R: usize, const C: usize>(p: *mut f64, value: Columns<R, C>) {
-            __dyngen_comment!("SAFETY: passed on from the caller.");
-            unsafe { p.cast::<[[f64; R]; C]>().write_unaligned(value) }
+        unsafe fn output<const R: usize, const C: usize>(p: *mut f64, value: SMatrix<f64, R, C>) {
+            const { assert_doubles::<SMatrix<f64, R, C>>(R * C) };
+            __dyngen_comment!("SAFETY: passed on from the caller; written unaligned, as `R · C` doubles (`assert_doubles`).");
+            unsafe { p.cast::<SMatrix<f64, R, C>>().write_unaligned(value) }
         }
 
         /// The `k`-th pointer of a caller's array of pointers.
@@ -298,11 +318,12 @@ fn metadata(library: &Library) -> TokenStream {
             if parameters.is_null() || base_parameters.is_null() {
                 return NULL_POINTER;
             }
+            let mut copy = MaybeUninit::uninit();
             __dyngen_comment!("SAFETY: non-null, and `PARAMETER_COUNT` doubles by this function's contract.");
-            let theta = SVector::from(unsafe { read::<PARAMETER_COUNT>(parameters) });
-            let theta_b = robot::#ty::base_parameters(&theta);
+            let theta = unsafe { input::<PARAMETER_COUNT>(parameters, &mut copy) };
+            let theta_b = robot::#ty::base_parameters(theta);
             __dyngen_comment!("SAFETY: non-null, and `BASE_PARAMETER_COUNT` doubles by this function's contract.");
-            unsafe { write(base_parameters, theta_b.data.0) };
+            unsafe { output(base_parameters, theta_b) };
             OK
         },
         false => quote! {
@@ -426,7 +447,7 @@ fn metadata(library: &Library) -> TokenStream {
                 return NULL_POINTER;
             }
             __dyngen_comment!("SAFETY: non-null, and `PARAMETER_COUNT` doubles by this function's contract.");
-            unsafe { write(parameters, robot::#ty::parameters().data.0) };
+            unsafe { output(parameters, robot::#ty::parameters()) };
             OK
         }
 
@@ -450,13 +471,13 @@ fn metadata(library: &Library) -> TokenStream {
                 return NULL_POINTER;
             }
             let limits = robot::JOINT_LIMITS;
-            let column = |f: fn(&dyngen_runtime::JointLimits) -> f64| [limits.map(|l| f(&l))];
+            let column = |f: fn(&dyngen_runtime::JointLimits) -> f64| SVector::from(limits.map(|l| f(&l)));
             __dyngen_comment!("SAFETY: non-null, and `DOF` doubles each by this function's contract.");
             unsafe {
-                write(lower, column(|l| l.lower));
-                write(upper, column(|l| l.upper));
-                write(velocity, column(|l| l.velocity));
-                write(effort, column(|l| l.effort));
+                output(lower, column(|l| l.lower));
+                output(upper, column(|l| l.upper));
+                output(velocity, column(|l| l.velocity));
+                output(effort, column(|l| l.effort));
             }
             OK
         }
@@ -545,8 +566,6 @@ struct Spelled {
     /// Input and output pointers, named as the table names them.
     inputs: Vec<proc_macro2::Ident>,
     outputs: Vec<proc_macro2::Ident>,
-    /// The values read from the inputs and the values the state function returns.
-    output_values: Vec<proc_macro2::Ident>,
     input_lengths: Vec<Literal>,
     output_lengths: Vec<Literal>,
 }
@@ -561,7 +580,6 @@ fn spelled(index: usize, entry: &Entry) -> Spelled {
             .iter()
             .map(|a| format_ident!("{}", a.name))
             .collect(),
-        output_values: (0..entry.outputs.len()).map(|k| format_ident!("o{k}")).collect(),
         input_lengths: entry.inputs.iter().map(|a| usize(a.len())).collect(),
         output_lengths: entry.outputs.iter().map(|a| usize(a.len())).collect(),
     }
@@ -598,18 +616,15 @@ fn functions(library: &Library) -> TokenStream {
         .collect()
 }
 
-/// `fn state_K([frame,] q: &[f64; NQ], …) -> Result<(outputs…), i32>`: one state, safely.
+/// `unsafe fn state_K([frame,] inputs…, outputs…) -> i32`: one state, read in place, the
+/// results written straight from the generated function's values.
 fn state_function(library: &Library, entry: &Entry, s: &Spelled) -> TokenStream {
     let ty = format_ident!("{}", library.type_name);
     let method = format_ident!("{}", entry.kind.name());
-    let (state, inputs, lengths) = (&s.state, &s.inputs, &s.input_lengths);
-    let frame_parameter = match entry.takes_frame() {
-        true => quote!(frame: robot::Frame,),
-        false => quote!(),
-    };
-    let frame_argument = match entry.takes_frame() {
-        true => quote!(frame,),
-        false => quote!(),
+    let (state, inputs, outputs, lengths) = (&s.state, &s.inputs, &s.outputs, &s.input_lengths);
+    let (frame_parameter, frame_argument) = match entry.takes_frame() {
+        true => (quote!(frame: robot::Frame,), quote!(frame,)),
+        false => (quote!(), quote!()),
     };
     let reference = match entry.reference {
         Some(r) => {
@@ -618,27 +633,40 @@ fn state_function(library: &Library, entry: &Entry, s: &Spelled) -> TokenStream 
         }
         None => quote!(),
     };
-    let args = inputs.iter().skip(1).map(|a| quote!(&SVector::from(*#a)));
-    let output_types = entry.outputs.iter().map(|a| {
-        let (rows, cols) = (usize(a.rows), usize(a.cols));
-        quote!(Columns<#rows, #cols>)
-    });
+    let copies: Vec<_> = (0..inputs.len()).map(|k| format_ident!("copy{k}")).collect();
+    let args = inputs.iter().skip(1);
+    // The generated function's result, part by part, in the order of the outputs.
     let parts = match entry.shape {
-        Shape::Vector(_) | Shape::Matrix(..) => quote!((value.data.0,)),
-        Shape::Pose => quote!((value.rotation.data.0, value.translation.data.0)),
-        Shape::MatrixPair(_) | Shape::VectorPair(..) => quote!((value.0.data.0, value.1.data.0)),
-        Shape::Kinematics(_) => quote! {
-            (value.0.rotation.data.0, value.0.translation.data.0, value.1.data.0, value.2.data.0)
-        },
+        Shape::Vector(_) | Shape::Matrix(..) => vec![quote!(value)],
+        Shape::Pose => vec![quote!(value.rotation), quote!(value.translation)],
+        Shape::MatrixPair(_) | Shape::VectorPair(..) => vec![quote!(value.0), quote!(value.1)],
+        Shape::Kinematics(_) => vec![
+            quote!(value.0.rotation),
+            quote!(value.0.translation),
+            quote!(value.1),
+            quote!(value.2),
+        ],
     };
     let doc = format!(" `{}` of one state.", entry.name());
+    let safety = pointer_contract(entry, "");
     quote! {
         #[doc = #doc]
+        ///
+        /// # Safety
+        #[doc = #safety]
         #[inline(always)]
-        fn #state(#frame_parameter #(#inputs: &[f64; #lengths]),*) -> Result<(#(#output_types,)*), i32> {
-            let t = trig(q)?;
+        unsafe fn #state(#frame_parameter #(#inputs: *const f64,)* #(#outputs: *mut f64),*) -> i32 {
+            #(let mut #copies = MaybeUninit::uninit();)*
+            __dyngen_comment!("SAFETY: each input holds its length in doubles (the contract).");
+            let (#(#inputs,)*) = unsafe { (#(input::<#lengths>(#inputs, &mut #copies),)*) };
+            let t = match trig(q) {
+                Ok(t) => t,
+                Err(status) => return status,
+            };
             let value = robot::#ty::#method(#frame_argument #reference &t, #(#args),*);
-            Ok(#parts)
+            __dyngen_comment!("SAFETY: each output holds its rows × cols doubles (the contract).");
+            unsafe { #(output(#outputs, #parts);)* }
+            OK
         }
     }
 }
@@ -662,16 +690,11 @@ fn pointer_contract(entry: &Entry, states: &str) -> String {
 /// `P_<name>([frame,] inputs…, outputs…)`: the exported function of one state.
 fn exported_function(library: &Library, entry: &Entry, s: &Spelled) -> TokenStream {
     let name = format_ident!("{}_{}", library.prefix, entry.name());
-    let (state, inputs, outputs, values) = (&s.state, &s.inputs, &s.outputs, &s.output_values);
-    let input_lengths = &s.input_lengths;
+    let (state, inputs, outputs) = (&s.state, &s.inputs, &s.outputs);
     let (frame_argument, lookup) = frame_lookup(entry);
-    let frame_parameter = match entry.takes_frame() {
-        true => quote!(frame: usize,),
-        false => quote!(),
-    };
-    let lookup = match entry.takes_frame() {
-        true => lookup,
-        false => quote!(),
+    let (frame_parameter, lookup) = match entry.takes_frame() {
+        true => (quote!(frame: usize,), lookup),
+        false => (quote!(), quote!()),
     };
     let summary = format!(" {}.", first_upper(entry.kind.summary()));
     let safety = pointer_contract(entry, "");
@@ -686,16 +709,8 @@ fn exported_function(library: &Library, entry: &Entry, s: &Spelled) -> TokenStre
                 return NULL_POINTER;
             }
             #lookup
-            __dyngen_comment!("SAFETY: each input is non-null and holds its length in doubles (the contract).");
-            let (#(#inputs,)*) = unsafe { (#(read::<#input_lengths>(#inputs),)*) };
-            match #state(#frame_argument #(&#inputs),*) {
-                Ok((#(#values,)*)) => {
-                    __dyngen_comment!("SAFETY: each output is non-null and holds its rows × cols doubles.");
-                    unsafe { #(write(#outputs, #values);)* }
-                    OK
-                }
-                Err(status) => status,
-            }
+            __dyngen_comment!("SAFETY: non-null, and the lengths of this function's contract.");
+            unsafe { #state(#frame_argument #(#inputs,)* #(#outputs),*) }
         }
     }
 }
@@ -703,8 +718,7 @@ fn exported_function(library: &Library, entry: &Entry, s: &Spelled) -> TokenStre
 /// `batch_K(frame, batch, inputs, outputs)`: `P_evaluate` of one entry, in lanes where the
 /// robot has them.
 fn batch_function(library: &Library, entry: &Entry, s: &Spelled) -> TokenStream {
-    let (batch_fn, state, inputs, outputs, values) =
-        (&s.batch, &s.state, &s.inputs, &s.outputs, &s.output_values);
+    let (batch_fn, state, inputs, outputs) = (&s.batch, &s.state, &s.inputs, &s.outputs);
     let (input_lengths, output_lengths) = (&s.input_lengths, &s.output_lengths);
     let (input_index, output_index) = (
         (0..inputs.len()).map(usize).collect::<Vec<_>>(),
@@ -745,13 +759,11 @@ fn batch_function(library: &Library, entry: &Entry, s: &Spelled) -> TokenStream 
             #lanes
             while s < batch {
                 __dyngen_comment!("SAFETY: state `s` of every array lies within its `batch` states.");
-                let (#(#inputs,)*) = unsafe { (#(read::<#input_lengths>(#inputs.add(#input_lengths * s)),)*) };
-                match #state(#frame_argument #(&#inputs),*) {
-                    Ok((#(#values,)*)) => {
-                        __dyngen_comment!("SAFETY: as for the inputs.");
-                        unsafe { #(write(#outputs.add(#output_lengths * s), #values);)* }
-                    }
-                    Err(status) => return status,
+                let status = unsafe {
+                    #state(#frame_argument #(#inputs.add(#input_lengths * s),)* #(#outputs.add(#output_lengths * s)),*)
+                };
+                if status != OK {
+                    return status;
                 }
                 s += 1;
             }
@@ -782,7 +794,7 @@ fn lane_loop(library: &Library, entry: &Entry, s: &Spelled) -> TokenStream {
             let value = robot::#ty::#method(&t, #(&#args),*);
             for (k, state) in split_lanes(#columns).into_iter().enumerate() {
                 __dyngen_comment!("SAFETY: as for the inputs.");
-                unsafe { #(write(#outputs.add(#output_lengths * (s + k)), state);)* }
+                unsafe { #(output(#outputs.add(#output_lengths * (s + k)), state);)* }
             }
             s += 4;
         }

@@ -1,9 +1,9 @@
 /* The C11 program of tests/suite/c_library.rs: every function of every linked robot through
  * its own exported function, one state at a time, at the states the test wrote; its results
- * go to a file the test compares with the generic Rust dynamics. Around every call, a count
- * of the allocations (malloc and its kin, wrapped by the linker: -Wl,--wrap=malloc, …) must
- * stay at zero; then every status code is reached and each error must leave the outputs
- * untouched.
+ * go to a file the test compares with the generic Rust dynamics; with an output over an input,
+ * the same bits. Around every call, a count of the allocations (malloc and its kin, wrapped by
+ * the linker: -Wl,--wrap=malloc, …) must stay at zero; then every status code is reached and
+ * each error must leave the outputs untouched.
  *
  * Usage: check_c RESULTS STATES...   (exit status 0 when every check holds) */
 #include <math.h>
@@ -116,6 +116,51 @@ static void direct_calls(FILE *results, const harness_states *states) {
     }
 }
 
+/* ---- an output over an input of the same call: what separate arrays give, bit for bit */
+
+static void overlapping(const harness_states *states) {
+    const harness_robot *robot = states->robot;
+    for (size_t f = 0; f < robot->function_count(); ++f) {
+        const dyngen_function_info *info = robot->function_info(f);
+        const double *in[HARNESS_MAX_INPUTS];
+        double *separate[HARNESS_MAX_INPUTS], *out[HARNESS_MAX_INPUTS];
+        for (size_t k = 0; k < info->input_count; ++k) {
+            in[k] = harness_input(states, &info->inputs[k]);
+        }
+        harness_outputs(states, info, separate);
+        expect(robot, info->name, counted(robot->call, f, 0, in, separate), DYNGEN_OK);
+        /* Output j over input k, for every pair: the output as long as the input or shorter
+         * lies at its start, a longer one starts with it. */
+        for (size_t j = 0; j < info->output_count; ++j) {
+            size_t length = info->outputs[j].rows * info->outputs[j].cols;
+            for (size_t k = 0; k < info->input_count; ++k) {
+                size_t rows = info->inputs[k].rows;
+                double *shared = malloc((rows > length ? rows : length) * sizeof(double));
+                memcpy(shared, in[k], rows * sizeof(double));
+                const double *input = in[k];
+                in[k] = shared;
+                harness_outputs(states, info, out);
+                double *own = out[j];
+                out[j] = shared;
+                expect(robot, info->name, counted(robot->call, f, 0, in, out), DYNGEN_OK);
+                out[j] = own;
+                in[k] = input;
+                for (size_t o = 0; o < info->output_count; ++o) {
+                    const double *got = o == j ? shared : out[o];
+                    size_t size = info->outputs[o].rows * info->outputs[o].cols * sizeof(double);
+                    if (memcmp(got, separate[o], size) != 0) {
+                        harness_fail("%s: %s: output %s over input %s changes output %s", robot->prefix, info->name,
+                                     info->outputs[j].name, info->inputs[k].name, info->outputs[o].name);
+                    }
+                }
+                harness_free_outputs(info, out);
+                free(shared);
+            }
+        }
+        harness_free_outputs(info, separate);
+    }
+}
+
 /* ---- every error, through every function */
 
 static void errors(const harness_states *states) {
@@ -209,6 +254,7 @@ int main(int argc, char **argv) {
         }
         harness_write_metadata(results, states.robot);
         direct_calls(results, &states);
+        overlapping(&states);
         errors(&states);
     }
     fclose(results);

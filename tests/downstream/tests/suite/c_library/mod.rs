@@ -3,10 +3,12 @@
 //! through their CMake packages and linked into one C11 program and one C++17 program with
 //! Eigen (`tests/downstream/c_library/`). Every function of every table, through its own
 //! symbol (C) and through `P_evaluate` on a batch (C++, four states per call where the robot
-//! has lanes), against the generic Rust dynamics to 1e-12; no allocation in any call; every
-//! status code reached, each error writing nothing; the metadata against the model; the
-//! pkg-config file linking a program.
+//! has lanes), against the generic Rust dynamics to 1e-12; an output over an input; no
+//! allocation in any call; every status code reached, each error writing nothing; the metadata
+//! against the model; the pkg-config file linking a program; the shared library loaded as a
+//! binding loads it, its arrays at any address (`addresses`).
 
+mod addresses;
 mod build;
 mod reference;
 mod results;
