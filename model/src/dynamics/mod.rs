@@ -13,6 +13,8 @@
 //! sines and cosines are computed once and shared by all quantities of a control tick.
 
 #[doc(hidden)]
+pub mod constrained;
+#[doc(hidden)]
 pub mod coriolis;
 mod coupling;
 #[doc(hidden)]
@@ -50,6 +52,9 @@ pub mod singular;
 pub mod slotine_li;
 mod tree_ldl;
 
+pub use constrained::{
+    Anchor, ConstrainedMotion, ConstraintError, Contact, ContactKind, Impact, ProximalSettings, Stabilisation,
+};
 pub use numeric::{FrameValues, NumericDynamics};
 pub use numeric_floating::{FloatingDynamics, FloatingState};
 

@@ -60,7 +60,7 @@ fn coordinate_parents(model: &Model) -> Vec<Option<usize>> {
     parents
 }
 
-pub(super) fn factor<S: Scalar>(
+pub(crate) fn factor<S: Scalar>(
     model: &Model,
     base: &FloatingBase<S>,
     x: &[Transform<S>],
