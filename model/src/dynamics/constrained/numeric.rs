@@ -251,7 +251,7 @@ fn delassus(at: &AtState, mu: f64) -> Result<Delassus<f64>, ConstraintError> {
     if mu == 0.0 {
         // A pivot at rounding level against the largest: a row the others already fix.
         let largest = delassus.pivots().iter().fold(0.0_f64, |m, p| m.max(p.abs()));
-        if let Some(row) = delassus.pivots().iter().position(|p| !(*p > 1e-12 * largest)) {
+        if let Some(row) = delassus.pivots().iter().position(|p| p.is_nan() || *p <= 1e-12 * largest) {
             return Err(ConstraintError::Redundant { row });
         }
     }
