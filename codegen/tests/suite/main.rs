@@ -5,6 +5,7 @@
 mod base_parameters;
 mod build_script_api;
 mod builder_output_file;
+mod constrained_oracles;
 mod constrained_reference;
 mod derivative_stages;
 mod description_errors;
