@@ -12,10 +12,8 @@ use common::fixture::{matrix, vector};
 use common::floating_fixture::{self, Order};
 use common::{assert_close, column, workspace_root};
 use dyngen_codegen::description::{self, Choices, FrameSelection, FrameSpec, Loaded};
-use dyngen_codegen::dynamics::{
-    Anchor, Contact, ContactKind, FloatingDynamics, ProximalSettings, Stabilisation,
-};
-use dyngen_runtime::ReferenceFrame;
+use dyngen_codegen::dynamics::{Contact, FloatingDynamics};
+use dyngen_runtime::{ContactKind, Pose, ProximalSettings, ReferenceFrame, Stabilisation};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use serde_json::Value;
 
@@ -57,9 +55,9 @@ fn contacts(loaded: &Loaded, fixture: &Value) -> Vec<Contact> {
         .collect()
 }
 
-fn anchor(pose: &Value) -> Anchor {
+fn anchor(pose: &Value) -> Pose {
     let r = matrix(&pose["rotation"]);
-    Anchor {
+    Pose {
         rotation: Matrix3::from_fn(|i, j| r[(i, j)]),
         translation: Vector3::from_column_slice(&vector(&pose["translation"])),
     }
@@ -87,7 +85,7 @@ fn check_robot(robot: &str, urdf: &str) {
         let q = order.configuration(&vector(&st["q"]));
         let [v, tau] = ["v", "tau"].map(|f| order.vector(&vector(&st[f])));
         let s = dynamics.state(&q).unwrap();
-        let anchors: Vec<Anchor> = st["anchors"].as_array().unwrap().iter().map(anchor).collect();
+        let anchors: Vec<Pose> = st["anchors"].as_array().unwrap().iter().map(anchor).collect();
         let velocity = |field: &Value| column(&order.vector(&vector(field)));
 
         for (label, stabilisation) in [
@@ -126,18 +124,18 @@ fn check_robot(robot: &str, urdf: &str) {
             ("impulse", 0.0),
             ("impulse_damped", fx["damped_mu"].as_f64().unwrap()),
         ] {
-            let impact = dynamics
+            let (after, impulses) = dynamics
                 .impulse_dynamics(&s, &v, &contacts, restitution, mu)
                 .unwrap_or_else(|e| panic!("{}: {e}", what(field)));
             assert_close(
                 &what(&format!("{field} ν⁺")),
-                &column(impact.velocity.as_slice()),
+                &column(after.as_slice()),
                 &velocity(&st[field]["v_after"]),
                 TOL,
             );
             assert_close(
                 &what(&format!("{field} Λ")),
-                &column(impact.impulses.as_slice()),
+                &column(impulses.as_slice()),
                 &column(&vector(&st[field]["impulse"])),
                 TOL,
             );

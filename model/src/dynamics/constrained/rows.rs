@@ -1,10 +1,11 @@
 //! The rows a contact adds, from its frame's motion: generic over the scalar, so the same rows
 //! are traced for generated code.
 
-use super::contact::{Contact, ContactKind};
+use super::contact::Contact;
 use crate::dynamics::frames::FrameMotion;
 use crate::scalar::Scalar;
 use crate::spatial::Vec3;
+use dyngen_runtime::ContactKind;
 use nalgebra::DMatrix;
 
 /// The stacked rows of a set of contacts at one state.

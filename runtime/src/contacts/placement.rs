@@ -1,23 +1,23 @@
-//! How far a contact's frame is from its anchor, in the contact's axes: the position error
-//! Baumgarte stabilisation feeds back. Numeric only: `log₆` needs `atan2`, which the traced
-//! algorithms do not, so generated code takes this error as an input.
+//! How far a held frame is from its anchor, in the contact's axes: the position error that
+//! Baumgarte stabilisation feeds back.
 
-use super::contact::{Anchor, ContactKind};
-use dyngen_runtime::ReferenceFrame;
-use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3};
+use super::kind::ContactKind;
+use crate::{Pose, ReferenceFrame};
+use nalgebra::{Matrix3, Rotation3, UnitQuaternion, Vector3, Vector6};
 
-/// The error `e` the rows of a contact feed back (`−K_p e`), as Pinocchio defines it: for a
-/// point `−c₁Mc₂.translation`, for a frame `−log₆(c₁Mc₂)` (linear first), `c₁Mc₂` the anchor
-/// seen from the frame; rotated into world axes for `LOCAL_WORLD_ALIGNED`.
+/// The error `e` a contact's rows feed back (`−K_p e`), as Pinocchio defines it: for a point
+/// `−c₁Mc₂.translation`, for a frame `−log₆(c₁Mc₂)` (linear first), `c₁Mc₂` the anchor seen
+/// from the frame; rotated into world axes for `LocalWorldAligned`. A point's error is the
+/// first three entries (the rest zero).
 pub fn placement_error(
     kind: ContactKind,
     reference: ReferenceFrame,
-    frame: (&Matrix3<f64>, &Vector3<f64>),
-    anchor: &Anchor,
-) -> Vec<f64> {
-    let (rotation, translation) = frame;
+    frame: &Pose,
+    anchor: &Pose,
+) -> Vector6<f64> {
+    let rotation = &frame.rotation;
     let relative_rotation = rotation.transpose() * anchor.rotation;
-    let relative_translation = rotation.transpose() * (anchor.translation - translation);
+    let relative_translation = rotation.transpose() * (anchor.translation - frame.translation);
     let (linear, angular) = match kind {
         ContactKind::Point => (-relative_translation, Vector3::zeros()),
         ContactKind::Frame => {
@@ -29,11 +29,7 @@ pub fn placement_error(
         ReferenceFrame::LocalWorldAligned => (rotation * linear, rotation * angular),
         _ => (linear, angular),
     };
-    let mut out: Vec<f64> = linear.iter().copied().collect();
-    if kind == ContactKind::Frame {
-        out.extend(angular.iter());
-    }
-    out
+    Vector6::new(linear.x, linear.y, linear.z, angular.x, angular.y, angular.z)
 }
 
 /// `log₆` of a rigid transform: the twist `(v, ω)` whose exponential it is.
@@ -46,7 +42,7 @@ fn log6(rotation: &Matrix3<f64>, translation: &Vector3<f64>) -> (Vector3<f64>, V
         let t2 = theta * theta;
         (1.0 - t2 / 12.0 - t2 * t2 / 720.0, 1.0 / 12.0 + t2 / 720.0)
     } else {
-        let (s, c) = theta.sin_cos();
+        let (s, c) = (libm::sin(theta), libm::cos(theta));
         let alpha = theta * s / (2.0 * (1.0 - c));
         (alpha, (1.0 - alpha) / (theta * theta))
     };
@@ -88,24 +84,23 @@ mod tests {
     #[test]
     fn a_frame_at_its_anchor_has_no_error_and_a_shifted_one_points_back() {
         let rotation = Rotation3::from_euler_angles(0.3, -0.2, 1.1).into_inner();
-        let translation = Vector3::new(0.1, 0.2, 0.3);
-        let at = Anchor {
+        let frame = Pose {
             rotation,
-            translation,
+            translation: Vector3::new(0.1, 0.2, 0.3),
         };
         for kind in [ContactKind::Point, ContactKind::Frame] {
-            let e = placement_error(kind, ReferenceFrame::Local, (&rotation, &translation), &at);
-            assert!(e.iter().all(|x| x.abs() < 1e-15));
+            let e = placement_error(kind, ReferenceFrame::Local, &frame, &frame);
+            assert!(e.amax() < 1e-15);
         }
         // The anchor 1 cm along world x: the world-aligned error is −1 cm along x.
-        let shifted = Anchor {
+        let shifted = Pose {
             rotation,
-            translation: translation + Vector3::new(0.01, 0.0, 0.0),
+            translation: frame.translation + Vector3::new(0.01, 0.0, 0.0),
         };
         let e = placement_error(
             ContactKind::Point,
             ReferenceFrame::LocalWorldAligned,
-            (&rotation, &translation),
+            &frame,
             &shifted,
         );
         assert!((e[0] + 0.01).abs() < 1e-15 && e[1].abs() < 1e-15 && e[2].abs() < 1e-15);
