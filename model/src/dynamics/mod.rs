@@ -52,7 +52,7 @@ pub mod singular;
 pub mod slotine_li;
 mod tree_ldl;
 
-pub use constrained::{ConstrainedMotion, ConstraintError, Contact};
+pub use constrained::{ConstrainedMotion, ConstraintError};
 pub use numeric::{FrameValues, NumericDynamics};
 pub use numeric_floating::{FloatingDynamics, FloatingState};
 

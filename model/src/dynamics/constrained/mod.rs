@@ -16,11 +16,11 @@
 //! hold these functions. The rows are generic over the scalar (the generator traces them); the
 //! solve is `dyngen_runtime::solve_contacts`, the one generated robots use.
 
-mod contact;
+mod error;
 mod numeric;
 mod rows;
 
-pub use contact::{ConstraintError, Contact};
+pub use error::ConstraintError;
 pub use numeric::ConstrainedMotion;
 #[doc(hidden)]
 pub use rows::{constraint_rows, ConstraintRows};

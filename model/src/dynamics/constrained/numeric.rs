@@ -2,13 +2,14 @@
 //! factored mass matrix, the unconstrained acceleration, `M⁻¹ Jᵀ` and the contacts' rows at a
 //! state, and the runtime's solve does the rest.
 
-use super::contact::{ConstraintError, Contact};
+use super::error::ConstraintError;
 use super::rows::{constraint_rows, ConstraintRows};
 use crate::dynamics::floating;
 use crate::dynamics::forward_dynamics::{bias_torque, factor_mass_matrix};
 use crate::dynamics::frames::FrameMotion;
 use crate::dynamics::tree_ldl::TreeLdl;
 use crate::dynamics::{body_poses, FloatingDynamics, FloatingState, NumericDynamics};
+use crate::model::Contact;
 use crate::model::Model;
 use dyngen_runtime::{
     contact_inertia, placement_error, solve_contacts, ContactError, ContactSolution, Pose, ProximalSettings,

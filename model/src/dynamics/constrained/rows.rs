@@ -1,8 +1,8 @@
 //! The rows a contact adds, from its frame's motion: generic over the scalar, so the same rows
 //! are traced for generated code.
 
-use super::contact::Contact;
 use crate::dynamics::frames::FrameMotion;
+use crate::model::Contact;
 use crate::scalar::Scalar;
 use crate::spatial::Vec3;
 use dyngen_runtime::ContactKind;
