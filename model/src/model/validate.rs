@@ -313,6 +313,7 @@ mod tests {
             joint_terms: Default::default(),
             mimics: vec![None],
             floating_base: None,
+            contacts: Vec::new(),
             coordinate_maps: super::super::coupling::coordinate_maps(&[None], 1),
             frames: vec![Frame {
                 name: "ee".into(),
