@@ -50,7 +50,8 @@ mod seeded_frame;
 pub mod singular;
 #[doc(hidden)]
 pub mod slotine_li;
-mod tree_ldl;
+#[doc(hidden)]
+pub mod tree_ldl;
 
 pub use constrained::{ConstrainedMotion, ConstraintError};
 pub use numeric::{FrameValues, NumericDynamics};

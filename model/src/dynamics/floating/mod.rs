@@ -19,7 +19,7 @@ mod inverse;
 mod kinematics;
 mod mass;
 
-pub(crate) use mass::factor;
+pub use mass::factor;
 
 #[doc(hidden)]
 pub use centroidal::{centroidal_bias, centroidal_momentum_matrix};
