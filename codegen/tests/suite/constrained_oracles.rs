@@ -477,3 +477,75 @@ fn bad_settings_and_contacts_are_refused_with_a_reason() {
         .to_string()
         .contains("no frame named `nowhere`"));
 }
+
+/// The traced rows of a fixed-base robot with contacts (what generated code computes), on
+/// random trees: `J` the held frame's Jacobian rows, the drift its acceleration at `q̈ = 0`
+/// (a point's classical, a frame's spatial), and `M⁻¹ Jᵀ` from the generic `D⁻¹`.
+#[test]
+fn the_traced_contact_rows_are_the_frames_own_on_random_trees() {
+    use dyngen_codegen::internals::generate::trace;
+    let strategy = (
+        arb_model_and_state(8),
+        any::<Index>(),
+        arb_pose(),
+        any::<bool>(),
+        any::<bool>(),
+    );
+    deterministic_runner(24)
+        .run(&strategy, |((model, state), body, pose, local, whole)| {
+            let kind = if whole {
+                ContactKind::Frame
+            } else {
+                ContactKind::Point
+            };
+            prop_assume!(model.dof() > kind.rows());
+            let model = with_contact_frame(model, body, pose);
+            let frame = model.frames().iter().position(|f| f.name == "contact").unwrap();
+            let reference = reference_of(local);
+            let model = model
+                .with_contacts(vec![Contact {
+                    frame,
+                    kind,
+                    reference,
+                }])
+                .map_err(|e| TestCaseError::fail(e.to_string()))?;
+            let n = model.dof();
+            let traced = trace(&model);
+            let dynamics = NumericDynamics::new(&model);
+            let here = dynamics.frame_motion("contact", &state.q, &state.qd).unwrap();
+            let rows = kind.rows();
+            let j = here.jacobian(reference).rows(0, rows).into_owned();
+            let evaluate = |name: &str| traced.evaluate(name, &state.q, &state.qd, &[], &[]).unwrap();
+            let traced_j = DMatrix::from_column_slice(rows, n, &evaluate("contact_jacobian"));
+            close(
+                "J",
+                &DVector::from_column_slice(traced_j.as_slice()),
+                &DVector::from_column_slice(j.as_slice()),
+                1e-12,
+            )?;
+            let classical = here.classical_acceleration(reference, &vec![0.0; n]);
+            let mut drift = DVector::from_column_slice(&classical.as_slice()[..rows]);
+            if kind == ContactKind::Frame {
+                let velocity = here.velocity(reference);
+                let (v, w) = (velocity.fixed_rows::<3>(0), velocity.fixed_rows::<3>(3));
+                drift
+                    .rows_mut(0, 3)
+                    .copy_from(&(classical.fixed_rows::<3>(0) - w.cross(&v)));
+            }
+            close(
+                "drift",
+                &DVector::from_column_slice(&evaluate("contact_drift")),
+                &drift,
+                1e-10,
+            )?;
+            let response = dynamics.mass_matrix_inverse(&state.q) * j.transpose();
+            close(
+                "M⁻¹ Jᵀ",
+                &DVector::from_column_slice(&evaluate("contact_response")),
+                &DVector::from_column_slice(response.as_slice()),
+                1e-8,
+            )?;
+            Ok(())
+        })
+        .unwrap();
+}
