@@ -549,3 +549,109 @@ fn the_traced_contact_rows_are_the_frames_own_on_random_trees() {
         })
         .unwrap();
 }
+
+/// The derivatives of constrained forward dynamics against central differences of the
+/// constrained solution itself, on random floating trees held at a frame and a point
+/// (stabilised towards anchors off the contacts, so the gains' terms are differentiated too,
+/// where the error is a point's), `q` moved on the manifold (`integrate`).
+#[test]
+fn constrained_derivatives_are_the_differences_of_the_solution() {
+    let strategy = (arb_floating_model(6), any::<u64>(), any::<Index>(), any::<bool>());
+    deterministic_runner(16)
+        .run(&strategy, |(model, seed, other, local)| {
+            let dynamics = FloatingDynamics::new(&model).unwrap();
+            let sample = random_floating_sample(&model, seed);
+            let second = 1 + other.index(model.bodies().len());
+            prop_assume!(second != 1);
+            let contacts = [
+                Contact {
+                    frame: 1,
+                    kind: ContactKind::Point,
+                    reference: reference_of(local),
+                },
+                Contact {
+                    frame: second,
+                    kind: ContactKind::Point,
+                    reference: reference_of(!local),
+                },
+            ];
+            let s = dynamics.state(&sample.q).unwrap();
+            let j = stacked_jacobian(
+                contacts
+                    .iter()
+                    .map(|c| (dynamics.frame_jacobian(&s, c.frame, c.reference), c.kind)),
+            );
+            prop_assume!(well_posed(&j));
+            let anchors: Vec<Pose> = contacts
+                .iter()
+                .map(|c| {
+                    let (rotation, translation) = dynamics.frame_pose(&s, c.frame);
+                    Pose {
+                        rotation,
+                        translation: translation + Vector3::new(0.01, -0.02, 0.005),
+                    }
+                })
+                .collect();
+            let stabilisation = Some(Stabilisation {
+                anchors: &anchors,
+                kp: 20.0,
+                kd: 9.0,
+            });
+            let tau: Vec<f64> = sample.a.iter().map(|a| 2.0 * a).collect();
+            let solve = |q: &[f64], v: &[f64], tau: &[f64]| {
+                let s = dynamics.state(q).unwrap();
+                let m = dynamics
+                    .constrained_forward_dynamics(
+                        &s,
+                        v,
+                        tau,
+                        &contacts,
+                        stabilisation,
+                        &ProximalSettings::default(),
+                    )
+                    .unwrap();
+                let mut out = m.acceleration.as_slice().to_vec();
+                out.extend(m.forces.iter());
+                DVector::from_vec(out)
+            };
+            let ours = dynamics
+                .constrained_forward_dynamics_derivatives(&s, &sample.v, &tau, &contacts, stabilisation)
+                .map_err(|e| TestCaseError::fail(e.to_string()))?;
+            let nv = model.nv();
+            let h = 1e-6;
+            let size = solve(&sample.q, &sample.v, &tau).amax();
+            for k in 0..nv {
+                let mut e = vec![0.0; nv];
+                e[k] = h;
+                let minus: Vec<f64> = e.iter().map(|x| -x).collect();
+                let moved = |d: &[f64]| dynamics.integrate(&sample.q, d, 1.0).unwrap();
+                let by_q =
+                    (solve(&moved(&e), &sample.v, &tau) - solve(&moved(&minus), &sample.v, &tau)) / (2.0 * h);
+                let shifted =
+                    |x: &[f64], d: &[f64]| x.iter().zip(d).map(|(a, b)| a + b).collect::<Vec<f64>>();
+                let by_v = (solve(&sample.q, &shifted(&sample.v, &e), &tau)
+                    - solve(&sample.q, &shifted(&sample.v, &minus), &tau))
+                    / (2.0 * h);
+                let by_tau = (solve(&sample.q, &sample.v, &shifted(&tau, &e))
+                    - solve(&sample.q, &sample.v, &shifted(&tau, &minus)))
+                    / (2.0 * h);
+                for (name, fd, acceleration, forces) in [
+                    ("∂/∂q", by_q, &ours.acceleration_q, &ours.forces_q),
+                    ("∂/∂ν", by_v, &ours.acceleration_v, &ours.forces_v),
+                    ("∂/∂τ", by_tau, &ours.acceleration_tau, &ours.forces_tau),
+                ] {
+                    let mut column: Vec<f64> = acceleration.column(k).iter().copied().collect();
+                    column.extend(forces.column(k).iter());
+                    // A difference of values of size |x| carries rounding of about ε |x| / h.
+                    let rounding = 1e-11 * size / h;
+                    let err = (DVector::from_vec(column) - &fd).amax();
+                    prop_assert!(
+                        err <= 1e-5 * fd.amax().max(1.0) + rounding,
+                        "{name} column {k}: error {err:.2e} (rounding {rounding:.1e})"
+                    );
+                }
+            }
+            Ok(())
+        })
+        .unwrap();
+}

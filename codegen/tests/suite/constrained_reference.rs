@@ -12,7 +12,7 @@ use common::fixture::{matrix, vector};
 use common::floating_fixture::{self, Order};
 use common::{assert_close, column, workspace_root};
 use dyngen_codegen::description::{self, Choices, FrameSelection, FrameSpec, Loaded};
-use dyngen_codegen::dynamics::FloatingDynamics;
+use dyngen_codegen::dynamics::{FloatingDynamics, FloatingState};
 use dyngen_codegen::model::Contact;
 use dyngen_runtime::{ContactKind, Pose, ProximalSettings, ReferenceFrame, Stabilisation};
 use nalgebra::{DMatrix, Matrix3, Vector3};
@@ -64,6 +64,47 @@ fn anchor(pose: &Value) -> Pose {
     }
 }
 
+/// Pinocchio's `computeConstraintDynamicsDerivatives` against ours; where Pinocchio's `∂/∂q`
+/// is an approximation (6-D contacts with Baumgarte gains: it leaves out the derivative of
+/// `log₆`), ours refuses, saying why.
+#[allow(clippy::too_many_arguments)]
+fn check_derivatives(
+    what: &str,
+    dynamics: &FloatingDynamics,
+    s: &FloatingState,
+    (v, tau): (&[f64], &[f64]),
+    contacts: &[Contact],
+    stabilisation: Option<Stabilisation>,
+    expected: &Value,
+    order: &Order,
+) {
+    let ours = dynamics.constrained_forward_dynamics_derivatives(s, v, tau, contacts, stabilisation);
+    let frames = contacts.iter().any(|c| c.kind == ContactKind::Frame);
+    if frames && stabilisation.is_some() {
+        let message = ours.expect_err("a stabilised frame contact").to_string();
+        assert!(message.contains("log₆"), "{message}");
+        return;
+    }
+    let ours = ours.unwrap_or_else(|e| panic!("{what}: {e}"));
+    let theirs =
+        |field: &str, rows_velocity: bool| order.matrix(&matrix(&expected[field]), rows_velocity, true);
+    for (name, mine, field, rows_velocity) in [
+        ("∂ν̇/∂q", &ours.acceleration_q, "ddq_dq", true),
+        ("∂ν̇/∂ν", &ours.acceleration_v, "ddq_dv", true),
+        ("∂ν̇/∂τ", &ours.acceleration_tau, "ddq_dtau", true),
+        ("∂λ/∂q", &ours.forces_q, "dlambda_dq", false),
+        ("∂λ/∂ν", &ours.forces_v, "dlambda_dv", false),
+        ("∂λ/∂τ", &ours.forces_tau, "dlambda_dtau", false),
+    ] {
+        assert_close(
+            &format!("{what} {name}"),
+            mine,
+            &theirs(field, rows_velocity),
+            TOL,
+        );
+    }
+}
+
 fn check_robot(robot: &str, urdf: &str) {
     let fx = floating_fixture::load_constrained(robot);
     let loaded = load(urdf, &fx);
@@ -101,6 +142,16 @@ fn check_robot(robot: &str, urdf: &str) {
             ),
         ] {
             let expected = &st["forward"][label];
+            check_derivatives(
+                &what(label),
+                &dynamics,
+                &s,
+                (&v, &tau),
+                &contacts,
+                stabilisation,
+                expected,
+                &order,
+            );
             for (how, settings) in [("exact", ProximalSettings::default()), ("proximal", proximal)] {
                 let solved = dynamics
                     .constrained_forward_dynamics(&s, &v, &tau, &contacts, stabilisation, &settings)

@@ -258,7 +258,10 @@ fn large_robots_get_the_per_tick_groups_by_default_and_say_so() {
     };
     let robot = generate(None);
     assert_eq!(robot.model.dof(), dof);
-    assert_eq!(robot.functions, Functions::default_for(dof).without(FunctionGroup::Contacts));
+    assert_eq!(
+        robot.functions,
+        Functions::default_for(dof).without(FunctionGroup::Contacts)
+    );
     assert!(!robot.functions.contains(FunctionGroup::Derivatives));
     assert!(!robot.code.contains("impl DynamicsDerivatives"));
     assert!(!robot.code.contains("impl Regressors"));

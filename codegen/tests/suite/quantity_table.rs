@@ -187,7 +187,10 @@ fn the_floating_traits_declare_what_a_floating_robot_is_traced_with() {
         expected,
         "ContactDynamics against the contacts' functions (Solo-12 holds its feet)"
     );
-    for kind in QuantityKind::FLOATING_ONLY.into_iter().chain(QuantityKind::CONTACTS) {
+    for kind in QuantityKind::FLOATING_ONLY
+        .into_iter()
+        .chain(QuantityKind::CONTACTS)
+    {
         assert_eq!(QuantityKind::from_name(kind.name()), Some(kind));
     }
 }

@@ -16,10 +16,13 @@
 //! hold these functions. The rows are generic over the scalar (the generator traces them); the
 //! solve is `dyngen_runtime::solve_contacts`, the one generated robots use.
 
+mod derivatives;
 mod error;
 mod numeric;
+mod numeric_derivatives;
 mod rows;
 
+pub use derivatives::ConstrainedDerivatives;
 pub use error::ConstraintError;
 pub use numeric::ConstrainedMotion;
 #[doc(hidden)]

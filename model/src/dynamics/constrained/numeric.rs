@@ -22,18 +22,20 @@ use nalgebra::{DMatrix, DVector, Dyn, Matrix3, Vector3};
 pub type ConstrainedMotion = ContactSolution<Dyn, Dyn>;
 
 /// What every constrained quantity at one state starts from.
-struct AtState {
+pub(super) struct AtState {
+    /// `M` factored.
+    pub(super) mass: TreeLdl<f64>,
     /// `M⁻¹ (τ − b)`, zero where no torque is given.
-    free: DVector<f64>,
-    rows: ConstraintRows<f64>,
+    pub(super) free: DVector<f64>,
+    pub(super) rows: ConstraintRows<f64>,
     /// `M⁻¹ Jᵀ`.
-    response: DMatrix<f64>,
+    pub(super) response: DMatrix<f64>,
     poses: Vec<Pose>,
 }
 
 impl AtState {
     fn new(
-        mass: &TreeLdl<f64>,
+        mass: TreeLdl<f64>,
         free: Vec<f64>,
         motions: &[FrameMotion<f64>],
         contacts: &[Contact],
@@ -42,6 +44,7 @@ impl AtState {
         let rows = constraint_rows(contacts, motions, v);
         AtState {
             response: mass.solve_matrix(&rows.jacobian.transpose()),
+            mass,
             free: DVector::from_vec(free),
             rows,
             poses: motions.iter().map(pose_of).collect(),
@@ -92,7 +95,7 @@ impl NumericDynamics<'_> {
         operational_space_inertia(&at, damping)
     }
 
-    fn at_state(
+    pub(super) fn at_state(
         &self,
         q: &[f64],
         qd: &[f64],
@@ -116,7 +119,7 @@ impl NumericDynamics<'_> {
             .iter()
             .map(|c| FrameMotion::new(self.model, &world, qd, &self.model.frames()[c.frame]))
             .collect();
-        Ok(AtState::new(&mass, free, &motions, contacts, qd))
+        Ok(AtState::new(mass, free, &motions, contacts, qd))
     }
 }
 
@@ -160,7 +163,7 @@ impl FloatingDynamics<'_> {
         operational_space_inertia(&at, damping)
     }
 
-    fn at_state(
+    pub(super) fn at_state(
         &self,
         s: &FloatingState,
         v: &[f64],
@@ -185,7 +188,7 @@ impl FloatingDynamics<'_> {
             .iter()
             .map(|c| self.frame_motion(s, v, c.frame))
             .collect();
-        Ok(AtState::new(&mass, free, &motions, contacts, v))
+        Ok(AtState::new(mass, free, &motions, contacts, v))
     }
 }
 
@@ -213,7 +216,7 @@ fn check_contacts(model: &Model, contacts: &[Contact]) -> Result<(), ConstraintE
 }
 
 /// The rows' right-hand side: `−drift`, less the Baumgarte terms when stabilised.
-fn right_hand_side(
+pub(super) fn right_hand_side(
     at: &AtState,
     contacts: &[Contact],
     stabilisation: Option<Stabilisation<'_>>,
