@@ -130,6 +130,7 @@ fn contact(text: &str) -> Result<ContactSpec, String> {
             frame: frame.to_owned(),
             kind,
             reference,
+            to: None,
         }),
     }
 }

@@ -81,6 +81,7 @@ fn a_held_point_of_a_random_tree_does_not_accelerate_and_the_forces_balance() {
                 frame,
                 kind: ContactKind::Point,
                 reference,
+                to: None,
             };
             let here = dynamics.frame_motion("contact", &state.q, &state.qd).unwrap();
             let j = here.jacobian(reference).rows(0, 3).into_owned();
@@ -167,6 +168,7 @@ fn an_impact_stops_the_contact_and_changes_momentum_only_along_its_rows() {
                 frame,
                 kind: ContactKind::Point,
                 reference,
+                to: None,
             };
             let before = dynamics.frame_motion("contact", &state.q, &state.qd).unwrap();
             let j = before.jacobian(reference).rows(0, 3).into_owned();
@@ -220,11 +222,13 @@ fn a_floating_robot_held_at_two_bodies_keeps_them_still_and_balances() {
                     frame: 1,
                     kind: ContactKind::Frame,
                     reference,
+                    to: None,
                 },
                 Contact {
                     frame: second,
                     kind: ContactKind::Point,
                     reference: reference_of(!local),
+                    to: None,
                 },
             ];
             let j = stacked_jacobian(
@@ -286,6 +290,7 @@ fn baumgarte_pulls_a_drifted_point_back_to_its_anchor() {
                 frame,
                 kind: ContactKind::Point,
                 reference: ReferenceFrame::LocalWorldAligned,
+                to: None,
             };
             let rest = vec![0.0; n];
             let here = dynamics.frame_motion("contact", &state.q, &rest).unwrap();
@@ -362,6 +367,7 @@ fn a_point_held_twice_is_refused_exactly_and_shares_its_force_when_regularised()
         frame: 0,
         kind: ContactKind::Point,
         reference: ReferenceFrame::LocalWorldAligned,
+        to: None,
     };
     let exact =
         dynamics.constrained_forward_dynamics(&q, &qd, &tau, &[once], None, &ProximalSettings::default());
@@ -403,16 +409,19 @@ fn bad_settings_and_contacts_are_refused_with_a_reason() {
         frame: 0,
         kind: ContactKind::Point,
         reference: ReferenceFrame::World,
+        to: None,
     };
     let past = Contact {
         frame: 9,
         kind: ContactKind::Point,
         reference: ReferenceFrame::Local,
+        to: None,
     };
     let fine = Contact {
         frame: 0,
         kind: ContactKind::Point,
         reference: ReferenceFrame::Local,
+        to: None,
     };
     let exact = ProximalSettings::default();
     let cases: Vec<(Result<_, ConstraintError>, &str)> = vec![
@@ -507,6 +516,7 @@ fn the_traced_contact_rows_are_the_frames_own_on_random_trees() {
                     frame,
                     kind,
                     reference,
+                    to: None,
                 }])
                 .map_err(|e| TestCaseError::fail(e.to_string()))?;
             let n = model.dof();
@@ -568,11 +578,13 @@ fn constrained_derivatives_are_the_differences_of_the_solution() {
                     frame: 1,
                     kind: ContactKind::Point,
                     reference: reference_of(local),
+                    to: None,
                 },
                 Contact {
                     frame: second,
                     kind: ContactKind::Point,
                     reference: reference_of(!local),
+                    to: None,
                 },
             ];
             let s = dynamics.state(&sample.q).unwrap();

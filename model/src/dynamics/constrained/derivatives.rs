@@ -13,7 +13,7 @@ use crate::model::Contact;
 use crate::scalar::Scalar;
 use crate::scalar_dual::Dual;
 use crate::spatial::{Mat3, Transform, Vec3};
-use dyngen_runtime::{ContactKind, Pose, ReferenceFrame};
+use dyngen_runtime::{ContactKind, ReferenceFrame};
 use nalgebra::DMatrix;
 
 /// A dual number with one tangent: one direction per evaluation.
@@ -87,14 +87,15 @@ fn cross_entry(k: usize, l: usize, j: usize) -> f64 {
 }
 
 /// `G`'s Baumgarte part for a point: `K_p e + K_d J ν`, `e` the placement error of
-/// `dyngen_runtime::placement_error` for a point (`Rᵀ (p − anchor)` in local axes, `p − anchor`
-/// in world axes), written generically; a frame's needs `log₆` and has no derivative here.
+/// `dyngen_runtime::placement_error` for a point held at `anchor` (`Rᵀ (p − anchor)` in local
+/// axes, `p − anchor` in world axes), written generically; a frame's needs `log₆` and has no
+/// derivative here.
 pub(super) fn point_error<S: Scalar>(
     reference: ReferenceFrame,
     frame: &Transform<S>,
-    anchor: &Pose,
+    anchor: Vec3<S>,
 ) -> [S; 3] {
-    let offset = frame.pos - Vec3(std::array::from_fn(|i| S::from_f64(anchor.translation[i])));
+    let offset = frame.pos - anchor;
     let e = match reference {
         ReferenceFrame::LocalWorldAligned => offset,
         _ => frame.rot.tr_mul_vec(&offset),

@@ -3,7 +3,7 @@
 //! state, and the runtime's solve does the rest.
 
 use super::error::ConstraintError;
-use super::rows::{constraint_rows, ConstraintRows};
+use super::rows::{constraint_rows, ConstraintRows, ContactMotion};
 use crate::dynamics::floating;
 use crate::dynamics::forward_dynamics::{bias_torque, factor_mass_matrix};
 use crate::dynamics::frames::FrameMotion;
@@ -30,14 +30,15 @@ pub(super) struct AtState {
     pub(super) rows: ConstraintRows<f64>,
     /// `M⁻¹ Jᵀ`.
     pub(super) response: DMatrix<f64>,
-    poses: Vec<Pose>,
+    /// Each contact's frame pose, and the pose of the frame it is held to (loops).
+    poses: Vec<(Pose, Option<Pose>)>,
 }
 
 impl AtState {
     fn new(
         mass: TreeLdl<f64>,
         free: Vec<f64>,
-        motions: &[FrameMotion<f64>],
+        motions: &[ContactMotion<f64>],
         contacts: &[Contact],
         v: &[f64],
     ) -> Self {
@@ -47,7 +48,9 @@ impl AtState {
             mass,
             free: DVector::from_vec(free),
             rows,
-            poses: motions.iter().map(pose_of).collect(),
+            poses: (motions.iter())
+                .map(|m| (pose_of(&m.frame), m.to.as_ref().map(pose_of)))
+                .collect(),
         }
     }
 }
@@ -115,10 +118,9 @@ impl NumericDynamics<'_> {
             None => vec![0.0; qd.len()],
         };
         let world = body_poses(self.model, &x);
-        let motions: Vec<FrameMotion<f64>> = contacts
-            .iter()
-            .map(|c| FrameMotion::new(self.model, &world, qd, &self.model.frames()[c.frame]))
-            .collect();
+        let motions = ContactMotion::of(contacts, |k| {
+            FrameMotion::new(self.model, &world, qd, &self.model.frames()[k])
+        });
         Ok(AtState::new(mass, free, &motions, contacts, qd))
     }
 }
@@ -184,10 +186,7 @@ impl FloatingDynamics<'_> {
             }
             None => vec![0.0; v.len()],
         };
-        let motions: Vec<FrameMotion<f64>> = contacts
-            .iter()
-            .map(|c| self.frame_motion(s, v, c.frame))
-            .collect();
+        let motions = ContactMotion::of(contacts, |k| self.frame_motion(s, v, k));
         Ok(AtState::new(mass, free, &motions, contacts, v))
     }
 }
@@ -205,8 +204,10 @@ fn pose_of(m: &FrameMotion<f64>) -> Pose {
 
 fn check_contacts(model: &Model, contacts: &[Contact]) -> Result<(), ConstraintError> {
     for (k, c) in contacts.iter().enumerate() {
-        if c.frame >= model.frames().len() {
-            return Err(ConstraintError::FrameIndex(c.frame));
+        for frame in std::iter::once(c.frame).chain(c.to) {
+            if frame >= model.frames().len() {
+                return Err(ConstraintError::FrameIndex(frame));
+            }
         }
         if c.reference == ReferenceFrame::World {
             return Err(ContactError::WorldReference(k).into());
@@ -225,17 +226,26 @@ pub(super) fn right_hand_side(
     let Some(stabilisation) = stabilisation else {
         return Ok(rhs);
     };
-    if stabilisation.anchors.len() != contacts.len() {
+    let held = world_contacts(contacts);
+    if stabilisation.anchors.len() != held {
         return Err(ContactError::Anchors {
-            contacts: contacts.len(),
+            contacts: held,
             anchors: stabilisation.anchors.len(),
         });
     }
     if !(stabilisation.kp.is_finite() && stabilisation.kd.is_finite()) {
         return Err(ContactError::Settings("the Baumgarte gains must be finite"));
     }
-    let mut row = 0;
-    for ((contact, anchor), pose) in contacts.iter().zip(stabilisation.anchors).zip(&at.poses) {
+    let (mut row, mut anchors) = (0, stabilisation.anchors.iter());
+    for (contact, (pose, to)) in contacts.iter().zip(&at.poses) {
+        // A loop is held where its other frame is; a contact with the world, at its anchor.
+        let anchor = match to {
+            Some(to) => to,
+            // One per contact with the world: counted above.
+            None => anchors
+                .next()
+                .ok_or(ContactError::Settings("an anchor is missing"))?,
+        };
         let error = placement_error(contact.kind, contact.reference, pose, anchor);
         for k in 0..contact.kind.rows() {
             rhs[row + k] -= stabilisation.kp * error[k] + stabilisation.kd * at.rows.velocity[row + k];
@@ -243,6 +253,11 @@ pub(super) fn right_hand_side(
         row += contact.kind.rows();
     }
     Ok(rhs)
+}
+
+/// How many of `contacts` hold their frame to the world (each one anchor when stabilised).
+pub(super) fn world_contacts(contacts: &[Contact]) -> usize {
+    contacts.iter().filter(|c| c.to.is_none()).count()
 }
 
 fn forward(

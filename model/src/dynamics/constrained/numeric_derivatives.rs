@@ -6,8 +6,8 @@ use super::derivatives::{
     constant, differentiable, point_error, seeded, seeded_pose, ConstrainedDerivatives, Residual, D1,
 };
 use super::error::ConstraintError;
-use super::numeric::{right_hand_side, AtState};
-use super::rows::constraint_rows;
+use super::numeric::{right_hand_side, world_contacts, AtState};
+use super::rows::{constraint_rows, ContactMotion};
 use crate::dynamics::derivatives::lift_inertia;
 use crate::dynamics::floating::{self, FloatingBase};
 use crate::dynamics::frames::FrameMotion;
@@ -17,7 +17,7 @@ use crate::dynamics::kinematics::{body_poses, frame_pose};
 use crate::dynamics::newton_euler::inverse_dynamics;
 use crate::dynamics::{FloatingDynamics, FloatingState, NumericDynamics};
 use crate::model::Contact;
-use crate::spatial::RigidInertia;
+use crate::spatial::{RigidInertia, Vec3};
 use dyngen_runtime::{solve_contacts, ProximalSettings, Stabilisation};
 use nalgebra::{DMatrix, DVector};
 
@@ -43,10 +43,9 @@ impl NumericDynamics<'_> {
             let rigid = inverse_dynamics(model, &x, &inertias, &qd, &a);
             let joint = joint_term_torques(model, &self.joint_values, &qd, &qd, &a);
             let id: Vec<D1> = rigid.into_iter().zip(joint).map(|(r, j)| r + j).collect();
-            let motions: Vec<FrameMotion<D1>> = contacts
-                .iter()
-                .map(|c| FrameMotion::new(model, &world, &qd, &model.frames()[c.frame]))
-                .collect();
+            let motions = ContactMotion::of(contacts, |k| {
+                FrameMotion::new(model, &world, &qd, &model.frames()[k])
+            });
             residual_of(
                 id,
                 &motions,
@@ -96,19 +95,14 @@ impl FloatingDynamics<'_> {
             };
             let a = constant(a);
             let id = floating::floating_inverse_dynamics(model, &base, &x, &inertias, &v, &a);
-            let motions: Vec<FrameMotion<D1>> = contacts
-                .iter()
-                .map(|c| {
-                    let frame = &model.frames()[c.frame];
-                    FrameMotion {
-                        pose: frame_pose(Some(&base.pose), &world, frame),
-                        jacobian: floating::floating_frame_jacobian(model, &base.pose, &world, frame),
-                        jacobian_dot: floating::floating_frame_jacobian_dot(
-                            model, &base.pose, &world, &v, frame,
-                        ),
-                    }
-                })
-                .collect();
+            let motions = ContactMotion::of(contacts, |k| {
+                let frame = &model.frames()[k];
+                FrameMotion {
+                    pose: frame_pose(Some(&base.pose), &world, frame),
+                    jacobian: floating::floating_frame_jacobian(model, &base.pose, &world, frame),
+                    jacobian_dot: floating::floating_frame_jacobian_dot(model, &base.pose, &world, &v, frame),
+                }
+            });
             residual_of(
                 id,
                 &motions,
@@ -166,7 +160,7 @@ enum Along {
 #[allow(clippy::too_many_arguments)]
 fn residual_of(
     id: Vec<D1>,
-    motions: &[FrameMotion<D1>],
+    motions: &[ContactMotion<D1>],
     v: &[D1],
     a: &[D1],
     lambda: &[f64],
@@ -188,10 +182,18 @@ fn residual_of(
         .collect();
     if let Some(stabilisation) = stabilisation {
         let (kp, kd) = (D1::constant(stabilisation.kp), D1::constant(stabilisation.kd));
-        let mut row = 0;
-        for ((contact, motion), anchor) in contacts.iter().zip(motions).zip(stabilisation.anchors) {
-            // Only points reach here (`differentiable`).
-            let e = point_error(contact.reference, &motion.pose, anchor);
+        let (mut row, mut anchors) = (0, stabilisation.anchors.iter());
+        for (contact, motion) in contacts.iter().zip(motions) {
+            // Only points reach here (`differentiable`), held where the loop's other frame is or
+            // at their anchor (one per contact with the world: counted by `differentiate`).
+            let anchor = match &motion.to {
+                Some(to) => to.pose.pos,
+                None => match anchors.next() {
+                    Some(anchor) => Vec3(std::array::from_fn(|i| D1::constant(anchor.translation[i]))),
+                    None => break,
+                },
+            };
+            let e = point_error(contact.reference, &motion.frame.pose, anchor);
             for k in 0..3 {
                 g[row + k] = g[row + k] + kp * e[k] + kd * rows.velocity[row + k];
             }
@@ -216,9 +218,9 @@ fn differentiate(
         ));
     }
     if let Some(s) = stabilisation {
-        if s.anchors.len() != contacts.len() {
+        if s.anchors.len() != world_contacts(contacts) {
             return Err(dyngen_runtime::ContactError::Anchors {
-                contacts: contacts.len(),
+                contacts: world_contacts(contacts),
                 anchors: s.anchors.len(),
             }
             .into());
