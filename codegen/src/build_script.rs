@@ -6,7 +6,7 @@
 
 use crate::c_library::{check_library, library_files, module_file, write_library, CLibrary, Naming};
 use crate::description::{
-    Choices, DescriptionError, FrameSelection, FrameSpec, JointParameters, NonPhysicalInertia,
+    Choices, ContactSpec, DescriptionError, FrameSelection, FrameSpec, JointParameters, NonPhysicalInertia,
 };
 use crate::generate::{
     check_file, generate_robot_with, module_name, type_name, write_file, GenerateError, RobotReport,
@@ -127,6 +127,14 @@ impl Builder {
     /// Sets [`Choices::joint_parameters`]: joint-level regressor columns and values.
     pub fn joint_parameters(mut self, parameters: JointParameters) -> Builder {
         self.choices.joint_parameters = Some(parameters);
+        self
+    }
+
+    /// Adds to [`Choices::contacts`]: `frame` held to the world, e.g.
+    /// `.contact(ContactSpec::new("FL_FOOT", ContactKind::Point))`; the robot is then generated
+    /// with `ContactDynamics` (`docs/contacts.md`).
+    pub fn contact(mut self, contact: ContactSpec) -> Builder {
+        self.choices.contacts.push(contact);
         self
     }
 

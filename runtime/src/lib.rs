@@ -36,6 +36,7 @@
 // Unit tests run with the standard test harness.
 #![cfg_attr(not(test), no_std)]
 
+mod contacts;
 #[cfg(all(
     target_arch = "x86_64",
     not(all(target_feature = "avx2", target_feature = "fma"))
@@ -67,6 +68,11 @@ mod trig;
 mod trig_fused;
 mod version;
 
+pub use contacts::{
+    constrained_forward_dynamics, contact_inertia, impulse_dynamics, operational_space_inertia,
+    placement_error, solve_contacts, ContactDynamics, ContactError, ContactKind, ContactSolution,
+    ProximalSettings, Stabilisation,
+};
 pub use floating::{BasePose, NonUnitQuaternion, QUATERNION_NORM_TOLERANCE};
 pub use floating_robot::{
     ConfigurationError, FloatingBaseDynamics, FloatingBaseParameters, FloatingDynamicsDerivatives,

@@ -5,6 +5,7 @@
 mod common;
 
 mod c_library;
+mod contacts;
 mod excite_workspace;
 mod frames;
 mod gen;

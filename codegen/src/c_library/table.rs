@@ -159,6 +159,8 @@ fn entries_in(sizes: &Sizes, functions: &Functions) -> Vec<Entry> {
         n: sizes.nv,
         p: sizes.parameters,
         b: sizes.base_parameters,
+        // The contacts' rows are not part of the C interface (yet): none are asked for.
+        c: 0,
     };
     // The lane forms come with the base parameters, on a fixed base.
     let lanes = !sizes.floating && functions.contains(FunctionGroup::BaseParameters);

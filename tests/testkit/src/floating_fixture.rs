@@ -1,5 +1,5 @@
-//! Pinocchio 4.1's values for floating-base robots (`codegen/tests/fixtures/floating/`, made by
-//! `tools/floating_fixtures.py`), and the maps from Pinocchio's joint order to a loaded
+//! Pinocchio 4.1's values for floating-base robots (`codegen/tests/fixtures/floating/` and
+//! `constrained/`, made by `tools/floating_fixtures.py` and `tools/constraint_fixtures.py`), and the maps from Pinocchio's joint order to a loaded
 //! model's, joint by joint name.
 
 use crate::fixture::matrix;
@@ -10,7 +10,17 @@ use serde_json::Value;
 
 /// The fixture of `robot` (`solo12`, `g1`) as JSON.
 pub fn load(robot: &str) -> Value {
-    let path = workspace_root().join(format!("codegen/tests/fixtures/floating/{robot}.json"));
+    load_from("floating", robot)
+}
+
+/// The constrained-dynamics fixture of `robot` (`codegen/tests/fixtures/constrained/`, made by
+/// `tools/constraint_fixtures.py`), in the same joint order as [`load`]'s.
+pub fn load_constrained(robot: &str) -> Value {
+    load_from("constrained", robot)
+}
+
+fn load_from(directory: &str, robot: &str) -> Value {
+    let path = workspace_root().join(format!("codegen/tests/fixtures/{directory}/{robot}.json"));
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     serde_json::from_str(&text).unwrap_or_else(|e| panic!("{}: {e}", path.display()))
 }
