@@ -4,7 +4,7 @@
 
 use super::table::{reference_number, Array, Entry, Size};
 use super::wrapper::first_upper;
-use super::Library;
+use super::{contacts, Library};
 use crate::generate::GENERATED_MARKER;
 use std::fmt::Write as _;
 
@@ -43,8 +43,16 @@ extern "C" {{
 #define DYNGEN_ERROR_FRAME_OUT_OF_RANGE 3
 /* P_evaluate: the function index is not below P_function_count(). */
 #define DYNGEN_ERROR_FUNCTION_OUT_OF_RANGE 4
-/* P_base_parameters of a robot generated without base parameters. */
+/* P_base_parameters of a robot generated without base parameters; a contact solve of a robot
+ * without contacts. */
 #define DYNGEN_ERROR_NOT_GENERATED 5
+/* A contact solve's setting is out of range: mu or damping negative or not finite, no
+ * iteration, a Baumgarte gain not finite, or a restitution outside [0, 1]. */
+#define DYNGEN_ERROR_CONTACT_SETTINGS 6
+/* The contact rows are redundant at this configuration (a row depends on the others, or the
+ * robot cannot move along it): the exact solve (mu = 0) has no unique answer; solve with
+ * mu > 0. */
+#define DYNGEN_ERROR_REDUNDANT_CONTACTS 7
 
 /* The reference frame of a frame quantity (Pinocchio's ReferenceFrame). */
 #define DYNGEN_NO_REFERENCE_FRAME (-1)
@@ -82,6 +90,42 @@ typedef struct dyngen_function_info {{
     int32_t reference_frame;
 }} dyngen_function_info;
 
+/* The `to` of a contact held to the world. */
+#define DYNGEN_HELD_TO_WORLD SIZE_MAX
+
+/* One contact of a robot: static data, valid while the library is loaded. */
+typedef struct dyngen_contact_info {{
+    /* The held frame: a frame index (P_frame_name, the frame functions). */
+    size_t frame;
+    /* The frame it is held to (a loop closure), or DYNGEN_HELD_TO_WORLD. */
+    size_t to;
+    /* 3: a point (its origin); 6: a frame (linear rows first). */
+    size_t rows;
+    /* Its first row in the contact rows (J, the drift, the forces). */
+    size_t first_row;
+    /* DYNGEN_LOCAL or DYNGEN_LOCAL_WORLD_ALIGNED: the axes of its rows and its force. */
+    int32_t reference;
+}} dyngen_contact_info;
+
+/* How P_constrained_forward_dynamics solves (dyngen_runtime's ProximalSettings and
+ * Stabilisation). Passing NULL instead is the exact solve: mu = 0, one iteration, no gains. */
+typedef struct dyngen_contact_settings {{
+    /* Regularisation: 0 solves the rows exactly (they must be independent); > 0 runs proximal
+     * iterations, which converge to the exact forces, or the smallest where rows are redundant. */
+    double mu;
+    /* At least 1. */
+    size_t max_iterations;
+    /* The iterations stop once the rows' residual or the forces' change is at most this. */
+    double accuracy;
+    /* Baumgarte gains: each contact's rows ask for −kp e − kd J q̇ (e its frame's placement
+     * error from its anchor, or a loop's from its other frame). Both 0: no stabilisation. */
+    double kp;
+    double kd;
+    /* When kp or kd is not 0: one pose per contact held to the world, in order, 12 doubles
+     * each (the rotation's 9, column-major, then the translation, in m); else ignored. */
+    const double *anchors;
+}} dyngen_contact_settings;
+
 #ifdef __cplusplus
 }}
 #endif
@@ -104,6 +148,7 @@ fn size(library: &Library, size: Size) -> String {
         Size::Nv => format!("{macro_prefix}_NV"),
         Size::Parameters => format!("{macro_prefix}_PARAMETER_COUNT"),
         Size::BaseParameters => format!("{macro_prefix}_BASE_PARAMETER_COUNT"),
+        Size::ContactRows => format!("{macro_prefix}_NC"),
         Size::Number(n) => n.to_string(),
     }
 }
@@ -137,8 +182,9 @@ pub(super) fn robot_header(library: &Library) -> String {
          //   on error, writes nothing. None allocates, keeps state between calls or unwinds: any\n\
          //   function may be called from any thread, a real-time loop included.\n\
          // - Pointers: each is non-null (else DYNGEN_ERROR_NULL_POINTER) and points to as many\n\
-         //   doubles as its array holds (no alignment needed); a shorter array is undefined\n\
-         //   behaviour. Inputs are read before outputs are written; outputs must not overlap.\n\
+         //   doubles as its array holds; a shorter array is undefined behaviour. A binding that\n\
+         //   passes addresses may pass unaligned ones. Inputs are read before outputs are\n\
+         //   written; outputs must not overlap.\n\
          #ifndef {pp}_DYNAMICS_H\n\
          #define {pp}_DYNAMICS_H\n\n\
          #include \"dyngen.h\"\n\n\
@@ -161,7 +207,7 @@ pub(super) fn robot_header(library: &Library) -> String {
                 format!("Fixed base: q and every velocity and force have one entry per joint ({pp}_DOF)."),
         }
     );
-    let sizes = [
+    let mut sizes = vec![
         ("DOF", s.dof, "moving joints (coordinates)"),
         ("NQ", s.nq, "length of the configuration q"),
         ("NV", s.nv, "length of velocities, accelerations and forces"),
@@ -174,16 +220,24 @@ pub(super) fn robot_header(library: &Library) -> String {
             "entries of the function table",
         ),
     ];
+    sizes.extend(contacts::sizes(library));
     h += "/* Sizes. */\n";
-    for (name, value, about) in sizes {
+    for &(name, value, about) in &sizes {
         let _ = writeln!(h, "#define {pp}_{name} {value} /* {about} */");
     }
     let _ = write!(
         h,
         "\n/* The same sizes as values. */\n\
-         typedef struct {p}_sizes_t {{\n    size_t dof, nq, nv, parameter_count, base_parameter_count, frame_count, function_count;\n}} {p}_sizes_t;\n\
+         typedef struct {p}_sizes_t {{\n    size_t {};\n}} {p}_sizes_t;\n\
          static const {p}_sizes_t {p}_sizes = {{{}}};\n",
-        sizes.map(|(name, ..)| format!("{pp}_{name}")).join(", ")
+        (sizes.iter())
+            .map(|(name, ..)| name.to_ascii_lowercase())
+            .collect::<Vec<_>>()
+            .join(", "),
+        (sizes.iter())
+            .map(|(name, ..)| format!("{pp}_{name}"))
+            .collect::<Vec<_>>()
+            .join(", ")
     );
     h += "\n/* Frame indices (the frame argument of frame functions). */\n";
     for (index, (name, spelled)) in library
@@ -204,6 +258,8 @@ pub(super) fn robot_header(library: &Library) -> String {
         let _ = writeln!(h, "#define {pp}_FUNCTION_{} {index}", upper(&entry.name()));
     }
     h += &robot_functions(library);
+    h += &contacts::declarations(library);
+    h += "\n/* One function per entry of the table. */\n";
     for entry in &library.entries {
         h += &declaration(library, entry);
     }
@@ -231,7 +287,8 @@ const char *{p}_robot_name(void);
 /* 1 on a floating base, else 0. */
 int32_t {p}_is_floating_base(void);
 /* {pp}_DOF, {pp}_NQ, {pp}_NV, {pp}_PARAMETER_COUNT, {pp}_BASE_PARAMETER_COUNT, {pp}_FRAME_COUNT and
- * {pp}_FUNCTION_COUNT, for code that loads the library without this header. */
+ * {pp}_FUNCTION_COUNT, for code that loads the library without this header ({p}_nc and
+ * {p}_contact_count below). */
 size_t {p}_dof(void);
 size_t {p}_nq(void);
 size_t {p}_nv(void);
@@ -269,8 +326,6 @@ const dyngen_function_info *{p}_function_info(size_t function);
  * quaternion is checked before anything is written. Inputs and outputs must not overlap. */
 int32_t {p}_evaluate(size_t function, size_t frame, size_t batch, const double *const *inputs,
                      double *const *outputs);
-
-/* One function per entry of the table. */
 "#
     )
 }
@@ -286,7 +341,7 @@ fn comment_block(paragraphs: &[(String, usize, String)]) -> String {
             let fits = line.chars().count() + 1 + word.chars().count() <= WIDTH;
             if !fits && line.trim().len() > lead.trim().len() {
                 lines.push(std::mem::replace(&mut line, " ".repeat(*hang)));
-            } else if !line.ends_with(' ') {
+            } else if !line.is_empty() && !line.ends_with(' ') {
                 line.push(' ');
             }
             line += word;
@@ -304,14 +359,8 @@ fn comment_block(paragraphs: &[(String, usize, String)]) -> String {
 
 /// One entry's declaration with its documentation.
 fn declaration(library: &Library, entry: &Entry) -> String {
-    let p = &library.prefix;
-    let pp = upper(p);
-    let name = entry.name();
-    let mut paragraphs = vec![(
-        format!("{p}_{name}: "),
-        2,
-        format!("{}.", first_upper(entry.kind.summary())),
-    )];
+    let pp = upper(&library.prefix);
+    let mut paragraphs = vec![first_upper(entry.kind.summary())];
     if let Some(reference) = entry.reference {
         let (macro_name, meaning) = match reference_number(Some(reference)) {
             0 => ("DYNGEN_LOCAL", "in the frame's own axes, at its origin"),
@@ -321,22 +370,16 @@ fn declaration(library: &Library, entry: &Entry) -> String {
                 "in base axes, at the frame's origin",
             ),
         };
-        paragraphs.push(("Reference frame: ".into(), 2, format!("{macro_name}, {meaning}.")));
+        paragraphs.push(format!("Reference frame: {macro_name}, {meaning}"));
     }
-    let width = (entry.inputs.iter().chain(&entry.outputs))
-        .map(|a| a.name.len())
-        .max()
-        .unwrap_or(0)
-        .max(5);
-    let argument = |name: &str, direction: &str| format!("  {name:<width$}  {direction:<3} ");
-    let hang = width + 8;
+    let mut arguments = Vec::new();
     if entry.takes_frame() {
         let about = format!("a frame index below {pp}_FRAME_COUNT ({pp}_FRAME_…)");
-        paragraphs.push((argument("frame", "in"), hang, about));
+        arguments.push(("size_t", "frame", "in", about));
     }
     for a in &entry.inputs {
         let about = format!("{} doubles: {}", shape(library, a), a.about);
-        paragraphs.push((argument(a.name, "in"), hang, about));
+        arguments.push(("const double *", a.name, "in", about));
     }
     for a in &entry.outputs {
         let mut about = format!("{} doubles", shape(library, a));
@@ -346,7 +389,7 @@ fn declaration(library: &Library, entry: &Entry) -> String {
         if !a.about.is_empty() {
             about += &format!(": {}", a.about);
         }
-        paragraphs.push((argument(a.name, "out"), hang, about));
+        arguments.push(("double *", a.name, "out", about));
     }
     let mut errors = vec!["DYNGEN_ERROR_NULL_POINTER"];
     if entry.takes_frame() {
@@ -355,20 +398,56 @@ fn declaration(library: &Library, entry: &Entry) -> String {
     if library.sizes.floating {
         errors.push("DYNGEN_ERROR_NON_UNIT_QUATERNION");
     }
-    paragraphs.push((
+    documented(library, &entry.name(), &paragraphs, &arguments, &errors)
+}
+
+/// A function that returns a status, declared with its documentation: `P_<name>: ` and the
+/// paragraphs (sentences, each closed with a full stop here), one line per argument (its C
+/// type, name, direction and what it is), and the errors it returns.
+pub(super) fn documented(
+    library: &Library,
+    name: &str,
+    paragraphs: &[String],
+    arguments: &[(&str, &str, &str, String)],
+    errors: &[&str],
+) -> String {
+    let p = &library.prefix;
+    let mut blocks: Vec<(String, usize, String)> = (paragraphs.iter().enumerate())
+        .map(|(k, text)| {
+            let lead = if k == 0 {
+                format!("{p}_{name}: ")
+            } else {
+                String::new()
+            };
+            (lead, 2, format!("{text}."))
+        })
+        .collect();
+    let width = (arguments.iter())
+        .map(|(_, name, ..)| name.len())
+        .max()
+        .unwrap_or(0)
+        .max(5);
+    for (_, name, direction, about) in arguments {
+        blocks.push((
+            format!("  {name:<width$}  {direction:<3} "),
+            width + 8,
+            about.clone(),
+        ));
+    }
+    blocks.push((
         "Returns ".into(),
         2,
         format!("DYNGEN_OK, or {}.", errors.join(", ")),
     ));
-    let mut parameters: Vec<String> = Vec::new();
-    if entry.takes_frame() {
-        parameters.push("size_t frame".into());
-    }
-    parameters.extend(entry.inputs.iter().map(|a| format!("const double *{}", a.name)));
-    parameters.extend(entry.outputs.iter().map(|a| format!("double *{}", a.name)));
+    let parameters: Vec<String> = (arguments.iter())
+        .map(|(ty, name, ..)| match ty.ends_with('*') {
+            true => format!("{ty}{name}"),
+            false => format!("{ty} {name}"),
+        })
+        .collect();
     format!(
         "\n{}int32_t {p}_{name}({});\n",
-        comment_block(&paragraphs),
+        comment_block(&blocks),
         parameters.join(", ")
     )
 }

@@ -9,6 +9,7 @@
 //! did not write and that the directory holds nothing else.
 
 mod build_files;
+mod contacts;
 mod directory;
 mod header;
 mod table;
@@ -70,6 +71,9 @@ pub(crate) struct Library {
     frame_names: Vec<String>,
     /// The frames' snake-case spellings (the generated module's), for the frame macros.
     frame_spellings: Vec<String>,
+    /// The contacts the robot was generated with (`ContactDynamics`), in the order of their
+    /// rows; none without the group `contacts`.
+    contacts: Vec<crate::model::Contact>,
     has_base_parameters: bool,
     runtime_path: Option<PathBuf>,
 }
@@ -153,6 +157,12 @@ fn library(robot: &GeneratedRobot, prefix: &str, naming: &Naming, options: &CLib
         true => crate::dynamics::FloatingDynamics::parameter_names(model),
         false => model.parameter_names(),
     };
+    // The contacts' rows are generated with the group `contacts` only (which a robot without
+    // contacts never has).
+    let contacts = match robot.functions.contains(crate::FunctionGroup::Contacts) {
+        true => model.contacts().to_vec(),
+        false => Vec::new(),
+    };
     let sizes = table::Sizes {
         floating,
         dof: model.dof(),
@@ -161,6 +171,7 @@ fn library(robot: &GeneratedRobot, prefix: &str, naming: &Naming, options: &CLib
         parameters: parameter_names.len(),
         base_parameters: robot.base_parameter_count,
         frames: model.frames().len(),
+        contact_rows: contacts.iter().map(|c| c.kind.rows()).sum(),
     };
     let frame_names: Vec<String> = model.frames().iter().map(|f| f.name.clone()).collect();
     let frame_spellings = frame_identifiers(frame_names.iter().map(String::as_str))
@@ -184,6 +195,7 @@ fn library(robot: &GeneratedRobot, prefix: &str, naming: &Naming, options: &CLib
         base_parameter_names: robot.base_parameter_names.clone(),
         frame_names,
         frame_spellings,
+        contacts,
         has_base_parameters,
         runtime_path: options.runtime_path.clone(),
     }

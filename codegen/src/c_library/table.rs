@@ -19,6 +19,8 @@ pub(super) struct Sizes {
     pub parameters: usize,
     pub base_parameters: usize,
     pub frames: usize,
+    /// Contact rows (0 without contacts).
+    pub contact_rows: usize,
 }
 
 /// A size as the header spells it: one of the robot's sizes, or a number.
@@ -28,6 +30,7 @@ pub(super) enum Size {
     Nv,
     Parameters,
     BaseParameters,
+    ContactRows,
     Number(usize),
 }
 
@@ -102,16 +105,19 @@ pub(super) fn reference_number(reference: Option<ReferenceFrame>) -> i32 {
     }
 }
 
-/// The quantities the robot was generated with, those of one state first and the per-frame
-/// ones last, in the generated module's order.
+/// The quantities the robot was generated with: those of one state in the generated module's
+/// order, the contacts' rows, then the per-frame ones.
 fn kinds(sizes: &Sizes, functions: &Functions) -> Vec<QuantityKind> {
-    let per_frame = QuantityKind::ALL.into_iter().filter(|k| k.is_per_frame());
-    match sizes.floating {
-        true => floating_kinds().chain(per_frame).collect(),
+    let generated = |k: &QuantityKind| functions.contains(k.group());
+    let per_frame = (QuantityKind::ALL.into_iter()).filter(|k| k.is_per_frame() && generated(k));
+    let one_state: Vec<QuantityKind> = match sizes.floating {
+        true => floating_kinds().collect(),
         false => (QuantityKind::ALL.into_iter())
-            .filter(|k| functions.contains(k.group()))
+            .filter(|k| !k.is_per_frame() && generated(k))
             .collect(),
-    }
+    };
+    let contacts = QuantityKind::CONTACTS.into_iter().filter(generated);
+    one_state.into_iter().chain(contacts).chain(per_frame).collect()
 }
 
 /// Sizes no robot has, each standing for one of the robot's: the quantity table's shapes in
@@ -125,6 +131,7 @@ const SPELLING: Sizes = Sizes {
     parameters: usize::MAX - 1,
     base_parameters: usize::MAX,
     frames: 0,
+    contact_rows: usize::MAX - 4,
 };
 
 fn spelled(n: usize) -> Size {
@@ -133,6 +140,7 @@ fn spelled(n: usize) -> Size {
         _ if n == SPELLING.nv => Size::Nv,
         _ if n == SPELLING.parameters => Size::Parameters,
         _ if n == SPELLING.base_parameters => Size::BaseParameters,
+        _ if n == SPELLING.contact_rows => Size::ContactRows,
         n => Size::Number(n),
     }
 }
@@ -159,8 +167,7 @@ fn entries_in(sizes: &Sizes, functions: &Functions) -> Vec<Entry> {
         n: sizes.nv,
         p: sizes.parameters,
         b: sizes.base_parameters,
-        // The contacts' rows are not part of the C interface (yet): none are asked for.
-        c: 0,
+        c: sizes.contact_rows,
     };
     // The lane forms come with the base parameters, on a fixed base.
     let lanes = !sizes.floating && functions.contains(FunctionGroup::BaseParameters);
@@ -281,6 +288,7 @@ mod tests {
             parameters: 70,
             base_parameters: 43,
             frames: 2,
+            contact_rows: 0,
         };
         entries(&sizes, &functions)
     }
@@ -323,6 +331,62 @@ mod tests {
                 .count(),
             1
         );
+    }
+
+    #[test]
+    fn contact_rows_are_entries_before_the_frames_and_spelled_nc() {
+        // A 6-DOF arm holding its end-effector as a frame and another point: 9 rows.
+        let sizes = Sizes {
+            floating: false,
+            dof: 6,
+            nq: 6,
+            nv: 6,
+            parameters: 60,
+            base_parameters: 36,
+            frames: 2,
+            contact_rows: 9,
+        };
+        let entries = entries(&sizes, &Functions::all());
+        let names: Vec<String> = entries.iter().map(Entry::name).collect();
+        let at = |name: &str| names.iter().position(|n| n == name).expect(name);
+        let first_frame = entries.iter().position(Entry::takes_frame).expect("frames");
+        assert_eq!(
+            [
+                at("contact_jacobian"),
+                at("contact_drift"),
+                at("contact_response")
+            ],
+            [first_frame - 3, first_frame - 2, first_frame - 1]
+        );
+        let arrays = |name: &str| {
+            let e = &entries[at(name)];
+            let inputs: Vec<&str> = e.inputs.iter().map(|a| a.name).collect();
+            let outputs: Vec<_> = e
+                .outputs
+                .iter()
+                .map(|a| (a.name, a.rows, a.cols, a.spelled))
+                .collect();
+            (inputs, outputs)
+        };
+        let (nc, nv) = (Size::ContactRows, Size::Nv);
+        assert_eq!(
+            arrays("contact_jacobian"),
+            (vec!["q"], vec![("contact_jacobian", 9, 6, [nc, nv])])
+        );
+        assert_eq!(
+            arrays("contact_drift"),
+            (
+                vec!["q", "qd"],
+                vec![("contact_drift", 9, 1, [nc, Size::Number(1)])]
+            )
+        );
+        assert_eq!(
+            arrays("contact_response"),
+            (vec!["q"], vec![("contact_response", 6, 9, [nv, nc])])
+        );
+        // Without the group, none.
+        let without = super::entries(&sizes, &Functions::all().without(FunctionGroup::Contacts));
+        assert!(without.iter().all(|e| e.kind.group() != FunctionGroup::Contacts));
     }
 
     #[test]
@@ -369,6 +433,7 @@ mod tests {
             parameters: 60,
             base_parameters: 36,
             frames: 1,
+            contact_rows: 0,
         };
         let entries = entries(&sizes, &Functions::all());
         let jacobian = entries.iter().find(|e| e.name() == "jacobian").expect("J");

@@ -6,7 +6,7 @@
 //! `SAFETY` comments meet. Nothing here indexes, unwraps or allocates.
 
 use super::table::{reference_number, Array, Entry};
-use super::Library;
+use super::{contacts, Library};
 use crate::generate::quantities::{Arg, Shape};
 use proc_macro2::{Literal, TokenStream};
 use quote::{format_ident, quote};
@@ -23,6 +23,7 @@ pub(super) fn crate_root(library: &Library) -> String {
         table(library),
         functions(library),
         evaluate(library),
+        contacts::wrapper_items(library),
     ];
     let tokens: TokenStream = items.into_iter().collect();
     let file: syn::File = match syn::parse2(tokens) {
@@ -135,6 +136,8 @@ fn preamble(library: &Library) -> TokenStream {
         const FRAME_OUT_OF_RANGE: i32 = 3;
         const FUNCTION_OUT_OF_RANGE: i32 = 4;
         const NOT_GENERATED: i32 = 5;
+        const CONTACT_SETTINGS: i32 = 6;
+        const REDUNDANT_CONTACTS: i32 = 7;
 
         const DOF: usize = #dof;
         const NQ: usize = #nq;
@@ -433,6 +436,8 @@ fn metadata(library: &Library) -> TokenStream {
                 FRAME_OUT_OF_RANGE => &b"the frame index is not below the number of frames\0"[0],
                 FUNCTION_OUT_OF_RANGE => &b"the function index is not below the number of functions\0"[0],
                 NOT_GENERATED => &b"the robot was generated without this function\0"[0],
+                CONTACT_SETTINGS => &b"a contact solve's setting is out of range: mu or damping negative or not finite, no iteration, a gain not finite, or a restitution outside [0, 1]\0"[0],
+                REDUNDANT_CONTACTS => &b"the contact rows are redundant at this configuration (a row depends on the others): solve with mu > 0\0"[0],
                 _ => &b"unknown status\0"[0],
             }
         }

@@ -350,7 +350,7 @@ impl QuantityKind {
                  frame's spatial one; held contacts have J q̈ = −drift"
             }
             K::ContactResponse => {
-                "M⁻¹ Jᵀ: how the robot accelerates under a unit force in each contact row \
+                "D⁻¹ Jᵀ: how the robot accelerates under a unit force in each contact row \
                  (column k: q̈ from the force of row k)"
             }
         }

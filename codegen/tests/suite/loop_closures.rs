@@ -43,7 +43,7 @@ fn load(name: &str, fixture: &Value) -> Loaded {
         }
     }
     let choices = Choices {
-        frames: FrameSelection::Listed(frames.iter().map(|f| FrameSpec::link(f)).collect()),
+        frames: FrameSelection::Listed(frames.iter().map(FrameSpec::link).collect()),
         ..Choices::default()
     };
     let path = workspace_root().join(format!("codegen/tests/data/loops/{name}.urdf"));
@@ -296,4 +296,32 @@ fn a_loop_within_one_body_is_refused() {
         message.contains("frames of one body") && message.contains("a_tip"),
         "{message}"
     );
+}
+
+/// A mechanism with one contact (the four-bar's loop) has its contact's poses written without
+/// a `match` on the contact: one arm is what clippy refuses in generated code.
+#[test]
+fn one_contact_s_poses_are_written_without_a_match() {
+    use dyngen_codegen::description::ContactSpec;
+    let out = tempfile::tempdir().expect("a temporary directory");
+    let report =
+        dyngen_codegen::Builder::new(workspace_root().join("codegen/tests/data/loops/four_bar.urdf"))
+            .frames(FrameSelection::Listed(vec![
+                FrameSpec::link("coupler_end"),
+                FrameSpec::link("rocker_end"),
+            ]))
+            .contact(ContactSpec::new("coupler_end", ContactKind::Point).to("rocker_end"))
+            .out_dir(out.path())
+            .cargo_directives(false)
+            .compile_report()
+            .unwrap_or_else(|e| panic!("{e}"));
+    let code = &report.robot.code;
+    for function in ["fn contact_pose(", "fn contact_to_pose("] {
+        let at = code.find(function).unwrap_or_else(|| panic!("no {function}"));
+        let body = &code[at..at + code[at..].find("\n    }\n").expect("its end")];
+        assert!(
+            body.contains("frame_pose(Frame::") && !body.contains("match"),
+            "{body}"
+        );
+    }
 }

@@ -2,8 +2,9 @@
  * its own exported function, one state at a time, at the states the test wrote; its results
  * go to a file the test compares with the generic Rust dynamics; with an output over an input,
  * the same bits. Around every call, a count of the allocations (malloc and its kin, wrapped by
- * the linker: -Wl,--wrap=malloc, …) must stay at zero; then every status code is reached and
- * each error must leave the outputs untouched.
+ * the linker: -Wl,--wrap=malloc, …) must stay at zero. The contact solves at every state, with
+ * their statuses. Then every status code is reached and each error must leave the outputs
+ * untouched.
  *
  * Usage: check_c RESULTS STATES...   (exit status 0 when every check holds) */
 #include <math.h>
@@ -55,16 +56,21 @@ static int32_t counted(int32_t (*call)(size_t, size_t, const double *const *, do
     return status;
 }
 
+/* Another function's call, counted as `counted` counts. */
+static int32_t last_status;
+#define COUNTED(call) (counting = 1, last_status = (call), counting = 0, ++calls, last_status)
+
 /* ---- status codes */
 
-static int reached[DYNGEN_ERROR_NOT_GENERATED + 1];
+#define LAST_STATUS DYNGEN_ERROR_REDUNDANT_CONTACTS
+static int reached[LAST_STATUS + 1];
 
 static void expect(const harness_robot *robot, const char *what, int32_t status, int32_t expected) {
     if (status != expected) {
         harness_fail("%s: %s: status %d (%s), expected %d", robot->prefix, what, (int)status,
                      robot->status_message(status), (int)expected);
     }
-    if (status >= 0 && status <= DYNGEN_ERROR_NOT_GENERATED) {
+    if (status >= 0 && status <= LAST_STATUS) {
         reached[status] = 1;
     }
 }
@@ -161,6 +167,175 @@ static void overlapping(const harness_states *states) {
     }
 }
 
+/* ---- contacts: the three solves at every state, written with their statuses for the test to
+ * compare with the generic dynamics (a robot without contacts refuses them); then each error */
+
+enum { MU, MAX_ITERATIONS, ACCURACY, KP, KD, RESTITUTION, DAMPING, SETTINGS };
+
+/* The contacts held to the world: the anchors of a stabilised solve. */
+static size_t anchor_count(const harness_robot *robot) {
+    size_t count = 0;
+    for (size_t k = 0; k < robot->contact_count(); ++k) {
+        count += robot->contact_info(k)->to == DYNGEN_HELD_TO_WORLD;
+    }
+    return count;
+}
+
+static dyngen_contact_settings settings_of(const double *c, const double *anchors) {
+    dyngen_contact_settings settings = {c[MU], (size_t)c[MAX_ITERATIONS], c[ACCURACY], c[KP], c[KD], anchors};
+    return settings;
+}
+
+/* `count` doubles (at least one, so that no pointer is NULL), each `value`. */
+static double *filled(size_t count, double value) {
+    double *values = malloc((count > 0 ? count : 1) * sizeof(double));
+    for (size_t i = 0; i < count; ++i) {
+        values[i] = value;
+    }
+    return values;
+}
+
+static void untouched_values(const harness_robot *robot, const char *what, const double *values, size_t count,
+                             double value) {
+    for (size_t i = 0; i < count; ++i) {
+        if (values[i] != value) {
+            harness_fail("%s: %s wrote an output after an error", robot->prefix, what);
+        }
+    }
+}
+
+/* One solve's result: a status per state, then its outputs. */
+static void write_solve(FILE *results, const harness_states *states, const char *name, const double *status,
+                        size_t output_count, const char *const *names, const size_t *lengths,
+                        double *const *outputs) {
+    fprintf(results, "result contacts %s %s 0\n", states->robot->prefix, name);
+    harness_write_values(results, "status", states->batch, status);
+    for (size_t k = 0; k < output_count; ++k) {
+        harness_write_values(results, names[k], states->batch * lengths[k], outputs[k]);
+    }
+    fprintf(results, "end\n");
+}
+
+static void contact_solves(FILE *results, const harness_states *states) {
+    const harness_robot *robot = states->robot;
+    size_t nq = robot->nq(), nv = robot->nv(), nc = robot->nc(), batch = states->batch;
+    size_t anchors_length = 12 * anchor_count(robot);
+    const double *q = harness_named(states, "q", nq), *qd = harness_named(states, "qd", nv);
+    const double *tau = harness_named(states, "tau", nv);
+    const double *anchors = harness_named(states, "anchors", anchors_length);
+    const double *settings = harness_named(states, "contact_settings", SETTINGS);
+    double *status[4], *qdd = filled(batch * nv, NAN), *forces = filled(batch * nc, NAN);
+    double *qdd_stabilised = filled(batch * nv, NAN), *forces_stabilised = filled(batch * nc, 0.0);
+    double *qd_after = filled(batch * nv, NAN), *impulses = filled(batch * nc, NAN);
+    double *inertia = filled(batch * nc * nc, NAN);
+    for (size_t k = 0; k < 4; ++k) {
+        status[k] = filled(batch, NAN);
+    }
+    for (size_t s = 0; s < batch; ++s) {
+        const double *qs = q + s * nq, *qds = qd + s * nv, *taus = tau + s * nv, *c = settings + s * SETTINGS;
+        dyngen_contact_settings stabilised = settings_of(c, anchors + s * anchors_length);
+        int32_t got[4];
+        got[0] = COUNTED(robot->constrained_forward_dynamics(qs, qds, taus, NULL, NULL, qdd + s * nv, forces + s * nc));
+        /* Warm-started from zero forces and written over them: what no warm start gives. */
+        double *warm = forces_stabilised + s * nc;
+        got[1] = COUNTED(robot->constrained_forward_dynamics(qs, qds, taus, &stabilised, warm, qdd_stabilised + s * nv,
+                                                             warm));
+        got[2] = COUNTED(robot->impulse_dynamics(qs, qds, c[RESTITUTION], c[MU], qd_after + s * nv, impulses + s * nc));
+        got[3] = COUNTED(robot->operational_space_inertia(qs, c[DAMPING], inertia + s * nc * nc));
+        for (size_t k = 0; k < 4; ++k) {
+            status[k][s] = got[k];
+            if (got[k] >= 0 && got[k] <= LAST_STATUS) {
+                reached[got[k]] = 1;
+            }
+        }
+    }
+    const char *pair[] = {"qdd", "forces"}, *impact[] = {"qd_after", "impulses"}, *osi[] = {"inertia"};
+    size_t pair_lengths[] = {nv, nc}, osi_lengths[] = {nc * nc};
+    double *exact[] = {qdd, forces}, *stable[] = {qdd_stabilised, forces_stabilised};
+    double *impulse[] = {qd_after, impulses};
+    write_solve(results, states, "constrained_forward_dynamics", status[0], 2, pair, pair_lengths, exact);
+    write_solve(results, states, "constrained_forward_dynamics_stabilised", status[1], 2, pair, pair_lengths, stable);
+    write_solve(results, states, "impulse_dynamics", status[2], 2, impact, pair_lengths, impulse);
+    write_solve(results, states, "operational_space_inertia", status[3], 1, osi, osi_lengths, &inertia);
+    double *all[] = {qdd, forces, qdd_stabilised, forces_stabilised, qd_after, impulses, inertia};
+    for (size_t k = 0; k < sizeof all / sizeof all[0]; ++k) {
+        free(all[k]);
+    }
+    for (size_t k = 0; k < 4; ++k) {
+        free(status[k]);
+    }
+}
+
+static void contact_errors(const harness_states *states) {
+    const harness_robot *robot = states->robot;
+    size_t nq = robot->nq(), nv = robot->nv(), nc = robot->nc();
+    if (nc == 0) {
+        return; /* DYNGEN_ERROR_NOT_GENERATED, in the results */
+    }
+    const double *q = harness_named(states, "q", nq), *qd = harness_named(states, "qd", nv);
+    const double *tau = harness_named(states, "tau", nv);
+    const double *c = harness_named(states, "contact_settings", SETTINGS);
+    const double *anchors = harness_named(states, "anchors", 12 * anchor_count(robot));
+    double *qdd = filled(nv, 12345.0), *forces = filled(nc, 12345.0), *inertia = filled(nc * nc, 12345.0);
+    const char *forward = "constrained_forward_dynamics", *impulse = "impulse_dynamics";
+    const char *osi = "operational_space_inertia";
+    /* A null pointer: an input, an output; the anchors of a stabilised solve. */
+    expect(robot, forward, COUNTED(robot->constrained_forward_dynamics(NULL, qd, tau, NULL, NULL, qdd, forces)),
+           DYNGEN_ERROR_NULL_POINTER);
+    expect(robot, forward, COUNTED(robot->constrained_forward_dynamics(q, qd, tau, NULL, NULL, qdd, NULL)),
+           DYNGEN_ERROR_NULL_POINTER);
+    dyngen_contact_settings settings = settings_of(c, NULL);
+    if (anchor_count(robot) > 0) {
+        expect(robot, forward, COUNTED(robot->constrained_forward_dynamics(q, qd, tau, &settings, NULL, qdd, forces)),
+               DYNGEN_ERROR_NULL_POINTER);
+    }
+    expect(robot, impulse, COUNTED(robot->impulse_dynamics(q, NULL, 0.0, 0.0, qdd, forces)), DYNGEN_ERROR_NULL_POINTER);
+    expect(robot, osi, COUNTED(robot->operational_space_inertia(q, 0.0, NULL)), DYNGEN_ERROR_NULL_POINTER);
+    /* Settings out of range: mu negative or NaN, no iteration, an infinite gain; a restitution
+     * outside [0, 1]; a negative damping. */
+    settings.anchors = anchors;
+    double bad_mu[] = {-1.0, NAN};
+    for (size_t k = 0; k < 2; ++k) {
+        settings.mu = bad_mu[k];
+        expect(robot, forward, COUNTED(robot->constrained_forward_dynamics(q, qd, tau, &settings, NULL, qdd, forces)),
+               DYNGEN_ERROR_CONTACT_SETTINGS);
+        expect(robot, impulse, COUNTED(robot->impulse_dynamics(q, qd, 0.5, bad_mu[k], qdd, forces)),
+               DYNGEN_ERROR_CONTACT_SETTINGS);
+    }
+    settings = settings_of(c, anchors);
+    settings.max_iterations = 0;
+    expect(robot, forward, COUNTED(robot->constrained_forward_dynamics(q, qd, tau, &settings, NULL, qdd, forces)),
+           DYNGEN_ERROR_CONTACT_SETTINGS);
+    settings = settings_of(c, anchors);
+    settings.kd = INFINITY;
+    expect(robot, forward, COUNTED(robot->constrained_forward_dynamics(q, qd, tau, &settings, NULL, qdd, forces)),
+           DYNGEN_ERROR_CONTACT_SETTINGS);
+    expect(robot, impulse, COUNTED(robot->impulse_dynamics(q, qd, 1.5, c[MU], qdd, forces)),
+           DYNGEN_ERROR_CONTACT_SETTINGS);
+    expect(robot, osi, COUNTED(robot->operational_space_inertia(q, -1.0, inertia)), DYNGEN_ERROR_CONTACT_SETTINGS);
+    /* A quaternion of norm 1.1. */
+    if (robot->is_floating_base()) {
+        double *bad = filled(nq, 0.0);
+        memcpy(bad, q, nq * sizeof(double));
+        for (size_t i = 3; i < 7; ++i) {
+            bad[i] *= 1.1;
+        }
+        expect(robot, forward, COUNTED(robot->constrained_forward_dynamics(bad, qd, tau, NULL, NULL, qdd, forces)),
+               DYNGEN_ERROR_NON_UNIT_QUATERNION);
+        expect(robot, impulse, COUNTED(robot->impulse_dynamics(bad, qd, 0.5, c[MU], qdd, forces)),
+               DYNGEN_ERROR_NON_UNIT_QUATERNION);
+        expect(robot, osi, COUNTED(robot->operational_space_inertia(bad, c[DAMPING], inertia)),
+               DYNGEN_ERROR_NON_UNIT_QUATERNION);
+        free(bad);
+    }
+    untouched_values(robot, "a contact solve", qdd, nv, 12345.0);
+    untouched_values(robot, "a contact solve", forces, nc, 12345.0);
+    untouched_values(robot, "a contact solve", inertia, nc * nc, 12345.0);
+    free(qdd);
+    free(forces);
+    free(inertia);
+}
+
 /* ---- every error, through every function */
 
 static void errors(const harness_states *states) {
@@ -222,7 +397,7 @@ static void errors(const harness_states *states) {
     int32_t status = robot->base_parameters(NULL, theta_b);
     expect(robot, "base_parameters", status,
            status == DYNGEN_ERROR_NOT_GENERATED ? DYNGEN_ERROR_NOT_GENERATED : DYNGEN_ERROR_NULL_POINTER);
-    for (int32_t code = DYNGEN_OK; code <= DYNGEN_ERROR_NOT_GENERATED; ++code) {
+    for (int32_t code = DYNGEN_OK; code <= LAST_STATUS; ++code) {
         if (strcmp(robot->status_message(code), robot->status_message(-1)) == 0) {
             harness_fail("%s: status %d has no message of its own", robot->prefix, (int)code);
         }
@@ -255,10 +430,12 @@ int main(int argc, char **argv) {
         harness_write_metadata(results, states.robot);
         direct_calls(results, &states);
         overlapping(&states);
+        contact_solves(results, &states);
         errors(&states);
+        contact_errors(&states);
     }
     fclose(results);
-    for (int32_t code = DYNGEN_OK; code <= DYNGEN_ERROR_NOT_GENERATED; ++code) {
+    for (int32_t code = DYNGEN_OK; code <= LAST_STATUS; ++code) {
         if (!reached[code]) {
             harness_fail("status %d was never returned", (int)code);
         }

@@ -2,10 +2,12 @@
 // P_evaluate, all states at once (four per call where the robot has lanes), and a controller's
 // tick with Eigen over the Panda and the Solo-12 linked into one program: the model-based
 // torque D q̈ + C q̇ + g checked against inverse dynamics, and the torque with a wrench at a
-// frame, written for the test to compare with the generic Rust dynamics.
+// frame, written for the test to compare with the generic Rust dynamics; each robot with
+// contacts held by them, its solve checked against its own equations of motion.
 //
 // Usage: check_cpp RESULTS STATES...   (exit status 0 when every check holds)
 #include <Eigen/Dense>
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
@@ -108,6 +110,62 @@ void ticks(FILE *results, const harness_states &states, const Dynamics<NQ, NV> &
     harness_write_result(results, "tick", &states, &info, 0, &pointer);
 }
 
+// Entry `name` of the robot's table.
+size_t entry(const harness_robot &robot, const char *name) {
+    for (size_t f = 0; f < robot.function_count(); ++f) {
+        if (std::string(robot.function_info(f)->name) == name) {
+            return f;
+        }
+    }
+    harness_fail("%s: no function %s", robot.prefix, name);
+    return 0;
+}
+
+// One state of entry `name` through P_evaluate.
+void evaluate(const harness_robot &robot, const char *name, std::vector<const double *> inputs,
+              std::vector<double *> outputs) {
+    if (robot.evaluate(entry(robot, name), 0, 1, inputs.data(), outputs.data()) != DYNGEN_OK) {
+        harness_fail("%s: %s failed", robot.prefix, name);
+    }
+}
+
+// A robot held by its contacts, every state (the proximal solve of the test's settings): the
+// acceleration and forces are those of the equations of motion, D q̈ + C q̇ + g = τ + Jᵀ λ
+// (inverse dynamics at q̈), with the contacts held, J q̈ = −drift; J and the drift from the
+// table, read with Eigen::Map.
+void held(const harness_states &states) {
+    const harness_robot &robot = *states.robot;
+    const auto nq = robot.nq(), nv = robot.nv(), nc = robot.nc();
+    if (nc == 0) {
+        return;
+    }
+    const double *q = harness_named(&states, "q", nq), *qd = harness_named(&states, "qd", nv);
+    const double *tau = harness_named(&states, "tau", nv);
+    const double *c = harness_named(&states, "contact_settings", 7);
+    const dyngen_contact_settings settings{c[0], static_cast<size_t>(c[1]), c[2], 0.0, 0.0, nullptr};
+    const auto n = static_cast<Eigen::Index>(nv), m = static_cast<Eigen::Index>(nc);
+    for (size_t s = 0; s < states.batch; ++s) {
+        const double *qs = q + s * nq, *qds = qd + s * nv, *taus = tau + s * nv;
+        Eigen::VectorXd a(n), forces(m), torque(n), drift(m);
+        Eigen::MatrixXd J(m, n);
+        if (robot.constrained_forward_dynamics(qs, qds, taus, &settings, nullptr, a.data(), forces.data()) !=
+            DYNGEN_OK) {
+            harness_fail("%s: constrained_forward_dynamics failed", robot.prefix);
+        }
+        evaluate(robot, "inverse_dynamics", {qs, qds, a.data()}, {torque.data()});
+        evaluate(robot, "contact_jacobian", {qs}, {J.data()});
+        evaluate(robot, "contact_drift", {qs, qds}, {drift.data()});
+        Eigen::Map<const Eigen::VectorXd> applied(taus, n);
+        double scale = std::max({1.0, torque.cwiseAbs().maxCoeff(), (J.transpose() * forces).cwiseAbs().maxCoeff()});
+        if ((torque - applied - J.transpose() * forces).cwiseAbs().maxCoeff() > 1e-9 * scale) {
+            harness_fail("%s: state %zu: D q̈ + C q̇ + g differs from τ + Jᵀ λ", robot.prefix, s);
+        }
+        if ((J * a + drift).cwiseAbs().maxCoeff() > 1e-9 * std::max(1.0, drift.cwiseAbs().maxCoeff())) {
+            harness_fail("%s: state %zu: the contacts are not held (J q̈ ≠ −drift)", robot.prefix, s);
+        }
+    }
+}
+
 }  // namespace
 
 int main(int argc, char **argv) {
@@ -122,6 +180,7 @@ int main(int argc, char **argv) {
         harness_states states;
         harness_read_states(argv[k], &states);
         batches(results, states);
+        held(states);
         std::string prefix = states.robot->prefix;
         if (prefix == "panda") {
             ticks(results, states, panda);

@@ -54,16 +54,23 @@ void harness_read_states(const char *path, harness_states *states) {
 }
 
 const double *harness_input(const harness_states *states, const dyngen_array *array) {
+    if (array->cols != 1) {
+        harness_fail("%s: input %s has %zu columns", states->robot->prefix, array->name, array->cols);
+    }
+    return harness_named(states, array->name, array->rows);
+}
+
+const double *harness_named(const harness_states *states, const char *name, size_t length) {
     for (size_t k = 0; k < states->count; ++k) {
-        if (strcmp(states->names[k], array->name) == 0) {
-            if (states->lengths[k] != array->rows || array->cols != 1) {
-                harness_fail("%s: input %s has %zu x %zu entries, the states %zu", states->robot->prefix,
-                             array->name, array->rows, array->cols, states->lengths[k]);
+        if (strcmp(states->names[k], name) == 0) {
+            if (states->lengths[k] != length) {
+                harness_fail("%s: %s has %zu entries, the states %zu", states->robot->prefix, name, length,
+                             states->lengths[k]);
             }
             return states->values[k];
         }
     }
-    harness_fail("%s: no states of the input %s", states->robot->prefix, array->name);
+    harness_fail("%s: no states of %s", states->robot->prefix, name);
     return NULL;
 }
 
@@ -83,7 +90,7 @@ void harness_free_outputs(const dyngen_function_info *info, double **outputs) {
     }
 }
 
-static void write_values(FILE *file, const char *name, size_t count, const double *values) {
+void harness_write_values(FILE *file, const char *name, size_t count, const double *values) {
     fprintf(file, "%s %zu", name, count);
     for (size_t i = 0; i < count; ++i) {
         fprintf(file, " %.17g", values[i]);
@@ -96,7 +103,7 @@ void harness_write_result(FILE *file, const char *how, const harness_states *sta
     fprintf(file, "result %s %s %s %zu\n", how, states->robot->prefix, info->name, frame);
     for (size_t k = 0; k < info->output_count; ++k) {
         const dyngen_array *array = &info->outputs[k];
-        write_values(file, array->name, states->batch * array->rows * array->cols, outputs[k]);
+        harness_write_values(file, array->name, states->batch * array->rows * array->cols, outputs[k]);
     }
     fprintf(file, "end\n");
 }
@@ -126,11 +133,25 @@ void harness_write_metadata(FILE *file, const harness_robot *robot) {
         robot->joint_limits(limits, limits + dof, limits + 2 * dof, limits + 3 * dof) != DYNGEN_OK) {
         harness_fail("%s: parameters or joint limits failed", robot->prefix);
     }
-    write_values(file, "parameters", p, theta);
+    harness_write_values(file, "parameters", p, theta);
     if (robot->base_parameters(theta, theta_b) == DYNGEN_OK) {
-        write_values(file, "base_parameters", b, theta_b);
+        harness_write_values(file, "base_parameters", b, theta_b);
     }
-    write_values(file, "joint_limits", 4 * dof, limits);
+    harness_write_values(file, "joint_limits", 4 * dof, limits);
+    /* Each contact: its frame, the frame it is held to (or "world"), rows, first row, axes. */
+    fprintf(file, "nc %zu\n", robot->nc());
+    for (size_t k = 0; k < robot->contact_count(); ++k) {
+        const dyngen_contact_info *c = robot->contact_info(k);
+        const char *frame = robot->frame_name(c->frame);
+        const char *to = c->to == DYNGEN_HELD_TO_WORLD ? "world" : robot->frame_name(c->to);
+        if (frame == NULL || to == NULL) {
+            harness_fail("%s: contact %zu names no frame", robot->prefix, k);
+        }
+        fprintf(file, "contact %zu %s %s %zu %zu %d\n", k, frame, to, c->rows, c->first_row, (int)c->reference);
+    }
+    if (robot->contact_info(robot->contact_count()) != NULL) {
+        harness_fail("%s: contact_info(%zu) is not NULL", robot->prefix, robot->contact_count());
+    }
     fprintf(file, "end\n");
     free(theta);
     free(theta_b);

@@ -36,6 +36,13 @@ typedef struct harness_robot {
     int32_t (*joint_limits)(double *, double *, double *, double *);
     const dyngen_function_info *(*function_info)(size_t);
     int32_t (*evaluate)(size_t, size_t, size_t, const double *const *, double *const *);
+    size_t (*nc)(void);
+    size_t (*contact_count)(void);
+    const dyngen_contact_info *(*contact_info)(size_t);
+    int32_t (*constrained_forward_dynamics)(const double *, const double *, const double *,
+                                            const dyngen_contact_settings *, const double *, double *, double *);
+    int32_t (*impulse_dynamics)(const double *, const double *, double, double, double *, double *);
+    int32_t (*operational_space_inertia)(const double *, double, double *);
     /* Entry `function` through its own exported function, one state. */
     int32_t (*call)(size_t function, size_t frame, const double *const *inputs, double *const *outputs);
 } harness_robot;
@@ -61,13 +68,17 @@ void harness_fail(const char *format, ...);
 void harness_read_states(const char *path, harness_states *states);
 /* The input an entry's array names, `batch` states of it; fails if absent or of another length. */
 const double *harness_input(const harness_states *states, const dyngen_array *array);
+/* The states of `name`, each `length` doubles; fails if absent or of another length. */
+const double *harness_named(const harness_states *states, const char *name, size_t length);
 /* `batch` states of each output of `info`, filled with NaN (free with harness_free_outputs). */
 void harness_outputs(const harness_states *states, const dyngen_function_info *info, double **outputs);
 void harness_free_outputs(const dyngen_function_info *info, double **outputs);
+/* Writes `<name> <count> <values>`: one line of a result. */
+void harness_write_values(FILE *file, const char *name, size_t count, const double *values);
 /* Writes `result <how> <prefix> <function> <frame>` and one line per output. */
 void harness_write_result(FILE *file, const char *how, const harness_states *states,
                           const dyngen_function_info *info, size_t frame, double *const *outputs);
-/* Writes the robot's sizes, names, parameters and limits (`metadata <prefix>` … `end`). */
+/* Writes the robot's sizes, names, parameters, limits and contacts (`metadata <prefix>` … `end`). */
 void harness_write_metadata(FILE *file, const harness_robot *robot);
 /* The number of frames entry `info` is evaluated for: the robot's frames, or 1. */
 size_t harness_frames(const harness_robot *robot, const dyngen_function_info *info);

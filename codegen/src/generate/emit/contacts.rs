@@ -54,10 +54,12 @@ pub(super) fn contact_implementation(
     // last, the last's.
     let pose = |frames: &[Option<usize>]| {
         let (last, others) = frames.split_last().expect("a robot with contacts");
-        let arms = others.iter().enumerate().filter_map(|(k, f)| {
-            let (k, variant) = (Literal::usize_unsuffixed(k), &variants[(*f)?]);
-            Some(quote!(#k => <Self as #frames_trait>::frame_pose(Frame::#variant, t),))
-        });
+        let arms: Vec<TokenStream> = (others.iter().enumerate())
+            .filter_map(|(k, f)| {
+                let (k, variant) = (Literal::usize_unsuffixed(k), &variants[(*f)?]);
+                Some(quote!(#k => <Self as #frames_trait>::frame_pose(Frame::#variant, t),))
+            })
+            .collect();
         let last = match last {
             Some(f) => {
                 let variant = &variants[*f];
@@ -65,14 +67,19 @@ pub(super) fn contact_implementation(
             }
             None => quote!(Pose::identity()),
         };
-        match frames.iter().any(Option::is_some) {
-            true => quote! {
+        match (frames.iter().any(Option::is_some), arms.is_empty()) {
+            (true, false) => quote! {
                 match contact {
                     #(#arms)*
                     _ => #last,
                 }
             },
-            false => quote! {
+            // One frame for every contact (a robot with one contact): no `match`.
+            (true, true) => quote! {
+                let _ = contact;
+                #last
+            },
+            (false, _) => quote! {
                 let _ = (t, contact);
                 Pose::identity()
             },

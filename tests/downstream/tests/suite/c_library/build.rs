@@ -1,13 +1,15 @@
 //! Builds what the tests look at, once: three robots generated as C libraries by the
-//! `Builder` (the Panda, the floating Solo-12, and a 2-DOF arm with kinematics and dynamics
-//! only), their states, and the C and C++ programs of `tests/downstream/c_library/` built
-//! against their CMake packages (cargo's dev profile, one target directory for the three),
-//! then run.
+//! `Builder` (the Panda with contacts, the floating Solo-12 on its four feet, and a 2-DOF arm
+//! with kinematics and dynamics only), their states, and the C and C++ programs of
+//! `tests/downstream/c_library/` built against their CMake packages (cargo's dev profile, one
+//! target directory for the three), then run.
 
 use super::super::generated_crate::workspace_root;
+use dyngen_codegen::description::ContactSpec;
 use dyngen_codegen::model::Model;
 use dyngen_codegen::{Builder, FunctionGroup};
-use dyngen_runtime::SplitMix64;
+use dyngen_runtime::nalgebra::{Rotation3, Vector3};
+use dyngen_runtime::{ContactKind, ReferenceFrame, SplitMix64};
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
@@ -15,6 +17,11 @@ use std::sync::OnceLock;
 
 /// States per robot: one batch of four in lanes, and two more one at a time.
 pub(super) const STATES: usize = 6;
+
+/// The settings of the contact solves, every state: `mu`, `max_iterations`, `accuracy`, the
+/// Baumgarte `kp` and `kd` (towards the states' `anchors`), the impacts' restitution, and the
+/// operational-space inertia's damping.
+pub(super) const CONTACT_SETTINGS: [f64; 7] = [1e-6, 50.0, 1e-13, 30.0, 11.0, 0.5, 1e-6];
 
 /// One robot's C library.
 pub(super) struct Library {
@@ -62,7 +69,12 @@ fn work_dir() -> PathBuf {
     workspace_root().join("target/c-library")
 }
 
-fn generate(description: &str, prefix: &'static str, functions: Option<&[FunctionGroup]>) -> Library {
+fn generate(
+    description: &str,
+    prefix: &'static str,
+    functions: Option<&[FunctionGroup]>,
+    contacts: Vec<ContactSpec>,
+) -> Library {
     let root = workspace_root();
     let dir = work_dir().join("robots").join(prefix);
     let mut builder = Builder::new(root.join(description))
@@ -72,6 +84,9 @@ fn generate(description: &str, prefix: &'static str, functions: Option<&[Functio
         .cargo_directives(false);
     if let Some(groups) = functions {
         builder = builder.functions(groups);
+    }
+    for contact in contacts {
+        builder = builder.contact(contact);
     }
     let report = builder.compile_report().unwrap_or_else(|e| panic!("{e}"));
     // The workspace's versions of nalgebra and the rest, already in the local registry cache:
@@ -107,6 +122,15 @@ fn states(model: &Model, base_parameters: usize) -> Vec<(&'static str, usize, Ve
         }
         q.extend(state);
     }
+    // Where each contact with the world is held, for the stabilised solve: anywhere, turned
+    // any way (the rotation's columns, then the translation).
+    let held = model.contacts().iter().filter(|c| c.to.is_none()).count();
+    let mut anchors = Vec::new();
+    for _ in 0..STATES * held {
+        let axis_angle = Vector3::from_fn(|_, _| rng.uniform((-2.0, 2.0)));
+        anchors.extend(Rotation3::new(axis_angle).matrix().as_slice());
+        anchors.extend((0..3).map(|_| rng.uniform((-0.5, 0.5))));
+    }
     let mut random = |len: usize, range: (f64, f64)| (0..STATES * len).map(|_| rng.uniform(range)).collect();
     vec![
         ("q", nq, q),
@@ -122,6 +146,8 @@ fn states(model: &Model, base_parameters: usize) -> Vec<(&'static str, usize, Ve
             random(base_parameters, (-1.0, 1.0)),
         ),
         ("r", nv, random(nv, (-1.0, 1.0))),
+        ("anchors", 12 * held, anchors),
+        ("contact_settings", 7, CONTACT_SETTINGS.repeat(STATES)),
     ]
 }
 
@@ -219,6 +245,12 @@ fn registry(libraries: &[Library]) -> String {
             "joint_limits",
             "function_info",
             "evaluate",
+            "nc",
+            "contact_count",
+            "contact_info",
+            "constrained_forward_dynamics",
+            "impulse_dynamics",
+            "operational_space_inertia",
             "call",
         ];
         let symbols: Vec<String> = symbols.iter().map(|s| format!("{p}_{s}")).collect();
@@ -252,14 +284,29 @@ fn checked(mut command: Command, what: &str) -> Output {
     output
 }
 
+/// The Panda's hand held whole (six rows, in world axes: a hand on a handle), and a loop
+/// between two frames whose origins coincide on joint 1's axis: rows that are zero in every
+/// state, which an exact solve refuses as redundant and a proximal one gives no force.
+fn panda_contacts() -> Vec<ContactSpec> {
+    vec![
+        ContactSpec {
+            reference: ReferenceFrame::LocalWorldAligned,
+            ..ContactSpec::new("panda_hand_tcp", ContactKind::Frame)
+        },
+        ContactSpec::new("panda_link1", ContactKind::Point).to("panda_link2"),
+    ]
+}
+
 fn build_and_run() -> Run {
     let libraries = vec![
-        generate("robots/panda.yaml", "panda", None),
-        generate("robots/solo12.yaml", "solo12", None),
+        generate("robots/panda.yaml", "panda", None, panda_contacts()),
+        // Its four feet as points, two in the foot's axes and two in world axes.
+        generate("robots/solo12.yaml", "solo12", None, Vec::new()),
         generate(
             "codegen/tests/data/example-robot-data/asr_twodof_description/TwoDofs.urdf",
             "two_dof",
             Some(&[]),
+            Vec::new(),
         ),
     ];
     let work = work_dir();

@@ -6,12 +6,15 @@
 //! has lanes), against the generic Rust dynamics to 1e-12; an output over an input; no
 //! allocation in any call; every status code reached, each error writing nothing; the metadata
 //! against the model; the pkg-config file linking a program; the shared library loaded as a
-//! binding loads it, its arrays at any address (`addresses`).
+//! binding loads it, its arrays at any address (`addresses`). The contact solves of the robots
+//! with contacts (the Panda's hand held, and a loop with rows of zeros; Solo-12's four feet)
+//! against the generic dynamics' constrained functions, their refusals too (`solves`).
 
 mod addresses;
 mod build;
 mod reference;
 mod results;
+mod solves;
 
 use build::{declarations, run, Library, STATES};
 use dyngen_runtime::nalgebra::DMatrix;
@@ -101,11 +104,77 @@ fn every_function_from_c_and_cpp_matches_the_generic_dynamics() {
             check(&cpp, "tick", library, &reference, "tick", 0);
         }
     }
-    // Nothing but the table's functions.
+    // Nothing but the table's functions (and the two ticks, and the contact solves).
+    let table_results = (c.keys().chain(cpp.keys()))
+        .filter(|(how, ..)| how != "contacts")
+        .count();
     assert_eq!(
-        c.len() + cpp.len() - 2,
+        table_results - 2,
         checked,
         "results of functions the headers do not declare"
+    );
+}
+
+#[test]
+fn contact_solves_match_the_generic_dynamics_or_refuse_as_they_do() {
+    let run = run();
+    succeeded("C", &run.c);
+    let (c, _) = parse(&run.c_results);
+    let mut statuses = std::collections::BTreeSet::new();
+    for library in &run.libraries {
+        for function in solves::SOLVES {
+            let key = (
+                "contacts".to_owned(),
+                library.prefix.to_owned(),
+                function.to_owned(),
+                0,
+            );
+            let result = (c.get(&key)).unwrap_or_else(|| panic!("no result for {key:?}"));
+            let (status, outputs) = result.outputs.split_first().expect("a status");
+            assert_eq!(status.0, "status");
+            for s in 0..STATES {
+                let got = status.1[s] as i32;
+                statuses.insert(got);
+                match solves::expected(library, function, s) {
+                    Ok(expected) => {
+                        assert_eq!(got, 0, "{key:?} at state {s}: status {got}");
+                        assert_eq!(outputs.len(), expected.len(), "{key:?}");
+                        for ((name, values), expected) in outputs.iter().zip(&expected) {
+                            let (rows, cols) = expected.shape();
+                            let got = DMatrix::from_column_slice(
+                                rows,
+                                cols,
+                                &values[s * rows * cols..(s + 1) * rows * cols],
+                            );
+                            let error = relative_error(&got, expected);
+                            assert!(
+                                error <= TOLERANCE,
+                                "{key:?}: {name} at state {s}: relative error {error:.2e}"
+                            );
+                        }
+                    }
+                    Err(code) => {
+                        assert_eq!(got, code, "{key:?} at state {s}");
+                        // Nothing written: what the program filled in, NaN (and the warm
+                        // start's zero forces).
+                        for (name, values) in outputs {
+                            let len = values.len() / STATES;
+                            let block = &values[s * len..(s + 1) * len];
+                            assert!(
+                                block.iter().all(|v| v.is_nan() || *v == 0.0),
+                                "{key:?}: {name} written at state {s} after status {got}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+    // Solved (Solo-12, the Panda's proximal solves), refused as redundant (the Panda's exact
+    // ones) and not generated (the 2-DOF arm without contacts).
+    assert_eq!(
+        statuses.into_iter().collect::<Vec<_>>(),
+        [0, solves::NOT_GENERATED, solves::REDUNDANT_CONTACTS]
     );
 }
 
@@ -205,6 +274,37 @@ fn sizes_names_parameters_and_limits_are_the_models() {
                 library.prefix
             ),
         }
+        // The contacts: frame, the frame held to (or the world), rows, first row, axes.
+        assert_eq!(
+            data["nc"],
+            [model.contact_rows().to_string()],
+            "{}",
+            library.prefix
+        );
+        let mut first_row = 0;
+        let contacts: Vec<String> = (model.contacts().iter().enumerate())
+            .map(|(k, c)| {
+                let name = |frame: usize| model.frames()[frame].name.clone();
+                let reference = match c.reference {
+                    dyngen_runtime::ReferenceFrame::Local => 0,
+                    _ => 2,
+                };
+                let line = format!(
+                    "{k} {} {} {} {first_row} {reference}",
+                    name(c.frame),
+                    c.to.map_or("world".to_owned(), name),
+                    c.kind.rows()
+                );
+                first_row += c.kind.rows();
+                line
+            })
+            .collect();
+        assert_eq!(
+            data.get("contact").cloned().unwrap_or_default(),
+            contacts,
+            "{}",
+            library.prefix
+        );
         let limits = metadata_numbers(&data["joint_limits"][0]);
         for (k, &joint) in model.coordinate_joints().iter().enumerate() {
             let expected = (model.joints()[joint].limits).map_or(

@@ -4,8 +4,9 @@
 use super::build::Library;
 use dyngen_codegen::base_parameters::BaseParameterSet;
 use dyngen_codegen::dynamics::{FloatingDynamics, NumericDynamics};
-use dyngen_runtime::nalgebra::{DMatrix, Matrix3, Vector3};
-use dyngen_runtime::ReferenceFrame;
+use dyngen_codegen::model::Contact;
+use dyngen_runtime::nalgebra::{DMatrix, Matrix3, Vector3, Vector6};
+use dyngen_runtime::{ContactKind, ReferenceFrame};
 
 /// The wrench the C++ program's controller tick applies at frame 0: `[force; moment]`.
 pub(super) const TICK_WRENCH: [f64; 6] = [20.0, -10.0, 5.0, 1.0, 0.5, -0.2];
@@ -136,6 +137,21 @@ impl<'a> Reference<'a> {
                 let j = motion().jacobian(lwa);
                 vec![column((tau - j.transpose() * column(&TICK_WRENCH)).as_slice())]
             }
+            "contact_jacobian" | "contact_drift" | "contact_response" => {
+                let frame = |k: usize, reference| {
+                    let m =
+                        (generic.frame_motion(&model.frames()[k].name, q, qd)).expect("a frame of the model");
+                    let at_rest = vec![0.0; model.nv()];
+                    FrameAt {
+                        rotation: m.pose().0,
+                        jacobian: m.jacobian(reference),
+                        velocity: m.velocity(reference),
+                        classical: m.classical_acceleration(reference, &at_rest),
+                    }
+                };
+                let (j, drift) = contact_rows(model.contacts(), frame);
+                contact_output(name, j, drift, &generic.mass_matrix_inverse(q))
+            }
             other => panic!("{}: no reference for the function {other}", self.library.prefix),
         }
     }
@@ -192,6 +208,17 @@ impl<'a> Reference<'a> {
                 let j = generic.frame_jacobian(&st, frame, lwa);
                 vec![column((tau - j.transpose() * column(&TICK_WRENCH)).as_slice())]
             }
+            "contact_jacobian" | "contact_drift" | "contact_response" => {
+                let at_rest = vec![0.0; model.nv()];
+                let frame = |k: usize, reference| FrameAt {
+                    rotation: generic.frame_pose(&st, k).0,
+                    jacobian: generic.frame_jacobian(&st, k, reference),
+                    velocity: generic.frame_velocity(&st, qd, k, reference),
+                    classical: generic.frame_classical_acceleration(&st, qd, &at_rest, k, reference),
+                };
+                let (j, drift) = contact_rows(model.contacts(), frame);
+                contact_output(name, j, drift, &generic.mass_matrix_inverse(&st))
+            }
             other => panic!("{}: no reference for the function {other}", self.library.prefix),
         }
     }
@@ -204,4 +231,77 @@ fn pair((first, second): (DMatrix<f64>, DMatrix<f64>)) -> Vec<DMatrix<f64>> {
 /// `(Y θ, Yᵀ r)`.
 fn products(y: &DMatrix<f64>, theta: &[f64], r: &[f64]) -> Vec<DMatrix<f64>> {
     vec![y * column(theta), y.transpose() * column(r)]
+}
+
+/// A frame at a state, in a reference frame: its axes, `J`, its velocity and its classical
+/// acceleration at zero acceleration.
+struct FrameAt {
+    rotation: Matrix3<f64>,
+    jacobian: DMatrix<f64>,
+    velocity: Vector6<f64>,
+    classical: Vector6<f64>,
+}
+
+/// The contacts' rows `J` and their drift from the frames' own quantities, `frame(k, axes)`
+/// (docs/contacts.md): a point's rows are the linear ones, its drift its classical
+/// acceleration; a frame's all six, its drift the spatial acceleration (the classical one less
+/// `ω × v`); a point loop's the motion of its origin less that of the other frame's, in world
+/// axes, turned into the frame's own for `Local`.
+fn contact_rows(
+    contacts: &[Contact],
+    frame: impl Fn(usize, ReferenceFrame) -> FrameAt,
+) -> (DMatrix<f64>, Vec<f64>) {
+    let (mut rows, mut drift) = (Vec::new(), Vec::new());
+    for c in contacts {
+        let (j, d) = match (c.to, c.kind) {
+            (None, kind) => {
+                let f = frame(c.frame, c.reference);
+                let mut d =
+                    DMatrix::from_column_slice(kind.rows(), 1, &f.classical.as_slice()[..kind.rows()]);
+                if kind == ContactKind::Frame {
+                    let (v, w) = (f.velocity.fixed_rows::<3>(0), f.velocity.fixed_rows::<3>(3));
+                    d.rows_mut(0, 3)
+                        .copy_from(&(f.classical.fixed_rows::<3>(0) - w.cross(&v)));
+                }
+                (f.jacobian.rows(0, kind.rows()).into_owned(), d)
+            }
+            (Some(to), ContactKind::Point) => {
+                let lwa = ReferenceFrame::LocalWorldAligned;
+                let (one, two) = (frame(c.frame, lwa), frame(to, lwa));
+                let turn = match c.reference {
+                    ReferenceFrame::Local => one.rotation.transpose(),
+                    _ => Matrix3::identity(),
+                };
+                let d = turn * (one.classical.fixed_rows::<3>(0) - two.classical.fixed_rows::<3>(0));
+                let turn = DMatrix::from_column_slice(3, 3, turn.as_slice());
+                let j = turn * (one.jacobian.rows(0, 3) - two.jacobian.rows(0, 3));
+                (j, DMatrix::from_column_slice(3, 1, d.as_slice()))
+            }
+            (Some(_), ContactKind::Frame) => panic!("a frame loop: none among the test's robots"),
+        };
+        rows.push(j);
+        drift.extend(d.iter());
+    }
+    let nv = rows.first().map_or(0, |j| j.ncols());
+    let mut j = DMatrix::zeros(drift.len(), nv);
+    let mut at = 0;
+    for r in rows {
+        j.rows_mut(at, r.nrows()).copy_from(&r);
+        at += r.nrows();
+    }
+    (j, drift)
+}
+
+/// `contact_jacobian` (`J`), `contact_drift` or `contact_response` (`D⁻¹ Jᵀ`).
+fn contact_output(
+    name: &str,
+    j: DMatrix<f64>,
+    drift: Vec<f64>,
+    mass_inverse: &DMatrix<f64>,
+) -> Vec<DMatrix<f64>> {
+    match name {
+        "contact_jacobian" => vec![j],
+        "contact_drift" => vec![column(&drift)],
+        _ => vec![mass_inverse * j.transpose()],
+    }
 }
