@@ -43,7 +43,7 @@ fn load(name: &str, fixture: &Value) -> Loaded {
         }
     }
     let choices = Choices {
-        frames: FrameSelection::Listed(frames.iter().map(|f| FrameSpec::link(f)).collect()),
+        frames: FrameSelection::Listed(frames.iter().map(FrameSpec::link).collect()),
         ..Choices::default()
     };
     let path = workspace_root().join(format!("codegen/tests/data/loops/{name}.urdf"));
