@@ -24,10 +24,10 @@ import pinocchio as pin
 
 from constraint_fixtures import (
     KP, KD, PROXIMAL_ACCURACY, PROXIMAL_MAX_ITER, TORQUE_RANGE,
-    Checks, check_derivatives, constraint_jacobian, solve,
+    Checks, check_derivatives, constraint_jacobian, solve, write,
 )
 from floating_fixtures import relative
-from pinocchio_reference import seed_of, symmetric_from_upper, to_json
+from pinocchio_reference import seed_of, symmetric_from_upper
 
 REPO = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
 DATA = os.path.join(REPO, "codegen", "tests", "data", "loops")
@@ -197,12 +197,7 @@ def main():
     for name in MECHANISMS:
         worst = Checks()
         result = fixture(name, worst)
-        path = os.path.join(args.out, name + ".json")
-        with open(path, "w") as f:
-            f.write(to_json(result) + "\n")
-        print(f"{path}: {len(result['sets'])} constraint sets")
-        for check, value in worst.values.items():
-            print(f"  {check:48} worst {value:.1e}")
+        write(args.out, name, result, f"{len(result['sets'])} constraint sets", worst)
 
 
 if __name__ == "__main__":

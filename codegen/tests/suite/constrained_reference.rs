@@ -14,8 +14,8 @@ use common::{assert_close, column, workspace_root};
 use dyngen_codegen::description::{self, Choices, FrameSelection, FrameSpec, Loaded};
 use dyngen_codegen::dynamics::{FloatingDynamics, FloatingState};
 use dyngen_codegen::model::Contact;
-use dyngen_runtime::{ContactKind, Pose, ProximalSettings, ReferenceFrame, Stabilisation};
-use nalgebra::{DMatrix, Matrix3, Vector3};
+use dyngen_runtime::{ContactKind, ProximalSettings, ReferenceFrame, Stabilisation};
+use nalgebra::DMatrix;
 use serde_json::Value;
 
 const TOL: f64 = 1e-9;
@@ -54,14 +54,6 @@ fn contacts(loaded: &Loaded, fixture: &Value) -> Vec<Contact> {
             Contact::at(&loaded.model, c["frame"].as_str().unwrap(), kind, reference).unwrap()
         })
         .collect()
-}
-
-fn anchor(pose: &Value) -> Pose {
-    let r = matrix(&pose["rotation"]);
-    Pose {
-        rotation: Matrix3::from_fn(|i, j| r[(i, j)]),
-        translation: Vector3::from_column_slice(&vector(&pose["translation"])),
-    }
 }
 
 /// Pinocchio's `computeConstraintDynamicsDerivatives` against ours; where Pinocchio's `∂/∂q`
@@ -112,35 +104,17 @@ fn check_robot(robot: &str, urdf: &str) {
     let order = Order::new(model, &fx);
     let contacts = contacts(&loaded, &fx);
     let dynamics = FloatingDynamics::new(model).unwrap();
-    let gains = (
-        fx["baumgarte"]["kp"].as_f64().unwrap(),
-        fx["baumgarte"]["kd"].as_f64().unwrap(),
-    );
-    let proximal = ProximalSettings {
-        mu: fx["proximal"]["mu"].as_f64().unwrap(),
-        max_iterations: fx["proximal"]["max_iter"].as_u64().unwrap() as usize,
-        accuracy: fx["proximal"]["accuracy"].as_f64().unwrap(),
-    };
+    let proximal = floating_fixture::proximal(&fx);
     let restitution = fx["restitution"].as_f64().unwrap();
     for (k, st) in fx["states"].as_array().unwrap().iter().enumerate() {
         let what = |q: &str| format!("{robot} state {k}: {q}");
         let q = order.configuration(&vector(&st["q"]));
         let [v, tau] = ["v", "tau"].map(|f| order.vector(&vector(&st[f])));
         let s = dynamics.state(&q).unwrap();
-        let anchors: Vec<Pose> = st["anchors"].as_array().unwrap().iter().map(anchor).collect();
+        let anchors = floating_fixture::anchors(st);
         let velocity = |field: &Value| column(&order.vector(&vector(field)));
 
-        for (label, stabilisation) in [
-            ("plain", None),
-            (
-                "stabilised",
-                Some(Stabilisation {
-                    anchors: &anchors,
-                    kp: gains.0,
-                    kd: gains.1,
-                }),
-            ),
-        ] {
+        for (label, stabilisation) in floating_fixture::solves(&fx, &anchors) {
             let expected = &st["forward"][label];
             check_derivatives(
                 &what(label),

@@ -11,13 +11,13 @@
 use dyngen_testkit as common;
 
 use common::fixture::{matrix, vector};
-use common::{assert_close, column, workspace_root};
+use common::{assert_close, column, floating_fixture, workspace_root};
 use dyngen_codegen::description::{self, Choices, FrameSelection, FrameSpec, Loaded};
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::internals::generate::trace;
 use dyngen_codegen::model::{Contact, Model};
-use dyngen_runtime::{ContactKind, Pose, ProximalSettings, ReferenceFrame, Stabilisation};
-use nalgebra::{DMatrix, DVector, Matrix3, Vector3};
+use dyngen_runtime::{ContactKind, ProximalSettings, ReferenceFrame, Stabilisation};
+use nalgebra::{DMatrix, DVector};
 use serde_json::Value;
 
 const TOL: f64 = 1e-9;
@@ -76,21 +76,9 @@ fn contacts(model: &Model, set: &Value) -> Vec<Contact> {
         .collect()
 }
 
-fn anchor(pose: &Value) -> Pose {
-    let r = matrix(&pose["rotation"]);
-    Pose {
-        rotation: Matrix3::from_fn(|i, j| r[(i, j)]),
-        translation: Vector3::from_column_slice(&vector(&pose["translation"])),
-    }
-}
-
 fn check_mechanism(name: &str) {
     let fx = fixture(name);
     let loaded = load(name, &fx);
-    let gains = (
-        fx["baumgarte"]["kp"].as_f64().unwrap(),
-        fx["baumgarte"]["kd"].as_f64().unwrap(),
-    );
     for (k, set) in fx["sets"].as_array().unwrap().iter().enumerate() {
         let contacts = contacts(&loaded.model, set);
         let model = loaded.model.clone().with_contacts(contacts.clone()).unwrap();
@@ -100,11 +88,7 @@ fn check_mechanism(name: &str) {
         let exact = !set["states"][0]["drift"].is_null();
         let settings = match exact {
             true => ProximalSettings::default(),
-            false => ProximalSettings {
-                mu: fx["proximal"]["mu"].as_f64().unwrap(),
-                max_iterations: fx["proximal"]["max_iter"].as_u64().unwrap() as usize,
-                accuracy: fx["proximal"]["accuracy"].as_f64().unwrap(),
-            },
+            false => floating_fixture::proximal(&fx),
         };
         for (s, st) in set["states"].as_array().unwrap().iter().enumerate() {
             let what = |q: &str| format!("{name} set {k} state {s}: {q}");
@@ -118,18 +102,8 @@ fn check_mechanism(name: &str) {
                 let drift = column(&evaluate("contact_drift"));
                 assert_close(&what("drift"), &drift, &column(&vector(&st["drift"])), TOL);
             }
-            let anchors: Vec<Pose> = st["anchors"].as_array().unwrap().iter().map(anchor).collect();
-            for (label, stabilisation) in [
-                ("plain", None),
-                (
-                    "stabilised",
-                    Some(Stabilisation {
-                        anchors: &anchors,
-                        kp: gains.0,
-                        kd: gains.1,
-                    }),
-                ),
-            ] {
+            let anchors = floating_fixture::anchors(st);
+            for (label, stabilisation) in floating_fixture::solves(&fx, &anchors) {
                 let expected = &st["forward"][label];
                 let solved = dynamics
                     .constrained_forward_dynamics(&q, &v, &tau, &contacts, stabilisation, &settings)
@@ -230,7 +204,7 @@ fn loop_impulses_and_point_loop_derivatives_hold_their_equations() {
         if contacts.iter().any(|c| c.kind == ContactKind::Frame) {
             continue;
         }
-        let anchors: Vec<Pose> = st["anchors"].as_array().unwrap().iter().map(anchor).collect();
+        let anchors = floating_fixture::anchors(st);
         for stabilisation in [
             None,
             Some(Stabilisation {
