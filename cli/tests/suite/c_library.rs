@@ -34,18 +34,23 @@ fn files(dir: &Path) -> Vec<String> {
     found
 }
 
+/// `dyngen gen` of the 2-DOF arm as a C library in `library`, its symbols starting `prefix`.
+fn gen_library(library: &Path, prefix: &str) -> common::Run {
+    dyngen(&[
+        "gen",
+        arg(&two_dof()),
+        "--c-library",
+        arg(library),
+        "--c-prefix",
+        prefix,
+    ])
+}
+
 #[test]
 fn writes_the_library_and_rewrites_only_what_changed() {
     let dir = tempfile::tempdir().expect("temp dir");
     let library = dir.path().join("arm");
-    let run = dyngen(&[
-        "gen",
-        arg(&two_dof()),
-        "--c-library",
-        arg(&library),
-        "--c-prefix",
-        "arm",
-    ]);
+    let run = gen_library(&library, "arm");
     assert_eq!(run.code, Some(0), "{}", run.output());
     assert_eq!(
         files(&library),
@@ -69,14 +74,7 @@ fn writes_the_library_and_rewrites_only_what_changed() {
     // Again, with what cargo adds: nothing rewritten, nothing refused.
     std::fs::create_dir_all(library.join("target/debug")).expect("target");
     std::fs::write(library.join("Cargo.lock"), "# cargo's\n").expect("lock");
-    let again = dyngen(&[
-        "gen",
-        arg(&two_dof()),
-        "--c-library",
-        arg(&library),
-        "--c-prefix",
-        "arm",
-    ]);
+    let again = gen_library(&library, "arm");
     assert_eq!(again.code, Some(0), "{}", again.output());
     assert!(
         again.stderr.contains("(0 of 7 files written)"),
@@ -155,14 +153,7 @@ fn a_file_of_the_library_written_by_hand_is_never_replaced() {
 fn a_prefix_that_cannot_start_c_names_is_refused() {
     let dir = tempfile::tempdir().expect("temp dir");
     let library = dir.path().join("arm");
-    let run = dyngen(&[
-        "gen",
-        arg(&two_dof()),
-        "--c-library",
-        arg(&library),
-        "--c-prefix",
-        "2arm",
-    ]);
+    let run = gen_library(&library, "2arm");
     assert_eq!(run.code, Some(1), "{}", run.output());
     assert!(
         run.stderr.contains("the prefix `2arm` cannot start C names"),

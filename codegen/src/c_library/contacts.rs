@@ -101,48 +101,56 @@ fn usize(n: usize) -> Literal {
     Literal::usize_unsuffixed(n)
 }
 
+/// The three solves' symbols and parameters, with or without contacts.
+fn solve_signatures(library: &Library) -> [(proc_macro2::Ident, TokenStream); 3] {
+    let prefix = &library.prefix;
+    let name = |name: &str| format_ident!("{prefix}_{name}");
+    [
+        (
+            name("constrained_forward_dynamics"),
+            quote! {
+                q: *const f64,
+                qd: *const f64,
+                tau: *const f64,
+                settings: *const ContactSettings,
+                warm_start: *const f64,
+                qdd: *mut f64,
+                forces: *mut f64,
+            },
+        ),
+        (
+            name("impulse_dynamics"),
+            quote!(q: *const f64, qd: *const f64, restitution: f64, mu: f64, qd_after: *mut f64, impulses: *mut f64),
+        ),
+        (
+            name("operational_space_inertia"),
+            quote!(q: *const f64, damping: f64, inertia: *mut f64),
+        ),
+    ]
+}
+
 /// The three solves of a robot without contacts.
 fn not_generated(library: &Library) -> TokenStream {
-    let prefix = &library.prefix;
-    let [forward, impulse, inertia] = [
-        "constrained_forward_dynamics",
-        "impulse_dynamics",
-        "operational_space_inertia",
-    ]
-    .map(|name| format_ident!("{prefix}_{name}"));
+    let [(forward, forward_parameters), (impulse, impulse_parameters), (inertia, inertia_parameters)] =
+        solve_signatures(library);
     quote! {
         /// The robot has no contacts.
         #[no_mangle]
-        pub extern "C" fn #forward(
-            q: *const f64,
-            qd: *const f64,
-            tau: *const f64,
-            settings: *const ContactSettings,
-            warm_start: *const f64,
-            qdd: *mut f64,
-            forces: *mut f64,
-        ) -> i32 {
+        pub extern "C" fn #forward(#forward_parameters) -> i32 {
             let _ = (q, qd, tau, settings, warm_start, qdd, forces, NC, ANCHORS, HELD_TO_WORLD);
             NOT_GENERATED
         }
 
         /// The robot has no contacts.
         #[no_mangle]
-        pub extern "C" fn #impulse(
-            q: *const f64,
-            qd: *const f64,
-            restitution: f64,
-            mu: f64,
-            qd_after: *mut f64,
-            impulses: *mut f64,
-        ) -> i32 {
+        pub extern "C" fn #impulse(#impulse_parameters) -> i32 {
             let _ = (q, qd, restitution, mu, qd_after, impulses);
             NOT_GENERATED
         }
 
         /// The robot has no contacts.
         #[no_mangle]
-        pub extern "C" fn #inertia(q: *const f64, damping: f64, inertia: *mut f64) -> i32 {
+        pub extern "C" fn #inertia(#inertia_parameters) -> i32 {
             let _ = (q, damping, inertia);
             NOT_GENERATED
         }
@@ -151,14 +159,9 @@ fn not_generated(library: &Library) -> TokenStream {
 
 /// The runtime's constrained functions over the robot's `ContactDynamics`.
 fn solves(library: &Library) -> TokenStream {
-    let prefix = &library.prefix;
     let ty = format_ident!("{}", library.type_name);
-    let [forward, impulse, inertia] = [
-        "constrained_forward_dynamics",
-        "impulse_dynamics",
-        "operational_space_inertia",
-    ]
-    .map(|name| format_ident!("{prefix}_{name}"));
+    let [(forward, forward_parameters), (impulse, impulse_parameters), (inertia, inertia_parameters)] =
+        solve_signatures(library);
     quote! {
         use dyngen_runtime::{ContactDynamics, ContactError, Pose, ProximalSettings, Stabilisation};
 
@@ -203,15 +206,7 @@ fn solves(library: &Library) -> TokenStream {
         /// `kd` is not 0, points to `12 · ANCHORS` readable doubles. Outputs must not overlap
         /// each other (inputs are read before any output is written).
         #[no_mangle]
-        pub unsafe extern "C" fn #forward(
-            q: *const f64,
-            qd: *const f64,
-            tau: *const f64,
-            settings: *const ContactSettings,
-            warm_start: *const f64,
-            qdd: *mut f64,
-            forces: *mut f64,
-        ) -> i32 {
+        pub unsafe extern "C" fn #forward(#forward_parameters) -> i32 {
             if q.is_null() || qd.is_null() || tau.is_null() || qdd.is_null() || forces.is_null() {
                 return NULL_POINTER;
             }
@@ -259,14 +254,7 @@ fn solves(library: &Library) -> TokenStream {
         /// `q` points to `NQ` readable doubles, `qd` to `NV`, `qd_after` to `NV` writable ones
         /// and `impulses` to `NC`; outputs must not overlap each other.
         #[no_mangle]
-        pub unsafe extern "C" fn #impulse(
-            q: *const f64,
-            qd: *const f64,
-            restitution: f64,
-            mu: f64,
-            qd_after: *mut f64,
-            impulses: *mut f64,
-        ) -> i32 {
+        pub unsafe extern "C" fn #impulse(#impulse_parameters) -> i32 {
             if q.is_null() || qd.is_null() || qd_after.is_null() || impulses.is_null() {
                 return NULL_POINTER;
             }
@@ -296,7 +284,7 @@ fn solves(library: &Library) -> TokenStream {
         /// # Safety
         /// `q` points to `NQ` readable doubles, `inertia` to `NC · NC` writable ones.
         #[no_mangle]
-        pub unsafe extern "C" fn #inertia(q: *const f64, damping: f64, inertia: *mut f64) -> i32 {
+        pub unsafe extern "C" fn #inertia(#inertia_parameters) -> i32 {
             if q.is_null() || inertia.is_null() {
                 return NULL_POINTER;
             }

@@ -279,18 +279,23 @@ fn outputs(kind: QuantityKind, shape: Shape) -> Vec<Array> {
 mod tests {
     use super::*;
 
-    fn arm(functions: Functions) -> Vec<Entry> {
-        let sizes = Sizes {
+    /// A fixed-base arm of `dof` joints (ten parameters each, `base` base parameters), two
+    /// frames and `contact_rows`.
+    fn fixed_arm(dof: usize, base: usize, contact_rows: usize) -> Sizes {
+        Sizes {
             floating: false,
-            dof: 7,
-            nq: 7,
-            nv: 7,
-            parameters: 70,
-            base_parameters: 43,
+            dof,
+            nq: dof,
+            nv: dof,
+            parameters: 10 * dof,
+            base_parameters: base,
             frames: 2,
-            contact_rows: 0,
-        };
-        entries(&sizes, &functions)
+            contact_rows,
+        }
+    }
+
+    fn arm(functions: Functions) -> Vec<Entry> {
+        entries(&fixed_arm(7, 43, 0), &functions)
     }
 
     #[test]
@@ -336,16 +341,7 @@ mod tests {
     #[test]
     fn contact_rows_are_entries_before_the_frames_and_spelled_nc() {
         // A 6-DOF arm holding its end-effector as a frame and another point: 9 rows.
-        let sizes = Sizes {
-            floating: false,
-            dof: 6,
-            nq: 6,
-            nv: 6,
-            parameters: 60,
-            base_parameters: 36,
-            frames: 2,
-            contact_rows: 9,
-        };
+        let sizes = fixed_arm(6, 36, 9);
         let entries = entries(&sizes, &Functions::all());
         let names: Vec<String> = entries.iter().map(Entry::name).collect();
         let at = |name: &str| names.iter().position(|n| n == name).expect(name);
@@ -425,16 +421,7 @@ mod tests {
     #[test]
     fn sizes_are_spelled_by_what_they_are_not_by_value() {
         // A 6-DOF arm: its Jacobian is 6 × NV, not NV × NV.
-        let sizes = Sizes {
-            floating: false,
-            dof: 6,
-            nq: 6,
-            nv: 6,
-            parameters: 60,
-            base_parameters: 36,
-            frames: 1,
-            contact_rows: 0,
-        };
+        let sizes = fixed_arm(6, 36, 0);
         let entries = entries(&sizes, &Functions::all());
         let jacobian = entries.iter().find(|e| e.name() == "jacobian").expect("J");
         assert_eq!(jacobian.outputs[0].spelled, [Size::Number(6), Size::Nv]);

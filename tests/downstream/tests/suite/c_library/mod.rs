@@ -352,11 +352,7 @@ fn pkg_config_gives_what_compiles_and_links_a_program() {
         .env("PKG_CONFIG_PATH", &panda.dir)
         .output()
         .expect("pkg-config runs");
-    assert!(
-        flags.status.success(),
-        "{}",
-        String::from_utf8_lossy(&flags.stderr)
-    );
+    succeeded("pkg-config", &flags);
     let flags = String::from_utf8_lossy(&flags.stdout).into_owned();
     assert!(
         flags.contains(&format!("-I{}/include", panda.dir.display())),
@@ -380,11 +376,7 @@ fn pkg_config_gives_what_compiles_and_links_a_program() {
         .args(flags.split_whitespace())
         .output()
         .expect("cc runs");
-    assert!(
-        compiled.status.success(),
-        "{}",
-        String::from_utf8_lossy(&compiled.stderr)
-    );
+    succeeded("cc", &compiled);
     let output = std::process::Command::new(&binary)
         .env("LD_LIBRARY_PATH", &libdir)
         .output()
