@@ -5,16 +5,28 @@ from ._dyngen import (
     CompileError,
     DescriptionError,
     DyngenError,
+    Excitation,
     IdentificationError,
+    Identification,
+    Payload,
     Robot,
     __version__,
+    excite,
+    identify,
+    identify_payload,
 )
 
 __all__ = [
     "CompileError",
     "DescriptionError",
     "DyngenError",
+    "Excitation",
     "IdentificationError",
+    "Identification",
+    "Payload",
     "Robot",
     "__version__",
+    "excite",
+    "identify",
+    "identify_payload",
 ]

@@ -110,6 +110,39 @@ pub fn batch(arguments: &[Argument<'_, '_>]) -> PyResult<Batch> {
     })
 }
 
+/// A table of samples: `(N, columns)` (or `(N,)` for one column, `columns` = 0), every entry
+/// finite; one row per sample. `what` names the rows in messages ("sample").
+pub fn rows(name: &str, value: &Bound<'_, PyAny>, columns: usize) -> PyResult<Vec<Vec<f64>>> {
+    let array = as_float_array(name, value)?;
+    let readonly = array.readonly();
+    let shape = readonly.shape().to_vec();
+    let width = match (shape.as_slice(), columns) {
+        ([_], 0) => 1,
+        ([_, c], _) if *c == columns && columns > 0 => columns,
+        _ => {
+            let expected = match columns {
+                0 => "(N,)".to_owned(),
+                c => format!("(N, {c})"),
+            };
+            return Err(PyValueError::new_err(format!(
+                "argument '{name}': shape {shape:?}, expected {expected} with one row per sample"
+            )));
+        }
+    };
+    let values = readonly
+        .as_slice()
+        .map_err(|e| PyValueError::new_err(format!("argument '{name}': {e}")))?;
+    if let Some(k) = values.iter().position(|v| !v.is_finite()) {
+        return Err(PyValueError::new_err(format!(
+            "argument '{name}': sample {}{} is {}: every entry must be a finite number",
+            k / width,
+            if columns > 0 { format!(", column {}", k % width) } else { String::new() },
+            values[k]
+        )));
+    }
+    Ok(values.chunks(width).map(<[f64]>::to_vec).collect())
+}
+
 fn describe(states: Option<usize>) -> String {
     match states {
         None => "one state".to_owned(),

@@ -4,10 +4,15 @@
 
 mod arrays;
 mod errors;
+mod excitation;
 mod generic;
+mod identification;
 mod loading;
+mod payload;
 mod reference;
 mod robot;
+mod samples;
+mod written;
 
 use pyo3::prelude::*;
 
@@ -16,5 +21,11 @@ fn _dyngen(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add("__version__", env!("CARGO_PKG_VERSION"))?;
     errors::register(m)?;
     m.add_class::<robot::Robot>()?;
+    m.add_class::<identification::Identification>()?;
+    m.add_class::<excitation::Excitation>()?;
+    m.add_class::<payload::Payload>()?;
+    m.add_function(wrap_pyfunction!(identification::identify, m)?)?;
+    m.add_function(wrap_pyfunction!(excitation::excite, m)?)?;
+    m.add_function(wrap_pyfunction!(payload::identify_payload, m)?)?;
     Ok(())
 }
