@@ -15,9 +15,12 @@ from ._dyngen import (
     identify,
     identify_payload,
 )
+from ._compile import cache_directory, compile
+from ._compiled import CompiledRobot
 
 __all__ = [
     "CompileError",
+    "CompiledRobot",
     "DescriptionError",
     "DyngenError",
     "Excitation",
@@ -26,6 +29,8 @@ __all__ = [
     "Payload",
     "Robot",
     "__version__",
+    "cache_directory",
+    "compile",
     "excite",
     "identify",
     "identify_payload",

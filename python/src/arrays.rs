@@ -158,6 +158,12 @@ pub struct Results {
 }
 
 impl Results {
+    /// Results computed elsewhere: per output, its shape for one state and every state's
+    /// values (row-major) one after the other.
+    pub fn new(shapes: Vec<Vec<usize>>, values: Vec<Vec<f64>>, states: Option<usize>) -> Results {
+        Results { shapes, values, states }
+    }
+
     /// The results as arrays: one array, or a tuple when there are several.
     pub fn into_python(self, py: Python<'_>) -> PyResult<Py<PyAny>> {
         let mut arrays = Vec::with_capacity(self.values.len());

@@ -7,6 +7,7 @@ mod errors;
 mod excitation;
 mod generic;
 mod identification;
+mod library;
 mod loading;
 mod payload;
 mod reference;
@@ -24,6 +25,7 @@ fn _dyngen(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_class::<identification::Identification>()?;
     m.add_class::<excitation::Excitation>()?;
     m.add_class::<payload::Payload>()?;
+    m.add_class::<library::Library>()?;
     m.add_function(wrap_pyfunction!(identification::identify, m)?)?;
     m.add_function(wrap_pyfunction!(excitation::excite, m)?)?;
     m.add_function(wrap_pyfunction!(payload::identify_payload, m)?)?;

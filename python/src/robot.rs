@@ -18,6 +18,8 @@ use std::sync::{Arc, OnceLock};
 pub struct Origin {
     pub path: PathBuf,
     pub choices: Choices,
+    /// Every file read (the YAML and the URDF it names).
+    pub sources: Vec<PathBuf>,
 }
 
 /// A model with its parameters: the description's, or others (`with_parameters`, an
@@ -323,7 +325,11 @@ pub fn load_robot(py: Python<'_>, path: PathBuf, choices: Choices) -> PyResult<R
     let loaded = py
         .detach(|| load_with(&path, &choices))
         .map_err(|e| description_error(py, &e))?;
-    let origin = Origin { path, choices };
+    let origin = Origin {
+        path,
+        choices,
+        sources: loaded.sources,
+    };
     Ok(Robot::from_data(RobotData::new(
         loaded.model,
         Some(origin),
