@@ -4,10 +4,14 @@
 //! In `build.rs`, `fn main() { dyngen_codegen::compile_robot("robots/panda.yaml"); }`; in
 //! `src/lib.rs`, `dyngen_runtime::include_robot!(panda);` gives `panda::Panda`.
 
+use crate::c_library::{check_library, library_files, module_file, write_library, CLibrary, Naming};
 use crate::description::{
     Choices, DescriptionError, FrameSelection, FrameSpec, JointParameters, NonPhysicalInertia,
 };
-use crate::generate::{generate_robot_with, module_name, type_name, write_file, GenerateError, RobotReport};
+use crate::generate::{
+    check_file, generate_robot_with, module_name, type_name, write_file, GenerateError, RobotReport,
+    WriteOutcome,
+};
 use crate::{FunctionGroup, Functions};
 use std::path::{Path, PathBuf};
 
@@ -45,6 +49,10 @@ pub struct Builder {
     regenerate: Option<String>,
     type_name: Option<String>,
     cargo_directives: bool,
+    /// Where to write the robot as a C library, with the prefix and runtime chosen for it.
+    c_library: Option<PathBuf>,
+    c_prefix: Option<String>,
+    c_runtime_path: Option<PathBuf>,
     choices: Choices,
     /// Why the groups given to [`Builder::functions`] cannot be generated together (a group
     /// without one it needs); reported by [`Builder::compile`].
@@ -62,6 +70,9 @@ impl Builder {
             regenerate: None,
             type_name: None,
             cargo_directives: true,
+            c_library: None,
+            c_prefix: None,
+            c_runtime_path: None,
             choices: Choices::default(),
             invalid_functions: None,
         }
@@ -195,6 +206,31 @@ impl Builder {
         self
     }
 
+    /// Also write the robot as a C library into `dir` (`docs/c-library.md`): a crate around
+    /// the generated module (at `dir/src/robot.rs`) exporting `extern "C"` functions, its
+    /// headers, a CMake package and a pkg-config file. The module is then written only there,
+    /// unless [`Builder::output_file`] or [`Builder::out_dir`] also name a place for it. The
+    /// directory must be new, empty or one dyngen wrote.
+    pub fn c_library(mut self, dir: impl AsRef<Path>) -> Builder {
+        self.c_library = Some(dir.as_ref().to_owned());
+        self
+    }
+
+    /// The prefix of the C library's symbols (`<prefix>_mass_matrix`) and the name of its
+    /// package (`<prefix>_dynamics`); default: the module name. Two robots linked into one
+    /// program need two prefixes.
+    pub fn c_prefix(mut self, prefix: impl Into<String>) -> Builder {
+        self.c_prefix = Some(prefix.into());
+        self
+    }
+
+    /// Make the C library's crate depend on `dyngen-runtime` at `path` (a checkout's
+    /// `runtime/`) rather than on its published version.
+    pub fn c_runtime_path(mut self, path: impl AsRef<Path>) -> Builder {
+        self.c_runtime_path = Some(path.as_ref().to_owned());
+        self
+    }
+
     /// Generates the robot; returns the file written (or left as it was, if unchanged).
     pub fn compile(self) -> Result<PathBuf, GenerateError> {
         self.compile_report().map(|report| report.file)
@@ -208,18 +244,22 @@ impl Builder {
             (None, Some(file)) => module_name(file),
             (None, None) => module_name(&self.description),
         };
-        let file = match (&self.output_file, &self.out_dir) {
-            (Some(file), _) => file.clone(),
-            (None, Some(dir)) => dir.join(format!("{module}.rs")),
-            (None, None) => std::env::var_os("OUT_DIR")
-                .map(|dir| PathBuf::from(dir).join(format!("{module}.rs")))
-                .ok_or_else(|| GenerateError::Io {
-                    path: PathBuf::from("$OUT_DIR"),
-                    source: std::io::Error::new(
-                        std::io::ErrorKind::NotFound,
-                        "not set: call this from a build script",
-                    ),
-                })?,
+        // With a C library and no other place named, the module lives in the library only.
+        let file = match (&self.output_file, &self.out_dir, &self.c_library) {
+            (Some(file), _, _) => Some(file.clone()),
+            (None, Some(dir), _) => Some(dir.join(format!("{module}.rs"))),
+            (None, None, Some(_)) => None,
+            (None, None, None) => Some(
+                std::env::var_os("OUT_DIR")
+                    .map(|dir| PathBuf::from(dir).join(format!("{module}.rs")))
+                    .ok_or_else(|| GenerateError::Io {
+                        path: PathBuf::from("$OUT_DIR"),
+                        source: std::io::Error::new(
+                            std::io::ErrorKind::NotFound,
+                            "not set: call this from a build script",
+                        ),
+                    })?,
+            ),
         };
         let ty = self.type_name.unwrap_or_else(|| type_name(&module));
         let shown = self.description.to_string_lossy().replace('\\', "/");
@@ -242,12 +282,53 @@ impl Builder {
                 println!("cargo:warning={warning}");
             }
         }
-        let outcome = write_file(&file, &robot.code)?;
+        let Some(dir) = self.c_library else {
+            let file = file.unwrap_or_default();
+            let outcome = write_file(&file, &robot.code)?;
+            return Ok(RobotReport {
+                module,
+                file,
+                robot,
+                outcome,
+                c_library: None,
+            });
+        };
+        let options = CLibrary {
+            dir: dir.clone(),
+            prefix: self.c_prefix,
+            runtime_path: self.c_runtime_path,
+        };
+        let naming = Naming {
+            module: &module,
+            type_name: &ty,
+            source: &shown,
+            regenerate: &regenerate,
+        };
+        let (prefix, files) = library_files(&robot, &naming, &options)?;
+        // Everything is checked before anything is written.
+        if let Some(file) = &file {
+            check_file(file, &robot.code)?;
+        }
+        check_library(&dir, &files)?;
+        let module_outcome = match &file {
+            Some(file) => Some(write_file(file, &robot.code)?),
+            None => None,
+        };
+        let library = write_library(&dir, prefix, &files)?;
+        let (file, outcome) = match (file, module_outcome) {
+            (Some(file), Some(outcome)) => (file, outcome),
+            _ => {
+                let outcome = (library.files.iter().find(|(path, _)| *path == module_file()))
+                    .map_or(WriteOutcome::Written, |(_, outcome)| *outcome);
+                (dir.join(module_file()), outcome)
+            }
+        };
         Ok(RobotReport {
             module,
             file,
             robot,
             outcome,
+            c_library: Some(library),
         })
     }
 

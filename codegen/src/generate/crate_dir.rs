@@ -20,6 +20,8 @@ pub struct RobotReport {
     pub robot: GeneratedRobot,
     /// `Written` in check mode means stale.
     pub outcome: WriteOutcome,
+    /// The C library written beside it ([`Builder::c_library`](crate::Builder::c_library)).
+    pub c_library: Option<crate::CLibraryReport>,
 }
 
 /// The outcome of one run.
@@ -104,6 +106,7 @@ pub fn generate_into_crate(
             file,
             robot,
             outcome,
+            c_library: None,
         });
     }
     modules.sort();

@@ -11,6 +11,7 @@ pub(crate) mod trace_floating;
 
 pub use crate::symbolic::OpCounts;
 pub use crate_dir::{descriptions_in, generate_into_crate, CrateReport, Mode, RobotReport};
+pub(crate) use output::is_generated;
 pub use output::{check_file, write_file, WriteOutcome};
 pub use robot_file::{
     generate_robot, generate_robot_with, GenerateError, GeneratedRobot, GENERATED_MARKER, MAX_GENERATED_DOF,

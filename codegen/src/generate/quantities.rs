@@ -235,6 +235,97 @@ impl QuantityKind {
         self.is_per_frame() && !matches!(self, QuantityKind::FramePose | QuantityKind::FrameKinematics)
     }
 
+    /// What it computes, in one sentence with its units and conventions: the documentation of
+    /// interfaces that do not see the runtime's traits (the C library's header). Velocities
+    /// are written `q̇`; on a floating base that is `ν` (the base twist, then the joint rates).
+    pub fn summary(self) -> &'static str {
+        use QuantityKind as K;
+        match self {
+            K::ForwardKinematics => {
+                "the end-effector frame's pose in the base frame (the world, for a floating \
+                 base): its axes as the rotation's columns, its origin as the translation (m)"
+            }
+            K::Jacobian => {
+                "the end-effector's geometric Jacobian J(q): its velocity [linear (m/s); angular \
+                 (rad/s)] is J q̇, in base axes at the frame's origin (LOCAL_WORLD_ALIGNED)"
+            }
+            K::JacobianDot => "J̇(q, q̇), the time derivative of the end-effector's Jacobian along q̇",
+            K::MassMatrix => {
+                "the mass matrix D(q), symmetric positive definite (kg·m², kg·m or kg as the \
+                 coordinates are angles or lengths)"
+            }
+            K::CoriolisMatrix => {
+                "the Coriolis matrix C(q, q̇): C q̇ are the Coriolis and centrifugal forces, and \
+                 Ḋ = C + Cᵀ (Christoffel-consistent on a fixed base)"
+            }
+            K::Gravity => "the generalised gravity g(q): the forces (N·m or N) that hold the robot still",
+            K::InverseDynamics => {
+                "inverse dynamics τ = D(q) q̈ + C(q, q̇) q̇ + g(q) (N·m or N; on a floating base \
+                 the base wrench first)"
+            }
+            K::SlotineLi => {
+                "the Slotine–Li torque D(q) a + C(q, q̇) v + g(q) at the reference velocity v \
+                 and acceleration a"
+            }
+            K::Regressor => {
+                "the Slotine–Li regressor Y(q, q̇, v, a), one column per standard parameter: \
+                 Y θ = D a + C v + g"
+            }
+            K::BaseRegressor => {
+                "the base-parameter regressor Y_b(q, q̇, v, a), one column per base parameter: \
+                 Y_b θ_b = D a + C v + g"
+            }
+            K::ForwardDynamics => "forward dynamics q̈ = D⁻¹ (τ − C q̇ − g) (m/s² or rad/s²)",
+            K::MassMatrixInverse => "the inverse mass matrix D(q)⁻¹",
+            K::InverseDynamicsDerivatives => {
+                "the derivatives ∂τ/∂q and ∂τ/∂q̇ of inverse dynamics at (q, q̇, q̈); entry (i, \
+                 j) is ∂τ_i/∂x_j (∂τ/∂q̈ is D); on a floating base with respect to q in its \
+                 tangent space"
+            }
+            K::ForwardDynamicsDerivatives => {
+                "the derivatives ∂q̈/∂q and ∂q̈/∂q̇ of forward dynamics at (q, q̇, τ) (∂q̈/∂τ \
+                 is D⁻¹); on a floating base with respect to q in its tangent space"
+            }
+            K::TorqueRegressor => {
+                "the regressor in torque form Y(q, q̇, q̇, q̈): Y θ = τ, what identification stacks"
+            }
+            K::BaseTorqueRegressor => "the base regressor in torque form Y_b(q, q̇, q̇, q̈): Y_b θ_b = τ",
+            K::Kinematics => "the end-effector's pose, J and J̇ at once, computing what they share once",
+            K::RegressorProducts => {
+                "(Y θ, Yᵀ r) with Y = Y(q, q̇, v, a), computed without forming Y: an adaptive \
+                 law's torque and adaptation"
+            }
+            K::BaseRegressorProducts => {
+                "(Y_b θ_b, Y_bᵀ r) with Y_b = Y_b(q, q̇, v, a), computed without forming Y_b"
+            }
+            K::FramePose => {
+                "a named frame's pose in the base frame (the world, for a floating base): its \
+                 axes as the rotation's columns, its origin as the translation (m)"
+            }
+            K::FrameJacobian => {
+                "a named frame's geometric Jacobian J(q): its velocity [linear (m/s); angular \
+                 (rad/s)] is J q̇"
+            }
+            K::FrameJacobianTimeVariation => "J̇(q, q̇), the time derivative of the frame's Jacobian along q̇",
+            K::FrameVelocity => "the frame's velocity J q̇, [linear (m/s); angular (rad/s)]",
+            K::FrameClassicalAcceleration => {
+                "the frame's classical acceleration J q̈ + J̇ q̇ with ω × v added to its linear \
+                 part: in LOCAL_WORLD_ALIGNED the acceleration of its origin (m/s²) and the \
+                 angular acceleration (rad/s²)"
+            }
+            K::FrameKinematics => {
+                "a frame's pose, J and J̇ (LOCAL_WORLD_ALIGNED) at once, computing what they \
+                 share once"
+            }
+            K::CenterOfMass => "the centre of mass of the whole robot, in the world (m)",
+            K::CentroidalMomentumMatrix => {
+                "the centroidal momentum matrix A_g(q): A_g ν is the linear momentum and the \
+                 angular momentum about the centre of mass, in world axes"
+            }
+            K::CentroidalBias => "Ȧ_g(q, ν) ν, the rate of the centroidal momentum at zero acceleration",
+        }
+    }
+
     /// The vectors it takes besides the configuration, and what it returns, in the sizes `d`
     /// (`θ`: the base parameters for a function of base columns, else all of them).
     pub fn signature(self, d: Dims) -> (Vec<Arg>, Shape) {

@@ -51,6 +51,11 @@ const AFTER_FRAMES: [QuantityKind; 2] = [
     QuantityKind::ForwardDynamicsDerivatives,
 ];
 
+/// The quantities a floating-base robot has besides its per-frame ones, in the module's order.
+pub(crate) fn floating_kinds() -> impl Iterator<Item = QuantityKind> {
+    BEFORE_FRAMES.into_iter().chain(AFTER_FRAMES)
+}
+
 /// Records every floating-base quantity of `model` in one graph: the rows of `BEFORE_FRAMES`,
 /// the per-frame rows frame by frame, the rows of `AFTER_FRAMES`, then another formulation of
 /// `D⁻¹`.
