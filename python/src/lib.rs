@@ -5,6 +5,7 @@
 mod arrays;
 mod errors;
 mod excitation;
+mod generation;
 mod generic;
 mod identification;
 mod library;
@@ -29,5 +30,8 @@ fn _dyngen(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(identification::identify, m)?)?;
     m.add_function(wrap_pyfunction!(excitation::excite, m)?)?;
     m.add_function(wrap_pyfunction!(payload::identify_payload, m)?)?;
+    m.add_function(wrap_pyfunction!(generation::runtime_checkout, m)?)?;
+    m.add_function(wrap_pyfunction!(generation::compile_source, m)?)?;
+    m.add_function(wrap_pyfunction!(generation::write_c_library, m)?)?;
     Ok(())
 }

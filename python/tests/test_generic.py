@@ -4,93 +4,32 @@ states; a batch's row equals the single state's result."""
 import numpy as np
 import pytest
 
-from conftest import assert_close, fixture, stacked
+from conftest import (
+    assert_close,
+    check_base_regressors,
+    check_every_quantity,
+    check_frames,
+    check_parameters,
+    fixture_batches,
+)
 
 ROBOTS = ["panda", "ur5"]
 
 
-def fixture_batches(name):
-    states = fixture(name)["states"]
-    return states, {key: stacked(states, key) for key in ["q", "v", "a", "vr", "ar", "tau"]}
-
-
 @pytest.mark.parametrize("name", ROBOTS)
-def test_parameters_are_pinocchios(robots, name):
-    robot = robots[name]
-    assert_close("θ", robot.parameters, fixture(name)["pi"])
-    assert robot.joint_names == fixture(name)["joint_names"]
-
-
-@pytest.mark.parametrize("name", ROBOTS)
-def test_every_quantity_of_a_batch_matches_pinocchio(robots, name):
-    robot = robots[name]
-    states, x = fixture_batches(name)
-    q, v, a, vr, ar, tau = (x[k] for k in ["q", "v", "a", "vr", "ar", "tau"])
-    rotation, translation = robot.end_effector_pose(q)
-    dq, dv = robot.inverse_dynamics_derivatives(q, v, a)
-    fq, fv = robot.forward_dynamics_derivatives(q, v, tau)
-    results = {
-        "ee_rotation": rotation,
-        "ee_translation": translation,
-        "J": robot.jacobian(q),
-        "Jdot": robot.jacobian_dot(q, v),
-        "D": robot.mass_matrix(q),
-        "C": robot.coriolis_matrix(q, v),
-        "g": robot.gravity(q),
-        "tau": robot.inverse_dynamics(q, v, a),
-        "tau_ref": robot.slotine_li(q, v, vr, ar),
-        "Y": robot.regressor(q, v, v, a),
-        "aba": robot.forward_dynamics(q, v, tau),
-        "Minv": robot.mass_matrix_inverse(q),
-        "dtau_dq": dq,
-        "dtau_dv": dv,
-        "dqdd_dq": fq,
-        "dqdd_dv": fv,
-    }
-    for key, value in results.items():
-        assert value.shape[0] == len(states)
-        for k, s in enumerate(states):
-            assert_close(f"{name} state {k}: {key}", value[k], s[key])
-    assert_close("torque regressor", robot.torque_regressor(q, v, a), results["Y"])
+def test_parameters_and_every_quantity_of_a_batch_match_pinocchio(robots, name):
+    check_parameters(robots[name], name)
+    check_every_quantity(robots[name], name)
 
 
 @pytest.mark.parametrize("name", ROBOTS)
 def test_base_regressors_times_base_parameters_give_the_torques(robots, name):
-    robot = robots[name]
-    states, x = fixture_batches(name)
-    theta_b = np.array(robot.base_parameters())
-    assert len(theta_b) == len(robot.base_parameter_names) < len(robot.parameters)
-    yb = robot.base_regressor(x["q"], x["v"], x["vr"], x["ar"])
-    assert yb.shape == (len(states), robot.nv, len(theta_b))
-    assert_close("Y_b θ_b", yb @ theta_b, stacked(states, "tau_ref"))
-    ybt = robot.base_torque_regressor(x["q"], x["v"], x["a"])
-    assert_close("Y_b(q, q̇, q̇, q̈) θ_b", ybt @ theta_b, stacked(states, "tau"))
+    check_base_regressors(robots[name], name)
 
 
 @pytest.mark.parametrize("name", ROBOTS)
 def test_frames_match_pinocchio_in_every_reference_frame(robots, name):
-    robot = robots[name]
-    reference = fixture(f"frames/{name}")
-    frames = [f["name"] for f in reference["frames"] if f["name"] in robot.frame_names]
-    assert len(frames) >= 8, f"{name}: only {frames} are frames of the loaded robot"
-    states = reference["states"]
-    q, v, a = (stacked(states, k) for k in ["q", "v", "a"])
-    for frame in frames:
-        rotation, translation = robot.frame_pose(frame, q)
-        for k, s in enumerate(states):
-            expected = s["frames"][frame]
-            assert_close(f"{frame} rotation", rotation[k], expected["rotation"])
-            assert_close(f"{frame} translation", translation[k], expected["translation"])
-        for ref in ["local", "world", "local_world_aligned"]:
-            results = {
-                "J": robot.frame_jacobian(frame, q, ref),
-                "dJ": robot.frame_jacobian_time_variation(frame, q, v, ref),
-                "velocity": robot.frame_velocity(frame, q, v, ref),
-                "classical_acceleration": robot.frame_classical_acceleration(frame, q, v, a, ref),
-            }
-            for key, value in results.items():
-                for k, s in enumerate(states):
-                    assert_close(f"{frame} {key} {ref} state {k}", value[k], s["frames"][frame][key][ref])
+    check_frames(robots[name], name)
 
 
 METHODS = [

@@ -100,7 +100,7 @@ def test_bad_data_is_refused_naming_argument_and_sample(arm7, measured):
         dyngen.identify(arm7, t, q, tau[1:])
     far = q.copy()
     far[3, 1] = 10.0
-    with pytest.raises(ValueError, match="argument 'q': sample 3, joint 'joint2': position 10.0 is outside"):
+    with pytest.raises(ValueError, match="argument 'q': sample 3, joint 'joint2': position 10 is outside"):
         dyngen.identify(arm7, t, far, tau)
     with pytest.raises(ValueError, match="argument 'qd': sample 0, column 2 is NaN"):
         dyngen.identify(arm7, t, q, tau, qd=np.full_like(q, np.nan), qdd=qdd)
