@@ -69,9 +69,9 @@ pub fn batch(arguments: &[Argument<'_, '_>]) -> PyResult<Batch> {
             [b, m] if *m == n => Some(*b),
             _ => {
                 return Err(PyValueError::new_err(format!(
-                    "argument '{}': shape {shape:?}, expected ({n},) for one state or (B, {n}) for a batch of B",
-                    argument.name
-                )))
+                "argument '{}': shape {shape:?}, expected ({n},) for one state or (B, {n}) for a batch of B",
+                argument.name
+            )))
             }
         };
         match states {
@@ -136,7 +136,11 @@ pub fn rows(name: &str, value: &Bound<'_, PyAny>, columns: usize) -> PyResult<Ve
         return Err(PyValueError::new_err(format!(
             "argument '{name}': sample {}{} is {}: every entry must be a finite number",
             k / width,
-            if columns > 0 { format!(", column {}", k % width) } else { String::new() },
+            if columns > 0 {
+                format!(", column {}", k % width)
+            } else {
+                String::new()
+            },
             values[k]
         )));
     }
@@ -161,7 +165,11 @@ impl Results {
     /// Results computed elsewhere: per output, its shape for one state and every state's
     /// values (row-major) one after the other.
     pub fn new(shapes: Vec<Vec<usize>>, values: Vec<Vec<f64>>, states: Option<usize>) -> Results {
-        Results { shapes, values, states }
+        Results {
+            shapes,
+            values,
+            states,
+        }
     }
 
     /// The results as arrays: one array, or a tuple when there are several.

@@ -63,9 +63,17 @@ pub fn identification_error(py: Python<'_>, e: &IdentifyError) -> PyErr {
     };
     let value = err.value(py);
     let set = || -> PyResult<()> {
-        value.setattr("file", place.and_then(|p| p.file.as_ref()).map(|f| f.display().to_string()))?;
+        value.setattr(
+            "file",
+            place
+                .and_then(|p| p.file.as_ref())
+                .map(|f| f.display().to_string()),
+        )?;
         value.setattr("line", place.and_then(|p| p.line))?;
-        value.setattr("column", place.and_then(|p| p.column.as_ref()).map(|c| c.1.clone()))?;
+        value.setattr(
+            "column",
+            place.and_then(|p| p.column.as_ref()).map(|c| c.1.clone()),
+        )?;
         Ok(())
     };
     match set() {

@@ -6,8 +6,8 @@ use crate::arrays::rows;
 use crate::identification::{identifiable, positive};
 use crate::robot::Robot;
 use dyngen_identify::{
-    optimise_within, BaseModel, Excitation as Optimised, ExcitationOptions, Region, TrajectoryLimits, Workspace,
-    WorkspaceConstraint, DEFAULT_ACCELERATION_PER_VELOCITY,
+    optimise_within, BaseModel, Excitation as Optimised, ExcitationOptions, Region, TrajectoryLimits,
+    Workspace, WorkspaceConstraint, DEFAULT_ACCELERATION_PER_VELOCITY,
 };
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray2};
@@ -47,7 +47,10 @@ pub fn excite(
     let model = identifiable(&robot.data)?;
     let defaults = ExcitationOptions::default();
     let options = ExcitationOptions {
-        base_frequency: positive("base_frequency", base_frequency.unwrap_or(defaults.base_frequency))?,
+        base_frequency: positive(
+            "base_frequency",
+            base_frequency.unwrap_or(defaults.base_frequency),
+        )?,
         harmonics: harmonics.unwrap_or(defaults.harmonics),
         iterations: iterations.unwrap_or(defaults.iterations),
         starts: starts.unwrap_or(defaults.starts),
@@ -61,7 +64,9 @@ pub fn excite(
     let frame = |f: Option<String>| f.unwrap_or_else(|| model.end_effector().name.clone());
     let finite = |what: &str, values: &[f64]| match values.iter().all(|v| v.is_finite()) {
         true => Ok(()),
-        false => Err(PyValueError::new_err(format!("{what}: every number must be finite, found {values:?}"))),
+        false => Err(PyValueError::new_err(format!(
+            "{what}: every number must be finite, found {values:?}"
+        ))),
     };
     let mut constraints = Vec::new();
     for (f, min, max) in boxes {
@@ -96,7 +101,11 @@ pub struct Excitation {
 #[pymethods]
 impl Excitation {
     /// `(q, qd, qdd)` at the times `t` (N,): three (N, dof) arrays.
-    fn sample<'py>(&self, py: Python<'py>, t: &Bound<'py, PyAny>) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
+    fn sample<'py>(
+        &self,
+        py: Python<'py>,
+        t: &Bound<'py, PyAny>,
+    ) -> PyResult<Bound<'py, pyo3::types::PyTuple>> {
         let times: Vec<f64> = rows("t", t, 0)?.into_iter().map(|r| r[0]).collect();
         let trajectory = &self.optimised.trajectory;
         let n = trajectory.dof();

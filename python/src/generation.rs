@@ -16,8 +16,15 @@ use std::path::{Path, PathBuf};
 #[pyfunction]
 pub fn runtime_checkout() -> Option<PathBuf> {
     let runtime = Path::new(env!("CARGO_MANIFEST_DIR")).join("../runtime");
-    runtime.join("Cargo.toml").is_file().then(|| runtime.canonicalize().unwrap_or(runtime))
+    runtime
+        .join("Cargo.toml")
+        .is_file()
+        .then(|| runtime.canonicalize().unwrap_or(runtime))
 }
+
+/// What [`compile_source`] returns: the description file or the YAML of a robot in memory,
+/// the files read, and the rest of what identifies the generated code.
+type Source = (Option<PathBuf>, Option<String>, Vec<PathBuf>, String);
 
 /// How the robot's description reaches the generator: `(path, None)` for a robot loaded from
 /// a file, `(None, yaml)` for one made in memory (an identified robot), whose YAML the caller
@@ -28,7 +35,7 @@ pub fn runtime_checkout() -> Option<PathBuf> {
 pub fn compile_source(
     robot: &Robot,
     functions: Option<&Bound<'_, PyAny>>,
-) -> PyResult<(Option<PathBuf>, Option<String>, Vec<PathBuf>, String)> {
+) -> PyResult<Source> {
     let data = &robot.data;
     if data.theta.is_some() {
         return Err(CompileError::new_err(
@@ -46,7 +53,10 @@ pub fn compile_source(
         ),
         None => (
             None,
-            Some(to_yaml(&data.model, &["Written by dyngen.compile for the robot in memory.".to_owned()])),
+            Some(to_yaml(
+                &data.model,
+                &["Written by dyngen.compile for the robot in memory.".to_owned()],
+            )),
             Vec::new(),
             Choices::default(),
         ),
@@ -75,7 +85,11 @@ pub fn write_c_library(
     let (path, choices) = match (&robot.data.origin, description) {
         (Some(origin), _) => (origin.path.clone(), origin.choices.clone()),
         (None, Some(description)) => (description, Choices::default()),
-        (None, None) => return Err(CompileError::new_err("a robot made in memory needs its description written")),
+        (None, None) => {
+            return Err(CompileError::new_err(
+                "a robot made in memory needs its description written",
+            ))
+        }
     };
     let choices = choices.with(Choices {
         functions,

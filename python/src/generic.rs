@@ -59,9 +59,9 @@ impl Robot {
 
     /// An error for a method of the fixed-base dynamics only, on a floating base.
     fn needs_fixed_base(&self, method: &str) -> PyResult<NumericDynamics<'_>> {
-        self.data.fixed().ok_or_else(|| {
-            PyValueError::new_err(format!("{method} is computed for a fixed base only"))
-        })
+        self.data
+            .fixed()
+            .ok_or_else(|| PyValueError::new_err(format!("{method} is computed for a fixed base only")))
     }
 }
 
@@ -81,7 +81,12 @@ impl Robot {
     }
 
     /// `J̇(q, q̇)` of the end-effector, the time derivative of `jacobian`.
-    fn jacobian_dot(&self, py: Python<'_>, q: &Bound<'_, PyAny>, qd: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
+    fn jacobian_dot(
+        &self,
+        py: Python<'_>,
+        q: &Bound<'_, PyAny>,
+        qd: &Bound<'_, PyAny>,
+    ) -> PyResult<Py<PyAny>> {
         let frame = self.data.model.end_effector().name.clone();
         self.frame_jacobian_time_variation(py, &frame, q, qd, "local_world_aligned")
     }
@@ -121,7 +126,10 @@ impl Robot {
         let zero = vec![0.0; data.nv()];
         evaluate(py, &batch, &[&[6, data.nv()]], |x, out| {
             let j = match &dynamics {
-                Dynamics::Fixed(d) => d.frame_motion(frame, x[0], &zero).expect("a known frame").jacobian(reference),
+                Dynamics::Fixed(d) => d
+                    .frame_motion(frame, x[0], &zero)
+                    .expect("a known frame")
+                    .jacobian(reference),
                 Dynamics::Floating(d) => d.frame_jacobian(&state(d, x[0])?, index, reference),
             };
             write_matrix(out[0], &j);
@@ -150,7 +158,9 @@ impl Robot {
                     .frame_motion(frame, x[0], x[1])
                     .expect("a known frame")
                     .jacobian_time_variation(reference),
-                Dynamics::Floating(d) => d.frame_jacobian_time_variation(&state(d, x[0])?, x[1], index, reference),
+                Dynamics::Floating(d) => {
+                    d.frame_jacobian_time_variation(&state(d, x[0])?, x[1], index, reference)
+                }
             };
             write_matrix(out[0], &j);
             Ok(())
@@ -174,7 +184,10 @@ impl Robot {
         let dynamics = data.dynamics();
         evaluate(py, &batch, &[&[6]], |x, out| {
             let v = match &dynamics {
-                Dynamics::Fixed(d) => d.frame_motion(frame, x[0], x[1]).expect("a known frame").velocity(reference),
+                Dynamics::Fixed(d) => d
+                    .frame_motion(frame, x[0], x[1])
+                    .expect("a known frame")
+                    .velocity(reference),
                 Dynamics::Floating(d) => d.frame_velocity(&state(d, x[0])?, x[1], index, reference),
             };
             out[0].copy_from_slice(v.as_slice());
@@ -234,7 +247,12 @@ impl Robot {
     }
 
     /// The Christoffel-consistent Coriolis matrix `C(q, q̇)` (nv × nv), `Ḋ = C + Cᵀ`.
-    fn coriolis_matrix(&self, py: Python<'_>, q: &Bound<'_, PyAny>, qd: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
+    fn coriolis_matrix(
+        &self,
+        py: Python<'_>,
+        q: &Bound<'_, PyAny>,
+        qd: &Bound<'_, PyAny>,
+    ) -> PyResult<Py<PyAny>> {
         let data = &self.data;
         let nv = data.nv();
         let batch = batch(&[arg("q", q, data.nq()), arg("qd", qd, nv)])?;
@@ -300,7 +318,12 @@ impl Robot {
     ) -> PyResult<Py<PyAny>> {
         let data = &self.data;
         let nv = data.nv();
-        let batch = batch(&[arg("q", q, data.nq()), arg("qd", qd, nv), arg("v", v, nv), arg("a", a, nv)])?;
+        let batch = batch(&[
+            arg("q", q, data.nq()),
+            arg("qd", qd, nv),
+            arg("v", v, nv),
+            arg("a", a, nv),
+        ])?;
         let dynamics = data.dynamics();
         evaluate(py, &batch, &[&[nv]], |x, out| {
             let tau = match &dynamics {
@@ -447,7 +470,12 @@ impl Robot {
     }
 
     /// The total energy's regressor `e_H(q, q̇)` (P,): `e_H θ = T + V` (fixed base).
-    fn energy_regressor(&self, py: Python<'_>, q: &Bound<'_, PyAny>, qd: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
+    fn energy_regressor(
+        &self,
+        py: Python<'_>,
+        q: &Bound<'_, PyAny>,
+        qd: &Bound<'_, PyAny>,
+    ) -> PyResult<Py<PyAny>> {
         let dynamics = self.needs_fixed_base("energy_regressor")?;
         let n = self.data.nv();
         let batch = batch(&[arg("q", q, n), arg("qd", qd, n)])?;
@@ -475,7 +503,10 @@ impl Robot {
         let dynamics = self.needs_floating_base("center_of_mass_jacobian")?;
         let batch = batch(&[arg("q", q, self.data.nq())])?;
         evaluate(py, &batch, &[&[3, self.data.nv()]], |x, out| {
-            write_matrix(out[0], &dynamics.center_of_mass_jacobian(&state(&dynamics, x[0])?));
+            write_matrix(
+                out[0],
+                &dynamics.center_of_mass_jacobian(&state(&dynamics, x[0])?),
+            );
             Ok(())
         })?
         .into_python(py)
@@ -486,14 +517,22 @@ impl Robot {
         let dynamics = self.needs_floating_base("centroidal_momentum_matrix")?;
         let batch = batch(&[arg("q", q, self.data.nq())])?;
         evaluate(py, &batch, &[&[6, self.data.nv()]], |x, out| {
-            write_matrix(out[0], &dynamics.centroidal_momentum_matrix(&state(&dynamics, x[0])?).2);
+            write_matrix(
+                out[0],
+                &dynamics.centroidal_momentum_matrix(&state(&dynamics, x[0])?).2,
+            );
             Ok(())
         })?
         .into_python(py)
     }
 
     /// `Ȧ_g(q, ν) ν` (6,), the centroidal momentum's rate at zero acceleration (floating base).
-    fn centroidal_bias(&self, py: Python<'_>, q: &Bound<'_, PyAny>, qd: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
+    fn centroidal_bias(
+        &self,
+        py: Python<'_>,
+        q: &Bound<'_, PyAny>,
+        qd: &Bound<'_, PyAny>,
+    ) -> PyResult<Py<PyAny>> {
         let dynamics = self.needs_floating_base("centroidal_bias")?;
         let batch = batch(&[arg("q", q, self.data.nq()), arg("qd", qd, self.data.nv())])?;
         evaluate(py, &batch, &[&[6]], |x, out| {
@@ -506,7 +545,13 @@ impl Robot {
 
     /// `q ⊕ qd·dt` (nq,): the base moved along its twist for `dt` (the SE(3) exponential), the
     /// joints by `q̇ dt` (floating base).
-    fn integrate(&self, py: Python<'_>, q: &Bound<'_, PyAny>, qd: &Bound<'_, PyAny>, dt: f64) -> PyResult<Py<PyAny>> {
+    fn integrate(
+        &self,
+        py: Python<'_>,
+        q: &Bound<'_, PyAny>,
+        qd: &Bound<'_, PyAny>,
+        dt: f64,
+    ) -> PyResult<Py<PyAny>> {
         let dynamics = self.needs_floating_base("integrate")?;
         if !dt.is_finite() {
             return Err(PyValueError::new_err(format!("dt must be finite, found {dt}")));
@@ -520,7 +565,12 @@ impl Robot {
     }
 
     /// The velocity (nv,) that moves `q0` to `q1` in unit time (floating base).
-    fn difference(&self, py: Python<'_>, q0: &Bound<'_, PyAny>, q1: &Bound<'_, PyAny>) -> PyResult<Py<PyAny>> {
+    fn difference(
+        &self,
+        py: Python<'_>,
+        q0: &Bound<'_, PyAny>,
+        q1: &Bound<'_, PyAny>,
+    ) -> PyResult<Py<PyAny>> {
         let dynamics = self.needs_floating_base("difference")?;
         let nq = self.data.nq();
         let batch = batch(&[arg("q0", q0, nq), arg("q1", q1, nq)])?;
@@ -535,7 +585,12 @@ impl Robot {
 impl Robot {
     /// The four regressors: Slotine–Li (`q, qd, v, a`) or torque form (`q, qd, qdd`), all
     /// columns or the base ones.
-    fn regressors(&self, py: Python<'_>, arguments: &[(&str, &Bound<'_, PyAny>)], base: bool) -> PyResult<Py<PyAny>> {
+    fn regressors(
+        &self,
+        py: Python<'_>,
+        arguments: &[(&str, &Bound<'_, PyAny>)],
+        base: bool,
+    ) -> PyResult<Py<PyAny>> {
         let data = &self.data;
         let nv = data.nv();
         let arguments: Vec<Argument<'_, '_>> = arguments

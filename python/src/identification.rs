@@ -156,7 +156,9 @@ impl Identification {
     #[getter]
     fn base_relative_std_dev<'py>(&self, py: Python<'py>) -> Bound<'py, PyArray1<f64>> {
         let base = &self.estimate.base;
-        let relative: Vec<f64> = (0..base.theta_b.len()).map(|k| base.relative_std_dev(k)).collect();
+        let relative: Vec<f64> = (0..base.theta_b.len())
+            .map(|k| base.relative_std_dev(k))
+            .collect();
         vector(py, &relative)
     }
 
@@ -262,7 +264,10 @@ impl Identification {
     fn trust(&self, max_relative_std: f64) -> (Vec<String>, Option<String>) {
         let trust = self.estimate.base.trust(max_relative_std);
         let names = &self.estimate.base.names;
-        (trust.flagged.iter().map(|&k| names[k].clone()).collect(), trust.untrusted)
+        (
+            trust.flagged.iter().map(|&k| names[k].clone()).collect(),
+            trust.untrusted,
+        )
     }
 
     /// The identified robot (its generic dynamics; `dyngen.compile` builds it).
@@ -288,7 +293,10 @@ impl Identification {
     /// and its line).
     #[pyo3(signature = (path, source=ARRAYS))]
     fn write(&self, py: Python<'_>, path: PathBuf, source: &str) -> PyResult<Written> {
-        let extension = path.extension().and_then(|e| e.to_str()).map(str::to_ascii_lowercase);
+        let extension = path
+            .extension()
+            .and_then(|e| e.to_str())
+            .map(str::to_ascii_lowercase);
         match extension.as_deref() {
             Some("yaml" | "yml") => {
                 let (text, warnings) = self

@@ -106,7 +106,11 @@ unsafe fn symbol<T: Copy>(shared: &Shared, prefix: &str, name: &str) -> PyResult
 ///
 /// # Safety
 /// `name` is a `P_*_name` function of the library: it returns static strings or NULL.
-unsafe fn names(name: unsafe extern "C" fn(usize) -> *const c_char, count: usize, what: &str) -> PyResult<Vec<String>> {
+unsafe fn names(
+    name: unsafe extern "C" fn(usize) -> *const c_char,
+    count: usize,
+    what: &str,
+) -> PyResult<Vec<String>> {
     (0..count).map(|i| unsafe { string(name(i), what) }).collect()
 }
 
@@ -115,8 +119,9 @@ impl Library {
     fn load(path: PathBuf, prefix: &str) -> PyResult<Library> {
         // SAFETY: loading runs the library's initialisers; a dyngen robot library has none
         // beyond what the Rust standard library sets up.
-        let shared = unsafe { Shared::new(&path) }
-            .map_err(|e| CompileError::new_err(format!("{}: cannot load the library: {e}", path.display())))?;
+        let shared = unsafe { Shared::new(&path) }.map_err(|e| {
+            CompileError::new_err(format!("{}: cannot load the library: {e}", path.display()))
+        })?;
         // SAFETY (every call below): the symbols are those of `dyngen.h` with their declared
         // types; the size and name functions take no pointer and return static data.
         unsafe {
@@ -143,13 +148,16 @@ impl Library {
             let parameters_of: unsafe extern "C" fn(*mut f64) -> i32 = symbol(&shared, prefix, "parameters")?;
             let mut parameters = vec![0.0; parameter_count];
             if parameters_of(parameters.as_mut_ptr()) != 0 {
-                return Err(CompileError::new_err("the library's parameters could not be read"));
+                return Err(CompileError::new_err(
+                    "the library's parameters could not be read",
+                ));
             }
             let base_parameters_of: unsafe extern "C" fn(*const f64, *mut f64) -> i32 =
                 symbol(&shared, prefix, "base_parameters")?;
             let mut probe = vec![0.0; base_count];
             let has_base = base_parameters_of(parameters.as_ptr(), probe.as_mut_ptr()) == 0;
-            let info: unsafe extern "C" fn(usize) -> *const FunctionInfo = symbol(&shared, prefix, "function_info")?;
+            let info: unsafe extern "C" fn(usize) -> *const FunctionInfo =
+                symbol(&shared, prefix, "function_info")?;
             let functions = (0..size("function_count")?)
                 .map(|i| function(info(i)))
                 .collect::<PyResult<Vec<_>>>()?;
@@ -165,7 +173,11 @@ impl Library {
                 joint_names: names(name_of("joint_name")?, dof, "joint name")?,
                 frame_names: names(name_of("frame_name")?, size("frame_count")?, "frame name")?,
                 parameter_names: names(name_of("parameter_name")?, parameter_count, "parameter name")?,
-                base_parameter_names: names(name_of("base_parameter_name")?, base_count, "base parameter name")?,
+                base_parameter_names: names(
+                    name_of("base_parameter_name")?,
+                    base_count,
+                    "base parameter name",
+                )?,
                 parameters,
                 base_parameters_of: has_base.then_some(base_parameters_of),
                 path,
@@ -225,7 +237,13 @@ impl Library {
 
     /// The names of function `name`'s inputs, in call order.
     fn inputs(&self, name: &str) -> PyResult<Vec<String>> {
-        Ok(self.entry(name)?.1.inputs.iter().map(|(n, _)| n.clone()).collect())
+        Ok(self
+            .entry(name)?
+            .1
+            .inputs
+            .iter()
+            .map(|(n, _)| n.clone())
+            .collect())
     }
 
     /// Evaluates function `name` (a table entry) on `inputs` (one array per input, one state or
@@ -251,7 +269,12 @@ impl Library {
         }
         let frame = match (function.takes_frame, frame) {
             (true, Some(f)) if f < self.frame_names.len() => f,
-            (true, _) => return Err(PyValueError::new_err(format!("{name} needs a frame of {:?}", self.frame_names))),
+            (true, _) => {
+                return Err(PyValueError::new_err(format!(
+                    "{name} needs a frame of {:?}",
+                    self.frame_names
+                )))
+            }
             (false, _) => 0,
         };
         let arguments: Vec<Argument<'_, '_>> = function
@@ -288,7 +311,8 @@ impl Library {
                 status => Err(status),
             }
         });
-        let values = outcome.map_err(|status| PyValueError::new_err(format!("{name}: {}", self.status(status))))?;
+        let values =
+            outcome.map_err(|status| PyValueError::new_err(format!("{name}: {}", self.status(status))))?;
         let shapes: Vec<Vec<usize>> = function
             .outputs
             .iter()

@@ -49,9 +49,9 @@ fn frames(value: Option<&Bound<'_, PyAny>>) -> PyResult<FrameSelection> {
             ))),
         };
     }
-    let names: Vec<String> = value.extract().map_err(|_| {
-        PyValueError::new_err("frames: expected \"all\" or a list of link names")
-    })?;
+    let names: Vec<String> = value
+        .extract()
+        .map_err(|_| PyValueError::new_err("frames: expected \"all\" or a list of link names"))?;
     Ok(match names.is_empty() {
         true => FrameSelection::EndEffector,
         false => FrameSelection::Listed(names.into_iter().map(FrameSpec::link).collect()),
@@ -123,9 +123,9 @@ pub fn functions(value: Option<&Bound<'_, PyAny>>) -> PyResult<Option<Functions>
     };
     let keywords: Vec<String> = match value.cast::<PyString>() {
         Ok(text) => vec![text.to_cow()?.into_owned()],
-        Err(_) => value.extract().map_err(|_| {
-            PyValueError::new_err("functions: expected a list of group names, or \"all\"")
-        })?,
+        Err(_) => value
+            .extract()
+            .map_err(|_| PyValueError::new_err("functions: expected a list of group names, or \"all\""))?,
     };
     Functions::from_keywords(keywords.iter().map(String::as_str))
         .map(Some)

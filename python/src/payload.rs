@@ -8,7 +8,9 @@ use crate::identification::{identifiable, positive, ARRAYS};
 use crate::robot::{Robot, RobotData};
 use crate::samples::DataArrays;
 use crate::written::{write_text, Written};
-use dyngen_identify::{identify_payload as identify, with_body_at, PayloadData, PayloadEstimate, PayloadOptions};
+use dyngen_identify::{
+    identify_payload as identify, with_body_at, PayloadData, PayloadEstimate, PayloadOptions,
+};
 use dyngen_model::model::Inertia;
 use nalgebra::{Matrix3, Vector3};
 use pyo3::exceptions::PyValueError;
@@ -156,7 +158,12 @@ impl Payload {
     /// The robot with the payload welded to the body that carries the frame.
     #[getter]
     fn robot(&self) -> Robot {
-        Robot::from_data(RobotData::new(self.estimate.model.clone(), None, Vec::new(), Vec::new()))
+        Robot::from_data(RobotData::new(
+            self.estimate.model.clone(),
+            None,
+            Vec::new(),
+            Vec::new(),
+        ))
     }
 
     /// The robot with the payload as dyngen YAML.
@@ -191,7 +198,13 @@ impl Robot {
     /// This robot with a rigid body welded to the body that carries `frame`: `mass` (kg),
     /// centre of mass `com` (m) and inertia about it `inertia_com` (3 × 3, kg·m²) in the frame's
     /// coordinates. To simulate a payload.
-    fn with_body_at(&self, frame: &str, mass: f64, com: [f64; 3], inertia_com: [[f64; 3]; 3]) -> PyResult<Robot> {
+    fn with_body_at(
+        &self,
+        frame: &str,
+        mass: f64,
+        com: [f64; 3],
+        inertia_com: [[f64; 3]; 3],
+    ) -> PyResult<Robot> {
         let model = identifiable(&self.data)?;
         self.data.frame_index(frame)?;
         let inertia = Matrix3::from_fn(|i, j| inertia_com[i][j]);
@@ -210,6 +223,11 @@ impl Robot {
             inertia_com: inertia,
         };
         let carrying = with_body_at(model, frame, &body);
-        Ok(Robot::from_data(RobotData::new(carrying, None, Vec::new(), Vec::new())))
+        Ok(Robot::from_data(RobotData::new(
+            carrying,
+            None,
+            Vec::new(),
+            Vec::new(),
+        )))
     }
 }

@@ -281,7 +281,12 @@ impl Robot {
     fn with_parameters(&self, theta: Vec<f64>) -> PyResult<Robot> {
         let theta = checked_parameters(&self.data, theta)?;
         let data = &self.data;
-        let mut copy = RobotData::new(data.model.clone(), None, data.warnings.clone(), data.notes.clone());
+        let mut copy = RobotData::new(
+            data.model.clone(),
+            None,
+            data.warnings.clone(),
+            data.notes.clone(),
+        );
         copy.theta = Some(theta);
         if let Some(base) = data.base.get() {
             let _ = copy.base.set(base.clone());
@@ -313,7 +318,11 @@ impl Robot {
             "<dyngen.Robot '{}': {} DOF{}, {} parameters, {} frames>",
             model.name(),
             model.dof(),
-            if self.data.is_floating() { " on a floating base" } else { "" },
+            if self.data.is_floating() {
+                " on a floating base"
+            } else {
+                ""
+            },
             self.data.parameter_names().len(),
             model.frames().len()
         )

@@ -33,11 +33,11 @@ impl DataArrays<'_, '_> {
             qd: joints("qd", self.qd)?,
             qdd: joints("qdd", self.qdd)?,
             tau: joints("tau", self.tau)?,
-            wrench: self
-                .wrench
-                .map(|w| rows("wrench", w, 6))
-                .transpose()?
-                .map(|w| w.into_iter().map(|r| [r[0], r[1], r[2], r[3], r[4], r[5]]).collect()),
+            wrench: self.wrench.map(|w| rows("wrench", w, 6)).transpose()?.map(|w| {
+                w.into_iter()
+                    .map(|r| [r[0], r[1], r[2], r[3], r[4], r[5]])
+                    .collect()
+            }),
             sensor_frame: self.sensor_frame.clone(),
             time,
             q,
@@ -87,7 +87,11 @@ fn check(model: &Model, samples: &Samples) -> PyResult<()> {
         // The data file's slack: a trajectory written at a limit may land a rounding error
         // beyond it.
         let slack = 1e-9 * (l.upper - l.lower).abs().max(1.0);
-        if let Some(k) = samples.q.iter().position(|q| q[c] < l.lower - slack || q[c] > l.upper + slack) {
+        if let Some(k) = samples
+            .q
+            .iter()
+            .position(|q| q[c] < l.lower - slack || q[c] > l.upper + slack)
+        {
             return Err(PyValueError::new_err(format!(
                 "argument 'q': sample {k}, joint '{}': position {} is outside the joint limits [{}, {}]",
                 joint.name, samples.q[k][c], l.lower, l.upper

@@ -10,5 +10,6 @@ pub type Written = (Vec<PathBuf>, Vec<String>);
 
 /// Writes `text` to `path`.
 pub fn write_text(path: &Path, text: &str) -> PyResult<()> {
-    std::fs::write(path, text).map_err(|e| PyOSError::new_err(format!("{}: cannot write: {e}", path.display())))
+    std::fs::write(path, text)
+        .map_err(|e| PyOSError::new_err(format!("{}: cannot write: {e}", path.display())))
 }
