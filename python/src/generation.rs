@@ -32,10 +32,7 @@ type Source = (Option<PathBuf>, Option<String>, Vec<PathBuf>, String);
 /// contents (version, choices, functions).
 #[pyfunction]
 #[pyo3(signature = (robot, functions=None))]
-pub fn compile_source(
-    robot: &Robot,
-    functions: Option<&Bound<'_, PyAny>>,
-) -> PyResult<Source> {
+pub fn compile_source(robot: &Robot, functions: Option<&Bound<'_, PyAny>>) -> PyResult<Source> {
     let data = &robot.data;
     if data.theta.is_some() {
         return Err(CompileError::new_err(
