@@ -4,6 +4,7 @@
 
 mod common;
 
+mod c_library;
 mod excite_workspace;
 mod frames;
 mod gen;

@@ -4,6 +4,7 @@
 
 mod against_pinocchio;
 mod build_script;
+mod c_library;
 mod chunked_code;
 mod floating_base;
 mod generated_crate;
