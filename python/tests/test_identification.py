@@ -102,8 +102,10 @@ def test_bad_data_is_refused_naming_argument_and_sample(arm7, measured):
     far[3, 1] = 10.0
     with pytest.raises(ValueError, match="argument 'q': sample 3, joint 'joint2': position 10 is outside"):
         dyngen.identify(arm7, t, far, tau)
-    with pytest.raises(ValueError, match="argument 'qd': sample 0, column 2 is NaN"):
-        dyngen.identify(arm7, t, q, tau, qd=np.full_like(q, np.nan), qdd=qdd)
+    holed = qd.copy()
+    holed[4, 2] = np.nan
+    with pytest.raises(ValueError, match="argument 'qd': sample 4, column 2 is NaN"):
+        dyngen.identify(arm7, t, q, tau, qd=holed, qdd=qdd)
     with pytest.raises(ValueError, match="observation: expected"):
         dyngen.identify(arm7, t, q, tau, observation="torques")
     still = np.repeat(q[:1], len(t), axis=0)
