@@ -5,7 +5,7 @@
 use crate::errors::{identification_error, IdentificationError};
 use crate::robot::{Robot, RobotData};
 use crate::samples::DataArrays;
-use crate::written::{write_text, Written};
+use crate::written::{write_description, write_text, Written};
 use dyngen_identify::{
     identify as identify_samples, wrapper_path, Identification as Estimate, IdentifyOptions, Observation,
     DEFAULT_MAX_RELATIVE_STD, DEFAULT_WINDOW,
@@ -112,6 +112,44 @@ pub fn positive(name: &str, value: f64) -> PyResult<f64> {
         ))),
     }
 }
+
+/// The methods of a result that holds a robot made from the data (`Identification`,
+/// `Payload`, each with its `estimate`): what it says about the data, the robot, and the
+/// robot's description as YAML.
+macro_rules! estimated_robot_methods {
+    ($class:ty) => {
+        #[pymethods]
+        impl $class {
+            /// What to know about the data and the estimate, one line each.
+            #[getter]
+            fn warnings(&self) -> Vec<String> {
+                self.estimate.warnings.clone()
+            }
+
+            /// How the estimate was made where it differs from the usual, one line each.
+            #[getter]
+            fn notes(&self) -> Vec<String> {
+                self.estimate.notes.clone()
+            }
+
+            /// The robot estimated (its generic dynamics; `dyngen.compile` builds it).
+            #[getter]
+            fn robot(&self) -> Robot {
+                Robot::in_memory(self.estimate.model.clone())
+            }
+
+            /// The robot estimated as dyngen YAML; `source` is what the header says the data
+            /// came from.
+            #[pyo3(signature = (source=ARRAYS))]
+            fn yaml(&self, source: &str) -> String {
+                self.estimate.yaml(source)
+            }
+        }
+    };
+}
+pub(crate) use estimated_robot_methods;
+
+estimated_robot_methods!(Identification);
 
 /// The result of `dyngen.identify`: the least squares on the base parameters (with each one's
 /// standard deviation and each joint's noise), a physically consistent full parameter vector,
@@ -246,18 +284,6 @@ impl Identification {
         self.estimate.delay.as_ref().map(|d| d.samples)
     }
 
-    /// What to know about the data and the estimate, one line each.
-    #[getter]
-    fn warnings(&self) -> Vec<String> {
-        self.estimate.warnings.clone()
-    }
-
-    /// How the estimate was made where it differs from the usual, one line each.
-    #[getter]
-    fn notes(&self) -> Vec<String> {
-        self.estimate.notes.clone()
-    }
-
     /// The base parameters whose `σ/|θ_b|` is above `max_relative_std` (a fraction), and a
     /// sentence saying why the estimate as a whole cannot be trusted (None when it can).
     #[pyo3(signature = (max_relative_std=DEFAULT_MAX_RELATIVE_STD))]
@@ -268,23 +294,6 @@ impl Identification {
             trust.flagged.iter().map(|&k| names[k].clone()).collect(),
             trust.untrusted,
         )
-    }
-
-    /// The identified robot (its generic dynamics; `dyngen.compile` builds it).
-    #[getter]
-    fn robot(&self) -> Robot {
-        Robot::from_data(RobotData::new(
-            self.estimate.model.clone(),
-            None,
-            Vec::new(),
-            Vec::new(),
-        ))
-    }
-
-    /// The identified robot as dyngen YAML; `source` is what the header says the data came from.
-    #[pyo3(signature = (source=ARRAYS))]
-    fn yaml(&self, source: &str) -> String {
-        self.estimate.yaml(source)
     }
 
     /// Writes the identified robot to `path`: dyngen YAML (`.yaml`, `.yml`) or URDF (`.urdf`,
@@ -298,14 +307,7 @@ impl Identification {
             .and_then(|e| e.to_str())
             .map(str::to_ascii_lowercase);
         match extension.as_deref() {
-            Some("yaml" | "yml") => {
-                let (text, warnings) = self
-                    .estimate
-                    .written(source, &path)
-                    .map_err(|e| identification_error(py, &e))?;
-                write_text(&path, &text)?;
-                Ok((vec![path], warnings))
-            }
+            Some("yaml" | "yml") => write_description(py, self.estimate.written(source, &path), path),
             Some("urdf") => self.write_urdf(py, &path, source),
             _ => Err(PyValueError::new_err(format!(
                 "{}: expected a .yaml, .yml or .urdf file name",

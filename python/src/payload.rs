@@ -4,10 +4,10 @@
 //! body, to simulate measurements.
 
 use crate::errors::identification_error;
-use crate::identification::{identifiable, positive, ARRAYS};
-use crate::robot::{Robot, RobotData};
+use crate::identification::{estimated_robot_methods, identifiable, positive, ARRAYS};
+use crate::robot::Robot;
 use crate::samples::DataArrays;
-use crate::written::{write_text, Written};
+use crate::written::{write_description, Written};
 use dyngen_identify::{
     identify_payload as identify, with_body_at, PayloadData, PayloadEstimate, PayloadOptions,
 };
@@ -79,11 +79,13 @@ pub fn identify_payload(
 }
 
 /// An identified payload: its mass, centre of mass and inertia in its frame, and the robot
-/// carrying it.
+/// carrying it (`robot`: the payload welded to the body that carries the frame).
 #[pyclass(module = "dyngen", frozen)]
 pub struct Payload {
     estimate: PayloadEstimate,
 }
+
+estimated_robot_methods!(Payload);
 
 #[pymethods]
 impl Payload {
@@ -144,44 +146,11 @@ impl Payload {
         self.estimate.samples_used
     }
 
-    /// What to know about the data and the estimate (a sensor that disagrees with the torques).
-    #[getter]
-    fn warnings(&self) -> Vec<String> {
-        self.estimate.warnings.clone()
-    }
-
-    #[getter]
-    fn notes(&self) -> Vec<String> {
-        self.estimate.notes.clone()
-    }
-
-    /// The robot with the payload welded to the body that carries the frame.
-    #[getter]
-    fn robot(&self) -> Robot {
-        Robot::from_data(RobotData::new(
-            self.estimate.model.clone(),
-            None,
-            Vec::new(),
-            Vec::new(),
-        ))
-    }
-
-    /// The robot with the payload as dyngen YAML.
-    #[pyo3(signature = (source=ARRAYS))]
-    fn yaml(&self, source: &str) -> String {
-        self.estimate.yaml(source)
-    }
-
     /// Writes the robot with the payload as dyngen YAML to `path`; returns the files written and
     /// the loader's warnings about it.
     #[pyo3(signature = (path, source=ARRAYS))]
     fn write(&self, py: Python<'_>, path: PathBuf, source: &str) -> PyResult<Written> {
-        let (text, warnings) = self
-            .estimate
-            .written(source, &path)
-            .map_err(|e| identification_error(py, &e))?;
-        write_text(&path, &text)?;
-        Ok((vec![path], warnings))
+        write_description(py, self.estimate.written(source, &path), path)
     }
 
     fn __repr__(&self) -> String {
@@ -223,11 +192,6 @@ impl Robot {
             inertia_com: inertia,
         };
         let carrying = with_body_at(model, frame, &body);
-        Ok(Robot::from_data(RobotData::new(
-            carrying,
-            None,
-            Vec::new(),
-            Vec::new(),
-        )))
+        Ok(Robot::in_memory(carrying))
     }
 }

@@ -136,6 +136,12 @@ impl Robot {
     pub fn from_data(data: RobotData) -> Robot {
         Robot { data: Arc::new(data) }
     }
+
+    /// A robot made in memory (identified, or carrying a payload): no file, nothing the
+    /// loader said.
+    pub fn in_memory(model: Model) -> Robot {
+        Robot::from_data(RobotData::new(model, None, Vec::new(), Vec::new()))
+    }
 }
 
 #[pymethods]
