@@ -125,3 +125,53 @@ def check_frames(robot, name):
             for key, value in results.items():
                 for k, s in enumerate(states):
                     assert_close(f"{frame} {key} {ref} state {k}", value[k], s["frames"][frame][key][ref])
+
+
+def check_against_pinocchio(robot, name):
+    """Everything Pinocchio has values for: θ and the joints, every quantity, the base
+    regressors, the frames."""
+    check_parameters(robot, name)
+    check_every_quantity(robot, name)
+    check_base_regressors(robot, name)
+    check_frames(robot, name)
+
+
+#: The batch methods of the fixed-base dynamics and the fixture arrays they take.
+METHODS = [
+    ("end_effector_pose", ["q"]),
+    ("jacobian", ["q"]),
+    ("jacobian_dot", ["q", "v"]),
+    ("mass_matrix", ["q"]),
+    ("coriolis_matrix", ["q", "v"]),
+    ("gravity", ["q"]),
+    ("inverse_dynamics", ["q", "v", "a"]),
+    ("slotine_li", ["q", "v", "vr", "ar"]),
+    ("regressor", ["q", "v", "vr", "ar"]),
+    ("torque_regressor", ["q", "v", "a"]),
+    ("base_regressor", ["q", "v", "vr", "ar"]),
+    ("base_torque_regressor", ["q", "v", "a"]),
+    ("forward_dynamics", ["q", "v", "tau"]),
+    ("mass_matrix_inverse", ["q"]),
+    ("inverse_dynamics_derivatives", ["q", "v", "a"]),
+    ("forward_dynamics_derivatives", ["q", "v", "tau"]),
+    ("energy_regressor", ["q", "v"]),
+]
+
+
+def call(robot, method, arguments, batches, state=None):
+    """`method` of `robot` on the named fixture batches (or on their row `state` alone),
+    its results as a tuple."""
+    arrays = (batches[k] if state is None else batches[k][state] for k in arguments)
+    result = getattr(robot, method)(*arrays)
+    return result if isinstance(result, tuple) else (result,)
+
+
+def check_single_states_are_batch_rows(robot, method, arguments, batches, states, tol):
+    """`method` on each of `states` alone gives that state's row of the batch's results, to
+    `tol` (0: bit for bit)."""
+    batch = call(robot, method, arguments, batches)
+    for k in states:
+        for single, rows in zip(call(robot, method, arguments, batches, k), batch):
+            assert single.shape == rows.shape[1:]
+            assert_close(f"{method} state {k}", single, rows[k], tol)
+    return batch

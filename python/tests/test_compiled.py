@@ -11,14 +11,13 @@ import pytest
 import dyngen
 from conftest import (
     DESCRIPTIONS,
+    METHODS,
     assert_close,
-    check_base_regressors,
-    check_every_quantity,
-    check_frames,
-    check_parameters,
+    call,
+    check_against_pinocchio,
+    check_single_states_are_batch_rows,
     fixture_batches,
 )
-from test_generic import METHODS, as_tuple
 
 OPTIONS = dict(functions="all", opt_level=0)
 
@@ -29,26 +28,17 @@ def compiled():
 
 
 def test_every_quantity_matches_pinocchio(compiled):
-    check_parameters(compiled, "ur5")
-    check_every_quantity(compiled, "ur5")
-    check_base_regressors(compiled, "ur5")
-    check_frames(compiled, "ur5")
+    check_against_pinocchio(compiled, "ur5")
 
 
 @pytest.mark.parametrize("method,arguments", METHODS[:-1])
 def test_every_method_equals_the_generic_one_and_a_state_its_row(compiled, robots, method, arguments):
     _, x = fixture_batches("ur5")
-    generated = as_tuple(getattr(compiled, method)(*(x[k] for k in arguments)))
-    generic = as_tuple(getattr(robots["ur5"], method)(*(x[k] for k in arguments)))
-    for g, r in zip(generated, generic):
-        assert_close(method, g, r, 1e-10)
     # A batch may run four states at once in SIMD lanes (the base torque regressor): the
     # same values to rounding (docs/c-library.md).
-    for k in [0, 11, 19]:
-        single = as_tuple(getattr(compiled, method)(*(x[name][k] for name in arguments)))
-        for s, b in zip(single, generated):
-            assert s.shape == b.shape[1:]
-            assert_close(f"{method} state {k}", s, b[k], 1e-14)
+    generated = check_single_states_are_batch_rows(compiled, method, arguments, x, [0, 11, 19], tol=1e-14)
+    for g, r in zip(generated, call(robots["ur5"], method, arguments, x)):
+        assert_close(method, g, r, 1e-10)
 
 
 def test_names_sizes_and_base_parameters_are_the_descriptions(compiled, robots):

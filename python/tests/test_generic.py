@@ -4,69 +4,18 @@ states; a batch's row equals the single state's result."""
 import numpy as np
 import pytest
 
-from conftest import (
-    assert_close,
-    check_base_regressors,
-    check_every_quantity,
-    check_frames,
-    check_parameters,
-    fixture_batches,
-)
-
-ROBOTS = ["panda", "ur5"]
+from conftest import METHODS, assert_close, check_against_pinocchio, check_single_states_are_batch_rows, fixture_batches
 
 
-@pytest.mark.parametrize("name", ROBOTS)
-def test_parameters_and_every_quantity_of_a_batch_match_pinocchio(robots, name):
-    check_parameters(robots[name], name)
-    check_every_quantity(robots[name], name)
-
-
-@pytest.mark.parametrize("name", ROBOTS)
-def test_base_regressors_times_base_parameters_give_the_torques(robots, name):
-    check_base_regressors(robots[name], name)
-
-
-@pytest.mark.parametrize("name", ROBOTS)
-def test_frames_match_pinocchio_in_every_reference_frame(robots, name):
-    check_frames(robots[name], name)
-
-
-METHODS = [
-    ("end_effector_pose", ["q"]),
-    ("jacobian", ["q"]),
-    ("jacobian_dot", ["q", "v"]),
-    ("mass_matrix", ["q"]),
-    ("coriolis_matrix", ["q", "v"]),
-    ("gravity", ["q"]),
-    ("inverse_dynamics", ["q", "v", "a"]),
-    ("slotine_li", ["q", "v", "vr", "ar"]),
-    ("regressor", ["q", "v", "vr", "ar"]),
-    ("torque_regressor", ["q", "v", "a"]),
-    ("base_regressor", ["q", "v", "vr", "ar"]),
-    ("base_torque_regressor", ["q", "v", "a"]),
-    ("forward_dynamics", ["q", "v", "tau"]),
-    ("mass_matrix_inverse", ["q"]),
-    ("inverse_dynamics_derivatives", ["q", "v", "a"]),
-    ("forward_dynamics_derivatives", ["q", "v", "tau"]),
-    ("energy_regressor", ["q", "v"]),
-]
-
-
-def as_tuple(result):
-    return result if isinstance(result, tuple) else (result,)
+@pytest.mark.parametrize("name", ["panda", "ur5"])
+def test_parameters_every_quantity_base_regressors_and_frames_match_pinocchio(robots, name):
+    check_against_pinocchio(robots[name], name)
 
 
 @pytest.mark.parametrize("method,arguments", METHODS)
 def test_a_single_state_equals_its_row_of_the_batch(robots, method, arguments):
-    robot = robots["panda"]
     _, x = fixture_batches("panda")
-    batch = as_tuple(getattr(robot, method)(*(x[k] for k in arguments)))
-    for k in [0, 7, 19]:
-        single = as_tuple(getattr(robot, method)(*(x[name][k] for name in arguments)))
-        for b, s in zip(batch, single):
-            assert s.shape == b.shape[1:]
-            np.testing.assert_array_equal(s, b[k])
+    check_single_states_are_batch_rows(robots["panda"], method, arguments, x, [0, 7, 19], tol=0)
 
 
 def test_non_contiguous_and_list_inputs_give_the_same_values(robots):
