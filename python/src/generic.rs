@@ -166,8 +166,8 @@ impl Robot {
     }
 
     /// [`Robot::each_state`] at frame `index`: `fixed` gets the frame's motion at `q` and `q̇`
-    /// (zero when only `q` is given), `floating` the floating-base dynamics, the checked
-    /// configuration and the frame's index.
+    /// (zero when only `q` is given), `floating` the floating-base dynamics and the checked
+    /// configuration; both get every state's arrays too.
     fn each_frame_state<T: Output>(
         &self,
         py: Python<'_>,
