@@ -26,7 +26,9 @@ pub struct PayloadArgs {
     description: PathBuf,
     /// The measured data with the payload attached; `-` reads the standard input.
     data: PathBuf,
-    /// The description with the payload welded on (dyngen YAML).
+    /// The description with the payload welded on: dyngen YAML, or URDF when the name ends in
+    /// `.urdf` (then, when URDF cannot say everything, also `<name>.dyngen.yaml` beside it,
+    /// which loads the URDF as the robot with the payload).
     #[arg(short, long, value_name = "with_payload.yaml")]
     output: PathBuf,
     /// The frame the payload is attached at and reported in (default: the sensor's frame
@@ -144,10 +146,20 @@ pub fn run(args: PayloadArgs) -> Result<(), Failure> {
         }
         eprintln!("warning: {data}: {why}; written anyway (--force)");
     }
-    let (text, loader_warnings) = p.written(&data, &args.output)?;
-    std::fs::write(&args.output, text)
-        .map_err(|e| Failure::from(format!("{}: cannot write: {e}", args.output.display())))?;
-    println!("wrote {}", args.output.display());
+    let urdf = args
+        .output
+        .extension()
+        .is_some_and(|e| e.eq_ignore_ascii_case("urdf"));
+    let loader_warnings = if urdf {
+        let files = p.urdf(&data, &args.output)?;
+        crate::identify::write_urdf(files, &p.model, &args.output, &args.description)?
+    } else {
+        let (text, loader_warnings) = p.written(&data, &args.output)?;
+        std::fs::write(&args.output, text)
+            .map_err(|e| Failure::from(format!("{}: cannot write: {e}", args.output.display())))?;
+        println!("wrote {}", args.output.display());
+        loader_warnings
+    };
     for warning in &loader_warnings {
         eprintln!("warning: {warning}");
     }
