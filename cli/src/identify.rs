@@ -7,12 +7,12 @@ use crate::loading::LoadingArgs;
 use clap::{Args, ValueEnum};
 use dyngen_codegen::description::load;
 use dyngen_codegen::model::Model;
-use dyngen_identify::{wrapper_path, UrdfFiles};
 use dyngen_identify::{
     identify, identify_file, read_csv, BaseModel, ClosedLoop, ControlLaw, Estimator, Identification,
     IdentifyOptions, Observation, Progress, Reference, WrittenEstimate, DEFAULT_MAX_RELATIVE_STD,
     DEFAULT_WINDOW, DELAY_MARGIN,
 };
+use dyngen_identify::{wrapper_path, UrdfFiles};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -129,13 +129,19 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
     let torque_gains = match args.estimate_gain.as_deref() {
         None => None,
         Some("") => Some(0),
-        Some(name) => Some(model.joints().iter().position(|j| j.name == name).ok_or_else(|| {
-            let names: Vec<&str> = model.joints().iter().map(|j| j.name.as_str()).collect();
-            Failure::from(format!(
-                "--estimate-gain {name}: unknown joint (the robot's moving joints: {})",
-                names.join(", ")
-            ))
-        })?),
+        Some(name) => Some(
+            model
+                .joints()
+                .iter()
+                .position(|j| j.name == name)
+                .ok_or_else(|| {
+                    let names: Vec<&str> = model.joints().iter().map(|j| j.name.as_str()).collect();
+                    Failure::from(format!(
+                        "--estimate-gain {name}: unknown joint (the robot's moving joints: {})",
+                        names.join(", ")
+                    ))
+                })?,
+        ),
     };
     let options = IdentifyOptions {
         cutoff: args.cutoff,
@@ -228,7 +234,10 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
         );
         for (j, joint) in model.joints().iter().enumerate() {
             if j != gains.reference {
-                println!("  {}: {:.5} (σ {:.2e})", joint.name, gains.gains[j], gains.std_dev[j]);
+                println!(
+                    "  {}: {:.5} (σ {:.2e})",
+                    joint.name, gains.gains[j], gains.std_dev[j]
+                );
             }
         }
     }
@@ -373,7 +382,12 @@ fn write(path: &Path, text: &str) -> Result<(), Failure> {
 /// everything, its wrapper beside it (never over `description`); loaded back as written
 /// (through the wrapper when there is one), which must give `model`'s parameters. Returns the
 /// loader's warnings.
-pub fn write_urdf(files: UrdfFiles, model: &Model, output: &Path, description: &Path) -> Result<Vec<String>, Failure> {
+pub fn write_urdf(
+    files: UrdfFiles,
+    model: &Model,
+    output: &Path,
+    description: &Path,
+) -> Result<Vec<String>, Failure> {
     let wrapper = wrapper_path(output);
     if files.wrapper.is_some() && same_file(&wrapper, description) {
         return Err(Failure::from(format!(

@@ -13,9 +13,12 @@
 //!   cubic Hermite curve through both (exact for cubics; a smooth reference sampled at a
 //!   hundred times its band is within 10⁻⁸ of itself).
 //! - The simulation: the forward dynamics of the model (`NumericDynamics`, armature and
-//!   friction included) under the law, by fixed-step fourth-order Runge–Kutta between the
-//!   output times, the step at most [`STEP_PER_PERIOD`] of the loop's fastest time constant at
-//!   the start (`√(D_jj/k_p)`, `D_jj/k_d`): accurate to far below the noise, and stable.
+//!   friction included) under the law, by fourth-order Runge–Kutta, each interval between
+//!   output times in the same power of two of steps, small against the loop's fastest
+//!   oscillation and decay at the start ([`STEP_PER_PERIOD`] of `√(D_jj/k_p)`,
+//!   [`STEP_PER_DECAY`] of `D_jj/(k_d + friction slope)`): accurate to far below the noise,
+//!   and stable. A power of two, so that models near each
+//!   other take the same steps and their simulations differ smoothly.
 //! - Divergence: a state that is not finite, or a joint more than [`DIVERGED`] (rad or m) off
 //!   its reference, stops the simulation with the time and the joint.
 
@@ -60,8 +63,19 @@ pub struct ClosedLoop {
 
 /// A joint this far (rad or m) from its reference is not tracking it: the loop diverged.
 pub const DIVERGED: f64 = 1.0;
-/// The integration step, as a share of the loop's fastest time constant.
-const STEP_PER_PERIOD: f64 = 0.2;
+/// The integration step, at most this many radians of the loop's fastest oscillation: its
+/// error per period is then below 10⁻⁴ of its amplitude.
+const STEP_PER_PERIOD: f64 = 0.25;
+/// The integration step, at most this share of the loop's fastest decay (the damping and the
+/// friction's slope): well inside the method's stability (2.78), and a decaying motion needs
+/// no more accuracy than that.
+const STEP_PER_DECAY: f64 = 1.0;
+/// Postures along the reference at which the step is made small enough for the loop (a joint's
+/// inertia changes with the posture, and with it how fast the loop is).
+const POSTURES: usize = 8;
+/// Integration steps between two output times, at most: a loop stiffer than this resolves is
+/// integrated as far as it goes, and diverges if it must.
+const MAX_STEPS: usize = 1 << 10;
 
 impl ControlLaw {
     /// A PD law with these gains per joint.
@@ -197,8 +211,18 @@ impl Reference {
         let h = self.time[k + 1] - self.time[k];
         let s = ((t - self.time[k]) / h).clamp(0.0, 1.0);
         let (s2, s3) = (s * s, s * s * s);
-        let (h00, h10, h01, h11) = (2.0 * s3 - 3.0 * s2 + 1.0, s3 - 2.0 * s2 + s, -2.0 * s3 + 3.0 * s2, s3 - s2);
-        let (d00, d10, d01, d11) = (6.0 * s2 - 6.0 * s, 3.0 * s2 - 4.0 * s + 1.0, -6.0 * s2 + 6.0 * s, 3.0 * s2 - 2.0 * s);
+        let (h00, h10, h01, h11) = (
+            2.0 * s3 - 3.0 * s2 + 1.0,
+            s3 - 2.0 * s2 + s,
+            -2.0 * s3 + 3.0 * s2,
+            s3 - s2,
+        );
+        let (d00, d10, d01, d11) = (
+            6.0 * s2 - 6.0 * s,
+            3.0 * s2 - 4.0 * s + 1.0,
+            -6.0 * s2 + 6.0 * s,
+            3.0 * s2 - 2.0 * s,
+        );
         let (q0, q1, v0, v1) = (&self.q[k], &self.q[k + 1], &self.qd[k], &self.qd[k + 1]);
         let q = (0..q0.len())
             .map(|j| h00 * q0[j] + h10 * h * v0[j] + h01 * q1[j] + h11 * h * v1[j])
@@ -267,6 +291,9 @@ pub(crate) struct Loop<'a> {
     /// Whether the law adds the simulated model's own gravity torques (the stiff PD that
     /// tracks measured positions does: [`crate::Estimator::InstrumentalVariables`]).
     pub gravity_compensation: bool,
+    /// Integration steps between two output times, at least (a "real" robot is integrated
+    /// finer than a model needs).
+    pub min_steps: usize,
 }
 
 impl Loop<'_> {
@@ -293,11 +320,27 @@ impl Loop<'_> {
         (tau, rate)
     }
 
-    /// The loop from `q0, qd0` at `times[0]` (integral zero), at every one of `times`, by
-    /// steps of at most `step` ([`Loop::largest_step`]); an error naming the time and the joint
-    /// when it diverges.
-    pub fn run(&self, times: &[f64], q0: &[f64], qd0: &[f64], step: f64) -> Result<Run, String> {
+    /// The loop from `q0, qd0` at `times[0]` (integral zero), at every one of `times` (at
+    /// least two), with joint friction damping `friction` ([`friction_damping`]); an error
+    /// naming the time and the joint when it diverges.
+    pub fn run(&self, times: &[f64], q0: &[f64], qd0: &[f64], friction: &[f64]) -> Result<Run, String> {
         let n = q0.len();
+        let longest = times.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max);
+        // The postures the loop passes through, for the mass matrix's smallest diagonal.
+        let postures = (0..POSTURES).map(|i| {
+            self.reference
+                .at(times[0] + (times[times.len() - 1] - times[0]) * i as f64 / POSTURES as f64)
+                .0
+        });
+        let step = std::iter::once(q0.to_vec())
+            .chain(postures)
+            .map(|q| self.largest_step(&q, friction))
+            .fold(f64::INFINITY, f64::min);
+        let steps = (longest / step)
+            .ceil()
+            .max(self.min_steps as f64)
+            .min(MAX_STEPS as f64) as usize;
+        let steps = steps.next_power_of_two();
         let mut x = State {
             q: q0.to_vec(),
             qd: qd0.to_vec(),
@@ -322,7 +365,6 @@ impl Loop<'_> {
             run.qdd.push(rate.qd.clone());
             run.tau.push(tau);
             let Some(&next) = times.get(k + 1) else { break };
-            let steps = ((next - t) / step).ceil().max(1.0) as usize;
             let h = (next - t) / steps as f64;
             let mut first = Some(rate);
             for s in 0..steps {
@@ -347,28 +389,23 @@ impl Loop<'_> {
         Ok(run)
     }
 
-    /// The largest integration step: [`STEP_PER_PERIOD`] of the fastest time constant of the
-    /// joints taken alone at `q`, with the joints' friction damping `friction`
-    /// ([`friction_damping`]). An iteration keeps the step of its first model, so that the
-    /// steps, and the simulation, change smoothly with the model.
-    pub fn largest_step(&self, q: &[f64], friction: &[f64]) -> f64 {
+    /// The largest integration step for the joints taken alone at `q`, with the joints'
+    /// friction damping `friction`: [`STEP_PER_PERIOD`] of the fastest oscillation's period
+    /// over 2π (`√(D_jj/k_p)`), and [`STEP_PER_DECAY`] of the fastest decay's time constant
+    /// (`D_jj/(k_d + friction)`).
+    fn largest_step(&self, q: &[f64], friction: &[f64]) -> f64 {
         let d = self.dynamics.mass_matrix(q);
-        let fastest = self
-            .law
+        self.law
             .gains
             .iter()
             .zip(friction)
             .enumerate()
             .map(|(j, (g, f))| {
                 let m = d[(j, j)].abs().max(f64::MIN_POSITIVE);
-                (g.kp / m).sqrt().max((g.kd + f) / m)
+                let (oscillation, decay) = ((g.kp / m).sqrt(), (g.kd + f) / m);
+                (STEP_PER_PERIOD / oscillation).min(STEP_PER_DECAY / decay)
             })
-            .fold(0.0, f64::max);
-        if fastest > 0.0 {
-            STEP_PER_PERIOD / fastest
-        } else {
-            f64::INFINITY
-        }
+            .fold(f64::INFINITY, f64::min)
     }
 
     /// An error when the state at `t` is not finite or a joint is [`DIVERGED`] off its

@@ -76,13 +76,16 @@ impl DelaySearch {
 
 /// Searches the delay over `−max..=max` samples (then between samples when `fractional`), the
 /// log of `len` samples with the motion of the samples `kept`, each candidate fitted by
-/// `fit` on the torques its [`Alignment`] pairs.
+/// `fit` on the torques its [`Alignment`] pairs, each joint's noise estimated with the fit
+/// (whole candidates) or held at the best whole candidate's (between samples: the criterion
+/// is then smooth in the delay, where noise estimates that settle to a tolerance would make
+/// it jump by as much as it changes over a tenth of a sample).
 pub(crate) fn search_delay(
     kept: &[usize],
     len: usize,
     max: usize,
     fractional: bool,
-    fit: impl Fn(&Alignment) -> Result<BaseEstimate, IdentifyError>,
+    fit: impl Fn(&Alignment, Option<&[f64]>) -> Result<BaseEstimate, IdentifyError>,
 ) -> Result<DelaySearch, IdentifyError> {
     if len <= 2 * max + 1 || kept.is_empty() {
         return Err(IdentifyError::data(format!(
@@ -95,16 +98,21 @@ pub(crate) fn search_delay(
     let (first, last) = (kept[0], kept[kept.len() - 1]);
     let common = |k: usize| k >= first + reach && k + reach <= last;
     let mut samples_compared = 0;
-    let criterion_at = |d: f64, compared: &mut usize| -> Result<f64, IdentifyError> {
+    // `Σ_j ln σ_j` at delay `d`, and the noise; `noise` held, when given.
+    let criterion_at = |d: f64, noise: Option<&[f64]>, compared: &mut usize| {
         let alignment = Alignment::new(kept, len, d, common);
         *compared = alignment.len();
-        let estimate = fit(&alignment)?;
-        Ok(estimate.joint_noise.iter().map(|s| s.ln()).sum())
+        let estimate = fit(&alignment, noise)?;
+        let criterion: f64 = estimate.joint_noise.iter().map(|s| s.ln()).sum();
+        Ok::<_, IdentifyError>((criterion, estimate.joint_noise))
     };
     let m = max as i64;
     let mut criterion = Vec::with_capacity(2 * max + 1);
+    let mut noises = Vec::with_capacity(2 * max + 1);
     for d in -m..=m {
-        criterion.push((d, criterion_at(d as f64, &mut samples_compared)?));
+        let (c, noise) = criterion_at(d as f64, None, &mut samples_compared)?;
+        criterion.push((d, c));
+        noises.push(noise);
     }
     let mut search = DelaySearch {
         samples: 0.0,
@@ -115,7 +123,8 @@ pub(crate) fn search_delay(
     let whole = search.whole();
     search.samples = whole as f64;
     if fractional {
-        let mut at = |d: f64| criterion_at(d, &mut samples_compared);
+        let noise = &noises[(whole + m) as usize];
+        let mut at = |d: f64| criterion_at(d, Some(noise), &mut samples_compared).map(|(c, _)| c);
         let golden = (5f64.sqrt() - 1.0) / 2.0;
         let (mut a, mut b) = (whole as f64 - 1.0, whole as f64 + 1.0);
         let (mut c, mut d) = (b - golden * (b - a), a + golden * (b - a));

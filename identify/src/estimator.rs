@@ -6,17 +6,18 @@
 //! move it); the chosen estimator then fits the base parameters, and the gains with them
 //! when asked, on the torques paired with the motion at that delay.
 
-use crate::closed_loop::{friction_damping, smoothed, Loop, Reference};
+use crate::closed_loop::{smoothed, Reference};
 use crate::data::Samples;
 use crate::delay::{search_delay, DelaySearch};
 use crate::error::IdentifyError;
-use crate::fixed_point::{iterate, standard_of, stiff_law, ClosedLoopEstimate, LoopLaw, Simulator};
-use dyngen_model::dynamics::NumericDynamics;
+use crate::fixed_point::{
+    iterate, standard_of, stiff_law, ClosedLoopEstimate, IterationStart, LoopLaw, Simulator,
+};
 use crate::instrumental::Measured;
-use crate::least_squares::{estimate, estimate_at_noise, BaseEstimate, Observations};
+use crate::least_squares::{estimate_at_noise, BaseEstimate, Observations};
 use crate::observation::{filtered_positions, BaseModel, BaseRegressorSource, Prepared};
 use crate::pipeline::IdentifyOptions;
-use crate::torque_channel::{gain_names, gain_target, split_gains, with_gain_columns, Alignment, TorqueGains};
+use crate::torque_channel::{fit_torques, Alignment, GainModel, TorqueGains};
 use dyngen_model::model::Model;
 use nalgebra::{DMatrix, DVector};
 use std::fmt;
@@ -57,11 +58,17 @@ impl fmt::Display for Estimator {
 pub const STIFF_PD_SHARE: f64 = 0.25;
 
 /// The simulated model's Coulomb friction is smoothed over this share of the slowest joint's
-/// RMS velocity along the reference, at least: a sign that flips within an integration step
-/// makes the simulated motion jump with the estimate, and the iteration never settles
-/// (measured: a 6-axis arm's wrist parameters cycling at 0.2–1 σ; smoothed, two to five
-/// iterations). The regressor of the simulated motion keeps the description's friction.
+/// RMS velocity along the reference, at least, and over enough that its slope at rest is at
+/// most [`FRICTION_SLOPE`] times the law's damping `k_d` (a steeper slope would set the
+/// integration step): a sign that flips within an integration step makes the simulated motion
+/// jump with the estimate, and the iteration never settles (measured: a 6-axis arm's wrist
+/// parameters cycling at 0.2–1 σ; smoothed, two to five iterations). The regressor of the
+/// simulated motion is smoothed over this share only.
 const SMOOTHING_SHARE: f64 = 0.01;
+/// The smoothed Coulomb friction's slope at rest, at most, in units of the law's damping. Four:
+/// DIDIM's errors on a 6-axis arm are within their scatter of those with the friction smoothed
+/// over a hundredth of the velocity (a slope of up to thirty `k_d`), at half the simulation's cost.
+const FRICTION_SLOPE: f64 = 4.0;
 
 /// The base parameters identified from data, with what the torque channel and the estimator
 /// found: the first half of an identification, before the consistent estimate and the
@@ -102,36 +109,33 @@ pub(crate) fn estimate_torque_form<S: BaseRegressorSource>(
         .tau
         .as_ref()
         .ok_or_else(|| IdentifyError::data("the data has no torque columns (tau[<joint>])"))?;
-    let gains = options.torque_gains;
-    if let Some(r) = gains.filter(|&r| r >= n) {
-        return Err(IdentifyError::data(format!(
-            "the gains' reference joint {r} is not one of the robot's {n} joints"
-        )));
-    }
-    let unknowns = match gains {
-        Some(r) => gain_names(names, &joints, r),
+    let gains = match options.torque_gains {
+        Some(r) if r >= n => {
+            return Err(IdentifyError::data(format!(
+                "the gains' reference joint {r} is not one of the robot's {n} joints"
+            )))
+        }
+        Some(reference) => Some(GainModel {
+            b,
+            joints: joints.clone(),
+            reference,
+        }),
+        None => None,
+    };
+    let unknowns = match &gains {
+        Some(g) => g.names(names),
         None => names.clone(),
     };
-    // The rows on `m` with, when gains are estimated, a column per joint's inverse gain
-    // holding `columns` (the torques the gains multiply), and their target.
-    let rows_of = |m: &DMatrix<f64>, columns: &DVector<f64>| match gains {
-        Some(r) => with_gain_columns(m, columns, n, r),
-        None => m.clone(),
+    // The equations of the unknowns `x` on regressor rows `m` and torques `tau`: with gains,
+    // linearised at `x`.
+    let equations = |m: &DMatrix<f64>, tau: &DVector<f64>, x: &[f64]| match &gains {
+        Some(g) => g.linearised(m, tau, x),
+        None => (m.clone(), tau.clone()),
     };
-    let target_of = |tau: &DVector<f64>| match gains {
-        Some(r) => gain_target(tau, n, r),
-        None => tau.clone(),
-    };
-    let least_squares = |m: &DMatrix<f64>, tau: &DVector<f64>| {
-        let (rows, target) = (rows_of(m, tau), target_of(tau));
-        estimate(
-            Observations::Stacked {
-                w: &rows,
-                tau: &target,
-                n,
-            },
-            &unknowns,
-        )
+    // The weighted least squares, each joint's noise estimated or held at the one given.
+    let least_squares = |m: &DMatrix<f64>, tau: &DVector<f64>, noise: Option<&[f64]>| match &gains {
+        Some(g) => g.least_squares(m, tau, &unknowns, noise),
+        None => fit_torques(m, tau, n, &unknowns, noise),
     };
     let (w, _) = prepared.stack(source);
     let len = samples.len();
@@ -141,7 +145,7 @@ pub(crate) fn estimate_torque_form<S: BaseRegressorSource>(
             len,
             max,
             options.fractional_delay,
-            |alignment| least_squares(&alignment.rows(&w, n), &alignment.torques(all_torques)),
+            |alignment, noise| least_squares(&alignment.rows(&w, n), &alignment.torques(all_torques), noise),
         )?),
         None => None,
     };
@@ -152,29 +156,40 @@ pub(crate) fn estimate_torque_form<S: BaseRegressorSource>(
         |_| true,
     );
     let (measured, torques) = (alignment.rows(&w, n), alignment.torques(all_torques));
-    let start = least_squares(&measured, &torques)?;
+    let start = least_squares(&measured, &torques, None)?;
+    // The description's values, every gain 1.
+    let mut description = base_model.base.base_parameters(&model.parameters());
+    description.resize(unknowns.len(), 1.0);
     let (fit, closed_loop) = match options.estimator {
         Estimator::LeastSquares => (start, None),
         Estimator::InstrumentalVariables => {
             let simulator = simulator(model, base_model, samples, prepared, options, &start.theta_b[..b])?;
-            let equations = Measured::new(&rows_of(&measured, &torques), &target_of(&torques), n, &unknowns)?;
-            let (theta, noise) = (start.theta_b.clone(), start.joint_noise.clone());
-            let (fit, how) = iterate("IDIM-IV", theta, noise, b, &simulator, |simulated, noise| {
-                let instruments = rows_of(
-                    &alignment.rows(&simulated.regressor, n),
-                    &alignment.rows(&simulated.torques, n).column(0).into_owned(),
-                );
-                equations.estimate(&instruments, noise)
+            // From the least squares, or from the description (the least squares' gains)
+            // when the least squares' model diverges in the loop.
+            description[b..].copy_from_slice(&start.theta_b[b..]);
+            let starts = vec![
+                (IterationStart::LeastSquares, start.theta_b.clone()),
+                (IterationStart::Description, description),
+            ];
+            let noise = start.joint_noise.clone();
+            let (fit, how) = iterate("IDIM-IV", starts, noise, b, &simulator, |simulated, x, noise| {
+                let (rows, target) = equations(&measured, &torques, x);
+                let (instruments, _) = equations(&alignment.rows(&simulated.regressor, n), &torques, x);
+                Measured::new(&rows, &target, n, &unknowns)?.estimate(&instruments, noise)
             })?;
             (fit, Some(how))
         }
         Estimator::Didim => {
-            let mut from = base_model.base.base_parameters(&model.parameters());
-            let simulator = simulator(model, base_model, samples, prepared, options, &from)?;
-            from.resize(unknowns.len(), 1.0);
-            let (fit, how) = iterate("DIDIM", from, start.joint_noise.clone(), b, &simulator, |simulated, noise| {
-                let regressor = alignment.rows(&simulated.regressor, n);
-                let (rows, target) = (rows_of(&regressor, &torques), target_of(&torques));
+            let simulator = simulator(model, base_model, samples, prepared, options, &start.theta_b[..b])?;
+            // From the description, or from the least squares when the description's model
+            // diverges in the loop.
+            let starts = vec![
+                (IterationStart::Description, description),
+                (IterationStart::LeastSquares, start.theta_b.clone()),
+            ];
+            let noise = start.joint_noise.clone();
+            let (fit, how) = iterate("DIDIM", starts, noise, b, &simulator, |simulated, x, noise| {
+                let (rows, target) = equations(&alignment.rows(&simulated.regressor, n), &torques, x);
                 estimate_at_noise(
                     Observations::Stacked {
                         w: &rows,
@@ -188,9 +203,9 @@ pub(crate) fn estimate_torque_form<S: BaseRegressorSource>(
             (fit, Some(how))
         }
     };
-    let (base, gains) = match gains {
-        Some(r) => {
-            let (base, gains) = split_gains(&fit, b, &joints, r)?;
+    let (base, gains) = match &gains {
+        Some(g) => {
+            let (base, gains) = g.split(&fit)?;
             (base, Some(gains))
         }
         None => (fit, None),
@@ -208,9 +223,9 @@ pub(crate) fn estimate_torque_form<S: BaseRegressorSource>(
 
 /// The model in the robot's loop along the log: the law and reference given, from the log's
 /// first sample (the measured position, the reference's velocity, the integral at zero); or,
-/// without them, a stiff PD ([`STIFF_PD_SHARE`], [`stiff_law`] with the model of `start`, the
-/// estimate iterated from) on the filtered positions and velocities of the kept samples, from
-/// the first.
+/// without them, a stiff PD ([`STIFF_PD_SHARE`]) on the filtered positions and velocities of
+/// the kept samples, from the first. The stiff PD's gains and the friction's smoothing are
+/// set once, with the model of `start` (the least squares).
 fn simulator<'a>(
     model: &'a Model,
     base_model: &'a BaseModel<'_>,
@@ -250,32 +265,32 @@ fn simulator<'a>(
             (LoopLaw::Stiff(law), reference, prepared.kept[0], state)
         }
     };
-    // Coulomb friction smoothed over a hundredth of the slowest joint's RMS velocity.
+    // Coulomb friction smoothed over a hundredth of the slowest joint's RMS velocity, or
+    // over more: its slope at rest at most [`FRICTION_SLOPE`] times the law's damping.
     let slowest = (0..model.dof())
         .map(|j| (reference.qd.iter().map(|v| v[j] * v[j]).sum::<f64>() / reference.qd.len() as f64).sqrt())
         .fold(f64::INFINITY, f64::min);
-    let simulated = smoothed(model, (SMOOTHING_SHARE * slowest).max(f64::MIN_POSITIVE));
     let theta = standard_of(&base_model.base, start);
-    let dynamics = NumericDynamics::with_parameters(&simulated, &theta);
-    let probe = Loop {
-        dynamics: &dynamics,
-        law: match &law {
-            LoopLaw::Given(law) | LoopLaw::Stiff(law) => law,
-        },
-        reference: &reference,
-        quantum: None,
-        gravity_compensation: false,
+    let gains = match &law {
+        LoopLaw::Given(law) | LoopLaw::Stiff(law) => &law.gains,
     };
-    let step = probe.largest_step(&from.0, &friction_damping(&simulated, &theta));
+    let coulomb = model.joint_term_values_from(&theta);
+    let damped = coulomb
+        .iter()
+        .zip(gains)
+        .map(|(v, g)| v.coulomb.abs() / (FRICTION_SLOPE * g.kd.max(f64::MIN_POSITIVE)))
+        .fold(0.0, f64::max);
+    let least = (SMOOTHING_SHARE * slowest).max(f64::MIN_POSITIVE);
+    let simulated = smoothed(model, least.max(damped));
     Ok(Simulator {
         model: simulated,
+        regressor: smoothed(model, least),
         base: &base_model.base,
         law,
         reference,
         times: samples.time[first..=last].to_vec(),
         first,
         start: from,
-        step,
         kept: &prepared.kept,
         measured: &prepared.q,
     })

@@ -97,20 +97,27 @@ impl ControlLaw {
         let mut records = reader.records();
         let header = match records.next() {
             Some(Ok(h)) => h,
-            Some(Err(source)) => return Err(IdentifyError::data(format!("not valid CSV: {source}")).at_line(1)),
+            Some(Err(source)) => {
+                return Err(IdentifyError::data(format!("not valid CSV: {source}")).at_line(1))
+            }
             None => return Err(IdentifyError::data("no gains: the file is empty")),
         };
         let mut columns = [None; 4];
         for (c, name) in header.iter().enumerate() {
-            let slot = ["joint", "kp", "kd", "ki"].iter().position(|k| *k == name).ok_or_else(|| {
-                IdentifyError::data(format!(
-                    "column {} ('{name}'): unknown column: expected joint, kp, kd and optionally ki",
-                    c + 1
-                ))
-                .at_line(1)
-            })?;
+            let slot = ["joint", "kp", "kd", "ki"]
+                .iter()
+                .position(|k| *k == name)
+                .ok_or_else(|| {
+                    IdentifyError::data(format!(
+                        "column {} ('{name}'): unknown column: expected joint, kp, kd and optionally ki",
+                        c + 1
+                    ))
+                    .at_line(1)
+                })?;
             if columns[slot].replace(c).is_some() {
-                return Err(IdentifyError::data(format!("column {} ('{name}'): duplicate column", c + 1)).at_line(1));
+                return Err(
+                    IdentifyError::data(format!("column {} ('{name}'): duplicate column", c + 1)).at_line(1),
+                );
             }
         }
         for (slot, name) in [(0, "joint"), (1, "kp"), (2, "kd")] {
@@ -148,7 +155,9 @@ impl ControlLaw {
         for assignment in assignments {
             let located = |e: IdentifyError| IdentifyError::data(format!("gains '{assignment}': {e}"));
             let (joint, values) = assignment.split_once('=').ok_or_else(|| {
-                IdentifyError::data(format!("gains '{assignment}': expected JOINT=KP,KD or JOINT=KP,KD,KI"))
+                IdentifyError::data(format!(
+                    "gains '{assignment}': expected JOINT=KP,KD or JOINT=KP,KD,KI"
+                ))
             })?;
             let values: Vec<&str> = values.split(',').collect();
             if !(2..=3).contains(&values.len()) {
@@ -159,7 +168,10 @@ impl ControlLaw {
             let gains = JointGains {
                 kp: number(values[0], "kp").map_err(located)?,
                 kd: number(values[1], "kd").map_err(located)?,
-                ki: values.get(2).map_or(Ok(0.0), |v| number(v, "ki")).map_err(located)?,
+                ki: values
+                    .get(2)
+                    .map_or(Ok(0.0), |v| number(v, "ki"))
+                    .map_err(located)?,
             };
             table.set(joint.trim(), gains).map_err(located)?;
         }

@@ -18,7 +18,9 @@
 //! residual variance; with `Z = W` it is the least squares'.
 
 use crate::error::IdentifyError;
-use crate::least_squares::{relative_change, scaled_condition_number, BaseEstimate, NOISE_FLOOR, NOISE_SETTLED};
+use crate::least_squares::{
+    floored_noise, relative_change, scaled_condition_number, BaseEstimate, NOISE_SETTLED,
+};
 use nalgebra::{DMatrix, DVector};
 
 /// The measured side of the instrumental-variable equations, prepared once for every set of
@@ -33,11 +35,17 @@ pub(crate) struct Measured {
     torque_rms: Vec<f64>,
 }
 
+/// One joint's products of its instruments `Z_j` with its rows `W_j`, with themselves and with
+/// its torques `τ_j`, in scaled columns.
+struct JointProducts {
+    zw: DMatrix<f64>,
+    zz: DMatrix<f64>,
+    z_tau: DVector<f64>,
+}
+
 /// Column norms of `m`, each at least the smallest positive number.
 fn column_norms(m: &DMatrix<f64>) -> Vec<f64> {
-    m.column_iter()
-        .map(|c| c.norm().max(f64::MIN_POSITIVE))
-        .collect()
+    m.column_iter().map(|c| c.norm().max(f64::MIN_POSITIVE)).collect()
 }
 
 /// The rows of joint `j` of the stacked `m` (rows sample-major over `n` joints), each column
@@ -50,7 +58,12 @@ fn joint_rows(m: &DMatrix<f64>, j: usize, n: usize, norms: &[f64]) -> DMatrix<f6
 impl Measured {
     /// `W θ ≈ τ` (rows sample-major over `n` joints), the parameters named `names`; an error
     /// naming a parameter `W` cannot determine.
-    pub fn new(w: &DMatrix<f64>, tau: &DVector<f64>, n: usize, names: &[String]) -> Result<Measured, IdentifyError> {
+    pub fn new(
+        w: &DMatrix<f64>,
+        tau: &DVector<f64>,
+        n: usize,
+        names: &[String],
+    ) -> Result<Measured, IdentifyError> {
         let norms = column_norms(w);
         let joints: Vec<(DMatrix<f64>, DVector<f64>)> = (0..n)
             .map(|j| {
@@ -61,7 +74,9 @@ impl Measured {
             .collect();
         let gram = joints
             .iter()
-            .fold(DMatrix::zeros(w.ncols(), w.ncols()), |acc, (wj, _)| acc + wj.tr_mul(wj));
+            .fold(DMatrix::zeros(w.ncols(), w.ncols()), |acc, (wj, _)| {
+                acc + wj.tr_mul(wj)
+            });
         let condition_number = scaled_condition_number(&gram, names)?;
         let torque_rms = joints
             .iter()
@@ -83,23 +98,24 @@ impl Measured {
     pub fn estimate(&self, z: &DMatrix<f64>, noise: &[f64]) -> Result<BaseEstimate, IdentifyError> {
         let (n, b) = (self.n, self.norms.len());
         let z_norms = column_norms(z);
-        // Per joint: Zⱼᵀ Wⱼ, Zⱼᵀ Zⱼ, Zⱼᵀ τⱼ, in scaled columns.
-        let products: Vec<(DMatrix<f64>, DMatrix<f64>, DVector<f64>)> = self
+        let products: Vec<JointProducts> = self
             .joints
             .iter()
             .enumerate()
             .map(|(j, (wj, tj))| {
                 let zj = joint_rows(z, j, n, &z_norms);
-                (zj.tr_mul(wj), zj.tr_mul(&zj), zj.tr_mul(tj))
+                JointProducts {
+                    zw: zj.tr_mul(wj),
+                    zz: zj.tr_mul(&zj),
+                    z_tau: zj.tr_mul(tj),
+                }
             })
             .collect();
         // The instruments must determine every parameter, as the measured regressor must.
-        let zz = products
-            .iter()
-            .fold(DMatrix::zeros(b, b), |acc, (_, zz, _)| acc + zz);
+        let zz = products.iter().fold(DMatrix::zeros(b, b), |acc, p| acc + &p.zz);
         scaled_condition_number(&zz, &self.names)?;
         let weights: Vec<f64> = noise.iter().map(|s| s.powi(-2)).collect();
-        let weighted = |pick: &dyn Fn(&(DMatrix<f64>, DMatrix<f64>, DVector<f64>)) -> DMatrix<f64>| {
+        let weighted = |pick: &dyn Fn(&JointProducts) -> DMatrix<f64>| {
             products
                 .iter()
                 .zip(&weights)
@@ -107,8 +123,8 @@ impl Measured {
                 .reduce(|acc, m| acc + m)
                 .expect("a robot has joints")
         };
-        let a = weighted(&|p| p.0.clone());
-        let rhs = weighted(&|p| DMatrix::from_column_slice(b, 1, p.2.as_slice()));
+        let a = weighted(&|p| p.zw.clone());
+        let rhs = weighted(&|p| DMatrix::from_column_slice(b, 1, p.z_tau.as_slice()));
         let a_inv = a.try_inverse().ok_or_else(|| {
             IdentifyError::Unidentifiable(
                 "the instruments do not determine the parameters (Zᵀ W is singular): the simulated \
@@ -123,29 +139,31 @@ impl Measured {
             .map(|(wj, tj)| (tj - wj * &x).norm_squared())
             .collect();
         // σ_j² = ‖r_j‖² over the joint's degrees of freedom, N less its share of the trace.
-        let next: Vec<f64> = (0..n)
+        let raw: Vec<f64> = (0..n)
             .map(|j| {
                 let samples = self.joints[j].1.len() as f64;
-                let leverage = (&a_inv * &products[j].0).trace() * weights[j];
-                (squares[j] / (samples - leverage).max(1.0))
-                    .sqrt()
-                    .max(NOISE_FLOOR * self.torque_rms[j])
-                    .max(f64::MIN_POSITIVE)
+                let leverage = (&a_inv * &products[j].zw).trace() * weights[j];
+                (squares[j] / (samples - leverage).max(1.0)).sqrt()
             })
             .collect();
+        let next = floored_noise(&raw, &self.torque_rms);
         let rows: usize = self.joints.iter().map(|(wj, _)| wj.nrows()).sum();
         let s2 = squares.iter().zip(&weights).map(|(r, w)| r * w).sum::<f64>() / (rows - b) as f64;
         let s2 = if s2 > 0.0 { s2 } else { 1.0 };
-        let middle = weighted(&|p| p.1.clone());
+        let middle = weighted(&|p| p.zz.clone());
         let covariance = (&a_inv * middle * a_inv.transpose()) * s2;
         let covariance = (&covariance + covariance.transpose()) * 0.5;
-        let information = covariance.clone().cholesky().map(|c| c.inverse()).ok_or_else(|| {
-            IdentifyError::Unidentifiable(
-                "the instrumental-variable covariance is not positive definite: the instruments do \
+        let information = covariance
+            .clone()
+            .cholesky()
+            .map(|c| c.inverse())
+            .ok_or_else(|| {
+                IdentifyError::Unidentifiable(
+                    "the instrumental-variable covariance is not positive definite: the instruments do \
                  not determine every parameter"
-                    .into(),
-            )
-        })?;
+                        .into(),
+                )
+            })?;
         Ok(BaseEstimate {
             names: self.names.clone(),
             theta_b: (0..b).map(|k| x[k] / self.norms[k]).collect(),

@@ -205,7 +205,32 @@ const ZERO_COLUMN_TOL: f64 = 1e-12;
 
 /// Floor of a joint's noise estimate, relative to its torque RMS: noise-free data must not
 /// make a weight infinite.
-pub(crate) const NOISE_FLOOR: f64 = 1e-12;
+const NOISE_FLOOR: f64 = 1e-12;
+/// Floor of a joint's noise relative to its torque RMS, as a share of the largest such ratio
+/// of any joint: a joint the model fits exactly (noise-free, or its torque channel's gain
+/// estimated) beside one it does not would otherwise get weights 10²⁴ times the other's, and
+/// the weighted normal equations lose the other joints' rows to rounding.
+const RELATIVE_NOISE_FLOOR: f64 = 1e-4;
+
+/// Each joint's noise `raw` (from its residuals) held above the floors, `torque_rms` its
+/// torque RMS: [`NOISE_FLOOR`] of the torques and [`RELATIVE_NOISE_FLOOR`] of the noisiest
+/// joint's share.
+pub(crate) fn floored_noise(raw: &[f64], torque_rms: &[f64]) -> Vec<f64> {
+    let noisiest = raw
+        .iter()
+        .zip(torque_rms)
+        .filter(|(_, r)| **r > 0.0)
+        .map(|(s, r)| s / r)
+        .fold(0.0, f64::max);
+    raw.iter()
+        .zip(torque_rms)
+        .map(|(s, r)| {
+            s.max(NOISE_FLOOR * r)
+                .max(RELATIVE_NOISE_FLOOR * noisiest * r)
+                .max(f64::MIN_POSITIVE)
+        })
+        .collect()
+}
 
 /// The noise estimate has settled when no joint's `σ_j` changes by more than this fraction.
 pub(crate) const NOISE_SETTLED: f64 = 1e-3;
@@ -365,16 +390,14 @@ fn fit(
     let noise_of = |x: &DVector<f64>, a: &DMatrix<f64>, w: &[f64]| -> Vec<f64> {
         let squares = scaled.residual_squares(x);
         let a_inv = a.clone().cholesky().expect("checked positive definite").inverse();
-        (0..n)
+        let raw: Vec<f64> = (0..n)
             .map(|j| {
                 let leverage = a_inv.component_mul(&grams[j]).sum() * w[j];
                 let dof = (samples as f64 - leverage).max(1.0);
-                (squares[j] / dof)
-                    .sqrt()
-                    .max(NOISE_FLOOR * torque_rms[j])
-                    .max(f64::MIN_POSITIVE)
+                (squares[j] / dof).sqrt()
             })
-            .collect()
+            .collect();
+        floored_noise(&raw, &torque_rms)
     };
     let weighted = |noise: &[f64]| {
         let w: Vec<f64> = noise.iter().map(|s| s.powi(-2)).collect();

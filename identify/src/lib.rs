@@ -41,8 +41,9 @@
 //! grasped object at a frame with the robot held, from joint torques, a force/torque sensor's
 //! wrench (`fx … mz[<frame>]` columns), or both ([`PayloadEstimate`]).
 //!
-//! [`measure`], [`measure_wrench`], [`with_payload`], [`with_body_at`] and [`with_joint_terms`]
-//! simulate measurements of a "true" robot, for tests and studies.
+//! [`measure`], [`measure_closed_loop`], [`measure_wrench`], [`with_payload`], [`with_body_at`],
+//! [`with_bodies_scaled`] and [`with_joint_terms`] simulate measurements of a "true" robot, for
+//! tests and studies.
 
 mod closed_loop;
 mod consistent;
@@ -84,7 +85,7 @@ pub use energy::{Observation, DEFAULT_WINDOW};
 pub use error::{IdentifyError, Place};
 pub use estimator::{BaseIdentification, Estimator, STIFF_PD_SHARE};
 pub use excitation::{condition_number, optimise, optimise_within, Excitation, ExcitationOptions};
-pub use fixed_point::{ClosedLoopEstimate, CONVERGED, MAX_ITERATIONS};
+pub use fixed_point::{ClosedLoopEstimate, IterationStart, CONVERGED, MAX_ITERATIONS};
 pub use fourier::{FourierTrajectory, JointSample, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
 pub use least_squares::{BaseEstimate, Trust, DEFAULT_MAX_RELATIVE_STD};
 pub use normal_equations::NormalEquations;
@@ -94,14 +95,15 @@ pub use payload::{
     SENSOR_MISFIT_LIMIT,
 };
 pub use pipeline::{
-    identify, identify_base, identify_base_with, identify_file, identify_with, Identification, IdentifyOptions,
-    WrittenEstimate,
+    identify, identify_base, identify_base_with, identify_file, identify_with, Identification,
+    IdentifyOptions, WrittenEstimate,
 };
 pub use simulate::{
-    measure, measure_closed_loop, measure_wrench, with_body_at, with_joint_terms, with_payload, Logging,
+    measure, measure_closed_loop, measure_wrench, with_bodies_scaled, with_body_at, with_joint_terms,
+    with_payload, Logging,
 };
 pub use starts::ConsistentStart;
 pub use streaming::{estimate_streaming, Progress, StreamedEstimate};
-pub use torque_channel::TorqueGains;
+pub use torque_channel::{TorqueGains, GAIN_UNDETERMINED};
 pub use urdf::{to_urdf, wrapper_path, UrdfFiles};
 pub use workspace::{ExcitationError, Region, Workspace, WorkspaceCheck, WorkspaceConstraint};

@@ -201,7 +201,11 @@ pub(crate) fn motion(samples: &Samples, cutoff: f64) -> Result<Motion, IdentifyE
 
 /// The positions of the samples `kept`, through the zero-phase low-pass filter that
 /// [`prepare`] differentiates when the data has no velocities (as they are, when it has).
-pub(crate) fn filtered_positions(samples: &Samples, kept: &[usize], cutoff: f64) -> Result<Vec<Vec<f64>>, IdentifyError> {
+pub(crate) fn filtered_positions(
+    samples: &Samples,
+    kept: &[usize],
+    cutoff: f64,
+) -> Result<Vec<Vec<f64>>, IdentifyError> {
     if samples.qd.is_some() {
         return Ok(kept.iter().map(|&k| samples.q[k].clone()).collect());
     }
@@ -210,7 +214,10 @@ pub(crate) fn filtered_positions(samples: &Samples, kept: &[usize], cutoff: f64)
     let columns: Vec<Vec<f64>> = (0..n)
         .map(|j| filtfilt(&samples.q.iter().map(|r| r[j]).collect::<Vec<_>>(), rate, cutoff))
         .collect();
-    Ok(kept.iter().map(|&k| columns.iter().map(|c| c[k]).collect()).collect())
+    Ok(kept
+        .iter()
+        .map(|&k| columns.iter().map(|c| c[k]).collect())
+        .collect())
 }
 
 impl Prepared {

@@ -258,10 +258,8 @@ fn fit_base(
     check_options(options)?;
     let prepared = prepare(samples, options.cutoff).map_err(|e| samples.locate(e))?;
     Ok(match options.observation {
-        Observation::Torque => {
-            estimate_torque_form(model, base_model, source, samples, &prepared, options)
-                .map_err(|e| samples.locate(e))?
-        }
+        Observation::Torque => estimate_torque_form(model, base_model, source, samples, &prepared, options)
+            .map_err(|e| samples.locate(e))?,
         Observation::Energy { window } => windowed(
             estimate_by_energy(base_model, samples, &prepared, window).map_err(|e| samples.locate(e))?,
             &prepared,
@@ -398,7 +396,11 @@ pub(crate) fn carrier(frame: &dyngen_model::model::Frame) -> usize {
 }
 
 /// From the least squares to the identified description.
-fn complete(model: &Model, base_model: &BaseModel<'_>, fit: BaseIdentification) -> Result<Identification, IdentifyError> {
+fn complete(
+    model: &Model,
+    base_model: &BaseModel<'_>,
+    fit: BaseIdentification,
+) -> Result<Identification, IdentifyError> {
     let base = fit.base;
     let mut warnings = Vec::new();
     if !base.noise_settled {

@@ -84,6 +84,20 @@ pub fn measure_wrench(
         .collect()
 }
 
+/// `model` with body `b`'s mass and inertia `factors[b]` times the description's (its centre
+/// of mass kept): a description off by as much.
+pub fn with_bodies_scaled(model: &Model, factors: &[f64]) -> Model {
+    let mut bodies = model.bodies().to_vec();
+    for (body, &f) in bodies.iter_mut().zip(factors) {
+        body.inertia.mass *= f;
+        body.inertia.inertia_com *= f;
+    }
+    model
+        .clone()
+        .with_bodies(bodies)
+        .expect("positive factors keep a model valid")
+}
+
 /// `model` with every joint-level column and the given values per joint.
 pub fn with_joint_terms(model: &Model, values: &[JointTermValues], coulomb_smoothing: Option<f64>) -> Model {
     let terms = JointTerms {
@@ -158,6 +172,10 @@ pub struct Logging {
     pub seed: u64,
 }
 
+/// Integration steps between output times of a "real" robot, at least: its positions and
+/// torques are those of the continuous loop to far below any noise.
+const TRUTH_STEPS: usize = 8;
+
 /// `truth` run by `law` along `trajectory` (starting on it, at rest in the integral),
 /// `duration` s logged at `rate` Hz as [`Logging`] says: positions and torques (no
 /// velocities or accelerations); and the reference at the log's times. The torques logged
@@ -177,9 +195,7 @@ pub fn measure_closed_loop(
     }
     // Times in samples: the log's, and the torques' `delay` earlier; the loop starts before
     // the first of them.
-    let mut at: Vec<f64> = (0..count)
-        .flat_map(|k| [k as f64, k as f64 - delay])
-        .collect();
+    let mut at: Vec<f64> = (0..count).flat_map(|k| [k as f64, k as f64 - delay]).collect();
     let start = -(delay.ceil() + 1.0);
     at.push(start);
     at.sort_by(f64::total_cmp);
@@ -196,6 +212,7 @@ pub fn measure_closed_loop(
         reference: &reference,
         quantum,
         gravity_compensation: false,
+        min_steps: TRUTH_STEPS,
     };
     let first = trajectory.at(times[0]);
     let run = closed
@@ -203,7 +220,7 @@ pub fn measure_closed_loop(
             &times,
             &first.q,
             &first.qd,
-            closed.largest_step(&first.q, &friction_damping(truth, &truth.parameters())),
+            &friction_damping(truth, &truth.parameters()),
         )
         .map_err(|e| IdentifyError::data(format!("the simulated robot diverged: {e}")))?;
     let index = |s: f64| at.partition_point(|&x| x < s - 1e-9);

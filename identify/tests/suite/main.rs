@@ -5,6 +5,7 @@
 mod common;
 
 mod bad_input;
+mod closed_loop;
 mod delay;
 mod energy;
 mod estimation;

@@ -1,6 +1,8 @@
 //! The arm7 set-up shared by the identification tests.
 #![allow(dead_code)]
 
+pub mod closed_loop;
+
 use dyngen_identify::{with_joint_terms, with_payload};
 use dyngen_model::description::load;
 use dyngen_model::model::{JointTermValues, Model};
