@@ -15,10 +15,11 @@
 //! - The simulation: the forward dynamics of the model (`NumericDynamics`, armature and
 //!   friction included) under the law, by fourth-order Runge–Kutta, each interval between
 //!   output times in the same power of two of steps, small against the loop's fastest
-//!   oscillation and decay at the start ([`STEP_PER_PERIOD`] of `√(D_jj/k_p)`,
-//!   [`STEP_PER_DECAY`] of `D_jj/(k_d + friction slope)`): accurate to far below the noise,
-//!   and stable. A power of two, so that models near each
-//!   other take the same steps and their simulations differ smoothly.
+//!   oscillation and decay at the start and at postures along the reference
+//!   ([`STEP_PER_PERIOD`] of the period over 2π, [`STEP_PER_DECAY`] of the time constant,
+//!   from the eigenvalues of `D⁻¹ K_p` and `D⁻¹ (K_d + friction slope)`): accurate to far
+//!   below the noise, and stable. A power of two, so that models near each other take the
+//!   same steps and their simulations differ smoothly.
 //! - Divergence: a state that is not finite, or a joint more than [`DIVERGED`] (rad or m) off
 //!   its reference, stops the simulation with the time and the joint.
 
@@ -28,6 +29,7 @@ use crate::error::IdentifyError;
 use crate::fourier::FourierTrajectory;
 use dyngen_model::dynamics::NumericDynamics;
 use dyngen_model::model::{JointTermKind, JointTerms, Model};
+use nalgebra::DMatrix;
 
 /// One joint's gains: `τ = kp (q_r − q) + kd (q̇_r − q̇) + ki ∫(q_r − q) dt`.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -326,7 +328,7 @@ impl Loop<'_> {
     pub fn run(&self, times: &[f64], q0: &[f64], qd0: &[f64], friction: &[f64]) -> Result<Run, String> {
         let n = q0.len();
         let longest = times.windows(2).map(|w| w[1] - w[0]).fold(0.0, f64::max);
-        // The postures the loop passes through, for the mass matrix's smallest diagonal.
+        // The postures the loop passes through: how fast it is changes with the mass matrix.
         let postures = (0..POSTURES).map(|i| {
             self.reference
                 .at(times[0] + (times[times.len() - 1] - times[0]) * i as f64 / POSTURES as f64)
@@ -389,23 +391,32 @@ impl Loop<'_> {
         Ok(run)
     }
 
-    /// The largest integration step for the joints taken alone at `q`, with the joints'
-    /// friction damping `friction`: [`STEP_PER_PERIOD`] of the fastest oscillation's period
-    /// over 2π (`√(D_jj/k_p)`), and [`STEP_PER_DECAY`] of the fastest decay's time constant
-    /// (`D_jj/(k_d + friction)`).
+    /// The largest integration step at `q`, with the joints' friction damping `friction`:
+    /// [`STEP_PER_PERIOD`] of the fastest oscillation's period over 2π and [`STEP_PER_DECAY`]
+    /// of the fastest decay's time constant of the loop linearised there, `D q̈ = −K_p e −
+    /// (K_d + F) ė`: the largest eigenvalues of `D⁻¹ K_p` (its square root) and of
+    /// `D⁻¹ (K_d + F)`. (The joints taken alone, `k/D_jj`, miss how the joints load each
+    /// other: a light wrist coupled to its neighbours moves faster than its diagonal says.)
     fn largest_step(&self, q: &[f64], friction: &[f64]) -> f64 {
         let d = self.dynamics.mass_matrix(q);
-        self.law
-            .gains
-            .iter()
-            .zip(friction)
-            .enumerate()
-            .map(|(j, (g, f))| {
-                let m = d[(j, j)].abs().max(f64::MIN_POSITIVE);
-                let (oscillation, decay) = ((g.kp / m).sqrt(), (g.kd + f) / m);
-                (STEP_PER_PERIOD / oscillation).min(STEP_PER_DECAY / decay)
-            })
-            .fold(f64::INFINITY, f64::min)
+        let Some(inverse) = d.cholesky().map(|c| c.inverse()) else {
+            // Not positive definite: the model has no motion to resolve, and the simulation
+            // stops at the first state that is not finite.
+            return f64::INFINITY;
+        };
+        // The largest eigenvalue of `D⁻¹ K` for diagonal `K ≥ 0`: that of the symmetric
+        // `K^½ D⁻¹ K^½`.
+        let fastest = |k: &dyn Fn(usize) -> f64| {
+            let root: Vec<f64> = (0..inverse.nrows()).map(|j| k(j).max(0.0).sqrt()).collect();
+            let scaled = DMatrix::from_fn(inverse.nrows(), inverse.ncols(), |i, j| {
+                root[i] * inverse[(i, j)] * root[j]
+            });
+            scaled.symmetric_eigenvalues().max()
+        };
+        let gains = &self.law.gains;
+        let oscillation = fastest(&|j| gains[j].kp).sqrt();
+        let decay = fastest(&|j| gains[j].kd + friction[j]);
+        (STEP_PER_PERIOD / oscillation).min(STEP_PER_DECAY / decay)
     }
 
     /// An error when the state at `t` is not finite or a joint is [`DIVERGED`] off its

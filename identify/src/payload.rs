@@ -518,6 +518,7 @@ pub fn identify_payload(
             "joint terms are re-fitted from torques only: held".to_string()
         });
     }
+    samples.check(model).map_err(|e| samples.locate(e))?;
     let motion = motion(samples, options.cutoff).map_err(|e| samples.locate(e))?;
     let n = model.dof();
     let inertial = model.inertial_parameter_count();

@@ -256,6 +256,7 @@ fn fit_base(
     options: &IdentifyOptions,
 ) -> Result<BaseIdentification, IdentifyError> {
     check_options(options)?;
+    samples.check(model).map_err(|e| samples.locate(e))?;
     let prepared = prepare(samples, options.cutoff).map_err(|e| samples.locate(e))?;
     Ok(match options.observation {
         Observation::Torque => estimate_torque_form(model, base_model, source, samples, &prepared, options)
@@ -337,9 +338,14 @@ pub fn identify_file(
              the whole log (identify it without streaming)",
         ));
     }
-    if options.max_delay.is_some() || options.torque_gains.is_some() {
+    if options.max_delay.is_some() {
         return Err(IdentifyError::data(
-            "a delay and torque gains are estimated on the whole log: identify it without streaming",
+            "a delay is searched on the whole log: identify it without streaming",
+        ));
+    }
+    if options.torque_gains.is_some() {
+        return Err(IdentifyError::data(
+            "torque gains are estimated on the whole log: identify it without streaming",
         ));
     }
     if options.estimator != Estimator::LeastSquares {

@@ -14,6 +14,7 @@ mod industrial;
 mod non_physical_description;
 mod payload;
 mod streaming;
+mod torque_channel;
 mod uncertainty;
 mod urdf_output;
 mod workspace;
