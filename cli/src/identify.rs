@@ -12,7 +12,7 @@ use dyngen_identify::{
     IdentifyOptions, Observation, Progress, Reference, WrittenEstimate, DEFAULT_MAX_RELATIVE_STD,
     DEFAULT_WINDOW, DELAY_MARGIN,
 };
-use dyngen_identify::{wrapper_path, UrdfFiles};
+use dyngen_identify::{wrapper_path, IdentifyError, UrdfFiles};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -253,10 +253,11 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
         let steps: Vec<String> = how.steps.iter().map(|s| format!("{s:.3}")).collect();
         let rms: Vec<String> = how.position_rms.iter().map(|r| format!("{r:.2e}")).collect();
         println!(
-            "{}: converged in {} simulations (largest change per iteration, in σ: {}); simulated positions \
-             off the measured by RMS {} (rad or m, per joint)",
+            "{}: converged in {} simulations from {} (largest change per iteration, in σ: {}); simulated \
+             positions off the measured by RMS {} (rad or m, per joint)",
             id.estimator,
             how.steps.len(),
+            how.started_from,
             steps.join(", "),
             rms.join(", ")
         );
@@ -302,19 +303,33 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
         }
         eprintln!("warning: {data}: the identification cannot be trusted: {why}; written anyway (--force)");
     }
-    let urdf = args
-        .output
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("urdf"));
-    let loader_warnings = if urdf {
-        let files = id.urdf(&data, &args.output)?;
-        write_urdf(files, &id.model, &args.output, &args.description)?
+    write_description(
+        &id.model,
+        &args.output,
+        &args.description,
+        || id.urdf(&data, &args.output),
+        || id.written(&data, &args.output),
+    )
+}
+
+/// The description `model` written at `output`: as URDF (`urdf`'s files, see [`write_urdf`])
+/// when the name ends in `.urdf`, else as dyngen YAML (`yaml`'s text); then what the loader
+/// says of the files as written, their names and lines, as warnings.
+pub fn write_description(
+    model: &Model,
+    output: &Path,
+    description: &Path,
+    urdf: impl FnOnce() -> Result<UrdfFiles, IdentifyError>,
+    yaml: impl FnOnce() -> Result<(String, Vec<String>), IdentifyError>,
+) -> Result<(), Failure> {
+    let as_urdf = output.extension().is_some_and(|e| e.eq_ignore_ascii_case("urdf"));
+    let loader_warnings = if as_urdf {
+        write_urdf(urdf()?, model, output, description)?
     } else {
-        let (text, loader_warnings) = id.written(&data, &args.output)?;
-        write(&args.output, &text)?;
+        let (text, loader_warnings) = yaml()?;
+        write(output, &text)?;
         loader_warnings
     };
-    // What the loader says of the files as written: their names and lines.
     for warning in &loader_warnings {
         eprintln!("warning: {warning}");
     }

@@ -146,22 +146,11 @@ pub fn run(args: PayloadArgs) -> Result<(), Failure> {
         }
         eprintln!("warning: {data}: {why}; written anyway (--force)");
     }
-    let urdf = args
-        .output
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("urdf"));
-    let loader_warnings = if urdf {
-        let files = p.urdf(&data, &args.output)?;
-        crate::identify::write_urdf(files, &p.model, &args.output, &args.description)?
-    } else {
-        let (text, loader_warnings) = p.written(&data, &args.output)?;
-        std::fs::write(&args.output, text)
-            .map_err(|e| Failure::from(format!("{}: cannot write: {e}", args.output.display())))?;
-        println!("wrote {}", args.output.display());
-        loader_warnings
-    };
-    for warning in &loader_warnings {
-        eprintln!("warning: {warning}");
-    }
-    Ok(())
+    crate::identify::write_description(
+        &p.model,
+        &args.output,
+        &args.description,
+        || p.urdf(&data, &args.output),
+        || p.written(&data, &args.output),
+    )
 }

@@ -19,6 +19,17 @@ use dyngen_identify::{
 use nalgebra::Vector3;
 use std::path::{Path, PathBuf};
 
+/// A log read by encoders of `encoder_bits` (`None`: exact), without delay or gains, seed 1.
+fn read_by(encoder_bits: Option<u32>) -> Logging {
+    Logging {
+        encoder_bits,
+        torque_noise: Vec::new(),
+        torque_delay: 0.0,
+        torque_gain: Vec::new(),
+        seed: 1,
+    }
+}
+
 /// The small arm of the identification tests as described (every joint column, Coulomb
 /// friction smoothed over 0.01 rad/s), the robot it stands for (a 1.5 kg tool its
 /// description lacks, friction and armature), the PD that runs it and what it tracks, in a
@@ -149,17 +160,7 @@ impl Robot {
 #[test]
 fn closed_loop_methods_from_the_command_line() {
     let robot = Robot::new();
-    let data = robot.log(
-        "data",
-        0.005,
-        Logging {
-            encoder_bits: Some(12),
-            torque_noise: Vec::new(),
-            torque_delay: 0.0,
-            torque_gain: Vec::new(),
-            seed: 1,
-        },
-    );
+    let data = robot.log("data", 0.005, read_by(Some(12)));
     let (gains, reference) = (robot.gains_file(), robot.path("reference.csv"));
     let ls = robot.identify(&data, &[]);
     assert_eq!(ls.code, Some(0), "{}", ls.output());
@@ -176,6 +177,15 @@ fn closed_loop_methods_from_the_command_line() {
     );
     assert_eq!(iv.code, Some(0), "{}", iv.output());
     assert!(iv.stdout.contains("IDIM-IV: converged in "), "{}", iv.stdout);
+    // From the least squares, or (here: their model of the coarse log diverges in the loop)
+    // from the description.
+    assert!(
+        iv.stdout
+            .contains(" simulations from the least squares' estimate (")
+            || iv.stdout.contains(" simulations from the description's values ("),
+        "{}",
+        iv.stdout
+    );
     assert!(robot.path("out.yaml").exists());
     let arguments = robot.gains_arguments();
     let mut didim_args: Vec<&str> = vec!["--method", "didim", "--reference", arg(&reference)];
@@ -183,6 +193,13 @@ fn closed_loop_methods_from_the_command_line() {
     let didim = robot.identify(&data, &didim_args);
     assert_eq!(didim.code, Some(0), "{}", didim.output());
     assert!(didim.stdout.contains("DIDIM: converged in "), "{}", didim.stdout);
+    assert!(
+        didim
+            .stdout
+            .contains(" simulations from the description's values ("),
+        "{}",
+        didim.stdout
+    );
     let (e_ls, e_iv, e_didim) = (
         robot.errors_in_sigma(&ls.stdout),
         robot.errors_in_sigma(&iv.stdout),
@@ -230,11 +247,10 @@ fn the_torque_channel_from_the_command_line() {
         "delayed",
         0.001,
         Logging {
-            encoder_bits: None,
-            torque_noise: Vec::new(),
             torque_delay: 2.4,
             torque_gain: gains.to_vec(),
             seed: 2,
+            ..read_by(None)
         },
     );
     let run = robot.identify(
@@ -287,17 +303,7 @@ fn the_torque_channel_from_the_command_line() {
 #[test]
 fn closed_loop_flags_that_do_not_fit_are_one_error_line() {
     let robot = Robot::new();
-    let data = robot.log(
-        "data",
-        0.005,
-        Logging {
-            encoder_bits: Some(12),
-            torque_noise: Vec::new(),
-            torque_delay: 0.0,
-            torque_gain: Vec::new(),
-            seed: 1,
-        },
-    );
+    let data = robot.log("data", 0.005, read_by(Some(12)));
     let (gains, reference) = (robot.gains_file(), robot.path("reference.csv"));
     let (gains, reference) = (arg(&gains).to_string(), arg(&reference).to_string());
     let bad_gains = robot.path("bad-gains.csv");

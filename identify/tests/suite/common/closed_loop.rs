@@ -4,7 +4,7 @@
 //! what 14-bit noise does to its regressor) and torques with noise of 0.5% of the rated
 //! torque; and the error measures the estimators are compared by.
 
-use super::{arm7, arm7_joint_values};
+use super::{arm7, arm7_joint_values, joint_values};
 use dyngen_identify::{
     measure_closed_loop, with_joint_terms, with_payload, BaseEstimate, BaseModel, BaseRegressorSource,
     ClosedLoop, ControlLaw, FourierTrajectory, Logging, Reference, Samples, TrajectoryLimits,
@@ -52,18 +52,12 @@ fn ur5() -> Model {
 /// The real UR5: a 4 kg tool 0.1 m beyond the flange (its payload limit is 5 kg), and joint
 /// terms of a harmonic-drive arm.
 pub fn ur5_with_tool() -> Case {
-    let armature = [0.3, 0.3, 0.2, 0.05, 0.05, 0.05];
-    let viscous = [2.0, 2.0, 1.0, 0.3, 0.3, 0.3];
-    let coulomb = [3.0, 3.0, 2.0, 0.6, 0.6, 0.6];
-    let offset = [0.2, -0.3, 0.1, 0.05, -0.05, 0.02];
-    let values: Vec<JointTermValues> = (0..6)
-        .map(|j| JointTermValues {
-            armature: armature[j],
-            viscous: viscous[j],
-            coulomb: coulomb[j],
-            offset: offset[j],
-        })
-        .collect();
+    let values = joint_values(
+        &[0.3, 0.3, 0.2, 0.05, 0.05, 0.05],
+        &[2.0, 2.0, 1.0, 0.3, 0.3, 0.3],
+        &[3.0, 3.0, 2.0, 0.6, 0.6, 0.6],
+        &[0.2, -0.3, 0.1, 0.05, -0.05, 0.02],
+    );
     let tool = with_payload(&ur5(), 4.0, Vector3::new(0.0, 0.02, 0.1), 0.05);
     let truth = with_joint_terms(&tool, &values, Some(COULOMB_SMOOTHING));
     let description = with_joint_terms(&ur5(), &[JointTermValues::default(); 6], Some(COULOMB_SMOOTHING));

@@ -16,7 +16,7 @@ pub fn arm7() -> Model {
 
 #[path = "../../../examples/arm7_identification/joint_values.rs"]
 mod joint_values;
-pub use joint_values::arm7_joint_values;
+pub use joint_values::{arm7_joint_values, joint_values};
 
 /// The description identification starts from: arm7 with every joint column, values zero.
 pub fn arm7_nominal() -> Model {
