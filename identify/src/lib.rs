@@ -32,8 +32,17 @@
 //!    ([`WrittenEstimate`]), with warnings ([`Identification::warnings`]) when no consistent
 //!    robot fits the data; [`identify`] runs all of it in one call.
 //!
-//! A delay of the torques behind the positions, in whole samples, is searched with the
-//! parameters when asked ([`IdentifyOptions::max_delay`], [`DelaySearch`]).
+//! The torque channel is estimated with the parameters when asked: a delay behind the
+//! positions, in whole samples or a fraction ([`IdentifyOptions::max_delay`],
+//! [`IdentifyOptions::fractional_delay`], [`DelaySearch`]), and each joint's gain relative to
+//! one joint's ([`IdentifyOptions::torque_gains`], [`TorqueGains`]).
+//!
+//! Closed-loop data: on a log taken under a controller, whose coarse encoders put noise in
+//! the regressor and, through the controller, in the torques, [`Estimator::InstrumentalVariables`]
+//! (IDIM-IV) and [`Estimator::Didim`] fit the parameters from a simulation of the identified
+//! model in the robot's loop ([`ClosedLoop`]: the [`ControlLaw`] and the [`Reference`]),
+//! iterated to a fixed point ([`ClosedLoopEstimate`]). [`identify_base`] stops after the base
+//! parameters, for comparisons and studies.
 //!
 //! Long logs: [`identify_file`] reads the data file one line at a time ([`SampleReader`]),
 //! accumulates per-joint [`NormalEquations`] and computes missing derivatives window by window,
