@@ -5,7 +5,7 @@
 //! `src/lib.rs`, `dyngen_runtime::include_robot!(panda);` gives `panda::Panda`.
 
 use crate::description::{
-    Choices, DescriptionError, FrameSelection, FrameSpec, JointParameters, NonPhysicalInertia,
+    Choices, ContactSpec, DescriptionError, FrameSelection, FrameSpec, JointParameters, NonPhysicalInertia,
 };
 use crate::generate::{generate_robot_with, module_name, type_name, write_file, GenerateError, RobotReport};
 use crate::{FunctionGroup, Functions};
@@ -116,6 +116,14 @@ impl Builder {
     /// Sets [`Choices::joint_parameters`]: joint-level regressor columns and values.
     pub fn joint_parameters(mut self, parameters: JointParameters) -> Builder {
         self.choices.joint_parameters = Some(parameters);
+        self
+    }
+
+    /// Adds to [`Choices::contacts`]: `frame` held to the world, e.g.
+    /// `.contact(ContactSpec::new("FL_FOOT", ContactKind::Point))`; the robot is then generated
+    /// with `ContactDynamics` (`docs/contacts.md`).
+    pub fn contact(mut self, contact: ContactSpec) -> Builder {
+        self.choices.contacts.push(contact);
         self
     }
 

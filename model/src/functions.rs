@@ -25,6 +25,11 @@ pub enum FunctionGroup {
     /// end-effector and `frames:`) in the three reference frames (`FrameKinematics`, and with
     /// it `WrenchDynamics`: dynamics with external wrenches at those frames).
     Frames,
+    /// The pieces of constrained dynamics for the frames `contacts:` holds to the world: their
+    /// rows `J`, drift and `M⁻¹ Jᵀ` (`ContactDynamics`), from which the runtime assembles
+    /// constrained forward dynamics, impacts and the operational-space inertia. Generated only
+    /// for a robot with contacts; needs `forward_dynamics` and `frames`.
+    Contacts,
 }
 
 /// The keyword that chooses every group (`functions: all`, `--functions all`).
@@ -41,16 +46,17 @@ pub const EVERY_GROUP_BY_DEFAULT_UP_TO_DOF: usize = 12;
 /// description chooses nothing: what whole-body control and simulation call every tick. The
 /// regressors, base parameters and derivatives (identification, adaptive control, optimal
 /// control) are generated when chosen.
-pub const LARGE_ROBOT_DEFAULT: [FunctionGroup; 4] = [
+pub const LARGE_ROBOT_DEFAULT: [FunctionGroup; 5] = [
     FunctionGroup::Kinematics,
     FunctionGroup::Dynamics,
     FunctionGroup::ForwardDynamics,
     FunctionGroup::Frames,
+    FunctionGroup::Contacts,
 ];
 
 impl FunctionGroup {
     /// Every group, in the order of the generated module.
-    pub const ALL: [FunctionGroup; 7] = [
+    pub const ALL: [FunctionGroup; 8] = [
         FunctionGroup::Kinematics,
         FunctionGroup::Dynamics,
         FunctionGroup::Regressors,
@@ -58,6 +64,7 @@ impl FunctionGroup {
         FunctionGroup::ForwardDynamics,
         FunctionGroup::Derivatives,
         FunctionGroup::Frames,
+        FunctionGroup::Contacts,
     ];
 
     /// The name a description, the builder and the command line use, e.g. `forward_dynamics`.
@@ -70,6 +77,7 @@ impl FunctionGroup {
             FunctionGroup::ForwardDynamics => "forward_dynamics",
             FunctionGroup::Derivatives => "derivatives",
             FunctionGroup::Frames => "frames",
+            FunctionGroup::Contacts => "contacts",
         }
     }
 
@@ -88,6 +96,7 @@ impl FunctionGroup {
             FunctionGroup::ForwardDynamics => "ForwardDynamics",
             FunctionGroup::Derivatives => "DynamicsDerivatives",
             FunctionGroup::Frames => "FrameKinematics",
+            FunctionGroup::Contacts => "ContactDynamics",
         }
     }
 
@@ -96,11 +105,12 @@ impl FunctionGroup {
         matches!(self, FunctionGroup::Kinematics | FunctionGroup::Dynamics)
     }
 
-    /// The group it cannot be generated without, if any.
-    pub fn needs(self) -> Option<FunctionGroup> {
+    /// The groups it cannot be generated without.
+    pub fn needs(self) -> &'static [FunctionGroup] {
         match self {
-            FunctionGroup::BaseParameters => Some(FunctionGroup::Regressors),
-            _ => None,
+            FunctionGroup::BaseParameters => &[FunctionGroup::Regressors],
+            FunctionGroup::Contacts => &[FunctionGroup::ForwardDynamics, FunctionGroup::Frames],
+            _ => &[],
         }
     }
 
@@ -152,7 +162,7 @@ impl Functions {
         }
         let functions = Functions { chosen };
         for g in functions.groups() {
-            if let Some(needed) = g.needs().filter(|n| !functions.contains(*n)) {
+            if let Some(needed) = g.needs().iter().find(|n| !functions.contains(**n)) {
                 return Err(format!(
                     "the group `{g}` needs `{needed}`: add `{needed}` to the functions"
                 ));
@@ -180,6 +190,12 @@ impl Functions {
             }
         }
         Functions::with(&groups)
+    }
+
+    /// The same groups but `group` (which no other group may need).
+    pub fn without(mut self, group: FunctionGroup) -> Functions {
+        self.chosen[group as usize] = group.is_always_generated();
+        self
     }
 
     /// Whether `group` is generated.

@@ -36,6 +36,7 @@
 // Unit tests run with the standard test harness.
 #![cfg_attr(not(test), no_std)]
 
+mod contacts;
 #[cfg(all(
     target_arch = "x86_64",
     not(all(target_feature = "avx2", target_feature = "fma"))
@@ -56,6 +57,7 @@ mod lane_vectors;
 mod lane_vectors_x86;
 mod lanes;
 mod mul_add;
+mod operational_space;
 mod parameter;
 mod parameterization;
 mod random;
@@ -67,6 +69,11 @@ mod trig;
 mod trig_fused;
 mod version;
 
+pub use contacts::{
+    constrained_forward_dynamics, contact_inertia, impulse_dynamics, operational_space_inertia,
+    placement_error, solve_contacts, ContactDynamics, ContactError, ContactKind, ContactSolution,
+    ProximalSettings, Stabilisation,
+};
 pub use floating::{BasePose, NonUnitQuaternion, QUATERNION_NORM_TOLERANCE};
 pub use floating_robot::{
     ConfigurationError, FloatingBaseDynamics, FloatingBaseParameters, FloatingDynamicsDerivatives,
@@ -77,6 +84,7 @@ pub use joint::{JointLimits, JointTrig};
 pub use lanes::{f64x4, f64x8, pack, unpack, JointTrigLanes, LaneDynamics, Lanes};
 pub use mul_add::mul_add;
 pub use nalgebra;
+pub use operational_space::{operational_space, Inversion, OperationalSpace, OperationalSpaceError};
 pub use parameter::{body_parameters, ParameterKind, BODY_PARAMETER_NAMES, PARAMETERS_PER_BODY};
 pub use parameterization::{Base, BaseParameters, Parameterization, Standard};
 pub use random::SplitMix64;

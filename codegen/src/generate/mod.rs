@@ -7,6 +7,7 @@ mod output;
 pub(crate) mod quantities;
 mod robot_file;
 pub(crate) mod trace;
+mod trace_contacts;
 pub(crate) mod trace_floating;
 
 pub use crate::symbolic::OpCounts;

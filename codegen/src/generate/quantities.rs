@@ -47,6 +47,8 @@ pub struct Dims {
     pub p: usize,
     /// Base parameters.
     pub b: usize,
+    /// Contact rows.
+    pub c: usize,
 }
 
 /// One generated function. The order of [`QuantityKind::ALL`] is the order the tracer records
@@ -82,6 +84,9 @@ pub enum QuantityKind {
     CenterOfMass,
     CentroidalMomentumMatrix,
     CentroidalBias,
+    ContactJacobian,
+    ContactDrift,
+    ContactResponse,
 }
 
 /// A row of the table.
@@ -130,6 +135,13 @@ impl QuantityKind {
         QuantityKind::CentroidalBias,
     ];
 
+    /// The kinds of a robot with contacts (`ContactDynamics`), traced after every other.
+    pub const CONTACTS: [QuantityKind; 3] = [
+        QuantityKind::ContactJacobian,
+        QuantityKind::ContactDrift,
+        QuantityKind::ContactResponse,
+    ];
+
     fn row(self) -> Row {
         use FunctionGroup as G;
         let row = |name, group, lane_form| Row {
@@ -172,6 +184,9 @@ impl QuantityKind {
             QuantityKind::CenterOfMass => row("center_of_mass", G::Dynamics, false),
             QuantityKind::CentroidalMomentumMatrix => row("centroidal_momentum_matrix", G::Dynamics, false),
             QuantityKind::CentroidalBias => row("centroidal_bias", G::Dynamics, false),
+            QuantityKind::ContactJacobian => row("contact_jacobian", G::Contacts, false),
+            QuantityKind::ContactDrift => row("contact_drift", G::Contacts, false),
+            QuantityKind::ContactResponse => row("contact_response", G::Contacts, false),
         }
     }
 
@@ -185,6 +200,7 @@ impl QuantityKind {
         QuantityKind::ALL
             .into_iter()
             .chain(QuantityKind::FLOATING_ONLY)
+            .chain(QuantityKind::CONTACTS)
             .find(|k| k.name() == name)
     }
 
@@ -267,6 +283,9 @@ impl QuantityKind {
             K::FrameClassicalAcceleration => (vec![Qd, A], Shape::Vector(6)),
             K::CenterOfMass => (vec![], Shape::Vector(3)),
             K::CentroidalBias => (vec![Qd], Shape::Vector(6)),
+            K::ContactJacobian => (vec![], Shape::Matrix(d.c, n)),
+            K::ContactDrift => (vec![Qd], Shape::Vector(d.c)),
+            K::ContactResponse => (vec![], Shape::Matrix(n, d.c)),
         }
     }
 }
@@ -303,7 +322,7 @@ mod tests {
     fn every_group_has_a_function() {
         for group in FunctionGroup::ALL {
             assert!(
-                QuantityKind::ALL.iter().any(|k| k.group() == group),
+                (QuantityKind::ALL.iter().chain(&QuantityKind::CONTACTS)).any(|k| k.group() == group),
                 "{group:?} empty"
             );
         }

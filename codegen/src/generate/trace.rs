@@ -10,6 +10,7 @@
 //! append-only: what is added is traced after everything else.
 
 use super::quantities::{Arg, Dims, QuantityKind, Shape};
+use super::trace_contacts::contact_outputs;
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::{self, Directions, Placements};
 use crate::frame_names::{frame_identifiers, FrameIdentifiers};
@@ -182,6 +183,15 @@ impl Traced {
                 scalar_forms.insert(name, std::mem::replace(&mut q.outputs, outputs));
             }
         }
+        // `contacts` is a group of a robot with contacts only: without any it is not generated
+        // (nor imported, nor named in the module's docs).
+        let functions = match quantities
+            .iter()
+            .any(|q| q.kind.group() == FunctionGroup::Contacts)
+        {
+            true => functions,
+            false => functions.without(FunctionGroup::Contacts),
+        };
         SymbolicRobot {
             graph,
             inputs,
@@ -265,6 +275,7 @@ impl<'a> FixedTracer<'a> {
                 n,
                 p: model.parameter_count(),
                 b: base.count(),
+                c: model.contact_rows(),
             },
             q,
             qd,
@@ -302,6 +313,20 @@ impl<'a> FixedTracer<'a> {
             }
         }
         let row_lane_forms = self.trace_other_forms();
+        // The contacts' rows last, so every row before keeps its node ids.
+        if self.functions.contains(FunctionGroup::Contacts) && !self.model.contacts().is_empty() {
+            let (model, world, qd) = (self.model, &self.world, &self.qd);
+            let mass = dynamics::forward_dynamics::factor_mass_matrix(
+                model,
+                &self.x,
+                &self.inertias,
+                &self.joint_values,
+            );
+            let motion = |frame: usize| dynamics::FrameMotion::new(model, world, qd, &model.frames()[frame]);
+            for (kind, outputs) in contact_outputs(model, motion, qd, &mass) {
+                self.record(kind, outputs);
+            }
+        }
         let functions = self.functions;
         self.quantities.retain(|q| functions.contains(q.kind.group()));
         Traced {

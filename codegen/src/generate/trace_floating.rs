@@ -9,6 +9,7 @@ use super::trace::{
     base_columns, frame_rows, frame_spellings, full_from_base, ids, inputs, matrix_ids, pair_ids,
 };
 use super::trace::{Inputs, Quantity, SymbolicRobot, Traced};
+use super::trace_contacts::contact_outputs;
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::floating::{self as algorithms, FloatingBase};
 use crate::dynamics::{self, FloatingDynamics, FrameMotion};
@@ -141,6 +142,7 @@ impl<'a> FloatingTracer<'a> {
                 n: nv,
                 p: 10 * (model.joints().len() + 1),
                 b: base_parameters.count(),
+                c: model.contact_rows(),
             },
             q,
             rotation,
@@ -191,6 +193,14 @@ impl<'a> FloatingTracer<'a> {
             QuantityKind::MassMatrixInverse.name().to_owned(),
             matrix_ids(&inverse),
         )];
+        // The contacts' rows after everything else, so every row before keeps its node ids.
+        if functions.contains(FunctionGroup::Contacts) && !model.contacts().is_empty() {
+            let mass = algorithms::factor(model, base, x, inertias);
+            let motion = |frame: usize| self.frame_motion(&model.frames()[frame]);
+            for (kind, outputs) in contact_outputs(model, motion, &self.qd, &mass) {
+                self.record(kind, outputs);
+            }
+        }
         Traced {
             inputs: self.inputs(),
             quantities: self.quantities,
@@ -266,14 +276,19 @@ impl<'a> FloatingTracer<'a> {
 
     /// The per-frame rows of one frame, of its motion with the base's.
     fn trace_frame(&mut self, index: usize, frame: &Frame, snake: &str) {
+        let motion = self.frame_motion(frame);
+        let rows = frame_rows(&motion, &self.qd, &self.a, index, snake, self.dims);
+        self.quantities.extend(rows);
+    }
+
+    /// A frame's pose, `J` and `J̇` with the base's motion.
+    fn frame_motion(&self, frame: &Frame) -> FrameMotion<Expr> {
         let (model, pose, world) = (self.model, &self.base.pose, &self.world);
-        let motion = FrameMotion {
+        FrameMotion {
             pose: dynamics::kinematics::frame_pose(Some(pose), world, frame),
             jacobian: algorithms::floating_frame_jacobian(model, pose, world, frame),
             jacobian_dot: algorithms::floating_frame_jacobian_dot(model, pose, world, &self.qd, frame),
-        };
-        let rows = frame_rows(&motion, &self.qd, &self.a, index, snake, self.dims);
-        self.quantities.extend(rows);
+        }
     }
 
     /// The inputs by role.

@@ -116,10 +116,13 @@ fn every_file_read_is_reported_for_rerun_if_changed() {
 /// before or after the setters, so no choice made earlier is dropped without a word.
 #[test]
 fn the_choice_setters_compose_in_any_order() {
-    use dyngen_codegen::description::{Choices, FrameSelection, FrameSpec, NonPhysicalInertia};
+    use dyngen_codegen::description::{Choices, ContactSpec, FrameSelection, FrameSpec, NonPhysicalInertia};
     use dyngen_codegen::{FunctionGroup, Functions};
+    use dyngen_runtime::ContactKind;
+    let foot = || ContactSpec::new("tool0", ContactKind::Point);
     let new = || Builder::new("robot.urdf");
     let one = new()
+        .contact(foot())
         .floating_base()
         .frames(FrameSelection::AllLinks)
         .end_effector("tool0")
@@ -136,7 +139,8 @@ fn the_choice_setters_compose_in_any_order() {
         .locked_joint("finger", 0.01)
         .end_effector(FrameSpec::link("tool0"))
         .frames(FrameSelection::AllLinks)
-        .floating_base();
+        .floating_base()
+        .contact(foot());
     assert_eq!(one.chosen(), other.chosen());
     let expected = Choices {
         end_effector: Some(FrameSpec::link("tool0")),
@@ -148,6 +152,7 @@ fn the_choice_setters_compose_in_any_order() {
         floating_base: true,
         joint_parameters: None,
         functions: Some(Functions::with(&[FunctionGroup::Frames]).unwrap()),
+        contacts: vec![foot()],
     };
     assert_eq!(one.chosen(), &expected);
 

@@ -382,6 +382,7 @@ fn end_effector_with_offset_and_gravity_from_options() {
         floating_base: false,
         joint_parameters: None,
         functions: None,
+        contacts: Vec::new(),
     };
     let m = description::load_urdf_str(TREE_URDF, Path::new("twins.urdf"), &options)
         .unwrap()
@@ -505,6 +506,7 @@ fn same_robot_in_yaml_and_urdf_gives_the_same_model() {
         floating_base: false,
         joint_parameters: None,
         functions: None,
+        contacts: Vec::new(),
     };
     let from_urdf = description::load_urdf_str(SAME_URDF, Path::new("same.urdf"), &options).unwrap();
     let from_yaml =

@@ -5,6 +5,9 @@
 mod base_parameters;
 mod build_script_api;
 mod builder_output_file;
+mod constrained_oracles;
+mod constrained_reference;
+mod contact_descriptions;
 mod derivative_stages;
 mod description_errors;
 mod descriptions;
@@ -25,6 +28,7 @@ mod frame_reference;
 mod function_groups;
 mod fuzz;
 mod joint_terms;
+mod loop_closures;
 mod mimic_oracles;
 mod mimic_reference;
 mod module_layers;

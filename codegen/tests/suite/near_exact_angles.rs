@@ -45,6 +45,7 @@ fn options(snap: Option<f64>) -> Choices {
         floating_base: false,
         joint_parameters: None,
         functions: None,
+        contacts: Vec::new(),
     }
 }
 

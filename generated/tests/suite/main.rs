@@ -5,9 +5,11 @@
 mod base_regressor;
 mod free_motion_energy;
 mod generated_code;
+mod generated_contacts;
 mod generated_floating;
 mod generated_forward_dynamics;
 mod generated_frames;
 mod generated_fresh;
 mod generated_version_check;
+mod operational_space;
 mod result_buffers;

@@ -7,6 +7,7 @@
 //! wants: the frame relative to the parent *moving* joint, not to the parent link.
 
 use super::choices::{Choices, FrameSelection, FrameSpec};
+use super::contacts;
 use super::error::{item, num, render, vec3, DescriptionError, Diagnostics};
 use super::items::{too_large, JointShape, Motion};
 use super::joint_parameters;
@@ -205,12 +206,21 @@ pub(crate) fn assemble(
         .and_then(|m| m.with_frames(frames))
         .and_then(|m| m.with_joint_terms(joint_terms))
         .and_then(|m| m.with_mimics(mimics))
-        .map_err(|e| {
-            DescriptionError::new(
-                &c.robot_map.file,
-                format!("internal error: the model breaks an invariant: {e}"),
-            )
+        .map_err(|e| internal_error(c, e))
+        .and_then(|m| {
+            let contacts = contacts::resolve(&settings.choices.contacts, m.frames(), settings.map)?;
+            // Each contact passed `resolve`: what is left is the set's, held at its key.
+            m.with_contacts(contacts)
+                .map_err(|e| settings.map.error("contacts", e.0))
         })
+}
+
+/// A model the checks above let through but `Model` refuses: a bug of the loader's.
+fn internal_error(c: &Checked<'_>, e: crate::model::ModelError) -> DescriptionError {
+    DescriptionError::new(
+        &c.robot_map.file,
+        format!("internal error: the model breaks an invariant: {e}"),
+    )
 }
 
 /// Per model joint (`raw_index[i]` is its raw joint), the model joint it follows.

@@ -6,6 +6,7 @@
 //! [`Choices`], listed once by the declaration itself ([`Choices::KEYS`]): the YAML reader
 //! checks a file's keys against them, and messages that name keys take them from there.
 
+use super::contacts::ContactSpec;
 use super::joint_parameters::JointParameters;
 use crate::Functions;
 use serde::de::{self, value::MapAccessDeserializer, Deserializer, MapAccess, Visitor};
@@ -125,6 +126,11 @@ declare_choices! {
         /// group up to 12 joints; above, kinematics, dynamics, forward dynamics and frames (a
         /// note says what was left out).
         pub functions: Option<Functions>,
+        /// Named frames held to the world, for constrained dynamics (the group `contacts`):
+        /// `contacts: [{ frame: FL_FOOT, kind: point }, { frame: left_sole, kind: frame,
+        /// reference: local_world_aligned }]` ([`ContactSpec`]). Each names the end-effector or
+        /// a frame of `frames`. Default: none.
+        pub contacts: Vec<ContactSpec>,
     }
 }
 

@@ -8,16 +8,16 @@
 //!    `non_physical`: inertias no real body can have, kept, repaired or refused as asked);
 //! 3. `tree`: names resolved, one root, no cycles, depth-first joint order;
 //! 4. `assemble`: fixed and locked joints welded away, inertias merged, frames placed,
-//!    end-effector chosen;
+//!    end-effector chosen, contacts resolved against the frames (`contacts`);
 //! 5. [`Model::new`](crate::model::Model::new) checks the invariants every algorithm relies on.
 //!
 //! The user's choices on top of a description (end-effector, frames, locked joints, gravity,
-//! snapping, inertias, floating base, joint-level parameters, functions) are one value,
+//! snapping, inertias, floating base, joint-level parameters, functions, contacts) are one value,
 //! [`Choices`] (`choices`): a YAML file's keys, or the caller's for a bare URDF. `load` runs
 //! the pipeline.
 //!
 //! Modules use only modules listed after them in this order: `export`, `load`, `yaml`,
-//! `assemble`, `items`, `non_physical`, `choices`, `joint_parameters`, `tree`, `urdf`, `import`,
+//! `assemble`, `items`, `non_physical`, `choices`, `contacts`, `joint_parameters`, `tree`, `urdf`, `import`,
 //! `yaml_spans`, `near_exact`, `source_map`, `raw`, `error` (no cycle).
 //!
 //! Nothing here panics on user input, and nothing is silently dropped or guessed: what
@@ -29,6 +29,7 @@
 
 mod assemble;
 mod choices;
+mod contacts;
 mod error;
 mod export;
 mod import;
@@ -45,6 +46,7 @@ mod yaml;
 mod yaml_spans;
 
 pub use choices::{Choices, FrameSelection, FrameSpec, NonPhysicalInertia};
+pub use contacts::ContactSpec;
 pub use error::{DescriptionError, Location};
 pub use export::{to_urdf_rs, ExportError, UrdfExport};
 pub use joint_parameters::{JointParameters, JointValues};

@@ -13,6 +13,8 @@
 //! sines and cosines are computed once and shared by all quantities of a control tick.
 
 #[doc(hidden)]
+pub mod constrained;
+#[doc(hidden)]
 pub mod coriolis;
 mod coupling;
 #[doc(hidden)]
@@ -48,8 +50,10 @@ mod seeded_frame;
 pub mod singular;
 #[doc(hidden)]
 pub mod slotine_li;
-mod tree_ldl;
+#[doc(hidden)]
+pub mod tree_ldl;
 
+pub use constrained::{ConstrainedDerivatives, ConstrainedMotion, ConstraintError};
 pub use numeric::{FrameValues, NumericDynamics};
 pub use numeric_floating::{FloatingDynamics, FloatingState};
 

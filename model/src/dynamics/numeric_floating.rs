@@ -17,8 +17,8 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
 #[derive(Clone, Debug)]
 pub struct FloatingDynamics<'m> {
     pub model: &'m Model,
-    base_inertia: RigidInertia<f64>,
-    inertias: Vec<RigidInertia<f64>>,
+    pub(super) base_inertia: RigidInertia<f64>,
+    pub(super) inertias: Vec<RigidInertia<f64>>,
 }
 
 /// One configuration, checked (a unit quaternion) and with its joint transforms computed once
@@ -26,11 +26,11 @@ pub struct FloatingDynamics<'m> {
 #[derive(Clone, Debug)]
 pub struct FloatingState {
     base: BasePose,
-    pose: Transform<f64>,
-    transforms: Vec<Transform<f64>>,
+    pub(super) pose: Transform<f64>,
+    pub(super) transforms: Vec<Transform<f64>>,
     world: Vec<Transform<f64>>,
     /// The joints' coordinates (`q[7..]`).
-    joints: Vec<f64>,
+    pub(super) joints: Vec<f64>,
 }
 
 impl FloatingState {
@@ -115,7 +115,7 @@ impl<'m> FloatingDynamics<'m> {
         })
     }
 
-    fn base(&self, s: &FloatingState) -> FloatingBase<f64> {
+    pub(super) fn base(&self, s: &FloatingState) -> FloatingBase<f64> {
         FloatingBase {
             pose: s.pose,
             inertia: self.base_inertia,
@@ -251,7 +251,7 @@ impl<'m> FloatingDynamics<'m> {
         floating::floating_mass_matrix_inverse(self.model, &self.base(s), &s.transforms, &self.inertias)
     }
 
-    fn frame_motion(&self, s: &FloatingState, v: &[f64], frame: usize) -> FrameMotion<f64> {
+    pub(super) fn frame_motion(&self, s: &FloatingState, v: &[f64], frame: usize) -> FrameMotion<f64> {
         let frame = &self.model.frames()[frame];
         FrameMotion {
             pose: super::kinematics::frame_pose(Some(&s.pose), &s.world, frame),

@@ -12,12 +12,14 @@
 //! - a joint whose parent is `None` hangs from the base: the world for a fixed base, the base
 //!   body for a floating one ([`Model::floating_base`]), whose frame is then the root link's.
 
+mod contact;
 mod coupling;
 mod joint_terms;
 pub mod physical_inertia;
 mod pose;
 mod validate;
 
+pub use contact::Contact;
 pub use coupling::{CoordinateMap, Mimic};
 pub use joint_terms::{JointTermKind, JointTermValues, JointTerms};
 pub use physical_inertia::{inertia_defect, nearest_physical, InertiaDefect, InertiaDefectKind};
@@ -115,6 +117,8 @@ pub struct Model {
     /// The body of a free-flying base (the root link and every link welded to it), or `None`
     /// for a base fixed to the world. Default: fixed.
     floating_base: Option<Body>,
+    /// Named frames held to the world (the group `contacts`). Default: none.
+    contacts: Vec<Contact>,
 }
 
 impl Inertia {
@@ -191,6 +195,7 @@ impl Model {
             mimics: vec![None; n],
             coordinate_maps: coupling::coordinate_maps(&[], n),
             floating_base: None,
+            contacts: Vec::new(),
         };
         validate(&model)?;
         Ok(model)
@@ -231,6 +236,30 @@ impl Model {
         self.floating_base = Some(base);
         validate(&self)?;
         Ok(self)
+    }
+
+    /// The same robot with `contacts` held to the world (replacing any it had).
+    pub fn with_contacts(mut self, contacts: Vec<Contact>) -> Result<Model, ModelError> {
+        self.contacts = contacts;
+        validate(&self)?;
+        if !self.contacts.is_empty() && crate::dynamics::constrained::free_degrees(&self) == 0 {
+            return Err(ModelError(format!(
+                "the contacts' {} rows hold every one of the robot's {} degrees of freedom: nothing would be left to move",
+                self.contact_rows(),
+                self.nv()
+            )));
+        }
+        Ok(self)
+    }
+
+    /// The frames held to the world, in the order of their rows.
+    pub fn contacts(&self) -> &[Contact] {
+        &self.contacts
+    }
+
+    /// The rows the contacts hold: three per point, six per frame.
+    pub fn contact_rows(&self) -> usize {
+        self.contacts.iter().map(|c| c.kind.rows()).sum()
     }
 
     /// The body of the free-flying base, `None` for a fixed base.

@@ -178,6 +178,7 @@ pub(super) fn validate(model: &Model) -> Result<Vec<Warning>, ModelError> {
     let names: Vec<&str> = model.joints.iter().map(|j| j.name.as_str()).collect();
     super::coupling::check_mimics(&model.mimics, &names).map_err(ModelError)?;
     check_joint_terms(model).map_err(ModelError)?;
+    super::contact::check_contacts(model).map_err(ModelError)?;
 
     let mut has_child = vec![false; n];
     for p in model.joints.iter().filter_map(|j| j.parent) {
@@ -312,6 +313,7 @@ mod tests {
             joint_terms: Default::default(),
             mimics: vec![None],
             floating_base: None,
+            contacts: Vec::new(),
             coordinate_maps: super::super::coupling::coordinate_maps(&[None], 1),
             frames: vec![Frame {
                 name: "ee".into(),

@@ -4,6 +4,7 @@
 //! functions of the large ones.
 
 use super::constants::{base_parameters_function, joint_limits, literal, parameter_kinds};
+use super::contacts::{contact_implementation, ContactTraits};
 use super::file::{formatted, header, version_check, Provenance};
 use super::frames::{frame_items, FrameTrait};
 use super::function::function;
@@ -146,6 +147,14 @@ impl<'a> FixedModule<'a> {
             FunctionGroup::Frames => {
                 let frame_trait = FrameTrait::fixed(model);
                 frame_items(model, self.robot, &self.leaves, ty, &frame_trait, self.sizes)
+            }
+            FunctionGroup::Contacts => {
+                let traits = ContactTraits {
+                    trig: quote!(JointTrig<#n>),
+                    forward_dynamics: quote!(ForwardDynamics<#n, #p>),
+                    frames: quote!(FrameKinematics<#n>),
+                };
+                contact_implementation(model, ty, &traits, methods.cloned())
             }
             other => {
                 let name = format_ident!("{}", other.trait_name());
@@ -293,6 +302,9 @@ fn runtime_items(functions: &Functions) -> Vec<&'static str> {
     }
     if functions.contains(FunctionGroup::Frames) {
         items.extend(["ReferenceFrame", "RobotFrame"]);
+    }
+    if functions.contains(FunctionGroup::Contacts) {
+        items.push("ContactKind");
     }
     items.sort_unstable();
     items

@@ -3,6 +3,7 @@
 //! group), `FloatingFrameKinematics`, then the chunk functions of the large functions.
 
 use super::constants::{base_parameters_function, joint_limits, literal};
+use super::contacts::{contact_implementation, ContactTraits};
 use super::file::{formatted, header, version_check, Provenance};
 use super::frames::{frame_items, FrameTrait};
 use super::function::function;
@@ -24,10 +25,10 @@ const TRAITS: [FunctionGroup; 3] = [
 ];
 
 /// The group whose trait a function of `group` is a method of: the dynamics' groups share
-/// `FloatingBaseDynamics`.
+/// `FloatingBaseDynamics`; the contacts' trait is written apart.
 fn trait_of(group: FunctionGroup) -> FunctionGroup {
     match group {
-        FunctionGroup::BaseParameters | FunctionGroup::Derivatives => group,
+        FunctionGroup::BaseParameters | FunctionGroup::Derivatives | FunctionGroup::Contacts => group,
         _ => FunctionGroup::Dynamics,
     }
 }
@@ -50,6 +51,18 @@ pub(super) fn module(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
         implementation(model, robot, &ty, group, quote!(#(#methods)*))
     });
     let frames = frame_items(model, robot, &leaves, &ty, &FrameTrait::floating(model), sizes);
+    let contacts = robot.functions.contains(FunctionGroup::Contacts).then(|| {
+        let [n, nv, p] = [model.dof(), model.nv(), parameter_count(model)].map(Literal::usize_unsuffixed);
+        let traits = ContactTraits {
+            trig: quote!(FloatingTrig<#n>),
+            forward_dynamics: quote!(FloatingBaseDynamics<#n, #nv, #p>),
+            frames: quote!(FloatingFrameKinematics<#n, #nv>),
+        };
+        let methods = (emitted.iter())
+            .filter(|(g, _)| *g == FunctionGroup::Contacts)
+            .map(|(_, e)| e.method.clone());
+        contact_implementation(model, &ty, &traits, methods)
+    });
     let chunks = emitted.iter().flat_map(|(_, e)| &e.chunks);
     let version = version_check();
     let (constants, types) = (constants(model, robot), types(model, &ty));
@@ -63,6 +76,8 @@ pub(super) fn module(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
         #(#implementations)*
 
         #frames
+
+        #contacts
 
         #(#chunks)*
     };
@@ -156,6 +171,12 @@ fn constants(model: &Model, robot: &SymbolicRobot) -> TokenStream {
         base.count(),
         parameter_names.len()
     );
+    let contacts = match robot.functions.contains(FunctionGroup::Contacts) {
+        true => quote!(
+            use dyngen_runtime::{ContactDynamics, ContactKind};
+        ),
+        false => quote!(),
+    };
     let [n, nv, nq, p, b] = [
         model.dof(),
         model.nv(),
@@ -170,6 +191,7 @@ fn constants(model: &Model, robot: &SymbolicRobot) -> TokenStream {
             ConfigurationError, FloatingBaseDynamics, FloatingBaseParameters, FloatingDynamicsDerivatives,
             FloatingFrameKinematics, FloatingTrig, JointLimits, Pose, ReferenceFrame, RobotFrame,
         };
+        #contacts
 
         /// Number of moving joints.
         pub const DOF: usize = #n;

@@ -60,7 +60,8 @@ fn coordinate_parents(model: &Model) -> Vec<Option<usize>> {
     parents
 }
 
-pub(super) fn factor<S: Scalar>(
+/// `D` factored along the tree (the base's six coordinates the root of every branch).
+pub fn factor<S: Scalar>(
     model: &Model,
     base: &FloatingBase<S>,
     x: &[Transform<S>],

@@ -19,6 +19,8 @@ mod inverse;
 mod kinematics;
 mod mass;
 
+pub use mass::factor;
+
 #[doc(hidden)]
 pub use centroidal::{centroidal_bias, centroidal_momentum_matrix};
 #[doc(hidden)]

@@ -1,0 +1,15 @@
+//! Frames held to the world by rigid contacts: what a contact is, how far a held frame has
+//! drifted from its anchor, the solve shared by constrained forward dynamics, impacts and the
+//! operational-space inertia, and the trait a generated robot with contacts implements.
+
+mod kind;
+mod placement;
+mod robot;
+mod solve;
+
+pub use kind::ContactKind;
+pub use placement::placement_error;
+pub use robot::{constrained_forward_dynamics, impulse_dynamics, operational_space_inertia, ContactDynamics};
+pub use solve::{
+    contact_inertia, solve_contacts, ContactError, ContactSolution, ProximalSettings, Stabilisation,
+};

@@ -1,0 +1,135 @@
+//! What a generated robot with contacts implements, and the constrained functions built on it.
+
+use super::kind::ContactKind;
+use super::placement::placement_error;
+use super::solve::{
+    contact_inertia, solve_contacts, ContactError, ContactSolution, ProximalSettings, Stabilisation,
+};
+use crate::{Pose, ReferenceFrame};
+use nalgebra::{Const, SMatrix, SVector};
+
+/// A robot with contacts, `NV` velocity coordinates and `NC` contact rows: the pieces of
+/// constrained dynamics it generates, from which [`constrained_forward_dynamics`],
+/// [`impulse_dynamics`] and [`operational_space_inertia`] are assembled. Generated when a
+/// description lists `contacts:` (the group `contacts`).
+pub trait ContactDynamics<const NV: usize, const NC: usize> {
+    /// What the functions take: `JointTrig<N>`, or `FloatingTrig<N>` on a floating base.
+    type Trig;
+    /// Each contact's frame, in the order of the rows.
+    const CONTACT_FRAMES: &'static [&'static str];
+    /// Each contact's kind (three rows for a point, six for a frame).
+    const CONTACT_KINDS: &'static [ContactKind];
+    /// The axes each contact's rows and force are written in.
+    const CONTACT_REFERENCES: &'static [ReferenceFrame];
+    /// The frame each contact holds its frame to: `None` the world, else another frame of the
+    /// robot (a loop closure).
+    const CONTACT_TO: &'static [Option<&'static str>];
+
+    /// `J` (NC × NV): the contacts' rows, stacked.
+    fn contact_jacobian(t: &Self::Trig) -> SMatrix<f64, NC, NV>;
+    /// What `J a` is at `a = 0` along `v`: a point's classical acceleration, a frame's spatial
+    /// one.
+    fn contact_drift(t: &Self::Trig, v: &SVector<f64, NV>) -> SVector<f64, NC>;
+    /// `M⁻¹ Jᵀ` (NV × NC): how the robot accelerates under a unit force in each row.
+    fn contact_response(t: &Self::Trig) -> SMatrix<f64, NV, NC>;
+    /// Forward dynamics without contacts, `M⁻¹ (τ − b)`.
+    fn free_acceleration(t: &Self::Trig, v: &SVector<f64, NV>, tau: &SVector<f64, NV>) -> SVector<f64, NV>;
+    /// The pose of contact `contact`'s frame (in the base frame, or the world on a floating
+    /// base); `contact` past the last is the last's.
+    fn contact_pose(t: &Self::Trig, contact: usize) -> Pose;
+    /// The pose of the frame contact `contact` holds its frame to (a loop closure's other
+    /// frame; the identity for a contact with the world).
+    fn contact_to_pose(t: &Self::Trig, contact: usize) -> Pose;
+}
+
+/// `a` and the contact forces with every contact of `R` held (Pinocchio's
+/// `constraintDynamics`): exact with the default settings, proximal with `mu > 0`, pulled
+/// back with `stabilisation` (to its anchors, one per contact with the world, and each loop to
+/// its other frame), from `warm_start` forces if given (the last tick's, in a simulation).
+pub fn constrained_forward_dynamics<R: ContactDynamics<NV, NC>, const NV: usize, const NC: usize>(
+    t: &R::Trig,
+    v: &SVector<f64, NV>,
+    tau: &SVector<f64, NV>,
+    stabilisation: Option<Stabilisation<'_>>,
+    settings: &ProximalSettings,
+    warm_start: Option<&SVector<f64, NC>>,
+) -> Result<ContactSolution<Const<NV>, Const<NC>>, ContactError> {
+    let jacobian = R::contact_jacobian(t);
+    let mut rhs = -R::contact_drift(t, v);
+    if let Some(stabilisation) = stabilisation {
+        let held = R::CONTACT_TO.iter().filter(|to| to.is_none()).count();
+        if stabilisation.anchors.len() != held {
+            return Err(ContactError::Anchors {
+                contacts: held,
+                anchors: stabilisation.anchors.len(),
+            });
+        }
+        if !(stabilisation.kp.is_finite() && stabilisation.kd.is_finite()) {
+            return Err(ContactError::Settings("the Baumgarte gains must be finite"));
+        }
+        let velocity = jacobian * v;
+        let (mut row, mut anchors) = (0, stabilisation.anchors.iter());
+        let contacts = R::CONTACT_KINDS
+            .iter()
+            .zip(R::CONTACT_REFERENCES)
+            .zip(R::CONTACT_TO);
+        for (k, ((&kind, &reference), to)) in contacts.enumerate() {
+            // A loop is held where its other frame is; a contact with the world, at its anchor.
+            let anchor = match to {
+                Some(_) => R::contact_to_pose(t, k),
+                None => match anchors.next() {
+                    Some(anchor) => *anchor,
+                    None => break,
+                },
+            };
+            let error = placement_error(kind, reference, &R::contact_pose(t, k), &anchor);
+            for i in 0..kind.rows() {
+                rhs[row + i] -= stabilisation.kp * error[i] + stabilisation.kd * velocity[row + i];
+            }
+            row += kind.rows();
+        }
+    }
+    let response = R::contact_response(t);
+    let free = R::free_acceleration(t, v, tau);
+    solve_contacts(&jacobian, &response, &free, &rhs, settings, warm_start)
+}
+
+/// The velocity just after every contact of `R` strikes, with restitution `restitution`
+/// (Pinocchio's `impulseDynamics`: `J ν⁺ = −r J ν⁻`, one solve damped by `mu`), and the
+/// impulses.
+pub fn impulse_dynamics<R: ContactDynamics<NV, NC>, const NV: usize, const NC: usize>(
+    t: &R::Trig,
+    before: &SVector<f64, NV>,
+    restitution: f64,
+    mu: f64,
+) -> Result<(SVector<f64, NV>, SVector<f64, NC>), ContactError> {
+    if !(0.0..=1.0).contains(&restitution) {
+        return Err(ContactError::Restitution(restitution));
+    }
+    let jacobian = R::contact_jacobian(t);
+    let rhs = -(1.0 + restitution) * (jacobian * before);
+    let settings = ProximalSettings {
+        mu,
+        max_iterations: 1,
+        accuracy: 0.0,
+    };
+    let change = solve_contacts(
+        &jacobian,
+        &R::contact_response(t),
+        &SVector::zeros(),
+        &rhs,
+        &settings,
+        None,
+    )?;
+    Ok((before + change.acceleration, change.forces))
+}
+
+/// `(J M⁻¹ Jᵀ + ε I)⁻¹`: the contact rows' operational-space inertia, `damping` `ε` keeping
+/// it finite near singular configurations (0 for the exact one, refused where rows are
+/// redundant).
+pub fn operational_space_inertia<R: ContactDynamics<NV, NC>, const NV: usize, const NC: usize>(
+    t: &R::Trig,
+    damping: f64,
+) -> Result<SMatrix<f64, NC, NC>, ContactError> {
+    contact_inertia(&R::contact_jacobian(t), &R::contact_response(t), damping)
+}

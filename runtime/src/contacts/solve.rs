@@ -1,0 +1,188 @@
+//! The solve shared by constrained forward dynamics, impacts and the operational-space
+//! inertia, for any sizes: fixed (generated robots, no allocation) or dynamic (the generic
+//! dynamics).
+//!
+//! With `J` the stacked rows, `a_free = M⁻¹ (τ − b)` and `M⁻¹ Jᵀ` given, the Delassus matrix
+//! `K = J M⁻¹ Jᵀ` is regularised by `μ` and the multipliers refined by proximal iterations,
+//! `λ_k = (K + μ I)⁻¹ (rhs − J a_free + μ λ_{k−1})`, `a = a_free + M⁻¹ Jᵀ λ`. They converge to
+//! the exact solution of `J a = rhs` where the rows are independent, and, where they are
+//! redundant, to the solution whose forces are smallest.
+
+use crate::Pose;
+use core::fmt;
+use nalgebra::allocator::Allocator;
+use nalgebra::{Cholesky, DefaultAllocator, Dim, OMatrix, OVector};
+
+/// The proximal solve: `mu` regularises the Delassus matrix (0 solves the rows exactly, which
+/// needs independent rows), and the iterations refine the solution until the rows' residual
+/// or the change of the forces is at most `accuracy`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ProximalSettings {
+    pub mu: f64,
+    pub max_iterations: usize,
+    pub accuracy: f64,
+}
+
+impl Default for ProximalSettings {
+    /// Exact rows in one solve: independent rows, no regularisation.
+    fn default() -> Self {
+        ProximalSettings {
+            mu: 0.0,
+            max_iterations: 1,
+            accuracy: 1e-12,
+        }
+    }
+}
+
+/// Baumgarte stabilisation: each contact's rows ask for `−K_p e − K_d J ν` (`e` its frame's
+/// [`placement_error`](super::placement_error) from its anchor) instead of zero acceleration,
+/// which pulls a contact that drifted (integration error, a touchdown off the anchor) back to
+/// where it is held.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Stabilisation<'a> {
+    /// Where each contact with the world holds its frame, one per such contact in the
+    /// contacts' order (a point contact uses only the translation); a loop closure is held
+    /// where its other frame is and has none.
+    pub anchors: &'a [Pose],
+    pub kp: f64,
+    pub kd: f64,
+}
+
+/// Constrained forward dynamics at one state.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ContactSolution<NV: Dim, NC: Dim>
+where
+    DefaultAllocator: Allocator<NV> + Allocator<NC>,
+{
+    /// `a` (`q̈`, or `ν̇` on a floating base).
+    pub acceleration: OVector<f64, NV>,
+    /// `λ`: each contact's force (a point's three, a frame's six, linear first) in its
+    /// reference axes, acting on the robot; an impulse for an impact.
+    pub forces: OVector<f64, NC>,
+    /// Proximal iterations run.
+    pub iterations: usize,
+    /// `‖J a − rhs‖∞` at the end: how well the rows hold.
+    pub residual: f64,
+}
+
+/// Why a constrained solve gave no answer.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ContactError {
+    /// Contact `k` is written in world axes (a spatial quantity at the world origin), which
+    /// is no contact's: its rows are `Local` or `LocalWorldAligned`.
+    WorldReference(usize),
+    /// Baumgarte stabilisation needs one anchor per contact.
+    Anchors { contacts: usize, anchors: usize },
+    /// `mu` negative, no iteration, or a non-finite setting or gain.
+    Settings(&'static str),
+    /// The Delassus matrix is singular: row `row` depends on the rows before it (or the robot
+    /// cannot move in its direction), and the solve needs `mu > 0`.
+    Redundant { row: usize },
+    /// A restitution coefficient outside `[0, 1]`.
+    Restitution(f64),
+}
+
+impl fmt::Display for ContactError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ContactError::WorldReference(k) => write!(
+                f,
+                "contact {k} is written in world axes; a contact's rows are local or local_world_aligned"
+            ),
+            ContactError::Anchors { contacts, anchors } => {
+                write!(f, "{contacts} contacts but {anchors} anchors")
+            }
+            ContactError::Settings(what) => write!(f, "contact solve: {what}"),
+            ContactError::Redundant { row } => write!(
+                f,
+                "the contact rows are redundant (row {row} depends on the others): solve with mu > 0"
+            ),
+            ContactError::Restitution(r) => write!(f, "restitution {r} is outside [0, 1]"),
+        }
+    }
+}
+
+/// `K + μ I` factored, `K = J M⁻¹ Jᵀ`; with `μ = 0`, refused when a pivot is at rounding
+/// level against the largest diagonal entry (a row the others already fix).
+fn factor<NV: Dim, NC: Dim>(
+    jacobian: &OMatrix<f64, NC, NV>,
+    response: &OMatrix<f64, NV, NC>,
+    mu: f64,
+) -> Result<Cholesky<f64, NC>, ContactError>
+where
+    DefaultAllocator: Allocator<NC, NC> + Allocator<NC, NV> + Allocator<NV, NC>,
+{
+    if !(mu >= 0.0 && mu.is_finite()) {
+        return Err(ContactError::Settings("mu must be finite and not negative"));
+    }
+    let mut k = jacobian * response;
+    let largest = (0..k.nrows()).fold(0.0_f64, |m, i| m.max(k[(i, i)].abs()));
+    for i in 0..k.nrows() {
+        k[(i, i)] += mu;
+    }
+    let cholesky = Cholesky::new(k).ok_or(ContactError::Redundant { row: 0 })?;
+    if mu == 0.0 {
+        let l = cholesky.l_dirty();
+        if let Some(row) = (0..l.nrows()).position(|i| l[(i, i)] * l[(i, i)] <= 1e-12 * largest) {
+            return Err(ContactError::Redundant { row });
+        }
+    }
+    Ok(cholesky)
+}
+
+/// `(J M⁻¹ Jᵀ + ε I)⁻¹`: the rows' operational-space inertia, `damping` `ε` keeping it finite
+/// near singular configurations (0 for the exact one, refused where rows are redundant).
+pub fn contact_inertia<NV: Dim, NC: Dim>(
+    jacobian: &OMatrix<f64, NC, NV>,
+    response: &OMatrix<f64, NV, NC>,
+    damping: f64,
+) -> Result<OMatrix<f64, NC, NC>, ContactError>
+where
+    DefaultAllocator: Allocator<NC, NC> + Allocator<NC, NV> + Allocator<NV, NC>,
+{
+    Ok(factor(jacobian, response, damping)?.inverse())
+}
+
+/// The constrained acceleration and forces: `J a = rhs` with `a = a_free + M⁻¹ Jᵀ λ`, by
+/// proximal iterations from `warm_start` (zero if `None`).
+pub fn solve_contacts<NV: Dim, NC: Dim>(
+    jacobian: &OMatrix<f64, NC, NV>,
+    response: &OMatrix<f64, NV, NC>,
+    free: &OVector<f64, NV>,
+    rhs: &OVector<f64, NC>,
+    settings: &ProximalSettings,
+    warm_start: Option<&OVector<f64, NC>>,
+) -> Result<ContactSolution<NV, NC>, ContactError>
+where
+    DefaultAllocator:
+        Allocator<NC, NC> + Allocator<NC, NV> + Allocator<NV, NC> + Allocator<NV> + Allocator<NC>,
+{
+    if settings.max_iterations == 0 {
+        return Err(ContactError::Settings("at least one iteration is needed"));
+    }
+    let cholesky = factor(jacobian, response, settings.mu)?;
+    let target = rhs - jacobian * free;
+    let mut forces = match warm_start {
+        Some(start) => start.clone(),
+        None => OVector::zeros_generic(rhs.shape_generic().0, nalgebra::Const::<1>),
+    };
+    let (mut iterations, mut residual) = (0, f64::INFINITY);
+    let mut acceleration = free.clone();
+    while iterations < settings.max_iterations {
+        iterations += 1;
+        let next = cholesky.solve(&(&target + &forces * settings.mu));
+        let change = (&next - &forces).amax();
+        forces = next;
+        acceleration = free + response * &forces;
+        residual = (jacobian * &acceleration - rhs).amax();
+        if residual <= settings.accuracy || change <= settings.accuracy {
+            break;
+        }
+    }
+    Ok(ContactSolution {
+        acceleration,
+        forces,
+        iterations,
+        residual,
+    })
+}
