@@ -6,11 +6,13 @@ use crate::identifiable::load_identifiable;
 use crate::loading::LoadingArgs;
 use clap::{Args, ValueEnum};
 use dyngen_codegen::description::load;
-use dyngen_identify::wrapper_path;
+use dyngen_codegen::model::Model;
 use dyngen_identify::{
-    identify, identify_file, read_csv, BaseModel, Identification, IdentifyOptions, Observation, Progress,
-    WrittenEstimate, DEFAULT_MAX_RELATIVE_STD, DEFAULT_WINDOW, DELAY_MARGIN,
+    identify, identify_file, read_csv, BaseModel, ClosedLoop, ControlLaw, Estimator, Identification,
+    IdentifyOptions, Observation, Progress, Reference, WrittenEstimate, DEFAULT_MAX_RELATIVE_STD,
+    DEFAULT_WINDOW, DELAY_MARGIN,
 };
+use dyngen_identify::{wrapper_path, IdentifyError, UrdfFiles};
 use std::path::{Path, PathBuf};
 use std::time::Instant;
 
@@ -19,6 +21,16 @@ enum ObservationArg {
     Torque,
     Momentum,
     Energy,
+}
+
+#[derive(Clone, Copy, Debug, ValueEnum)]
+enum MethodArg {
+    /// Weighted least squares on the measured regressor (IDIM-LS).
+    Ls,
+    /// Instrumental variables from a simulation of the identified robot (IDIM-IV).
+    Iv,
+    /// Closed-loop output error (DIDIM).
+    Didim,
 }
 
 /// Identify a robot's parameters from a data CSV (time, q and tau per joint; qd and qdd
@@ -64,6 +76,27 @@ pub struct IdentifyArgs {
     /// estimated with the parameters (torque form, without --stream).
     #[arg(long, value_name = "MAX")]
     estimate_delay: Option<usize>,
+    /// With --estimate-delay: refine the delay to a fraction of a sample.
+    #[arg(long, requires = "estimate_delay")]
+    fractional_delay: bool,
+    /// Estimate each joint's torque gain relative to REFERENCE_JOINT's (default: the first
+    /// joint), which is taken as right (torque form, without --stream).
+    #[arg(long, value_name = "REFERENCE_JOINT", num_args = 0..=1, default_missing_value = "")]
+    estimate_gain: Option<String>,
+    /// The estimator: `ls`, weighted least squares; `iv`, instrumental variables from a
+    /// simulation of the identified robot in its loop (IDIM-IV; with --gains and --reference,
+    /// or tracking the measured positions with a stiff PD); `didim`, the parameters whose
+    /// simulated loop reproduces the torques (needs --gains and --reference).
+    #[arg(long, value_enum, default_value_t = MethodArg::Ls)]
+    method: MethodArg,
+    /// The controller's gains: a CSV file (`joint,kp,kd[,ki]`, a line per joint), or
+    /// `JOINT=KP,KD[,KI]` once per joint. Its law: τ = kp e + kd ė + ki ∫e, e = q_ref − q.
+    #[arg(long, value_name = "FILE|JOINT=KP,KD[,KI]")]
+    gains: Vec<String>,
+    /// The reference the controller tracked: a CSV with `time` and `q[<joint>]` (and
+    /// optionally `qd[<joint>]`), e.g. the excitation `dyngen excite` wrote, on the data's clock.
+    #[arg(long, value_name = "reference.csv")]
+    reference: Option<PathBuf>,
     #[command(flatten)]
     loading: LoadingArgs,
 }
@@ -88,6 +121,28 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
             args.window
         )));
     }
+    let estimator = match args.method {
+        MethodArg::Ls => Estimator::LeastSquares,
+        MethodArg::Iv => Estimator::InstrumentalVariables,
+        MethodArg::Didim => Estimator::Didim,
+    };
+    let torque_gains = match args.estimate_gain.as_deref() {
+        None => None,
+        Some("") => Some(0),
+        Some(name) => Some(
+            model
+                .joints()
+                .iter()
+                .position(|j| j.name == name)
+                .ok_or_else(|| {
+                    let names: Vec<&str> = model.joints().iter().map(|j| j.name.as_str()).collect();
+                    Failure::from(format!(
+                        "--estimate-gain {name}: unknown joint (the robot's moving joints: {})",
+                        names.join(", ")
+                    ))
+                })?,
+        ),
+    };
     let options = IdentifyOptions {
         cutoff: args.cutoff,
         observation: match args.observation {
@@ -96,6 +151,10 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
             ObservationArg::Energy => Observation::Energy { window: args.window },
         },
         max_delay: args.estimate_delay,
+        fractional_delay: args.fractional_delay,
+        torque_gains,
+        estimator,
+        closed_loop: closed_loop(&args, &model, estimator)?,
         ..IdentifyOptions::default()
     };
     let start = Instant::now();
@@ -140,21 +199,26 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
     );
     if let Some(delay) = &id.delay {
         let d = delay.samples;
-        let seconds = rate.map_or_else(String::new, |r| format!(" ({:.4} s)", d as f64 / r));
+        let seconds = rate.map_or_else(String::new, |r| format!(" ({:.4} s)", d / r));
+        let whole = delay.whole();
         let around: Vec<String> = delay
             .criterion
             .iter()
-            .filter(|(c, _)| (c - d).abs() <= 1)
+            .filter(|(c, _)| (c - whole).abs() <= 1)
             .map(|(c, v)| format!("{c}: {v:.3}"))
             .collect();
         let margin = delay.log_likelihood_margin();
+        let found = match delay.std_dev {
+            Some(sd) => format!("{d:.3} ± {sd:.3} samples"),
+            None => format!("{d} samples"),
+        };
         println!(
-            "torque delay: {d} samples{seconds} behind the positions (searched over ±{}; Σ ln σ_j at {}; \
-             ln of the likelihood ratio to the next best {margin:.1})",
+            "torque delay: {found}{seconds} behind the positions (searched over ±{}; Σ ln σ_j at {}; \
+             ln of the likelihood ratio to the next best whole delay {margin:.1})",
             args.estimate_delay.unwrap_or_default(),
             around.join(", ")
         );
-        if margin < DELAY_MARGIN {
+        if delay.std_dev.is_none() && margin < DELAY_MARGIN {
             eprintln!(
                 "warning: {}: the torque delay is barely determined (ln of the likelihood ratio to the next \
                  best {margin:.1}, below {DELAY_MARGIN}): it may be off by a sample; the torques change \
@@ -162,6 +226,41 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
                 data_name(&args.data)
             );
         }
+    }
+    if let Some(gains) = &id.gains {
+        println!(
+            "torque gain per joint (what its channel reads per N·m, relative to '{}'):",
+            model.joints()[gains.reference].name
+        );
+        for (j, joint) in model.joints().iter().enumerate() {
+            if j != gains.reference {
+                println!(
+                    "  {}: {:.5} (σ {:.2e})",
+                    joint.name, gains.gains[j], gains.std_dev[j]
+                );
+            }
+        }
+    }
+    if let Some(how) = &id.closed_loop {
+        if how.tracking_measured {
+            println!(
+                "{}: no control law given: the robot simulated tracking the measured positions with a stiff PD \
+                 (natural frequency {:.1} Hz)",
+                id.estimator,
+                dyngen_identify::STIFF_PD_SHARE * args.cutoff
+            );
+        }
+        let steps: Vec<String> = how.steps.iter().map(|s| format!("{s:.3}")).collect();
+        let rms: Vec<String> = how.position_rms.iter().map(|r| format!("{r:.2e}")).collect();
+        println!(
+            "{}: converged in {} simulations from {} (largest change per iteration, in σ: {}); simulated \
+             positions off the measured by RMS {} (rad or m, per joint)",
+            id.estimator,
+            how.steps.len(),
+            how.started_from,
+            steps.join(", "),
+            rms.join(", ")
+        );
     }
     let trust = id.base.trust(args.max_relative_std / 100.0);
     print_table(&id, &trust.flagged, args.max_relative_std);
@@ -204,22 +303,87 @@ pub fn run(args: IdentifyArgs) -> Result<(), Failure> {
         }
         eprintln!("warning: {data}: the identification cannot be trusted: {why}; written anyway (--force)");
     }
-    let urdf = args
-        .output
-        .extension()
-        .is_some_and(|e| e.eq_ignore_ascii_case("urdf"));
-    let loader_warnings = if urdf {
-        write_urdf(&id, &data, &args)?
+    write_description(
+        &id.model,
+        &args.output,
+        &args.description,
+        || id.urdf(&data, &args.output),
+        || id.written(&data, &args.output),
+    )
+}
+
+/// The description `model` written at `output`: as URDF (`urdf`'s files, see [`write_urdf`])
+/// when the name ends in `.urdf`, else as dyngen YAML (`yaml`'s text); then what the loader
+/// says of the files as written, their names and lines, as warnings.
+pub fn write_description(
+    model: &Model,
+    output: &Path,
+    description: &Path,
+    urdf: impl FnOnce() -> Result<UrdfFiles, IdentifyError>,
+    yaml: impl FnOnce() -> Result<(String, Vec<String>), IdentifyError>,
+) -> Result<(), Failure> {
+    let as_urdf = output.extension().is_some_and(|e| e.eq_ignore_ascii_case("urdf"));
+    let loader_warnings = if as_urdf {
+        write_urdf(urdf()?, model, output, description)?
     } else {
-        let (text, loader_warnings) = id.written(&data, &args.output)?;
-        write(&args.output, &text)?;
+        let (text, loader_warnings) = yaml()?;
+        write(output, &text)?;
         loader_warnings
     };
-    // What the loader says of the files as written: their names and lines.
     for warning in &loader_warnings {
         eprintln!("warning: {warning}");
     }
     Ok(())
+}
+
+/// The closed loop of --gains and --reference, checked against the method.
+fn closed_loop(
+    args: &IdentifyArgs,
+    model: &Model,
+    estimator: Estimator,
+) -> Result<Option<ClosedLoop>, Failure> {
+    let given = !args.gains.is_empty() || args.reference.is_some();
+    match estimator {
+        Estimator::LeastSquares if given => {
+            return Err(Failure::from(
+                "--gains and --reference are for --method iv and didim: the least squares simulate nothing",
+            ))
+        }
+        Estimator::Didim if args.gains.is_empty() || args.reference.is_none() => {
+            return Err(Failure::from(
+                "--method didim simulates the loop the torques come from: give the controller's --gains \
+                 and the --reference it tracked",
+            ))
+        }
+        _ => {}
+    }
+    if !given {
+        return Ok(None);
+    }
+    let Some(reference) = &args.reference else {
+        return Err(Failure::from(
+            "--gains needs --reference: the trajectory the controller tracked",
+        ));
+    };
+    if args.gains.is_empty() {
+        return Err(Failure::from(
+            "--reference needs --gains: the controller that tracked it",
+        ));
+    }
+    let law = if args.gains.iter().any(|g| g.contains('=')) {
+        ControlLaw::from_assignments(&args.gains, model)?
+    } else if let [file] = &args.gains[..] {
+        ControlLaw::read_csv(Path::new(file), model)?
+    } else {
+        return Err(Failure::from(
+            "--gains: one file, or JOINT=KP,KD[,KI] once per joint",
+        ));
+    };
+    let samples = read_csv(reference, model, false)?;
+    Ok(Some(ClosedLoop {
+        law,
+        reference: Reference::from_samples(&samples)?,
+    }))
 }
 
 fn write(path: &Path, text: &str) -> Result<(), Failure> {
@@ -229,36 +393,41 @@ fn write(path: &Path, text: &str) -> Result<(), Failure> {
     Ok(())
 }
 
-/// The identified robot as the URDF `args.output` and, when URDF cannot say everything, its
-/// wrapper beside it; loaded back as written (through the wrapper when there is one), which
-/// must give the identified robot's parameters. Returns the loader's warnings.
-fn write_urdf(id: &Identification, data: &str, args: &IdentifyArgs) -> Result<Vec<String>, Failure> {
-    let files = id.urdf(data, &args.output)?;
-    let wrapper = wrapper_path(&args.output);
-    if files.wrapper.is_some() && same_file(&wrapper, &args.description) {
+/// The robot `model` as the URDF `files.urdf` at `output` and, when URDF cannot say
+/// everything, its wrapper beside it (never over `description`); loaded back as written
+/// (through the wrapper when there is one), which must give `model`'s parameters. Returns the
+/// loader's warnings.
+pub fn write_urdf(
+    files: UrdfFiles,
+    model: &Model,
+    output: &Path,
+    description: &Path,
+) -> Result<Vec<String>, Failure> {
+    let wrapper = wrapper_path(output);
+    if files.wrapper.is_some() && same_file(&wrapper, description) {
         return Err(Failure::from(format!(
             "{}: the URDF's wrapper would be written over the description; choose another -o",
             wrapper.display()
         )));
     }
-    write(&args.output, &files.urdf)?;
+    write(output, &files.urdf)?;
     let loads = match &files.wrapper {
         Some(text) => {
             write(&wrapper, text)?;
             println!(
-                "  {} loads {} as the identified robot, with what URDF cannot say:",
+                "  {} loads {} as the robot written, with what URDF cannot say:",
                 wrapper.display(),
-                args.output.display()
+                output.display()
             );
             for line in &files.missing {
                 println!("  - {line}");
             }
             wrapper
         }
-        None => args.output.clone(),
+        None => output.to_path_buf(),
     };
     let loaded = load(&loads)?;
-    let (written, identified) = (loaded.model.parameters(), id.model.parameters());
+    let (written, identified) = (loaded.model.parameters(), model.parameters());
     let same = written.len() == identified.len()
         && written
             .iter()
@@ -266,7 +435,7 @@ fn write_urdf(id: &Identification, data: &str, args: &IdentifyArgs) -> Result<Ve
             .all(|(a, b)| (a - b).abs() <= 1e-9 * b.abs().max(1.0));
     if !same {
         return Err(Failure::from(format!(
-            "internal error: {} does not load back as the identified robot",
+            "internal error: {} does not load back as the robot written",
             loads.display()
         )));
     }

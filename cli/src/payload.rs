@@ -26,7 +26,9 @@ pub struct PayloadArgs {
     description: PathBuf,
     /// The measured data with the payload attached; `-` reads the standard input.
     data: PathBuf,
-    /// The description with the payload welded on (dyngen YAML).
+    /// The description with the payload welded on: dyngen YAML, or URDF when the name ends in
+    /// `.urdf` (then, when URDF cannot say everything, also `<name>.dyngen.yaml` beside it,
+    /// which loads the URDF as the robot with the payload).
     #[arg(short, long, value_name = "with_payload.yaml")]
     output: PathBuf,
     /// The frame the payload is attached at and reported in (default: the sensor's frame
@@ -144,12 +146,11 @@ pub fn run(args: PayloadArgs) -> Result<(), Failure> {
         }
         eprintln!("warning: {data}: {why}; written anyway (--force)");
     }
-    let (text, loader_warnings) = p.written(&data, &args.output)?;
-    std::fs::write(&args.output, text)
-        .map_err(|e| Failure::from(format!("{}: cannot write: {e}", args.output.display())))?;
-    println!("wrote {}", args.output.display());
-    for warning in &loader_warnings {
-        eprintln!("warning: {warning}");
-    }
-    Ok(())
+    crate::identify::write_description(
+        &p.model,
+        &args.output,
+        &args.description,
+        || p.urdf(&data, &args.output),
+        || p.written(&data, &args.output),
+    )
 }

@@ -47,6 +47,80 @@ impl Samples {
     }
 
     /// `e` placed in the file the samples came from, when they came from one.
+    /// Samples built in memory (not read by [`read_csv`], which checks each line) checked as
+    /// the reader checks a file's: every row has the robot's joints, every number is finite,
+    /// and time increases. The first problem is the error, naming the sample (its line, when
+    /// the samples know it), the column and the value.
+    pub(crate) fn check(&self, model: &Model) -> Result<(), IdentifyError> {
+        let n = model.dof();
+        let joints = model.joints();
+        let place = |k: usize, message: String| {
+            let e = IdentifyError::data(message);
+            match self.lines.get(k) {
+                Some(&line) => e.at_line(line),
+                None => IdentifyError::data(format!("sample {k} (t = {} s): {e}", self.time[k])),
+            }
+        };
+        let columns = [
+            ("q", Some(&self.q)),
+            ("qd", self.qd.as_ref()),
+            ("qdd", self.qdd.as_ref()),
+            ("tau", self.tau.as_ref()),
+        ];
+        for (name, rows) in columns.iter().filter_map(|(name, rows)| rows.map(|r| (name, r))) {
+            if rows.len() != self.len() {
+                return Err(IdentifyError::data(format!(
+                    "{} times but {} rows of {name}: every sample needs each",
+                    self.len(),
+                    rows.len()
+                )));
+            }
+        }
+        for k in 0..self.len() {
+            if !self.time[k].is_finite() {
+                return Err(place(k, format!("time {} is not a finite number", self.time[k])));
+            }
+            if k > 0 && self.time[k] <= self.time[k - 1] {
+                return Err(place(
+                    k,
+                    format!(
+                        "time {} does not increase (the sample before is at {})",
+                        self.time[k],
+                        self.time[k - 1]
+                    ),
+                ));
+            }
+            for (name, rows) in columns.iter().filter_map(|(name, rows)| rows.map(|r| (name, r))) {
+                let row = &rows[k];
+                if row.len() != n {
+                    return Err(place(
+                        k,
+                        format!("{} values of {name}, the robot has {n} joints", row.len()),
+                    ));
+                }
+                if let Some(j) = row.iter().position(|v| !v.is_finite()) {
+                    return Err(place(
+                        k,
+                        format!("{name}[{}]: {} is not a finite number", joints[j].name, row[j]),
+                    ));
+                }
+            }
+            if let Some(w) = self.wrench.as_ref().and_then(|w| w.get(k)) {
+                if let Some(c) = w.iter().position(|v| !v.is_finite()) {
+                    return Err(place(
+                        k,
+                        format!(
+                            "{}: {} is not a finite number",
+                            ["fx", "fy", "fz", "mx", "my", "mz"][c],
+                            w[c]
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
     pub(crate) fn locate(&self, e: IdentifyError) -> IdentifyError {
         match &self.file {
             Some(file) => e.in_file(file),

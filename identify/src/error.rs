@@ -21,6 +21,10 @@ pub enum IdentifyError {
     /// The data cannot determine the parameters (too few samples, a parameter not excited).
     #[error("{0}")]
     Unidentifiable(String),
+    /// A closed-loop estimator (IDIM-IV, DIDIM) did not settle: its simulated loop diverged,
+    /// its steps grew, or it did not converge.
+    #[error("{0}")]
+    Diverged(String),
     /// A compiled robot given as the regressor source is not the description's robot.
     #[error("{0}")]
     WrongRobot(String),

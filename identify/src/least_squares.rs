@@ -131,6 +131,31 @@ impl BaseEstimate {
         DMatrix::from_fn(b, b, |i, j| scaled[(i, j)] * self.scale[i] * self.scale[j])
     }
 
+    /// The estimate of the first `b` parameters alone (those of the base regressor, before
+    /// unknowns of the torque channel): their values, σ and marginal covariance, which
+    /// carries the other unknowns' uncertainty.
+    pub(crate) fn leading(&self, b: usize) -> BaseEstimate {
+        let covariance = self
+            .information_scaled
+            .clone()
+            .cholesky()
+            .map(|c| c.inverse())
+            .unwrap_or_else(|| DMatrix::from_element(self.scale.len(), self.scale.len(), f64::NAN));
+        let block = covariance.view((0, 0), (b, b)).into_owned();
+        let information_scaled = block
+            .cholesky()
+            .map(|c| c.inverse())
+            .unwrap_or_else(|| DMatrix::from_element(b, b, f64::NAN));
+        BaseEstimate {
+            names: self.names[..b].to_vec(),
+            theta_b: self.theta_b[..b].to_vec(),
+            std_dev: self.std_dev[..b].to_vec(),
+            information_scaled,
+            scale: self.scale[..b].to_vec(),
+            ..self.clone()
+        }
+    }
+
     /// Which parameters are poorly determined (`σ/|θ_b|` above `max_relative_std`, a
     /// fraction), and whether the estimate as a whole can be trusted: not when every
     /// parameter is poorly determined (the data says nothing about the robot beyond its
@@ -181,6 +206,31 @@ const ZERO_COLUMN_TOL: f64 = 1e-12;
 /// Floor of a joint's noise estimate, relative to its torque RMS: noise-free data must not
 /// make a weight infinite.
 const NOISE_FLOOR: f64 = 1e-12;
+/// Floor of a joint's noise relative to its torque RMS, as a share of the largest such ratio
+/// of any joint: a joint the model fits exactly (noise-free, or its torque channel's gain
+/// estimated) beside one it does not would otherwise get weights 10²⁴ times the other's, and
+/// the weighted normal equations lose the other joints' rows to rounding.
+const RELATIVE_NOISE_FLOOR: f64 = 1e-4;
+
+/// Each joint's noise `raw` (from its residuals) held above the floors, `torque_rms` its
+/// torque RMS: [`NOISE_FLOOR`] of the torques and [`RELATIVE_NOISE_FLOOR`] of the noisiest
+/// joint's share.
+pub(crate) fn floored_noise(raw: &[f64], torque_rms: &[f64]) -> Vec<f64> {
+    let noisiest = raw
+        .iter()
+        .zip(torque_rms)
+        .filter(|(_, r)| **r > 0.0)
+        .map(|(s, r)| s / r)
+        .fold(0.0, f64::max);
+    raw.iter()
+        .zip(torque_rms)
+        .map(|(s, r)| {
+            s.max(NOISE_FLOOR * r)
+                .max(RELATIVE_NOISE_FLOOR * noisiest * r)
+                .max(f64::MIN_POSITIVE)
+        })
+        .collect()
+}
 
 /// The noise estimate has settled when no joint's `σ_j` changes by more than this fraction.
 pub(crate) const NOISE_SETTLED: f64 = 1e-3;
@@ -265,6 +315,28 @@ pub(crate) fn estimate(
     observations: Observations<'_>,
     names: &[String],
 ) -> Result<BaseEstimate, IdentifyError> {
+    fit(observations, names, None)
+}
+
+/// One weighted least squares with each joint's noise at `noise`, and the noise its residuals
+/// show ([`BaseEstimate::joint_noise`]; `noise_settled` when it is `noise` to
+/// [`NOISE_SETTLED`]): a smooth function of the observations, for an outer iteration that
+/// re-estimates the noise itself (the settled noise of [`estimate`] depends on where its
+/// re-estimates stop, which would make the outer map jump).
+pub(crate) fn estimate_at_noise(
+    observations: Observations<'_>,
+    names: &[String],
+    noise: &[f64],
+) -> Result<BaseEstimate, IdentifyError> {
+    fit(observations, names, Some(noise))
+}
+
+/// [`estimate`], or [`estimate_at_noise`] with `given`.
+fn fit(
+    observations: Observations<'_>,
+    names: &[String],
+    given: Option<&[f64]>,
+) -> Result<BaseEstimate, IdentifyError> {
     let stacked;
     let equations = match observations {
         Observations::Stacked { w, tau, n } => {
@@ -306,6 +378,108 @@ pub(crate) fn estimate(
     };
     let grams = &scaled.grams;
     let a = grams.iter().fold(DMatrix::zeros(b, b), |acc, g| acc + g);
+    let condition_number = scaled_condition_number(&a, names)?;
+    // The torque RMS of each joint, for the floor of its noise.
+    let torque_rms: Vec<f64> = scaled
+        .squares
+        .iter()
+        .map(|s| (s / samples as f64).sqrt())
+        .collect();
+    // σ_j² = ‖r_j‖² / (N − tr(A⁻¹ G_j w_j)): the residuals of a fit weighted by `w_j`
+    // (normal matrix `A = Σ w_j G_j`), over the joint's degrees of freedom.
+    let noise_of = |x: &DVector<f64>, a: &DMatrix<f64>, w: &[f64]| -> Vec<f64> {
+        let squares = scaled.residual_squares(x);
+        let a_inv = a.clone().cholesky().expect("checked positive definite").inverse();
+        let raw: Vec<f64> = (0..n)
+            .map(|j| {
+                let leverage = a_inv.component_mul(&grams[j]).sum() * w[j];
+                let dof = (samples as f64 - leverage).max(1.0);
+                (squares[j] / dof).sqrt()
+            })
+            .collect();
+        floored_noise(&raw, &torque_rms)
+    };
+    let weighted = |noise: &[f64]| {
+        let w: Vec<f64> = noise.iter().map(|s| s.powi(-2)).collect();
+        let aw = grams
+            .iter()
+            .zip(&w)
+            .fold(DMatrix::zeros(b, b), |acc, (g, wj)| acc + g * *wj);
+        let x = scaled.solve(&aw, &w);
+        (x, aw, w)
+    };
+    // 1. Ordinary least squares and a first noise of each joint (or the noise given).
+    let mut joint_noise = match given {
+        Some(noise) => noise.to_vec(),
+        None => {
+            let x = scaled.solve(&a, &vec![1.0; n]);
+            noise_of(&x, &a, &vec![1.0; n])
+        }
+    };
+    // 2. Weighted least squares, the noise re-estimated from its residuals until it settles
+    // (given: once, the fit kept at the noise given).
+    let (mut x, mut aw, mut weights) = weighted(&joint_noise);
+    let (mut noise_iterations, mut noise_settled) = (0, false);
+    if given.is_some() {
+        let next = noise_of(&x, &aw, &weights);
+        noise_iterations = 1;
+        noise_settled = relative_change(&next, &joint_noise) <= NOISE_SETTLED;
+        joint_noise = next;
+    }
+    while given.is_none() && noise_iterations < MAX_NOISE_ITERATIONS {
+        let next = noise_of(&x, &aw, &weights);
+        noise_iterations += 1;
+        let change = relative_change(&next, &joint_noise);
+        joint_noise = next;
+        (x, aw, weights) = weighted(&joint_noise);
+        if change <= NOISE_SETTLED {
+            noise_settled = true;
+            break;
+        }
+    }
+    let s2 = scaled
+        .residual_squares(&x)
+        .iter()
+        .zip(&weights)
+        .map(|(r, w)| r * w)
+        .sum::<f64>()
+        / (rows - b) as f64;
+    let s2 = if s2 > 0.0 { s2 } else { 1.0 };
+    let inverse = aw
+        .clone()
+        .cholesky()
+        .expect("checked positive definite")
+        .inverse();
+    let theta_b: Vec<f64> = (0..b).map(|k| x[k] / norms[k]).collect();
+    let std_dev: Vec<f64> = (0..b).map(|k| (s2 * inverse[(k, k)]).sqrt() / norms[k]).collect();
+    Ok(BaseEstimate {
+        names: names.to_vec(),
+        theta_b,
+        std_dev,
+        joint_noise,
+        noise_iterations,
+        noise_settled,
+        residual_variance: s2,
+        information_scaled: aw / s2,
+        scale: norms.iter().map(|s| 1.0 / s).collect(),
+        condition_number,
+    })
+}
+
+/// The largest relative change from `before` to `after`, one number per joint.
+pub(crate) fn relative_change(after: &[f64], before: &[f64]) -> f64 {
+    after
+        .iter()
+        .zip(before)
+        .map(|(a, b)| (a / b - 1.0).abs())
+        .fold(0.0, f64::max)
+}
+
+/// The condition number of the columns whose scaled Gram matrix is `a` (columns of unit norm),
+/// or an [`IdentifyError::Unidentifiable`] naming the parameter they cannot determine and the
+/// columns it is a combination of.
+pub(crate) fn scaled_condition_number(a: &DMatrix<f64>, names: &[String]) -> Result<f64, IdentifyError> {
+    let b = a.nrows();
     let eigen = a.clone().symmetric_eigen();
     let (mut kmin, mut kmax) = (0, 0);
     for k in 0..b {
@@ -342,84 +516,5 @@ pub(crate) fn estimate(
             (lmax / lmin.max(0.0)).sqrt()
         )));
     }
-    let condition_number = (lmax / lmin).sqrt();
-    // The torque RMS of each joint, for the floor of its noise.
-    let torque_rms: Vec<f64> = scaled
-        .squares
-        .iter()
-        .map(|s| (s / samples as f64).sqrt())
-        .collect();
-    // σ_j² = ‖r_j‖² / (N − tr(A⁻¹ G_j w_j)): the residuals of a fit weighted by `w_j`
-    // (normal matrix `A = Σ w_j G_j`), over the joint's degrees of freedom.
-    let noise_of = |x: &DVector<f64>, a: &DMatrix<f64>, w: &[f64]| -> Vec<f64> {
-        let squares = scaled.residual_squares(x);
-        let a_inv = a.clone().cholesky().expect("checked positive definite").inverse();
-        (0..n)
-            .map(|j| {
-                let leverage = a_inv.component_mul(&grams[j]).sum() * w[j];
-                let dof = (samples as f64 - leverage).max(1.0);
-                (squares[j] / dof)
-                    .sqrt()
-                    .max(NOISE_FLOOR * torque_rms[j])
-                    .max(f64::MIN_POSITIVE)
-            })
-            .collect()
-    };
-    let weighted = |noise: &[f64]| {
-        let w: Vec<f64> = noise.iter().map(|s| s.powi(-2)).collect();
-        let aw = grams
-            .iter()
-            .zip(&w)
-            .fold(DMatrix::zeros(b, b), |acc, (g, wj)| acc + g * *wj);
-        let x = scaled.solve(&aw, &w);
-        (x, aw, w)
-    };
-    // 1. Ordinary least squares and a first noise of each joint.
-    let x = scaled.solve(&a, &vec![1.0; n]);
-    let mut joint_noise = noise_of(&x, &a, &vec![1.0; n]);
-    // 2. Weighted least squares, the noise re-estimated from its residuals until it settles.
-    let (mut x, mut aw, mut weights) = weighted(&joint_noise);
-    let (mut noise_iterations, mut noise_settled) = (0, false);
-    while noise_iterations < MAX_NOISE_ITERATIONS {
-        let next = noise_of(&x, &aw, &weights);
-        noise_iterations += 1;
-        let change = next
-            .iter()
-            .zip(&joint_noise)
-            .map(|(a, b)| (a / b - 1.0).abs())
-            .fold(0.0, f64::max);
-        joint_noise = next;
-        (x, aw, weights) = weighted(&joint_noise);
-        if change <= NOISE_SETTLED {
-            noise_settled = true;
-            break;
-        }
-    }
-    let s2 = scaled
-        .residual_squares(&x)
-        .iter()
-        .zip(&weights)
-        .map(|(r, w)| r * w)
-        .sum::<f64>()
-        / (rows - b) as f64;
-    let s2 = if s2 > 0.0 { s2 } else { 1.0 };
-    let inverse = aw
-        .clone()
-        .cholesky()
-        .expect("checked positive definite")
-        .inverse();
-    let theta_b: Vec<f64> = (0..b).map(|k| x[k] / norms[k]).collect();
-    let std_dev: Vec<f64> = (0..b).map(|k| (s2 * inverse[(k, k)]).sqrt() / norms[k]).collect();
-    Ok(BaseEstimate {
-        names: names.to_vec(),
-        theta_b,
-        std_dev,
-        joint_noise,
-        noise_iterations,
-        noise_settled,
-        residual_variance: s2,
-        information_scaled: aw / s2,
-        scale: norms.iter().map(|s| 1.0 / s).collect(),
-        condition_number,
-    })
+    Ok((lmax / lmin).sqrt())
 }

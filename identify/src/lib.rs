@@ -32,8 +32,17 @@
 //!    ([`WrittenEstimate`]), with warnings ([`Identification::warnings`]) when no consistent
 //!    robot fits the data; [`identify`] runs all of it in one call.
 //!
-//! A delay of the torques behind the positions, in whole samples, is searched with the
-//! parameters when asked ([`IdentifyOptions::max_delay`], [`DelaySearch`]).
+//! The torque channel is estimated with the parameters when asked: a delay behind the
+//! positions, in whole samples or a fraction ([`IdentifyOptions::max_delay`],
+//! [`IdentifyOptions::fractional_delay`], [`DelaySearch`]), and each joint's gain relative to
+//! one joint's ([`IdentifyOptions::torque_gains`], [`TorqueGains`]).
+//!
+//! Closed-loop data: on a log taken under a controller, whose coarse encoders put noise in
+//! the regressor and, through the controller, in the torques, [`Estimator::InstrumentalVariables`]
+//! (IDIM-IV) and [`Estimator::Didim`] fit the parameters from a simulation of the identified
+//! model in the robot's loop ([`ClosedLoop`]: the [`ControlLaw`] and the [`Reference`]),
+//! iterated to a fixed point ([`ClosedLoopEstimate`]). [`identify_base`] stops after the base
+//! parameters, for comparisons and studies.
 //!
 //! Long logs: [`identify_file`] reads the data file one line at a time ([`SampleReader`]),
 //! accumulates per-joint [`NormalEquations`] and computes missing derivatives window by window,
@@ -41,9 +50,11 @@
 //! grasped object at a frame with the robot held, from joint torques, a force/torque sensor's
 //! wrench (`fx … mz[<frame>]` columns), or both ([`PayloadEstimate`]).
 //!
-//! [`measure`], [`measure_wrench`], [`with_payload`], [`with_body_at`] and [`with_joint_terms`]
-//! simulate measurements of a "true" robot, for tests and studies.
+//! [`measure`], [`measure_closed_loop`], [`measure_wrench`], [`with_payload`], [`with_body_at`],
+//! [`with_bodies_scaled`] and [`with_joint_terms`] simulate measurements of a "true" robot, for
+//! tests and studies.
 
+mod closed_loop;
 mod consistent;
 mod data;
 mod delay;
@@ -51,8 +62,12 @@ mod describe;
 mod differentiate;
 mod energy;
 mod error;
+mod estimator;
 mod excitation;
+mod fixed_point;
 mod fourier;
+mod gains;
+mod instrumental;
 mod least_squares;
 mod levenberg_marquardt;
 mod loadable;
@@ -66,16 +81,20 @@ mod pipeline;
 mod simulate;
 mod starts;
 mod streaming;
+mod torque_channel;
 mod urdf;
 mod workspace;
 
+pub use closed_loop::{ClosedLoop, ControlLaw, JointGains, Reference, DIVERGED};
 pub use consistent::{pseudo_inertia_margins, ConsistentEstimate};
 pub use data::{read_csv, to_csv, Sample, SampleReader, SampleWriter, Samples};
 pub use delay::{DelaySearch, DELAY_MARGIN};
 pub use describe::to_yaml;
 pub use energy::{Observation, DEFAULT_WINDOW};
 pub use error::{IdentifyError, Place};
+pub use estimator::{BaseIdentification, Estimator, STIFF_PD_SHARE};
 pub use excitation::{condition_number, optimise, optimise_within, Excitation, ExcitationOptions};
+pub use fixed_point::{ClosedLoopEstimate, IterationStart, CONVERGED, MAX_ITERATIONS};
 pub use fourier::{FourierTrajectory, JointSample, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY};
 pub use least_squares::{BaseEstimate, Trust, DEFAULT_MAX_RELATIVE_STD};
 pub use normal_equations::NormalEquations;
@@ -85,10 +104,15 @@ pub use payload::{
     SENSOR_MISFIT_LIMIT,
 };
 pub use pipeline::{
-    identify, identify_file, identify_with, Identification, IdentifyOptions, WrittenEstimate,
+    identify, identify_base, identify_base_with, identify_file, identify_with, Identification,
+    IdentifyOptions, WrittenEstimate,
 };
-pub use simulate::{measure, measure_wrench, with_body_at, with_joint_terms, with_payload};
+pub use simulate::{
+    measure, measure_closed_loop, measure_wrench, with_bodies_scaled, with_body_at, with_joint_terms,
+    with_payload, Logging,
+};
 pub use starts::ConsistentStart;
 pub use streaming::{estimate_streaming, Progress, StreamedEstimate};
+pub use torque_channel::{TorqueGains, GAIN_UNDETERMINED};
 pub use urdf::{to_urdf, wrapper_path, UrdfFiles};
 pub use workspace::{ExcitationError, Region, Workspace, WorkspaceCheck, WorkspaceConstraint};

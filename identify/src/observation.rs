@@ -199,6 +199,27 @@ pub(crate) fn motion(samples: &Samples, cutoff: f64) -> Result<Motion, IdentifyE
     })
 }
 
+/// The positions of the samples `kept`, through the zero-phase low-pass filter that
+/// [`prepare`] differentiates when the data has no velocities (as they are, when it has).
+pub(crate) fn filtered_positions(
+    samples: &Samples,
+    kept: &[usize],
+    cutoff: f64,
+) -> Result<Vec<Vec<f64>>, IdentifyError> {
+    if samples.qd.is_some() {
+        return Ok(kept.iter().map(|&k| samples.q[k].clone()).collect());
+    }
+    let rate = uniform_rate(&samples.time, &samples.lines)?;
+    let n = samples.q.first().map_or(0, Vec::len);
+    let columns: Vec<Vec<f64>> = (0..n)
+        .map(|j| filtfilt(&samples.q.iter().map(|r| r[j]).collect::<Vec<_>>(), rate, cutoff))
+        .collect();
+    Ok(kept
+        .iter()
+        .map(|&k| columns.iter().map(|c| c[k]).collect())
+        .collect())
+}
+
 impl Prepared {
     /// The stacked base regressor and torque vector.
     pub fn stack(&self, base: &impl BaseRegressorSource) -> (DMatrix<f64>, DVector<f64>) {

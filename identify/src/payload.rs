@@ -137,6 +137,19 @@ impl PayloadEstimate {
 
     /// The description with the payload, as dyngen YAML.
     pub fn yaml(&self, source: &str) -> String {
+        crate::describe::to_yaml(&self.model, &self.comment(source))
+    }
+
+    /// The description with the payload as a URDF to be written at `urdf_path`, with the
+    /// dyngen YAML wrapper that loads it as the robot with the payload when URDF cannot say
+    /// everything (see [`to_urdf`](crate::to_urdf)); both with [`PayloadEstimate::yaml`]'s
+    /// comment.
+    pub fn urdf(&self, source: &str, urdf_path: &std::path::Path) -> Result<crate::UrdfFiles, IdentifyError> {
+        crate::urdf::to_urdf(&self.model, &self.comment(source), urdf_path)
+    }
+
+    /// The header comment of the written description's files.
+    fn comment(&self, source: &str) -> Vec<String> {
         let mut comment = vec![
             format!(
                 "The description with a payload identified by `dyngen payload` from {source} ({} samples, {}):",
@@ -168,7 +181,7 @@ impl PayloadEstimate {
         }
         comment.extend(self.notes.iter().map(|n| format!("note: {n}")));
         comment.extend(self.warnings.iter().map(|w| format!("warning: {w}")));
-        crate::describe::to_yaml(&self.model, &comment)
+        comment
     }
 }
 
@@ -505,6 +518,7 @@ pub fn identify_payload(
             "joint terms are re-fitted from torques only: held".to_string()
         });
     }
+    samples.check(model).map_err(|e| samples.locate(e))?;
     let motion = motion(samples, options.cutoff).map_err(|e| samples.locate(e))?;
     let n = model.dof();
     let inertial = model.inertial_parameter_count();

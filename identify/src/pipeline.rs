@@ -1,19 +1,23 @@
 //! The whole identification in one call: data → base parameters with uncertainties → a
 //! consistent full θ → an identified description that loads.
 
+use crate::closed_loop::ClosedLoop;
 use crate::consistent::{consistent_estimate, misfit_bound, ConsistentEstimate};
 use crate::data::Samples;
-use crate::delay::{estimate_with_delay, DelaySearch};
+use crate::delay::DelaySearch;
 use crate::describe::to_yaml;
 use crate::energy::{estimate_by_energy, estimate_by_momentum, Observation};
 use crate::error::IdentifyError;
-use crate::least_squares::{estimate, BaseEstimate, Observations};
+use crate::estimator::{estimate_torque_form, BaseIdentification, Estimator};
+use crate::fixed_point::ClosedLoopEstimate;
+use crate::least_squares::BaseEstimate;
 use crate::loadable::{loadable, warnings_of};
 use crate::objective::Problem;
-use crate::observation::{prepare, BaseModel, BaseRegressorSource};
+use crate::observation::{prepare, BaseModel, BaseRegressorSource, Prepared};
 use crate::physical_start::physical_start;
 use crate::starts::{description_start, least_squares_start};
 use crate::streaming::{estimate_streaming, Progress};
+use crate::torque_channel::TorqueGains;
 use crate::urdf::{to_urdf, UrdfFiles};
 use dyngen_model::model::Model;
 use std::fmt;
@@ -34,6 +38,18 @@ pub struct IdentifyOptions {
     /// way, estimated with the parameters ([`Identification::delay`]); torque form only, on
     /// the whole log (not [`identify_file`]).
     pub max_delay: Option<usize>,
+    /// With [`IdentifyOptions::max_delay`]: refine the delay to a fraction of a sample (the
+    /// motion interpolated), with its standard deviation.
+    pub fractional_delay: bool,
+    /// Estimate each joint's torque gain relative to this joint's (an index in joint order),
+    /// which is held at 1 ([`Identification::gains`]); torque form only.
+    pub torque_gains: Option<usize>,
+    /// What fits the base parameters in the torque form.
+    pub estimator: Estimator,
+    /// The loop the robot was measured in, for IDIM-IV and DIDIM: the law and the reference
+    /// it tracked. DIDIM needs it; IDIM-IV without it tracks the measured positions with a
+    /// stiff PD.
+    pub closed_loop: Option<ClosedLoop>,
 }
 
 impl Default for IdentifyOptions {
@@ -43,6 +59,10 @@ impl Default for IdentifyOptions {
             stream_window: 1 << 14,
             observation: Observation::Torque,
             max_delay: None,
+            fractional_delay: false,
+            torque_gains: None,
+            estimator: Estimator::LeastSquares,
+            closed_loop: None,
         }
     }
 }
@@ -88,9 +108,15 @@ pub struct Identification {
     /// those whose torques a delay puts outside the log).
     pub samples_used: usize,
     /// The torques' delay behind the positions, when it was searched
-    /// ([`IdentifyOptions::max_delay`]): the estimate pairs each sample with the torques that
-    /// many samples later.
+    /// ([`IdentifyOptions::max_delay`]): the estimate pairs each torque with the motion that
+    /// many samples earlier.
     pub delay: Option<DelaySearch>,
+    /// The torque channels' gains, when they were estimated ([`IdentifyOptions::torque_gains`]).
+    pub gains: Option<TorqueGains>,
+    /// What fitted the base parameters.
+    pub estimator: Estimator,
+    /// How IDIM-IV or DIDIM reached its estimate.
+    pub closed_loop: Option<ClosedLoopEstimate>,
     pub differentiated: bool,
     /// What the user should know about the data and the estimate: a noise estimate that did
     /// not settle, no consistent estimate compatible with the data, an estimate that would not
@@ -148,11 +174,26 @@ impl Identification {
                 "are determined alone (neither estimate would load).".into(),
             ]),
         }
+        if self.estimator != Estimator::LeastSquares {
+            comment.push(format!("Base parameters estimated by {}.", self.estimator));
+        }
         if let Some(delay) = &self.delay {
             comment.push(format!(
-                "Each sample was paired with the torques {} samples later: the torques' delay behind \
+                "Each torque was paired with the motion {} samples earlier: the torques' delay behind \
                  the positions, estimated with the parameters.",
                 delay.samples
+            ));
+        }
+        if let Some(gains) = &self.gains {
+            comment.push(format!(
+                "The torques were divided by each joint's estimated torque gain (relative to joint {}'s): {}.",
+                gains.reference + 1,
+                gains
+                    .gains
+                    .iter()
+                    .map(|g| format!("{g:.4}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
             ));
         }
         comment.extend(self.notes.iter().map(|n| format!("note: {n}")));
@@ -180,52 +221,101 @@ pub fn identify_with(
     options: &IdentifyOptions,
 ) -> Result<Identification, IdentifyError> {
     let base_model = matching(model, source)?;
+    let fit = fit_base(model, &base_model, source, samples, options)?;
+    complete(model, &base_model, fit)
+}
+
+/// The base parameters of `model` identified from `samples` (which must have torques), with
+/// the generic numeric regressor: [`identify`] without the consistent estimate and the
+/// description, for comparisons and studies.
+pub fn identify_base(
+    model: &Model,
+    samples: &Samples,
+    options: &IdentifyOptions,
+) -> Result<BaseIdentification, IdentifyError> {
+    identify_base_with(model, &BaseModel::new(model), samples, options)
+}
+
+/// [`identify_base`] with the base regressor from `source` (as [`identify_with`]).
+pub fn identify_base_with(
+    model: &Model,
+    source: &impl BaseRegressorSource,
+    samples: &Samples,
+    options: &IdentifyOptions,
+) -> Result<BaseIdentification, IdentifyError> {
+    let base_model = matching(model, source)?;
+    fit_base(model, &base_model, source, samples, options)
+}
+
+/// [`identify_base_with`] with the description's base parameters, checked.
+fn fit_base(
+    model: &Model,
+    base_model: &BaseModel<'_>,
+    source: &impl BaseRegressorSource,
+    samples: &Samples,
+    options: &IdentifyOptions,
+) -> Result<BaseIdentification, IdentifyError> {
+    check_options(options)?;
+    samples.check(model).map_err(|e| samples.locate(e))?;
     let prepared = prepare(samples, options.cutoff).map_err(|e| samples.locate(e))?;
-    if options.max_delay.is_some() && options.observation != Observation::Torque {
+    Ok(match options.observation {
+        Observation::Torque => estimate_torque_form(model, base_model, source, samples, &prepared, options)
+            .map_err(|e| samples.locate(e))?,
+        Observation::Energy { window } => windowed(
+            estimate_by_energy(base_model, samples, &prepared, window).map_err(|e| samples.locate(e))?,
+            &prepared,
+        ),
+        Observation::Momentum { window } => windowed(
+            estimate_by_momentum(base_model, samples, &prepared, window).map_err(|e| samples.locate(e))?,
+            &prepared,
+        ),
+    })
+}
+
+/// A windowed form's estimate, which knows no torque channel or closed loop.
+fn windowed(base: BaseEstimate, prepared: &Prepared) -> BaseIdentification {
+    BaseIdentification {
+        base,
+        samples_used: prepared.q.len(),
+        differentiated: prepared.differentiated,
+        estimator: Estimator::LeastSquares,
+        delay: None,
+        gains: None,
+        closed_loop: None,
+    }
+}
+
+/// Options that do not go together, refused before any work.
+fn check_options(options: &IdentifyOptions) -> Result<(), IdentifyError> {
+    let torque_form = options.observation == Observation::Torque;
+    if !torque_form && options.max_delay.is_some() {
         return Err(IdentifyError::data(
             "a delay is searched in the torque form only: the windowed forms integrate the torques",
         ));
     }
-    let mut delay = None;
-    let mut samples_used = prepared.q.len();
-    let base = match options.observation {
-        Observation::Torque => {
-            let (w, tau) = prepared.stack(source);
-            match (options.max_delay, &samples.tau) {
-                (Some(max), Some(all)) => {
-                    let (search, fit, used) = estimate_with_delay(
-                        &w,
-                        all,
-                        &prepared.kept,
-                        model.dof(),
-                        &base_model.base.names,
-                        max,
-                    )
-                    .map_err(|e| samples.locate(e))?;
-                    delay = Some(search);
-                    samples_used = used;
-                    fit
-                }
-                _ => {
-                    let observations = Observations::Stacked {
-                        w: &w,
-                        tau: &tau,
-                        n: model.dof(),
-                    };
-                    estimate(observations, &base_model.base.names)?
-                }
-            }
-        }
-        Observation::Energy { window } => {
-            estimate_by_energy(&base_model, samples, &prepared, window).map_err(|e| samples.locate(e))?
-        }
-        Observation::Momentum { window } => {
-            estimate_by_momentum(&base_model, samples, &prepared, window).map_err(|e| samples.locate(e))?
-        }
-    };
-    let mut identification = complete(model, &base_model, base, samples_used, prepared.differentiated)?;
-    identification.delay = delay;
-    Ok(identification)
+    if !torque_form && options.torque_gains.is_some() {
+        return Err(IdentifyError::data(
+            "torque gains are estimated in the torque form only",
+        ));
+    }
+    if !torque_form && options.estimator != Estimator::LeastSquares {
+        return Err(IdentifyError::data(format!(
+            "{} fits the torque form: the windowed forms are fitted by least squares",
+            options.estimator
+        )));
+    }
+    if options.fractional_delay && options.max_delay.is_none() {
+        return Err(IdentifyError::data(
+            "a fractional delay refines a delay search: give the largest delay to search (max_delay)",
+        ));
+    }
+    if options.estimator == Estimator::Didim && options.closed_loop.is_none() {
+        return Err(IdentifyError::data(
+            "DIDIM simulates the loop the torques come from: it needs the control law's gains and \
+             the reference they tracked",
+        ));
+    }
+    Ok(())
 }
 
 /// [`identify_with`] on the data file `path` read line by line, for logs too long to hold:
@@ -253,14 +343,28 @@ pub fn identify_file(
             "a delay is searched on the whole log: identify it without streaming",
         ));
     }
+    if options.torque_gains.is_some() {
+        return Err(IdentifyError::data(
+            "torque gains are estimated on the whole log: identify it without streaming",
+        ));
+    }
+    if options.estimator != Estimator::LeastSquares {
+        return Err(IdentifyError::data(format!(
+            "{} simulates the robot along the whole log: identify it without streaming",
+            options.estimator
+        )));
+    }
     let streamed = estimate_streaming(model, source, path, options, progress)?;
-    complete(
-        model,
-        &base_model,
-        streamed.base,
-        streamed.samples_used,
-        streamed.differentiated,
-    )
+    let fit = BaseIdentification {
+        base: streamed.base,
+        samples_used: streamed.samples_used,
+        differentiated: streamed.differentiated,
+        estimator: Estimator::LeastSquares,
+        delay: None,
+        gains: None,
+        closed_loop: None,
+    };
+    complete(model, &base_model, fit)
 }
 
 /// The description's base parameters, checked to be those of `source`.
@@ -301,10 +405,9 @@ pub(crate) fn carrier(frame: &dyngen_model::model::Frame) -> usize {
 fn complete(
     model: &Model,
     base_model: &BaseModel<'_>,
-    base: BaseEstimate,
-    samples_used: usize,
-    differentiated: bool,
+    fit: BaseIdentification,
 ) -> Result<Identification, IdentifyError> {
+    let base = fit.base;
     let mut warnings = Vec::new();
     if !base.noise_settled {
         warnings.push(format!(
@@ -355,9 +458,12 @@ fn complete(
                     consistent,
                     model: identified,
                     written,
-                    samples_used,
-                    delay: None,
-                    differentiated,
+                    samples_used: fit.samples_used,
+                    delay: fit.delay,
+                    gains: fit.gains,
+                    estimator: fit.estimator,
+                    closed_loop: fit.closed_loop,
+                    differentiated: fit.differentiated,
                     warnings,
                     notes,
                 });

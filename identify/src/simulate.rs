@@ -1,7 +1,11 @@
 //! A "real" robot for experiments and tests: a description plus a payload and realistic
-//! joint friction and armature, measured along a trajectory with torque noise.
+//! joint friction and armature, measured along a trajectory with torque noise, or run in a
+//! closed loop and logged as a real controller's log is (encoders, a torque channel with
+//! noise, a delay and a gain).
 
+use crate::closed_loop::{friction_damping, ControlLaw, Loop, Reference};
 use crate::data::Samples;
+use crate::error::IdentifyError;
 use crate::excitation::normal;
 use crate::fourier::FourierTrajectory;
 use dyngen_model::dynamics::NumericDynamics;
@@ -80,6 +84,20 @@ pub fn measure_wrench(
         .collect()
 }
 
+/// `model` with body `b`'s mass and inertia `factors[b]` times the description's (its centre
+/// of mass kept): a description off by as much.
+pub fn with_bodies_scaled(model: &Model, factors: &[f64]) -> Model {
+    let mut bodies = model.bodies().to_vec();
+    for (body, &f) in bodies.iter_mut().zip(factors) {
+        body.inertia.mass *= f;
+        body.inertia.inertia_com *= f;
+    }
+    model
+        .clone()
+        .with_bodies(bodies)
+        .expect("positive factors keep a model valid")
+}
+
 /// `model` with every joint-level column and the given values per joint.
 pub fn with_joint_terms(model: &Model, values: &[JointTermValues], coulomb_smoothing: Option<f64>) -> Model {
     let terms = JointTerms {
@@ -136,4 +154,99 @@ pub fn measure(
         }
     }
     samples
+}
+
+/// How the log of a simulated closed loop ([`measure_closed_loop`]) reads the robot.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Logging {
+    /// Encoders of this many bits per turn: positions (in the log and as the controller sees
+    /// them) rounded to `2π/2^bits`; `None`: exact.
+    pub encoder_bits: Option<u32>,
+    /// Standard deviation of the Gaussian noise on each joint's logged torque.
+    pub torque_noise: Vec<f64>,
+    /// Samples the torque channel lags the positions (any fraction): the torques logged on a
+    /// line are those of that much earlier.
+    pub torque_delay: f64,
+    /// Each joint's torque channel reads this many times the torque (1 when empty).
+    pub torque_gain: Vec<f64>,
+    pub seed: u64,
+}
+
+/// Integration steps between output times of a "real" robot, at least: its positions and
+/// torques are those of the continuous loop to far below any noise.
+const TRUTH_STEPS: usize = 8;
+
+/// `truth` run by `law` along `trajectory` (starting on it, at rest in the integral),
+/// `duration` s logged at `rate` Hz as [`Logging`] says: positions and torques (no
+/// velocities or accelerations); and the reference at the log's times. The torques logged
+/// are the law's (what the drives applied), read through the torque channel.
+pub fn measure_closed_loop(
+    truth: &Model,
+    law: &ControlLaw,
+    trajectory: &FourierTrajectory,
+    duration: f64,
+    rate: f64,
+    logging: &Logging,
+) -> Result<(Samples, Reference), IdentifyError> {
+    let count = (duration * rate).round() as usize;
+    let delay = logging.torque_delay;
+    if !(delay.is_finite() && delay >= 0.0) {
+        return Err(IdentifyError::data(format!("a torque delay of {delay} samples")));
+    }
+    // Times in samples: the log's, and the torques' `delay` earlier; the loop starts before
+    // the first of them.
+    let mut at: Vec<f64> = (0..count).flat_map(|k| [k as f64, k as f64 - delay]).collect();
+    let start = -(delay.ceil() + 1.0);
+    at.push(start);
+    at.sort_by(f64::total_cmp);
+    at.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+    let times: Vec<f64> = at.iter().map(|s| s / rate).collect();
+    let reference = Reference::from_trajectory(trajectory, &times);
+    let dynamics = NumericDynamics::new(truth);
+    let quantum = logging
+        .encoder_bits
+        .map(|bits| 2.0 * std::f64::consts::PI / 2f64.powi(bits as i32));
+    let closed = Loop {
+        dynamics: &dynamics,
+        law,
+        reference: &reference,
+        quantum,
+        gravity_compensation: false,
+        min_steps: TRUTH_STEPS,
+    };
+    let first = trajectory.at(times[0]);
+    let run = closed
+        .run(
+            &times,
+            &first.q,
+            &first.qd,
+            &friction_damping(truth, &truth.parameters()),
+        )
+        .map_err(|e| IdentifyError::data(format!("the simulated robot diverged: {e}")))?;
+    let index = |s: f64| at.partition_point(|&x| x < s - 1e-9);
+    let mut rng = SplitMix64::new(logging.seed);
+    let mut samples = Samples {
+        tau: Some(Vec::with_capacity(count)),
+        ..Samples::default()
+    };
+    for k in 0..count {
+        let q = &run.q[index(k as f64)];
+        let tau = &run.tau[index(k as f64 - delay)];
+        samples.time.push(k as f64 / rate);
+        samples.q.push(match quantum {
+            Some(step) => q.iter().map(|v| (v / step).round() * step).collect(),
+            None => q.clone(),
+        });
+        let logged = tau
+            .iter()
+            .enumerate()
+            .map(|(j, t)| {
+                let gain = logging.torque_gain.get(j).copied().unwrap_or(1.0);
+                gain * t + logging.torque_noise.get(j).copied().unwrap_or(0.0) * normal(&mut rng)
+            })
+            .collect();
+        samples.tau.as_mut().expect("made with torques").push(logged);
+    }
+    let log_times = samples.time.clone();
+    Ok((samples, Reference::from_trajectory(trajectory, &log_times)))
 }

@@ -329,14 +329,9 @@ struct Row {
     flagged: bool,
 }
 
-/// The rows of the table (between its header, which names `consistent θ_b`, and the line
-/// that counts the marked parameters).
+/// The rows of the table ([`common::table_rows`]).
 fn table(stdout: &str) -> Vec<Row> {
-    stdout
-        .lines()
-        .skip_while(|l| !l.contains("consistent θ_b"))
-        .skip(1)
-        .take_while(|l| !l.starts_with("* ") && !l.starts_with("every base parameter"))
+    common::table_rows(stdout)
         .map(|l| {
             let fields: Vec<&str> = l.split_whitespace().collect();
             let number = |i: usize| -> f64 {

@@ -4,7 +4,7 @@
 
 use crate::common;
 
-use common::{arg, dyngen, dyngen_with_stdin, repository_file};
+use common::{arg, assert_same_table, dyngen, dyngen_with_stdin, repository_file, table};
 use dyngen_codegen::description::load;
 use dyngen_identify::{
     measure, to_csv, FourierTrajectory, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY,
@@ -36,37 +36,12 @@ fn positions_data_with_noise(dir: &Path, fraction: f64) -> (PathBuf, PathBuf, St
     (description, data, text)
 }
 
-/// The θ_b and σ columns of the table of base parameters.
-fn table(stdout: &str) -> Vec<(f64, f64)> {
-    stdout
-        .lines()
-        .skip_while(|l| !l.contains("consistent θ_b"))
-        .skip(1)
-        .take_while(|l| !l.starts_with("* ") && !l.starts_with("every base parameter"))
-        .map(|l| {
-            let mut fields = l.split_whitespace().map(|f| f.parse::<f64>().expect("a number"));
-            (fields.next().expect("θ_b"), fields.next().expect("σ"))
-        })
-        .collect()
-}
-
 /// What stderr says besides the note that the rigid arm7 identifies no joint terms.
 fn errors(stderr: &str) -> Vec<&str> {
     stderr
         .lines()
         .filter(|l| !(l.starts_with("note: ") && l.ends_with("friction and armature are not identified")))
         .collect()
-}
-
-fn assert_same_table(a: &[(f64, f64)], b: &[(f64, f64)], what: &str) {
-    assert_eq!(a.len(), b.len(), "{what}");
-    assert!(!a.is_empty(), "{what}");
-    for ((x, sx), (y, sy)) in a.iter().zip(b) {
-        assert!(
-            (x - y).abs() <= 1e-6 * x.abs().max(*sx) && (sx - sy).abs() <= 1e-6 * sx,
-            "{what}: {x} ± {sx} vs {y} ± {sy}"
-        );
-    }
 }
 
 /// The data through a pipe, as `-` and as `/dev/stdin`, streamed (one pass: a second would
@@ -263,7 +238,7 @@ fn a_torque_delay_is_found() {
     assert!(!run.stderr.contains("barely determined"), "{}", run.output());
     let written = std::fs::read_to_string(&out).expect("written");
     assert!(
-        written.contains("paired with the torques 3 samples later"),
+        written.contains("Each torque was paired with the motion 3 samples earlier"),
         "{written}"
     );
 

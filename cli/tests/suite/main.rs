@@ -10,6 +10,7 @@ mod excite_workspace;
 mod frames;
 mod gen;
 mod identification;
+mod identify_closed_loop;
 mod identify_inputs;
 mod inertia;
 mod inspect;

@@ -284,3 +284,93 @@ fn errors_from_below_keep_their_source() {
         "{err}"
     );
 }
+
+/// Defective closed-loop data given to IDIM-IV and DIDIM (and the least squares they start
+/// from): each is one line naming the sample, joint or setting, never a panic or an estimate.
+#[test]
+fn defective_closed_loop_data_is_one_clear_error() {
+    use crate::common::closed_loop::ur5_with_tool;
+    use dyngen_identify::{identify_base, ControlLaw, Estimator};
+
+    let case = ur5_with_tool();
+    let (samples, reference) = case.measure(case.logging(1));
+    let error = |samples: &Samples, options: IdentifyOptions| {
+        let e = identify_base(&case.description, samples, &options)
+            .expect_err("refused")
+            .to_string();
+        assert!(!e.contains('\n'), "{e}");
+        e
+    };
+    let with_loop = |estimator: Estimator| IdentifyOptions {
+        estimator,
+        closed_loop: Some(case.closed_loop(&reference)),
+        ..IdentifyOptions::default()
+    };
+    for estimator in [
+        Estimator::LeastSquares,
+        Estimator::InstrumentalVariables,
+        Estimator::Didim,
+    ] {
+        let options = || match estimator {
+            Estimator::LeastSquares => IdentifyOptions::default(),
+            _ => with_loop(estimator),
+        };
+        let mut nan = samples.clone();
+        nan.q[500][2] = f64::NAN;
+        assert_eq!(
+            error(&nan, options()),
+            "sample 500 (t = 2.5 s): q[elbow_joint]: NaN is not a finite number"
+        );
+        let mut nan = samples.clone();
+        nan.tau.as_mut().expect("torques")[700][1] = f64::INFINITY;
+        assert_eq!(
+            error(&nan, options()),
+            "sample 700 (t = 3.5 s): tau[shoulder_lift_joint]: inf is not a finite number"
+        );
+        let mut short = samples.clone();
+        short.time.truncate(60);
+        short.q.truncate(60);
+        short.tau.as_mut().expect("torques").truncate(60);
+        assert_eq!(
+            error(&short, options()),
+            "60 samples: the filter's transients take 30 at each end; give more samples or q̇ and q̈"
+        );
+        // A joint whose encoder reads one value all along (a brake, a dead encoder).
+        let mut still = samples.clone();
+        let held = still.q[0][3];
+        still.q.iter_mut().for_each(|q| q[3] = held);
+        let e = error(&still, options());
+        println!("{estimator}, a joint that never moves: {e}");
+        assert!(e.starts_with("base parameter '"), "{e}");
+        assert!(
+            e.contains("wrist_1_joint]") && e.contains("cannot be determined"),
+            "{e}"
+        );
+    }
+    for estimator in [Estimator::InstrumentalVariables, Estimator::Didim] {
+        let mut half = reference.clone();
+        half.time.truncate(1000);
+        half.q.truncate(1000);
+        half.qd.truncate(1000);
+        let mut options = with_loop(estimator);
+        options.closed_loop.as_mut().expect("a loop").reference = half;
+        let e = error(&samples, options);
+        assert!(
+            e.starts_with("the reference covers 0 s to 4.995 s, the data 0 s to 9.")
+                && e.ends_with("the reference must cover the whole log"),
+            "{e}"
+        );
+        let mut options = with_loop(estimator);
+        let law: &mut ControlLaw = &mut options.closed_loop.as_mut().expect("a loop").law;
+        law.gains.truncate(5);
+        assert_eq!(
+            error(&samples, options),
+            "the control law has no gains for joint wrist_3_joint (every joint needs kp and kd)"
+        );
+    }
+    let without_loop = IdentifyOptions {
+        estimator: Estimator::Didim,
+        ..IdentifyOptions::default()
+    };
+    assert!(error(&samples, without_loop).starts_with("DIDIM simulates the loop the torques come from"));
+}

@@ -55,7 +55,7 @@ fn a_torque_delay_of_three_samples_is_found_and_undone() {
                 .map(|(d, c)| format!("{d}: {c:.2}"))
                 .collect::<Vec<_>>()
         );
-        assert_eq!(search.samples, DELAY as i64);
+        assert_eq!(search.samples, DELAY as f64);
         assert_eq!(search.criterion.len(), 21);
         println!(
             "ln of the likelihood ratio to the next best: {:.1}",

@@ -5,15 +5,16 @@
 //! excitation, torque noise 1% of each joint's largest torque, then validated on another
 //! trajectory. The floors are the acceptance thresholds of TESTING.md.
 
+use crate::common::joint_values;
 use dyngen_identify::{
-    identify, measure, optimise, with_joint_terms, with_payload, BaseModel, ExcitationOptions,
-    FourierTrajectory, Identification, IdentifyOptions, TrajectoryLimits, WrittenEstimate,
+    identify, measure, optimise, with_bodies_scaled, with_joint_terms, with_payload, BaseModel,
+    ExcitationOptions, FourierTrajectory, Identification, IdentifyOptions, TrajectoryLimits, WrittenEstimate,
     DEFAULT_ACCELERATION_PER_VELOCITY,
 };
 use dyngen_model::base_parameters::BaseParameterSet;
 use dyngen_model::description::{load, load_yaml_str};
 use dyngen_model::dynamics::NumericDynamics;
-use dyngen_model::model::{JointTermValues, Model};
+use dyngen_model::model::Model;
 use nalgebra::Vector3;
 use std::path::Path;
 
@@ -32,35 +33,14 @@ fn nominal() -> Model {
 /// flange, a few millimetres off the A6 axis), and joint terms of the size industrial gears
 /// have (armature kg·m², viscous N·m·s/rad, Coulomb N·m, offset N·m).
 fn truth(nominal: &Model) -> Model {
-    let cad_error = [1.08, 0.93, 1.1, 0.9, 1.15, 1.2];
-    let bodies = nominal
-        .bodies()
-        .iter()
-        .zip(cad_error)
-        .map(|(body, factor)| {
-            let mut body = body.clone();
-            body.inertia.mass *= factor;
-            body.inertia.inertia_com *= factor;
-            body
-        })
-        .collect();
-    let cad = nominal
-        .clone()
-        .with_bodies(bodies)
-        .expect("scaled bodies are valid");
+    let cad = with_bodies_scaled(nominal, &[1.08, 0.93, 1.1, 0.9, 1.15, 1.2]);
     let tool = with_payload(&cad, 25.0, Vector3::new(0.0015, -0.001, 0.12), 0.08);
-    let armature = [15.0, 15.0, 6.0, 1.0, 0.8, 0.03];
-    let viscous = [80.0, 80.0, 40.0, 8.0, 5.0, 0.04];
-    let coulomb = [120.0, 120.0, 60.0, 15.0, 10.0, 0.2];
-    let offset = [20.0, -30.0, 10.0, 3.0, -2.0, 0.03];
-    let values: Vec<JointTermValues> = (0..6)
-        .map(|j| JointTermValues {
-            armature: armature[j],
-            viscous: viscous[j],
-            coulomb: coulomb[j],
-            offset: offset[j],
-        })
-        .collect();
+    let values = joint_values(
+        &[15.0, 15.0, 6.0, 1.0, 0.8, 0.03],
+        &[80.0, 80.0, 40.0, 8.0, 5.0, 0.04],
+        &[120.0, 120.0, 60.0, 15.0, 10.0, 0.2],
+        &[20.0, -30.0, 10.0, 3.0, -2.0, 0.03],
+    );
     with_joint_terms(&tool, &values, None)
 }
 

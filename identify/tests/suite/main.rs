@@ -5,6 +5,7 @@
 mod common;
 
 mod bad_input;
+mod closed_loop;
 mod delay;
 mod energy;
 mod estimation;
@@ -13,6 +14,7 @@ mod industrial;
 mod non_physical_description;
 mod payload;
 mod streaming;
+mod torque_channel;
 mod uncertainty;
 mod urdf_output;
 mod workspace;

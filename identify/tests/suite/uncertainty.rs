@@ -12,7 +12,7 @@ use dyngen_identify::{
     IdentifyOptions, Samples, TrajectoryLimits, DEFAULT_ACCELERATION_PER_VELOCITY, DEFAULT_MAX_RELATIVE_STD,
 };
 use dyngen_model::base_parameters::BaseParameterSet;
-use dyngen_model::description::load_yaml_str;
+use dyngen_model::description::load;
 use dyngen_model::model::{JointTermKind, JointTermValues, Model};
 use dyngen_runtime::SplitMix64;
 use nalgebra::DVector;
@@ -144,55 +144,9 @@ fn least_squares_standard_deviations_match_the_monte_carlo_spread() {
 
 /// A three-joint arm (a vertical axis, then two horizontal ones) with friction, armature and
 /// offset on every joint.
-const ARM3: &str = "
-name: arm3
-gravity: [0.0, 0.0, -9.81]
-end_effector: { name: tip, link: l3, xyz: [0.35, 0.0, 0.0], rpy: [0.0, 0.0, 0.0] }
-links:
-  - name: base
-  - name: l1
-    inertial:
-      mass: 6.0
-      origin: { xyz: [0.0, 0.01, 0.08] }
-      inertia: { ixx: 0.05, ixy: 0.0, ixz: 0.0, iyy: 0.05, iyz: 0.002, izz: 0.03 }
-  - name: l2
-    inertial:
-      mass: 4.0
-      origin: { xyz: [0.2, 0.0, 0.01] }
-      inertia: { ixx: 0.03, ixy: 0.001, ixz: 0.0, iyy: 0.06, iyz: 0.0, izz: 0.06 }
-  - name: l3
-    inertial:
-      mass: 2.0
-      origin: { xyz: [0.17, 0.01, 0.0] }
-      inertia: { ixx: 0.03, ixy: 0.0, ixz: 0.002, iyy: 0.05, iyz: 0.0, izz: 0.05 }
-joints:
-  - name: j1
-    type: revolute
-    parent: base
-    child: l1
-    origin: { xyz: [0.0, 0.0, 0.3] }
-    axis: [0.0, 0.0, 1.0]
-    limit: { lower: -2.9, upper: 2.9, velocity: 2.0, effort: 150.0 }
-  - name: j2
-    type: revolute
-    parent: l1
-    child: l2
-    origin: { xyz: [0.0, 0.0, 0.15] }
-    axis: [0.0, 1.0, 0.0]
-    limit: { lower: -2.0, upper: 2.0, velocity: 2.0, effort: 150.0 }
-  - name: j3
-    type: revolute
-    parent: l2
-    child: l3
-    origin: { xyz: [0.4, 0.0, 0.0] }
-    axis: [0.0, 1.0, 0.0]
-    limit: { lower: -2.5, upper: 2.5, velocity: 2.5, effort: 60.0 }
-";
-
 fn arm3(values: &[JointTermValues; 3]) -> Model {
-    let model = load_yaml_str(ARM3, std::path::Path::new("arm3.yaml"))
-        .unwrap_or_else(|e| panic!("{e}"))
-        .model;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("tests/data/arm3.yaml");
+    let model = load(&path).unwrap_or_else(|e| panic!("{e}")).model;
     dyngen_identify::with_joint_terms(&model, values, None)
 }
 

@@ -89,3 +89,35 @@ pub fn broken_arm7(dir: &Path) -> PathBuf {
     std::fs::write(&path, text.replacen("mass: 7.039242", "mass: heavy", 1)).expect("write");
     path
 }
+
+/// The rows of `dyngen identify`'s table of base parameters: the lines between its header,
+/// which names `consistent θ_b`, and the line that counts the marked parameters.
+pub fn table_rows(stdout: &str) -> impl Iterator<Item = &str> {
+    stdout
+        .lines()
+        .skip_while(|l| !l.contains("consistent θ_b"))
+        .skip(1)
+        .take_while(|l| !l.starts_with("* ") && !l.starts_with("every base parameter"))
+}
+
+/// The θ_b and σ columns of `dyngen identify`'s table of base parameters.
+pub fn table(stdout: &str) -> Vec<(f64, f64)> {
+    table_rows(stdout)
+        .map(|l| {
+            let mut fields = l.split_whitespace().map(|f| f.parse::<f64>().expect("a number"));
+            (fields.next().expect("θ_b"), fields.next().expect("σ"))
+        })
+        .collect()
+}
+
+/// Two tables of [`table`] the same to the digits printed.
+pub fn assert_same_table(a: &[(f64, f64)], b: &[(f64, f64)], what: &str) {
+    assert_eq!(a.len(), b.len(), "{what}");
+    assert!(!a.is_empty(), "{what}");
+    for ((x, sx), (y, sy)) in a.iter().zip(b) {
+        assert!(
+            (x - y).abs() <= 1e-6 * x.abs().max(*sx) && (sx - sy).abs() <= 1e-6 * sx,
+            "{what}: {x} ± {sx} vs {y} ± {sy}"
+        );
+    }
+}

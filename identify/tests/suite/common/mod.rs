@@ -1,6 +1,8 @@
 //! The arm7 set-up shared by the identification tests.
 #![allow(dead_code)]
 
+pub mod closed_loop;
+
 use dyngen_identify::{with_joint_terms, with_payload};
 use dyngen_model::description::load;
 use dyngen_model::model::{JointTermValues, Model};
@@ -14,7 +16,7 @@ pub fn arm7() -> Model {
 
 #[path = "../../../examples/arm7_identification/joint_values.rs"]
 mod joint_values;
-pub use joint_values::arm7_joint_values;
+pub use joint_values::{arm7_joint_values, joint_values};
 
 /// The description identification starts from: arm7 with every joint column, values zero.
 pub fn arm7_nominal() -> Model {
