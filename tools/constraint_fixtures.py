@@ -281,13 +281,18 @@ def main():
     for name in args.robots or list(SETS):
         worst = Checks()
         result = fixture(SETS[name], worst)
-        os.makedirs(args.out, exist_ok=True)
-        path = os.path.join(args.out, name + ".json")
-        with open(path, "w") as f:
-            f.write(to_json(result) + "\n")
-        print(f"{path}: nv {result['nv']}, {len(result['states'])} states")
-        for check, value in worst.values.items():
-            print(f"  {check:48} worst {value:.1e}")
+        write(args.out, name, result, f"nv {result['nv']}, {len(result['states'])} states", worst)
+
+
+def write(directory, name, result, summary, worst):
+    """`result` as `directory/name.json`, and what was checked on the way."""
+    os.makedirs(directory, exist_ok=True)
+    path = os.path.join(directory, name + ".json")
+    with open(path, "w") as f:
+        f.write(to_json(result) + "\n")
+    print(f"{path}: {summary}")
+    for check, value in worst.values.items():
+        print(f"  {check:48} worst {value:.1e}")
 
 
 if __name__ == "__main__":

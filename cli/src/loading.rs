@@ -3,8 +3,9 @@
 //! description does not write.
 
 use clap::{Args, ValueEnum};
-use dyngen_codegen::description::{Choices, FrameSelection, FrameSpec, NonPhysicalInertia};
+use dyngen_codegen::description::{Choices, ContactSpec, FrameSelection, FrameSpec, NonPhysicalInertia};
 use dyngen_codegen::Functions;
+use dyngen_runtime::{ContactKind, ReferenceFrame};
 
 /// Each flag is one key of the description's choices (`docs/descriptions.md`, *Choices*): for a
 /// bare URDF, or a key a YAML description does not write (one it writes too is an error).
@@ -40,6 +41,11 @@ pub struct LoadingArgs {
     /// configuration gains the base pose and the velocity the base twist.
     #[arg(long)]
     pub floating_base: bool,
+    /// `contacts`: a named frame held to the world, `FRAME:point` or `FRAME:frame`, optionally
+    /// `:local_world_aligned` (default `local`), e.g. `--contact FL_FOOT:point`; repeat the
+    /// option for more. The frame is the end-effector or one of `--frame`.
+    #[arg(long = "contact", value_name = "FRAME:KIND[:AXES]", value_parser = contact)]
+    pub contacts: Vec<ContactSpec>,
 }
 
 /// `--inertia`: [`NonPhysicalInertia`] as the command line spells it.
@@ -78,6 +84,7 @@ impl LoadingArgs {
             gravity: self.gravity,
             inertia: self.inertia.into(),
             floating_base: self.floating_base,
+            contacts: self.contacts.clone(),
             ..Choices::default()
         }
     }
@@ -96,6 +103,35 @@ fn locked_joint(text: &str) -> Result<(String, f64), String> {
         ("", _) => Err(format!("expected JOINT=POSITION, found '{text}'")),
         (_, false) => Err(format!("the position of joint '{joint}' must be finite")),
         (joint, true) => Ok((joint.to_owned(), position)),
+    }
+}
+
+/// `--contact FRAME:KIND[:AXES]`.
+fn contact(text: &str) -> Result<ContactSpec, String> {
+    let parts: Vec<&str> = text.split(':').map(str::trim).collect();
+    let kind = match parts.get(1) {
+        Some(&"point") => ContactKind::Point,
+        Some(&"frame") => ContactKind::Frame,
+        Some(other) => return Err(format!("contact kind `{other}`: expected `point` or `frame`")),
+        None => return Err(format!("expected FRAME:KIND[:AXES], found '{text}'")),
+    };
+    let reference = match parts.get(2) {
+        None | Some(&"local") => ReferenceFrame::Local,
+        Some(&"local_world_aligned") => ReferenceFrame::LocalWorldAligned,
+        Some(other) => {
+            return Err(format!(
+                "contact axes `{other}`: expected `local` or `local_world_aligned`"
+            ))
+        }
+    };
+    match (parts[0], parts.len()) {
+        ("", _) | (_, 4..) => Err(format!("expected FRAME:KIND[:AXES], found '{text}'")),
+        (frame, _) => Ok(ContactSpec {
+            frame: frame.to_owned(),
+            kind,
+            reference,
+            to: None,
+        }),
     }
 }
 

@@ -4,6 +4,7 @@
 
 mod common;
 
+mod contacts;
 mod excite_workspace;
 mod frames;
 mod gen;

@@ -3,7 +3,7 @@
 
 use super::quantities::QuantityKind;
 use super::trace::{ids, matrix_ids};
-use crate::dynamics::constrained::constraint_rows;
+use crate::dynamics::constrained::{constraint_rows, ContactMotion};
 use crate::dynamics::tree_ldl::TreeLdl;
 use crate::dynamics::FrameMotion;
 use crate::model::Model;
@@ -19,7 +19,7 @@ pub(super) fn contact_outputs(
     mass: &TreeLdl<Expr>,
 ) -> Vec<(QuantityKind, Vec<Id>)> {
     let contacts = model.contacts();
-    let motions: Vec<FrameMotion<Expr>> = contacts.iter().map(|c| motion(c.frame)).collect();
+    let motions = ContactMotion::of(contacts, motion);
     let rows = constraint_rows(contacts, &motions, qd);
     let response = mass.solve_matrix(&rows.jacobian.transpose());
     vec![

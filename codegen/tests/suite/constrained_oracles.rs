@@ -81,6 +81,7 @@ fn a_held_point_of_a_random_tree_does_not_accelerate_and_the_forces_balance() {
                 frame,
                 kind: ContactKind::Point,
                 reference,
+                to: None,
             };
             let here = dynamics.frame_motion("contact", &state.q, &state.qd).unwrap();
             let j = here.jacobian(reference).rows(0, 3).into_owned();
@@ -167,6 +168,7 @@ fn an_impact_stops_the_contact_and_changes_momentum_only_along_its_rows() {
                 frame,
                 kind: ContactKind::Point,
                 reference,
+                to: None,
             };
             let before = dynamics.frame_motion("contact", &state.q, &state.qd).unwrap();
             let j = before.jacobian(reference).rows(0, 3).into_owned();
@@ -220,11 +222,13 @@ fn a_floating_robot_held_at_two_bodies_keeps_them_still_and_balances() {
                     frame: 1,
                     kind: ContactKind::Frame,
                     reference,
+                    to: None,
                 },
                 Contact {
                     frame: second,
                     kind: ContactKind::Point,
                     reference: reference_of(!local),
+                    to: None,
                 },
             ];
             let j = stacked_jacobian(
@@ -286,6 +290,7 @@ fn baumgarte_pulls_a_drifted_point_back_to_its_anchor() {
                 frame,
                 kind: ContactKind::Point,
                 reference: ReferenceFrame::LocalWorldAligned,
+                to: None,
             };
             let rest = vec![0.0; n];
             let here = dynamics.frame_motion("contact", &state.q, &rest).unwrap();
@@ -362,6 +367,7 @@ fn a_point_held_twice_is_refused_exactly_and_shares_its_force_when_regularised()
         frame: 0,
         kind: ContactKind::Point,
         reference: ReferenceFrame::LocalWorldAligned,
+        to: None,
     };
     let exact =
         dynamics.constrained_forward_dynamics(&q, &qd, &tau, &[once], None, &ProximalSettings::default());
@@ -403,16 +409,19 @@ fn bad_settings_and_contacts_are_refused_with_a_reason() {
         frame: 0,
         kind: ContactKind::Point,
         reference: ReferenceFrame::World,
+        to: None,
     };
     let past = Contact {
         frame: 9,
         kind: ContactKind::Point,
         reference: ReferenceFrame::Local,
+        to: None,
     };
     let fine = Contact {
         frame: 0,
         kind: ContactKind::Point,
         reference: ReferenceFrame::Local,
+        to: None,
     };
     let exact = ProximalSettings::default();
     let cases: Vec<(Result<_, ConstraintError>, &str)> = vec![
@@ -507,6 +516,7 @@ fn the_traced_contact_rows_are_the_frames_own_on_random_trees() {
                     frame,
                     kind,
                     reference,
+                    to: None,
                 }])
                 .map_err(|e| TestCaseError::fail(e.to_string()))?;
             let n = model.dof();
@@ -545,6 +555,114 @@ fn the_traced_contact_rows_are_the_frames_own_on_random_trees() {
                 &DVector::from_column_slice(response.as_slice()),
                 1e-8,
             )?;
+            Ok(())
+        })
+        .unwrap();
+}
+
+/// The derivatives of constrained forward dynamics against central differences of the
+/// constrained solution itself, on random floating trees held at a frame and a point
+/// (stabilised towards anchors off the contacts, so the gains' terms are differentiated too,
+/// where the error is a point's), `q` moved on the manifold (`integrate`).
+#[test]
+fn constrained_derivatives_are_the_differences_of_the_solution() {
+    let strategy = (arb_floating_model(6), any::<u64>(), any::<Index>(), any::<bool>());
+    deterministic_runner(16)
+        .run(&strategy, |(model, seed, other, local)| {
+            let dynamics = FloatingDynamics::new(&model).unwrap();
+            let sample = random_floating_sample(&model, seed);
+            let second = 1 + other.index(model.bodies().len());
+            prop_assume!(second != 1);
+            let contacts = [
+                Contact {
+                    frame: 1,
+                    kind: ContactKind::Point,
+                    reference: reference_of(local),
+                    to: None,
+                },
+                Contact {
+                    frame: second,
+                    kind: ContactKind::Point,
+                    reference: reference_of(!local),
+                    to: None,
+                },
+            ];
+            let s = dynamics.state(&sample.q).unwrap();
+            let j = stacked_jacobian(
+                contacts
+                    .iter()
+                    .map(|c| (dynamics.frame_jacobian(&s, c.frame, c.reference), c.kind)),
+            );
+            prop_assume!(well_posed(&j));
+            let anchors: Vec<Pose> = contacts
+                .iter()
+                .map(|c| {
+                    let (rotation, translation) = dynamics.frame_pose(&s, c.frame);
+                    Pose {
+                        rotation,
+                        translation: translation + Vector3::new(0.01, -0.02, 0.005),
+                    }
+                })
+                .collect();
+            let stabilisation = Some(Stabilisation {
+                anchors: &anchors,
+                kp: 20.0,
+                kd: 9.0,
+            });
+            let tau: Vec<f64> = sample.a.iter().map(|a| 2.0 * a).collect();
+            let solve = |q: &[f64], v: &[f64], tau: &[f64]| {
+                let s = dynamics.state(q).unwrap();
+                let m = dynamics
+                    .constrained_forward_dynamics(
+                        &s,
+                        v,
+                        tau,
+                        &contacts,
+                        stabilisation,
+                        &ProximalSettings::default(),
+                    )
+                    .unwrap();
+                let mut out = m.acceleration.as_slice().to_vec();
+                out.extend(m.forces.iter());
+                DVector::from_vec(out)
+            };
+            let ours = dynamics
+                .constrained_forward_dynamics_derivatives(&s, &sample.v, &tau, &contacts, stabilisation)
+                .map_err(|e| TestCaseError::fail(e.to_string()))?;
+            let nv = model.nv();
+            let h = 1e-6;
+            let size = solve(&sample.q, &sample.v, &tau).amax();
+            for k in 0..nv {
+                let mut e = vec![0.0; nv];
+                e[k] = h;
+                let minus: Vec<f64> = e.iter().map(|x| -x).collect();
+                let moved = |d: &[f64]| dynamics.integrate(&sample.q, d, 1.0).unwrap();
+                let by_q =
+                    (solve(&moved(&e), &sample.v, &tau) - solve(&moved(&minus), &sample.v, &tau)) / (2.0 * h);
+                let shifted =
+                    |x: &[f64], d: &[f64]| x.iter().zip(d).map(|(a, b)| a + b).collect::<Vec<f64>>();
+                let by_v = (solve(&sample.q, &shifted(&sample.v, &e), &tau)
+                    - solve(&sample.q, &shifted(&sample.v, &minus), &tau))
+                    / (2.0 * h);
+                let by_tau = (solve(&sample.q, &sample.v, &shifted(&tau, &e))
+                    - solve(&sample.q, &sample.v, &shifted(&tau, &minus)))
+                    / (2.0 * h);
+                for (name, fd, acceleration, forces) in [
+                    ("∂/∂q", by_q, &ours.acceleration_q, &ours.forces_q),
+                    ("∂/∂ν", by_v, &ours.acceleration_v, &ours.forces_v),
+                    ("∂/∂τ", by_tau, &ours.acceleration_tau, &ours.forces_tau),
+                ] {
+                    let mut column: Vec<f64> = acceleration.column(k).iter().copied().collect();
+                    column.extend(forces.column(k).iter());
+                    // A difference of values of size |x| carries rounding of about ε |x| / h.
+                    let rounding = 1e-11 * size / h;
+                    let err = (DVector::from_vec(column) - &fd).amax();
+                    prop_assert!(
+                        err <= 1e-5 * fd.amax().max(1.0) + rounding,
+                        "{name} column {k}: error {err:.2e} (rounding {rounding:.1e})"
+                    );
+                }
+            }
             Ok(())
         })
         .unwrap();

@@ -12,10 +12,10 @@ use common::fixture::{matrix, vector};
 use common::floating_fixture::{self, Order};
 use common::{assert_close, column, workspace_root};
 use dyngen_codegen::description::{self, Choices, FrameSelection, FrameSpec, Loaded};
-use dyngen_codegen::dynamics::FloatingDynamics;
+use dyngen_codegen::dynamics::{FloatingDynamics, FloatingState};
 use dyngen_codegen::model::Contact;
-use dyngen_runtime::{ContactKind, Pose, ProximalSettings, ReferenceFrame, Stabilisation};
-use nalgebra::{DMatrix, Matrix3, Vector3};
+use dyngen_runtime::{ContactKind, ProximalSettings, ReferenceFrame, Stabilisation};
+use nalgebra::DMatrix;
 use serde_json::Value;
 
 const TOL: f64 = 1e-9;
@@ -56,11 +56,44 @@ fn contacts(loaded: &Loaded, fixture: &Value) -> Vec<Contact> {
         .collect()
 }
 
-fn anchor(pose: &Value) -> Pose {
-    let r = matrix(&pose["rotation"]);
-    Pose {
-        rotation: Matrix3::from_fn(|i, j| r[(i, j)]),
-        translation: Vector3::from_column_slice(&vector(&pose["translation"])),
+/// Pinocchio's `computeConstraintDynamicsDerivatives` against ours; where Pinocchio's `∂/∂q`
+/// is an approximation (6-D contacts with Baumgarte gains: it leaves out the derivative of
+/// `log₆`), ours refuses, saying why.
+#[allow(clippy::too_many_arguments)]
+fn check_derivatives(
+    what: &str,
+    dynamics: &FloatingDynamics,
+    s: &FloatingState,
+    (v, tau): (&[f64], &[f64]),
+    contacts: &[Contact],
+    stabilisation: Option<Stabilisation>,
+    expected: &Value,
+    order: &Order,
+) {
+    let ours = dynamics.constrained_forward_dynamics_derivatives(s, v, tau, contacts, stabilisation);
+    let frames = contacts.iter().any(|c| c.kind == ContactKind::Frame);
+    if frames && stabilisation.is_some() {
+        let message = ours.expect_err("a stabilised frame contact").to_string();
+        assert!(message.contains("log₆"), "{message}");
+        return;
+    }
+    let ours = ours.unwrap_or_else(|e| panic!("{what}: {e}"));
+    let theirs =
+        |field: &str, rows_velocity: bool| order.matrix(&matrix(&expected[field]), rows_velocity, true);
+    for (name, mine, field, rows_velocity) in [
+        ("∂ν̇/∂q", &ours.acceleration_q, "ddq_dq", true),
+        ("∂ν̇/∂ν", &ours.acceleration_v, "ddq_dv", true),
+        ("∂ν̇/∂τ", &ours.acceleration_tau, "ddq_dtau", true),
+        ("∂λ/∂q", &ours.forces_q, "dlambda_dq", false),
+        ("∂λ/∂ν", &ours.forces_v, "dlambda_dv", false),
+        ("∂λ/∂τ", &ours.forces_tau, "dlambda_dtau", false),
+    ] {
+        assert_close(
+            &format!("{what} {name}"),
+            mine,
+            &theirs(field, rows_velocity),
+            TOL,
+        );
     }
 }
 
@@ -71,36 +104,28 @@ fn check_robot(robot: &str, urdf: &str) {
     let order = Order::new(model, &fx);
     let contacts = contacts(&loaded, &fx);
     let dynamics = FloatingDynamics::new(model).unwrap();
-    let gains = (
-        fx["baumgarte"]["kp"].as_f64().unwrap(),
-        fx["baumgarte"]["kd"].as_f64().unwrap(),
-    );
-    let proximal = ProximalSettings {
-        mu: fx["proximal"]["mu"].as_f64().unwrap(),
-        max_iterations: fx["proximal"]["max_iter"].as_u64().unwrap() as usize,
-        accuracy: fx["proximal"]["accuracy"].as_f64().unwrap(),
-    };
+    let proximal = floating_fixture::proximal(&fx);
     let restitution = fx["restitution"].as_f64().unwrap();
     for (k, st) in fx["states"].as_array().unwrap().iter().enumerate() {
         let what = |q: &str| format!("{robot} state {k}: {q}");
         let q = order.configuration(&vector(&st["q"]));
         let [v, tau] = ["v", "tau"].map(|f| order.vector(&vector(&st[f])));
         let s = dynamics.state(&q).unwrap();
-        let anchors: Vec<Pose> = st["anchors"].as_array().unwrap().iter().map(anchor).collect();
+        let anchors = floating_fixture::anchors(st);
         let velocity = |field: &Value| column(&order.vector(&vector(field)));
 
-        for (label, stabilisation) in [
-            ("plain", None),
-            (
-                "stabilised",
-                Some(Stabilisation {
-                    anchors: &anchors,
-                    kp: gains.0,
-                    kd: gains.1,
-                }),
-            ),
-        ] {
+        for (label, stabilisation) in floating_fixture::solves(&fx, &anchors) {
             let expected = &st["forward"][label];
+            check_derivatives(
+                &what(label),
+                &dynamics,
+                &s,
+                (&v, &tau),
+                &contacts,
+                stabilisation,
+                expected,
+                &order,
+            );
             for (how, settings) in [("exact", ProximalSettings::default()), ("proximal", proximal)] {
                 let solved = dynamics
                     .constrained_forward_dynamics(&s, &v, &tau, &contacts, stabilisation, &settings)

@@ -2,6 +2,7 @@
 //! frames, in order, with their kinds and axes; each mistake one error at its place.
 
 use dyngen_codegen::description::{self, ContactSpec};
+use dyngen_codegen::dynamics::constrained::free_degrees;
 use dyngen_codegen::Builder;
 use dyngen_runtime::{ContactKind, ReferenceFrame};
 use std::path::Path;
@@ -54,11 +55,24 @@ fn contacts_are_resolved_in_order_with_their_kinds_and_axes() {
         loaded.model.contacts()[0].reference,
         ReferenceFrame::LocalWorldAligned
     );
+    // A loop on the planar arm: three rows, one of them zero, two degrees of freedom left.
+    let held = load(&arm("contacts:\n  - { frame: tip, to: b, kind: point }\n")).unwrap();
+    let [contact] = held.model.contacts() else {
+        panic!("one contact")
+    };
+    let name = |k: usize| held.model.frames()[k].name.as_str();
+    assert_eq!((name(contact.frame), contact.to.map(name)), ("tip", Some("b")));
+    assert_eq!(free_degrees(&held.model), 2);
+    // A frame held whole: six rows, three redundant, one degree of freedom left (counting
+    // rows would refuse it).
+    let whole = load(&arm("contacts:\n  - { frame: c, kind: frame }\n")).unwrap();
+    assert_eq!(free_degrees(&whole.model), 1);
 }
 
 #[test]
 fn each_mistake_is_one_error_at_its_place() {
-    // Line 16 is the first contact, 17 the second (after `contacts:` on line 15).
+    // Line 16 is the first contact (and the list, where what the set holds together is
+    // reported), 17 the second (after `contacts:` on line 15).
     let cases = [
         (
             "contacts:\n  - { frame: toe, kind: point }\n",
@@ -77,8 +91,21 @@ fn each_mistake_is_one_error_at_its_place() {
             &["arm.yaml:17:", "frame 'tip' is held by an earlier contact"],
         ),
         (
-            "contacts:\n  - { frame: tip, kind: frame }\n",
-            &["arm.yaml:16:", "6 rows of the robot's 4 degrees of freedom"],
+            // The arm is planar: the frame's six rows hold three of its four degrees of
+            // freedom, the point at `c` two more of which one is new.
+            "contacts:\n  - { frame: tip, kind: frame }\n  - { frame: c, kind: point }\n",
+            &[
+                "arm.yaml:16:",
+                "9 rows hold every one of the robot's 4 degrees of freedom",
+            ],
+        ),
+        (
+            "contacts:\n  - { frame: tip, to: toe, kind: point }\n",
+            &["arm.yaml:16:", "no frame named 'toe' to hold to"],
+        ),
+        (
+            "contacts:\n  - { frame: tip, to: tip, kind: point }\n",
+            &["arm.yaml:16:", "frames of one body"],
         ),
         (
             "contacts:\n  - { frame: tip, kind: point, stiffness: 3.0 }\n",

@@ -28,6 +28,7 @@ mod frame_reference;
 mod function_groups;
 mod fuzz;
 mod joint_terms;
+mod loop_closures;
 mod mimic_oracles;
 mod mimic_reference;
 mod module_layers;

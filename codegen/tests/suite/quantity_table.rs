@@ -64,13 +64,14 @@ fn each_function_is_declared_by_the_trait_of_its_group() {
     let file = |group: FunctionGroup| match group {
         FunctionGroup::BaseParameters => "parameterization.rs",
         FunctionGroup::Frames => "frames.rs",
+        FunctionGroup::Contacts => "contacts/robot.rs",
         _ => "robot.rs",
     };
     let traits: Vec<(FunctionGroup, BTreeSet<String>)> = FunctionGroup::ALL
         .into_iter()
         .map(|g| (g, trait_methods(file(g), g.trait_name())))
         .collect();
-    for kind in QuantityKind::ALL {
+    for kind in QuantityKind::ALL.into_iter().chain(QuantityKind::CONTACTS) {
         for (group, methods) in &traits {
             assert_eq!(
                 methods.contains(kind.name()),
@@ -88,9 +89,16 @@ fn each_function_is_declared_by_the_trait_of_its_group() {
         }
     }
     // What the traits declare beyond the table is not traced: the parameter vectors, which the
-    // emitter writes from the model's numbers, and the torques of external wrenches, which the
-    // runtime forms from the frames' Jacobians.
-    let from_numbers = ["parameters", "base_parameters", "wrench_torques"];
+    // emitter writes from the model's numbers, the torques of external wrenches, which the
+    // runtime forms from the frames' Jacobians, and what a robot with contacts calls of its
+    // other traits (forward dynamics, the frames' poses).
+    let from_numbers = [
+        "parameters",
+        "base_parameters",
+        "wrench_torques",
+        "free_acceleration",
+        "contact_pose",
+    ];
     for (group, methods) in &traits {
         for method in methods {
             let kind = QuantityKind::from_name(method.strip_suffix("_into").unwrap_or(method));
@@ -137,6 +145,9 @@ fn the_floating_traits_declare_what_a_floating_robot_is_traced_with() {
         .partition(|k| k.is_per_frame());
     let (base, others): (Vec<QuantityKind>, Vec<QuantityKind>) =
         others.into_iter().partition(|k| k.uses_base_columns());
+    let (contacts, others): (Vec<QuantityKind>, Vec<QuantityKind>) = others
+        .into_iter()
+        .partition(|k| k.group() == dyngen_codegen::FunctionGroup::Contacts);
     let (derivatives, dynamics): (Vec<QuantityKind>, Vec<QuantityKind>) = others
         .into_iter()
         .partition(|k| k.group() == dyngen_codegen::FunctionGroup::Derivatives);
@@ -169,7 +180,17 @@ fn the_floating_traits_declare_what_a_floating_robot_is_traced_with() {
         names(frames),
         "FloatingFrameKinematics against the frame functions"
     );
-    for kind in QuantityKind::FLOATING_ONLY {
+    let mut expected = names(contacts);
+    expected.extend(["free_acceleration".to_owned(), "contact_pose".to_owned()]);
+    assert_eq!(
+        trait_methods("contacts/robot.rs", "ContactDynamics"),
+        expected,
+        "ContactDynamics against the contacts' functions (Solo-12 holds its feet)"
+    );
+    for kind in QuantityKind::FLOATING_ONLY
+        .into_iter()
+        .chain(QuantityKind::CONTACTS)
+    {
         assert_eq!(QuantityKind::from_name(kind.name()), Some(kind));
     }
 }

@@ -11,4 +11,5 @@ mod generated_forward_dynamics;
 mod generated_frames;
 mod generated_fresh;
 mod generated_version_check;
+mod operational_space;
 mod result_buffers;

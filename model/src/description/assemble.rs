@@ -208,8 +208,10 @@ pub(crate) fn assemble(
         .and_then(|m| m.with_mimics(mimics))
         .map_err(|e| internal_error(c, e))
         .and_then(|m| {
-            let contacts = contacts::resolve(&settings.choices.contacts, m.frames(), m.nv(), settings.map)?;
-            m.with_contacts(contacts).map_err(|e| internal_error(c, e))
+            let contacts = contacts::resolve(&settings.choices.contacts, m.frames(), settings.map)?;
+            // Each contact passed `resolve`: what is left is the set's, held at its key.
+            m.with_contacts(contacts)
+                .map_err(|e| settings.map.error("contacts", e.0))
         })
 }
 

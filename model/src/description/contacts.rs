@@ -1,5 +1,5 @@
-//! The frames a description holds to the world (`contacts:`), and their resolution against the
-//! model's named frames.
+//! The frames a description holds to the world or to each other (`contacts:`), and their
+//! resolution against the model's named frames.
 
 use super::error::DescriptionError;
 use super::source_map::SourceMap;
@@ -8,9 +8,9 @@ use dyngen_runtime::{ContactKind, ReferenceFrame};
 use serde::de::{self, Deserializer};
 use serde::Deserialize;
 
-/// A named frame held to the world, as a description writes it:
-/// `{ frame: FL_FOOT, kind: point }` or `{ frame: left_sole, kind: frame, reference:
-/// local_world_aligned }`.
+/// A named frame held to the world, or to another named frame, as a description writes it:
+/// `{ frame: FL_FOOT, kind: point }`, `{ frame: left_sole, kind: frame, reference:
+/// local_world_aligned }` or `{ frame: rod_end, to: crank_pin, kind: point }` (a loop closure).
 #[derive(Clone, Debug, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct ContactSpec {
@@ -23,6 +23,9 @@ pub struct ContactSpec {
     /// `local_world_aligned` (world axes at the frame's origin).
     #[serde(default = "local", deserialize_with = "contact_reference")]
     pub reference: ReferenceFrame,
+    /// The frame it is held to, on another body (a loop closure); absent: the world.
+    #[serde(default)]
+    pub to: Option<String>,
 }
 
 impl ContactSpec {
@@ -32,6 +35,15 @@ impl ContactSpec {
             frame: frame.into(),
             kind,
             reference: ReferenceFrame::Local,
+            to: None,
+        }
+    }
+
+    /// This contact, holding its frame to the frame named `to` rather than to the world.
+    pub fn to(self, to: impl Into<String>) -> ContactSpec {
+        ContactSpec {
+            to: Some(to.into()),
+            ..self
         }
     }
 }
@@ -59,28 +71,50 @@ fn contact_reference<'de, D: Deserializer<'de>>(deserializer: D) -> Result<Refer
 }
 
 /// The contacts of `specs` on a model whose named frames are `frames` (the end-effector
-/// first) with `nv` velocity coordinates; errors at the place of the offending entry.
+/// first); errors at the place of the offending entry. What the set holds together is
+/// `Model::with_contacts`'s to check.
 pub(crate) fn resolve(
     specs: &[ContactSpec],
     frames: &[Frame],
-    nv: usize,
     map: &SourceMap,
 ) -> Result<Vec<Contact>, DescriptionError> {
     let mut contacts: Vec<Contact> = Vec::new();
+    let known = || {
+        let names: Vec<&str> = frames.iter().map(|f| f.name.as_str()).collect();
+        names.join(", ")
+    };
+    let find = |name: &str, place: &str, role: &str| {
+        frames.iter().position(|f| f.name == name).ok_or_else(|| {
+            map.error(
+                place,
+                format!(
+                    "no frame named '{name}' to {role}; name the end-effector or a frame listed under `frames:` ({})",
+                    known()
+                ),
+            )
+        })
+    };
     for (k, spec) in specs.iter().enumerate() {
         let path = format!("contacts[{k}]");
-        let Some(frame) = frames.iter().position(|f| f.name == spec.frame) else {
-            let known: Vec<&str> = frames.iter().map(|f| f.name.as_str()).collect();
-            return Err(map.error(
-                &format!("{path}.frame"),
-                format!(
-                    "no frame named '{}' to hold; name the end-effector or a frame listed under `frames:` ({})",
-                    spec.frame,
-                    known.join(", ")
-                ),
-            ));
+        let frame = find(&spec.frame, &format!("{path}.frame"), "hold")?;
+        let to = match &spec.to {
+            None => None,
+            Some(name) => {
+                let place = format!("{path}.to");
+                let to = find(name, &place, "hold to")?;
+                if frames[to].parent == frames[frame].parent {
+                    return Err(map.error(
+                        &place,
+                        format!(
+                            "'{}' and '{name}' are frames of one body: a loop between them holds nothing",
+                            spec.frame
+                        ),
+                    ));
+                }
+                Some(to)
+            }
         };
-        if contacts.iter().any(|c| c.frame == frame) {
+        if contacts.iter().any(|c| c.frame == frame && c.to == to) {
             return Err(map.error(
                 &path,
                 format!("frame '{}' is held by an earlier contact", spec.frame),
@@ -90,14 +124,8 @@ pub(crate) fn resolve(
             frame,
             kind: spec.kind,
             reference: spec.reference,
+            to,
         });
-    }
-    let rows: usize = contacts.iter().map(|c| c.kind.rows()).sum();
-    if !contacts.is_empty() && rows >= nv {
-        return Err(map.error(
-            "contacts",
-            format!("the contacts hold {rows} rows of the robot's {nv} degrees of freedom: nothing would be left to move"),
-        ));
     }
     Ok(contacts)
 }

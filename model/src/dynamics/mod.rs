@@ -53,7 +53,7 @@ pub mod slotine_li;
 #[doc(hidden)]
 pub mod tree_ldl;
 
-pub use constrained::{ConstrainedMotion, ConstraintError};
+pub use constrained::{ConstrainedDerivatives, ConstrainedMotion, ConstraintError};
 pub use numeric::{FrameValues, NumericDynamics};
 pub use numeric_floating::{FloatingDynamics, FloatingState};
 

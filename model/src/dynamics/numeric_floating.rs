@@ -17,7 +17,7 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
 #[derive(Clone, Debug)]
 pub struct FloatingDynamics<'m> {
     pub model: &'m Model,
-    base_inertia: RigidInertia<f64>,
+    pub(super) base_inertia: RigidInertia<f64>,
     pub(super) inertias: Vec<RigidInertia<f64>>,
 }
 
@@ -26,11 +26,11 @@ pub struct FloatingDynamics<'m> {
 #[derive(Clone, Debug)]
 pub struct FloatingState {
     base: BasePose,
-    pose: Transform<f64>,
+    pub(super) pose: Transform<f64>,
     pub(super) transforms: Vec<Transform<f64>>,
     world: Vec<Transform<f64>>,
     /// The joints' coordinates (`q[7..]`).
-    joints: Vec<f64>,
+    pub(super) joints: Vec<f64>,
 }
 
 impl FloatingState {

@@ -9,7 +9,7 @@
 //! the next), which is the dense `LDLᵀ` (`n³/6`; mimic robots have few coordinates).
 //!
 //! The pivots `Δ_k` are the inertia joint `k` feels with every joint below it free; a zero pivot
-//! is a joint that moves nothing (see [`singular_joints`]). Each pivot is inverted once, so
+//! is a joint that moves nothing (see [`singular_joints`](super::singular_joints)). Each pivot is inverted once, so
 //! flattened code has exactly `n` divisions.
 
 use crate::model::Model;

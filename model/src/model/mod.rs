@@ -242,6 +242,13 @@ impl Model {
     pub fn with_contacts(mut self, contacts: Vec<Contact>) -> Result<Model, ModelError> {
         self.contacts = contacts;
         validate(&self)?;
+        if !self.contacts.is_empty() && crate::dynamics::constrained::free_degrees(&self) == 0 {
+            return Err(ModelError(format!(
+                "the contacts' {} rows hold every one of the robot's {} degrees of freedom: nothing would be left to move",
+                self.contact_rows(),
+                self.nv()
+            )));
+        }
         Ok(self)
     }
 

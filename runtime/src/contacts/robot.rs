@@ -21,6 +21,9 @@ pub trait ContactDynamics<const NV: usize, const NC: usize> {
     const CONTACT_KINDS: &'static [ContactKind];
     /// The axes each contact's rows and force are written in.
     const CONTACT_REFERENCES: &'static [ReferenceFrame];
+    /// The frame each contact holds its frame to: `None` the world, else another frame of the
+    /// robot (a loop closure).
+    const CONTACT_TO: &'static [Option<&'static str>];
 
     /// `J` (NC × NV): the contacts' rows, stacked.
     fn contact_jacobian(t: &Self::Trig) -> SMatrix<f64, NC, NV>;
@@ -34,12 +37,15 @@ pub trait ContactDynamics<const NV: usize, const NC: usize> {
     /// The pose of contact `contact`'s frame (in the base frame, or the world on a floating
     /// base); `contact` past the last is the last's.
     fn contact_pose(t: &Self::Trig, contact: usize) -> Pose;
+    /// The pose of the frame contact `contact` holds its frame to (a loop closure's other
+    /// frame; the identity for a contact with the world).
+    fn contact_to_pose(t: &Self::Trig, contact: usize) -> Pose;
 }
 
 /// `a` and the contact forces with every contact of `R` held (Pinocchio's
 /// `constraintDynamics`): exact with the default settings, proximal with `mu > 0`, pulled
-/// back to the anchors with `stabilisation`, from `warm_start` forces if given (the last
-/// tick's, in a simulation).
+/// back with `stabilisation` (to its anchors, one per contact with the world, and each loop to
+/// its other frame), from `warm_start` forces if given (the last tick's, in a simulation).
 pub fn constrained_forward_dynamics<R: ContactDynamics<NV, NC>, const NV: usize, const NC: usize>(
     t: &R::Trig,
     v: &SVector<f64, NV>,
@@ -51,10 +57,10 @@ pub fn constrained_forward_dynamics<R: ContactDynamics<NV, NC>, const NV: usize,
     let jacobian = R::contact_jacobian(t);
     let mut rhs = -R::contact_drift(t, v);
     if let Some(stabilisation) = stabilisation {
-        let contacts = R::CONTACT_KINDS.len();
-        if stabilisation.anchors.len() != contacts {
+        let held = R::CONTACT_TO.iter().filter(|to| to.is_none()).count();
+        if stabilisation.anchors.len() != held {
             return Err(ContactError::Anchors {
-                contacts,
+                contacts: held,
                 anchors: stabilisation.anchors.len(),
             });
         }
@@ -62,9 +68,21 @@ pub fn constrained_forward_dynamics<R: ContactDynamics<NV, NC>, const NV: usize,
             return Err(ContactError::Settings("the Baumgarte gains must be finite"));
         }
         let velocity = jacobian * v;
-        let mut row = 0;
-        for (k, (&kind, &reference)) in R::CONTACT_KINDS.iter().zip(R::CONTACT_REFERENCES).enumerate() {
-            let error = placement_error(kind, reference, &R::contact_pose(t, k), &stabilisation.anchors[k]);
+        let (mut row, mut anchors) = (0, stabilisation.anchors.iter());
+        let contacts = R::CONTACT_KINDS
+            .iter()
+            .zip(R::CONTACT_REFERENCES)
+            .zip(R::CONTACT_TO);
+        for (k, ((&kind, &reference), to)) in contacts.enumerate() {
+            // A loop is held where its other frame is; a contact with the world, at its anchor.
+            let anchor = match to {
+                Some(_) => R::contact_to_pose(t, k),
+                None => match anchors.next() {
+                    Some(anchor) => *anchor,
+                    None => break,
+                },
+            };
+            let error = placement_error(kind, reference, &R::contact_pose(t, k), &anchor);
             for i in 0..kind.rows() {
                 rhs[row + i] -= stabilisation.kp * error[i] + stabilisation.kd * velocity[row + i];
             }

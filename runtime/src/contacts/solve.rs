@@ -40,8 +40,9 @@ impl Default for ProximalSettings {
 /// where it is held.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct Stabilisation<'a> {
-    /// Where each contact's frame is held, one per contact in the contacts' order (a point
-    /// contact uses only the translation).
+    /// Where each contact with the world holds its frame, one per such contact in the
+    /// contacts' order (a point contact uses only the translation); a loop closure is held
+    /// where its other frame is and has none.
     pub anchors: &'a [Pose],
     pub kp: f64,
     pub kd: f64,

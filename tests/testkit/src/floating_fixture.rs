@@ -2,10 +2,11 @@
 //! `constrained/`, made by `tools/floating_fixtures.py` and `tools/constraint_fixtures.py`), and the maps from Pinocchio's joint order to a loaded
 //! model's, joint by joint name.
 
-use crate::fixture::matrix;
+use crate::fixture::{matrix, vector};
 use crate::workspace_root;
 use dyngen_codegen::model::Model;
-use nalgebra::DMatrix;
+use dyngen_runtime::{Pose, ProximalSettings, Stabilisation};
+use nalgebra::{DMatrix, Matrix3, Vector3};
 use serde_json::Value;
 
 /// The fixture of `robot` (`solo12`, `g1`) as JSON.
@@ -17,6 +18,40 @@ pub fn load(robot: &str) -> Value {
 /// `tools/constraint_fixtures.py`), in the same joint order as [`load`]'s.
 pub fn load_constrained(robot: &str) -> Value {
     load_from("constrained", robot)
+}
+
+/// A constrained state's anchors (`"anchors"`: rotation and translation each).
+pub fn anchors(state: &Value) -> Vec<Pose> {
+    let anchor = |pose: &Value| {
+        let r = matrix(&pose["rotation"]);
+        Pose {
+            rotation: Matrix3::from_fn(|i, j| r[(i, j)]),
+            translation: Vector3::from_column_slice(&vector(&pose["translation"])),
+        }
+    };
+    state["anchors"].as_array().unwrap().iter().map(anchor).collect()
+}
+
+/// The two solves a constrained fixture holds per state, by their labels: `plain`, and
+/// `stabilised` towards `anchors` with the fixture's Baumgarte gains.
+pub fn solves<'a>(fixture: &Value, anchors: &'a [Pose]) -> [(&'static str, Option<Stabilisation<'a>>); 2] {
+    let gains = &fixture["baumgarte"];
+    let stabilised = Stabilisation {
+        anchors,
+        kp: gains["kp"].as_f64().unwrap(),
+        kd: gains["kd"].as_f64().unwrap(),
+    };
+    [("plain", None), ("stabilised", Some(stabilised))]
+}
+
+/// A constrained fixture's proximal settings (`"proximal"`: `mu`, `max_iter`, `accuracy`).
+pub fn proximal(fixture: &Value) -> ProximalSettings {
+    let p = &fixture["proximal"];
+    ProximalSettings {
+        mu: p["mu"].as_f64().unwrap(),
+        max_iterations: p["max_iter"].as_u64().unwrap() as usize,
+        accuracy: p["accuracy"].as_f64().unwrap(),
+    }
 }
 
 fn load_from(directory: &str, robot: &str) -> Value {

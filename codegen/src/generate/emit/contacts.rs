@@ -42,23 +42,53 @@ pub(super) fn contact_implementation(
         ReferenceFrame::World => quote!(ReferenceFrame::World),
         ReferenceFrame::LocalWorldAligned => quote!(ReferenceFrame::LocalWorldAligned),
     });
-    let (last, arms) = contacts.split_last().expect("a robot with contacts");
-    let arms = arms.iter().enumerate().map(|(k, c)| {
-        let (k, variant) = (Literal::usize_unsuffixed(k), &variants[c.frame]);
-        quote!(#k => Frame::#variant,)
+    let to = contacts.iter().map(|c| match c.to {
+        Some(to) => {
+            let name = model.frames()[to].name.as_str();
+            quote!(Some(#name))
+        }
+        None => quote!(None),
     });
-    let last = &variants[last.frame];
-    let ContactTraits {
-        trig,
-        forward_dynamics,
-        frames,
-    } = traits;
+    let frames_trait = &traits.frames;
+    // `match contact` over each contact's frame (`None`: no frame, the identity); past the
+    // last, the last's.
+    let pose = |frames: &[Option<usize>]| {
+        let (last, others) = frames.split_last().expect("a robot with contacts");
+        let arms = others.iter().enumerate().filter_map(|(k, f)| {
+            let (k, variant) = (Literal::usize_unsuffixed(k), &variants[(*f)?]);
+            Some(quote!(#k => <Self as #frames_trait>::frame_pose(Frame::#variant, t),))
+        });
+        let last = match last {
+            Some(f) => {
+                let variant = &variants[*f];
+                quote!(<Self as #frames_trait>::frame_pose(Frame::#variant, t))
+            }
+            None => quote!(Pose::identity()),
+        };
+        match frames.iter().any(Option::is_some) {
+            true => quote! {
+                match contact {
+                    #(#arms)*
+                    _ => #last,
+                }
+            },
+            false => quote! {
+                let _ = (t, contact);
+                Pose::identity()
+            },
+        }
+    };
+    let held: Vec<Option<usize>> = contacts.iter().map(|c| Some(c.frame)).collect();
+    let held_to: Vec<Option<usize>> = contacts.iter().map(|c| c.to).collect();
+    let (contact_pose, contact_to_pose) = (pose(&held), pose(&held_to));
+    let (trig, forward_dynamics) = (&traits.trig, &traits.forward_dynamics);
     quote! {
         impl ContactDynamics<#nv, #nc> for #ty {
             type Trig = #trig;
             const CONTACT_FRAMES: &'static [&'static str] = &[#(#names),*];
             const CONTACT_KINDS: &'static [ContactKind] = &[#(#kinds),*];
             const CONTACT_REFERENCES: &'static [ReferenceFrame] = &[#(#references),*];
+            const CONTACT_TO: &'static [Option<&'static str>] = &[#(#to),*];
 
             #(#methods)*
 
@@ -69,11 +99,12 @@ pub(super) fn contact_implementation(
 
             #[inline]
             fn contact_pose(t: &#trig, contact: usize) -> Pose {
-                let frame = match contact {
-                    #(#arms)*
-                    _ => Frame::#last,
-                };
-                <Self as #frames>::frame_pose(frame, t)
+                #contact_pose
+            }
+
+            #[inline]
+            fn contact_to_pose(t: &#trig, contact: usize) -> Pose {
+                #contact_to_pose
             }
         }
     }

@@ -10,6 +10,8 @@ pub enum ConstraintError {
     FrameIndex(usize),
     /// The solve refused (redundant rows without regularisation, bad settings, …).
     Solve(ContactError),
+    /// What this function does not compute.
+    Unsupported(&'static str),
 }
 
 impl From<ContactError> for ConstraintError {
@@ -23,6 +25,7 @@ impl fmt::Display for ConstraintError {
         match self {
             ConstraintError::FrameIndex(i) => write!(f, "frame index {i} is past the model's frames"),
             ConstraintError::Solve(e) => e.fmt(f),
+            ConstraintError::Unsupported(what) => write!(f, "not supported: {what}"),
         }
     }
 }

@@ -1,5 +1,5 @@
-//! Dynamics under rigid contacts: frames held to the world by point (3-D) or frame (6-D)
-//! contacts. Constrained forward dynamics with the contact forces, impulse dynamics at
+//! Dynamics under rigid contacts: frames held to the world, or to each other (loop closures),
+//! by point (3-D) or frame (6-D) contacts. Constrained forward dynamics with the contact forces, impulse dynamics at
 //! touchdown, and the operational-space inertia of the contacts' rows, for fixed and floating
 //! bases.
 //!
@@ -10,17 +10,22 @@
 //! M (ν⁺ − ν⁻) = Jᵀ Λ,      J ν⁺ = −r J ν⁻                     (an impact, restitution r)
 //! ```
 //!
-//! The rows are written linear-first in each contact's `Local` or `LocalWorldAligned` axes, a
-//! point's drift is its classical acceleration and a frame's its spatial one, the placement
-//! error is `−log₆(c₁Mc₂)`: Pinocchio's `constraintDynamics`, against whose values the tests
+//! The rows are written linear-first in each contact's `Local` or `LocalWorldAligned` axes
+//! (`rows.rs`), the placement error is `−log₆(c₁Mc₂)` (`c₂` an anchor in the world, or the
+//! frame held to): Pinocchio's `constraintDynamics`, against whose values the tests
 //! hold these functions. The rows are generic over the scalar (the generator traces them); the
 //! solve is `dyngen_runtime::solve_contacts`, the one generated robots use.
 
+mod derivatives;
 mod error;
+mod freedom;
 mod numeric;
+mod numeric_derivatives;
 mod rows;
 
+pub use derivatives::ConstrainedDerivatives;
 pub use error::ConstraintError;
+pub use freedom::free_degrees;
 pub use numeric::ConstrainedMotion;
 #[doc(hidden)]
-pub use rows::{constraint_rows, ConstraintRows};
+pub use rows::{constraint_rows, ConstraintRows, ContactMotion};

@@ -3,7 +3,7 @@
 //! state, and the runtime's solve does the rest.
 
 use super::error::ConstraintError;
-use super::rows::{constraint_rows, ConstraintRows};
+use super::rows::{constraint_rows, ConstraintRows, ContactMotion};
 use crate::dynamics::floating;
 use crate::dynamics::forward_dynamics::{bias_torque, factor_mass_matrix};
 use crate::dynamics::frames::FrameMotion;
@@ -22,29 +22,35 @@ use nalgebra::{DMatrix, DVector, Dyn, Matrix3, Vector3};
 pub type ConstrainedMotion = ContactSolution<Dyn, Dyn>;
 
 /// What every constrained quantity at one state starts from.
-struct AtState {
+pub(super) struct AtState {
+    /// `M` factored.
+    pub(super) mass: TreeLdl<f64>,
     /// `M⁻¹ (τ − b)`, zero where no torque is given.
-    free: DVector<f64>,
-    rows: ConstraintRows<f64>,
+    pub(super) free: DVector<f64>,
+    pub(super) rows: ConstraintRows<f64>,
     /// `M⁻¹ Jᵀ`.
-    response: DMatrix<f64>,
-    poses: Vec<Pose>,
+    pub(super) response: DMatrix<f64>,
+    /// Each contact's frame pose, and the pose of the frame it is held to (loops).
+    poses: Vec<(Pose, Option<Pose>)>,
 }
 
 impl AtState {
     fn new(
-        mass: &TreeLdl<f64>,
+        mass: TreeLdl<f64>,
         free: Vec<f64>,
-        motions: &[FrameMotion<f64>],
+        motions: &[ContactMotion<f64>],
         contacts: &[Contact],
         v: &[f64],
     ) -> Self {
         let rows = constraint_rows(contacts, motions, v);
         AtState {
             response: mass.solve_matrix(&rows.jacobian.transpose()),
+            mass,
             free: DVector::from_vec(free),
             rows,
-            poses: motions.iter().map(pose_of).collect(),
+            poses: (motions.iter())
+                .map(|m| (pose_of(&m.frame), m.to.as_ref().map(pose_of)))
+                .collect(),
         }
     }
 }
@@ -92,7 +98,7 @@ impl NumericDynamics<'_> {
         operational_space_inertia(&at, damping)
     }
 
-    fn at_state(
+    pub(super) fn at_state(
         &self,
         q: &[f64],
         qd: &[f64],
@@ -112,11 +118,10 @@ impl NumericDynamics<'_> {
             None => vec![0.0; qd.len()],
         };
         let world = body_poses(self.model, &x);
-        let motions: Vec<FrameMotion<f64>> = contacts
-            .iter()
-            .map(|c| FrameMotion::new(self.model, &world, qd, &self.model.frames()[c.frame]))
-            .collect();
-        Ok(AtState::new(&mass, free, &motions, contacts, qd))
+        let motions = ContactMotion::of(contacts, |k| {
+            FrameMotion::new(self.model, &world, qd, &self.model.frames()[k])
+        });
+        Ok(AtState::new(mass, free, &motions, contacts, qd))
     }
 }
 
@@ -160,7 +165,7 @@ impl FloatingDynamics<'_> {
         operational_space_inertia(&at, damping)
     }
 
-    fn at_state(
+    pub(super) fn at_state(
         &self,
         s: &FloatingState,
         v: &[f64],
@@ -181,11 +186,8 @@ impl FloatingDynamics<'_> {
             }
             None => vec![0.0; v.len()],
         };
-        let motions: Vec<FrameMotion<f64>> = contacts
-            .iter()
-            .map(|c| self.frame_motion(s, v, c.frame))
-            .collect();
-        Ok(AtState::new(&mass, free, &motions, contacts, v))
+        let motions = ContactMotion::of(contacts, |k| self.frame_motion(s, v, k));
+        Ok(AtState::new(mass, free, &motions, contacts, v))
     }
 }
 
@@ -202,8 +204,10 @@ fn pose_of(m: &FrameMotion<f64>) -> Pose {
 
 fn check_contacts(model: &Model, contacts: &[Contact]) -> Result<(), ConstraintError> {
     for (k, c) in contacts.iter().enumerate() {
-        if c.frame >= model.frames().len() {
-            return Err(ConstraintError::FrameIndex(c.frame));
+        for frame in std::iter::once(c.frame).chain(c.to) {
+            if frame >= model.frames().len() {
+                return Err(ConstraintError::FrameIndex(frame));
+            }
         }
         if c.reference == ReferenceFrame::World {
             return Err(ContactError::WorldReference(k).into());
@@ -213,7 +217,7 @@ fn check_contacts(model: &Model, contacts: &[Contact]) -> Result<(), ConstraintE
 }
 
 /// The rows' right-hand side: `−drift`, less the Baumgarte terms when stabilised.
-fn right_hand_side(
+pub(super) fn right_hand_side(
     at: &AtState,
     contacts: &[Contact],
     stabilisation: Option<Stabilisation<'_>>,
@@ -222,17 +226,26 @@ fn right_hand_side(
     let Some(stabilisation) = stabilisation else {
         return Ok(rhs);
     };
-    if stabilisation.anchors.len() != contacts.len() {
+    let held = world_contacts(contacts);
+    if stabilisation.anchors.len() != held {
         return Err(ContactError::Anchors {
-            contacts: contacts.len(),
+            contacts: held,
             anchors: stabilisation.anchors.len(),
         });
     }
     if !(stabilisation.kp.is_finite() && stabilisation.kd.is_finite()) {
         return Err(ContactError::Settings("the Baumgarte gains must be finite"));
     }
-    let mut row = 0;
-    for ((contact, anchor), pose) in contacts.iter().zip(stabilisation.anchors).zip(&at.poses) {
+    let (mut row, mut anchors) = (0, stabilisation.anchors.iter());
+    for (contact, (pose, to)) in contacts.iter().zip(&at.poses) {
+        // A loop is held where its other frame is; a contact with the world, at its anchor.
+        let anchor = match to {
+            Some(to) => to,
+            // One per contact with the world: counted above.
+            None => anchors
+                .next()
+                .ok_or(ContactError::Settings("an anchor is missing"))?,
+        };
         let error = placement_error(contact.kind, contact.reference, pose, anchor);
         for k in 0..contact.kind.rows() {
             rhs[row + k] -= stabilisation.kp * error[k] + stabilisation.kd * at.rows.velocity[row + k];
@@ -240,6 +253,11 @@ fn right_hand_side(
         row += contact.kind.rows();
     }
     Ok(rhs)
+}
+
+/// How many of `contacts` hold their frame to the world (each one anchor when stabilised).
+pub(super) fn world_contacts(contacts: &[Contact]) -> usize {
+    contacts.iter().filter(|c| c.to.is_none()).count()
 }
 
 fn forward(
