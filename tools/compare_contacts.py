@@ -45,18 +45,19 @@ from compare_anchors import (ROOT, add_record_arguments, anchor_rows, cargo_env,
 ANCHOR = ROOT / "tools" / "anchors" / "contacts"
 G1_CRATE = ANCHOR / "dyngen"
 ROBOTS = ("solo12", "g1")
-# dyngen's criterion group -> the anchor's row, in table order. Λ: the faster of Pinocchio's two
-# exact ways (its constrained Cholesky factor; the inverse of its linear-time Delassus matrix);
-# J: the frames' Jacobians (getConstraintsJacobian, the other way, is slower).
+# The table's functions, in its order: dyngen's criterion group `<robot>/<function>` and the
+# anchor's row of the same name (the anchor also times a slower second way of Λ and of J,
+# `operational_space_inertia_cholesky` and `contact_jacobian_constraints`:
+# tools/anchors/contacts/README.md).
 FUNCTIONS = [
-    ("constrained_forward_dynamics", "constrained_forward_dynamics"),
-    ("constrained_forward_dynamics_baumgarte", "constrained_forward_dynamics_baumgarte"),
-    ("constrained_forward_dynamics_proximal", "constrained_forward_dynamics_proximal"),
-    ("impulse_dynamics", "impulse_dynamics"),
-    ("operational_space_inertia", "operational_space_inertia"),
-    ("contact_jacobian", "contact_jacobian"),
-    ("contact_drift", "contact_drift"),
-    ("contact_response", "contact_response"),
+    "constrained_forward_dynamics",
+    "constrained_forward_dynamics_baumgarte",
+    "constrained_forward_dynamics_proximal",
+    "impulse_dynamics",
+    "operational_space_inertia",
+    "contact_jacobian",
+    "contact_drift",
+    "contact_response",
 ]
 # The generated pieces a solve calls (the free acceleration is forward dynamics, timed in the
 # floating-base table as `aba`): the breakdown below the table, not recorded.
@@ -180,11 +181,10 @@ def main():
         rounds.append((pin, ours))
         if r == 0:
             for robot in robots:
-                for group, anchor in FUNCTIONS:
-                    for side, rows, key in [("Pinocchio", pin, anchor)] + [(f"dyngen {b}", ours[b], group)
-                                                                          for b in builds]:
-                        if (robot, key) not in rows:
-                            print(f"warning: no {side} time for {robot} {key}", file=sys.stderr)
+                for function in FUNCTIONS:
+                    for side, rows in [("Pinocchio", pin)] + [(f"dyngen {b}", ours[b]) for b in builds]:
+                        if (robot, function) not in rows:
+                            print(f"warning: no {side} time for {robot} {function}", file=sys.stderr)
     load = os.getloadavg()
 
     print(f"Load average at the start: {load_start[0]:.2f} {load_start[1]:.2f} {load_start[2]:.2f}, "
@@ -202,17 +202,17 @@ def main():
     for robot in robots:
         theirs_checks, _ = anchor_notes.get(robot, ({}, None))
         ours_checks, _ = dyngen_notes.get(robot, ({}, None))
-        for group, anchor in FUNCTIONS:
-            pin = [p.get((robot, anchor)) for p, _ in rounds]
-            row = f"| {robot} | `{group}` | {fmt(med(pin))} |"
+        for function in FUNCTIONS:
+            pin = [p.get((robot, function)) for p, _ in rounds]
+            row = f"| {robot} | `{function}` | {fmt(med(pin))} |"
             for b in builds:
-                ours = [o[b].get((robot, group)) for _, o in rounds]
+                ours = [o[b].get((robot, function)) for _, o in rounds]
                 ratio = med([p / d for p, d in zip(pin, ours) if p and d])
                 low = ratio is not None and ratio < FLOOR
                 if low:
-                    missed.append(f"{robot} {group} ({b}): {ratio:.2f}×")
+                    missed.append(f"{robot} {function} ({b}): {ratio:.2f}×")
                 row += f" {fmt(med(ours))} | {fmt(ratio, 2, '×')}{' **missed**' if low else ''} |"
-            difference = relative_difference(theirs_checks.get(anchor), ours_checks.get(group))
+            difference = relative_difference(theirs_checks.get(function), ours_checks.get(function))
             agree = ("–" if difference is None else "yes" if difference <= CHECK_TOLERANCE
                      else f"**no** ({difference:.1e})")
             print(row + f" {agree} |")
@@ -240,12 +240,12 @@ def main():
     if args.record:
         rows = []
         for robot in robots:
-            for group, anchor in FUNCTIONS:
-                pin = med([p.get((robot, anchor)) for p, _ in rounds])
+            for function in FUNCTIONS:
+                pin = med([p.get((robot, function)) for p, _ in rounds])
                 for b in builds:
-                    ns = med([o[b].get((robot, group)) for _, o in rounds])
+                    ns = med([o[b].get((robot, function)) for _, o in rounds])
                     if ns is not None:
-                        rows.append({"build": b, "robot": robot, "function": group, "form": "value",
+                        rows.append({"build": b, "robot": robot, "function": function, "form": "value",
                                      "dyngen_ns": number(ns), "pinocchio_ns": number(pin)})
         record_rows(args.record, args.machine, args.date, rows)
 

@@ -16,7 +16,7 @@ use dyngen_generated::solo12::{Frame, Solo12, NQ, NV};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{
     FloatingBaseDynamics, FloatingBaseParameters, FloatingDynamicsDerivatives, FloatingFrameKinematics,
-    FloatingTrig, ReferenceFrame, ResultBuffer, SplitMix64,
+    FloatingTrig, ReferenceFrame, ResultBuffer,
 };
 use std::hint::black_box;
 

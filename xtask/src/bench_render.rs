@@ -39,14 +39,20 @@ const SECTIONS: &[(&str, &[&str])] = &[(
 )];
 
 fn in_a_section(function: &str) -> bool {
-    SECTIONS.iter().any(|(_, functions)| functions.contains(&function))
+    SECTIONS
+        .iter()
+        .any(|(_, functions)| functions.contains(&function))
 }
 
 /// The table between one pair of markers: the machine's rows outside every section, or one
 /// section's.
 fn render_marked(rows: &[Row], marker: &str) -> Result<String, String> {
     let Some((machine, section)) = marker.rsplit_once(SECTION) else {
-        let outside: Vec<Row> = rows.iter().filter(|r| !in_a_section(&r.function)).cloned().collect();
+        let outside: Vec<Row> = rows
+            .iter()
+            .filter(|r| !in_a_section(&r.function))
+            .cloned()
+            .collect();
         return render_table(&outside, marker);
     };
     let Some((_, functions)) = SECTIONS.iter().find(|(name, _)| *name == section) else {
@@ -318,7 +324,10 @@ fn render_side_by_side(rows: &[Row], machine: &str, functions: &[&str]) -> Resul
         ]);
     }
     let mut body = Vec::new();
-    for function in functions.iter().filter(|f| shown.iter().any(|r| r.function == **f)) {
+    for function in functions
+        .iter()
+        .filter(|f| shown.iter().any(|r| r.function == **f))
+    {
         let mut cells = vec![format!("`{function}`")];
         for robot in &robots {
             let row = find(robot, function, Build::Native).or_else(|| find(robot, function, Build::Default));
@@ -428,7 +437,8 @@ C,2026-01-01,native,biped,constrained_forward_dynamics,,value,2000,8000,,,
 "
         ))
         .unwrap();
-        let doc = "<!-- rendered: C -->\n<!-- /rendered -->\n<!-- rendered: C / contacts -->\n<!-- /rendered -->\n";
+        let doc =
+            "<!-- rendered: C -->\n<!-- /rendered -->\n<!-- rendered: C / contacts -->\n<!-- /rendered -->\n";
         let out = render_document(doc, &rows).unwrap();
         // The machine's own table leaves the section's functions out …
         assert!(out.contains("| quad | `fk` | 500 | 50 | 10.0× |"), "{out}");
@@ -446,8 +456,12 @@ C,2026-01-01,native,biped,constrained_forward_dynamics,,value,2000,8000,,,
         );
         // Before a section's first run, a line says so; an unknown section or machine is an error.
         let fk_only = parse(&format!("{HEADER}C,2026-01-01,native,quad,fk,,value,50,500,,,\n")).unwrap();
-        let empty = render_document("<!-- rendered: C / contacts -->\n<!-- /rendered -->\n", &fk_only).unwrap();
-        assert!(empty.contains("No run recorded yet.\n<!-- /rendered -->"), "{empty}");
+        let empty =
+            render_document("<!-- rendered: C / contacts -->\n<!-- /rendered -->\n", &fk_only).unwrap();
+        assert!(
+            empty.contains("No run recorded yet.\n<!-- /rendered -->"),
+            "{empty}"
+        );
         assert!(render_document("<!-- rendered: C / nothing -->\n<!-- /rendered -->\n", &rows).is_err());
         assert!(render_document("<!-- rendered: D / contacts -->\n<!-- /rendered -->\n", &rows).is_err());
     }

@@ -12,8 +12,8 @@ use crate::common::{cycle, floating_states};
 use criterion::Criterion;
 use dyngen_runtime::nalgebra::{Rotation3, SVector, Vector3};
 use dyngen_runtime::{
-    constrained_forward_dynamics, impulse_dynamics, operational_space_inertia, ContactDynamics,
-    FloatingTrig, Pose, ProximalSettings, Stabilisation,
+    constrained_forward_dynamics, impulse_dynamics, operational_space_inertia, ContactDynamics, FloatingTrig,
+    Pose, ProximalSettings, Stabilisation,
 };
 use std::hint::black_box;
 
@@ -96,10 +96,16 @@ pub fn bench<R, const N: usize, const NQ: usize, const NV: usize, const NC: usiz
     let exact = ProximalSettings::default();
     let kd = 2.0 * KP.sqrt();
 
-    cycle(c, &g("constrained_forward_dynamics"), "generated", &inputs, |(q, v, tau, _)| {
-        let t = trig::<N>(q.as_slice());
-        black_box(constrained_forward_dynamics::<R, NV, NC>(&t, v, tau, None, &exact, None).unwrap());
-    });
+    cycle(
+        c,
+        &g("constrained_forward_dynamics"),
+        "generated",
+        &inputs,
+        |(q, v, tau, _)| {
+            let t = trig::<N>(q.as_slice());
+            black_box(constrained_forward_dynamics::<R, NV, NC>(&t, v, tau, None, &exact, None).unwrap());
+        },
+    );
     cycle(
         c,
         &g("constrained_forward_dynamics_baumgarte"),
@@ -128,10 +134,16 @@ pub fn bench<R, const N: usize, const NQ: usize, const NV: usize, const NC: usiz
         let t = trig::<N>(q.as_slice());
         black_box(impulse_dynamics::<R, NV, NC>(&t, v, RESTITUTION, 0.0).unwrap());
     });
-    cycle(c, &g("operational_space_inertia"), "generated", &inputs, |(q, _, _, _)| {
-        let t = trig::<N>(q.as_slice());
-        black_box(operational_space_inertia::<R, NV, NC>(&t, 0.0).unwrap());
-    });
+    cycle(
+        c,
+        &g("operational_space_inertia"),
+        "generated",
+        &inputs,
+        |(q, _, _, _)| {
+            let t = trig::<N>(q.as_slice());
+            black_box(operational_space_inertia::<R, NV, NC>(&t, 0.0).unwrap());
+        },
+    );
     // The generated pieces, each from the configuration: where the time of the solves goes.
     cycle(c, &g("contact_jacobian"), "generated", &inputs, |(q, _, _, _)| {
         black_box(R::contact_jacobian(&trig::<N>(q.as_slice())));
@@ -142,9 +154,15 @@ pub fn bench<R, const N: usize, const NQ: usize, const NV: usize, const NC: usiz
     cycle(c, &g("contact_response"), "generated", &inputs, |(q, _, _, _)| {
         black_box(R::contact_response(&trig::<N>(q.as_slice())));
     });
-    cycle(c, &g("free_acceleration"), "generated", &inputs, |(q, v, tau, _)| {
-        black_box(R::free_acceleration(&trig::<N>(q.as_slice()), v, tau));
-    });
+    cycle(
+        c,
+        &g("free_acceleration"),
+        "generated",
+        &inputs,
+        |(q, v, tau, _)| {
+            black_box(R::free_acceleration(&trig::<N>(q.as_slice()), v, tau));
+        },
+    );
 }
 
 /// Prints, to stderr as `#` lines as the anchor prints its own, the proximal solve's mean
@@ -174,8 +192,10 @@ fn report<R, const N: usize, const NQ: usize, const NV: usize, const NC: usize>(
         let stabilisation = Stabilisation { anchors, kp: KP, kd };
         let proximal = solve(&t, v, tau, None, &PROXIMAL);
         iterations += proximal.iterations;
-        let impact = impulse_dynamics::<R, NV, NC>(&t, v, RESTITUTION, 0.0).unwrap_or_else(|e| panic!("{robot}: {e}"));
-        let inertia = operational_space_inertia::<R, NV, NC>(&t, 0.0).unwrap_or_else(|e| panic!("{robot}: {e}"));
+        let impact =
+            impulse_dynamics::<R, NV, NC>(&t, v, RESTITUTION, 0.0).unwrap_or_else(|e| panic!("{robot}: {e}"));
+        let inertia =
+            operational_space_inertia::<R, NV, NC>(&t, 0.0).unwrap_or_else(|e| panic!("{robot}: {e}"));
         let norms = [
             solve(&t, v, tau, None, &exact).acceleration.norm(),
             solve(&t, v, tau, Some(stabilisation), &exact).acceleration.norm(),

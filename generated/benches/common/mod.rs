@@ -2,6 +2,8 @@
 //! forms (slices for the generic code, fixed-size vectors for the generated code), and the
 //! loop that cycles through them (`timing`, shared with the G1's contacts bench).
 
+// Its floating-base states serve only the benches of floating bases.
+#[allow(dead_code)]
 mod timing;
 pub use timing::*;
 

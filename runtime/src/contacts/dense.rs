@@ -48,7 +48,7 @@ where
         for m in 0..j {
             pivot -= k[(j, m)] * k[(j, m)];
         }
-        if !(pivot > floor) {
+        if pivot.is_nan() || pivot <= floor {
             return Err(j);
         }
         let d = libm::sqrt(pivot);
@@ -150,13 +150,23 @@ mod tests {
             let (k, largest) = delassus(&jacobian, &response, 0.0);
             let product = &jacobian * &response;
             assert!((&k - &product).amax() <= 1e-12 * product.amax(), "{n}×{nv}: K");
-            assert_eq!(largest, product.diagonal().amax(), "{n}×{nv}: the largest diagonal entry");
+            assert_eq!(
+                largest,
+                product.diagonal().amax(),
+                "{n}×{nv}: the largest diagonal entry"
+            );
             let l = factored(&k);
-            assert!((&l * l.transpose() - &k).amax() <= 1e-12 * k.amax(), "{n}×{nv}: L Lᵀ = K");
+            assert!(
+                (&l * l.transpose() - &k).amax() <= 1e-12 * k.amax(),
+                "{n}×{nv}: L Lᵀ = K"
+            );
             let b = DVector::from_fn(n, |i, _| i as f64 - 2.5);
             let mut x = b.clone();
             solve_in_place(&l, &mut x);
-            assert!((&k * &x - &b).amax() <= 1e-9 * b.amax().max(1.0), "{n}×{nv}: K x = b");
+            assert!(
+                (&k * &x - &b).amax() <= 1e-9 * b.amax().max(1.0),
+                "{n}×{nv}: K x = b"
+            );
             let inverse = inverse(&l);
             let identity = DMatrix::<f64>::identity(n, n);
             assert!((&k * &inverse - &identity).amax() <= 1e-9, "{n}×{nv}: K K⁻¹ = I");

@@ -8,10 +8,10 @@
 //! the exact solution of `J a = rhs` where the rows are independent, and, where they are
 //! redundant, to the solution whose forces are smallest.
 
+use super::dense;
 use crate::Pose;
 use core::fmt;
 use nalgebra::allocator::Allocator;
-use super::dense;
 use nalgebra::{DefaultAllocator, Dim, OMatrix, OVector};
 
 /// The proximal solve: `mu` regularises the Delassus matrix (0 solves the rows exactly, which

@@ -215,7 +215,7 @@ struct Calls {
         pin::impulseDynamics(model, data, s.q, s.v, plain, plain_data, RESTITUTION, impulse));
   }
   // Λ from Pinocchio's constrained Cholesky factor of [[-μI, J], [Jᵀ, M]] (μ = 0), as its
-  // derivatives compute it: crba in world convention also leaves the joint Jacobians and
+  // derivatives compute it (slower than the Delassus way on Solo-12, alike on the G1): crba in world convention also leaves the joint Jacobians and
   // placements the constraint rows are read from.
   Result inertia_cholesky(const State &s) {
     pin::crba(model, data, s.q, pin::Convention::WORLD);
@@ -319,8 +319,8 @@ static const Row ROWS[] = {
     {"constrained_forward_dynamics_baumgarte", &Calls::forward_baumgarte},
     {"constrained_forward_dynamics_proximal", &Calls::forward_proximal},
     {"impulse_dynamics", &Calls::impact},
-    {"operational_space_inertia", &Calls::inertia_cholesky},
-    {"operational_space_inertia_delassus", &Calls::inertia_delassus},
+    {"operational_space_inertia", &Calls::inertia_delassus},
+    {"operational_space_inertia_cholesky", &Calls::inertia_cholesky},
     {"contact_jacobian", &Calls::jacobian_frames},
     {"contact_jacobian_constraints", &Calls::jacobian_constraints},
     {"contact_drift", &Calls::contact_drift},

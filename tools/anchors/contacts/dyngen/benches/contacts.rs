@@ -8,7 +8,7 @@ mod common;
 mod constrained;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use dyngen_contacts_g1::g1::{G1, DOF, NQ, NV};
+use dyngen_contacts_g1::g1::{DOF, G1, NQ, NV};
 
 fn g1(c: &mut Criterion) {
     constrained::bench::<G1, DOF, NQ, NV, 12>(c, "g1");
