@@ -295,6 +295,47 @@ def dyngen_round(env, core, target_dir, robots, seconds, root=ROOT, by_value_onl
     return rows
 
 
+def fresh_medians(target_dir, robots, since):
+    """{(robot, quantity): median_ns} of the criterion id `generated` of every group of these
+    robots whose estimates were written at `since` or later (by the run just made)."""
+    rows = {}
+    for group in (Path(target_dir) / "criterion").iterdir():
+        if not group.is_dir():
+            continue
+        bench = group / "generated"
+        robot, quantity = split_group(group, [bench], robots)
+        estimates = bench / "new" / "estimates.json"
+        if robot in robots and estimates.is_file() and estimates.stat().st_mtime >= since:
+            rows[(robot, quantity)] = json.loads(estimates.read_text())["median"]["point_estimate"]
+    return rows
+
+
+def one_anchor_arguments(description, robots, builds, default_build, anchor):
+    """The command line of a tool that sets one anchor program beside a dyngen bench
+    (compare_frames.py, compare_contacts.py): robots, rounds, core, measurement time, dyngen's
+    builds, the anchor's executable (`anchor`, under tools/anchors/) and --record. Returns the
+    arguments, with the robots and builds listed once each; refuses an anchor not built."""
+    ap = argparse.ArgumentParser(description=description)
+    ap.add_argument("--robots", nargs="+", default=list(robots), choices=list(robots))
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--core", type=int, default=1)
+    ap.add_argument("--measurement-time", type=float, default=1.0, metavar="SECONDS",
+                    help="per function, both sides (criterion's warm-up a third of it; default 1)")
+    ap.add_argument("--builds", nargs="+", default=[default_build], choices=list(builds),
+                    help="dyngen builds to time: default (target/) and/or native "
+                         f"(target-cpu=native, as the anchor's -march=native); default: {default_build}")
+    ap.add_argument("--anchor", type=Path, default=ROOT / "tools" / "anchors" / anchor,
+                    help=f"the anchor's executable (default: tools/anchors/{anchor})")
+    add_record_arguments(ap)
+    args = ap.parse_args()
+    check_record_arguments(ap, args)
+    args.robots = list(dict.fromkeys(args.robots))
+    args.builds = list(dict.fromkeys(args.builds))
+    if not args.anchor.is_file():
+        ap.error(f"no {args.anchor}: build it with {args.anchor.parent.parent / 'build.sh'}")
+    return args
+
+
 def med(xs):
     xs = [x for x in xs if x is not None]
     return statistics.median(xs) if xs else None

@@ -29,8 +29,6 @@ rendered from (`cargo xtask bench-render`: the table of a `<!-- rendered: KIND /
 marker). Standard library only; reuses tools/compare_anchors.py's helpers.
 """
 
-import argparse
-import json
 import os
 import re
 import subprocess
@@ -39,8 +37,8 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from compare_anchors import (ROOT, add_record_arguments, anchor_rows, cargo_env,  # noqa: E402
-                             check_record_arguments, fmt, med, number, record_rows, split_group)
+from compare_anchors import (ROOT, anchor_rows, cargo_env, fmt, fresh_medians, med,  # noqa: E402
+                             number, one_anchor_arguments, record_rows)
 
 ANCHOR = ROOT / "tools" / "anchors" / "contacts"
 G1_CRATE = ANCHOR / "dyngen"
@@ -113,15 +111,7 @@ def dyngen_round(crate, args, env, core, target_dir, robot, seconds):
     pattern = f"^{re.escape(robot)}/.*/generated$"
     out = subprocess.run(["taskset", "-c", str(core), "cargo", "bench", "-q", *args, "--", pattern, *timing],
                          cwd=crate, env=env, check=True, capture_output=True, text=True)
-    rows = {}
-    for group in (Path(target_dir) / "criterion").iterdir():
-        if not group.is_dir():
-            continue
-        bench = group / "generated"
-        name, quantity = split_group(group, [bench], [robot])
-        estimates = bench / "new" / "estimates.json"
-        if name == robot and estimates.is_file() and estimates.stat().st_mtime >= start:
-            rows[quantity] = json.loads(estimates.read_text())["median"]["point_estimate"]
+    rows = {quantity: ns for (_, quantity), ns in fresh_medians(target_dir, [robot], start).items()}
     checks, iterations = comments(out.stderr, robot)
     return rows, checks, iterations
 
@@ -131,24 +121,9 @@ def relative_difference(a, b):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--robots", nargs="+", default=list(ROBOTS), choices=list(ROBOTS))
-    ap.add_argument("--rounds", type=int, default=3)
-    ap.add_argument("--core", type=int, default=1)
-    ap.add_argument("--measurement-time", type=float, default=1.0, metavar="SECONDS",
-                    help="per function, both sides (criterion's warm-up a third of it; default 1)")
-    ap.add_argument("--builds", nargs="+", default=["native"], choices=["native", "default"],
-                    help="dyngen builds to time: native (target-cpu=native, as the anchor's "
-                         "-march=native; target/bench-native) and/or default (target/); default: native")
-    ap.add_argument("--anchor", type=Path, default=ANCHOR / "build" / "bench_contacts",
-                    help="the anchor's executable (default: tools/anchors/contacts/build/bench_contacts)")
-    add_record_arguments(ap)
-    args = ap.parse_args()
-    check_record_arguments(ap, args)
-    robots = list(dict.fromkeys(args.robots))
-    builds = list(dict.fromkeys(args.builds))
-    if not args.anchor.is_file():
-        ap.error(f"no {args.anchor}: build it with tools/anchors/contacts/build.sh")
+    args = one_anchor_arguments(__doc__.split("\n\n")[0], ROBOTS, ("native", "default"), "native",
+                                "contacts/build/bench_contacts")
+    robots, builds = args.robots, args.builds
 
     sides = dyngen_sides(builds)
     envs = {}

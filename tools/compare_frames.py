@@ -28,8 +28,6 @@ rendered from (`cargo xtask bench-render`). Standard library only; reuses
 tools/compare_anchors.py's helpers.
 """
 
-import argparse
-import json
 import os
 import re
 import subprocess
@@ -38,10 +36,9 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from compare_anchors import (ROOT, add_record_arguments, anchor_rows, cargo_env,  # noqa: E402
-                             check_record_arguments, fmt, med, number, record_rows, run, split_group)
+from compare_anchors import (ROOT, anchor_rows, cargo_env, fmt, fresh_medians, med,  # noqa: E402
+                             number, one_anchor_arguments, record_rows, run)
 
-ANCHOR = ROOT / "tools" / "anchors" / "frames"
 # robot -> (tool frame, mid-chain frame, end-effector), as generated/benches/frames.rs.
 ROBOTS = {
     "panda": ("panda_link8", "panda_link4", "panda_hand_tcp"),
@@ -81,16 +78,7 @@ def dyngen_round(env, core, target_dir, robots, seconds):
     run(["taskset", "-c", str(core), "cargo", "bench", "-q", "-p", "dyngen-generated",
          "--bench", "frames", "--", pattern, *timing], cwd=ROOT, env=env)
     wanted = {(r, f"{fn}/{frame}") for r in robots for fn, frame in functions(r)}
-    rows = {}
-    for group in (Path(target_dir) / "criterion").iterdir():
-        if not group.is_dir():
-            continue
-        bench = group / "generated"
-        robot, quantity = split_group(group, [bench], robots)
-        estimates = bench / "new" / "estimates.json"
-        if (robot, quantity) in wanted and estimates.is_file() and estimates.stat().st_mtime >= start:
-            rows[(robot, quantity)] = json.loads(estimates.read_text())["median"]["point_estimate"]
-    return rows
+    return {key: ns for key, ns in fresh_medians(target_dir, robots, start).items() if key in wanted}
 
 
 def operation_counts(robot):
@@ -137,24 +125,9 @@ def operation_counts(robot):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--robots", nargs="+", default=list(ROBOTS), choices=list(ROBOTS))
-    ap.add_argument("--rounds", type=int, default=3)
-    ap.add_argument("--core", type=int, default=1)
-    ap.add_argument("--measurement-time", type=float, default=1.0, metavar="SECONDS",
-                    help="per function, both sides (criterion's warm-up a third of it; default 1)")
-    ap.add_argument("--builds", nargs="+", default=["default"], choices=["default", "native"],
-                    help="dyngen builds to time: default (target/) and/or native "
-                         "(target-cpu=native, target/bench-native); default: default")
-    ap.add_argument("--anchor", type=Path, default=ANCHOR / "build" / "bench_frames",
-                    help="the anchor's executable (default: tools/anchors/frames/build/bench_frames)")
-    add_record_arguments(ap)
-    args = ap.parse_args()
-    check_record_arguments(ap, args)
-    robots = list(dict.fromkeys(args.robots))
-    builds = list(dict.fromkeys(args.builds))
-    if not args.anchor.is_file():
-        ap.error(f"no {args.anchor}: build it with tools/anchors/frames/build.sh")
+    args = one_anchor_arguments(__doc__.split("\n\n")[0], ROBOTS, ("default", "native"), "default",
+                                "frames/build/bench_frames")
+    robots, builds = args.robots, args.builds
 
     dirs = {"default": ROOT / "target", "native": ROOT / "target" / "bench-native"}
     envs = {b: cargo_env(dirs[b], b == "native") for b in builds}

@@ -33,3 +33,11 @@ compile_anchor() {
             "$1" -o "$2"
     )
 }
+
+# build_anchor NAME, from an anchor's directory: build/models/ (its dump_model.py, given the
+# repository's root) and build/NAME from NAME.cpp.
+build_anchor() {
+    mkdir -p build
+    "$PYTHON" dump_model.py "$(cd ../../.. && pwd)" build/models
+    compile_anchor "$(pwd)/$1.cpp" "build/$1"
+}

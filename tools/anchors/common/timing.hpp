@@ -1,6 +1,6 @@
 // What the numeric Pinocchio anchors under tools/anchors/ share: the random stream of the dyngen
-// benches (so that both sides time the same states) and the timing loop, whose rows the compare
-// tools read (`robot nq nv function median_ns min_ns`).
+// benches (so that both sides time the same states), the timing loop, whose rows the compare
+// tools read (`robot nq nv function median_ns min_ns`), and the command line.
 #pragma once
 
 #include <algorithm>
@@ -69,6 +69,34 @@ void time_it(const char *robot, int nq, int nv, const std::string &function,
   double median = n % 2 ? per_call[n / 2] : 0.5 * (per_call[n / 2 - 1] + per_call[n / 2]);
   std::printf("%s %d %d %s %.2f %.2f\n", robot, nq, nv, function.c_str(), median, per_call[0]);
   std::fflush(stdout);
+}
+
+// An anchor's main: `PROGRAM MODELS_DIR [ROBOT...]`, each robot named (every one of `robots` when
+// none is) given to `bench(models, robot)` after the header row; 2 for a robot it does not know.
+template <typename Robot, size_t N, typename Bench>
+int run(int argc, char **argv, const Robot (&robots)[N], const char *version, Bench bench) {
+  std::string names;
+  for (const Robot &r : robots) names += (names.empty() ? "" : ", ") + std::string(r.name);
+  if (argc < 2) {
+    std::fprintf(stderr, "usage: %s MODELS_DIR [ROBOT...]  (ROBOT: %s)\n", argv[0], names.c_str());
+    return 2;
+  }
+  const std::string models = argv[1];
+  std::vector<std::string> wanted(argv + 2, argv + argc);
+  if (wanted.empty())
+    for (const Robot &r : robots) wanted.push_back(r.name);
+  std::printf("# robot nq nv function median_ns min_ns (Pinocchio %s)\n", version);
+  for (const std::string &name : wanted) {
+    const Robot *robot = nullptr;
+    for (const Robot &r : robots)
+      if (name == r.name) robot = &r;
+    if (!robot) {
+      std::fprintf(stderr, "unknown robot %s (%s)\n", name.c_str(), names.c_str());
+      return 2;
+    }
+    bench(models, *robot);
+  }
+  return 0;
 }
 
 }  // namespace anchor

@@ -394,23 +394,5 @@ static void bench_robot(const std::string &models, const Robot &r) {
 }
 
 int main(int argc, char **argv) {
-  if (argc < 2) {
-    std::fprintf(stderr, "usage: %s MODELS_DIR [ROBOT...]  (ROBOT: solo12, g1)\n", argv[0]);
-    return 2;
-  }
-  const std::string models = argv[1];
-  std::vector<std::string> wanted(argv + 2, argv + argc);
-  if (wanted.empty()) wanted = {"solo12", "g1"};
-  std::printf("# robot nq nv function median_ns min_ns (Pinocchio %s)\n", PINOCCHIO_VERSION);
-  for (const std::string &name : wanted) {
-    const Robot *robot = nullptr;
-    for (const Robot &r : ROBOTS)
-      if (name == r.name) robot = &r;
-    if (!robot) {
-      std::fprintf(stderr, "unknown robot %s (solo12, g1)\n", name.c_str());
-      return 2;
-    }
-    bench_robot(models, *robot);
-  }
-  return 0;
+  return anchor::run(argc, argv, ROBOTS, PINOCCHIO_VERSION, bench_robot);
 }

@@ -6,11 +6,8 @@
 #
 #   ./build.sh           (the venv /tmp/pinenv; VENV=DIR for another, PREFIX=DIR for its cmeel.prefix)
 #
-# One compiler process: about 2 minutes and 3 GB of memory.
+# One compiler process: about 5 minutes on a 2-vCPU VM, 3 GB of memory.
 set -eu
 cd "$(dirname "$0")"
-REPO=$(cd ../../.. && pwd)
 . ../common/compile.sh
-mkdir -p build
-"$PYTHON" dump_model.py "$REPO" build/models
-compile_anchor "$(pwd)/bench_contacts.cpp" build/bench_contacts
+build_anchor bench_contacts

@@ -9,8 +9,5 @@
 # One compiler process: about 80 s and 2.5 GB of memory.
 set -eu
 cd "$(dirname "$0")"
-REPO=$(cd ../../.. && pwd)
 . ../common/compile.sh
-mkdir -p build
-"$PYTHON" dump_model.py "$REPO" build/models
-compile_anchor "$(pwd)/bench_frames.cpp" build/bench_frames
+build_anchor bench_frames
