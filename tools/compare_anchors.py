@@ -108,6 +108,9 @@ def timed_rows():
 BATCHES = [("rnea", ("generated_lanes4", "generated_lanes8")),
            ("base_torque_regressor", ("generated_lanes4", "generated_lanes8"))]
 FLOOR_PINOCCHIO, FLOOR_CG, FLOOR_DEFAULT = 5.0, 2.0, 1.2
+# The claim of the one-anchor comparisons (compare_frames.py, compare_contacts.py): each function
+# at least 5x faster than numeric Pinocchio.
+ONE_ANCHOR_FLOOR = FLOOR_PINOCCHIO
 # A committed robot generated from a file the anchors read as written: the anchors' row is the
 # file's (Pinocchio has no snapping).
 ANCHOR_ROBOT = {"xarm7_snapped": "xarm7"}
@@ -334,6 +337,32 @@ def one_anchor_arguments(description, robots, builds, default_build, anchor):
     if not args.anchor.is_file():
         ap.error(f"no {args.anchor}: build it with {args.anchor.parent.parent / 'build.sh'}")
     return args
+
+
+def warn_missing(keys, pin, ours):
+    """A warning for each key (a row's name in both programs' output) that the anchor's rows
+    `pin` or dyngen's `ours` ({build: rows}) lack, after a first round."""
+    for key in keys:
+        for side, rows in [("Pinocchio", pin)] + [(f"dyngen {b}", r) for b, r in ours.items()]:
+            if key not in rows:
+                print(f"warning: no {side} time for {' '.join(key)}", file=sys.stderr)
+
+
+def one_anchor_head(load_start, args, columns, last):
+    """The run's summary line and the table's first two lines of a one-anchor comparison: the
+    `columns` (left-aligned, ending with Pinocchio's), per dyngen build its median and ratio (its
+    floor, `ONE_ANCHOR_FLOOR`, in the header), and `last`."""
+    load = os.getloadavg()
+    summary = (f"Load average at the start: {load_start[0]:.2f} {load_start[1]:.2f} {load_start[2]:.2f}, "
+               f"at the end: {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}; {args.rounds} interleaved rounds "
+               f"on core {args.core}, {args.measurement_time:g} s per function; medians in ns; ratios are "
+               f"medians of per-round ratios; dyngen build(s): {', '.join(args.builds)}.\n")
+    header = "| " + " | ".join(columns) + " |"
+    rule = "|" + "---|" * (len(columns) - 1) + "---:|"
+    for b in args.builds:
+        header += f" dyngen {b} | Pinocchio / dyngen {b} (≥ {ONE_ANCHOR_FLOOR:g}) |"
+        rule += "---:|---:|"
+    return "\n".join([summary, header + f" {last} |", rule + "---:|"])
 
 
 def med(xs):

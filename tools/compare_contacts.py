@@ -37,8 +37,9 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from compare_anchors import (ROOT, anchor_rows, cargo_env, fmt, fresh_medians, med,  # noqa: E402
-                             number, one_anchor_arguments, record_rows)
+from compare_anchors import (ONE_ANCHOR_FLOOR, ROOT, anchor_rows, cargo_env, fmt,  # noqa: E402
+                             fresh_medians, med, number, one_anchor_arguments, one_anchor_head,
+                             record_rows, warn_missing)
 
 ANCHOR = ROOT / "tools" / "anchors" / "contacts"
 G1_CRATE = ANCHOR / "dyngen"
@@ -67,7 +68,6 @@ SOLVES = {
     "impulse_dynamics": ("contact_jacobian", "contact_response"),
     "operational_space_inertia": ("contact_jacobian", "contact_response"),
 }
-FLOOR = 5.0  # the claim: each constrained function at least 5x faster than numeric Pinocchio
 CHECK_TOLERANCE = 1e-6  # relative, between the two sides' check sums
 
 
@@ -155,24 +155,9 @@ def main():
                 dyngen_notes.setdefault(robot, (checks, iterations))
         rounds.append((pin, ours))
         if r == 0:
-            for robot in robots:
-                for function in FUNCTIONS:
-                    for side, rows in [("Pinocchio", pin)] + [(f"dyngen {b}", ours[b]) for b in builds]:
-                        if (robot, function) not in rows:
-                            print(f"warning: no {side} time for {robot} {function}", file=sys.stderr)
-    load = os.getloadavg()
+            warn_missing([(robot, fn) for robot in robots for fn in FUNCTIONS], pin, ours)
 
-    print(f"Load average at the start: {load_start[0]:.2f} {load_start[1]:.2f} {load_start[2]:.2f}, "
-          f"at the end: {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}; {args.rounds} interleaved rounds "
-          f"on core {args.core}, {args.measurement_time:g} s per function; medians in ns; ratios are "
-          f"medians of per-round ratios; dyngen build(s): {', '.join(builds)}.\n")
-    header = "| robot | function | Pinocchio |"
-    rule = "|---|---|---:|"
-    for b in builds:
-        header += f" dyngen {b} | Pinocchio / dyngen {b} (≥ {FLOOR:g}) |"
-        rule += "---:|---:|"
-    print(header + " check sums agree |")
-    print(rule + "---|")
+    print(one_anchor_head(load_start, args, ["robot", "function", "Pinocchio"], "check sums agree"))
     missed = []
     for robot in robots:
         theirs_checks, _ = anchor_notes.get(robot, ({}, None))
@@ -183,7 +168,7 @@ def main():
             for b in builds:
                 ours = [o[b].get((robot, function)) for _, o in rounds]
                 ratio = med([p / d for p, d in zip(pin, ours) if p and d])
-                low = ratio is not None and ratio < FLOOR
+                low = ratio is not None and ratio < ONE_ANCHOR_FLOOR
                 if low:
                     missed.append(f"{robot} {function} ({b}): {ratio:.2f}×")
                 row += f" {fmt(med(ours))} | {fmt(ratio, 2, '×')}{' **missed**' if low else ''} |"
@@ -192,7 +177,7 @@ def main():
                      else f"**no** ({difference:.1e})")
             print(row + f" {agree} |")
     if missed:
-        print(f"\nBelow {FLOOR:g}×: " + "; ".join(missed))
+        print(f"\nBelow {ONE_ANCHOR_FLOOR:g}×: " + "; ".join(missed))
 
     print("\nProximal iterations per solve (mean over the states): "
           + "; ".join(f"{robot} Pinocchio {fmt(anchor_notes.get(robot, ({}, None))[1], 2)}, "

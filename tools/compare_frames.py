@@ -36,8 +36,9 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from compare_anchors import (ROOT, anchor_rows, cargo_env, fmt, fresh_medians, med,  # noqa: E402
-                             number, one_anchor_arguments, record_rows, run)
+from compare_anchors import (ONE_ANCHOR_FLOOR, ROOT, anchor_rows, cargo_env, fmt,  # noqa: E402
+                             fresh_medians, med, number, one_anchor_arguments, one_anchor_head,
+                             record_rows, run, warn_missing)
 
 # robot -> (tool frame, mid-chain frame, end-effector), as generated/benches/frames.rs.
 ROBOTS = {
@@ -52,7 +53,6 @@ FRAME_FUNCTIONS = (["frame_pose"]
                    + [f"frame_jacobian_{r}" for r in REFERENCES]
                    + [f"frame_jacobian_time_variation_{r}" for r in REFERENCES]
                    + ["frame_velocity_local", "frame_classical_acceleration_local", "frame_kinematics"])
-FLOOR = 5.0  # the claim: each frame quantity at least 5x faster than numeric Pinocchio
 
 
 def functions(robot):
@@ -145,25 +145,11 @@ def main():
         ours = {b: dyngen_round(envs[b], args.core, dirs[b], robots, args.measurement_time) for b in builds}
         rounds.append((pin, ours))
         if r == 0:
-            for robot in robots:
-                for fn, frame in functions(robot):
-                    key = (robot, f"{fn}/{frame}")
-                    for side, rows in [("Pinocchio", pin)] + [(f"dyngen {b}", ours[b]) for b in builds]:
-                        if key not in rows:
-                            print(f"warning: no {side} time for {robot} {fn}/{frame}", file=sys.stderr)
-    load = os.getloadavg()
+            warn_missing([(robot, f"{fn}/{frame}") for robot in robots for fn, frame in functions(robot)],
+                         pin, ours)
 
-    print(f"Load average at the start: {load_start[0]:.2f} {load_start[1]:.2f} {load_start[2]:.2f}, "
-          f"at the end: {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}; {args.rounds} interleaved rounds "
-          f"on core {args.core}, {args.measurement_time:g} s per function; medians in ns; ratios are "
-          f"medians of per-round ratios; dyngen build(s): {', '.join(builds)}.\n")
-    header = "| robot | function | frame | Pinocchio |"
-    rule = "|---|---|---|---:|"
-    for b in builds:
-        header += f" dyngen {b} | Pinocchio / dyngen {b} (≥ {FLOOR:g}) |"
-        rule += "---:|---:|"
-    print(header + " generated ops (mul/add/neg) |")
-    print(rule + "---:|")
+    print(one_anchor_head(load_start, args, ["robot", "function", "frame", "Pinocchio"],
+                          "generated ops (mul/add/neg)"))
     missed = []
     for robot in robots:
         counts = operation_counts(robot)
@@ -174,14 +160,14 @@ def main():
             for b in builds:
                 ours = [o[b].get(key) for _, o in rounds]
                 ratio = med([p / d for p, d in zip(pin, ours) if p and d])
-                low = ratio is not None and ratio < FLOOR and fn != "jacobian"
+                low = ratio is not None and ratio < ONE_ANCHOR_FLOOR and fn != "jacobian"
                 if low:
                     missed.append(f"{robot} {fn}/{frame} ({b}): {ratio:.2f}×")
                 row += f" {fmt(med(ours))} | {fmt(ratio, 2, '×')}{' **missed**' if low else ''} |"
             ops = counts.get((fn, frame))
             print(row + (f" {'/'.join(map(str, ops))} |" if ops else " – |"))
     if missed:
-        print(f"\nBelow {FLOOR:g}×: " + "; ".join(missed))
+        print(f"\nBelow {ONE_ANCHOR_FLOOR:g}×: " + "; ".join(missed))
     if args.record:
         rows = []
         for robot in robots:
