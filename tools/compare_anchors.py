@@ -108,6 +108,9 @@ def timed_rows():
 BATCHES = [("rnea", ("generated_lanes4", "generated_lanes8")),
            ("base_torque_regressor", ("generated_lanes4", "generated_lanes8"))]
 FLOOR_PINOCCHIO, FLOOR_CG, FLOOR_DEFAULT = 5.0, 2.0, 1.2
+# The claim of the one-anchor comparisons (compare_frames.py, compare_contacts.py): each function
+# at least 5x faster than numeric Pinocchio.
+ONE_ANCHOR_FLOOR = FLOOR_PINOCCHIO
 # A committed robot generated from a file the anchors read as written: the anchors' row is the
 # file's (Pinocchio has no snapping).
 ANCHOR_ROBOT = {"xarm7_snapped": "xarm7"}
@@ -293,6 +296,73 @@ def dyngen_round(env, core, target_dir, robots, seconds, root=ROOT, by_value_onl
                 median = json.loads(estimates.read_text())["median"]["point_estimate"]
                 rows[(robot, quantity, bench.name)] = median
     return rows
+
+
+def fresh_medians(target_dir, robots, since):
+    """{(robot, quantity): median_ns} of the criterion id `generated` of every group of these
+    robots whose estimates were written at `since` or later (by the run just made)."""
+    rows = {}
+    for group in (Path(target_dir) / "criterion").iterdir():
+        if not group.is_dir():
+            continue
+        bench = group / "generated"
+        robot, quantity = split_group(group, [bench], robots)
+        estimates = bench / "new" / "estimates.json"
+        if robot in robots and estimates.is_file() and estimates.stat().st_mtime >= since:
+            rows[(robot, quantity)] = json.loads(estimates.read_text())["median"]["point_estimate"]
+    return rows
+
+
+def one_anchor_arguments(description, robots, builds, default_build, anchor):
+    """The command line of a tool that sets one anchor program beside a dyngen bench
+    (compare_frames.py, compare_contacts.py): robots, rounds, core, measurement time, dyngen's
+    builds, the anchor's executable (`anchor`, under tools/anchors/) and --record. Returns the
+    arguments, with the robots and builds listed once each; refuses an anchor not built."""
+    ap = argparse.ArgumentParser(description=description)
+    ap.add_argument("--robots", nargs="+", default=list(robots), choices=list(robots))
+    ap.add_argument("--rounds", type=int, default=3)
+    ap.add_argument("--core", type=int, default=1)
+    ap.add_argument("--measurement-time", type=float, default=1.0, metavar="SECONDS",
+                    help="per function, both sides (criterion's warm-up a third of it; default 1)")
+    ap.add_argument("--builds", nargs="+", default=[default_build], choices=list(builds),
+                    help="dyngen builds to time: default (target/) and/or native "
+                         f"(target-cpu=native, as the anchor's -march=native); default: {default_build}")
+    ap.add_argument("--anchor", type=Path, default=ROOT / "tools" / "anchors" / anchor,
+                    help=f"the anchor's executable (default: tools/anchors/{anchor})")
+    add_record_arguments(ap)
+    args = ap.parse_args()
+    check_record_arguments(ap, args)
+    args.robots = list(dict.fromkeys(args.robots))
+    args.builds = list(dict.fromkeys(args.builds))
+    if not args.anchor.is_file():
+        ap.error(f"no {args.anchor}: build it with {args.anchor.parent.parent / 'build.sh'}")
+    return args
+
+
+def warn_missing(keys, pin, ours):
+    """A warning for each key (a row's name in both programs' output) that the anchor's rows
+    `pin` or dyngen's `ours` ({build: rows}) lack, after a first round."""
+    for key in keys:
+        for side, rows in [("Pinocchio", pin)] + [(f"dyngen {b}", r) for b, r in ours.items()]:
+            if key not in rows:
+                print(f"warning: no {side} time for {' '.join(key)}", file=sys.stderr)
+
+
+def one_anchor_head(load_start, args, columns, last):
+    """The run's summary line and the table's first two lines of a one-anchor comparison: the
+    `columns` (left-aligned, ending with Pinocchio's), per dyngen build its median and ratio (its
+    floor, `ONE_ANCHOR_FLOOR`, in the header), and `last`."""
+    load = os.getloadavg()
+    summary = (f"Load average at the start: {load_start[0]:.2f} {load_start[1]:.2f} {load_start[2]:.2f}, "
+               f"at the end: {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}; {args.rounds} interleaved rounds "
+               f"on core {args.core}, {args.measurement_time:g} s per function; medians in ns; ratios are "
+               f"medians of per-round ratios; dyngen build(s): {', '.join(args.builds)}.\n")
+    header = "| " + " | ".join(columns) + " |"
+    rule = "|" + "---|" * (len(columns) - 1) + "---:|"
+    for b in args.builds:
+        header += f" dyngen {b} | Pinocchio / dyngen {b} (≥ {ONE_ANCHOR_FLOOR:g}) |"
+        rule += "---:|---:|"
+    return "\n".join([summary, header + f" {last} |", rule + "---:|"])
 
 
 def med(xs):

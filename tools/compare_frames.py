@@ -28,8 +28,6 @@ rendered from (`cargo xtask bench-render`). Standard library only; reuses
 tools/compare_anchors.py's helpers.
 """
 
-import argparse
-import json
 import os
 import re
 import subprocess
@@ -38,10 +36,10 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from compare_anchors import (ROOT, add_record_arguments, anchor_rows, cargo_env,  # noqa: E402
-                             check_record_arguments, fmt, med, number, record_rows, run, split_group)
+from compare_anchors import (ONE_ANCHOR_FLOOR, ROOT, anchor_rows, cargo_env, fmt,  # noqa: E402
+                             fresh_medians, med, number, one_anchor_arguments, one_anchor_head,
+                             record_rows, run, warn_missing)
 
-ANCHOR = ROOT / "tools" / "anchors" / "frames"
 # robot -> (tool frame, mid-chain frame, end-effector), as generated/benches/frames.rs.
 ROBOTS = {
     "panda": ("panda_link8", "panda_link4", "panda_hand_tcp"),
@@ -55,7 +53,6 @@ FRAME_FUNCTIONS = (["frame_pose"]
                    + [f"frame_jacobian_{r}" for r in REFERENCES]
                    + [f"frame_jacobian_time_variation_{r}" for r in REFERENCES]
                    + ["frame_velocity_local", "frame_classical_acceleration_local", "frame_kinematics"])
-FLOOR = 5.0  # the claim: each frame quantity at least 5x faster than numeric Pinocchio
 
 
 def functions(robot):
@@ -81,16 +78,7 @@ def dyngen_round(env, core, target_dir, robots, seconds):
     run(["taskset", "-c", str(core), "cargo", "bench", "-q", "-p", "dyngen-generated",
          "--bench", "frames", "--", pattern, *timing], cwd=ROOT, env=env)
     wanted = {(r, f"{fn}/{frame}") for r in robots for fn, frame in functions(r)}
-    rows = {}
-    for group in (Path(target_dir) / "criterion").iterdir():
-        if not group.is_dir():
-            continue
-        bench = group / "generated"
-        robot, quantity = split_group(group, [bench], robots)
-        estimates = bench / "new" / "estimates.json"
-        if (robot, quantity) in wanted and estimates.is_file() and estimates.stat().st_mtime >= start:
-            rows[(robot, quantity)] = json.loads(estimates.read_text())["median"]["point_estimate"]
-    return rows
+    return {key: ns for key, ns in fresh_medians(target_dir, robots, start).items() if key in wanted}
 
 
 def operation_counts(robot):
@@ -137,24 +125,9 @@ def operation_counts(robot):
 
 
 def main():
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--robots", nargs="+", default=list(ROBOTS), choices=list(ROBOTS))
-    ap.add_argument("--rounds", type=int, default=3)
-    ap.add_argument("--core", type=int, default=1)
-    ap.add_argument("--measurement-time", type=float, default=1.0, metavar="SECONDS",
-                    help="per function, both sides (criterion's warm-up a third of it; default 1)")
-    ap.add_argument("--builds", nargs="+", default=["default"], choices=["default", "native"],
-                    help="dyngen builds to time: default (target/) and/or native "
-                         "(target-cpu=native, target/bench-native); default: default")
-    ap.add_argument("--anchor", type=Path, default=ANCHOR / "build" / "bench_frames",
-                    help="the anchor's executable (default: tools/anchors/frames/build/bench_frames)")
-    add_record_arguments(ap)
-    args = ap.parse_args()
-    check_record_arguments(ap, args)
-    robots = list(dict.fromkeys(args.robots))
-    builds = list(dict.fromkeys(args.builds))
-    if not args.anchor.is_file():
-        ap.error(f"no {args.anchor}: build it with tools/anchors/frames/build.sh")
+    args = one_anchor_arguments(__doc__.split("\n\n")[0], ROBOTS, ("default", "native"), "default",
+                                "frames/build/bench_frames")
+    robots, builds = args.robots, args.builds
 
     dirs = {"default": ROOT / "target", "native": ROOT / "target" / "bench-native"}
     envs = {b: cargo_env(dirs[b], b == "native") for b in builds}
@@ -172,25 +145,11 @@ def main():
         ours = {b: dyngen_round(envs[b], args.core, dirs[b], robots, args.measurement_time) for b in builds}
         rounds.append((pin, ours))
         if r == 0:
-            for robot in robots:
-                for fn, frame in functions(robot):
-                    key = (robot, f"{fn}/{frame}")
-                    for side, rows in [("Pinocchio", pin)] + [(f"dyngen {b}", ours[b]) for b in builds]:
-                        if key not in rows:
-                            print(f"warning: no {side} time for {robot} {fn}/{frame}", file=sys.stderr)
-    load = os.getloadavg()
+            warn_missing([(robot, f"{fn}/{frame}") for robot in robots for fn, frame in functions(robot)],
+                         pin, ours)
 
-    print(f"Load average at the start: {load_start[0]:.2f} {load_start[1]:.2f} {load_start[2]:.2f}, "
-          f"at the end: {load[0]:.2f} {load[1]:.2f} {load[2]:.2f}; {args.rounds} interleaved rounds "
-          f"on core {args.core}, {args.measurement_time:g} s per function; medians in ns; ratios are "
-          f"medians of per-round ratios; dyngen build(s): {', '.join(builds)}.\n")
-    header = "| robot | function | frame | Pinocchio |"
-    rule = "|---|---|---|---:|"
-    for b in builds:
-        header += f" dyngen {b} | Pinocchio / dyngen {b} (≥ {FLOOR:g}) |"
-        rule += "---:|---:|"
-    print(header + " generated ops (mul/add/neg) |")
-    print(rule + "---:|")
+    print(one_anchor_head(load_start, args, ["robot", "function", "frame", "Pinocchio"],
+                          "generated ops (mul/add/neg)"))
     missed = []
     for robot in robots:
         counts = operation_counts(robot)
@@ -201,14 +160,14 @@ def main():
             for b in builds:
                 ours = [o[b].get(key) for _, o in rounds]
                 ratio = med([p / d for p, d in zip(pin, ours) if p and d])
-                low = ratio is not None and ratio < FLOOR and fn != "jacobian"
+                low = ratio is not None and ratio < ONE_ANCHOR_FLOOR and fn != "jacobian"
                 if low:
                     missed.append(f"{robot} {fn}/{frame} ({b}): {ratio:.2f}×")
                 row += f" {fmt(med(ours))} | {fmt(ratio, 2, '×')}{' **missed**' if low else ''} |"
             ops = counts.get((fn, frame))
             print(row + (f" {'/'.join(map(str, ops))} |" if ops else " – |"))
     if missed:
-        print(f"\nBelow {FLOOR:g}×: " + "; ".join(missed))
+        print(f"\nBelow {ONE_ANCHOR_FLOOR:g}×: " + "; ".join(missed))
     if args.record:
         rows = []
         for robot in robots:

@@ -10,33 +10,15 @@
 #[allow(dead_code)]
 mod common;
 
-use common::{cycle, STATES};
+use common::{cycle, floating_states};
 use criterion::{criterion_group, criterion_main, Criterion};
-use dyngen_generated::solo12::{Frame, Solo12, Velocity, NQ};
+use dyngen_generated::solo12::{Frame, Solo12, NQ, NV};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{
     FloatingBaseDynamics, FloatingBaseParameters, FloatingDynamicsDerivatives, FloatingFrameKinematics,
-    FloatingTrig, ReferenceFrame, ResultBuffer, SplitMix64,
+    FloatingTrig, ReferenceFrame, ResultBuffer,
 };
 use std::hint::black_box;
-
-fn states() -> Vec<(SVector<f64, NQ>, [Velocity; 3])> {
-    let mut rng = SplitMix64::new(18);
-    let pi = std::f64::consts::PI;
-    (0..STATES)
-        .map(|_| {
-            let mut q = SVector::<f64, NQ>::from_fn(|i, _| match i {
-                0..3 => rng.uniform((-1.0, 1.0)),
-                3..7 => rng.uniform((-1.0, 1.0)),
-                _ => rng.uniform((-pi, pi)),
-            });
-            let norm = q.fixed_rows::<4>(3).norm();
-            q.fixed_rows_mut::<4>(3).unscale_mut(norm);
-            let mut draw = |bound: f64| Velocity::from_fn(|_, _| rng.uniform((-bound, bound)));
-            (q, [draw(2.0), draw(5.0), draw(10.0)])
-        })
-        .collect()
-}
 
 fn trig(q: &SVector<f64, NQ>) -> FloatingTrig<12> {
     // The states are unit quaternions by construction.
@@ -44,7 +26,7 @@ fn trig(q: &SVector<f64, NQ>) -> FloatingTrig<12> {
 }
 
 fn solo12(c: &mut Criterion) {
-    let inputs = states();
+    let inputs = floating_states::<NQ, NV>(18);
     let g = |f: &str| format!("solo12/{f}");
     let lwa = ReferenceFrame::LocalWorldAligned;
     cycle(c, &g("floating_trig"), "generated", &inputs, |(q, _)| {

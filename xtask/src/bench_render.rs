@@ -8,6 +8,10 @@
 //! medians and dyngen's native median, dyngen written into a kept buffer (`_into`), per state in
 //! lanes, the default build over the native one, the native machine code. Ratios are computed
 //! here, each from the medians of one row of the file (one run), never typed.
+//!
+//! Some functions have a table of their own, a section of the machine's rows (`<!-- rendered:
+//! MACHINE / contacts -->`): a row per function, the robots side by side. A marker without a
+//! section shows the machine's other rows.
 
 use crate::results::{latest, Build, Form, Row};
 use std::collections::{BTreeSet, HashMap};
@@ -16,6 +20,47 @@ const START: &str = "<!-- rendered: ";
 const END: &str = "<!-- /rendered -->";
 /// A value that was not measured.
 const MISSING: &str = "—";
+/// Between a marker's machine and its section.
+const SECTION: &str = " / ";
+/// The sections and their functions, in table order: constrained dynamics
+/// (`tools/compare_contacts.py`).
+const SECTIONS: &[(&str, &[&str])] = &[(
+    "contacts",
+    &[
+        "constrained_forward_dynamics",
+        "constrained_forward_dynamics_baumgarte",
+        "constrained_forward_dynamics_proximal",
+        "impulse_dynamics",
+        "operational_space_inertia",
+        "contact_jacobian",
+        "contact_drift",
+        "contact_response",
+    ],
+)];
+
+fn in_a_section(function: &str) -> bool {
+    SECTIONS
+        .iter()
+        .any(|(_, functions)| functions.contains(&function))
+}
+
+/// The table between one pair of markers: the machine's rows outside every section, or one
+/// section's.
+fn render_marked(rows: &[Row], marker: &str) -> Result<String, String> {
+    let Some((machine, section)) = marker.rsplit_once(SECTION) else {
+        let outside: Vec<Row> = rows
+            .iter()
+            .filter(|r| !in_a_section(&r.function))
+            .cloned()
+            .collect();
+        return render_table(&outside, marker);
+    };
+    let Some((_, functions)) = SECTIONS.iter().find(|(name, _)| *name == section) else {
+        let known: Vec<&str> = SECTIONS.iter().map(|(name, _)| *name).collect();
+        return Err(format!("no section `{section}` (known: {})", known.join(", ")));
+    };
+    render_side_by_side(rows, machine, functions)
+}
 
 /// `document` with the table between each pair of markers rendered anew from `rows`.
 pub fn render_document(document: &str, rows: &[Row]) -> Result<String, String> {
@@ -33,7 +78,7 @@ pub fn render_document(document: &str, rows: &[Row]) -> Result<String, String> {
             }
             continue;
         };
-        let table = render_table(rows, machine.trim()).map_err(|e| format!("line {}: {e}", number + 1))?;
+        let table = render_marked(rows, machine.trim()).map_err(|e| format!("line {}: {e}", number + 1))?;
         if !line.ends_with('\n') {
             out.push('\n');
         }
@@ -118,7 +163,6 @@ pub fn render_table(rows: &[Row], machine: &str) -> Result<String, String> {
     }
     let index: HashMap<_, _> = entries.iter().enumerate().map(|(i, (k, _))| (*k, i)).collect();
     let mut widths = BTreeSet::new();
-    let mut dates: Vec<(&str, Vec<&str>)> = Vec::new();
     for row in &shown {
         let entry = &mut entries[index[&(row.robot.as_str(), row.function.as_str(), row.frame.as_str())]].1;
         match row.form {
@@ -129,11 +173,6 @@ pub fn render_table(rows: &[Row], machine: &str) -> Result<String, String> {
                 entry.lanes.push((n, row));
             }
             Form::Lanes(_) => {}
-        }
-        match dates.iter_mut().find(|(d, _)| *d == row.date) {
-            Some((_, robots)) if robots.contains(&row.robot.as_str()) => {}
-            Some((_, robots)) => robots.push(&row.robot),
-            None => dates.push((&row.date, vec![&row.robot])),
         }
     }
     entries.sort_by_key(|((robot, _, _), _)| robots.iter().position(|r| r == robot));
@@ -205,6 +244,20 @@ pub fn render_table(rows: &[Row], machine: &str) -> Result<String, String> {
             .collect()
     };
 
+    let body: Vec<Vec<String>> = body.iter().map(|cells| pick(cells)).collect();
+    Ok(measured_on(&shown) + &markdown(&pick(&header), 2, &body))
+}
+
+/// `Measured on DATE.` and a blank line; with runs of several dates, the robots of each.
+fn measured_on(shown: &[&Row]) -> String {
+    let mut dates: Vec<(&str, Vec<&str>)> = Vec::new();
+    for row in shown {
+        match dates.iter_mut().find(|(d, _)| *d == row.date) {
+            Some((_, robots)) if robots.contains(&row.robot.as_str()) => {}
+            Some((_, robots)) => robots.push(&row.robot),
+            None => dates.push((&row.date, vec![&row.robot])),
+        }
+    }
     dates.sort();
     let mut out = String::from("Measured on ");
     if let [(date, _)] = dates.as_slice() {
@@ -217,18 +270,76 @@ pub fn render_table(rows: &[Row], machine: &str) -> Result<String, String> {
         out.push_str(&parts.join(", "));
     }
     out.push_str(".\n\n");
-    let header = pick(&header);
-    out += &format!("| {} |\n", header.join(" | "));
+    out
+}
+
+/// A Markdown table, its first `left` columns aligned left and the others (numbers) right.
+fn markdown(header: &[String], left: usize, body: &[Vec<String>]) -> String {
+    let mut out = format!("| {} |\n", header.join(" | "));
     out += &format!(
         "|{}\n",
         (0..header.len())
-            .map(|c| if c < 2 { "---|" } else { "---:|" })
+            .map(|c| if c < left { "---|" } else { "---:|" })
             .collect::<String>()
     );
-    for cells in &body {
-        out += &format!("| {} |\n", pick(cells).join(" | "));
+    for cells in body {
+        out += &format!("| {} |\n", cells.join(" | "));
     }
-    Ok(out)
+    out
+}
+
+/// A section's table: a row per function (in the section's order), and per robot (in the order
+/// they first appear) Pinocchio's median, dyngen's (the native build, else the default one) and
+/// their ratio. Before the section's first run: a line that says so.
+fn render_side_by_side(rows: &[Row], machine: &str, functions: &[&str]) -> Result<String, String> {
+    let all = latest(rows, machine);
+    if all.is_empty() {
+        return Err(format!("no results for the machine `{machine}`"));
+    }
+    let shown: Vec<&Row> = all
+        .into_iter()
+        .filter(|r| r.form == Form::Value && functions.contains(&r.function.as_str()))
+        .collect();
+    if shown.is_empty() {
+        return Ok("No run recorded yet.\n".to_owned());
+    }
+    let mut robots: Vec<&str> = Vec::new();
+    for row in &shown {
+        if !robots.contains(&row.robot.as_str()) {
+            robots.push(&row.robot);
+        }
+    }
+    let find = |robot: &str, function: &str, build: Build| {
+        shown
+            .iter()
+            .find(|r| r.robot == robot && r.function == function && r.build == build)
+            .copied()
+    };
+    let mut header = vec!["function".to_owned()];
+    for robot in &robots {
+        header.extend([
+            format!("{robot}: Pinocchio"),
+            format!("{robot}: dyngen"),
+            format!("{robot}: Pinocchio / dyngen"),
+        ]);
+    }
+    let mut body = Vec::new();
+    for function in functions
+        .iter()
+        .filter(|f| shown.iter().any(|r| r.function == **f))
+    {
+        let mut cells = vec![format!("`{function}`")];
+        for robot in &robots {
+            let row = find(robot, function, Build::Native).or_else(|| find(robot, function, Build::Default));
+            cells.extend([
+                value(row.and_then(|r| r.pinocchio_ns)),
+                value(row.map(|r| r.dyngen_ns)),
+                ratio(row.and_then(|r| r.pinocchio_ns), row.map(|r| r.dyngen_ns)),
+            ]);
+        }
+        body.push(cells);
+    }
+    Ok(measured_on(&shown) + &markdown(&header, 1, &body))
 }
 
 #[cfg(test)]
@@ -313,6 +424,46 @@ O,2026-01-03,native,arm,fk,,value,10,,,,
             table.contains("| arm | `frame_pose` at `link4` | 250 | 25 | 10.0× |"),
             "{table}"
         );
+    }
+
+    #[test]
+    fn a_section_has_its_own_table_with_the_robots_side_by_side() {
+        let rows = parse(&format!(
+            "{HEADER}\
+C,2026-01-01,native,quad,fk,,value,50,500,,,
+C,2026-01-01,native,quad,impulse_dynamics,,value,400,4000,,,
+C,2026-01-01,native,quad,constrained_forward_dynamics,,value,500,6000,,,
+C,2026-01-01,native,biped,constrained_forward_dynamics,,value,2000,8000,,,
+"
+        ))
+        .unwrap();
+        let doc =
+            "<!-- rendered: C -->\n<!-- /rendered -->\n<!-- rendered: C / contacts -->\n<!-- /rendered -->\n";
+        let out = render_document(doc, &rows).unwrap();
+        // The machine's own table leaves the section's functions out …
+        assert!(out.contains("| quad | `fk` | 500 | 50 | 10.0× |"), "{out}");
+        assert!(!out.contains("| quad | `impulse_dynamics`"), "{out}");
+        // … which have a row each, in the section's order, the robots side by side; a robot
+        // without the function has "—".
+        assert!(
+            out.contains(
+                "| function | quad: Pinocchio | quad: dyngen | quad: Pinocchio / dyngen \
+                 | biped: Pinocchio | biped: dyngen | biped: Pinocchio / dyngen |\n|---|---:|---:|---:|---:|---:|---:|\n\
+                 | `constrained_forward_dynamics` | 6000 | 500 | 12.0× | 8000 | 2000 | 4.00× |\n\
+                 | `impulse_dynamics` | 4000 | 400 | 10.0× | — | — | — |\n<!-- /rendered -->"
+            ),
+            "{out}"
+        );
+        // Before a section's first run, a line says so; an unknown section or machine is an error.
+        let fk_only = parse(&format!("{HEADER}C,2026-01-01,native,quad,fk,,value,50,500,,,\n")).unwrap();
+        let empty =
+            render_document("<!-- rendered: C / contacts -->\n<!-- /rendered -->\n", &fk_only).unwrap();
+        assert!(
+            empty.contains("No run recorded yet.\n<!-- /rendered -->"),
+            "{empty}"
+        );
+        assert!(render_document("<!-- rendered: C / nothing -->\n<!-- /rendered -->\n", &rows).is_err());
+        assert!(render_document("<!-- rendered: D / contacts -->\n<!-- /rendered -->\n", &rows).is_err());
     }
 
     /// BENCHMARKS.md's tables are what the committed results render to.

@@ -1,18 +1,17 @@
 //! What the generated-code benchmarks share: the robot's model, its random states in both
 //! forms (slices for the generic code, fixed-size vectors for the generated code), and the
-//! loop that cycles through them.
+//! loop that cycles through them (`timing`, shared with the G1's contacts bench).
 
-use criterion::{BenchmarkId, Criterion};
+// Its floating-base states serve only the benches of floating bases.
+#[allow(dead_code)]
+mod timing;
+pub use timing::*;
+
 use dyngen_codegen::description::load;
 use dyngen_codegen::model::Model;
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::SplitMix64;
-use std::hint::black_box;
 use std::path::Path;
-use std::time::Duration;
-
-/// States per robot, as in the Pinocchio benchmark of the reference figures.
-pub const STATES: usize = 256;
 
 /// A committed robot's model (`robots/<robot>.yaml`).
 pub fn model(robot: &str) -> Model {
@@ -38,25 +37,4 @@ pub fn states<const N: usize>(
         .map(|s| std::array::from_fn(|i| SVector::from_column_slice(&s[i])))
         .collect();
     (raw, fixed)
-}
-
-/// Times `f` on each state in turn.
-pub fn cycle<T>(c: &mut Criterion, group: &str, id: &str, inputs: &[T], mut f: impl FnMut(&T)) {
-    let mut k = 0;
-    c.benchmark_group(group)
-        .bench_function(BenchmarkId::from_parameter(id), |b| {
-            b.iter(|| {
-                k = (k + 1) % inputs.len();
-                f(black_box(&inputs[k]))
-            })
-        });
-}
-
-/// Criterion settings of the generated-code benches: short warm-up and measurement (each call
-/// is nanoseconds), 40 samples.
-pub fn config() -> Criterion {
-    Criterion::default()
-        .warm_up_time(Duration::from_millis(300))
-        .measurement_time(Duration::from_secs(1))
-        .sample_size(40)
 }

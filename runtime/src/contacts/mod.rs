@@ -2,6 +2,7 @@
 //! drifted from its anchor, the solve shared by constrained forward dynamics, impacts and the
 //! operational-space inertia, and the trait a generated robot with contacts implements.
 
+mod dense;
 mod kind;
 mod placement;
 mod robot;

@@ -8,10 +8,11 @@
 //! the exact solution of `J a = rhs` where the rows are independent, and, where they are
 //! redundant, to the solution whose forces are smallest.
 
+use super::dense;
 use crate::Pose;
 use core::fmt;
 use nalgebra::allocator::Allocator;
-use nalgebra::{Cholesky, DefaultAllocator, Dim, OMatrix, OVector};
+use nalgebra::{DefaultAllocator, Dim, OMatrix, OVector};
 
 /// The proximal solve: `mu` regularises the Delassus matrix (0 solves the rows exactly, which
 /// needs independent rows), and the iterations refine the solution until the rows' residual
@@ -102,32 +103,23 @@ impl fmt::Display for ContactError {
     }
 }
 
-/// `K + μ I` factored, `K = J M⁻¹ Jᵀ`; with `μ = 0`, refused when a pivot is at rounding
-/// level against the largest diagonal entry (a row the others already fix).
+/// `K + μ I` factored (`L` in the lower triangle), `K = J M⁻¹ Jᵀ`; with `μ = 0`, refused when a
+/// pivot is at rounding level against the largest diagonal entry (a row the others already fix).
 fn factor<NV: Dim, NC: Dim>(
     jacobian: &OMatrix<f64, NC, NV>,
     response: &OMatrix<f64, NV, NC>,
     mu: f64,
-) -> Result<Cholesky<f64, NC>, ContactError>
+) -> Result<OMatrix<f64, NC, NC>, ContactError>
 where
     DefaultAllocator: Allocator<NC, NC> + Allocator<NC, NV> + Allocator<NV, NC>,
 {
     if !(mu >= 0.0 && mu.is_finite()) {
         return Err(ContactError::Settings("mu must be finite and not negative"));
     }
-    let mut k = jacobian * response;
-    let largest = (0..k.nrows()).fold(0.0_f64, |m, i| m.max(k[(i, i)].abs()));
-    for i in 0..k.nrows() {
-        k[(i, i)] += mu;
-    }
-    let cholesky = Cholesky::new(k).ok_or(ContactError::Redundant { row: 0 })?;
-    if mu == 0.0 {
-        let l = cholesky.l_dirty();
-        if let Some(row) = (0..l.nrows()).position(|i| l[(i, i)] * l[(i, i)] <= 1e-12 * largest) {
-            return Err(ContactError::Redundant { row });
-        }
-    }
-    Ok(cholesky)
+    let (mut k, largest) = dense::delassus(jacobian, response, mu);
+    let floor = if mu == 0.0 { 1e-12 * largest } else { 0.0 };
+    dense::factor_in_place(&mut k, floor).map_err(|row| ContactError::Redundant { row })?;
+    Ok(k)
 }
 
 /// `(J M⁻¹ Jᵀ + ε I)⁻¹`: the rows' operational-space inertia, `damping` `ε` keeping it finite
@@ -140,7 +132,7 @@ pub fn contact_inertia<NV: Dim, NC: Dim>(
 where
     DefaultAllocator: Allocator<NC, NC> + Allocator<NC, NV> + Allocator<NV, NC>,
 {
-    Ok(factor(jacobian, response, damping)?.inverse())
+    Ok(dense::inverse(&factor(jacobian, response, damping)?))
 }
 
 /// The constrained acceleration and forces: `J a = rhs` with `a = a_free + M⁻¹ Jᵀ λ`, by
@@ -160,7 +152,7 @@ where
     if settings.max_iterations == 0 {
         return Err(ContactError::Settings("at least one iteration is needed"));
     }
-    let cholesky = factor(jacobian, response, settings.mu)?;
+    let lower = factor(jacobian, response, settings.mu)?;
     let target = rhs - jacobian * free;
     let mut forces = match warm_start {
         Some(start) => start.clone(),
@@ -170,7 +162,8 @@ where
     let mut acceleration = free.clone();
     while iterations < settings.max_iterations {
         iterations += 1;
-        let next = cholesky.solve(&(&target + &forces * settings.mu));
+        let mut next = &target + &forces * settings.mu;
+        dense::solve_in_place(&lower, &mut next);
         let change = (&next - &forces).amax();
         forces = next;
         acceleration = free + response * &forces;
