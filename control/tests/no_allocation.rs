@@ -69,10 +69,7 @@ fn ticks_of<Z: Parameterization<7, M>, const M: usize, const T: usize>(
     let q0 = *q0;
     let mut c = d.controller(kind).expect("valid controller");
     let desired: Vec<_> = (0..200).map(|k| d.scenario.desired(k as f64 * 0.05)).collect();
-    let rest = PlantState {
-        q: q0,
-        qd: SVector::zeros(),
-    };
+    let rest = PlantState::at_rest(q0);
     let force = d
         .plant
         .contact_force(&rest, &SVector::zeros())

@@ -80,6 +80,16 @@ pub struct PlantState<const N: usize> {
     pub qd: SVector<f64, N>,
 }
 
+impl<const N: usize> PlantState<N> {
+    /// At rest at `q`.
+    pub fn at_rest(q: SVector<f64, N>) -> Self {
+        PlantState {
+            q,
+            qd: SVector::zeros(),
+        }
+    }
+}
+
 impl<const N: usize> super::rk4::RkState for PlantState<N> {
     fn axpy(&self, h: f64, k: &Self) -> Self {
         PlantState {

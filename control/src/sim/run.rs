@@ -170,10 +170,7 @@ where
     let h = dt / config.substeps.max(1) as f64;
     let theta_true = *plant.parameters();
     let mut rng = Gaussian::new(config.seed);
-    let mut state = PlantState {
-        q: *q0,
-        qd: SVector::zeros(),
-    };
+    let mut state = PlantState::at_rest(*q0);
     let mut samples = Vec::with_capacity(steps + 1);
     let task = controller.config().task;
     let gamma = controller.config().gains.gamma;

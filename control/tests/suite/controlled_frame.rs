@@ -200,10 +200,7 @@ fn the_demo_at_a_frame_puts_the_table_under_that_frame() {
     let c = demo.controller(RunKind::Adaptive).expect("controller");
     assert_eq!(c.controlled_frame(), Some("panda_link8"));
     // Above the table at the start: no contact force.
-    let rest = PlantState {
-        q: q0,
-        qd: SVector::zeros(),
-    };
+    let rest = PlantState::at_rest(q0);
     let force = demo
         .plant
         .contact_force(&rest, &SVector::zeros())

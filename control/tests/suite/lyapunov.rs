@@ -232,13 +232,7 @@ fn lyapunov_of<Z: Parameterization<7, M>, const M: usize, const T: usize>(
         q: q0,
         qd: SVector::zeros(),
         force: plant
-            .contact_force(
-                &dyngen_control::sim::PlantState {
-                    q: q0,
-                    qd: SVector::zeros(),
-                },
-                &SVector::zeros(),
-            )
+            .contact_force(&dyngen_control::sim::PlantState::at_rest(q0), &SVector::zeros())
             .expect("compliant"),
     };
     let mut x = Loop {

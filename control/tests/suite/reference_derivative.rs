@@ -17,11 +17,9 @@ type Arm7Demo<const T: usize> = Demo<arm7::Standard, 7, 70, T>;
 
 /// The compliant table's force at `q` (a function of the position alone).
 fn compliant_force<const T: usize>(d: &Arm7Demo<T>, q: SVector<f64, 7>) -> Vector3<f64> {
-    let s = PlantState {
-        q,
-        qd: SVector::zeros(),
-    };
-    d.plant.contact_force(&s, &SVector::zeros()).expect("compliant")
+    d.plant
+        .contact_force(&PlantState::at_rest(q), &SVector::zeros())
+        .expect("compliant")
 }
 
 /// Largest relative mismatch between `q̈_r` and the differenced `q̇_r`, and the damping seen.

@@ -116,10 +116,7 @@ fn the_contact_opens_when_the_controller_lifts_the_tool() {
     let dt = demo.options.sim.control_period;
     let lift_start = demo.scenario.circle_start();
     let end = lift_start + 1.0;
-    let mut s = PlantState {
-        q: demo.q0,
-        qd: SVector::zeros(),
-    };
+    let mut s = PlantState::at_rest(demo.q0);
     let mut tau = SVector::zeros();
     let (mut touched, mut opened, mut deepest) = (false, None, f64::NEG_INFINITY);
     let (mut crossed_zero, mut asked_at_opening) = (None, f64::NAN);

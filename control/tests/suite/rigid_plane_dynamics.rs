@@ -182,10 +182,7 @@ fn drop_on_the_plane<Z: Parameterization<N, M>, const N: usize, const M: usize>(
     sideways[0] = 0.5;
     let tau = gravity - row.transpose() * 10.0 + sideways;
     let h = 2e-4;
-    let mut s = PlantState {
-        q: q0,
-        qd: SVector::zeros(),
-    };
+    let mut s = PlantState::at_rest(q0);
     let (mut deepest, mut landed) = (f64::NEG_INFINITY, None);
     for step in 0..1500 {
         s = case.plant.step(&s, &tau, h).expect("step");
@@ -225,10 +222,7 @@ fn a_tool_dropped_on_the_plane_lands_once_and_never_enters_it() {
 #[test]
 fn a_plane_the_plant_cannot_simulate_is_an_error() {
     let q = SVector::<f64, 7>::from_column_slice(&[0.0, 0.6, 0.0, -1.3, 0.0, 1.0, 0.0]);
-    let s = PlantState {
-        q,
-        qd: SVector::zeros(),
-    };
+    let s = PlantState::at_rest(q);
     let tau = SVector::zeros();
     let plant = |plane: RigidPlane| {
         Plant::<arm7::Base, 7, { arm7::BASE_PARAMETER_COUNT }>::new(arm7::Base::description(), plane)
@@ -250,10 +244,7 @@ fn a_plane_the_plant_cannot_simulate_is_an_error() {
     );
     // Stretched straight up, the flange cannot move vertically: nothing can press it on a
     // table at its height.
-    let up = PlantState {
-        q: SVector::zeros(),
-        qd: SVector::zeros(),
-    };
+    let up = PlantState::at_rest(SVector::zeros());
     let top = Arm7::forward_kinematics(&JointTrig::new(&up.q)).translation.z;
     let err = plant(RigidPlane::table(top))
         .step(&up, &tau, 1e-3)

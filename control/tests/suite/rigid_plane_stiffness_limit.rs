@@ -26,10 +26,7 @@ fn press(
     tau: &dyn Fn(f64) -> SVector<f64, 7>,
 ) -> Vec<(Vector3<f64>, f64)> {
     let h = 1e-4;
-    let mut s = PlantState {
-        q: *q0,
-        qd: SVector::zeros(),
-    };
+    let mut s = PlantState::at_rest(*q0);
     (0..3000)
         .map(|i| {
             let u = tau(i as f64 * h);
