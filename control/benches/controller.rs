@@ -40,18 +40,19 @@ fn tick<Z: Parameterization<{ arm7::DOF }, M>, const M: usize, const T: usize>(
         SVector<f64, M>,
     )> = Vec::new();
     let dt = 1e-3;
+    let mut tau = SVector::zeros();
     for k in 0..(256 * 40) {
         let t = k as f64 * dt;
         let m = Measurement {
             q: state.q,
             qd: state.qd,
-            force: demo.plant.contact_force(&JointTrig::new(&state.q)),
+            force: demo.plant.contact_force(&state, &tau).expect("plant"),
         };
         let d = demo.scenario.desired(t);
         if k % 40 == 0 {
             inputs.push((m, d, *ctrl.theta_hat()));
         }
-        let tau = ctrl.tick(&m, &d, dt).expect("tick").tau;
+        tau = ctrl.tick(&m, &d, dt).expect("tick").tau;
         state = rk4_step(t, &state, dt, |_, s| demo.plant.derivative(s, &tau)).expect("plant");
     }
     let mut ctrl = demo.controller(RunKind::Adaptive).expect("controller");

@@ -4,10 +4,10 @@
 //! filter is fixed-size state of the controller).
 
 use dyngen_control::controller::{Composite, Measurement};
-use dyngen_control::sim::{start_posture, Demo, DemoOptions, RunKind};
+use dyngen_control::sim::{start_posture, Demo, DemoOptions, PlantState, RunKind};
 use dyngen_generated::{arm7, arm7_friction, panda};
 use dyngen_runtime::nalgebra::SVector;
-use dyngen_runtime::{JointTrig, Parameterization};
+use dyngen_runtime::Parameterization;
 use dyngen_testkit::allocations::{allocations, CountingAllocator};
 
 #[global_allocator]
@@ -69,7 +69,11 @@ fn ticks_of<Z: Parameterization<7, M>, const M: usize, const T: usize>(
     let q0 = *q0;
     let mut c = d.controller(kind).expect("valid controller");
     let desired: Vec<_> = (0..200).map(|k| d.scenario.desired(k as f64 * 0.05)).collect();
-    let force = d.plant.contact_force(&JointTrig::new(&q0));
+    let rest = PlantState::at_rest(q0);
+    let force = d
+        .plant
+        .contact_force(&rest, &SVector::zeros())
+        .expect("compliant");
     let mut acc = 0.0;
     let counted = allocations(|| {
         for (k, des) in desired.iter().enumerate() {

@@ -8,7 +8,8 @@
 //! also turns the tool to vertical and holds its orientation (task dimension 6), `--task
 //! tool-axis` holds only the tool axis vertical (5). `--frame NAME` controls, and touches the
 //! table with, the robot's frame `NAME` instead of the end-effector (`--frame panda_link8`: the
-//! Panda's flange; an unknown name lists the robot's frames).
+//! Panda's flange; an unknown name lists the robot's frames). `--surface rigid` makes the table
+//! rigid (with a model stiffness the controller's force loop can run on, `--stiffness 1e5`).
 //!
 //! `cargo run --release -p dyngen-control --example hybrid_force -- -o out/hybrid_force`
 //!
@@ -21,7 +22,7 @@ use clap::{Parser, ValueEnum};
 use dyngen_control::controller::{frame_named, Composite, GammaByKind};
 use dyngen_control::sim::{
     start_posture_for, summary_table, write_csv, Demo, DemoOptions, JointTermFactors, NoiseConfig, RunKind,
-    RunResult, RunStatus, Sample,
+    RunResult, RunStatus, Sample, SurfaceKind,
 };
 use dyngen_generated::{
     arm7, arm7_friction, panda, panda_rounded, ur5, Arm7, Arm7Friction, Panda, PandaRounded, Ur5,
@@ -56,6 +57,16 @@ enum Task {
     ToolAxis,
     /// Position and orientation (6).
     Pose,
+}
+
+/// What the table is.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum SurfaceKindArg {
+    /// `F = k·penetration`, k the `--stiffness`.
+    Compliant,
+    /// Never entered; the controller still models it with `--stiffness` (which must keep its
+    /// force loop's gain below 2: a lower one is refused, naming the least).
+    Rigid,
 }
 
 #[derive(Parser, Debug)]
@@ -100,9 +111,12 @@ struct Args {
     /// Revolutions of the circle per second (Hz).
     #[arg(long, default_value_t = 0.25, value_name = "HZ")]
     circle_frequency: f64,
-    /// Surface stiffness k (N/m).
+    /// Surface stiffness k (N/m): the compliant table's and the controller's model's.
     #[arg(long, default_value_t = 1e4)]
     stiffness: f64,
+    /// The table.
+    #[arg(long, value_enum, default_value = "compliant")]
+    surface: SurfaceKindArg,
     /// Target normal force (N).
     #[arg(long, default_value_t = 10.0)]
     force: f64,
@@ -185,6 +199,10 @@ fn main() -> ExitCode {
 fn options(args: &Args) -> DemoOptions {
     let mut o = DemoOptions {
         stiffness: args.stiffness,
+        surface: match args.surface {
+            SurfaceKindArg::Compliant => SurfaceKind::Compliant,
+            SurfaceKindArg::Rigid => SurfaceKind::Rigid,
+        },
         target_force: args.force,
         circle_time: args.circle_time,
         circle_frequency: args.circle_frequency,
@@ -285,12 +303,20 @@ where
 
     let from = demo.metrics_from();
     println!(
-        "robot {} ({N} DOF, {M} adapted parameters), table k = {} N/m, target {} N, payload {} kg unknown, {}{}",
+        "robot {} ({N} DOF, {M} adapted parameters), {} k = {} N/m, target {} N, payload {} kg unknown, {}{}",
         <Z::Robot as Kinematics<N>>::NAME,
+        match opts.surface {
+            SurfaceKind::Compliant => "table",
+            SurfaceKind::Rigid => "rigid table, modelled with",
+        },
         opts.stiffness,
         opts.target_force,
         opts.payload.mass,
-        if opts.sim.noise.is_some() { "sensor noise on" } else { "no noise" },
+        if opts.sim.noise.is_some() {
+            "sensor noise on"
+        } else {
+            "no noise"
+        },
         match opts.stiffness_estimation {
             Some((f, g)) => format!(", stiffness estimated online from {f}·k (γ = {g})"),
             None => String::new(),

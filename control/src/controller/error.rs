@@ -44,6 +44,18 @@ pub enum ConfigError {
         "gains too high for the sampling period: λ_max(D̂⁻¹G)·dt = {value:.2} > {limit} (lower κ or raise the rate)"
     )]
     SamplingLimit { value: f64, limit: f64 },
+    #[error(
+        "on a rigid surface the force loop's gain per control period is {gain:.2} (above {limit} the \
+         force oscillates and grows): raise the model stiffness k from {stiffness:e} to at least \
+         {needed:.1e} N/m ({unit:.1e} N/m for a gain of 1), or lower λ or G"
+    )]
+    RigidForceLoop {
+        gain: f64,
+        limit: f64,
+        stiffness: f64,
+        needed: f64,
+        unit: f64,
+    },
     #[error("invalid setting `{name}`: {detail}")]
     Invalid { name: &'static str, detail: String },
 }

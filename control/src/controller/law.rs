@@ -216,6 +216,18 @@ where
         Ok(())
     }
 
+    /// `J⁺ v` at rest at `q`, the desired motion `d`: the joint velocity the reference asks
+    /// for a task-space velocity `v` (how much of it the task rows pass to each joint).
+    pub(crate) fn task_pseudo_inverse_mul(
+        &self,
+        q: &SVector<f64, N>,
+        d: &Desired<N, S>,
+        v: &SVector<f64, T>,
+    ) -> Result<SVector<f64, N>, TickError> {
+        let k = self.task_kinematics(&JointTrig::new(q), &SVector::zeros(), d);
+        Ok(Projections::new(&k.j, &k.jd, &self.config.guard)?.pinv_mul(v))
+    }
+
     /// `J_T`, `J̇_T` and the orientation rows (see [`super::orientation`]) of the controlled
     /// frame.
     #[inline]

@@ -7,12 +7,16 @@
 //! (position, the default), 5 (position and the tool axis held along `tool_direction`), 6
 //! (position and the orientation whose tool axis is along `tool_direction`). The task and the
 //! contact are at the end-effector ([`Demo::new`]) or at any named frame of a robot generated
-//! with the group `frames` ([`Demo::new_at_frame`]).
+//! with the group `frames` ([`Demo::new_at_frame`]). The table is compliant by default, or
+//! rigid ([`DemoOptions::surface`]).
 
 use super::contact::PlaneContact;
 use super::plant::{Payload, Plant};
+use super::rigid_force_loop::{rigid_force_loop_gain, RIGID_FORCE_LOOP_LIMIT};
+use super::rigid_plane::RigidPlane;
 use super::run::{simulate, RunResult, SimConfig};
 use super::scenario::PressAndCircle;
+use super::surface::{Surface, SurfaceKind};
 use super::true_joint_terms::JointTermFactors;
 use crate::controller::frame::ControlledFrame;
 use crate::controller::{
@@ -72,8 +76,11 @@ impl RunKind {
 /// Everything the demo can be told.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct DemoOptions {
-    /// True surface stiffness (N/m).
+    /// Surface stiffness `k` (N/m): the compliant table's and the controller's contact model's
+    /// (for a rigid table, the model's only).
     pub stiffness: f64,
+    /// The table: compliant (the default) or rigid.
+    pub surface: SurfaceKind,
     pub target_force: f64,
     /// `G = κ D̂(q₀)`.
     pub kappa: f64,
@@ -113,6 +120,7 @@ impl Default for DemoOptions {
     fn default() -> Self {
         DemoOptions {
             stiffness: 1e4,
+            surface: SurfaceKind::Compliant,
             target_force: 10.0,
             kappa: 400.0,
             lambda: 100.0,
@@ -228,8 +236,16 @@ where
                 detail: "start posture is not finite".into(),
             });
         }
-        let surface = start.z - options.start_height;
-        let contact = PlaneContact::table(surface, options.stiffness);
+        let table = start.z - options.start_height;
+        // Where the controller's model puts the undeformed surface: on a rigid table,
+        // `F_target / k` above it (see `SurfaceKind::Rigid`).
+        let (contact, surface): (Surface, f64) = match options.surface {
+            SurfaceKind::Compliant => (PlaneContact::table(table, options.stiffness).into(), table),
+            SurfaceKind::Rigid => (
+                RigidPlane::table(table).into(),
+                table + options.target_force / options.stiffness,
+            ),
+        };
         let plant = Plant::<Z, N, M>::with_payload_and_joint_terms(
             &options.payload,
             &options.true_joint_terms,
@@ -244,8 +260,12 @@ where
         };
         let tool_axis = unit(options.tool_axis, "tool axis")?;
         let tool_direction = unit(options.tool_direction, "tool direction")?;
-        let task = ContactTask::plane(contact.point, contact.normal, options.stiffness)?
-            .with_task_dimension::<T>(tool_axis);
+        let task = ContactTask::plane(
+            Vector3::new(0.0, 0.0, surface),
+            contact.normal(),
+            options.stiffness,
+        )?
+        .with_task_dimension::<T>(tool_axis);
         task.validate()?;
         let axis0 = pose.rotation * tool_axis;
         let turn = Rotation3::rotation_between(&axis0, &tool_direction).unwrap_or_else(|| {
@@ -336,6 +356,23 @@ where
         // Every configuration error shows up here, before any run.
         for kind in demo.run_kinds() {
             demo.controller(kind)?;
+        }
+        if let Surface::Rigid(_) = demo.plant.contact {
+            // Every run shares `G`, `λ`, `K` and the task, hence the gain.
+            let controller = demo.controller(RunKind::Adaptive)?;
+            let gain =
+                rigid_force_loop_gain(&demo.plant, &controller, &demo.q0, &demo.scenario.desired(0.0))?;
+            // A NaN gain is refused too.
+            if gain.is_nan() || gain >= RIGID_FORCE_LOOP_LIMIT {
+                let stiffness = controller.stiffness().fixed_columns::<3>(0).norm();
+                return Err(ConfigError::RigidForceLoop {
+                    gain,
+                    limit: RIGID_FORCE_LOOP_LIMIT,
+                    stiffness,
+                    needed: stiffness * gain / RIGID_FORCE_LOOP_LIMIT,
+                    unit: stiffness * gain,
+                });
+            }
         }
         Ok(demo)
     }

@@ -16,12 +16,20 @@
 //! The parameters are in the coordinates of a parameterisation `Z` (standard or base): the base
 //! regressor gives exactly the torques of the standard one for every θ (`Y_b Φ θ = Y θ`), at a
 //! lower cost.
+//!
+//! The surface is compliant (the force a function of the position, `F̄` above) or rigid
+//! ([`Surface::Rigid`]: the force a constraint's, solved with the dynamics, in `rigid`).
 
-use super::contact::PlaneContact;
+mod rigid;
+
+use super::rk4::rk4_step;
+use super::surface::Surface;
 use super::true_joint_terms::JointTermFactors;
 use crate::controller::frame::ControlledFrame;
 use crate::mass_matrix_through_regressor;
-use dyngen_runtime::{body_parameters, FrameKinematics, JointTrig, Kinematics, Parameterization};
+use dyngen_runtime::{
+    body_parameters, ContactError, FrameKinematics, JointTrig, Kinematics, Parameterization,
+};
 use nalgebra::{Cholesky, Matrix3, SMatrix, SVector, Vector3};
 use std::marker::PhantomData;
 
@@ -53,6 +61,16 @@ pub enum PlantError {
     MassMatrix,
     #[error("non-finite joint acceleration")]
     NonFinite,
+    /// A rigid plane the plant cannot simulate ([`super::RigidPlane::check`]).
+    #[error("{0}")]
+    RigidPlane(&'static str),
+    /// On a rigid plane, the contact point cannot move along the normal at this posture (a
+    /// singular configuration): no force can hold it on the plane.
+    #[error("the contact point cannot move along the rigid plane's normal (a singular posture)")]
+    SingularContact,
+    /// The rigid plane's contact solve refused its input.
+    #[error("rigid contact: {0}")]
+    Contact(ContactError),
 }
 
 /// Joint state of the plant.
@@ -60,6 +78,16 @@ pub enum PlantError {
 pub struct PlantState<const N: usize> {
     pub q: SVector<f64, N>,
     pub qd: SVector<f64, N>,
+}
+
+impl<const N: usize> PlantState<N> {
+    /// At rest at `q`.
+    pub fn at_rest(q: SVector<f64, N>) -> Self {
+        PlantState {
+            q,
+            qd: SVector::zeros(),
+        }
+    }
 }
 
 impl<const N: usize> super::rk4::RkState for PlantState<N> {
@@ -78,18 +106,19 @@ pub struct Plant<Z, const N: usize, const M: usize> {
     theta: SVector<f64, M>,
     /// `θ_true` equals the description's: the generated forward dynamics are exact.
     is_description: bool,
-    pub contact: PlaneContact,
+    pub contact: Surface,
     frame: ControlledFrame<N>,
     _robot: PhantomData<fn() -> Z>,
 }
 
 impl<Z: Parameterization<N, M>, const N: usize, const M: usize> Plant<Z, N, M> {
-    /// A plant with parameters `theta` (in `Z`'s coordinates).
-    pub fn new(theta: SVector<f64, M>, contact: PlaneContact) -> Self {
+    /// A plant with parameters `theta` (in `Z`'s coordinates) touching `contact`, a
+    /// [`super::PlaneContact`] (compliant) or a [`super::RigidPlane`].
+    pub fn new(theta: SVector<f64, M>, contact: impl Into<Surface>) -> Self {
         Plant {
             is_description: theta == Z::description(),
             theta,
-            contact,
+            contact: contact.into(),
             frame: ControlledFrame::END_EFFECTOR,
             _robot: PhantomData,
         }
@@ -124,7 +153,7 @@ impl<Z: Parameterization<N, M>, const N: usize, const M: usize> Plant<Z, N, M> {
     }
 
     /// The description's parameters plus `payload` on the end-effector's body.
-    pub fn with_payload(payload: &Payload, contact: PlaneContact) -> Self {
+    pub fn with_payload(payload: &Payload, contact: impl Into<Surface>) -> Self {
         Self::with_payload_and_joint_terms(payload, &JointTermFactors::NOMINAL, contact)
     }
 
@@ -133,7 +162,7 @@ impl<Z: Parameterization<N, M>, const N: usize, const M: usize> Plant<Z, N, M> {
     pub fn with_payload_and_joint_terms(
         payload: &Payload,
         joint_terms: &JointTermFactors,
-        contact: PlaneContact,
+        contact: impl Into<Surface>,
     ) -> Self {
         let body = <Z::Robot as Kinematics<N>>::END_EFFECTOR_BODY;
         let theta = Z::description_scaled_by_kind(|kind| joint_terms.of(kind))
@@ -176,33 +205,41 @@ impl<Z: Parameterization<N, M>, const N: usize, const M: usize> Plant<Z, N, M> {
         })
     }
 
-    /// `F̄` at `q`: the force the contact frame's origin exerts on the plane.
-    pub fn contact_force(&self, t: &JointTrig<N>) -> Vector3<f64> {
-        self.contact
-            .force_on_environment(&self.frame.pose::<Z::Robot>(t).translation)
+    /// `F̄`: the force the contact frame's origin exerts on the surface at state `s` under the
+    /// joint torque `tau`. On a compliant plane a function of the position alone,
+    /// [`super::PlaneContact::force_on_environment`]; on a rigid plane the constraint's force,
+    /// solved with the dynamics (zero while the point is off the plane or would be pulled).
+    pub fn contact_force(
+        &self,
+        s: &PlantState<N>,
+        tau: &SVector<f64, N>,
+    ) -> Result<Vector3<f64>, PlantError> {
+        match &self.contact {
+            Surface::Compliant(plane) => {
+                let t = JointTrig::new(&s.q);
+                Ok(plane.force_on_environment(&self.frame.pose::<Z::Robot>(&t).translation))
+            }
+            Surface::Rigid(_) => Ok(self.acceleration(s, tau)?.1),
+        }
     }
 
-    /// `q̈` and `F̄` under torque `tau`.
+    /// `q̈` and `F̄` under torque `tau`. On a rigid plane: the constrained acceleration while
+    /// the point is on the plane and the plane pushes it, the free one otherwise (a point on the
+    /// plane and moving into it is struck first, see [`Self::impact`] and [`Self::step`]).
     pub fn acceleration(
         &self,
         s: &PlantState<N>,
         tau: &SVector<f64, N>,
     ) -> Result<(SVector<f64, N>, Vector3<f64>), PlantError> {
-        let t = JointTrig::new(&s.q);
-        let force = self.contact_force(&t);
-        let j: SMatrix<f64, 3, N> = self
-            .frame
-            .jacobian::<Z::Robot>(&t)
-            .fixed_rows::<3>(0)
-            .into_owned();
-        let applied = tau - j.tr_mul(&force);
-        let qdd = if self.is_description {
-            Z::description_forward_dynamics(&t, &s.qd, &applied)
-        } else {
-            let rhs = applied - self.slotine_li(&t, &s.qd, &s.qd);
-            Cholesky::new(self.mass_matrix(&t))
-                .ok_or(PlantError::MassMatrix)?
-                .solve(&rhs)
+        let (qdd, force) = match &self.contact {
+            Surface::Compliant(plane) => {
+                let t = JointTrig::new(&s.q);
+                let pose = self.frame.pose::<Z::Robot>(&t);
+                let force = plane.force_on_environment(&pose.translation);
+                let applied = tau - self.linear_jacobian(&t).tr_mul(&force);
+                (self.forward_dynamics(&t, &s.qd, &applied, None)?.0, force)
+            }
+            Surface::Rigid(plane) => self.on_rigid_plane(plane, s, tau)?,
         };
         if !qdd.iter().all(|x| x.is_finite()) {
             return Err(PlantError::NonFinite);
@@ -210,9 +247,65 @@ impl<Z: Parameterization<N, M>, const N: usize, const M: usize> Plant<Z, N, M> {
         Ok((qdd, force))
     }
 
-    /// `ẋ` of the plant state under a held torque.
+    /// The contact frame's linear-velocity rows `J_v` (3 × N, base axes).
+    pub(crate) fn linear_jacobian(&self, t: &JointTrig<N>) -> SMatrix<f64, 3, N> {
+        self.frame.jacobian::<Z::Robot>(t).fixed_rows::<3>(0).into_owned()
+    }
+
+    /// `q̈ = D_true⁻¹ (applied − (C q̇ + g)_true)`, and `D_true⁻¹ y` for `Some(y)` (zero for
+    /// `None`), from one factorisation of `D_true` on the regressor path; through the generated
+    /// forward dynamics, `D⁻¹ y = q̈(applied + y) − q̈(applied)`, exact since `q̈` is affine in
+    /// the torque.
+    fn forward_dynamics(
+        &self,
+        t: &JointTrig<N>,
+        qd: &SVector<f64, N>,
+        applied: &SVector<f64, N>,
+        y: Option<&SVector<f64, N>>,
+    ) -> Result<(SVector<f64, N>, SVector<f64, N>), PlantError> {
+        if self.is_description {
+            let qdd = Z::description_forward_dynamics(t, qd, applied);
+            let response = y.map_or_else(SVector::zeros, |y| {
+                Z::description_forward_dynamics(t, qd, &(applied + y)) - qdd
+            });
+            Ok((qdd, response))
+        } else {
+            let rhs = applied - self.slotine_li(t, qd, qd);
+            let d = Cholesky::new(self.mass_matrix(t)).ok_or(PlantError::MassMatrix)?;
+            let response = y.map_or_else(SVector::zeros, |y| d.solve(y));
+            Ok((d.solve(&rhs), response))
+        }
+    }
+
+    /// `ẋ` of the plant state under a held torque (the instantaneous [`Self::acceleration`]).
     pub fn derivative(&self, s: &PlantState<N>, tau: &SVector<f64, N>) -> Result<PlantState<N>, PlantError> {
         let (qdd, _) = self.acceleration(s, tau)?;
         Ok(PlantState { q: s.qd, qd: qdd })
+    }
+
+    /// One step of length `h` under a held torque. On a compliant plane one RK4 step of
+    /// [`Self::derivative`]; on a rigid plane RK4 steps whose contact is decided at their start,
+    /// with the impact where the point reaches the plane (`rigid`).
+    pub fn step(
+        &self,
+        s: &PlantState<N>,
+        tau: &SVector<f64, N>,
+        h: f64,
+    ) -> Result<PlantState<N>, PlantError> {
+        match &self.contact {
+            Surface::Compliant(_) => rk4_step(0.0, s, h, |_, x| self.derivative(x, tau)),
+            Surface::Rigid(plane) => self.step_on_rigid_plane(plane, s, tau, h),
+        }
+    }
+
+    /// The velocity jump when the contact point strikes a rigid plane at state `s` (on the
+    /// plane and moving into it): `D (q̇⁺ − q̇⁻) = Jᵀ n Λ` with `nᵀ J q̇⁺ = 0`, a perfectly
+    /// plastic impact. Returns the state after and the impulse `Λ` (N·s, ≥ 0); `s` and 0 when
+    /// the surface is compliant or the point is not striking the plane.
+    pub fn impact(&self, s: &PlantState<N>) -> Result<(PlantState<N>, f64), PlantError> {
+        match &self.contact {
+            Surface::Compliant(_) => Ok((*s, 0.0)),
+            Surface::Rigid(plane) => self.strike(plane, s),
+        }
     }
 }

@@ -56,12 +56,12 @@ pub fn summary_table(results: &[(RunKind, RunResult)], from: f64, oriented: bool
 /// One row per control tick (SI units; the orientation error is `NaN` for the position task).
 pub fn write_csv(path: &Path, samples: &[Sample]) -> std::io::Result<()> {
     let mut s = String::from(
-        "t,force,true_force,desired_force,force_error,in_plane_error_m,orientation_error_rad,null_error,lyapunov,theta_error,joint_term_error,prediction_error,tau_max,tick_ns,damping,stiffness\n",
+        "t,force,true_force,desired_force,force_error,in_plane_error_m,orientation_error_rad,null_error,lyapunov,theta_error,joint_term_error,prediction_error,tau_max,tick_ns,damping,stiffness,penetration_m\n",
     );
     for x in samples {
         let _ = writeln!(
             s,
-            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
+            "{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{},{}",
             x.t,
             x.force,
             x.true_force,
@@ -77,7 +77,8 @@ pub fn write_csv(path: &Path, samples: &[Sample]) -> std::io::Result<()> {
             x.tau_max,
             x.tick_ns,
             x.damping,
-            x.stiffness
+            x.stiffness,
+            x.penetration
         );
     }
     std::fs::write(path, s)

@@ -1,10 +1,9 @@
-//! The closed loop: the plant integrated by RK4 at a fine step, the controller at its own rate
+//! The closed loop: the plant integrated by RK4 at a fine step ([`Plant::step`]), the controller at its own rate
 //! with sample-and-hold, optional sensor noise, a log, and divergence detection that stops the
 //! run with the time and the reason and keeps the data logged so far.
 
 use super::noise::{Gaussian, NoiseConfig};
 use super::plant::{Plant, PlantState};
-use super::rk4::rk4_step;
 use super::scenario::PressAndCircle;
 use crate::controller::orientation::orientation_angle;
 use crate::controller::parameter_error_energy;
@@ -49,6 +48,10 @@ pub struct Sample {
     pub force: f64,
     /// The true contact force along the normal (N, ≥ 0).
     pub true_force: f64,
+    /// How deep the controlled frame's origin is inside the true surface (m; negative: its
+    /// height above it). On a compliant plane `F / k`; on a rigid one at most the drift the
+    /// Baumgarte terms pull back.
+    pub penetration: f64,
     pub desired_force: f64,
     /// `F_t − F_d` from the true (noise-free) contact force (N).
     pub force_error: f64,
@@ -167,10 +170,7 @@ where
     let h = dt / config.substeps.max(1) as f64;
     let theta_true = *plant.parameters();
     let mut rng = Gaussian::new(config.seed);
-    let mut state = PlantState {
-        q: *q0,
-        qd: SVector::zeros(),
-    };
+    let mut state = PlantState::at_rest(*q0);
     let mut samples = Vec::with_capacity(steps + 1);
     let task = controller.config().task;
     let gamma = controller.config().gains.gamma;
@@ -178,6 +178,9 @@ where
     let joint_terms = joint_term_mask::<Z, N, M>();
     let joint_norm = theta_true.component_mul(&joint_terms).norm();
     let mut last_progress = 0;
+    // The torque acting on the plant until this tick's takes over (sample and hold): the force
+    // a sensor reads at the tick is the one under it (on a rigid plane the force depends on it).
+    let mut held_tau = SVector::<f64, N>::zeros();
 
     let diverged = |samples: Vec<Sample>, time: f64, reason: String| RunResult {
         samples,
@@ -187,7 +190,10 @@ where
     for step in 0..=steps {
         let t = step as f64 * dt;
         let trig = JointTrig::new(&state.q);
-        let true_force = plant.contact_force(&trig);
+        let true_force = match plant.contact_force(&state, &held_tau) {
+            Ok(f) => f,
+            Err(e) => return diverged(samples, t, format!("plant: {e}")),
+        };
         let mut m = Measurement {
             q: state.q,
             qd: state.qd,
@@ -225,6 +231,7 @@ where
             t,
             force: out.reference.force[0],
             true_force: f_true,
+            penetration: plant.contact.penetration(&pose.translation),
             desired_force: desired.force[0],
             force_error: if f_true > 0.0 {
                 f_true - desired.force[0]
@@ -247,10 +254,11 @@ where
             break;
         }
 
-        // Plant: `substeps` RK4 steps with the torque held.
+        // Plant: `substeps` steps with the torque held.
+        held_tau = out.tau;
         for sub in 0..config.substeps.max(1) {
             let ts = t + sub as f64 * h;
-            match rk4_step(ts, &state, h, |_, s| plant.derivative(s, &out.tau)) {
+            match plant.step(&state, &held_tau, h) {
                 Ok(s) => state = s,
                 Err(e) => return diverged(samples, ts, format!("plant: {e}")),
             }
@@ -272,7 +280,10 @@ where
                 ),
             );
         }
-        let f = plant.contact_force(&JointTrig::new(&state.q)).norm();
+        let f = match plant.contact_force(&state, &held_tau) {
+            Ok(f) => f.norm(),
+            Err(e) => return diverged(samples, t_next, format!("plant: {e}")),
+        };
         if !(f.is_finite() && f <= config.max_force) {
             return diverged(
                 samples,

@@ -7,7 +7,7 @@
 use dyngen_control::controller::{frame_named, ConfigError, HybridController, Measurement};
 use dyngen_control::sim::{
     rk4_step, simulate, start_posture_for, Demo, DemoOptions, Plant, PlantState, RunKind, RunResult,
-    RunStatus, Summary,
+    RunStatus, Summary, Surface,
 };
 use dyngen_generated::{panda, ur5, Panda, Ur5};
 use dyngen_runtime::nalgebra::SVector;
@@ -46,9 +46,10 @@ where
     };
     let steps = (demo.scenario.duration() / dt).round() as usize;
     let mut in_contact = 0;
+    let mut tau = SVector::zeros();
     for k in 0..steps {
         let t = k as f64 * dt;
-        let force = demo.plant.contact_force(&JointTrig::new(&s.q));
+        let force = demo.plant.contact_force(&s, &tau).expect("compliant");
         in_contact += usize::from(force.norm() > 0.0);
         let m = Measurement {
             q: s.q,
@@ -58,6 +59,7 @@ where
         let d = demo.scenario.desired(t);
         let a = default.tick(&m, &d, dt).expect("tick");
         let b = named.tick(&m, &d, dt).expect("tick");
+        tau = a.tau;
         let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
         assert_eq!(bits(a.tau.as_slice()), bits(b.tau.as_slice()), "τ at t = {t}");
         assert_eq!(
@@ -190,7 +192,7 @@ fn the_demo_at_a_frame_puts_the_table_under_that_frame() {
     let t = JointTrig::new(&q0);
     let flange = Panda::frame_pose(panda::Frame::PandaLink8, &t).translation;
     let tcp = Panda::forward_kinematics(&t).translation;
-    let surface = demo.plant.contact.point.z;
+    let surface = demo.plant.contact.point().z;
     assert!((flange.z - surface - DemoOptions::default().start_height).abs() < 1e-12);
     assert!(tcp.z < surface - 0.05, "TCP {tcp:?}, surface {surface}");
     assert_eq!(demo.controlled_frame(), Some("panda_link8"));
@@ -198,12 +200,17 @@ fn the_demo_at_a_frame_puts_the_table_under_that_frame() {
     let c = demo.controller(RunKind::Adaptive).expect("controller");
     assert_eq!(c.controlled_frame(), Some("panda_link8"));
     // Above the table at the start: no contact force.
-    assert_eq!(demo.plant.contact_force(&t).norm(), 0.0);
-    // Lowered by 1 mm more than the 1 cm gap, the flange presses with k · 1 mm.
-    let pressed = demo
+    let rest = PlantState::at_rest(q0);
+    let force = demo
         .plant
-        .contact
-        .force_on_environment(&(flange - 0.011 * SVector::<f64, 3>::z()));
+        .contact_force(&rest, &SVector::zeros())
+        .expect("compliant");
+    assert_eq!(force.norm(), 0.0);
+    // Lowered by 1 mm more than the 1 cm gap, the flange presses with k · 1 mm.
+    let Surface::Compliant(table) = demo.plant.contact else {
+        panic!("the demo's table is compliant by default")
+    };
+    let pressed = table.force_on_environment(&(flange - 0.011 * SVector::<f64, 3>::z()));
     assert!((pressed.z + 1e4 * 0.001).abs() < 1e-9);
 }
 

@@ -193,7 +193,11 @@ fn lyapunov_of<Z: Parameterization<7, M>, const M: usize, const T: usize>(
     let mut min_penetration = f64::INFINITY;
     let mut f = |t: f64, x: &Loop<M>| -> Result<(Loop<M>, f64), String> {
         let trig = JointTrig::new(&x.q);
-        let force = plant.contact_force(&trig);
+        // A compliant table: the force is the deflection's, whatever the torque.
+        let st = dyngen_control::sim::PlantState { q: x.q, qd: x.qd };
+        let force = plant
+            .contact_force(&st, &SVector::zeros())
+            .map_err(|e| e.to_string())?;
         min_penetration = min_penetration.min(force.z.abs());
         let m = Measurement {
             q: x.q,
@@ -205,7 +209,6 @@ fn lyapunov_of<Z: Parameterization<7, M>, const M: usize, const T: usize>(
             .map_err(|e| e.to_string())?;
         assert!(!out.saturated && out.damping == 0.0);
         let r = out.reference.r;
-        let st = dyngen_control::sim::PlantState { q: x.q, qd: x.qd };
         let (qdd, _) = plant.acceleration(&st, &out.tau).map_err(|e| e.to_string())?;
         let theta_err = x.theta - theta_true;
         let v = 0.5 * r.dot(&(plant.mass_matrix(&trig) * r)) + parameter_error_energy(&theta_err, &gamma);
@@ -228,7 +231,9 @@ fn lyapunov_of<Z: Parameterization<7, M>, const M: usize, const T: usize>(
     let start = Measurement {
         q: q0,
         qd: SVector::zeros(),
-        force: plant.contact_force(&JointTrig::new(&q0)),
+        force: plant
+            .contact_force(&dyngen_control::sim::PlantState::at_rest(q0), &SVector::zeros())
+            .expect("compliant"),
     };
     let mut x = Loop {
         q: q0,

@@ -10,4 +10,8 @@ mod noise_and_estimation;
 mod plant_forward_dynamics;
 mod plant_regressor;
 mod reference_derivative;
+mod rigid_plane_closed_loop;
+mod rigid_plane_dynamics;
+mod rigid_plane_impact;
+mod rigid_plane_stiffness_limit;
 mod task_and_gains;

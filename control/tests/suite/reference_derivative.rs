@@ -7,13 +7,20 @@
 //! the actual one.
 
 use dyngen_control::controller::{HybridController, Measurement};
-use dyngen_control::sim::{start_posture, Demo, DemoOptions, Gaussian, RunKind};
+use dyngen_control::sim::{start_posture, Demo, DemoOptions, Gaussian, PlantState, RunKind};
 use dyngen_generated::arm7;
-use dyngen_runtime::nalgebra::SVector;
-use dyngen_runtime::{JointTrig, Kinematics};
+use dyngen_runtime::nalgebra::{SVector, Vector3};
+use dyngen_runtime::Kinematics;
 
 type Ctrl<const T: usize> = HybridController<arm7::Standard, 7, 70, T>;
 type Arm7Demo<const T: usize> = Demo<arm7::Standard, 7, 70, T>;
+
+/// The compliant table's force at `q` (a function of the position alone).
+fn compliant_force<const T: usize>(d: &Arm7Demo<T>, q: SVector<f64, 7>) -> Vector3<f64> {
+    d.plant
+        .contact_force(&PlantState::at_rest(q), &SVector::zeros())
+        .expect("compliant")
+}
 
 /// Largest relative mismatch between `q̈_r` and the differenced `q̇_r`, and the damping seen.
 fn mismatch<const T: usize>(
@@ -24,7 +31,7 @@ fn mismatch<const T: usize>(
     t: f64,
 ) -> (f64, f64, f64) {
     let eval = |q: SVector<f64, 7>, t: f64| {
-        let force = d.plant.contact_force(&JointTrig::new(&q));
+        let force = compliant_force(d, q);
         let m = Measurement { q, qd, force };
         c.evaluate(&m, &d.scenario.desired(t), &d.theta_hat0)
             .expect("evaluate")
@@ -77,7 +84,7 @@ fn in_contact_and_free_space<const T: usize>() {
             } else {
                 0.37 * k as f64 + 0.01
             };
-            let penetration = d.plant.contact_force(&JointTrig::new(&q)).norm();
+            let penetration = compliant_force(&d, q).norm();
             assert_eq!(penetration > 0.0, in_contact);
             let (err, damping, e_o) = mismatch(&d, &c, q, qd, t);
             worst_orientation = worst_orientation.max(e_o);
@@ -136,7 +143,7 @@ fn torques_stay_finite_and_bounded_at_an_exact_singularity() {
         let m = Measurement {
             q,
             qd: SVector::from_element(0.1),
-            force: d.plant.contact_force(&JointTrig::new(&q)),
+            force: compliant_force(&d, q),
         };
         let out = c
             .tick(&m, &d.scenario.desired(3.0), 1e-3)
