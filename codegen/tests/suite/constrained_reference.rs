@@ -14,7 +14,7 @@ use common::{assert_close, column, workspace_root};
 use dyngen_codegen::description::{self, Choices, FrameSelection, FrameSpec, Loaded};
 use dyngen_codegen::dynamics::{FloatingDynamics, FloatingState};
 use dyngen_codegen::model::Contact;
-use dyngen_runtime::{ContactKind, ProximalSettings, ReferenceFrame, Stabilisation};
+use dyngen_runtime::{ContactKind, ProximalSettings, Stabilisation};
 use nalgebra::DMatrix;
 use serde_json::Value;
 
@@ -36,24 +36,6 @@ fn load(urdf: &str, fixture: &Value) -> Loaded {
         .join("codegen/tests/data/example-robot-data")
         .join(urdf);
     description::load_with(&path, &options).unwrap_or_else(|e| panic!("{e}"))
-}
-
-fn contacts(loaded: &Loaded, fixture: &Value) -> Vec<Contact> {
-    let contacts = fixture["contacts"].as_array().unwrap();
-    contacts
-        .iter()
-        .map(|c| {
-            let kind = match c["kind"].as_str().unwrap() {
-                "point" => ContactKind::Point,
-                _ => ContactKind::Frame,
-            };
-            let reference = match c["reference"].as_str().unwrap() {
-                "local" => ReferenceFrame::Local,
-                _ => ReferenceFrame::LocalWorldAligned,
-            };
-            Contact::at(&loaded.model, c["frame"].as_str().unwrap(), kind, reference).unwrap()
-        })
-        .collect()
 }
 
 /// Pinocchio's `computeConstraintDynamicsDerivatives` against ours; where Pinocchio's `∂/∂q`
@@ -102,7 +84,7 @@ fn check_robot(robot: &str, urdf: &str) {
     let loaded = load(urdf, &fx);
     let model = &loaded.model;
     let order = Order::new(model, &fx);
-    let contacts = contacts(&loaded, &fx);
+    let contacts = floating_fixture::contacts(&loaded.model, &fx);
     let dynamics = FloatingDynamics::new(model).unwrap();
     let proximal = floating_fixture::proximal(&fx);
     let restitution = fx["restitution"].as_f64().unwrap();

@@ -15,7 +15,7 @@ use common::{assert_close, column, floating_fixture, workspace_root};
 use dyngen_codegen::description::{self, Choices, FrameSelection, FrameSpec, Loaded};
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::internals::generate::trace;
-use dyngen_codegen::model::{Contact, Model};
+use dyngen_codegen::model::Contact;
 use dyngen_runtime::{ContactKind, ProximalSettings, ReferenceFrame, Stabilisation};
 use nalgebra::{DMatrix, DVector};
 use serde_json::Value;
@@ -56,31 +56,11 @@ fn load(name: &str, fixture: &Value) -> Loaded {
     loaded
 }
 
-fn contacts(model: &Model, set: &Value) -> Vec<Contact> {
-    (set["contacts"].as_array().unwrap().iter())
-        .map(|c| {
-            let kind = match c["kind"].as_str().unwrap() {
-                "point" => ContactKind::Point,
-                _ => ContactKind::Frame,
-            };
-            let reference = match c["reference"].as_str().unwrap() {
-                "local" => ReferenceFrame::Local,
-                _ => ReferenceFrame::LocalWorldAligned,
-            };
-            let contact = Contact::at(model, c["frame"].as_str().unwrap(), kind, reference).unwrap();
-            match c["to"].as_str() {
-                Some(to) => contact.to(model, to).unwrap(),
-                None => contact,
-            }
-        })
-        .collect()
-}
-
 fn check_mechanism(name: &str) {
     let fx = fixture(name);
     let loaded = load(name, &fx);
     for (k, set) in fx["sets"].as_array().unwrap().iter().enumerate() {
-        let contacts = contacts(&loaded.model, set);
+        let contacts = floating_fixture::contacts(&loaded.model, set);
         let model = loaded.model.clone().with_contacts(contacts.clone()).unwrap();
         let dynamics = NumericDynamics::new(&model);
         let traced = trace(&model);
@@ -172,7 +152,7 @@ fn loop_impulses_and_point_loop_derivatives_hold_their_equations() {
     let fx = fixture("two_branches");
     let loaded = load("two_branches", &fx);
     for set in fx["sets"].as_array().unwrap() {
-        let contacts = contacts(&loaded.model, set);
+        let contacts = floating_fixture::contacts(&loaded.model, set);
         let model = loaded.model.clone().with_contacts(contacts.clone()).unwrap();
         let dynamics = NumericDynamics::new(&model);
         let traced = trace(&model);

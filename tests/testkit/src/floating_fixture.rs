@@ -4,8 +4,8 @@
 
 use crate::fixture::{matrix, vector};
 use crate::workspace_root;
-use dyngen_codegen::model::Model;
-use dyngen_runtime::{Pose, ProximalSettings, Stabilisation};
+use dyngen_codegen::model::{Contact, Model};
+use dyngen_runtime::{ContactKind, Pose, ProximalSettings, ReferenceFrame, Stabilisation};
 use nalgebra::{DMatrix, Matrix3, Vector3};
 use serde_json::Value;
 
@@ -18,6 +18,28 @@ pub fn load(robot: &str) -> Value {
 /// `tools/constraint_fixtures.py`), in the same joint order as [`load`]'s.
 pub fn load_constrained(robot: &str) -> Value {
     load_from("constrained", robot)
+}
+
+/// The contacts a constrained fixture lists under `"contacts"` (`frame`, `kind`, `reference`,
+/// and `to` for a loop), resolved on `model`.
+pub fn contacts(model: &Model, listing: &Value) -> Vec<Contact> {
+    (listing["contacts"].as_array().unwrap().iter())
+        .map(|c| {
+            let kind = match c["kind"].as_str().unwrap() {
+                "point" => ContactKind::Point,
+                _ => ContactKind::Frame,
+            };
+            let reference = match c["reference"].as_str().unwrap() {
+                "local" => ReferenceFrame::Local,
+                _ => ReferenceFrame::LocalWorldAligned,
+            };
+            let contact = Contact::at(model, c["frame"].as_str().unwrap(), kind, reference).unwrap();
+            match c["to"].as_str() {
+                Some(to) => contact.to(model, to).unwrap(),
+                None => contact,
+            }
+        })
+        .collect()
 }
 
 /// A constrained state's anchors (`"anchors"`: rotation and translation each).
