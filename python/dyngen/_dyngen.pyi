@@ -129,7 +129,7 @@ class Identification:
     written: Literal["consistent", "least_squares", "description"]
     samples_used: int
     differentiated: bool
-    delay: Optional[int]
+    delay: Optional[float]
     warnings: List[str]
     notes: List[str]
     robot: Robot

@@ -278,9 +278,10 @@ impl Identification {
         self.estimate.differentiated
     }
 
-    /// The torques' delay behind the positions in samples, when it was searched, else None.
+    /// The torques' delay behind the positions in samples (fractional when it was refined),
+    /// when it was searched, else None.
     #[getter]
-    fn delay(&self) -> Option<i64> {
+    fn delay(&self) -> Option<f64> {
         self.estimate.delay.as_ref().map(|d| d.samples)
     }
 
