@@ -117,8 +117,9 @@ impl Builder {
         self
     }
 
-    /// Sets [`Choices::floating_base`]: the root link flies free, and the robot is generated
-    /// with `FloatingBaseDynamics` and `FloatingFrameKinematics` (`docs/floating_base.md`).
+    /// Sets [`Choices::floating_base`]: the root link flies free, and each chosen group is
+    /// generated as its floating-base trait (`FloatingBaseDynamics`, `FloatingFrameKinematics`,
+    /// …; `docs/floating_base.md`).
     pub fn floating_base(mut self) -> Builder {
         self.choices.floating_base = true;
         self

@@ -47,11 +47,10 @@ pub mod symbolic {
 /// Tracing a model into one graph, and emitting a traced robot as a Rust module.
 pub mod generate {
     pub use crate::generate::emit::{
-        emit, emit_floating, emit_with, type_name, Provenance, Sizes, CHUNK_VALUES, MODULE_ATTRIBUTES, SIZES,
+        emit, emit_with, type_name, Provenance, Sizes, CHUNK_VALUES, MODULE_ATTRIBUTES, SIZES,
     };
     pub use crate::generate::quantities::{Arg, Dims, QuantityKind, Shape};
     pub use crate::generate::trace::{
         trace, trace_functions, trace_with_base, Arguments, Inputs, Quantity, SymbolicRobot,
     };
-    pub use crate::generate::trace_floating::trace_floating;
 }

@@ -15,8 +15,8 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use dyngen_generated::solo12::{Frame, Solo12, NQ, NV};
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{
-    FloatingBaseDynamics, FloatingBaseParameters, FloatingDynamicsDerivatives, FloatingFrameKinematics,
-    FloatingTrig, ReferenceFrame, ResultBuffer,
+    FloatingBaseDynamics, FloatingBaseParameters, FloatingDynamicsDerivatives, FloatingForwardDynamics,
+    FloatingFrameKinematics, FloatingRegressors, FloatingTrig, ReferenceFrame, ResultBuffer,
 };
 use std::hint::black_box;
 

@@ -4,7 +4,9 @@
 
 use std::fmt;
 
-/// A group of generated functions, chosen together; each is one trait of `dyngen-runtime`.
+/// A group of generated functions, chosen together; each is one trait of `dyngen-runtime`
+/// (on a floating base its floating form, [`FunctionGroup::floating_trait_name`]), and means
+/// the same on fixed and floating bases.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash)]
 pub enum FunctionGroup {
     /// Pose, `J`, `J̇` of the end-effector (`Kinematics`). Always generated.
@@ -97,6 +99,22 @@ impl FunctionGroup {
             FunctionGroup::Derivatives => "DynamicsDerivatives",
             FunctionGroup::Frames => "FrameKinematics",
             FunctionGroup::Contacts => "ContactDynamics",
+        }
+    }
+
+    /// The `dyngen-runtime` trait whose methods the group's functions are on a floating base;
+    /// `None` for `kinematics`, whose end-effector functions a floating base has among its
+    /// frames'.
+    pub fn floating_trait_name(self) -> Option<&'static str> {
+        match self {
+            FunctionGroup::Kinematics => None,
+            FunctionGroup::Dynamics => Some("FloatingBaseDynamics"),
+            FunctionGroup::Regressors => Some("FloatingRegressors"),
+            FunctionGroup::BaseParameters => Some("FloatingBaseParameters"),
+            FunctionGroup::ForwardDynamics => Some("FloatingForwardDynamics"),
+            FunctionGroup::Derivatives => Some("FloatingDynamicsDerivatives"),
+            FunctionGroup::Frames => Some("FloatingFrameKinematics"),
+            FunctionGroup::Contacts => Some("ContactDynamics"),
         }
     }
 

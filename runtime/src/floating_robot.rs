@@ -117,6 +117,25 @@ pub trait FloatingBaseDynamics<const N: usize, const NV: usize, const P: usize> 
         vr: &SVector<f64, NV>,
         ar: &SVector<f64, NV>,
     ) -> SVector<f64, NV>;
+    /// The centre of mass in the world.
+    fn center_of_mass(t: &FloatingTrig<N>) -> Vector3<f64>;
+    /// The centroidal momentum matrix `A_g(q)` (`6 × NV`): `A_g ν` is the linear momentum and
+    /// the angular momentum about the centre of mass, in world axes (Pinocchio's `ccrba`).
+    fn centroidal_momentum_matrix(t: &FloatingTrig<N>) -> SMatrix<f64, 6, NV>;
+    /// `Ȧ_g(q, ν) ν`, the rate of the centroidal momentum at zero acceleration.
+    fn centroidal_bias(t: &FloatingTrig<N>, v: &SVector<f64, NV>) -> SVector<f64, 6>;
+}
+
+/// The regressors of a floating-base robot: `Y θ` is the Slotine–Li torque or inverse dynamics,
+/// base wrench first (the group `regressors`).
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` was generated without the group `regressors`",
+    note = "add `regressors` to `functions:` in the robot's description (or to \
+            `Builder::functions`, or to `dyngen gen --functions`) and generate it again"
+)]
+pub trait FloatingRegressors<const N: usize, const NV: usize, const P: usize>:
+    FloatingBaseDynamics<N, NV, P>
+{
     /// The regressor `Y(q, ν, v_r, a_r)` with `Y θ` the Slotine–Li torque.
     fn regressor(
         t: &FloatingTrig<N>,
@@ -152,6 +171,18 @@ pub trait FloatingBaseDynamics<const N: usize, const NV: usize, const P: usize> 
     ) {
         out.replace(Self::torque_regressor(t, v, a));
     }
+}
+
+/// Forward dynamics of a floating-base robot and its inverse mass matrix (the group
+/// `forward_dynamics`).
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` was generated without the group `forward_dynamics`",
+    note = "add `forward_dynamics` to `functions:` in the robot's description (or to \
+            `Builder::functions`, or to `dyngen gen --functions`) and generate it again"
+)]
+pub trait FloatingForwardDynamics<const N: usize, const NV: usize, const P: usize>:
+    FloatingBaseDynamics<N, NV, P>
+{
     /// Forward dynamics `ν̇ = D⁻¹ (τ − C ν − g)`, `tau` the base wrench and joint torques.
     fn forward_dynamics(
         t: &FloatingTrig<N>,
@@ -165,21 +196,19 @@ pub trait FloatingBaseDynamics<const N: usize, const NV: usize, const P: usize> 
     fn mass_matrix_inverse_into(t: &FloatingTrig<N>, out: &mut ResultBuffer<SMatrix<f64, NV, NV>>) {
         out.replace(Self::mass_matrix_inverse(t));
     }
-    /// The centre of mass in the world.
-    fn center_of_mass(t: &FloatingTrig<N>) -> Vector3<f64>;
-    /// The centroidal momentum matrix `A_g(q)` (`6 × NV`): `A_g ν` is the linear momentum and
-    /// the angular momentum about the centre of mass, in world axes (Pinocchio's `ccrba`).
-    fn centroidal_momentum_matrix(t: &FloatingTrig<N>) -> SMatrix<f64, 6, NV>;
-    /// `Ȧ_g(q, ν) ν`, the rate of the centroidal momentum at zero acceleration.
-    fn centroidal_bias(t: &FloatingTrig<N>, v: &SVector<f64, NV>) -> SVector<f64, 6>;
 }
 
 /// The base (minimal, identifiable) parameters of a floating-base robot: `B` combinations of
 /// the standard ones that span every base wrench and joint torque it can produce. A floating
 /// base makes more of them identifiable than a fixed one: the base body's ten, and every body's
 /// mass through the base rows.
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` was generated without the group `base_parameters`",
+    note = "add `base_parameters` to `functions:` in the robot's description (or to \
+            `Builder::functions`, or to `dyngen gen --functions`) and generate it again"
+)]
 pub trait FloatingBaseParameters<const N: usize, const NV: usize, const P: usize, const B: usize>:
-    FloatingBaseDynamics<N, NV, P>
+    FloatingRegressors<N, NV, P>
 {
     /// Readable names that show what each base parameter combines.
     const BASE_PARAMETER_NAMES: [&'static str; B];
@@ -225,6 +254,11 @@ pub trait FloatingBaseParameters<const N: usize, const NV: usize, const P: usize
 /// space, in Pinocchio's layout: column `c` is the derivative along `q ⊕ e_c` (the base
 /// translation's three, the base rotation's three in the base frame, then the joints) or along
 /// `ν`'s entry `c`.
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` was generated without the group `derivatives`",
+    note = "add `derivatives` to `functions:` in the robot's description (or to \
+            `Builder::functions`, or to `dyngen gen --functions`) and generate it again"
+)]
 pub trait FloatingDynamicsDerivatives<const N: usize, const NV: usize, const P: usize>:
     FloatingBaseDynamics<N, NV, P>
 {
@@ -265,6 +299,11 @@ pub trait FloatingDynamicsDerivatives<const N: usize, const NV: usize, const P: 
 
 /// Any named frame of a floating-base robot (feet, hands, sensors), in the world, in any
 /// [`ReferenceFrame`]; `J` is `6 × NV`, its first six columns the base's.
+#[diagnostic::on_unimplemented(
+    message = "`{Self}` was generated without the group `frames`",
+    note = "add `frames` to `functions:` in the robot's description (or to \
+            `Builder::functions`, or to `dyngen gen --functions`) and generate it again"
+)]
 pub trait FloatingFrameKinematics<const N: usize, const NV: usize> {
     /// The robot's frame enum.
     type Frame: RobotFrame;

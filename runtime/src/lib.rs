@@ -5,8 +5,9 @@
 //!   [`FrameKinematics`] (any named frame, in any [`ReferenceFrame`]; its `Frame` enum is a
 //!   [`RobotFrame`]) with [`WrenchDynamics`] ([`ExternalWrench`]es at those frames), and
 //!   [`LaneDynamics`] (several states per call, in the lane types
-//!   [`f64x4`] and [`f64x8`], any [`Lanes`]); on a free-flying base, [`FloatingBaseDynamics`],
-//!   [`FloatingBaseParameters`], [`FloatingDynamicsDerivatives`] and [`FloatingFrameKinematics`],
+//!   [`f64x4`] and [`f64x8`], any [`Lanes`]); on a free-flying base, one trait per group too,
+//!   [`FloatingBaseDynamics`], [`FloatingRegressors`], [`FloatingBaseParameters`],
+//!   [`FloatingForwardDynamics`], [`FloatingDynamicsDerivatives`] and [`FloatingFrameKinematics`],
 //!   taking a [`FloatingTrig`];
 //! - the parameterisations generic code is written against: [`Parameterization`], with
 //!   [`Standard`] and [`Base`];
@@ -77,7 +78,7 @@ pub use contacts::{
 pub use floating::{BasePose, NonUnitQuaternion, QUATERNION_NORM_TOLERANCE};
 pub use floating_robot::{
     ConfigurationError, FloatingBaseDynamics, FloatingBaseParameters, FloatingDynamicsDerivatives,
-    FloatingFrameKinematics, FloatingTrig,
+    FloatingForwardDynamics, FloatingFrameKinematics, FloatingRegressors, FloatingTrig,
 };
 pub use frames::{ExternalWrench, FrameKinematics, ReferenceFrame, RobotFrame, WrenchDynamics};
 pub use joint::{JointLimits, JointTrig};
@@ -133,9 +134,10 @@ pub mod __private {
 pub mod prelude {
     pub use crate::{
         BaseParameters, DynamicsDerivatives, ExternalWrench, FloatingBaseDynamics, FloatingBaseParameters,
-        FloatingDynamicsDerivatives, FloatingFrameKinematics, FloatingTrig, ForwardDynamics, FrameKinematics,
-        JointTrig, Kinematics, LaneDynamics, Parameterization, ReferenceFrame, Regressors, ResultBuffer,
-        RobotDynamics, RobotFrame, WrenchDynamics,
+        FloatingDynamicsDerivatives, FloatingForwardDynamics, FloatingFrameKinematics, FloatingRegressors,
+        FloatingTrig, ForwardDynamics, FrameKinematics, JointTrig, Kinematics, LaneDynamics,
+        Parameterization, ReferenceFrame, Regressors, ResultBuffer, RobotDynamics, RobotFrame,
+        WrenchDynamics,
     };
 }
 

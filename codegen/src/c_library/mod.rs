@@ -178,7 +178,7 @@ fn library(robot: &GeneratedRobot, prefix: &str, naming: &Naming, options: &CLib
         .into_iter()
         .map(|f| f.snake)
         .collect();
-    let has_base_parameters = floating || robot.functions.contains(crate::FunctionGroup::BaseParameters);
+    let has_base_parameters = robot.functions.contains(crate::FunctionGroup::BaseParameters);
     Library {
         prefix: prefix.to_owned(),
         type_name: naming.type_name.to_owned(),

@@ -111,7 +111,7 @@ fn kinds(sizes: &Sizes, functions: &Functions) -> Vec<QuantityKind> {
     let generated = |k: &QuantityKind| functions.contains(k.group());
     let per_frame = (QuantityKind::ALL.into_iter()).filter(|k| k.is_per_frame() && generated(k));
     let one_state: Vec<QuantityKind> = match sizes.floating {
-        true => floating_kinds().collect(),
+        true => floating_kinds().filter(generated).collect(),
         false => (QuantityKind::ALL.into_iter())
             .filter(|k| !k.is_per_frame() && generated(k))
             .collect(),

@@ -1,10 +1,9 @@
 //! One robot description in, one generated Rust module out: what `cargo xtask gen` and the
 //! build-script API both call.
 
-use super::emit::{emit, emit_floating, Provenance};
+use super::emit::{emit, Provenance};
 use super::hash::fnv1a64;
 use super::trace::trace_functions;
-use super::trace_floating::trace_floating;
 use crate::base_parameters::BaseParameterSet;
 use crate::description::{load_with, Choices, DescriptionError};
 use crate::model::Model;
@@ -49,8 +48,7 @@ pub struct GeneratedRobot {
     pub notes: Vec<String>,
     /// Operation counts per generated function, in emission order.
     pub op_counts: Vec<(String, OpCounts)>,
-    /// Number of base parameters `p_b` (independent combinations of the standard ones); 0 for a
-    /// floating base, whose base parameters are not computed.
+    /// Number of base parameters `p_b` (independent combinations of the standard ones).
     pub base_parameter_count: usize,
     /// The base parameters' readable names (`BASE_PARAMETER_NAMES` of the generated module).
     pub base_parameter_names: Vec<String>,
@@ -131,11 +129,7 @@ pub fn generate_robot_with(
         );
         return Err(DescriptionError::new(path, msg).into());
     }
-    let floating = loaded.model.floating_base().is_some();
-    let robot = match floating {
-        true => trace_floating(&loaded.model),
-        false => trace_functions(&loaded.model, BaseParameterSet::compute(&loaded.model), functions),
-    };
+    let robot = trace_functions(&loaded.model, BaseParameterSet::compute(&loaded.model), functions);
     if let Some(v) = robot.non_finite_constant() {
         let msg = format!(
             "the dynamics of this model overflow (a constant computes to {v}): masses, lengths \
@@ -156,10 +150,7 @@ pub fn generate_robot_with(
             base.diagnostics.svd_rank
         ));
     }
-    let module = match floating {
-        true => emit_floating(&loaded.model, &robot, &provenance),
-        false => emit(&loaded.model, &robot, &provenance),
-    };
+    let module = emit(&loaded.model, &robot, &provenance);
     let code = format!("{GENERATED_MARKER}\n{module}");
     let op_counts = robot
         .quantities

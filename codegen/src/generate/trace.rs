@@ -127,7 +127,7 @@ pub(super) fn inputs(prefix: &str, n: usize) -> Vec<Expr> {
     (0..n).map(|i| Expr::input(&format!("{prefix}{i}"))).collect()
 }
 
-/// Records every quantity of `model`: every group, in the order of [`QuantityKind::ALL`].
+/// Records every quantity of `model`, fixed or floating: every group, in trace order.
 pub fn trace(model: &Model) -> SymbolicRobot {
     trace_with_base(model, BaseParameterSet::compute(model))
 }
@@ -139,9 +139,13 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
 
 /// [`trace_with_base`] of the groups `functions` only: the rows of the others are not traced at
 /// all (what is traced keeps the order of the full trace, so with every group the graph is the
-/// same).
+/// same). A fixed base and a floating one take the same groups, each row by its own tracer
+/// ([`super::trace_floating`]).
 pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functions) -> SymbolicRobot {
-    let (graph, traced) = record(|| FixedTracer::new(model, &base, functions).run());
+    let (graph, traced) = match model.floating_base() {
+        Some(_) => record(|| super::trace_floating::FloatingTracer::new(model, &base).run(functions)),
+        None => record(|| FixedTracer::new(model, &base, functions).run()),
+    };
     traced.into_robot(graph, base, functions)
 }
 

@@ -1,14 +1,14 @@
 //! The tracer of a floating-base robot: the floating algorithms run on symbolic inputs, the
 //! base pose entering as its rotation matrix and position (`FloatingTrig` computes them once
 //! per tick from the quaternion), velocities of `nv = dof + 6` entries. Driven by the quantity
-//! table as the fixed-base tracer is, in an order of its own (which is the order of the
-//! floating-base module's methods).
+//! table and the chosen groups as the fixed-base tracer is, in an order of its own (which is
+//! the order of the floating-base module's methods); `trace::trace_functions` chooses it.
 
 use super::quantities::{Dims, QuantityKind};
 use super::trace::{
     base_columns, frame_rows, frame_spellings, full_from_base, ids, inputs, matrix_ids, pair_ids,
 };
-use super::trace::{Inputs, Quantity, SymbolicRobot, Traced};
+use super::trace::{Inputs, Quantity, Traced};
 use super::trace_contacts::contact_outputs;
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::floating::{self as algorithms, FloatingBase};
@@ -16,15 +16,8 @@ use crate::dynamics::{self, FloatingDynamics, FrameMotion};
 use crate::model::{Frame, Model};
 use crate::scalar::Scalar;
 use crate::spatial::{Mat3, RigidInertia, Transform, Vec3};
-use crate::symbolic::{record, Expr, Id};
+use crate::symbolic::{Expr, Id};
 use crate::{FunctionGroup, Functions};
-
-/// The groups a floating-base robot is generated with: every group, since its traits
-/// (`FloatingBaseDynamics`, `FloatingBaseParameters`, `FloatingDynamicsDerivatives`,
-/// `FloatingFrameKinematics`) are not split by group.
-pub fn floating_functions() -> Functions {
-    Functions::all()
-}
 
 /// The rows of a floating-base robot traced before its frames, in trace order (which is their
 /// order in the module).
@@ -57,24 +50,10 @@ pub(crate) fn floating_kinds() -> impl Iterator<Item = QuantityKind> {
     BEFORE_FRAMES.into_iter().chain(AFTER_FRAMES)
 }
 
-/// Records every floating-base quantity of `model` in one graph: the rows of `BEFORE_FRAMES`,
-/// the per-frame rows frame by frame, the rows of `AFTER_FRAMES`, then another formulation of
-/// `D⁻¹`.
-///
-/// The inertial parameters are the representative ones of the base parameters (every folded
-/// parameter 0, [`BaseParameterSet::representative`]): the same dynamics with fewer terms, as
-/// for a fixed base.
-pub fn trace_floating(model: &Model) -> SymbolicRobot {
-    let base_parameters = BaseParameterSet::compute(model);
-    let functions = floating_functions();
-    let (graph, traced) = record(|| FloatingTracer::new(model, &base_parameters).run(functions));
-    traced.into_robot(graph, base_parameters, functions)
-}
-
 /// The tracer of a floating-base robot: the inputs and the values its rows share, and what it
 /// has recorded. Each row's outputs come from [`FloatingTracer::outputs`]; its arguments and
 /// shape from the table ([`QuantityKind::signature`]).
-struct FloatingTracer<'a> {
+pub(super) struct FloatingTracer<'a> {
     model: &'a Model,
     base_parameters: &'a BaseParameterSet,
     dims: Dims,
@@ -105,8 +84,9 @@ struct FloatingTracer<'a> {
 }
 
 impl<'a> FloatingTracer<'a> {
-    /// The inputs and the shared values, traced.
-    fn new(model: &'a Model, base_parameters: &'a BaseParameterSet) -> Self {
+    /// The inputs and the shared values, traced (the inertial parameters the representative
+    /// ones of the base parameters, [`BaseParameterSet::representative`], as for a fixed base).
+    pub(super) fn new(model: &'a Model, base_parameters: &'a BaseParameterSet) -> Self {
         let (n, nv) = (model.dof(), model.nv());
         let description = FloatingDynamics::new(model)
             .expect("trace_floating needs a floating base")
@@ -169,8 +149,10 @@ impl<'a> FloatingTracer<'a> {
         }
     }
 
-    /// Traces the rows of `functions` in trace order, then the other formulation of `D⁻¹`.
-    fn run(mut self, functions: Functions) -> Traced {
+    /// Traces the rows of `functions` in trace order (the rows of `BEFORE_FRAMES`, the
+    /// per-frame rows frame by frame, the rows of `AFTER_FRAMES`), then the other formulation
+    /// of `D⁻¹`.
+    pub(super) fn run(mut self, functions: Functions) -> Traced {
         let chosen = |kind: &QuantityKind| functions.contains(kind.group());
         for kind in BEFORE_FRAMES.into_iter().filter(chosen) {
             let outputs = self.outputs(kind);

@@ -14,7 +14,7 @@ use common::floating_fixture::{self, Order};
 use common::{assert_close, column, workspace_root};
 use dyngen_codegen::description::{self, Choices, FrameSelection, FrameSpec, Loaded};
 use dyngen_codegen::dynamics::FloatingDynamics;
-use dyngen_codegen::internals::generate::{trace_floating, Arguments, SymbolicRobot};
+use dyngen_codegen::internals::generate::{trace, Arguments, SymbolicRobot};
 use dyngen_runtime::ReferenceFrame;
 use nalgebra::DMatrix;
 use serde_json::Value;
@@ -66,7 +66,7 @@ fn check_robot(robot: &str, urdf: &str) {
         &order.parameter_columns(&pi),
         TOL,
     );
-    let traced = trace_floating(model);
+    let traced = trace(model);
     let states = fx["states"].as_array().unwrap();
     for (k, st) in states.iter().enumerate() {
         let what = |q: &str| format!("{robot} state {k}: {q}");

@@ -97,71 +97,128 @@ fn every_group_is_the_default_of_a_small_robot_and_all_is_the_committed_code() {
 
 /// A group traced without the groups before it in the trace order computes the same values:
 /// the statements' order may differ (nodes shared with a group left out are created later),
-/// the function may not.
+/// the function may not. On a floating base as on a fixed one.
 #[test]
 fn a_function_computes_the_same_whatever_is_generated_with_it() {
-    let model = load(&workspace_root().join("robots/arm7_friction.yaml"))
-        .unwrap_or_else(|e| panic!("{e}"))
-        .model;
-    let base = BaseParameterSet::compute(&model);
-    let full = trace_functions(&model, base.clone(), Functions::all());
-    let (n, p) = (model.dof(), model.parameter_count());
-    let mut rng = SplitMix64::new(5);
-    let mut vector = |len: usize| -> Vec<f64> { (0..len).map(|_| rng.uniform((-1.5, 1.5))).collect() };
-    let states: Vec<[Vec<f64>; 7]> = (0..3)
-        .map(|_| {
-            [
-                vector(n),
-                vector(n),
-                vector(n),
-                vector(n),
-                vector(n),
-                vector(p),
-                vector(n),
-            ]
-        })
-        .collect();
     use FunctionGroup as G;
-    for chosen in [
+    let choices = [
         vec![],
         vec![G::ForwardDynamics],
         vec![G::Derivatives],
         vec![G::Regressors],
         vec![G::Regressors, G::BaseParameters, G::Derivatives],
         vec![G::Frames],
-    ] {
-        let functions = Functions::with(&chosen).unwrap();
-        let partial = trace_functions(&model, base.clone(), functions);
-        let names: Vec<String> = partial.quantities.iter().map(|q| q.name()).collect();
-        let expected: Vec<String> = full
-            .quantities
-            .iter()
-            .filter(|q| functions.contains(q.kind.group()))
-            .map(|q| q.name())
+        vec![G::ForwardDynamics, G::Frames, G::Contacts],
+    ];
+    for robot in ["arm7_friction.yaml", "solo12.yaml"] {
+        let model = load(&workspace_root().join("robots").join(robot))
+            .unwrap_or_else(|e| panic!("{e}"))
+            .model;
+        let base = BaseParameterSet::compute(&model);
+        let full = trace_functions(&model, base.clone(), Functions::all());
+        let floating = model.floating_base().is_some();
+        let (nq, nv) = (model.nq(), model.nv());
+        let p = match floating {
+            true => 10 * (model.joints().len() + 1),
+            false => model.parameter_count(),
+        };
+        let mut rng = SplitMix64::new(5);
+        let mut vector = |len: usize| -> Vec<f64> { (0..len).map(|_| rng.uniform((-1.5, 1.5))).collect() };
+        let states: Vec<[Vec<f64>; 7]> = (0..3)
+            .map(|_| {
+                let mut q = vector(nq);
+                if floating {
+                    let norm = q[3..7].iter().map(|x| x * x).sum::<f64>().sqrt();
+                    q[3..7].iter_mut().for_each(|x| *x /= norm);
+                }
+                [
+                    q,
+                    vector(nv),
+                    vector(nv),
+                    vector(nv),
+                    vector(nv),
+                    vector(p),
+                    vector(nv),
+                ]
+            })
             .collect();
-        assert_eq!(names, expected, "{functions}");
-        for [q, qd, v, a, tau, theta, r] in &states {
-            let args = Arguments {
-                q,
-                qd,
-                v,
-                a,
-                tau,
-                theta,
-                r,
-            };
-            for name in &names {
-                let got = partial.evaluate_with(name, &args).expect("traced");
-                let want = full.evaluate_with(name, &args).expect("traced");
-                let scale = want.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
-                for (g, w) in got.iter().zip(&want) {
-                    assert!(
-                        (g - w).abs() <= 1e-12 * scale,
-                        "{name} with [{functions}]: {g} against {w}"
-                    );
+        for chosen in &choices {
+            // `contacts` is traced only for a robot with contacts (Solo-12 holds its feet).
+            if chosen.contains(&G::Contacts) && model.contacts().is_empty() {
+                continue;
+            }
+            let functions = Functions::with(chosen).unwrap();
+            let partial = trace_functions(&model, base.clone(), functions);
+            let names: Vec<String> = partial.quantities.iter().map(|q| q.name()).collect();
+            let expected: Vec<String> = full
+                .quantities
+                .iter()
+                .filter(|q| functions.contains(q.kind.group()))
+                .map(|q| q.name())
+                .collect();
+            assert_eq!(names, expected, "{robot}: {functions}");
+            for [q, qd, v, a, tau, theta, r] in &states {
+                let args = Arguments {
+                    q,
+                    qd,
+                    v,
+                    a,
+                    tau,
+                    theta,
+                    r,
+                };
+                for name in &names {
+                    let got = partial.evaluate_with(name, &args).expect("traced");
+                    let want = full.evaluate_with(name, &args).expect("traced");
+                    let scale = want.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
+                    for (g, w) in got.iter().zip(&want) {
+                        assert!(
+                            (g - w).abs() <= 1e-12 * scale,
+                            "{robot}: {name} with [{functions}]: {g} against {w}"
+                        );
+                    }
                 }
             }
         }
+    }
+}
+
+/// A floating base takes its groups as a fixed one does: what its description chooses, each
+/// group its floating trait, nothing else.
+#[test]
+fn a_floating_description_chooses_its_groups() {
+    let dir = tempfile::tempdir().expect("dir");
+    let text = std::fs::read_to_string(workspace_root().join("robots/solo12.yaml")).expect("solo12");
+    let text = text.replace(
+        "urdf: urdf/",
+        &format!("urdf: {}/", workspace_root().join("robots/urdf").display()),
+    );
+    let path = dir.path().join("solo12.yaml");
+    std::fs::write(&path, format!("{text}\nfunctions: [forward_dynamics, frames]\n")).expect("write");
+    let robot = generate_robot(&path, "solo12.yaml", "Solo12", "test").unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        robot.functions,
+        Functions::with(&[FunctionGroup::ForwardDynamics, FunctionGroup::Frames]).unwrap()
+    );
+    for present in [
+        "impl FloatingBaseDynamics<12, 18, 130>",
+        "impl FloatingForwardDynamics<12, 18, 130>",
+        "impl FloatingFrameKinematics<12, 18>",
+    ] {
+        assert!(robot.code.contains(present), "{present} missing");
+    }
+    for absent in [
+        "impl FloatingRegressors",
+        "impl FloatingBaseParameters",
+        "impl FloatingDynamicsDerivatives",
+        "impl ContactDynamics",
+        "fn regressor(",
+        "fn inverse_dynamics_derivatives(",
+    ] {
+        assert!(
+            !robot.code.contains(absent),
+            "{absent} generated without being chosen"
+        );
     }
 }
 
@@ -270,6 +327,29 @@ fn large_robots_get_the_per_tick_groups_by_default_and_say_so() {
         robot.notes.iter().any(|n| n
             .contains("regressors, base_parameters, derivatives are generated when chosen")
             && n.contains("functions:")),
+        "{:?}",
+        robot.notes
+    );
+    // On a floating base, the same default and the same note.
+    let floating = dir.path().join("floating_chain.yaml");
+    std::fs::write(&floating, chain(dof) + "floating_base: true\n").expect("write");
+    let robot = generate_robot(&floating, "floating_chain.yaml", "FloatingChain", "test")
+        .unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(
+        robot.functions,
+        Functions::default_for(dof).without(FunctionGroup::Contacts)
+    );
+    assert!(!robot.code.contains("impl FloatingDynamicsDerivatives"));
+    assert!(!robot.code.contains("impl FloatingRegressors"));
+    assert!(
+        robot.code.contains("impl FloatingForwardDynamics")
+            && robot.code.contains("impl FloatingFrameKinematics")
+    );
+    assert!(
+        robot
+            .notes
+            .iter()
+            .any(|n| n.contains("regressors, base_parameters, derivatives are generated when chosen")),
         "{:?}",
         robot.notes
     );

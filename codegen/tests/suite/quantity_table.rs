@@ -134,53 +134,45 @@ fn the_reference_names_every_function() {
 
 #[test]
 fn the_floating_traits_declare_what_a_floating_robot_is_traced_with() {
-    use dyngen_codegen::internals::generate::trace_floating;
     let model = load(&workspace_root().join("robots/solo12.yaml"))
         .unwrap_or_else(|e| panic!("{e}"))
         .model;
-    let traced = trace_floating(&model);
-    let (frames, others): (Vec<QuantityKind>, Vec<QuantityKind>) = traced
-        .quantities
-        .iter()
-        .map(|q| q.kind)
-        .partition(|k| k.is_per_frame());
-    let (base, others): (Vec<QuantityKind>, Vec<QuantityKind>) =
-        others.into_iter().partition(|k| k.uses_base_columns());
-    let (contacts, others): (Vec<QuantityKind>, Vec<QuantityKind>) = others
-        .into_iter()
-        .partition(|k| k.group() == dyngen_codegen::FunctionGroup::Contacts);
-    let (derivatives, dynamics): (Vec<QuantityKind>, Vec<QuantityKind>) = others
-        .into_iter()
-        .partition(|k| k.group() == dyngen_codegen::FunctionGroup::Derivatives);
+    let traced = trace(&model);
+    let kinds: Vec<QuantityKind> = traced.quantities.iter().map(|q| q.kind).collect();
     // Each function, and its `_into` form where it has one.
     let names = |kinds: Vec<QuantityKind>| -> BTreeSet<String> {
         let mut names = into_forms(&kinds);
         names.extend(kinds.into_iter().map(|k| k.name().to_owned()));
         names
     };
-    let mut expected = names(dynamics);
-    expected.insert("parameters".to_owned());
-    assert_eq!(
-        trait_methods("floating_robot.rs", "FloatingBaseDynamics"),
-        expected
-    );
-    let mut expected = names(base);
-    expected.insert("base_parameters".to_owned());
-    assert_eq!(
-        trait_methods("floating_robot.rs", "FloatingBaseParameters"),
-        expected,
-        "FloatingBaseParameters against the base-column functions"
-    );
-    assert_eq!(
-        trait_methods("floating_robot.rs", "FloatingDynamicsDerivatives"),
-        names(derivatives),
-        "FloatingDynamicsDerivatives against the derivatives"
-    );
-    assert_eq!(
-        trait_methods("floating_robot.rs", "FloatingFrameKinematics"),
-        names(frames),
-        "FloatingFrameKinematics against the frame functions"
-    );
+    let of_group = |group: FunctionGroup| -> BTreeSet<String> {
+        names(kinds.iter().copied().filter(|k| k.group() == group).collect())
+    };
+    // Every group but the contacts' (whose trait is one for both bases) and the kinematics'
+    // (whose end-effector functions a floating base has among its frames').
+    for group in FunctionGroup::ALL {
+        let (Some(name), false) = (group.floating_trait_name(), group == FunctionGroup::Contacts) else {
+            continue;
+        };
+        let mut expected = of_group(group);
+        match group {
+            FunctionGroup::Dynamics => {
+                expected.insert("parameters".to_owned());
+            }
+            FunctionGroup::BaseParameters => {
+                expected.insert("base_parameters".to_owned());
+            }
+            _ => {}
+        }
+        assert_eq!(
+            trait_methods("floating_robot.rs", name),
+            expected,
+            "{name} against the group `{group}`"
+        );
+    }
+    let contacts: Vec<QuantityKind> = (kinds.iter().copied())
+        .filter(|k| k.group() == FunctionGroup::Contacts)
+        .collect();
     let mut expected = names(contacts);
     expected.extend(["free_acceleration", "contact_pose", "contact_to_pose"].map(String::from));
     assert_eq!(

@@ -1,7 +1,8 @@
 //! The compiled floating-base robot (Solo-12, `robots/solo12.yaml`) against Pinocchio 4.1 with
 //! `JointModelFreeFlyer` (`codegen/tests/fixtures/floating/solo12.json`) and against the generic
 //! floating-base dynamics at random states, every function of `FloatingBaseDynamics`,
-//! `FloatingBaseParameters`, `FloatingDynamicsDerivatives` and `FloatingFrameKinematics`.
+//! `FloatingRegressors`, `FloatingBaseParameters`, `FloatingForwardDynamics`,
+//! `FloatingDynamicsDerivatives` and `FloatingFrameKinematics`.
 
 use dyngen_testkit as common;
 
@@ -15,7 +16,8 @@ use dyngen_generated::solo12::{self, Frame, Solo12, Velocity, NV};
 use dyngen_runtime::nalgebra::{DMatrix, SMatrix};
 use dyngen_runtime::{
     ConfigurationError, FloatingBaseDynamics, FloatingBaseParameters, FloatingDynamicsDerivatives,
-    FloatingFrameKinematics, ReferenceFrame, RobotFrame, SplitMix64,
+    FloatingForwardDynamics, FloatingFrameKinematics, FloatingRegressors, ReferenceFrame, RobotFrame,
+    SplitMix64,
 };
 
 const TOL_FIXTURE: f64 = 1e-9;

@@ -8,7 +8,8 @@ use dyngen_generated::{Arm7, Arm7Friction, Panda, PandaRounded, Ur5, Xarm7, Xarm
 use dyngen_runtime::nalgebra::{SMatrix, SVector};
 use dyngen_runtime::{
     BaseParameters, BufferedResult, DynamicsDerivatives, FloatingBaseDynamics, FloatingBaseParameters,
-    FloatingDynamicsDerivatives, ForwardDynamics, JointTrig, Regressors, ResultBuffer, SplitMix64,
+    FloatingDynamicsDerivatives, FloatingForwardDynamics, FloatingRegressors, ForwardDynamics, JointTrig,
+    Regressors, ResultBuffer, SplitMix64,
 };
 use std::fmt::Debug;
 

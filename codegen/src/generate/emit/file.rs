@@ -63,6 +63,18 @@ pub(super) fn version_check() -> TokenStream {
     quote!(dyngen_runtime::__require_version!(#generated_by);)
 }
 
+/// The robot type's doc: ` `name`: implements [`A`], [`B`] and [`C`] with flattened,
+/// allocation-free code.` (`what` is `name` and how it stands, e.g. "on a floating base").
+pub(super) fn type_doc(what: &str, traits: &[String]) -> String {
+    let linked: Vec<String> = traits.iter().map(|t| format!("[`{t}`]")).collect();
+    let listed = match linked.split_last() {
+        Some((last, [])) => last.clone(),
+        Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
+        None => String::new(),
+    };
+    format!(" {what}: implements {listed} with flattened, allocation-free code.")
+}
+
 /// `header` and the module's items, formatted.
 pub(super) fn formatted(header: String, tokens: TokenStream) -> String {
     match syn::parse2::<syn::File>(tokens) {

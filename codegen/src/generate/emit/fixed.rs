@@ -5,7 +5,7 @@
 
 use super::constants::{base_parameters_function, joint_limits, literal, parameter_kinds};
 use super::contacts::{contact_implementation, ContactTraits};
-use super::file::{formatted, header, version_check, Provenance};
+use super::file::{formatted, header, type_doc, version_check, Provenance};
 use super::frames::{frame_items, FrameTrait};
 use super::function::function;
 use super::header::Emitted;
@@ -207,7 +207,7 @@ impl<'a> FixedModule<'a> {
     /// The module's types, and the robot type.
     fn types(&self) -> TokenStream {
         let ty = &self.ty;
-        let type_doc = type_doc(self.model.name(), &self.robot.functions);
+        let type_doc = robot_type_doc(self.model.name(), &self.robot.functions);
         quote! {
             /// The standard parameters, for generic code (`HybridController<Standard, DOF, PARAMETER_COUNT>`).
             pub type Standard = dyngen_runtime::Standard<#ty>;
@@ -311,18 +311,10 @@ fn runtime_items(functions: &Functions) -> Vec<&'static str> {
 }
 
 /// The robot type's doc: which traits it implements.
-fn type_doc(name: &str, functions: &Functions) -> String {
-    let mut traits: Vec<String> = functions
-        .groups()
-        .map(|g| format!("[`{}`]", g.trait_name()))
-        .collect();
+fn robot_type_doc(name: &str, functions: &Functions) -> String {
+    let mut traits: Vec<String> = functions.groups().map(|g| g.trait_name().to_owned()).collect();
     if functions.contains(FunctionGroup::BaseParameters) {
-        traits.push("[`LaneDynamics`]".to_owned());
+        traits.push("LaneDynamics".to_owned());
     }
-    let listed = match traits.split_last() {
-        Some((last, [])) => last.clone(),
-        Some((last, rest)) => format!("{} and {last}", rest.join(", ")),
-        None => String::new(),
-    };
-    format!(" `{name}`: implements {listed} with flattened, allocation-free code.")
+    type_doc(&format!("`{name}`"), &traits)
 }

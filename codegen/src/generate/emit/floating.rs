@@ -1,10 +1,11 @@
-//! The module of a floating-base robot: its sizes, names and types, `FloatingBaseDynamics`,
-//! `FloatingBaseParameters` and `FloatingDynamicsDerivatives` (each method placed by its row's
-//! group), `FloatingFrameKinematics`, then the chunk functions of the large functions.
+//! The module of a floating-base robot: its sizes, names and types, then one trait
+//! implementation per chosen group (`FloatingBaseDynamics`, `FloatingRegressors`, …, each
+//! method placed by its row's group, [`FunctionGroup::floating_trait_name`]), then the chunk
+//! functions of the large functions.
 
 use super::constants::{base_parameters_function, joint_limits, literal};
 use super::contacts::{contact_implementation, ContactTraits};
-use super::file::{formatted, header, version_check, Provenance};
+use super::file::{formatted, header, type_doc, version_check, Provenance};
 use super::frames::{frame_items, FrameTrait};
 use super::function::function;
 use super::header::Emitted;
@@ -13,25 +14,9 @@ use super::plan::Form;
 use super::sizes::Sizes;
 use crate::generate::trace::SymbolicRobot;
 use crate::model::Model;
-use crate::FunctionGroup;
+use crate::{FunctionGroup, Functions};
 use proc_macro2::{Ident, Literal, TokenStream};
 use quote::{format_ident, quote};
-
-/// The traits of a floating-base module, by the group whose methods each holds.
-const TRAITS: [FunctionGroup; 3] = [
-    FunctionGroup::Dynamics,
-    FunctionGroup::BaseParameters,
-    FunctionGroup::Derivatives,
-];
-
-/// The group whose trait a function of `group` is a method of: the dynamics' groups share
-/// `FloatingBaseDynamics`; the contacts' trait is written apart.
-fn trait_of(group: FunctionGroup) -> FunctionGroup {
-    match group {
-        FunctionGroup::BaseParameters | FunctionGroup::Derivatives | FunctionGroup::Contacts => group,
-        _ => FunctionGroup::Dynamics,
-    }
-}
 
 /// The complete generated module of a floating-base `model`, formatted.
 pub(super) fn module(model: &Model, robot: &SymbolicRobot, provenance: &Provenance, sizes: &Sizes) -> String {
@@ -41,31 +26,18 @@ pub(super) fn module(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
         .filter(|q| !q.kind.is_per_frame())
         .map(|q| {
             let function = function(robot, &leaves, q, model.nv(), Form::Scalar, sizes);
-            (trait_of(q.kind.group()), function)
+            (q.kind.group(), function)
         })
         .collect();
-    let implementations = TRAITS.map(|group| {
+    let implementations = robot.functions.groups().map(|group| {
         let methods = (emitted.iter())
             .filter(|(g, _)| *g == group)
-            .map(|(_, e)| &e.method);
-        implementation(model, robot, &ty, group, quote!(#(#methods)*))
-    });
-    let frames = frame_items(model, robot, &leaves, &ty, &FrameTrait::floating(model), sizes);
-    let contacts = robot.functions.contains(FunctionGroup::Contacts).then(|| {
-        let [n, nv, p] = [model.dof(), model.nv(), parameter_count(model)].map(Literal::usize_unsuffixed);
-        let traits = ContactTraits {
-            trig: quote!(FloatingTrig<#n>),
-            forward_dynamics: quote!(FloatingBaseDynamics<#n, #nv, #p>),
-            frames: quote!(FloatingFrameKinematics<#n, #nv>),
-        };
-        let methods = (emitted.iter())
-            .filter(|(g, _)| *g == FunctionGroup::Contacts)
             .map(|(_, e)| e.method.clone());
-        contact_implementation(model, &ty, &traits, methods)
+        implementation(model, robot, &leaves, &ty, group, methods, sizes)
     });
     let chunks = emitted.iter().flat_map(|(_, e)| &e.chunks);
     let version = version_check();
-    let (constants, types) = (constants(model, robot), types(model, &ty));
+    let (constants, types) = (constants(model, robot), types(model, &robot.functions, &ty));
     let tokens = quote! {
         #version
 
@@ -74,10 +46,6 @@ pub(super) fn module(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
         #types
 
         #(#implementations)*
-
-        #frames
-
-        #contacts
 
         #(#chunks)*
     };
@@ -101,13 +69,16 @@ fn parameter_count(model: &Model) -> usize {
     crate::dynamics::FloatingDynamics::parameter_names(model).len()
 }
 
-/// The implementation of the trait of `group` (one of [`TRAITS`]) for `ty`, with `methods`.
+/// The implementation of `group`'s trait for `ty`, with `methods` (the frames' items, enum
+/// included, for `frames`).
 fn implementation(
     model: &Model,
     robot: &SymbolicRobot,
+    leaves: &Leaves,
     ty: &Ident,
     group: FunctionGroup,
-    methods: TokenStream,
+    methods: impl Iterator<Item = TokenStream>,
+    sizes: &Sizes,
 ) -> TokenStream {
     let [n, nv, p, b] = [
         model.dof(),
@@ -117,6 +88,8 @@ fn implementation(
     ]
     .map(Literal::usize_unsuffixed);
     match group {
+        // A floating base's end-effector functions are among its frames'.
+        FunctionGroup::Kinematics => quote!(),
         FunctionGroup::Dynamics => {
             let name = model.name();
             let base = model.floating_base().expect("a floating base");
@@ -134,7 +107,7 @@ fn implementation(
                         SVector::from_array_storage(ArrayStorage([[#(#theta),*]]))
                     }
 
-                    #methods
+                    #(#methods)*
                 }
             }
         }
@@ -146,16 +119,27 @@ fn implementation(
 
                     #base_parameters
 
-                    #methods
+                    #(#methods)*
                 }
             }
         }
-        FunctionGroup::Derivatives => quote! {
-            impl FloatingDynamicsDerivatives<#n, #nv, #p> for #ty {
-                #methods
+        FunctionGroup::Frames => frame_items(model, robot, leaves, ty, &FrameTrait::floating(model), sizes),
+        FunctionGroup::Contacts => {
+            let traits = ContactTraits {
+                trig: quote!(FloatingTrig<#n>),
+                forward_dynamics: quote!(FloatingForwardDynamics<#n, #nv, #p>),
+                frames: quote!(FloatingFrameKinematics<#n, #nv>),
+            };
+            contact_implementation(model, ty, &traits, methods)
+        }
+        FunctionGroup::Regressors | FunctionGroup::ForwardDynamics | FunctionGroup::Derivatives => {
+            let name = format_ident!("{}", group.floating_trait_name().expect("a floating trait"));
+            quote! {
+                impl #name<#n, #nv, #p> for #ty {
+                    #(#methods)*
+                }
             }
-        },
-        other => unreachable!("a floating-base module has no trait of its own for {other}"),
+        }
     }
 }
 
@@ -166,17 +150,19 @@ fn constants(model: &Model, robot: &SymbolicRobot) -> TokenStream {
     let parameter_names = crate::dynamics::FloatingDynamics::parameter_names(model);
     let base = &robot.base;
     let base_names = base.names.iter().map(String::as_str);
+    // The trait is linked only where the module implements (and so imports) it.
+    let trait_name = match robot.functions.contains(FunctionGroup::BaseParameters) {
+        true => "[`FloatingBaseParameters`]",
+        false => "`FloatingBaseParameters`",
+    };
     let count_doc = format!(
-        " Number of base parameters (the `B` of [`FloatingBaseParameters`]): {} of {}.",
+        " Number of base parameters (the `B` of {trait_name}): {} of {}.",
         base.count(),
         parameter_names.len()
     );
-    let contacts = match robot.functions.contains(FunctionGroup::Contacts) {
-        true => quote!(
-            use dyngen_runtime::{ContactDynamics, ContactKind};
-        ),
-        false => quote!(),
-    };
+    let (nalgebra_items, runtime_items) = imports(&robot.functions);
+    let nalgebra_items = nalgebra_items.into_iter().map(|item| format_ident!("{item}"));
+    let runtime_items = runtime_items.into_iter().map(|item| format_ident!("{item}"));
     let [n, nv, nq, p, b] = [
         model.dof(),
         model.nv(),
@@ -186,12 +172,8 @@ fn constants(model: &Model, robot: &SymbolicRobot) -> TokenStream {
     ]
     .map(Literal::usize_unsuffixed);
     quote! {
-        use dyngen_runtime::nalgebra::{ArrayStorage, Matrix3, SMatrix, SVector, Vector3};
-        use dyngen_runtime::{
-            ConfigurationError, FloatingBaseDynamics, FloatingBaseParameters, FloatingDynamicsDerivatives,
-            FloatingFrameKinematics, FloatingTrig, JointLimits, Pose, ReferenceFrame, RobotFrame,
-        };
-        #contacts
+        use dyngen_runtime::nalgebra::{#(#nalgebra_items),*};
+        use dyngen_runtime::{#(#runtime_items),*};
 
         /// Number of moving joints.
         pub const DOF: usize = #n;
@@ -214,14 +196,32 @@ fn constants(model: &Model, robot: &SymbolicRobot) -> TokenStream {
     }
 }
 
+/// What the module imports from `nalgebra` and from `dyngen-runtime`: the data types its chosen
+/// groups use, and their traits (an unused import would be a warning in the user's build).
+fn imports(functions: &Functions) -> (Vec<&'static str>, Vec<&'static str>) {
+    let mut nalgebra = vec!["ArrayStorage", "SMatrix", "SVector"];
+    let mut runtime = vec!["ConfigurationError", "FloatingTrig", "JointLimits"];
+    runtime.extend(functions.groups().filter_map(FunctionGroup::floating_trait_name));
+    if functions.contains(FunctionGroup::Frames) {
+        nalgebra.extend(["Matrix3", "Vector3"]);
+        runtime.extend(["Pose", "ReferenceFrame", "RobotFrame"]);
+    }
+    if functions.contains(FunctionGroup::Contacts) {
+        runtime.push("ContactKind");
+    }
+    nalgebra.sort_unstable();
+    runtime.sort_unstable();
+    runtime.dedup();
+    (nalgebra, runtime)
+}
+
 /// The module's types, `trig`, and the robot type.
-fn types(model: &Model, ty: &Ident) -> TokenStream {
-    let type_doc = format!(
-        " `{}` on a floating base: implements [`FloatingBaseDynamics`], \
-         [`FloatingBaseParameters`], [`FloatingDynamicsDerivatives`] and \
-         [`FloatingFrameKinematics`] with flattened, allocation-free code.",
-        model.name()
-    );
+fn types(model: &Model, functions: &Functions, ty: &Ident) -> TokenStream {
+    let traits: Vec<String> = (functions.groups())
+        .filter_map(FunctionGroup::floating_trait_name)
+        .map(str::to_owned)
+        .collect();
+    let type_doc = type_doc(&format!("`{}` on a floating base", model.name()), &traits);
     quote! {
         /// The configuration prepared for every function: base pose and joint sines and cosines.
         pub type Trig = FloatingTrig<DOF>;

@@ -92,18 +92,16 @@ pub const SIZES: Sizes = Sizes {
     unrolled_fill_bytes: UNROLLED_FILL_BYTES,
 };
 
-/// The complete generated module of a fixed-base `model`, formatted. The module declaration
-/// that includes it carries the lint allows of [`MODULE_ATTRIBUTES`].
+/// The complete generated module of `model` (fixed or floating base), formatted. The module
+/// declaration that includes it carries the lint allows of [`MODULE_ATTRIBUTES`].
 pub fn emit(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> String {
     emit_with(model, robot, provenance, &SIZES)
 }
 
 /// [`emit`] with other [`Sizes`] than [`SIZES`] (tests split small robots' functions in chunks).
 pub fn emit_with(model: &Model, robot: &SymbolicRobot, provenance: &Provenance, sizes: &Sizes) -> String {
-    fixed::module(model, robot, provenance, sizes)
-}
-
-/// The complete generated module of a floating-base `model`, formatted.
-pub fn emit_floating(model: &Model, robot: &SymbolicRobot, provenance: &Provenance) -> String {
-    floating::module(model, robot, provenance, &SIZES)
+    match model.floating_base() {
+        Some(_) => floating::module(model, robot, provenance, sizes),
+        None => fixed::module(model, robot, provenance, sizes),
+    }
 }

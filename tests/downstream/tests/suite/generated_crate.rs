@@ -166,41 +166,78 @@ fn a_crate_generated_through_the_builder_compiles_and_matches() {
 /// and says how to generate it.
 #[test]
 fn a_missing_group_is_a_compile_error_that_says_how_to_generate_it() {
+    let call = "fn accelerations<R: ForwardDynamics<2, 20>>() -> SVector<f64, 2> {\n    \
+                let t = JointTrig::new(&SVector::zeros());\n    \
+                R::forward_dynamics(&t, &SVector::zeros(), &SVector::zeros())\n}\n";
+    let absent = [
+        "impl Regressors",
+        "impl ForwardDynamics",
+        "impl DynamicsDerivatives",
+        "impl BaseParameters",
+    ];
+    only_kinematics_and_dynamics(false, &absent, call);
+}
+
+/// On a floating base too: the groups mean the same, each its floating trait.
+#[test]
+fn a_floating_base_gets_only_the_groups_it_chose() {
+    let call = "fn accelerations<R: FloatingForwardDynamics<2, 8, 30>>() -> SVector<f64, 8> {\n    \
+                let mut q = [0.0; 9];\n    q[6] = 1.0;\n    \
+                let t = FloatingTrig::from_configuration(&q).unwrap();\n    \
+                R::forward_dynamics(&t, &SVector::zeros(), &SVector::zeros())\n}\n";
+    let absent = [
+        "impl FloatingRegressors",
+        "impl FloatingForwardDynamics",
+        "impl FloatingDynamicsDerivatives",
+        "impl FloatingBaseParameters",
+        "impl FloatingFrameKinematics",
+    ];
+    only_kinematics_and_dynamics(true, &absent, call);
+}
+
+/// The 2-DOF arm generated with kinematics and dynamics only (on a floating base if
+/// `floating`) has none of the implementations `absent`, builds without a warning, and
+/// `accelerations`, which calls forward dynamics, fails to build with a message that names the
+/// group and how to add it.
+fn only_kinematics_and_dynamics(floating: bool, absent: &[&str], accelerations: &str) {
     let root = workspace_root();
     let description = root.join("codegen/tests/data/example-robot-data/asr_twodof_description/TwoDofs.urdf");
     let dir = tempfile::tempdir().expect("temp dir");
     let krate = dir.path();
     std::fs::create_dir_all(krate.join("src")).expect("src");
     std::fs::create_dir_all(krate.join("examples")).expect("examples");
-    Builder::new(&description)
+    let builder = Builder::new(&description)
         .output_file(krate.join("src/robot.rs"))
         .cargo_directives(false)
-        .functions(&[])
-        .compile()
-        .unwrap_or_else(|e| panic!("{e}"));
+        .functions(&[]);
+    let builder = match floating {
+        true => builder.floating_base(),
+        false => builder,
+    };
+    builder.compile().unwrap_or_else(|e| panic!("{e}"));
     let code = std::fs::read_to_string(krate.join("src/robot.rs")).expect("generated");
-    for absent in [
-        "impl Regressors",
-        "impl ForwardDynamics",
-        "impl DynamicsDerivatives",
-        "impl BaseParameters",
-    ] {
+    for absent in absent {
         assert!(!code.contains(absent), "{absent} generated without being chosen");
     }
-    write_crate(krate, "generated-two-dof-dynamics-only", &["robot"]);
+    let name = match floating {
+        true => "generated-two-dof-floating-dynamics-only",
+        false => "generated-two-dof-dynamics-only",
+    };
+    write_crate(krate, name, &["robot"]);
     let (success, _, stderr) = cargo(krate, &["build", "--lib"]);
     assert!(
         success,
         "kinematics and dynamics alone do not build cleanly:\n{stderr}"
     );
 
+    let library = name.replace('-', "_");
     std::fs::write(
         krate.join("examples/needs_forward_dynamics.rs"),
-        "use dyngen_runtime::nalgebra::SVector;\nuse dyngen_runtime::prelude::*;\n\
-         use generated_two_dof_dynamics_only::robot::Robot;\n\n\
-         fn accelerations<R: ForwardDynamics<2, 20>>() -> SVector<f64, 2> {\n    \
-         let t = JointTrig::new(&SVector::zeros());\n    R::forward_dynamics(&t, &SVector::zeros(), &SVector::zeros())\n}\n\n\
-         fn main() {\n    println!(\"{}\", accelerations::<Robot>());\n}\n",
+        format!(
+            "use dyngen_runtime::nalgebra::SVector;\nuse dyngen_runtime::prelude::*;\n\
+             use {library}::robot::Robot;\n\n{accelerations}\n\
+             fn main() {{\n    println!(\"{{}}\", accelerations::<Robot>());\n}}\n"
+        ),
     )
     .expect("example");
     let (success, _, stderr) = cargo(krate, &["build", "--example", "needs_forward_dynamics"]);
