@@ -1,5 +1,6 @@
 //! From a model to Rust source: trace the algorithms symbolically, then emit.
 
+mod code_size;
 mod crate_dir;
 pub(crate) mod emit;
 mod hash;
@@ -11,12 +12,11 @@ mod trace_contacts;
 pub(crate) mod trace_floating;
 
 pub use crate::symbolic::OpCounts;
+pub use code_size::{estimate as estimate_code_size, CodeSize, MAX_GENERATED_BYTES};
 pub use crate_dir::{descriptions_in, generate_into_crate, CrateReport, Mode, RobotReport};
 pub(crate) use output::is_generated;
 pub use output::{check_file, write_file, WriteOutcome};
-pub use robot_file::{
-    generate_robot, generate_robot_with, GenerateError, GeneratedRobot, GENERATED_MARKER, MAX_GENERATED_DOF,
-};
+pub use robot_file::{generate_robot, generate_robot_with, GenerateError, GeneratedRobot, GENERATED_MARKER};
 
 // The naming rule every front end shares (the build-script API, `dyngen gen`, `dyngen info`,
 // `cargo xtask gen`): a description's file stem gives the module, the module the type.

@@ -5,6 +5,7 @@
 mod base_parameters;
 mod build_script_api;
 mod builder_output_file;
+mod code_size;
 mod constrained_oracles;
 mod constrained_reference;
 mod contact_descriptions;

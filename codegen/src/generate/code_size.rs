@@ -1,0 +1,110 @@
+//! How large a robot's generated module will be, estimated from the shape of its tree before
+//! anything is traced: what decides whether dyngen generates it at all.
+//!
+//! Flattened code grows with the entries a function computes and with the work behind each
+//! entry, which the tree's shape fixes: `D` and `C` have an entry per pair of joints one of which
+//! carries the other, `D⁻¹` and forward dynamics one per pair of joints with a common ancestor
+//! costing as many terms as they share, a frame's functions as many columns as joints carry
+//! it, a regressor as many entries as (row, body) pairs where the row's joint carries the body.
+//! The coefficients (bytes of Rust per such pair) were fitted on generated modules of chains
+//! of 24, 32 and 64 joints, the G1 humanoid and TIAGo Dual (101 joints), and hold within a
+//! factor of two of the bytes written for those and this repository's robots
+//! (`codegen/tests/suite/code_size.rs`), which is what a guard needs. A joint count alone is no guard: a
+//! 64-joint chain writes 43 MB where a 101-joint mobile manipulator, whose arms and fingers
+//! branch off a short trunk, writes 12 MB.
+
+use crate::model::Model;
+use crate::{FunctionGroup, Functions};
+
+/// The largest module dyngen writes: beyond it, tracing needs gigabytes and compiling the code
+/// takes longer than anyone waits (a loaded model may have thousands of joints).
+pub const MAX_GENERATED_BYTES: usize = 100_000_000;
+
+/// The estimated bytes of Rust of each chosen group's functions.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CodeSize {
+    pub by_group: Vec<(FunctionGroup, usize)>,
+}
+
+impl CodeSize {
+    /// The whole module.
+    pub fn total(&self) -> usize {
+        self.by_group.iter().map(|(_, bytes)| bytes).sum()
+    }
+
+    /// The group of the most code.
+    pub fn largest(&self) -> Option<(FunctionGroup, usize)> {
+        self.by_group.iter().copied().max_by_key(|&(_, bytes)| bytes)
+    }
+}
+
+/// The sums over the tree that the sizes follow (on a floating base the base counts as six
+/// joints carrying every other).
+struct TreeShape {
+    /// Velocity coordinates.
+    nv: usize,
+    /// Ordered pairs of joints one of which carries the other (the entries of `D` that are not
+    /// zero).
+    related_pairs: usize,
+    /// `Σ` over ordered pairs of joints of the joints carrying both: `Σ_k size(k)²` over the
+    /// subtrees.
+    shared_ancestors: usize,
+    /// `Σ` over bodies of the joints carrying it (the nonzero row blocks of a regressor).
+    carried: usize,
+    /// `Σ` over the named frames of the joints carrying it.
+    frame_depths: usize,
+    /// The end-effector's.
+    end_effector_depth: usize,
+}
+
+impl TreeShape {
+    fn of(model: &Model) -> TreeShape {
+        let joints = model.joints();
+        let n = joints.len();
+        let base = if model.floating_base().is_some() { 6 } else { 0 };
+        // Joints come in topological order: a parent before its children.
+        let mut depth = vec![0usize; n];
+        for (k, joint) in joints.iter().enumerate() {
+            depth[k] = 1 + joint.parent.map_or(0, |p| depth[p]);
+        }
+        let mut subtree = vec![1usize; n];
+        for k in (0..n).rev() {
+            if let Some(p) = joints[k].parent {
+                subtree[p] += subtree[k];
+            }
+        }
+        let carried_by = |body: Option<usize>| base + body.map_or(0, |b| depth[b]);
+        TreeShape {
+            nv: model.nv(),
+            related_pairs: depth.iter().map(|d| 2 * d - 1).sum::<usize>() + base * (2 * n + base),
+            shared_ancestors: subtree.iter().map(|s| s * s).sum::<usize>() + base * n * n,
+            carried: depth.iter().map(|d| d + base).sum(),
+            frame_depths: model.frames().iter().map(|f| carried_by(f.parent)).sum(),
+            end_effector_depth: carried_by(Some(model.end_effector_body())),
+        }
+    }
+}
+
+/// What every group writes whatever the robot: signatures, docs, the `_into` forms, the kernel
+/// plumbing of each function.
+const PER_GROUP: usize = 150_000;
+
+/// The estimated size of `model`'s module with the groups `functions`.
+pub fn estimate(model: &Model, functions: Functions) -> CodeSize {
+    let shape = TreeShape::of(model);
+    let by_group = (functions.groups())
+        .map(|group| {
+            let bytes = match group {
+                FunctionGroup::Kinematics => 9_000 * shape.end_effector_depth,
+                FunctionGroup::Dynamics => 1_850 * shape.related_pairs,
+                FunctionGroup::Regressors | FunctionGroup::BaseParameters => 7_000 * shape.carried,
+                FunctionGroup::ForwardDynamics => 370 * shape.shared_ancestors + 1_000 * shape.related_pairs,
+                FunctionGroup::Derivatives => 3_500 * shape.nv * shape.nv + 100 * shape.shared_ancestors,
+                FunctionGroup::Frames => 23_000 * shape.frame_depths,
+                FunctionGroup::Contacts => 2_000 * model.contact_rows() * shape.nv,
+            };
+            (group, PER_GROUP + bytes)
+        })
+        .collect();
+    CodeSize { by_group }
+}
