@@ -70,7 +70,7 @@ mod trig_fused;
 mod version;
 
 pub use contacts::{
-    constrained_forward_dynamics, constrained_forward_dynamics_derivatives, contact_inertia,
+    assemble_derivatives, constrained_forward_dynamics, constrained_forward_dynamics_derivatives, contact_inertia,
     impulse_dynamics, operational_space_inertia, placement_error, solve_contacts,
     ConstrainedDerivatives, ContactDynamics, ContactError, ContactKind, ContactSolution,
     ProximalSettings, Stabilisation,

@@ -7,6 +7,7 @@ mod build_script_api;
 mod builder_output_file;
 mod constrained_oracles;
 mod constrained_reference;
+mod contact_derivatives;
 mod contact_descriptions;
 mod derivative_stages;
 mod description_errors;

@@ -9,7 +9,7 @@
 //! generates `Y` for every direction of `q` and `ν` at once
 //! ([`ContactDynamics::contact_forward_dynamics_derivatives`], `M⁻¹` applied through its tree
 //! factor) and `∂(J a + drift)/∂x` ([`ContactDynamics::contact_acceleration_derivatives`]);
-//! here `K` is factored once and every column solved with it. Along `τ`, `Ḟ = −I`, `Ġ = 0`:
+//! [`assemble_derivatives`] factors `K` once and solves every column with it. Along `τ`, `Ḟ = −I`, `Ġ = 0`:
 //! `∂λ/∂τ = −K⁻¹ (M⁻¹ Jᵀ)ᵀ`, `∂a/∂τ = M⁻¹ + M⁻¹ Jᵀ ∂λ/∂τ`.
 //!
 //! The Baumgarte terms: `K_d J ν` adds `K_d ∂(J ν)/∂q` (the rows' acceleration taken at
@@ -58,10 +58,7 @@ pub fn constrained_forward_dynamics_derivatives<
 ) -> Result<ConstrainedDerivatives<Const<NV>, Const<NC>>, ContactError> {
     let (a, lambda) = (&solution.acceleration, &solution.forces);
     let jacobian = R::contact_jacobian(t);
-    let response = R::contact_response(t);
-    let lower = factor(&jacobian, &response, 0.0)?;
-    let (y_q, y_v) = R::contact_forward_dynamics_derivatives(t, v, a, lambda);
-    let (mut g_q, mut g_v) = match stabilisation {
+    let acceleration = match stabilisation {
         None => R::contact_acceleration_derivatives(t, v, a),
         Some(s) => {
             let kinds = R::CONTACT_KINDS.iter();
@@ -70,34 +67,53 @@ pub fn constrained_forward_dynamics_derivatives<
                     "the derivatives of a stabilised frame contact (its error is a log₆) are not computed",
                 ));
             }
-            let (mut g_q, mut g_v) = R::contact_acceleration_derivatives(t, v, &(a + v * s.kd));
-            g_v += &jacobian * s.kd;
-            g_q += error_derivatives::<R, NV, NC>(t, &jacobian, &s)? * s.kp;
-            (g_q, g_v)
+            let (g_q, g_v) = R::contact_acceleration_derivatives(t, v, &(a + v * s.kd));
+            let error = error_derivatives::<R, NV, NC>(t, &jacobian, &s)?;
+            (g_q + error * s.kp, g_v + &jacobian * s.kd)
         }
     };
-    // `λ̇ = −K⁻¹ (Ġ + J Y)`, `ȧ = Y + M⁻¹ Jᵀ λ̇`, column by column on the one factor.
-    let forces = |g: &mut SMatrix<f64, NC, NV>| {
-        for c in 0..NV {
+    assemble_derivatives(
+        &jacobian,
+        &R::contact_response(t),
+        R::torque_response(t),
+        R::contact_forward_dynamics_derivatives(t, v, a, lambda),
+        acceleration,
+    )
+}
+
+/// The derivatives from their pieces, for any sizes (module docs): the rows `J`, `M⁻¹ Jᵀ`,
+/// `M⁻¹`, `Y = −M⁻¹ ∂F/∂x` and `∂G/∂x` (Baumgarte terms included), each pair along `q` then
+/// `ν`. Refused where the rows are redundant.
+pub fn assemble_derivatives<NV: Dim, NC: Dim>(
+    jacobian: &OMatrix<f64, NC, NV>,
+    response: &OMatrix<f64, NV, NC>,
+    torque_response: OMatrix<f64, NV, NV>,
+    (y_q, y_v): (OMatrix<f64, NV, NV>, OMatrix<f64, NV, NV>),
+    (g_q, g_v): (OMatrix<f64, NC, NV>, OMatrix<f64, NC, NV>),
+) -> Result<ConstrainedDerivatives<NV, NC>, ContactError>
+where
+    DefaultAllocator: Allocator<NC, NC> + Allocator<NC, NV> + Allocator<NV, NC> + Allocator<NV, NV> + Allocator<NC>,
+{
+    let lower = factor(jacobian, response, 0.0)?;
+    // `λ̇ = −K⁻¹ (Ġ + J Y)` column by column on the one factor.
+    let forces = |mut g: OMatrix<f64, NC, NV>| {
+        for c in 0..g.ncols() {
             let mut column = -g.column(c);
             dense::solve_in_place(&lower, &mut column);
             g.set_column(c, &column);
         }
+        g
     };
-    g_q += &jacobian * &y_q;
-    g_v += &jacobian * &y_v;
-    forces(&mut g_q);
-    forces(&mut g_v);
-    let torque_response = R::torque_response(t);
-    // Along `τ`: `Ġ + J Y = J M⁻¹ (−Ḟ) = (M⁻¹ Jᵀ)ᵀ`.
-    let mut forces_tau = response.transpose();
-    forces(&mut forces_tau);
+    let forces_q = forces(g_q + jacobian * &y_q);
+    let forces_v = forces(g_v + jacobian * &y_v);
+    // Along `τ`: `Ġ + J Y = J M⁻¹ = (M⁻¹ Jᵀ)ᵀ`.
+    let forces_tau = forces(response.transpose());
     Ok(ConstrainedDerivatives {
-        acceleration_q: y_q + &response * &g_q,
-        acceleration_v: y_v + &response * &g_v,
-        acceleration_tau: torque_response + &response * &forces_tau,
-        forces_q: g_q,
-        forces_v: g_v,
+        acceleration_q: y_q + response * &forces_q,
+        acceleration_v: y_v + response * &forces_v,
+        acceleration_tau: torque_response + response * &forces_tau,
+        forces_q,
+        forces_v,
         forces_tau,
     })
 }
