@@ -19,8 +19,8 @@
 
 use super::trace_contacts::ContactState;
 use crate::dynamics::constrained::{constraint_rows, ConstraintRows, ContactMotion};
-use crate::dynamics::floating::{self as algorithms, FloatingBase};
 use crate::dynamics::derivatives::{lift_factor, minus_solved};
+use crate::dynamics::floating::{self as algorithms, FloatingBase};
 use crate::dynamics::tree_ldl::TreeLdl;
 use crate::dynamics::{self, Directions, FrameMotion, Placements};
 use crate::model::{JointTermValues, Model};
@@ -64,7 +64,11 @@ enum Direction {
 }
 
 /// Both rows (module docs), `forces` the inputs `λ`.
-pub(super) fn contact_derivatives(model: &Model, state: &ContactState<'_>, forces: &[Expr]) -> ContactDerivatives {
+pub(super) fn contact_derivatives(
+    model: &Model,
+    state: &ContactState<'_>,
+    forces: &[Expr],
+) -> ContactDerivatives {
     let nv = state.qd.len();
     let rows = model.contact_rows();
     let (mut id_q, id_v) = inverse_dynamics_derivatives(model, state);
@@ -219,7 +223,9 @@ fn seeded_pose(pose: &Transform<Expr>, lane: impl Fn(usize) -> Option<LaneExpr>)
                 let entry = (0..3)
                     .map(|l| (l, levi_civita(l, e, j)))
                     .filter(|&(_, s)| s != 0.0)
-                    .fold(<Expr as Scalar>::zero(), |acc, (l, s)| acc + Expr::from_f64(s) * r[i][l]);
+                    .fold(<Expr as Scalar>::zero(), |acc, (l, s)| {
+                        acc + Expr::from_f64(s) * r[i][l]
+                    });
                 Some(lane.scale(entry))
             }));
             Dual {

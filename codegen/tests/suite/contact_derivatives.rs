@@ -107,12 +107,18 @@ fn check_floating(robot: &str, urdf: &str) {
             solved.forces.as_slice(),
         )
         .unwrap_or_else(|e| panic!("{}: {e}", what("assembled")));
-        let generic = (dynamics.constrained_forward_dynamics_derivatives(&s, &v, &tau, &contacts, None)).unwrap();
+        let generic =
+            (dynamics.constrained_forward_dynamics_derivatives(&s, &v, &tau, &contacts, None)).unwrap();
         let expected = &st["forward"]["plain"];
         for ((field, mine), (_, theirs)) in fields(&ours).into_iter().zip(fields(&generic)) {
             assert_close(&what(&format!("{field} (generic)")), mine, theirs, TOL_GENERIC);
             let pinocchio = order.matrix(&matrix(&expected[field]), field.starts_with("ddq"), true);
-            assert_close(&what(&format!("{field} (Pinocchio)")), mine, &pinocchio, TOL_FIXTURE);
+            assert_close(
+                &what(&format!("{field} (Pinocchio)")),
+                mine,
+                &pinocchio,
+                TOL_FIXTURE,
+            );
         }
     }
 }
@@ -180,11 +186,17 @@ fn loops_held_as_frames_match_the_generic_dynamics_and_pinocchio() {
                 solved.forces.as_slice(),
             )
             .unwrap();
-            let generic = (dynamics.constrained_forward_dynamics_derivatives(&q, &v, &tau, contacts, None)).unwrap();
+            let generic =
+                (dynamics.constrained_forward_dynamics_derivatives(&q, &v, &tau, contacts, None)).unwrap();
             for ((field, mine), (_, theirs)) in fields(&ours).into_iter().zip(fields(&generic)) {
                 assert_close(&what(&format!("{field} (generic)")), mine, theirs, TOL_GENERIC);
                 let pinocchio = matrix(&st["forward"]["plain"][field]);
-                assert_close(&what(&format!("{field} (Pinocchio)")), mine, &pinocchio, TOL_FIXTURE);
+                assert_close(
+                    &what(&format!("{field} (Pinocchio)")),
+                    mine,
+                    &pinocchio,
+                    TOL_FIXTURE,
+                );
             }
             checked += 1;
         }

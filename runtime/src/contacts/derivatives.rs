@@ -92,7 +92,8 @@ pub fn assemble_derivatives<NV: Dim, NC: Dim>(
     (g_q, g_v): (OMatrix<f64, NC, NV>, OMatrix<f64, NC, NV>),
 ) -> Result<ConstrainedDerivatives<NV, NC>, ContactError>
 where
-    DefaultAllocator: Allocator<NC, NC> + Allocator<NC, NV> + Allocator<NV, NC> + Allocator<NV, NV> + Allocator<NC>,
+    DefaultAllocator:
+        Allocator<NC, NC> + Allocator<NC, NV> + Allocator<NV, NC> + Allocator<NV, NV> + Allocator<NC>,
 {
     let lower = factor(jacobian, response, 0.0)?;
     // `λ̇ = −K⁻¹ (Ġ + J Y)` column by column on the one factor.

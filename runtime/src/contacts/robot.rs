@@ -125,7 +125,11 @@ pub(super) fn placement_errors<'a, R: ContactDynamics<NV, NC>, const NV: usize, 
                 // Counted above: one anchor per contact with the world.
                 None => anchors.next().copied().unwrap_or_else(Pose::identity),
             };
-            (k, row, placement_error(kind, reference, &R::contact_pose(t, k), &anchor))
+            (
+                k,
+                row,
+                placement_error(kind, reference, &R::contact_pose(t, k), &anchor),
+            )
         }))
 }
 

@@ -52,46 +52,43 @@ pub(super) fn contact_implementation(
     let frames_trait = &traits.frames;
     // `match contact` over each contact's frame, `of(frame)` what the frame gives (`None`: no
     // frame, `otherwise`); past the last, the last's.
-    let per_contact = |frames: &[Option<usize>],
-                       of: &dyn Fn(&Ident) -> TokenStream,
-                       otherwise: TokenStream| {
-        let (last, others) = frames.split_last().expect("a robot with contacts");
-        let arms: Vec<TokenStream> = (others.iter().enumerate())
-            .map(|(k, f)| {
-                let k = Literal::usize_unsuffixed(k);
-                let value = match f {
-                    Some(f) => of(&variants[*f]),
-                    None => otherwise.clone(),
-                };
-                quote!(#k => #value,)
-            })
-            .collect();
-        let last = match last {
-            Some(f) => of(&variants[*f]),
-            None => otherwise.clone(),
+    let per_contact =
+        |frames: &[Option<usize>], of: &dyn Fn(&Ident) -> TokenStream, otherwise: TokenStream| {
+            let (last, others) = frames.split_last().expect("a robot with contacts");
+            let arms: Vec<TokenStream> = (others.iter().enumerate())
+                .map(|(k, f)| {
+                    let k = Literal::usize_unsuffixed(k);
+                    let value = match f {
+                        Some(f) => of(&variants[*f]),
+                        None => otherwise.clone(),
+                    };
+                    quote!(#k => #value,)
+                })
+                .collect();
+            let last = match last {
+                Some(f) => of(&variants[*f]),
+                None => otherwise.clone(),
+            };
+            match (frames.iter().any(Option::is_some), arms.is_empty()) {
+                (true, false) => quote! {
+                    match contact {
+                        #(#arms)*
+                        _ => #last,
+                    }
+                },
+                // One frame for every contact (a robot with one contact): no `match`.
+                (true, true) => quote! {
+                    let _ = contact;
+                    #last
+                },
+                (false, _) => quote! {
+                    let _ = (t, contact);
+                    #otherwise
+                },
+            }
         };
-        match (frames.iter().any(Option::is_some), arms.is_empty()) {
-            (true, false) => quote! {
-                match contact {
-                    #(#arms)*
-                    _ => #last,
-                }
-            },
-            // One frame for every contact (a robot with one contact): no `match`.
-            (true, true) => quote! {
-                let _ = contact;
-                #last
-            },
-            (false, _) => quote! {
-                let _ = (t, contact);
-                #otherwise
-            },
-        }
-    };
     let pose = |variant: &Ident| quote!(<Self as #frames_trait>::frame_pose(Frame::#variant, t));
-    let local_jacobian = |variant: &Ident| {
-        quote!(<Self as #frames_trait>::frame_jacobian(Frame::#variant, ReferenceFrame::Local, t))
-    };
+    let local_jacobian = |variant: &Ident| quote!(<Self as #frames_trait>::frame_jacobian(Frame::#variant, ReferenceFrame::Local, t));
     let held: Vec<Option<usize>> = contacts.iter().map(|c| Some(c.frame)).collect();
     let held_to: Vec<Option<usize>> = contacts.iter().map(|c| c.to).collect();
     let identity = quote!(Pose::identity());
