@@ -116,7 +116,15 @@ fn kinds(sizes: &Sizes, functions: &Functions) -> Vec<QuantityKind> {
             .filter(|k| !k.is_per_frame() && generated(k))
             .collect(),
     };
-    let contacts = QuantityKind::CONTACTS.into_iter().filter(generated);
+    // The derivatives' pieces are what the runtime's `constrained_forward_dynamics_derivatives`
+    // assembles; the library exports the runtime's solves, not that assembly yet, so not them.
+    let pieces = [
+        QuantityKind::ContactForwardDynamicsDerivatives,
+        QuantityKind::ContactAccelerationDerivatives,
+    ];
+    let contacts = (QuantityKind::CONTACTS.into_iter())
+        .filter(generated)
+        .filter(|k| !pieces.contains(k));
     one_state.into_iter().chain(contacts).chain(per_frame).collect()
 }
 
