@@ -11,10 +11,9 @@
 
 use dyngen_testkit as common;
 
+use common::assert_close;
 use common::fixture::{matrix, vector};
 use common::floating_fixture::{self, Order};
-use common::{assert_close, workspace_root};
-use dyngen_codegen::description::{self, Choices, FrameSelection, FrameSpec};
 use dyngen_codegen::dynamics::{ConstrainedDerivatives, FloatingDynamics, NumericDynamics};
 use dyngen_codegen::internals::generate::{trace, trace_floating, Arguments, SymbolicRobot};
 use dyngen_codegen::model::Model;
@@ -75,18 +74,7 @@ fn fields(d: &ConstrainedDerivatives) -> [(&'static str, &DMatrix<f64>); 6] {
 
 fn check_floating(robot: &str, urdf: &str) {
     let fx = floating_fixture::load_constrained(robot);
-    let frames = (fx["contacts"].as_array().unwrap().iter())
-        .map(|c| FrameSpec::link(c["frame"].as_str().unwrap()))
-        .collect();
-    let choices = Choices {
-        floating_base: true,
-        frames: FrameSelection::Listed(frames),
-        ..Choices::default()
-    };
-    let path = workspace_root()
-        .join("codegen/tests/data/example-robot-data")
-        .join(urdf);
-    let loaded = description::load_with(&path, &choices).unwrap_or_else(|e| panic!("{e}"));
+    let loaded = crate::constrained_reference::load(urdf, &fx);
     let contacts = floating_fixture::contacts(&loaded.model, &fx);
     let model = loaded.model.clone().with_contacts(contacts.clone()).unwrap();
     let order = Order::new(&model, &fx);
@@ -134,28 +122,12 @@ fn g1_on_two_flat_feet_matches_the_generic_dynamics_and_pinocchio() {
 }
 
 fn loop_fixture(name: &str) -> Value {
-    let path = workspace_root().join(format!("codegen/tests/fixtures/constrained/{name}.json"));
-    serde_json::from_str(&std::fs::read_to_string(path).unwrap()).unwrap()
+    crate::loop_closures::fixture(name)
 }
 
 /// Mechanism `name` with every frame its fixture's sets name, and set `k`'s contacts.
 fn loop_model(name: &str, fx: &Value, k: usize) -> Model {
-    let mut frames: Vec<String> = Vec::new();
-    for set in fx["sets"].as_array().unwrap() {
-        for c in set["contacts"].as_array().unwrap() {
-            for key in ["frame", "to"] {
-                if let Some(frame) = c[key].as_str().filter(|f| !frames.iter().any(|g| g == f)) {
-                    frames.push(frame.to_owned());
-                }
-            }
-        }
-    }
-    let choices = Choices {
-        frames: FrameSelection::Listed(frames.iter().map(FrameSpec::link).collect()),
-        ..Choices::default()
-    };
-    let path = workspace_root().join(format!("codegen/tests/data/loops/{name}.urdf"));
-    let loaded = description::load_with(&path, &choices).unwrap_or_else(|e| panic!("{e}"));
+    let loaded = crate::loop_closures::load(name, fx);
     let contacts = floating_fixture::contacts(&loaded.model, &fx["sets"][k]);
     loaded.model.with_contacts(contacts).unwrap()
 }
