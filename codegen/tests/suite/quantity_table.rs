@@ -184,7 +184,14 @@ fn the_floating_traits_declare_what_a_floating_robot_is_traced_with() {
         "FloatingFrameKinematics against the frame functions"
     );
     let mut expected = names(contacts);
-    expected.extend(["free_acceleration", "contact_pose", "contact_to_pose"].map(String::from));
+    let delegated = [
+        "free_acceleration",
+        "torque_response",
+        "contact_pose",
+        "contact_to_pose",
+        "contact_local_jacobian",
+    ];
+    expected.extend(delegated.map(String::from));
     assert_eq!(
         trait_methods("contacts/robot.rs", "ContactDynamics"),
         expected,
