@@ -69,7 +69,7 @@ pub fn constrained_forward_dynamics_derivatives<
             }
             let (g_q, g_v) = R::contact_acceleration_derivatives(t, v, &(a + v * s.kd));
             let error = error_derivatives::<R, NV, NC>(t, &jacobian, &s)?;
-            (g_q + error * s.kp, g_v + &jacobian * s.kd)
+            (g_q + error * s.kp, g_v + jacobian * s.kd)
         }
     };
     assemble_derivatives(
