@@ -71,9 +71,10 @@ mod trig_fused;
 mod version;
 
 pub use contacts::{
-    constrained_forward_dynamics, contact_inertia, impulse_dynamics, operational_space_inertia,
-    placement_error, solve_contacts, ContactDynamics, ContactError, ContactKind, ContactSolution,
-    ProximalSettings, Stabilisation,
+    assemble_derivatives, constrained_forward_dynamics, constrained_forward_dynamics_derivatives,
+    contact_inertia, impulse_dynamics, operational_space_inertia, placement_error, solve_contacts,
+    ConstrainedDerivatives, ContactDynamics, ContactError, ContactKind, ContactSolution, ProximalSettings,
+    Stabilisation,
 };
 pub use floating::{BasePose, NonUnitQuaternion, QUATERNION_NORM_TOLERANCE};
 pub use floating_robot::{

@@ -116,7 +116,15 @@ fn kinds(sizes: &Sizes, functions: &Functions) -> Vec<QuantityKind> {
             .filter(|k| !k.is_per_frame() && generated(k))
             .collect(),
     };
-    let contacts = QuantityKind::CONTACTS.into_iter().filter(generated);
+    // The derivatives' pieces are what the runtime's `constrained_forward_dynamics_derivatives`
+    // assembles; the library exports the runtime's solves, not that assembly yet, so not them.
+    let pieces = [
+        QuantityKind::ContactForwardDynamicsDerivatives,
+        QuantityKind::ContactAccelerationDerivatives,
+    ];
+    let contacts = (QuantityKind::CONTACTS.into_iter())
+        .filter(generated)
+        .filter(|k| !pieces.contains(k));
     one_state.into_iter().chain(contacts).chain(per_frame).collect()
 }
 
@@ -242,6 +250,12 @@ fn input(kind: QuantityKind, arg: Arg, args: &[Arg], sizes: &Sizes) -> Array {
             "the standard parameters θ (ten per body, as P_parameters gives them)",
         ),
         Arg::R => Array::new("r", nv, 1, "the vector r that Yᵀ multiplies"),
+        Arg::Forces(len) => Array::new(
+            "lambda",
+            len,
+            1,
+            "the contact forces λ, one per contact row, as the contact solves give them",
+        ),
     }
 }
 
@@ -258,9 +272,9 @@ fn outputs(kind: QuantityKind, shape: Shape) -> Vec<Array> {
         Shape::Vector(n) => vec![Array::new(kind.name(), n, 1, "")],
         Shape::Matrix(rows, cols) => vec![Array::new(kind.name(), rows, cols, "")],
         Shape::Pose => vec![rotation, translation],
-        Shape::MatrixPair(n) => vec![
-            Array::new("d_dq", n, n, "the derivative with respect to q"),
-            Array::new("d_dqd", n, n, "the derivative with respect to q̇"),
+        Shape::MatrixPair(rows, cols) => vec![
+            Array::new("d_dq", rows, cols, "the derivative with respect to q"),
+            Array::new("d_dqd", rows, cols, "the derivative with respect to q̇"),
         ],
         Shape::Kinematics(n) => vec![
             rotation,

@@ -644,7 +644,7 @@ fn state_function(library: &Library, entry: &Entry, s: &Spelled) -> TokenStream 
     let parts = match entry.shape {
         Shape::Vector(_) | Shape::Matrix(..) => vec![quote!(value)],
         Shape::Pose => vec![quote!(value.rotation), quote!(value.translation)],
-        Shape::MatrixPair(_) | Shape::VectorPair(..) => vec![quote!(value.0), quote!(value.1)],
+        Shape::MatrixPair(..) | Shape::VectorPair(..) => vec![quote!(value.0), quote!(value.1)],
         Shape::Kinematics(_) => vec![
             quote!(value.0.rotation),
             quote!(value.0.translation),

@@ -8,6 +8,7 @@ mod output;
 pub(crate) mod quantities;
 mod robot_file;
 pub(crate) mod trace;
+mod trace_contact_derivatives;
 mod trace_contacts;
 pub(crate) mod trace_floating;
 

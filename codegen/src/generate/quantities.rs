@@ -19,6 +19,8 @@ pub enum Arg {
     Theta(usize),
     /// The vector `r` an adaptation law multiplies `Yᵀ` with.
     R,
+    /// The contact forces `λ`, one per contact row (`len` of them).
+    Forces(usize),
 }
 
 /// What a generated function returns.
@@ -30,8 +32,9 @@ pub enum Shape {
     Matrix(usize, usize),
     /// A rotation (3×3, column-major) followed by a translation.
     Pose,
-    /// Two `n × n` matrices (derivatives with respect to `q` and `q̇`), each column-major.
-    MatrixPair(usize),
+    /// Two `rows × cols` matrices (derivatives with respect to `q` and `q̇`), each
+    /// column-major.
+    MatrixPair(usize, usize),
     /// A pose, then `J` and `J̇` (6 × n each, column-major): the kinematics of a control tick.
     Kinematics(usize),
     /// Two vectors, of `n` and of `m` entries (`Y θ` and `Yᵀ r`).
@@ -87,6 +90,8 @@ pub enum QuantityKind {
     ContactJacobian,
     ContactDrift,
     ContactResponse,
+    ContactForwardDynamicsDerivatives,
+    ContactAccelerationDerivatives,
 }
 
 /// A row of the table.
@@ -136,10 +141,12 @@ impl QuantityKind {
     ];
 
     /// The kinds of a robot with contacts (`ContactDynamics`), traced after every other.
-    pub const CONTACTS: [QuantityKind; 3] = [
+    pub const CONTACTS: [QuantityKind; 5] = [
         QuantityKind::ContactJacobian,
         QuantityKind::ContactDrift,
         QuantityKind::ContactResponse,
+        QuantityKind::ContactForwardDynamicsDerivatives,
+        QuantityKind::ContactAccelerationDerivatives,
     ];
 
     fn row(self) -> Row {
@@ -187,6 +194,12 @@ impl QuantityKind {
             QuantityKind::ContactJacobian => row("contact_jacobian", G::Contacts, false),
             QuantityKind::ContactDrift => row("contact_drift", G::Contacts, false),
             QuantityKind::ContactResponse => row("contact_response", G::Contacts, false),
+            QuantityKind::ContactForwardDynamicsDerivatives => {
+                row("contact_forward_dynamics_derivatives", G::Contacts, false)
+            }
+            QuantityKind::ContactAccelerationDerivatives => {
+                row("contact_acceleration_derivatives", G::Contacts, false)
+            }
         }
     }
 
@@ -353,13 +366,23 @@ impl QuantityKind {
                 "D⁻¹ Jᵀ: how the robot accelerates under a unit force in each contact row \
                  (column k: q̈ from the force of row k)"
             }
+            K::ContactForwardDynamicsDerivatives => {
+                "the derivatives ∂q̈/∂q and ∂q̈/∂q̇ of forward dynamics with the contact forces λ \
+                 held, at the acceleration q̈ they give: −D⁻¹ ∂(τ_ID(q, q̇, q̈) − Jᵀ λ)/∂x; on a \
+                 floating base with respect to q in its tangent space"
+            }
+            K::ContactAccelerationDerivatives => {
+                "the derivatives ∂/∂q and ∂/∂q̇ of the contact rows' acceleration J q̈ + drift \
+                 with q̈ held (contact rows × velocity coordinates each); on a floating base with \
+                 respect to q in its tangent space"
+            }
         }
     }
 
     /// The vectors it takes besides the configuration, and what it returns, in the sizes `d`
     /// (`θ`: the base parameters for a function of base columns, else all of them).
     pub fn signature(self, d: Dims) -> (Vec<Arg>, Shape) {
-        use Arg::{Qd, Tau, A, R, V};
+        use Arg::{Forces, Qd, Tau, A, R, V};
         use QuantityKind as K;
         let n = d.n;
         let (theta, p) = match self.uses_base_columns() {
@@ -381,8 +404,8 @@ impl QuantityKind {
                 (vec![Qd, V, A, theta, R], Shape::VectorPair(n, p))
             }
             K::ForwardDynamics => (vec![Qd, Tau], Shape::Vector(n)),
-            K::InverseDynamicsDerivatives => (vec![Qd, A], Shape::MatrixPair(n)),
-            K::ForwardDynamicsDerivatives => (vec![Qd, Tau], Shape::MatrixPair(n)),
+            K::InverseDynamicsDerivatives => (vec![Qd, A], Shape::MatrixPair(n, n)),
+            K::ForwardDynamicsDerivatives => (vec![Qd, Tau], Shape::MatrixPair(n, n)),
             K::Kinematics | K::FrameKinematics => (vec![Qd], Shape::Kinematics(n)),
             K::FrameVelocity => (vec![Qd], Shape::Vector(6)),
             K::FrameClassicalAcceleration => (vec![Qd, A], Shape::Vector(6)),
@@ -391,6 +414,8 @@ impl QuantityKind {
             K::ContactJacobian => (vec![], Shape::Matrix(d.c, n)),
             K::ContactDrift => (vec![Qd], Shape::Vector(d.c)),
             K::ContactResponse => (vec![], Shape::Matrix(n, d.c)),
+            K::ContactForwardDynamicsDerivatives => (vec![Qd, A, Forces(d.c)], Shape::MatrixPair(n, n)),
+            K::ContactAccelerationDerivatives => (vec![Qd, A], Shape::MatrixPair(d.c, n)),
         }
     }
 }

@@ -10,7 +10,8 @@
 //! append-only: what is added is traced after everything else.
 
 use super::quantities::{Arg, Dims, QuantityKind, Shape};
-use super::trace_contacts::contact_outputs;
+use super::trace_contact_derivatives::Tree;
+use super::trace_contacts::{contact_outputs, force_inputs, ContactState};
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::{self, Directions, Placements};
 use crate::frame_names::{frame_identifiers, FrameIdentifiers};
@@ -109,6 +110,9 @@ pub struct SymbolicRobot {
     pub base: BaseParameterSet,
     /// The groups traced.
     pub functions: Functions,
+    /// The contact forces `λ` the contacts' derivative rows take (`Arg::Forces`), inputs
+    /// created by the contacts' rows after every other (none without contacts).
+    pub forces: Vec<Id>,
     /// The outputs of functions computed in lane vectors (the regressors, four rows at a time)
     /// in a scalar formulation, by function name: the form for several states per call
     /// (`_lanes`), generic over its lane type, computes these.
@@ -197,6 +201,7 @@ impl Traced {
             false => functions.without(FunctionGroup::Contacts),
         };
         SymbolicRobot {
+            forces: force_inputs(&graph),
             graph,
             inputs,
             quantities,
@@ -327,7 +332,17 @@ impl<'a> FixedTracer<'a> {
                 &self.joint_values,
             );
             let motion = |frame: usize| dynamics::FrameMotion::new(model, world, qd, &model.frames()[frame]);
-            for (kind, outputs) in contact_outputs(model, motion, qd, &mass) {
+            let state = ContactState {
+                qd,
+                a: &self.a,
+                mass: &mass,
+                tree: Tree::Fixed {
+                    q: &self.q,
+                    inertias: &self.inertias,
+                    joint_values: &self.joint_values,
+                },
+            };
+            for (kind, outputs) in contact_outputs(model, motion, state) {
                 self.record(kind, outputs);
             }
         }
@@ -812,6 +827,8 @@ pub struct Arguments<'a> {
     pub tau: &'a [f64],
     pub theta: &'a [f64],
     pub r: &'a [f64],
+    /// The contact forces `λ`.
+    pub forces: &'a [f64],
 }
 
 impl SymbolicRobot {
@@ -878,6 +895,7 @@ impl SymbolicRobot {
             (&self.inputs.tau, args.tau),
             (&self.inputs.theta, args.theta),
             (&self.inputs.r, args.r),
+            (&self.forces, args.forces),
         ] {
             for (id, x) in ids.iter().zip(xs) {
                 if let crate::symbolic::Node::Input(k) = self.graph.node(*id) {

@@ -184,7 +184,17 @@ impl<'a> FloatingTracer<'a> {
         if functions.contains(FunctionGroup::Contacts) && !model.contacts().is_empty() {
             let mass = algorithms::factor(model, base, x, inertias);
             let motion = |frame: usize| self.frame_motion(&model.frames()[frame]);
-            for (kind, outputs) in contact_outputs(model, motion, &self.qd, &mass) {
+            let state = super::trace_contacts::ContactState {
+                qd: &self.qd,
+                a: &self.a,
+                mass: &mass,
+                tree: super::trace_contact_derivatives::Tree::Floating {
+                    base,
+                    q: &self.q,
+                    inertias,
+                },
+            };
+            for (kind, outputs) in contact_outputs(model, motion, state) {
                 self.record(kind, outputs);
             }
         }

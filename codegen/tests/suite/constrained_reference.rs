@@ -20,7 +20,7 @@ use serde_json::Value;
 
 const TOL: f64 = 1e-9;
 
-fn load(urdf: &str, fixture: &Value) -> Loaded {
+pub(crate) fn load(urdf: &str, fixture: &Value) -> Loaded {
     let frames: Vec<FrameSpec> = fixture["contacts"]
         .as_array()
         .unwrap()

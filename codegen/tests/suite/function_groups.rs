@@ -166,6 +166,7 @@ fn a_function_computes_the_same_whatever_is_generated_with_it() {
                     tau,
                     theta,
                     r,
+                    ..Arguments::default()
                 };
                 for name in &names {
                     let got = partial.evaluate_with(name, &args).expect("traced");

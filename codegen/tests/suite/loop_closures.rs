@@ -22,14 +22,14 @@ use serde_json::Value;
 
 const TOL: f64 = 1e-9;
 
-fn fixture(name: &str) -> Value {
+pub(crate) fn fixture(name: &str) -> Value {
     let path = workspace_root().join(format!("codegen/tests/fixtures/constrained/{name}.json"));
     let text = std::fs::read_to_string(&path).unwrap_or_else(|e| panic!("{}: {e}", path.display()));
     serde_json::from_str(&text).expect("JSON")
 }
 
 /// The mechanism with every frame the fixture's sets name.
-fn load(name: &str, fixture: &Value) -> Loaded {
+pub(crate) fn load(name: &str, fixture: &Value) -> Loaded {
     let mut frames: Vec<String> = Vec::new();
     for set in fixture["sets"].as_array().unwrap() {
         for c in set["contacts"].as_array().unwrap() {

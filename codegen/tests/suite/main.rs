@@ -8,6 +8,7 @@ mod builder_output_file;
 mod code_size;
 mod constrained_oracles;
 mod constrained_reference;
+mod contact_derivatives;
 mod contact_descriptions;
 mod derivative_stages;
 mod description_errors;

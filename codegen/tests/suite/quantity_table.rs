@@ -91,14 +91,16 @@ fn each_function_is_declared_by_the_trait_of_its_group() {
     // What the traits declare beyond the table is not traced: the parameter vectors, which the
     // emitter writes from the model's numbers, the torques of external wrenches, which the
     // runtime forms from the frames' Jacobians, and what a robot with contacts calls of its
-    // other traits (forward dynamics, the frames' poses).
+    // other traits (forward dynamics and `M⁻¹`, the frames' poses and local Jacobians).
     let from_numbers = [
         "parameters",
         "base_parameters",
         "wrench_torques",
         "free_acceleration",
+        "torque_response",
         "contact_pose",
         "contact_to_pose",
+        "contact_local_jacobian",
     ];
     for (group, methods) in &traits {
         for method in methods {
@@ -174,7 +176,14 @@ fn the_floating_traits_declare_what_a_floating_robot_is_traced_with() {
         .filter(|k| k.group() == FunctionGroup::Contacts)
         .collect();
     let mut expected = names(contacts);
-    expected.extend(["free_acceleration", "contact_pose", "contact_to_pose"].map(String::from));
+    let delegated = [
+        "free_acceleration",
+        "torque_response",
+        "contact_pose",
+        "contact_to_pose",
+        "contact_local_jacobian",
+    ];
+    expected.extend(delegated.map(String::from));
     assert_eq!(
         trait_methods("contacts/robot.rs", "ContactDynamics"),
         expected,

@@ -12,8 +12,8 @@ use crate::common::{cycle, floating_states};
 use criterion::Criterion;
 use dyngen_runtime::nalgebra::{Rotation3, SVector, Vector3};
 use dyngen_runtime::{
-    constrained_forward_dynamics, impulse_dynamics, operational_space_inertia, ContactDynamics, FloatingTrig,
-    Pose, ProximalSettings, Stabilisation,
+    constrained_forward_dynamics, constrained_forward_dynamics_derivatives, impulse_dynamics,
+    operational_space_inertia, ContactDynamics, FloatingTrig, Pose, ProximalSettings, Stabilisation,
 };
 use std::hint::black_box;
 
@@ -38,7 +38,7 @@ pub const PROXIMAL: ProximalSettings = ProximalSettings {
 
 /// The timed functions, as the criterion groups and the anchor's rows name them, in the order of
 /// the check sums.
-const FUNCTIONS: [&str; 9] = [
+const FUNCTIONS: [&str; 10] = [
     "constrained_forward_dynamics",
     "constrained_forward_dynamics_baumgarte",
     "constrained_forward_dynamics_proximal",
@@ -48,6 +48,7 @@ const FUNCTIONS: [&str; 9] = [
     "contact_drift",
     "contact_response",
     "free_acceleration",
+    "constrained_forward_dynamics_derivatives",
 ];
 
 /// Where a contact is held at a state: near where its frame is, so that the stabilised solve
@@ -163,6 +164,19 @@ pub fn bench<R, const N: usize, const NQ: usize, const NV: usize, const NC: usiz
             black_box(R::free_acceleration(&trig::<N>(q.as_slice()), v, tau));
         },
     );
+    // The derivatives at the exact solution, which the call solves first (as Pinocchio's
+    // `constraintDynamics` then `computeConstraintDynamicsDerivatives`).
+    cycle(
+        c,
+        &g("constrained_forward_dynamics_derivatives"),
+        "generated",
+        &inputs,
+        |(q, v, tau, _)| {
+            let t = trig::<N>(q.as_slice());
+            let solved = constrained_forward_dynamics::<R, NV, NC>(&t, v, tau, None, &exact, None).unwrap();
+            black_box(constrained_forward_dynamics_derivatives::<R, NV, NC>(&t, v, &solved, None).unwrap());
+        },
+    );
 }
 
 /// Prints, to stderr as `#` lines as the anchor prints its own, the proximal solve's mean
@@ -185,7 +199,7 @@ fn report<R, const N: usize, const NQ: usize, const NV: usize, const NC: usize>(
         constrained_forward_dynamics::<R, NV, NC>(t, v, tau, stabilisation, settings, None)
             .unwrap_or_else(|e| panic!("{robot}: {e}"))
     };
-    let mut sums = [0.0; 9];
+    let mut sums = [0.0; 10];
     let mut iterations = 0;
     for (q, v, tau, anchors) in inputs {
         let t = trig::<N>(q.as_slice());
@@ -196,6 +210,12 @@ fn report<R, const N: usize, const NQ: usize, const NV: usize, const NC: usize>(
             impulse_dynamics::<R, NV, NC>(&t, v, RESTITUTION, 0.0).unwrap_or_else(|e| panic!("{robot}: {e}"));
         let inertia =
             operational_space_inertia::<R, NV, NC>(&t, 0.0).unwrap_or_else(|e| panic!("{robot}: {e}"));
+        let derivatives = |t: &FloatingTrig<N>, v: &SVector<f64, NV>, tau: &SVector<f64, NV>| {
+            let solved = solve(t, v, tau, None, &exact);
+            let d = constrained_forward_dynamics_derivatives::<R, NV, NC>(t, v, &solved, None)
+                .unwrap_or_else(|e| panic!("{robot}: {e}"));
+            d.acceleration_q.norm()
+        };
         let norms = [
             solve(&t, v, tau, None, &exact).acceleration.norm(),
             solve(&t, v, tau, Some(stabilisation), &exact).acceleration.norm(),
@@ -206,6 +226,7 @@ fn report<R, const N: usize, const NQ: usize, const NV: usize, const NC: usize>(
             R::contact_drift(&t, v).norm(),
             R::contact_response(&t).norm(),
             R::free_acceleration(&t, v, tau).norm(),
+            derivatives(&t, v, tau),
         ];
         for (sum, norm) in sums.iter_mut().zip(norms) {
             *sum += norm;

@@ -12,14 +12,19 @@ use dyngen_codegen::description::load;
 use dyngen_codegen::dynamics::FloatingDynamics;
 use dyngen_codegen::model::Model;
 use dyngen_generated::solo12::{self, Solo12, Velocity, NV};
+use dyngen_runtime::nalgebra::Const;
 use dyngen_runtime::nalgebra::{DMatrix, Matrix3, SMatrix, Vector3};
 use dyngen_runtime::{
-    constrained_forward_dynamics, impulse_dynamics, operational_space_inertia, ContactDynamics, Pose,
-    ProximalSettings, SplitMix64, Stabilisation,
+    constrained_forward_dynamics, constrained_forward_dynamics_derivatives, impulse_dynamics,
+    operational_space_inertia, ConstrainedDerivatives, ContactDynamics, Pose, ProximalSettings, SplitMix64,
+    Stabilisation,
 };
 
 const TOL_FIXTURE: f64 = 1e-9;
 const TOL_GENERIC: f64 = 1e-10;
+/// The derivatives against the generic dynamics' (dual numbers one direction at a time, a solve
+/// per column), relative to the largest entry.
+const TOL_DERIVATIVES: f64 = 1e-12;
 
 fn dm<const R: usize, const C: usize>(m: &SMatrix<f64, R, C>) -> DMatrix<f64> {
     DMatrix::from_column_slice(R, C, m.as_slice())
@@ -222,5 +227,106 @@ fn solo12_on_its_feet_matches_the_generic_dynamics() {
             .operational_space_inertia(&s, model.contacts(), 1e-8)
             .unwrap();
         assert_close(&what("Λ_c"), &dm(&lambda), &lambda_generic, 1e-9);
+    }
+}
+
+/// `constrained_forward_dynamics_derivatives` over the compiled Solo-12's rows, plain and
+/// Baumgarte-stabilised (two feet in local axes, whose error turns with the foot, two in
+/// world-aligned ones), at the exact solution: Pinocchio's `computeConstraintDynamicsDerivatives`
+/// at the fixture's states, the generic dynamics' derivatives at random ones with drifted
+/// anchors and gains of their own.
+#[test]
+fn solo12_derivatives_match_pinocchio_and_the_generic_dynamics() {
+    let model = model();
+    let generic = FloatingDynamics::new(&model).unwrap();
+    let fx = floating_fixture::load_constrained("solo12");
+    let order = Order::new(&model, &fx);
+    let exact = ProximalSettings::default();
+    let check =
+        |what: &str, ours: &ConstrainedDerivatives<Const<NV>, Const<12>>, theirs: [DMatrix<f64>; 6], tol| {
+            let mine = [
+                dm(&ours.acceleration_q),
+                dm(&ours.acceleration_v),
+                dm(&ours.acceleration_tau),
+                dm(&ours.forces_q),
+                dm(&ours.forces_v),
+                dm(&ours.forces_tau),
+            ];
+            let names = ["∂ν̇/∂q", "∂ν̇/∂ν", "∂ν̇/∂τ", "∂λ/∂q", "∂λ/∂ν", "∂λ/∂τ"];
+            for ((name, mine), theirs) in names.iter().zip(&mine).zip(&theirs) {
+                assert_close(&format!("{what} {name}"), mine, theirs, tol);
+            }
+        };
+    for (k, st) in fx["states"].as_array().unwrap().iter().enumerate() {
+        let q = order.configuration(&vector(&st["q"]));
+        let t = solo12::trig(&solo12::Configuration::from_column_slice(&q)).unwrap();
+        let [v, tau] = ["v", "tau"].map(|f| Velocity::from_column_slice(&order.vector(&vector(&st[f]))));
+        let anchors = floating_fixture::anchors(st);
+        for (label, stabilisation) in floating_fixture::solves(&fx, &anchors) {
+            let solved =
+                constrained_forward_dynamics::<Solo12, 18, 12>(&t, &v, &tau, stabilisation, &exact, None)
+                    .unwrap();
+            let ours =
+                constrained_forward_dynamics_derivatives::<Solo12, 18, 12>(&t, &v, &solved, stabilisation)
+                    .unwrap();
+            let expected = &st["forward"][label];
+            let theirs = [
+                "ddq_dq",
+                "ddq_dv",
+                "ddq_dtau",
+                "dlambda_dq",
+                "dlambda_dv",
+                "dlambda_dtau",
+            ]
+            .map(|f| order.matrix(&matrix(&expected[f]), f.starts_with("ddq"), true));
+            check(&format!("state {k} {label}"), &ours, theirs, TOL_FIXTURE);
+        }
+    }
+    let mut rng = SplitMix64::new(91);
+    for k in 0..20 {
+        let mut q: Vec<f64> = (0..19).map(|_| rng.uniform((-3.0, 3.0))).collect();
+        let norm = q[3..7].iter().map(|x| x * x).sum::<f64>().sqrt();
+        q[3..7].iter_mut().for_each(|x| *x /= norm);
+        let [v, tau] = [0; 2].map(|_| (0..NV).map(|_| rng.uniform((-4.0, 4.0))).collect::<Vec<f64>>());
+        let t = solo12::trig(&solo12::Configuration::from_column_slice(&q)).unwrap();
+        let s = generic.state(&q).unwrap();
+        let anchors: Vec<Pose> = (0..4)
+            .map(|c| {
+                let at = Solo12::contact_pose(&t, c);
+                Pose {
+                    rotation: at.rotation,
+                    translation: at.translation + Vector3::from_fn(|_, _| rng.uniform((-0.03, 0.03))),
+                }
+            })
+            .collect();
+        for stabilisation in [
+            None,
+            Some(Stabilisation {
+                anchors: &anchors,
+                kp: 30.0,
+                kd: 11.0,
+            }),
+        ] {
+            let (vv, tauv) = (Velocity::from_column_slice(&v), Velocity::from_column_slice(&tau));
+            let solved =
+                constrained_forward_dynamics::<Solo12, 18, 12>(&t, &vv, &tauv, stabilisation, &exact, None)
+                    .unwrap();
+            let ours =
+                constrained_forward_dynamics_derivatives::<Solo12, 18, 12>(&t, &vv, &solved, stabilisation)
+                    .unwrap();
+            let theirs = generic
+                .constrained_forward_dynamics_derivatives(&s, &v, &tau, model.contacts(), stabilisation)
+                .unwrap();
+            let what = format!("state {k} stabilised {}", stabilisation.is_some());
+            let theirs = [
+                theirs.acceleration_q,
+                theirs.acceleration_v,
+                theirs.acceleration_tau,
+                theirs.forces_q,
+                theirs.forces_v,
+                theirs.forces_tau,
+            ];
+            check(&what, &ours, theirs, TOL_DERIVATIVES);
+        }
     }
 }

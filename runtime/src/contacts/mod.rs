@@ -3,11 +3,15 @@
 //! operational-space inertia, and the trait a generated robot with contacts implements.
 
 mod dense;
+mod derivatives;
 mod kind;
 mod placement;
 mod robot;
 mod solve;
 
+pub use derivatives::{
+    assemble_derivatives, constrained_forward_dynamics_derivatives, ConstrainedDerivatives,
+};
 pub use kind::ContactKind;
 pub use placement::placement_error;
 pub use robot::{constrained_forward_dynamics, impulse_dynamics, operational_space_inertia, ContactDynamics};

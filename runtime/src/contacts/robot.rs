@@ -6,7 +6,7 @@ use super::solve::{
     contact_inertia, solve_contacts, ContactError, ContactSolution, ProximalSettings, Stabilisation,
 };
 use crate::{Pose, ReferenceFrame};
-use nalgebra::{Const, SMatrix, SVector};
+use nalgebra::{Const, SMatrix, SVector, Vector6};
 
 /// A robot with contacts, `NV` velocity coordinates and `NC` contact rows: the pieces of
 /// constrained dynamics it generates, from which [`constrained_forward_dynamics`],
@@ -34,6 +34,26 @@ pub trait ContactDynamics<const NV: usize, const NC: usize> {
     fn contact_response(t: &Self::Trig) -> SMatrix<f64, NV, NC>;
     /// Forward dynamics without contacts, `M⁻¹ (τ − b)`.
     fn free_acceleration(t: &Self::Trig, v: &SVector<f64, NV>, tau: &SVector<f64, NV>) -> SVector<f64, NV>;
+    /// `M⁻¹` (NV × NV): how the robot accelerates under a unit generalised force, the free
+    /// acceleration's `∂/∂τ`.
+    fn torque_response(t: &Self::Trig) -> SMatrix<f64, NV, NV>;
+    /// `(∂a/∂q, ∂a/∂ν)` of forward dynamics with the contact forces `lambda` held, at the
+    /// acceleration `a` they give: `−M⁻¹ ∂(ID(q, ν, a) − Jᵀ λ)/∂x` (`q` in its tangent space).
+    fn contact_forward_dynamics_derivatives(
+        t: &Self::Trig,
+        v: &SVector<f64, NV>,
+        a: &SVector<f64, NV>,
+        lambda: &SVector<f64, NC>,
+    ) -> (SMatrix<f64, NV, NV>, SMatrix<f64, NV, NV>);
+    /// `(∂/∂q, ∂/∂ν)` (NC × NV each) of the rows' acceleration `J a + drift` with `a` held.
+    fn contact_acceleration_derivatives(
+        t: &Self::Trig,
+        v: &SVector<f64, NV>,
+        a: &SVector<f64, NV>,
+    ) -> (SMatrix<f64, NC, NV>, SMatrix<f64, NC, NV>);
+    /// The Jacobian (6 × NV, linear rows first) of contact `contact`'s frame in its own axes
+    /// (`Local`); `contact` past the last is the last's.
+    fn contact_local_jacobian(t: &Self::Trig, contact: usize) -> SMatrix<f64, 6, NV>;
     /// The pose of contact `contact`'s frame (in the base frame, or the world on a floating
     /// base); `contact` past the last is the last's.
     fn contact_pose(t: &Self::Trig, contact: usize) -> Pose;
@@ -57,41 +77,60 @@ pub fn constrained_forward_dynamics<R: ContactDynamics<NV, NC>, const NV: usize,
     let jacobian = R::contact_jacobian(t);
     let mut rhs = -R::contact_drift(t, v);
     if let Some(stabilisation) = stabilisation {
-        let held = R::CONTACT_TO.iter().filter(|to| to.is_none()).count();
-        if stabilisation.anchors.len() != held {
-            return Err(ContactError::Anchors {
-                contacts: held,
-                anchors: stabilisation.anchors.len(),
-            });
-        }
-        if !(stabilisation.kp.is_finite() && stabilisation.kd.is_finite()) {
-            return Err(ContactError::Settings("the Baumgarte gains must be finite"));
-        }
         let velocity = jacobian * v;
-        let (mut row, mut anchors) = (0, stabilisation.anchors.iter());
-        let contacts = R::CONTACT_KINDS
-            .iter()
-            .zip(R::CONTACT_REFERENCES)
-            .zip(R::CONTACT_TO);
-        for (k, ((&kind, &reference), to)) in contacts.enumerate() {
-            // A loop is held where its other frame is; a contact with the world, at its anchor.
-            let anchor = match to {
-                Some(_) => R::contact_to_pose(t, k),
-                None => match anchors.next() {
-                    Some(anchor) => *anchor,
-                    None => break,
-                },
-            };
-            let error = placement_error(kind, reference, &R::contact_pose(t, k), &anchor);
-            for i in 0..kind.rows() {
+        for (k, row, error) in placement_errors::<R, NV, NC>(t, &stabilisation)? {
+            for i in 0..R::CONTACT_KINDS[k].rows() {
                 rhs[row + i] -= stabilisation.kp * error[i] + stabilisation.kd * velocity[row + i];
             }
-            row += kind.rows();
         }
     }
     let response = R::contact_response(t);
     let free = R::free_acceleration(t, v, tau);
     solve_contacts(&jacobian, &response, &free, &rhs, settings, warm_start)
+}
+
+/// Each contact's placement error from where Baumgarte stabilisation holds it
+/// ([`placement_error`]): `(contact, its first row, e)`. A loop is held where its other frame
+/// is, a contact with the world at its anchor (one each, in order, or refused); gains that are
+/// not finite are refused.
+pub(super) fn placement_errors<'a, R: ContactDynamics<NV, NC>, const NV: usize, const NC: usize>(
+    t: &'a R::Trig,
+    stabilisation: &'a Stabilisation<'a>,
+) -> Result<impl Iterator<Item = (usize, usize, Vector6<f64>)> + 'a, ContactError> {
+    let held = R::CONTACT_TO.iter().filter(|to| to.is_none()).count();
+    if stabilisation.anchors.len() != held {
+        return Err(ContactError::Anchors {
+            contacts: held,
+            anchors: stabilisation.anchors.len(),
+        });
+    }
+    if !(stabilisation.kp.is_finite() && stabilisation.kd.is_finite()) {
+        return Err(ContactError::Settings("the Baumgarte gains must be finite"));
+    }
+    let mut anchors = stabilisation.anchors.iter();
+    let contacts = (R::CONTACT_KINDS.iter())
+        .zip(R::CONTACT_REFERENCES)
+        .zip(R::CONTACT_TO);
+    let rows = R::CONTACT_KINDS.iter().scan(0, |row, kind| {
+        let first = *row;
+        *row += kind.rows();
+        Some(first)
+    });
+    Ok(contacts
+        .zip(rows)
+        .enumerate()
+        .map(move |(k, (((&kind, &reference), to), row))| {
+            let anchor = match to {
+                Some(_) => R::contact_to_pose(t, k),
+                // Counted above: one anchor per contact with the world.
+                None => anchors.next().copied().unwrap_or_else(Pose::identity),
+            };
+            (
+                k,
+                row,
+                placement_error(kind, reference, &R::contact_pose(t, k), &anchor),
+            )
+        }))
 }
 
 /// The velocity just after every contact of `R` strikes, with restitution `restitution`

@@ -74,7 +74,8 @@ pub enum ContactError {
     WorldReference(usize),
     /// Baumgarte stabilisation needs one anchor per contact.
     Anchors { contacts: usize, anchors: usize },
-    /// `mu` negative, no iteration, or a non-finite setting or gain.
+    /// `mu` negative, no iteration, a non-finite setting or gain, or a stabilisation the
+    /// derivatives do not cover.
     Settings(&'static str),
     /// The Delassus matrix is singular: row `row` depends on the rows before it (or the robot
     /// cannot move in its direction), and the solve needs `mu > 0`.
@@ -105,7 +106,7 @@ impl fmt::Display for ContactError {
 
 /// `K + μ I` factored (`L` in the lower triangle), `K = J M⁻¹ Jᵀ`; with `μ = 0`, refused when a
 /// pivot is at rounding level against the largest diagonal entry (a row the others already fix).
-fn factor<NV: Dim, NC: Dim>(
+pub(super) fn factor<NV: Dim, NC: Dim>(
     jacobian: &OMatrix<f64, NC, NV>,
     response: &OMatrix<f64, NV, NC>,
     mu: f64,

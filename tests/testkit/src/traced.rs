@@ -11,7 +11,7 @@ pub fn shaped(robot: &SymbolicRobot, name: &str, values: Vec<f64>) -> DMatrix<f6
     match robot.quantity(name).expect("quantity").shape {
         Shape::Vector(n) => DMatrix::from_column_slice(n, 1, &values),
         Shape::Matrix(r, c) => DMatrix::from_column_slice(r, c, &values),
-        Shape::MatrixPair(n) => DMatrix::from_column_slice(n, 2 * n, &values),
+        Shape::MatrixPair(r, c) => DMatrix::from_column_slice(r, 2 * c, &values),
         Shape::Pose | Shape::Kinematics(_) | Shape::VectorPair(..) => {
             DMatrix::from_column_slice(values.len(), 1, &values)
         }

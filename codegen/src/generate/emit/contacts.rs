@@ -1,7 +1,7 @@
 //! The group `contacts`: the `ContactDynamics` implementation of a robot with contacts. Its
-//! three traced functions (`J`, the drift, `M⁻¹ Jᵀ`) come emitted; this file adds the
-//! contacts' description as constants and the two methods that call functions the robot
-//! already has (forward dynamics, and its frames' poses).
+//! traced functions (`J`, the drift, `M⁻¹ Jᵀ`, the derivatives' pieces) come emitted; this
+//! file adds the contacts' description as constants and the methods that call functions the
+//! robot already has (forward dynamics and `M⁻¹`, its frames' poses and local Jacobians).
 
 use crate::frame_names::frame_identifiers;
 use crate::model::Model;
@@ -13,9 +13,9 @@ use quote::{format_ident, quote};
 pub(super) struct ContactTraits {
     /// `JointTrig<N>` or `FloatingTrig<N>`.
     pub(super) trig: TokenStream,
-    /// The trait whose `forward_dynamics` it calls.
+    /// The trait whose `forward_dynamics` and `mass_matrix_inverse` it calls.
     pub(super) forward_dynamics: TokenStream,
-    /// The trait whose `frame_pose` it calls.
+    /// The trait whose `frame_pose` and `frame_jacobian` it calls.
     pub(super) frames: TokenStream,
 }
 
@@ -50,44 +50,51 @@ pub(super) fn contact_implementation(
         None => quote!(None),
     });
     let frames_trait = &traits.frames;
-    // `match contact` over each contact's frame (`None`: no frame, the identity); past the
-    // last, the last's.
-    let pose = |frames: &[Option<usize>]| {
-        let (last, others) = frames.split_last().expect("a robot with contacts");
-        let arms: Vec<TokenStream> = (others.iter().enumerate())
-            .filter_map(|(k, f)| {
-                let (k, variant) = (Literal::usize_unsuffixed(k), &variants[(*f)?]);
-                Some(quote!(#k => <Self as #frames_trait>::frame_pose(Frame::#variant, t),))
-            })
-            .collect();
-        let last = match last {
-            Some(f) => {
-                let variant = &variants[*f];
-                quote!(<Self as #frames_trait>::frame_pose(Frame::#variant, t))
+    // `match contact` over each contact's frame, `of(frame)` what the frame gives (`None`: no
+    // frame, `otherwise`); past the last, the last's.
+    let per_contact =
+        |frames: &[Option<usize>], of: &dyn Fn(&Ident) -> TokenStream, otherwise: TokenStream| {
+            let (last, others) = frames.split_last().expect("a robot with contacts");
+            let arms: Vec<TokenStream> = (others.iter().enumerate())
+                .map(|(k, f)| {
+                    let k = Literal::usize_unsuffixed(k);
+                    let value = match f {
+                        Some(f) => of(&variants[*f]),
+                        None => otherwise.clone(),
+                    };
+                    quote!(#k => #value,)
+                })
+                .collect();
+            let last = match last {
+                Some(f) => of(&variants[*f]),
+                None => otherwise.clone(),
+            };
+            match (frames.iter().any(Option::is_some), arms.is_empty()) {
+                (true, false) => quote! {
+                    match contact {
+                        #(#arms)*
+                        _ => #last,
+                    }
+                },
+                // One frame for every contact (a robot with one contact): no `match`.
+                (true, true) => quote! {
+                    let _ = contact;
+                    #last
+                },
+                (false, _) => quote! {
+                    let _ = (t, contact);
+                    #otherwise
+                },
             }
-            None => quote!(Pose::identity()),
         };
-        match (frames.iter().any(Option::is_some), arms.is_empty()) {
-            (true, false) => quote! {
-                match contact {
-                    #(#arms)*
-                    _ => #last,
-                }
-            },
-            // One frame for every contact (a robot with one contact): no `match`.
-            (true, true) => quote! {
-                let _ = contact;
-                #last
-            },
-            (false, _) => quote! {
-                let _ = (t, contact);
-                Pose::identity()
-            },
-        }
-    };
+    let pose = |variant: &Ident| quote!(<Self as #frames_trait>::frame_pose(Frame::#variant, t));
+    let local_jacobian = |variant: &Ident| quote!(<Self as #frames_trait>::frame_jacobian(Frame::#variant, ReferenceFrame::Local, t));
     let held: Vec<Option<usize>> = contacts.iter().map(|c| Some(c.frame)).collect();
     let held_to: Vec<Option<usize>> = contacts.iter().map(|c| c.to).collect();
-    let (contact_pose, contact_to_pose) = (pose(&held), pose(&held_to));
+    let identity = quote!(Pose::identity());
+    let contact_pose = per_contact(&held, &pose, identity.clone());
+    let contact_to_pose = per_contact(&held_to, &pose, identity);
+    let contact_local_jacobian = per_contact(&held, &local_jacobian, quote!(SMatrix::zeros()));
     let (trig, forward_dynamics) = (&traits.trig, &traits.forward_dynamics);
     quote! {
         impl ContactDynamics<#nv, #nc> for #ty {
@@ -102,6 +109,16 @@ pub(super) fn contact_implementation(
             #[inline]
             fn free_acceleration(t: &#trig, v: &SVector<f64, #nv>, tau: &SVector<f64, #nv>) -> SVector<f64, #nv> {
                 <Self as #forward_dynamics>::forward_dynamics(t, v, tau)
+            }
+
+            #[inline]
+            fn torque_response(t: &#trig) -> SMatrix<f64, #nv, #nv> {
+                <Self as #forward_dynamics>::mass_matrix_inverse(t)
+            }
+
+            #[inline]
+            fn contact_local_jacobian(t: &#trig, contact: usize) -> SMatrix<f64, 6, #nv> {
+                #contact_local_jacobian
             }
 
             #[inline]

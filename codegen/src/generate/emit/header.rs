@@ -62,7 +62,7 @@ impl Header {
             suffix,
             ret: result_type(q, plan.form),
             n: Literal::usize_unsuffixed(n),
-            many_registers: matches!(q.shape, Shape::MatrixPair(_)) || plan.order.len() > sizes.many_values,
+            many_registers: matches!(q.shape, Shape::MatrixPair(..)) || plan.order.len() > sizes.many_values,
             counts: robot.graph.op_counts(&q.outputs),
             lanes: plan.lanes,
             columns,

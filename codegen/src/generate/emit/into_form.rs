@@ -12,6 +12,7 @@ use super::outputs::{is_structural_zero, writes_in_place};
 use super::plan::Form;
 use super::signature::Param;
 use crate::generate::hash::fnv1a64;
+use crate::generate::quantities::Shape;
 use crate::generate::trace::Quantity;
 use crate::symbolic::Graph;
 use proc_macro2::{Ident, TokenStream};
@@ -27,7 +28,11 @@ pub(super) fn has_into_form(q: &Quantity, form: Form) -> bool {
 /// for the other. A hash of the shape and of which entries are zero; never `0` or `u64::MAX`,
 /// which the buffer keeps for "all zero" and "written by value".
 pub(super) fn zero_pattern(q: &Quantity, g: &Graph) -> u64 {
-    let shape = format!("{:?}", q.shape);
+    let shape = match q.shape {
+        // Square pairs keep the spelling they had before pairs had two sizes, and so their ids.
+        Shape::MatrixPair(rows, cols) if rows == cols => format!("MatrixPair({rows})"),
+        shape => format!("{shape:?}"),
+    };
     let zeros: Vec<u8> = q
         .outputs
         .iter()

@@ -33,6 +33,7 @@ impl Leaves {
             ("theta", &inputs.theta),
             ("r", &inputs.r),
             ("pos", &inputs.base_position),
+            ("lambda", &robot.forces),
         ] {
             for (i, id) in ids.iter().enumerate() {
                 names.insert(*id, format_ident!("{prefix}{i}"));

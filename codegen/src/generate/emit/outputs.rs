@@ -37,9 +37,9 @@ pub(super) fn result_type(q: &Quantity, form: Form) -> TokenStream {
                 let n = Literal::usize_unsuffixed(n);
                 quote!((Pose, SMatrix<f64, 6, #n>, SMatrix<f64, 6, #n>))
             }
-            Shape::MatrixPair(r) => {
-                let r = Literal::usize_unsuffixed(r);
-                quote!((SMatrix<f64, #r, #r>, SMatrix<f64, #r, #r>))
+            Shape::MatrixPair(r, c) => {
+                let (r, c) = (Literal::usize_unsuffixed(r), Literal::usize_unsuffixed(c));
+                quote!((SMatrix<f64, #r, #c>, SMatrix<f64, #r, #c>))
             }
             Shape::VectorPair(n, m) => {
                 let (n, m) = (Literal::usize_unsuffixed(n), Literal::usize_unsuffixed(m));
@@ -88,8 +88,8 @@ pub(super) fn result_value(q: &Quantity, form: Form, atoms: &[TokenStream]) -> T
                     SVector::from_array_storage(ArrayStorage([[#(#second),*]])),
                 ))
             }
-            Shape::MatrixPair(rows) => {
-                let (first, second) = atoms.split_at(rows * rows);
+            Shape::MatrixPair(rows, cols) => {
+                let (first, second) = atoms.split_at(rows * cols);
                 let columns = |m: &[TokenStream]| {
                     let c: Vec<TokenStream> = m.chunks(rows).map(|c| quote!([#(#c),*])).collect();
                     quote!(SMatrix::from_array_storage(ArrayStorage([#(#c),*])))
@@ -112,7 +112,7 @@ pub(super) fn writes_in_place(q: &Quantity, form: Form) -> bool {
     matches!(
         (form, q.shape),
         (_, Shape::Vector(_) | Shape::Matrix(..))
-            | (Form::Scalar, Shape::VectorPair(..) | Shape::MatrixPair(_))
+            | (Form::Scalar, Shape::VectorPair(..) | Shape::MatrixPair(..))
     )
 }
 
@@ -187,8 +187,8 @@ pub(super) fn slots_pattern(q: &Quantity, form: Form, pattern: &[TokenStream]) -
             let (first, second) = pattern.split_at(n);
             quote!(([#(#first),*], [#(#second),*]))
         }
-        (Form::Scalar, Shape::MatrixPair(rows)) => {
-            let (first, second) = pattern.split_at(rows * rows);
+        (Form::Scalar, Shape::MatrixPair(rows, cols)) => {
+            let (first, second) = pattern.split_at(rows * cols);
             let (first, second) = (nested(first, rows), nested(second, rows));
             quote!((#first, #second))
         }
@@ -202,7 +202,7 @@ pub(super) fn slots_target(q: &Quantity, form: Form, out: TokenStream, by_refere
     match (form, q.shape) {
         (Form::Scalar, Shape::Vector(_) | Shape::Matrix(..)) => quote!(&mut #out.data.0),
         (Form::Scalar, Shape::VectorPair(..)) => quote!((&mut #out.0.data.0[0], &mut #out.1.data.0[0])),
-        (Form::Scalar, Shape::MatrixPair(_)) => quote!((&mut #out.0.data.0, &mut #out.1.data.0)),
+        (Form::Scalar, Shape::MatrixPair(..)) => quote!((&mut #out.0.data.0, &mut #out.1.data.0)),
         (Form::Lanes, Shape::Vector(_) | Shape::Matrix(..)) => match by_reference {
             true => out,
             false => quote!(&mut #out),
@@ -226,7 +226,7 @@ pub(super) fn zero_result(q: &Quantity, form: Form, sizes: &Sizes) -> TokenStrea
     };
     match (form, q.shape) {
         (Form::Scalar, Shape::Vector(_) | Shape::Matrix(..)) => matrix,
-        (Form::Scalar, Shape::VectorPair(..) | Shape::MatrixPair(_)) => quote!((#matrix, #matrix)),
+        (Form::Scalar, Shape::VectorPair(..) | Shape::MatrixPair(..)) => quote!((#matrix, #matrix)),
         (Form::Lanes, shape) => {
             let splat = quote!(C::splat(#fill));
             match shape {

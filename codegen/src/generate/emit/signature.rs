@@ -108,6 +108,7 @@ pub(super) fn signature(
             Arg::Tau => (format_ident!("tau"), &inputs.tau[..]),
             Arg::Theta(len) => (format_ident!("theta"), &inputs.theta[..len]),
             Arg::R => (format_ident!("r"), &inputs.r[..]),
+            Arg::Forces(len) => (format_ident!("lambda"), &robot.forces[..len]),
         };
         let ty = argument_type(arg, &vector_type);
         let source = match form {
@@ -156,6 +157,7 @@ pub(super) fn argument_names(args: &[Arg]) -> Vec<Ident> {
         Arg::Tau => format_ident!("tau"),
         Arg::Theta(_) => format_ident!("theta"),
         Arg::R => format_ident!("r"),
+        Arg::Forces(_) => format_ident!("lambda"),
     }));
     names
 }
@@ -163,7 +165,7 @@ pub(super) fn argument_names(args: &[Arg]) -> Vec<Ident> {
 /// The type of a vector argument: a joint-space vector, or a parameter vector of its own length.
 fn argument_type(arg: Arg, joint_vector: &TokenStream) -> TokenStream {
     match arg {
-        Arg::Theta(len) => {
+        Arg::Theta(len) | Arg::Forces(len) => {
             let len = Literal::usize_unsuffixed(len);
             quote!(SVector<f64, #len>)
         }

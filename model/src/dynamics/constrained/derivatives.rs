@@ -14,21 +14,14 @@ use crate::scalar::Scalar;
 use crate::scalar_dual::Dual;
 use crate::spatial::{Mat3, Transform, Vec3};
 use dyngen_runtime::{ContactKind, ReferenceFrame};
-use nalgebra::DMatrix;
+use nalgebra::Dyn;
 
 /// A dual number with one tangent: one direction per evaluation.
 pub(super) type D1 = Dual<f64, f64>;
 
-/// `(∂a/∂x, ∂λ/∂x)` for `x` each of `q` (tangent space), `ν` and `τ`.
-#[derive(Clone, Debug, PartialEq)]
-pub struct ConstrainedDerivatives {
-    pub acceleration_q: DMatrix<f64>,
-    pub acceleration_v: DMatrix<f64>,
-    pub acceleration_tau: DMatrix<f64>,
-    pub forces_q: DMatrix<f64>,
-    pub forces_v: DMatrix<f64>,
-    pub forces_tau: DMatrix<f64>,
-}
+/// `(∂a/∂x, ∂λ/∂x)` for `x` each of `q` (tangent space), `ν` and `τ`: the runtime's, in
+/// dynamic sizes.
+pub type ConstrainedDerivatives = dyngen_runtime::ConstrainedDerivatives<Dyn, Dyn>;
 
 /// `F` and `G` at one state on dual numbers (module docs).
 pub(super) struct Residual {
