@@ -15,7 +15,7 @@ use common::assert_close;
 use common::fixture::{matrix, vector};
 use common::floating_fixture::{self, Order};
 use dyngen_codegen::dynamics::{ConstrainedDerivatives, FloatingDynamics, NumericDynamics};
-use dyngen_codegen::internals::generate::{trace, trace_floating, Arguments, SymbolicRobot};
+use dyngen_codegen::internals::generate::{trace, Arguments, SymbolicRobot};
 use dyngen_codegen::model::Model;
 use dyngen_runtime::{assemble_derivatives, solve_contacts, ContactError, ProximalSettings};
 use nalgebra::{DMatrix, DVector};
@@ -79,7 +79,7 @@ fn check_floating(robot: &str, urdf: &str) {
     let model = loaded.model.clone().with_contacts(contacts.clone()).unwrap();
     let order = Order::new(&model, &fx);
     let dynamics = FloatingDynamics::new(&model).unwrap();
-    let traced = trace_floating(&model);
+    let traced = trace(&model);
     for (k, st) in fx["states"].as_array().unwrap().iter().enumerate() {
         let what = |q: &str| format!("{robot} state {k}: {q}");
         let q = order.configuration(&vector(&st["q"]));
