@@ -286,7 +286,25 @@ fn outputs(kind: QuantityKind, shape: Shape) -> Vec<Array> {
             Array::new("y_theta", n, 1, "Y θ"),
             Array::new("yt_r", m, 1, "Yᵀ r"),
         ],
+        Shape::ContactMatrices(n, c) => contact_matrices(n, c),
+        Shape::ContactSystem(n, c) => {
+            let mut arrays = contact_matrices(n, c);
+            arrays.extend([
+                Array::new("contact_drift", c, 1, "the rows' drift along q̇"),
+                Array::new("free_acceleration", n, 1, "forward dynamics without contacts"),
+            ]);
+            arrays
+        }
     }
+}
+
+/// The parts of `ContactMatrices` of `n` velocity coordinates and `c` contact rows.
+fn contact_matrices(n: usize, c: usize) -> Vec<Array> {
+    vec![
+        Array::new("contact_jacobian", c, n, "J, the contacts' rows"),
+        Array::new("contact_response", n, c, "D⁻¹ Jᵀ"),
+        Array::new("contact_delassus", c, c, "the Delassus matrix J D⁻¹ Jᵀ"),
+    ]
 }
 
 #[cfg(test)]

@@ -651,6 +651,18 @@ fn state_function(library: &Library, entry: &Entry, s: &Spelled) -> TokenStream 
             quote!(value.1),
             quote!(value.2),
         ],
+        Shape::ContactMatrices(..) => vec![
+            quote!(value.jacobian),
+            quote!(value.response),
+            quote!(value.delassus),
+        ],
+        Shape::ContactSystem(..) => vec![
+            quote!(value.matrices.jacobian),
+            quote!(value.matrices.response),
+            quote!(value.matrices.delassus),
+            quote!(value.drift),
+            quote!(value.free_acceleration),
+        ],
     };
     let doc = format!(" `{}` of one state.", entry.name());
     let safety = pointer_contract(entry, "");

@@ -39,6 +39,12 @@ pub enum Shape {
     Kinematics(usize),
     /// Two vectors, of `n` and of `m` entries (`Y θ` and `Yᵀ r`).
     VectorPair(usize, usize),
+    /// `dyngen_runtime::ContactMatrices` of `n` velocity coordinates and `c` contact rows:
+    /// `J` (c × n), `M⁻¹ Jᵀ` (n × c), `K` (c × c), each column-major.
+    ContactMatrices(usize, usize),
+    /// `dyngen_runtime::ContactSystem`: the outputs of [`Shape::ContactMatrices`], then the
+    /// drift (c) and the free acceleration (n).
+    ContactSystem(usize, usize),
 }
 
 /// The sizes a function's arguments and result are written in.
@@ -92,6 +98,9 @@ pub enum QuantityKind {
     ContactResponse,
     ContactForwardDynamicsDerivatives,
     ContactAccelerationDerivatives,
+    ContactDelassus,
+    ContactMatrices,
+    ContactSystem,
 }
 
 /// A row of the table.
@@ -141,12 +150,15 @@ impl QuantityKind {
     ];
 
     /// The kinds of a robot with contacts (`ContactDynamics`), traced after every other.
-    pub const CONTACTS: [QuantityKind; 5] = [
+    pub const CONTACTS: [QuantityKind; 8] = [
         QuantityKind::ContactJacobian,
         QuantityKind::ContactDrift,
         QuantityKind::ContactResponse,
         QuantityKind::ContactForwardDynamicsDerivatives,
         QuantityKind::ContactAccelerationDerivatives,
+        QuantityKind::ContactDelassus,
+        QuantityKind::ContactMatrices,
+        QuantityKind::ContactSystem,
     ];
 
     fn row(self) -> Row {
@@ -200,6 +212,9 @@ impl QuantityKind {
             QuantityKind::ContactAccelerationDerivatives => {
                 row("contact_acceleration_derivatives", G::Contacts, false)
             }
+            QuantityKind::ContactDelassus => row("contact_delassus", G::Contacts, false),
+            QuantityKind::ContactMatrices => row("contact_matrices", G::Contacts, false),
+            QuantityKind::ContactSystem => row("contact_system", G::Contacts, false),
         }
     }
 
@@ -376,6 +391,18 @@ impl QuantityKind {
                  with q̈ held (contact rows × velocity coordinates each); on a floating base with \
                  respect to q in its tangent space"
             }
+            K::ContactDelassus => {
+                "the Delassus matrix J D⁻¹ Jᵀ, symmetric: how each contact row accelerates under a \
+                 unit force in each row; its inverse is the rows' operational-space inertia"
+            }
+            K::ContactMatrices => {
+                "J, D⁻¹ Jᵀ and the Delassus matrix J D⁻¹ Jᵀ at once, sharing the kinematics and \
+                 the factored mass matrix: what an impact's solve reads"
+            }
+            K::ContactSystem => {
+                "J, D⁻¹ Jᵀ, the Delassus matrix, the drift along q̇ and forward dynamics without \
+                 contacts at once, factoring the mass matrix once: what a constrained solve reads"
+            }
         }
     }
 
@@ -416,6 +443,9 @@ impl QuantityKind {
             K::ContactResponse => (vec![], Shape::Matrix(n, d.c)),
             K::ContactForwardDynamicsDerivatives => (vec![Qd, A, Forces(d.c)], Shape::MatrixPair(n, n)),
             K::ContactAccelerationDerivatives => (vec![Qd, A], Shape::MatrixPair(d.c, n)),
+            K::ContactDelassus => (vec![], Shape::Matrix(d.c, d.c)),
+            K::ContactMatrices => (vec![], Shape::ContactMatrices(n, d.c)),
+            K::ContactSystem => (vec![Qd, Tau], Shape::ContactSystem(n, d.c)),
         }
     }
 }

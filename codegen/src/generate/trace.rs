@@ -16,6 +16,7 @@ use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::{self, Directions, Placements};
 use crate::frame_names::{frame_identifiers, FrameIdentifiers};
 use crate::model::{Frame, JointTermValues, Model};
+use crate::dynamics::tree_ldl::TreeLdl;
 use crate::scalar::Scalar;
 use crate::scalar_dual::{LaneTangent, Tangent};
 use crate::spatial::{CompositeFrame, JointFrame, RigidInertia, Transform, Vec3};
@@ -332,6 +333,18 @@ impl<'a> FixedTracer<'a> {
                 &self.joint_values,
             );
             let motion = |frame: usize| dynamics::FrameMotion::new(model, world, qd, &model.frames()[frame]);
+            let (x, inertias, joint_values, tau) = (&self.x, &self.inertias, &self.joint_values, &self.tau);
+            let free_acceleration = |mass: &TreeLdl<Expr>| {
+                dynamics::forward_dynamics::forward_dynamics_factored(
+                    model,
+                    x,
+                    inertias,
+                    joint_values,
+                    mass,
+                    qd,
+                    tau,
+                )
+            };
             let state = ContactState {
                 qd,
                 a: &self.a,
@@ -341,6 +354,7 @@ impl<'a> FixedTracer<'a> {
                     inertias: &self.inertias,
                     joint_values: &self.joint_values,
                 },
+                free_acceleration: &free_acceleration,
             };
             for (kind, outputs) in contact_outputs(model, motion, state) {
                 self.record(kind, outputs);

@@ -17,17 +17,24 @@ use crate::symbolic::{Expr, Graph, Id, Node};
 const FORCE_PREFIX: &str = "lambda";
 
 /// What a tracer hands the contacts' rows: the state's velocity and acceleration inputs, the
-/// factored mass matrix at the state, and the tree (fixed or floating) the frames move with.
+/// factored mass matrix at the state, the tree (fixed or floating) the frames move with, and
+/// how it traces forward dynamics without contacts (`τ` its own input) with a factored mass
+/// matrix: called after every other row is traced, so that rows traced before keep their node
+/// ids.
 pub(super) struct ContactState<'a> {
     pub qd: &'a [Expr],
     pub a: &'a [Expr],
     pub mass: &'a TreeLdl<Expr>,
     pub tree: Tree<'a>,
+    pub free_acceleration: &'a dyn Fn(&TreeLdl<Expr>) -> Vec<Expr>,
 }
 
 /// The outputs of each row of [`QuantityKind::CONTACTS`], in that order: the stacked rows
-/// `J`, their drift along `qd`, `M⁻¹ Jᵀ` from the factored mass matrix, then the derivatives
-/// the runtime assembles `∂a/∂x` and `∂λ/∂x` from (`trace_contact_derivatives.rs`).
+/// `J`, their drift along `qd`, `M⁻¹ Jᵀ` from the factored mass matrix, the derivatives the
+/// runtime assembles `∂a/∂x` and `∂λ/∂x` from (`trace_contact_derivatives.rs`), then what the
+/// solves read in one call: the Delassus matrix `K = J M⁻¹ Jᵀ` (alone, with `J` and `M⁻¹ Jᵀ`,
+/// and with the drift and the free acceleration too). `K` comes from the factors
+/// ([`TreeLdl::congruence`]), which share `M⁻¹ Jᵀ`'s operations and follow the rows' sparsity.
 /// `motion(frame)` is the motion of `Model::frames()[frame]`.
 pub(super) fn contact_outputs(
     model: &Model,
@@ -40,6 +47,17 @@ pub(super) fn contact_outputs(
     let response = state.mass.solve_matrix(&rows.jacobian.transpose());
     let forces = inputs(FORCE_PREFIX, model.contact_rows());
     let derivatives = contact_derivatives(model, &state, &forces);
+    // Traced after the rows above, so that they keep their node ids.
+    let (delassus, _) = state.mass.congruence(&rows.jacobian);
+    let free_acceleration = (state.free_acceleration)(state.mass);
+    let matrices: Vec<Id> = [&rows.jacobian, &response, &delassus]
+        .into_iter()
+        .flat_map(matrix_ids)
+        .collect();
+    let system: Vec<Id> = (matrices.iter().copied())
+        .chain(ids(&rows.drift))
+        .chain(ids(&free_acceleration))
+        .collect();
     vec![
         (QuantityKind::ContactJacobian, matrix_ids(&rows.jacobian)),
         (QuantityKind::ContactDrift, ids(&rows.drift)),
@@ -52,6 +70,9 @@ pub(super) fn contact_outputs(
             QuantityKind::ContactAccelerationDerivatives,
             pair_ids(derivatives.acceleration),
         ),
+        (QuantityKind::ContactDelassus, matrix_ids(&delassus)),
+        (QuantityKind::ContactMatrices, matrices),
+        (QuantityKind::ContactSystem, system),
     ]
 }
 

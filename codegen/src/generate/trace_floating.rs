@@ -14,6 +14,7 @@ use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::floating::{self as algorithms, FloatingBase};
 use crate::dynamics::{self, FloatingDynamics, FrameMotion};
 use crate::model::{Frame, Model};
+use crate::dynamics::tree_ldl::TreeLdl;
 use crate::scalar::Scalar;
 use crate::spatial::{Mat3, RigidInertia, Transform, Vec3};
 use crate::symbolic::{Expr, Id};
@@ -184,10 +185,15 @@ impl<'a> FloatingTracer<'a> {
         if functions.contains(FunctionGroup::Contacts) && !model.contacts().is_empty() {
             let mass = algorithms::factor(model, base, x, inertias);
             let motion = |frame: usize| self.frame_motion(&model.frames()[frame]);
+            let (qd, tau) = (&self.qd, &self.tau);
+            let free_acceleration = |mass: &TreeLdl<Expr>| {
+                algorithms::floating_forward_dynamics_factored(model, base, x, inertias, mass, qd, tau)
+            };
             let state = super::trace_contacts::ContactState {
                 qd: &self.qd,
                 a: &self.a,
                 mass: &mass,
+                free_acceleration: &free_acceleration,
                 tree: super::trace_contact_derivatives::Tree::Floating {
                     base,
                     q: &self.q,

@@ -8,6 +8,7 @@ mod kind;
 mod placement;
 mod robot;
 mod solve;
+mod system;
 
 pub use derivatives::{
     assemble_derivatives, constrained_forward_dynamics_derivatives, ConstrainedDerivatives,
@@ -16,5 +17,7 @@ pub use kind::ContactKind;
 pub use placement::placement_error;
 pub use robot::{constrained_forward_dynamics, impulse_dynamics, operational_space_inertia, ContactDynamics};
 pub use solve::{
-    contact_inertia, solve_contacts, ContactError, ContactSolution, ProximalSettings, Stabilisation,
+    contact_inertia, delassus_inertia, solve_contacts, solve_contacts_with_delassus, ContactError,
+    ContactSolution, ProximalSettings, Stabilisation,
 };
+pub use system::{ContactMatrices, ContactSystem};

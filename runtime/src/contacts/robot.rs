@@ -3,8 +3,10 @@
 use super::kind::ContactKind;
 use super::placement::placement_error;
 use super::solve::{
-    contact_inertia, solve_contacts, ContactError, ContactSolution, ProximalSettings, Stabilisation,
+    delassus_inertia, solve_contacts_with_delassus, ContactError, ContactSolution, ProximalSettings,
+    Stabilisation,
 };
+use super::system::{ContactMatrices, ContactSystem};
 use crate::{Pose, ReferenceFrame};
 use nalgebra::{Const, SMatrix, SVector, Vector6};
 
@@ -60,6 +62,36 @@ pub trait ContactDynamics<const NV: usize, const NC: usize> {
     /// The pose of the frame contact `contact` holds its frame to (a loop closure's other
     /// frame; the identity for a contact with the world).
     fn contact_to_pose(t: &Self::Trig, contact: usize) -> Pose;
+
+    /// The Delassus matrix `K = J M⁻¹ Jᵀ` (NC × NC, symmetric), whose inverse is the rows'
+    /// operational-space inertia. A generated robot computes it directly, from the factored
+    /// mass matrix and the rows' sparsity; by default `J` times `M⁻¹ Jᵀ`.
+    fn contact_delassus(t: &Self::Trig) -> SMatrix<f64, NC, NC> {
+        Self::contact_jacobian(t) * Self::contact_response(t)
+    }
+
+    /// `J`, `M⁻¹ Jᵀ` and `K` at once (an impact's solve). A generated robot computes them in
+    /// one call, sharing the kinematics and the factored mass matrix; by default the rows one
+    /// by one.
+    fn contact_matrices(t: &Self::Trig) -> ContactMatrices<NV, NC> {
+        let (jacobian, response) = (Self::contact_jacobian(t), Self::contact_response(t));
+        ContactMatrices {
+            delassus: jacobian * response,
+            jacobian,
+            response,
+        }
+    }
+
+    /// [`ContactDynamics::contact_matrices`], the drift along `v` and the free acceleration
+    /// under `tau` at once: everything constrained forward dynamics solves with, in one call of
+    /// a generated robot (which factors the mass matrix once for all of it).
+    fn contact_system(t: &Self::Trig, v: &SVector<f64, NV>, tau: &SVector<f64, NV>) -> ContactSystem<NV, NC> {
+        ContactSystem {
+            matrices: Self::contact_matrices(t),
+            drift: Self::contact_drift(t, v),
+            free_acceleration: Self::free_acceleration(t, v, tau),
+        }
+    }
 }
 
 /// `a` and the contact forces with every contact of `R` held (Pinocchio's
@@ -74,19 +106,29 @@ pub fn constrained_forward_dynamics<R: ContactDynamics<NV, NC>, const NV: usize,
     settings: &ProximalSettings,
     warm_start: Option<&SVector<f64, NC>>,
 ) -> Result<ContactSolution<Const<NV>, Const<NC>>, ContactError> {
-    let jacobian = R::contact_jacobian(t);
-    let mut rhs = -R::contact_drift(t, v);
+    let ContactSystem {
+        matrices,
+        drift,
+        free_acceleration,
+    } = R::contact_system(t, v, tau);
+    let mut rhs = -drift;
     if let Some(stabilisation) = stabilisation {
-        let velocity = jacobian * v;
+        let velocity = matrices.jacobian * v;
         for (k, row, error) in placement_errors::<R, NV, NC>(t, &stabilisation)? {
             for i in 0..R::CONTACT_KINDS[k].rows() {
                 rhs[row + i] -= stabilisation.kp * error[i] + stabilisation.kd * velocity[row + i];
             }
         }
     }
-    let response = R::contact_response(t);
-    let free = R::free_acceleration(t, v, tau);
-    solve_contacts(&jacobian, &response, &free, &rhs, settings, warm_start)
+    solve_contacts_with_delassus(
+        &matrices.jacobian,
+        &matrices.response,
+        matrices.delassus,
+        &free_acceleration,
+        &rhs,
+        settings,
+        warm_start,
+    )
 }
 
 /// Each contact's placement error from where Baumgarte stabilisation holds it
@@ -145,16 +187,17 @@ pub fn impulse_dynamics<R: ContactDynamics<NV, NC>, const NV: usize, const NC: u
     if !(0.0..=1.0).contains(&restitution) {
         return Err(ContactError::Restitution(restitution));
     }
-    let jacobian = R::contact_jacobian(t);
-    let rhs = -(1.0 + restitution) * (jacobian * before);
+    let matrices = R::contact_matrices(t);
+    let rhs = -(1.0 + restitution) * (matrices.jacobian * before);
     let settings = ProximalSettings {
         mu,
         max_iterations: 1,
         accuracy: 0.0,
     };
-    let change = solve_contacts(
-        &jacobian,
-        &R::contact_response(t),
+    let change = solve_contacts_with_delassus(
+        &matrices.jacobian,
+        &matrices.response,
+        matrices.delassus,
         &SVector::zeros(),
         &rhs,
         &settings,
@@ -170,5 +213,5 @@ pub fn operational_space_inertia<R: ContactDynamics<NV, NC>, const NV: usize, co
     t: &R::Trig,
     damping: f64,
 ) -> Result<SMatrix<f64, NC, NC>, ContactError> {
-    contact_inertia(&R::contact_jacobian(t), &R::contact_response(t), damping)
+    delassus_inertia(R::contact_delassus(t), damping)
 }

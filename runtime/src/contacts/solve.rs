@@ -114,10 +114,22 @@ pub(super) fn factor<NV: Dim, NC: Dim>(
 where
     DefaultAllocator: Allocator<NC, NC> + Allocator<NC, NV> + Allocator<NV, NC>,
 {
+    factor_delassus(dense::delassus(jacobian, response), mu)
+}
+
+/// `K + μ I` factored in place, as [`factor`] does, from the Delassus matrix `k` itself.
+pub(super) fn factor_delassus<NC: Dim>(mut k: OMatrix<f64, NC, NC>, mu: f64) -> Result<OMatrix<f64, NC, NC>, ContactError>
+where
+    DefaultAllocator: Allocator<NC, NC>,
+{
     if !(mu >= 0.0 && mu.is_finite()) {
         return Err(ContactError::Settings("mu must be finite and not negative"));
     }
-    let (mut k, largest) = dense::delassus(jacobian, response, mu);
+    let n = k.nrows();
+    let largest = (0..n).fold(0.0_f64, |l, i| l.max(k[(i, i)].abs()));
+    for i in 0..n {
+        k[(i, i)] += mu;
+    }
     let floor = if mu == 0.0 { 1e-12 * largest } else { 0.0 };
     dense::factor_in_place(&mut k, floor).map_err(|row| ContactError::Redundant { row })?;
     Ok(k)
@@ -133,7 +145,15 @@ pub fn contact_inertia<NV: Dim, NC: Dim>(
 where
     DefaultAllocator: Allocator<NC, NC> + Allocator<NC, NV> + Allocator<NV, NC>,
 {
-    Ok(dense::inverse(&factor(jacobian, response, damping)?))
+    delassus_inertia(dense::delassus(jacobian, response), damping)
+}
+
+/// [`contact_inertia`] from the Delassus matrix `delassus` (`K = J M⁻¹ Jᵀ`): `(K + ε I)⁻¹`.
+pub fn delassus_inertia<NC: Dim>(delassus: OMatrix<f64, NC, NC>, damping: f64) -> Result<OMatrix<f64, NC, NC>, ContactError>
+where
+    DefaultAllocator: Allocator<NC, NC>,
+{
+    Ok(dense::inverse(&factor_delassus(delassus, damping)?))
 }
 
 /// The constrained acceleration and forces: `J a = rhs` with `a = a_free + M⁻¹ Jᵀ λ`, by
@@ -150,10 +170,29 @@ where
     DefaultAllocator:
         Allocator<NC, NC> + Allocator<NC, NV> + Allocator<NV, NC> + Allocator<NV> + Allocator<NC>,
 {
+    let delassus = dense::delassus(jacobian, response);
+    solve_contacts_with_delassus(jacobian, response, delassus, free, rhs, settings, warm_start)
+}
+
+/// [`solve_contacts`] with the Delassus matrix `delassus` (`K = J M⁻¹ Jᵀ`) given, as a
+/// generated robot computes it ([`ContactDynamics::contact_system`](super::ContactDynamics::contact_system)).
+pub fn solve_contacts_with_delassus<NV: Dim, NC: Dim>(
+    jacobian: &OMatrix<f64, NC, NV>,
+    response: &OMatrix<f64, NV, NC>,
+    delassus: OMatrix<f64, NC, NC>,
+    free: &OVector<f64, NV>,
+    rhs: &OVector<f64, NC>,
+    settings: &ProximalSettings,
+    warm_start: Option<&OVector<f64, NC>>,
+) -> Result<ContactSolution<NV, NC>, ContactError>
+where
+    DefaultAllocator:
+        Allocator<NC, NC> + Allocator<NC, NV> + Allocator<NV, NC> + Allocator<NV> + Allocator<NC>,
+{
     if settings.max_iterations == 0 {
         return Err(ContactError::Settings("at least one iteration is needed"));
     }
-    let lower = factor(jacobian, response, settings.mu)?;
+    let lower = factor_delassus(delassus, settings.mu)?;
     let target = rhs - jacobian * free;
     let mut forces = match warm_start {
         Some(start) => start.clone(),

@@ -12,7 +12,11 @@ pub fn shaped(robot: &SymbolicRobot, name: &str, values: Vec<f64>) -> DMatrix<f6
         Shape::Vector(n) => DMatrix::from_column_slice(n, 1, &values),
         Shape::Matrix(r, c) => DMatrix::from_column_slice(r, c, &values),
         Shape::MatrixPair(r, c) => DMatrix::from_column_slice(r, 2 * c, &values),
-        Shape::Pose | Shape::Kinematics(_) | Shape::VectorPair(..) => {
+        Shape::Pose
+        | Shape::Kinematics(_)
+        | Shape::VectorPair(..)
+        | Shape::ContactMatrices(..)
+        | Shape::ContactSystem(..) => {
             DMatrix::from_column_slice(values.len(), 1, &values)
         }
     }

@@ -207,7 +207,7 @@ fn imports(functions: &Functions) -> (Vec<&'static str>, Vec<&'static str>) {
         runtime.extend(["Pose", "ReferenceFrame", "RobotFrame"]);
     }
     if functions.contains(FunctionGroup::Contacts) {
-        runtime.push("ContactKind");
+        runtime.extend(["ContactKind", "ContactMatrices", "ContactSystem"]);
     }
     nalgebra.sort_unstable();
     runtime.sort_unstable();

@@ -45,6 +45,14 @@ pub(super) fn result_type(q: &Quantity, form: Form) -> TokenStream {
                 let (n, m) = (Literal::usize_unsuffixed(n), Literal::usize_unsuffixed(m));
                 quote!((SVector<f64, #n>, SVector<f64, #m>))
             }
+            Shape::ContactMatrices(n, c) => {
+                let (n, c) = (Literal::usize_unsuffixed(n), Literal::usize_unsuffixed(c));
+                quote!(ContactMatrices<#n, #c>)
+            }
+            Shape::ContactSystem(n, c) => {
+                let (n, c) = (Literal::usize_unsuffixed(n), Literal::usize_unsuffixed(c));
+                quote!(ContactSystem<#n, #c>)
+            }
         },
     }
 }
@@ -90,12 +98,19 @@ pub(super) fn result_value(q: &Quantity, form: Form, atoms: &[TokenStream]) -> T
             }
             Shape::MatrixPair(rows, cols) => {
                 let (first, second) = atoms.split_at(rows * cols);
-                let columns = |m: &[TokenStream]| {
-                    let c: Vec<TokenStream> = m.chunks(rows).map(|c| quote!([#(#c),*])).collect();
-                    quote!(SMatrix::from_array_storage(ArrayStorage([#(#c),*])))
-                };
-                let (first, second) = (columns(first), columns(second));
+                let (first, second) = (matrix_value(first, rows), matrix_value(second, rows));
                 quote!((#first, #second))
+            }
+            Shape::ContactMatrices(n, c) => contact_matrices_value(atoms, n, c),
+            Shape::ContactSystem(n, c) => {
+                let (matrices, vectors) = atoms.split_at(2 * n * c + c * c);
+                let (drift, free) = vectors.split_at(c);
+                let matrices = contact_matrices_value(matrices, n, c);
+                quote!(ContactSystem {
+                    matrices: #matrices,
+                    drift: SVector::from_array_storage(ArrayStorage([[#(#drift),*]])),
+                    free_acceleration: SVector::from_array_storage(ArrayStorage([[#(#free),*]])),
+                })
             }
         },
     }
@@ -243,6 +258,29 @@ pub(super) fn zero_result(q: &Quantity, form: Form, sizes: &Sizes) -> TokenStrea
         }
         _ => unreachable!("only vectors, matrices and their pairs are written in place"),
     }
+}
+
+/// An `SMatrix` of `rows` rows from its entries, column-major.
+fn matrix_value(atoms: &[TokenStream], rows: usize) -> TokenStream {
+    let columns = atoms.chunks(rows).map(|c| quote!([#(#c),*]));
+    quote!(SMatrix::from_array_storage(ArrayStorage([#(#columns),*])))
+}
+
+/// `ContactMatrices` of `n` velocity coordinates and `c` rows from `J`, `M⁻¹ Jᵀ` and `K`,
+/// each column-major.
+fn contact_matrices_value(atoms: &[TokenStream], n: usize, c: usize) -> TokenStream {
+    let (jacobian, rest) = atoms.split_at(c * n);
+    let (response, delassus) = rest.split_at(n * c);
+    let (jacobian, response, delassus) = (
+        matrix_value(jacobian, c),
+        matrix_value(response, n),
+        matrix_value(delassus, c),
+    );
+    quote!(ContactMatrices {
+        jacobian: #jacobian,
+        response: #response,
+        delassus: #delassus,
+    })
 }
 
 /// A `Pose` from 12 atoms: the rotation column-major, then the translation.

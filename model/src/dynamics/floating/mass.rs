@@ -80,10 +80,36 @@ pub fn floating_forward_dynamics<S: Scalar>(
     qd: &[S],
     tau: &[S],
 ) -> Vec<S> {
+    // The bias before the factor: traced in this order, the generated code keeps its node ids.
+    let rhs = torque_less_bias(model, base, x, inertias, qd, tau);
+    factor(model, base, x, inertias).solve(&rhs)
+}
+
+/// [`floating_forward_dynamics`] with the mass matrix factored ([`factor`]) given.
+pub fn floating_forward_dynamics_factored<S: Scalar>(
+    model: &Model,
+    base: &FloatingBase<S>,
+    x: &[Transform<S>],
+    inertias: &[RigidInertia<S>],
+    mass: &TreeLdl<S>,
+    qd: &[S],
+    tau: &[S],
+) -> Vec<S> {
+    mass.solve(&torque_less_bias(model, base, x, inertias, qd, tau))
+}
+
+/// `τ − C ν − g`: what accelerates the robot.
+fn torque_less_bias<S: Scalar>(
+    model: &Model,
+    base: &FloatingBase<S>,
+    x: &[Transform<S>],
+    inertias: &[RigidInertia<S>],
+    qd: &[S],
+    tau: &[S],
+) -> Vec<S> {
     let zero = vec![S::zero(); model.nv()];
     let bias = floating_inverse_dynamics(model, base, x, inertias, qd, &zero);
-    let rhs: Vec<S> = tau.iter().zip(&bias).map(|(&t, &b)| t - b).collect();
-    factor(model, base, x, inertias).solve(&rhs)
+    tau.iter().zip(&bias).map(|(&t, &b)| t - b).collect()
 }
 
 /// `D(q)⁻¹`, full and symmetric.

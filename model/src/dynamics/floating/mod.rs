@@ -36,8 +36,8 @@ pub use inverse::{
 pub use kinematics::{floating_body_poses, floating_frame_jacobian, floating_frame_jacobian_dot};
 #[doc(hidden)]
 pub use mass::{
-    floating_forward_dynamics, floating_mass_matrix, floating_mass_matrix_inverse,
-    floating_mass_matrix_inverse_by_ancestors,
+    floating_forward_dynamics, floating_forward_dynamics_factored, floating_mass_matrix,
+    floating_mass_matrix_inverse, floating_mass_matrix_inverse_by_ancestors,
 };
 
 use crate::scalar::Scalar;
