@@ -1,8 +1,8 @@
 //! A robot's contacts in its C library: what each contact is (`P_contact_info`), and the
 //! runtime's constrained functions assembled from the generated rows
 //! (`P_constrained_forward_dynamics`, `P_impulse_dynamics`, `P_operational_space_inertia`).
-//! The rows themselves (`contact_jacobian`, `contact_drift`, `contact_response`) are entries of
-//! the table like any generated quantity. A robot without contacts has the same functions:
+//! The rows themselves (`contact_jacobian`, `contact_drift`, `contact_response`, the Delassus
+//! matrix and the one-call rows) are entries of the table like any generated quantity. A robot without contacts has the same functions:
 //! no contact, and `DYNGEN_ERROR_NOT_GENERATED` from the three solves.
 
 use super::header::documented;

@@ -378,14 +378,15 @@ mod tests {
         let names: Vec<String> = entries.iter().map(Entry::name).collect();
         let at = |name: &str| names.iter().position(|n| n == name).expect(name);
         let first_frame = entries.iter().position(Entry::takes_frame).expect("frames");
-        assert_eq!(
-            [
-                at("contact_jacobian"),
-                at("contact_drift"),
-                at("contact_response")
-            ],
-            [first_frame - 3, first_frame - 2, first_frame - 1]
-        );
+        let rows = [
+            "contact_jacobian",
+            "contact_drift",
+            "contact_response",
+            "contact_delassus",
+            "contact_matrices",
+            "contact_system",
+        ];
+        assert_eq!(rows.map(at), [6, 5, 4, 3, 2, 1].map(|k| first_frame - k));
         let arrays = |name: &str| {
             let e = &entries[at(name)];
             let inputs: Vec<&str> = e.inputs.iter().map(|a| a.name).collect();
@@ -412,6 +413,24 @@ mod tests {
             arrays("contact_response"),
             (vec!["q"], vec![("contact_response", 6, 9, [nv, nc])])
         );
+        assert_eq!(
+            arrays("contact_delassus"),
+            (vec!["q"], vec![("contact_delassus", 9, 9, [nc, nc])])
+        );
+        // The one-call rows: their parts, each under the name of the row it repeats.
+        let (inputs, outputs) = arrays("contact_system");
+        assert_eq!(inputs, ["q", "qd", "tau"]);
+        assert_eq!(
+            outputs,
+            [
+                ("contact_jacobian", 9, 6, [nc, nv]),
+                ("contact_response", 6, 9, [nv, nc]),
+                ("contact_delassus", 9, 9, [nc, nc]),
+                ("contact_drift", 9, 1, [nc, Size::Number(1)]),
+                ("free_acceleration", 6, 1, [nv, Size::Number(1)]),
+            ]
+        );
+        assert_eq!(arrays("contact_matrices").1, outputs[..3]);
         // Without the group, none.
         let without = super::entries(&sizes, &Functions::all().without(FunctionGroup::Contacts));
         assert!(without.iter().all(|e| e.kind.group() != FunctionGroup::Contacts));

@@ -5,6 +5,7 @@
 mod base_regressor;
 mod free_motion_energy;
 mod generated_code;
+mod generated_contact_system;
 mod generated_contacts;
 mod generated_floating;
 mod generated_forward_dynamics;

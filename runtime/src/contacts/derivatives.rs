@@ -22,7 +22,8 @@
 use super::dense;
 use super::kind::ContactKind;
 use super::robot::{placement_errors, ContactDynamics};
-use super::solve::{factor, ContactError, ContactSolution, Stabilisation};
+use super::solve::{factor_delassus, ContactError, ContactSolution, Stabilisation};
+use super::system::ContactMatrices;
 use crate::ReferenceFrame;
 use nalgebra::allocator::Allocator;
 use nalgebra::{Const, DefaultAllocator, Dim, OMatrix, SMatrix};
@@ -57,7 +58,11 @@ pub fn constrained_forward_dynamics_derivatives<
     stabilisation: Option<Stabilisation<'_>>,
 ) -> Result<ConstrainedDerivatives<Const<NV>, Const<NC>>, ContactError> {
     let (a, lambda) = (&solution.acceleration, &solution.forces);
-    let jacobian = R::contact_jacobian(t);
+    let ContactMatrices {
+        jacobian,
+        response,
+        delassus,
+    } = R::contact_matrices(t);
     let acceleration = match stabilisation {
         None => R::contact_acceleration_derivatives(t, v, a),
         Some(s) => {
@@ -72,9 +77,10 @@ pub fn constrained_forward_dynamics_derivatives<
             (g_q + error * s.kp, g_v + jacobian * s.kd)
         }
     };
-    assemble_derivatives(
+    assemble(
         &jacobian,
-        &R::contact_response(t),
+        &response,
+        delassus,
         R::torque_response(t),
         R::contact_forward_dynamics_derivatives(t, v, a, lambda),
         acceleration,
@@ -88,6 +94,23 @@ pub fn assemble_derivatives<NV: Dim, NC: Dim>(
     jacobian: &OMatrix<f64, NC, NV>,
     response: &OMatrix<f64, NV, NC>,
     torque_response: OMatrix<f64, NV, NV>,
+    y: (OMatrix<f64, NV, NV>, OMatrix<f64, NV, NV>),
+    g: (OMatrix<f64, NC, NV>, OMatrix<f64, NC, NV>),
+) -> Result<ConstrainedDerivatives<NV, NC>, ContactError>
+where
+    DefaultAllocator:
+        Allocator<NC, NC> + Allocator<NC, NV> + Allocator<NV, NC> + Allocator<NV, NV> + Allocator<NC>,
+{
+    let delassus = dense::delassus(jacobian, response);
+    assemble(jacobian, response, delassus, torque_response, y, g)
+}
+
+/// [`assemble_derivatives`] with the Delassus matrix `delassus` (`K = J M⁻¹ Jᵀ`) given.
+fn assemble<NV: Dim, NC: Dim>(
+    jacobian: &OMatrix<f64, NC, NV>,
+    response: &OMatrix<f64, NV, NC>,
+    delassus: OMatrix<f64, NC, NC>,
+    torque_response: OMatrix<f64, NV, NV>,
     (y_q, y_v): (OMatrix<f64, NV, NV>, OMatrix<f64, NV, NV>),
     (g_q, g_v): (OMatrix<f64, NC, NV>, OMatrix<f64, NC, NV>),
 ) -> Result<ConstrainedDerivatives<NV, NC>, ContactError>
@@ -95,7 +118,7 @@ where
     DefaultAllocator:
         Allocator<NC, NC> + Allocator<NC, NV> + Allocator<NV, NC> + Allocator<NV, NV> + Allocator<NC>,
 {
-    let lower = factor(jacobian, response, 0.0)?;
+    let lower = factor_delassus(delassus, 0.0)?;
     // `λ̇ = −K⁻¹ (Ġ + J Y)` column by column on the one factor.
     let forces = |mut g: OMatrix<f64, NC, NV>| {
         for c in 0..g.ncols() {

@@ -137,7 +137,8 @@ impl<'a> Reference<'a> {
                 let j = motion().jacobian(lwa);
                 vec![column((tau - j.transpose() * column(&TICK_WRENCH)).as_slice())]
             }
-            "contact_jacobian" | "contact_drift" | "contact_response" => {
+            "contact_jacobian" | "contact_drift" | "contact_response" | "contact_delassus" | "contact_matrices"
+            | "contact_system" => {
                 let frame = |k: usize, reference| {
                     let m =
                         (generic.frame_motion(&model.frames()[k].name, q, qd)).expect("a frame of the model");
@@ -150,7 +151,8 @@ impl<'a> Reference<'a> {
                     }
                 };
                 let (j, drift) = contact_rows(model.contacts(), frame);
-                contact_output(name, j, drift, &generic.mass_matrix_inverse(q))
+                let free = column(generic.forward_dynamics(q, qd, tau).as_slice());
+                contact_output(name, j, drift, &generic.mass_matrix_inverse(q), free)
             }
             other => panic!("{}: no reference for the function {other}", self.library.prefix),
         }
@@ -208,7 +210,8 @@ impl<'a> Reference<'a> {
                 let j = generic.frame_jacobian(&st, frame, lwa);
                 vec![column((tau - j.transpose() * column(&TICK_WRENCH)).as_slice())]
             }
-            "contact_jacobian" | "contact_drift" | "contact_response" => {
+            "contact_jacobian" | "contact_drift" | "contact_response" | "contact_delassus" | "contact_matrices"
+            | "contact_system" => {
                 let at_rest = vec![0.0; model.nv()];
                 let frame = |k: usize, reference| FrameAt {
                     rotation: generic.frame_pose(&st, k).0,
@@ -217,7 +220,8 @@ impl<'a> Reference<'a> {
                     classical: generic.frame_classical_acceleration(&st, qd, &at_rest, k, reference),
                 };
                 let (j, drift) = contact_rows(model.contacts(), frame);
-                contact_output(name, j, drift, &generic.mass_matrix_inverse(&st))
+                let free = column(generic.forward_dynamics(&st, qd, tau).as_slice());
+                contact_output(name, j, drift, &generic.mass_matrix_inverse(&st), free)
             }
             other => panic!("{}: no reference for the function {other}", self.library.prefix),
         }
@@ -292,16 +296,24 @@ fn contact_rows(
     (j, drift)
 }
 
-/// `contact_jacobian` (`J`), `contact_drift` or `contact_response` (`D⁻¹ Jᵀ`).
+/// `contact_jacobian` (`J`), `contact_drift`, `contact_response` (`D⁻¹ Jᵀ`),
+/// `contact_delassus` (`J D⁻¹ Jᵀ`), or the parts of `contact_matrices` (`J`, `D⁻¹ Jᵀ`, `K`) and
+/// of `contact_system` (those, the drift and `free`, the free acceleration).
 fn contact_output(
     name: &str,
     j: DMatrix<f64>,
     drift: Vec<f64>,
     mass_inverse: &DMatrix<f64>,
+    free: DMatrix<f64>,
 ) -> Vec<DMatrix<f64>> {
+    let response = mass_inverse * j.transpose();
+    let delassus = &j * &response;
     match name {
         "contact_jacobian" => vec![j],
         "contact_drift" => vec![column(&drift)],
-        _ => vec![mass_inverse * j.transpose()],
+        "contact_response" => vec![response],
+        "contact_delassus" => vec![delassus],
+        "contact_matrices" => vec![j, response, delassus],
+        _ => vec![j, response, delassus, column(&drift), free],
     }
 }
