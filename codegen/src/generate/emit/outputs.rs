@@ -122,13 +122,35 @@ fn result_bytes(q: &Quantity, form: Form) -> usize {
 }
 
 /// Whether a function's result is written in place, each output stored as soon as it is
-/// computed: vectors and matrices (and pairs of them), not poses and kinematics.
+/// computed: vectors and matrices (pairs of them, and structs of them), not poses and
+/// kinematics.
 pub(super) fn writes_in_place(q: &Quantity, form: Form) -> bool {
     matches!(
         (form, q.shape),
         (_, Shape::Vector(_) | Shape::Matrix(..))
             | (Form::Scalar, Shape::VectorPair(..) | Shape::MatrixPair(..))
-    )
+    ) || (form == Form::Scalar && struct_fields(q.shape).is_some())
+}
+
+/// The matrices and vectors a struct result is made of, in the order of its outputs: each
+/// field's path from the result (`.matrices.jacobian`) and its rows and columns.
+fn struct_fields(shape: Shape) -> Option<Vec<(TokenStream, usize, usize)>> {
+    let matrices = |path: TokenStream, n: usize, c: usize| {
+        vec![
+            (quote!(#path.jacobian), c, n),
+            (quote!(#path.response), n, c),
+            (quote!(#path.delassus), c, c),
+        ]
+    };
+    match shape {
+        Shape::ContactMatrices(n, c) => Some(matrices(quote!(), n, c)),
+        Shape::ContactSystem(n, c) => {
+            let mut fields = matrices(quote!(.matrices), n, c);
+            fields.extend([(quote!(.drift), c, 1), (quote!(.free_acceleration), n, 1)]);
+            Some(fields)
+        }
+        _ => None,
+    }
 }
 
 /// Where outputs go in a result written in place: per output its slot (`o17`, bound as a
@@ -207,6 +229,17 @@ pub(super) fn slots_pattern(q: &Quantity, form: Form, pattern: &[TokenStream]) -
             let (first, second) = (nested(first, rows), nested(second, rows));
             quote!((#first, #second))
         }
+        (Form::Scalar, shape) => {
+            let fields = struct_fields(shape).expect("only vectors, matrices, their pairs and structs are written in place");
+            let mut rest = pattern;
+            let parts = fields.iter().map(|&(_, rows, cols)| {
+                let (part, after) = rest.split_at(rows * cols);
+                rest = after;
+                nested(part, rows)
+            });
+            let parts: Vec<TokenStream> = parts.collect();
+            quote!((#(#parts),*))
+        }
         _ => unreachable!("only vectors, matrices and their pairs are written in place"),
     }
 }
@@ -222,6 +255,11 @@ pub(super) fn slots_target(q: &Quantity, form: Form, out: TokenStream, by_refere
             true => out,
             false => quote!(&mut #out),
         },
+        (Form::Scalar, shape) => {
+            let fields = struct_fields(shape).expect("only vectors, matrices, their pairs and structs are written in place");
+            let targets = fields.iter().map(|(path, _, _)| quote!(&mut #out #path.data.0));
+            quote!((#(#targets),*))
+        }
         _ => unreachable!("only vectors, matrices and their pairs are written in place"),
     }
 }
@@ -242,6 +280,20 @@ pub(super) fn zero_result(q: &Quantity, form: Form, sizes: &Sizes) -> TokenStrea
     match (form, q.shape) {
         (Form::Scalar, Shape::Vector(_) | Shape::Matrix(..)) => matrix,
         (Form::Scalar, Shape::VectorPair(..) | Shape::MatrixPair(..)) => quote!((#matrix, #matrix)),
+        (Form::Scalar, Shape::ContactMatrices(..)) => quote!(ContactMatrices {
+            jacobian: #matrix,
+            response: #matrix,
+            delassus: #matrix,
+        }),
+        (Form::Scalar, Shape::ContactSystem(..)) => quote!(ContactSystem {
+            matrices: ContactMatrices {
+                jacobian: #matrix,
+                response: #matrix,
+                delassus: #matrix,
+            },
+            drift: #matrix,
+            free_acceleration: #matrix,
+        }),
         (Form::Lanes, shape) => {
             let splat = quote!(C::splat(#fill));
             match shape {
