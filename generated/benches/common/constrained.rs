@@ -71,7 +71,7 @@ type ConstrainedState<const NQ: usize, const NV: usize> =
 
 /// Times, as criterion groups `<robot>/<function>` (id `generated`): constrained forward
 /// dynamics exact, Baumgarte-stabilised and proximal, the impact, the operational-space
-/// inertia, and the generated pieces they are assembled from.
+/// inertia, the generated rows and the one generated call each solve makes.
 pub fn bench<R, const N: usize, const NQ: usize, const NV: usize, const NC: usize>(
     c: &mut Criterion,
     robot: &str,
@@ -164,6 +164,17 @@ pub fn bench<R, const N: usize, const NQ: usize, const NV: usize, const NC: usiz
             black_box(R::free_acceleration(&trig::<N>(q.as_slice()), v, tau));
         },
     );
+    // The one call each solve makes: the rows above and the Delassus matrix, sharing the
+    // kinematics and the factored mass matrix.
+    cycle(c, &g("contact_system"), "generated", &inputs, |(q, v, tau, _)| {
+        black_box(R::contact_system(&trig::<N>(q.as_slice()), v, tau));
+    });
+    cycle(c, &g("contact_matrices"), "generated", &inputs, |(q, _, _, _)| {
+        black_box(R::contact_matrices(&trig::<N>(q.as_slice())));
+    });
+    cycle(c, &g("contact_delassus"), "generated", &inputs, |(q, _, _, _)| {
+        black_box(R::contact_delassus(&trig::<N>(q.as_slice())));
+    });
     // The derivatives at the exact solution, which the call solves first (as Pinocchio's
     // `constraintDynamics` then `computeConstraintDynamicsDerivatives`).
     cycle(
