@@ -48,15 +48,31 @@ fn check(robot: &str, model: &Model, floating: bool, states: usize) {
         let (response, rest) = rest.split_at(nv * nc);
         let (k, rest) = rest.split_at(nc * nc);
         let (drift, free) = rest.split_at(nc);
-        assert_eq!(&system[..matrices.len()], matrices.as_slice(), "{}", what("matrices"));
+        assert_eq!(
+            &system[..matrices.len()],
+            matrices.as_slice(),
+            "{}",
+            what("matrices")
+        );
         assert_eq!(k, delassus.as_slice(), "{}", what("K alone"));
         assert_eq!(jacobian, value("contact_jacobian").as_slice(), "{}", what("J"));
-        assert_eq!(response, value("contact_response").as_slice(), "{}", what("M⁻¹ Jᵀ"));
+        assert_eq!(
+            response,
+            value("contact_response").as_slice(),
+            "{}",
+            what("M⁻¹ Jᵀ")
+        );
         assert_eq!(drift, value("contact_drift").as_slice(), "{}", what("drift"));
-        assert_eq!(free, value("forward_dynamics").as_slice(), "{}", what("free acceleration"));
+        assert_eq!(
+            free,
+            value("forward_dynamics").as_slice(),
+            "{}",
+            what("free acceleration")
+        );
         let k = DMatrix::from_column_slice(nc, nc, k);
         assert_eq!(k, k.transpose(), "{}", what("K symmetric"));
-        let product = DMatrix::from_column_slice(nc, nv, jacobian) * DMatrix::from_column_slice(nv, nc, response);
+        let product =
+            DMatrix::from_column_slice(nc, nv, jacobian) * DMatrix::from_column_slice(nv, nc, response);
         assert_close(&what("K = J M⁻¹ Jᵀ"), &k, &product, TOL);
     }
 }
@@ -75,7 +91,13 @@ fn solo12_on_four_point_feet() {
 fn a_chain_holding_its_tool_and_a_point_halfway_up() {
     let panda = robot("panda");
     let contacts = vec![
-        Contact::at(&panda, "panda_hand_tcp", ContactKind::Point, ReferenceFrame::LocalWorldAligned).unwrap(),
+        Contact::at(
+            &panda,
+            "panda_hand_tcp",
+            ContactKind::Point,
+            ReferenceFrame::LocalWorldAligned,
+        )
+        .unwrap(),
         Contact::at(&panda, "panda_link4", ContactKind::Point, ReferenceFrame::Local).unwrap(),
     ];
     check("panda", &panda.with_contacts(contacts).unwrap(), false, 20);

@@ -97,7 +97,12 @@ fn the_one_call_rows_are_the_rows() {
         let matrices = Solo12::contact_matrices(&t);
         assert_eq!(system.matrices, matrices, "{}", what("matrices"));
         assert_eq!(matrices.delassus, Solo12::contact_delassus(&t), "{}", what("K"));
-        assert_eq!(matrices.delassus, matrices.delassus.transpose(), "{}", what("K symmetric"));
+        assert_eq!(
+            matrices.delassus,
+            matrices.delassus.transpose(),
+            "{}",
+            what("K symmetric")
+        );
         let rows = RowsOnly::contact_system(&t, &v, &tau);
         let pairs = [
             ("J", dm(&matrices.jacobian), dm(&rows.matrices.jacobian)),
@@ -145,11 +150,22 @@ fn the_solves_are_those_of_the_rows() {
             ("Baumgarte", Some(stabilisation), &exact),
             ("proximal", Some(stabilisation), &proximal),
         ] {
-            let ours = constrained_forward_dynamics::<Solo12, NV, NC>(&t, &v, &tau, held, settings, None).unwrap();
+            let ours =
+                constrained_forward_dynamics::<Solo12, NV, NC>(&t, &v, &tau, held, settings, None).unwrap();
             let theirs =
                 constrained_forward_dynamics::<RowsOnly, NV, NC>(&t, &v, &tau, held, settings, None).unwrap();
-            assert_close(&what(&format!("{name} a")), &dm(&ours.acceleration), &dm(&theirs.acceleration), TOL);
-            assert_close(&what(&format!("{name} λ")), &dm(&ours.forces), &dm(&theirs.forces), TOL);
+            assert_close(
+                &what(&format!("{name} a")),
+                &dm(&ours.acceleration),
+                &dm(&theirs.acceleration),
+                TOL,
+            );
+            assert_close(
+                &what(&format!("{name} λ")),
+                &dm(&ours.forces),
+                &dm(&theirs.forces),
+                TOL,
+            );
             assert_eq!(ours.iterations, theirs.iterations, "{}", what(name));
         }
         let ours = impulse_dynamics::<Solo12, NV, NC>(&t, &v, 0.3, 0.0).unwrap();

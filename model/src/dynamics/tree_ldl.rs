@@ -138,7 +138,13 @@ impl<S: Scalar> TreeLdl<S> {
             .map(|r| self.solve_transposed_factor(&b.row(r).iter().copied().collect::<Vec<S>>()))
             .collect();
         let scaled: Vec<Vec<S>> = (y.iter())
-            .map(|column| column.iter().zip(&self.inv_pivot).map(|(&x, &inv)| x * inv).collect())
+            .map(|column| {
+                column
+                    .iter()
+                    .zip(&self.inv_pivot)
+                    .map(|(&x, &inv)| x * inv)
+                    .collect()
+            })
             .collect();
         let mut product = DMatrix::from_element(m, m, S::zero());
         for j in 0..m {

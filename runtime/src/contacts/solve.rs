@@ -107,7 +107,10 @@ impl fmt::Display for ContactError {
 /// `K + μ I` factored in place (`L` in the lower triangle), `k` the Delassus matrix
 /// `K = J M⁻¹ Jᵀ`; with `μ = 0`, refused when a pivot is at rounding level against the largest
 /// diagonal entry (a row the others already fix).
-pub(super) fn factor_delassus<NC: Dim>(mut k: OMatrix<f64, NC, NC>, mu: f64) -> Result<OMatrix<f64, NC, NC>, ContactError>
+pub(super) fn factor_delassus<NC: Dim>(
+    mut k: OMatrix<f64, NC, NC>,
+    mu: f64,
+) -> Result<OMatrix<f64, NC, NC>, ContactError>
 where
     DefaultAllocator: Allocator<NC, NC>,
 {
@@ -138,7 +141,10 @@ where
 }
 
 /// [`contact_inertia`] from the Delassus matrix `delassus` (`K = J M⁻¹ Jᵀ`): `(K + ε I)⁻¹`.
-pub fn delassus_inertia<NC: Dim>(delassus: OMatrix<f64, NC, NC>, damping: f64) -> Result<OMatrix<f64, NC, NC>, ContactError>
+pub fn delassus_inertia<NC: Dim>(
+    delassus: OMatrix<f64, NC, NC>,
+    damping: f64,
+) -> Result<OMatrix<f64, NC, NC>, ContactError>
 where
     DefaultAllocator: Allocator<NC, NC>,
 {

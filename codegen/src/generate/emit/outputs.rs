@@ -230,7 +230,8 @@ pub(super) fn slots_pattern(q: &Quantity, form: Form, pattern: &[TokenStream]) -
             quote!((#first, #second))
         }
         (Form::Scalar, shape) => {
-            let fields = struct_fields(shape).expect("only vectors, matrices, their pairs and structs are written in place");
+            let fields = struct_fields(shape)
+                .expect("only vectors, matrices, their pairs and structs are written in place");
             let mut rest = pattern;
             let parts = fields.iter().map(|&(_, rows, cols)| {
                 let (part, after) = rest.split_at(rows * cols);
@@ -256,7 +257,8 @@ pub(super) fn slots_target(q: &Quantity, form: Form, out: TokenStream, by_refere
             false => quote!(&mut #out),
         },
         (Form::Scalar, shape) => {
-            let fields = struct_fields(shape).expect("only vectors, matrices, their pairs and structs are written in place");
+            let fields = struct_fields(shape)
+                .expect("only vectors, matrices, their pairs and structs are written in place");
             let targets = fields.iter().map(|(path, _, _)| quote!(&mut #out #path.data.0));
             quote!((#(#targets),*))
         }

@@ -137,8 +137,8 @@ impl<'a> Reference<'a> {
                 let j = motion().jacobian(lwa);
                 vec![column((tau - j.transpose() * column(&TICK_WRENCH)).as_slice())]
             }
-            "contact_jacobian" | "contact_drift" | "contact_response" | "contact_delassus" | "contact_matrices"
-            | "contact_system" => {
+            "contact_jacobian" | "contact_drift" | "contact_response" | "contact_delassus"
+            | "contact_matrices" | "contact_system" => {
                 let frame = |k: usize, reference| {
                     let m =
                         (generic.frame_motion(&model.frames()[k].name, q, qd)).expect("a frame of the model");
@@ -210,8 +210,8 @@ impl<'a> Reference<'a> {
                 let j = generic.frame_jacobian(&st, frame, lwa);
                 vec![column((tau - j.transpose() * column(&TICK_WRENCH)).as_slice())]
             }
-            "contact_jacobian" | "contact_drift" | "contact_response" | "contact_delassus" | "contact_matrices"
-            | "contact_system" => {
+            "contact_jacobian" | "contact_drift" | "contact_response" | "contact_delassus"
+            | "contact_matrices" | "contact_system" => {
                 let at_rest = vec![0.0; model.nv()];
                 let frame = |k: usize, reference| FrameAt {
                     rotation: generic.frame_pose(&st, k).0,
