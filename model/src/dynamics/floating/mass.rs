@@ -80,9 +80,15 @@ pub fn floating_forward_dynamics<S: Scalar>(
     qd: &[S],
     tau: &[S],
 ) -> Vec<S> {
-    // The bias before the factor: traced in this order, the generated code keeps its node ids.
-    let rhs = torque_less_bias(model, base, x, inertias, qd, tau);
-    factor(model, base, x, inertias).solve(&rhs)
+    floating_forward_dynamics_by(
+        model,
+        base,
+        x,
+        inertias,
+        || factor(model, base, x, inertias),
+        qd,
+        tau,
+    )
 }
 
 /// [`floating_forward_dynamics`] with the mass matrix factored ([`factor`]) given.
@@ -95,21 +101,24 @@ pub fn floating_forward_dynamics_factored<S: Scalar>(
     qd: &[S],
     tau: &[S],
 ) -> Vec<S> {
-    mass.solve(&torque_less_bias(model, base, x, inertias, qd, tau))
+    floating_forward_dynamics_by(model, base, x, inertias, || mass.clone(), qd, tau)
 }
 
-/// `τ − C ν − g`: what accelerates the robot.
-fn torque_less_bias<S: Scalar>(
+/// `D⁻¹ (τ − C ν − g)` with `D` factored by `mass`, called after the bias is computed: traced in
+/// this order, the generated forward dynamics keeps its node ids.
+fn floating_forward_dynamics_by<S: Scalar>(
     model: &Model,
     base: &FloatingBase<S>,
     x: &[Transform<S>],
     inertias: &[RigidInertia<S>],
+    mass: impl FnOnce() -> TreeLdl<S>,
     qd: &[S],
     tau: &[S],
 ) -> Vec<S> {
     let zero = vec![S::zero(); model.nv()];
     let bias = floating_inverse_dynamics(model, base, x, inertias, qd, &zero);
-    tau.iter().zip(&bias).map(|(&t, &b)| t - b).collect()
+    let rhs: Vec<S> = tau.iter().zip(&bias).map(|(&t, &b)| t - b).collect();
+    mass().solve(&rhs)
 }
 
 /// `D(q)⁻¹`, full and symmetric.
