@@ -78,6 +78,7 @@ mod observation;
 mod payload;
 mod physical_start;
 mod pipeline;
+mod sensitivity;
 mod simulate;
 mod starts;
 mod streaming;
