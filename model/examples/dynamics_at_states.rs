@@ -5,7 +5,8 @@
 //! cargo run -p dyngen-model --example dynamics_at_states -- DESCRIPTION < states.txt
 //! ```
 //!
-//! Prints `joints <name>…` (the order of every vector below), `smoothing <ε>` or
+//! Prints `joints <name>…` (the order of every vector below), `columns <kind>…` (the
+//! joint-parameter columns chosen: armature, viscous, coulomb, offset), `smoothing <ε>` or
 //! `smoothing none`, then per joint `terms <name> <armature> <viscous> <coulomb> <offset>`,
 //! each the value the model uses (0 for a column the description does not choose). Then, for
 //! each input line `q… q̇… q̈…` (the joints' values, in that order), `tau …` (inverse
@@ -44,6 +45,17 @@ fn run() -> Result<(), String> {
     let names: Vec<&str> = model.joints().iter().map(|j| j.name.as_str()).collect();
     println!("joints {}", names.join(" "));
     let terms = model.joint_terms();
+    let kinds: Vec<&str> = terms
+        .kinds
+        .iter()
+        .map(|k| match k {
+            JointTermKind::Armature => "armature",
+            JointTermKind::Viscous => "viscous",
+            JointTermKind::Coulomb => "coulomb",
+            JointTermKind::Offset => "offset",
+        })
+        .collect();
+    println!("columns {}", kinds.join(" "));
     match terms.coulomb_smoothing {
         Some(e) => println!("smoothing {e:.17e}"),
         None => println!("smoothing none"),
