@@ -36,7 +36,7 @@ pub enum Estimator {
     /// tracks the measured positions with a stiff PD.
     InstrumentalVariables,
     /// Closed-loop output error (DIDIM): the parameters whose simulated loop reproduces the
-    /// measured torques; needs the torques, the reference and the law, no measured velocity
+    /// measured torques, by Gauss–Newton with the simulation's sensitivity; needs the torques, the reference and the law, no measured velocity
     /// or acceleration.
     Didim,
 }
@@ -162,18 +162,11 @@ pub(crate) fn estimate_torque_form<S: BaseRegressorSource>(
     // The description's values, every gain 1.
     let mut description = base_model.base.base_parameters(&model.parameters());
     description.resize(unknowns.len(), 1.0);
+    let simulate = |from: &[f64], rows| simulator(model, base_model, samples, prepared, options, from, rows);
     let (fit, closed_loop) = match options.estimator {
         Estimator::LeastSquares => (start, None),
         Estimator::InstrumentalVariables => {
-            let simulator = simulator(
-                model,
-                base_model,
-                samples,
-                prepared,
-                options,
-                &start.theta_b[..b],
-                SimulatedRows::Regressor,
-            )?;
+            let simulator = simulate(&start.theta_b[..b], SimulatedRows::Regressor)?;
             // From the least squares, or from the description (the least squares' gains)
             // when the least squares' model diverges in the loop.
             description[b..].copy_from_slice(&start.theta_b[b..]);
@@ -190,15 +183,7 @@ pub(crate) fn estimate_torque_form<S: BaseRegressorSource>(
             (fit, Some(how))
         }
         Estimator::Didim => {
-            let simulator = simulator(
-                model,
-                base_model,
-                samples,
-                prepared,
-                options,
-                &start.theta_b[..b],
-                SimulatedRows::TorqueSensitivity,
-            )?;
+            let simulator = simulate(&start.theta_b[..b], SimulatedRows::TorqueSensitivity)?;
             // From the description, or from the least squares when the description's model
             // diverges in the loop.
             let starts = vec![

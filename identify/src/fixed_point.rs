@@ -1,21 +1,21 @@
 //! The closed-loop estimators' iteration: simulate the identified model in the loop the robot
-//! ran in, rebuild the regressor on the simulated motion, solve, and again with the new
-//! estimate, until it stops moving.
+//! ran in, rebuild the regressor (or the torques' Jacobian) on the simulated motion, solve,
+//! and again with the new estimate, until it stops moving.
 //!
 //! - **IDIM-IV** (Janot, Vandanjon, Gautier): the instruments are the base regressor of the
 //!   simulated motion, `Z = Y_b(q_s, q̇_s, q̈_s)`, and each step solves
 //!   `(Zᵀ Σ⁻¹ W) θ_b = Zᵀ Σ⁻¹ τ` with the measured regressor `W` ([`crate::instrumental`]),
 //!   starting from the weighted least squares (from the description's values when the least
 //!   squares' model diverges in the loop).
-//! - **DIDIM** (Gautier, Janot, Vandanjon): closed-loop output error. The simulated loop's
-//!   torques are `τ_s = Y_b(q_s, q̇_s, q̈_s) θ_b` (the model's inverse dynamics along its own
-//!   motion), linear in `θ_b` at a fixed simulated motion; each step is the Gauss–Newton step
-//!   that takes `Y_b` of the simulated motion as the Jacobian of `τ_s` (the standard DIDIM
-//!   step: the motion's own sensitivity to `θ_b`, small in a loop that tracks its reference,
-//!   is left out), i.e. the weighted least squares of the measured torques on the simulated
-//!   regressor. It needs no measured velocity or acceleration: only the torques, the
-//!   reference and the law. It starts from the description's values (from the least squares'
-//!   when the description's model diverges in the loop).
+//! - **DIDIM** (Gautier, Janot, Vandanjon): closed-loop output error, by Gauss–Newton. The
+//!   simulated loop's torques `τ_s(θ_b)` are the law's output along the model's own motion;
+//!   each simulation also integrates their Jacobian `∂τ_s/∂θ_b` ([`crate::sensitivity`]), and
+//!   each step is the weighted least squares of `τ − τ_s(θ₀) + J θ₀` on `J`: the motion's own
+//!   sensitivity to `θ_b` included, so that the iteration settles at the output error's
+//!   minimum (the classical step, `J = Y_b` of the simulated motion, settles elsewhere). It
+//!   needs no measured velocity or acceleration: only the torques, the reference and the law.
+//!   It starts from the description's values (from the least squares' when the description's
+//!   model diverges in the loop).
 //!
 //! The step measure: the largest change of an unknown in units of its σ; the iteration has
 //! converged when it is below [`CONVERGED`]. It diverges when the simulated loop does
