@@ -176,12 +176,11 @@ impl FloatingDynamics<'_> {
         assert_eq!(v.len(), self.model.nv(), "ν has the wrong length");
         let base = self.base(s);
         let (x, inertias) = (&s.transforms, &self.inertias);
-        let mass = floating::factor(self.model, &base, x, inertias);
+        let mass = floating::factor(self.model, &base, x, inertias, &self.joint_values);
         let free = match tau {
             Some(tau) => {
                 assert_eq!(tau.len(), self.model.nv(), "τ has the wrong length");
-                let zero = vec![0.0; v.len()];
-                let bias = floating::floating_inverse_dynamics(self.model, &base, x, inertias, v, &zero);
+                let bias = floating::floating_bias(self.model, &base, x, inertias, &self.joint_values, v);
                 mass.solve(&difference(tau, &bias))
             }
             None => vec![0.0; v.len()],
