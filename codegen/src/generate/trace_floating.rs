@@ -235,8 +235,9 @@ impl<'a> FloatingTracer<'a> {
         let base_columns = |y: &[Id]| base_columns(y, self.base_parameters, self.dims.n);
         // The joint-level torques on the joint rows, `v` the reference velocity (none added
         // without chosen kinds: such a robot records the graph it always did).
-        let with_joint_terms =
-            |rigid: Vec<Expr>, v: &[Expr]| with_joint_term_torques(model, jv, rigid, 6, (&qd[6..], &v[6..], &a[6..]));
+        let with_joint_terms = |rigid: Vec<Expr>, v: &[Expr]| {
+            with_joint_term_torques(model, jv, rigid, 6, (&qd[6..], &v[6..], &a[6..]))
+        };
         match kind {
             K::MassMatrix => {
                 let mut d = algorithms::floating_mass_matrix(model, &base.inertia, x, inertias);

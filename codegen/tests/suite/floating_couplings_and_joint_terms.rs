@@ -41,7 +41,10 @@ fn floating(fixed: &Model, base: Inertia) -> Model {
         name: "base".into(),
         inertia: base,
     };
-    fixed.clone().with_floating_base(body).expect("a valid floating model")
+    fixed
+        .clone()
+        .with_floating_base(body)
+        .expect("a valid floating model")
 }
 
 /// A random tree with, by `seed`, random mimic joints or every kind of joint term (never both:
@@ -54,7 +57,8 @@ fn coupled_or_with_terms(model: Model, seed: u64) -> Model {
 }
 
 fn block(m: &DMatrix<f64>, rows: usize, cols: usize) -> DMatrix<f64> {
-    m.view((rows, cols), (m.nrows() - rows, m.ncols() - cols)).into_owned()
+    m.view((rows, cols), (m.nrows() - rows, m.ncols() - cols))
+        .into_owned()
 }
 
 fn pinned(joints: &[f64]) -> Vec<f64> {
@@ -65,7 +69,10 @@ fn pinned(joints: &[f64]) -> Vec<f64> {
 
 /// The joint block of every quantity with the base pinned is the fixed-base robot's.
 fn check_pinned(fixed: &Model, on_base: &Model, seed: u64) {
-    let (fixed_dynamics, dynamics) = (NumericDynamics::new(fixed), FloatingDynamics::new(on_base).unwrap());
+    let (fixed_dynamics, dynamics) = (
+        NumericDynamics::new(fixed),
+        FloatingDynamics::new(on_base).unwrap(),
+    );
     let j = random_state(fixed, seed);
     let mut q = vec![0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0];
     q.extend(&j.q);
@@ -74,7 +81,11 @@ fn check_pinned(fixed: &Model, on_base: &Model, seed: u64) {
     let what = |x: &str| format!("{} pinned, seed {seed}: {x}", fixed.name());
     let joints = |x: nalgebra::DVector<f64>| column(&x.as_slice()[6..]);
     let pairs = [
-        ("D", block(&dynamics.mass_matrix(&s), 6, 6), fixed_dynamics.mass_matrix(&j.q)),
+        (
+            "D",
+            block(&dynamics.mass_matrix(&s), 6, 6),
+            fixed_dynamics.mass_matrix(&j.q),
+        ),
         (
             "C",
             block(&dynamics.coriolis_matrix(&s, &qd), 6, 6),
@@ -93,7 +104,11 @@ fn check_pinned(fixed: &Model, on_base: &Model, seed: u64) {
         (
             "Slotine–Li",
             joints(dynamics.slotine_li(&s, &qd, &v, &a)),
-            column(fixed_dynamics.slotine_li(&j.q, &j.qd, &j.v, &j.a, true).as_slice()),
+            column(
+                fixed_dynamics
+                    .slotine_li(&j.q, &j.qd, &j.v, &j.a, true)
+                    .as_slice(),
+            ),
         ),
         (
             "Y (the base body's ten columns left out)",
@@ -114,7 +129,12 @@ fn check_pinned(fixed: &Model, on_base: &Model, seed: u64) {
         let jacobian = dynamics.frame_jacobian(&s, k, lwa);
         assert_close(&what("J"), &block(&jacobian, 0, 6), &motion.jacobian(lwa), TOL);
         let jdot = dynamics.frame_jacobian_time_variation(&s, &qd, k, lwa);
-        assert_close(&what("J̇"), &block(&jdot, 0, 6), &motion.jacobian_time_variation(lwa), TOL);
+        assert_close(
+            &what("J̇"),
+            &block(&jdot, 0, 6),
+            &motion.jacobian_time_variation(lwa),
+            TOL,
+        );
     }
 }
 
@@ -130,7 +150,13 @@ fn differences(nv: usize, f: impl Fn(usize, f64) -> Vec<f64>) -> DMatrix<f64> {
     let columns: Vec<_> = (0..nv)
         .map(|k| {
             let (plus, minus) = (f(k, H), f(k, -H));
-            column(&plus.iter().zip(&minus).map(|(p, m)| (p - m) / (2.0 * H)).collect::<Vec<_>>())
+            column(
+                &plus
+                    .iter()
+                    .zip(&minus)
+                    .map(|(p, m)| (p - m) / (2.0 * H))
+                    .collect::<Vec<_>>(),
+            )
         })
         .collect();
     DMatrix::from_columns(&columns.iter().map(|c| c.column(0)).collect::<Vec<_>>())
@@ -151,10 +177,20 @@ fn check_floating(model: &Model, sample: &FloatingSample, seed: u64) {
         let at = FloatingDynamics::with_parameters(model, theta).unwrap();
         at.slotine_li(&at.state(q).unwrap(), v, vr, ar)
     };
-    assert_close(&what("Y θ"), &(&y * column(&theta)), &column(torque(&theta).as_slice()), TOL);
+    assert_close(
+        &what("Y θ"),
+        &(&y * column(&theta)),
+        &column(torque(&theta).as_slice()),
+        TOL,
+    );
     for k in 0..theta.len() {
         let change = (torque(&moved(&theta, k, 1.0)) - torque(&moved(&theta, k, -1.0))) / 2.0;
-        assert_close(&what(&format!("column {k} of Y")), &y.columns(k, 1).into_owned(), &column(change.as_slice()), TOL);
+        assert_close(
+            &what(&format!("column {k} of Y")),
+            &y.columns(k, 1).into_owned(),
+            &column(change.as_slice()),
+            TOL,
+        );
     }
     // Forward dynamics inverts inverse dynamics; D⁻¹ inverts D.
     let tau = dynamics.inverse_dynamics(&s, v, a);
@@ -166,14 +202,34 @@ fn check_floating(model: &Model, sample: &FloatingSample, seed: u64) {
     let at = |q: &[f64]| dynamics.state(q).unwrap();
     let along = |k: usize, h: f64| dynamics.integrate(q, &moved(&vec![0.0; nv], k, 1.0), h).unwrap();
     let (dq, dv) = dynamics.inverse_dynamics_derivatives(&s, v, a);
-    let fd_dq = differences(nv, |k, h| dynamics.inverse_dynamics(&at(&along(k, h)), v, a).as_slice().to_vec());
-    let fd_dv = differences(nv, |k, h| dynamics.inverse_dynamics(&s, &moved(v, k, h), a).as_slice().to_vec());
+    let fd_dq = differences(nv, |k, h| {
+        dynamics
+            .inverse_dynamics(&at(&along(k, h)), v, a)
+            .as_slice()
+            .to_vec()
+    });
+    let fd_dv = differences(nv, |k, h| {
+        dynamics
+            .inverse_dynamics(&s, &moved(v, k, h), a)
+            .as_slice()
+            .to_vec()
+    });
     assert_close(&what("∂τ/∂q"), &dq, &fd_dq, FD_TOL);
     assert_close(&what("∂τ/∂ν"), &dv, &fd_dv, FD_TOL);
     let t = tau.as_slice();
     let (dq, dv) = dynamics.forward_dynamics_derivatives(&s, v, t);
-    let fd_dq = differences(nv, |k, h| dynamics.forward_dynamics(&at(&along(k, h)), v, t).as_slice().to_vec());
-    let fd_dv = differences(nv, |k, h| dynamics.forward_dynamics(&s, &moved(v, k, h), t).as_slice().to_vec());
+    let fd_dq = differences(nv, |k, h| {
+        dynamics
+            .forward_dynamics(&at(&along(k, h)), v, t)
+            .as_slice()
+            .to_vec()
+    });
+    let fd_dv = differences(nv, |k, h| {
+        dynamics
+            .forward_dynamics(&s, &moved(v, k, h), t)
+            .as_slice()
+            .to_vec()
+    });
     assert_close(&what("∂ν̇/∂q"), &dq, &fd_dq, FD_TOL);
     assert_close(&what("∂ν̇/∂ν"), &dv, &fd_dv, FD_TOL);
 }
@@ -183,7 +239,9 @@ fn check_floating(model: &Model, sample: &FloatingSample, seed: u64) {
 fn check_base_parameters(model: &Model, base: &BaseParameterSet, seed: u64) {
     let dynamics = FloatingDynamics::new(model).unwrap();
     let mut rng = SplitMix64::new(seed);
-    let theta: Vec<f64> = (0..base.standard_count).map(|_| rng.uniform((-1.0, 1.0))).collect();
+    let theta: Vec<f64> = (0..base.standard_count)
+        .map(|_| rng.uniform((-1.0, 1.0)))
+        .collect();
     assert_eq!(base.standard_count, FloatingDynamics::parameter_count(model));
     let mut blocks = Vec::new();
     // More rows than columns, and enough states that Coulomb friction's sign changes.
@@ -200,13 +258,21 @@ fn check_base_parameters(model: &Model, base: &BaseParameterSet, seed: u64) {
     let p = blocks[0].ncols();
     let rows = blocks[0].nrows();
     let stacked = DMatrix::from_fn(rows * blocks.len(), p, |i, j| blocks[i / rows][(i % rows, j)]);
-    assert_eq!(base.count(), scaled_rank(&stacked).0, "{}: {:?}", model.name(), base.diagnostics);
+    assert_eq!(
+        base.count(),
+        scaled_rank(&stacked).0,
+        "{}: {:?}",
+        model.name(),
+        base.diagnostics
+    );
 }
 
 /// Every traced function (interpreted) against the generic dynamics of the parameters it was
 /// traced with (the base parameters' representative ones).
 fn check_traced(model: &Model, traced: &SymbolicRobot, sample: &FloatingSample) {
-    let representative = traced.base.representative(&FloatingDynamics::new(model).unwrap().parameters());
+    let representative = traced
+        .base
+        .representative(&FloatingDynamics::new(model).unwrap().parameters());
     let dynamics = FloatingDynamics::with_parameters(model, &representative).unwrap();
     let FloatingSample { q, v, a, vr, ar } = sample;
     let s: FloatingState = dynamics.state(q).unwrap();
@@ -221,7 +287,9 @@ fn check_traced(model: &Model, traced: &SymbolicRobot, sample: &FloatingSample) 
             tau,
             ..Arguments::default()
         };
-        traced.evaluate_with(name, &args).unwrap_or_else(|| panic!("{name} is not traced"))
+        traced
+            .evaluate_with(name, &args)
+            .unwrap_or_else(|| panic!("{name} is not traced"))
     };
     let square = |x: Vec<f64>| DMatrix::from_column_slice(nv, nv, &x);
     let pair = |x: Vec<f64>| (square(x[..nv * nv].to_vec()), square(x[nv * nv..].to_vec()));
@@ -236,14 +304,26 @@ fn check_traced(model: &Model, traced: &SymbolicRobot, sample: &FloatingSample) 
     let frame_jacobian = format!("frame_jacobian_{snake}_local_world_aligned");
     let frame_jdot = format!("frame_jacobian_time_variation_{snake}_local_world_aligned");
     let pairs = [
-        ("mass_matrix", square(eval("mass_matrix", none, none, none, none)), dynamics.mass_matrix(&s)),
+        (
+            "mass_matrix",
+            square(eval("mass_matrix", none, none, none, none)),
+            dynamics.mass_matrix(&s),
+        ),
         (
             "coriolis_matrix",
             square(eval("coriolis_matrix", v, none, none, none)),
             dynamics.coriolis_matrix(&s, v),
         ),
-        ("gravity", column(&eval("gravity", none, none, none, none)), column(dynamics.gravity(&s).as_slice())),
-        ("inverse_dynamics", column(&eval("inverse_dynamics", v, none, a, none)), column(&tau)),
+        (
+            "gravity",
+            column(&eval("gravity", none, none, none, none)),
+            column(dynamics.gravity(&s).as_slice()),
+        ),
+        (
+            "inverse_dynamics",
+            column(&eval("inverse_dynamics", v, none, a, none)),
+            column(&tau),
+        ),
         (
             "slotine_li",
             column(&eval("slotine_li", v, vr, ar, none)),
@@ -295,7 +375,12 @@ fn check_traced(model: &Model, traced: &SymbolicRobot, sample: &FloatingSample) 
         ),
     ];
     for (name, actual, expected) in pairs {
-        assert_close(&format!("{}: traced {name}", model.name()), &actual, &expected, 1e-12);
+        assert_close(
+            &format!("{}: traced {name}", model.name()),
+            &actual,
+            &expected,
+            1e-12,
+        );
     }
 }
 

@@ -110,7 +110,12 @@ pub fn add_armature<S: Scalar>(model: &Model, values: &[JointTermValues], d: &mu
 
 /// [`add_armature`] to a `d` whose first `lead` rows and columns come before the joints' (a
 /// floating base's six).
-pub fn add_armature_after<S: Scalar>(model: &Model, values: &[JointTermValues], d: &mut DMatrix<S>, lead: usize) {
+pub fn add_armature_after<S: Scalar>(
+    model: &Model,
+    values: &[JointTermValues],
+    d: &mut DMatrix<S>,
+    lead: usize,
+) {
     if !model.joint_terms().has(JointTermKind::Armature) {
         return;
     }

@@ -223,10 +223,22 @@ impl<'m> FloatingDynamics<'m> {
     pub fn inverse_dynamics(&self, s: &FloatingState, v: &[f64], a: &[f64]) -> DVector<f64> {
         self.check_velocity(v);
         self.check_velocity(a);
-        let rigid =
-            floating::floating_inverse_dynamics(self.model, &self.base(s), &s.transforms, &self.inertias, v, a);
+        let rigid = floating::floating_inverse_dynamics(
+            self.model,
+            &self.base(s),
+            &s.transforms,
+            &self.inertias,
+            v,
+            a,
+        );
         let joints = (&v[6..], &v[6..], &a[6..]);
-        DVector::from_vec(with_joint_term_torques(self.model, &self.joint_values, rigid, 6, joints))
+        DVector::from_vec(with_joint_term_torques(
+            self.model,
+            &self.joint_values,
+            rigid,
+            6,
+            joints,
+        ))
     }
 
     /// The Slotine–Li form `D a_r + C(q, ν) v_r + g` plus the joint-level terms.
@@ -238,7 +250,13 @@ impl<'m> FloatingDynamics<'m> {
         let (base, x) = (self.base(s), &s.transforms);
         let rigid = floating::floating_slotine_li(self.model, &base, x, &self.inertias, v, vr, ar, Some(g));
         let joints = (&v[6..], &vr[6..], &ar[6..]);
-        DVector::from_vec(with_joint_term_torques(self.model, &self.joint_values, rigid, 6, joints))
+        DVector::from_vec(with_joint_term_torques(
+            self.model,
+            &self.joint_values,
+            rigid,
+            6,
+            joints,
+        ))
     }
 
     /// The regressor `Y` with `Y θ` the Slotine–Li torque ([`FloatingDynamics::parameters`]).

@@ -98,9 +98,12 @@ impl Order {
         let joints: Vec<&str> = (0..model.joints().len()).map(name).collect();
         // A joint is its name, or an object with one.
         let names = |field: &str| -> Vec<&str> {
-            (fixture[field].as_array().unwrap_or_else(|| panic!("{field}")).iter())
-                .map(|n| n.as_str().or(n["name"].as_str()).expect("a joint name"))
-                .collect()
+            (fixture[field]
+                .as_array()
+                .unwrap_or_else(|| panic!("{field}"))
+                .iter())
+            .map(|n| n.as_str().or(n["name"].as_str()).expect("a joint name"))
+            .collect()
         };
         let theirs = names("joint_names");
         let their_bodies = match fixture["joints"].is_array() {

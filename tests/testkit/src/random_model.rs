@@ -8,7 +8,9 @@
 //! Public API: [`arb_model`], [`arb_state`], [`arb_model_and_state`] (proptest strategies) and
 //! [`random_state`] with the tiny deterministic [`SplitMix64`] for fixed-seed loops.
 
-use dyngen_codegen::model::{from_xyz_rpy, Body, Frame, Inertia, Joint, JointKind, Limits, Mimic, Model, Pose};
+use dyngen_codegen::model::{
+    from_xyz_rpy, Body, Frame, Inertia, Joint, JointKind, Limits, Mimic, Model, Pose,
+};
 use nalgebra::{Matrix3, Vector3};
 use proptest::prelude::*;
 use proptest::sample::Index;

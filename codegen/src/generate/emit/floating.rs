@@ -3,7 +3,7 @@
 //! method placed by its row's group, [`FunctionGroup::floating_trait_name`]), then the chunk
 //! functions of the large functions.
 
-use super::constants::{base_parameters_function, joint_limits, literal};
+use super::constants::{base_parameters_function, joint_limits, joint_names, literal};
 use super::contacts::{contact_implementation, ContactTraits};
 use super::file::{formatted, header, type_doc, version_check, Provenance};
 use super::frames::{frame_items, FrameTrait};
@@ -148,7 +148,7 @@ fn implementation(
 
 /// The module's imports and constants.
 fn constants(model: &Model, robot: &SymbolicRobot) -> TokenStream {
-    let joint_names = model.joints().iter().map(|j| j.name.as_str());
+    let joint_names = joint_names(model);
     let joint_limits = joint_limits(model);
     let parameter_names = crate::dynamics::FloatingDynamics::parameter_names(model);
     let base = &robot.base;

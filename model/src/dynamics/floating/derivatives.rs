@@ -310,7 +310,10 @@ pub fn floating_inverse_dynamics_derivatives<S: LaneScalar>(
     a: &[S],
 ) -> (DMatrix<S>, DMatrix<S>) {
     let planned = with_field_directions(plan(&parents(model)));
-    matrices(model.nv(), &runs(&planned, model, base, q, inertias, joint_values, v, a))
+    matrices(
+        model.nv(),
+        &runs(&planned, model, base, q, inertias, joint_values, v, a),
+    )
 }
 
 /// `(∂ν̇/∂q, ∂ν̇/∂ν)` of floating forward dynamics at `(q, ν, τ)` (`∂ν̇/∂τ = D⁻¹`).

@@ -6,8 +6,8 @@
 
 use super::{base_entries, base_motion, FloatingBase};
 use crate::dynamics::coupling::{expand, project, project_rows_after};
-use crate::dynamics::joint_terms::fill_joint_term_columns_after;
 use crate::dynamics::joint::joint_force;
+use crate::dynamics::joint_terms::fill_joint_term_columns_after;
 use crate::dynamics::newton_euler::{origin_motions_from, OriginMotion};
 use crate::dynamics::slotine_li::{
     body_force, forward_pass_from, gravity_vector, tree_forces, unit_forces, BodyMotion,
@@ -53,7 +53,11 @@ pub fn floating_slotine_li<S: Scalar, X: JointFrame<S>>(
     gravity: Option<Vec3<S>>,
 ) -> Vec<S> {
     let root = base_body_motion(&base.pose.rot, qd, v, a, gravity);
-    let (jqd, jv, ja) = (expand(model, &qd[6..]), expand(model, &v[6..]), expand(model, &a[6..]));
+    let (jqd, jv, ja) = (
+        expand(model, &qd[6..]),
+        expand(model, &v[6..]),
+        expand(model, &a[6..]),
+    );
     let motions = forward_pass_from(model, x, &jqd, &jv, &ja, &root);
     let forces = motions
         .iter()
@@ -158,7 +162,11 @@ pub fn floating_regressor<S: Scalar, X: JointFrame<S>>(
     // (`newton_euler`) saves a few operations on Solo-12's torque-form regressors but made them
     // slower in both builds (`docs/performance-notes.md`, *What did not help*).
     let root = base_body_motion(rotation, qd, v, a, Some(gravity_vector(model)));
-    let (jqd, jv, ja) = (expand(model, &qd[6..]), expand(model, &v[6..]), expand(model, &a[6..]));
+    let (jqd, jv, ja) = (
+        expand(model, &qd[6..]),
+        expand(model, &v[6..]),
+        expand(model, &a[6..]),
+    );
     let motions = forward_pass_from(model, x, &jqd, &jv, &ja, &root);
     let (on_base, forces): (_, Vec<_>) = (unit_forces(&root), motions.iter().map(unit_forces).collect());
     let columns = PARAMETERS_PER_BODY + model.parameter_count();

@@ -26,7 +26,9 @@ fn assert_close(what: &str, generated: &[f64], generic: &[f64]) {
 }
 
 fn model(description: &str) -> Model {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../codegen/tests/data").join(description);
+    let path = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("../../codegen/tests/data")
+        .join(description);
     load(&path).unwrap_or_else(|e| panic!("{e}")).model
 }
 
@@ -56,7 +58,11 @@ fn compare<R, const N: usize, const NV: usize, const P: usize, const B: usize>(
     let (vs, as_, vrs, ars) = (v.as_slice(), a.as_slice(), vr.as_slice(), ar.as_slice());
     let tau = generic.inverse_dynamics(s, vs, as_);
     let tau_v = SVector::<f64, NV>::from_column_slice(tau.as_slice());
-    assert_close("D", R::mass_matrix(t).as_slice(), generic.mass_matrix(s).as_slice());
+    assert_close(
+        "D",
+        R::mass_matrix(t).as_slice(),
+        generic.mass_matrix(s).as_slice(),
+    );
     assert_close(
         "C",
         R::coriolis_matrix(t, v).as_slice(),
@@ -117,7 +123,9 @@ fn compare<R, const N: usize, const NV: usize, const P: usize, const B: usize>(
 
 /// The generic dynamics of the parameters the code was generated with.
 fn generated_with(model: &Model) -> FloatingDynamics<'_> {
-    let description = FloatingDynamics::new(model).expect("a floating base").parameters();
+    let description = FloatingDynamics::new(model)
+        .expect("a floating base")
+        .parameters();
     let representative = BaseParameterSet::compute(model).representative(&description);
     FloatingDynamics::with_parameters(model, &representative).expect("a floating base")
 }
@@ -126,8 +134,15 @@ fn generated_with(model: &Model) -> FloatingDynamics<'_> {
 fn a_floating_gripper_with_mimic_joints_matches_the_generic_dynamics() {
     use floating_gripper::{FloatingGripper, BASE_PARAMETER_COUNT as B, DOF, NQ, NV, PARAMETER_COUNT as P};
     let model = model("mimic/floating_gripper.yaml");
-    assert_eq!((DOF, NQ, NV), (4, 11, 10), "the coordinates, not the tree's six joints");
-    assert_eq!(P, 70, "ten for the base body, ten per body, mimic joints' bodies included");
+    assert_eq!(
+        (DOF, NQ, NV),
+        (4, 11, 10),
+        "the coordinates, not the tree's six joints"
+    );
+    assert_eq!(
+        P, 70,
+        "ten for the base body, ten per body, mimic joints' bodies included"
+    );
     assert_eq!(floating_gripper::JOINT_NAMES.len(), DOF);
     let generic = generated_with(&model);
     let mut rng = SplitMix64::new(17);
@@ -142,7 +157,11 @@ fn a_floating_gripper_with_mimic_joints_matches_the_generic_dynamics() {
 fn a_floating_hopper_with_joint_friction_matches_the_generic_dynamics() {
     use hopper_friction::{HopperFriction, BASE_PARAMETER_COUNT as B, DOF, NQ, NV, PARAMETER_COUNT as P};
     let model = model("floating/hopper_friction.yaml");
-    assert_eq!(P, 10 + 20 + 8, "the base body's ten, ten per body, four per joint");
+    assert_eq!(
+        P,
+        10 + 20 + 8,
+        "the base body's ten, ten per body, four per joint"
+    );
     assert_eq!(
         &hopper_friction::PARAMETER_NAMES[30..32],
         &["Ia[hip]", "fv[hip]"],
