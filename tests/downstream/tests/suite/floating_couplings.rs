@@ -16,13 +16,7 @@ use dyngen_runtime::{FloatingTrig, RobotFrame, SplitMix64};
 use std::path::Path;
 
 fn assert_close(what: &str, generated: &[f64], generic: &[f64]) {
-    assert_eq!(generated.len(), generic.len(), "{what}: sizes");
-    let scale = generic.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
-    let err = generated
-        .iter()
-        .zip(generic)
-        .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
-    assert!(err <= 1e-12 * scale, "{what}: {err:e} (scale {scale:e})");
+    super::mimic_joints::assert_within(what, generated, generic, 1e-12);
 }
 
 fn model(description: &str) -> Model {
