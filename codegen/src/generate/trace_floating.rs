@@ -200,6 +200,7 @@ impl<'a> FloatingTracer<'a> {
                     base,
                     q: &self.q,
                     inertias,
+                    joint_values: jv,
                 },
             };
             for (kind, outputs) in contact_outputs(model, motion, state) {
