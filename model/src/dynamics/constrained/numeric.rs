@@ -225,16 +225,7 @@ pub(super) fn right_hand_side(
     let Some(stabilisation) = stabilisation else {
         return Ok(rhs);
     };
-    let held = world_contacts(contacts);
-    if stabilisation.anchors.len() != held {
-        return Err(ContactError::Anchors {
-            contacts: held,
-            anchors: stabilisation.anchors.len(),
-        });
-    }
-    if !(stabilisation.kp.is_finite() && stabilisation.kd.is_finite()) {
-        return Err(ContactError::Settings("the Baumgarte gains must be finite"));
-    }
+    stabilisation.check(world_contacts(contacts))?;
     let (mut row, mut anchors) = (0, stabilisation.anchors.iter());
     for (contact, (pose, to)) in contacts.iter().zip(&at.poses) {
         // A loop is held where its other frame is; a contact with the world, at its anchor.
