@@ -7,7 +7,9 @@ root joint (`pin.JointModelFreeFlyer()`, named `root_joint`; fixed joints merged
 and writes, for a set of seeded random states, every quantity the tests compare against:
 dynamics, derivatives, centroidal quantities, energies, named frames, and the configuration
 space's integrate/difference. Field meanings and conventions: codegen/tests/fixtures/README.md
-("Floating bases"). Helpers shared with the fixed-base fixtures (quarter turns made exact,
+("Floating bases"). A robot with mimic joints is loaded with `mimic=True` too; its values come
+from the tree (the same URDF without mimic support) carried through the coupling, checked
+against what Pinocchio computes on the mimic model itself (`evaluate_mimic`). Helpers shared with the fixed-base fixtures (quarter turns made exact,
 joint and body descriptions, parameters, JSON layout) come from tools/pinocchio_reference.py.
 Before writing, it checks every state against identities and finite differences and stops at
 the first failure; it prints the worst residual of each check.
@@ -40,6 +42,7 @@ from pinocchio_reference import (
     describe_body,
     describe_joint,
     exact_quarter_turns,
+    is_mimic,
     parameters,
     pose,
     seed_of,
@@ -69,6 +72,7 @@ class Robot:
     directory: str  # where the committed copy is, from the repository root
     frames: tuple  # BODY frames (URDF links) whose pose and Jacobians are compared
     states: int
+    mimic: bool = False  # loaded with Pinocchio 4's mimic joints (`mimic=True`)
 
 
 ROBOTS = {
@@ -95,6 +99,18 @@ ROBOTS = {
             ("left_ankle_roll_link", "right_ankle_roll_link", "left_rubber_hand", "right_rubber_hand", "imu_in_pelvis"),
             6,
         ),
+        # A torso with an arm and a two-finger gripper, written for dyngen's tests: the right
+        # finger (prismatic) mimics the left with multiplier -1 and offset 0.01, a tail
+        # on a branch of its own mimics the elbow (0.5, -0.2). 4 coordinates, 6 joints.
+        Robot(
+            "floating_gripper",
+            "floating_gripper.urdf",
+            None,
+            "codegen/tests/data/mimic",
+            ("tool", "left_finger", "right_finger", "tail", "torso"),
+            10,
+            mimic=True,
+        ),
     ]
 }
 
@@ -109,6 +125,9 @@ def urdf_path(robot):
 
 def check_provenance(robot):
     """Warn when the committed URDF differs from example-robot-data's copy."""
+    if robot.source is None:
+        print(f"  note: {robot.urdf} is dyngen's own; no provenance to check")
+        return
     share = os.path.join(sysconfig.get_paths()["purelib"], "cmeel.prefix", "share")
     original = os.path.join(share, robot.source)
     if not os.path.exists(original):
@@ -119,15 +138,18 @@ def check_provenance(robot):
             print(f"  warning: {robot.directory}/{robot.urdf} differs from {robot.source}")
 
 
-def build_model(robot):
+def build_model(robot, mimic=False):
     """Pinocchio's model on a free flyer (fixed joints merged), quarter turns made exact as
-    dyngen's loader takes them, and the ids of the robot's frames."""
+    dyngen's loader takes them, and the ids of the robot's frames; with `mimic`, Pinocchio 4's
+    mimic joints (whose nq and nv are 0)."""
     with open(urdf_path(robot)) as f:
         urdf = exact_quarter_turns(f.read())
-    model = pin.buildModelFromXML(urdf, pin.JointModelFreeFlyer())
+    model = pin.buildModelFromXML(urdf, pin.JointModelFreeFlyer(), mimic=mimic)
     if model.names[1] != ROOT_JOINT or model.joints[1].shortname() != "JointModelFreeFlyer":
         sys.exit(f"{robot.name}: joint 1 is {model.names[1]} ({model.joints[1].shortname()}), not the free flyer")
     for j in range(2, model.njoints):
+        if is_mimic(model, j):
+            continue
         if model.joints[j].nq != 1 or model.joints[j].nv != 1:
             sys.exit(f"{robot.name}: joint {model.names[j]} has nq {model.joints[j].nq}, nv {model.joints[j].nv}")
     frames = []
@@ -145,16 +167,18 @@ def base_body(model):
     return name
 
 
-def describe_model(model, frames, robot):
+def describe_model(model, frames, robot, tree=None):
+    """With mimic joints, `joint_names` lists the coordinates (the joints that mimic nothing) and
+    `joints` every joint of the tree (a mimic joint's entry with its `mimic`)."""
     return {
         "robot": robot.name,
         "urdf": robot.urdf,
-        "urdf_path": robot.source,
+        "urdf_path": robot.source or f"{robot.directory}/{robot.urdf}",
         "pinocchio_version": pin.__version__,
         "nq": model.nq,
         "nv": model.nv,
-        "joint_names": [model.names[j] for j in range(2, model.njoints)],
-        "joints": [describe_joint(model, j) for j in range(2, model.njoints)],
+        "joint_names": [model.names[j] for j in range(2, model.njoints) if not is_mimic(model, j)],
+        "joints": [describe_joint(model, j, tree) for j in range(2, model.njoints)],
         "base_body": base_body(model),
         "gravity": model.gravity.linear.tolist(),
         "param_order": PARAMETER_ORDER,
@@ -185,6 +209,8 @@ def draw_state(model, rng):
     quaternion /= np.linalg.norm(quaternion)
     joints = np.empty(model.nq - 7)
     for j in range(2, model.njoints):
+        if is_mimic(model, j):
+            continue  # it follows its master: no coordinate of its own
         i = model.joints[j].idx_q
         lower, upper = model.lowerPositionLimit[i], model.upperPositionLimit[i]
         if upper - lower > 2 * math.pi:
@@ -377,15 +403,131 @@ def evaluate(model, frames, pi, q, v, a, vr, ar, q_other, worst):
     }
 
 
+def coupling(model, tree):
+    """`ν_tree = G ν` and `q_tree = [base; G_joints q_joints + o]` of a floating mimic model and
+    its tree (Pinocchio numbers the joints of both alike): the base's six rows the identity."""
+    G = np.zeros((tree.nv, model.nv))
+    G[:6, :6] = np.eye(6)
+    o = np.zeros(tree.nq - 7)
+    for j in range(2, model.njoints):
+        row = tree.joints[j].idx_v
+        if is_mimic(model, j):
+            mimic = model.joints[j].extract()
+            G[row, mimic.idx_v] = mimic.scaling
+            o[row - 6] = mimic.offset
+        else:
+            G[row, model.joints[j].idx_v] = 1.0
+    return G, o
+
+
+def evaluate_mimic(model, tree, frames, tree_frames, q, v, a, vr, ar, q_other, worst):
+    """The fields of one state of a floating robot with mimic joints. Pinocchio 4.1 refuses the
+    regressor, aba, Minv and the derivatives on a mimic model and its Coriolis matrix and `J̇`
+    there are wrong (codegen/tests/fixtures/README.md, "Robots with mimic joints"), so every
+    field comes from the tree at `(q_tree, G ν, G ν̇)` (checked by `evaluate` as any robot is)
+    carried through `G`: `D = Gᵀ D_tree G`, `τ = Gᵀ τ_tree`, `Y = Gᵀ Y_tree`, `J = J_tree G`, …;
+    `aba` solves `D ν̇ = τ − bias`, `Minv = D⁻¹`, and forward dynamics' derivatives are
+    `−D⁻¹ ∂τ/∂x` at `ν̇ = aba`. What Pinocchio computes on the mimic model itself (`D`, `g`,
+    `τ`, the frames' poses and `J`) is checked against them."""
+    G, o = coupling(model, tree)
+
+    def in_tree(c):
+        return np.concatenate([c[:7], G[6:, 6:] @ c[7:] + o])
+
+    q_tree = in_tree(q)
+    t = evaluate(tree, tree_frames, parameters(tree), q_tree, G @ v, G @ a, G @ vr, G @ ar, in_tree(q_other), worst)
+    arr = {k: np.array(x) for k, x in t.items() if not isinstance(x, dict)}
+    D = G.T @ arr["D"] @ G
+    C = G.T @ arr["C"] @ G
+    g = G.T @ arr["g"]
+    tau = G.T @ arr["tau"]
+    Minv = np.linalg.inv(D)
+    Minv = (Minv + Minv.T) / 2
+    tdata = tree.createData()
+    aba = np.linalg.solve(D, tau - G.T @ pin.rnea(tree, tdata, q_tree, G @ v, 0 * (G @ v)))
+
+    def coupled_derivatives(acceleration):
+        d_q, d_v, _ = pin.computeRNEADerivatives(tree, tdata, q_tree, G @ v, G @ acceleration)
+        return G.T @ d_q @ G, G.T @ d_v @ G
+
+    dtau_dq, dtau_dv = coupled_derivatives(a)
+    at_aba_dq, at_aba_dv = coupled_derivatives(aba)
+
+    # Pinocchio's own values on the mimic model.
+    data = model.createData()
+    scale = 1.0 + np.abs(tau).max()
+    worst.check("mimic model: crba = Gᵀ D_tree G", relative(symmetric_from_upper(pin.crba(model, data, q)) - D, D), 1e-12)
+    worst.check("mimic model: rnea = Gᵀ τ_tree", float(np.abs(pin.rnea(model, data, q, v, a) - tau).max() / scale), 1e-9)
+    worst.check("mimic model: g = Gᵀ g_tree", relative(pin.computeGeneralizedGravity(model, data, q) - g, g), 1e-9)
+    worst.check("D a + C v + g = tau (coupled)", relative(D @ a + C @ v + g - tau, tau), 1e-9)
+    worst.check("aba = a (coupled)", relative(aba - a, a), 1e-8)
+    pin.computeJointJacobians(model, data, q)
+    pin.updateFramePlacements(model, data)
+    tree_frames_by_name = t["frames"]
+    frames_out = {}
+    for f in frames:
+        name = model.frames[f].name
+        values = tree_frames_by_name[name]
+        J = np.array(values["J_lwa"]) @ G
+        worst.check("mimic model: frame J = J_tree G", relative(pin.getFrameJacobian(model, data, f, LWA) - J, J), 1e-12)
+        worst.check(
+            "mimic model: frame pose",
+            relative(data.oMf[f].translation - np.array(values["translation"]), np.array(values["translation"])),
+            1e-12,
+        )
+        frames_out[name] = {
+            "translation": values["translation"],
+            "rotation": values["rotation"],
+            "J_lwa": J.tolist(),
+            "Jdot_lwa": (np.array(values["Jdot_lwa"]) @ G).tolist(),
+            "J_local": (np.array(values["J_local"]) @ G).tolist(),
+        }
+    difference = np.concatenate([arr["difference"][:6], q_other[7:] - q[7:]])
+    integrated = np.concatenate([arr["integrate"][:7], q[7:] + INTEGRATE_STEP * v[6:]])
+    return {
+        "q": q.tolist(),
+        "v": v.tolist(),
+        "a": a.tolist(),
+        "vr": vr.tolist(),
+        "ar": ar.tolist(),
+        "D": D.tolist(),
+        "C": C.tolist(),
+        "g": g.tolist(),
+        "tau": tau.tolist(),
+        "tau_ref": (D @ ar + C @ vr + g).tolist(),
+        "Y": (G.T @ arr["Y"]).tolist(),
+        "aba": aba.tolist(),
+        "Minv": Minv.tolist(),
+        "dtau_dq": dtau_dq.tolist(),
+        "dtau_dv": dtau_dv.tolist(),
+        "dqdd_dq": (-Minv @ at_aba_dq).tolist(),
+        "dqdd_dv": (-Minv @ at_aba_dv).tolist(),
+        "com": t["com"],
+        "Jcom": (arr["Jcom"] @ G).tolist(),
+        "Ag": (arr["Ag"] @ G).tolist(),
+        "hg": t["hg"],
+        "dAg_v": t["dAg_v"],
+        "kinetic_energy": t["kinetic_energy"],
+        "potential_energy": t["potential_energy"],
+        "frames": frames_out,
+        "integrate": integrated.tolist(),
+        "difference": difference.tolist(),
+    }
+
+
 def fixture(robot, worst):
-    model, frames = build_model(robot)
+    model, frames = build_model(robot, mimic=robot.mimic)
     pi = parameters(model)
     states = draw_states(model, robot.name, robot.states)
     evaluated = []
+    tree, tree_frames = build_model(robot) if robot.mimic else (None, None)
     for i, (q, v, a, vr, ar) in enumerate(states):
         q_other = states[(i + 1) % len(states)][0]
-        evaluated.append(evaluate(model, frames, pi, q, v, a, vr, ar, q_other, worst))
-    return {**describe_model(model, frames, robot), "states": evaluated}
+        if tree is None:
+            evaluated.append(evaluate(model, frames, pi, q, v, a, vr, ar, q_other, worst))
+        else:
+            evaluated.append(evaluate_mimic(model, tree, frames, tree_frames, q, v, a, vr, ar, q_other, worst))
+    return {**describe_model(model, frames, robot, tree), "states": evaluated}
 
 
 def main():

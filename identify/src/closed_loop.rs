@@ -266,13 +266,15 @@ pub(crate) fn smoothed(model: &Model, smoothing: f64) -> Model {
         .expect("a positive smoothing keeps a model valid")
 }
 
-/// A simulated run at the output times: the state, the acceleration and the law's torques.
+/// A simulated run at the output times: the state, the acceleration and the law's torques;
+/// and the integration steps taken between two output times.
 #[derive(Clone, Debug)]
 pub(crate) struct Run {
     pub q: Vec<Vec<f64>>,
     pub qd: Vec<Vec<f64>>,
     pub qdd: Vec<Vec<f64>>,
     pub tau: Vec<Vec<f64>>,
+    pub steps: usize,
 }
 
 /// The loop's state: positions, velocities, the integral of the error.
@@ -353,6 +355,7 @@ impl Loop<'_> {
             qd: Vec::with_capacity(times.len()),
             qdd: Vec::with_capacity(times.len()),
             tau: Vec::with_capacity(times.len()),
+            steps,
         };
         let axpy = |x: &State, a: f64, d: &State| State {
             q: x.q.iter().zip(&d.q).map(|(u, v)| u + a * v).collect(),

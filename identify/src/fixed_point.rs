@@ -1,21 +1,21 @@
 //! The closed-loop estimators' iteration: simulate the identified model in the loop the robot
-//! ran in, rebuild the regressor on the simulated motion, solve, and again with the new
-//! estimate, until it stops moving.
+//! ran in, rebuild the regressor (or the torques' Jacobian) on the simulated motion, solve,
+//! and again with the new estimate, until it stops moving.
 //!
 //! - **IDIM-IV** (Janot, Vandanjon, Gautier): the instruments are the base regressor of the
 //!   simulated motion, `Z = Y_b(q_s, q̇_s, q̈_s)`, and each step solves
 //!   `(Zᵀ Σ⁻¹ W) θ_b = Zᵀ Σ⁻¹ τ` with the measured regressor `W` ([`crate::instrumental`]),
 //!   starting from the weighted least squares (from the description's values when the least
 //!   squares' model diverges in the loop).
-//! - **DIDIM** (Gautier, Janot, Vandanjon): closed-loop output error. The simulated loop's
-//!   torques are `τ_s = Y_b(q_s, q̇_s, q̈_s) θ_b` (the model's inverse dynamics along its own
-//!   motion), linear in `θ_b` at a fixed simulated motion; each step is the Gauss–Newton step
-//!   that takes `Y_b` of the simulated motion as the Jacobian of `τ_s` (the standard DIDIM
-//!   step: the motion's own sensitivity to `θ_b`, small in a loop that tracks its reference,
-//!   is left out), i.e. the weighted least squares of the measured torques on the simulated
-//!   regressor. It needs no measured velocity or acceleration: only the torques, the
-//!   reference and the law. It starts from the description's values (from the least squares'
-//!   when the description's model diverges in the loop).
+//! - **DIDIM** (Gautier, Janot, Vandanjon): closed-loop output error, by Gauss–Newton. The
+//!   simulated loop's torques `τ_s(θ_b)` are the law's output along the model's own motion;
+//!   each simulation also integrates their Jacobian `∂τ_s/∂θ_b` ([`crate::sensitivity`]), and
+//!   each step is the weighted least squares of `τ − τ_s(θ₀) + J θ₀` on `J`: the motion's own
+//!   sensitivity to `θ_b` included, so that the iteration settles at the output error's
+//!   minimum (the classical step, `J = Y_b` of the simulated motion, settles elsewhere). It
+//!   needs no measured velocity or acceleration: only the torques, the reference and the law.
+//!   It starts from the description's values (from the least squares' when the description's
+//!   model diverges in the loop).
 //!
 //! The step measure: the largest change of an unknown in units of its σ; the iteration has
 //! converged when it is below [`CONVERGED`]. It diverges when the simulated loop does
@@ -26,6 +26,7 @@
 use crate::closed_loop::{friction_damping, ControlLaw, Loop, Reference};
 use crate::error::IdentifyError;
 use crate::least_squares::BaseEstimate;
+use crate::sensitivity::torque_sensitivities;
 use dyngen_model::base_parameters::BaseParameterSet;
 use dyngen_model::dynamics::NumericDynamics;
 use dyngen_model::model::Model;
@@ -64,12 +65,24 @@ pub(crate) enum LoopLaw {
     Stiff(ControlLaw),
 }
 
+/// The rows a simulation gives its estimator, besides the law's torques.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(crate) enum SimulatedRows {
+    /// `Y_b` of the simulated motion (IDIM-IV's instruments).
+    Regressor,
+    /// The law's torques' sensitivity `∂τ_s/∂θ_b`, integrated with the motion
+    /// ([`crate::sensitivity`]): DIDIM's Gauss–Newton Jacobian.
+    TorqueSensitivity,
+}
+
 /// What a simulation of the model gives the estimators, on the kept samples.
 pub(crate) struct Simulated {
     /// The law simulated.
     pub law: ControlLaw,
-    /// `Y_b` of the simulated motion, stacked (rows sample-major).
-    pub regressor: DMatrix<f64>,
+    /// The rows the simulator was asked for ([`SimulatedRows`]), stacked (rows sample-major).
+    pub rows: DMatrix<f64>,
+    /// The law's torques along the simulated motion, stacked as `rows` (one column).
+    pub torques: DMatrix<f64>,
     pub position_rms: Vec<f64>,
 }
 
@@ -84,6 +97,7 @@ pub(crate) struct Simulator<'a> {
     pub regressor: Model,
     pub base: &'a BaseParameterSet,
     pub law: LoopLaw,
+    pub rows: SimulatedRows,
     pub reference: Reference,
     /// The times simulated, from the first sample simulated to the last kept.
     pub times: Vec<f64>,
@@ -145,14 +159,29 @@ impl Simulator<'_> {
         };
         let friction = friction_damping(&self.model, &theta);
         let run = closed.run(&self.times, &self.start.0, &self.start.1, &friction)?;
+        let sensitivities = match self.rows {
+            SimulatedRows::Regressor => Vec::new(),
+            SimulatedRows::TorqueSensitivity => {
+                torque_sensitivities(&dynamics, self.base, &law, &self.times, &run)?
+            }
+        };
         let at = |k: usize| k - self.first;
         let n = self.model.dof();
         let columns = NumericDynamics::new(&self.regressor);
-        let mut regressor = DMatrix::zeros(self.kept.len() * n, self.base.count());
+        let mut rows = DMatrix::zeros(self.kept.len() * n, self.base.count());
+        let mut torques = DMatrix::zeros(self.kept.len() * n, 1);
         for (i, &k) in self.kept.iter().enumerate() {
-            let (q, qd, qdd) = (&run.q[at(k)], &run.qd[at(k)], &run.qdd[at(k)]);
-            let y = self.base.base_regressor(&columns.regressor(q, qd, qd, qdd));
-            regressor.rows_mut(i * n, n).copy_from(&y);
+            let block = match self.rows {
+                SimulatedRows::Regressor => {
+                    let (q, qd, qdd) = (&run.q[at(k)], &run.qd[at(k)], &run.qdd[at(k)]);
+                    self.base.base_regressor(&columns.regressor(q, qd, qd, qdd))
+                }
+                SimulatedRows::TorqueSensitivity => sensitivities[at(k)].clone(),
+            };
+            rows.rows_mut(i * n, n).copy_from(&block);
+            for (j, t) in run.tau[at(k)].iter().enumerate() {
+                torques[(i * n + j, 0)] = *t;
+            }
         }
         let position_rms = (0..n)
             .map(|j| {
@@ -167,7 +196,8 @@ impl Simulator<'_> {
             .collect();
         Ok(Simulated {
             law,
-            regressor,
+            rows,
+            torques,
             position_rms,
         })
     }

@@ -41,7 +41,7 @@
 //! the regressor and, through the controller, in the torques, [`Estimator::InstrumentalVariables`]
 //! (IDIM-IV) and [`Estimator::Didim`] fit the parameters from a simulation of the identified
 //! model in the robot's loop ([`ClosedLoop`]: the [`ControlLaw`] and the [`Reference`]),
-//! iterated to a fixed point ([`ClosedLoopEstimate`]). [`identify_base`] stops after the base
+//! iterated until it settles ([`ClosedLoopEstimate`]; DIDIM by Gauss–Newton). [`identify_base`] stops after the base
 //! parameters, for comparisons and studies.
 //!
 //! Long logs: [`identify_file`] reads the data file one line at a time ([`SampleReader`]),
@@ -78,6 +78,7 @@ mod observation;
 mod payload;
 mod physical_start;
 mod pipeline;
+mod sensitivity;
 mod simulate;
 mod starts;
 mod streaming;

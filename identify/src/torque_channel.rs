@@ -195,18 +195,37 @@ impl GainModel {
         tau: &DVector<f64>,
         x: &[f64],
     ) -> (DMatrix<f64>, DVector<f64>) {
+        self.linearised_affine(m, None, tau, x)
+    }
+
+    /// [`GainModel::linearised`] for a model torque affine in `θ_b` about `θ₀`, `m θ_b + c`
+    /// (DIDIM's simulated torques `τ_s(θ₀) + ∂τ_s/∂θ_b (θ_b − θ₀)`, `c = τ_s(θ₀) − m θ₀`;
+    /// none: `c = 0`): `τ ≈ g ∘ (m θ_b + c)` linearised at `x` has the rows
+    /// `[diag(g₀) m | diag(m θ₀ + c)]` and the target `τ + g₀ ∘ m θ₀`, and `τ − c` on the
+    /// reference's rows.
+    pub fn linearised_affine(
+        &self,
+        m: &DMatrix<f64>,
+        offset: Option<&DVector<f64>>,
+        tau: &DVector<f64>,
+        x: &[f64],
+    ) -> (DMatrix<f64>, DVector<f64>) {
         let n = self.n();
         let theta = DVector::from_column_slice(&x[..self.b]);
-        let predicted = m * theta;
+        let linear = m * theta;
         let mut rows = m.clone().resize_horizontally(self.b + n - 1, 0.0);
         let mut target = tau.clone();
         for r in 0..m.nrows() {
             let j = r % n;
             let g = self.gain(x, j);
+            let c = offset.map_or(0.0, |c| c[r]);
             rows.row_mut(r).columns_mut(0, self.b).scale_mut(g);
-            if let Some(c) = self.column(j) {
-                rows[(r, c)] = predicted[r];
-                target[r] += g * predicted[r];
+            match self.column(j) {
+                Some(column) => {
+                    rows[(r, column)] = linear[r] + c;
+                    target[r] += g * linear[r];
+                }
+                None => target[r] -= c,
             }
         }
         (rows, target)

@@ -8,4 +8,8 @@ fn main() {
         .floating_base()
         .module_name("quadruped")
         .compile_or_exit();
+    // Floating bases with mimic joints (a gripper's fingers) and with joint friction and
+    // armature: generated, compiled, and tested against the generic dynamics.
+    dyngen_codegen::compile_robot("../../codegen/tests/data/mimic/floating_gripper.yaml");
+    dyngen_codegen::compile_robot("../../codegen/tests/data/floating/hopper_friction.yaml");
 }

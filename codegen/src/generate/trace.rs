@@ -145,7 +145,7 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
 /// [`trace_with_base`] of the groups `functions` only: the rows of the others are not traced at
 /// all (what is traced keeps the order of the full trace, so with every group the graph is the
 /// same). A fixed base and a floating one take the same groups, each row by its own tracer
-/// ([`super::trace_floating`]).
+/// (`trace_floating.rs` for a floating base).
 pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functions) -> SymbolicRobot {
     let (graph, traced) = match model.floating_base() {
         Some(_) => record(|| super::trace_floating::FloatingTracer::new(model, &base).run(functions)),

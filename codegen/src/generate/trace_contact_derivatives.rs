@@ -41,11 +41,13 @@ pub(super) enum Tree<'a> {
         inertias: &'a [RigidInertia<Expr>],
         joint_values: &'a [JointTermValues],
     },
-    /// A floating base: its pose and inertia, the joints' coordinates, the bodies' inertias.
+    /// A floating base: its pose and inertia, the joints' coordinates, the bodies' inertias and
+    /// joint-level terms.
     Floating {
         base: &'a FloatingBase<Expr>,
         q: &'a [Expr],
         inertias: &'a [RigidInertia<Expr>],
+        joint_values: &'a [JointTermValues],
     },
 }
 
@@ -164,9 +166,12 @@ fn inverse_dynamics_derivatives(model: &Model, state: &ContactState<'_>) -> (DMa
             qd,
             a,
         ),
-        Tree::Floating { base, q, inertias } => {
-            algorithms::floating_inverse_dynamics_derivatives(model, base, q, inertias, qd, a)
-        }
+        Tree::Floating {
+            base,
+            q,
+            inertias,
+            joint_values,
+        } => algorithms::floating_inverse_dynamics_derivatives(model, base, q, inertias, joint_values, qd, a),
     }
 }
 

@@ -12,9 +12,10 @@ use super::trace::{Inputs, Quantity, Traced};
 use super::trace_contacts::contact_outputs;
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::floating::{self as algorithms, FloatingBase};
+use crate::dynamics::joint_terms::{add_armature_after, with_joint_term_torques};
 use crate::dynamics::tree_ldl::TreeLdl;
 use crate::dynamics::{self, FloatingDynamics, FrameMotion};
-use crate::model::{Frame, Model};
+use crate::model::{Frame, JointTermValues, Model};
 use crate::scalar::Scalar;
 use crate::spatial::{Mat3, RigidInertia, Transform, Vec3};
 use crate::symbolic::{Expr, Id};
@@ -68,11 +69,13 @@ pub(super) struct FloatingTracer<'a> {
     v: Vec<Expr>,
     a: Vec<Expr>,
     tau: Vec<Expr>,
-    /// The base (pose and inertia), the joint transforms, the bodies' poses and inertias.
+    /// The base (pose and inertia), the joint transforms, the bodies' poses and inertias, the
+    /// joint-level terms.
     base: FloatingBase<Expr>,
     x: Vec<Transform<Expr>>,
     world: Vec<Transform<Expr>>,
     inertias: Vec<RigidInertia<Expr>>,
+    joint_values: Vec<JointTermValues>,
     /// The Slotine–Li and the torque-form regressor, gravity, the centre of mass and the
     /// centroidal momentum matrix, traced before any row: the rows after them were written with
     /// these node ids.
@@ -106,7 +109,10 @@ impl<'a> FloatingTracer<'a> {
             })),
             pos: Vec3([position[0], position[1], position[2]]),
         };
-        let theta: Vec<Expr> = theta.iter().map(|&x| Expr::from_f64(x)).collect();
+        // The base body's ten first, then the model's layout: the bodies', the joint-level ones.
+        let joint_values = model.joint_term_values_from(&theta[10..]);
+        let inertial = 10 + model.inertial_parameter_count();
+        let theta: Vec<Expr> = theta[..inertial].iter().map(|&x| Expr::from_f64(x)).collect();
         let mut inertias: Vec<RigidInertia<Expr>> = dynamics::inertias_from_parameters(&theta);
         let base = FloatingBase {
             pose,
@@ -126,7 +132,7 @@ impl<'a> FloatingTracer<'a> {
             base_parameters,
             dims: Dims {
                 n: nv,
-                p: 10 * (model.joints().len() + 1),
+                p: FloatingDynamics::parameter_count(model),
                 b: base_parameters.count(),
                 c: model.contact_rows(),
             },
@@ -141,6 +147,7 @@ impl<'a> FloatingTracer<'a> {
             x,
             world,
             inertias,
+            joint_values,
             y,
             torque_y,
             gravity,
@@ -176,18 +183,22 @@ impl<'a> FloatingTracer<'a> {
         // base rows, while the scalar form gets each joint row from one entry of the force it
         // carries up anyway; `BENCHMARKS.md`.)
         let (model, base, x, inertias) = (self.model, &self.base, &self.x, &self.inertias);
-        let inverse = algorithms::floating_mass_matrix_inverse_by_ancestors(model, base, x, inertias);
+        let jv = &self.joint_values;
+        let inverse = algorithms::floating_mass_matrix_inverse_by_ancestors(model, base, x, inertias, jv);
         let other_forms = vec![(
             QuantityKind::MassMatrixInverse.name().to_owned(),
             matrix_ids(&inverse),
         )];
         // The contacts' rows after everything else, so every row before keeps its node ids.
         if functions.contains(FunctionGroup::Contacts) && !model.contacts().is_empty() {
-            let mass = algorithms::factor(model, base, x, inertias);
+            let mass = algorithms::factor(model, base, x, inertias, jv);
             let motion = |frame: usize| self.frame_motion(&model.frames()[frame]);
             let (qd, tau) = (&self.qd, &self.tau);
+            // As `floating_forward_dynamics` computes it: the bias, then the solve.
             let free_acceleration = |mass: &TreeLdl<Expr>| {
-                algorithms::floating_forward_dynamics_factored(model, base, x, inertias, mass, qd, tau)
+                let bias = algorithms::floating_bias(model, base, x, inertias, jv, qd);
+                let rhs: Vec<Expr> = tau.iter().zip(&bias).map(|(&t, &b)| t - b).collect();
+                mass.solve(&rhs)
             };
             let state = super::trace_contacts::ContactState {
                 qd: &self.qd,
@@ -198,6 +209,7 @@ impl<'a> FloatingTracer<'a> {
                     base,
                     q: &self.q,
                     inertias,
+                    joint_values: jv,
                 },
             };
             for (kind, outputs) in contact_outputs(model, motion, state) {
@@ -229,49 +241,49 @@ impl<'a> FloatingTracer<'a> {
         use QuantityKind as K;
         let (model, base, x, inertias) = (self.model, &self.base, &self.x, &self.inertias);
         let (qd, v, a, tau) = (&self.qd, &self.v, &self.a, &self.tau);
+        let jv = &self.joint_values;
         let base_columns = |y: &[Id]| base_columns(y, self.base_parameters, self.dims.n);
+        // The joint-level torques on the joint rows, `v` the reference velocity (none added
+        // without chosen kinds: such a robot records the graph it always did).
+        let with_joint_terms = |rigid: Vec<Expr>, v: &[Expr]| {
+            with_joint_term_torques(model, jv, rigid, 6, (&qd[6..], &v[6..], &a[6..]))
+        };
         match kind {
-            K::MassMatrix => matrix_ids(&algorithms::floating_mass_matrix(
-                model,
-                &base.inertia,
-                x,
-                inertias,
-            )),
+            K::MassMatrix => {
+                let mut d = algorithms::floating_mass_matrix(model, &base.inertia, x, inertias);
+                add_armature_after(model, jv, &mut d, 6);
+                matrix_ids(&d)
+            }
             K::CoriolisMatrix => matrix_ids(&algorithms::floating_coriolis_matrix(
                 model, base, x, inertias, qd,
             )),
             K::Gravity => ids(&algorithms::floating_gravity(model, base, x, inertias)),
-            K::InverseDynamics => ids(&algorithms::floating_inverse_dynamics(
-                model, base, x, inertias, qd, a,
-            )),
-            K::SlotineLi => ids(&algorithms::floating_slotine_li(
-                model,
-                base,
-                x,
-                inertias,
+            K::InverseDynamics => ids(&with_joint_terms(
+                algorithms::floating_inverse_dynamics(model, base, x, inertias, qd, a),
                 qd,
+            )),
+            K::SlotineLi => ids(&with_joint_terms(
+                algorithms::floating_slotine_li(model, base, x, inertias, qd, v, a, self.gravity),
                 v,
-                a,
-                self.gravity,
             )),
             K::Regressor => self.y.clone(),
             K::BaseRegressor => base_columns(&self.y),
             K::TorqueRegressor => self.torque_y.clone(),
             K::BaseTorqueRegressor => base_columns(&self.torque_y),
             K::ForwardDynamics => ids(&algorithms::floating_forward_dynamics(
-                model, base, x, inertias, qd, tau,
+                model, base, x, inertias, jv, qd, tau,
             )),
             K::MassMatrixInverse => matrix_ids(&algorithms::floating_mass_matrix_inverse(
-                model, base, x, inertias,
+                model, base, x, inertias, jv,
             )),
             K::CenterOfMass => self.center_of_mass.clone(),
             K::CentroidalMomentumMatrix => self.centroidal_matrix.clone(),
             K::CentroidalBias => ids(&algorithms::centroidal_bias(model, base, x, inertias, qd)),
             K::InverseDynamicsDerivatives => pair_ids(algorithms::floating_inverse_dynamics_derivatives(
-                model, base, &self.q, inertias, qd, a,
+                model, base, &self.q, inertias, jv, qd, a,
             )),
             K::ForwardDynamicsDerivatives => pair_ids(algorithms::floating_forward_dynamics_derivatives(
-                model, base, &self.q, inertias, qd, tau,
+                model, base, &self.q, inertias, jv, qd, tau,
             )),
             _ => unreachable!("{kind:?} is not a row of a floating base traced on its own"),
         }

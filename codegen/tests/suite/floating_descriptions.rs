@@ -1,8 +1,8 @@
 //! Floating bases in descriptions: the key in YAML and the URDF option give the same model, the
 //! root link and what is welded to it become the base body, a fixed base is what it always was,
-//! frames ride on the base body too, what a floating base does not support yet is refused at
-//! its key, and the model written as
-//! URDF loads back as itself.
+//! frames ride on the base body too, joint-level parameters and mimic joints mean what they mean
+//! on a fixed base (and are refused together at the same key), and the model written as URDF
+//! loads back as itself.
 
 use dyngen_codegen::description::{self, to_urdf_rs, Choices, FrameSelection, FrameSpec};
 use dyngen_codegen::dynamics::FloatingDynamics;
@@ -107,19 +107,43 @@ fn the_urdf_option_and_the_yaml_key_give_the_same_model() {
 }
 
 #[test]
-fn what_a_floating_base_does_not_support_yet_is_refused_at_its_key() {
+fn joint_parameters_and_mimic_joints_mean_on_a_floating_base_what_they_mean_on_a_fixed_one() {
     let with_friction = ROBOT.replace(
         "floating_base: true\n",
-        "floating_base: true\njoint_parameters: { columns: [viscous] }\n",
+        "floating_base: true\njoint_parameters: { columns: [viscous], joints: { knee: { viscous: 0.4 } } }\n",
     );
-    let err = description::load_yaml_str(&with_friction, Path::new("hopper.yaml"))
-        .unwrap_err()
-        .to_string();
-    assert!(err.starts_with("hopper.yaml:3:"), "{err}");
-    assert!(
-        err.contains("floating base") && err.contains("joint-level"),
-        "{err}"
+    let load = |text: &str| description::load_yaml_str(text, Path::new("hopper.yaml"));
+    let floating = load(&with_friction).unwrap_or_else(|e| panic!("{e}")).model;
+    let fixed = load(&with_friction.replace("floating_base: true\n", ""))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .model;
+    assert_eq!(floating.joint_terms(), fixed.joint_terms());
+    let names = FloatingDynamics::parameter_names(&floating);
+    assert_eq!(names.len(), 10 + fixed.parameter_count());
+    assert_eq!(
+        names[10..],
+        fixed.parameter_names()[..],
+        "the base body's ten, then the fixed base's"
     );
+    assert_eq!(names.last().map(String::as_str), Some("fv[knee]"));
+    // A mimic joint with joint-level parameters: refused at the same key on either base.
+    let knee = "    limit: { lower: -2.5, upper: 0, effort: 20, velocity: 10 }\n  - { name: ankle";
+    let mimic = with_friction.replace(
+        knee,
+        &knee.replace(
+            "\n  - { name: ankle",
+            "\n    mimic: { joint: hip, multiplier: -1.0 }\n  - { name: ankle",
+        ),
+    );
+    assert_ne!(mimic, with_friction);
+    for text in [mimic.clone(), mimic.replace("floating_base: true\n", "")] {
+        let err = load(&text).unwrap_err().to_string();
+        assert!(
+            err.contains("joint_parameters") || err.contains("joint-level"),
+            "{err}"
+        );
+        assert!(err.contains("mimic"), "{err}");
+    }
 }
 
 #[test]
@@ -209,4 +233,26 @@ fn the_end_effector_on_the_floating_base_body_is_refused_with_what_it_is() {
         err.contains("link 'imu' is part of the floating base body: the end-effector must ride"),
         "{err}"
     );
+}
+
+/// A floating robot with mimic joints, and one with joint-level parameters, written as URDF
+/// (with the wrapper's choices) load back with the same couplings and terms.
+#[test]
+fn floating_models_with_mimic_joints_or_joint_parameters_written_as_urdf_load_back() {
+    for description in ["mimic/floating_gripper.yaml", "floating/hopper_friction.yaml"] {
+        let path = workspace_root().join("codegen/tests/data").join(description);
+        let model = description::load(&path).unwrap_or_else(|e| panic!("{e}")).model;
+        let export = to_urdf_rs(&model).unwrap_or_else(|e| panic!("{description}: {e}"));
+        let back = description::from_urdf_rs(&export.robot, &export.choices)
+            .unwrap_or_else(|e| panic!("{description}: {e}"))
+            .model;
+        assert!(back.floating_base().is_some(), "{description}");
+        assert_eq!(back.mimics(), model.mimics(), "{description}");
+        assert_eq!(back.joint_terms(), model.joint_terms(), "{description}");
+        assert_eq!(
+            FloatingDynamics::parameter_names(&back),
+            FloatingDynamics::parameter_names(&model),
+            "{description}"
+        );
+    }
 }

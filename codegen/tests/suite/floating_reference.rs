@@ -1,7 +1,10 @@
 //! Floating-base robots of example-robot-data (a quadruped and a humanoid,
-//! `codegen/tests/data/example-robot-data/`) loaded with `floating_base`, against Pinocchio
-//! 4.1's values for the same URDF with `JointModelFreeFlyer` (`codegen/tests/fixtures/floating/`,
-//! made by `tools/floating_fixtures.py`): the base body, every dynamics quantity and the
+//! `codegen/tests/data/example-robot-data/`) and a torso with a gripper whose mimic joints are a
+//! prismatic finger (multiplier −1, offset 0.01) and a revolute tail on a branch of its own
+//! (`codegen/tests/data/mimic/floating_gripper.urdf`), loaded with `floating_base`, against
+//! Pinocchio 4.1's values for the same URDF with `JointModelFreeFlyer` (and `mimic=True`)
+//! (`codegen/tests/fixtures/floating/`, made by `tools/floating_fixtures.py`): the base body,
+//! every dynamics quantity and the
 //! derivatives of inverse and forward dynamics in the tangent space, frames,
 //! the centroidal momentum and the configuration space's `integrate` and `difference`, joint by
 //! joint name, to 1e-9 relative; and the traced graph that generated code is printed from
@@ -36,9 +39,7 @@ fn load(urdf: &str, fixture: &Value) -> Loaded {
         frames: FrameSelection::Listed(frames),
         ..Choices::default()
     };
-    let path = workspace_root()
-        .join("codegen/tests/data/example-robot-data")
-        .join(urdf);
+    let path = workspace_root().join("codegen/tests/data").join(urdf);
     description::load_with(&path, &options).unwrap_or_else(|e| panic!("{e}"))
 }
 
@@ -406,10 +407,15 @@ fn check_traced(
 
 #[test]
 fn quadruped_matches_pinocchio() {
-    check_robot("solo12", "solo_description/solo12.urdf");
+    check_robot("solo12", "example-robot-data/solo_description/solo12.urdf");
 }
 
 #[test]
 fn humanoid_matches_pinocchio() {
-    check_robot("g1", "g1_description/g1_29dof_rev_1_0.urdf");
+    check_robot("g1", "example-robot-data/g1_description/g1_29dof_rev_1_0.urdf");
+}
+
+#[test]
+fn mimic_joints_on_a_floating_base_match_pinocchio() {
+    check_robot("floating_gripper", "mimic/floating_gripper.urdf");
 }

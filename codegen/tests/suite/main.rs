@@ -19,6 +19,7 @@ mod energy;
 mod example_robot_data;
 mod factored_transforms;
 mod floating_base_parameters;
+mod floating_couplings_and_joint_terms;
 mod floating_descriptions;
 mod floating_oracles;
 mod floating_reference;

@@ -7,12 +7,11 @@
 use dyngen_testkit as common;
 
 use common::oracles::{assert_passed, check_all};
-use common::random_model::{arb_model, deterministic_runner, random_state, JointState};
+use common::random_model::{arb_model, deterministic_runner, random_state, with_random_mimics, JointState};
 use common::{assert_close, column, traced};
 use dyngen_codegen::dynamics::NumericDynamics;
 use dyngen_codegen::internals::generate::{trace, SymbolicRobot};
-use dyngen_codegen::model::{Mimic, Model};
-use dyngen_runtime::SplitMix64;
+use dyngen_codegen::model::Model;
 use nalgebra::{DMatrix, DVector};
 use proptest::prelude::*;
 use std::path::Path;
@@ -168,34 +167,6 @@ fn mimic_arm_oracles_tree_and_trace() {
 #[test]
 fn panda_with_free_fingers_oracles_tree_and_trace() {
     check_robot(&load("panda_mimic.yaml"), 4);
-}
-
-/// `model` with some joints made mimic joints of others: multipliers ±1 (angle sums) or in
-/// ±[0.3, 2], offsets in [−0.5, 0.5].
-fn with_random_mimics(model: Model, seed: u64) -> Model {
-    let mut rng = SplitMix64::new(seed);
-    let n = model.joints().len();
-    let mut mimics: Vec<Option<Mimic>> = vec![None; n];
-    for j in 0..n {
-        let masters: Vec<usize> = (0..n).filter(|&k| k != j && mimics[k].is_none()).collect();
-        let is_master = mimics.iter().flatten().any(|m| m.master == j);
-        if masters.is_empty() || is_master || rng.uniform((0.0, 1.0)) < 0.6 {
-            continue;
-        }
-        let master = masters[(rng.uniform((0.0, masters.len() as f64)) as usize).min(masters.len() - 1)];
-        let sign = if rng.uniform((0.0, 1.0)) < 0.5 { -1.0 } else { 1.0 };
-        let multiplier = match rng.uniform((0.0, 1.0)) < 0.4 {
-            true => sign,
-            false => sign * rng.uniform((0.3, 2.0)),
-        };
-        let offset = rng.uniform((-0.5, 0.5));
-        mimics[j] = Some(Mimic {
-            master,
-            multiplier,
-            offset,
-        });
-    }
-    model.with_mimics(mimics).expect("valid couplings")
 }
 
 /// Random trees (branches, prismatic joints, skew axes) with random couplings, across

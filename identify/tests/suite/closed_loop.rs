@@ -6,12 +6,11 @@
 //! simulation of the identified model in the robot's loop, which carries none of that noise:
 //! their errors are their σ, and the validation error falls several-fold. Without the
 //! encoders' noise the least squares are unbiased, and IDIM-IV gives what they give. IDIM-IV
-//! without the law tracks the measured positions; DIDIM reaches the same estimate from the
-//! description and from values 50% off.
+//! without the law tracks the measured positions; DIDIM (Gauss–Newton) reaches the same
+//! estimate from the description and from values 50% off.
 //!
 //! The numbers asserted are the measured ones (seed 1, printed with `--nocapture`) with a
-//! margin; across seeds 1–3 the ratios were 4.8–6.5 (arm7, IDIM-IV), 3.7–5.0 (arm7, DIDIM),
-//! 8.4–10.5 (UR5, IDIM-IV) and 7.6–8.5 (UR5, DIDIM).
+//! margin.
 
 use crate::common::closed_loop::{arm7_case, ur5_with_tool, Case};
 use dyngen_identify::{
@@ -107,14 +106,14 @@ fn compare(name: &str, case: &Case, at_least: AtLeast) -> [Errors; 3] {
 }
 
 /// arm7 with 14-bit encoders: the least squares' errors are 4.0 of their σ (RMS) and their
-/// validation error 6.5 times IDIM-IV's and 5.0 times DIDIM's; without the encoders' noise
+/// validation error 6.6 times IDIM-IV's and 6.8 times DIDIM's; without the encoders' noise
 /// the least squares are 6.6 times better, within 1% of IDIM-IV, and IDIM-IV is unchanged.
 #[test]
 fn seven_axis_arm_with_fourteen_bit_encoders() {
     let case = arm7_case();
     let at_least = AtLeast {
         iv: 4.0,
-        didim: 3.0,
+        didim: 4.0,
         biased: 3.0,
     };
     let [ls, iv, _] = compare("arm7", &case, at_least);
@@ -151,19 +150,37 @@ fn seven_axis_arm_with_fourteen_bit_encoders() {
 }
 
 /// The UR5 with a 4 kg tool and 12-bit encoders: the least squares' errors are 3.3 of their σ
-/// and their validation error 10.5 times IDIM-IV's and 8.5 times DIDIM's.
+/// and their validation error 11.3 times IDIM-IV's and 10.5 times DIDIM's.
 #[test]
 fn six_axis_arm_with_a_heavy_tool_and_twelve_bit_encoders() {
     let at_least = AtLeast {
         iv: 6.0,
-        didim: 5.0,
+        didim: 6.0,
         biased: 2.5,
     };
     compare("UR5 with a 4 kg tool", &ur5_with_tool(), at_least);
 }
 
+/// The same UR5 at 14 bits, excited at half its velocity limits (the excitation fitted into
+/// the limits, then every excursion halved, as a first run on a real robot often is): the
+/// encoders' noise weighs four times as much against a motion half as fast, the least squares'
+/// errors are 3.8 of their σ and their validation error 4.5 times IDIM-IV's and 5.9 times
+/// DIDIM's. At full speed 14 bits leave them unbiased (1.0 σ; `docs/identification.md`).
+#[test]
+fn six_axis_arm_at_fourteen_bits_excited_at_half_speed() {
+    let mut case = ur5_with_tool();
+    case.encoder_bits = 14;
+    case.trajectory = case.trajectory.scaled(0.5);
+    let at_least = AtLeast {
+        iv: 3.0,
+        didim: 4.0,
+        biased: 3.0,
+    };
+    compare("UR5, 14 bits, half speed", &case, at_least);
+}
+
 /// No law given: IDIM-IV simulates a stiff PD tracking the measured positions (filtered), and
-/// still cuts the least squares' error on arm7 by 4.4.
+/// still cuts the least squares' error on arm7 by 4.3.
 #[test]
 fn instruments_without_the_law_track_the_measured_positions() {
     let case = arm7_case();
@@ -198,7 +215,8 @@ fn instruments_without_the_law_track_the_measured_positions() {
 }
 
 /// DIDIM from the description, and from the description with every body's inertial
-/// parameters half again or half as large (alternately): the same estimate.
+/// parameters half again or half as large (alternately): the same estimate, Gauss–Newton's
+/// in four simulations each (steps of hundreds of σ, tens, tenths, thousandths).
 #[test]
 fn didim_converges_from_values_fifty_percent_off() {
     let mut case = ur5_with_tool();
@@ -212,6 +230,8 @@ fn didim_converges_from_values_fifty_percent_off() {
     for fit in [&from_description, &from_off] {
         let how = fit.closed_loop.as_ref().expect("a closed-loop estimate");
         assert_eq!(how.started_from, IterationStart::Description);
+        assert!(how.steps.len() <= 5, "{:?}", how.steps);
+        assert!(how.steps[how.steps.len() - 1] <= 0.01, "{:?}", how.steps);
     }
     let (a, b) = (&from_description.base, &from_off.base);
     let worst = (0..a.theta_b.len())
@@ -229,5 +249,5 @@ fn didim_converges_from_values_fifty_percent_off() {
         steps(&from_description),
         steps(&from_off)
     );
-    assert!(worst <= 2.0 * CONVERGED, "{worst}");
+    assert!(worst <= 0.01, "{worst}");
 }

@@ -189,11 +189,6 @@ pub(crate) fn assemble(
                    `joint_parameters.columns`";
         return Err(settings.map.error("joint_parameters.columns", msg));
     }
-    if floating && (!joint_terms.kinds.is_empty() || mimics.iter().any(Option::is_some)) {
-        let msg = "a floating base does not support joint-level parameters or mimic joints yet; \
-                   leave out `joint_parameters.columns` and lock the mimic joints";
-        return Err(settings.map.error("floating_base", msg));
-    }
     let base = floating.then(|| Body {
         name: c.raw.links[c.topo.root].name.clone(),
         inertia: base_body,

@@ -68,29 +68,48 @@ pub fn project<S: Scalar>(model: &Model, tau: Vec<S>) -> Vec<S> {
 
 /// `Gᵀ M`: every column of `m` (rows per tree joint) projected as [`project`] does.
 pub fn project_rows<S: Scalar>(model: &Model, m: DMatrix<S>) -> DMatrix<S> {
+    project_rows_after(model, m, 0)
+}
+
+/// [`project_rows`] of the rows after the first `lead`, which are kept (a floating base's six:
+/// the base wrench is not a tree joint's).
+pub fn project_rows_after<S: Scalar>(model: &Model, m: DMatrix<S>, lead: usize) -> DMatrix<S> {
     if !model.has_mimics() {
         return m;
     }
     let cols = m.ncols();
     let rows: Vec<Vec<S>> = m.row_iter().map(|r| r.iter().copied().collect()).collect();
+    let (kept, tree) = (&rows[..lead], rows[lead..].to_vec());
     let projected = gather(
         model,
-        rows,
+        tree,
         |k, row: Vec<S>| row.into_iter().map(|x| scaled(k, x)).collect(),
         |a: Vec<S>, b: Vec<S>| a.into_iter().zip(b).map(|(x, y)| x + y).collect(),
     );
-    DMatrix::from_fn(model.dof(), cols, |r, c| projected[r][c])
+    let all: Vec<&Vec<S>> = kept.iter().chain(&projected).collect();
+    DMatrix::from_fn(lead + model.dof(), cols, |r, c| all[r][c])
 }
 
 /// `M G`: columns per tree joint gathered onto the coordinates (a Jacobian's columns).
 pub fn project_columns<S: Scalar>(model: &Model, m: DMatrix<S>) -> DMatrix<S> {
+    project_columns_after(model, m, 0)
+}
+
+/// [`project_columns`] of the columns after the first `lead`, which are kept.
+pub fn project_columns_after<S: Scalar>(model: &Model, m: DMatrix<S>, lead: usize) -> DMatrix<S> {
     if !model.has_mimics() {
         return m;
     }
-    project_rows(model, m.transpose()).transpose()
+    project_rows_after(model, m.transpose(), lead).transpose()
 }
 
 /// `Gᵀ M G`: a tree-joint matrix (inertia, Coriolis) on the coordinates.
 pub fn project_both<S: Scalar>(model: &Model, m: DMatrix<S>) -> DMatrix<S> {
-    project_columns(model, project_rows(model, m))
+    project_both_after(model, m, 0)
+}
+
+/// [`project_both`] of the rows and columns after the first `lead`: a floating base's `D` and
+/// `C`, whose base block and the base rows and columns of whose joint blocks are kept.
+pub fn project_both_after<S: Scalar>(model: &Model, m: DMatrix<S>, lead: usize) -> DMatrix<S> {
+    project_columns_after(model, project_rows_after(model, m, lead), lead)
 }

@@ -17,7 +17,7 @@ pub fn mass_matrix<S: Scalar, X: CompositeFrame<S>>(
 }
 
 /// The mass matrix of the tree, one row per moving joint.
-fn tree_mass_matrix<S: Scalar, X: CompositeFrame<S>>(
+pub fn tree_mass_matrix<S: Scalar, X: CompositeFrame<S>>(
     model: &Model,
     x: &[X],
     inertias: &[RigidInertia<S>],

@@ -1,10 +1,12 @@
 //! The floating-base algorithms instantiated with `f64`: dyngen's reference dynamics of a robot
-//! on a free-flying base, in Pinocchio's configuration and velocity layout.
+//! on a free-flying base, in Pinocchio's configuration and velocity layout. Mimic joints and
+//! joint-level terms mean what they mean on a fixed base (`NumericDynamics`), on the joint rows.
 
 use super::floating::{self, FloatingBase};
 use super::frames::FrameMotion;
-use super::{body_inertias, joint_transforms};
-use crate::model::Model;
+use super::joint_terms::{add_armature_after, with_joint_term_torques};
+use super::{body_inertias, joint_term_values, joint_transforms};
+use crate::model::{JointTermValues, Model};
 use crate::spatial::{Mat3, RigidInertia, Transform, Vec3};
 use dyngen_runtime::PARAMETERS_PER_BODY;
 use dyngen_runtime::{BasePose, NonUnitQuaternion, ReferenceFrame};
@@ -13,12 +15,15 @@ use nalgebra::{DMatrix, DVector, Matrix3, Vector3, Vector6};
 /// Numeric dynamics of a floating-base model ([`Model::floating_base`]). Configurations are
 /// `q = [x, y, z, qx, qy, qz, qw, q_joints…]` (`nq = dof + 7`), velocities
 /// `ν = [v; ω; q̇]` with the base twist in the base frame (`nv = dof + 6`); the first six
-/// entries of a generalised force are the base wrench `[f; n]` in the base frame.
+/// entries of a generalised force are the base wrench `[f; n]` in the base frame. With mimic
+/// joints `q` and `q̇` are the coordinates' (`dof` of them), as on a fixed base.
 #[derive(Clone, Debug)]
 pub struct FloatingDynamics<'m> {
     pub model: &'m Model,
     pub(super) base_inertia: RigidInertia<f64>,
     pub(super) inertias: Vec<RigidInertia<f64>>,
+    /// Joint-level values that act (chosen kinds; others 0).
+    pub(super) joint_values: Vec<JointTermValues>,
 }
 
 /// One configuration, checked (a unit quaternion) and with its joint transforms computed once
@@ -52,38 +57,53 @@ impl<'m> FloatingDynamics<'m> {
             model,
             base_inertia: RigidInertia::from_parameters(&base.inertia.parameters()),
             inertias: body_inertias(model),
+            joint_values: joint_term_values(model),
         })
     }
 
+    /// The number of standard parameters: the base body's ten, then the model's
+    /// ([`Model::parameter_count`]: ten per body, then the joint-level ones).
+    pub fn parameter_count(model: &Model) -> usize {
+        PARAMETERS_PER_BODY + model.parameter_count()
+    }
+
     /// The same robot with the parameters `θ`: the base body's ten first, then ten per body in
-    /// joint order (the columns of [`FloatingDynamics::regressor`]).
+    /// joint order, then the joint-level ones (the columns of [`FloatingDynamics::regressor`]).
     pub fn with_parameters(model: &'m Model, theta: &[f64]) -> Option<Self> {
         let mut dynamics = FloatingDynamics::new(model)?;
         assert_eq!(
             theta.len(),
-            PARAMETERS_PER_BODY * (model.joints().len() + 1),
+            Self::parameter_count(model),
             "θ has the wrong length"
         );
-        let mut bodies = super::inertias_from_parameters(theta);
+        let inertial = PARAMETERS_PER_BODY + model.inertial_parameter_count();
+        let mut bodies = super::inertias_from_parameters(&theta[..inertial]);
         dynamics.inertias = bodies.split_off(1);
         dynamics.base_inertia = bodies[0];
+        dynamics.joint_values = model.joint_term_values_from(&theta[PARAMETERS_PER_BODY..]);
         Some(dynamics)
     }
 
     /// The standard parameters these dynamics use: the base body's ten, then ten per body in
-    /// joint order (the model's, or those given to [`FloatingDynamics::with_parameters`]).
+    /// joint order, then the joint-level ones (the model's, or those given to
+    /// [`FloatingDynamics::with_parameters`]).
     pub fn parameters(&self) -> Vec<f64> {
-        std::iter::once(&self.base_inertia)
+        let mut theta: Vec<f64> = std::iter::once(&self.base_inertia)
             .chain(&self.inertias)
             .flat_map(|i| {
                 [
                     i.m, i.h.0[0], i.h.0[1], i.h.0[2], i.i[0], i.i[1], i.i[2], i.i[3], i.i[4], i.i[5],
                 ]
             })
-            .collect()
+            .collect();
+        for values in self.joint_values.iter().take(self.model.joints().len()) {
+            theta.extend(self.model.joint_terms().kinds.iter().map(|&k| values.get(k)));
+        }
+        theta
     }
 
-    /// Names of the entries of [`FloatingDynamics::parameters`], e.g. `"mcx[trunk]"`.
+    /// Names of the entries of [`FloatingDynamics::parameters`], e.g. `"mcx[trunk]"`,
+    /// `"fv[knee]"`.
     pub fn parameter_names(model: &Model) -> Vec<String> {
         let base = &model.floating_base().expect("a floating model").name;
         let mut names: Vec<String> = dyngen_runtime::BODY_PARAMETER_NAMES
@@ -138,6 +158,7 @@ impl<'m> FloatingDynamics<'m> {
             &self.base(s),
             &s.joints,
             &self.inertias,
+            &self.joint_values,
             v,
             a,
         )
@@ -158,6 +179,7 @@ impl<'m> FloatingDynamics<'m> {
             &self.base(s),
             &s.joints,
             &self.inertias,
+            &self.joint_values,
             v,
             tau,
         )
@@ -171,9 +193,13 @@ impl<'m> FloatingDynamics<'m> {
         );
     }
 
-    /// `D(q)` (nv × nv).
+    /// `D(q)` (nv × nv), with the armature on the joints' diagonal when the model has that
+    /// column.
     pub fn mass_matrix(&self, s: &FloatingState) -> DMatrix<f64> {
-        floating::floating_mass_matrix(self.model, &self.base_inertia, &s.transforms, &self.inertias)
+        let mut d =
+            floating::floating_mass_matrix(self.model, &self.base_inertia, &s.transforms, &self.inertias);
+        add_armature_after(self.model, &self.joint_values, &mut d, 6);
+        d
     }
 
     /// The Coriolis matrix `C(q, ν)`, with `Ḋ = C + Cᵀ`.
@@ -192,35 +218,44 @@ impl<'m> FloatingDynamics<'m> {
         ))
     }
 
-    /// Inverse dynamics: the base wrench and joint torques that give `a = ν̇` at `(q, ν)`.
+    /// Inverse dynamics: the base wrench and joint torques that give `a = ν̇` at `(q, ν)`,
+    /// joint-level terms included.
     pub fn inverse_dynamics(&self, s: &FloatingState, v: &[f64], a: &[f64]) -> DVector<f64> {
         self.check_velocity(v);
         self.check_velocity(a);
-        DVector::from_vec(floating::floating_inverse_dynamics(
+        let rigid = floating::floating_inverse_dynamics(
             self.model,
             &self.base(s),
             &s.transforms,
             &self.inertias,
             v,
             a,
+        );
+        let joints = (&v[6..], &v[6..], &a[6..]);
+        DVector::from_vec(with_joint_term_torques(
+            self.model,
+            &self.joint_values,
+            rigid,
+            6,
+            joints,
         ))
     }
 
-    /// The Slotine–Li form `D a_r + C(q, ν) v_r + g`.
+    /// The Slotine–Li form `D a_r + C(q, ν) v_r + g` plus the joint-level terms.
     pub fn slotine_li(&self, s: &FloatingState, v: &[f64], vr: &[f64], ar: &[f64]) -> DVector<f64> {
         for x in [v, vr, ar] {
             self.check_velocity(x);
         }
         let g = super::slotine_li::gravity_vector(self.model);
-        DVector::from_vec(floating::floating_slotine_li(
+        let (base, x) = (self.base(s), &s.transforms);
+        let rigid = floating::floating_slotine_li(self.model, &base, x, &self.inertias, v, vr, ar, Some(g));
+        let joints = (&v[6..], &vr[6..], &ar[6..]);
+        DVector::from_vec(with_joint_term_torques(
             self.model,
-            &self.base(s),
-            &s.transforms,
-            &self.inertias,
-            v,
-            vr,
-            ar,
-            Some(g),
+            &self.joint_values,
+            rigid,
+            6,
+            joints,
         ))
     }
 
@@ -241,6 +276,7 @@ impl<'m> FloatingDynamics<'m> {
             &self.base(s),
             &s.transforms,
             &self.inertias,
+            &self.joint_values,
             v,
             tau,
         ))
@@ -248,7 +284,8 @@ impl<'m> FloatingDynamics<'m> {
 
     /// `D(q)⁻¹`.
     pub fn mass_matrix_inverse(&self, s: &FloatingState) -> DMatrix<f64> {
-        floating::floating_mass_matrix_inverse(self.model, &self.base(s), &s.transforms, &self.inertias)
+        let (base, x) = (self.base(s), &s.transforms);
+        floating::floating_mass_matrix_inverse(self.model, &base, x, &self.inertias, &self.joint_values)
     }
 
     pub(super) fn frame_motion(&self, s: &FloatingState, v: &[f64], frame: usize) -> FrameMotion<f64> {

@@ -136,12 +136,6 @@ pub(super) fn validate(model: &Model) -> Result<Vec<Warning>, ModelError> {
     }
     if let Some(base) = &model.floating_base {
         check_inertia(&base.inertia).map_err(|m| ModelError(format!("base body '{}': {m}", base.name)))?;
-        if model.mimics.iter().any(Option::is_some) {
-            return err("mimic joints are not supported on a floating base".into());
-        }
-        if !model.joint_terms.kinds.is_empty() {
-            return err("joint-level parameters are not supported on a floating base".into());
-        }
     }
     for (k, frame) in model.frames.iter().enumerate() {
         let what = match k {

@@ -139,16 +139,7 @@ pub(super) fn placement_errors<'a, R: ContactDynamics<NV, NC>, const NV: usize, 
     t: &'a R::Trig,
     stabilisation: &'a Stabilisation<'a>,
 ) -> Result<impl Iterator<Item = (usize, usize, Vector6<f64>)> + 'a, ContactError> {
-    let held = R::CONTACT_TO.iter().filter(|to| to.is_none()).count();
-    if stabilisation.anchors.len() != held {
-        return Err(ContactError::Anchors {
-            contacts: held,
-            anchors: stabilisation.anchors.len(),
-        });
-    }
-    if !(stabilisation.kp.is_finite() && stabilisation.kd.is_finite()) {
-        return Err(ContactError::Settings("the Baumgarte gains must be finite"));
-    }
+    stabilisation.check(R::CONTACT_TO.iter().filter(|to| to.is_none()).count())?;
     let mut anchors = stabilisation.anchors.iter();
     let contacts = (R::CONTACT_KINDS.iter())
         .zip(R::CONTACT_REFERENCES)

@@ -49,6 +49,23 @@ pub struct Stabilisation<'a> {
     pub kd: f64,
 }
 
+impl Stabilisation<'_> {
+    /// Refuses anchors that are not one per contact with the world (`held` of them) and gains
+    /// that are not finite.
+    pub fn check(&self, held: usize) -> Result<(), ContactError> {
+        if self.anchors.len() != held {
+            return Err(ContactError::Anchors {
+                contacts: held,
+                anchors: self.anchors.len(),
+            });
+        }
+        if !(self.kp.is_finite() && self.kd.is_finite()) {
+            return Err(ContactError::Settings("the Baumgarte gains must be finite"));
+        }
+        Ok(())
+    }
+}
+
 /// Constrained forward dynamics at one state.
 #[derive(Clone, Debug, PartialEq)]
 pub struct ContactSolution<NV: Dim, NC: Dim>

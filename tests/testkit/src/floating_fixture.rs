@@ -84,7 +84,8 @@ fn load_from(directory: &str, robot: &str) -> Value {
 
 /// Index maps between Pinocchio's order and a model's: `velocity[k]` is the model's velocity
 /// index of Pinocchio's velocity entry `k` (the base's six first in both), `body[k]` the
-/// model's parameter block (0 the base body) of Pinocchio's body `k`.
+/// model's parameter block (0 the base body) of Pinocchio's body `k`. With mimic joints the
+/// velocities are the coordinates' (`joint_names`) and the bodies every joint's (`joints`).
 pub struct Order {
     pub velocity: Vec<usize>,
     pub body: Vec<usize>,
@@ -92,23 +93,34 @@ pub struct Order {
 
 impl Order {
     pub fn new(model: &Model, fixture: &Value) -> Order {
-        let ours: Vec<&str> = model.joints().iter().map(|j| j.name.as_str()).collect();
-        let theirs: Vec<&str> = fixture["joint_names"]
-            .as_array()
-            .expect("joint_names")
-            .iter()
-            .map(|n| n.as_str().expect("a joint name"))
-            .collect();
-        assert_eq!(ours.len(), theirs.len(), "the moving joints");
-        let joint = |name: &str| {
+        let name = |j: usize| model.joints()[j].name.as_str();
+        let coordinates: Vec<&str> = model.coordinate_joints().into_iter().map(name).collect();
+        let joints: Vec<&str> = (0..model.joints().len()).map(name).collect();
+        // A joint is its name, or an object with one.
+        let names = |field: &str| -> Vec<&str> {
+            (fixture[field]
+                .as_array()
+                .unwrap_or_else(|| panic!("{field}"))
+                .iter())
+            .map(|n| n.as_str().or(n["name"].as_str()).expect("a joint name"))
+            .collect()
+        };
+        let theirs = names("joint_names");
+        let their_bodies = match fixture["joints"].is_array() {
+            true => names("joints"),
+            false => theirs.clone(),
+        };
+        let position = |ours: &[&str], name: &str| {
             ours.iter()
                 .position(|o| *o == name)
                 .unwrap_or_else(|| panic!("joint {name} is not in the model"))
         };
+        assert_eq!(coordinates.len(), theirs.len(), "the coordinates");
+        assert_eq!(joints.len(), their_bodies.len(), "the moving joints");
         let mut velocity: Vec<usize> = (0..6).collect();
-        velocity.extend(theirs.iter().map(|n| 6 + joint(n)));
+        velocity.extend(theirs.iter().map(|n| 6 + position(&coordinates, n)));
         let mut body = vec![0];
-        body.extend(theirs.iter().map(|n| 1 + joint(n)));
+        body.extend(their_bodies.iter().map(|n| 1 + position(&joints, n)));
         Order { velocity, body }
     }
 

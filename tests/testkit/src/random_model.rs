@@ -8,7 +8,9 @@
 //! Public API: [`arb_model`], [`arb_state`], [`arb_model_and_state`] (proptest strategies) and
 //! [`random_state`] with the tiny deterministic [`SplitMix64`] for fixed-seed loops.
 
-use dyngen_codegen::model::{from_xyz_rpy, Body, Frame, Inertia, Joint, JointKind, Limits, Model, Pose};
+use dyngen_codegen::model::{
+    from_xyz_rpy, Body, Frame, Inertia, Joint, JointKind, Limits, Mimic, Model, Pose,
+};
 use nalgebra::{Matrix3, Vector3};
 use proptest::prelude::*;
 use proptest::sample::Index;
@@ -421,4 +423,32 @@ pub fn random_floating_sample(model: &Model, seed: u64) -> FloatingSample {
         ar: twist(3.0, 5.0, &joints.a),
         q,
     }
+}
+
+/// `model` with some joints made mimic joints of others: multipliers ±1 (angle sums) or in
+/// ±[0.3, 2], offsets in [−0.5, 0.5].
+pub fn with_random_mimics(model: Model, seed: u64) -> Model {
+    let mut rng = SplitMix64::new(seed);
+    let n = model.joints().len();
+    let mut mimics: Vec<Option<Mimic>> = vec![None; n];
+    for j in 0..n {
+        let masters: Vec<usize> = (0..n).filter(|&k| k != j && mimics[k].is_none()).collect();
+        let is_master = mimics.iter().flatten().any(|m| m.master == j);
+        if masters.is_empty() || is_master || rng.uniform((0.0, 1.0)) < 0.6 {
+            continue;
+        }
+        let master = masters[(rng.uniform((0.0, masters.len() as f64)) as usize).min(masters.len() - 1)];
+        let sign = if rng.uniform((0.0, 1.0)) < 0.5 { -1.0 } else { 1.0 };
+        let multiplier = match rng.uniform((0.0, 1.0)) < 0.4 {
+            true => sign,
+            false => sign * rng.uniform((0.3, 2.0)),
+        };
+        let offset = rng.uniform((-0.5, 0.5));
+        mimics[j] = Some(Mimic {
+            master,
+            multiplier,
+            offset,
+        });
+    }
+    model.with_mimics(mimics).expect("valid couplings")
 }

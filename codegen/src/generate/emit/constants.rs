@@ -80,6 +80,13 @@ fn limit(x: f64) -> TokenStream {
 }
 
 /// Limits of the joints that are coordinates (a mimic joint's range follows its master's).
+/// The names of the joints in `q`: the coordinates (the joints that mimic nothing).
+pub(super) fn joint_names(model: &Model) -> Vec<&str> {
+    (model.coordinate_joints().into_iter())
+        .map(|k| model.joints()[k].name.as_str())
+        .collect()
+}
+
 pub(super) fn joint_limits(model: &Model) -> Vec<TokenStream> {
     model
         .coordinate_joints()

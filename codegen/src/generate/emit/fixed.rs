@@ -3,7 +3,7 @@
 //! (with the base parameters, the lane forms of the rows that have one), then the chunk
 //! functions of the large ones.
 
-use super::constants::{base_parameters_function, joint_limits, literal, parameter_kinds};
+use super::constants::{base_parameters_function, joint_limits, joint_names, literal, parameter_kinds};
 use super::contacts::{contact_implementation, ContactTraits};
 use super::file::{formatted, header, type_doc, version_check, Provenance};
 use super::frames::{frame_items, FrameTrait};
@@ -175,7 +175,7 @@ impl<'a> FixedModule<'a> {
         let runtime_items = runtime_items(&robot.functions)
             .into_iter()
             .map(|item| format_ident!("{item}"));
-        let joint_names = (model.coordinate_joints().into_iter()).map(|k| model.joints()[k].name.as_str());
+        let joint_names = joint_names(model);
         let joint_limits = joint_limits(model);
         let param_names = model.parameter_names();
         let param_kinds = parameter_kinds(model);

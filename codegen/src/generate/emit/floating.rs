@@ -3,7 +3,7 @@
 //! method placed by its row's group, [`FunctionGroup::floating_trait_name`]), then the chunk
 //! functions of the large functions.
 
-use super::constants::{base_parameters_function, joint_limits, literal};
+use super::constants::{base_parameters_function, joint_limits, joint_names, literal};
 use super::contacts::{contact_implementation, ContactTraits};
 use super::file::{formatted, header, type_doc, version_check, Provenance};
 use super::frames::{frame_items, FrameTrait};
@@ -55,18 +55,21 @@ pub(super) fn module(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
 /// What the module computes, for its header.
 fn description(model: &Model) -> String {
     let base_body = &model.floating_base().expect("a floating base").name;
+    let parameters = match model.joint_terms().kinds.is_empty() {
+        true => format!("{} inertial parameters", parameter_count(model)),
+        false => format!("{} parameters, joint-level ones included", parameter_count(model)),
+    };
     format!(
-        "Rigid-body dynamics of `{}` on a floating base (body `{base_body}`; {} joints, {} \
-         inertial parameters).",
+        "Rigid-body dynamics of `{}` on a floating base (body `{base_body}`; {} joints, \
+         {parameters}).",
         model.name(),
         model.dof(),
-        parameter_count(model)
     )
 }
 
-/// Ten parameters for the base body, then ten per body.
+/// Ten parameters for the base body, then ten per body, then the joint-level ones.
 fn parameter_count(model: &Model) -> usize {
-    crate::dynamics::FloatingDynamics::parameter_names(model).len()
+    crate::dynamics::FloatingDynamics::parameter_count(model)
 }
 
 /// The implementation of `group`'s trait for `ty`, with `methods` (the frames' items, enum
@@ -145,7 +148,7 @@ fn implementation(
 
 /// The module's imports and constants.
 fn constants(model: &Model, robot: &SymbolicRobot) -> TokenStream {
-    let joint_names = model.joints().iter().map(|j| j.name.as_str());
+    let joint_names = joint_names(model);
     let joint_limits = joint_limits(model);
     let parameter_names = crate::dynamics::FloatingDynamics::parameter_names(model);
     let base = &robot.base;
@@ -160,6 +163,13 @@ fn constants(model: &Model, robot: &SymbolicRobot) -> TokenStream {
         base.count(),
         parameter_names.len()
     );
+    let parameter_count_doc = match model.joint_terms().kinds.is_empty() {
+        true => " Number of standard parameters: ten for the base body, then ten per body.",
+        false => {
+            " Number of standard parameters: ten for the base body, then ten per body, then the \
+             joint-level ones."
+        }
+    };
     let (nalgebra_items, runtime_items) = imports(&robot.functions);
     let nalgebra_items = nalgebra_items.into_iter().map(|item| format_ident!("{item}"));
     let runtime_items = runtime_items.into_iter().map(|item| format_ident!("{item}"));
@@ -181,7 +191,7 @@ fn constants(model: &Model, robot: &SymbolicRobot) -> TokenStream {
         pub const NV: usize = #nv;
         /// Length of the configuration: base position, unit quaternion `x y z w`, the joints.
         pub const NQ: usize = #nq;
-        /// Number of standard parameters: ten for the base body, then ten per body.
+        #[doc = #parameter_count_doc]
         pub const PARAMETER_COUNT: usize = #p;
         /// Joint names, in the order of the joints in `q` and `ν`.
         pub const JOINT_NAMES: [&str; DOF] = [#(#joint_names),*];

@@ -176,12 +176,11 @@ impl FloatingDynamics<'_> {
         assert_eq!(v.len(), self.model.nv(), "ν has the wrong length");
         let base = self.base(s);
         let (x, inertias) = (&s.transforms, &self.inertias);
-        let mass = floating::factor(self.model, &base, x, inertias);
+        let mass = floating::factor(self.model, &base, x, inertias, &self.joint_values);
         let free = match tau {
             Some(tau) => {
                 assert_eq!(tau.len(), self.model.nv(), "τ has the wrong length");
-                let zero = vec![0.0; v.len()];
-                let bias = floating::floating_inverse_dynamics(self.model, &base, x, inertias, v, &zero);
+                let bias = floating::floating_bias(self.model, &base, x, inertias, &self.joint_values, v);
                 mass.solve(&difference(tau, &bias))
             }
             None => vec![0.0; v.len()],
@@ -226,16 +225,7 @@ pub(super) fn right_hand_side(
     let Some(stabilisation) = stabilisation else {
         return Ok(rhs);
     };
-    let held = world_contacts(contacts);
-    if stabilisation.anchors.len() != held {
-        return Err(ContactError::Anchors {
-            contacts: held,
-            anchors: stabilisation.anchors.len(),
-        });
-    }
-    if !(stabilisation.kp.is_finite() && stabilisation.kd.is_finite()) {
-        return Err(ContactError::Settings("the Baumgarte gains must be finite"));
-    }
+    stabilisation.check(world_contacts(contacts))?;
     let (mut row, mut anchors) = (0, stabilisation.anchors.iter());
     for (contact, (pose, to)) in contacts.iter().zip(&at.poses) {
         // A loop is held where its other frame is; a contact with the world, at its anchor.

@@ -12,7 +12,7 @@ use crate::dynamics::derivatives::lift_inertia;
 use crate::dynamics::floating::{self, FloatingBase};
 use crate::dynamics::frames::FrameMotion;
 use crate::dynamics::joint::joint_transforms;
-use crate::dynamics::joint_terms::joint_term_torques;
+use crate::dynamics::joint_terms::with_joint_term_torques;
 use crate::dynamics::kinematics::{body_poses, frame_pose};
 use crate::dynamics::newton_euler::inverse_dynamics;
 use crate::dynamics::{FloatingDynamics, FloatingState, NumericDynamics};
@@ -41,8 +41,7 @@ impl NumericDynamics<'_> {
             let world = body_poses(model, &x);
             let a = constant(a);
             let rigid = inverse_dynamics(model, &x, &inertias, &qd, &a);
-            let joint = joint_term_torques(model, &self.joint_values, &qd, &qd, &a);
-            let id: Vec<D1> = rigid.into_iter().zip(joint).map(|(r, j)| r + j).collect();
+            let id = with_joint_term_torques(model, &self.joint_values, rigid, 0, (&qd, &qd, &a));
             let motions = ContactMotion::of(contacts, |k| {
                 FrameMotion::new(model, &world, &qd, &model.frames()[k])
             });
@@ -94,7 +93,9 @@ impl FloatingDynamics<'_> {
                 inertia: base_inertia,
             };
             let a = constant(a);
-            let id = floating::floating_inverse_dynamics(model, &base, &x, &inertias, &v, &a);
+            let rigid = floating::floating_inverse_dynamics(model, &base, &x, &inertias, &v, &a);
+            let joints = (&v[6..], &v[6..], &a[6..]);
+            let id = with_joint_term_torques(model, &self.joint_values, rigid, 6, joints);
             let motions = ContactMotion::of(contacts, |k| {
                 let frame = &model.frames()[k];
                 FrameMotion {

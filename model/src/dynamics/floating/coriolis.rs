@@ -6,9 +6,12 @@
 //! and `h^C` the composite inertia, its derivative and momentum of `d`'s subtree:
 //! `C_ad = Ψ_aᵀ (I^C Ψ̇_d + ½ İ^C Ψ_d + ½ Ψ_d ×* h^C)`, and for `a` strictly above,
 //! `C_da = Ψ̇_aᵀ I^C Ψ_d + Ψ_aᵀ ½ (İ^C Ψ_d − Ψ_d ×* h^C)`, the three forces carried up to `a`.
+//! With mimic joints, the tree's at `G q̇` carried through `G` on the joint rows and columns
+//! (`coupling`), the Christoffel matrix of `D`'s as on a fixed base (`G` is constant).
 
 use super::{base_entries, base_motion, unit_base_motion, FloatingBase};
 use crate::dynamics::coriolis::{column_forces, tree_coriolis_into};
+use crate::dynamics::coupling::{expand, project_both_after};
 use crate::model::Model;
 use crate::scalar::Scalar;
 use crate::spatial::{Motion, RigidInertia, Transform};
@@ -25,7 +28,8 @@ pub fn floating_coriolis_matrix<S: Scalar>(
     let n = model.joints().len();
     let nu = base_motion(qd);
     let mut c = DMatrix::from_element(6 + n, 6 + n, S::zero());
-    let tree = tree_coriolis_into(model, x, inertias, &qd[6..], Some(&nu), &mut c, 6)
+    let joint_rates = expand(model, &qd[6..]);
+    let tree = tree_coriolis_into(model, x, inertias, &joint_rates, Some(&nu), &mut c, 6)
         .expect("a moving root has its terms");
     let base_rates: [Motion<S>; 6] = std::array::from_fn(|k| nu.cross_motion(&unit_base_motion(k)));
     for (d, (f1, f2, f3)) in tree.forces.iter().enumerate() {
@@ -48,5 +52,5 @@ pub fn floating_coriolis_matrix<S: Scalar>(
             c[(j, k)] = value;
         }
     }
-    c
+    project_both_after(model, c, 6)
 }

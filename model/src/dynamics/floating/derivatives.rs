@@ -23,14 +23,20 @@
 //! with the torques held the solution keeps `a₀` (`ν̇_v` moves by minus `a₀`'s change, and
 //! nothing else moves), so a rotation's column is `[g_b × e_k; 0]` and a linear velocity's
 //! `[e_k × ω; 0]`.
+//!
+//! A joint direction is a coordinate's: with mimic joints it moves every joint that follows it
+//! (`seeded_frame`, the multiplier in its seed; the recursion takes `G q̇`). The joint-level
+//! friction enters the velocity directions as on a fixed base; it does not see `q`, and the
+//! armature only enters forward dynamics' factor.
 
 use super::mass::{factor, floating_forward_dynamics};
 use super::{floating_inverse_dynamics, floating_inverse_dynamics_in_field, FloatingBase};
 use crate::dynamics::derivatives::{lift_factor, lift_inertia, minus_solved};
 use crate::dynamics::joint::joint_transforms;
+use crate::dynamics::joint_terms::with_joint_term_torques;
 use crate::dynamics::seeded_frame::seeded_frames;
 use crate::dynamics::slotine_li::gravity_vector;
-use crate::model::Model;
+use crate::model::{JointTermValues, Model};
 use crate::scalar::Scalar;
 use crate::scalar_dual::{Dual, LaneScalar, LaneTangent, Tangent, LANES};
 use crate::spatial::{Mat3, RigidInertia, Transform, Vec3};
@@ -141,9 +147,13 @@ fn with_field_directions(mut runs: Vec<Vec<Direction>>) -> Vec<Vec<Direction>> {
     runs
 }
 
-/// Each joint's parent, as [`plan`] takes them.
+/// Each coordinate's parent, as [`plan`] takes them: the joint's, or with mimic joints, whose
+/// coordinates move joints on several branches, the coordinate before (a chain).
 fn parents(model: &Model) -> Vec<Option<usize>> {
-    model.joints().iter().map(|j| j.parent).collect()
+    match model.has_mimics() {
+        false => model.joints().iter().map(|j| j.parent).collect(),
+        true => (0..model.dof()).map(|k| k.checked_sub(1)).collect(),
+    }
 }
 
 /// The joints in depth-first order, cut into blocks of whole subtrees of at most `LANES / 2`
@@ -185,11 +195,13 @@ fn subtree_blocks(parents: &[Option<usize>]) -> Vec<Vec<usize>> {
 
 /// `τ`'s tangents along `directions` (direction `k` in lane `k`), configuration and velocity
 /// directions in one run.
+#[allow(clippy::too_many_arguments)]
 fn run<S: LaneScalar>(
     model: &Model,
     base: &FloatingBase<S>,
     q: &[S],
     inertias: &[RigidInertia<Dual<S, S::Lanes>>],
+    joint_values: &[JointTermValues],
     v: &[S],
     a: &[S],
     directions: &[Direction],
@@ -210,10 +222,10 @@ fn run<S: LaneScalar>(
         .collect();
     let a: Vec<Dual<S, S::Lanes>> = a.iter().map(|&x| Dual::constant(x)).collect();
     let constant = constant_base(base);
-    let mut tangent: Vec<S::Lanes> = floating_inverse_dynamics(model, &constant, &x, inertias, &seeded_v, &a)
-        .into_iter()
-        .map(|d| d.tangent)
-        .collect();
+    let rigid = floating_inverse_dynamics(model, &constant, &x, inertias, &seeded_v, &a);
+    let joints = (&seeded_v[6..], &seeded_v[6..], &a[6..]);
+    let tau = with_joint_term_torques(model, joint_values, rigid, 6, joints);
+    let mut tangent: Vec<S::Lanes> = tau.into_iter().map(|d| d.tangent).collect();
     if directions.iter().any(|d| FIELD_DIRECTIONS.contains(d)) {
         // The gravity recursion under `g_b` moving as the run's field directions say, seen from
         // an upright base (module docs).
@@ -254,12 +266,13 @@ fn runs<S: LaneScalar>(
     base: &FloatingBase<S>,
     q: &[S],
     inertias: &[RigidInertia<S>],
+    joint_values: &[JointTermValues],
     v: &[S],
     a: &[S],
 ) -> Vec<Run<S::Lanes>> {
     let inertias: Vec<RigidInertia<Dual<S, S::Lanes>>> = inertias.iter().map(lift_inertia).collect();
     (planned.iter())
-        .map(|directions| run(model, base, q, &inertias, v, a, directions))
+        .map(|directions| run(model, base, q, &inertias, joint_values, v, a, directions))
         .collect()
 }
 
@@ -292,11 +305,15 @@ pub fn floating_inverse_dynamics_derivatives<S: LaneScalar>(
     base: &FloatingBase<S>,
     q: &[S],
     inertias: &[RigidInertia<S>],
+    joint_values: &[JointTermValues],
     v: &[S],
     a: &[S],
 ) -> (DMatrix<S>, DMatrix<S>) {
     let planned = with_field_directions(plan(&parents(model)));
-    matrices(model.nv(), &runs(&planned, model, base, q, inertias, v, a))
+    matrices(
+        model.nv(),
+        &runs(&planned, model, base, q, inertias, joint_values, v, a),
+    )
 }
 
 /// `(∂ν̇/∂q, ∂ν̇/∂ν)` of floating forward dynamics at `(q, ν, τ)` (`∂ν̇/∂τ = D⁻¹`).
@@ -305,13 +322,15 @@ pub fn floating_forward_dynamics_derivatives<S: LaneScalar>(
     base: &FloatingBase<S>,
     q: &[S],
     inertias: &[RigidInertia<S>],
+    joint_values: &[JointTermValues],
     v: &[S],
     tau: &[S],
 ) -> (DMatrix<S>, DMatrix<S>) {
     let x = joint_transforms(model, q);
-    let a = floating_forward_dynamics(model, base, &x, inertias, v, tau);
-    let lifted = lift_factor(&factor(model, base, &x, inertias));
-    let solved: Vec<Run<S::Lanes>> = runs(&plan(&parents(model)), model, base, q, inertias, v, &a)
+    let a = floating_forward_dynamics(model, base, &x, inertias, joint_values, v, tau);
+    let lifted = lift_factor(&factor(model, base, &x, inertias, joint_values));
+    let planned = plan(&parents(model));
+    let solved: Vec<Run<S::Lanes>> = runs(&planned, model, base, q, inertias, joint_values, v, &a)
         .into_iter()
         .map(|r| Run {
             tangent: minus_solved(&lifted, &r.tangent),

@@ -1,8 +1,13 @@
 //! Inverse dynamics, the Slotine–Li torque, gravity, the Coriolis matrix and the regressor with
 //! a floating base (see the module docs of `floating` for the base's recursion).
+//!
+//! With mimic joints the tree runs at the joints' rates `G q̇` and its torques come back as
+//! `Gᵀ τ` (`coupling`); the base's six entries are not a tree joint's and pass untouched.
 
 use super::{base_entries, base_motion, FloatingBase};
+use crate::dynamics::coupling::{expand, project, project_rows_after};
 use crate::dynamics::joint::joint_force;
+use crate::dynamics::joint_terms::fill_joint_term_columns_after;
 use crate::dynamics::newton_euler::{origin_motions_from, OriginMotion};
 use crate::dynamics::slotine_li::{
     body_force, forward_pass_from, gravity_vector, tree_forces, unit_forces, BodyMotion,
@@ -48,7 +53,12 @@ pub fn floating_slotine_li<S: Scalar, X: JointFrame<S>>(
     gravity: Option<Vec3<S>>,
 ) -> Vec<S> {
     let root = base_body_motion(&base.pose.rot, qd, v, a, gravity);
-    let motions = forward_pass_from(model, x, &qd[6..], &v[6..], &a[6..], &root);
+    let (jqd, jv, ja) = (
+        expand(model, &qd[6..]),
+        expand(model, &v[6..]),
+        expand(model, &a[6..]),
+    );
+    let motions = forward_pass_from(model, x, &jqd, &jv, &ja, &root);
     let forces = motions
         .iter()
         .zip(inertias)
@@ -100,7 +110,8 @@ pub fn floating_inverse_dynamics_in_field<S: Scalar, X: JointFrame<S>>(
     qdd: &[S],
 ) -> Vec<S> {
     let root = base_origin_motion(&base.pose.rot, qd, qdd, gravity);
-    let motions = origin_motions_from(model, x, &qd[6..], &qdd[6..], root);
+    let (jqd, jqdd) = (expand(model, &qd[6..]), expand(model, &qdd[6..]));
+    let motions = origin_motions_from(model, x, &jqd, &jqdd, root);
     let forces = motions.iter().zip(inertias).map(|(m, i)| m.force(i)).collect();
     base_and_joint_forces(model, x, root.force(&base.inertia), forces)
 }
@@ -120,7 +131,7 @@ fn base_and_joint_forces<S: Scalar, X: JointFrame<S>>(
         }
     }
     let mut out = base_entries(&on_base).to_vec();
-    out.extend(tau);
+    out.extend(project(model, tau));
     out
 }
 
@@ -135,8 +146,9 @@ pub fn floating_gravity<S: Scalar, X: JointFrame<S>>(
     floating_inverse_dynamics(model, base, x, inertias, &zero, &zero)
 }
 
-/// The regressor `Y(q, ν, v, a)` (nv × 10·(n + 1)) with `Y θ` the Slotine–Li torque: the base
-/// body's ten columns first, then each joint's body's, as Pinocchio orders them.
+/// The regressor `Y(q, ν, v, a)` (nv × P) with `Y θ` the Slotine–Li torque: the base body's ten
+/// columns first, then each joint's body's, as Pinocchio orders them, then the joint-level
+/// columns of the model's chosen kinds (`joint_terms`, on the joint rows).
 pub fn floating_regressor<S: Scalar, X: JointFrame<S>>(
     model: &Model,
     rotation: &Mat3<S>,
@@ -150,9 +162,15 @@ pub fn floating_regressor<S: Scalar, X: JointFrame<S>>(
     // (`newton_euler`) saves a few operations on Solo-12's torque-form regressors but made them
     // slower in both builds (`docs/performance-notes.md`, *What did not help*).
     let root = base_body_motion(rotation, qd, v, a, Some(gravity_vector(model)));
-    let motions = forward_pass_from(model, x, &qd[6..], &v[6..], &a[6..], &root);
+    let (jqd, jv, ja) = (
+        expand(model, &qd[6..]),
+        expand(model, &v[6..]),
+        expand(model, &a[6..]),
+    );
+    let motions = forward_pass_from(model, x, &jqd, &jv, &ja, &root);
     let (on_base, forces): (_, Vec<_>) = (unit_forces(&root), motions.iter().map(unit_forces).collect());
-    let mut y = DMatrix::from_element(6 + n, PARAMETERS_PER_BODY * (n + 1), S::zero());
+    let columns = PARAMETERS_PER_BODY + model.parameter_count();
+    let mut y = DMatrix::from_element(6 + n, columns, S::zero());
     let set_base_rows = |y: &mut DMatrix<S>, col: usize, entries: [S; 6]| {
         for (r, e) in entries.into_iter().enumerate() {
             y[(r, col)] = e;
@@ -174,5 +192,7 @@ pub fn floating_regressor<S: Scalar, X: JointFrame<S>>(
             set_base_rows(&mut y, col, base_entries(&x[j].force_to_parent(&f)));
         }
     }
+    let mut y = project_rows_after(model, y, 6);
+    fill_joint_term_columns_after(model, &mut y, (6, PARAMETERS_PER_BODY), &jqd, &jv, &ja);
     y
 }

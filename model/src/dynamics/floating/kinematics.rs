@@ -4,9 +4,11 @@
 //! A unit base velocity `e_k` moves the world like a prismatic joint along the base's `k`-th
 //! axis (`k < 3`) or a revolute joint about its `k − 3`-th axis through the base origin, and
 //! those axes turn with the base: so the base columns are those joints' columns, and their
-//! derivatives those joints' derivatives with the base's own angular velocity.
+//! derivatives those joints' derivatives with the base's own angular velocity. With mimic joints
+//! the tree's columns are carried through `G` (`J G`, `J̇(G q̇) G`: `coupling`).
 
 use super::base_motion;
+use crate::dynamics::coupling::{expand, project_columns};
 use crate::dynamics::kinematics::{frame_pose, set_column, tree_jacobian, tree_jacobian_dot, MovingBase};
 use crate::model::{Frame, Model};
 use crate::scalar::Scalar;
@@ -39,7 +41,7 @@ pub fn floating_frame_jacobian<S: Scalar>(
     frame: &Frame,
 ) -> DMatrix<S> {
     let pe = frame_pose(Some(base), world, frame).pos;
-    let tree = tree_jacobian(model, world, frame, pe);
+    let tree = project_columns(model, tree_jacobian(model, world, frame, pe));
     let mut jac = DMatrix::from_element(6, 6 + tree.ncols(), S::zero());
     for k in 0..3 {
         let axis = base.rot.column(k);
@@ -65,7 +67,11 @@ pub fn floating_frame_jacobian_dot<S: Scalar>(
         origin: base.pos,
     };
     let pe = frame_pose(Some(base), world, frame).pos;
-    let tree = tree_jacobian_dot(model, world, &v[6..], frame, pe, Some(&moving));
+    let joint_rates = expand(model, &v[6..]);
+    let tree = project_columns(
+        model,
+        tree_jacobian_dot(model, world, &joint_rates, frame, pe, Some(&moving)),
+    );
     let jac = floating_frame_jacobian(model, base, world, frame);
     let pe_dot = Vec3(std::array::from_fn(|r| {
         (1..v.len()).fold(jac[(r, 0)] * v[0], |acc, c| acc + jac[(r, c)] * v[c])

@@ -1,11 +1,17 @@
 //! The mass matrix (nv × nv) of a floating-base robot by composite rigid bodies, and forward
 //! dynamics by its tree factorisation, the base's six coordinates a chain above the roots.
+//!
+//! With mimic joints `D` is the tree's carried through `G` on its joint rows and columns
+//! (`coupling`); with joint-level terms forward dynamics and `D⁻¹` take the armature on the
+//! joints' diagonal and the friction and offset in the bias (`joint_terms`), as a fixed base's.
 
 use super::{base_entries, inverse::floating_inverse_dynamics, unit_base_motion, FloatingBase};
-use crate::dynamics::crba::{composite_inertias, mass_matrix};
+use crate::dynamics::coupling::project_both_after;
+use crate::dynamics::crba::{composite_inertias, tree_mass_matrix};
 use crate::dynamics::joint::joint_motion;
+use crate::dynamics::joint_terms::{add_armature_after, with_joint_term_torques};
 use crate::dynamics::tree_ldl::TreeLdl;
-use crate::model::Model;
+use crate::model::{JointTermValues, Model};
 use crate::scalar::Scalar;
 use crate::spatial::{Force, RigidInertia, Transform};
 use nalgebra::DMatrix;
@@ -47,28 +53,52 @@ pub fn floating_mass_matrix<S: Scalar>(
             d[(6 + i, r)] = value;
         }
     }
-    let tree = mass_matrix(model, x, inertias);
+    let tree = tree_mass_matrix(model, x, inertias);
     d.view_mut((6, 6), (n, n)).copy_from(&tree);
-    d
+    project_both_after(model, d, 6)
 }
 
 /// Parents of the velocity coordinates for the tree factorisation: the base's six a chain, the
-/// roots below its last.
+/// roots below its last. With mimic joints `D` couples the branches a mimic joint and its
+/// master sit on, so every coordinate is the parent of the next (the dense `LDLᵀ`, as
+/// `TreeLdl::factor` does on a fixed base).
 fn coordinate_parents(model: &Model) -> Vec<Option<usize>> {
+    if model.has_mimics() {
+        return (0..model.nv()).map(|k| k.checked_sub(1)).collect();
+    }
     let mut parents: Vec<Option<usize>> = (0..6).map(|k: usize| k.checked_sub(1)).collect();
     parents.extend(model.joints().iter().map(|j| Some(j.parent.map_or(5, |p| 6 + p))));
     parents
 }
 
-/// `D` factored along the tree (the base's six coordinates the root of every branch).
+/// `D` with the armature on the joints' diagonal (`joint_values`, the model's or an identified
+/// θ's), factored along the tree (the base's six coordinates the root of every branch).
 pub fn factor<S: Scalar>(
     model: &Model,
     base: &FloatingBase<S>,
     x: &[Transform<S>],
     inertias: &[RigidInertia<S>],
+    joint_values: &[JointTermValues],
 ) -> TreeLdl<S> {
-    let d = floating_mass_matrix(model, &base.inertia, x, inertias);
+    let mut d = floating_mass_matrix(model, &base.inertia, x, inertias);
+    add_armature_after(model, joint_values, &mut d, 6);
     TreeLdl::factor_tree(coordinate_parents(model), &d)
+}
+
+/// `C(q, ν) ν + g(q)` plus the joints' friction and offset: inverse dynamics at zero
+/// acceleration.
+pub fn floating_bias<S: Scalar>(
+    model: &Model,
+    base: &FloatingBase<S>,
+    x: &[Transform<S>],
+    inertias: &[RigidInertia<S>],
+    joint_values: &[JointTermValues],
+    qd: &[S],
+) -> Vec<S> {
+    let zero = vec![S::zero(); model.nv()];
+    let rigid = floating_inverse_dynamics(model, base, x, inertias, qd, &zero);
+    let joints = (&qd[6..], &qd[6..], &zero[6..]);
+    with_joint_term_torques(model, joint_values, rigid, 6, joints)
 }
 
 /// Forward dynamics `ν̇ = D⁻¹ (τ − C ν − g)`, `tau` the base wrench and the joint torques.
@@ -77,48 +107,13 @@ pub fn floating_forward_dynamics<S: Scalar>(
     base: &FloatingBase<S>,
     x: &[Transform<S>],
     inertias: &[RigidInertia<S>],
+    joint_values: &[JointTermValues],
     qd: &[S],
     tau: &[S],
 ) -> Vec<S> {
-    floating_forward_dynamics_by(
-        model,
-        base,
-        x,
-        inertias,
-        || factor(model, base, x, inertias),
-        qd,
-        tau,
-    )
-}
-
-/// [`floating_forward_dynamics`] with the mass matrix factored ([`factor`]) given.
-pub fn floating_forward_dynamics_factored<S: Scalar>(
-    model: &Model,
-    base: &FloatingBase<S>,
-    x: &[Transform<S>],
-    inertias: &[RigidInertia<S>],
-    mass: &TreeLdl<S>,
-    qd: &[S],
-    tau: &[S],
-) -> Vec<S> {
-    floating_forward_dynamics_by(model, base, x, inertias, || mass.clone(), qd, tau)
-}
-
-/// `D⁻¹ (τ − C ν − g)` with `D` factored by `mass`, called after the bias is computed: traced in
-/// this order, the generated forward dynamics keeps its node ids.
-fn floating_forward_dynamics_by<S: Scalar>(
-    model: &Model,
-    base: &FloatingBase<S>,
-    x: &[Transform<S>],
-    inertias: &[RigidInertia<S>],
-    mass: impl FnOnce() -> TreeLdl<S>,
-    qd: &[S],
-    tau: &[S],
-) -> Vec<S> {
-    let zero = vec![S::zero(); model.nv()];
-    let bias = floating_inverse_dynamics(model, base, x, inertias, qd, &zero);
+    let bias = floating_bias(model, base, x, inertias, joint_values, qd);
     let rhs: Vec<S> = tau.iter().zip(&bias).map(|(&t, &b)| t - b).collect();
-    mass().solve(&rhs)
+    factor(model, base, x, inertias, joint_values).solve(&rhs)
 }
 
 /// `D(q)⁻¹`, full and symmetric.
@@ -127,8 +122,9 @@ pub fn floating_mass_matrix_inverse<S: Scalar>(
     base: &FloatingBase<S>,
     x: &[Transform<S>],
     inertias: &[RigidInertia<S>],
+    joint_values: &[JointTermValues],
 ) -> DMatrix<S> {
-    factor(model, base, x, inertias).inverse()
+    factor(model, base, x, inertias, joint_values).inverse()
 }
 
 /// [`floating_mass_matrix_inverse`] by sums over common ancestors
@@ -138,6 +134,7 @@ pub fn floating_mass_matrix_inverse_by_ancestors<S: Scalar>(
     base: &FloatingBase<S>,
     x: &[Transform<S>],
     inertias: &[RigidInertia<S>],
+    joint_values: &[JointTermValues],
 ) -> DMatrix<S> {
-    factor(model, base, x, inertias).inverse_by_ancestors()
+    factor(model, base, x, inertias, joint_values).inverse_by_ancestors()
 }

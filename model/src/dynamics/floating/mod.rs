@@ -11,6 +11,12 @@
 //! (for the base, `Ṡ = ν × 1`): it makes `C` satisfy `Ḋ = C + Cᵀ` (`D`'s base block is
 //! constant in base coordinates). Only gravity sees the base orientation; nothing but the
 //! kinematics sees its position.
+//!
+//! Mimic joints and joint-level terms act on the joint rows as on a fixed base, through the same
+//! code (`coupling`, `joint_terms`): velocities are `[ν_base; q̇]` with `q̇` the coordinates', the
+//! tree runs at `G q̇`, its rows come back as `Gᵀ τ`; the armature sits on the joints' diagonal of
+//! `D`, friction and offset in `τ`, their regressor columns after the bodies'. The base's six
+//! rows are never touched.
 
 mod centroidal;
 mod coriolis;
@@ -36,8 +42,8 @@ pub use inverse::{
 pub use kinematics::{floating_body_poses, floating_frame_jacobian, floating_frame_jacobian_dot};
 #[doc(hidden)]
 pub use mass::{
-    floating_forward_dynamics, floating_forward_dynamics_factored, floating_mass_matrix,
-    floating_mass_matrix_inverse, floating_mass_matrix_inverse_by_ancestors,
+    floating_bias, floating_forward_dynamics, floating_mass_matrix, floating_mass_matrix_inverse,
+    floating_mass_matrix_inverse_by_ancestors,
 };
 
 use crate::scalar::Scalar;

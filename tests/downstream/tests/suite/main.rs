@@ -7,6 +7,7 @@ mod build_script;
 mod c_library;
 mod chunked_code;
 mod floating_base;
+mod floating_couplings;
 mod generated_crate;
 mod mimic_joints;
 mod no_std;

@@ -12,13 +12,18 @@ use dyngen_runtime::{f64x4, pack, unpack, JointTrigLanes, SplitMix64};
 use std::path::Path;
 
 fn assert_close(what: &str, generated: &[f64], generic: &[f64]) {
+    assert_within(what, generated, generic, 1e-10);
+}
+
+/// `generated` equals `generic` to `tol` relative to the largest entry of `generic` (at least 1).
+pub(super) fn assert_within(what: &str, generated: &[f64], generic: &[f64], tol: f64) {
     assert_eq!(generated.len(), generic.len(), "{what}: sizes");
     let scale = generic.iter().fold(1.0_f64, |m, x| m.max(x.abs()));
     let err = generated
         .iter()
         .zip(generic)
         .fold(0.0_f64, |m, (a, b)| m.max((a - b).abs()));
-    assert!(err <= 1e-10 * scale, "{what}: {err:e} (scale {scale:e})");
+    assert!(err <= tol * scale, "{what}: {err:e} (scale {scale:e})");
 }
 
 #[test]
