@@ -1,5 +1,6 @@
 //! What a generated robot with contacts implements, and the constrained functions built on it.
 
+use super::dense;
 use super::kind::ContactKind;
 use super::placement::placement_error;
 use super::solve::{
@@ -65,9 +66,9 @@ pub trait ContactDynamics<const NV: usize, const NC: usize> {
 
     /// The Delassus matrix `K = J M⁻¹ Jᵀ` (NC × NC, symmetric), whose inverse is the rows'
     /// operational-space inertia. A generated robot computes it directly, from the factored
-    /// mass matrix and the rows' sparsity; by default `J` times `M⁻¹ Jᵀ`.
+    /// mass matrix and the rows' sparsity; by default `J` times `M⁻¹ Jᵀ` at run time.
     fn contact_delassus(t: &Self::Trig) -> SMatrix<f64, NC, NC> {
-        Self::contact_jacobian(t) * Self::contact_response(t)
+        dense::delassus(&Self::contact_jacobian(t), &Self::contact_response(t))
     }
 
     /// `J`, `M⁻¹ Jᵀ` and `K` at once (an impact's solve). A generated robot computes them in
@@ -76,7 +77,7 @@ pub trait ContactDynamics<const NV: usize, const NC: usize> {
     fn contact_matrices(t: &Self::Trig) -> ContactMatrices<NV, NC> {
         let (jacobian, response) = (Self::contact_jacobian(t), Self::contact_response(t));
         ContactMatrices {
-            delassus: jacobian * response,
+            delassus: dense::delassus(&jacobian, &response),
             jacobian,
             response,
         }
