@@ -37,9 +37,9 @@ import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from compare_anchors import (ONE_ANCHOR_FLOOR, ROOT, anchor_rows, cargo_env, fmt,  # noqa: E402
+from compare_anchors import (ONE_ANCHOR_FLOOR, ROOT, anchor_rows, build_benches, fmt,  # noqa: E402
                              fresh_medians, med, number, one_anchor_arguments, one_anchor_head,
-                             record_rows, warn_missing)
+                             record_rows, solo12_and_g1, warn_missing)
 
 ANCHOR = ROOT / "tools" / "anchors" / "contacts"
 G1_CRATE = ANCHOR / "dyngen"
@@ -69,24 +69,6 @@ SOLVES = {
     "operational_space_inertia": ("contact_jacobian", "contact_response"),
 }
 CHECK_TOLERANCE = 1e-6  # relative, between the two sides' check sums
-
-
-def dyngen_sides(builds):
-    """{(robot, build): (crate directory, cargo arguments, target directory)}: Solo-12 from the
-    repository's workspace, the G1 from its own crate (a workspace of its own, offline: its lock
-    file is the repository's)."""
-    sides = {}
-    for build in builds:
-        sub = "bench-native" if build == "native" else ""
-        sides[("solo12", build)] = (ROOT, ["-p", "dyngen-generated", "--bench", "contacts"],
-                                    ROOT / "target" / sub)
-        sides[("g1", build)] = (G1_CRATE, ["--offline", "--bench", "contacts"], G1_CRATE / "target" / sub)
-    return sides
-
-
-def dyngen_build(crate, args, env):
-    """Builds a bench before the rounds, so that no round times a compile."""
-    subprocess.run(["cargo", "bench", *args, "--no-run"], cwd=crate, env=env, check=True)
 
 
 def comments(text, robot):
@@ -125,14 +107,8 @@ def main():
                                 "contacts/build/bench_contacts")
     robots, builds = args.robots, args.builds
 
-    sides = dyngen_sides(builds)
-    envs = {}
-    for robot in robots:
-        for build in builds:
-            crate, cargo_args, target = sides[(robot, build)]
-            envs[(robot, build)] = cargo_env(target, build == "native")
-            print(f"building the contacts bench of {robot} ({build})", file=sys.stderr)
-            dyngen_build(crate, cargo_args, envs[(robot, build)])
+    sides = solo12_and_g1(builds, "contacts", G1_CRATE)
+    envs = build_benches(sides, robots, builds)
 
     anchor_env = dict(os.environ, BENCH_SECONDS=f"{args.measurement_time:g}")
     pin_cmd = ["taskset", "-c", str(args.core), str(args.anchor), str(args.anchor.parent / "models"), *robots]
