@@ -30,14 +30,17 @@ if [[ ! -f "$PREFIX/include/cppad/cg.hpp" || ! -f "$PREFIX/include/pinocchio/cod
     exit 1
 fi
 mkdir -p build/c
+export -f compile_anchor
+export CXX PREFIX
 
-# Runs a command, then appends `LABEL seconds max_rss_mb` to FILE.
+# Runs a command (a shell function too), then appends `LABEL seconds max_rss_mb` to FILE: the
+# wall time and the largest memory of a process it ran.
 measured() {
     local label=$1 file=$2
     shift 2
     local times
     times=$(mktemp)
-    /usr/bin/time -f "$label %e %M" -o "$times" "$@"
+    /usr/bin/time -f "$label %e %M" -o "$times" bash -c '"$@"' measured "$@"
     awk '{printf "%s %.2f %.0f\n", $1, $2, $3 / 1024}' "$times" >> "$file"
     rm -f "$times"
 }
@@ -50,16 +53,20 @@ newer() { # newer TARGET SOURCE...: TARGET missing or older than a SOURCE
     return 1
 }
 
-# 1. The models.
+# 1. The models, each replaced only when it changed (the C is generated again when it is).
 # shellcheck disable=SC2086
-"$PYTHON" ../contacts/dump_model.py "$(cd ../../.. && pwd)" build/models $ROBOTS
+"$PYTHON" ../contacts/dump_model.py "$(cd ../../.. && pwd)" build/models.new $ROBOTS
+mkdir -p build/models
+for model in build/models.new/*.txt; do
+    cmp -s "$model" "build/models/${model##*/}" || mv "$model" build/models/
+done
+rm -rf build/models.new
 
 # 2. The generator. Header-only as the numeric anchors, -O1: the AD<CG<double>> instantiations
 # compile in minutes rather than many at -O3, and run once. CppAD's own warnings silenced (-w).
 if newer build/gen gen.cpp cg_functions.h ../common/model_text.hpp; then
     : > build/compile_gen.txt
-    measured gen build/compile_gen.txt compile_anchor "$(pwd)/gen.cpp" build/gen -O1 -w \
-        -L"$PREFIX/lib" -Wl,-rpath,"$PREFIX/lib" -lcppad_lib
+    measured gen build/compile_gen.txt compile_anchor "$(pwd)/gen.cpp" build/gen -O1 -w
 fi
 
 # 3. The C. gen prints per function its tape, temporaries, C bytes and seconds.
