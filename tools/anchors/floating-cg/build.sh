@@ -33,15 +33,15 @@ mkdir -p build/c
 export -f compile_anchor
 export CXX PREFIX
 
-# Runs a command (a shell function too), then appends `LABEL seconds max_rss_mb` to FILE: the
-# wall time and the largest memory of a process it ran.
+# Runs a command (a shell function too), then appends `LABEL wall_s cpu_s max_rss_mb` to FILE:
+# the wall and processor seconds, and the largest memory of a process it ran.
 measured() {
     local label=$1 file=$2
     shift 2
     local times
     times=$(mktemp)
-    /usr/bin/time -f "$label %e %M" -o "$times" bash -c '"$@"' measured "$@"
-    awk '{printf "%s %.2f %.0f\n", $1, $2, $3 / 1024}' "$times" >> "$file"
+    /usr/bin/time -f "$label %e %U %S %M" -o "$times" bash -c '"$@"' measured "$@"
+    awk '{printf "%s %.2f %.2f %.0f\n", $1, $2, $3 + $4, $5 / 1024}' "$times" >> "$file"
     rm -f "$times"
 }
 
@@ -106,7 +106,8 @@ variant() {
         echo "compiling ${#stale[@]} files with $CC $CG_CFLAGS ($JOBS at once)" >&2
         : > "$LOG"
         printf '%s\n' "${stale[@]}" | xargs -P "$JOBS" -I{} bash -c 'compile_c {}'
-        awk '{s += $2; if ($3 > m) m = $3} END {printf "# all %.1f s, at most %d MB\n", s, m}' \
+        awk '{w += $2; c += $3; if ($4 > m) m = $4}
+             END {printf "# all: %.1f s wall, %.1f s processor, at most %d MB\n", w, c, m}' \
             "$LOG" >> "$LOG"
     fi
     "$CXX" build/bench_floating_cg.o "${objects[@]}" -o "build/bench_floating_cg_$1" -lm
