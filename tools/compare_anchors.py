@@ -67,6 +67,7 @@ import re
 import statistics
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -342,11 +343,23 @@ def build_benches(sides, robots, builds):
     return envs
 
 
+def criterion_run(crate, args, env, core, pattern, seconds):
+    """Runs `cargo bench ARGS` in `crate`, pinned to `core`, on the criterion ids matching
+    `pattern`, each measured for `seconds` (warm-up a third of it); returns when it started (for
+    `fresh_medians`) and its stderr (what the bench printed besides criterion)."""
+    start = time.time()
+    timing = ["--warm-up-time", f"{seconds / 3:g}", "--measurement-time", f"{seconds:g}"]
+    out = subprocess.run(["taskset", "-c", str(core), "cargo", "bench", "-q", *args, "--", pattern, *timing],
+                         cwd=crate, env=env, check=True, capture_output=True, text=True)
+    return start, out.stderr
+
+
 def one_anchor_arguments(description, robots, builds, default_build, anchor):
     """The command line of a tool that sets one anchor program beside a dyngen bench
-    (compare_frames.py, compare_contacts.py): robots, rounds, core, measurement time, dyngen's
-    builds, the anchor's executable (`anchor`, under tools/anchors/) and --record. Returns the
-    arguments, with the robots and builds listed once each; refuses an anchor not built."""
+    (compare_frames.py, compare_contacts.py, compare_floating.py): robots, rounds, core,
+    measurement time, dyngen's builds, the anchor's executable (`anchor`, under tools/anchors/)
+    and --record. Returns the arguments, with the robots and builds listed once each; refuses an
+    anchor not built."""
     ap = argparse.ArgumentParser(description=description)
     ap.add_argument("--robots", nargs="+", default=list(robots), choices=list(robots))
     ap.add_argument("--rounds", type=int, default=3)

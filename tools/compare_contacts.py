@@ -33,12 +33,11 @@ import os
 import re
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from compare_anchors import (ONE_ANCHOR_FLOOR, ROOT, anchor_rows, build_benches, fmt,  # noqa: E402
-                             fresh_medians, med, number, one_anchor_arguments, one_anchor_head,
+from compare_anchors import (ONE_ANCHOR_FLOOR, ROOT, anchor_rows, build_benches,  # noqa: E402
+                             criterion_run, fmt, fresh_medians, med, number, one_anchor_arguments, one_anchor_head,
                              record_rows, solo12_and_g1, warn_missing)
 
 ANCHOR = ROOT / "tools" / "anchors" / "contacts"
@@ -88,13 +87,9 @@ def comments(text, robot):
 def dyngen_round(crate, args, env, core, target_dir, robot, seconds):
     """({function: median_ns}, {function: check sum}, mean proximal iterations) of one criterion
     run of a robot's contacts bench; only estimates written by this run are read."""
-    start = time.time()
-    timing = ["--warm-up-time", f"{seconds / 3:g}", "--measurement-time", f"{seconds:g}"]
-    pattern = f"^{re.escape(robot)}/.*/generated$"
-    out = subprocess.run(["taskset", "-c", str(core), "cargo", "bench", "-q", *args, "--", pattern, *timing],
-                         cwd=crate, env=env, check=True, capture_output=True, text=True)
+    start, stderr = criterion_run(crate, args, env, core, f"^{re.escape(robot)}/.*/generated$", seconds)
     rows = {quantity: ns for (_, quantity), ns in fresh_medians(target_dir, [robot], start).items()}
-    checks, iterations = comments(out.stderr, robot)
+    checks, iterations = comments(stderr, robot)
     return rows, checks, iterations
 
 

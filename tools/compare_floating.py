@@ -32,12 +32,11 @@ import os
 import re
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from compare_anchors import (ONE_ANCHOR_FLOOR, ROOT, anchor_rows, build_benches, fmt,  # noqa: E402
-                             fresh_medians, med, number, one_anchor_arguments, record_rows,
+from compare_anchors import (ONE_ANCHOR_FLOOR, ROOT, anchor_rows, build_benches,  # noqa: E402
+                             criterion_run, fmt, fresh_medians, med, number, one_anchor_arguments, record_rows,
                              solo12_and_g1, warn_missing)
 
 G1_CRATE = ROOT / "tools" / "anchors" / "floating-cg" / "dyngen"
@@ -63,12 +62,8 @@ FORMS = {"generated": "value", "generated_into": "into"}
 def dyngen_round(crate, args, env, core, target_dir, robot, seconds):
     """{(function group, criterion id): median_ns} of one criterion run of a robot's floating
     bench, the table's groups only; only estimates written by this run are read."""
-    start = time.time()
-    timing = ["--warm-up-time", f"{seconds / 3:g}", "--measurement-time", f"{seconds:g}"]
     groups = "|".join(re.escape(group) for _, group in FUNCTIONS)
-    pattern = f"^{re.escape(robot)}/({groups})/generated(_into)?$"
-    subprocess.run(["taskset", "-c", str(core), "cargo", "bench", "-q", *args, "--", pattern, *timing],
-                   cwd=crate, env=env, check=True, capture_output=True, text=True)
+    start, _ = criterion_run(crate, args, env, core, f"^{re.escape(robot)}/({groups})/generated(_into)?$", seconds)
     rows = {}
     for bench_id in FORMS:
         for (_, group), ns in fresh_medians(target_dir, [robot], start, bench_id).items():

@@ -20,6 +20,7 @@
 #include <pinocchio/algorithm/rnea.hpp>
 #include <pinocchio/multibody.hpp>
 
+#include "../common/floating_states.hpp"
 #include "../common/model_text.hpp"
 #include "../common/timing.hpp"
 #include "cg_functions.h"
@@ -45,35 +46,26 @@ static const Robot ROBOTS[] = {{"solo12"}, {"g1"}};
 
 // A state for both sides: Pinocchio's vectors, and the generated functions' inputs
 // [q, v, a] and [q, v, tau] laid out contiguously.
-struct State {
-  Eigen::VectorXd q, v, a, tau;
+struct State : anchor::FloatingState {
   std::vector<double> x_a, x_tau;
 };
 
+static std::vector<double> concatenated(const Eigen::VectorXd &q, const Eigen::VectorXd &v,
+                                        const Eigen::VectorXd &last) {
+  std::vector<double> x(q.data(), q.data() + q.size());
+  x.insert(x.end(), v.data(), v.data() + v.size());
+  x.insert(x.end(), last.data(), last.data() + last.size());
+  return x;
+}
+
 // common/timing.rs's floating_states.
 static std::vector<State> states(const pin::Model &model) {
-  anchor::SplitMix64 rng{SEED};
-  const double pi = 3.14159265358979323846;
-  auto draw = [&](int n, double bound) {
-    Eigen::VectorXd x(n);
-    for (int i = 0; i < n; ++i) x[i] = rng.uniform(-bound, bound);
-    return x;
-  };
   std::vector<State> out;
-  for (int k = 0; k < anchor::STATES; ++k) {
+  for (const anchor::FloatingState &drawn : anchor::floating_states(model.nq, model.nv, SEED)) {
     State s;
-    s.q.resize(model.nq);
-    for (int i = 0; i < model.nq; ++i) s.q[i] = rng.uniform(i < 7 ? -1.0 : -pi, i < 7 ? 1.0 : pi);
-    s.q.segment<4>(3).normalize();
-    s.v = draw(model.nv, 2.0);
-    s.a = draw(model.nv, 5.0);
-    s.tau = draw(model.nv, 10.0);
-    for (const Eigen::VectorXd *last : {&s.a, &s.tau}) {
-      std::vector<double> &x = last == &s.a ? s.x_a : s.x_tau;
-      x.insert(x.end(), s.q.data(), s.q.data() + model.nq);
-      x.insert(x.end(), s.v.data(), s.v.data() + model.nv);
-      x.insert(x.end(), last->data(), last->data() + model.nv);
-    }
+    static_cast<anchor::FloatingState &>(s) = drawn;
+    s.x_a = concatenated(s.q, s.v, s.a);
+    s.x_tau = concatenated(s.q, s.v, s.tau);
     out.push_back(s);
   }
   return out;
