@@ -14,8 +14,8 @@ use crate::common::{cycle, floating_states, FloatingState};
 use criterion::Criterion;
 use dyngen_runtime::nalgebra::SVector;
 use dyngen_runtime::{
-    BasePose, FloatingBaseDynamics, FloatingBaseParameters, FloatingDynamicsDerivatives, FloatingForwardDynamics,
-    FloatingFrameKinematics, FloatingTrig, JointTrig, ReferenceFrame, ResultBuffer,
+    BasePose, FloatingBaseDynamics, FloatingBaseParameters, FloatingDynamicsDerivatives,
+    FloatingForwardDynamics, FloatingFrameKinematics, FloatingTrig, JointTrig, ReferenceFrame, ResultBuffer,
 };
 use std::hint::black_box;
 
@@ -71,7 +71,12 @@ pub fn frames<R, const N: usize, const NQ: usize, const NV: usize>(
         black_box(R::frame_jacobian(foot, lwa, &trig(q.as_slice())));
     });
     cycle(c, &g("jacobian_dot"), "generated", inputs, |(q, [v, ..])| {
-        black_box(R::frame_jacobian_time_variation(foot, lwa, &trig(q.as_slice()), v));
+        black_box(R::frame_jacobian_time_variation(
+            foot,
+            lwa,
+            &trig(q.as_slice()),
+            v,
+        ));
     });
 }
 
@@ -83,7 +88,9 @@ pub fn dynamics<R, const N: usize, const NQ: usize, const NV: usize, const P: us
     robot: &str,
     inputs: &[FloatingState<NQ, NV>],
 ) where
-    R: FloatingBaseDynamics<N, NV, P> + FloatingForwardDynamics<N, NV, P> + FloatingDynamicsDerivatives<N, NV, P>,
+    R: FloatingBaseDynamics<N, NV, P>
+        + FloatingForwardDynamics<N, NV, P>
+        + FloatingDynamicsDerivatives<N, NV, P>,
 {
     let g = |f: &str| format!("{robot}/{f}");
     let t = |q: &SVector<f64, NQ>| trig::<N>(q.as_slice());
@@ -112,22 +119,46 @@ pub fn dynamics<R, const N: usize, const NQ: usize, const NV: usize, const P: us
     cycle(c, &g("aba"), "generated", inputs, |(q, [v, _, tau])| {
         black_box(R::forward_dynamics(&t(q), v, tau));
     });
-    cycle(c, &g("rnea_derivatives"), "generated", inputs, |(q, [v, a, _])| {
-        black_box(R::inverse_dynamics_derivatives(&t(q), v, a));
-    });
+    cycle(
+        c,
+        &g("rnea_derivatives"),
+        "generated",
+        inputs,
+        |(q, [v, a, _])| {
+            black_box(R::inverse_dynamics_derivatives(&t(q), v, a));
+        },
+    );
     let mut d_tau = ResultBuffer::new();
-    cycle(c, &g("rnea_derivatives"), "generated_into", inputs, |(q, [v, a, _])| {
-        R::inverse_dynamics_derivatives_into(&t(q), v, a, &mut d_tau);
-        black_box(&d_tau);
-    });
-    cycle(c, &g("aba_derivatives"), "generated", inputs, |(q, [v, _, tau])| {
-        black_box(R::forward_dynamics_derivatives(&t(q), v, tau));
-    });
+    cycle(
+        c,
+        &g("rnea_derivatives"),
+        "generated_into",
+        inputs,
+        |(q, [v, a, _])| {
+            R::inverse_dynamics_derivatives_into(&t(q), v, a, &mut d_tau);
+            black_box(&d_tau);
+        },
+    );
+    cycle(
+        c,
+        &g("aba_derivatives"),
+        "generated",
+        inputs,
+        |(q, [v, _, tau])| {
+            black_box(R::forward_dynamics_derivatives(&t(q), v, tau));
+        },
+    );
     let mut d_nu = ResultBuffer::new();
-    cycle(c, &g("aba_derivatives"), "generated_into", inputs, |(q, [v, _, tau])| {
-        R::forward_dynamics_derivatives_into(&t(q), v, tau, &mut d_nu);
-        black_box(&d_nu);
-    });
+    cycle(
+        c,
+        &g("aba_derivatives"),
+        "generated_into",
+        inputs,
+        |(q, [v, _, tau])| {
+            R::forward_dynamics_derivatives_into(&t(q), v, tau, &mut d_nu);
+            black_box(&d_nu);
+        },
+    );
     cycle(c, &g("minv"), "generated", inputs, |(q, _)| {
         black_box(R::mass_matrix_inverse(&t(q)));
     });
@@ -157,20 +188,44 @@ pub fn regressors<R, const N: usize, const NQ: usize, const NV: usize, const P: 
 {
     let g = |f: &str| format!("{robot}/{f}");
     let t = |q: &SVector<f64, NQ>| trig::<N>(q.as_slice());
-    cycle(c, &g("torque_regressor"), "generated", inputs, |(q, [v, a, _])| {
-        black_box(R::torque_regressor(&t(q), v, a));
-    });
+    cycle(
+        c,
+        &g("torque_regressor"),
+        "generated",
+        inputs,
+        |(q, [v, a, _])| {
+            black_box(R::torque_regressor(&t(q), v, a));
+        },
+    );
     let mut y = ResultBuffer::new();
-    cycle(c, &g("torque_regressor"), "generated_into", inputs, |(q, [v, a, _])| {
-        R::torque_regressor_into(&t(q), v, a, &mut y);
-        black_box(&y);
-    });
-    cycle(c, &g("base_torque_regressor"), "generated", inputs, |(q, [v, a, _])| {
-        black_box(R::base_torque_regressor(&t(q), v, a));
-    });
+    cycle(
+        c,
+        &g("torque_regressor"),
+        "generated_into",
+        inputs,
+        |(q, [v, a, _])| {
+            R::torque_regressor_into(&t(q), v, a, &mut y);
+            black_box(&y);
+        },
+    );
+    cycle(
+        c,
+        &g("base_torque_regressor"),
+        "generated",
+        inputs,
+        |(q, [v, a, _])| {
+            black_box(R::base_torque_regressor(&t(q), v, a));
+        },
+    );
     let mut yb = ResultBuffer::new();
-    cycle(c, &g("base_torque_regressor"), "generated_into", inputs, |(q, [v, a, _])| {
-        R::base_torque_regressor_into(&t(q), v, a, &mut yb);
-        black_box(&yb);
-    });
+    cycle(
+        c,
+        &g("base_torque_regressor"),
+        "generated_into",
+        inputs,
+        |(q, [v, a, _])| {
+            R::base_torque_regressor_into(&t(q), v, a, &mut yb);
+            black_box(&yb);
+        },
+    );
 }
