@@ -329,6 +329,18 @@ def solo12_and_g1(builds, bench, g1_crate):
     return sides
 
 
+def solo12_and_g1_setup(description, anchor, bench, g1_crate):
+    """What a one-anchor comparison of Solo-12 and the G1 starts with: its arguments
+    (`one_anchor_arguments`), the dyngen sides of `bench` (`solo12_and_g1`), their cargo
+    environments once built (`build_benches`) and the anchor's environment (its measurement
+    time)."""
+    args = one_anchor_arguments(description, ("solo12", "g1"), ("native", "default"), "native", anchor)
+    sides = solo12_and_g1(args.builds, bench, g1_crate)
+    envs = build_benches(sides, args.robots, args.builds)
+    anchor_env = dict(os.environ, BENCH_SECONDS=f"{args.measurement_time:g}")
+    return args, sides, envs, anchor_env
+
+
 def build_benches(sides, robots, builds):
     """Builds each robot's bench in each build before the rounds, so that no round times a
     compile; returns the cargo environment of each (robot, build)."""

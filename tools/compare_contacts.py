@@ -36,13 +36,12 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from compare_anchors import (ONE_ANCHOR_FLOOR, ROOT, anchor_rows, build_benches,  # noqa: E402
-                             criterion_run, fmt, fresh_medians, med, number, one_anchor_arguments, one_anchor_head,
-                             record_rows, solo12_and_g1, warn_missing)
+from compare_anchors import (ONE_ANCHOR_FLOOR, ROOT, anchor_rows,  # noqa: E402
+                             criterion_run, fmt, fresh_medians, med, number, one_anchor_head,
+                             record_rows, solo12_and_g1_setup, warn_missing)
 
 ANCHOR = ROOT / "tools" / "anchors" / "contacts"
 G1_CRATE = ANCHOR / "dyngen"
-ROBOTS = ("solo12", "g1")
 # The table's functions, in its order: dyngen's criterion group `<robot>/<function>` and the
 # anchor's row of the same name (the anchor also times a slower second way of Λ and of J,
 # `operational_space_inertia_cholesky` and `contact_jacobian_constraints`:
@@ -98,14 +97,9 @@ def relative_difference(a, b):
 
 
 def main():
-    args = one_anchor_arguments(__doc__.split("\n\n")[0], ROBOTS, ("native", "default"), "native",
-                                "contacts/build/bench_contacts")
+    args, sides, envs, anchor_env = solo12_and_g1_setup(
+        __doc__.split("\n\n")[0], "contacts/build/bench_contacts", "contacts", G1_CRATE)
     robots, builds = args.robots, args.builds
-
-    sides = solo12_and_g1(builds, "contacts", G1_CRATE)
-    envs = build_benches(sides, robots, builds)
-
-    anchor_env = dict(os.environ, BENCH_SECONDS=f"{args.measurement_time:g}")
     pin_cmd = ["taskset", "-c", str(args.core), str(args.anchor), str(args.anchor.parent / "models"), *robots]
     load_start = os.getloadavg()
     rounds = []

@@ -35,12 +35,11 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from compare_anchors import (ONE_ANCHOR_FLOOR, ROOT, anchor_rows, build_benches,  # noqa: E402
-                             criterion_run, fmt, fresh_medians, med, number, one_anchor_arguments, record_rows,
-                             solo12_and_g1, warn_missing)
+from compare_anchors import (ONE_ANCHOR_FLOOR, ROOT, anchor_rows,  # noqa: E402
+                             criterion_run, fmt, fresh_medians, med, number, record_rows,
+                             solo12_and_g1_setup, warn_missing)
 
 G1_CRATE = ROOT / "tools" / "anchors" / "floating-cg" / "dyngen"
-ROBOTS = ("solo12", "g1")
 SIDES = ("pinocchio", "cppadcg")
 # The anchor's function (Pinocchio's algorithm) -> dyngen's criterion group, in table order.
 FUNCTIONS = [
@@ -72,13 +71,9 @@ def dyngen_round(crate, args, env, core, target_dir, robot, seconds):
 
 
 def main():
-    args = one_anchor_arguments(__doc__.split("\n\n")[0], ROBOTS, ("native", "default"), "native",
-                                "floating-cg/build/bench_floating_cg_native")
+    args, sides, envs, anchor_env = solo12_and_g1_setup(
+        __doc__.split("\n\n")[0], "floating-cg/build/bench_floating_cg_native", "floating", G1_CRATE)
     robots, builds = args.robots, args.builds
-    sides = solo12_and_g1(builds, "floating", G1_CRATE)
-    envs = build_benches(sides, robots, builds)
-
-    anchor_env = dict(os.environ, BENCH_SECONDS=f"{args.measurement_time:g}")
     models = args.anchor.parent / "models"
     load_start = os.getloadavg()
     rounds = []
