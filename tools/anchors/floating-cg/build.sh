@@ -63,10 +63,13 @@ done
 rm -rf build/models.new
 
 # 2. The generator. Header-only as the numeric anchors, -O1: the AD<CG<double>> instantiations
-# compile in minutes rather than many at -O3, and run once. CppAD's own warnings silenced (-w).
+# compile in minutes rather than many at -O3, and run once. -march=x86-64: the C it writes must
+# not depend on the CPU it runs on (built for this one, gcc fuses multiplications and additions
+# of the model's constants, and the C's last digits and tape change). CppAD's own warnings
+# silenced (-w).
 if newer build/gen gen.cpp cg_functions.h ../common/model_text.hpp; then
     : > build/compile_gen.txt
-    measured gen build/compile_gen.txt compile_anchor "$(pwd)/gen.cpp" build/gen -O1 -w
+    measured gen build/compile_gen.txt compile_anchor "$(pwd)/gen.cpp" build/gen -O1 -march=x86-64 -w
 fi
 
 # 3. The C. gen prints per function its tape, temporaries, C bytes and seconds.
