@@ -21,9 +21,11 @@ add the row `panda_rounded panda_description/urdf/panda_rounded.urdf panda_hand_
 panda_finger_joint1,panda_finger_joint2` to the numeric anchor's robots.txt, make its model with
 the anchor's build/urdf_to_model, and rebuild the CppADCodeGen anchor with the robot in ROBOTS.
 
-Floating bases (solo12): the numeric anchor times any model it is given as a text archive
-(CppADCodeGen is not built for them). Make a free-flyer model with the anchor's Python
-environment, bounds on the base position for randomConfiguration, and give it a row:
+Floating bases (solo12): tools/compare_floating.py sets Solo-12 and the G1 beside both anchors
+of tools/anchors/floating-cg/ (numeric Pinocchio and CppADCodeGen, built in this repository).
+Here, the numeric anchor times any model it is given as a text archive. Make a free-flyer model
+with the anchor's Python environment, bounds on the base position for randomConfiguration, and
+give it a row:
 
     /tmp/pinenv/bin/python -c "
     import pinocchio as pin
@@ -65,6 +67,7 @@ import re
 import statistics
 import subprocess
 import sys
+import time
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -298,14 +301,14 @@ def dyngen_round(env, core, target_dir, robots, seconds, root=ROOT, by_value_onl
     return rows
 
 
-def fresh_medians(target_dir, robots, since):
-    """{(robot, quantity): median_ns} of the criterion id `generated` of every group of these
+def fresh_medians(target_dir, robots, since, bench_id="generated"):
+    """{(robot, quantity): median_ns} of the criterion id `bench_id` of every group of these
     robots whose estimates were written at `since` or later (by the run just made)."""
     rows = {}
     for group in (Path(target_dir) / "criterion").iterdir():
         if not group.is_dir():
             continue
-        bench = group / "generated"
+        bench = group / bench_id
         robot, quantity = split_group(group, [bench], robots)
         estimates = bench / "new" / "estimates.json"
         if robot in robots and estimates.is_file() and estimates.stat().st_mtime >= since:
@@ -313,11 +316,62 @@ def fresh_medians(target_dir, robots, since):
     return rows
 
 
+def solo12_and_g1(builds, bench, g1_crate):
+    """{(robot, build): (crate directory, cargo arguments, target directory)} of a bench timed
+    on Solo-12 and the G1: Solo-12's `bench` from the repository's workspace, the G1's from its
+    own crate `g1_crate` (a workspace of its own, offline: its lock file is the repository's),
+    each build in its own target directory."""
+    sides = {}
+    for build in builds:
+        sub = "bench-native" if build == "native" else ""
+        sides[("solo12", build)] = (ROOT, ["-p", "dyngen-generated", "--bench", bench], ROOT / "target" / sub)
+        sides[("g1", build)] = (g1_crate, ["--offline", "--bench", bench], g1_crate / "target" / sub)
+    return sides
+
+
+def solo12_and_g1_setup(description, anchor, bench, g1_crate):
+    """What a one-anchor comparison of Solo-12 and the G1 starts with: its arguments
+    (`one_anchor_arguments`), the dyngen sides of `bench` (`solo12_and_g1`), their cargo
+    environments once built (`build_benches`) and the anchor's environment (its measurement
+    time)."""
+    args = one_anchor_arguments(description, ("solo12", "g1"), ("native", "default"), "native", anchor)
+    sides = solo12_and_g1(args.builds, bench, g1_crate)
+    envs = build_benches(sides, args.robots, args.builds)
+    anchor_env = dict(os.environ, BENCH_SECONDS=f"{args.measurement_time:g}")
+    return args, sides, envs, anchor_env
+
+
+def build_benches(sides, robots, builds):
+    """Builds each robot's bench in each build before the rounds, so that no round times a
+    compile; returns the cargo environment of each (robot, build)."""
+    envs = {}
+    for robot in robots:
+        for build in builds:
+            crate, cargo_args, target = sides[(robot, build)]
+            envs[(robot, build)] = cargo_env(target, build == "native")
+            print(f"building the bench of {robot} ({build})", file=sys.stderr)
+            subprocess.run(["cargo", "bench", *cargo_args, "--no-run"], cwd=crate, env=envs[(robot, build)],
+                           check=True)
+    return envs
+
+
+def criterion_run(crate, args, env, core, pattern, seconds):
+    """Runs `cargo bench ARGS` in `crate`, pinned to `core`, on the criterion ids matching
+    `pattern`, each measured for `seconds` (warm-up a third of it); returns when it started (for
+    `fresh_medians`) and its stderr (what the bench printed besides criterion)."""
+    start = time.time()
+    timing = ["--warm-up-time", f"{seconds / 3:g}", "--measurement-time", f"{seconds:g}"]
+    out = subprocess.run(["taskset", "-c", str(core), "cargo", "bench", "-q", *args, "--", pattern, *timing],
+                         cwd=crate, env=env, check=True, capture_output=True, text=True)
+    return start, out.stderr
+
+
 def one_anchor_arguments(description, robots, builds, default_build, anchor):
     """The command line of a tool that sets one anchor program beside a dyngen bench
-    (compare_frames.py, compare_contacts.py): robots, rounds, core, measurement time, dyngen's
-    builds, the anchor's executable (`anchor`, under tools/anchors/) and --record. Returns the
-    arguments, with the robots and builds listed once each; refuses an anchor not built."""
+    (compare_frames.py, compare_contacts.py, compare_floating.py): robots, rounds, core,
+    measurement time, dyngen's builds, the anchor's executable (`anchor`, under tools/anchors/)
+    and --record. Returns the arguments, with the robots and builds listed once each; refuses an
+    anchor not built."""
     ap = argparse.ArgumentParser(description=description)
     ap.add_argument("--robots", nargs="+", default=list(robots), choices=list(robots))
     ap.add_argument("--rounds", type=int, default=3)

@@ -33,17 +33,15 @@ import os
 import re
 import subprocess
 import sys
-import time
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from compare_anchors import (ONE_ANCHOR_FLOOR, ROOT, anchor_rows, cargo_env, fmt,  # noqa: E402
-                             fresh_medians, med, number, one_anchor_arguments, one_anchor_head,
-                             record_rows, warn_missing)
+from compare_anchors import (ONE_ANCHOR_FLOOR, ROOT, anchor_rows,  # noqa: E402
+                             criterion_run, fmt, fresh_medians, med, number, one_anchor_head,
+                             record_rows, solo12_and_g1_setup, warn_missing)
 
 ANCHOR = ROOT / "tools" / "anchors" / "contacts"
 G1_CRATE = ANCHOR / "dyngen"
-ROBOTS = ("solo12", "g1")
 # The table's functions, in its order: dyngen's criterion group `<robot>/<function>` and the
 # anchor's row of the same name (the anchor also times a slower second way of Λ and of J,
 # `operational_space_inertia_cholesky` and `contact_jacobian_constraints`:
@@ -71,24 +69,6 @@ SOLVES = {
 CHECK_TOLERANCE = 1e-6  # relative, between the two sides' check sums
 
 
-def dyngen_sides(builds):
-    """{(robot, build): (crate directory, cargo arguments, target directory)}: Solo-12 from the
-    repository's workspace, the G1 from its own crate (a workspace of its own, offline: its lock
-    file is the repository's)."""
-    sides = {}
-    for build in builds:
-        sub = "bench-native" if build == "native" else ""
-        sides[("solo12", build)] = (ROOT, ["-p", "dyngen-generated", "--bench", "contacts"],
-                                    ROOT / "target" / sub)
-        sides[("g1", build)] = (G1_CRATE, ["--offline", "--bench", "contacts"], G1_CRATE / "target" / sub)
-    return sides
-
-
-def dyngen_build(crate, args, env):
-    """Builds a bench before the rounds, so that no round times a compile."""
-    subprocess.run(["cargo", "bench", *args, "--no-run"], cwd=crate, env=env, check=True)
-
-
 def comments(text, robot):
     """The `# robot proximal_iterations X` and `# robot check FUNCTION SUM` lines both sides
     print: ({function: sum}, mean iterations)."""
@@ -106,13 +86,9 @@ def comments(text, robot):
 def dyngen_round(crate, args, env, core, target_dir, robot, seconds):
     """({function: median_ns}, {function: check sum}, mean proximal iterations) of one criterion
     run of a robot's contacts bench; only estimates written by this run are read."""
-    start = time.time()
-    timing = ["--warm-up-time", f"{seconds / 3:g}", "--measurement-time", f"{seconds:g}"]
-    pattern = f"^{re.escape(robot)}/.*/generated$"
-    out = subprocess.run(["taskset", "-c", str(core), "cargo", "bench", "-q", *args, "--", pattern, *timing],
-                         cwd=crate, env=env, check=True, capture_output=True, text=True)
+    start, stderr = criterion_run(crate, args, env, core, f"^{re.escape(robot)}/.*/generated$", seconds)
     rows = {quantity: ns for (_, quantity), ns in fresh_medians(target_dir, [robot], start).items()}
-    checks, iterations = comments(out.stderr, robot)
+    checks, iterations = comments(stderr, robot)
     return rows, checks, iterations
 
 
@@ -121,20 +97,9 @@ def relative_difference(a, b):
 
 
 def main():
-    args = one_anchor_arguments(__doc__.split("\n\n")[0], ROBOTS, ("native", "default"), "native",
-                                "contacts/build/bench_contacts")
+    args, sides, envs, anchor_env = solo12_and_g1_setup(
+        __doc__.split("\n\n")[0], "contacts/build/bench_contacts", "contacts", G1_CRATE)
     robots, builds = args.robots, args.builds
-
-    sides = dyngen_sides(builds)
-    envs = {}
-    for robot in robots:
-        for build in builds:
-            crate, cargo_args, target = sides[(robot, build)]
-            envs[(robot, build)] = cargo_env(target, build == "native")
-            print(f"building the contacts bench of {robot} ({build})", file=sys.stderr)
-            dyngen_build(crate, cargo_args, envs[(robot, build)])
-
-    anchor_env = dict(os.environ, BENCH_SECONDS=f"{args.measurement_time:g}")
     pin_cmd = ["taskset", "-c", str(args.core), str(args.anchor), str(args.anchor.parent / "models"), *robots]
     load_start = os.getloadavg()
     rounds = []

@@ -1,6 +1,6 @@
 //! What the generated-code benchmarks share: the robot's model, its random states in both
 //! forms (slices for the generic code, fixed-size vectors for the generated code), and the
-//! loop that cycles through them (`timing`, shared with the G1's contacts bench).
+//! loop that cycles through them (`timing`, shared with the G1's benches).
 
 // Its floating-base states serve only the benches of floating bases.
 #[allow(dead_code)]

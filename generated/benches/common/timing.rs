@@ -1,7 +1,7 @@
 //! The timing loop of the generated-code benches and the floating-base states, with no
-//! dependency but criterion and the runtime: the G1's contacts bench
-//! (`tools/anchors/contacts/dyngen/`, a crate of its own) includes this file too, so that both
-//! robots are timed alike.
+//! dependency but criterion and the runtime: the G1's benches (`tools/anchors/contacts/dyngen/`
+//! and `tools/anchors/floating-cg/dyngen/`, crates of their own) include this file too, so that
+//! both robots are timed alike.
 
 use criterion::{BenchmarkId, Criterion};
 use dyngen_runtime::nalgebra::SVector;

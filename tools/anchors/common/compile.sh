@@ -15,7 +15,8 @@ for header in pinocchio/config.hpp eigen3/Eigen/Core; do
     fi
 done
 
-# compile_anchor SOURCE OUTPUT: header-only Pinocchio, -O3 -march=native. The definitions are
+# compile_anchor SOURCE OUTPUT [FLAG...]: header-only Pinocchio, -O3 -march=native (FLAG: more,
+# e.g. -c for an object file). The definitions are
 # those of the pinocchio::pinocchio_headers CMake target (lib/cmake/pinocchio/pinocchioTargets.cmake);
 # without PINOCCHIO_ENABLE_TEMPLATE_INSTANTIATION every algorithm is a template instantiated in
 # SOURCE: nothing to link. The --param ggc-* trade a little time for less memory (the frames
@@ -23,6 +24,8 @@ done
 # Eigen's AVX-512 code.
 compile_anchor() {
     (
+        source=$1 output=$2
+        shift 2
         set -x
         "$CXX" -std=c++17 -O3 -march=native -DNDEBUG \
             --param ggc-min-expand=20 --param ggc-min-heapsize=65536 \
@@ -30,7 +33,7 @@ compile_anchor() {
             -DBOOST_MPL_CFG_NO_PREPROCESSED_HEADERS -DBOOST_FUSION_INVOKE_MAX_ARITY=12 \
             -Wno-stringop-overread \
             -I"$PREFIX/include" -I"$PREFIX/include/eigen3" \
-            "$1" -o "$2"
+            "$source" -o "$output" "$@"
     )
 }
 

@@ -25,6 +25,7 @@
 #include <pinocchio/algorithm/rnea.hpp>
 #include <pinocchio/multibody.hpp>
 
+#include "../common/floating_states.hpp"
 #include "../common/model_text.hpp"
 #include "../common/timing.hpp"
 
@@ -75,31 +76,17 @@ struct State {
   std::vector<pin::SE3> anchors;
 };
 
-// common/timing.rs's floating_states: per state the configuration (base position and
-// quaternion in ±1, the quaternion normalised, joints in ±π), then v in ±2, a in ±5 (drawn,
-// unused here) and τ in ±10; and common/constrained.rs's anchors: each contact's frame pose,
-// turned about its own x axis and moved along the world's.
+// common/timing.rs's floating_states (the acceleration drawn, unused here), and
+// common/constrained.rs's anchors: each contact's frame pose, turned about its own x axis and
+// moved along the world's.
 static std::vector<State> states(const pin::Model &model, pin::Data &data,
                                  const std::vector<pin::FrameIndex> &frames) {
-  anchor::SplitMix64 rng{SEED};
-  const double pi = 3.14159265358979323846;
-  auto draw = [&](int n, double bound) {
-    Eigen::VectorXd x(n);
-    for (int i = 0; i < n; ++i) x[i] = rng.uniform(-bound, bound);
-    return x;
-  };
   const Eigen::Matrix3d turn =
       Eigen::AngleAxisd(ANCHOR_TURN, Eigen::Vector3d::UnitX()).toRotationMatrix();
   const Eigen::Vector3d shift(ANCHOR_SHIFT[0], ANCHOR_SHIFT[1], ANCHOR_SHIFT[2]);
   std::vector<State> out;
-  for (int k = 0; k < anchor::STATES; ++k) {
-    State s;
-    s.q.resize(model.nq);
-    for (int i = 0; i < model.nq; ++i) s.q[i] = rng.uniform(i < 7 ? -1.0 : -pi, i < 7 ? 1.0 : pi);
-    s.q.segment<4>(3).normalize();
-    s.v = draw(model.nv, 2.0);
-    draw(model.nv, 5.0);
-    s.tau = draw(model.nv, 10.0);
+  for (const anchor::FloatingState &drawn : anchor::floating_states(model.nq, model.nv, SEED)) {
+    State s{drawn.q, drawn.v, drawn.tau, {}};
     pin::framesForwardKinematics(model, data, s.q);
     for (pin::FrameIndex f : frames) {
       const pin::SE3 &at = data.oMf[f];

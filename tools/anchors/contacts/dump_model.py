@@ -1,7 +1,8 @@
 #!/usr/bin/env python3
 """Writes the Pinocchio models of the contacts anchor as text, build/models/<robot>.txt, which
 bench_contacts reads back into a header-only Pinocchio built with -march=native (why text:
-../common/model_text.py).
+../common/model_text.py). The floating-cg anchor reads the same models (its build.sh runs this
+script).
 
 The models are those of tools/floating_fixtures.py (`build_model`): the URDF committed under
 codegen/tests/data/example-robot-data/ on a free flyer, links joined by fixed joints merged,
@@ -26,7 +27,7 @@ sys.path.insert(0, os.path.join(HERE, "..", ".."))  # tools/, for floating_fixtu
 from model_text import dump  # noqa: E402
 from floating_fixtures import ROBOTS, build_model, urdf_path  # noqa: E402
 
-# The robots of bench_contacts.cpp.
+# The robots of bench_contacts.cpp and of the floating-cg anchor.
 CONTACT_ROBOTS = ("solo12", "g1")
 
 
