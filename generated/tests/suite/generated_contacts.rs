@@ -153,6 +153,15 @@ fn solo12_on_its_feet_matches_pinocchio() {
     }
 }
 
+/// A configuration (its quaternion normalised), a velocity and torques, drawn from `rng`.
+fn random_state(rng: &mut SplitMix64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let mut q: Vec<f64> = (0..19).map(|_| rng.uniform((-3.0, 3.0))).collect();
+    let norm = q[3..7].iter().map(|x| x * x).sum::<f64>().sqrt();
+    q[3..7].iter_mut().for_each(|x| *x /= norm);
+    let [v, tau] = [0; 2].map(|_| (0..NV).map(|_| rng.uniform((-4.0, 4.0))).collect::<Vec<f64>>());
+    (q, v, tau)
+}
+
 #[test]
 fn solo12_on_its_feet_matches_the_generic_dynamics() {
     let model = model();
@@ -160,10 +169,7 @@ fn solo12_on_its_feet_matches_the_generic_dynamics() {
     let mut rng = SplitMix64::new(57);
     for k in 0..50 {
         let what = |q: &str| format!("state {k}: {q}");
-        let mut q: Vec<f64> = (0..19).map(|_| rng.uniform((-3.0, 3.0))).collect();
-        let norm = q[3..7].iter().map(|x| x * x).sum::<f64>().sqrt();
-        q[3..7].iter_mut().for_each(|x| *x /= norm);
-        let [v, tau] = [0; 2].map(|_| (0..NV).map(|_| rng.uniform((-4.0, 4.0))).collect::<Vec<f64>>());
+        let (q, v, tau) = random_state(&mut rng);
         let t = solo12::trig(&solo12::Configuration::from_column_slice(&q)).unwrap();
         let s = generic.state(&q).unwrap();
         // Each foot held 1 to 3 cm from where it is, turned a little.
@@ -284,10 +290,7 @@ fn solo12_derivatives_match_pinocchio_and_the_generic_dynamics() {
     }
     let mut rng = SplitMix64::new(91);
     for k in 0..20 {
-        let mut q: Vec<f64> = (0..19).map(|_| rng.uniform((-3.0, 3.0))).collect();
-        let norm = q[3..7].iter().map(|x| x * x).sum::<f64>().sqrt();
-        q[3..7].iter_mut().for_each(|x| *x /= norm);
-        let [v, tau] = [0; 2].map(|_| (0..NV).map(|_| rng.uniform((-4.0, 4.0))).collect::<Vec<f64>>());
+        let (q, v, tau) = random_state(&mut rng);
         let t = solo12::trig(&solo12::Configuration::from_column_slice(&q)).unwrap();
         let s = generic.state(&q).unwrap();
         let anchors: Vec<Pose> = (0..4)
