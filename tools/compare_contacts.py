@@ -56,15 +56,16 @@ FUNCTIONS = [
     "contact_drift",
     "contact_response",
 ]
-# The generated call each solve makes (one generated function, which shares the kinematics and
-# the factored mass matrix among what it returns): the breakdown below the table, not recorded.
-PIECES = ("contact_system", "contact_matrices", "contact_delassus")
+# The generated call each solve makes (one generated function, which shares the kinematics, the
+# factored mass matrix and the factored Delassus matrix within it): the breakdown below the
+# table, not recorded.
+PIECES = ("contact_solve", "contact_proximal_solve", "contact_impulse", "contact_inertia")
 SOLVES = {
-    "constrained_forward_dynamics": ("contact_system",),
-    "constrained_forward_dynamics_baumgarte": ("contact_system",),
-    "constrained_forward_dynamics_proximal": ("contact_system",),
-    "impulse_dynamics": ("contact_matrices",),
-    "operational_space_inertia": ("contact_delassus",),
+    "constrained_forward_dynamics": ("contact_solve",),
+    "constrained_forward_dynamics_baumgarte": ("contact_solve",),
+    "constrained_forward_dynamics_proximal": ("contact_proximal_solve",),
+    "impulse_dynamics": ("contact_impulse",),
+    "operational_space_inertia": ("contact_inertia",),
 }
 CHECK_TOLERANCE = 1e-6  # relative, between the two sides' check sums
 
@@ -149,8 +150,8 @@ def main():
                       f"dyngen {fmt(dyngen_notes.get(robot, ({}, None))[1], 2)}" for robot in robots))
     build = builds[0]
     print(f"\nWhere each solve's time goes (dyngen {build}, ns): the generated call it makes, "
-          "from the configuration, and the rest (the runtime's: the factor of the Delassus matrix, "
-          "the solves, the Baumgarte terms, K⁻¹ for Λ).\n")
+          "from the configuration, and the rest (the runtime's: the checks of the pivots and the "
+          "residual, the Baumgarte terms, iterations past those of the call).\n")
     print("| robot | function | total | " + " | ".join(f"`{p}`" for p in PIECES) + " | rest |")
     print("|---|---|---:|" + "---:|" * len(PIECES) + "---:|")
     for robot in robots:

@@ -49,7 +49,8 @@ pub mod generate {
     pub use crate::generate::emit::{
         emit, emit_with, type_name, Provenance, Sizes, CHUNK_VALUES, MODULE_ATTRIBUTES, SIZES,
     };
-    pub use crate::generate::quantities::{Arg, Dims, QuantityKind, Shape};
+    pub use crate::generate::quantities::{Arg, Coefficient, Dims, QuantityKind, Shape};
+    pub use crate::generate::trace_contacts::ContactInputs;
     pub use crate::generate::trace::{
         trace, trace_functions, trace_with_base, Arguments, Inputs, Quantity, SymbolicRobot,
     };

@@ -74,7 +74,8 @@ pub use contacts::{
     assemble_derivatives, constrained_forward_dynamics, constrained_forward_dynamics_derivatives,
     contact_inertia, delassus_inertia, impulse_dynamics, operational_space_inertia, placement_error,
     solve_contacts, solve_contacts_with_delassus, ConstrainedDerivatives, ContactDynamics, ContactError,
-    ContactKind, ContactMatrices, ContactSolution, ContactSystem, ProximalSettings, Stabilisation,
+    ContactInertia, ContactKind, ContactMatrices, ContactSolution, ContactStep, ContactSystem,
+    ProximalSettings, Stabilisation,
 };
 pub use floating::{BasePose, NonUnitQuaternion, QUATERNION_NORM_TOLERANCE};
 pub use floating_robot::{

@@ -117,10 +117,15 @@ fn kinds(sizes: &Sizes, functions: &Functions) -> Vec<QuantityKind> {
             .collect(),
     };
     // The derivatives' pieces are what the runtime's `constrained_forward_dynamics_derivatives`
-    // assembles; the library exports the runtime's solves, not that assembly yet, so not them.
+    // assembles, and the one-call solves what its solves check and refine; the library exports
+    // the runtime's solves, not their pieces.
     let pieces = [
         QuantityKind::ContactForwardDynamicsDerivatives,
         QuantityKind::ContactAccelerationDerivatives,
+        QuantityKind::ContactSolve,
+        QuantityKind::ContactProximalSolve,
+        QuantityKind::ContactImpulse,
+        QuantityKind::ContactInertia,
     ];
     let contacts = (QuantityKind::CONTACTS.into_iter())
         .filter(generated)
@@ -256,6 +261,13 @@ fn input(kind: QuantityKind, arg: Arg, args: &[Arg], sizes: &Sizes) -> Array {
             1,
             "the contact forces λ, one per contact row, as the contact solves give them",
         ),
+        Arg::Target(len) => Array::new(
+            "target",
+            len,
+            1,
+            "what the contact rows' acceleration is asked to be besides its feedback terms",
+        ),
+        Arg::Coefficient(c) => Array::new(c.name(), 1, 1, "a coefficient of the contact solve"),
     }
 }
 
@@ -295,6 +307,19 @@ fn outputs(kind: QuantityKind, shape: Shape) -> Vec<Array> {
             ]);
             arrays
         }
+        Shape::ContactStep(n, c) => vec![
+            Array::new("acceleration", n, 1, "the acceleration (the velocity after, for an impact)"),
+            Array::new("forces", c, 1, "the contact forces λ"),
+            Array::new("previous_forces", c, 1, "the forces of the step before"),
+            Array::new("contact_delassus", c, c, "the Delassus matrix J D⁻¹ Jᵀ"),
+            Array::new("pivots", c, 1, "the pivots of K + μ I"),
+            Array::new("rhs", c, 1, "what K λ must equal"),
+        ],
+        Shape::ContactInertia(c) => vec![
+            Array::new("inertia", c, c, "(K + ε I)⁻¹"),
+            Array::new("pivots", c, 1, "the pivots of K + ε I"),
+            Array::new("delassus_diagonal", c, 1, "K's diagonal"),
+        ],
     }
 }
 
@@ -385,8 +410,9 @@ mod tests {
             "contact_delassus",
             "contact_matrices",
             "contact_system",
+            "contact_forward_dynamics",
         ];
-        assert_eq!(rows.map(at), [6, 5, 4, 3, 2, 1].map(|k| first_frame - k));
+        assert_eq!(rows.map(at), [7, 6, 5, 4, 3, 2, 1].map(|k| first_frame - k));
         let arrays = |name: &str| {
             let e = &entries[at(name)];
             let inputs: Vec<&str> = e.inputs.iter().map(|a| a.name).collect();
@@ -412,6 +438,13 @@ mod tests {
         assert_eq!(
             arrays("contact_response"),
             (vec!["q"], vec![("contact_response", 6, 9, [nv, nc])])
+        );
+        assert_eq!(
+            arrays("contact_forward_dynamics"),
+            (
+                vec!["q", "qd", "tau", "lambda"],
+                vec![("contact_forward_dynamics", 6, 1, [nv, Size::Number(1)])]
+            )
         );
         assert_eq!(
             arrays("contact_delassus"),

@@ -663,6 +663,19 @@ fn state_function(library: &Library, entry: &Entry, s: &Spelled) -> TokenStream 
             quote!(value.drift),
             quote!(value.free_acceleration),
         ],
+        Shape::ContactStep(..) => vec![
+            quote!(value.acceleration),
+            quote!(value.forces),
+            quote!(value.previous_forces),
+            quote!(value.delassus),
+            quote!(value.pivots),
+            quote!(value.rhs),
+        ],
+        Shape::ContactInertia(..) => vec![
+            quote!(value.inertia),
+            quote!(value.pivots),
+            quote!(value.delassus_diagonal),
+        ],
     };
     let doc = format!(" `{}` of one state.", entry.name());
     let safety = pointer_contract(entry, "");

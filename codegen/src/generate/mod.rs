@@ -9,7 +9,7 @@ pub(crate) mod quantities;
 mod robot_file;
 pub(crate) mod trace;
 mod trace_contact_derivatives;
-mod trace_contacts;
+pub(crate) mod trace_contacts;
 pub(crate) mod trace_floating;
 
 pub use crate::symbolic::OpCounts;

@@ -21,6 +21,43 @@ pub enum Arg {
     R,
     /// The contact forces `λ`, one per contact row (`len` of them).
     Forces(usize),
+    /// What the contact rows' acceleration `J a + drift` is asked to be besides its feedback
+    /// terms (`len` rows; zero holds them still, Baumgarte's `−K_p e` pulls them back).
+    Target(usize),
+    /// One number of a contact solve, an `f64` of its own.
+    Coefficient(Coefficient),
+}
+
+/// The scalar settings contact solves take, each an `f64` argument named as here.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Coefficient {
+    /// Baumgarte's velocity gain `K_d`: the rows are asked for `… − K_d J q̇`.
+    VelocityGain,
+    /// The regularisation `μ` added to the Delassus matrix's diagonal.
+    Regularisation,
+    /// The damping `ε` of the operational-space inertia `(K + ε I)⁻¹`.
+    Damping,
+    /// An impact's restitution `r`: `J q̇⁺ = −r J q̇⁻`.
+    Restitution,
+}
+
+impl Coefficient {
+    pub const ALL: [Coefficient; 4] = [
+        Coefficient::VelocityGain,
+        Coefficient::Regularisation,
+        Coefficient::Damping,
+        Coefficient::Restitution,
+    ];
+
+    /// The argument's name in generated code (and of its input in the graph).
+    pub fn name(self) -> &'static str {
+        match self {
+            Coefficient::VelocityGain => "kd",
+            Coefficient::Regularisation => "mu",
+            Coefficient::Damping => "damping",
+            Coefficient::Restitution => "restitution",
+        }
+    }
 }
 
 /// What a generated function returns.
@@ -45,6 +82,13 @@ pub enum Shape {
     /// `dyngen_runtime::ContactSystem`: the outputs of [`Shape::ContactMatrices`], then the
     /// drift (c) and the free acceleration (n).
     ContactSystem(usize, usize),
+    /// `dyngen_runtime::ContactStep` of `n` velocity coordinates and `c` rows: the
+    /// acceleration (n), the forces and those of the step before (c each), the Delassus matrix
+    /// (c × c), the pivots of its regularised factor (c) and the right-hand side (c).
+    ContactStep(usize, usize),
+    /// `dyngen_runtime::ContactInertia` of `c` rows: `(K + ε I)⁻¹` (c × c), the pivots of
+    /// `K + ε I` (c) and `K`'s diagonal (c).
+    ContactInertia(usize),
 }
 
 /// The sizes a function's arguments and result are written in.
@@ -101,6 +145,11 @@ pub enum QuantityKind {
     ContactDelassus,
     ContactMatrices,
     ContactSystem,
+    ContactSolve,
+    ContactProximalSolve,
+    ContactImpulse,
+    ContactForwardDynamics,
+    ContactInertia,
 }
 
 /// A row of the table.
@@ -150,7 +199,7 @@ impl QuantityKind {
     ];
 
     /// The kinds of a robot with contacts (`ContactDynamics`), traced after every other.
-    pub const CONTACTS: [QuantityKind; 8] = [
+    pub const CONTACTS: [QuantityKind; 13] = [
         QuantityKind::ContactJacobian,
         QuantityKind::ContactDrift,
         QuantityKind::ContactResponse,
@@ -159,6 +208,11 @@ impl QuantityKind {
         QuantityKind::ContactDelassus,
         QuantityKind::ContactMatrices,
         QuantityKind::ContactSystem,
+        QuantityKind::ContactSolve,
+        QuantityKind::ContactProximalSolve,
+        QuantityKind::ContactImpulse,
+        QuantityKind::ContactForwardDynamics,
+        QuantityKind::ContactInertia,
     ];
 
     fn row(self) -> Row {
@@ -215,6 +269,11 @@ impl QuantityKind {
             QuantityKind::ContactDelassus => row("contact_delassus", G::Contacts, false),
             QuantityKind::ContactMatrices => row("contact_matrices", G::Contacts, false),
             QuantityKind::ContactSystem => row("contact_system", G::Contacts, false),
+            QuantityKind::ContactSolve => row("contact_solve", G::Contacts, false),
+            QuantityKind::ContactProximalSolve => row("contact_proximal_solve", G::Contacts, false),
+            QuantityKind::ContactImpulse => row("contact_impulse", G::Contacts, false),
+            QuantityKind::ContactForwardDynamics => row("contact_forward_dynamics", G::Contacts, false),
+            QuantityKind::ContactInertia => row("contact_inertia", G::Contacts, false),
         }
     }
 
@@ -403,6 +462,29 @@ impl QuantityKind {
                 "J, D⁻¹ Jᵀ, the Delassus matrix, the drift along q̇ and forward dynamics without \
                  contacts at once, factoring the mass matrix once: what a constrained solve reads"
             }
+            K::ContactSolve => {
+                "constrained forward dynamics in one call, one proximal step from the forces λ₀ \
+                 (zero for the exact solve): λ₁ = (K + μ I)⁻¹ (rhs + μ λ₀) with rhs = target − \
+                 drift − kd J q̇ − J D⁻¹ (τ − b), and the acceleration D⁻¹ (τ − b + Jᵀ λ₁), with \
+                 the Delassus matrix K, the pivots of K + μ I (one at rounding level: redundant \
+                 rows) and rhs, from which the runtime checks and refines the solve"
+            }
+            K::ContactProximalSolve => {
+                "contact_solve with four proximal steps, untested between them: what a \
+                 regularised solve (μ > 0) converges in, most often"
+            }
+            K::ContactImpulse => {
+                "an impact in one call: the impulses λ = (K + μ I)⁻¹ rhs with rhs = −(1 + r) J q̇, \
+                 and the velocity after, q̇ + D⁻¹ Jᵀ λ, with K, the pivots of K + μ I and rhs"
+            }
+            K::ContactForwardDynamics => {
+                "forward dynamics with the contact forces λ applied: D⁻¹ (τ − b + Jᵀ λ)"
+            }
+            K::ContactInertia => {
+                "the rows' operational-space inertia (K + ε I)⁻¹, K the Delassus matrix, with the \
+                 pivots of K + ε I and K's diagonal (a pivot at rounding level against it: \
+                 redundant rows)"
+            }
         }
     }
 
@@ -410,6 +492,8 @@ impl QuantityKind {
     /// (`θ`: the base parameters for a function of base columns, else all of them).
     pub fn signature(self, d: Dims) -> (Vec<Arg>, Shape) {
         use Arg::{Forces, Qd, Tau, A, R, V};
+        use Coefficient::{Damping, Regularisation, Restitution, VelocityGain};
+        let coefficient = Arg::Coefficient;
         use QuantityKind as K;
         let n = d.n;
         let (theta, p) = match self.uses_base_columns() {
@@ -446,6 +530,23 @@ impl QuantityKind {
             K::ContactDelassus => (vec![], Shape::Matrix(d.c, d.c)),
             K::ContactMatrices => (vec![], Shape::ContactMatrices(n, d.c)),
             K::ContactSystem => (vec![Qd, Tau], Shape::ContactSystem(n, d.c)),
+            K::ContactSolve | K::ContactProximalSolve => (
+                vec![
+                    Qd,
+                    Tau,
+                    Arg::Target(d.c),
+                    Forces(d.c),
+                    coefficient(VelocityGain),
+                    coefficient(Regularisation),
+                ],
+                Shape::ContactStep(n, d.c),
+            ),
+            K::ContactImpulse => (
+                vec![Qd, coefficient(Restitution), coefficient(Regularisation)],
+                Shape::ContactStep(n, d.c),
+            ),
+            K::ContactForwardDynamics => (vec![Qd, Tau, Forces(d.c)], Shape::Vector(n)),
+            K::ContactInertia => (vec![coefficient(Damping)], Shape::ContactInertia(d.c)),
         }
     }
 }

@@ -9,9 +9,9 @@
 //! Node ids follow creation order and the generated code follows node ids, so this order is
 //! append-only: what is added is traced after everything else.
 
-use super::quantities::{Arg, Dims, QuantityKind, Shape};
+use super::quantities::{Arg, Coefficient, Dims, QuantityKind, Shape};
 use super::trace_contact_derivatives::Tree;
-use super::trace_contacts::{contact_outputs, force_inputs, ContactState};
+use super::trace_contacts::{contact_outputs, ContactInputs, ContactState};
 use crate::base_parameters::BaseParameterSet;
 use crate::dynamics::tree_ldl::TreeLdl;
 use crate::dynamics::{self, Directions, Placements};
@@ -111,9 +111,9 @@ pub struct SymbolicRobot {
     pub base: BaseParameterSet,
     /// The groups traced.
     pub functions: Functions,
-    /// The contact forces `λ` the contacts' derivative rows take (`Arg::Forces`), inputs
-    /// created by the contacts' rows after every other (none without contacts).
-    pub forces: Vec<Id>,
+    /// The inputs the contacts' rows take (`Arg::Forces`, `Arg::Target`, `Arg::Coefficient`),
+    /// created by them after every other (none without contacts).
+    pub contact_inputs: ContactInputs,
     /// The outputs of functions computed in lane vectors (the regressors, four rows at a time)
     /// in a scalar formulation, by function name: the form for several states per call
     /// (`_lanes`), generic over its lane type, computes these.
@@ -202,7 +202,7 @@ impl Traced {
             false => functions.without(FunctionGroup::Contacts),
         };
         SymbolicRobot {
-            forces: force_inputs(&graph),
+            contact_inputs: ContactInputs::of(&graph),
             graph,
             inputs,
             quantities,
@@ -843,6 +843,10 @@ pub struct Arguments<'a> {
     pub r: &'a [f64],
     /// The contact forces `λ`.
     pub forces: &'a [f64],
+    /// The contact rows' target.
+    pub target: &'a [f64],
+    /// The contact solves' coefficients (those not given are 0).
+    pub coefficients: &'a [(Coefficient, f64)],
 }
 
 impl SymbolicRobot {
@@ -909,12 +913,19 @@ impl SymbolicRobot {
             (&self.inputs.tau, args.tau),
             (&self.inputs.theta, args.theta),
             (&self.inputs.r, args.r),
-            (&self.forces, args.forces),
+            (&self.contact_inputs.forces, args.forces),
+            (&self.contact_inputs.target, args.target),
         ] {
             for (id, x) in ids.iter().zip(xs) {
                 if let crate::symbolic::Node::Input(k) = self.graph.node(*id) {
                     values[k as usize] = *x;
                 }
+            }
+        }
+        for &(c, x) in args.coefficients {
+            let input = self.contact_inputs.coefficient(c).map(|id| self.graph.node(id));
+            if let Some(crate::symbolic::Node::Input(k)) = input {
+                values[k as usize] = x;
             }
         }
         Some(crate::symbolic::evaluate(&self.graph, &values, &quantity.outputs))

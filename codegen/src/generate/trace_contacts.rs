@@ -2,19 +2,26 @@
 //! has: the contacts' frame motions at the symbolic state, the factored mass matrix, and (for
 //! the derivatives) the tree the motions come from.
 
-use super::quantities::QuantityKind;
+use super::quantities::{Coefficient, QuantityKind};
 use super::trace::{ids, inputs, matrix_ids, pair_ids};
 use super::trace_contact_derivatives::{contact_derivatives, Tree};
 use crate::dynamics::constrained::{constraint_rows, ContactMotion};
 use crate::dynamics::tree_ldl::TreeLdl;
 use crate::dynamics::FrameMotion;
 use crate::model::Model;
+use crate::scalar::Scalar;
 use crate::symbolic::{Expr, Graph, Id, Node};
+use dyngen_runtime::ProximalSettings;
+use nalgebra::DMatrix;
 
 /// How the contact forces `λ` the derivative rows take are named in the graph: `lambda0`, …
 /// They are created here, after every other input, so neither tracer carries them;
-/// [`force_inputs`] finds them again.
+/// [`ContactInputs::of`] finds them again.
 const FORCE_PREFIX: &str = "lambda";
+/// The proximal iterations `contact_proximal_solve` runs in its code, untested between them.
+const UNROLLED_ITERATIONS: usize = ProximalSettings::UNROLLED_ITERATIONS;
+/// How the rows' target the one-call solve takes is named in the graph: `target0`, …
+const TARGET_PREFIX: &str = "target";
 
 /// What a tracer hands the contacts' rows: the state's velocity and acceleration inputs, the
 /// factored mass matrix at the state, the tree (fixed or floating) the frames move with, and
@@ -58,6 +65,55 @@ pub(super) fn contact_outputs(
         .chain(ids(&rows.drift))
         .chain(ids(&free_acceleration))
         .collect();
+    // The solves in one call, their settings inputs created after every row above.
+    let target = inputs(TARGET_PREFIX, model.contact_rows());
+    let [kd, mu, damping, restitution] = [
+        Coefficient::VelocityGain,
+        Coefficient::Regularisation,
+        Coefficient::Damping,
+        Coefficient::Restitution,
+    ]
+    .map(|c| Expr::input(c.name()));
+    let jacobian = &rows.jacobian;
+    let velocity = product(jacobian, state.qd);
+    let free_rows = product(jacobian, &free_acceleration);
+    let rhs: Vec<Expr> = (0..target.len())
+        .map(|i| target[i] - rows.drift[i] - kd * velocity[i] - free_rows[i])
+        .collect();
+    let regularised = dense_factor(&delassus, mu);
+    // `steps` proximal iterations from `start` (zero forces if `None`), `(K + μ I) λ_{k+1} =
+    // rhs + μ λ_k`, then `base + M⁻¹ Jᵀ λ`: the outputs of a `ContactStep`.
+    let steps = |base: &[Expr], rhs: &[Expr], start: Option<&[Expr]>, steps: usize| {
+        let zero = vec![Expr::zero(); rhs.len()];
+        let (mut previous, mut lambda) = (zero.clone(), start.unwrap_or(&zero).to_vec());
+        for _ in 0..steps {
+            previous = lambda;
+            let shifted: Vec<Expr> = rhs.iter().zip(&previous).map(|(&r, &l)| r + mu * l).collect();
+            lambda = regularised.solve(&shifted);
+        }
+        let response = state.mass.solve(&transposed_product(jacobian, &lambda));
+        let moved: Vec<Expr> = base.iter().zip(&response).map(|(&b, &r)| b + r).collect();
+        (ids(&moved).into_iter())
+            .chain(ids(&lambda))
+            .chain(ids(&previous))
+            .chain(matrix_ids(&delassus))
+            .chain(ids(&regularised.pivots))
+            .chain(ids(rhs))
+            .collect::<Vec<Id>>()
+    };
+    let solve = steps(&free_acceleration, &rhs, Some(&forces), 1);
+    let proximal = steps(&free_acceleration, &rhs, Some(&forces), UNROLLED_ITERATIONS);
+    let impact: Vec<Expr> = velocity.iter().map(|&v| -(Expr::one() + restitution) * v).collect();
+    let impulse = steps(state.qd, &impact, None, 1);
+    let applied = state.mass.solve(&transposed_product(jacobian, &forces));
+    let forward: Vec<Expr> = (free_acceleration.iter().zip(&applied))
+        .map(|(&a, &r)| a + r)
+        .collect();
+    let damped = dense_factor(&delassus, damping);
+    let inertia: Vec<Id> = (matrix_ids(&damped.inverse()).into_iter())
+        .chain(ids(&damped.pivots))
+        .chain((0..delassus.nrows()).map(|i| delassus[(i, i)].id()))
+        .collect();
     vec![
         (QuantityKind::ContactJacobian, matrix_ids(&rows.jacobian)),
         (QuantityKind::ContactDrift, ids(&rows.drift)),
@@ -73,22 +129,78 @@ pub(super) fn contact_outputs(
         (QuantityKind::ContactDelassus, matrix_ids(&delassus)),
         (QuantityKind::ContactMatrices, matrices),
         (QuantityKind::ContactSystem, system),
+        (QuantityKind::ContactSolve, solve),
+        (QuantityKind::ContactProximalSolve, proximal),
+        (QuantityKind::ContactImpulse, impulse),
+        (QuantityKind::ContactForwardDynamics, ids(&forward)),
+        (QuantityKind::ContactInertia, inertia),
     ]
 }
 
-/// The contact forces' inputs of `graph`, in row order (none without contacts).
-pub(super) fn force_inputs(graph: &Graph) -> Vec<Id> {
-    let names = graph.input_names();
-    let mut found: Vec<(usize, Id)> = (0..graph.len())
-        .map(|i| Id(i as u32))
-        .filter_map(|id| match graph.node(id) {
-            Node::Input(k) => {
-                let row = names[k as usize].strip_prefix(FORCE_PREFIX)?.parse().ok()?;
-                Some((row, id))
-            }
+/// `K + μ I` factored as `L Δ Lᵀ`, a dense factor (a chain, every row the parent of the next):
+/// no square root, so the symbolic engine's four operations suffice, and each pivot inverted
+/// once.
+fn dense_factor(delassus: &DMatrix<Expr>, mu: Expr) -> TreeLdl<Expr> {
+    let n = delassus.nrows();
+    let mut regularised = delassus.clone();
+    for i in 0..n {
+        regularised[(i, i)] = regularised[(i, i)] + mu;
+    }
+    TreeLdl::factor_tree((0..n).map(|k| k.checked_sub(1)).collect(), &regularised)
+}
+
+/// `J x`, the zeros of `J` folding away.
+fn product(jacobian: &DMatrix<Expr>, x: &[Expr]) -> Vec<Expr> {
+    (0..jacobian.nrows())
+        .map(|r| (0..x.len()).fold(Expr::zero(), |sum, c| sum + jacobian[(r, c)] * x[c]))
+        .collect()
+}
+
+/// `Jᵀ λ`.
+fn transposed_product(jacobian: &DMatrix<Expr>, lambda: &[Expr]) -> Vec<Expr> {
+    (0..jacobian.ncols())
+        .map(|c| (0..lambda.len()).fold(Expr::zero(), |sum, r| sum + jacobian[(r, c)] * lambda[r]))
+        .collect()
+}
+
+/// The inputs the contacts' rows create after every other, found again by their names: the
+/// forces `λ` and the rows' target in row order, and the solves' coefficients (empty without
+/// contacts).
+#[derive(Clone, Debug, Default)]
+pub struct ContactInputs {
+    pub forces: Vec<Id>,
+    pub target: Vec<Id>,
+    pub coefficients: Vec<(Coefficient, Id)>,
+}
+
+impl ContactInputs {
+    pub(super) fn of(graph: &Graph) -> ContactInputs {
+        let names = graph.input_names();
+        let inputs = (0..graph.len()).map(|i| Id(i as u32)).filter_map(|id| match graph.node(id) {
+            Node::Input(k) => Some((names[k as usize].as_str(), id)),
             _ => None,
-        })
-        .collect();
-    found.sort_unstable();
-    found.into_iter().map(|(_, id)| id).collect()
+        });
+        let mut found = ContactInputs::default();
+        let (mut forces, mut target) = (Vec::new(), Vec::new());
+        for (name, id) in inputs {
+            let row = |prefix: &str| name.strip_prefix(prefix)?.parse::<usize>().ok();
+            if let Some(row) = row(FORCE_PREFIX) {
+                forces.push((row, id));
+            } else if let Some(row) = row(TARGET_PREFIX) {
+                target.push((row, id));
+            } else if let Some(c) = Coefficient::ALL.into_iter().find(|c| c.name() == name) {
+                found.coefficients.push((c, id));
+            }
+        }
+        forces.sort_unstable();
+        target.sort_unstable();
+        found.forces = forces.into_iter().map(|(_, id)| id).collect();
+        found.target = target.into_iter().map(|(_, id)| id).collect();
+        found
+    }
+
+    /// The input of coefficient `c`, if the graph has one.
+    pub fn coefficient(&self, c: Coefficient) -> Option<Id> {
+        self.coefficients.iter().find(|(k, _)| *k == c).map(|&(_, id)| id)
+    }
 }

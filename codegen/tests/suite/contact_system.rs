@@ -5,18 +5,27 @@
 //! four point feet), a fixed-base chain holding its tool and a point halfway up (the
 //! Panda, whose rows share a branch), two branches held tip to tip (frame loops) and the
 //! four-bar, whose rows are dependent (`K` singular, still `J M⁻¹ Jᵀ`).
+//!
+//! And the solves in one call (`contact_solve`, `contact_proximal_solve`, `contact_impulse`,
+//! `contact_forward_dynamics`, `contact_inertia`) against the equations they solve, written
+//! with the parts above and dense nalgebra algebra: `(K + μ I) λ_k = rhs + μ λ_{k−1}` for each
+//! step, the acceleration `a_free + M⁻¹ Jᵀ λ`, the pivots' product `det(K + μ I)`, and
+//! `(K + ε I)⁻¹ (K + ε I) = I`.
 
 use dyngen_testkit as common;
 
 use common::{assert_close, workspace_root};
 use dyngen_codegen::description::load;
-use dyngen_codegen::internals::generate::{trace, Arguments};
+use dyngen_codegen::internals::generate::{trace, Arguments, Coefficient};
 use dyngen_codegen::model::{Contact, Model};
 use dyngen_runtime::{ContactKind, ReferenceFrame, SplitMix64};
-use nalgebra::DMatrix;
+use nalgebra::{DMatrix, DVector};
 
 /// `K` against `J M⁻¹ Jᵀ`, relative to its largest entry.
 const TOL: f64 = 1e-12;
+/// The solves' equations, relative: `K + μ I` with `μ` a tenth of `K`'s scale keeps its
+/// condition number small, and the dependent rows of the four-bar solvable.
+const SOLVE_TOL: f64 = 1e-10;
 
 /// Checks the three rows at `states` random states of `model` (`floating`: its configuration
 /// starts with a base position and a unit quaternion).
@@ -74,7 +83,126 @@ fn check(robot: &str, model: &Model, floating: bool, states: usize) {
         let product =
             DMatrix::from_column_slice(nc, nv, jacobian) * DMatrix::from_column_slice(nv, nc, response);
         assert_close(&what("K = J M⁻¹ Jᵀ"), &k, &product, TOL);
+        let parts = SystemParts {
+            jacobian: DMatrix::from_column_slice(nc, nv, jacobian),
+            response: DMatrix::from_column_slice(nv, nc, response),
+            delassus: k,
+            drift: DVector::from_column_slice(drift),
+            free: DVector::from_column_slice(free),
+        };
+        check_solves(&traced, &q, &v, &tau, &parts, &mut rng, &what);
     }
+}
+
+/// The parts of `contact_system` at one state.
+struct SystemParts {
+    jacobian: DMatrix<f64>,
+    response: DMatrix<f64>,
+    delassus: DMatrix<f64>,
+    drift: DVector<f64>,
+    free: DVector<f64>,
+}
+
+/// The one-call solves at the state `(q, v, τ)` against their equations, with random targets,
+/// warm starts and coefficients.
+fn check_solves(
+    traced: &dyngen_codegen::internals::generate::SymbolicRobot,
+    q: &[f64],
+    v: &[f64],
+    tau: &[f64],
+    parts: &SystemParts,
+    rng: &mut SplitMix64,
+    what: &dyn Fn(&str) -> String,
+) {
+    let (nc, nv) = parts.jacobian.shape();
+    let scale = parts.delassus.diagonal().amax();
+    let target: Vec<f64> = (0..nc).map(|_| rng.uniform((-2.0, 2.0))).collect();
+    let start: Vec<f64> = (0..nc).map(|_| rng.uniform((-5.0, 5.0))).collect();
+    let [kd, mu, restitution, damping] = [
+        rng.uniform((0.0, 10.0)),
+        0.1 * scale * rng.uniform((0.5, 1.0)),
+        rng.uniform((0.0, 1.0)),
+        0.1 * scale * rng.uniform((0.5, 1.0)),
+    ];
+    let args = Arguments {
+        q,
+        qd: v,
+        tau,
+        target: &target,
+        forces: &start,
+        coefficients: &[
+            (Coefficient::VelocityGain, kd),
+            (Coefficient::Regularisation, mu),
+            (Coefficient::Restitution, restitution),
+            (Coefficient::Damping, damping),
+        ],
+        ..Arguments::default()
+    };
+    let value = |name: &str| traced.evaluate_with(name, &args).expect(name);
+    let v = DVector::from_column_slice(v);
+    let velocity = &parts.jacobian * &v;
+    let regularised = &parts.delassus + DMatrix::identity(nc, nc) * mu;
+    let column = |x: &[f64]| DMatrix::from_column_slice(x.len(), 1, x);
+    // A step's outputs: a, λ, the λ before, K, the pivots, rhs.
+    let check_step = |name: &str, base: &DVector<f64>, rhs: &DVector<f64>, start: &DVector<f64>, steps: usize| {
+        let out = value(name);
+        let (a, rest) = out.split_at(nv);
+        let (forces, rest) = rest.split_at(nc);
+        let (previous, rest) = rest.split_at(nc);
+        let (delassus, rest) = rest.split_at(nc * nc);
+        let (pivots, given_rhs) = rest.split_at(nc);
+        assert_close(&what(&format!("{name}: rhs")), &column(given_rhs), &column(rhs.as_slice()), SOLVE_TOL);
+        assert_eq!(delassus, parts.delassus.as_slice(), "{}", what(&format!("{name}: K")));
+        let mut expected = vec![start.clone()];
+        for _ in 0..steps {
+            let last = expected.last().expect("the start");
+            let next = regularised.clone().lu().solve(&(rhs + last * mu)).expect("K + μ I regular");
+            expected.push(next);
+        }
+        let forces_expected = &expected[steps];
+        assert_close(&what(&format!("{name}: λ")), &column(forces), &column(forces_expected.as_slice()), SOLVE_TOL);
+        assert_close(
+            &what(&format!("{name}: λ before")),
+            &column(previous),
+            &column(expected[steps - 1].as_slice()),
+            SOLVE_TOL,
+        );
+        let a_expected = base + &parts.response * forces_expected;
+        assert_close(&what(&format!("{name}: a")), &column(a), &column(a_expected.as_slice()), SOLVE_TOL);
+        let product: f64 = pivots.iter().product();
+        let determinant = regularised.determinant();
+        assert!(
+            (product - determinant).abs() <= SOLVE_TOL * determinant.abs(),
+            "{}: {product} against {determinant}",
+            what(&format!("{name}: the pivots' product"))
+        );
+    };
+    let rhs = DVector::from_column_slice(&target) - &parts.drift - &velocity * kd - &parts.jacobian * &parts.free;
+    let start = DVector::from_column_slice(&start);
+    check_step("contact_solve", &parts.free, &rhs, &start, 1);
+    check_step("contact_proximal_solve", &parts.free, &rhs, &start, 4);
+    let impact = -(1.0 + restitution) * &velocity;
+    check_step("contact_impulse", &v, &impact, &DVector::zeros(nc), 1);
+    let forward = &parts.free + &parts.response * &start;
+    assert_close(
+        &what("contact_forward_dynamics"),
+        &column(&value("contact_forward_dynamics")),
+        &column(forward.as_slice()),
+        SOLVE_TOL,
+    );
+    let out = value("contact_inertia");
+    let (inertia, rest) = out.split_at(nc * nc);
+    let (pivots, diagonal) = rest.split_at(nc);
+    let damped = &parts.delassus + DMatrix::identity(nc, nc) * damping;
+    let identity = DMatrix::from_column_slice(nc, nc, inertia) * &damped;
+    assert_close(&what("(K + ε I)⁻¹ (K + ε I)"), &identity, &DMatrix::identity(nc, nc), SOLVE_TOL);
+    assert_eq!(diagonal, parts.delassus.diagonal().as_slice(), "{}", what("K's diagonal"));
+    let (product, determinant) = (pivots.iter().product::<f64>(), damped.determinant());
+    assert!(
+        (product - determinant).abs() <= SOLVE_TOL * determinant.abs(),
+        "{}",
+        what("contact_inertia: the pivots' product")
+    );
 }
 
 fn robot(name: &str) -> Model {

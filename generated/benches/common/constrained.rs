@@ -164,16 +164,27 @@ pub fn bench<R, const N: usize, const NQ: usize, const NV: usize, const NC: usiz
             black_box(R::free_acceleration(&trig::<N>(q.as_slice()), v, tau));
         },
     );
-    // The one call each solve makes: the rows above and the Delassus matrix, sharing the
-    // kinematics and the factored mass matrix.
-    cycle(c, &g("contact_system"), "generated", &inputs, |(q, v, tau, _)| {
-        black_box(R::contact_system(&trig::<N>(q.as_slice()), v, tau));
+    // The one generated call each solve makes (the kinematics, the factored mass matrix and the
+    // factored Delassus matrix shared within it), with the settings of the solves above.
+    let zero = SVector::<f64, NC>::zeros();
+    cycle(c, &g("contact_solve"), "generated", &inputs, |(q, v, tau, _)| {
+        black_box(R::contact_solve(&trig::<N>(q.as_slice()), v, tau, &zero, &zero, 0.0, 0.0));
     });
-    cycle(c, &g("contact_matrices"), "generated", &inputs, |(q, _, _, _)| {
-        black_box(R::contact_matrices(&trig::<N>(q.as_slice())));
+    cycle(
+        c,
+        &g("contact_proximal_solve"),
+        "generated",
+        &inputs,
+        |(q, v, tau, _)| {
+            let t = trig::<N>(q.as_slice());
+            black_box(R::contact_proximal_solve(&t, v, tau, &zero, &zero, 0.0, PROXIMAL.mu));
+        },
+    );
+    cycle(c, &g("contact_impulse"), "generated", &inputs, |(q, v, _, _)| {
+        black_box(R::contact_impulse(&trig::<N>(q.as_slice()), v, RESTITUTION, 0.0));
     });
-    cycle(c, &g("contact_delassus"), "generated", &inputs, |(q, _, _, _)| {
-        black_box(R::contact_delassus(&trig::<N>(q.as_slice())));
+    cycle(c, &g("contact_inertia"), "generated", &inputs, |(q, _, _, _)| {
+        black_box(R::contact_inertia(&trig::<N>(q.as_slice()), 0.0));
     });
     // The derivatives at the exact solution, which the call solves first (as Pinocchio's
     // `constraintDynamics` then `computeConstraintDynamicsDerivatives`).

@@ -20,4 +20,4 @@ pub use solve::{
     contact_inertia, delassus_inertia, solve_contacts, solve_contacts_with_delassus, ContactError,
     ContactSolution, ProximalSettings, Stabilisation,
 };
-pub use system::{ContactMatrices, ContactSystem};
+pub use system::{ContactInertia, ContactMatrices, ContactStep, ContactSystem};

@@ -4,10 +4,11 @@ use super::dense;
 use super::kind::ContactKind;
 use super::placement::placement_error;
 use super::solve::{
-    delassus_inertia, solve_contacts_with_delassus, ContactError, ContactSolution, ProximalSettings,
+    check_iterations, check_regularisation, converged, delassus_inertia, factor_delassus, iterate,
+    pivots_hold, solve_contacts_with_delassus, ContactError, ContactSolution, ProximalSettings,
     Stabilisation,
 };
-use super::system::{ContactMatrices, ContactSystem};
+use super::system::{ContactInertia, ContactMatrices, ContactStep, ContactSystem};
 use crate::{Pose, ReferenceFrame};
 use nalgebra::{Const, SMatrix, SVector, Vector6};
 
@@ -93,6 +94,139 @@ pub trait ContactDynamics<const NV: usize, const NC: usize> {
             free_acceleration: Self::free_acceleration(t, v, tau),
         }
     }
+
+    /// Constrained forward dynamics in one call, one proximal step from the forces `lambda`
+    /// (`λ₀`): with `J a + drift` asked to be `target − kd J v`, `rhs = target − drift −
+    /// kd J v − J a_free`, the forces `λ₁ = (K + μ I)⁻¹ (rhs + μ λ₀)` and
+    /// `a = M⁻¹ (τ − b + Jᵀ λ₁)`, with `K` and the pivots of `K + μ I`
+    /// ([`constrained_forward_dynamics`] checks and refines it). A generated robot computes it
+    /// all at once, `K + μ I` factored in its code; by default from
+    /// [`ContactDynamics::contact_system`] and a factor at run time.
+    fn contact_solve(
+        t: &Self::Trig,
+        v: &SVector<f64, NV>,
+        tau: &SVector<f64, NV>,
+        target: &SVector<f64, NC>,
+        lambda: &SVector<f64, NC>,
+        kd: f64,
+        mu: f64,
+    ) -> ContactStep<NV, NC> {
+        system_steps::<Self, NV, NC>(t, v, tau, target, lambda, kd, mu, 1)
+    }
+
+    /// [`ContactDynamics::contact_solve`] with [`ProximalSettings::UNROLLED_ITERATIONS`]
+    /// proximal steps, untested between them.
+    fn contact_proximal_solve(
+        t: &Self::Trig,
+        v: &SVector<f64, NV>,
+        tau: &SVector<f64, NV>,
+        target: &SVector<f64, NC>,
+        lambda: &SVector<f64, NC>,
+        kd: f64,
+        mu: f64,
+    ) -> ContactStep<NV, NC> {
+        let steps = ProximalSettings::UNROLLED_ITERATIONS;
+        system_steps::<Self, NV, NC>(t, v, tau, target, lambda, kd, mu, steps)
+    }
+
+    /// An impact in one call: `rhs = −(1 + restitution) J v`, the impulses
+    /// `λ = (K + μ I)⁻¹ rhs` and the velocity after, `v + M⁻¹ Jᵀ λ` (as the step's
+    /// acceleration), with `K` and the pivots of `K + μ I`. By default from
+    /// [`ContactDynamics::contact_matrices`] and a factor at run time.
+    fn contact_impulse(t: &Self::Trig, v: &SVector<f64, NV>, restitution: f64, mu: f64) -> ContactStep<NV, NC> {
+        let matrices = Self::contact_matrices(t);
+        let rhs = -(1.0 + restitution) * (matrices.jacobian * v);
+        dense_steps(&matrices, *v, rhs, SVector::zeros(), mu, 1)
+    }
+
+    /// Forward dynamics with the contact forces `lambda` applied, `M⁻¹ (τ − b + Jᵀ λ)`.
+    fn contact_forward_dynamics(
+        t: &Self::Trig,
+        v: &SVector<f64, NV>,
+        tau: &SVector<f64, NV>,
+        lambda: &SVector<f64, NC>,
+    ) -> SVector<f64, NV> {
+        Self::free_acceleration(t, v, tau) + Self::contact_response(t) * lambda
+    }
+
+    /// `(K + ε I)⁻¹` with the pivots of `K + ε I` and `K`'s diagonal
+    /// ([`operational_space_inertia`] checks them). By default from
+    /// [`ContactDynamics::contact_delassus`] and a factor at run time.
+    fn contact_inertia(t: &Self::Trig, damping: f64) -> ContactInertia<NC> {
+        let delassus = Self::contact_delassus(t);
+        let (lower, pivots) = regularised_factor(&delassus, damping);
+        ContactInertia {
+            inertia: dense::inverse(&lower),
+            pivots,
+            delassus_diagonal: delassus.diagonal(),
+        }
+    }
+}
+
+/// The Cholesky factor of `K + μ I` and its pivots (the squares of its diagonal); every pivot
+/// not a number where the factor met one, so that the caller's check refuses it.
+fn regularised_factor<const NC: usize>(
+    delassus: &SMatrix<f64, NC, NC>,
+    mu: f64,
+) -> (SMatrix<f64, NC, NC>, SVector<f64, NC>) {
+    let mut lower = delassus + SMatrix::<f64, NC, NC>::identity() * mu;
+    match dense::factor_in_place(&mut lower, f64::NEG_INFINITY) {
+        Ok(()) => {
+            let pivots = lower.diagonal().map(|d| d * d);
+            (lower, pivots)
+        }
+        Err(_) => (lower, SVector::repeat(f64::NAN)),
+    }
+}
+
+/// [`ContactDynamics::contact_solve`] with `steps` proximal steps, from
+/// [`ContactDynamics::contact_system`].
+#[allow(clippy::too_many_arguments)]
+fn system_steps<R: ContactDynamics<NV, NC> + ?Sized, const NV: usize, const NC: usize>(
+    t: &R::Trig,
+    v: &SVector<f64, NV>,
+    tau: &SVector<f64, NV>,
+    target: &SVector<f64, NC>,
+    start: &SVector<f64, NC>,
+    kd: f64,
+    mu: f64,
+    steps: usize,
+) -> ContactStep<NV, NC> {
+    let ContactSystem {
+        matrices,
+        drift,
+        free_acceleration,
+    } = R::contact_system(t, v, tau);
+    let velocity = matrices.jacobian * v;
+    let rhs = target - drift - velocity * kd - matrices.jacobian * free_acceleration;
+    dense_steps(&matrices, free_acceleration, rhs, *start, mu, steps)
+}
+
+/// `steps` proximal steps from `start`, `(K + μ I) λ_{k+1} = rhs + μ λ_k`, then
+/// `base + M⁻¹ Jᵀ λ`, from the matrices.
+fn dense_steps<const NV: usize, const NC: usize>(
+    matrices: &ContactMatrices<NV, NC>,
+    base: SVector<f64, NV>,
+    rhs: SVector<f64, NC>,
+    start: SVector<f64, NC>,
+    mu: f64,
+    steps: usize,
+) -> ContactStep<NV, NC> {
+    let (lower, pivots) = regularised_factor(&matrices.delassus, mu);
+    let (mut previous, mut forces) = (start, start);
+    for _ in 0..steps {
+        previous = forces;
+        forces = rhs + previous * mu;
+        dense::solve_in_place(&lower, &mut forces);
+    }
+    ContactStep {
+        acceleration: base + matrices.response * forces,
+        forces,
+        previous_forces: previous,
+        delassus: matrices.delassus,
+        pivots,
+        rhs,
+    }
 }
 
 /// `a` and the contact forces with every contact of `R` held (Pinocchio's
@@ -107,20 +241,70 @@ pub fn constrained_forward_dynamics<R: ContactDynamics<NV, NC>, const NV: usize,
     settings: &ProximalSettings,
     warm_start: Option<&SVector<f64, NC>>,
 ) -> Result<ContactSolution<Const<NV>, Const<NC>>, ContactError> {
+    check_iterations(settings)?;
+    check_regularisation(settings.mu)?;
+    let (mut target, mut kd) = (SVector::<f64, NC>::zeros(), 0.0);
+    if let Some(stabilisation) = &stabilisation {
+        for (k, row, error) in placement_errors::<R, NV, NC>(t, stabilisation)? {
+            for i in 0..R::CONTACT_KINDS[k].rows() {
+                target[row + i] -= stabilisation.kp * error[i];
+            }
+        }
+        kd = stabilisation.kd;
+    }
+    let start = warm_start.copied().unwrap_or_else(SVector::zeros);
+    let mu = settings.mu;
+    // A regularised solve takes the steps it most often converges in from one call.
+    let unrolled = mu > 0.0 && settings.max_iterations >= ProximalSettings::UNROLLED_ITERATIONS;
+    let (step, done) = match unrolled {
+        true => (
+            R::contact_proximal_solve(t, v, tau, &target, &start, kd, mu),
+            ProximalSettings::UNROLLED_ITERATIONS,
+        ),
+        false => (R::contact_solve(t, v, tau, &target, &start, kd, mu), 1),
+    };
+    if !pivots_hold(step.pivots.as_slice(), step.delassus.diagonal().iter().copied(), mu) {
+        // Rows that depend on one another: the factor at run time names the first (or, where
+        // its order of elimination keeps the pivots above the floor, solves).
+        return solve_from_system::<R, NV, NC>(t, v, tau, &target, kd, settings, warm_start);
+    }
+    let residual = (step.delassus * step.forces - step.rhs).amax();
+    let change = (step.forces - step.previous_forces).amax();
+    if done == settings.max_iterations || converged(residual, change, settings) {
+        return Ok(ContactSolution {
+            acceleration: step.acceleration,
+            forces: step.forces,
+            iterations: done,
+            residual,
+        });
+    }
+    let lower = factor_delassus(step.delassus, mu)?;
+    let (forces, iterations, residual) = iterate(&lower, &step.delassus, &step.rhs, step.forces, settings, done);
+    Ok(ContactSolution {
+        acceleration: R::contact_forward_dynamics(t, v, tau, &forces),
+        forces,
+        iterations,
+        residual,
+    })
+}
+
+/// [`constrained_forward_dynamics`] from [`ContactDynamics::contact_system`], every step at run
+/// time, `target − kd J v` what the rows' acceleration is asked to be.
+fn solve_from_system<R: ContactDynamics<NV, NC>, const NV: usize, const NC: usize>(
+    t: &R::Trig,
+    v: &SVector<f64, NV>,
+    tau: &SVector<f64, NV>,
+    target: &SVector<f64, NC>,
+    kd: f64,
+    settings: &ProximalSettings,
+    warm_start: Option<&SVector<f64, NC>>,
+) -> Result<ContactSolution<Const<NV>, Const<NC>>, ContactError> {
     let ContactSystem {
         matrices,
         drift,
         free_acceleration,
     } = R::contact_system(t, v, tau);
-    let mut rhs = -drift;
-    if let Some(stabilisation) = stabilisation {
-        let velocity = matrices.jacobian * v;
-        for (k, row, error) in placement_errors::<R, NV, NC>(t, &stabilisation)? {
-            for i in 0..R::CONTACT_KINDS[k].rows() {
-                rhs[row + i] -= stabilisation.kp * error[i] + stabilisation.kd * velocity[row + i];
-            }
-        }
-    }
+    let rhs = target - drift - (matrices.jacobian * v) * kd;
     solve_contacts_with_delassus(
         &matrices.jacobian,
         &matrices.response,
@@ -179,6 +363,12 @@ pub fn impulse_dynamics<R: ContactDynamics<NV, NC>, const NV: usize, const NC: u
     if !(0.0..=1.0).contains(&restitution) {
         return Err(ContactError::Restitution(restitution));
     }
+    check_regularisation(mu)?;
+    let step = R::contact_impulse(t, before, restitution, mu);
+    if pivots_hold(step.pivots.as_slice(), step.delassus.diagonal().iter().copied(), mu) {
+        return Ok((step.acceleration, step.forces));
+    }
+    // Rows that depend on one another: the factor at run time names the first.
     let matrices = R::contact_matrices(t);
     let rhs = -(1.0 + restitution) * (matrices.jacobian * before);
     let settings = ProximalSettings {
@@ -205,5 +395,12 @@ pub fn operational_space_inertia<R: ContactDynamics<NV, NC>, const NV: usize, co
     t: &R::Trig,
     damping: f64,
 ) -> Result<SMatrix<f64, NC, NC>, ContactError> {
-    delassus_inertia(R::contact_delassus(t), damping)
+    check_regularisation(damping)?;
+    let inertia = R::contact_inertia(t, damping);
+    let diagonal = inertia.delassus_diagonal.iter().copied();
+    match pivots_hold(inertia.pivots.as_slice(), diagonal, damping) {
+        true => Ok(inertia.inertia),
+        // Rows that depend on one another: the factor at run time names the first.
+        false => delassus_inertia(R::contact_delassus(t), damping),
+    }
 }

@@ -24,6 +24,13 @@ pub struct ProximalSettings {
     pub accuracy: f64,
 }
 
+impl ProximalSettings {
+    /// The proximal iterations a generated robot runs in its code for a regularised solve
+    /// (`mu > 0`, at least this many allowed), untested between them; the solve goes on at run
+    /// time if they do not meet the accuracy.
+    pub const UNROLLED_ITERATIONS: usize = 4;
+}
+
 impl Default for ProximalSettings {
     /// Exact rows in one solve: independent rows, no regularisation.
     fn default() -> Self {
@@ -131,17 +138,39 @@ pub(super) fn factor_delassus<NC: Dim>(
 where
     DefaultAllocator: Allocator<NC, NC>,
 {
-    if !(mu >= 0.0 && mu.is_finite()) {
-        return Err(ContactError::Settings("mu must be finite and not negative"));
-    }
+    check_regularisation(mu)?;
     let n = k.nrows();
-    let largest = (0..n).fold(0.0_f64, |l, i| l.max(k[(i, i)].abs()));
+    let floor = pivot_floor((0..n).map(|i| k[(i, i)]), mu);
     for i in 0..n {
         k[(i, i)] += mu;
     }
-    let floor = if mu == 0.0 { 1e-12 * largest } else { 0.0 };
     dense::factor_in_place(&mut k, floor).map_err(|row| ContactError::Redundant { row })?;
     Ok(k)
+}
+
+/// Refuses a regularisation (or damping) `mu` that is negative or not finite.
+pub(super) fn check_regularisation(mu: f64) -> Result<(), ContactError> {
+    match mu >= 0.0 && mu.is_finite() {
+        true => Ok(()),
+        false => Err(ContactError::Settings("mu must be finite and not negative")),
+    }
+}
+
+/// The value a pivot of `K + μ I`'s factor must exceed, `diagonal` `K`'s: exactly rank
+/// deficient rows give a pivot at rounding level against `K`'s largest diagonal entry, which
+/// without regularisation (`μ = 0`) is refused; with `μ > 0` every pivot is at least `μ`.
+fn pivot_floor(diagonal: impl Iterator<Item = f64>, mu: f64) -> f64 {
+    match mu == 0.0 {
+        true => 1e-12 * diagonal.fold(0.0_f64, |l, d| l.max(d.abs())),
+        false => 0.0,
+    }
+}
+
+/// Whether every pivot of a factor of `K + μ I` (in any elimination order) is above the floor
+/// [`factor_delassus`] holds its own pivots to, `diagonal` `K`'s.
+pub(super) fn pivots_hold(pivots: &[f64], diagonal: impl Iterator<Item = f64>, mu: f64) -> bool {
+    let floor = pivot_floor(diagonal, mu);
+    pivots.iter().all(|&p| p > floor)
 }
 
 /// `(J M⁻¹ Jᵀ + ε I)⁻¹`: the rows' operational-space inertia, `damping` `ε` keeping it finite
@@ -201,29 +230,14 @@ where
     DefaultAllocator:
         Allocator<NC, NC> + Allocator<NC, NV> + Allocator<NV, NC> + Allocator<NV> + Allocator<NC>,
 {
-    if settings.max_iterations == 0 {
-        return Err(ContactError::Settings("at least one iteration is needed"));
-    }
+    check_iterations(settings)?;
     let lower = factor_delassus(delassus.clone(), settings.mu)?;
     let target = rhs - jacobian * free;
-    let mut forces = match warm_start {
+    let forces = match warm_start {
         Some(start) => start.clone(),
         None => OVector::zeros_generic(rhs.shape_generic().0, nalgebra::Const::<1>),
     };
-    let (mut iterations, mut residual) = (0, f64::INFINITY);
-    while iterations < settings.max_iterations {
-        iterations += 1;
-        let mut next = &target + &forces * settings.mu;
-        dense::solve_in_place(&lower, &mut next);
-        let change = (&next - &forces).amax();
-        forces = next;
-        // `J a − rhs` with `a = a_free + M⁻¹ Jᵀ λ` is `K λ − (rhs − J a_free)`: NC² operations
-        // an iteration instead of 2 NC NV, and `a` formed once, after the last.
-        residual = (&delassus * &forces - &target).amax();
-        if residual <= settings.accuracy || change <= settings.accuracy {
-            break;
-        }
-    }
+    let (forces, iterations, residual) = iterate(&lower, &delassus, &target, forces, settings, 0);
     let acceleration = free + response * &forces;
     Ok(ContactSolution {
         acceleration,
@@ -231,4 +245,49 @@ where
         iterations,
         residual,
     })
+}
+
+/// Refuses settings that run no iteration.
+pub(super) fn check_iterations(settings: &ProximalSettings) -> Result<(), ContactError> {
+    match settings.max_iterations {
+        0 => Err(ContactError::Settings("at least one iteration is needed")),
+        _ => Ok(()),
+    }
+}
+
+/// Whether an iteration that moved the forces by `change` and left the rows' residual at
+/// `residual` ends the solve.
+pub(super) fn converged(residual: f64, change: f64, settings: &ProximalSettings) -> bool {
+    residual <= settings.accuracy || change <= settings.accuracy
+}
+
+/// The proximal iterations from `forces`, `done` of them run already, with `lower` the factor
+/// of `K + μ I` and `target` what `K λ` must equal: the forces, the iterations run in all and
+/// the rows' residual at the end.
+pub(super) fn iterate<NC: Dim>(
+    lower: &OMatrix<f64, NC, NC>,
+    delassus: &OMatrix<f64, NC, NC>,
+    target: &OVector<f64, NC>,
+    mut forces: OVector<f64, NC>,
+    settings: &ProximalSettings,
+    done: usize,
+) -> (OVector<f64, NC>, usize, f64)
+where
+    DefaultAllocator: Allocator<NC, NC> + Allocator<NC>,
+{
+    let (mut iterations, mut residual) = (done, f64::INFINITY);
+    while iterations < settings.max_iterations {
+        iterations += 1;
+        let mut next = target + &forces * settings.mu;
+        dense::solve_in_place(lower, &mut next);
+        let change = (&next - &forces).amax();
+        forces = next;
+        // `J a − rhs` with `a = a_free + M⁻¹ Jᵀ λ` is `K λ − (rhs − J a_free)`: NC² operations
+        // an iteration instead of 2 NC NV, and `a` formed once, after the last.
+        residual = (delassus * &forces - target).amax();
+        if converged(residual, change, settings) {
+            break;
+        }
+    }
+    (forces, iterations, residual)
 }

@@ -16,7 +16,9 @@ pub fn shaped(robot: &SymbolicRobot, name: &str, values: Vec<f64>) -> DMatrix<f6
         | Shape::Kinematics(_)
         | Shape::VectorPair(..)
         | Shape::ContactMatrices(..)
-        | Shape::ContactSystem(..) => DMatrix::from_column_slice(values.len(), 1, &values),
+        | Shape::ContactSystem(..)
+        | Shape::ContactStep(..)
+        | Shape::ContactInertia(..) => DMatrix::from_column_slice(values.len(), 1, &values),
     }
 }
 

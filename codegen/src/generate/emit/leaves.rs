@@ -33,11 +33,15 @@ impl Leaves {
             ("theta", &inputs.theta),
             ("r", &inputs.r),
             ("pos", &inputs.base_position),
-            ("lambda", &robot.forces),
+            ("lambda", &robot.contact_inputs.forces),
+            ("target", &robot.contact_inputs.target),
         ] {
             for (i, id) in ids.iter().enumerate() {
                 names.insert(*id, format_ident!("{prefix}{i}"));
             }
+        }
+        for &(c, id) in &robot.contact_inputs.coefficients {
+            names.insert(id, format_ident!("{}", c.name()));
         }
         for (k, id) in inputs.base_rotation.iter().enumerate() {
             names.insert(*id, format_ident!("rot{}{}", k / 3, k % 3));

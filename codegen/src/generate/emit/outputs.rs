@@ -53,6 +53,14 @@ pub(super) fn result_type(q: &Quantity, form: Form) -> TokenStream {
                 let (n, c) = (Literal::usize_unsuffixed(n), Literal::usize_unsuffixed(c));
                 quote!(ContactSystem<#n, #c>)
             }
+            Shape::ContactStep(n, c) => {
+                let (n, c) = (Literal::usize_unsuffixed(n), Literal::usize_unsuffixed(c));
+                quote!(ContactStep<#n, #c>)
+            }
+            Shape::ContactInertia(c) => {
+                let c = Literal::usize_unsuffixed(c);
+                quote!(ContactInertia<#c>)
+            }
         },
     }
 }
@@ -112,6 +120,22 @@ pub(super) fn result_value(q: &Quantity, form: Form, atoms: &[TokenStream]) -> T
                     free_acceleration: SVector::from_array_storage(ArrayStorage([[#(#free),*]])),
                 })
             }
+            Shape::ContactStep(..) | Shape::ContactInertia(..) => {
+                let fields = struct_fields(q.shape).expect("a struct result");
+                let mut rest = atoms;
+                let values = fields.iter().map(|(path, rows, cols)| {
+                    let (part, after) = rest.split_at(rows * cols);
+                    rest = after;
+                    let value = matrix_value(part, *rows);
+                    let field = path.clone().into_iter().last().expect("a field name");
+                    quote!(#field: #value)
+                });
+                let ty = match q.shape {
+                    Shape::ContactStep(..) => quote!(ContactStep),
+                    _ => quote!(ContactInertia),
+                };
+                quote!(#ty { #(#values),* })
+            }
         },
     }
 }
@@ -149,6 +173,19 @@ fn struct_fields(shape: Shape) -> Option<Vec<(TokenStream, usize, usize)>> {
             fields.extend([(quote!(.drift), c, 1), (quote!(.free_acceleration), n, 1)]);
             Some(fields)
         }
+        Shape::ContactStep(n, c) => Some(vec![
+            (quote!(.acceleration), n, 1),
+            (quote!(.forces), c, 1),
+            (quote!(.previous_forces), c, 1),
+            (quote!(.delassus), c, c),
+            (quote!(.pivots), c, 1),
+            (quote!(.rhs), c, 1),
+        ]),
+        Shape::ContactInertia(c) => Some(vec![
+            (quote!(.inertia), c, c),
+            (quote!(.pivots), c, 1),
+            (quote!(.delassus_diagonal), c, 1),
+        ]),
         _ => None,
     }
 }
@@ -295,6 +332,19 @@ pub(super) fn zero_result(q: &Quantity, form: Form, sizes: &Sizes) -> TokenStrea
             },
             drift: #matrix,
             free_acceleration: #matrix,
+        }),
+        (Form::Scalar, Shape::ContactStep(..)) => quote!(ContactStep {
+            acceleration: #matrix,
+            forces: #matrix,
+            previous_forces: #matrix,
+            delassus: #matrix,
+            pivots: #matrix,
+            rhs: #matrix,
+        }),
+        (Form::Scalar, Shape::ContactInertia(..)) => quote!(ContactInertia {
+            inertia: #matrix,
+            pivots: #matrix,
+            delassus_diagonal: #matrix,
         }),
         (Form::Lanes, shape) => {
             let splat = quote!(C::splat(#fill));

@@ -101,6 +101,16 @@ pub(super) fn signature(
         used: !prelude.is_empty(),
     }];
     for &arg in args {
+        if let Arg::Coefficient(c) = arg {
+            // An `f64` of its own, spelled in the body as its parameter is named.
+            let input = robot.contact_inputs.coefficient(c);
+            params.push(Param {
+                name: format_ident!("{}", c.name()),
+                ty: quote!(f64),
+                used: input.is_some_and(|id| used.contains(&id)),
+            });
+            continue;
+        }
         let (name, ids) = match arg {
             Arg::Qd => (format_ident!("qd"), &inputs.qd[..]),
             Arg::V => (format_ident!("v"), &inputs.v[..]),
@@ -108,7 +118,9 @@ pub(super) fn signature(
             Arg::Tau => (format_ident!("tau"), &inputs.tau[..]),
             Arg::Theta(len) => (format_ident!("theta"), &inputs.theta[..len]),
             Arg::R => (format_ident!("r"), &inputs.r[..]),
-            Arg::Forces(len) => (format_ident!("lambda"), &robot.forces[..len]),
+            Arg::Forces(len) => (format_ident!("lambda"), &robot.contact_inputs.forces[..len]),
+            Arg::Target(len) => (format_ident!("target"), &robot.contact_inputs.target[..len]),
+            Arg::Coefficient(_) => unreachable!("taken above"),
         };
         let ty = argument_type(arg, &vector_type);
         let source = match form {
@@ -118,7 +130,7 @@ pub(super) fn signature(
         let destructured = destructure(leaves, ids, used, source);
         params.push(Param {
             name,
-            ty: quote!(&#ty),
+            ty,
             used: destructured.is_some(),
         });
         prelude.extend(destructured);
@@ -158,18 +170,22 @@ pub(super) fn argument_names(args: &[Arg]) -> Vec<Ident> {
         Arg::Theta(_) => format_ident!("theta"),
         Arg::R => format_ident!("r"),
         Arg::Forces(_) => format_ident!("lambda"),
+        Arg::Target(_) => format_ident!("target"),
+        Arg::Coefficient(c) => format_ident!("{}", c.name()),
     }));
     names
 }
 
-/// The type of a vector argument: a joint-space vector, or a parameter vector of its own length.
+/// The type of an argument: a reference to a joint-space vector or to a vector of its own
+/// length, or a coefficient's `f64`.
 fn argument_type(arg: Arg, joint_vector: &TokenStream) -> TokenStream {
     match arg {
-        Arg::Theta(len) | Arg::Forces(len) => {
+        Arg::Theta(len) | Arg::Forces(len) | Arg::Target(len) => {
             let len = Literal::usize_unsuffixed(len);
-            quote!(SVector<f64, #len>)
+            quote!(&SVector<f64, #len>)
         }
-        _ => joint_vector.clone(),
+        Arg::Coefficient(_) => quote!(f64),
+        _ => quote!(&#joint_vector),
     }
 }
 
@@ -186,7 +202,7 @@ pub(super) fn all_parameters(
     let mut params = vec![quote!(#t: &#trig_type)];
     params.extend(vectors.iter().zip(args).map(|(v, &arg)| {
         let ty = argument_type(arg, &vector_type);
-        quote!(#v: &#ty)
+        quote!(#v: #ty)
     }));
     params
 }
