@@ -50,8 +50,8 @@ pub mod generate {
         emit, emit_with, type_name, Provenance, Sizes, CHUNK_VALUES, MODULE_ATTRIBUTES, SIZES,
     };
     pub use crate::generate::quantities::{Arg, Coefficient, Dims, QuantityKind, Shape};
-    pub use crate::generate::trace_contacts::ContactInputs;
     pub use crate::generate::trace::{
         trace, trace_functions, trace_with_base, Arguments, Inputs, Quantity, SymbolicRobot,
     };
+    pub use crate::generate::trace_contacts::ContactInputs;
 }

@@ -308,7 +308,12 @@ fn outputs(kind: QuantityKind, shape: Shape) -> Vec<Array> {
             arrays
         }
         Shape::ContactStep(n, c) => vec![
-            Array::new("acceleration", n, 1, "the acceleration (the velocity after, for an impact)"),
+            Array::new(
+                "acceleration",
+                n,
+                1,
+                "the acceleration (the velocity after, for an impact)",
+            ),
             Array::new("forces", c, 1, "the contact forces λ"),
             Array::new("previous_forces", c, 1, "the forces of the step before"),
             Array::new("contact_delassus", c, c, "the Delassus matrix J D⁻¹ Jᵀ"),

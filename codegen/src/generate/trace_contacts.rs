@@ -103,14 +103,17 @@ pub(super) fn contact_outputs(
     };
     let solve = steps(&free_acceleration, &rhs, Some(&forces), 1);
     let proximal = steps(&free_acceleration, &rhs, Some(&forces), UNROLLED_ITERATIONS);
-    let impact: Vec<Expr> = velocity.iter().map(|&v| -(Expr::one() + restitution) * v).collect();
+    let impact: Vec<Expr> = velocity
+        .iter()
+        .map(|&v| -(Expr::one() + restitution) * v)
+        .collect();
     let impulse = steps(state.qd, &impact, None, 1);
     let applied = state.mass.solve(&transposed_product(jacobian, &forces));
     let forward: Vec<Expr> = (free_acceleration.iter().zip(&applied))
         .map(|(&a, &r)| a + r)
         .collect();
     let damped = dense_factor(&delassus, damping);
-    let inertia: Vec<Id> = (matrix_ids(&damped.inverse()).into_iter())
+    let inertia: Vec<Id> = (matrix_ids(&damped.inverse_by_ancestors()).into_iter())
         .chain(ids(&damped.pivots))
         .chain((0..delassus.nrows()).map(|i| delassus[(i, i)].id()))
         .collect();
@@ -176,10 +179,12 @@ pub struct ContactInputs {
 impl ContactInputs {
     pub(super) fn of(graph: &Graph) -> ContactInputs {
         let names = graph.input_names();
-        let inputs = (0..graph.len()).map(|i| Id(i as u32)).filter_map(|id| match graph.node(id) {
-            Node::Input(k) => Some((names[k as usize].as_str(), id)),
-            _ => None,
-        });
+        let inputs = (0..graph.len())
+            .map(|i| Id(i as u32))
+            .filter_map(|id| match graph.node(id) {
+                Node::Input(k) => Some((names[k as usize].as_str(), id)),
+                _ => None,
+            });
         let mut found = ContactInputs::default();
         let (mut forces, mut target) = (Vec::new(), Vec::new());
         for (name, id) in inputs {

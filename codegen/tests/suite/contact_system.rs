@@ -144,40 +144,66 @@ fn check_solves(
     let regularised = &parts.delassus + DMatrix::identity(nc, nc) * mu;
     let column = |x: &[f64]| DMatrix::from_column_slice(x.len(), 1, x);
     // A step's outputs: a, λ, the λ before, K, the pivots, rhs.
-    let check_step = |name: &str, base: &DVector<f64>, rhs: &DVector<f64>, start: &DVector<f64>, steps: usize| {
-        let out = value(name);
-        let (a, rest) = out.split_at(nv);
-        let (forces, rest) = rest.split_at(nc);
-        let (previous, rest) = rest.split_at(nc);
-        let (delassus, rest) = rest.split_at(nc * nc);
-        let (pivots, given_rhs) = rest.split_at(nc);
-        assert_close(&what(&format!("{name}: rhs")), &column(given_rhs), &column(rhs.as_slice()), SOLVE_TOL);
-        assert_eq!(delassus, parts.delassus.as_slice(), "{}", what(&format!("{name}: K")));
-        let mut expected = vec![start.clone()];
-        for _ in 0..steps {
-            let last = expected.last().expect("the start");
-            let next = regularised.clone().lu().solve(&(rhs + last * mu)).expect("K + μ I regular");
-            expected.push(next);
-        }
-        let forces_expected = &expected[steps];
-        assert_close(&what(&format!("{name}: λ")), &column(forces), &column(forces_expected.as_slice()), SOLVE_TOL);
-        assert_close(
-            &what(&format!("{name}: λ before")),
-            &column(previous),
-            &column(expected[steps - 1].as_slice()),
-            SOLVE_TOL,
-        );
-        let a_expected = base + &parts.response * forces_expected;
-        assert_close(&what(&format!("{name}: a")), &column(a), &column(a_expected.as_slice()), SOLVE_TOL);
-        let product: f64 = pivots.iter().product();
-        let determinant = regularised.determinant();
-        assert!(
-            (product - determinant).abs() <= SOLVE_TOL * determinant.abs(),
-            "{}: {product} against {determinant}",
-            what(&format!("{name}: the pivots' product"))
-        );
-    };
-    let rhs = DVector::from_column_slice(&target) - &parts.drift - &velocity * kd - &parts.jacobian * &parts.free;
+    let check_step =
+        |name: &str, base: &DVector<f64>, rhs: &DVector<f64>, start: &DVector<f64>, steps: usize| {
+            let out = value(name);
+            let (a, rest) = out.split_at(nv);
+            let (forces, rest) = rest.split_at(nc);
+            let (previous, rest) = rest.split_at(nc);
+            let (delassus, rest) = rest.split_at(nc * nc);
+            let (pivots, given_rhs) = rest.split_at(nc);
+            assert_close(
+                &what(&format!("{name}: rhs")),
+                &column(given_rhs),
+                &column(rhs.as_slice()),
+                SOLVE_TOL,
+            );
+            assert_eq!(
+                delassus,
+                parts.delassus.as_slice(),
+                "{}",
+                what(&format!("{name}: K"))
+            );
+            let mut expected = vec![start.clone()];
+            for _ in 0..steps {
+                let last = expected.last().expect("the start");
+                let next = regularised
+                    .clone()
+                    .lu()
+                    .solve(&(rhs + last * mu))
+                    .expect("K + μ I regular");
+                expected.push(next);
+            }
+            let forces_expected = &expected[steps];
+            assert_close(
+                &what(&format!("{name}: λ")),
+                &column(forces),
+                &column(forces_expected.as_slice()),
+                SOLVE_TOL,
+            );
+            assert_close(
+                &what(&format!("{name}: λ before")),
+                &column(previous),
+                &column(expected[steps - 1].as_slice()),
+                SOLVE_TOL,
+            );
+            let a_expected = base + &parts.response * forces_expected;
+            assert_close(
+                &what(&format!("{name}: a")),
+                &column(a),
+                &column(a_expected.as_slice()),
+                SOLVE_TOL,
+            );
+            let product: f64 = pivots.iter().product();
+            let determinant = regularised.determinant();
+            assert!(
+                (product - determinant).abs() <= SOLVE_TOL * determinant.abs(),
+                "{}: {product} against {determinant}",
+                what(&format!("{name}: the pivots' product"))
+            );
+        };
+    let rhs =
+        DVector::from_column_slice(&target) - &parts.drift - &velocity * kd - &parts.jacobian * &parts.free;
     let start = DVector::from_column_slice(&start);
     check_step("contact_solve", &parts.free, &rhs, &start, 1);
     check_step("contact_proximal_solve", &parts.free, &rhs, &start, 4);
@@ -195,8 +221,18 @@ fn check_solves(
     let (pivots, diagonal) = rest.split_at(nc);
     let damped = &parts.delassus + DMatrix::identity(nc, nc) * damping;
     let identity = DMatrix::from_column_slice(nc, nc, inertia) * &damped;
-    assert_close(&what("(K + ε I)⁻¹ (K + ε I)"), &identity, &DMatrix::identity(nc, nc), SOLVE_TOL);
-    assert_eq!(diagonal, parts.delassus.diagonal().as_slice(), "{}", what("K's diagonal"));
+    assert_close(
+        &what("(K + ε I)⁻¹ (K + ε I)"),
+        &identity,
+        &DMatrix::identity(nc, nc),
+        SOLVE_TOL,
+    );
+    assert_eq!(
+        diagonal,
+        parts.delassus.diagonal().as_slice(),
+        "{}",
+        what("K's diagonal")
+    );
     let (product, determinant) = (pivots.iter().product::<f64>(), damped.determinant());
     assert!(
         (product - determinant).abs() <= SOLVE_TOL * determinant.abs(),

@@ -168,7 +168,15 @@ pub fn bench<R, const N: usize, const NQ: usize, const NV: usize, const NC: usiz
     // factored Delassus matrix shared within it), with the settings of the solves above.
     let zero = SVector::<f64, NC>::zeros();
     cycle(c, &g("contact_solve"), "generated", &inputs, |(q, v, tau, _)| {
-        black_box(R::contact_solve(&trig::<N>(q.as_slice()), v, tau, &zero, &zero, 0.0, 0.0));
+        black_box(R::contact_solve(
+            &trig::<N>(q.as_slice()),
+            v,
+            tau,
+            &zero,
+            &zero,
+            0.0,
+            0.0,
+        ));
     });
     cycle(
         c,
@@ -177,7 +185,15 @@ pub fn bench<R, const N: usize, const NQ: usize, const NV: usize, const NC: usiz
         &inputs,
         |(q, v, tau, _)| {
             let t = trig::<N>(q.as_slice());
-            black_box(R::contact_proximal_solve(&t, v, tau, &zero, &zero, 0.0, PROXIMAL.mu));
+            black_box(R::contact_proximal_solve(
+                &t,
+                v,
+                tau,
+                &zero,
+                &zero,
+                0.0,
+                PROXIMAL.mu,
+            ));
         },
     );
     cycle(c, &g("contact_impulse"), "generated", &inputs, |(q, v, _, _)| {

@@ -133,7 +133,12 @@ pub trait ContactDynamics<const NV: usize, const NC: usize> {
     /// `λ = (K + μ I)⁻¹ rhs` and the velocity after, `v + M⁻¹ Jᵀ λ` (as the step's
     /// acceleration), with `K` and the pivots of `K + μ I`. By default from
     /// [`ContactDynamics::contact_matrices`] and a factor at run time.
-    fn contact_impulse(t: &Self::Trig, v: &SVector<f64, NV>, restitution: f64, mu: f64) -> ContactStep<NV, NC> {
+    fn contact_impulse(
+        t: &Self::Trig,
+        v: &SVector<f64, NV>,
+        restitution: f64,
+        mu: f64,
+    ) -> ContactStep<NV, NC> {
         let matrices = Self::contact_matrices(t);
         let rhs = -(1.0 + restitution) * (matrices.jacobian * v);
         dense_steps(&matrices, *v, rhs, SVector::zeros(), mu, 1)
@@ -263,7 +268,11 @@ pub fn constrained_forward_dynamics<R: ContactDynamics<NV, NC>, const NV: usize,
         ),
         false => (R::contact_solve(t, v, tau, &target, &start, kd, mu), 1),
     };
-    if !pivots_hold(step.pivots.as_slice(), step.delassus.diagonal().iter().copied(), mu) {
+    if !pivots_hold(
+        step.pivots.as_slice(),
+        step.delassus.diagonal().iter().copied(),
+        mu,
+    ) {
         // Rows that depend on one another: the factor at run time names the first (or, where
         // its order of elimination keeps the pivots above the floor, solves).
         return solve_from_system::<R, NV, NC>(t, v, tau, &target, kd, settings, warm_start);
@@ -279,7 +288,8 @@ pub fn constrained_forward_dynamics<R: ContactDynamics<NV, NC>, const NV: usize,
         });
     }
     let lower = factor_delassus(step.delassus, mu)?;
-    let (forces, iterations, residual) = iterate(&lower, &step.delassus, &step.rhs, step.forces, settings, done);
+    let (forces, iterations, residual) =
+        iterate(&lower, &step.delassus, &step.rhs, step.forces, settings, done);
     Ok(ContactSolution {
         acceleration: R::contact_forward_dynamics(t, v, tau, &forces),
         forces,
@@ -365,7 +375,11 @@ pub fn impulse_dynamics<R: ContactDynamics<NV, NC>, const NV: usize, const NC: u
     }
     check_regularisation(mu)?;
     let step = R::contact_impulse(t, before, restitution, mu);
-    if pivots_hold(step.pivots.as_slice(), step.delassus.diagonal().iter().copied(), mu) {
+    if pivots_hold(
+        step.pivots.as_slice(),
+        step.delassus.diagonal().iter().copied(),
+        mu,
+    ) {
         return Ok((step.acceleration, step.forces));
     }
     // Rows that depend on one another: the factor at run time names the first.
@@ -404,3 +418,6 @@ pub fn operational_space_inertia<R: ContactDynamics<NV, NC>, const NV: usize, co
         false => delassus_inertia(R::contact_delassus(t), damping),
     }
 }
+
+#[cfg(test)]
+mod tests;

@@ -304,7 +304,13 @@ fn runtime_items(functions: &Functions) -> Vec<&'static str> {
         items.extend(["ReferenceFrame", "RobotFrame"]);
     }
     if functions.contains(FunctionGroup::Contacts) {
-        items.extend(["ContactInertia", "ContactKind", "ContactMatrices", "ContactStep", "ContactSystem"]);
+        items.extend([
+            "ContactInertia",
+            "ContactKind",
+            "ContactMatrices",
+            "ContactStep",
+            "ContactSystem",
+        ]);
     }
     items.sort_unstable();
     items

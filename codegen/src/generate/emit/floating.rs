@@ -217,7 +217,13 @@ fn imports(functions: &Functions) -> (Vec<&'static str>, Vec<&'static str>) {
         runtime.extend(["Pose", "ReferenceFrame", "RobotFrame"]);
     }
     if functions.contains(FunctionGroup::Contacts) {
-        runtime.extend(["ContactInertia", "ContactKind", "ContactMatrices", "ContactStep", "ContactSystem"]);
+        runtime.extend([
+            "ContactInertia",
+            "ContactKind",
+            "ContactMatrices",
+            "ContactStep",
+            "ContactSystem",
+        ]);
     }
     nalgebra.sort_unstable();
     runtime.sort_unstable();
