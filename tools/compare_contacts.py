@@ -55,6 +55,7 @@ FUNCTIONS = [
     "contact_jacobian",
     "contact_drift",
     "contact_response",
+    "constrained_forward_dynamics_derivatives",
 ]
 # The generated call each solve makes (one generated function, which shares the kinematics, the
 # factored mass matrix and the factored Delassus matrix within it): the breakdown below the

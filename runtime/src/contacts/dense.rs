@@ -81,6 +81,44 @@ where
     }
 }
 
+/// Solves `L Lᵀ x = b` for every row of `xt` at once (each row a right-hand side `bᵀ`, replaced
+/// by `xᵀ`), `L` the lower triangle of `factor`, with the arithmetic of [`solve_in_place`] on
+/// each: the results are those of a solve per right-hand side to the bit. Each step updates
+/// whole columns of `xt`, contiguous, so the work vectorises across the right-hand sides
+/// where one solve at a time is a chain of dependent operations.
+pub(super) fn solve_rows_in_place<R: Dim, NC: Dim>(
+    factor: &OMatrix<f64, NC, NC>,
+    xt: &mut OMatrix<f64, R, NC>,
+) where
+    DefaultAllocator: Allocator<NC, NC> + Allocator<R, NC>,
+{
+    let (rows, n) = (xt.nrows(), factor.nrows());
+    let x = xt.as_mut_slice();
+    for j in 0..n {
+        let d = factor[(j, j)];
+        let (before, after) = x.split_at_mut((j + 1) * rows);
+        let column = &mut before[j * rows..];
+        column.iter_mut().for_each(|v| *v /= d);
+        for (i, target) in (j + 1..n).zip(after.chunks_exact_mut(rows)) {
+            let l = factor[(i, j)];
+            target
+                .iter_mut()
+                .zip(column.iter())
+                .for_each(|(t, v)| *t -= l * v);
+        }
+    }
+    for j in (0..n).rev() {
+        let (before, after) = x.split_at_mut((j + 1) * rows);
+        let column = &mut before[j * rows..];
+        for (i, source) in (j + 1..n).zip(after.chunks_exact(rows)) {
+            let l = factor[(i, j)];
+            column.iter_mut().zip(source).for_each(|(t, v)| *t -= l * v);
+        }
+        let d = factor[(j, j)];
+        column.iter_mut().for_each(|v| *v /= d);
+    }
+}
+
 /// `(L Lᵀ)⁻¹ = L⁻ᵀ L⁻¹`, `L` the lower triangle of `factor`: `L⁻¹` by columns, then its
 /// product with its transpose (symmetric, each entry computed once).
 pub(super) fn inverse<NC: Dim>(factor: &OMatrix<f64, NC, NC>) -> OMatrix<f64, NC, NC>
@@ -161,6 +199,20 @@ mod tests {
             let identity = DMatrix::<f64>::identity(n, n);
             assert!((&k * &inverse - &identity).amax() <= 1e-9, "{n}×{nv}: K K⁻¹ = I");
             assert_eq!(inverse, inverse.transpose(), "{n}×{nv}: K⁻¹ symmetric");
+        }
+    }
+
+    #[test]
+    fn the_rows_solve_is_a_solve_per_row_to_the_bit() {
+        let (jacobian, mass_inverse) = rows_and_mass_inverse(12, 18, 5);
+        let l = factored(&delassus(&jacobian, &(&mass_inverse * jacobian.transpose())));
+        let rhs = DMatrix::from_fn(7, 12, |r, c| (r * 12 + c) as f64 * 0.37 - 9.0);
+        let mut all = rhs.clone();
+        solve_rows_in_place(&l, &mut all);
+        for r in 0..7 {
+            let mut one = rhs.row(r).transpose();
+            solve_in_place(&l, &mut one);
+            assert_eq!(all.row(r).transpose(), one, "row {r}");
         }
     }
 

@@ -119,14 +119,12 @@ where
         Allocator<NC, NC> + Allocator<NC, NV> + Allocator<NV, NC> + Allocator<NV, NV> + Allocator<NC>,
 {
     let lower = factor_delassus(delassus, 0.0)?;
-    // `λ̇ = −K⁻¹ (Ġ + J Y)` column by column on the one factor.
-    let forces = |mut g: OMatrix<f64, NC, NV>| {
-        for c in 0..g.ncols() {
-            let mut column = -g.column(c);
-            dense::solve_in_place(&lower, &mut column);
-            g.set_column(c, &column);
-        }
-        g
+    // `λ̇ = −K⁻¹ (Ġ + J Y)`, every column solved with the one factor at once (a solve per
+    // column is a chain of dependent operations; together they vectorise across columns).
+    let forces = |g: OMatrix<f64, NC, NV>| {
+        let mut rows = -g.transpose();
+        dense::solve_rows_in_place(&lower, &mut rows);
+        rows.transpose()
     };
     let forces_q = forces(g_q + jacobian * &y_q);
     let forces_v = forces(g_v + jacobian * &y_v);

@@ -15,6 +15,7 @@
 
 #include <pinocchio/algorithm/aba.hpp>
 #include <pinocchio/algorithm/cholesky.hpp>
+#include <pinocchio/algorithm/constrained-dynamics-derivatives.hpp>
 #include <pinocchio/algorithm/constrained-dynamics.hpp>
 #include <pinocchio/algorithm/crba.hpp>
 #include <pinocchio/algorithm/delassus.hpp>
@@ -197,6 +198,13 @@ struct Calls {
     return result(
         pin::constraintDynamics(model, data, s.q, s.v, s.tau, plain, plain_data, proximal));
   }
+  // The derivatives at the exact solution, which they need first (dyngen's row likewise solves,
+  // then differentiates); the check sum is ∂a/∂q's norm.
+  Result forward_derivatives(const State &s) {
+    pin::constraintDynamics(model, data, s.q, s.v, s.tau, plain, plain_data, exact);
+    pin::computeConstraintDynamicsDerivatives(model, data, plain, plain_data);
+    return result(data.ddq_dq);
+  }
   Result impact(const State &s) {
     return result(
         pin::impulseDynamics(model, data, s.q, s.v, plain, plain_data, RESTITUTION, impulse));
@@ -313,6 +321,7 @@ static const Row ROWS[] = {
     {"contact_drift", &Calls::contact_drift},
     {"contact_response", &Calls::contact_response},
     {"free_acceleration", &Calls::free_acceleration},
+    {"constrained_forward_dynamics_derivatives", &Calls::forward_derivatives},
 };
 
 // Before timing: the rows agree with each other where they compute one thing two ways, and
