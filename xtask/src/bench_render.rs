@@ -35,6 +35,7 @@ const SECTIONS: &[(&str, &[&str])] = &[(
         "contact_jacobian",
         "contact_drift",
         "contact_response",
+        "constrained_forward_dynamics_derivatives",
     ],
 )];
 
