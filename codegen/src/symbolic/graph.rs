@@ -522,31 +522,66 @@ impl Graph {
     /// Which nodes the `outputs` depend on (dead-code elimination), indexed by node.
     pub fn live(&self, outputs: &[Id]) -> Vec<bool> {
         let mut live = vec![false; self.nodes.len()];
-        for o in outputs {
-            live[o.0 as usize] = true;
-        }
-        for i in (0..self.nodes.len()).rev() {
-            if !live[i] {
-                continue;
-            }
-            for operand in self.operands(Id(i as u32)) {
-                live[operand.0 as usize] = true;
-            }
+        for id in self.live_nodes(outputs) {
+            live[id.0 as usize] = true;
         }
         live
     }
 
+    /// The nodes `outputs` need, themselves included, in creation (so topological) order.
+    /// Found from the outputs down, so the work is the function's, not the graph's: a module
+    /// of many small functions (one per frame) over one large graph asks this once per
+    /// function, and build scripts run it unoptimised.
+    pub fn live_nodes(&self, outputs: &[Id]) -> Vec<Id> {
+        let mut seen = vec![false; self.nodes.len()];
+        let mut stack: Vec<Id> = Vec::new();
+        let mut found: Vec<Id> = Vec::new();
+        for &o in outputs {
+            if !seen[o.0 as usize] {
+                seen[o.0 as usize] = true;
+                stack.push(o);
+            }
+        }
+        while let Some(id) = stack.pop() {
+            found.push(id);
+            self.for_each_operand(id, |a| {
+                if !seen[a.0 as usize] {
+                    seen[a.0 as usize] = true;
+                    stack.push(a);
+                }
+            });
+        }
+        found.sort_unstable();
+        found
+    }
+
     pub fn operands(&self, id: Id) -> Vec<Id> {
+        let mut out = Vec::with_capacity(2);
+        self.for_each_operand(id, |a| out.push(a));
+        out
+    }
+
+    /// Calls `f` on each operand of `id` (a lane list's non-constant entries), allocating
+    /// nothing.
+    pub fn for_each_operand(&self, id: Id, mut f: impl FnMut(Id)) {
         match self.node(id) {
-            Node::Const(_) | Node::Input(_) | Node::LaneZero => vec![],
-            Node::Sin(a) | Node::Cos(a) | Node::Sign(a) | Node::Tanh(a) | Node::Neg(a) => vec![a],
-            Node::Splat(a) | Node::LaneNeg(a) | Node::Extract(a, _) => vec![a],
-            Node::LaneBuild(k) => (self.lane_list(k).into_iter())
-                .filter(|&a| !matches!(self.node(a), Node::Const(_)))
-                .collect(),
-            Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => vec![a, b],
+            Node::Const(_) | Node::Input(_) | Node::LaneZero => {}
+            Node::Sin(a) | Node::Cos(a) | Node::Sign(a) | Node::Tanh(a) | Node::Neg(a) => f(a),
+            Node::Splat(a) | Node::LaneNeg(a) | Node::Extract(a, _) => f(a),
+            Node::LaneBuild(k) => {
+                for a in self.lane_list(k) {
+                    if !matches!(self.node(a), Node::Const(_)) {
+                        f(a);
+                    }
+                }
+            }
+            Node::Add(a, b) | Node::Sub(a, b) | Node::Mul(a, b) | Node::Div(a, b) => {
+                f(a);
+                f(b);
+            }
             Node::LaneAdd(a, b) | Node::LaneSub(a, b) | Node::LaneMul(a, b) | Node::LaneDiv(a, b) => {
-                vec![a, b]
+                f(a);
+                f(b);
             }
         }
     }
@@ -554,13 +589,9 @@ impl Graph {
     /// Operation counts of what `outputs` need; sin/cos of inputs are not counted (they are
     /// precomputed once per control tick and shared).
     pub fn op_counts(&self, outputs: &[Id]) -> OpCounts {
-        let live = self.live(outputs);
         let mut c = OpCounts::default();
-        for (i, node) in self.nodes.iter().enumerate() {
-            if !live[i] {
-                continue;
-            }
-            match *node {
+        for id in self.live_nodes(outputs) {
+            match self.node(id) {
                 Node::Add(..) | Node::Sub(..) => c.add += 1,
                 Node::Mul(..) => c.mul += 1,
                 Node::Div(..) => c.div += 1,

@@ -30,13 +30,15 @@ pub fn format_coefficient(c: f64) -> String {
 
 /// The name of one base parameter from its terms `(standard index, coefficient)`, the kept
 /// parameter first: the kept parameter, then the folded ones by decreasing magnitude of the
-/// coefficient (ties in parameter order), at most [`MAX_TERMS_IN_NAME`] in all.
+/// coefficient to nine digits (ties in parameter order: coefficients that are equal but for
+/// rounding keep one order), at most [`MAX_TERMS_IN_NAME`] in all.
 pub fn base_parameter_name(terms: &[(usize, f64)], standard_names: &[String]) -> String {
     let Some((&(first, _), rest)) = terms.split_first() else {
         return String::new();
     };
     let mut folded: Vec<(usize, f64)> = rest.to_vec();
-    folded.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()).then(a.0.cmp(&b.0)));
+    let magnitude = |c: f64| format!("{:.8e}", c.abs()).parse::<f64>().unwrap_or(c.abs());
+    folded.sort_by(|a, b| magnitude(b.1).total_cmp(&magnitude(a.1)).then(a.0.cmp(&b.0)));
     let mut name = standard_names[first].clone();
     for (shown, &(k, c)) in folded.iter().enumerate() {
         if shown + 1 >= MAX_TERMS_IN_NAME {

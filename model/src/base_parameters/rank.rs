@@ -1,11 +1,13 @@
 //! Numerics of the base-parameter computation: the regressor stacked at random states, the
 //! forward greedy column selection, least squares for the folding coefficients, and the SVD
-//! rank that cross-checks the selection.
+//! rank that cross-checks the selection. Each works on the stack or on its triangular factor
+//! alike (`triangular.rs`).
 
+use super::triangular::{axpy, dot, triangular_factor};
 use crate::dynamics::{FloatingDynamics, NumericDynamics};
 use crate::model::{JointKind, Model};
 use dyngen_runtime::SplitMix64;
-use nalgebra::{DMatrix, DVector};
+use nalgebra::DMatrix;
 
 /// The regressor `Y(q, q̇, v, a)` of `model` at `states` random states stacked vertically
 /// (`states·n × P`, joint-level columns included), the same for the same `seed`.
@@ -89,7 +91,10 @@ fn vector(rng: &mut SplitMix64, n: usize, r: f64) -> Vec<f64> {
 
 /// Euclidean norms of the columns.
 pub fn column_norms(m: &DMatrix<f64>) -> Vec<f64> {
-    m.column_iter().map(|c| c.norm()).collect()
+    let rows = m.nrows();
+    (m.as_slice().chunks(rows.max(1)).take(m.ncols()))
+        .map(|c| dot(c, c).sqrt())
+        .collect()
 }
 
 /// A column whose norm is at most this fraction of the largest column norm is zero: it holds
@@ -117,7 +122,7 @@ pub struct Selection {
 pub fn greedy_selection(y: &DMatrix<f64>, tol: f64) -> Selection {
     let norms = column_norms(y);
     let largest = norms.iter().cloned().fold(0.0, f64::max);
-    let mut basis: Vec<DVector<f64>> = Vec::new();
+    let mut basis: Vec<Vec<f64>> = Vec::new();
     let mut selection = Selection {
         kept: Vec::new(),
         dependent: Vec::new(),
@@ -128,18 +133,18 @@ pub fn greedy_selection(y: &DMatrix<f64>, tol: f64) -> Selection {
         if norm <= ZERO_COLUMN_TOL * largest || norm == 0.0 {
             continue;
         }
-        let mut r: DVector<f64> = y.column(j) / norm;
+        let mut r: Vec<f64> = y.column(j).iter().map(|x| x / norm).collect();
         for _ in 0..2 {
             for b in &basis {
-                let c = b.dot(&r);
-                r.axpy(-c, b, 1.0);
+                let c = dot(b, &r);
+                axpy(-c, b, &mut r);
             }
         }
-        let residual = r.norm();
+        let residual = dot(&r, &r).sqrt();
         if residual > tol {
             selection.kept.push(j);
             selection.smallest_kept_residual = selection.smallest_kept_residual.min(residual);
-            basis.push(r / residual);
+            basis.push(r.iter().map(|x| x / residual).collect());
         } else {
             selection.dependent.push(j);
             selection.largest_dropped_residual = selection.largest_dropped_residual.max(residual);
@@ -185,35 +190,65 @@ pub fn folding_coefficients(y: &DMatrix<f64>, kept: &[usize], dependent: &[usize
     if kept.is_empty() || dependent.is_empty() {
         return DMatrix::zeros(kept.len(), dependent.len());
     }
-    // Householder QR, not nalgebra's SVD: on a random 10-joint tree whose kept columns are
-    // well apart (smallest greedy residual 0.25), the SVD's solution was off by 4e-8 relative
-    // after a rounding-level change of the samples; QR was exact to 2e-15 on both.
-    let qr = a.clone().qr();
-    let (q, r) = (qr.q(), qr.r());
-    let solve = |rhs: &DMatrix<f64>| {
-        r.solve_upper_triangular(&(q.transpose() * rhs))
-            .unwrap_or_else(|| DMatrix::zeros(kept.len(), rhs.ncols()))
-    };
-    let mut beta = solve(&b);
-    let residual = &b - &a * &beta;
-    beta += solve(&residual);
+    // Householder QR, not an SVD: on a random 10-joint tree whose kept columns are well apart
+    // (smallest greedy residual 0.25), nalgebra's SVD solution was off by 4e-8 relative after a
+    // rounding-level change of the samples; QR was exact to 2e-15 on both.
+    let mut beta = least_squares(&a, &b);
+    let mut residual = b.clone();
+    for d in 0..b.ncols() {
+        let r = &mut residual.as_mut_slice()[d * a.nrows()..(d + 1) * a.nrows()];
+        for k in 0..a.ncols() {
+            axpy(
+                -beta[(k, d)],
+                &a.as_slice()[k * a.nrows()..(k + 1) * a.nrows()],
+                r,
+            );
+        }
+    }
+    beta += least_squares(&a, &residual);
     DMatrix::from_fn(kept.len(), dependent.len(), |k, d| {
         beta[(k, d)] * norms[dependent[d]] / norms[kept[k]]
     })
 }
 
+/// `argmin ‖A X − B‖` for `A` of full column rank, column by column: the triangular factor of
+/// `[A B]` is `[R₁₁ R₁₂; 0 R₂₂]` and `R₁₁ X = R₁₂` (zero if `R₁₁` is singular).
+fn least_squares(a: &DMatrix<f64>, b: &DMatrix<f64>) -> DMatrix<f64> {
+    let (k, d) = (a.ncols(), b.ncols());
+    let mut joined = DMatrix::zeros(a.nrows(), k + d);
+    joined.columns_mut(0, k).copy_from(a);
+    joined.columns_mut(k, d).copy_from(b);
+    let r = triangular_factor(&joined);
+    if r.nrows() < k || (0..k).any(|i| r[(i, i)] == 0.0) {
+        return DMatrix::zeros(k, d);
+    }
+    let mut x = DMatrix::zeros(k, d);
+    for c in 0..d {
+        for i in (0..k).rev() {
+            let mut s = r[(i, k + c)];
+            for j in i + 1..k {
+                s -= r[(i, j)] * x[(j, c)];
+            }
+            x[(i, c)] = s / r[(i, i)];
+        }
+    }
+    x
+}
+
 /// How well `y_j ≈ Σ_k coefficients_k y_k` holds on `y`: `‖y_j − Σ c_k y_k‖` relative to
 /// `‖y_j‖ + Σ |c_k| ‖y_k‖` (the size of the terms that cancel), 0 when all are zero.
 pub fn relative_residual(y: &DMatrix<f64>, j: usize, terms: &[(usize, f64)]) -> f64 {
-    let mut r: DVector<f64> = y.column(j).into_owned();
-    let mut scale = r.norm();
+    let column = |k: usize| &y.as_slice()[k * y.nrows()..(k + 1) * y.nrows()];
+    let mut r = column(j).to_vec();
+    let mut scale = dot(&r, &r).sqrt();
     for &(k, c) in terms {
-        r.axpy(-c, &y.column(k), 1.0);
-        scale += c.abs() * y.column(k).norm();
+        let y_k = column(k);
+        axpy(-c, y_k, &mut r);
+        scale += c.abs() * dot(y_k, y_k).sqrt();
     }
     if scale == 0.0 {
         0.0
     } else {
-        r.norm() / scale
+        dot(&r, &r).sqrt() / scale
     }
 }

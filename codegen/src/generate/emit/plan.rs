@@ -57,10 +57,8 @@ pub(super) struct Plan<'a> {
 impl<'a> Plan<'a> {
     pub(super) fn new(robot: &'a SymbolicRobot, leaves: &'a Leaves, outputs: &[Id], form: Form) -> Plan<'a> {
         let g = &robot.graph;
-        let live = g.live(outputs);
-        let topological: Vec<Id> = (0..g.len())
-            .map(|i| Id(i as u32))
-            .filter(|&id| live[id.0 as usize] && !leaves.names.contains_key(&id))
+        let topological: Vec<Id> = (g.live_nodes(outputs).into_iter())
+            .filter(|id| !leaves.names.contains_key(id))
             .filter(|&id| !matches!(g.node(id), Node::Const(_) | Node::Input(_) | Node::LaneZero))
             .collect();
         assert!(
