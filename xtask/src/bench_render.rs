@@ -9,9 +9,10 @@
 //! lanes, the default build over the native one, the native machine code. Ratios are computed
 //! here, each from the medians of one row of the file (one run), never typed.
 //!
-//! Some functions have a table of their own, a section of the machine's rows (`<!-- rendered:
-//! MACHINE / contacts -->`): a row per function, the robots side by side. A marker without a
-//! section shows the machine's other rows.
+//! Some rows have a table of their own, a section of the machine's rows (`<!-- rendered:
+//! MACHINE / contacts -->`, `… / free-flyer`): a row per function, the robots side by side. A
+//! marker without a section shows the machine's other rows (those of a section the document
+//! has no table for included).
 
 use crate::results::{latest, Build, Form, Row};
 use std::collections::{BTreeSet, HashMap};
@@ -22,45 +23,83 @@ const END: &str = "<!-- /rendered -->";
 const MISSING: &str = "—";
 /// Between a marker's machine and its section.
 const SECTION: &str = " / ";
-/// The sections and their functions, in table order: constrained dynamics
-/// (`tools/compare_contacts.py`).
-const SECTIONS: &[(&str, &[&str])] = &[(
-    "contacts",
-    &[
-        "constrained_forward_dynamics",
-        "constrained_forward_dynamics_baumgarte",
-        "constrained_forward_dynamics_proximal",
-        "impulse_dynamics",
-        "operational_space_inertia",
-        "contact_jacobian",
-        "contact_drift",
-        "contact_response",
-        "constrained_forward_dynamics_derivatives",
-    ],
-)];
 
-fn in_a_section(function: &str) -> bool {
-    SECTIONS
-        .iter()
-        .any(|(_, functions)| functions.contains(&function))
+/// Rows with a table of their own (`<!-- rendered: MACHINE / NAME -->`), a row per function with
+/// the robots side by side, where a document has one for the machine.
+struct Section {
+    name: &'static str,
+    /// The robots whose rows it holds; all robots if `None`.
+    robots: Option<&'static [&'static str]>,
+    /// Its functions, in table order.
+    functions: &'static [&'static str],
 }
 
-/// The table between one pair of markers: the machine's rows outside every section, or one
-/// section's.
-fn render_marked(rows: &[Row], marker: &str) -> Result<String, String> {
-    let Some((machine, section)) = marker.rsplit_once(SECTION) else {
-        let outside: Vec<Row> = rows
-            .iter()
-            .filter(|r| !in_a_section(&r.function))
-            .cloned()
-            .collect();
+impl Section {
+    fn holds(&self, row: &Row) -> bool {
+        self.functions.contains(&row.function.as_str())
+            && self
+                .robots
+                .is_none_or(|robots| robots.contains(&row.robot.as_str()))
+    }
+}
+
+const SECTIONS: &[Section] = &[
+    // Constrained dynamics (`tools/compare_contacts.py`).
+    Section {
+        name: "contacts",
+        robots: None,
+        functions: &[
+            "constrained_forward_dynamics",
+            "constrained_forward_dynamics_baumgarte",
+            "constrained_forward_dynamics_proximal",
+            "impulse_dynamics",
+            "operational_space_inertia",
+            "contact_jacobian",
+            "contact_drift",
+            "contact_response",
+            "constrained_forward_dynamics_derivatives",
+        ],
+    },
+    // Free-flyer robots against both anchors (`tools/compare_floating.py`).
+    Section {
+        name: "free-flyer",
+        robots: Some(&["solo12", "g1"]),
+        functions: &[
+            "mass_matrix",
+            "coriolis",
+            "gravity",
+            "rnea",
+            "aba",
+            "minv",
+            "rnea_derivatives",
+            "aba_derivatives",
+            "ccrba",
+        ],
+    },
+];
+
+/// The table between one pair of markers: the machine's rows outside the sections the document
+/// gives it (`sections`), or one section's.
+fn render_marked(rows: &[Row], marker: &str, sections: &[String]) -> Result<String, String> {
+    let Some((machine, name)) = marker.rsplit_once(SECTION) else {
+        let own = |r: &&Row| !(SECTIONS.iter()).any(|s| sections.iter().any(|n| n == s.name) && s.holds(r));
+        let outside: Vec<Row> = rows.iter().filter(own).cloned().collect();
         return render_table(&outside, marker);
     };
-    let Some((_, functions)) = SECTIONS.iter().find(|(name, _)| *name == section) else {
-        let known: Vec<&str> = SECTIONS.iter().map(|(name, _)| *name).collect();
-        return Err(format!("no section `{section}` (known: {})", known.join(", ")));
+    let Some(section) = SECTIONS.iter().find(|s| s.name == name) else {
+        let known: Vec<&str> = SECTIONS.iter().map(|s| s.name).collect();
+        return Err(format!("no section `{name}` (known: {})", known.join(", ")));
     };
-    render_side_by_side(rows, machine, functions)
+    render_side_by_side(rows, machine, section)
+}
+
+/// The machine of each start marker in `document` (`MACHINE` or `MACHINE / SECTION`), trimmed.
+fn markers(document: &str) -> Vec<&str> {
+    document
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix(START)?.strip_suffix(" -->"))
+        .map(str::trim)
+        .collect()
 }
 
 /// `document` with the table between each pair of markers rendered anew from `rows`.
@@ -79,7 +118,15 @@ pub fn render_document(document: &str, rows: &[Row]) -> Result<String, String> {
             }
             continue;
         };
-        let table = render_marked(rows, machine.trim()).map_err(|e| format!("line {}: {e}", number + 1))?;
+        let machine = machine.trim();
+        // The sections this machine has a table of its own for.
+        let sections: Vec<String> = (markers(document).into_iter())
+            .filter_map(|m| m.rsplit_once(SECTION))
+            .filter(|(m, _)| *m == machine)
+            .map(|(_, name)| name.to_owned())
+            .collect();
+        let table =
+            render_marked(rows, machine, &sections).map_err(|e| format!("line {}: {e}", number + 1))?;
         if !line.ends_with('\n') {
             out.push('\n');
         }
@@ -290,24 +337,28 @@ fn markdown(header: &[String], left: usize, body: &[Vec<String>]) -> String {
 }
 
 /// A section's table: a row per function (in the section's order), and per robot (in the order
-/// they first appear) Pinocchio's median, dyngen's (the native build, else the default one) and
-/// their ratio. Before the section's first run: a line that says so.
-fn render_side_by_side(rows: &[Row], machine: &str, functions: &[&str]) -> Result<String, String> {
+/// they first appear) Pinocchio's median, CppADCodeGen's where the robot has one, dyngen's (the
+/// native build, else the default one) and the ratios. Before the section's first run: a line
+/// that says so.
+fn render_side_by_side(rows: &[Row], machine: &str, section: &Section) -> Result<String, String> {
     let all = latest(rows, machine);
     if all.is_empty() {
         return Err(format!("no results for the machine `{machine}`"));
     }
     let shown: Vec<&Row> = all
         .into_iter()
-        .filter(|r| r.form == Form::Value && functions.contains(&r.function.as_str()))
+        .filter(|r| r.form == Form::Value && section.holds(r))
         .collect();
     if shown.is_empty() {
         return Ok("No run recorded yet.\n".to_owned());
     }
-    let mut robots: Vec<&str> = Vec::new();
+    let mut robots: Vec<(&str, bool)> = Vec::new();
     for row in &shown {
-        if !robots.contains(&row.robot.as_str()) {
-            robots.push(&row.robot);
+        if !robots.iter().any(|(r, _)| *r == row.robot) {
+            let with_cg = shown
+                .iter()
+                .any(|r| r.robot == row.robot && r.cppadcg_ns.is_some());
+            robots.push((&row.robot, with_cg));
         }
     }
     let find = |robot: &str, function: &str, build: Build| {
@@ -317,26 +368,30 @@ fn render_side_by_side(rows: &[Row], machine: &str, functions: &[&str]) -> Resul
             .copied()
     };
     let mut header = vec!["function".to_owned()];
-    for robot in &robots {
-        header.extend([
-            format!("{robot}: Pinocchio"),
-            format!("{robot}: dyngen"),
-            format!("{robot}: Pinocchio / dyngen"),
-        ]);
+    for &(robot, with_cg) in &robots {
+        header.push(format!("{robot}: Pinocchio"));
+        if with_cg {
+            header.push(format!("{robot}: CppADCodeGen"));
+        }
+        header.extend([format!("{robot}: dyngen"), format!("{robot}: Pinocchio / dyngen")]);
+        if with_cg {
+            header.push(format!("{robot}: CppADCodeGen / dyngen"));
+        }
     }
     let mut body = Vec::new();
-    for function in functions
-        .iter()
-        .filter(|f| shown.iter().any(|r| r.function == **f))
-    {
+    for function in (section.functions.iter()).filter(|f| shown.iter().any(|r| r.function == **f)) {
         let mut cells = vec![format!("`{function}`")];
-        for robot in &robots {
+        for &(robot, with_cg) in &robots {
             let row = find(robot, function, Build::Native).or_else(|| find(robot, function, Build::Default));
-            cells.extend([
-                value(row.and_then(|r| r.pinocchio_ns)),
-                value(row.map(|r| r.dyngen_ns)),
-                ratio(row.and_then(|r| r.pinocchio_ns), row.map(|r| r.dyngen_ns)),
-            ]);
+            let dyngen = row.map(|r| r.dyngen_ns);
+            cells.push(value(row.and_then(|r| r.pinocchio_ns)));
+            if with_cg {
+                cells.push(value(row.and_then(|r| r.cppadcg_ns)));
+            }
+            cells.extend([value(dyngen), ratio(row.and_then(|r| r.pinocchio_ns), dyngen)]);
+            if with_cg {
+                cells.push(ratio(row.and_then(|r| r.cppadcg_ns), dyngen));
+            }
         }
         body.push(cells);
     }
@@ -465,6 +520,40 @@ C,2026-01-01,native,biped,constrained_forward_dynamics,,value,2000,8000,,,
         );
         assert!(render_document("<!-- rendered: C / nothing -->\n<!-- /rendered -->\n", &rows).is_err());
         assert!(render_document("<!-- rendered: D / contacts -->\n<!-- /rendered -->\n", &rows).is_err());
+    }
+
+    #[test]
+    fn a_free_flyer_section_shows_both_anchors_where_the_document_has_one() {
+        let rows = parse(&format!(
+            "{HEADER}\
+F,2026-01-01,native,g1,mass_matrix,,value,800,2400,1400,,
+F,2026-01-01,native,g1,mass_matrix,,into,700,2400,1400,,
+F,2026-01-01,native,panda,mass_matrix,,value,50,500,100,,
+"
+        ))
+        .unwrap();
+        let both = "<!-- rendered: F -->\n<!-- /rendered -->\n<!-- rendered: F / free-flyer -->\n<!-- /rendered -->\n";
+        let out = render_document(both, &rows).unwrap();
+        // The arm stays in the machine's table; the G1 has the section's, both anchors beside it.
+        assert!(
+            out.contains("| panda | `mass_matrix` | 500 | 100 | 50 | 10.0× | 2.00× |"),
+            "{out}"
+        );
+        assert!(!out.contains("| g1 | `mass_matrix`"), "{out}");
+        assert!(
+            out.contains(
+                "| function | g1: Pinocchio | g1: CppADCodeGen | g1: dyngen | g1: Pinocchio / dyngen \
+                 | g1: CppADCodeGen / dyngen |\n|---|---:|---:|---:|---:|---:|\n\
+                 | `mass_matrix` | 2400 | 1400 | 800 | 3.00× | 1.75× |\n<!-- /rendered -->"
+            ),
+            "{out}"
+        );
+        // Without the section's table, the G1's rows stay in the machine's.
+        let own = render_document("<!-- rendered: F -->\n<!-- /rendered -->\n", &rows).unwrap();
+        assert!(
+            own.contains("| g1 | `mass_matrix` | 2400 | 1400 | 800 | 3.00× | 1.75× | 700 |"),
+            "{own}"
+        );
     }
 
     /// BENCHMARKS.md's tables are what the committed results render to.

@@ -13,7 +13,6 @@ use super::quantities::{Arg, Coefficient, Dims, QuantityKind, Shape};
 use super::trace_contact_derivatives::Tree;
 use super::trace_contacts::{contact_outputs, ContactInputs, ContactState};
 use crate::base_parameters::BaseParameterSet;
-use crate::dynamics::tree_ldl::TreeLdl;
 use crate::dynamics::{self, Directions, Placements};
 use crate::frame_names::{frame_identifiers, FrameIdentifiers};
 use crate::model::{Frame, JointTermValues, Model};
@@ -334,16 +333,10 @@ impl<'a> FixedTracer<'a> {
             );
             let motion = |frame: usize| dynamics::FrameMotion::new(model, world, qd, &model.frames()[frame]);
             let (x, inertias, joint_values, tau) = (&self.x, &self.inertias, &self.joint_values, &self.tau);
-            let free_acceleration = |mass: &TreeLdl<Expr>| {
-                dynamics::forward_dynamics::forward_dynamics_factored(
-                    model,
-                    x,
-                    inertias,
-                    joint_values,
-                    mass,
-                    qd,
-                    tau,
-                )
+            // As `forward_dynamics_factored` computes it: `τ` less the bias.
+            let free_force = || {
+                let bias = dynamics::forward_dynamics::bias_torque(model, x, inertias, joint_values, qd);
+                tau.iter().zip(&bias).map(|(&t, &b)| t - b).collect()
             };
             let state = ContactState {
                 qd,
@@ -354,7 +347,8 @@ impl<'a> FixedTracer<'a> {
                     inertias: &self.inertias,
                     joint_values: &self.joint_values,
                 },
-                free_acceleration: &free_acceleration,
+                free_force: &free_force,
+                rates_at_rest: None,
             };
             for (kind, outputs) in contact_outputs(model, motion, state) {
                 self.record(kind, outputs);

@@ -5,7 +5,7 @@
 use super::quantities::{Coefficient, QuantityKind};
 use super::trace::{ids, inputs, matrix_ids, pair_ids};
 use super::trace_contact_derivatives::{contact_derivatives, Tree};
-use crate::dynamics::constrained::{constraint_rows, ContactMotion};
+use crate::dynamics::constrained::{constraint_rows, ContactMotion, FrameRates};
 use crate::dynamics::tree_ldl::TreeLdl;
 use crate::dynamics::FrameMotion;
 use crate::model::Model;
@@ -23,17 +23,23 @@ const UNROLLED_ITERATIONS: usize = ProximalSettings::UNROLLED_ITERATIONS;
 /// How the rows' target the one-call solve takes is named in the graph: `target0`, …
 const TARGET_PREFIX: &str = "target";
 
+/// A frame's rates at `a = 0` (`Model::frames()[k]`, its motion) as a tracer has them.
+pub(super) type RatesAtRest<'a> = dyn Fn(usize, &FrameMotion<Expr>) -> FrameRates<Expr> + 'a;
+
 /// What a tracer hands the contacts' rows: the state's velocity and acceleration inputs, the
 /// factored mass matrix at the state, the tree (fixed or floating) the frames move with, and
-/// how it traces forward dynamics without contacts (`τ` its own input) with a factored mass
-/// matrix: called after every other row is traced, so that rows traced before keep their node
-/// ids.
+/// how it traces the force forward dynamics solves for without contacts, `τ − b` (`τ` its own
+/// input, `b` the bias with the joint-level terms, as forward dynamics computes it): called
+/// after every other row is traced, so that rows traced before keep their node ids. Where the tracer can take a frame's rates at `a = 0` from the bias pass that forward
+/// dynamics runs anyway (`rates_at_rest(frame, motion)`), the drift costs a few operations per
+/// contact instead of a `J̇` along its chain.
 pub(super) struct ContactState<'a> {
     pub qd: &'a [Expr],
     pub a: &'a [Expr],
     pub mass: &'a TreeLdl<Expr>,
     pub tree: Tree<'a>,
-    pub free_acceleration: &'a dyn Fn(&TreeLdl<Expr>) -> Vec<Expr>,
+    pub free_force: &'a dyn Fn() -> Vec<Expr>,
+    pub rates_at_rest: Option<&'a RatesAtRest<'a>>,
 }
 
 /// The outputs of each row of [`QuantityKind::CONTACTS`], in that order: the stacked rows
@@ -49,14 +55,32 @@ pub(super) fn contact_outputs(
     state: ContactState<'_>,
 ) -> Vec<(QuantityKind, Vec<Id>)> {
     let contacts = model.contacts();
-    let motions = ContactMotion::of(contacts, motion);
+    let mut motions = ContactMotion::of(contacts, motion);
+    if let Some(rates) = state.rates_at_rest {
+        for (m, c) in motions.iter_mut().zip(contacts) {
+            let to = (c.to.zip(m.to.as_ref())).map(|(k, to)| rates(k, to));
+            m.rates = Some((rates(c.frame, &m.frame), to));
+        }
+    }
     let rows = constraint_rows(contacts, &motions, state.qd);
     let response = state.mass.solve_matrix(&rows.jacobian.transpose());
     let forces = inputs(FORCE_PREFIX, model.contact_rows());
     let derivatives = contact_derivatives(model, &state, &forces);
     // Traced after the rows above, so that they keep their node ids.
     let (delassus, _) = state.mass.congruence(&rows.jacobian);
-    let free_acceleration = (state.free_acceleration)(state.mass);
+    // `M⁻¹ = L⁻¹ Δ⁻¹ L⁻ᵀ` (`TreeLdl`): with `z = L⁻ᵀ (τ − b)` and the rows' `Y = L⁻ᵀ Jᵀ`
+    // (`K`'s own), `J a_free = Yᵀ Δ⁻¹ z` and `a_free + M⁻¹ Jᵀ λ = L⁻¹ Δ⁻¹ (z + Y λ)`: one
+    // half-solve of each kind where a solve for `a_free` and another for `M⁻¹ Jᵀ λ` take two.
+    let half = state.mass.solve_transposed_factor(&(state.free_force)());
+    let free_acceleration = state.mass.finish_solve(&half);
+    let y: Vec<Vec<Expr>> = (0..rows.jacobian.nrows())
+        .map(|r| {
+            (state.mass).solve_transposed_factor(&rows.jacobian.row(r).iter().copied().collect::<Vec<_>>())
+        })
+        .collect();
+    let scaled_half: Vec<Expr> = (half.iter().zip(state.mass.inv_pivot()))
+        .map(|(&z, &inv)| z * inv)
+        .collect();
     let matrices: Vec<Id> = [&rows.jacobian, &response, &delassus]
         .into_iter()
         .flat_map(matrix_ids)
@@ -76,14 +100,24 @@ pub(super) fn contact_outputs(
     .map(|c| Expr::input(c.name()));
     let jacobian = &rows.jacobian;
     let velocity = product(jacobian, state.qd);
-    let free_rows = product(jacobian, &free_acceleration);
+    let free_rows: Vec<Expr> = (y.iter())
+        .map(|row| (row.iter().zip(&scaled_half)).fold(Expr::zero(), |sum, (&a, &b)| sum + a * b))
+        .collect();
     let rhs: Vec<Expr> = (0..target.len())
         .map(|i| target[i] - rows.drift[i] - kd * velocity[i] - free_rows[i])
         .collect();
     let regularised = dense_factor(&delassus, mu);
+    // `L⁻¹ Δ⁻¹ (from + Y λ)`: `a_free + M⁻¹ Jᵀ λ` from `z`, `M⁻¹ Jᵀ λ` from zero.
+    let moved_by = |from: &[Expr], lambda: &[Expr]| {
+        let sum: Vec<Expr> = (0..from.len())
+            .map(|k| (y.iter().zip(lambda)).fold(from[k], |sum, (row, &l)| sum + row[k] * l))
+            .collect();
+        state.mass.finish_solve(&sum)
+    };
     // `steps` proximal iterations from `start` (zero forces if `None`), `(K + μ I) λ_{k+1} =
-    // rhs + μ λ_k`, then `base + M⁻¹ Jᵀ λ`: the outputs of a `ContactStep`.
-    let steps = |base: &[Expr], rhs: &[Expr], start: Option<&[Expr]>, steps: usize| {
+    // rhs + μ λ_k`, then the velocity or acceleration `moved(λ)`: the outputs of a
+    // `ContactStep`.
+    let steps = |moved: &dyn Fn(&[Expr]) -> Vec<Expr>, rhs: &[Expr], start: Option<&[Expr]>, steps: usize| {
         let zero = vec![Expr::zero(); rhs.len()];
         let (mut previous, mut lambda) = (zero.clone(), start.unwrap_or(&zero).to_vec());
         for _ in 0..steps {
@@ -91,9 +125,7 @@ pub(super) fn contact_outputs(
             let shifted: Vec<Expr> = rhs.iter().zip(&previous).map(|(&r, &l)| r + mu * l).collect();
             lambda = regularised.solve(&shifted);
         }
-        let response = state.mass.solve(&transposed_product(jacobian, &lambda));
-        let moved: Vec<Expr> = base.iter().zip(&response).map(|(&b, &r)| b + r).collect();
-        (ids(&moved).into_iter())
+        (ids(&moved(&lambda)).into_iter())
             .chain(ids(&lambda))
             .chain(ids(&previous))
             .chain(matrix_ids(&delassus))
@@ -101,17 +133,27 @@ pub(super) fn contact_outputs(
             .chain(ids(rhs))
             .collect::<Vec<Id>>()
     };
-    let solve = steps(&free_acceleration, &rhs, Some(&forces), 1);
-    let proximal = steps(&free_acceleration, &rhs, Some(&forces), UNROLLED_ITERATIONS);
+    let accelerated = |lambda: &[Expr]| moved_by(&half, lambda);
+    let solve = steps(&accelerated, &rhs, Some(&forces), 1);
+    let proximal = steps(&accelerated, &rhs, Some(&forces), UNROLLED_ITERATIONS);
     let impact: Vec<Expr> = velocity
         .iter()
         .map(|&v| -(Expr::one() + restitution) * v)
         .collect();
-    let impulse = steps(state.qd, &impact, None, 1);
-    let applied = state.mass.solve(&transposed_product(jacobian, &forces));
-    let forward: Vec<Expr> = (free_acceleration.iter().zip(&applied))
-        .map(|(&a, &r)| a + r)
-        .collect();
+    let zero = vec![Expr::zero(); half.len()];
+    let impacted = |lambda: &[Expr]| {
+        let change = moved_by(&zero, lambda);
+        (state.qd.iter().zip(&change))
+            .map(|(&v, &d)| v + d)
+            .collect::<Vec<Expr>>()
+    };
+    let impulse = steps(&impacted, &impact, None, 1);
+    // Given forces need no `Y`: `L⁻¹ Δ⁻¹ (z + L⁻ᵀ Jᵀ λ)`, one leaves-up half for `Jᵀ λ`.
+    let applied = state
+        .mass
+        .solve_transposed_factor(&transposed_product(jacobian, &forces));
+    let pushed: Vec<Expr> = half.iter().zip(&applied).map(|(&z, &f)| z + f).collect();
+    let forward = state.mass.finish_solve(&pushed);
     let damped = dense_factor(&delassus, damping);
     let inertia: Vec<Id> = (matrix_ids(&damped.inverse_by_ancestors()).into_iter())
         .chain(ids(&damped.pivots))

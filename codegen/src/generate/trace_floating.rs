@@ -11,15 +11,18 @@ use super::trace::{
 use super::trace::{Inputs, Quantity, Traced};
 use super::trace_contacts::contact_outputs;
 use crate::base_parameters::BaseParameterSet;
+use crate::dynamics::constrained::FrameRates;
 use crate::dynamics::floating::{self as algorithms, FloatingBase};
 use crate::dynamics::joint_terms::{add_armature_after, with_joint_term_torques};
-use crate::dynamics::tree_ldl::TreeLdl;
+use crate::dynamics::newton_euler::OriginMotion;
+use crate::dynamics::slotine_li::gravity_vector;
 use crate::dynamics::{self, FloatingDynamics, FrameMotion};
 use crate::model::{Frame, JointTermValues, Model};
 use crate::scalar::Scalar;
 use crate::spatial::{Mat3, RigidInertia, Transform, Vec3};
 use crate::symbolic::{Expr, Id};
 use crate::{FunctionGroup, Functions};
+use dyngen_runtime::ReferenceFrame;
 
 /// The rows of a floating-base robot traced before its frames, in trace order (which is their
 /// order in the module).
@@ -194,17 +197,28 @@ impl<'a> FloatingTracer<'a> {
             let mass = algorithms::factor(model, base, x, inertias, jv);
             let motion = |frame: usize| self.frame_motion(&model.frames()[frame]);
             let (qd, tau) = (&self.qd, &self.tau);
-            // As `floating_forward_dynamics` computes it: the bias, then the solve.
-            let free_acceleration = |mass: &TreeLdl<Expr>| {
+            // As `floating_forward_dynamics` computes it: `τ` less the bias.
+            let free_force = || {
                 let bias = algorithms::floating_bias(model, base, x, inertias, jv, qd);
-                let rhs: Vec<Expr> = tau.iter().zip(&bias).map(|(&t, &b)| t - b).collect();
-                mass.solve(&rhs)
+                tau.iter().zip(&bias).map(|(&t, &b)| t - b).collect()
+            };
+            // Each frame's rates at `a = 0` from the bodies' motions of the bias pass above.
+            let (root, bodies) = algorithms::floating_motions_at_rest(model, base, x, qd);
+            let world = &self.world;
+            let rates_at_rest = |k: usize, motion: &FrameMotion<Expr>| {
+                let frame = &model.frames()[k];
+                let (rotation, body) = match frame.parent {
+                    Some(b) => (&world[b].rot, bodies[b]),
+                    None => (&base.pose.rot, root),
+                };
+                rates_from_body(model, frame, rotation, &body, motion, qd)
             };
             let state = super::trace_contacts::ContactState {
                 qd: &self.qd,
                 a: &self.a,
                 mass: &mass,
-                free_acceleration: &free_acceleration,
+                free_force: &free_force,
+                rates_at_rest: Some(&rates_at_rest),
                 tree: super::trace_contact_derivatives::Tree::Floating {
                     base,
                     q: &self.q,
@@ -319,5 +333,31 @@ impl<'a> FloatingTracer<'a> {
             base_rotation: ids(&self.rotation),
             base_position: ids(&self.position),
         }
+    }
+}
+
+/// A frame's rates at `a = 0` in world axes (`FrameRates`) from its body's motion at rest
+/// (`rotation` the body's orientation in the world, `body` its motion in its own axes, the field
+/// folded in as an upward acceleration): the origin's classical acceleration `R (a + α × p + ω ×
+/// (ω × p)) + g`, the body's `R α`, and the velocities from the frame's `J`.
+fn rates_from_body(
+    model: &Model,
+    frame: &Frame,
+    rotation: &Mat3<Expr>,
+    body: &OriginMotion<Expr>,
+    motion: &FrameMotion<Expr>,
+    qd: &[Expr],
+) -> FrameRates<Expr> {
+    let t = frame.placement.translation;
+    let p = Vec3::from_f64([t.x, t.y, t.z]);
+    let (w, alpha) = (body.omega, body.alpha);
+    let classical = body.accel + alpha.cross(&p) + w.cross(&w.cross(&p));
+    let [v0, v1, v2, w0, w1, w2] = motion.velocity_in(ReferenceFrame::LocalWorldAligned, qd);
+    FrameRates {
+        p: motion.pose.pos,
+        v: Vec3([v0, v1, v2]),
+        w: Vec3([w0, w1, w2]),
+        c: rotation.mul_vec(&classical) + gravity_vector(model),
+        alpha: rotation.mul_vec(&alpha),
     }
 }

@@ -83,16 +83,24 @@ impl<S: Scalar> TreeLdl<S> {
 
     /// `x` with `D x = b`: `Lᵀ y = b` from the leaves up, `Δ⁻¹`, then `L x = z` from the root down.
     pub fn solve(&self, b: &[S]) -> Vec<S> {
-        let mut x = self.solve_transposed_factor(b);
-        for (xk, inv) in x.iter_mut().zip(&self.inv_pivot) {
-            *xk = *xk * *inv;
-        }
+        self.finish_solve(&self.solve_transposed_factor(b))
+    }
+
+    /// `Δ_k⁻¹`, in joint order.
+    pub fn inv_pivot(&self) -> &[S] {
+        &self.inv_pivot
+    }
+
+    /// `L⁻¹ Δ⁻¹ y`: the rest of [`TreeLdl::solve`] after its first half, so `D⁻¹ b` for `y =
+    /// L⁻ᵀ b`. Solves of sums (`D⁻¹ (b + Bᵀ λ)`) can add their halves first.
+    pub fn finish_solve(&self, y: &[S]) -> Vec<S> {
+        let mut x: Vec<S> = y.iter().zip(&self.inv_pivot).map(|(&y, &inv)| y * inv).collect();
         self.solve_factor_in_place(&mut x);
         x
     }
 
     /// `y` with `Lᵀ y = b`, from the leaves up: the first half of [`TreeLdl::solve`].
-    fn solve_transposed_factor(&self, b: &[S]) -> Vec<S> {
+    pub fn solve_transposed_factor(&self, b: &[S]) -> Vec<S> {
         let n = self.inv_pivot.len();
         let mut x = b.to_vec();
         for k in (0..n).rev() {

@@ -28,6 +28,9 @@ pub struct ContactMotion<S> {
     pub frame: FrameMotion<S>,
     /// `None`: held to the world.
     pub to: Option<FrameMotion<S>>,
+    /// Both frames' rates at `a = 0` where the caller has them from elsewhere (a tracer, from the
+    /// bias pass forward dynamics runs anyway); `None`: from `J̇` ([`FrameRates::of`]).
+    pub rates: Option<(FrameRates<S>, Option<FrameRates<S>>)>,
 }
 
 impl<S: Scalar> ContactMotion<S> {
@@ -38,6 +41,7 @@ impl<S: Scalar> ContactMotion<S> {
             .map(|c| ContactMotion {
                 frame: motion(c.frame),
                 to: c.to.map(&motion),
+                rates: None,
             })
             .collect()
     }
@@ -65,8 +69,13 @@ pub fn constraint_rows<S: Scalar>(
     let (mut drift, mut velocity) = (Vec::with_capacity(rows), Vec::with_capacity(rows));
     let mut row = 0;
     for (contact, motion) in contacts.iter().zip(motions) {
-        let one = Rates::of(&motion.frame, qd);
-        let two = motion.to.as_ref().map(|m| Rates::of(m, qd));
+        let (one, two) = match &motion.rates {
+            Some((one, two)) => (*one, *two),
+            None => (
+                FrameRates::of(&motion.frame, qd),
+                motion.to.as_ref().map(|m| FrameRates::of(m, qd)),
+            ),
+        };
         let local = contact.reference == ReferenceFrame::Local;
         let turn = |x: Vec3<S>| match local {
             true => motion.frame.pose.rot.tr_mul_vec(&x),
@@ -131,24 +140,26 @@ pub fn constraint_rows<S: Scalar>(
 }
 
 /// A frame's velocity and acceleration at `a = 0`, in world axes at its origin.
-struct Rates<S> {
+#[derive(Clone, Copy)]
+pub struct FrameRates<S> {
     /// The origin.
-    p: Vec3<S>,
+    pub p: Vec3<S>,
     /// `ṗ`.
-    v: Vec3<S>,
-    w: Vec3<S>,
+    pub v: Vec3<S>,
+    pub w: Vec3<S>,
     /// The origin's classical acceleration.
-    c: Vec3<S>,
-    alpha: Vec3<S>,
+    pub c: Vec3<S>,
+    pub alpha: Vec3<S>,
 }
 
-impl<S: Scalar> Rates<S> {
-    fn of(motion: &FrameMotion<S>, qd: &[S]) -> Rates<S> {
+impl<S: Scalar> FrameRates<S> {
+    /// From the frame's `J` and `J̇`.
+    pub fn of(motion: &FrameMotion<S>, qd: &[S]) -> FrameRates<S> {
         let lwa = ReferenceFrame::LocalWorldAligned;
         let [v0, v1, v2, w0, w1, w2] = motion.velocity_in(lwa, qd);
         let zero = vec![S::zero(); qd.len()];
         let [c0, c1, c2, a0, a1, a2] = motion.classical_acceleration_in(lwa, qd, &zero);
-        Rates {
+        FrameRates {
             p: motion.pose.pos,
             v: Vec3([v0, v1, v2]),
             w: Vec3([w0, w1, w2]),

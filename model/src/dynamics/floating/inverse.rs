@@ -84,6 +84,22 @@ fn base_origin_motion<S: Scalar>(
     }
 }
 
+/// The base's motion and every body's at `ν̇ = 0` in the model's field, as
+/// [`floating_inverse_dynamics`] computes them for the bias (`qdd = 0`), operation for
+/// operation: a tracer that asks for both gets one set of values.
+pub fn floating_motions_at_rest<S: Scalar, X: JointFrame<S>>(
+    model: &Model,
+    base: &FloatingBase<S>,
+    x: &[X],
+    qd: &[S],
+) -> (OriginMotion<S>, Vec<OriginMotion<S>>) {
+    let zero = vec![S::zero(); model.nv()];
+    let root = base_origin_motion(&base.pose.rot, qd, &zero, gravity_vector(model));
+    let (jqd, jqdd) = (expand(model, &qd[6..]), expand(model, &zero[6..]));
+    let motions = origin_motions_from(model, x, &jqd, &jqdd, root);
+    (root, motions)
+}
+
 /// Inverse dynamics `D(q) ν̇ + C(q, ν) ν + g(q)`: the base wrench that produces the base
 /// acceleration, then the joint torques.
 pub fn floating_inverse_dynamics<S: Scalar, X: JointFrame<S>>(

@@ -35,8 +35,8 @@ pub use coriolis::floating_coriolis_matrix;
 pub use derivatives::{floating_forward_dynamics_derivatives, floating_inverse_dynamics_derivatives};
 #[doc(hidden)]
 pub use inverse::{
-    floating_gravity, floating_inverse_dynamics, floating_inverse_dynamics_in_field, floating_regressor,
-    floating_slotine_li,
+    floating_gravity, floating_inverse_dynamics, floating_inverse_dynamics_in_field,
+    floating_motions_at_rest, floating_regressor, floating_slotine_li,
 };
 #[doc(hidden)]
 pub use kinematics::{floating_body_poses, floating_frame_jacobian, floating_frame_jacobian_dot};
