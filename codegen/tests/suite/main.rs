@@ -10,6 +10,7 @@ mod constrained_oracles;
 mod constrained_reference;
 mod contact_derivatives;
 mod contact_descriptions;
+mod contact_drift;
 mod contact_system;
 mod derivative_stages;
 mod description_errors;

@@ -165,6 +165,17 @@ impl FloatingDynamics<'_> {
         operational_space_inertia(&at, damping)
     }
 
+    /// What the contacts' rows `J a` are at `a = 0` (`J̇ ν` for rows to the world; the
+    /// generated `contact_drift`), from each frame's `J̇`.
+    pub fn contact_drift(
+        &self,
+        s: &FloatingState,
+        v: &[f64],
+        contacts: &[Contact],
+    ) -> Result<DVector<f64>, ConstraintError> {
+        Ok(DVector::from_vec(self.at_state(s, v, None, contacts)?.rows.drift))
+    }
+
     pub(super) fn at_state(
         &self,
         s: &FloatingState,
