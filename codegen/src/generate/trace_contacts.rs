@@ -5,7 +5,7 @@
 use super::quantities::{Coefficient, QuantityKind};
 use super::trace::{ids, inputs, matrix_ids, pair_ids};
 use super::trace_contact_derivatives::{contact_derivatives, Tree};
-use crate::dynamics::constrained::{constraint_rows, ContactMotion, FrameRates};
+use crate::dynamics::constrained::{constraint_rows, ContactMotion, OriginRates};
 use crate::dynamics::tree_ldl::TreeLdl;
 use crate::dynamics::FrameMotion;
 use crate::model::Model;
@@ -24,7 +24,7 @@ const UNROLLED_ITERATIONS: usize = ProximalSettings::UNROLLED_ITERATIONS;
 const TARGET_PREFIX: &str = "target";
 
 /// A frame's rates at `a = 0` (`Model::frames()[k]`, its motion) as a tracer has them.
-pub(super) type RatesAtRest<'a> = dyn Fn(usize, &FrameMotion<Expr>) -> FrameRates<Expr> + 'a;
+pub(super) type RatesAtRest<'a> = dyn Fn(usize, &FrameMotion<Expr>) -> OriginRates<Expr> + 'a;
 
 /// What a tracer hands the contacts' rows: the state's velocity and acceleration inputs, the
 /// factored mass matrix at the state, the tree (fixed or floating) the frames move with, and

@@ -11,7 +11,7 @@ use super::trace::{
 use super::trace::{Inputs, Quantity, Traced};
 use super::trace_contacts::contact_outputs;
 use crate::base_parameters::BaseParameterSet;
-use crate::dynamics::constrained::FrameRates;
+use crate::dynamics::constrained::OriginRates;
 use crate::dynamics::floating::{self as algorithms, FloatingBase};
 use crate::dynamics::joint_terms::{add_armature_after, with_joint_term_torques};
 use crate::dynamics::newton_euler::OriginMotion;
@@ -336,7 +336,7 @@ impl<'a> FloatingTracer<'a> {
     }
 }
 
-/// A frame's rates at `a = 0` in world axes (`FrameRates`) from its body's motion at rest
+/// A frame's rates at `a = 0` in world axes (`OriginRates`) from its body's motion at rest
 /// (`rotation` the body's orientation in the world, `body` its motion in its own axes, the field
 /// folded in as an upward acceleration): the origin's classical acceleration `R (a + α × p + ω ×
 /// (ω × p)) + g`, the body's `R α`, and the velocities from the frame's `J`.
@@ -347,13 +347,13 @@ fn rates_from_body(
     body: &OriginMotion<Expr>,
     motion: &FrameMotion<Expr>,
     qd: &[Expr],
-) -> FrameRates<Expr> {
+) -> OriginRates<Expr> {
     let t = frame.placement.translation;
     let p = Vec3::from_f64([t.x, t.y, t.z]);
     let (w, alpha) = (body.omega, body.alpha);
     let classical = body.accel + alpha.cross(&p) + w.cross(&w.cross(&p));
     let [v0, v1, v2, w0, w1, w2] = motion.velocity_in(ReferenceFrame::LocalWorldAligned, qd);
-    FrameRates {
+    OriginRates {
         p: motion.pose.pos,
         v: Vec3([v0, v1, v2]),
         w: Vec3([w0, w1, w2]),

@@ -28,4 +28,4 @@ pub use error::ConstraintError;
 pub use freedom::free_degrees;
 pub use numeric::ConstrainedMotion;
 #[doc(hidden)]
-pub use rows::{constraint_rows, ConstraintRows, ContactMotion, FrameRates};
+pub use rows::{constraint_rows, ConstraintRows, ContactMotion, OriginRates};

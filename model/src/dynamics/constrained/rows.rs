@@ -29,8 +29,8 @@ pub struct ContactMotion<S> {
     /// `None`: held to the world.
     pub to: Option<FrameMotion<S>>,
     /// Both frames' rates at `a = 0` where the caller has them from elsewhere (a tracer, from the
-    /// bias pass forward dynamics runs anyway); `None`: from `J̇` ([`FrameRates::of`]).
-    pub rates: Option<(FrameRates<S>, Option<FrameRates<S>>)>,
+    /// bias pass forward dynamics runs anyway); `None`: from `J̇` ([`OriginRates::of`]).
+    pub rates: Option<(OriginRates<S>, Option<OriginRates<S>>)>,
 }
 
 impl<S: Scalar> ContactMotion<S> {
@@ -72,8 +72,8 @@ pub fn constraint_rows<S: Scalar>(
         let (one, two) = match &motion.rates {
             Some((one, two)) => (*one, *two),
             None => (
-                FrameRates::of(&motion.frame, qd),
-                motion.to.as_ref().map(|m| FrameRates::of(m, qd)),
+                OriginRates::of(&motion.frame, qd),
+                motion.to.as_ref().map(|m| OriginRates::of(m, qd)),
             ),
         };
         let local = contact.reference == ReferenceFrame::Local;
@@ -139,9 +139,10 @@ pub fn constraint_rows<S: Scalar>(
     }
 }
 
-/// A frame's velocity and acceleration at `a = 0`, in world axes at its origin.
+/// A frame origin's velocity and acceleration at `a = 0`, in world axes (not `FrameRates`,
+/// the frame functions' velocity and spatial acceleration in the frame's own axes).
 #[derive(Clone, Copy)]
-pub struct FrameRates<S> {
+pub struct OriginRates<S> {
     /// The origin.
     pub p: Vec3<S>,
     /// `ṗ`.
@@ -152,14 +153,14 @@ pub struct FrameRates<S> {
     pub alpha: Vec3<S>,
 }
 
-impl<S: Scalar> FrameRates<S> {
+impl<S: Scalar> OriginRates<S> {
     /// From the frame's `J` and `J̇`.
-    pub fn of(motion: &FrameMotion<S>, qd: &[S]) -> FrameRates<S> {
+    pub fn of(motion: &FrameMotion<S>, qd: &[S]) -> OriginRates<S> {
         let lwa = ReferenceFrame::LocalWorldAligned;
         let [v0, v1, v2, w0, w1, w2] = motion.velocity_in(lwa, qd);
         let zero = vec![S::zero(); qd.len()];
         let [c0, c1, c2, a0, a1, a2] = motion.classical_acceleration_in(lwa, qd, &zero);
-        FrameRates {
+        OriginRates {
             p: motion.pose.pos,
             v: Vec3([v0, v1, v2]),
             w: Vec3([w0, w1, w2]),
