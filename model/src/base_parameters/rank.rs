@@ -92,7 +92,8 @@ fn vector(rng: &mut SplitMix64, n: usize, r: f64) -> Vec<f64> {
 /// Euclidean norms of the columns.
 pub fn column_norms(m: &DMatrix<f64>) -> Vec<f64> {
     let rows = m.nrows();
-    (m.as_slice().chunks(rows.max(1)).take(m.ncols()))
+    (0..m.ncols())
+        .map(|j| &m.as_slice()[j * rows..(j + 1) * rows])
         .map(|c| dot(c, c).sqrt())
         .collect()
 }
