@@ -119,25 +119,60 @@ where
         Allocator<NC, NC> + Allocator<NC, NV> + Allocator<NV, NC> + Allocator<NV, NV> + Allocator<NC>,
 {
     let lower = factor_delassus(delassus, 0.0)?;
-    // `λ̇ = −K⁻¹ (Ġ + J Y)`, every column solved with the one factor at once (a solve per
-    // column is a chain of dependent operations; together they vectorise across columns).
-    let forces = |g: OMatrix<f64, NC, NV>| {
-        let mut rows = -g.transpose();
+    // `X = K⁻¹ (Ġ + J Y)` (`λ̇ = −X`), every column solved with the one factor at once (a solve
+    // per column is a chain of dependent operations; together they vectorise across columns),
+    // then `ȧ = Y − M⁻¹ Jᵀ X`. The products accumulate in place: the matrices are `NV × NV`, and
+    // moving them through temporaries (`y + r x`) was a large share of the work.
+    let solved = |mut g: OMatrix<f64, NC, NV>, y: Option<&OMatrix<f64, NV, NV>>| {
+        if let Some(y) = y {
+            add_product(&mut g, 1.0, jacobian, y);
+        }
+        let mut rows = g.transpose();
         dense::solve_rows_in_place(&lower, &mut rows);
         rows.transpose()
     };
-    let forces_q = forces(g_q + jacobian * &y_q);
-    let forces_v = forces(g_v + jacobian * &y_v);
+    let accelerated = |mut y: OMatrix<f64, NV, NV>, x: &OMatrix<f64, NC, NV>| {
+        add_product(&mut y, -1.0, response, x);
+        y
+    };
+    let x_q = solved(g_q, Some(&y_q));
+    let x_v = solved(g_v, Some(&y_v));
     // Along `τ`: `Ġ + J Y = J M⁻¹ = (M⁻¹ Jᵀ)ᵀ`.
-    let forces_tau = forces(response.transpose());
+    let x_tau = solved(response.transpose(), None);
     Ok(ConstrainedDerivatives {
-        acceleration_q: y_q + response * &forces_q,
-        acceleration_v: y_v + response * &forces_v,
-        acceleration_tau: torque_response + response * &forces_tau,
-        forces_q,
-        forces_v,
-        forces_tau,
+        acceleration_q: accelerated(y_q, &x_q),
+        acceleration_v: accelerated(y_v, &x_v),
+        acceleration_tau: accelerated(torque_response, &x_tau),
+        forces_q: x_q.map(|x| -x),
+        forces_v: x_v.map(|x| -x),
+        forces_tau: x_tau.map(|x| -x),
     })
+}
+
+/// `c += alpha a b`, column by column of `c`: each step adds a multiple of a column of `a`,
+/// contiguous, so the work vectorises along the rows. (A column of `a` at a time, skipping the
+/// columns of zeros a contact's rows have on the other limbs, ran slower: `b`'s rows are
+/// strided.)
+fn add_product<R: Dim, K: Dim, C: Dim>(
+    c: &mut OMatrix<f64, R, C>,
+    alpha: f64,
+    a: &OMatrix<f64, R, K>,
+    b: &OMatrix<f64, K, C>,
+) where
+    DefaultAllocator: Allocator<R, C> + Allocator<R, K> + Allocator<K, C>,
+{
+    let (rows, inner) = (a.nrows(), b.nrows());
+    if rows == 0 || inner == 0 {
+        return;
+    }
+    let a = a.as_slice();
+    let columns = c.as_mut_slice().chunks_exact_mut(rows);
+    for (column, b_column) in columns.zip(b.as_slice().chunks_exact(inner)) {
+        for (a_column, &s) in a.chunks_exact(rows).zip(b_column) {
+            let s = alpha * s;
+            column.iter_mut().zip(a_column).for_each(|(t, &x)| *t += x * s);
+        }
+    }
 }
 
 /// `∂e/∂q` of the point contacts' placement errors, stacked as their rows (module docs).
@@ -163,4 +198,23 @@ fn error_derivatives<R: ContactDynamics<NV, NC>, const NV: usize, const NC: usiz
         }
     }
     Ok(rates)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::add_product;
+    use nalgebra::DMatrix;
+
+    #[test]
+    fn add_product_is_c_plus_alpha_a_b_for_any_sizes() {
+        let entry = |i: usize, j: usize, k: usize| ((i * 7 + j * 3 + k) % 11) as f64 - 5.0;
+        for (r, k, c) in [(3, 4, 5), (12, 18, 18), (1, 1, 1), (0, 3, 2), (3, 0, 2), (4, 2, 0)] {
+            let a = DMatrix::from_fn(r, k, |i, j| entry(i, j, 1));
+            let b = DMatrix::from_fn(k, c, |i, j| entry(i, j, 2));
+            let start = DMatrix::from_fn(r, c, |i, j| entry(i, j, 3));
+            let mut sum = start.clone();
+            add_product(&mut sum, -0.5, &a, &b);
+            assert_eq!(sum, &start - &a * &b * 0.5, "{r} × {k} × {c}");
+        }
+    }
 }
