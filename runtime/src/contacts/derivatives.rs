@@ -208,7 +208,14 @@ mod tests {
     #[test]
     fn add_product_is_c_plus_alpha_a_b_for_any_sizes() {
         let entry = |i: usize, j: usize, k: usize| ((i * 7 + j * 3 + k) % 11) as f64 - 5.0;
-        for (r, k, c) in [(3, 4, 5), (12, 18, 18), (1, 1, 1), (0, 3, 2), (3, 0, 2), (4, 2, 0)] {
+        for (r, k, c) in [
+            (3, 4, 5),
+            (12, 18, 18),
+            (1, 1, 1),
+            (0, 3, 2),
+            (3, 0, 2),
+            (4, 2, 0),
+        ] {
             let a = DMatrix::from_fn(r, k, |i, j| entry(i, j, 1));
             let b = DMatrix::from_fn(k, c, |i, j| entry(i, j, 2));
             let start = DMatrix::from_fn(r, c, |i, j| entry(i, j, 3));
