@@ -123,22 +123,23 @@ where
     // per column is a chain of dependent operations; together they vectorise across columns),
     // then `ȧ = Y − M⁻¹ Jᵀ X`. The products accumulate in place: the matrices are `NV × NV`, and
     // moving them through temporaries (`y + r x`) was a large share of the work.
-    let solved = |mut g: OMatrix<f64, NC, NV>, y: Option<&OMatrix<f64, NV, NV>>| {
-        if let Some(y) = y {
-            add_product(&mut g, 1.0, jacobian, y);
-        }
-        let mut rows = g.transpose();
+    let solved = |rhs: OMatrix<f64, NC, NV>| {
+        let mut rows = rhs.transpose();
         dense::solve_rows_in_place(&lower, &mut rows);
         rows.transpose()
+    };
+    let moved = |mut g: OMatrix<f64, NC, NV>, y: &OMatrix<f64, NV, NV>| {
+        add_product(&mut g, 1.0, jacobian, y);
+        g
     };
     let accelerated = |mut y: OMatrix<f64, NV, NV>, x: &OMatrix<f64, NC, NV>| {
         add_product(&mut y, -1.0, response, x);
         y
     };
-    let x_q = solved(g_q, Some(&y_q));
-    let x_v = solved(g_v, Some(&y_v));
+    let x_q = solved(moved(g_q, &y_q));
+    let x_v = solved(moved(g_v, &y_v));
     // Along `τ`: `Ġ + J Y = J M⁻¹ = (M⁻¹ Jᵀ)ᵀ`.
-    let x_tau = solved(response.transpose(), None);
+    let x_tau = solved(response.transpose());
     Ok(ConstrainedDerivatives {
         acceleration_q: accelerated(y_q, &x_q),
         acceleration_v: accelerated(y_v, &x_v),
@@ -150,9 +151,9 @@ where
 }
 
 /// `c += alpha a b`, column by column of `c`: each step adds a multiple of a column of `a`,
-/// contiguous, so the work vectorises along the rows. (A column of `a` at a time, skipping the
-/// columns of zeros a contact's rows have on the other limbs, ran slower: `b`'s rows are
-/// strided.)
+/// contiguous, so the work vectorises along the rows. (nalgebra's `gemm` in place ran slower at
+/// these sizes; so did a column of `a` at a time, skipping the columns of zeros a contact's rows
+/// have on the other limbs: `b`'s rows are strided.)
 fn add_product<R: Dim, K: Dim, C: Dim>(
     c: &mut OMatrix<f64, R, C>,
     alpha: f64,
