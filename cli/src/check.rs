@@ -19,7 +19,7 @@ pub struct CheckArgs {
 }
 
 pub fn run(args: CheckArgs) -> Result<(), Failure> {
-    let loaded = load_with(&args.description, &args.loading.choices(None))?;
+    let loaded = load_with(&args.description, &args.loading.choices())?;
     print_diagnostics(&loaded.notes, &loaded.warnings);
     let model = &loaded.model;
     eprintln!(

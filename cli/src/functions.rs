@@ -2,7 +2,8 @@
 //! them (the keywords of a description's `functions:`).
 
 use clap::builder::PossibleValuesParser;
-use clap::Args;
+use clap::{Args, ValueEnum};
+use dyngen_codegen::description::{Choices, FrameReferences};
 use dyngen_codegen::{FunctionGroup, Functions, ALL_GROUPS};
 
 #[derive(Args, Clone, Debug, Default)]
@@ -13,6 +14,19 @@ pub struct FunctionsArgs {
     /// dynamics, forward_dynamics and frames above.
     #[arg(long, value_name = "GROUPS", value_delimiter = ',', value_parser = keywords())]
     functions: Option<Vec<String>>,
+    /// `frame_references`: which reference frames of the frame functions are straight-line
+    /// code of their own: `all`, or `aligned` (`local_world_aligned`; `local` and `world`
+    /// converted from it at run time, about a third of the frames' code). Default: `all` while
+    /// the frames' code is small, `aligned` for many frames on a large robot.
+    #[arg(long, value_enum, value_name = "CHOICE")]
+    frame_references: Option<FrameReferencesArg>,
+}
+
+/// `--frame-references`: [`FrameReferences`] as the command line spells it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum FrameReferencesArg {
+    All,
+    Aligned,
 }
 
 /// Every group's keyword and `all`: clap refuses anything else as a usage error.
@@ -29,5 +43,19 @@ impl FunctionsArgs {
             return Ok(None);
         };
         Functions::from_keywords(keywords.iter().map(String::as_str)).map(Some)
+    }
+
+    /// `choices` (the description's keys the other flags choose) with these flags' own: the
+    /// groups and the frames' reference frames.
+    pub fn choose(&self, choices: Choices) -> Result<Choices, String> {
+        Ok(Choices {
+            functions: self.functions()?,
+            frame_references: match self.frame_references {
+                None => FrameReferences::Auto,
+                Some(FrameReferencesArg::All) => FrameReferences::All,
+                Some(FrameReferencesArg::Aligned) => FrameReferences::Aligned,
+            },
+            ..choices
+        })
     }
 }

@@ -49,7 +49,7 @@ pub fn run(args: GenArgs) -> Result<(), Failure> {
     if let Some(dir) = &args.c_library {
         regenerate += &format!(" --c-library {}", dir.display());
     }
-    let choices = args.loading.choices(args.functions.functions()?);
+    let choices = args.functions.choose(args.loading.choices())?;
     let mut builder = Builder::new(&args.description)
         .cargo_directives(false)
         .regenerate_command(regenerate)

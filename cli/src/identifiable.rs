@@ -10,7 +10,7 @@ use std::path::Path;
 /// The description's model; its warnings go to stderr (a non-physical inertia among them:
 /// identification then starts from the nearest physical one, and says so).
 pub fn load_identifiable(description: &Path, loading: &LoadingArgs) -> Result<Model, Failure> {
-    let loaded = load_with(description, &loading.choices(None))?;
+    let loaded = load_with(description, &loading.choices())?;
     for warning in &loaded.warnings {
         eprintln!("warning: {warning}");
     }

@@ -29,7 +29,7 @@ pub fn run(args: InfoArgs) -> Result<(), Failure> {
         &shown,
         &type_name(&module),
         "dyngen info",
-        &args.loading.choices(args.functions.functions()?),
+        &args.functions.choose(args.loading.choices())?,
     )?;
     print_diagnostics(&robot.notes, &robot.warnings);
     let model = &robot.model;

@@ -4,7 +4,6 @@
 
 use clap::{Args, ValueEnum};
 use dyngen_codegen::description::{Choices, ContactSpec, FrameSelection, FrameSpec, NonPhysicalInertia};
-use dyngen_codegen::Functions;
 use dyngen_runtime::{ContactKind, ReferenceFrame};
 
 /// Each flag is one key of the description's choices (`docs/descriptions.md`, *Choices*): for a
@@ -68,11 +67,10 @@ impl From<InertiaArg> for NonPhysicalInertia {
 }
 
 impl LoadingArgs {
-    /// The flags as one [`Choices`] value, with the `functions` chosen (`--functions` of the
-    /// commands that generate); the keys without a flag are left at their default.
-    pub fn choices(&self, functions: Option<Functions>) -> Choices {
+    /// The flags as one [`Choices`] value; the keys without a flag here are left at their
+    /// default (the commands that generate add theirs: `FunctionsArgs::choose`).
+    pub fn choices(&self) -> Choices {
         Choices {
-            functions,
             snap_angles: self.snap_angles,
             end_effector: self.end_effector.as_deref().map(FrameSpec::link),
             frames: match self.frames.iter().any(|f| f == "all") {

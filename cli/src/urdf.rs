@@ -24,7 +24,7 @@ pub struct UrdfArgs {
 }
 
 pub fn run(args: UrdfArgs) -> Result<(), Failure> {
-    let loaded = load_with(&args.description, &args.loading.choices(None))?;
+    let loaded = load_with(&args.description, &args.loading.choices())?;
     for warning in &loaded.warnings {
         eprintln!("warning: {warning}");
     }

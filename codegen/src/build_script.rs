@@ -6,7 +6,8 @@
 
 use crate::c_library::{check_library, library_files, module_file, write_library, CLibrary, Naming};
 use crate::description::{
-    Choices, ContactSpec, DescriptionError, FrameSelection, FrameSpec, JointParameters, NonPhysicalInertia,
+    Choices, ContactSpec, DescriptionError, FrameReferences, FrameSelection, FrameSpec, JointParameters,
+    NonPhysicalInertia,
 };
 use crate::generate::{
     check_file, generate_robot_with, module_name, type_name, write_file, GenerateError, RobotReport,
@@ -156,6 +157,14 @@ impl Builder {
                 self.invalid_functions = Some(message);
             }
         }
+        self
+    }
+
+    /// Sets [`Choices::frame_references`]: which reference frames of the frame functions are
+    /// straight-line code of their own (`FrameReferences::Aligned`: `local_world_aligned`,
+    /// the others converted from it at run time).
+    pub fn frame_references(mut self, choice: FrameReferences) -> Builder {
+        self.choices.frame_references = choice;
         self
     }
 

@@ -47,6 +47,7 @@ mod dispatch;
 mod fill;
 mod floating;
 mod floating_robot;
+mod frame_references;
 mod frames;
 mod joint;
 mod lane_kernels;
@@ -114,6 +115,10 @@ pub mod __private {
     pub use crate::dispatch::Fused512;
     pub use crate::dispatch::{dispatch, dispatch_eight, dispatch_many, Kernel, MulAdd, Unfused};
     pub use crate::fill::fill_zero;
+    /// A frame's quantities in `local` and `world` from those in base axes.
+    pub mod frame_references {
+        pub use crate::frame_references::*;
+    }
     pub use crate::lane_kernels::{dispatch_lanes, lane_out, lanes_in, trig_in, LaneKernel, LaneVector};
     pub use crate::lane_vectors::{EightLanes, FourLanes};
     #[cfg(all(

@@ -9,6 +9,8 @@
 //! wall time of that `cargo build`.
 
 use dyngen_codegen::base_parameters::BaseParameterSet;
+use dyngen_codegen::description::FrameReferences;
+use dyngen_codegen::generate::frame_references;
 use dyngen_codegen::internals::generate::{emit, trace_functions, Provenance, MODULE_ATTRIBUTES};
 use dyngen_codegen::model::Model;
 use dyngen_codegen::{FunctionGroup, Functions};
@@ -123,7 +125,8 @@ pub fn report(root: &Path, compile: Compile, max_mib: f64) -> Result<String, Str
         let base = BaseParameterSet::compute(&model);
         for (selection, functions) in selections(model.dof()) {
             let start = Instant::now();
-            let traced = trace_functions(&model, base.clone(), functions);
+            let (references, _) = frame_references(&model, functions, FrameReferences::Auto);
+            let traced = trace_functions(&model, base.clone(), functions, references);
             let provenance = Provenance {
                 source: name.clone(),
                 source_hash: "0".into(),

@@ -13,6 +13,7 @@
 //! 64-joint chain writes 43 MB where a 101-joint mobile manipulator, whose arms and fingers
 //! branch off a short trunk, writes 12 MB.
 
+use crate::description::FrameReferences;
 use crate::model::Model;
 use crate::{FunctionGroup, Functions};
 
@@ -86,25 +87,70 @@ impl TreeShape {
 }
 
 /// What every group writes whatever the robot: signatures, docs, the `_into` forms, the kernel
-/// plumbing of each function.
+/// plumbing of each function; kinematics and frames, with neither `_into` forms nor lanes, a
+/// third of it.
 const PER_GROUP: usize = 150_000;
 
-/// The estimated size of `model`'s module with the groups `functions`.
-pub fn estimate(model: &Model, functions: Functions) -> CodeSize {
+fn per_group(group: FunctionGroup) -> usize {
+    match group {
+        FunctionGroup::Kinematics | FunctionGroup::Frames => PER_GROUP / 3,
+        _ => PER_GROUP,
+    }
+}
+
+/// The frames' functions (every reference frame its own) above which `frame_references: auto`
+/// keeps `local_world_aligned` alone as straight-line code: the frames of every link of a
+/// humanoid (the G1's 30 about 7 MB, Talos' 50 about 12 MB) go over, an arm's every link
+/// (the Panda's about 1 MB) and a few feet or hands on a humanoid stay under.
+pub const FRAMES_IN_EVERY_REFERENCE_UP_TO: usize = 3_000_000;
+
+/// The estimated size of `model`'s module with the groups `functions`, the frame functions in
+/// the reference frames `frame_references` writes (`auto` as `all`).
+pub fn estimate(model: &Model, functions: Functions, frame_references: FrameReferences) -> CodeSize {
     let shape = TreeShape::of(model);
     let by_group = (functions.groups())
         .map(|group| {
-            let bytes = match group {
-                FunctionGroup::Kinematics => 9_000 * shape.end_effector_depth,
-                FunctionGroup::Dynamics => 1_850 * shape.related_pairs,
-                FunctionGroup::Regressors | FunctionGroup::BaseParameters => 7_000 * shape.carried,
-                FunctionGroup::ForwardDynamics => 370 * shape.shared_ancestors + 1_000 * shape.related_pairs,
-                FunctionGroup::Derivatives => 3_500 * shape.nv * shape.nv + 100 * shape.shared_ancestors,
-                FunctionGroup::Frames => 23_000 * shape.frame_depths,
-                FunctionGroup::Contacts => 2_000 * model.contact_rows() * shape.nv,
+            let bytes = match (group, frame_references) {
+                // Base axes alone, without `J̇` of its own: about a quarter of the three
+                // references' code (the G1's and Talos' frames of every link).
+                (FunctionGroup::Frames, FrameReferences::Aligned) => 5_500 * shape.frame_depths,
+                _ => group_bytes(model, &shape, group),
             };
-            (group, PER_GROUP + bytes)
+            (group, per_group(group) + bytes)
         })
         .collect();
     CodeSize { by_group }
+}
+
+/// The bytes of one group's functions beyond [`per_group`], every frame function in every
+/// reference frame.
+fn group_bytes(model: &Model, shape: &TreeShape, group: FunctionGroup) -> usize {
+    match group {
+        FunctionGroup::Kinematics => 9_000 * shape.end_effector_depth,
+        FunctionGroup::Dynamics => 1_850 * shape.related_pairs,
+        FunctionGroup::Regressors | FunctionGroup::BaseParameters => 7_000 * shape.carried,
+        FunctionGroup::ForwardDynamics => 370 * shape.shared_ancestors + 1_000 * shape.related_pairs,
+        FunctionGroup::Derivatives => 3_500 * shape.nv * shape.nv + 100 * shape.shared_ancestors,
+        FunctionGroup::Frames => 23_000 * shape.frame_depths,
+        FunctionGroup::Contacts => 2_000 * model.contact_rows() * shape.nv,
+    }
+}
+
+/// What `choice` writes for `model`: `auto` decided by the estimated size of the frames'
+/// functions in every reference frame ([`FRAMES_IN_EVERY_REFERENCE_UP_TO`]), with that estimate.
+pub fn frame_references(
+    model: &Model,
+    functions: Functions,
+    choice: FrameReferences,
+) -> (FrameReferences, usize) {
+    let bytes = match functions.contains(FunctionGroup::Frames) {
+        true => group_bytes(model, &TreeShape::of(model), FunctionGroup::Frames),
+        false => 0,
+    };
+    let resolved = match choice {
+        FrameReferences::Auto if bytes > FRAMES_IN_EVERY_REFERENCE_UP_TO => FrameReferences::Aligned,
+        FrameReferences::Auto => FrameReferences::All,
+        chosen => chosen,
+    };
+    (resolved, bytes)
 }

@@ -13,7 +13,10 @@ pub(crate) mod trace_contacts;
 pub(crate) mod trace_floating;
 
 pub use crate::symbolic::OpCounts;
-pub use code_size::{estimate as estimate_code_size, CodeSize, MAX_GENERATED_BYTES};
+pub use code_size::{
+    estimate as estimate_code_size, frame_references, CodeSize, FRAMES_IN_EVERY_REFERENCE_UP_TO,
+    MAX_GENERATED_BYTES,
+};
 pub use crate_dir::{descriptions_in, generate_into_crate, CrateReport, Mode, RobotReport};
 pub(crate) use output::is_generated;
 pub use output::{check_file, write_file, WriteOutcome};

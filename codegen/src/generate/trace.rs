@@ -13,6 +13,7 @@ use super::quantities::{Arg, Coefficient, Dims, QuantityKind, Shape};
 use super::trace_contact_derivatives::Tree;
 use super::trace_contacts::{contact_outputs, ContactInputs, ContactState};
 use crate::base_parameters::BaseParameterSet;
+use crate::description::FrameReferences;
 use crate::dynamics::{self, Directions, Placements};
 use crate::frame_names::{frame_identifiers, FrameIdentifiers};
 use crate::model::{Frame, JointTermValues, Model};
@@ -138,17 +139,26 @@ pub fn trace(model: &Model) -> SymbolicRobot {
 
 /// [`trace`] with base parameters computed beforehand.
 pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
-    trace_functions(model, base, Functions::all())
+    trace_functions(model, base, Functions::all(), FrameReferences::All)
 }
 
 /// [`trace_with_base`] of the groups `functions` only: the rows of the others are not traced at
 /// all (what is traced keeps the order of the full trace, so with every group the graph is the
 /// same). A fixed base and a floating one take the same groups, each row by its own tracer
-/// (`trace_floating.rs` for a floating base).
-pub fn trace_functions(model: &Model, base: BaseParameterSet, functions: Functions) -> SymbolicRobot {
+/// (`trace_floating.rs` for a floating base). The frame rows are traced in the reference frames
+/// `frame_references` makes straight-line code ([`traced_references`]).
+pub fn trace_functions(
+    model: &Model,
+    base: BaseParameterSet,
+    functions: Functions,
+    frame_references: FrameReferences,
+) -> SymbolicRobot {
+    let references = traced_references(frame_references);
     let (graph, traced) = match model.floating_base() {
-        Some(_) => record(|| super::trace_floating::FloatingTracer::new(model, &base).run(functions)),
-        None => record(|| FixedTracer::new(model, &base, functions).run()),
+        Some(_) => {
+            record(|| super::trace_floating::FloatingTracer::new(model, &base).run(functions, references))
+        }
+        None => record(|| FixedTracer::new(model, &base, functions, references).run()),
     };
     traced.into_robot(graph, base, functions)
 }
@@ -230,6 +240,8 @@ struct FixedTracer<'a> {
     model: &'a Model,
     base: &'a BaseParameterSet,
     functions: Functions,
+    /// The reference frames of the frame rows.
+    references: &'static [ReferenceFrame],
     dims: Dims,
     /// The state, created first: the shared values read it.
     q: Vec<Expr>,
@@ -259,7 +271,12 @@ struct FixedTracer<'a> {
 
 impl<'a> FixedTracer<'a> {
     /// The state and the shared values, traced.
-    fn new(model: &'a Model, base: &'a BaseParameterSet, functions: Functions) -> Self {
+    fn new(
+        model: &'a Model,
+        base: &'a BaseParameterSet,
+        functions: Functions,
+        references: &'static [ReferenceFrame],
+    ) -> Self {
         let n = model.dof();
         let (q, qd, v, a) = (inputs("q", n), inputs("qd", n), inputs("v", n), inputs("a", n));
         let x = dynamics::joint_transforms(model, &q);
@@ -280,6 +297,7 @@ impl<'a> FixedTracer<'a> {
             model,
             base,
             functions,
+            references,
             dims: Dims {
                 n,
                 p: model.parameter_count(),
@@ -535,15 +553,18 @@ impl<'a> FixedTracer<'a> {
     fn trace_frame(&mut self, index: usize, frame: &Frame, snake: &str) {
         let (model, qd) = (self.model, &self.qd);
         let motion = dynamics::FrameMotion::new(model, &self.world, qd, frame);
-        let rows = frame_rows(&motion, qd, &self.a, index, snake, self.dims);
+        let rows = frame_rows(&motion, qd, &self.a, index, snake, self.dims, self.references);
         self.quantities.extend(rows);
         let name_of = |kind, reference| FrameOf::new(index, snake, Some(reference)).function_name(kind);
-        let mut other_forms = vec![(
-            name_of(QuantityKind::FrameJacobian, ReferenceFrame::Local),
-            matrix_ids(&dynamics::local_jacobian(model, &self.x, frame)),
-        )];
+        let mut other_forms = Vec::new();
+        if self.references.contains(&ReferenceFrame::Local) {
+            other_forms.push((
+                name_of(QuantityKind::FrameJacobian, ReferenceFrame::Local),
+                matrix_ids(&dynamics::local_jacobian(model, &self.x, frame)),
+            ));
+        }
         let rates = dynamics::FrameRates::new(model, &self.x, qd, &self.a, frame);
-        for r in ReferenceFrame::ALL {
+        for &r in self.references {
             other_forms.push((
                 name_of(QuantityKind::FrameVelocity, r),
                 ids(&rates.velocity_in(r, &motion.pose)),
@@ -762,9 +783,32 @@ pub(super) fn frame_spellings(model: &Model) -> Vec<FrameIdentifiers> {
     frame_identifiers(model.frames().iter().map(|f| f.name.as_str()))
 }
 
+/// The reference frames whose frame rows are traced: every one, or with
+/// `frame_references: aligned` the base axes alone, and `J̇` in none (`(pose, J, J̇)`, which
+/// costs what `J̇` alone does, gives it): the emitted code converts to the others at run time
+/// (`dyngen_runtime::__private::frame_references`).
+pub(super) fn traced_references(choice: FrameReferences) -> &'static [ReferenceFrame] {
+    match choice {
+        FrameReferences::Auto | FrameReferences::All => &ReferenceFrame::ALL,
+        FrameReferences::Aligned => &[ReferenceFrame::LocalWorldAligned],
+    }
+}
+
+/// The reference frames `kind` is traced in, of `references` ([`traced_references`]).
+fn kind_references(kind: QuantityKind, references: &[ReferenceFrame]) -> Vec<Option<ReferenceFrame>> {
+    match (
+        kind.has_reference_frame(),
+        references.len() < ReferenceFrame::ALL.len(),
+    ) {
+        (false, _) => vec![None],
+        (true, true) if kind == QuantityKind::FrameJacobianTimeVariation => Vec::new(),
+        (true, _) => references.iter().copied().map(Some).collect(),
+    }
+}
+
 /// The per-frame rows of one frame (`index` in `Model::frames`, spelled `snake`) from its
-/// motion, in the table's order, each once per reference frame where it has one; `dims.n`
-/// velocity coordinates.
+/// motion, in the table's order, each once per reference frame of `references` where it has
+/// one; `dims.n` velocity coordinates.
 pub(super) fn frame_rows(
     motion: &dynamics::FrameMotion<Expr>,
     qd: &[Expr],
@@ -772,14 +816,11 @@ pub(super) fn frame_rows(
     index: usize,
     snake: &str,
     dims: Dims,
+    references: &[ReferenceFrame],
 ) -> Vec<Quantity> {
     let mut rows = Vec::new();
     for kind in QuantityKind::ALL.into_iter().filter(|k| k.is_per_frame()) {
-        let references = match kind.has_reference_frame() {
-            true => ReferenceFrame::ALL.map(Some).to_vec(),
-            false => vec![None],
-        };
-        for reference in references {
+        for reference in kind_references(kind, references) {
             let (args, shape) = kind.signature(dims);
             rows.push(Quantity {
                 kind,

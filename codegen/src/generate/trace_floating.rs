@@ -163,7 +163,7 @@ impl<'a> FloatingTracer<'a> {
     /// Traces the rows of `functions` in trace order (the rows of `BEFORE_FRAMES`, the
     /// per-frame rows frame by frame, the rows of `AFTER_FRAMES`), then the other formulation
     /// of `D⁻¹`.
-    pub(super) fn run(mut self, functions: Functions) -> Traced {
+    pub(super) fn run(mut self, functions: Functions, references: &'static [ReferenceFrame]) -> Traced {
         let chosen = |kind: &QuantityKind| functions.contains(kind.group());
         for kind in BEFORE_FRAMES.into_iter().filter(chosen) {
             let outputs = self.outputs(kind);
@@ -172,7 +172,7 @@ impl<'a> FloatingTracer<'a> {
         if functions.contains(FunctionGroup::Frames) {
             let spelled = frame_spellings(self.model);
             for (index, frame) in self.model.frames().iter().enumerate() {
-                self.trace_frame(index, frame, &spelled[index].snake);
+                self.trace_frame(index, frame, &spelled[index].snake, references);
             }
         }
         for kind in AFTER_FRAMES.into_iter().filter(chosen) {
@@ -303,10 +303,10 @@ impl<'a> FloatingTracer<'a> {
         }
     }
 
-    /// The per-frame rows of one frame, of its motion with the base's.
-    fn trace_frame(&mut self, index: usize, frame: &Frame, snake: &str) {
+    /// The per-frame rows of one frame in `references`, of its motion with the base's.
+    fn trace_frame(&mut self, index: usize, frame: &Frame, snake: &str, references: &[ReferenceFrame]) {
         let motion = self.frame_motion(frame);
-        let rows = frame_rows(&motion, &self.qd, &self.a, index, snake, self.dims);
+        let rows = frame_rows(&motion, &self.qd, &self.a, index, snake, self.dims, references);
         self.quantities.extend(rows);
     }
 

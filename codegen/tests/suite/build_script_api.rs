@@ -116,7 +116,9 @@ fn every_file_read_is_reported_for_rerun_if_changed() {
 /// before or after the setters, so no choice made earlier is dropped without a word.
 #[test]
 fn the_choice_setters_compose_in_any_order() {
-    use dyngen_codegen::description::{Choices, ContactSpec, FrameSelection, FrameSpec, NonPhysicalInertia};
+    use dyngen_codegen::description::{
+        Choices, ContactSpec, FrameReferences, FrameSelection, FrameSpec, NonPhysicalInertia,
+    };
     use dyngen_codegen::{FunctionGroup, Functions};
     use dyngen_runtime::ContactKind;
     let foot = || ContactSpec::new("tool0", ContactKind::Point);
@@ -130,8 +132,10 @@ fn the_choice_setters_compose_in_any_order() {
         .gravity([0.0, 0.0, -1.62])
         .snap_angles(1e-4)
         .inertia(NonPhysicalInertia::Repair)
-        .functions(&[FunctionGroup::Frames]);
+        .functions(&[FunctionGroup::Frames])
+        .frame_references(FrameReferences::Aligned);
     let other = new()
+        .frame_references(FrameReferences::Aligned)
         .functions(&[FunctionGroup::Frames])
         .inertia(NonPhysicalInertia::Repair)
         .snap_angles(1e-4)
@@ -153,6 +157,7 @@ fn the_choice_setters_compose_in_any_order() {
         joint_parameters: None,
         functions: Some(Functions::with(&[FunctionGroup::Frames]).unwrap()),
         contacts: vec![foot()],
+        frame_references: FrameReferences::Aligned,
     };
     assert_eq!(one.chosen(), &expected);
 

@@ -2,8 +2,10 @@
 //! bytes written (the committed modules, and robots generated here), and a guard that refuses
 //! what would not finish, at once, while a 100-joint mobile manipulator passes.
 
-use dyngen_codegen::description::load;
-use dyngen_codegen::generate::{estimate_code_size, generate_robot, MAX_GENERATED_BYTES};
+use dyngen_codegen::description::{load, load_with, Choices, FrameReferences, FrameSelection};
+use dyngen_codegen::generate::{
+    estimate_code_size, frame_references, generate_robot, generate_robot_with, MAX_GENERATED_BYTES,
+};
 use dyngen_codegen::model::Model;
 use dyngen_codegen::{FunctionGroup, Functions};
 use dyngen_testkit::workspace_root;
@@ -17,6 +19,13 @@ fn default_functions(model: &Model) -> Functions {
         true => functions.without(FunctionGroup::Contacts),
         false => functions,
     }
+}
+
+/// The estimated bytes of `model`'s module with `functions`, its frames in the reference frames
+/// `choice` writes.
+fn estimate(model: &Model, functions: Functions, choice: FrameReferences) -> usize {
+    let (references, _) = frame_references(model, functions, choice);
+    estimate_code_size(model, functions, references).total()
 }
 
 fn assert_within_two(what: &str, estimated: usize, written: usize) {
@@ -46,7 +55,7 @@ fn the_estimate_is_within_two_of_every_committed_module() {
         let written = std::fs::metadata(&module)
             .unwrap_or_else(|e| panic!("{}: {e}", module.display()))
             .len();
-        let estimated = estimate_code_size(&loaded.model, functions).total();
+        let estimated = estimate(&loaded.model, functions, loaded.choices.frame_references);
         assert_within_two(stem, estimated, written as usize);
         checked += 1;
     }
@@ -146,7 +155,7 @@ fn the_estimate_is_within_two_of_modules_generated_here() {
         let functions = functions.unwrap_or_else(|| default_functions(&model));
         let robot = generate_robot(&path, name, "Robot", "test").unwrap_or_else(|e| panic!("{e}"));
         assert_eq!(robot.functions, functions, "{name}");
-        let estimated = estimate_code_size(&model, functions).total();
+        let estimated = estimate(&model, functions, FrameReferences::Auto);
         assert_within_two(name, estimated, robot.code.len());
     }
 }
@@ -159,11 +168,11 @@ fn the_guard_follows_the_shape_not_the_joint_count() {
     let dir = tempfile::tempdir().expect("dir");
     let (_, hands) = load_text(dir.path(), "hands.yaml", &two_arms_with_hands(11, 4));
     assert_eq!(hands.dof(), 105);
-    let estimate = estimate_code_size(&hands, default_functions(&hands)).total();
-    assert!(estimate < MAX_GENERATED_BYTES / 2, "{estimate}");
+    let bytes = estimate(&hands, default_functions(&hands), FrameReferences::Auto);
+    assert!(bytes < MAX_GENERATED_BYTES / 2, "{bytes}");
 
     let (path, long) = load_text(dir.path(), "long.yaml", &chain(150));
-    assert!(estimate_code_size(&long, default_functions(&long)).total() > MAX_GENERATED_BYTES);
+    assert!(estimate(&long, default_functions(&long), FrameReferences::Auto) > MAX_GENERATED_BYTES);
     let start = Instant::now();
     let e = generate_robot(&path, "long.yaml", "Long", "test")
         .expect_err("too large")
@@ -178,4 +187,76 @@ fn the_guard_follows_the_shape_not_the_joint_count() {
     ] {
         assert!(e.contains(expected), "{expected:?} missing from: {e}");
     }
+}
+
+/// `frame_references: auto` writes every reference frame while the frames' code is small (an
+/// arm with every link a frame, a humanoid's feet) and base axes alone where it would dominate
+/// the module (every link of a humanoid), with a note; a choice made stands. The module then
+/// has no `local` or `world` function of its own and is far smaller, as estimated.
+#[test]
+fn frame_references_follow_the_size_of_the_frames_code() {
+    let g1 =
+        workspace_root().join("codegen/tests/data/example-robot-data/g1_description/g1_29dof_rev_1_0.urdf");
+    let humanoid = |frames: FrameSelection, frame_references: FrameReferences| Choices {
+        floating_base: true,
+        frames,
+        frame_references,
+        ..Choices::default()
+    };
+    let resolved = |choices: &Choices| {
+        let model = load_with(&g1, choices).unwrap_or_else(|e| panic!("{e}")).model;
+        frame_references(&model, default_functions(&model), choices.frame_references).0
+    };
+    let every_link = humanoid(FrameSelection::AllLinks, FrameReferences::Auto);
+    assert_eq!(resolved(&every_link), FrameReferences::Aligned);
+    assert_eq!(
+        resolved(&humanoid(FrameSelection::EndEffector, FrameReferences::Auto)),
+        FrameReferences::All
+    );
+    assert_eq!(
+        resolved(&humanoid(FrameSelection::AllLinks, FrameReferences::All)),
+        FrameReferences::All
+    );
+    let panda = load(&workspace_root().join("robots/panda.yaml")).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(panda.choices.frames, FrameSelection::AllLinks);
+    let functions = panda
+        .choices
+        .functions
+        .unwrap_or_else(|| default_functions(&panda.model));
+    assert_eq!(
+        frame_references(&panda.model, functions, FrameReferences::Auto).0,
+        FrameReferences::All
+    );
+
+    let robot =
+        generate_robot_with(&g1, "g1.urdf", "G1", "test", &every_link).unwrap_or_else(|e| panic!("{e}"));
+    assert!(
+        robot
+            .notes
+            .iter()
+            .any(|n| n.contains("converted from `local_world_aligned` at run time")),
+        "{:?}",
+        robot.notes
+    );
+    for written in [
+        "fn frame_jacobian_pelvis_local_world_aligned(",
+        "fn frame_velocity_pelvis_local_world_aligned(",
+    ] {
+        assert!(robot.code.contains(written), "{written}");
+    }
+    for converted in ["_local(", "_world(", "fn frame_jacobian_time_variation_"] {
+        assert!(!robot.code.contains(converted), "{converted}");
+    }
+    let model = load_with(&g1, &every_link).unwrap().model;
+    let all = estimate(&model, robot.functions, FrameReferences::All);
+    assert!(
+        robot.code.len() * 2 < all,
+        "{} bytes written, {all} estimated in every reference frame",
+        robot.code.len()
+    );
+    assert_within_two(
+        "G1, every link",
+        estimate(&model, robot.functions, FrameReferences::Aligned),
+        robot.code.len(),
+    );
 }

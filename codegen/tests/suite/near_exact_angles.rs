@@ -46,6 +46,7 @@ fn options(snap: Option<f64>) -> Choices {
         joint_parameters: None,
         functions: None,
         contacts: Vec::new(),
+        frame_references: Default::default(),
     }
 }
 

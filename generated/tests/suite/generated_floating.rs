@@ -2,7 +2,8 @@
 //! `JointModelFreeFlyer` (`codegen/tests/fixtures/floating/solo12.json`) and against the generic
 //! floating-base dynamics at random states, every function of `FloatingBaseDynamics`,
 //! `FloatingRegressors`, `FloatingBaseParameters`, `FloatingForwardDynamics`,
-//! `FloatingDynamicsDerivatives` and `FloatingFrameKinematics`.
+//! `FloatingDynamicsDerivatives` and `FloatingFrameKinematics`; and the frames' `local` and
+//! `world` quantities converted at run time (`robots/solo12_aligned_frames.yaml`).
 
 use dyngen_testkit as common;
 
@@ -13,6 +14,7 @@ use dyngen_codegen::base_parameters::BaseParameterSet;
 use dyngen_codegen::description::load;
 use dyngen_codegen::dynamics::FloatingDynamics;
 use dyngen_generated::solo12::{self, Frame, Solo12, Velocity, NV};
+use dyngen_generated::solo12_aligned_frames::{self as aligned, Solo12AlignedFrames};
 use dyngen_runtime::nalgebra::{DMatrix, SMatrix};
 use dyngen_runtime::{
     ConfigurationError, FloatingBaseDynamics, FloatingBaseParameters, FloatingDynamicsDerivatives,
@@ -310,4 +312,58 @@ fn a_configuration_that_is_not_one_is_refused() {
             found: 12
         })
     ));
+}
+
+/// With `frame_references: aligned` the frame functions in `local` and `world` are conversions
+/// of those in base axes: each equals the generic dynamics' own, in every reference frame.
+#[test]
+fn frames_converted_from_base_axes_match_the_generic_dynamics() {
+    let model = load(&workspace_root().join("robots/solo12_aligned_frames.yaml"))
+        .unwrap()
+        .model;
+    let generic = FloatingDynamics::new(&model).unwrap();
+    let mut rng = SplitMix64::new(21);
+    for k in 0..50 {
+        let what = |q: &str| format!("state {k}: {q}");
+        let mut q: Vec<f64> = (0..19).map(|_| rng.uniform((-3.0, 3.0))).collect();
+        let norm = q[3..7].iter().map(|x| x * x).sum::<f64>().sqrt();
+        q[3..7].iter_mut().for_each(|x| *x /= norm);
+        let [v, a] = [0; 2].map(|_| (0..NV).map(|_| rng.uniform((-4.0, 4.0))).collect::<Vec<f64>>());
+        let t = aligned::trig(&aligned::Configuration::from_column_slice(&q)).unwrap();
+        let s = generic.state(&q).unwrap();
+        let (vv, av) = (velocity(&v), velocity(&a));
+        for (index, frame) in aligned::Frame::ALL.iter().copied().enumerate() {
+            for reference in ReferenceFrame::ALL {
+                let what = |q: &str| what(&format!("frame {} {q} {}", frame.name(), reference.keyword()));
+                assert_close(
+                    &what("J"),
+                    &dm(&Solo12AlignedFrames::frame_jacobian(frame, reference, &t)),
+                    &generic.frame_jacobian(&s, index, reference),
+                    TOL_GENERIC,
+                );
+                assert_close(
+                    &what("J̇"),
+                    &dm(&Solo12AlignedFrames::frame_jacobian_time_variation(
+                        frame, reference, &t, &vv,
+                    )),
+                    &generic.frame_jacobian_time_variation(&s, &v, index, reference),
+                    TOL_GENERIC,
+                );
+                assert_close(
+                    &what("velocity"),
+                    &dm(&Solo12AlignedFrames::frame_velocity(frame, reference, &t, &vv)),
+                    &dm(&generic.frame_velocity(&s, &v, index, reference)),
+                    TOL_GENERIC,
+                );
+                assert_close(
+                    &what("acceleration"),
+                    &dm(&Solo12AlignedFrames::frame_classical_acceleration(
+                        frame, reference, &t, &vv, &av,
+                    )),
+                    &dm(&generic.frame_classical_acceleration(&s, &v, &a, index, reference)),
+                    TOL_GENERIC,
+                );
+            }
+        }
+    }
 }

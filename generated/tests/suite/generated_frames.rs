@@ -1,8 +1,9 @@
 //! The generated frame functions (`FrameKinematics`) and dynamics with external wrenches
 //! (`WrenchDynamics`) of the committed Panda and UR5 (`frames: all`) against Pinocchio 4.1:
-//! every link frame that moves, every reference frame, `rnea`/`aba` with `fext`.
+//! every link frame that moves, every reference frame, `rnea`/`aba` with `fext`; and the UR5's
+//! again with `local` and `world` converted at run time (`frame_references: aligned`).
 
-use dyngen_generated::{Panda, Ur5};
+use dyngen_generated::{Panda, Ur5, Ur5AlignedFrames};
 use dyngen_runtime::nalgebra::{DMatrix, SMatrix, SVector};
 use dyngen_runtime::{
     ExternalWrench, ForwardDynamics, FrameKinematics, JointTrig, ReferenceFrame, RobotDynamics, RobotFrame,
@@ -142,4 +143,9 @@ fn panda_frames_and_wrenches_match_pinocchio() {
 #[test]
 fn ur5_frames_and_wrenches_match_pinocchio() {
     check::<Ur5, 6, 60>("ur5", "tool0");
+}
+
+#[test]
+fn ur5_frames_converted_from_base_axes_match_pinocchio() {
+    check::<Ur5AlignedFrames, 6, 60>("ur5", "tool0");
 }

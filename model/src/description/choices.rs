@@ -131,6 +131,12 @@ declare_choices! {
         /// reference: local_world_aligned }]` ([`ContactSpec`]). Each names the end-effector or
         /// a frame of `frames`. Default: none.
         pub contacts: Vec<ContactSpec>,
+        /// Which reference frames of the frame functions (the group `frames`) are
+        /// straight-line code of their own: `all`, or `aligned` (`local_world_aligned` only,
+        /// `local` and `world` converted from it at run time) ([`FrameReferences`]). Default:
+        /// `all` while the frames' code is small, `aligned` for many frames on a large robot
+        /// (a note says which).
+        pub frame_references: FrameReferences,
     }
 }
 
@@ -177,6 +183,38 @@ impl NonPhysicalInertia {
             NonPhysicalInertia::AsWritten => "as_written",
             NonPhysicalInertia::Repair => "repair",
             NonPhysicalInertia::Strict => "strict",
+        }
+    }
+}
+
+/// Which reference frames of the frame functions are straight-line code of their own: the
+/// choice [`Choices::frame_references`] (YAML `frame_references: all | aligned`).
+///
+/// A frame quantity in each of the three reference frames is three straight-line functions;
+/// `local` and `world` are each a few operations per Jacobian column away from
+/// `local_world_aligned`. On a humanoid with every link a frame the three take most of the
+/// module, so converting at run time keeps the code (and its compile time) about a third,
+/// for a conversion per call in `local` and `world`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum FrameReferences {
+    /// `all` where the frames' code is small, `aligned` where it is large (the generator's
+    /// estimate of the module's size decides).
+    #[default]
+    Auto,
+    /// Every reference frame its own straight-line function: the fastest.
+    All,
+    /// `local_world_aligned` straight-line; `local` and `world` converted from it at run time.
+    Aligned,
+}
+
+impl FrameReferences {
+    /// The value as YAML writes it (`auto`, `all`, `aligned`).
+    pub fn keyword(self) -> &'static str {
+        match self {
+            FrameReferences::Auto => "auto",
+            FrameReferences::All => "all",
+            FrameReferences::Aligned => "aligned",
         }
     }
 }

@@ -172,7 +172,9 @@ fn frame_functions(
 }
 
 /// The arms of the `match` of the trait method of `kind`: per frame (and reference frame), the
-/// call of the function that computes it, with `args`.
+/// call of the function that computes it, with `args`. A reference frame without a function of
+/// its own (`frame_references: aligned`) is converted from `local_world_aligned`
+/// ([`converted`]).
 fn frame_arms(
     variants: &[Ident],
     calls: &FrameCalls,
@@ -184,14 +186,56 @@ fn frame_arms(
         if let Some(call) = calls.get(&(kind, k, None)) {
             arms.push(quote!(Frame::#variant => #call(#args),));
         }
+        let mut missing = false;
         for r in ReferenceFrame::ALL {
-            if let Some(call) = calls.get(&(kind, k, Some(r))) {
-                let reference = format_ident!("{r:?}");
-                arms.push(quote!((Frame::#variant, ReferenceFrame::#reference) => #call(#args),));
+            match calls.get(&(kind, k, Some(r))) {
+                Some(call) => {
+                    let reference = format_ident!("{r:?}");
+                    arms.push(quote!((Frame::#variant, ReferenceFrame::#reference) => #call(#args),));
+                }
+                None => missing = kind.has_reference_frame(),
             }
+        }
+        if missing {
+            let value = converted(calls, kind, k);
+            arms.push(quote!((Frame::#variant, reference) => #value,));
         }
     }
     arms
+}
+
+/// Frame `k`'s `kind` in the method's `reference`, converted at run time from the functions in
+/// base axes: the pose and `J`, `(pose, J, J̇)` (`J̇` in base axes too), the pose and the
+/// velocity, and the acceleration with them.
+fn converted(calls: &FrameCalls, kind: QuantityKind, k: usize) -> TokenStream {
+    let aligned = Some(ReferenceFrame::LocalWorldAligned);
+    let call = |kind, reference| {
+        calls
+            .get(&(kind, k, reference))
+            .unwrap_or_else(|| panic!("frame {k}: no {kind:?} in {reference:?} to convert from"))
+    };
+    let pose = call(QuantityKind::FramePose, None);
+    let convert = quote!(dyngen_runtime::__private::frame_references);
+    match kind {
+        QuantityKind::FrameJacobian => {
+            let jacobian = call(kind, aligned);
+            quote!(#convert::jacobian(reference, &#pose(t), #jacobian(t)))
+        }
+        QuantityKind::FrameJacobianTimeVariation => {
+            let kinematics = call(QuantityKind::FrameKinematics, None);
+            quote!(#convert::jacobian_time_variation(reference, #kinematics(t, qd), qd))
+        }
+        QuantityKind::FrameVelocity => {
+            let velocity = call(kind, aligned);
+            quote!(#convert::velocity(reference, &#pose(t), #velocity(t, qd)))
+        }
+        QuantityKind::FrameClassicalAcceleration => {
+            let velocity = call(QuantityKind::FrameVelocity, aligned);
+            let acceleration = call(kind, aligned);
+            quote!(#convert::classical_acceleration(reference, &#pose(t), #velocity(t, qd), #acceleration(t, qd, qdd)))
+        }
+        _ => unreachable!("{kind:?} has no reference frame"),
+    }
 }
 
 /// The frame trait's implementation for `ty`: each method a `match` on the frame (and the
