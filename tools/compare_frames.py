@@ -44,7 +44,12 @@ from compare_anchors import (ONE_ANCHOR_FLOOR, ROOT, anchor_rows, cargo_env, fmt
 ROBOTS = {
     "panda": ("panda_link8", "panda_link4", "panda_hand_tcp"),
     "ur5": ("ee_link", "forearm_link", "tool0"),
+    "ur5_aligned": ("ee_link", "forearm_link", "tool0"),
 }
+# The UR5 with LOCAL and WORLD converted at run time (`frame_references: aligned`): timed
+# against the anchor's UR5, its module generated/src/ur5_aligned_frames.rs.
+ANCHOR_ROBOT = {"ur5_aligned": "ur5"}
+MODULE = {"ur5_aligned": "ur5_aligned_frames"}
 # The references as the group names spell them (`lwa`: LOCAL_WORLD_ALIGNED; criterion cuts
 # directory names at 64 characters, too short for the full keyword).
 REFERENCES = ("local", "world", "lwa")
@@ -86,7 +91,7 @@ def operation_counts(robot):
     from the `Operations:` doc comments of generated/src/<robot>.rs and the match arms of its
     `FrameKinematics` impl."""
     try:
-        source = (ROOT / "generated" / "src" / f"{robot}.rs").read_text()
+        source = (ROOT / "generated" / "src" / f"{MODULE.get(robot, robot)}.rs").read_text()
     except OSError:
         return {}
     ops = {}
@@ -136,12 +141,18 @@ def main():
         dyngen_build(envs[b])
 
     anchor_env = dict(os.environ, BENCH_SECONDS=f"{args.measurement_time:g}")
-    pin_cmd = ["taskset", "-c", str(args.core), str(args.anchor), str(args.anchor.parent / "models"), *robots]
+    anchored = list(dict.fromkeys(ANCHOR_ROBOT.get(r, r) for r in robots))
+    pin_cmd = ["taskset", "-c", str(args.core), str(args.anchor), str(args.anchor.parent / "models"), *anchored]
+
+    def anchor_of(text):
+        rows = anchor_rows(text, anchored)
+        return {(robot, fn): ns for robot in robots for (r, fn), ns in rows.items()
+                if r == ANCHOR_ROBOT.get(robot, robot)}
     load_start = os.getloadavg()
     rounds = []
     for r in range(args.rounds):
         print(f"round {r + 1}/{args.rounds}", file=sys.stderr)
-        pin = anchor_rows(run(pin_cmd, env=anchor_env), robots)
+        pin = anchor_of(run(pin_cmd, env=anchor_env))
         ours = {b: dyngen_round(envs[b], args.core, dirs[b], robots, args.measurement_time) for b in builds}
         rounds.append((pin, ours))
         if r == 0:

@@ -1,6 +1,8 @@
 //! The generated named-frame functions (the group `frames`), per frame and reference, on the
-//! Panda and the UR5: the dyngen side of the comparison with numeric Pinocchio 4.1 of
-//! `tools/compare_frames.py` (the Pinocchio side: `tools/anchors/frames/`).
+//! Panda and the UR5, and on the UR5 with `LOCAL` and `WORLD` converted at run time
+//! (`ur5_aligned`: `robots/ur5_aligned_frames.yaml`): the dyngen side of the comparison with
+//! numeric Pinocchio 4.1 of `tools/compare_frames.py` (the Pinocchio side:
+//! `tools/anchors/frames/`).
 //!
 //! Per robot, a tool frame (Panda `panda_link8`, the flange; UR5 `ee_link`) and a mid-chain
 //! frame (Panda `panda_link4`, UR5 `forearm_link`): the pose, the Jacobian and its time
@@ -20,7 +22,7 @@ mod common;
 
 use common::{cycle, states};
 use criterion::{criterion_group, criterion_main, Criterion};
-use dyngen_generated::{Panda, Ur5};
+use dyngen_generated::{Panda, Ur5, Ur5AlignedFrames};
 use dyngen_runtime::nalgebra::Vector3;
 use dyngen_runtime::{
     ExternalWrench, FrameKinematics, JointTrig, ReferenceFrame, RobotFrame, WrenchDynamics,
@@ -150,6 +152,7 @@ fn bench_robot<R: WrenchDynamics<N, P>, const N: usize, const P: usize>(
 fn frames(c: &mut Criterion) {
     bench_robot::<Panda, 7, 70>(c, "panda", "panda_link8", "panda_link4");
     bench_robot::<Ur5, 6, 60>(c, "ur5", "ee_link", "forearm_link");
+    bench_robot::<Ur5AlignedFrames, 6, 60>(c, "ur5_aligned", "ee_link", "forearm_link");
 }
 
 criterion_group! {

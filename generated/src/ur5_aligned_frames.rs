@@ -5235,6 +5235,7 @@ impl FrameKinematics<6> for Ur5AlignedFrames {
                     reference,
                     &Self::forward_kinematics(t),
                     Self::jacobian(t),
+                    &[0, 1, 2, 3, 4, 5],
                 )
             }
             (Frame::ShoulderLink, ReferenceFrame::LocalWorldAligned) => {
@@ -5245,6 +5246,7 @@ impl FrameKinematics<6> for Ur5AlignedFrames {
                     reference,
                     &frame_pose_shoulder_link(t),
                     frame_jacobian_shoulder_link_local_world_aligned(t),
+                    &[0],
                 )
             }
             (Frame::UpperArmLink, ReferenceFrame::LocalWorldAligned) => {
@@ -5255,6 +5257,7 @@ impl FrameKinematics<6> for Ur5AlignedFrames {
                     reference,
                     &frame_pose_upper_arm_link(t),
                     frame_jacobian_upper_arm_link_local_world_aligned(t),
+                    &[0, 1],
                 )
             }
             (Frame::ForearmLink, ReferenceFrame::LocalWorldAligned) => {
@@ -5265,6 +5268,7 @@ impl FrameKinematics<6> for Ur5AlignedFrames {
                     reference,
                     &frame_pose_forearm_link(t),
                     frame_jacobian_forearm_link_local_world_aligned(t),
+                    &[0, 1, 2],
                 )
             }
             (Frame::Wrist1Link, ReferenceFrame::LocalWorldAligned) => {
@@ -5275,6 +5279,7 @@ impl FrameKinematics<6> for Ur5AlignedFrames {
                     reference,
                     &frame_pose_wrist_1_link(t),
                     frame_jacobian_wrist_1_link_local_world_aligned(t),
+                    &[0, 1, 2, 3],
                 )
             }
             (Frame::Wrist2Link, ReferenceFrame::LocalWorldAligned) => {
@@ -5285,6 +5290,7 @@ impl FrameKinematics<6> for Ur5AlignedFrames {
                     reference,
                     &frame_pose_wrist_2_link(t),
                     frame_jacobian_wrist_2_link_local_world_aligned(t),
+                    &[0, 1, 2, 3, 4],
                 )
             }
             (Frame::Wrist3Link, ReferenceFrame::LocalWorldAligned) => {
@@ -5295,6 +5301,7 @@ impl FrameKinematics<6> for Ur5AlignedFrames {
                     reference,
                     &frame_pose_wrist_3_link(t),
                     frame_jacobian_wrist_3_link_local_world_aligned(t),
+                    &[0, 1, 2, 3, 4, 5],
                 )
             }
             (Frame::EeLink, ReferenceFrame::LocalWorldAligned) => Self::jacobian(t),
@@ -5303,6 +5310,7 @@ impl FrameKinematics<6> for Ur5AlignedFrames {
                     reference,
                     &frame_pose_ee_link(t),
                     Self::jacobian(t),
+                    &[0, 1, 2, 3, 4, 5],
                 )
             }
         }
@@ -5314,60 +5322,126 @@ impl FrameKinematics<6> for Ur5AlignedFrames {
         qd: &SVector<f64, 6>,
     ) -> SMatrix<f64, 6, 6> {
         match (frame, reference) {
+            (Frame::Tool0, ReferenceFrame::LocalWorldAligned) => {
+                Self::jacobian_dot(t, qd)
+            }
             (Frame::Tool0, reference) => {
                 dyngen_runtime::__private::frame_references::jacobian_time_variation(
                     reference,
-                    Self::kinematics(t, qd),
+                    &Self::forward_kinematics(t),
+                    &Self::jacobian(t),
+                    Self::jacobian_dot(t, qd),
                     qd,
+                    &[0, 1, 2, 3, 4, 5],
                 )
+            }
+            (Frame::ShoulderLink, ReferenceFrame::LocalWorldAligned) => {
+                frame_jacobian_time_variation_shoulder_link_local_world_aligned(t, qd)
             }
             (Frame::ShoulderLink, reference) => {
                 dyngen_runtime::__private::frame_references::jacobian_time_variation(
                     reference,
-                    frame_kinematics_shoulder_link(t, qd),
+                    &frame_pose_shoulder_link(t),
+                    &frame_jacobian_shoulder_link_local_world_aligned(t),
+                    frame_jacobian_time_variation_shoulder_link_local_world_aligned(
+                        t,
+                        qd,
+                    ),
                     qd,
+                    &[0],
                 )
+            }
+            (Frame::UpperArmLink, ReferenceFrame::LocalWorldAligned) => {
+                frame_jacobian_time_variation_upper_arm_link_local_world_aligned(t, qd)
             }
             (Frame::UpperArmLink, reference) => {
                 dyngen_runtime::__private::frame_references::jacobian_time_variation(
                     reference,
-                    frame_kinematics_upper_arm_link(t, qd),
+                    &frame_pose_upper_arm_link(t),
+                    &frame_jacobian_upper_arm_link_local_world_aligned(t),
+                    frame_jacobian_time_variation_upper_arm_link_local_world_aligned(
+                        t,
+                        qd,
+                    ),
                     qd,
+                    &[0, 1],
                 )
+            }
+            (Frame::ForearmLink, ReferenceFrame::LocalWorldAligned) => {
+                frame_jacobian_time_variation_forearm_link_local_world_aligned(t, qd)
             }
             (Frame::ForearmLink, reference) => {
                 dyngen_runtime::__private::frame_references::jacobian_time_variation(
                     reference,
-                    frame_kinematics_forearm_link(t, qd),
+                    &frame_pose_forearm_link(t),
+                    &frame_jacobian_forearm_link_local_world_aligned(t),
+                    frame_jacobian_time_variation_forearm_link_local_world_aligned(
+                        t,
+                        qd,
+                    ),
                     qd,
+                    &[0, 1, 2],
                 )
+            }
+            (Frame::Wrist1Link, ReferenceFrame::LocalWorldAligned) => {
+                frame_jacobian_time_variation_wrist_1_link_local_world_aligned(t, qd)
             }
             (Frame::Wrist1Link, reference) => {
                 dyngen_runtime::__private::frame_references::jacobian_time_variation(
                     reference,
-                    frame_kinematics_wrist_1_link(t, qd),
+                    &frame_pose_wrist_1_link(t),
+                    &frame_jacobian_wrist_1_link_local_world_aligned(t),
+                    frame_jacobian_time_variation_wrist_1_link_local_world_aligned(
+                        t,
+                        qd,
+                    ),
                     qd,
+                    &[0, 1, 2, 3],
                 )
+            }
+            (Frame::Wrist2Link, ReferenceFrame::LocalWorldAligned) => {
+                frame_jacobian_time_variation_wrist_2_link_local_world_aligned(t, qd)
             }
             (Frame::Wrist2Link, reference) => {
                 dyngen_runtime::__private::frame_references::jacobian_time_variation(
                     reference,
-                    frame_kinematics_wrist_2_link(t, qd),
+                    &frame_pose_wrist_2_link(t),
+                    &frame_jacobian_wrist_2_link_local_world_aligned(t),
+                    frame_jacobian_time_variation_wrist_2_link_local_world_aligned(
+                        t,
+                        qd,
+                    ),
                     qd,
+                    &[0, 1, 2, 3, 4],
                 )
+            }
+            (Frame::Wrist3Link, ReferenceFrame::LocalWorldAligned) => {
+                frame_jacobian_time_variation_wrist_3_link_local_world_aligned(t, qd)
             }
             (Frame::Wrist3Link, reference) => {
                 dyngen_runtime::__private::frame_references::jacobian_time_variation(
                     reference,
-                    frame_kinematics_wrist_3_link(t, qd),
+                    &frame_pose_wrist_3_link(t),
+                    &frame_jacobian_wrist_3_link_local_world_aligned(t),
+                    frame_jacobian_time_variation_wrist_3_link_local_world_aligned(
+                        t,
+                        qd,
+                    ),
                     qd,
+                    &[0, 1, 2, 3, 4, 5],
                 )
+            }
+            (Frame::EeLink, ReferenceFrame::LocalWorldAligned) => {
+                Self::jacobian_dot(t, qd)
             }
             (Frame::EeLink, reference) => {
                 dyngen_runtime::__private::frame_references::jacobian_time_variation(
                     reference,
-                    frame_kinematics_ee_link(t, qd),
+                    &frame_pose_ee_link(t),
+                    &Self::jacobian(t),
+                    Self::jacobian_dot(t, qd),
                     qd,
+                    &[0, 1, 2, 3, 4, 5],
                 )
             }
         }
@@ -6077,6 +6151,30 @@ fn frame_jacobian_shoulder_link_local_world_aligned(
 }
 ///Operations: 0 mul, 0 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
 #[inline(never)]
+fn frame_jacobian_time_variation_shoulder_link_local_world_aligned(
+    t: &JointTrig<6>,
+    qd: &SVector<f64, 6>,
+) -> SMatrix<f64, 6, 6> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<6>, &SVector<f64, 6>)> for Body {
+        type Output = SMatrix<f64, 6, 6>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            _arith: M,
+            (_t, _qd): (&JointTrig<6>, &SVector<f64, 6>),
+        ) -> SMatrix<f64, 6, 6> {
+            let mut out: SMatrix<f64, 6, 6> = SMatrix::zeros();
+            {
+                let [[_, _, _, _, _, _], [_, _, _, _, _, _], [_, _, _, _, _, _], [_, _,
+                _, _, _, _], [_, _, _, _, _, _], [_, _, _, _, _, _]] = &mut out.data.0;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd))
+}
+///Operations: 0 mul, 0 add/sub, 0 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
 fn frame_velocity_shoulder_link_local_world_aligned(
     t: &JointTrig<6>,
     qd: &SVector<f64, 6>,
@@ -6252,6 +6350,56 @@ fn frame_jacobian_upper_arm_link_local_world_aligned(
         }
     }
     dyngen_runtime::__private::dispatch::<Body, _>((t,))
+}
+///Operations: 10 mul, 1 add/sub, 4 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_jacobian_time_variation_upper_arm_link_local_world_aligned(
+    t: &JointTrig<6>,
+    qd: &SVector<f64, 6>,
+) -> SMatrix<f64, 6, 6> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<6>, &SVector<f64, 6>)> for Body {
+        type Output = SMatrix<f64, 6, 6>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd): (&JointTrig<6>, &SVector<f64, 6>),
+        ) -> SMatrix<f64, 6, 6> {
+            let [s0, _, _, _, _, _] = t.sin;
+            let [c0, _, _, _, _, _] = t.cos;
+            let [qd0, qd1, _, _, _, _] = qd.data.0[0];
+            let mut out: SMatrix<f64, 6, 6> = SMatrix::zeros();
+            {
+                let [[o0, o1, _, _, _, _], [_, _, _, o9, o10, o11], [_, _, _, _, _, _],
+                [_, _, _, _, _, _], [_, _, _, _, _, _], [_, _, _, _, _, _]] = &mut out
+                    .data
+                    .0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13,
+                ]: [f64; 14];
+                x0 = -0.13585f64 * s0;
+                x1 = 0.13585f64 * c0;
+                x2 = qd0 * x1;
+                x3 = -x2;
+                *o1 = x3;
+                x4 = qd0 * x0;
+                x5 = qd1 * s0;
+                x6 = qd1 * c0;
+                x7 = qd0 * c0;
+                x8 = -x7;
+                *o9 = x8;
+                x9 = qd0 * s0;
+                x10 = -x9;
+                *o10 = x10;
+                x11 = c0 * x5;
+                x12 = arith.mul_add(s0, x6, -x11);
+                *o11 = x12;
+                x13 = -x4;
+                *o0 = x13;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd))
 }
 ///Operations: 6 mul, 0 add/sub, 2 neg (joint sines and cosines come precomputed in `JointTrig`).
 #[inline(never)]
@@ -6537,6 +6685,101 @@ fn frame_jacobian_forearm_link_local_world_aligned(
         }
     }
     dyngen_runtime::__private::dispatch::<Body, _>((t,))
+}
+///Operations: 37 mul, 26 add/sub, 4 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_jacobian_time_variation_forearm_link_local_world_aligned(
+    t: &JointTrig<6>,
+    qd: &SVector<f64, 6>,
+) -> SMatrix<f64, 6, 6> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<6>, &SVector<f64, 6>)> for Body {
+        type Output = SMatrix<f64, 6, 6>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd): (&JointTrig<6>, &SVector<f64, 6>),
+        ) -> SMatrix<f64, 6, 6> {
+            let [s0, s1, _, _, _, _] = t.sin;
+            let [c0, c1, _, _, _, _] = t.cos;
+            let [qd0, qd1, qd2, _, _, _] = qd.data.0[0];
+            let mut out: SMatrix<f64, 6, 6> = SMatrix::zeros();
+            {
+                let [[o0, o1, _, _, _, _], [o6, o7, o8, o9, o10, o11], [_, _, _, o15,
+                o16, o17], [_, _, _, _, _, _], [_, _, _, _, _, _], [_, _, _, _, _, _]] = &mut out
+                    .data
+                    .0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50]: [f64; 51];
+                x0 = c0 * c1;
+                x1 = s0 * c1;
+                x2 = -0.13585f64 * s0;
+                x3 = 0.13585f64 * c0;
+                x4 = 0.425f64 * x0;
+                x5 = arith.mul_add(0.1197f64, s0, x4);
+                x6 = 0.425f64 * x1;
+                x7 = arith.mul_add(-0.1197f64, c0, x6);
+                x8 = x2 + x5;
+                x9 = x3 + x7;
+                x10 = arith.mul_add(-0.425f64, s1, 0.089159f64);
+                x11 = qd0 * x3;
+                x12 = qd0 * x2;
+                x13 = qd1 * s0;
+                x14 = qd1 * c0;
+                x15 = x8 - x2;
+                x16 = x9 - x3;
+                x17 = x10 - 0.089159f64;
+                x18 = qd0 * x16;
+                x19 = arith.mul_add(x14, x17, -x18);
+                x20 = x13 * x17;
+                x21 = arith.mul_add(qd0, x15, x20);
+                x22 = x14 * x15;
+                x23 = arith.mul_add(x13, x16, x22);
+                x24 = x19 - x11;
+                *o1 = x24;
+                x25 = x12 + x21;
+                x26 = arith.mul_add(qd2, s0, x13);
+                x27 = arith.mul_add(qd2, c0, x14);
+                x28 = qd0 * c0;
+                x29 = -x28;
+                *o9 = x29;
+                *o15 = x29;
+                x30 = qd0 * s0;
+                x31 = -x30;
+                *o10 = x31;
+                *o16 = x31;
+                x32 = c0 * x13;
+                x33 = arith.mul_add(s0, x14, -x32);
+                *o11 = x33;
+                x34 = c0 * x26;
+                x35 = arith.mul_add(s0, x27, -x34);
+                *o17 = x35;
+                x36 = -x25;
+                *o0 = x36;
+                x37 = x16 * x33;
+                x38 = arith.mul_add(x17, x30, x37);
+                x39 = x17 * x28;
+                x40 = arith.mul_add(x15, x33, x39);
+                x41 = x16 * x28;
+                x42 = arith.mul_add(x15, x30, -x41);
+                x43 = x11 + x24;
+                x44 = x25 - x12;
+                x45 = c0 * x43;
+                x46 = arith.mul_add(s0, x44, x45);
+                x47 = arith.mul_add(c0, x23, x38);
+                x48 = -x47;
+                *o6 = x48;
+                x49 = arith.mul_add(-s0, x23, x40);
+                *o7 = x49;
+                x50 = x42 - x46;
+                *o8 = x50;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd))
 }
 ///Operations: 22 mul, 13 add/sub, 2 neg (joint sines and cosines come precomputed in `JointTrig`).
 #[inline(never)]
@@ -7001,6 +7244,153 @@ fn frame_jacobian_wrist_1_link_local_world_aligned(
         }
     }
     dyngen_runtime::__private::dispatch::<Body, _>((t,))
+}
+///Operations: 68 mul, 57 add/sub, 4 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_jacobian_time_variation_wrist_1_link_local_world_aligned(
+    t: &JointTrig<6>,
+    qd: &SVector<f64, 6>,
+) -> SMatrix<f64, 6, 6> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<6>, &SVector<f64, 6>)> for Body {
+        type Output = SMatrix<f64, 6, 6>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd): (&JointTrig<6>, &SVector<f64, 6>),
+        ) -> SMatrix<f64, 6, 6> {
+            let [s0, s1, s2, _, _, _] = t.sin;
+            let [c0, c1, c2, _, _, _] = t.cos;
+            let [qd0, qd1, qd2, qd3, _, _] = qd.data.0[0];
+            let mut out: SMatrix<f64, 6, 6> = SMatrix::zeros();
+            {
+                let [[o0, o1, _, _, _, _], [o6, o7, o8, o9, o10, o11], [o12, o13, o14,
+                o15, o16, o17], [_, _, _, o21, o22, o23], [_, _, _, _, _, _], [_, _, _,
+                _, _, _]] = &mut out.data.0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94]: [f64; 95];
+                x0 = c0 * s1;
+                x1 = c0 * c1;
+                x2 = s0 * s1;
+                x3 = s0 * c1;
+                x4 = -0.13585f64 * s0;
+                x5 = 0.13585f64 * c0;
+                x6 = s2 * x0;
+                x7 = arith.mul_add(c2, x1, -x6);
+                x8 = s2 * x2;
+                x9 = arith.mul_add(c2, x3, -x8);
+                x10 = s1 * c2;
+                x11 = arith.mul_add(c1, s2, x10);
+                x12 = 0.425f64 * x1;
+                x13 = arith.mul_add(0.1197f64, s0, x12);
+                x14 = 0.425f64 * x3;
+                x15 = arith.mul_add(-0.1197f64, c0, x14);
+                x16 = x4 + x13;
+                x17 = x5 + x15;
+                x18 = arith.mul_add(-0.425f64, s1, 0.089159f64);
+                x19 = arith.mul_add(0.39225f64, x7, x16);
+                x20 = arith.mul_add(0.39225f64, x9, x17);
+                x21 = arith.mul_add(-0.39225f64, x11, x18);
+                x22 = qd0 * x5;
+                x23 = qd0 * x4;
+                x24 = qd1 * s0;
+                x25 = qd1 * c0;
+                x26 = x16 - x4;
+                x27 = x17 - x5;
+                x28 = x18 - 0.089159f64;
+                x29 = qd0 * x27;
+                x30 = arith.mul_add(x25, x28, -x29);
+                x31 = x24 * x28;
+                x32 = arith.mul_add(qd0, x26, x31);
+                x33 = x25 * x26;
+                x34 = arith.mul_add(x24, x27, x33);
+                x35 = x30 - x22;
+                x36 = x23 + x32;
+                x37 = arith.mul_add(qd2, s0, x24);
+                x38 = arith.mul_add(qd2, c0, x25);
+                x39 = x19 - x16;
+                x40 = x20 - x17;
+                x41 = x21 - x18;
+                x42 = qd0 * x40;
+                x43 = arith.mul_add(x38, x41, -x42);
+                x44 = x37 * x41;
+                x45 = arith.mul_add(qd0, x39, x44);
+                x46 = x38 * x39;
+                x47 = arith.mul_add(x37, x40, x46);
+                x48 = x35 + x43;
+                *o1 = x48;
+                x49 = x36 + x45;
+                x50 = x34 + x47;
+                x51 = arith.mul_add(qd3, s0, x37);
+                x52 = arith.mul_add(qd3, c0, x38);
+                x53 = qd0 * c0;
+                x54 = -x53;
+                *o9 = x54;
+                *o15 = x54;
+                *o21 = x54;
+                x55 = qd0 * s0;
+                x56 = -x55;
+                *o10 = x56;
+                *o16 = x56;
+                *o22 = x56;
+                x57 = c0 * x24;
+                x58 = arith.mul_add(s0, x25, -x57);
+                *o11 = x58;
+                x59 = c0 * x37;
+                x60 = arith.mul_add(s0, x38, -x59);
+                *o17 = x60;
+                x61 = c0 * x51;
+                x62 = arith.mul_add(s0, x52, -x61);
+                *o23 = x62;
+                x63 = x21 - 0.089159f64;
+                x64 = x19 - x4;
+                x65 = x20 - x5;
+                x66 = -x49;
+                *o0 = x66;
+                x67 = x58 * x65;
+                x68 = arith.mul_add(x55, x63, x67);
+                x69 = x53 * x63;
+                x70 = arith.mul_add(x58, x64, x69);
+                x71 = x53 * x65;
+                x72 = arith.mul_add(x55, x64, -x71);
+                x73 = x22 + x48;
+                x74 = x49 - x23;
+                x75 = c0 * x73;
+                x76 = arith.mul_add(s0, x74, x75);
+                x77 = arith.mul_add(c0, x50, x68);
+                x78 = -x77;
+                *o6 = x78;
+                x79 = arith.mul_add(-s0, x50, x70);
+                *o7 = x79;
+                x80 = x72 - x76;
+                *o8 = x80;
+                x81 = x40 * x60;
+                x82 = arith.mul_add(x41, x55, x81);
+                x83 = x41 * x53;
+                x84 = arith.mul_add(x39, x60, x83);
+                x85 = x40 * x53;
+                x86 = arith.mul_add(x39, x55, -x85);
+                x87 = x48 - x35;
+                x88 = x49 - x36;
+                x89 = x34 - x50;
+                x90 = c0 * x87;
+                x91 = arith.mul_add(s0, x88, x90);
+                x92 = arith.mul_add(c0, x89, -x82);
+                *o12 = x92;
+                x93 = arith.mul_add(s0, x89, x84);
+                *o13 = x93;
+                x94 = x86 - x91;
+                *o14 = x94;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd))
 }
 ///Operations: 42 mul, 28 add/sub, 2 neg (joint sines and cosines come precomputed in `JointTrig`).
 #[inline(never)]
@@ -7638,6 +8028,207 @@ fn frame_jacobian_wrist_2_link_local_world_aligned(
         }
     }
     dyngen_runtime::__private::dispatch::<Body, _>((t,))
+}
+///Operations: 103 mul, 87 add/sub, 4 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_jacobian_time_variation_wrist_2_link_local_world_aligned(
+    t: &JointTrig<6>,
+    qd: &SVector<f64, 6>,
+) -> SMatrix<f64, 6, 6> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<6>, &SVector<f64, 6>)> for Body {
+        type Output = SMatrix<f64, 6, 6>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd): (&JointTrig<6>, &SVector<f64, 6>),
+        ) -> SMatrix<f64, 6, 6> {
+            let [s0, s1, s2, s3, _, _] = t.sin;
+            let [c0, c1, c2, c3, _, _] = t.cos;
+            let [qd0, qd1, qd2, qd3, qd4, _] = qd.data.0[0];
+            let mut out: SMatrix<f64, 6, 6> = SMatrix::zeros();
+            {
+                let [[o0, o1, _, _, _, _], [o6, o7, o8, o9, o10, o11], [o12, o13, o14,
+                o15, o16, o17], [o18, o19, o20, o21, o22, o23], [_, _, _, o27, o28, o29],
+                [_, _, _, _, _, _]] = &mut out.data.0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138]: [f64; 139];
+                x0 = c0 * s1;
+                x1 = c0 * c1;
+                x2 = s0 * s1;
+                x3 = s0 * c1;
+                x4 = -0.13585f64 * s0;
+                x5 = 0.13585f64 * c0;
+                x6 = s2 * x1;
+                x7 = arith.mul_add(c2, x0, x6);
+                x8 = s2 * x0;
+                x9 = arith.mul_add(c2, x1, -x8);
+                x10 = s2 * x3;
+                x11 = arith.mul_add(c2, x2, x10);
+                x12 = s2 * x2;
+                x13 = arith.mul_add(c2, x3, -x12);
+                x14 = c1 * c2;
+                x15 = arith.mul_add(s1, s2, -x14);
+                x16 = s1 * c2;
+                x17 = arith.mul_add(c1, s2, x16);
+                x18 = 0.425f64 * x1;
+                x19 = arith.mul_add(0.1197f64, s0, x18);
+                x20 = 0.425f64 * x3;
+                x21 = arith.mul_add(-0.1197f64, c0, x20);
+                x22 = x4 + x19;
+                x23 = x5 + x21;
+                x24 = arith.mul_add(-0.425f64, s1, 0.089159f64);
+                x25 = s3 * x9;
+                x26 = arith.mul_add(c3, x7, x25);
+                x27 = s3 * x13;
+                x28 = arith.mul_add(c3, x11, x27);
+                x29 = s3 * x17;
+                x30 = arith.mul_add(c3, x15, x29);
+                x31 = arith.mul_add(0.39225f64, x9, x22);
+                x32 = arith.mul_add(0.39225f64, x13, x23);
+                x33 = arith.mul_add(-0.39225f64, x17, x24);
+                x34 = arith.mul_add(-0.093f64, s0, x31);
+                x35 = arith.mul_add(0.093f64, c0, x32);
+                x36 = qd0 * x5;
+                x37 = qd0 * x4;
+                x38 = qd1 * s0;
+                x39 = qd1 * c0;
+                x40 = x22 - x4;
+                x41 = x23 - x5;
+                x42 = x24 - 0.089159f64;
+                x43 = qd0 * x41;
+                x44 = arith.mul_add(x39, x42, -x43);
+                x45 = x38 * x42;
+                x46 = arith.mul_add(qd0, x40, x45);
+                x47 = x39 * x40;
+                x48 = arith.mul_add(x38, x41, x47);
+                x49 = x44 - x36;
+                x50 = x37 + x46;
+                x51 = arith.mul_add(qd2, s0, x38);
+                x52 = arith.mul_add(qd2, c0, x39);
+                x53 = x31 - x22;
+                x54 = x32 - x23;
+                x55 = x33 - x24;
+                x56 = qd0 * x54;
+                x57 = arith.mul_add(x52, x55, -x56);
+                x58 = x51 * x55;
+                x59 = arith.mul_add(qd0, x53, x58);
+                x60 = x52 * x53;
+                x61 = arith.mul_add(x51, x54, x60);
+                x62 = x49 + x57;
+                x63 = x50 + x59;
+                x64 = x48 + x61;
+                x65 = arith.mul_add(qd3, s0, x51);
+                x66 = arith.mul_add(qd3, c0, x52);
+                x67 = x34 - x31;
+                x68 = x35 - x32;
+                x69 = x66 * x67;
+                x70 = arith.mul_add(x65, x68, x69);
+                x71 = arith.mul_add(-qd0, x68, x62);
+                *o1 = x71;
+                x72 = arith.mul_add(qd0, x67, x63);
+                x73 = x64 + x70;
+                x74 = arith.mul_add(qd4, x26, x65);
+                x75 = arith.mul_add(-qd4, x28, x66);
+                x76 = arith.mul_add(qd4, x30, qd0);
+                x77 = qd0 * c0;
+                x78 = -x77;
+                *o9 = x78;
+                *o15 = x78;
+                *o21 = x78;
+                x79 = qd0 * s0;
+                x80 = -x79;
+                *o10 = x80;
+                *o16 = x80;
+                *o22 = x80;
+                x81 = c0 * x38;
+                x82 = arith.mul_add(s0, x39, -x81);
+                *o11 = x82;
+                x83 = c0 * x51;
+                x84 = arith.mul_add(s0, x52, -x83);
+                *o17 = x84;
+                x85 = c0 * x65;
+                x86 = arith.mul_add(s0, x66, -x85);
+                *o23 = x86;
+                x87 = x28 * x76;
+                x88 = arith.mul_add(x30, x75, x87);
+                *o27 = x88;
+                x89 = x26 * x76;
+                x90 = arith.mul_add(x30, x74, -x89);
+                *o28 = x90;
+                x91 = x26 * x75;
+                x92 = arith.mul_add(x28, x74, x91);
+                *o29 = x92;
+                x93 = x33 - 0.089159f64;
+                x94 = x34 - x4;
+                x95 = x35 - x5;
+                x96 = x34 - x22;
+                x97 = x35 - x23;
+                x98 = -x72;
+                *o0 = x98;
+                x99 = x82 * x95;
+                x100 = arith.mul_add(x79, x93, x99);
+                x101 = x82 * x94;
+                x102 = arith.mul_add(x77, x93, x101);
+                x103 = x77 * x95;
+                x104 = arith.mul_add(x79, x94, -x103);
+                x105 = x36 + x71;
+                x106 = x72 - x37;
+                x107 = c0 * x105;
+                x108 = arith.mul_add(s0, x106, x107);
+                x109 = arith.mul_add(c0, x73, x100);
+                x110 = -x109;
+                *o6 = x110;
+                x111 = arith.mul_add(-s0, x73, x102);
+                *o7 = x111;
+                x112 = x104 - x108;
+                *o8 = x112;
+                x113 = x84 * x97;
+                x114 = arith.mul_add(x55, x79, x113);
+                x115 = x84 * x96;
+                x116 = arith.mul_add(x55, x77, x115);
+                x117 = x77 * x97;
+                x118 = arith.mul_add(x79, x96, -x117);
+                x119 = x71 - x49;
+                x120 = x72 - x50;
+                x121 = x48 - x73;
+                x122 = c0 * x119;
+                x123 = arith.mul_add(s0, x120, x122);
+                x124 = arith.mul_add(c0, x121, -x114);
+                *o12 = x124;
+                x125 = arith.mul_add(s0, x121, x116);
+                *o13 = x125;
+                x126 = x118 - x123;
+                *o14 = x126;
+                x127 = x68 * x86;
+                x128 = x68 * x77;
+                x129 = arith.mul_add(x67, x79, -x128);
+                x130 = x71 - x62;
+                x131 = x72 - x63;
+                x132 = x64 - x73;
+                x133 = s0 * x132;
+                x134 = c0 * x130;
+                x135 = arith.mul_add(s0, x131, x134);
+                x136 = arith.mul_add(c0, x132, -x127);
+                *o18 = x136;
+                x137 = arith.mul_add(x67, x86, x133);
+                *o19 = x137;
+                x138 = x129 - x135;
+                *o20 = x138;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd))
 }
 ///Operations: 62 mul, 43 add/sub, 2 neg (joint sines and cosines come precomputed in `JointTrig`).
 #[inline(never)]
@@ -8442,6 +9033,278 @@ fn frame_jacobian_wrist_3_link_local_world_aligned(
         }
     }
     dyngen_runtime::__private::dispatch::<Body, _>((t,))
+}
+///Operations: 146 mul, 127 add/sub, 6 neg (joint sines and cosines come precomputed in `JointTrig`).
+#[inline(never)]
+fn frame_jacobian_time_variation_wrist_3_link_local_world_aligned(
+    t: &JointTrig<6>,
+    qd: &SVector<f64, 6>,
+) -> SMatrix<f64, 6, 6> {
+    struct Body;
+    impl dyngen_runtime::__private::Kernel<(&JointTrig<6>, &SVector<f64, 6>)> for Body {
+        type Output = SMatrix<f64, 6, 6>;
+        #[inline(always)]
+        fn run<M: dyngen_runtime::__private::MulAdd>(
+            arith: M,
+            (t, qd): (&JointTrig<6>, &SVector<f64, 6>),
+        ) -> SMatrix<f64, 6, 6> {
+            let [s0, s1, s2, s3, s4, _] = t.sin;
+            let [c0, c1, c2, c3, c4, _] = t.cos;
+            let [qd0, qd1, qd2, qd3, qd4, qd5] = qd.data.0[0];
+            let mut out: SMatrix<f64, 6, 6> = SMatrix::zeros();
+            {
+                let [[o0, o1, _, _, _, _], [o6, o7, o8, o9, o10, o11], [o12, o13, o14,
+                o15, o16, o17], [o18, o19, o20, o21, o22, o23], [o24, o25, o26, o27, o28,
+                o29], [_, _, _, o33, o34, o35]] = &mut out.data.0;
+                let [x0, x1, x2, x3, x4, x5, x6, x7, x8, x9, x10, x11, x12, x13, x14,
+                x15, x16, x17, x18, x19, x20, x21, x22, x23, x24, x25, x26, x27, x28,
+                x29, x30, x31, x32, x33, x34, x35, x36, x37, x38, x39, x40, x41, x42,
+                x43, x44, x45, x46, x47, x48, x49, x50, x51, x52, x53, x54, x55, x56,
+                x57, x58, x59, x60, x61, x62, x63, x64, x65, x66, x67, x68, x69, x70,
+                x71, x72, x73, x74, x75, x76, x77, x78, x79, x80, x81, x82, x83, x84,
+                x85, x86, x87, x88, x89, x90, x91, x92, x93, x94, x95, x96, x97, x98,
+                x99, x100, x101, x102, x103, x104, x105, x106, x107, x108, x109, x110,
+                x111, x112, x113, x114, x115, x116, x117, x118, x119, x120, x121, x122,
+                x123, x124, x125, x126, x127, x128, x129, x130, x131, x132, x133, x134,
+                x135, x136, x137, x138, x139, x140, x141, x142, x143, x144, x145, x146,
+                x147, x148, x149, x150, x151, x152, x153, x154, x155, x156, x157, x158,
+                x159, x160, x161, x162, x163, x164, x165, x166, x167, x168, x169, x170,
+                x171, x172, x173, x174, x175, x176, x177, x178, x179, x180, x181, x182,
+                x183, x184, x185, x186, x187, x188, x189, x190, x191, x192, x193, x194,
+                x195, x196, x197, x198]: [f64; 199];
+                x0 = c0 * s1;
+                x1 = c0 * c1;
+                x2 = s0 * s1;
+                x3 = s0 * c1;
+                x4 = -0.13585f64 * s0;
+                x5 = 0.13585f64 * c0;
+                x6 = s2 * x1;
+                x7 = arith.mul_add(c2, x0, x6);
+                x8 = s2 * x0;
+                x9 = arith.mul_add(c2, x1, -x8);
+                x10 = s2 * x3;
+                x11 = arith.mul_add(c2, x2, x10);
+                x12 = s2 * x2;
+                x13 = arith.mul_add(c2, x3, -x12);
+                x14 = c1 * c2;
+                x15 = arith.mul_add(s1, s2, -x14);
+                x16 = s1 * c2;
+                x17 = arith.mul_add(c1, s2, x16);
+                x18 = 0.425f64 * x1;
+                x19 = arith.mul_add(0.1197f64, s0, x18);
+                x20 = 0.425f64 * x3;
+                x21 = arith.mul_add(-0.1197f64, c0, x20);
+                x22 = x4 + x19;
+                x23 = x5 + x21;
+                x24 = arith.mul_add(-0.425f64, s1, 0.089159f64);
+                x25 = c3 * x9;
+                x26 = arith.mul_add(s3, x7, -x25);
+                x27 = s3 * x9;
+                x28 = arith.mul_add(c3, x7, x27);
+                x29 = c3 * x13;
+                x30 = arith.mul_add(s3, x11, -x29);
+                x31 = s3 * x13;
+                x32 = arith.mul_add(c3, x11, x31);
+                x33 = s3 * x15;
+                x34 = arith.mul_add(c3, x17, -x33);
+                x35 = s3 * x17;
+                x36 = arith.mul_add(c3, x15, x35);
+                x37 = arith.mul_add(0.39225f64, x9, x22);
+                x38 = arith.mul_add(0.39225f64, x13, x23);
+                x39 = arith.mul_add(-0.39225f64, x17, x24);
+                x40 = s0 * c4;
+                x41 = arith.mul_add(s4, x26, x40);
+                x42 = s4 * x30;
+                x43 = arith.mul_add(c0, c4, -x42);
+                x44 = s4 * x34;
+                x45 = arith.mul_add(-0.093f64, s0, x37);
+                x46 = arith.mul_add(0.093f64, c0, x38);
+                x47 = arith.mul_add(-0.09465f64, x28, x45);
+                x48 = arith.mul_add(-0.09465f64, x32, x46);
+                x49 = arith.mul_add(0.09465f64, x36, x39);
+                x50 = qd0 * x5;
+                x51 = qd0 * x4;
+                x52 = qd1 * s0;
+                x53 = qd1 * c0;
+                x54 = x22 - x4;
+                x55 = x23 - x5;
+                x56 = x24 - 0.089159f64;
+                x57 = qd0 * x55;
+                x58 = arith.mul_add(x53, x56, -x57);
+                x59 = x52 * x56;
+                x60 = arith.mul_add(qd0, x54, x59);
+                x61 = x53 * x54;
+                x62 = arith.mul_add(x52, x55, x61);
+                x63 = x58 - x50;
+                x64 = x51 + x60;
+                x65 = arith.mul_add(qd2, s0, x52);
+                x66 = arith.mul_add(qd2, c0, x53);
+                x67 = x37 - x22;
+                x68 = x38 - x23;
+                x69 = x39 - x24;
+                x70 = qd0 * x68;
+                x71 = arith.mul_add(x66, x69, -x70);
+                x72 = x65 * x69;
+                x73 = arith.mul_add(qd0, x67, x72);
+                x74 = x66 * x67;
+                x75 = arith.mul_add(x65, x68, x74);
+                x76 = x63 + x71;
+                x77 = x64 + x73;
+                x78 = x62 + x75;
+                x79 = arith.mul_add(qd3, s0, x65);
+                x80 = arith.mul_add(qd3, c0, x66);
+                x81 = x45 - x37;
+                x82 = x46 - x38;
+                x83 = x80 * x81;
+                x84 = arith.mul_add(x79, x82, x83);
+                x85 = arith.mul_add(-qd0, x82, x76);
+                x86 = arith.mul_add(qd0, x81, x77);
+                x87 = x78 + x84;
+                x88 = arith.mul_add(qd4, x28, x79);
+                x89 = arith.mul_add(-qd4, x32, x80);
+                x90 = arith.mul_add(qd4, x36, qd0);
+                x91 = x47 - x45;
+                x92 = x48 - x46;
+                x93 = x49 - x39;
+                x94 = x90 * x92;
+                x95 = arith.mul_add(x89, x93, -x94);
+                x96 = x88 * x93;
+                x97 = arith.mul_add(x90, x91, x96);
+                x98 = x89 * x91;
+                x99 = arith.mul_add(x88, x92, x98);
+                x100 = x85 + x95;
+                *o1 = x100;
+                x101 = x86 + x97;
+                x102 = x87 + x99;
+                x103 = arith.mul_add(qd5, x41, x88);
+                x104 = arith.mul_add(qd5, x43, x89);
+                x105 = arith.mul_add(-qd5, x44, x90);
+                x106 = qd0 * c0;
+                x107 = -x106;
+                *o9 = x107;
+                *o15 = x107;
+                *o21 = x107;
+                x108 = qd0 * s0;
+                x109 = -x108;
+                *o10 = x109;
+                *o16 = x109;
+                *o22 = x109;
+                x110 = c0 * x52;
+                x111 = arith.mul_add(s0, x53, -x110);
+                *o11 = x111;
+                x112 = c0 * x65;
+                x113 = arith.mul_add(s0, x66, -x112);
+                *o17 = x113;
+                x114 = c0 * x79;
+                x115 = arith.mul_add(s0, x80, -x114);
+                *o23 = x115;
+                x116 = x32 * x90;
+                x117 = arith.mul_add(x36, x89, x116);
+                *o27 = x117;
+                x118 = x28 * x90;
+                x119 = arith.mul_add(x36, x88, -x118);
+                *o28 = x119;
+                x120 = x28 * x89;
+                x121 = arith.mul_add(x32, x88, x120);
+                *o29 = x121;
+                x122 = x43 * x105;
+                x123 = arith.mul_add(x44, x104, x122);
+                x124 = -x123;
+                *o33 = x124;
+                x125 = x44 * x103;
+                x126 = arith.mul_add(x41, x105, x125);
+                x127 = -x126;
+                *o34 = x127;
+                x128 = x43 * x103;
+                x129 = arith.mul_add(x41, x104, -x128);
+                *o35 = x129;
+                x130 = x49 - 0.089159f64;
+                x131 = x47 - x4;
+                x132 = x48 - x5;
+                x133 = x47 - x22;
+                x134 = x48 - x23;
+                x135 = x49 - x24;
+                x136 = x47 - x37;
+                x137 = x48 - x38;
+                x138 = -x101;
+                *o0 = x138;
+                x139 = x111 * x132;
+                x140 = arith.mul_add(x108, x130, x139);
+                x141 = x106 * x130;
+                x142 = arith.mul_add(x111, x131, x141);
+                x143 = x106 * x132;
+                x144 = arith.mul_add(x108, x131, -x143);
+                x145 = x50 + x100;
+                x146 = x101 - x51;
+                x147 = c0 * x145;
+                x148 = arith.mul_add(s0, x146, x147);
+                x149 = arith.mul_add(c0, x102, x140);
+                x150 = -x149;
+                *o6 = x150;
+                x151 = arith.mul_add(-s0, x102, x142);
+                *o7 = x151;
+                x152 = x144 - x148;
+                *o8 = x152;
+                x153 = x113 * x134;
+                x154 = arith.mul_add(x108, x135, x153);
+                x155 = x106 * x135;
+                x156 = arith.mul_add(x113, x133, x155);
+                x157 = x106 * x134;
+                x158 = arith.mul_add(x108, x133, -x157);
+                x159 = x100 - x63;
+                x160 = x101 - x64;
+                x161 = x62 - x102;
+                x162 = c0 * x159;
+                x163 = arith.mul_add(s0, x160, x162);
+                x164 = arith.mul_add(c0, x161, -x154);
+                *o12 = x164;
+                x165 = arith.mul_add(s0, x161, x156);
+                *o13 = x165;
+                x166 = x158 - x163;
+                *o14 = x166;
+                x167 = x115 * x137;
+                x168 = arith.mul_add(x93, x108, x167);
+                x169 = x93 * x106;
+                x170 = arith.mul_add(x115, x136, x169);
+                x171 = x106 * x137;
+                x172 = arith.mul_add(x108, x136, -x171);
+                x173 = x100 - x76;
+                x174 = x101 - x77;
+                x175 = x78 - x102;
+                x176 = c0 * x173;
+                x177 = arith.mul_add(s0, x174, x176);
+                x178 = arith.mul_add(c0, x175, -x168);
+                *o18 = x178;
+                x179 = arith.mul_add(s0, x175, x170);
+                *o19 = x179;
+                x180 = x172 - x177;
+                *o20 = x180;
+                x181 = x92 * x121;
+                x182 = arith.mul_add(x93, x119, -x181);
+                x183 = x93 * x117;
+                x184 = arith.mul_add(x91, x121, -x183);
+                x185 = x91 * x119;
+                x186 = arith.mul_add(x92, x117, -x185);
+                x187 = x100 - x85;
+                x188 = x101 - x86;
+                x189 = x87 - x102;
+                x190 = x36 * x188;
+                x191 = arith.mul_add(x32, x189, x190);
+                x192 = x28 * x189;
+                x193 = arith.mul_add(x36, x187, x192);
+                x194 = x28 * x188;
+                x195 = arith.mul_add(x32, x187, -x194);
+                x196 = x182 - x191;
+                *o24 = x196;
+                x197 = x184 + x193;
+                *o25 = x197;
+                x198 = x186 + x195;
+                *o26 = x198;
+            }
+            out
+        }
+    }
+    dyngen_runtime::__private::dispatch::<Body, _>((t, qd))
 }
 ///Operations: 92 mul, 65 add/sub, 1 neg (joint sines and cosines come precomputed in `JointTrig`).
 #[inline(never)]

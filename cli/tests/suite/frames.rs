@@ -50,3 +50,36 @@ fn an_unknown_frame_is_one_line_naming_it() {
         run.output()
     );
 }
+
+/// `--frame-references aligned` writes the frame functions in base axes only (the others are
+/// converted at run time); `all` writes each reference frame; anything else is a usage error.
+#[test]
+fn frame_references_choose_which_reference_frames_are_written() {
+    let urdf = repository_file("robots/urdf/ur5_robot.urdf");
+    let dir = tempfile::tempdir().expect("dir");
+    let out = dir.path().join("ur5.rs");
+    let written = |choice: &str| {
+        let args = [
+            "gen",
+            arg(&urdf),
+            "--frame",
+            "all",
+            "--frame-references",
+            choice,
+            "-o",
+            arg(&out),
+        ];
+        let run = dyngen(&args);
+        assert_eq!(run.code, Some(0), "{}", run.output());
+        std::fs::read_to_string(&out).expect("written")
+    };
+    let aligned = written("aligned");
+    assert!(aligned.contains("fn frame_jacobian_forearm_link_local_world_aligned("));
+    assert!(!aligned.contains("fn frame_jacobian_forearm_link_local("));
+    assert!(aligned.contains("frame_references::jacobian("));
+    let all = written("all");
+    assert!(all.contains("fn frame_jacobian_forearm_link_local("));
+    assert!(!all.contains("frame_references::"));
+    let run = dyngen(&["gen", arg(&urdf), "--frame-references", "local", "-o", arg(&out)]);
+    assert_eq!(run.code, Some(2), "{}", run.output());
+}

@@ -111,9 +111,9 @@ pub fn estimate(model: &Model, functions: Functions, frame_references: FrameRefe
     let by_group = (functions.groups())
         .map(|group| {
             let bytes = match (group, frame_references) {
-                // Base axes alone, without `J̇` of its own: about a quarter of the three
-                // references' code (the G1's and Talos' frames of every link).
-                (FunctionGroup::Frames, FrameReferences::Aligned) => 5_500 * shape.frame_depths,
+                // Base axes alone: about a third of the three references' code (the G1's
+                // and Talos' frames of every link).
+                (FunctionGroup::Frames, FrameReferences::Aligned) => 7_500 * shape.frame_depths,
                 _ => group_bytes(model, &shape, group),
             };
             (group, per_group(group) + bytes)

@@ -155,9 +155,9 @@ pub fn trace_functions(
 ) -> SymbolicRobot {
     let references = traced_references(frame_references);
     let (graph, traced) = match model.floating_base() {
-        Some(_) => {
-            record(|| super::trace_floating::FloatingTracer::new(model, &base).run(functions, references))
-        }
+        Some(_) => record(|| {
+            super::trace_floating::FloatingTracer::new(model, &base, functions).run(functions, references)
+        }),
         None => record(|| FixedTracer::new(model, &base, functions, references).run()),
     };
     traced.into_robot(graph, base, functions)
@@ -784,25 +784,12 @@ pub(super) fn frame_spellings(model: &Model) -> Vec<FrameIdentifiers> {
 }
 
 /// The reference frames whose frame rows are traced: every one, or with
-/// `frame_references: aligned` the base axes alone, and `J̇` in none (`(pose, J, J̇)`, which
-/// costs what `J̇` alone does, gives it): the emitted code converts to the others at run time
-/// (`dyngen_runtime::__private::frame_references`).
+/// `frame_references: aligned` the base axes alone: the emitted code converts to the others at
+/// run time (`dyngen_runtime::__private::frame_references`).
 pub(super) fn traced_references(choice: FrameReferences) -> &'static [ReferenceFrame] {
     match choice {
         FrameReferences::Auto | FrameReferences::All => &ReferenceFrame::ALL,
         FrameReferences::Aligned => &[ReferenceFrame::LocalWorldAligned],
-    }
-}
-
-/// The reference frames `kind` is traced in, of `references` ([`traced_references`]).
-fn kind_references(kind: QuantityKind, references: &[ReferenceFrame]) -> Vec<Option<ReferenceFrame>> {
-    match (
-        kind.has_reference_frame(),
-        references.len() < ReferenceFrame::ALL.len(),
-    ) {
-        (false, _) => vec![None],
-        (true, true) if kind == QuantityKind::FrameJacobianTimeVariation => Vec::new(),
-        (true, _) => references.iter().copied().map(Some).collect(),
     }
 }
 
@@ -820,7 +807,11 @@ pub(super) fn frame_rows(
 ) -> Vec<Quantity> {
     let mut rows = Vec::new();
     for kind in QuantityKind::ALL.into_iter().filter(|k| k.is_per_frame()) {
-        for reference in kind_references(kind, references) {
+        let references = match kind.has_reference_frame() {
+            true => references.iter().copied().map(Some).collect(),
+            false => vec![None],
+        };
+        for reference in references {
             let (args, shape) = kind.signature(dims);
             rows.push(Quantity {
                 kind,

@@ -93,7 +93,7 @@ pub(super) struct FloatingTracer<'a> {
 impl<'a> FloatingTracer<'a> {
     /// The inputs and the shared values, traced (the inertial parameters the representative
     /// ones of the base parameters, [`BaseParameterSet::representative`], as for a fixed base).
-    pub(super) fn new(model: &'a Model, base_parameters: &'a BaseParameterSet) -> Self {
+    pub(super) fn new(model: &'a Model, base_parameters: &'a BaseParameterSet, functions: Functions) -> Self {
         let (n, nv) = (model.dof(), model.nv());
         let description = FloatingDynamics::new(model)
             .expect("trace_floating needs a floating base")
@@ -127,7 +127,13 @@ impl<'a> FloatingTracer<'a> {
             let full = algorithms::floating_regressor(model, &pose.rot, &x, &qd, v, &a);
             matrix_ids(&full_from_base(&full, base_parameters))
         };
-        let (y, torque_y) = (regressor(&v), regressor(&qd));
+        // Traced here, before the rows that come after them in a trace of every group, and only
+        // when chosen: a humanoid's regressors are most of what a trace of its default groups
+        // would otherwise record.
+        let (y, torque_y) = match functions.contains(FunctionGroup::Regressors) {
+            true => (regressor(&v), regressor(&qd)),
+            false => (Vec::new(), Vec::new()),
+        };
         let gravity = Some(Vec3::from_f64(model.gravity().into()));
         let centroidal = algorithms::centroidal_momentum_matrix(model, &base, &x, &inertias);
         FloatingTracer {

@@ -240,17 +240,20 @@ fn frame_references_follow_the_size_of_the_frames_code() {
     );
     for written in [
         "fn frame_jacobian_pelvis_local_world_aligned(",
+        "fn frame_jacobian_time_variation_pelvis_local_world_aligned(",
         "fn frame_velocity_pelvis_local_world_aligned(",
     ] {
         assert!(robot.code.contains(written), "{written}");
     }
-    for converted in ["_local(", "_world(", "fn frame_jacobian_time_variation_"] {
+    for converted in ["_local(", "_world("] {
         assert!(!robot.code.contains(converted), "{converted}");
     }
     let model = load_with(&g1, &every_link).unwrap().model;
     let all = estimate(&model, robot.functions, FrameReferences::All);
+    // The frames are about three quarters of that estimate; in base axes alone they are a third
+    // of themselves.
     assert!(
-        robot.code.len() * 2 < all,
+        robot.code.len() * 5 < all * 3,
         "{} bytes written, {all} estimated in every reference frame",
         robot.code.len()
     );

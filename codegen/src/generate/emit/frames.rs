@@ -136,8 +136,14 @@ fn frame_enum(model: &Model, variants: &[Ident], enum_doc: &str) -> TokenStream 
     }
 }
 
-/// Which function computes a frame quantity: by kind, frame index and reference frame.
-type FrameCalls = HashMap<(QuantityKind, usize, Option<ReferenceFrame>), TokenStream>;
+/// Which function computes each frame quantity (by kind, frame index and reference frame), and
+/// the Jacobian columns each frame's joints fill: the others are zero in every reference frame,
+/// and a conversion at run time skips them.
+#[derive(Default)]
+struct FrameCalls {
+    by_quantity: HashMap<(QuantityKind, usize, Option<ReferenceFrame>), TokenStream>,
+    columns: HashMap<usize, Vec<usize>>,
+}
 
 /// The frame functions to emit (of Jacobians `width` columns wide), and which function computes
 /// each frame quantity: an existing one, or one emitted here.
@@ -153,7 +159,7 @@ fn frame_functions(
         existing.insert((q.outputs.clone(), q.args.clone(), q.shape), quote!(Self::#name));
     }
     let mut functions: Vec<Emitted> = Vec::new();
-    let mut calls = FrameCalls::new();
+    let mut calls = FrameCalls::default();
     for q in robot.quantities.iter().filter(|q| q.kind.is_per_frame()) {
         let frame = q.frame.as_ref().expect("a frame quantity names its frame");
         let key = (q.outputs.clone(), q.args.clone(), q.shape);
@@ -166,9 +172,30 @@ fn frame_functions(
                 quote!(#name)
             }
         };
-        calls.insert((q.kind, frame.index, frame.reference), call);
+        if (q.kind, frame.reference)
+            == (
+                QuantityKind::FrameJacobian,
+                Some(ReferenceFrame::LocalWorldAligned),
+            )
+        {
+            calls
+                .columns
+                .insert(frame.index, filled_columns(robot, &q.outputs));
+        }
+        calls
+            .by_quantity
+            .insert((q.kind, frame.index, frame.reference), call);
     }
     (functions, calls)
+}
+
+/// The columns of a 6-row Jacobian (`outputs` column-major) not all zero constants.
+fn filled_columns(robot: &SymbolicRobot, outputs: &[Id]) -> Vec<usize> {
+    let zero = |id: &Id| robot.graph.constant_value(*id) == Some(0.0);
+    (outputs.chunks(6).enumerate())
+        .filter(|(_, column)| !column.iter().all(zero))
+        .map(|(c, _)| c)
+        .collect()
 }
 
 /// The arms of the `match` of the trait method of `kind`: per frame (and reference frame), the
@@ -183,12 +210,12 @@ fn frame_arms(
 ) -> Vec<TokenStream> {
     let mut arms = Vec::new();
     for (k, variant) in variants.iter().enumerate() {
-        if let Some(call) = calls.get(&(kind, k, None)) {
+        if let Some(call) = calls.by_quantity.get(&(kind, k, None)) {
             arms.push(quote!(Frame::#variant => #call(#args),));
         }
         let mut missing = false;
         for r in ReferenceFrame::ALL {
-            match calls.get(&(kind, k, Some(r))) {
+            match calls.by_quantity.get(&(kind, k, Some(r))) {
                 Some(call) => {
                     let reference = format_ident!("{r:?}");
                     arms.push(quote!((Frame::#variant, ReferenceFrame::#reference) => #call(#args),));
@@ -205,25 +232,35 @@ fn frame_arms(
 }
 
 /// Frame `k`'s `kind` in the method's `reference`, converted at run time from the functions in
-/// base axes: the pose and `J`, `(pose, J, J̇)` (`J̇` in base axes too), the pose and the
-/// velocity, and the acceleration with them.
+/// base axes: the pose and `J`, and `J̇` with them, the pose and the velocity, and the
+/// acceleration with them. (`frame_kinematics` gives the pose, `J` and `J̇` in one call, but
+/// writing its three results costs more than the three functions computing them apart.)
 fn converted(calls: &FrameCalls, kind: QuantityKind, k: usize) -> TokenStream {
     let aligned = Some(ReferenceFrame::LocalWorldAligned);
     let call = |kind, reference| {
         calls
+            .by_quantity
             .get(&(kind, k, reference))
             .unwrap_or_else(|| panic!("frame {k}: no {kind:?} in {reference:?} to convert from"))
     };
     let pose = call(QuantityKind::FramePose, None);
     let convert = quote!(dyngen_runtime::__private::frame_references);
+    let columns = (calls
+        .columns
+        .get(&k)
+        .map(Vec::as_slice)
+        .unwrap_or_default()
+        .iter())
+    .map(|&c| Literal::usize_unsuffixed(c));
+    let columns = quote!(&[#(#columns),*]);
     match kind {
         QuantityKind::FrameJacobian => {
             let jacobian = call(kind, aligned);
-            quote!(#convert::jacobian(reference, &#pose(t), #jacobian(t)))
+            quote!(#convert::jacobian(reference, &#pose(t), #jacobian(t), #columns))
         }
         QuantityKind::FrameJacobianTimeVariation => {
-            let kinematics = call(QuantityKind::FrameKinematics, None);
-            quote!(#convert::jacobian_time_variation(reference, #kinematics(t, qd), qd))
+            let (jacobian, rate) = (call(QuantityKind::FrameJacobian, aligned), call(kind, aligned));
+            quote!(#convert::jacobian_time_variation(reference, &#pose(t), &#jacobian(t), #rate(t, qd), qd, #columns))
         }
         QuantityKind::FrameVelocity => {
             let velocity = call(kind, aligned);
