@@ -33,6 +33,16 @@ fn velocity(x: &[f64]) -> Velocity {
     Velocity::from_column_slice(x)
 }
 
+/// A random Solo-12 configuration (19 entries, the quaternion normalised) and `N` vectors of
+/// `NV` entries in ±4.
+fn random_state<const N: usize>(rng: &mut SplitMix64) -> (Vec<f64>, [Vec<f64>; N]) {
+    let mut q: Vec<f64> = (0..19).map(|_| rng.uniform((-3.0, 3.0))).collect();
+    let norm = q[3..7].iter().map(|x| x * x).sum::<f64>().sqrt();
+    q[3..7].iter_mut().for_each(|x| *x /= norm);
+    let vectors = [0; N].map(|_| (0..NV).map(|_| rng.uniform((-4.0, 4.0))).collect::<Vec<f64>>());
+    (q, vectors)
+}
+
 #[test]
 fn solo12_matches_pinocchio() {
     let model = load(&workspace_root().join("robots/solo12.yaml")).unwrap().model;
@@ -207,10 +217,7 @@ fn solo12_matches_the_generic_dynamics() {
     let mut rng = SplitMix64::new(12);
     for k in 0..200 {
         let what = |q: &str| format!("state {k}: {q}");
-        let mut q: Vec<f64> = (0..19).map(|_| rng.uniform((-3.0, 3.0))).collect();
-        let norm = q[3..7].iter().map(|x| x * x).sum::<f64>().sqrt();
-        q[3..7].iter_mut().for_each(|x| *x /= norm);
-        let [v, a, vr, tau] = [0; 4].map(|_| (0..NV).map(|_| rng.uniform((-4.0, 4.0))).collect::<Vec<f64>>());
+        let (q, [v, a, vr, tau]) = random_state(&mut rng);
         let t = solo12::trig(&solo12::Configuration::from_column_slice(&q)).unwrap();
         let s = generic.state(&q).unwrap();
         let (vv, av, vrv, tauv) = (velocity(&v), velocity(&a), velocity(&vr), velocity(&tau));
@@ -325,10 +332,7 @@ fn frames_converted_from_base_axes_match_the_generic_dynamics() {
     let mut rng = SplitMix64::new(21);
     for k in 0..50 {
         let what = |q: &str| format!("state {k}: {q}");
-        let mut q: Vec<f64> = (0..19).map(|_| rng.uniform((-3.0, 3.0))).collect();
-        let norm = q[3..7].iter().map(|x| x * x).sum::<f64>().sqrt();
-        q[3..7].iter_mut().for_each(|x| *x /= norm);
-        let [v, a] = [0; 2].map(|_| (0..NV).map(|_| rng.uniform((-4.0, 4.0))).collect::<Vec<f64>>());
+        let (q, [v, a]) = random_state(&mut rng);
         let t = aligned::trig(&aligned::Configuration::from_column_slice(&q)).unwrap();
         let s = generic.state(&q).unwrap();
         let (vv, av) = (velocity(&v), velocity(&a));
