@@ -146,7 +146,7 @@ pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
 /// all (what is traced keeps the order of the full trace, so with every group the graph is the
 /// same). A fixed base and a floating one take the same groups, each row by its own tracer
 /// (`trace_floating.rs` for a floating base). The frame rows are traced in the reference frames
-/// `frame_references` makes straight-line code ([`traced_references`]).
+/// `frame_references` makes straight-line code (every one, or with `aligned` base axes alone).
 pub fn trace_functions(
     model: &Model,
     base: BaseParameterSet,
