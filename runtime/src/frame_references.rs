@@ -87,6 +87,9 @@ pub fn jacobian<const N: usize>(
     mut aligned: SMatrix<f64, 6, N>,
     columns: &[usize],
 ) -> SMatrix<f64, 6, N> {
+    if reference == ReferenceFrame::LocalWorldAligned {
+        return aligned;
+    }
     let (r, p) = (&pose.rotation, three(&pose.translation));
     for &c in columns {
         let Some(column) = aligned.as_mut_slice().get_mut(6 * c..6 * c + 6) else {
@@ -94,9 +97,8 @@ pub fn jacobian<const N: usize>(
         };
         let (v, w) = halves(column);
         match reference {
-            ReferenceFrame::LocalWorldAligned => return aligned,
             ReferenceFrame::World => set(column, add(v, cross(p, w)), w),
-            ReferenceFrame::Local => set(column, turned_back(r, v), turned_back(r, w)),
+            _ => set(column, turned_back(r, v), turned_back(r, w)),
         }
     }
     aligned
