@@ -155,9 +155,9 @@ pub fn trace_functions(
 ) -> SymbolicRobot {
     let references = traced_references(frame_references);
     let (graph, traced) = match model.floating_base() {
-        Some(_) => record(|| {
-            super::trace_floating::FloatingTracer::new(model, &base, functions).run(functions, references)
-        }),
+        Some(_) => {
+            record(|| super::trace_floating::FloatingTracer::new(model, &base, functions, references).run())
+        }
         None => record(|| FixedTracer::new(model, &base, functions, references).run()),
     };
     traced.into_robot(graph, base, functions)

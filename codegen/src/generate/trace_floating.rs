@@ -61,6 +61,9 @@ pub(crate) fn floating_kinds() -> impl Iterator<Item = QuantityKind> {
 pub(super) struct FloatingTracer<'a> {
     model: &'a Model,
     base_parameters: &'a BaseParameterSet,
+    /// The groups traced, and the reference frames of the frame rows.
+    functions: Functions,
+    references: &'static [ReferenceFrame],
     dims: Dims,
     /// The joints' positions, and the base pose as its rotation matrix (row-major) and
     /// position.
@@ -93,7 +96,12 @@ pub(super) struct FloatingTracer<'a> {
 impl<'a> FloatingTracer<'a> {
     /// The inputs and the shared values, traced (the inertial parameters the representative
     /// ones of the base parameters, [`BaseParameterSet::representative`], as for a fixed base).
-    pub(super) fn new(model: &'a Model, base_parameters: &'a BaseParameterSet, functions: Functions) -> Self {
+    pub(super) fn new(
+        model: &'a Model,
+        base_parameters: &'a BaseParameterSet,
+        functions: Functions,
+        references: &'static [ReferenceFrame],
+    ) -> Self {
         let (n, nv) = (model.dof(), model.nv());
         let description = FloatingDynamics::new(model)
             .expect("trace_floating needs a floating base")
@@ -128,8 +136,7 @@ impl<'a> FloatingTracer<'a> {
             matrix_ids(&full_from_base(&full, base_parameters))
         };
         // Traced here, before the rows that come after them in a trace of every group, and only
-        // when chosen: a humanoid's regressors are most of what a trace of its default groups
-        // would otherwise record.
+        // when chosen, as the fixed-base tracer does.
         let (y, torque_y) = match functions.contains(FunctionGroup::Regressors) {
             true => (regressor(&v), regressor(&qd)),
             false => (Vec::new(), Vec::new()),
@@ -139,6 +146,8 @@ impl<'a> FloatingTracer<'a> {
         FloatingTracer {
             model,
             base_parameters,
+            functions,
+            references,
             dims: Dims {
                 n: nv,
                 p: FloatingDynamics::parameter_count(model),
@@ -169,7 +178,8 @@ impl<'a> FloatingTracer<'a> {
     /// Traces the rows of `functions` in trace order (the rows of `BEFORE_FRAMES`, the
     /// per-frame rows frame by frame, the rows of `AFTER_FRAMES`), then the other formulation
     /// of `D⁻¹`.
-    pub(super) fn run(mut self, functions: Functions, references: &'static [ReferenceFrame]) -> Traced {
+    pub(super) fn run(mut self) -> Traced {
+        let functions = self.functions;
         let chosen = |kind: &QuantityKind| functions.contains(kind.group());
         for kind in BEFORE_FRAMES.into_iter().filter(chosen) {
             let outputs = self.outputs(kind);
@@ -178,7 +188,7 @@ impl<'a> FloatingTracer<'a> {
         if functions.contains(FunctionGroup::Frames) {
             let spelled = frame_spellings(self.model);
             for (index, frame) in self.model.frames().iter().enumerate() {
-                self.trace_frame(index, frame, &spelled[index].snake, references);
+                self.trace_frame(index, frame, &spelled[index].snake);
             }
         }
         for kind in AFTER_FRAMES.into_iter().filter(chosen) {
@@ -309,10 +319,18 @@ impl<'a> FloatingTracer<'a> {
         }
     }
 
-    /// The per-frame rows of one frame in `references`, of its motion with the base's.
-    fn trace_frame(&mut self, index: usize, frame: &Frame, snake: &str, references: &[ReferenceFrame]) {
+    /// The per-frame rows of one frame, of its motion with the base's.
+    fn trace_frame(&mut self, index: usize, frame: &Frame, snake: &str) {
         let motion = self.frame_motion(frame);
-        let rows = frame_rows(&motion, &self.qd, &self.a, index, snake, self.dims, references);
+        let rows = frame_rows(
+            &motion,
+            &self.qd,
+            &self.a,
+            index,
+            snake,
+            self.dims,
+            self.references,
+        );
         self.quantities.extend(rows);
     }
 

@@ -193,8 +193,8 @@ impl NonPhysicalInertia {
 /// A frame quantity in each of the three reference frames is three straight-line functions;
 /// `local` and `world` are each a few operations per Jacobian column away from
 /// `local_world_aligned`. On a humanoid with every link a frame the three take most of the
-/// module, so converting at run time keeps the code (and its compile time) about a third,
-/// for a conversion per call in `local` and `world`.
+/// module, so converting at run time keeps the frames' code about a third (the module and its
+/// compile time about half), for a conversion per call in `local` and `world`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum FrameReferences {
@@ -206,17 +206,6 @@ pub enum FrameReferences {
     All,
     /// `local_world_aligned` straight-line; `local` and `world` converted from it at run time.
     Aligned,
-}
-
-impl FrameReferences {
-    /// The value as YAML writes it (`auto`, `all`, `aligned`).
-    pub fn keyword(self) -> &'static str {
-        match self {
-            FrameReferences::Auto => "auto",
-            FrameReferences::All => "all",
-            FrameReferences::Aligned => "aligned",
-        }
-    }
 }
 
 /// A frame rigidly attached to a link, optionally moved by a fixed offset: the end-effector,
