@@ -37,6 +37,7 @@
 // Unit tests run with the standard test harness.
 #![cfg_attr(not(test), no_std)]
 
+mod composed;
 mod contacts;
 #[cfg(all(
     target_arch = "x86_64",
@@ -66,6 +67,7 @@ mod random;
 mod result_buffer;
 mod robot;
 mod stack_align;
+mod tree_factor;
 mod trig;
 #[cfg(target_arch = "x86_64")]
 mod trig_fused;
@@ -114,6 +116,10 @@ pub mod __private {
     ))]
     pub use crate::dispatch::Fused512;
     pub use crate::dispatch::{dispatch, dispatch_eight, dispatch_many, Kernel, MulAdd, Unfused};
+    /// What a function composed from smaller generated ones (`code_shape: composed`) runs.
+    pub mod composed {
+        pub use crate::composed::*;
+    }
     pub use crate::fill::fill_zero;
     /// A frame's quantities in `local` and `world` from those in base axes.
     pub mod frame_references {
@@ -129,6 +135,11 @@ pub mod __private {
     pub use crate::lanes::sign;
     pub use crate::result_buffer::claim;
     pub use crate::stack_align::align_stack_frame;
+    /// The tree factorisation of `D` and its solves, generic over the scalar: the model traces
+    /// them, composed functions run them.
+    pub mod tree_factor {
+        pub use crate::tree_factor::*;
+    }
     pub use libm;
 
     // The switches between the fused and unfused forms, for tests and measurements: a program

@@ -14,6 +14,7 @@
 
 use crate::model::Model;
 use crate::scalar::Scalar;
+use dyngen_runtime::__private::tree_factor;
 use nalgebra::DMatrix;
 
 /// The factors of `D`: `L` below the diagonal (only ancestor entries are meaningful) and `Δ⁻¹`.
@@ -45,23 +46,7 @@ impl<S: Scalar> TreeLdl<S> {
         let mut h = d.clone();
         let mut inv_pivot = vec![S::zero(); n];
         let mut pivots = vec![S::zero(); n];
-        for k in (0..n).rev() {
-            // Row k already holds every update from k's descendants (larger indices).
-            pivots[k] = h[(k, k)];
-            let inv = S::one() / h[(k, k)];
-            inv_pivot[k] = inv;
-            let mut i = parent[k];
-            while let Some(ii) = i {
-                let a = h[(k, ii)] * inv;
-                let mut j = Some(ii);
-                while let Some(jj) = j {
-                    h[(ii, jj)] = h[(ii, jj)] - a * h[(k, jj)];
-                    j = parent[jj];
-                }
-                h[(k, ii)] = a;
-                i = parent[ii];
-            }
-        }
+        tree_factor::factor_in_place(&parent, &mut h, &mut pivots, &mut inv_pivot, |x| S::one() / x);
         TreeLdl {
             l: h,
             inv_pivot,
@@ -94,43 +79,16 @@ impl<S: Scalar> TreeLdl<S> {
     /// `L⁻¹ Δ⁻¹ y`: the rest of [`TreeLdl::solve`] after its first half, so `D⁻¹ b` for `y =
     /// L⁻ᵀ b`. Solves of sums (`D⁻¹ (b + Bᵀ λ)`) can add their halves first.
     pub fn finish_solve(&self, y: &[S]) -> Vec<S> {
-        let mut x: Vec<S> = y.iter().zip(&self.inv_pivot).map(|(&y, &inv)| y * inv).collect();
-        self.solve_factor_in_place(&mut x);
+        let mut x = y.to_vec();
+        tree_factor::finish_solve(&self.parent, &self.l, &self.inv_pivot, x.as_mut_slice());
         x
     }
 
     /// `y` with `Lᵀ y = b`, from the leaves up: the first half of [`TreeLdl::solve`].
     pub fn solve_transposed_factor(&self, b: &[S]) -> Vec<S> {
-        let n = self.inv_pivot.len();
         let mut x = b.to_vec();
-        for k in (0..n).rev() {
-            let mut i = self.parent[k];
-            while let Some(ii) = i {
-                x[ii] = x[ii] - self.l[(k, ii)] * x[k];
-                i = self.parent[ii];
-            }
-        }
+        tree_factor::solve_transposed_factor(&self.parent, &self.l, x.as_mut_slice());
         x
-    }
-
-    /// `x ← L⁻¹ x`, from the root down: the last step of [`TreeLdl::solve`].
-    fn solve_factor_in_place(&self, x: &mut [S]) {
-        let n = self.inv_pivot.len();
-        // Root first: the parent's `x` is the last to be ready, so its term comes last and each
-        // row adds one multiply-add to the chain of dependent operations instead of its depth
-        // (the Panda's forward dynamics: 21 dependent multiply-adds in this sweep → 7).
-        let mut ancestors = Vec::with_capacity(n);
-        for k in 0..n {
-            ancestors.clear();
-            let mut i = self.parent[k];
-            while let Some(ii) = i {
-                ancestors.push(ii);
-                i = self.parent[ii];
-            }
-            for &ii in ancestors.iter().rev() {
-                x[k] = x[k] - self.l[(k, ii)] * x[ii];
-            }
-        }
     }
 
     /// `(B D⁻¹ Bᵀ, D⁻¹ Bᵀ)` for rows `B` (`m × n`): with `Y = L⁻ᵀ Bᵀ` (the leaves-up half of
@@ -164,7 +122,7 @@ impl<S: Scalar> TreeLdl<S> {
         }
         let mut solved = DMatrix::from_element(n, m, S::zero());
         for (c, mut x) in scaled.into_iter().enumerate() {
-            self.solve_factor_in_place(&mut x);
+            tree_factor::solve_factor(&self.parent, &self.l, x.as_mut_slice());
             for (r, v) in x.into_iter().enumerate() {
                 solved[(r, c)] = v;
             }
