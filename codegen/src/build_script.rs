@@ -6,7 +6,7 @@
 
 use crate::c_library::{check_library, library_files, module_file, write_library, CLibrary, Naming};
 use crate::description::{
-    Choices, ContactSpec, DescriptionError, FrameReferences, FrameSelection, FrameSpec, JointParameters,
+    Choices, CodeShape, ContactSpec, DescriptionError, FrameReferences, FrameSelection, FrameSpec, JointParameters,
     NonPhysicalInertia,
 };
 use crate::generate::{
@@ -165,6 +165,14 @@ impl Builder {
     /// the others converted from it at run time).
     pub fn frame_references(mut self, choice: FrameReferences) -> Builder {
         self.choices.frame_references = choice;
+        self
+    }
+
+    /// Sets [`Choices::code_shape`]: whether the functions that have a composed form are
+    /// straight-line code (`CodeShape::Flat`) or computed from the robot's smaller functions
+    /// (`CodeShape::Composed`).
+    pub fn code_shape(mut self, choice: CodeShape) -> Builder {
+        self.choices.code_shape = choice;
         self
     }
 

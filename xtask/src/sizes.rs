@@ -9,8 +9,8 @@
 //! wall time of that `cargo build`.
 
 use dyngen_codegen::base_parameters::BaseParameterSet;
-use dyngen_codegen::description::FrameReferences;
-use dyngen_codegen::generate::frame_references;
+use dyngen_codegen::description::Choices;
+use dyngen_codegen::generate::shapes;
 use dyngen_codegen::internals::generate::{emit, trace_functions, Provenance, MODULE_ATTRIBUTES};
 use dyngen_codegen::model::Model;
 use dyngen_codegen::{FunctionGroup, Functions};
@@ -125,8 +125,8 @@ pub fn report(root: &Path, compile: Compile, max_mib: f64) -> Result<String, Str
         let base = BaseParameterSet::compute(&model);
         for (selection, functions) in selections(model.dof()) {
             let start = Instant::now();
-            let (references, _) = frame_references(&model, functions, FrameReferences::Auto);
-            let traced = trace_functions(&model, base.clone(), functions, references);
+            let (shapes, _) = shapes(&model, functions, &Choices::default());
+            let traced = trace_functions(&model, base.clone(), functions, &shapes);
             let provenance = Provenance {
                 source: name.clone(),
                 source_hash: "0".into(),

@@ -13,7 +13,8 @@
 //! 64-joint chain writes 43 MB where a 101-joint mobile manipulator, whose arms and fingers
 //! branch off a short trunk, writes 12 MB.
 
-use crate::description::FrameReferences;
+use crate::description::{Choices, CodeShape, FrameReferences};
+use crate::generate::quantities::QuantityKind;
 use crate::model::Model;
 use crate::{FunctionGroup, Functions};
 
@@ -104,19 +105,115 @@ fn per_group(group: FunctionGroup) -> usize {
 /// arm's every link and a few feet or hands on a humanoid stay under.
 pub const FRAMES_IN_EVERY_REFERENCE_UP_TO: usize = 3_000_000;
 
-/// The estimated size of `model`'s module with the groups `functions`, the frame functions in
-/// the reference frames `frame_references` writes (`auto` as `all`).
-pub fn estimate(model: &Model, functions: Functions, frame_references: FrameReferences) -> CodeSize {
+/// What a robot's functions are written as, decided from the user's choices and the estimate
+/// of their size ([`shapes`]): the reference frames of the frame functions that are
+/// straight-line code, and the functions written composed.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Shapes {
+    /// `All` or `Aligned` (never `Auto`).
+    pub frame_references: FrameReferences,
+    /// The functions computed from smaller generated ones (`code_shape: composed`).
+    pub composed: Vec<QuantityKind>,
+}
+
+impl Shapes {
+    /// Every function straight-line, in every reference frame: what a small robot gets.
+    pub fn flat() -> Shapes {
+        Shapes {
+            frame_references: FrameReferences::All,
+            composed: Vec::new(),
+        }
+    }
+
+    /// Whether `kind` is written composed.
+    pub fn is_composed(&self, kind: QuantityKind) -> bool {
+        self.composed.contains(&kind)
+    }
+}
+
+/// The straight-line functions above which `code_shape: auto` writes a function composed: the
+/// derivatives of forward dynamics of a humanoid (the G1's 2.3 MB) go over, a quadruped's
+/// (Solo-12's 0.46 MB) and an arm's stay under.
+pub const FLAT_FUNCTIONS_UP_TO: usize = 1_000_000;
+
+/// The estimated bytes of `kind`'s straight-line code, for the functions that have a composed
+/// form: `∂ν̇/∂x` an entry per pair of velocity coordinates, each a solve's worth of work
+/// (Solo-12: 0.46 MB, the G1: 2.3 MB).
+fn flat_function_bytes(shape: &TreeShape, kind: QuantityKind) -> usize {
+    match kind {
+        QuantityKind::ForwardDynamicsDerivatives => 1_900 * shape.nv * shape.nv,
+        _ => 0,
+    }
+}
+
+/// The functions of the groups `functions` that `choice` writes composed, each with the
+/// estimated bytes of its straight-line form: with `auto`, those above
+/// [`FLAT_FUNCTIONS_UP_TO`].
+pub fn composed_functions(model: &Model, functions: Functions, choice: CodeShape) -> Vec<(QuantityKind, usize)> {
+    let shape = TreeShape::of(model);
+    (QuantityKind::ALL.into_iter())
+        .filter(|kind| kind.has_composed_form() && functions.contains(kind.group()))
+        .map(|kind| (kind, flat_function_bytes(&shape, kind)))
+        .filter(|&(_, bytes)| match choice {
+            CodeShape::Auto => bytes > FLAT_FUNCTIONS_UP_TO,
+            CodeShape::Flat => false,
+            CodeShape::Composed => true,
+        })
+        .collect()
+}
+
+/// What `model`'s functions of the groups `functions` are written as, as `choices` ask (`auto`
+/// decided by the estimated size of the code), with a note for each decision that moves a
+/// function from its fastest shape.
+pub fn shapes(model: &Model, functions: Functions, choices: &Choices) -> (Shapes, Vec<String>) {
+    let mut notes = Vec::new();
+    let chosen = choices.frame_references;
+    let (frame_references, frame_bytes) = frame_references(model, functions, chosen);
+    if chosen == FrameReferences::Auto && frame_references == FrameReferences::Aligned {
+        notes.push(format!(
+            "{} frames: their functions in every reference frame would be about {} MB of Rust, \
+             so `local` and `world` are converted from `local_world_aligned` at run time \
+             (`frame_references: all` writes each as a function of its own)",
+            model.frames().len(),
+            frame_bytes / 1_000_000
+        ));
+    }
+    let composed = composed_functions(model, functions, choices.code_shape);
+    if choices.code_shape == CodeShape::Auto {
+        notes.extend(composed.iter().map(|&(kind, bytes)| {
+            format!(
+                "`{}` as straight-line code would be about {:.1} MB of Rust, so it is computed \
+                 from the robot's smaller functions through the tree factor of `D` \
+                 (`code_shape: flat` writes it whole)",
+                kind.name(),
+                bytes as f64 / 1e6
+            )
+        }));
+    }
+    let shapes = Shapes {
+        frame_references,
+        composed: composed.into_iter().map(|(kind, _)| kind).collect(),
+    };
+    (shapes, notes)
+}
+
+/// The estimated size of `model`'s module with the groups `functions`, written as `shapes`
+/// says.
+pub fn estimate(model: &Model, functions: Functions, shapes: &Shapes) -> CodeSize {
     let shape = TreeShape::of(model);
     let by_group = (functions.groups())
         .map(|group| {
-            let bytes = match (group, frame_references) {
+            let bytes = match (group, shapes.frame_references) {
                 // Base axes alone: about a third of the three references' code (the G1's
                 // and Talos' frames of every link).
                 (FunctionGroup::Frames, FrameReferences::Aligned) => 7_500 * shape.frame_depths,
                 _ => group_bytes(model, &shape, group),
             };
-            (group, per_group(group) + bytes)
+            let composed: usize = (shapes.composed.iter())
+                .filter(|kind| kind.group() == group)
+                .map(|&kind| flat_function_bytes(&shape, kind))
+                .sum();
+            (group, per_group(group) + bytes.saturating_sub(composed))
         })
         .collect();
     CodeSize { by_group }

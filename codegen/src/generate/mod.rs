@@ -14,8 +14,8 @@ pub(crate) mod trace_floating;
 
 pub use crate::symbolic::OpCounts;
 pub use code_size::{
-    estimate as estimate_code_size, frame_references, CodeSize, FRAMES_IN_EVERY_REFERENCE_UP_TO,
-    MAX_GENERATED_BYTES,
+    composed_functions, estimate as estimate_code_size, frame_references, shapes, CodeSize, Shapes,
+    FLAT_FUNCTIONS_UP_TO, FRAMES_IN_EVERY_REFERENCE_UP_TO, MAX_GENERATED_BYTES,
 };
 pub use crate_dir::{descriptions_in, generate_into_crate, CrateReport, Mode, RobotReport};
 pub(crate) use output::is_generated;

@@ -309,6 +309,14 @@ impl QuantityKind {
         self.group() == FunctionGroup::Frames
     }
 
+    /// Whether it can be written composed (`code_shape: composed`): computed from the robot's
+    /// smaller generated functions through the tree factor of `D`, in loops of the runtime,
+    /// instead of as straight-line code of its own. Its inputs: `D`, inverse dynamics and its
+    /// derivatives, all of the group `dynamics` or its own.
+    pub fn has_composed_form(self) -> bool {
+        self == QuantityKind::ForwardDynamicsDerivatives
+    }
+
     /// Whether its trait has a `_into` form that writes into a `ResultBuffer` kept between
     /// calls: the matrices whose entries are largely zero in every state, or whose size makes a
     /// fill and a copy per call worth saving.

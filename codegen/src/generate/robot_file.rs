@@ -6,7 +6,7 @@ use super::emit::{emit, Provenance};
 use super::hash::fnv1a64;
 use super::trace::trace_functions;
 use crate::base_parameters::BaseParameterSet;
-use crate::description::{load_with, Choices, DescriptionError, FrameReferences};
+use crate::description::{load_with, Choices, DescriptionError};
 use crate::model::Model;
 use crate::symbolic::OpCounts;
 use crate::{FunctionGroup, Functions, EVERY_GROUP_BY_DEFAULT_UP_TO_DOF};
@@ -117,20 +117,11 @@ pub fn generate_robot_with(
         regenerate: regenerate.to_owned(),
         type_name: type_name.to_owned(),
     };
-    let chosen = loaded.choices.frame_references;
-    let (frame_references, frame_bytes) = code_size::frame_references(&loaded.model, functions, chosen);
-    if chosen == FrameReferences::Auto && frame_references == FrameReferences::Aligned {
-        loaded.notes.push(format!(
-            "{}: {} frames: their functions in every reference frame would be about {} MB of Rust, \
-             so `local` and `world` are converted from `local_world_aligned` at run time \
-             (`frame_references: all` writes each as a function of its own)",
-            path.display(),
-            loaded.model.frames().len(),
-            frame_bytes / 1_000_000
-        ));
-    }
+    let (shapes, notes) = code_size::shapes(&loaded.model, functions, &loaded.choices);
+    let notes = notes.into_iter().map(|note| format!("{}: {note}", path.display()));
+    loaded.notes.extend(notes);
     // The code grows with the tree's shape (mimic joints included), not with its joint count.
-    let size = code_size::estimate(&loaded.model, functions, frame_references);
+    let size = code_size::estimate(&loaded.model, functions, &shapes);
     if size.total() > MAX_GENERATED_BYTES {
         let (group, bytes) = size.largest().expect("kinematics and dynamics are always chosen");
         let msg = format!(
@@ -145,7 +136,7 @@ pub fn generate_robot_with(
         return Err(DescriptionError::new(path, msg).into());
     }
     let base = BaseParameterSet::compute(&loaded.model);
-    let robot = trace_functions(&loaded.model, base, functions, frame_references);
+    let robot = trace_functions(&loaded.model, base, functions, &shapes);
     if let Some(v) = robot.non_finite_constant() {
         let msg = format!(
             "the dynamics of this model overflow (a constant computes to {v}): masses, lengths \

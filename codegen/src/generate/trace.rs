@@ -10,6 +10,7 @@
 //! append-only: what is added is traced after everything else.
 
 use super::quantities::{Arg, Coefficient, Dims, QuantityKind, Shape};
+use super::code_size::Shapes;
 use super::trace_contact_derivatives::Tree;
 use super::trace_contacts::{contact_outputs, ContactInputs, ContactState};
 use crate::base_parameters::BaseParameterSet;
@@ -45,8 +46,35 @@ pub struct Quantity {
     pub frame: Option<FrameOf>,
     pub args: Vec<Arg>,
     pub shape: Shape,
-    /// Output nodes in the order of the shape (column-major for matrices).
+    /// Output nodes in the order of the shape (column-major for matrices); none for a
+    /// composed row.
     pub outputs: Vec<Id>,
+    /// Whether it is computed from the robot's smaller functions (`code_shape: composed`)
+    /// rather than traced.
+    pub composed: bool,
+}
+
+impl Quantity {
+    /// Row `kind` (not per frame) with `outputs`, its arguments and shape from the table.
+    pub(super) fn new(kind: QuantityKind, dims: Dims, outputs: Vec<Id>) -> Quantity {
+        let (args, shape) = kind.signature(dims);
+        Quantity {
+            kind,
+            frame: None,
+            args,
+            shape,
+            outputs,
+            composed: false,
+        }
+    }
+
+    /// Row `kind` written composed.
+    pub(super) fn composed(kind: QuantityKind, dims: Dims) -> Quantity {
+        Quantity {
+            composed: true,
+            ..Quantity::new(kind, dims, Vec::new())
+        }
+    }
 }
 
 impl FrameOf {
@@ -139,26 +167,24 @@ pub fn trace(model: &Model) -> SymbolicRobot {
 
 /// [`trace`] with base parameters computed beforehand.
 pub fn trace_with_base(model: &Model, base: BaseParameterSet) -> SymbolicRobot {
-    trace_functions(model, base, Functions::all(), FrameReferences::All)
+    trace_functions(model, base, Functions::all(), &Shapes::flat())
 }
 
 /// [`trace_with_base`] of the groups `functions` only: the rows of the others are not traced at
 /// all (what is traced keeps the order of the full trace, so with every group the graph is the
 /// same). A fixed base and a floating one take the same groups, each row by its own tracer
-/// (`trace_floating.rs` for a floating base). The frame rows are traced in the reference frames
-/// `frame_references` makes straight-line code (every one, or with `aligned` base axes alone).
+/// (`trace_floating.rs` for a floating base), written as `shapes` says: the frame rows in the
+/// reference frames it makes straight-line code (every one, or base axes alone), and the
+/// composed rows not traced at all (recorded without outputs, the emitter composes them).
 pub fn trace_functions(
     model: &Model,
     base: BaseParameterSet,
     functions: Functions,
-    frame_references: FrameReferences,
+    shapes: &Shapes,
 ) -> SymbolicRobot {
-    let references = traced_references(frame_references);
     let (graph, traced) = match model.floating_base() {
-        Some(_) => {
-            record(|| super::trace_floating::FloatingTracer::new(model, &base, functions, references).run())
-        }
-        None => record(|| FixedTracer::new(model, &base, functions, references).run()),
+        Some(_) => record(|| super::trace_floating::FloatingTracer::new(model, &base, functions, shapes).run()),
+        None => record(|| FixedTracer::new(model, &base, functions, shapes).run()),
     };
     traced.into_robot(graph, base, functions)
 }
@@ -242,6 +268,8 @@ struct FixedTracer<'a> {
     functions: Functions,
     /// The reference frames of the frame rows.
     references: &'static [ReferenceFrame],
+    /// The rows written composed: recorded, not traced.
+    composed: Vec<QuantityKind>,
     dims: Dims,
     /// The state, created first: the shared values read it.
     q: Vec<Expr>,
@@ -275,7 +303,7 @@ impl<'a> FixedTracer<'a> {
         model: &'a Model,
         base: &'a BaseParameterSet,
         functions: Functions,
-        references: &'static [ReferenceFrame],
+        shapes: &Shapes,
     ) -> Self {
         let n = model.dof();
         let (q, qd, v, a) = (inputs("q", n), inputs("qd", n), inputs("v", n), inputs("a", n));
@@ -297,7 +325,8 @@ impl<'a> FixedTracer<'a> {
             model,
             base,
             functions,
-            references,
+            references: traced_references(shapes.frame_references),
+            composed: shapes.composed.clone(),
             dims: Dims {
                 n,
                 p: model.parameter_count(),
@@ -328,9 +357,23 @@ impl<'a> FixedTracer<'a> {
     fn run(mut self) -> Traced {
         for kind in QuantityKind::ALL.into_iter().filter(|k| !k.is_per_frame()) {
             self.create_inputs(kind);
-            if traced(&self.functions, kind) {
-                let outputs = self.outputs(kind);
-                self.record(kind, outputs);
+            if !traced(&self.functions, kind) {
+                continue;
+            }
+            match self.composed.contains(&kind) {
+                true => self.record_composed(kind),
+                false => {
+                    let outputs = self.outputs(kind);
+                    self.record(kind, outputs);
+                }
+            }
+            if kind == QuantityKind::ForwardDynamicsDerivatives {
+                // Both derivatives with their directions in lanes too, traced after the one by
+                // one forms (which keep the code they had before lanes existed).
+                for kind in self.flat_derivatives() {
+                    let lanes = self.derivative(kind, Directions::Lanes, Placements::Multiplied);
+                    self.other_forms.push((kind.name().to_owned(), lanes));
+                }
             }
         }
         if self.functions.contains(FunctionGroup::Frames) {
@@ -409,14 +452,19 @@ impl<'a> FixedTracer<'a> {
 
     /// Records `outputs` as row `kind`, with the table's arguments and shape.
     fn record(&mut self, kind: QuantityKind, outputs: Vec<Id>) {
-        let (args, shape) = kind.signature(self.dims);
-        self.quantities.push(Quantity {
-            kind,
-            frame: None,
-            args,
-            shape,
-            outputs,
-        });
+        self.quantities.push(Quantity::new(kind, self.dims, outputs));
+    }
+
+    /// Records row `kind` as composed: no outputs of its own.
+    fn record_composed(&mut self, kind: QuantityKind) {
+        self.quantities.push(Quantity::composed(kind, self.dims));
+    }
+
+    /// The derivative rows traced as straight-line code.
+    fn flat_derivatives(&self) -> Vec<QuantityKind> {
+        (DERIVATIVES.into_iter())
+            .filter(|kind| !self.composed.contains(kind))
+            .collect()
     }
 
     /// The outputs of row `kind` as recorded, if it was (empty if not).
@@ -456,14 +504,7 @@ impl<'a> FixedTracer<'a> {
                 self.derivative(kind, Directions::OneByOne, Placements::Multiplied)
             }
             K::ForwardDynamicsDerivatives => {
-                let outputs = self.derivative(kind, Directions::OneByOne, Placements::Multiplied);
-                // Both derivatives with their directions in lanes too, traced after the one by
-                // one forms (which keep the code they had before lanes existed).
-                for kind in DERIVATIVES {
-                    let lanes = self.derivative(kind, Directions::Lanes, Placements::Multiplied);
-                    self.other_forms.push((kind.name().to_owned(), lanes));
-                }
-                outputs
+                self.derivative(kind, Directions::OneByOne, Placements::Multiplied)
             }
             // Forward kinematics, `J` and `J̇` in one function: the nodes the three share (joint
             // transforms, body poses) are computed once. No new nodes, only their outputs.
@@ -635,7 +676,7 @@ impl<'a> FixedTracer<'a> {
         }
         if self.functions.contains(FunctionGroup::Derivatives) {
             for directions in [Directions::OneByOne, Directions::Lanes] {
-                for kind in DERIVATIVES {
+                for kind in self.flat_derivatives() {
                     forms.push((kind, self.derivative(kind, directions, Placements::Factored)));
                 }
             }
@@ -819,6 +860,7 @@ pub(super) fn frame_rows(
                 args,
                 shape,
                 outputs: frame_outputs(motion, kind, reference, qd, qdd),
+                composed: false,
             });
         }
     }

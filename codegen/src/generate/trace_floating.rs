@@ -7,7 +7,9 @@
 use super::quantities::{Dims, QuantityKind};
 use super::trace::{
     base_columns, frame_rows, frame_spellings, full_from_base, ids, inputs, matrix_ids, pair_ids,
+    traced_references,
 };
+use super::code_size::Shapes;
 use super::trace::{Inputs, Quantity, Traced};
 use super::trace_contacts::contact_outputs;
 use crate::base_parameters::BaseParameterSet;
@@ -64,6 +66,8 @@ pub(super) struct FloatingTracer<'a> {
     /// The groups traced, and the reference frames of the frame rows.
     functions: Functions,
     references: &'static [ReferenceFrame],
+    /// The rows written composed: recorded, not traced.
+    composed: Vec<QuantityKind>,
     dims: Dims,
     /// The joints' positions, and the base pose as its rotation matrix (row-major) and
     /// position.
@@ -100,7 +104,7 @@ impl<'a> FloatingTracer<'a> {
         model: &'a Model,
         base_parameters: &'a BaseParameterSet,
         functions: Functions,
-        references: &'static [ReferenceFrame],
+        shapes: &Shapes,
     ) -> Self {
         let (n, nv) = (model.dof(), model.nv());
         let description = FloatingDynamics::new(model)
@@ -147,7 +151,8 @@ impl<'a> FloatingTracer<'a> {
             model,
             base_parameters,
             functions,
-            references,
+            references: traced_references(shapes.frame_references),
+            composed: shapes.composed.clone(),
             dims: Dims {
                 n: nv,
                 p: FloatingDynamics::parameter_count(model),
@@ -192,8 +197,13 @@ impl<'a> FloatingTracer<'a> {
             }
         }
         for kind in AFTER_FRAMES.into_iter().filter(chosen) {
-            let outputs = self.outputs(kind);
-            self.record(kind, outputs);
+            match self.composed.contains(&kind) {
+                true => self.quantities.push(Quantity::composed(kind, self.dims)),
+                false => {
+                    let outputs = self.outputs(kind);
+                    self.record(kind, outputs);
+                }
+            }
         }
         // D⁻¹ by sums over common ancestors, traced last so the functions above keep their node
         // ids; kept where it costs less. (The regressors by the bodies' Jacobians cost fewer
@@ -256,14 +266,7 @@ impl<'a> FloatingTracer<'a> {
 
     /// Records `outputs` as row `kind`, with the table's arguments and shape.
     fn record(&mut self, kind: QuantityKind, outputs: Vec<Id>) {
-        let (args, shape) = kind.signature(self.dims);
-        self.quantities.push(Quantity {
-            kind,
-            frame: None,
-            args,
-            shape,
-            outputs,
-        });
+        self.quantities.push(Quantity::new(kind, self.dims, outputs));
     }
 
     /// How row `kind` (one not per frame) is traced: its outputs.

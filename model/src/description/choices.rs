@@ -137,6 +137,12 @@ declare_choices! {
         /// `all` while the frames' code is small, `aligned` for many frames on a large robot
         /// (a note says which).
         pub frame_references: FrameReferences,
+        /// How the functions that have two forms are written: `flat` (one straight-line
+        /// function each) or `composed` (computed from the robot's smaller generated functions
+        /// through the tree factor of `D`, in loops) ([`CodeShape`]). Default: `flat` while a
+        /// function's straight-line code is small, `composed` where it would be megabytes (a
+        /// note says which).
+        pub code_shape: CodeShape,
     }
 }
 
@@ -206,6 +212,27 @@ pub enum FrameReferences {
     All,
     /// `local_world_aligned` straight-line; `local` and `world` converted from it at run time.
     Aligned,
+}
+
+/// How the functions that have two forms are written: the choice [`Choices::code_shape`] (YAML
+/// `code_shape: flat | composed`).
+///
+/// Straight-line code is fastest while a function fits the instruction caches; on a humanoid
+/// the derivatives of forward dynamics alone are megabytes of it, which take minutes to
+/// compile and run no faster than the same work done by the robot's inverse-dynamics
+/// derivatives and `D`, solved through the tree factor of `D` in a loop. The functions with a
+/// composed form are listed in `docs/dynamics.md`.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum CodeShape {
+    /// `flat` where a function's straight-line code is small, `composed` where it is large (the
+    /// generator's estimate of its size decides).
+    #[default]
+    Auto,
+    /// Every function one straight-line function.
+    Flat,
+    /// Every function that has a composed form in that form.
+    Composed,
 }
 
 /// A frame rigidly attached to a link, optionally moved by a fixed offset: the end-effector,

@@ -45,7 +45,7 @@ mod urdf;
 mod yaml;
 mod yaml_spans;
 
-pub use choices::{Choices, FrameReferences, FrameSelection, FrameSpec, NonPhysicalInertia};
+pub use choices::{Choices, CodeShape, FrameReferences, FrameSelection, FrameSpec, NonPhysicalInertia};
 pub use contacts::ContactSpec;
 pub use error::{DescriptionError, Location};
 pub use export::{to_urdf_rs, ExportError, UrdfExport};

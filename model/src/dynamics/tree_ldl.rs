@@ -17,6 +17,28 @@ use crate::scalar::Scalar;
 use dyngen_runtime::__private::tree_factor;
 use nalgebra::DMatrix;
 
+/// Each coordinate's parent in the factor of the joints' `D`: the joint's, or with mimic joints
+/// the coordinate before (a chain).
+fn joint_parents(model: &Model) -> Vec<Option<usize>> {
+    match model.has_mimics() {
+        false => model.joints().iter().map(|j| j.parent).collect(),
+        true => (0..model.dof()).map(|k| k.checked_sub(1)).collect(),
+    }
+}
+
+/// Each velocity coordinate's parent in the factor of the robot's `D`: on a fixed base the
+/// joints' ([`TreeLdl::factor`]); on a floating base the base's six a chain, the roots below its
+/// last; with mimic joints, whose `D` couples the branches a mimic joint and its master sit on,
+/// the coordinate before (the dense `LDLᵀ`).
+pub fn velocity_parents(model: &Model) -> Vec<Option<usize>> {
+    if model.floating_base().is_none() || model.has_mimics() {
+        return joint_parents(model);
+    }
+    let mut parents: Vec<Option<usize>> = (0..6).map(|k: usize| k.checked_sub(1)).collect();
+    parents.extend(model.joints().iter().map(|j| Some(j.parent.map_or(5, |p| 6 + p))));
+    parents
+}
+
 /// The factors of `D`: `L` below the diagonal (only ancestor entries are meaningful) and `Δ⁻¹`.
 #[derive(Clone, Debug)]
 pub struct TreeLdl<S> {
@@ -25,33 +47,51 @@ pub struct TreeLdl<S> {
     inv_pivot: Vec<S>,
     /// Pivots `Δ_k`, in joint order.
     pub pivots: Vec<S>,
-    parent: Vec<Option<usize>>,
+    ancestry: Chains,
+}
+
+/// Each coordinate's ancestors, nearest first: the tree the runtime's factorisation walks.
+#[derive(Clone, Debug)]
+struct Chains(Vec<Vec<usize>>);
+
+impl Chains {
+    fn of(parent: &[Option<usize>]) -> Chains {
+        let chain = |k: usize| std::iter::successors(parent[k], |&i| parent[i]).collect();
+        Chains((0..parent.len()).map(chain).collect())
+    }
+}
+
+impl tree_factor::Ancestry for Chains {
+    fn len(&self) -> usize {
+        self.0.len()
+    }
+
+    fn ancestors(&self, k: usize) -> &[usize] {
+        &self.0[k]
+    }
 }
 
 impl<S: Scalar> TreeLdl<S> {
-    /// Factors `d` (the mass matrix of `model`), reading only its lower triangle.
+    /// Factors `d` (the joint-space mass matrix of `model`'s tree), reading only its lower
+    /// triangle.
     pub fn factor(model: &Model, d: &DMatrix<S>) -> Self {
-        let n = model.dof();
-        let parent: Vec<Option<usize>> = match model.has_mimics() {
-            false => model.joints().iter().map(|j| j.parent).collect(),
-            true => (0..n).map(|k| k.checked_sub(1)).collect(),
-        };
-        Self::factor_tree(parent, d)
+        Self::factor_tree(joint_parents(model), d)
     }
 
     /// Factors `d`, whose sparsity follows `parent` (`d_ki = 0` unless one of `k`, `i` is an
     /// ancestor of the other; `parent[k] < k`), reading only its lower triangle.
     pub fn factor_tree(parent: Vec<Option<usize>>, d: &DMatrix<S>) -> Self {
         let n = parent.len();
+        let ancestry = Chains::of(&parent);
         let mut h = d.clone();
         let mut inv_pivot = vec![S::zero(); n];
         let mut pivots = vec![S::zero(); n];
-        tree_factor::factor_in_place(&parent, &mut h, &mut pivots, &mut inv_pivot, |x| S::one() / x);
+        tree_factor::factor_in_place(&ancestry, &mut h, &mut pivots, &mut inv_pivot, |x| S::one() / x);
         TreeLdl {
             l: h,
             inv_pivot,
             pivots,
-            parent,
+            ancestry,
         }
     }
 
@@ -62,7 +102,7 @@ impl<S: Scalar> TreeLdl<S> {
             l: self.l.map(&f),
             inv_pivot: self.inv_pivot.iter().map(|&x| f(x)).collect(),
             pivots: self.pivots.iter().map(|&x| f(x)).collect(),
-            parent: self.parent.clone(),
+            ancestry: self.ancestry.clone(),
         }
     }
 
@@ -80,14 +120,14 @@ impl<S: Scalar> TreeLdl<S> {
     /// L⁻ᵀ b`. Solves of sums (`D⁻¹ (b + Bᵀ λ)`) can add their halves first.
     pub fn finish_solve(&self, y: &[S]) -> Vec<S> {
         let mut x = y.to_vec();
-        tree_factor::finish_solve(&self.parent, &self.l, &self.inv_pivot, x.as_mut_slice());
+        tree_factor::finish_solve(&self.ancestry, &self.l, &self.inv_pivot, &mut x);
         x
     }
 
     /// `y` with `Lᵀ y = b`, from the leaves up: the first half of [`TreeLdl::solve`].
     pub fn solve_transposed_factor(&self, b: &[S]) -> Vec<S> {
         let mut x = b.to_vec();
-        tree_factor::solve_transposed_factor(&self.parent, &self.l, x.as_mut_slice());
+        tree_factor::solve_transposed_factor(&self.ancestry, &self.l, &mut x);
         x
     }
 
@@ -122,7 +162,7 @@ impl<S: Scalar> TreeLdl<S> {
         }
         let mut solved = DMatrix::from_element(n, m, S::zero());
         for (c, mut x) in scaled.into_iter().enumerate() {
-            tree_factor::solve_factor(&self.parent, &self.l, x.as_mut_slice());
+            tree_factor::solve_factor(&self.ancestry, &self.l, &mut x);
             for (r, v) in x.into_iter().enumerate() {
                 solved[(r, c)] = v;
             }
@@ -149,17 +189,7 @@ impl<S: Scalar> TreeLdl<S> {
     /// ([`TreeLdl::inverse`]); generation keeps the cheaper.
     pub fn inverse_by_ancestors(&self) -> DMatrix<S> {
         let n = self.inv_pivot.len();
-        let ancestors: Vec<Vec<usize>> = (0..n)
-            .map(|k| {
-                let mut chain = Vec::new();
-                let mut i = self.parent[k];
-                while let Some(ii) = i {
-                    chain.push(ii);
-                    i = self.parent[ii];
-                }
-                chain
-            })
-            .collect();
+        let ancestors = &self.ancestry.0;
         // m[k][p] = M_{k, ancestors[k][p]} (M_kk = 1), rows in order so that every ancestor's
         // row is ready: L M = 1 gives M_ki = −Σ_j L_kj M_ji over j from i up to k's parent.
         let mut m: Vec<Vec<S>> = Vec::with_capacity(n);

@@ -3,6 +3,7 @@
 //! (with the base parameters, the lane forms of the rows that have one), then the chunk
 //! functions of the large ones.
 
+use super::composed::composed;
 use super::constants::{base_parameters_function, joint_limits, joint_names, literal, parameter_kinds};
 use super::contacts::{contact_implementation, ContactTraits};
 use super::file::{formatted, header, type_doc, version_check, Provenance};
@@ -62,10 +63,11 @@ impl<'a> FixedModule<'a> {
         let emitted = (robot.quantities.iter())
             .filter(|q| !q.kind.is_per_frame())
             .map(|q| {
-                (
-                    q.kind.group(),
-                    function(robot, &leaves, q, n, Form::Scalar, sizes),
-                )
+                let emitted = match q.composed {
+                    true => composed(model, q),
+                    false => function(robot, &leaves, q, n, Form::Scalar, sizes),
+                };
+                (q.kind.group(), emitted)
             })
             .collect();
         let has_lanes = robot.functions.contains(FunctionGroup::BaseParameters);

@@ -3,6 +3,7 @@
 //! method placed by its row's group, [`FunctionGroup::floating_trait_name`]), then the chunk
 //! functions of the large functions.
 
+use super::composed::composed;
 use super::constants::{base_parameters_function, joint_limits, joint_names, literal};
 use super::contacts::{contact_implementation, ContactTraits};
 use super::file::{formatted, header, type_doc, version_check, Provenance};
@@ -25,7 +26,10 @@ pub(super) fn module(model: &Model, robot: &SymbolicRobot, provenance: &Provenan
     let emitted: Vec<(FunctionGroup, Emitted)> = (robot.quantities.iter())
         .filter(|q| !q.kind.is_per_frame())
         .map(|q| {
-            let function = function(robot, &leaves, q, model.nv(), Form::Scalar, sizes);
+            let function = match q.composed {
+                true => composed(model, q),
+                false => function(robot, &leaves, q, model.nv(), Form::Scalar, sizes),
+            };
             (q.kind.group(), function)
         })
         .collect();

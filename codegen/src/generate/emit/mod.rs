@@ -14,7 +14,8 @@
 //!    written a vector at a time) and `header` (what a function is called, returns and says);
 //! 5. `into_form`: its form writing into a kept `ResultBuffer`;
 //! 6. `body` (a function in one piece) and `chunks` (a large one in chunks);
-//! 7. `function`: one quantity, planned and emitted in one piece or in chunks;
+//! 7. `function`: one quantity, planned and emitted in one piece or in chunks; `composed`: one
+//!    written composed, a method calling the robot's smaller functions and the runtime;
 //! 8. `frames`: the per-frame functions and the frame trait; `contacts`: the contact trait;
 //! 9. `fixed` and `floating`: the module of a fixed-base or a floating-base robot;
 //! 10. this file, which chooses the [`Sizes`] and passes them down.
@@ -32,6 +33,7 @@
 
 mod body;
 mod chunks;
+mod composed;
 mod constants;
 mod contacts;
 mod file;

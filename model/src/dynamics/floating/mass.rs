@@ -10,7 +10,7 @@ use crate::dynamics::coupling::project_both_after;
 use crate::dynamics::crba::{composite_inertias, tree_mass_matrix};
 use crate::dynamics::joint::joint_motion;
 use crate::dynamics::joint_terms::{add_armature_after, with_joint_term_torques};
-use crate::dynamics::tree_ldl::TreeLdl;
+use crate::dynamics::tree_ldl::{velocity_parents, TreeLdl};
 use crate::model::{JointTermValues, Model};
 use crate::scalar::Scalar;
 use crate::spatial::{Force, RigidInertia, Transform};
@@ -58,19 +58,6 @@ pub fn floating_mass_matrix<S: Scalar>(
     project_both_after(model, d, 6)
 }
 
-/// Parents of the velocity coordinates for the tree factorisation: the base's six a chain, the
-/// roots below its last. With mimic joints `D` couples the branches a mimic joint and its
-/// master sit on, so every coordinate is the parent of the next (the dense `LDLᵀ`, as
-/// `TreeLdl::factor` does on a fixed base).
-fn coordinate_parents(model: &Model) -> Vec<Option<usize>> {
-    if model.has_mimics() {
-        return (0..model.nv()).map(|k| k.checked_sub(1)).collect();
-    }
-    let mut parents: Vec<Option<usize>> = (0..6).map(|k: usize| k.checked_sub(1)).collect();
-    parents.extend(model.joints().iter().map(|j| Some(j.parent.map_or(5, |p| 6 + p))));
-    parents
-}
-
 /// `D` with the armature on the joints' diagonal (`joint_values`, the model's or an identified
 /// θ's), factored along the tree (the base's six coordinates the root of every branch).
 pub fn factor<S: Scalar>(
@@ -82,7 +69,7 @@ pub fn factor<S: Scalar>(
 ) -> TreeLdl<S> {
     let mut d = floating_mass_matrix(model, &base.inertia, x, inertias);
     add_armature_after(model, joint_values, &mut d, 6);
-    TreeLdl::factor_tree(coordinate_parents(model), &d)
+    TreeLdl::factor_tree(velocity_parents(model), &d)
 }
 
 /// `C(q, ν) ν + g(q)` plus the joints' friction and offset: inverse dynamics at zero
