@@ -3,7 +3,7 @@
 
 use clap::builder::PossibleValuesParser;
 use clap::{Args, ValueEnum};
-use dyngen_codegen::description::{Choices, FrameReferences};
+use dyngen_codegen::description::{Choices, CodeShape, FrameReferences};
 use dyngen_codegen::{FunctionGroup, Functions, ALL_GROUPS};
 
 #[derive(Args, Clone, Debug, Default)]
@@ -20,6 +20,20 @@ pub struct FunctionsArgs {
     /// the frames' code is small, `aligned` for many frames on a large robot.
     #[arg(long, value_enum, value_name = "CHOICE")]
     frame_references: Option<FrameReferencesArg>,
+    /// `code_shape`: whether the functions that have a composed form (forward dynamics, `D⁻¹`
+    /// and the derivatives of forward dynamics) are straight-line code (`flat`, the fastest) or
+    /// computed from the robot's smaller functions through the tree factor of `D` (`composed`,
+    /// no code of their own). Default: `flat` while a function's straight-line code is small, `composed` where it
+    /// would be megabytes.
+    #[arg(long, value_enum, value_name = "SHAPE")]
+    code_shape: Option<CodeShapeArg>,
+}
+
+/// `--code-shape`: [`CodeShape`] as the command line spells it.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+enum CodeShapeArg {
+    Flat,
+    Composed,
 }
 
 /// `--frame-references`: [`FrameReferences`] as the command line spells it.
@@ -46,7 +60,7 @@ impl FunctionsArgs {
     }
 
     /// `choices` (the description's keys the other flags choose) with these flags' own: the
-    /// groups and the frames' reference frames.
+    /// groups, the frames' reference frames and the code shape.
     pub fn choose(&self, choices: Choices) -> Result<Choices, String> {
         Ok(Choices {
             functions: self.functions()?,
@@ -54,6 +68,11 @@ impl FunctionsArgs {
                 None => FrameReferences::Auto,
                 Some(FrameReferencesArg::All) => FrameReferences::All,
                 Some(FrameReferencesArg::Aligned) => FrameReferences::Aligned,
+            },
+            code_shape: match self.code_shape {
+                None => CodeShape::Auto,
+                Some(CodeShapeArg::Flat) => CodeShape::Flat,
+                Some(CodeShapeArg::Composed) => CodeShape::Composed,
             },
             ..choices
         })

@@ -6,8 +6,8 @@
 
 use crate::c_library::{check_library, library_files, module_file, write_library, CLibrary, Naming};
 use crate::description::{
-    Choices, CodeShape, ContactSpec, DescriptionError, FrameReferences, FrameSelection, FrameSpec, JointParameters,
-    NonPhysicalInertia,
+    Choices, CodeShape, ContactSpec, DescriptionError, FrameReferences, FrameSelection, FrameSpec,
+    JointParameters, NonPhysicalInertia,
 };
 use crate::generate::{
     check_file, generate_robot_with, module_name, type_name, write_file, GenerateError, RobotReport,
@@ -168,8 +168,9 @@ impl Builder {
         self
     }
 
-    /// Sets [`Choices::code_shape`]: whether the functions that have a composed form are
-    /// straight-line code (`CodeShape::Flat`) or computed from the robot's smaller functions
+    /// Sets [`Choices::code_shape`]: whether the functions that have a composed form (forward
+    /// dynamics, `D⁻¹`, the derivatives of forward dynamics) are straight-line code
+    /// (`CodeShape::Flat`) or computed from the robot's smaller functions
     /// (`CodeShape::Composed`).
     pub fn code_shape(mut self, choice: CodeShape) -> Builder {
         self.choices.code_shape = choice;

@@ -20,6 +20,7 @@ pub mod dynamics {
     pub use crate::dynamics::regressor_products::regressor_products;
     pub use crate::dynamics::singular::singular_joints;
     pub use crate::dynamics::slotine_li::gravity_torque;
+    pub use crate::dynamics::tree_ldl::velocity_parents;
 }
 
 /// The scalar type the generic algorithms are written against.

@@ -48,6 +48,11 @@ pub use ur5_aligned_frames::Ur5AlignedFrames;
 
 #[rustfmt::skip]
 #[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, clippy::too_many_lines, clippy::many_single_char_names, clippy::similar_names, clippy::neg_multiply)]
+pub mod ur5_composed;
+pub use ur5_composed::Ur5Composed;
+
+#[rustfmt::skip]
+#[allow(clippy::approx_constant, clippy::excessive_precision, clippy::unreadable_literal, clippy::too_many_lines, clippy::many_single_char_names, clippy::similar_names, clippy::neg_multiply)]
 pub mod xarm7;
 pub use xarm7::Xarm7;
 

@@ -50,7 +50,9 @@ impl<'a, const N: usize> Factored<'a, N> {
 /// a local array the compiler keeps in registers, and written back once.
 struct SolveNegated;
 
-impl<'a, const N: usize> Kernel<(&Factored<'a, N>, &SMatrix<f64, N, N>, &mut SMatrix<f64, N, N>)> for SolveNegated {
+impl<'a, const N: usize> Kernel<(&Factored<'a, N>, &SMatrix<f64, N, N>, &mut SMatrix<f64, N, N>)>
+    for SolveNegated
+{
     type Output = ();
 
     #[inline(always)]
@@ -107,6 +109,28 @@ impl<'a, const N: usize> Kernel<(&Factored<'a, N>, &SMatrix<f64, N, N>, &mut SMa
     }
 }
 
+/// Forward dynamics `ν̇ = D⁻¹ (τ − b)` from the robot's own `D` (armature included) and
+/// `free_force = τ − ID(q, ν, 0)`, solved through the tree factor of `D` (`tree`, the velocity
+/// coordinates').
+#[inline]
+pub fn forward_dynamics<const N: usize>(
+    tree: &Tree<N>,
+    mass_matrix: SMatrix<f64, N, N>,
+    free_force: SVector<f64, N>,
+) -> SVector<f64, N> {
+    Factored::new(tree, mass_matrix).solve(free_force)
+}
+
+/// `D⁻¹` from the robot's own `D` (armature included): every column of the identity solved at
+/// once through the tree factor of `D` (`tree`, the velocity coordinates').
+#[inline]
+pub fn mass_matrix_inverse<const N: usize>(
+    tree: &Tree<N>,
+    mass_matrix: SMatrix<f64, N, N>,
+) -> SMatrix<f64, N, N> {
+    Factored::new(tree, mass_matrix).solve_negated(&-SMatrix::identity())
+}
+
 /// The derivatives of forward dynamics `(∂ν̇/∂q, ∂ν̇/∂ν)` from the robot's own `D` (armature
 /// included), `free_force = τ − ID(q, ν, 0)` and its `∂τ/∂x` (`inverse_dynamics_derivatives`,
 /// called at the solution): with `ν̇ = D⁻¹ (τ − b)` held by `ID(q, ν, ν̇) = τ`,
@@ -130,7 +154,7 @@ mod tests {
     use super::*;
     use crate::SplitMix64;
 
-    /// A floating base's six coordinates in a chain, two legs of three and a branch of one.
+    /// A trunk of three, two arms of four on it, two fingers at the end of the first.
     const TREE: Tree<13> = Tree::new(PARENTS);
     const PARENTS: [Option<usize>; 13] = [
         None,
@@ -141,11 +165,11 @@ mod tests {
         Some(4),
         Some(5),
         Some(6),
-        Some(7),
-        Some(5),
+        Some(6),
+        Some(2),
         Some(9),
         Some(10),
-        Some(9),
+        Some(11),
     ];
 
     /// A symmetric positive definite matrix with the sparsity of `PARENTS`, `Lᵀ Δ L` of random
@@ -179,6 +203,18 @@ mod tests {
                 assert!((solved.column(c) + column).amax() < 1e-13 * column.amax().max(1.0));
             }
         }
+    }
+
+    #[test]
+    fn forward_dynamics_and_the_inverse_solve_with_d() {
+        let mut rng = SplitMix64::new(13);
+        let d = tree_matrix(&mut rng);
+        let free_force = SVector::<f64, 13>::from_fn(|_, _| rng.uniform((-1.0, 1.0)));
+        let acceleration = forward_dynamics(&TREE, d, free_force);
+        assert!((d * acceleration - free_force).amax() < 1e-12);
+        let inverse = mass_matrix_inverse(&TREE, d);
+        assert!((inverse * d - SMatrix::<f64, 13, 13>::identity()).amax() < 1e-11);
+        assert!((inverse - inverse.transpose()).amax() < 1e-12 * inverse.amax());
     }
 
     #[test]

@@ -18,7 +18,7 @@ use core::ops::{Index, IndexMut, Mul, Sub};
 /// Each coordinate's ancestors in the tree of a factor, nearest first.
 pub trait Ancestry {
     /// The number of coordinates.
-    fn len(&self) -> usize;
+    fn coordinates(&self) -> usize;
     /// The ancestors of coordinate `k`, nearest first.
     fn ancestors(&self, k: usize) -> &[usize];
 }
@@ -69,7 +69,7 @@ impl<const N: usize> Tree<N> {
 
 impl<const N: usize> Ancestry for Tree<N> {
     #[inline]
-    fn len(&self) -> usize {
+    fn coordinates(&self) -> usize {
         N
     }
 
@@ -93,7 +93,7 @@ pub fn factor_in_place<T, H>(
     T: Copy + Sub<Output = T> + Mul<Output = T>,
     H: IndexMut<(usize, usize), Output = T> + ?Sized,
 {
-    for k in (0..tree.len()).rev() {
+    for k in (0..tree.coordinates()).rev() {
         // Row k already holds every update from k's descendants (larger indices).
         pivots[k] = h[(k, k)];
         let inverse = invert(h[(k, k)]);
@@ -115,7 +115,7 @@ where
     T: Copy + Sub<Output = T> + Mul<Output = T>,
     L: Index<(usize, usize), Output = T> + ?Sized,
 {
-    for k in (0..tree.len()).rev() {
+    for k in (0..tree.coordinates()).rev() {
         for &i in tree.ancestors(k) {
             x[i] = x[i] - l[(k, i)] * x[k];
         }
@@ -144,7 +144,7 @@ where
     T: Copy + Sub<Output = T> + Mul<Output = T>,
     L: Index<(usize, usize), Output = T> + ?Sized,
 {
-    for k in 0..tree.len() {
+    for k in 0..tree.coordinates() {
         for &i in tree.ancestors(k).iter().rev() {
             x[k] = x[k] - l[(k, i)] * x[i];
         }

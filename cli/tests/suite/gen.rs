@@ -148,3 +148,28 @@ fn functions_chooses_the_groups_and_refuses_unknown_ones() {
     assert!(run.stderr.contains("needs `regressors`"), "{}", run.output());
     assert!(!dir.path().join("x.rs").exists());
 }
+
+#[test]
+fn code_shape_chooses_how_the_derivatives_of_forward_dynamics_are_written() {
+    let dir = tempfile::tempdir().expect("temp dir");
+    let ur5 = repository_file("robots/urdf/ur5_robot.urdf");
+    let written = |shape: Option<&str>| {
+        let mut args = vec!["gen", arg(&ur5), "-o", "ur5.rs", "--functions", "derivatives"];
+        args.extend(shape.map(|s| ["--code-shape", s]).into_iter().flatten());
+        let run = dyngen_in(dir.path(), &args);
+        assert_eq!(run.code, Some(0), "{}", run.output());
+        std::fs::read_to_string(dir.path().join("ur5.rs")).expect("written")
+    };
+    let composed = written(Some("composed"));
+    assert!(composed.contains("__private::composed::forward_dynamics_derivatives("));
+    // An arm's are small: straight-line by default, as with `flat`.
+    for flat in [written(None), written(Some("flat"))] {
+        assert!(!flat.contains("__private::composed::"));
+        assert!(flat.contains("fn forward_dynamics_derivatives("));
+    }
+    let run = dyngen_in(
+        dir.path(),
+        &["gen", arg(&ur5), "-o", "x.rs", "--code-shape", "loops"],
+    );
+    assert_eq!(run.code, Some(2), "{}", run.output());
+}

@@ -131,17 +131,24 @@ impl Shapes {
     }
 }
 
-/// The straight-line functions above which `code_shape: auto` writes a function composed: the
-/// derivatives of forward dynamics of a humanoid (the G1's 2.3 MB) go over, a quadruped's
-/// (Solo-12's 0.46 MB) and an arm's stay under.
-pub const FLAT_FUNCTIONS_UP_TO: usize = 1_000_000;
+/// The straight-line functions above which `code_shape: auto` writes a function composed. The
+/// composed derivatives of forward dynamics cost 1.4× the straight-line ones on the G1
+/// humanoid (2.3 MB of them) and 1.8× on Solo-12 (0.46 MB), so the fastest form stays the
+/// default through humanoids; above (`∂q̈/∂x` of about 46 velocity coordinates, `D⁻¹` of two
+/// arms with hands on a trunk) the straight-line form's megabytes and compile time decide.
+pub const FLAT_FUNCTIONS_UP_TO: usize = 4_000_000;
 
 /// The estimated bytes of `kind`'s straight-line code, for the functions that have a composed
 /// form: `∂ν̇/∂x` an entry per pair of velocity coordinates, each a solve's worth of work
-/// (Solo-12: 0.46 MB, the G1: 2.3 MB).
+/// (Solo-12: 0.46 MB, the G1: 2.3 MB); `D⁻¹` and forward dynamics the two terms of their
+/// group's estimate, `D⁻¹` an entry per pair with a common ancestor and a term per ancestor
+/// they share (the G1: 0.74 and 0.59 MB written, TIAGo Dual: 4.9 and 1.7 MB, about half the
+/// estimate there).
 fn flat_function_bytes(shape: &TreeShape, kind: QuantityKind) -> usize {
     match kind {
         QuantityKind::ForwardDynamicsDerivatives => 1_900 * shape.nv * shape.nv,
+        QuantityKind::MassMatrixInverse => 300 * shape.shared_ancestors,
+        QuantityKind::ForwardDynamics => 70 * shape.shared_ancestors + 1_000 * shape.related_pairs,
         _ => 0,
     }
 }
@@ -149,7 +156,11 @@ fn flat_function_bytes(shape: &TreeShape, kind: QuantityKind) -> usize {
 /// The functions of the groups `functions` that `choice` writes composed, each with the
 /// estimated bytes of its straight-line form: with `auto`, those above
 /// [`FLAT_FUNCTIONS_UP_TO`].
-pub fn composed_functions(model: &Model, functions: Functions, choice: CodeShape) -> Vec<(QuantityKind, usize)> {
+pub fn composed_functions(
+    model: &Model,
+    functions: Functions,
+    choice: CodeShape,
+) -> Vec<(QuantityKind, usize)> {
     let shape = TreeShape::of(model);
     (QuantityKind::ALL.into_iter())
         .filter(|kind| kind.has_composed_form() && functions.contains(kind.group()))

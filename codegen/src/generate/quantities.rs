@@ -312,9 +312,14 @@ impl QuantityKind {
     /// Whether it can be written composed (`code_shape: composed`): computed from the robot's
     /// smaller generated functions through the tree factor of `D`, in loops of the runtime,
     /// instead of as straight-line code of its own. Its inputs: `D`, inverse dynamics and its
-    /// derivatives, all of the group `dynamics` or its own.
+    /// derivatives, of the group `dynamics` (always generated) or of its own group.
     pub fn has_composed_form(self) -> bool {
-        self == QuantityKind::ForwardDynamicsDerivatives
+        matches!(
+            self,
+            QuantityKind::ForwardDynamics
+                | QuantityKind::MassMatrixInverse
+                | QuantityKind::ForwardDynamicsDerivatives
+        )
     }
 
     /// Whether its trait has a `_into` form that writes into a `ResultBuffer` kept between

@@ -118,7 +118,9 @@ pub fn generate_robot_with(
         type_name: type_name.to_owned(),
     };
     let (shapes, notes) = code_size::shapes(&loaded.model, functions, &loaded.choices);
-    let notes = notes.into_iter().map(|note| format!("{}: {note}", path.display()));
+    let notes = notes
+        .into_iter()
+        .map(|note| format!("{}: {note}", path.display()));
     loaded.notes.extend(notes);
     // The code grows with the tree's shape (mimic joints included), not with its joint count.
     let size = code_size::estimate(&loaded.model, functions, &shapes);

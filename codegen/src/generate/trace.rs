@@ -9,8 +9,8 @@
 //! Node ids follow creation order and the generated code follows node ids, so this order is
 //! append-only: what is added is traced after everything else.
 
-use super::quantities::{Arg, Coefficient, Dims, QuantityKind, Shape};
 use super::code_size::Shapes;
+use super::quantities::{Arg, Coefficient, Dims, QuantityKind, Shape};
 use super::trace_contact_derivatives::Tree;
 use super::trace_contacts::{contact_outputs, ContactInputs, ContactState};
 use crate::base_parameters::BaseParameterSet;
@@ -183,7 +183,9 @@ pub fn trace_functions(
     shapes: &Shapes,
 ) -> SymbolicRobot {
     let (graph, traced) = match model.floating_base() {
-        Some(_) => record(|| super::trace_floating::FloatingTracer::new(model, &base, functions, shapes).run()),
+        Some(_) => {
+            record(|| super::trace_floating::FloatingTracer::new(model, &base, functions, shapes).run())
+        }
         None => record(|| FixedTracer::new(model, &base, functions, shapes).run()),
     };
     traced.into_robot(graph, base, functions)
@@ -299,12 +301,7 @@ struct FixedTracer<'a> {
 
 impl<'a> FixedTracer<'a> {
     /// The state and the shared values, traced.
-    fn new(
-        model: &'a Model,
-        base: &'a BaseParameterSet,
-        functions: Functions,
-        shapes: &Shapes,
-    ) -> Self {
+    fn new(model: &'a Model, base: &'a BaseParameterSet, functions: Functions, shapes: &Shapes) -> Self {
         let n = model.dof();
         let (q, qd, v, a) = (inputs("q", n), inputs("qd", n), inputs("v", n), inputs("a", n));
         let x = dynamics::joint_transforms(model, &q);
@@ -669,10 +666,14 @@ impl<'a> FixedTracer<'a> {
             (K::InverseDynamics, ids(&self.inverse_dynamics(&factored))),
         ];
         if self.functions.contains(FunctionGroup::ForwardDynamics) {
-            let forward = dynamics::forward_dynamics(model, &factored, inertias, jv, qd, &self.tau);
-            forms.push((K::ForwardDynamics, ids(&forward)));
-            let inverse = dynamics::mass_matrix_inverse(model, &factored, inertias, jv);
-            forms.push((K::MassMatrixInverse, matrix_ids(&inverse)));
+            if !self.composed.contains(&K::ForwardDynamics) {
+                let forward = dynamics::forward_dynamics(model, &factored, inertias, jv, qd, &self.tau);
+                forms.push((K::ForwardDynamics, ids(&forward)));
+            }
+            if !self.composed.contains(&K::MassMatrixInverse) {
+                let inverse = dynamics::mass_matrix_inverse(model, &factored, inertias, jv);
+                forms.push((K::MassMatrixInverse, matrix_ids(&inverse)));
+            }
         }
         if self.functions.contains(FunctionGroup::Derivatives) {
             for directions in [Directions::OneByOne, Directions::Lanes] {
@@ -731,7 +732,8 @@ const LANE_OP_COST: usize = 2;
 /// Each function named in `other_forms` in that formulation where it costs less.
 pub(super) fn keep_cheaper(graph: &Graph, quantities: &mut [Quantity], other_forms: Vec<(String, Vec<Id>)>) {
     for (name, outputs) in other_forms {
-        if let Some(q) = quantities.iter_mut().find(|q| q.name() == name) {
+        // A composed row has no outputs: nothing to replace.
+        if let Some(q) = quantities.iter_mut().find(|q| q.name() == name && !q.composed) {
             if cost(graph, &outputs) < cost(graph, &q.outputs) {
                 q.outputs = outputs;
             }

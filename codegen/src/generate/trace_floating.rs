@@ -4,12 +4,12 @@
 //! table and the chosen groups as the fixed-base tracer is, in an order of its own (which is
 //! the order of the floating-base module's methods); `trace::trace_functions` chooses it.
 
+use super::code_size::Shapes;
 use super::quantities::{Dims, QuantityKind};
 use super::trace::{
     base_columns, frame_rows, frame_spellings, full_from_base, ids, inputs, matrix_ids, pair_ids,
     traced_references,
 };
-use super::code_size::Shapes;
 use super::trace::{Inputs, Quantity, Traced};
 use super::trace_contacts::contact_outputs;
 use crate::base_parameters::BaseParameterSet;
@@ -187,8 +187,7 @@ impl<'a> FloatingTracer<'a> {
         let functions = self.functions;
         let chosen = |kind: &QuantityKind| functions.contains(kind.group());
         for kind in BEFORE_FRAMES.into_iter().filter(chosen) {
-            let outputs = self.outputs(kind);
-            self.record(kind, outputs);
+            self.record_row(kind);
         }
         if functions.contains(FunctionGroup::Frames) {
             let spelled = frame_spellings(self.model);
@@ -197,13 +196,7 @@ impl<'a> FloatingTracer<'a> {
             }
         }
         for kind in AFTER_FRAMES.into_iter().filter(chosen) {
-            match self.composed.contains(&kind) {
-                true => self.quantities.push(Quantity::composed(kind, self.dims)),
-                false => {
-                    let outputs = self.outputs(kind);
-                    self.record(kind, outputs);
-                }
-            }
+            self.record_row(kind);
         }
         // D⁻¹ by sums over common ancestors, traced last so the functions above keep their node
         // ids; kept where it costs less. (The regressors by the bodies' Jacobians cost fewer
@@ -213,11 +206,17 @@ impl<'a> FloatingTracer<'a> {
         // carries up anyway; `BENCHMARKS.md`.)
         let (model, base, x, inertias) = (self.model, &self.base, &self.x, &self.inertias);
         let jv = &self.joint_values;
-        let inverse = algorithms::floating_mass_matrix_inverse_by_ancestors(model, base, x, inertias, jv);
-        let other_forms = vec![(
-            QuantityKind::MassMatrixInverse.name().to_owned(),
-            matrix_ids(&inverse),
-        )];
+        let other_forms = match self.composed.contains(&QuantityKind::MassMatrixInverse) {
+            true => Vec::new(),
+            false => {
+                let inverse =
+                    algorithms::floating_mass_matrix_inverse_by_ancestors(model, base, x, inertias, jv);
+                vec![(
+                    QuantityKind::MassMatrixInverse.name().to_owned(),
+                    matrix_ids(&inverse),
+                )]
+            }
+        };
         // The contacts' rows after everything else, so every row before keeps its node ids.
         if functions.contains(FunctionGroup::Contacts) && !model.contacts().is_empty() {
             let mass = algorithms::factor(model, base, x, inertias, jv);
@@ -261,6 +260,17 @@ impl<'a> FloatingTracer<'a> {
             quantities: self.quantities,
             other_forms,
             row_lane_forms: Vec::new(),
+        }
+    }
+
+    /// Traces row `kind` and records it, or records it composed.
+    fn record_row(&mut self, kind: QuantityKind) {
+        match self.composed.contains(&kind) {
+            true => self.quantities.push(Quantity::composed(kind, self.dims)),
+            false => {
+                let outputs = self.outputs(kind);
+                self.record(kind, outputs);
+            }
         }
     }
 

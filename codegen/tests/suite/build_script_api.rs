@@ -117,7 +117,7 @@ fn every_file_read_is_reported_for_rerun_if_changed() {
 #[test]
 fn the_choice_setters_compose_in_any_order() {
     use dyngen_codegen::description::{
-        Choices, ContactSpec, FrameReferences, FrameSelection, FrameSpec, NonPhysicalInertia,
+        Choices, CodeShape, ContactSpec, FrameReferences, FrameSelection, FrameSpec, NonPhysicalInertia,
     };
     use dyngen_codegen::{FunctionGroup, Functions};
     use dyngen_runtime::ContactKind;
@@ -133,8 +133,10 @@ fn the_choice_setters_compose_in_any_order() {
         .snap_angles(1e-4)
         .inertia(NonPhysicalInertia::Repair)
         .functions(&[FunctionGroup::Frames])
-        .frame_references(FrameReferences::Aligned);
+        .frame_references(FrameReferences::Aligned)
+        .code_shape(CodeShape::Composed);
     let other = new()
+        .code_shape(CodeShape::Composed)
         .frame_references(FrameReferences::Aligned)
         .functions(&[FunctionGroup::Frames])
         .inertia(NonPhysicalInertia::Repair)
@@ -158,6 +160,7 @@ fn the_choice_setters_compose_in_any_order() {
         functions: Some(Functions::with(&[FunctionGroup::Frames]).unwrap()),
         contacts: vec![foot()],
         frame_references: FrameReferences::Aligned,
+        code_shape: CodeShape::Composed,
     };
     assert_eq!(one.chosen(), &expected);
 

@@ -2,10 +2,12 @@
 //! bytes written (the committed modules, and robots generated here), and a guard that refuses
 //! what would not finish, at once, while a 100-joint mobile manipulator passes.
 
-use dyngen_codegen::description::{load, load_with, Choices, FrameReferences, FrameSelection};
+use dyngen_codegen::description::{load, load_with, Choices, CodeShape, FrameReferences, FrameSelection};
 use dyngen_codegen::generate::{
-    estimate_code_size, frame_references, generate_robot, generate_robot_with, MAX_GENERATED_BYTES,
+    composed_functions, estimate_code_size, frame_references, generate_robot, generate_robot_with, Shapes,
+    MAX_GENERATED_BYTES,
 };
+use dyngen_codegen::internals::generate::QuantityKind;
 use dyngen_codegen::model::Model;
 use dyngen_codegen::{FunctionGroup, Functions};
 use dyngen_testkit::workspace_root;
@@ -24,8 +26,12 @@ fn default_functions(model: &Model) -> Functions {
 /// The estimated bytes of `model`'s module with `functions`, its frames in the reference frames
 /// `choice` writes.
 fn estimate(model: &Model, functions: Functions, choice: FrameReferences) -> usize {
-    let (references, _) = frame_references(model, functions, choice);
-    estimate_code_size(model, functions, references).total()
+    let (frame_references, _) = frame_references(model, functions, choice);
+    let shapes = Shapes {
+        frame_references,
+        ..Shapes::flat()
+    };
+    estimate_code_size(model, functions, &shapes).total()
 }
 
 fn assert_within_two(what: &str, estimated: usize, written: usize) {
@@ -55,7 +61,8 @@ fn the_estimate_is_within_two_of_every_committed_module() {
         let written = std::fs::metadata(&module)
             .unwrap_or_else(|e| panic!("{}: {e}", module.display()))
             .len();
-        let estimated = estimate(&loaded.model, functions, loaded.choices.frame_references);
+        let (shapes, _) = dyngen_codegen::generate::shapes(&loaded.model, functions, &loaded.choices);
+        let estimated = estimate_code_size(&loaded.model, functions, &shapes).total();
         assert_within_two(stem, estimated, written as usize);
         checked += 1;
     }
@@ -162,7 +169,9 @@ fn the_estimate_is_within_two_of_modules_generated_here() {
 
 /// What grows without bound is refused at once, naming the size and the largest group; the
 /// shape, not the joint count, decides: a mobile manipulator of more than 100 joints (TIAGo
-/// Dual has 101; its module is 12 MB) passes, a chain of 150 does not.
+/// Dual has 101; its module is 7 MB, its `D⁻¹` composed) passes, a chain of 250 does not (its
+/// `D` alone would be about 100 MB; a chain of 150 now generates, `D⁻¹` and forward dynamics
+/// composed).
 #[test]
 fn the_guard_follows_the_shape_not_the_joint_count() {
     let dir = tempfile::tempdir().expect("dir");
@@ -171,8 +180,10 @@ fn the_guard_follows_the_shape_not_the_joint_count() {
     let bytes = estimate(&hands, default_functions(&hands), FrameReferences::Auto);
     assert!(bytes < MAX_GENERATED_BYTES / 2, "{bytes}");
 
-    let (path, long) = load_text(dir.path(), "long.yaml", &chain(150));
-    assert!(estimate(&long, default_functions(&long), FrameReferences::Auto) > MAX_GENERATED_BYTES);
+    let (path, long) = load_text(dir.path(), "long.yaml", &chain(250));
+    let functions = default_functions(&long);
+    let (shapes, _) = dyngen_codegen::generate::shapes(&long, functions, &Choices::default());
+    assert!(estimate_code_size(&long, functions, &shapes).total() > MAX_GENERATED_BYTES);
     let start = Instant::now();
     let e = generate_robot(&path, "long.yaml", "Long", "test")
         .expect_err("too large")
@@ -180,9 +191,9 @@ fn the_guard_follows_the_shape_not_the_joint_count() {
     assert!(start.elapsed() < Duration::from_secs(5), "not at once");
     for expected in [
         "long.yaml",
-        "150 moving joints",
+        "250 moving joints",
         "MB of Rust",
-        "`forward_dynamics` about",
+        "`dynamics` about",
         "lock joints",
     ] {
         assert!(e.contains(expected), "{expected:?} missing from: {e}");
@@ -261,5 +272,95 @@ fn frame_references_follow_the_size_of_the_frames_code() {
         "G1, every link",
         estimate(&model, robot.functions, FrameReferences::Aligned),
         robot.code.len(),
+    );
+}
+
+/// `code_shape: auto` composes the derivatives of forward dynamics where their straight-line
+/// code would be megabytes (two arms with hands), not on a humanoid, a quadruped or an arm;
+/// `flat` and `composed` are taken as chosen; a composed function is a call, and the module
+/// shrinks by about the function's estimate.
+#[test]
+fn the_code_shape_follows_the_size_of_a_function() {
+    let derivatives = Functions::from_keywords(["derivatives"]).expect("a group");
+    let data = workspace_root().join("codegen/tests/data/example-robot-data");
+    let g1 = data.join("g1_description/g1_29dof_rev_1_0.urdf");
+    let floating = |path: &Path| {
+        let choices = Choices {
+            floating_base: true,
+            ..Choices::default()
+        };
+        load_with(path, &choices).unwrap_or_else(|e| panic!("{e}")).model
+    };
+    let humanoid = floating(&g1);
+    let composed = |model: &Model, choice: CodeShape| -> Vec<QuantityKind> {
+        let kinds = composed_functions(model, derivatives, choice);
+        kinds.into_iter().map(|(kind, _)| kind).collect()
+    };
+    let fdd = QuantityKind::ForwardDynamicsDerivatives;
+    assert_eq!(composed(&humanoid, CodeShape::Auto), []);
+    assert_eq!(composed(&humanoid, CodeShape::Composed), [fdd]);
+    let solo = floating(&workspace_root().join("robots/urdf/solo12.urdf"));
+    assert_eq!(composed(&solo, CodeShape::Auto), []);
+    let panda = load(&workspace_root().join("robots/panda.yaml"))
+        .unwrap_or_else(|e| panic!("{e}"))
+        .model;
+    assert_eq!(composed(&panda, CodeShape::Auto), []);
+    let dir = tempfile::tempdir().expect("dir");
+    let (_, hands) = load_text(dir.path(), "hands.yaml", &two_arms_with_hands(5, 3));
+    assert_eq!(hands.dof(), 47);
+    assert_eq!(composed(&hands, CodeShape::Auto), [fdd]);
+    assert_eq!(composed(&hands, CodeShape::Flat), []);
+    let choices = Choices {
+        functions: Some(derivatives),
+        ..Choices::default()
+    };
+    let (shapes, notes) = dyngen_codegen::generate::shapes(&hands, derivatives, &choices);
+    assert_eq!(shapes.composed, [fdd]);
+    let note = "`forward_dynamics_derivatives` as straight-line code would be about";
+    assert!(notes.iter().any(|n| n.contains(note)), "{notes:?}");
+    // With the default groups of a large robot, its `D⁻¹` (two arms with many fingers).
+    let (_, many_fingers) = load_text(dir.path(), "fingers.yaml", &two_arms_with_hands(11, 4));
+    let functions = default_functions(&many_fingers);
+    let kinds: Vec<QuantityKind> = composed_functions(&many_fingers, functions, CodeShape::Auto)
+        .into_iter()
+        .map(|(kind, _)| kind)
+        .collect();
+    assert!(kinds.contains(&QuantityKind::MassMatrixInverse), "{kinds:?}");
+    // Without the group, nothing to compose.
+    let default = Functions::from_keywords([]).expect("no group");
+    assert_eq!(composed_functions(&hands, default, CodeShape::Composed), []);
+
+    let choose = |code_shape: CodeShape| Choices {
+        floating_base: true,
+        functions: Some(derivatives),
+        code_shape,
+        ..Choices::default()
+    };
+    let flat = generate_robot_with(&g1, "g1.urdf", "G1", "test", &choose(CodeShape::Auto))
+        .unwrap_or_else(|e| panic!("{e}"));
+    let chosen = generate_robot_with(&g1, "g1.urdf", "G1", "test", &choose(CodeShape::Composed))
+        .unwrap_or_else(|e| panic!("{e}"));
+    // A chosen shape needs no note.
+    assert!(
+        !chosen.notes.iter().any(|n| n.contains(note)),
+        "{:?}",
+        chosen.notes
+    );
+    assert!(flat.code.contains("fn forward_dynamics_derivatives_part0("));
+    assert!(!chosen.code.contains("fn forward_dynamics_derivatives_part0("));
+    assert!(chosen
+        .code
+        .contains("__private::composed::forward_dynamics_derivatives("));
+    // The base's six coordinates a chain above the first joints, in the tree the call declares.
+    let compact: String = chosen.code.split_whitespace().collect();
+    assert!(compact.contains("Tree::new([None,Some(0),Some(1),Some(2),Some(3),Some(4),Some(5),"));
+    let saved = flat.code.len() - chosen.code.len();
+    let (_, estimated) = composed_functions(&humanoid, derivatives, CodeShape::Composed)[0];
+    assert_within_two("G1's ∂ν̇/∂x", estimated, saved);
+    let (shapes, _) = dyngen_codegen::generate::shapes(&humanoid, derivatives, &choose(CodeShape::Composed));
+    assert_within_two(
+        "G1, derivatives composed",
+        estimate_code_size(&humanoid, derivatives, &shapes).total(),
+        chosen.code.len(),
     );
 }

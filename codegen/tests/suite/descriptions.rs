@@ -384,6 +384,7 @@ fn end_effector_with_offset_and_gravity_from_options() {
         functions: None,
         contacts: Vec::new(),
         frame_references: Default::default(),
+        code_shape: Default::default(),
     };
     let m = description::load_urdf_str(TREE_URDF, Path::new("twins.urdf"), &options)
         .unwrap()
@@ -509,6 +510,7 @@ fn same_robot_in_yaml_and_urdf_gives_the_same_model() {
         functions: None,
         contacts: Vec::new(),
         frame_references: Default::default(),
+        code_shape: Default::default(),
     };
     let from_urdf = description::load_urdf_str(SAME_URDF, Path::new("same.urdf"), &options).unwrap();
     let from_yaml =

@@ -3,8 +3,8 @@
 //! other groups are generated with it.
 
 use dyngen_codegen::base_parameters::BaseParameterSet;
-use dyngen_codegen::description::{load, Choices, FrameReferences};
-use dyngen_codegen::generate::{generate_robot, generate_robot_with, GeneratedRobot};
+use dyngen_codegen::description::{load, Choices};
+use dyngen_codegen::generate::{generate_robot, generate_robot_with, GeneratedRobot, Shapes};
 use dyngen_codegen::internals::generate::{trace_functions, Arguments};
 use dyngen_codegen::{Builder, FunctionGroup, Functions, EVERY_GROUP_BY_DEFAULT_UP_TO_DOF};
 use dyngen_runtime::SplitMix64;
@@ -115,7 +115,7 @@ fn a_function_computes_the_same_whatever_is_generated_with_it() {
             .unwrap_or_else(|e| panic!("{e}"))
             .model;
         let base = BaseParameterSet::compute(&model);
-        let full = trace_functions(&model, base.clone(), Functions::all(), FrameReferences::All);
+        let full = trace_functions(&model, base.clone(), Functions::all(), &Shapes::flat());
         let floating = model.floating_base().is_some();
         let (nq, nv) = (model.nq(), model.nv());
         let p = match floating {
@@ -148,7 +148,7 @@ fn a_function_computes_the_same_whatever_is_generated_with_it() {
                 continue;
             }
             let functions = Functions::with(chosen).unwrap();
-            let partial = trace_functions(&model, base.clone(), functions, FrameReferences::All);
+            let partial = trace_functions(&model, base.clone(), functions, &Shapes::flat());
             let names: Vec<String> = partial.quantities.iter().map(|q| q.name()).collect();
             let expected: Vec<String> = full
                 .quantities

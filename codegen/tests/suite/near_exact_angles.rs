@@ -47,6 +47,7 @@ fn options(snap: Option<f64>) -> Choices {
         functions: None,
         contacts: Vec::new(),
         frame_references: Default::default(),
+        code_shape: Default::default(),
     }
 }
 

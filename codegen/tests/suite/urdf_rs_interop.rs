@@ -855,6 +855,12 @@ fn fuzzed_urdfs_through_urdf_rs() {
         let Ok(Ok(robot)) = catch_unwind(|| urdf_rs::read_from_string(&input.text)) else {
             continue;
         };
+        // XML turns a tab or a line break inside an attribute into a space, which the file
+        // loader does; urdf-rs keeps them in names, so the two read different names.
+        let names = (robot.links.iter().map(|l| &l.name)).chain(robot.joints.iter().map(|j| &j.name));
+        if names.into_iter().any(|name| name.contains(['\t', '\n', '\r'])) {
+            continue;
+        }
         parsed += 1;
         let options = Choices::default();
         let memory = catch_unwind(AssertUnwindSafe(|| from_urdf_rs(&robot, &options)))

@@ -371,3 +371,29 @@ fn frames_converted_from_base_axes_match_the_generic_dynamics() {
         }
     }
 }
+
+/// The derivatives of forward dynamics composed from Solo-12's own `∂τ/∂x`, `D` and `τ`
+/// through the tree factor (`code_shape: composed`, the base's six coordinates a chain above
+/// the legs) against its straight-line ones, at random states.
+#[test]
+fn composed_derivatives_are_the_flat_ones_on_a_floating_base() {
+    use dyngen_codegen::internals::dynamics::velocity_parents;
+    use dyngen_runtime::__private::{composed, tree_factor::Tree};
+    let model = load(&workspace_root().join("robots/solo12.yaml")).unwrap().model;
+    let parents: [Option<usize>; NV] = velocity_parents(&model).try_into().expect("NV coordinates");
+    let tree = Tree::new(parents);
+    let mut rng = SplitMix64::new(31);
+    for k in 0..50 {
+        let (q, [v, tau]) = random_state::<2>(&mut rng);
+        let t = solo12::trig(&solo12::Configuration::from_column_slice(&q)).expect("a unit quaternion");
+        let (v, tau) = (velocity(&v), velocity(&tau));
+        let bias = Solo12::inverse_dynamics(&t, &v, &Velocity::zeros());
+        let (dq, dv) =
+            composed::forward_dynamics_derivatives(&tree, Solo12::mass_matrix(&t), tau - bias, |a| {
+                Solo12::inverse_dynamics_derivatives(&t, &v, a)
+            });
+        let (flat_q, flat_v) = Solo12::forward_dynamics_derivatives(&t, &v, &tau);
+        assert_close(&format!("state {k}: ∂ν̇/∂q"), &dm(&dq), &dm(&flat_q), TOL_GENERIC);
+        assert_close(&format!("state {k}: ∂ν̇/∂ν"), &dm(&dv), &dm(&flat_v), TOL_GENERIC);
+    }
+}

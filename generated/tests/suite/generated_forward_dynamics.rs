@@ -11,10 +11,12 @@ use common::random_model::random_state;
 use common::{assert_close, column, fixture};
 use dyngen_codegen::description::load;
 use dyngen_codegen::dynamics::NumericDynamics;
+use dyngen_codegen::internals::dynamics::velocity_parents;
 use dyngen_codegen::model::Model;
-use dyngen_generated::{Arm7, Panda, PandaRounded, Ur5};
+use dyngen_generated::{Arm7, Arm7Friction, Panda, PandaRounded, Ur5, Ur5Composed};
+use dyngen_runtime::__private::{composed, tree_factor::Tree};
 use dyngen_runtime::nalgebra::{DMatrix, SMatrix, SVector};
-use dyngen_runtime::{DynamicsDerivatives, ForwardDynamics, JointTrig};
+use dyngen_runtime::{DynamicsDerivatives, ForwardDynamics, JointTrig, RobotDynamics};
 use std::path::Path;
 
 const STATES: u64 = 200;
@@ -151,6 +153,37 @@ fn panda_rounded_generated_forward_dynamics_matches_pinocchio() {
 #[test]
 fn ur5_generated_forward_dynamics_matches_pinocchio() {
     against_fixture::<Ur5, 6, 60>("ur5");
+}
+
+/// `∂q̈/∂x` composed from the UR5's own `∂τ/∂x`, `D` and `τ` (`code_shape: composed`): the
+/// same Pinocchio values, and the same oracles.
+#[test]
+fn ur5_composed_forward_dynamics_matches_pinocchio() {
+    against_fixture::<Ur5Composed, 6, 60>("ur5");
+    oracles::<Ur5Composed, 6, 60>("ur5_composed", 20);
+}
+
+/// The composition run over the functions of a robot with joint-level terms (the armature in
+/// `D`, friction and offset in `τ` and `∂τ/∂q̇`) against its straight-line `∂q̈/∂x`.
+#[test]
+fn composed_derivatives_take_the_joint_terms_as_the_flat_ones() {
+    type R = Arm7Friction;
+    let model = model("arm7_friction");
+    let parents: [Option<usize>; 7] = velocity_parents(&model).try_into().expect("7 coordinates");
+    let tree = Tree::new(parents);
+    for seed in 0..STATES {
+        let s = random_state(&model, seed);
+        let t = JointTrig::new(&sv::<7>(&s.q));
+        let (qd, tau) = (sv::<7>(&s.qd), sv::<7>(&s.a));
+        let bias = R::inverse_dynamics(&t, &qd, &SVector::zeros());
+        let (dq, dv) = composed::forward_dynamics_derivatives(&tree, R::mass_matrix(&t), tau - bias, |a| {
+            R::inverse_dynamics_derivatives(&t, &qd, a)
+        });
+        let (flat_q, flat_v) = R::forward_dynamics_derivatives(&t, &qd, &tau);
+        let at = |what: &str| format!("arm7_friction seed {seed}: {what}");
+        assert_close(&at("∂q̈/∂q"), &dm(&dq), &dm(&flat_q), TOL_GENERIC);
+        assert_close(&at("∂q̈/∂q̇"), &dm(&dv), &dm(&flat_v), TOL_GENERIC);
+    }
 }
 
 fn oracles<R: ForwardDynamics<N, P> + DynamicsDerivatives<N, P>, const N: usize, const P: usize>(

@@ -217,11 +217,12 @@ pub enum FrameReferences {
 /// How the functions that have two forms are written: the choice [`Choices::code_shape`] (YAML
 /// `code_shape: flat | composed`).
 ///
-/// Straight-line code is fastest while a function fits the instruction caches; on a humanoid
-/// the derivatives of forward dynamics alone are megabytes of it, which take minutes to
-/// compile and run no faster than the same work done by the robot's inverse-dynamics
-/// derivatives and `D`, solved through the tree factor of `D` in a loop. The functions with a
-/// composed form are listed in `docs/dynamics.md`.
+/// Straight-line code is fastest while a function fits the instruction caches, but some
+/// functions' code grows fast with the robot: on a humanoid the derivatives of forward dynamics
+/// are megabytes of it, on a mobile manipulator with hands `D⁻¹`, and they take minutes to
+/// compile. Composed, such a function calls the robot's `D`, inverse dynamics and its
+/// derivatives and solves through the tree factor of `D` in loops: no code of its own, for a
+/// slower call. The functions with a composed form are listed in `docs/descriptions.md`.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum CodeShape {

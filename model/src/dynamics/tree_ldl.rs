@@ -31,7 +31,10 @@ fn joint_parents(model: &Model) -> Vec<Option<usize>> {
 /// last; with mimic joints, whose `D` couples the branches a mimic joint and its master sit on,
 /// the coordinate before (the dense `LDLᵀ`).
 pub fn velocity_parents(model: &Model) -> Vec<Option<usize>> {
-    if model.floating_base().is_none() || model.has_mimics() {
+    if model.has_mimics() {
+        return (0..model.nv()).map(|k| k.checked_sub(1)).collect();
+    }
+    if model.floating_base().is_none() {
         return joint_parents(model);
     }
     let mut parents: Vec<Option<usize>> = (0..6).map(|k: usize| k.checked_sub(1)).collect();
@@ -62,7 +65,7 @@ impl Chains {
 }
 
 impl tree_factor::Ancestry for Chains {
-    fn len(&self) -> usize {
+    fn coordinates(&self) -> usize {
         self.0.len()
     }
 

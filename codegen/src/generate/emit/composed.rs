@@ -23,6 +23,8 @@ pub(super) fn composed(model: &Model, q: &Quantity) -> Emitted {
     let ret = result_type(q, Form::Scalar);
     let name = format_ident!("{}", q.kind.name());
     let (doc, body) = match q.kind {
+        QuantityKind::ForwardDynamics => forward_dynamics(model, &n),
+        QuantityKind::MassMatrixInverse => mass_matrix_inverse(model, &n),
         QuantityKind::ForwardDynamicsDerivatives => forward_dynamics_derivatives(model, &n),
         other => unreachable!("{other:?} has no composed form"),
     };
@@ -53,6 +55,33 @@ fn tree(model: &Model, n: &Literal) -> TokenStream {
         const TREE: dyngen_runtime::__private::tree_factor::Tree<#n> =
             dyngen_runtime::__private::tree_factor::Tree::new([#(#entries),*]);
     }
+}
+
+/// `ν̇ = D⁻¹ (τ − ID(q, ν, 0))`: the doc and the body.
+fn forward_dynamics(model: &Model, n: &Literal) -> (String, TokenStream) {
+    let doc = " Composed (`code_shape: composed`): `D⁻¹ (τ − ID(q, ν, 0))` from `mass_matrix` and \
+               `inverse_dynamics`, solved through the tree factor of `D`."
+        .to_owned();
+    let tree = tree(model, n);
+    let body = quote! {
+        #tree
+        let bias = Self::inverse_dynamics(t, qd, &SVector::zeros());
+        dyngen_runtime::__private::composed::forward_dynamics(&TREE, Self::mass_matrix(t), tau - bias)
+    };
+    (doc, body)
+}
+
+/// `D⁻¹` from `D`: the doc and the body.
+fn mass_matrix_inverse(model: &Model, n: &Literal) -> (String, TokenStream) {
+    let doc = " Composed (`code_shape: composed`): every column of the identity solved through \
+               the tree factor of `mass_matrix`."
+        .to_owned();
+    let tree = tree(model, n);
+    let body = quote! {
+        #tree
+        dyngen_runtime::__private::composed::mass_matrix_inverse(&TREE, Self::mass_matrix(t))
+    };
+    (doc, body)
 }
 
 /// `∂ν̇/∂x = −D⁻¹ ∂τ/∂x` at `ν̇ = D⁻¹ (τ − ID(q, ν, 0))`, from `D`, inverse dynamics and its

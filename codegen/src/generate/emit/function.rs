@@ -50,10 +50,8 @@ fn first_stage(q: &Quantity, plan: &Plan, sizes: &Sizes) -> Option<Vec<Id>> {
     {
         return None;
     }
-    let forward = robot
-        .quantities
-        .iter()
-        .find(|f| f.kind == QuantityKind::ForwardDynamics)?;
+    let forward =
+        (robot.quantities.iter()).find(|f| f.kind == QuantityKind::ForwardDynamics && !f.composed)?;
     let computed = |id: &Id| plan.names.contains_key(id);
     forward
         .outputs
