@@ -43,8 +43,10 @@ pub struct GeneratedRobot {
     pub sources: Vec<PathBuf>,
     pub warnings: Vec<String>,
     pub notes: Vec<String>,
-    /// Operation counts per generated function, in emission order.
+    /// Operation counts per generated function, in emission order (none for a composed one).
     pub op_counts: Vec<(String, OpCounts)>,
+    /// The functions written composed (`code_shape`): calls to the robot's own functions.
+    pub composed: Vec<String>,
     /// Number of base parameters `p_b` (independent combinations of the standard ones).
     pub base_parameter_count: usize,
     /// The base parameters' readable names (`BASE_PARAMETER_NAMES` of the generated module).
@@ -166,6 +168,10 @@ pub fn generate_robot_with(
         .iter()
         .map(|q| (q.name(), robot.graph.op_counts(&q.outputs)))
         .collect();
+    let composed = (robot.quantities.iter())
+        .filter(|q| q.composed)
+        .map(|q| q.name())
+        .collect();
     Ok(GeneratedRobot {
         model: loaded.model,
         code,
@@ -173,6 +179,7 @@ pub fn generate_robot_with(
         warnings,
         notes: loaded.notes,
         op_counts,
+        composed,
         base_parameter_count: robot.base.count(),
         base_parameter_names: robot.base.names.clone(),
         functions: robot.functions,
@@ -210,10 +217,13 @@ impl GeneratedRobot {
             "function", "mul", "add", "neg", "div", "trig", "lanes"
         );
         for (name, c) in &self.op_counts {
-            table += &format!(
-                "{indent}{name:<28} {:>7} {:>7} {:>5} {:>5} {:>5} {:>7}\n",
-                c.mul, c.add, c.neg, c.div, c.trig, c.lanes
-            );
+            table += &match self.composed.contains(name) {
+                true => format!("{indent}{name:<28} composed: calls the robot's functions\n"),
+                false => format!(
+                    "{indent}{name:<28} {:>7} {:>7} {:>5} {:>5} {:>5} {:>7}\n",
+                    c.mul, c.add, c.neg, c.div, c.trig, c.lanes
+                ),
+            };
         }
         table
     }
