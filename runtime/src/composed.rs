@@ -122,7 +122,7 @@ pub fn forward_dynamics<const N: usize>(
 }
 
 /// `D⁻¹` from the robot's own `D` (armature included), through the tree factor of `D` (`tree`,
-/// the velocity coordinates'): [`InverseByAncestors`].
+/// the velocity coordinates'), as `Yᵀ Δ⁻¹ Y` by rows (`InverseByAncestors`).
 #[inline]
 pub fn mass_matrix_inverse<const N: usize>(
     tree: &Tree<N>,

@@ -3,13 +3,16 @@
 //! (`codegen/tests/data/floating/hopper_friction.yaml`: armature, viscous and smoothed Coulomb
 //! friction, offsets), generated and compiled by this crate's build script, against the generic
 //! floating-base dynamics with the parameters the code was generated with (the base parameters'
-//! representative ones), every function to 1e-12 at random states.
+//! representative ones), every function to 1e-12 at random states; and the composed forms of
+//! forward dynamics, `D⁻¹` and their derivatives over each robot's own functions.
 
 use dyngen_codegen::base_parameters::BaseParameterSet;
 use dyngen_codegen::description::load;
 use dyngen_codegen::dynamics::{FloatingDynamics, FloatingState};
+use dyngen_codegen::internals::dynamics::velocity_parents;
 use dyngen_codegen::model::Model;
 use dyngen_downstream_example::{floating_gripper, hopper_friction};
+use dyngen_runtime::__private::{composed, tree_factor::Tree};
 use dyngen_runtime::nalgebra::{DMatrix, SVector};
 use dyngen_runtime::prelude::*;
 use dyngen_runtime::{FloatingTrig, RobotFrame, SplitMix64};
@@ -34,6 +37,39 @@ fn state<const NQ: usize, const NV: usize>(rng: &mut SplitMix64) -> (Vec<f64>, [
     let mut draw = |r: f64| SVector::<f64, NV>::from_fn(|_, _| rng.uniform((-r, r)));
     let rates = [draw(2.0), draw(5.0), draw(2.0), draw(5.0)];
     (q, rates)
+}
+
+/// The composed forms of forward dynamics, `D⁻¹` and `∂ν̇/∂x` (`code_shape: composed`) run over
+/// `R`'s own `D`, `τ` and `∂τ/∂x` (mimic coordinates, joint-level terms), against its
+/// straight-line functions at one state.
+fn compare_composed<R, const N: usize, const NV: usize, const P: usize>(
+    model: &Model,
+    t: &FloatingTrig<N>,
+    v: &SVector<f64, NV>,
+    tau: &SVector<f64, NV>,
+) where
+    R: FloatingForwardDynamics<N, NV, P> + FloatingDynamicsDerivatives<N, NV, P>,
+{
+    let parents: [Option<usize>; NV] = velocity_parents(model).try_into().expect("NV coordinates");
+    let tree = Tree::new(parents);
+    let free_force = tau - R::inverse_dynamics(t, v, &SVector::zeros());
+    let d = R::mass_matrix(t);
+    assert_close(
+        "composed ν̇",
+        composed::forward_dynamics(&tree, d, free_force).as_slice(),
+        R::forward_dynamics(t, v, tau).as_slice(),
+    );
+    assert_close(
+        "composed D⁻¹",
+        composed::mass_matrix_inverse(&tree, d).as_slice(),
+        R::mass_matrix_inverse(t).as_slice(),
+    );
+    let (dq, dv) = composed::forward_dynamics_derivatives(&tree, d, free_force, |a| {
+        R::inverse_dynamics_derivatives(t, v, a)
+    });
+    let (flat_q, flat_v) = R::forward_dynamics_derivatives(t, v, tau);
+    assert_close("composed ∂ν̇/∂q", dq.as_slice(), flat_q.as_slice());
+    assert_close("composed ∂ν̇/∂ν", dv.as_slice(), flat_v.as_slice());
 }
 
 /// What a generated floating robot computes, compared with the generic dynamics at one state.
@@ -144,6 +180,7 @@ fn a_floating_gripper_with_mimic_joints_matches_the_generic_dynamics() {
         let (q, rates) = state::<NQ, NV>(&mut rng);
         let t = floating_gripper::trig(&floating_gripper::Configuration::from_column_slice(&q)).unwrap();
         compare::<FloatingGripper, DOF, NV, P, B>(&generic, &generic.state(&q).unwrap(), &t, &rates);
+        compare_composed::<FloatingGripper, DOF, NV, P>(&model, &t, &rates[0], &rates[1]);
     }
 }
 
@@ -171,5 +208,6 @@ fn a_floating_hopper_with_joint_friction_matches_the_generic_dynamics() {
         let (q, rates) = state::<NQ, NV>(&mut rng);
         let t = hopper_friction::trig(&hopper_friction::Configuration::from_column_slice(&q)).unwrap();
         compare::<HopperFriction, DOF, NV, P, B>(&generic, &generic.state(&q).unwrap(), &t, &rates);
+        compare_composed::<HopperFriction, DOF, NV, P>(&model, &t, &rates[0], &rates[1]);
     }
 }
