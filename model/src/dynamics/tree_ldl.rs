@@ -1,8 +1,6 @@
-//! `D = Lᵀ Δ L` exploiting the kinematic tree (Featherstone's LTDL, RBDA §6.5): `L` is unit
-//! lower triangular with `L_ki ≠ 0` only when joint `i` is an ancestor of joint `k`, so the
-//! factorisation fills in nothing and costs `Σ_k depth(k)²/2` multiplications instead of `n³/6`
-//! on branched trees (and equals a dense `LDLᵀ` on a chain). Eliminating from the leaves up keeps
-//! it inside that pattern.
+//! `D = Lᵀ Δ L` along the kinematic tree on this crate's matrices: the runtime's `tree_factor`
+//! (Featherstone's LTDL; why it fills in nothing is in its docs), which the algorithms trace,
+//! with the solves, congruences and inverses they build on it.
 //!
 //! With mimic joints `D = Gᵀ D_tree G` couples the branches a mimic joint and its master sit
 //! on, so it has no tree pattern: it is factored as a chain (every coordinate the "parent" of
